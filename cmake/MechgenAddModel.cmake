@@ -1,0 +1,39 @@
+# mechgen_add_model(<name> <model.yaml> [NO_SWEEP])
+#
+# Runs `mechgen generate` on <model.yaml> at build time (again whenever the model, the
+# templates or the mechgen program change) and defines:
+#   mechgen_model_<name>   a static library (alias mechgen::model_<name>) whose include
+#                          directory holds <name>.h; link a product against it.
+#   <name>_sweep           unless NO_SWEEP: the sweep command of the runtime for this model.
+# Requires MECHGEN_EXECUTABLE and MECHGEN_TEMPLATES_DIR (set by the build tree or by
+# find_package(mechgen)).
+include_guard(GLOBAL)
+
+function(mechgen_add_model name model)
+  cmake_parse_arguments(ARG "NO_SWEEP" "" "" ${ARGN})
+  get_filename_component(model_abs "${model}" ABSOLUTE)
+  set(out_dir "${CMAKE_CURRENT_BINARY_DIR}/mechgen_${name}")
+  file(GLOB templates CONFIGURE_DEPENDS "${MECHGEN_TEMPLATES_DIR}/*.mustache")
+  set(gen_deps "${model_abs}" ${templates})
+  if(TARGET mechgen)
+    list(APPEND gen_deps mechgen)
+  endif()
+  add_custom_command(
+    OUTPUT "${out_dir}/${name}.h" "${out_dir}/${name}.cc"
+    COMMAND "${MECHGEN_EXECUTABLE}" generate "${model_abs}" --name "${name}"
+            --out-dir "${out_dir}" --templates "${MECHGEN_TEMPLATES_DIR}"
+    DEPENDS ${gen_deps}
+    COMMENT "mechgen: generating ${name} from ${model}"
+    VERBATIM)
+  add_library(mechgen_model_${name} STATIC "${out_dir}/${name}.cc" "${out_dir}/${name}.h")
+  add_library(mechgen::model_${name} ALIAS mechgen_model_${name})
+  target_include_directories(mechgen_model_${name} PUBLIC "${out_dir}")
+  target_link_libraries(mechgen_model_${name} PUBLIC Eigen3::Eigen)
+  target_compile_features(mechgen_model_${name} PUBLIC cxx_std_17)
+  if(NOT ARG_NO_SWEEP AND TARGET mechgen::runtime AND EXISTS "${MECHGEN_TOOLS_DIR}/sweep_main.cc")
+    add_executable(${name}_sweep "${MECHGEN_TOOLS_DIR}/sweep_main.cc")
+    target_compile_definitions(${name}_sweep PRIVATE
+      MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
+    target_link_libraries(${name}_sweep PRIVATE mechgen_model_${name} mechgen::runtime)
+  endif()
+endfunction()

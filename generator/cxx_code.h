@@ -1,0 +1,71 @@
+// From GiNaC expressions to C++ statements: a printer for Scalar-templated code and
+// common-subexpression elimination over a whole function body.
+//
+// Determinism: GiNaC orders the terms of sums and products by hash values that change
+// from run to run (they mix in type-info addresses), so nothing here relies on GiNaC's
+// order. Operands are sorted by their printed text, and the CSE visits subexpressions in
+// that order, so the same model gives the same bytes on every run.
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace mechgen {
+
+/// Operation counts of emitted code (after CSE).
+struct OpCounts {
+  int adds = 0, muls = 0, divs = 0, calls = 0;
+  int Total() const { return adds + muls + divs + calls; }
+  std::string Text() const;  ///< "57 (adds 20, muls 30, divs 2, calls 5)"
+  OpCounts& operator+=(const OpCounts& o);
+};
+
+/// Prints expressions as C++ for `template <typename Scalar>` code: literals as
+/// Scalar(...), integer powers as products, math calls unqualified (so ceres::Jet's
+/// overloads are found), operands in a stable order.
+class CxxPrinter {
+ public:
+  /// Gives symbol `s` the C++ spelling `name` (e.g. q(0), p.a, _tmp3).
+  void Name(const GiNaC::ex& s, const std::string& name);
+  /// C++ text of `e`; adds its operations to *ops when not null.
+  std::string Print(const GiNaC::ex& e, OpCounts* ops = nullptr);
+  /// A stable sort key for `e` (its printed text), memoized.
+  const std::string& Key(const GiNaC::ex& e);
+
+ private:
+  std::string PrintNumber(const GiNaC::numeric& n) const;
+  std::string PrintFactor(const GiNaC::ex& e, OpCounts* ops);
+  std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> names_;
+  std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> keys_;
+};
+
+/// One statement of a function body.
+struct Statement {
+  enum class Kind {
+    kDefine,  ///< const Scalar <target> = <value>;  (target names a symbol used later)
+    kStore,   ///< <target> = <value>;  inside `if (<guard> != nullptr)` when guard is set
+    kRaw,     ///< a line of code, emitted as is (declarations, numeric solves)
+  };
+  Kind kind = Kind::kStore;
+  std::string target;
+  GiNaC::ex value;
+  std::string guard;
+  GiNaC::ex symbol;  ///< kDefine: the symbol that later values use
+};
+using Program = std::vector<Statement>;
+
+struct Body {
+  std::string text;  ///< indented C++ lines
+  OpCounts ops;
+  int num_temps = 0;
+};
+
+/// Emits `program` with common subexpressions of all its values shared (temporaries
+/// _tmp0.._tmpN, each emitted just before its first use). Stores are grouped under
+/// their guards. `printer` must name every symbol the values use.
+Body EmitProgram(const Program& program, CxxPrinter* printer, const std::string& indent = "  ");
+
+}  // namespace mechgen

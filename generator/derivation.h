@@ -1,0 +1,36 @@
+// The velocity coefficients K = -Phi_phi^-1 Phi_q and centripetal coefficients
+// L = dK/dq (Paul §4.5), the points' coefficients, and the statement programs of the
+// three generated functions (EvalPhi, EvalCoefficients, EvalScene).
+//
+// L comes from differentiating Phi_phi K + Phi_q = 0 along the motion: with
+// x = (q, phi) and V = dx/dq = [I; K],
+//   Phi_phi L(:, j, k) = -gamma(:, j, k),  gamma_i(j, k) = sum_ab d2Phi_i/dx_a dx_b V_aj V_bk,
+// so only second partial derivatives of Phi are taken, never derivatives of K.
+#pragma once
+
+#include <string>
+
+#include "cxx_code.h"
+#include "kinematics.h"
+
+namespace mechgen {
+
+/// Largest Phi_phi solved in closed form (adjugate / determinant, then CSE); larger
+/// systems are emitted as a fixed-size LU solve of the generated matrices.
+constexpr int kMaxSymbolicSolve = 3;
+
+struct Derivation {
+  Program phi;           ///< EvalPhi: Phi, Phi_phi, Phi_q
+  Program coefficients;  ///< EvalCoefficients: K, L, r_P, K_P, L_P (as requested)
+  Program scene;         ///< EvalScene
+  bool numeric_solve = false;
+  std::string strategy;  ///< one sentence for the generated header and the report
+};
+
+/// Builds the programs; `printer` gets names for q, phi and the parameters.
+Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer);
+
+/// K = -Phi_phi^-1 Phi_q as expressions in q, phi and p (for the report; small systems).
+GiNaC::matrix SymbolicK(const Kinematics& k);
+
+}  // namespace mechgen

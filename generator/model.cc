@@ -1,0 +1,415 @@
+// Reading and validating model files. The format is documented in models/README.md.
+#include "model.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace mechgen {
+namespace {
+
+std::string Format(const std::string& file, SourceMark mark, const std::string& message) {
+  std::ostringstream os;
+  os << file;
+  if (mark.line > 0) os << ":" << mark.line << ":" << mark.column;
+  os << ": error: " << message;
+  return os.str();
+}
+
+SourceMark MarkOf(const YAML::Node& node) {
+  const YAML::Mark m = node.Mark();
+  if (m.is_null()) return {};
+  return {m.line + 1, m.column + 1};
+}
+
+bool IsIdentifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
+
+// Names that would collide with the generated code or the expression language.
+const std::set<std::string>& ReservedNames() {
+  static const std::set<std::string> names = {
+      "deg", "Pi", "pi", "sin", "cos", "tan", "sqrt", "atan2", "exp", "log", "abs", "pow", "p",
+      "q", "phi", "Phi", "K", "L", "Scalar", "T", "out", "r", "I", "E", "Euler", "Catalan"};
+  return names;
+}
+
+class Reader {
+ public:
+  explicit Reader(Model* model) : m_(*model) {}
+
+  [[noreturn]] void Fail(const YAML::Node& node, const std::string& message) const {
+    m_.Fail(MarkOf(node), message);
+  }
+
+  // The keys of a mapping node, in document order, with duplicates and unknown keys
+  // reported. yaml-cpp keeps every duplicate key, so they can be caught here.
+  std::vector<std::pair<std::string, YAML::Node>> Entries(const YAML::Node& map,
+                                                          const std::string& what,
+                                                          const std::set<std::string>& allowed =
+                                                              {}) const {
+    if (!map.IsMap()) Fail(map, what + " must be a mapping (key: value)");
+    std::vector<std::pair<std::string, YAML::Node>> out;
+    std::set<std::string> seen;
+    for (auto it = map.begin(); it != map.end(); ++it) {
+      if (!it->first.IsScalar()) Fail(it->first, what + ": keys must be plain names");
+      const std::string key = it->first.as<std::string>();
+      if (!seen.insert(key).second)
+        Fail(it->first, "duplicate name '" + key + "' in " + what + "; names must be unique");
+      if (!allowed.empty() && !allowed.count(key)) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        Fail(it->first, "unknown key '" + key + "' in " + what + "; expected one of: " + list);
+      }
+      out.emplace_back(key, it->second);
+      keymarks_[it->second.Mark().pos] = MarkOf(it->first);
+    }
+    return out;
+  }
+
+  std::string Scalar(const YAML::Node& node, const std::string& what) const {
+    if (!node.IsScalar()) Fail(node, what + " must be a single value");
+    return node.as<std::string>();
+  }
+
+  // An expression in the parameters (and `deg` = pi/180): geometry, angles, ranges.
+  GiNaC::ex Expression(const YAML::Node& node, const std::string& what) const {
+    const std::string text = Scalar(node, what);
+    GiNaC::symtab table;
+    for (const auto& p : m_.params) table[p.name] = p.symbol;
+    table["deg"] = GiNaC::Pi / 180;
+    GiNaC::parser reader(table, /*strict=*/true);
+    GiNaC::ex e;
+    try {
+      e = reader(text);
+    } catch (const std::exception& err) {
+      std::string why = err.what();
+      Fail(node, what + ": cannot read '" + text + "' as an expression (" + why +
+                     "); use numbers, parameter names, + - * / ^, sin cos sqrt, and deg");
+    }
+    if (!e.info(GiNaC::info_flags::real) && e.has(GiNaC::I))
+      Fail(node, what + ": '" + text + "' is not real");
+    return e;
+  }
+
+  // A number: an expression evaluated at the parameters' default values.
+  double Number(const YAML::Node& node, const std::string& what) const {
+    GiNaC::ex e = Expression(node, what);
+    GiNaC::exmap defaults;
+    for (const auto& p : m_.params) defaults[p.symbol] = p.value;
+    e = e.subs(defaults).evalf();
+    if (!GiNaC::is_a<GiNaC::numeric>(e) || !GiNaC::ex_to<GiNaC::numeric>(e).is_real())
+      Fail(node, what + " must evaluate to a real number");
+    const double v = GiNaC::ex_to<GiNaC::numeric>(e).to_double();
+    if (!std::isfinite(v)) Fail(node, what + " is not finite");
+    return v;
+  }
+
+  // "link.point" -> PointRef.
+  PointRef Point(const YAML::Node& node, const std::string& what) const {
+    const std::string text = Scalar(node, what);
+    const auto dot = text.find('.');
+    if (dot == std::string::npos)
+      Fail(node, what + ": '" + text + "' must name a link point as link.point");
+    const std::string link = text.substr(0, dot), point = text.substr(dot + 1);
+    for (size_t i = 0; i < m_.links.size(); ++i) {
+      if (m_.links[i].name != link) continue;
+      const int k = m_.links[i].FindPoint(point);
+      if (k < 0) {
+        std::string list;
+        for (const auto& pt : m_.links[i].points) list += (list.empty() ? "" : ", ") + pt.name;
+        Fail(node, what + ": link '" + link + "' has no point '" + point +
+                       "'; its points are: " + list);
+      }
+      return {static_cast<int>(i), k};
+    }
+    std::string list;
+    for (const auto& l : m_.links) list += (list.empty() ? "" : ", ") + l.name;
+    Fail(node, what + ": unknown link '" + link + "'; the links are: " + list);
+  }
+
+  SourceMark KeyMark(const YAML::Node& value) const {
+    auto it = keymarks_.find(value.Mark().pos);
+    return it == keymarks_.end() ? MarkOf(value) : it->second;
+  }
+
+  void ReadParameters(const YAML::Node& node) {
+    if (!node) return;
+    for (const auto& [name, value] : Entries(node, "parameters")) {
+      Parameter p;
+      p.name = name;
+      p.mark = KeyMark(value);
+      if (!IsIdentifier(name) || ReservedNames().count(name))
+        m_.Fail(p.mark, "parameter name '" + name +
+                            "' must be a C++ identifier and not a reserved name (" +
+                            "deg, p, q, phi, K, L, sin, ...); rename it");
+      YAML::Node v = value;
+      if (value.IsMap()) {
+        auto entries = Entries(value, "parameter '" + name + "'", {"value", "doc"});
+        v = YAML::Node();
+        for (auto& [k, n] : entries) {
+          if (k == "value") v = n;
+          if (k == "doc") p.doc = Scalar(n, "doc");
+        }
+        if (!v) Fail(value, "parameter '" + name + "' needs a value");
+      }
+      const std::string text = Scalar(v, "parameter '" + name + "'");
+      char* end = nullptr;
+      p.value = std::strtod(text.c_str(), &end);
+      if (text.empty() || end == text.c_str() || *end != '\0' || !std::isfinite(p.value))
+        Fail(v, "parameter '" + name + "' must be a number, not '" + text +
+                    "' (parameter defaults are plain numbers; use expressions in geometry)");
+      p.symbol = GiNaC::symbol(name);
+      m_.params.push_back(p);
+    }
+  }
+
+  void ReadLinks(const YAML::Node& node) {
+    if (!node) m_.Fail({}, "the model has no 'links'; add a links: section with a ground link");
+    std::set<std::string> point_names_checked;
+    for (const auto& [name, spec] : Entries(node, "links")) {
+      Link l;
+      l.name = name;
+      l.mark = KeyMark(spec);
+      if (!IsIdentifier(name))
+        m_.Fail(l.mark, "link name '" + name + "' must be an identifier (letters, digits, _)");
+      if (!spec.IsMap()) Fail(spec, "link '" + name + "' must be a mapping with points:");
+      for (const auto& [key, value] : Entries(spec, "link '" + name + "'", {"ground", "points"})) {
+        if (key == "ground") {
+          const std::string g = Scalar(value, "ground");
+          if (g != "true" && g != "false") Fail(value, "ground must be true or false");
+          l.ground = g == "true";
+        } else {
+          for (const auto& [pname, xy] : Entries(value, "points of link '" + name + "'")) {
+            LinkPoint pt;
+            pt.name = pname;
+            pt.mark = KeyMark(xy);
+            if (!IsIdentifier(pname))
+              m_.Fail(pt.mark, "point name '" + pname + "' must be an identifier");
+            if (!xy.IsSequence() || xy.size() != 2)
+              Fail(xy, "point '" + name + "." + pname + "' must be [x, y] in the link's frame");
+            pt.x = Expression(xy[0], "x of " + name + "." + pname);
+            pt.y = Expression(xy[1], "y of " + name + "." + pname);
+            l.points.push_back(pt);
+          }
+        }
+      }
+      if (l.points.empty())
+        m_.Fail(l.mark, "link '" + name + "' has no points; give it the points its joints use");
+      if (l.ground) {
+        if (m_.ground >= 0)
+          m_.Fail(l.mark, "two ground links ('" + m_.links[m_.ground].name + "' and '" + name +
+                              "'); keep one, and put all fixed points on it");
+        m_.ground = static_cast<int>(m_.links.size());
+      }
+      m_.links.push_back(l);
+    }
+    if (m_.ground < 0)
+      Fail(node, "no ground link; mark the fixed frame with 'ground: true'");
+  }
+
+  void ReadJoints(const YAML::Node& node) {
+    if (!node) m_.Fail({}, "the model has no 'joints'");
+    for (const auto& [name, spec] : Entries(node, "joints")) {
+      Joint j;
+      j.name = name;
+      j.mark = KeyMark(spec);
+      if (!IsIdentifier(name)) m_.Fail(j.mark, "joint name '" + name + "' must be an identifier");
+      auto entries = Entries(spec, "joint '" + name + "'", {"revolute", "prismatic"});
+      if (entries.size() != 1)
+        Fail(spec, "joint '" + name + "' must have exactly one kind: revolute or prismatic");
+      const auto& [kind, body] = entries[0];
+      if (kind == "revolute") {
+        j.type = JointType::kRevolute;
+        if (!body.IsSequence() || body.size() != 2)
+          Fail(body, "revolute joint '" + name + "' takes two link points: [link1.P, link2.P]");
+        j.a = Point(body[0], "joint '" + name + "'");
+        j.b = Point(body[1], "joint '" + name + "'");
+      } else {
+        j.type = JointType::kPrismatic;
+        bool has_guide = false, has_slider = false;
+        for (const auto& [key, value] : Entries(body, "prismatic joint '" + name + "'",
+                                                {"guide", "slider", "angle", "relative_angle"})) {
+          if (key == "guide") j.a = Point(value, "guide of '" + name + "'"), has_guide = true;
+          if (key == "slider") j.b = Point(value, "slider of '" + name + "'"), has_slider = true;
+          if (key == "angle") j.angle = Expression(value, "angle of '" + name + "'");
+          if (key == "relative_angle")
+            j.relative_angle = Expression(value, "relative_angle of '" + name + "'");
+        }
+        if (!has_guide || !has_slider)
+          Fail(body, "prismatic joint '" + name +
+                         "' needs guide: link.point (a point on the line) and slider: link.point");
+      }
+      if (j.a.link == j.b.link)
+        m_.Fail(j.mark, "joint '" + name + "' connects link '" + m_.links[j.a.link].name +
+                            "' to itself; a joint must connect two different links");
+      m_.joints.push_back(j);
+    }
+  }
+
+  void ReadInputs(const YAML::Node& node) {
+    if (!node) m_.Fail({}, "the model has no 'inputs'; list the driven joints");
+    m_.inputs_mark = MarkOf(node);
+    if (!node.IsSequence()) Fail(node, "inputs must be a list: - {joint: A, range: [0, 360*deg]}");
+    std::set<int> used;
+    for (const auto& item : node) {
+      Input in;
+      in.mark = MarkOf(item);
+      bool has_range = false;
+      for (const auto& [key, value] : Entries(item, "input", {"joint", "range"})) {
+        if (key == "joint") {
+          const std::string jn = Scalar(value, "joint");
+          for (size_t k = 0; k < m_.joints.size(); ++k)
+            if (m_.joints[k].name == jn) in.joint = static_cast<int>(k);
+          if (in.joint < 0) Fail(value, "input: unknown joint '" + jn + "'");
+          if (!used.insert(in.joint).second)
+            Fail(value, "joint '" + jn + "' is driven twice; list each input once");
+          const Joint& j = m_.joints[in.joint];
+          if (j.type == JointType::kRevolute && j.a.link != m_.ground && j.b.link != m_.ground)
+            Fail(value, "input joint '" + jn +
+                            "' connects two moving links; drive a revolute joint attached to " +
+                            "the ground, or a prismatic joint");
+        } else {
+          if (!value.IsSequence() || value.size() != 2)
+            Fail(value, "range must be [min, max]");
+          in.min = Number(value[0], "range min");
+          in.max = Number(value[1], "range max");
+          has_range = true;
+        }
+      }
+      if (in.joint < 0) Fail(item, "input needs joint: <joint name>");
+      if (!has_range) {
+        const bool angle = m_.joints[in.joint].type == JointType::kRevolute;
+        in.min = 0;
+        in.max = angle ? 2 * M_PI : 1;
+      }
+      m_.inputs.push_back(in);
+    }
+  }
+
+  void ReadOutputs(const YAML::Node& node) {
+    if (!node) return;
+    m_.outputs.mark = MarkOf(node);
+    for (const auto& [key, value] : Entries(node, "outputs", {"order", "points", "scene"})) {
+      if (key == "order") {
+        const std::string o = Scalar(value, "order");
+        if (o != "0" && o != "1" && o != "2")
+          Fail(value, "order must be 0 (positions), 1 (+ velocity coefficients K) or 2 (+ "
+                      "centripetal coefficients L)");
+        m_.outputs.order = o[0] - '0';
+      } else if (key == "points") {
+        if (!value.IsSequence()) Fail(value, "points must be a list of link.point names");
+        for (const auto& pn : value) {
+          PointRef r = Point(pn, "output point");
+          for (const auto& other : m_.outputs.points)
+            if (other == r) Fail(pn, "point '" + m_.PointName(r) + "' is listed twice");
+          m_.outputs.points.push_back(r);
+        }
+      } else {
+        const std::string s = Scalar(value, "scene");
+        if (s != "true" && s != "false") Fail(value, "scene must be true or false");
+        m_.outputs.scene = s == "true";
+      }
+    }
+  }
+
+  void ReadAssembly(const YAML::Node& node) {
+    if (!node) return;
+    for (const auto& [name, value] : Entries(node, "assembly")) {
+      GuessValue g;
+      g.coordinate = name;
+      g.mark = KeyMark(value);
+      g.value = Number(value, "assembly value of '" + name + "'");
+      m_.guess.push_back(g);
+    }
+  }
+
+ private:
+  Model& m_;
+  mutable std::map<int, SourceMark> keymarks_;  // value position -> mark of its key
+};
+
+}  // namespace
+
+ModelError::ModelError(const std::string& file, SourceMark mark, const std::string& message)
+    : std::runtime_error(Format(file, mark, message)),
+      file_(file),
+      mark_(mark),
+      message_(message) {}
+
+int Link::FindPoint(const std::string& point) const {
+  for (size_t i = 0; i < points.size(); ++i)
+    if (points[i].name == point) return static_cast<int>(i);
+  return -1;
+}
+
+std::string Model::PointName(PointRef r) const {
+  return links[r.link].name + "." + links[r.link].points[r.point].name;
+}
+
+void Model::Fail(SourceMark mark, const std::string& message) const {
+  throw ModelError(file, mark, message);
+}
+
+Model LoadModel(const std::string& path, const std::string& name_override) {
+  Model m;
+  m.file = path;
+  std::ifstream in(path);
+  if (!in) m.Fail({}, "cannot open the model file");
+  YAML::Node root;
+  try {
+    root = YAML::Load(in);
+  } catch (const YAML::Exception& e) {
+    m.Fail({e.mark.line + 1, e.mark.column + 1}, "YAML syntax: " + e.msg);
+  }
+  if (!root || !root.IsMap()) m.Fail({1, 1}, "a model file is a YAML mapping (name:, links:, ...)");
+  Reader r(&m);
+  const auto entries = r.Entries(root, "the model",
+                                 {"name", "title", "description", "parameters", "links", "joints",
+                                  "inputs", "outputs", "assembly"});
+  auto get = [&](const std::string& key) {
+    for (const auto& [k, v] : entries)
+      if (k == key) return v;
+    return YAML::Node();
+  };
+  try {
+    if (YAML::Node n = get("name")) {
+      m.name = r.Scalar(n, "name");
+      if (!IsIdentifier(m.name)) r.Fail(n, "name must be a C++ identifier (the namespace)");
+    }
+    if (!name_override.empty()) m.name = name_override;
+    if (m.name.empty()) m.Fail({1, 1}, "the model has no name; add name: <identifier>");
+    if (YAML::Node n = get("title")) m.title = r.Scalar(n, "title");
+    if (YAML::Node n = get("description")) m.description = r.Scalar(n, "description");
+    r.ReadParameters(get("parameters"));
+    r.ReadLinks(get("links"));
+    r.ReadJoints(get("joints"));
+    r.ReadInputs(get("inputs"));
+    r.ReadOutputs(get("outputs"));
+    r.ReadAssembly(get("assembly"));
+  } catch (const YAML::Exception& e) {  // e.g. a conversion yaml-cpp refuses
+    m.Fail({e.mark.line + 1, e.mark.column + 1}, e.msg);
+  }
+  // Names must not collide across parameters, links and joints: they become C++ names.
+  std::map<std::string, SourceMark> names;
+  auto claim = [&](const std::string& n, SourceMark mark, const char* what) {
+    if (!names.emplace(n, mark).second)
+      m.Fail(mark, std::string(what) + " name '" + n +
+                       "' is already used by a parameter, link or joint; rename one");
+  };
+  for (const auto& p : m.params) claim(p.name, p.mark, "parameter");
+  for (const auto& l : m.links) claim(l.name, l.mark, "link");
+  for (const auto& j : m.joints) claim(j.name, j.mark, "joint");
+  return m;
+}
+
+}  // namespace mechgen

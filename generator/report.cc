@@ -1,0 +1,83 @@
+// The model report. See report.h.
+#include "report.h"
+
+namespace mechgen {
+namespace {
+
+std::string Show(const GiNaC::ex& e, ReportFormat f) {
+  std::ostringstream os;
+  if (f == ReportFormat::kLatex)
+    os << GiNaC::latex << e;
+  else
+    os << GiNaC::dflt << e;
+  return os.str();
+}
+
+}  // namespace
+
+void WriteReport(const Model& m, const Topology& t, const Kinematics& k, const Derivation& d,
+                 const EmittedModel& e, ReportFormat f, std::ostream& os) {
+  const bool tex = f == ReportFormat::kLatex;
+  const std::string eq_open = tex ? "\\[ " : "  ", eq_close = tex ? " \\]" : "";
+  os << (tex ? "% " : "") << "mechgen report: " << m.name << " (" << m.file << ")\n";
+  if (!m.title.empty()) os << (tex ? "% " : "") << m.title << "\n";
+  os << (tex ? "% " : "") << "\n";
+  if (!tex) {
+    os << "Links (" << m.links.size() << "):\n";
+    for (const Link& l : m.links) {
+      os << "  " << l.name << (l.ground ? " (ground)" : "") << ":";
+      for (const LinkPoint& p : l.points) os << " " << p.name << "=(" << p.x << ", " << p.y << ")";
+      os << "\n";
+    }
+    os << "Joints (" << m.joints.size() << "):\n";
+    for (const Joint& j : m.joints)
+      os << "  " << j.name << ": " << (j.type == JointType::kRevolute ? "revolute " : "prismatic ")
+         << m.PointName(j.a) << (j.type == JointType::kRevolute ? " = " : " guides ") << m.PointName(j.b)
+         << "\n";
+    os << "Independent loops (" << t.loops.size() << "), closed by the cut joints of a spanning tree:\n";
+    for (size_t i = 0; i < t.loops.size(); ++i) os << "  " << i + 1 << ": " << t.loops[i].Text(m) << "\n";
+    os << "Mobility: Grübler–Kutzbach " << t.grubler_text << "; loop criterion " << t.num_variables
+       << " variables - 2*" << t.loops.size() << " loops = " << t.loop_mobility << "; inputs "
+       << m.inputs.size() << "\n";
+    os << "Coordinates:\n";
+    for (int i = 0; i < k.nq(); ++i) os << "  q(" << i << ")   " << k.q[i].name << ": " << k.q[i].what << "\n";
+    for (int i = 0; i < k.nphi(); ++i)
+      os << "  phi(" << i << ") " << k.phi[i].name << ": " << k.phi[i].what << "\n";
+    os << "Loop-closure equations Phi(q, phi) = 0:\n";
+  }
+  if (tex) os << "% Loop-closure equations\n";
+  for (int i = 0; i < k.nc(); ++i)
+    os << eq_open << (tex ? "\\Phi_{" : "Phi(") << i << (tex ? "} = " : ") = ") << Show(k.Phi[i], f)
+       << (tex ? " = 0" : "") << eq_close << (tex ? "  % " : "   [") << k.Phi_source[i] << (tex ? "" : "]")
+       << "\n";
+  auto matrix = [&](const char* name, const GiNaC::matrix& a) {
+    if (tex) {
+      os << "\\[ " << name << " = \\begin{pmatrix}";
+      for (unsigned i = 0; i < a.rows(); ++i) {
+        for (unsigned j = 0; j < a.cols(); ++j) os << (j ? " & " : " ") << Show(a(i, j), f);
+        os << (i + 1 < a.rows() ? " \\\\" : " ");
+      }
+      os << "\\end{pmatrix} \\]\n";
+    } else {
+      os << name << ":\n";
+      for (unsigned i = 0; i < a.rows(); ++i)
+        for (unsigned j = 0; j < a.cols(); ++j)
+          os << "  (" << i << "," << j << ") " << Show(a(i, j), f) << "\n";
+    }
+  };
+  matrix(tex ? "\\Phi_\\phi" : "Phi_phi = dPhi/dphi", k.Phi_phi);
+  matrix(tex ? "\\Phi_q" : "Phi_q = dPhi/dq", k.Phi_q);
+  if (k.nphi() <= kMaxSymbolicSolve) {
+    if (!tex) os << "Velocity coefficients K = dphi/dq = -Phi_phi^-1 Phi_q (phid = K qd):\n";
+    matrix(tex ? "K = -\\Phi_\\phi^{-1}\\Phi_q" : "K", SymbolicK(k));
+  } else if (!tex) {
+    os << "K = -Phi_phi^-1 Phi_q is solved numerically (Phi_phi is " << k.nphi() << "x" << k.nphi() << ").\n";
+  }
+  if (!tex) {
+    os << "Generated code: " << d.strategy << "\n";
+    os << "Operation counts: EvalPhi " << e.phi_ops.Text() << "; EvalCoefficients "
+       << e.coefficient_ops.Text() << "; EvalScene " << e.scene_ops.Text() << "\n";
+  }
+}
+
+}  // namespace mechgen

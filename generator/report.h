@@ -1,0 +1,21 @@
+// `mechgen report`: a human-readable account of a model — links, joints, loops, mobility
+// by both criteria, coordinates, the loop equations, Phi_phi, Phi_q and K — in plain text
+// or LaTeX, so a user can compare them with hand-derived formulas.
+#pragma once
+
+#include <ostream>
+
+#include "derivation.h"
+#include "emit.h"
+#include "kinematics.h"
+#include "model.h"
+#include "topology.h"
+
+namespace mechgen {
+
+enum class ReportFormat { kText, kLatex };
+
+void WriteReport(const Model& m, const Topology& t, const Kinematics& k, const Derivation& d,
+                 const EmittedModel& e, ReportFormat format, std::ostream& os);
+
+}  // namespace mechgen

@@ -1,0 +1,190 @@
+// Graph analysis of the link–joint network. See topology.h.
+#include "topology.h"
+
+#include <algorithm>
+#include <deque>
+#include <sstream>
+
+namespace mechgen {
+
+std::string Loop::Text(const Model& m) const {
+  std::ostringstream os;
+  for (size_t i = 0; i < links.size(); ++i) {
+    os << m.links[links[i]].name;
+    if (i < joints.size()) os << " -" << m.joints[joints[i]].name << "- ";
+  }
+  return os.str();
+}
+
+namespace {
+
+int OtherLink(const Joint& j, int link) { return j.a.link == link ? j.b.link : j.a.link; }
+
+// Weighted union–find over links: theta[l] = theta[root] + off[l].
+struct RotationSets {
+  std::vector<int> parent;
+  std::vector<GiNaC::ex> off;
+  explicit RotationSets(int n) : parent(n), off(n, GiNaC::ex(0)) {
+    for (int i = 0; i < n; ++i) parent[i] = i;
+  }
+  int Find(int l) {
+    if (parent[l] == l) return l;
+    const int root = Find(parent[l]);
+    if (parent[l] != root) {
+      off[l] = off[l] + off[parent[l]];
+      parent[l] = root;
+    }
+    return root;
+  }
+};
+
+}  // namespace
+
+Topology BuildTopology(const Model& m) {
+  Topology t;
+  const int n = static_cast<int>(m.links.size());
+
+  // ---- rotation groups: theta_slider = theta_guide + relative_angle ----
+  RotationSets sets(n);
+  for (const Joint& j : m.joints) {
+    if (j.type != JointType::kPrismatic) continue;
+    ++t.num_prismatic;
+    const int g = j.a.link, s = j.b.link;
+    const int rg = sets.Find(g), rs = sets.Find(s);
+    if (rg == rs) {
+      // Already parallel through other sliders: the relative angles must agree.
+      const GiNaC::ex mismatch = (sets.off[s] - sets.off[g] - j.relative_angle).expand();
+      if (!mismatch.is_zero())
+        m.Fail(j.mark, "prismatic joint '" + j.name + "' fixes the angle between '" +
+                           m.links[g].name + "' and '" + m.links[s].name +
+                           "' differently from other sliders; check relative_angle");
+      continue;
+    }
+    sets.parent[rs] = rg;
+    sets.off[rs] = sets.off[g] + j.relative_angle - sets.off[s];
+  }
+  // Group representative: the ground if the group holds it, else its first link.
+  t.group.assign(n, -1);
+  t.offset.assign(n, 0);
+  std::vector<int> root_group(n, -1);
+  for (int l = 0; l < n; ++l) {
+    const int root = sets.Find(l);
+    if (root_group[root] < 0) {
+      root_group[root] = static_cast<int>(t.rep.size());
+      t.rep.push_back(l);
+    }
+    t.group[l] = root_group[root];
+  }
+  for (int l = 0; l < n; ++l)
+    if (l == m.ground) t.rep[t.group[l]] = l;
+  t.ground_group = t.group[m.ground];
+  for (int l = 0; l < n; ++l) {
+    sets.Find(l);
+    const int rep = t.rep[t.group[l]];
+    t.offset[l] = (sets.off[l] - sets.off[rep]).expand();
+  }
+
+  // ---- spanning tree, breadth first from the ground, joints in declaration order ----
+  t.parent_joint.assign(n, -1);
+  std::vector<bool> seen(n, false), is_tree(m.joints.size(), false);
+  std::deque<int> queue{m.ground};
+  seen[m.ground] = true;
+  while (!queue.empty()) {
+    const int u = queue.front();
+    queue.pop_front();
+    t.order.push_back(u);
+    for (size_t k = 0; k < m.joints.size(); ++k) {
+      const Joint& j = m.joints[k];
+      if (j.a.link != u && j.b.link != u) continue;
+      const int v = OtherLink(j, u);
+      if (seen[v]) continue;
+      seen[v] = true;
+      is_tree[k] = true;
+      t.parent_joint[v] = static_cast<int>(k);
+      queue.push_back(v);
+    }
+  }
+  for (int l = 0; l < n; ++l)
+    if (!seen[l])
+      m.Fail(m.links[l].mark, "link '" + m.links[l].name +
+                                  "' is not connected to the ground through joints; add a " +
+                                  "joint or remove the link");
+  for (size_t k = 0; k < m.joints.size(); ++k)
+    (is_tree[k] ? t.tree_joints : t.cut_joints).push_back(static_cast<int>(k));
+
+  // ---- fundamental loops: cut joint + tree paths to the common ancestor ----
+  auto path_to_ground = [&](int l) {
+    std::vector<int> path{l};
+    while (t.parent_joint[l] >= 0) {
+      l = OtherLink(m.joints[t.parent_joint[l]], l);
+      path.push_back(l);
+    }
+    return path;
+  };
+  for (int c : t.cut_joints) {
+    const Joint& j = m.joints[c];
+    std::vector<int> pa = path_to_ground(j.a.link), pb = path_to_ground(j.b.link);
+    // Strip the common tail (ancestors shared by both paths) but keep the meeting link.
+    while (pa.size() > 1 && pb.size() > 1 && pa[pa.size() - 2] == pb[pb.size() - 2]) {
+      pa.pop_back();
+      pb.pop_back();
+    }
+    Loop loop;
+    loop.cut_joint = c;
+    // a ... meeting link ... b, then the cut joint back to a.
+    loop.links = pa;
+    for (size_t i = 0; i + 1 < pa.size(); ++i) loop.joints.push_back(t.parent_joint[pa[i]]);
+    for (int i = static_cast<int>(pb.size()) - 2; i >= 0; --i) {
+      loop.joints.push_back(t.parent_joint[pb[i]]);
+      loop.links.push_back(pb[i]);
+    }
+    loop.joints.push_back(c);
+    loop.links.push_back(j.a.link);
+    t.loops.push_back(loop);
+  }
+
+  // ---- mobility ----
+  const int j1 = static_cast<int>(m.joints.size());
+  t.num_variables = (t.num_groups() - 1) + t.num_prismatic;
+  t.grubler_mobility = 3 * (n - 1) - 2 * j1;
+  t.loop_mobility = t.num_variables - 2 * static_cast<int>(t.loops.size());
+  std::ostringstream os;
+  os << "3(n - 1) - 2 j1 = 3*(" << n << " - 1) - 2*" << j1 << " = " << t.grubler_mobility;
+  t.grubler_text = os.str();
+
+  const int declared = static_cast<int>(m.inputs.size());
+  if (t.loop_mobility <= 0)
+    m.Fail(m.inputs_mark, "the mechanism cannot move: mobility " + std::to_string(t.loop_mobility) +
+                              " (Grübler–Kutzbach " + t.grubler_text +
+                              "); it is a structure" +
+                              (t.loop_mobility < 0 ? " and over-constrained" : "") +
+                              ". Remove a joint or add a link");
+  if (declared != t.loop_mobility) {
+    std::string detail = "Grübler–Kutzbach " + t.grubler_text + ", loop criterion " +
+                         std::to_string(t.num_variables) + " variables - 2*" +
+                         std::to_string(t.loops.size()) + " loops = " +
+                         std::to_string(t.loop_mobility);
+    m.Fail(m.inputs_mark, std::to_string(declared) + " input(s) declared but the mechanism has " +
+                              std::to_string(t.loop_mobility) + " degree(s) of freedom (" + detail +
+                              "); declare exactly " + std::to_string(t.loop_mobility) +
+                              " driven joint(s)");
+  }
+  // Each input must drive its own variable.
+  std::vector<int> driven_group(t.num_groups(), -1);
+  for (const Input& in : m.inputs) {
+    const Joint& j = m.joints[in.joint];
+    if (j.type != JointType::kRevolute) continue;
+    const int moving = j.a.link == m.ground ? j.b.link : j.a.link;
+    const int g = t.group[moving];
+    if (g == t.ground_group)
+      m.Fail(in.mark, "input joint '" + j.name + "' cannot turn: link '" + m.links[moving].name +
+                          "' also slides on the ground and keeps its angle");
+    if (driven_group[g] >= 0)
+      m.Fail(in.mark, "inputs '" + m.joints[driven_group[g]].name + "' and '" + j.name +
+                          "' drive the same angle; drive independent joints");
+    driven_group[g] = in.joint;
+  }
+  return t;
+}
+
+}  // namespace mechgen

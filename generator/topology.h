@@ -1,0 +1,48 @@
+// The link–joint graph of a model (Paul appendix D): rotation groups (links that a
+// prismatic joint keeps parallel share one angle), a spanning tree grown from the ground,
+// the fundamental loops closed by the remaining (cut) joints, and the mobility by
+// Grübler–Kutzbach and by the loop mobility criterion, checked against the inputs.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "model.h"
+
+namespace mechgen {
+
+/// One independent loop: the cut joint that closes it and the tree path between its ends.
+struct Loop {
+  int cut_joint = -1;
+  std::vector<int> links;   ///< links around the loop, starting and ending at a cut end
+  std::vector<int> joints;  ///< joints around the loop, joints[i] between links[i], links[i+1]
+  std::string Text(const Model& m) const;  ///< "ground -A- crank -B- coupler ..."
+};
+
+struct Topology {
+  /// Rotation groups: link l has angle theta[group[l]] + offset[l]; the ground's group
+  /// has angle 0. rep[g] is the link whose name the group's angle takes.
+  std::vector<int> group;
+  std::vector<GiNaC::ex> offset;
+  std::vector<int> rep;
+  int ground_group = -1;
+
+  std::vector<int> parent_joint;  ///< per link: the tree joint to its parent; -1 for ground
+  std::vector<int> order;         ///< links in breadth-first order from the ground
+  std::vector<int> tree_joints, cut_joints;
+  std::vector<Loop> loops;
+
+  int num_prismatic = 0;
+  int num_variables = 0;       ///< (groups - 1) + prismatic joints
+  int grubler_mobility = 0;    ///< 3 (n - 1) - 2 j1
+  int loop_mobility = 0;       ///< variables - 2 loops
+  std::string grubler_text;    ///< the formula with the numbers
+
+  int num_groups() const { return static_cast<int>(rep.size()); }
+};
+
+/// Builds the topology; fails (ModelError) on disconnected links, inconsistent sliders,
+/// and a mobility that does not match the declared inputs.
+Topology BuildTopology(const Model& m);
+
+}  // namespace mechgen

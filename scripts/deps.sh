@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs the Debian packages mechgen needs, only those that are missing.
+# Sourced by scripts/quickstart.sh and scripts/test.sh; safe to run again.
+set -euo pipefail
+MECHGEN_PACKAGES=(
+  cmake ninja-build g++ pkg-config
+  libeigen3-dev libginac-dev libcln-dev libceres-dev libgtest-dev libbenchmark-dev
+  libyaml-cpp-dev libkainjow-mustache-dev libcli11-dev
+  gnuplot-nox
+)
+missing=()
+for p in "${MECHGEN_PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "mechgen: installing missing packages: ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
