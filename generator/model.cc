@@ -376,11 +376,8 @@ Model LoadModel(const std::string& path, const std::string& name_override) {
   const auto entries = r.Entries(root, "the model",
                                  {"name", "title", "description", "parameters", "links", "joints",
                                   "inputs", "outputs", "assembly"});
-  auto get = [&](const std::string& key) {
-    for (const auto& [k, v] : entries)
-      if (k == key) return v;
-    return YAML::Node();
-  };
+  const YAML::Node& const_root = root;  // const lookups never insert keys
+  auto get = [&](const std::string& key) { return const_root[key]; };
   try {
     if (YAML::Node n = get("name")) {
       m.name = r.Scalar(n, "name");

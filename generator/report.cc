@@ -13,6 +13,19 @@ std::string Show(const GiNaC::ex& e, ReportFormat f) {
   return os.str();
 }
 
+// For display: sin^2 t + cos^2 t = 1 for every angle coordinate, then one fraction.
+GiNaC::matrix Simplified(const GiNaC::matrix& a, const Kinematics& k) {
+  GiNaC::exmap pythagoras;
+  for (const auto* coords : {&k.q, &k.phi})
+    for (const Coordinate& c : *coords)
+      if (c.is_angle) pythagoras[GiNaC::pow(GiNaC::sin(c.symbol), 2)] = 1 - GiNaC::pow(GiNaC::cos(c.symbol), 2);
+  GiNaC::matrix out(a.rows(), a.cols());
+  for (unsigned i = 0; i < a.rows(); ++i)
+    for (unsigned j = 0; j < a.cols(); ++j)
+      out(i, j) = GiNaC::factor(GiNaC::normal(a(i, j).expand().subs(pythagoras, GiNaC::subs_options::algebraic).expand()));
+  return out;
+}
+
 }  // namespace
 
 void WriteReport(const Model& m, const Topology& t, const Kinematics& k, const Derivation& d,
@@ -69,7 +82,7 @@ void WriteReport(const Model& m, const Topology& t, const Kinematics& k, const D
   matrix(tex ? "\\Phi_q" : "Phi_q = dPhi/dq", k.Phi_q);
   if (k.nphi() <= kMaxSymbolicSolve) {
     if (!tex) os << "Velocity coefficients K = dphi/dq = -Phi_phi^-1 Phi_q (phid = K qd):\n";
-    matrix(tex ? "K = -\\Phi_\\phi^{-1}\\Phi_q" : "K", SymbolicK(k));
+    matrix(tex ? "K = -\\Phi_\\phi^{-1}\\Phi_q" : "K", Simplified(SymbolicK(k), k));
   } else if (!tex) {
     os << "K = -Phi_phi^-1 Phi_q is solved numerically (Phi_phi is " << k.nphi() << "x" << k.nphi() << ").\n";
   }

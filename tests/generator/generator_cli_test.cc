@@ -1,0 +1,256 @@
+// The mechgen command line, end to end: generated/ matches what the generator produces
+// now (byte for byte), output is the same on every run, and every kind of bad model gets
+// one message with file:line:column and what to change, a non-zero exit, and no files.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result RunMechgen(const std::string& args) {
+  const std::string cmd = std::string(MECHGEN_EXE) + " " + args + " 2>&1";
+  Result r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, pipe)) r.output.append(buf, n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string Slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+std::vector<std::string> ShippedModels() {
+  std::vector<std::string> models;
+  std::istringstream in(MECHGEN_SHIPPED_MODELS);
+  std::string m;
+  while (std::getline(in, m, ','))
+    if (!m.empty()) models.push_back(m);
+  return models;
+}
+
+class TempDir {
+ public:
+  TempDir() {
+    path_ = fs::temp_directory_path() /
+            ("mechgen_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  const fs::path& path() const { return path_; }
+
+ private:
+  static inline int counter_ = 0;
+  fs::path path_;
+};
+
+const fs::path kSource = MECHGEN_SOURCE_DIR;
+
+TEST(GeneratedFiles, MatchWhatTheGeneratorProducesNow) {
+  ASSERT_FALSE(ShippedModels().empty());
+  for (const std::string& model : ShippedModels()) {
+    TempDir out;
+    const Result r = RunMechgen("generate " + (kSource / "models" / (model + ".yaml")).string() +
+                         " --quiet --out-dir " + out.path().string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    for (const char* ext : {".h", ".cc"}) {
+      const fs::path committed = kSource / "generated" / (model + ext);
+      ASSERT_TRUE(fs::exists(committed)) << committed << " is missing: run the regenerate target";
+      EXPECT_EQ(Slurp(out.path() / (model + ext)), Slurp(committed))
+          << committed << " differs from what mechgen generates now; run "
+          << "`cmake --build build --target regenerate` and commit generated/";
+    }
+  }
+}
+
+TEST(GeneratedFiles, SameBytesOnEveryRun) {
+  // GiNaC's term order changes from process to process; the output must not.
+  for (const std::string& model : ShippedModels()) {
+    std::string first;
+    for (int run = 0; run < 6; ++run) {
+      TempDir out;
+      const Result r = RunMechgen("generate " + (kSource / "models" / (model + ".yaml")).string() +
+                           " --quiet --out-dir " + out.path().string());
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      const std::string text = Slurp(out.path() / (model + ".h")) + Slurp(out.path() / (model + ".cc"));
+      if (run == 0)
+        first = text;
+      else
+        ASSERT_EQ(text, first) << model << " differs between run 0 and run " << run;
+    }
+  }
+}
+
+TEST(Cli, HelpListsTheSubcommands) {
+  const Result r = RunMechgen("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.output.find("generate"), std::string::npos);
+  EXPECT_NE(r.output.find("report"), std::string::npos);
+}
+
+TEST(Cli, ReportShowsLoopsMobilityEquationsAndK) {
+  const Result r = RunMechgen("report " + (kSource / "models" / "fourbar.yaml").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("Independent loops (1)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("3*(4 - 1) - 2*4 = 1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Phi(0) ="), std::string::npos);
+  EXPECT_NE(r.output.find("Velocity coefficients K"), std::string::npos);
+  const Result tex = RunMechgen("report --latex " + (kSource / "models" / "fourbar.yaml").string());
+  ASSERT_EQ(tex.exit_code, 0) << tex.output;
+  EXPECT_NE(tex.output.find("\\begin{pmatrix}"), std::string::npos) << tex.output;
+  EXPECT_NE(tex.output.find("\\theta_{\\mathrm{crank}}"), std::string::npos) << tex.output;
+}
+
+// ---- bad models ----
+
+// A valid four-bar to mutate: each case replaces one piece of text.
+const char* kGoodModel = R"(name: fb
+parameters:
+  a: 1.0
+  b: 3.5
+  c: 3.0
+  d: 4.0
+links:
+  ground:  {ground: true, points: {A: [0, 0], D: [d, 0]}}
+  crank:   {points: {A: [0, 0], B: [a, 0]}}
+  coupler: {points: {B: [0, 0], C: [b, 0]}}
+  rocker:  {points: {D: [0, 0], C: [c, 0]}}
+joints:
+  A: {revolute: [ground.A, crank.A]}
+  B: {revolute: [crank.B, coupler.B]}
+  C: {revolute: [coupler.C, rocker.C]}
+  D: {revolute: [rocker.D, ground.D]}
+inputs:
+  - {joint: A}
+)";
+
+struct BadCase {
+  const char* name;
+  const char* find;      // text in kGoodModel to replace ("" appends `replace`)
+  const char* replace;
+  int line, column;      // where the error must point
+  const char* message;   // a part of the message
+};
+
+std::string Mutate(const BadCase& c) {
+  std::string text = kGoodModel;
+  if (std::string(c.find).empty()) return text + c.replace;
+  const auto pos = text.find(c.find);
+  if (pos == std::string::npos) return "";
+  return text.replace(pos, std::string(c.find).size(), c.replace);
+}
+
+class BadModel : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BadModel, NamesFileLineColumnExitsNonZeroWritesNothing) {
+  const BadCase& c = GetParam();
+  const std::string text = Mutate(c);
+  ASSERT_FALSE(text.empty()) << "test case text not found: " << c.find;
+  TempDir dir;
+  const fs::path model = dir.path() / "bad.yaml";
+  std::ofstream(model) << text;
+  const fs::path out = dir.path() / "out";
+  const Result r = RunMechgen("generate " + model.string() + " --out-dir " + out.string());
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  const std::string where = model.string() + ":" + std::to_string(c.line) + ":" + std::to_string(c.column) + ": error: ";
+  EXPECT_EQ(r.output.rfind(where, 0), 0u) << "expected the message to start with '" << where << "', got: " << r.output;
+  EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one message: " << r.output;
+  EXPECT_FALSE(fs::exists(out)) << "output written for a bad model";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Errors, BadModel,
+    ::testing::Values(
+        // yaml-cpp marks where it noticed the unclosed '[': the start of the next line.
+        BadCase{"syntax", "  c: 3.0\n", "  c: [3.0\n", 6, 4, "YAML syntax"},
+        BadCase{"unknown_link", "[coupler.C, rocker.C]", "[coupler.C, rockr.C]", 15, 29,
+                "unknown link 'rockr'"},
+        BadCase{"unknown_point", "[crank.B, coupler.B]", "[crank.B, coupler.X]", 14, 27,
+                "link 'coupler' has no point 'X'"},
+        BadCase{"duplicate_link", "  rocker:  {points", "  crank:  {points", 11, 3,
+                "duplicate name 'crank'"},
+        BadCase{"duplicate_point", "{B: [0, 0], C: [b, 0]}", "{B: [0, 0], B: [b, 0]}", 10, 33,
+                "duplicate name 'B'"},
+        BadCase{"missing_ground", "{ground: true, points", "{ground: false, points", 8, 3,
+                "no ground link"},
+        BadCase{"self_joint", "[rocker.D, ground.D]", "[rocker.D, rocker.C]", 16, 3,
+                "connects link 'rocker' to itself"},
+        BadCase{"mobility", "  - {joint: A}\n", "  - {joint: A}\n  - {joint: D}\n", 18, 3,
+                "2 input(s) declared but the mechanism has 1 degree(s) of freedom"},
+        BadCase{"parameter_not_number", "  b: 3.5\n", "  b: three\n", 4, 6,
+                "parameter 'b' must be a number"},
+        BadCase{"unknown_parameter", "C: [b, 0]}}", "C: [bb, 0]}}", 10, 37,
+                "cannot read 'bb' as an expression"},
+        BadCase{"unknown_key", "  - {joint: A}\n", "  - {joint: A, rnage: [0, 1]}\n", 18, 16,
+                "unknown key 'rnage'"}),
+    [](const ::testing::TestParamInfo<BadCase>& info) { return std::string(info.param.name); });
+
+TEST(BadModelMore, DisconnectedLinkIsNamed) {
+  TempDir dir;
+  const fs::path model = dir.path() / "bad.yaml";
+  std::string text = kGoodModel;
+  text.replace(text.find("links:\n"), 7, "links:\n  lonely: {points: {X: [0, 0]}}\n");
+  std::ofstream(model) << text;
+  const Result r = RunMechgen("generate " + model.string() + " --out-dir " + (dir.path() / "out").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.output.rfind(model.string() + ":8:3: error: ", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find("link 'lonely' is not connected to the ground"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
+}
+
+TEST(BadModelMore, StructureHasNoMobility) {
+  // A triangle of three links pinned together and to the ground cannot move.
+  const char* text = R"(name: tri
+links:
+  ground: {ground: true, points: {A: [0, 0], C: [2, 0]}}
+  l1: {points: {A: [0, 0], B: [1, 0]}}
+  l2: {points: {B: [0, 0], C: [1, 0]}}
+joints:
+  A: {revolute: [ground.A, l1.A]}
+  B: {revolute: [l1.B, l2.B]}
+  C: {revolute: [l2.C, ground.C]}
+inputs:
+  - {joint: A}
+)";
+  TempDir dir;
+  const fs::path model = dir.path() / "tri.yaml";
+  std::ofstream(model) << text;
+  const Result r = RunMechgen("generate " + model.string() + " --out-dir " + (dir.path() / "out").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.output.rfind(model.string() + ":11:3: error: ", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find("cannot move: mobility 0"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
+}
+
+TEST(BadModelMore, MissingFileIsReported) {
+  const Result r = RunMechgen("generate /nonexistent/model.yaml --out-dir /tmp/never");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("/nonexistent/model.yaml: error: cannot open"), std::string::npos) << r.output;
+}
+
+}  // namespace
