@@ -1,0 +1,134 @@
+// Four-bar position analysis per configuration, side by side (Google Benchmark).
+//
+// Every benchmark iteration advances the crank by 0.5 deg along a full turn and produces the
+// same outputs: the dependent angles phi, the velocity and centripetal coefficients K and L
+// and the coupler point (r_P, K_P, L_P):
+//   ClosedForm          hand-written circle–circle intersection + Paul's K and L
+//                       (tests/runtime/handwritten_fourbar.h)
+//   MechgenContinuation PositionSolver::MoveTo(): second-order predictor + Newton on the
+//                       generated Phi/Phi_phi, then the generated Coeffs
+//   CeresAnalyticReused Ceres LM with the generated Jacobian, one ceres::Problem reused,
+//                       started from the previous phi; then Coeffs
+//   CeresAutoDiffReused the same with AutoDiffCostFunction over Model::Phi (Jets)
+//   CeresNewProblem     a new ceres::Problem (analytic Jacobian) per solve; then Coeffs
+// MECHGEN_BENCH_MODEL_INCLUDE / _NAMESPACE select the model for the last four (the generated
+// mech::fourbar when it exists, else the hand-written one); ClosedForm is always the oracle.
+#include <cmath>
+
+#include <benchmark/benchmark.h>
+#include <ceres/ceres.h>
+
+#include "handwritten_fourbar.h"
+#include "mechgen/ceres_adapter.h"
+#include "mechgen/solver.h"
+
+#ifdef MECHGEN_BENCH_MODEL_INCLUDE
+#include MECHGEN_BENCH_MODEL_INCLUDE
+using Model = MECHGEN_BENCH_MODEL_NAMESPACE::Model;
+#else
+using Model = mech::handwritten_fourbar::Model;
+#endif
+
+namespace {
+
+using Types = mechgen::ModelTypes<Model>;
+constexpr double kStep = 0.5 * M_PI / 180;  // 0.5 deg per configuration
+
+// Crank angle of step k; one full turn is 720 steps.
+double CrankAngle(long k) { return (k % 720) * kStep; }
+
+void ClosedForm(benchmark::State& state) {
+  using namespace mech::handwritten_fourbar;
+  const Params<double> p;
+  Coefficients<double> c;
+  Vec<double, 2> phi;
+  long k = 0;
+  for (auto _ : state) {
+    const Vec<double, 1> q = Vec<double, 1>::Constant(CrankAngle(k++));
+    const bool ok = ClosedFormPosition(p, q(0), +1, &phi);
+    EvalCoefficients(p, q, phi, &c);
+    benchmark::DoNotOptimize(ok);
+    benchmark::DoNotOptimize(phi);
+    benchmark::DoNotOptimize(c);
+  }
+}
+BENCHMARK(ClosedForm);
+
+void MechgenContinuation(benchmark::State& state) {
+  mechgen::PositionSolver<Model> solver;
+  mechgen::Summary summary;
+  if (solver.AssembleDefault(&summary) != mechgen::Status::kConverged) {
+    state.SkipWithError("assembly failed");
+    return;
+  }
+  // Start the sweep at q = 0 (the continuation from the assembly input is not timed).
+  solver.MoveTo(Types::VecQ::Zero(), &summary);
+  long k = 1;  // continuation, so q keeps increasing: no jump back at the end of a turn
+  for (auto _ : state) {
+    const Types::VecQ q = Types::VecQ::Constant(k++ * kStep);
+    solver.MoveTo(q, &summary);
+    benchmark::DoNotOptimize(solver.state());
+  }
+  if (summary.status != mechgen::Status::kConverged) state.SkipWithError("step failed");
+}
+BENCHMARK(MechgenContinuation);
+
+// Ceres LM on one reused problem; CostFunction is PhiCostFunction or the autodiff one.
+template <bool kAutoDiff>
+void CeresReused(benchmark::State& state) {
+  const Types::Params params;
+  Types::VecQ q = Types::VecQ::Zero();
+  Types::VecPhi phi = Eigen::Map<const Types::VecPhi>(Model::kAssemblyPhi.data());
+  ceres::CostFunction* cost;
+  if constexpr (kAutoDiff) {
+    cost = new ceres::AutoDiffCostFunction<mechgen::PhiAutoDiffFunctor<Model>, Model::kNc,
+                                           Model::kNphi>(
+        new mechgen::PhiAutoDiffFunctor<Model>(&params, &q));
+  } else {
+    cost = new mechgen::PhiCostFunction<Model>(&params, &q);
+  }
+  ceres::Problem problem;  // owns `cost`
+  problem.AddResidualBlock(cost, nullptr, phi.data());
+  const ceres::Solver::Options options = mechgen::LevenbergMarquardtOptions(100);
+  ceres::Solver::Summary summary;
+  q = Eigen::Map<const Types::VecQ>(Model::kAssemblyQ.data());
+  ceres::Solve(options, &problem, &summary);  // assemble on the model's branch
+  Types::Coefficients c;
+  long k = 0;
+  for (auto _ : state) {
+    q = Types::VecQ::Constant(CrankAngle(k++));
+    ceres::Solve(options, &problem, &summary);
+    Model::Coeffs<double>(params, q, phi, &c);
+    benchmark::DoNotOptimize(phi);
+    benchmark::DoNotOptimize(c);
+  }
+  if (summary.final_cost > 1e-18) state.SkipWithError("Ceres did not close the loop");
+}
+BENCHMARK_TEMPLATE(CeresReused, false)->Name("CeresAnalyticReused");
+BENCHMARK_TEMPLATE(CeresReused, true)->Name("CeresAutoDiffReused");
+
+void CeresNewProblem(benchmark::State& state) {
+  const Types::Params params;
+  Types::VecPhi phi = Eigen::Map<const Types::VecPhi>(Model::kAssemblyPhi.data());
+  const ceres::Solver::Options options = mechgen::LevenbergMarquardtOptions(100);
+  ceres::Solver::Summary summary;
+  Types::Coefficients c;
+  Types::VecQ q = Eigen::Map<const Types::VecQ>(Model::kAssemblyQ.data());
+  long k = -1;  // the first pass assembles at the model's assembly input
+  for (auto _ : state) {
+    if (k >= 0) q = Types::VecQ::Constant(CrankAngle(k));
+    ++k;
+    ceres::Problem problem;
+    problem.AddResidualBlock(new mechgen::PhiCostFunction<Model>(&params, &q), nullptr,
+                             phi.data());
+    ceres::Solve(options, &problem, &summary);
+    Model::Coeffs<double>(params, q, phi, &c);
+    benchmark::DoNotOptimize(phi);
+    benchmark::DoNotOptimize(c);
+  }
+}
+BENCHMARK(CeresNewProblem);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,74 @@
+// A sweep step (PositionSolver::MoveTo + ComputeMotion) must not touch the heap.
+//
+// This binary replaces the global operator new with a counting one, and also builds with
+// EIGEN_RUNTIME_NO_MALLOC so that Eigen asserts if it would allocate while
+// Eigen::internal::set_is_malloc_allowed(false) is in effect.
+#define EIGEN_RUNTIME_NO_MALLOC
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include <gtest/gtest.h>
+
+#include "handwritten_fourbar.h"
+#include "handwritten_rocker_driven.h"
+#include "mechgen/kinematics.h"
+#include "mechgen/solver.h"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) { return operator new(size); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace mechgen {
+namespace {
+
+template <class M>
+long AllocationsDuringSweep(double q_begin, double q_end, int steps) {
+  using VecQ = typename ModelTypes<M>::VecQ;
+  PositionSolver<M> solver;
+  EXPECT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);  // Ceres: allocates
+  EXPECT_EQ(solver.MoveTo(VecQ::Constant(q_begin), nullptr), Status::kConverged);
+  Summary summary;
+  Motion<M> motion;
+  const long before = g_allocations.load();
+  Eigen::internal::set_is_malloc_allowed(false);
+  for (int i = 1; i <= steps; ++i) {
+    const VecQ q = VecQ::Constant(q_begin + (q_end - q_begin) * i / steps);
+    solver.MoveTo(q, &summary);
+    ComputeMotion(solver.state(), VecQ::Constant(1.0), VecQ::Constant(0.0), &motion);
+    EXPECT_EQ(summary.status, Status::kConverged);
+  }
+  Eigen::internal::set_is_malloc_allowed(true);
+  return g_allocations.load() - before;
+}
+
+TEST(NoAllocation, CountingOperatorNewSeesAllocations) {
+  const long before = g_allocations.load();
+  int* volatile p = new int(3);  // volatile: the compiler may not elide the pair
+  delete p;
+  EXPECT_EQ(g_allocations.load() - before, 1);
+}
+
+TEST(NoAllocation, FourBarSweepStep) {
+  // 0.5 deg steps over a full turn, K and L from the model.
+  EXPECT_EQ(AllocationsDuringSweep<mech::handwritten_fourbar::Model>(0, 2 * M_PI, 720), 0);
+}
+
+TEST(NoAllocation, OrderOneModelWithNumericalL) {
+  // Larger steps that need sub-stepping near the toggle, and L by finite differences.
+  EXPECT_EQ(AllocationsDuringSweep<mech::handwritten_rocker_driven::Model>(1.8, 2.46, 40), 0);
+}
+
+}  // namespace
+}  // namespace mechgen
