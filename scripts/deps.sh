@@ -6,7 +6,7 @@ MECHGEN_PACKAGES=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev libginac-dev libcln-dev libceres-dev libgtest-dev libbenchmark-dev
   libyaml-cpp-dev libkainjow-mustache-dev libcli11-dev
-  gnuplot-nox
+  gnuplot-nox python3
 )
 missing=()
 for p in "${MECHGEN_PACKAGES[@]}"; do
