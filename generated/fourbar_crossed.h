@@ -21,9 +21,12 @@
  *   Phi(0) = a*cos(theta_crank) + b*cos(theta_coupler) - c*cos(theta_rocker) - d   [loop 1, joint C, x]
  *   Phi(1) = a*sin(theta_crank) + b*sin(theta_coupler) - c*sin(theta_rocker)   [loop 1, joint C, y]
  *
+ * Solve order (block lower-triangular Phi_phi; Paul §4.2–4.3), 1 block(s):
+ *   Block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode -1
+ *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
- * Linear systems: Phi_phi (2x2) inverted in closed form (adjugate over determinant), shared by K and L.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 133 (adds 29, muls 97, divs 1, calls 6); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
+ * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); SolvePositions 26 (adds 7, muls 16, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 133 (adds 29, muls 97, divs 1, calls 6); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -46,6 +49,7 @@ struct Sizes {
   static constexpr int kNumPoints = 1;   ///< requested points of interest
   static constexpr int kNumLinks = 4;
   static constexpr int kNumScenePoints = 9;  ///< every named point of every link (0: no scene)
+  static constexpr int kNumBlocks = 1;   ///< blocks of the solve order (see the file comment)
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -175,15 +179,15 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_1_0 = _tmp1*p.b;
   const Scalar _tmp5 = cos(phi(1));
   const Scalar Phi_phi_1_1 = -_tmp5*p.c;
-  const Scalar det_Phi_phi = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
-  const Scalar inv_det_Phi_phi = Scalar(1)/det_Phi_phi;
-  const Scalar K_0_0 = Phi_phi_0_1*_tmp2*inv_det_Phi_phi*p.a + Phi_phi_1_1*_tmp3*inv_det_Phi_phi*p.a;
-  const Scalar K_1_0 = -Phi_phi_0_0*_tmp2*inv_det_Phi_phi*p.a - Phi_phi_1_0*_tmp3*inv_det_Phi_phi*p.a;
+  const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
+  const Scalar inv_det_block0 = Scalar(1)/det_block0;
+  const Scalar K_0_0 = Phi_phi_0_1*_tmp2*inv_det_block0*p.a + Phi_phi_1_1*_tmp3*inv_det_block0*p.a;
+  const Scalar K_1_0 = -Phi_phi_0_0*_tmp2*inv_det_block0*p.a - Phi_phi_1_0*_tmp3*inv_det_block0*p.a;
   const Scalar _tmp6 = -_tmp3*p.a;
   const Scalar _tmp7 = K_0_0*K_0_0;
   const Scalar _tmp8 = K_1_0*K_1_0;
-  const Scalar L_0_0_0 = -Phi_phi_0_1*_tmp0*_tmp7*inv_det_Phi_phi*p.b - Phi_phi_0_1*_tmp3*inv_det_Phi_phi*p.a + Phi_phi_0_1*_tmp4*_tmp8*inv_det_Phi_phi*p.c + Phi_phi_1_1*_tmp1*_tmp7*inv_det_Phi_phi*p.b + Phi_phi_1_1*_tmp2*inv_det_Phi_phi*p.a - Phi_phi_1_1*_tmp5*_tmp8*inv_det_Phi_phi*p.c;
-  const Scalar L_1_0_0 = Phi_phi_0_0*_tmp0*_tmp7*inv_det_Phi_phi*p.b + Phi_phi_0_0*_tmp3*inv_det_Phi_phi*p.a - Phi_phi_0_0*_tmp4*_tmp8*inv_det_Phi_phi*p.c - Phi_phi_1_0*_tmp1*_tmp7*inv_det_Phi_phi*p.b - Phi_phi_1_0*_tmp2*inv_det_Phi_phi*p.a + Phi_phi_1_0*_tmp5*_tmp8*inv_det_Phi_phi*p.c;
+  const Scalar L_0_0_0 = -Phi_phi_0_1*_tmp0*_tmp7*inv_det_block0*p.b - Phi_phi_0_1*_tmp3*inv_det_block0*p.a + Phi_phi_0_1*_tmp4*_tmp8*inv_det_block0*p.c + Phi_phi_1_1*_tmp1*_tmp7*inv_det_block0*p.b + Phi_phi_1_1*_tmp2*inv_det_block0*p.a - Phi_phi_1_1*_tmp5*_tmp8*inv_det_block0*p.c;
+  const Scalar L_1_0_0 = Phi_phi_0_0*_tmp0*_tmp7*inv_det_block0*p.b + Phi_phi_0_0*_tmp3*inv_det_block0*p.a - Phi_phi_0_0*_tmp4*_tmp8*inv_det_block0*p.c - Phi_phi_1_0*_tmp1*_tmp7*inv_det_block0*p.b - Phi_phi_1_0*_tmp2*inv_det_block0*p.a + Phi_phi_1_0*_tmp5*_tmp8*inv_det_block0*p.c;
   out->r_P(0, 0) = -_tmp0*p.eta + _tmp1*p.xi + _tmp2*p.a;
   out->r_P(1, 0) = _tmp0*p.xi + _tmp1*p.eta + _tmp3*p.a;
   out->K(0, 0) = K_0_0;
@@ -194,6 +198,108 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->L(1, 0) = L_1_0_0;
   out->L_P(0, 0) = -L_0_0_0*_tmp0*p.xi - L_0_0_0*_tmp1*p.eta + _tmp0*_tmp7*p.eta - _tmp1*_tmp7*p.xi - _tmp2*p.a;
   out->L_P(1, 0) = -L_0_0_0*_tmp0*p.eta + L_0_0_0*_tmp1*p.xi - _tmp0*_tmp7*p.xi - _tmp1*_tmp7*p.eta + _tmp6;
+}
+
+/**
+ * \brief det Phi_phi: zero where the mechanism is singular (a dead point, a change point),
+ * as the product of the blocks' determinants. Its sign is the assembly branch of a loop.
+ * \param[out] det_Phi_phi  not nullptr.
+ */
+template <typename Scalar>
+void EvalDetPhiPhi(const Params<Scalar>& p,
+                   const Vec<Scalar, Sizes::kNq>& q,
+                   const Vec<Scalar, Sizes::kNphi>& phi,
+                   Scalar* det_Phi_phi) {
+  // Total ops: 11 (adds 1, muls 6, divs 0, calls 4); intermediate terms: 0
+  using std::abs;
+  using std::atan2;
+  using std::cos;
+  using std::pow;
+  using std::sin;
+  using std::sqrt;
+  (void)p;
+  (void)q;
+  (void)phi;
+  const Scalar det_block0 = -cos(phi(0))*p.b*p.c*sin(phi(1)) + cos(phi(1))*p.b*p.c*sin(phi(0));
+  *det_Phi_phi = det_block0;
+}
+
+/// Why SolvePositions() stopped.
+enum class SolveStatus {
+  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held
+  kNotAssemblable,  ///< a closed-form block has no real solution (measure: its discriminant, < 0)
+  kDidNotConverge,  ///< a Newton block reached max_iterations (measure: its last |Phi_block|_inf)
+};
+
+template <typename Scalar>
+struct SolveReport {
+  SolveStatus status = SolveStatus::kConverged;
+  int block = -1;               ///< the block that failed, -1 if none
+  int iterations = 0;           ///< Newton iterations over all blocks
+  Scalar measure = Scalar(0);   ///< see SolveStatus
+};
+
+/// `angle` moved by a multiple of 2 pi to lie within pi of `reference`: closed forms give
+/// atan2 values, a motion wants continuous angles.
+template <typename Scalar>
+Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
+  using std::floor;
+  const Scalar two_pi = Scalar(6.283185307179586);
+  return angle - two_pi * floor((angle - reference) / two_pi + Scalar(0.5));
+}
+
+/**
+ * \brief Positions phi at inputs q, block by block in the solve order: closed-form dyads
+ * on the branch `modes[block]` (+1 or -1; Model::kDefaultModes is the model's assembly),
+ * Newton–Raphson from the given phi for the other blocks.
+ * \param[in]     q      Inputs (dim kNq).
+ * \param[in,out] phi_io In: the starting guess (a predictor) and, for angles found in
+ *                       closed form, the reference they are kept continuous with.
+ *                       Out: the solution, when the report says kConverged.
+ * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
+ */
+template <typename Scalar>
+SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
+                                   const Vec<Scalar, Sizes::kNq>& q,
+                                   Vec<Scalar, Sizes::kNphi>* phi_io,
+                                   const std::array<int, Sizes::kNumBlocks>& modes,
+                                   int max_iterations = 20,
+                                   const Scalar& tolerance = Scalar(1e-12)) {
+  // Total ops: 26 (adds 7, muls 16, divs 1, calls 2); intermediate terms: 0
+  using std::abs;
+  using std::atan2;
+  using std::cos;
+  using std::pow;
+  using std::sin;
+  using std::sqrt;
+  using std::acos;
+  using std::floor;
+  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;
+  int iterations = 0;
+  (void)p;
+  (void)q;
+  (void)phi;
+  (void)modes;
+  (void)max_iterations;
+  (void)tolerance;
+  {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode -1
+    const Scalar bx_b0 = -p.c;
+    const Scalar wx_b0 = -cos(q(0))*p.a + p.d;
+    const Scalar wy_b0 = -p.a*sin(q(0));
+    const Scalar ra2_b0 = p.b*p.b;
+    const Scalar rb2_b0 = bx_b0*bx_b0;
+    const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
+    const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
+    const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
+    const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
+    if (!(h2_b0 >= Scalar(0))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
+    const Scalar h_b0 = Scalar(modes[0]) * sqrt(h2_b0);
+    const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
+    const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
+    phi(0) = AngleNear(atan2(my_b0, mx_b0) - atan2(Scalar(0), p.b), phi(0));
+    phi(1) = AngleNear(atan2(-my_b0 + wy_b0, -mx_b0 + wx_b0) - atan2(Scalar(0), bx_b0), phi(1));
+  }
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
 
 /**
@@ -251,6 +357,16 @@ extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
                                              Coefficients<double>*);
+extern template void EvalDetPhiPhi<double>(const Params<double>&,
+                                          const Vec<double, Sizes::kNq>&,
+                                          const Vec<double, Sizes::kNphi>&,
+                                          double*);
+extern template SolveReport<double> SolvePositions<double>(const Params<double>&,
+                                                          const Vec<double, Sizes::kNq>&,
+                                                          Vec<double, Sizes::kNphi>*,
+                                                          const std::array<int, Sizes::kNumBlocks>&,
+                                                          int,
+                                                          const double&);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -265,6 +381,16 @@ extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
                                              Coefficients<float>*);
+extern template void EvalDetPhiPhi<float>(const Params<float>&,
+                                          const Vec<float, Sizes::kNq>&,
+                                          const Vec<float, Sizes::kNphi>&,
+                                          float*);
+extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
+                                                          const Vec<float, Sizes::kNq>&,
+                                                          Vec<float, Sizes::kNphi>*,
+                                                          const std::array<int, Sizes::kNumBlocks>&,
+                                                          int,
+                                                          const float&);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -289,6 +415,10 @@ struct Model : Sizes {
   /// assembly mode (branch); the runtime refines it.
   static constexpr std::array<double, kNq> kAssemblyQ{ 1.5707963267948966 };
   static constexpr std::array<double, kNphi> kAssemblyPhi{ -1.0471975511965979, -2.408554367752175 };
+  /// Assembly mode (+1/-1) of each block that matches the model's assembly guess, and
+  /// whether the block is solved in closed form (else Newton).
+  static constexpr std::array<int, kNumBlocks> kDefaultModes{ -1 };
+  static constexpr std::array<bool, kNumBlocks> kBlockClosedForm{ true };
   /// Default sweep range of each input [min, max] from the model.
   static constexpr std::array<double, kNq> kQMin{ 0.0 };
   static constexpr std::array<double, kNq> kQMax{ 6.2831853071795862 };
@@ -313,6 +443,22 @@ struct Model : Sizes {
                      const Vec<Scalar, kNphi>& phi,
                      Coefficients<Scalar>* out) {
     EvalCoefficients(p, q, phi, out);
+  }
+  template <typename Scalar>
+  static void DetPhiPhi(const Params<Scalar>& p,
+                        const Vec<Scalar, kNq>& q,
+                        const Vec<Scalar, kNphi>& phi,
+                        Scalar* det_Phi_phi) {
+    EvalDetPhiPhi(p, q, phi, det_Phi_phi);
+  }
+  template <typename Scalar>
+  static SolveReport<Scalar> Solve(const Params<Scalar>& p,
+                                   const Vec<Scalar, kNq>& q,
+                                   Vec<Scalar, kNphi>* phi_io,
+                                   const std::array<int, kNumBlocks>& modes = kDefaultModes,
+                                   int max_iterations = 20,
+                                   const Scalar& tolerance = Scalar(1e-12)) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

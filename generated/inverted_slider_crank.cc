@@ -19,6 +19,16 @@ template void EvalCoefficients<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
                                       Coefficients<double>*);
+template void EvalDetPhiPhi<double>(const Params<double>&,
+                                   const Vec<double, Sizes::kNq>&,
+                                   const Vec<double, Sizes::kNphi>&,
+                                   double*);
+template SolveReport<double> SolvePositions<double>(const Params<double>&,
+                                                   const Vec<double, Sizes::kNq>&,
+                                                   Vec<double, Sizes::kNphi>*,
+                                                   const std::array<int, Sizes::kNumBlocks>&,
+                                                   int,
+                                                   const double&);
 template void EvalScene<double>(const Params<double>&,
                                const Vec<double, Sizes::kNq>&,
                                const Vec<double, Sizes::kNphi>&,
@@ -33,6 +43,16 @@ template void EvalCoefficients<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
                                       Coefficients<float>*);
+template void EvalDetPhiPhi<float>(const Params<float>&,
+                                   const Vec<float, Sizes::kNq>&,
+                                   const Vec<float, Sizes::kNphi>&,
+                                   float*);
+template SolveReport<float> SolvePositions<float>(const Params<float>&,
+                                                   const Vec<float, Sizes::kNq>&,
+                                                   Vec<float, Sizes::kNphi>*,
+                                                   const std::array<int, Sizes::kNumBlocks>&,
+                                                   int,
+                                                   const float&);
 template void EvalScene<float>(const Params<float>&,
                                const Vec<float, Sizes::kNq>&,
                                const Vec<float, Sizes::kNphi>&,

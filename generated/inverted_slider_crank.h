@@ -23,9 +23,12 @@
  *   Phi(0) = -a*cos(theta_crank) + cos(theta_rocker)*s_slot + d   [loop 1, joint slot, x]
  *   Phi(1) = -a*sin(theta_crank) + s_slot*sin(theta_rocker)   [loop 1, joint slot, y]
  *
+ * Solve order (block lower-triangular Phi_phi; Paul §4.2–4.3), 1 block(s):
+ *   Block 0: rows 0 1 -> theta_rocker, s_slot: closed form, angle and slide (RRP/RPR dyad, circle-line), mode 1
+ *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), rocker.E.
- * Linear systems: Phi_phi (2x2) inverted in closed form (adjugate over determinant), shared by K and L.
- * Operation counts: EvalPhi 13 (adds 3, muls 6, divs 0, calls 4); EvalCoefficients 100 (adds 16, muls 79, divs 1, calls 4); EvalScene 9 (adds 1, muls 4, divs 0, calls 4)
+ * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
+ * Operation counts: EvalPhi 13 (adds 3, muls 6, divs 0, calls 4); SolvePositions 17 (adds 4, muls 11, divs 0, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 100 (adds 16, muls 79, divs 1, calls 4); EvalScene 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -48,6 +51,7 @@ struct Sizes {
   static constexpr int kNumPoints = 1;   ///< requested points of interest
   static constexpr int kNumLinks = 4;
   static constexpr int kNumScenePoints = 7;  ///< every named point of every link (0: no scene)
+  static constexpr int kNumBlocks = 1;   ///< blocks of the solve order (see the file comment)
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -163,15 +167,15 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_0_1 = _tmp0;
   const Scalar Phi_phi_1_0 = _tmp0*phi(1);
   const Scalar Phi_phi_1_1 = _tmp1;
-  const Scalar det_Phi_phi = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
-  const Scalar inv_det_Phi_phi = Scalar(1)/det_Phi_phi;
+  const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
+  const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar _tmp2 = cos(q(0));
   const Scalar _tmp3 = sin(q(0));
-  const Scalar K_0_0 = -Phi_phi_0_1*_tmp2*inv_det_Phi_phi*p.a - Phi_phi_1_1*_tmp3*inv_det_Phi_phi*p.a;
-  const Scalar K_1_0 = Phi_phi_0_0*_tmp2*inv_det_Phi_phi*p.a + Phi_phi_1_0*_tmp3*inv_det_Phi_phi*p.a;
+  const Scalar K_0_0 = -Phi_phi_0_1*_tmp2*inv_det_block0*p.a - Phi_phi_1_1*_tmp3*inv_det_block0*p.a;
+  const Scalar K_1_0 = Phi_phi_0_0*_tmp2*inv_det_block0*p.a + Phi_phi_1_0*_tmp3*inv_det_block0*p.a;
   const Scalar _tmp4 = K_0_0*K_0_0;
-  const Scalar L_0_0_0 = -Phi_phi_0_1*_tmp1*_tmp4*inv_det_Phi_phi*phi(1) + Phi_phi_0_1*_tmp3*inv_det_Phi_phi*p.a + Phi_phi_1_1*_tmp0*_tmp4*inv_det_Phi_phi*phi(1) - Phi_phi_1_1*_tmp2*inv_det_Phi_phi*p.a + Scalar(2)*K_0_0*K_1_0*Phi_phi_0_1*_tmp0*inv_det_Phi_phi + Scalar(2)*K_0_0*K_1_0*Phi_phi_1_1*_tmp1*inv_det_Phi_phi;
-  const Scalar L_1_0_0 = Phi_phi_0_0*_tmp1*_tmp4*inv_det_Phi_phi*phi(1) - Phi_phi_0_0*_tmp3*inv_det_Phi_phi*p.a - Phi_phi_1_0*_tmp0*_tmp4*inv_det_Phi_phi*phi(1) + Phi_phi_1_0*_tmp2*inv_det_Phi_phi*p.a - Scalar(2)*K_0_0*K_1_0*Phi_phi_0_0*_tmp0*inv_det_Phi_phi - Scalar(2)*K_0_0*K_1_0*Phi_phi_1_0*_tmp1*inv_det_Phi_phi;
+  const Scalar L_0_0_0 = -Phi_phi_0_1*_tmp1*_tmp4*inv_det_block0*phi(1) + Phi_phi_0_1*_tmp3*inv_det_block0*p.a + Phi_phi_1_1*_tmp0*_tmp4*inv_det_block0*phi(1) - Phi_phi_1_1*_tmp2*inv_det_block0*p.a + Scalar(2)*K_0_0*K_1_0*Phi_phi_0_1*_tmp0*inv_det_block0 + Scalar(2)*K_0_0*K_1_0*Phi_phi_1_1*_tmp1*inv_det_block0;
+  const Scalar L_1_0_0 = Phi_phi_0_0*_tmp1*_tmp4*inv_det_block0*phi(1) - Phi_phi_0_0*_tmp3*inv_det_block0*p.a - Phi_phi_1_0*_tmp0*_tmp4*inv_det_block0*phi(1) + Phi_phi_1_0*_tmp2*inv_det_block0*p.a - Scalar(2)*K_0_0*K_1_0*Phi_phi_0_0*_tmp0*inv_det_block0 - Scalar(2)*K_0_0*K_1_0*Phi_phi_1_0*_tmp1*inv_det_block0;
   out->r_P(0, 0) = Scalar(3)*_tmp0 + p.d;
   out->r_P(1, 0) = Scalar(3)*_tmp1;
   out->K(0, 0) = K_0_0;
@@ -182,6 +186,108 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->L(1, 0) = L_1_0_0;
   out->L_P(0, 0) = -Scalar(3)*L_0_0_0*_tmp1 - Scalar(3)*_tmp0*_tmp4;
   out->L_P(1, 0) = Scalar(3)*L_0_0_0*_tmp0 - Scalar(3)*_tmp1*_tmp4;
+}
+
+/**
+ * \brief det Phi_phi: zero where the mechanism is singular (a dead point, a change point),
+ * as the product of the blocks' determinants. Its sign is the assembly branch of a loop.
+ * \param[out] det_Phi_phi  not nullptr.
+ */
+template <typename Scalar>
+void EvalDetPhiPhi(const Params<Scalar>& p,
+                   const Vec<Scalar, Sizes::kNq>& q,
+                   const Vec<Scalar, Sizes::kNphi>& phi,
+                   Scalar* det_Phi_phi) {
+  // Total ops: 7 (adds 1, muls 4, divs 0, calls 2); intermediate terms: 2
+  using std::abs;
+  using std::atan2;
+  using std::cos;
+  using std::pow;
+  using std::sin;
+  using std::sqrt;
+  (void)p;
+  (void)q;
+  (void)phi;
+  const Scalar _tmp0 = cos(phi(0));
+  const Scalar _tmp1 = sin(phi(0));
+  const Scalar det_block0 = -(_tmp0*_tmp0)*phi(1) - (_tmp1*_tmp1)*phi(1);
+  *det_Phi_phi = det_block0;
+}
+
+/// Why SolvePositions() stopped.
+enum class SolveStatus {
+  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held
+  kNotAssemblable,  ///< a closed-form block has no real solution (measure: its discriminant, < 0)
+  kDidNotConverge,  ///< a Newton block reached max_iterations (measure: its last |Phi_block|_inf)
+};
+
+template <typename Scalar>
+struct SolveReport {
+  SolveStatus status = SolveStatus::kConverged;
+  int block = -1;               ///< the block that failed, -1 if none
+  int iterations = 0;           ///< Newton iterations over all blocks
+  Scalar measure = Scalar(0);   ///< see SolveStatus
+};
+
+/// `angle` moved by a multiple of 2 pi to lie within pi of `reference`: closed forms give
+/// atan2 values, a motion wants continuous angles.
+template <typename Scalar>
+Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
+  using std::floor;
+  const Scalar two_pi = Scalar(6.283185307179586);
+  return angle - two_pi * floor((angle - reference) / two_pi + Scalar(0.5));
+}
+
+/**
+ * \brief Positions phi at inputs q, block by block in the solve order: closed-form dyads
+ * on the branch `modes[block]` (+1 or -1; Model::kDefaultModes is the model's assembly),
+ * Newton–Raphson from the given phi for the other blocks.
+ * \param[in]     q      Inputs (dim kNq).
+ * \param[in,out] phi_io In: the starting guess (a predictor) and, for angles found in
+ *                       closed form, the reference they are kept continuous with.
+ *                       Out: the solution, when the report says kConverged.
+ * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
+ */
+template <typename Scalar>
+SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
+                                   const Vec<Scalar, Sizes::kNq>& q,
+                                   Vec<Scalar, Sizes::kNphi>* phi_io,
+                                   const std::array<int, Sizes::kNumBlocks>& modes,
+                                   int max_iterations = 20,
+                                   const Scalar& tolerance = Scalar(1e-12)) {
+  // Total ops: 17 (adds 4, muls 11, divs 0, calls 2); intermediate terms: 3
+  using std::abs;
+  using std::atan2;
+  using std::cos;
+  using std::pow;
+  using std::sin;
+  using std::sqrt;
+  using std::acos;
+  using std::floor;
+  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;
+  int iterations = 0;
+  (void)p;
+  (void)q;
+  (void)phi;
+  (void)modes;
+  (void)max_iterations;
+  (void)tolerance;
+  {  // block 0: rows 0 1 -> theta_rocker, s_slot: closed form, angle and slide (RRP/RPR dyad, circle-line), mode 1
+    const Scalar _tmp0 = cos(q(0));
+    const Scalar _tmp1 = p.a*p.a;
+    const Scalar _tmp2 = sin(q(0));
+    const Scalar C_b0 = -(_tmp0*_tmp0)*_tmp1 - (_tmp2*_tmp2)*_tmp1 + Scalar(2)*_tmp0*p.a*p.d - p.d*p.d;
+    const Scalar disc_b0 = Scalar(0) * Scalar(0) - Scalar(4) * Scalar(1) * C_b0;
+    if (!(disc_b0 >= Scalar(0))) return {SolveStatus::kNotAssemblable, 0, iterations, disc_b0};
+    const Scalar sq_b0 = sqrt(disc_b0);
+    const Scalar qq_b0 = -(Scalar(0) + (Scalar(0) >= Scalar(0) ? sq_b0 : -sq_b0)) / Scalar(2);
+    const Scalar s_b0 = ((modes[0] > 0) == (Scalar(0) >= Scalar(0))) ? (qq_b0 != Scalar(0) ? C_b0 / qq_b0 : Scalar(0)) : qq_b0 / Scalar(1);
+    const Scalar wx_b0 = _tmp0*p.a - p.d;
+    const Scalar wy_b0 = _tmp2*p.a;
+    phi(1) = s_b0;
+    phi(0) = AngleNear(atan2(wy_b0, wx_b0) - atan2(Scalar(0), s_b0), phi(0));
+  }
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
 
 /**
@@ -233,6 +339,16 @@ extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
                                              Coefficients<double>*);
+extern template void EvalDetPhiPhi<double>(const Params<double>&,
+                                          const Vec<double, Sizes::kNq>&,
+                                          const Vec<double, Sizes::kNphi>&,
+                                          double*);
+extern template SolveReport<double> SolvePositions<double>(const Params<double>&,
+                                                          const Vec<double, Sizes::kNq>&,
+                                                          Vec<double, Sizes::kNphi>*,
+                                                          const std::array<int, Sizes::kNumBlocks>&,
+                                                          int,
+                                                          const double&);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -247,6 +363,16 @@ extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
                                              Coefficients<float>*);
+extern template void EvalDetPhiPhi<float>(const Params<float>&,
+                                          const Vec<float, Sizes::kNq>&,
+                                          const Vec<float, Sizes::kNphi>&,
+                                          float*);
+extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
+                                                          const Vec<float, Sizes::kNq>&,
+                                                          Vec<float, Sizes::kNphi>*,
+                                                          const std::array<int, Sizes::kNumBlocks>&,
+                                                          int,
+                                                          const float&);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -271,6 +397,10 @@ struct Model : Sizes {
   /// assembly mode (branch); the runtime refines it.
   static constexpr std::array<double, kNq> kAssemblyQ{ 1.5707963267948966 };
   static constexpr std::array<double, kNphi> kAssemblyPhi{ 2.7576202181510405, 2.7000000000000002 };
+  /// Assembly mode (+1/-1) of each block that matches the model's assembly guess, and
+  /// whether the block is solved in closed form (else Newton).
+  static constexpr std::array<int, kNumBlocks> kDefaultModes{ 1 };
+  static constexpr std::array<bool, kNumBlocks> kBlockClosedForm{ true };
   /// Default sweep range of each input [min, max] from the model.
   static constexpr std::array<double, kNq> kQMin{ 0.0 };
   static constexpr std::array<double, kNq> kQMax{ 6.2831853071795862 };
@@ -295,6 +425,22 @@ struct Model : Sizes {
                      const Vec<Scalar, kNphi>& phi,
                      Coefficients<Scalar>* out) {
     EvalCoefficients(p, q, phi, out);
+  }
+  template <typename Scalar>
+  static void DetPhiPhi(const Params<Scalar>& p,
+                        const Vec<Scalar, kNq>& q,
+                        const Vec<Scalar, kNphi>& phi,
+                        Scalar* det_Phi_phi) {
+    EvalDetPhiPhi(p, q, phi, det_Phi_phi);
+  }
+  template <typename Scalar>
+  static SolveReport<Scalar> Solve(const Params<Scalar>& p,
+                                   const Vec<Scalar, kNq>& q,
+                                   Vec<Scalar, kNphi>* phi_io,
+                                   const std::array<int, kNumBlocks>& modes = kDefaultModes,
+                                   int max_iterations = 20,
+                                   const Scalar& tolerance = Scalar(1e-12)) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -22,9 +22,13 @@
  *   Phi(0) = a*cos(theta_crank) + b*cos(theta_rod) - s_slide   [loop 1, joint C, x]
  *   Phi(1) = a*sin(theta_crank) + b*sin(theta_rod) - e   [loop 1, joint C, y]
  *
+ * Solve order (block lower-triangular Phi_phi; Paul §4.2–4.3), 2 block(s):
+ *   Block 0: rows 1 -> theta_rod: closed form, one angle (acos), mode -1
+ *   Block 1: rows 0 -> s_slide: closed form, linear
+ *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), slider.C.
- * Linear systems: Phi_phi (2x2) inverted in closed form (adjugate over determinant), shared by K and L.
- * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); EvalCoefficients 59 (adds 9, muls 45, divs 1, calls 4); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
+ * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
+ * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 32 (adds 4, muls 22, divs 2, calls 4); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -47,6 +51,7 @@ struct Sizes {
   static constexpr int kNumPoints = 1;   ///< requested points of interest
   static constexpr int kNumLinks = 4;
   static constexpr int kNumScenePoints = 7;  ///< every named point of every link (0: no scene)
+  static constexpr int kNumBlocks = 2;   ///< blocks of the solve order (see the file comment)
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -147,7 +152,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 59 (adds 9, muls 45, divs 1, calls 4); intermediate terms: 5
+  // Total ops: 32 (adds 4, muls 22, divs 2, calls 4); intermediate terms: 5
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -158,21 +163,21 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = sin(phi(0));
-  const Scalar Phi_phi_0_0 = -_tmp0*p.b;
+  const Scalar _tmp0 = cos(phi(0));
+  const Scalar Phi_phi_1_0 = _tmp0*p.b;
+  const Scalar det_block0 = Phi_phi_1_0;
+  const Scalar inv_det_block0 = Scalar(1)/det_block0;
+  const Scalar _tmp1 = cos(q(0));
+  const Scalar K_0_0 = -_tmp1*inv_det_block0*p.a;
   const Scalar Phi_phi_0_1 = Scalar(-1);
-  const Scalar _tmp1 = cos(phi(0));
-  const Scalar Phi_phi_1_0 = _tmp1*p.b;
-  const Scalar Phi_phi_1_1 = Scalar(0);
-  const Scalar det_Phi_phi = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
-  const Scalar inv_det_Phi_phi = Scalar(1)/det_Phi_phi;
-  const Scalar _tmp2 = cos(q(0));
+  const Scalar det_block1 = Phi_phi_0_1;
+  const Scalar inv_det_block1 = Scalar(1)/det_block1;
+  const Scalar _tmp2 = sin(phi(0));
   const Scalar _tmp3 = sin(q(0));
-  const Scalar K_0_0 = Phi_phi_0_1*_tmp2*inv_det_Phi_phi*p.a + Phi_phi_1_1*_tmp3*inv_det_Phi_phi*p.a;
-  const Scalar K_1_0 = -Phi_phi_0_0*_tmp2*inv_det_Phi_phi*p.a - Phi_phi_1_0*_tmp3*inv_det_Phi_phi*p.a;
+  const Scalar K_1_0 = K_0_0*_tmp2*inv_det_block1*p.b + _tmp3*inv_det_block1*p.a;
   const Scalar _tmp4 = K_0_0*K_0_0;
-  const Scalar L_0_0_0 = -Phi_phi_0_1*_tmp0*_tmp4*inv_det_Phi_phi*p.b - Phi_phi_0_1*_tmp3*inv_det_Phi_phi*p.a + Phi_phi_1_1*_tmp1*_tmp4*inv_det_Phi_phi*p.b + Phi_phi_1_1*_tmp2*inv_det_Phi_phi*p.a;
-  const Scalar L_1_0_0 = Phi_phi_0_0*_tmp0*_tmp4*inv_det_Phi_phi*p.b + Phi_phi_0_0*_tmp3*inv_det_Phi_phi*p.a - Phi_phi_1_0*_tmp1*_tmp4*inv_det_Phi_phi*p.b - Phi_phi_1_0*_tmp2*inv_det_Phi_phi*p.a;
+  const Scalar L_0_0_0 = _tmp2*_tmp4*inv_det_block0*p.b + _tmp3*inv_det_block0*p.a;
+  const Scalar L_1_0_0 = L_0_0_0*_tmp2*inv_det_block1*p.b + _tmp0*_tmp4*inv_det_block1*p.b + _tmp1*inv_det_block1*p.a;
   out->r_P(0, 0) = phi(1);
   out->r_P(1, 0) = p.e;
   out->K(0, 0) = K_0_0;
@@ -183,6 +188,103 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->L(1, 0) = L_1_0_0;
   out->L_P(0, 0) = L_1_0_0;
   out->L_P(1, 0) = Scalar(0);
+}
+
+/**
+ * \brief det Phi_phi: zero where the mechanism is singular (a dead point, a change point),
+ * as the product of the blocks' determinants. Its sign is the assembly branch of a loop.
+ * \param[out] det_Phi_phi  not nullptr.
+ */
+template <typename Scalar>
+void EvalDetPhiPhi(const Params<Scalar>& p,
+                   const Vec<Scalar, Sizes::kNq>& q,
+                   const Vec<Scalar, Sizes::kNphi>& phi,
+                   Scalar* det_Phi_phi) {
+  // Total ops: 3 (adds 0, muls 2, divs 0, calls 1); intermediate terms: 0
+  using std::abs;
+  using std::atan2;
+  using std::cos;
+  using std::pow;
+  using std::sin;
+  using std::sqrt;
+  (void)p;
+  (void)q;
+  (void)phi;
+  const Scalar det_block0 = cos(phi(0))*p.b;
+  const Scalar det_block1 = Scalar(-1);
+  *det_Phi_phi = -det_block0*det_block1;
+}
+
+/// Why SolvePositions() stopped.
+enum class SolveStatus {
+  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held
+  kNotAssemblable,  ///< a closed-form block has no real solution (measure: its discriminant, < 0)
+  kDidNotConverge,  ///< a Newton block reached max_iterations (measure: its last |Phi_block|_inf)
+};
+
+template <typename Scalar>
+struct SolveReport {
+  SolveStatus status = SolveStatus::kConverged;
+  int block = -1;               ///< the block that failed, -1 if none
+  int iterations = 0;           ///< Newton iterations over all blocks
+  Scalar measure = Scalar(0);   ///< see SolveStatus
+};
+
+/// `angle` moved by a multiple of 2 pi to lie within pi of `reference`: closed forms give
+/// atan2 values, a motion wants continuous angles.
+template <typename Scalar>
+Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
+  using std::floor;
+  const Scalar two_pi = Scalar(6.283185307179586);
+  return angle - two_pi * floor((angle - reference) / two_pi + Scalar(0.5));
+}
+
+/**
+ * \brief Positions phi at inputs q, block by block in the solve order: closed-form dyads
+ * on the branch `modes[block]` (+1 or -1; Model::kDefaultModes is the model's assembly),
+ * Newton–Raphson from the given phi for the other blocks.
+ * \param[in]     q      Inputs (dim kNq).
+ * \param[in,out] phi_io In: the starting guess (a predictor) and, for angles found in
+ *                       closed form, the reference they are kept continuous with.
+ *                       Out: the solution, when the report says kConverged.
+ * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
+ */
+template <typename Scalar>
+SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
+                                   const Vec<Scalar, Sizes::kNq>& q,
+                                   Vec<Scalar, Sizes::kNphi>* phi_io,
+                                   const std::array<int, Sizes::kNumBlocks>& modes,
+                                   int max_iterations = 20,
+                                   const Scalar& tolerance = Scalar(1e-12)) {
+  // Total ops: 11 (adds 2, muls 4, divs 1, calls 4); intermediate terms: 0
+  using std::abs;
+  using std::atan2;
+  using std::cos;
+  using std::pow;
+  using std::sin;
+  using std::sqrt;
+  using std::acos;
+  using std::floor;
+  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;
+  int iterations = 0;
+  (void)p;
+  (void)q;
+  (void)phi;
+  (void)modes;
+  (void)max_iterations;
+  (void)tolerance;
+  {  // block 0: rows 1 -> theta_rod: closed form, one angle (acos), mode -1
+    const Scalar c0_b0 = p.a*sin(q(0)) - p.e;
+    const Scalar rho_b0 = sqrt(p.b*p.b);
+    const Scalar cos_arg_b0 = -c0_b0/rho_b0;
+    if (!(abs(cos_arg_b0) <= Scalar(1))) return {SolveStatus::kNotAssemblable, 0, iterations, Scalar(1) - abs(cos_arg_b0)};
+    phi(0) = AngleNear(atan2(p.b, Scalar(0)) + Scalar(modes[0]) * acos(cos_arg_b0), phi(0));
+  }
+  {  // block 1: rows 0 -> s_slide: closed form, linear
+    phi(1) = cos(phi(0))*p.b + cos(q(0))*p.a;
+
+  }
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
 
 /**
@@ -234,6 +336,16 @@ extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
                                              Coefficients<double>*);
+extern template void EvalDetPhiPhi<double>(const Params<double>&,
+                                          const Vec<double, Sizes::kNq>&,
+                                          const Vec<double, Sizes::kNphi>&,
+                                          double*);
+extern template SolveReport<double> SolvePositions<double>(const Params<double>&,
+                                                          const Vec<double, Sizes::kNq>&,
+                                                          Vec<double, Sizes::kNphi>*,
+                                                          const std::array<int, Sizes::kNumBlocks>&,
+                                                          int,
+                                                          const double&);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -248,6 +360,16 @@ extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
                                              Coefficients<float>*);
+extern template void EvalDetPhiPhi<float>(const Params<float>&,
+                                          const Vec<float, Sizes::kNq>&,
+                                          const Vec<float, Sizes::kNphi>&,
+                                          float*);
+extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
+                                                          const Vec<float, Sizes::kNq>&,
+                                                          Vec<float, Sizes::kNphi>*,
+                                                          const std::array<int, Sizes::kNumBlocks>&,
+                                                          int,
+                                                          const float&);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -272,6 +394,10 @@ struct Model : Sizes {
   /// assembly mode (branch); the runtime refines it.
   static constexpr std::array<double, kNq> kAssemblyQ{ 1.5707963267948966 };
   static constexpr std::array<double, kNphi> kAssemblyPhi{ -0.19198621771937624, 3.1000000000000001 };
+  /// Assembly mode (+1/-1) of each block that matches the model's assembly guess, and
+  /// whether the block is solved in closed form (else Newton).
+  static constexpr std::array<int, kNumBlocks> kDefaultModes{ -1, 1 };
+  static constexpr std::array<bool, kNumBlocks> kBlockClosedForm{ true, true };
   /// Default sweep range of each input [min, max] from the model.
   static constexpr std::array<double, kNq> kQMin{ 0.0 };
   static constexpr std::array<double, kNq> kQMax{ 6.2831853071795862 };
@@ -296,6 +422,22 @@ struct Model : Sizes {
                      const Vec<Scalar, kNphi>& phi,
                      Coefficients<Scalar>* out) {
     EvalCoefficients(p, q, phi, out);
+  }
+  template <typename Scalar>
+  static void DetPhiPhi(const Params<Scalar>& p,
+                        const Vec<Scalar, kNq>& q,
+                        const Vec<Scalar, kNphi>& phi,
+                        Scalar* det_Phi_phi) {
+    EvalDetPhiPhi(p, q, phi, det_Phi_phi);
+  }
+  template <typename Scalar>
+  static SolveReport<Scalar> Solve(const Params<Scalar>& p,
+                                   const Vec<Scalar, kNq>& q,
+                                   Vec<Scalar, kNphi>* phi_io,
+                                   const std::array<int, kNumBlocks>& modes = kDefaultModes,
+                                   int max_iterations = 20,
+                                   const Scalar& tolerance = Scalar(1e-12)) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

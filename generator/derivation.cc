@@ -60,6 +60,25 @@ GiNaC::matrix AdjugateInverse(const GiNaC::matrix& a, const ex& inv_det) {
   return inv;
 }
 
+// Sign of the permutation that takes Phi_phi to its block order (rows and columns).
+int PermutationSign(const std::vector<Block>& blocks, int n) {
+  std::vector<int> rows, cols;
+  for (const Block& b : blocks) {
+    rows.insert(rows.end(), b.rows.begin(), b.rows.end());
+    cols.insert(cols.end(), b.cols.begin(), b.cols.end());
+  }
+  auto sign = [n](std::vector<int> p) {
+    int s = 1;
+    for (int i = 0; i < n; ++i)
+      while (p[i] != i) {
+        std::swap(p[i], p[p[i]]);
+        s = -s;
+      }
+    return s;
+  };
+  return sign(rows) * sign(cols);
+}
+
 }  // namespace
 
 GiNaC::matrix SymbolicK(const Kinematics& k) {
@@ -76,12 +95,213 @@ GiNaC::matrix SymbolicK(const Kinematics& k) {
   return K;
 }
 
+namespace {
+
+std::string N(int i) { return std::to_string(i); }
+
+// Solves J X = -R for one block, appending the statements to *P. J (n x n) and R (n x m)
+// are expressions; the result X (n x m) comes back as symbols (named locals in closed
+// form, entries of an Eigen matrix after a numeric LU). `tag` makes names unique.
+struct BlockSolver {
+  const Block& block;
+  int index;
+  bool closed_form;
+  GiNaC::matrix inv;  // closed form: J^-1 in terms of named entries
+  std::string lu;     // numeric: the LU's name
+
+  BlockSolver(const Block& b, int i, const Kinematics& k, Program* P, CxxPrinter* printer)
+      : block(b), index(i), closed_form(static_cast<int>(b.cols.size()) <= kMaxSymbolicSolve) {
+    const int n = static_cast<int>(b.cols.size());
+    if (closed_form) {
+      GiNaC::matrix J(n, n);
+      for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+          P->push_back(Define("Phi_phi_" + N(b.rows[r]) + "_" + N(b.cols[c]), k.Phi_phi(b.rows[r], b.cols[c]), &J(r, c)));
+      // det is named before it is inverted: GiNaC normalizes the sign of a sum raised to
+      // an integer power by its (run-dependent) leading term, which would make the output
+      // differ between runs. A symbol's power has no such freedom.
+      ex det, inv_det;
+      P->push_back(Define("det_block" + N(i), J.determinant(GiNaC::determinant_algo::laplace), &det));
+      P->push_back(Define("inv_det_block" + N(i), 1 / det, &inv_det));
+      inv = AdjugateInverse(J, inv_det);
+    } else {
+      const std::string sz = N(n);
+      lu = "lu_block" + N(i);
+      P->push_back(Raw("Mat<Scalar, " + sz + ", " + sz + "> J_block" + N(i) + ";"));
+      for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+          P->push_back(Store("J_block" + N(i) + Idx(r, c), k.Phi_phi(b.rows[r], b.cols[c])));
+      P->push_back(Raw("const Eigen::PartialPivLU<Mat<Scalar, " + sz + ", " + sz + ">> " + lu + "(J_block" + N(i) + ");"));
+    }
+    (void)printer;
+  }
+
+  // X = -J^-1 R; names X entries prefix_<col>_<suffix j>.
+  std::vector<std::vector<ex>> Solve(const std::vector<std::vector<ex>>& R, const std::string& prefix,
+                                     const std::vector<std::string>& suffix, Program* P, CxxPrinter* printer) {
+    const int n = static_cast<int>(block.cols.size()), m = static_cast<int>(suffix.size());
+    std::vector<std::vector<ex>> X(n, std::vector<ex>(m));
+    if (closed_form) {
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < m; ++j) {
+          ex s = 0;
+          for (int r = 0; r < n; ++r) s += inv(i, r) * R[r][j];
+          P->push_back(Define(prefix + "_" + N(block.cols[i]) + "_" + suffix[j], -s, &X[i][j]));
+        }
+      return X;
+    }
+    const std::string rhs = prefix + "_rhs_block" + N(index), sol = prefix + "_block" + N(index);
+    const std::string shape = "Mat<Scalar, " + N(n) + ", " + N(m) + ">";
+    P->push_back(Raw(shape + " " + rhs + ";"));
+    for (int r = 0; r < n; ++r)
+      for (int j = 0; j < m; ++j) P->push_back(Store(rhs + Idx(r, j), R[r][j]));
+    P->push_back(Raw("const " + shape + " " + sol + " = -" + lu + ".solve(" + rhs + ");"));
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < m; ++j) {
+        GiNaC::symbol s(sol + Idx(i, j));
+        printer->Name(s, sol + Idx(i, j));
+        X[i][j] = s;
+      }
+    return X;
+  }
+};
+
+// The statements of SolvePositions for one closed-form block (see blocks.h for the forms).
+void ClosedFormPositions(const Kinematics& k, const Block& b, int bi, Program* P, CxxPrinter* printer) {
+  const std::string t = "_b" + N(bi);
+  // A named local, or the value itself when it is a number or a symbol already.
+  auto define = [&](const std::string& name, const ex& value) {
+    if (GiNaC::is_a<GiNaC::numeric>(value) || GiNaC::is_a<GiNaC::symbol>(value)) return value;
+    ex sym;
+    P->push_back(Define(name + t, value, &sym));
+    printer->Name(sym, name + t);  // raw lines below print it
+    return sym;
+  };
+  auto text = [&](const ex& e) { return printer->Print(e); };
+  auto phi_ref = [&](int i) { return "phi(" + N(i) + ")"; };
+  auto fail = [&](const std::string& cond, const std::string& measure) {
+    P->push_back(Raw("if (" + cond + ") return {SolveStatus::kNotAssemblable, " + N(bi) + ", iterations, " + measure + "};"));
+  };
+  auto raw_symbol = [&](const std::string& name) {
+    GiNaC::symbol s(name + t);
+    printer->Name(s, name + t);
+    return ex(s);
+  };
+  if (b.solve == BlockSolve::kRR) {
+    // R(u) a + R(v) b = w: the tip m = R(u) a lies on the circles |m| = |a|, |w - m| = |b|.
+    const int u = b.cols[b.iu], v = b.cols[1 - b.iu];
+    const ex ax = define("ax", b.a[0]), ay = define("ay", b.a[1]);
+    const ex bx = define("bx", b.b[0]), by = define("by", b.b[1]);
+    const ex wx = define("wx", -b.w0[0]), wy = define("wy", -b.w0[1]);
+    const ex ra2 = define("ra2", ax * ax + ay * ay), rb2 = define("rb2", bx * bx + by * by);
+    const ex d2 = define("d2", wx * wx + wy * wy);
+    const ex inv_d2 = define("inv_d2", 1 / d2);
+    const ex kk = define("k", GiNaC::numeric(1, 2) + (ra2 - rb2) * inv_d2 / 2);
+    define("h2", ra2 * inv_d2 - kk * kk);
+    // h2 < 0: the two circles do not meet, the loop cannot close (NaN also fails).
+    fail("!(h2" + t + " >= Scalar(0))", "h2" + t);
+    P->push_back(Raw("const Scalar h" + t + " = Scalar(modes[" + N(bi) + "]) * sqrt(h2" + t + ");"));
+    const ex h = raw_symbol("h");
+    const ex mx = define("mx", kk * wx - h * wy), my = define("my", kk * wy + h * wx);
+    P->push_back(Raw(phi_ref(u) + " = AngleNear(atan2(" + text(my) + ", " + text(mx) + ") - atan2(" + text(ay) + ", " +
+                     text(ax) + "), " + phi_ref(u) + ");"));
+    P->push_back(Raw(phi_ref(v) + " = AngleNear(atan2(" + text(wy - my) + ", " + text(wx - mx) + ") - atan2(" + text(by) +
+                     ", " + text(bx) + "), " + phi_ref(v) + ");"));
+    return;
+  }
+  if (b.solve == BlockSolve::kAngle) {
+    // c0 + c1 cos u + c2 sin u = 0: rho cos(u - delta) = -c0.
+    const int u = b.cols[0];
+    const ex c0 = define("c0", b.c0), c1 = define("c1", b.c1), c2 = define("c2", b.c2);
+    const ex rho = define("rho", GiNaC::sqrt(c1 * c1 + c2 * c2));
+    define("cos_arg", -c0 / rho);
+    fail("!(abs(cos_arg" + t + ") <= Scalar(1))", "Scalar(1) - abs(cos_arg" + t + ")");
+    P->push_back(Raw(phi_ref(u) + " = AngleNear(atan2(" + text(c2) + ", " + text(c1) + ") + Scalar(modes[" + N(bi) +
+                     "]) * acos(cos_arg" + t + "), " + phi_ref(u) + ");"));
+    return;
+  }
+  if (b.solve == BlockSolve::kLinear) {
+    const ex c1 = define("c1", b.c1);
+    if (!GiNaC::is_a<GiNaC::numeric>(c1)) fail(text(c1) + " == Scalar(0)", text(c1));
+    P->push_back(Store(phi_ref(b.cols[0]), -b.c0 / c1));
+    P->push_back(Raw(""));
+    return;
+  }
+  if (b.solve == BlockSolve::kRS) {
+    const int u = b.cols[b.iu], x = b.cols[1 - b.iu];
+    const GiNaC::symbol s = k.phi[x].symbol;
+    // |a(s)|^2 = |w0(s)|^2: A s^2 + B s + C = 0
+    const ex f = (b.a[0] * b.a[0] + b.a[1] * b.a[1] - b.w0[0] * b.w0[0] - b.w0[1] * b.w0[1]).expand();
+    const ex A = f.coeff(s, 2), B = f.coeff(s, 1), C = f.coeff(s, 0);
+    const std::string Bt = text(define("B", B)), Ct = text(define("C", C));
+    if (A.is_zero()) {
+      fail(Bt + " == Scalar(0)", Bt);
+      P->push_back(Raw("const Scalar s" + t + " = -" + Ct + " / " + Bt + ";"));
+    } else {
+      const std::string At = text(define("A", A));
+      P->push_back(Raw("const Scalar disc" + t + " = " + Bt + " * " + Bt + " - Scalar(4) * " + At + " * " + Ct + ";"));
+      // disc < 0: the circle and the line do not meet.
+      fail("!(disc" + t + " >= Scalar(0))", "disc" + t);
+      P->push_back(Raw("const Scalar sq" + t + " = sqrt(disc" + t + ");"));
+      // The root of the requested sign without cancellation: q = -(B + sign(B) sq) / 2,
+      // roots q / A and C / q; mode +1 is (-B + sq) / 2A.
+      P->push_back(Raw("const Scalar qq" + t + " = -(" + Bt + " + (" + Bt + " >= Scalar(0) ? sq" + t + " : -sq" + t + ")) / Scalar(2);"));
+      P->push_back(Raw("const Scalar s" + t + " = ((modes[" + N(bi) + "] > 0) == (" + Bt + " >= Scalar(0))) ? (qq" + t +
+                       " != Scalar(0) ? " + Ct + " / qq" + t + " : Scalar(0)) : qq" + t + " / " + At + ";"));
+    }
+    const ex sv = raw_symbol("s");
+    GiNaC::exmap at;
+    at[s] = sv;
+    const ex ax = define("ax", b.a[0].subs(at)), ay = define("ay", b.a[1].subs(at));
+    const ex wx = define("wx", -b.w0[0].subs(at)), wy = define("wy", -b.w0[1].subs(at));
+    P->push_back(Raw(phi_ref(x) + " = s" + t + ";"));
+    P->push_back(Raw(phi_ref(u) + " = AngleNear(atan2(" + text(wy) + ", " + text(wx) + ") - atan2(" + text(ay) + ", " +
+                     text(ax) + "), " + phi_ref(u) + ");"));
+    return;
+  }
+  // kSS: w0 + s0 e0 + s1 e1 = 0 by Cramer's rule.
+  const ex e0x = define("e0x", b.e0[0]), e0y = define("e0y", b.e0[1]);
+  const ex e1x = define("e1x", b.e1[0]), e1y = define("e1y", b.e1[1]);
+  const ex w0x = define("w0x", b.w0[0]), w0y = define("w0y", b.w0[1]);
+  define("det", e0x * e1y - e0y * e1x);
+  fail("det" + t + " == Scalar(0)", "det" + t);  // parallel slides
+  const ex inv = define("inv_det", 1 / raw_symbol("det"));
+  P->push_back(Store("phi(" + N(b.cols[0]) + ")", (-w0x * e1y + w0y * e1x) * inv));
+  P->push_back(Store("phi(" + N(b.cols[1]) + ")", (-e0x * w0y + e0y * w0x) * inv));
+  P->push_back(Raw(""));  // flush the stores before later blocks read phi
+}
+
+// Newton–Raphson on one block: residual and Jacobian of its rows over its unknowns.
+void NewtonPositions(const Kinematics& k, const Block& b, int bi, Program* P) {
+  const int n = static_cast<int>(b.cols.size());
+  const std::string t = "_b" + N(bi), sz = N(n);
+  P->push_back(Raw("Vec<Scalar, " + sz + "> r" + t + ";"));
+  P->push_back(Raw("Mat<Scalar, " + sz + ", " + sz + "> J" + t + ";"));
+  P->push_back(Raw("for (int iteration = 0;; ++iteration) {"));
+  for (int r = 0; r < n; ++r) {
+    P->push_back(Store("  r" + t + "(" + N(r) + ")", k.Phi[b.rows[r]]));
+    for (int c = 0; c < n; ++c) P->push_back(Store("  J" + t + Idx(r, c), k.Phi_phi(b.rows[r], b.cols[c])));
+  }
+  P->push_back(Raw("  Scalar norm" + t + " = Scalar(0);"));
+  P->push_back(Raw("  for (int i = 0; i < " + sz + "; ++i) if (abs(r" + t + "(i)) > norm" + t + ") norm" + t + " = abs(r" + t + "(i));"));
+  P->push_back(Raw("  if (norm" + t + " <= tolerance) break;"));
+  P->push_back(Raw("  if (iteration == max_iterations || !(norm" + t + " == norm" + t + ")) return {SolveStatus::kDidNotConverge, " + N(bi) + ", iterations, norm" + t + "};"));
+  P->push_back(Raw("  ++iterations;"));
+  P->push_back(Raw("  const Vec<Scalar, " + sz + "> delta" + t + " = J" + t + ".partialPivLu().solve(r" + t + ");"));
+  for (int c = 0; c < n; ++c) P->push_back(Raw("  phi(" + N(b.cols[c]) + ") -= delta" + t + "(" + N(c) + ");"));
+  P->push_back(Raw("}"));
+}
+
+}  // namespace
+
 Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer) {
   Derivation d;
   const int nq = k.nq(), nphi = k.nphi(), nc = k.nc();
   for (int i = 0; i < nq; ++i) printer->Name(k.q[i].symbol, "q(" + std::to_string(i) + ")");
   for (int i = 0; i < nphi; ++i) printer->Name(k.phi[i].symbol, "phi(" + std::to_string(i) + ")");
   for (const Parameter& p : m.params) printer->Name(p.symbol, "p." + p.name);
+  d.blocks = OrderBlocks(m, k);
+  const auto& blocks = d.blocks;
 
   // ---- EvalPhi ----
   for (int i = 0; i < nc; ++i) d.phi.push_back(Store("(*Phi)(" + std::to_string(i) + ")", k.Phi[i], "Phi"));
@@ -96,70 +316,90 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer) {
     for (int a = 0; a < 2; ++a)
       d.scene.push_back(Store("(*r)" + Idx(a, static_cast<int>(s)), k.scene[s][a]));
 
+  // ---- SolvePositions and EvalDetPhiPhi, block by block ----
+  ex det_product = 1;
+  for (size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    // Each block is its own program: its values depend on the phi the blocks before it
+    // wrote, so no subexpression may be shared across blocks.
+    d.positions.emplace_back();
+    Program& PP = d.positions.back();
+    PP.push_back(Raw("{  // block " + N(static_cast<int>(bi)) + ": " + b.Describe(k)));
+    if (b.solve == BlockSolve::kNewton)
+      NewtonPositions(k, b, static_cast<int>(bi), &PP);
+    else
+      ClosedFormPositions(k, b, static_cast<int>(bi), &PP, printer);
+    PP.push_back(Raw("}"));
+    const int n = static_cast<int>(b.cols.size());
+    GiNaC::matrix J(n, n);
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c) J(r, c) = k.Phi_phi(b.rows[r], b.cols[c]);
+    if (n <= kMaxSymbolicSolve) {
+      ex det;
+      d.det.push_back(Define("det_block" + N(static_cast<int>(bi)), J.determinant(GiNaC::determinant_algo::laplace), &det));
+      det_product *= det;
+    } else {
+      const std::string name = "J_block" + N(static_cast<int>(bi));
+      d.det.push_back(Raw("Mat<Scalar, " + N(n) + ", " + N(n) + "> " + name + ";"));
+      for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c) d.det.push_back(Store(name + Idx(r, c), J(r, c)));
+      d.det.push_back(Raw("const Scalar det_block" + N(static_cast<int>(bi)) + " = " + name + ".partialPivLu().determinant();"));
+      GiNaC::symbol s("det_block" + N(static_cast<int>(bi)));
+      printer->Name(s, "det_block" + N(static_cast<int>(bi)));
+      det_product *= s;
+    }
+  }
+  // The sign of det Phi_phi depends on the row and column order: it is reported for the
+  // model's own order (rows of Phi, columns of phi), i.e. with the permutations' signs.
+  d.det.push_back(Store("*det_Phi_phi", det_product * PermutationSign(blocks, nphi)));
+
   // ---- EvalCoefficients ----
   const int order = m.outputs.order;
   Program& P = d.coefficients;
   for (size_t pt = 0; pt < k.points.size(); ++pt)
     for (int a = 0; a < 2; ++a) P.push_back(Store("out->r_P" + Idx(a, static_cast<int>(pt)), k.points[pt][a]));
-  d.numeric_solve = order >= 1 && nphi > kMaxSymbolicSolve;
-  if (order == 0) {
-    d.strategy = "none (positions only: no K or L requested).";
-    return d;
-  }
-  // x = (q, phi); V = dx/dq = [I; K] with K as symbols defined below.
+  int largest = 0;
+  for (const Block& b : blocks) largest = std::max(largest, static_cast<int>(b.cols.size()));
+  d.numeric_solve = largest > kMaxSymbolicSolve;
+  d.strategy = "Phi_phi is block lower triangular with " + N(static_cast<int>(blocks.size())) +
+               " block(s) of at most " + N(largest) + " unknowns; each block's system is solved " +
+               (d.numeric_solve ? "in closed form up to " + N(kMaxSymbolicSolve) + " unknowns, by a fixed-size LU above"
+                                : "in closed form (adjugate over determinant)") +
+               ", and K and L by forward substitution over the blocks.";
+  if (order == 0) return d;
+
+  // x = (q, phi); V = dx/dq = [I; K], K filled block by block as symbols.
   std::vector<ex> x;
   for (const auto& c : k.q) x.push_back(c.symbol);
   for (const auto& c : k.phi) x.push_back(c.symbol);
-  GiNaC::matrix K(nphi, nq), inv;
-  const std::string kNphi = "Sizes::kNphi", kNq = "Sizes::kNq";
-  if (!d.numeric_solve) {
-    d.strategy = "Phi_phi (" + std::to_string(nphi) + "x" + std::to_string(nphi) +
-                 ") inverted in closed form (adjugate over determinant), shared by K and L.";
-    GiNaC::matrix J(nphi, nphi);
-    for (int i = 0; i < nphi; ++i)
-      for (int j = 0; j < nphi; ++j)
-        P.push_back(Define("Phi_phi_" + std::to_string(i) + "_" + std::to_string(j), k.Phi_phi(i, j), &J(i, j)));
-    // det is named before it is inverted: GiNaC normalizes the sign of a sum raised to
-    // an integer power by its (run-dependent) leading term, which would make the output
-    // differ between runs. A symbol's power has no such freedom.
-    ex det, inv_det;
-    P.push_back(Define("det_Phi_phi", J.determinant(GiNaC::determinant_algo::laplace), &det));
-    P.push_back(Define("inv_det_Phi_phi", 1 / det, &inv_det));
-    inv = AdjugateInverse(J, inv_det);
-    for (int i = 0; i < nphi; ++i)
+  std::vector<std::vector<ex>> K(nphi, std::vector<ex>(nq));
+  std::vector<std::string> q_suffix;
+  for (int j = 0; j < nq; ++j) q_suffix.push_back(N(j));
+  std::vector<BlockSolver> solvers;
+  for (size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    solvers.emplace_back(b, static_cast<int>(bi), k, &P, printer);
+    // R = Phi_q(rows, :) + Phi_phi(rows, earlier cols) K(earlier cols, :)
+    std::vector<std::vector<ex>> R(b.rows.size(), std::vector<ex>(nq));
+    for (size_t r = 0; r < b.rows.size(); ++r)
       for (int j = 0; j < nq; ++j) {
-        ex s = 0;
-        for (int r = 0; r < nc; ++r) s += inv(i, r) * k.Phi_q(r, j);
-        P.push_back(Define("K_" + std::to_string(i) + "_" + std::to_string(j), -s, &K(i, j)));
+        ex s = k.Phi_q(b.rows[r], j);
+        for (size_t pb = 0; pb < bi; ++pb)
+          for (int c : blocks[pb].cols) s += k.Phi_phi(b.rows[r], c) * K[c][j];
+        R[r][j] = s;
       }
-  } else {
-    d.strategy = "Phi_phi (" + std::to_string(nphi) + "x" + std::to_string(nphi) +
-                 ") factored numerically (fixed-size Eigen PartialPivLU), shared by K and L.";
-    P.push_back(Raw("Mat<Scalar, " + kNphi + ", " + kNphi + "> Phi_phi_m;"));
-    P.push_back(Raw("Mat<Scalar, " + kNphi + ", " + kNq + "> Phi_q_m;"));
-    for (int i = 0; i < nc; ++i) {
-      for (int j = 0; j < nphi; ++j) P.push_back(Store("Phi_phi_m" + Idx(i, j), k.Phi_phi(i, j)));
-      for (int j = 0; j < nq; ++j) P.push_back(Store("Phi_q_m" + Idx(i, j), k.Phi_q(i, j)));
-    }
-    P.push_back(Raw("const Eigen::PartialPivLU<Mat<Scalar, " + kNphi + ", " + kNphi + ">> lu(Phi_phi_m);"));
-    P.push_back(Raw("const Mat<Scalar, " + kNphi + ", " + kNq + "> K_m = -lu.solve(Phi_q_m);"));
-    for (int i = 0; i < nphi; ++i)
-      for (int j = 0; j < nq; ++j) {
-        GiNaC::symbol s("K_m" + Idx(i, j));
-        printer->Name(s, "K_m" + Idx(i, j));
-        K(i, j) = s;
-      }
+    const auto X = solvers.back().Solve(R, "K", q_suffix, &P, printer);
+    for (size_t i = 0; i < b.cols.size(); ++i)
+      for (int j = 0; j < nq; ++j) K[b.cols[i]][j] = X[i][j];
   }
   for (int i = 0; i < nphi; ++i)
-    for (int j = 0; j < nq; ++j) P.push_back(Store("out->K" + Idx(i, j), K(i, j)));
-  // V(a, j) = dx_a / dq_j
-  auto V = [&](int a, int j) -> ex { return a < nq ? ex(a == j ? 1 : 0) : K(a - nq, j); };
+    for (int j = 0; j < nq; ++j) P.push_back(Store("out->K" + Idx(i, j), K[i][j]));
+  auto V = [&](int a, int j) -> ex { return a < nq ? ex(a == j ? 1 : 0) : K[a - nq][j]; };
   auto along = [&](const ex& f, int j) {  // sum_a df/dx_a V(a, j)
     ex s = 0;
-    for (size_t a = 0; a < x.size(); ++a) s += f.diff(GiNaC::ex_to<GiNaC::symbol>(x[a])) * V(a, j);
+    for (size_t a = 0; a < x.size(); ++a) s += f.diff(GiNaC::ex_to<GiNaC::symbol>(x[a])) * V(static_cast<int>(a), j);
     return s;
   };
-  // Point velocity coefficients.
   std::vector<std::array<std::vector<ex>, 2>> point_K(k.points.size());
   for (size_t pt = 0; pt < k.points.size(); ++pt)
     for (int a = 0; a < 2; ++a)
@@ -169,41 +409,38 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer) {
       }
   if (order < 2) return d;
 
-  // ---- L: Phi_phi L(:, j, k) = -gamma(:, j, k), for j <= k (L is symmetric in j, k) ----
-  std::vector<std::vector<std::vector<ex>>> L(nphi, std::vector<std::vector<ex>>(nq, std::vector<ex>(nq)));
-  std::vector<std::vector<std::vector<ex>>> gamma(nc, std::vector<std::vector<ex>>(nq, std::vector<ex>(nq)));
-  for (int i = 0; i < nc; ++i)
-    for (int j = 0; j < nq; ++j) {
-      const ex dj = along(k.Phi[i], j);
-      for (int kk = j; kk < nq; ++kk) gamma[i][j][kk] = along(dj, kk);
+  // ---- L: Phi_phi L(:, j, k) = -gamma(:, j, k), j <= k (L is symmetric in j, k) ----
+  std::vector<std::pair<int, int>> pairs;
+  std::vector<std::string> pair_suffix;
+  for (int j = 0; j < nq; ++j)
+    for (int kk = j; kk < nq; ++kk) {
+      pairs.emplace_back(j, kk);
+      pair_suffix.push_back(N(j) + "_" + N(kk));
     }
-  if (!d.numeric_solve) {
-    for (int i = 0; i < nphi; ++i)
-      for (int j = 0; j < nq; ++j)
-        for (int kk = j; kk < nq; ++kk) {
-          ex s = 0;
-          for (int r = 0; r < nc; ++r) s += inv(i, r) * gamma[r][j][kk];
-          P.push_back(Define("L_" + std::to_string(i) + "_" + std::to_string(j) + "_" + std::to_string(kk), -s, &L[i][j][kk]));
-        }
-  } else {
-    P.push_back(Raw("Mat<Scalar, " + kNphi + ", " + kNq + " * " + kNq + "> gamma_m;"));
-    for (int i = 0; i < nc; ++i)
-      for (int j = 0; j < nq; ++j)
-        for (int kk = 0; kk < nq; ++kk)
-          P.push_back(Store("gamma_m" + Idx(i, j + nq * kk), gamma[i][std::min(j, kk)][std::max(j, kk)]));
-    P.push_back(Raw("const Mat<Scalar, " + kNphi + ", " + kNq + " * " + kNq + "> L_m = -lu.solve(gamma_m);"));
-    for (int i = 0; i < nphi; ++i)
-      for (int j = 0; j < nq; ++j)
-        for (int kk = j; kk < nq; ++kk) {
-          GiNaC::symbol s("L_m" + Idx(i, j + nq * kk));
-          printer->Name(s, "L_m" + Idx(i, j + nq * kk));
-          L[i][j][kk] = s;
-        }
+  std::vector<std::vector<ex>> L(nphi, std::vector<ex>(pairs.size()));
+  for (size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    std::vector<std::vector<ex>> R(b.rows.size(), std::vector<ex>(pairs.size()));
+    for (size_t r = 0; r < b.rows.size(); ++r)
+      for (size_t pj = 0; pj < pairs.size(); ++pj) {
+        ex s = along(along(k.Phi[b.rows[r]], pairs[pj].first), pairs[pj].second);
+        for (size_t pb = 0; pb < bi; ++pb)
+          for (int c : blocks[pb].cols) s += k.Phi_phi(b.rows[r], c) * L[c][pj];
+        R[r][pj] = s;
+      }
+    const auto X = solvers[bi].Solve(R, "L", pair_suffix, &P, printer);
+    for (size_t i = 0; i < b.cols.size(); ++i)
+      for (size_t pj = 0; pj < pairs.size(); ++pj) L[b.cols[i]][pj] = X[i][pj];
   }
+  auto pair_index = [&](int j, int kk) {
+    const int lo = std::min(j, kk), hi = std::max(j, kk);
+    for (size_t pj = 0; pj < pairs.size(); ++pj)
+      if (pairs[pj].first == lo && pairs[pj].second == hi) return static_cast<int>(pj);
+    return -1;
+  };
   for (int i = 0; i < nphi; ++i)
     for (int j = 0; j < nq; ++j)
-      for (int kk = 0; kk < nq; ++kk)
-        P.push_back(Store("out->L" + Idx(i, j + nq * kk), L[i][std::min(j, kk)][std::max(j, kk)]));
+      for (int kk = 0; kk < nq; ++kk) P.push_back(Store("out->L" + Idx(i, j + nq * kk), L[i][pair_index(j, kk)]));
   // Point centripetal coefficients: d/dq_k of (dr/dx V(:, j)) = its partials along V(:, k)
   // plus dr/dphi L(:, j, k).
   for (size_t pt = 0; pt < k.points.size(); ++pt)
@@ -212,7 +449,7 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer) {
         for (int kk = 0; kk < nq; ++kk) {
           const int lo = std::min(j, kk), hi = std::max(j, kk);
           ex s = along(point_K[pt][a][lo], hi);
-          for (int i = 0; i < nphi; ++i) s += k.points[pt][a].diff(k.phi[i].symbol) * L[i][lo][hi];
+          for (int i = 0; i < nphi; ++i) s += k.points[pt][a].diff(k.phi[i].symbol) * L[i][pair_index(lo, hi)];
           P.push_back(Store("out->L_P" + Idx(2 * static_cast<int>(pt) + a, j + nq * kk), s));
         }
   return d;

@@ -1,6 +1,12 @@
 // The velocity coefficients K = -Phi_phi^-1 Phi_q and centripetal coefficients
 // L = dK/dq (Paul §4.5), the points' coefficients, and the statement programs of the
-// three generated functions (EvalPhi, EvalCoefficients, EvalScene).
+// generated functions (EvalPhi, EvalCoefficients, EvalScene, SolvePositions).
+//
+// Everything follows the block order of blocks.h: Phi_phi is block lower triangular, so
+// K and L are found block by block (forward substitution), each block's small system
+// solved in closed form (adjugate over determinant) up to kMaxSymbolicSolve unknowns and
+// by a fixed-size LU above. Positions are solved block by block too: closed-form dyads,
+// or Newton–Raphson on the block.
 //
 // L comes from differentiating Phi_phi K + Phi_q = 0 along the motion: with
 // x = (q, phi) and V = dx/dq = [I; K],
@@ -9,21 +15,26 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
+#include "blocks.h"
 #include "cxx_code.h"
 #include "kinematics.h"
 
 namespace mechgen {
 
-/// Largest Phi_phi solved in closed form (adjugate / determinant, then CSE); larger
-/// systems are emitted as a fixed-size LU solve of the generated matrices.
+/// Largest block solved in closed form (adjugate / determinant, then CSE); larger blocks
+/// are emitted as a fixed-size LU solve of the generated matrices.
 constexpr int kMaxSymbolicSolve = 3;
 
 struct Derivation {
+  std::vector<Block> blocks;
   Program phi;           ///< EvalPhi: Phi, Phi_phi, Phi_q
   Program coefficients;  ///< EvalCoefficients: K, L, r_P, K_P, L_P (as requested)
   Program scene;         ///< EvalScene
-  bool numeric_solve = false;
+  std::vector<Program> positions;  ///< SolvePositions, one program per block
+  Program det;           ///< EvalDetPhiPhi: det Phi_phi as the product of the blocks' determinants
+  bool numeric_solve = false;  ///< some block uses Eigen's LU
   std::string strategy;  ///< one sentence for the generated header and the report
 };
 

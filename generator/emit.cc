@@ -112,6 +112,27 @@ std::string BodyText(const Body& b, const std::string& preamble) {
   return s;
 }
 
+// Indents by brace depth (the position solver nests loops and blocks).
+std::string Reindent(const std::string& text) {
+  std::istringstream in(text);
+  std::string line, out;
+  int depth = 1;
+  while (std::getline(in, line)) {
+    const auto first = line.find_first_not_of(' ');
+    if (first == std::string::npos) {
+      out += "\n";
+      continue;
+    }
+    line = line.substr(first);
+    std::string code = line.substr(0, line.find("//"));
+    if (!code.empty() && code[0] == '}') --depth;
+    out += std::string(2 * depth, ' ') + line + "\n";
+    for (char c : code) depth += c == '{' ? 1 : c == '}' ? -1 : 0;
+    if (!code.empty() && code[0] == '}') ++depth;
+  }
+  return out;
+}
+
 }  // namespace
 
 EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const Derivation& d,
@@ -122,6 +143,15 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   const Body phi = EmitProgram(d.phi, printer);
   const Body coeffs = EmitProgram(d.coefficients, printer);
   const Body scene = EmitProgram(d.scene, printer);
+  const Body det = EmitProgram(d.det, printer);
+  Body positions;
+  for (const Program& block : d.positions) {
+    const Body b = EmitProgram(block, printer);
+    positions.text += b.text;
+    positions.ops += b.ops;
+    positions.num_temps += b.num_temps;
+  }
+  positions.text = Reindent(positions.text);
   out.phi_ops = phi.ops;
   out.coefficient_ops = coeffs.ops;
   out.scene_ops = scene.ops;
@@ -170,7 +200,8 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   for (const auto& n : k.point_names) pdoc.push_back({{"name", n}});
   data.SetList("points_doc", pdoc, {"name"});
   data.Set("solve_strategy", d.strategy);
-  data.Set("op_counts", "EvalPhi " + phi.ops.Text() + "; EvalCoefficients " + coeffs.ops.Text() +
+  data.Set("op_counts", "EvalPhi " + phi.ops.Text() + "; SolvePositions " + positions.ops.Text() +
+                            " (per Newton iteration for Newton blocks); EvalCoefficients " + coeffs.ops.Text() +
                             (m.outputs.scene ? "; EvalScene " + scene.ops.Text() : ""));
   data.Set("numeric_solve", d.numeric_solve);
   data.Set("num_points", static_cast<int>(k.points.size()));
@@ -190,6 +221,20 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("phi_body", BodyText(phi, math + unused));
   data.Set("coefficients_body", BodyText(coeffs, math + unused + "  (void)out;\n"));
   data.Set("scene_body", BodyText(scene, math + unused));
+  data.Set("det_body", BodyText(det, math + unused));
+  data.Set("positions_body", BodyText(positions, math + "  using std::acos;\n  using std::floor;\n" +
+                                                     "  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;\n  int iterations = 0;\n" +
+                                                     unused + "  (void)modes;\n  (void)max_iterations;\n  (void)tolerance;\n") +
+                                "\n  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};");
+  std::vector<std::map<std::string, std::string>> blocks_doc;
+  for (size_t i = 0; i < d.blocks.size(); ++i)
+    blocks_doc.push_back({{"index", std::to_string(i)}, {"text", d.blocks[i].Describe(k)}});
+  data.SetList("blocks_doc", blocks_doc, {"index", "text"});
+  data.Set("num_blocks", static_cast<int>(d.blocks.size()));
+  data.Set("default_modes", Join(d.blocks, [](const Block& b) { return std::to_string(b.default_mode); }));
+  data.Set("block_closed_form", Join(d.blocks, [](const Block& b) {
+             return std::string(b.solve == BlockSolve::kNewton ? "false" : "true");
+           }));
   auto names = [](const std::vector<Coordinate>& v) { return Join(v, [](const Coordinate& c) { return Quote(c.name); }); };
   auto angles = [](const std::vector<Coordinate>& v) {
     return Join(v, [](const Coordinate& c) { return std::string(c.is_angle ? "true" : "false"); });
