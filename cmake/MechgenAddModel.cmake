@@ -1,4 +1,4 @@
-# mechgen_add_model(<name> <model.yaml> [NO_SWEEP])
+# mechgen_add_model(<name> <model.yaml> [NO_SWEEP] [STRATEGY blocks|monolithic])
 #
 # Runs `mechgen generate` on <model.yaml> at build time (again whenever the model, the
 # templates or the mechgen program change) and defines:
@@ -10,7 +10,11 @@
 include_guard(GLOBAL)
 
 function(mechgen_add_model name model)
-  cmake_parse_arguments(ARG "NO_SWEEP" "" "" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SWEEP" "STRATEGY" "" ${ARGN})
+  set(strategy_args)
+  if(ARG_STRATEGY)
+    set(strategy_args --strategy ${ARG_STRATEGY})
+  endif()
   get_filename_component(model_abs "${model}" ABSOLUTE)
   set(out_dir "${CMAKE_CURRENT_BINARY_DIR}/mechgen_${name}")
   file(GLOB templates CONFIGURE_DEPENDS "${MECHGEN_TEMPLATES_DIR}/*.mustache")
@@ -21,7 +25,7 @@ function(mechgen_add_model name model)
   add_custom_command(
     OUTPUT "${out_dir}/${name}.h" "${out_dir}/${name}.cc"
     COMMAND "${MECHGEN_EXECUTABLE}" generate "${model_abs}" --name "${name}"
-            --out-dir "${out_dir}" --templates "${MECHGEN_TEMPLATES_DIR}"
+            --out-dir "${out_dir}" --templates "${MECHGEN_TEMPLATES_DIR}" ${strategy_args}
     DEPENDS ${gen_deps}
     COMMENT "mechgen: generating ${name} from ${model}"
     VERBATIM)

@@ -119,6 +119,7 @@ void EvalPhi(const Params<Scalar>& p,
   (void)p;
   (void)q;
   (void)phi;
+  if (Phi_phi != nullptr) Phi_phi->setZero();
   const Scalar _tmp0 = cos(phi(0))*p.b;
   const Scalar _tmp1 = cos(q(0))*p.a;
   const Scalar _tmp2 = p.a*sin(q(0));
@@ -131,7 +132,6 @@ void EvalPhi(const Params<Scalar>& p,
     (*Phi_phi)(0, 0) = -_tmp3;
     (*Phi_phi)(0, 1) = Scalar(-1);
     (*Phi_phi)(1, 0) = _tmp0;
-    (*Phi_phi)(1, 1) = Scalar(0);
   }
   if (Phi_q != nullptr) {
     (*Phi_q)(0, 0) = -_tmp2;

@@ -213,7 +213,7 @@ std::string Block::Describe(const Kinematics& k) const {
   return s;
 }
 
-std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k) {
+std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy strategy) {
   const int n = k.nphi();
   if (k.nc() != n)
     m.Fail(m.inputs_mark, "the loop equations (" + std::to_string(k.nc()) + ") do not match the unknowns (" +
@@ -277,6 +277,11 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k) {
   };
   for (int c = 0; c < n; ++c)
     if (index[c] < 0) visit(c);
+  if (strategy == Strategy::kMonolithic) {
+    std::vector<int> all(n);
+    for (int c = 0; c < n; ++c) all[c] = c;
+    components = {all};
+  }
 
   std::vector<Block> blocks;
   GiNaC::exmap values;
@@ -288,7 +293,7 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k) {
     b.cols = comp;
     for (int c : comp) b.rows.push_back(col_row[c]);
     std::sort(b.rows.begin(), b.rows.end());
-    Recognize(k, &b);
+    if (strategy == Strategy::kBlocks) Recognize(k, &b);
     ChooseMode(k, &b, &values);
     blocks.push_back(b);
   }

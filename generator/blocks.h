@@ -42,8 +42,14 @@ struct Block {
   std::string Describe(const Kinematics& k) const;  ///< "rows 0-1 -> theta_coupler, theta_rocker: closed form (RRR dyad)"
 };
 
+/// How the generated code is organized.
+enum class Strategy {
+  kBlocks,      ///< block-triangular order, closed-form dyads (the default)
+  kMonolithic,  ///< one block: Newton over all loops with a dense LU (for comparison)
+};
+
 /// Orders Phi into blocks. Fails (ModelError) if Phi_phi is structurally singular: some
 /// unknown appears in no equation it can be solved from.
-std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k);
+std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy strategy = Strategy::kBlocks);
 
 }  // namespace mechgen

@@ -294,22 +294,33 @@ void NewtonPositions(const Kinematics& k, const Block& b, int bi, Program* P) {
 
 }  // namespace
 
-Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer) {
+Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Strategy strategy) {
   Derivation d;
   const int nq = k.nq(), nphi = k.nphi(), nc = k.nc();
   for (int i = 0; i < nq; ++i) printer->Name(k.q[i].symbol, "q(" + std::to_string(i) + ")");
   for (int i = 0; i < nphi; ++i) printer->Name(k.phi[i].symbol, "phi(" + std::to_string(i) + ")");
   for (const Parameter& p : m.params) printer->Name(p.symbol, "p." + p.name);
-  d.blocks = OrderBlocks(m, k);
+  d.blocks = OrderBlocks(m, k, strategy);
   const auto& blocks = d.blocks;
 
-  // ---- EvalPhi ----
+  // ---- EvalPhi: the Jacobians are sparse in multi-loop mechanisms, so only their
+  // non-zero entries are stored after a setZero() ----
+  bool sparse_phi_phi = false, sparse_phi_q = false;
+  for (int i = 0; i < nc; ++i) {
+    for (int j = 0; j < nphi; ++j) sparse_phi_phi |= k.Phi_phi(i, j).is_zero();
+    for (int j = 0; j < nq; ++j) sparse_phi_q |= k.Phi_q(i, j).is_zero();
+  }
+  if (sparse_phi_phi) d.phi.push_back(Raw("if (Phi_phi != nullptr) Phi_phi->setZero();"));
+  if (sparse_phi_q) d.phi.push_back(Raw("if (Phi_q != nullptr) Phi_q->setZero();"));
   for (int i = 0; i < nc; ++i) d.phi.push_back(Store("(*Phi)(" + std::to_string(i) + ")", k.Phi[i], "Phi"));
   for (int i = 0; i < nc; ++i)
     for (int j = 0; j < nphi; ++j)
-      d.phi.push_back(Store("(*Phi_phi)" + Idx(i, j), k.Phi_phi(i, j), "Phi_phi"));
+      if (!sparse_phi_phi || !k.Phi_phi(i, j).is_zero())
+        d.phi.push_back(Store("(*Phi_phi)" + Idx(i, j), k.Phi_phi(i, j), "Phi_phi"));
   for (int i = 0; i < nc; ++i)
-    for (int j = 0; j < nq; ++j) d.phi.push_back(Store("(*Phi_q)" + Idx(i, j), k.Phi_q(i, j), "Phi_q"));
+    for (int j = 0; j < nq; ++j)
+      if (!sparse_phi_q || !k.Phi_q(i, j).is_zero())
+        d.phi.push_back(Store("(*Phi_q)" + Idx(i, j), k.Phi_q(i, j), "Phi_q"));
 
   // ---- EvalScene ----
   for (size_t s = 0; s < k.scene.size(); ++s)
@@ -361,7 +372,11 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer) {
   int largest = 0;
   for (const Block& b : blocks) largest = std::max(largest, static_cast<int>(b.cols.size()));
   d.numeric_solve = largest > kMaxSymbolicSolve;
-  d.strategy = "Phi_phi is block lower triangular with " + N(static_cast<int>(blocks.size())) +
+  if (strategy == Strategy::kMonolithic)
+    d.strategy = "monolithic (mechgen --strategy monolithic): one Newton solve over all " + N(nphi) +
+                 " unknowns and K, L by one dense LU of Phi_phi; large systems need "
+                 "EIGEN_STACK_ALLOCATION_LIMIT raised (fixed-size matrices on the stack).";
+  else d.strategy = "Phi_phi is block lower triangular with " + N(static_cast<int>(blocks.size())) +
                " block(s) of at most " + N(largest) + " unknowns; each block's system is solved " +
                (d.numeric_solve ? "in closed form up to " + N(kMaxSymbolicSolve) + " unknowns, by a fixed-size LU above"
                                 : "in closed form (adjugate over determinant)") +

@@ -39,7 +39,7 @@ struct Derivation {
 };
 
 /// Builds the programs; `printer` gets names for q, phi and the parameters.
-Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer);
+Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Strategy strategy = Strategy::kBlocks);
 
 /// K = -Phi_phi^-1 Phi_q as expressions in q, phi and p (for the report; small systems).
 GiNaC::matrix SymbolicK(const Kinematics& k);

@@ -45,11 +45,12 @@ struct Pipeline {
   mechgen::EmittedModel emitted;
 };
 
-void Run(Pipeline* p, const std::string& path, const std::string& name, const std::string& templates) {
+void Run(Pipeline* p, const std::string& path, const std::string& name, const std::string& templates,
+         mechgen::Strategy strategy) {
   p->model = mechgen::LoadModel(path, name);
   p->topology = mechgen::BuildTopology(p->model);
   p->kinematics = mechgen::DeriveKinematics(p->model, p->topology);
-  p->derivation = mechgen::Derive(p->model, p->kinematics, &p->printer);
+  p->derivation = mechgen::Derive(p->model, p->kinematics, &p->printer, strategy);
   p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, p->derivation, &p->printer, templates);
 }
 
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::string model_path, out_dir = ".", name, templates = DefaultTemplates(argv[0]);
   bool latex = false, quiet = false;
+  std::string strategy = "blocks";
 
   CLI::App* gen = app.add_subcommand("generate", "write <name>.h and <name>.cc for a model");
   gen->add_option("model", model_path, "model file (.yaml)")->required();
@@ -68,6 +70,11 @@ int main(int argc, char** argv) {
   gen->add_option("--name", name, "override the model's name (the C++ namespace mech::<name>)");
   gen->add_option("--templates", templates, "directory of the .mustache templates")->capture_default_str();
   gen->add_flag("-q,--quiet", quiet, "print nothing on success");
+  gen->add_option("--strategy", strategy,
+                  "blocks: block-triangular solve order with closed-form dyads; monolithic: one "
+                  "Newton solve and one dense LU over all loops (for comparison)")
+      ->check(CLI::IsMember({"blocks", "monolithic"}))
+      ->capture_default_str();
 
   CLI::App* rep = app.add_subcommand("report", "print loops, mobility, Phi, Phi_phi, Phi_q and K");
   rep->add_option("model", model_path, "model file (.yaml)")->required();
@@ -79,7 +86,8 @@ int main(int argc, char** argv) {
   Pipeline p;
   const auto start = std::chrono::steady_clock::now();
   try {
-    Run(&p, model_path, name, templates);
+    Run(&p, model_path, name, templates,
+        strategy == "monolithic" ? mechgen::Strategy::kMonolithic : mechgen::Strategy::kBlocks);
   } catch (const mechgen::ModelError& e) {
     std::cerr << e.what() << "\n";
     return 1;
