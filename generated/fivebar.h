@@ -290,6 +290,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  *                       closed form, the reference they are kept continuous with.
  *                       Out: the solution, when the report says kConverged.
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
+ * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
+ *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -297,7 +299,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(1e-12)) {
+                                   const Scalar& tolerance = Scalar(0)) {
   // Total ops: 32 (adds 9, muls 18, divs 1, calls 4); intermediate terms: 0
   using std::abs;
   using std::atan2;
@@ -309,6 +311,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   using std::floor;
   Vec<Scalar, Sizes::kNphi>& phi = *phi_io;
   int iterations = 0;
+  // tolerance <= 0: 1e-12 (model units), 1e-5 for float
+  const Scalar tol = tolerance > Scalar(0) ? tolerance : Scalar(sizeof(Scalar) <= 4 ? 1e-5 : 1e-12);
+  (void)tol;
   (void)p;
   (void)q;
   (void)phi;
@@ -493,7 +498,7 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(1e-12)) {
+                                   const Scalar& tolerance = Scalar(0)) {
     return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
   }
   template <typename Scalar>

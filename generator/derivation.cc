@@ -284,11 +284,15 @@ void NewtonPositions(const Kinematics& k, const Block& b, int bi, Program* P) {
   }
   P->push_back(Raw("  Scalar norm" + t + " = Scalar(0);"));
   P->push_back(Raw("  for (int i = 0; i < " + sz + "; ++i) if (abs(r" + t + "(i)) > norm" + t + ") norm" + t + " = abs(r" + t + "(i));"));
-  P->push_back(Raw("  if (norm" + t + " <= tolerance) break;"));
-  P->push_back(Raw("  if (iteration == max_iterations || !(norm" + t + " == norm" + t + ")) return {SolveStatus::kDidNotConverge, " + N(bi) + ", iterations, norm" + t + "};"));
+  P->push_back(Raw("  const bool closed" + t + " = norm" + t + " <= tol;"));
+  P->push_back(Raw("  if (!closed" + t + " && (iteration == max_iterations || !(norm" + t + " == norm" + t + "))) return {SolveStatus::kDidNotConverge, " + N(bi) + ", iterations, norm" + t + "};"));
   P->push_back(Raw("  ++iterations;"));
   P->push_back(Raw("  const Vec<Scalar, " + sz + "> delta" + t + " = J" + t + ".partialPivLu().solve(r" + t + ");"));
   for (int c = 0; c < n; ++c) P->push_back(Raw("  phi(" + N(b.cols[c]) + ") -= delta" + t + "(" + N(c) + ");"));
+  // Once the residual test passes, the step just taken is a last polish (quadratic
+  // convergence): positions are then accurate to rounding, not just to the tolerance
+  // times cond(Phi_phi).
+  P->push_back(Raw("  if (closed" + t + ") break;"));
   P->push_back(Raw("}"));
 }
 

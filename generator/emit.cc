@@ -224,6 +224,8 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("det_body", BodyText(det, math + unused));
   data.Set("positions_body", BodyText(positions, math + "  using std::acos;\n  using std::floor;\n" +
                                                      "  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;\n  int iterations = 0;\n" +
+                                                     "  // tolerance <= 0: 1e-12 (model units), 1e-5 for float\n" +
+                                                     "  const Scalar tol = tolerance > Scalar(0) ? tolerance : Scalar(sizeof(Scalar) <= 4 ? 1e-5 : 1e-12);\n  (void)tol;\n" +
                                                      unused + "  (void)modes;\n  (void)max_iterations;\n  (void)tolerance;\n") +
                                 "\n  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};");
   std::vector<std::map<std::string, std::string>> blocks_doc;

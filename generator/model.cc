@@ -35,11 +35,17 @@ bool IsIdentifier(const std::string& s) {
   return true;
 }
 
-// Names that would collide with the generated code or the expression language.
+// Names of the expression language, and C++ keywords (parameters become struct members).
 const std::set<std::string>& ReservedNames() {
   static const std::set<std::string> names = {
-      "deg", "Pi", "pi", "sin", "cos", "tan", "sqrt", "atan2", "exp", "log", "abs", "pow", "p",
-      "q", "phi", "Phi", "K", "L", "Scalar", "T", "out", "r", "I", "E", "Euler", "Catalan"};
+      "deg", "Pi", "pi", "sin", "cos", "tan", "sqrt", "atan2", "exp", "log", "abs", "pow", "I",
+      "Euler", "Catalan", "Scalar", "Cast", "alignas", "auto", "bool", "break", "case", "catch",
+      "char", "class", "const", "constexpr", "continue", "default", "delete", "do", "double",
+      "else", "enum", "explicit", "extern", "false", "float", "for", "friend", "goto", "if",
+      "inline", "int", "long", "mutable", "namespace", "new", "noexcept", "nullptr", "operator",
+      "private", "protected", "public", "register", "return", "short", "signed", "sizeof",
+      "static", "struct", "switch", "template", "this", "throw", "true", "try", "typedef",
+      "typename", "union", "unsigned", "using", "virtual", "void", "volatile", "while"};
   return names;
 }
 
@@ -150,8 +156,8 @@ class Reader {
       p.mark = KeyMark(value);
       if (!IsIdentifier(name) || ReservedNames().count(name))
         m_.Fail(p.mark, "parameter name '" + name +
-                            "' must be a C++ identifier and not a reserved name (" +
-                            "deg, p, q, phi, K, L, sin, ...); rename it");
+                            "' must be a C++ identifier and neither a C++ keyword nor a name of the " +
+                            "expression language (deg, Pi, sin, cos, sqrt, ...); rename it");
       YAML::Node v = value;
       if (value.IsMap()) {
         auto entries = Entries(value, "parameter '" + name + "'", {"value", "doc"});
