@@ -12,7 +12,7 @@
  *
  * Topology: 5 links (4 moving), 5 joints,
  * 1 independent loop(s); Grübler–Kutzbach mobility 2.
- * Loop 1: link1 -B- crank1 -A- ground -E- crank2 -D- link2 -C- link1
+ * Loop 1: ground -E- crank2 -D- link2 -C- link1 -B- crank1 -A- ground
  *
  * Coordinates (Paul's notation; angles CCW from +x in radians, displacements in model units):
  *   q(0)   = theta_crank1: absolute angle of link 'crank1' (driven at joint 'A')

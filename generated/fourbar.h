@@ -11,7 +11,7 @@
  *
  * Topology: 4 links (3 moving), 4 joints,
  * 1 independent loop(s); Grübler–Kutzbach mobility 1.
- * Loop 1: coupler -B- crank -A- ground -D- rocker -C- coupler
+ * Loop 1: ground -D- rocker -C- coupler -B- crank -A- ground
  *
  * Coordinates (Paul's notation; angles CCW from +x in radians, displacements in model units):
  *   q(0)   = theta_crank: absolute angle of link 'crank' (driven at joint 'A')

@@ -12,7 +12,7 @@
  *
  * Topology: 4 links (3 moving), 4 joints,
  * 1 independent loop(s); Grübler–Kutzbach mobility 1.
- * Loop 1: rocker -D- ground -A- crank -B- block -slot- rocker
+ * Loop 1: ground -A- crank -B- block -slot- rocker -D- ground
  *
  * Coordinates (Paul's notation; angles CCW from +x in radians, displacements in model units):
  *   q(0)   = theta_crank: absolute angle of link 'crank' (driven at joint 'A')

@@ -13,8 +13,8 @@
  *
  * Topology: 6 links (5 moving), 7 joints,
  * 2 independent loop(s); Grübler–Kutzbach mobility 1.
- * Loop 1: rocker -O4- ground -O2- crank -A- block -slot- rocker
- * Loop 2: link -B- rocker -O4- ground -stroke- ram -C- link
+ * Loop 1: ground -O2- crank -A- block -slot- rocker -O4- ground
+ * Loop 2: ground -stroke- ram -C- link -B- rocker -O4- ground
  *
  * Coordinates (Paul's notation; angles CCW from +x in radians, displacements in model units):
  *   q(0)   = theta_crank: absolute angle of link 'crank' (driven at joint 'O2')

@@ -11,7 +11,7 @@
  *
  * Topology: 4 links (3 moving), 4 joints,
  * 1 independent loop(s); Grübler–Kutzbach mobility 1.
- * Loop 1: rod -B- crank -O- ground -slide- slider -C- rod
+ * Loop 1: ground -slide- slider -C- rod -B- crank -O- ground
  *
  * Coordinates (Paul's notation; angles CCW from +x in radians, displacements in model units):
  *   q(0)   = theta_crank: absolute angle of link 'crank' (driven at joint 'O')

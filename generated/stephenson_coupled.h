@@ -13,8 +13,8 @@
  *
  * Topology: 6 links (5 moving), 7 joints,
  * 2 independent loop(s); Grübler–Kutzbach mobility 1.
- * Loop 1: T2 -D- crank -O- ground -P1- T1 -Ka- a -Ja- T2
- * Loop 2: T2 -D- crank -O- ground -P1- T1 -Kb- b -Jb- T2
+ * Loop 1: ground -P1- T1 -Ka- a -Ja- T2 -D- crank -O- ground
+ * Loop 2: ground -P1- T1 -Kb- b -Jb- T2 -D- crank -O- ground
  *
  * Coordinates (Paul's notation; angles CCW from +x in radians, displacements in model units):
  *   q(0)   = theta_crank: absolute angle of link 'crank' (driven at joint 'O')

@@ -13,8 +13,8 @@
  *
  * Topology: 6 links (5 moving), 7 joints,
  * 2 independent loop(s); Grübler–Kutzbach mobility 1.
- * Loop 1: coupler -B- crank -O2- ground -O4- rocker -C- coupler
- * Loop 2: coupler -B- crank -O2- ground -O6- output -E- link5 -P- coupler
+ * Loop 1: ground -O4- rocker -C- coupler -B- crank -O2- ground
+ * Loop 2: ground -O6- output -E- link5 -P- coupler -B- crank -O2- ground
  *
  * Coordinates (Paul's notation; angles CCW from +x in radians, displacements in model units):
  *   q(0)   = theta_crank: absolute angle of link 'crank' (driven at joint 'O2')

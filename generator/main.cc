@@ -12,6 +12,7 @@
 
 #include "derivation.h"
 #include "emit.h"
+#include "grashof.h"
 #include "kinematics.h"
 #include "model.h"
 #include "report.h"
@@ -39,6 +40,7 @@ std::string DefaultTemplates(const char* argv0) {
 struct Pipeline {
   mechgen::Model model;
   mechgen::Topology topology;
+  std::vector<mechgen::FourBarLoop> four_bars;
   mechgen::Kinematics kinematics;
   mechgen::CxxPrinter printer;
   mechgen::Derivation derivation;
@@ -49,6 +51,7 @@ void Run(Pipeline* p, const std::string& path, const std::string& name, const st
          mechgen::Strategy strategy) {
   p->model = mechgen::LoadModel(path, name);
   p->topology = mechgen::BuildTopology(p->model);
+  p->four_bars = mechgen::ClassifyFourBars(p->model, p->topology);
   p->kinematics = mechgen::DeriveKinematics(p->model, p->topology);
   p->derivation = mechgen::Derive(p->model, p->kinematics, &p->printer, strategy);
   p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, p->derivation, &p->printer, templates);
@@ -111,7 +114,7 @@ int main(int argc, char** argv) {
                 << static_cast<int>(ms + 0.5) << " ms\n";
     return 0;
   }
-  mechgen::WriteReport(p.model, p.topology, p.kinematics, p.derivation, p.emitted,
+  mechgen::WriteReport(p.model, p.topology, p.four_bars, p.kinematics, p.derivation, p.emitted,
                        latex ? mechgen::ReportFormat::kLatex : mechgen::ReportFormat::kText, std::cout);
   if (!latex) std::cout << "Derivation and emission took " << static_cast<int>(ms + 0.5) << " ms\n";
   return 0;

@@ -367,13 +367,20 @@ void Model::Fail(SourceMark mark, const std::string& message) const {
 }
 
 Model LoadModel(const std::string& path, const std::string& name_override) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ModelError(path, {}, "cannot open the model file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return LoadModelFromString(text.str(), path, name_override);
+}
+
+Model LoadModelFromString(const std::string& text, const std::string& path,
+                          const std::string& name_override) {
   Model m;
   m.file = path;
-  std::ifstream in(path);
-  if (!in) m.Fail({}, "cannot open the model file");
   YAML::Node root;
   try {
-    root = YAML::Load(in);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     m.Fail({e.mark.line + 1, e.mark.column + 1}, "YAML syntax: " + e.msg);
   }

@@ -129,4 +129,8 @@ struct Model {
 /// \param name_override if not empty, replaces the model's `name`.
 Model LoadModel(const std::string& path, const std::string& name_override = "");
 
+/// The same from the text of a model; `path` only names it in error messages.
+Model LoadModelFromString(const std::string& text, const std::string& path,
+                          const std::string& name_override = "");
+
 }  // namespace mechgen

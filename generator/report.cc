@@ -28,7 +28,8 @@ GiNaC::matrix Simplified(const GiNaC::matrix& a, const Kinematics& k) {
 
 }  // namespace
 
-void WriteReport(const Model& m, const Topology& t, const Kinematics& k, const Derivation& d,
+void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoop>& four_bars,
+                 const Kinematics& k, const Derivation& d,
                  const EmittedModel& e, ReportFormat f, std::ostream& os) {
   const bool tex = f == ReportFormat::kLatex;
   const std::string eq_open = tex ? "\\[ " : "  ", eq_close = tex ? " \\]" : "";
@@ -52,6 +53,26 @@ void WriteReport(const Model& m, const Topology& t, const Kinematics& k, const D
     os << "Mobility: Grübler–Kutzbach " << t.grubler_text << "; loop criterion " << t.num_variables
        << " variables - 2*" << t.loops.size() << " loops = " << t.loop_mobility << "; inputs "
        << m.inputs.size() << "\n";
+    for (const FourBarLoop& f : four_bars) os << "Grashof: " << f.Text() << "\n";
+    os << "Inputs and the loops they drive (through the solve order):\n";
+    for (size_t i = 0; i < m.inputs.size(); ++i) {
+      // Block b is driven by q_i if its rows contain q_i or an unknown of a driven block.
+      os << "  q(" << i << ") " << k.q[i].name << " drives block(s)";
+      std::vector<bool> driven_col(k.nphi(), false);
+      for (size_t b = 0; b < d.blocks.size(); ++b) {
+        bool uses = false;
+        for (int r : d.blocks[b].rows) {
+          uses |= !k.Phi_q(r, static_cast<int>(i)).is_zero();
+          for (int c = 0; c < k.nphi(); ++c) uses |= driven_col[c] && !k.Phi_phi(r, c).is_zero();
+        }
+        if (!uses) continue;
+        for (int c : d.blocks[b].cols) driven_col[c] = true;
+        os << " " << b;
+      }
+      os << "\n";
+    }
+    os << "Solve order (block lower-triangular Phi_phi):\n";
+    for (size_t b = 0; b < d.blocks.size(); ++b) os << "  block " << b << ": " << d.blocks[b].Describe(k) << "\n";
     os << "Coordinates:\n";
     for (int i = 0; i < k.nq(); ++i) os << "  q(" << i << ")   " << k.q[i].name << ": " << k.q[i].what << "\n";
     for (int i = 0; i < k.nphi(); ++i)

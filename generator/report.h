@@ -7,6 +7,7 @@
 
 #include "derivation.h"
 #include "emit.h"
+#include "grashof.h"
 #include "kinematics.h"
 #include "model.h"
 #include "topology.h"
@@ -15,7 +16,8 @@ namespace mechgen {
 
 enum class ReportFormat { kText, kLatex };
 
-void WriteReport(const Model& m, const Topology& t, const Kinematics& k, const Derivation& d,
+void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoop>& four_bars,
+                 const Kinematics& k, const Derivation& d,
                  const EmittedModel& e, ReportFormat format, std::ostream& os);
 
 }  // namespace mechgen

@@ -140,6 +140,16 @@ Topology BuildTopology(const Model& m) {
     }
     loop.joints.push_back(c);
     loop.links.push_back(j.a.link);
+    // Start the loop at the ground if it holds it (else at its first link in the file),
+    // as a reader would trace it; joints[i] still joins links[i] and links[i + 1].
+    loop.links.pop_back();
+    const auto start = std::find(loop.links.begin(), loop.links.end(), m.ground) != loop.links.end()
+                           ? std::find(loop.links.begin(), loop.links.end(), m.ground)
+                           : std::min_element(loop.links.begin(), loop.links.end());
+    const auto shift = start - loop.links.begin();
+    std::rotate(loop.links.begin(), start, loop.links.end());
+    std::rotate(loop.joints.begin(), loop.joints.begin() + shift, loop.joints.end());
+    loop.links.push_back(loop.links.front());
     t.loops.push_back(loop);
   }
 

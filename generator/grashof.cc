@@ -1,0 +1,146 @@
+// Four-bar classification and input-range check. See grashof.h.
+#include "grashof.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace mechgen {
+namespace {
+
+struct P2 {
+  double x = 0, y = 0;
+};
+
+double Num(const GiNaC::ex& e, const GiNaC::exmap& defaults) {
+  const GiNaC::ex v = e.subs(defaults).evalf();
+  return GiNaC::is_a<GiNaC::numeric>(v) ? GiNaC::ex_to<GiNaC::numeric>(v).to_double() : NAN;
+}
+
+P2 Local(const Model& m, PointRef r, const GiNaC::exmap& d) {
+  const LinkPoint& p = m.links[r.link].points[r.point];
+  return {Num(p.x, d), Num(p.y, d)};
+}
+
+double Dist(P2 a, P2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+// The point of joint j on link `link`.
+PointRef End(const Joint& j, int link) { return j.a.link == link ? j.a : j.b; }
+
+std::string Deg(double rad) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f deg", rad * 180 / M_PI);
+  return buf;
+}
+
+}  // namespace
+
+std::string FourBarLoop::Text() const {
+  std::ostringstream os;
+  os << "loop " << loop + 1 << " (";
+  for (int i = 0; i < 4; ++i) os << (i ? ", " : "") << links[i] << " " << lengths[i];
+  os << "): s + l = " << s + l << (s + l < p + q - 1e-12 ? " < " : s + l > p + q + 1e-12 ? " > " : " = ")
+     << "p + q = " << p + q << ", " << type;
+  return os.str();
+}
+
+std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
+  GiNaC::exmap defaults;
+  for (const Parameter& p : m.params) defaults[p.symbol] = p.value;
+  std::vector<FourBarLoop> out;
+  for (size_t li = 0; li < t.loops.size(); ++li) {
+    const Loop& loop = t.loops[li];
+    if (loop.joints.size() != 4) continue;
+    bool all_revolute = true;
+    for (int j : loop.joints) all_revolute &= m.joints[j].type == JointType::kRevolute;
+    if (!all_revolute) continue;
+    FourBarLoop f;
+    f.loop = static_cast<int>(li);
+    // Link i of the loop lies between joints[i-1] and joints[i].
+    int ground_pos = -1;
+    for (int i = 0; i < 4; ++i) {
+      const int link = loop.links[i];
+      const Joint& before = m.joints[loop.joints[(i + 3) % 4]];
+      const Joint& after = m.joints[loop.joints[i]];
+      f.links[i] = m.links[link].name;
+      f.lengths[i] = Dist(Local(m, End(before, link), defaults), Local(m, End(after, link), defaults));
+      if (link == m.ground) ground_pos = i;
+    }
+    std::vector<double> sorted(f.lengths, f.lengths + 4);
+    std::sort(sorted.begin(), sorted.end());
+    f.s = sorted[0];
+    f.l = sorted[3];
+    f.p = sorted[1];
+    f.q = sorted[2];
+    const double scale = std::max(1.0, f.l);
+    const double margin = (f.p + f.q) - (f.s + f.l);
+    int shortest = 0;
+    for (int i = 1; i < 4; ++i)
+      if (f.lengths[i] < f.lengths[shortest]) shortest = i;
+    if (std::abs(margin) <= 1e-12 * scale) {
+      f.type = "change point (Grashof-neutral: the loop can fold flat)";
+    } else if (margin < 0) {
+      f.type = "non-Grashof triple-rocker: no link turns fully";
+    } else if (ground_pos < 0) {
+      f.type = "Grashof, floating (no ground link in the loop)";
+    } else if (shortest == ground_pos) {
+      f.type = "Grashof double-crank (drag link)";
+    } else if ((shortest + 2) % 4 == ground_pos) {
+      f.type = "Grashof double-rocker (the coupler turns fully)";
+    } else {
+      f.type = "Grashof crank-rocker: '" + f.links[shortest] + "' can turn fully";
+    }
+    out.push_back(f);
+
+    // The declared range of a driven link of this loop must stay within its reach.
+    if (ground_pos < 0) continue;
+    for (const Input& in : m.inputs) {
+      const Joint& ij = m.joints[in.joint];
+      if (ij.type != JointType::kRevolute) continue;
+      const int pos_in_loop = static_cast<int>(std::find(loop.joints.begin(), loop.joints.end(), in.joint) - loop.joints.begin());
+      if (pos_in_loop >= 4) continue;
+      // joints[i] joins links[i] and links[i + 1]; the ground is links[g].
+      const int g = ground_pos;
+      int driven_pos, far_joint_pos, other_pivot_pos;
+      if (pos_in_loop == g) {  // ground -> links[g + 1]
+        driven_pos = (g + 1) % 4;
+        far_joint_pos = (g + 1) % 4;
+        other_pivot_pos = (g + 3) % 4;
+      } else if (pos_in_loop == (g + 3) % 4) {  // links[g - 1] -> ground
+        driven_pos = (g + 3) % 4;
+        far_joint_pos = (g + 2) % 4;
+        other_pivot_pos = g;
+      } else {
+        continue;
+      }
+      const int driven = loop.links[driven_pos];
+      const P2 pivot = Local(m, End(ij, m.ground), defaults);
+      const P2 other_pivot = Local(m, End(m.joints[loop.joints[other_pivot_pos]], m.ground), defaults);
+      const P2 crank_pin = Local(m, End(m.joints[loop.joints[far_joint_pos]], driven), defaults);
+      const P2 crank_base = Local(m, End(ij, driven), defaults);
+      const double rx = crank_pin.x - crank_base.x, ry = crank_pin.y - crank_base.y;
+      // The two other links (coupler and rocker) reach |b - c| to b + c from the rocker's pivot.
+      double b = -1, c = -1;
+      for (int i = 0; i < 4; ++i) {
+        if (i == g || i == driven_pos) continue;
+        (b < 0 ? b : c) = f.lengths[i];
+      }
+      const int samples = 3600;
+      for (int k = 0; k <= samples; ++k) {
+        const double qv = in.min + (in.max - in.min) * k / samples;
+        const P2 pin{pivot.x + std::cos(qv) * rx - std::sin(qv) * ry, pivot.y + std::sin(qv) * rx + std::cos(qv) * ry};
+        const double dd = Dist(pin, other_pivot);
+        if (dd > b + c + 1e-12 * scale || dd < std::abs(b - c) - 1e-12 * scale) {
+          m.Fail(in.mark, "input joint '" + ij.name + "' is driven over [" + Deg(in.min) + ", " + Deg(in.max) +
+                              "], but " + f.Text() + ": link '" + m.links[driven].name +
+                              "' cannot reach " + Deg(qv) + " (the loop cannot close there); narrow the " +
+                              "range or change the lengths");
+        }
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace mechgen

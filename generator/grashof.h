@@ -1,0 +1,27 @@
+// Grashof classification of every four-bar loop (Paul appendix A) — a loop of four links
+// joined by four revolute joints — and the check that a driven link's declared range is
+// one the loop can reach (a crank-rocker's crank turns fully; a rocker does not).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "model.h"
+#include "topology.h"
+
+namespace mechgen {
+
+struct FourBarLoop {
+  int loop = -1;               ///< index into Topology::loops
+  double s = 0, l = 0, p = 0, q = 0;  ///< shortest, longest, the other two lengths
+  std::string links[4];        ///< link names in loop order
+  double lengths[4] = {0, 0, 0, 0};
+  std::string type;            ///< "crank-rocker", "double-crank", "double-rocker", "change point", "triple-rocker (non-Grashof)"
+  std::string Text() const;    ///< "loop 1 (ground 4, crank 1, coupler 3.5, rocker 3): s + l = 5 < p + q = 6.5, Grashof crank-rocker"
+};
+
+/// Classifies the four-bar loops, with lengths at the parameters' default values, and
+/// fails (ModelError at the input) when a driven link's range leaves the loop's reach.
+std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t);
+
+}  // namespace mechgen
