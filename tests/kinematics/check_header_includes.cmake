@@ -1,0 +1,23 @@
+# cmake -DHEADER=<path> -P check_header_includes.cmake
+# Fails unless every #include of the generated header is a C++ standard header or Eigen's:
+# generated code must need only <cmath> (and the standard library) and <Eigen/...>.
+if(NOT EXISTS "${HEADER}")
+  message(FATAL_ERROR "no such header: ${HEADER}")
+endif()
+file(STRINGS "${HEADER}" includes REGEX "^[ \t]*#[ \t]*include")
+set(allowed "^[ \t]*#[ \t]*include[ \t]*<(Eigen/[A-Za-z]+|[a-z_]+)>[ \t]*$")
+set(count 0)
+foreach(line IN LISTS includes)
+  math(EXPR count "${count} + 1")
+  if(NOT line MATCHES "${allowed}")
+    message(FATAL_ERROR "${HEADER}: include outside the standard library and Eigen: ${line}")
+  endif()
+endforeach()
+if(count EQUAL 0)
+  message(FATAL_ERROR "${HEADER}: no #include found (does not include <Eigen/Core>?)")
+endif()
+file(READ "${HEADER}" text)
+if(NOT text MATCHES "#include <Eigen/Core>")
+  message(FATAL_ERROR "${HEADER}: does not include <Eigen/Core>")
+endif()
+message(STATUS "${HEADER}: ${count} includes, all standard or Eigen")
