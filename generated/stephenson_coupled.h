@@ -84,6 +84,13 @@ template <typename Scalar, int R, int C>
 using Mat = Eigen::Matrix<Scalar, R, C>;
 template <typename Scalar, int R>
 using Vec = Eigen::Matrix<Scalar, R, 1>;
+/// Output pointers do not take part in deducing Scalar, so that nullptr can be passed.
+template <typename T>
+struct NonDeduced {
+  using type = T;
+};
+template <typename T>
+using Out = typename NonDeduced<T>::type*;
 
 /// What EvalCoefficients() fills. Only the members the model asked for exist.
 template <typename Scalar = double>
@@ -114,9 +121,9 @@ template <typename Scalar>
 void EvalPhi(const Params<Scalar>& p,
              const Vec<Scalar, Sizes::kNq>& q,
              const Vec<Scalar, Sizes::kNphi>& phi,
-             Vec<Scalar, Sizes::kNc>* Phi,
-             Mat<Scalar, Sizes::kNc, Sizes::kNphi>* Phi_phi = nullptr,
-             Mat<Scalar, Sizes::kNc, Sizes::kNq>* Phi_q = nullptr) {
+             Out<Vec<Scalar, Sizes::kNc>> Phi,
+             Out<Mat<Scalar, Sizes::kNc, Sizes::kNphi>> Phi_phi = nullptr,
+             Out<Mat<Scalar, Sizes::kNc, Sizes::kNq>> Phi_q = nullptr) {
   // Total ops: 74 (adds 32, muls 32, divs 0, calls 10); intermediate terms: 10
   using std::abs;
   using std::atan2;
@@ -476,9 +483,9 @@ void EvalScene(const Params<Scalar>& p,
 extern template void EvalPhi<double>(const Params<double>&,
                                     const Vec<double, Sizes::kNq>&,
                                     const Vec<double, Sizes::kNphi>&,
-                                    Vec<double, Sizes::kNc>*,
-                                    Mat<double, Sizes::kNc, Sizes::kNphi>*,
-                                    Mat<double, Sizes::kNc, Sizes::kNq>*);
+                                    Out<Vec<double, Sizes::kNc>>,
+                                    Out<Mat<double, Sizes::kNc, Sizes::kNphi>>,
+                                    Out<Mat<double, Sizes::kNc, Sizes::kNq>>);
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
@@ -500,9 +507,9 @@ extern template void EvalScene<double>(const Params<double>&,
 extern template void EvalPhi<float>(const Params<float>&,
                                     const Vec<float, Sizes::kNq>&,
                                     const Vec<float, Sizes::kNphi>&,
-                                    Vec<float, Sizes::kNc>*,
-                                    Mat<float, Sizes::kNc, Sizes::kNphi>*,
-                                    Mat<float, Sizes::kNc, Sizes::kNq>*);
+                                    Out<Vec<float, Sizes::kNc>>,
+                                    Out<Mat<float, Sizes::kNc, Sizes::kNphi>>,
+                                    Out<Mat<float, Sizes::kNc, Sizes::kNq>>);
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
@@ -558,9 +565,9 @@ struct Model : Sizes {
   static void Phi(const Params<Scalar>& p,
                   const Vec<Scalar, kNq>& q,
                   const Vec<Scalar, kNphi>& phi,
-                  Vec<Scalar, kNc>* Phi,
-                  Mat<Scalar, kNc, kNphi>* Phi_phi = nullptr,
-                  Mat<Scalar, kNc, kNq>* Phi_q = nullptr) {
+                  Out<Vec<Scalar, kNc>> Phi,
+                  Out<Mat<Scalar, kNc, kNphi>> Phi_phi = nullptr,
+                  Out<Mat<Scalar, kNc, kNq>> Phi_q = nullptr) {
     EvalPhi(p, q, phi, Phi, Phi_phi, Phi_q);
   }
   template <typename Scalar>

@@ -12,9 +12,9 @@ namespace mech::watt_sixbar {
 template void EvalPhi<double>(const Params<double>&,
                              const Vec<double, Sizes::kNq>&,
                              const Vec<double, Sizes::kNphi>&,
-                             Vec<double, Sizes::kNc>*,
-                             Mat<double, Sizes::kNc, Sizes::kNphi>*,
-                             Mat<double, Sizes::kNc, Sizes::kNq>*);
+                             Out<Vec<double, Sizes::kNc>>,
+                             Out<Mat<double, Sizes::kNc, Sizes::kNphi>>,
+                             Out<Mat<double, Sizes::kNc, Sizes::kNq>>);
 template void EvalCoefficients<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -36,9 +36,9 @@ template void EvalScene<double>(const Params<double>&,
 template void EvalPhi<float>(const Params<float>&,
                              const Vec<float, Sizes::kNq>&,
                              const Vec<float, Sizes::kNphi>&,
-                             Vec<float, Sizes::kNc>*,
-                             Mat<float, Sizes::kNc, Sizes::kNphi>*,
-                             Mat<float, Sizes::kNc, Sizes::kNq>*);
+                             Out<Vec<float, Sizes::kNc>>,
+                             Out<Mat<float, Sizes::kNc, Sizes::kNphi>>,
+                             Out<Mat<float, Sizes::kNc, Sizes::kNq>>);
 template void EvalCoefficients<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,

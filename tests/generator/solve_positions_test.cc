@@ -127,6 +127,9 @@ TEST(SolvePositions, DetPhiPhiMatchesTheDenseDeterminant) {
   Eigen::Matrix<double, 2, 1> Phi;
   Eigen::Matrix<double, 2, 2> J;
   M::Phi(p, q, phi, &Phi, &J);
+  Eigen::Matrix<double, 2, 2> J_alone;
+  M::Phi(p, q, phi, nullptr, &J_alone);  // any output may be nullptr, the first one too
+  EXPECT_EQ(J_alone, J);
   double det = 0;
   M::DetPhiPhi(p, q, phi, &det);
   EXPECT_NEAR(det, J.determinant(), 1e-12 * std::max(1.0, std::abs(det)));
