@@ -128,9 +128,11 @@ struct BlockSolver {
       const std::string sz = N(n);
       lu = "lu_block" + N(i);
       P->push_back(Raw("Mat<Scalar, " + sz + ", " + sz + "> J_block" + N(i) + ";"));
+      P->push_back(Raw("J_block" + N(i) + ".setZero();"));  // large blocks are sparse
       for (int r = 0; r < n; ++r)
         for (int c = 0; c < n; ++c)
-          P->push_back(Store("J_block" + N(i) + Idx(r, c), k.Phi_phi(b.rows[r], b.cols[c])));
+          if (!k.Phi_phi(b.rows[r], b.cols[c]).is_zero())
+            P->push_back(Store("J_block" + N(i) + Idx(r, c), k.Phi_phi(b.rows[r], b.cols[c])));
       P->push_back(Raw("const Eigen::PartialPivLU<Mat<Scalar, " + sz + ", " + sz + ">> " + lu + "(J_block" + N(i) + ");"));
     }
     (void)printer;
@@ -276,11 +278,13 @@ void NewtonPositions(const Kinematics& k, const Block& b, int bi, Program* P) {
   const int n = static_cast<int>(b.cols.size());
   const std::string t = "_b" + N(bi), sz = N(n);
   P->push_back(Raw("Vec<Scalar, " + sz + "> r" + t + ";"));
-  P->push_back(Raw("Mat<Scalar, " + sz + ", " + sz + "> J" + t + ";"));
+  P->push_back(Raw("Mat<Scalar, " + sz + ", " + sz + "> J" + t + " = Mat<Scalar, " + sz + ", " + sz + ">::Zero();"));
   P->push_back(Raw("for (int iteration = 0;; ++iteration) {"));
   for (int r = 0; r < n; ++r) {
     P->push_back(Store("  r" + t + "(" + N(r) + ")", k.Phi[b.rows[r]]));
-    for (int c = 0; c < n; ++c) P->push_back(Store("  J" + t + Idx(r, c), k.Phi_phi(b.rows[r], b.cols[c])));
+    for (int c = 0; c < n; ++c)
+      if (!k.Phi_phi(b.rows[r], b.cols[c]).is_zero())
+        P->push_back(Store("  J" + t + Idx(r, c), k.Phi_phi(b.rows[r], b.cols[c])));
   }
   P->push_back(Raw("  Scalar norm" + t + " = Scalar(0);"));
   P->push_back(Raw("  for (int i = 0; i < " + sz + "; ++i) if (abs(r" + t + "(i)) > norm" + t + ") norm" + t + " = abs(r" + t + "(i));"));
@@ -355,9 +359,10 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Stra
       det_product *= det;
     } else {
       const std::string name = "J_block" + N(static_cast<int>(bi));
-      d.det.push_back(Raw("Mat<Scalar, " + N(n) + ", " + N(n) + "> " + name + ";"));
+      d.det.push_back(Raw("Mat<Scalar, " + N(n) + ", " + N(n) + "> " + name + " = Mat<Scalar, " + N(n) + ", " + N(n) + ">::Zero();"));
       for (int r = 0; r < n; ++r)
-        for (int c = 0; c < n; ++c) d.det.push_back(Store(name + Idx(r, c), J(r, c)));
+        for (int c = 0; c < n; ++c)
+          if (!J(r, c).is_zero()) d.det.push_back(Store(name + Idx(r, c), J(r, c)));
       d.det.push_back(Raw("const Scalar det_block" + N(static_cast<int>(bi)) + " = " + name + ".partialPivLu().determinant();"));
       GiNaC::symbol s("det_block" + N(static_cast<int>(bi)));
       printer->Name(s, "det_block" + N(static_cast<int>(bi)));
