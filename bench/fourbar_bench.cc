@@ -7,6 +7,7 @@
 //                       (tests/runtime/handwritten_fourbar.h)
 //   MechgenContinuation PositionSolver::MoveTo(): second-order predictor + Newton on the
 //                       generated Phi/Phi_phi, then the generated Coeffs
+//   MechgenClosedForm   the generated SolvePositions (closed-form RRR dyad) + Coeffs
 //   CeresAnalyticReused Ceres LM with the generated Jacobian, one ceres::Problem reused,
 //                       started from the previous phi; then Coeffs
 //   CeresAutoDiffReused the same with AutoDiffCostFunction over Model::Phi (Jets)
@@ -72,6 +73,27 @@ void MechgenContinuation(benchmark::State& state) {
   if (summary.status != mechgen::Status::kConverged) state.SkipWithError("step failed");
 }
 BENCHMARK(MechgenContinuation);
+
+#ifdef MECHGEN_BENCH_MODEL_INCLUDE
+// The generated closed-form dyad (Model::Solve, circle–circle in the solve order) + the
+// generated Coeffs: what a product calls directly, without the runtime.
+void MechgenClosedForm(benchmark::State& state) {
+  const Model::ParamsT<double> p;
+  Model::CoefficientsT<double> c;
+  Types::VecPhi phi;
+  for (int i = 0; i < Model::kNphi; ++i) phi(i) = Model::kAssemblyPhi[i];
+  long k = 0;
+  for (auto _ : state) {
+    const Types::VecQ q = Types::VecQ::Constant(CrankAngle(k++));
+    const auto report = Model::Solve(p, q, &phi);
+    Model::Coeffs(p, q, phi, &c);
+    benchmark::DoNotOptimize(report);
+    benchmark::DoNotOptimize(phi);
+    benchmark::DoNotOptimize(c);
+  }
+}
+BENCHMARK(MechgenClosedForm);
+#endif
 
 // Ceres LM on one reused problem; CostFunction is PhiCostFunction or the autodiff one.
 template <bool kAutoDiff>

@@ -30,6 +30,8 @@ for name, t in med.items():
 def r(a, b): return med[a] / med[b]
 print()
 print(f"  mechgen / closed form          = {r('MechgenContinuation', 'ClosedForm'):6.2f}   (target <= 1.5)")
+if 'MechgenClosedForm' in med:
+    print(f"  generated dyad / closed form   = {r('MechgenClosedForm', 'ClosedForm'):6.2f}   (target <= 1.2)")
 print(f"  Ceres autodiff / mechgen       = {r('CeresAutoDiffReused', 'MechgenContinuation'):6.1f}   (target >= 20)")
 print(f"  Ceres analytic / mechgen       = {r('CeresAnalyticReused', 'MechgenContinuation'):6.1f}")
 print(f"  Ceres new problem / mechgen    = {r('CeresNewProblem', 'MechgenContinuation'):6.1f}")

@@ -380,7 +380,8 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Stra
     for (int a = 0; a < 2; ++a) P.push_back(Store("out->r_P" + Idx(a, static_cast<int>(pt)), k.points[pt][a]));
   int largest = 0;
   for (const Block& b : blocks) largest = std::max(largest, static_cast<int>(b.cols.size()));
-  d.numeric_solve = largest > kMaxSymbolicSolve;
+  d.numeric_solve = largest > kMaxSymbolicSolve;  // an LU for K and L (and Eigen/LU)
+  for (const Block& b : blocks) d.numeric_solve |= b.solve == BlockSolve::kNewton;  // Newton's LU
   if (strategy == Strategy::kMonolithic)
     d.strategy = "monolithic (mechgen --strategy monolithic): one Newton solve over all " + N(nphi) +
                  " unknowns and K, L by one dense LU of Phi_phi; large systems need "
