@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); SolvePositions 32 (adds 9, muls 18, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 255 (adds 43, muls 203, divs 1, calls 8); EvalScene 22 (adds 6, muls 8, divs 0, calls 8)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); SolvePositions 40 (adds 11, muls 24, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 141 (adds 33, muls 99, divs 1, calls 8); EvalScene 22 (adds 6, muls 8, divs 0, calls 8)
  */
 #pragma once
 
@@ -170,7 +170,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 255 (adds 43, muls 203, divs 1, calls 8); intermediate terms: 15
+  // Total ops: 141 (adds 33, muls 99, divs 1, calls 8); intermediate terms: 22
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -193,25 +193,42 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_1_1 = -_tmp5*p.a3;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar K_0_0 = Phi_phi_0_1*_tmp1*inv_det_block0*p.a1 + Phi_phi_1_1*_tmp2*inv_det_block0*p.a1;
-  const Scalar _tmp6 = cos(q(1));
-  const Scalar _tmp7 = sin(q(1));
-  const Scalar K_0_1 = -Phi_phi_0_1*_tmp6*inv_det_block0*p.a4 - Phi_phi_1_1*_tmp7*inv_det_block0*p.a4;
-  const Scalar K_1_0 = -Phi_phi_0_0*_tmp1*inv_det_block0*p.a1 - Phi_phi_1_0*_tmp2*inv_det_block0*p.a1;
-  const Scalar K_1_1 = Phi_phi_0_0*_tmp6*inv_det_block0*p.a4 + Phi_phi_1_0*_tmp7*inv_det_block0*p.a4;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp2*p.a1 - Phi_phi_inv_0_1*_tmp1*p.a1;
+  const Scalar _tmp6 = sin(q(1));
+  const Scalar _tmp7 = cos(q(1));
+  const Scalar K_0_1 = -Phi_phi_inv_0_0*_tmp6*p.a4 + Phi_phi_inv_0_1*_tmp7*p.a4;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp2*p.a1 - Phi_phi_inv_1_1*_tmp1*p.a1;
+  const Scalar K_1_1 = -Phi_phi_inv_1_0*_tmp6*p.a4 + Phi_phi_inv_1_1*_tmp7*p.a4;
   const Scalar _tmp8 = -_tmp2*p.a1;
-  const Scalar _tmp9 = K_0_0*K_0_0;
-  const Scalar _tmp10 = K_1_0*K_1_0;
-  const Scalar L_0_0_0 = Phi_phi_0_1*_tmp10*_tmp4*inv_det_block0*p.a3 - Phi_phi_0_1*_tmp2*inv_det_block0*p.a1 - Phi_phi_0_1*_tmp3*_tmp9*inv_det_block0*p.a2 + Phi_phi_1_1*_tmp0*_tmp9*inv_det_block0*p.a2 + Phi_phi_1_1*_tmp1*inv_det_block0*p.a1 - Phi_phi_1_1*_tmp10*_tmp5*inv_det_block0*p.a3;
-  const Scalar L_0_0_1 = -K_0_0*K_0_1*Phi_phi_0_1*_tmp3*inv_det_block0*p.a2 + K_0_0*K_0_1*Phi_phi_1_1*_tmp0*inv_det_block0*p.a2 + K_1_0*K_1_1*Phi_phi_0_1*_tmp4*inv_det_block0*p.a3 - K_1_0*K_1_1*Phi_phi_1_1*_tmp5*inv_det_block0*p.a3;
-  const Scalar _tmp11 = K_0_1*K_0_1;
-  const Scalar _tmp12 = K_1_1*K_1_1;
-  const Scalar L_0_1_1 = -Phi_phi_0_1*_tmp11*_tmp3*inv_det_block0*p.a2 + Phi_phi_0_1*_tmp12*_tmp4*inv_det_block0*p.a3 + Phi_phi_0_1*_tmp7*inv_det_block0*p.a4 + Phi_phi_1_1*_tmp0*_tmp11*inv_det_block0*p.a2 - Phi_phi_1_1*_tmp12*_tmp5*inv_det_block0*p.a3 - Phi_phi_1_1*_tmp6*inv_det_block0*p.a4;
-  const Scalar L_1_0_0 = -Phi_phi_0_0*_tmp10*_tmp4*inv_det_block0*p.a3 + Phi_phi_0_0*_tmp2*inv_det_block0*p.a1 + Phi_phi_0_0*_tmp3*_tmp9*inv_det_block0*p.a2 - Phi_phi_1_0*_tmp0*_tmp9*inv_det_block0*p.a2 - Phi_phi_1_0*_tmp1*inv_det_block0*p.a1 + Phi_phi_1_0*_tmp10*_tmp5*inv_det_block0*p.a3;
-  const Scalar L_1_0_1 = K_0_0*K_0_1*Phi_phi_0_0*_tmp3*inv_det_block0*p.a2 - K_0_0*K_0_1*Phi_phi_1_0*_tmp0*inv_det_block0*p.a2 - K_1_0*K_1_1*Phi_phi_0_0*_tmp4*inv_det_block0*p.a3 + K_1_0*K_1_1*Phi_phi_1_0*_tmp5*inv_det_block0*p.a3;
-  const Scalar L_1_1_1 = Phi_phi_0_0*_tmp11*_tmp3*inv_det_block0*p.a2 - Phi_phi_0_0*_tmp12*_tmp4*inv_det_block0*p.a3 - Phi_phi_0_0*_tmp7*inv_det_block0*p.a4 - Phi_phi_1_0*_tmp0*_tmp11*inv_det_block0*p.a2 + Phi_phi_1_0*_tmp12*_tmp5*inv_det_block0*p.a3 + Phi_phi_1_0*_tmp6*inv_det_block0*p.a4;
-  const Scalar _tmp13 = -K_0_0*K_0_1*_tmp0*p.a2 - L_0_0_1*_tmp3*p.a2;
-  const Scalar _tmp14 = -K_0_0*K_0_1*_tmp3*p.a2 + L_0_0_1*_tmp0*p.a2;
+  const Scalar _tmp9 = K_1_0*K_1_0;
+  const Scalar _tmp10 = K_0_0*K_0_0;
+  const Scalar _tmp11 = -_tmp0*_tmp10*p.a2;
+  const Scalar _tmp12 = -_tmp1*p.a1;
+  const Scalar L_rhs_0_0_0 = _tmp11 + _tmp12 + _tmp5*_tmp9*p.a3;
+  const Scalar _tmp13 = -K_0_0*K_0_1*_tmp0*p.a2;
+  const Scalar L_rhs_0_0_1 = K_1_0*K_1_1*_tmp5*p.a3 + _tmp13;
+  const Scalar _tmp14 = K_1_1*K_1_1;
+  const Scalar _tmp15 = K_0_1*K_0_1;
+  const Scalar _tmp16 = -_tmp0*_tmp15*p.a2;
+  const Scalar L_rhs_0_1_1 = _tmp14*_tmp5*p.a3 + _tmp16 + _tmp7*p.a4;
+  const Scalar _tmp17 = -_tmp10*_tmp3*p.a2;
+  const Scalar L_rhs_1_0_0 = _tmp17 + _tmp4*_tmp9*p.a3 + _tmp8;
+  const Scalar _tmp18 = -K_0_0*K_0_1*_tmp3*p.a2;
+  const Scalar L_rhs_1_0_1 = K_1_0*K_1_1*_tmp4*p.a3 + _tmp18;
+  const Scalar _tmp19 = -_tmp15*_tmp3*p.a2;
+  const Scalar L_rhs_1_1_1 = _tmp14*_tmp4*p.a3 + _tmp19 + _tmp6*p.a4;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_0_0_1 = -L_rhs_0_0_1*Phi_phi_inv_0_0 - L_rhs_1_0_1*Phi_phi_inv_0_1;
+  const Scalar L_0_1_1 = -L_rhs_0_1_1*Phi_phi_inv_0_0 - L_rhs_1_1_1*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
+  const Scalar L_1_0_1 = -L_rhs_0_0_1*Phi_phi_inv_1_0 - L_rhs_1_0_1*Phi_phi_inv_1_1;
+  const Scalar L_1_1_1 = -L_rhs_0_1_1*Phi_phi_inv_1_0 - L_rhs_1_1_1*Phi_phi_inv_1_1;
+  const Scalar _tmp20 = -L_0_0_1*_tmp3*p.a2 + _tmp13;
+  const Scalar _tmp21 = L_0_0_1*_tmp0*p.a2 + _tmp18;
   out->r_P(0, 0) = _tmp0*p.a2 + _tmp1*p.a1;
   out->r_P(1, 0) = _tmp2*p.a1 + _tmp3*p.a2;
   out->K(0, 0) = K_0_0;
@@ -230,14 +247,14 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->L(1, 2) = L_1_0_1;
   out->L(1, 1) = L_1_0_1;
   out->L(1, 3) = L_1_1_1;
-  out->L_P(0, 0) = -L_0_0_0*_tmp3*p.a2 - _tmp0*_tmp9*p.a2 - _tmp1*p.a1;
-  out->L_P(0, 2) = _tmp13;
-  out->L_P(0, 1) = _tmp13;
-  out->L_P(0, 3) = -L_0_1_1*_tmp3*p.a2 - _tmp0*_tmp11*p.a2;
-  out->L_P(1, 0) = L_0_0_0*_tmp0*p.a2 - _tmp3*_tmp9*p.a2 + _tmp8;
-  out->L_P(1, 2) = _tmp14;
-  out->L_P(1, 1) = _tmp14;
-  out->L_P(1, 3) = L_0_1_1*_tmp0*p.a2 - _tmp11*_tmp3*p.a2;
+  out->L_P(0, 0) = -L_0_0_0*_tmp3*p.a2 + _tmp11 + _tmp12;
+  out->L_P(0, 2) = _tmp20;
+  out->L_P(0, 1) = _tmp20;
+  out->L_P(0, 3) = -L_0_1_1*_tmp3*p.a2 + _tmp16;
+  out->L_P(1, 0) = L_0_0_0*_tmp0*p.a2 + _tmp17 + _tmp8;
+  out->L_P(1, 2) = _tmp21;
+  out->L_P(1, 1) = _tmp21;
+  out->L_P(1, 3) = L_0_1_1*_tmp0*p.a2 + _tmp19;
 }
 
 /**
@@ -307,7 +324,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 32 (adds 9, muls 18, divs 1, calls 4); intermediate terms: 0
+  // Total ops: 40 (adds 11, muls 24, divs 1, calls 4); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -341,8 +358,12 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar h_b0 = Scalar(modes[0]) * sqrt(h2_b0);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    phi(0) = AngleNear(atan2(my_b0, mx_b0) - atan2(Scalar(0), p.a2), phi(0));
-    phi(1) = AngleNear(atan2(-my_b0 + wy_b0, -mx_b0 + wx_b0) - atan2(Scalar(0), bx_b0), phi(1));
+    const Scalar cross_u_b0 = my_b0*p.a2;
+    const Scalar dot_u_b0 = mx_b0*p.a2;
+    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
+    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }

@@ -27,7 +27,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); SolvePositions 26 (adds 7, muls 16, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 133 (adds 29, muls 97, divs 1, calls 6); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); SolvePositions 34 (adds 9, muls 22, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 97 (adds 25, muls 65, divs 1, calls 6); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -166,7 +166,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 133 (adds 29, muls 97, divs 1, calls 6); intermediate terms: 9
+  // Total ops: 97 (adds 25, muls 65, divs 1, calls 6); intermediate terms: 10
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -189,13 +189,20 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_1_1 = -_tmp5*p.c;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar K_0_0 = Phi_phi_0_1*_tmp2*inv_det_block0*p.a + Phi_phi_1_1*_tmp3*inv_det_block0*p.a;
-  const Scalar K_1_0 = -Phi_phi_0_0*_tmp2*inv_det_block0*p.a - Phi_phi_1_0*_tmp3*inv_det_block0*p.a;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp3*p.a - Phi_phi_inv_0_1*_tmp2*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp3*p.a - Phi_phi_inv_1_1*_tmp2*p.a;
   const Scalar _tmp6 = -_tmp3*p.a;
-  const Scalar _tmp7 = K_0_0*K_0_0;
-  const Scalar _tmp8 = K_1_0*K_1_0;
-  const Scalar L_0_0_0 = -Phi_phi_0_1*_tmp0*_tmp7*inv_det_block0*p.b - Phi_phi_0_1*_tmp3*inv_det_block0*p.a + Phi_phi_0_1*_tmp4*_tmp8*inv_det_block0*p.c + Phi_phi_1_1*_tmp1*_tmp7*inv_det_block0*p.b + Phi_phi_1_1*_tmp2*inv_det_block0*p.a - Phi_phi_1_1*_tmp5*_tmp8*inv_det_block0*p.c;
-  const Scalar L_1_0_0 = Phi_phi_0_0*_tmp0*_tmp7*inv_det_block0*p.b + Phi_phi_0_0*_tmp3*inv_det_block0*p.a - Phi_phi_0_0*_tmp4*_tmp8*inv_det_block0*p.c - Phi_phi_1_0*_tmp1*_tmp7*inv_det_block0*p.b - Phi_phi_1_0*_tmp2*inv_det_block0*p.a + Phi_phi_1_0*_tmp5*_tmp8*inv_det_block0*p.c;
+  const Scalar _tmp7 = K_1_0*K_1_0;
+  const Scalar _tmp8 = K_0_0*K_0_0;
+  const Scalar _tmp9 = -_tmp2*p.a;
+  const Scalar L_rhs_0_0_0 = -_tmp1*_tmp8*p.b + _tmp5*_tmp7*p.c + _tmp9;
+  const Scalar L_rhs_1_0_0 = -_tmp0*_tmp8*p.b + _tmp4*_tmp7*p.c + _tmp6;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
   out->r_P(0, 0) = -_tmp0*p.eta + _tmp1*p.xi + _tmp2*p.a;
   out->r_P(1, 0) = _tmp0*p.xi + _tmp1*p.eta + _tmp3*p.a;
   out->K(0, 0) = K_0_0;
@@ -204,8 +211,8 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->K_P(1, 0) = -K_0_0*_tmp0*p.eta + K_0_0*_tmp1*p.xi + _tmp2*p.a;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
-  out->L_P(0, 0) = -L_0_0_0*_tmp0*p.xi - L_0_0_0*_tmp1*p.eta + _tmp0*_tmp7*p.eta - _tmp1*_tmp7*p.xi - _tmp2*p.a;
-  out->L_P(1, 0) = -L_0_0_0*_tmp0*p.eta + L_0_0_0*_tmp1*p.xi - _tmp0*_tmp7*p.xi - _tmp1*_tmp7*p.eta + _tmp6;
+  out->L_P(0, 0) = -L_0_0_0*_tmp0*p.xi - L_0_0_0*_tmp1*p.eta + _tmp0*_tmp8*p.eta - _tmp1*_tmp8*p.xi + _tmp9;
+  out->L_P(1, 0) = -L_0_0_0*_tmp0*p.eta + L_0_0_0*_tmp1*p.xi - _tmp0*_tmp8*p.xi - _tmp1*_tmp8*p.eta + _tmp6;
 }
 
 /**
@@ -275,7 +282,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 26 (adds 7, muls 16, divs 1, calls 2); intermediate terms: 0
+  // Total ops: 34 (adds 9, muls 22, divs 1, calls 2); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -309,8 +316,12 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar h_b0 = Scalar(modes[0]) * sqrt(h2_b0);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    phi(0) = AngleNear(atan2(my_b0, mx_b0) - atan2(Scalar(0), p.b), phi(0));
-    phi(1) = AngleNear(atan2(-my_b0 + wy_b0, -mx_b0 + wx_b0) - atan2(Scalar(0), bx_b0), phi(1));
+    const Scalar cross_u_b0 = my_b0*p.b;
+    const Scalar dot_u_b0 = mx_b0*p.b;
+    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
+    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }

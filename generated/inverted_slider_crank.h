@@ -28,7 +28,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), rocker.E.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 13 (adds 3, muls 6, divs 0, calls 4); SolvePositions 17 (adds 4, muls 11, divs 0, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 100 (adds 16, muls 79, divs 1, calls 4); EvalScene 9 (adds 1, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 13 (adds 3, muls 6, divs 0, calls 4); SolvePositions 19 (adds 4, muls 13, divs 0, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 64 (adds 12, muls 47, divs 1, calls 4); EvalScene 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -157,7 +157,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 100 (adds 16, muls 79, divs 1, calls 4); intermediate terms: 5
+  // Total ops: 64 (adds 12, muls 47, divs 1, calls 4); intermediate terms: 5
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -176,13 +176,19 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_1_1 = _tmp1;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar _tmp2 = cos(q(0));
-  const Scalar _tmp3 = sin(q(0));
-  const Scalar K_0_0 = -Phi_phi_0_1*_tmp2*inv_det_block0*p.a - Phi_phi_1_1*_tmp3*inv_det_block0*p.a;
-  const Scalar K_1_0 = Phi_phi_0_0*_tmp2*inv_det_block0*p.a + Phi_phi_1_0*_tmp3*inv_det_block0*p.a;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar _tmp2 = sin(q(0));
+  const Scalar _tmp3 = cos(q(0));
+  const Scalar K_0_0 = -Phi_phi_inv_0_0*_tmp2*p.a + Phi_phi_inv_0_1*_tmp3*p.a;
+  const Scalar K_1_0 = -Phi_phi_inv_1_0*_tmp2*p.a + Phi_phi_inv_1_1*_tmp3*p.a;
   const Scalar _tmp4 = K_0_0*K_0_0;
-  const Scalar L_0_0_0 = -Phi_phi_0_1*_tmp1*_tmp4*inv_det_block0*phi(1) + Phi_phi_0_1*_tmp3*inv_det_block0*p.a + Phi_phi_1_1*_tmp0*_tmp4*inv_det_block0*phi(1) - Phi_phi_1_1*_tmp2*inv_det_block0*p.a + Scalar(2)*K_0_0*K_1_0*Phi_phi_0_1*_tmp0*inv_det_block0 + Scalar(2)*K_0_0*K_1_0*Phi_phi_1_1*_tmp1*inv_det_block0;
-  const Scalar L_1_0_0 = Phi_phi_0_0*_tmp1*_tmp4*inv_det_block0*phi(1) - Phi_phi_0_0*_tmp3*inv_det_block0*p.a - Phi_phi_1_0*_tmp0*_tmp4*inv_det_block0*phi(1) + Phi_phi_1_0*_tmp2*inv_det_block0*p.a - Scalar(2)*K_0_0*K_1_0*Phi_phi_0_0*_tmp0*inv_det_block0 - Scalar(2)*K_0_0*K_1_0*Phi_phi_1_0*_tmp1*inv_det_block0;
+  const Scalar L_rhs_0_0_0 = -Scalar(2)*K_0_0*K_1_0*_tmp1 - _tmp0*_tmp4*phi(1) + _tmp3*p.a;
+  const Scalar L_rhs_1_0_0 = Scalar(2)*K_0_0*K_1_0*_tmp0 - _tmp1*_tmp4*phi(1) + _tmp2*p.a;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
   out->r_P(0, 0) = Scalar(3)*_tmp0 + p.d;
   out->r_P(1, 0) = Scalar(3)*_tmp1;
   out->K(0, 0) = K_0_0;
@@ -264,7 +270,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 17 (adds 4, muls 11, divs 0, calls 2); intermediate terms: 3
+  // Total ops: 19 (adds 4, muls 13, divs 0, calls 2); intermediate terms: 3
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -297,7 +303,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wx_b0 = _tmp0*p.a - p.d;
     const Scalar wy_b0 = _tmp2*p.a;
     phi(1) = s_b0;
-    phi(0) = AngleNear(atan2(wy_b0, wx_b0) - atan2(Scalar(0), s_b0), phi(0));
+    const Scalar cross_u_b0 = s_b0*wy_b0;
+    const Scalar dot_u_b0 = s_b0*wx_b0;
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }

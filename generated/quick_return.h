@@ -36,7 +36,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), ram.C.
  * Linear systems: Phi_phi is block lower triangular with 3 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 25 (adds 7, muls 12, divs 0, calls 6); SolvePositions 28 (adds 6, muls 15, divs 1, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 125 (adds 19, muls 97, divs 3, calls 6); EvalScene 17 (adds 5, muls 6, divs 0, calls 6)
+ * Operation counts: EvalPhi 25 (adds 7, muls 12, divs 0, calls 6); SolvePositions 30 (adds 6, muls 17, divs 1, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 83 (adds 15, muls 59, divs 3, calls 6); EvalScene 17 (adds 5, muls 6, divs 0, calls 6)
  */
 #pragma once
 
@@ -182,7 +182,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 125 (adds 19, muls 97, divs 3, calls 6); intermediate terms: 8
+  // Total ops: 83 (adds 15, muls 59, divs 3, calls 6); intermediate terms: 8
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -201,10 +201,14 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_1_2 = _tmp0;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_2 - Phi_phi_0_2*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar _tmp2 = cos(q(0));
-  const Scalar _tmp3 = sin(q(0));
-  const Scalar K_0_0 = -Phi_phi_0_2*_tmp2*inv_det_block0*p.r - Phi_phi_1_2*_tmp3*inv_det_block0*p.r;
-  const Scalar K_2_0 = Phi_phi_0_0*_tmp2*inv_det_block0*p.r + Phi_phi_1_0*_tmp3*inv_det_block0*p.r;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_2*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_2*inv_det_block0;
+  const Scalar Phi_phi_inv_2_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_2_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar _tmp2 = sin(q(0));
+  const Scalar _tmp3 = cos(q(0));
+  const Scalar K_0_0 = -Phi_phi_inv_0_0*_tmp2*p.r + Phi_phi_inv_0_1*_tmp3*p.r;
+  const Scalar K_2_0 = -Phi_phi_inv_2_0*_tmp2*p.r + Phi_phi_inv_2_1*_tmp3*p.r;
   const Scalar _tmp4 = cos(phi(1));
   const Scalar Phi_phi_3_1 = _tmp4*p.l;
   const Scalar det_block1 = Phi_phi_3_1;
@@ -214,13 +218,18 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar det_block2 = Phi_phi_2_3;
   const Scalar inv_det_block2 = Scalar(1)/det_block2;
   const Scalar _tmp5 = sin(phi(1));
-  const Scalar K_3_0 = K_0_0*_tmp0*inv_det_block2*p.L + K_1_0*_tmp5*inv_det_block2*p.l;
+  const Scalar K_rhs_2_0 = -K_0_0*_tmp0*p.L - K_1_0*_tmp5*p.l;
+  const Scalar K_3_0 = -K_rhs_2_0*inv_det_block2;
   const Scalar _tmp6 = K_0_0*K_0_0;
-  const Scalar L_0_0_0 = -Phi_phi_0_2*_tmp0*_tmp6*inv_det_block0*phi(2) + Phi_phi_0_2*_tmp3*inv_det_block0*p.r + Phi_phi_1_2*_tmp1*_tmp6*inv_det_block0*phi(2) - Phi_phi_1_2*_tmp2*inv_det_block0*p.r + Scalar(2)*K_0_0*K_2_0*Phi_phi_0_2*_tmp1*inv_det_block0 + Scalar(2)*K_0_0*K_2_0*Phi_phi_1_2*_tmp0*inv_det_block0;
-  const Scalar L_2_0_0 = Phi_phi_0_0*_tmp0*_tmp6*inv_det_block0*phi(2) - Phi_phi_0_0*_tmp3*inv_det_block0*p.r - Phi_phi_1_0*_tmp1*_tmp6*inv_det_block0*phi(2) + Phi_phi_1_0*_tmp2*inv_det_block0*p.r - Scalar(2)*K_0_0*K_2_0*Phi_phi_0_0*_tmp1*inv_det_block0 - Scalar(2)*K_0_0*K_2_0*Phi_phi_1_0*_tmp0*inv_det_block0;
+  const Scalar L_rhs_0_0_0 = -Scalar(2)*K_0_0*K_2_0*_tmp0 - _tmp1*_tmp6*phi(2) + _tmp3*p.r;
+  const Scalar L_rhs_1_0_0 = Scalar(2)*K_0_0*K_2_0*_tmp1 - _tmp0*_tmp6*phi(2) + _tmp2*p.r;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_2_0_0 = -L_rhs_0_0_0*Phi_phi_inv_2_0 - L_rhs_1_0_0*Phi_phi_inv_2_1;
   const Scalar _tmp7 = K_1_0*K_1_0;
-  const Scalar L_1_0_0 = -L_0_0_0*_tmp1*inv_det_block1*p.L + _tmp0*_tmp6*inv_det_block1*p.L + _tmp5*_tmp7*inv_det_block1*p.l;
-  const Scalar L_3_0_0 = L_0_0_0*_tmp0*inv_det_block2*p.L + L_1_0_0*_tmp5*inv_det_block2*p.l + _tmp1*_tmp6*inv_det_block2*p.L + _tmp4*_tmp7*inv_det_block2*p.l;
+  const Scalar L_rhs_3_0_0 = L_0_0_0*_tmp1*p.L - _tmp0*_tmp6*p.L - _tmp5*_tmp7*p.l;
+  const Scalar L_1_0_0 = -L_rhs_3_0_0*inv_det_block1;
+  const Scalar L_rhs_2_0_0 = -L_0_0_0*_tmp0*p.L - L_1_0_0*_tmp5*p.l - _tmp1*_tmp6*p.L - _tmp4*_tmp7*p.l;
+  const Scalar L_3_0_0 = -L_rhs_2_0_0*inv_det_block2;
   out->r_P(0, 0) = phi(3);
   out->r_P(1, 0) = p.h;
   out->K(0, 0) = K_0_0;
@@ -308,7 +317,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 28 (adds 6, muls 15, divs 1, calls 6); intermediate terms: 3
+  // Total ops: 30 (adds 6, muls 17, divs 1, calls 6); intermediate terms: 3
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -341,7 +350,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wx_b0 = _tmp0*p.r;
     const Scalar wy_b0 = _tmp2*p.r + p.d;
     phi(2) = s_b0;
-    phi(0) = AngleNear(atan2(wy_b0, wx_b0) - atan2(Scalar(0), s_b0), phi(0));
+    const Scalar cross_u_b0 = s_b0*wy_b0;
+    const Scalar dot_u_b0 = s_b0*wx_b0;
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
   }
   {  // block 1: rows 3 -> theta_link: closed form, one angle (acos), mode -1
     const Scalar c0_b1 = p.L*sin(phi(0)) - p.h;

@@ -28,7 +28,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), slider.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 32 (adds 4, muls 22, divs 2, calls 4); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 27 (adds 4, muls 17, divs 2, calls 4); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -159,7 +159,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 32 (adds 4, muls 22, divs 2, calls 4); intermediate terms: 5
+  // Total ops: 27 (adds 4, muls 17, divs 2, calls 4); intermediate terms: 5
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -180,11 +180,14 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar det_block1 = Phi_phi_0_1;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
   const Scalar _tmp2 = sin(phi(0));
-  const Scalar _tmp3 = sin(q(0));
-  const Scalar K_1_0 = K_0_0*_tmp2*inv_det_block1*p.b + _tmp3*inv_det_block1*p.a;
+  const Scalar _tmp3 = -p.a*sin(q(0));
+  const Scalar K_rhs_0_0 = -K_0_0*_tmp2*p.b + _tmp3;
+  const Scalar K_1_0 = -K_rhs_0_0*inv_det_block1;
   const Scalar _tmp4 = K_0_0*K_0_0;
-  const Scalar L_0_0_0 = _tmp2*_tmp4*inv_det_block0*p.b + _tmp3*inv_det_block0*p.a;
-  const Scalar L_1_0_0 = L_0_0_0*_tmp2*inv_det_block1*p.b + _tmp0*_tmp4*inv_det_block1*p.b + _tmp1*inv_det_block1*p.a;
+  const Scalar L_rhs_1_0_0 = -_tmp2*_tmp4*p.b + _tmp3;
+  const Scalar L_0_0_0 = -L_rhs_1_0_0*inv_det_block0;
+  const Scalar L_rhs_0_0_0 = -L_0_0_0*_tmp2*p.b - _tmp0*_tmp4*p.b - _tmp1*p.a;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*inv_det_block1;
   out->r_P(0, 0) = phi(1);
   out->r_P(1, 0) = p.e;
   out->K(0, 0) = K_0_0;

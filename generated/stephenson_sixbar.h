@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.E, coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); SolvePositions 63 (adds 19, muls 36, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 353 (adds 70, muls 271, divs 2, calls 10); EvalScene 37 (adds 13, muls 14, divs 0, calls 10)
+ * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); SolvePositions 79 (adds 23, muls 48, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 161 (adds 46, muls 103, divs 2, calls 10); EvalScene 37 (adds 13, muls 14, divs 0, calls 10)
  */
 #pragma once
 
@@ -198,7 +198,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 353 (adds 70, muls 271, divs 2, calls 10); intermediate terms: 15
+  // Total ops: 161 (adds 46, muls 103, divs 2, calls 10); intermediate terms: 28
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -223,8 +223,12 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_1_1 = -_tmp7*p.c;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar K_0_0 = Phi_phi_0_1*_tmp4*inv_det_block0*p.a + Phi_phi_1_1*_tmp5*inv_det_block0*p.a;
-  const Scalar K_1_0 = -Phi_phi_0_0*_tmp4*inv_det_block0*p.a - Phi_phi_1_0*_tmp5*inv_det_block0*p.a;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp5*p.a - Phi_phi_inv_0_1*_tmp4*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp5*p.a - Phi_phi_inv_1_1*_tmp4*p.a;
   const Scalar _tmp8 = sin(phi(2));
   const Scalar Phi_phi_2_2 = -_tmp8*p.f;
   const Scalar Phi_phi_2_3 = _tmp1*p.o;
@@ -233,17 +237,40 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_3_3 = -_tmp0*p.o;
   const Scalar det_block1 = Phi_phi_2_2*Phi_phi_3_3 - Phi_phi_2_3*Phi_phi_3_2;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
-  const Scalar K_2_0 = -K_0_0*Phi_phi_2_3*_tmp2*inv_det_block1*p.eta + K_0_0*Phi_phi_2_3*_tmp3*inv_det_block1*p.xi + K_0_0*Phi_phi_3_3*_tmp2*inv_det_block1*p.xi + K_0_0*Phi_phi_3_3*_tmp3*inv_det_block1*p.eta + Phi_phi_2_3*_tmp4*inv_det_block1*p.a + Phi_phi_3_3*_tmp5*inv_det_block1*p.a;
-  const Scalar K_3_0 = K_0_0*Phi_phi_2_2*_tmp2*inv_det_block1*p.eta - K_0_0*Phi_phi_2_2*_tmp3*inv_det_block1*p.xi - K_0_0*Phi_phi_3_2*_tmp2*inv_det_block1*p.xi - K_0_0*Phi_phi_3_2*_tmp3*inv_det_block1*p.eta - Phi_phi_2_2*_tmp4*inv_det_block1*p.a - Phi_phi_3_2*_tmp5*inv_det_block1*p.a;
+  const Scalar Phi_phi_inv_2_2 = Phi_phi_3_3*inv_det_block1;
+  const Scalar Phi_phi_inv_2_3 = -Phi_phi_2_3*inv_det_block1;
+  const Scalar Phi_phi_inv_3_2 = -Phi_phi_3_2*inv_det_block1;
+  const Scalar Phi_phi_inv_3_3 = Phi_phi_2_2*inv_det_block1;
   const Scalar _tmp10 = -_tmp5*p.a;
-  const Scalar _tmp11 = K_0_0*K_0_0;
-  const Scalar _tmp12 = K_1_0*K_1_0;
-  const Scalar L_0_0_0 = -Phi_phi_0_1*_tmp11*_tmp2*inv_det_block0*p.b + Phi_phi_0_1*_tmp12*_tmp6*inv_det_block0*p.c - Phi_phi_0_1*_tmp5*inv_det_block0*p.a + Phi_phi_1_1*_tmp11*_tmp3*inv_det_block0*p.b - Phi_phi_1_1*_tmp12*_tmp7*inv_det_block0*p.c + Phi_phi_1_1*_tmp4*inv_det_block0*p.a;
-  const Scalar L_1_0_0 = Phi_phi_0_0*_tmp11*_tmp2*inv_det_block0*p.b - Phi_phi_0_0*_tmp12*_tmp6*inv_det_block0*p.c + Phi_phi_0_0*_tmp5*inv_det_block0*p.a - Phi_phi_1_0*_tmp11*_tmp3*inv_det_block0*p.b + Phi_phi_1_0*_tmp12*_tmp7*inv_det_block0*p.c - Phi_phi_1_0*_tmp4*inv_det_block0*p.a;
-  const Scalar _tmp13 = K_2_0*K_2_0;
-  const Scalar _tmp14 = K_3_0*K_3_0;
-  const Scalar L_2_0_0 = -L_0_0_0*Phi_phi_2_3*_tmp2*inv_det_block1*p.eta + L_0_0_0*Phi_phi_2_3*_tmp3*inv_det_block1*p.xi + L_0_0_0*Phi_phi_3_3*_tmp2*inv_det_block1*p.xi + L_0_0_0*Phi_phi_3_3*_tmp3*inv_det_block1*p.eta + Phi_phi_2_3*_tmp1*_tmp14*inv_det_block1*p.o - Phi_phi_2_3*_tmp11*_tmp2*inv_det_block1*p.xi - Phi_phi_2_3*_tmp11*_tmp3*inv_det_block1*p.eta - Phi_phi_2_3*_tmp13*_tmp8*inv_det_block1*p.f - Phi_phi_2_3*_tmp5*inv_det_block1*p.a - Phi_phi_3_3*_tmp0*_tmp14*inv_det_block1*p.o - Phi_phi_3_3*_tmp11*_tmp2*inv_det_block1*p.eta + Phi_phi_3_3*_tmp11*_tmp3*inv_det_block1*p.xi + Phi_phi_3_3*_tmp13*_tmp9*inv_det_block1*p.f + Phi_phi_3_3*_tmp4*inv_det_block1*p.a;
-  const Scalar L_3_0_0 = L_0_0_0*Phi_phi_2_2*_tmp2*inv_det_block1*p.eta - L_0_0_0*Phi_phi_2_2*_tmp3*inv_det_block1*p.xi - L_0_0_0*Phi_phi_3_2*_tmp2*inv_det_block1*p.xi - L_0_0_0*Phi_phi_3_2*_tmp3*inv_det_block1*p.eta - Phi_phi_2_2*_tmp1*_tmp14*inv_det_block1*p.o + Phi_phi_2_2*_tmp11*_tmp2*inv_det_block1*p.xi + Phi_phi_2_2*_tmp11*_tmp3*inv_det_block1*p.eta + Phi_phi_2_2*_tmp13*_tmp8*inv_det_block1*p.f + Phi_phi_2_2*_tmp5*inv_det_block1*p.a + Phi_phi_3_2*_tmp0*_tmp14*inv_det_block1*p.o + Phi_phi_3_2*_tmp11*_tmp2*inv_det_block1*p.eta - Phi_phi_3_2*_tmp11*_tmp3*inv_det_block1*p.xi - Phi_phi_3_2*_tmp13*_tmp9*inv_det_block1*p.f - Phi_phi_3_2*_tmp4*inv_det_block1*p.a;
+  const Scalar _tmp11 = -K_0_0*_tmp2*p.xi - K_0_0*_tmp3*p.eta + _tmp10;
+  const Scalar K_rhs_2_0 = _tmp11;
+  const Scalar _tmp12 = -K_0_0*_tmp2*p.eta + K_0_0*_tmp3*p.xi + _tmp4*p.a;
+  const Scalar K_rhs_3_0 = _tmp12;
+  const Scalar K_2_0 = -K_rhs_2_0*Phi_phi_inv_2_2 - K_rhs_3_0*Phi_phi_inv_2_3;
+  const Scalar K_3_0 = -K_rhs_2_0*Phi_phi_inv_3_2 - K_rhs_3_0*Phi_phi_inv_3_3;
+  const Scalar _tmp13 = K_1_0*K_1_0;
+  const Scalar _tmp14 = K_0_0*K_0_0;
+  const Scalar _tmp15 = -_tmp4*p.a;
+  const Scalar L_rhs_0_0_0 = _tmp13*_tmp7*p.c - _tmp14*_tmp3*p.b + _tmp15;
+  const Scalar L_rhs_1_0_0 = _tmp10 + _tmp13*_tmp6*p.c - _tmp14*_tmp2*p.b;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
+  const Scalar _tmp16 = _tmp14*_tmp2*p.eta;
+  const Scalar _tmp17 = K_3_0*K_3_0;
+  const Scalar _tmp18 = _tmp0*_tmp17*p.o;
+  const Scalar _tmp19 = -_tmp14*_tmp3*p.xi;
+  const Scalar _tmp20 = K_2_0*K_2_0;
+  const Scalar _tmp21 = -L_0_0_0*_tmp3*p.eta;
+  const Scalar _tmp22 = -L_0_0_0*_tmp2*p.xi;
+  const Scalar L_rhs_2_0_0 = _tmp15 + _tmp16 + _tmp18 + _tmp19 - _tmp20*_tmp9*p.f + _tmp21 + _tmp22;
+  const Scalar _tmp23 = _tmp1*_tmp17*p.o;
+  const Scalar _tmp24 = -_tmp14*_tmp3*p.eta;
+  const Scalar _tmp25 = -_tmp14*_tmp2*p.xi;
+  const Scalar _tmp26 = -L_0_0_0*_tmp2*p.eta;
+  const Scalar _tmp27 = L_0_0_0*_tmp3*p.xi;
+  const Scalar L_rhs_3_0_0 = _tmp10 - _tmp20*_tmp8*p.f + _tmp23 + _tmp24 + _tmp25 + _tmp26 + _tmp27;
+  const Scalar L_2_0_0 = -L_rhs_2_0_0*Phi_phi_inv_2_2 - L_rhs_3_0_0*Phi_phi_inv_2_3;
+  const Scalar L_3_0_0 = -L_rhs_2_0_0*Phi_phi_inv_3_2 - L_rhs_3_0_0*Phi_phi_inv_3_3;
   out->r_P(0, 0) = _tmp0*p.o + p.x6;
   out->r_P(1, 0) = _tmp1*p.o + p.y6;
   out->r_P(0, 1) = -_tmp2*p.eta + _tmp3*p.xi + _tmp4*p.a;
@@ -254,16 +281,16 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->K(3, 0) = K_3_0;
   out->K_P(0, 0) = -K_3_0*_tmp1*p.o;
   out->K_P(1, 0) = K_3_0*_tmp0*p.o;
-  out->K_P(2, 0) = -K_0_0*_tmp2*p.xi - K_0_0*_tmp3*p.eta + _tmp10;
-  out->K_P(3, 0) = -K_0_0*_tmp2*p.eta + K_0_0*_tmp3*p.xi + _tmp4*p.a;
+  out->K_P(2, 0) = _tmp11;
+  out->K_P(3, 0) = _tmp12;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
   out->L(2, 0) = L_2_0_0;
   out->L(3, 0) = L_3_0_0;
-  out->L_P(0, 0) = -L_3_0_0*_tmp1*p.o - _tmp0*_tmp14*p.o;
-  out->L_P(1, 0) = L_3_0_0*_tmp0*p.o - _tmp1*_tmp14*p.o;
-  out->L_P(2, 0) = -L_0_0_0*_tmp2*p.xi - L_0_0_0*_tmp3*p.eta + _tmp11*_tmp2*p.eta - _tmp11*_tmp3*p.xi - _tmp4*p.a;
-  out->L_P(3, 0) = -L_0_0_0*_tmp2*p.eta + L_0_0_0*_tmp3*p.xi + _tmp10 - _tmp11*_tmp2*p.xi - _tmp11*_tmp3*p.eta;
+  out->L_P(0, 0) = -L_3_0_0*_tmp1*p.o - _tmp18;
+  out->L_P(1, 0) = L_3_0_0*_tmp0*p.o - _tmp23;
+  out->L_P(2, 0) = _tmp15 + _tmp16 + _tmp19 + _tmp21 + _tmp22;
+  out->L_P(3, 0) = _tmp10 + _tmp24 + _tmp25 + _tmp26 + _tmp27;
 }
 
 /**
@@ -334,7 +361,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 63 (adds 19, muls 36, divs 2, calls 6); intermediate terms: 2
+  // Total ops: 79 (adds 23, muls 48, divs 2, calls 6); intermediate terms: 2
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -368,8 +395,12 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar h_b0 = Scalar(modes[0]) * sqrt(h2_b0);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    phi(0) = AngleNear(atan2(my_b0, mx_b0) - atan2(Scalar(0), p.b), phi(0));
-    phi(1) = AngleNear(atan2(-my_b0 + wy_b0, -mx_b0 + wx_b0) - atan2(Scalar(0), bx_b0), phi(1));
+    const Scalar cross_u_b0 = my_b0*p.b;
+    const Scalar dot_u_b0 = mx_b0*p.b;
+    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
+    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
   }
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b1 = -p.o;
@@ -387,8 +418,12 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar h_b1 = Scalar(modes[1]) * sqrt(h2_b1);
     const Scalar mx_b1 = -h_b1*wy_b1 + k_b1*wx_b1;
     const Scalar my_b1 = h_b1*wx_b1 + k_b1*wy_b1;
-    phi(2) = AngleNear(atan2(my_b1, mx_b1) - atan2(Scalar(0), p.f), phi(2));
-    phi(3) = AngleNear(atan2(-my_b1 + wy_b1, -mx_b1 + wx_b1) - atan2(Scalar(0), bx_b1), phi(3));
+    const Scalar cross_u_b1 = my_b1*p.f;
+    const Scalar dot_u_b1 = mx_b1*p.f;
+    const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
+    const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
+    phi(2) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(2));
+    phi(3) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(3));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }

@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); SolvePositions 64 (adds 18, muls 38, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 298 (adds 46, muls 238, divs 2, calls 12); EvalScene 43 (adds 13, muls 18, divs 0, calls 12)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); SolvePositions 80 (adds 22, muls 50, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 152 (adds 30, muls 108, divs 2, calls 12); EvalScene 43 (adds 13, muls 18, divs 0, calls 12)
  */
 #pragma once
 
@@ -203,7 +203,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 298 (adds 46, muls 238, divs 2, calls 12); intermediate terms: 16
+  // Total ops: 152 (adds 30, muls 108, divs 2, calls 12); intermediate terms: 18
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -226,10 +226,14 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_1_1 = -_tmp5*p.c;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
   const Scalar _tmp6 = cos(q(0));
   const Scalar _tmp7 = sin(q(0));
-  const Scalar K_0_0 = Phi_phi_0_1*_tmp6*inv_det_block0*p.a + Phi_phi_1_1*_tmp7*inv_det_block0*p.a;
-  const Scalar K_1_0 = -Phi_phi_0_0*_tmp6*inv_det_block0*p.a - Phi_phi_1_0*_tmp7*inv_det_block0*p.a;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp7*p.a - Phi_phi_inv_0_1*_tmp6*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp7*p.a - Phi_phi_inv_1_1*_tmp6*p.a;
   const Scalar _tmp8 = sin(phi(2));
   const Scalar Phi_phi_2_2 = -_tmp8*p.f;
   const Scalar Phi_phi_2_3 = _tmp1*p.o;
@@ -238,18 +242,30 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_3_3 = -_tmp0*p.o;
   const Scalar det_block1 = Phi_phi_2_2*Phi_phi_3_3 - Phi_phi_2_3*Phi_phi_3_2;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
-  const Scalar _tmp10 = sin(p.beta);
-  const Scalar _tmp11 = cos(p.beta);
-  const Scalar K_2_0 = -K_1_0*Phi_phi_2_3*_tmp10*_tmp3*inv_det_block1*p.e + K_1_0*Phi_phi_2_3*_tmp11*_tmp5*inv_det_block1*p.e + K_1_0*Phi_phi_3_3*_tmp10*_tmp5*inv_det_block1*p.e + K_1_0*Phi_phi_3_3*_tmp11*_tmp3*inv_det_block1*p.e;
-  const Scalar K_3_0 = K_1_0*Phi_phi_2_2*_tmp10*_tmp3*inv_det_block1*p.e - K_1_0*Phi_phi_2_2*_tmp11*_tmp5*inv_det_block1*p.e - K_1_0*Phi_phi_3_2*_tmp10*_tmp5*inv_det_block1*p.e - K_1_0*Phi_phi_3_2*_tmp11*_tmp3*inv_det_block1*p.e;
-  const Scalar _tmp12 = K_0_0*K_0_0;
-  const Scalar _tmp13 = K_1_0*K_1_0;
-  const Scalar L_0_0_0 = -Phi_phi_0_1*_tmp12*_tmp2*inv_det_block0*p.b + Phi_phi_0_1*_tmp13*_tmp3*inv_det_block0*p.c - Phi_phi_0_1*_tmp7*inv_det_block0*p.a + Phi_phi_1_1*_tmp12*_tmp4*inv_det_block0*p.b - Phi_phi_1_1*_tmp13*_tmp5*inv_det_block0*p.c + Phi_phi_1_1*_tmp6*inv_det_block0*p.a;
-  const Scalar L_1_0_0 = Phi_phi_0_0*_tmp12*_tmp2*inv_det_block0*p.b - Phi_phi_0_0*_tmp13*_tmp3*inv_det_block0*p.c + Phi_phi_0_0*_tmp7*inv_det_block0*p.a - Phi_phi_1_0*_tmp12*_tmp4*inv_det_block0*p.b + Phi_phi_1_0*_tmp13*_tmp5*inv_det_block0*p.c - Phi_phi_1_0*_tmp6*inv_det_block0*p.a;
-  const Scalar _tmp14 = K_2_0*K_2_0;
-  const Scalar _tmp15 = K_3_0*K_3_0;
-  const Scalar L_2_0_0 = -L_1_0_0*Phi_phi_2_3*_tmp10*_tmp3*inv_det_block1*p.e + L_1_0_0*Phi_phi_2_3*_tmp11*_tmp5*inv_det_block1*p.e + L_1_0_0*Phi_phi_3_3*_tmp10*_tmp5*inv_det_block1*p.e + L_1_0_0*Phi_phi_3_3*_tmp11*_tmp3*inv_det_block1*p.e + Phi_phi_2_3*_tmp1*_tmp15*inv_det_block1*p.o - Phi_phi_2_3*_tmp10*_tmp13*_tmp5*inv_det_block1*p.e - Phi_phi_2_3*_tmp11*_tmp13*_tmp3*inv_det_block1*p.e - Phi_phi_2_3*_tmp14*_tmp8*inv_det_block1*p.f - Phi_phi_3_3*_tmp0*_tmp15*inv_det_block1*p.o - Phi_phi_3_3*_tmp10*_tmp13*_tmp3*inv_det_block1*p.e + Phi_phi_3_3*_tmp11*_tmp13*_tmp5*inv_det_block1*p.e + Phi_phi_3_3*_tmp14*_tmp9*inv_det_block1*p.f;
-  const Scalar L_3_0_0 = L_1_0_0*Phi_phi_2_2*_tmp10*_tmp3*inv_det_block1*p.e - L_1_0_0*Phi_phi_2_2*_tmp11*_tmp5*inv_det_block1*p.e - L_1_0_0*Phi_phi_3_2*_tmp10*_tmp5*inv_det_block1*p.e - L_1_0_0*Phi_phi_3_2*_tmp11*_tmp3*inv_det_block1*p.e - Phi_phi_2_2*_tmp1*_tmp15*inv_det_block1*p.o + Phi_phi_2_2*_tmp10*_tmp13*_tmp5*inv_det_block1*p.e + Phi_phi_2_2*_tmp11*_tmp13*_tmp3*inv_det_block1*p.e + Phi_phi_2_2*_tmp14*_tmp8*inv_det_block1*p.f + Phi_phi_3_2*_tmp0*_tmp15*inv_det_block1*p.o + Phi_phi_3_2*_tmp10*_tmp13*_tmp3*inv_det_block1*p.e - Phi_phi_3_2*_tmp11*_tmp13*_tmp5*inv_det_block1*p.e - Phi_phi_3_2*_tmp14*_tmp9*inv_det_block1*p.f;
+  const Scalar Phi_phi_inv_2_2 = Phi_phi_3_3*inv_det_block1;
+  const Scalar Phi_phi_inv_2_3 = -Phi_phi_2_3*inv_det_block1;
+  const Scalar Phi_phi_inv_3_2 = -Phi_phi_3_2*inv_det_block1;
+  const Scalar Phi_phi_inv_3_3 = Phi_phi_2_2*inv_det_block1;
+  const Scalar _tmp10 = cos(p.beta);
+  const Scalar _tmp11 = sin(p.beta);
+  const Scalar K_rhs_2_0 = -K_1_0*_tmp10*_tmp3*p.e - K_1_0*_tmp11*_tmp5*p.e;
+  const Scalar K_rhs_3_0 = K_1_0*_tmp10*_tmp5*p.e - K_1_0*_tmp11*_tmp3*p.e;
+  const Scalar K_2_0 = -K_rhs_2_0*Phi_phi_inv_2_2 - K_rhs_3_0*Phi_phi_inv_2_3;
+  const Scalar K_3_0 = -K_rhs_2_0*Phi_phi_inv_3_2 - K_rhs_3_0*Phi_phi_inv_3_3;
+  const Scalar _tmp12 = K_1_0*K_1_0;
+  const Scalar _tmp13 = K_0_0*K_0_0;
+  const Scalar L_rhs_0_0_0 = _tmp12*_tmp5*p.c - _tmp13*_tmp4*p.b - _tmp6*p.a;
+  const Scalar L_rhs_1_0_0 = _tmp12*_tmp3*p.c - _tmp13*_tmp2*p.b - _tmp7*p.a;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
+  const Scalar _tmp14 = K_3_0*K_3_0;
+  const Scalar _tmp15 = _tmp0*_tmp14*p.o;
+  const Scalar _tmp16 = K_2_0*K_2_0;
+  const Scalar L_rhs_2_0_0 = -L_1_0_0*_tmp10*_tmp3*p.e - L_1_0_0*_tmp11*_tmp5*p.e - _tmp10*_tmp12*_tmp5*p.e + _tmp11*_tmp12*_tmp3*p.e + _tmp15 - _tmp16*_tmp9*p.f;
+  const Scalar _tmp17 = _tmp1*_tmp14*p.o;
+  const Scalar L_rhs_3_0_0 = L_1_0_0*_tmp10*_tmp5*p.e - L_1_0_0*_tmp11*_tmp3*p.e - _tmp10*_tmp12*_tmp3*p.e - _tmp11*_tmp12*_tmp5*p.e - _tmp16*_tmp8*p.f + _tmp17;
+  const Scalar L_2_0_0 = -L_rhs_2_0_0*Phi_phi_inv_2_2 - L_rhs_3_0_0*Phi_phi_inv_2_3;
+  const Scalar L_3_0_0 = -L_rhs_2_0_0*Phi_phi_inv_3_2 - L_rhs_3_0_0*Phi_phi_inv_3_3;
   out->r_P(0, 0) = _tmp0*p.o + p.x6;
   out->r_P(1, 0) = _tmp1*p.o + p.y6;
   out->K(0, 0) = K_0_0;
@@ -262,8 +278,8 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->L(1, 0) = L_1_0_0;
   out->L(2, 0) = L_2_0_0;
   out->L(3, 0) = L_3_0_0;
-  out->L_P(0, 0) = -L_3_0_0*_tmp1*p.o - _tmp0*_tmp15*p.o;
-  out->L_P(1, 0) = L_3_0_0*_tmp0*p.o - _tmp1*_tmp15*p.o;
+  out->L_P(0, 0) = -L_3_0_0*_tmp1*p.o - _tmp15;
+  out->L_P(1, 0) = L_3_0_0*_tmp0*p.o - _tmp17;
 }
 
 /**
@@ -334,7 +350,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 64 (adds 18, muls 38, divs 2, calls 6); intermediate terms: 4
+  // Total ops: 80 (adds 22, muls 50, divs 2, calls 6); intermediate terms: 4
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -368,8 +384,12 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar h_b0 = Scalar(modes[0]) * sqrt(h2_b0);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    phi(0) = AngleNear(atan2(my_b0, mx_b0) - atan2(Scalar(0), p.b), phi(0));
-    phi(1) = AngleNear(atan2(-my_b0 + wy_b0, -mx_b0 + wx_b0) - atan2(Scalar(0), bx_b0), phi(1));
+    const Scalar cross_u_b0 = my_b0*p.b;
+    const Scalar dot_u_b0 = mx_b0*p.b;
+    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
+    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
   }
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b1 = -p.o;
@@ -389,8 +409,12 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar h_b1 = Scalar(modes[1]) * sqrt(h2_b1);
     const Scalar mx_b1 = -h_b1*wy_b1 + k_b1*wx_b1;
     const Scalar my_b1 = h_b1*wx_b1 + k_b1*wy_b1;
-    phi(2) = AngleNear(atan2(my_b1, mx_b1) - atan2(Scalar(0), p.f), phi(2));
-    phi(3) = AngleNear(atan2(-my_b1 + wy_b1, -mx_b1 + wx_b1) - atan2(Scalar(0), bx_b1), phi(3));
+    const Scalar cross_u_b1 = my_b1*p.f;
+    const Scalar dot_u_b1 = mx_b1*p.f;
+    const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
+    const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
+    phi(2) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(2));
+    phi(3) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(3));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }

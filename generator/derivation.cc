@@ -124,6 +124,11 @@ struct BlockSolver {
       P->push_back(Define("det_block" + N(i), J.determinant(GiNaC::determinant_algo::laplace), &det));
       P->push_back(Define("inv_det_block" + N(i), 1 / det, &inv_det));
       inv = AdjugateInverse(J, inv_det);
+      // The inverse's entries are named: K and L (one column per input pair) share them.
+      for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c)
+          if (!GiNaC::is_a<GiNaC::symbol>(inv(r, c)) && !GiNaC::is_a<GiNaC::numeric>(inv(r, c)))
+            P->push_back(Define("Phi_phi_inv_" + N(b.cols[r]) + "_" + N(b.rows[c]), inv(r, c), &inv(r, c)));
     } else {
       const std::string sz = N(n);
       lu = "lu_block" + N(i);
@@ -144,10 +149,22 @@ struct BlockSolver {
     const int n = static_cast<int>(block.cols.size()), m = static_cast<int>(suffix.size());
     std::vector<std::vector<ex>> X(n, std::vector<ex>(m));
     if (closed_form) {
+      // Right-hand sides are named first: a sum times the inverse would be expanded into
+      // many more products (and GiNaC's sign normalization of sums inside products depends
+      // on its run-dependent term order).
+      std::vector<std::vector<ex>> Rn(n, std::vector<ex>(m));
+      for (int r = 0; r < n; ++r)
+        for (int j = 0; j < m; ++j) {
+          const ex e = R[r][j].expand();
+          if (GiNaC::is_a<GiNaC::add>(e))
+            P->push_back(Define(prefix + "_rhs_" + N(block.rows[r]) + "_" + suffix[j], e, &Rn[r][j]));
+          else
+            Rn[r][j] = e;
+        }
       for (int i = 0; i < n; ++i)
         for (int j = 0; j < m; ++j) {
           ex s = 0;
-          for (int r = 0; r < n; ++r) s += inv(i, r) * R[r][j];
+          for (int r = 0; r < n; ++r) s += inv(i, r) * Rn[r][j];
           P->push_back(Define(prefix + "_" + N(block.cols[i]) + "_" + suffix[j], -s, &X[i][j]));
         }
       return X;
@@ -205,10 +222,11 @@ void ClosedFormPositions(const Kinematics& k, const Block& b, int bi, Program* P
     P->push_back(Raw("const Scalar h" + t + " = Scalar(modes[" + N(bi) + "]) * sqrt(h2" + t + ");"));
     const ex h = raw_symbol("h");
     const ex mx = define("mx", kk * wx - h * wy), my = define("my", kk * wy + h * wx);
-    P->push_back(Raw(phi_ref(u) + " = AngleNear(atan2(" + text(my) + ", " + text(mx) + ") - atan2(" + text(ay) + ", " +
-                     text(ax) + "), " + phi_ref(u) + ");"));
-    P->push_back(Raw(phi_ref(v) + " = AngleNear(atan2(" + text(wy - my) + ", " + text(wx - mx) + ") - atan2(" + text(by) +
-                     ", " + text(bx) + "), " + phi_ref(v) + ");"));
+    // u: the angle from a to m, v: from b to w - m, each one atan2 of (cross, dot).
+    const ex cu = define("cross_u", ax * my - ay * mx), du = define("dot_u", ax * mx + ay * my);
+    const ex cv = define("cross_v", bx * (wy - my) - by * (wx - mx)), dv = define("dot_v", bx * (wx - mx) + by * (wy - my));
+    P->push_back(Raw(phi_ref(u) + " = AngleNear(atan2(" + text(cu) + ", " + text(du) + "), " + phi_ref(u) + ");"));
+    P->push_back(Raw(phi_ref(v) + " = AngleNear(atan2(" + text(cv) + ", " + text(dv) + "), " + phi_ref(v) + ");"));
     return;
   }
   if (b.solve == BlockSolve::kAngle) {
@@ -257,8 +275,9 @@ void ClosedFormPositions(const Kinematics& k, const Block& b, int bi, Program* P
     const ex ax = define("ax", b.a[0].subs(at)), ay = define("ay", b.a[1].subs(at));
     const ex wx = define("wx", -b.w0[0].subs(at)), wy = define("wy", -b.w0[1].subs(at));
     P->push_back(Raw(phi_ref(x) + " = s" + t + ";"));
-    P->push_back(Raw(phi_ref(u) + " = AngleNear(atan2(" + text(wy) + ", " + text(wx) + ") - atan2(" + text(ay) + ", " +
-                     text(ax) + "), " + phi_ref(u) + ");"));
+    // u: the angle from a to w, one atan2 of (cross, dot).
+    const ex cu = define("cross_u", ax * wy - ay * wx), du = define("dot_u", ax * wx + ay * wy);
+    P->push_back(Raw(phi_ref(u) + " = AngleNear(atan2(" + text(cu) + ", " + text(du) + "), " + phi_ref(u) + ");"));
     return;
   }
   // kSS: w0 + s0 e0 + s1 e1 = 0 by Cramer's rule.
