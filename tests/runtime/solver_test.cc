@@ -183,28 +183,38 @@ TEST(PositionSolver, PoorGuessesLandOnRequestedBranchOrSayOtherwise) {
   EXPECT_GT(landed, 50);  // random guesses fall on either side about equally often
 }
 
-TEST(PositionSolver, RockerBeyondToggleIsNotAssemblable) {
-  // The rocker of this crank-rocker swings over th3 in [101.42, 141.38] deg (upper mode).
+TEST(PositionSolver, RockerDrivenPastToggleStopsSingularAtLastValidConfiguration) {
+  // The rocker of this crank-rocker swings over th3 in [101.42, 141.38] deg (upper mode):
+  // cos th3 = (c^2 + d^2 - (b -+ a)^2) / (2 c d). Driving it beyond reaches a dead point.
   const double th_min = std::acos(-0.197916666666667), th_max = std::acos(-0.78125);
-  PositionSolver<Rocker> solver;
-  ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   for (double target : {th_max + 0.05, th_min - 0.05, th_max + 1.0, 3.5}) {
-    const State<Rocker> before = solver.state();
+    PositionSolver<Rocker> solver;
+    ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
+    const int branch = solver.state().branch;
     Summary summary;
-    EXPECT_EQ(solver.MoveTo(Q(target), &summary), Status::kNotAssemblable)
+    EXPECT_EQ(solver.MoveTo(Q(target), &summary), Status::kSingular)
         << target << ": " << FormatSummary(summary);
-    EXPECT_GT(summary.residual_norm, solver.options().tolerance);
-    // The last valid configuration is kept.
-    EXPECT_EQ(solver.state().q, before.q);
-    EXPECT_EQ(solver.state().phi, before.phi);
-    EXPECT_TRUE(solver.state().valid);
+    // state() is the last valid configuration, next to the toggle on the way to target:
+    // within 1e-3 rad of it (bisection to 2^-16 of the step, then rejection once
+    // 1/cond < min_rcond), on the same branch, closed, with a small sigma_min.
+    const State<Rocker>& s = solver.state();
+    EXPECT_TRUE(s.valid);
+    const double toggle = target > th_max ? th_max : th_min;
+    EXPECT_LT(std::abs(s.q(0) - toggle), 1e-3) << target;
+    EXPECT_TRUE(target > th_max ? s.q(0) <= th_max : s.q(0) >= th_min) << s.q(0);
+    EXPECT_EQ(s.branch, branch);
+    EXPECT_LE(testing::ResidualNorm<Rocker>(solver.params(), s.q, s.phi), 1e-10);
+    EXPECT_LT(s.sigma_min, 0.05 * s.sigma_max);
+    EXPECT_EQ(summary.sigma_min, s.sigma_min);
   }
-  // Assembly beyond the limit is refused too.
+  // Assembly beyond the limit is refused.
+  PositionSolver<Rocker> solver;
   Summary summary;
   EXPECT_EQ(solver.Assemble(Q(th_max + 0.2), Vec2(-0.5, 1.1), 0, &summary),
             Status::kNotAssemblable)
       << FormatSummary(summary);
   // Right up to the toggle, the solver still follows (sub-stepping as K grows).
+  ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   EXPECT_EQ(solver.MoveTo(Q(th_max - 1e-4), nullptr), Status::kConverged);
   EXPECT_EQ(solver.MoveTo(Q(th_min + 1e-4), nullptr), Status::kConverged);
 }

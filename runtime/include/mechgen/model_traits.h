@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 
 namespace mechgen {
 
@@ -118,6 +119,49 @@ void ConditionAndDeterminant(const Eigen::MatrixBase<Derived>& A, double* cond, 
     *cond = rcond > 0 ? 1.0 / rcond : kInf;
   }
   if (!std::isfinite(*cond)) *cond = kInf;
+}
+
+/**
+ * \brief The smallest singular value of a square fixed-size matrix and its right singular
+ *        vector: the distance of A to the nearest singular matrix in the 2-norm
+ *        (Eckart–Young), and the direction A nearly annihilates.
+ * \param[in]  A          Square matrix (n x n), typically Phi_phi.
+ * \param[out] sigma_min  sigma_n(A) >= 0 (NaN if A is not finite).
+ * \param[out] sigma_max  sigma_1(A) = ||A||_2.
+ * \param[out] v          Unit right singular vector of sigma_n (dim n): A v = sigma_n u. Its
+ *                        sign is fixed so that its largest-magnitude entry is positive, so
+ *                        that it does not flip between neighbouring configurations.
+ * \param[out] u          Unit left singular vector of sigma_n (dim n); may be nullptr.
+ * Eigen's two-sided Jacobi SVD on a fixed-size matrix: no allocation, backward stable (the
+ * error of sigma_n is ~ eps sigma_1, unlike the eigenvalues of A^T A whose error ~ eps
+ * sigma_1^2 / sigma_n would swamp sigma_n below sqrt(eps) sigma_1), about 60 ns for 2 x 2.
+ */
+template <class Derived>
+void SmallestSingular(const Eigen::MatrixBase<Derived>& A,
+                      double* sigma_min,
+                      double* sigma_max,
+                      Eigen::Matrix<double, Derived::RowsAtCompileTime, 1>* v,
+                      Eigen::Matrix<double, Derived::RowsAtCompileTime, 1>* u = nullptr) {
+  using Matrix = typename Derived::PlainObject;
+  constexpr int n = Matrix::RowsAtCompileTime;
+  static_assert(n == Matrix::ColsAtCompileTime && n != Eigen::Dynamic, "square, fixed size");
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (!A.allFinite()) {
+    *sigma_min = *sigma_max = kNaN;
+    v->setConstant(kNaN);
+    if (u != nullptr) u->setConstant(kNaN);
+    return;
+  }
+  const Eigen::JacobiSVD<Matrix, Eigen::NoQRPreconditioner> svd(
+      A, Eigen::ComputeFullV | (u != nullptr ? Eigen::ComputeFullU : 0));
+  *sigma_min = svd.singularValues()(n - 1);
+  *sigma_max = svd.singularValues()(0);
+  *v = svd.matrixV().col(n - 1);
+  Eigen::Index largest = 0;
+  v->cwiseAbs().maxCoeff(&largest);
+  const double sign = (*v)(largest) < 0 ? -1.0 : 1.0;
+  *v *= sign;
+  if (u != nullptr) *u = sign * svd.matrixU().col(n - 1);
 }
 
 /// +1, -1, or 0 (zero or NaN).

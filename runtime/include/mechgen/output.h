@@ -8,7 +8,9 @@
  * Column names (q_j, phi_i the model's coordinate names, P the point names):
  *   q_j, phi_i, K_<phi_i>_<q_j>, L_<phi_i>_<q_j>_<q_k> (j <= k; L is symmetric in j, k),
  *   P.x, P.y, q_j_dot, q_j_ddot, phi_i_dot, phi_i_ddot, P.vx, P.vy, P.ax, P.ay,
- *   status, iterations, residual (||Phi||_inf), cond (cond_1 Phi_phi).
+ *   status, iterations, residual (||Phi||_inf), cond (cond_1 Phi_phi),
+ *   sigma_min (smallest singular value of Phi_phi: the distance to singularity),
+ *   singular_<phi_i> (its unit right singular vector: the singular direction).
  * Angles are radians in the CSV and degrees in the table. These functions allocate freely;
  * they run after the sweep.
  */
@@ -81,7 +83,8 @@ std::vector<std::string> CsvColumns() {
       c.push_back(std::string(p) + ".ay");
     }
   }
-  for (const char* s : {"status", "iterations", "residual", "cond"}) c.push_back(s);
+  for (const char* s : {"status", "iterations", "residual", "cond", "sigma_min"}) c.push_back(s);
+  for (const char* phi : M::kPhiNames) c.push_back(std::string("singular_") + phi);
   return c;
 }
 
@@ -125,6 +128,8 @@ std::vector<std::string> CsvValues(const SweepRecord<M>& r) {
   v.push_back(std::to_string(r.summary.iterations));
   v.push_back(FormatNumber(r.summary.residual_norm, "%.3g"));
   v.push_back(FormatNumber(r.summary.condition, "%.6g"));
+  v.push_back(FormatNumber(s.sigma_min, "%.6g"));
+  for (int i = 0; i < M::kNphi; ++i) v.push_back(FormatNumber(s.singular_direction(i), "%.6g"));
   return v;
 }
 

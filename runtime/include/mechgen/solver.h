@@ -14,7 +14,11 @@
  *    Phi_phi is well conditioned and the corrector moved phi much less than the predictor
  *    did; otherwise it is split in halves. Ceres is only the fallback after the smallest
  *    half failed, and decides kNotAssemblable. The normal path never allocates.
- * On any failure the solver keeps its last valid configuration (state()).
+ * On any failure the solver keeps its last valid configuration (state()); on kSingular that
+ * is the last valid configuration before the singular one, and PassSingularity() continues
+ * through it on the curve the caller chooses (types.h, Crossing). Every configuration
+ * carries its distance to singularity, sigma_min(Phi_phi) by a fixed-size Jacobi SVD (about
+ * 60 ns of a ~170 ns step for a four-bar), and the singular direction.
  *
  * K and L come from Model::Coeffs when the model has them; otherwise K = -Phi_phi^{-1} Phi_q
  * and L by central differences of Phi_phi and Phi_q along the motion (see NumericalL()).
@@ -28,6 +32,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 
 #include "mechgen/ceres_adapter.h"
 #include "mechgen/model_traits.h"
@@ -50,6 +55,13 @@ struct State {
   typename T::MatLP L_P = T::MatLP::Constant(kNaN);    ///< d2 r_P / dq2 (2 kNumPoints x kNq^2)
   double residual_norm = kNaN;                         ///< ||Phi||_inf
   double condition = kNaN;                             ///< cond_1(Phi_phi)
+  /// Distance to singularity: sigma_min(Phi_phi), its smallest singular value (model length
+  /// units; 0 at a dead or change point), and sigma_max = ||Phi_phi||_2.
+  double sigma_min = kNaN;
+  double sigma_max = kNaN;
+  /// Unit right singular vector of sigma_min (kNphi): the direction in which phi can move
+  /// with Phi unchanged to first order when sigma_min -> 0 (the singular motion).
+  typename T::VecPhi singular_direction = T::VecPhi::Constant(kNaN);
   int branch = 0;                                      ///< sign(det Phi_phi)
   bool valid = false;                                  ///< a converged configuration
 };
@@ -121,7 +133,43 @@ class PositionSolver {
    */
   NewtonResult Newton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_phi) const;
 
+  /**
+   * \brief Passes the singular configuration next to state() (after MoveTo() returned
+   *        kSingular) by pseudo-arclength continuation in (t, phi), t the input along the
+   *        line state().q -> q_toward, and leaves state() just beyond it.
+   *
+   * Classifies the singular configuration: a dead point (fold: the augmented Jacobian
+   * [Phi_q d, Phi_phi] keeps full rank, the curve turns back in t) or a change point (both
+   * lose rank: two curves cross). Then steps of Options::pass_step along the tangent:
+   *  - kFollowTangent (change point): the incoming curve's tangent; sign det Phi_phi flips.
+   *  - kSwitchBranch (change point): the other curve's tangent, tau = c2 tau1 - 2 c1 w with
+   *    w = (0, v), c1 = psi^T Phi''(tau1, w), c2 = psi^T Phi''(w, w) (v, psi the right and
+   *    left singular vectors; Phi'' by central differences of the generated Jacobian).
+   *  - kReverseInput (dead point): along the curve, which turns back; the input reverses
+   *    (Summary::input_reversed) and sign det Phi_phi flips.
+   * A choice that does not fit the singular configuration (kReverseInput at a change point,
+   * kFollowTangent at a dead point, ...) returns kSingular with Summary::reason saying which
+   * fits; state() is unchanged. Allocation-free.
+   * \param[in]  q_toward  Where the input was heading (dim kNq), != state().q.
+   * \param[in]  crossing  The continuation the caller chooses (kStop: returns kSingular).
+   * \param[out] summary   May be nullptr.
+   * \return kConverged (state() beyond the singular configuration, on the chosen curve),
+   *         kSingular (choice does not fit, or state() is not next to a singular
+   *         configuration), kDidNotConverge or kInvalidInput.
+   */
+  Status PassSingularity(const VecQ& q_toward, Crossing crossing, Summary* summary);
+
  private:
+  // True when phi moves an angle coordinate by more than Options::max_predicted_angle from
+  // phi0, or is not finite.
+  bool MovesTooFar(const VecPhi& phi0, const VecPhi& phi) const {
+    if (!phi.allFinite()) return true;
+    for (int i = 0; i < M::kNphi; ++i) {
+      if (M::kPhiIsAngle[i] && !(std::abs(phi(i) - phi0(i)) <= options_.max_predicted_angle))
+        return true;
+    }
+    return false;
+  }
   // cond and sign(det) of Phi_phi into *s; false when singular (1/cond < min_rcond).
   bool Classify(const MatCPhi& Phi_phi, State<M>* s) const;
   // K, L and the points at (s->q, s->phi); false if any is not finite.
@@ -129,11 +177,37 @@ class PositionSolver {
   void NumericalL(const VecQ& q, const VecPhi& phi, const MatCPhi& Phi_phi,
                   const typename T::MatK& K, typename T::MatL* L) const;
   VecPhi Predict(const State<M>& from, const VecQ& q) const;
-  bool CorrectionAcceptable(const VecPhi& phi0, const VecPhi& pred, const VecPhi& phi) const {
-    const double predicted = (pred - phi0).template lpNorm<Eigen::Infinity>();
+  // Branch guard: the corrector may move phi by less than max_correction_ratio times the
+  // last Taylor term the predictor used (1/2 L(dq, dq), or K dq for a first-order
+  // predictor) plus max_correction_abs. On one smooth curve the correction is the next,
+  // smaller term (O(dq^3)); landing on another curve costs O(dq) (K differs) and is
+  // refused, also at a change point where that curve keeps sign(det Phi_phi).
+  bool CorrectionAcceptable(const State<M>& from, const VecQ& q, const VecPhi& pred,
+                            const VecPhi& phi) const {
+    const VecQ dq = q - from.q;
+    VecPhi last_term = from.K * dq;
+    if (options_.second_order_predictor) {
+      typename T::VecQQ dq_dq;
+      for (int k = 0; k < M::kNq; ++k) dq_dq.segment(M::kNq * k, M::kNq) = dq * dq(k);
+      last_term = 0.5 * from.L * dq_dq;
+    }
     const double correction = (phi - pred).template lpNorm<Eigen::Infinity>();
-    return correction <=
-           options_.max_correction_ratio * predicted + options_.max_correction_abs;
+    return correction <= options_.max_correction_ratio *
+                                 last_term.template lpNorm<Eigen::Infinity>() +
+                             options_.max_correction_abs;
+  }
+  // The same guard on K: K(q) ~ K0 + L0 dq, and the remainder must be smaller than the
+  // last term. Catches a sub-step that lands on (or next to) a change point, where Newton
+  // converges only linearly to a point whose phi passes the guard above but whose K is
+  // O(1) off (it belongs to no solution curve), and the jump onto another curve after it.
+  bool VelocityConsistent(const State<M>& from, const State<M>& to) const {
+    const VecQ dq = to.q - from.q;
+    typename T::MatK change = T::MatK::Zero();  // L(i, j + kNq k) dq_k summed over k
+    for (int k = 0; k < M::kNq; ++k) change += from.L.template middleCols<M::kNq>(M::kNq * k) * dq(k);
+    const double remainder = (to.K - from.K - change).template lpNorm<Eigen::Infinity>();
+    return remainder <= options_.max_correction_ratio * change.template lpNorm<Eigen::Infinity>() +
+                            options_.max_correction_abs *
+                                (1 + from.K.template lpNorm<Eigen::Infinity>());
   }
   // One continuation sub-step from `from` to q by predictor + Newton; no allocation.
   bool TryStep(const State<M>& from, const VecQ& q, State<M>* to, Summary* s) const;
@@ -189,6 +263,7 @@ bool PositionSolver<M>::Classify(const MatCPhi& Phi_phi, State<M>* s) const {
   double det = 0;
   ConditionAndDeterminant(Phi_phi, &s->condition, &det);
   s->branch = Sign(det);
+  SmallestSingular(Phi_phi, &s->sigma_min, &s->sigma_max, &s->singular_direction);
   return std::isfinite(s->condition) && s->condition * options_.min_rcond <= 1.0 &&
          s->branch != 0;
 }
@@ -265,17 +340,21 @@ template <class M>
 bool PositionSolver<M>::TryStep(const State<M>& from, const VecQ& q, State<M>* to,
                                 Summary* s) const {
   const VecPhi predicted = Predict(from, q);
+  if (MovesTooFar(from.phi, predicted)) return false;  // split before running Newton
   VecPhi phi = predicted;
   MatCPhi Phi_phi;
   const NewtonResult newton = Newton(q, &phi, &Phi_phi);
   s->iterations += newton.iterations;
   if (newton.status != Status::kConverged) return false;
-  if (!CorrectionAcceptable(from.phi, predicted, phi)) return false;
+  if (!CorrectionAcceptable(from, q, predicted, phi) || MovesTooFar(from.phi, phi)) {
+    return false;
+  }
   to->q = q;
   to->phi = phi;
   to->residual_norm = newton.residual_norm;
   if (!Classify(Phi_phi, to) || to->branch != from.branch) return false;
   if (!FillCoefficients(Phi_phi, to)) return false;
+  if (!VelocityConsistent(from, *to)) return false;
   to->valid = true;
   return true;
 }
@@ -304,12 +383,16 @@ Status PositionSolver<M>::Fallback(const State<M>& from, const VecQ& q, State<M>
   s->residual_norm = newton.residual_norm;
   const bool regular = Classify(Phi_phi, to);
   s->condition = to->condition;
+  s->sigma_min = to->sigma_min;
   s->branch = to->branch;
   // The loop closes at q, but only on the other branch (det Phi_phi would pass through 0 on
   // the way) or exactly at a singular configuration: either way Phi_phi loses rank.
   if (!regular || to->branch != from.branch) return Status::kSingular;
-  if (!CorrectionAcceptable(from.phi, Predict(from, q), phi)) return Status::kDidNotConverge;
+  if (!CorrectionAcceptable(from, q, Predict(from, q), phi) || MovesTooFar(from.phi, phi)) {
+    return Status::kDidNotConverge;
+  }
   if (!FillCoefficients(Phi_phi, to)) return Status::kSingular;
+  if (!VelocityConsistent(from, *to)) return Status::kDidNotConverge;
   to->valid = true;
   return Status::kConverged;
 }
@@ -323,6 +406,13 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
     return status;
   };
   if (!options_valid_ || !state_.valid || !q_target.allFinite()) {
+    s.reason = !options_valid_  ? "invalid Options"
+               : !state_.valid ? "nothing assembled to continue from"
+                               : "input not finite";
+    return finish(Status::kInvalidInput);
+  }
+  if (!((q_target - state_.q).cwiseAbs().maxCoeff() <= options_.max_input_step)) {
+    s.reason = "step larger than Options::max_input_step";
     return finish(Status::kInvalidInput);
   }
   // Fast path (every step of a sweep with small steps): one sub-step straight to q_target.
@@ -331,6 +421,7 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
     s.substeps = 1;
     s.residual_norm = state_.residual_norm;
     s.condition = state_.condition;
+    s.sigma_min = state_.sigma_min;
     s.branch = state_.branch;
     return finish(Status::kConverged);
   }
@@ -345,7 +436,10 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
   double h = 0.5;  // fraction tried next
   int attempts = 1;
   while (t < 1) {
-    if (++attempts > options_.max_substeps) return finish(Status::kDidNotConverge);
+    if (++attempts > options_.max_substeps) {
+      s.reason = "more than Options::max_substeps sub-steps";
+      return finish(Status::kDidNotConverge);
+    }
     h = std::min(h, 1 - t);
     const bool last = t + h >= 1;
     const VecQ q = last ? q_target : VecQ(q_start + (t + h) * delta);
@@ -361,8 +455,25 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
       h *= 0.5;
       continue;
     }
-    const Status status = Fallback(current, q, &next, &s);
-    if (status != Status::kConverged) return finish(status);
+    Status status = Fallback(current, q, &next, &s);
+    if (status != Status::kConverged) {
+      // The smallest sub-step failed. Next to a singular configuration that is a dead point
+      // (nothing closes beyond it) or a change point (only the other branch closes).
+      const bool near_singular =
+          current.sigma_min < options_.near_singular_ratio * current.sigma_max;
+      if (status == Status::kSingular || near_singular) {
+        status = Status::kSingular;
+        s.reason = near_singular ? "reached a singular configuration (dead point or change "
+                                   "point); state() is the last valid one before it"
+                                 : "only the other branch closes beyond this point";
+        state_ = current;  // the last valid configuration, the closest to the singular one
+        s.residual_norm = current.residual_norm;
+        s.condition = current.condition;
+        s.sigma_min = current.sigma_min;
+        s.branch = current.branch;
+      }
+      return finish(status);
+    }
     current = next;
     t = last ? 1 : t + h;
     ++s.substeps;
@@ -370,6 +481,7 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
   state_ = current;
   s.residual_norm = current.residual_norm;
   s.condition = current.condition;
+  s.sigma_min = current.sigma_min;
   s.branch = current.branch;
   return finish(Status::kConverged);
 }
@@ -409,6 +521,7 @@ Status PositionSolver<M>::Assemble(const VecQ& q, const VecPhi& phi_guess, int r
   s.residual_norm = newton.residual_norm;
   const bool regular = Classify(Phi_phi, &next);
   s.condition = next.condition;
+  s.sigma_min = next.sigma_min;
   s.branch = next.branch;
   s.substeps = 1;
   if (!regular) return finish(Status::kSingular);
@@ -430,6 +543,193 @@ Status PositionSolver<M>::AssembleDefault(Summary* summary) {
   double cond = 0, det = 0;
   ConditionAndDeterminant(Phi_phi, &cond, &det);
   return Assemble(q, phi, Sign(det), summary);
+}
+
+template <class M>
+Status PositionSolver<M>::PassSingularity(const VecQ& q_toward, Crossing crossing,
+                                          Summary* summary) {
+  constexpr int n = M::kNphi;
+  using VecX = Eigen::Matrix<double, n + 1, 1>;       // x = (t, phi)
+  using MatJ = Eigen::Matrix<double, M::kNc, n + 1>;  // [Phi_q d, Phi_phi]
+  using MatX = Eigen::Matrix<double, n + 1, n + 1>;
+  Summary s;
+  auto finish = [&](Status status, const char* reason) {
+    s.status = status;
+    s.reason = reason;
+    if (summary != nullptr) *summary = s;
+    return status;
+  };
+  if (!options_valid_ || !state_.valid || !q_toward.allFinite()) {
+    return finish(Status::kInvalidInput, "no valid state() or input not finite");
+  }
+  const VecQ q0 = state_.q;
+  VecQ d = q_toward - q0;
+  const double length = d.norm();
+  if (!(length > 0)) return finish(Status::kInvalidInput, "q_toward == state().q");
+  d /= length;
+  s.branch = state_.branch;
+  s.sigma_min = state_.sigma_min;
+  s.condition = state_.condition;
+  if (crossing == Crossing::kStop) return finish(Status::kSingular, "Crossing::kStop");
+  if (!(state_.sigma_min < options_.near_singular_ratio * state_.sigma_max)) {
+    return finish(Status::kSingular,
+                  "state() is not next to a singular configuration "
+                  "(sigma_min / sigma_max >= Options::near_singular_ratio)");
+  }
+
+  // G(x) = Phi(q0 + t d, phi) and its Jacobian J = [Phi_q d, Phi_phi] (n x (n + 1)).
+  auto eval = [&](const VecX& x, VecC* G, MatJ* J) {
+    const VecQ q = q0 + x(0) * d;
+    const VecPhi phi = x.template tail<n>();
+    MatCPhi A;
+    MatCQ B;
+    M::template Phi<double>(params_, q, phi, G, J != nullptr ? &A : nullptr,
+                            J != nullptr ? &B : nullptr);
+    if (J != nullptr) {
+      J->col(0) = B * d;
+      J->template rightCols<n>() = A;
+    }
+  };
+  // Unit null vector of J (the curve's tangent) and sigma_n(J) / sigma_1(J), from the SVD
+  // of J padded with a zero row (fixed size, no allocation).
+  auto tangent = [](const MatJ& J, VecX* tau, double* ratio) {
+    MatX padded = MatX::Zero();
+    padded.template topRows<M::kNc>() = J;
+    const Eigen::JacobiSVD<MatX, Eigen::NoQRPreconditioner> svd(padded, Eigen::ComputeFullV);
+    *tau = svd.matrixV().col(n);
+    *ratio = svd.singularValues()(n - 1) / svd.singularValues()(0);
+  };
+
+  VecX x0;
+  x0(0) = 0;
+  x0.template tail<n>() = state_.phi;
+  MatJ J0;
+  VecC G;
+  eval(x0, &G, &J0);
+  VecX tau0;
+  double ratio_J = 0;
+  tangent(J0, &tau0, &ratio_J);
+  if (tau0(0) < 0) tau0 = -tau0;  // the incoming motion: t increasing
+  const double ratio_phi = state_.sigma_min / state_.sigma_max;
+  // At a dead point J keeps full rank while Phi_phi loses it (ratio_J = O(1) >> ratio_phi);
+  // at a change point both lose rank at the same rate. The geometric mean separates them.
+  const bool dead_point = ratio_J > std::sqrt(ratio_phi);
+  if (dead_point && crossing != Crossing::kReverseInput) {
+    return finish(Status::kSingular,
+                  "a dead point: the loop does not close beyond it; Crossing::kReverseInput "
+                  "continues with the input reversed");
+  }
+  if (!dead_point && crossing == Crossing::kReverseInput) {
+    return finish(Status::kSingular,
+                  "a change point, not a dead point: choose Crossing::kFollowTangent or "
+                  "kSwitchBranch");
+  }
+
+  VecX tau = tau0;
+  if (crossing == Crossing::kSwitchBranch) {
+    // Second derivatives psi^T Phi''(a, b) by central differences of the Jacobian along a.
+    VecPhi v, psi;
+    double smin = 0, smax = 0;
+    MatCPhi A0 = J0.template rightCols<n>();
+    SmallestSingular(A0, &smin, &smax, &v, &psi);
+    VecX w = VecX::Zero();
+    w.template tail<n>() = v;
+    const double h = std::cbrt(std::numeric_limits<double>::epsilon());
+    auto second = [&](const VecX& a, const VecX& b) {
+      MatJ J_plus, J_minus;
+      VecC unused;
+      eval(VecX(x0 + h * a), &unused, &J_plus);
+      eval(VecX(x0 - h * a), &unused, &J_minus);
+      return psi.dot((J_plus - J_minus) * b) / (2 * h);
+    };
+    const double c1 = second(tau0, w);
+    const double c2 = second(w, w);
+    // The bifurcation equation psi^T Phi''(tau1 + mu w, tau1 + mu w) = 0 has the roots
+    // mu ~ 0 (the incoming curve) and mu = -2 c1 / c2 (the other one).
+    VecX other = c2 * tau0 - 2 * c1 * w;
+    if (!(other.norm() > 0) || !other.allFinite()) {
+      return finish(Status::kSingular, "no second curve found at this change point");
+    }
+    other.normalize();
+    if (other(0) < 0 || (other(0) == 0 && other.dot(tau0) < 0)) other = -other;
+    if (std::abs(other.dot(tau0)) > 1 - 1e-6) {
+      return finish(Status::kSingular, "the two tangents coincide: not a simple change point");
+    }
+    tau = other;
+  }
+
+  // Pseudo-arclength steps: predictor x + ds tau, corrector Newton on
+  // [G(x); tau^T (x - x_pred)] = 0, until beyond the singular configuration.
+  const double ds = options_.pass_step;
+  VecX x = x0;
+  double arc = 0;
+  State<M> next;
+  for (int step = 0; step < 64; ++step) {
+    const VecX x_pred = x + ds * tau;
+    VecX y = x_pred;
+    bool converged = false;
+    for (int it = 0; it <= 2 * options_.max_newton_iterations; ++it) {
+      MatJ J;
+      eval(y, &G, &J);
+      ++s.iterations;
+      const double norm = G.template lpNorm<Eigen::Infinity>();
+      if (!std::isfinite(norm) || !y.allFinite()) break;
+      if (norm <= options_.tolerance) {
+        converged = true;
+        break;
+      }
+      MatX F;
+      F.template topRows<M::kNc>() = J;
+      F.row(n) = tau.transpose();
+      VecX rhs;
+      rhs.template head<M::kNc>() = G;
+      rhs(n) = tau.dot(y - x_pred);
+      y -= Eigen::PartialPivLU<MatX>(F).solve(rhs);
+    }
+    if (!converged || (y - x_pred).norm() > 0.5 * ds) {
+      return finish(Status::kDidNotConverge, "pseudo-arclength corrector failed");
+    }
+    MatJ J;
+    eval(y, &G, &J);
+    VecX tau_new;
+    double unused = 0;
+    tangent(J, &tau_new, &unused);
+    if (tau_new.dot(tau) < 0) tau_new = -tau_new;
+    x = y;
+    tau = tau_new;
+    arc += ds;
+    ++s.substeps;
+    // Beyond it when regular again, at least 2 steps on, with the expected sign of det.
+    next.q = q0 + x(0) * d;
+    next.phi = x.template tail<n>();
+    MatCPhi Phi_phi = J.template rightCols<n>();
+    const bool regular = Classify(Phi_phi, &next);
+    const bool flipped = next.branch == -state_.branch;
+    const bool reversed = tau(0) < 0;
+    bool done = false;
+    if (crossing == Crossing::kSwitchBranch) {
+      done = !flipped && !reversed;
+    } else if (crossing == Crossing::kFollowTangent) {
+      done = flipped && !reversed;
+    } else {
+      done = flipped && reversed;
+    }
+    if (step >= 1 && regular && next.sigma_min >= state_.sigma_min && done) {
+      next.residual_norm = G.template lpNorm<Eigen::Infinity>();
+      if (!FillCoefficients(Phi_phi, &next)) {
+        return finish(Status::kSingular, "coefficients not finite beyond the crossing");
+      }
+      next.valid = true;
+      state_ = next;
+      s.residual_norm = next.residual_norm;
+      s.condition = next.condition;
+      s.sigma_min = next.sigma_min;
+      s.branch = next.branch;
+      s.input_reversed = reversed;
+      return finish(Status::kConverged, "");
+    }
+  }
+  return finish(Status::kSingular, "did not get beyond the singular configuration in 64 steps");
 }
 
 }  // namespace mechgen

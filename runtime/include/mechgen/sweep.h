@@ -6,10 +6,12 @@
  * Every step is a PositionSolver::MoveTo() plus ComputeMotion(); the record vector is sized
  * once before the loop, so the loop itself does not allocate (unless a step falls back to
  * Ceres). A step that fails is recorded with its Status and NaN values, and the solver
- * continues the next step from its last valid configuration.
+ * continues the next step from its last valid configuration; a step that reaches a singular
+ * configuration (kSingular) stops the sweep there, unless SweepOptions asks to pass it.
  */
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include "mechgen/kinematics.h"
@@ -26,6 +28,16 @@ struct SweepRecord {
   Summary summary;                 ///< how the step went
 };
 
+/// What a sweep does at a singular configuration.
+struct SweepOptions {
+  /// kStop: the sweep stops at the first kSingular row (that row holds the last valid
+  /// configuration, closest to the singular one; later rows are kNotRun). Otherwise
+  /// PositionSolver::PassSingularity() with this choice, and the sweep goes on: after
+  /// kReverseInput the input moves back (the remaining rows mirror about the dead point,
+  /// and the input speed qd changes sign), so a rocker-driven linkage swings back and forth.
+  Crossing at_singularity = Crossing::kStop;
+};
+
 /**
  * \brief Sweeps the inputs from q_begin to q_end in `steps` equal steps (steps + 1 rows).
  * \param[in,out] solver   An assembled solver (state().valid), e.g. after AssembleDefault().
@@ -36,7 +48,8 @@ struct SweepRecord {
  * \param[in]     qd       Input speeds for the motion (dim kNq), the same at every row.
  * \param[in]     qdd      Input accelerations (dim kNq).
  * \param[out]    records  steps + 1 rows.
- * \return the number of rows that did not converge.
+ * \param[in]     options  What to do at a singular configuration (default: stop there).
+ * \return the number of rows that did not converge (kNotRun rows after a stop included).
  */
 template <class M>
 int Sweep(PositionSolver<M>* solver,
@@ -45,17 +58,72 @@ int Sweep(PositionSolver<M>* solver,
           int steps,
           const typename ModelTypes<M>::VecQ& qd,
           const typename ModelTypes<M>::VecQ& qdd,
-          std::vector<SweepRecord<M>>* records) {
+          std::vector<SweepRecord<M>>* records,
+          const SweepOptions& options = SweepOptions()) {
+  using VecQ = typename ModelTypes<M>::VecQ;
   if (steps < 1) steps = 1;
   records->assign(static_cast<size_t>(steps) + 1, SweepRecord<M>());
+  const VecQ delta = q_end - q_begin;
+  const double delta2 = delta.squaredNorm();
+  // u: position along the line (q = q_begin + u delta); dir: +1 forward, -1 after a reversal.
+  auto at = [&](double u) { return VecQ(q_begin + u * delta); };
+  double dir = 1;
   int failures = 0;
+  bool stopped = false;
   for (int i = 0; i <= steps; ++i) {
     SweepRecord<M>& record = (*records)[static_cast<size_t>(i)];
-    record.q = i == steps ? q_end : typename ModelTypes<M>::VecQ(
-                                        q_begin + (q_end - q_begin) * (double(i) / steps));
-    if (solver->MoveTo(record.q, &record.summary) == Status::kConverged) {
+    if (stopped) {
+      record.q = VecQ::Constant(std::numeric_limits<double>::quiet_NaN());
+      ++failures;
+      continue;
+    }
+    double u = double(i) / steps;
+    if (i > 0) {
+      const SweepRecord<M>& prev = (*records)[static_cast<size_t>(i - 1)];
+      const double u_prev = delta2 > 0 ? (prev.q - q_begin).dot(delta) / delta2 : 0;
+      u = u_prev + dir / steps;
+    }
+    record.q = (i == steps && dir > 0) ? q_end : at(u);
+    Status status = solver->MoveTo(record.q, &record.summary);
+    bool reversed = false;
+    if (status == Status::kSingular && options.at_singularity != Crossing::kStop) {
+      // Pass, then finish the row: the rest of the step, mirrored after a reversal.
+      const double u_singular =
+          delta2 > 0 ? (solver->state().q - q_begin).dot(delta) / delta2 : 0;
+      Summary pass;
+      if (solver->PassSingularity(record.q, options.at_singularity, &pass) ==
+          Status::kConverged) {
+        reversed = pass.input_reversed;
+        if (reversed) {
+          dir = -dir;
+          u = 2 * u_singular - u;
+          record.q = at(u);
+        }
+        const double u_passed =
+            delta2 > 0 ? (solver->state().q - q_begin).dot(delta) / delta2 : 0;
+        if ((u - u_passed) * dir > 0) {
+          status = solver->MoveTo(record.q, &record.summary);
+        } else {  // the pass already went beyond this row's input: record where it ended
+          record.q = solver->state().q;
+          record.summary = pass;
+          status = Status::kConverged;
+        }
+        record.summary.iterations += pass.iterations;
+        record.summary.input_reversed = reversed;
+      } else {
+        record.summary.reason = pass.reason;
+      }
+    }
+    if (status == Status::kConverged) {
       record.state = solver->state();
-      ComputeMotion(record.state, qd, qdd, &record.motion);
+      ComputeMotion(record.state, VecQ(dir * qd), qdd, &record.motion);
+    } else if (status == Status::kSingular) {
+      // Stop at the last valid configuration, the closest to the singular one.
+      record.state = solver->state();
+      record.q = record.state.q;
+      ComputeMotion(record.state, VecQ(dir * qd), qdd, &record.motion);
+      stopped = true;
+      ++failures;
     } else {
       record.state.q = record.q;
       ++failures;

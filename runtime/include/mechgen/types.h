@@ -29,15 +29,21 @@ enum class Status {
   /// The loop cannot close at q: Levenberg–Marquardt reached a stationary point of
   /// 1/2 ||Phi(q, phi)||_2^2 (Phi_phi^T Phi ~ 0) with ||Phi||_inf > Options::tolerance.
   kNotAssemblable,
-  /// Phi_phi loses rank: 1/cond_1(Phi_phi) < Options::min_rcond at the solution, or the only
-  /// closing configuration reachable lies on the other branch, i.e. det Phi_phi would have
-  /// to pass through 0 on the way (a toggle / change point). K is undefined there.
+  /// Phi_phi loses rank on the way: 1/cond_1(Phi_phi) < Options::min_rcond at the solution,
+  /// or the only closing configuration reachable lies on the other branch (det Phi_phi
+  /// would have to pass through 0: a change point), or the continuation stalls at its
+  /// smallest sub-step next to a configuration with sigma_min(Phi_phi) / sigma_max(Phi_phi)
+  /// < Options::near_singular_ratio (a dead point / toggle, beyond which the loop does not
+  /// close). K is undefined there. MoveTo() then leaves state() at the last valid
+  /// configuration on the way, the closest to the singular one (within
+  /// |q - q0| 2^-max_bisections); PositionSolver::PassSingularity() continues through it.
   kSingular,
   /// Neither Newton (Options::max_newton_iterations, all sub-steps) nor Levenberg–Marquardt
   /// (Options::max_lm_iterations) reached ||Phi||_inf <= Options::tolerance.
   kDidNotConverge,
-  /// Some input is not finite (!std::isfinite(q_i), phi_i, parameters), or the solver has no
-  /// assembled configuration to continue from.
+  /// Some input is not finite (!std::isfinite(q_i), phi_i, parameters), a step is absurdly
+  /// large (|q_j - state().q_j| > Options::max_input_step), or the solver has no assembled
+  /// configuration to continue from.
   kInvalidInput,
   /// Assembly converged (||Phi||_inf <= tolerance) but sign(det Phi_phi) differs from the
   /// branch the caller required; the configuration is reported, not adopted.
@@ -67,6 +73,36 @@ inline const char* ToString(Status status) {
   return "unknown";
 }
 
+/// What PositionSolver::PassSingularity() and a Sweep do at a singular configuration.
+enum class Crossing {
+  /// Do not pass: the step (and a sweep) stops with kSingular at the last valid configuration.
+  kStop = 0,
+  /// Change point (two solution curves cross, e.g. a Grashof-neutral four-bar with
+  /// s + l = p + q folded flat): continue on the same smooth curve, along its tangent
+  /// (sign det Phi_phi flips).
+  kFollowTangent,
+  /// Change point: continue on the other curve through it (its tangent from the second-order
+  /// bifurcation equation psi^T Phi''(tau, tau) = 0, psi the left null vector).
+  kSwitchBranch,
+  /// Dead point (fold: the input reaches an extreme, e.g. the rocker of a rocker-driven
+  /// crank-rocker): continue along the curve, which turns back, so the input reverses.
+  kReverseInput,
+};
+
+inline const char* ToString(Crossing crossing) {
+  switch (crossing) {
+    case Crossing::kStop:
+      return "stop";
+    case Crossing::kFollowTangent:
+      return "follow_tangent";
+    case Crossing::kSwitchBranch:
+      return "switch_branch";
+    case Crossing::kReverseInput:
+      return "reverse_input";
+  }
+  return "unknown";
+}
+
 /// Options of PositionSolver. The defaults suit models with lengths of order 1..1000.
 struct Options {
   /// Converged when ||Phi(q, phi)||_inf <= tolerance (model length units). Rounding in Phi
@@ -78,9 +114,13 @@ struct Options {
   /// the Levenberg–Marquardt result). Quadratic convergence from the second-order predictor
   /// needs 1–2 at 0.5 deg steps.
   int max_newton_iterations = 8;
-  /// Singular when 1/cond_1(Phi_phi) = 1/(||Phi_phi||_1 ||Phi_phi^{-1}||_1) < min_rcond:
-  /// K = -Phi_phi^{-1} Phi_q would lose all but ~ -log10(min_rcond * 1e16) = 4 digits.
-  double min_rcond = 1e-12;
+  /// Singular when 1/cond_1(Phi_phi) = 1/(||Phi_phi||_1 ||Phi_phi^{-1}||_1) < min_rcond.
+  /// Not the rounding limit (1e-16) but the accuracy limit: next to a singular point
+  /// Newton converges only linearly, so a configuration solved to ||Phi|| ~ r is off by
+  /// ~ r / sigma_min in phi and K by ~ r / sigma_min^2. At a change point approached to
+  /// 1e-6 rad (1/cond ~ 1e-6) K already loses ~ 6 digits (bench/stability/README.md);
+  /// closer, a solve landing on the crossing itself returns K with O(1) errors.
+  double min_rcond = 1e-6;
   /// A continuation step q0 -> q1 that fails (no convergence, branch change, or a correction
   /// too large for the predictor) is retried on halves, down to |q1 - q0| / 2^max_bisections.
   int max_bisections = 16;
@@ -88,9 +128,11 @@ struct Options {
   /// dithering at a toggle position.
   int max_substeps = 10000;
   /// Branch guard: a corrector result phi is accepted only when
-  /// ||phi - phi_pred||_inf <= max_correction_ratio * ||phi_pred - phi0||_inf + max_correction_abs,
-  /// i.e. the corrector moved phi much less than the predicted motion. A jump to the other
-  /// assembly mode moves phi by O(1) while the second-order predictor errs by O(dq^3).
+  /// ||phi - phi_pred||_inf <= max_correction_ratio * ||last predictor term||_inf
+  ///                           + max_correction_abs,
+  /// the last term being 1/2 L(dq, dq) (K dq for a first-order predictor): on one smooth
+  /// solution curve the correction is the next, smaller Taylor term, O(dq^3), while a jump
+  /// to another curve moves phi by O(dq) (at a change point) or O(1) (another assembly mode).
   double max_correction_ratio = 0.5;
   double max_correction_abs = 1e-6;
   /// Predictor phi ~ phi0 + K dq + 1/2 L(dq, dq); false: first order phi0 + K dq.
@@ -100,6 +142,29 @@ struct Options {
   bool ceres_fallback = true;
   /// Levenberg–Marquardt iterations for assembly and for the fallback.
   int max_lm_iterations = 200;
+  /// A sub-step is tried only when its predictor moves every angle coordinate of phi by at
+  /// most this (rad): larger steps are split before Newton runs. Beyond ~1 rad the Taylor
+  /// predictor no longer says which 2 pi-periodic solution is meant, and the correction
+  /// guard above (relative to the predicted motion) would accept any of them.
+  double max_predicted_angle = 0.5;
+  /// A MoveTo() with |q_j - state().q_j| > max_input_step for some j (model units, rad for
+  /// angles; 1e3 rad = 159 turns) is refused with kInvalidInput: no sweep step is that long,
+  /// so it is a units or bookkeeping mistake, and following it would take more than
+  /// max_substeps sub-steps anyway.
+  double max_input_step = 1e3;
+  /// When the continuation stalls at its smallest sub-step and the last valid configuration
+  /// has sigma_min(Phi_phi) / sigma_max(Phi_phi) < near_singular_ratio, the step is reported
+  /// as kSingular (a dead point on the way) rather than kNotAssemblable. A regular
+  /// configuration (ratio >= 1e-2) cannot stall: Newton's basin there is wider than any
+  /// sub-step of 2^-max_bisections of a step; at a dead point approached to within delta,
+  /// the ratio is ~ sqrt(delta) ~ 4e-4 for 0.5 deg steps.
+  double near_singular_ratio = 1e-2;
+  /// Arc length (in (t, phi), t the input along the motion, rad or model units) of the
+  /// pseudo-arclength steps with which PassSingularity() steps over a singular
+  /// configuration. Small enough that the tangent predictor errs by O(step^2) = 1e-6, far
+  /// less than the O(step) separation of the two curves after a change point; large enough
+  /// to leave the singular configuration with 1/cond ~ 1e-3.
+  double pass_step = 1e-3;
 
   /// Checks every field; on failure writes "Options::field = value. Violated constraint: ..."
   /// to *error (if not nullptr) and returns false.
@@ -126,6 +191,14 @@ struct Options {
       return fail("max_correction_abs", max_correction_abs, "max_correction_abs >= 0");
     if (max_lm_iterations < 1)
       return fail("max_lm_iterations", max_lm_iterations, "max_lm_iterations >= 1");
+    if (!(max_predicted_angle > 0))
+      return fail("max_predicted_angle", max_predicted_angle, "max_predicted_angle > 0");
+    if (!(max_input_step > 0))
+      return fail("max_input_step", max_input_step, "max_input_step > 0");
+    if (!(near_singular_ratio >= 0 && near_singular_ratio < 1))
+      return fail("near_singular_ratio", near_singular_ratio, "0 <= near_singular_ratio < 1");
+    if (!(pass_step > 0 && pass_step < 1))
+      return fail("pass_step", pass_step, "0 < pass_step < 1");
     return true;
   }
 };
@@ -147,8 +220,17 @@ struct Summary {
   double condition = std::numeric_limits<double>::quiet_NaN();
   /// sign(det Phi_phi) at the returned configuration: the assembly mode (+1 / -1), 0 unknown.
   int branch = 0;
+  /// Distance to singularity: sigma_min(Phi_phi), the smallest singular value (2-norm
+  /// distance of Phi_phi to the nearest singular matrix; model length units), at the
+  /// returned configuration. State::singular_direction holds its right singular vector.
+  double sigma_min = std::numeric_limits<double>::quiet_NaN();
   /// Levenberg–Marquardt (Ceres) was used.
   bool used_ceres = false;
+  /// PassSingularity() went through a dead point: the input now moves the other way.
+  bool input_reversed = false;
+  /// What the failure was about, a static string ("" when converged), e.g. "step larger
+  /// than Options::max_input_step".
+  const char* reason = "";
 
   bool IsSolutionUsable() const { return status == Status::kConverged; }
 };
@@ -156,13 +238,15 @@ struct Summary {
 /// A one-line description of a Summary, e.g.
 /// "converged: 2 iterations, 1 sub-step, |Phi|_inf = 3.1e-16, cond(Phi_phi) = 4.2, branch +1".
 inline std::string FormatSummary(const Summary& s) {
-  char buffer[256];
+  char buffer[512];
   std::snprintf(buffer, sizeof(buffer),
                 "%s: %d iteration%s, %d sub-step%s (%d rejected), |Phi|_inf = %.3g, "
-                "cond(Phi_phi) = %.3g, branch %+d%s",
+                "cond(Phi_phi) = %.3g, sigma_min = %.3g, branch %+d%s%s%s%s",
                 ToString(s.status), s.iterations, s.iterations == 1 ? "" : "s", s.substeps,
                 s.substeps == 1 ? "" : "s", s.rejected_substeps, s.residual_norm, s.condition,
-                s.branch, s.used_ceres ? ", Levenberg-Marquardt used" : "");
+                s.sigma_min, s.branch, s.used_ceres ? ", Levenberg-Marquardt used" : "",
+                s.input_reversed ? ", input reversed" : "", s.reason[0] != 0 ? "; " : "",
+                s.reason);
   return buffer;
 }
 

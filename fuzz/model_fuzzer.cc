@@ -1,0 +1,51 @@
+// libFuzzer target: a model file through the generator's front end.
+//
+// Each input is written to a temporary file (LoadModel reads a path) and run through
+// LoadModel (YAML syntax, names, references, expressions), BuildTopology (loops, mobility),
+// DeriveKinematics and Derive (symbolic Phi, Phi_phi, Phi_q, K, L with CSE). A bad model
+// must end in a mechgen::ModelError or another std::exception (GiNaC reports e.g. a division
+// by zero that way); a crash, a sanitizer report, a timeout or running out of memory is a
+// finding. Emission (templates) is not fuzzed: it only formats what Derive produced.
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "cxx_code.h"
+#include "derivation.h"
+#include "kinematics.h"
+#include "model.h"
+#include "topology.h"
+
+namespace {
+
+std::string TempPath() {
+  static const std::string path =
+      "/tmp/mechgen_fuzz_" + std::to_string(static_cast<long>(getpid())) + ".yaml";
+  return path;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  // Models are small text files; 64 KiB keeps each run fast without losing structure.
+  if (size > 65536) return 0;
+  const std::string path = TempPath();
+  FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) return 0;
+  std::fwrite(data, 1, size, file);
+  std::fclose(file);
+  try {
+    const mechgen::Model model = mechgen::LoadModel(path);
+    const mechgen::Topology topology = mechgen::BuildTopology(model);
+    const mechgen::Kinematics kinematics = mechgen::DeriveKinematics(model, topology);
+    mechgen::CxxPrinter printer;
+    const mechgen::Derivation derivation = mechgen::Derive(model, kinematics, &printer);
+    (void)derivation;
+  } catch (const std::exception&) {
+    // A clean rejection.
+  }
+  return 0;
+}

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Second CI stage: builds the test suite with AddressSanitizer and UndefinedBehaviorSanitizer
+# in ./build-asan (MECHGEN_ASAN_BUILD overrides) and runs ctest there. Called by .ci/run
+# after scripts/test.sh. Benchmarks are not built. Every test runs; extra ctest arguments
+# are passed on (e.g. -R runtime to restrict it).
+#   bash scripts/sanitize.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${MECHGEN_ASAN_BUILD:-build-asan}
+sanitize="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+# The sanitizer options apply at build time too: the build runs mechgen (model generation)
+# and the test binaries (GoogleTest discovery). halt_on_error: any report fails.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:halt_on_error=1:strict_string_checks=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+start=$(date +%s)
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DMECHGEN_BUILD_BENCHMARKS=OFF \
+  -DCMAKE_CXX_FLAGS="$sanitize" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+  -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+cmake --build "$build" --parallel 2
+ctest --test-dir "$build" --output-on-failure --parallel 2 "$@"
+echo "sanitize: build and tests took $(( $(date +%s) - start )) s"

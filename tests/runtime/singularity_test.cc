@@ -1,0 +1,293 @@
+// Singular configurations, distance to singularity and hostile inputs (issue 7).
+//
+// Mechanisms (hand-written models, closed forms written here as oracles):
+//  - Grashof-neutral four-bar a = 1, b = 3, c = 2, d = 2 (s + l = 1 + 3 = p + q = 2 + 2),
+//    crank-driven: at theta_crank = 0, |BD| = d - a = b - c, the two circle intersections
+//    coincide and the two solution curves cross (a change point). Incoming from q < 0 on the
+//    closed-form branch +1, the smooth curve continues as closed-form branch -1 (C crosses
+//    the line BD: sign det Phi_phi flips), the other curve as branch +1.
+//  - The crank-rocker of handwritten_rocker_driven.h driven by its rocker: dead points at
+//    th3 = acos(-0.78125) and acos(-0.197917), where crank and coupler are collinear.
+// Tolerances: positions 1e-9 (solver tolerance 1e-10, cond(Phi_phi) <= ~1e3 at the rows
+// compared); K by central differences of the closed form at h = 1e-5 (truncation
+// h^2 |phi'''| / 6 ~ 1e-10, rounding 1e-16 / h ~ 1e-11), compared at 1e-6.
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "handwritten_fourbar.h"
+#include "handwritten_rocker_driven.h"
+#include "mechgen/output.h"
+#include "mechgen/solver.h"
+#include "mechgen/sweep.h"
+#include "test_util.h"
+
+namespace mechgen {
+namespace {
+
+using FourBar = mech::handwritten_fourbar::Model;
+using Rocker = mech::handwritten_rocker_driven::Model;
+using Vec1 = Eigen::Matrix<double, 1, 1>;
+using Vec2 = Eigen::Vector2d;
+constexpr double kPi = 3.14159265358979323846;
+
+Vec1 Q(double q) { return Vec1::Constant(q); }
+double AngleDistance(double a, double b) { return std::abs(std::remainder(a - b, 2 * kPi)); }
+double AngleDistance(const Vec2& a, const Vec2& b) {
+  return std::max(AngleDistance(a(0), b(0)), AngleDistance(a(1), b(1)));
+}
+
+FourBar::ParamsT<double> NeutralParams() {
+  FourBar::ParamsT<double> p;
+  p.a = 1;
+  p.b = 3;
+  p.c = 2;
+  p.d = 2;
+  return p;
+}
+
+Vec2 ClosedForm(const FourBar::ParamsT<double>& p, double q, int branch) {
+  Vec2 phi;
+  EXPECT_TRUE(mech::handwritten_fourbar::ClosedFormPosition(p, q, branch, &phi)) << q;
+  return phi;
+}
+
+// Assembled at q = -1 on closed-form branch +1 of the Grashof-neutral four-bar.
+PositionSolver<FourBar> NeutralSolver() {
+  const auto p = NeutralParams();
+  PositionSolver<FourBar> solver(Options(), p);
+  EXPECT_EQ(solver.Assemble(Q(-1), ClosedForm(p, -1, +1), 0, nullptr), Status::kConverged);
+  return solver;
+}
+
+TEST(DistanceToSingularity, SigmaMinAndDirectionMatchClosedForm) {
+  // Phi_phi = [-b S2, c S3; b C2, -c C3]: Phi_phi^T Phi_phi = [b^2, -bc g; -bc g, c^2] with
+  // g = cos(th2 - th3), so sigma_min^2 = (b^2 + c^2 - sqrt((b^2 - c^2)^2 + 4 b^2 c^2 g^2)) / 2.
+  PositionSolver<FourBar> solver;
+  ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
+  const auto& p = solver.params();
+  for (double q = 0; q < 2 * kPi; q += 0.1) {
+    ASSERT_EQ(solver.MoveTo(Q(q), nullptr), Status::kConverged);
+    const State<FourBar>& s = solver.state();
+    const double g = std::cos(s.phi(0) - s.phi(1));
+    const double b2 = p.b * p.b, c2 = p.c * p.c;
+    const double root = std::sqrt((b2 - c2) * (b2 - c2) + 4 * b2 * c2 * g * g);
+    const double sigma_min = std::sqrt((b2 + c2 - root) / 2);
+    const double sigma_max = std::sqrt((b2 + c2 + root) / 2);
+    EXPECT_NEAR(s.sigma_min, sigma_min, 1e-12 * sigma_max) << q;
+    EXPECT_NEAR(s.sigma_max, sigma_max, 1e-12 * sigma_max) << q;
+    Eigen::Matrix2d Phi_phi;
+    FourBar::Phi<double>(p, s.q, s.phi, nullptr, &Phi_phi, nullptr);
+    EXPECT_NEAR(s.singular_direction.norm(), 1, 1e-14);
+    EXPECT_NEAR((Phi_phi * s.singular_direction).norm(), sigma_min, 1e-12 * sigma_max) << q;
+  }
+}
+
+TEST(DistanceToSingularity, DecreasesTowardsChangePointAndIsInCsv) {
+  // Along the smooth curve the change point is a transversal zero of det Phi_phi, so
+  // sigma_min ~ |q|: halving the distance halves sigma_min (to 10 %).
+  PositionSolver<FourBar> solver = NeutralSolver();
+  double previous = 0;
+  for (double q : {-0.4, -0.2, -0.1, -0.05, -0.025}) {
+    ASSERT_EQ(solver.MoveTo(Q(q), nullptr), Status::kConverged);
+    if (previous > 0) {
+      EXPECT_NEAR(solver.state().sigma_min / previous, 0.5, 0.05) << q;
+    }
+    previous = solver.state().sigma_min;
+  }
+  std::vector<SweepRecord<FourBar>> records;
+  PositionSolver<FourBar> sweeper = NeutralSolver();
+  Sweep(&sweeper, Q(-1), Q(-0.5), 4, Q(1), Q(0), &records);
+  std::ostringstream csv;
+  WriteCsv(records, csv);
+  const std::string header = csv.str().substr(0, csv.str().find('\n'));
+  EXPECT_NE(header.find(",sigma_min,singular_theta_coupler,singular_theta_rocker"),
+            std::string::npos)
+      << header;
+}
+
+TEST(ChangePoint, SweepStopsSingularAtLastValidConfiguration) {
+  PositionSolver<FourBar> solver = NeutralSolver();
+  std::vector<SweepRecord<FourBar>> records;
+  const int failures = Sweep(&solver, Q(-1), Q(1), 200, Q(1), Q(0), &records);
+  // Rows 0..99 (q <= -0.01) converge on branch +1; row 100 (q = 0) stops, the rest not run.
+  EXPECT_EQ(failures, 101);
+  for (int i = 0; i < 100; ++i) {
+    ASSERT_EQ(records[i].summary.status, Status::kConverged) << i;
+    EXPECT_LT(AngleDistance(records[i].state.phi, ClosedForm(solver.params(), records[i].q(0), +1)),
+              1e-9)
+        << i;
+  }
+  const SweepRecord<FourBar>& stop = records[100];
+  EXPECT_EQ(stop.summary.status, Status::kSingular) << FormatSummary(stop.summary);
+  EXPECT_TRUE(stop.state.valid);
+  EXPECT_LT(stop.state.q(0), 0);
+  EXPECT_GT(stop.state.q(0), -1e-4);
+  EXPECT_EQ(stop.state.branch, records[0].state.branch);
+  EXPECT_LT(AngleDistance(stop.state.phi, ClosedForm(solver.params(), stop.state.q(0), +1)),
+            1e-8);
+  for (int i = 101; i <= 200; ++i) EXPECT_EQ(records[i].summary.status, Status::kNotRun) << i;
+  // The singular direction at the stop is the null vector of Phi_phi at the change point,
+  // where coupler and rocker are collinear (th2 = th3 = 0): Phi_phi = [0, 0; b, -c], null
+  // vector (c, b) / |(c, b)|.
+  const Vec2 v = Vec2(2, 3).normalized();
+  EXPECT_LT((stop.state.singular_direction - v).norm(), 1e-3) << stop.state.singular_direction;
+}
+
+TEST(ChangePoint, OneLongStepOverItStopsInsteadOfSwitchingCurves) {
+  // -0.1 -> +0.1: the first bisection lands exactly on q* = 0, where Newton converges only
+  // linearly to a point ~1e-5 off the crossing with 1/cond ~ 2e-6 and K = (-1, -1), on no
+  // curve; from there the other curve (same sign of det) was reachable. The K guard
+  // (K ~ K0 + L0 dq) refuses that landing, so the step stops before q*.
+  for (double d : {0.1, 0.01, 1e-3}) {
+    PositionSolver<FourBar> solver = NeutralSolver();
+    ASSERT_EQ(solver.MoveTo(Q(-d), nullptr), Status::kConverged);
+    Summary summary;
+    EXPECT_EQ(solver.MoveTo(Q(d), &summary), Status::kSingular) << d << FormatSummary(summary);
+    EXPECT_LT(solver.state().q(0), 0);
+    EXPECT_LT(AngleDistance(solver.state().phi, ClosedForm(solver.params(), solver.state().q(0), +1)),
+              1e-8);
+  }
+}
+
+// After passing, every row must match the closed form of `branch_after` for q > 0, and K
+// its central difference.
+void ExpectPassedOnto(Crossing crossing, int branch_after) {
+  PositionSolver<FourBar> solver = NeutralSolver();
+  std::vector<SweepRecord<FourBar>> records;
+  SweepOptions options;
+  options.at_singularity = crossing;
+  EXPECT_EQ(Sweep(&solver, Q(-1), Q(1), 200, Q(1), Q(0), &records, options), 0);
+  const auto p = solver.params();
+  const double h = 1e-5;
+  for (const SweepRecord<FourBar>& r : records) {
+    ASSERT_EQ(r.summary.status, Status::kConverged) << r.q(0);
+    const double q = r.q(0);
+    const int branch = q < 0 ? +1 : branch_after;
+    EXPECT_LT(AngleDistance(r.state.phi, ClosedForm(p, q, branch)), 1e-9) << q;
+    if (std::abs(q) > 2 * h) {
+      const Vec2 K = (ClosedForm(p, q + h, branch) - ClosedForm(p, q - h, branch)) / (2 * h);
+      EXPECT_LT((r.state.K - K).cwiseAbs().maxCoeff(), 1e-6) << q;
+    }
+  }
+}
+
+TEST(ChangePoint, FollowTangentContinuesOnTheSmoothCurve) {
+  ExpectPassedOnto(Crossing::kFollowTangent, -1);
+}
+
+TEST(ChangePoint, SwitchBranchContinuesOnTheOtherCurve) {
+  ExpectPassedOnto(Crossing::kSwitchBranch, +1);
+}
+
+TEST(ChangePoint, ReverseInputIsRefusedAndStateKept) {
+  PositionSolver<FourBar> solver = NeutralSolver();
+  ASSERT_EQ(solver.MoveTo(Q(0.01), nullptr), Status::kSingular);
+  const State<FourBar> before = solver.state();
+  Summary summary;
+  EXPECT_EQ(solver.PassSingularity(Q(0.01), Crossing::kReverseInput, &summary),
+            Status::kSingular);
+  EXPECT_NE(std::string(summary.reason).find("change point"), std::string::npos)
+      << summary.reason;
+  EXPECT_EQ(solver.state().phi, before.phi);
+  EXPECT_EQ(solver.state().q, before.q);
+  // Far from any singular configuration there is nothing to pass.
+  ASSERT_EQ(solver.MoveTo(Q(-0.5), nullptr), Status::kConverged);
+  EXPECT_EQ(solver.PassSingularity(Q(0.01), Crossing::kFollowTangent, &summary),
+            Status::kSingular);
+}
+
+// The crank position for a rocker angle q: B is an intersection of the circles (A, a) and
+// (C, b), C = (d + c cos q, c sin q). Both intersections, as crank angles.
+void RockerClosedForms(double q, double* crank_plus, double* crank_minus) {
+  const mech::handwritten_rocker_driven::Params<double> p;
+  const double xC = p.d + p.c * std::cos(q), yC = p.c * std::sin(q);
+  const double l2 = xC * xC + yC * yC, l = std::sqrt(l2);
+  const double x = (p.a * p.a - p.b * p.b + l2) / (2 * l);
+  const double h = std::sqrt(std::max(0.0, p.a * p.a - x * x));
+  const double ux = xC / l, uy = yC / l;
+  *crank_plus = std::atan2(x * uy + h * ux, x * ux - h * uy);
+  *crank_minus = std::atan2(x * uy - h * ux, x * ux + h * uy);
+}
+
+TEST(DeadPoint, RockerDrivenSweepReversesAndTheCrankKeepsTurning) {
+  // Driven by the rocker from 2.0 towards 4.0 rad (1000 rows of 2e-3 rad) with Crossing::kReverseInput, the input
+  // bounces between the dead points (141.38 and 101.42 deg) and the crank turns one way,
+  // through more than a full turn: one full cycle of the mechanism.
+  const double th_min = std::acos(-0.197916666666667), th_max = std::acos(-0.78125);
+  PositionSolver<Rocker> solver;
+  ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
+  std::vector<SweepRecord<Rocker>> records;
+  SweepOptions options;
+  options.at_singularity = Crossing::kReverseInput;
+  EXPECT_EQ(Sweep(&solver, Q(2.0), Q(4.0), 1000, Q(1), Q(0), &records, options), 0);
+  int reversals = 0;
+  double crank_turned = 0;
+  for (size_t i = 0; i < records.size(); ++i) {
+    const SweepRecord<Rocker>& r = records[i];
+    ASSERT_EQ(r.summary.status, Status::kConverged) << i << FormatSummary(r.summary);
+    reversals += r.summary.input_reversed;
+    EXPECT_GE(r.state.q(0), th_min - 1e-12);
+    EXPECT_LE(r.state.q(0), th_max + 1e-12);
+    double plus = 0, minus = 0;
+    RockerClosedForms(r.state.q(0), &plus, &minus);
+    EXPECT_LT(std::min(AngleDistance(r.state.phi(0), plus), AngleDistance(r.state.phi(0), minus)),
+              1e-8)
+        << i;
+    EXPECT_LE(testing::ResidualNorm<Rocker>(solver.params(), r.state.q, r.state.phi), 1e-10);
+    if (i > 0) {
+      const double step = std::remainder(r.state.phi(0) - records[i - 1].state.phi(0), 2 * kPi);
+      EXPECT_LT(step, 0) << i;  // the crank turns clockwise throughout
+      crank_turned += step;
+    }
+  }
+  EXPECT_GE(reversals, 2);
+  EXPECT_LT(crank_turned, -2 * kPi);
+}
+
+TEST(DeadPoint, FollowTangentIsRefusedThere) {
+  PositionSolver<Rocker> solver;
+  ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
+  ASSERT_EQ(solver.MoveTo(Q(2.6), nullptr), Status::kSingular);
+  Summary summary;
+  EXPECT_EQ(solver.PassSingularity(Q(2.6), Crossing::kFollowTangent, &summary),
+            Status::kSingular);
+  EXPECT_NE(std::string(summary.reason).find("dead point"), std::string::npos);
+  EXPECT_EQ(solver.PassSingularity(Q(2.6), Crossing::kReverseInput, &summary),
+            Status::kConverged)
+      << FormatSummary(summary);
+  EXPECT_TRUE(summary.input_reversed);
+}
+
+TEST(HostileInput, AbsurdlyFarNonFiniteInputsAreRefusedAndNextCallWorks) {
+  PositionSolver<FourBar> solver;
+  ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
+  for (double q : {1e6, -1e6, 1e300, -1e300, double(INFINITY), double(-INFINITY), double(NAN),
+                   1.5707963267948966 + 1000.5}) {
+    const State<FourBar> before = solver.state();
+    Summary summary;
+    EXPECT_EQ(solver.MoveTo(Q(q), &summary), Status::kInvalidInput) << q;
+    EXPECT_GT(std::string(summary.reason).size(), 0u);
+    EXPECT_EQ(solver.state().phi, before.phi);
+    EXPECT_EQ(solver.state().q, before.q);
+    ASSERT_EQ(solver.MoveTo(Q(0.5), &summary), Status::kConverged) << FormatSummary(summary);
+    EXPECT_LT(AngleDistance(solver.state().phi, ClosedForm(solver.params(), 0.5, +1)), 1e-9);
+  }
+}
+
+TEST(HostileInput, LongButSaneStepStaysOnBranch) {
+  // 999 rad (159 turns) in one call: sub-steps limited by Options::max_predicted_angle keep
+  // the branch; before that limit, one sub-step accepted a phi ~ 1e5 rad away.
+  PositionSolver<FourBar> solver;
+  ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
+  const double q = 1.5707963267948966 + 999;
+  Summary summary;
+  ASSERT_EQ(solver.MoveTo(Q(q), &summary), Status::kConverged) << FormatSummary(summary);
+  EXPECT_LT(AngleDistance(solver.state().phi, ClosedForm(solver.params(), q, +1)), 1e-9);
+  EXPECT_LT(solver.state().phi.cwiseAbs().maxCoeff(), 2 * kPi + 1);
+}
+
+}  // namespace
+}  // namespace mechgen
