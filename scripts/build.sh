@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
-# Configures and builds mechgen in ./build (Release, Ninja). Used by the two commands.
+# Installs what is missing, configures ./build (Release, Ninja) and builds the given
+# targets (all when none). Used by the README's two commands.
+#   bash scripts/build.sh [target ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build --parallel 2
+targets=()
+for t in "$@"; do targets+=(--target "$t"); done
+echo "mechgen: building ${*:-everything} in ./build (first time: several minutes on 2 cores)"
+cmake --build build --parallel 2 "${targets[@]}" -- --quiet

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Second CI stage: builds the test suite with AddressSanitizer and UndefinedBehaviorSanitizer
-# in ./build-asan (MECHGEN_ASAN_BUILD overrides) and runs ctest there. Called by .ci/run
-# after scripts/test.sh. Benchmarks are not built. Every test runs; extra ctest arguments
+# Second stage of the test command: builds the test suite with AddressSanitizer and
+# UndefinedBehaviorSanitizer in ./build-asan (MECHGEN_ASAN_BUILD overrides) and runs ctest
+# there. Called by scripts/test.sh (and so by .ci/run) after the Release suite. Benchmarks are not built. Every test runs; extra ctest arguments
 # are passed on (e.g. -R runtime to restrict it).
 #   bash scripts/sanitize.sh
 set -euo pipefail
@@ -19,6 +19,6 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS="$sanitize" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
-cmake --build "$build" --parallel 2
+cmake --build "$build" --parallel 2 -- --quiet
 ctest --test-dir "$build" --output-on-failure --parallel 2 "$@"
 echo "sanitize: build and tests took $(( $(date +%s) - start )) s"

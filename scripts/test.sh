@@ -1,6 +1,11 @@
 #!/usr/bin/env bash
-# The README's second command: install what is missing, build, run the whole test suite.
+# The README's second command: install what is missing, build everything, run the whole
+# test suite (ctest), then the same suite built with AddressSanitizer and
+# UndefinedBehaviorSanitizer (scripts/sanitize.sh; MECHGEN_SANITIZERS=0 skips that stage).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
 ctest --test-dir build --output-on-failure --parallel 2 "$@"
+if [ "${MECHGEN_SANITIZERS:-1}" != "0" ]; then
+  bash scripts/sanitize.sh "$@"
+fi
