@@ -46,6 +46,13 @@ void Recognize(const Kinematics& k, Block* b) {
   if (b->rows.size() == 1) {
     const Coordinate& c = k.phi[b->cols[0]];
     const ex f = k.Phi[b->rows[0]].expand();
+    // Linear in its unknown (a gear mesh, a cam law, a no-slip condition): c0 + c1 x = 0.
+    if (f.degree(c.symbol) == 1 && !f.coeff(c.symbol, 1).has(c.symbol) && !f.coeff(c.symbol, 0).has(c.symbol)) {
+      b->solve = BlockSolve::kLinear;
+      b->c0 = f.coeff(c.symbol, 0);
+      b->c1 = f.coeff(c.symbol, 1);
+      return;
+    }
     if (c.is_angle) {
       GiNaC::symbol C("C"), S("S");
       GiNaC::exmap m;
@@ -65,10 +72,34 @@ void Recognize(const Kinematics& k, Block* b) {
     }
     return;
   }
-  if (b->rows.size() != 2 || b->rows[0] / 2 != b->rows[1] / 2) return;
+  if (b->rows.size() != 2) return;
   const Vec2 phi = {k.Phi[b->rows[0]], k.Phi[b->rows[1]]};
   const Coordinate& c0 = k.phi[b->cols[0]];
   const Coordinate& c1 = k.phi[b->cols[1]];
+  // Two equations linear in both unknowns (coupled gear meshes of a planetary train): by
+  // Cramer's rule, as the line-line dyad below.
+  if (c0.is_angle || c1.is_angle || k.Phi_group[b->rows[0]] != k.Phi_group[b->rows[1]]) {
+    Vec2 e0, e1, w0;
+    bool linear = true;
+    for (int a = 0; a < 2 && linear; ++a) {
+      const ex f = phi[a].expand();
+      if (f.degree(c0.symbol) > 1 || f.degree(c1.symbol) > 1) linear = false;
+      e0[a] = f.coeff(c0.symbol, 1);
+      e1[a] = f.coeff(c1.symbol, 1);
+      w0[a] = f.coeff(c0.symbol, 0).coeff(c1.symbol, 0);
+      for (const ex& e : {e0[a], e1[a], w0[a]})
+        if (e.has(c0.symbol) || e.has(c1.symbol)) linear = false;
+    }
+    if (linear) {
+      b->solve = BlockSolve::kSS;
+      b->e0 = e0;
+      b->e1 = e1;
+      b->w0 = w0;
+      return;
+    }
+    // Different closures: no dyad of one vector equation.
+    if (k.Phi_group[b->rows[0]] != k.Phi_group[b->rows[1]]) return;
+  }
   for (int iu = 0; iu < 2; ++iu) {
     const Coordinate& u = iu == 0 ? c0 : c1;
     const Coordinate& x = iu == 0 ? c1 : c0;
@@ -126,7 +157,8 @@ double AngleDistance(double a, double b) { return std::abs(std::remainder(a - b,
 void ChooseMode(const Kinematics& k, Block* b, GiNaC::exmap* values) {
   if (b->solve == BlockSolve::kNewton || b->solve == BlockSolve::kSS) return;
   if (b->solve == BlockSolve::kLinear) {
-    (*values)[k.phi[b->cols[0]].symbol] = -Eval(b->c0, *values) / Eval(b->c1, *values);
+    const double x = -Eval(b->c0, *values) / Eval(b->c1, *values);
+    if (std::isfinite(x)) (*values)[k.phi[b->cols[0]].symbol] = x;  // (a cam law has no numeric value here)
     return;
   }
   if (b->solve == BlockSolve::kAngle) {
@@ -204,6 +236,7 @@ std::string Block::Describe(const Kinematics& k) const {
     case BlockSolve::kRS:
       return s + ": closed form, angle and slide (RRP/RPR dyad, circle-line), mode " + std::to_string(default_mode);
     case BlockSolve::kSS:
+      if (k.phi[cols[0]].is_angle || k.phi[cols[1]].is_angle) return s + ": closed form, linear 2x2 (Cramer)";
       return s + ": closed form, two slides (PRP dyad, line-line)";
     case BlockSolve::kAngle:
       return s + ": closed form, one angle (acos), mode " + std::to_string(default_mode);

@@ -200,6 +200,12 @@ std::string CxxPrinter::Print(const GiNaC::ex& e, OpCounts* ops) {
 
   if (is_a<GiNaC::function>(e)) {
     std::string name = ex_to<GiNaC::function>(e).get_name();
+    if (name == "camlaw") {
+      const auto it = cam_laws_.find(ex_to<GiNaC::numeric>(e.op(0)).to_int());
+      if (it == cam_laws_.end()) throw std::logic_error("mechgen bug: no C++ name for a cam law");
+      if (ops) ops->calls += 1;
+      return it->second + "(p, " + Print(e.op(2), ops) + ", " + std::to_string(ex_to<GiNaC::numeric>(e.op(1)).to_int()) + ")";
+    }
     if (name == "arctan") name = "atan";
     if (name == "arcsin") name = "asin";
     if (name == "arccos") name = "acos";

@@ -30,6 +30,8 @@ class CxxPrinter {
  public:
   /// Gives symbol `s` the C++ spelling `name` (e.g. q(0), p.a, _tmp3).
   void Name(const GiNaC::ex& s, const std::string& name);
+  /// camlaw(index, d, x) (cam.h) prints as `name(p, x, d)`.
+  void NameCamLaw(int index, const std::string& name) { cam_laws_[index] = name; }
   /// C++ text of `e`; adds its operations to *ops when not null.
   std::string Print(const GiNaC::ex& e, OpCounts* ops = nullptr);
   /// A stable sort key for `e` (its printed text), memoized.
@@ -40,6 +42,7 @@ class CxxPrinter {
   std::string PrintFactor(const GiNaC::ex& e, OpCounts* ops);
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> names_;
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> keys_;
+  std::map<int, std::string> cam_laws_;
 };
 
 /// One statement of a function body.

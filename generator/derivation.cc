@@ -107,6 +107,7 @@ struct BlockSolver {
   int index;
   bool closed_form;
   GiNaC::matrix inv;  // closed form: J^-1 in terms of named entries
+  std::vector<bool> inv_named;  // closed form: entry (r, c) named yet
   std::string lu;     // numeric: the LU's name
 
   BlockSolver(const Block& b, int i, const Kinematics& k, Program* P, CxxPrinter* printer)
@@ -124,11 +125,7 @@ struct BlockSolver {
       P->push_back(Define("det_block" + N(i), J.determinant(GiNaC::determinant_algo::laplace), &det));
       P->push_back(Define("inv_det_block" + N(i), 1 / det, &inv_det));
       inv = AdjugateInverse(J, inv_det);
-      // The inverse's entries are named: K and L (one column per input pair) share them.
-      for (int r = 0; r < n; ++r)
-        for (int c = 0; c < n; ++c)
-          if (!GiNaC::is_a<GiNaC::symbol>(inv(r, c)) && !GiNaC::is_a<GiNaC::numeric>(inv(r, c)))
-            P->push_back(Define("Phi_phi_inv_" + N(b.cols[r]) + "_" + N(b.rows[c]), inv(r, c), &inv(r, c)));
+      inv_named.assign(n * n, false);
     } else {
       const std::string sz = N(n);
       lu = "lu_block" + N(i);
@@ -153,6 +150,19 @@ struct BlockSolver {
       // many more products (and GiNaC's sign normalization of sums inside products depends
       // on its run-dependent term order).
       std::vector<std::vector<ex>> Rn(n, std::vector<ex>(m));
+      // The inverse's entries are named: K and L (one column per input pair) share them.
+      // An entry is named where it is first used: its column's right-hand sides can all
+      // be zero (a planetary train's ring mesh has no Phi_q), and an unused local is a
+      // warning in the generated code.
+      for (int r = 0; r < n; ++r)
+        for (int c = 0; c < n; ++c) {
+          bool used = false;
+          for (int j = 0; j < m; ++j) used |= !R[c][j].expand().is_zero();
+          if (!used || inv_named[r * n + c]) continue;
+          inv_named[r * n + c] = true;
+          if (!GiNaC::is_a<GiNaC::symbol>(inv(r, c)) && !GiNaC::is_a<GiNaC::numeric>(inv(r, c)))
+            P->push_back(Define("Phi_phi_inv_" + N(block.cols[r]) + "_" + N(block.rows[c]), inv(r, c), &inv(r, c)));
+        }
       for (int r = 0; r < n; ++r)
         for (int j = 0; j < m; ++j) {
           const ex e = R[r][j].expand();
@@ -327,6 +337,8 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Stra
   for (int i = 0; i < nq; ++i) printer->Name(k.q[i].symbol, "q(" + std::to_string(i) + ")");
   for (int i = 0; i < nphi; ++i) printer->Name(k.phi[i].symbol, "phi(" + std::to_string(i) + ")");
   for (const Parameter& p : m.params) printer->Name(p.symbol, "p." + p.name);
+  for (const CamLaw& law : k.cam_laws) printer->NameCamLaw(m.joints[law.joint].cam_index, law.cxx_name);
+  for (const CamGeometry& g : k.cam_geometry) printer->Name(g.x, "x");
   d.blocks = OrderBlocks(m, k, strategy);
   const auto& blocks = d.blocks;
 

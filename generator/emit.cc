@@ -182,6 +182,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.SetList("phi_doc", phidoc, {"index", "name", "what"});
   for (int i = 0; i < k.nc(); ++i) {
     CxxPrinter plain;  // GiNaC's own term order varies between runs: print ours
+    for (const CamLaw& law : k.cam_laws) plain.NameCamLaw(m.joints[law.joint].cam_index, law.cxx_name);
     for (const auto& c : k.q) plain.Name(c.symbol, c.name);
     for (const auto& c : k.phi) plain.Name(c.symbol, c.name);
     for (const auto& p : m.params) plain.Name(p.symbol, p.name);
@@ -228,6 +229,27 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
                                                      "  const Scalar tol = tolerance > Scalar(0) ? tolerance : Scalar(sizeof(Scalar) <= 4 ? 1e-5 : 1e-12);\n  (void)tol;\n" +
                                                      unused + "  (void)modes;\n  (void)max_iterations;\n  (void)tolerance;\n") +
                                 "\n  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};");
+  // Cams: the law's function and the cam's geometry (pressure angle, curvature, profile).
+  std::string cams;
+  std::vector<std::map<std::string, std::string>> cam_doc;
+  for (size_t c = 0; c < k.cam_laws.size(); ++c) {
+    const Joint& j = m.joints[k.cam_laws[c].joint];
+    cams += EmitCamLaw(m, k.cam_laws[c], printer) + "\n";
+    const Body g = EmitProgram(k.cam_geometry[c].program, printer);
+    cams += "/**\n * \\brief Cam '" + j.name +
+            "' at cam angle x (the cam's angle relative to the carrier, radians): the\n"
+            " * follower's coordinate y = start + law(x - phase) and its x-derivatives, the pressure angle,\n"
+            " * the radii of curvature of the pitch curve and of the profile, and the contact point on\n"
+            " * the profile in the cam's frame (see CamState).\n */\n"
+            "template <typename Scalar>\nvoid EvalCam_" + j.name +
+            "(const Params<Scalar>& p, const Scalar& x, CamState<Scalar>* out) {\n" +
+            BodyText(g, math + "  (void)p;\n") + "\n}\n";
+    if (c + 1 < k.cam_laws.size()) cams += "\n";
+    for (const auto& l : Lines(k.cam_summary[c])) cam_doc.push_back(l);
+  }
+  data.Set("has_cams", !cams.empty());
+  data.Set("cam_functions", cams);
+  data.SetList("cam_doc", cam_doc, {"line"});
   std::vector<std::map<std::string, std::string>> blocks_doc;
   for (size_t i = 0; i < d.blocks.size(); ++i)
     blocks_doc.push_back({{"index", std::to_string(i)}, {"text", d.blocks[i].Describe(k)}});

@@ -1,6 +1,8 @@
 // Joint equations. See joints.h.
 #include "joints.h"
 
+#include "cam.h"
+
 namespace mechgen {
 namespace {
 
@@ -13,7 +15,30 @@ Vec2 LineDirection(const Joint& j, const Frame& guide) {
   return {cos(guide.theta + j.angle), sin(guide.theta + j.angle)};
 }
 
+// Rolling joint geometry on the base link (frame `base`, contact parameter v): the unit
+// vector e from the base point toward the wheel's centre and the centre's distance from
+// the base point along it, on top of the contact point's offset.
+//   line:   contact Q = G + v u, centre C = Q + r n (n: u turned +90 deg, the wheel's side)
+//   circle: contact Q = O + R e(theta_b + v), centre C = O + (R +- r) e(theta_b + v)
+Vec2 RollCentreOffset(const Joint& j, const GiNaC::ex& theta_base, const GiNaC::ex& v) {
+  if (j.on_line) {
+    const GiNaC::ex a = theta_base + j.angle;
+    return {v * cos(a) - j.radius * sin(a), v * sin(a) + j.radius * cos(a)};
+  }
+  const GiNaC::ex d = j.internal ? j.radius2 - j.radius : j.radius2 + j.radius;
+  return {d * cos(theta_base + v), d * sin(theta_base + v)};
+}
+
 }  // namespace
+
+Vec2 ContactPosition(const Model& m, const Joint& j, const Frame& base, const GiNaC::ex& v) {
+  const Vec2 a = PointPosition(m, j.a, base);
+  if (j.on_line) {
+    const GiNaC::ex ang = base.theta + j.angle;
+    return {a[0] + v * cos(ang), a[1] + v * sin(ang)};
+  }
+  return {a[0] + j.radius2 * cos(base.theta + v), a[1] + j.radius2 * sin(base.theta + v)};
+}
 
 Vec2 PointPosition(const Model& m, PointRef ref, const Frame& f) {
   const LinkPoint& p = m.links[ref.link].points[ref.point];
@@ -29,6 +54,15 @@ Frame PlaceChild(const Model& m, const Joint& j, int parent, const Frame& fp,
   fc.theta = child_theta;
   // World position the child's joint point must take.
   Vec2 w = PointPosition(m, pref, fp);
+  if (j.type == JointType::kRoll) {
+    if (child_is_b) {  // parent is the base: the wheel's centre is placed on it
+      const Vec2 d = RollCentreOffset(j, fp.theta, s);
+      w = {w[0] + d[0], w[1] + d[1]};
+    } else {  // parent is the wheel: the base point lies back from the centre
+      const Vec2 d = RollCentreOffset(j, child_theta, s);
+      w = {w[0] - d[0], w[1] - d[1]};
+    }
+  }
   if (j.type == JointType::kPrismatic) {
     // Slider point b = guide point a + s u, with u along the line of the guide link.
     if (child_is_b) {  // parent guides, child slides
@@ -48,18 +82,69 @@ Frame PlaceChild(const Model& m, const Joint& j, int parent, const Frame& fp,
   return fc;
 }
 
-std::vector<GiNaC::ex> ClosureEquations(const Model& m, const Joint& j, const Frame& fa,
-                                        const Frame& fb, const GiNaC::ex& s) {
-  const Vec2 ra = PointPosition(m, j.a, fa), rb = PointPosition(m, j.b, fb);
+std::vector<JointEquation> JointEquations(const Model& m, int joint, bool cut, const std::vector<Frame>& frames,
+                                          const std::vector<GiNaC::ex>& var) {
+  const Joint& j = m.joints[joint];
+  const Frame& fa = frames[j.a.link];
+  const Frame& fb = frames[j.b.link];
+  const GiNaC::ex& s = var[joint];
+  std::vector<JointEquation> rows;
+  auto pair = [&](const Vec2& d) {
+    rows.push_back({d[0], "x", true});
+    rows.push_back({d[1], "y", true});
+  };
   switch (j.type) {
-    case JointType::kRevolute:  // r_a - r_b = 0
-      return {ra[0] - rb[0], ra[1] - rb[1]};
+    case JointType::kRevolute: {  // r_a - r_b = 0
+      const Vec2 ra = PointPosition(m, j.a, fa), rb = PointPosition(m, j.b, fb);
+      if (cut) pair({ra[0] - rb[0], ra[1] - rb[1]});
+      break;
+    }
     case JointType::kPrismatic: {  // r_a + s u - r_b = 0
+      const Vec2 ra = PointPosition(m, j.a, fa), rb = PointPosition(m, j.b, fb);
       const Vec2 u = LineDirection(j, fa);
-      return {ra[0] + s * u[0] - rb[0], ra[1] + s * u[1] - rb[1]};
+      if (cut) pair({ra[0] + s * u[0] - rb[0], ra[1] + s * u[1] - rb[1]});
+      break;
+    }
+    case JointType::kRoll: {
+      // Contact: the wheel's centre on its line or circle (r_a + d(v) - r_b = 0).
+      if (cut) {
+        const Vec2 ra = PointPosition(m, j.a, fa), rb = PointPosition(m, j.b, fb);
+        const Vec2 d = RollCentreOffset(j, fa.theta, s);
+        pair({ra[0] + d[0] - rb[0], ra[1] + d[1] - rb[1]});
+      }
+      // No slip: equal arc lengths on both contours since phase. Line: the contact runs
+      // v = phase - r (theta_w - theta_b). Circle of radius R, contact angle psi (in the
+      // base's frame): R psi +- r (psi + theta_b - theta_w) = phase (+ outside, - inside).
+      const GiNaC::ex rel = fb.theta - fa.theta;
+      if (j.on_line)
+        rows.push_back({s + j.radius * rel - j.phase, "no slip", false});
+      else
+        rows.push_back({j.radius2 * s + (j.internal ? -1 : 1) * j.radius * (s - rel) - j.phase, "no slip", false});
+      break;
+    }
+    case JointType::kGear: {  // r1 (th1 - thc) +- r2 (th2 - thc) = phase
+      const GiNaC::ex tc = frames[j.carrier].theta;
+      rows.push_back({j.radius * (fa.theta - tc) + (j.internal ? -1 : 1) * j.radius2 * (fb.theta - tc) - j.phase,
+                      j.internal ? "internal gear mesh" : "gear mesh", false});
+      break;
+    }
+    case JointType::kRack:  // s + r (th_pinion - th_guide) = phase
+      rows.push_back({var[j.other_joint] + j.radius * (fa.theta - frames[j.carrier].theta) - j.phase,
+                      "rack mesh", false});
+      break;
+    case JointType::kCam: {  // y_follower - start - law(th_cam - th_carrier - phase) = 0
+      const Joint& fj = m.joints[j.other_joint];
+      const GiNaC::ex tc = frames[j.carrier].theta;
+      const GiNaC::ex y = fj.type == JointType::kPrismatic ? var[j.other_joint] : fb.theta - tc;
+      rows.push_back({y - j.start - camlaw(j.cam_index, 0, fa.theta - tc - j.phase), "cam law", false});
+      break;
     }
   }
-  return {};
+  // Products of sums (r1 (th1 - thc)) print with a sign GiNaC picks by its run-dependent
+  // term order: the header's equation text must be the same on every run.
+  for (JointEquation& r : rows)
+    if (!r.pair) r.value = r.value.expand();
+  return rows;
 }
 
 }  // namespace mechgen

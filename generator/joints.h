@@ -25,9 +25,22 @@ Vec2 PointPosition(const Model& m, PointRef ref, const Frame& f);
 Frame PlaceChild(const Model& m, const Joint& j, int parent, const Frame& fp,
                  const GiNaC::ex& child_theta, const GiNaC::ex& s);
 
-/// Cut joint `j` closing a loop: its two scalar closure equations, given the frames of
-/// the links at its ends (fa for j.a.link, fb for j.b.link).
-std::vector<GiNaC::ex> ClosureEquations(const Model& m, const Joint& j, const Frame& fa,
-                                        const Frame& fb, const GiNaC::ex& s);
+/// One scalar equation of Phi and where it comes from.
+struct JointEquation {
+  GiNaC::ex value;
+  std::string what;  ///< "x", "y", "no slip", "gear mesh", "cam law"
+  bool pair = false; ///< the x or y projection of a vector closure (dyad recognition)
+};
+
+/// The equations joint `joint` adds to Phi. A cut lower pair closes its loop with its two
+/// vector projections (x, y); a rolling joint adds its no-slip equation whether it is a cut
+/// or a tree joint; a higher pair (gear, rack, cam) adds its one equation.
+/// \param frames  every link's frame; \param var  every joint's variable (s, psi; 0 if none).
+std::vector<JointEquation> JointEquations(const Model& m, int joint, bool cut, const std::vector<Frame>& frames,
+                                          const std::vector<GiNaC::ex>& var);
+
+/// The contact point of rolling joint `j` in the fixed frame: on the line or circle of the
+/// base link (frame `base`) at contact parameter `v`.
+Vec2 ContactPosition(const Model& m, const Joint& j, const Frame& base, const GiNaC::ex& v);
 
 }  // namespace mechgen

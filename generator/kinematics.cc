@@ -27,12 +27,26 @@ Kinematics DeriveKinematics(const Model& m, const Topology& t) {
     all.push_back(c);
   }
   for (size_t j = 0; j < m.joints.size(); ++j) {
-    if (m.joints[j].type != JointType::kPrismatic) continue;
-    const std::string& name = m.joints[j].name;
-    Coordinate c{"s_" + name,
-                 "displacement of slider '" + name + "' (" + m.PointName(m.joints[j].b) +
-                     " from " + m.PointName(m.joints[j].a) + " along the line)",
-                 false, GiNaC::symbol("s_" + name, "s_{\\mathrm{" + name + "}}")};
+    const Joint& jt = m.joints[j];
+    const std::string& name = jt.name;
+    Coordinate c;
+    if (jt.type == JointType::kPrismatic) {
+      c = {"s_" + name,
+           "displacement of slider '" + name + "' (" + m.PointName(jt.b) + " from " + m.PointName(jt.a) +
+               " along the line)",
+           false, GiNaC::symbol("s_" + name, "s_{\\mathrm{" + name + "}}")};
+    } else if (jt.type == JointType::kRoll && jt.on_line) {
+      c = {"s_" + name,
+           "contact point of rolling joint '" + name + "' from " + m.PointName(jt.a) + " along the line",
+           false, GiNaC::symbol("s_" + name, "s_{\\mathrm{" + name + "}}")};
+    } else if (jt.type == JointType::kRoll) {
+      c = {"psi_" + name,
+           "contact angle of rolling joint '" + name + "' about " + m.PointName(jt.a) + ", in the frame of '" +
+               m.links[jt.a.link].name + "'",
+           true, GiNaC::symbol("psi_" + name, "\\psi_{\\mathrm{" + name + "}}")};
+    } else {
+      continue;
+    }
     coord_of_joint[j] = static_cast<int>(all.size());
     joint_s[j] = c.symbol;
     all.push_back(c);
@@ -68,18 +82,21 @@ Kinematics DeriveKinematics(const Model& m, const Topology& t) {
     k.frames[l] = PlaceChild(m, j, parent, k.frames[parent], theta, joint_s[jn]);
   }
 
-  // ---- closure equations, two per loop (cut joint) ----
-  for (size_t li = 0; li < t.loops.size(); ++li) {
-    const Joint& j = m.joints[t.loops[li].cut_joint];
-    const auto rows =
-        ClosureEquations(m, j, k.frames[j.a.link], k.frames[j.b.link], joint_s[t.loops[li].cut_joint]);
-    const char* axis[] = {"x", "y"};
-    for (size_t r = 0; r < rows.size(); ++r) {
-      k.Phi.push_back(rows[r]);
-      k.Phi_source.push_back("loop " + std::to_string(li + 1) + ", joint " + j.name + ", " +
-                             axis[r % 2]);
+  // ---- closure equations: two per lower-pair loop, one per higher-pair loop, and the
+  // no-slip equation of every rolling joint (also when it is a tree joint) ----
+  auto add_rows = [&](int joint, bool cut, const std::string& where) {
+    const auto rows = JointEquations(m, joint, cut, k.frames, joint_s);
+    const int group = static_cast<int>(k.Phi.size());
+    for (const JointEquation& r : rows) {
+      k.Phi_group.push_back(r.pair ? group : static_cast<int>(k.Phi.size()));
+      k.Phi.push_back(r.value);
+      k.Phi_source.push_back(where + "joint " + m.joints[joint].name + ", " + r.what);
     }
-  }
+  };
+  for (size_t li = 0; li < t.loops.size(); ++li)
+    add_rows(t.loops[li].cut_joint, true, "loop " + std::to_string(li + 1) + ", ");
+  for (int j : t.tree_joints)
+    if (m.joints[j].type == JointType::kRoll) add_rows(j, false, "");
   k.Phi_phi = GiNaC::matrix(k.nc(), k.nphi());
   k.Phi_q = GiNaC::matrix(k.nc(), k.nq());
   for (int i = 0; i < k.nc(); ++i) {
@@ -87,9 +104,23 @@ Kinematics DeriveKinematics(const Model& m, const Topology& t) {
     for (int j = 0; j < k.nq(); ++j) k.Phi_q(i, j) = k.Phi[i].diff(k.q[j].symbol);
   }
 
+  // ---- cams: the law's segments (checked to close the cycle) and the cam's geometry
+  // (checked for undercutting) ----
+  for (const Joint& j : m.joints) {
+    if (j.type != JointType::kCam) continue;
+    k.cam_laws.push_back(BuildCamLaw(m, j));
+    k.cam_geometry.push_back(DeriveCamGeometry(m, j));
+    k.cam_summary.push_back(CheckCam(m, j, k.cam_laws.back(), k.cam_geometry.back()));
+  }
+
   // ---- points ----
+  auto position = [&](const PointRef& r) {
+    if (r.contact_joint < 0) return PointPosition(m, r, k.frames[r.link]);
+    const Joint& j = m.joints[r.contact_joint];
+    return ContactPosition(m, j, k.frames[j.a.link], joint_s[r.contact_joint]);
+  };
   for (const PointRef& r : m.outputs.points) {
-    k.points.push_back(PointPosition(m, r, k.frames[r.link]));
+    k.points.push_back(position(r));
     k.point_names.push_back(m.PointName(r));
   }
   if (m.outputs.scene) {
@@ -100,6 +131,14 @@ Kinematics DeriveKinematics(const Model& m, const Topology& t) {
         k.scene_names.push_back(m.PointName(r));
         k.scene_link.push_back(l);
       }
+    // Contact points of rolling joints, drawn with the wheel.
+    for (size_t j = 0; j < m.joints.size(); ++j) {
+      if (m.joints[j].type != JointType::kRoll) continue;
+      const PointRef r{m.joints[j].b.link, -1, static_cast<int>(j)};
+      k.scene.push_back(position(r));
+      k.scene_names.push_back(m.PointName(r));
+      k.scene_link.push_back(r.link);
+    }
   }
 
   // ---- assembly guess ----

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cam.h"
 #include "joints.h"
 #include "model.h"
 #include "topology.h"
@@ -25,6 +26,7 @@ struct Kinematics {
   std::vector<Frame> frames;            ///< per link
   std::vector<GiNaC::ex> Phi;           ///< closure equations, 2 per loop
   std::vector<std::string> Phi_source;  ///< which joint and projection each row comes from
+  std::vector<int> Phi_group;           ///< rows with equal group: x and y of one vector closure
   GiNaC::matrix Phi_phi, Phi_q;         ///< dPhi/dphi (nc x nphi), dPhi/dq (nc x nq)
   std::vector<Vec2> points;             ///< requested points of interest
   std::vector<std::string> point_names;
@@ -33,6 +35,9 @@ struct Kinematics {
   std::vector<int> scene_link;
   std::vector<double> assembly_q, assembly_phi;
   std::vector<double> q_min, q_max;
+  std::vector<CamLaw> cam_laws;              ///< per cam joint, in file order
+  std::vector<CamGeometry> cam_geometry;     ///< per cam joint
+  std::vector<std::string> cam_summary;      ///< pressure angle and curvature over a turn
 
   int nq() const { return static_cast<int>(q.size()); }
   int nphi() const { return static_cast<int>(phi.size()); }

@@ -143,6 +143,18 @@ class Reader {
     Fail(node, what + ": unknown link '" + link + "'; the links are: " + list);
   }
 
+  // "<rolling joint>.contact": the contact point of a rolling joint; else link = -1.
+  PointRef ContactPoint(const YAML::Node& node) const {
+    if (!node.IsScalar()) return {};
+    const std::string text = node.as<std::string>();
+    const auto dot = text.find('.');
+    if (dot == std::string::npos || text.substr(dot + 1) != "contact") return {};
+    for (size_t k = 0; k < m_.joints.size(); ++k)
+      if (m_.joints[k].name == text.substr(0, dot) && m_.joints[k].type == JointType::kRoll)
+        return {m_.joints[k].b.link, -1, static_cast<int>(k)};
+    return {};
+  }
+
   SourceMark KeyMark(const YAML::Node& value) const {
     auto it = keymarks_.find(value.Mark().pos);
     return it == keymarks_.end() ? MarkOf(value) : it->second;
@@ -223,24 +235,94 @@ class Reader {
       Fail(node, "no ground link; mark the fixed frame with 'ground: true'");
   }
 
+  // A link by name -> its index.
+  int LinkIndex(const YAML::Node& node, const std::string& what) const {
+    const std::string text = Scalar(node, what);
+    for (size_t i = 0; i < m_.links.size(); ++i)
+      if (m_.links[i].name == text) return static_cast<int>(i);
+    std::string list;
+    for (const auto& l : m_.links) list += (list.empty() ? "" : ", ") + l.name;
+    Fail(node, what + ": unknown link '" + text + "'; the links are: " + list);
+  }
+
+  bool Bool(const YAML::Node& node, const std::string& what) const {
+    const std::string v = Scalar(node, what);
+    if (v != "true" && v != "false") Fail(node, what + " must be true or false");
+    return v == "true";
+  }
+
+  // The cam's follower law: a list of {dwell: angle} / {rise|return: angle, lift: h,
+  // motion: cycloidal|harmonic|poly345}.
+  std::vector<CamSegment> ReadLaw(const YAML::Node& node, const std::string& joint) const {
+    if (!node.IsSequence() || node.size() == 0)
+      Fail(node, "law of cam '" + joint + "' must be a list of segments: - {dwell: 90*deg} "
+                 "- {rise: 120*deg, lift: h, motion: cycloidal} ...");
+    std::vector<CamSegment> out;
+    for (const auto& item : node) {
+      CamSegment seg;
+      seg.mark = MarkOf(item);
+      bool has_lift = false, has_kind = false;
+      for (const auto& [key, value] : Entries(item, "law segment", {"dwell", "rise", "return", "lift", "motion"})) {
+        if (key == "dwell" || key == "rise" || key == "return") {
+          if (has_kind) Fail(value, "a law segment is one of dwell, rise or return, not two");
+          has_kind = true;
+          seg.kind = key == "dwell" ? CamSegment::Kind::kDwell
+                     : key == "rise" ? CamSegment::Kind::kRise
+                                     : CamSegment::Kind::kReturn;
+          seg.duration = Expression(value, key + " angle");
+          if (!(Number(value, key + " angle") > 0))
+            Fail(value, key + " angle must be positive (a cam angle such as 90*deg)");
+        } else if (key == "lift") {
+          seg.lift = Expression(value, "lift");
+          has_lift = true;
+        } else {
+          const std::string mo = Scalar(value, "motion");
+          if (mo == "cycloidal") seg.motion = CamSegment::Motion::kCycloidal;
+          else if (mo == "harmonic") seg.motion = CamSegment::Motion::kHarmonic;
+          else if (mo == "poly345") seg.motion = CamSegment::Motion::kPoly345;
+          else Fail(value, "unknown motion '" + mo + "'; use cycloidal, harmonic or poly345");
+        }
+      }
+      if (!has_kind) Fail(item, "a law segment needs dwell:, rise: or return: with its cam angle");
+      if (seg.kind == CamSegment::Kind::kDwell) {
+        if (has_lift || seg.motion != CamSegment::Motion::kNone)
+          Fail(item, "a dwell has no lift and no motion; give only {dwell: angle}");
+      } else {
+        if (!has_lift) Fail(item, "a rise or return needs lift: (the follower's travel)");
+        if (seg.motion == CamSegment::Motion::kNone)
+          Fail(item, "a rise or return needs motion: cycloidal, harmonic or poly345");
+      }
+      out.push_back(seg);
+    }
+    return out;
+  }
+
   void ReadJoints(const YAML::Node& node) {
     if (!node) m_.Fail({}, "the model has no 'joints'");
+    struct Pending {
+      size_t joint;
+      YAML::Node node;
+      std::string name;
+    };
+    std::vector<Pending> pending;  // joint references, resolved once all joints are read
+    int cams = 0;
     for (const auto& [name, spec] : Entries(node, "joints")) {
       Joint j;
       j.name = name;
       j.mark = KeyMark(spec);
       if (!IsIdentifier(name)) m_.Fail(j.mark, "joint name '" + name + "' must be an identifier");
-      auto entries = Entries(spec, "joint '" + name + "'", {"revolute", "prismatic"});
+      auto entries = Entries(spec, "joint '" + name + "'", {"revolute", "prismatic", "roll", "gear", "rack", "cam"});
       if (entries.size() != 1)
-        Fail(spec, "joint '" + name + "' must have exactly one kind: revolute or prismatic");
+        Fail(spec, "joint '" + name + "' must have exactly one kind: revolute, prismatic, roll, gear, rack or cam");
       const auto& [kind, body] = entries[0];
+      const std::string jn = "joint '" + name + "'";
       if (kind == "revolute") {
         j.type = JointType::kRevolute;
         if (!body.IsSequence() || body.size() != 2)
           Fail(body, "revolute joint '" + name + "' takes two link points: [link1.P, link2.P]");
         j.a = Point(body[0], "joint '" + name + "'");
         j.b = Point(body[1], "joint '" + name + "'");
-      } else {
+      } else if (kind == "prismatic") {
         j.type = JointType::kPrismatic;
         bool has_guide = false, has_slider = false;
         for (const auto& [key, value] : Entries(body, "prismatic joint '" + name + "'",
@@ -254,11 +336,152 @@ class Reader {
         if (!has_guide || !has_slider)
           Fail(body, "prismatic joint '" + name +
                          "' needs guide: link.point (a point on the line) and slider: link.point");
+      } else if (kind == "roll") {
+        j.type = JointType::kRoll;
+        bool has_wheel = false, has_on = false, has_radius = false, has_on_radius = false,
+             has_line_angle = false, has_inside = false;
+        for (const auto& [key, value] : Entries(body, "rolling joint '" + name + "'",
+                                                {"wheel", "radius", "on", "line_angle", "on_radius", "inside", "phase"})) {
+          if (key == "wheel") j.b = Point(value, "wheel of '" + name + "'"), has_wheel = true;
+          if (key == "on") j.a = Point(value, "on of '" + name + "'"), has_on = true;
+          if (key == "radius") j.radius = Expression(value, "radius of '" + name + "'"), has_radius = true;
+          if (key == "line_angle") j.angle = Expression(value, "line_angle of '" + name + "'"), has_line_angle = true;
+          if (key == "on_radius")
+            j.radius2 = Expression(value, "on_radius of '" + name + "'"), has_on_radius = true;
+          if (key == "inside") j.internal = Bool(value, "inside"), has_inside = true;
+          if (key == "phase") j.phase = Expression(value, "phase of '" + name + "'");
+        }
+        if (!has_wheel || !has_on || !has_radius)
+          Fail(body, "rolling joint '" + name + "' needs wheel: link.C (the wheel's centre), radius: r, and "
+                     "on: link.P (a point of the line, or the centre of the circle with on_radius: R)");
+        if (has_on_radius && has_line_angle)
+          Fail(body, "rolling joint '" + name + "': give line_angle (a line) or on_radius (a circle), not both");
+        if (has_inside && !has_on_radius) Fail(body, "rolling joint '" + name + "': inside needs on_radius (a circle)");
+        j.on_line = !has_on_radius;
+        if (!(Number(body["radius"], "radius") > 0)) Fail(body["radius"], "the wheel radius must be positive");
+        if (has_on_radius) {
+          const double R = Number(body["on_radius"], "on_radius"), r = Number(body["radius"], "radius");
+          if (!(R > 0)) Fail(body["on_radius"], "on_radius must be positive");
+          if (j.internal && !(R > r))
+            Fail(body["on_radius"], "a wheel rolling inside a circle must be smaller than it (radius " +
+                                        std::to_string(r) + " >= on_radius " + std::to_string(R) + ")");
+        }
+      } else if (kind == "gear") {
+        j.type = JointType::kGear;
+        j.carrier = m_.ground;
+        bool has_gears = false, has_radii = false;
+        for (const auto& [key, value] : Entries(body, "gear pair '" + name + "'",
+                                                {"gears", "radii", "carrier", "internal", "phase"})) {
+          if (key == "gears") {
+            if (!value.IsSequence() || value.size() != 2)
+              Fail(value, "gears: takes the two gear links: [link1, link2]");
+            j.a = {LinkIndex(value[0], jn), 0};
+            j.b = {LinkIndex(value[1], jn), 0};
+            has_gears = true;
+          }
+          if (key == "radii") {
+            if (!value.IsSequence() || value.size() != 2) Fail(value, "radii: takes the two pitch radii: [r1, r2]");
+            j.radius = Expression(value[0], "pitch radius");
+            j.radius2 = Expression(value[1], "pitch radius");
+            for (int i = 0; i < 2; ++i)
+              if (!(Number(value[i], "pitch radius") > 0)) Fail(value[i], "a pitch radius must be positive");
+            has_radii = true;
+          }
+          if (key == "carrier") j.carrier = LinkIndex(value, jn);
+          if (key == "internal") j.internal = Bool(value, "internal");
+          if (key == "phase") j.phase = Expression(value, "phase of '" + name + "'");
+        }
+        if (!has_gears || !has_radii)
+          Fail(body, "gear pair '" + name + "' needs gears: [link1, link2] and radii: [r1, r2]");
+        if (j.carrier == j.a.link || j.carrier == j.b.link)
+          Fail(body, "gear pair '" + name + "': the carrier holds both gears' axes and is neither gear");
+      } else if (kind == "rack") {
+        j.type = JointType::kRack;
+        bool has_pinion = false, has_radius = false, has_slide = false;
+        for (const auto& [key, value] : Entries(body, "rack and pinion '" + name + "'",
+                                                {"pinion", "radius", "slide", "phase"})) {
+          if (key == "pinion") j.a = {LinkIndex(value, jn), 0}, has_pinion = true;
+          if (key == "radius") j.radius = Expression(value, "radius of '" + name + "'"), has_radius = true;
+          if (key == "slide") pending.push_back({m_.joints.size(), value, Scalar(value, "slide")}), has_slide = true;
+          if (key == "phase") j.phase = Expression(value, "phase of '" + name + "'");
+        }
+        if (!has_pinion || !has_radius || !has_slide)
+          Fail(body, "rack and pinion '" + name + "' needs pinion: link, radius: r and slide: <the rack's prismatic joint>");
+      } else {
+        j.type = JointType::kCam;
+        j.cam_index = cams++;
+        bool has_cam = false, has_follower = false, has_point = false, has_start = false, has_law = false;
+        bool has_roller = false, has_face = false;
+        for (const auto& [key, value] :
+             Entries(body, "cam '" + name + "'", {"cam", "follower", "point", "roller", "face", "start", "phase", "law"})) {
+          if (key == "cam") j.a = {LinkIndex(value, jn), 0}, has_cam = true;
+          if (key == "follower") pending.push_back({m_.joints.size(), value, Scalar(value, "follower")}), has_follower = true;
+          if (key == "point") j.follower_point = Point(value, "point of '" + name + "'"), has_point = true;
+          if (key == "roller") {
+            j.roller = Expression(value, "roller radius");
+            j.roller_mark = MarkOf(value);
+            if (!(Number(value, "roller radius") >= 0)) Fail(value, "the roller radius must not be negative");
+            has_roller = true;
+          }
+          if (key == "face") j.face_angle = Expression(value, "face angle"), j.flat_face = has_face = true;
+          if (key == "start") j.start = Expression(value, "start of '" + name + "'"), has_start = true;
+          if (key == "phase") j.phase = Expression(value, "phase of '" + name + "'");
+          if (key == "law") j.law = ReadLaw(value, name), j.law_mark = MarkOf(value), has_law = true;
+        }
+        if (!has_cam || !has_follower || !has_point || !has_start || !has_law)
+          Fail(body, "cam '" + name + "' needs cam: <cam link>, follower: <the follower's joint to the carrier>, "
+                     "point: follower.P (roller centre, knife tip or a point of the face), start: <follower "
+                     "coordinate at zero lift> and law: [segments]");
+        if (has_roller && has_face)
+          Fail(body, "cam '" + name + "': a follower is either a roller (roller: r) or flat-faced (face: angle)");
+        j.b = {j.follower_point.link, 0};
       }
       if (j.a.link == j.b.link)
         m_.Fail(j.mark, "joint '" + name + "' connects link '" + m_.links[j.a.link].name +
                             "' to itself; a joint must connect two different links");
       m_.joints.push_back(j);
+    }
+    for (const Pending& p : pending) {
+      Joint& j = m_.joints[p.joint];
+      int other = -1;
+      for (size_t k = 0; k < m_.joints.size(); ++k)
+        if (m_.joints[k].name == p.name) other = static_cast<int>(k);
+      if (other < 0) Fail(p.node, "joint '" + j.name + "': unknown joint '" + p.name + "'");
+      const Joint& o = m_.joints[other];
+      j.other_joint = other;
+      if (j.type == JointType::kRack) {
+        if (o.type != JointType::kPrismatic)
+          Fail(p.node, "rack '" + j.name + "': slide must name the rack's prismatic joint");
+        j.b = {o.b.link, 0};
+        j.carrier = o.a.link;
+        if (j.a.link == j.b.link) Fail(p.node, "rack '" + j.name + "': the pinion cannot be the rack");
+        continue;
+      }
+      // Cam: the follower's joint to the carrier.
+      const int f = j.follower_point.link;
+      if (o.type == JointType::kPrismatic) {
+        if (o.b.link != f)
+          Fail(p.node, "cam '" + j.name + "': the follower '" + m_.links[f].name + "' must be the slider of '" +
+                           o.name + "' (a translating follower)");
+        j.carrier = o.a.link;
+      } else if (o.type == JointType::kRevolute) {
+        if (o.a.link != f && o.b.link != f)
+          Fail(p.node, "cam '" + j.name + "': joint '" + o.name + "' does not hold the follower '" +
+                           m_.links[f].name + "' (an oscillating follower's pivot)");
+        j.carrier = o.a.link == f ? o.b.link : o.a.link;
+      } else {
+        Fail(p.node, "cam '" + j.name + "': follower must name a prismatic joint (translating follower) or a "
+                     "revolute joint (oscillating follower)");
+      }
+      if (j.carrier == j.a.link)
+        Fail(p.node, "cam '" + j.name + "': the follower's joint must attach it to the link carrying the cam, not the cam");
+      bool pivoted = false;
+      for (const Joint& r : m_.joints)
+        pivoted |= r.type == JointType::kRevolute && ((r.a.link == j.a.link && r.b.link == j.carrier) ||
+                                                      (r.b.link == j.a.link && r.a.link == j.carrier));
+      if (!pivoted)
+        Fail(p.node, "cam '" + j.name + "': the cam '" + m_.links[j.a.link].name +
+                         "' needs a revolute joint to the follower's carrier '" + m_.links[j.carrier].name + "'");
     }
   }
 
@@ -280,7 +503,11 @@ class Reader {
           if (!used.insert(in.joint).second)
             Fail(value, "joint '" + jn + "' is driven twice; list each input once");
           const Joint& j = m_.joints[in.joint];
-          if (j.type == JointType::kRevolute && j.a.link != m_.ground && j.b.link != m_.ground)
+          if (!j.IsLowerPair())
+            Fail(value, "joint '" + jn + "' is a gear, rack or cam pair and cannot be driven; drive a " +
+                            "revolute or prismatic joint of one of its links");
+          if ((j.type == JointType::kRevolute || j.type == JointType::kRoll) && j.a.link != m_.ground &&
+              j.b.link != m_.ground)
             Fail(value, "input joint '" + jn +
                             "' connects two moving links; drive a revolute joint attached to " +
                             "the ground, or a prismatic joint");
@@ -294,7 +521,7 @@ class Reader {
       }
       if (in.joint < 0) Fail(item, "input needs joint: <joint name>");
       if (!has_range) {
-        const bool angle = m_.joints[in.joint].type == JointType::kRevolute;
+        const bool angle = m_.joints[in.joint].type != JointType::kPrismatic;
         in.min = 0;
         in.max = angle ? 2 * M_PI : 1;
       }
@@ -315,7 +542,8 @@ class Reader {
       } else if (key == "points") {
         if (!value.IsSequence()) Fail(value, "points must be a list of link.point names");
         for (const auto& pn : value) {
-          PointRef r = Point(pn, "output point");
+          PointRef r = ContactPoint(pn);
+          if (r.contact_joint < 0) r = Point(pn, "output point");
           for (const auto& other : m_.outputs.points)
             if (other == r) Fail(pn, "point '" + m_.PointName(r) + "' is listed twice");
           m_.outputs.points.push_back(r);
@@ -359,6 +587,7 @@ int Link::FindPoint(const std::string& point) const {
 }
 
 std::string Model::PointName(PointRef r) const {
+  if (r.contact_joint >= 0) return joints[r.contact_joint].name + ".contact";
   return links[r.link].name + "." + links[r.link].points[r.point].name;
 }
 

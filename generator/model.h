@@ -59,30 +59,84 @@ struct Link {
   int FindPoint(const std::string& point) const;
 };
 
-/// A point of a link: the link index and the point index within it.
+/// A point of a link: the link index and the point index within it. A rolling joint's
+/// contact point (`<joint>.contact`, on no link) has contact_joint set; `link` is then the
+/// rolling link and `point` -1.
 struct PointRef {
   int link = -1;
   int point = -1;
-  bool operator==(const PointRef& o) const { return link == o.link && point == o.point; }
+  int contact_joint = -1;
+  bool operator==(const PointRef& o) const {
+    return link == o.link && point == o.point && contact_joint == o.contact_joint;
+  }
 };
 
-/// Joint kinds. Lower pairs now; gears, rolling contact and cams add kinds (and their
-/// auxiliary equations) in topology.cc and loop_equations.cc.
+/// Joint kinds. Lower pairs (revolute, prismatic, roll) may place a link in the spanning
+/// tree; higher pairs (gear, rack, cam) never do: each closes a loop with one equation
+/// (joints.cc has every kind's equations).
 enum class JointType {
   kRevolute,   ///< pin: point `a` of one link coincides with point `b` of the other.
   kPrismatic,  ///< slider: point `b` moves along the line through guide point `a` at
                ///< `angle` (in the guide link's frame); the slider link keeps the angle
                ///< theta_guide + relative_angle. Displacement s: b = a + s (cos, sin).
+  kRoll,       ///< rolling without slip: a circle of `radius` centred at point `b` (the
+               ///< wheel) rolls on the line through `a` at `angle` (on_line) or on the
+               ///< circle of `radius2` centred at `a` (outside, or inside if `internal`).
+               ///< Contact variable: s (line) or psi (circle); equations: contact (2 when
+               ///< a cut) + no slip (1).
+  kGear,       ///< gear pair: links a.link, b.link with pitch radii `radius`, `radius2`,
+               ///< axes on `carrier`: r1 (th1 - thc) +- r2 (th2 - thc) = phase (+ external,
+               ///< - internal: b is the ring).
+  kRack,       ///< rack and pinion: pinion a.link (pitch radius `radius`), the rack is the
+               ///< slider of prismatic joint `other_joint`: s + r (th_pinion - th_guide) = phase.
+  kCam,        ///< disk cam a.link and follower b.link given by the follower's law:
+               ///< y_follower = start + law(th_cam - th_carrier - phase) (cam.h).
+};
+
+/// One segment of a cam's follower law (dwell, rise, return) over `duration` of cam angle.
+struct CamSegment {
+  enum class Kind { kDwell, kRise, kReturn };
+  enum class Motion { kNone, kCycloidal, kHarmonic, kPoly345 };
+  Kind kind = Kind::kDwell;
+  Motion motion = Motion::kNone;
+  GiNaC::ex duration = 0;  ///< cam angle of the segment (radians)
+  GiNaC::ex lift = 0;      ///< rise or return height (displacement, or angle if oscillating)
+  SourceMark mark;
 };
 
 struct Joint {
   std::string name;
   JointType type = JointType::kRevolute;
-  PointRef a;  ///< revolute: first point; prismatic: the guide point (line origin).
-  PointRef b;  ///< revolute: second point; prismatic: the slider point.
-  GiNaC::ex angle = 0;           ///< prismatic: line direction in the guide link's frame.
+  PointRef a;  ///< revolute: first point; prismatic: the guide point (line origin);
+               ///< roll: the line's point or the circle's centre (the base link);
+               ///< gear, rack, cam: a.link is the first gear, the pinion, the cam.
+  PointRef b;  ///< revolute: second point; prismatic: the slider point; roll: the
+               ///< wheel's centre; gear: b.link the second gear; rack: the rack link;
+               ///< cam: the follower link.
+  GiNaC::ex angle = 0;           ///< prismatic: line direction in the guide link's frame; roll: the line's.
   GiNaC::ex relative_angle = 0;  ///< prismatic: slider link angle minus guide link angle.
+  // Higher pairs and rolling.
+  GiNaC::ex radius = 0;   ///< roll: wheel radius; gear: r1; rack: pinion radius
+  GiNaC::ex radius2 = 0;  ///< roll on a circle: its radius; gear: r2
+  bool on_line = false;   ///< roll: on a line (else on a circle)
+  bool internal = false;  ///< roll: inside the circle; gear: b is an internal (ring) gear
+  GiNaC::ex phase = 0;    ///< roll, gear, rack: the constant of the no-slip relation; cam: law start angle
+  int carrier = -1;       ///< gear, cam: the link holding both axes (default: ground)
+  int other_joint = -1;   ///< rack: the rack's prismatic joint; cam: the follower's joint
+  // Cams.
+  int cam_index = -1;            ///< cam: index among the model's cams
+  PointRef follower_point;       ///< cam: roller centre, knife-edge tip, or a point of the face
+  bool flat_face = false;        ///< cam: flat-faced follower (else roller / knife-edge)
+  GiNaC::ex face_angle = 0;      ///< cam: face direction in the follower's frame
+  GiNaC::ex roller = 0;          ///< cam: roller radius (0: knife-edge)
+  GiNaC::ex start = 0;           ///< cam: follower coordinate at zero lift
+  std::vector<CamSegment> law;   ///< cam: the follower law, segments in order from `phase`
+  SourceMark law_mark, roller_mark;
   SourceMark mark;
+  /// Lower pairs can place a link in the spanning tree.
+  bool IsLowerPair() const {
+    return type == JointType::kRevolute || type == JointType::kPrismatic || type == JointType::kRoll;
+  }
 };
 
 /// A driven joint: its variable is one of the generalized coordinates q.

@@ -44,16 +44,38 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
       os << "\n";
     }
     os << "Joints (" << m.joints.size() << "):\n";
-    for (const Joint& j : m.joints)
-      os << "  " << j.name << ": " << (j.type == JointType::kRevolute ? "revolute " : "prismatic ")
-         << m.PointName(j.a) << (j.type == JointType::kRevolute ? " = " : " guides ") << m.PointName(j.b)
-         << "\n";
+    for (const Joint& j : m.joints) {
+      os << "  " << j.name << ": ";
+      switch (j.type) {
+        case JointType::kRevolute: os << "revolute " << m.PointName(j.a) << " = " << m.PointName(j.b); break;
+        case JointType::kPrismatic: os << "prismatic " << m.PointName(j.a) << " guides " << m.PointName(j.b); break;
+        case JointType::kRoll:
+          os << "rolling, wheel " << m.PointName(j.b) << " radius " << j.radius << " on the "
+             << (j.on_line ? "line through " : j.internal ? "inside of the circle about " : "circle about ")
+             << m.PointName(j.a);
+          if (!j.on_line) os << " radius " << j.radius2;
+          break;
+        case JointType::kGear:
+          os << (j.internal ? "internal" : "external") << " gear pair " << m.links[j.a.link].name << " (r " << j.radius
+             << ") / " << m.links[j.b.link].name << " (r " << j.radius2 << "), carrier " << m.links[j.carrier].name;
+          break;
+        case JointType::kRack:
+          os << "rack and pinion, pinion " << m.links[j.a.link].name << " (r " << j.radius << "), rack "
+             << m.links[j.b.link].name << " on '" << m.joints[j.other_joint].name << "'";
+          break;
+        case JointType::kCam:
+          os << "cam " << m.links[j.a.link].name << ", follower " << m.links[j.b.link].name << " on '"
+             << m.joints[j.other_joint].name << "'";
+          break;
+      }
+      os << "\n";
+    }
     os << "Independent loops (" << t.loops.size() << "), closed by the cut joints of a spanning tree:\n";
     for (size_t i = 0; i < t.loops.size(); ++i) os << "  " << i + 1 << ": " << t.loops[i].Text(m) << "\n";
-    os << "Mobility: Grübler–Kutzbach " << t.grubler_text << "; loop criterion " << t.num_variables
-       << " variables - 2*" << t.loops.size() << " loops = " << t.loop_mobility << "; inputs "
+    os << "Mobility: Grübler–Kutzbach " << t.grubler_text << "; loop criterion " << t.loop_text << "; inputs "
        << m.inputs.size() << "\n";
     for (const FourBarLoop& f : four_bars) os << "Grashof: " << f.Text() << "\n";
+    for (const std::string& c : k.cam_summary) os << "Cam: " << c << "\n";
     os << "Inputs and the loops they drive (through the solve order):\n";
     for (size_t i = 0; i < m.inputs.size(); ++i) {
       // Block b is driven by q_i if its rows contain q_i or an unknown of a driven block.

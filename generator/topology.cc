@@ -84,7 +84,9 @@ Topology BuildTopology(const Model& m) {
     t.offset[l] = (sets.off[l] - sets.off[rep]).expand();
   }
 
-  // ---- spanning tree, breadth first from the ground, joints in declaration order ----
+  // ---- spanning tree over the lower pairs, breadth first from the ground, joints in
+  // declaration order. A higher pair (gear, rack, cam) cannot place a link: it is always a
+  // cut joint, closing a loop with its one equation. ----
   t.parent_joint.assign(n, -1);
   std::vector<bool> seen(n, false), is_tree(m.joints.size(), false);
   std::deque<int> queue{m.ground};
@@ -95,7 +97,7 @@ Topology BuildTopology(const Model& m) {
     t.order.push_back(u);
     for (size_t k = 0; k < m.joints.size(); ++k) {
       const Joint& j = m.joints[k];
-      if (j.a.link != u && j.b.link != u) continue;
+      if (!j.IsLowerPair() || (j.a.link != u && j.b.link != u)) continue;
       const int v = OtherLink(j, u);
       if (seen[v]) continue;
       seen[v] = true;
@@ -107,8 +109,8 @@ Topology BuildTopology(const Model& m) {
   for (int l = 0; l < n; ++l)
     if (!seen[l])
       m.Fail(m.links[l].mark, "link '" + m.links[l].name +
-                                  "' is not connected to the ground through joints; add a " +
-                                  "joint or remove the link");
+                                  "' is not connected to the ground through revolute, prismatic or rolling " +
+                                  "joints (gears and cams cannot place a link); add a pivot or remove the link");
   for (size_t k = 0; k < m.joints.size(); ++k)
     (is_tree[k] ? t.tree_joints : t.cut_joints).push_back(static_cast<int>(k));
 
@@ -154,13 +156,31 @@ Topology BuildTopology(const Model& m) {
   }
 
   // ---- mobility ----
-  const int j1 = static_cast<int>(m.joints.size());
-  t.num_variables = (t.num_groups() - 1) + t.num_prismatic;
-  t.grubler_mobility = 3 * (n - 1) - 2 * j1;
-  t.loop_mobility = t.num_variables - 2 * static_cast<int>(t.loops.size());
+  // Grübler–Kutzbach: lower pairs (revolute, prismatic, rolling without slip) remove 2
+  // degrees of freedom, higher pairs (gear, rack, cam contact) 1. Loop criterion: the
+  // variables (angles, slides, contact parameters) minus the equations: 2 per lower-pair
+  // cut joint, 1 per higher pair, and the no-slip equation of every rolling joint.
+  int j1 = 0, j2 = 0;
+  for (const Joint& j : m.joints) (j.IsLowerPair() ? j1 : j2) += 1;
+  for (const Joint& j : m.joints) t.num_contact += j.type == JointType::kRoll;
+  t.num_variables = (t.num_groups() - 1) + t.num_prismatic + t.num_contact;
+  t.num_equations = 0;
+  for (int c : t.cut_joints) t.num_equations += m.joints[c].IsLowerPair() ? 2 : 1;
+  t.num_equations += t.num_contact;
+  t.grubler_mobility = 3 * (n - 1) - 2 * j1 - j2;
+  t.loop_mobility = t.num_variables - t.num_equations;
   std::ostringstream os;
-  os << "3(n - 1) - 2 j1 = 3*(" << n << " - 1) - 2*" << j1 << " = " << t.grubler_mobility;
+  if (j2 == 0)
+    os << "3(n - 1) - 2 j1 = 3*(" << n << " - 1) - 2*" << j1;
+  else
+    os << "3(n - 1) - 2 j1 - j2 = 3*(" << n << " - 1) - 2*" << j1 << " - " << j2;
+  os << " = " << t.grubler_mobility;
   t.grubler_text = os.str();
+  const bool lower_only = j2 == 0 && t.num_contact == 0;
+  t.loop_text = std::to_string(t.num_variables) + " variables - " +
+                (lower_only ? "2*" + std::to_string(t.loops.size()) + " loops"
+                            : std::to_string(t.num_equations) + " equations") +
+                " = " + std::to_string(t.loop_mobility);
 
   const int declared = static_cast<int>(m.inputs.size());
   if (t.loop_mobility <= 0)
@@ -170,10 +190,7 @@ Topology BuildTopology(const Model& m) {
                               (t.loop_mobility < 0 ? " and over-constrained" : "") +
                               ". Remove a joint or add a link");
   if (declared != t.loop_mobility) {
-    std::string detail = "Grübler–Kutzbach " + t.grubler_text + ", loop criterion " +
-                         std::to_string(t.num_variables) + " variables - 2*" +
-                         std::to_string(t.loops.size()) + " loops = " +
-                         std::to_string(t.loop_mobility);
+    std::string detail = "Grübler–Kutzbach " + t.grubler_text + ", loop criterion " + t.loop_text;
     m.Fail(m.inputs_mark, std::to_string(declared) + " input(s) declared but the mechanism has " +
                               std::to_string(t.loop_mobility) + " degree(s) of freedom (" + detail +
                               "); declare exactly " + std::to_string(t.loop_mobility) +
@@ -183,7 +200,7 @@ Topology BuildTopology(const Model& m) {
   std::vector<int> driven_group(t.num_groups(), -1);
   for (const Input& in : m.inputs) {
     const Joint& j = m.joints[in.joint];
-    if (j.type != JointType::kRevolute) continue;
+    if (j.type != JointType::kRevolute && j.type != JointType::kRoll) continue;
     const int moving = j.a.link == m.ground ? j.b.link : j.a.link;
     const int g = t.group[moving];
     if (g == t.ground_group)

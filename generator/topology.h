@@ -33,10 +33,13 @@ struct Topology {
   std::vector<Loop> loops;
 
   int num_prismatic = 0;
-  int num_variables = 0;       ///< (groups - 1) + prismatic joints
-  int grubler_mobility = 0;    ///< 3 (n - 1) - 2 j1
-  int loop_mobility = 0;       ///< variables - 2 loops
+  int num_contact = 0;         ///< rolling joints (each has a contact parameter)
+  int num_variables = 0;       ///< (groups - 1) + prismatic joints + rolling joints
+  int num_equations = 0;       ///< 2 per lower-pair cut, 1 per higher pair and per rolling joint
+  int grubler_mobility = 0;    ///< 3 (n - 1) - 2 j1 - j2
+  int loop_mobility = 0;       ///< variables - equations
   std::string grubler_text;    ///< the formula with the numbers
+  std::string loop_text;       ///< "3 variables - 2*1 loops = 1"
 
   int num_groups() const { return static_cast<int>(rep.size()); }
 };

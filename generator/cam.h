@@ -1,0 +1,65 @@
+// Disk cams given by the follower's law (Paul §1.4, the CAMKIN program): the law as
+// segments (dwell, rise, return; cycloidal, harmonic and 3-4-5 polynomial motions), the
+// symbolic function that stands for it in Phi, and the cam's derived geometry: pressure
+// angle and radius of curvature of the pitch curve and of the profile along the cycle.
+//
+// In the equations the law is the GiNaC function camlaw(i, d, x): the d-th derivative of
+// cam i's follower lift at cam angle x (from the law's start). GiNaC differentiates it as
+// camlaw(i, d + 1, x), so Phi_q, K and L need no branches; the generated code evaluates
+// it with CamLaw_<joint>(p, x, d), which picks the segment of x modulo 2 pi and returns
+// that segment's symbolically differentiated expression.
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "cxx_code.h"
+#include "joints.h"
+#include "model.h"
+
+namespace mechgen {
+
+DECLARE_FUNCTION_3P(camlaw)
+
+/// The follower law of one cam joint, segment by segment, in the law's own angle x.
+struct CamLaw {
+  int joint = -1;
+  std::string cxx_name;              ///< CamLaw_<joint>
+  std::vector<GiNaC::ex> begin;      ///< start angle of each segment (the first is 0)
+  std::vector<GiNaC::ex> duration;
+  std::vector<std::array<GiNaC::ex, 4>> lift;  ///< per segment: lift and its x-derivatives 1..3
+  std::vector<std::string> what;     ///< "rise 120*deg, cycloidal, lift h"
+  std::vector<double> begin_value;   ///< begin at the parameters' defaults
+};
+
+/// The law of cam joint `j`, checked at the parameters' defaults: the segments must span
+/// one turn and the follower must come back to zero lift (ModelError otherwise).
+CamLaw BuildCamLaw(const Model& m, const Joint& j);
+
+/// The law's d-th derivative at x (radians, any turn), at the parameters' defaults.
+double EvalCamLaw(const Model& m, const CamLaw& law, double x, int d);
+
+/// A cam's geometry along the cycle, in terms of the cam angle x relative to the carrier.
+struct CamGeometry {
+  GiNaC::symbol x{"x"};
+  Program program;  ///< statements of EvalCam_<joint> (stores out->...)
+  /// The expressions stored, for the generator's own checks.
+  GiNaC::ex y, pressure_angle, rho_pitch, rho_profile;
+};
+
+/// Pressure angle and radii of curvature of cam joint `j` (see models/README.md).
+CamGeometry DeriveCamGeometry(const Model& m, const Joint& j);
+
+/// Samples the cam's geometry over one turn at the parameters' defaults; fails
+/// (ModelError at the roller) if the roller is larger than the pitch curve's radius of
+/// curvature where it is convex (undercutting), or a flat-faced profile has a cusp.
+/// Fills the summary line for the report and the generated header.
+std::string CheckCam(const Model& m, const Joint& j, const CamLaw& law, const CamGeometry& g);
+
+/// C++ text of the template function CamLaw_<joint>(p, x, d).
+std::string EmitCamLaw(const Model& m, const CamLaw& law, CxxPrinter* printer);
+
+}  // namespace mechgen
