@@ -20,6 +20,16 @@
 #include <ceres/ceres.h>
 
 #include "handwritten_fourbar.h"
+#ifdef MECHGEN_BENCH_HAVE_fourbar_pos
+#include "fourbar_pos.h"
+#endif
+#ifdef MECHGEN_BENCH_HAVE_watt_sixbar
+#include "watt_sixbar.h"
+#endif
+#ifdef MECHGEN_BENCH_CHAINS
+#include "chain_4.h"
+#include "chain_8.h"
+#endif
 #include "mechgen/ceres_adapter.h"
 #include "mechgen/solver.h"
 
@@ -150,6 +160,83 @@ void CeresNewProblem(benchmark::State& state) {
   }
 }
 BENCHMARK(CeresNewProblem);
+
+// ---- The runtime on other models: PositionSolver::MoveTo per 0.5 deg input step, against a
+// plain Newton loop (first-order extrapolation of the last two solutions, Newton on the
+// generated Phi/Phi_phi to |Phi|_inf <= 1e-10 plus one step, then the generated Coeffs):
+// what a product would write by hand without branch tracking or a distance to singularity.
+template <class M>
+void RuntimeContinuation(benchmark::State& state) {
+  using T = mechgen::ModelTypes<M>;
+  mechgen::PositionSolver<M> solver;
+  mechgen::Summary summary;
+  if (solver.AssembleDefault(&summary) != mechgen::Status::kConverged ||
+      solver.MoveTo(T::VecQ::Zero(), &summary) != mechgen::Status::kConverged) {
+    state.SkipWithError("assembly failed");
+    return;
+  }
+  long k = 1;
+  for (auto _ : state) {
+    solver.MoveTo(T::VecQ::Constant(k++ * kStep), &summary);
+    benchmark::DoNotOptimize(solver.state());
+  }
+  if (summary.status != mechgen::Status::kConverged) state.SkipWithError("step failed");
+}
+
+template <class M>
+void PlainNewton(benchmark::State& state) {
+  using T = mechgen::ModelTypes<M>;
+  mechgen::PositionSolver<M> solver;
+  mechgen::Summary summary;
+  if (solver.AssembleDefault(&summary) != mechgen::Status::kConverged ||
+      solver.MoveTo(T::VecQ::Zero(), &summary) != mechgen::Status::kConverged) {
+    state.SkipWithError("assembly failed");
+    return;
+  }
+  const typename T::Params p;
+  typename T::VecPhi phi = solver.state().phi, phi_prev = phi;
+  typename T::Coefficients c;
+  long k = 0;
+  bool ok = true;
+  for (auto _ : state) {
+    const typename T::VecQ q = T::VecQ::Constant(k++ * kStep);
+    typename T::VecPhi x = 2 * phi - phi_prev;
+    typename T::VecC Phi;
+    typename T::MatCPhi A;
+    int it = 0;
+    for (;; ++it) {
+      M::template Phi<double>(p, q, x, &Phi, &A, nullptr);
+      const bool done = Phi.template lpNorm<Eigen::Infinity>() <= 1e-10;
+      x -= Eigen::PartialPivLU<typename T::MatCPhi>(A).solve(Phi);
+      if (done || it == 8) break;
+    }
+    ok = ok && it < 8;
+    phi_prev = phi;
+    phi = x;
+    if constexpr (mechgen::ModelFeatures<M>::kHasK) M::template Coeffs<double>(p, q, phi, &c);
+    benchmark::DoNotOptimize(phi);
+    benchmark::DoNotOptimize(c);
+  }
+  if (!ok) state.SkipWithError("Newton did not converge");
+}
+
+#define MECHGEN_RUNTIME_BENCH(NS, NAME)                                       \
+  BENCHMARK_TEMPLATE(RuntimeContinuation, NS::Model)->Name("Continuation/" NAME); \
+  BENCHMARK_TEMPLATE(PlainNewton, NS::Model)->Name("PlainNewton/" NAME);
+
+#ifdef MECHGEN_BENCH_MODEL_INCLUDE
+MECHGEN_RUNTIME_BENCH(MECHGEN_BENCH_MODEL_NAMESPACE, "fourbar")
+#endif
+#ifdef MECHGEN_BENCH_HAVE_fourbar_pos
+MECHGEN_RUNTIME_BENCH(mech::fourbar_pos, "fourbar_pos")
+#endif
+#ifdef MECHGEN_BENCH_HAVE_watt_sixbar
+MECHGEN_RUNTIME_BENCH(mech::watt_sixbar, "watt_sixbar")
+#endif
+#ifdef MECHGEN_BENCH_CHAINS
+MECHGEN_RUNTIME_BENCH(mech::chain_4, "chain_4")
+MECHGEN_RUNTIME_BENCH(mech::chain_8, "chain_8")
+#endif
 
 }  // namespace
 

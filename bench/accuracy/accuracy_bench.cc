@@ -6,7 +6,15 @@
 //   closed_form          hand-derived positions, K, L (four-bar: tests/runtime/
 //                        handwritten_fourbar.h; slider-crank: below)
 //   runtime              mechgen::PositionSolver::MoveTo (second-order predictor, Newton
-//                        on the generated Phi/Phi_phi, stop at ||Phi|| <= 1e-10) + generated K, L
+//                        on the generated Phi/Phi_phi, stop at ||Phi|| <= 1e-10) + generated K, L;
+//                        where it stops with kSingular (cond_1(Phi_phi) >= 1 / min_rcond) the
+//                        row counts as refused and the next rows re-assemble on the same branch
+//   dyads                the generated Model::Solve (SolvePositions: blocks in order, closed-form
+//                        dyads on the model's assembly modes, Newton on blocks without one) from
+//                        the previous phi, then generated EvalCoefficients
+//   monolithic           the `--strategy monolithic` emission: predictor phi + K dq, its
+//                        Model::Solve (one Newton on all of Phi, stop at |Phi| <= 1e-12 then one
+//                        more step), its EvalCoefficients (K and L by one dense LU of Phi_phi)
 //   newton_symbolic      our lean loop: predictor phi + K dq, Newton on generated EvalPhi until
 //                        the step |dphi| <= 1e-9 (one more iteration than a residual test),
 //                        then generated EvalCoefficients (symbolically solved K, L)
@@ -23,6 +31,7 @@
 //                        integrated by RK4 from one configuration to the next, without and
 //                        with a Newton correction every 10 configurations
 //   float_newton         the lean loop in single precision (EvalPhi<float>, EvalCoefficients<float>)
+//   float_dyads          dyads in single precision (Model::Solve<float>, EvalCoefficients<float>)
 // `accuracy_bench --errors_dir=DIR` first writes DIR/<model>_sweep.csv (errors per
 // configuration and method, with cond_1(Phi_phi)) and DIR/<model>_errors.csv (max errors per
 // method); then Google Benchmark times one Step() per iteration (the walk goes back and
@@ -51,22 +60,14 @@
 #include "fourbar_pos.h"
 #include "fourbar_toggle.h"
 #include "slider_crank.h"
-#if __has_include("watt_sixbar.h")
 #include "watt_sixbar.h"
-#define MECHGEN_HAS_WATT_SIXBAR 1
-#endif
-#ifdef MECHGEN_HAS_CHAIN1
-#include "chain1.h"
-#endif
-#ifdef MECHGEN_HAS_CHAIN2
-#include "chain2.h"
-#endif
-#ifdef MECHGEN_HAS_CHAIN4
-#include "chain4.h"
-#endif
-#ifdef MECHGEN_HAS_CHAIN8
-#include "chain8.h"
-#endif
+// The monolithic emissions (bench/accuracy/CMakeLists.txt) and the N-chains at
+// MECHGEN_ACCURACY_CHAINS = X(2)X(4)... (accuracy_chain_headers.h, written by CMake).
+#include "accuracy_chain_headers.h"
+#include "fourbar_monolithic.h"
+#include "fourbar_toggle_monolithic.h"
+#include "slider_crank_monolithic.h"
+#include "watt_sixbar_monolithic.h"
 
 namespace {
 
@@ -113,6 +114,7 @@ struct Config {
   VecPhi<M, double> phi;
   MatK<M, double> K;
   MatL<M, double> L;
+  bool refused = false;  ///< the method declined to give a result here (runtime: kSingular)
 };
 
 template <class M>
@@ -148,10 +150,21 @@ class Runtime : public Method<M> {
   void Start(const typename T::VecQ& q0, const typename T::VecPhi& phi0) override {
     mechgen::Summary s;
     solver_.Assemble(q0, phi0, 0, &s);
+    stopped_ = false;
   }
   bool Step(const typename T::VecQ& q, Config<M>* out) override {
     mechgen::Summary s;
-    const bool ok = solver_.MoveTo(q, &s) == mechgen::Status::kConverged;
+    bool ok = false;
+    if (!stopped_) {
+      const mechgen::Status status = solver_.MoveTo(q, &s);
+      ok = status == mechgen::Status::kConverged;
+      stopped_ = status == mechgen::Status::kSingular;
+      branch_ = solver_.state().branch;
+    } else {  // after a singular stop: assemble again on the branch followed so far
+      ok = solver_.Assemble(q, solver_.state().phi, branch_, &s) == mechgen::Status::kConverged;
+      stopped_ = !ok;
+    }
+    out->refused = stopped_;
     out->phi = solver_.state().phi;
     out->K = solver_.state().K;
     out->L = solver_.state().L;
@@ -160,6 +173,83 @@ class Runtime : public Method<M> {
 
  private:
   mechgen::PositionSolver<M> solver_;
+  bool stopped_ = false;
+  int branch_ = 0;
+};
+
+// ---- the generated position solver: closed-form dyads (block order) ---------------------------
+template <class M>
+class Dyads : public Method<M> {
+ public:
+  using T = mechgen::ModelTypes<M>;
+  void Start(const typename T::VecQ&, const typename T::VecPhi& phi0) override { phi_ = phi0; }
+  bool Step(const typename T::VecQ& q, Config<M>* out) override {
+    // phi_ is the start of Newton blocks and the reference closed-form angles stay near.
+    const auto report = M::template Solve<double>(p_, q, &phi_);
+    GeneratedKL<M>(p_, q, phi_, out);
+    return report.status == decltype(report.status)::kConverged;
+  }
+
+ private:
+  typename T::Params p_;
+  typename T::VecPhi phi_;
+};
+
+template <class M>
+class FloatDyads : public Method<M> {
+ public:
+  using T = mechgen::ModelTypes<M>;
+  void Start(const typename T::VecQ&, const typename T::VecPhi& phi0) override {
+    phi_ = phi0.template cast<float>();
+  }
+  bool Step(const typename T::VecQ& qd, Config<M>* out) override {
+    const VecQ<M, float> q = qd.template cast<float>();
+    const auto report = M::template Solve<float>(p_, q, &phi_);
+    typename M::template CoefficientsT<float> c;
+    M::template Coeffs<float>(p_, q, phi_, &c);
+    out->phi = phi_.template cast<double>();
+    out->K = c.K.template cast<double>();
+    out->L = c.L.template cast<double>();
+    return report.status == decltype(report.status)::kConverged;
+  }
+
+ private:
+  typename M::template ParamsT<float> p_;
+  VecPhi<M, float> phi_;
+};
+
+// ---- the monolithic emission: one Newton on all of Phi, K and L by one dense LU -------------
+// MM is the same model generated with --strategy monolithic (same sizes and layouts).
+template <class M, class MM>
+class Monolithic : public Method<M> {
+ public:
+  using T = mechgen::ModelTypes<M>;
+  static_assert(MM::kNphi == M::kNphi && MM::kNq == M::kNq, "not the same model");
+  void Start(const typename T::VecQ& q0, const typename T::VecPhi& phi0) override {
+    q_ = q0;
+    phi_ = phi0;
+    typename MM::template CoefficientsT<double> c;
+    MM::template Coeffs<double>(p_, q0, phi0, &c);
+    K_ = c.K;
+  }
+  bool Step(const typename T::VecQ& q, Config<M>* out) override {
+    phi_ += K_ * (q - q_);
+    const auto report = MM::template Solve<double>(p_, q, &phi_);
+    typename MM::template CoefficientsT<double> c;
+    MM::template Coeffs<double>(p_, q, phi_, &c);
+    out->phi = phi_;
+    out->K = c.K;
+    out->L = c.L;
+    q_ = q;
+    K_ = c.K;
+    return report.status == decltype(report.status)::kConverged;
+  }
+
+ private:
+  typename MM::template ParamsT<double> p_;
+  typename T::VecQ q_;
+  typename T::VecPhi phi_;
+  typename T::MatK K_;
 };
 
 // ---- lean Newton continuation, symbolic or numeric K and L ---------------------------------
@@ -474,12 +564,14 @@ struct ClosedFormTraits<mech::slider_crank::Model> {
 
 // ---------------------------------------------------------------------------------------
 // The methods of a model.
-template <class M>
+template <class M, class MM>
 std::vector<std::pair<std::string, MethodFactory<M>>> Methods() {
   std::vector<std::pair<std::string, MethodFactory<M>>> m;
   if constexpr (ClosedFormTraits<M>::kHas) {
     m.push_back({"closed_form", [] { return std::make_unique<typename ClosedFormTraits<M>::Method>(); }});
   }
+  m.push_back({"dyads", [] { return std::make_unique<Dyads<M>>(); }});
+  m.push_back({"monolithic", [] { return std::make_unique<Monolithic<M, MM>>(); }});
   m.push_back({"runtime", [] { return std::make_unique<Runtime<M>>(); }});
   m.push_back({"newton_symbolic", [] { return std::make_unique<LeanNewton<M, false>>(); }});
   m.push_back({"newton_numeric", [] { return std::make_unique<LeanNewton<M, true>>(); }});
@@ -493,6 +585,7 @@ std::vector<std::pair<std::string, MethodFactory<M>>> Methods() {
   m.push_back({"ode_rk4", [] { return std::make_unique<Ode<M>>(0); }});
   m.push_back({"ode_rk4_newton10", [] { return std::make_unique<Ode<M>>(10); }});
   m.push_back({"float_newton", [] { return std::make_unique<FloatNewton<M>>(); }});
+  m.push_back({"float_dyads", [] { return std::make_unique<FloatDyads<M>>(); }});
   return m;
 }
 
@@ -527,7 +620,7 @@ Walk<M> MakeWalk(const Data* data) {
 }
 
 // ---- the error study ----------------------------------------------------------------------
-template <class M>
+template <class M, class MM>
 void WriteErrors(const std::string& model, const std::string& dir) {
   Data data;
   std::string error;
@@ -541,15 +634,23 @@ void WriteErrors(const std::string& model, const std::string& dir) {
     std::fprintf(stderr, "accuracy_bench: %s: assembly failed\n", model.c_str());
     return;
   }
-  const auto methods = Methods<M>();
+  const auto methods = Methods<M, MM>();
   const size_t n = data.rows.size();
   std::vector<std::vector<double>> err(methods.size(), std::vector<double>(3 * n, NAN));
+  std::vector<int> refused(methods.size(), 0);
+  double refused_cond = INFINITY;  // the smallest reference cond at a refused row
   for (size_t m = 0; m < methods.size(); ++m) {
     auto method = methods[m].second();
     method->Start(walk.q.front(), walk.phi0);
     Config<M> c;
     for (size_t r = 0; r < n; ++r) {
+      c.refused = false;
       method->Step(walk.q[r], &c);
+      if (c.refused) {  // no result: a gap in the sweep, counted, not an error
+        ++refused[m];
+        refused_cond = std::min(refused_cond, data.rows[r].cond);
+        continue;
+      }
       err[m][3 * r] = data.PhiError(data.rows[r], c.phi);
       err[m][3 * r + 1] = data.KError(data.rows[r], c.K);
       err[m][3 * r + 2] = data.LError(data.rows[r], c.L);
@@ -575,31 +676,33 @@ void WriteErrors(const std::string& model, const std::string& dir) {
   f = std::fopen(sum_path.c_str(), "w");
   double max_cond = 0;
   for (const auto& row : data.rows) max_cond = std::max(max_cond, row.cond);
-  std::fprintf(f, "# %s: max error over %zu configurations (max cond_1(Phi_phi) %.3g)\n",
-               model.c_str(), n, max_cond);
-  std::fprintf(f, "method,max_pos,max_K,max_L\n");
+  std::fprintf(f, "# %s: max error over %zu configurations (max cond_1(Phi_phi) %.3g); refused: rows"
+               " without a result (runtime: kSingular), smallest cond there %.3g\n",
+               model.c_str(), n, max_cond, refused_cond);
+  std::fprintf(f, "method,max_pos,max_K,max_L,refused\n");
   for (size_t m = 0; m < methods.size(); ++m) {
     double e[3] = {0, 0, 0};
     for (size_t r = 0; r < n; ++r)
       for (int k = 0; k < 3; ++k) {
         const double v = err[m][3 * r + k];
+        if (std::isnan(v)) continue;  // a refused row
         e[k] = std::isfinite(v) ? std::max(e[k], v) : INFINITY;
       }
-    std::fprintf(f, "%s,%.3e,%.3e,%.3e\n", methods[m].first.c_str(), e[0], e[1], e[2]);
+    std::fprintf(f, "%s,%.3e,%.3e,%.3e,%d\n", methods[m].first.c_str(), e[0], e[1], e[2], refused[m]);
   }
   std::fclose(f);
   std::fprintf(stderr, "accuracy_bench: wrote %s, %s\n", sweep_path.c_str(), sum_path.c_str());
 }
 
 // ---- timings --------------------------------------------------------------------------------
-template <class M>
+template <class M, class MM>
 void RegisterTimings(const std::string& model) {
   Data data;
   std::string error;
   const bool have = data.Load(std::string(MECHGEN_REFERENCE_DATA_DIR) + "/" + model + ".csv", &error);
   auto walk = std::make_shared<Walk<M>>(MakeWalk<M>(have ? &data : nullptr));
   if (!walk->ok) return;
-  for (const auto& [name, factory] : Methods<M>()) {
+  for (const auto& [name, factory] : Methods<M, MM>()) {
     benchmark::RegisterBenchmark((model + "/" + name).c_str(), [walk, factory = factory](benchmark::State& state) {
       auto method = factory();
       method->Start(walk->q.front(), walk->phi0);
@@ -662,10 +765,10 @@ void RegisterCost(const std::string& variant) {
   });
 }
 
-template <class M>
+template <class M, class MM>
 void AddModel(const std::string& name, const std::string& errors_dir) {
-  if (!errors_dir.empty()) WriteErrors<M>(name, errors_dir);
-  RegisterTimings<M>(name);
+  if (!errors_dir.empty()) WriteErrors<M, MM>(name, errors_dir);
+  RegisterTimings<M, MM>(name);
 }
 
 }  // namespace
@@ -680,24 +783,16 @@ int main(int argc, char** argv) {
       args.push_back(argv[i]);
     }
   }
-  AddModel<mech::fourbar::Model>("fourbar", errors_dir);
-  AddModel<mech::slider_crank::Model>("slider_crank", errors_dir);
-  AddModel<mech::fourbar_toggle::Model>("fourbar_toggle", errors_dir);
-#ifdef MECHGEN_HAS_WATT_SIXBAR
-  AddModel<mech::watt_sixbar::Model>("watt_sixbar", errors_dir);
-#endif
-#ifdef MECHGEN_HAS_CHAIN1
-  AddModel<mech::chain1::Model>("chain1", errors_dir);
-#endif
-#ifdef MECHGEN_HAS_CHAIN2
-  AddModel<mech::chain2::Model>("chain2", errors_dir);
-#endif
-#ifdef MECHGEN_HAS_CHAIN4
-  AddModel<mech::chain4::Model>("chain4", errors_dir);
-#endif
-#ifdef MECHGEN_HAS_CHAIN8
-  AddModel<mech::chain8::Model>("chain8", errors_dir);
-#endif
+  AddModel<mech::fourbar::Model, mech::fourbar_monolithic::Model>("fourbar", errors_dir);
+  AddModel<mech::slider_crank::Model, mech::slider_crank_monolithic::Model>("slider_crank", errors_dir);
+  AddModel<mech::fourbar_toggle::Model, mech::fourbar_toggle_monolithic::Model>("fourbar_toggle",
+                                                                                 errors_dir);
+  AddModel<mech::watt_sixbar::Model, mech::watt_sixbar_monolithic::Model>("watt_sixbar", errors_dir);
+  // The chains are named chain<N> in the results, as their references (tests/reference/data).
+#define X(n) \
+  AddModel<mech::chain_##n::Model, mech::chain_##n##_monolithic::Model>("chain" #n, errors_dir);
+  MECHGEN_ACCURACY_CHAINS
+#undef X
   RegisterCost<mech::fourbar_pos::Model>("fourbar_pos");
   RegisterCost<mech::fourbar_k::Model>("fourbar_k");
   RegisterCost<mech::fourbar_kl::Model>("fourbar_kl");

@@ -3,11 +3,12 @@
 #   1. builds accuracy_bench and mechgen in BUILD (configures it if needed);
 #   2. runs accuracy_bench: the errors of every method against tests/reference/data/*.csv
 #      (one sweep each), then the Google Benchmark timings (median CPU time of REPS
-#      repetitions, every method of a model in the same run);
-#   3. if tools/make_chain.sh exists: generation time and generated code size of the
-#      N-chain against N;
-#   4. merges everything into CSV files stamped with the machine and the date, and draws the
+#      repetitions, every method of every model in the same run);
+#   3. merges everything into CSV files stamped with the machine and the date, and draws the
 #      SVG figures with gnuplot.
+# The N-chain's generation time, code size and time per configuration against N for both
+# emission strategies are bench/chain/run.sh's (bench/chain/results/chain.svg); this script
+# adds every method at N = 2, 4, 8, 16 against the references (results/chain_methods.*).
 # Usage: bash bench/accuracy/run.sh [build-dir] [repetitions]     (defaults: build 5)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -33,26 +34,6 @@ echo "run.sh: errors and timings ($REPS repetitions) ..."
 "$BIN" --errors_dir="$TMP" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
        --benchmark_min_time=0.1 --benchmark_format=json --benchmark_out="$TMP/bench.json" \
        --benchmark_out_format=json >/dev/null
-
-# The N-chain: generation time and code size (median of 3 runs of `mechgen generate`).
-: > "$TMP/chain_gen.csv"
-if [ -f tools/make_chain.sh ]; then
-  for n in 1 2 4 8 16 32; do
-    bash tools/make_chain.sh "$n" | sed "s/^name:.*/name: chain$n/" > "$TMP/chain$n.yaml" || continue
-    best=""
-    for rep in 1 2 3; do
-      t0=$(date +%s%N)
-      "$MECHGEN" generate "$TMP/chain$n.yaml" --out-dir "$TMP/gen$n" >/dev/null 2>&1 || { best=""; break; }
-      t=$(( $(date +%s%N) - t0 ))
-      if [ -z "$best" ] || [ "$t" -lt "$best" ]; then best=$t; fi
-    done
-    [ -n "$best" ] || continue
-    best=$(awk -v ns="$best" 'BEGIN { printf "%.4f", ns / 1e9 }')
-    size=$(cat "$TMP/gen$n"/chain$n.h "$TMP/gen$n"/chain$n.cc | wc -c)
-    ops=$(grep -o 'EvalCoefficients [0-9]*' "$TMP/gen$n/chain$n.h" | head -n1 | awk '{print $2}')
-    echo "$n,$best,$size,${ops:-nan}" >> "$TMP/chain_gen.csv"
-  done
-fi
 
 python3 - "$TMP" "$RES" "$BUILD" "$STAMP" <<'PY'
 import csv, glob, json, math, os, re, sys
@@ -80,19 +61,20 @@ for m in models:
         lines = open(err_file).read().splitlines()
         head = lines[0]
         for r in csv.DictReader(l for l in lines if not l.startswith("#")):
-            errs[r["method"]] = [float(r["max_pos"]), float(r["max_K"]), float(r["max_L"])]
+            errs[r["method"]] = [float(r["max_pos"]), float(r["max_K"]), float(r["max_L"]), int(r["refused"])]
     out = os.path.join(res, f"{m}_tradeoff.csv")
     with open(out, "w") as f:
         f.write(stamp + "\n")
         f.write(f"# {m}: median CPU time per configuration (Google Benchmark) and max error over the reference sweep\n")
         if head: f.write(head + "\n")
-        f.write("method,ns,max_pos,max_K,max_L,label\n")
+        f.write("method,ns,max_pos,max_K,max_L,label,refused\n")
         for k, t in med.items():
             if not k.startswith(m + "/"): continue
             meth = k.split("/", 1)[1]
-            e = errs.get(meth, [None] * 3)
-            # errors of exactly 0 (bit-identical) are drawn at 1e-17, infinite ones at 1e3
-            f.write(f"{meth},{t:.4g}," + ",".join(fmt(x) for x in e) + "," + meth.replace("_", " ") + "\n")
+            e = errs.get(meth, [None] * 4)
+            # errors of exactly 0 (bit-identical) are drawn at 1e-17, above 1e6 at 1e6
+            f.write(f"{meth},{t:.4g}," + ",".join(fmt(x) for x in e[:3]) + "," + meth.replace("_", " ") +
+                    f",{fmt(e[3])}\n")
     if not errs: continue
     gp.append(f'set output "{res}/{m}_tradeoff.svg"')
     gp.append('set multiplot layout 1,3 title "' + mt + ': time per configuration vs max error over the sweep (' + stamp.split(";")[0][2:].replace("_", " ") + ')"')
@@ -107,8 +89,8 @@ for m in models:
     with open(os.path.join(res, f"{m}_sweep.csv"), "w") as f:
         f.write(stamp + "\n" + "\n".join(lines) + "\n")
     header = [l for l in lines if not l.startswith("#")][0].split(",")
-    chosen = ["closed_form", "runtime", "newton_symbolic", "newton_numeric", "ceres_analytic",
-              "fd_h1e-5", "ode_rk4", "ode_rk4_newton10", "float_newton"]
+    chosen = ["closed_form", "dyads", "monolithic", "runtime", "newton_symbolic", "ceres_analytic",
+              "fd_h1e-5", "ode_rk4", "ode_rk4_newton10", "float_newton", "float_dyads"]
     gp.append(f'set output "{res}/{m}_sweep.svg"')
     gp.append('set terminal svg size 1500,450 dynamic enhanced font "sans,11" background "white"')
     gp.append(f'set multiplot layout 1,3 title "{mt}: error along the sweep (left axis) and cond_1(Phi_phi) (right axis, grey)"')
@@ -150,22 +132,35 @@ gp.append(f'set ylabel "generated operations"; set xlabel ""; plot "{cost}" usin
 gp.append(f'set ylabel "CPU time per configuration [ns]"; plot "{cost}" using 5:xtic(2) title "Newton + generated outputs", "" using 6 title "runtime MoveTo"')
 gp.append('unset multiplot; set style data points; set logscale xy; set format y "10^{%L}"')
 
-# --- the N-chain ---
-chain_gen = [l.split(",") for l in open(os.path.join(tmp, "chain_gen.csv")).read().split()]
-if chain_gen:
-    chain = os.path.join(res, "chain.csv")
+# --- the N-chain: every method against N (bench/chain has generation time and code size) ---
+chains = sorted((int(m[5:]), m) for m in models if re.fullmatch(r"chain\d+", m))
+if chains:
+    meths = ["dyads", "monolithic", "newton_symbolic", "newton_numeric", "runtime", "ceres_analytic",
+             "fd_h1e-5", "ode_rk4_newton10", "float_newton", "float_dyads"]
+    chain = os.path.join(res, "chain_methods.csv")
     with open(chain, "w") as f:
         f.write(stamp + "\n")
-        f.write("# N-chain (tools/make_chain.sh N): mechgen generate wall time (best of 3), generated .h + .cc bytes, EvalCoefficients ops, median CPU ns per configuration (newton_symbolic, runtime)\n")
-        f.write("N,generate_s,code_bytes,ops_coefficients,newton_symbolic_ns,runtime_ns\n")
-        for n, t, size, ops in chain_gen:
-            f.write(f"{n},{t},{size},{ops},{fmt(med.get(f'chain{n}/newton_symbolic'))},{fmt(med.get(f'chain{n}/runtime'))}\n")
-    gp.append(f'set output "{res}/chain.svg"')
-    gp.append('set multiplot layout 1,3 title "N four-bars in series"; set logscale xy; set xlabel "N"; set format y "%g"; unset key')
-    gp.append(f'set ylabel "mechgen generate [s]"; plot "{chain}" using 1:2 with linespoints pt 7')
-    gp.append(f'set ylabel "generated code [bytes]"; plot "{chain}" using 1:3 with linespoints pt 7')
-    gp.append(f'set key top left; set ylabel "CPU time per configuration [ns]"; plot "{chain}" using 1:5 with linespoints pt 7 title "Newton + generated K, L", "" using 1:6 with linespoints pt 7 title "runtime"')
-    gp.append("unset multiplot")
+        f.write("# N-chain (tools/make_chain.sh N), 360 configurations of a crank turn: median CPU ns per configuration\n")
+        f.write("# (positions + K + L) and max error of positions / K / L against tests/reference/data/chain<N>.csv, per method\n")
+        f.write("N," + ",".join(f"{x}_ns,{x}_pos,{x}_K,{x}_L" for x in meths) + "\n")
+        for n, m in chains:
+            errs = {}
+            for r in csv.DictReader(l for l in open(os.path.join(res, f"{m}_tradeoff.csv")) if not l.startswith("#")):
+                errs[r["method"]] = r
+            f.write(str(n))
+            for x in meths:
+                r = errs.get(x, {})
+                f.write("," + ",".join(r.get(c, "nan") for c in ("ns", "max_pos", "max_K", "max_L")))
+            f.write("\n")
+    gp.append(f'set output "{res}/chain_methods.svg"')
+    gp.append('set terminal svg size 1200,450 dynamic enhanced font "sans,11" background "white"')
+    gp.append('set multiplot layout 1,2 title "N four-bars in series: every method against N (' + stamp.split(";")[0][2:] + ')"')
+    gp.append('set logscale xy; set xlabel "N (loops)"; set format y "10^{%L}"; set key top left font ",8"; set xtics (2, 4, 8, 16)')
+    parts = [f'"{chain}" using 1:{2 + 4 * i} with linespoints pt 7 title "{x.replace("_", " ")}"' for i, x in enumerate(meths)]
+    gp.append('set ylabel "CPU time per configuration [ns]"; set format y "%g"; plot ' + ", ".join(parts))
+    parts = [f'"{chain}" using 1:(column({5 + 4 * i}) < 1e-17 ? 1e-17 : column({5 + 4 * i})) with linespoints pt 7 title "{x.replace("_", " ")}"' for i, x in enumerate(meths)]
+    gp.append('set ylabel "max error of L (rel.)"; set format y "10^{%L}"; set yrange [1e-17:1]; set key bottom right; plot ' + ", ".join(parts))
+    gp.append("unset multiplot; unset yrange; unset xtics; set xtics")
 
 open(os.path.join(tmp, "plots.gp"), "w").write("\n".join(gp) + "\n")
 

@@ -11,6 +11,8 @@
  */
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -78,6 +80,30 @@ double Norm1(const Eigen::MatrixBase<Derived>& A) {
   return A.cwiseAbs().colwise().sum().maxCoeff();
 }
 
+/// M::Solve(p, q, &phi, modes, max_iterations, tolerance): the generated block-ordered
+/// position solver (with M::kNumBlocks, M::kDefaultModes, M::kBlockClosedForm).
+template <class M, class = void>
+struct HasSolve : std::false_type {};
+template <class M>
+struct HasSolve<
+    M, std::void_t<decltype(M::template Solve<double>(
+                       std::declval<const typename M::template ParamsT<double>&>(),
+                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
+                       std::declval<Eigen::Matrix<double, M::kNphi, 1>*>(),
+                       std::declval<const std::array<int, M::kNumBlocks>&>(), 0, 0.0)),
+                   decltype(M::kDefaultModes), decltype(M::kBlockClosedForm)>>
+    : std::true_type {};
+
+/// M::kNumBlocks when M has Solve, else 1.
+template <class M, bool = HasSolve<M>::value>
+struct BlockCount {
+  static constexpr int value = 1;
+};
+template <class M>
+struct BlockCount<M, true> {
+  static constexpr int value = M::kNumBlocks;
+};
+
 }  // namespace internal
 
 /// What model M provides, decided at compile time.
@@ -91,6 +117,8 @@ struct ModelFeatures {
   static constexpr bool kHasPointAccelerations =
       kHasPoints && internal::HasLP<Coefficients>::value;
   static constexpr bool kHasScene = M::kNumScenePoints > 0;
+  /// The generated block-ordered solver Model::Solve (closed-form dyads, Newton blocks).
+  static constexpr bool kHasSolve = internal::HasSolve<M>::value;
 };
 
 /**
@@ -166,5 +194,138 @@ void SmallestSingular(const Eigen::MatrixBase<Derived>& A,
 
 /// +1, -1, or 0 (zero or NaN).
 inline int Sign(double x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); }
+
+namespace internal {
+/// v with its sign chosen so that its largest-magnitude entry is positive (the convention of
+/// SmallestSingular(), so that a singular vector does not flip between configurations).
+template <class Vec>
+void FixSign(Vec* v) {
+  Eigen::Index largest = 0;
+  v->cwiseAbs().maxCoeff(&largest);
+  if ((*v)(largest) < 0) *v = -*v;
+}
+}  // namespace internal
+
+/**
+ * \brief Both singular values of a 2 x 2 matrix in closed form, and the right singular vector
+ *        of the smaller one; the same results as SmallestSingular() at a few flops.
+ *
+ * For A = [a b; c d]: sigma_max = (sqrt((a + d)^2 + (c - b)^2) + sqrt((a - d)^2 + (b + c)^2)) / 2
+ * (the sum of two non-negative square roots: no cancellation), and
+ * sigma_min = |det A| / sigma_max: relative accuracy ~ eps sigma_max / sigma_min in sigma_min,
+ * i.e. an absolute error ~ eps sigma_max as for a backward stable SVD; the textbook form
+ * sqrt((|A|_F^2 - sqrt(|A|_F^4 - 4 det^2)) / 2) would lose all digits of sigma_min below
+ * sqrt(eps) sigma_max. The vector is the null vector of A^T A - sigma_min^2 I, from the
+ * larger of its two rows. Not finite input gives NaN outputs.
+ */
+inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, double* sigma_max,
+                              Eigen::Vector2d* v) {
+  const double a = A(0, 0), b = A(0, 1), c = A(1, 0), d = A(1, 1);
+  // sqrt of sums of squares, not std::hypot (several times slower): the entries of Phi_phi
+  // are lengths, far from overflow.
+  const double p = std::sqrt((a + d) * (a + d) + (c - b) * (c - b));
+  const double r = std::sqrt((a - d) * (a - d) + (b + c) * (b + c));
+  const double smax = 0.5 * (p + r);
+  const double det = a * d - b * c;
+  const double smin = smax > 0 ? std::abs(det) / smax : 0.0;
+  // A^T A = [alpha g; g beta]; (A^T A - smin^2 I) v = 0.
+  const double alpha = a * a + c * c, beta = b * b + d * d, g = a * b + c * d;
+  const double lambda = smin * smin;
+  const Eigen::Vector2d row0(alpha - lambda, g), row1(g, beta - lambda);
+  // v is orthogonal to the larger row (the rows are parallel in exact arithmetic).
+  const Eigen::Vector2d& row = row0.squaredNorm() >= row1.squaredNorm() ? row0 : row1;
+  Eigen::Vector2d w(-row(1), row(0));
+  const double norm = w.norm();
+  if (norm > 0) {
+    w /= norm;
+  } else {
+    w = Eigen::Vector2d(1, 0);  // A = sigma I (every vector is singular) or A = 0
+  }
+  if (!A.allFinite()) {
+    *sigma_min = *sigma_max = std::numeric_limits<double>::quiet_NaN();
+    v->setConstant(std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
+  internal::FixSign(&w);
+  *sigma_min = smin;
+  *sigma_max = smax;
+  *v = w;
+}
+
+/**
+ * \brief One factorization of a square fixed-size matrix (typically Phi_phi) that gives its
+ *        determinant, cond_1, and solves with it and its transpose. No allocation.
+ *
+ * Up to 4 x 4 the closed-form inverse (cofactors; several times faster than PartialPivLU for
+ * these sizes) and the exact cond_1 = ||A||_1 ||A^{-1}||_1; above, Eigen's PartialPivLU
+ * with its 1/rcond() estimate of cond_1. ok() is false when A is singular or not finite.
+ */
+template <int n>
+class SquareFactorization {
+ public:
+  using Matrix = Eigen::Matrix<double, n, n>;
+  using Vector = Eigen::Matrix<double, n, 1>;
+
+  explicit SquareFactorization(const Matrix& A) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    if constexpr (n == 2) {
+      // Closed form: A^{-1} = adj(A) / det, and ||adj(A)||_1 = ||A||_inf, so
+      // cond_1 = ||A||_1 ||A||_inf / |det| without forming the inverse's norms.
+      const double a = A(0, 0), b = A(0, 1), c = A(1, 0), d = A(1, 1);
+      det_ = a * d - b * c;
+      ok_ = det_ != 0 && std::isfinite(det_);
+      const double inv = 1.0 / det_;
+      inverse_ << d * inv, -b * inv, -c * inv, a * inv;
+      const double norm1 = std::max(std::abs(a) + std::abs(c), std::abs(b) + std::abs(d));
+      const double norm_inf = std::max(std::abs(a) + std::abs(b), std::abs(c) + std::abs(d));
+      cond_ = ok_ ? norm1 * norm_inf / std::abs(det_) : kInf;
+    } else if constexpr (n <= 4) {
+      bool invertible = false;
+      A.computeInverseAndDetWithCheck(inverse_, det_, invertible, 0.0);
+      ok_ = invertible && inverse_.allFinite() && std::isfinite(det_);
+      cond_ = ok_ ? internal::Norm1(A) * internal::Norm1(inverse_) : kInf;
+    } else {
+      lu_.compute(A);
+      det_ = lu_.determinant();
+      ok_ = det_ != 0 && std::isfinite(det_);
+      const double rcond = ok_ ? lu_.rcond() : 0.0;
+      cond_ = rcond > 0 ? 1.0 / rcond : kInf;
+    }
+    if (!std::isfinite(cond_)) {
+      cond_ = kInf;
+      ok_ = false;
+    }
+  }
+  bool ok() const { return ok_; }
+  double determinant() const { return det_; }
+  /// cond_1(A) (exact for n <= 4, else Eigen's estimate); +inf when singular.
+  double condition() const { return cond_; }
+  /// A^{-1} B for any number of columns.
+  template <class Rhs>
+  auto Solve(const Eigen::MatrixBase<Rhs>& B) const {
+    using Result = Eigen::Matrix<double, n, Rhs::ColsAtCompileTime>;
+    if constexpr (n <= 4) {
+      return Result(inverse_ * B);
+    } else {
+      return Result(lu_.solve(B));
+    }
+  }
+  /// A^{-T} b.
+  Vector SolveTransposed(const Vector& b) const {
+    if constexpr (n <= 4) {
+      return inverse_.transpose() * b;
+    } else {
+      return lu_.transpose().solve(b);
+    }
+  }
+
+ private:
+  struct None {};
+  bool ok_ = false;
+  double det_ = 0;
+  double cond_ = std::numeric_limits<double>::infinity();
+  std::conditional_t<(n <= 4), Matrix, None> inverse_;
+  std::conditional_t<(n <= 4), None, Eigen::PartialPivLU<Matrix>> lu_;
+};
 
 }  // namespace mechgen

@@ -7,26 +7,45 @@
  *  - Assemble(): Ceres Levenberg–Marquardt on Phi with the generated analytic Jacobian
  *    Phi_phi (ceres_adapter.h), polished by Newton. Allocates (a ceres::Problem).
  *  - MoveTo(): one continuation step q0 -> q1. Predictor phi ~ phi0 + K dq + 1/2 L(dq, dq)
- *    from the coefficients of the last configuration, then Paul's Newton–Raphson corrector
- *    (NEWTR) phi <- phi - Phi_phi^{-1} Phi, fixed-size (closed-form inverse up to 4 x 4,
- *    PartialPivLU above). The step is
+ *    from the coefficients of the last configuration, then the corrector: the generated
+ *    M::Solve(p, q, &phi_pred, modes) on the assembly modes of the current branch (found
+ *    after assembly and after PassSingularity(), modes()): closed-form blocks are exact and
+ *    cost no iteration, Newton blocks start from the predictor and polish. Models without
+ *    M::Solve, and any step whose M::Solve result fails a check, use Paul's Newton–Raphson
+ *    (NEWTR) on the whole system, phi <- phi - Phi_phi^{-1} Phi, plus one polishing step
+ *    after the residual test passes (phi to ~1e-15, not ~cond * tolerance). The step is
  *    accepted when ||Phi||_inf <= tolerance, sign(det Phi_phi) is unchanged (same branch),
  *    Phi_phi is well conditioned and the corrector moved phi much less than the predictor
- *    did; otherwise it is split in halves. Ceres is only the fallback after the smallest
- *    half failed, and decides kNotAssemblable. The normal path never allocates.
+ *    did, and K agrees with K0 + L0 dq; otherwise it is split in halves. Ceres is only the
+ *    fallback after the smallest half failed, and decides kNotAssemblable. The normal path
+ *    never allocates.
  * On any failure the solver keeps its last valid configuration (state()); on kSingular that
  * is the last valid configuration before the singular one, and PassSingularity() continues
- * through it on the curve the caller chooses (types.h, Crossing). Every configuration
- * carries its distance to singularity, sigma_min(Phi_phi) by a fixed-size Jacobi SVD (about
- * 60 ns of a ~170 ns step for a four-bar), and the singular direction.
+ * through it on the curve the caller chooses (types.h, Crossing).
  *
+ * Distance to singularity (State::sigma_min, sigma_max, singular_direction), every
+ * configuration, from the one factorization of Phi_phi a step has (closed-form inverse up
+ * to 4 x 4, PartialPivLU above), which also gives det (branch) and cond_1:
+ *  - kNphi <= 2: exact, in closed form (SingularValues2x2; ~9 ns).
+ *  - kNphi > 2, continuation steps: one inverse iteration on Phi_phi^T Phi_phi from the
+ *    previous configuration's singular direction and one power iteration from its largest
+ *    direction; sigma_min = ||Phi_phi v|| (an upper bound), sigma_max = ||Phi_phi u|| (a
+ *    lower bound), State::sigma_exact = false. When that ratio falls below
+ *    Options::exact_sigma_ratio (0.1), a fixed-size JacobiSVD runs instead (exact).
+ *  - Exact (SVD) always at assembly, in the Ceres fallback, in PassSingularity(), and for
+ *    the configuration reported at a kSingular stop: the singular direction reported
+ *    there is exact.
  * K and L come from Model::Coeffs when the model has them; otherwise K = -Phi_phi^{-1} Phi_q
- * and L by central differences of Phi_phi and Phi_q along the motion (see NumericalL()).
+ * (Phi_q from the same evaluation as Phi_phi, the step's factorization) and L by central
+ * differences of Phi_phi and Phi_q along the motion (NumericalL(): two more evaluations
+ * and kNq^2 solves with the same factorization). Numeric L is kept because the default
+ * second-order predictor and the K-consistency guard need it.
  * L is stored as the generated code does: L(i, j + kNq*k) = dK(i, j)/dq_k.
  */
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -62,6 +81,14 @@ struct State {
   /// Unit right singular vector of sigma_min (kNphi): the direction in which phi can move
   /// with Phi unchanged to first order when sigma_min -> 0 (the singular motion).
   typename T::VecPhi singular_direction = T::VecPhi::Constant(kNaN);
+  /// Unit right singular vector of sigma_max (kNphi); the next configuration's estimate
+  /// starts from it and from singular_direction.
+  typename T::VecPhi largest_direction = T::VecPhi::Constant(kNaN);
+  /// true: sigma_min, sigma_max and both directions are exact (a singular value
+  /// decomposition: closed form for kNphi <= 2, JacobiSVD above); false: the estimate of
+  /// PositionSolver's continuation steps for kNphi > 2 (see solver.h: "Distance to
+  /// singularity"), sigma_min an upper bound and sigma_max a lower bound of the exact ones.
+  bool sigma_exact = false;
   int branch = 0;                                      ///< sign(det Phi_phi)
   bool valid = false;                                  ///< a converged configuration
 };
@@ -84,6 +111,9 @@ class PositionSolver {
   using MatCPhi = typename T::MatCPhi;
   using MatCQ = typename T::MatCQ;
   using Features = ModelFeatures<M>;
+  using Factorization = SquareFactorization<M::kNphi>;
+  /// Assembly modes of the blocks of M::Solve (one entry for a model without it).
+  using Modes = std::array<int, internal::BlockCount<M>::value>;
 
   /// Invalid options (Options::IsValid() false) make every solve return kInvalidInput.
   explicit PositionSolver(const Options& options = Options(), const Params& params = Params())
@@ -94,10 +124,11 @@ class PositionSolver {
   /// Changes the parameters; the configuration must be assembled again.
   void set_params(const Params& params) {
     params_ = params;
-    state_ = State<M>();
+    state_ref() = State<M>();
+    has_modes_ = false;
   }
   /// The last valid configuration (state().valid is false before the first assembly).
-  const State<M>& state() const { return state_; }
+  const State<M>& state() const { return states_[current_]; }
 
   /**
    * \brief Assembles the mechanism at q from a rough guess.
@@ -131,7 +162,18 @@ class PositionSolver {
    * \param[in,out] phi      Start and result (dim kNphi).
    * \param[out]    Phi_phi  dPhi/dphi at the final phi (kNc x kNphi).
    */
-  NewtonResult Newton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_phi) const;
+  NewtonResult Newton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_phi) const {
+    return FullNewton(q, phi, Phi_phi, nullptr);
+  }
+
+  /// The assembly mode (+1 / -1) of each block of the generated M::Solve on the current
+  /// branch, found after assembly (and after passing a singular configuration); false when
+  /// the model has no M::Solve or no modes reproduce the configuration (the continuation
+  /// then corrects with Newton on the whole system).
+  bool modes(Modes* out) const {
+    if (has_modes_ && out != nullptr) *out = modes_;
+    return has_modes_;
+  }
 
   /**
    * \brief Passes the singular configuration next to state() (after MoveTo() returned
@@ -170,12 +212,33 @@ class PositionSolver {
     }
     return false;
   }
-  // cond and sign(det) of Phi_phi into *s; false when singular (1/cond < min_rcond).
-  bool Classify(const MatCPhi& Phi_phi, State<M>* s) const;
-  // K, L and the points at (s->q, s->phi); false if any is not finite.
-  bool FillCoefficients(const MatCPhi& Phi_phi, State<M>* s) const;
-  void NumericalL(const VecQ& q, const VecPhi& phi, const MatCPhi& Phi_phi,
+  // A model whose coefficients lack K needs Phi_q for K = -Phi_phi^{-1} Phi_q.
+  static constexpr bool kNeedPhiQ = !Features::kHasK;
+
+  // cond, sign(det) and the distance to singularity of Phi_phi (factored as f) into *s;
+  // false when singular (1/cond < min_rcond). warm: the neighbouring configuration whose
+  // singular vectors start the estimate (kNphi > 2); nullptr: exact.
+  bool Classify(const MatCPhi& Phi_phi, const Factorization& f, const State<M>* warm,
+                State<M>* s) const;
+  // sigma_min, sigma_max and their right singular vectors into *s (see the file comment).
+  void Distance(const MatCPhi& Phi_phi, const Factorization& f, const State<M>* warm,
+                State<M>* s) const;
+  // The exact distance (a full SVD above 2 x 2) at s's configuration, if s has an estimate.
+  void MakeDistanceExact(State<M>* s) const;
+  // K, L and the points at (s->q, s->phi); false if any is not finite. Phi_q: dPhi/dq
+  // there, or nullptr (evaluated when the model lacks K).
+  bool FillCoefficients(const Factorization& f, const MatCQ* Phi_q, State<M>* s) const;
+  void NumericalL(const VecQ& q, const VecPhi& phi, const Factorization& f,
                   const typename T::MatK& K, typename T::MatL* L) const;
+  // Newton–Raphson on the whole system with a polishing step (Newton() with Phi_q).
+  NewtonResult FullNewton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_phi, MatCQ* Phi_q) const;
+  // The assembly modes of every closed-form block of M::Solve that reproduce s.phi at s.q
+  // into modes_ (has_modes_ false when there are none: M::Solve is then not used).
+  void FindModes(const State<M>& s);
+  // The checks of a continuation sub-step on a corrected phi; on success *to is complete.
+  // Phi, Phi_phi, Phi_q: at (q, phi) when the caller has them, else nullptr (evaluated).
+  bool Accept(const State<M>& from, const VecQ& q, const VecPhi& predicted, const VecPhi& phi,
+              const MatCPhi* Phi_phi, const MatCQ* Phi_q, double residual, State<M>* to) const;
   VecPhi Predict(const State<M>& from, const VecQ& q) const;
   // Branch guard: the corrector may move phi by less than max_correction_ratio times the
   // last Taylor term the predictor used (1/2 L(dq, dq), or K dq for a first-order
@@ -209,27 +272,48 @@ class PositionSolver {
                             options_.max_correction_abs *
                                 (1 + from.K.template lpNorm<Eigen::Infinity>());
   }
-  // One continuation sub-step from `from` to q by predictor + Newton; no allocation.
-  bool TryStep(const State<M>& from, const VecQ& q, State<M>* to, Summary* s) const;
+  // One continuation sub-step from `from` to q by predictor + corrector (M::Solve on the
+  // branch's modes, else / then Newton on the whole system); no allocation. *used_newton
+  // is set when the accepted result did not come from M::Solve.
+  bool TryStep(const State<M>& from, const VecQ& q, State<M>* to, Summary* s,
+               bool* used_newton) const;
   // Levenberg–Marquardt at q starting from the predictor; the failure path.
   Status Fallback(const State<M>& from, const VecQ& q, State<M>* to, Summary* s) const;
 
   Options options_;
   Params params_;
   bool options_valid_;
-  State<M> state_;
-  State<M> scratch_;  // the fast path's result, kept to avoid re-initializing it per step
+  // The last valid configuration is states_[current_]; the fast path of MoveTo() writes the
+  // other one and flips current_ (no copy of a State per step).
+  State<M>& state_ref() { return states_[current_]; }
+  State<M> states_[2];
+  int current_ = 0;
+  Modes modes_{};     // assembly mode of each block of M::Solve on state()'s branch
+  bool has_modes_ = false;
 };
 
 // ---------------------------------------------------------------------------------------
 // Implementation.
 
 template <class M>
-NewtonResult PositionSolver<M>::Newton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_phi) const {
+NewtonResult PositionSolver<M>::FullNewton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_phi,
+                                           MatCQ* Phi_q) const {
   NewtonResult result;
   VecC Phi;
+  // A singular Phi_phi gives inf/NaN in the step, caught by the finiteness tests.
+  // Up to 4 x 4, Eigen's fixed-size inverse (cofactors) is several times faster than
+  // PartialPivLU (measured 20 ns vs 3 ns for 2 x 2, a sixth of a whole step), and with
+  // cond(Phi_phi) bounded by Options::min_rcond it is as accurate here; larger systems
+  // use the pivoted LU. Both are fixed-size: no allocation.
+  auto step = [](const MatCPhi& A, const VecC& r) -> VecPhi {
+    if constexpr (M::kNphi <= 4) {
+      return A.inverse() * r;
+    } else {
+      return Eigen::PartialPivLU<MatCPhi>(A).solve(r);
+    }
+  };
   for (int iteration = 0;; ++iteration) {
-    M::template Phi<double>(params_, q, *phi, &Phi, Phi_phi, nullptr);
+    M::template Phi<double>(params_, q, *phi, &Phi, Phi_phi, Phi_q);
     result.residual_norm = Phi.template lpNorm<Eigen::Infinity>();
     result.iterations = iteration;
     if (!std::isfinite(result.residual_norm) || !phi->allFinite()) {
@@ -237,6 +321,23 @@ NewtonResult PositionSolver<M>::Newton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_
       return result;
     }
     if (result.residual_norm <= options_.tolerance) {
+      // Polish: one more step after the residual test passed. Newton converges
+      // quadratically here, so phi goes from ~ cond * tolerance / length (1e-10) to the
+      // rounding level (~1e-15) for the price of one solve and one evaluation. Kept only
+      // when it does not make the residual worse (at the rounding floor it may not help).
+      const VecPhi polished = *phi - step(*Phi_phi, Phi);
+      VecC Phi2;
+      MatCPhi A2;
+      MatCQ B2;
+      M::template Phi<double>(params_, q, polished, &Phi2, &A2, Phi_q != nullptr ? &B2 : nullptr);
+      const double r2 = Phi2.template lpNorm<Eigen::Infinity>();
+      ++result.iterations;
+      if (polished.allFinite() && A2.allFinite() && r2 <= result.residual_norm) {
+        *phi = polished;
+        *Phi_phi = A2;
+        if (Phi_q != nullptr) *Phi_q = B2;
+        result.residual_norm = r2;
+      }
       result.status = Status::kConverged;
       return result;
     }
@@ -244,38 +345,102 @@ NewtonResult PositionSolver<M>::Newton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_
       result.status = Status::kDidNotConverge;
       return result;
     }
-    // A singular Phi_phi gives inf/NaN here, caught by the finiteness test above.
-    // Up to 4 x 4, Eigen's fixed-size inverse (cofactors) is several times faster than
-    // PartialPivLU (measured 20 ns vs 3 ns for 2 x 2, a sixth of a whole step), and with
-    // cond(Phi_phi) bounded by Options::min_rcond it is as accurate here; larger systems
-    // use the pivoted LU. Both are fixed-size: no allocation.
-    if constexpr (M::kNphi <= 4) {
-      *phi -= Phi_phi->inverse() * Phi;
-    } else {
-      const Eigen::PartialPivLU<MatCPhi> lu(*Phi_phi);
-      *phi -= lu.solve(Phi);
-    }
+    *phi -= step(*Phi_phi, Phi);
   }
 }
 
 template <class M>
-bool PositionSolver<M>::Classify(const MatCPhi& Phi_phi, State<M>* s) const {
-  double det = 0;
-  ConditionAndDeterminant(Phi_phi, &s->condition, &det);
-  s->branch = Sign(det);
-  SmallestSingular(Phi_phi, &s->sigma_min, &s->sigma_max, &s->singular_direction);
-  return std::isfinite(s->condition) && s->condition * options_.min_rcond <= 1.0 &&
+bool PositionSolver<M>::Classify(const MatCPhi& Phi_phi, const Factorization& f,
+                                 const State<M>* warm, State<M>* s) const {
+  s->condition = f.condition();
+  s->branch = Sign(f.determinant());
+  Distance(Phi_phi, f, warm, s);
+  return f.ok() && std::isfinite(s->condition) && s->condition * options_.min_rcond <= 1.0 &&
          s->branch != 0;
 }
 
 template <class M>
-void PositionSolver<M>::NumericalL(const VecQ& q, const VecPhi& phi, const MatCPhi& Phi_phi,
+void PositionSolver<M>::Distance(const MatCPhi& A, const Factorization& f,
+                                 const State<M>* warm, State<M>* s) const {
+  constexpr int n = M::kNphi;
+  s->sigma_exact = true;
+  if constexpr (n == 1) {
+    s->sigma_min = s->sigma_max = std::abs(A(0, 0));
+    s->singular_direction.setOnes();
+    s->largest_direction.setOnes();
+    if (!A.allFinite()) {
+      s->sigma_min = s->sigma_max = std::numeric_limits<double>::quiet_NaN();
+    }
+  } else if constexpr (n == 2) {
+    Eigen::Vector2d v;
+    SingularValues2x2(A, &s->sigma_min, &s->sigma_max, &v);
+    s->singular_direction = v;
+    Eigen::Vector2d u(-v(1), v(0));
+    internal::FixSign(&u);
+    s->largest_direction = u;
+  } else {
+    // One step of inverse iteration on Phi_phi^T Phi_phi from the neighbour's singular
+    // direction (two solves with the factorization the step has anyway) and one step of
+    // the power iteration from its largest direction (two products). The Rayleigh
+    // quotients ||A v|| >= sigma_min and ||A u|| <= sigma_max; the warm start carries the
+    // iteration from configuration to configuration, and next to a singular configuration
+    // (sigma_min << sigma_{n-1}) one step converges by the factor (sigma_min/sigma_{n-1})^2.
+    // When the estimated ratio drops below Options::exact_sigma_ratio, the full SVD runs.
+    if (warm != nullptr && f.ok() && options_.exact_sigma_ratio < 1 &&
+        warm->singular_direction.allFinite() && warm->largest_direction.allFinite()) {
+      VecPhi v = f.Solve(f.SolveTransposed(warm->singular_direction));
+      VecPhi u = A.transpose() * (A * warm->largest_direction);
+      const double nv = v.norm(), nu = u.norm();
+      if (std::isfinite(nv) && std::isfinite(nu) && nv > 0 && nu > 0) {
+        v /= nv;
+        u /= nu;
+        const double smin = (A * v).norm();
+        const double smax = std::max((A * u).norm(), smin);
+        if (smin >= options_.exact_sigma_ratio * smax) {
+          internal::FixSign(&v);
+          internal::FixSign(&u);
+          s->sigma_min = smin;
+          s->sigma_max = smax;
+          s->singular_direction = v;
+          s->largest_direction = u;
+          s->sigma_exact = false;
+          return;
+        }
+      }
+    }
+    if (!A.allFinite()) {
+      constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+      s->sigma_min = s->sigma_max = kNaN;
+      s->singular_direction.setConstant(kNaN);
+      s->largest_direction.setConstant(kNaN);
+      return;
+    }
+    const Eigen::JacobiSVD<MatCPhi, Eigen::NoQRPreconditioner> svd(A, Eigen::ComputeFullV);
+    s->sigma_min = svd.singularValues()(n - 1);
+    s->sigma_max = svd.singularValues()(0);
+    s->singular_direction = svd.matrixV().col(n - 1);
+    s->largest_direction = svd.matrixV().col(0);
+    internal::FixSign(&s->singular_direction);
+    internal::FixSign(&s->largest_direction);
+  }
+}
+
+template <class M>
+void PositionSolver<M>::MakeDistanceExact(State<M>* s) const {
+  if (s->sigma_exact) return;
+  MatCPhi Phi_phi;
+  M::template Phi<double>(params_, s->q, s->phi, nullptr, &Phi_phi, nullptr);
+  const Factorization f(Phi_phi);
+  Distance(Phi_phi, f, nullptr, s);
+}
+
+template <class M>
+void PositionSolver<M>::NumericalL(const VecQ& q, const VecPhi& phi, const Factorization& f,
                                    const typename T::MatK& K, typename T::MatL* L) const {
   // K = -Phi_phi^{-1} Phi_q  =>  dK/dq_k = -Phi_phi^{-1} (D_k Phi_phi K + D_k Phi_q), where
   // D_k is the total derivative along the motion (dq, dphi) = (e_k, K e_k), taken by central
   // differences. h = cbrt(eps) ~ 6e-6 balances truncation O(h^2) and rounding O(eps/h):
-  // both ~ 1e-11 relative.
-  const Eigen::PartialPivLU<MatCPhi> lu(Phi_phi);
+  // both ~ 1e-11 relative. Uses the step's factorization of Phi_phi.
   const double h = std::cbrt(std::numeric_limits<double>::epsilon());
   for (int k = 0; k < M::kNq; ++k) {
     VecQ dq = VecQ::Zero();
@@ -289,14 +454,13 @@ void PositionSolver<M>::NumericalL(const VecQ& q, const VecPhi& phi, const MatCP
                             &B_minus);
     const MatCPhi dA = (A_plus - A_minus) / (2 * h);
     const MatCQ dB = (B_plus - B_minus) / (2 * h);
-    for (int j = 0; j < M::kNq; ++j) {
-      L->col(j + M::kNq * k) = -lu.solve(VecC(dA * K.col(j) + dB.col(j)));
-    }
+    L->template middleCols<M::kNq>(M::kNq * k) = -f.Solve(MatCQ(dA * K + dB));
   }
 }
 
 template <class M>
-bool PositionSolver<M>::FillCoefficients(const MatCPhi& Phi_phi, State<M>* s) const {
+bool PositionSolver<M>::FillCoefficients(const Factorization& f, const MatCQ* Phi_q,
+                                         State<M>* s) const {
   typename T::Coefficients c;
   if constexpr (Features::kHasK || Features::kHasL || Features::kHasPoints) {
     M::template Coeffs<double>(params_, s->q, s->phi, &c);
@@ -304,14 +468,17 @@ bool PositionSolver<M>::FillCoefficients(const MatCPhi& Phi_phi, State<M>* s) co
   if constexpr (Features::kHasK) {
     s->K = c.K;
   } else {
-    MatCQ Phi_q;
-    M::template Phi<double>(params_, s->q, s->phi, nullptr, nullptr, &Phi_q);
-    s->K = -Eigen::PartialPivLU<MatCPhi>(Phi_phi).solve(Phi_q);
+    MatCQ B;
+    if (Phi_q == nullptr) {
+      M::template Phi<double>(params_, s->q, s->phi, nullptr, nullptr, &B);
+      Phi_q = &B;
+    }
+    s->K = -f.Solve(*Phi_q);
   }
   if constexpr (Features::kHasL) {
     s->L = c.L;
   } else {
-    NumericalL(s->q, s->phi, Phi_phi, s->K, &s->L);
+    NumericalL(s->q, s->phi, f, s->K, &s->L);
   }
   bool finite = s->K.allFinite() && s->L.allFinite();
   if constexpr (Features::kHasPoints) {
@@ -337,26 +504,130 @@ typename PositionSolver<M>::VecPhi PositionSolver<M>::Predict(const State<M>& fr
 }
 
 template <class M>
-bool PositionSolver<M>::TryStep(const State<M>& from, const VecQ& q, State<M>* to,
-                                Summary* s) const {
-  const VecPhi predicted = Predict(from, q);
-  if (MovesTooFar(from.phi, predicted)) return false;  // split before running Newton
-  VecPhi phi = predicted;
-  MatCPhi Phi_phi;
-  const NewtonResult newton = Newton(q, &phi, &Phi_phi);
-  s->iterations += newton.iterations;
-  if (newton.status != Status::kConverged) return false;
+bool PositionSolver<M>::Accept(const State<M>& from, const VecQ& q, const VecPhi& predicted,
+                               const VecPhi& phi, const MatCPhi* Phi_phi, const MatCQ* Phi_q,
+                               double residual, State<M>* to) const {
   if (!CorrectionAcceptable(from, q, predicted, phi) || MovesTooFar(from.phi, phi)) {
     return false;
   }
+  MatCPhi A;
+  MatCQ B;
+  if (Phi_phi == nullptr) {  // the residual test of a result of M::Solve
+    VecC Phi;
+    M::template Phi<double>(params_, q, phi, &Phi, &A, kNeedPhiQ ? &B : nullptr);
+    residual = Phi.template lpNorm<Eigen::Infinity>();
+    if (!(residual <= options_.tolerance)) return false;
+    Phi_phi = &A;
+    Phi_q = kNeedPhiQ ? &B : nullptr;
+  }
   to->q = q;
   to->phi = phi;
-  to->residual_norm = newton.residual_norm;
-  if (!Classify(Phi_phi, to) || to->branch != from.branch) return false;
-  if (!FillCoefficients(Phi_phi, to)) return false;
+  to->residual_norm = residual;
+  const Factorization f(*Phi_phi);
+  if (!Classify(*Phi_phi, f, &from, to) || to->branch != from.branch) return false;
+  if (!FillCoefficients(f, Phi_q, to)) return false;
   if (!VelocityConsistent(from, *to)) return false;
   to->valid = true;
   return true;
+}
+
+template <class M>
+bool PositionSolver<M>::TryStep(const State<M>& from, const VecQ& q, State<M>* to,
+                                Summary* s, bool* used_newton) const {
+  const VecPhi predicted = Predict(from, q);
+  if (MovesTooFar(from.phi, predicted)) return false;  // split before running a corrector
+  if constexpr (Features::kHasSolve) {
+    // The generated solver on this branch's modes: closed-form blocks are exact and cost
+    // no iteration, Newton blocks start from the predictor (and polish).
+    if (has_modes_) {
+      VecPhi phi = predicted;
+      const auto report = M::template Solve<double>(params_, q, &phi, modes_,
+                                                    options_.max_newton_iterations,
+                                                    options_.tolerance);
+      s->iterations += report.iterations;
+      using SolveStatus = decltype(report.status);
+      if (report.status == SolveStatus::kConverged && phi.allFinite() &&
+          Accept(from, q, predicted, phi, nullptr, nullptr, 0.0, to)) {
+        return true;
+      }
+    }
+  }
+  // Newton on the whole system from the predictor: models without M::Solve, and the
+  // fallback when M::Solve fails or its result fails a check.
+  VecPhi phi = predicted;
+  MatCPhi Phi_phi;
+  MatCQ Phi_q;
+  const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr);
+  s->iterations += newton.iterations;
+  if (newton.status != Status::kConverged) return false;
+  if (!Accept(from, q, predicted, phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr,
+              newton.residual_norm, to)) {
+    return false;
+  }
+  *used_newton = true;
+  return true;
+}
+
+template <class M>
+void PositionSolver<M>::FindModes(const State<M>& s) {
+  has_modes_ = false;
+  if constexpr (Features::kHasSolve) {
+    constexpr int nb = M::kNumBlocks;
+    auto solve = [&](const Modes& m, VecPhi* x) {
+      *x = s.phi;  // the reference of the closed forms' angles
+      const auto r = M::template Solve<double>(params_, s.q, x, m, options_.max_newton_iterations,
+                                               options_.tolerance);
+      using SolveStatus = decltype(r.status);
+      return r.status == SolveStatus::kConverged && x->allFinite();
+    };
+    auto differs = [](double a, double b) { return std::abs(a - b) > 1e-9 * (1 + std::abs(b)); };
+    // Which coordinates each closed-form block owns: flipping block b's mode moves its own
+    // coordinates and those of later blocks that depend on it, never earlier ones; so
+    // own(b) = moved(b) minus moved(b') for every later b'.
+    Modes base = M::kDefaultModes;
+    VecPhi x0;
+    if (!solve(base, &x0)) return;
+    std::array<std::array<bool, M::kNphi>, nb> moved{};
+    for (int b = 0; b < nb; ++b) {
+      if (!M::kBlockClosedForm[b]) continue;
+      Modes m = base;
+      m[b] = -m[b];
+      VecPhi x;
+      if (!solve(m, &x)) return;
+      for (int i = 0; i < M::kNphi; ++i) moved[b][i] = differs(x(i), x0(i));
+    }
+    std::array<int, M::kNphi> owner;
+    owner.fill(-1);
+    for (int b = nb - 1; b >= 0; --b) {
+      for (int i = 0; i < M::kNphi; ++i) {
+        if (moved[b][i] && owner[i] == -1) owner[i] = b;
+      }
+    }
+    // In solve order, the mode of each block that is closer to s.phi on its coordinates
+    // (earlier blocks are settled, so its inputs are right).
+    Modes m = base;
+    for (int b = 0; b < nb; ++b) {
+      if (!M::kBlockClosedForm[b]) continue;
+      VecPhi xa, xb;
+      Modes flipped = m;
+      flipped[b] = -flipped[b];
+      const bool oka = solve(m, &xa), okb = solve(flipped, &xb);
+      double ea = 0, eb = 0;
+      for (int i = 0; i < M::kNphi; ++i) {
+        if (owner[i] != b) continue;
+        ea = std::max(ea, std::abs(xa(i) - s.phi(i)));
+        eb = std::max(eb, std::abs(xb(i) - s.phi(i)));
+      }
+      if ((okb && !oka) || (oka && okb && eb < ea)) m = flipped;
+    }
+    VecPhi x;
+    if (!solve(m, &x)) return;
+    // Reproduced to the accuracy of s.phi (||Phi|| <= tolerance, 1/cond >= min_rcond).
+    const double error = (x - s.phi).template lpNorm<Eigen::Infinity>();
+    if (!(error <= 1e-6 * (1 + s.phi.template lpNorm<Eigen::Infinity>()))) return;
+    modes_ = m;
+    has_modes_ = true;
+  }
 }
 
 template <class M>
@@ -371,7 +642,8 @@ Status PositionSolver<M>::Fallback(const State<M>& from, const VecQ& q, State<M>
   s->iterations += lm.iterations;
   s->residual_norm = lm.residual_norm;
   MatCPhi Phi_phi;
-  const NewtonResult newton = Newton(q, &phi, &Phi_phi);
+  MatCQ Phi_q;
+  const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr);
   s->iterations += newton.iterations;
   if (newton.status != Status::kConverged) {
     return (lm.stationary && lm.residual_norm > options_.tolerance) ? Status::kNotAssemblable
@@ -381,7 +653,8 @@ Status PositionSolver<M>::Fallback(const State<M>& from, const VecQ& q, State<M>
   to->phi = phi;
   to->residual_norm = newton.residual_norm;
   s->residual_norm = newton.residual_norm;
-  const bool regular = Classify(Phi_phi, to);
+  const Factorization f(Phi_phi);
+  const bool regular = Classify(Phi_phi, f, nullptr, to);
   s->condition = to->condition;
   s->sigma_min = to->sigma_min;
   s->branch = to->branch;
@@ -391,7 +664,7 @@ Status PositionSolver<M>::Fallback(const State<M>& from, const VecQ& q, State<M>
   if (!CorrectionAcceptable(from, q, Predict(from, q), phi) || MovesTooFar(from.phi, phi)) {
     return Status::kDidNotConverge;
   }
-  if (!FillCoefficients(Phi_phi, to)) return Status::kSingular;
+  if (!FillCoefficients(f, kNeedPhiQ ? &Phi_q : nullptr, to)) return Status::kSingular;
   if (!VelocityConsistent(from, *to)) return Status::kDidNotConverge;
   to->valid = true;
   return Status::kConverged;
@@ -405,32 +678,34 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
     if (summary != nullptr) *summary = s;
     return status;
   };
-  if (!options_valid_ || !state_.valid || !q_target.allFinite()) {
+  if (!options_valid_ || !state_ref().valid || !q_target.allFinite()) {
     s.reason = !options_valid_  ? "invalid Options"
-               : !state_.valid ? "nothing assembled to continue from"
+               : !state_ref().valid ? "nothing assembled to continue from"
                                : "input not finite";
     return finish(Status::kInvalidInput);
   }
-  if (!((q_target - state_.q).cwiseAbs().maxCoeff() <= options_.max_input_step)) {
+  if (!((q_target - state_ref().q).cwiseAbs().maxCoeff() <= options_.max_input_step)) {
     s.reason = "step larger than Options::max_input_step";
     return finish(Status::kInvalidInput);
   }
   // Fast path (every step of a sweep with small steps): one sub-step straight to q_target.
-  if (TryStep(state_, q_target, &scratch_, &s)) {
-    state_ = scratch_;
+  bool used_newton = false;
+  if (TryStep(state_ref(), q_target, &states_[1 - current_], &s, &used_newton)) {
+    current_ = 1 - current_;
+    if (used_newton) FindModes(state_ref());
     s.substeps = 1;
-    s.residual_norm = state_.residual_norm;
-    s.condition = state_.condition;
-    s.sigma_min = state_.sigma_min;
-    s.branch = state_.branch;
+    s.residual_norm = state_ref().residual_norm;
+    s.condition = state_ref().condition;
+    s.sigma_min = state_ref().sigma_min;
+    s.branch = state_ref().branch;
     return finish(Status::kConverged);
   }
   ++s.rejected_substeps;
   // Split the step: halve on failure, double after success, down to h_min of the step.
-  const VecQ q_start = state_.q;
+  const VecQ q_start = state_ref().q;
   const VecQ delta = q_target - q_start;
   const double h_min = std::ldexp(1.0, -options_.max_bisections);
-  State<M> current = state_;
+  State<M> current = state_ref();
   State<M> next;
   double t = 0;    // fraction of the step done
   double h = 0.5;  // fraction tried next
@@ -443,7 +718,7 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
     h = std::min(h, 1 - t);
     const bool last = t + h >= 1;
     const VecQ q = last ? q_target : VecQ(q_start + (t + h) * delta);
-    if (TryStep(current, q, &next, &s)) {
+    if (TryStep(current, q, &next, &s, &used_newton)) {
       current = next;
       t = last ? 1 : t + h;
       ++s.substeps;
@@ -459,6 +734,8 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
     if (status != Status::kConverged) {
       // The smallest sub-step failed. Next to a singular configuration that is a dead point
       // (nothing closes beyond it) or a change point (only the other branch closes).
+      // Decided on (and reported with) the exact distance to singularity.
+      MakeDistanceExact(&current);
       const bool near_singular =
           current.sigma_min < options_.near_singular_ratio * current.sigma_max;
       if (status == Status::kSingular || near_singular) {
@@ -466,7 +743,7 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
         s.reason = near_singular ? "reached a singular configuration (dead point or change "
                                    "point); state() is the last valid one before it"
                                  : "only the other branch closes beyond this point";
-        state_ = current;  // the last valid configuration, the closest to the singular one
+        state_ref() = current;  // the last valid configuration, the closest to the singular one
         s.residual_norm = current.residual_norm;
         s.condition = current.condition;
         s.sigma_min = current.sigma_min;
@@ -475,10 +752,12 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
       return finish(status);
     }
     current = next;
+    used_newton = true;
     t = last ? 1 : t + h;
     ++s.substeps;
   }
-  state_ = current;
+  state_ref() = current;
+  if (used_newton) FindModes(state_ref());
   s.residual_norm = current.residual_norm;
   s.condition = current.condition;
   s.sigma_min = current.sigma_min;
@@ -509,7 +788,9 @@ Status PositionSolver<M>::Assemble(const VecQ& q, const VecPhi& phi_guess, int r
   s.iterations = lm.iterations;
   s.residual_norm = lm.residual_norm;
   MatCPhi Phi_phi;
-  const NewtonResult newton = Newton(q, &phi, &Phi_phi);  // polish to Options::tolerance
+  MatCQ Phi_q;
+  // Newton to Options::tolerance, and one polishing step.
+  const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr);
   s.iterations += newton.iterations;
   if (newton.status != Status::kConverged) {
     return finish(lm.stationary ? Status::kNotAssemblable : Status::kDidNotConverge);
@@ -519,7 +800,8 @@ Status PositionSolver<M>::Assemble(const VecQ& q, const VecPhi& phi_guess, int r
   next.phi = phi;
   next.residual_norm = newton.residual_norm;
   s.residual_norm = newton.residual_norm;
-  const bool regular = Classify(Phi_phi, &next);
+  const Factorization f(Phi_phi);
+  const bool regular = Classify(Phi_phi, f, nullptr, &next);
   s.condition = next.condition;
   s.sigma_min = next.sigma_min;
   s.branch = next.branch;
@@ -528,9 +810,12 @@ Status PositionSolver<M>::Assemble(const VecQ& q, const VecPhi& phi_guess, int r
   if (required_branch != 0 && next.branch != Sign(required_branch)) {
     return finish(Status::kWrongBranch);
   }
-  if (!FillCoefficients(Phi_phi, &next)) return finish(Status::kSingular);
+  if (!FillCoefficients(f, kNeedPhiQ ? &Phi_q : nullptr, &next)) {
+    return finish(Status::kSingular);
+  }
   next.valid = true;
-  state_ = next;
+  state_ref() = next;
+  FindModes(state_ref());
   return finish(Status::kConverged);
 }
 
@@ -559,19 +844,21 @@ Status PositionSolver<M>::PassSingularity(const VecQ& q_toward, Crossing crossin
     if (summary != nullptr) *summary = s;
     return status;
   };
-  if (!options_valid_ || !state_.valid || !q_toward.allFinite()) {
+  if (!options_valid_ || !state_ref().valid || !q_toward.allFinite()) {
     return finish(Status::kInvalidInput, "no valid state() or input not finite");
   }
-  const VecQ q0 = state_.q;
+  const VecQ q0 = state_ref().q;
   VecQ d = q_toward - q0;
   const double length = d.norm();
   if (!(length > 0)) return finish(Status::kInvalidInput, "q_toward == state().q");
   d /= length;
-  s.branch = state_.branch;
-  s.sigma_min = state_.sigma_min;
-  s.condition = state_.condition;
+  s.branch = state_ref().branch;
+  s.sigma_min = state_ref().sigma_min;
+  s.condition = state_ref().condition;
   if (crossing == Crossing::kStop) return finish(Status::kSingular, "Crossing::kStop");
-  if (!(state_.sigma_min < options_.near_singular_ratio * state_.sigma_max)) {
+  MakeDistanceExact(&state_ref());  // the same configuration; only an estimate becomes exact
+  s.sigma_min = state_ref().sigma_min;
+  if (!(state_ref().sigma_min < options_.near_singular_ratio * state_ref().sigma_max)) {
     return finish(Status::kSingular,
                   "state() is not next to a singular configuration "
                   "(sigma_min / sigma_max >= Options::near_singular_ratio)");
@@ -602,7 +889,7 @@ Status PositionSolver<M>::PassSingularity(const VecQ& q_toward, Crossing crossin
 
   VecX x0;
   x0(0) = 0;
-  x0.template tail<n>() = state_.phi;
+  x0.template tail<n>() = state_ref().phi;
   MatJ J0;
   VecC G;
   eval(x0, &G, &J0);
@@ -610,7 +897,7 @@ Status PositionSolver<M>::PassSingularity(const VecQ& q_toward, Crossing crossin
   double ratio_J = 0;
   tangent(J0, &tau0, &ratio_J);
   if (tau0(0) < 0) tau0 = -tau0;  // the incoming motion: t increasing
-  const double ratio_phi = state_.sigma_min / state_.sigma_max;
+  const double ratio_phi = state_ref().sigma_min / state_ref().sigma_max;
   // At a dead point J keeps full rank while Phi_phi loses it (ratio_J = O(1) >> ratio_phi);
   // at a change point both lose rank at the same rate. The geometric mean separates them.
   const bool dead_point = ratio_J > std::sqrt(ratio_phi);
@@ -703,8 +990,9 @@ Status PositionSolver<M>::PassSingularity(const VecQ& q_toward, Crossing crossin
     next.q = q0 + x(0) * d;
     next.phi = x.template tail<n>();
     MatCPhi Phi_phi = J.template rightCols<n>();
-    const bool regular = Classify(Phi_phi, &next);
-    const bool flipped = next.branch == -state_.branch;
+    const Factorization f(Phi_phi);
+    const bool regular = Classify(Phi_phi, f, nullptr, &next);
+    const bool flipped = next.branch == -state_ref().branch;
     const bool reversed = tau(0) < 0;
     bool done = false;
     if (crossing == Crossing::kSwitchBranch) {
@@ -714,13 +1002,14 @@ Status PositionSolver<M>::PassSingularity(const VecQ& q_toward, Crossing crossin
     } else {
       done = flipped && reversed;
     }
-    if (step >= 1 && regular && next.sigma_min >= state_.sigma_min && done) {
+    if (step >= 1 && regular && next.sigma_min >= state_ref().sigma_min && done) {
       next.residual_norm = G.template lpNorm<Eigen::Infinity>();
-      if (!FillCoefficients(Phi_phi, &next)) {
+      if (!FillCoefficients(f, nullptr, &next)) {
         return finish(Status::kSingular, "coefficients not finite beyond the crossing");
       }
       next.valid = true;
-      state_ = next;
+      state_ref() = next;
+      FindModes(state_ref());  // the branch changed
       s.residual_norm = next.residual_norm;
       s.condition = next.condition;
       s.sigma_min = next.sigma_min;

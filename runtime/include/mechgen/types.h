@@ -159,6 +159,13 @@ struct Options {
   /// sub-step of 2^-max_bisections of a step; at a dead point approached to within delta,
   /// the ratio is ~ sqrt(delta) ~ 4e-4 for 0.5 deg steps.
   double near_singular_ratio = 1e-2;
+  /// Distance to singularity during the continuation (kNphi > 2 only; up to 2 x 2 it is
+  /// always exact, in closed form): each step estimates sigma_min and sigma_max from the
+  /// previous configuration's singular vectors (one inverse and one power iteration, State::
+  /// sigma_exact false) and runs the full Jacobi SVD only when the estimated
+  /// sigma_min / sigma_max < exact_sigma_ratio. 10 x near_singular_ratio leaves a margin for
+  /// the estimate; 1 makes every step exact.
+  double exact_sigma_ratio = 0.1;
   /// Arc length (in (t, phi), t the input along the motion, rad or model units) of the
   /// pseudo-arclength steps with which PassSingularity() steps over a singular
   /// configuration. Small enough that the tangent predictor errs by O(step^2) = 1e-6, far
@@ -197,6 +204,8 @@ struct Options {
       return fail("max_input_step", max_input_step, "max_input_step > 0");
     if (!(near_singular_ratio >= 0 && near_singular_ratio < 1))
       return fail("near_singular_ratio", near_singular_ratio, "0 <= near_singular_ratio < 1");
+    if (!(exact_sigma_ratio >= 0 && exact_sigma_ratio <= 1))
+      return fail("exact_sigma_ratio", exact_sigma_ratio, "0 <= exact_sigma_ratio <= 1");
     if (!(pass_step > 0 && pass_step < 1))
       return fail("pass_step", pass_step, "0 < pass_step < 1");
     return true;
