@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <stdexcept>
 
 namespace mechgen {
 namespace {
@@ -326,7 +327,16 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
     b.cols = comp;
     for (int c : comp) b.rows.push_back(col_row[c]);
     std::sort(b.rows.begin(), b.rows.end());
-    if (strategy == Strategy::kBlocks) Recognize(k, &b);
+    if (strategy == Strategy::kBlocks) {
+      // GiNaC's degree() throws on a non-integer power of an unknown (a contour cam's
+      // normal, 1 / sqrt(x'(u)^2 + y'(u)^2)): no closed form, Newton's method.
+      const Block plain = b;
+      try {
+        Recognize(k, &b);
+      } catch (const std::runtime_error&) {
+        b = plain;
+      }
+    }
     ChooseMode(k, &b, &values);
     blocks.push_back(b);
   }

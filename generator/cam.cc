@@ -1,8 +1,10 @@
 // Cam laws and cam geometry. See cam.h.
 #include "cam.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <sstream>
 
 namespace mechgen {
@@ -360,6 +362,277 @@ std::string EmitCamLaw(const Model& m, const CamLaw& law, CxxPrinter* printer) {
     os << "  }\n";
   }
   os << "}\n";
+  return os.str();
+}
+
+}  // namespace mechgen
+
+// ---- contour cams ----
+
+namespace mechgen {
+
+static ex camcontour_deriv(const ex& i, const ex& c, const ex& d, const ex& u, unsigned param) {
+  (void)u;
+  if (param != 3) return 0;  // the cam's index, the coordinate and the order are integers
+  return camcontour(i, c, d + 1, u);
+}
+
+REGISTER_FUNCTION(camcontour, derivative_func(camcontour_deriv).latex_name("\\mathrm{contour}"))
+
+Vec2 ContourPoint(const Joint& j, const ex& u, int d) {
+  if (j.contour == Joint::Contour::kSpline) return {camcontour(j.cam_index, 0, d, u), camcontour(j.cam_index, 1, d, u)};
+  const GiNaC::lst from{j.contour_u}, to{u};
+  return {j.contour_x.diff(j.contour_u, d).subs(from, to), j.contour_y.diff(j.contour_u, d).subs(from, to)};
+}
+
+double EvalSpline(const CamContour& c, int coordinate, int d, double u) {
+  const size_t n = c.knots.size() - 1;
+  const double period = c.knots[n];
+  u -= period * std::floor(u / period);
+  size_t k = 0, hi = n;
+  while (hi - k > 1) {
+    const size_t mid = (k + hi) / 2;
+    if (u < c.knots[mid]) hi = mid; else k = mid;
+  }
+  const std::array<double, 4>& a = c.coef[coordinate][k];
+  const double t = u - c.knots[k];
+  switch (d) {
+    case 0: return a[0] + t * (a[1] + t * (a[2] + t * a[3]));
+    case 1: return a[1] + t * (2 * a[2] + t * 3 * a[3]);
+    case 2: return 2 * a[2] + t * 6 * a[3];
+    case 3: return 6 * a[3];
+    default: return 0;
+  }
+}
+
+namespace {
+
+// Periodic cubic spline through y at knots u (u.size() = y.size() + 1, u.back() the
+// period): second derivatives from the cyclic system, solved by Gaussian elimination
+// with partial pivoting (small n; plain doubles, so the same bytes on every run).
+std::vector<std::array<double, 4>> PeriodicSpline(const std::vector<double>& u, const std::vector<double>& y) {
+  const size_t n = y.size();
+  std::vector<double> h(n);
+  for (size_t i = 0; i < n; ++i) h[i] = u[i + 1] - u[i];
+  std::vector<std::vector<double>> A(n, std::vector<double>(n + 1, 0.0));
+  for (size_t i = 0; i < n; ++i) {
+    const size_t prev = (i + n - 1) % n, next = (i + 1) % n;
+    A[i][prev] += h[prev];
+    A[i][i] += 2 * (h[prev] + h[i]);
+    A[i][next] += h[i];
+    A[i][n] = 6 * ((y[next] - y[i]) / h[i] - (y[i] - y[prev]) / h[prev]);
+  }
+  for (size_t c = 0; c < n; ++c) {
+    size_t piv = c;
+    for (size_t r = c + 1; r < n; ++r)
+      if (std::abs(A[r][c]) > std::abs(A[piv][c])) piv = r;
+    std::swap(A[c], A[piv]);
+    for (size_t r = c + 1; r < n; ++r) {
+      const double f = A[r][c] / A[c][c];
+      if (f == 0) continue;
+      for (size_t k = c; k <= n; ++k) A[r][k] -= f * A[c][k];
+    }
+  }
+  std::vector<double> M(n);
+  for (size_t c = n; c-- > 0;) {
+    double s = A[c][n];
+    for (size_t k = c + 1; k < n; ++k) s -= A[c][k] * M[k];
+    M[c] = s / A[c][c];
+  }
+  std::vector<std::array<double, 4>> coef(n);
+  for (size_t i = 0; i < n; ++i) {
+    const size_t next = (i + 1) % n;
+    coef[i] = {y[i], (y[next] - y[i]) / h[i] - h[i] * (2 * M[i] + M[next]) / 6, M[i] / 2,
+               (M[next] - M[i]) / (6 * h[i])};
+  }
+  return coef;
+}
+
+double Cross(const std::array<double, 2>& o, const std::array<double, 2>& a, const std::array<double, 2>& b) {
+  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+// Whether segments ab and cd cross or touch.
+bool SegmentsMeet(const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c,
+                  const std::array<double, 2>& d) {
+  const double d1 = Cross(c, d, a), d2 = Cross(c, d, b), d3 = Cross(a, b, c), d4 = Cross(a, b, d);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return true;
+  auto on = [](const std::array<double, 2>& p, const std::array<double, 2>& q, const std::array<double, 2>& r, double cr) {
+    return cr == 0 && std::min(p[0], q[0]) <= r[0] && r[0] <= std::max(p[0], q[0]) && std::min(p[1], q[1]) <= r[1] &&
+           r[1] <= std::max(p[1], q[1]);
+  };
+  return on(c, d, a, d1) || on(c, d, b, d2) || on(a, b, c, d3) || on(a, b, d, d4);
+}
+
+std::string Pt(const std::array<double, 2>& p) { return "(" + G(p[0]) + ", " + G(p[1]) + ")"; }
+
+}  // namespace
+
+CamContour BuildCamContour(const Model& m, const Joint& j) {
+  CamContour c;
+  c.joint = static_cast<int>(&j - m.joints.data());
+  c.cxx_name = "Contour_" + j.name;
+  const GiNaC::exmap defaults = Defaults(m);
+  const std::string who = "cam '" + j.name + "'";
+  // The cam's pivot in the cam's frame: the contour must wind once around it.
+  std::array<double, 2> pivot = {0, 0};
+  for (const Joint& rj : m.joints)
+    if (rj.type == JointType::kRevolute && ((rj.a.link == j.a.link && rj.b.link == j.carrier) ||
+                                            (rj.b.link == j.a.link && rj.a.link == j.carrier))) {
+      const PointRef pr = rj.a.link == j.a.link ? rj.a : rj.b;
+      const LinkPoint& lp = m.links[pr.link].points[pr.point];
+      pivot = {Num(lp.x, defaults), Num(lp.y, defaults)};
+    }
+  double period = 0;
+  std::function<double(int, int, double)> eval;
+  std::vector<GiNaC::ex> derivs[2];
+  if (j.contour == Joint::Contour::kSpline) {
+    std::vector<std::array<double, 2>> pts = j.contour_points;
+    std::vector<SourceMark> marks = j.contour_point_marks;
+    if (pts.size() >= 2 && pts.front() == pts.back()) pts.pop_back(), marks.pop_back();  // closed explicitly
+    if (pts.size() < 4)
+      m.Fail(j.contour_mark, "the contour of " + who + " has " + std::to_string(pts.size()) +
+                                 " distinct point(s); a periodic cubic spline needs at least 4");
+    const size_t n = pts.size();
+    for (size_t i = 0; i < n; ++i) {
+      const auto& a = pts[i];
+      const auto& b = pts[(i + 1) % n];
+      if (std::hypot(b[0] - a[0], b[1] - a[1]) == 0)
+        m.Fail(marks[(i + 1) % n], "the contour of " + who + " repeats the point " + Pt(a) +
+                                       " (points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
+                                       "); list each point once");
+    }
+    for (size_t i = 0; i < n; ++i)
+      for (size_t k = i + 2; k < n; ++k) {
+        if (i == 0 && k == n - 1) continue;  // neighbours through the closing segment
+        if (SegmentsMeet(pts[i], pts[i + 1], pts[k], pts[(k + 1) % n]))
+          m.Fail(marks[k], "the contour of " + who + " intersects itself: the segment from point " +
+                               std::to_string(k) + " " + Pt(pts[k]) + " to point " + std::to_string((k + 1) % n) +
+                               " crosses the one from point " + std::to_string(i) + " " + Pt(pts[i]) + " to point " +
+                               std::to_string(i + 1) + "; list the points in order along the contour");
+      }
+    c.knots.push_back(0);
+    for (size_t i = 0; i < n; ++i)
+      c.knots.push_back(c.knots.back() + std::hypot(pts[(i + 1) % n][0] - pts[i][0], pts[(i + 1) % n][1] - pts[i][1]));
+    for (int k = 0; k < 2; ++k) {
+      std::vector<double> y;
+      for (const auto& p : pts) y.push_back(p[k]);
+      c.coef[k] = PeriodicSpline(c.knots, y);
+    }
+    period = c.knots.back();
+    eval = [&c](int k, int d, double u) { return EvalSpline(c, k, d, u); };
+  } else {
+    period = Num(j.contour_period, defaults);
+    for (int k = 0; k < 2; ++k) {
+      const ex e = (k == 0 ? j.contour_x : j.contour_y).subs(defaults);
+      for (int d = 0; d < 3; ++d) derivs[k].push_back(e.diff(j.contour_u, d));
+    }
+    eval = [&](int k, int d, double u) {
+      const ex v = derivs[k][d].subs(GiNaC::lst{j.contour_u}, GiNaC::lst{u}).evalf();
+      return GiNaC::is_a<GiNaC::numeric>(v) ? GiNaC::ex_to<GiNaC::numeric>(v).to_double() : std::nan("");
+    };
+    const double gap = std::hypot(eval(0, 0, period) - eval(0, 0, 0), eval(1, 0, period) - eval(1, 0, 0));
+    const double size = std::hypot(eval(0, 0, 0) - pivot[0], eval(1, 0, 0) - pivot[1]);
+    if (!(gap <= 1e-9 * std::max(1.0, size)))
+      m.Fail(j.contour_mark, "the contour of " + who + " is not closed: it starts at " +
+                                 Pt({eval(0, 0, 0), eval(1, 0, 0)}) + " (u = 0) and ends at " +
+                                 Pt({eval(0, 0, period), eval(1, 0, period)}) + " (u = period " + G(period) +
+                                 "); make x(u) and y(u) periodic with that period");
+  }
+  // Sampled once around: winding about the pivot and curvature.
+  const int samples = 720;
+  const double tie = 1e-9;
+  double winding = 0, min_concave = INFINITY, u_concave = 0, min_convex = INFINITY, u_convex = 0;
+  double prev_angle = 0;
+  for (int i = 0; i <= samples; ++i) {
+    const double u = period * i / samples;
+    const double ang = std::atan2(eval(1, 0, u) - pivot[1], eval(0, 0, u) - pivot[0]);
+    if (i > 0) winding += std::remainder(ang - prev_angle, 2 * M_PI);
+    prev_angle = ang;
+    if (i == samples) break;
+    const double us = period * (i + 0.5) / samples;
+    const double x1 = eval(0, 1, us), y1 = eval(1, 1, us), x2 = eval(0, 2, us), y2 = eval(1, 2, us);
+    const double kappa = (x1 * y2 - y1 * x2) / std::pow(std::hypot(x1, y1), 3);
+    if (!std::isfinite(kappa))
+      m.Fail(j.contour_mark, "the contour of " + who + " has no tangent at u = " + G(us) + " (x'(u) = y'(u) = 0)");
+    if (kappa < 0 && -1 / kappa < min_concave - tie) min_concave = -1 / kappa, u_concave = us;
+    if (kappa > 0 && 1 / kappa < min_convex - tie) min_convex = 1 / kappa, u_convex = us;
+  }
+  const long turns = std::lround(winding / (2 * M_PI));
+  if (turns == -1)
+    m.Fail(j.contour_mark, "the contour of " + who + " runs clockwise around the cam's pivot " + Pt(pivot) +
+                               "; list it counter-clockwise");
+  if (turns != 1)
+    m.Fail(j.contour_mark, "the contour of " + who + " does not close once around the cam's pivot " + Pt(pivot) +
+                               " (it winds " + std::to_string(turns) +
+                               " times); a disk cam's contour must go once around its pivot, counter-clockwise");
+  const double rr = Num(j.roller, defaults);
+  if (!j.flat_face && rr > 0 && min_concave < rr)
+    m.Fail(j.roller_mark, who + ": the roller radius " + G(rr) + " is larger than the contour's radius of curvature " +
+                              G(min_concave) + " at u = " + G(u_concave) +
+                              ", where the contour is concave: the roller cannot follow it (undercutting). Use a "
+                              "smaller roller or a flatter contour");
+  if (j.flat_face && min_concave < INFINITY)
+    m.Fail(j.contour_mark, who + ": the contour is concave at u = " + G(u_concave) + " (radius of curvature " +
+                               G(min_concave) + "): a flat-faced follower needs a convex contour");
+  const std::string kind = std::string(m.joints[j.other_joint].type == JointType::kPrismatic ? "translating" : "oscillating") +
+                           (j.flat_face ? " flat-faced" : rr > 0 ? " roller" : " knife-edge") + " follower";
+  c.summary = "cam " + j.name + ": " + kind + "; contour " +
+              (j.contour == Joint::Contour::kSpline
+                   ? "by a periodic cubic spline through " + std::to_string(c.knots.size() - 1) +
+                         " points (chord-length parameter u, period " + G(period) + ")"
+                   : j.contour_text + ", period " + G(period)) +
+              "; min radius of curvature where convex " + G(min_convex) + " at u = " + G(u_convex) +
+              (min_concave < INFINITY ? ", where concave " + G(min_concave) + " at u = " + G(u_concave)
+                                      : ", concave nowhere");
+  return c;
+}
+
+std::string EmitCamContour(const Model& m, const CamContour& c) {
+  const Joint& j = m.joints[c.joint];
+  const size_t n = c.knots.size() - 1;
+  auto num = [](double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return std::string(buf);
+  };
+  std::ostringstream os;
+  os << "/// Contour of cam '" << j.name << "' in the cam's frame: the periodic cubic spline through its\n"
+     << "/// " << n << " points, parametrized by chord length (period " << num(c.knots[n]) << "). Returns the\n"
+     << "/// d-th u-derivative (d = 0..3; 0 beyond) of coordinate c (0: x, 1: y) at u (any u: periodic).\n"
+     << "template <typename Scalar>\n"
+     << "Scalar " << c.cxx_name << "(const Params<Scalar>& p, const Scalar& u_in, int c, int d) {\n"
+     << "  using std::floor;\n  (void)p;\n"
+     << "  static constexpr int kSegments = " << n << ";\n"
+     << "  static constexpr double kKnots[kSegments + 1] = {";
+  for (size_t i = 0; i <= n; ++i) os << (i ? "," : "") << (i % 4 == 0 ? "\n      " : i ? " " : "") << num(c.knots[i]);
+  os << "};\n  // a + b t + c t^2 + d t^3 with t = u - kKnots[k], per coordinate and segment k.\n"
+     << "  static constexpr double kCoef[2][kSegments][4] = {";
+  for (int k = 0; k < 2; ++k) {
+    os << (k ? ", {" : "{");
+    for (size_t i = 0; i < n; ++i) {
+      os << (i ? ",\n      {" : "\n      {");
+      for (int a = 0; a < 4; ++a) os << (a ? ", " : "") << num(c.coef[k][i][a]);
+      os << "}";
+    }
+    os << "}";
+  }
+  os << "};\n"
+     << "  const Scalar period = Scalar(kKnots[kSegments]);\n"
+     << "  const Scalar u = u_in - period * floor(u_in / period);\n"
+     << "  int k = 0, hi = kSegments;  // kKnots[k] <= u < kKnots[hi]\n"
+     << "  while (hi - k > 1) {\n"
+     << "    const int mid = (k + hi) / 2;\n"
+     << "    if (u < Scalar(kKnots[mid])) {\n      hi = mid;\n    } else {\n      k = mid;\n    }\n  }\n"
+     << "  const double* a = kCoef[c][k];\n"
+     << "  const Scalar t = u - Scalar(kKnots[k]);\n"
+     << "  switch (d) {\n"
+     << "    case 0: return Scalar(a[0]) + t * (Scalar(a[1]) + t * (Scalar(a[2]) + t * Scalar(a[3])));\n"
+     << "    case 1: return Scalar(a[1]) + t * (Scalar(2 * a[2]) + t * Scalar(3 * a[3]));\n"
+     << "    case 2: return Scalar(2 * a[2]) + t * Scalar(6 * a[3]);\n"
+     << "    case 3: return Scalar(6 * a[3]);\n"
+     << "    default: return Scalar(0);\n"
+     << "  }\n}\n";
   return os.str();
 }
 

@@ -23,6 +23,11 @@
 namespace mechgen {
 
 DECLARE_FUNCTION_3P(camlaw)
+/// camcontour(i, c, d, u): the d-th u-derivative of coordinate c (0: x, 1: y) of the
+/// spline contour of cam i at contact parameter u; GiNaC differentiates it as
+/// camcontour(i, c, d + 1, u). The generated code evaluates it with
+/// Contour_<joint>(p, u, c, d) over tables of the spline's knots and coefficients.
+DECLARE_FUNCTION_4P(camcontour)
 
 /// The follower law of one cam joint, segment by segment, in the law's own angle x.
 struct CamLaw {
@@ -58,6 +63,33 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j);
 /// curvature where it is convex (undercutting), or a flat-faced profile has a cusp.
 /// Fills the summary line for the report and the generated header.
 std::string CheckCam(const Model& m, const Joint& j, const CamLaw& law, const CamGeometry& g);
+
+/// A cam given by its contour (Joint::contour) in the cam's frame: expressions in u, or a
+/// periodic cubic spline through points, parametrized by chord length.
+struct CamContour {
+  int joint = -1;
+  std::string cxx_name;  ///< Contour_<joint> (splines)
+  /// Splines: knots u_0 = 0 < ... < u_N = period; per coordinate c and segment k the
+  /// coefficients a + b t + c t^2 + d t^3, t = u - u_k.
+  std::vector<double> knots;
+  std::vector<std::array<double, 4>> coef[2];
+  std::string summary;  ///< for the report and the generated header
+};
+
+/// Checks the contour of cam joint `j` at the parameters' defaults (ModelError at the
+/// contour or its points: fewer than 4 points, repeated or self-intersecting points, a
+/// contour that does not close around the cam's pivot or runs clockwise, a roller that
+/// undercuts a concave stretch, a flat face on a non-convex contour) and fits the spline.
+CamContour BuildCamContour(const Model& m, const Joint& j);
+
+/// The d-th u-derivative of the contour of cam joint `j` in the cam's frame (symbolic).
+Vec2 ContourPoint(const Joint& j, const GiNaC::ex& u, int d);
+
+/// The spline's value (c: coordinate, d: derivative order, any u: periodic).
+double EvalSpline(const CamContour& c, int coordinate, int d, double u);
+
+/// C++ text of the template function Contour_<joint>(p, u, c, d) (splines).
+std::string EmitCamContour(const Model& m, const CamContour& contour);
 
 /// C++ text of the template function CamLaw_<joint>(p, x, d).
 std::string EmitCamLaw(const Model& m, const CamLaw& law, CxxPrinter* printer);

@@ -206,6 +206,13 @@ std::string CxxPrinter::Print(const GiNaC::ex& e, OpCounts* ops) {
       if (ops) ops->calls += 1;
       return it->second + "(p, " + Print(e.op(2), ops) + ", " + std::to_string(ex_to<GiNaC::numeric>(e.op(1)).to_int()) + ")";
     }
+    if (name == "camcontour") {
+      const auto it = cam_contours_.find(ex_to<GiNaC::numeric>(e.op(0)).to_int());
+      if (it == cam_contours_.end()) throw std::logic_error("mechgen bug: no C++ name for a cam contour");
+      if (ops) ops->calls += 1;
+      return it->second + "(p, " + Print(e.op(3), ops) + ", " + std::to_string(ex_to<GiNaC::numeric>(e.op(1)).to_int()) +
+             ", " + std::to_string(ex_to<GiNaC::numeric>(e.op(2)).to_int()) + ")";
+    }
     if (name == "arctan") name = "atan";
     if (name == "arcsin") name = "asin";
     if (name == "arccos") name = "acos";

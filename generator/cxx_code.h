@@ -32,6 +32,8 @@ class CxxPrinter {
   void Name(const GiNaC::ex& s, const std::string& name);
   /// camlaw(index, d, x) (cam.h) prints as `name(p, x, d)`.
   void NameCamLaw(int index, const std::string& name) { cam_laws_[index] = name; }
+  /// camcontour(index, c, d, u) (cam.h) prints as `name(p, u, c, d)`.
+  void NameCamContour(int index, const std::string& name) { cam_contours_[index] = name; }
   /// C++ text of `e`; adds its operations to *ops when not null.
   std::string Print(const GiNaC::ex& e, OpCounts* ops = nullptr);
   /// A stable sort key for `e` (its printed text), memoized.
@@ -43,6 +45,7 @@ class CxxPrinter {
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> names_;
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> keys_;
   std::map<int, std::string> cam_laws_;
+  std::map<int, std::string> cam_contours_;
 };
 
 /// One statement of a function body.

@@ -339,6 +339,7 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Stra
   for (const Parameter& p : m.params) printer->Name(p.symbol, "p." + p.name);
   for (const CamLaw& law : k.cam_laws) printer->NameCamLaw(m.joints[law.joint].cam_index, law.cxx_name);
   for (const CamGeometry& g : k.cam_geometry) printer->Name(g.x, "x");
+  for (const CamContour& c : k.cam_contours) printer->NameCamContour(m.joints[c.joint].cam_index, c.cxx_name);
   d.blocks = OrderBlocks(m, k, strategy);
   const auto& blocks = d.blocks;
 

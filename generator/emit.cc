@@ -183,6 +183,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   for (int i = 0; i < k.nc(); ++i) {
     CxxPrinter plain;  // GiNaC's own term order varies between runs: print ours
     for (const CamLaw& law : k.cam_laws) plain.NameCamLaw(m.joints[law.joint].cam_index, law.cxx_name);
+    for (const CamContour& c : k.cam_contours) plain.NameCamContour(m.joints[c.joint].cam_index, c.cxx_name);
     for (const auto& c : k.q) plain.Name(c.symbol, c.name);
     for (const auto& c : k.phi) plain.Name(c.symbol, c.name);
     for (const auto& p : m.params) plain.Name(p.symbol, p.name);
@@ -247,6 +248,12 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
     if (c + 1 < k.cam_laws.size()) cams += "\n";
     for (const auto& l : Lines(k.cam_summary[c])) cam_doc.push_back(l);
   }
+  std::string contours;
+  for (const CamContour& c : k.cam_contours) {
+    if (m.joints[c.joint].contour == Joint::Contour::kSpline) contours += EmitCamContour(m, c) + "\n";
+    for (const auto& l : Lines(c.summary)) cam_doc.push_back(l);
+  }
+  data.Set("contour_functions", contours);
   data.Set("has_cams", !cams.empty());
   data.Set("cam_functions", cams);
   data.SetList("cam_doc", cam_doc, {"line"});

@@ -133,6 +133,28 @@ std::vector<JointEquation> JointEquations(const Model& m, int joint, bool cut, c
                       "rack mesh", false});
       break;
     case JointType::kCam: {  // y_follower - start - law(th_cam - th_carrier - phase) = 0
+      if (j.contour != Joint::Contour::kNone) {
+        // Contour cam (Paul §1.4.3), contact parameter u = s: the contour point X(u) and
+        // tangent T(u) (cam's frame), turned by the cam's angle.
+        const Vec2 X = ContourPoint(j, s, 0), T = ContourPoint(j, s, 1);
+        const Vec2 P = PointPosition(m, j.follower_point, fb);
+        if (!j.flat_face) {
+          // Roller centre P = cam origin + R(th_cam) (X + rho n), n = (T_y, -T_x) / |T|:
+          // the outward normal of a counter-clockwise contour.
+          const GiNaC::ex inv = pow(T[0] * T[0] + T[1] * T[1], GiNaC::numeric(-1, 2));
+          const Vec2 c = Rotate(fa.theta, X[0] + j.roller * T[1] * inv, X[1] - j.roller * T[0] * inv);
+          rows.push_back({fa.x + c[0] - P[0], "contour contact, x", false});
+          rows.push_back({fa.y + c[1] - P[1], "contour contact, y", false});
+        } else {
+          // Flat face through P at face_angle in the follower's frame (normal nf): the
+          // contact point on it, the contour's tangent along it.
+          const GiNaC::ex a = fb.theta + j.face_angle;
+          const Vec2 Xw = Rotate(fa.theta, X[0], X[1]), Tw = Rotate(fa.theta, T[0], T[1]);
+          rows.push_back({-sin(a) * (fa.x + Xw[0] - P[0]) + cos(a) * (fa.y + Xw[1] - P[1]), "contact on the face", false});
+          rows.push_back({-sin(a) * Tw[0] + cos(a) * Tw[1], "face tangent to the contour", false});
+        }
+        break;
+      }
       const Joint& fj = m.joints[j.other_joint];
       const GiNaC::ex tc = frames[j.carrier].theta;
       const GiNaC::ex y = fj.type == JointType::kPrismatic ? var[j.other_joint] : fb.theta - tc;

@@ -44,6 +44,11 @@ Kinematics DeriveKinematics(const Model& m, const Topology& t) {
            "contact angle of rolling joint '" + name + "' about " + m.PointName(jt.a) + ", in the frame of '" +
                m.links[jt.a.link].name + "'",
            true, GiNaC::symbol("psi_" + name, "\\psi_{\\mathrm{" + name + "}}")};
+    } else if (jt.type == JointType::kCam && jt.contour != Joint::Contour::kNone) {
+      c = {"u_" + name,
+           "contact parameter of cam '" + name + "' on the contour of '" + m.links[jt.a.link].name + "'" +
+               (jt.contour == Joint::Contour::kSpline ? " (chord length along the spline)" : " (u of x(u), y(u))"),
+           false, GiNaC::symbol("u_" + name, "u_{\\mathrm{" + name + "}}")};
     } else {
       continue;
     }
@@ -108,6 +113,10 @@ Kinematics DeriveKinematics(const Model& m, const Topology& t) {
   // (checked for undercutting) ----
   for (const Joint& j : m.joints) {
     if (j.type != JointType::kCam) continue;
+    if (j.contour != Joint::Contour::kNone) {
+      k.cam_contours.push_back(BuildCamContour(m, j));
+      continue;
+    }
     k.cam_laws.push_back(BuildCamLaw(m, j));
     k.cam_geometry.push_back(DeriveCamGeometry(m, j));
     k.cam_summary.push_back(CheckCam(m, j, k.cam_laws.back(), k.cam_geometry.back()));

@@ -38,6 +38,7 @@ struct Kinematics {
   std::vector<CamLaw> cam_laws;              ///< per cam joint, in file order
   std::vector<CamGeometry> cam_geometry;     ///< per cam joint
   std::vector<std::string> cam_summary;      ///< pressure angle and curvature over a turn
+  std::vector<CamContour> cam_contours;      ///< per contour cam joint, in file order
 
   int nq() const { return static_cast<int>(q.size()); }
   int nphi() const { return static_cast<int>(phi.size()); }

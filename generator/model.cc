@@ -251,6 +251,62 @@ class Reader {
     return v == "true";
   }
 
+  // A cam's contour: {x: <x(u)>, y: <y(u)>, period: <u's range, default 2 pi>} in the
+  // cam's frame, or {points: [[x, y], ...]} (a periodic cubic spline, counter-clockwise).
+  void ReadContour(const YAML::Node& node, Joint* j) const {
+    j->contour_mark = MarkOf(node);
+    const std::string what = "contour of cam '" + j->name + "'";
+    bool has_x = false, has_y = false, has_points = false, has_period = false;
+    for (const auto& [key, value] : Entries(node, what, {"x", "y", "period", "points"})) {
+      if (key == "x") j->contour_x = ContourExpression(value, j->contour_u, what + ", x"), has_x = true;
+      if (key == "y") j->contour_y = ContourExpression(value, j->contour_u, what + ", y"), has_y = true;
+      if (key == "period") {
+        j->contour_period = Expression(value, what + ", period");
+        if (!(Number(value, what + ", period") > 0)) Fail(value, what + ": the period must be positive");
+        has_period = true;
+      }
+      if (key == "points") {
+        if (!value.IsSequence())
+          Fail(value, what + ": points must be a list of [x, y] pairs, counter-clockwise around the cam's pivot");
+        for (const YAML::Node& pt : value) {
+          if (!pt.IsSequence() || pt.size() != 2) Fail(pt, what + ": each point must be a pair [x, y]");
+          j->contour_points.push_back({Number(pt[0], what + ", x"), Number(pt[1], what + ", y")});
+          j->contour_point_marks.push_back(MarkOf(pt));
+        }
+        has_points = true;
+      }
+    }
+    if (has_points) {
+      if (has_x || has_y || has_period)
+        Fail(node, what + ": give either points: [[x, y], ...] or the expressions x: and y: (with period:), not both");
+      j->contour = Joint::Contour::kSpline;
+      return;
+    }
+    if (!has_x || !has_y)
+      Fail(node, what + " needs x: and y: (expressions in the contour parameter u and the parameters) or points:");
+    if (!has_period) j->contour_period = 2 * GiNaC::Pi;
+    j->contour_text = "x(u) = " + Scalar(node["x"], what) + ", y(u) = " + Scalar(node["y"], what);
+    j->contour = Joint::Contour::kExpressions;
+  }
+
+  GiNaC::ex ContourExpression(const YAML::Node& node, const GiNaC::symbol& u, const std::string& what) const {
+    const std::string text = Scalar(node, what);
+    GiNaC::symtab table;
+    for (const auto& p : m_.params) table[p.name] = p.symbol;
+    table["deg"] = GiNaC::Pi / 180;
+    table["u"] = u;
+    GiNaC::parser reader(table, /*strict=*/true);
+    GiNaC::ex e;
+    try {
+      e = reader(text);
+    } catch (const std::exception& err) {
+      std::string why = err.what();
+      Fail(node, what + ": cannot read '" + text + "' as an expression (" + why +
+                     "); use u, numbers, parameter names, + - * / ^, sin cos sqrt, and deg");
+    }
+    return e;
+  }
+
   // The cam's follower law: a list of {dwell: angle} / {rise|return: angle, lift: h,
   // motion: cycloidal|harmonic|poly345}.
   std::vector<CamSegment> ReadLaw(const YAML::Node& node, const std::string& joint) const {
@@ -413,7 +469,8 @@ class Reader {
         bool has_cam = false, has_follower = false, has_point = false, has_start = false, has_law = false;
         bool has_roller = false, has_face = false;
         for (const auto& [key, value] :
-             Entries(body, "cam '" + name + "'", {"cam", "follower", "point", "roller", "face", "start", "phase", "law"})) {
+             Entries(body, "cam '" + name + "'",
+                     {"cam", "follower", "point", "roller", "face", "start", "phase", "law", "contour"})) {
           if (key == "cam") j.a = {LinkIndex(value, jn), 0}, has_cam = true;
           if (key == "follower") pending.push_back({m_.joints.size(), value, Scalar(value, "follower")}), has_follower = true;
           if (key == "point") j.follower_point = Point(value, "point of '" + name + "'"), has_point = true;
@@ -427,6 +484,13 @@ class Reader {
           if (key == "start") j.start = Expression(value, "start of '" + name + "'"), has_start = true;
           if (key == "phase") j.phase = Expression(value, "phase of '" + name + "'");
           if (key == "law") j.law = ReadLaw(value, name), j.law_mark = MarkOf(value), has_law = true;
+          if (key == "contour") ReadContour(value, &j);
+        }
+        if (j.contour != Joint::Contour::kNone) {
+          if (has_law || has_start)
+            Fail(body, "cam '" + name + "': a cam is given either by its follower's law (start:, law:) or by its "
+                       "contour (contour:), not both");
+          has_law = has_start = true;
         }
         if (!has_cam || !has_follower || !has_point || !has_start || !has_law)
           Fail(body, "cam '" + name + "' needs cam: <cam link>, follower: <the follower's joint to the carrier>, "

@@ -10,6 +10,7 @@
 
 #include <ginac/ginac.h>
 
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -90,7 +91,10 @@ enum class JointType {
   kRack,       ///< rack and pinion: pinion a.link (pitch radius `radius`), the rack is the
                ///< slider of prismatic joint `other_joint`: s + r (th_pinion - th_guide) = phase.
   kCam,        ///< disk cam a.link and follower b.link given by the follower's law:
-               ///< y_follower = start + law(th_cam - th_carrier - phase) (cam.h).
+               ///< y_follower = start + law(th_cam - th_carrier - phase) (cam.h), or by
+               ///< the cam's contour (Joint::contour; contact parameter u_<joint>, two
+               ///< equations: the roller's centre on the contour's offset, or the face
+               ///< tangent to the contour).
 };
 
 /// One segment of a cam's follower law (dwell, rise, return) over `duration` of cam angle.
@@ -131,6 +135,16 @@ struct Joint {
   GiNaC::ex roller = 0;          ///< cam: roller radius (0: knife-edge)
   GiNaC::ex start = 0;           ///< cam: follower coordinate at zero lift
   std::vector<CamSegment> law;   ///< cam: the follower law, segments in order from `phase`
+  // Contour cams (a profile instead of a law; contact parameter u_<joint> is a coordinate).
+  enum class Contour { kNone, kExpressions, kSpline };
+  Contour contour = Contour::kNone;  ///< cam: the profile is a contour in the cam's frame
+  GiNaC::ex contour_x, contour_y;    ///< kExpressions: x(u), y(u) in the cam's frame
+  GiNaC::symbol contour_u{"u"};      ///< kExpressions: the contour's parameter in them
+  GiNaC::ex contour_period = 0;      ///< kExpressions: u runs over [0, period) (default 2 pi)
+  std::vector<std::array<double, 2>> contour_points;  ///< kSpline: the points, counter-clockwise
+  std::vector<SourceMark> contour_point_marks;
+  std::string contour_text;          ///< kExpressions: "x(u) = ..., y(u) = ..." as written
+  SourceMark contour_mark;
   SourceMark law_mark, roller_mark;
   SourceMark mark;
   /// Lower pairs can place a link in the spanning tree.

@@ -76,6 +76,7 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
        << m.inputs.size() << "\n";
     for (const FourBarLoop& f : four_bars) os << "Grashof: " << f.Text() << "\n";
     for (const std::string& c : k.cam_summary) os << "Cam: " << c << "\n";
+    for (const CamContour& c : k.cam_contours) os << "Cam: " << c.summary << "\n";
     os << "Inputs and the loops they drive (through the solve order):\n";
     for (size_t i = 0; i < m.inputs.size(); ++i) {
       // Block b is driven by q_i if its rows contain q_i or an unknown of a driven block.

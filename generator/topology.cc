@@ -162,7 +162,8 @@ Topology BuildTopology(const Model& m) {
   // cut joint, 1 per higher pair, and the no-slip equation of every rolling joint.
   int j1 = 0, j2 = 0;
   for (const Joint& j : m.joints) (j.IsLowerPair() ? j1 : j2) += 1;
-  for (const Joint& j : m.joints) t.num_contact += j.type == JointType::kRoll;
+  for (const Joint& j : m.joints)
+    t.num_contact += j.type == JointType::kRoll || (j.type == JointType::kCam && j.contour != Joint::Contour::kNone);
   t.num_variables = (t.num_groups() - 1) + t.num_prismatic + t.num_contact;
   t.num_equations = 0;
   for (int c : t.cut_joints) t.num_equations += m.joints[c].IsLowerPair() ? 2 : 1;

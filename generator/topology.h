@@ -33,7 +33,7 @@ struct Topology {
   std::vector<Loop> loops;
 
   int num_prismatic = 0;
-  int num_contact = 0;         ///< rolling joints (each has a contact parameter)
+  int num_contact = 0;         ///< rolling joints and contour cams (each has a contact parameter)
   int num_variables = 0;       ///< (groups - 1) + prismatic joints + rolling joints
   int num_equations = 0;       ///< 2 per lower-pair cut, 1 per higher pair and per rolling joint
   int grubler_mobility = 0;    ///< 3 (n - 1) - 2 j1 - j2
