@@ -87,20 +87,23 @@ class Reader {
     return node.as<std::string>();
   }
 
-  // An expression in the parameters (and `deg` = pi/180): geometry, angles, ranges.
-  GiNaC::ex Expression(const YAML::Node& node, const std::string& what) const {
+  // An expression in the parameters (and `deg` = pi/180): geometry, angles, ranges; with
+  // `u`, also in a cam contour's parameter u.
+  GiNaC::ex Expression(const YAML::Node& node, const std::string& what,
+                       const GiNaC::symbol* u = nullptr) const {
     const std::string text = Scalar(node, what);
     GiNaC::symtab table;
     for (const auto& p : m_.params) table[p.name] = p.symbol;
     table["deg"] = GiNaC::Pi / 180;
+    if (u) table["u"] = *u;
     GiNaC::parser reader(table, /*strict=*/true);
     GiNaC::ex e;
     try {
       e = reader(text);
     } catch (const std::exception& err) {
       std::string why = err.what();
-      Fail(node, what + ": cannot read '" + text + "' as an expression (" + why +
-                     "); use numbers, parameter names, + - * / ^, sin cos sqrt, and deg");
+      Fail(node, what + ": cannot read '" + text + "' as an expression (" + why + "); use " +
+                     (u ? "u, " : "") + "numbers, parameter names, + - * / ^, sin cos sqrt, and deg");
     }
     if (!e.info(GiNaC::info_flags::real) && e.has(GiNaC::I))
       Fail(node, what + ": '" + text + "' is not real");
@@ -258,8 +261,8 @@ class Reader {
     const std::string what = "contour of cam '" + j->name + "'";
     bool has_x = false, has_y = false, has_points = false, has_period = false;
     for (const auto& [key, value] : Entries(node, what, {"x", "y", "period", "points"})) {
-      if (key == "x") j->contour_x = ContourExpression(value, j->contour_u, what + ", x"), has_x = true;
-      if (key == "y") j->contour_y = ContourExpression(value, j->contour_u, what + ", y"), has_y = true;
+      if (key == "x") j->contour_x = Expression(value, what + ", x", &j->contour_u), has_x = true;
+      if (key == "y") j->contour_y = Expression(value, what + ", y", &j->contour_u), has_y = true;
       if (key == "period") {
         j->contour_period = Expression(value, what + ", period");
         if (!(Number(value, what + ", period") > 0)) Fail(value, what + ": the period must be positive");
@@ -287,24 +290,6 @@ class Reader {
     if (!has_period) j->contour_period = 2 * GiNaC::Pi;
     j->contour_text = "x(u) = " + Scalar(node["x"], what) + ", y(u) = " + Scalar(node["y"], what);
     j->contour = Joint::Contour::kExpressions;
-  }
-
-  GiNaC::ex ContourExpression(const YAML::Node& node, const GiNaC::symbol& u, const std::string& what) const {
-    const std::string text = Scalar(node, what);
-    GiNaC::symtab table;
-    for (const auto& p : m_.params) table[p.name] = p.symbol;
-    table["deg"] = GiNaC::Pi / 180;
-    table["u"] = u;
-    GiNaC::parser reader(table, /*strict=*/true);
-    GiNaC::ex e;
-    try {
-      e = reader(text);
-    } catch (const std::exception& err) {
-      std::string why = err.what();
-      Fail(node, what + ": cannot read '" + text + "' as an expression (" + why +
-                     "); use u, numbers, parameter names, + - * / ^, sin cos sqrt, and deg");
-    }
-    return e;
   }
 
   // The cam's follower law: a list of {dwell: angle} / {rise|return: angle, lift: h,
