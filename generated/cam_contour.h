@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form up to 3 unknowns, by a fixed-size LU above, and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 58 (adds 20, muls 32, divs 1, calls 5); SolvePositions 73 (adds 13, muls 48, divs 2, calls 10) (per Newton iteration for Newton blocks); EvalCoefficients 177 (adds 44, muls 125, divs 3, calls 5); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
+ * Operation counts: EvalPhi 58 (adds 20, muls 32, divs 1, calls 5); SolvePositions 73 (adds 13, muls 48, divs 2, calls 10) (per Newton iteration for Newton blocks); EvalCoefficients 190 (adds 56, muls 126, divs 3, calls 5); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
  * cam contact: translating roller follower; contour x(u) = R*cos(u), y(u) = e + R*sin(u), period 6.283; min radius of curvature where convex 1 at u = 0.004363, concave nowhere
  */
 #pragma once
@@ -86,9 +86,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -160,7 +166,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -172,7 +179,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 177 (adds 44, muls 125, divs 3, calls 5); intermediate terms: 20
+  // Total ops: 190 (adds 56, muls 126, divs 3, calls 5); intermediate terms: 21
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -187,38 +194,45 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar _tmp1 = p.R*p.R;
   const Scalar _tmp2 = sin(phi(1));
   const Scalar _tmp3 = Scalar(1)/sqrt((_tmp0*_tmp0)*_tmp1 + (_tmp2*_tmp2)*_tmp1);
-  const Scalar _tmp4 = sin(q(0));
-  const Scalar _tmp5 = -_tmp0*_tmp3*_tmp4*p.R*p.rr;
-  const Scalar _tmp6 = cos(q(0));
-  const Scalar _tmp7 = -_tmp2*_tmp3*_tmp6*p.R*p.rr;
-  const Scalar _tmp8 = -_tmp0*_tmp4*p.R;
-  const Scalar _tmp9 = -_tmp2*_tmp6*p.R;
-  const Scalar Phi_phi_0_1 = _tmp5 + _tmp7 + _tmp8 + _tmp9;
+  const Scalar _tmp4 = cos(q(0));
+  const Scalar _tmp5 = _tmp0*_tmp3*_tmp4*p.R*p.rr;
+  const Scalar _tmp6 = sin(q(0));
+  const Scalar _tmp7 = _tmp2*_tmp3*_tmp6*p.R*p.rr;
+  const Scalar _tmp8 = _tmp2*_tmp6*p.R;
+  const Scalar _tmp9 = -_tmp6*p.e;
+  const Scalar _tmp10 = _tmp0*_tmp4*p.R;
+  const Scalar _tmp11 = _tmp0*_tmp3*_tmp6*p.R*p.rr;
+  const Scalar _tmp12 = _tmp2*_tmp3*_tmp4*p.R*p.rr;
+  const Scalar _tmp13 = _tmp0*_tmp6*p.R;
+  const Scalar _tmp14 = _tmp2*_tmp4*p.R;
+  const Scalar Phi_phi_0_1 = -_tmp11 - _tmp12 - _tmp13 - _tmp14;
   const Scalar det_block0 = Phi_phi_0_1;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar _tmp10 = -_tmp6*p.e;
-  const Scalar K_rhs_0_0 = _tmp10 + _tmp5 + _tmp7 + _tmp8 + _tmp9;
+  const Scalar _tmp15 = -_tmp4*p.e;
+  const Scalar K_rhs_0_0 = -_tmp11 - _tmp12 - _tmp13 - _tmp14 + _tmp15;
   const Scalar K_1_0 = -K_rhs_0_0*inv_det_block0;
   const Scalar Phi_phi_1_0 = Scalar(-1);
   const Scalar det_block1 = Phi_phi_1_0;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
-  const Scalar _tmp11 = K_1_0*_tmp0*_tmp3*_tmp6*p.R*p.rr;
-  const Scalar _tmp12 = _tmp0*_tmp3*_tmp6*p.R*p.rr;
-  const Scalar _tmp13 = K_1_0*_tmp2*_tmp3*_tmp4*p.R*p.rr;
-  const Scalar _tmp14 = _tmp2*_tmp3*_tmp4*p.R*p.rr;
-  const Scalar _tmp15 = K_1_0*_tmp2*_tmp4*p.R;
-  const Scalar _tmp16 = _tmp2*_tmp4*p.R;
-  const Scalar _tmp17 = K_1_0*_tmp0*_tmp6*p.R;
-  const Scalar _tmp18 = _tmp0*_tmp6*p.R;
-  const Scalar K_rhs_1_0 = _tmp11 + _tmp12 - _tmp13 - _tmp14 - _tmp15 - _tmp16 + _tmp17 + _tmp18 - _tmp4*p.e;
+  const Scalar _tmp16 = K_1_0*_tmp0*_tmp3*_tmp4*p.R*p.rr;
+  const Scalar _tmp17 = K_1_0*_tmp2*_tmp3*_tmp6*p.R*p.rr;
+  const Scalar _tmp18 = K_1_0*_tmp2*_tmp6*p.R;
+  const Scalar _tmp19 = K_1_0*_tmp0*_tmp4*p.R;
+  const Scalar K_rhs_1_0 = _tmp10 + _tmp16 - _tmp17 - _tmp18 + _tmp19 + _tmp5 - _tmp7 - _tmp8 + _tmp9;
   const Scalar K_0_0 = -K_rhs_1_0*inv_det_block1;
-  const Scalar _tmp19 = K_1_0*K_1_0;
-  const Scalar L_rhs_0_0_0 = -Scalar(2)*_tmp11 + Scalar(2)*_tmp13 + Scalar(2)*_tmp15 - Scalar(2)*_tmp17 - _tmp0*_tmp19*_tmp3*_tmp6*p.R*p.rr - _tmp0*_tmp19*_tmp6*p.R - _tmp12 + _tmp14 + _tmp16 - _tmp18 + _tmp19*_tmp2*_tmp3*_tmp4*p.R*p.rr + _tmp19*_tmp2*_tmp4*p.R + _tmp4*p.e;
-  const Scalar L_1_0_0 = -L_rhs_0_0_0*inv_det_block0;
-  const Scalar L_rhs_1_0_0 = L_1_0_0*_tmp0*_tmp3*_tmp6*p.R*p.rr + L_1_0_0*_tmp0*_tmp6*p.R - L_1_0_0*_tmp2*_tmp3*_tmp4*p.R*p.rr - L_1_0_0*_tmp2*_tmp4*p.R - Scalar(2)*K_1_0*_tmp0*_tmp3*_tmp4*p.R*p.rr - Scalar(2)*K_1_0*_tmp0*_tmp4*p.R - Scalar(2)*K_1_0*_tmp2*_tmp3*_tmp6*p.R*p.rr - Scalar(2)*K_1_0*_tmp2*_tmp6*p.R - _tmp0*_tmp19*_tmp3*_tmp4*p.R*p.rr - _tmp0*_tmp19*_tmp4*p.R + _tmp10 - _tmp19*_tmp2*_tmp3*_tmp6*p.R*p.rr - _tmp19*_tmp2*_tmp6*p.R + _tmp5 + _tmp7 + _tmp8 + _tmp9;
-  const Scalar L_0_0_0 = -L_rhs_1_0_0*inv_det_block1;
   out->r_P(0, 0) = Scalar(0);
   out->r_P(1, 0) = phi(0);
+  out->Phi(0) = _tmp10 + _tmp5 - _tmp7 - _tmp8 + _tmp9;
+  out->Phi(1) = _tmp11 + _tmp12 + _tmp13 + _tmp14 + _tmp4*p.e - phi(0);
+  out->Phi_phi.setZero();
+  const Scalar _tmp20 = K_1_0*K_1_0;
+  const Scalar L_rhs_0_0_0 = -Scalar(2)*_tmp16 + Scalar(2)*_tmp17 + Scalar(2)*_tmp18 - Scalar(2)*_tmp19 - _tmp0*_tmp20*_tmp3*_tmp4*p.R*p.rr - _tmp0*_tmp20*_tmp4*p.R - _tmp10 + _tmp2*_tmp20*_tmp3*_tmp6*p.R*p.rr + _tmp2*_tmp20*_tmp6*p.R - _tmp5 + _tmp6*p.e + _tmp7 + _tmp8;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*inv_det_block0;
+  const Scalar L_rhs_1_0_0 = L_1_0_0*_tmp0*_tmp3*_tmp4*p.R*p.rr + L_1_0_0*_tmp0*_tmp4*p.R - L_1_0_0*_tmp2*_tmp3*_tmp6*p.R*p.rr - L_1_0_0*_tmp2*_tmp6*p.R - Scalar(2)*K_1_0*_tmp0*_tmp3*_tmp6*p.R*p.rr - Scalar(2)*K_1_0*_tmp0*_tmp6*p.R - Scalar(2)*K_1_0*_tmp2*_tmp3*_tmp4*p.R*p.rr - Scalar(2)*K_1_0*_tmp2*_tmp4*p.R - _tmp0*_tmp20*_tmp3*_tmp6*p.R*p.rr - _tmp0*_tmp20*_tmp6*p.R - _tmp11 - _tmp12 - _tmp13 - _tmp14 + _tmp15 - _tmp2*_tmp20*_tmp3*_tmp4*p.R*p.rr - _tmp2*_tmp20*_tmp4*p.R;
+  const Scalar L_0_0_0 = -L_rhs_1_0_0*inv_det_block1;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = _tmp10 + _tmp5 - _tmp7 - _tmp8;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K_P(0, 0) = Scalar(0);

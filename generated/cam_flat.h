@@ -26,7 +26,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.F.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 7 (adds 3, muls 0, divs 1, calls 3); SolvePositions 5 (adds 2, muls 0, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 26 (adds 4, muls 17, divs 1, calls 4); EvalScene 5 (adds 1, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 7 (adds 3, muls 0, divs 1, calls 3); SolvePositions 5 (adds 2, muls 0, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 31 (adds 6, muls 17, divs 2, calls 6); EvalScene 5 (adds 1, muls 2, divs 0, calls 2)
  * cam contact: oscillating flat-faced follower; law: dwell 50.0 deg, rise 130.0 deg, harmonic, lift lift, dwell 40.0 deg, return 140.0 deg, cycloidal, lift lift; over one turn: max pressure angle 0.0 deg at 0.0 deg, min radius of curvature of the profile 0.8877 at 154.2 deg
  */
 #pragma once
@@ -85,9 +85,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -249,7 +255,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -261,7 +268,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 26 (adds 4, muls 17, divs 1, calls 4); intermediate terms: 4
+  // Total ops: 31 (adds 6, muls 17, divs 2, calls 6); intermediate terms: 4
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -274,15 +281,17 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)out;
   const Scalar _tmp0 = cos(phi(0));
   const Scalar _tmp1 = sin(phi(0));
+  const Scalar _tmp2 = -p.phase + q(0);
   const Scalar Phi_phi_0_0 = Scalar(1);
   const Scalar det_block0 = Phi_phi_0_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar _tmp2 = -p.phase + q(0);
   const Scalar K_0_0 = CamLaw_contact(p, _tmp2, 1)*inv_det_block0;
   const Scalar L_0_0_0 = CamLaw_contact(p, _tmp2, 2)*inv_det_block0;
   const Scalar _tmp3 = K_0_0*K_0_0;
   out->r_P(0, 0) = -_tmp0*p.d + p.d;
   out->r_P(1, 0) = -_tmp1*p.d;
+  out->Phi(0) = -CamLaw_contact(p, _tmp2, 0) - asin(p.rb/p.d) + phi(0);
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->K(0, 0) = K_0_0;
   out->K_P(0, 0) = K_0_0*_tmp1*p.d;
   out->K_P(1, 0) = -K_0_0*_tmp0*p.d;

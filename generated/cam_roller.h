@@ -26,7 +26,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 14 (adds 6, muls 5, divs 0, calls 3); SolvePositions 12 (adds 5, muls 5, divs 0, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 6 (adds 1, muls 2, divs 1, calls 2); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
+ * Operation counts: EvalPhi 14 (adds 6, muls 5, divs 0, calls 3); SolvePositions 12 (adds 5, muls 5, divs 0, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 18 (adds 6, muls 7, divs 1, calls 4); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
  * cam contact: translating roller follower; law: dwell 60.0 deg, rise 120.0 deg, cycloidal, lift h, dwell 30.0 deg, return 150.0 deg, 3-4-5 polynomial, lift h; over one turn: max pressure angle 29.5 deg at 304.2 deg, min radius of curvature of the pitch curve where convex 1.193 at 148.8 deg (roller 0.25)
  */
 #pragma once
@@ -87,9 +87,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -244,7 +250,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -256,7 +263,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 6 (adds 1, muls 2, divs 1, calls 2); intermediate terms: 1
+  // Total ops: 18 (adds 6, muls 7, divs 1, calls 4); intermediate terms: 1
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -267,14 +274,16 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
+  const Scalar _tmp0 = -p.phase + q(0);
   const Scalar Phi_phi_0_0 = Scalar(1);
   const Scalar det_block0 = Phi_phi_0_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar _tmp0 = -p.phase + q(0);
   const Scalar K_0_0 = CamLaw_contact(p, _tmp0, 1)*inv_det_block0;
   const Scalar L_0_0_0 = CamLaw_contact(p, _tmp0, 2)*inv_det_block0;
   out->r_P(0, 0) = p.e;
   out->r_P(1, 0) = phi(0);
+  out->Phi(0) = -CamLaw_contact(p, _tmp0, 0) + phi(0) - sqrt(Scalar(2)*p.rb*p.rr - p.e*p.e + p.rb*p.rb + p.rr*p.rr);
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->K(0, 0) = K_0_0;
   out->K_P(0, 0) = Scalar(0);
   out->K_P(1, 0) = K_0_0;

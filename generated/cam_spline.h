@@ -31,7 +31,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form up to 3 unknowns, by a fixed-size LU above, and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 108 (adds 25, muls 72, divs 1, calls 10); SolvePositions 80 (adds 15, muls 46, divs 2, calls 17) (per Newton iteration for Newton blocks); EvalCoefficients 507 (adds 92, muls 399, divs 3, calls 13); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
+ * Operation counts: EvalPhi 108 (adds 25, muls 72, divs 1, calls 10); SolvePositions 80 (adds 15, muls 46, divs 2, calls 17) (per Newton iteration for Newton blocks); EvalCoefficients 550 (adds 106, muls 428, divs 3, calls 13); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
  * cam contact: translating roller follower; contour by a periodic cubic spline through 36 points (chord-length parameter u, period 6.275); min radius of curvature where convex 0.9978 at u = 0.004358, concave nowhere
  */
 #pragma once
@@ -84,9 +84,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -274,7 +280,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -286,7 +293,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 507 (adds 92, muls 399, divs 3, calls 13); intermediate terms: 35
+  // Total ops: 550 (adds 106, muls 428, divs 3, calls 13); intermediate terms: 36
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -297,57 +304,64 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = Contour_contact(p, phi(1), 0, 2);
-  const Scalar _tmp1 = Contour_contact(p, phi(1), 0, 1);
-  const Scalar _tmp2 = _tmp1*_tmp1;
-  const Scalar _tmp3 = Contour_contact(p, phi(1), 1, 1);
-  const Scalar _tmp4 = _tmp3*_tmp3;
-  const Scalar _tmp5 = _tmp2 + _tmp4;
-  const Scalar _tmp6 = Scalar(1)/sqrt(_tmp5);
-  const Scalar _tmp7 = sin(q(0));
-  const Scalar _tmp8 = Contour_contact(p, phi(1), 1, 2);
-  const Scalar _tmp9 = cos(q(0));
-  const Scalar _tmp10 = pow(_tmp5, Scalar(-1.5));
-  const Scalar Phi_phi_0_1 = -_tmp0*_tmp1*_tmp10*_tmp3*_tmp9*p.rr - _tmp0*_tmp10*_tmp2*_tmp7*p.rr + _tmp0*_tmp6*_tmp7*p.rr - _tmp1*_tmp10*_tmp3*_tmp7*_tmp8*p.rr + _tmp1*_tmp9 - _tmp10*_tmp4*_tmp8*_tmp9*p.rr - _tmp3*_tmp7 + _tmp6*_tmp8*_tmp9*p.rr;
+  const Scalar _tmp0 = Contour_contact(p, phi(1), 0, 1);
+  const Scalar _tmp1 = _tmp0*_tmp0;
+  const Scalar _tmp2 = Contour_contact(p, phi(1), 1, 1);
+  const Scalar _tmp3 = _tmp2*_tmp2;
+  const Scalar _tmp4 = _tmp1 + _tmp3;
+  const Scalar _tmp5 = Scalar(1)/sqrt(_tmp4);
+  const Scalar _tmp6 = sin(q(0));
+  const Scalar _tmp7 = _tmp0*_tmp5*_tmp6*p.rr;
+  const Scalar _tmp8 = cos(q(0));
+  const Scalar _tmp9 = _tmp2*_tmp5*_tmp8*p.rr;
+  const Scalar _tmp10 = Contour_contact(p, phi(1), 1, 0);
+  const Scalar _tmp11 = -_tmp10*_tmp6;
+  const Scalar _tmp12 = Contour_contact(p, phi(1), 0, 0);
+  const Scalar _tmp13 = _tmp2*_tmp5*_tmp6*p.rr;
+  const Scalar _tmp14 = _tmp0*_tmp5*_tmp8*p.rr;
+  const Scalar _tmp15 = Contour_contact(p, phi(1), 0, 2);
+  const Scalar _tmp16 = Contour_contact(p, phi(1), 1, 2);
+  const Scalar _tmp17 = pow(_tmp4, Scalar(-1.5));
+  const Scalar Phi_phi_0_1 = -_tmp0*_tmp15*_tmp17*_tmp2*_tmp8*p.rr - _tmp0*_tmp16*_tmp17*_tmp2*_tmp6*p.rr + _tmp0*_tmp8 - _tmp1*_tmp15*_tmp17*_tmp6*p.rr + _tmp15*_tmp5*_tmp6*p.rr - _tmp16*_tmp17*_tmp3*_tmp8*p.rr + _tmp16*_tmp5*_tmp8*p.rr - _tmp2*_tmp6;
   const Scalar det_block0 = Phi_phi_0_1;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar _tmp11 = _tmp1*_tmp6*_tmp9*p.rr;
-  const Scalar _tmp12 = -_tmp3*_tmp6*_tmp7*p.rr;
-  const Scalar _tmp13 = Contour_contact(p, phi(1), 0, 0);
-  const Scalar _tmp14 = -_tmp13*_tmp7;
-  const Scalar _tmp15 = Contour_contact(p, phi(1), 1, 0);
-  const Scalar _tmp16 = -_tmp15*_tmp9;
-  const Scalar K_rhs_0_0 = _tmp11 + _tmp12 + _tmp14 + _tmp16;
+  const Scalar _tmp18 = -_tmp12*_tmp6;
+  const Scalar _tmp19 = -_tmp10*_tmp8;
+  const Scalar K_rhs_0_0 = -_tmp13 + _tmp14 + _tmp18 + _tmp19;
   const Scalar K_1_0 = -K_rhs_0_0*inv_det_block0;
   const Scalar Phi_phi_1_0 = Scalar(-1);
   const Scalar det_block1 = Phi_phi_1_0;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
-  const Scalar _tmp17 = K_1_0*_tmp0*_tmp10*_tmp2*_tmp9*p.rr;
-  const Scalar _tmp18 = _tmp1*_tmp6*_tmp7*p.rr;
-  const Scalar _tmp19 = _tmp3*_tmp6*_tmp9*p.rr;
-  const Scalar _tmp20 = K_1_0*_tmp6*_tmp7*_tmp8*p.rr;
-  const Scalar _tmp21 = K_1_0*_tmp1*_tmp10*_tmp3*_tmp8*_tmp9*p.rr;
-  const Scalar _tmp22 = K_1_0*_tmp10*_tmp4*_tmp7*_tmp8*p.rr;
-  const Scalar _tmp23 = K_1_0*_tmp0*_tmp6*_tmp9*p.rr;
-  const Scalar _tmp24 = K_1_0*_tmp0*_tmp1*_tmp10*_tmp3*_tmp7*p.rr;
-  const Scalar _tmp25 = K_1_0*_tmp1*_tmp7;
-  const Scalar _tmp26 = K_1_0*_tmp3*_tmp9;
-  const Scalar K_rhs_1_0 = _tmp13*_tmp9 - _tmp15*_tmp7 + _tmp17 + _tmp18 + _tmp19 + _tmp20 + _tmp21 - _tmp22 - _tmp23 - _tmp24 + _tmp25 + _tmp26;
+  const Scalar _tmp20 = K_1_0*_tmp1*_tmp15*_tmp17*_tmp8*p.rr;
+  const Scalar _tmp21 = K_1_0*_tmp16*_tmp5*_tmp6*p.rr;
+  const Scalar _tmp22 = K_1_0*_tmp0*_tmp16*_tmp17*_tmp2*_tmp8*p.rr;
+  const Scalar _tmp23 = K_1_0*_tmp16*_tmp17*_tmp3*_tmp6*p.rr;
+  const Scalar _tmp24 = K_1_0*_tmp15*_tmp5*_tmp8*p.rr;
+  const Scalar _tmp25 = K_1_0*_tmp0*_tmp15*_tmp17*_tmp2*_tmp6*p.rr;
+  const Scalar _tmp26 = K_1_0*_tmp0*_tmp6;
+  const Scalar _tmp27 = K_1_0*_tmp2*_tmp8;
+  const Scalar K_rhs_1_0 = _tmp11 + _tmp12*_tmp8 + _tmp20 + _tmp21 + _tmp22 - _tmp23 - _tmp24 - _tmp25 + _tmp26 + _tmp27 + _tmp7 + _tmp9;
   const Scalar K_0_0 = -K_rhs_1_0*inv_det_block1;
-  const Scalar _tmp27 = Contour_contact(p, phi(1), 0, 3);
-  const Scalar _tmp28 = K_1_0*K_1_0;
-  const Scalar _tmp29 = Contour_contact(p, phi(1), 1, 3);
-  const Scalar _tmp30 = _tmp0*_tmp0;
-  const Scalar _tmp31 = _tmp8*_tmp8;
-  const Scalar _tmp32 = pow(_tmp5, Scalar(-2.5));
-  const Scalar _tmp33 = _tmp1*_tmp1*_tmp1;
-  const Scalar _tmp34 = _tmp3*_tmp3*_tmp3;
-  const Scalar L_rhs_0_0_0 = -Scalar(2)*_tmp0*_tmp1*_tmp10*_tmp28*_tmp8*_tmp9*p.rr - Scalar(2)*_tmp0*_tmp10*_tmp28*_tmp3*_tmp7*_tmp8*p.rr - Scalar(2)*_tmp17 - Scalar(2)*_tmp20 - Scalar(2)*_tmp21 + Scalar(2)*_tmp22 + Scalar(2)*_tmp23 + Scalar(2)*_tmp24 - Scalar(2)*_tmp25 - Scalar(2)*_tmp26 - Scalar(3)*_tmp1*_tmp10*_tmp28*_tmp30*_tmp7*p.rr + Scalar(3)*_tmp1*_tmp28*_tmp31*_tmp32*_tmp4*_tmp7*p.rr - Scalar(3)*_tmp10*_tmp28*_tmp3*_tmp31*_tmp9*p.rr + Scalar(3)*_tmp2*_tmp28*_tmp3*_tmp30*_tmp32*_tmp9*p.rr + Scalar(3)*_tmp28*_tmp30*_tmp32*_tmp33*_tmp7*p.rr + Scalar(3)*_tmp28*_tmp31*_tmp32*_tmp34*_tmp9*p.rr + Scalar(6)*_tmp0*_tmp1*_tmp28*_tmp32*_tmp4*_tmp8*_tmp9*p.rr + Scalar(6)*_tmp0*_tmp2*_tmp28*_tmp3*_tmp32*_tmp7*_tmp8*p.rr + _tmp0*_tmp28*_tmp9 - _tmp1*_tmp10*_tmp27*_tmp28*_tmp3*_tmp9*p.rr - _tmp1*_tmp10*_tmp28*_tmp29*_tmp3*_tmp7*p.rr - _tmp1*_tmp10*_tmp28*_tmp31*_tmp7*p.rr - _tmp10*_tmp2*_tmp27*_tmp28*_tmp7*p.rr - _tmp10*_tmp28*_tmp29*_tmp4*_tmp9*p.rr - _tmp10*_tmp28*_tmp3*_tmp30*_tmp9*p.rr - _tmp13*_tmp9 + _tmp15*_tmp7 - _tmp18 - _tmp19 + _tmp27*_tmp28*_tmp6*_tmp7*p.rr + _tmp28*_tmp29*_tmp6*_tmp9*p.rr - _tmp28*_tmp7*_tmp8;
-  const Scalar L_1_0_0 = -L_rhs_0_0_0*inv_det_block0;
-  const Scalar L_rhs_1_0_0 = -L_1_0_0*_tmp0*_tmp1*_tmp10*_tmp3*_tmp7*p.rr + L_1_0_0*_tmp0*_tmp10*_tmp2*_tmp9*p.rr - L_1_0_0*_tmp0*_tmp6*_tmp9*p.rr + L_1_0_0*_tmp1*_tmp10*_tmp3*_tmp8*_tmp9*p.rr + L_1_0_0*_tmp1*_tmp7 - L_1_0_0*_tmp10*_tmp4*_tmp7*_tmp8*p.rr + L_1_0_0*_tmp3*_tmp9 + L_1_0_0*_tmp6*_tmp7*_tmp8*p.rr - Scalar(2)*K_1_0*_tmp0*_tmp1*_tmp10*_tmp3*_tmp9*p.rr - Scalar(2)*K_1_0*_tmp0*_tmp10*_tmp2*_tmp7*p.rr + Scalar(2)*K_1_0*_tmp0*_tmp6*_tmp7*p.rr - Scalar(2)*K_1_0*_tmp1*_tmp10*_tmp3*_tmp7*_tmp8*p.rr + Scalar(2)*K_1_0*_tmp1*_tmp9 - Scalar(2)*K_1_0*_tmp10*_tmp4*_tmp8*_tmp9*p.rr - Scalar(2)*K_1_0*_tmp3*_tmp7 + Scalar(2)*K_1_0*_tmp6*_tmp8*_tmp9*p.rr - Scalar(2)*_tmp0*_tmp1*_tmp10*_tmp28*_tmp7*_tmp8*p.rr + Scalar(2)*_tmp0*_tmp10*_tmp28*_tmp3*_tmp8*_tmp9*p.rr + Scalar(3)*_tmp1*_tmp10*_tmp28*_tmp30*_tmp9*p.rr - Scalar(3)*_tmp1*_tmp28*_tmp31*_tmp32*_tmp4*_tmp9*p.rr - Scalar(3)*_tmp10*_tmp28*_tmp3*_tmp31*_tmp7*p.rr + Scalar(3)*_tmp2*_tmp28*_tmp3*_tmp30*_tmp32*_tmp7*p.rr - Scalar(3)*_tmp28*_tmp30*_tmp32*_tmp33*_tmp9*p.rr + Scalar(3)*_tmp28*_tmp31*_tmp32*_tmp34*_tmp7*p.rr + Scalar(6)*_tmp0*_tmp1*_tmp28*_tmp32*_tmp4*_tmp7*_tmp8*p.rr - Scalar(6)*_tmp0*_tmp2*_tmp28*_tmp3*_tmp32*_tmp8*_tmp9*p.rr + _tmp0*_tmp28*_tmp7 - _tmp1*_tmp10*_tmp27*_tmp28*_tmp3*_tmp7*p.rr + _tmp1*_tmp10*_tmp28*_tmp29*_tmp3*_tmp9*p.rr + _tmp1*_tmp10*_tmp28*_tmp31*_tmp9*p.rr + _tmp10*_tmp2*_tmp27*_tmp28*_tmp9*p.rr - _tmp10*_tmp28*_tmp29*_tmp4*_tmp7*p.rr - _tmp10*_tmp28*_tmp3*_tmp30*_tmp7*p.rr + _tmp11 + _tmp12 + _tmp14 + _tmp16 - _tmp27*_tmp28*_tmp6*_tmp9*p.rr + _tmp28*_tmp29*_tmp6*_tmp7*p.rr + _tmp28*_tmp8*_tmp9;
-  const Scalar L_0_0_0 = -L_rhs_1_0_0*inv_det_block1;
   out->r_P(0, 0) = Scalar(0);
   out->r_P(1, 0) = phi(0);
+  out->Phi(0) = _tmp11 + _tmp12*_tmp8 + _tmp7 + _tmp9;
+  out->Phi(1) = _tmp10*_tmp8 + _tmp12*_tmp6 + _tmp13 - _tmp14 - phi(0);
+  out->Phi_phi.setZero();
+  const Scalar _tmp28 = Contour_contact(p, phi(1), 0, 3);
+  const Scalar _tmp29 = K_1_0*K_1_0;
+  const Scalar _tmp30 = Contour_contact(p, phi(1), 1, 3);
+  const Scalar _tmp31 = _tmp15*_tmp15;
+  const Scalar _tmp32 = _tmp16*_tmp16;
+  const Scalar _tmp33 = pow(_tmp4, Scalar(-2.5));
+  const Scalar _tmp34 = _tmp0*_tmp0*_tmp0;
+  const Scalar _tmp35 = _tmp2*_tmp2*_tmp2;
+  const Scalar L_rhs_0_0_0 = -Scalar(2)*_tmp0*_tmp15*_tmp16*_tmp17*_tmp29*_tmp8*p.rr - Scalar(2)*_tmp15*_tmp16*_tmp17*_tmp2*_tmp29*_tmp6*p.rr - Scalar(2)*_tmp20 - Scalar(2)*_tmp21 - Scalar(2)*_tmp22 + Scalar(2)*_tmp23 + Scalar(2)*_tmp24 + Scalar(2)*_tmp25 - Scalar(2)*_tmp26 - Scalar(2)*_tmp27 - Scalar(3)*_tmp0*_tmp17*_tmp29*_tmp31*_tmp6*p.rr + Scalar(3)*_tmp0*_tmp29*_tmp3*_tmp32*_tmp33*_tmp6*p.rr + Scalar(3)*_tmp1*_tmp2*_tmp29*_tmp31*_tmp33*_tmp8*p.rr - Scalar(3)*_tmp17*_tmp2*_tmp29*_tmp32*_tmp8*p.rr + Scalar(3)*_tmp29*_tmp31*_tmp33*_tmp34*_tmp6*p.rr + Scalar(3)*_tmp29*_tmp32*_tmp33*_tmp35*_tmp8*p.rr + Scalar(6)*_tmp0*_tmp15*_tmp16*_tmp29*_tmp3*_tmp33*_tmp8*p.rr + Scalar(6)*_tmp1*_tmp15*_tmp16*_tmp2*_tmp29*_tmp33*_tmp6*p.rr - _tmp0*_tmp17*_tmp2*_tmp28*_tmp29*_tmp8*p.rr - _tmp0*_tmp17*_tmp2*_tmp29*_tmp30*_tmp6*p.rr - _tmp0*_tmp17*_tmp29*_tmp32*_tmp6*p.rr - _tmp1*_tmp17*_tmp28*_tmp29*_tmp6*p.rr + _tmp10*_tmp6 - _tmp12*_tmp8 + _tmp15*_tmp29*_tmp8 - _tmp16*_tmp29*_tmp6 - _tmp17*_tmp2*_tmp29*_tmp31*_tmp8*p.rr - _tmp17*_tmp29*_tmp3*_tmp30*_tmp8*p.rr + _tmp28*_tmp29*_tmp5*_tmp6*p.rr + _tmp29*_tmp30*_tmp5*_tmp8*p.rr - _tmp7 - _tmp9;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*inv_det_block0;
+  const Scalar L_rhs_1_0_0 = -L_1_0_0*_tmp0*_tmp15*_tmp17*_tmp2*_tmp6*p.rr + L_1_0_0*_tmp0*_tmp16*_tmp17*_tmp2*_tmp8*p.rr + L_1_0_0*_tmp0*_tmp6 + L_1_0_0*_tmp1*_tmp15*_tmp17*_tmp8*p.rr - L_1_0_0*_tmp15*_tmp5*_tmp8*p.rr - L_1_0_0*_tmp16*_tmp17*_tmp3*_tmp6*p.rr + L_1_0_0*_tmp16*_tmp5*_tmp6*p.rr + L_1_0_0*_tmp2*_tmp8 - Scalar(2)*K_1_0*_tmp0*_tmp15*_tmp17*_tmp2*_tmp8*p.rr - Scalar(2)*K_1_0*_tmp0*_tmp16*_tmp17*_tmp2*_tmp6*p.rr + Scalar(2)*K_1_0*_tmp0*_tmp8 - Scalar(2)*K_1_0*_tmp1*_tmp15*_tmp17*_tmp6*p.rr + Scalar(2)*K_1_0*_tmp15*_tmp5*_tmp6*p.rr - Scalar(2)*K_1_0*_tmp16*_tmp17*_tmp3*_tmp8*p.rr + Scalar(2)*K_1_0*_tmp16*_tmp5*_tmp8*p.rr - Scalar(2)*K_1_0*_tmp2*_tmp6 - Scalar(2)*_tmp0*_tmp15*_tmp16*_tmp17*_tmp29*_tmp6*p.rr + Scalar(2)*_tmp15*_tmp16*_tmp17*_tmp2*_tmp29*_tmp8*p.rr + Scalar(3)*_tmp0*_tmp17*_tmp29*_tmp31*_tmp8*p.rr - Scalar(3)*_tmp0*_tmp29*_tmp3*_tmp32*_tmp33*_tmp8*p.rr + Scalar(3)*_tmp1*_tmp2*_tmp29*_tmp31*_tmp33*_tmp6*p.rr - Scalar(3)*_tmp17*_tmp2*_tmp29*_tmp32*_tmp6*p.rr - Scalar(3)*_tmp29*_tmp31*_tmp33*_tmp34*_tmp8*p.rr + Scalar(3)*_tmp29*_tmp32*_tmp33*_tmp35*_tmp6*p.rr + Scalar(6)*_tmp0*_tmp15*_tmp16*_tmp29*_tmp3*_tmp33*_tmp6*p.rr - Scalar(6)*_tmp1*_tmp15*_tmp16*_tmp2*_tmp29*_tmp33*_tmp8*p.rr - _tmp0*_tmp17*_tmp2*_tmp28*_tmp29*_tmp6*p.rr + _tmp0*_tmp17*_tmp2*_tmp29*_tmp30*_tmp8*p.rr + _tmp0*_tmp17*_tmp29*_tmp32*_tmp8*p.rr + _tmp1*_tmp17*_tmp28*_tmp29*_tmp8*p.rr - _tmp13 + _tmp14 + _tmp15*_tmp29*_tmp6 + _tmp16*_tmp29*_tmp8 - _tmp17*_tmp2*_tmp29*_tmp31*_tmp6*p.rr - _tmp17*_tmp29*_tmp3*_tmp30*_tmp6*p.rr + _tmp18 + _tmp19 - _tmp28*_tmp29*_tmp5*_tmp8*p.rr + _tmp29*_tmp30*_tmp5*_tmp6*p.rr;
+  const Scalar L_0_0_0 = -L_rhs_1_0_0*inv_det_block1;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = -_tmp0*_tmp15*_tmp17*_tmp2*_tmp6*p.rr + _tmp0*_tmp16*_tmp17*_tmp2*_tmp8*p.rr + _tmp0*_tmp6 + _tmp1*_tmp15*_tmp17*_tmp8*p.rr - _tmp15*_tmp5*_tmp8*p.rr - _tmp16*_tmp17*_tmp3*_tmp6*p.rr + _tmp16*_tmp5*_tmp6*p.rr + _tmp2*_tmp8;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K_P(0, 0) = Scalar(0);

@@ -26,7 +26,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), planet.P, roll.contact.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 6 (adds 3, muls 3, divs 0, calls 0); SolvePositions 3 (adds 1, muls 1, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 58 (adds 19, muls 34, divs 1, calls 4); EvalScene 20 (adds 6, muls 10, divs 0, calls 4)
+ * Operation counts: EvalPhi 6 (adds 3, muls 3, divs 0, calls 0); SolvePositions 3 (adds 1, muls 1, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 63 (adds 21, muls 37, divs 1, calls 4); EvalScene 20 (adds 6, muls 10, divs 0, calls 4)
  */
 #pragma once
 
@@ -80,9 +80,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -134,7 +140,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -146,7 +153,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 58 (adds 19, muls 34, divs 1, calls 4); intermediate terms: 11
+  // Total ops: 63 (adds 21, muls 37, divs 1, calls 4); intermediate terms: 11
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -177,6 +184,8 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->r_P(1, 0) = _tmp2*p.R - _tmp2*p.r + _tmp3;
   out->r_P(0, 1) = _tmp0*p.R;
   out->r_P(1, 1) = _tmp2*p.R;
+  out->Phi(0) = p.R*phi(0) - p.r*phi(0) + p.r*q(0);
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->K(0, 0) = K_0_0;
   out->K_P(0, 0) = K_0_0*_tmp2*p.r - _tmp3 + _tmp4;
   out->K_P(1, 0) = -K_0_0*_tmp0*p.r + _tmp1 + _tmp5;

@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); SolvePositions 40 (adds 11, muls 24, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 141 (adds 33, muls 99, divs 1, calls 8); EvalScene 22 (adds 6, muls 8, divs 0, calls 8)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); SolvePositions 40 (adds 11, muls 24, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalScene 22 (adds 6, muls 8, divs 0, calls 8)
  */
 #pragma once
 
@@ -89,9 +89,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -158,7 +164,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -170,7 +177,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 141 (adds 33, muls 99, divs 1, calls 8); intermediate terms: 22
+  // Total ops: 155 (adds 40, muls 106, divs 1, calls 8); intermediate terms: 23
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -185,12 +192,15 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar _tmp1 = cos(q(0));
   const Scalar _tmp2 = sin(q(0));
   const Scalar _tmp3 = sin(phi(0));
+  const Scalar _tmp4 = cos(phi(1));
+  const Scalar _tmp5 = -_tmp4*p.a3;
+  const Scalar _tmp6 = cos(q(1));
+  const Scalar _tmp7 = sin(phi(1));
+  const Scalar _tmp8 = sin(q(1));
   const Scalar Phi_phi_0_0 = -_tmp3*p.a2;
-  const Scalar _tmp4 = sin(phi(1));
-  const Scalar Phi_phi_0_1 = _tmp4*p.a3;
+  const Scalar Phi_phi_0_1 = _tmp7*p.a3;
   const Scalar Phi_phi_1_0 = _tmp0*p.a2;
-  const Scalar _tmp5 = cos(phi(1));
-  const Scalar Phi_phi_1_1 = -_tmp5*p.a3;
+  const Scalar Phi_phi_1_1 = _tmp5;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
@@ -198,44 +208,48 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
   const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp2*p.a1 - Phi_phi_inv_0_1*_tmp1*p.a1;
-  const Scalar _tmp6 = sin(q(1));
-  const Scalar _tmp7 = cos(q(1));
-  const Scalar K_0_1 = -Phi_phi_inv_0_0*_tmp6*p.a4 + Phi_phi_inv_0_1*_tmp7*p.a4;
+  const Scalar K_0_1 = -Phi_phi_inv_0_0*_tmp8*p.a4 + Phi_phi_inv_0_1*_tmp6*p.a4;
   const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp2*p.a1 - Phi_phi_inv_1_1*_tmp1*p.a1;
-  const Scalar K_1_1 = -Phi_phi_inv_1_0*_tmp6*p.a4 + Phi_phi_inv_1_1*_tmp7*p.a4;
-  const Scalar _tmp8 = -_tmp2*p.a1;
-  const Scalar _tmp9 = K_1_0*K_1_0;
-  const Scalar _tmp10 = K_0_0*K_0_0;
-  const Scalar _tmp11 = -_tmp0*_tmp10*p.a2;
-  const Scalar _tmp12 = -_tmp1*p.a1;
-  const Scalar L_rhs_0_0_0 = _tmp11 + _tmp12 + _tmp5*_tmp9*p.a3;
-  const Scalar _tmp13 = -K_0_0*K_0_1*_tmp0*p.a2;
-  const Scalar L_rhs_0_0_1 = K_1_0*K_1_1*_tmp5*p.a3 + _tmp13;
-  const Scalar _tmp14 = K_1_1*K_1_1;
-  const Scalar _tmp15 = K_0_1*K_0_1;
-  const Scalar _tmp16 = -_tmp0*_tmp15*p.a2;
-  const Scalar L_rhs_0_1_1 = _tmp14*_tmp5*p.a3 + _tmp16 + _tmp7*p.a4;
-  const Scalar _tmp17 = -_tmp10*_tmp3*p.a2;
-  const Scalar L_rhs_1_0_0 = _tmp17 + _tmp4*_tmp9*p.a3 + _tmp8;
-  const Scalar _tmp18 = -K_0_0*K_0_1*_tmp3*p.a2;
-  const Scalar L_rhs_1_0_1 = K_1_0*K_1_1*_tmp4*p.a3 + _tmp18;
-  const Scalar _tmp19 = -_tmp15*_tmp3*p.a2;
-  const Scalar L_rhs_1_1_1 = _tmp14*_tmp4*p.a3 + _tmp19 + _tmp6*p.a4;
+  const Scalar K_1_1 = -Phi_phi_inv_1_0*_tmp8*p.a4 + Phi_phi_inv_1_1*_tmp6*p.a4;
+  const Scalar _tmp9 = -_tmp2*p.a1;
+  const Scalar _tmp10 = K_1_0*K_1_0;
+  const Scalar _tmp11 = K_0_0*K_0_0;
+  const Scalar _tmp12 = -_tmp0*_tmp11*p.a2;
+  const Scalar _tmp13 = -_tmp1*p.a1;
+  const Scalar L_rhs_0_0_0 = _tmp10*_tmp4*p.a3 + _tmp12 + _tmp13;
+  const Scalar _tmp14 = -K_0_0*K_0_1*_tmp0*p.a2;
+  const Scalar L_rhs_0_0_1 = K_1_0*K_1_1*_tmp4*p.a3 + _tmp14;
+  const Scalar _tmp15 = K_1_1*K_1_1;
+  const Scalar _tmp16 = K_0_1*K_0_1;
+  const Scalar _tmp17 = -_tmp0*_tmp16*p.a2;
+  const Scalar L_rhs_0_1_1 = _tmp15*_tmp4*p.a3 + _tmp17 + _tmp6*p.a4;
+  const Scalar _tmp18 = -_tmp11*_tmp3*p.a2;
+  const Scalar L_rhs_1_0_0 = _tmp10*_tmp7*p.a3 + _tmp18 + _tmp9;
+  const Scalar _tmp19 = -K_0_0*K_0_1*_tmp3*p.a2;
+  const Scalar L_rhs_1_0_1 = K_1_0*K_1_1*_tmp7*p.a3 + _tmp19;
+  const Scalar _tmp20 = -_tmp16*_tmp3*p.a2;
+  const Scalar L_rhs_1_1_1 = _tmp15*_tmp7*p.a3 + _tmp20 + _tmp8*p.a4;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_0_0_1 = -L_rhs_0_0_1*Phi_phi_inv_0_0 - L_rhs_1_0_1*Phi_phi_inv_0_1;
   const Scalar L_0_1_1 = -L_rhs_0_1_1*Phi_phi_inv_0_0 - L_rhs_1_1_1*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
   const Scalar L_1_0_1 = -L_rhs_0_0_1*Phi_phi_inv_1_0 - L_rhs_1_0_1*Phi_phi_inv_1_1;
   const Scalar L_1_1_1 = -L_rhs_0_1_1*Phi_phi_inv_1_0 - L_rhs_1_1_1*Phi_phi_inv_1_1;
-  const Scalar _tmp20 = -L_0_0_1*_tmp3*p.a2 + _tmp13;
-  const Scalar _tmp21 = L_0_0_1*_tmp0*p.a2 + _tmp18;
+  const Scalar _tmp21 = -L_0_0_1*_tmp3*p.a2 + _tmp14;
+  const Scalar _tmp22 = L_0_0_1*_tmp0*p.a2 + _tmp19;
   out->r_P(0, 0) = _tmp0*p.a2 + _tmp1*p.a1;
   out->r_P(1, 0) = _tmp2*p.a1 + _tmp3*p.a2;
+  out->Phi(0) = _tmp0*p.a2 + _tmp1*p.a1 + _tmp5 - _tmp6*p.a4 - p.f;
+  out->Phi(1) = _tmp2*p.a1 + _tmp3*p.a2 - _tmp7*p.a3 - _tmp8*p.a4;
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
   out->K(0, 0) = K_0_0;
   out->K(0, 1) = K_0_1;
   out->K(1, 0) = K_1_0;
   out->K(1, 1) = K_1_1;
-  out->K_P(0, 0) = -K_0_0*_tmp3*p.a2 + _tmp8;
+  out->K_P(0, 0) = -K_0_0*_tmp3*p.a2 + _tmp9;
   out->K_P(0, 1) = -K_0_1*_tmp3*p.a2;
   out->K_P(1, 0) = K_0_0*_tmp0*p.a2 + _tmp1*p.a1;
   out->K_P(1, 1) = K_0_1*_tmp0*p.a2;
@@ -247,14 +261,14 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->L(1, 2) = L_1_0_1;
   out->L(1, 1) = L_1_0_1;
   out->L(1, 3) = L_1_1_1;
-  out->L_P(0, 0) = -L_0_0_0*_tmp3*p.a2 + _tmp11 + _tmp12;
-  out->L_P(0, 2) = _tmp20;
-  out->L_P(0, 1) = _tmp20;
-  out->L_P(0, 3) = -L_0_1_1*_tmp3*p.a2 + _tmp16;
-  out->L_P(1, 0) = L_0_0_0*_tmp0*p.a2 + _tmp17 + _tmp8;
-  out->L_P(1, 2) = _tmp21;
-  out->L_P(1, 1) = _tmp21;
-  out->L_P(1, 3) = L_0_1_1*_tmp0*p.a2 + _tmp19;
+  out->L_P(0, 0) = -L_0_0_0*_tmp3*p.a2 + _tmp12 + _tmp13;
+  out->L_P(0, 2) = _tmp21;
+  out->L_P(0, 1) = _tmp21;
+  out->L_P(0, 3) = -L_0_1_1*_tmp3*p.a2 + _tmp17;
+  out->L_P(1, 0) = L_0_0_0*_tmp0*p.a2 + _tmp18 + _tmp9;
+  out->L_P(1, 2) = _tmp22;
+  out->L_P(1, 1) = _tmp22;
+  out->L_P(1, 3) = L_0_1_1*_tmp0*p.a2 + _tmp20;
 }
 
 /**

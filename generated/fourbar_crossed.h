@@ -26,7 +26,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); SolvePositions 34 (adds 9, muls 22, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 97 (adds 25, muls 65, divs 1, calls 6); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); SolvePositions 34 (adds 9, muls 22, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -88,9 +88,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -153,7 +159,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -165,7 +172,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 97 (adds 25, muls 65, divs 1, calls 6); intermediate terms: 10
+  // Total ops: 107 (adds 30, muls 70, divs 1, calls 6); intermediate terms: 11
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -180,12 +187,13 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar _tmp1 = cos(phi(0));
   const Scalar _tmp2 = cos(q(0));
   const Scalar _tmp3 = sin(q(0));
+  const Scalar _tmp4 = cos(phi(1));
+  const Scalar _tmp5 = -_tmp4*p.c;
+  const Scalar _tmp6 = sin(phi(1));
   const Scalar Phi_phi_0_0 = -_tmp0*p.b;
-  const Scalar _tmp4 = sin(phi(1));
-  const Scalar Phi_phi_0_1 = _tmp4*p.c;
+  const Scalar Phi_phi_0_1 = _tmp6*p.c;
   const Scalar Phi_phi_1_0 = _tmp1*p.b;
-  const Scalar _tmp5 = cos(phi(1));
-  const Scalar Phi_phi_1_1 = -_tmp5*p.c;
+  const Scalar Phi_phi_1_1 = _tmp5;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
@@ -194,24 +202,30 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
   const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp3*p.a - Phi_phi_inv_0_1*_tmp2*p.a;
   const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp3*p.a - Phi_phi_inv_1_1*_tmp2*p.a;
-  const Scalar _tmp6 = -_tmp3*p.a;
-  const Scalar _tmp7 = K_1_0*K_1_0;
-  const Scalar _tmp8 = K_0_0*K_0_0;
-  const Scalar _tmp9 = -_tmp2*p.a;
-  const Scalar L_rhs_0_0_0 = -_tmp1*_tmp8*p.b + _tmp5*_tmp7*p.c + _tmp9;
-  const Scalar L_rhs_1_0_0 = -_tmp0*_tmp8*p.b + _tmp4*_tmp7*p.c + _tmp6;
+  const Scalar _tmp7 = -_tmp3*p.a;
+  const Scalar _tmp8 = K_1_0*K_1_0;
+  const Scalar _tmp9 = K_0_0*K_0_0;
+  const Scalar _tmp10 = -_tmp2*p.a;
+  const Scalar L_rhs_0_0_0 = -_tmp1*_tmp9*p.b + _tmp10 + _tmp4*_tmp8*p.c;
+  const Scalar L_rhs_1_0_0 = -_tmp0*_tmp9*p.b + _tmp6*_tmp8*p.c + _tmp7;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
   out->r_P(0, 0) = -_tmp0*p.eta + _tmp1*p.xi + _tmp2*p.a;
   out->r_P(1, 0) = _tmp0*p.xi + _tmp1*p.eta + _tmp3*p.a;
+  out->Phi(0) = _tmp1*p.b + _tmp2*p.a + _tmp5 - p.d;
+  out->Phi(1) = _tmp0*p.b + _tmp3*p.a - _tmp6*p.c;
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
-  out->K_P(0, 0) = -K_0_0*_tmp0*p.xi - K_0_0*_tmp1*p.eta + _tmp6;
+  out->K_P(0, 0) = -K_0_0*_tmp0*p.xi - K_0_0*_tmp1*p.eta + _tmp7;
   out->K_P(1, 0) = -K_0_0*_tmp0*p.eta + K_0_0*_tmp1*p.xi + _tmp2*p.a;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
-  out->L_P(0, 0) = -L_0_0_0*_tmp0*p.xi - L_0_0_0*_tmp1*p.eta + _tmp0*_tmp8*p.eta - _tmp1*_tmp8*p.xi + _tmp9;
-  out->L_P(1, 0) = -L_0_0_0*_tmp0*p.eta + L_0_0_0*_tmp1*p.xi - _tmp0*_tmp8*p.xi - _tmp1*_tmp8*p.eta + _tmp6;
+  out->L_P(0, 0) = -L_0_0_0*_tmp0*p.xi - L_0_0_0*_tmp1*p.eta + _tmp0*_tmp9*p.eta - _tmp1*_tmp9*p.xi + _tmp10;
+  out->L_P(1, 0) = -L_0_0_0*_tmp0*p.eta + L_0_0_0*_tmp1*p.xi - _tmp0*_tmp9*p.xi - _tmp1*_tmp9*p.eta + _tmp7;
 }
 
 /**

@@ -32,7 +32,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); SolvePositions 43 (adds 12, muls 25, divs 2, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 87 (adds 23, muls 54, divs 2, calls 8); EvalScene 25 (adds 9, muls 8, divs 0, calls 8)
+ * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); SolvePositions 43 (adds 12, muls 25, divs 2, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 104 (adds 32, muls 62, divs 2, calls 8); EvalScene 25 (adds 9, muls 8, divs 0, calls 8)
  */
 #pragma once
 
@@ -94,9 +94,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -167,7 +173,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -179,7 +186,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 87 (adds 23, muls 54, divs 2, calls 8); intermediate terms: 13
+  // Total ops: 104 (adds 32, muls 62, divs 2, calls 8); intermediate terms: 15
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -194,40 +201,53 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar _tmp1 = cos(q(0))*p.a1;
   const Scalar _tmp2 = p.a1*sin(q(0));
   const Scalar _tmp3 = sin(phi(0));
+  const Scalar _tmp4 = cos(phi(1));
+  const Scalar _tmp5 = -_tmp4*p.a3;
+  const Scalar _tmp6 = cos(phi(2));
+  const Scalar _tmp7 = -_tmp6*p.a4;
+  const Scalar _tmp8 = sin(phi(1));
+  const Scalar _tmp9 = sin(phi(2));
   const Scalar Phi_phi_2_2 = p.r2;
   const Scalar det_block0 = Phi_phi_2_2;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar K_2_0 = -inv_det_block0*p.r1;
   const Scalar Phi_phi_0_0 = -_tmp3*p.a2;
-  const Scalar _tmp4 = sin(phi(1));
-  const Scalar Phi_phi_0_1 = _tmp4*p.a3;
+  const Scalar Phi_phi_0_1 = _tmp8*p.a3;
   const Scalar Phi_phi_1_0 = _tmp0*p.a2;
-  const Scalar _tmp5 = cos(phi(1));
-  const Scalar Phi_phi_1_1 = -_tmp5*p.a3;
+  const Scalar Phi_phi_1_1 = _tmp5;
   const Scalar det_block1 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block1;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block1;
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block1;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block1;
-  const Scalar _tmp6 = sin(phi(2));
-  const Scalar K_rhs_0_0 = K_2_0*_tmp6*p.a4 - _tmp2;
-  const Scalar _tmp7 = cos(phi(2));
-  const Scalar K_rhs_1_0 = -K_2_0*_tmp7*p.a4 + _tmp1;
+  const Scalar K_rhs_0_0 = K_2_0*_tmp9*p.a4 - _tmp2;
+  const Scalar K_rhs_1_0 = -K_2_0*_tmp6*p.a4 + _tmp1;
   const Scalar K_0_0 = -K_rhs_0_0*Phi_phi_inv_0_0 - K_rhs_1_0*Phi_phi_inv_0_1;
   const Scalar K_1_0 = -K_rhs_0_0*Phi_phi_inv_1_0 - K_rhs_1_0*Phi_phi_inv_1_1;
-  const Scalar L_2_0_0 = Scalar(0);
-  const Scalar _tmp8 = K_1_0*K_1_0;
-  const Scalar _tmp9 = K_2_0*K_2_0;
-  const Scalar _tmp10 = K_0_0*K_0_0;
-  const Scalar _tmp11 = -_tmp0*_tmp10*p.a2;
-  const Scalar L_rhs_0_0_0 = L_2_0_0*_tmp6*p.a4 - _tmp1 + _tmp11 + _tmp5*_tmp8*p.a3 + _tmp7*_tmp9*p.a4;
-  const Scalar _tmp12 = -_tmp10*_tmp3*p.a2;
-  const Scalar L_rhs_1_0_0 = -L_2_0_0*_tmp7*p.a4 + _tmp12 - _tmp2 + _tmp4*_tmp8*p.a3 + _tmp6*_tmp9*p.a4;
-  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
-  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
   out->r_P(0, 0) = _tmp0*p.a2 + _tmp1;
   out->r_P(1, 0) = _tmp2 + _tmp3*p.a2;
+  out->Phi(0) = _tmp0*p.a2 + _tmp1 + _tmp5 + _tmp7 - p.r1 - p.r2;
+  out->Phi(1) = _tmp2 + _tmp3*p.a2 - _tmp8*p.a3 - _tmp9*p.a4;
+  out->Phi(2) = p.r1*q(0) + p.r2*phi(2);
+  out->Phi_phi.setZero();
+  const Scalar L_2_0_0 = Scalar(0);
+  const Scalar _tmp10 = K_1_0*K_1_0;
+  const Scalar _tmp11 = K_2_0*K_2_0;
+  const Scalar _tmp12 = K_0_0*K_0_0;
+  const Scalar _tmp13 = -_tmp0*_tmp12*p.a2;
+  const Scalar L_rhs_0_0_0 = L_2_0_0*_tmp9*p.a4 - _tmp1 + _tmp10*_tmp4*p.a3 + _tmp11*_tmp6*p.a4 + _tmp13;
+  const Scalar _tmp14 = -_tmp12*_tmp3*p.a2;
+  const Scalar L_rhs_1_0_0 = -L_2_0_0*_tmp6*p.a4 + _tmp10*_tmp8*p.a3 + _tmp11*_tmp9*p.a4 + _tmp14 - _tmp2;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(0, 2) = _tmp9*p.a4;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
+  out->Phi_phi(1, 2) = _tmp7;
+  out->Phi_phi(2, 2) = Phi_phi_2_2;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K(2, 0) = K_2_0;
@@ -236,8 +256,8 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
   out->L(2, 0) = L_2_0_0;
-  out->L_P(0, 0) = -L_0_0_0*_tmp3*p.a2 - _tmp1 + _tmp11;
-  out->L_P(1, 0) = L_0_0_0*_tmp0*p.a2 + _tmp12 - _tmp2;
+  out->L_P(0, 0) = -L_0_0_0*_tmp3*p.a2 - _tmp1 + _tmp13;
+  out->L_P(1, 0) = L_0_0_0*_tmp0*p.a2 + _tmp14 - _tmp2;
 }
 
 /**

@@ -28,7 +28,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), rocker.E.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 13 (adds 3, muls 6, divs 0, calls 4); SolvePositions 19 (adds 4, muls 13, divs 0, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 64 (adds 12, muls 47, divs 1, calls 4); EvalScene 9 (adds 1, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 13 (adds 3, muls 6, divs 0, calls 4); SolvePositions 19 (adds 4, muls 13, divs 0, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 71 (adds 15, muls 51, divs 1, calls 4); EvalScene 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -82,9 +82,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -145,7 +151,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -157,7 +164,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 64 (adds 12, muls 47, divs 1, calls 4); intermediate terms: 5
+  // Total ops: 71 (adds 15, muls 51, divs 1, calls 4); intermediate terms: 5
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -170,6 +177,8 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)out;
   const Scalar _tmp0 = cos(phi(0));
   const Scalar _tmp1 = sin(phi(0));
+  const Scalar _tmp2 = cos(q(0));
+  const Scalar _tmp3 = sin(q(0));
   const Scalar Phi_phi_0_0 = -_tmp1*phi(1);
   const Scalar Phi_phi_0_1 = _tmp0;
   const Scalar Phi_phi_1_0 = _tmp0*phi(1);
@@ -180,17 +189,21 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
-  const Scalar _tmp2 = sin(q(0));
-  const Scalar _tmp3 = cos(q(0));
-  const Scalar K_0_0 = -Phi_phi_inv_0_0*_tmp2*p.a + Phi_phi_inv_0_1*_tmp3*p.a;
-  const Scalar K_1_0 = -Phi_phi_inv_1_0*_tmp2*p.a + Phi_phi_inv_1_1*_tmp3*p.a;
+  const Scalar K_0_0 = -Phi_phi_inv_0_0*_tmp3*p.a + Phi_phi_inv_0_1*_tmp2*p.a;
+  const Scalar K_1_0 = -Phi_phi_inv_1_0*_tmp3*p.a + Phi_phi_inv_1_1*_tmp2*p.a;
   const Scalar _tmp4 = K_0_0*K_0_0;
-  const Scalar L_rhs_0_0_0 = -Scalar(2)*K_0_0*K_1_0*_tmp1 - _tmp0*_tmp4*phi(1) + _tmp3*p.a;
-  const Scalar L_rhs_1_0_0 = Scalar(2)*K_0_0*K_1_0*_tmp0 - _tmp1*_tmp4*phi(1) + _tmp2*p.a;
+  const Scalar L_rhs_0_0_0 = -Scalar(2)*K_0_0*K_1_0*_tmp1 - _tmp0*_tmp4*phi(1) + _tmp2*p.a;
+  const Scalar L_rhs_1_0_0 = Scalar(2)*K_0_0*K_1_0*_tmp0 - _tmp1*_tmp4*phi(1) + _tmp3*p.a;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
   out->r_P(0, 0) = Scalar(3)*_tmp0 + p.d;
   out->r_P(1, 0) = Scalar(3)*_tmp1;
+  out->Phi(0) = _tmp0*phi(1) - _tmp2*p.a + p.d;
+  out->Phi(1) = _tmp1*phi(1) - _tmp3*p.a;
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K_P(0, 0) = -Scalar(3)*K_0_0*_tmp1;

@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), planet.M.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 13 (adds 7, muls 6, divs 0, calls 0); SolvePositions 11 (adds 3, muls 7, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 76 (adds 21, muls 50, divs 1, calls 4); EvalScene 24 (adds 6, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 13 (adds 7, muls 6, divs 0, calls 0); SolvePositions 11 (adds 3, muls 7, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 87 (adds 26, muls 56, divs 1, calls 4); EvalScene 24 (adds 6, muls 12, divs 0, calls 6)
  */
 #pragma once
 
@@ -85,9 +85,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -145,7 +151,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -157,7 +164,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 76 (adds 21, muls 50, divs 1, calls 4); intermediate terms: 6
+  // Total ops: 87 (adds 26, muls 56, divs 1, calls 4); intermediate terms: 7
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -172,6 +179,7 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar _tmp1 = cos(phi(1));
   const Scalar _tmp2 = sin(phi(0));
   const Scalar _tmp3 = sin(phi(1));
+  const Scalar _tmp4 = -p.rp*phi(0);
   const Scalar Phi_phi_0_0 = -p.rp - p.rs;
   const Scalar Phi_phi_0_1 = p.rp;
   const Scalar Phi_phi_1_0 = -p.rp + p.rr;
@@ -184,18 +192,24 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar K_1_0 = -Phi_phi_inv_1_0*p.rs;
   const Scalar L_0_0_0 = Scalar(0);
   const Scalar L_1_0_0 = Scalar(0);
-  const Scalar _tmp4 = K_0_0*K_0_0;
-  const Scalar _tmp5 = K_1_0*K_1_0;
+  const Scalar _tmp5 = K_0_0*K_0_0;
+  const Scalar _tmp6 = K_1_0*K_1_0;
   out->r_P(0, 0) = _tmp0*p.rp + _tmp0*p.rs + _tmp1*p.rp;
   out->r_P(1, 0) = _tmp2*p.rp + _tmp2*p.rs + _tmp3*p.rp;
+  out->Phi(0) = _tmp4 + p.rp*phi(1) - p.rs*phi(0) + p.rs*q(0);
+  out->Phi(1) = _tmp4 + p.rp*phi(1) + p.rr*phi(0);
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K_P(0, 0) = -K_0_0*_tmp2*p.rp - K_0_0*_tmp2*p.rs - K_1_0*_tmp3*p.rp;
   out->K_P(1, 0) = K_0_0*_tmp0*p.rp + K_0_0*_tmp0*p.rs + K_1_0*_tmp1*p.rp;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
-  out->L_P(0, 0) = -L_0_0_0*_tmp2*p.rp - L_0_0_0*_tmp2*p.rs - L_1_0_0*_tmp3*p.rp - _tmp0*_tmp4*p.rp - _tmp0*_tmp4*p.rs - _tmp1*_tmp5*p.rp;
-  out->L_P(1, 0) = L_0_0_0*_tmp0*p.rp + L_0_0_0*_tmp0*p.rs + L_1_0_0*_tmp1*p.rp - _tmp2*_tmp4*p.rp - _tmp2*_tmp4*p.rs - _tmp3*_tmp5*p.rp;
+  out->L_P(0, 0) = -L_0_0_0*_tmp2*p.rp - L_0_0_0*_tmp2*p.rs - L_1_0_0*_tmp3*p.rp - _tmp0*_tmp5*p.rp - _tmp0*_tmp5*p.rs - _tmp1*_tmp6*p.rp;
+  out->L_P(1, 0) = L_0_0_0*_tmp0*p.rp + L_0_0_0*_tmp0*p.rs + L_1_0_0*_tmp1*p.rp - _tmp2*_tmp5*p.rp - _tmp2*_tmp5*p.rs - _tmp3*_tmp6*p.rp;
 }
 
 /**

@@ -36,7 +36,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), ram.C.
  * Linear systems: Phi_phi is block lower triangular with 3 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 25 (adds 7, muls 12, divs 0, calls 6); SolvePositions 30 (adds 6, muls 17, divs 1, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 83 (adds 15, muls 59, divs 3, calls 6); EvalScene 17 (adds 5, muls 6, divs 0, calls 6)
+ * Operation counts: EvalPhi 25 (adds 7, muls 12, divs 0, calls 6); SolvePositions 30 (adds 6, muls 17, divs 1, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 101 (adds 22, muls 70, divs 3, calls 6); EvalScene 17 (adds 5, muls 6, divs 0, calls 6)
  */
 #pragma once
 
@@ -96,9 +96,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -170,7 +176,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -182,7 +189,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 83 (adds 15, muls 59, divs 3, calls 6); intermediate terms: 8
+  // Total ops: 101 (adds 22, muls 70, divs 3, calls 6); intermediate terms: 8
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -193,23 +200,24 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = sin(phi(0));
-  const Scalar Phi_phi_0_0 = -_tmp0*phi(2);
+  const Scalar _tmp0 = cos(q(0));
   const Scalar _tmp1 = cos(phi(0));
+  const Scalar _tmp2 = sin(q(0));
+  const Scalar _tmp3 = sin(phi(0));
+  const Scalar _tmp4 = cos(phi(1));
+  const Scalar _tmp5 = sin(phi(1));
+  const Scalar Phi_phi_0_0 = -_tmp3*phi(2);
   const Scalar Phi_phi_0_2 = _tmp1;
   const Scalar Phi_phi_1_0 = _tmp1*phi(2);
-  const Scalar Phi_phi_1_2 = _tmp0;
+  const Scalar Phi_phi_1_2 = _tmp3;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_2 - Phi_phi_0_2*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_2*inv_det_block0;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_2*inv_det_block0;
   const Scalar Phi_phi_inv_2_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_2_1 = Phi_phi_0_0*inv_det_block0;
-  const Scalar _tmp2 = sin(q(0));
-  const Scalar _tmp3 = cos(q(0));
-  const Scalar K_0_0 = -Phi_phi_inv_0_0*_tmp2*p.r + Phi_phi_inv_0_1*_tmp3*p.r;
-  const Scalar K_2_0 = -Phi_phi_inv_2_0*_tmp2*p.r + Phi_phi_inv_2_1*_tmp3*p.r;
-  const Scalar _tmp4 = cos(phi(1));
+  const Scalar K_0_0 = -Phi_phi_inv_0_0*_tmp2*p.r + Phi_phi_inv_0_1*_tmp0*p.r;
+  const Scalar K_2_0 = -Phi_phi_inv_2_0*_tmp2*p.r + Phi_phi_inv_2_1*_tmp0*p.r;
   const Scalar Phi_phi_3_1 = _tmp4*p.l;
   const Scalar det_block1 = Phi_phi_3_1;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
@@ -217,21 +225,34 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar Phi_phi_2_3 = Scalar(-1);
   const Scalar det_block2 = Phi_phi_2_3;
   const Scalar inv_det_block2 = Scalar(1)/det_block2;
-  const Scalar _tmp5 = sin(phi(1));
-  const Scalar K_rhs_2_0 = -K_0_0*_tmp0*p.L - K_1_0*_tmp5*p.l;
+  const Scalar K_rhs_2_0 = -K_0_0*_tmp3*p.L - K_1_0*_tmp5*p.l;
   const Scalar K_3_0 = -K_rhs_2_0*inv_det_block2;
+  out->r_P(0, 0) = phi(3);
+  out->r_P(1, 0) = p.h;
+  out->Phi(0) = -_tmp0*p.r + _tmp1*phi(2);
+  out->Phi(1) = -_tmp2*p.r + _tmp3*phi(2) - p.d;
+  out->Phi(2) = _tmp1*p.L + _tmp4*p.l - phi(3);
+  out->Phi(3) = _tmp3*p.L + _tmp5*p.l - p.h;
+  out->Phi_phi.setZero();
   const Scalar _tmp6 = K_0_0*K_0_0;
-  const Scalar L_rhs_0_0_0 = -Scalar(2)*K_0_0*K_2_0*_tmp0 - _tmp1*_tmp6*phi(2) + _tmp3*p.r;
-  const Scalar L_rhs_1_0_0 = Scalar(2)*K_0_0*K_2_0*_tmp1 - _tmp0*_tmp6*phi(2) + _tmp2*p.r;
+  const Scalar L_rhs_0_0_0 = -Scalar(2)*K_0_0*K_2_0*_tmp3 + _tmp0*p.r - _tmp1*_tmp6*phi(2);
+  const Scalar L_rhs_1_0_0 = Scalar(2)*K_0_0*K_2_0*_tmp1 + _tmp2*p.r - _tmp3*_tmp6*phi(2);
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_2_0_0 = -L_rhs_0_0_0*Phi_phi_inv_2_0 - L_rhs_1_0_0*Phi_phi_inv_2_1;
   const Scalar _tmp7 = K_1_0*K_1_0;
-  const Scalar L_rhs_3_0_0 = L_0_0_0*_tmp1*p.L - _tmp0*_tmp6*p.L - _tmp5*_tmp7*p.l;
+  const Scalar L_rhs_3_0_0 = L_0_0_0*_tmp1*p.L - _tmp3*_tmp6*p.L - _tmp5*_tmp7*p.l;
   const Scalar L_1_0_0 = -L_rhs_3_0_0*inv_det_block1;
-  const Scalar L_rhs_2_0_0 = -L_0_0_0*_tmp0*p.L - L_1_0_0*_tmp5*p.l - _tmp1*_tmp6*p.L - _tmp4*_tmp7*p.l;
+  const Scalar L_rhs_2_0_0 = -L_0_0_0*_tmp3*p.L - L_1_0_0*_tmp5*p.l - _tmp1*_tmp6*p.L - _tmp4*_tmp7*p.l;
   const Scalar L_3_0_0 = -L_rhs_2_0_0*inv_det_block2;
-  out->r_P(0, 0) = phi(3);
-  out->r_P(1, 0) = p.h;
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 2) = Phi_phi_0_2;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 2) = Phi_phi_1_2;
+  out->Phi_phi(2, 0) = -_tmp3*p.L;
+  out->Phi_phi(2, 1) = -_tmp5*p.l;
+  out->Phi_phi(2, 3) = Phi_phi_2_3;
+  out->Phi_phi(3, 0) = _tmp1*p.L;
+  out->Phi_phi(3, 1) = Phi_phi_3_1;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K(2, 0) = K_2_0;

@@ -28,7 +28,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), slider.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 27 (adds 4, muls 17, divs 2, calls 4); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 35 (adds 8, muls 21, divs 2, calls 4); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -84,9 +84,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -147,7 +153,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -159,7 +166,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 27 (adds 4, muls 17, divs 2, calls 4); intermediate terms: 5
+  // Total ops: 35 (adds 8, muls 21, divs 2, calls 4); intermediate terms: 5
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -171,25 +178,31 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)phi;
   (void)out;
   const Scalar _tmp0 = cos(phi(0));
+  const Scalar _tmp1 = cos(q(0));
+  const Scalar _tmp2 = p.a*sin(q(0));
+  const Scalar _tmp3 = sin(phi(0));
   const Scalar Phi_phi_1_0 = _tmp0*p.b;
   const Scalar det_block0 = Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar _tmp1 = cos(q(0));
   const Scalar K_0_0 = -_tmp1*inv_det_block0*p.a;
   const Scalar Phi_phi_0_1 = Scalar(-1);
   const Scalar det_block1 = Phi_phi_0_1;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
-  const Scalar _tmp2 = sin(phi(0));
-  const Scalar _tmp3 = -p.a*sin(q(0));
-  const Scalar K_rhs_0_0 = -K_0_0*_tmp2*p.b + _tmp3;
+  const Scalar K_rhs_0_0 = -K_0_0*_tmp3*p.b - _tmp2;
   const Scalar K_1_0 = -K_rhs_0_0*inv_det_block1;
-  const Scalar _tmp4 = K_0_0*K_0_0;
-  const Scalar L_rhs_1_0_0 = -_tmp2*_tmp4*p.b + _tmp3;
-  const Scalar L_0_0_0 = -L_rhs_1_0_0*inv_det_block0;
-  const Scalar L_rhs_0_0_0 = -L_0_0_0*_tmp2*p.b - _tmp0*_tmp4*p.b - _tmp1*p.a;
-  const Scalar L_1_0_0 = -L_rhs_0_0_0*inv_det_block1;
   out->r_P(0, 0) = phi(1);
   out->r_P(1, 0) = p.e;
+  out->Phi(0) = _tmp0*p.b + _tmp1*p.a - phi(1);
+  out->Phi(1) = _tmp2 + _tmp3*p.b - p.e;
+  out->Phi_phi.setZero();
+  const Scalar _tmp4 = K_0_0*K_0_0;
+  const Scalar L_rhs_1_0_0 = -_tmp2 - _tmp3*_tmp4*p.b;
+  const Scalar L_0_0_0 = -L_rhs_1_0_0*inv_det_block0;
+  const Scalar L_rhs_0_0_0 = -L_0_0_0*_tmp3*p.b - _tmp0*_tmp4*p.b - _tmp1*p.a;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*inv_det_block1;
+  out->Phi_phi(0, 0) = -_tmp3*p.b;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K_P(0, 0) = K_1_0;

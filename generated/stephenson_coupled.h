@@ -34,7 +34,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), T2.Ea.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 4 unknowns; each block's system is solved in closed form up to 3 unknowns, by a fixed-size LU above, and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 74 (adds 32, muls 32, divs 0, calls 10); SolvePositions 74 (adds 32, muls 32, divs 0, calls 10) (per Newton iteration for Newton blocks); EvalCoefficients 134 (adds 44, muls 80, divs 0, calls 10); EvalScene 62 (adds 28, muls 24, divs 0, calls 10)
+ * Operation counts: EvalPhi 74 (adds 32, muls 32, divs 0, calls 10); SolvePositions 74 (adds 32, muls 32, divs 0, calls 10) (per Newton iteration for Newton blocks); EvalCoefficients 178 (adds 68, muls 100, divs 0, calls 10); EvalScene 62 (adds 28, muls 24, divs 0, calls 10)
  */
 #pragma once
 
@@ -92,9 +92,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -174,7 +180,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -186,7 +193,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 134 (adds 44, muls 80, divs 0, calls 10); intermediate terms: 18
+  // Total ops: 178 (adds 68, muls 100, divs 0, calls 10); intermediate terms: 28
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -201,28 +208,42 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar _tmp1 = cos(phi(0));
   const Scalar _tmp2 = cos(q(0));
   const Scalar _tmp3 = sin(q(0));
+  const Scalar _tmp4 = cos(phi(3));
+  const Scalar _tmp5 = sin(phi(3));
+  const Scalar _tmp6 = cos(phi(1));
+  const Scalar _tmp7 = sin(phi(1));
+  const Scalar _tmp8 = cos(phi(2));
+  const Scalar _tmp9 = sin(phi(2));
   out->r_P(0, 0) = -Scalar(1.5)*_tmp0 + Scalar(2.8999999999999999)*_tmp1 + _tmp2;
   out->r_P(1, 0) = Scalar(1.5)*_tmp1 + Scalar(2.8999999999999999)*_tmp0 + _tmp3;
+  out->Phi(0) = Scalar(1.3)*_tmp4 - Scalar(1.5)*_tmp0 + Scalar(1.8999999999999999)*_tmp5 + Scalar(2.8999999999999999)*_tmp1 + _tmp2 + _tmp6*p.la - p.x1;
+  out->Phi(1) = Scalar(1.3)*_tmp5 + Scalar(1.5)*_tmp1 - Scalar(1.8999999999999999)*_tmp4 + Scalar(2.8999999999999999)*_tmp0 + _tmp3 + _tmp7*p.la - p.y1;
+  out->Phi(2) = -Scalar(0.94999999999999996)*_tmp5 + Scalar(1.1000000000000001)*_tmp0 + Scalar(3.0)*_tmp1 + _tmp2 + _tmp4 + _tmp8*p.lb - p.x1;
+  out->Phi(3) = Scalar(0.94999999999999996)*_tmp4 - Scalar(1.1000000000000001)*_tmp1 + Scalar(3.0)*_tmp0 + _tmp3 + _tmp5 + _tmp9*p.lb - p.y1;
   Mat<Scalar, 4, 4> J_block0;
   J_block0.setZero();
-  const Scalar _tmp4 = sin(phi(1));
-  const Scalar _tmp5 = sin(phi(3));
-  const Scalar _tmp6 = cos(phi(3));
-  const Scalar _tmp7 = cos(phi(1));
-  const Scalar _tmp8 = sin(phi(2));
-  const Scalar _tmp9 = cos(phi(2));
-  J_block0(0, 0) = -Scalar(1.5)*_tmp1 - Scalar(2.8999999999999999)*_tmp0;
-  J_block0(0, 1) = -_tmp4*p.la;
-  J_block0(0, 3) = -Scalar(1.3)*_tmp5 + Scalar(1.8999999999999999)*_tmp6;
-  J_block0(1, 0) = -Scalar(1.5)*_tmp0 + Scalar(2.8999999999999999)*_tmp1;
-  J_block0(1, 1) = _tmp7*p.la;
-  J_block0(1, 3) = Scalar(1.3)*_tmp6 + Scalar(1.8999999999999999)*_tmp5;
-  J_block0(2, 0) = Scalar(1.1000000000000001)*_tmp1 - Scalar(3.0)*_tmp0;
-  J_block0(2, 2) = -_tmp8*p.lb;
-  J_block0(2, 3) = -Scalar(0.94999999999999996)*_tmp6 - _tmp5;
-  J_block0(3, 0) = Scalar(1.1000000000000001)*_tmp0 + Scalar(3.0)*_tmp1;
-  J_block0(3, 2) = _tmp9*p.lb;
-  J_block0(3, 3) = -Scalar(0.94999999999999996)*_tmp5 + _tmp6;
+  const Scalar _tmp10 = -Scalar(1.5)*_tmp1 - Scalar(2.8999999999999999)*_tmp0;
+  const Scalar _tmp11 = -_tmp7*p.la;
+  const Scalar _tmp12 = -Scalar(1.3)*_tmp5 + Scalar(1.8999999999999999)*_tmp4;
+  const Scalar _tmp13 = -Scalar(1.5)*_tmp0 + Scalar(2.8999999999999999)*_tmp1;
+  const Scalar _tmp14 = Scalar(1.3)*_tmp4 + Scalar(1.8999999999999999)*_tmp5;
+  const Scalar _tmp15 = Scalar(1.1000000000000001)*_tmp1 - Scalar(3.0)*_tmp0;
+  const Scalar _tmp16 = -_tmp9*p.lb;
+  const Scalar _tmp17 = -Scalar(0.94999999999999996)*_tmp4 - _tmp5;
+  const Scalar _tmp18 = Scalar(1.1000000000000001)*_tmp0 + Scalar(3.0)*_tmp1;
+  const Scalar _tmp19 = -Scalar(0.94999999999999996)*_tmp5 + _tmp4;
+  J_block0(0, 0) = _tmp10;
+  J_block0(0, 1) = _tmp11;
+  J_block0(0, 3) = _tmp12;
+  J_block0(1, 0) = _tmp13;
+  J_block0(1, 1) = _tmp6*p.la;
+  J_block0(1, 3) = _tmp14;
+  J_block0(2, 0) = _tmp15;
+  J_block0(2, 2) = _tmp16;
+  J_block0(2, 3) = _tmp17;
+  J_block0(3, 0) = _tmp18;
+  J_block0(3, 2) = _tmp8*p.lb;
+  J_block0(3, 3) = _tmp19;
   const Eigen::PartialPivLU<Mat<Scalar, 4, 4>> lu_block0(J_block0);
   Mat<Scalar, 4, 1> K_rhs_block0;
   K_rhs_block0(0, 0) = -_tmp3;
@@ -230,6 +251,19 @@ void EvalCoefficients(const Params<Scalar>& p,
   K_rhs_block0(2, 0) = -_tmp3;
   K_rhs_block0(3, 0) = _tmp2;
   const Mat<Scalar, 4, 1> K_block0 = -lu_block0.solve(K_rhs_block0);
+  out->Phi_phi.setZero();
+  out->Phi_phi(0, 0) = _tmp10;
+  out->Phi_phi(0, 1) = _tmp11;
+  out->Phi_phi(0, 3) = _tmp12;
+  out->Phi_phi(1, 0) = _tmp13;
+  out->Phi_phi(1, 1) = _tmp6*p.la;
+  out->Phi_phi(1, 3) = _tmp14;
+  out->Phi_phi(2, 0) = _tmp15;
+  out->Phi_phi(2, 2) = _tmp16;
+  out->Phi_phi(2, 3) = _tmp17;
+  out->Phi_phi(3, 0) = _tmp18;
+  out->Phi_phi(3, 2) = _tmp8*p.lb;
+  out->Phi_phi(3, 3) = _tmp19;
   out->K(0, 0) = K_block0(0, 0);
   out->K(1, 0) = K_block0(1, 0);
   out->K(2, 0) = K_block0(2, 0);
@@ -237,25 +271,25 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->K_P(0, 0) = -Scalar(1.5)*K_block0(0, 0)*_tmp1 - Scalar(2.8999999999999999)*K_block0(0, 0)*_tmp0 - _tmp3;
   out->K_P(1, 0) = -Scalar(1.5)*K_block0(0, 0)*_tmp0 + Scalar(2.8999999999999999)*K_block0(0, 0)*_tmp1 + _tmp2;
   Mat<Scalar, 4, 1> L_rhs_block0;
-  const Scalar _tmp10 = K_block0(1, 0)*K_block0(1, 0);
-  const Scalar _tmp11 = K_block0(3, 0)*K_block0(3, 0);
-  const Scalar _tmp12 = K_block0(0, 0)*K_block0(0, 0);
-  const Scalar _tmp13 = -Scalar(2.8999999999999999)*_tmp1*_tmp12;
-  const Scalar _tmp14 = Scalar(1.5)*_tmp0*_tmp12;
-  const Scalar _tmp15 = -Scalar(1.5)*_tmp1*_tmp12;
-  const Scalar _tmp16 = -Scalar(2.8999999999999999)*_tmp0*_tmp12;
-  const Scalar _tmp17 = K_block0(2, 0)*K_block0(2, 0);
-  L_rhs_block0(0, 0) = -Scalar(1.3)*_tmp11*_tmp6 - Scalar(1.8999999999999999)*_tmp11*_tmp5 - _tmp10*_tmp7*p.la + _tmp13 + _tmp14 - _tmp2;
-  L_rhs_block0(1, 0) = -Scalar(1.3)*_tmp11*_tmp5 + Scalar(1.8999999999999999)*_tmp11*_tmp6 - _tmp10*_tmp4*p.la + _tmp15 + _tmp16 - _tmp3;
-  L_rhs_block0(2, 0) = Scalar(0.94999999999999996)*_tmp11*_tmp5 - Scalar(1.1000000000000001)*_tmp0*_tmp12 - Scalar(3.0)*_tmp1*_tmp12 - _tmp11*_tmp6 - _tmp17*_tmp9*p.lb - _tmp2;
-  L_rhs_block0(3, 0) = -Scalar(0.94999999999999996)*_tmp11*_tmp6 + Scalar(1.1000000000000001)*_tmp1*_tmp12 - Scalar(3.0)*_tmp0*_tmp12 - _tmp11*_tmp5 - _tmp17*_tmp8*p.lb - _tmp3;
+  const Scalar _tmp20 = K_block0(1, 0)*K_block0(1, 0);
+  const Scalar _tmp21 = K_block0(3, 0)*K_block0(3, 0);
+  const Scalar _tmp22 = K_block0(0, 0)*K_block0(0, 0);
+  const Scalar _tmp23 = -Scalar(2.8999999999999999)*_tmp1*_tmp22;
+  const Scalar _tmp24 = Scalar(1.5)*_tmp0*_tmp22;
+  const Scalar _tmp25 = -Scalar(1.5)*_tmp1*_tmp22;
+  const Scalar _tmp26 = -Scalar(2.8999999999999999)*_tmp0*_tmp22;
+  const Scalar _tmp27 = K_block0(2, 0)*K_block0(2, 0);
+  L_rhs_block0(0, 0) = -Scalar(1.3)*_tmp21*_tmp4 - Scalar(1.8999999999999999)*_tmp21*_tmp5 - _tmp2 - _tmp20*_tmp6*p.la + _tmp23 + _tmp24;
+  L_rhs_block0(1, 0) = -Scalar(1.3)*_tmp21*_tmp5 + Scalar(1.8999999999999999)*_tmp21*_tmp4 - _tmp20*_tmp7*p.la + _tmp25 + _tmp26 - _tmp3;
+  L_rhs_block0(2, 0) = Scalar(0.94999999999999996)*_tmp21*_tmp5 - Scalar(1.1000000000000001)*_tmp0*_tmp22 - Scalar(3.0)*_tmp1*_tmp22 - _tmp2 - _tmp21*_tmp4 - _tmp27*_tmp8*p.lb;
+  L_rhs_block0(3, 0) = -Scalar(0.94999999999999996)*_tmp21*_tmp4 + Scalar(1.1000000000000001)*_tmp1*_tmp22 - Scalar(3.0)*_tmp0*_tmp22 - _tmp21*_tmp5 - _tmp27*_tmp9*p.lb - _tmp3;
   const Mat<Scalar, 4, 1> L_block0 = -lu_block0.solve(L_rhs_block0);
   out->L(0, 0) = L_block0(0, 0);
   out->L(1, 0) = L_block0(1, 0);
   out->L(2, 0) = L_block0(2, 0);
   out->L(3, 0) = L_block0(3, 0);
-  out->L_P(0, 0) = -Scalar(1.5)*L_block0(0, 0)*_tmp1 - Scalar(2.8999999999999999)*L_block0(0, 0)*_tmp0 + _tmp13 + _tmp14 - _tmp2;
-  out->L_P(1, 0) = -Scalar(1.5)*L_block0(0, 0)*_tmp0 + Scalar(2.8999999999999999)*L_block0(0, 0)*_tmp1 + _tmp15 + _tmp16 - _tmp3;
+  out->L_P(0, 0) = -Scalar(1.5)*L_block0(0, 0)*_tmp1 - Scalar(2.8999999999999999)*L_block0(0, 0)*_tmp0 - _tmp2 + _tmp23 + _tmp24;
+  out->L_P(1, 0) = -Scalar(1.5)*L_block0(0, 0)*_tmp0 + Scalar(2.8999999999999999)*L_block0(0, 0)*_tmp1 + _tmp25 + _tmp26 - _tmp3;
 }
 
 /**

@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.E, coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); SolvePositions 79 (adds 23, muls 48, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 161 (adds 46, muls 103, divs 2, calls 10); EvalScene 37 (adds 13, muls 14, divs 0, calls 10)
+ * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); SolvePositions 79 (adds 23, muls 48, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalScene 37 (adds 13, muls 14, divs 0, calls 10)
  */
 #pragma once
 
@@ -105,9 +105,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -186,7 +192,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -198,7 +205,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 161 (adds 46, muls 103, divs 2, calls 10); intermediate terms: 28
+  // Total ops: 194 (adds 63, muls 119, divs 2, calls 10); intermediate terms: 31
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -212,85 +219,103 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar _tmp0 = cos(phi(3));
   const Scalar _tmp1 = sin(phi(3));
   const Scalar _tmp2 = sin(phi(0));
-  const Scalar _tmp3 = cos(phi(0));
-  const Scalar _tmp4 = cos(q(0));
-  const Scalar _tmp5 = sin(q(0));
-  const Scalar Phi_phi_0_0 = -_tmp2*p.b;
-  const Scalar _tmp6 = sin(phi(1));
-  const Scalar Phi_phi_0_1 = _tmp6*p.c;
-  const Scalar Phi_phi_1_0 = _tmp3*p.b;
+  const Scalar _tmp3 = -_tmp2*p.eta;
+  const Scalar _tmp4 = cos(phi(0));
+  const Scalar _tmp5 = cos(q(0));
+  const Scalar _tmp6 = sin(q(0));
   const Scalar _tmp7 = cos(phi(1));
-  const Scalar Phi_phi_1_1 = -_tmp7*p.c;
+  const Scalar _tmp8 = -_tmp7*p.c;
+  const Scalar _tmp9 = sin(phi(1));
+  const Scalar _tmp10 = -_tmp0*p.o;
+  const Scalar _tmp11 = cos(phi(2));
+  const Scalar _tmp12 = sin(phi(2));
+  const Scalar Phi_phi_0_0 = -_tmp2*p.b;
+  const Scalar Phi_phi_0_1 = _tmp9*p.c;
+  const Scalar Phi_phi_1_0 = _tmp4*p.b;
+  const Scalar Phi_phi_1_1 = _tmp8;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
-  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp5*p.a - Phi_phi_inv_0_1*_tmp4*p.a;
-  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp5*p.a - Phi_phi_inv_1_1*_tmp4*p.a;
-  const Scalar _tmp8 = sin(phi(2));
-  const Scalar Phi_phi_2_2 = -_tmp8*p.f;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp6*p.a - Phi_phi_inv_0_1*_tmp5*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp6*p.a - Phi_phi_inv_1_1*_tmp5*p.a;
+  const Scalar Phi_phi_2_2 = -_tmp12*p.f;
   const Scalar Phi_phi_2_3 = _tmp1*p.o;
-  const Scalar _tmp9 = cos(phi(2));
-  const Scalar Phi_phi_3_2 = _tmp9*p.f;
-  const Scalar Phi_phi_3_3 = -_tmp0*p.o;
+  const Scalar Phi_phi_3_2 = _tmp11*p.f;
+  const Scalar Phi_phi_3_3 = _tmp10;
   const Scalar det_block1 = Phi_phi_2_2*Phi_phi_3_3 - Phi_phi_2_3*Phi_phi_3_2;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
   const Scalar Phi_phi_inv_2_2 = Phi_phi_3_3*inv_det_block1;
   const Scalar Phi_phi_inv_2_3 = -Phi_phi_2_3*inv_det_block1;
   const Scalar Phi_phi_inv_3_2 = -Phi_phi_3_2*inv_det_block1;
   const Scalar Phi_phi_inv_3_3 = Phi_phi_2_2*inv_det_block1;
-  const Scalar _tmp10 = -_tmp5*p.a;
-  const Scalar _tmp11 = -K_0_0*_tmp2*p.xi - K_0_0*_tmp3*p.eta + _tmp10;
-  const Scalar K_rhs_2_0 = _tmp11;
-  const Scalar _tmp12 = -K_0_0*_tmp2*p.eta + K_0_0*_tmp3*p.xi + _tmp4*p.a;
-  const Scalar K_rhs_3_0 = _tmp12;
+  const Scalar _tmp13 = -_tmp6*p.a;
+  const Scalar _tmp14 = -K_0_0*_tmp2*p.xi - K_0_0*_tmp4*p.eta + _tmp13;
+  const Scalar K_rhs_2_0 = _tmp14;
+  const Scalar _tmp15 = -K_0_0*_tmp2*p.eta + K_0_0*_tmp4*p.xi + _tmp5*p.a;
+  const Scalar K_rhs_3_0 = _tmp15;
   const Scalar K_2_0 = -K_rhs_2_0*Phi_phi_inv_2_2 - K_rhs_3_0*Phi_phi_inv_2_3;
   const Scalar K_3_0 = -K_rhs_2_0*Phi_phi_inv_3_2 - K_rhs_3_0*Phi_phi_inv_3_3;
-  const Scalar _tmp13 = K_1_0*K_1_0;
-  const Scalar _tmp14 = K_0_0*K_0_0;
-  const Scalar _tmp15 = -_tmp4*p.a;
-  const Scalar L_rhs_0_0_0 = _tmp13*_tmp7*p.c - _tmp14*_tmp3*p.b + _tmp15;
-  const Scalar L_rhs_1_0_0 = _tmp10 + _tmp13*_tmp6*p.c - _tmp14*_tmp2*p.b;
-  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
-  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
-  const Scalar _tmp16 = _tmp14*_tmp2*p.eta;
-  const Scalar _tmp17 = K_3_0*K_3_0;
-  const Scalar _tmp18 = _tmp0*_tmp17*p.o;
-  const Scalar _tmp19 = -_tmp14*_tmp3*p.xi;
-  const Scalar _tmp20 = K_2_0*K_2_0;
-  const Scalar _tmp21 = -L_0_0_0*_tmp3*p.eta;
-  const Scalar _tmp22 = -L_0_0_0*_tmp2*p.xi;
-  const Scalar L_rhs_2_0_0 = _tmp15 + _tmp16 + _tmp18 + _tmp19 - _tmp20*_tmp9*p.f + _tmp21 + _tmp22;
-  const Scalar _tmp23 = _tmp1*_tmp17*p.o;
-  const Scalar _tmp24 = -_tmp14*_tmp3*p.eta;
-  const Scalar _tmp25 = -_tmp14*_tmp2*p.xi;
-  const Scalar _tmp26 = -L_0_0_0*_tmp2*p.eta;
-  const Scalar _tmp27 = L_0_0_0*_tmp3*p.xi;
-  const Scalar L_rhs_3_0_0 = _tmp10 - _tmp20*_tmp8*p.f + _tmp23 + _tmp24 + _tmp25 + _tmp26 + _tmp27;
-  const Scalar L_2_0_0 = -L_rhs_2_0_0*Phi_phi_inv_2_2 - L_rhs_3_0_0*Phi_phi_inv_2_3;
-  const Scalar L_3_0_0 = -L_rhs_2_0_0*Phi_phi_inv_3_2 - L_rhs_3_0_0*Phi_phi_inv_3_3;
   out->r_P(0, 0) = _tmp0*p.o + p.x6;
   out->r_P(1, 0) = _tmp1*p.o + p.y6;
-  out->r_P(0, 1) = -_tmp2*p.eta + _tmp3*p.xi + _tmp4*p.a;
-  out->r_P(1, 1) = _tmp2*p.xi + _tmp3*p.eta + _tmp5*p.a;
+  out->r_P(0, 1) = _tmp3 + _tmp4*p.xi + _tmp5*p.a;
+  out->r_P(1, 1) = _tmp2*p.xi + _tmp4*p.eta + _tmp6*p.a;
+  out->Phi(0) = _tmp4*p.b + _tmp5*p.a + _tmp8 - p.g;
+  out->Phi(1) = _tmp2*p.b + _tmp6*p.a - _tmp9*p.c;
+  out->Phi(2) = _tmp10 + _tmp11*p.f + _tmp3 + _tmp4*p.xi + _tmp5*p.a - p.x6;
+  out->Phi(3) = -_tmp1*p.o + _tmp12*p.f + _tmp2*p.xi + _tmp4*p.eta + _tmp6*p.a - p.y6;
+  out->Phi_phi.setZero();
+  const Scalar _tmp16 = K_1_0*K_1_0;
+  const Scalar _tmp17 = K_0_0*K_0_0;
+  const Scalar _tmp18 = -_tmp5*p.a;
+  const Scalar L_rhs_0_0_0 = _tmp16*_tmp7*p.c - _tmp17*_tmp4*p.b + _tmp18;
+  const Scalar L_rhs_1_0_0 = _tmp13 + _tmp16*_tmp9*p.c - _tmp17*_tmp2*p.b;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
+  const Scalar _tmp19 = _tmp17*_tmp2*p.eta;
+  const Scalar _tmp20 = K_3_0*K_3_0;
+  const Scalar _tmp21 = _tmp0*_tmp20*p.o;
+  const Scalar _tmp22 = -_tmp17*_tmp4*p.xi;
+  const Scalar _tmp23 = K_2_0*K_2_0;
+  const Scalar _tmp24 = -L_0_0_0*_tmp4*p.eta;
+  const Scalar _tmp25 = -L_0_0_0*_tmp2*p.xi;
+  const Scalar L_rhs_2_0_0 = -_tmp11*_tmp23*p.f + _tmp18 + _tmp19 + _tmp21 + _tmp22 + _tmp24 + _tmp25;
+  const Scalar _tmp26 = _tmp1*_tmp20*p.o;
+  const Scalar _tmp27 = -_tmp17*_tmp4*p.eta;
+  const Scalar _tmp28 = -_tmp17*_tmp2*p.xi;
+  const Scalar _tmp29 = -L_0_0_0*_tmp2*p.eta;
+  const Scalar _tmp30 = L_0_0_0*_tmp4*p.xi;
+  const Scalar L_rhs_3_0_0 = -_tmp12*_tmp23*p.f + _tmp13 + _tmp26 + _tmp27 + _tmp28 + _tmp29 + _tmp30;
+  const Scalar L_2_0_0 = -L_rhs_2_0_0*Phi_phi_inv_2_2 - L_rhs_3_0_0*Phi_phi_inv_2_3;
+  const Scalar L_3_0_0 = -L_rhs_2_0_0*Phi_phi_inv_3_2 - L_rhs_3_0_0*Phi_phi_inv_3_3;
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
+  out->Phi_phi(2, 0) = -_tmp2*p.xi - _tmp4*p.eta;
+  out->Phi_phi(2, 2) = Phi_phi_2_2;
+  out->Phi_phi(2, 3) = Phi_phi_2_3;
+  out->Phi_phi(3, 0) = _tmp3 + _tmp4*p.xi;
+  out->Phi_phi(3, 2) = Phi_phi_3_2;
+  out->Phi_phi(3, 3) = Phi_phi_3_3;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K(2, 0) = K_2_0;
   out->K(3, 0) = K_3_0;
   out->K_P(0, 0) = -K_3_0*_tmp1*p.o;
   out->K_P(1, 0) = K_3_0*_tmp0*p.o;
-  out->K_P(2, 0) = _tmp11;
-  out->K_P(3, 0) = _tmp12;
+  out->K_P(2, 0) = _tmp14;
+  out->K_P(3, 0) = _tmp15;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
   out->L(2, 0) = L_2_0_0;
   out->L(3, 0) = L_3_0_0;
-  out->L_P(0, 0) = -L_3_0_0*_tmp1*p.o - _tmp18;
-  out->L_P(1, 0) = L_3_0_0*_tmp0*p.o - _tmp23;
-  out->L_P(2, 0) = _tmp15 + _tmp16 + _tmp19 + _tmp21 + _tmp22;
-  out->L_P(3, 0) = _tmp10 + _tmp24 + _tmp25 + _tmp26 + _tmp27;
+  out->L_P(0, 0) = -L_3_0_0*_tmp1*p.o - _tmp21;
+  out->L_P(1, 0) = L_3_0_0*_tmp0*p.o - _tmp26;
+  out->L_P(2, 0) = _tmp18 + _tmp19 + _tmp22 + _tmp24 + _tmp25;
+  out->L_P(3, 0) = _tmp13 + _tmp27 + _tmp28 + _tmp29 + _tmp30;
 }
 
 /**

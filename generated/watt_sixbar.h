@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); SolvePositions 80 (adds 22, muls 50, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 152 (adds 30, muls 108, divs 2, calls 12); EvalScene 43 (adds 13, muls 18, divs 0, calls 12)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); SolvePositions 80 (adds 22, muls 50, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalScene 43 (adds 13, muls 18, divs 0, calls 12)
  */
 #pragma once
 
@@ -105,9 +105,15 @@ struct NonDeduced {
 template <typename T>
 using Out = typename NonDeduced<T>::type*;
 
-/// What EvalCoefficients() fills. Only the members the model asked for exist.
+/// What EvalCoefficients() fills. Only the members the model asked for exist, and the
+/// residual and Jacobian it evaluates on the way (so that a caller checks closure,
+/// conditioning and branch without a second EvalPhi()).
 template <typename Scalar = double>
 struct Coefficients {
+  /// Phi(q, phi): the residual, zero when the loops close.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// Phi_phi = dPhi/dphi at (q, phi), the matrix K and L are solved with.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
   /// K(i, j) = d phi_i / d q_j, velocity coefficients: phid = K qd.  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
   /// L(i, j + kNq*k) = d K(i, j) / d q_k, centripetal coefficients:
@@ -191,7 +197,8 @@ void EvalPhi(const Params<Scalar>& p,
 }
 
 /**
- * \brief Everything the model requested at a closed configuration: K, L and the points.
+ * \brief Everything the model requested at a closed configuration: K, L and the points,
+ * with the residual Phi and Phi_phi there.
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
@@ -203,7 +210,7 @@ void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
                       Coefficients<Scalar>* out) {
-  // Total ops: 152 (adds 30, muls 108, divs 2, calls 12); intermediate terms: 18
+  // Total ops: 184 (adds 46, muls 124, divs 2, calls 12); intermediate terms: 24
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -216,58 +223,79 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)out;
   const Scalar _tmp0 = cos(phi(3));
   const Scalar _tmp1 = sin(phi(3));
-  const Scalar _tmp2 = sin(phi(0));
-  const Scalar Phi_phi_0_0 = -_tmp2*p.b;
-  const Scalar _tmp3 = sin(phi(1));
-  const Scalar Phi_phi_0_1 = _tmp3*p.c;
+  const Scalar _tmp2 = cos(phi(1));
+  const Scalar _tmp3 = -_tmp2*p.c;
   const Scalar _tmp4 = cos(phi(0));
+  const Scalar _tmp5 = cos(q(0));
+  const Scalar _tmp6 = sin(phi(1));
+  const Scalar _tmp7 = sin(q(0));
+  const Scalar _tmp8 = sin(phi(0));
+  const Scalar _tmp9 = -_tmp0*p.o;
+  const Scalar _tmp10 = sin(p.beta);
+  const Scalar _tmp11 = -_tmp10*_tmp6*p.e;
+  const Scalar _tmp12 = cos(p.beta);
+  const Scalar _tmp13 = _tmp12*_tmp2*p.e;
+  const Scalar _tmp14 = cos(phi(2));
+  const Scalar _tmp15 = _tmp12*_tmp6*p.e;
+  const Scalar _tmp16 = _tmp10*_tmp2*p.e;
+  const Scalar _tmp17 = sin(phi(2));
+  const Scalar Phi_phi_0_0 = -_tmp8*p.b;
+  const Scalar Phi_phi_0_1 = _tmp6*p.c;
   const Scalar Phi_phi_1_0 = _tmp4*p.b;
-  const Scalar _tmp5 = cos(phi(1));
-  const Scalar Phi_phi_1_1 = -_tmp5*p.c;
+  const Scalar Phi_phi_1_1 = _tmp3;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
-  const Scalar _tmp6 = cos(q(0));
-  const Scalar _tmp7 = sin(q(0));
-  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp7*p.a - Phi_phi_inv_0_1*_tmp6*p.a;
-  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp7*p.a - Phi_phi_inv_1_1*_tmp6*p.a;
-  const Scalar _tmp8 = sin(phi(2));
-  const Scalar Phi_phi_2_2 = -_tmp8*p.f;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp7*p.a - Phi_phi_inv_0_1*_tmp5*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp7*p.a - Phi_phi_inv_1_1*_tmp5*p.a;
+  const Scalar Phi_phi_2_2 = -_tmp17*p.f;
   const Scalar Phi_phi_2_3 = _tmp1*p.o;
-  const Scalar _tmp9 = cos(phi(2));
-  const Scalar Phi_phi_3_2 = _tmp9*p.f;
-  const Scalar Phi_phi_3_3 = -_tmp0*p.o;
+  const Scalar Phi_phi_3_2 = _tmp14*p.f;
+  const Scalar Phi_phi_3_3 = _tmp9;
   const Scalar det_block1 = Phi_phi_2_2*Phi_phi_3_3 - Phi_phi_2_3*Phi_phi_3_2;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
   const Scalar Phi_phi_inv_2_2 = Phi_phi_3_3*inv_det_block1;
   const Scalar Phi_phi_inv_2_3 = -Phi_phi_2_3*inv_det_block1;
   const Scalar Phi_phi_inv_3_2 = -Phi_phi_3_2*inv_det_block1;
   const Scalar Phi_phi_inv_3_3 = Phi_phi_2_2*inv_det_block1;
-  const Scalar _tmp10 = cos(p.beta);
-  const Scalar _tmp11 = sin(p.beta);
-  const Scalar K_rhs_2_0 = -K_1_0*_tmp10*_tmp3*p.e - K_1_0*_tmp11*_tmp5*p.e;
-  const Scalar K_rhs_3_0 = K_1_0*_tmp10*_tmp5*p.e - K_1_0*_tmp11*_tmp3*p.e;
+  const Scalar K_rhs_2_0 = -K_1_0*_tmp10*_tmp2*p.e - K_1_0*_tmp12*_tmp6*p.e;
+  const Scalar K_rhs_3_0 = -K_1_0*_tmp10*_tmp6*p.e + K_1_0*_tmp12*_tmp2*p.e;
   const Scalar K_2_0 = -K_rhs_2_0*Phi_phi_inv_2_2 - K_rhs_3_0*Phi_phi_inv_2_3;
   const Scalar K_3_0 = -K_rhs_2_0*Phi_phi_inv_3_2 - K_rhs_3_0*Phi_phi_inv_3_3;
-  const Scalar _tmp12 = K_1_0*K_1_0;
-  const Scalar _tmp13 = K_0_0*K_0_0;
-  const Scalar L_rhs_0_0_0 = _tmp12*_tmp5*p.c - _tmp13*_tmp4*p.b - _tmp6*p.a;
-  const Scalar L_rhs_1_0_0 = _tmp12*_tmp3*p.c - _tmp13*_tmp2*p.b - _tmp7*p.a;
-  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
-  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
-  const Scalar _tmp14 = K_3_0*K_3_0;
-  const Scalar _tmp15 = _tmp0*_tmp14*p.o;
-  const Scalar _tmp16 = K_2_0*K_2_0;
-  const Scalar L_rhs_2_0_0 = -L_1_0_0*_tmp10*_tmp3*p.e - L_1_0_0*_tmp11*_tmp5*p.e - _tmp10*_tmp12*_tmp5*p.e + _tmp11*_tmp12*_tmp3*p.e + _tmp15 - _tmp16*_tmp9*p.f;
-  const Scalar _tmp17 = _tmp1*_tmp14*p.o;
-  const Scalar L_rhs_3_0_0 = L_1_0_0*_tmp10*_tmp5*p.e - L_1_0_0*_tmp11*_tmp3*p.e - _tmp10*_tmp12*_tmp3*p.e - _tmp11*_tmp12*_tmp5*p.e - _tmp16*_tmp8*p.f + _tmp17;
-  const Scalar L_2_0_0 = -L_rhs_2_0_0*Phi_phi_inv_2_2 - L_rhs_3_0_0*Phi_phi_inv_2_3;
-  const Scalar L_3_0_0 = -L_rhs_2_0_0*Phi_phi_inv_3_2 - L_rhs_3_0_0*Phi_phi_inv_3_3;
   out->r_P(0, 0) = _tmp0*p.o + p.x6;
   out->r_P(1, 0) = _tmp1*p.o + p.y6;
+  out->Phi(0) = _tmp3 + _tmp4*p.b + _tmp5*p.a - p.g;
+  out->Phi(1) = -_tmp6*p.c + _tmp7*p.a + _tmp8*p.b;
+  out->Phi(2) = _tmp11 + _tmp13 + _tmp14*p.f + _tmp9 + p.g - p.x6;
+  out->Phi(3) = -_tmp1*p.o + _tmp15 + _tmp16 + _tmp17*p.f - p.y6;
+  out->Phi_phi.setZero();
+  const Scalar _tmp18 = K_1_0*K_1_0;
+  const Scalar _tmp19 = K_0_0*K_0_0;
+  const Scalar L_rhs_0_0_0 = _tmp18*_tmp2*p.c - _tmp19*_tmp4*p.b - _tmp5*p.a;
+  const Scalar L_rhs_1_0_0 = _tmp18*_tmp6*p.c - _tmp19*_tmp8*p.b - _tmp7*p.a;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
+  const Scalar _tmp20 = K_3_0*K_3_0;
+  const Scalar _tmp21 = _tmp0*_tmp20*p.o;
+  const Scalar _tmp22 = K_2_0*K_2_0;
+  const Scalar L_rhs_2_0_0 = -L_1_0_0*_tmp10*_tmp2*p.e - L_1_0_0*_tmp12*_tmp6*p.e + _tmp10*_tmp18*_tmp6*p.e - _tmp12*_tmp18*_tmp2*p.e - _tmp14*_tmp22*p.f + _tmp21;
+  const Scalar _tmp23 = _tmp1*_tmp20*p.o;
+  const Scalar L_rhs_3_0_0 = -L_1_0_0*_tmp10*_tmp6*p.e + L_1_0_0*_tmp12*_tmp2*p.e - _tmp10*_tmp18*_tmp2*p.e - _tmp12*_tmp18*_tmp6*p.e - _tmp17*_tmp22*p.f + _tmp23;
+  const Scalar L_2_0_0 = -L_rhs_2_0_0*Phi_phi_inv_2_2 - L_rhs_3_0_0*Phi_phi_inv_2_3;
+  const Scalar L_3_0_0 = -L_rhs_2_0_0*Phi_phi_inv_3_2 - L_rhs_3_0_0*Phi_phi_inv_3_3;
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
+  out->Phi_phi(2, 1) = -_tmp15 - _tmp16;
+  out->Phi_phi(2, 2) = Phi_phi_2_2;
+  out->Phi_phi(2, 3) = Phi_phi_2_3;
+  out->Phi_phi(3, 1) = _tmp11 + _tmp13;
+  out->Phi_phi(3, 2) = Phi_phi_3_2;
+  out->Phi_phi(3, 3) = Phi_phi_3_3;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K(2, 0) = K_2_0;
@@ -278,8 +306,8 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->L(1, 0) = L_1_0_0;
   out->L(2, 0) = L_2_0_0;
   out->L(3, 0) = L_3_0_0;
-  out->L_P(0, 0) = -L_3_0_0*_tmp1*p.o - _tmp15;
-  out->L_P(1, 0) = L_3_0_0*_tmp0*p.o - _tmp17;
+  out->L_P(0, 0) = -L_3_0_0*_tmp1*p.o - _tmp21;
+  out->L_P(1, 0) = L_3_0_0*_tmp0*p.o - _tmp23;
 }
 
 /**

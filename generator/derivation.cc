@@ -106,6 +106,7 @@ struct BlockSolver {
   const Block& block;
   int index;
   bool closed_form;
+  GiNaC::matrix J;    // closed form: the block of Phi_phi as named entries
   GiNaC::matrix inv;  // closed form: J^-1 in terms of named entries
   std::vector<bool> inv_named;  // closed form: entry (r, c) named yet
   std::string lu;     // numeric: the LU's name
@@ -114,7 +115,7 @@ struct BlockSolver {
       : block(b), index(i), closed_form(static_cast<int>(b.cols.size()) <= kMaxSymbolicSolve) {
     const int n = static_cast<int>(b.cols.size());
     if (closed_form) {
-      GiNaC::matrix J(n, n);
+      J = GiNaC::matrix(n, n);
       for (int r = 0; r < n; ++r)
         for (int c = 0; c < n; ++c)
           P->push_back(Define("Phi_phi_" + N(b.rows[r]) + "_" + N(b.cols[c]), k.Phi_phi(b.rows[r], b.cols[c]), &J(r, c)));
@@ -423,7 +424,27 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Stra
                (d.numeric_solve ? "in closed form up to " + N(kMaxSymbolicSolve) + " unknowns, by a fixed-size LU above"
                                 : "in closed form (adjugate over determinant)") +
                ", and K and L by forward substitution over the blocks.";
-  if (order == 0) return d;
+  // Phi and Phi_phi from the same evaluation, for the caller's closure and conditioning
+  // checks: Phi_phi's entries are the named ones of the blocks' closed forms where they
+  // exist (stored after the blocks are set up), the expressions elsewhere.
+  for (int i = 0; i < nc; ++i) P.push_back(Store("out->Phi(" + N(i) + ")", k.Phi[i]));
+  auto store_phi_phi = [&](const std::vector<BlockSolver>* solvers) {
+    GiNaC::matrix named = k.Phi_phi;
+    if (solvers != nullptr)
+      for (const BlockSolver& s : *solvers)
+        if (s.closed_form)
+          for (size_t r = 0; r < s.block.rows.size(); ++r)
+            for (size_t c = 0; c < s.block.cols.size(); ++c)
+              named(s.block.rows[r], s.block.cols[c]) = s.J(r, c);
+    if (sparse_phi_phi) P.push_back(Raw("out->Phi_phi.setZero();"));
+    for (int i = 0; i < nc; ++i)
+      for (int j = 0; j < nphi; ++j)
+        if (!sparse_phi_phi || !k.Phi_phi(i, j).is_zero()) P.push_back(Store("out->Phi_phi" + Idx(i, j), named(i, j)));
+  };
+  if (order == 0) {
+    store_phi_phi(nullptr);
+    return d;
+  }
 
   // x = (q, phi); V = dx/dq = [I; K], K filled block by block as symbols.
   std::vector<ex> x;
@@ -449,6 +470,7 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Stra
     for (size_t i = 0; i < b.cols.size(); ++i)
       for (int j = 0; j < nq; ++j) K[b.cols[i]][j] = X[i][j];
   }
+  store_phi_phi(&solvers);
   for (int i = 0; i < nphi; ++i)
     for (int j = 0; j < nq; ++j) P.push_back(Store("out->K" + Idx(i, j), K[i][j]));
   auto V = [&](int a, int j) -> ex { return a < nq ? ex(a == j ? 1 : 0) : K[a - nq][j]; };

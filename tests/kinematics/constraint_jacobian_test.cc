@@ -121,6 +121,29 @@ TYPED_TEST(ConstraintJacobianTest, OptionalOutputsAreIndependent) {
   }
 }
 
+// EvalCoefficients hands out the Phi and Phi_phi it evaluates (the runtime checks closure
+// and conditioning with them instead of a second EvalPhi): the same values as EvalPhi's,
+// to rounding (the two functions share subexpressions differently).
+TYPED_TEST(ConstraintJacobianTest, CoefficientsCarryEvalPhisResidualAndJacobian) {
+  using M = TypeParam;
+  for (const auto& s : RandomStates<M>()) {
+    typename TestFixture::PhiVec Phi;
+    typename TestFixture::PhiPhiMat Phi_phi;
+    M::Phi(this->p_, s.q, s.phi, &Phi, &Phi_phi);
+    typename M::template CoefficientsT<double> c;
+    c.Phi.setConstant(NAN);
+    c.Phi_phi.setConstant(NAN);
+    M::Coeffs(this->p_, s.q, s.phi, &c);
+    for (int r = 0; r < M::kNc; ++r) {
+      EXPECT_NEAR(c.Phi(r), Phi(r), kJetTol) << "Phi(" << r << ")";
+      for (int i = 0; i < M::kNphi; ++i) {
+        EXPECT_NEAR(c.Phi_phi(r, i), Phi_phi(r, i), kJetTol)
+            << "Phi_phi(" << r << ", " << M::kPhiNames[i] << ")";
+      }
+    }
+  }
+}
+
 // EvalDetPhiPhi (a product of block determinants, with the sign of the block permutation)
 // is the determinant of the full Phi_phi, including its sign.
 TYPED_TEST(ConstraintJacobianTest, DetPhiPhiIsTheDeterminantOfPhiPhi) {
