@@ -73,6 +73,13 @@ template <class C, class = void>
 struct HasLP : std::false_type {};
 template <class C>
 struct HasLP<C, std::void_t<decltype(std::declval<C&>().L_P)>> : std::true_type {};
+/// Coefficients::Phi and Coefficients::Phi_phi: the residual and Jacobian the generated
+/// EvalCoefficients evaluated K and L with (headers generated since they hand them out).
+template <class C, class = void>
+struct HasPhiPhi : std::false_type {};
+template <class C>
+struct HasPhiPhi<C, std::void_t<decltype(std::declval<C&>().Phi),
+                                decltype(std::declval<C&>().Phi_phi)>> : std::true_type {};
 
 /// ||A||_1: the largest column sum of |a_ij|.
 template <class Derived>
@@ -117,6 +124,9 @@ struct ModelFeatures {
   static constexpr bool kHasPointAccelerations =
       kHasPoints && internal::HasLP<Coefficients>::value;
   static constexpr bool kHasScene = M::kNumScenePoints > 0;
+  /// Model::Coeffs also gives Phi and Phi_phi (Coefficients::Phi, Phi_phi): a continuation
+  /// step checks closure and conditioning on them, without a separate Model::Phi call.
+  static constexpr bool kCoeffsHavePhi = internal::HasPhiPhi<Coefficients>::value;
   /// The generated block-ordered solver Model::Solve (closed-form dyads, Newton blocks).
   static constexpr bool kHasSolve = internal::HasSolve<M>::value;
 };

@@ -35,6 +35,10 @@
  *  - Exact (SVD) always at assembly, in the Ceres fallback, in PassSingularity(), and for
  *    the configuration reported at a kSingular stop: the singular direction reported
  *    there is exact.
+ * A result of M::Solve is checked (residual, conditioning, branch) on the Phi and Phi_phi
+ * that Model::Coeffs hands out with K, L and the points (Coefficients::Phi, Phi_phi;
+ * ModelFeatures::kCoeffsHavePhi): one generated evaluation per step. Models whose
+ * coefficients lack them (or that ask for positions only) evaluate Model::Phi instead.
  * K and L come from Model::Coeffs when the model has them; otherwise K = -Phi_phi^{-1} Phi_q
  * (Phi_q from the same evaluation as Phi_phi, the step's factorization) and L by central
  * differences of Phi_phi and Phi_q along the motion (NumericalL(): two more evaluations
@@ -226,8 +230,22 @@ class PositionSolver {
   // The exact distance (a full SVD above 2 x 2) at s's configuration, if s has an estimate.
   void MakeDistanceExact(State<M>* s) const;
   // K, L and the points at (s->q, s->phi); false if any is not finite. Phi_q: dPhi/dq
-  // there, or nullptr (evaluated when the model lacks K).
-  bool FillCoefficients(const Factorization& f, const MatCQ* Phi_q, State<M>* s) const;
+  // there, or nullptr (evaluated when the model lacks K). Calls Model::Coeffs once.
+  bool FillCoefficients(const Factorization& f, const MatCQ* Phi_q, State<M>* s) const {
+    typename T::Coefficients c;
+    if constexpr (kCallCoeffs) M::template Coeffs<double>(params_, s->q, s->phi, &c);
+    return CopyCoefficients(c, f, Phi_q, s);
+  }
+  // The same from c = Model::Coeffs at (s->q, s->phi), already evaluated (unused when the
+  // model's coefficients have neither K, L nor points).
+  bool CopyCoefficients(const typename T::Coefficients& c, const Factorization& f,
+                        const MatCQ* Phi_q, State<M>* s) const;
+  static constexpr bool kCallCoeffs =
+      Features::kHasK || Features::kHasL || Features::kHasPoints;
+  // A result of M::Solve is checked on the Phi and Phi_phi of Model::Coeffs (one evaluation
+  // per step) when the coefficients have them and the step needs Coeffs anyway; else on
+  // Model::Phi (a model without Coefficients::Phi_phi, or asking for positions only).
+  static constexpr bool kPhiFromCoeffs = Features::kCoeffsHavePhi && kCallCoeffs;
   void NumericalL(const VecQ& q, const VecPhi& phi, const Factorization& f,
                   const typename T::MatK& K, typename T::MatL* L) const;
   // Newton–Raphson on the whole system with a polishing step (Newton() with Phi_q).
@@ -459,12 +477,10 @@ void PositionSolver<M>::NumericalL(const VecQ& q, const VecPhi& phi, const Facto
 }
 
 template <class M>
-bool PositionSolver<M>::FillCoefficients(const Factorization& f, const MatCQ* Phi_q,
+bool PositionSolver<M>::CopyCoefficients(const typename T::Coefficients& c,
+                                         const Factorization& f, const MatCQ* Phi_q,
                                          State<M>* s) const {
-  typename T::Coefficients c;
-  if constexpr (Features::kHasK || Features::kHasL || Features::kHasPoints) {
-    M::template Coeffs<double>(params_, s->q, s->phi, &c);
-  }
+  (void)c;
   if constexpr (Features::kHasK) {
     s->K = c.K;
   } else {
@@ -512,20 +528,35 @@ bool PositionSolver<M>::Accept(const State<M>& from, const VecQ& q, const VecPhi
   }
   MatCPhi A;
   MatCQ B;
+  typename T::Coefficients c;
+  bool have_coefficients = false;
   if (Phi_phi == nullptr) {  // the residual test of a result of M::Solve
-    VecC Phi;
-    M::template Phi<double>(params_, q, phi, &Phi, &A, kNeedPhiQ ? &B : nullptr);
-    residual = Phi.template lpNorm<Eigen::Infinity>();
-    if (!(residual <= options_.tolerance)) return false;
-    Phi_phi = &A;
-    Phi_q = kNeedPhiQ ? &B : nullptr;
+    if constexpr (kPhiFromCoeffs) {
+      // One evaluation gives Phi and Phi_phi for the checks and K, L and the points: the
+      // coefficients are computed before the conditioning test, and discarded (with the
+      // whole step) when it fails, so a singular Phi_phi never reaches the state.
+      M::template Coeffs<double>(params_, q, phi, &c);
+      residual = c.Phi.template lpNorm<Eigen::Infinity>();
+      if (!(residual <= options_.tolerance)) return false;
+      Phi_phi = &c.Phi_phi;
+      have_coefficients = true;
+    } else {
+      VecC Phi;
+      M::template Phi<double>(params_, q, phi, &Phi, &A, kNeedPhiQ ? &B : nullptr);
+      residual = Phi.template lpNorm<Eigen::Infinity>();
+      if (!(residual <= options_.tolerance)) return false;
+      Phi_phi = &A;
+      Phi_q = kNeedPhiQ ? &B : nullptr;
+    }
   }
   to->q = q;
   to->phi = phi;
   to->residual_norm = residual;
   const Factorization f(*Phi_phi);
   if (!Classify(*Phi_phi, f, &from, to) || to->branch != from.branch) return false;
-  if (!FillCoefficients(f, Phi_q, to)) return false;
+  if (have_coefficients ? !CopyCoefficients(c, f, Phi_q, to) : !FillCoefficients(f, Phi_q, to)) {
+    return false;
+  }
   if (!VelocityConsistent(from, *to)) return false;
   to->valid = true;
   return true;
