@@ -18,6 +18,7 @@
 #include "kinematics.h"
 #include "model.h"
 #include "topology.h"
+#include "transmission.h"
 
 namespace {
 
@@ -43,7 +44,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const mechgen::Kinematics kinematics = mechgen::DeriveKinematics(model, topology);
     mechgen::CxxPrinter printer;
     const mechgen::Derivation derivation = mechgen::Derive(model, kinematics, &printer);
-    (void)derivation;
+    const auto transmission = mechgen::FindTransmissionAngles(model, topology, kinematics, derivation.blocks);
+    (void)mechgen::EmitProgram(mechgen::TransmissionProgram(transmission), &printer);
   } catch (const std::exception&) {
     // A clean rejection.
   }

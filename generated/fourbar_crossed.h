@@ -26,7 +26,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); SolvePositions 34 (adds 9, muls 22, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); SolvePositions 34 (adds 9, muls 22, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6)
  */
 #pragma once
 
@@ -50,6 +50,7 @@ struct Sizes {
   static constexpr int kNumLinks = 4;
   static constexpr int kNumScenePoints = 9;  ///< every named point of every link (0: no scene)
   static constexpr int kNumBlocks = 1;   ///< blocks of the solve order (see the file comment)
+  static constexpr int kNumTransmissionAngles = 1;  ///< four-bar loops with a ground link
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -252,6 +253,38 @@ void EvalDetPhiPhi(const Params<Scalar>& p,
   *det_Phi_phi = det_block0;
 }
 
+/**
+ * \brief Transmission angle mu of each four-bar loop: the angle between the coupler and
+ * the output link at their joint, in [0, pi]. mu = 0 or pi is a toggle of the output
+ * (Phi_phi loses rank there: the loop's determinant is b c sin mu up to sign); 90 deg
+ * transmits force best, and designs usually keep mu within 40..140 deg.
+ *   mu(0): at joint C between coupler 'coupler' and output 'rocker' (loop 1, driven by 'crank')
+ * \param[out] mu  (dim kNumTransmissionAngles), not nullptr.
+ */
+template <typename Scalar>
+void EvalTransmissionAngles(const Params<Scalar>& p,
+                            const Vec<Scalar, Sizes::kNq>& q,
+                            const Vec<Scalar, Sizes::kNphi>& phi,
+                            Vec<Scalar, Sizes::kNumTransmissionAngles>* mu) {
+  // Total ops: 20 (adds 2, muls 12, divs 0, calls 6); intermediate terms: 4
+  using std::abs;
+  using std::atan2;
+  using std::cos;
+  using std::pow;
+  using std::sin;
+  using std::sqrt;
+  (void)p;
+  (void)q;
+  (void)phi;
+  const Scalar _tmp0 = cos(phi(1));
+  const Scalar _tmp1 = sin(phi(0));
+  const Scalar _tmp2 = cos(phi(0));
+  const Scalar _tmp3 = sin(phi(1));
+  const Scalar cross_0 = -_tmp0*_tmp1*p.b*p.c + _tmp2*_tmp3*p.b*p.c;
+  const Scalar dot_0 = _tmp0*_tmp2*p.b*p.c + _tmp1*_tmp3*p.b*p.c;
+  (*mu)(0) = atan2(abs(cross_0), dot_0);
+}
+
 /// Why SolvePositions() stopped.
 enum class SolveStatus {
   kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held
@@ -398,6 +431,10 @@ extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
                                           double*);
+extern template void EvalTransmissionAngles<double>(const Params<double>&,
+                                                   const Vec<double, Sizes::kNq>&,
+                                                   const Vec<double, Sizes::kNphi>&,
+                                                   Vec<double, Sizes::kNumTransmissionAngles>*);
 extern template SolveReport<double> SolvePositions<double>(const Params<double>&,
                                                           const Vec<double, Sizes::kNq>&,
                                                           Vec<double, Sizes::kNphi>*,
@@ -422,6 +459,10 @@ extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
                                           float*);
+extern template void EvalTransmissionAngles<float>(const Params<float>&,
+                                                   const Vec<float, Sizes::kNq>&,
+                                                   const Vec<float, Sizes::kNphi>&,
+                                                   Vec<float, Sizes::kNumTransmissionAngles>*);
 extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           const Vec<float, Sizes::kNq>&,
                                                           Vec<float, Sizes::kNphi>*,
@@ -448,6 +489,8 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.A", "ground.D", "crank.A", "crank.B", "coupler.B", "coupler.C", "coupler.P", "rocker.D", "rocker.C" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 1, 1, 2, 2, 2, 3, 3 };
+  /// The joint where each transmission angle is measured (EvalTransmissionAngles).
+  static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{ "C" };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
   /// assembly mode (branch); the runtime refines it.
   static constexpr std::array<double, kNq> kAssemblyQ{ 1.5707963267948966 };
@@ -496,6 +539,13 @@ struct Model : Sizes {
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0)) {
     return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+  }
+  template <typename Scalar>
+  static void TransmissionAngles(const Params<Scalar>& p,
+                                 const Vec<Scalar, kNq>& q,
+                                 const Vec<Scalar, kNphi>& phi,
+                                 Vec<Scalar, kNumTransmissionAngles>* mu) {
+    EvalTransmissionAngles(p, q, phi, mu);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -56,6 +56,7 @@ struct Sizes {
   static constexpr int kNumLinks = 5;
   static constexpr int kNumScenePoints = 10;  ///< every named point of every link (0: no scene)
   static constexpr int kNumBlocks = 2;   ///< blocks of the solve order (see the file comment)
+  static constexpr int kNumTransmissionAngles = 0;  ///< four-bar loops with a ground link
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -490,6 +491,8 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.A", "ground.E", "crank1.A", "crank1.B", "link1.B", "link1.C", "link2.D", "link2.C", "crank2.E", "crank2.D" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 1, 1, 2, 2, 3, 3, 4, 4 };
+  /// The joint where each transmission angle is measured (EvalTransmissionAngles).
+  static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
   /// assembly mode (branch); the runtime refines it.
   static constexpr std::array<double, kNq> kAssemblyQ{ 0.0 };

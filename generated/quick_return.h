@@ -60,6 +60,7 @@ struct Sizes {
   static constexpr int kNumLinks = 6;
   static constexpr int kNumScenePoints = 12;  ///< every named point of every link (0: no scene)
   static constexpr int kNumBlocks = 3;   ///< blocks of the solve order (see the file comment)
+  static constexpr int kNumTransmissionAngles = 0;  ///< four-bar loops with a ground link
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -504,6 +505,8 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.O4", "ground.O2", "ground.R", "crank.O2", "crank.A", "rocker.O4", "rocker.B", "block.A", "link.B", "link.C", "ram.C", "ram.T" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 0, 1, 1, 2, 2, 3, 4, 4, 5, 5 };
+  /// The joint where each transmission angle is measured (EvalTransmissionAngles).
+  static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
   /// assembly mode (branch); the runtime refines it.
   static constexpr std::array<double, kNq> kAssemblyQ{ 0.0 };

@@ -49,6 +49,7 @@ struct Sizes {
   static constexpr int kNumLinks = 2;
   static constexpr int kNumScenePoints = 4;  ///< every named point of every link (0: no scene)
   static constexpr int kNumBlocks = 1;   ///< blocks of the solve order (see the file comment)
+  static constexpr int kNumTransmissionAngles = 0;  ///< four-bar loops with a ground link
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -375,6 +376,8 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.G", "wheel.C", "wheel.P", "roll.contact" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 1, 1, 1 };
+  /// The joint where each transmission angle is measured (EvalTransmissionAngles).
+  static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
   /// assembly mode (branch); the runtime refines it.
   static constexpr std::array<double, kNq> kAssemblyQ{ 0.0 };

@@ -58,6 +58,7 @@ struct Sizes {
   static constexpr int kNumLinks = 6;
   static constexpr int kNumScenePoints = 14;  ///< every named point of every link (0: no scene)
   static constexpr int kNumBlocks = 1;   ///< blocks of the solve order (see the file comment)
+  static constexpr int kNumTransmissionAngles = 0;  ///< four-bar loops with a ground link
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -567,6 +568,8 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.O", "ground.P1", "crank.O", "crank.D", "T2.D", "T2.Ea", "T2.Eb", "a.Ea", "a.Fa", "b.Eb", "b.Fb", "T1.P1", "T1.Fa", "T1.Fb" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 1, 1, 2, 2, 2, 3, 3, 4, 4, 5, 5, 5 };
+  /// The joint where each transmission angle is measured (EvalTransmissionAngles).
+  static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
   /// assembly mode (branch); the runtime refines it.
   static constexpr std::array<double, kNq> kAssemblyQ{ 0.0 };

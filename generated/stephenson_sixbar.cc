@@ -23,6 +23,10 @@ template void EvalDetPhiPhi<double>(const Params<double>&,
                                    const Vec<double, Sizes::kNq>&,
                                    const Vec<double, Sizes::kNphi>&,
                                    double*);
+template void EvalTransmissionAngles<double>(const Params<double>&,
+                                            const Vec<double, Sizes::kNq>&,
+                                            const Vec<double, Sizes::kNphi>&,
+                                            Vec<double, Sizes::kNumTransmissionAngles>*);
 template SolveReport<double> SolvePositions<double>(const Params<double>&,
                                                    const Vec<double, Sizes::kNq>&,
                                                    Vec<double, Sizes::kNphi>*,
@@ -47,6 +51,10 @@ template void EvalDetPhiPhi<float>(const Params<float>&,
                                    const Vec<float, Sizes::kNq>&,
                                    const Vec<float, Sizes::kNphi>&,
                                    float*);
+template void EvalTransmissionAngles<float>(const Params<float>&,
+                                            const Vec<float, Sizes::kNq>&,
+                                            const Vec<float, Sizes::kNphi>&,
+                                            Vec<float, Sizes::kNumTransmissionAngles>*);
 template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                    const Vec<float, Sizes::kNq>&,
                                                    Vec<float, Sizes::kNphi>*,

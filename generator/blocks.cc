@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <optional>
@@ -150,12 +151,25 @@ double Eval(const ex& e, const GiNaC::exmap& values) {
   return GiNaC::ex_to<GiNaC::numeric>(v).to_double();
 }
 
+std::string G(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+std::string Number(double v, bool angle) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, angle ? "%.6g deg" : "%.6g", angle ? v * 180 / M_PI : v);
+  return buf;
+}
+
 double AngleDistance(double a, double b) { return std::abs(std::remainder(a - b, 2 * M_PI)); }
 
 // Both closed-form solutions of a block at `values` (known coordinates and parameters);
 // picks the assembly mode nearest the current values of its unknowns and stores the
-// solution in *values, so that later blocks see it.
-void ChooseMode(const Kinematics& k, Block* b, GiNaC::exmap* values) {
+// solution in *values, so that later blocks see it. A block with no real solution there
+// (the loop cannot close at the model's assembly inputs) sets *no_solution to the reason.
+void ChooseMode(const Kinematics& k, Block* b, GiNaC::exmap* values, std::string* no_solution) {
   if (b->solve == BlockSolve::kNewton || b->solve == BlockSolve::kSS) return;
   if (b->solve == BlockSolve::kLinear) {
     const double x = -Eval(b->c0, *values) / Eval(b->c1, *values);
@@ -168,6 +182,9 @@ void ChooseMode(const Kinematics& k, Block* b, GiNaC::exmap* values) {
     const double c0 = Eval(b->c0, *values), c1 = Eval(b->c1, *values), c2 = Eval(b->c2, *values);
     const double rho = std::hypot(c1, c2), delta = std::atan2(c2, c1);
     double best = INFINITY, best_u = guess;
+    if (std::isfinite(c0) && std::isfinite(rho) && std::abs(c0) > rho)
+      *no_solution = "c0 + c1 cos u + c2 sin u = 0 needs |c0| <= sqrt(c1^2 + c2^2), but |c0| = " + G(std::abs(c0)) +
+                     " > " + G(rho);
     for (int sigma : {1, -1}) {
       if (!(std::abs(c0) <= rho)) continue;
       const double su = delta + sigma * std::acos(-c0 / rho);
@@ -192,6 +209,9 @@ void ChooseMode(const Kinematics& k, Block* b, GiNaC::exmap* values) {
       const double wx = -Eval(b->w0[0], *values), wy = -Eval(b->w0[1], *values);
       const double d2 = wx * wx + wy * wy, ra2 = ax * ax + ay * ay, rb2 = bx * bx + by * by;
       const double kk = (ra2 - rb2 + d2) / (2 * d2), h2 = ra2 / d2 - kk * kk;
+      if (std::isfinite(h2) && h2 < 0)
+        *no_solution = "the two circles do not meet: radii " + G(std::sqrt(ra2)) + " and " +
+                       G(std::sqrt(rb2)) + ", centres " + G(std::sqrt(d2)) + " apart";
       if (!(h2 >= 0)) continue;
       const double mx = kk * wx - sigma * std::sqrt(h2) * wy, my = kk * wy + sigma * std::sqrt(h2) * wx;
       su = std::atan2(my, mx) - std::atan2(ay, ax);
@@ -203,6 +223,8 @@ void ChooseMode(const Kinematics& k, Block* b, GiNaC::exmap* values) {
       const double A = Eval(f.coeff(x, 2), without_x), B = Eval(f.coeff(x, 1), without_x),
                    C = Eval(f.coeff(x, 0), without_x);
       const double disc = B * B - 4 * A * C;
+      if (A != 0 && std::isfinite(disc) && disc < 0)
+        *no_solution = "the circle and the line do not meet (discriminant " + G(disc) + " < 0)";
       if (A == 0 || !(disc >= 0)) continue;
       sx = (-B + sigma * std::sqrt(disc)) / (2 * A);
       GiNaC::exmap at = without_x;
@@ -337,7 +359,28 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
         b = plain;
       }
     }
-    ChooseMode(k, &b, &values);
+    std::string no_solution;
+    ChooseMode(k, &b, &values, &no_solution);
+    if (!no_solution.empty()) {
+      // The loop cannot close at the model's own assembly inputs with the parameters'
+      // default values: the generated code would work, but nothing the model describes
+      // can be assembled. Reported at the assembly guess of an input (or the inputs).
+      SourceMark mark = m.inputs_mark;
+      bool at_guess = false;
+      std::string at;
+      for (int i = 0; i < k.nq(); ++i) {
+        at += (i ? ", " : "") + k.q[i].name + " = " + Number(k.assembly_q[i], k.q[i].is_angle);
+        for (const GuessValue& g : m.guess)
+          if (g.coordinate == k.q[i].name && !at_guess) {
+            mark = g.mark;
+            at_guess = true;
+          }
+      }
+      m.Fail(mark, "the loops cannot close at the assembly configuration (" + at +
+                       ") with the parameters' default values: block " + std::to_string(blocks.size()) + " (" +
+                       b.Describe(k) + ") has no real solution, " + no_solution +
+                       "; change the assembly inputs or the lengths");
+    }
     blocks.push_back(b);
   }
   return blocks;

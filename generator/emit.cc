@@ -136,7 +136,8 @@ std::string Reindent(const std::string& text) {
 }  // namespace
 
 EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const Derivation& d,
-                  CxxPrinter* printer, const std::string& templates_dir) {
+                  const std::vector<TransmissionAngle>& transmission, CxxPrinter* printer,
+                  const std::string& templates_dir) {
   EmittedModel out;
   const std::string math = "  using std::abs;\n  using std::atan2;\n  using std::cos;\n  using std::pow;\n"
                            "  using std::sin;\n  using std::sqrt;\n";
@@ -144,6 +145,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   const Body coeffs = EmitProgram(d.coefficients, printer);
   const Body scene = EmitProgram(d.scene, printer);
   const Body det = EmitProgram(d.det, printer);
+  const Body mu = EmitProgram(TransmissionProgram(transmission), printer);
   Body positions;
   for (const Program& block : d.positions) {
     const Body b = EmitProgram(block, printer);
@@ -155,6 +157,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   out.phi_ops = phi.ops;
   out.coefficient_ops = coeffs.ops;
   out.scene_ops = scene.ops;
+  out.transmission_ops = mu.ops;
 
   TemplateData data;
   std::string upper = m.name;
@@ -204,7 +207,8 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("solve_strategy", d.strategy);
   data.Set("op_counts", "EvalPhi " + phi.ops.Text() + "; SolvePositions " + positions.ops.Text() +
                             " (per Newton iteration for Newton blocks); EvalCoefficients " + coeffs.ops.Text() +
-                            (m.outputs.scene ? "; EvalScene " + scene.ops.Text() : ""));
+                            (m.outputs.scene ? "; EvalScene " + scene.ops.Text() : "") +
+                            (transmission.empty() ? "" : "; EvalTransmissionAngles " + mu.ops.Text()));
   data.Set("numeric_solve", d.numeric_solve);
   data.Set("num_points", static_cast<int>(k.points.size()));
   data.Set("num_scene_points", static_cast<int>(k.scene.size()));
@@ -224,6 +228,14 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("coefficients_body", BodyText(coeffs, math + unused + "  (void)out;\n"));
   data.Set("scene_body", BodyText(scene, math + unused));
   data.Set("det_body", BodyText(det, math + unused));
+  data.Set("has_transmission", !transmission.empty());
+  data.Set("num_transmission", static_cast<int>(transmission.size()));
+  data.Set("transmission_body", BodyText(mu, math + unused));
+  std::vector<std::map<std::string, std::string>> mu_doc;
+  for (size_t i = 0; i < transmission.size(); ++i)
+    mu_doc.push_back({{"index", std::to_string(i)}, {"text", transmission[i].Text()}});
+  data.SetList("transmission_doc", mu_doc, {"index", "text"});
+  data.Set("transmission_joints", Join(transmission, [](const TransmissionAngle& a) { return Quote(a.joint); }));
   data.Set("positions_body", BodyText(positions, math + "  using std::acos;\n  using std::floor;\n" +
                                                      "  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;\n  int iterations = 0;\n" +
                                                      "  // tolerance <= 0: 1e-12 (model units), 1e-5 for float\n" +

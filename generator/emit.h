@@ -8,18 +8,20 @@
 #include "kinematics.h"
 #include "model.h"
 #include "topology.h"
+#include "transmission.h"
 
 namespace mechgen {
 
 struct EmittedModel {
   std::string header, source;  ///< file contents
-  OpCounts phi_ops, coefficient_ops, scene_ops;
+  OpCounts phi_ops, coefficient_ops, scene_ops, transmission_ops;
 };
 
 /// Renders the two files. Fails (std::runtime_error) when a template names a value the
 /// generator does not provide, or is malformed.
 EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const Derivation& d,
-                  CxxPrinter* printer, const std::string& templates_dir);
+                  const std::vector<TransmissionAngle>& transmission, CxxPrinter* printer,
+                  const std::string& templates_dir);
 
 /// Writes both files into `dir` atomically as a pair; returns false with *error set.
 bool WriteFiles(const std::string& dir, const std::string& name, const EmittedModel& e,

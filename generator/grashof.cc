@@ -45,6 +45,12 @@ std::string FourBarLoop::Text() const {
   return os.str();
 }
 
+std::string FourBarLoop::MuText() const {
+  if (!has_mu) return "";
+  return "over input " + mu_input + "'s range: mu from " + Deg(mu_min) + " (at " + Deg(q_at_mu_min) + ") to " +
+         Deg(mu_max) + " (at " + Deg(q_at_mu_max) + ")";
+}
+
 std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
   GiNaC::exmap defaults;
   for (const Parameter& p : m.params) defaults[p.symbol] = p.value;
@@ -91,10 +97,11 @@ std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
     } else {
       f.type = "Grashof crank-rocker: '" + f.links[shortest] + "' can turn fully";
     }
-    out.push_back(f);
-
     // The declared range of a driven link of this loop must stay within its reach.
-    if (ground_pos < 0) continue;
+    if (ground_pos < 0) {
+      out.push_back(f);
+      continue;
+    }
     for (const Input& in : m.inputs) {
       const Joint& ij = m.joints[in.joint];
       if (ij.type != JointType::kRevolute) continue;
@@ -127,10 +134,22 @@ std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
         (b < 0 ? b : c) = f.lengths[i];
       }
       const int samples = 3600;
+      const bool first_input = !f.has_mu;
+      if (first_input) {
+        f.has_mu = true;
+        f.mu_input = ij.name;
+        f.mu_min = INFINITY;
+        f.mu_max = -INFINITY;
+      }
       for (int k = 0; k <= samples; ++k) {
         const double qv = in.min + (in.max - in.min) * k / samples;
         const P2 pin{pivot.x + std::cos(qv) * rx - std::sin(qv) * ry, pivot.y + std::sin(qv) * rx + std::cos(qv) * ry};
         const double dd = Dist(pin, other_pivot);
+        if (first_input && b > 0 && c > 0) {
+          const double mu = std::acos(std::clamp((b * b + c * c - dd * dd) / (2 * b * c), -1.0, 1.0));
+          if (mu < f.mu_min) f.mu_min = mu, f.q_at_mu_min = qv;
+          if (mu > f.mu_max) f.mu_max = mu, f.q_at_mu_max = qv;
+        }
         if (dd > b + c + 1e-12 * scale || dd < std::abs(b - c) - 1e-12 * scale) {
           m.Fail(in.mark, "input joint '" + ij.name + "' is driven over [" + Deg(in.min) + ", " + Deg(in.max) +
                               "], but " + f.Text() + ": link '" + m.links[driven].name +
@@ -138,7 +157,9 @@ std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
                               "range or change the lengths");
         }
       }
+      if (first_input && !(f.mu_min <= f.mu_max)) f.has_mu = false;  // a zero-length coupler or output
     }
+    out.push_back(f);
   }
   return out;
 }

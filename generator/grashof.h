@@ -18,6 +18,13 @@ struct FourBarLoop {
   double lengths[4] = {0, 0, 0, 0};
   std::string type;            ///< "crank-rocker", "double-crank", "double-rocker", "change point", "triple-rocker (non-Grashof)"
   std::string Text() const;    ///< "loop 1 (ground 4, crank 1, coupler 3.5, rocker 3): s + l = 5 < p + q = 6.5, Grashof crank-rocker"
+  /// The transmission angle over the declared range of an input that drives a
+  /// ground-adjacent link of the loop directly (from the triangle pin–joint–pivot:
+  /// cos mu = (b^2 + c^2 - delta^2) / (2 b c), delta the pin's distance to the output's pivot).
+  bool has_mu = false;
+  std::string mu_input;  ///< the input joint
+  double mu_min = 0, mu_max = 0, q_at_mu_min = 0, q_at_mu_max = 0;  ///< radians
+  std::string MuText() const;  ///< "over input A's range mu = 32.1 deg (at 180.0 deg) ... 94.2 deg (at 0.0 deg)"
 };
 
 /// Classifies the four-bar loops, with lengths at the parameters' default values, and

@@ -17,6 +17,7 @@
 #include "model.h"
 #include "report.h"
 #include "topology.h"
+#include "transmission.h"
 
 #ifndef MECHGEN_SOURCE_TEMPLATES
 #define MECHGEN_SOURCE_TEMPLATES ""
@@ -44,6 +45,7 @@ struct Pipeline {
   mechgen::Kinematics kinematics;
   mechgen::CxxPrinter printer;
   mechgen::Derivation derivation;
+  std::vector<mechgen::TransmissionAngle> transmission;
   mechgen::EmittedModel emitted;
 };
 
@@ -54,7 +56,9 @@ void Run(Pipeline* p, const std::string& path, const std::string& name, const st
   p->four_bars = mechgen::ClassifyFourBars(p->model, p->topology);
   p->kinematics = mechgen::DeriveKinematics(p->model, p->topology);
   p->derivation = mechgen::Derive(p->model, p->kinematics, &p->printer, strategy);
-  p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, p->derivation, &p->printer, templates);
+  p->transmission = mechgen::FindTransmissionAngles(p->model, p->topology, p->kinematics, p->derivation.blocks);
+  p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, p->derivation, p->transmission, &p->printer,
+                             templates);
 }
 
 }  // namespace
@@ -114,7 +118,7 @@ int main(int argc, char** argv) {
                 << static_cast<int>(ms + 0.5) << " ms\n";
     return 0;
   }
-  mechgen::WriteReport(p.model, p.topology, p.four_bars, p.kinematics, p.derivation, p.emitted,
+  mechgen::WriteReport(p.model, p.topology, p.four_bars, p.kinematics, p.derivation, p.transmission, p.emitted,
                        latex ? mechgen::ReportFormat::kLatex : mechgen::ReportFormat::kText, std::cout);
   if (!latex) std::cout << "Derivation and emission took " << static_cast<int>(ms + 0.5) << " ms\n";
   return 0;

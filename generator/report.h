@@ -11,6 +11,7 @@
 #include "kinematics.h"
 #include "model.h"
 #include "topology.h"
+#include "transmission.h"
 
 namespace mechgen {
 
@@ -18,6 +19,6 @@ enum class ReportFormat { kText, kLatex };
 
 void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoop>& four_bars,
                  const Kinematics& k, const Derivation& d,
-                 const EmittedModel& e, ReportFormat format, std::ostream& os);
+                 const std::vector<TransmissionAngle>& transmission, const EmittedModel& e, ReportFormat format, std::ostream& os);
 
 }  // namespace mechgen

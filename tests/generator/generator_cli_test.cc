@@ -119,6 +119,20 @@ TEST(Cli, ReportShowsLoopsMobilityEquationsAndK) {
   EXPECT_NE(r.output.find("3*(4 - 1) - 2*4 = 1"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("Phi(0) ="), std::string::npos);
   EXPECT_NE(r.output.find("Velocity coefficients K"), std::string::npos);
+  // Paul's forms: K = -a sin(q - th_r) / (b sin(th_c - th_r)), det Phi_phi = b c sin(th_c - th_r)
+  // (GiNaC orders the terms of a difference as it likes: either sign of the argument).
+  EXPECT_TRUE(r.output.find("sin(theta_coupler-theta_rocker)") != std::string::npos ||
+              r.output.find("sin(-theta_rocker+theta_coupler)") != std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("Singular configurations"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("block 0 (theta_coupler, theta_rocker): det = "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Transmission angle mu(0) at joint C between coupler 'coupler' and output 'rocker'"),
+            std::string::npos)
+      << r.output;
+  // Its extremes over the crank's turn by the law of cosines (a 1, b 3.5, c 3, d 4):
+  // delta = d -+ a gives acos((b^2 + c^2 - delta^2) / (2 b c)) = 54.3 deg and 100.3 deg.
+  EXPECT_NE(r.output.find("mu from 54.3 deg (at 0.0 deg) to 100.3 deg (at 180.0 deg)"), std::string::npos)
+      << r.output;
   const Result tex = RunMechgen("report --latex " + (kSource / "models" / "fourbar.yaml").string());
   ASSERT_EQ(tex.exit_code, 0) << tex.output;
   EXPECT_NE(tex.output.find("\\begin{pmatrix}"), std::string::npos) << tex.output;
@@ -244,6 +258,44 @@ inputs:
   EXPECT_NE(r.exit_code, 0);
   EXPECT_EQ(r.output.rfind(model.string() + ":11:3: error: ", 0), 0u) << r.output;
   EXPECT_NE(r.output.find("cannot move: mobility 0"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
+}
+
+TEST(BadModelMore, AssemblyThatCannotCloseIsReportedAtTheGuess) {
+  // The crank reaches [-20, 20] deg (delta <= 6.37 < b + c = 6.5), but the assembly input
+  // 180 deg puts B at distance d + a = 8.3 from D: the dyad's circles do not meet.
+  const char* text = R"(name: far
+parameters:
+  a: 1.0
+  b: 3.5
+  c: 3.0
+  d: 7.3
+links:
+  ground:  {ground: true, points: {A: [0, 0], D: [d, 0]}}
+  crank:   {points: {A: [0, 0], B: [a, 0]}}
+  coupler: {points: {B: [0, 0], C: [b, 0]}}
+  rocker:  {points: {D: [0, 0], C: [c, 0]}}
+joints:
+  A: {revolute: [ground.A, crank.A]}
+  B: {revolute: [crank.B, coupler.B]}
+  C: {revolute: [coupler.C, rocker.C]}
+  D: {revolute: [rocker.D, ground.D]}
+inputs:
+  - {joint: A, range: [-20*deg, 20*deg]}
+assembly:
+  theta_crank: 180*deg
+)";
+  TempDir dir;
+  const fs::path model = dir.path() / "far.yaml";
+  std::ofstream(model) << text;
+  const Result r = RunMechgen("generate " + model.string() + " --out-dir " + (dir.path() / "out").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.output.rfind(model.string() + ":20:3: error: ", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find("cannot close at the assembly configuration (theta_crank = 180 deg)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("the two circles do not meet"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("change the assembly inputs or the lengths"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   EXPECT_FALSE(fs::exists(dir.path() / "out"));
 }
 

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <type_traits>
 
 namespace {
 
@@ -19,6 +20,25 @@ const char* TypeName() {
   return sizeof(Scalar) == sizeof(float)    ? "float"
          : sizeof(Scalar) == sizeof(double) ? "double"
                                             : "long double";
+}
+
+// Models with four-bar loops have EvalTransmissionAngles (and Model::TransmissionAngles).
+template <class M, class = void>
+struct HasTransmissionAngles : std::false_type {};
+template <class M>
+struct HasTransmissionAngles<M, std::void_t<decltype(&M::template TransmissionAngles<double>)>>
+    : std::true_type {};
+
+template <class M, typename Scalar, class P, class Q, class Phi>
+bool TransmissionAnglesFinite(const P& p, const Q& q, const Phi& phi) {
+  if constexpr (HasTransmissionAngles<M>::value) {
+    MECH_MODEL_NAMESPACE::Vec<Scalar, M::kNumTransmissionAngles> mu;
+    M::TransmissionAngles(p, q, phi, &mu);
+    return mu.allFinite() && (mu.array() >= Scalar(0)).all() && (mu.array() <= Scalar(3.15)).all();
+  } else {
+    static_assert(M::kNumTransmissionAngles == 0, "transmission angles without the function");
+    return true;
+  }
 }
 
 template <typename Scalar>
@@ -67,6 +87,7 @@ bool RunAll() {
   check(coeffs.r_P.allFinite() && coeffs.K_P.allFinite() && coeffs.L_P.allFinite(),
         "non-finite r_P, K_P or L_P");
   check(scene.allFinite(), "non-finite scene");
+  check(TransmissionAnglesFinite<M, Scalar>(p, q, phi_solved), "transmission angle not in [0, pi]");
   return ok;
 }
 
