@@ -183,7 +183,7 @@ void ChooseMode(const Kinematics& k, Block* b, GiNaC::exmap* values, std::string
     const double rho = std::hypot(c1, c2), delta = std::atan2(c2, c1);
     double best = INFINITY, best_u = guess;
     if (std::isfinite(c0) && std::isfinite(rho) && std::abs(c0) > rho)
-      *no_solution = "c0 + c1 cos u + c2 sin u = 0 needs |c0| <= sqrt(c1^2 + c2^2), but |c0| = " + G(std::abs(c0)) +
+      *no_solution = "no real solution, c0 + c1 cos u + c2 sin u = 0 needs |c0| <= sqrt(c1^2 + c2^2), but |c0| = " + G(std::abs(c0)) +
                      " > " + G(rho);
     for (int sigma : {1, -1}) {
       if (!(std::abs(c0) <= rho)) continue;
@@ -210,7 +210,7 @@ void ChooseMode(const Kinematics& k, Block* b, GiNaC::exmap* values, std::string
       const double d2 = wx * wx + wy * wy, ra2 = ax * ax + ay * ay, rb2 = bx * bx + by * by;
       const double kk = (ra2 - rb2 + d2) / (2 * d2), h2 = ra2 / d2 - kk * kk;
       if (std::isfinite(h2) && h2 < 0)
-        *no_solution = "the two circles do not meet: radii " + G(std::sqrt(ra2)) + " and " +
+        *no_solution = "no real solution, the two circles do not meet: radii " + G(std::sqrt(ra2)) + " and " +
                        G(std::sqrt(rb2)) + ", centres " + G(std::sqrt(d2)) + " apart";
       if (!(h2 >= 0)) continue;
       const double mx = kk * wx - sigma * std::sqrt(h2) * wy, my = kk * wy + sigma * std::sqrt(h2) * wx;
@@ -224,7 +224,7 @@ void ChooseMode(const Kinematics& k, Block* b, GiNaC::exmap* values, std::string
                    C = Eval(f.coeff(x, 0), without_x);
       const double disc = B * B - 4 * A * C;
       if (A != 0 && std::isfinite(disc) && disc < 0)
-        *no_solution = "the circle and the line do not meet (discriminant " + G(disc) + " < 0)";
+        *no_solution = "no real solution, the circle and the line do not meet (discriminant " + G(disc) + " < 0)";
       if (A == 0 || !(disc >= 0)) continue;
       sx = (-B + sigma * std::sqrt(disc)) / (2 * A);
       GiNaC::exmap at = without_x;
@@ -361,6 +361,32 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
     }
     std::string no_solution;
     ChooseMode(k, &b, &values, &no_solution);
+    if (no_solution.empty() &&
+        (b.solve == BlockSolve::kRR || b.solve == BlockSolve::kRS || b.solve == BlockSolve::kAngle)) {
+      // Solved at the assembly configuration: its Jacobian must be regular there. |det| is
+      // compared with the product of the columns' norms (Hadamard's bound, so 1 means
+      // orthogonal columns), and for one angle (c0 + c1 cos u + c2 sin u) with
+      // sqrt(c1^2 + c2^2): 0 is a link of zero length (its angle moves nothing) or a dead
+      // point exactly at the assembly input, where no branch can be chosen.
+      const int n = static_cast<int>(b.cols.size());
+      double J[2][2] = {{0, 0}, {0, 0}}, norms = 1;
+      bool finite = true;
+      for (int c = 0; c < n; ++c) {
+        double norm2 = 0;
+        for (int r = 0; r < n; ++r) {
+          J[r][c] = Eval(k.Phi_phi(b.rows[r], b.cols[c]), values);
+          finite &= std::isfinite(J[r][c]);
+          norm2 += J[r][c] * J[r][c];
+        }
+        norms *= std::sqrt(norm2);
+      }
+      if (b.solve == BlockSolve::kAngle) norms = std::hypot(Eval(b.c1, values), Eval(b.c2, values));
+      const double det = n == 1 ? J[0][0] : J[0][0] * J[1][1] - J[0][1] * J[1][0];
+      if (finite && !(std::abs(det) > 1e-9 * norms))
+        no_solution = "its Jacobian is singular there (det = " + G(det) + ", relative " +
+                      G(norms > 0 ? std::abs(det) / norms : 0.0) +
+                      "): a link of zero length, or a dead point exactly at the assembly input";
+    }
     if (!no_solution.empty()) {
       // The loop cannot close at the model's own assembly inputs with the parameters'
       // default values: the generated code would work, but nothing the model describes
@@ -376,10 +402,9 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
             at_guess = true;
           }
       }
-      m.Fail(mark, "the loops cannot close at the assembly configuration (" + at +
+      m.Fail(mark, "the loops cannot be assembled at the assembly configuration (" + at +
                        ") with the parameters' default values: block " + std::to_string(blocks.size()) + " (" +
-                       b.Describe(k) + ") has no real solution, " + no_solution +
-                       "; change the assembly inputs or the lengths");
+                       b.Describe(k) + "): " + no_solution + "; change the assembly inputs or the lengths");
     }
     blocks.push_back(b);
   }

@@ -291,10 +291,48 @@ assembly:
   const Result r = RunMechgen("generate " + model.string() + " --out-dir " + (dir.path() / "out").string());
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_EQ(r.output.rfind(model.string() + ":20:3: error: ", 0), 0u) << r.output;
-  EXPECT_NE(r.output.find("cannot close at the assembly configuration (theta_crank = 180 deg)"), std::string::npos)
+  EXPECT_NE(r.output.find("cannot be assembled at the assembly configuration (theta_crank = 180 deg)"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("the two circles do not meet"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("change the assembly inputs or the lengths"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
+}
+
+TEST(BadModelMore, AssemblyAtADeadPointIsReportedAtTheGuess) {
+  // Offset slider-crank with e = a - b: at theta_crank = 90 deg the rod stands vertical,
+  // sin(theta_rod) = (e - a) / b = -1 exactly, and d Phi / d theta_rod = b cos(theta_rod) = 0:
+  // the loop closes there, but on no branch that can be chosen.
+  const char* text = R"(name: tangent
+parameters:
+  a: 1.0
+  b: 3.0
+  e: -2.0
+links:
+  ground: {ground: true, points: {O: [0, 0], S: [0, e]}}
+  crank:  {points: {O: [0, 0], B: [a, 0]}}
+  rod:    {points: {B: [0, 0], C: [b, 0]}}
+  slider: {points: {C: [0, 0]}}
+joints:
+  O: {revolute: [ground.O, crank.O]}
+  B: {revolute: [crank.B, rod.B]}
+  C: {revolute: [rod.C, slider.C]}
+  slide: {prismatic: {guide: ground.S, slider: slider.C, angle: 0}}
+inputs:
+  - {joint: O, range: [0, 360*deg]}
+assembly:
+  theta_crank: 90*deg
+  theta_rod: -80*deg
+  s_slide: 0.5
+)";
+  TempDir dir;
+  const fs::path model = dir.path() / "tangent.yaml";
+  std::ofstream(model) << text;
+  const Result r = RunMechgen("generate " + model.string() + " --out-dir " + (dir.path() / "out").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.output.rfind(model.string() + ":19:3: error: ", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find("theta_rod: closed form, one angle"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("its Jacobian is singular there"), std::string::npos) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   EXPECT_FALSE(fs::exists(dir.path() / "out"));
 }
