@@ -12,6 +12,8 @@
 // compared); K by central differences of the closed form at h = 1e-5 (truncation
 // h^2 |phi'''| / 6 ~ 1e-10, rounding 1e-16 / h ~ 1e-11), compared at 1e-6.
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -83,6 +85,61 @@ TEST(DistanceToSingularity, SigmaMinAndDirectionMatchClosedForm) {
     EXPECT_NEAR(s.singular_direction.norm(), 1, 1e-14);
     EXPECT_NEAR((Phi_phi * s.singular_direction).norm(), sigma_min, 1e-12 * sigma_max) << q;
   }
+}
+
+TEST(DistanceToSingularity, ClosedForm2x2MatchesJacobiSvd) {
+  // SingularValues2x2 (closed form, used every continuation step of a 2 x 2 Phi_phi) against
+  // SmallestSingular (Eigen's JacobiSVD): values to eps * sigma_max, both vectors unit, with
+  // the same sign convention, singular vectors of A (A v = sigma_min u, A w = sigma_max u');
+  // random matrices, nearly singular ones down to sigma_min / sigma_max = 1e-14, diagonal
+  // ones with either entry larger (both branches e >= 0, e < 0 of the vector's formula),
+  // equal singular values, a zero matrix, and non-finite input (NaN outputs).
+  std::vector<Eigen::Matrix2d> cases;
+  std::srand(7);
+  for (int i = 0; i < 2000; ++i) cases.push_back(Eigen::Matrix2d::Random());
+  for (double t : {1e-2, 1e-5, 1e-8, 1e-11, 1e-14}) {
+    for (int i = 0; i < 50; ++i) {
+      Eigen::Matrix2d A = Eigen::Matrix2d::Random();
+      A.col(1) = A.col(0) * Eigen::Vector2d::Random()(0) + t * Eigen::Vector2d::Random();
+      cases.push_back(A);
+    }
+  }
+  cases.push_back((Eigen::Matrix2d() << 3, 0, 0, 1e-3).finished());
+  cases.push_back((Eigen::Matrix2d() << 1e-3, 0, 0, 3).finished());
+  cases.push_back((Eigen::Matrix2d() << 0, -3, 2, 0).finished());
+  cases.push_back((Eigen::Matrix2d() << 2, 0, 0, -2).finished());  // equal singular values
+  cases.push_back(Eigen::Matrix2d::Zero());
+  for (const Eigen::Matrix2d& A : cases) {
+    double smin = 0, smax = 0, ref_min = 0, ref_max = 0;
+    Vec2 v, u, ref_v;
+    SingularValues2x2(A, &smin, &smax, &v, &u);
+    SmallestSingular(A, &ref_min, &ref_max, &ref_v);
+    const double scale = std::max(ref_max, 1e-300);
+    EXPECT_NEAR(smin, ref_min, 1e-14 * scale) << A;
+    EXPECT_NEAR(smax, ref_max, 1e-14 * scale) << A;
+    EXPECT_NEAR(v.norm(), 1, 1e-14) << A;
+    EXPECT_NEAR(u.norm(), 1, 1e-14) << A;
+    EXPECT_NEAR(v.dot(u), 0, 1e-14) << A;
+    EXPECT_NEAR((A * v).norm(), smin, 1e-13 * scale) << A;
+    EXPECT_NEAR((A * u).norm(), smax, 1e-13 * scale) << A;
+    // The largest-magnitude entry is positive (the same vector as JacobiSVD's, sign fixed,
+    // where sigma_min is simple and the vector well determined).
+    Eigen::Index largest = 0;
+    v.cwiseAbs().maxCoeff(&largest);
+    EXPECT_GT(v(largest), 0) << A;
+    if (ref_max - ref_min > 1e-6 * ref_max) {
+      EXPECT_LT((v - ref_v).norm(), 1e-9) << A;
+    }
+  }
+  double smin = 0, smax = 0;
+  Vec2 v, u;
+  Eigen::Matrix2d bad;
+  bad << 1, std::numeric_limits<double>::quiet_NaN(), 0, 1;
+  SingularValues2x2(bad, &smin, &smax, &v, &u);
+  EXPECT_TRUE(std::isnan(smin) && std::isnan(smax) && v.hasNaN() && u.hasNaN());
+  bad << 1, std::numeric_limits<double>::infinity(), 0, 1;
+  SingularValues2x2(bad, &smin, &smax, &v, &u);
+  EXPECT_TRUE(std::isnan(smin) && std::isnan(smax) && v.hasNaN() && u.hasNaN());
 }
 
 TEST(DistanceToSingularity, DecreasesTowardsChangePointAndIsInCsv) {

@@ -81,6 +81,19 @@ template <class C>
 struct HasPhiPhi<C, std::void_t<decltype(std::declval<C&>().Phi),
                                 decltype(std::declval<C&>().Phi_phi)>> : std::true_type {};
 
+/// max_i |a_i - b_i| over the entries of two same-size fixed matrices (b = nullptr: max |a_i|),
+/// NaN when any entry is NaN (Eigen's lpNorm<Infinity> leaves that to maxCoeff, which may
+/// drop a NaN), so that a test `MaxAbsDiff(...) <= tolerance` fails on NaN.
+template <class A>
+double MaxAbsDiff(const A& a, const A* b = nullptr) {
+  double m = 0;
+  for (int i = 0; i < A::SizeAtCompileTime; ++i) {
+    const double d = std::abs(b == nullptr ? a.data()[i] : a.data()[i] - b->data()[i]);
+    m = (d > m || d != d) ? d : m;  // keeps a NaN once seen: d > NaN and NaN != NaN fail
+  }
+  return m;
+}
+
 /// ||A||_1: the largest column sum of |a_ij|.
 template <class Derived>
 double Norm1(const Eigen::MatrixBase<Derived>& A) {
@@ -216,20 +229,40 @@ void FixSign(Vec* v) {
 }
 }  // namespace internal
 
+namespace internal {
+/// FixSign() for two entries, without Eigen's indexed maxCoeff (a store and a reload):
+/// the first entry decides on a tie, as there.
+inline void FixSign2(double* x, double* y) {
+  const bool flip = std::abs(*y) > std::abs(*x) ? *y < 0 : *x < 0;
+  if (flip) {
+    *x = -*x;
+    *y = -*y;
+  }
+}
+}  // namespace internal
+
 /**
- * \brief Both singular values of a 2 x 2 matrix in closed form, and the right singular vector
- *        of the smaller one; the same results as SmallestSingular() at a few flops.
+ * \brief Both singular values of a 2 x 2 matrix in closed form, and the right singular vectors
+ *        of the smaller (and of the larger) one; the same results as SmallestSingular() at a
+ *        few flops.
  *
  * For A = [a b; c d]: sigma_max = (sqrt((a + d)^2 + (c - b)^2) + sqrt((a - d)^2 + (b + c)^2)) / 2
  * (the sum of two non-negative square roots: no cancellation), and
  * sigma_min = |det A| / sigma_max: relative accuracy ~ eps sigma_max / sigma_min in sigma_min,
  * i.e. an absolute error ~ eps sigma_max as for a backward stable SVD; the textbook form
  * sqrt((|A|_F^2 - sqrt(|A|_F^4 - 4 det^2)) / 2) would lose all digits of sigma_min below
- * sqrt(eps) sigma_max. The vector is the null vector of A^T A - sigma_min^2 I, from the
- * larger of its two rows. Not finite input gives NaN outputs.
+ * sqrt(eps) sigma_max. The vector v is the null vector of A^T A - sigma_min^2 I = [alpha g; g
+ * beta] - sigma_min^2 I, orthogonal to the larger of its two rows: with e = alpha - beta and
+ * the eigenvalue gap D = sigma_max^2 - sigma_min^2 = sqrt(e^2 + 4 g^2), that row is
+ * ((e + D)/2, g) for e >= 0 and (g, (D - e)/2) else, so v ~ (-2g, |e| + D) or (|e| + D, -2g):
+ * no cancellation, and D comes from its own square root, in parallel with sigma_max instead
+ * of after sigma_min (a shorter chain of dependent sqrt and divisions: ~5 ns per continuation
+ * step). Its sign makes the largest-magnitude entry positive (FixSign). u = the unit vector
+ * orthogonal to v, sign-fixed the same way (the right singular vector of sigma_max); may be
+ * nullptr. Not finite input gives NaN outputs.
  */
 inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, double* sigma_max,
-                              Eigen::Vector2d* v) {
+                              Eigen::Vector2d* v, Eigen::Vector2d* u = nullptr) {
   const double a = A(0, 0), b = A(0, 1), c = A(1, 0), d = A(1, 1);
   // sqrt of sums of squares, not std::hypot (several times slower): the entries of Phi_phi
   // are lengths, far from overflow.
@@ -238,28 +271,38 @@ inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, doubl
   const double smax = 0.5 * (p + r);
   const double det = a * d - b * c;
   const double smin = smax > 0 ? std::abs(det) / smax : 0.0;
-  // A^T A = [alpha g; g beta]; (A^T A - smin^2 I) v = 0.
   const double alpha = a * a + c * c, beta = b * b + d * d, g = a * b + c * d;
-  const double lambda = smin * smin;
-  const Eigen::Vector2d row0(alpha - lambda, g), row1(g, beta - lambda);
-  // v is orthogonal to the larger row (the rows are parallel in exact arithmetic).
-  const Eigen::Vector2d& row = row0.squaredNorm() >= row1.squaredNorm() ? row0 : row1;
-  Eigen::Vector2d w(-row(1), row(0));
-  const double norm = w.norm();
+  const double e = alpha - beta;
+  const double gap = p * r;  // (p r)^2 = |A|_F^4 - 4 det^2 = e^2 + 4 g^2
+  const double big = std::abs(e) + gap;  // >= |2 g|: the larger entry of w
+  double w0 = e >= 0 ? -2 * g : big;
+  double w1 = e >= 0 ? big : -2 * g;
+  const double norm = std::sqrt(w0 * w0 + w1 * w1);
   if (norm > 0) {
-    w /= norm;
-  } else {
-    w = Eigen::Vector2d(1, 0);  // A = sigma I (every vector is singular) or A = 0
+    const double inv = 1.0 / norm;
+    w0 *= inv;
+    w1 *= inv;
+  } else {  // A^T A = sigma^2 I (every vector is singular) or A = 0
+    w0 = 1;
+    w1 = 0;
   }
   if (!A.allFinite()) {
     *sigma_min = *sigma_max = std::numeric_limits<double>::quiet_NaN();
     v->setConstant(std::numeric_limits<double>::quiet_NaN());
+    if (u != nullptr) u->setConstant(std::numeric_limits<double>::quiet_NaN());
     return;
   }
-  internal::FixSign(&w);
+  internal::FixSign2(&w0, &w1);
   *sigma_min = smin;
   *sigma_max = smax;
-  *v = w;
+  (*v)(0) = w0;
+  (*v)(1) = w1;
+  if (u != nullptr) {
+    double u0 = -w1, u1 = w0;
+    internal::FixSign2(&u0, &u1);
+    (*u)(0) = u0;
+    (*u)(1) = u1;
+  }
 }
 
 /**
@@ -281,6 +324,7 @@ class SquareFactorization {
     if constexpr (n == 2) {
       // Closed form: A^{-1} = adj(A) / det, and ||adj(A)||_1 = ||A||_inf, so
       // cond_1 = ||A||_1 ||A||_inf / |det| without forming the inverse's norms.
+      // One division (1/det) serves the inverse and cond_1.
       const double a = A(0, 0), b = A(0, 1), c = A(1, 0), d = A(1, 1);
       det_ = a * d - b * c;
       ok_ = det_ != 0 && std::isfinite(det_);
@@ -288,7 +332,7 @@ class SquareFactorization {
       inverse_ << d * inv, -b * inv, -c * inv, a * inv;
       const double norm1 = std::max(std::abs(a) + std::abs(c), std::abs(b) + std::abs(d));
       const double norm_inf = std::max(std::abs(a) + std::abs(b), std::abs(c) + std::abs(d));
-      cond_ = ok_ ? norm1 * norm_inf / std::abs(det_) : kInf;
+      cond_ = ok_ ? norm1 * norm_inf * std::abs(inv) : kInf;
     } else if constexpr (n <= 4) {
       bool invertible = false;
       A.computeInverseAndDetWithCheck(inverse_, det_, invertible, 0.0);

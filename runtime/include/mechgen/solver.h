@@ -255,27 +255,22 @@ class PositionSolver {
   void FindModes(const State<M>& s);
   // The checks of a continuation sub-step on a corrected phi; on success *to is complete.
   // Phi, Phi_phi, Phi_q: at (q, phi) when the caller has them, else nullptr (evaluated).
-  bool Accept(const State<M>& from, const VecQ& q, const VecPhi& predicted, const VecPhi& phi,
-              const MatCPhi* Phi_phi, const MatCQ* Phi_q, double residual, State<M>* to) const;
-  VecPhi Predict(const State<M>& from, const VecQ& q) const;
+  // predicted, last_term: Predict() at q.
+  bool Accept(const State<M>& from, const VecQ& q, const VecPhi& predicted, double last_term,
+              const VecPhi& phi, const MatCPhi* Phi_phi, const MatCQ* Phi_q, double residual,
+              State<M>* to) const;
+  // The predictor phi0 + K dq (+ 1/2 L(dq, dq) for the second-order one) at q; *last_term:
+  // the max-norm of the last Taylor term it used, the scale of CorrectionAcceptable().
+  VecPhi Predict(const State<M>& from, const VecQ& q, double* last_term) const;
   // Branch guard: the corrector may move phi by less than max_correction_ratio times the
   // last Taylor term the predictor used (1/2 L(dq, dq), or K dq for a first-order
   // predictor) plus max_correction_abs. On one smooth curve the correction is the next,
   // smaller term (O(dq^3)); landing on another curve costs O(dq) (K differs) and is
-  // refused, also at a change point where that curve keeps sign(det Phi_phi).
-  bool CorrectionAcceptable(const State<M>& from, const VecQ& q, const VecPhi& pred,
-                            const VecPhi& phi) const {
-    const VecQ dq = q - from.q;
-    VecPhi last_term = from.K * dq;
-    if (options_.second_order_predictor) {
-      typename T::VecQQ dq_dq;
-      for (int k = 0; k < M::kNq; ++k) dq_dq.segment(M::kNq * k, M::kNq) = dq * dq(k);
-      last_term = 0.5 * from.L * dq_dq;
-    }
-    const double correction = (phi - pred).template lpNorm<Eigen::Infinity>();
-    return correction <= options_.max_correction_ratio *
-                                 last_term.template lpNorm<Eigen::Infinity>() +
-                             options_.max_correction_abs;
+  // refused, also at a change point where that curve keeps sign(det Phi_phi). False when
+  // phi is not finite.
+  bool CorrectionAcceptable(double last_term, const VecPhi& pred, const VecPhi& phi) const {
+    return internal::MaxAbsDiff(phi, &pred) <=
+           options_.max_correction_ratio * last_term + options_.max_correction_abs;
   }
   // The same guard on K: K(q) ~ K0 + L0 dq, and the remainder must be smaller than the
   // last term. Catches a sub-step that lands on (or next to) a change point, where Newton
@@ -390,12 +385,8 @@ void PositionSolver<M>::Distance(const MatCPhi& A, const Factorization& f,
       s->sigma_min = s->sigma_max = std::numeric_limits<double>::quiet_NaN();
     }
   } else if constexpr (n == 2) {
-    Eigen::Vector2d v;
-    SingularValues2x2(A, &s->sigma_min, &s->sigma_max, &v);
-    s->singular_direction = v;
-    Eigen::Vector2d u(-v(1), v(0));
-    internal::FixSign(&u);
-    s->largest_direction = u;
+    SingularValues2x2(A, &s->sigma_min, &s->sigma_max, &s->singular_direction,
+                      &s->largest_direction);
   } else {
     // One step of inverse iteration on Phi_phi^T Phi_phi from the neighbour's singular
     // direction (two solves with the factorization the step has anyway) and one step of
@@ -508,22 +499,26 @@ bool PositionSolver<M>::CopyCoefficients(const typename T::Coefficients& c,
 
 template <class M>
 typename PositionSolver<M>::VecPhi PositionSolver<M>::Predict(const State<M>& from,
-                                                              const VecQ& q) const {
+                                                              const VecQ& q,
+                                                              double* last_term) const {
   const VecQ dq = q - from.q;
-  VecPhi phi = from.phi + from.K * dq;
-  if (options_.second_order_predictor) {
-    typename T::VecQQ dq_dq;  // (dq (x) dq)(j + kNq k) = dq_j dq_k
-    for (int k = 0; k < M::kNq; ++k) dq_dq.segment(M::kNq * k, M::kNq) = dq * dq(k);
-    phi += 0.5 * from.L * dq_dq;
+  const VecPhi first = from.K * dq;
+  if (!options_.second_order_predictor) {
+    *last_term = internal::MaxAbsDiff(first);
+    return from.phi + first;
   }
-  return phi;
+  typename T::VecQQ dq_dq;  // (dq (x) dq)(j + kNq k) = dq_j dq_k
+  for (int k = 0; k < M::kNq; ++k) dq_dq.segment(M::kNq * k, M::kNq) = dq * dq(k);
+  const VecPhi second = 0.5 * from.L * dq_dq;
+  *last_term = internal::MaxAbsDiff(second);
+  return from.phi + first + second;
 }
 
 template <class M>
 bool PositionSolver<M>::Accept(const State<M>& from, const VecQ& q, const VecPhi& predicted,
-                               const VecPhi& phi, const MatCPhi* Phi_phi, const MatCQ* Phi_q,
-                               double residual, State<M>* to) const {
-  if (!CorrectionAcceptable(from, q, predicted, phi) || MovesTooFar(from.phi, phi)) {
+                               double last_term, const VecPhi& phi, const MatCPhi* Phi_phi,
+                               const MatCQ* Phi_q, double residual, State<M>* to) const {
+  if (!CorrectionAcceptable(last_term, predicted, phi) || MovesTooFar(from.phi, phi)) {
     return false;
   }
   MatCPhi A;
@@ -536,7 +531,7 @@ bool PositionSolver<M>::Accept(const State<M>& from, const VecQ& q, const VecPhi
       // coefficients are computed before the conditioning test, and discarded (with the
       // whole step) when it fails, so a singular Phi_phi never reaches the state.
       M::template Coeffs<double>(params_, q, phi, &c);
-      residual = c.Phi.template lpNorm<Eigen::Infinity>();
+      residual = internal::MaxAbsDiff(c.Phi);
       if (!(residual <= options_.tolerance)) return false;
       Phi_phi = &c.Phi_phi;
       have_coefficients = true;
@@ -565,7 +560,8 @@ bool PositionSolver<M>::Accept(const State<M>& from, const VecQ& q, const VecPhi
 template <class M>
 bool PositionSolver<M>::TryStep(const State<M>& from, const VecQ& q, State<M>* to,
                                 Summary* s, bool* used_newton) const {
-  const VecPhi predicted = Predict(from, q);
+  double last_term = 0;
+  const VecPhi predicted = Predict(from, q, &last_term);
   if (MovesTooFar(from.phi, predicted)) return false;  // split before running a corrector
   if constexpr (Features::kHasSolve) {
     // The generated solver on this branch's modes: closed-form blocks are exact and cost
@@ -577,8 +573,9 @@ bool PositionSolver<M>::TryStep(const State<M>& from, const VecQ& q, State<M>* t
                                                     options_.tolerance);
       s->iterations += report.iterations;
       using SolveStatus = decltype(report.status);
-      if (report.status == SolveStatus::kConverged && phi.allFinite() &&
-          Accept(from, q, predicted, phi, nullptr, nullptr, 0.0, to)) {
+      // (A phi that is not finite fails Accept()'s first check.)
+      if (report.status == SolveStatus::kConverged &&
+          Accept(from, q, predicted, last_term, phi, nullptr, nullptr, 0.0, to)) {
         return true;
       }
     }
@@ -591,7 +588,7 @@ bool PositionSolver<M>::TryStep(const State<M>& from, const VecQ& q, State<M>* t
   const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr);
   s->iterations += newton.iterations;
   if (newton.status != Status::kConverged) return false;
-  if (!Accept(from, q, predicted, phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr,
+  if (!Accept(from, q, predicted, last_term, phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr,
               newton.residual_norm, to)) {
     return false;
   }
@@ -664,7 +661,9 @@ void PositionSolver<M>::FindModes(const State<M>& s) {
 template <class M>
 Status PositionSolver<M>::Fallback(const State<M>& from, const VecQ& q, State<M>* to,
                                    Summary* s) const {
-  VecPhi phi = Predict(from, q);
+  double last_term = 0;
+  const VecPhi predicted = Predict(from, q, &last_term);
+  VecPhi phi = predicted;
   if (!phi.allFinite()) phi = from.phi;
   if (!options_.ceres_fallback) return Status::kDidNotConverge;
   const LevenbergMarquardtResult lm =
@@ -692,7 +691,7 @@ Status PositionSolver<M>::Fallback(const State<M>& from, const VecQ& q, State<M>
   // The loop closes at q, but only on the other branch (det Phi_phi would pass through 0 on
   // the way) or exactly at a singular configuration: either way Phi_phi loses rank.
   if (!regular || to->branch != from.branch) return Status::kSingular;
-  if (!CorrectionAcceptable(from, q, Predict(from, q), phi) || MovesTooFar(from.phi, phi)) {
+  if (!CorrectionAcceptable(last_term, predicted, phi) || MovesTooFar(from.phi, phi)) {
     return Status::kDidNotConverge;
   }
   if (!FillCoefficients(f, kNeedPhiQ ? &Phi_q : nullptr, to)) return Status::kSingular;
