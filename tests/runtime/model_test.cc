@@ -204,6 +204,49 @@ TEST(GeneratedFourBar, EqualsHandwrittenClosedForm) {
 }
 #endif
 
+#ifdef MECHGEN_HAVE_fourbar
+// The generated four-bar with its evaluations counted.
+struct CountingFourBar : mech::fourbar::Model {
+  static inline long phi_calls = 0;
+  static inline long coeffs_calls = 0;
+  template <typename Scalar>
+  static void Phi(const ParamsT<Scalar>& p, const mech::fourbar::Vec<Scalar, kNq>& q,
+                  const mech::fourbar::Vec<Scalar, kNphi>& phi,
+                  mech::fourbar::Vec<Scalar, kNc>* Phi_out,
+                  mech::fourbar::Mat<Scalar, kNc, kNphi>* Phi_phi = nullptr,
+                  mech::fourbar::Mat<Scalar, kNc, kNq>* Phi_q = nullptr) {
+    ++phi_calls;
+    mech::fourbar::Model::Phi<Scalar>(p, q, phi, Phi_out, Phi_phi, Phi_q);
+  }
+  template <typename Scalar>
+  static void Coeffs(const ParamsT<Scalar>& p, const mech::fourbar::Vec<Scalar, kNq>& q,
+                     const mech::fourbar::Vec<Scalar, kNphi>& phi,
+                     CoefficientsT<Scalar>* out) {
+    ++coeffs_calls;
+    mech::fourbar::Model::Coeffs<Scalar>(p, q, phi, out);
+  }
+};
+
+TEST(GeneratedFourBar, ContinuationStepEvaluatesTheModelOnce) {
+  // A continuation step of a sweep with small steps: M::Solve, then one Model::Coeffs that
+  // gives the residual and Phi_phi for the checks with K, L and the points; no Model::Phi.
+  using M = CountingFourBar;
+  static_assert(ModelFeatures<M>::kCoeffsHavePhi && ModelFeatures<M>::kHasSolve);
+  PositionSolver<M> solver;
+  ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
+  ASSERT_EQ(solver.MoveTo(Q(0), nullptr), Status::kConverged);
+  M::phi_calls = M::coeffs_calls = 0;
+  Summary summary;
+  for (int k = 1; k <= 720; ++k) {
+    ASSERT_EQ(solver.MoveTo(Q(k * kPi / 360), &summary), Status::kConverged);
+    EXPECT_EQ(summary.substeps, 1);
+    EXPECT_EQ(summary.rejected_substeps, 0);
+  }
+  EXPECT_EQ(M::coeffs_calls, 720);
+  EXPECT_EQ(M::phi_calls, 0);
+}
+#endif
+
 #ifdef MECHGEN_HAVE_fourbar_crossed
 TEST(GeneratedFourBarCrossed, StaysCrossed) {
   using M = mech::fourbar_crossed::Model;

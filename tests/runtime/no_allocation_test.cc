@@ -12,6 +12,9 @@
 
 #include "handwritten_fourbar.h"
 #include "handwritten_rocker_driven.h"
+#ifdef MECHGEN_HAVE_fourbar
+#include "fourbar.h"
+#endif
 #include "mechgen/kinematics.h"
 #include "mechgen/solver.h"
 
@@ -69,6 +72,16 @@ TEST(NoAllocation, OrderOneModelWithNumericalL) {
   // Larger steps that need sub-stepping near the toggle, and L by finite differences.
   EXPECT_EQ(AllocationsDuringSweep<mech::handwritten_rocker_driven::Model>(1.8, 2.46, 40), 0);
 }
+
+#ifdef MECHGEN_HAVE_fourbar
+TEST(NoAllocation, GeneratedFourBarSweepStep) {
+  // The generated model: M::Solve (closed-form dyad) corrects, and the checks use the Phi
+  // and Phi_phi of Model::Coeffs (ModelFeatures::kCoeffsHavePhi).
+  static_assert(ModelFeatures<mech::fourbar::Model>::kCoeffsHavePhi);
+  static_assert(!ModelFeatures<mech::handwritten_fourbar::Model>::kCoeffsHavePhi);
+  EXPECT_EQ(AllocationsDuringSweep<mech::fourbar::Model>(0, 2 * M_PI, 720), 0);
+}
+#endif
 
 }  // namespace
 }  // namespace mechgen
