@@ -290,6 +290,15 @@ class PositionSolver {
   // is set when the accepted result did not come from M::Solve.
   bool TryStep(const State<M>& from, const VecQ& q, State<M>* to, Summary* s,
                bool* used_newton) const;
+  // The part of TryStep() that corrects with M::Solve on the branch's modes (has_modes_);
+  // adds M::Solve's iterations to *iterations.
+  bool SolvedStep(const State<M>& from, const VecQ& q, State<M>* to, int* iterations) const;
+  // MoveTo() after its fast path: the checks with their reasons, TryStep() (M::Solve, then
+  // Newton) and the split into sub-steps. iterations: those the fast path already spent.
+  Status MoveToGeneral(const VecQ& q, Summary* summary, int iterations);
+  // MoveTo() tries SolvedStep() inline first (every step of a sweep with small steps) when
+  // the model has M::Solve and its Coefficients have Phi and Phi_phi.
+  static constexpr bool kInlineFastPath = Features::kHasSolve && kPhiFromCoeffs;
   // Levenberg–Marquardt at q starting from the predictor; the failure path.
   Status Fallback(const State<M>& from, const VecQ& q, State<M>* to, Summary* s) const;
 
@@ -368,8 +377,8 @@ bool PositionSolver<M>::Classify(const MatCPhi& Phi_phi, const Factorization& f,
   s->condition = f.condition();
   s->branch = Sign(f.determinant());
   Distance(Phi_phi, f, warm, s);
-  return f.ok() && std::isfinite(s->condition) && s->condition * options_.min_rcond <= 1.0 &&
-         s->branch != 0;
+  // f.ok(): det finite and nonzero (so branch != 0), cond_1 finite.
+  return f.ok() && s->condition * options_.min_rcond <= 1.0;
 }
 
 template <class M>
@@ -558,6 +567,29 @@ bool PositionSolver<M>::Accept(const State<M>& from, const VecQ& q, const VecPhi
 }
 
 template <class M>
+bool PositionSolver<M>::SolvedStep(const State<M>& from, const VecQ& q, State<M>* to,
+                                   int* iterations) const {
+  if constexpr (Features::kHasSolve) {
+    double last_term = 0;
+    const VecPhi predicted = Predict(from, q, &last_term);
+    if (MovesTooFar(from.phi, predicted)) return false;  // split before running a corrector
+    // The generated solver on this branch's modes: closed-form blocks are exact and cost
+    // no iteration, Newton blocks start from the predictor (and polish).
+    VecPhi phi = predicted;
+    const auto report = M::template Solve<double>(params_, q, &phi, modes_,
+                                                  options_.max_newton_iterations,
+                                                  options_.tolerance);
+    *iterations += report.iterations;
+    using SolveStatus = decltype(report.status);
+    // (A phi that is not finite fails Accept()'s first check.)
+    return report.status == SolveStatus::kConverged &&
+           Accept(from, q, predicted, last_term, phi, nullptr, nullptr, 0.0, to);
+  } else {
+    return false;
+  }
+}
+
+template <class M>
 bool PositionSolver<M>::TryStep(const State<M>& from, const VecQ& q, State<M>* to,
                                 Summary* s, bool* used_newton) const {
   double last_term = 0;
@@ -566,19 +598,7 @@ bool PositionSolver<M>::TryStep(const State<M>& from, const VecQ& q, State<M>* t
   if constexpr (Features::kHasSolve) {
     // The generated solver on this branch's modes: closed-form blocks are exact and cost
     // no iteration, Newton blocks start from the predictor (and polish).
-    if (has_modes_) {
-      VecPhi phi = predicted;
-      const auto report = M::template Solve<double>(params_, q, &phi, modes_,
-                                                    options_.max_newton_iterations,
-                                                    options_.tolerance);
-      s->iterations += report.iterations;
-      using SolveStatus = decltype(report.status);
-      // (A phi that is not finite fails Accept()'s first check.)
-      if (report.status == SolveStatus::kConverged &&
-          Accept(from, q, predicted, last_term, phi, nullptr, nullptr, 0.0, to)) {
-        return true;
-      }
-    }
+    if (has_modes_ && SolvedStep(from, q, to, &s->iterations)) return true;
   }
   // Newton on the whole system from the predictor: models without M::Solve, and the
   // fallback when M::Solve fails or its result fails a check.
@@ -702,7 +722,41 @@ Status PositionSolver<M>::Fallback(const State<M>& from, const VecQ& q, State<M>
 
 template <class M>
 Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
+  if constexpr (kInlineFastPath) {
+    // The fast path of MoveToGeneral() without its bookkeeping: valid input, one sub-step
+    // straight to q_target corrected by M::Solve. Anything else (and any failure) goes the
+    // general way, which repeats the checks with their reasons.
+    const State<M>& from = state_ref();
+    int iterations = 0;
+    if (has_modes_ && options_valid_ && from.valid && q_target.allFinite() &&
+        (q_target - from.q).cwiseAbs().maxCoeff() <= options_.max_input_step) {
+      if (SolvedStep(from, q_target, &states_[1 - current_], &iterations)) {
+        current_ = 1 - current_;
+        if (summary != nullptr) {
+          const State<M>& to = state_ref();
+          *summary = Summary();
+          summary->status = Status::kConverged;
+          summary->iterations = iterations;
+          summary->substeps = 1;
+          summary->residual_norm = to.residual_norm;
+          summary->condition = to.condition;
+          summary->sigma_min = to.sigma_min;
+          summary->branch = to.branch;
+        }
+        return Status::kConverged;
+      }
+    }
+    return MoveToGeneral(q_target, summary, iterations);
+  } else {
+    return MoveToGeneral(q_target, summary, 0);
+  }
+}
+
+template <class M>
+Status PositionSolver<M>::MoveToGeneral(const VecQ& q_target, Summary* summary,
+                                        int iterations) {
   Summary s;
+  s.iterations = iterations;
   auto finish = [&](Status status) {
     s.status = status;
     if (summary != nullptr) *summary = s;
