@@ -5,8 +5,11 @@
 // and the coupler point (r_P, K_P, L_P):
 //   ClosedForm          hand-written circle–circle intersection + Paul's K and L
 //                       (tests/runtime/handwritten_fourbar.h)
-//   MechgenContinuation PositionSolver::MoveTo(): second-order predictor + Newton on the
-//                       generated Phi/Phi_phi, then the generated Coeffs
+//   MechgenContinuation PositionSolver::MoveTo(): second-order predictor, the generated
+//                       Solve (closed-form dyad) on the branch's mode, one generated Coeffs
+//                       (K, L, points, and the Phi / Phi_phi the step's checks use: residual,
+//                       cond_1, branch sign, sigma_min and directions, correction size,
+//                       K-consistency)
 //   MechgenClosedForm   the generated SolvePositions (closed-form RRR dyad) + Coeffs
 //   CeresAnalyticReused Ceres LM with the generated Jacobian, one ceres::Problem reused,
 //                       started from the previous phi; then Coeffs
