@@ -265,8 +265,11 @@ inline void FixSign2(double* x, double* y) {
  * orthogonal to v, sign-fixed the same way (the right singular vector of sigma_max); may be
  * nullptr. Not finite input gives NaN outputs.
  */
+namespace internal {
+/// SingularValues2x2() for a matrix the caller knows to be finite when known_finite is true
+/// (PositionSolver: after a successful factorization), which skips the test.
 inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, double* sigma_max,
-                              Eigen::Vector2d* v, Eigen::Vector2d* u = nullptr) {
+                              Eigen::Vector2d* v, Eigen::Vector2d* u, bool known_finite) {
   const double a = A(0, 0), b = A(0, 1), c = A(1, 0), d = A(1, 1);
   // sqrt of sums of squares, not std::hypot (several times slower): the entries of Phi_phi
   // are lengths, far from overflow.
@@ -290,7 +293,7 @@ inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, doubl
     w0 = 1;
     w1 = 0;
   }
-  if (!A.allFinite()) {
+  if (!known_finite && !A.allFinite()) {
     *sigma_min = *sigma_max = std::numeric_limits<double>::quiet_NaN();
     v->setConstant(std::numeric_limits<double>::quiet_NaN());
     if (u != nullptr) u->setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -307,6 +310,12 @@ inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, doubl
     (*u)(0) = u0;
     (*u)(1) = u1;
   }
+}
+}  // namespace internal
+
+inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, double* sigma_max,
+                              Eigen::Vector2d* v, Eigen::Vector2d* u = nullptr) {
+  internal::SingularValues2x2(A, sigma_min, sigma_max, v, u, false);
 }
 
 /**

@@ -26,7 +26,7 @@
  * Distance to singularity (State::sigma_min, sigma_max, singular_direction), every
  * configuration, from the one factorization of Phi_phi a step has (closed-form inverse up
  * to 4 x 4, PartialPivLU above), which also gives det (branch) and cond_1:
- *  - kNphi <= 2: exact, in closed form (SingularValues2x2; ~9 ns).
+ *  - kNphi <= 2: exact, in closed form (SingularValues2x2; ~5 ns).
  *  - kNphi > 2, continuation steps: one inverse iteration on Phi_phi^T Phi_phi from the
  *    previous configuration's singular direction and one power iteration from its largest
  *    direction; sigma_min = ||Phi_phi v|| (an upper bound), sigma_max = ||Phi_phi u|| (a
@@ -208,8 +208,8 @@ class PositionSolver {
  private:
   // True when phi moves an angle coordinate by more than Options::max_predicted_angle from
   // phi0, or is not finite.
-  bool MovesTooFar(const VecPhi& phi0, const VecPhi& phi) const {
-    if (!phi.allFinite()) return true;
+  bool MovesTooFar(const VecPhi& phi0, const VecPhi& phi, bool known_finite = false) const {
+    if (!known_finite && !phi.allFinite()) return true;
     for (int i = 0; i < M::kNphi; ++i) {
       if (M::kPhiIsAngle[i] && !(std::abs(phi(i) - phi0(i)) <= options_.max_predicted_angle))
         return true;
@@ -394,8 +394,9 @@ void PositionSolver<M>::Distance(const MatCPhi& A, const Factorization& f,
       s->sigma_min = s->sigma_max = std::numeric_limits<double>::quiet_NaN();
     }
   } else if constexpr (n == 2) {
-    SingularValues2x2(A, &s->sigma_min, &s->sigma_max, &s->singular_direction,
-                      &s->largest_direction);
+    // f.ok(): det and cond_1 finite, so every entry of A is.
+    internal::SingularValues2x2(A, &s->sigma_min, &s->sigma_max, &s->singular_direction,
+                                &s->largest_direction, f.ok());
   } else {
     // One step of inverse iteration on Phi_phi^T Phi_phi from the neighbour's singular
     // direction (two solves with the factorization the step has anyway) and one step of
@@ -527,7 +528,8 @@ template <class M>
 bool PositionSolver<M>::Accept(const State<M>& from, const VecQ& q, const VecPhi& predicted,
                                double last_term, const VecPhi& phi, const MatCPhi* Phi_phi,
                                const MatCQ* Phi_q, double residual, State<M>* to) const {
-  if (!CorrectionAcceptable(last_term, predicted, phi) || MovesTooFar(from.phi, phi)) {
+  // (CorrectionAcceptable() fails on a phi that is not finite.)
+  if (!CorrectionAcceptable(last_term, predicted, phi) || MovesTooFar(from.phi, phi, true)) {
     return false;
   }
   MatCPhi A;
