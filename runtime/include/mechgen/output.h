@@ -10,7 +10,9 @@
  *   P.x, P.y, q_j_dot, q_j_ddot, phi_i_dot, phi_i_ddot, P.vx, P.vy, P.ax, P.ay,
  *   status, iterations, residual (||Phi||_inf), cond (cond_1 Phi_phi),
  *   sigma_min (smallest singular value of Phi_phi: the distance to singularity),
- *   singular_<phi_i> (its unit right singular vector: the singular direction).
+ *   singular_<phi_i> (its unit right singular vector: the singular direction),
+ *   mu_<J> (the transmission angle at joint J of each four-bar loop on the ground, in
+ *   [0, pi]; 0 or pi where that loop toggles; models with such loops only).
  * Angles are radians in the CSV and degrees in the table. These functions allocate freely;
  * they run after the sweep.
  */
@@ -85,6 +87,9 @@ std::vector<std::string> CsvColumns() {
   }
   for (const char* s : {"status", "iterations", "residual", "cond", "sigma_min"}) c.push_back(s);
   for (const char* phi : M::kPhiNames) c.push_back(std::string("singular_") + phi);
+  if constexpr (SweepRecord<M>::kNumMu > 0) {
+    for (const char* joint : M::kTransmissionJoints) c.push_back(std::string("mu_") + joint);
+  }
   return c;
 }
 
@@ -130,6 +135,7 @@ std::vector<std::string> CsvValues(const SweepRecord<M>& r) {
   v.push_back(FormatNumber(r.summary.condition, "%.6g"));
   v.push_back(FormatNumber(s.sigma_min, "%.6g"));
   for (int i = 0; i < M::kNphi; ++i) v.push_back(FormatNumber(s.singular_direction(i), "%.6g"));
+  for (int i = 0; i < SweepRecord<M>::kNumMu; ++i) v.push_back(FormatNumber(r.mu(i)));
   return v;
 }
 

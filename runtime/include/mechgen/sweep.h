@@ -12,6 +12,7 @@
 #pragma once
 
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "mechgen/kinematics.h"
@@ -19,13 +20,28 @@
 
 namespace mechgen {
 
+namespace internal {
+/// Number of transmission angles of a model (its four-bar loops on the ground, when the
+/// header has EvalTransmissionAngles); 0 for a model without them.
+template <class M, class = void>
+struct TransmissionAngleCount : std::integral_constant<int, 0> {};
+template <class M>
+struct TransmissionAngleCount<M, std::void_t<decltype(&M::template TransmissionAngles<double>)>>
+    : std::integral_constant<int, M::kNumTransmissionAngles> {};
+}  // namespace internal
+
 /// One row of a sweep.
 template <class M>
 struct SweepRecord {
+  static constexpr int kNumMu = internal::TransmissionAngleCount<M>::value;
   typename ModelTypes<M>::VecQ q;  ///< requested inputs (kNq)
   State<M> state;                  ///< the configuration at q; NaN and !valid when failed
   Motion<M> motion;                ///< velocities and accelerations; NaN when failed
   Summary summary;                 ///< how the step went
+  /// Transmission angle of each four-bar loop (M::kTransmissionJoints), radians in [0, pi];
+  /// NaN when the step failed.
+  Eigen::Matrix<double, kNumMu, 1> mu =
+      Eigen::Matrix<double, kNumMu, 1>::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 /// What a sweep does at a singular configuration.
@@ -114,16 +130,18 @@ int Sweep(PositionSolver<M>* solver,
         record.summary.reason = pass.reason;
       }
     }
-    if (status == Status::kConverged) {
+    if (status == Status::kConverged || status == Status::kSingular) {
+      // kSingular: stop at the last valid configuration, the closest to the singular one.
       record.state = solver->state();
+      if (status == Status::kSingular) record.q = record.state.q;
       ComputeMotion(record.state, VecQ(dir * qd), qdd, &record.motion);
-    } else if (status == Status::kSingular) {
-      // Stop at the last valid configuration, the closest to the singular one.
-      record.state = solver->state();
-      record.q = record.state.q;
-      ComputeMotion(record.state, VecQ(dir * qd), qdd, &record.motion);
-      stopped = true;
-      ++failures;
+      if constexpr (SweepRecord<M>::kNumMu > 0) {
+        M::TransmissionAngles(solver->params(), record.state.q, record.state.phi, &record.mu);
+      }
+      if (status == Status::kSingular) {
+        stopped = true;
+        ++failures;
+      }
     } else {
       record.state.q = record.q;
       ++failures;
