@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form up to 3 unknowns, by a fixed-size LU above, and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 58 (adds 20, muls 32, divs 1, calls 5); SolvePositions 73 (adds 13, muls 48, divs 2, calls 10) (per Newton iteration for Newton blocks); EvalCoefficients 190 (adds 56, muls 126, divs 3, calls 5); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
+ * Operation counts: EvalPhi 58 (adds 20, muls 32, divs 1, calls 5); SolvePositions 71 (adds 13, muls 48, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalCoefficients 190 (adds 56, muls 126, divs 3, calls 5); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
  * cam contact: translating roller follower; contour x(u) = R*cos(u), y(u) = e + R*sin(u), period 6.283; min radius of curvature where convex 1 at u = 0.004363, concave nowhere
  */
 #pragma once
@@ -109,6 +109,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -173,14 +183,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 190 (adds 56, muls 126, divs 3, calls 5); intermediate terms: 21
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 190 (adds 56, muls 126, divs 3, calls 5); intermediate terms: 19
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -191,49 +204,57 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+  }
   const Scalar _tmp0 = cos(phi(1));
   const Scalar _tmp1 = p.R*p.R;
   const Scalar _tmp2 = sin(phi(1));
   const Scalar _tmp3 = Scalar(1)/sqrt((_tmp0*_tmp0)*_tmp1 + (_tmp2*_tmp2)*_tmp1);
-  const Scalar _tmp4 = cos(q(0));
-  const Scalar _tmp5 = _tmp0*_tmp3*_tmp4*p.R*p.rr;
-  const Scalar _tmp6 = sin(q(0));
-  const Scalar _tmp7 = _tmp2*_tmp3*_tmp6*p.R*p.rr;
-  const Scalar _tmp8 = _tmp2*_tmp6*p.R;
-  const Scalar _tmp9 = -_tmp6*p.e;
-  const Scalar _tmp10 = _tmp0*_tmp4*p.R;
-  const Scalar _tmp11 = _tmp0*_tmp3*_tmp6*p.R*p.rr;
-  const Scalar _tmp12 = _tmp2*_tmp3*_tmp4*p.R*p.rr;
-  const Scalar _tmp13 = _tmp0*_tmp6*p.R;
-  const Scalar _tmp14 = _tmp2*_tmp4*p.R;
-  const Scalar Phi_phi_0_1 = -_tmp11 - _tmp12 - _tmp13 - _tmp14;
+  const Scalar _tmp4 = _tmp0*_tmp3*cos_q0*p.R*p.rr;
+  const Scalar _tmp5 = _tmp2*_tmp3*p.R*p.rr*sin_q0;
+  const Scalar _tmp6 = _tmp2*p.R*sin_q0;
+  const Scalar _tmp7 = -p.e*sin_q0;
+  const Scalar _tmp8 = _tmp0*cos_q0*p.R;
+  const Scalar _tmp9 = _tmp0*_tmp3*p.R*p.rr*sin_q0;
+  const Scalar _tmp10 = _tmp2*_tmp3*cos_q0*p.R*p.rr;
+  const Scalar _tmp11 = _tmp0*p.R*sin_q0;
+  const Scalar _tmp12 = _tmp2*cos_q0*p.R;
+  const Scalar Phi_phi_0_1 = -_tmp10 - _tmp11 - _tmp12 - _tmp9;
   const Scalar det_block0 = Phi_phi_0_1;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar _tmp15 = -_tmp4*p.e;
-  const Scalar K_rhs_0_0 = -_tmp11 - _tmp12 - _tmp13 - _tmp14 + _tmp15;
+  const Scalar _tmp13 = -cos_q0*p.e;
+  const Scalar K_rhs_0_0 = -_tmp10 - _tmp11 - _tmp12 + _tmp13 - _tmp9;
   const Scalar K_1_0 = -K_rhs_0_0*inv_det_block0;
   const Scalar Phi_phi_1_0 = Scalar(-1);
   const Scalar det_block1 = Phi_phi_1_0;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
-  const Scalar _tmp16 = K_1_0*_tmp0*_tmp3*_tmp4*p.R*p.rr;
-  const Scalar _tmp17 = K_1_0*_tmp2*_tmp3*_tmp6*p.R*p.rr;
-  const Scalar _tmp18 = K_1_0*_tmp2*_tmp6*p.R;
-  const Scalar _tmp19 = K_1_0*_tmp0*_tmp4*p.R;
-  const Scalar K_rhs_1_0 = _tmp10 + _tmp16 - _tmp17 - _tmp18 + _tmp19 + _tmp5 - _tmp7 - _tmp8 + _tmp9;
+  const Scalar _tmp14 = K_1_0*_tmp0*_tmp3*cos_q0*p.R*p.rr;
+  const Scalar _tmp15 = K_1_0*_tmp2*_tmp3*p.R*p.rr*sin_q0;
+  const Scalar _tmp16 = K_1_0*_tmp2*p.R*sin_q0;
+  const Scalar _tmp17 = K_1_0*_tmp0*cos_q0*p.R;
+  const Scalar K_rhs_1_0 = _tmp14 - _tmp15 - _tmp16 + _tmp17 + _tmp4 - _tmp5 - _tmp6 + _tmp7 + _tmp8;
   const Scalar K_0_0 = -K_rhs_1_0*inv_det_block1;
   out->r_P(0, 0) = Scalar(0);
   out->r_P(1, 0) = phi(0);
-  out->Phi(0) = _tmp10 + _tmp5 - _tmp7 - _tmp8 + _tmp9;
-  out->Phi(1) = _tmp11 + _tmp12 + _tmp13 + _tmp14 + _tmp4*p.e - phi(0);
+  out->Phi(0) = _tmp4 - _tmp5 - _tmp6 + _tmp7 + _tmp8;
+  out->Phi(1) = _tmp10 + _tmp11 + _tmp12 + _tmp9 + cos_q0*p.e - phi(0);
   out->Phi_phi.setZero();
-  const Scalar _tmp20 = K_1_0*K_1_0;
-  const Scalar L_rhs_0_0_0 = -Scalar(2)*_tmp16 + Scalar(2)*_tmp17 + Scalar(2)*_tmp18 - Scalar(2)*_tmp19 - _tmp0*_tmp20*_tmp3*_tmp4*p.R*p.rr - _tmp0*_tmp20*_tmp4*p.R - _tmp10 + _tmp2*_tmp20*_tmp3*_tmp6*p.R*p.rr + _tmp2*_tmp20*_tmp6*p.R - _tmp5 + _tmp6*p.e + _tmp7 + _tmp8;
+  const Scalar _tmp18 = K_1_0*K_1_0;
+  const Scalar L_rhs_0_0_0 = -Scalar(2)*_tmp14 + Scalar(2)*_tmp15 + Scalar(2)*_tmp16 - Scalar(2)*_tmp17 - _tmp0*_tmp18*_tmp3*cos_q0*p.R*p.rr - _tmp0*_tmp18*cos_q0*p.R + _tmp18*_tmp2*_tmp3*p.R*p.rr*sin_q0 + _tmp18*_tmp2*p.R*sin_q0 - _tmp4 + _tmp5 + _tmp6 - _tmp8 + p.e*sin_q0;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*inv_det_block0;
-  const Scalar L_rhs_1_0_0 = L_1_0_0*_tmp0*_tmp3*_tmp4*p.R*p.rr + L_1_0_0*_tmp0*_tmp4*p.R - L_1_0_0*_tmp2*_tmp3*_tmp6*p.R*p.rr - L_1_0_0*_tmp2*_tmp6*p.R - Scalar(2)*K_1_0*_tmp0*_tmp3*_tmp6*p.R*p.rr - Scalar(2)*K_1_0*_tmp0*_tmp6*p.R - Scalar(2)*K_1_0*_tmp2*_tmp3*_tmp4*p.R*p.rr - Scalar(2)*K_1_0*_tmp2*_tmp4*p.R - _tmp0*_tmp20*_tmp3*_tmp6*p.R*p.rr - _tmp0*_tmp20*_tmp6*p.R - _tmp11 - _tmp12 - _tmp13 - _tmp14 + _tmp15 - _tmp2*_tmp20*_tmp3*_tmp4*p.R*p.rr - _tmp2*_tmp20*_tmp4*p.R;
+  const Scalar L_rhs_1_0_0 = L_1_0_0*_tmp0*_tmp3*cos_q0*p.R*p.rr + L_1_0_0*_tmp0*cos_q0*p.R - L_1_0_0*_tmp2*_tmp3*p.R*p.rr*sin_q0 - L_1_0_0*_tmp2*p.R*sin_q0 - Scalar(2)*K_1_0*_tmp0*_tmp3*p.R*p.rr*sin_q0 - Scalar(2)*K_1_0*_tmp0*p.R*sin_q0 - Scalar(2)*K_1_0*_tmp2*_tmp3*cos_q0*p.R*p.rr - Scalar(2)*K_1_0*_tmp2*cos_q0*p.R - _tmp0*_tmp18*_tmp3*p.R*p.rr*sin_q0 - _tmp0*_tmp18*p.R*sin_q0 - _tmp10 - _tmp11 - _tmp12 + _tmp13 - _tmp18*_tmp2*_tmp3*cos_q0*p.R*p.rr - _tmp18*_tmp2*cos_q0*p.R - _tmp9;
   const Scalar L_0_0_0 = -L_rhs_1_0_0*inv_det_block1;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
-  out->Phi_phi(1, 1) = _tmp10 + _tmp5 - _tmp7 - _tmp8;
+  out->Phi_phi(1, 1) = _tmp4 - _tmp5 - _tmp6 + _tmp8;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K_P(0, 0) = Scalar(0);
@@ -310,6 +331,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -317,8 +340,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 73 (adds 13, muls 48, divs 2, calls 10); intermediate terms: 12
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+  // Total ops: 71 (adds 13, muls 48, divs 2, calls 8); intermediate terms: 8
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -338,6 +362,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 -> u_contact: Newton-Raphson on the 1x1 block
     Vec<Scalar, 1> r_b0;
     Mat<Scalar, 1, 1> J_b0 = Mat<Scalar, 1, 1>::Zero();
@@ -346,10 +373,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       const Scalar _tmp1 = p.R*p.R;
       const Scalar _tmp2 = sin(phi(1));
       const Scalar _tmp3 = Scalar(1)/sqrt((_tmp0*_tmp0)*_tmp1 + (_tmp2*_tmp2)*_tmp1);
-      const Scalar _tmp4 = cos(q(0));
-      const Scalar _tmp5 = sin(q(0));
-      r_b0(0) = _tmp0*_tmp3*_tmp4*p.R*p.rr + _tmp0*_tmp4*p.R - _tmp2*_tmp3*_tmp5*p.R*p.rr - _tmp2*_tmp5*p.R - _tmp5*p.e;
-      J_b0(0, 0) = -_tmp0*_tmp3*_tmp5*p.R*p.rr - _tmp0*_tmp5*p.R - _tmp2*_tmp3*_tmp4*p.R*p.rr - _tmp2*_tmp4*p.R;
+      r_b0(0) = _tmp0*_tmp3*cos_q0*p.R*p.rr + _tmp0*cos_q0*p.R - _tmp2*_tmp3*p.R*p.rr*sin_q0 - _tmp2*p.R*sin_q0 - p.e*sin_q0;
+      J_b0(0, 0) = -_tmp0*_tmp3*p.R*p.rr*sin_q0 - _tmp0*p.R*sin_q0 - _tmp2*_tmp3*cos_q0*p.R*p.rr - _tmp2*cos_q0*p.R;
       Scalar norm_b0 = Scalar(0);
       for (int i = 0; i < 1; ++i) if (abs(r_b0(i)) > norm_b0) norm_b0 = abs(r_b0(i));
       const bool closed_b0 = norm_b0 <= tol;
@@ -365,10 +390,12 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar _tmp1 = p.R*p.R;
     const Scalar _tmp2 = sin(phi(1));
     const Scalar _tmp3 = Scalar(1)/sqrt((_tmp0*_tmp0)*_tmp1 + (_tmp2*_tmp2)*_tmp1);
-    const Scalar _tmp4 = sin(q(0));
-    const Scalar _tmp5 = cos(q(0));
-    phi(0) = _tmp0*_tmp3*_tmp4*p.R*p.rr + _tmp0*_tmp4*p.R + _tmp2*_tmp3*_tmp5*p.R*p.rr + _tmp2*_tmp5*p.R + _tmp5*p.e;
+    phi(0) = _tmp0*_tmp3*p.R*p.rr*sin_q0 + _tmp0*p.R*sin_q0 + _tmp2*_tmp3*cos_q0*p.R*p.rr + _tmp2*cos_q0*p.R + cos_q0*p.e;
 
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -413,7 +440,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -423,7 +451,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -437,7 +466,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -447,7 +477,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -486,6 +517,8 @@ struct Model : Sizes {
   using ParamsT = mech::cam_contour::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::cam_contour::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::cam_contour::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -500,8 +533,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -516,8 +550,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -108,6 +108,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /// A cam at one cam angle x (EvalCam_<joint>): the follower's law and the cam's geometry.
 template <typename Scalar = double>
 struct CamState {
@@ -262,14 +272,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 31 (adds 6, muls 17, divs 2, calls 6); intermediate terms: 4
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 31 (adds 6, muls 17, divs 2, calls 6); intermediate terms: 2
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -280,25 +293,33 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = cos(phi(0));
-  const Scalar _tmp1 = sin(phi(0));
-  const Scalar _tmp2 = -p.phase + q(0);
+  (void)trig;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  if (trig != nullptr) {
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+  } else {
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+  }
+  const Scalar _tmp0 = -p.phase + q(0);
   const Scalar Phi_phi_0_0 = Scalar(1);
   const Scalar det_block0 = Phi_phi_0_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar K_0_0 = CamLaw_contact(p, _tmp2, 1)*inv_det_block0;
-  const Scalar L_0_0_0 = CamLaw_contact(p, _tmp2, 2)*inv_det_block0;
-  const Scalar _tmp3 = K_0_0*K_0_0;
-  out->r_P(0, 0) = -_tmp0*p.d + p.d;
-  out->r_P(1, 0) = -_tmp1*p.d;
-  out->Phi(0) = -CamLaw_contact(p, _tmp2, 0) - asin(p.rb/p.d) + phi(0);
+  const Scalar K_0_0 = CamLaw_contact(p, _tmp0, 1)*inv_det_block0;
+  const Scalar L_0_0_0 = CamLaw_contact(p, _tmp0, 2)*inv_det_block0;
+  const Scalar _tmp1 = K_0_0*K_0_0;
+  out->r_P(0, 0) = -cos_phi0*p.d + p.d;
+  out->r_P(1, 0) = -p.d*sin_phi0;
+  out->Phi(0) = -CamLaw_contact(p, _tmp0, 0) - asin(p.rb/p.d) + phi(0);
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->K(0, 0) = K_0_0;
-  out->K_P(0, 0) = K_0_0*_tmp1*p.d;
-  out->K_P(1, 0) = -K_0_0*_tmp0*p.d;
+  out->K_P(0, 0) = K_0_0*p.d*sin_phi0;
+  out->K_P(1, 0) = -K_0_0*cos_phi0*p.d;
   out->L(0, 0) = L_0_0_0;
-  out->L_P(0, 0) = L_0_0_0*_tmp1*p.d + _tmp0*_tmp3*p.d;
-  out->L_P(1, 0) = -L_0_0_0*_tmp0*p.d + _tmp1*_tmp3*p.d;
+  out->L_P(0, 0) = L_0_0_0*p.d*sin_phi0 + _tmp1*cos_phi0*p.d;
+  out->L_P(1, 0) = -L_0_0_0*cos_phi0*p.d + _tmp1*p.d*sin_phi0;
 }
 
 /**
@@ -360,6 +381,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -367,7 +390,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 5 (adds 2, muls 0, divs 1, calls 2); intermediate terms: 0
   using std::abs;
   using std::atan2;
@@ -388,9 +412,16 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
   {  // block 0: rows 0 -> theta_follower: closed form, linear
     phi(0) = CamLaw_contact(p, -p.phase + q(0), 0) + asin(p.rb/p.d);
 
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin(q(0));
+    trig->cos_q(0) = cos(q(0));
+    trig->sin_phi(0) = sin(phi(0));
+    trig->cos_phi(0) = cos(phi(0));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -437,7 +468,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -447,7 +479,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -461,7 +494,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -471,7 +505,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -510,6 +545,8 @@ struct Model : Sizes {
   using ParamsT = mech::cam_flat::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::cam_flat::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::cam_flat::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -524,8 +561,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -540,8 +578,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

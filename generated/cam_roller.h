@@ -110,6 +110,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /// A cam at one cam angle x (EvalCam_<joint>): the follower's law and the cam's geometry.
 template <typename Scalar = double>
 struct CamState {
@@ -257,13 +267,16 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
   // Total ops: 18 (adds 6, muls 7, divs 1, calls 4); intermediate terms: 1
   using std::abs;
   using std::atan2;
@@ -275,6 +288,7 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
+  (void)trig;
   const Scalar _tmp0 = -p.phase + q(0);
   const Scalar Phi_phi_0_0 = Scalar(1);
   const Scalar det_block0 = Phi_phi_0_0;
@@ -352,6 +366,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -359,7 +375,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 12 (adds 5, muls 5, divs 0, calls 2); intermediate terms: 0
   using std::abs;
   using std::atan2;
@@ -380,9 +397,14 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
   {  // block 0: rows 0 -> s_slide: closed form, linear
     phi(0) = CamLaw_contact(p, -p.phase + q(0), 0) + sqrt(Scalar(2)*p.rb*p.rr - p.e*p.e + p.rb*p.rb + p.rr*p.rr);
 
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin(q(0));
+    trig->cos_q(0) = cos(q(0));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -429,7 +451,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -439,7 +462,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -453,7 +477,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -463,7 +488,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -502,6 +528,8 @@ struct Model : Sizes {
   using ParamsT = mech::cam_roller::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::cam_roller::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::cam_roller::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -516,8 +544,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -532,8 +561,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

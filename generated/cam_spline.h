@@ -31,7 +31,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form up to 3 unknowns, by a fixed-size LU above, and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 108 (adds 25, muls 72, divs 1, calls 10); SolvePositions 80 (adds 15, muls 46, divs 2, calls 17) (per Newton iteration for Newton blocks); EvalCoefficients 550 (adds 106, muls 428, divs 3, calls 13); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
+ * Operation counts: EvalPhi 108 (adds 25, muls 72, divs 1, calls 10); SolvePositions 78 (adds 15, muls 46, divs 2, calls 15) (per Newton iteration for Newton blocks); EvalCoefficients 550 (adds 106, muls 428, divs 3, calls 13); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
  * cam contact: translating roller follower; contour by a periodic cubic spline through 36 points (chord-length parameter u, period 6.275); min radius of curvature where convex 0.9978 at u = 0.004358, concave nowhere
  */
 #pragma once
@@ -105,6 +105,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq> K_P;
   /// L_P(2m + a, j + kNq*k) = d^2 r_P(a, m) / dq_j dq_k.  (2 kNumPoints x kNq^2)
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
+};
+
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
 };
 
 /// Contour of cam 'contact' in the cam's frame: the periodic cubic spline through its
@@ -287,14 +297,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 550 (adds 106, muls 428, divs 3, calls 13); intermediate terms: 36
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 550 (adds 106, muls 428, divs 3, calls 13); intermediate terms: 34
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -305,64 +318,72 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+  }
   const Scalar _tmp0 = Contour_contact(p, phi(1), 0, 1);
   const Scalar _tmp1 = _tmp0*_tmp0;
   const Scalar _tmp2 = Contour_contact(p, phi(1), 1, 1);
   const Scalar _tmp3 = _tmp2*_tmp2;
   const Scalar _tmp4 = _tmp1 + _tmp3;
   const Scalar _tmp5 = Scalar(1)/sqrt(_tmp4);
-  const Scalar _tmp6 = sin(q(0));
-  const Scalar _tmp7 = _tmp0*_tmp5*_tmp6*p.rr;
-  const Scalar _tmp8 = cos(q(0));
-  const Scalar _tmp9 = _tmp2*_tmp5*_tmp8*p.rr;
-  const Scalar _tmp10 = Contour_contact(p, phi(1), 1, 0);
-  const Scalar _tmp11 = -_tmp10*_tmp6;
-  const Scalar _tmp12 = Contour_contact(p, phi(1), 0, 0);
-  const Scalar _tmp13 = _tmp2*_tmp5*_tmp6*p.rr;
-  const Scalar _tmp14 = _tmp0*_tmp5*_tmp8*p.rr;
-  const Scalar _tmp15 = Contour_contact(p, phi(1), 0, 2);
-  const Scalar _tmp16 = Contour_contact(p, phi(1), 1, 2);
-  const Scalar _tmp17 = pow(_tmp4, Scalar(-1.5));
-  const Scalar Phi_phi_0_1 = -_tmp0*_tmp15*_tmp17*_tmp2*_tmp8*p.rr - _tmp0*_tmp16*_tmp17*_tmp2*_tmp6*p.rr + _tmp0*_tmp8 - _tmp1*_tmp15*_tmp17*_tmp6*p.rr + _tmp15*_tmp5*_tmp6*p.rr - _tmp16*_tmp17*_tmp3*_tmp8*p.rr + _tmp16*_tmp5*_tmp8*p.rr - _tmp2*_tmp6;
+  const Scalar _tmp6 = _tmp0*_tmp5*p.rr*sin_q0;
+  const Scalar _tmp7 = _tmp2*_tmp5*cos_q0*p.rr;
+  const Scalar _tmp8 = Contour_contact(p, phi(1), 1, 0);
+  const Scalar _tmp9 = -_tmp8*sin_q0;
+  const Scalar _tmp10 = Contour_contact(p, phi(1), 0, 0);
+  const Scalar _tmp11 = _tmp2*_tmp5*p.rr*sin_q0;
+  const Scalar _tmp12 = _tmp0*_tmp5*cos_q0*p.rr;
+  const Scalar _tmp13 = Contour_contact(p, phi(1), 0, 2);
+  const Scalar _tmp14 = Contour_contact(p, phi(1), 1, 2);
+  const Scalar _tmp15 = pow(_tmp4, Scalar(-1.5));
+  const Scalar Phi_phi_0_1 = -_tmp0*_tmp13*_tmp15*_tmp2*cos_q0*p.rr - _tmp0*_tmp14*_tmp15*_tmp2*p.rr*sin_q0 + _tmp0*cos_q0 - _tmp1*_tmp13*_tmp15*p.rr*sin_q0 + _tmp13*_tmp5*p.rr*sin_q0 - _tmp14*_tmp15*_tmp3*cos_q0*p.rr + _tmp14*_tmp5*cos_q0*p.rr - _tmp2*sin_q0;
   const Scalar det_block0 = Phi_phi_0_1;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar _tmp18 = -_tmp12*_tmp6;
-  const Scalar _tmp19 = -_tmp10*_tmp8;
-  const Scalar K_rhs_0_0 = -_tmp13 + _tmp14 + _tmp18 + _tmp19;
+  const Scalar _tmp16 = -_tmp10*sin_q0;
+  const Scalar _tmp17 = -_tmp8*cos_q0;
+  const Scalar K_rhs_0_0 = -_tmp11 + _tmp12 + _tmp16 + _tmp17;
   const Scalar K_1_0 = -K_rhs_0_0*inv_det_block0;
   const Scalar Phi_phi_1_0 = Scalar(-1);
   const Scalar det_block1 = Phi_phi_1_0;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
-  const Scalar _tmp20 = K_1_0*_tmp1*_tmp15*_tmp17*_tmp8*p.rr;
-  const Scalar _tmp21 = K_1_0*_tmp16*_tmp5*_tmp6*p.rr;
-  const Scalar _tmp22 = K_1_0*_tmp0*_tmp16*_tmp17*_tmp2*_tmp8*p.rr;
-  const Scalar _tmp23 = K_1_0*_tmp16*_tmp17*_tmp3*_tmp6*p.rr;
-  const Scalar _tmp24 = K_1_0*_tmp15*_tmp5*_tmp8*p.rr;
-  const Scalar _tmp25 = K_1_0*_tmp0*_tmp15*_tmp17*_tmp2*_tmp6*p.rr;
-  const Scalar _tmp26 = K_1_0*_tmp0*_tmp6;
-  const Scalar _tmp27 = K_1_0*_tmp2*_tmp8;
-  const Scalar K_rhs_1_0 = _tmp11 + _tmp12*_tmp8 + _tmp20 + _tmp21 + _tmp22 - _tmp23 - _tmp24 - _tmp25 + _tmp26 + _tmp27 + _tmp7 + _tmp9;
+  const Scalar _tmp18 = K_1_0*_tmp1*_tmp13*_tmp15*cos_q0*p.rr;
+  const Scalar _tmp19 = K_1_0*_tmp14*_tmp5*p.rr*sin_q0;
+  const Scalar _tmp20 = K_1_0*_tmp0*_tmp14*_tmp15*_tmp2*cos_q0*p.rr;
+  const Scalar _tmp21 = K_1_0*_tmp14*_tmp15*_tmp3*p.rr*sin_q0;
+  const Scalar _tmp22 = K_1_0*_tmp13*_tmp5*cos_q0*p.rr;
+  const Scalar _tmp23 = K_1_0*_tmp0*_tmp13*_tmp15*_tmp2*p.rr*sin_q0;
+  const Scalar _tmp24 = K_1_0*_tmp0*sin_q0;
+  const Scalar _tmp25 = K_1_0*_tmp2*cos_q0;
+  const Scalar K_rhs_1_0 = _tmp10*cos_q0 + _tmp18 + _tmp19 + _tmp20 - _tmp21 - _tmp22 - _tmp23 + _tmp24 + _tmp25 + _tmp6 + _tmp7 + _tmp9;
   const Scalar K_0_0 = -K_rhs_1_0*inv_det_block1;
   out->r_P(0, 0) = Scalar(0);
   out->r_P(1, 0) = phi(0);
-  out->Phi(0) = _tmp11 + _tmp12*_tmp8 + _tmp7 + _tmp9;
-  out->Phi(1) = _tmp10*_tmp8 + _tmp12*_tmp6 + _tmp13 - _tmp14 - phi(0);
+  out->Phi(0) = _tmp10*cos_q0 + _tmp6 + _tmp7 + _tmp9;
+  out->Phi(1) = _tmp10*sin_q0 + _tmp11 - _tmp12 + _tmp8*cos_q0 - phi(0);
   out->Phi_phi.setZero();
-  const Scalar _tmp28 = Contour_contact(p, phi(1), 0, 3);
-  const Scalar _tmp29 = K_1_0*K_1_0;
-  const Scalar _tmp30 = Contour_contact(p, phi(1), 1, 3);
-  const Scalar _tmp31 = _tmp15*_tmp15;
-  const Scalar _tmp32 = _tmp16*_tmp16;
-  const Scalar _tmp33 = pow(_tmp4, Scalar(-2.5));
-  const Scalar _tmp34 = _tmp0*_tmp0*_tmp0;
-  const Scalar _tmp35 = _tmp2*_tmp2*_tmp2;
-  const Scalar L_rhs_0_0_0 = -Scalar(2)*_tmp0*_tmp15*_tmp16*_tmp17*_tmp29*_tmp8*p.rr - Scalar(2)*_tmp15*_tmp16*_tmp17*_tmp2*_tmp29*_tmp6*p.rr - Scalar(2)*_tmp20 - Scalar(2)*_tmp21 - Scalar(2)*_tmp22 + Scalar(2)*_tmp23 + Scalar(2)*_tmp24 + Scalar(2)*_tmp25 - Scalar(2)*_tmp26 - Scalar(2)*_tmp27 - Scalar(3)*_tmp0*_tmp17*_tmp29*_tmp31*_tmp6*p.rr + Scalar(3)*_tmp0*_tmp29*_tmp3*_tmp32*_tmp33*_tmp6*p.rr + Scalar(3)*_tmp1*_tmp2*_tmp29*_tmp31*_tmp33*_tmp8*p.rr - Scalar(3)*_tmp17*_tmp2*_tmp29*_tmp32*_tmp8*p.rr + Scalar(3)*_tmp29*_tmp31*_tmp33*_tmp34*_tmp6*p.rr + Scalar(3)*_tmp29*_tmp32*_tmp33*_tmp35*_tmp8*p.rr + Scalar(6)*_tmp0*_tmp15*_tmp16*_tmp29*_tmp3*_tmp33*_tmp8*p.rr + Scalar(6)*_tmp1*_tmp15*_tmp16*_tmp2*_tmp29*_tmp33*_tmp6*p.rr - _tmp0*_tmp17*_tmp2*_tmp28*_tmp29*_tmp8*p.rr - _tmp0*_tmp17*_tmp2*_tmp29*_tmp30*_tmp6*p.rr - _tmp0*_tmp17*_tmp29*_tmp32*_tmp6*p.rr - _tmp1*_tmp17*_tmp28*_tmp29*_tmp6*p.rr + _tmp10*_tmp6 - _tmp12*_tmp8 + _tmp15*_tmp29*_tmp8 - _tmp16*_tmp29*_tmp6 - _tmp17*_tmp2*_tmp29*_tmp31*_tmp8*p.rr - _tmp17*_tmp29*_tmp3*_tmp30*_tmp8*p.rr + _tmp28*_tmp29*_tmp5*_tmp6*p.rr + _tmp29*_tmp30*_tmp5*_tmp8*p.rr - _tmp7 - _tmp9;
+  const Scalar _tmp26 = Contour_contact(p, phi(1), 0, 3);
+  const Scalar _tmp27 = K_1_0*K_1_0;
+  const Scalar _tmp28 = Contour_contact(p, phi(1), 1, 3);
+  const Scalar _tmp29 = _tmp13*_tmp13;
+  const Scalar _tmp30 = _tmp14*_tmp14;
+  const Scalar _tmp31 = pow(_tmp4, Scalar(-2.5));
+  const Scalar _tmp32 = _tmp0*_tmp0*_tmp0;
+  const Scalar _tmp33 = _tmp2*_tmp2*_tmp2;
+  const Scalar L_rhs_0_0_0 = -Scalar(2)*_tmp0*_tmp13*_tmp14*_tmp15*_tmp27*cos_q0*p.rr - Scalar(2)*_tmp13*_tmp14*_tmp15*_tmp2*_tmp27*p.rr*sin_q0 - Scalar(2)*_tmp18 - Scalar(2)*_tmp19 - Scalar(2)*_tmp20 + Scalar(2)*_tmp21 + Scalar(2)*_tmp22 + Scalar(2)*_tmp23 - Scalar(2)*_tmp24 - Scalar(2)*_tmp25 - Scalar(3)*_tmp0*_tmp15*_tmp27*_tmp29*p.rr*sin_q0 + Scalar(3)*_tmp0*_tmp27*_tmp3*_tmp30*_tmp31*p.rr*sin_q0 + Scalar(3)*_tmp1*_tmp2*_tmp27*_tmp29*_tmp31*cos_q0*p.rr - Scalar(3)*_tmp15*_tmp2*_tmp27*_tmp30*cos_q0*p.rr + Scalar(3)*_tmp27*_tmp29*_tmp31*_tmp32*p.rr*sin_q0 + Scalar(3)*_tmp27*_tmp30*_tmp31*_tmp33*cos_q0*p.rr + Scalar(6)*_tmp0*_tmp13*_tmp14*_tmp27*_tmp3*_tmp31*cos_q0*p.rr + Scalar(6)*_tmp1*_tmp13*_tmp14*_tmp2*_tmp27*_tmp31*p.rr*sin_q0 - _tmp0*_tmp15*_tmp2*_tmp26*_tmp27*cos_q0*p.rr - _tmp0*_tmp15*_tmp2*_tmp27*_tmp28*p.rr*sin_q0 - _tmp0*_tmp15*_tmp27*_tmp30*p.rr*sin_q0 - _tmp1*_tmp15*_tmp26*_tmp27*p.rr*sin_q0 - _tmp10*cos_q0 + _tmp13*_tmp27*cos_q0 - _tmp14*_tmp27*sin_q0 - _tmp15*_tmp2*_tmp27*_tmp29*cos_q0*p.rr - _tmp15*_tmp27*_tmp28*_tmp3*cos_q0*p.rr + _tmp26*_tmp27*_tmp5*p.rr*sin_q0 + _tmp27*_tmp28*_tmp5*cos_q0*p.rr - _tmp6 - _tmp7 + _tmp8*sin_q0;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*inv_det_block0;
-  const Scalar L_rhs_1_0_0 = -L_1_0_0*_tmp0*_tmp15*_tmp17*_tmp2*_tmp6*p.rr + L_1_0_0*_tmp0*_tmp16*_tmp17*_tmp2*_tmp8*p.rr + L_1_0_0*_tmp0*_tmp6 + L_1_0_0*_tmp1*_tmp15*_tmp17*_tmp8*p.rr - L_1_0_0*_tmp15*_tmp5*_tmp8*p.rr - L_1_0_0*_tmp16*_tmp17*_tmp3*_tmp6*p.rr + L_1_0_0*_tmp16*_tmp5*_tmp6*p.rr + L_1_0_0*_tmp2*_tmp8 - Scalar(2)*K_1_0*_tmp0*_tmp15*_tmp17*_tmp2*_tmp8*p.rr - Scalar(2)*K_1_0*_tmp0*_tmp16*_tmp17*_tmp2*_tmp6*p.rr + Scalar(2)*K_1_0*_tmp0*_tmp8 - Scalar(2)*K_1_0*_tmp1*_tmp15*_tmp17*_tmp6*p.rr + Scalar(2)*K_1_0*_tmp15*_tmp5*_tmp6*p.rr - Scalar(2)*K_1_0*_tmp16*_tmp17*_tmp3*_tmp8*p.rr + Scalar(2)*K_1_0*_tmp16*_tmp5*_tmp8*p.rr - Scalar(2)*K_1_0*_tmp2*_tmp6 - Scalar(2)*_tmp0*_tmp15*_tmp16*_tmp17*_tmp29*_tmp6*p.rr + Scalar(2)*_tmp15*_tmp16*_tmp17*_tmp2*_tmp29*_tmp8*p.rr + Scalar(3)*_tmp0*_tmp17*_tmp29*_tmp31*_tmp8*p.rr - Scalar(3)*_tmp0*_tmp29*_tmp3*_tmp32*_tmp33*_tmp8*p.rr + Scalar(3)*_tmp1*_tmp2*_tmp29*_tmp31*_tmp33*_tmp6*p.rr - Scalar(3)*_tmp17*_tmp2*_tmp29*_tmp32*_tmp6*p.rr - Scalar(3)*_tmp29*_tmp31*_tmp33*_tmp34*_tmp8*p.rr + Scalar(3)*_tmp29*_tmp32*_tmp33*_tmp35*_tmp6*p.rr + Scalar(6)*_tmp0*_tmp15*_tmp16*_tmp29*_tmp3*_tmp33*_tmp6*p.rr - Scalar(6)*_tmp1*_tmp15*_tmp16*_tmp2*_tmp29*_tmp33*_tmp8*p.rr - _tmp0*_tmp17*_tmp2*_tmp28*_tmp29*_tmp6*p.rr + _tmp0*_tmp17*_tmp2*_tmp29*_tmp30*_tmp8*p.rr + _tmp0*_tmp17*_tmp29*_tmp32*_tmp8*p.rr + _tmp1*_tmp17*_tmp28*_tmp29*_tmp8*p.rr - _tmp13 + _tmp14 + _tmp15*_tmp29*_tmp6 + _tmp16*_tmp29*_tmp8 - _tmp17*_tmp2*_tmp29*_tmp31*_tmp6*p.rr - _tmp17*_tmp29*_tmp3*_tmp30*_tmp6*p.rr + _tmp18 + _tmp19 - _tmp28*_tmp29*_tmp5*_tmp8*p.rr + _tmp29*_tmp30*_tmp5*_tmp6*p.rr;
+  const Scalar L_rhs_1_0_0 = -L_1_0_0*_tmp0*_tmp13*_tmp15*_tmp2*p.rr*sin_q0 + L_1_0_0*_tmp0*_tmp14*_tmp15*_tmp2*cos_q0*p.rr + L_1_0_0*_tmp0*sin_q0 + L_1_0_0*_tmp1*_tmp13*_tmp15*cos_q0*p.rr - L_1_0_0*_tmp13*_tmp5*cos_q0*p.rr - L_1_0_0*_tmp14*_tmp15*_tmp3*p.rr*sin_q0 + L_1_0_0*_tmp14*_tmp5*p.rr*sin_q0 + L_1_0_0*_tmp2*cos_q0 - Scalar(2)*K_1_0*_tmp0*_tmp13*_tmp15*_tmp2*cos_q0*p.rr - Scalar(2)*K_1_0*_tmp0*_tmp14*_tmp15*_tmp2*p.rr*sin_q0 + Scalar(2)*K_1_0*_tmp0*cos_q0 - Scalar(2)*K_1_0*_tmp1*_tmp13*_tmp15*p.rr*sin_q0 + Scalar(2)*K_1_0*_tmp13*_tmp5*p.rr*sin_q0 - Scalar(2)*K_1_0*_tmp14*_tmp15*_tmp3*cos_q0*p.rr + Scalar(2)*K_1_0*_tmp14*_tmp5*cos_q0*p.rr - Scalar(2)*K_1_0*_tmp2*sin_q0 - Scalar(2)*_tmp0*_tmp13*_tmp14*_tmp15*_tmp27*p.rr*sin_q0 + Scalar(2)*_tmp13*_tmp14*_tmp15*_tmp2*_tmp27*cos_q0*p.rr + Scalar(3)*_tmp0*_tmp15*_tmp27*_tmp29*cos_q0*p.rr - Scalar(3)*_tmp0*_tmp27*_tmp3*_tmp30*_tmp31*cos_q0*p.rr + Scalar(3)*_tmp1*_tmp2*_tmp27*_tmp29*_tmp31*p.rr*sin_q0 - Scalar(3)*_tmp15*_tmp2*_tmp27*_tmp30*p.rr*sin_q0 - Scalar(3)*_tmp27*_tmp29*_tmp31*_tmp32*cos_q0*p.rr + Scalar(3)*_tmp27*_tmp30*_tmp31*_tmp33*p.rr*sin_q0 + Scalar(6)*_tmp0*_tmp13*_tmp14*_tmp27*_tmp3*_tmp31*p.rr*sin_q0 - Scalar(6)*_tmp1*_tmp13*_tmp14*_tmp2*_tmp27*_tmp31*cos_q0*p.rr - _tmp0*_tmp15*_tmp2*_tmp26*_tmp27*p.rr*sin_q0 + _tmp0*_tmp15*_tmp2*_tmp27*_tmp28*cos_q0*p.rr + _tmp0*_tmp15*_tmp27*_tmp30*cos_q0*p.rr + _tmp1*_tmp15*_tmp26*_tmp27*cos_q0*p.rr - _tmp11 + _tmp12 + _tmp13*_tmp27*sin_q0 + _tmp14*_tmp27*cos_q0 - _tmp15*_tmp2*_tmp27*_tmp29*p.rr*sin_q0 - _tmp15*_tmp27*_tmp28*_tmp3*p.rr*sin_q0 + _tmp16 + _tmp17 - _tmp26*_tmp27*_tmp5*cos_q0*p.rr + _tmp27*_tmp28*_tmp5*p.rr*sin_q0;
   const Scalar L_0_0_0 = -L_rhs_1_0_0*inv_det_block1;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
-  out->Phi_phi(1, 1) = -_tmp0*_tmp15*_tmp17*_tmp2*_tmp6*p.rr + _tmp0*_tmp16*_tmp17*_tmp2*_tmp8*p.rr + _tmp0*_tmp6 + _tmp1*_tmp15*_tmp17*_tmp8*p.rr - _tmp15*_tmp5*_tmp8*p.rr - _tmp16*_tmp17*_tmp3*_tmp6*p.rr + _tmp16*_tmp5*_tmp6*p.rr + _tmp2*_tmp8;
+  out->Phi_phi(1, 1) = -_tmp0*_tmp13*_tmp15*_tmp2*p.rr*sin_q0 + _tmp0*_tmp14*_tmp15*_tmp2*cos_q0*p.rr + _tmp0*sin_q0 + _tmp1*_tmp13*_tmp15*cos_q0*p.rr - _tmp13*_tmp5*cos_q0*p.rr - _tmp14*_tmp15*_tmp3*p.rr*sin_q0 + _tmp14*_tmp5*p.rr*sin_q0 + _tmp2*cos_q0;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K_P(0, 0) = Scalar(0);
@@ -444,6 +465,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -451,8 +474,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 80 (adds 15, muls 46, divs 2, calls 17); intermediate terms: 16
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+  // Total ops: 78 (adds 15, muls 46, divs 2, calls 15); intermediate terms: 12
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -472,6 +496,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 -> u_contact: Newton-Raphson on the 1x1 block
     Vec<Scalar, 1> r_b0;
     Mat<Scalar, 1, 1> J_b0 = Mat<Scalar, 1, 1>::Zero();
@@ -482,13 +509,11 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       const Scalar _tmp3 = _tmp2*_tmp2;
       const Scalar _tmp4 = _tmp1 + _tmp3;
       const Scalar _tmp5 = Scalar(1)/sqrt(_tmp4);
-      const Scalar _tmp6 = sin(q(0));
-      const Scalar _tmp7 = cos(q(0));
-      const Scalar _tmp8 = Contour_contact(p, phi(1), 0, 2);
-      const Scalar _tmp9 = Contour_contact(p, phi(1), 1, 2);
-      const Scalar _tmp10 = pow(_tmp4, Scalar(-1.5));
-      r_b0(0) = Contour_contact(p, phi(1), 0, 0)*_tmp7 - Contour_contact(p, phi(1), 1, 0)*_tmp6 + _tmp0*_tmp5*_tmp6*p.rr + _tmp2*_tmp5*_tmp7*p.rr;
-      J_b0(0, 0) = -_tmp0*_tmp10*_tmp2*_tmp6*_tmp9*p.rr - _tmp0*_tmp10*_tmp2*_tmp7*_tmp8*p.rr + _tmp0*_tmp7 - _tmp1*_tmp10*_tmp6*_tmp8*p.rr - _tmp10*_tmp3*_tmp7*_tmp9*p.rr - _tmp2*_tmp6 + _tmp5*_tmp6*_tmp8*p.rr + _tmp5*_tmp7*_tmp9*p.rr;
+      const Scalar _tmp6 = Contour_contact(p, phi(1), 0, 2);
+      const Scalar _tmp7 = Contour_contact(p, phi(1), 1, 2);
+      const Scalar _tmp8 = pow(_tmp4, Scalar(-1.5));
+      r_b0(0) = Contour_contact(p, phi(1), 0, 0)*cos_q0 - Contour_contact(p, phi(1), 1, 0)*sin_q0 + _tmp0*_tmp5*p.rr*sin_q0 + _tmp2*_tmp5*cos_q0*p.rr;
+      J_b0(0, 0) = -_tmp0*_tmp2*_tmp6*_tmp8*cos_q0*p.rr - _tmp0*_tmp2*_tmp7*_tmp8*p.rr*sin_q0 + _tmp0*cos_q0 - _tmp1*_tmp6*_tmp8*p.rr*sin_q0 - _tmp2*sin_q0 - _tmp3*_tmp7*_tmp8*cos_q0*p.rr + _tmp5*_tmp6*p.rr*sin_q0 + _tmp5*_tmp7*cos_q0*p.rr;
       Scalar norm_b0 = Scalar(0);
       for (int i = 0; i < 1; ++i) if (abs(r_b0(i)) > norm_b0) norm_b0 = abs(r_b0(i));
       const bool closed_b0 = norm_b0 <= tol;
@@ -503,10 +528,12 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar _tmp0 = Contour_contact(p, phi(1), 1, 1);
     const Scalar _tmp1 = Contour_contact(p, phi(1), 0, 1);
     const Scalar _tmp2 = Scalar(1)/sqrt(_tmp0*_tmp0 + _tmp1*_tmp1);
-    const Scalar _tmp3 = sin(q(0));
-    const Scalar _tmp4 = cos(q(0));
-    phi(0) = Contour_contact(p, phi(1), 0, 0)*_tmp3 + Contour_contact(p, phi(1), 1, 0)*_tmp4 + _tmp0*_tmp2*_tmp3*p.rr - _tmp1*_tmp2*_tmp4*p.rr;
+    phi(0) = Contour_contact(p, phi(1), 0, 0)*sin_q0 + Contour_contact(p, phi(1), 1, 0)*cos_q0 + _tmp0*_tmp2*p.rr*sin_q0 - _tmp1*_tmp2*cos_q0*p.rr;
 
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -551,7 +578,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -561,7 +589,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -575,7 +604,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -585,7 +615,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -624,6 +655,8 @@ struct Model : Sizes {
   using ParamsT = mech::cam_spline::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::cam_spline::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::cam_spline::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -638,8 +671,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -654,8 +688,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -26,7 +26,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), planet.P, roll.contact.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 6 (adds 3, muls 3, divs 0, calls 0); SolvePositions 3 (adds 1, muls 1, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 63 (adds 21, muls 37, divs 1, calls 4); EvalScene 20 (adds 6, muls 10, divs 0, calls 4)
+ * Operation counts: EvalPhi 6 (adds 3, muls 3, divs 0, calls 0); SolvePositions 3 (adds 1, muls 1, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 66 (adds 21, muls 40, divs 1, calls 4); EvalScene 20 (adds 6, muls 10, divs 0, calls 4)
  */
 #pragma once
 
@@ -103,6 +103,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -147,14 +157,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 63 (adds 21, muls 37, divs 1, calls 4); intermediate terms: 11
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 66 (adds 21, muls 40, divs 1, calls 4); intermediate terms: 8
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -165,38 +178,51 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = cos(phi(0));
-  const Scalar _tmp1 = cos(q(0))*p.r;
-  const Scalar _tmp2 = sin(phi(0));
-  const Scalar _tmp3 = p.r*sin(q(0));
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+  }
   const Scalar Phi_phi_0_0 = p.R - p.r;
   const Scalar det_block0 = Phi_phi_0_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar K_0_0 = -inv_det_block0*p.r;
-  const Scalar _tmp4 = -K_0_0*_tmp2*p.R;
-  const Scalar _tmp5 = K_0_0*_tmp0*p.R;
+  const Scalar _tmp0 = -K_0_0*p.R*sin_phi0;
+  const Scalar _tmp1 = -p.r*sin_q0;
+  const Scalar _tmp2 = K_0_0*cos_phi0*p.R;
   const Scalar L_0_0_0 = Scalar(0);
-  const Scalar _tmp6 = K_0_0*K_0_0;
-  const Scalar _tmp7 = -_tmp0*_tmp6*p.R;
-  const Scalar _tmp8 = -L_0_0_0*_tmp2*p.R;
-  const Scalar _tmp9 = -_tmp2*_tmp6*p.R;
-  const Scalar _tmp10 = L_0_0_0*_tmp0*p.R;
-  out->r_P(0, 0) = _tmp0*p.R - _tmp0*p.r + _tmp1;
-  out->r_P(1, 0) = _tmp2*p.R - _tmp2*p.r + _tmp3;
-  out->r_P(0, 1) = _tmp0*p.R;
-  out->r_P(1, 1) = _tmp2*p.R;
+  const Scalar _tmp3 = K_0_0*K_0_0;
+  const Scalar _tmp4 = -_tmp3*cos_phi0*p.R;
+  const Scalar _tmp5 = -L_0_0_0*p.R*sin_phi0;
+  const Scalar _tmp6 = -_tmp3*p.R*sin_phi0;
+  const Scalar _tmp7 = L_0_0_0*cos_phi0*p.R;
+  out->r_P(0, 0) = cos_phi0*p.R - cos_phi0*p.r + cos_q0*p.r;
+  out->r_P(1, 0) = p.R*sin_phi0 - p.r*sin_phi0 + p.r*sin_q0;
+  out->r_P(0, 1) = cos_phi0*p.R;
+  out->r_P(1, 1) = p.R*sin_phi0;
   out->Phi(0) = p.R*phi(0) - p.r*phi(0) + p.r*q(0);
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->K(0, 0) = K_0_0;
-  out->K_P(0, 0) = K_0_0*_tmp2*p.r - _tmp3 + _tmp4;
-  out->K_P(1, 0) = -K_0_0*_tmp0*p.r + _tmp1 + _tmp5;
-  out->K_P(2, 0) = _tmp4;
-  out->K_P(3, 0) = _tmp5;
+  out->K_P(0, 0) = K_0_0*p.r*sin_phi0 + _tmp0 + _tmp1;
+  out->K_P(1, 0) = -K_0_0*cos_phi0*p.r + _tmp2 + cos_q0*p.r;
+  out->K_P(2, 0) = _tmp0;
+  out->K_P(3, 0) = _tmp2;
   out->L(0, 0) = L_0_0_0;
-  out->L_P(0, 0) = L_0_0_0*_tmp2*p.r + _tmp0*_tmp6*p.r - _tmp1 + _tmp7 + _tmp8;
-  out->L_P(1, 0) = -L_0_0_0*_tmp0*p.r + _tmp10 + _tmp2*_tmp6*p.r - _tmp3 + _tmp9;
-  out->L_P(2, 0) = _tmp7 + _tmp8;
-  out->L_P(3, 0) = _tmp10 + _tmp9;
+  out->L_P(0, 0) = L_0_0_0*p.r*sin_phi0 + _tmp3*cos_phi0*p.r + _tmp4 + _tmp5 - cos_q0*p.r;
+  out->L_P(1, 0) = -L_0_0_0*cos_phi0*p.r + _tmp1 + _tmp3*p.r*sin_phi0 + _tmp6 + _tmp7;
+  out->L_P(2, 0) = _tmp4 + _tmp5;
+  out->L_P(3, 0) = _tmp6 + _tmp7;
 }
 
 /**
@@ -258,6 +284,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -265,7 +293,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 3 (adds 1, muls 1, divs 1, calls 0); intermediate terms: 0
   using std::abs;
   using std::atan2;
@@ -286,11 +315,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
   {  // block 0: rows 0 -> psi_roll: closed form, linear
     const Scalar c1_b0 = p.R - p.r;
     if (c1_b0 == Scalar(0)) return {SolveStatus::kNotAssemblable, 0, iterations, c1_b0};
     phi(0) = -p.r*q(0)/c1_b0;
 
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin(q(0));
+    trig->cos_q(0) = cos(q(0));
+    trig->sin_phi(0) = sin(phi(0));
+    trig->cos_phi(0) = cos(phi(0));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -339,7 +375,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -349,7 +386,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -363,7 +401,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -373,7 +412,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -412,6 +452,8 @@ struct Model : Sizes {
   using ParamsT = mech::cardan::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::cardan::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::cardan::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -426,8 +468,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -442,8 +485,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -112,6 +112,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -171,14 +181,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 155 (adds 40, muls 106, divs 1, calls 8); intermediate terms: 23
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 155 (adds 40, muls 106, divs 1, calls 8); intermediate terms: 15
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -189,59 +202,79 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = cos(phi(0));
-  const Scalar _tmp1 = cos(q(0));
-  const Scalar _tmp2 = sin(q(0));
-  const Scalar _tmp3 = sin(phi(0));
-  const Scalar _tmp4 = cos(phi(1));
-  const Scalar _tmp5 = -_tmp4*p.a3;
-  const Scalar _tmp6 = cos(q(1));
-  const Scalar _tmp7 = sin(phi(1));
-  const Scalar _tmp8 = sin(q(1));
-  const Scalar Phi_phi_0_0 = -_tmp3*p.a2;
-  const Scalar Phi_phi_0_1 = _tmp7*p.a3;
-  const Scalar Phi_phi_1_0 = _tmp0*p.a2;
-  const Scalar Phi_phi_1_1 = _tmp5;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  Scalar sin_q1;
+  Scalar cos_q1;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  Scalar sin_phi1;
+  Scalar cos_phi1;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+    sin_q1 = trig->sin_q(1);
+    cos_q1 = trig->cos_q(1);
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+    sin_phi1 = trig->sin_phi(1);
+    cos_phi1 = trig->cos_phi(1);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+    sin_q1 = sin(q(1));
+    cos_q1 = cos(q(1));
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+    sin_phi1 = sin(phi(1));
+    cos_phi1 = cos(phi(1));
+  }
+  const Scalar _tmp0 = -cos_phi1*p.a3;
+  const Scalar Phi_phi_0_0 = -p.a2*sin_phi0;
+  const Scalar Phi_phi_0_1 = p.a3*sin_phi1;
+  const Scalar Phi_phi_1_0 = cos_phi0*p.a2;
+  const Scalar Phi_phi_1_1 = _tmp0;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
-  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp2*p.a1 - Phi_phi_inv_0_1*_tmp1*p.a1;
-  const Scalar K_0_1 = -Phi_phi_inv_0_0*_tmp8*p.a4 + Phi_phi_inv_0_1*_tmp6*p.a4;
-  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp2*p.a1 - Phi_phi_inv_1_1*_tmp1*p.a1;
-  const Scalar K_1_1 = -Phi_phi_inv_1_0*_tmp8*p.a4 + Phi_phi_inv_1_1*_tmp6*p.a4;
-  const Scalar _tmp9 = -_tmp2*p.a1;
-  const Scalar _tmp10 = K_1_0*K_1_0;
-  const Scalar _tmp11 = K_0_0*K_0_0;
-  const Scalar _tmp12 = -_tmp0*_tmp11*p.a2;
-  const Scalar _tmp13 = -_tmp1*p.a1;
-  const Scalar L_rhs_0_0_0 = _tmp10*_tmp4*p.a3 + _tmp12 + _tmp13;
-  const Scalar _tmp14 = -K_0_0*K_0_1*_tmp0*p.a2;
-  const Scalar L_rhs_0_0_1 = K_1_0*K_1_1*_tmp4*p.a3 + _tmp14;
-  const Scalar _tmp15 = K_1_1*K_1_1;
-  const Scalar _tmp16 = K_0_1*K_0_1;
-  const Scalar _tmp17 = -_tmp0*_tmp16*p.a2;
-  const Scalar L_rhs_0_1_1 = _tmp15*_tmp4*p.a3 + _tmp17 + _tmp6*p.a4;
-  const Scalar _tmp18 = -_tmp11*_tmp3*p.a2;
-  const Scalar L_rhs_1_0_0 = _tmp10*_tmp7*p.a3 + _tmp18 + _tmp9;
-  const Scalar _tmp19 = -K_0_0*K_0_1*_tmp3*p.a2;
-  const Scalar L_rhs_1_0_1 = K_1_0*K_1_1*_tmp7*p.a3 + _tmp19;
-  const Scalar _tmp20 = -_tmp16*_tmp3*p.a2;
-  const Scalar L_rhs_1_1_1 = _tmp15*_tmp7*p.a3 + _tmp20 + _tmp8*p.a4;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*p.a1*sin_q0 - Phi_phi_inv_0_1*cos_q0*p.a1;
+  const Scalar K_0_1 = -Phi_phi_inv_0_0*p.a4*sin_q1 + Phi_phi_inv_0_1*cos_q1*p.a4;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*p.a1*sin_q0 - Phi_phi_inv_1_1*cos_q0*p.a1;
+  const Scalar K_1_1 = -Phi_phi_inv_1_0*p.a4*sin_q1 + Phi_phi_inv_1_1*cos_q1*p.a4;
+  const Scalar _tmp1 = -p.a1*sin_q0;
+  const Scalar _tmp2 = K_1_0*K_1_0;
+  const Scalar _tmp3 = K_0_0*K_0_0;
+  const Scalar _tmp4 = -_tmp3*cos_phi0*p.a2;
+  const Scalar _tmp5 = -cos_q0*p.a1;
+  const Scalar L_rhs_0_0_0 = _tmp2*cos_phi1*p.a3 + _tmp4 + _tmp5;
+  const Scalar _tmp6 = -K_0_0*K_0_1*cos_phi0*p.a2;
+  const Scalar L_rhs_0_0_1 = K_1_0*K_1_1*cos_phi1*p.a3 + _tmp6;
+  const Scalar _tmp7 = K_1_1*K_1_1;
+  const Scalar _tmp8 = K_0_1*K_0_1;
+  const Scalar _tmp9 = -_tmp8*cos_phi0*p.a2;
+  const Scalar L_rhs_0_1_1 = _tmp7*cos_phi1*p.a3 + _tmp9 + cos_q1*p.a4;
+  const Scalar _tmp10 = -_tmp3*p.a2*sin_phi0;
+  const Scalar L_rhs_1_0_0 = _tmp1 + _tmp10 + _tmp2*p.a3*sin_phi1;
+  const Scalar _tmp11 = -K_0_0*K_0_1*p.a2*sin_phi0;
+  const Scalar L_rhs_1_0_1 = K_1_0*K_1_1*p.a3*sin_phi1 + _tmp11;
+  const Scalar _tmp12 = -_tmp8*p.a2*sin_phi0;
+  const Scalar L_rhs_1_1_1 = _tmp12 + _tmp7*p.a3*sin_phi1 + p.a4*sin_q1;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_0_0_1 = -L_rhs_0_0_1*Phi_phi_inv_0_0 - L_rhs_1_0_1*Phi_phi_inv_0_1;
   const Scalar L_0_1_1 = -L_rhs_0_1_1*Phi_phi_inv_0_0 - L_rhs_1_1_1*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
   const Scalar L_1_0_1 = -L_rhs_0_0_1*Phi_phi_inv_1_0 - L_rhs_1_0_1*Phi_phi_inv_1_1;
   const Scalar L_1_1_1 = -L_rhs_0_1_1*Phi_phi_inv_1_0 - L_rhs_1_1_1*Phi_phi_inv_1_1;
-  const Scalar _tmp21 = -L_0_0_1*_tmp3*p.a2 + _tmp14;
-  const Scalar _tmp22 = L_0_0_1*_tmp0*p.a2 + _tmp19;
-  out->r_P(0, 0) = _tmp0*p.a2 + _tmp1*p.a1;
-  out->r_P(1, 0) = _tmp2*p.a1 + _tmp3*p.a2;
-  out->Phi(0) = _tmp0*p.a2 + _tmp1*p.a1 + _tmp5 - _tmp6*p.a4 - p.f;
-  out->Phi(1) = _tmp2*p.a1 + _tmp3*p.a2 - _tmp7*p.a3 - _tmp8*p.a4;
+  const Scalar _tmp13 = -L_0_0_1*p.a2*sin_phi0 + _tmp6;
+  const Scalar _tmp14 = L_0_0_1*cos_phi0*p.a2 + _tmp11;
+  out->r_P(0, 0) = cos_phi0*p.a2 + cos_q0*p.a1;
+  out->r_P(1, 0) = p.a1*sin_q0 + p.a2*sin_phi0;
+  out->Phi(0) = _tmp0 + cos_phi0*p.a2 + cos_q0*p.a1 - cos_q1*p.a4 - p.f;
+  out->Phi(1) = p.a1*sin_q0 + p.a2*sin_phi0 - p.a3*sin_phi1 - p.a4*sin_q1;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
@@ -250,10 +283,10 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->K(0, 1) = K_0_1;
   out->K(1, 0) = K_1_0;
   out->K(1, 1) = K_1_1;
-  out->K_P(0, 0) = -K_0_0*_tmp3*p.a2 + _tmp9;
-  out->K_P(0, 1) = -K_0_1*_tmp3*p.a2;
-  out->K_P(1, 0) = K_0_0*_tmp0*p.a2 + _tmp1*p.a1;
-  out->K_P(1, 1) = K_0_1*_tmp0*p.a2;
+  out->K_P(0, 0) = -K_0_0*p.a2*sin_phi0 + _tmp1;
+  out->K_P(0, 1) = -K_0_1*p.a2*sin_phi0;
+  out->K_P(1, 0) = K_0_0*cos_phi0*p.a2 + cos_q0*p.a1;
+  out->K_P(1, 1) = K_0_1*cos_phi0*p.a2;
   out->L(0, 0) = L_0_0_0;
   out->L(0, 2) = L_0_0_1;
   out->L(0, 1) = L_0_0_1;
@@ -262,14 +295,14 @@ void EvalCoefficients(const Params<Scalar>& p,
   out->L(1, 2) = L_1_0_1;
   out->L(1, 1) = L_1_0_1;
   out->L(1, 3) = L_1_1_1;
-  out->L_P(0, 0) = -L_0_0_0*_tmp3*p.a2 + _tmp12 + _tmp13;
-  out->L_P(0, 2) = _tmp21;
-  out->L_P(0, 1) = _tmp21;
-  out->L_P(0, 3) = -L_0_1_1*_tmp3*p.a2 + _tmp17;
-  out->L_P(1, 0) = L_0_0_0*_tmp0*p.a2 + _tmp18 + _tmp9;
-  out->L_P(1, 2) = _tmp22;
-  out->L_P(1, 1) = _tmp22;
-  out->L_P(1, 3) = L_0_1_1*_tmp0*p.a2 + _tmp20;
+  out->L_P(0, 0) = -L_0_0_0*p.a2*sin_phi0 + _tmp4 + _tmp5;
+  out->L_P(0, 2) = _tmp13;
+  out->L_P(0, 1) = _tmp13;
+  out->L_P(0, 3) = -L_0_1_1*p.a2*sin_phi0 + _tmp9;
+  out->L_P(1, 0) = L_0_0_0*cos_phi0*p.a2 + _tmp1 + _tmp10;
+  out->L_P(1, 2) = _tmp14;
+  out->L_P(1, 1) = _tmp14;
+  out->L_P(1, 3) = L_0_1_1*cos_phi0*p.a2 + _tmp12;
 }
 
 /**
@@ -331,6 +364,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -338,7 +373,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 40 (adds 11, muls 24, divs 1, calls 4); intermediate terms: 0
   using std::abs;
   using std::atan2;
@@ -359,10 +395,15 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
+  const Scalar sin_q1 = sin(q(1));
+  const Scalar cos_q1 = cos(q(1));
   {  // block 0: rows 0 1 -> theta_link1, theta_link2: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b0 = -p.a3;
-    const Scalar wx_b0 = -cos(q(0))*p.a1 + cos(q(1))*p.a4 + p.f;
-    const Scalar wy_b0 = -p.a1*sin(q(0)) + p.a4*sin(q(1));
+    const Scalar wx_b0 = -cos_q0*p.a1 + cos_q1*p.a4 + p.f;
+    const Scalar wy_b0 = -p.a1*sin_q0 + p.a4*sin_q1;
     const Scalar ra2_b0 = p.a2*p.a2;
     const Scalar rb2_b0 = bx_b0*bx_b0;
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
@@ -379,6 +420,20 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
     phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
+    if (trig != nullptr) {
+      const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
+      const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
+      trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
+      trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
+      trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
+      trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+    }
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+    trig->sin_q(1) = sin_q1;
+    trig->cos_q(1) = cos_q1;
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -440,7 +495,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -450,7 +506,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -464,7 +521,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -474,7 +532,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -513,6 +572,8 @@ struct Model : Sizes {
   using ParamsT = mech::fivebar::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::fivebar::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::fivebar::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -527,8 +588,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -543,8 +605,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

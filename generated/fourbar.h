@@ -112,6 +112,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -167,14 +177,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 107 (adds 30, muls 70, divs 1, calls 6); intermediate terms: 11
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 107 (adds 30, muls 70, divs 1, calls 6); intermediate terms: 5
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -185,49 +198,65 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = sin(phi(0));
-  const Scalar _tmp1 = cos(phi(0));
-  const Scalar _tmp2 = cos(q(0));
-  const Scalar _tmp3 = sin(q(0));
-  const Scalar _tmp4 = cos(phi(1));
-  const Scalar _tmp5 = -_tmp4*p.c;
-  const Scalar _tmp6 = sin(phi(1));
-  const Scalar Phi_phi_0_0 = -_tmp0*p.b;
-  const Scalar Phi_phi_0_1 = _tmp6*p.c;
-  const Scalar Phi_phi_1_0 = _tmp1*p.b;
-  const Scalar Phi_phi_1_1 = _tmp5;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  Scalar sin_phi1;
+  Scalar cos_phi1;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+    sin_phi1 = trig->sin_phi(1);
+    cos_phi1 = trig->cos_phi(1);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+    sin_phi1 = sin(phi(1));
+    cos_phi1 = cos(phi(1));
+  }
+  const Scalar _tmp0 = -cos_phi1*p.c;
+  const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
+  const Scalar Phi_phi_0_1 = p.c*sin_phi1;
+  const Scalar Phi_phi_1_0 = cos_phi0*p.b;
+  const Scalar Phi_phi_1_1 = _tmp0;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
-  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp3*p.a - Phi_phi_inv_0_1*_tmp2*p.a;
-  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp3*p.a - Phi_phi_inv_1_1*_tmp2*p.a;
-  const Scalar _tmp7 = -_tmp3*p.a;
-  const Scalar _tmp8 = K_1_0*K_1_0;
-  const Scalar _tmp9 = K_0_0*K_0_0;
-  const Scalar _tmp10 = -_tmp2*p.a;
-  const Scalar L_rhs_0_0_0 = -_tmp1*_tmp9*p.b + _tmp10 + _tmp4*_tmp8*p.c;
-  const Scalar L_rhs_1_0_0 = -_tmp0*_tmp9*p.b + _tmp6*_tmp8*p.c + _tmp7;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*p.a*sin_q0 - Phi_phi_inv_0_1*cos_q0*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*p.a*sin_q0 - Phi_phi_inv_1_1*cos_q0*p.a;
+  const Scalar _tmp1 = -p.a*sin_q0;
+  const Scalar _tmp2 = K_1_0*K_1_0;
+  const Scalar _tmp3 = K_0_0*K_0_0;
+  const Scalar _tmp4 = -cos_q0*p.a;
+  const Scalar L_rhs_0_0_0 = _tmp2*cos_phi1*p.c - _tmp3*cos_phi0*p.b + _tmp4;
+  const Scalar L_rhs_1_0_0 = _tmp1 + _tmp2*p.c*sin_phi1 - _tmp3*p.b*sin_phi0;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
-  out->r_P(0, 0) = -_tmp0*p.eta + _tmp1*p.xi + _tmp2*p.a;
-  out->r_P(1, 0) = _tmp0*p.xi + _tmp1*p.eta + _tmp3*p.a;
-  out->Phi(0) = _tmp1*p.b + _tmp2*p.a + _tmp5 - p.d;
-  out->Phi(1) = _tmp0*p.b + _tmp3*p.a - _tmp6*p.c;
+  out->r_P(0, 0) = cos_phi0*p.xi + cos_q0*p.a - p.eta*sin_phi0;
+  out->r_P(1, 0) = cos_phi0*p.eta + p.a*sin_q0 + p.xi*sin_phi0;
+  out->Phi(0) = _tmp0 + cos_phi0*p.b + cos_q0*p.a - p.d;
+  out->Phi(1) = p.a*sin_q0 + p.b*sin_phi0 - p.c*sin_phi1;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
   out->Phi_phi(1, 1) = Phi_phi_1_1;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
-  out->K_P(0, 0) = -K_0_0*_tmp0*p.xi - K_0_0*_tmp1*p.eta + _tmp7;
-  out->K_P(1, 0) = -K_0_0*_tmp0*p.eta + K_0_0*_tmp1*p.xi + _tmp2*p.a;
+  out->K_P(0, 0) = -K_0_0*cos_phi0*p.eta - K_0_0*p.xi*sin_phi0 + _tmp1;
+  out->K_P(1, 0) = K_0_0*cos_phi0*p.xi - K_0_0*p.eta*sin_phi0 + cos_q0*p.a;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
-  out->L_P(0, 0) = -L_0_0_0*_tmp0*p.xi - L_0_0_0*_tmp1*p.eta + _tmp0*_tmp9*p.eta - _tmp1*_tmp9*p.xi + _tmp10;
-  out->L_P(1, 0) = -L_0_0_0*_tmp0*p.eta + L_0_0_0*_tmp1*p.xi - _tmp0*_tmp9*p.xi - _tmp1*_tmp9*p.eta + _tmp7;
+  out->L_P(0, 0) = -L_0_0_0*cos_phi0*p.eta - L_0_0_0*p.xi*sin_phi0 - _tmp3*cos_phi0*p.xi + _tmp3*p.eta*sin_phi0 + _tmp4;
+  out->L_P(1, 0) = L_0_0_0*cos_phi0*p.xi - L_0_0_0*p.eta*sin_phi0 + _tmp1 - _tmp3*cos_phi0*p.eta - _tmp3*p.xi*sin_phi0;
 }
 
 /**
@@ -321,6 +350,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -328,7 +359,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 34 (adds 9, muls 22, divs 1, calls 2); intermediate terms: 0
   using std::abs;
   using std::atan2;
@@ -349,10 +381,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b0 = -p.c;
-    const Scalar wx_b0 = -cos(q(0))*p.a + p.d;
-    const Scalar wy_b0 = -p.a*sin(q(0));
+    const Scalar wx_b0 = -cos_q0*p.a + p.d;
+    const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
@@ -369,6 +404,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
     phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
+    if (trig != nullptr) {
+      const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
+      const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
+      trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
+      trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
+      trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
+      trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+    }
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -427,7 +474,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -441,7 +489,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -455,7 +504,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -469,7 +519,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -508,6 +559,8 @@ struct Model : Sizes {
   using ParamsT = mech::fourbar::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::fourbar::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::fourbar::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -522,8 +575,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -538,8 +592,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void TransmissionAngles(const Params<Scalar>& p,

@@ -32,7 +32,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); SolvePositions 43 (adds 12, muls 25, divs 2, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 104 (adds 32, muls 62, divs 2, calls 8); EvalScene 25 (adds 9, muls 8, divs 0, calls 8)
+ * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); SolvePositions 43 (adds 12, muls 25, divs 2, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 110 (adds 32, muls 68, divs 2, calls 8); EvalScene 25 (adds 9, muls 8, divs 0, calls 8)
  */
 #pragma once
 
@@ -117,6 +117,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -180,14 +190,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 104 (adds 32, muls 62, divs 2, calls 8); intermediate terms: 15
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 110 (adds 32, muls 68, divs 2, calls 8); intermediate terms: 9
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -198,67 +211,89 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = cos(phi(0));
-  const Scalar _tmp1 = cos(q(0))*p.a1;
-  const Scalar _tmp2 = p.a1*sin(q(0));
-  const Scalar _tmp3 = sin(phi(0));
-  const Scalar _tmp4 = cos(phi(1));
-  const Scalar _tmp5 = -_tmp4*p.a3;
-  const Scalar _tmp6 = cos(phi(2));
-  const Scalar _tmp7 = -_tmp6*p.a4;
-  const Scalar _tmp8 = sin(phi(1));
-  const Scalar _tmp9 = sin(phi(2));
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  Scalar sin_phi1;
+  Scalar cos_phi1;
+  Scalar sin_phi2;
+  Scalar cos_phi2;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+    sin_phi1 = trig->sin_phi(1);
+    cos_phi1 = trig->cos_phi(1);
+    sin_phi2 = trig->sin_phi(2);
+    cos_phi2 = trig->cos_phi(2);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+    sin_phi1 = sin(phi(1));
+    cos_phi1 = cos(phi(1));
+    sin_phi2 = sin(phi(2));
+    cos_phi2 = cos(phi(2));
+  }
+  const Scalar _tmp0 = -cos_phi1*p.a3;
+  const Scalar _tmp1 = -cos_phi2*p.a4;
   const Scalar Phi_phi_2_2 = p.r2;
   const Scalar det_block0 = Phi_phi_2_2;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar K_2_0 = -inv_det_block0*p.r1;
-  const Scalar Phi_phi_0_0 = -_tmp3*p.a2;
-  const Scalar Phi_phi_0_1 = _tmp8*p.a3;
-  const Scalar Phi_phi_1_0 = _tmp0*p.a2;
-  const Scalar Phi_phi_1_1 = _tmp5;
+  const Scalar Phi_phi_0_0 = -p.a2*sin_phi0;
+  const Scalar Phi_phi_0_1 = p.a3*sin_phi1;
+  const Scalar Phi_phi_1_0 = cos_phi0*p.a2;
+  const Scalar Phi_phi_1_1 = _tmp0;
   const Scalar det_block1 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block1;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block1;
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block1;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block1;
-  const Scalar K_rhs_0_0 = K_2_0*_tmp9*p.a4 - _tmp2;
-  const Scalar K_rhs_1_0 = -K_2_0*_tmp6*p.a4 + _tmp1;
+  const Scalar _tmp2 = -p.a1*sin_q0;
+  const Scalar K_rhs_0_0 = K_2_0*p.a4*sin_phi2 + _tmp2;
+  const Scalar K_rhs_1_0 = -K_2_0*cos_phi2*p.a4 + cos_q0*p.a1;
   const Scalar K_0_0 = -K_rhs_0_0*Phi_phi_inv_0_0 - K_rhs_1_0*Phi_phi_inv_0_1;
   const Scalar K_1_0 = -K_rhs_0_0*Phi_phi_inv_1_0 - K_rhs_1_0*Phi_phi_inv_1_1;
-  out->r_P(0, 0) = _tmp0*p.a2 + _tmp1;
-  out->r_P(1, 0) = _tmp2 + _tmp3*p.a2;
-  out->Phi(0) = _tmp0*p.a2 + _tmp1 + _tmp5 + _tmp7 - p.r1 - p.r2;
-  out->Phi(1) = _tmp2 + _tmp3*p.a2 - _tmp8*p.a3 - _tmp9*p.a4;
+  out->r_P(0, 0) = cos_phi0*p.a2 + cos_q0*p.a1;
+  out->r_P(1, 0) = p.a1*sin_q0 + p.a2*sin_phi0;
+  out->Phi(0) = _tmp0 + _tmp1 + cos_phi0*p.a2 + cos_q0*p.a1 - p.r1 - p.r2;
+  out->Phi(1) = p.a1*sin_q0 + p.a2*sin_phi0 - p.a3*sin_phi1 - p.a4*sin_phi2;
   out->Phi(2) = p.r1*q(0) + p.r2*phi(2);
   out->Phi_phi.setZero();
   const Scalar L_2_0_0 = Scalar(0);
-  const Scalar _tmp10 = K_1_0*K_1_0;
-  const Scalar _tmp11 = K_2_0*K_2_0;
-  const Scalar _tmp12 = K_0_0*K_0_0;
-  const Scalar _tmp13 = -_tmp0*_tmp12*p.a2;
-  const Scalar L_rhs_0_0_0 = L_2_0_0*_tmp9*p.a4 - _tmp1 + _tmp10*_tmp4*p.a3 + _tmp11*_tmp6*p.a4 + _tmp13;
-  const Scalar _tmp14 = -_tmp12*_tmp3*p.a2;
-  const Scalar L_rhs_1_0_0 = -L_2_0_0*_tmp6*p.a4 + _tmp10*_tmp8*p.a3 + _tmp11*_tmp9*p.a4 + _tmp14 - _tmp2;
+  const Scalar _tmp3 = K_1_0*K_1_0;
+  const Scalar _tmp4 = K_2_0*K_2_0;
+  const Scalar _tmp5 = K_0_0*K_0_0;
+  const Scalar _tmp6 = -_tmp5*cos_phi0*p.a2;
+  const Scalar _tmp7 = -cos_q0*p.a1;
+  const Scalar L_rhs_0_0_0 = L_2_0_0*p.a4*sin_phi2 + _tmp3*cos_phi1*p.a3 + _tmp4*cos_phi2*p.a4 + _tmp6 + _tmp7;
+  const Scalar _tmp8 = -_tmp5*p.a2*sin_phi0;
+  const Scalar L_rhs_1_0_0 = -L_2_0_0*cos_phi2*p.a4 + _tmp2 + _tmp3*p.a3*sin_phi1 + _tmp4*p.a4*sin_phi2 + _tmp8;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
-  out->Phi_phi(0, 2) = _tmp9*p.a4;
+  out->Phi_phi(0, 2) = p.a4*sin_phi2;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
   out->Phi_phi(1, 1) = Phi_phi_1_1;
-  out->Phi_phi(1, 2) = _tmp7;
+  out->Phi_phi(1, 2) = _tmp1;
   out->Phi_phi(2, 2) = Phi_phi_2_2;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K(2, 0) = K_2_0;
-  out->K_P(0, 0) = -K_0_0*_tmp3*p.a2 - _tmp2;
-  out->K_P(1, 0) = K_0_0*_tmp0*p.a2 + _tmp1;
+  out->K_P(0, 0) = -K_0_0*p.a2*sin_phi0 + _tmp2;
+  out->K_P(1, 0) = K_0_0*cos_phi0*p.a2 + cos_q0*p.a1;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
   out->L(2, 0) = L_2_0_0;
-  out->L_P(0, 0) = -L_0_0_0*_tmp3*p.a2 - _tmp1 + _tmp13;
-  out->L_P(1, 0) = L_0_0_0*_tmp0*p.a2 + _tmp14 - _tmp2;
+  out->L_P(0, 0) = -L_0_0_0*p.a2*sin_phi0 + _tmp6 + _tmp7;
+  out->L_P(1, 0) = L_0_0_0*cos_phi0*p.a2 + _tmp2 + _tmp8;
 }
 
 /**
@@ -321,6 +356,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -328,7 +365,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 43 (adds 12, muls 25, divs 2, calls 4); intermediate terms: 0
   using std::abs;
   using std::atan2;
@@ -349,6 +387,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 2 -> theta_crank2: closed form, linear
     if (p.r2 == Scalar(0)) return {SolveStatus::kNotAssemblable, 0, iterations, p.r2};
     phi(2) = -p.r1*q(0)/p.r2;
@@ -356,8 +397,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   }
   {  // block 1: rows 0 1 -> theta_link1, theta_link2: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b1 = -p.a3;
-    const Scalar wx_b1 = cos(phi(2))*p.a4 - cos(q(0))*p.a1 + p.r1 + p.r2;
-    const Scalar wy_b1 = -p.a1*sin(q(0)) + p.a4*sin(phi(2));
+    const Scalar wx_b1 = cos(phi(2))*p.a4 - cos_q0*p.a1 + p.r1 + p.r2;
+    const Scalar wy_b1 = -p.a1*sin_q0 + p.a4*sin(phi(2));
     const Scalar ra2_b1 = p.a2*p.a2;
     const Scalar rb2_b1 = bx_b1*bx_b1;
     const Scalar d2_b1 = wx_b1*wx_b1 + wy_b1*wy_b1;
@@ -374,6 +415,20 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
     phi(0) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(0));
     phi(1) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(1));
+    if (trig != nullptr) {
+      const Scalar inv_ra2_b1 = Scalar(1) / ra2_b1;
+      const Scalar inv_rb2_b1 = Scalar(1) / rb2_b1;
+      trig->cos_phi(0) = dot_u_b1 * inv_ra2_b1;
+      trig->sin_phi(0) = cross_u_b1 * inv_ra2_b1;
+      trig->cos_phi(1) = dot_v_b1 * inv_rb2_b1;
+      trig->sin_phi(1) = cross_v_b1 * inv_rb2_b1;
+    }
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+    trig->sin_phi(2) = sin(phi(2));
+    trig->cos_phi(2) = cos(phi(2));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -436,7 +491,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -446,7 +502,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -460,7 +517,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -470,7 +528,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -509,6 +568,8 @@ struct Model : Sizes {
   using ParamsT = mech::geared_fivebar::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::geared_fivebar::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::geared_fivebar::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -523,8 +584,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -539,8 +601,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

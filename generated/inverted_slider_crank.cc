@@ -18,7 +18,8 @@ template void EvalPhi<double>(const Params<double>&,
 template void EvalCoefficients<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
-                                      Coefficients<double>*);
+                                      Coefficients<double>*,
+                                      const Trig<double>*);
 template void EvalDetPhiPhi<double>(const Params<double>&,
                                    const Vec<double, Sizes::kNq>&,
                                    const Vec<double, Sizes::kNphi>&,
@@ -28,7 +29,8 @@ template SolveReport<double> SolvePositions<double>(const Params<double>&,
                                                    Vec<double, Sizes::kNphi>*,
                                                    const std::array<int, Sizes::kNumBlocks>&,
                                                    int,
-                                                   const double&);
+                                                   const double&,
+                                                   Trig<double>*);
 template void EvalScene<double>(const Params<double>&,
                                const Vec<double, Sizes::kNq>&,
                                const Vec<double, Sizes::kNphi>&,
@@ -42,7 +44,8 @@ template void EvalPhi<float>(const Params<float>&,
 template void EvalCoefficients<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
-                                      Coefficients<float>*);
+                                      Coefficients<float>*,
+                                      const Trig<float>*);
 template void EvalDetPhiPhi<float>(const Params<float>&,
                                    const Vec<float, Sizes::kNq>&,
                                    const Vec<float, Sizes::kNphi>&,
@@ -52,7 +55,8 @@ template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                    Vec<float, Sizes::kNphi>*,
                                                    const std::array<int, Sizes::kNumBlocks>&,
                                                    int,
-                                                   const float&);
+                                                   const float&,
+                                                   Trig<float>*);
 template void EvalScene<float>(const Params<float>&,
                                const Vec<float, Sizes::kNq>&,
                                const Vec<float, Sizes::kNphi>&,

@@ -105,6 +105,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -158,14 +168,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 71 (adds 15, muls 51, divs 1, calls 4); intermediate terms: 5
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 71 (adds 15, muls 51, divs 1, calls 4); intermediate terms: 1
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -176,43 +189,55 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = cos(phi(0));
-  const Scalar _tmp1 = sin(phi(0));
-  const Scalar _tmp2 = cos(q(0));
-  const Scalar _tmp3 = sin(q(0));
-  const Scalar Phi_phi_0_0 = -_tmp1*phi(1);
-  const Scalar Phi_phi_0_1 = _tmp0;
-  const Scalar Phi_phi_1_0 = _tmp0*phi(1);
-  const Scalar Phi_phi_1_1 = _tmp1;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+  }
+  const Scalar Phi_phi_0_0 = -phi(1)*sin_phi0;
+  const Scalar Phi_phi_0_1 = cos_phi0;
+  const Scalar Phi_phi_1_0 = cos_phi0*phi(1);
+  const Scalar Phi_phi_1_1 = sin_phi0;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
-  const Scalar K_0_0 = -Phi_phi_inv_0_0*_tmp3*p.a + Phi_phi_inv_0_1*_tmp2*p.a;
-  const Scalar K_1_0 = -Phi_phi_inv_1_0*_tmp3*p.a + Phi_phi_inv_1_1*_tmp2*p.a;
-  const Scalar _tmp4 = K_0_0*K_0_0;
-  const Scalar L_rhs_0_0_0 = -Scalar(2)*K_0_0*K_1_0*_tmp1 - _tmp0*_tmp4*phi(1) + _tmp2*p.a;
-  const Scalar L_rhs_1_0_0 = Scalar(2)*K_0_0*K_1_0*_tmp0 - _tmp1*_tmp4*phi(1) + _tmp3*p.a;
+  const Scalar K_0_0 = -Phi_phi_inv_0_0*p.a*sin_q0 + Phi_phi_inv_0_1*cos_q0*p.a;
+  const Scalar K_1_0 = -Phi_phi_inv_1_0*p.a*sin_q0 + Phi_phi_inv_1_1*cos_q0*p.a;
+  const Scalar _tmp0 = K_0_0*K_0_0;
+  const Scalar L_rhs_0_0_0 = -Scalar(2)*K_0_0*K_1_0*sin_phi0 - _tmp0*cos_phi0*phi(1) + cos_q0*p.a;
+  const Scalar L_rhs_1_0_0 = Scalar(2)*K_0_0*K_1_0*cos_phi0 - _tmp0*phi(1)*sin_phi0 + p.a*sin_q0;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
-  out->r_P(0, 0) = Scalar(3)*_tmp0 + p.d;
-  out->r_P(1, 0) = Scalar(3)*_tmp1;
-  out->Phi(0) = _tmp0*phi(1) - _tmp2*p.a + p.d;
-  out->Phi(1) = _tmp1*phi(1) - _tmp3*p.a;
+  out->r_P(0, 0) = Scalar(3)*cos_phi0 + p.d;
+  out->r_P(1, 0) = Scalar(3)*sin_phi0;
+  out->Phi(0) = cos_phi0*phi(1) - cos_q0*p.a + p.d;
+  out->Phi(1) = -p.a*sin_q0 + phi(1)*sin_phi0;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
   out->Phi_phi(1, 1) = Phi_phi_1_1;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
-  out->K_P(0, 0) = -Scalar(3)*K_0_0*_tmp1;
-  out->K_P(1, 0) = Scalar(3)*K_0_0*_tmp0;
+  out->K_P(0, 0) = -Scalar(3)*K_0_0*sin_phi0;
+  out->K_P(1, 0) = Scalar(3)*K_0_0*cos_phi0;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
-  out->L_P(0, 0) = -Scalar(3)*L_0_0_0*_tmp1 - Scalar(3)*_tmp0*_tmp4;
-  out->L_P(1, 0) = Scalar(3)*L_0_0_0*_tmp0 - Scalar(3)*_tmp1*_tmp4;
+  out->L_P(0, 0) = -Scalar(3)*L_0_0_0*sin_phi0 - Scalar(3)*_tmp0*cos_phi0;
+  out->L_P(1, 0) = Scalar(3)*L_0_0_0*cos_phi0 - Scalar(3)*_tmp0*sin_phi0;
 }
 
 /**
@@ -276,6 +301,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -283,8 +310,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 19 (adds 4, muls 13, divs 0, calls 2); intermediate terms: 3
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+  // Total ops: 19 (adds 4, muls 13, divs 0, calls 2); intermediate terms: 1
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -304,22 +332,32 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_rocker, s_slot: closed form, angle and slide (RRP/RPR dyad, circle-line), mode 1
-    const Scalar _tmp0 = cos(q(0));
-    const Scalar _tmp1 = p.a*p.a;
-    const Scalar _tmp2 = sin(q(0));
-    const Scalar C_b0 = -(_tmp0*_tmp0)*_tmp1 - (_tmp2*_tmp2)*_tmp1 + Scalar(2)*_tmp0*p.a*p.d - p.d*p.d;
+    const Scalar _tmp0 = p.a*p.a;
+    const Scalar C_b0 = -(cos_q0*cos_q0)*_tmp0 - (sin_q0*sin_q0)*_tmp0 + Scalar(2)*cos_q0*p.a*p.d - p.d*p.d;
     const Scalar disc_b0 = Scalar(0) * Scalar(0) - Scalar(4) * Scalar(1) * C_b0;
     if (!(disc_b0 >= Scalar(0))) return {SolveStatus::kNotAssemblable, 0, iterations, disc_b0};
     const Scalar sq_b0 = sqrt(disc_b0);
     const Scalar qq_b0 = -(Scalar(0) + (Scalar(0) >= Scalar(0) ? sq_b0 : -sq_b0)) / Scalar(2);
     const Scalar s_b0 = ((modes[0] > 0) == (Scalar(0) >= Scalar(0))) ? (qq_b0 != Scalar(0) ? C_b0 / qq_b0 : Scalar(0)) : qq_b0 / Scalar(1);
-    const Scalar wx_b0 = _tmp0*p.a - p.d;
-    const Scalar wy_b0 = _tmp2*p.a;
+    const Scalar wx_b0 = cos_q0*p.a - p.d;
+    const Scalar wy_b0 = p.a*sin_q0;
     phi(1) = s_b0;
     const Scalar cross_u_b0 = s_b0*wy_b0;
     const Scalar dot_u_b0 = s_b0*wx_b0;
     phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    if (trig != nullptr) {
+      const Scalar inv_a2_b0 = Scalar(1) / (s_b0*s_b0);
+      trig->cos_phi(0) = dot_u_b0 * inv_a2_b0;
+      trig->sin_phi(0) = cross_u_b0 * inv_a2_b0;
+    }
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -372,7 +410,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -382,7 +421,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -396,7 +436,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -406,7 +447,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -445,6 +487,8 @@ struct Model : Sizes {
   using ParamsT = mech::inverted_slider_crank::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::inverted_slider_crank::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::inverted_slider_crank::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -459,8 +503,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -475,8 +520,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

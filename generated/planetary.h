@@ -108,6 +108,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -158,14 +168,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 87 (adds 26, muls 56, divs 1, calls 4); intermediate terms: 7
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 87 (adds 26, muls 56, divs 1, calls 4); intermediate terms: 3
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -176,11 +189,23 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = cos(phi(0));
-  const Scalar _tmp1 = cos(phi(1));
-  const Scalar _tmp2 = sin(phi(0));
-  const Scalar _tmp3 = sin(phi(1));
-  const Scalar _tmp4 = -p.rp*phi(0);
+  (void)trig;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  Scalar sin_phi1;
+  Scalar cos_phi1;
+  if (trig != nullptr) {
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+    sin_phi1 = trig->sin_phi(1);
+    cos_phi1 = trig->cos_phi(1);
+  } else {
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+    sin_phi1 = sin(phi(1));
+    cos_phi1 = cos(phi(1));
+  }
+  const Scalar _tmp0 = -p.rp*phi(0);
   const Scalar Phi_phi_0_0 = -p.rp - p.rs;
   const Scalar Phi_phi_0_1 = p.rp;
   const Scalar Phi_phi_1_0 = -p.rp + p.rr;
@@ -193,24 +218,24 @@ void EvalCoefficients(const Params<Scalar>& p,
   const Scalar K_1_0 = -Phi_phi_inv_1_0*p.rs;
   const Scalar L_0_0_0 = Scalar(0);
   const Scalar L_1_0_0 = Scalar(0);
-  const Scalar _tmp5 = K_0_0*K_0_0;
-  const Scalar _tmp6 = K_1_0*K_1_0;
-  out->r_P(0, 0) = _tmp0*p.rp + _tmp0*p.rs + _tmp1*p.rp;
-  out->r_P(1, 0) = _tmp2*p.rp + _tmp2*p.rs + _tmp3*p.rp;
-  out->Phi(0) = _tmp4 + p.rp*phi(1) - p.rs*phi(0) + p.rs*q(0);
-  out->Phi(1) = _tmp4 + p.rp*phi(1) + p.rr*phi(0);
+  const Scalar _tmp1 = K_0_0*K_0_0;
+  const Scalar _tmp2 = K_1_0*K_1_0;
+  out->r_P(0, 0) = cos_phi0*p.rp + cos_phi0*p.rs + cos_phi1*p.rp;
+  out->r_P(1, 0) = p.rp*sin_phi0 + p.rp*sin_phi1 + p.rs*sin_phi0;
+  out->Phi(0) = _tmp0 + p.rp*phi(1) - p.rs*phi(0) + p.rs*q(0);
+  out->Phi(1) = _tmp0 + p.rp*phi(1) + p.rr*phi(0);
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
   out->Phi_phi(1, 1) = Phi_phi_1_1;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
-  out->K_P(0, 0) = -K_0_0*_tmp2*p.rp - K_0_0*_tmp2*p.rs - K_1_0*_tmp3*p.rp;
-  out->K_P(1, 0) = K_0_0*_tmp0*p.rp + K_0_0*_tmp0*p.rs + K_1_0*_tmp1*p.rp;
+  out->K_P(0, 0) = -K_0_0*p.rp*sin_phi0 - K_0_0*p.rs*sin_phi0 - K_1_0*p.rp*sin_phi1;
+  out->K_P(1, 0) = K_0_0*cos_phi0*p.rp + K_0_0*cos_phi0*p.rs + K_1_0*cos_phi1*p.rp;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
-  out->L_P(0, 0) = -L_0_0_0*_tmp2*p.rp - L_0_0_0*_tmp2*p.rs - L_1_0_0*_tmp3*p.rp - _tmp0*_tmp5*p.rp - _tmp0*_tmp5*p.rs - _tmp1*_tmp6*p.rp;
-  out->L_P(1, 0) = L_0_0_0*_tmp0*p.rp + L_0_0_0*_tmp0*p.rs + L_1_0_0*_tmp1*p.rp - _tmp2*_tmp5*p.rp - _tmp2*_tmp5*p.rs - _tmp3*_tmp6*p.rp;
+  out->L_P(0, 0) = -L_0_0_0*p.rp*sin_phi0 - L_0_0_0*p.rs*sin_phi0 - L_1_0_0*p.rp*sin_phi1 - _tmp1*cos_phi0*p.rp - _tmp1*cos_phi0*p.rs - _tmp2*cos_phi1*p.rp;
+  out->L_P(1, 0) = L_0_0_0*cos_phi0*p.rp + L_0_0_0*cos_phi0*p.rs + L_1_0_0*cos_phi1*p.rp - _tmp1*p.rp*sin_phi0 - _tmp1*p.rs*sin_phi0 - _tmp2*p.rp*sin_phi1;
 }
 
 /**
@@ -272,6 +297,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -279,7 +306,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 11 (adds 3, muls 7, divs 1, calls 0); intermediate terms: 0
   using std::abs;
   using std::atan2;
@@ -300,6 +328,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
   {  // block 0: rows 0 1 -> theta_arm, theta_planet: closed form, linear 2x2 (Cramer)
     const Scalar e0x_b0 = -p.rp - p.rs;
     const Scalar e0y_b0 = -p.rp + p.rr;
@@ -310,6 +339,14 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(0) = -inv_det_b0*p.rp*w0x_b0;
     phi(1) = e0y_b0*inv_det_b0*w0x_b0;
 
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin(q(0));
+    trig->cos_q(0) = cos(q(0));
+    trig->sin_phi(0) = sin(phi(0));
+    trig->cos_phi(0) = cos(phi(0));
+    trig->sin_phi(1) = sin(phi(1));
+    trig->cos_phi(1) = cos(phi(1));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -364,7 +401,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -374,7 +412,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -388,7 +427,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -398,7 +438,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -437,6 +478,8 @@ struct Model : Sizes {
   using ParamsT = mech::planetary::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::planetary::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::planetary::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -451,8 +494,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -467,8 +511,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -119,6 +119,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -183,14 +193,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 101 (adds 22, muls 70, divs 3, calls 6); intermediate terms: 8
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 101 (adds 22, muls 70, divs 3, calls 6); intermediate terms: 2
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -201,58 +214,74 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = cos(q(0));
-  const Scalar _tmp1 = cos(phi(0));
-  const Scalar _tmp2 = sin(q(0));
-  const Scalar _tmp3 = sin(phi(0));
-  const Scalar _tmp4 = cos(phi(1));
-  const Scalar _tmp5 = sin(phi(1));
-  const Scalar Phi_phi_0_0 = -_tmp3*phi(2);
-  const Scalar Phi_phi_0_2 = _tmp1;
-  const Scalar Phi_phi_1_0 = _tmp1*phi(2);
-  const Scalar Phi_phi_1_2 = _tmp3;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  Scalar sin_phi1;
+  Scalar cos_phi1;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+    sin_phi1 = trig->sin_phi(1);
+    cos_phi1 = trig->cos_phi(1);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+    sin_phi1 = sin(phi(1));
+    cos_phi1 = cos(phi(1));
+  }
+  const Scalar Phi_phi_0_0 = -phi(2)*sin_phi0;
+  const Scalar Phi_phi_0_2 = cos_phi0;
+  const Scalar Phi_phi_1_0 = cos_phi0*phi(2);
+  const Scalar Phi_phi_1_2 = sin_phi0;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_2 - Phi_phi_0_2*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_2*inv_det_block0;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_2*inv_det_block0;
   const Scalar Phi_phi_inv_2_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_2_1 = Phi_phi_0_0*inv_det_block0;
-  const Scalar K_0_0 = -Phi_phi_inv_0_0*_tmp2*p.r + Phi_phi_inv_0_1*_tmp0*p.r;
-  const Scalar K_2_0 = -Phi_phi_inv_2_0*_tmp2*p.r + Phi_phi_inv_2_1*_tmp0*p.r;
-  const Scalar Phi_phi_3_1 = _tmp4*p.l;
+  const Scalar K_0_0 = -Phi_phi_inv_0_0*p.r*sin_q0 + Phi_phi_inv_0_1*cos_q0*p.r;
+  const Scalar K_2_0 = -Phi_phi_inv_2_0*p.r*sin_q0 + Phi_phi_inv_2_1*cos_q0*p.r;
+  const Scalar Phi_phi_3_1 = cos_phi1*p.l;
   const Scalar det_block1 = Phi_phi_3_1;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
-  const Scalar K_1_0 = -K_0_0*_tmp1*inv_det_block1*p.L;
+  const Scalar K_1_0 = -K_0_0*cos_phi0*inv_det_block1*p.L;
   const Scalar Phi_phi_2_3 = Scalar(-1);
   const Scalar det_block2 = Phi_phi_2_3;
   const Scalar inv_det_block2 = Scalar(1)/det_block2;
-  const Scalar K_rhs_2_0 = -K_0_0*_tmp3*p.L - K_1_0*_tmp5*p.l;
+  const Scalar K_rhs_2_0 = -K_0_0*p.L*sin_phi0 - K_1_0*p.l*sin_phi1;
   const Scalar K_3_0 = -K_rhs_2_0*inv_det_block2;
   out->r_P(0, 0) = phi(3);
   out->r_P(1, 0) = p.h;
-  out->Phi(0) = -_tmp0*p.r + _tmp1*phi(2);
-  out->Phi(1) = -_tmp2*p.r + _tmp3*phi(2) - p.d;
-  out->Phi(2) = _tmp1*p.L + _tmp4*p.l - phi(3);
-  out->Phi(3) = _tmp3*p.L + _tmp5*p.l - p.h;
+  out->Phi(0) = cos_phi0*phi(2) - cos_q0*p.r;
+  out->Phi(1) = -p.d - p.r*sin_q0 + phi(2)*sin_phi0;
+  out->Phi(2) = cos_phi0*p.L + cos_phi1*p.l - phi(3);
+  out->Phi(3) = p.L*sin_phi0 - p.h + p.l*sin_phi1;
   out->Phi_phi.setZero();
-  const Scalar _tmp6 = K_0_0*K_0_0;
-  const Scalar L_rhs_0_0_0 = -Scalar(2)*K_0_0*K_2_0*_tmp3 + _tmp0*p.r - _tmp1*_tmp6*phi(2);
-  const Scalar L_rhs_1_0_0 = Scalar(2)*K_0_0*K_2_0*_tmp1 + _tmp2*p.r - _tmp3*_tmp6*phi(2);
+  const Scalar _tmp0 = K_0_0*K_0_0;
+  const Scalar L_rhs_0_0_0 = -Scalar(2)*K_0_0*K_2_0*sin_phi0 - _tmp0*cos_phi0*phi(2) + cos_q0*p.r;
+  const Scalar L_rhs_1_0_0 = Scalar(2)*K_0_0*K_2_0*cos_phi0 - _tmp0*phi(2)*sin_phi0 + p.r*sin_q0;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_2_0_0 = -L_rhs_0_0_0*Phi_phi_inv_2_0 - L_rhs_1_0_0*Phi_phi_inv_2_1;
-  const Scalar _tmp7 = K_1_0*K_1_0;
-  const Scalar L_rhs_3_0_0 = L_0_0_0*_tmp1*p.L - _tmp3*_tmp6*p.L - _tmp5*_tmp7*p.l;
+  const Scalar _tmp1 = K_1_0*K_1_0;
+  const Scalar L_rhs_3_0_0 = L_0_0_0*cos_phi0*p.L - _tmp0*p.L*sin_phi0 - _tmp1*p.l*sin_phi1;
   const Scalar L_1_0_0 = -L_rhs_3_0_0*inv_det_block1;
-  const Scalar L_rhs_2_0_0 = -L_0_0_0*_tmp3*p.L - L_1_0_0*_tmp5*p.l - _tmp1*_tmp6*p.L - _tmp4*_tmp7*p.l;
+  const Scalar L_rhs_2_0_0 = -L_0_0_0*p.L*sin_phi0 - L_1_0_0*p.l*sin_phi1 - _tmp0*cos_phi0*p.L - _tmp1*cos_phi1*p.l;
   const Scalar L_3_0_0 = -L_rhs_2_0_0*inv_det_block2;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 2) = Phi_phi_0_2;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
   out->Phi_phi(1, 2) = Phi_phi_1_2;
-  out->Phi_phi(2, 0) = -_tmp3*p.L;
-  out->Phi_phi(2, 1) = -_tmp5*p.l;
+  out->Phi_phi(2, 0) = -p.L*sin_phi0;
+  out->Phi_phi(2, 1) = -p.l*sin_phi1;
   out->Phi_phi(2, 3) = Phi_phi_2_3;
-  out->Phi_phi(3, 0) = _tmp1*p.L;
+  out->Phi_phi(3, 0) = cos_phi0*p.L;
   out->Phi_phi(3, 1) = Phi_phi_3_1;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
@@ -331,6 +360,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -338,8 +369,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 30 (adds 6, muls 17, divs 1, calls 6); intermediate terms: 3
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+  // Total ops: 30 (adds 6, muls 17, divs 1, calls 6); intermediate terms: 1
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -359,22 +391,28 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_rocker, s_slot: closed form, angle and slide (RRP/RPR dyad, circle-line), mode 1
-    const Scalar _tmp0 = cos(q(0));
-    const Scalar _tmp1 = p.r*p.r;
-    const Scalar _tmp2 = sin(q(0));
-    const Scalar C_b0 = -(_tmp0*_tmp0)*_tmp1 - (_tmp2*_tmp2)*_tmp1 - Scalar(2)*_tmp2*p.d*p.r - p.d*p.d;
+    const Scalar _tmp0 = p.r*p.r;
+    const Scalar C_b0 = -(cos_q0*cos_q0)*_tmp0 - (sin_q0*sin_q0)*_tmp0 - Scalar(2)*p.d*p.r*sin_q0 - p.d*p.d;
     const Scalar disc_b0 = Scalar(0) * Scalar(0) - Scalar(4) * Scalar(1) * C_b0;
     if (!(disc_b0 >= Scalar(0))) return {SolveStatus::kNotAssemblable, 0, iterations, disc_b0};
     const Scalar sq_b0 = sqrt(disc_b0);
     const Scalar qq_b0 = -(Scalar(0) + (Scalar(0) >= Scalar(0) ? sq_b0 : -sq_b0)) / Scalar(2);
     const Scalar s_b0 = ((modes[0] > 0) == (Scalar(0) >= Scalar(0))) ? (qq_b0 != Scalar(0) ? C_b0 / qq_b0 : Scalar(0)) : qq_b0 / Scalar(1);
-    const Scalar wx_b0 = _tmp0*p.r;
-    const Scalar wy_b0 = _tmp2*p.r + p.d;
+    const Scalar wx_b0 = cos_q0*p.r;
+    const Scalar wy_b0 = p.d + p.r*sin_q0;
     phi(2) = s_b0;
     const Scalar cross_u_b0 = s_b0*wy_b0;
     const Scalar dot_u_b0 = s_b0*wx_b0;
     phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    if (trig != nullptr) {
+      const Scalar inv_a2_b0 = Scalar(1) / (s_b0*s_b0);
+      trig->cos_phi(0) = dot_u_b0 * inv_a2_b0;
+      trig->sin_phi(0) = cross_u_b0 * inv_a2_b0;
+    }
   }
   {  // block 1: rows 3 -> theta_link: closed form, one angle (acos), mode -1
     const Scalar c0_b1 = p.L*sin(phi(0)) - p.h;
@@ -386,6 +424,12 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   {  // block 2: rows 2 -> s_stroke: closed form, linear
     phi(3) = cos(phi(0))*p.L + cos(phi(1))*p.l;
 
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+    trig->sin_phi(1) = sin(phi(1));
+    trig->cos_phi(1) = cos(phi(1));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -450,7 +494,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -460,7 +505,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -474,7 +520,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -484,7 +531,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -523,6 +571,8 @@ struct Model : Sizes {
   using ParamsT = mech::quick_return::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::quick_return::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::quick_return::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -537,8 +587,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -553,8 +604,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -25,7 +25,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), wheel.P, roll.contact.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 2 (adds 1, muls 1, divs 0, calls 0); SolvePositions 1 (adds 0, muls 1, divs 0, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 12 (adds 5, muls 4, divs 1, calls 2); EvalScene 6 (adds 2, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 2 (adds 1, muls 1, divs 0, calls 0); SolvePositions 1 (adds 0, muls 1, divs 0, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 16 (adds 5, muls 8, divs 1, calls 2); EvalScene 6 (adds 2, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -100,6 +100,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -144,14 +154,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 12 (adds 5, muls 4, divs 1, calls 2); intermediate terms: 2
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 16 (adds 5, muls 8, divs 1, calls 2); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -162,27 +175,35 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = p.r*sin(q(0));
-  const Scalar _tmp1 = cos(q(0))*p.r;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+  }
   const Scalar Phi_phi_0_0 = Scalar(1);
   const Scalar det_block0 = Phi_phi_0_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar K_0_0 = -inv_det_block0*p.r;
   const Scalar L_0_0_0 = Scalar(0);
-  out->r_P(0, 0) = _tmp0 + phi(0);
-  out->r_P(1, 0) = -_tmp1 + p.r;
+  out->r_P(0, 0) = p.r*sin_q0 + phi(0);
+  out->r_P(1, 0) = -cos_q0*p.r + p.r;
   out->r_P(0, 1) = phi(0);
   out->r_P(1, 1) = Scalar(0);
   out->Phi(0) = p.r*q(0) + phi(0);
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->K(0, 0) = K_0_0;
-  out->K_P(0, 0) = K_0_0 + _tmp1;
-  out->K_P(1, 0) = _tmp0;
+  out->K_P(0, 0) = K_0_0 + cos_q0*p.r;
+  out->K_P(1, 0) = p.r*sin_q0;
   out->K_P(2, 0) = K_0_0;
   out->K_P(3, 0) = Scalar(0);
   out->L(0, 0) = L_0_0_0;
-  out->L_P(0, 0) = L_0_0_0 - _tmp0;
-  out->L_P(1, 0) = _tmp1;
+  out->L_P(0, 0) = L_0_0_0 - p.r*sin_q0;
+  out->L_P(1, 0) = cos_q0*p.r;
   out->L_P(2, 0) = L_0_0_0;
   out->L_P(3, 0) = Scalar(0);
 }
@@ -246,6 +267,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -253,7 +276,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 1 (adds 0, muls 1, divs 0, calls 0); intermediate terms: 0
   using std::abs;
   using std::atan2;
@@ -274,9 +298,14 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
   {  // block 0: rows 0 -> s_roll: closed form, linear
     phi(0) = -p.r*q(0);
 
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin(q(0));
+    trig->cos_q(0) = cos(q(0));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -321,7 +350,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -331,7 +361,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -345,7 +376,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -355,7 +387,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -394,6 +427,8 @@ struct Model : Sizes {
   using ParamsT = mech::rolling_wheel::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::rolling_wheel::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::rolling_wheel::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -408,8 +443,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -424,8 +460,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

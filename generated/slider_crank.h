@@ -28,7 +28,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), slider.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 35 (adds 8, muls 21, divs 2, calls 4); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 36 (adds 8, muls 22, divs 2, calls 4); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -107,6 +107,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -160,14 +170,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 35 (adds 8, muls 21, divs 2, calls 4); intermediate terms: 5
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 36 (adds 8, muls 22, divs 2, calls 4); intermediate terms: 2
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -178,30 +191,43 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = cos(phi(0));
-  const Scalar _tmp1 = cos(q(0));
-  const Scalar _tmp2 = p.a*sin(q(0));
-  const Scalar _tmp3 = sin(phi(0));
-  const Scalar Phi_phi_1_0 = _tmp0*p.b;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+  }
+  const Scalar Phi_phi_1_0 = cos_phi0*p.b;
   const Scalar det_block0 = Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
-  const Scalar K_0_0 = -_tmp1*inv_det_block0*p.a;
+  const Scalar K_0_0 = -cos_q0*inv_det_block0*p.a;
   const Scalar Phi_phi_0_1 = Scalar(-1);
   const Scalar det_block1 = Phi_phi_0_1;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
-  const Scalar K_rhs_0_0 = -K_0_0*_tmp3*p.b - _tmp2;
+  const Scalar _tmp0 = -p.a*sin_q0;
+  const Scalar K_rhs_0_0 = -K_0_0*p.b*sin_phi0 + _tmp0;
   const Scalar K_1_0 = -K_rhs_0_0*inv_det_block1;
   out->r_P(0, 0) = phi(1);
   out->r_P(1, 0) = p.e;
-  out->Phi(0) = _tmp0*p.b + _tmp1*p.a - phi(1);
-  out->Phi(1) = _tmp2 + _tmp3*p.b - p.e;
+  out->Phi(0) = cos_phi0*p.b + cos_q0*p.a - phi(1);
+  out->Phi(1) = p.a*sin_q0 + p.b*sin_phi0 - p.e;
   out->Phi_phi.setZero();
-  const Scalar _tmp4 = K_0_0*K_0_0;
-  const Scalar L_rhs_1_0_0 = -_tmp2 - _tmp3*_tmp4*p.b;
+  const Scalar _tmp1 = K_0_0*K_0_0;
+  const Scalar L_rhs_1_0_0 = _tmp0 - _tmp1*p.b*sin_phi0;
   const Scalar L_0_0_0 = -L_rhs_1_0_0*inv_det_block0;
-  const Scalar L_rhs_0_0_0 = -L_0_0_0*_tmp3*p.b - _tmp0*_tmp4*p.b - _tmp1*p.a;
+  const Scalar L_rhs_0_0_0 = -L_0_0_0*p.b*sin_phi0 - _tmp1*cos_phi0*p.b - cos_q0*p.a;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*inv_det_block1;
-  out->Phi_phi(0, 0) = -_tmp3*p.b;
+  out->Phi_phi(0, 0) = -p.b*sin_phi0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
   out->K(0, 0) = K_0_0;
@@ -274,6 +300,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -281,7 +309,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 11 (adds 2, muls 4, divs 1, calls 4); intermediate terms: 0
   using std::abs;
   using std::atan2;
@@ -302,16 +331,25 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 1 -> theta_rod: closed form, one angle (acos), mode -1
-    const Scalar c0_b0 = p.a*sin(q(0)) - p.e;
+    const Scalar c0_b0 = p.a*sin_q0 - p.e;
     const Scalar rho_b0 = sqrt(p.b*p.b);
     const Scalar cos_arg_b0 = -c0_b0/rho_b0;
     if (!(abs(cos_arg_b0) <= Scalar(1))) return {SolveStatus::kNotAssemblable, 0, iterations, Scalar(1) - abs(cos_arg_b0)};
     phi(0) = AngleNear(atan2(p.b, Scalar(0)) + Scalar(modes[0]) * acos(cos_arg_b0), phi(0));
   }
   {  // block 1: rows 0 -> s_slide: closed form, linear
-    phi(1) = cos(phi(0))*p.b + cos(q(0))*p.a;
+    phi(1) = cos(phi(0))*p.b + cos_q0*p.a;
 
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+    trig->sin_phi(0) = sin(phi(0));
+    trig->cos_phi(0) = cos(phi(0));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -364,7 +402,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -374,7 +413,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -388,7 +428,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -398,7 +439,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -437,6 +479,8 @@ struct Model : Sizes {
   using ParamsT = mech::slider_crank::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::slider_crank::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::slider_crank::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -451,8 +495,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -467,8 +512,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -115,6 +115,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -187,14 +197,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 178 (adds 68, muls 100, divs 0, calls 10); intermediate terms: 28
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 178 (adds 68, muls 100, divs 0, calls 10); intermediate terms: 18
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -205,92 +218,116 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = sin(phi(0));
-  const Scalar _tmp1 = cos(phi(0));
-  const Scalar _tmp2 = cos(q(0));
-  const Scalar _tmp3 = sin(q(0));
-  const Scalar _tmp4 = cos(phi(3));
-  const Scalar _tmp5 = sin(phi(3));
-  const Scalar _tmp6 = cos(phi(1));
-  const Scalar _tmp7 = sin(phi(1));
-  const Scalar _tmp8 = cos(phi(2));
-  const Scalar _tmp9 = sin(phi(2));
-  out->r_P(0, 0) = -Scalar(1.5)*_tmp0 + Scalar(2.8999999999999999)*_tmp1 + _tmp2;
-  out->r_P(1, 0) = Scalar(1.5)*_tmp1 + Scalar(2.8999999999999999)*_tmp0 + _tmp3;
-  out->Phi(0) = Scalar(1.3)*_tmp4 - Scalar(1.5)*_tmp0 + Scalar(1.8999999999999999)*_tmp5 + Scalar(2.8999999999999999)*_tmp1 + _tmp2 + _tmp6*p.la - p.x1;
-  out->Phi(1) = Scalar(1.3)*_tmp5 + Scalar(1.5)*_tmp1 - Scalar(1.8999999999999999)*_tmp4 + Scalar(2.8999999999999999)*_tmp0 + _tmp3 + _tmp7*p.la - p.y1;
-  out->Phi(2) = -Scalar(0.94999999999999996)*_tmp5 + Scalar(1.1000000000000001)*_tmp0 + Scalar(3.0)*_tmp1 + _tmp2 + _tmp4 + _tmp8*p.lb - p.x1;
-  out->Phi(3) = Scalar(0.94999999999999996)*_tmp4 - Scalar(1.1000000000000001)*_tmp1 + Scalar(3.0)*_tmp0 + _tmp3 + _tmp5 + _tmp9*p.lb - p.y1;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  Scalar sin_phi1;
+  Scalar cos_phi1;
+  Scalar sin_phi2;
+  Scalar cos_phi2;
+  Scalar sin_phi3;
+  Scalar cos_phi3;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+    sin_phi1 = trig->sin_phi(1);
+    cos_phi1 = trig->cos_phi(1);
+    sin_phi2 = trig->sin_phi(2);
+    cos_phi2 = trig->cos_phi(2);
+    sin_phi3 = trig->sin_phi(3);
+    cos_phi3 = trig->cos_phi(3);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+    sin_phi1 = sin(phi(1));
+    cos_phi1 = cos(phi(1));
+    sin_phi2 = sin(phi(2));
+    cos_phi2 = cos(phi(2));
+    sin_phi3 = sin(phi(3));
+    cos_phi3 = cos(phi(3));
+  }
+  out->r_P(0, 0) = -Scalar(1.5)*sin_phi0 + Scalar(2.8999999999999999)*cos_phi0 + cos_q0;
+  out->r_P(1, 0) = Scalar(1.5)*cos_phi0 + Scalar(2.8999999999999999)*sin_phi0 + sin_q0;
+  out->Phi(0) = Scalar(1.3)*cos_phi3 - Scalar(1.5)*sin_phi0 + Scalar(1.8999999999999999)*sin_phi3 + Scalar(2.8999999999999999)*cos_phi0 + cos_phi1*p.la + cos_q0 - p.x1;
+  out->Phi(1) = Scalar(1.3)*sin_phi3 + Scalar(1.5)*cos_phi0 - Scalar(1.8999999999999999)*cos_phi3 + Scalar(2.8999999999999999)*sin_phi0 + p.la*sin_phi1 - p.y1 + sin_q0;
+  out->Phi(2) = -Scalar(0.94999999999999996)*sin_phi3 + Scalar(1.1000000000000001)*sin_phi0 + Scalar(3.0)*cos_phi0 + cos_phi2*p.lb + cos_phi3 + cos_q0 - p.x1;
+  out->Phi(3) = Scalar(0.94999999999999996)*cos_phi3 - Scalar(1.1000000000000001)*cos_phi0 + Scalar(3.0)*sin_phi0 + p.lb*sin_phi2 - p.y1 + sin_phi3 + sin_q0;
   Mat<Scalar, 4, 4> J_block0;
   J_block0.setZero();
-  const Scalar _tmp10 = -Scalar(1.5)*_tmp1 - Scalar(2.8999999999999999)*_tmp0;
-  const Scalar _tmp11 = -_tmp7*p.la;
-  const Scalar _tmp12 = -Scalar(1.3)*_tmp5 + Scalar(1.8999999999999999)*_tmp4;
-  const Scalar _tmp13 = -Scalar(1.5)*_tmp0 + Scalar(2.8999999999999999)*_tmp1;
-  const Scalar _tmp14 = Scalar(1.3)*_tmp4 + Scalar(1.8999999999999999)*_tmp5;
-  const Scalar _tmp15 = Scalar(1.1000000000000001)*_tmp1 - Scalar(3.0)*_tmp0;
-  const Scalar _tmp16 = -_tmp9*p.lb;
-  const Scalar _tmp17 = -Scalar(0.94999999999999996)*_tmp4 - _tmp5;
-  const Scalar _tmp18 = Scalar(1.1000000000000001)*_tmp0 + Scalar(3.0)*_tmp1;
-  const Scalar _tmp19 = -Scalar(0.94999999999999996)*_tmp5 + _tmp4;
-  J_block0(0, 0) = _tmp10;
-  J_block0(0, 1) = _tmp11;
-  J_block0(0, 3) = _tmp12;
-  J_block0(1, 0) = _tmp13;
-  J_block0(1, 1) = _tmp6*p.la;
-  J_block0(1, 3) = _tmp14;
-  J_block0(2, 0) = _tmp15;
-  J_block0(2, 2) = _tmp16;
-  J_block0(2, 3) = _tmp17;
-  J_block0(3, 0) = _tmp18;
-  J_block0(3, 2) = _tmp8*p.lb;
-  J_block0(3, 3) = _tmp19;
+  const Scalar _tmp0 = -Scalar(1.5)*cos_phi0 - Scalar(2.8999999999999999)*sin_phi0;
+  const Scalar _tmp1 = -p.la*sin_phi1;
+  const Scalar _tmp2 = -Scalar(1.3)*sin_phi3 + Scalar(1.8999999999999999)*cos_phi3;
+  const Scalar _tmp3 = -Scalar(1.5)*sin_phi0 + Scalar(2.8999999999999999)*cos_phi0;
+  const Scalar _tmp4 = Scalar(1.3)*cos_phi3 + Scalar(1.8999999999999999)*sin_phi3;
+  const Scalar _tmp5 = Scalar(1.1000000000000001)*cos_phi0 - Scalar(3.0)*sin_phi0;
+  const Scalar _tmp6 = -p.lb*sin_phi2;
+  const Scalar _tmp7 = -Scalar(0.94999999999999996)*cos_phi3 - sin_phi3;
+  const Scalar _tmp8 = Scalar(1.1000000000000001)*sin_phi0 + Scalar(3.0)*cos_phi0;
+  const Scalar _tmp9 = -Scalar(0.94999999999999996)*sin_phi3 + cos_phi3;
+  J_block0(0, 0) = _tmp0;
+  J_block0(0, 1) = _tmp1;
+  J_block0(0, 3) = _tmp2;
+  J_block0(1, 0) = _tmp3;
+  J_block0(1, 1) = cos_phi1*p.la;
+  J_block0(1, 3) = _tmp4;
+  J_block0(2, 0) = _tmp5;
+  J_block0(2, 2) = _tmp6;
+  J_block0(2, 3) = _tmp7;
+  J_block0(3, 0) = _tmp8;
+  J_block0(3, 2) = cos_phi2*p.lb;
+  J_block0(3, 3) = _tmp9;
   const Eigen::PartialPivLU<Mat<Scalar, 4, 4>> lu_block0(J_block0);
   Mat<Scalar, 4, 1> K_rhs_block0;
-  K_rhs_block0(0, 0) = -_tmp3;
-  K_rhs_block0(1, 0) = _tmp2;
-  K_rhs_block0(2, 0) = -_tmp3;
-  K_rhs_block0(3, 0) = _tmp2;
+  K_rhs_block0(0, 0) = -sin_q0;
+  K_rhs_block0(1, 0) = cos_q0;
+  K_rhs_block0(2, 0) = -sin_q0;
+  K_rhs_block0(3, 0) = cos_q0;
   const Mat<Scalar, 4, 1> K_block0 = -lu_block0.solve(K_rhs_block0);
   out->Phi_phi.setZero();
-  out->Phi_phi(0, 0) = _tmp10;
-  out->Phi_phi(0, 1) = _tmp11;
-  out->Phi_phi(0, 3) = _tmp12;
-  out->Phi_phi(1, 0) = _tmp13;
-  out->Phi_phi(1, 1) = _tmp6*p.la;
-  out->Phi_phi(1, 3) = _tmp14;
-  out->Phi_phi(2, 0) = _tmp15;
-  out->Phi_phi(2, 2) = _tmp16;
-  out->Phi_phi(2, 3) = _tmp17;
-  out->Phi_phi(3, 0) = _tmp18;
-  out->Phi_phi(3, 2) = _tmp8*p.lb;
-  out->Phi_phi(3, 3) = _tmp19;
+  out->Phi_phi(0, 0) = _tmp0;
+  out->Phi_phi(0, 1) = _tmp1;
+  out->Phi_phi(0, 3) = _tmp2;
+  out->Phi_phi(1, 0) = _tmp3;
+  out->Phi_phi(1, 1) = cos_phi1*p.la;
+  out->Phi_phi(1, 3) = _tmp4;
+  out->Phi_phi(2, 0) = _tmp5;
+  out->Phi_phi(2, 2) = _tmp6;
+  out->Phi_phi(2, 3) = _tmp7;
+  out->Phi_phi(3, 0) = _tmp8;
+  out->Phi_phi(3, 2) = cos_phi2*p.lb;
+  out->Phi_phi(3, 3) = _tmp9;
   out->K(0, 0) = K_block0(0, 0);
   out->K(1, 0) = K_block0(1, 0);
   out->K(2, 0) = K_block0(2, 0);
   out->K(3, 0) = K_block0(3, 0);
-  out->K_P(0, 0) = -Scalar(1.5)*K_block0(0, 0)*_tmp1 - Scalar(2.8999999999999999)*K_block0(0, 0)*_tmp0 - _tmp3;
-  out->K_P(1, 0) = -Scalar(1.5)*K_block0(0, 0)*_tmp0 + Scalar(2.8999999999999999)*K_block0(0, 0)*_tmp1 + _tmp2;
+  out->K_P(0, 0) = -Scalar(1.5)*K_block0(0, 0)*cos_phi0 - Scalar(2.8999999999999999)*K_block0(0, 0)*sin_phi0 - sin_q0;
+  out->K_P(1, 0) = -Scalar(1.5)*K_block0(0, 0)*sin_phi0 + Scalar(2.8999999999999999)*K_block0(0, 0)*cos_phi0 + cos_q0;
   Mat<Scalar, 4, 1> L_rhs_block0;
-  const Scalar _tmp20 = K_block0(1, 0)*K_block0(1, 0);
-  const Scalar _tmp21 = K_block0(3, 0)*K_block0(3, 0);
-  const Scalar _tmp22 = K_block0(0, 0)*K_block0(0, 0);
-  const Scalar _tmp23 = -Scalar(2.8999999999999999)*_tmp1*_tmp22;
-  const Scalar _tmp24 = Scalar(1.5)*_tmp0*_tmp22;
-  const Scalar _tmp25 = -Scalar(1.5)*_tmp1*_tmp22;
-  const Scalar _tmp26 = -Scalar(2.8999999999999999)*_tmp0*_tmp22;
-  const Scalar _tmp27 = K_block0(2, 0)*K_block0(2, 0);
-  L_rhs_block0(0, 0) = -Scalar(1.3)*_tmp21*_tmp4 - Scalar(1.8999999999999999)*_tmp21*_tmp5 - _tmp2 - _tmp20*_tmp6*p.la + _tmp23 + _tmp24;
-  L_rhs_block0(1, 0) = -Scalar(1.3)*_tmp21*_tmp5 + Scalar(1.8999999999999999)*_tmp21*_tmp4 - _tmp20*_tmp7*p.la + _tmp25 + _tmp26 - _tmp3;
-  L_rhs_block0(2, 0) = Scalar(0.94999999999999996)*_tmp21*_tmp5 - Scalar(1.1000000000000001)*_tmp0*_tmp22 - Scalar(3.0)*_tmp1*_tmp22 - _tmp2 - _tmp21*_tmp4 - _tmp27*_tmp8*p.lb;
-  L_rhs_block0(3, 0) = -Scalar(0.94999999999999996)*_tmp21*_tmp4 + Scalar(1.1000000000000001)*_tmp1*_tmp22 - Scalar(3.0)*_tmp0*_tmp22 - _tmp21*_tmp5 - _tmp27*_tmp9*p.lb - _tmp3;
+  const Scalar _tmp10 = K_block0(1, 0)*K_block0(1, 0);
+  const Scalar _tmp11 = K_block0(3, 0)*K_block0(3, 0);
+  const Scalar _tmp12 = K_block0(0, 0)*K_block0(0, 0);
+  const Scalar _tmp13 = -Scalar(2.8999999999999999)*_tmp12*cos_phi0;
+  const Scalar _tmp14 = Scalar(1.5)*_tmp12*sin_phi0;
+  const Scalar _tmp15 = -Scalar(1.5)*_tmp12*cos_phi0;
+  const Scalar _tmp16 = -Scalar(2.8999999999999999)*_tmp12*sin_phi0;
+  const Scalar _tmp17 = K_block0(2, 0)*K_block0(2, 0);
+  L_rhs_block0(0, 0) = -Scalar(1.3)*_tmp11*cos_phi3 - Scalar(1.8999999999999999)*_tmp11*sin_phi3 - _tmp10*cos_phi1*p.la + _tmp13 + _tmp14 - cos_q0;
+  L_rhs_block0(1, 0) = -Scalar(1.3)*_tmp11*sin_phi3 + Scalar(1.8999999999999999)*_tmp11*cos_phi3 - _tmp10*p.la*sin_phi1 + _tmp15 + _tmp16 - sin_q0;
+  L_rhs_block0(2, 0) = Scalar(0.94999999999999996)*_tmp11*sin_phi3 - Scalar(1.1000000000000001)*_tmp12*sin_phi0 - Scalar(3.0)*_tmp12*cos_phi0 - _tmp11*cos_phi3 - _tmp17*cos_phi2*p.lb - cos_q0;
+  L_rhs_block0(3, 0) = -Scalar(0.94999999999999996)*_tmp11*cos_phi3 + Scalar(1.1000000000000001)*_tmp12*cos_phi0 - Scalar(3.0)*_tmp12*sin_phi0 - _tmp11*sin_phi3 - _tmp17*p.lb*sin_phi2 - sin_q0;
   const Mat<Scalar, 4, 1> L_block0 = -lu_block0.solve(L_rhs_block0);
   out->L(0, 0) = L_block0(0, 0);
   out->L(1, 0) = L_block0(1, 0);
   out->L(2, 0) = L_block0(2, 0);
   out->L(3, 0) = L_block0(3, 0);
-  out->L_P(0, 0) = -Scalar(1.5)*L_block0(0, 0)*_tmp1 - Scalar(2.8999999999999999)*L_block0(0, 0)*_tmp0 - _tmp2 + _tmp23 + _tmp24;
-  out->L_P(1, 0) = -Scalar(1.5)*L_block0(0, 0)*_tmp0 + Scalar(2.8999999999999999)*L_block0(0, 0)*_tmp1 + _tmp25 + _tmp26 - _tmp3;
+  out->L_P(0, 0) = -Scalar(1.5)*L_block0(0, 0)*cos_phi0 - Scalar(2.8999999999999999)*L_block0(0, 0)*sin_phi0 + _tmp13 + _tmp14 - cos_q0;
+  out->L_P(1, 0) = -Scalar(1.5)*L_block0(0, 0)*sin_phi0 + Scalar(2.8999999999999999)*L_block0(0, 0)*cos_phi0 + _tmp15 + _tmp16 - sin_q0;
 }
 
 /**
@@ -369,6 +406,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -376,8 +415,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 74 (adds 32, muls 32, divs 0, calls 10); intermediate terms: 10
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+  // Total ops: 74 (adds 32, muls 32, divs 0, calls 10); intermediate terms: 8
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -397,6 +437,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 2 3 -> theta_T2, theta_a, theta_b, theta_T1: Newton-Raphson on the 4x4 block
     Vec<Scalar, 4> r_b0;
     Mat<Scalar, 4, 4> J_b0 = Mat<Scalar, 4, 4>::Zero();
@@ -406,26 +449,24 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       const Scalar _tmp2 = sin(phi(3));
       const Scalar _tmp3 = cos(phi(0));
       const Scalar _tmp4 = cos(phi(1))*p.la;
-      const Scalar _tmp5 = cos(q(0));
-      const Scalar _tmp6 = p.la*sin(phi(1));
-      const Scalar _tmp7 = sin(q(0));
-      const Scalar _tmp8 = cos(phi(2))*p.lb;
-      const Scalar _tmp9 = p.lb*sin(phi(2));
-      r_b0(0) = Scalar(1.3)*_tmp1 - Scalar(1.5)*_tmp0 + Scalar(1.8999999999999999)*_tmp2 + Scalar(2.8999999999999999)*_tmp3 + _tmp4 + _tmp5 - p.x1;
+      const Scalar _tmp5 = p.la*sin(phi(1));
+      const Scalar _tmp6 = cos(phi(2))*p.lb;
+      const Scalar _tmp7 = p.lb*sin(phi(2));
+      r_b0(0) = Scalar(1.3)*_tmp1 - Scalar(1.5)*_tmp0 + Scalar(1.8999999999999999)*_tmp2 + Scalar(2.8999999999999999)*_tmp3 + _tmp4 + cos_q0 - p.x1;
       J_b0(0, 0) = -Scalar(1.5)*_tmp3 - Scalar(2.8999999999999999)*_tmp0;
-      J_b0(0, 1) = -_tmp6;
+      J_b0(0, 1) = -_tmp5;
       J_b0(0, 3) = -Scalar(1.3)*_tmp2 + Scalar(1.8999999999999999)*_tmp1;
-      r_b0(1) = Scalar(1.3)*_tmp2 + Scalar(1.5)*_tmp3 - Scalar(1.8999999999999999)*_tmp1 + Scalar(2.8999999999999999)*_tmp0 + _tmp6 + _tmp7 - p.y1;
+      r_b0(1) = Scalar(1.3)*_tmp2 + Scalar(1.5)*_tmp3 - Scalar(1.8999999999999999)*_tmp1 + Scalar(2.8999999999999999)*_tmp0 + _tmp5 - p.y1 + sin_q0;
       J_b0(1, 0) = -Scalar(1.5)*_tmp0 + Scalar(2.8999999999999999)*_tmp3;
       J_b0(1, 1) = _tmp4;
       J_b0(1, 3) = Scalar(1.3)*_tmp1 + Scalar(1.8999999999999999)*_tmp2;
-      r_b0(2) = -Scalar(0.94999999999999996)*_tmp2 + Scalar(1.1000000000000001)*_tmp0 + Scalar(3.0)*_tmp3 + _tmp1 + _tmp5 + _tmp8 - p.x1;
+      r_b0(2) = -Scalar(0.94999999999999996)*_tmp2 + Scalar(1.1000000000000001)*_tmp0 + Scalar(3.0)*_tmp3 + _tmp1 + _tmp6 + cos_q0 - p.x1;
       J_b0(2, 0) = Scalar(1.1000000000000001)*_tmp3 - Scalar(3.0)*_tmp0;
-      J_b0(2, 2) = -_tmp9;
+      J_b0(2, 2) = -_tmp7;
       J_b0(2, 3) = -Scalar(0.94999999999999996)*_tmp1 - _tmp2;
-      r_b0(3) = Scalar(0.94999999999999996)*_tmp1 - Scalar(1.1000000000000001)*_tmp3 + Scalar(3.0)*_tmp0 + _tmp2 + _tmp7 + _tmp9 - p.y1;
+      r_b0(3) = Scalar(0.94999999999999996)*_tmp1 - Scalar(1.1000000000000001)*_tmp3 + Scalar(3.0)*_tmp0 + _tmp2 + _tmp7 - p.y1 + sin_q0;
       J_b0(3, 0) = Scalar(1.1000000000000001)*_tmp0 + Scalar(3.0)*_tmp3;
-      J_b0(3, 2) = _tmp8;
+      J_b0(3, 2) = _tmp6;
       J_b0(3, 3) = -Scalar(0.94999999999999996)*_tmp2 + _tmp1;
       Scalar norm_b0 = Scalar(0);
       for (int i = 0; i < 4; ++i) if (abs(r_b0(i)) > norm_b0) norm_b0 = abs(r_b0(i));
@@ -439,6 +480,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       phi(3) -= delta_b0(3);
       if (closed_b0) break;
     }
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+    trig->sin_phi(0) = sin(phi(0));
+    trig->cos_phi(0) = cos(phi(0));
+    trig->sin_phi(1) = sin(phi(1));
+    trig->cos_phi(1) = cos(phi(1));
+    trig->sin_phi(2) = sin(phi(2));
+    trig->cos_phi(2) = cos(phi(2));
+    trig->sin_phi(3) = sin(phi(3));
+    trig->cos_phi(3) = cos(phi(3));
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -513,7 +566,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -523,7 +577,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -537,7 +592,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -547,7 +603,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -586,6 +643,8 @@ struct Model : Sizes {
   using ParamsT = mech::stephenson_coupled::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::stephenson_coupled::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::stephenson_coupled::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -600,8 +659,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -616,8 +676,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

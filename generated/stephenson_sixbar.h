@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.E, coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); SolvePositions 79 (adds 23, muls 48, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalScene 37 (adds 13, muls 14, divs 0, calls 10); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); SolvePositions 77 (adds 23, muls 48, divs 2, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalScene 37 (adds 13, muls 14, divs 0, calls 10); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6)
  */
 #pragma once
 
@@ -128,6 +128,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -199,14 +209,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 194 (adds 63, muls 119, divs 2, calls 10); intermediate terms: 31
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 194 (adds 63, muls 119, divs 2, calls 10); intermediate terms: 21
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -217,106 +230,130 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = cos(phi(3));
-  const Scalar _tmp1 = sin(phi(3));
-  const Scalar _tmp2 = sin(phi(0));
-  const Scalar _tmp3 = -_tmp2*p.eta;
-  const Scalar _tmp4 = cos(phi(0));
-  const Scalar _tmp5 = cos(q(0));
-  const Scalar _tmp6 = sin(q(0));
-  const Scalar _tmp7 = cos(phi(1));
-  const Scalar _tmp8 = -_tmp7*p.c;
-  const Scalar _tmp9 = sin(phi(1));
-  const Scalar _tmp10 = -_tmp0*p.o;
-  const Scalar _tmp11 = cos(phi(2));
-  const Scalar _tmp12 = sin(phi(2));
-  const Scalar Phi_phi_0_0 = -_tmp2*p.b;
-  const Scalar Phi_phi_0_1 = _tmp9*p.c;
-  const Scalar Phi_phi_1_0 = _tmp4*p.b;
-  const Scalar Phi_phi_1_1 = _tmp8;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  Scalar sin_phi1;
+  Scalar cos_phi1;
+  Scalar sin_phi2;
+  Scalar cos_phi2;
+  Scalar sin_phi3;
+  Scalar cos_phi3;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+    sin_phi1 = trig->sin_phi(1);
+    cos_phi1 = trig->cos_phi(1);
+    sin_phi2 = trig->sin_phi(2);
+    cos_phi2 = trig->cos_phi(2);
+    sin_phi3 = trig->sin_phi(3);
+    cos_phi3 = trig->cos_phi(3);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+    sin_phi1 = sin(phi(1));
+    cos_phi1 = cos(phi(1));
+    sin_phi2 = sin(phi(2));
+    cos_phi2 = cos(phi(2));
+    sin_phi3 = sin(phi(3));
+    cos_phi3 = cos(phi(3));
+  }
+  const Scalar _tmp0 = -p.eta*sin_phi0;
+  const Scalar _tmp1 = -cos_phi1*p.c;
+  const Scalar _tmp2 = -cos_phi3*p.o;
+  const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
+  const Scalar Phi_phi_0_1 = p.c*sin_phi1;
+  const Scalar Phi_phi_1_0 = cos_phi0*p.b;
+  const Scalar Phi_phi_1_1 = _tmp1;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
-  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp6*p.a - Phi_phi_inv_0_1*_tmp5*p.a;
-  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp6*p.a - Phi_phi_inv_1_1*_tmp5*p.a;
-  const Scalar Phi_phi_2_2 = -_tmp12*p.f;
-  const Scalar Phi_phi_2_3 = _tmp1*p.o;
-  const Scalar Phi_phi_3_2 = _tmp11*p.f;
-  const Scalar Phi_phi_3_3 = _tmp10;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*p.a*sin_q0 - Phi_phi_inv_0_1*cos_q0*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*p.a*sin_q0 - Phi_phi_inv_1_1*cos_q0*p.a;
+  const Scalar Phi_phi_2_2 = -p.f*sin_phi2;
+  const Scalar Phi_phi_2_3 = p.o*sin_phi3;
+  const Scalar Phi_phi_3_2 = cos_phi2*p.f;
+  const Scalar Phi_phi_3_3 = _tmp2;
   const Scalar det_block1 = Phi_phi_2_2*Phi_phi_3_3 - Phi_phi_2_3*Phi_phi_3_2;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
   const Scalar Phi_phi_inv_2_2 = Phi_phi_3_3*inv_det_block1;
   const Scalar Phi_phi_inv_2_3 = -Phi_phi_2_3*inv_det_block1;
   const Scalar Phi_phi_inv_3_2 = -Phi_phi_3_2*inv_det_block1;
   const Scalar Phi_phi_inv_3_3 = Phi_phi_2_2*inv_det_block1;
-  const Scalar _tmp13 = -_tmp6*p.a;
-  const Scalar _tmp14 = -K_0_0*_tmp2*p.xi - K_0_0*_tmp4*p.eta + _tmp13;
-  const Scalar K_rhs_2_0 = _tmp14;
-  const Scalar _tmp15 = -K_0_0*_tmp2*p.eta + K_0_0*_tmp4*p.xi + _tmp5*p.a;
-  const Scalar K_rhs_3_0 = _tmp15;
+  const Scalar _tmp3 = -p.a*sin_q0;
+  const Scalar _tmp4 = -K_0_0*cos_phi0*p.eta - K_0_0*p.xi*sin_phi0 + _tmp3;
+  const Scalar K_rhs_2_0 = _tmp4;
+  const Scalar _tmp5 = K_0_0*cos_phi0*p.xi - K_0_0*p.eta*sin_phi0 + cos_q0*p.a;
+  const Scalar K_rhs_3_0 = _tmp5;
   const Scalar K_2_0 = -K_rhs_2_0*Phi_phi_inv_2_2 - K_rhs_3_0*Phi_phi_inv_2_3;
   const Scalar K_3_0 = -K_rhs_2_0*Phi_phi_inv_3_2 - K_rhs_3_0*Phi_phi_inv_3_3;
-  out->r_P(0, 0) = _tmp0*p.o + p.x6;
-  out->r_P(1, 0) = _tmp1*p.o + p.y6;
-  out->r_P(0, 1) = _tmp3 + _tmp4*p.xi + _tmp5*p.a;
-  out->r_P(1, 1) = _tmp2*p.xi + _tmp4*p.eta + _tmp6*p.a;
-  out->Phi(0) = _tmp4*p.b + _tmp5*p.a + _tmp8 - p.g;
-  out->Phi(1) = _tmp2*p.b + _tmp6*p.a - _tmp9*p.c;
-  out->Phi(2) = _tmp10 + _tmp11*p.f + _tmp3 + _tmp4*p.xi + _tmp5*p.a - p.x6;
-  out->Phi(3) = -_tmp1*p.o + _tmp12*p.f + _tmp2*p.xi + _tmp4*p.eta + _tmp6*p.a - p.y6;
+  out->r_P(0, 0) = cos_phi3*p.o + p.x6;
+  out->r_P(1, 0) = p.o*sin_phi3 + p.y6;
+  out->r_P(0, 1) = _tmp0 + cos_phi0*p.xi + cos_q0*p.a;
+  out->r_P(1, 1) = cos_phi0*p.eta + p.a*sin_q0 + p.xi*sin_phi0;
+  out->Phi(0) = _tmp1 + cos_phi0*p.b + cos_q0*p.a - p.g;
+  out->Phi(1) = p.a*sin_q0 + p.b*sin_phi0 - p.c*sin_phi1;
+  out->Phi(2) = _tmp0 + _tmp2 + cos_phi0*p.xi + cos_phi2*p.f + cos_q0*p.a - p.x6;
+  out->Phi(3) = cos_phi0*p.eta + p.a*sin_q0 + p.f*sin_phi2 - p.o*sin_phi3 + p.xi*sin_phi0 - p.y6;
   out->Phi_phi.setZero();
-  const Scalar _tmp16 = K_1_0*K_1_0;
-  const Scalar _tmp17 = K_0_0*K_0_0;
-  const Scalar _tmp18 = -_tmp5*p.a;
-  const Scalar L_rhs_0_0_0 = _tmp16*_tmp7*p.c - _tmp17*_tmp4*p.b + _tmp18;
-  const Scalar L_rhs_1_0_0 = _tmp13 + _tmp16*_tmp9*p.c - _tmp17*_tmp2*p.b;
+  const Scalar _tmp6 = K_1_0*K_1_0;
+  const Scalar _tmp7 = K_0_0*K_0_0;
+  const Scalar _tmp8 = -cos_q0*p.a;
+  const Scalar L_rhs_0_0_0 = _tmp6*cos_phi1*p.c - _tmp7*cos_phi0*p.b + _tmp8;
+  const Scalar L_rhs_1_0_0 = _tmp3 + _tmp6*p.c*sin_phi1 - _tmp7*p.b*sin_phi0;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
-  const Scalar _tmp19 = _tmp17*_tmp2*p.eta;
-  const Scalar _tmp20 = K_3_0*K_3_0;
-  const Scalar _tmp21 = _tmp0*_tmp20*p.o;
-  const Scalar _tmp22 = -_tmp17*_tmp4*p.xi;
-  const Scalar _tmp23 = K_2_0*K_2_0;
-  const Scalar _tmp24 = -L_0_0_0*_tmp4*p.eta;
-  const Scalar _tmp25 = -L_0_0_0*_tmp2*p.xi;
-  const Scalar L_rhs_2_0_0 = -_tmp11*_tmp23*p.f + _tmp18 + _tmp19 + _tmp21 + _tmp22 + _tmp24 + _tmp25;
-  const Scalar _tmp26 = _tmp1*_tmp20*p.o;
-  const Scalar _tmp27 = -_tmp17*_tmp4*p.eta;
-  const Scalar _tmp28 = -_tmp17*_tmp2*p.xi;
-  const Scalar _tmp29 = -L_0_0_0*_tmp2*p.eta;
-  const Scalar _tmp30 = L_0_0_0*_tmp4*p.xi;
-  const Scalar L_rhs_3_0_0 = -_tmp12*_tmp23*p.f + _tmp13 + _tmp26 + _tmp27 + _tmp28 + _tmp29 + _tmp30;
+  const Scalar _tmp9 = _tmp7*p.eta*sin_phi0;
+  const Scalar _tmp10 = K_3_0*K_3_0;
+  const Scalar _tmp11 = _tmp10*cos_phi3*p.o;
+  const Scalar _tmp12 = -_tmp7*cos_phi0*p.xi;
+  const Scalar _tmp13 = K_2_0*K_2_0;
+  const Scalar _tmp14 = -L_0_0_0*cos_phi0*p.eta;
+  const Scalar _tmp15 = -L_0_0_0*p.xi*sin_phi0;
+  const Scalar L_rhs_2_0_0 = _tmp11 + _tmp12 - _tmp13*cos_phi2*p.f + _tmp14 + _tmp15 + _tmp8 + _tmp9;
+  const Scalar _tmp16 = _tmp10*p.o*sin_phi3;
+  const Scalar _tmp17 = -_tmp7*cos_phi0*p.eta;
+  const Scalar _tmp18 = -_tmp7*p.xi*sin_phi0;
+  const Scalar _tmp19 = -L_0_0_0*p.eta*sin_phi0;
+  const Scalar _tmp20 = L_0_0_0*cos_phi0*p.xi;
+  const Scalar L_rhs_3_0_0 = -_tmp13*p.f*sin_phi2 + _tmp16 + _tmp17 + _tmp18 + _tmp19 + _tmp20 + _tmp3;
   const Scalar L_2_0_0 = -L_rhs_2_0_0*Phi_phi_inv_2_2 - L_rhs_3_0_0*Phi_phi_inv_2_3;
   const Scalar L_3_0_0 = -L_rhs_2_0_0*Phi_phi_inv_3_2 - L_rhs_3_0_0*Phi_phi_inv_3_3;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
   out->Phi_phi(1, 1) = Phi_phi_1_1;
-  out->Phi_phi(2, 0) = -_tmp2*p.xi - _tmp4*p.eta;
+  out->Phi_phi(2, 0) = -cos_phi0*p.eta - p.xi*sin_phi0;
   out->Phi_phi(2, 2) = Phi_phi_2_2;
   out->Phi_phi(2, 3) = Phi_phi_2_3;
-  out->Phi_phi(3, 0) = _tmp3 + _tmp4*p.xi;
+  out->Phi_phi(3, 0) = _tmp0 + cos_phi0*p.xi;
   out->Phi_phi(3, 2) = Phi_phi_3_2;
   out->Phi_phi(3, 3) = Phi_phi_3_3;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K(2, 0) = K_2_0;
   out->K(3, 0) = K_3_0;
-  out->K_P(0, 0) = -K_3_0*_tmp1*p.o;
-  out->K_P(1, 0) = K_3_0*_tmp0*p.o;
-  out->K_P(2, 0) = _tmp14;
-  out->K_P(3, 0) = _tmp15;
+  out->K_P(0, 0) = -K_3_0*p.o*sin_phi3;
+  out->K_P(1, 0) = K_3_0*cos_phi3*p.o;
+  out->K_P(2, 0) = _tmp4;
+  out->K_P(3, 0) = _tmp5;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
   out->L(2, 0) = L_2_0_0;
   out->L(3, 0) = L_3_0_0;
-  out->L_P(0, 0) = -L_3_0_0*_tmp1*p.o - _tmp21;
-  out->L_P(1, 0) = L_3_0_0*_tmp0*p.o - _tmp26;
-  out->L_P(2, 0) = _tmp18 + _tmp19 + _tmp22 + _tmp24 + _tmp25;
-  out->L_P(3, 0) = _tmp13 + _tmp27 + _tmp28 + _tmp29 + _tmp30;
+  out->L_P(0, 0) = -L_3_0_0*p.o*sin_phi3 - _tmp11;
+  out->L_P(1, 0) = L_3_0_0*cos_phi3*p.o - _tmp16;
+  out->L_P(2, 0) = _tmp12 + _tmp14 + _tmp15 + _tmp8 + _tmp9;
+  out->L_P(3, 0) = _tmp17 + _tmp18 + _tmp19 + _tmp20 + _tmp3;
 }
 
 /**
@@ -411,6 +448,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -418,8 +457,9 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-  // Total ops: 79 (adds 23, muls 48, divs 2, calls 6); intermediate terms: 2
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+  // Total ops: 77 (adds 23, muls 48, divs 2, calls 4); intermediate terms: 2
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -439,10 +479,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b0 = -p.c;
-    const Scalar wx_b0 = -cos(q(0))*p.a + p.g;
-    const Scalar wy_b0 = -p.a*sin(q(0));
+    const Scalar wx_b0 = -cos_q0*p.a + p.g;
+    const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
@@ -459,13 +502,21 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
     phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
+    if (trig != nullptr) {
+      const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
+      const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
+      trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
+      trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
+      trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
+      trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+    }
   }
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b1 = -p.o;
     const Scalar _tmp0 = cos(phi(0));
     const Scalar _tmp1 = sin(phi(0));
-    const Scalar wx_b1 = -_tmp0*p.xi + _tmp1*p.eta - cos(q(0))*p.a + p.x6;
-    const Scalar wy_b1 = -_tmp0*p.eta - _tmp1*p.xi - p.a*sin(q(0)) + p.y6;
+    const Scalar wx_b1 = -_tmp0*p.xi + _tmp1*p.eta - cos_q0*p.a + p.x6;
+    const Scalar wy_b1 = -_tmp0*p.eta - _tmp1*p.xi - p.a*sin_q0 + p.y6;
     const Scalar ra2_b1 = p.f*p.f;
     const Scalar rb2_b1 = bx_b1*bx_b1;
     const Scalar d2_b1 = wx_b1*wx_b1 + wy_b1*wy_b1;
@@ -482,6 +533,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
     phi(2) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(2));
     phi(3) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(3));
+    if (trig != nullptr) {
+      const Scalar inv_ra2_b1 = Scalar(1) / ra2_b1;
+      const Scalar inv_rb2_b1 = Scalar(1) / rb2_b1;
+      trig->cos_phi(2) = dot_u_b1 * inv_ra2_b1;
+      trig->sin_phi(2) = cross_u_b1 * inv_ra2_b1;
+      trig->cos_phi(3) = dot_v_b1 * inv_rb2_b1;
+      trig->sin_phi(3) = cross_v_b1 * inv_rb2_b1;
+    }
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -554,7 +617,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -568,7 +632,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -582,7 +647,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -596,7 +662,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -635,6 +702,8 @@ struct Model : Sizes {
   using ParamsT = mech::stephenson_sixbar::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::stephenson_sixbar::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::stephenson_sixbar::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -649,8 +718,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -665,8 +735,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void TransmissionAngles(const Params<Scalar>& p,

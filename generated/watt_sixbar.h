@@ -128,6 +128,16 @@ struct Coefficients {
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq> L_P;
 };
 
+/// sin and cos of the angle coordinates at a solution, as SolvePositions() found them
+/// (closed-form dyads from their own dot and cross products, without a trigonometric call),
+/// for EvalCoefficients() to use instead of calling sin and cos again. Entries of
+/// displacement coordinates are not written.
+template <typename Scalar = double>
+struct Trig {
+  Vec<Scalar, Sizes::kNq> sin_q, cos_q;
+  Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
 /**
  * \brief Constraint residual and its Jacobians.
  * \param[in]  p        Parameters.
@@ -204,14 +214,17 @@ void EvalPhi(const Params<Scalar>& p,
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
  * \param[out] out  Coefficients; not nullptr.
+ * \param[in]  trig sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                  nullptr: they are computed here.
  * \note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does).
  */
 template <typename Scalar>
 void EvalCoefficients(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Coefficients<Scalar>* out) {
-  // Total ops: 184 (adds 46, muls 124, divs 2, calls 12); intermediate terms: 24
+                      Coefficients<Scalar>* out,
+                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+  // Total ops: 184 (adds 46, muls 124, divs 2, calls 12); intermediate terms: 14
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -222,93 +235,117 @@ void EvalCoefficients(const Params<Scalar>& p,
   (void)q;
   (void)phi;
   (void)out;
-  const Scalar _tmp0 = cos(phi(3));
-  const Scalar _tmp1 = sin(phi(3));
-  const Scalar _tmp2 = cos(phi(1));
-  const Scalar _tmp3 = -_tmp2*p.c;
-  const Scalar _tmp4 = cos(phi(0));
-  const Scalar _tmp5 = cos(q(0));
-  const Scalar _tmp6 = sin(phi(1));
-  const Scalar _tmp7 = sin(q(0));
-  const Scalar _tmp8 = sin(phi(0));
-  const Scalar _tmp9 = -_tmp0*p.o;
-  const Scalar _tmp10 = sin(p.beta);
-  const Scalar _tmp11 = -_tmp10*_tmp6*p.e;
-  const Scalar _tmp12 = cos(p.beta);
-  const Scalar _tmp13 = _tmp12*_tmp2*p.e;
-  const Scalar _tmp14 = cos(phi(2));
-  const Scalar _tmp15 = _tmp12*_tmp6*p.e;
-  const Scalar _tmp16 = _tmp10*_tmp2*p.e;
-  const Scalar _tmp17 = sin(phi(2));
-  const Scalar Phi_phi_0_0 = -_tmp8*p.b;
-  const Scalar Phi_phi_0_1 = _tmp6*p.c;
-  const Scalar Phi_phi_1_0 = _tmp4*p.b;
-  const Scalar Phi_phi_1_1 = _tmp3;
+  (void)trig;
+  Scalar sin_q0;
+  Scalar cos_q0;
+  Scalar sin_phi0;
+  Scalar cos_phi0;
+  Scalar sin_phi1;
+  Scalar cos_phi1;
+  Scalar sin_phi2;
+  Scalar cos_phi2;
+  Scalar sin_phi3;
+  Scalar cos_phi3;
+  if (trig != nullptr) {
+    sin_q0 = trig->sin_q(0);
+    cos_q0 = trig->cos_q(0);
+    sin_phi0 = trig->sin_phi(0);
+    cos_phi0 = trig->cos_phi(0);
+    sin_phi1 = trig->sin_phi(1);
+    cos_phi1 = trig->cos_phi(1);
+    sin_phi2 = trig->sin_phi(2);
+    cos_phi2 = trig->cos_phi(2);
+    sin_phi3 = trig->sin_phi(3);
+    cos_phi3 = trig->cos_phi(3);
+  } else {
+    sin_q0 = sin(q(0));
+    cos_q0 = cos(q(0));
+    sin_phi0 = sin(phi(0));
+    cos_phi0 = cos(phi(0));
+    sin_phi1 = sin(phi(1));
+    cos_phi1 = cos(phi(1));
+    sin_phi2 = sin(phi(2));
+    cos_phi2 = cos(phi(2));
+    sin_phi3 = sin(phi(3));
+    cos_phi3 = cos(phi(3));
+  }
+  const Scalar _tmp0 = -cos_phi1*p.c;
+  const Scalar _tmp1 = -cos_phi3*p.o;
+  const Scalar _tmp2 = sin(p.beta);
+  const Scalar _tmp3 = -_tmp2*p.e*sin_phi1;
+  const Scalar _tmp4 = cos(p.beta);
+  const Scalar _tmp5 = _tmp4*cos_phi1*p.e;
+  const Scalar _tmp6 = _tmp4*p.e*sin_phi1;
+  const Scalar _tmp7 = _tmp2*cos_phi1*p.e;
+  const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
+  const Scalar Phi_phi_0_1 = p.c*sin_phi1;
+  const Scalar Phi_phi_1_0 = cos_phi0*p.b;
+  const Scalar Phi_phi_1_1 = _tmp0;
   const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
   const Scalar inv_det_block0 = Scalar(1)/det_block0;
   const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
   const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
   const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
   const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
-  const Scalar K_0_0 = Phi_phi_inv_0_0*_tmp7*p.a - Phi_phi_inv_0_1*_tmp5*p.a;
-  const Scalar K_1_0 = Phi_phi_inv_1_0*_tmp7*p.a - Phi_phi_inv_1_1*_tmp5*p.a;
-  const Scalar Phi_phi_2_2 = -_tmp17*p.f;
-  const Scalar Phi_phi_2_3 = _tmp1*p.o;
-  const Scalar Phi_phi_3_2 = _tmp14*p.f;
-  const Scalar Phi_phi_3_3 = _tmp9;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*p.a*sin_q0 - Phi_phi_inv_0_1*cos_q0*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*p.a*sin_q0 - Phi_phi_inv_1_1*cos_q0*p.a;
+  const Scalar Phi_phi_2_2 = -p.f*sin_phi2;
+  const Scalar Phi_phi_2_3 = p.o*sin_phi3;
+  const Scalar Phi_phi_3_2 = cos_phi2*p.f;
+  const Scalar Phi_phi_3_3 = _tmp1;
   const Scalar det_block1 = Phi_phi_2_2*Phi_phi_3_3 - Phi_phi_2_3*Phi_phi_3_2;
   const Scalar inv_det_block1 = Scalar(1)/det_block1;
   const Scalar Phi_phi_inv_2_2 = Phi_phi_3_3*inv_det_block1;
   const Scalar Phi_phi_inv_2_3 = -Phi_phi_2_3*inv_det_block1;
   const Scalar Phi_phi_inv_3_2 = -Phi_phi_3_2*inv_det_block1;
   const Scalar Phi_phi_inv_3_3 = Phi_phi_2_2*inv_det_block1;
-  const Scalar K_rhs_2_0 = -K_1_0*_tmp10*_tmp2*p.e - K_1_0*_tmp12*_tmp6*p.e;
-  const Scalar K_rhs_3_0 = -K_1_0*_tmp10*_tmp6*p.e + K_1_0*_tmp12*_tmp2*p.e;
+  const Scalar K_rhs_2_0 = -K_1_0*_tmp2*cos_phi1*p.e - K_1_0*_tmp4*p.e*sin_phi1;
+  const Scalar K_rhs_3_0 = -K_1_0*_tmp2*p.e*sin_phi1 + K_1_0*_tmp4*cos_phi1*p.e;
   const Scalar K_2_0 = -K_rhs_2_0*Phi_phi_inv_2_2 - K_rhs_3_0*Phi_phi_inv_2_3;
   const Scalar K_3_0 = -K_rhs_2_0*Phi_phi_inv_3_2 - K_rhs_3_0*Phi_phi_inv_3_3;
-  out->r_P(0, 0) = _tmp0*p.o + p.x6;
-  out->r_P(1, 0) = _tmp1*p.o + p.y6;
-  out->Phi(0) = _tmp3 + _tmp4*p.b + _tmp5*p.a - p.g;
-  out->Phi(1) = -_tmp6*p.c + _tmp7*p.a + _tmp8*p.b;
-  out->Phi(2) = _tmp11 + _tmp13 + _tmp14*p.f + _tmp9 + p.g - p.x6;
-  out->Phi(3) = -_tmp1*p.o + _tmp15 + _tmp16 + _tmp17*p.f - p.y6;
+  out->r_P(0, 0) = cos_phi3*p.o + p.x6;
+  out->r_P(1, 0) = p.o*sin_phi3 + p.y6;
+  out->Phi(0) = _tmp0 + cos_phi0*p.b + cos_q0*p.a - p.g;
+  out->Phi(1) = p.a*sin_q0 + p.b*sin_phi0 - p.c*sin_phi1;
+  out->Phi(2) = _tmp1 + _tmp3 + _tmp5 + cos_phi2*p.f + p.g - p.x6;
+  out->Phi(3) = _tmp6 + _tmp7 + p.f*sin_phi2 - p.o*sin_phi3 - p.y6;
   out->Phi_phi.setZero();
-  const Scalar _tmp18 = K_1_0*K_1_0;
-  const Scalar _tmp19 = K_0_0*K_0_0;
-  const Scalar L_rhs_0_0_0 = _tmp18*_tmp2*p.c - _tmp19*_tmp4*p.b - _tmp5*p.a;
-  const Scalar L_rhs_1_0_0 = _tmp18*_tmp6*p.c - _tmp19*_tmp8*p.b - _tmp7*p.a;
+  const Scalar _tmp8 = K_1_0*K_1_0;
+  const Scalar _tmp9 = K_0_0*K_0_0;
+  const Scalar L_rhs_0_0_0 = _tmp8*cos_phi1*p.c - _tmp9*cos_phi0*p.b - cos_q0*p.a;
+  const Scalar L_rhs_1_0_0 = _tmp8*p.c*sin_phi1 - _tmp9*p.b*sin_phi0 - p.a*sin_q0;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
-  const Scalar _tmp20 = K_3_0*K_3_0;
-  const Scalar _tmp21 = _tmp0*_tmp20*p.o;
-  const Scalar _tmp22 = K_2_0*K_2_0;
-  const Scalar L_rhs_2_0_0 = -L_1_0_0*_tmp10*_tmp2*p.e - L_1_0_0*_tmp12*_tmp6*p.e + _tmp10*_tmp18*_tmp6*p.e - _tmp12*_tmp18*_tmp2*p.e - _tmp14*_tmp22*p.f + _tmp21;
-  const Scalar _tmp23 = _tmp1*_tmp20*p.o;
-  const Scalar L_rhs_3_0_0 = -L_1_0_0*_tmp10*_tmp6*p.e + L_1_0_0*_tmp12*_tmp2*p.e - _tmp10*_tmp18*_tmp2*p.e - _tmp12*_tmp18*_tmp6*p.e - _tmp17*_tmp22*p.f + _tmp23;
+  const Scalar _tmp10 = K_3_0*K_3_0;
+  const Scalar _tmp11 = _tmp10*cos_phi3*p.o;
+  const Scalar _tmp12 = K_2_0*K_2_0;
+  const Scalar L_rhs_2_0_0 = -L_1_0_0*_tmp2*cos_phi1*p.e - L_1_0_0*_tmp4*p.e*sin_phi1 + _tmp11 - _tmp12*cos_phi2*p.f + _tmp2*_tmp8*p.e*sin_phi1 - _tmp4*_tmp8*cos_phi1*p.e;
+  const Scalar _tmp13 = _tmp10*p.o*sin_phi3;
+  const Scalar L_rhs_3_0_0 = -L_1_0_0*_tmp2*p.e*sin_phi1 + L_1_0_0*_tmp4*cos_phi1*p.e - _tmp12*p.f*sin_phi2 + _tmp13 - _tmp2*_tmp8*cos_phi1*p.e - _tmp4*_tmp8*p.e*sin_phi1;
   const Scalar L_2_0_0 = -L_rhs_2_0_0*Phi_phi_inv_2_2 - L_rhs_3_0_0*Phi_phi_inv_2_3;
   const Scalar L_3_0_0 = -L_rhs_2_0_0*Phi_phi_inv_3_2 - L_rhs_3_0_0*Phi_phi_inv_3_3;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
   out->Phi_phi(1, 1) = Phi_phi_1_1;
-  out->Phi_phi(2, 1) = -_tmp15 - _tmp16;
+  out->Phi_phi(2, 1) = -_tmp6 - _tmp7;
   out->Phi_phi(2, 2) = Phi_phi_2_2;
   out->Phi_phi(2, 3) = Phi_phi_2_3;
-  out->Phi_phi(3, 1) = _tmp11 + _tmp13;
+  out->Phi_phi(3, 1) = _tmp3 + _tmp5;
   out->Phi_phi(3, 2) = Phi_phi_3_2;
   out->Phi_phi(3, 3) = Phi_phi_3_3;
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;
   out->K(2, 0) = K_2_0;
   out->K(3, 0) = K_3_0;
-  out->K_P(0, 0) = -K_3_0*_tmp1*p.o;
-  out->K_P(1, 0) = K_3_0*_tmp0*p.o;
+  out->K_P(0, 0) = -K_3_0*p.o*sin_phi3;
+  out->K_P(1, 0) = K_3_0*cos_phi3*p.o;
   out->L(0, 0) = L_0_0_0;
   out->L(1, 0) = L_1_0_0;
   out->L(2, 0) = L_2_0_0;
   out->L(3, 0) = L_3_0_0;
-  out->L_P(0, 0) = -L_3_0_0*_tmp1*p.o - _tmp21;
-  out->L_P(1, 0) = L_3_0_0*_tmp0*p.o - _tmp23;
+  out->L_P(0, 0) = -L_3_0_0*p.o*sin_phi3 - _tmp11;
+  out->L_P(1, 0) = L_3_0_0*cos_phi3*p.o - _tmp13;
 }
 
 /**
@@ -411,6 +448,8 @@ Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
  * \param[in]     modes  Assembly mode of each block (ignored for Newton blocks).
  * \param[in]     max_iterations, tolerance  Newton blocks stop when |Phi_block|_inf <= tolerance
  *                       (then take one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[out]    trig   sin and cos of the angle coordinates at the solution (for
+ *                       EvalCoefficients()), when the report says kConverged. May be nullptr.
  */
 template <typename Scalar>
 SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
@@ -418,7 +457,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    Vec<Scalar, Sizes::kNphi>* phi_io,
                                    const std::array<int, Sizes::kNumBlocks>& modes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 80 (adds 22, muls 50, divs 2, calls 6); intermediate terms: 4
   using std::abs;
   using std::atan2;
@@ -439,10 +479,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)modes;
   (void)max_iterations;
   (void)tolerance;
+  (void)trig;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b0 = -p.c;
-    const Scalar wx_b0 = -cos(q(0))*p.a + p.g;
-    const Scalar wy_b0 = -p.a*sin(q(0));
+    const Scalar wx_b0 = -cos_q0*p.a + p.g;
+    const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
@@ -459,6 +502,14 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
     phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
+    if (trig != nullptr) {
+      const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
+      const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
+      trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
+      trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
+      trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
+      trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+    }
   }
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b1 = -p.o;
@@ -484,6 +535,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
     phi(2) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(2));
     phi(3) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(3));
+    if (trig != nullptr) {
+      const Scalar inv_ra2_b1 = Scalar(1) / ra2_b1;
+      const Scalar inv_rb2_b1 = Scalar(1) / rb2_b1;
+      trig->cos_phi(2) = dot_u_b1 * inv_ra2_b1;
+      trig->sin_phi(2) = cross_u_b1 * inv_ra2_b1;
+      trig->cos_phi(3) = dot_v_b1 * inv_rb2_b1;
+      trig->sin_phi(3) = cross_v_b1 * inv_rb2_b1;
+    }
+  }
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
   }
   return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
 }
@@ -560,7 +623,8 @@ extern template void EvalPhi<double>(const Params<double>&,
 extern template void EvalCoefficients<double>(const Params<double>&,
                                              const Vec<double, Sizes::kNq>&,
                                              const Vec<double, Sizes::kNphi>&,
-                                             Coefficients<double>*);
+                                             Coefficients<double>*,
+                                             const Trig<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -574,7 +638,8 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                           Vec<double, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const double&);
+                                                          const double&,
+                                                          Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                       const Vec<double, Sizes::kNq>&,
                                       const Vec<double, Sizes::kNphi>&,
@@ -588,7 +653,8 @@ extern template void EvalPhi<float>(const Params<float>&,
 extern template void EvalCoefficients<float>(const Params<float>&,
                                              const Vec<float, Sizes::kNq>&,
                                              const Vec<float, Sizes::kNphi>&,
-                                             Coefficients<float>*);
+                                             Coefficients<float>*,
+                                             const Trig<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -602,7 +668,8 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                           Vec<float, Sizes::kNphi>*,
                                                           const std::array<int, Sizes::kNumBlocks>&,
                                                           int,
-                                                          const float&);
+                                                          const float&,
+                                                          Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -641,6 +708,8 @@ struct Model : Sizes {
   using ParamsT = mech::watt_sixbar::Params<Scalar>;
   template <typename Scalar>
   using CoefficientsT = mech::watt_sixbar::Coefficients<Scalar>;
+  template <typename Scalar>
+  using TrigT = mech::watt_sixbar::Trig<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -655,8 +724,9 @@ struct Model : Sizes {
   static void Coeffs(const Params<Scalar>& p,
                      const Vec<Scalar, kNq>& q,
                      const Vec<Scalar, kNphi>& phi,
-                     Coefficients<Scalar>* out) {
-    EvalCoefficients(p, q, phi, out);
+                     Coefficients<Scalar>* out,
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
+    EvalCoefficients(p, q, phi, out, trig);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
@@ -671,8 +741,9 @@ struct Model : Sizes {
                                    Vec<Scalar, kNphi>* phi_io,
                                    const std::array<int, kNumBlocks>& modes = kDefaultModes,
                                    int max_iterations = 20,
-                                   const Scalar& tolerance = Scalar(0)) {
-    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance);
+                                   const Scalar& tolerance = Scalar(0),
+                                   Out<Trig<Scalar>> trig = nullptr) {
+    return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
   }
   template <typename Scalar>
   static void TransmissionAngles(const Params<Scalar>& p,

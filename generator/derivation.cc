@@ -197,7 +197,10 @@ struct BlockSolver {
 };
 
 // The statements of SolvePositions for one closed-form block (see blocks.h for the forms).
-void ClosedFormPositions(const Kinematics& k, const Block& b, int bi, Program* P, CxxPrinter* printer) {
+// *trig_done[i] is set for each angle phi(i) whose sin and cos the block writes to *trig
+// from its own solution (no trigonometric call).
+void ClosedFormPositions(const Kinematics& k, const Block& b, int bi, Program* P, CxxPrinter* printer,
+                         std::vector<bool>* trig_done) {
   const std::string t = "_b" + N(bi);
   // A named local, or the value itself when it is a number or a symbol already.
   auto define = [&](const std::string& name, const ex& value) {
@@ -238,6 +241,16 @@ void ClosedFormPositions(const Kinematics& k, const Block& b, int bi, Program* P
     const ex cv = define("cross_v", bx * (wy - my) - by * (wx - mx)), dv = define("dot_v", bx * (wx - mx) + by * (wy - my));
     P->push_back(Raw(phi_ref(u) + " = AngleNear(atan2(" + text(cu) + ", " + text(du) + "), " + phi_ref(u) + ");"));
     P->push_back(Raw(phi_ref(v) + " = AngleNear(atan2(" + text(cv) + ", " + text(dv) + "), " + phi_ref(v) + ");"));
+    // m = R(u) a and w - m = R(v) b: a.m = |a|^2 cos u, a x m = |a|^2 sin u, and so for v.
+    P->push_back(Raw("if (trig != nullptr) {"));
+    P->push_back(Raw("  const Scalar inv_ra2" + t + " = Scalar(1) / " + text(ra2) + ";"));
+    P->push_back(Raw("  const Scalar inv_rb2" + t + " = Scalar(1) / " + text(rb2) + ";"));
+    P->push_back(Raw("  trig->cos_phi(" + N(u) + ") = " + text(du) + " * inv_ra2" + t + ";"));
+    P->push_back(Raw("  trig->sin_phi(" + N(u) + ") = " + text(cu) + " * inv_ra2" + t + ";"));
+    P->push_back(Raw("  trig->cos_phi(" + N(v) + ") = " + text(dv) + " * inv_rb2" + t + ";"));
+    P->push_back(Raw("  trig->sin_phi(" + N(v) + ") = " + text(cv) + " * inv_rb2" + t + ";"));
+    P->push_back(Raw("}"));
+    (*trig_done)[u] = (*trig_done)[v] = true;
     return;
   }
   if (b.solve == BlockSolve::kAngle) {
@@ -289,6 +302,13 @@ void ClosedFormPositions(const Kinematics& k, const Block& b, int bi, Program* P
     // u: the angle from a to w, one atan2 of (cross, dot).
     const ex cu = define("cross_u", ax * wy - ay * wx), du = define("dot_u", ax * wx + ay * wy);
     P->push_back(Raw(phi_ref(u) + " = AngleNear(atan2(" + text(cu) + ", " + text(du) + "), " + phi_ref(u) + ");"));
+    // R(u) a = w: a.w = |a|^2 cos u, a x w = |a|^2 sin u.
+    P->push_back(Raw("if (trig != nullptr) {"));
+    P->push_back(Raw("  const Scalar inv_a2" + t + " = Scalar(1) / (" + text(ax * ax + ay * ay) + ");"));
+    P->push_back(Raw("  trig->cos_phi(" + N(u) + ") = " + text(du) + " * inv_a2" + t + ";"));
+    P->push_back(Raw("  trig->sin_phi(" + N(u) + ") = " + text(cu) + " * inv_a2" + t + ";"));
+    P->push_back(Raw("}"));
+    (*trig_done)[u] = true;
     return;
   }
   // kSS: w0 + s0 e0 + s1 e1 = 0 by Cramer's rule.
@@ -301,6 +321,54 @@ void ClosedFormPositions(const Kinematics& k, const Block& b, int bi, Program* P
   P->push_back(Store("phi(" + N(b.cols[0]) + ")", (-w0x * e1y + w0y * e1x) * inv));
   P->push_back(Store("phi(" + N(b.cols[1]) + ")", (-e0x * w0y + e0y * w0x) * inv));
   P->push_back(Raw(""));  // flush the stores before later blocks read phi
+}
+
+// Trigonometric sharing (the Trig<Scalar> argument of SolvePositions and EvalCoefficients).
+// A coordinate's sin and cos as the symbols sin_<q|phi><i>, cos_<q|phi><i>.
+struct TrigName {
+  std::string sin, cos, sin_ref, cos_ref, arg;  // local names, trig->... members, q(i)/phi(i)
+  ex sin_symbol, cos_symbol;
+};
+
+TrigName NameTrig(bool is_q, int i, CxxPrinter* printer) {
+  TrigName t;
+  const std::string kind = is_q ? "q" : "phi";
+  t.sin = "sin_" + kind + N(i);
+  t.cos = "cos_" + kind + N(i);
+  t.sin_ref = "trig->sin_" + kind + "(" + N(i) + ")";
+  t.cos_ref = "trig->cos_" + kind + "(" + N(i) + ")";
+  t.arg = kind + "(" + N(i) + ")";
+  GiNaC::symbol s(t.sin), c(t.cos);
+  printer->Name(s, t.sin);
+  printer->Name(c, t.cos);
+  t.sin_symbol = s;
+  t.cos_symbol = c;
+  return t;
+}
+
+// Replaces sin(x) and cos(x) of the angle coordinates in `program`'s values by the symbols
+// of NameTrig; returns which were used (per coordinate: sin, cos), q first, then phi.
+std::vector<std::pair<bool, bool>> SubstituteTrig(const Kinematics& k, const std::vector<TrigName>& names,
+                                                  Program* program, bool include_phi) {
+  GiNaC::exmap map;
+  std::vector<const Coordinate*> coords;
+  for (const Coordinate& c : k.q) coords.push_back(&c);
+  for (const Coordinate& c : k.phi) coords.push_back(&c);
+  if (!include_phi) coords.resize(k.q.size());
+  std::vector<std::pair<bool, bool>> used(k.q.size() + k.phi.size(), {false, false});
+  for (Statement& s : *program) {
+    if (s.kind == Statement::Kind::kRaw) continue;
+    for (size_t i = 0; i < coords.size(); ++i) {
+      if (!coords[i]->is_angle) continue;
+      const ex sin_x = GiNaC::sin(coords[i]->symbol), cos_x = GiNaC::cos(coords[i]->symbol);
+      if (s.value.has(sin_x)) used[i].first = true;
+      if (s.value.has(cos_x)) used[i].second = true;
+      map[sin_x] = names[i].sin_symbol;
+      map[cos_x] = names[i].cos_symbol;
+    }
+    s.value = s.value.subs(map);
+  }
+  return used;
 }
 
 // Newton–Raphson on one block: residual and Jacobian of its rows over its unknowns.
@@ -332,8 +400,11 @@ void NewtonPositions(const Kinematics& k, const Block& b, int bi, Program* P) {
 
 }  // namespace
 
-Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Strategy strategy) {
+namespace {
+
+Derivation DeriveWithoutTrigSharing(const Model& m, const Kinematics& k, CxxPrinter* printer, Strategy strategy) {
   Derivation d;
+  d.trig_done.assign(k.phi.size(), false);
   const int nq = k.nq(), nphi = k.nphi(), nc = k.nc();
   for (int i = 0; i < nq; ++i) printer->Name(k.q[i].symbol, "q(" + std::to_string(i) + ")");
   for (int i = 0; i < nphi; ++i) printer->Name(k.phi[i].symbol, "phi(" + std::to_string(i) + ")");
@@ -380,7 +451,7 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Stra
     if (b.solve == BlockSolve::kNewton)
       NewtonPositions(k, b, static_cast<int>(bi), &PP);
     else
-      ClosedFormPositions(k, b, static_cast<int>(bi), &PP, printer);
+      ClosedFormPositions(k, b, static_cast<int>(bi), &PP, printer, &d.trig_done);
     PP.push_back(Raw("}"));
     const int n = static_cast<int>(b.cols.size());
     GiNaC::matrix J(n, n);
@@ -531,6 +602,84 @@ Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Stra
           for (int i = 0; i < nphi; ++i) s += k.points[pt][a].diff(k.phi[i].symbol) * L[i][pair_index(lo, hi)];
           P.push_back(Store("out->L_P" + Idx(2 * static_cast<int>(pt) + a, j + nq * kk), s));
         }
+  return d;
+}
+
+// The Trig<Scalar> argument: SolvePositions hoists sin and cos of its angle inputs out of the
+// blocks and hands out sin and cos of every angle (closed-form dyads from their own dot and
+// cross products, others by a call); EvalCoefficients takes them instead of calling sin and
+// cos again (it calls them itself when trig is nullptr).
+void ShareTrig(const Kinematics& k, CxxPrinter* printer, Derivation* d) {
+  std::vector<TrigName> names;
+  for (int i = 0; i < k.nq(); ++i) names.push_back(NameTrig(true, i, printer));
+  for (int i = 0; i < k.nphi(); ++i) names.push_back(NameTrig(false, i, printer));
+  const int nq = k.nq();
+
+  // EvalCoefficients: every angle coordinate.
+  const auto used = SubstituteTrig(k, names, &d->coefficients, true);
+  Program prologue, given, called;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const TrigName& t = names[i];
+    if (used[i].first) {
+      prologue.push_back(Raw("Scalar " + t.sin + ";"));
+      given.push_back(Raw("  " + t.sin + " = " + t.sin_ref + ";"));
+      called.push_back(Raw("  " + t.sin + " = sin(" + t.arg + ");"));
+      ++d->coefficient_trig_calls;
+    }
+    if (used[i].second) {
+      prologue.push_back(Raw("Scalar " + t.cos + ";"));
+      given.push_back(Raw("  " + t.cos + " = " + t.cos_ref + ";"));
+      called.push_back(Raw("  " + t.cos + " = cos(" + t.arg + ");"));
+      ++d->coefficient_trig_calls;
+    }
+  }
+  if (!given.empty()) {
+    prologue.push_back(Raw("if (trig != nullptr) {"));
+    prologue.insert(prologue.end(), given.begin(), given.end());
+    prologue.push_back(Raw("} else {"));
+    prologue.insert(prologue.end(), called.begin(), called.end());
+    prologue.push_back(Raw("}"));
+    d->coefficients.insert(d->coefficients.begin(), prologue.begin(), prologue.end());
+  }
+
+  // SolvePositions: the inputs' sin and cos once, before the blocks.
+  std::vector<std::pair<bool, bool>> q_used(nq, {false, false});
+  for (Program& block : d->positions) {
+    const auto u = SubstituteTrig(k, names, &block, false);
+    for (int j = 0; j < nq; ++j) {
+      q_used[j].first = q_used[j].first || u[j].first;
+      q_used[j].second = q_used[j].second || u[j].second;
+    }
+  }
+  Program head, tail;
+  for (int j = 0; j < nq; ++j) {
+    if (q_used[j].first) head.push_back(Raw("const Scalar " + names[j].sin + " = sin(" + names[j].arg + ");"));
+    if (q_used[j].second) head.push_back(Raw("const Scalar " + names[j].cos + " = cos(" + names[j].arg + ");"));
+    d->position_trig_calls += q_used[j].first + q_used[j].second;
+  }
+  tail.push_back(Raw("if (trig != nullptr) {"));
+  for (int j = 0; j < nq; ++j) {
+    if (!k.q[j].is_angle) continue;
+    const TrigName& t = names[j];
+    tail.push_back(Raw("  " + t.sin_ref + " = " + (q_used[j].first ? t.sin : "sin(" + t.arg + ")") + ";"));
+    tail.push_back(Raw("  " + t.cos_ref + " = " + (q_used[j].second ? t.cos : "cos(" + t.arg + ")") + ";"));
+  }
+  for (int i = 0; i < k.nphi(); ++i) {
+    if (!k.phi[i].is_angle || d->trig_done[i]) continue;
+    const TrigName& t = names[nq + i];
+    tail.push_back(Raw("  " + t.sin_ref + " = sin(" + t.arg + ");"));
+    tail.push_back(Raw("  " + t.cos_ref + " = cos(" + t.arg + ");"));
+  }
+  tail.push_back(Raw("}"));
+  d->positions.insert(d->positions.begin(), head);
+  d->positions.push_back(tail);
+}
+
+}  // namespace
+
+Derivation Derive(const Model& m, const Kinematics& k, CxxPrinter* printer, Strategy strategy) {
+  Derivation d = DeriveWithoutTrigSharing(m, k, printer, strategy);
+  ShareTrig(k, printer, &d);
   return d;
 }
 

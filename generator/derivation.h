@@ -34,6 +34,9 @@ struct Derivation {
   Program scene;         ///< EvalScene
   std::vector<Program> positions;  ///< SolvePositions, one program per block
   Program det;           ///< EvalDetPhiPhi: det Phi_phi as the product of the blocks' determinants
+  std::vector<bool> trig_done;     ///< per phi: SolvePositions writes its sin and cos from a closed form
+  int coefficient_trig_calls = 0;
+  int position_trig_calls = 0;     ///< sin/cos of the inputs, before SolvePositions's blocks  ///< sin/cos calls of EvalCoefficients's prologue (Raw lines, not counted by the printer)
   bool numeric_solve = false;  ///< some block uses Eigen's LU
   std::string strategy;  ///< one sentence for the generated header and the report
 };

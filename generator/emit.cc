@@ -142,7 +142,8 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   const std::string math = "  using std::abs;\n  using std::atan2;\n  using std::cos;\n  using std::pow;\n"
                            "  using std::sin;\n  using std::sqrt;\n";
   const Body phi = EmitProgram(d.phi, printer);
-  const Body coeffs = EmitProgram(d.coefficients, printer);
+  Body coeffs = EmitProgram(d.coefficients, printer);
+  coeffs.ops.calls += d.coefficient_trig_calls;  // sin and cos in its prologue (when trig is nullptr)
   const Body scene = EmitProgram(d.scene, printer);
   const Body det = EmitProgram(d.det, printer);
   const Body mu = EmitProgram(TransmissionProgram(transmission), printer);
@@ -154,6 +155,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
     positions.num_temps += b.num_temps;
   }
   positions.text = Reindent(positions.text);
+  positions.ops.calls += d.position_trig_calls;
   out.phi_ops = phi.ops;
   out.coefficient_ops = coeffs.ops;
   out.scene_ops = scene.ops;
@@ -225,7 +227,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("has_scene", m.outputs.scene && !k.scene.empty());
   const std::string unused = "  (void)p;\n  (void)q;\n  (void)phi;\n";
   data.Set("phi_body", BodyText(phi, math + unused));
-  data.Set("coefficients_body", BodyText(coeffs, math + unused + "  (void)out;\n"));
+  data.Set("coefficients_body", BodyText(coeffs, math + unused + "  (void)out;\n  (void)trig;\n"));
   data.Set("scene_body", BodyText(scene, math + unused));
   data.Set("det_body", BodyText(det, math + unused));
   data.Set("has_transmission", !transmission.empty());
@@ -240,7 +242,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
                                                      "  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;\n  int iterations = 0;\n" +
                                                      "  // tolerance <= 0: 1e-12 (model units), 1e-5 for float\n" +
                                                      "  const Scalar tol = tolerance > Scalar(0) ? tolerance : Scalar(sizeof(Scalar) <= 4 ? 1e-5 : 1e-12);\n  (void)tol;\n" +
-                                                     unused + "  (void)modes;\n  (void)max_iterations;\n  (void)tolerance;\n") +
+                                                     unused + "  (void)modes;\n  (void)max_iterations;\n  (void)tolerance;\n  (void)trig;\n") +
                                 "\n  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};");
   // Cams: the law's function and the cam's geometry (pressure angle, curvature, profile).
   std::string cams;
