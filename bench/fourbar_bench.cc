@@ -6,11 +6,13 @@
 //   ClosedForm          hand-written circle–circle intersection + Paul's K and L
 //                       (tests/runtime/handwritten_fourbar.h)
 //   MechgenContinuation PositionSolver::MoveTo(): second-order predictor, the generated
-//                       Solve (closed-form dyad) on the branch's mode, one generated Coeffs
+//                       Solve (closed-form dyad) on the branch's mode, which hands the
+//                       angles' sin and cos (Model::TrigT) to one generated Coeffs
 //                       (K, L, points, and the Phi / Phi_phi the step's checks use: residual,
 //                       cond_1, branch sign, sigma_min and directions, correction size,
 //                       K-consistency)
-//   MechgenClosedForm   the generated SolvePositions (closed-form RRR dyad) + Coeffs
+//   MechgenClosedForm   the generated SolvePositions (closed-form RRR dyad) + Coeffs, sin and
+//                       cos passed from one to the other
 //   CeresAnalyticReused Ceres LM with the generated Jacobian, one ceres::Problem reused,
 //                       started from the previous phi; then Coeffs
 //   CeresAutoDiffReused the same with AutoDiffCostFunction over Model::Phi (Jets)
@@ -93,13 +95,14 @@ BENCHMARK(MechgenContinuation);
 void MechgenClosedForm(benchmark::State& state) {
   const Model::ParamsT<double> p;
   Model::CoefficientsT<double> c;
+  Model::TrigT<double> trig;
   Types::VecPhi phi;
   for (int i = 0; i < Model::kNphi; ++i) phi(i) = Model::kAssemblyPhi[i];
   long k = 0;
   for (auto _ : state) {
     const Types::VecQ q = Types::VecQ::Constant(CrankAngle(k++));
-    const auto report = Model::Solve(p, q, &phi);
-    Model::Coeffs(p, q, phi, &c);
+    const auto report = Model::Solve(p, q, &phi, Model::kDefaultModes, 20, 0.0, &trig);
+    Model::Coeffs(p, q, phi, &c, &trig);
     benchmark::DoNotOptimize(report);
     benchmark::DoNotOptimize(phi);
     benchmark::DoNotOptimize(c);

@@ -118,6 +118,33 @@ struct HasSolve<
                    decltype(M::kDefaultModes), decltype(M::kBlockClosedForm)>>
     : std::true_type {};
 
+/// M::TrigT<double>: sin and cos of the angles that M::Solve hands out (its last argument)
+/// and M::Coeffs takes (its last argument) instead of calling sin and cos again.
+struct NoTrig {};
+template <class M, class = void>
+struct TrigOf {
+  using type = NoTrig;
+  static constexpr bool value = false;
+};
+template <class M>
+struct TrigOf<
+    M, std::void_t<typename M::template TrigT<double>,
+                   decltype(M::template Solve<double>(
+                       std::declval<const typename M::template ParamsT<double>&>(),
+                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
+                       std::declval<Eigen::Matrix<double, M::kNphi, 1>*>(),
+                       std::declval<const std::array<int, M::kNumBlocks>&>(), 0, 0.0,
+                       std::declval<typename M::template TrigT<double>*>())),
+                   decltype(M::template Coeffs<double>(
+                       std::declval<const typename M::template ParamsT<double>&>(),
+                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
+                       std::declval<const Eigen::Matrix<double, M::kNphi, 1>&>(),
+                       std::declval<typename M::template CoefficientsT<double>*>(),
+                       std::declval<const typename M::template TrigT<double>*>()))>> {
+  using type = typename M::template TrigT<double>;
+  static constexpr bool value = true;
+};
+
 /// M::kNumBlocks when M has Solve, else 1.
 template <class M, bool = HasSolve<M>::value>
 struct BlockCount {
@@ -146,6 +173,9 @@ struct ModelFeatures {
   static constexpr bool kCoeffsHavePhi = internal::HasPhiPhi<Coefficients>::value;
   /// The generated block-ordered solver Model::Solve (closed-form dyads, Newton blocks).
   static constexpr bool kHasSolve = internal::HasSolve<M>::value;
+  /// Model::Solve hands sin and cos of the angles to Model::Coeffs (Model::TrigT): a
+  /// continuation step then calls no sin or cos for the angles a closed form solved.
+  static constexpr bool kHasTrig = kHasSolve && internal::TrigOf<M>::value;
 };
 
 /**

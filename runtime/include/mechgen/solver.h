@@ -256,9 +256,11 @@ class PositionSolver {
   // The checks of a continuation sub-step on a corrected phi; on success *to is complete.
   // Phi, Phi_phi, Phi_q: at (q, phi) when the caller has them, else nullptr (evaluated).
   // predicted, last_term: Predict() at q.
+  // trig: sin and cos of the angles from the M::Solve that gave phi (Features::kHasTrig), or
+  // nullptr.
   bool Accept(const State<M>& from, const VecQ& q, const VecPhi& predicted, double last_term,
               const VecPhi& phi, const MatCPhi* Phi_phi, const MatCQ* Phi_q, double residual,
-              State<M>* to) const;
+              State<M>* to, const typename internal::TrigOf<M>::type* trig = nullptr) const;
   // The predictor phi0 + K dq (+ 1/2 L(dq, dq) for the second-order one) at q; *last_term:
   // the max-norm of the last Taylor term it used, the scale of CorrectionAcceptable().
   VecPhi Predict(const State<M>& from, const VecQ& q, double* last_term) const;
@@ -527,7 +529,8 @@ typename PositionSolver<M>::VecPhi PositionSolver<M>::Predict(const State<M>& fr
 template <class M>
 bool PositionSolver<M>::Accept(const State<M>& from, const VecQ& q, const VecPhi& predicted,
                                double last_term, const VecPhi& phi, const MatCPhi* Phi_phi,
-                               const MatCQ* Phi_q, double residual, State<M>* to) const {
+                               const MatCQ* Phi_q, double residual, State<M>* to,
+                               const typename internal::TrigOf<M>::type* trig) const {
   // (CorrectionAcceptable() fails on a phi that is not finite.)
   if (!CorrectionAcceptable(last_term, predicted, phi) || MovesTooFar(from.phi, phi, true)) {
     return false;
@@ -541,7 +544,12 @@ bool PositionSolver<M>::Accept(const State<M>& from, const VecQ& q, const VecPhi
       // One evaluation gives Phi and Phi_phi for the checks and K, L and the points: the
       // coefficients are computed before the conditioning test, and discarded (with the
       // whole step) when it fails, so a singular Phi_phi never reaches the state.
-      M::template Coeffs<double>(params_, q, phi, &c);
+      if constexpr (Features::kHasTrig) {
+        M::template Coeffs<double>(params_, q, phi, &c, trig);  // trig == nullptr: its own sin, cos
+      } else {
+        (void)trig;
+        M::template Coeffs<double>(params_, q, phi, &c);
+      }
       residual = internal::MaxAbsDiff(c.Phi);
       if (!(residual <= options_.tolerance)) return false;
       Phi_phi = &c.Phi_phi;
@@ -578,14 +586,24 @@ bool PositionSolver<M>::SolvedStep(const State<M>& from, const VecQ& q, State<M>
     // The generated solver on this branch's modes: closed-form blocks are exact and cost
     // no iteration, Newton blocks start from the predictor (and polish).
     VecPhi phi = predicted;
-    const auto report = M::template Solve<double>(params_, q, &phi, modes_,
-                                                  options_.max_newton_iterations,
-                                                  options_.tolerance);
+    // With Model::TrigT, Solve also hands out sin and cos of the angles it solved (a
+    // closed-form dyad from its own dot and cross products), and Coeffs uses them.
+    typename internal::TrigOf<M>::type trig;
+    const auto report = [&]() {
+      if constexpr (Features::kHasTrig) {
+        return M::template Solve<double>(params_, q, &phi, modes_, options_.max_newton_iterations,
+                                         options_.tolerance, &trig);
+      } else {
+        return M::template Solve<double>(params_, q, &phi, modes_, options_.max_newton_iterations,
+                                         options_.tolerance);
+      }
+    }();
     *iterations += report.iterations;
     using SolveStatus = decltype(report.status);
     // (A phi that is not finite fails Accept()'s first check.)
     return report.status == SolveStatus::kConverged &&
-           Accept(from, q, predicted, last_term, phi, nullptr, nullptr, 0.0, to);
+           Accept(from, q, predicted, last_term, phi, nullptr, nullptr, 0.0, to,
+                  Features::kHasTrig ? &trig : nullptr);
   } else {
     return false;
   }
