@@ -209,6 +209,7 @@ TEST(GeneratedFourBar, EqualsHandwrittenClosedForm) {
 struct CountingFourBar : mech::fourbar::Model {
   static inline long phi_calls = 0;
   static inline long coeffs_calls = 0;
+  static inline long coeffs_calls_with_trig = 0;
   template <typename Scalar>
   static void Phi(const ParamsT<Scalar>& p, const mech::fourbar::Vec<Scalar, kNq>& q,
                   const mech::fourbar::Vec<Scalar, kNphi>& phi,
@@ -221,21 +222,24 @@ struct CountingFourBar : mech::fourbar::Model {
   template <typename Scalar>
   static void Coeffs(const ParamsT<Scalar>& p, const mech::fourbar::Vec<Scalar, kNq>& q,
                      const mech::fourbar::Vec<Scalar, kNphi>& phi,
-                     CoefficientsT<Scalar>* out) {
+                     CoefficientsT<Scalar>* out, const TrigT<Scalar>* trig = nullptr) {
     ++coeffs_calls;
-    mech::fourbar::Model::Coeffs<Scalar>(p, q, phi, out);
+    coeffs_calls_with_trig += trig != nullptr;
+    mech::fourbar::Model::Coeffs<Scalar>(p, q, phi, out, trig);
   }
 };
 
 TEST(GeneratedFourBar, ContinuationStepEvaluatesTheModelOnce) {
   // A continuation step of a sweep with small steps: M::Solve, then one Model::Coeffs that
-  // gives the residual and Phi_phi for the checks with K, L and the points; no Model::Phi.
+  // gives the residual and Phi_phi for the checks with K, L and the points, from the sin
+  // and cos that M::Solve handed over; no Model::Phi.
   using M = CountingFourBar;
-  static_assert(ModelFeatures<M>::kCoeffsHavePhi && ModelFeatures<M>::kHasSolve);
+  static_assert(ModelFeatures<M>::kCoeffsHavePhi && ModelFeatures<M>::kHasSolve &&
+                ModelFeatures<M>::kHasTrig);
   PositionSolver<M> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   ASSERT_EQ(solver.MoveTo(Q(0), nullptr), Status::kConverged);
-  M::phi_calls = M::coeffs_calls = 0;
+  M::phi_calls = M::coeffs_calls = M::coeffs_calls_with_trig = 0;
   Summary summary;
   for (int k = 1; k <= 720; ++k) {
     ASSERT_EQ(solver.MoveTo(Q(k * kPi / 360), &summary), Status::kConverged);
@@ -243,6 +247,7 @@ TEST(GeneratedFourBar, ContinuationStepEvaluatesTheModelOnce) {
     EXPECT_EQ(summary.rejected_substeps, 0);
   }
   EXPECT_EQ(M::coeffs_calls, 720);
+  EXPECT_EQ(M::coeffs_calls_with_trig, 720);
   EXPECT_EQ(M::phi_calls, 0);
 }
 #endif
