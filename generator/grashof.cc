@@ -51,16 +51,20 @@ std::string FourBarLoop::MuText() const {
          Deg(mu_max) + " (at " + Deg(q_at_mu_max) + ")";
 }
 
+bool IsFourBarLoop(const Model& m, const Loop& loop) {
+  if (loop.joints.size() != 4) return false;
+  for (int j : loop.joints)
+    if (m.joints[j].type != JointType::kRevolute) return false;
+  return true;
+}
+
 std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
   GiNaC::exmap defaults;
   for (const Parameter& p : m.params) defaults[p.symbol] = p.value;
   std::vector<FourBarLoop> out;
   for (size_t li = 0; li < t.loops.size(); ++li) {
     const Loop& loop = t.loops[li];
-    if (loop.joints.size() != 4) continue;
-    bool all_revolute = true;
-    for (int j : loop.joints) all_revolute &= m.joints[j].type == JointType::kRevolute;
-    if (!all_revolute) continue;
+    if (!IsFourBarLoop(m, loop)) continue;
     FourBarLoop f;
     f.loop = static_cast<int>(li);
     // Link i of the loop lies between joints[i-1] and joints[i].

@@ -27,6 +27,9 @@ struct FourBarLoop {
   std::string MuText() const;  ///< "over input A's range mu = 32.1 deg (at 180.0 deg) ... 94.2 deg (at 0.0 deg)"
 };
 
+/// A loop of four links joined by four revolute joints.
+bool IsFourBarLoop(const Model& m, const Loop& loop);
+
 /// Classifies the four-bar loops, with lengths at the parameters' default values, and
 /// fails (ModelError at the input) when a driven link's range leaves the loop's reach.
 std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "grashof.h"
 #include "joints.h"
 
 namespace mechgen {
@@ -32,11 +33,9 @@ std::vector<TransmissionAngle> FindTransmissionAngles(const Model& m, const Topo
   std::vector<TransmissionAngle> out;
   for (size_t li = 0; li < t.loops.size(); ++li) {
     const Loop& loop = t.loops[li];
-    if (loop.joints.size() != 4) continue;
-    bool revolute = true;
-    for (int j : loop.joints) revolute &= m.joints[j].type == JointType::kRevolute;
+    if (!IsFourBarLoop(m, loop)) continue;
     const int g = static_cast<int>(std::find(loop.links.begin(), loop.links.begin() + 4, m.ground) - loop.links.begin());
-    if (!revolute || g >= 4) continue;
+    if (g >= 4) continue;
     // joints[i] joins links[i] and links[i + 1]; the ground is links[g], a and b are the
     // ground-adjacent links, c the coupler.
     const int a = loop.links[(g + 1) % 4], c = loop.links[(g + 2) % 4], b = loop.links[(g + 3) % 4];

@@ -264,27 +264,10 @@ inputs:
 TEST(BadModelMore, AssemblyThatCannotCloseIsReportedAtTheGuess) {
   // The crank reaches [-20, 20] deg (delta <= 6.37 < b + c = 6.5), but the assembly input
   // 180 deg puts B at distance d + a = 8.3 from D: the dyad's circles do not meet.
-  const char* text = R"(name: far
-parameters:
-  a: 1.0
-  b: 3.5
-  c: 3.0
-  d: 7.3
-links:
-  ground:  {ground: true, points: {A: [0, 0], D: [d, 0]}}
-  crank:   {points: {A: [0, 0], B: [a, 0]}}
-  coupler: {points: {B: [0, 0], C: [b, 0]}}
-  rocker:  {points: {D: [0, 0], C: [c, 0]}}
-joints:
-  A: {revolute: [ground.A, crank.A]}
-  B: {revolute: [crank.B, coupler.B]}
-  C: {revolute: [coupler.C, rocker.C]}
-  D: {revolute: [rocker.D, ground.D]}
-inputs:
-  - {joint: A, range: [-20*deg, 20*deg]}
-assembly:
-  theta_crank: 180*deg
-)";
+  std::string text = kGoodModel;
+  text.replace(text.find("  d: 4.0"), 8, "  d: 7.3");
+  text.replace(text.find("  - {joint: A}\n"), 15,
+               "  - {joint: A, range: [-20*deg, 20*deg]}\nassembly:\n  theta_crank: 180*deg\n");
   TempDir dir;
   const fs::path model = dir.path() / "far.yaml";
   std::ofstream(model) << text;
