@@ -276,20 +276,22 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j) {
 }
 
 std::string CheckCam(const Model& m, const Joint& j, const CamLaw& law, const CamGeometry& g) {
-  GiNaC::exmap back;
-  for (const Statement& s : g.program)
-    if (s.kind == Statement::Kind::kDefine) back[s.symbol] = s.value;
-  auto resolve = [&](ex e) {
-    for (int pass = 0; pass < 4; ++pass) e = e.subs(back);
-    return e.subs(Defaults(m));
-  };
-  const ex rho_pitch = resolve(g.rho_pitch), rho_profile = resolve(g.rho_profile), alpha = resolve(g.pressure_angle);
   NumericLaw numeric(m, law);
-  auto at = [&](const ex& e, double x) {
-    GiNaC::exmap v;
-    v[g.x] = x;
-    const ex r = numeric(e.subs(v)).evalf();
+  const GiNaC::exmap defaults = Defaults(m);
+  // The geometry's program statement by statement at a number x: each named local becomes a
+  // number before the next one uses it (substituting the locals back into one expression
+  // first made every evaluation as large as the whole program: 1.4 s for a flat-faced cam).
+  auto number = [](const ex& r) {
     return GiNaC::is_a<GiNaC::numeric>(r) ? GiNaC::ex_to<GiNaC::numeric>(r).to_double() : std::nan("");
+  };
+  auto evaluate = [&](double x, double* alpha, double* rho_pitch, double* rho_profile) {
+    GiNaC::exmap v = defaults;
+    v[g.x] = x;
+    for (const Statement& s : g.program)
+      if (s.kind == Statement::Kind::kDefine) v[s.symbol] = numeric(s.value.subs(v)).evalf();
+    *alpha = number(numeric(g.pressure_angle.subs(v)).evalf());
+    *rho_pitch = number(numeric(g.rho_pitch.subs(v)).evalf());
+    *rho_profile = number(numeric(g.rho_profile.subs(v)).evalf());
   };
   const double rr = Num(j.roller, Defaults(m));
   const int n = 720;
@@ -299,7 +301,8 @@ std::string CheckCam(const Model& m, const Joint& j, const CamLaw& law, const Ca
   const double tie = 1e-9;
   for (int i = 0; i < n; ++i) {
     const double x = 2 * M_PI * (i + 0.5) / n;
-    const double a = at(alpha, x), rp = at(rho_pitch, x), rf = at(rho_profile, x);
+    double a = 0, rp = 0, rf = 0;
+    evaluate(x, &a, &rp, &rf);
     if (a > max_alpha + tie) max_alpha = a, x_alpha = x;
     if (rp > 0 && rp < min_convex - tie) min_convex = rp, x_convex = x;
     if (rf < min_profile - tie) min_profile = rf, x_profile = x;
