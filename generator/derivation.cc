@@ -350,21 +350,25 @@ TrigName NameTrig(bool is_q, int i, CxxPrinter* printer) {
 // of NameTrig; returns which were used (per coordinate: sin, cos), q first, then phi.
 std::vector<std::pair<bool, bool>> SubstituteTrig(const Kinematics& k, const std::vector<TrigName>& names,
                                                   Program* program, bool include_phi) {
-  GiNaC::exmap map;
   std::vector<const Coordinate*> coords;
   for (const Coordinate& c : k.q) coords.push_back(&c);
   for (const Coordinate& c : k.phi) coords.push_back(&c);
   if (!include_phi) coords.resize(k.q.size());
+  GiNaC::exmap map;
+  std::vector<std::pair<ex, ex>> trig(coords.size());  // sin(x), cos(x)
+  for (size_t i = 0; i < coords.size(); ++i) {
+    if (!coords[i]->is_angle) continue;
+    trig[i] = {GiNaC::sin(coords[i]->symbol), GiNaC::cos(coords[i]->symbol)};
+    map[trig[i].first] = names[i].sin_symbol;
+    map[trig[i].second] = names[i].cos_symbol;
+  }
   std::vector<std::pair<bool, bool>> used(k.q.size() + k.phi.size(), {false, false});
   for (Statement& s : *program) {
     if (s.kind == Statement::Kind::kRaw) continue;
     for (size_t i = 0; i < coords.size(); ++i) {
       if (!coords[i]->is_angle) continue;
-      const ex sin_x = GiNaC::sin(coords[i]->symbol), cos_x = GiNaC::cos(coords[i]->symbol);
-      if (s.value.has(sin_x)) used[i].first = true;
-      if (s.value.has(cos_x)) used[i].second = true;
-      map[sin_x] = names[i].sin_symbol;
-      map[cos_x] = names[i].cos_symbol;
+      used[i].first = used[i].first || s.value.has(trig[i].first);
+      used[i].second = used[i].second || s.value.has(trig[i].second);
     }
     s.value = s.value.subs(map);
   }

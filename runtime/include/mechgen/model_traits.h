@@ -145,6 +145,14 @@ struct TrigOf<
   static constexpr bool value = true;
 };
 
+/// Number of transmission angles of a model (its four-bar loops on the ground, when the
+/// header has EvalTransmissionAngles); 0 for a model without them.
+template <class M, class = void>
+struct TransmissionAngleCount : std::integral_constant<int, 0> {};
+template <class M>
+struct TransmissionAngleCount<M, std::void_t<decltype(&M::template TransmissionAngles<double>)>>
+    : std::integral_constant<int, M::kNumTransmissionAngles> {};
+
 /// M::kNumBlocks when M has Solve, else 1.
 template <class M, bool = HasSolve<M>::value>
 struct BlockCount {
@@ -176,6 +184,8 @@ struct ModelFeatures {
   /// Model::Solve hands sin and cos of the angles to Model::Coeffs (Model::TrigT): a
   /// continuation step then calls no sin or cos for the angles a closed form solved.
   static constexpr bool kHasTrig = kHasSolve && internal::TrigOf<M>::value;
+  /// Model::TransmissionAngles (EvalTransmissionAngles) gives this many angles; 0 without it.
+  static constexpr int kNumTransmissionAngles = internal::TransmissionAngleCount<M>::value;
 };
 
 /**
@@ -261,9 +271,7 @@ void FixSign(Vec* v) {
   v->cwiseAbs().maxCoeff(&largest);
   if ((*v)(largest) < 0) *v = -*v;
 }
-}  // namespace internal
 
-namespace internal {
 /// FixSign() for two entries, without Eigen's indexed maxCoeff (a store and a reload):
 /// the first entry decides on a tie, as there.
 inline void FixSign2(double* x, double* y) {

@@ -289,15 +289,17 @@ class PositionSolver {
   }
   // One continuation sub-step from `from` to q by predictor + corrector (M::Solve on the
   // branch's modes, else / then Newton on the whole system); no allocation. *used_newton
-  // is set when the accepted result did not come from M::Solve.
+  // is set when the accepted result did not come from M::Solve. try_solved: false when the
+  // caller already ran SolvedStep() from `from` to q and it failed (the same again would).
   bool TryStep(const State<M>& from, const VecQ& q, State<M>* to, Summary* s,
-               bool* used_newton) const;
+               bool* used_newton, bool try_solved = true) const;
   // The part of TryStep() that corrects with M::Solve on the branch's modes (has_modes_);
   // adds M::Solve's iterations to *iterations.
   bool SolvedStep(const State<M>& from, const VecQ& q, State<M>* to, int* iterations) const;
   // MoveTo() after its fast path: the checks with their reasons, TryStep() (M::Solve, then
-  // Newton) and the split into sub-steps. iterations: those the fast path already spent.
-  Status MoveToGeneral(const VecQ& q, Summary* summary, int iterations);
+  // Newton) and the split into sub-steps. iterations: those the fast path already spent;
+  // solved_tried: the fast path ran SolvedStep() to q (and it failed).
+  Status MoveToGeneral(const VecQ& q, Summary* summary, int iterations, bool solved_tried);
   // MoveTo() tries SolvedStep() inline first (every step of a sweep with small steps) when
   // the model has M::Solve and its Coefficients have Phi and Phi_phi.
   static constexpr bool kInlineFastPath = Features::kHasSolve && kPhiFromCoeffs;
@@ -611,14 +613,14 @@ bool PositionSolver<M>::SolvedStep(const State<M>& from, const VecQ& q, State<M>
 
 template <class M>
 bool PositionSolver<M>::TryStep(const State<M>& from, const VecQ& q, State<M>* to,
-                                Summary* s, bool* used_newton) const {
+                                Summary* s, bool* used_newton, bool try_solved) const {
   double last_term = 0;
   const VecPhi predicted = Predict(from, q, &last_term);
   if (MovesTooFar(from.phi, predicted)) return false;  // split before running a corrector
   if constexpr (Features::kHasSolve) {
     // The generated solver on this branch's modes: closed-form blocks are exact and cost
     // no iteration, Newton blocks start from the predictor (and polish).
-    if (has_modes_ && SolvedStep(from, q, to, &s->iterations)) return true;
+    if (has_modes_ && try_solved && SolvedStep(from, q, to, &s->iterations)) return true;
   }
   // Newton on the whole system from the predictor: models without M::Solve, and the
   // fallback when M::Solve fails or its result fails a check.
@@ -745,11 +747,13 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
   if constexpr (kInlineFastPath) {
     // The fast path of MoveToGeneral() without its bookkeeping: valid input, one sub-step
     // straight to q_target corrected by M::Solve. Anything else (and any failure) goes the
-    // general way, which repeats the checks with their reasons.
+    // general way, which repeats the checks with their reasons but not a SolvedStep() that
+    // already failed here.
     const State<M>& from = state_ref();
     int iterations = 0;
-    if (has_modes_ && options_valid_ && from.valid && q_target.allFinite() &&
-        (q_target - from.q).cwiseAbs().maxCoeff() <= options_.max_input_step) {
+    const bool try_solved = has_modes_ && options_valid_ && from.valid && q_target.allFinite() &&
+                            (q_target - from.q).cwiseAbs().maxCoeff() <= options_.max_input_step;
+    if (try_solved) {
       if (SolvedStep(from, q_target, &states_[1 - current_], &iterations)) {
         current_ = 1 - current_;
         if (summary != nullptr) {
@@ -766,15 +770,15 @@ Status PositionSolver<M>::MoveTo(const VecQ& q_target, Summary* summary) {
         return Status::kConverged;
       }
     }
-    return MoveToGeneral(q_target, summary, iterations);
+    return MoveToGeneral(q_target, summary, iterations, try_solved);
   } else {
-    return MoveToGeneral(q_target, summary, 0);
+    return MoveToGeneral(q_target, summary, 0, false);
   }
 }
 
 template <class M>
 Status PositionSolver<M>::MoveToGeneral(const VecQ& q_target, Summary* summary,
-                                        int iterations) {
+                                        int iterations, bool solved_tried) {
   Summary s;
   s.iterations = iterations;
   auto finish = [&](Status status) {
@@ -794,7 +798,7 @@ Status PositionSolver<M>::MoveToGeneral(const VecQ& q_target, Summary* summary,
   }
   // Fast path (every step of a sweep with small steps): one sub-step straight to q_target.
   bool used_newton = false;
-  if (TryStep(state_ref(), q_target, &states_[1 - current_], &s, &used_newton)) {
+  if (TryStep(state_ref(), q_target, &states_[1 - current_], &s, &used_newton, !solved_tried)) {
     current_ = 1 - current_;
     if (used_newton) FindModes(state_ref());
     s.substeps = 1;

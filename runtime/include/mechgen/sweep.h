@@ -12,7 +12,6 @@
 #pragma once
 
 #include <limits>
-#include <type_traits>
 #include <vector>
 
 #include "mechgen/kinematics.h"
@@ -20,20 +19,10 @@
 
 namespace mechgen {
 
-namespace internal {
-/// Number of transmission angles of a model (its four-bar loops on the ground, when the
-/// header has EvalTransmissionAngles); 0 for a model without them.
-template <class M, class = void>
-struct TransmissionAngleCount : std::integral_constant<int, 0> {};
-template <class M>
-struct TransmissionAngleCount<M, std::void_t<decltype(&M::template TransmissionAngles<double>)>>
-    : std::integral_constant<int, M::kNumTransmissionAngles> {};
-}  // namespace internal
-
 /// One row of a sweep.
 template <class M>
 struct SweepRecord {
-  static constexpr int kNumMu = internal::TransmissionAngleCount<M>::value;
+  static constexpr int kNumMu = ModelFeatures<M>::kNumTransmissionAngles;
   typename ModelTypes<M>::VecQ q;  ///< requested inputs (kNq)
   State<M> state;                  ///< the configuration at q; NaN and !valid when failed
   Motion<M> motion;                ///< velocities and accelerations; NaN when failed
