@@ -2,10 +2,11 @@
 //
 // Each input is written to a temporary file (LoadModel reads a path) and run through
 // LoadModel (YAML syntax, names, references, expressions), BuildTopology (loops, mobility),
-// DeriveKinematics and Derive (symbolic Phi, Phi_phi, Phi_q, K, L with CSE). A bad model
-// must end in a mechgen::ModelError or another std::exception (GiNaC reports e.g. a division
-// by zero that way); a crash, a sanitizer report, a timeout or running out of memory is a
-// finding. Emission (templates) is not fuzzed: it only formats what Derive produced.
+// DeriveKinematics, the symbolic table (Phi, Phi_phi, Phi_q, K, L) and the function
+// builders with CSE. A bad model must end in a mechgen::ModelError or another
+// std::exception (GiNaC reports e.g. a division by zero that way); a crash, a sanitizer
+// report, a timeout or running out of memory is a finding. Emission (templates) is not
+// fuzzed: it only formats what the builders produced.
 #include <unistd.h>
 
 #include <cstdint>
@@ -13,12 +14,13 @@
 #include <exception>
 #include <string>
 
-#include "cxx_code.h"
-#include "derivation.h"
+#include "codegen/cxx_code.h"
+#include "codegen/functions.h"
 #include "kinematics.h"
 #include "model.h"
+#include "symbolic/table.h"
+#include "symbolic/transmission.h"
 #include "topology.h"
-#include "transmission.h"
 
 namespace {
 
@@ -42,10 +44,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const mechgen::Model model = mechgen::LoadModel(path);
     const mechgen::Topology topology = mechgen::BuildTopology(model);
     const mechgen::Kinematics kinematics = mechgen::DeriveKinematics(model, topology);
+    const mechgen::SymbolicTable table(model, kinematics);
+    const auto transmission = mechgen::FindTransmissionAngles(model, topology, kinematics, table.blocks);
     mechgen::CxxPrinter printer;
-    const mechgen::Derivation derivation = mechgen::Derive(model, kinematics, &printer);
-    const auto transmission = mechgen::FindTransmissionAngles(model, topology, kinematics, derivation.blocks);
-    (void)mechgen::EmitProgram(mechgen::TransmissionProgram(transmission), &printer);
+    for (const mechgen::FunctionSpec& f : mechgen::BuildFunctions(model, kinematics, table, transmission, &printer))
+      for (const mechgen::Program& p : f.body) (void)mechgen::EmitProgram(p, &printer);
   } catch (const std::exception&) {
     // A clean rejection.
   }

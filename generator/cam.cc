@@ -21,7 +21,7 @@ REGISTER_FUNCTION(camlaw, derivative_func(camlaw_deriv).latex_name("\\mathrm{law
 
 namespace {
 
-// Symbols of the law's segment expressions; EmitCamLaw prints them as its locals.
+// Symbols of the law's segment expressions; CamLawSpec (codegen/cam_functions.cc) prints them as its locals.
 const GiNaC::symbol& T() {
   static const GiNaC::symbol t("t");
   return t;
@@ -144,7 +144,6 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j) {
   CamGeometry g;
   const ex x = g.x;
   const Joint& fj = m.joints[j.other_joint];
-  const int follower = j.follower_point.link;
   const GiNaC::symbol Y("Y");  // the follower's coordinate
   const ex law_x = x - j.phase;
   const ex y = j.start + camlaw(j.cam_index, 0, law_x);
@@ -155,7 +154,6 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j) {
     f = PlaceChild(m, fj, j.carrier, Frame{}, fj.relative_angle, Y);
   else
     f = PlaceChild(m, fj, j.carrier, Frame{}, Y, 0);
-  (void)follower;
   // The cam's frame: turned by x on its pivot.
   int pivot = -1;
   for (size_t r = 0; r < m.joints.size(); ++r) {
@@ -251,7 +249,6 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j) {
   }
   const Vec2 n = {-sign * dir[1], sign * dir[0]};
   const ex h = define("h", n[0] * Pc[0] + n[1] * Pc[1]);
-  (void)h;
   const ex hexpr = n[0] * Pc[0] + n[1] * Pc[1];
   const ex h1 = define("h_x", hexpr.diff(g.x)), h2 = define("h_xx", hexpr.diff(g.x, 2));
   const ex w1 = define("phi_x", face.diff(g.x)), w2 = define("phi_xx", face.diff(g.x, 2));
@@ -330,43 +327,8 @@ std::string CheckCam(const Model& m, const Joint& j, const CamLaw& law, const Ca
   return s;
 }
 
-std::string EmitCamLaw(const Model& m, const CamLaw& law, CxxPrinter* printer) {
-  const Joint& j = m.joints[law.joint];
-  printer->Name(T(), "t");
-  printer->Name(Beta(), "beta");
-  std::ostringstream os;
-  os << "/// Follower law of cam '" << j.name << "': the d-th derivative (d = 0..3) of the follower's lift\n"
-     << "/// with respect to the law's angle x (the cam's angle relative to the carrier minus the\n"
-     << "/// phase), x taken modulo 2 pi. Segments:\n";
-  for (size_t k = 0; k < law.what.size(); ++k) os << "///   " << k << ": " << law.what[k] << "\n";
-  os << "template <typename Scalar>\n"
-     << "Scalar " << law.cxx_name << "(const Params<Scalar>& p, const Scalar& x_in, int d) {\n"
-     << "  using std::cos;\n  using std::floor;\n  using std::sin;\n  (void)p;\n"
-     << "  const Scalar two_pi = Scalar(6.283185307179586);\n"
-     << "  const Scalar x = x_in - two_pi * floor(x_in / two_pi);\n";
-  for (size_t k = 0; k < law.what.size(); ++k) {
-    const bool last = k + 1 == law.what.size();
-    if (last)
-      os << "  {  // " << k << ": " << law.what[k] << "\n";
-    else
-      os << "  if (x < " << printer->Print((law.begin[k] + law.duration[k]).expand()) << ") {  // " << k << ": "
-         << law.what[k] << "\n";
-    if (j.law[k].kind == CamSegment::Kind::kDwell) {
-      os << "    return d == 0 ? " << printer->Print(law.lift[k][0].expand()) << " : Scalar(0);\n";
-    } else {
-      os << "    const Scalar beta = " << printer->Print(law.duration[k].expand()) << ";\n"
-         << "    const Scalar t = (x - " << printer->Print(law.begin[k].expand()) << ") / beta;\n"
-         << "    switch (d) {\n";
-      for (int d = 0; d < 4; ++d)
-        os << "      " << (d < 3 ? "case " + std::to_string(d) + ":" : std::string("default:")) << " return "
-           << printer->Print(law.lift[k][d].expand()) << ";\n";
-      os << "    }\n";
-    }
-    os << "  }\n";
-  }
-  os << "}\n";
-  return os.str();
-}
+const GiNaC::symbol& CamLawT() { return T(); }
+const GiNaC::symbol& CamLawBeta() { return Beta(); }
 
 }  // namespace mechgen
 
@@ -589,54 +551,6 @@ CamContour BuildCamContour(const Model& m, const Joint& j) {
               (min_concave < INFINITY ? ", where concave " + G(min_concave) + " at u = " + G(u_concave)
                                       : ", concave nowhere");
   return c;
-}
-
-std::string EmitCamContour(const Model& m, const CamContour& c) {
-  const Joint& j = m.joints[c.joint];
-  const size_t n = c.knots.size() - 1;
-  auto num = [](double v) {
-    char buf[40];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return std::string(buf);
-  };
-  std::ostringstream os;
-  os << "/// Contour of cam '" << j.name << "' in the cam's frame: the periodic cubic spline through its\n"
-     << "/// " << n << " points, parametrized by chord length (period " << num(c.knots[n]) << "). Returns the\n"
-     << "/// d-th u-derivative (d = 0..3; 0 beyond) of coordinate c (0: x, 1: y) at u (any u: periodic).\n"
-     << "template <typename Scalar>\n"
-     << "Scalar " << c.cxx_name << "(const Params<Scalar>& p, const Scalar& u_in, int c, int d) {\n"
-     << "  using std::floor;\n  (void)p;\n"
-     << "  static constexpr int kSegments = " << n << ";\n"
-     << "  static constexpr double kKnots[kSegments + 1] = {";
-  for (size_t i = 0; i <= n; ++i) os << (i ? "," : "") << (i % 4 == 0 ? "\n      " : i ? " " : "") << num(c.knots[i]);
-  os << "};\n  // a + b t + c t^2 + d t^3 with t = u - kKnots[k], per coordinate and segment k.\n"
-     << "  static constexpr double kCoef[2][kSegments][4] = {";
-  for (int k = 0; k < 2; ++k) {
-    os << (k ? ", {" : "{");
-    for (size_t i = 0; i < n; ++i) {
-      os << (i ? ",\n      {" : "\n      {");
-      for (int a = 0; a < 4; ++a) os << (a ? ", " : "") << num(c.coef[k][i][a]);
-      os << "}";
-    }
-    os << "}";
-  }
-  os << "};\n"
-     << "  const Scalar period = Scalar(kKnots[kSegments]);\n"
-     << "  const Scalar u = u_in - period * floor(u_in / period);\n"
-     << "  int k = 0, hi = kSegments;  // kKnots[k] <= u < kKnots[hi]\n"
-     << "  while (hi - k > 1) {\n"
-     << "    const int mid = (k + hi) / 2;\n"
-     << "    if (u < Scalar(kKnots[mid])) {\n      hi = mid;\n    } else {\n      k = mid;\n    }\n  }\n"
-     << "  const double* a = kCoef[c][k];\n"
-     << "  const Scalar t = u - Scalar(kKnots[k]);\n"
-     << "  switch (d) {\n"
-     << "    case 0: return Scalar(a[0]) + t * (Scalar(a[1]) + t * (Scalar(a[2]) + t * Scalar(a[3])));\n"
-     << "    case 1: return Scalar(a[1]) + t * (Scalar(2 * a[2]) + t * Scalar(3 * a[3]));\n"
-     << "    case 2: return Scalar(2 * a[2]) + t * Scalar(6 * a[3]);\n"
-     << "    case 3: return Scalar(6 * a[3]);\n"
-     << "    default: return Scalar(0);\n"
-     << "  }\n}\n";
-  return os.str();
 }
 
 }  // namespace mechgen

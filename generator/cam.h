@@ -6,7 +6,7 @@
 // In the equations the law is the GiNaC function camlaw(i, d, x): the d-th derivative of
 // cam i's follower lift at cam angle x (from the law's start). GiNaC differentiates it as
 // camlaw(i, d + 1, x), so Phi_q, K and L need no branches; the generated code evaluates
-// it with CamLaw_<joint>(p, x, d), which picks the segment of x modulo 2 pi and returns
+// it with CamLaw_<joint>(p, x, d) (codegen/cam_functions.cc), which picks the segment of x modulo 2 pi and returns
 // that segment's symbolically differentiated expression.
 #pragma once
 
@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "cxx_code.h"
 #include "joints.h"
 #include "model.h"
+#include "symbolic/program.h"
 
 namespace mechgen {
 
@@ -88,10 +88,10 @@ Vec2 ContourPoint(const Joint& j, const GiNaC::ex& u, int d);
 /// The spline's value (c: coordinate, d: derivative order, any u: periodic).
 double EvalSpline(const CamContour& c, int coordinate, int d, double u);
 
-/// C++ text of the template function Contour_<joint>(p, u, c, d) (splines).
-std::string EmitCamContour(const Model& m, const CamContour& contour);
-
-/// C++ text of the template function CamLaw_<joint>(p, x, d).
-std::string EmitCamLaw(const Model& m, const CamLaw& law, CxxPrinter* printer);
+/// The symbols of the law's segment expressions (CamLaw::lift): t, the angle from the
+/// segment's start over its duration, and beta, the duration (CamLaw_<joint>'s locals,
+/// codegen/cam_functions.cc).
+const GiNaC::symbol& CamLawT();
+const GiNaC::symbol& CamLawBeta();
 
 }  // namespace mechgen

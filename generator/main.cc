@@ -9,15 +9,17 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
-#include "derivation.h"
-#include "emit.h"
+#include "codegen/emit.h"
+#include "codegen/functions.h"
 #include "grashof.h"
 #include "kinematics.h"
 #include "model.h"
-#include "report.h"
+#include "report/report.h"
+#include "symbolic/table.h"
+#include "symbolic/transmission.h"
 #include "topology.h"
-#include "transmission.h"
 
 #ifndef MECHGEN_SOURCE_TEMPLATES
 #define MECHGEN_SOURCE_TEMPLATES ""
@@ -26,7 +28,7 @@
 namespace {
 
 // Installed layout: <prefix>/bin/mechgen and <prefix>/share/mechgen/templates.
-std::string DefaultTemplates(const char* argv0) {
+std::string DefaultTemplates() {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::path exe = fs::canonical("/proc/self/exe", ec);
@@ -34,18 +36,19 @@ std::string DefaultTemplates(const char* argv0) {
     const fs::path installed = exe.parent_path().parent_path() / "share" / "mechgen" / "templates";
     if (fs::exists(installed / "mechanism.h.mustache")) return installed.string();
   }
-  (void)argv0;
   return MECHGEN_SOURCE_TEMPLATES;
 }
 
+// Model -> topology -> kinematics -> the symbolic table -> function descriptions -> text.
 struct Pipeline {
   mechgen::Model model;
   mechgen::Topology topology;
   std::vector<mechgen::FourBarLoop> four_bars;
   mechgen::Kinematics kinematics;
-  mechgen::CxxPrinter printer;
-  mechgen::Derivation derivation;
+  std::unique_ptr<mechgen::SymbolicTable> table;
   std::vector<mechgen::TransmissionAngle> transmission;
+  mechgen::CxxPrinter printer;
+  std::vector<mechgen::FunctionSpec> functions;
   mechgen::EmittedModel emitted;
 };
 
@@ -55,10 +58,11 @@ void Run(Pipeline* p, const std::string& path, const std::string& name, const st
   p->topology = mechgen::BuildTopology(p->model);
   p->four_bars = mechgen::ClassifyFourBars(p->model, p->topology);
   p->kinematics = mechgen::DeriveKinematics(p->model, p->topology);
-  p->derivation = mechgen::Derive(p->model, p->kinematics, &p->printer, strategy);
-  p->transmission = mechgen::FindTransmissionAngles(p->model, p->topology, p->kinematics, p->derivation.blocks);
-  p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, p->derivation, p->transmission, &p->printer,
-                             templates);
+  p->table = std::make_unique<mechgen::SymbolicTable>(p->model, p->kinematics, strategy);
+  p->transmission = mechgen::FindTransmissionAngles(p->model, p->topology, p->kinematics, p->table->blocks);
+  p->functions = mechgen::BuildFunctions(p->model, p->kinematics, *p->table, p->transmission, &p->printer);
+  p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, *p->table, p->transmission, p->functions,
+                             &p->printer, templates);
 }
 
 }  // namespace
@@ -67,7 +71,7 @@ int main(int argc, char** argv) {
   CLI::App app{"mechgen: generates standalone C++ kinematics (Phi, Phi_phi, Phi_q, K, L, points) "
                "for a planar mechanism described in a model file (see models/README.md)."};
   app.require_subcommand(1);
-  std::string model_path, out_dir = ".", name, templates = DefaultTemplates(argv[0]);
+  std::string model_path, out_dir = ".", name, templates = DefaultTemplates();
   bool latex = false, quiet = false;
   std::string strategy = "blocks";
 
@@ -114,11 +118,11 @@ int main(int argc, char** argv) {
     if (!quiet)
       std::cout << "mechgen: " << model_path << " -> " << out_dir << "/" << p.model.name << ".{h,cc} ("
                 << p.topology.loops.size() << " loop(s), mobility " << p.topology.loop_mobility
-                << ", EvalCoefficients " << p.emitted.coefficient_ops.Total() << " ops) in "
+                << ", EvalCoefficients " << p.emitted.Ops("EvalCoefficients").Total() << " ops) in "
                 << static_cast<int>(ms + 0.5) << " ms\n";
     return 0;
   }
-  mechgen::WriteReport(p.model, p.topology, p.four_bars, p.kinematics, p.derivation, p.transmission, p.emitted,
+  mechgen::WriteReport(p.model, p.topology, p.four_bars, p.kinematics, *p.table, p.transmission, p.emitted,
                        latex ? mechgen::ReportFormat::kLatex : mechgen::ReportFormat::kText, std::cout);
   if (!latex) std::cout << "Derivation and emission took " << static_cast<int>(ms + 0.5) << " ms\n";
   return 0;

@@ -3,7 +3,7 @@
 // does not depend on GiNaC's run-dependent term order.
 #include <gtest/gtest.h>
 
-#include "cxx_code.h"
+#include "codegen/cxx_code.h"
 
 namespace mechgen {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <sstream>
 
-#include "blocks.h"
+#include "symbolic/blocks.h"
 #include "grashof.h"
 #include "kinematics.h"
 #include "model.h"

@@ -5,20 +5,20 @@
 
 #include <ostream>
 
-#include "derivation.h"
-#include "emit.h"
+#include "codegen/emit.h"
 #include "grashof.h"
 #include "kinematics.h"
 #include "model.h"
+#include "symbolic/table.h"
+#include "symbolic/transmission.h"
 #include "topology.h"
-#include "transmission.h"
 
 namespace mechgen {
 
 enum class ReportFormat { kText, kLatex };
 
 void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoop>& four_bars,
-                 const Kinematics& k, const Derivation& d,
+                 const Kinematics& k, const SymbolicTable& d,
                  const std::vector<TransmissionAngle>& transmission, const EmittedModel& e, ReportFormat format, std::ostream& os);
 
 }  // namespace mechgen

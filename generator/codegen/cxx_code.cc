@@ -1,5 +1,5 @@
 // C++ printing and common-subexpression elimination. See cxx_code.h.
-#include "cxx_code.h"
+#include "codegen/cxx_code.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -92,9 +92,12 @@ std::string CxxPrinter::PrintNumber(const GiNaC::numeric& n) const {
 // A factor of a product or the base of a power: parenthesized unless atomic.
 std::string CxxPrinter::PrintFactor(const GiNaC::ex& e, OpCounts* ops) {
   const std::string s = Print(e, ops);
+  const bool operator_function =
+      GiNaC::is_a<GiNaC::function>(e) && (GiNaC::ex_to<GiNaC::function>(e).get_name() == "stable_half" ||
+                                          GiNaC::ex_to<GiNaC::function>(e).get_name() == "quadratic_root");
   if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e) ||
       (GiNaC::is_a<GiNaC::numeric>(e) && GiNaC::ex_to<GiNaC::numeric>(e) < 0) ||
-      GiNaC::is_a<GiNaC::power>(e))
+      GiNaC::is_a<GiNaC::power>(e) || operator_function)
     return "(" + s + ")";
   return s;
 }
@@ -213,6 +216,18 @@ std::string CxxPrinter::Print(const GiNaC::ex& e, OpCounts* ops) {
       return it->second + "(p, " + Print(e.op(3), ops) + ", " + std::to_string(ex_to<GiNaC::numeric>(e.op(1)).to_int()) +
              ", " + std::to_string(ex_to<GiNaC::numeric>(e.op(2)).to_int()) + ")";
     }
+    if (name == "stable_half") {  // -(B + sign(B) sq) / 2
+      const std::string b = Print(e.op(0), ops), sq = Print(e.op(1), ops);
+      if (ops) ops->adds += 1, ops->divs += 1;
+      return "-(" + b + " + (" + b + " >= Scalar(0) ? " + sq + " : -" + sq + ")) / Scalar(2)";
+    }
+    if (name == "quadratic_root") {  // (A, B, C, qq, mode): qq / A or C / qq, by the mode's sign
+      const std::string a = Print(e.op(0), ops), b = Print(e.op(1), ops), c = Print(e.op(2), ops),
+                        qq = Print(e.op(3), ops), mode = Print(e.op(4), ops);
+      if (ops) ops->divs += 1;
+      return "((" + mode + " > Scalar(0)) == (" + b + " >= Scalar(0))) ? (" + qq + " != Scalar(0) ? " + c + " / " + qq +
+             " : Scalar(0)) : " + qq + " / " + a;
+    }
     if (name == "arctan") name = "atan";
     if (name == "arcsin") name = "asin";
     if (name == "arccos") name = "acos";
@@ -308,12 +323,16 @@ Body EmitProgram(const Program& input, CxxPrinter* printer, const std::string& i
   // its run-dependent term order (an unexpanded sum inside a product gets its sign
   // normalized by whichever term GiNaC sees first), so every value is expanded first.
   Program program = input;
+  auto has_value = [](const Statement& s) {
+    return s.kind == Statement::Kind::kDefine || s.kind == Statement::Kind::kStore;
+  };
   for (Statement& s : program)
-    if (s.kind != Statement::Kind::kRaw) s.value = s.value.expand();
+    if (has_value(s)) s.value = s.value.expand();
   Cse cse(printer);
   for (const Statement& s : program) {
     if (s.kind == Statement::Kind::kDefine) printer->Name(s.symbol, s.target);
-    if (s.kind != Statement::Kind::kRaw) cse.Count(s.value);
+    for (const auto& [symbol, name] : s.names) printer->Name(symbol, name);
+    if (has_value(s)) cse.Count(s.value);
   }
 
   Body body;
@@ -348,6 +367,26 @@ Body EmitProgram(const Program& input, CxxPrinter* printer, const std::string& i
         stores.emplace_back(s.guard, s.target + " = " + printer->Print(v, &body.ops) + ";");
         break;
       }
+      case Statement::Kind::kMatrix: {
+        flush();
+        const std::string type = "Mat<Scalar, " + std::to_string(s.rows) + ", " + std::to_string(s.cols) + ">";
+        lines.push_back(type + " " + s.target + (s.zero ? " = " + type + "::Zero();" : ";"));
+        break;
+      }
+      case Statement::Kind::kLuFactor:
+        flush();
+        lines.push_back("const Eigen::PartialPivLU<Mat<Scalar, " + std::to_string(s.rows) + ", " +
+                        std::to_string(s.rows) + ">> " + s.target + "(" + s.args.at(0) + ");");
+        break;
+      case Statement::Kind::kLuSolve:
+        flush();
+        lines.push_back("const Mat<Scalar, " + std::to_string(s.rows) + ", " + std::to_string(s.cols) + "> " + s.target +
+                        " = -" + s.args.at(0) + ".solve(" + s.args.at(1) + ");");
+        break;
+      case Statement::Kind::kLuDeterminant:
+        flush();
+        lines.push_back("const Scalar " + s.target + " = " + s.args.at(0) + ".partialPivLu().determinant();");
+        break;
     }
   }
   flush();

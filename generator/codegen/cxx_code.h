@@ -1,5 +1,6 @@
 // From GiNaC expressions to C++ statements: a printer for Scalar-templated code and
-// common-subexpression elimination over a whole function body.
+// common-subexpression elimination over a whole function body (a statement program,
+// symbolic/program.h).
 //
 // Determinism: GiNaC orders the terms of sums and products by hash values that change
 // from run to run (they mix in type-info addresses), so nothing here relies on GiNaC's
@@ -12,6 +13,8 @@
 #include <map>
 #include <string>
 #include <vector>
+
+#include "symbolic/program.h"
 
 namespace mechgen {
 
@@ -34,6 +37,7 @@ class CxxPrinter {
   void NameCamLaw(int index, const std::string& name) { cam_laws_[index] = name; }
   /// camcontour(index, c, d, u) (cam.h) prints as `name(p, u, c, d)`.
   void NameCamContour(int index, const std::string& name) { cam_contours_[index] = name; }
+  /// stable_half and quadratic_root (symbolic/dyads.h) print as the expressions they stand for.
   /// C++ text of `e`; adds its operations to *ops when not null.
   std::string Print(const GiNaC::ex& e, OpCounts* ops = nullptr);
   /// A stable sort key for `e` (its printed text), memoized.
@@ -48,20 +52,14 @@ class CxxPrinter {
   std::map<int, std::string> cam_contours_;
 };
 
-/// One statement of a function body.
-struct Statement {
-  enum class Kind {
-    kDefine,  ///< const Scalar <target> = <value>;  (target names a symbol used later)
-    kStore,   ///< <target> = <value>;  inside `if (<guard> != nullptr)` when guard is set
-    kRaw,     ///< a line of code, emitted as is (declarations, numeric solves)
-  };
-  Kind kind = Kind::kStore;
-  std::string target;
-  GiNaC::ex value;
-  std::string guard;
-  GiNaC::ex symbol;  ///< kDefine: the symbol that later values use
-};
-using Program = std::vector<Statement>;
+/// A line of C++ as is: control flow of the generated solvers (codegen/ only; the symbolic
+/// layer builds statements without C++ text).
+inline Statement Raw(const std::string& line) {
+  Statement s;
+  s.kind = Statement::Kind::kRaw;
+  s.target = line;
+  return s;
+}
 
 struct Body {
   std::string text;  ///< indented C++ lines

@@ -1,5 +1,5 @@
 // Transmission angles. See transmission.h.
-#include "transmission.h"
+#include "symbolic/transmission.h"
 
 #include <algorithm>
 
@@ -66,28 +66,6 @@ std::vector<TransmissionAngle> FindTransmissionAngles(const Model& m, const Topo
     out.push_back(ta);
   }
   return out;
-}
-
-Program TransmissionProgram(const std::vector<TransmissionAngle>& angles) {
-  Program p;
-  for (size_t i = 0; i < angles.size(); ++i) {
-    // Named first, so that atan2 gets two plain values (and no sum sits under abs).
-    Statement cross, dot, store;
-    cross.kind = dot.kind = Statement::Kind::kDefine;
-    cross.target = "cross_" + std::to_string(i);
-    cross.value = angles[i].cross;
-    cross.symbol = GiNaC::symbol(cross.target);
-    dot.target = "dot_" + std::to_string(i);
-    dot.value = angles[i].dot;
-    dot.symbol = GiNaC::symbol(dot.target);
-    p.push_back(cross);
-    p.push_back(dot);
-    store.kind = Statement::Kind::kStore;
-    store.target = "(*mu)(" + std::to_string(i) + ")";
-    store.value = GiNaC::atan2(GiNaC::abs(cross.symbol), dot.symbol);
-    p.push_back(store);
-  }
-  return p;
 }
 
 }  // namespace mechgen

@@ -1,5 +1,7 @@
 // Block-triangular ordering and dyad recognition. See blocks.h.
-#include "blocks.h"
+#include "symbolic/blocks.h"
+
+#include "symbolic/dyads.h"
 
 #include <algorithm>
 #include <cmath>
@@ -165,83 +167,64 @@ std::string Number(double v, bool angle) {
 
 double AngleDistance(double a, double b) { return std::abs(std::remainder(a - b, 2 * M_PI)); }
 
-// Both closed-form solutions of a block at `values` (known coordinates and parameters);
-// picks the assembly mode nearest the current values of its unknowns and stores the
-// solution in *values, so that later blocks see it. A block with no real solution there
-// (the loop cannot close at the model's assembly inputs) sets *no_solution to the reason.
-void ChooseMode(const Kinematics& k, Block* b, GiNaC::exmap* values, std::string* no_solution) {
+// Both closed-form solutions of a block at `values` (known coordinates and parameters),
+// from the one formulation the generated code prints (dyads.h); picks the assembly mode
+// nearest the current values of its unknowns and stores the solution in *values, so that
+// later blocks see it. A block with no real solution there (the loop cannot close at the
+// model's assembly inputs) sets *no_solution to the reason.
+void ChooseMode(const Kinematics& k, Block* b, int index, GiNaC::exmap* values, std::string* no_solution) {
+  // Two slides (Cramer) have one solution and leave the assembly guess as it was.
   if (b->solve == BlockSolve::kNewton || b->solve == BlockSolve::kSS) return;
+  const ClosedForm form = FormulateClosedForm(k, *b, index);
+  std::map<std::string, double> locals;
+  std::map<int, double> solution;
+  const DyadStep* failed = nullptr;
   if (b->solve == BlockSolve::kLinear) {
-    const double x = -Eval(b->c0, *values) / Eval(b->c1, *values);
-    if (std::isfinite(x)) (*values)[k.phi[b->cols[0]].symbol] = x;  // (a cam law has no numeric value here)
+    // (a cam law has no numeric value here: the guess stays)
+    if (EvaluateClosedForm(form, *values, 1, &locals, &solution, &failed) && std::isfinite(solution[b->cols[0]]))
+      (*values)[k.phi[b->cols[0]].symbol] = solution[b->cols[0]];
     return;
   }
-  if (b->solve == BlockSolve::kAngle) {
-    const GiNaC::symbol u = k.phi[b->cols[0]].symbol;
-    const double guess = Eval(u, *values);
-    const double c0 = Eval(b->c0, *values), c1 = Eval(b->c1, *values), c2 = Eval(b->c2, *values);
-    const double rho = std::hypot(c1, c2), delta = std::atan2(c2, c1);
-    double best = INFINITY, best_u = guess;
-    if (std::isfinite(c0) && std::isfinite(rho) && std::abs(c0) > rho)
-      *no_solution = "no real solution, c0 + c1 cos u + c2 sin u = 0 needs |c0| <= sqrt(c1^2 + c2^2), but |c0| = " + G(std::abs(c0)) +
-                     " > " + G(rho);
-    for (int sigma : {1, -1}) {
-      if (!(std::abs(c0) <= rho)) continue;
-      const double su = delta + sigma * std::acos(-c0 / rho);
-      if (AngleDistance(su, guess) < best) {
-        best = AngleDistance(su, guess);
-        b->default_mode = sigma;
-        best_u = guess + std::remainder(su - guess, 2 * M_PI);
-      }
-    }
-    (*values)[u] = best_u;
-    return;
-  }
-  const GiNaC::symbol u = k.phi[b->cols[b->iu]].symbol, x = k.phi[b->cols[1 - b->iu]].symbol;
-  const double u_guess = Eval(u, *values), x_guess = Eval(x, *values);
   double best = INFINITY;
-  double best_u = u_guess, best_x = x_guess;
+  std::map<int, double> chosen;
+  for (const int c : b->cols) chosen[c] = Eval(k.phi[c].symbol, *values);
+  const std::map<int, double> guess = chosen;
   for (int sigma : {1, -1}) {
-    double su = NAN, sx = NAN;
-    if (b->solve == BlockSolve::kRR) {
-      const double ax = Eval(b->a[0], *values), ay = Eval(b->a[1], *values);
-      const double bx = Eval(b->b[0], *values), by = Eval(b->b[1], *values);
-      const double wx = -Eval(b->w0[0], *values), wy = -Eval(b->w0[1], *values);
-      const double d2 = wx * wx + wy * wy, ra2 = ax * ax + ay * ay, rb2 = bx * bx + by * by;
-      const double kk = (ra2 - rb2 + d2) / (2 * d2), h2 = ra2 / d2 - kk * kk;
-      if (std::isfinite(h2) && h2 < 0)
-        *no_solution = "no real solution, the two circles do not meet: radii " + G(std::sqrt(ra2)) + " and " +
-                       G(std::sqrt(rb2)) + ", centres " + G(std::sqrt(d2)) + " apart";
-      if (!(h2 >= 0)) continue;
-      const double mx = kk * wx - sigma * std::sqrt(h2) * wy, my = kk * wy + sigma * std::sqrt(h2) * wx;
-      su = std::atan2(my, mx) - std::atan2(ay, ax);
-      sx = std::atan2(wy - my, wx - mx) - std::atan2(by, bx);
-    } else {
-      GiNaC::exmap without_x = *values;
-      without_x.erase(x);
-      const ex f = (b->a[0] * b->a[0] + b->a[1] * b->a[1] - b->w0[0] * b->w0[0] - b->w0[1] * b->w0[1]).expand();
-      const double A = Eval(f.coeff(x, 2), without_x), B = Eval(f.coeff(x, 1), without_x),
-                   C = Eval(f.coeff(x, 0), without_x);
-      const double disc = B * B - 4 * A * C;
-      if (A != 0 && std::isfinite(disc) && disc < 0)
-        *no_solution = "no real solution, the circle and the line do not meet (discriminant " + G(disc) + " < 0)";
-      if (A == 0 || !(disc >= 0)) continue;
-      sx = (-B + sigma * std::sqrt(disc)) / (2 * A);
-      GiNaC::exmap at = without_x;
-      at[x] = sx;
-      su = std::atan2(-Eval(b->w0[1], at), -Eval(b->w0[0], at)) - std::atan2(Eval(b->a[1], at), Eval(b->a[0], at));
+    locals.clear();
+    solution.clear();
+    failed = nullptr;
+    const bool ok = EvaluateClosedForm(form, *values, sigma, &locals, &solution, &failed);
+    if (!ok) {
+      // The requirement that failed: h2 >= 0 (RRR), disc >= 0 (RRP), |cos_arg| <= 1 (one angle).
+      GiNaC::exmap at = *values;
+      for (const DyadStep& s : form.steps)
+        if (s.kind == DyadStep::Kind::kLocal && locals.count(s.name) && GiNaC::is_a<GiNaC::symbol>(s.symbol))
+          at[s.symbol] = locals.at(s.name);
+      const double measure = Eval(failed->value, at);
+      if (b->solve == BlockSolve::kRR && std::isfinite(measure))
+        *no_solution = "no real solution, the two circles do not meet: radii " + G(std::sqrt(locals["ra2"])) + " and " +
+                       G(std::sqrt(locals["rb2"])) + ", centres " + G(std::sqrt(locals["d2"])) + " apart";
+      if (b->solve == BlockSolve::kRS && std::isfinite(measure) && locals.count("A") && locals["A"] != 0)
+        *no_solution = "no real solution, the circle and the line do not meet (discriminant " + G(measure) + " < 0)";
+      if (b->solve == BlockSolve::kAngle && std::isfinite(locals["c0"]) && std::isfinite(locals["rho"]) &&
+          std::abs(locals["c0"]) > locals["rho"])
+        *no_solution = "no real solution, c0 + c1 cos u + c2 sin u = 0 needs |c0| <= sqrt(c1^2 + c2^2), but |c0| = " +
+                       G(std::abs(locals["c0"])) + " > " + G(locals["rho"]);
+      continue;
     }
-    const double dist = AngleDistance(su, u_guess) +
-                        (k.phi[b->cols[1 - b->iu]].is_angle ? AngleDistance(sx, x_guess) : std::abs(sx - x_guess));
+    // A slide solved from a quadratic with no s^2 term has no second root to choose.
+    if (b->solve == BlockSolve::kRS && !(locals.count("A") && locals["A"] != 0)) continue;
+    double dist = 0;
+    for (const int c : b->cols)
+      dist += k.phi[c].is_angle ? AngleDistance(solution[c], guess.at(c)) : std::abs(solution[c] - guess.at(c));
     if (dist < best) {
       best = dist;
       b->default_mode = sigma;
-      best_u = u_guess + std::remainder(su - u_guess, 2 * M_PI);
-      best_x = k.phi[b->cols[1 - b->iu]].is_angle ? x_guess + std::remainder(sx - x_guess, 2 * M_PI) : sx;
+      for (const int c : b->cols)
+        chosen[c] = k.phi[c].is_angle ? guess.at(c) + std::remainder(solution[c] - guess.at(c), 2 * M_PI) : solution[c];
     }
   }
-  (*values)[u] = best_u;
-  (*values)[x] = best_x;
+  for (const int c : b->cols) (*values)[k.phi[c].symbol] = chosen[c];
 }
 
 }  // namespace
@@ -360,7 +343,7 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
       }
     }
     std::string no_solution;
-    ChooseMode(k, &b, &values, &no_solution);
+    ChooseMode(k, &b, static_cast<int>(blocks.size()), &values, &no_solution);
     if (no_solution.empty() &&
         (b.solve == BlockSolve::kRR || b.solve == BlockSolve::kRS || b.solve == BlockSolve::kAngle)) {
       // Solved at the assembly configuration: its Jacobian must be regular there. |det| is

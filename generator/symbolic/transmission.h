@@ -2,16 +2,15 @@
 // output link, the angle mu between the two links (the transmission angle of Alt; Paul
 // appendix A classifies the same loops). mu = 0 or pi is a toggle of the output, where
 // Phi_phi loses rank (|det| of the loop's block is b c |sin mu|); 90 deg transmits force
-// best. Emitted as EvalTransmissionAngles and printed by the report.
+// best. Emitted as EvalTransmissionAngles (codegen/functions.cc) and printed by the report.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "blocks.h"
-#include "cxx_code.h"
 #include "kinematics.h"
 #include "model.h"
+#include "symbolic/blocks.h"
 #include "topology.h"
 
 namespace mechgen {
@@ -30,8 +29,5 @@ struct TransmissionAngle {
 /// ground-adjacent link is the output.
 std::vector<TransmissionAngle> FindTransmissionAngles(const Model& m, const Topology& t, const Kinematics& k,
                                                       const std::vector<Block>& blocks);
-
-/// The statements of EvalTransmissionAngles: (*mu)(i) = mu of entry i.
-Program TransmissionProgram(const std::vector<TransmissionAngle>& angles);
 
 }  // namespace mechgen

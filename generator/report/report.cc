@@ -1,5 +1,5 @@
 // The model report. See report.h.
-#include "report.h"
+#include "report/report.h"
 
 namespace mechgen {
 namespace {
@@ -85,7 +85,7 @@ GiNaC::matrix Simplified(const GiNaC::matrix& a, const Kinematics& k) {
 }  // namespace
 
 void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoop>& four_bars,
-                 const Kinematics& k, const Derivation& d,
+                 const Kinematics& k, const SymbolicTable& d,
                  const std::vector<TransmissionAngle>& transmission, const EmittedModel& e, ReportFormat f, std::ostream& os) {
   const bool tex = f == ReportFormat::kLatex;
   const std::string eq_open = tex ? "\\[ " : "  ", eq_close = tex ? " \\]" : "";
@@ -238,8 +238,8 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
   }
   if (!tex) {
     os << "Generated code: " << d.strategy << "\n";
-    os << "Operation counts: EvalPhi " << e.phi_ops.Text() << "; EvalCoefficients "
-       << e.coefficient_ops.Text() << "; EvalScene " << e.scene_ops.Text() << "\n";
+    os << "Operation counts: EvalPhi " << e.Ops("EvalPhi").Text() << "; EvalCoefficients "
+       << e.Ops("EvalCoefficients").Text() << "; EvalScene " << e.Ops("EvalScene").Text() << "\n";
   }
 }
 

@@ -1,0 +1,465 @@
+// Template filling and file writing. See emit.h.
+#include "codegen/emit.h"
+
+#include <kainjow/mustache.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "codegen/sha256.h"
+
+#ifndef MECHGEN_VERSION
+#define MECHGEN_VERSION "0.0.0"
+#endif
+
+namespace mechgen {
+namespace {
+
+namespace mus = kainjow::mustache;
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read template " + path);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+std::string Number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  std::string s = buf;
+  if (s.find_first_of(".en") == std::string::npos) s += ".0";
+  return s;
+}
+
+template <typename T, typename F>
+std::string Join(const std::vector<T>& v, F f) {
+  std::string s;
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + f(v[i]);
+  return s;
+}
+
+std::string Quote(const std::string& s) { return "\"" + s + "\""; }
+
+// Data for the templates, remembering every key so that a template naming a value the
+// generator does not provide is an error instead of an empty string.
+class TemplateData {
+ public:
+  void Set(const std::string& key, const std::string& value) {
+    keys_.insert(key);
+    data_.set(key, value);
+  }
+  void Set(const std::string& key, bool value) {
+    keys_.insert(key);
+    data_.set(key, value ? mus::data::type::bool_true : mus::data::type::bool_false);
+  }
+  void Set(const std::string& key, int value) { Set(key, std::to_string(value)); }
+  void SetList(const std::string& key, const std::vector<std::map<std::string, std::string>>& items,
+               const std::set<std::string>& item_keys) {
+    keys_.insert(key);
+    for (const auto& k : item_keys) keys_.insert(k);
+    mus::data list{mus::data::type::list};
+    for (const auto& item : items) {
+      mus::data obj{mus::data::type::object};
+      for (const auto& [k, v] : item) obj.set(k, v);
+      list.push_back(obj);
+    }
+    data_.set(key, list);
+  }
+  /// A value built by hand (lists of objects with lists); `item_keys` are the keys its
+  /// objects use, so that the placeholder check knows them.
+  void SetData(const std::string& key, const mus::data& value, const std::set<std::string>& item_keys) {
+    keys_.insert(key);
+    for (const auto& k : item_keys) keys_.insert(k);
+    data_.set(key, value);
+  }
+  std::string Render(const std::string& path) const {
+    const std::string text = ReadFile(path);
+    static const std::regex tag(R"(\{\{\{?\s*[#^/&]?\s*([A-Za-z_][A-Za-z0-9_]*)\s*\}?\}\})");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), tag); it != std::sregex_iterator(); ++it) {
+      const std::string key = (*it)[1];
+      if (!keys_.count(key))
+        throw std::runtime_error(path + ": placeholder '" + key + "' has no value in mechgen");
+    }
+    mus::mustache tmpl(text);
+    if (!tmpl.is_valid()) throw std::runtime_error(path + ": " + tmpl.error_message());
+    tmpl.set_custom_escape([](const std::string& s) { return s; });
+    const std::string out = tmpl.render(data_);
+    if (!tmpl.is_valid()) throw std::runtime_error(path + ": " + tmpl.error_message());
+    return out;
+  }
+
+ private:
+  mus::data data_{mus::data::type::object};
+  std::set<std::string> keys_;
+};
+
+std::vector<std::map<std::string, std::string>> LineMaps(const std::string& text) {
+  std::vector<std::map<std::string, std::string>> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    while (!line.empty() && (line.back() == ' ' || line.back() == '\r')) line.pop_back();
+    out.push_back({{"line", line}});
+  }
+  while (!out.empty() && out.back().at("line").empty()) out.pop_back();
+  return out;
+}
+
+// Indents by brace depth (the position solver nests loops and blocks).
+std::string Reindent(const std::string& text) {
+  std::istringstream in(text);
+  std::string line, out;
+  int depth = 1;
+  while (std::getline(in, line)) {
+    const auto first = line.find_first_not_of(' ');
+    if (first == std::string::npos) {
+      out += "\n";
+      continue;
+    }
+    line = line.substr(first);
+    std::string code = line.substr(0, line.find("//"));
+    if (!code.empty() && code[0] == '}') --depth;
+    out += std::string(2 * depth, ' ') + line + "\n";
+    for (char c : code) depth += c == '{' ? 1 : c == '}' ? -1 : 0;
+    if (!code.empty() && code[0] == '}') ++depth;
+  }
+  return out;
+}
+
+// Deletes // comments (the names they mention are not uses).
+std::string StripComments(const std::string& text) {
+  static const std::regex comment("//[^\n]*");
+  return std::regex_replace(text, comment, "");
+}
+
+bool Mentions(const std::string& code, const std::string& name) {
+  const std::regex word("(^|[^A-Za-z0-9_])" + name + "([^A-Za-z0-9_]|$)");
+  return std::regex_search(code, word);
+}
+
+mus::data Bool(bool b) { return b ? mus::data::type::bool_true : mus::data::type::bool_false; }
+
+// "Scalar" replaced by a concrete scalar type (explicit instantiations).
+std::string WithScalar(const std::string& type, const std::string& scalar) {
+  static const std::regex word(R"(\bScalar\b)");
+  return std::regex_replace(type, word, scalar);
+}
+
+// The \param lines of a function's documentation, aligned.
+std::vector<std::string> ParamDoc(const FunctionSpec& f) {
+  size_t tag_width = 0, name_width = 0;
+  auto tag = [](const Argument& a) {
+    return std::string(a.direction == Argument::Direction::kIn    ? "\\param[in]"
+                       : a.direction == Argument::Direction::kOut ? "\\param[out]"
+                                                                  : "\\param[in,out]");
+  };
+  for (const Argument& a : f.args) {
+    tag_width = std::max(tag_width, tag(a).size());
+    name_width = std::max(name_width, a.name.size());
+  }
+  std::vector<std::string> lines;
+  for (const Argument& a : f.args) {
+    std::string text = a.doc;
+    if (!a.size.empty()) {
+      if (!text.empty() && text.back() == '.')
+        text = text.substr(0, text.size() - 1) + " (" + a.size + ").";
+      else
+        text += " (" + a.size + ")";
+    }
+    if (!text.empty() && text.back() != '.') text += ".";
+    if (a.nullable) text += " May be nullptr.";
+    std::string t = tag(a), n = a.name;
+    t.resize(tag_width, ' ');
+    n.resize(name_width, ' ');
+    // Wrapped at 100 columns (" * " and the text), continued under the text.
+    const std::string head = t + " " + n + "  ";
+    std::istringstream words(text);
+    std::string word, line = head;
+    while (words >> word) {
+      if (line.size() > head.size() && 3 + line.size() + 1 + word.size() > 100) {
+        lines.push_back(line);
+        line = std::string(head.size(), ' ');
+      }
+      line += (line.size() > head.size() ? " " : "") + word;
+    }
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+mus::data Lines(const std::vector<std::string>& lines) {
+  mus::data list{mus::data::type::list};
+  for (const std::string& l : lines) {
+    mus::data o{mus::data::type::object};
+    o.set("line", l.empty() ? std::string() : " " + l);
+    list.push_back(o);
+  }
+  return list;
+}
+
+// Arguments as the template renders them: type, name and default.
+mus::data ArgList(const std::vector<Argument>& args, const std::string& scalar, bool defaults, bool member) {
+  mus::data list{mus::data::type::list};
+  for (size_t i = 0; i < args.size(); ++i) {
+    const Argument& a = args[i];
+    const std::string def = member && !a.member_default.empty() ? a.member_default : a.default_value;
+    mus::data o{mus::data::type::object};
+    o.set("arg_type", scalar.empty() ? a.type : WithScalar(a.type, scalar));
+    o.set("arg_name", a.name);
+    o.set("has_default", Bool(defaults && !def.empty()));
+    o.set("arg_default", def);
+    o.set("first", Bool(i == 0));
+    list.push_back(o);
+  }
+  return list;
+}
+
+std::string Spaces(size_t n) { return std::string(n, ' '); }
+
+}  // namespace
+
+std::string RenderBody(const FunctionSpec& f, CxxPrinter* printer, OpCounts* ops) {
+  Body total;
+  for (const Program& p : f.body) {
+    const Body b = EmitProgram(p, printer);
+    total.text += b.text;
+    total.ops += b.ops;
+    total.num_temps += b.num_temps;
+  }
+  total.ops.calls += f.extra_calls;
+  if (f.reindent) total.text = Reindent(total.text);
+  const std::string code = StripComments(total.text);
+  std::ostringstream os;
+  if (f.count_ops)
+    os << "  // Total ops: " << total.ops.Text() << "; intermediate terms: " << total.num_temps << "\n";
+  // Unqualified calls, so that ceres::Jet's overloads are found; std:: for the others.
+  for (const char* fn : {"abs", "acos", "asin", "atan", "atan2", "cos", "exp", "floor", "log", "pow", "sin", "sqrt", "tan"})
+    if (std::regex_search(code, std::regex(std::string("(^|[^A-Za-z0-9_.:>])") + fn + "\\(")))
+      os << "  using std::" << fn << ";\n";
+  for (const Argument& a : f.args)
+    if (!Mentions(code, a.name)) os << "  (void)" << a.name << ";\n";
+  os << total.text;
+  std::string s = os.str();
+  while (!s.empty() && s.back() == '\n') s.pop_back();
+  if (ops != nullptr) *ops = total.ops;
+  return s;
+}
+
+EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const SymbolicTable& table,
+                  const std::vector<TransmissionAngle>& transmission, const std::vector<FunctionSpec>& functions,
+                  CxxPrinter* printer, const std::string& templates_dir) {
+  EmittedModel out;
+  std::vector<std::string> bodies;
+  for (const FunctionSpec& f : functions) {
+    OpCounts ops;
+    bodies.push_back(RenderBody(f, printer, &ops));
+    out.ops[f.name] = ops;
+  }
+
+  TemplateData data;
+  std::string upper = m.name;
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  data.Set("version", std::string(MECHGEN_VERSION));
+  data.Set("model_file", std::filesystem::path(m.file).filename().string());
+  data.Set("model_sha256", Sha256Hex(ReadFile(m.file)));
+  data.Set("name", m.name);
+  data.Set("NAME", upper);
+  data.Set("title", m.title.empty() ? m.name : m.title);
+  data.SetList("description", LineMaps(m.description), {"line"});
+  data.Set("num_links", static_cast<int>(m.links.size()));
+  data.Set("num_moving_links", static_cast<int>(m.links.size()) - 1);
+  data.Set("num_joints", static_cast<int>(m.joints.size()));
+  data.Set("num_loops", static_cast<int>(t.loops.size()));
+  data.Set("mobility", t.loop_mobility);
+  std::vector<std::map<std::string, std::string>> loops, qdoc, phidoc, rows, pdoc, params;
+  for (size_t i = 0; i < t.loops.size(); ++i)
+    loops.push_back({{"index", std::to_string(i + 1)}, {"text", t.loops[i].Text(m)}});
+  data.SetList("loops", loops, {"index", "text"});
+  for (int i = 0; i < k.nq(); ++i)
+    qdoc.push_back({{"index", std::to_string(i)}, {"name", k.q[i].name}, {"what", k.q[i].what}});
+  for (int i = 0; i < k.nphi(); ++i)
+    phidoc.push_back({{"index", std::to_string(i)}, {"name", k.phi[i].name}, {"what", k.phi[i].what}});
+  data.SetList("q_doc", qdoc, {"index", "name", "what"});
+  data.SetList("phi_doc", phidoc, {"index", "name", "what"});
+  for (int i = 0; i < k.nc(); ++i) {
+    CxxPrinter plain;  // GiNaC's own term order varies between runs: print ours
+    for (const CamLaw& law : k.cam_laws) plain.NameCamLaw(m.joints[law.joint].cam_index, law.cxx_name);
+    for (const CamContour& c : k.cam_contours) plain.NameCamContour(m.joints[c.joint].cam_index, c.cxx_name);
+    for (const auto& c : k.q) plain.Name(c.symbol, c.name);
+    for (const auto& c : k.phi) plain.Name(c.symbol, c.name);
+    for (const auto& p : m.params) plain.Name(p.symbol, p.name);
+    std::string text = plain.Print(k.Phi[i]);
+    text = std::regex_replace(text, std::regex(R"(Scalar\(([^()]*)\))"), "$1");
+    rows.push_back({{"index", std::to_string(i)}, {"text", text + "   [" + k.Phi_source[i] + "]"}});
+  }
+  data.SetList("phi_rows", rows, {"index", "text"});
+  data.Set("nq", k.nq());
+  data.Set("nphi", k.nphi());
+  data.Set("nc", k.nc());
+  data.Set("order", m.outputs.order);
+  static const char* kOrderText[] = {"positions", "positions, velocity coefficients K",
+                                     "positions, velocity coefficients K, centripetal coefficients L"};
+  data.Set("order_text", std::string(kOrderText[m.outputs.order]));
+  for (const auto& n : k.point_names) pdoc.push_back({{"name", n}});
+  data.SetList("points_doc", pdoc, {"name"});
+  data.Set("solve_strategy", table.strategy);
+  data.Set("op_counts", "EvalPhi " + out.Ops("EvalPhi").Text() + "; SolvePositions " + out.Ops("SolvePositions").Text() +
+                            " (per Newton iteration for Newton blocks); EvalCoefficients " +
+                            out.Ops("EvalCoefficients").Text() +
+                            (out.ops.count("EvalScene") ? "; EvalScene " + out.Ops("EvalScene").Text() : "") +
+                            (transmission.empty() ? "" : "; EvalTransmissionAngles " + out.Ops("EvalTransmissionAngles").Text()));
+  data.Set("numeric_solve", table.numeric_solve);
+  data.Set("num_points", static_cast<int>(k.points.size()));
+  data.Set("num_scene_points", static_cast<int>(k.scene.size()));
+  for (const Parameter& p : m.params)
+    params.push_back({{"name", p.name}, {"value", Number(p.value)}, {"comment", p.doc}});
+  data.SetList("params", params, {"name", "value", "comment"});
+  const bool has_points = !k.points.empty();
+  data.Set("has_K", table.requested.K);
+  data.Set("has_L", table.requested.L);
+  data.Set("has_points", has_points);
+  data.Set("has_K_P", has_points && table.requested.K);
+  data.Set("has_L_P", has_points && table.requested.L);
+  data.Set("num_transmission", static_cast<int>(transmission.size()));
+  data.Set("transmission_joints", Join(transmission, [](const TransmissionAngle& a) { return Quote(a.joint); }));
+
+  // ---- The generated functions, from their descriptions ----
+  mus::data fns{mus::data::type::list}, members{mus::data::type::list}, instances{mus::data::type::list};
+  for (size_t i = 0; i < functions.size(); ++i) {
+    const FunctionSpec& f = functions[i];
+    std::vector<std::string> doc = f.doc;
+    if (!f.args.empty()) {
+      const auto pd = ParamDoc(f);
+      doc.insert(doc.end(), pd.begin(), pd.end());
+    }
+    doc.insert(doc.end(), f.notes.begin(), f.notes.end());
+    mus::data o{mus::data::type::object};
+    o.set("name", f.name);
+    o.set("returns", f.returns);
+    o.set("indent", Spaces(f.returns.size() + f.name.size() + 2));
+    o.set("doc", Lines(doc));
+    o.set("args", ArgList(f.args, "", true, false));
+    o.set("body", bodies[i]);
+    fns.push_back(o);
+    if (!f.model_member.empty()) {
+      mus::data mo{mus::data::type::object};
+      std::string call;
+      for (const Argument& a : f.args) call += (call.empty() ? "" : ", ") + a.name;
+      mo.set("name", f.name);
+      mo.set("member_name", f.model_member);
+      mo.set("returns", f.returns);
+      mo.set("returns_value", Bool(f.returns != "void"));
+      mo.set("indent", Spaces(2 + 7 + f.returns.size() + f.model_member.size() + 2));
+      mo.set("args", ArgList(f.args, "", true, true));
+      mo.set("call", call);
+      members.push_back(mo);
+    }
+  }
+  for (const char* scalar : {"double", "float"}) {
+    mus::data inst{mus::data::type::object}, list{mus::data::type::list};
+    inst.set("scalar", std::string(scalar));
+    for (const FunctionSpec& f : functions) {
+      if (!f.instantiate) continue;
+      mus::data o{mus::data::type::object};
+      const std::string returns = WithScalar(f.returns, scalar);
+      const size_t head = returns.size() + f.name.size() + std::string(scalar).size() + 4;  // "R N<S>("
+      o.set("name", f.name);
+      o.set("returns", returns);
+      o.set("extern_indent", Spaces(16 + head));
+      o.set("instance_indent", Spaces(9 + head));
+      o.set("args", ArgList(f.args, scalar, false, false));
+      list.push_back(o);
+    }
+    inst.set("instantiated", list);
+    instances.push_back(inst);
+  }
+  const std::set<std::string> fn_keys = {"name", "returns", "indent", "doc", "line", "args", "arg_type", "arg_name",
+                                         "has_default", "arg_default", "first", "body"};
+  data.SetData("functions", fns, fn_keys);
+  data.SetData("members", members, {"member_name", "returns_value", "call"});
+  data.SetData("instances", instances, {"scalar", "instantiated", "extern_indent", "instance_indent"});
+
+  // ---- The cams' documentation, the blocks, the Model's constants ----
+  std::vector<std::map<std::string, std::string>> cam_doc;
+  for (const std::string& s : k.cam_summary)
+    for (const auto& l : LineMaps(s)) cam_doc.push_back(l);
+  for (const CamContour& c : k.cam_contours)
+    for (const auto& l : LineMaps(c.summary)) cam_doc.push_back(l);
+  data.Set("has_cams", !k.cam_laws.empty());
+  data.SetList("cam_doc", cam_doc, {"line"});
+  std::vector<std::map<std::string, std::string>> blocks_doc;
+  for (size_t i = 0; i < table.blocks.size(); ++i)
+    blocks_doc.push_back({{"index", std::to_string(i)}, {"text", table.blocks[i].Describe(k)}});
+  data.SetList("blocks_doc", blocks_doc, {"index", "text"});
+  data.Set("num_blocks", static_cast<int>(table.blocks.size()));
+  data.Set("default_modes", Join(table.blocks, [](const Block& b) { return std::to_string(b.default_mode); }));
+  data.Set("block_closed_form", Join(table.blocks, [](const Block& b) {
+             return std::string(b.solve == BlockSolve::kNewton ? "false" : "true");
+           }));
+  auto names = [](const std::vector<Coordinate>& v) { return Join(v, [](const Coordinate& c) { return Quote(c.name); }); };
+  auto angles = [](const std::vector<Coordinate>& v) {
+    return Join(v, [](const Coordinate& c) { return std::string(c.is_angle ? "true" : "false"); });
+  };
+  auto numbers = [](const std::vector<double>& v) { return Join(v, [](double x) { return Number(x); }); };
+  data.Set("q_names", names(k.q));
+  data.Set("phi_names", names(k.phi));
+  data.Set("q_is_angle", angles(k.q));
+  data.Set("phi_is_angle", angles(k.phi));
+  data.Set("point_names", Join(k.point_names, Quote));
+  data.Set("link_names", Join(m.links, [](const Link& l) { return Quote(l.name); }));
+  data.Set("ground_index", m.ground);
+  data.Set("scene_point_names", Join(k.scene_names, Quote));
+  data.Set("scene_point_links", Join(k.scene_link, [](int l) { return std::to_string(l); }));
+  data.Set("assembly_q", numbers(k.assembly_q));
+  data.Set("assembly_phi", numbers(k.assembly_phi));
+  data.Set("q_min", numbers(k.q_min));
+  data.Set("q_max", numbers(k.q_max));
+
+  out.header = data.Render(templates_dir + "/mechanism.h.mustache");
+  out.source = data.Render(templates_dir + "/mechanism.cc.mustache");
+  return out;
+}
+
+bool WriteFiles(const std::string& dir, const std::string& name, const EmittedModel& e,
+                std::string* error) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) {
+    *error = "cannot create directory " + dir + ": " + ec.message();
+    return false;
+  }
+  const std::pair<std::string, const std::string*> files[] = {{name + ".h", &e.header},
+                                                              {name + ".cc", &e.source}};
+  std::vector<fs::path> temps;
+  for (const auto& [file, text] : files) {
+    const fs::path tmp = fs::path(dir) / (file + ".tmp");
+    std::ofstream os(tmp, std::ios::binary);
+    os << *text;
+    os.close();
+    if (!os) {
+      *error = "cannot write " + tmp.string();
+      for (const auto& t : temps) fs::remove(t, ec);
+      fs::remove(tmp, ec);
+      return false;
+    }
+    temps.push_back(tmp);
+  }
+  for (size_t i = 0; i < temps.size(); ++i) {
+    fs::rename(temps[i], fs::path(dir) / files[i].first, ec);
+    if (ec) {
+      *error = "cannot rename " + temps[i].string() + ": " + ec.message();
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace mechgen

@@ -1,0 +1,74 @@
+// One description per generated function: its name, documentation, arguments (types with
+// sizes and nullability), the statement programs that fill its outputs, and how the
+// templates expose it (a static member of `Model`, explicit instantiations). The templates
+// (templates/mechanism.{h,cc}.mustache) render the declaration, the definition, the extern
+// declarations, the explicit instantiations and the `Model` wrapper from this alone, and
+// emit.cc derives the preamble of the body from it: `using std::f;` for each math function
+// the body calls and `(void)arg;` for each argument it does not use.
+//
+// Adding a generated function is one builder returning a FunctionSpec (codegen/functions.h)
+// and one line in BuildFunctions that appends it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "symbolic/program.h"
+
+namespace mechgen {
+
+struct Argument {
+  enum class Direction { kIn, kOut, kInOut };
+  std::string type;  ///< C++ type with the template scalar spelled `Scalar`
+  std::string name;
+  Direction direction = Direction::kIn;
+  std::string doc;             ///< what it is ("Inputs", "dPhi/dphi")
+  std::string size;            ///< "dim kNq", "kNc x kNphi" (empty: a scalar or a struct)
+  bool nullable = false;       ///< may be nullptr (said in the documentation)
+  std::string default_value;   ///< in the declaration ("nullptr", "20"), empty: none
+  std::string member_default;  ///< in the Model wrapper when it differs ("kDefaultModes")
+};
+
+struct FunctionSpec {
+  std::string name;                ///< EvalPhi, CamLaw_<joint>, ...
+  std::vector<std::string> doc;    ///< \brief and notes, one line each (without " * ")
+  std::vector<std::string> notes;  ///< after the arguments (\note ...)
+  std::string returns = "void";    ///< return type, `Scalar` for the template scalar
+  std::vector<Argument> args;
+  /// The body: programs emitted one after the other, each with its own common
+  /// subexpressions (a block of SolvePositions must not share values with the next).
+  std::vector<Program> body;
+  bool count_ops = true;     ///< a "// Total ops" line (programs of expressions)
+  int extra_calls = 0;       ///< math calls in its raw lines, added to the count
+  bool reindent = false;     ///< indent the body by its braces (nested control flow)
+  std::string model_member;  ///< name of the static member of `Model` that calls it ("": none)
+  bool instantiate = true;   ///< compiled for double and float in <model>.cc
+};
+
+inline Argument Arg(const std::string& type,
+                    const std::string& name,
+                    Argument::Direction direction,
+                    const std::string& doc,
+                    const std::string& size = "",
+                    bool nullable = false,
+                    const std::string& default_value = "") {
+  Argument a;
+  a.type = type;
+  a.name = name;
+  a.direction = direction;
+  a.doc = doc;
+  a.size = size;
+  a.nullable = nullable;
+  a.default_value = default_value;
+  return a;
+}
+
+/// p, q, phi: the arguments of every evaluation at a configuration.
+inline std::vector<Argument> AtConfiguration() {
+  using Dir = Argument::Direction;
+  return {Arg("const Params<Scalar>&", "p", Dir::kIn, "Parameters."),
+          Arg("const Vec<Scalar, Sizes::kNq>&", "q", Dir::kIn, "Inputs", "dim kNq"),
+          Arg("const Vec<Scalar, Sizes::kNphi>&", "phi", Dir::kIn, "Dependent variables", "dim kNphi")};
+}
+
+}  // namespace mechgen

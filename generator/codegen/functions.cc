@@ -1,0 +1,322 @@
+// Builders of the generated functions. See functions.h.
+#include "codegen/functions.h"
+
+namespace mechgen {
+namespace {
+
+using GiNaC::ex;
+using Dir = Argument::Direction;
+
+std::string N(int i) { return std::to_string(i); }
+std::string Idx(int i, int j) { return "(" + N(i) + ", " + N(j) + ")"; }
+
+// Trigonometric sharing (the Trig<Scalar> argument of SolvePositions and EvalCoefficients).
+// A coordinate's sin and cos as the symbols sin_<q|phi><i>, cos_<q|phi><i>.
+struct TrigName {
+  std::string sin, cos, sin_ref, cos_ref, arg;  // local names, trig->... members, q(i)/phi(i)
+  ex sin_symbol, cos_symbol;
+};
+
+TrigName NameTrig(bool is_q, int i, CxxPrinter* printer) {
+  TrigName t;
+  const std::string kind = is_q ? "q" : "phi";
+  t.sin = "sin_" + kind + N(i);
+  t.cos = "cos_" + kind + N(i);
+  t.sin_ref = "trig->sin_" + kind + "(" + N(i) + ")";
+  t.cos_ref = "trig->cos_" + kind + "(" + N(i) + ")";
+  t.arg = kind + "(" + N(i) + ")";
+  GiNaC::symbol s(t.sin), c(t.cos);
+  printer->Name(s, t.sin);
+  printer->Name(c, t.cos);
+  t.sin_symbol = s;
+  t.cos_symbol = c;
+  return t;
+}
+
+// Replaces sin(x) and cos(x) of the angle coordinates in `program`'s values by the symbols
+// of NameTrig; returns which were used (per coordinate: sin, cos), q first, then phi.
+std::vector<std::pair<bool, bool>> SubstituteTrig(const Kinematics& k,
+                                                  const std::vector<TrigName>& names,
+                                                  Program* program,
+                                                  bool include_phi) {
+  std::vector<const Coordinate*> coords;
+  for (const Coordinate& c : k.q) coords.push_back(&c);
+  for (const Coordinate& c : k.phi) coords.push_back(&c);
+  if (!include_phi) coords.resize(k.q.size());
+  GiNaC::exmap map;
+  std::vector<std::pair<ex, ex>> trig(coords.size());  // sin(x), cos(x)
+  for (size_t i = 0; i < coords.size(); ++i) {
+    if (!coords[i]->is_angle) continue;
+    trig[i] = {GiNaC::sin(coords[i]->symbol), GiNaC::cos(coords[i]->symbol)};
+    map[trig[i].first] = names[i].sin_symbol;
+    map[trig[i].second] = names[i].cos_symbol;
+  }
+  std::vector<std::pair<bool, bool>> used(k.q.size() + k.phi.size(), {false, false});
+  for (Statement& s : *program) {
+    if (s.kind != Statement::Kind::kDefine && s.kind != Statement::Kind::kStore) continue;
+    for (size_t i = 0; i < coords.size(); ++i) {
+      if (!coords[i]->is_angle) continue;
+      used[i].first = used[i].first || s.value.has(trig[i].first);
+      used[i].second = used[i].second || s.value.has(trig[i].second);
+    }
+    s.value = s.value.subs(map);
+  }
+  return used;
+}
+
+}  // namespace
+
+void NameModelSymbols(const Model& m, const Kinematics& k, CxxPrinter* printer) {
+  for (int i = 0; i < k.nq(); ++i) printer->Name(k.q[i].symbol, "q(" + N(i) + ")");
+  for (int i = 0; i < k.nphi(); ++i) printer->Name(k.phi[i].symbol, "phi(" + N(i) + ")");
+  for (const Parameter& p : m.params) printer->Name(p.symbol, "p." + p.name);
+  for (const CamLaw& law : k.cam_laws) printer->NameCamLaw(m.joints[law.joint].cam_index, law.cxx_name);
+  for (const CamGeometry& g : k.cam_geometry) printer->Name(g.x, "x");
+  for (const CamContour& c : k.cam_contours) printer->NameCamContour(m.joints[c.joint].cam_index, c.cxx_name);
+}
+
+FunctionSpec EvalPhiSpec(const SymbolicTable& t) {
+  const Kinematics& k = t.kinematics();
+  FunctionSpec f;
+  f.name = "EvalPhi";
+  f.model_member = "Phi";
+  f.doc = {"\\brief Constraint residual and its Jacobians."};
+  f.args = AtConfiguration();
+  f.args.push_back(
+      Arg("Out<Vec<Scalar, Sizes::kNc>>", "Phi", Dir::kOut, "Phi(q, phi); zero when the loops close", "dim kNc", true));
+  f.args.push_back(Arg("Out<Mat<Scalar, Sizes::kNc, Sizes::kNphi>>", "Phi_phi", Dir::kOut, "dPhi/dphi", "kNc x kNphi",
+                       true, "nullptr"));
+  f.args.push_back(
+      Arg("Out<Mat<Scalar, Sizes::kNc, Sizes::kNq>>", "Phi_q", Dir::kOut, "dPhi/dq", "kNc x kNq", true, "nullptr"));
+  Program P;
+  if (t.sparse_Phi_phi) P.push_back(Raw("if (Phi_phi != nullptr) Phi_phi->setZero();"));
+  if (t.sparse_Phi_q) P.push_back(Raw("if (Phi_q != nullptr) Phi_q->setZero();"));
+  for (int i = 0; i < k.nc(); ++i) P.push_back(Store("(*Phi)(" + N(i) + ")", k.Phi[i], "Phi"));
+  for (int i = 0; i < k.nc(); ++i)
+    for (int j = 0; j < k.nphi(); ++j)
+      if (!t.sparse_Phi_phi || !k.Phi_phi(i, j).is_zero())
+        P.push_back(Store("(*Phi_phi)" + Idx(i, j), k.Phi_phi(i, j), "Phi_phi"));
+  for (int i = 0; i < k.nc(); ++i)
+    for (int j = 0; j < k.nq(); ++j)
+      if (!t.sparse_Phi_q || !k.Phi_q(i, j).is_zero())
+        P.push_back(Store("(*Phi_q)" + Idx(i, j), k.Phi_q(i, j), "Phi_q"));
+  f.body = {P};
+  return f;
+}
+
+FunctionSpec EvalCoefficientsSpec(const SymbolicTable& t) {
+  const Kinematics& k = t.kinematics();
+  const int nq = k.nq(), nphi = k.nphi(), nc = k.nc();
+  FunctionSpec f;
+  f.name = "EvalCoefficients";
+  f.model_member = "Coeffs";
+  f.doc = {"\\brief Everything the model requested at a closed configuration: K, L and the points,",
+           "with the residual Phi and Phi_phi there."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("Coefficients<Scalar>*", "out", Dir::kOut, "Coefficients; not nullptr."));
+  f.args.push_back(Arg("const typename NonDeduced<Trig<Scalar>>::type*", "trig", Dir::kIn,
+                       "sin and cos of q and phi from SolvePositions() at this (q, phi), or nullptr: they are "
+                       "computed here.",
+                       "", false, "nullptr"));
+  f.notes = {"\\note Phi_phi must be regular at (q, phi): check its conditioning first (the runtime does)."};
+  Program P;
+  for (size_t pt = 0; pt < t.r_P.size(); ++pt)
+    for (int a = 0; a < 2; ++a) P.push_back(Store("out->r_P" + Idx(a, static_cast<int>(pt)), t.r_P[pt][a]));
+  // Phi and Phi_phi from the same evaluation, for the caller's closure and conditioning
+  // checks: Phi_phi's entries are the named ones of the blocks' closed forms where they
+  // exist (stored after the blocks are set up), the expressions elsewhere.
+  for (int i = 0; i < nc; ++i) P.push_back(Store("out->Phi(" + N(i) + ")", k.Phi[i]));
+  auto store_phi_phi = [&]() {
+    if (t.sparse_Phi_phi) P.push_back(Raw("out->Phi_phi.setZero();"));
+    for (int i = 0; i < nc; ++i)
+      for (int j = 0; j < nphi; ++j)
+        if (!t.sparse_Phi_phi || !k.Phi_phi(i, j).is_zero())
+          P.push_back(Store("out->Phi_phi" + Idx(i, j), t.Phi_phi_named(i, j)));
+  };
+  if (!t.requested.K) {
+    store_phi_phi();
+    f.body = {P};
+    return f;
+  }
+  P.insert(P.end(), t.k_program.begin(), t.k_program.end());
+  store_phi_phi();
+  for (int i = 0; i < nphi; ++i)
+    for (int j = 0; j < nq; ++j) P.push_back(Store("out->K" + Idx(i, j), t.K[i][j]));
+  for (size_t pt = 0; pt < t.K_P.size(); ++pt)
+    for (int a = 0; a < 2; ++a)
+      for (int j = 0; j < nq; ++j)
+        P.push_back(Store("out->K_P" + Idx(2 * static_cast<int>(pt) + a, j), t.K_P[pt][a][j]));
+  if (t.requested.L) {
+    P.insert(P.end(), t.l_program.begin(), t.l_program.end());
+    for (int i = 0; i < nphi; ++i)
+      for (int j = 0; j < nq; ++j)
+        for (int kk = 0; kk < nq; ++kk) P.push_back(Store("out->L" + Idx(i, j + nq * kk), t.L(i, j, kk)));
+    for (size_t pt = 0; pt < t.L_P.size(); ++pt)
+      for (int a = 0; a < 2; ++a)
+        for (int j = 0; j < nq; ++j)
+          for (int kk = 0; kk < nq; ++kk)
+            P.push_back(Store("out->L_P" + Idx(2 * static_cast<int>(pt) + a, j + nq * kk), t.L_P[pt][a][j + nq * kk]));
+  }
+  f.body = {P};
+  return f;
+}
+
+FunctionSpec EvalDetPhiPhiSpec(const SymbolicTable& t) {
+  FunctionSpec f;
+  f.name = "EvalDetPhiPhi";
+  f.model_member = "DetPhiPhi";
+  f.doc = {"\\brief det Phi_phi: zero where the mechanism is singular (a dead point, a change point),",
+           "as the product of the blocks' determinants. Its sign is the assembly branch of a loop."};
+  f.args = AtConfiguration();
+  f.args.push_back(Arg("Scalar*", "det_Phi_phi", Dir::kOut, "det Phi_phi; not nullptr."));
+  Program P = t.det_program;
+  P.push_back(Store("*det_Phi_phi", t.det_Phi_phi));
+  f.body = {P};
+  return f;
+}
+
+FunctionSpec EvalTransmissionAnglesSpec(const std::vector<TransmissionAngle>& angles) {
+  FunctionSpec f;
+  f.name = "EvalTransmissionAngles";
+  f.model_member = "TransmissionAngles";
+  f.doc = {"\\brief Transmission angle mu of each four-bar loop: the angle between the coupler and",
+           "the output link at their joint, in [0, pi]. mu = 0 or pi is a toggle of the output",
+           "(Phi_phi loses rank there: the loop's determinant is b c sin mu up to sign); 90 deg",
+           "transmits force best, and designs usually keep mu within 40..140 deg."};
+  for (size_t i = 0; i < angles.size(); ++i)
+    f.doc.push_back("  mu(" + N(static_cast<int>(i)) + "): " + angles[i].Text());
+  f.args = AtConfiguration();
+  f.args.push_back(Arg("Vec<Scalar, Sizes::kNumTransmissionAngles>*", "mu", Dir::kOut,
+                       "Transmission angles; not nullptr.", "dim kNumTransmissionAngles"));
+  Program P;
+  for (size_t i = 0; i < angles.size(); ++i) {
+    // Named first, so that atan2 gets two plain values (and no sum sits under abs).
+    ex cross, dot;
+    P.push_back(Define("cross_" + N(static_cast<int>(i)), angles[i].cross, &cross));
+    P.push_back(Define("dot_" + N(static_cast<int>(i)), angles[i].dot, &dot));
+    P.push_back(Store("(*mu)(" + N(static_cast<int>(i)) + ")", GiNaC::atan2(GiNaC::abs(cross), dot)));
+  }
+  f.body = {P};
+  return f;
+}
+
+FunctionSpec EvalSceneSpec(const Kinematics& k) {
+  FunctionSpec f;
+  f.name = "EvalScene";
+  f.model_member = "Scene";
+  f.doc = {"\\brief Positions of every named point of every link, for drawing (kScenePointNames)."};
+  f.args = AtConfiguration();
+  f.args.push_back(Arg("Mat<Scalar, 2, Sizes::kNumScenePoints>*", "r", Dir::kOut,
+                       "r.col(s) = point s in the fixed frame; not nullptr.", "2 x kNumScenePoints"));
+  Program P;
+  for (size_t s = 0; s < k.scene.size(); ++s)
+    for (int a = 0; a < 2; ++a) P.push_back(Store("(*r)" + Idx(a, static_cast<int>(s)), k.scene[s][a]));
+  f.body = {P};
+  return f;
+}
+
+// The Trig<Scalar> argument: SolvePositions hoists sin and cos of its angle inputs out of the
+// blocks and hands out sin and cos of every angle (closed-form dyads from their own dot and
+// cross products, others by a call); EvalCoefficients takes them instead of calling sin and
+// cos again (it calls them itself when trig is nullptr).
+void ShareTrig(const Kinematics& k,
+               const std::vector<bool>& trig_done,
+               CxxPrinter* printer,
+               FunctionSpec* coefficients,
+               FunctionSpec* positions) {
+  std::vector<TrigName> names;
+  for (int i = 0; i < k.nq(); ++i) names.push_back(NameTrig(true, i, printer));
+  for (int i = 0; i < k.nphi(); ++i) names.push_back(NameTrig(false, i, printer));
+  const int nq = k.nq();
+
+  // EvalCoefficients: every angle coordinate.
+  Program& coeffs = coefficients->body.front();
+  const auto used = SubstituteTrig(k, names, &coeffs, true);
+  Program prologue, given, called;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const TrigName& t = names[i];
+    if (used[i].first) {
+      prologue.push_back(Raw("Scalar " + t.sin + ";"));
+      given.push_back(Raw("  " + t.sin + " = " + t.sin_ref + ";"));
+      called.push_back(Raw("  " + t.sin + " = sin(" + t.arg + ");"));
+      ++coefficients->extra_calls;
+    }
+    if (used[i].second) {
+      prologue.push_back(Raw("Scalar " + t.cos + ";"));
+      given.push_back(Raw("  " + t.cos + " = " + t.cos_ref + ";"));
+      called.push_back(Raw("  " + t.cos + " = cos(" + t.arg + ");"));
+      ++coefficients->extra_calls;
+    }
+  }
+  if (!given.empty()) {
+    prologue.push_back(Raw("if (trig != nullptr) {"));
+    prologue.insert(prologue.end(), given.begin(), given.end());
+    prologue.push_back(Raw("} else {"));
+    prologue.insert(prologue.end(), called.begin(), called.end());
+    prologue.push_back(Raw("}"));
+    coeffs.insert(coeffs.begin(), prologue.begin(), prologue.end());
+  }
+
+  // SolvePositions: the inputs' sin and cos once, before the blocks (body[0] is its
+  // prologue, then one program per block, then its epilogue).
+  std::vector<std::pair<bool, bool>> q_used(nq, {false, false});
+  for (Program& block : positions->body) {
+    const auto u = SubstituteTrig(k, names, &block, false);
+    for (int j = 0; j < nq; ++j) {
+      q_used[j].first = q_used[j].first || u[j].first;
+      q_used[j].second = q_used[j].second || u[j].second;
+    }
+  }
+  Program& head = positions->body.front();
+  Program tail;
+  for (int j = 0; j < nq; ++j) {
+    if (q_used[j].first) head.push_back(Raw("const Scalar " + names[j].sin + " = sin(" + names[j].arg + ");"));
+    if (q_used[j].second) head.push_back(Raw("const Scalar " + names[j].cos + " = cos(" + names[j].arg + ");"));
+    positions->extra_calls += q_used[j].first + q_used[j].second;
+  }
+  tail.push_back(Raw("if (trig != nullptr) {"));
+  for (int j = 0; j < nq; ++j) {
+    if (!k.q[j].is_angle) continue;
+    const TrigName& t = names[j];
+    tail.push_back(Raw("  " + t.sin_ref + " = " + (q_used[j].first ? t.sin : "sin(" + t.arg + ")") + ";"));
+    tail.push_back(Raw("  " + t.cos_ref + " = " + (q_used[j].second ? t.cos : "cos(" + t.arg + ")") + ";"));
+  }
+  for (int i = 0; i < k.nphi(); ++i) {
+    if (!k.phi[i].is_angle || trig_done[i]) continue;
+    const TrigName& t = names[nq + i];
+    tail.push_back(Raw("  " + t.sin_ref + " = sin(" + t.arg + ");"));
+    tail.push_back(Raw("  " + t.cos_ref + " = cos(" + t.arg + ");"));
+  }
+  tail.push_back(Raw("}"));
+  positions->body.insert(positions->body.end() - 1, tail);
+}
+
+std::vector<FunctionSpec> BuildFunctions(const Model& m,
+                                         const Kinematics& k,
+                                         const SymbolicTable& t,
+                                         const std::vector<TransmissionAngle>& transmission,
+                                         CxxPrinter* printer) {
+  NameModelSymbols(m, k, printer);
+  std::vector<FunctionSpec> out;
+  // Cams: the law's function and the cam's geometry; splines' contour functions.
+  for (size_t c = 0; c < k.cam_laws.size(); ++c) {
+    out.push_back(CamLawSpec(m, k.cam_laws[c], printer));
+    out.push_back(EvalCamSpec(m, k.cam_laws[c], k.cam_geometry[c]));
+  }
+  for (const CamContour& c : k.cam_contours)
+    if (m.joints[c.joint].contour == Joint::Contour::kSpline) out.push_back(ContourSpec(m, c));
+  out.push_back(EvalPhiSpec(t));
+  FunctionSpec coefficients = EvalCoefficientsSpec(t);
+  std::vector<bool> trig_done;
+  FunctionSpec positions = SolvePositionsSpec(t, printer, &trig_done);
+  ShareTrig(k, trig_done, printer, &coefficients, &positions);
+  out.push_back(coefficients);
+  out.push_back(EvalDetPhiPhiSpec(t));
+  if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));
+  out.push_back(positions);
+  if (m.outputs.scene && !k.scene.empty()) out.push_back(EvalSceneSpec(k));
+  return out;
+}
+
+}  // namespace mechgen

@@ -1,0 +1,59 @@
+// The builders of the generated functions: each reads quantities from the symbolic table
+// (symbolic/table.h) and returns the description of one function (function_spec.h):
+// where each quantity is stored, its arguments and documentation. No C++ text of the
+// math lives here, only the statements' targets and the control flow of the solvers.
+//
+// To add a generated function: write one builder below that returns a FunctionSpec, and
+// append it in BuildFunctions. The templates render it (declaration, definition, extern
+// declarations and instantiations, the Model member) without further change.
+#pragma once
+
+#include <vector>
+
+#include "codegen/cxx_code.h"
+#include "codegen/function_spec.h"
+#include "kinematics.h"
+#include "model.h"
+#include "symbolic/table.h"
+#include "symbolic/transmission.h"
+
+namespace mechgen {
+
+/// Gives every symbol of the model's expressions its C++ spelling: q(i), phi(i), p.<name>,
+/// the cam laws and contours.
+void NameModelSymbols(const Model& m, const Kinematics& k, CxxPrinter* printer);
+
+/// EvalPhi: Phi, Phi_phi, Phi_q.
+FunctionSpec EvalPhiSpec(const SymbolicTable& t);
+/// EvalCoefficients: Phi, Phi_phi, K, L, r_P, K_P, L_P (as requested).
+FunctionSpec EvalCoefficientsSpec(const SymbolicTable& t);
+/// EvalDetPhiPhi: det Phi_phi as the product of the blocks' determinants.
+FunctionSpec EvalDetPhiPhiSpec(const SymbolicTable& t);
+/// EvalTransmissionAngles: mu of each four-bar loop on the ground.
+FunctionSpec EvalTransmissionAnglesSpec(const std::vector<TransmissionAngle>& angles);
+/// SolvePositions: block by block, closed-form dyads (symbolic/dyads.h) or Newton–Raphson
+/// (codegen/positions.cc). *trig_done[i]: phi(i)'s sin and cos come from its closed form.
+FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std::vector<bool>* trig_done);
+/// EvalScene: every named point of every link.
+FunctionSpec EvalSceneSpec(const Kinematics& k);
+/// CamLaw_<joint>, EvalCam_<joint> and Contour_<joint> (codegen/cam_functions.cc).
+FunctionSpec CamLawSpec(const Model& m, const CamLaw& law, CxxPrinter* printer);
+FunctionSpec EvalCamSpec(const Model& m, const CamLaw& law, const CamGeometry& g);
+FunctionSpec ContourSpec(const Model& m, const CamContour& c);
+
+/// sin and cos shared between SolvePositions and EvalCoefficients (the Trig<Scalar>
+/// argument): rewrites both specs' programs.
+void ShareTrig(const Kinematics& k,
+               const std::vector<bool>& trig_done,
+               CxxPrinter* printer,
+               FunctionSpec* coefficients,
+               FunctionSpec* positions);
+
+/// Every generated function of the model, in the order of the header.
+std::vector<FunctionSpec> BuildFunctions(const Model& m,
+                                         const Kinematics& k,
+                                         const SymbolicTable& t,
+                                         const std::vector<TransmissionAngle>& transmission,
+                                         CxxPrinter* printer);
+
+}  // namespace mechgen

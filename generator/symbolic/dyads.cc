@@ -1,0 +1,230 @@
+// The closed-form dyad solutions, formulated once. See dyads.h.
+#include "symbolic/dyads.h"
+
+#include <cmath>
+
+namespace mechgen {
+
+using GiNaC::ex;
+
+namespace {
+
+bool Number(const ex& e, double* v) {
+  const ex n = e.evalf();
+  if (!GiNaC::is_a<GiNaC::numeric>(n) || !GiNaC::ex_to<GiNaC::numeric>(n).is_real()) return false;
+  *v = GiNaC::ex_to<GiNaC::numeric>(n).to_double();
+  return true;
+}
+
+}  // namespace
+
+static ex stable_half_evalf(const ex& b, const ex& sq) {
+  double B, S;
+  if (!Number(b, &B) || !Number(sq, &S)) return stable_half(b, sq).hold();
+  return -(B + (B >= 0 ? S : -S)) / 2;
+}
+
+static ex quadratic_root_evalf(const ex& a, const ex& b, const ex& c, const ex& qq, const ex& mode) {
+  double A, B, C, Q, M;
+  if (!Number(a, &A) || !Number(b, &B) || !Number(c, &C) || !Number(qq, &Q) || !Number(mode, &M))
+    return quadratic_root(a, b, c, qq, mode).hold();
+  return ((M > 0) == (B >= 0)) ? (Q != 0 ? C / Q : 0.0) : Q / A;
+}
+
+REGISTER_FUNCTION(stable_half, evalf_func(stable_half_evalf))
+REGISTER_FUNCTION(quadratic_root, evalf_func(quadratic_root_evalf))
+
+namespace {
+
+class Builder {
+ public:
+  Builder(ClosedForm* f) : f_(*f) {}
+
+  // A named local, or the value itself when it is a number or a symbol already.
+  ex Local(const std::string& name, const ex& value) {
+    DyadStep s;
+    s.kind = DyadStep::Kind::kLocal;
+    s.name = name;
+    s.value = value;
+    if (GiNaC::is_a<GiNaC::numeric>(value) || GiNaC::is_a<GiNaC::symbol>(value))
+      s.symbol = value;
+    else
+      s.symbol = GiNaC::symbol(name + f_.suffix);
+    f_.steps.push_back(s);
+    return s.symbol;
+  }
+  void Require(DyadStep::Require r, const ex& value, const ex& measure) {
+    DyadStep s;
+    s.kind = DyadStep::Kind::kRequire;
+    s.require = r;
+    s.value = value;
+    s.measure = measure;
+    f_.steps.push_back(s);
+  }
+  void Angle(int col, const ex& y, const ex& x, const ex& plus = 0) {
+    DyadStep s;
+    s.kind = DyadStep::Kind::kAngle;
+    s.col = col;
+    s.y = y;
+    s.x = x;
+    s.value = plus;
+    f_.steps.push_back(s);
+  }
+  void Value(int col, const ex& value) {
+    DyadStep s;
+    s.kind = DyadStep::Kind::kValue;
+    s.col = col;
+    s.value = value;
+    f_.steps.push_back(s);
+  }
+  void Trig(int col, const std::string& inv_name, const ex& norm2, const ex& dot, const ex& cross) {
+    f_.trig.push_back({col, inv_name, norm2, dot, cross});
+  }
+
+ private:
+  ClosedForm& f_;
+};
+
+}  // namespace
+
+ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
+  ClosedForm f;
+  f.suffix = "_b" + std::to_string(index);
+  f.mode = GiNaC::symbol("mode" + f.suffix);
+  Builder s(&f);
+  const ex mode = f.mode;
+  switch (b.solve) {
+    case BlockSolve::kRR: {
+      // R(u) a + R(v) b = w: the tip m = R(u) a lies on the circles |m| = |a|, |w - m| = |b|.
+      const int u = b.cols[b.iu], v = b.cols[1 - b.iu];
+      const ex ax = s.Local("ax", b.a[0]), ay = s.Local("ay", b.a[1]);
+      const ex bx = s.Local("bx", b.b[0]), by = s.Local("by", b.b[1]);
+      const ex wx = s.Local("wx", -b.w0[0]), wy = s.Local("wy", -b.w0[1]);
+      const ex ra2 = s.Local("ra2", ax * ax + ay * ay), rb2 = s.Local("rb2", bx * bx + by * by);
+      const ex d2 = s.Local("d2", wx * wx + wy * wy);
+      const ex inv_d2 = s.Local("inv_d2", 1 / d2);
+      const ex kk = s.Local("k", GiNaC::numeric(1, 2) + (ra2 - rb2) * inv_d2 / 2);
+      const ex h2 = s.Local("h2", ra2 * inv_d2 - kk * kk);
+      // h2 < 0: the two circles do not meet, the loop cannot close (NaN also fails).
+      s.Require(DyadStep::Require::kNonNegative, h2, h2);
+      const ex h = s.Local("h", mode * GiNaC::sqrt(h2));
+      const ex mx = s.Local("mx", kk * wx - h * wy), my = s.Local("my", kk * wy + h * wx);
+      // u: the angle from a to m, v: from b to w - m, each one atan2 of (cross, dot).
+      const ex cu = s.Local("cross_u", ax * my - ay * mx), du = s.Local("dot_u", ax * mx + ay * my);
+      const ex cv = s.Local("cross_v", bx * (wy - my) - by * (wx - mx));
+      const ex dv = s.Local("dot_v", bx * (wx - mx) + by * (wy - my));
+      s.Angle(u, cu, du);
+      s.Angle(v, cv, dv);
+      // m = R(u) a and w - m = R(v) b: a.m = |a|^2 cos u, a x m = |a|^2 sin u, and so for v.
+      s.Trig(u, "inv_ra2", ra2, du, cu);
+      s.Trig(v, "inv_rb2", rb2, dv, cv);
+      break;
+    }
+    case BlockSolve::kAngle: {
+      // c0 + c1 cos u + c2 sin u = 0: rho cos(u - delta) = -c0.
+      const ex c0 = s.Local("c0", b.c0), c1 = s.Local("c1", b.c1), c2 = s.Local("c2", b.c2);
+      const ex rho = s.Local("rho", GiNaC::sqrt(c1 * c1 + c2 * c2));
+      const ex cos_arg = s.Local("cos_arg", -c0 / rho);
+      s.Require(DyadStep::Require::kAbsAtMostOne, cos_arg, 1 - GiNaC::abs(cos_arg));
+      s.Angle(b.cols[0], c2, c1, mode * GiNaC::acos(cos_arg));
+      break;
+    }
+    case BlockSolve::kLinear: {
+      const ex c1 = s.Local("c1", b.c1);
+      if (!GiNaC::is_a<GiNaC::numeric>(c1)) s.Require(DyadStep::Require::kNonZero, c1, c1);
+      s.Value(b.cols[0], -b.c0 / c1);
+      break;
+    }
+    case BlockSolve::kRS: {
+      const int u = b.cols[b.iu], x = b.cols[1 - b.iu];
+      const GiNaC::symbol sx = k.phi[x].symbol;
+      // |a(s)|^2 = |w0(s)|^2: A s^2 + B s + C = 0
+      const ex poly = (b.a[0] * b.a[0] + b.a[1] * b.a[1] - b.w0[0] * b.w0[0] - b.w0[1] * b.w0[1]).expand();
+      const ex A = poly.coeff(sx, 2);
+      const ex B = s.Local("B", poly.coeff(sx, 1)), C = s.Local("C", poly.coeff(sx, 0));
+      ex root;
+      if (A.is_zero()) {
+        s.Require(DyadStep::Require::kNonZero, B, B);
+        root = s.Local("s", -C / B);
+      } else {
+        const ex An = s.Local("A", A);
+        const ex disc = s.Local("disc", B * B - 4 * An * C);
+        // disc < 0: the circle and the line do not meet.
+        s.Require(DyadStep::Require::kNonNegative, disc, disc);
+        const ex sq = s.Local("sq", GiNaC::sqrt(disc));
+        // The root of the requested sign without cancellation: roots qq / A and C / qq.
+        const ex qq = s.Local("qq", stable_half(B, sq));
+        root = s.Local("s", quadratic_root(An, B, C, qq, mode));
+      }
+      GiNaC::exmap at;
+      at[sx] = root;
+      const ex ax = s.Local("ax", b.a[0].subs(at)), ay = s.Local("ay", b.a[1].subs(at));
+      const ex wx = s.Local("wx", -b.w0[0].subs(at)), wy = s.Local("wy", -b.w0[1].subs(at));
+      s.Value(x, root);
+      // u: the angle from a to w, one atan2 of (cross, dot); R(u) a = w: a.w = |a|^2 cos u.
+      const ex cu = s.Local("cross_u", ax * wy - ay * wx), du = s.Local("dot_u", ax * wx + ay * wy);
+      s.Angle(u, cu, du);
+      s.Trig(u, "inv_a2", ax * ax + ay * ay, du, cu);
+      break;
+    }
+    case BlockSolve::kSS: {
+      // w0 + s0 e0 + s1 e1 = 0 by Cramer's rule.
+      const ex e0x = s.Local("e0x", b.e0[0]), e0y = s.Local("e0y", b.e0[1]);
+      const ex e1x = s.Local("e1x", b.e1[0]), e1y = s.Local("e1y", b.e1[1]);
+      const ex w0x = s.Local("w0x", b.w0[0]), w0y = s.Local("w0y", b.w0[1]);
+      const ex det = s.Local("det", e0x * e1y - e0y * e1x);
+      s.Require(DyadStep::Require::kNonZero, det, det);  // parallel slides
+      const ex inv = s.Local("inv_det", 1 / det);
+      s.Value(b.cols[0], (-w0x * e1y + w0y * e1x) * inv);
+      s.Value(b.cols[1], (-e0x * w0y + e0y * w0x) * inv);
+      break;
+    }
+    case BlockSolve::kNewton:
+      break;
+  }
+  return f;
+}
+
+bool EvaluateClosedForm(const ClosedForm& f,
+                        const GiNaC::exmap& values,
+                        int mode,
+                        std::map<std::string, double>* locals,
+                        std::map<int, double>* solution,
+                        const DyadStep** failed) {
+  GiNaC::exmap v = values;
+  v[f.mode] = mode;
+  auto eval = [&](const ex& e) {
+    double d;
+    return Number(e.subs(v), &d) ? d : std::nan("");
+  };
+  for (const DyadStep& s : f.steps) {
+    switch (s.kind) {
+      case DyadStep::Kind::kLocal: {
+        const double d = eval(s.value);
+        (*locals)[s.name] = d;
+        if (GiNaC::is_a<GiNaC::symbol>(s.symbol) && !GiNaC::is_a<GiNaC::symbol>(s.value)) v[s.symbol] = d;
+        break;
+      }
+      case DyadStep::Kind::kRequire: {
+        const double d = eval(s.value);
+        const bool ok = s.require == DyadStep::Require::kNonNegative    ? d >= 0
+                        : s.require == DyadStep::Require::kAbsAtMostOne ? std::abs(d) <= 1
+                                                                        : d != 0;
+        if (!ok) {
+          *failed = &s;
+          return false;
+        }
+        break;
+      }
+      case DyadStep::Kind::kAngle:
+        (*solution)[s.col] = std::atan2(eval(s.y), eval(s.x)) + eval(s.value);
+        break;
+      case DyadStep::Kind::kValue:
+        (*solution)[s.col] = eval(s.value);
+        break;
+    }
+  }
+  return true;
+}
+
+}  // namespace mechgen
