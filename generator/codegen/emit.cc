@@ -146,10 +146,9 @@ bool Mentions(const std::string& code, const std::string& name) {
 
 mus::data Bool(bool b) { return b ? mus::data::type::bool_true : mus::data::type::bool_false; }
 
-// "Scalar" replaced by a concrete scalar type (explicit instantiations).
-std::string WithScalar(const std::string& type, const std::string& scalar) {
-  static const std::regex word(R"(\bScalar\b)");
-  return std::regex_replace(type, word, scalar);
+// The template scalar `name` replaced by a concrete scalar type (explicit instantiations).
+std::string WithScalar(const std::string& type, const std::string& name, const std::string& scalar) {
+  return std::regex_replace(type, std::regex("\\b" + name + "\\b"), scalar);
 }
 
 // The \param lines of a function's documentation, aligned.
@@ -205,13 +204,14 @@ mus::data Lines(const std::vector<std::string>& lines) {
 }
 
 // Arguments as the template renders them: type, name and default.
-mus::data ArgList(const std::vector<Argument>& args, const std::string& scalar, bool defaults, bool member) {
+mus::data ArgList(const FunctionSpec& f, const std::string& scalar, bool defaults, bool member) {
+  const std::vector<Argument>& args = f.args;
   mus::data list{mus::data::type::list};
   for (size_t i = 0; i < args.size(); ++i) {
     const Argument& a = args[i];
     const std::string def = member && !a.member_default.empty() ? a.member_default : a.default_value;
     mus::data o{mus::data::type::object};
-    o.set("arg_type", scalar.empty() ? a.type : WithScalar(a.type, scalar));
+    o.set("arg_type", scalar.empty() ? a.type : WithScalar(a.type, f.scalar, scalar));
     o.set("arg_name", a.name);
     o.set("has_default", Bool(defaults && !def.empty()));
     o.set("arg_default", def);
@@ -342,10 +342,11 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
     doc.insert(doc.end(), f.notes.begin(), f.notes.end());
     mus::data o{mus::data::type::object};
     o.set("name", f.name);
+    o.set("template_scalar", f.scalar);
     o.set("returns", f.returns);
     o.set("indent", Spaces(f.returns.size() + f.name.size() + 2));
     o.set("doc", Lines(doc));
-    o.set("args", ArgList(f.args, "", true, false));
+    o.set("args", ArgList(f, "", true, false));
     o.set("body", bodies[i]);
     fns.push_back(o);
     if (!f.model_member.empty()) {
@@ -353,11 +354,12 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
       std::string call;
       for (const Argument& a : f.args) call += (call.empty() ? "" : ", ") + a.name;
       mo.set("name", f.name);
+      mo.set("template_scalar", f.scalar);
       mo.set("member_name", f.model_member);
       mo.set("returns", f.returns);
       mo.set("returns_value", Bool(f.returns != "void"));
       mo.set("indent", Spaces(2 + 7 + f.returns.size() + f.model_member.size() + 2));
-      mo.set("args", ArgList(f.args, "", true, true));
+      mo.set("args", ArgList(f, "", true, true));
       mo.set("call", call);
       members.push_back(mo);
     }
@@ -368,19 +370,19 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
     for (const FunctionSpec& f : functions) {
       if (!f.instantiate) continue;
       mus::data o{mus::data::type::object};
-      const std::string returns = WithScalar(f.returns, scalar);
+      const std::string returns = WithScalar(f.returns, f.scalar, scalar);
       const size_t head = returns.size() + f.name.size() + std::string(scalar).size() + 4;  // "R N<S>("
       o.set("name", f.name);
       o.set("returns", returns);
       o.set("extern_indent", Spaces(16 + head));
       o.set("instance_indent", Spaces(9 + head));
-      o.set("args", ArgList(f.args, scalar, false, false));
+      o.set("args", ArgList(f, scalar, false, false));
       list.push_back(o);
     }
     inst.set("instantiated", list);
     instances.push_back(inst);
   }
-  const std::set<std::string> fn_keys = {"name", "returns", "indent", "doc", "line", "args", "arg_type", "arg_name",
+  const std::set<std::string> fn_keys = {"name", "template_scalar", "returns", "indent", "doc", "line", "args", "arg_type", "arg_name",
                                          "has_default", "arg_default", "first", "body"};
   data.SetData("functions", fns, fn_keys);
   data.SetData("members", members, {"member_name", "returns_value", "call"});

@@ -19,7 +19,7 @@ namespace mechgen {
 
 struct Argument {
   enum class Direction { kIn, kOut, kInOut };
-  std::string type;  ///< C++ type with the template scalar spelled `Scalar`
+  std::string type;  ///< C++ type in terms of the function's template scalar (FunctionSpec::scalar)
   std::string name;
   Direction direction = Direction::kIn;
   std::string doc;             ///< what it is ("Inputs", "dPhi/dphi")
@@ -33,7 +33,8 @@ struct FunctionSpec {
   std::string name;                ///< EvalPhi, CamLaw_<joint>, ...
   std::vector<std::string> doc;    ///< \brief and notes, one line each (without " * ")
   std::vector<std::string> notes;  ///< after the arguments (\note ...)
-  std::string returns = "void";    ///< return type, `Scalar` for the template scalar
+  std::string scalar = "Scalar";   ///< the template parameter: template <typename Scalar>
+  std::string returns = "void";    ///< return type (in terms of `scalar`)
   std::vector<Argument> args;
   /// The body: programs emitted one after the other, each with its own common
   /// subexpressions (a block of SolvePositions must not share values with the next).

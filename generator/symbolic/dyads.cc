@@ -38,7 +38,7 @@ namespace {
 
 class Builder {
  public:
-  Builder(ClosedForm* f) : f_(*f) {}
+  explicit Builder(ClosedForm* f) : f_(*f) {}
 
   // A named local, or the value itself when it is a number or a symbol already.
   ex Local(const std::string& name, const ex& value) {
