@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form up to 3 unknowns, by a fixed-size LU above, and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 58 (adds 20, muls 32, divs 1, calls 5); SolvePositions 71 (adds 13, muls 48, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalCoefficients 190 (adds 56, muls 126, divs 3, calls 5); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
+ * Operation counts: EvalPhi 58 (adds 20, muls 32, divs 1, calls 5); EvalCoefficients 190 (adds 56, muls 126, divs 3, calls 5); EvalDetPhiPhi 28 (adds 4, muls 18, divs 1, calls 5); SolvePositions 71 (adds 13, muls 48, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
  * cam contact: translating roller follower; contour x(u) = R*cos(u), y(u) = e + R*sin(u), period 6.283; min radius of curvature where convex 1 at u = 0.004363, concave nowhere
  */
 #pragma once

@@ -26,7 +26,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.F.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 7 (adds 3, muls 0, divs 1, calls 3); SolvePositions 5 (adds 2, muls 0, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 31 (adds 6, muls 17, divs 2, calls 6); EvalScene 5 (adds 1, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 7 (adds 3, muls 0, divs 1, calls 3); EvalCoefficients 31 (adds 6, muls 17, divs 2, calls 6); EvalDetPhiPhi 0 (adds 0, muls 0, divs 0, calls 0); SolvePositions 5 (adds 2, muls 0, divs 1, calls 2) (per Newton iteration for Newton blocks); EvalScene 5 (adds 1, muls 2, divs 0, calls 2)
  * cam contact: oscillating flat-faced follower; law: dwell 50.0 deg, rise 130.0 deg, harmonic, lift lift, dwell 40.0 deg, return 140.0 deg, cycloidal, lift lift; over one turn: max pressure angle 0.0 deg at 0.0 deg, min radius of curvature of the profile 0.8877 at 154.2 deg
  */
 #pragma once

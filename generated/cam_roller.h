@@ -26,7 +26,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 14 (adds 6, muls 5, divs 0, calls 3); SolvePositions 12 (adds 5, muls 5, divs 0, calls 2) (per Newton iteration for Newton blocks); EvalCoefficients 18 (adds 6, muls 7, divs 1, calls 4); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
+ * Operation counts: EvalPhi 14 (adds 6, muls 5, divs 0, calls 3); EvalCoefficients 18 (adds 6, muls 7, divs 1, calls 4); EvalDetPhiPhi 0 (adds 0, muls 0, divs 0, calls 0); SolvePositions 12 (adds 5, muls 5, divs 0, calls 2) (per Newton iteration for Newton blocks); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
  * cam contact: translating roller follower; law: dwell 60.0 deg, rise 120.0 deg, cycloidal, lift h, dwell 30.0 deg, return 150.0 deg, 3-4-5 polynomial, lift h; over one turn: max pressure angle 29.5 deg at 304.2 deg, min radius of curvature of the pitch curve where convex 1.193 at 148.8 deg (roller 0.25)
  */
 #pragma once

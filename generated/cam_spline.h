@@ -31,7 +31,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form up to 3 unknowns, by a fixed-size LU above, and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 108 (adds 25, muls 72, divs 1, calls 10); SolvePositions 78 (adds 15, muls 46, divs 2, calls 15) (per Newton iteration for Newton blocks); EvalCoefficients 550 (adds 106, muls 428, divs 3, calls 13); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
+ * Operation counts: EvalPhi 108 (adds 25, muls 72, divs 1, calls 10); EvalCoefficients 550 (adds 106, muls 428, divs 3, calls 13); EvalDetPhiPhi 46 (adds 8, muls 29, divs 1, calls 8); SolvePositions 78 (adds 15, muls 46, divs 2, calls 15) (per Newton iteration for Newton blocks); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
  * cam contact: translating roller follower; contour by a periodic cubic spline through 36 points (chord-length parameter u, period 6.275); min radius of curvature where convex 0.9978 at u = 0.004358, concave nowhere
  */
 #pragma once

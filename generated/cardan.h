@@ -26,7 +26,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), planet.P, roll.contact.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 6 (adds 3, muls 3, divs 0, calls 0); SolvePositions 3 (adds 1, muls 1, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 66 (adds 21, muls 40, divs 1, calls 4); EvalScene 20 (adds 6, muls 10, divs 0, calls 4)
+ * Operation counts: EvalPhi 6 (adds 3, muls 3, divs 0, calls 0); EvalCoefficients 66 (adds 21, muls 40, divs 1, calls 4); EvalDetPhiPhi 1 (adds 1, muls 0, divs 0, calls 0); SolvePositions 3 (adds 1, muls 1, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalScene 20 (adds 6, muls 10, divs 0, calls 4)
  */
 #pragma once
 

@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); SolvePositions 42 (adds 11, muls 25, divs 1, calls 5) (per Newton iteration for Newton blocks); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalScene 22 (adds 6, muls 8, divs 0, calls 8)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); SolvePositions 42 (adds 11, muls 25, divs 1, calls 5) (per Newton iteration for Newton blocks); EvalScene 22 (adds 6, muls 8, divs 0, calls 8)
  */
 #pragma once
 

@@ -26,7 +26,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
  */
 #pragma once
 

@@ -32,7 +32,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); SolvePositions 45 (adds 12, muls 26, divs 2, calls 5) (per Newton iteration for Newton blocks); EvalCoefficients 110 (adds 32, muls 68, divs 2, calls 8); EvalScene 25 (adds 9, muls 8, divs 0, calls 8)
+ * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); EvalCoefficients 110 (adds 32, muls 68, divs 2, calls 8); EvalDetPhiPhi 12 (adds 1, muls 7, divs 0, calls 4); SolvePositions 45 (adds 12, muls 26, divs 2, calls 5) (per Newton iteration for Newton blocks); EvalScene 25 (adds 9, muls 8, divs 0, calls 8)
  */
 #pragma once
 

@@ -28,7 +28,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), rocker.E.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 13 (adds 3, muls 6, divs 0, calls 4); SolvePositions 24 (adds 5, muls 14, divs 2, calls 3) (per Newton iteration for Newton blocks); EvalCoefficients 71 (adds 15, muls 51, divs 1, calls 4); EvalScene 9 (adds 1, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 13 (adds 3, muls 6, divs 0, calls 4); EvalCoefficients 71 (adds 15, muls 51, divs 1, calls 4); EvalDetPhiPhi 7 (adds 1, muls 4, divs 0, calls 2); SolvePositions 24 (adds 5, muls 14, divs 2, calls 3) (per Newton iteration for Newton blocks); EvalScene 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 

@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), planet.M.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 13 (adds 7, muls 6, divs 0, calls 0); SolvePositions 11 (adds 3, muls 7, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 87 (adds 26, muls 56, divs 1, calls 4); EvalScene 24 (adds 6, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 13 (adds 7, muls 6, divs 0, calls 0); EvalCoefficients 87 (adds 26, muls 56, divs 1, calls 4); EvalDetPhiPhi 3 (adds 1, muls 2, divs 0, calls 0); SolvePositions 11 (adds 3, muls 7, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalScene 24 (adds 6, muls 12, divs 0, calls 6)
  */
 #pragma once
 

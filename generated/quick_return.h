@@ -36,7 +36,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), ram.C.
  * Linear systems: Phi_phi is block lower triangular with 3 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 25 (adds 7, muls 12, divs 0, calls 6); SolvePositions 35 (adds 7, muls 18, divs 3, calls 7) (per Newton iteration for Newton blocks); EvalCoefficients 101 (adds 22, muls 70, divs 3, calls 6); EvalScene 17 (adds 5, muls 6, divs 0, calls 6)
+ * Operation counts: EvalPhi 25 (adds 7, muls 12, divs 0, calls 6); EvalCoefficients 101 (adds 22, muls 70, divs 3, calls 6); EvalDetPhiPhi 11 (adds 1, muls 7, divs 0, calls 3); SolvePositions 35 (adds 7, muls 18, divs 3, calls 7) (per Newton iteration for Newton blocks); EvalScene 17 (adds 5, muls 6, divs 0, calls 6)
  */
 #pragma once
 

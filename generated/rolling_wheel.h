@@ -25,7 +25,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), wheel.P, roll.contact.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 2 (adds 1, muls 1, divs 0, calls 0); SolvePositions 1 (adds 0, muls 1, divs 0, calls 0) (per Newton iteration for Newton blocks); EvalCoefficients 16 (adds 5, muls 8, divs 1, calls 2); EvalScene 6 (adds 2, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 2 (adds 1, muls 1, divs 0, calls 0); EvalCoefficients 16 (adds 5, muls 8, divs 1, calls 2); EvalDetPhiPhi 0 (adds 0, muls 0, divs 0, calls 0); SolvePositions 1 (adds 0, muls 1, divs 0, calls 0) (per Newton iteration for Newton blocks); EvalScene 6 (adds 2, muls 2, divs 0, calls 2)
  */
 #pragma once
 

@@ -28,7 +28,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), slider.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalCoefficients 36 (adds 8, muls 22, divs 2, calls 4); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); EvalCoefficients 36 (adds 8, muls 22, divs 2, calls 4); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
  */
 #pragma once
 

@@ -34,7 +34,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), T2.Ea.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 4 unknowns; each block's system is solved in closed form up to 3 unknowns, by a fixed-size LU above, and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 74 (adds 32, muls 32, divs 0, calls 10); SolvePositions 74 (adds 32, muls 32, divs 0, calls 10) (per Newton iteration for Newton blocks); EvalCoefficients 178 (adds 68, muls 100, divs 0, calls 10); EvalScene 62 (adds 28, muls 24, divs 0, calls 10)
+ * Operation counts: EvalPhi 74 (adds 32, muls 32, divs 0, calls 10); EvalCoefficients 178 (adds 68, muls 100, divs 0, calls 10); EvalDetPhiPhi 34 (adds 8, muls 18, divs 0, calls 8); SolvePositions 74 (adds 32, muls 32, divs 0, calls 10) (per Newton iteration for Newton blocks); EvalScene 62 (adds 28, muls 24, divs 0, calls 10)
  */
 #pragma once
 

@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.E, coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); SolvePositions 81 (adds 23, muls 50, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalScene 37 (adds 13, muls 14, divs 0, calls 10); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 81 (adds 23, muls 50, divs 2, calls 6) (per Newton iteration for Newton blocks); EvalScene 37 (adds 13, muls 14, divs 0, calls 10)
  */
 #pragma once
 

@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); SolvePositions 84 (adds 22, muls 52, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 84 (adds 22, muls 52, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 43 (adds 13, muls 18, divs 0, calls 12)
  */
 #pragma once
 

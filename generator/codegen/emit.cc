@@ -310,11 +310,13 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   for (const auto& n : k.point_names) pdoc.push_back({{"name", n}});
   data.SetList("points_doc", pdoc, {"name"});
   data.Set("solve_strategy", table.strategy);
-  data.Set("op_counts", "EvalPhi " + out.Ops("EvalPhi").Text() + "; SolvePositions " + out.Ops("SolvePositions").Text() +
-                            " (per Newton iteration for Newton blocks); EvalCoefficients " +
-                            out.Ops("EvalCoefficients").Text() +
-                            (out.ops.count("EvalScene") ? "; EvalScene " + out.Ops("EvalScene").Text() : "") +
-                            (transmission.empty() ? "" : "; EvalTransmissionAngles " + out.Ops("EvalTransmissionAngles").Text()));
+  // Operation counts of the functions the Model exposes, in the header's order.
+  std::string op_counts;
+  for (const FunctionSpec& f : functions)
+    if (!f.model_member.empty() && f.count_ops)
+      op_counts += (op_counts.empty() ? "" : "; ") + f.name + " " + out.Ops(f.name).Text() +
+                   (f.ops_note.empty() ? "" : " (" + f.ops_note + ")");
+  data.Set("op_counts", op_counts);
   data.Set("numeric_solve", table.numeric_solve);
   data.Set("num_points", static_cast<int>(k.points.size()));
   data.Set("num_scene_points", static_cast<int>(k.scene.size()));

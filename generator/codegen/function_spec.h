@@ -41,6 +41,7 @@ struct FunctionSpec {
   std::vector<Program> body;
   bool count_ops = true;     ///< a "// Total ops" line (programs of expressions)
   int extra_calls = 0;       ///< math calls in its raw lines, added to the count
+  std::string ops_note;      ///< said after its count in the header's summary ("per Newton iteration")
   bool reindent = false;     ///< indent the body by its braces (nested control flow)
   std::string model_member;  ///< name of the static member of `Model` that calls it ("": none)
   bool instantiate = true;   ///< compiled for double and float in <model>.cc

@@ -111,6 +111,7 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
   f.model_member = "Solve";
   f.returns = "SolveReport<Scalar>";
   f.reindent = true;
+  f.ops_note = "per Newton iteration for Newton blocks";
   f.doc = {"\\brief Positions phi at inputs q, block by block in the solve order: closed-form dyads",
            "on the branch `modes[block]` (+1 or -1; Model::kDefaultModes is the model's assembly),",
            "Newton–Raphson from the given phi for the other blocks."};
