@@ -22,9 +22,10 @@ namespace {
 
 namespace mus = kainjow::mustache;
 
-std::string ReadFile(const std::string& path) {
+// The bytes of a file; `what` names it in the error ("template", "model file").
+std::string ReadFile(const std::string& path, const std::string& what = "template") {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read template " + path);
+  if (!in) throw std::runtime_error("cannot read " + what + " " + path);
   std::ostringstream os;
   os << in.rdbuf();
   return os.str();
@@ -268,7 +269,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   data.Set("version", std::string(MECHGEN_VERSION));
   data.Set("model_file", std::filesystem::path(m.file).filename().string());
-  data.Set("model_sha256", Sha256Hex(ReadFile(m.file)));
+  data.Set("model_sha256", Sha256Hex(ReadFile(m.file, "model file")));  // the bytes mechgen read
   data.Set("name", m.name);
   data.Set("NAME", upper);
   data.Set("title", m.title.empty() ? m.name : m.title);

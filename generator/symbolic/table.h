@@ -41,6 +41,7 @@ struct Requested {
 
 class SymbolicTable {
  public:
+  /// Derives everything `m.outputs` requests. `k` must outlive the table (it is read, not copied).
   SymbolicTable(const Model& m, const Kinematics& k, Strategy strategy = Strategy::kBlocks);
 
   const Kinematics& kinematics() const { return k_; }
