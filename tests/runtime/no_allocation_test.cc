@@ -15,8 +15,9 @@
 #ifdef MECHGEN_HAVE_fourbar
 #include "fourbar.h"
 #endif
-#include "mechgen/kinematics.h"
-#include "mechgen/solver.h"
+#include "mechgen/position/motion.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/position/solver.h"
 
 namespace {
 std::atomic<long> g_allocations{0};
@@ -33,13 +34,13 @@ void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
-namespace mechgen {
+namespace mechgen::position {
 namespace {
 
 template <class M>
 long AllocationsDuringSweep(double q_begin, double q_end, int steps) {
   using VecQ = typename ModelTypes<M>::VecQ;
-  PositionSolver<M> solver;
+  CeresPositionSolver<M> solver;
   EXPECT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);  // Ceres: allocates
   EXPECT_EQ(solver.MoveTo(VecQ::Constant(q_begin), nullptr), Status::kConverged);
   Summary summary;
@@ -84,4 +85,4 @@ TEST(NoAllocation, GeneratedFourBarSweepStep) {
 #endif
 
 }  // namespace
-}  // namespace mechgen
+}  // namespace mechgen::position
