@@ -74,6 +74,25 @@ TEST(NoAllocation, OrderOneModelWithNumericalL) {
   EXPECT_EQ(AllocationsDuringSweep<mech::handwritten_rocker_driven::Model>(1.8, 2.46, 40), 0);
 }
 
+TEST(NoAllocation, NewtonAssemblerFromPoorGuessAndFallback) {
+  // The Ceres-free Assembler (fixed-size Levenberg–Marquardt) allocates nothing: assembly
+  // from a poor guess, and a continuation into a dead point that ends in the fallback.
+  using M = mech::handwritten_rocker_driven::Model;
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecPhi = typename ModelTypes<M>::VecPhi;
+  PositionSolver<M> solver;  // NewtonAssembler
+  Summary summary;
+  const long before = g_allocations.load();
+  Eigen::internal::set_is_malloc_allowed(false);
+  const Status assembled = solver.Assemble(VecQ::Constant(2.0), VecPhi(-0.2, 0.8), 0, &summary);
+  const Status stopped = solver.MoveTo(VecQ::Constant(2.5), &summary);
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_EQ(assembled, Status::kConverged);
+  EXPECT_EQ(stopped, Status::kSingular);  // beyond the toggle at 2.467 rad
+  EXPECT_TRUE(summary.used_assembler);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
 #ifdef MECHGEN_HAVE_fourbar
 TEST(NoAllocation, GeneratedFourBarSweepStep) {
   // The generated model: M::Solve (closed-form dyad) corrects, and the checks use the Phi

@@ -128,7 +128,7 @@ class PositionSolver {
   /**
    * \brief Moves the assembled mechanism to q along the straight line from state().q,
    *        staying on its branch. Never allocates unless Newton fails on the smallest
-   *        sub-step (then Ceres runs).
+   *        sub-step (then the Assembler runs; CeresAssembler allocates).
    * \param[in]  q        Target inputs (dim kNq).
    * \param[out] summary  May be nullptr.
    * \return kConverged (state() at q), else state() keeps the configuration it had.

@@ -5,7 +5,7 @@
  *
  * Every step is a PositionSolver::MoveTo() plus ComputeMotion(); the record vector is sized
  * once before the loop, so the loop itself does not allocate (unless a step falls back to
- * Ceres). A step that fails is recorded with its Status and NaN values, and the solver
+ * CeresAssembler). A step that fails is recorded with its Status and NaN values, and the solver
  * continues the next step from its last valid configuration; a step that reaches a singular
  * configuration (kSingular) stops the sweep there, unless SweepOptions asks to pass it.
  */
