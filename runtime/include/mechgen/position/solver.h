@@ -69,6 +69,16 @@
 #include "mechgen/position/state.h"
 #include "mechgen/position/types.h"
 
+// Keep a rare branch out of the hot function that calls it (its frame and register saves):
+// MECHGEN_NOINLINE a function only, MECHGEN_COLD_PATH also laid out apart as unlikely.
+#if defined(__GNUC__) || defined(__clang__)
+#define MECHGEN_NOINLINE __attribute__((noinline))
+#define MECHGEN_COLD_PATH __attribute__((noinline, cold))
+#else
+#define MECHGEN_NOINLINE
+#define MECHGEN_COLD_PATH
+#endif
+
 namespace mechgen::position {
 
 template <class M, class Assembler = NewtonAssembler>
@@ -269,13 +279,15 @@ class PositionSolver {
   // s->iterations; *used_newton is set when the accepted result did not come from M::Solve.
   bool Step(const State<M>& from, const VecQ& q, State<M>* to, Summary* s,
             bool* used_newton) const;
-  // Step()'s corrector by Newton on the whole system from `predicted`.
-  bool NewtonCorrector(const State<M>& from, const VecQ& q, const VecPhi& predicted,
-                       double last_term, State<M>* to, Summary* s) const;
+  // Step()'s corrector by Newton on the whole system from `predicted` (for a model without
+  // M::Solve the common case, else the rare one; not inlined into Step(), which stays lean).
+  MECHGEN_NOINLINE bool NewtonCorrector(const State<M>& from, const VecQ& q,
+                                        const VecPhi& predicted, double last_term,
+                                        State<M>* to, Summary* s) const;
   // MoveTo() after its first sub-step failed: halves down to 2^-max_bisections of the step,
   // then the Assembler from the predictor (Fallback()); on a stall next to a singular
   // configuration, kSingular at the last valid configuration.
-  Status Subdivide(const VecQ& q_target, Summary* s);
+  MECHGEN_COLD_PATH Status Subdivide(const VecQ& q_target, Summary* s);
   // The numbers of a configuration a Summary reports: residual, condition, sigma_min, branch.
   static void Describe(const State<M>& at, Summary* s) {
     s->residual_norm = at.residual_norm;
