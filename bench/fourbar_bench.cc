@@ -35,8 +35,8 @@
 #include "chain_4.h"
 #include "chain_8.h"
 #endif
-#include "mechgen/ceres_adapter.h"
-#include "mechgen/solver.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/position/solver.h"
 
 #ifdef MECHGEN_BENCH_MODEL_INCLUDE
 #include MECHGEN_BENCH_MODEL_INCLUDE
@@ -71,9 +71,9 @@ void ClosedForm(benchmark::State& state) {
 BENCHMARK(ClosedForm);
 
 void MechgenContinuation(benchmark::State& state) {
-  mechgen::PositionSolver<Model> solver;
-  mechgen::Summary summary;
-  if (solver.AssembleDefault(&summary) != mechgen::Status::kConverged) {
+  mechgen::position::CeresPositionSolver<Model> solver;
+  mechgen::position::Summary summary;
+  if (solver.AssembleDefault(&summary) != mechgen::position::Status::kConverged) {
     state.SkipWithError("assembly failed");
     return;
   }
@@ -85,7 +85,7 @@ void MechgenContinuation(benchmark::State& state) {
     solver.MoveTo(q, &summary);
     benchmark::DoNotOptimize(solver.state());
   }
-  if (summary.status != mechgen::Status::kConverged) state.SkipWithError("step failed");
+  if (summary.status != mechgen::position::Status::kConverged) state.SkipWithError("step failed");
 }
 BENCHMARK(MechgenContinuation);
 
@@ -119,15 +119,15 @@ void CeresReused(benchmark::State& state) {
   Types::VecPhi phi = Eigen::Map<const Types::VecPhi>(Model::kAssemblyPhi.data());
   ceres::CostFunction* cost;
   if constexpr (kAutoDiff) {
-    cost = new ceres::AutoDiffCostFunction<mechgen::PhiAutoDiffFunctor<Model>, Model::kNc,
+    cost = new ceres::AutoDiffCostFunction<mechgen::position::PhiAutoDiffFunctor<Model>, Model::kNc,
                                            Model::kNphi>(
-        new mechgen::PhiAutoDiffFunctor<Model>(&params, &q));
+        new mechgen::position::PhiAutoDiffFunctor<Model>(&params, &q));
   } else {
-    cost = new mechgen::PhiCostFunction<Model>(&params, &q);
+    cost = new mechgen::position::PhiCostFunction<Model>(&params, &q);
   }
   ceres::Problem problem;  // owns `cost`
   problem.AddResidualBlock(cost, nullptr, phi.data());
-  const ceres::Solver::Options options = mechgen::LevenbergMarquardtOptions(100);
+  const ceres::Solver::Options options = mechgen::position::LevenbergMarquardtOptions(100);
   ceres::Solver::Summary summary;
   q = Eigen::Map<const Types::VecQ>(Model::kAssemblyQ.data());
   ceres::Solve(options, &problem, &summary);  // assemble on the model's branch
@@ -148,7 +148,7 @@ BENCHMARK_TEMPLATE(CeresReused, true)->Name("CeresAutoDiffReused");
 void CeresNewProblem(benchmark::State& state) {
   const Types::Params params;
   Types::VecPhi phi = Eigen::Map<const Types::VecPhi>(Model::kAssemblyPhi.data());
-  const ceres::Solver::Options options = mechgen::LevenbergMarquardtOptions(100);
+  const ceres::Solver::Options options = mechgen::position::LevenbergMarquardtOptions(100);
   ceres::Solver::Summary summary;
   Types::Coefficients c;
   Types::VecQ q = Eigen::Map<const Types::VecQ>(Model::kAssemblyQ.data());
@@ -157,7 +157,7 @@ void CeresNewProblem(benchmark::State& state) {
     if (k >= 0) q = Types::VecQ::Constant(CrankAngle(k));
     ++k;
     ceres::Problem problem;
-    problem.AddResidualBlock(new mechgen::PhiCostFunction<Model>(&params, &q), nullptr,
+    problem.AddResidualBlock(new mechgen::position::PhiCostFunction<Model>(&params, &q), nullptr,
                              phi.data());
     ceres::Solve(options, &problem, &summary);
     Model::Coeffs<double>(params, q, phi, &c);
@@ -174,10 +174,10 @@ BENCHMARK(CeresNewProblem);
 template <class M>
 void RuntimeContinuation(benchmark::State& state) {
   using T = mechgen::ModelTypes<M>;
-  mechgen::PositionSolver<M> solver;
-  mechgen::Summary summary;
-  if (solver.AssembleDefault(&summary) != mechgen::Status::kConverged ||
-      solver.MoveTo(T::VecQ::Zero(), &summary) != mechgen::Status::kConverged) {
+  mechgen::position::CeresPositionSolver<M> solver;
+  mechgen::position::Summary summary;
+  if (solver.AssembleDefault(&summary) != mechgen::position::Status::kConverged ||
+      solver.MoveTo(T::VecQ::Zero(), &summary) != mechgen::position::Status::kConverged) {
     state.SkipWithError("assembly failed");
     return;
   }
@@ -186,16 +186,16 @@ void RuntimeContinuation(benchmark::State& state) {
     solver.MoveTo(T::VecQ::Constant(k++ * kStep), &summary);
     benchmark::DoNotOptimize(solver.state());
   }
-  if (summary.status != mechgen::Status::kConverged) state.SkipWithError("step failed");
+  if (summary.status != mechgen::position::Status::kConverged) state.SkipWithError("step failed");
 }
 
 template <class M>
 void PlainNewton(benchmark::State& state) {
   using T = mechgen::ModelTypes<M>;
-  mechgen::PositionSolver<M> solver;
-  mechgen::Summary summary;
-  if (solver.AssembleDefault(&summary) != mechgen::Status::kConverged ||
-      solver.MoveTo(T::VecQ::Zero(), &summary) != mechgen::Status::kConverged) {
+  mechgen::position::CeresPositionSolver<M> solver;
+  mechgen::position::Summary summary;
+  if (solver.AssembleDefault(&summary) != mechgen::position::Status::kConverged ||
+      solver.MoveTo(T::VecQ::Zero(), &summary) != mechgen::position::Status::kConverged) {
     state.SkipWithError("assembly failed");
     return;
   }

@@ -4,10 +4,17 @@
 # templates or the mechgen program change) and defines:
 #   mechgen_model_<name>   a static library (alias mechgen::model_<name>) whose include
 #                          directory holds <name>.h; link a product against it.
-#   <name>_sweep           unless NO_SWEEP: the sweep command of the runtime for this model.
+#   <name>_sweep           unless NO_SWEEP, MECHGEN_BUILD_SWEEPS is OFF, or Ceres is absent
+#                          (no target mechgen::runtime_ceres): the sweep command of the
+#                          runtime for this model. It assembles with Ceres.
+# The model library needs Eigen only; with NO_SWEEP nothing here needs Ceres.
 # Requires MECHGEN_EXECUTABLE and MECHGEN_TEMPLATES_DIR (set by the build tree or by
 # find_package(mechgen)).
 include_guard(GLOBAL)
+
+# OFF skips every <model>_sweep tool (e.g. the sanitizer build: one executable per model
+# that no test runs).
+option(MECHGEN_BUILD_SWEEPS "Build the <model>_sweep tool of each mechgen_add_model()" ON)
 
 function(mechgen_add_model name model)
   cmake_parse_arguments(ARG "NO_SWEEP" "STRATEGY" "" ${ARGN})
@@ -34,10 +41,11 @@ function(mechgen_add_model name model)
   target_include_directories(mechgen_model_${name} PUBLIC "${out_dir}")
   target_link_libraries(mechgen_model_${name} PUBLIC Eigen3::Eigen)
   target_compile_features(mechgen_model_${name} PUBLIC cxx_std_17)
-  if(NOT ARG_NO_SWEEP AND TARGET mechgen::runtime AND EXISTS "${MECHGEN_TOOLS_DIR}/sweep_main.cc")
+  if(NOT ARG_NO_SWEEP AND MECHGEN_BUILD_SWEEPS AND TARGET mechgen::runtime_ceres
+     AND EXISTS "${MECHGEN_TOOLS_DIR}/sweep_main.cc")
     add_executable(${name}_sweep "${MECHGEN_TOOLS_DIR}/sweep_main.cc")
     target_compile_definitions(${name}_sweep PRIVATE
       MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
-    target_link_libraries(${name}_sweep PRIVATE mechgen_model_${name} mechgen::runtime)
+    target_link_libraries(${name}_sweep PRIVATE mechgen_model_${name} mechgen::runtime_ceres)
   endif()
 endfunction()

@@ -49,8 +49,8 @@
 #include <ceres/ceres.h>
 
 #include "handwritten_fourbar.h"
-#include "mechgen/ceres_adapter.h"
-#include "mechgen/solver.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/position/solver.h"
 #include "reference_data.h"
 
 #include "fourbar.h"
@@ -148,20 +148,20 @@ class Runtime : public Method<M> {
  public:
   using T = mechgen::ModelTypes<M>;
   void Start(const typename T::VecQ& q0, const typename T::VecPhi& phi0) override {
-    mechgen::Summary s;
+    mechgen::position::Summary s;
     solver_.Assemble(q0, phi0, 0, &s);
     stopped_ = false;
   }
   bool Step(const typename T::VecQ& q, Config<M>* out) override {
-    mechgen::Summary s;
+    mechgen::position::Summary s;
     bool ok = false;
     if (!stopped_) {
-      const mechgen::Status status = solver_.MoveTo(q, &s);
-      ok = status == mechgen::Status::kConverged;
-      stopped_ = status == mechgen::Status::kSingular;
+      const mechgen::position::Status status = solver_.MoveTo(q, &s);
+      ok = status == mechgen::position::Status::kConverged;
+      stopped_ = status == mechgen::position::Status::kSingular;
       branch_ = solver_.state().branch;
     } else {  // after a singular stop: assemble again on the branch followed so far
-      ok = solver_.Assemble(q, solver_.state().phi, branch_, &s) == mechgen::Status::kConverged;
+      ok = solver_.Assemble(q, solver_.state().phi, branch_, &s) == mechgen::position::Status::kConverged;
       stopped_ = !ok;
     }
     out->refused = stopped_;
@@ -172,7 +172,7 @@ class Runtime : public Method<M> {
   }
 
  private:
-  mechgen::PositionSolver<M> solver_;
+  mechgen::position::CeresPositionSolver<M> solver_;
   bool stopped_ = false;
   int branch_ = 0;
 };
@@ -322,17 +322,17 @@ template <class M, CeresKind kKind>
 class Ceres : public Method<M> {
  public:
   using T = mechgen::ModelTypes<M>;
-  Ceres() : options_(mechgen::LevenbergMarquardtOptions(100)) {
+  Ceres() : options_(mechgen::position::LevenbergMarquardtOptions(100)) {
     ceres::CostFunction* cost = nullptr;
     if constexpr (kKind == CeresKind::kAnalytic) {
-      cost = new mechgen::PhiCostFunction<M>(&p_, &q_);
+      cost = new mechgen::position::PhiCostFunction<M>(&p_, &q_);
     } else if constexpr (kKind == CeresKind::kAutoDiff) {
-      cost = new ceres::AutoDiffCostFunction<mechgen::PhiAutoDiffFunctor<M>, M::kNc, M::kNphi>(
-          new mechgen::PhiAutoDiffFunctor<M>(&p_, &q_));
+      cost = new ceres::AutoDiffCostFunction<mechgen::position::PhiAutoDiffFunctor<M>, M::kNc, M::kNphi>(
+          new mechgen::position::PhiAutoDiffFunctor<M>(&p_, &q_));
     } else {
-      cost = new ceres::NumericDiffCostFunction<mechgen::PhiAutoDiffFunctor<M>, ceres::CENTRAL,
+      cost = new ceres::NumericDiffCostFunction<mechgen::position::PhiAutoDiffFunctor<M>, ceres::CENTRAL,
                                                 M::kNc, M::kNphi>(
-          new mechgen::PhiAutoDiffFunctor<M>(&p_, &q_));
+          new mechgen::position::PhiAutoDiffFunctor<M>(&p_, &q_));
     }
     problem_.AddResidualBlock(cost, nullptr, phi_.data());
   }
@@ -609,12 +609,12 @@ Walk<M> MakeWalk(const Data* data) {
     const typename T::VecQ hi = Eigen::Map<const typename T::VecQ>(M::kQMax.data());
     for (int k = 0; k <= 720; ++k) w.q.push_back(lo + (hi - lo) * (k / 720.0));
   }
-  mechgen::Options options;
+  mechgen::position::Options options;
   options.tolerance = 1e-13;
-  mechgen::PositionSolver<M> solver(options);
-  mechgen::Summary s;
-  w.ok = solver.AssembleDefault(&s) == mechgen::Status::kConverged &&
-         solver.MoveTo(w.q.front(), &s) == mechgen::Status::kConverged;
+  mechgen::position::CeresPositionSolver<M> solver(options);
+  mechgen::position::Summary s;
+  w.ok = solver.AssembleDefault(&s) == mechgen::position::Status::kConverged &&
+         solver.MoveTo(w.q.front(), &s) == mechgen::position::Status::kConverged;
   w.phi0 = solver.state().phi;
   return w;
 }
@@ -729,8 +729,8 @@ void RegisterCost(const std::string& variant) {
   benchmark::RegisterBenchmark(("cost/" + variant + "/lean").c_str(), [](benchmark::State& state) {
     const typename T::Params p;
     typename T::VecQ q = T::VecQ::Constant(0.0);
-    mechgen::PositionSolver<M> solver;  // the start at q = 0, on the model's branch
-    mechgen::Summary s;
+    mechgen::position::CeresPositionSolver<M> solver;  // the start at q = 0, on the model's branch
+    mechgen::position::Summary s;
     solver.AssembleDefault(&s);
     solver.MoveTo(q, &s);
     typename T::VecPhi phi = solver.state().phi;
@@ -753,8 +753,8 @@ void RegisterCost(const std::string& variant) {
     }
   });
   benchmark::RegisterBenchmark(("cost/" + variant + "/runtime").c_str(), [](benchmark::State& state) {
-    mechgen::PositionSolver<M> solver;
-    mechgen::Summary s;
+    mechgen::position::CeresPositionSolver<M> solver;
+    mechgen::position::Summary s;
     solver.AssembleDefault(&s);
     solver.MoveTo(T::VecQ::Zero(), &s);
     long k = 1;

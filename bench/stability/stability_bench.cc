@@ -42,8 +42,8 @@
 
 #include "handwritten_fourbar.h"
 #include "handwritten_rocker_driven.h"
-#include "mechgen/ceres_adapter.h"
-#include "mechgen/solver.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/position/solver.h"
 
 namespace {
 
@@ -218,11 +218,11 @@ void ModelKL(const typename M::template ParamsT<double>& p, double q, Solution* 
 
 // Newton at fixed q from phi (no guards): PositionSolver::Newton with default tolerance.
 template <class M>
-bool RawNewton(const mechgen::PositionSolver<M>& solver, double q, Vec2* phi, int* iterations) {
+bool RawNewton(const mechgen::position::CeresPositionSolver<M>& solver, double q, Vec2* phi, int* iterations) {
   Eigen::Matrix2d Phi_phi;
-  const mechgen::NewtonResult r = solver.Newton(Vec1(q), phi, &Phi_phi);
+  const mechgen::position::NewtonResult r = solver.Newton(Vec1(q), phi, &Phi_phi);
   *iterations += r.iterations;
-  return r.status == mechgen::Status::kConverged;
+  return r.status == mechgen::position::Status::kConverged;
 }
 
 template <class M, class Cost>
@@ -235,16 +235,16 @@ struct CeresMethod {
       : p(params), phi(phi0) {
     ceres::CostFunction* cost = nullptr;
     if constexpr (std::is_same_v<Cost, ceres::CostFunction>) {
-      cost = new mechgen::PhiCostFunction<M>(&p, &q);
+      cost = new mechgen::position::PhiCostFunction<M>(&p, &q);
     } else {
-      cost = new Cost(new mechgen::PhiAutoDiffFunctor<M>(&p, &q));
+      cost = new Cost(new mechgen::position::PhiAutoDiffFunctor<M>(&p, &q));
     }
     problem.AddResidualBlock(cost, nullptr, phi.data());
   }
   Solution Solve(double q_new) {
     q(0) = q_new;
     ceres::Solver::Summary summary;
-    ceres::Solve(mechgen::LevenbergMarquardtOptions(200), &problem, &summary);
+    ceres::Solve(mechgen::position::LevenbergMarquardtOptions(200), &problem, &summary);
     Solution s;
     s.phi = phi;
     s.iterations = static_cast<int>(summary.iterations.size());
@@ -259,10 +259,10 @@ struct CeresMethod {
 };
 
 template <class M>
-using AutoDiff = ceres::AutoDiffCostFunction<mechgen::PhiAutoDiffFunctor<M>, 2, 2>;
+using AutoDiff = ceres::AutoDiffCostFunction<mechgen::position::PhiAutoDiffFunctor<M>, 2, 2>;
 template <class M>
 using NumericDiff =
-    ceres::NumericDiffCostFunction<mechgen::PhiAutoDiffFunctor<M>, ceres::CENTRAL, 2, 2>;
+    ceres::NumericDiffCostFunction<mechgen::position::PhiAutoDiffFunctor<M>, ceres::CENTRAL, 2, 2>;
 
 void Print(const Case& c, const std::string& method, double delta, const Solution& s,
            const Solution& exact, const Vec2& other) {
@@ -290,8 +290,8 @@ void Run(const Case& c, const Oracle<M>& oracle) {
   auto q_at = [&](double d) { return c.through ? c.q_singular + c.direction * d : q_before(d); };
 
   // Every method walks the distances in decreasing order, carrying its state.
-  mechgen::PositionSolver<M> solver(mechgen::Options(), p);
-  mechgen::PositionSolver<M> passing(mechgen::Options(), p);
+  mechgen::position::CeresPositionSolver<M> solver(mechgen::position::Options(), p);
+  mechgen::position::CeresPositionSolver<M> passing(mechgen::position::Options(), p);
   solver.Assemble(Vec1(c.q_start), start.phi, 0, nullptr);
   passing.Assemble(Vec1(c.q_start), start.phi, 0, nullptr);
   Vec2 raw_phi = start.phi;
@@ -326,12 +326,12 @@ void Run(const Case& c, const Oracle<M>& oracle) {
     // The shipped continuation.
     {
       Solution s;
-      mechgen::Summary summary;
+      mechgen::position::Summary summary;
       if (c.through) solver.MoveTo(Vec1(q_before(d)), &summary);
-      const mechgen::Status status = solver.MoveTo(Vec1(q), &summary);
+      const mechgen::position::Status status = solver.MoveTo(Vec1(q), &summary);
       s.iterations = summary.iterations;
-      s.status = mechgen::ToString(status);
-      if (status == mechgen::Status::kConverged) {
+      s.status = mechgen::position::ToString(status);
+      if (status == mechgen::position::Status::kConverged) {
         s.phi = solver.state().phi;
         s.K = solver.state().K;
         s.L = solver.state().L;
@@ -344,23 +344,23 @@ void Run(const Case& c, const Oracle<M>& oracle) {
       // kSingular PassSingularity(kFollowTangent) and MoveTo(q) again (which refuses when
       // q lies between q* and where the pass ended, i.e. inside the refusal zone).
       Solution s;
-      mechgen::PositionSolver<M> pass(mechgen::Options(), p);
+      mechgen::position::CeresPositionSolver<M> pass(mechgen::position::Options(), p);
       pass.Assemble(Vec1(c.q_start), start.phi, 0, nullptr);
-      mechgen::Summary summary;
+      mechgen::position::Summary summary;
       pass.MoveTo(Vec1(q_before(d)), &summary);
-      mechgen::Status status = pass.MoveTo(Vec1(q), &summary);
+      mechgen::position::Status status = pass.MoveTo(Vec1(q), &summary);
       s.iterations = summary.iterations;
-      if (status == mechgen::Status::kSingular) {
-        mechgen::Summary ps;
-        status = pass.PassSingularity(Vec1(q), mechgen::Crossing::kFollowTangent, &ps);
+      if (status == mechgen::position::Status::kSingular) {
+        mechgen::position::Summary ps;
+        status = pass.PassSingularity(Vec1(q), mechgen::position::Crossing::kFollowTangent, &ps);
         s.iterations += ps.iterations;
-        if (status == mechgen::Status::kConverged) {
+        if (status == mechgen::position::Status::kConverged) {
           status = pass.MoveTo(Vec1(q), &summary);
           s.iterations += summary.iterations;
         }
       }
-      s.status = mechgen::ToString(status);
-      if (status == mechgen::Status::kConverged) {
+      s.status = mechgen::position::ToString(status);
+      if (status == mechgen::position::Status::kConverged) {
         s.phi = pass.state().phi;
         s.K = pass.state().K;
         s.L = pass.state().L;
@@ -412,7 +412,7 @@ int main() {
   {
     Oracle<Rocker> oracle;
     // The assembled configuration's closed-form branch.
-    mechgen::PositionSolver<Rocker> probe;
+    mechgen::position::CeresPositionSolver<Rocker> probe;
     probe.AssembleDefault(nullptr);
     Vec2 plus;
     RockerPosition<double>(oracle.p, probe.state().q(0), +1, &plus);

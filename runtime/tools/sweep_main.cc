@@ -18,9 +18,11 @@
 
 #include <CLI/CLI.hpp>
 
-#include "mechgen/output.h"
-#include "mechgen/solver.h"
-#include "mechgen/sweep.h"
+#include "mechgen/io/csv.h"
+#include "mechgen/io/svg.h"
+#include "mechgen/io/table.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/sweep/sweep.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
 #error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
@@ -155,11 +157,13 @@ int main(int argc, char** argv) {
   }
 
   // Assembly at the model's assembly configuration, then the sweep.
-  mechgen::PositionSolver<Model> solver;
-  mechgen::Summary assembly;
-  if (solver.AssembleDefault(&assembly) != mechgen::Status::kConverged) {
-    std::cerr << "error: cannot assemble " << Model::kName
-              << " at its assembly configuration: " << mechgen::FormatSummary(assembly) << "\n";
+  // Ceres assembles (position/ceres_adapter.h): the tool behaves as before the runtime's
+  // Ceres-free core; products that only continue can use PositionSolver<Model> without it.
+  mechgen::position::CeresPositionSolver<Model> solver;
+  mechgen::position::Summary assembly;
+  if (solver.AssembleDefault(&assembly) != mechgen::position::Status::kConverged) {
+    std::cerr << "error: cannot assemble " << Model::kName << " at its assembly configuration: "
+              << mechgen::position::FormatSummary(assembly) << "\n";
     return 3;
   }
   std::printf("mechgen sweep of '%s': assembled (branch %+d, |Phi|_inf = %.1e); ", Model::kName,
@@ -184,8 +188,8 @@ int main(int argc, char** argv) {
   int iterations = 0, fallbacks = 0;
   for (const auto& r : records) {
     iterations += r.summary.iterations;
-    fallbacks += r.summary.used_ceres;
-    if (r.summary.status != mechgen::Status::kConverged) continue;
+    fallbacks += r.summary.used_assembler;
+    if (r.summary.status != mechgen::position::Status::kConverged) continue;
     max_residual = std::max(max_residual, r.summary.residual_norm);
     max_condition = std::max(max_condition, r.summary.condition);
   }
@@ -197,9 +201,9 @@ int main(int argc, char** argv) {
   if (failures > 0) {
     int shown = 0;
     for (const auto& r : records) {
-      if (r.summary.status == mechgen::Status::kConverged || shown++ >= 3) continue;
+      if (r.summary.status == mechgen::position::Status::kConverged || shown++ >= 3) continue;
       std::printf("  %s = %s: %s\n", Model::kQNames[0], Describe(0, r.q(0)).c_str(),
-                  mechgen::FormatSummary(r.summary).c_str());
+                  mechgen::position::FormatSummary(r.summary).c_str());
     }
   }
 

@@ -25,7 +25,8 @@
 
 #include <gtest/gtest.h>
 
-#include "mechgen/solver.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/position/solver.h"
 #include "reference_data.h"
 
 #if __has_include("fourbar.h")
@@ -148,7 +149,7 @@ void CheckGeneratedCode(const std::string& model) {
 // The runtime's singularity threshold (issue 7): a solve ends in kSingular instead of
 // kConverged where 1/cond_1(Phi_phi) < Options::min_rcond, i.e. cond_1 >= 1 / min_rcond.
 double RuntimeSingularCondition() {
-  const double min_rcond = mechgen::Options().min_rcond;
+  const double min_rcond = mechgen::position::Options().min_rcond;
   return min_rcond > 0 ? 1 / min_rcond : INFINITY;
 }
 
@@ -169,11 +170,11 @@ void CheckRuntime(const std::string& model, double tolerance) {
   const Data d = LoadOrFail(model);
   CheckSizes<M>(d);
   const double singular_cond = RuntimeSingularCondition();
-  mechgen::Options options;
+  mechgen::position::Options options;
   options.tolerance = tolerance;
-  mechgen::PositionSolver<M> solver(options);
-  mechgen::Summary summary;
-  ASSERT_EQ(solver.AssembleDefault(&summary), mechgen::Status::kConverged) << FormatSummary(summary);
+  mechgen::position::CeresPositionSolver<M> solver(options);
+  mechgen::position::Summary summary;
+  ASSERT_EQ(solver.AssembleDefault(&summary), mechgen::position::Status::kConverged) << FormatSummary(summary);
   int branch = solver.state().branch;
   bool stopped = false;  // the last solve did not converge: assemble again
   int checked = 0, singular = 0, reassembled = 0;
@@ -182,7 +183,7 @@ void CheckRuntime(const std::string& model, double tolerance) {
     const Row& row = d.rows[r];
     const typename T::VecQ q = Eigen::Map<const typename T::VecQ>(row.q.data());
     const bool beyond = row.cond >= singular_cond;
-    mechgen::Status status;
+    mechgen::position::Status status;
     if (!stopped) {
       status = solver.MoveTo(q, &summary);
     } else {
@@ -190,19 +191,19 @@ void CheckRuntime(const std::string& model, double tolerance) {
       const typename T::VecPhi guess = solver.state().phi;
       status = solver.Assemble(q, guess, branch, &summary);
     }
-    stopped = status != mechgen::Status::kConverged;
-    if (status == mechgen::Status::kSingular && beyond) {
+    stopped = status != mechgen::position::Status::kConverged;
+    if (status == mechgen::position::Status::kSingular && beyond) {
       ++singular;
       continue;
     }
-    EXPECT_EQ(status, mechgen::Status::kConverged)
+    EXPECT_EQ(status, mechgen::position::Status::kConverged)
         << model << " row " << r << " (q0 = " << row.q[0] << ", reference cond " << row.cond
         << ", runtime threshold " << singular_cond << "): " << FormatSummary(summary);
     if (stopped) continue;
     branch = solver.state().branch;
     if (beyond) continue;
     ++checked;
-    const mechgen::State<M>& s = solver.state();
+    const mechgen::position::State<M>& s = solver.state();
     const double tp = PositionTolerance(row.cond, tolerance, d.length_scale);
     const double tk = KTolerance(row.cond, kEps + tp), tl = LTolerance(row.cond, kEps + tp);
     const double e_phi = d.PhiError(row, s.phi);
@@ -234,7 +235,7 @@ void CheckRuntime(const std::string& model, double tolerance) {
   TEST(Reference, Name##GeneratedCode) { CheckGeneratedCode<mech::ns::Model>(#ns); }        \
   TEST(Reference, Name##Runtime) { CheckRuntime<mech::ns::Model>(#ns, kRuntimeTolerance); } \
   TEST(Reference, Name##RuntimeDefaultTolerance) {                                          \
-    CheckRuntime<mech::ns::Model>(#ns, mechgen::Options().tolerance);                \
+    CheckRuntime<mech::ns::Model>(#ns, mechgen::position::Options().tolerance);                \
   }
 
 #if __has_include("fourbar.h")

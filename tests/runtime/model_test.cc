@@ -16,9 +16,10 @@
 #include <gtest/gtest.h>
 
 #include "handwritten_fourbar.h"
-#include "mechgen/kinematics.h"
-#include "mechgen/solver.h"
-#include "mechgen/sweep.h"
+#include "mechgen/position/motion.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/position/solver.h"
+#include "mechgen/sweep/sweep.h"
 #include "test_util.h"
 
 #ifdef MECHGEN_HAVE_fourbar
@@ -37,7 +38,7 @@
 #include "fivebar.h"
 #endif
 
-namespace mechgen {
+namespace mechgen::position {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -78,7 +79,7 @@ TYPED_TEST_SUITE(ModelTest, Models, ModelNames);
 
 TYPED_TEST(ModelTest, FullRangeSweepClosesLoopsKeepsLinksAndBranch) {
   using M = TypeParam;
-  PositionSolver<M> solver;
+  CeresPositionSolver<M> solver;
   Summary summary;
   ASSERT_EQ(solver.AssembleDefault(&summary), Status::kConverged) << FormatSummary(summary);
   std::vector<SweepRecord<M>> records;
@@ -102,7 +103,7 @@ TYPED_TEST(ModelTest, JacobiansMatchJetAutodiff) {
   using M = TypeParam;
   constexpr int kN = M::kNq + M::kNphi;
   using Jet = ceres::Jet<double, kN>;
-  PositionSolver<M> solver;
+  CeresPositionSolver<M> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   const auto& q = solver.state().q;
   const auto& phi = solver.state().phi;
@@ -129,7 +130,7 @@ TYPED_TEST(ModelTest, CoefficientsMatchFiniteDifferencesOfSolvedPositions) {
   using M = TypeParam;
   using VecQ = typename ModelTypes<M>::VecQ;
   const double h = 1e-4;
-  PositionSolver<M> solver, probe;
+  CeresPositionSolver<M> solver, probe;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   ASSERT_EQ(probe.AssembleDefault(nullptr), Status::kConverged);
   const VecQ q_min = testing::QMin<M>(), q_max = testing::QMax<M>();
@@ -166,7 +167,7 @@ TYPED_TEST(ModelTest, CoefficientsMatchFiniteDifferencesOfSolvedPositions) {
 TYPED_TEST(ModelTest, NaNInputIsRejectedAndNextCallWorks) {
   using M = TypeParam;
   using VecQ = typename ModelTypes<M>::VecQ;
-  PositionSolver<M> solver;
+  CeresPositionSolver<M> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   const auto phi = solver.state().phi;
   Summary summary;
@@ -182,7 +183,7 @@ TEST(GeneratedFourBar, EqualsHandwrittenClosedForm) {
   // phi (1e-12: the same formulas up to rounding).
   using M = mech::fourbar::Model;
   using H = mech::handwritten_fourbar::Model;
-  PositionSolver<M> solver;
+  CeresPositionSolver<M> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   const H::ParamsT<double> hp;
   for (int k = 0; k <= 720; ++k) {
@@ -236,7 +237,7 @@ TEST(GeneratedFourBar, ContinuationStepEvaluatesTheModelOnce) {
   using M = CountingFourBar;
   static_assert(ModelFeatures<M>::kCoeffsHavePhi && ModelFeatures<M>::kHasSolve &&
                 ModelFeatures<M>::kHasTrig);
-  PositionSolver<M> solver;
+  CeresPositionSolver<M> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   ASSERT_EQ(solver.MoveTo(Q(0), nullptr), Status::kConverged);
   M::phi_calls = M::coeffs_calls = M::coeffs_calls_with_trig = 0;
@@ -255,7 +256,7 @@ TEST(GeneratedFourBar, ContinuationStepEvaluatesTheModelOnce) {
 #ifdef MECHGEN_HAVE_fourbar_crossed
 TEST(GeneratedFourBarCrossed, StaysCrossed) {
   using M = mech::fourbar_crossed::Model;
-  PositionSolver<M> solver;
+  CeresPositionSolver<M> solver;
   Summary summary;
   ASSERT_EQ(solver.AssembleDefault(&summary), Status::kConverged);
   EXPECT_EQ(summary.branch, +1);  // det Phi_phi = b c sin(th2 - th3) > 0: crossed
@@ -298,7 +299,7 @@ TEST(GeneratedSliderCrank, PositionVelocityAccelerationMatchClosedForm) {
   using M = mech::slider_crank::Model;
   ASSERT_STREQ(M::kPhiNames[0], "theta_rod");
   ASSERT_STREQ(M::kPhiNames[1], "s_slide");
-  PositionSolver<M> solver;
+  CeresPositionSolver<M> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   EXPECT_DOUBLE_EQ(solver.params().a, 1.0);
   EXPECT_DOUBLE_EQ(solver.params().b, 3.2);
@@ -338,7 +339,7 @@ TEST(GeneratedInvertedSliderCrank, MatchesPaulClosedForm) {
   for (double d : {2.5, 0.6}) {  // oscillating block (d > a), Whitworth quick return (d < a)
     M::ParamsT<double> p;
     p.d = d;
-    PositionSolver<M> solver(Options(), p);
+    CeresPositionSolver<M> solver(Options(), p);
     // Assemble at 90 deg from Paul's closed form, perturbed.
     const double a = p.a, th0 = kPi / 2;
     const double phi0 = std::atan2(a * std::sin(th0), d - a * std::cos(th0));
@@ -365,7 +366,7 @@ TEST(GeneratedInvertedSliderCrank, DEqualsAPassesThroughSingularityNeverWrong) {
   using M = mech::inverted_slider_crank::Model;
   M::ParamsT<double> p;
   p.d = p.a;
-  PositionSolver<M> solver(Options(), p);
+  CeresPositionSolver<M> solver(Options(), p);
   const double th0 = kPi / 2;
   ASSERT_EQ(solver.Assemble(Q(th0), Vec2(kPi - kPi / 4, std::sqrt(2.0)), 0, nullptr),
             Status::kConverged);
@@ -390,4 +391,4 @@ TEST(GeneratedInvertedSliderCrank, DEqualsAPassesThroughSingularityNeverWrong) {
 #endif
 
 }  // namespace
-}  // namespace mechgen
+}  // namespace mechgen::position

@@ -15,8 +15,9 @@
 #ifdef MECHGEN_HAVE_fourbar
 #include "fourbar.h"
 #endif
-#include "mechgen/kinematics.h"
-#include "mechgen/solver.h"
+#include "mechgen/position/motion.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/position/solver.h"
 
 namespace {
 std::atomic<long> g_allocations{0};
@@ -33,13 +34,13 @@ void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
-namespace mechgen {
+namespace mechgen::position {
 namespace {
 
 template <class M>
 long AllocationsDuringSweep(double q_begin, double q_end, int steps) {
   using VecQ = typename ModelTypes<M>::VecQ;
-  PositionSolver<M> solver;
+  CeresPositionSolver<M> solver;
   EXPECT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);  // Ceres: allocates
   EXPECT_EQ(solver.MoveTo(VecQ::Constant(q_begin), nullptr), Status::kConverged);
   Summary summary;
@@ -73,6 +74,25 @@ TEST(NoAllocation, OrderOneModelWithNumericalL) {
   EXPECT_EQ(AllocationsDuringSweep<mech::handwritten_rocker_driven::Model>(1.8, 2.46, 40), 0);
 }
 
+TEST(NoAllocation, NewtonAssemblerFromPoorGuessAndFallback) {
+  // The Ceres-free Assembler (fixed-size Levenberg–Marquardt) allocates nothing: assembly
+  // from a poor guess, and a continuation into a dead point that ends in the fallback.
+  using M = mech::handwritten_rocker_driven::Model;
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecPhi = typename ModelTypes<M>::VecPhi;
+  PositionSolver<M> solver;  // NewtonAssembler
+  Summary summary;
+  const long before = g_allocations.load();
+  Eigen::internal::set_is_malloc_allowed(false);
+  const Status assembled = solver.Assemble(VecQ::Constant(2.0), VecPhi(-0.2, 0.8), 0, &summary);
+  const Status stopped = solver.MoveTo(VecQ::Constant(2.5), &summary);
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_EQ(assembled, Status::kConverged);
+  EXPECT_EQ(stopped, Status::kSingular);  // beyond the toggle at 2.467 rad
+  EXPECT_TRUE(summary.used_assembler);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
 #ifdef MECHGEN_HAVE_fourbar
 TEST(NoAllocation, GeneratedFourBarSweepStep) {
   // The generated model: M::Solve (closed-form dyad) corrects, and the checks use the Phi
@@ -84,4 +104,4 @@ TEST(NoAllocation, GeneratedFourBarSweepStep) {
 #endif
 
 }  // namespace
-}  // namespace mechgen
+}  // namespace mechgen::position

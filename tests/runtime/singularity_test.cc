@@ -21,12 +21,15 @@
 
 #include "handwritten_fourbar.h"
 #include "handwritten_rocker_driven.h"
-#include "mechgen/output.h"
-#include "mechgen/solver.h"
-#include "mechgen/sweep.h"
+#include "mechgen/io/csv.h"
+#include "mechgen/io/svg.h"
+#include "mechgen/io/table.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/position/solver.h"
+#include "mechgen/sweep/sweep.h"
 #include "test_util.h"
 
-namespace mechgen {
+namespace mechgen::position {
 namespace {
 
 using FourBar = mech::handwritten_fourbar::Model;
@@ -57,9 +60,9 @@ Vec2 ClosedForm(const FourBar::ParamsT<double>& p, double q, int branch) {
 }
 
 // Assembled at q = -1 on closed-form branch +1 of the Grashof-neutral four-bar.
-PositionSolver<FourBar> NeutralSolver() {
+CeresPositionSolver<FourBar> NeutralSolver() {
   const auto p = NeutralParams();
-  PositionSolver<FourBar> solver(Options(), p);
+  CeresPositionSolver<FourBar> solver(Options(), p);
   EXPECT_EQ(solver.Assemble(Q(-1), ClosedForm(p, -1, +1), 0, nullptr), Status::kConverged);
   return solver;
 }
@@ -67,7 +70,7 @@ PositionSolver<FourBar> NeutralSolver() {
 TEST(DistanceToSingularity, SigmaMinAndDirectionMatchClosedForm) {
   // Phi_phi = [-b S2, c S3; b C2, -c C3]: Phi_phi^T Phi_phi = [b^2, -bc g; -bc g, c^2] with
   // g = cos(th2 - th3), so sigma_min^2 = (b^2 + c^2 - sqrt((b^2 - c^2)^2 + 4 b^2 c^2 g^2)) / 2.
-  PositionSolver<FourBar> solver;
+  CeresPositionSolver<FourBar> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   const auto& p = solver.params();
   for (double q = 0; q < 2 * kPi; q += 0.1) {
@@ -145,7 +148,7 @@ TEST(DistanceToSingularity, ClosedForm2x2MatchesJacobiSvd) {
 TEST(DistanceToSingularity, DecreasesTowardsChangePointAndIsInCsv) {
   // Along the smooth curve the change point is a transversal zero of det Phi_phi, so
   // sigma_min ~ |q|: halving the distance halves sigma_min (to 10 %).
-  PositionSolver<FourBar> solver = NeutralSolver();
+  CeresPositionSolver<FourBar> solver = NeutralSolver();
   double previous = 0;
   for (double q : {-0.4, -0.2, -0.1, -0.05, -0.025}) {
     ASSERT_EQ(solver.MoveTo(Q(q), nullptr), Status::kConverged);
@@ -155,7 +158,7 @@ TEST(DistanceToSingularity, DecreasesTowardsChangePointAndIsInCsv) {
     previous = solver.state().sigma_min;
   }
   std::vector<SweepRecord<FourBar>> records;
-  PositionSolver<FourBar> sweeper = NeutralSolver();
+  CeresPositionSolver<FourBar> sweeper = NeutralSolver();
   Sweep(&sweeper, Q(-1), Q(-0.5), 4, Q(1), Q(0), &records);
   std::ostringstream csv;
   WriteCsv(records, csv);
@@ -166,7 +169,7 @@ TEST(DistanceToSingularity, DecreasesTowardsChangePointAndIsInCsv) {
 }
 
 TEST(ChangePoint, SweepStopsSingularAtLastValidConfiguration) {
-  PositionSolver<FourBar> solver = NeutralSolver();
+  CeresPositionSolver<FourBar> solver = NeutralSolver();
   std::vector<SweepRecord<FourBar>> records;
   const int failures = Sweep(&solver, Q(-1), Q(1), 200, Q(1), Q(0), &records);
   // Rows 0..99 (q <= -0.01) converge on branch +1; row 100 (q = 0) stops, the rest not run.
@@ -199,7 +202,7 @@ TEST(ChangePoint, OneLongStepOverItStopsInsteadOfSwitchingCurves) {
   // curve; from there the other curve (same sign of det) was reachable. The K guard
   // (K ~ K0 + L0 dq) refuses that landing, so the step stops before q*.
   for (double d : {0.1, 0.01, 1e-3}) {
-    PositionSolver<FourBar> solver = NeutralSolver();
+    CeresPositionSolver<FourBar> solver = NeutralSolver();
     ASSERT_EQ(solver.MoveTo(Q(-d), nullptr), Status::kConverged);
     Summary summary;
     EXPECT_EQ(solver.MoveTo(Q(d), &summary), Status::kSingular) << d << FormatSummary(summary);
@@ -212,7 +215,7 @@ TEST(ChangePoint, OneLongStepOverItStopsInsteadOfSwitchingCurves) {
 // After passing, every row must match the closed form of `branch_after` for q > 0, and K
 // its central difference.
 void ExpectPassedOnto(Crossing crossing, int branch_after) {
-  PositionSolver<FourBar> solver = NeutralSolver();
+  CeresPositionSolver<FourBar> solver = NeutralSolver();
   std::vector<SweepRecord<FourBar>> records;
   SweepOptions options;
   options.at_singularity = crossing;
@@ -240,7 +243,7 @@ TEST(ChangePoint, SwitchBranchContinuesOnTheOtherCurve) {
 }
 
 TEST(ChangePoint, ReverseInputIsRefusedAndStateKept) {
-  PositionSolver<FourBar> solver = NeutralSolver();
+  CeresPositionSolver<FourBar> solver = NeutralSolver();
   ASSERT_EQ(solver.MoveTo(Q(0.01), nullptr), Status::kSingular);
   const State<FourBar> before = solver.state();
   Summary summary;
@@ -274,7 +277,7 @@ TEST(DeadPoint, RockerDrivenSweepReversesAndTheCrankKeepsTurning) {
   // bounces between the dead points (141.38 and 101.42 deg) and the crank turns one way,
   // through more than a full turn: one full cycle of the mechanism.
   const double th_min = std::acos(-0.197916666666667), th_max = std::acos(-0.78125);
-  PositionSolver<Rocker> solver;
+  CeresPositionSolver<Rocker> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   std::vector<SweepRecord<Rocker>> records;
   SweepOptions options;
@@ -305,7 +308,7 @@ TEST(DeadPoint, RockerDrivenSweepReversesAndTheCrankKeepsTurning) {
 }
 
 TEST(DeadPoint, FollowTangentIsRefusedThere) {
-  PositionSolver<Rocker> solver;
+  CeresPositionSolver<Rocker> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   ASSERT_EQ(solver.MoveTo(Q(2.6), nullptr), Status::kSingular);
   Summary summary;
@@ -319,7 +322,7 @@ TEST(DeadPoint, FollowTangentIsRefusedThere) {
 }
 
 TEST(HostileInput, AbsurdlyFarNonFiniteInputsAreRefusedAndNextCallWorks) {
-  PositionSolver<FourBar> solver;
+  CeresPositionSolver<FourBar> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   for (double q : {1e6, -1e6, 1e300, -1e300, double(INFINITY), double(-INFINITY), double(NAN),
                    1.5707963267948966 + 1000.5}) {
@@ -337,7 +340,7 @@ TEST(HostileInput, AbsurdlyFarNonFiniteInputsAreRefusedAndNextCallWorks) {
 TEST(HostileInput, LongButSaneStepStaysOnBranch) {
   // 999 rad (159 turns) in one call: sub-steps limited by Options::max_predicted_angle keep
   // the branch; before that limit, one sub-step accepted a phi ~ 1e5 rad away.
-  PositionSolver<FourBar> solver;
+  CeresPositionSolver<FourBar> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   const double q = 1.5707963267948966 + 999;
   Summary summary;
@@ -347,4 +350,4 @@ TEST(HostileInput, LongButSaneStepStaysOnBranch) {
 }
 
 }  // namespace
-}  // namespace mechgen
+}  // namespace mechgen::position

@@ -15,13 +15,13 @@
 
 #include "handwritten_fourbar.h"
 #include "handwritten_rocker_driven.h"
-#include "mechgen/ceres_adapter.h"
-#include "mechgen/kinematics.h"
-#include "mechgen/solver.h"
-#include "mechgen/sweep.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/position/motion.h"
+#include "mechgen/position/solver.h"
+#include "mechgen/sweep/sweep.h"
 #include "test_util.h"
 
-namespace mechgen {
+namespace mechgen::position {
 namespace {
 
 using FourBar = mech::handwritten_fourbar::Model;
@@ -80,10 +80,10 @@ TEST(HandwrittenFourBar, CoefficientsMatchFiniteDifferencesOfClosedForm) {
 }
 
 TEST(PositionSolver, AssemblesAtModelConfiguration) {
-  PositionSolver<FourBar> solver;
+  CeresPositionSolver<FourBar> solver;
   Summary summary;
   ASSERT_EQ(solver.AssembleDefault(&summary), Status::kConverged) << FormatSummary(summary);
-  EXPECT_TRUE(summary.used_ceres);
+  EXPECT_TRUE(summary.used_assembler);
   EXPECT_LE(summary.residual_norm, solver.options().tolerance);
   Vec2 expected;
   ASSERT_TRUE(mech::handwritten_fourbar::ClosedFormPosition(solver.params(), kPi / 2, +1,
@@ -94,7 +94,7 @@ TEST(PositionSolver, AssemblesAtModelConfiguration) {
 
 TEST(PositionSolver, SweepFollowsClosedFormAndKeepsBranch) {
   for (int branch : {+1, -1}) {  // open, then crossed
-    PositionSolver<FourBar> solver;
+    CeresPositionSolver<FourBar> solver;
     Vec2 guess;
     ASSERT_TRUE(mech::handwritten_fourbar::ClosedFormPosition(solver.params(), 1.0, branch,
                                                               &guess));
@@ -126,7 +126,7 @@ TEST(PositionSolver, VelocitiesAndAccelerationsMatchFiniteDifferencesInTime) {
   // at h = 1e-4 s: velocity error h^2 |x'''| / 6 ~ 1e-8 |x'''|, acceleration error
   // h^2 |x''''| / 12 + 4 eps / h^2 ~ 1e-8 * 10 + 1e-8.
   const double w = 3.0, alpha = -2.0, h = 1e-4;
-  PositionSolver<FourBar> solver;
+  CeresPositionSolver<FourBar> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   const FourBar::ParamsT<double>& p = solver.params();
   for (double q0 = 0.1; q0 < 2 * kPi; q0 += 0.5) {
@@ -163,7 +163,7 @@ TEST(PositionSolver, PoorGuessesLandOnRequestedBranchOrSayOtherwise) {
     const int det_sign = -branch;            // sign(det Phi_phi) of that mode
     Vec2 exact;
     ASSERT_TRUE(mech::handwritten_fourbar::ClosedFormPosition(p, q, branch, &exact));
-    PositionSolver<FourBar> solver;
+    CeresPositionSolver<FourBar> solver;
     Summary summary;
     const Status status = solver.Assemble(Q(q), Vec2(angle(gen), angle(gen)), det_sign, &summary);
     if (status == Status::kConverged) {
@@ -188,7 +188,7 @@ TEST(PositionSolver, RockerDrivenPastToggleStopsSingularAtLastValidConfiguration
   // cos th3 = (c^2 + d^2 - (b -+ a)^2) / (2 c d). Driving it beyond reaches a dead point.
   const double th_min = std::acos(-0.197916666666667), th_max = std::acos(-0.78125);
   for (double target : {th_max + 0.05, th_min - 0.05, th_max + 1.0, 3.5}) {
-    PositionSolver<Rocker> solver;
+    CeresPositionSolver<Rocker> solver;
     ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
     const int branch = solver.state().branch;
     Summary summary;
@@ -208,7 +208,7 @@ TEST(PositionSolver, RockerDrivenPastToggleStopsSingularAtLastValidConfiguration
     EXPECT_EQ(summary.sigma_min, s.sigma_min);
   }
   // Assembly beyond the limit is refused.
-  PositionSolver<Rocker> solver;
+  CeresPositionSolver<Rocker> solver;
   Summary summary;
   EXPECT_EQ(solver.Assemble(Q(th_max + 0.2), Vec2(-0.5, 1.1), 0, &summary),
             Status::kNotAssemblable)
@@ -222,7 +222,7 @@ TEST(PositionSolver, RockerDrivenPastToggleStopsSingularAtLastValidConfiguration
 TEST(PositionSolver, NumericalCentripetalCoefficientsOfOrderOneModel) {
   // Rocker has K only; the solver forms L by central differences (h = cbrt(eps)). Compare
   // with differences of K between solved positions at h = 1e-5 (error ~ h^2 |K''| + 1e-10/h).
-  PositionSolver<Rocker> solver, probe;
+  CeresPositionSolver<Rocker> solver, probe;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   ASSERT_EQ(probe.AssembleDefault(nullptr), Status::kConverged);
   const double h = 1e-5;
@@ -238,7 +238,7 @@ TEST(PositionSolver, NumericalCentripetalCoefficientsOfOrderOneModel) {
 }
 
 TEST(PositionSolver, NonFiniteInputIsRejectedAndNextCallWorks) {
-  PositionSolver<FourBar> solver;
+  CeresPositionSolver<FourBar> solver;
   Summary summary;
   EXPECT_EQ(solver.MoveTo(Q(0.1), &summary), Status::kInvalidInput);  // not assembled yet
   EXPECT_EQ(solver.Assemble(Q(NAN), Vec2(0.5, 1.9), 0, &summary), Status::kInvalidInput);
@@ -261,12 +261,12 @@ TEST(PositionSolver, CeresFallbackWhenNewtonCannotConverge) {
   Options options;
   options.max_newton_iterations = 1;  // too few for a 60 deg step
   options.max_bisections = 0;         // and no splitting: Newton fails, Ceres must step in
-  PositionSolver<FourBar> solver(options);
+  CeresPositionSolver<FourBar> solver(options);
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   Summary summary;
   ASSERT_EQ(solver.MoveTo(Q(kPi / 2 + kPi / 3), &summary), Status::kConverged)
       << FormatSummary(summary);
-  EXPECT_TRUE(summary.used_ceres);
+  EXPECT_TRUE(summary.used_assembler);
   Vec2 exact;
   ASSERT_TRUE(mech::handwritten_fourbar::ClosedFormPosition(solver.params(), kPi / 2 + kPi / 3,
                                                             +1, &exact));
@@ -278,7 +278,7 @@ TEST(PositionSolver, NeverNaNWithSuccess) {
   // fail with the configuration unchanged.
   std::mt19937 gen(7);
   std::uniform_real_distribution<double> angle(-10, 10);
-  PositionSolver<Rocker> rocker;
+  CeresPositionSolver<Rocker> rocker;
   ASSERT_EQ(rocker.AssembleDefault(nullptr), Status::kConverged);
   for (int i = 0; i < 100; ++i) {
     Summary summary;
@@ -307,7 +307,7 @@ TEST(Options, IsValidNamesTheField) {
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("max_newton_iterations"), std::string::npos) << error;
   // An invalid Options makes every solve return kInvalidInput.
-  PositionSolver<FourBar> solver(options);
+  CeresPositionSolver<FourBar> solver(options);
   EXPECT_EQ(solver.AssembleDefault(nullptr), Status::kInvalidInput);
 }
 
@@ -323,4 +323,4 @@ TEST(Status, EveryValueHasAName) {
 }
 
 }  // namespace
-}  // namespace mechgen
+}  // namespace mechgen::position

@@ -12,12 +12,15 @@
 
 #include "fourbar.h"
 #include "fourbar_crossed.h"
-#include "mechgen/output.h"
-#include "mechgen/solver.h"
-#include "mechgen/sweep.h"
+#include "mechgen/io/csv.h"
+#include "mechgen/io/svg.h"
+#include "mechgen/io/table.h"
+#include "mechgen/position/ceres_adapter.h"
+#include "mechgen/position/solver.h"
+#include "mechgen/sweep/sweep.h"
 #include "slider_crank.h"
 
-namespace mechgen {
+namespace mechgen::position {
 namespace {
 
 std::vector<std::string> Split(const std::string& line) {
@@ -30,7 +33,7 @@ std::vector<std::string> Split(const std::string& line) {
 
 template <class M>
 void CheckMuColumns() {
-  PositionSolver<M> solver;
+  CeresPositionSolver<M> solver;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
   using VecQ = typename ModelTypes<M>::VecQ;
   std::vector<SweepRecord<M>> records;
@@ -68,4 +71,4 @@ TEST(SweepTransmissionAngle, SliderCrankHasNone) {
 }
 
 }  // namespace
-}  // namespace mechgen
+}  // namespace mechgen::position

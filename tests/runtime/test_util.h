@@ -7,10 +7,10 @@
 
 #include <Eigen/Core>
 
-#include "mechgen/solver.h"
-#include "mechgen/sweep.h"
+#include "mechgen/position/solver.h"
+#include "mechgen/sweep/sweep.h"
 
-namespace mechgen::testing {
+namespace mechgen::position::testing {
 
 template <class M>
 using VecQ = typename ModelTypes<M>::VecQ;
@@ -76,4 +76,4 @@ double MaxTaylorDefect(const std::vector<SweepRecord<M>>& records) {
   return worst;
 }
 
-}  // namespace mechgen::testing
+}  // namespace mechgen::position::testing

@@ -1,5 +1,5 @@
 /**
- * \file kinematics.h
+ * \file position/motion.h
  * Velocities and accelerations from Paul's velocity and centripetal coefficients.
  *
  * At a closed configuration (a State from PositionSolver) and for given input speeds qd and
@@ -16,10 +16,10 @@
 
 #include <Eigen/Core>
 
-#include "mechgen/model_traits.h"
-#include "mechgen/solver.h"
+#include "mechgen/core/model_traits.h"
+#include "mechgen/position/state.h"
 
-namespace mechgen {
+namespace mechgen::position {
 
 /// Time derivatives at one configuration. All members start as NaN.
 template <class M>
@@ -65,4 +65,4 @@ void ComputeMotion(const State<M>& state,
   }
 }
 
-}  // namespace mechgen
+}  // namespace mechgen::position

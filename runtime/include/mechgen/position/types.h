@@ -1,6 +1,7 @@
 /**
- * \file types.h
- * Status, Options and Summary of the mechgen runtime, in the style of Ceres
+ * \file position/types.h
+ * Status, Crossing, Options and Summary of the position solver (namespace
+ * mechgen::position, so that statics and dynamics can have their own), in the style of Ceres
  * (include/ceres/types.h, tiny_solver.h): every outcome of a position solve is a Status
  * value whose meaning is stated as a formula, options carry their defaults inline and are
  * checked by Options::IsValid(), and nothing here throws. Summary holds numbers only (no
@@ -18,7 +19,7 @@
 #include <limits>
 #include <string>
 
-namespace mechgen {
+namespace mechgen::position {
 
 /// The outcome of a position solve (assembly or continuation step).
 enum class Status {
@@ -137,10 +138,11 @@ struct Options {
   double max_correction_abs = 1e-6;
   /// Predictor phi ~ phi0 + K dq + 1/2 L(dq, dq); false: first order phi0 + K dq.
   bool second_order_predictor = true;
-  /// When Newton fails on the smallest sub-step, try Ceres Levenberg–Marquardt (this builds
-  /// a ceres::Problem and allocates; it only runs on the failure path).
-  bool ceres_fallback = true;
-  /// Levenberg–Marquardt iterations for assembly and for the fallback.
+  /// When Newton fails on the smallest sub-step, run the solver's Assembler from the
+  /// predictor (Levenberg–Marquardt: CeresAssembler builds a ceres::Problem and allocates,
+  /// NewtonAssembler does not; either only runs on the failure path).
+  bool assembly_fallback = true;
+  /// Levenberg–Marquardt iterations of the Assembler, for assembly and for the fallback.
   int max_lm_iterations = 200;
   /// A sub-step is tried only when its predictor moves every angle coordinate of phi by at
   /// most this (rad): larger steps are split before Newton runs. Beyond ~1 rad the Taylor
@@ -233,8 +235,9 @@ struct Summary {
   /// distance of Phi_phi to the nearest singular matrix; model length units), at the
   /// returned configuration. State::singular_direction holds its right singular vector.
   double sigma_min = std::numeric_limits<double>::quiet_NaN();
-  /// Levenberg–Marquardt (Ceres) was used.
-  bool used_ceres = false;
+  /// The Assembler (Levenberg–Marquardt from a poor guess: assembly, or the fallback of a
+  /// continuation step) ran; Ceres when the solver's Assembler is CeresAssembler.
+  bool used_assembler = false;
   /// PassSingularity() went through a dead point: the input now moves the other way.
   bool input_reversed = false;
   /// What the failure was about, a static string ("" when converged), e.g. "step larger
@@ -242,6 +245,13 @@ struct Summary {
   const char* reason = "";
 
   bool IsSolutionUsable() const { return status == Status::kConverged; }
+};
+
+/// Result of one Newton–Raphson solve at fixed q.
+struct NewtonResult {
+  Status status = Status::kNotRun;  ///< kConverged or kDidNotConverge
+  int iterations = 0;               ///< linear solves
+  double residual_norm = std::numeric_limits<double>::quiet_NaN();  ///< final ||Phi||_inf
 };
 
 /// A one-line description of a Summary, e.g.
@@ -253,10 +263,10 @@ inline std::string FormatSummary(const Summary& s) {
                 "cond(Phi_phi) = %.3g, sigma_min = %.3g, branch %+d%s%s%s%s",
                 ToString(s.status), s.iterations, s.iterations == 1 ? "" : "s", s.substeps,
                 s.substeps == 1 ? "" : "s", s.rejected_substeps, s.residual_norm, s.condition,
-                s.sigma_min, s.branch, s.used_ceres ? ", Levenberg-Marquardt used" : "",
+                s.sigma_min, s.branch, s.used_assembler ? ", Levenberg-Marquardt used" : "",
                 s.input_reversed ? ", input reversed" : "", s.reason[0] != 0 ? "; " : "",
                 s.reason);
   return buffer;
 }
 
-}  // namespace mechgen
+}  // namespace mechgen::position

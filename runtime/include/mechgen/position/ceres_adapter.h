@@ -1,7 +1,10 @@
 /**
- * \file ceres_adapter.h
- * Ceres views of a generated model's loop-closure residual, used for assembly from a rough
- * guess (and as the fallback of the continuation's Newton corrector).
+ * \file position/ceres_adapter.h
+ * The only runtime header that includes Ceres (link mechgen::runtime_ceres). Ceres views of
+ * a generated model's loop-closure residual, used for assembly from a rough guess (and as
+ * the fallback of the continuation's Newton corrector) by CeresAssembler, the Ceres
+ * Assembler policy of PositionSolver (position/assembler.h); CeresPositionSolver<M> names
+ * the solver that uses it.
  *
  * PhiCostFunction feeds Ceres the generated analytic Jacobian Phi_phi, not autodiff. Ceres
  * stores jacobians[0] row-major (jacobians[0][r * kNphi + c] = dPhi_r/dphi_c, see
@@ -17,9 +20,11 @@
 
 #include <Eigen/Core>
 
-#include "mechgen/model_traits.h"
+#include "mechgen/core/model_traits.h"
+#include "mechgen/position/assembler.h"
+#include "mechgen/position/solver.h"
 
-namespace mechgen {
+namespace mechgen::position {
 
 /// Residual Phi(q, phi) (kNc) over the parameter block phi (kNphi), with the analytic
 /// Jacobian Phi_phi. q and the parameters are held by pointer, so one cost function can be
@@ -101,14 +106,9 @@ inline ceres::Solver::Options LevenbergMarquardtOptions(int max_iterations) {
   return options;
 }
 
-/// Outcome of SolveLevenbergMarquardt().
-struct LevenbergMarquardtResult {
-  /// Ceres stopped on a convergence criterion (a stationary point of 1/2 ||Phi||^2).
-  bool stationary = false;
-  int iterations = 0;
-  /// ||Phi(q, phi)||_inf at the result.
-  double residual_norm = std::numeric_limits<double>::quiet_NaN();
-};
+/// Outcome of SolveLevenbergMarquardt(): stationary = Ceres stopped on a convergence
+/// criterion (ceres::CONVERGENCE).
+using LevenbergMarquardtResult = AssemblyResult;
 
 /**
  * \brief Minimizes 1/2 ||Phi(q, phi)||^2 over phi with Ceres Levenberg–Marquardt and the
@@ -136,4 +136,21 @@ LevenbergMarquardtResult SolveLevenbergMarquardt(const typename ModelTypes<M>::P
   return result;
 }
 
-}  // namespace mechgen
+/// The Ceres Assembler policy of PositionSolver (position/assembler.h):
+/// SolveLevenbergMarquardt(). Allocates; runs only for assembly and on the failure path.
+struct CeresAssembler {
+  template <class M>
+  static AssemblyResult Minimize(const typename ModelTypes<M>::Params& params,
+                                 const typename ModelTypes<M>::VecQ& q,
+                                 typename ModelTypes<M>::VecPhi* phi,
+                                 int max_iterations) {
+    return SolveLevenbergMarquardt<M>(params, q, phi, max_iterations);
+  }
+};
+
+/// The position solver whose assembly from a poor guess (and continuation fallback) is
+/// Ceres Levenberg–Marquardt.
+template <class M>
+using CeresPositionSolver = PositionSolver<M, CeresAssembler>;
+
+}  // namespace mechgen::position

@@ -1,22 +1,17 @@
 /**
- * \file model_traits.h
- * The fixed-size Eigen types of a generated model and compile-time questions about it.
- *
- * A generated header (templates/mechanism.h.mustache) defines `struct Model : Sizes` with
- * sizes kNq, kNphi, kNc, kNumPoints, kNumScenePoints, the templates ParamsT<S> and
- * CoefficientsT<S>, and static functions Phi(), Coeffs() and, when it has a scene, Scene().
- * Coefficients only has the members the model asked for (K, L, r_P, K_P, L_P); the traits
- * below detect each member, so the runtime never relies on how the generator decided.
- * Everything is fixed-size: nothing here allocates.
+ * \file core/linear_algebra.h
+ * The small dense linear algebra of the position solver, fixed-size and allocation-free:
+ * max-norms that see NaN (MaxAbsDiff), cond_1 and det (ConditionAndDeterminant), the
+ * smallest singular value and its vector (SmallestSingular, and SingularValues2x2 in closed
+ * form), and SquareFactorization, the one factorization of Phi_phi a continuation step has.
+ * Needs Eigen only.
  */
 #pragma once
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <type_traits>
-#include <utility>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -24,62 +19,7 @@
 
 namespace mechgen {
 
-/// Fixed-size types of model M (double precision). Sizes in the names: Q = kNq,
-/// Phi = kNphi, C = kNc (rows of Phi), P = kNumPoints, S = kNumScenePoints.
-template <class M>
-struct ModelTypes {
-  static constexpr int kNq = M::kNq;
-  static constexpr int kNphi = M::kNphi;
-  static constexpr int kNc = M::kNc;
-  static constexpr int kNumPoints = M::kNumPoints;
-  static constexpr int kNumScenePoints = M::kNumScenePoints;
-  static_assert(kNc == kNphi, "Phi_phi must be square: kNc == kNphi");
-
-  using Params = typename M::template ParamsT<double>;
-  using Coefficients = typename M::template CoefficientsT<double>;
-  using VecQ = Eigen::Matrix<double, kNq, 1>;
-  using VecPhi = Eigen::Matrix<double, kNphi, 1>;
-  using VecC = Eigen::Matrix<double, kNc, 1>;
-  using VecQQ = Eigen::Matrix<double, kNq * kNq, 1>;       ///< qd (x) qd
-  using MatCPhi = Eigen::Matrix<double, kNc, kNphi>;       ///< Phi_phi
-  using MatCQ = Eigen::Matrix<double, kNc, kNq>;           ///< Phi_q
-  using MatK = Eigen::Matrix<double, kNphi, kNq>;          ///< K
-  using MatL = Eigen::Matrix<double, kNphi, kNq * kNq>;    ///< L
-  using MatRP = Eigen::Matrix<double, 2, kNumPoints>;      ///< r_P
-  using MatKP = Eigen::Matrix<double, 2 * kNumPoints, kNq>;        ///< K_P
-  using MatLP = Eigen::Matrix<double, 2 * kNumPoints, kNq * kNq>;  ///< L_P
-  using MatScene = Eigen::Matrix<double, 2, kNumScenePoints>;
-};
-
 namespace internal {
-
-template <class C, class = void>
-struct HasK : std::false_type {};
-template <class C>
-struct HasK<C, std::void_t<decltype(std::declval<C&>().K)>> : std::true_type {};
-template <class C, class = void>
-struct HasL : std::false_type {};
-template <class C>
-struct HasL<C, std::void_t<decltype(std::declval<C&>().L)>> : std::true_type {};
-template <class C, class = void>
-struct HasRP : std::false_type {};
-template <class C>
-struct HasRP<C, std::void_t<decltype(std::declval<C&>().r_P)>> : std::true_type {};
-template <class C, class = void>
-struct HasKP : std::false_type {};
-template <class C>
-struct HasKP<C, std::void_t<decltype(std::declval<C&>().K_P)>> : std::true_type {};
-template <class C, class = void>
-struct HasLP : std::false_type {};
-template <class C>
-struct HasLP<C, std::void_t<decltype(std::declval<C&>().L_P)>> : std::true_type {};
-/// Coefficients::Phi and Coefficients::Phi_phi: the residual and Jacobian the generated
-/// EvalCoefficients evaluated K and L with (headers generated since they hand them out).
-template <class C, class = void>
-struct HasPhiPhi : std::false_type {};
-template <class C>
-struct HasPhiPhi<C, std::void_t<decltype(std::declval<C&>().Phi),
-                                decltype(std::declval<C&>().Phi_phi)>> : std::true_type {};
 
 /// max_i |a_i - b_i| over the entries of two same-size fixed matrices (b = nullptr: max |a_i|),
 /// NaN when any entry is NaN (Eigen's lpNorm<Infinity> leaves that to maxCoeff, which may
@@ -104,89 +44,7 @@ double Norm1(const Eigen::MatrixBase<Derived>& A) {
   return A.cwiseAbs().colwise().sum().maxCoeff();
 }
 
-/// M::Solve(p, q, &phi, modes, max_iterations, tolerance): the generated block-ordered
-/// position solver (with M::kNumBlocks, M::kDefaultModes, M::kBlockClosedForm).
-template <class M, class = void>
-struct HasSolve : std::false_type {};
-template <class M>
-struct HasSolve<
-    M, std::void_t<decltype(M::template Solve<double>(
-                       std::declval<const typename M::template ParamsT<double>&>(),
-                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
-                       std::declval<Eigen::Matrix<double, M::kNphi, 1>*>(),
-                       std::declval<const std::array<int, M::kNumBlocks>&>(), 0, 0.0)),
-                   decltype(M::kDefaultModes), decltype(M::kBlockClosedForm)>>
-    : std::true_type {};
-
-/// M::TrigT<double>: sin and cos of the angles that M::Solve hands out (its last argument)
-/// and M::Coeffs takes (its last argument) instead of calling sin and cos again.
-struct NoTrig {};
-template <class M, class = void>
-struct TrigOf {
-  using type = NoTrig;
-  static constexpr bool value = false;
-};
-template <class M>
-struct TrigOf<
-    M, std::void_t<typename M::template TrigT<double>,
-                   decltype(M::template Solve<double>(
-                       std::declval<const typename M::template ParamsT<double>&>(),
-                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
-                       std::declval<Eigen::Matrix<double, M::kNphi, 1>*>(),
-                       std::declval<const std::array<int, M::kNumBlocks>&>(), 0, 0.0,
-                       std::declval<typename M::template TrigT<double>*>())),
-                   decltype(M::template Coeffs<double>(
-                       std::declval<const typename M::template ParamsT<double>&>(),
-                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
-                       std::declval<const Eigen::Matrix<double, M::kNphi, 1>&>(),
-                       std::declval<typename M::template CoefficientsT<double>*>(),
-                       std::declval<const typename M::template TrigT<double>*>()))>> {
-  using type = typename M::template TrigT<double>;
-  static constexpr bool value = true;
-};
-
-/// Number of transmission angles of a model (its four-bar loops on the ground, when the
-/// header has EvalTransmissionAngles); 0 for a model without them.
-template <class M, class = void>
-struct TransmissionAngleCount : std::integral_constant<int, 0> {};
-template <class M>
-struct TransmissionAngleCount<M, std::void_t<decltype(&M::template TransmissionAngles<double>)>>
-    : std::integral_constant<int, M::kNumTransmissionAngles> {};
-
-/// M::kNumBlocks when M has Solve, else 1.
-template <class M, bool = HasSolve<M>::value>
-struct BlockCount {
-  static constexpr int value = 1;
-};
-template <class M>
-struct BlockCount<M, true> {
-  static constexpr int value = M::kNumBlocks;
-};
-
 }  // namespace internal
-
-/// What model M provides, decided at compile time.
-template <class M>
-struct ModelFeatures {
-  using Coefficients = typename ModelTypes<M>::Coefficients;
-  static constexpr bool kHasK = internal::HasK<Coefficients>::value;
-  static constexpr bool kHasL = internal::HasL<Coefficients>::value;
-  static constexpr bool kHasPoints = M::kNumPoints > 0 && internal::HasRP<Coefficients>::value;
-  static constexpr bool kHasPointVelocities = kHasPoints && internal::HasKP<Coefficients>::value;
-  static constexpr bool kHasPointAccelerations =
-      kHasPoints && internal::HasLP<Coefficients>::value;
-  static constexpr bool kHasScene = M::kNumScenePoints > 0;
-  /// Model::Coeffs also gives Phi and Phi_phi (Coefficients::Phi, Phi_phi): a continuation
-  /// step checks closure and conditioning on them, without a separate Model::Phi call.
-  static constexpr bool kCoeffsHavePhi = internal::HasPhiPhi<Coefficients>::value;
-  /// The generated block-ordered solver Model::Solve (closed-form dyads, Newton blocks).
-  static constexpr bool kHasSolve = internal::HasSolve<M>::value;
-  /// Model::Solve hands sin and cos of the angles to Model::Coeffs (Model::TrigT): a
-  /// continuation step then calls no sin or cos for the angles a closed form solved.
-  static constexpr bool kHasTrig = kHasSolve && internal::TrigOf<M>::value;
-  /// Model::TransmissionAngles (EvalTransmissionAngles) gives this many angles; 0 without it.
-  static constexpr int kNumTransmissionAngles = internal::TransmissionAngleCount<M>::value;
-};
 
 /**
  * \brief cond_1(A) = ||A||_1 ||A^{-1}||_1 and det A of a square fixed-size matrix.

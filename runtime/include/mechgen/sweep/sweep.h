@@ -1,11 +1,11 @@
 /**
- * \file sweep.h
+ * \file sweep/sweep.h
  * A sweep: the inputs move along the straight line q_begin -> q_end in equal steps and the
  * solver continues from one configuration to the next, on the branch it was assembled on.
  *
  * Every step is a PositionSolver::MoveTo() plus ComputeMotion(); the record vector is sized
  * once before the loop, so the loop itself does not allocate (unless a step falls back to
- * Ceres). A step that fails is recorded with its Status and NaN values, and the solver
+ * CeresAssembler). A step that fails is recorded with its Status and NaN values, and the solver
  * continues the next step from its last valid configuration; a step that reaches a singular
  * configuration (kSingular) stops the sweep there, unless SweepOptions asks to pass it.
  */
@@ -14,8 +14,8 @@
 #include <limits>
 #include <vector>
 
-#include "mechgen/kinematics.h"
-#include "mechgen/solver.h"
+#include "mechgen/position/motion.h"
+#include "mechgen/position/solver.h"
 
 namespace mechgen {
 
@@ -24,9 +24,9 @@ template <class M>
 struct SweepRecord {
   static constexpr int kNumMu = ModelFeatures<M>::kNumTransmissionAngles;
   typename ModelTypes<M>::VecQ q;  ///< requested inputs (kNq)
-  State<M> state;                  ///< the configuration at q; NaN and !valid when failed
-  Motion<M> motion;                ///< velocities and accelerations; NaN when failed
-  Summary summary;                 ///< how the step went
+  position::State<M> state;    ///< the configuration at q; NaN and !valid when failed
+  position::Motion<M> motion;  ///< velocities and accelerations; NaN when failed
+  position::Summary summary;   ///< how the step went
   /// Transmission angle of each four-bar loop (M::kTransmissionJoints), radians in [0, pi];
   /// NaN when the step failed.
   Eigen::Matrix<double, kNumMu, 1> mu =
@@ -40,7 +40,7 @@ struct SweepOptions {
   /// PositionSolver::PassSingularity() with this choice, and the sweep goes on: after
   /// kReverseInput the input moves back (the remaining rows mirror about the dead point,
   /// and the input speed qd changes sign), so a rocker-driven linkage swings back and forth.
-  Crossing at_singularity = Crossing::kStop;
+  position::Crossing at_singularity = position::Crossing::kStop;
 };
 
 /**
@@ -56,8 +56,8 @@ struct SweepOptions {
  * \param[in]     options  What to do at a singular configuration (default: stop there).
  * \return the number of rows that did not converge (kNotRun rows after a stop included).
  */
-template <class M>
-int Sweep(PositionSolver<M>* solver,
+template <class M, class Assembler>
+int Sweep(position::PositionSolver<M, Assembler>* solver,
           const typename ModelTypes<M>::VecQ& q_begin,
           const typename ModelTypes<M>::VecQ& q_end,
           int steps,
@@ -89,15 +89,16 @@ int Sweep(PositionSolver<M>* solver,
       u = u_prev + dir / steps;
     }
     record.q = (i == steps && dir > 0) ? q_end : at(u);
-    Status status = solver->MoveTo(record.q, &record.summary);
+    position::Status status = solver->MoveTo(record.q, &record.summary);
     bool reversed = false;
-    if (status == Status::kSingular && options.at_singularity != Crossing::kStop) {
+    if (status == position::Status::kSingular &&
+        options.at_singularity != position::Crossing::kStop) {
       // Pass, then finish the row: the rest of the step, mirrored after a reversal.
       const double u_singular =
           delta2 > 0 ? (solver->state().q - q_begin).dot(delta) / delta2 : 0;
-      Summary pass;
+      position::Summary pass;
       if (solver->PassSingularity(record.q, options.at_singularity, &pass) ==
-          Status::kConverged) {
+          position::Status::kConverged) {
         reversed = pass.input_reversed;
         if (reversed) {
           dir = -dir;
@@ -111,7 +112,7 @@ int Sweep(PositionSolver<M>* solver,
         } else {  // the pass already went beyond this row's input: record where it ended
           record.q = solver->state().q;
           record.summary = pass;
-          status = Status::kConverged;
+          status = position::Status::kConverged;
         }
         record.summary.iterations += pass.iterations;
         record.summary.input_reversed = reversed;
@@ -119,15 +120,15 @@ int Sweep(PositionSolver<M>* solver,
         record.summary.reason = pass.reason;
       }
     }
-    if (status == Status::kConverged || status == Status::kSingular) {
+    if (status == position::Status::kConverged || status == position::Status::kSingular) {
       // kSingular: stop at the last valid configuration, the closest to the singular one.
       record.state = solver->state();
-      if (status == Status::kSingular) record.q = record.state.q;
-      ComputeMotion(record.state, VecQ(dir * qd), qdd, &record.motion);
+      if (status == position::Status::kSingular) record.q = record.state.q;
+      position::ComputeMotion(record.state, VecQ(dir * qd), qdd, &record.motion);
       if constexpr (SweepRecord<M>::kNumMu > 0) {
         M::TransmissionAngles(solver->params(), record.state.q, record.state.phi, &record.mu);
       }
-      if (status == Status::kSingular) {
+      if (status == position::Status::kSingular) {
         stopped = true;
         ++failures;
       }

@@ -1,229 +1,32 @@
 /**
- * \file output.h
- * Writing a sweep (sweep.h) for people and programs: a CSV file with one column per
- * quantity, named from the model's own names; a short fixed-width table; and an SVG
- * drawing of the mechanism at a few configurations with the traced paths of its points
- * (the coupler curve), plus one animated (SMIL) copy running through the whole sweep.
- *
- * Column names (q_j, phi_i the model's coordinate names, P the point names):
- *   q_j, phi_i, K_<phi_i>_<q_j>, L_<phi_i>_<q_j>_<q_k> (j <= k; L is symmetric in j, k),
- *   P.x, P.y, q_j_dot, q_j_ddot, phi_i_dot, phi_i_ddot, P.vx, P.vy, P.ax, P.ay,
- *   status, iterations, residual (||Phi||_inf), cond (cond_1 Phi_phi),
- *   sigma_min (smallest singular value of Phi_phi: the distance to singularity),
- *   singular_<phi_i> (its unit right singular vector: the singular direction),
- *   mu_<J> (the transmission angle at joint J of each four-bar loop on the ground, in
- *   [0, pi]; 0 or pi where that loop toggles; models with such loops only).
- * Angles are radians in the CSV and degrees in the table. These functions allocate freely;
- * they run after the sweep.
+ * \file io/svg.h
+ * An SVG drawing of a sweep: the mechanism at a few configurations (the links through each
+ * link's scene points, Model::Scene), the traced paths of its points (the coupler curve),
+ * the ground pivots, plus one animated (SMIL) copy running through the whole sweep.
+ * Allocates; runs after the sweep.
  */
 #pragma once
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <ostream>
 #include <string>
 #include <vector>
 
-#include "mechgen/sweep.h"
+#include "mechgen/io/format.h"
+#include "mechgen/sweep/sweep.h"
 
 namespace mechgen {
 
 namespace internal {
-
-inline std::string FormatNumber(double x, const char* format = "%.12g") {
-  if (std::isnan(x)) return "nan";
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), format, x);
-  return buffer;
-}
-
-constexpr double kRadToDeg = 57.29577951308232;
-
 /// "ground.A" -> "A".
 inline const char* ShortName(const char* name) {
   const char* dot = std::strrchr(name, '.');
   return dot != nullptr ? dot + 1 : name;
 }
-
 }  // namespace internal
-
-/// The CSV header and the values of one record, in the same order.
-template <class M>
-std::vector<std::string> CsvColumns() {
-  using F = ModelFeatures<M>;
-  std::vector<std::string> c;
-  for (const char* q : M::kQNames) c.push_back(q);
-  for (const char* phi : M::kPhiNames) c.push_back(phi);
-  for (const char* phi : M::kPhiNames)
-    for (const char* q : M::kQNames) c.push_back(std::string("K_") + phi + "_" + q);
-  for (const char* phi : M::kPhiNames)
-    for (int j = 0; j < M::kNq; ++j)
-      for (int k = j; k < M::kNq; ++k)
-        c.push_back(std::string("L_") + phi + "_" + M::kQNames[j] + "_" + M::kQNames[k]);
-  if constexpr (F::kHasPoints) {
-    for (const char* p : M::kPointNames) {
-      c.push_back(std::string(p) + ".x");
-      c.push_back(std::string(p) + ".y");
-    }
-  }
-  for (const char* q : M::kQNames) c.push_back(std::string(q) + "_dot");
-  for (const char* q : M::kQNames) c.push_back(std::string(q) + "_ddot");
-  for (const char* phi : M::kPhiNames) c.push_back(std::string(phi) + "_dot");
-  for (const char* phi : M::kPhiNames) c.push_back(std::string(phi) + "_ddot");
-  if constexpr (F::kHasPointVelocities) {
-    for (const char* p : M::kPointNames) {
-      c.push_back(std::string(p) + ".vx");
-      c.push_back(std::string(p) + ".vy");
-    }
-  }
-  if constexpr (F::kHasPointAccelerations) {
-    for (const char* p : M::kPointNames) {
-      c.push_back(std::string(p) + ".ax");
-      c.push_back(std::string(p) + ".ay");
-    }
-  }
-  for (const char* s : {"status", "iterations", "residual", "cond", "sigma_min"}) c.push_back(s);
-  for (const char* phi : M::kPhiNames) c.push_back(std::string("singular_") + phi);
-  if constexpr (SweepRecord<M>::kNumMu > 0) {
-    for (const char* joint : M::kTransmissionJoints) c.push_back(std::string("mu_") + joint);
-  }
-  return c;
-}
-
-template <class M>
-std::vector<std::string> CsvValues(const SweepRecord<M>& r) {
-  using F = ModelFeatures<M>;
-  using internal::FormatNumber;
-  std::vector<std::string> v;
-  const State<M>& s = r.state;
-  const Motion<M>& m = r.motion;
-  for (int j = 0; j < M::kNq; ++j) v.push_back(FormatNumber(r.q(j)));
-  for (int i = 0; i < M::kNphi; ++i) v.push_back(FormatNumber(s.phi(i)));
-  for (int i = 0; i < M::kNphi; ++i)
-    for (int j = 0; j < M::kNq; ++j) v.push_back(FormatNumber(s.K(i, j)));
-  for (int i = 0; i < M::kNphi; ++i)
-    for (int j = 0; j < M::kNq; ++j)
-      for (int k = j; k < M::kNq; ++k) v.push_back(FormatNumber(s.L(i, j + M::kNq * k)));
-  if constexpr (F::kHasPoints) {
-    for (int p = 0; p < M::kNumPoints; ++p) {
-      v.push_back(FormatNumber(s.r_P(0, p)));
-      v.push_back(FormatNumber(s.r_P(1, p)));
-    }
-  }
-  for (int j = 0; j < M::kNq; ++j) v.push_back(FormatNumber(m.qd(j)));
-  for (int j = 0; j < M::kNq; ++j) v.push_back(FormatNumber(m.qdd(j)));
-  for (int i = 0; i < M::kNphi; ++i) v.push_back(FormatNumber(m.phid(i)));
-  for (int i = 0; i < M::kNphi; ++i) v.push_back(FormatNumber(m.phidd(i)));
-  if constexpr (F::kHasPointVelocities) {
-    for (int p = 0; p < M::kNumPoints; ++p) {
-      v.push_back(FormatNumber(m.v_P(0, p)));
-      v.push_back(FormatNumber(m.v_P(1, p)));
-    }
-  }
-  if constexpr (F::kHasPointAccelerations) {
-    for (int p = 0; p < M::kNumPoints; ++p) {
-      v.push_back(FormatNumber(m.a_P(0, p)));
-      v.push_back(FormatNumber(m.a_P(1, p)));
-    }
-  }
-  v.push_back(ToString(r.summary.status));
-  v.push_back(std::to_string(r.summary.iterations));
-  v.push_back(FormatNumber(r.summary.residual_norm, "%.3g"));
-  v.push_back(FormatNumber(r.summary.condition, "%.6g"));
-  v.push_back(FormatNumber(s.sigma_min, "%.6g"));
-  for (int i = 0; i < M::kNphi; ++i) v.push_back(FormatNumber(s.singular_direction(i), "%.6g"));
-  for (int i = 0; i < SweepRecord<M>::kNumMu; ++i) v.push_back(FormatNumber(r.mu(i)));
-  return v;
-}
-
-/// Writes the header line and one line per record.
-template <class M>
-void WriteCsv(const std::vector<SweepRecord<M>>& records, std::ostream& out) {
-  auto write_line = [&out](const std::vector<std::string>& cells) {
-    for (size_t i = 0; i < cells.size(); ++i) out << (i ? "," : "") << cells[i];
-    out << '\n';
-  };
-  write_line(CsvColumns<M>());
-  for (const SweepRecord<M>& r : records) write_line(CsvValues(r));
-}
-
-/// Prints `rows` records spread evenly over the sweep: q, phi, K, L and the points, angles in
-/// degrees. With one input, K and L columns are named by the dependent variable only.
-template <class M>
-void PrintTable(const std::vector<SweepRecord<M>>& records, int rows, std::ostream& out) {
-  if (records.empty() || rows <= 0) return;
-  using F = ModelFeatures<M>;
-  std::vector<std::string> names;
-  std::vector<std::string> units;
-  auto add = [&](std::string name, const char* unit) {
-    names.push_back(std::move(name));
-    units.push_back(unit);
-  };
-  for (int j = 0; j < M::kNq; ++j) add(M::kQNames[j], M::kQIsAngle[j] ? "[deg]" : "");
-  for (int i = 0; i < M::kNphi; ++i) add(M::kPhiNames[i], M::kPhiIsAngle[i] ? "[deg]" : "");
-  const bool one_input = M::kNq == 1;
-  for (int i = 0; i < M::kNphi; ++i)
-    for (int j = 0; j < M::kNq; ++j)
-      add(std::string("K_") + M::kPhiNames[i] + (one_input ? "" : std::string("/") + M::kQNames[j]),
-          "");
-  for (int i = 0; i < M::kNphi; ++i)
-    for (int j = 0; j < M::kNq; ++j)
-      for (int k = j; k < M::kNq; ++k)
-        add(std::string("L_") + M::kPhiNames[i] +
-                (one_input ? "" : std::string("/") + M::kQNames[j] + "," + M::kQNames[k]),
-            "");
-  if constexpr (F::kHasPoints) {
-    for (const char* p : M::kPointNames) {
-      add(std::string(p) + ".x", "");
-      add(std::string(p) + ".y", "");
-    }
-  }
-  add("status", "");
-  std::vector<size_t> width(names.size());
-  for (size_t c = 0; c < names.size(); ++c) width[c] = std::max<size_t>(names[c].size(), 10);
-  auto print_row = [&](const std::vector<std::string>& cells) {
-    std::string line;
-    for (size_t c = 0; c < cells.size(); ++c) {
-      std::string cell = cells[c];
-      if (cell.size() < width[c]) cell.insert(0, width[c] - cell.size(), ' ');
-      line += (c ? "  " : "") + cell;
-    }
-    out << line << '\n';
-  };
-  print_row(names);
-  print_row(units);
-  const int n = static_cast<int>(records.size());
-  rows = std::min(rows, std::max(n - 1, 1));
-  for (int r = 0; r < rows; ++r) {
-    // Evenly spaced, last row excluded: for a full cycle it repeats the first
-    // (0, 45, ..., 315 deg for 8 rows of a 360-step crank turn).
-    const int index = (n - 1) * r / rows;
-    const SweepRecord<M>& rec = records[static_cast<size_t>(index)];
-    const State<M>& s = rec.state;
-    std::vector<std::string> cells;
-    auto number = [&](double x) { return internal::FormatNumber(x, "%.4f"); };
-    for (int j = 0; j < M::kNq; ++j)
-      cells.push_back(number(rec.q(j) * (M::kQIsAngle[j] ? internal::kRadToDeg : 1)));
-    for (int i = 0; i < M::kNphi; ++i)
-      cells.push_back(number(s.phi(i) * (M::kPhiIsAngle[i] ? internal::kRadToDeg : 1)));
-    for (int i = 0; i < M::kNphi; ++i)
-      for (int j = 0; j < M::kNq; ++j) cells.push_back(number(s.K(i, j)));
-    for (int i = 0; i < M::kNphi; ++i)
-      for (int j = 0; j < M::kNq; ++j)
-        for (int k = j; k < M::kNq; ++k) cells.push_back(number(s.L(i, j + M::kNq * k)));
-    if constexpr (F::kHasPoints) {
-      for (int p = 0; p < M::kNumPoints; ++p) {
-        cells.push_back(number(s.r_P(0, p)));
-        cells.push_back(number(s.r_P(1, p)));
-      }
-    }
-    cells.push_back(ToString(rec.summary.status));
-    print_row(cells);
-  }
-}
 
 /// What WriteSvg() draws.
 struct SvgOptions {

@@ -1,0 +1,52 @@
+/**
+ * \file io/csv.h
+ * A sweep as CSV: one header line, one line per record, one cell per column of the sweep's
+ * column table (sweep/columns.h; names and values defined there together). Angles in
+ * radians. Allocates; runs after the sweep.
+ */
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "mechgen/io/format.h"
+#include "mechgen/sweep/columns.h"
+
+namespace mechgen {
+
+/// The cell of column c in record r as written to the CSV.
+template <class M>
+std::string CsvCell(const SweepColumn<M>& c, const SweepRecord<M>& r) {
+  return c.text ? c.text(r) : internal::FormatNumber(c.value(r), c.csv_format);
+}
+
+/// The CSV header: the names of SweepColumns<M>(), in order.
+template <class M>
+std::vector<std::string> CsvColumns() {
+  std::vector<std::string> names;
+  for (const SweepColumn<M>& c : SweepColumns<M>()) names.push_back(c.name);
+  return names;
+}
+
+/// The CSV cells of one record, in the order of CsvColumns().
+template <class M>
+std::vector<std::string> CsvValues(const SweepRecord<M>& r) {
+  std::vector<std::string> cells;
+  for (const SweepColumn<M>& c : SweepColumns<M>()) cells.push_back(CsvCell(c, r));
+  return cells;
+}
+
+/// Writes the header line and one line per record.
+template <class M>
+void WriteCsv(const std::vector<SweepRecord<M>>& records, std::ostream& out) {
+  const std::vector<SweepColumn<M>> columns = SweepColumns<M>();
+  for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i].name;
+  out << '\n';
+  for (const SweepRecord<M>& r : records) {
+    for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << CsvCell(columns[i], r);
+    out << '\n';
+  }
+}
+
+}  // namespace mechgen

@@ -1,0 +1,67 @@
+/**
+ * \file io/table.h
+ * A short fixed-width table of a sweep for people: the columns of the sweep's column table
+ * (sweep/columns.h) that have a table name (q, phi, K, L, the points, the status), angles in
+ * degrees, at a few records spread over the sweep. Allocates; runs after the sweep.
+ */
+#pragma once
+
+#include <algorithm>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "mechgen/io/format.h"
+#include "mechgen/sweep/columns.h"
+
+namespace mechgen {
+
+/// The cell of column c in record r as printed in the table: text columns as they are,
+/// numbers with 4 decimals, angles in degrees.
+template <class M>
+std::string TableCell(const SweepColumn<M>& c, const SweepRecord<M>& r) {
+  if (c.text) return c.text(r);
+  return internal::FormatNumber(c.value(r) * (c.angle ? internal::kRadToDeg : 1), "%.4f");
+}
+
+/// Prints `rows` records spread evenly over the sweep: a header line of table names, a unit
+/// line ("[deg]" for angles), then the rows.
+template <class M>
+void PrintTable(const std::vector<SweepRecord<M>>& records, int rows, std::ostream& out) {
+  if (records.empty() || rows <= 0) return;
+  std::vector<SweepColumn<M>> columns = SweepColumns<M>();
+  columns.erase(std::remove_if(columns.begin(), columns.end(),
+                               [](const SweepColumn<M>& c) { return c.table_name.empty(); }),
+                columns.end());
+  std::vector<std::string> names, units;
+  for (const SweepColumn<M>& c : columns) {
+    names.push_back(c.table_name);
+    units.push_back(c.angle ? "[deg]" : "");
+  }
+  std::vector<size_t> width(names.size());
+  for (size_t c = 0; c < names.size(); ++c) width[c] = std::max<size_t>(names[c].size(), 10);
+  auto print_row = [&](const std::vector<std::string>& cells) {
+    std::string line;
+    for (size_t c = 0; c < cells.size(); ++c) {
+      std::string cell = cells[c];
+      if (cell.size() < width[c]) cell.insert(0, width[c] - cell.size(), ' ');
+      line += (c ? "  " : "") + cell;
+    }
+    out << line << '\n';
+  };
+  print_row(names);
+  print_row(units);
+  const int n = static_cast<int>(records.size());
+  rows = std::min(rows, std::max(n - 1, 1));
+  for (int r = 0; r < rows; ++r) {
+    // Evenly spaced, last row excluded: for a full cycle it repeats the first
+    // (0, 45, ..., 315 deg for 8 rows of a 360-step crank turn).
+    const int index = (n - 1) * r / rows;
+    const SweepRecord<M>& record = records[static_cast<size_t>(index)];
+    std::vector<std::string> cells;
+    for (const SweepColumn<M>& c : columns) cells.push_back(TableCell(c, record));
+    print_row(cells);
+  }
+}
+
+}  // namespace mechgen

@@ -1,0 +1,67 @@
+/**
+ * \file position/internal/coefficients.h
+ * K, L and the points of a closed configuration: from Model::Coeffs, or K = -Phi_phi^{-1}
+ * Phi_q and L by central differences (NumericalL) when the model lacks them.
+ * Part of PositionSolver (position/solver.h, which includes this file after the class).
+ */
+#pragma once
+
+#include "mechgen/position/solver.h"
+
+namespace mechgen::position {
+
+template <class M, class Assembler>
+void PositionSolver<M, Assembler>::NumericalL(const VecQ& q, const VecPhi& phi, const Factorization& f,
+                                   const typename T::MatK& K, typename T::MatL* L) const {
+  // K = -Phi_phi^{-1} Phi_q  =>  dK/dq_k = -Phi_phi^{-1} (D_k Phi_phi K + D_k Phi_q), where
+  // D_k is the total derivative along the motion (dq, dphi) = (e_k, K e_k), taken by central
+  // differences. h = cbrt(eps) ~ 6e-6 balances truncation O(h^2) and rounding O(eps/h):
+  // both ~ 1e-11 relative. Uses the step's factorization of Phi_phi.
+  const double h = std::cbrt(std::numeric_limits<double>::epsilon());
+  for (int k = 0; k < M::kNq; ++k) {
+    VecQ dq = VecQ::Zero();
+    dq(k) = h;
+    const VecPhi dphi = K.col(k) * h;
+    MatCPhi A_plus, A_minus;
+    MatCQ B_plus, B_minus;
+    M::template Phi<double>(params_, VecQ(q + dq), VecPhi(phi + dphi), nullptr, &A_plus,
+                            &B_plus);
+    M::template Phi<double>(params_, VecQ(q - dq), VecPhi(phi - dphi), nullptr, &A_minus,
+                            &B_minus);
+    const MatCPhi dA = (A_plus - A_minus) / (2 * h);
+    const MatCQ dB = (B_plus - B_minus) / (2 * h);
+    L->template middleCols<M::kNq>(M::kNq * k) = -f.Solve(MatCQ(dA * K + dB));
+  }
+}
+
+template <class M, class Assembler>
+bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficients& c,
+                                         const Factorization& f, const MatCQ* Phi_q,
+                                         State<M>* s) const {
+  (void)c;
+  if constexpr (Features::kHasK) {
+    s->K = c.K;
+  } else {
+    MatCQ B;
+    if (Phi_q == nullptr) {
+      M::template Phi<double>(params_, s->q, s->phi, nullptr, nullptr, &B);
+      Phi_q = &B;
+    }
+    s->K = -f.Solve(*Phi_q);
+  }
+  if constexpr (Features::kHasL) {
+    s->L = c.L;
+  } else {
+    NumericalL(s->q, s->phi, f, s->K, &s->L);
+  }
+  bool finite = s->K.allFinite() && s->L.allFinite();
+  if constexpr (Features::kHasPoints) {
+    s->r_P = c.r_P;
+    finite = finite && s->r_P.allFinite();
+  }
+  if constexpr (Features::kHasPointVelocities) s->K_P = c.K_P;
+  if constexpr (Features::kHasPointAccelerations) s->L_P = c.L_P;
+  return finite;
+}
+
+}  // namespace mechgen::position

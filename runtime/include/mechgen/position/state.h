@@ -1,0 +1,51 @@
+/**
+ * \file position/state.h
+ * State<M>: a closed configuration of model M and everything the model gives there (K, L,
+ * the points, the distance to singularity, the branch). PositionSolver keeps its last valid
+ * one (PositionSolver::state()); a sweep records one per row. Fixed-size, starts as NaN.
+ */
+#pragma once
+
+#include <limits>
+
+#include <Eigen/Core>
+
+#include "mechgen/core/model_traits.h"
+
+namespace mechgen::position {
+
+/// A closed configuration and everything the model gives there. All members start as NaN.
+template <class M>
+struct State {
+  using T = ModelTypes<M>;
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+  typename T::VecQ q = T::VecQ::Constant(kNaN);        ///< inputs (kNq)
+  typename T::VecPhi phi = T::VecPhi::Constant(kNaN);  ///< dependent variables (kNphi)
+  typename T::MatK K = T::MatK::Constant(kNaN);        ///< dphi/dq (kNphi x kNq)
+  typename T::MatL L = T::MatL::Constant(kNaN);        ///< L(i, j + kNq k) = dK(i,j)/dq_k
+  typename T::MatRP r_P = T::MatRP::Constant(kNaN);    ///< points (2 x kNumPoints)
+  typename T::MatKP K_P = T::MatKP::Constant(kNaN);    ///< d r_P / dq (2 kNumPoints x kNq)
+  typename T::MatLP L_P = T::MatLP::Constant(kNaN);    ///< d2 r_P / dq2 (2 kNumPoints x kNq^2)
+  double residual_norm = kNaN;                         ///< ||Phi||_inf
+  double condition = kNaN;                             ///< cond_1(Phi_phi)
+  /// Distance to singularity: sigma_min(Phi_phi), its smallest singular value (model length
+  /// units; 0 at a dead or change point), and sigma_max = ||Phi_phi||_2.
+  double sigma_min = kNaN;
+  double sigma_max = kNaN;
+  /// Unit right singular vector of sigma_min (kNphi): the direction in which phi can move
+  /// with Phi unchanged to first order when sigma_min -> 0 (the singular motion).
+  typename T::VecPhi singular_direction = T::VecPhi::Constant(kNaN);
+  /// Unit right singular vector of sigma_max (kNphi); the next configuration's estimate
+  /// starts from it and from singular_direction.
+  typename T::VecPhi largest_direction = T::VecPhi::Constant(kNaN);
+  /// true: sigma_min, sigma_max and both directions are exact (a singular value
+  /// decomposition: closed form for kNphi <= 2, JacobiSVD above); false: the estimate of
+  /// PositionSolver's continuation steps for kNphi > 2 (see position/solver.h: "Distance to
+  /// singularity"), sigma_min an upper bound and sigma_max a lower bound of the exact ones.
+  bool sigma_exact = false;
+  int branch = 0;                                      ///< sign(det Phi_phi)
+  bool valid = false;                                  ///< a converged configuration
+};
+
+}  // namespace mechgen::position
