@@ -1,7 +1,7 @@
 // libFuzzer target: a model file through the generator's front end.
 //
 // Each input is written to a temporary file (LoadModel reads a path) and run through
-// LoadModel (YAML syntax, names, references, expressions), BuildTopology (loops, mobility),
+// LoadModel (YAML syntax, names, references, expressions), Validate (loops, mobility, cams, ...),
 // DeriveKinematics and Derive (symbolic Phi, Phi_phi, Phi_q, K, L with CSE). A bad model
 // must end in a mechgen::ModelError or another std::exception (GiNaC reports e.g. a division
 // by zero that way); a crash, a sanitizer report, a timeout or running out of memory is a
@@ -15,9 +15,10 @@
 
 #include "cxx_code.h"
 #include "derivation.h"
-#include "kinematics.h"
-#include "model.h"
-#include "topology.h"
+#include "analysis/kinematics.h"
+#include "model/model.h"
+#include "analysis/topology.h"
+#include "analysis/validate.h"
 #include "transmission.h"
 
 namespace {
@@ -40,8 +41,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::fclose(file);
   try {
     const mechgen::Model model = mechgen::LoadModel(path);
-    const mechgen::Topology topology = mechgen::BuildTopology(model);
-    const mechgen::Kinematics kinematics = mechgen::DeriveKinematics(model, topology);
+    const mechgen::Analysis analysis = mechgen::Validate(model);
+    const mechgen::Topology& topology = analysis.topology;
+    const mechgen::Kinematics kinematics =
+        mechgen::DeriveKinematics(model, topology, &analysis.coordinates, &analysis.cams);
     mechgen::CxxPrinter printer;
     const mechgen::Derivation derivation = mechgen::Derive(model, kinematics, &printer);
     const auto transmission = mechgen::FindTransmissionAngles(model, topology, kinematics, derivation.blocks);

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "cxx_code.h"
-#include "joints.h"
-#include "model.h"
+#include "joints/joint_kind.h"
+#include "model/model.h"
 
 namespace mechgen {
 
@@ -64,7 +64,7 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j);
 /// Fills the summary line for the report and the generated header.
 std::string CheckCam(const Model& m, const Joint& j, const CamLaw& law, const CamGeometry& g);
 
-/// A cam given by its contour (Joint::contour) in the cam's frame: expressions in u, or a
+/// A cam given by its contour (CamData::contour) in the cam's frame: expressions in u, or a
 /// periodic cubic spline through points, parametrized by chord length.
 struct CamContour {
   int joint = -1;

@@ -413,9 +413,9 @@ Derivation DeriveWithoutTrigSharing(const Model& m, const Kinematics& k, CxxPrin
   for (int i = 0; i < nq; ++i) printer->Name(k.q[i].symbol, "q(" + std::to_string(i) + ")");
   for (int i = 0; i < nphi; ++i) printer->Name(k.phi[i].symbol, "phi(" + std::to_string(i) + ")");
   for (const Parameter& p : m.params) printer->Name(p.symbol, "p." + p.name);
-  for (const CamLaw& law : k.cam_laws) printer->NameCamLaw(m.joints[law.joint].cam_index, law.cxx_name);
+  for (const CamLaw& law : k.cam_laws) printer->NameCamLaw(m.joints[law.joint].Data<CamData>().index, law.cxx_name);
   for (const CamGeometry& g : k.cam_geometry) printer->Name(g.x, "x");
-  for (const CamContour& c : k.cam_contours) printer->NameCamContour(m.joints[c.joint].cam_index, c.cxx_name);
+  for (const CamContour& c : k.cam_contours) printer->NameCamContour(m.joints[c.joint].Data<CamData>().index, c.cxx_name);
   d.blocks = OrderBlocks(m, k, strategy);
   const auto& blocks = d.blocks;
 

@@ -19,7 +19,7 @@
 
 #include "blocks.h"
 #include "cxx_code.h"
-#include "kinematics.h"
+#include "analysis/kinematics.h"
 
 namespace mechgen {
 

@@ -5,9 +5,9 @@
 #include <string>
 
 #include "derivation.h"
-#include "kinematics.h"
-#include "model.h"
-#include "topology.h"
+#include "analysis/kinematics.h"
+#include "model/model.h"
+#include "analysis/topology.h"
 #include "transmission.h"
 
 namespace mechgen {

@@ -12,11 +12,12 @@
 
 #include "derivation.h"
 #include "emit.h"
-#include "grashof.h"
-#include "kinematics.h"
-#include "model.h"
+#include "analysis/grashof.h"
+#include "analysis/kinematics.h"
+#include "model/model.h"
 #include "report.h"
-#include "topology.h"
+#include "analysis/topology.h"
+#include "analysis/validate.h"
 #include "transmission.h"
 
 #ifndef MECHGEN_SOURCE_TEMPLATES
@@ -52,9 +53,10 @@ struct Pipeline {
 void Run(Pipeline* p, const std::string& path, const std::string& name, const std::string& templates,
          mechgen::Strategy strategy) {
   p->model = mechgen::LoadModel(path, name);
-  p->topology = mechgen::BuildTopology(p->model);
-  p->four_bars = mechgen::ClassifyFourBars(p->model, p->topology);
-  p->kinematics = mechgen::DeriveKinematics(p->model, p->topology);
+  mechgen::Analysis analysis = mechgen::Validate(p->model);
+  p->topology = analysis.topology;
+  p->four_bars = analysis.four_bars;
+  p->kinematics = mechgen::DeriveKinematics(p->model, p->topology, &analysis.coordinates, &analysis.cams);
   p->derivation = mechgen::Derive(p->model, p->kinematics, &p->printer, strategy);
   p->transmission = mechgen::FindTransmissionAngles(p->model, p->topology, p->kinematics, p->derivation.blocks);
   p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, p->derivation, p->transmission, &p->printer,

@@ -7,10 +7,10 @@
 
 #include "derivation.h"
 #include "emit.h"
-#include "grashof.h"
-#include "kinematics.h"
-#include "model.h"
-#include "topology.h"
+#include "analysis/grashof.h"
+#include "analysis/kinematics.h"
+#include "model/model.h"
+#include "analysis/topology.h"
 #include "transmission.h"
 
 namespace mechgen {

@@ -10,9 +10,9 @@
 
 #include "blocks.h"
 #include "cxx_code.h"
-#include "kinematics.h"
-#include "model.h"
-#include "topology.h"
+#include "analysis/kinematics.h"
+#include "model/model.h"
+#include "analysis/topology.h"
 
 namespace mechgen {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "model.h"
+#include "model/model.h"
 
 namespace mechgen {
 
@@ -41,11 +41,18 @@ struct Topology {
   std::string grubler_text;    ///< the formula with the numbers
   std::string loop_text;       ///< "3 variables - 2*1 loops = 1"
 
+  /// What the validation stage reports (BuildTopology itself does not fail): links no
+  /// lower pair connects to the ground, and the first prismatic joint whose relative
+  /// angle contradicts other sliders' (-1 if none).
+  std::vector<int> unconnected;
+  int inconsistent_slider = -1;
+
   int num_groups() const { return static_cast<int>(rep.size()); }
 };
 
-/// Builds the topology; fails (ModelError) on disconnected links, inconsistent sliders,
-/// and a mobility that does not match the declared inputs.
+/// Builds the topology. It does not fail: disconnected links, inconsistent sliders and a
+/// mobility that does not match the declared inputs are the validation stage's errors
+/// (Validate() in analysis/validate.h).
 Topology BuildTopology(const Model& m);
 
 }  // namespace mechgen

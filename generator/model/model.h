@@ -11,8 +11,10 @@
 #include <ginac/ginac.h>
 
 #include <array>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace mechgen {
@@ -72,29 +74,59 @@ struct PointRef {
   }
 };
 
-/// Joint kinds. Lower pairs (revolute, prismatic, roll) may place a link in the spanning
-/// tree; higher pairs (gear, rack, cam) never do: each closes a loop with one equation
-/// (joints.cc has every kind's equations).
-enum class JointType {
-  kRevolute,   ///< pin: point `a` of one link coincides with point `b` of the other.
-  kPrismatic,  ///< slider: point `b` moves along the line through guide point `a` at
-               ///< `angle` (in the guide link's frame); the slider link keeps the angle
-               ///< theta_guide + relative_angle. Displacement s: b = a + s (cos, sin).
-  kRoll,       ///< rolling without slip: a circle of `radius` centred at point `b` (the
-               ///< wheel) rolls on the line through `a` at `angle` (on_line) or on the
-               ///< circle of `radius2` centred at `a` (outside, or inside if `internal`).
-               ///< Contact variable: s (line) or psi (circle); equations: contact (2 when
-               ///< a cut) + no slip (1).
-  kGear,       ///< gear pair: links a.link, b.link with pitch radii `radius`, `radius2`,
-               ///< axes on `carrier`: r1 (th1 - thc) +- r2 (th2 - thc) = phase (+ external,
-               ///< - internal: b is the ring).
-  kRack,       ///< rack and pinion: pinion a.link (pitch radius `radius`), the rack is the
-               ///< slider of prismatic joint `other_joint`: s + r (th_pinion - th_guide) = phase.
-  kCam,        ///< disk cam a.link and follower b.link given by the follower's law:
-               ///< y_follower = start + law(th_cam - th_carrier - phase) (cam.h), or by
-               ///< the cam's contour (Joint::contour; contact parameter u_<joint>, two
-               ///< equations: the roller's centre on the contour's offset, or the face
-               ///< tangent to the contour).
+/// Joint kinds, in the order of JointData's alternatives. Lower pairs (revolute,
+/// prismatic, roll) may place a link in the spanning tree; higher pairs (gear, rack, cam)
+/// never do: each closes a loop. Each kind's keys, coordinate, placement, equations and
+/// description live in its own file, generator/joints/<kind>.cc (joints/joint_kind.h).
+enum class JointType { kRevolute, kPrismatic, kRoll, kGear, kRack, kCam };
+
+/// Pin: point `a` (on Joint::link_a) coincides with point `b` (on link_b).
+struct RevoluteData {
+  PointRef a, b;
+};
+
+/// Slider: point `slider` (on link_b) moves along the line through `guide` (on link_a) at
+/// `angle` in the guide link's frame; the slider link keeps the angle
+/// theta_guide + relative_angle. Displacement s: slider = guide + s (cos, sin).
+struct PrismaticData {
+  PointRef guide, slider;
+  GiNaC::ex angle = 0;
+  GiNaC::ex relative_angle = 0;
+};
+
+/// Rolling without slip: a circle of `radius` centred at `wheel` (on link_b) rolls on the
+/// line through `on` (on link_a, the base) at `line_angle`, or on the circle of
+/// `on_radius` centred at `on` (outside, or inside if `inside`).
+struct RollData {
+  PointRef on, wheel;
+  GiNaC::ex radius = 0;
+  GiNaC::ex line_angle = 0;
+  GiNaC::ex on_radius = 0;
+  bool on_line = true;
+  bool inside = false;
+  GiNaC::ex phase = 0;  ///< the constant of the no-slip relation
+  SourceMark radius_mark, on_radius_mark;
+};
+
+/// Gear pair: gears link_a, link_b with pitch radii radius[0], radius[1], both axes on
+/// `carrier`; internal: link_b is the ring.
+struct GearData {
+  GiNaC::ex radius[2] = {0, 0};
+  int carrier = -1;  ///< the link holding both axes (default: ground)
+  bool internal = false;
+  GiNaC::ex phase = 0;
+  SourceMark radius_mark[2];
+};
+
+/// Rack and pinion: pinion link_a (pitch radius `radius`); the rack (link_b) is the slider
+/// of prismatic joint `slide`, whose guide is `carrier`.
+struct RackData {
+  GiNaC::ex radius = 0;
+  int slide = -1;
+  int carrier = -1;
+  GiNaC::ex phase = 0;
+  std::string slide_name;  ///< as written (resolved once every joint is read)
+  SourceMark slide_mark;
 };
 
 /// One segment of a cam's follower law (dwell, rise, return) over `duration` of cam angle.
@@ -106,51 +138,66 @@ struct CamSegment {
   GiNaC::ex duration = 0;  ///< cam angle of the segment (radians)
   GiNaC::ex lift = 0;      ///< rise or return height (displacement, or angle if oscillating)
   SourceMark mark;
+  SourceMark duration_mark;
 };
 
-struct Joint {
-  std::string name;
-  JointType type = JointType::kRevolute;
-  PointRef a;  ///< revolute: first point; prismatic: the guide point (line origin);
-               ///< roll: the line's point or the circle's centre (the base link);
-               ///< gear, rack, cam: a.link is the first gear, the pinion, the cam.
-  PointRef b;  ///< revolute: second point; prismatic: the slider point; roll: the
-               ///< wheel's centre; gear: b.link the second gear; rack: the rack link;
-               ///< cam: the follower link.
-  GiNaC::ex angle = 0;           ///< prismatic: line direction in the guide link's frame; roll: the line's.
-  GiNaC::ex relative_angle = 0;  ///< prismatic: slider link angle minus guide link angle.
-  // Higher pairs and rolling.
-  GiNaC::ex radius = 0;   ///< roll: wheel radius; gear: r1; rack: pinion radius
-  GiNaC::ex radius2 = 0;  ///< roll on a circle: its radius; gear: r2
-  bool on_line = false;   ///< roll: on a line (else on a circle)
-  bool internal = false;  ///< roll: inside the circle; gear: b is an internal (ring) gear
-  GiNaC::ex phase = 0;    ///< roll, gear, rack: the constant of the no-slip relation; cam: law start angle
-  int carrier = -1;       ///< gear, cam: the link holding both axes (default: ground)
-  int other_joint = -1;   ///< rack: the rack's prismatic joint; cam: the follower's joint
-  // Cams.
-  int cam_index = -1;            ///< cam: index among the model's cams
-  PointRef follower_point;       ///< cam: roller centre, knife-edge tip, or a point of the face
-  bool flat_face = false;        ///< cam: flat-faced follower (else roller / knife-edge)
-  GiNaC::ex face_angle = 0;      ///< cam: face direction in the follower's frame
-  GiNaC::ex roller = 0;          ///< cam: roller radius (0: knife-edge)
-  GiNaC::ex start = 0;           ///< cam: follower coordinate at zero lift
-  std::vector<CamSegment> law;   ///< cam: the follower law, segments in order from `phase`
+/// Disk cam link_a and follower link_b given by the follower's law:
+/// y_follower = start + law(th_cam - th_carrier - phase) (cam.h), or by the cam's contour
+/// (contact parameter u_<joint>, two equations: the roller's centre on the contour's
+/// offset, or the face tangent to the contour).
+struct CamData {
+  int index = -1;          ///< index among the model's cams (camlaw(index, ...))
+  int follower_joint = -1; ///< the follower's prismatic or revolute joint to the carrier
+  int carrier = -1;        ///< the link holding the cam's pivot and the follower's joint
+  int pivot = -1;          ///< the cam's revolute joint to the carrier
+  PointRef point;          ///< roller centre, knife-edge tip, or a point of the face
+  bool flat_face = false;  ///< flat-faced follower (else roller / knife-edge)
+  GiNaC::ex face_angle = 0;  ///< face direction in the follower's frame
+  GiNaC::ex roller = 0;      ///< roller radius (0: knife-edge)
+  GiNaC::ex start = 0;       ///< follower coordinate at zero lift
+  GiNaC::ex phase = 0;       ///< law start angle
+  std::vector<CamSegment> law;  ///< the follower law, segments in order from `phase`
   // Contour cams (a profile instead of a law; contact parameter u_<joint> is a coordinate).
   enum class Contour { kNone, kExpressions, kSpline };
-  Contour contour = Contour::kNone;  ///< cam: the profile is a contour in the cam's frame
+  Contour contour = Contour::kNone;
   GiNaC::ex contour_x, contour_y;    ///< kExpressions: x(u), y(u) in the cam's frame
   GiNaC::symbol contour_u{"u"};      ///< kExpressions: the contour's parameter in them
   GiNaC::ex contour_period = 0;      ///< kExpressions: u runs over [0, period) (default 2 pi)
   std::vector<std::array<double, 2>> contour_points;  ///< kSpline: the points, counter-clockwise
   std::vector<SourceMark> contour_point_marks;
   std::string contour_text;          ///< kExpressions: "x(u) = ..., y(u) = ..." as written
-  SourceMark contour_mark;
-  SourceMark law_mark, roller_mark;
+  std::string follower_name;         ///< as written (resolved once every joint is read)
+  SourceMark contour_mark, period_mark, law_mark, roller_mark, follower_mark;
+};
+
+/// A joint's kind-specific data; the alternatives follow JointType's order.
+using JointData = std::variant<RevoluteData, PrismaticData, RollData, GearData, RackData, CamData>;
+
+/// A joint: the header every kind shares (name, the two links it joins, where it is in
+/// the file) and its kind's data.
+struct Joint {
+  std::string name;
+  int link_a = -1;  ///< revolute: a's link; prismatic: the guide; roll: the base;
+                    ///< gear: the first gear; rack: the pinion; cam: the cam
+  int link_b = -1;  ///< revolute: b's link; prismatic: the slider; roll: the wheel;
+                    ///< gear: the second gear; rack: the rack; cam: the follower
+  JointData data;
   SourceMark mark;
+
+  JointType type() const { return static_cast<JointType>(data.index()); }
+  template <class T>
+  const T& Data() const { return std::get<T>(data); }
+  template <class T>
+  T& Data() { return std::get<T>(data); }
   /// Lower pairs can place a link in the spanning tree.
   bool IsLowerPair() const {
-    return type == JointType::kRevolute || type == JointType::kPrismatic || type == JointType::kRoll;
+    return type() == JointType::kRevolute || type() == JointType::kPrismatic || type() == JointType::kRoll;
   }
+  bool Joins(int link) const { return link_a == link || link_b == link; }
+  int OtherLink(int link) const { return link_a == link ? link_b : link_a; }
+  /// A lower pair's point on `link` (one of its two links): revolute a or b, prismatic
+  /// guide or slider, roll on or wheel.
+  PointRef End(int link) const;
 };
 
 /// A driven joint: its variable is one of the generalized coordinates q.
@@ -160,11 +207,26 @@ struct Input {
   SourceMark mark;
 };
 
+/// A quantity the generated code can compute, beyond the positions (always computed).
+enum class Quantity {
+  kK,      ///< velocity coefficients K = dphi/dq (and the points' K_P)
+  kL,      ///< centripetal coefficients L (and the points' L_P); needs K
+  kScene,  ///< EvalScene: every link point, for drawing
+};
+
+/// What the generated code computes: the requested quantities and the points of interest.
+/// `order: 0|1|2` in the model file is shorthand for {}, {K}, {K, L}.
 struct Outputs {
-  int order = 2;                 ///< 0: positions, 1: + K, 2: + L
-  std::vector<PointRef> points;  ///< points of interest
-  bool scene = true;             ///< emit EvalScene (every link point, for drawing)
+  std::set<Quantity> quantities{Quantity::kK, Quantity::kL, Quantity::kScene};
+  std::vector<PointRef> points;  ///< points of interest (positions, K_P, L_P as requested)
   SourceMark mark;
+  /// Derived from `quantities` (filled by the reader) for the emitters that branch on the
+  /// order: 0 positions, 1 + K, 2 + L.
+  int order = 2;
+  bool scene = true;  ///< derived: quantities holds kScene
+  bool Has(Quantity q) const { return quantities.count(q) > 0; }
+  /// The order that `quantities` amounts to (K and L only come in this nesting).
+  int Order() const { return Has(Quantity::kL) ? 2 : Has(Quantity::kK) ? 1 : 0; }
 };
 
 /// A value of the assembly guess: a coordinate name and its value.
@@ -186,14 +248,19 @@ struct Model {
   SourceMark inputs_mark;
   Outputs outputs;
   std::vector<GuessValue> guess;
+  // Room for the sections wave 2 reads (mass properties of the links, applied loads):
+  // each is one reader file in generator/model/ with its key table (keys.h).
   int ground = -1;
 
   std::string PointName(PointRef r) const;  ///< "link.point"
+  int FindJoint(const std::string& name) const;  ///< its index, or -1
+  GiNaC::exmap Defaults() const;  ///< every parameter symbol -> its default value
   [[noreturn]] void Fail(SourceMark mark, const std::string& message) const;
 };
 
-/// Reads and validates a model file (syntax, names, references). Topological checks
-/// (connectivity, mobility against inputs) are made by BuildTopology().
+/// Reads a model file (syntax, keys, names, references); the checks on numbers at the
+/// parameters' defaults (mobility, ranges, cams, ...) are the validation stage's,
+/// Validate() in analysis/validate.h.
 /// \param name_override if not empty, replaces the model's `name`.
 Model LoadModel(const std::string& path, const std::string& name_override = "");
 

@@ -18,9 +18,9 @@
 
 #include "cam_contour.h"
 #include "cam_spline.h"
-#include "kinematics.h"
-#include "model.h"
-#include "topology.h"
+#include "analysis/kinematics.h"
+#include "model/model.h"
+#include "analysis/topology.h"
 
 namespace {
 

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "kinematics.h"
-#include "model.h"
-#include "topology.h"
+#include "analysis/kinematics.h"
+#include "model/model.h"
+#include "analysis/topology.h"
 
 namespace mechgen {
 namespace {
