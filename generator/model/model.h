@@ -1,6 +1,7 @@
 // The mechanism model as the generator sees it: parameters, links with named points,
 // joints, inputs, requested outputs and the assembly guess, read from a model file
-// (models/README.md documents the format) and validated. Geometry is kept as GiNaC
+// (models/README.md documents the format; generator/model/ reads it section by section).
+// Geometry is kept as GiNaC
 // expressions in the parameter symbols, so that the derivation stays symbolic in the
 // parameters and the generated Params struct can change them at run time.
 //
