@@ -158,6 +158,8 @@ Topology BuildTopology(const Model& m) {
   // cut joint, 1 per higher pair, and the no-slip equation of every rolling joint.
   int j1 = 0, j2 = 0;
   for (const Joint& j : m.joints) (j.IsLowerPair() ? j1 : j2) += 1;
+  // Every joint coordinate but a slider's displacement is a contact parameter (roll: s or
+  // psi, contour cam: u), and comes with one more equation (no slip, the second contact row).
   for (const Joint& j : m.joints)
     t.num_contact += KindOf(j).Coordinate(m, j).has_value() && j.type() != JointType::kPrismatic;
   t.num_variables = (t.num_groups() - 1) + t.num_prismatic + t.num_contact;

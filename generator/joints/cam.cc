@@ -228,7 +228,7 @@ class Cam : public JointKind {
       if (!(ValueAtDefaults(m, s.duration, s.duration_mark, key + " angle") > 0))
         m.Fail(s.duration_mark, key + " angle must be positive (a cam angle such as 90*deg)");
     }
-    if (c.contour == CamData::Contour::kExpressions && c.period_mark.line > 0) {
+    if (c.contour == CamData::Contour::kExpressions) {  // (the default period, 2 pi, passes)
       const std::string what = "contour of cam '" + j.name + "'";
       if (!(ValueAtDefaults(m, c.contour_period, c.period_mark, what + ", period") > 0))
         m.Fail(c.period_mark, what + ": the period must be positive");

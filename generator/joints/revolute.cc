@@ -52,8 +52,8 @@ class Revolute : public JointKind {
   }
 
   std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
-    (void)m;
-    return {{"F_" + j.name + "_x", "pin force on link_b, x"}, {"F_" + j.name + "_y", "pin force on link_b, y"}};
+    const std::string on = "force of '" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name + "' at the pin, ";
+    return {{"F_" + j.name + "_x", on + "x"}, {"F_" + j.name + "_y", on + "y"}};
   }
 };
 
