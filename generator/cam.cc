@@ -87,7 +87,7 @@ CamLaw BuildCamLaw(const Model& m, const Joint& j) {
   law.cxx_name = "CamLaw_" + j.name;
   const GiNaC::exmap defaults = Defaults(m);
   const ex t = T(), beta = Beta();
-  ex begin = 0, level = 0, rises = 0, returns = 0;
+  ex begin = 0, level = 0;
   for (const CamSegment& s : cd.law) {
     ex f;  // normalized motion over t in [0, 1]
     std::string motion;
@@ -117,16 +117,7 @@ CamLaw BuildCamLaw(const Model& m, const Joint& j) {
     law.what.push_back(what.str());
     begin += s.duration;
     level += h;
-    (s.kind == CamSegment::Kind::kRise ? rises : returns) += s.kind == CamSegment::Kind::kDwell ? ex(0) : s.lift;
   }
-  const double turn = Num(begin, defaults);
-  if (std::abs(turn - 2 * M_PI) > 1e-9)
-    m.Fail(cd.law_mark, "the law of cam '" + j.name + "' spans " + Deg(turn) +
-                           " of cam angle, not 360 deg; make the segments' angles add up to one turn");
-  const double up = Num(rises, defaults), down = Num(returns, defaults);
-  if (std::abs(up - down) > 1e-9 * std::max(1.0, std::abs(up)))
-    m.Fail(cd.law_mark, "the law of cam '" + j.name + "' does not close the cycle: its rises add up to " + G(up) +
-                           " and its returns to " + G(down) + "; the follower must return to its start");
   return law;
 }
 

@@ -40,8 +40,8 @@ struct CamLaw {
   std::vector<double> begin_value;   ///< begin at the parameters' defaults
 };
 
-/// The law of cam joint `j`, checked at the parameters' defaults: the segments must span
-/// one turn and the follower must come back to zero lift (ModelError otherwise).
+/// The law of cam joint `j` (the validation stage has checked that it spans one turn and
+/// brings the follower back: CheckCamLaw in analysis/validate.h).
 CamLaw BuildCamLaw(const Model& m, const Joint& j);
 
 /// The law's d-th derivative at x (radians, any turn), at the parameters' defaults.

@@ -3,28 +3,13 @@
 
 #include <map>
 
+#include "analysis/validate.h"
+
 namespace mechgen {
 
 std::string RowSource::Text(const Model& m) const {
   return (loop >= 0 ? "loop " + std::to_string(loop + 1) + ", " : std::string()) + "joint " + m.joints[joint].name +
          ", " + ComponentText(component);
-}
-
-CamAnalysis AnalyzeCams(const Model& m) {
-  CamAnalysis c;
-  // The law's segments (checked to close the cycle) and the cam's geometry (checked for
-  // undercutting), or the contour (checked and fitted).
-  for (const Joint& j : m.joints) {
-    if (j.type() != JointType::kCam) continue;
-    if (j.Data<CamData>().contour != CamData::Contour::kNone) {
-      c.contours.push_back(BuildCamContour(m, j));
-      continue;
-    }
-    c.laws.push_back(BuildCamLaw(m, j));
-    c.geometry.push_back(DeriveCamGeometry(m, j));
-    c.summary.push_back(CheckCam(m, j, c.laws.back(), c.geometry.back()));
-  }
-  return c;
 }
 
 CoordinateTable BuildCoordinates(const Model& m, const Topology& t) {

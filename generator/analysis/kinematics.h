@@ -15,7 +15,7 @@
 namespace mechgen {
 
 struct Coordinate {
-  std::string name;  ///< theta_<link> for an angle, s_<joint> for a displacement
+  std::string name;  ///< theta_<link> for an angle; s_<joint>, psi_<joint>, u_<joint> for a joint's own
   std::string what;  ///< a sentence for the generated header
   bool is_angle = true;
   GiNaC::symbol symbol;
@@ -47,9 +47,6 @@ struct CamAnalysis {
   std::vector<std::string> summary;      ///< pressure angle and curvature over a turn
   std::vector<CamContour> contours;      ///< per contour cam joint, in file order
 };
-
-/// Builds (and checks: ModelError) every cam's law, geometry and contour.
-CamAnalysis AnalyzeCams(const Model& m);
 
 /// The coordinates of a model in file order: one angle per rotation group but the
 /// ground's, then the joints' own (s, psi, u); and which group or joint each belongs to.

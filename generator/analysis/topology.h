@@ -34,8 +34,8 @@ struct Topology {
 
   int num_prismatic = 0;
   int num_contact = 0;         ///< rolling joints and contour cams (each has a contact parameter)
-  int num_variables = 0;       ///< (groups - 1) + prismatic joints + rolling joints
-  int num_equations = 0;       ///< 2 per lower-pair cut, 1 per higher pair and per rolling joint
+  int num_variables = 0;       ///< (groups - 1) + prismatic joints + contact parameters
+  int num_equations = 0;       ///< 2 per lower-pair cut, 1 per higher pair, 1 per contact parameter
   int grubler_mobility = 0;    ///< 3 (n - 1) - 2 j1 - j2
   int loop_mobility = 0;       ///< variables - equations
   std::string grubler_text;    ///< the formula with the numbers

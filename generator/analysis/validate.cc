@@ -1,9 +1,69 @@
 // The validation stage. See validate.h.
 #include "analysis/validate.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
 #include "joints/joint_kind.h"
 
 namespace mechgen {
+namespace {
+
+double Num(const GiNaC::ex& e, const GiNaC::exmap& values) {
+  const GiNaC::ex v = e.subs(values).evalf();
+  if (!GiNaC::is_a<GiNaC::numeric>(v)) return std::nan("");
+  return GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+}
+
+std::string Deg(double rad) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f deg", rad * 180 / M_PI);
+  return buf;
+}
+
+std::string G(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+}  // namespace
+
+void CheckCamLaw(const Model& m, const Joint& j) {
+  const CamData& cd = j.Data<CamData>();
+  GiNaC::ex turn_ex = 0, rises = 0, returns = 0;
+  for (const CamSegment& s : cd.law) {
+    turn_ex += s.duration;
+    if (s.kind == CamSegment::Kind::kRise) rises += s.lift;
+    if (s.kind == CamSegment::Kind::kReturn) returns += s.lift;
+  }
+  const GiNaC::exmap defaults = m.Defaults();
+  const double turn = Num(turn_ex, defaults);
+  if (std::abs(turn - 2 * M_PI) > 1e-9)
+    m.Fail(cd.law_mark, "the law of cam '" + j.name + "' spans " + Deg(turn) +
+                            " of cam angle, not 360 deg; make the segments' angles add up to one turn");
+  const double up = Num(rises, defaults), down = Num(returns, defaults);
+  if (std::abs(up - down) > 1e-9 * std::max(1.0, std::abs(up)))
+    m.Fail(cd.law_mark, "the law of cam '" + j.name + "' does not close the cycle: its rises add up to " + G(up) +
+                            " and its returns to " + G(down) + "; the follower must return to its start");
+}
+
+CamAnalysis AnalyzeCams(const Model& m) {
+  CamAnalysis c;
+  for (const Joint& j : m.joints) {
+    if (j.type() != JointType::kCam) continue;
+    if (j.Data<CamData>().contour != CamData::Contour::kNone) {
+      c.contours.push_back(BuildCamContour(m, j));
+      continue;
+    }
+    CheckCamLaw(m, j);
+    c.laws.push_back(BuildCamLaw(m, j));
+    c.geometry.push_back(DeriveCamGeometry(m, j));
+    c.summary.push_back(CheckCam(m, j, c.laws.back(), c.geometry.back()));
+  }
+  return c;
+}
 
 void CheckTopology(const Model& m, const Topology& t) {
   if (t.inconsistent_slider >= 0) {
