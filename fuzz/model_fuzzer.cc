@@ -13,12 +13,12 @@
 #include <exception>
 #include <string>
 
-#include "cxx_code.h"
-#include "derivation.h"
 #include "analysis/kinematics.h"
-#include "model/model.h"
 #include "analysis/topology.h"
 #include "analysis/validate.h"
+#include "cxx_code.h"
+#include "derivation.h"
+#include "model/model.h"
 #include "transmission.h"
 
 namespace {

@@ -21,16 +21,16 @@
 #include <string>
 #include <vector>
 
+#include "analysis/kinematics.h"
+#include "analysis/topology.h"
+#include "analysis/validate.h"
 #include "cam_flat.h"
 #include "cam_roller.h"
 #include "cardan.h"
 #include "geared_fivebar.h"
-#include "analysis/kinematics.h"
 #include "model/model.h"
 #include "planetary.h"
 #include "rolling_wheel.h"
-#include "analysis/topology.h"
-#include "analysis/validate.h"
 
 namespace {
 

@@ -6,12 +6,12 @@
 
 #include <sstream>
 
-#include "blocks.h"
 #include "analysis/grashof.h"
 #include "analysis/kinematics.h"
-#include "model/model.h"
 #include "analysis/topology.h"
 #include "analysis/validate.h"
+#include "blocks.h"
+#include "model/model.h"
 
 namespace mechgen {
 namespace {

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "analysis/kinematics.h"
-#include "model/model.h"
 #include "analysis/topology.h"
+#include "model/model.h"
 
 namespace mechgen {
 namespace {

@@ -37,8 +37,8 @@
 #include <vector>
 
 #include "analysis/kinematics.h"
-#include "model/model.h"
 #include "analysis/topology.h"
+#include "model/model.h"
 
 namespace {
 
