@@ -1,8 +1,8 @@
 // libFuzzer target: a model file through the generator's front end.
 //
 // Each input is written to a temporary file (LoadModel reads a path) and run through
-// LoadModel (YAML syntax, names, references, expressions), BuildTopology (loops, mobility),
-// DeriveKinematics, the symbolic table (Phi, Phi_phi, Phi_q, K, L) and the function
+// LoadModel (YAML syntax, names, references, expressions), Validate (loops, mobility, cams,
+// ...), DeriveKinematics, the symbolic table (Phi, Phi_phi, Phi_q, K, L) and the function
 // builders with CSE. A bad model must end in a mechgen::ModelError or another
 // std::exception (GiNaC reports e.g. a division by zero that way); a crash, a sanitizer
 // report, a timeout or running out of memory is a finding. Emission (templates) is not
@@ -14,13 +14,14 @@
 #include <exception>
 #include <string>
 
+#include "analysis/kinematics.h"
+#include "analysis/topology.h"
+#include "analysis/validate.h"
 #include "codegen/cxx_code.h"
 #include "codegen/functions.h"
-#include "kinematics.h"
-#include "model.h"
+#include "model/model.h"
 #include "symbolic/table.h"
 #include "symbolic/transmission.h"
-#include "topology.h"
 
 namespace {
 
@@ -42,8 +43,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::fclose(file);
   try {
     const mechgen::Model model = mechgen::LoadModel(path);
-    const mechgen::Topology topology = mechgen::BuildTopology(model);
-    const mechgen::Kinematics kinematics = mechgen::DeriveKinematics(model, topology);
+    const mechgen::Analysis analysis = mechgen::Validate(model);
+    const mechgen::Topology& topology = analysis.topology;
+    const mechgen::Kinematics kinematics =
+        mechgen::DeriveKinematics(model, topology, &analysis.coordinates, &analysis.cams);
     const mechgen::SymbolicTable table(model, kinematics);
     const auto transmission = mechgen::FindTransmissionAngles(model, topology, kinematics, table.blocks);
     mechgen::CxxPrinter printer;

@@ -81,13 +81,14 @@ Vec2 Rot(const ex& a, const Vec2& v, bool back = false) {
 }  // namespace
 
 CamLaw BuildCamLaw(const Model& m, const Joint& j) {
+  const CamData& cd = j.Data<CamData>();
   CamLaw law;
   law.joint = static_cast<int>(&j - m.joints.data());
   law.cxx_name = "CamLaw_" + j.name;
   const GiNaC::exmap defaults = Defaults(m);
   const ex t = T(), beta = Beta();
-  ex begin = 0, level = 0, rises = 0, returns = 0;
-  for (const CamSegment& s : j.law) {
+  ex begin = 0, level = 0;
+  for (const CamSegment& s : cd.law) {
     ex f;  // normalized motion over t in [0, 1]
     std::string motion;
     switch (s.motion) {
@@ -116,16 +117,7 @@ CamLaw BuildCamLaw(const Model& m, const Joint& j) {
     law.what.push_back(what.str());
     begin += s.duration;
     level += h;
-    (s.kind == CamSegment::Kind::kRise ? rises : returns) += s.kind == CamSegment::Kind::kDwell ? ex(0) : s.lift;
   }
-  const double turn = Num(begin, defaults);
-  if (std::abs(turn - 2 * M_PI) > 1e-9)
-    m.Fail(j.law_mark, "the law of cam '" + j.name + "' spans " + Deg(turn) +
-                           " of cam angle, not 360 deg; make the segments' angles add up to one turn");
-  const double up = Num(rises, defaults), down = Num(returns, defaults);
-  if (std::abs(up - down) > 1e-9 * std::max(1.0, std::abs(up)))
-    m.Fail(j.law_mark, "the law of cam '" + j.name + "' does not close the cycle: its rises add up to " + G(up) +
-                           " and its returns to " + G(down) + "; the follower must return to its start");
   return law;
 }
 
@@ -141,28 +133,23 @@ double EvalCamLaw(const Model& m, const CamLaw& law, double x, int d) {
 }
 
 CamGeometry DeriveCamGeometry(const Model& m, const Joint& j) {
+  const CamData& cd = j.Data<CamData>();
   CamGeometry g;
   const ex x = g.x;
-  const Joint& fj = m.joints[j.other_joint];
+  const Joint& fj = m.joints[cd.follower_joint];
   const GiNaC::symbol Y("Y");  // the follower's coordinate
-  const ex law_x = x - j.phase;
-  const ex y = j.start + camlaw(j.cam_index, 0, law_x);
+  const ex law_x = x - cd.phase;
+  const ex y = cd.start + camlaw(cd.index, 0, law_x);
 
   // The follower's frame in the carrier's frame, as a function of Y.
   Frame f;
-  if (fj.type == JointType::kPrismatic)
-    f = PlaceChild(m, fj, j.carrier, Frame{}, fj.relative_angle, Y);
+  if (fj.type() == JointType::kPrismatic)
+    f = KindOf(fj).PlaceChild(m, fj, cd.carrier, Frame{}, fj.Data<PrismaticData>().relative_angle, Y);
   else
-    f = PlaceChild(m, fj, j.carrier, Frame{}, Y, 0);
+    f = KindOf(fj).PlaceChild(m, fj, cd.carrier, Frame{}, Y, 0);
   // The cam's frame: turned by x on its pivot.
-  int pivot = -1;
-  for (size_t r = 0; r < m.joints.size(); ++r) {
-    const Joint& rj = m.joints[r];
-    if (rj.type == JointType::kRevolute && ((rj.a.link == j.a.link && rj.b.link == j.carrier) ||
-                                            (rj.b.link == j.a.link && rj.a.link == j.carrier)))
-      pivot = static_cast<int>(r);
-  }
-  const Frame fc = PlaceChild(m, m.joints[pivot], j.carrier, Frame{}, x, 0);
+  const Joint& pivot = m.joints[cd.pivot];
+  const Frame fc = KindOf(pivot).PlaceChild(m, pivot, cd.carrier, Frame{}, x, 0);
   auto to_cam = [&](const Vec2& v) { return Rot(x, {v[0] - fc.x, v[1] - fc.y}, true); };
   auto at_y = [&](const ex& e) { return e.subs(GiNaC::lst{Y}, GiNaC::lst{y}); };
   // Velocity direction (per unit dY) of the follower-fixed point at q (carrier frame).
@@ -192,9 +179,9 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j) {
   store("out->y", y);
   store("out->y_x", y.diff(g.x));
   store("out->y_xx", y.diff(g.x).diff(g.x));
-  const Vec2 P = PointPosition(m, j.follower_point, f);
+  const Vec2 P = PointPosition(m, cd.point, f);
   const Vec2 P_y = {at_y(P[0]), at_y(P[1])};
-  if (!j.flat_face) {
+  if (!cd.flat_face) {
     // Pitch curve: the roller's centre (the knife's tip) in the cam's frame.
     const Vec2 C = to_cam(P_y);
     const ex cx1 = define("cx_x", C[0].diff(g.x)), cy1 = define("cy_x", C[1].diff(g.x));
@@ -204,15 +191,15 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j) {
     // The cam turns counter-clockwise, so the pitch point runs clockwise around it: a
     // convex stretch has turn < 0. rho > 0 where convex.
     g.rho_pitch = -pow(speed2, GiNaC::numeric(3, 2)) / cross;
-    g.rho_profile = g.rho_pitch - j.roller;
+    g.rho_profile = g.rho_pitch - cd.roller;
     store("out->rho_pitch", g.rho_pitch);
     store("out->rho_profile", g.rho_profile);
     // Common normal (outward, cam frame) and the force it carries, against the follower
     // point's direction of motion.
     const ex inv_speed = define("inv_speed", 1 / sqrt(speed2));
     const Vec2 N = {-cy1 * inv_speed, cx1 * inv_speed};
-    store("out->contact(0)", C[0] - j.roller * N[0]);
-    store("out->contact(1)", C[1] - j.roller * N[1]);
+    store("out->contact(0)", C[0] - cd.roller * N[0]);
+    store("out->contact(1)", C[1] - cd.roller * N[1]);
     const Vec2 Nc = Rot(x, N);
     const Vec2 v = point_velocity(P);
     // Named first: abs() is not expanded through, and GiNaC's sign normalization of an
@@ -229,7 +216,7 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j) {
   // rho = h + d2h/dphi2, contact at h n + dh/dphi t.
   // The face's direction in the cam's frame: e(theta_f + face_angle) turned back by x; the
   // normal's angle in the cam's frame is that direction's angle + 90 deg (+ 180 deg).
-  const ex face_carrier = at_y(f.theta) + j.face_angle;
+  const ex face_carrier = at_y(f.theta) + cd.face_angle;
   const Vec2 dir = Rot(x, {cos(face_carrier), sin(face_carrier)}, true);
   const ex face = face_carrier - x;  // differentiated only, never under sin or cos
   const Vec2 Pc = to_cam(P_y);
@@ -273,6 +260,7 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j) {
 }
 
 std::string CheckCam(const Model& m, const Joint& j, const CamLaw& law, const CamGeometry& g) {
+  const CamData& cd = j.Data<CamData>();
   NumericLaw numeric(m, law);
   const GiNaC::exmap defaults = Defaults(m);
   // The geometry's program statement by statement at a number x: each named local becomes a
@@ -290,7 +278,7 @@ std::string CheckCam(const Model& m, const Joint& j, const CamLaw& law, const Ca
     *rho_pitch = number(numeric(g.rho_pitch.subs(v)).evalf());
     *rho_profile = number(numeric(g.rho_profile.subs(v)).evalf());
   };
-  const double rr = Num(j.roller, Defaults(m));
+  const double rr = Num(cd.roller, Defaults(m));
   const int n = 720;
   double max_alpha = 0, x_alpha = 0, min_convex = INFINITY, x_convex = 0, min_profile = INFINITY, x_profile = 0;
   // Extremes must beat the last by more than rounding (GiNaC's evaluation order, and so
@@ -304,22 +292,22 @@ std::string CheckCam(const Model& m, const Joint& j, const CamLaw& law, const Ca
     if (rp > 0 && rp < min_convex - tie) min_convex = rp, x_convex = x;
     if (rf < min_profile - tie) min_profile = rf, x_profile = x;
   }
-  const std::string kind = std::string(m.joints[j.other_joint].type == JointType::kPrismatic ? "translating" : "oscillating") +
-                           (j.flat_face ? " flat-faced" : rr > 0 ? " roller" : " knife-edge") + " follower";
-  if (!j.flat_face && rr > 0 && min_convex < rr)
-    m.Fail(j.roller_mark, "cam '" + j.name + "': the roller radius " + G(rr) +
+  const std::string kind = std::string(m.joints[cd.follower_joint].type() == JointType::kPrismatic ? "translating" : "oscillating") +
+                           (cd.flat_face ? " flat-faced" : rr > 0 ? " roller" : " knife-edge") + " follower";
+  if (!cd.flat_face && rr > 0 && min_convex < rr)
+    m.Fail(cd.roller_mark, "cam '" + j.name + "': the roller radius " + G(rr) +
                               " is larger than the pitch curve's radius of curvature " + G(min_convex) +
                               " at cam angle " + Deg(x_convex) +
                               ", where the profile is convex: the profile undercuts. Use a smaller roller, a "
                               "larger base circle (start) or a longer rise");
-  if (j.flat_face && min_profile <= 0)
-    m.Fail(j.law_mark, "cam '" + j.name + "': the flat-faced follower's profile has radius of curvature " + G(min_profile) +
+  if (cd.flat_face && min_profile <= 0)
+    m.Fail(cd.law_mark, "cam '" + j.name + "': the flat-faced follower's profile has radius of curvature " + G(min_profile) +
                            " at cam angle " + Deg(x_profile) +
                            " (a cusp: the cam undercuts). Use a larger base circle (start) or longer rises and returns");
   std::string s = "cam " + j.name + ": " + kind + "; law:";
   for (size_t i = 0; i < law.what.size(); ++i) s += (i ? ", " : " ") + law.what[i];
   s += "; over one turn: max pressure angle " + Deg(max_alpha) + " at " + Deg(x_alpha);
-  if (j.flat_face)
+  if (cd.flat_face)
     s += ", min radius of curvature of the profile " + G(min_profile) + " at " + Deg(x_profile);
   else
     s += ", min radius of curvature of the pitch curve where convex " + G(min_convex) + " at " + Deg(x_convex) +
@@ -345,9 +333,10 @@ static ex camcontour_deriv(const ex& i, const ex& c, const ex& d, const ex& u, u
 REGISTER_FUNCTION(camcontour, derivative_func(camcontour_deriv).latex_name("\\mathrm{contour}"))
 
 Vec2 ContourPoint(const Joint& j, const ex& u, int d) {
-  if (j.contour == Joint::Contour::kSpline) return {camcontour(j.cam_index, 0, d, u), camcontour(j.cam_index, 1, d, u)};
-  const GiNaC::lst from{j.contour_u}, to{u};
-  return {j.contour_x.diff(j.contour_u, d).subs(from, to), j.contour_y.diff(j.contour_u, d).subs(from, to)};
+  const CamData& cd = j.Data<CamData>();
+  if (cd.contour == CamData::Contour::kSpline) return {camcontour(cd.index, 0, d, u), camcontour(cd.index, 1, d, u)};
+  const GiNaC::lst from{cd.contour_u}, to{u};
+  return {cd.contour_x.diff(cd.contour_u, d).subs(from, to), cd.contour_y.diff(cd.contour_u, d).subs(from, to)};
 }
 
 double EvalSpline(const CamContour& c, int coordinate, int d, double u) {
@@ -434,6 +423,7 @@ std::string Pt(const std::array<double, 2>& p) { return "(" + G(p[0]) + ", " + G
 }  // namespace
 
 CamContour BuildCamContour(const Model& m, const Joint& j) {
+  const CamData& cd = j.Data<CamData>();
   CamContour c;
   c.joint = static_cast<int>(&j - m.joints.data());
   c.cxx_name = "Contour_" + j.name;
@@ -441,22 +431,20 @@ CamContour BuildCamContour(const Model& m, const Joint& j) {
   const std::string who = "cam '" + j.name + "'";
   // The cam's pivot in the cam's frame: the contour must wind once around it.
   std::array<double, 2> pivot = {0, 0};
-  for (const Joint& rj : m.joints)
-    if (rj.type == JointType::kRevolute && ((rj.a.link == j.a.link && rj.b.link == j.carrier) ||
-                                            (rj.b.link == j.a.link && rj.a.link == j.carrier))) {
-      const PointRef pr = rj.a.link == j.a.link ? rj.a : rj.b;
-      const LinkPoint& lp = m.links[pr.link].points[pr.point];
-      pivot = {Num(lp.x, defaults), Num(lp.y, defaults)};
-    }
+  {
+    const PointRef pr = m.joints[cd.pivot].End(j.link_a);
+    const LinkPoint& lp = m.links[pr.link].points[pr.point];
+    pivot = {Num(lp.x, defaults), Num(lp.y, defaults)};
+  }
   double period = 0;
   std::function<double(int, int, double)> eval;
   std::vector<GiNaC::ex> derivs[2];
-  if (j.contour == Joint::Contour::kSpline) {
-    std::vector<std::array<double, 2>> pts = j.contour_points;
-    std::vector<SourceMark> marks = j.contour_point_marks;
+  if (cd.contour == CamData::Contour::kSpline) {
+    std::vector<std::array<double, 2>> pts = cd.contour_points;
+    std::vector<SourceMark> marks = cd.contour_point_marks;
     if (pts.size() >= 2 && pts.front() == pts.back()) pts.pop_back(), marks.pop_back();  // closed explicitly
     if (pts.size() < 4)
-      m.Fail(j.contour_mark, "the contour of " + who + " has " + std::to_string(pts.size()) +
+      m.Fail(cd.contour_mark, "the contour of " + who + " has " + std::to_string(pts.size()) +
                                  " distinct point(s); a periodic cubic spline needs at least 4");
     const size_t n = pts.size();
     for (size_t i = 0; i < n; ++i) {
@@ -487,19 +475,19 @@ CamContour BuildCamContour(const Model& m, const Joint& j) {
     period = c.knots.back();
     eval = [&c](int k, int d, double u) { return EvalSpline(c, k, d, u); };
   } else {
-    period = Num(j.contour_period, defaults);
+    period = Num(cd.contour_period, defaults);
     for (int k = 0; k < 2; ++k) {
-      const ex e = (k == 0 ? j.contour_x : j.contour_y).subs(defaults);
-      for (int d = 0; d < 3; ++d) derivs[k].push_back(e.diff(j.contour_u, d));
+      const ex e = (k == 0 ? cd.contour_x : cd.contour_y).subs(defaults);
+      for (int d = 0; d < 3; ++d) derivs[k].push_back(e.diff(cd.contour_u, d));
     }
     eval = [&](int k, int d, double u) {
-      const ex v = derivs[k][d].subs(GiNaC::lst{j.contour_u}, GiNaC::lst{u}).evalf();
+      const ex v = derivs[k][d].subs(GiNaC::lst{cd.contour_u}, GiNaC::lst{u}).evalf();
       return GiNaC::is_a<GiNaC::numeric>(v) ? GiNaC::ex_to<GiNaC::numeric>(v).to_double() : std::nan("");
     };
     const double gap = std::hypot(eval(0, 0, period) - eval(0, 0, 0), eval(1, 0, period) - eval(1, 0, 0));
     const double size = std::hypot(eval(0, 0, 0) - pivot[0], eval(1, 0, 0) - pivot[1]);
     if (!(gap <= 1e-9 * std::max(1.0, size)))
-      m.Fail(j.contour_mark, "the contour of " + who + " is not closed: it starts at " +
+      m.Fail(cd.contour_mark, "the contour of " + who + " is not closed: it starts at " +
                                  Pt({eval(0, 0, 0), eval(1, 0, 0)}) + " (u = 0) and ends at " +
                                  Pt({eval(0, 0, period), eval(1, 0, period)}) + " (u = period " + G(period) +
                                  "); make x(u) and y(u) periodic with that period");
@@ -519,34 +507,34 @@ CamContour BuildCamContour(const Model& m, const Joint& j) {
     const double x1 = eval(0, 1, us), y1 = eval(1, 1, us), x2 = eval(0, 2, us), y2 = eval(1, 2, us);
     const double kappa = (x1 * y2 - y1 * x2) / std::pow(std::hypot(x1, y1), 3);
     if (!std::isfinite(kappa))
-      m.Fail(j.contour_mark, "the contour of " + who + " has no tangent at u = " + G(us) + " (x'(u) = y'(u) = 0)");
+      m.Fail(cd.contour_mark, "the contour of " + who + " has no tangent at u = " + G(us) + " (x'(u) = y'(u) = 0)");
     if (kappa < 0 && -1 / kappa < min_concave - tie) min_concave = -1 / kappa, u_concave = us;
     if (kappa > 0 && 1 / kappa < min_convex - tie) min_convex = 1 / kappa, u_convex = us;
   }
   const long turns = std::lround(winding / (2 * M_PI));
   if (turns == -1)
-    m.Fail(j.contour_mark, "the contour of " + who + " runs clockwise around the cam's pivot " + Pt(pivot) +
+    m.Fail(cd.contour_mark, "the contour of " + who + " runs clockwise around the cam's pivot " + Pt(pivot) +
                                "; list it counter-clockwise");
   if (turns != 1)
-    m.Fail(j.contour_mark, "the contour of " + who + " does not close once around the cam's pivot " + Pt(pivot) +
+    m.Fail(cd.contour_mark, "the contour of " + who + " does not close once around the cam's pivot " + Pt(pivot) +
                                " (it winds " + std::to_string(turns) +
                                " times); a disk cam's contour must go once around its pivot, counter-clockwise");
-  const double rr = Num(j.roller, defaults);
-  if (!j.flat_face && rr > 0 && min_concave < rr)
-    m.Fail(j.roller_mark, who + ": the roller radius " + G(rr) + " is larger than the contour's radius of curvature " +
+  const double rr = Num(cd.roller, defaults);
+  if (!cd.flat_face && rr > 0 && min_concave < rr)
+    m.Fail(cd.roller_mark, who + ": the roller radius " + G(rr) + " is larger than the contour's radius of curvature " +
                               G(min_concave) + " at u = " + G(u_concave) +
                               ", where the contour is concave: the roller cannot follow it (undercutting). Use a "
                               "smaller roller or a flatter contour");
-  if (j.flat_face && min_concave < INFINITY)
-    m.Fail(j.contour_mark, who + ": the contour is concave at u = " + G(u_concave) + " (radius of curvature " +
+  if (cd.flat_face && min_concave < INFINITY)
+    m.Fail(cd.contour_mark, who + ": the contour is concave at u = " + G(u_concave) + " (radius of curvature " +
                                G(min_concave) + "): a flat-faced follower needs a convex contour");
-  const std::string kind = std::string(m.joints[j.other_joint].type == JointType::kPrismatic ? "translating" : "oscillating") +
-                           (j.flat_face ? " flat-faced" : rr > 0 ? " roller" : " knife-edge") + " follower";
+  const std::string kind = std::string(m.joints[cd.follower_joint].type() == JointType::kPrismatic ? "translating" : "oscillating") +
+                           (cd.flat_face ? " flat-faced" : rr > 0 ? " roller" : " knife-edge") + " follower";
   c.summary = "cam " + j.name + ": " + kind + "; contour " +
-              (j.contour == Joint::Contour::kSpline
+              (cd.contour == CamData::Contour::kSpline
                    ? "by a periodic cubic spline through " + std::to_string(c.knots.size() - 1) +
                          " points (chord-length parameter u, period " + G(period) + ")"
-                   : j.contour_text + ", period " + G(period)) +
+                   : cd.contour_text + ", period " + G(period)) +
               "; min radius of curvature where convex " + G(min_convex) + " at u = " + G(u_convex) +
               (min_concave < INFINITY ? ", where concave " + G(min_concave) + " at u = " + G(u_concave)
                                       : ", concave nowhere");

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "joints.h"
-#include "model.h"
+#include "joints/joint_kind.h"
+#include "model/model.h"
 #include "symbolic/program.h"
 
 namespace mechgen {
@@ -40,8 +40,8 @@ struct CamLaw {
   std::vector<double> begin_value;   ///< begin at the parameters' defaults
 };
 
-/// The law of cam joint `j`, checked at the parameters' defaults: the segments must span
-/// one turn and the follower must come back to zero lift (ModelError otherwise).
+/// The law of cam joint `j` (the validation stage has checked that it spans one turn and
+/// brings the follower back: CheckCamLaw in analysis/validate.h).
 CamLaw BuildCamLaw(const Model& m, const Joint& j);
 
 /// The law's d-th derivative at x (radians, any turn), at the parameters' defaults.
@@ -64,7 +64,7 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j);
 /// Fills the summary line for the report and the generated header.
 std::string CheckCam(const Model& m, const Joint& j, const CamLaw& law, const CamGeometry& g);
 
-/// A cam given by its contour (Joint::contour) in the cam's frame: expressions in u, or a
+/// A cam given by its contour (CamData::contour) in the cam's frame: expressions in u, or a
 /// periodic cubic spline through points, parametrized by chord length.
 struct CamContour {
   int joint = -1;

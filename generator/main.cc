@@ -11,15 +11,16 @@
 #include <iostream>
 #include <memory>
 
+#include "analysis/grashof.h"
+#include "analysis/kinematics.h"
+#include "analysis/topology.h"
+#include "analysis/validate.h"
 #include "codegen/emit.h"
 #include "codegen/functions.h"
-#include "grashof.h"
-#include "kinematics.h"
-#include "model.h"
+#include "model/model.h"
 #include "report/report.h"
 #include "symbolic/table.h"
 #include "symbolic/transmission.h"
-#include "topology.h"
 
 #ifndef MECHGEN_SOURCE_TEMPLATES
 #define MECHGEN_SOURCE_TEMPLATES ""
@@ -55,9 +56,10 @@ struct Pipeline {
 void Run(Pipeline* p, const std::string& path, const std::string& name, const std::string& templates,
          mechgen::Strategy strategy) {
   p->model = mechgen::LoadModel(path, name);
-  p->topology = mechgen::BuildTopology(p->model);
-  p->four_bars = mechgen::ClassifyFourBars(p->model, p->topology);
-  p->kinematics = mechgen::DeriveKinematics(p->model, p->topology);
+  mechgen::Analysis analysis = mechgen::Validate(p->model);
+  p->topology = analysis.topology;
+  p->four_bars = analysis.four_bars;
+  p->kinematics = mechgen::DeriveKinematics(p->model, p->topology, &analysis.coordinates, &analysis.cams);
   p->table = std::make_unique<mechgen::SymbolicTable>(p->model, p->kinematics, strategy);
   p->transmission = mechgen::FindTransmissionAngles(p->model, p->topology, p->kinematics, p->table->blocks);
   p->functions = mechgen::BuildFunctions(p->model, p->kinematics, *p->table, p->transmission, &p->printer);

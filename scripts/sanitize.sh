@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Second stage of the test command: builds the test suite with AddressSanitizer and
 # UndefinedBehaviorSanitizer in ./build-asan (MECHGEN_ASAN_BUILD overrides) and runs ctest
-# there. Called by scripts/test.sh (and so by .ci/run) after the Release suite. Benchmarks are not built. Every test runs; extra ctest arguments
-# are passed on (e.g. -R runtime to restrict it).
+# there. Called by scripts/test.sh (and so by .ci/run) after the Release suite. Neither the
+# benchmarks nor the <model>_sweep commands are built (no test runs them, and the 17 sweep
+# commands were most of this stage's build time). Every test runs; extra ctest arguments
+# are passed on (e.g. -R runtime to restrict it, -LE slow to skip the slow ones).
 #   bash scripts/sanitize.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,7 +17,7 @@ export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/lsan.supp:print_suppr
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 start=$(date +%s)
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DMECHGEN_BUILD_BENCHMARKS=OFF \
+  -DMECHGEN_BUILD_BENCHMARKS=OFF -DMECHGEN_BUILD_SWEEPS=OFF \
   -DCMAKE_CXX_FLAGS="$sanitize" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null

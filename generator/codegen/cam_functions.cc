@@ -42,7 +42,7 @@ FunctionSpec CamLawSpec(const Model& m, const CamLaw& law, CxxPrinter* printer) 
       P.push_back(Raw("{  // " + what));
     else
       P.push_back(Raw("if (x < " + printer->Print((law.begin[k] + law.duration[k]).expand()) + ") {  // " + what));
-    if (j.law[k].kind == CamSegment::Kind::kDwell) {
+    if (j.Data<CamData>().law[k].kind == CamSegment::Kind::kDwell) {
       P.push_back(Raw("  return d == 0 ? " + printer->Print(law.lift[k][0].expand()) + " : Scalar(0);"));
     } else {
       P.push_back(Raw("  const Scalar beta = " + printer->Print(law.duration[k].expand()) + ";"));

@@ -291,8 +291,8 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.SetList("phi_doc", phidoc, {"index", "name", "what"});
   for (int i = 0; i < k.nc(); ++i) {
     CxxPrinter plain;  // GiNaC's own term order varies between runs: print ours
-    for (const CamLaw& law : k.cam_laws) plain.NameCamLaw(m.joints[law.joint].cam_index, law.cxx_name);
-    for (const CamContour& c : k.cam_contours) plain.NameCamContour(m.joints[c.joint].cam_index, c.cxx_name);
+    for (const CamLaw& law : k.cam_laws) plain.NameCamLaw(m.joints[law.joint].Data<CamData>().index, law.cxx_name);
+    for (const CamContour& c : k.cam_contours) plain.NameCamContour(m.joints[c.joint].Data<CamData>().index, c.cxx_name);
     for (const auto& c : k.q) plain.Name(c.symbol, c.name);
     for (const auto& c : k.phi) plain.Name(c.symbol, c.name);
     for (const auto& p : m.params) plain.Name(p.symbol, p.name);

@@ -9,11 +9,11 @@
 
 #include "codegen/cxx_code.h"
 #include "codegen/function_spec.h"
-#include "kinematics.h"
-#include "model.h"
+#include "analysis/kinematics.h"
+#include "model/model.h"
 #include "symbolic/table.h"
 #include "symbolic/transmission.h"
-#include "topology.h"
+#include "analysis/topology.h"
 
 namespace mechgen {
 

@@ -70,9 +70,9 @@ void NameModelSymbols(const Model& m, const Kinematics& k, CxxPrinter* printer) 
   for (int i = 0; i < k.nq(); ++i) printer->Name(k.q[i].symbol, "q(" + N(i) + ")");
   for (int i = 0; i < k.nphi(); ++i) printer->Name(k.phi[i].symbol, "phi(" + N(i) + ")");
   for (const Parameter& p : m.params) printer->Name(p.symbol, "p." + p.name);
-  for (const CamLaw& law : k.cam_laws) printer->NameCamLaw(m.joints[law.joint].cam_index, law.cxx_name);
+  for (const CamLaw& law : k.cam_laws) printer->NameCamLaw(m.joints[law.joint].Data<CamData>().index, law.cxx_name);
   for (const CamGeometry& g : k.cam_geometry) printer->Name(g.x, "x");
-  for (const CamContour& c : k.cam_contours) printer->NameCamContour(m.joints[c.joint].cam_index, c.cxx_name);
+  for (const CamContour& c : k.cam_contours) printer->NameCamContour(m.joints[c.joint].Data<CamData>().index, c.cxx_name);
 }
 
 FunctionSpec EvalPhiSpec(const SymbolicTable& t) {
@@ -305,7 +305,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
     out.push_back(EvalCamSpec(m, k.cam_laws[c], k.cam_geometry[c]));
   }
   for (const CamContour& c : k.cam_contours)
-    if (m.joints[c.joint].contour == Joint::Contour::kSpline) out.push_back(ContourSpec(m, c));
+    if (m.joints[c.joint].Data<CamData>().contour == CamData::Contour::kSpline) out.push_back(ContourSpec(m, c));
   out.push_back(EvalPhiSpec(t));
   FunctionSpec coefficients = EvalCoefficientsSpec(t);
   std::vector<bool> trig_done;

@@ -1,6 +1,8 @@
 // The model report. See report.h.
 #include "report/report.h"
 
+#include "joints/joint_kind.h"
+
 namespace mechgen {
 namespace {
 
@@ -102,28 +104,7 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
     os << "Joints (" << m.joints.size() << "):\n";
     for (const Joint& j : m.joints) {
       os << "  " << j.name << ": ";
-      switch (j.type) {
-        case JointType::kRevolute: os << "revolute " << m.PointName(j.a) << " = " << m.PointName(j.b); break;
-        case JointType::kPrismatic: os << "prismatic " << m.PointName(j.a) << " guides " << m.PointName(j.b); break;
-        case JointType::kRoll:
-          os << "rolling, wheel " << m.PointName(j.b) << " radius " << j.radius << " on the "
-             << (j.on_line ? "line through " : j.internal ? "inside of the circle about " : "circle about ")
-             << m.PointName(j.a);
-          if (!j.on_line) os << " radius " << j.radius2;
-          break;
-        case JointType::kGear:
-          os << (j.internal ? "internal" : "external") << " gear pair " << m.links[j.a.link].name << " (r " << j.radius
-             << ") / " << m.links[j.b.link].name << " (r " << j.radius2 << "), carrier " << m.links[j.carrier].name;
-          break;
-        case JointType::kRack:
-          os << "rack and pinion, pinion " << m.links[j.a.link].name << " (r " << j.radius << "), rack "
-             << m.links[j.b.link].name << " on '" << m.joints[j.other_joint].name << "'";
-          break;
-        case JointType::kCam:
-          os << "cam " << m.links[j.a.link].name << ", follower " << m.links[j.b.link].name << " on '"
-             << m.joints[j.other_joint].name << "'";
-          break;
-      }
+      os << KindOf(j).Describe(m, j);
       os << "\n";
     }
     os << "Independent loops (" << t.loops.size() << "), closed by the cut joints of a spanning tree:\n";

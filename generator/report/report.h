@@ -5,13 +5,13 @@
 
 #include <ostream>
 
+#include "analysis/grashof.h"
+#include "analysis/kinematics.h"
+#include "analysis/topology.h"
 #include "codegen/emit.h"
-#include "grashof.h"
-#include "kinematics.h"
-#include "model.h"
+#include "model/model.h"
 #include "symbolic/table.h"
 #include "symbolic/transmission.h"
-#include "topology.h"
 
 namespace mechgen {
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "kinematics.h"
+#include "analysis/kinematics.h"
 
 namespace mechgen {
 

@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "kinematics.h"
+#include "analysis/kinematics.h"
 #include "symbolic/blocks.h"
 
 namespace mechgen {

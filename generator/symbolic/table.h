@@ -24,7 +24,7 @@
 #include <utility>
 #include <vector>
 
-#include "kinematics.h"
+#include "analysis/kinematics.h"
 #include "symbolic/blocks.h"
 #include "symbolic/program.h"
 

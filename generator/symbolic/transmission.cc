@@ -3,13 +3,13 @@
 
 #include <algorithm>
 
-#include "grashof.h"
-#include "joints.h"
+#include "analysis/grashof.h"
+#include "joints/joint_kind.h"
 
 namespace mechgen {
 namespace {
 
-PointRef End(const Joint& j, int link) { return j.a.link == link ? j.a : j.b; }
+PointRef End(const Joint& j, int link) { return j.End(link); }
 
 }  // namespace
 

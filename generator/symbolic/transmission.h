@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "kinematics.h"
-#include "model.h"
+#include "analysis/kinematics.h"
+#include "analysis/topology.h"
+#include "model/model.h"
 #include "symbolic/blocks.h"
-#include "topology.h"
 
 namespace mechgen {
 

@@ -16,11 +16,11 @@
 #include <string>
 #include <vector>
 
+#include "analysis/kinematics.h"
+#include "analysis/topology.h"
 #include "cam_contour.h"
 #include "cam_spline.h"
-#include "kinematics.h"
-#include "model.h"
-#include "topology.h"
+#include "model/model.h"
 
 namespace {
 

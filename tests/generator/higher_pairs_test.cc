@@ -21,15 +21,16 @@
 #include <string>
 #include <vector>
 
+#include "analysis/kinematics.h"
+#include "analysis/topology.h"
+#include "analysis/validate.h"
 #include "cam_flat.h"
 #include "cam_roller.h"
 #include "cardan.h"
 #include "geared_fivebar.h"
-#include "kinematics.h"
-#include "model.h"
+#include "model/model.h"
 #include "planetary.h"
 #include "rolling_wheel.h"
-#include "topology.h"
 
 namespace {
 
@@ -426,7 +427,7 @@ inputs:
 )";
   const mechgen::Model m = Load(text);
   try {
-    mechgen::BuildTopology(m);
+    mechgen::Validate(m);
     FAIL() << "link b is held only by a gear";
   } catch (const mechgen::ModelError& e) {
     EXPECT_NE(e.message().find("'b' is not connected"), std::string::npos) << e.message();

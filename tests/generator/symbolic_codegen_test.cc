@@ -15,12 +15,12 @@
 #include "codegen/emit.h"
 #include "codegen/functions.h"
 #include "codegen/sha256.h"
-#include "kinematics.h"
-#include "model.h"
+#include "analysis/kinematics.h"
+#include "model/model.h"
 #include "symbolic/dyads.h"
 #include "symbolic/table.h"
 #include "symbolic/transmission.h"
-#include "topology.h"
+#include "analysis/topology.h"
 
 namespace mechgen {
 namespace {

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "kinematics.h"
-#include "model.h"
-#include "topology.h"
+#include "analysis/kinematics.h"
+#include "analysis/topology.h"
+#include "model/model.h"
 
 namespace mechgen {
 namespace {

@@ -13,11 +13,11 @@
 #include <vector>
 
 #include "all_models.h"
-#include "kinematics.h"
-#include "model.h"
+#include "analysis/kinematics.h"
+#include "model/model.h"
 #include "symbolic/dyads.h"
 #include "symbolic/table.h"
-#include "topology.h"
+#include "analysis/topology.h"
 
 namespace {
 

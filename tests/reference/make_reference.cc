@@ -36,9 +36,9 @@
 #include <string>
 #include <vector>
 
-#include "kinematics.h"
-#include "model.h"
-#include "topology.h"
+#include "analysis/kinematics.h"
+#include "analysis/topology.h"
+#include "model/model.h"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "model.h"
+#include "model/model.h"
 
 namespace mechgen {
 
@@ -34,18 +34,25 @@ struct Topology {
 
   int num_prismatic = 0;
   int num_contact = 0;         ///< rolling joints and contour cams (each has a contact parameter)
-  int num_variables = 0;       ///< (groups - 1) + prismatic joints + rolling joints
-  int num_equations = 0;       ///< 2 per lower-pair cut, 1 per higher pair and per rolling joint
+  int num_variables = 0;       ///< (groups - 1) + prismatic joints + contact parameters
+  int num_equations = 0;       ///< 2 per lower-pair cut, 1 per higher pair, 1 per contact parameter
   int grubler_mobility = 0;    ///< 3 (n - 1) - 2 j1 - j2
   int loop_mobility = 0;       ///< variables - equations
   std::string grubler_text;    ///< the formula with the numbers
   std::string loop_text;       ///< "3 variables - 2*1 loops = 1"
 
+  /// What the validation stage reports (BuildTopology itself does not fail): links no
+  /// lower pair connects to the ground, and the first prismatic joint whose relative
+  /// angle contradicts other sliders' (-1 if none).
+  std::vector<int> unconnected;
+  int inconsistent_slider = -1;
+
   int num_groups() const { return static_cast<int>(rep.size()); }
 };
 
-/// Builds the topology; fails (ModelError) on disconnected links, inconsistent sliders,
-/// and a mobility that does not match the declared inputs.
+/// Builds the topology. It does not fail: disconnected links, inconsistent sliders and a
+/// mobility that does not match the declared inputs are the validation stage's errors
+/// (Validate() in analysis/validate.h).
 Topology BuildTopology(const Model& m);
 
 }  // namespace mechgen

@@ -1,9 +1,11 @@
 // Graph analysis of the link–joint network. See topology.h.
-#include "topology.h"
+#include "analysis/topology.h"
 
 #include <algorithm>
 #include <deque>
 #include <sstream>
+
+#include "joints/joint_kind.h"
 
 namespace mechgen {
 
@@ -17,8 +19,6 @@ std::string Loop::Text(const Model& m) const {
 }
 
 namespace {
-
-int OtherLink(const Joint& j, int link) { return j.a.link == link ? j.b.link : j.a.link; }
 
 // Weighted union–find over links: theta[l] = theta[root] + off[l].
 struct RotationSets {
@@ -46,22 +46,21 @@ Topology BuildTopology(const Model& m) {
 
   // ---- rotation groups: theta_slider = theta_guide + relative_angle ----
   RotationSets sets(n);
-  for (const Joint& j : m.joints) {
-    if (j.type != JointType::kPrismatic) continue;
+  for (size_t k = 0; k < m.joints.size(); ++k) {
+    const Joint& j = m.joints[k];
+    if (j.type() != JointType::kPrismatic) continue;
     ++t.num_prismatic;
-    const int g = j.a.link, s = j.b.link;
+    const GiNaC::ex& relative_angle = j.Data<PrismaticData>().relative_angle;
+    const int g = j.link_a, s = j.link_b;
     const int rg = sets.Find(g), rs = sets.Find(s);
     if (rg == rs) {
       // Already parallel through other sliders: the relative angles must agree.
-      const GiNaC::ex mismatch = (sets.off[s] - sets.off[g] - j.relative_angle).expand();
-      if (!mismatch.is_zero())
-        m.Fail(j.mark, "prismatic joint '" + j.name + "' fixes the angle between '" +
-                           m.links[g].name + "' and '" + m.links[s].name +
-                           "' differently from other sliders; check relative_angle");
+      const GiNaC::ex mismatch = (sets.off[s] - sets.off[g] - relative_angle).expand();
+      if (!mismatch.is_zero() && t.inconsistent_slider < 0) t.inconsistent_slider = static_cast<int>(k);
       continue;
     }
     sets.parent[rs] = rg;
-    sets.off[rs] = sets.off[g] + j.relative_angle - sets.off[s];
+    sets.off[rs] = sets.off[g] + relative_angle - sets.off[s];
   }
   // Group representative: the ground if the group holds it, else its first link.
   t.group.assign(n, -1);
@@ -97,8 +96,8 @@ Topology BuildTopology(const Model& m) {
     t.order.push_back(u);
     for (size_t k = 0; k < m.joints.size(); ++k) {
       const Joint& j = m.joints[k];
-      if (!j.IsLowerPair() || (j.a.link != u && j.b.link != u)) continue;
-      const int v = OtherLink(j, u);
+      if (!j.IsLowerPair() || !j.Joins(u)) continue;
+      const int v = j.OtherLink(u);
       if (seen[v]) continue;
       seen[v] = true;
       is_tree[k] = true;
@@ -107,10 +106,7 @@ Topology BuildTopology(const Model& m) {
     }
   }
   for (int l = 0; l < n; ++l)
-    if (!seen[l])
-      m.Fail(m.links[l].mark, "link '" + m.links[l].name +
-                                  "' is not connected to the ground through revolute, prismatic or rolling " +
-                                  "joints (gears and cams cannot place a link); add a pivot or remove the link");
+    if (!seen[l]) t.unconnected.push_back(l);
   for (size_t k = 0; k < m.joints.size(); ++k)
     (is_tree[k] ? t.tree_joints : t.cut_joints).push_back(static_cast<int>(k));
 
@@ -118,14 +114,14 @@ Topology BuildTopology(const Model& m) {
   auto path_to_ground = [&](int l) {
     std::vector<int> path{l};
     while (t.parent_joint[l] >= 0) {
-      l = OtherLink(m.joints[t.parent_joint[l]], l);
+      l = m.joints[t.parent_joint[l]].OtherLink(l);
       path.push_back(l);
     }
     return path;
   };
   for (int c : t.cut_joints) {
     const Joint& j = m.joints[c];
-    std::vector<int> pa = path_to_ground(j.a.link), pb = path_to_ground(j.b.link);
+    std::vector<int> pa = path_to_ground(j.link_a), pb = path_to_ground(j.link_b);
     // Strip the common tail (ancestors shared by both paths) but keep the meeting link.
     while (pa.size() > 1 && pb.size() > 1 && pa[pa.size() - 2] == pb[pb.size() - 2]) {
       pa.pop_back();
@@ -141,7 +137,7 @@ Topology BuildTopology(const Model& m) {
       loop.links.push_back(pb[i]);
     }
     loop.joints.push_back(c);
-    loop.links.push_back(j.a.link);
+    loop.links.push_back(j.link_a);
     // Start the loop at the ground if it holds it (else at its first link in the file),
     // as a reader would trace it; joints[i] still joins links[i] and links[i + 1].
     loop.links.pop_back();
@@ -162,8 +158,10 @@ Topology BuildTopology(const Model& m) {
   // cut joint, 1 per higher pair, and the no-slip equation of every rolling joint.
   int j1 = 0, j2 = 0;
   for (const Joint& j : m.joints) (j.IsLowerPair() ? j1 : j2) += 1;
+  // Every joint coordinate but a slider's displacement is a contact parameter (roll: s or
+  // psi, contour cam: u), and comes with one more equation (no slip, the second contact row).
   for (const Joint& j : m.joints)
-    t.num_contact += j.type == JointType::kRoll || (j.type == JointType::kCam && j.contour != Joint::Contour::kNone);
+    t.num_contact += KindOf(j).Coordinate(m, j).has_value() && j.type() != JointType::kPrismatic;
   t.num_variables = (t.num_groups() - 1) + t.num_prismatic + t.num_contact;
   t.num_equations = 0;
   for (int c : t.cut_joints) t.num_equations += m.joints[c].IsLowerPair() ? 2 : 1;
@@ -183,35 +181,6 @@ Topology BuildTopology(const Model& m) {
                             : std::to_string(t.num_equations) + " equations") +
                 " = " + std::to_string(t.loop_mobility);
 
-  const int declared = static_cast<int>(m.inputs.size());
-  if (t.loop_mobility <= 0)
-    m.Fail(m.inputs_mark, "the mechanism cannot move: mobility " + std::to_string(t.loop_mobility) +
-                              " (Grübler–Kutzbach " + t.grubler_text +
-                              "); it is a structure" +
-                              (t.loop_mobility < 0 ? " and over-constrained" : "") +
-                              ". Remove a joint or add a link");
-  if (declared != t.loop_mobility) {
-    std::string detail = "Grübler–Kutzbach " + t.grubler_text + ", loop criterion " + t.loop_text;
-    m.Fail(m.inputs_mark, std::to_string(declared) + " input(s) declared but the mechanism has " +
-                              std::to_string(t.loop_mobility) + " degree(s) of freedom (" + detail +
-                              "); declare exactly " + std::to_string(t.loop_mobility) +
-                              " driven joint(s)");
-  }
-  // Each input must drive its own variable.
-  std::vector<int> driven_group(t.num_groups(), -1);
-  for (const Input& in : m.inputs) {
-    const Joint& j = m.joints[in.joint];
-    if (j.type != JointType::kRevolute && j.type != JointType::kRoll) continue;
-    const int moving = j.a.link == m.ground ? j.b.link : j.a.link;
-    const int g = t.group[moving];
-    if (g == t.ground_group)
-      m.Fail(in.mark, "input joint '" + j.name + "' cannot turn: link '" + m.links[moving].name +
-                          "' also slides on the ground and keeps its angle");
-    if (driven_group[g] >= 0)
-      m.Fail(in.mark, "inputs '" + m.joints[driven_group[g]].name + "' and '" + j.name +
-                          "' drive the same angle; drive independent joints");
-    driven_group[g] = in.joint;
-  }
   return t;
 }
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "model.h"
-#include "topology.h"
+#include "analysis/topology.h"
+#include "model/model.h"
 
 namespace mechgen {
 
@@ -24,14 +24,22 @@ struct FourBarLoop {
   bool has_mu = false;
   std::string mu_input;  ///< the input joint
   double mu_min = 0, mu_max = 0, q_at_mu_min = 0, q_at_mu_max = 0;  ///< radians
-  std::string MuText() const;  ///< "over input A's range mu = 32.1 deg (at 180.0 deg) ... 94.2 deg (at 0.0 deg)"
+  std::string MuText() const;
+  /// The first input (index into Model::inputs) whose declared range the loop cannot
+  /// reach, the driven link and the first angle it cannot reach; -1 if none.
+  int unreachable_input = -1;
+  int unreachable_link = -1;
+  double unreachable_q = 0;  ///< "over input A's range mu = 32.1 deg (at 180.0 deg) ... 94.2 deg (at 0.0 deg)"
 };
 
 /// A loop of four links joined by four revolute joints.
 bool IsFourBarLoop(const Model& m, const Loop& loop);
 
 /// Classifies the four-bar loops, with lengths at the parameters' default values, and
-/// fails (ModelError at the input) when a driven link's range leaves the loop's reach.
+/// notes a driven link's range that leaves the loop's reach.
 std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t);
+
+/// The validation stage's check: ModelError at the input if `f` notes an unreachable range.
+void CheckFourBarRange(const Model& m, const FourBarLoop& f);
 
 }  // namespace mechgen

@@ -1,5 +1,5 @@
 // Four-bar classification and input-range check. See grashof.h.
-#include "grashof.h"
+#include "analysis/grashof.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,7 +26,7 @@ P2 Local(const Model& m, PointRef r, const GiNaC::exmap& d) {
 double Dist(P2 a, P2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 // The point of joint j on link `link`.
-PointRef End(const Joint& j, int link) { return j.a.link == link ? j.a : j.b; }
+PointRef End(const Joint& j, int link) { return j.End(link); }
 
 std::string Deg(double rad) {
   char buf[32];
@@ -54,8 +54,16 @@ std::string FourBarLoop::MuText() const {
 bool IsFourBarLoop(const Model& m, const Loop& loop) {
   if (loop.joints.size() != 4) return false;
   for (int j : loop.joints)
-    if (m.joints[j].type != JointType::kRevolute) return false;
+    if (m.joints[j].type() != JointType::kRevolute) return false;
   return true;
+}
+
+void CheckFourBarRange(const Model& m, const FourBarLoop& f) {
+  if (f.unreachable_input < 0) return;
+  const Input& in = m.inputs[f.unreachable_input];
+  m.Fail(in.mark, "input joint '" + m.joints[in.joint].name + "' is driven over [" + Deg(in.min) + ", " + Deg(in.max) +
+                      "], but " + f.Text() + ": link '" + m.links[f.unreachable_link].name + "' cannot reach " +
+                      Deg(f.unreachable_q) + " (the loop cannot close there); narrow the range or change the lengths");
 }
 
 std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
@@ -108,7 +116,7 @@ std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
     }
     for (const Input& in : m.inputs) {
       const Joint& ij = m.joints[in.joint];
-      if (ij.type != JointType::kRevolute) continue;
+      if (ij.type() != JointType::kRevolute) continue;
       const int pos_in_loop = static_cast<int>(std::find(loop.joints.begin(), loop.joints.end(), in.joint) - loop.joints.begin());
       if (pos_in_loop >= 4) continue;
       // joints[i] joins links[i] and links[i + 1]; the ground is links[g].
@@ -154,11 +162,10 @@ std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
           if (mu < f.mu_min) f.mu_min = mu, f.q_at_mu_min = qv;
           if (mu > f.mu_max) f.mu_max = mu, f.q_at_mu_max = qv;
         }
-        if (dd > b + c + 1e-12 * scale || dd < std::abs(b - c) - 1e-12 * scale) {
-          m.Fail(in.mark, "input joint '" + ij.name + "' is driven over [" + Deg(in.min) + ", " + Deg(in.max) +
-                              "], but " + f.Text() + ": link '" + m.links[driven].name +
-                              "' cannot reach " + Deg(qv) + " (the loop cannot close there); narrow the " +
-                              "range or change the lengths");
+        if (f.unreachable_input < 0 && (dd > b + c + 1e-12 * scale || dd < std::abs(b - c) - 1e-12 * scale)) {
+          f.unreachable_input = static_cast<int>(&in - m.inputs.data());
+          f.unreachable_link = driven;
+          f.unreachable_q = qv;
         }
       }
       if (first_input && !(f.mu_min <= f.mu_max)) f.has_mu = false;  // a zero-length coupler or output

@@ -1,0 +1,127 @@
+// The validation stage. See validate.h.
+#include "analysis/validate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "joints/joint_kind.h"
+
+namespace mechgen {
+namespace {
+
+double Num(const GiNaC::ex& e, const GiNaC::exmap& values) {
+  const GiNaC::ex v = e.subs(values).evalf();
+  if (!GiNaC::is_a<GiNaC::numeric>(v)) return std::nan("");
+  return GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+}
+
+std::string Deg(double rad) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f deg", rad * 180 / M_PI);
+  return buf;
+}
+
+std::string G(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+}  // namespace
+
+void CheckCamLaw(const Model& m, const Joint& j) {
+  const CamData& cd = j.Data<CamData>();
+  GiNaC::ex turn_ex = 0, rises = 0, returns = 0;
+  for (const CamSegment& s : cd.law) {
+    turn_ex += s.duration;
+    if (s.kind == CamSegment::Kind::kRise) rises += s.lift;
+    if (s.kind == CamSegment::Kind::kReturn) returns += s.lift;
+  }
+  const GiNaC::exmap defaults = m.Defaults();
+  const double turn = Num(turn_ex, defaults);
+  if (std::abs(turn - 2 * M_PI) > 1e-9)
+    m.Fail(cd.law_mark, "the law of cam '" + j.name + "' spans " + Deg(turn) +
+                            " of cam angle, not 360 deg; make the segments' angles add up to one turn");
+  const double up = Num(rises, defaults), down = Num(returns, defaults);
+  if (std::abs(up - down) > 1e-9 * std::max(1.0, std::abs(up)))
+    m.Fail(cd.law_mark, "the law of cam '" + j.name + "' does not close the cycle: its rises add up to " + G(up) +
+                            " and its returns to " + G(down) + "; the follower must return to its start");
+}
+
+CamAnalysis AnalyzeCams(const Model& m) {
+  CamAnalysis c;
+  for (const Joint& j : m.joints) {
+    if (j.type() != JointType::kCam) continue;
+    if (j.Data<CamData>().contour != CamData::Contour::kNone) {
+      c.contours.push_back(BuildCamContour(m, j));
+      continue;
+    }
+    CheckCamLaw(m, j);
+    c.laws.push_back(BuildCamLaw(m, j));
+    c.geometry.push_back(DeriveCamGeometry(m, j));
+    c.summary.push_back(CheckCam(m, j, c.laws.back(), c.geometry.back()));
+  }
+  return c;
+}
+
+void CheckTopology(const Model& m, const Topology& t) {
+  if (t.inconsistent_slider >= 0) {
+    const Joint& j = m.joints[t.inconsistent_slider];
+    m.Fail(j.mark, "prismatic joint '" + j.name + "' fixes the angle between '" + m.links[j.link_a].name + "' and '" +
+                       m.links[j.link_b].name + "' differently from other sliders; check relative_angle");
+  }
+  for (int l : t.unconnected)
+    m.Fail(m.links[l].mark, "link '" + m.links[l].name +
+                                "' is not connected to the ground through revolute, prismatic or rolling " +
+                                "joints (gears and cams cannot place a link); add a pivot or remove the link");
+  const int declared = static_cast<int>(m.inputs.size());
+  if (t.loop_mobility <= 0)
+    m.Fail(m.inputs_mark, "the mechanism cannot move: mobility " + std::to_string(t.loop_mobility) +
+                              " (Grübler–Kutzbach " + t.grubler_text + "); it is a structure" +
+                              (t.loop_mobility < 0 ? " and over-constrained" : "") + ". Remove a joint or add a link");
+  if (declared != t.loop_mobility) {
+    std::string detail = "Grübler–Kutzbach " + t.grubler_text + ", loop criterion " + t.loop_text;
+    m.Fail(m.inputs_mark, std::to_string(declared) + " input(s) declared but the mechanism has " +
+                              std::to_string(t.loop_mobility) + " degree(s) of freedom (" + detail +
+                              "); declare exactly " + std::to_string(t.loop_mobility) + " driven joint(s)");
+  }
+  // Each input must drive its own variable.
+  std::vector<int> driven_group(t.num_groups(), -1);
+  for (const Input& in : m.inputs) {
+    const Joint& j = m.joints[in.joint];
+    if (j.type() != JointType::kRevolute && j.type() != JointType::kRoll) continue;
+    const int moving = j.link_a == m.ground ? j.link_b : j.link_a;
+    const int g = t.group[moving];
+    if (g == t.ground_group)
+      m.Fail(in.mark, "input joint '" + j.name + "' cannot turn: link '" + m.links[moving].name +
+                          "' also slides on the ground and keeps its angle");
+    if (driven_group[g] >= 0)
+      m.Fail(in.mark, "inputs '" + m.joints[driven_group[g]].name + "' and '" + j.name +
+                          "' drive the same angle; drive independent joints");
+    driven_group[g] = in.joint;
+  }
+}
+
+Analysis Validate(const Model& m) {
+  Analysis a;
+  for (const Joint& j : m.joints) KindOf(j).Check(m, j);
+  a.topology = BuildTopology(m);
+  CheckTopology(m, a.topology);
+  a.four_bars = ClassifyFourBars(m, a.topology);
+  for (const FourBarLoop& f : a.four_bars) CheckFourBarRange(m, f);
+  a.coordinates = BuildCoordinates(m, a.topology);
+  a.cams = AnalyzeCams(m);
+  for (const GuessValue& g : m.guess) {
+    bool known = false;
+    for (const Coordinate& c : a.coordinates.all) known |= c.name == g.coordinate;
+    if (!known) {
+      std::string list;
+      for (const Coordinate& c : a.coordinates.all) list += (list.empty() ? "" : ", ") + c.name;
+      m.Fail(g.mark, "assembly: unknown coordinate '" + g.coordinate + "'; the coordinates are: " + list);
+    }
+  }
+  return a;
+}
+
+}  // namespace mechgen

@@ -1,0 +1,99 @@
+// Gear pair: two gears with pitch radii r1, r2 whose axes both sit on the carrier (the
+// ground, or a planetary train's arm); external, or internal (the second gear is the ring).
+//   model file:  G: {gear: {gears: [g1, g2], radii: [r1, r2], carrier: arm, internal: false, phase: 0}}
+//   coordinate:  none
+//   cut joint:   r1 (th1 - thc) +- r2 (th2 - thc) = phase, one row (+ external, - internal)
+#include "joints/joint_kind.h"
+
+#include <sstream>
+
+namespace mechgen {
+namespace {
+
+class Gear : public JointKind {
+ public:
+  JointType type() const override { return JointType::kGear; }
+
+  const KeyTable& Keys() const override {
+    static const KeyTable table{"gear",
+                                {{"gears", "[link1, link2]: the two gear links", true},
+                                 {"radii", "[r1, r2]: their pitch radii (positive)", true},
+                                 {"carrier", "the link holding both axes (default: the ground)", false},
+                                 {"internal", "true: the second gear is an internal (ring) gear (default false)", false},
+                                 {"phase", "the constant of the mesh relation (default 0)", false}}};
+    return table;
+  }
+
+  void Read(SectionReader& r, const YAML::Node& body, Joint* j) const override {
+    const std::string& name = j->name;
+    const std::string jn = "joint '" + name + "'";
+    GearData d;
+    d.carrier = r.model().ground;
+    bool has_gears = false, has_radii = false;
+    for (const auto& [key, value] : r.Entries(body, "gear pair '" + name + "'", &Keys())) {
+      if (key == "gears") {
+        if (!value.IsSequence() || value.size() != 2) r.Fail(value, "gears: takes the two gear links: [link1, link2]");
+        j->link_a = r.LinkIndex(value[0], jn);
+        j->link_b = r.LinkIndex(value[1], jn);
+        has_gears = true;
+      }
+      if (key == "radii") {
+        if (!value.IsSequence() || value.size() != 2) r.Fail(value, "radii: takes the two pitch radii: [r1, r2]");
+        for (int i = 0; i < 2; ++i) {
+          d.radius[i] = r.Expression(value[i], "pitch radius");
+          d.radius_mark[i] = MarkOf(value[i]);
+        }
+        has_radii = true;
+      }
+      if (key == "carrier") d.carrier = r.LinkIndex(value, jn);
+      if (key == "internal") d.internal = r.Bool(value, "internal");
+      if (key == "phase") d.phase = r.Expression(value, "phase of '" + name + "'");
+    }
+    if (!has_gears || !has_radii)
+      r.Fail(body, "gear pair '" + name + "' needs gears: [link1, link2] and radii: [r1, r2]");
+    if (d.carrier == j->link_a || d.carrier == j->link_b)
+      r.Fail(body, "gear pair '" + name + "': the carrier holds both gears' axes and is neither gear");
+    j->data = d;
+  }
+
+  void Check(const Model& m, const Joint& j) const override {
+    const GearData& d = j.Data<GearData>();
+    for (int i = 0; i < 2; ++i)
+      if (!(ValueAtDefaults(m, d.radius[i], d.radius_mark[i], "pitch radius") > 0))
+        m.Fail(d.radius_mark[i], "a pitch radius must be positive");
+  }
+
+  bool IsLowerPair() const override { return false; }
+
+  std::vector<JointEquation> Equations(const Model& m, int joint, bool, const std::vector<Frame>& frames,
+                                       const std::vector<GiNaC::ex>&) const override {
+    const Joint& j = m.joints[joint];
+    const GearData& d = j.Data<GearData>();
+    const GiNaC::ex tc = frames[d.carrier].theta;
+    return {{d.radius[0] * (frames[j.link_a].theta - tc) + (d.internal ? -1 : 1) * d.radius[1] * (frames[j.link_b].theta - tc) -
+                 d.phase,
+             d.internal ? RowComponent::kInternalGearMesh : RowComponent::kGearMesh, false}};
+  }
+
+  std::string Describe(const Model& m, const Joint& j) const override {
+    const GearData& d = j.Data<GearData>();
+    std::ostringstream os;
+    os << (d.internal ? "internal" : "external") << " gear pair " << m.links[j.link_a].name << " (r " << d.radius[0]
+       << ") / " << m.links[j.link_b].name << " (r " << d.radius[1] << "), carrier " << m.links[d.carrier].name;
+    return os.str();
+  }
+
+  std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
+    (void)m;
+    return {{"F_" + j.name, "tooth contact force along the line of action"}};
+  }
+};
+
+}  // namespace
+
+const JointKind& GearKind() {
+  static const Gear kind;
+  return kind;
+}
+
+}  // namespace mechgen

@@ -1,0 +1,142 @@
+// Joint kinds behind one interface (Paul §1.1, §1.2). Each kind is one file in this folder
+// (revolute.cc, prismatic.cc, roll.cc, gear.cc, rack.cc, cam.cc) that says which keys it
+// reads and parses them into its data (model.h: RevoluteData, ...), which coordinate it adds
+// (s, psi, u), how it places a child link when it is a tree joint, which rows it adds to
+// Phi when it is a cut joint (and a rolling joint's no-slip row always), how the report
+// describes it, and which reaction components it will transmit (statics, issue 14).
+//
+// A new joint kind: add its data to JointData (model.h) and its JointType, write
+// joints/<kind>.cc implementing JointKind, register it in JointKinds() (joint_kind.cc), and
+// list its keys in models/README.md (model_keys_test checks that).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/model.h"
+#include "model/reader.h"
+
+namespace mechgen {
+
+/// A link's pose in the fixed frame: origin (x, y) and absolute angle theta (CCW from +x).
+struct Frame {
+  GiNaC::ex x = 0, y = 0, theta = 0;
+};
+
+using Vec2 = std::array<GiNaC::ex, 2>;
+
+/// Position in the fixed frame of point `ref` of a link whose frame is `f`.
+Vec2 PointPosition(const Model& m, PointRef ref, const Frame& f);
+
+/// (x, y) turned by theta.
+Vec2 Rotate(const GiNaC::ex& theta, const GiNaC::ex& x, const GiNaC::ex& y);
+
+/// The frame of a link at angle `child_theta` whose point `child_point` lies at `w` (the
+/// last step of every lower pair's placement).
+Frame FrameThrough(const Model& m, PointRef child_point, const Vec2& w, const GiNaC::ex& child_theta);
+
+/// Which scalar of a joint's equations a Phi row is.
+enum class RowComponent {
+  kX,                 ///< x projection of a vector closure
+  kY,                 ///< y projection of a vector closure
+  kNoSlip,            ///< rolling: equal arcs on both contours
+  kGearMesh,          ///< external gear pair
+  kInternalGearMesh,  ///< internal gear pair
+  kRackMesh,          ///< rack and pinion
+  kCamLaw,            ///< cam given by its follower's law
+  kContourX,          ///< contour cam, roller: the centre on the contour's offset, x
+  kContourY,          ///< ... y
+  kFaceContact,       ///< contour cam, flat face: the contact point on the face
+  kFaceTangent,       ///< ... the face tangent to the contour
+};
+
+/// The text the generated headers and the report print for a component ("x", "no slip").
+const char* ComponentText(RowComponent c);
+
+/// One scalar equation of Phi from a joint.
+struct JointEquation {
+  GiNaC::ex value;
+  RowComponent component = RowComponent::kX;
+  bool pair = false;  ///< the x or y projection of a vector closure (dyad recognition)
+};
+
+/// The coordinate a joint adds to the model (a slide s, a contact angle psi, a contour
+/// parameter u): its name (s_<joint>), a sentence for the header, its LaTeX name.
+struct JointCoordinate {
+  std::string name, what, latex;
+  bool is_angle = false;
+};
+
+/// A force or moment component a joint transmits between its two links (statics, issue 14):
+/// e.g. a revolute pin's Fx, Fy; a slider's normal force N and moment M; a gear's or cam's
+/// contact force along the common normal. Named as the generated code will name it.
+struct ReactionComponent {
+  std::string name;  ///< "F_<joint>_x", "N_<joint>", ...
+  std::string what;  ///< a sentence for the header
+};
+
+class JointKind {
+ public:
+  virtual ~JointKind() = default;
+
+  virtual JointType type() const = 0;
+  /// The keys under the kind's key (`prismatic: {guide: ..., ...}`); section() is the
+  /// kind's key in the model file. A kind written as a list (revolute) has no keys.
+  virtual const KeyTable& Keys() const = 0;
+  /// Reads the kind's body into j->data and sets j->link_a, j->link_b.
+  virtual void Read(SectionReader& r, const YAML::Node& body, Joint* j) const = 0;
+  /// Resolves references to other joints once every joint is read (rack: its slide;
+  /// cam: its follower's joint).
+  virtual void Resolve(SectionReader& r, int joint) const;
+  /// Checks the joint's numbers at the parameters' defaults (radii positive, ...); the
+  /// validation stage calls it.
+  virtual void Check(const Model& m, const Joint& j) const;
+
+  /// Lower pairs (revolute, prismatic, roll) can place a link in the spanning tree.
+  virtual bool IsLowerPair() const = 0;
+  /// The coordinate the joint adds, if any.
+  virtual std::optional<JointCoordinate> Coordinate(const Model& m, const Joint& j) const;
+  /// Tree joint `j` between `parent` (placed, frame `fp`) and its other link, whose
+  /// absolute angle is `child_theta`; `s` is the joint's coordinate (0 if none). Lower
+  /// pairs only.
+  virtual Frame PlaceChild(const Model& m, const Joint& j, int parent, const Frame& fp,
+                           const GiNaC::ex& child_theta, const GiNaC::ex& s) const;
+  /// The rows the joint adds to Phi. A cut lower pair closes its loop with its two vector
+  /// projections (x, y); a rolling joint adds its no-slip row whether it is a cut or a
+  /// tree joint; a higher pair adds its one row (a contour cam two).
+  /// \param frames every link's frame; \param var every joint's coordinate (0 if none).
+  virtual std::vector<JointEquation> Equations(const Model& m, int joint, bool cut, const std::vector<Frame>& frames,
+                                               const std::vector<GiNaC::ex>& var) const = 0;
+  /// One line for the report: "revolute ground.A = crank.A".
+  virtual std::string Describe(const Model& m, const Joint& j) const = 0;
+
+  /// Statics (issue 14) attaches here: the reaction components the joint transmits, each
+  /// becoming an unknown of the force analysis with the joint's Phi rows (cut joint) or
+  /// placement (tree joint) as its direction. Friction (a Coulomb coefficient per joint
+  /// kind, acting against the relative motion of the joint's coordinate) will be a key of
+  /// the kind and a term in these components. Not used by the kinematics.
+  virtual std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const = 0;
+};
+
+/// Every joint kind, in JointType order (the registry).
+const std::vector<const JointKind*>& JointKinds();
+const JointKind& KindOf(JointType type);
+inline const JointKind& KindOf(const Joint& j) { return KindOf(j.type()); }
+/// The kind whose key is `key` ("revolute", ...), or nullptr.
+const JointKind* FindKind(const std::string& key);
+
+// The kinds (one file each).
+const JointKind& RevoluteKind();
+const JointKind& PrismaticKind();
+const JointKind& RollKind();
+const JointKind& GearKind();
+const JointKind& RackKind();
+const JointKind& CamKind();
+
+/// The contact point of rolling joint `j` in the fixed frame: on the line or circle of the
+/// base link (frame `base`) at contact parameter `v` (roll.cc).
+Vec2 ContactPosition(const Model& m, const Joint& j, const Frame& base, const GiNaC::ex& v);
+
+}  // namespace mechgen

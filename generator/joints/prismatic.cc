@@ -1,0 +1,103 @@
+// Prismatic joint (slider): point `slider` moves along the line through `guide` at `angle`
+// in the guide link's frame; the slider link keeps the angle theta_guide + relative_angle
+// (topology.cc groups such links under one angle).
+//   model file:  P: {prismatic: {guide: link1.G, slider: link2.S, angle: a, relative_angle: b}}
+//   coordinate:  s_<joint>, the slider point's displacement from the guide point
+//   cut joint:   r_guide + s u - r_slider = 0, two rows (x, y)
+#include "joints/joint_kind.h"
+
+namespace mechgen {
+namespace {
+
+// Direction of the line: angle in the guide link's frame + its theta.
+Vec2 LineDirection(const PrismaticData& d, const GiNaC::ex& guide_theta) {
+  return {cos(guide_theta + d.angle), sin(guide_theta + d.angle)};
+}
+
+class Prismatic : public JointKind {
+ public:
+  JointType type() const override { return JointType::kPrismatic; }
+
+  const KeyTable& Keys() const override {
+    static const KeyTable table{"prismatic",
+                                {{"guide", "link1.G: a point of the line, on the guide link", true},
+                                 {"slider", "link2.S: the point that slides on the line", true},
+                                 {"angle", "the line's direction in the guide link's frame (default 0)", false},
+                                 {"relative_angle", "slider link angle minus guide link angle (default 0)", false}}};
+    return table;
+  }
+
+  void Read(SectionReader& r, const YAML::Node& body, Joint* j) const override {
+    const std::string& name = j->name;
+    PrismaticData d;
+    bool has_guide = false, has_slider = false;
+    for (const auto& [key, value] : r.Entries(body, "prismatic joint '" + name + "'", &Keys())) {
+      if (key == "guide") d.guide = r.Point(value, "guide of '" + name + "'"), has_guide = true;
+      if (key == "slider") d.slider = r.Point(value, "slider of '" + name + "'"), has_slider = true;
+      if (key == "angle") d.angle = r.Expression(value, "angle of '" + name + "'");
+      if (key == "relative_angle") d.relative_angle = r.Expression(value, "relative_angle of '" + name + "'");
+    }
+    if (!has_guide || !has_slider)
+      r.Fail(body, "prismatic joint '" + name + "' needs guide: link.point (a point on the line) and slider: link.point");
+    j->link_a = d.guide.link;
+    j->link_b = d.slider.link;
+    j->data = d;
+  }
+
+  bool IsLowerPair() const override { return true; }
+
+  std::optional<JointCoordinate> Coordinate(const Model& m, const Joint& j) const override {
+    const PrismaticData& d = j.Data<PrismaticData>();
+    return JointCoordinate{"s_" + j.name,
+                           "displacement of slider '" + j.name + "' (" + m.PointName(d.slider) + " from " +
+                               m.PointName(d.guide) + " along the line)",
+                           "s_{\\mathrm{" + j.name + "}}", false};
+  }
+
+  Frame PlaceChild(const Model& m, const Joint& j, int parent, const Frame& fp, const GiNaC::ex& child_theta,
+                   const GiNaC::ex& s) const override {
+    const PrismaticData& d = j.Data<PrismaticData>();
+    const bool child_is_b = j.link_a == parent;
+    Vec2 w = PointPosition(m, child_is_b ? d.guide : d.slider, fp);
+    if (child_is_b) {  // parent guides, child slides: slider = guide + s u
+      const Vec2 u = LineDirection(d, fp.theta);
+      w = {w[0] + s * u[0], w[1] + s * u[1]};
+    } else {  // parent slides, child guides: guide = slider - s u(theta_child)
+      const Vec2 u = LineDirection(d, child_theta);
+      w = {w[0] - s * u[0], w[1] - s * u[1]};
+    }
+    return FrameThrough(m, child_is_b ? d.slider : d.guide, w, child_theta);
+  }
+
+  std::vector<JointEquation> Equations(const Model& m, int joint, bool cut, const std::vector<Frame>& frames,
+                                       const std::vector<GiNaC::ex>& var) const override {
+    if (!cut) return {};
+    const Joint& j = m.joints[joint];
+    const PrismaticData& d = j.Data<PrismaticData>();
+    const Frame& fa = frames[j.link_a];
+    const GiNaC::ex& s = var[joint];
+    const Vec2 ra = PointPosition(m, d.guide, fa), rb = PointPosition(m, d.slider, frames[j.link_b]);
+    const Vec2 u = LineDirection(d, fa.theta);
+    return {{ra[0] + s * u[0] - rb[0], RowComponent::kX, true}, {ra[1] + s * u[1] - rb[1], RowComponent::kY, true}};
+  }
+
+  std::string Describe(const Model& m, const Joint& j) const override {
+    const PrismaticData& d = j.Data<PrismaticData>();
+    return "prismatic " + m.PointName(d.guide) + " guides " + m.PointName(d.slider);
+  }
+
+  std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
+    (void)m;
+    return {{"N_" + j.name, "normal force of the guide on the slider, perpendicular to the line"},
+            {"M_" + j.name, "moment of the guide on the slider (keeps the relative angle)"}};
+  }
+};
+
+}  // namespace
+
+const JointKind& PrismaticKind() {
+  static const Prismatic kind;
+  return kind;
+}
+
+}  // namespace mechgen

@@ -1,0 +1,67 @@
+// Revolute joint (pin): point a of one link coincides with point b of the other.
+//   model file:  A: {revolute: [link1.P, link2.Q]}
+//   coordinate:  none (the links' angles are the coordinates)
+//   cut joint:   r_a - r_b = 0, two rows (x, y)
+#include "joints/joint_kind.h"
+
+namespace mechgen {
+namespace {
+
+class Revolute : public JointKind {
+ public:
+  JointType type() const override { return JointType::kRevolute; }
+
+  const KeyTable& Keys() const override {
+    static const KeyTable table{"revolute", {}};  // a list of two points, no keys
+    return table;
+  }
+
+  void Read(SectionReader& r, const YAML::Node& body, Joint* j) const override {
+    const std::string& name = j->name;
+    if (!body.IsSequence() || body.size() != 2)
+      r.Fail(body, "revolute joint '" + name + "' takes two link points: [link1.P, link2.Q]");
+    RevoluteData d;
+    d.a = r.Point(body[0], "joint '" + name + "'");
+    d.b = r.Point(body[1], "joint '" + name + "'");
+    j->link_a = d.a.link;
+    j->link_b = d.b.link;
+    j->data = d;
+  }
+
+  bool IsLowerPair() const override { return true; }
+
+  Frame PlaceChild(const Model& m, const Joint& j, int parent, const Frame& fp, const GiNaC::ex& child_theta,
+                   const GiNaC::ex&) const override {
+    const RevoluteData& d = j.Data<RevoluteData>();
+    const bool child_is_b = j.link_a == parent;
+    return FrameThrough(m, child_is_b ? d.b : d.a, PointPosition(m, child_is_b ? d.a : d.b, fp), child_theta);
+  }
+
+  std::vector<JointEquation> Equations(const Model& m, int joint, bool cut, const std::vector<Frame>& frames,
+                                       const std::vector<GiNaC::ex>&) const override {
+    const Joint& j = m.joints[joint];
+    const RevoluteData& d = j.Data<RevoluteData>();
+    if (!cut) return {};
+    const Vec2 ra = PointPosition(m, d.a, frames[j.link_a]), rb = PointPosition(m, d.b, frames[j.link_b]);
+    return {{ra[0] - rb[0], RowComponent::kX, true}, {ra[1] - rb[1], RowComponent::kY, true}};
+  }
+
+  std::string Describe(const Model& m, const Joint& j) const override {
+    const RevoluteData& d = j.Data<RevoluteData>();
+    return "revolute " + m.PointName(d.a) + " = " + m.PointName(d.b);
+  }
+
+  std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
+    const std::string on = "force of '" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name + "' at the pin, ";
+    return {{"F_" + j.name + "_x", on + "x"}, {"F_" + j.name + "_y", on + "y"}};
+  }
+};
+
+}  // namespace
+
+const JointKind& RevoluteKind() {
+  static const Revolute kind;
+  return kind;
+}
+
+}  // namespace mechgen

@@ -1,0 +1,43 @@
+// The `joints` section: `NAME: {<kind>: <body>}`, one kind per joint. The kind's file
+// (generator/joints/<kind>.cc) reads the body with its own key table; references to other
+// joints (a rack's slide, a cam's follower) are resolved once every joint is read.
+#include "joints/joint_kind.h"
+#include "model/reader.h"
+
+namespace mechgen {
+
+const KeyTable& JointKeys() {
+  static const KeyTable table = [] {
+    KeyTable t{"joint", {}};
+    for (const JointKind* k : JointKinds()) t.keys.push_back({k->Keys().section, "the joint's kind and its data", false});
+    return t;
+  }();
+  return table;
+}
+
+void ReadJoints(SectionReader& r, const YAML::Node& node) {
+  Model& m = r.model();
+  if (!node) m.Fail({}, "the model has no 'joints'");
+  for (const auto& [name, spec] : r.Entries(node, "joints")) {
+    Joint j;
+    j.name = name;
+    j.mark = r.KeyMark(spec);
+    if (!IsIdentifier(name)) m.Fail(j.mark, "joint name '" + name + "' must be an identifier");
+    auto entries = r.Entries(spec, "joint '" + name + "'", &JointKeys());
+    if (entries.size() != 1)
+      r.Fail(spec, "joint '" + name + "' must have exactly one kind: revolute, prismatic, roll, gear, rack or cam");
+    const auto& [kind, body] = entries[0];
+    // A cam's data creates its contour parameter's symbol; any other kind makes one here.
+    // GiNaC orders terms by symbol serial numbers, so this keeps the generated text as it
+    // was when every joint carried that symbol.
+    if (kind != "cam") GiNaC::symbol serial_keeper("u");
+    FindKind(kind)->Read(r, body, &j);
+    if (j.link_a == j.link_b)
+      m.Fail(j.mark, "joint '" + name + "' connects link '" + m.links[j.link_a].name +
+                         "' to itself; a joint must connect two different links");
+    m.joints.push_back(j);
+  }
+  for (size_t k = 0; k < m.joints.size(); ++k) KindOf(m.joints[k]).Resolve(r, static_cast<int>(k));
+}
+
+}  // namespace mechgen

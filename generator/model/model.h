@@ -1,0 +1,272 @@
+// The mechanism model as the generator sees it: parameters, links with named points,
+// joints, inputs, requested outputs and the assembly guess, read from a model file
+// (models/README.md documents the format; generator/model/ reads it section by section).
+// Geometry is kept as GiNaC
+// expressions in the parameter symbols, so that the derivation stays symbolic in the
+// parameters and the generated Params struct can change them at run time.
+//
+// Every error is a ModelError carrying the file, line and column of the offending YAML
+// node; mechgen prints it as `file:line:column: message` and writes nothing.
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <array>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace mechgen {
+
+/// A position in the model file, 1-based; line 0 means "the whole file".
+struct SourceMark {
+  int line = 0;
+  int column = 0;
+};
+
+/// A bad model: what is wrong, where, and what to change.
+class ModelError : public std::runtime_error {
+ public:
+  ModelError(const std::string& file, SourceMark mark, const std::string& message);
+  const std::string& file() const { return file_; }
+  SourceMark mark() const { return mark_; }
+  const std::string& message() const { return message_; }
+
+ private:
+  std::string file_;
+  SourceMark mark_;
+  std::string message_;
+};
+
+struct Parameter {
+  std::string name;
+  double value = 0;
+  std::string doc;
+  GiNaC::symbol symbol;
+  SourceMark mark;
+};
+
+/// A point fixed on a link, in the link's local frame (x along the link's axis).
+struct LinkPoint {
+  std::string name;
+  GiNaC::ex x, y;
+  SourceMark mark;
+};
+
+struct Link {
+  std::string name;
+  bool ground = false;
+  std::vector<LinkPoint> points;
+  SourceMark mark;
+  int FindPoint(const std::string& point) const;
+};
+
+/// A point of a link: the link index and the point index within it. A rolling joint's
+/// contact point (`<joint>.contact`, on no link) has contact_joint set; `link` is then the
+/// rolling link and `point` -1.
+struct PointRef {
+  int link = -1;
+  int point = -1;
+  int contact_joint = -1;
+  bool operator==(const PointRef& o) const {
+    return link == o.link && point == o.point && contact_joint == o.contact_joint;
+  }
+};
+
+/// Joint kinds, in the order of JointData's alternatives. Lower pairs (revolute,
+/// prismatic, roll) may place a link in the spanning tree; higher pairs (gear, rack, cam)
+/// never do: each closes a loop. Each kind's keys, coordinate, placement, equations and
+/// description live in its own file, generator/joints/<kind>.cc (joints/joint_kind.h).
+enum class JointType { kRevolute, kPrismatic, kRoll, kGear, kRack, kCam };
+
+/// Pin: point `a` (on Joint::link_a) coincides with point `b` (on link_b).
+struct RevoluteData {
+  PointRef a, b;
+};
+
+/// Slider: point `slider` (on link_b) moves along the line through `guide` (on link_a) at
+/// `angle` in the guide link's frame; the slider link keeps the angle
+/// theta_guide + relative_angle. Displacement s: slider = guide + s (cos, sin).
+struct PrismaticData {
+  PointRef guide, slider;
+  GiNaC::ex angle = 0;
+  GiNaC::ex relative_angle = 0;
+};
+
+/// Rolling without slip: a circle of `radius` centred at `wheel` (on link_b) rolls on the
+/// line through `on` (on link_a, the base) at `line_angle`, or on the circle of
+/// `on_radius` centred at `on` (outside, or inside if `inside`).
+struct RollData {
+  PointRef on, wheel;
+  GiNaC::ex radius = 0;
+  GiNaC::ex line_angle = 0;
+  GiNaC::ex on_radius = 0;
+  bool on_line = true;
+  bool inside = false;
+  GiNaC::ex phase = 0;  ///< the constant of the no-slip relation
+  SourceMark radius_mark, on_radius_mark;
+};
+
+/// Gear pair: gears link_a, link_b with pitch radii radius[0], radius[1], both axes on
+/// `carrier`; internal: link_b is the ring.
+struct GearData {
+  GiNaC::ex radius[2] = {0, 0};
+  int carrier = -1;  ///< the link holding both axes (default: ground)
+  bool internal = false;
+  GiNaC::ex phase = 0;
+  SourceMark radius_mark[2];
+};
+
+/// Rack and pinion: pinion link_a (pitch radius `radius`); the rack (link_b) is the slider
+/// of prismatic joint `slide`, whose guide is `carrier`.
+struct RackData {
+  GiNaC::ex radius = 0;
+  int slide = -1;
+  int carrier = -1;
+  GiNaC::ex phase = 0;
+  std::string slide_name;  ///< as written (resolved once every joint is read)
+  SourceMark slide_mark;
+};
+
+/// One segment of a cam's follower law (dwell, rise, return) over `duration` of cam angle.
+struct CamSegment {
+  enum class Kind { kDwell, kRise, kReturn };
+  enum class Motion { kNone, kCycloidal, kHarmonic, kPoly345 };
+  Kind kind = Kind::kDwell;
+  Motion motion = Motion::kNone;
+  GiNaC::ex duration = 0;  ///< cam angle of the segment (radians)
+  GiNaC::ex lift = 0;      ///< rise or return height (displacement, or angle if oscillating)
+  SourceMark mark;
+  SourceMark duration_mark;
+};
+
+/// Disk cam link_a and follower link_b given by the follower's law:
+/// y_follower = start + law(th_cam - th_carrier - phase) (cam.h), or by the cam's contour
+/// (contact parameter u_<joint>, two equations: the roller's centre on the contour's
+/// offset, or the face tangent to the contour).
+struct CamData {
+  int index = -1;          ///< index among the model's cams (camlaw(index, ...))
+  int follower_joint = -1; ///< the follower's prismatic or revolute joint to the carrier
+  int carrier = -1;        ///< the link holding the cam's pivot and the follower's joint
+  int pivot = -1;          ///< the cam's revolute joint to the carrier
+  PointRef point;          ///< roller centre, knife-edge tip, or a point of the face
+  bool flat_face = false;  ///< flat-faced follower (else roller / knife-edge)
+  GiNaC::ex face_angle = 0;  ///< face direction in the follower's frame
+  GiNaC::ex roller = 0;      ///< roller radius (0: knife-edge)
+  GiNaC::ex start = 0;       ///< follower coordinate at zero lift
+  GiNaC::ex phase = 0;       ///< law start angle
+  std::vector<CamSegment> law;  ///< the follower law, segments in order from `phase`
+  // Contour cams (a profile instead of a law; contact parameter u_<joint> is a coordinate).
+  enum class Contour { kNone, kExpressions, kSpline };
+  Contour contour = Contour::kNone;
+  GiNaC::ex contour_x, contour_y;    ///< kExpressions: x(u), y(u) in the cam's frame
+  GiNaC::symbol contour_u{"u"};      ///< kExpressions: the contour's parameter in them
+  GiNaC::ex contour_period = 0;      ///< kExpressions: u runs over [0, period) (default 2 pi)
+  std::vector<std::array<double, 2>> contour_points;  ///< kSpline: the points, counter-clockwise
+  std::vector<SourceMark> contour_point_marks;
+  std::string contour_text;          ///< kExpressions: "x(u) = ..., y(u) = ..." as written
+  std::string follower_name;         ///< as written (resolved once every joint is read)
+  SourceMark contour_mark, period_mark, law_mark, roller_mark, follower_mark;
+};
+
+/// A joint's kind-specific data; the alternatives follow JointType's order.
+using JointData = std::variant<RevoluteData, PrismaticData, RollData, GearData, RackData, CamData>;
+
+/// A joint: the header every kind shares (name, the two links it joins, where it is in
+/// the file) and its kind's data.
+struct Joint {
+  std::string name;
+  int link_a = -1;  ///< revolute: a's link; prismatic: the guide; roll: the base;
+                    ///< gear: the first gear; rack: the pinion; cam: the cam
+  int link_b = -1;  ///< revolute: b's link; prismatic: the slider; roll: the wheel;
+                    ///< gear: the second gear; rack: the rack; cam: the follower
+  JointData data;
+  SourceMark mark;
+
+  JointType type() const { return static_cast<JointType>(data.index()); }
+  template <class T>
+  const T& Data() const { return std::get<T>(data); }
+  template <class T>
+  T& Data() { return std::get<T>(data); }
+  /// Lower pairs can place a link in the spanning tree.
+  bool IsLowerPair() const {
+    return type() == JointType::kRevolute || type() == JointType::kPrismatic || type() == JointType::kRoll;
+  }
+  bool Joins(int link) const { return link_a == link || link_b == link; }
+  int OtherLink(int link) const { return link_a == link ? link_b : link_a; }
+  /// A lower pair's point on `link` (one of its two links): revolute a or b, prismatic
+  /// guide or slider, roll on or wheel.
+  PointRef End(int link) const;
+};
+
+/// A driven joint: its variable is one of the generalized coordinates q.
+struct Input {
+  int joint = -1;
+  double min = 0, max = 0;  ///< default sweep range
+  SourceMark mark;
+};
+
+/// A quantity the generated code can compute, beyond the positions (always computed).
+enum class Quantity {
+  kK,      ///< velocity coefficients K = dphi/dq (and the points' K_P)
+  kL,      ///< centripetal coefficients L (and the points' L_P); needs K
+  kScene,  ///< EvalScene: every link point, for drawing
+};
+
+/// What the generated code computes: the requested quantities and the points of interest.
+/// `order: 0|1|2` in the model file is shorthand for {}, {K}, {K, L}.
+struct Outputs {
+  std::set<Quantity> quantities{Quantity::kK, Quantity::kL, Quantity::kScene};
+  std::vector<PointRef> points;  ///< points of interest (positions, K_P, L_P as requested)
+  SourceMark mark;
+  /// Derived from `quantities` (filled by the reader) for the emitters that branch on the
+  /// order: 0 positions, 1 + K, 2 + L.
+  int order = 2;
+  bool scene = true;  ///< derived: quantities holds kScene
+  bool Has(Quantity q) const { return quantities.count(q) > 0; }
+  /// The order that `quantities` amounts to (K and L only come in this nesting).
+  int Order() const { return Has(Quantity::kL) ? 2 : Has(Quantity::kK) ? 1 : 0; }
+};
+
+/// A value of the assembly guess: a coordinate name and its value.
+struct GuessValue {
+  std::string coordinate;
+  double value = 0;
+  SourceMark mark;
+};
+
+struct Model {
+  std::string file;  ///< the path it was read from (errors name it)
+  std::string name;  ///< C++ identifier, namespace mech::<name>
+  std::string title;
+  std::string description;
+  std::vector<Parameter> params;
+  std::vector<Link> links;
+  std::vector<Joint> joints;
+  std::vector<Input> inputs;
+  SourceMark inputs_mark;
+  Outputs outputs;
+  std::vector<GuessValue> guess;
+  // Room for the sections wave 2 reads (mass properties of the links, applied loads):
+  // each is one reader file in generator/model/ with its key table (keys.h).
+  int ground = -1;
+
+  std::string PointName(PointRef r) const;  ///< "link.point"
+  int FindJoint(const std::string& name) const;  ///< its index, or -1
+  GiNaC::exmap Defaults() const;  ///< every parameter symbol -> its default value
+  [[noreturn]] void Fail(SourceMark mark, const std::string& message) const;
+};
+
+/// Reads a model file (syntax, keys, names, references); the checks on numbers at the
+/// parameters' defaults (mobility, ranges, cams, ...) are the validation stage's,
+/// Validate() in analysis/validate.h.
+/// \param name_override if not empty, replaces the model's `name`.
+Model LoadModel(const std::string& path, const std::string& name_override = "");
+
+/// The same from the text of a model; `path` only names it in error messages.
+Model LoadModelFromString(const std::string& text, const std::string& path,
+                          const std::string& name_override = "");
+
+}  // namespace mechgen

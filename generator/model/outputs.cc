@@ -1,0 +1,79 @@
+// The `outputs` section: the set of quantities the generated code computes, and the points
+// of interest (OutputKeys). `order: 0|1|2` is shorthand for the quantities {}, {K}, {K, L};
+// `scene: true|false` adds or drops EvalScene.
+#include <set>
+
+#include "model/reader.h"
+
+namespace mechgen {
+
+const KeyTable& OutputKeys() {
+  static const KeyTable table{
+      "outputs",
+      {{"order", "shorthand: 0 positions, 1 + velocity coefficients K, 2 + centripetal coefficients L (default 2)",
+        false},
+       {"quantities", "[K, L, scene]: the requested quantities, instead of order and scene", false},
+       {"points", "[link.P, <rolling joint>.contact, ...]: points of interest (r_P, K_P, L_P as requested)", false},
+       {"scene", "emit EvalScene (every link point, for drawing; default true)", false}}};
+  return table;
+}
+
+void ReadOutputs(SectionReader& r, const YAML::Node& node) {
+  Model& m = r.model();
+  Outputs& out = m.outputs;
+  if (!node) return;
+  out.mark = MarkOf(node);
+  bool has_order = false, has_scene = false, has_quantities = false;
+  YAML::Node quantities;
+  for (const auto& [key, value] : r.Entries(node, "outputs", &OutputKeys())) {
+    if (key == "order") {
+      const std::string o = r.Scalar(value, "order");
+      if (o != "0" && o != "1" && o != "2")
+        r.Fail(value, "order must be 0 (positions), 1 (+ velocity coefficients K) or 2 (+ "
+                      "centripetal coefficients L)");
+      out.quantities.erase(Quantity::kK);
+      out.quantities.erase(Quantity::kL);
+      if (o != "0") out.quantities.insert(Quantity::kK);
+      if (o == "2") out.quantities.insert(Quantity::kL);
+      has_order = true;
+    } else if (key == "quantities") {
+      quantities = value;
+      has_quantities = true;
+    } else if (key == "points") {
+      if (!value.IsSequence()) r.Fail(value, "points must be a list of link.point names");
+      for (const auto& pn : value) {
+        PointRef p = r.ContactPoint(pn);
+        if (p.contact_joint < 0) p = r.Point(pn, "output point");
+        for (const auto& other : out.points)
+          if (other == p) r.Fail(pn, "point '" + m.PointName(p) + "' is listed twice");
+        out.points.push_back(p);
+      }
+    } else {
+      const std::string s = r.Scalar(value, "scene");
+      if (s != "true" && s != "false") r.Fail(value, "scene must be true or false");
+      if (s == "true") out.quantities.insert(Quantity::kScene);
+      else out.quantities.erase(Quantity::kScene);
+      has_scene = true;
+    }
+  }
+  if (has_quantities) {
+    if (has_order || has_scene)
+      r.Fail(quantities, "give the outputs either as quantities: [...] or by order: and scene:, not both");
+    if (!quantities.IsSequence()) r.Fail(quantities, "quantities must be a list such as [K, L, scene]");
+    out.quantities.clear();
+    for (const auto& item : quantities) {
+      const std::string q = r.Scalar(item, "quantity");
+      const Quantity which = q == "K" ? Quantity::kK : q == "L" ? Quantity::kL : Quantity::kScene;
+      if (q != "K" && q != "L" && q != "scene")
+        r.Fail(item, "unknown quantity '" + q + "'; the quantities are K, L and scene");
+      if (!out.quantities.insert(which).second) r.Fail(item, "quantity '" + q + "' is listed twice");
+    }
+    if (out.Has(Quantity::kL) && !out.Has(Quantity::kK))
+      r.Fail(quantities, "L needs K (the centripetal coefficients are computed from the velocity coefficients); "
+                         "add K");
+  }
+  out.order = out.Order();
+  out.scene = out.Has(Quantity::kScene);
+}
+
+}  // namespace mechgen
