@@ -12,7 +12,6 @@ namespace mechgen {
 using GiNaC::ex;
 
 static ex camlaw_deriv(const ex& i, const ex& d, const ex& x, unsigned param) {
-  (void)x;
   if (param != 2) return 0;  // the cam's index and the order are integers, not variables
   return camlaw(i, d + 1, x);
 }
@@ -255,7 +254,6 @@ CamGeometry DeriveCamGeometry(const Model& m, const Joint& j) {
   const ex dt = define("normal_dot_v", nc[0] * v[0] + nc[1] * v[1]);
   g.pressure_angle = atan2(abs(cr), abs(dt));
   store("out->pressure_angle", g.pressure_angle);
-  g.rho_pitch = g.rho_profile;
   return g;
 }
 
@@ -325,7 +323,6 @@ const GiNaC::symbol& CamLawBeta() { return Beta(); }
 namespace mechgen {
 
 static ex camcontour_deriv(const ex& i, const ex& c, const ex& d, const ex& u, unsigned param) {
-  (void)u;
   if (param != 3) return 0;  // the cam's index, the coordinate and the order are integers
   return camcontour(i, c, d + 1, u);
 }

@@ -5,7 +5,7 @@
 // (tests/reference/data/<model>.csv, 50 digits) in order, one configuration per Step():
 //   closed_form          hand-derived positions, K, L (four-bar: tests/runtime/
 //                        handwritten_fourbar.h; slider-crank: below)
-//   runtime              mechgen::PositionSolver::MoveTo (second-order predictor, Newton
+//   runtime              mechgen::position::CeresPositionSolver::MoveTo (second-order predictor, Newton
 //                        on the generated Phi/Phi_phi, stop at ||Phi|| <= 1e-10) + generated K, L;
 //                        where it stops with kSingular (cond_1(Phi_phi) >= 1 / min_rcond) the
 //                        row counts as refused and the next rows re-assemble on the same branch
