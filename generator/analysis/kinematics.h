@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "analysis/topology.h"
-#include "cam.h"
+#include "joints/cam_profile.h"
 #include "joints/joint_kind.h"
 #include "model/model.h"
 

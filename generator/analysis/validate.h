@@ -8,8 +8,8 @@
 //      links not connected to the ground, mobility <= 0, inputs != mobility, two inputs on
 //      one angle, an input that cannot turn
 //   3. four-bar loops (grashof.cc): a driven link's range the loop cannot reach
-//   4. cams: the law closes the cycle (here), no undercut or cusp (cam.cc, CheckCam), the
-//      contour's checks (cam.cc, BuildCamContour: they share its sampling and spline fit)
+//   4. cams: the law closes the cycle (here), no undercut or cusp (joints/cam_profile.cc, CheckCam), the
+//      contour's checks (joints/cam_profile.cc, BuildCamContour: they share its sampling and spline fit)
 //   5. the assembly guess names coordinates
 //   (6. the closed-form blocks' assembly check stays in blocks.cc (ChooseMode, the codegen
 //       part); it needs the derivation's blocks and belongs here once they are built before
@@ -44,7 +44,7 @@ void CheckTopology(const Model& m, const Topology& t);
 void CheckCamLaw(const Model& m, const Joint& j);
 
 /// Step 4: builds every cam's law (checked by CheckCamLaw), geometry (undercut and cusp:
-/// CheckCam in cam.cc) and contour (BuildCamContour checks it as it fits the spline), cam by
+/// CheckCam in joints/cam_profile.cc) and contour (BuildCamContour checks it as it fits the spline), cam by
 /// cam in file order.
 CamAnalysis AnalyzeCams(const Model& m);
 

@@ -33,9 +33,9 @@ class CxxPrinter {
  public:
   /// Gives symbol `s` the C++ spelling `name` (e.g. q(0), p.a, _tmp3).
   void Name(const GiNaC::ex& s, const std::string& name);
-  /// camlaw(index, d, x) (cam.h) prints as `name(p, x, d)`.
+  /// camlaw(index, d, x) (joints/cam_profile.h) prints as `name(p, x, d)`.
   void NameCamLaw(int index, const std::string& name) { cam_laws_[index] = name; }
-  /// camcontour(index, c, d, u) (cam.h) prints as `name(p, u, c, d)`.
+  /// camcontour(index, c, d, u) (joints/cam_profile.h) prints as `name(p, u, c, d)`.
   void NameCamContour(int index, const std::string& name) { cam_contours_[index] = name; }
   /// stable_half and quadratic_root (symbolic/dyads.h) print as the expressions they stand for.
   /// C++ text of `e`; adds its operations to *ops when not null.

@@ -8,7 +8,7 @@
 //                contact point on the face and the face tangent to the contour (two rows)
 // The law's and the contour's maths (segments, pressure angle, curvature, spline) are in
 // generator/cam.{h,cc}.
-#include "cam.h"
+#include "joints/cam_profile.h"
 
 #include <sstream>
 

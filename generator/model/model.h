@@ -143,7 +143,7 @@ struct CamSegment {
 };
 
 /// Disk cam link_a and follower link_b given by the follower's law:
-/// y_follower = start + law(th_cam - th_carrier - phase) (cam.h), or by the cam's contour
+/// y_follower = start + law(th_cam - th_carrier - phase) (joints/cam_profile.h), or by the cam's contour
 /// (contact parameter u_<joint>, two equations: the roller's centre on the contour's
 /// offset, or the face tangent to the contour).
 struct CamData {

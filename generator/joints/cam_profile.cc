@@ -1,5 +1,5 @@
-// Cam laws and cam geometry. See cam.h.
-#include "cam.h"
+// Cam laws and cam geometry. See cam_profile.h.
+#include "joints/cam_profile.h"
 
 #include <algorithm>
 #include <cmath>
