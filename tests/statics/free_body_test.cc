@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "free_body.h"
+#include "slider_crank_fb.h"
 
 namespace {
 
@@ -233,6 +234,34 @@ TEST(FreeBody, SpringHoldsALever) {
     const double hh = 1e-5;
     EXPECT_NEAR(s.Drive(j, x), (V(beta + hh) - V(beta - hh)) / (2 * hh), 1e-6 * 100);
   }
+}
+
+// The dead zone of a slider-crank with friction at the crank bearing O only (the oracle of
+// slider_crank_friction_test.cc's dead-zone test, checked here on the solver alone): the
+// piston force F (along -x) drives, the crank's actuator brakes; the rod is a two-force
+// member, so the piston cannot turn the crank where the rod's line passes inside O's
+// friction circle, a |sin(q - th_rod)| < mu r. Inside, the iterated actuator torque has the
+// sign of the motion (the actuator must push); outside, the opposite.
+TEST(FreeBody, SliderCrankDeadZoneIsTheFrictionCircle) {
+  const double a = 0.1, b = 0.35, F = 1000, mu = 0.2, r = 0.03;
+  mechtest::fb::SliderCrankFb m(a, b);
+  m.s.SetForce(m.slider_force, Vec2(-F, 0));
+  int dead = 0;
+  for (int k = 0; k < 3600; ++k) {
+    const double q = (k + 0.25) * 0.1 * kDeg;
+    const double th = mechtest::fb::SliderRodAngle(a, b, q);
+    m.Place(q, th, mechtest::fb::SliderS(a, b, q));
+    const double h = a * std::abs(std::sin(q - th)) - mu * r;
+    if (std::abs(h) < 1e-6) continue;
+    const double qdot = mechtest::fb::SliderKs(a, b, q) > 0 ? -1.0 : 1.0;  // sdot < 0
+    Eigen::VectorXd x;
+    ASSERT_TRUE(m.s.SolveWithFriction({{m.jO, mu * r, qdot}}, &x)) << k;
+    EXPECT_EQ(m.s.Drive(m.jO, x) * qdot > 0, h < 0) << "q = " << q / kDeg << " deg";
+    // The friction torque is mu r times the rod force (the bearing carries it all).
+    EXPECT_NEAR(std::abs(m.s.friction(m.jO)), mu * r * m.s.RevoluteForce(m.jB, x).norm(), 1e-9 * F);
+    dead += h < 0;
+  }
+  EXPECT_GT(dead, 20);
 }
 
 }  // namespace
