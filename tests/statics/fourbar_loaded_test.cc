@@ -125,6 +125,19 @@ TEST_F(FourbarLoadedStatics, PositionsCloseTheLoop) {
                     p.b * Vec2(std::cos(phi(i_cpl)), std::sin(phi(i_cpl)));
     const Vec2 C2 = Vec2(p.d, 0) + p.c * Vec2(std::cos(phi(i_rck)), std::sin(phi(i_rck)));
     EXPECT_LT((C1 - C2).norm(), 1e-12) << "q = " << k << " deg";
+    // The oracle's points are the generated scene's (same model numbers, same frames).
+    FourbarLoadedFb<P> fb(p);
+    Place(&fb, q, phi);
+    Eigen::Matrix<double, 2, M::kNumScenePoints> r;
+    fl::EvalScene(p, Q1(Q1::Constant(q)), phi, &r);
+    const std::pair<const char*, int> points[] = {{"coupler.B", fb.pB}, {"coupler.C", fb.pC},
+                                                  {"coupler.P", fb.pP}, {"ground.E", fb.pE},
+                                                  {"ground.D", fb.pD}, {"rocker.C", fb.pC}};
+    for (const auto& [name, id] : points) {
+      const int i = IndexOf(M::kScenePointNames, name);
+      ASSERT_GE(i, 0) << name;
+      EXPECT_LT((r.col(i) - fb.s.point(id)).norm(), 1e-12) << name << " at q = " << k << " deg";
+    }
   }
 }
 

@@ -101,6 +101,16 @@ TEST_F(SliderCrankPressStatics, PositionsAreTheClosedForm) {
     ASSERT_TRUE(mechtest::statics::SolveAt<M>(p, q, &phi));
     EXPECT_NEAR(phi(i_s), SliderS(p.a, p.b, q), 1e-13) << k;
     EXPECT_NEAR(std::remainder(phi(i_rod) - SliderRodAngle(p.a, p.b, q), 2 * M_PI), 0, 1e-13) << k;
+    SliderCrankFb fb = MakeFb();
+    Place(&fb, q, phi);
+    Eigen::Matrix<double, 2, M::kNumScenePoints> r;
+    sp::EvalScene(p, Q1(Q1::Constant(q)), phi, &r);
+    const std::pair<const char*, int> points[] = {{"crank.B", fb.pB}, {"rod.C", fb.pC}, {"ram.C", fb.pC}};
+    for (const auto& [name, id] : points) {
+      const int i = IndexOf(M::kScenePointNames, name);
+      ASSERT_GE(i, 0) << name;
+      EXPECT_LT((r.col(i) - fb.s.point(id)).norm(), 1e-12) << name << " at q = " << k << " deg";
+    }
   }
 }
 
