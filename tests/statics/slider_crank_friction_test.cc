@@ -290,4 +290,53 @@ TEST_F(SliderCrankFrictionStatics, DeadZoneMatchesTheFrictionCircle) {
   EXPECT_NEAR(q_gen, q_hand, 1e-9) << "dead zone boundary (rad)";
 }
 
+// Closed forms with one friction joint at a time, the contract's iteration on the generated
+// values, forward and backward (dir = sign of qdot). The rod is a two-force member (its pins
+// frictionless), in compression R_c along u_rod; on the piston R_c cos th_r - F + f_s = 0,
+// R_c sin th_r + N = 0; the crank torque is R_c a sin(th_r - q) (= F K_s without friction).
+//   Friction circle at O only: R_c = F / cos th_r and |F_O| = R_c, so
+//     drive = F K_s + dir mu_O r_O F / cos th_r.
+//   Slide only (sigma = sign sdot = sign(dir K_s)), f_s = -mu_s |N| sigma:
+//     R_c = F / (cos th_r - sigma mu_s |sin th_r|),  drive = R_c a sin(th_r - q).
+TEST_F(SliderCrankFrictionStatics, ClosedFormsWithOneFrictionJoint) {
+  const P defaults;
+  auto iterate = [&](double q, double dir, sf::Statics<double>* st) {
+    Phi phi;
+    VecF f = VecF::Zero();
+    for (int it = 0; it < 200; ++it) {
+      EXPECT_TRUE(Eval(q, &phi, st, &f));
+      for (int i = 0; i < M::kNumFriction; ++i) {
+        f(i) = -st->gain(i) * st->normal(i) * (dir * st->K_rel(i, 0) > 0 ? 1.0 : -1.0);
+      }
+    }
+    EXPECT_TRUE(Eval(q, &phi, st, &f));
+  };
+  for (const bool at_O : {true, false}) {
+    p = defaults;
+    if (at_O) {
+      p.mu_B = p.mu_C = p.mu_s = 0;
+    } else {
+      p.mu_O = p.mu_B = p.mu_C = 0;
+    }
+    for (double dir : {+1.0, -1.0}) {
+      for (double q : Angles()) {
+        sf::Statics<double> st;
+        iterate(q, dir, &st);
+        const double th = SliderRodAngle(p.a, p.b, q), Ks = SliderKs(p.a, p.b, q);
+        double expected;
+        if (at_O) {
+          expected = p.F * Ks + dir * p.mu_O * p.r_O * p.F / std::cos(th);
+        } else {
+          const double sigma = dir * Ks > 0 ? 1.0 : -1.0;
+          const double Rc = p.F / (std::cos(th) - sigma * p.mu_s * std::abs(std::sin(th)));
+          expected = Rc * p.a * std::sin(th - q);
+        }
+        EXPECT_TRUE(Near(st.drive(0), expected, kTol, p.F, at_O ? "drive, friction circle at O"
+                                                               : "drive, slide friction"))
+            << "q = " << q / kDeg << " deg, dir " << dir;
+      }
+    }
+  }
+}
+
 }  // namespace
