@@ -39,7 +39,7 @@ struct FourbarLoadedFb {
     jC = s.AddRevolute("C", coupler, rocker, pC);
     jD = s.AddRevolute("D", rocker, ground, pD);
     coupler_force = s.AddForce(coupler, pP, Vec2(p.Fx, p.Fy));
-    rocker_torque = s.AddTorque(rocker, p.T);
+    rocker_torque = s.AddTorque(rocker, p.Tr);
     const Vec2 gravity(0, -p.g);
     s.AddWeight(crank, pG1, p.m1, gravity);
     s.AddWeight(coupler, pG2, p.m2, gravity);

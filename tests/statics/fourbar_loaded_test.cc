@@ -102,7 +102,7 @@ class FourbarLoadedStatics : public ::testing::Test {
     const Vec2 P_m = fb.s.point(fb.pP);
     const double V_m = fb.Potential(p);
     const double dth3 = std::remainder(phi_p(i_rck) - phi_m(i_rck), 2 * M_PI);
-    return (Vec2(p.Fx, p.Fy).dot(P_p - P_m) + p.T * dth3 - (V_p - V_m)) / (2 * kH);
+    return (Vec2(p.Fx, p.Fy).dot(P_p - P_m) + p.Tr * dth3 - (V_p - V_m)) / (2 * kH);
   }
 };
 
@@ -204,7 +204,7 @@ HandFourbar HandSolve(const P& p, double th1, double th2, double th3) {
   // Rocker about D:   (C - D) x F_C + (G3 - D) x W3 + T = 0
   // Coupler about B: -(C - B) x F_C + (P - B) x (Fl + Fs) + (G2 - B) x W2 = 0
   const Vec2 r1 = C - D, r2 = C - B;
-  const double b1 = -Cross(G3 - D, W3) - p.T;
+  const double b1 = -Cross(G3 - D, W3) - p.Tr;
   const double b2 = Cross(Pp - B, Fl + Fs) + Cross(G2 - B, W2);
   // r x F = r.x F.y - r.y F.x:  [-r1.y r1.x; -r2.y r2.x] [X; Y] = [b1; b2]
   const double det = -r1.y() * r2.x() + r1.x() * r2.y();
@@ -283,7 +283,7 @@ TEST_F(FourbarLoadedStatics, GeneralizedForceIsTheVirtualWorkOfEachLoad) {
   for (const Case& cs : cases) {
     p = defaults;
     if (!cs.force) p.Fx = p.Fy = 0;
-    if (!cs.torque) p.T = 0;
+    if (!cs.torque) p.Tr = 0;
     if (!cs.spring) p.k = p.F0 = 0;
     if (!cs.gravity) p.g = 0;
     for (int k = 0; k < kSamples; k += 3) {
