@@ -4,15 +4,19 @@
 // a spring E-P, a coupler force, a rocker torque, the links' weights) and computes:
 //   Kinematics   (1) the generated closed-form positions (Model::Solve, which hands sin and
 //                    cos to) + EvalCoefficients: phi, K, L, the points
-//   Forces       (2) (1) + EvalStatics of fourbar_loaded_forces (the same model without
-//                    `reactions:`): Q, the driving torque, V, dV/dq, d2V/dq2, the stiffness
-//   Reactions    (3) (1) + EvalStatics of fourbar_loaded: (2) + the four pins' reactions
+//   Forces       (2) (1) + EvalStatics of fourbar_loaded_forces (the model with quantities
+//                    [K, L, scene, forces], no `reactions:`): Q and the driving torque
+//   Reactions    (3) (1) + EvalStatics of fourbar_loaded_reactions (the same with
+//                    `reactions: [A, B, C, D]`): (2) + the four pins' reactions
+//   Full         (3+) (1) + EvalStatics of the shipped fourbar_loaded, which also asks for
+//                    `potential`: (3) + V, dV/dq, d2V/dq2 and the stiffness -dQ/dq
 //   NewtonEuler  (4) the same generated positions, then the numeric baseline: the points
 //                    placed from the angles, the 9 x 9 Newton–Euler free-body system of the
 //                    three moving links (3 equations each; unknowns: 4 pins x 2 + the crank
 //                    torque) assembled and solved by a dense LU (Eigen::PartialPivLU on
 //                    dynamic matrices), tests/statics/free_body.h; the description is built
 //                    once, outside the timed loop, and nothing reallocates inside it.
+//   NewtonEulerFixedLU     (4) with the LU on a fixed-size 9 x 9 copy of the matrix
 //   NewtonEulerSolveOnly   (4) without the positions: assembly + LU from the stored angles
 // The targets: (3) <= 1.5 x (1), and (4) >= 5 x (3). bench/statics/run.sh prints
 // the medians and the ratios.
@@ -25,13 +29,16 @@
 #include "fourbar_loaded.h"
 #include "fourbar_loaded_fb.h"
 #include "fourbar_loaded_forces.h"
+#include "fourbar_loaded_reactions.h"
 
 namespace {
 
 namespace fl = mech::fourbar_loaded;
 namespace ff = mech::fourbar_loaded_forces;
+namespace fr = mech::fourbar_loaded_reactions;
 using M = fl::Model;
 using MF = ff::Model;
+using MR = fr::Model;
 using Q1 = Eigen::Matrix<double, 1, 1>;
 
 constexpr double kStep = 0.5 * M_PI / 180;  // 0.5 deg per configuration
@@ -60,43 +67,30 @@ void Kinematics(benchmark::State& state) {
 }
 BENCHMARK(Kinematics);
 
-void Forces(benchmark::State& state) {
-  const ff::Params<double> p;
-  ff::Coefficients<double> c;
-  ff::Trig<double> trig;
-  ff::Statics<double> st;
-  Eigen::Matrix<double, MF::kNphi, 1> phi = AssemblyPhi<MF>();
-  long k = 0;
-  for (auto _ : state) {
-    const Q1 q = Q1::Constant(CrankAngle(k++));
-    const auto report = MF::Solve(p, q, &phi, MF::kDefaultModes, 20, 0.0, &trig);
-    ff::EvalCoefficients(p, q, phi, &c, &trig);
-    ff::EvalStatics(p, q, phi, c, &st, nullptr, &trig);
-    benchmark::DoNotOptimize(report);
-    benchmark::DoNotOptimize(c);
-    benchmark::DoNotOptimize(st);
-  }
-}
-BENCHMARK(Forces);
+// (1) + EvalStatics of model namespace NS (Model type Mod).
+#define MECHGEN_STATICS_BENCH(NAME, NS, Mod)                                     \
+  void NAME(benchmark::State& state) {                                           \
+    const NS::Params<double> p;                                                  \
+    NS::Coefficients<double> c;                                                  \
+    NS::Trig<double> trig;                                                       \
+    NS::Statics<double> st;                                                      \
+    Eigen::Matrix<double, Mod::kNphi, 1> phi = AssemblyPhi<Mod>();               \
+    long k = 0;                                                                  \
+    for (auto _ : state) {                                                       \
+      const Q1 q = Q1::Constant(CrankAngle(k++));                                \
+      const auto report = Mod::Solve(p, q, &phi, Mod::kDefaultModes, 20, 0.0, &trig); \
+      NS::EvalCoefficients(p, q, phi, &c, &trig);                                \
+      NS::EvalStatics(p, q, phi, c, &st, nullptr, &trig);                        \
+      benchmark::DoNotOptimize(report);                                          \
+      benchmark::DoNotOptimize(c);                                               \
+      benchmark::DoNotOptimize(st);                                              \
+    }                                                                            \
+  }                                                                              \
+  BENCHMARK(NAME)
 
-void Reactions(benchmark::State& state) {
-  const fl::Params<double> p;
-  fl::Coefficients<double> c;
-  fl::Trig<double> trig;
-  fl::Statics<double> st;
-  Eigen::Matrix<double, M::kNphi, 1> phi = AssemblyPhi<M>();
-  long k = 0;
-  for (auto _ : state) {
-    const Q1 q = Q1::Constant(CrankAngle(k++));
-    const auto report = M::Solve(p, q, &phi, M::kDefaultModes, 20, 0.0, &trig);
-    fl::EvalCoefficients(p, q, phi, &c, &trig);
-    fl::EvalStatics(p, q, phi, c, &st, nullptr, &trig);
-    benchmark::DoNotOptimize(report);
-    benchmark::DoNotOptimize(c);
-    benchmark::DoNotOptimize(st);
-  }
-}
-BENCHMARK(Reactions);
+MECHGEN_STATICS_BENCH(Forces, ff, MF);
+MECHGEN_STATICS_BENCH(Reactions, fr, MR);
+MECHGEN_STATICS_BENCH(Full, fl, M);
 
 int PhiIndex(const char* name) {
   for (int i = 0; i < M::kNphi; ++i) {
@@ -124,6 +118,38 @@ void NewtonEuler(benchmark::State& state) {
   if (!ok) state.SkipWithError("a Newton-Euler solve failed");
 }
 BENCHMARK(NewtonEuler);
+
+// (4) with the LU on a fixed-size 9 x 9 matrix (the same assembly, copied): a baseline that
+// knows its size at compile time, for scale.
+void NewtonEulerFixedLU(benchmark::State& state) {
+  const fl::Params<double> p;
+  mechtest::fb::FourbarLoadedFb<fl::Params<double>> fb(p);
+  const int i_cpl = PhiIndex("theta_coupler"), i_rck = PhiIndex("theta_rocker");
+  Eigen::Matrix<double, M::kNphi, 1> phi = AssemblyPhi<M>();
+  Eigen::MatrixXd A(9, 9);
+  Eigen::VectorXd b(9);
+  if (fb.s.num_unknowns() != 9 || fb.s.num_equations() != 9) {
+    state.SkipWithError("not a 9 x 9 system");
+    return;
+  }
+  Eigen::Matrix<double, 9, 9> A9;
+  Eigen::Matrix<double, 9, 1> b9, x9;
+  Eigen::PartialPivLU<Eigen::Matrix<double, 9, 9>> lu;
+  long k = 0;
+  for (auto _ : state) {
+    const double q = CrankAngle(k++);
+    const auto report = M::Solve(p, Q1(Q1::Constant(q)), &phi);
+    fb.Place(p, q, phi(i_cpl), phi(i_rck));
+    fb.s.Assemble(&A, &b);
+    A9 = A;
+    b9 = b;
+    lu.compute(A9);
+    x9 = lu.solve(b9);
+    benchmark::DoNotOptimize(report);
+    benchmark::DoNotOptimize(x9);
+  }
+}
+BENCHMARK(NewtonEulerFixedLU);
 
 void NewtonEulerSolveOnly(benchmark::State& state) {
   const fl::Params<double> p;
