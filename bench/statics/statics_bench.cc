@@ -9,7 +9,8 @@
 //   Reactions    (3) (1) + EvalStatics of fourbar_loaded_reactions (the same with
 //                    `reactions: [A, B, C, D]`): (2) + the four pins' reactions
 //   Full         (3+) (1) + EvalStatics of the shipped fourbar_loaded, which also asks for
-//                    `potential`: (3) + V, dV/dq, d2V/dq2 and the stiffness -dQ/dq
+//                    `potential`: (3) + V and dV/dq
+//   FullStiffness     (3+) + EvalStiffness: d2V/dq2 and the stiffness -dQ/dq
 //   NewtonEuler  (4) the same generated positions, then the numeric baseline: the points
 //                    placed from the angles, the 9 x 9 Newton–Euler free-body system of the
 //                    three moving links (3 equations each; unknowns: 4 pins x 2 + the crank
@@ -67,8 +68,8 @@ void Kinematics(benchmark::State& state) {
 }
 BENCHMARK(Kinematics);
 
-// (1) + EvalStatics of model namespace NS (Model type Mod).
-#define MECHGEN_STATICS_BENCH(NAME, NS, Mod)                                     \
+// (1) + EvalStatics of model namespace NS (Model type Mod); EXTRA: more calls per step.
+#define MECHGEN_STATICS_BENCH(NAME, NS, Mod, EXTRA)                              \
   void NAME(benchmark::State& state) {                                           \
     const NS::Params<double> p;                                                  \
     NS::Coefficients<double> c;                                                  \
@@ -81,6 +82,7 @@ BENCHMARK(Kinematics);
       const auto report = Mod::Solve(p, q, &phi, Mod::kDefaultModes, 20, 0.0, &trig); \
       NS::EvalCoefficients(p, q, phi, &c, &trig);                                \
       NS::EvalStatics(p, q, phi, c, &st, nullptr, &trig);                        \
+      EXTRA;                                                                     \
       benchmark::DoNotOptimize(report);                                          \
       benchmark::DoNotOptimize(c);                                               \
       benchmark::DoNotOptimize(st);                                              \
@@ -88,9 +90,10 @@ BENCHMARK(Kinematics);
   }                                                                              \
   BENCHMARK(NAME)
 
-MECHGEN_STATICS_BENCH(Forces, ff, MF);
-MECHGEN_STATICS_BENCH(Reactions, fr, MR);
-MECHGEN_STATICS_BENCH(Full, fl, M);
+MECHGEN_STATICS_BENCH(Forces, ff, MF, (void)0);
+MECHGEN_STATICS_BENCH(Reactions, fr, MR, (void)0);
+MECHGEN_STATICS_BENCH(Full, fl, M, (void)0);
+MECHGEN_STATICS_BENCH(FullStiffness, fl, M, fl::EvalStiffness(p, q, phi, c, &st));
 
 int PhiIndex(const char* name) {
   for (int i = 0; i < M::kNphi; ++i) {

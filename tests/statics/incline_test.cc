@@ -152,13 +152,9 @@ TEST_F(InclineStatics, FrictionlessClosedForms) {
 
 TEST_F(InclineStatics, FrictionlessAgainstNewtonEuler) { CheckNewtonEuler(0.0); }
 
-// DISABLED (wt/statoracle report, issue 14): the generated EvalStatics leaves the slide's
-// friction force out of the applied generalized force of the input s_slide (g_0 = -m g sin a,
-// should be -m g sin a + friction_0), so the drive is m g sin a whatever the friction (30 deg:
-// 24.525 N up and down instead of 37.27 N up, 11.78 N down); N, T, M and the pins are right.
-// Pass with that change; enable them then.
-TEST_F(InclineStatics, DISABLED_UpDownAndSelfLockingClosedForms) { CheckClosedForms(); }
+// With friction (mu = 0.3) at several inclines, both ways.
+TEST_F(InclineStatics, UpDownAndSelfLockingClosedForms) { CheckClosedForms(); }
 
-TEST_F(InclineStatics, DISABLED_AgainstNewtonEulerWithFriction) { CheckNewtonEuler(-7.5); }
+TEST_F(InclineStatics, AgainstNewtonEulerWithFriction) { CheckNewtonEuler(-7.5); }  // f = -7.5 N
 
 }  // namespace

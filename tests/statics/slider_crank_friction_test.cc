@@ -196,12 +196,8 @@ TEST_F(SliderCrankFrictionStatics, PinFrictionLoadsAgainstNewtonEuler) {
   CheckGivenFriction("pins (3, -1.5, 0.8) N m", f);
 }
 
-// DISABLED (wt/statoracle report, issue 14): the generated EvalStatics leaves the slide's
-// friction force out of the applied generalized force of s_slide (g_2 = -p.F, should be
-// -p.F + friction_3), so Q, the drive, the multipliers and every reaction miss it (at
-// q = 30.5 deg with f_slide = 40 N: F_O_x 1000 instead of 960, T_slide 0 instead of 40, drive
-// -63.38 instead of -60.85 = the work oracle's). Passes with that change; enable it then.
-TEST_F(SliderCrankFrictionStatics, DISABLED_SlideFrictionLoadAgainstNewtonEuler) {
+// The slide's friction force (40 N along +x on the piston): it enters Q and every reaction.
+TEST_F(SliderCrankFrictionStatics, SlideFrictionLoadAgainstNewtonEuler) {
   VecF f = VecF::Zero();
   f(f_S) = 40.0;  // N, on the piston along +x
   CheckGivenFriction("slide 40 N", f);
@@ -262,8 +258,8 @@ TEST_F(SliderCrankFrictionStatics, FrictionIterationPinsAgainstNewtonEuler) {
   CheckFrictionIteration();
 }
 
-// DISABLED until the slide's friction force enters Q (see DISABLED_SlideFrictionLoad...).
-TEST_F(SliderCrankFrictionStatics, DISABLED_FrictionIterationAgainstNewtonEuler) {
+// Friction at the pins and at the slide.
+TEST_F(SliderCrankFrictionStatics, FrictionIterationAgainstNewtonEuler) {
   CheckFrictionIteration();
 }
 
@@ -373,7 +369,6 @@ void SliderCrankFrictionStatics::CheckOneFrictionJoint(const bool at_O) {
 
 TEST_F(SliderCrankFrictionStatics, FrictionCircleAtOClosedForm) { CheckOneFrictionJoint(true); }
 
-// DISABLED until the slide's friction force enters Q (see DISABLED_SlideFrictionLoad...).
-TEST_F(SliderCrankFrictionStatics, DISABLED_SlideFrictionClosedForm) { CheckOneFrictionJoint(false); }
+TEST_F(SliderCrankFrictionStatics, SlideFrictionClosedForm) { CheckOneFrictionJoint(false); }
 
 }  // namespace

@@ -55,6 +55,7 @@ class SliderCrankPressStatics : public ::testing::Test {
     const Q1 qv = Q1::Constant(q);
     sp::EvalCoefficients(p, qv, *phi, &c);
     sp::EvalStatics(p, qv, *phi, c, st);
+    sp::EvalStiffness(p, qv, *phi, c, st);  // d2V/dq2 and the stiffness
     return true;
   }
   SliderCrankFb MakeFb() const { return SliderCrankFb(p.a, p.b, p.g, p.m1, p.m2, p.m3); }
