@@ -268,14 +268,8 @@ TEST_F(FourbarLoadedStatics, PotentialAndItsSecondDerivativeByFiniteDifferences)
 
 // (c) dV/dq against central differences of the oracle's V, with all the loads and with the
 // spring and the weights alone.
-// DISABLED (wt/statoracle report, issue 14, main at 71979df): the generated dV_dq is, in some
-// runs of `mechgen generate` (the committed generated/ is one of them), Q + dV/dq (the coupler
-// force's and the rocker torque's share of Q) instead of dV/dq, at every angle: q = 0: -18.5759
-// against 0.556682, and 0 instead of -Q with Fx = Fy = Tr = 0. Cause:
-// generator/symbolic/statics.cc, along_motion(items, conservative, j) reads `conservative`
-// past its end once the actuators' items are appended (items_expr instead of items fixes it;
-// checked). Enable when the generator is fixed.
-TEST_F(FourbarLoadedStatics, DISABLED_PotentialFirstDerivativeByFiniteDifferences) {
+// (The generator once read its springs-and-weights flags past their end here: Q + dV/dq.)
+TEST_F(FourbarLoadedStatics, PotentialFirstDerivativeByFiniteDifferences) {
   const P defaults;
   for (const bool only_conservative : {false, true}) {
     p = defaults;

@@ -186,12 +186,8 @@ TEST_F(SliderCrankPressStatics, VirtualWorkPotentialAndStiffness) {
 }
 
 // dV/dq against central differences of m g y.
-// DISABLED (wt/statoracle report, issue 14, main at 71979df): mechgen's output for this
-// model is not reproducible: in some runs of `mechgen generate` the generated dV_dq reads
-// `Q_0 + ...` (= Q + dV/dq) instead of dV/dq (generator/symbolic/statics.cc: along_motion(items,
-// conservative, j) reads `conservative` past its end once the actuators' items are appended).
-// Enable when the generator is fixed.
-TEST_F(SliderCrankPressStatics, DISABLED_PotentialFirstDerivativeByFiniteDifferences) {
+// (The generator once gave Q + dV/dq here, in some runs: a read past the end of its flags.)
+TEST_F(SliderCrankPressStatics, PotentialFirstDerivativeByFiniteDifferences) {
   SliderCrankFb fb = MakeFb();
   auto V = [&](double q) {
     Phi phi;
