@@ -528,6 +528,16 @@ bool WriteFiles(const std::string& dir, const std::string& name, const EmittedMo
   }
   const std::pair<std::string, const std::string*> files[] = {{name + ".h", &e.header},
                                                               {name + ".cc", &e.source}};
+  // Files that already hold these bytes are left alone (their time stamps too): the build's
+  // restat then skips recompiling every model when only mechgen itself changed.
+  bool unchanged = true;
+  for (const auto& [file, text] : files) {
+    std::ifstream in(fs::path(dir) / file, std::ios::binary);
+    std::ostringstream old;
+    old << in.rdbuf();
+    unchanged = unchanged && in && old.str() == *text;
+  }
+  if (unchanged) return true;
   std::vector<fs::path> temps;
   for (const auto& [file, text] : files) {
     const fs::path tmp = fs::path(dir) / (file + ".tmp");
