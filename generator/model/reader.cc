@@ -615,6 +615,7 @@ GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& w
     why = why.substr(0, why.find('\n'));
     const auto internal = why.find("GiNaC: parse error");
     if (internal != std::string::npos) why = "GiNaC cannot parse it";
+    if (why.find("division by zero") != std::string::npos) why = "it divides by zero";
     FailAt(node, text, 0, what + ": cannot read '" + shown + "' as an expression: " + why + fix);
   }
   if (!u) {
@@ -709,7 +710,7 @@ class YamlFeatures : public YAML::EventHandler {
   explicit YamlFeatures(const Model& m) : m_(m) {}
   void OnDocumentStart(const YAML::Mark& mark) override {
     if (++documents_ > 1)
-      m_.Fail(Mark(mark), "a second YAML document; a model file holds one (remove the '---' and what follows)");
+      m_.Fail(Mark(mark), "a second YAML document; a model file holds one: remove the '---' and what follows");
   }
   void OnDocumentEnd() override {}
   void OnNull(const YAML::Mark& mark, YAML::anchor_t anchor) override { Anchor(mark, anchor); }
