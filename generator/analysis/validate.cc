@@ -62,7 +62,7 @@ void CheckZeroLengthLinks(const Model& m) {
       const LinkPoint& p = link.points[m.joints[k].End(static_cast<int>(li)).point];
       spread = std::max(spread, std::hypot(Num(p.x, defaults) - x0, Num(p.y, defaults) - y0));
     }
-    if (!(spread <= 1e-12 * scale)) continue;
+    if (!(spread <= 1e-12 * scale)) continue;  // (NaN cannot come here: expressions are checked finite)
     std::string names, driven;
     for (int k : pins) names += (names.empty() ? "" : ", ") + m.joints[k].name;
     for (const Input& in : m.inputs)
@@ -75,6 +75,16 @@ void CheckZeroLengthLinks(const Model& m) {
                                           : "turning it by input '" + driven + "' moves nothing (K = 0)") +
                           "; give its joints distinct points");
   }
+}
+
+void CheckZeroRadii(const Model& m) {
+  // Gears and rolling joints check their radii themselves (joints/<kind>.cc); a rack's
+  // pinion with a zero pitch radius would not drive its rack.
+  const GiNaC::exmap defaults = m.Defaults();
+  for (const Joint& j : m.joints)
+    if (j.type() == JointType::kRack && Num(j.Data<RackData>().radius, defaults) == 0)
+      m.Fail(j.mark, "rack '" + j.name + "': the pinion's pitch radius is 0 at the parameters' defaults, so " +
+                         "turning the pinion would not move the rack; give it a non-zero radius");
 }
 
 void CheckCamLaw(const Model& m, const Joint& j) {
@@ -156,6 +166,7 @@ Analysis Validate(const Model& m) {
   a.topology = BuildTopology(m);
   CheckTopology(m, a.topology);
   CheckZeroLengthLinks(m);
+  CheckZeroRadii(m);
   a.four_bars = ClassifyFourBars(m, a.topology);
   for (const FourBarLoop& f : a.four_bars) CheckFourBarRange(m, f);
   a.coordinates = BuildCoordinates(m, a.topology);

@@ -45,6 +45,10 @@ void CheckTopology(const Model& m, const Topology& t);
 /// equation, or, driven, moves nothing (ModelError at its last joint's point).
 void CheckZeroLengthLinks(const Model& m);
 
+/// Step 2b: a rack whose pinion has a zero pitch radius at the defaults (ModelError at
+/// the joint).
+void CheckZeroRadii(const Model& m);
+
 /// Step 4 for a cam given by its law: the segments span one turn and the rises add up to
 /// the returns (ModelError at the law).
 void CheckCamLaw(const Model& m, const Joint& j);

@@ -255,6 +255,7 @@ INSTANTIATE_TEST_SUITE_P(
         // ---- YAML features a model does not use ----
         Hostile{"yaml_anchor", "  b: 3.5", "  b: &len 3.5", "&len", 0, "YAML anchors (&name) are not supported"},
         Hostile{"yaml_anchor_on_mapping", "  crank:   {points", "  crank:   &c {points", "&c", 0, "YAML anchors"},
+        Hostile{"yaml_alias", "  c: 3.0", "  c: *len", "*len", 0, "YAML syntax: the referenced anchor is not defined"},
         Hostile{"yaml_second_document", "", "---\nname: other\n", "---", 0, "a second YAML document"},
         Hostile{"yaml_syntax", "  c: 3.0\n", "  c: [3.0\n", "  d:", 3, "YAML syntax"},
         // ---- degenerate geometry at the defaults ----
@@ -277,6 +278,52 @@ TEST(HostileModel, ZeroLengthCrankIsNeverAGrashofCrankRocker) {
   EXPECT_EQ(r.err.find("crank-rocker"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(model.string() + ":9:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("moves nothing (K = 0)"), std::string::npos) << r.err;
+}
+
+TEST(HostileModel, RackWhosePinionHasZeroRadius) {
+  const std::string text = R"(name: rack
+parameters: {r: 0}
+links:
+  ground: {ground: true, points: {O: [0, 0], G: [0, -1]}}
+  pinion: {points: {O: [0, 0]}}
+  rack:   {points: {C: [0, 0]}}
+joints:
+  O: {revolute: [ground.O, pinion.O]}
+  slide: {prismatic: {guide: ground.G, slider: rack.C, angle: 0}}
+  mesh: {rack: {pinion: pinion, radius: r, slide: slide}}
+inputs:
+  - {joint: O}
+)";
+  TempDir dir;
+  const fs::path model = dir.path() / "rack.yaml";
+  std::ofstream(model) << text;
+  const Result r = RunMechgen("generate " + model.string() + " --out-dir " + (dir.path() / "out").string(), dir.path());
+  ExpectOneLineError(r, model.string() + ":10:3: error: ", "rack 'mesh': the pinion's pitch radius is 0");
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
+}
+
+TEST(HostileModel, TheEdgesOfTheLanguageAreAccepted) {
+  // What the checks must let through: each replaces b in coupler.C and keeps its value 3.5
+  // (so that the loop still closes), read straight from text by the reader.
+  const std::string deep = std::string(64, '(') + "b" + std::string(64, ')');  // the limit
+  const std::string nested_calls = "abs(abs(abs(abs(b))))";
+  std::string long_sum = "b";
+  while (long_sum.size() + 6 <= mechgen::kMaxExpressionLength) long_sum += " + 0*a";  // 4093 characters
+  for (const std::string& e :
+       {std::string("b*(-1)^(d - 2)"), std::string("-----b*-1"), std::string("(b^-1)^-1"), std::string("b + 0*sqrt(a - 1)"),
+        std::string("b*exp(0)*cos(0)^2 + 0*log(a)"), std::string("\"b + 0*atan2(a, d)\""), std::string(".5*7"),
+        std::string("35e-1"), std::string("3.5E+0"), std::string("b + 0*1e-100 + 0*1e100"), deep, nested_calls,
+        long_sum}) {
+    std::string text = kGoodModel;
+    text.replace(text.find("C: [b, 0]"), 9, "C: [" + e + ", 0]");
+    try {
+      const mechgen::Model m = mechgen::LoadModelFromString(text, "edge.yaml");
+      GiNaC::exmap d = m.Defaults();
+      EXPECT_NEAR(GiNaC::ex_to<GiNaC::numeric>(m.links[2].points[1].x.subs(d).evalf()).to_double(), 3.5, 1e-12) << e;
+    } catch (const mechgen::ModelError& err) {
+      ADD_FAILURE() << e << ": " << err.what();
+    }
+  }
 }
 
 // ---- files that are not model files ----
