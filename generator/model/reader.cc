@@ -593,9 +593,15 @@ void SectionReader::FailAt(const YAML::Node& node, const std::string& text, size
 }
 
 GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& what, const GiNaC::symbol* u) const {
+  GiNaC::symtab extra;
+  if (u) extra["u"] = *u;
+  return Expression(node, what, extra);
+}
+
+GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& what, const GiNaC::symtab& extra) const {
   const std::string text = Scalar(node, what);
   std::set<std::string> names = {"deg", "Pi"};
-  if (u) names.insert("u");
+  for (const auto& [name, value] : extra) names.insert(name);
   for (const auto& p : m_.params) names.insert(p.name);
   const std::string fix = "; see Expressions in models/README.md";
   const std::string shown = text.size() > 80 ? text.substr(0, 77) + "..." : text;
@@ -607,7 +613,7 @@ GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& w
   GiNaC::symtab table;
   for (const auto& p : m_.params) table[p.name] = p.symbol;
   table["deg"] = GiNaC::Pi / 180;
-  if (u) table["u"] = *u;
+  for (const auto& [name, value] : extra) table[name] = value;
   GiNaC::parser reader(table, /*strict=*/true);
   GiNaC::ex e;
   try {
@@ -620,7 +626,9 @@ GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& w
     if (why.find("division by zero") != std::string::npos) why = "it divides by zero";
     FailAt(node, text, 0, what + ": cannot read '" + shown + "' as an expression: " + why + fix);
   }
-  if (!u) {
+  bool uses_extra = false;
+  for (const auto& [name, value] : extra) uses_extra |= e.has(value);
+  if (!uses_extra) {
     try {
       (void)CheckedValue(e, m_.Defaults());
     } catch (const ExpressionFailure& f) {

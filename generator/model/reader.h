@@ -69,10 +69,14 @@ class SectionReader {
   /// the parameters, `deg` and `Pi`, + - * / ^ and the whitelisted functions; with `u`,
   /// also a cam contour's parameter u. Checked before GiNaC reads it (characters, syntax,
   /// names, at most kMaxExpressionNesting parentheses, kMaxExpressionLength characters), and,
-  /// without `u`, evaluated at the parameters' defaults: every sub-expression must be finite
+  /// if it does not use `u`, evaluated at the parameters' defaults: every sub-expression must be finite
   /// and real there (no division by zero, no square root or logarithm of a negative number).
   /// Any failure is a ModelError at the offending character.
   GiNaC::ex Expression(const YAML::Node& node, const std::string& what, const GiNaC::symbol* u = nullptr) const;
+  /// The same with more names than `u` (e.g. the coordinates a load depends on): `extra`
+  /// maps each name to its symbol; the value at the defaults is checked only if the
+  /// expression uses none of them.
+  GiNaC::ex Expression(const YAML::Node& node, const std::string& what, const GiNaC::symtab& extra) const;
   /// A number: an expression evaluated at the parameters' default values.
   double Number(const YAML::Node& node, const std::string& what) const;
   /// "link.point" -> PointRef.
