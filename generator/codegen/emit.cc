@@ -31,6 +31,20 @@ std::string ReadFile(const std::string& path, const std::string& what = "templat
   return os.str();
 }
 
+// Free text (the model's title, description, a parameter's doc, the model file's name) as it
+// can stand in a comment: "*/" and "/*" are broken up ("*\/", "/\*": a block comment would
+// end, or -Wcomment warn), and control characters (the reader rejects them in the model's
+// text; a file name may hold one) become '?', so that no line ends early.
+std::string CommentText(const std::string& text) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (i > 0 && ((c == '/' && text[i - 1] == '*') || (c == '*' && text[i - 1] == '/'))) out += '\\';
+    out += (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n') || c == 0x7f ? '?' : c;
+  }
+  return out;
+}
+
 std::string Number(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -47,20 +61,6 @@ std::string Join(const std::vector<T>& v, F f) {
 }
 
 std::string Quote(const std::string& s) { return "\"" + s + "\""; }
-
-// Free text (the model's title, description, a parameter's doc, the model file's name) as it
-// can stand in a comment: "*/" and "/*" are broken up ("*\/", "/\*": a block comment would
-// end, or -Wcomment warn), and control characters (the reader rejects them in the model's
-// text; a file name may hold one) become '?', so that no line ends early.
-std::string CommentText(const std::string& text) {
-  std::string out;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (i > 0 && ((c == '/' && text[i - 1] == '*') || (c == '*' && text[i - 1] == '/'))) out += '\\';
-    out += (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n') || c == 0x7f ? '?' : c;
-  }
-  return out;
-}
 
 // Data for the templates, remembering every key so that a template naming a value the
 // generator does not provide is an error instead of an empty string.
