@@ -17,6 +17,17 @@ include_guard(GLOBAL)
 option(MECHGEN_BUILD_SWEEPS "Build the <model>_sweep tool of each mechgen_add_model()" ON)
 
 function(mechgen_add_model name model)
+  # <name> becomes target names, a directory, the files <name>.h/.cc and (via --name) the
+  # namespace mech::<name>: a C++ identifier only (mechgen checks the rest: keywords,
+  # reserved names, macros; see Names in models/README.md).
+  if(NOT name MATCHES "^[A-Za-z][A-Za-z0-9_]*$" OR name MATCHES "__" OR name MATCHES "_$")
+    string(REGEX REPLACE "[^A-Za-z0-9]+" "_" suggestion "${name}")
+    string(REGEX REPLACE "^_+|_+$" "" suggestion "${suggestion}")
+    message(FATAL_ERROR "mechgen_add_model: the name '${name}' is not a C++ identifier "
+      "(ASCII letters, digits and single underscores, beginning with a letter and not ending "
+      "with '_'); it becomes the namespace mech::<name> and the files <name>.h/.cc. Rename it "
+      "(for example ${suggestion}).")
+  endif()
   cmake_parse_arguments(ARG "NO_SWEEP" "STRATEGY" "" ${ARGN})
   set(strategy_args)
   if(ARG_STRATEGY)

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -19,6 +20,7 @@
 #include "symbolic/statics.h"
 #include "codegen/functions.h"
 #include "model/model.h"
+#include "model/reader.h"
 #include "report/report.h"
 #include "symbolic/table.h"
 #include "symbolic/transmission.h"
@@ -39,6 +41,29 @@ std::string DefaultTemplates() {
     if (fs::exists(installed / "mechanism.h.mustache")) return installed.string();
   }
   return MECHGEN_SOURCE_TEMPLATES;
+}
+
+// A message as one line of text: control characters and bytes that are not UTF-8 are
+// shown as \xNN (a name from the model is echoed as written, never re-encoded).
+std::string OneLine(const std::string& text) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    int n = c < 0x80 ? 0 : c >= 0xc2 && c <= 0xdf ? 1 : c >= 0xe0 && c <= 0xef ? 2 : c >= 0xf0 && c <= 0xf4 ? 3 : -1;
+    for (int k = 1; k <= n; ++k)
+      if (i + k >= text.size() || (static_cast<unsigned char>(text[i + k]) & 0xc0) != 0x80) n = -1;
+    if (n > 0) {
+      out.append(text, i, n + 1);
+      i += n;
+    } else if (n < 0 || c < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out;
 }
 
 // Model -> topology -> kinematics -> the symbolic table -> function descriptions -> text.
@@ -100,16 +125,27 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
 
+  // --name becomes a namespace, a file name in --out-dir and a macro: a C++ identifier only.
+  if (!name.empty()) {
+    const std::string why = mechgen::NameProblem(name, mechgen::NameRole::kModel);
+    if (!why.empty()) {
+      std::cerr << OneLine("mechgen: error: --name '" + name + "' " + why +
+                           "; give a C++ identifier (see Names in models/README.md)")
+                << "\n";
+      return 1;
+    }
+  }
+
   Pipeline p;
   const auto start = std::chrono::steady_clock::now();
   try {
     Run(&p, model_path, name, templates,
         strategy == "monolithic" ? mechgen::Strategy::kMonolithic : mechgen::Strategy::kBlocks);
   } catch (const mechgen::ModelError& e) {
-    std::cerr << e.what() << "\n";
+    std::cerr << OneLine(e.what()) << "\n";
     return 1;
-  } catch (const std::exception& e) {
-    std::cerr << model_path << ": error: " << e.what() << "\n";
+  } catch (const std::exception& e) {  // not located: a derivation step the checks did not foresee
+    std::cerr << OneLine(model_path + ": error: " + e.what()) << "\n";
     return 2;
   }
   const double ms =

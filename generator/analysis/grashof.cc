@@ -59,6 +59,20 @@ bool IsFourBarLoop(const Model& m, const Loop& loop) {
 }
 
 void CheckFourBarRange(const Model& m, const FourBarLoop& f) {
+  // A zero-length link (for the ground: coincident pivots) leaves three links: the loop is a
+  // rigid triangle or cannot close, and Grashof's classification means nothing.
+  for (int i = 0; i < 4; ++i) {
+    if (!(f.lengths[i] <= 1e-12 * std::max(1.0, f.l))) continue;
+    SourceMark mark;
+    for (const Link& l : m.links)
+      if (l.name == f.links[i]) mark = l.mark;
+    std::ostringstream loop;
+    loop << "loop " << f.loop + 1 << " (";
+    for (int k = 0; k < 4; ++k) loop << (k ? ", " : "") << f.links[k] << " " << f.lengths[k];
+    m.Fail(mark, "link '" + f.links[i] + "' has zero length in " + loop.str() +
+                     "): its two joints coincide at the parameters' defaults, so the loop is not a four-bar " +
+                     "(a rigid triangle, or no loop at all); give the joints distinct points");
+  }
   if (f.unreachable_input < 0) return;
   const Input& in = m.inputs[f.unreachable_input];
   m.Fail(in.mark, "input joint '" + m.joints[in.joint].name + "' is driven over [" + Deg(in.min) + ", " + Deg(in.max) +
@@ -96,7 +110,9 @@ std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
     int shortest = 0;
     for (int i = 1; i < 4; ++i)
       if (f.lengths[i] < f.lengths[shortest]) shortest = i;
-    if (std::abs(margin) <= 1e-12 * scale) {
+    if (f.s <= 1e-12 * scale) {  // CheckFourBarRange reports it
+      f.type = "degenerate: link '" + f.links[shortest] + "' has zero length (its two joints coincide)";
+    } else if (std::abs(margin) <= 1e-12 * scale) {
       f.type = "change point (Grashof-neutral: the loop can fold flat)";
     } else if (margin < 0) {
       f.type = "non-Grashof triple-rocker: no link turns fully";

@@ -30,6 +30,63 @@ std::string G(double v) {
 
 }  // namespace
 
+void CheckZeroLengthLinks(const Model& m) {
+  const GiNaC::exmap defaults = m.Defaults();
+  // Links whose angle a higher pair uses (its two links, its carrier): not only their pins.
+  std::vector<bool> other_use(m.links.size(), false);
+  for (const Joint& j : m.joints) {
+    if (j.IsLowerPair() && j.type() != JointType::kRoll) continue;
+    other_use[j.link_a] = other_use[j.link_b] = true;
+    if (j.type() == JointType::kGear && j.Data<GearData>().carrier >= 0) other_use[j.Data<GearData>().carrier] = true;
+    if (j.type() == JointType::kRack && j.Data<RackData>().carrier >= 0) other_use[j.Data<RackData>().carrier] = true;
+    if (j.type() == JointType::kCam && j.Data<CamData>().carrier >= 0) other_use[j.Data<CamData>().carrier] = true;
+  }
+  double scale = 1;
+  for (const Link& l : m.links)
+    for (const LinkPoint& p : l.points) scale = std::max({scale, std::abs(Num(p.x, defaults)), std::abs(Num(p.y, defaults))});
+  for (size_t li = 0; li < m.links.size(); ++li) {
+    if (static_cast<int>(li) == m.ground || other_use[li]) continue;
+    std::vector<int> pins;
+    bool only_revolute = true;
+    for (size_t k = 0; k < m.joints.size(); ++k) {
+      if (!m.joints[k].Joins(static_cast<int>(li))) continue;
+      only_revolute &= m.joints[k].type() == JointType::kRevolute;
+      pins.push_back(static_cast<int>(k));
+    }
+    if (!only_revolute || pins.size() < 2) continue;
+    const Link& link = m.links[li];
+    const LinkPoint& first = link.points[m.joints[pins[0]].End(static_cast<int>(li)).point];
+    const double x0 = Num(first.x, defaults), y0 = Num(first.y, defaults);
+    double spread = 0;
+    for (int k : pins) {
+      const LinkPoint& p = link.points[m.joints[k].End(static_cast<int>(li)).point];
+      spread = std::max(spread, std::hypot(Num(p.x, defaults) - x0, Num(p.y, defaults) - y0));
+    }
+    if (!(spread <= 1e-12 * scale)) continue;  // (NaN cannot come here: expressions are checked finite)
+    std::string names, driven;
+    for (int k : pins) names += (names.empty() ? "" : ", ") + m.joints[k].name;
+    for (const Input& in : m.inputs)
+      for (int k : pins)
+        if (in.joint == k) driven = m.joints[k].name;
+    const LinkPoint& last = link.points[m.joints[pins.back()].End(static_cast<int>(li)).point];
+    m.Fail(last.mark, "link '" + link.name + "' has zero length: its joints " + names + " are all at one point (" +
+                          G(x0) + ", " + G(y0) + ") at the parameters' defaults, so " +
+                          (driven.empty() ? "its angle is in no equation (Phi_phi is singular everywhere)"
+                                          : "turning it by input '" + driven + "' moves nothing (K = 0)") +
+                          "; give its joints distinct points");
+  }
+}
+
+void CheckZeroRadii(const Model& m) {
+  // Gears and rolling joints check their radii themselves (joints/<kind>.cc); a rack's
+  // pinion with a zero pitch radius would not drive its rack.
+  const GiNaC::exmap defaults = m.Defaults();
+  for (const Joint& j : m.joints)
+    if (j.type() == JointType::kRack && Num(j.Data<RackData>().radius, defaults) == 0)
+      m.Fail(j.mark, "rack '" + j.name + "': the pinion's pitch radius is 0 at the parameters' defaults, so " +
+                         "turning the pinion would not move the rack; give it a non-zero radius");
+}
+
 void CheckCamLaw(const Model& m, const Joint& j) {
   const CamData& cd = j.Data<CamData>();
   GiNaC::ex turn_ex = 0, rises = 0, returns = 0;
@@ -108,6 +165,8 @@ Analysis Validate(const Model& m) {
   for (const Joint& j : m.joints) KindOf(j).Check(m, j);
   a.topology = BuildTopology(m);
   CheckTopology(m, a.topology);
+  CheckZeroLengthLinks(m);
+  CheckZeroRadii(m);
   a.four_bars = ClassifyFourBars(m, a.topology);
   for (const FourBarLoop& f : a.four_bars) CheckFourBarRange(m, f);
   a.coordinates = BuildCoordinates(m, a.topology);

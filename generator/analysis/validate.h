@@ -6,8 +6,9 @@
 //   1. each joint's own numbers (joints/<kind>.cc, JointKind::Check): radii, roller, angles
 //   2. topology (topology.cc computes, this reports): sliders that fix one angle twice,
 //      links not connected to the ground, mobility <= 0, inputs != mobility, two inputs on
-//      one angle, an input that cannot turn
-//   3. four-bar loops (grashof.cc): a driven link's range the loop cannot reach
+//      one angle, an input that cannot turn; then zero-length links (all pins at one point)
+//   3. four-bar loops (grashof.cc): a zero-length link (coincident pivots), a driven link's
+//      range the loop cannot reach
 //   4. cams: the law closes the cycle (here), no undercut or cusp (joints/cam_profile.cc, CheckCam), the
 //      contour's checks (joints/cam_profile.cc, BuildCamContour: they share its sampling and spline fit)
 //   5. the assembly guess names coordinates
@@ -38,6 +39,15 @@ Analysis Validate(const Model& m);
 
 /// Step 2: the topology's errors.
 void CheckTopology(const Model& m, const Topology& t);
+
+/// Step 2b: a moving link whose joints are all revolute (no higher pair uses its angle) and
+/// all at one point at the parameters' defaults: a zero-length link, whose angle is in no
+/// equation, or, driven, moves nothing (ModelError at its last joint's point).
+void CheckZeroLengthLinks(const Model& m);
+
+/// Step 2b: a rack whose pinion has a zero pitch radius at the defaults (ModelError at
+/// the joint).
+void CheckZeroRadii(const Model& m);
 
 /// Step 4 for a cam given by its law: the segments span one turn and the rises add up to
 /// the returns (ModelError at the law).

@@ -32,6 +32,20 @@ std::string ReadFile(const std::string& path, const std::string& what = "templat
   return os.str();
 }
 
+// Free text (the model's title, description, a parameter's doc, the model file's name) as it
+// can stand in a comment: "*/" and "/*" are broken up ("*\/", "/\*": a block comment would
+// end, or -Wcomment warn), and control characters (the reader rejects them in the model's
+// text; a file name may hold one) become '?', so that no line ends early.
+std::string CommentText(const std::string& text) {
+  std::string out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (i > 0 && ((c == '/' && text[i - 1] == '*') || (c == '*' && text[i - 1] == '/'))) out += '\\';
+    out += (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n') || c == 0x7f ? '?' : c;
+  }
+  return out;
+}
+
 std::string Number(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -318,12 +332,12 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   std::string upper = m.name;
   for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   data.Set("version", std::string(MECHGEN_VERSION));
-  data.Set("model_file", std::filesystem::path(m.file).filename().string());
+  data.Set("model_file", CommentText(std::filesystem::path(m.file).filename().string()));
   data.Set("model_sha256", Sha256Hex(ReadFile(m.file, "model file")));  // the bytes mechgen read
   data.Set("name", m.name);
   data.Set("NAME", upper);
-  data.Set("title", m.title.empty() ? m.name : m.title);
-  data.SetList("description", LineMaps(m.description), {"line"});
+  data.Set("title", CommentText(m.title.empty() ? m.name : m.title));
+  data.SetList("description", LineMaps(CommentText(m.description)), {"line"});
   data.Set("num_links", static_cast<int>(m.links.size()));
   data.Set("num_moving_links", static_cast<int>(m.links.size()) - 1);
   data.Set("num_joints", static_cast<int>(m.joints.size()));
@@ -372,7 +386,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("num_points", static_cast<int>(k.points.size()));
   data.Set("num_scene_points", static_cast<int>(k.scene.size()));
   for (const Parameter& p : m.params)
-    params.push_back({{"name", p.name}, {"value", Number(p.value)}, {"comment", p.doc}});
+    params.push_back({{"name", p.name}, {"value", Number(p.value)}, {"comment", CommentText(p.doc)}});
   data.SetList("params", params, {"name", "value", "comment"});
   const bool has_points = !k.points.empty();
   data.Set("has_K", table.requested.K);

@@ -22,7 +22,7 @@ void ReadJoints(SectionReader& r, const YAML::Node& node) {
     Joint j;
     j.name = name;
     j.mark = r.KeyMark(spec);
-    if (!IsIdentifier(name)) m.Fail(j.mark, "joint name '" + name + "' must be an identifier");
+    CheckName(m, name, NameRole::kJoint, j.mark);
     auto entries = r.Entries(spec, "joint '" + name + "'", &JointKeys());
     if (entries.size() != 1)
       r.Fail(spec, "joint '" + name + "' must have exactly one kind: revolute, prismatic, roll, gear, rack or cam");

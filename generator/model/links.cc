@@ -24,8 +24,7 @@ void ReadLinks(SectionReader& r, const YAML::Node& node) {
     Link l;
     l.name = name;
     l.mark = r.KeyMark(spec);
-    if (!IsIdentifier(name))
-      m.Fail(l.mark, "link name '" + name + "' must be an identifier (letters, digits, _)");
+    CheckName(m, name, NameRole::kLink, l.mark);
     if (!spec.IsMap()) r.Fail(spec, "link '" + name + "' must be a mapping with points:");
     for (const auto& [key, value] : r.Entries(spec, "link '" + name + "'", &LinkKeys())) {
       if (key == "ground") {
@@ -54,8 +53,7 @@ void ReadLinks(SectionReader& r, const YAML::Node& node) {
           LinkPoint pt;
           pt.name = pname;
           pt.mark = r.KeyMark(xy);
-          if (!IsIdentifier(pname))
-            m.Fail(pt.mark, "point name '" + pname + "' must be an identifier");
+          CheckName(m, pname, NameRole::kPoint, pt.mark);
           if (!xy.IsSequence() || xy.size() != 2)
             r.Fail(xy, "point '" + name + "." + pname + "' must be [x, y] in the link's frame");
           pt.x = r.Expression(xy[0], "x of " + name + "." + pname);

@@ -2,28 +2,10 @@
 // A parameter is `name: 1.5` or `name: {value: 1.5, doc: ...}` (ParameterKeys).
 #include <cmath>
 #include <cstdlib>
-#include <set>
 
 #include "model/reader.h"
 
 namespace mechgen {
-namespace {
-
-// Names of the expression language, and C++ keywords (parameters become struct members).
-const std::set<std::string>& ReservedNames() {
-  static const std::set<std::string> names = {
-      "deg", "Pi", "pi", "sin", "cos", "tan", "sqrt", "atan2", "exp", "log", "abs", "pow", "I",
-      "Euler", "Catalan", "Scalar", "Cast", "alignas", "auto", "bool", "break", "case", "catch",
-      "char", "class", "const", "constexpr", "continue", "default", "delete", "do", "double",
-      "else", "enum", "explicit", "extern", "false", "float", "for", "friend", "goto", "if",
-      "inline", "int", "long", "mutable", "namespace", "new", "noexcept", "nullptr", "operator",
-      "private", "protected", "public", "register", "return", "short", "signed", "sizeof",
-      "static", "struct", "switch", "template", "this", "throw", "true", "try", "typedef",
-      "typename", "union", "unsigned", "using", "virtual", "void", "volatile", "while"};
-  return names;
-}
-
-}  // namespace
 
 const KeyTable& ParameterKeys() {
   static const KeyTable table{"parameter",
@@ -39,17 +21,20 @@ void ReadParameters(SectionReader& r, const YAML::Node& node) {
     Parameter p;
     p.name = name;
     p.mark = r.KeyMark(value);
-    if (!IsIdentifier(name) || ReservedNames().count(name))
-      m.Fail(p.mark, "parameter name '" + name +
-                          "' must be a C++ identifier and neither a C++ keyword nor a name of the " +
-                          "expression language (deg, Pi, sin, cos, sqrt, ...); rename it");
+    CheckName(m, name, NameRole::kParameter, p.mark);
     YAML::Node v = value;
     if (value.IsMap()) {
       auto entries = r.Entries(value, "parameter '" + name + "'", &ParameterKeys());
       v = YAML::Node();
       for (auto& [k, n] : entries) {
         if (k == "value") v = n;
-        if (k == "doc") p.doc = r.Scalar(n, "doc");
+        if (k == "doc") {
+          p.doc = r.Scalar(n, "doc");
+          const std::string why = FreeTextProblem(p.doc, /*multiline=*/false);
+          if (!why.empty())
+            r.Fail(n, "the doc of parameter '" + name + "' " + why +
+                          ", and is copied into a comment of the generated header; remove it");
+        }
       }
       if (!v) r.Fail(value, "parameter '" + name + "' needs a value");
     }
@@ -59,6 +44,12 @@ void ReadParameters(SectionReader& r, const YAML::Node& node) {
     if (text.empty() || end == text.c_str() || *end != '\0' || !std::isfinite(p.value))
       r.Fail(v, "parameter '" + name + "' must be a number, not '" + text +
                   "' (parameter defaults are plain numbers; use expressions in geometry)");
+    // The generator evaluates products of the defaults in double precision (CLN raises on
+    // over- and underflow): 0, or a magnitude in [1e-100, 1e100].
+    const bool nonzero_text = text.substr(0, text.find_first_of("eEpP")).find_first_of("123456789abcdefABCDEF") != std::string::npos;
+    if ((p.value != 0 || nonzero_text) && !(std::abs(p.value) >= kMinMagnitude && std::abs(p.value) <= kMaxMagnitude))
+      r.Fail(v, "parameter '" + name + "' = " + text +
+                  " is outside the range of model numbers (0, or 1e-100 to 1e100 in magnitude); change the unit");
     p.symbol = GiNaC::symbol(name);
     m.params.push_back(p);
   }

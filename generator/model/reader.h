@@ -56,6 +56,9 @@ class SectionReader {
  public:
   explicit SectionReader(Model* model) : m_(*model) {}
   Model& model() const { return m_; }
+  /// The model file's text, so that an expression's error can point at the character
+  /// (else it points at the node).
+  void SetSource(const std::string* text) { source_ = text; }
 
   [[noreturn]] void Fail(const YAML::Node& node, const std::string& message) const;
 
@@ -65,9 +68,18 @@ class SectionReader {
                                                           const KeyTable* table = nullptr) const;
   std::string Scalar(const YAML::Node& node, const std::string& what) const;
   bool Bool(const YAML::Node& node, const std::string& what) const;
-  /// An expression in the parameters (and `deg` = pi/180); with `u`, also in a cam
-  /// contour's parameter u.
+  /// An expression of the language models/README.md documents ("Expressions"): numbers,
+  /// the parameters, `deg` and `Pi`, + - * / ^ and the whitelisted functions; with `u`,
+  /// also a cam contour's parameter u. Checked before GiNaC reads it (characters, syntax,
+  /// names, at most kMaxExpressionNesting parentheses, kMaxExpressionLength characters), and,
+  /// if it does not use `u`, evaluated at the parameters' defaults: every sub-expression must be finite
+  /// and real there (no division by zero, no square root or logarithm of a negative number).
+  /// Any failure is a ModelError at the offending character.
   GiNaC::ex Expression(const YAML::Node& node, const std::string& what, const GiNaC::symbol* u = nullptr) const;
+  /// The same with more names than `u` (e.g. the coordinates a load depends on): `extra`
+  /// maps each name to its symbol; the value at the defaults is checked only if the
+  /// expression uses none of them.
+  GiNaC::ex Expression(const YAML::Node& node, const std::string& what, const GiNaC::symtab& extra) const;
   /// A number: an expression evaluated at the parameters' default values.
   double Number(const YAML::Node& node, const std::string& what) const;
   /// "link.point" -> PointRef.
@@ -80,7 +92,11 @@ class SectionReader {
   SourceMark KeyMark(const YAML::Node& value) const;
 
  private:
+  [[noreturn]] void FailAt(const YAML::Node& node, const std::string& text, size_t offset,
+                           const std::string& message) const;
+
   Model& m_;
+  const std::string* source_ = nullptr;
   mutable std::map<int, SourceMark> keymarks_;  // value position -> mark of its key
 };
 
@@ -89,6 +105,32 @@ SourceMark MarkOf(const YAML::Node& node);
 /// a finite real number ("<what> must evaluate to a real number", "<what> is not finite").
 double ValueAtDefaults(const Model& m, const GiNaC::ex& e, SourceMark mark, const std::string& what);
 bool IsIdentifier(const std::string& s);
+
+/// Limits of the reader (models/README.md, "Errors"): a model file is a regular file of at
+/// most kMaxModelBytes; an expression has at most kMaxExpressionLength characters and nests
+/// at most kMaxExpressionNesting parentheses (GiNaC's parser is recursive); numbers (parameter
+/// defaults and literals) are 0 or of magnitude in [kMinMagnitude, kMaxMagnitude], so that
+/// products of a few stay within double range when the generator evaluates them.
+constexpr size_t kMaxModelBytes = 1 << 20;
+constexpr size_t kMaxExpressionLength = 4096;
+constexpr int kMaxExpressionNesting = 64;
+constexpr double kMinMagnitude = 1e-100;
+constexpr double kMaxMagnitude = 1e100;
+
+/// What a name of the model becomes in the generated C++ (models/README.md, "Names").
+enum class NameRole { kModel, kParameter, kLink, kPoint, kJoint };
+/// Why `name` cannot be a `role` name ("is a C++ keyword", ...), or "" if it can: not an
+/// ASCII identifier, a C++ keyword, reserved (a leading underscore, a double underscore), and
+/// for the model and the parameters (C++ names of their own) a macro of the headers the
+/// generated code includes or a name the generated code uses; for the model also a trailing
+/// underscore and the name of a C header.
+std::string NameProblem(const std::string& name, NameRole role);
+/// A ModelError at `mark` if NameProblem(name, role) is not empty.
+void CheckName(const Model& m, const std::string& name, NameRole role, SourceMark mark);
+/// Why free text (title, description, a parameter's doc) cannot be carried into the
+/// generated header's comments, or "": control characters (a newline only if `multiline`),
+/// invalid UTF-8, or a trailing backslash (it would continue a // comment onto the next line).
+std::string FreeTextProblem(const std::string& text, bool multiline);
 
 // The sections, in the order LoadModel reads them.
 void ReadParameters(SectionReader& r, const YAML::Node& node);
