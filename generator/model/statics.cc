@@ -55,23 +55,11 @@ void MakeCoordinateRefs(Model& m) {
 GiNaC::ex LoadExpression(SectionReader& r, const YAML::Node& node, const std::string& what) {
   Model& m = r.model();
   MakeCoordinateRefs(m);
-  const std::string text = r.Scalar(node, what);
-  GiNaC::symtab table;
-  for (const auto& p : m.params) table[p.name] = p.symbol;
-  for (const auto& [name, sym] : m.coordinate_refs) table[name] = sym;
-  table["deg"] = GiNaC::Pi / 180;
-  GiNaC::parser reader(table, /*strict=*/true);
-  GiNaC::ex e;
-  try {
-    e = reader(text);
-  } catch (const std::exception&) {
-    r.Fail(node, what + ": cannot read '" + text +
-                     "' as an expression; use numbers, parameter names, the coordinates (theta_<link>, "
-                     "s_<joint>, ...), + - * / ^, sin cos sqrt, and deg (time and velocities are not "
-                     "available in statics)");
-  }
-  if (e.has(GiNaC::I)) r.Fail(node, what + ": '" + text + "' is not real");
-  return e;
+  // The expression language of every expression (checked, at most 64 parentheses, ...),
+  // with the coordinates' names besides the parameters.
+  GiNaC::symtab coordinates;
+  for (const auto& [name, sym] : m.coordinate_refs) coordinates[name] = sym;
+  return r.Expression(node, what, coordinates);
 }
 
 }  // namespace
