@@ -260,7 +260,8 @@ struct DriveAnalysis {
   double drive_backward = kNaN;
   /// T0 / T_fwd: the forward efficiency (1 without friction, in (0, 1] with it).
   double efficiency_forward = kNaN;
-  /// T_back / T0: the backward efficiency (1 without friction; <= 0 when self-locking).
+  /// T_back / T0: the backward efficiency (1 without friction; <= 0 when self-locking; NaN
+  /// where T0 = 0 up to rounding, |T0| <= 1e-12 |T_fwd|).
   double efficiency_backward = kNaN;
   /// T_back T0 <= 0: the load alone cannot move the machine (a dead zone).
   bool self_locking = false;
@@ -322,7 +323,11 @@ Status AnalyzeDrive(const Options& options, const typename ModelTypes<M>::Params
   out->drive_forward = s1->statics.drive(input);
   out->drive_backward = s2->statics.drive(input);
   out->efficiency_forward = T0 / out->drive_forward;
-  out->efficiency_backward = out->drive_backward / T0;
+  // T_back / T0 tends to -inf as T0 -> 0 inside a dead zone; where T0 is 0 up to rounding
+  // (|T0| <= 1e-12 |T_fwd|, a dead centre) the ratio says nothing: NaN.
+  out->efficiency_backward = std::abs(T0) > 1e-12 * std::abs(out->drive_forward)
+                                 ? out->drive_backward / T0
+                                 : std::numeric_limits<double>::quiet_NaN();
   out->self_locking = out->drive_backward * T0 <= 0;
   return out->status = Status::kConverged;
 }

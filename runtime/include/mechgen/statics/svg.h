@@ -8,8 +8,8 @@
  * force of the joint's first link on its second (the contract's convention), drawn from the
  * pin: at the scene point whose name is J (e.g. "crank.B" for joint B); joints without such
  * a point and the reactions of prismatic, gear and cam joints (whose direction the runtime
- * does not know) are not drawn. One scale for all arrows: the largest drawn reaction is 15 %
- * of the drawing's span; the legend gives it. Rows that are not converged (e.g. singular)
+ * does not know) are not drawn. One scale for all arrows: the largest drawn reaction is 10 %
+ * of the drawing's span (inside its 12 % margin); the legend gives it. Rows that are not converged (e.g. singular)
  * draw no arrows. Allocates; runs after the sweep.
  */
 #pragma once
@@ -70,7 +70,7 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
                                                  r.frictionless.statics.R(a.y)));
       }
       if (!(largest > 0) || !std::isfinite(largest)) return;
-      const double per_unit = 0.15 * frame.span / largest;  // model length per force unit
+      const double per_unit = 0.1 * frame.span / largest;  // model length per force unit
       svg << "<defs><marker id=\"reaction_head\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" "
              "markerWidth=\"7\" markerHeight=\"7\" orient=\"auto\"><path d=\"M0,0 L10,5 L0,10 "
              "z\" fill=\"#c00\"/></marker></defs>\n<g id=\"reactions\">\n";

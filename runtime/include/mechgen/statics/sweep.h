@@ -43,7 +43,8 @@ struct StaticsRecord {
   /// One input, a model with point velocity coefficients: 1 / |K_P| of its first requested
   /// point P (m^-1 for a crank, 1 for a slide input): the force a load at P along P's path
   /// balances per unit driving torque or force, by virtual work |F| |K_P| = |T| without
-  /// friction (the ideal mechanical advantage; inf at a toggle, where K_P = 0). NaN otherwise.
+  /// friction (the ideal mechanical advantage; inf at a toggle, where |K_P| <= 1e-12 |r_P|,
+  /// i.e. 0 up to rounding). NaN otherwise.
   double mechanical_advantage = kNaN;
   /// kConverged, kSingular (at or next to a dead point), kDidNotConverge (friction), or
   /// kInvalidInput (the position step failed otherwise: see kinematics.summary.status).
@@ -109,7 +110,11 @@ Status EvaluateRecord(const Options& options, const typename ModelTypes<M>::Para
   }
   if constexpr (M::kNq == 1 && ModelFeatures<M>::kHasPointVelocities) {
     if (status == Status::kConverged) {
-      r->mechanical_advantage = 1.0 / std::hypot(state.K_P(0, 0), state.K_P(1, 0));
+      // At a toggle K_P is 0 up to rounding (~eps |r_P|): report inf there, not 1 / rounding.
+      const double speed = std::hypot(state.K_P(0, 0), state.K_P(1, 0));
+      const double rounding = 1e-12 * std::hypot(state.r_P(0, 0), state.r_P(1, 0));
+      r->mechanical_advantage =
+          speed > rounding ? 1.0 / speed : std::numeric_limits<double>::infinity();
     }
   }
   return r->status = status;
