@@ -16,6 +16,7 @@
 #include "analysis/topology.h"
 #include "analysis/validate.h"
 #include "codegen/emit.h"
+#include "symbolic/statics.h"
 #include "codegen/functions.h"
 #include "model/model.h"
 #include "report/report.h"
@@ -47,6 +48,7 @@ struct Pipeline {
   std::vector<mechgen::FourBarLoop> four_bars;
   mechgen::Kinematics kinematics;
   std::unique_ptr<mechgen::SymbolicTable> table;
+  std::unique_ptr<mechgen::StaticsTable> statics;
   std::vector<mechgen::TransmissionAngle> transmission;
   mechgen::CxxPrinter printer;
   std::vector<mechgen::FunctionSpec> functions;
@@ -62,7 +64,9 @@ void Run(Pipeline* p, const std::string& path, const std::string& name, const st
   p->kinematics = mechgen::DeriveKinematics(p->model, p->topology, &analysis.coordinates, &analysis.cams);
   p->table = std::make_unique<mechgen::SymbolicTable>(p->model, p->kinematics, strategy);
   p->transmission = mechgen::FindTransmissionAngles(p->model, p->topology, p->kinematics, p->table->blocks);
-  p->functions = mechgen::BuildFunctions(p->model, p->kinematics, *p->table, p->transmission, &p->printer);
+  p->statics = std::make_unique<mechgen::StaticsTable>(p->model, p->kinematics, *p->table);
+  p->functions =
+      mechgen::BuildFunctions(p->model, p->kinematics, *p->table, p->transmission, &p->printer, p->statics.get());
   p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, *p->table, p->transmission, p->functions,
                              &p->printer, templates);
 }

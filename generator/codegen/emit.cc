@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "codegen/sha256.h"
+#include "symbolic/statics.h"
 
 #ifndef MECHGEN_VERSION
 #define MECHGEN_VERSION "0.0.0"
@@ -47,6 +48,54 @@ std::string Join(const std::vector<T>& v, F f) {
 }
 
 std::string Quote(const std::string& s) { return "\"" + s + "\""; }
+
+// The generated Statics struct: only the members the model asked for.
+std::string StaticsStruct(const Model& m, const StaticsLayout& layout, bool has_L) {
+  const bool forces = m.outputs.Has(Quantity::kForces), potential = m.outputs.Has(Quantity::kPotential);
+  std::string s =
+      "/// What EvalStatics() fills (statics by virtual work, Paul ch. 5). Units follow the model's\n"
+      "/// (SI: N, N m, J). A generalized force of an angle input is a torque (per radian), of a slide\n"
+      "/// input a force. Only the members the model asked for exist.\n"
+      "template <typename Scalar = double>\n"
+      "struct Statics {\n";
+  if (forces)
+    s += "  /// Q(j): generalized force of the loads, springs, weights and given friction loads on q_j\n"
+         "  /// (virtual work: Q_j = sum F.K_P,j + sum T K_theta,j - dV/dq_j).  (kNq)\n"
+         "  Vec<Scalar, Sizes::kNq> Q;\n"
+         "  /// drive(j) = -Q(j): what input j's actuator applies for static equilibrium: the torque on the\n"
+         "  /// input's moving link (counter-clockwise +, reacting on the ground) or the force on its slider\n"
+         "  /// along the line.  (kNq)\n"
+         "  Vec<Scalar, Sizes::kNq> drive;\n";
+  if (forces && potential && has_L)
+    s += "  /// stiffness(j, k) = -dQ_j/dq_k along the motion, friction excluded (d2V/dq2 for a conservative\n"
+         "  /// model): an equilibrium (Q = 0) is stable where it is positive definite.  (kNq x kNq)\n"
+         "  Mat<Scalar, Sizes::kNq, Sizes::kNq> stiffness;\n";
+  if (potential) {
+    s += "  /// V: potential energy of the springs and the weights.\n"
+         "  Scalar V;\n"
+         "  /// dV_dq(j) = dV/dq_j along the motion.  (kNq)\n"
+         "  Vec<Scalar, Sizes::kNq> dV_dq;\n";
+    if (has_L)
+      s += "  /// d2V_dq2(j, k) = d2V/dq_j dq_k along the motion.  (kNq x kNq)\n"
+           "  Mat<Scalar, Sizes::kNq, Sizes::kNq> d2V_dq2;\n";
+  }
+  if (!layout.reactions.empty())
+    s += "  /// R(i): reaction component Model::kReactionNames[i]: the force (moment) of the joint's first link\n"
+         "  /// on its second, fixed frame.  (kNumReactions)\n"
+         "  Vec<Scalar, Sizes::kNumReactions> R;\n";
+  if (!layout.friction.empty())
+    s += "  /// normal(i): the force friction acts with at kFrictionJoints[i]: |F| at a revolute joint, |N| at\n"
+         "  /// a prismatic joint.  (kNumFriction)\n"
+         "  Vec<Scalar, Sizes::kNumFriction> normal;\n"
+         "  /// gain(i): mu r (revolute: the friction circle's radius) or mu (prismatic): the friction load's\n"
+         "  /// magnitude is gain(i) normal(i).  (kNumFriction)\n"
+         "  Vec<Scalar, Sizes::kNumFriction> gain;\n"
+         "  /// K_rel(i, j): the joint's relative velocity per unit qd_j: d(theta_b - theta_a)/dq_j (revolute)\n"
+         "  /// or ds/dq_j (prismatic); friction opposes it.  (kNumFriction x kNq)\n"
+         "  Mat<Scalar, Sizes::kNumFriction, Sizes::kNq> K_rel;\n";
+  s += "};\n";
+  return s;
+}
 
 // Data for the templates, remembering every key so that a template naming a value the
 // generator does not provide is an error instead of an empty string.
@@ -426,6 +475,41 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("assembly_phi", numbers(k.assembly_phi));
   data.Set("q_min", numbers(k.q_min));
   data.Set("q_max", numbers(k.q_max));
+
+  // ---- Statics: the Statics struct and the reactions' and friction joints' names ----
+  const StaticsLayout statics = StaticsLayout::Of(m);
+  data.Set("statics_sizes",
+           !statics.any ? std::string()
+                        : "  static constexpr int kNumReactions = " + std::to_string(statics.reactions.size()) +
+                              ";  ///< reaction components (kReactionNames)\n"
+                              "  static constexpr int kNumFriction = " + std::to_string(statics.friction.size()) +
+                              ";   ///< joints with Coulomb friction (kFrictionJoints)\n");
+  data.Set("statics_struct", statics.any ? StaticsStruct(m, statics, table.requested.L) + "\n" : std::string());
+  std::string constants =
+      "  /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first\n"
+      "  /// link on its second, in the fixed frame:\n";
+  for (const auto& c : statics.reactions) constants += "  ///   " + c.name + ": " + c.what + "\n";
+  constants += "  static constexpr std::array<const char*, kNumReactions> kReactionNames{ " +
+               Join(statics.reactions, [](const StaticsLayout::Component& c) { return Quote(c.name); }) + " };\n";
+  constants += "  /// The joint of each reaction component (index into kJointNames).\n";
+  constants += "  static constexpr std::array<int, kNumReactions> kReactionJoint{ " +
+               Join(statics.reactions, [](const StaticsLayout::Component& c) { return std::to_string(c.joint); }) +
+               " };\n";
+  constants += "  static constexpr std::array<const char*, " + std::to_string(m.joints.size()) + "> kJointNames{ " +
+               Join(m.joints, [](const Joint& j) { return Quote(j.name); }) + " };\n";
+  constants += "  /// Joints with Coulomb friction, and whether each is prismatic (else revolute).\n";
+  constants += "  static constexpr std::array<const char*, kNumFriction> kFrictionJoints{ " +
+               Join(statics.friction, [&m](int j) { return Quote(m.joints[j].name); }) + " };\n";
+  constants += "  static constexpr std::array<bool, kNumFriction> kFrictionPrismatic{ " +
+               Join(statics.friction,
+                    [&m](int j) { return std::string(m.joints[j].type() == JointType::kPrismatic ? "true" : "false"); }) +
+               " };\n";
+  constants += "  /// The loads, in the model's order.\n";
+  constants += "  static constexpr std::array<const char*, " + std::to_string(m.loads.size()) + "> kLoadNames{ " +
+               Join(m.loads, [](const Load& l) { return Quote(l.name); }) + " };\n";
+  constants += "  template <typename Scalar>\n  using StaticsT = mech::" + m.name + "::Statics<Scalar>;\n";
+  if (!statics.any) constants.clear();
+  data.Set("statics_constants", constants);
 
   out.header = data.Render(templates_dir + "/mechanism.h.mustache");
   out.source = data.Render(templates_dir + "/mechanism.cc.mustache");

@@ -224,39 +224,44 @@ void ShareTrig(const Kinematics& k,
                const std::vector<bool>& trig_done,
                CxxPrinter* printer,
                FunctionSpec* coefficients,
-               FunctionSpec* positions) {
+               FunctionSpec* positions,
+               FunctionSpec* statics) {
   std::vector<TrigName> names;
   for (int i = 0; i < k.nq(); ++i) names.push_back(NameTrig(true, i, printer));
   for (int i = 0; i < k.nphi(); ++i) names.push_back(NameTrig(false, i, printer));
   const int nq = k.nq();
 
-  // EvalCoefficients: every angle coordinate.
-  Program& coeffs = coefficients->body.front();
-  const auto used = SubstituteTrig(k, names, &coeffs, true);
-  Program prologue, given, called;
-  for (size_t i = 0; i < names.size(); ++i) {
-    const TrigName& t = names[i];
-    if (used[i].first) {
-      prologue.push_back(Raw("Scalar " + t.sin + ";"));
-      given.push_back(Raw("  " + t.sin + " = " + t.sin_ref + ";"));
-      called.push_back(Raw("  " + t.sin + " = sin(" + t.arg + ");"));
-      ++coefficients->extra_calls;
+  // EvalCoefficients (and EvalStatics): every angle coordinate.
+  auto take_trig = [&](FunctionSpec* spec) {
+    Program& coeffs = spec->body.front();
+    const auto used = SubstituteTrig(k, names, &coeffs, true);
+    Program prologue, given, called;
+    for (size_t i = 0; i < names.size(); ++i) {
+      const TrigName& t = names[i];
+      if (used[i].first) {
+        prologue.push_back(Raw("Scalar " + t.sin + ";"));
+        given.push_back(Raw("  " + t.sin + " = " + t.sin_ref + ";"));
+        called.push_back(Raw("  " + t.sin + " = sin(" + t.arg + ");"));
+        ++spec->extra_calls;
+      }
+      if (used[i].second) {
+        prologue.push_back(Raw("Scalar " + t.cos + ";"));
+        given.push_back(Raw("  " + t.cos + " = " + t.cos_ref + ";"));
+        called.push_back(Raw("  " + t.cos + " = cos(" + t.arg + ");"));
+        ++spec->extra_calls;
+      }
     }
-    if (used[i].second) {
-      prologue.push_back(Raw("Scalar " + t.cos + ";"));
-      given.push_back(Raw("  " + t.cos + " = " + t.cos_ref + ";"));
-      called.push_back(Raw("  " + t.cos + " = cos(" + t.arg + ");"));
-      ++coefficients->extra_calls;
+    if (!given.empty()) {
+      prologue.push_back(Raw("if (trig != nullptr) {"));
+      prologue.insert(prologue.end(), given.begin(), given.end());
+      prologue.push_back(Raw("} else {"));
+      prologue.insert(prologue.end(), called.begin(), called.end());
+      prologue.push_back(Raw("}"));
+      coeffs.insert(coeffs.begin(), prologue.begin(), prologue.end());
     }
-  }
-  if (!given.empty()) {
-    prologue.push_back(Raw("if (trig != nullptr) {"));
-    prologue.insert(prologue.end(), given.begin(), given.end());
-    prologue.push_back(Raw("} else {"));
-    prologue.insert(prologue.end(), called.begin(), called.end());
-    prologue.push_back(Raw("}"));
-    coeffs.insert(coeffs.begin(), prologue.begin(), prologue.end());
-  }
+  };
+  take_trig(coefficients);
+  if (statics) take_trig(statics);
 
   // SolvePositions: the inputs' sin and cos once, before the blocks (body[0] is its
   // prologue, then one program per block, then its epilogue).
@@ -296,7 +301,8 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
                                          const Kinematics& k,
                                          const SymbolicTable& t,
                                          const std::vector<TransmissionAngle>& transmission,
-                                         CxxPrinter* printer) {
+                                         CxxPrinter* printer,
+                                         const StaticsTable* statics) {
   NameModelSymbols(m, k, printer);
   std::vector<FunctionSpec> out;
   // Cams: the law's function and the cam's geometry; splines' contour functions.
@@ -310,8 +316,12 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   FunctionSpec coefficients = EvalCoefficientsSpec(t);
   std::vector<bool> trig_done;
   FunctionSpec positions = SolvePositionsSpec(t, printer, &trig_done);
-  ShareTrig(k, trig_done, printer, &coefficients, &positions);
+  FunctionSpec statics_spec;
+  const bool has_statics = statics != nullptr && statics->layout.any;
+  if (has_statics) statics_spec = EvalStaticsSpec(m, *statics, printer);
+  ShareTrig(k, trig_done, printer, &coefficients, &positions, has_statics ? &statics_spec : nullptr);
   out.push_back(coefficients);
+  if (has_statics) out.push_back(statics_spec);
   out.push_back(EvalDetPhiPhiSpec(t));
   if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));
   out.push_back(positions);

@@ -14,6 +14,7 @@
 #include "codegen/function_spec.h"
 #include "analysis/kinematics.h"
 #include "model/model.h"
+#include "symbolic/statics.h"
 #include "symbolic/table.h"
 #include "symbolic/transmission.h"
 
@@ -41,19 +42,26 @@ FunctionSpec CamLawSpec(const Model& m, const CamLaw& law, CxxPrinter* printer);
 FunctionSpec EvalCamSpec(const Model& m, const CamLaw& law, const CamGeometry& g);
 FunctionSpec ContourSpec(const Model& m, const CamContour& c);
 
+/// EvalStatics (codegen/statics_functions.cc): Q, drive, V, reactions, friction (as requested).
+FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer);
+/// Drops the kDefine statements whose symbol no later statement reads.
+void PruneUnusedDefines(Program* program);
+
 /// sin and cos shared between SolvePositions and EvalCoefficients (the Trig<Scalar>
-/// argument): rewrites both specs' programs.
+/// argument): rewrites both specs' programs, and EvalStatics' when given.
 void ShareTrig(const Kinematics& k,
                const std::vector<bool>& trig_done,
                CxxPrinter* printer,
                FunctionSpec* coefficients,
-               FunctionSpec* positions);
+               FunctionSpec* positions,
+               FunctionSpec* statics = nullptr);
 
 /// Every generated function of the model, in the order of the header.
 std::vector<FunctionSpec> BuildFunctions(const Model& m,
                                          const Kinematics& k,
                                          const SymbolicTable& t,
                                          const std::vector<TransmissionAngle>& transmission,
-                                         CxxPrinter* printer);
+                                         CxxPrinter* printer,
+                                         const StaticsTable* statics = nullptr);
 
 }  // namespace mechgen

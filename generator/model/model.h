@@ -12,6 +12,7 @@
 #include <ginac/ginac.h>
 
 #include <array>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -55,10 +56,21 @@ struct LinkPoint {
   SourceMark mark;
 };
 
+/// A link's mass properties (statics: its weight; dynamics: its inertia). Massless if
+/// `mass` is not given.
+struct MassProperties {
+  bool given = false;
+  GiNaC::ex mass = 0;                ///< kg (or the model's mass unit)
+  GiNaC::ex center_x = 0, center_y = 0;  ///< centre of mass in the link's frame
+  GiNaC::ex inertia = 0;             ///< moment of inertia about the centre of mass
+  SourceMark mark;
+};
+
 struct Link {
   std::string name;
   bool ground = false;
   std::vector<LinkPoint> points;
+  MassProperties mass;
   SourceMark mark;
   int FindPoint(const std::string& point) const;
 };
@@ -213,6 +225,8 @@ enum class Quantity {
   kK,      ///< velocity coefficients K = dphi/dq (and the points' K_P)
   kL,      ///< centripetal coefficients L (and the points' L_P); needs K
   kScene,  ///< EvalScene: every link point, for drawing
+  kForces,     ///< statics: the generalized forces Q of the loads and the driving forces (needs K)
+  kPotential,  ///< statics: the potential energy V of springs and gravity and its derivatives
 };
 
 /// What the generated code computes: the requested quantities and the points of interest.
@@ -220,7 +234,8 @@ enum class Quantity {
 struct Outputs {
   std::set<Quantity> quantities{Quantity::kK, Quantity::kL, Quantity::kScene};
   std::vector<PointRef> points;  ///< points of interest (positions, K_P, L_P as requested)
-  SourceMark mark;
+  std::vector<int> reactions;    ///< joints whose reactions are emitted (statics; needs kForces)
+  SourceMark mark, reactions_mark;
   /// Derived from `quantities` (filled by the reader) for the emitters that branch on the
   /// order: 0 positions, 1 + K, 2 + L.
   int order = 2;
@@ -237,6 +252,41 @@ struct GuessValue {
   SourceMark mark;
 };
 
+/// An applied load (statics, Paul ch. 5): a force at a link point, or a torque on a link.
+/// Its values are expressions of the parameters and of the coordinates (read through
+/// Model::coordinate_refs, resolved by the statics derivation).
+struct Load {
+  std::string name;
+  enum class Kind { kForce, kTorque };
+  Kind kind = Kind::kForce;
+  PointRef at;              ///< force: its point of application
+  bool link_frame = false;  ///< force: components in the link's frame (else the fixed frame)
+  int link = -1;            ///< torque: the link it acts on (force: at.link)
+  GiNaC::ex fx = 0, fy = 0;  ///< force components
+  GiNaC::ex torque = 0;      ///< torque, counter-clockwise positive
+  SourceMark mark;
+};
+
+/// A spring: linear between two link points (tension F0 + k (l - l0), V = F0 (l - l0) +
+/// k (l - l0)^2 / 2) or torsional at a revolute joint (torque on link_b by link_a
+/// -k (theta_b - theta_a - free angle), V = k (...)^2 / 2).
+struct Spring {
+  std::string name;
+  bool torsional = false;
+  PointRef a, b;  ///< linear: its two ends
+  int joint = -1; ///< torsional: the revolute joint
+  GiNaC::ex stiffness = 0, free_length = 0, preload = 0, free_angle = 0;
+  SourceMark mark;
+};
+
+/// Coulomb friction at a revolute joint (friction circle: coefficient x pin radius) or a
+/// prismatic joint (on the normal force); `viscous` is read for the dynamics.
+struct Friction {
+  int joint = -1;
+  GiNaC::ex coefficient = 0, pin_radius = 0, viscous = 0;
+  SourceMark mark;
+};
+
 struct Model {
   std::string file;  ///< the path it was read from (errors name it)
   std::string name;  ///< C++ identifier, namespace mech::<name>
@@ -249,8 +299,16 @@ struct Model {
   SourceMark inputs_mark;
   Outputs outputs;
   std::vector<GuessValue> guess;
-  // Room for the sections wave 2 reads (mass properties of the links, applied loads):
-  // each is one reader file in generator/model/ with its key table (keys.h).
+  // Statics (generator/model/statics.cc): gravity, loads, springs, friction.
+  bool has_gravity = false;
+  GiNaC::ex gravity_x = 0, gravity_y = 0;
+  SourceMark gravity_mark;
+  std::vector<Load> loads;
+  std::vector<Spring> springs;
+  std::vector<Friction> friction;
+  /// The coordinates' names a load may use (theta_<link>, s_<joint>, psi_<joint>,
+  /// u_<joint>), as placeholder symbols the statics derivation replaces by the coordinates.
+  std::map<std::string, GiNaC::symbol> coordinate_refs;
   int ground = -1;
 
   std::string PointName(PointRef r) const;  ///< "link.point"

@@ -12,7 +12,8 @@ const KeyTable& OutputKeys() {
       "outputs",
       {{"order", "shorthand: 0 positions, 1 + velocity coefficients K, 2 + centripetal coefficients L (default 2)",
         false},
-       {"quantities", "[K, L, scene]: the requested quantities, instead of order and scene", false},
+       {"quantities", "[K, L, scene, forces, potential]: the requested quantities, instead of order and scene", false},
+       {"reactions", "[joint, ...]: joints whose reactions are emitted (statics; needs forces)", false},
        {"points", "[link.P, <rolling joint>.contact, ...]: points of interest (r_P, K_P, L_P as requested)", false},
        {"scene", "emit EvalScene (every link point, for drawing; default true)", false}}};
   return table;
@@ -39,6 +40,17 @@ void ReadOutputs(SectionReader& r, const YAML::Node& node) {
     } else if (key == "quantities") {
       quantities = value;
       has_quantities = true;
+    } else if (key == "reactions") {
+      if (!value.IsSequence()) r.Fail(value, "reactions must be a list of joint names");
+      out.reactions_mark = MarkOf(value);
+      for (const auto& jn : value) {
+        const std::string name = r.Scalar(jn, "reaction joint");
+        const int j = m.FindJoint(name);
+        if (j < 0) r.Fail(jn, "reactions: unknown joint '" + name + "'");
+        for (int other : out.reactions)
+          if (other == j) r.Fail(jn, "joint '" + name + "' is listed twice in reactions");
+        out.reactions.push_back(j);
+      }
     } else if (key == "points") {
       if (!value.IsSequence()) r.Fail(value, "points must be a list of link.point names");
       for (const auto& pn : value) {
@@ -63,15 +75,31 @@ void ReadOutputs(SectionReader& r, const YAML::Node& node) {
     out.quantities.clear();
     for (const auto& item : quantities) {
       const std::string q = r.Scalar(item, "quantity");
-      const Quantity which = q == "K" ? Quantity::kK : q == "L" ? Quantity::kL : Quantity::kScene;
-      if (q != "K" && q != "L" && q != "scene")
-        r.Fail(item, "unknown quantity '" + q + "'; the quantities are K, L and scene");
+      const Quantity which = q == "K"           ? Quantity::kK
+                             : q == "L"         ? Quantity::kL
+                             : q == "forces"    ? Quantity::kForces
+                             : q == "potential" ? Quantity::kPotential
+                                                : Quantity::kScene;
+      if (q != "K" && q != "L" && q != "scene" && q != "forces" && q != "potential")
+        r.Fail(item, "unknown quantity '" + q + "'; the quantities are K, L, scene, forces and potential");
       if (!out.quantities.insert(which).second) r.Fail(item, "quantity '" + q + "' is listed twice");
     }
     if (out.Has(Quantity::kL) && !out.Has(Quantity::kK))
       r.Fail(quantities, "L needs K (the centripetal coefficients are computed from the velocity coefficients); "
                          "add K");
   }
+  if (out.Has(Quantity::kForces) && !out.Has(Quantity::kK))
+    m.Fail(out.mark, "forces need K (the generalized forces are the loads' virtual work through the velocity "
+                       "coefficients); add K");
+  if (!out.reactions.empty() && !out.Has(Quantity::kForces))
+    m.Fail(out.reactions_mark, "reactions need forces (the reactions balance the loads and the driving forces); add "
+                               "forces to quantities");
+  if ((out.Has(Quantity::kForces) || out.Has(Quantity::kPotential)) && m.loads.empty() && m.springs.empty() &&
+      !m.has_gravity && m.friction.empty())
+    m.Fail(out.mark, "forces and potential need something to act: add gravity, loads, springs or friction");
+  if (!m.friction.empty() && !out.Has(Quantity::kForces))
+    m.Fail(m.friction.front().mark, "friction needs forces in the outputs' quantities (the friction forces act "
+                                    "through the reactions)");
   out.order = out.Order();
   out.scene = out.Has(Quantity::kScene);
 }

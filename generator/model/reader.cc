@@ -42,6 +42,10 @@ const KeyTable& ModelKeys() {
                                {"links", "the links and their points; one is the ground", true},
                                {"joints", "the joints between the links", true},
                                {"inputs", "the driven joints, in the order of q", true},
+                               {"gravity", "[gx, gy]: gravity in the fixed frame (statics, dynamics)", false},
+                               {"loads", "forces at link points and torques on links", false},
+                               {"springs", "linear springs between link points, torsional at revolute joints", false},
+                               {"friction", "Coulomb friction per revolute or prismatic joint", false},
                                {"outputs", "what the generated code computes", false},
                                {"assembly", "coordinate values near the wanted assembly mode", false}}};
   return table;
@@ -49,7 +53,8 @@ const KeyTable& ModelKeys() {
 
 std::vector<const KeyTable*> AllKeyTables() {
   std::vector<const KeyTable*> out = {&ModelKeys(),  &ParameterKeys(), &LinkKeys(),      &JointKeys(),
-                                      &InputKeys(),  &OutputKeys(),    &LawSegmentKeys(), &ContourKeys()};
+                                      &InputKeys(),  &OutputKeys(),    &LawSegmentKeys(), &ContourKeys(),
+                                      &LoadKeys(),   &SpringKeys(),     &FrictionKeys()};
   for (const JointKind* k : JointKinds()) out.push_back(&k->Keys());
   return out;
 }
@@ -202,6 +207,10 @@ Model LoadModelFromString(const std::string& text, const std::string& path,
     ReadLinks(r, get("links"));
     ReadJoints(r, get("joints"));
     ReadInputs(r, get("inputs"));
+    ReadGravity(r, get("gravity"));
+    ReadLoads(r, get("loads"));
+    ReadSprings(r, get("springs"));
+    ReadFriction(r, get("friction"));
     ReadOutputs(r, get("outputs"));
     ReadAssembly(r, get("assembly"));
   } catch (const YAML::Exception& e) {  // e.g. a conversion yaml-cpp refuses

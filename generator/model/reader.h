@@ -46,6 +46,9 @@ const KeyTable& InputKeys();
 const KeyTable& OutputKeys();
 const KeyTable& LawSegmentKeys();
 const KeyTable& ContourKeys();
+const KeyTable& LoadKeys();
+const KeyTable& SpringKeys();
+const KeyTable& FrictionKeys();
 
 /// Reading helpers over one model being filled. Every failure is a ModelError at the
 /// offending node.
@@ -92,6 +95,10 @@ void ReadParameters(SectionReader& r, const YAML::Node& node);
 void ReadLinks(SectionReader& r, const YAML::Node& node);
 void ReadJoints(SectionReader& r, const YAML::Node& node);
 void ReadInputs(SectionReader& r, const YAML::Node& node);
+void ReadGravity(SectionReader& r, const YAML::Node& node);
+void ReadLoads(SectionReader& r, const YAML::Node& node);
+void ReadSprings(SectionReader& r, const YAML::Node& node);
+void ReadFriction(SectionReader& r, const YAML::Node& node);
 void ReadOutputs(SectionReader& r, const YAML::Node& node);
 void ReadAssembly(SectionReader& r, const YAML::Node& node);
 

@@ -1,0 +1,109 @@
+// EvalStatics: the statics of symbolic/statics.h stored into the generated Statics struct.
+#include <set>
+
+#include "codegen/functions.h"
+
+namespace mechgen {
+namespace {
+
+using GiNaC::ex;
+using Dir = Argument::Direction;
+
+std::string N(int i) { return std::to_string(i); }
+std::string Idx(int i, int j) { return "(" + N(i) + ", " + N(j) + ")"; }
+
+void CollectSymbols(const ex& e, std::set<ex, GiNaC::ex_is_less>* out) {
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (GiNaC::is_a<GiNaC::symbol>(*it)) out->insert(*it);
+}
+
+}  // namespace
+
+// Drops the named locals that no later statement reads (a reaction the model did not ask
+// for, a multiplier no requested force needs): an unused local is a warning in the
+// generated code.
+void PruneUnusedDefines(Program* program) {
+  std::set<ex, GiNaC::ex_is_less> used;
+  Program kept;
+  for (auto it = program->rbegin(); it != program->rend(); ++it) {
+    const Statement& s = *it;
+    if (s.kind == Statement::Kind::kDefine) {
+      if (!used.count(s.symbol)) continue;
+      CollectSymbols(s.value, &used);
+    } else if (s.kind == Statement::Kind::kStore) {
+      CollectSymbols(s.value, &used);
+    }
+    kept.push_back(s);
+  }
+  program->assign(kept.rbegin(), kept.rend());
+}
+
+FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer) {
+  const int nq = static_cast<int>(m.inputs.size());
+  for (const auto& [sym, name] : st.names) printer->Name(sym, name);
+  FunctionSpec f;
+  f.name = "EvalStatics";
+  f.model_member = "Forces";  // (the struct is Statics)
+  f.doc = {"\\brief Statics by virtual work (Paul ch. 5) at a closed configuration: what the model asked of",
+           "Q (generalized forces of the loads, springs, weights and the given friction loads),",
+           "drive = -Q (what each input's actuator applies for equilibrium), V and its derivatives,",
+           "the joint reactions (kReactionNames) and the friction joints' normal forces."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn,
+                       "EvalCoefficients() at this (q, phi): K, L and Phi_phi are read from it."));
+  f.args.push_back(Arg("Statics<Scalar>*", "out", Dir::kOut, "Statics; not nullptr."));
+  f.args.push_back(Arg("const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type*", "friction", Dir::kIn,
+                       "friction loads f (kFrictionJoints): the friction torque of link_a on link_b at a revolute "
+                       "joint (counter-clockwise +), the friction force on the slider along +u at a prismatic one; "
+                       "nullptr: none.",
+                       "dim kNumFriction", true, "nullptr"));
+  f.args.push_back(Arg("const typename NonDeduced<Trig<Scalar>>::type*", "trig", Dir::kIn,
+                       "sin and cos of q and phi from SolvePositions() at this (q, phi), or nullptr: they are "
+                       "computed here.",
+                       "", false, "nullptr"));
+  f.notes = {"\\note Everything is linear in the friction loads; the runtime iterates them on the normal",
+             "forces (mechgen/statics). Near a dead point (Phi_phi singular) the multipliers, and so the",
+             "reactions and the drive of a non-input load path, grow without bound: check the conditioning."};
+  Program P;
+  for (size_t i = 0; i < st.layout.friction.size(); ++i)
+    P.push_back(Raw("const Scalar friction_" + N(static_cast<int>(i)) + " = friction != nullptr ? (*friction)(" +
+                    N(static_cast<int>(i)) + ") : Scalar(0);"));
+  P.insert(P.end(), st.program.begin(), st.program.end());
+  if (st.forces)
+    for (int j = 0; j < nq; ++j) {
+      P.push_back(Store("out->Q(" + N(j) + ")", st.Q[j]));
+      P.push_back(Store("out->drive(" + N(j) + ")", st.drive[j]));
+    }
+  if (st.potential) {
+    P.push_back(Store("out->V", st.V));
+    for (int j = 0; j < nq; ++j) P.push_back(Store("out->dV_dq(" + N(j) + ")", st.dV_dq[j]));
+    for (size_t i = 0; i < st.d2V_dq2.size(); ++i)
+      P.push_back(Store("out->d2V_dq2" + Idx(static_cast<int>(i) % nq, static_cast<int>(i) / nq), st.d2V_dq2[i]));
+  }
+  for (size_t i = 0; i < st.stiffness_q.size(); ++i)
+    P.push_back(Store("out->stiffness" + Idx(static_cast<int>(i) % nq, static_cast<int>(i) / nq), st.stiffness_q[i]));
+  for (size_t i = 0; i < st.R.size(); ++i) P.push_back(Store("out->R(" + N(static_cast<int>(i)) + ")", st.R[i]));
+  for (size_t i = 0; i < st.normal.size(); ++i) {
+    P.push_back(Store("out->normal(" + N(static_cast<int>(i)) + ")", st.normal[i]));
+    P.push_back(Store("out->gain(" + N(static_cast<int>(i)) + ")", st.gain[i]));
+    for (int j = 0; j < nq; ++j) P.push_back(Store("out->K_rel" + Idx(static_cast<int>(i), j), st.K_rel[i][j]));
+  }
+  PruneUnusedDefines(&P);
+  // A friction load nobody reads (its joint's reaction does not enter what was asked).
+  Program cleaned;
+  std::set<ex, GiNaC::ex_is_less> used;
+  for (const Statement& s : P)
+    if (s.kind == Statement::Kind::kDefine || s.kind == Statement::Kind::kStore) CollectSymbols(s.value, &used);
+  for (const Statement& s : P) {
+    bool drop = false;
+    if (s.kind == Statement::Kind::kRaw)
+      for (const auto& [sym, name] : st.names)
+        if (s.target.rfind("const Scalar " + name + " =", 0) == 0 && !used.count(sym)) drop = true;
+    if (!drop) cleaned.push_back(s);
+  }
+  f.body = {cleaned};
+  return f;
+}
+
+}  // namespace mechgen

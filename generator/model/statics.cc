@@ -1,0 +1,227 @@
+// The statics sections (Paul ch. 5): `gravity`, `loads`, `springs` and `friction`
+// (LoadKeys, SpringKeys, FrictionKeys). The links' mass properties are read with the links
+// (links.cc). Loads may depend on the coordinates: their expressions read the coordinates'
+// names as placeholder symbols (Model::coordinate_refs) that the statics derivation
+// (symbolic/statics.h) replaces by the coordinates themselves.
+#include "model/reader.h"
+
+namespace mechgen {
+
+const KeyTable& LoadKeys() {
+  static const KeyTable table{
+      "load",
+      {{"force", "[Fx, Fy]: a force (expressions of parameters and coordinates)", false},
+       {"at", "link.P: the force's point of application", false},
+       {"frame", "fixed (default) or link: the frame of the force's components", false},
+       {"torque", "a torque on a link, counter-clockwise positive (expression)", false},
+       {"on", "the link the torque acts on", false}}};
+  return table;
+}
+
+const KeyTable& SpringKeys() {
+  static const KeyTable table{
+      "spring",
+      {{"between", "[link1.P, link2.Q]: a linear spring's two ends", false},
+       {"torsional", "a revolute joint: a torsional spring there (instead of between)", false},
+       {"stiffness", "k: N/m (linear) or N m/rad (torsional)", true},
+       {"free_length", "linear: the length at which the tension is the preload (default 0)", false},
+       {"preload", "linear: the tension at the free length (default 0)", false},
+       {"free_angle", "torsional: theta_b - theta_a at which the torque is zero (default 0)", false}}};
+  return table;
+}
+
+const KeyTable& FrictionKeys() {
+  static const KeyTable table{
+      "friction",
+      {{"coefficient", "Coulomb coefficient mu (>= 0)", true},
+       {"pin_radius", "revolute: the pin's radius r (friction circle radius mu r)", false},
+       {"viscous", "viscous coefficient (read; used by the dynamics)", false}}};
+  return table;
+}
+
+namespace {
+
+// The names a load may use for the coordinates: the absolute angle of every link and the
+// joints' own coordinates. Created only when a model has loads (new symbols would change
+// GiNaC's term order, and so the bytes generated for models without loads).
+void MakeCoordinateRefs(Model& m) {
+  if (!m.coordinate_refs.empty()) return;
+  for (const Link& l : m.links) m.coordinate_refs.emplace("theta_" + l.name, GiNaC::symbol("theta_" + l.name));
+  for (const Joint& j : m.joints)
+    for (const char* prefix : {"s_", "psi_", "u_"})
+      m.coordinate_refs.emplace(prefix + j.name, GiNaC::symbol(prefix + j.name));
+}
+
+GiNaC::ex LoadExpression(SectionReader& r, const YAML::Node& node, const std::string& what) {
+  Model& m = r.model();
+  MakeCoordinateRefs(m);
+  const std::string text = r.Scalar(node, what);
+  GiNaC::symtab table;
+  for (const auto& p : m.params) table[p.name] = p.symbol;
+  for (const auto& [name, sym] : m.coordinate_refs) table[name] = sym;
+  table["deg"] = GiNaC::Pi / 180;
+  GiNaC::parser reader(table, /*strict=*/true);
+  GiNaC::ex e;
+  try {
+    e = reader(text);
+  } catch (const std::exception&) {
+    r.Fail(node, what + ": cannot read '" + text +
+                     "' as an expression; use numbers, parameter names, the coordinates (theta_<link>, "
+                     "s_<joint>, ...), + - * / ^, sin cos sqrt, and deg (time and velocities are not "
+                     "available in statics)");
+  }
+  if (e.has(GiNaC::I)) r.Fail(node, what + ": '" + text + "' is not real");
+  return e;
+}
+
+}  // namespace
+
+void ReadGravity(SectionReader& r, const YAML::Node& node) {
+  Model& m = r.model();
+  if (!node) return;
+  if (!node.IsSequence() || node.size() != 2)
+    r.Fail(node, "gravity must be [gx, gy]: the acceleration of gravity in the fixed frame, e.g. [0, -9.81]");
+  m.has_gravity = true;
+  m.gravity_mark = MarkOf(node);
+  m.gravity_x = r.Expression(node[0], "gravity x");
+  m.gravity_y = r.Expression(node[1], "gravity y");
+  r.Number(node[0], "gravity x");
+  r.Number(node[1], "gravity y");
+}
+
+void ReadLoads(SectionReader& r, const YAML::Node& node) {
+  Model& m = r.model();
+  if (!node) return;
+  for (const auto& [name, spec] : r.Entries(node, "loads")) {
+    Load l;
+    l.name = name;
+    l.mark = r.KeyMark(spec);
+    if (!IsIdentifier(name)) m.Fail(l.mark, "load name '" + name + "' must be an identifier (letters, digits, _)");
+    for (const Load& other : m.loads)
+      if (other.name == name) m.Fail(l.mark, "duplicate load name '" + name + "'");
+    if (!spec.IsMap())
+      r.Fail(spec, "load '" + name + "' must be {force: [Fx, Fy], at: link.P} or {torque: T, on: link}");
+    const YAML::Node& s = spec;
+    for (const auto& entry : r.Entries(spec, "load '" + name + "'", &LoadKeys())) (void)entry;
+    const bool force = static_cast<bool>(s["force"]), torque = static_cast<bool>(s["torque"]);
+    if (force == torque)
+      r.Fail(spec, "load '" + name + "' needs exactly one of force: [Fx, Fy] (with at: link.P) or torque: T (with on: link)");
+    if (force) {
+      l.kind = Load::Kind::kForce;
+      if (!s["at"]) r.Fail(spec, "load '" + name + "': a force needs at: link.P, its point of application");
+      if (s["on"]) r.Fail(s["on"], "load '" + name + "': on: is for torques; a force takes at: link.P");
+      l.at = r.Point(s["at"], "load '" + name + "'");
+      l.link = l.at.link;
+      const YAML::Node& f = s["force"];
+      if (!f.IsSequence() || f.size() != 2) r.Fail(f, "load '" + name + "': force must be [Fx, Fy]");
+      l.fx = LoadExpression(r, f[0], "x of load '" + name + "'");
+      l.fy = LoadExpression(r, f[1], "y of load '" + name + "'");
+      if (s["frame"]) {
+        const std::string fr = r.Scalar(s["frame"], "frame");
+        if (fr != "fixed" && fr != "link")
+          r.Fail(s["frame"], "frame must be fixed (the force's components in the fixed frame) or link (in the link's frame)");
+        l.link_frame = fr == "link";
+      }
+    } else {
+      l.kind = Load::Kind::kTorque;
+      if (!s["on"]) r.Fail(spec, "load '" + name + "': a torque needs on: <link>");
+      if (s["at"] || s["frame"]) r.Fail(s["at"] ? s["at"] : s["frame"], "load '" + name + "': a torque takes on: <link> only");
+      l.link = r.LinkIndex(s["on"], "load '" + name + "'");
+      l.torque = LoadExpression(r, s["torque"], "torque of load '" + name + "'");
+    }
+    if (m.links[l.link].ground)
+      m.Fail(l.mark, "load '" + name + "' acts on the ground link, which does not move: it does no work; put it on a moving link");
+    m.loads.push_back(l);
+  }
+}
+
+void ReadSprings(SectionReader& r, const YAML::Node& node) {
+  Model& m = r.model();
+  if (!node) return;
+  for (const auto& [name, spec] : r.Entries(node, "springs")) {
+    Spring sp;
+    sp.name = name;
+    sp.mark = r.KeyMark(spec);
+    if (!IsIdentifier(name)) m.Fail(sp.mark, "spring name '" + name + "' must be an identifier (letters, digits, _)");
+    if (!spec.IsMap()) r.Fail(spec, "spring '" + name + "' must be a mapping: {between: [a.P, b.Q], stiffness: k, ...}");
+    for (const auto& entry : r.Entries(spec, "spring '" + name + "'", &SpringKeys())) (void)entry;
+    const YAML::Node& s = spec;
+    if (static_cast<bool>(s["between"]) == static_cast<bool>(s["torsional"]))
+      r.Fail(spec, "spring '" + name + "' needs exactly one of between: [link1.P, link2.Q] (linear) or torsional: <revolute joint>");
+    const std::string what = "spring '" + name + "'";
+    sp.stiffness = r.Expression(s["stiffness"], "stiffness of " + what);
+    if (r.Number(s["stiffness"], "stiffness of " + what) < 0)
+      r.Fail(s["stiffness"], "stiffness of " + what + " is negative; give k >= 0");
+    if (s["between"]) {
+      const YAML::Node& b = s["between"];
+      if (!b.IsSequence() || b.size() != 2) r.Fail(b, what + ": between must be [link1.P, link2.Q]");
+      sp.a = r.Point(b[0], what);
+      sp.b = r.Point(b[1], what);
+      if (sp.a.link == sp.b.link) r.Fail(b, what + " joins two points of one link: it never changes length; join two links");
+      if (s["free_angle"]) r.Fail(s["free_angle"], what + ": free_angle is for torsional springs; a linear spring takes free_length");
+      if (s["free_length"]) {
+        sp.free_length = r.Expression(s["free_length"], "free length of " + what);
+        if (r.Number(s["free_length"], "free length of " + what) < 0)
+          r.Fail(s["free_length"], "free length of " + what + " is negative; give l0 >= 0");
+      }
+      if (s["preload"]) {
+        sp.preload = r.Expression(s["preload"], "preload of " + what);
+        r.Number(s["preload"], "preload of " + what);
+      }
+    } else {
+      sp.torsional = true;
+      const std::string jn = r.Scalar(s["torsional"], what);
+      sp.joint = m.FindJoint(jn);
+      if (sp.joint < 0) r.Fail(s["torsional"], what + ": unknown joint '" + jn + "'; a torsional spring sits at a revolute joint");
+      if (m.joints[sp.joint].type() != JointType::kRevolute)
+        r.Fail(s["torsional"], what + ": joint '" + jn + "' is not revolute; a torsional spring sits at a revolute joint");
+      if (s["free_length"] || s["preload"])
+        r.Fail(s["free_length"] ? s["free_length"] : s["preload"],
+               what + ": free_length and preload are for linear springs; a torsional spring takes free_angle");
+      if (s["free_angle"]) {
+        sp.free_angle = r.Expression(s["free_angle"], "free angle of " + what);
+        r.Number(s["free_angle"], "free angle of " + what);
+      }
+    }
+    m.springs.push_back(sp);
+  }
+}
+
+void ReadFriction(SectionReader& r, const YAML::Node& node) {
+  Model& m = r.model();
+  if (!node) return;
+  for (const auto& [name, spec] : r.Entries(node, "friction")) {
+    Friction f;
+    f.mark = r.KeyMark(spec);
+    f.joint = m.FindJoint(name);
+    if (f.joint < 0) m.Fail(f.mark, "friction: unknown joint '" + name + "'; friction is given per joint, by its name");
+    const JointType type = m.joints[f.joint].type();
+    if (type != JointType::kRevolute && type != JointType::kPrismatic)
+      m.Fail(f.mark, "friction at joint '" + name + "': Coulomb friction is modelled at revolute and prismatic joints only");
+    if (!spec.IsMap()) r.Fail(spec, "friction at '" + name + "' must be {coefficient: mu, pin_radius: r} (revolute) or {coefficient: mu} (prismatic)");
+    for (const auto& entry : r.Entries(spec, "friction at '" + name + "'", &FrictionKeys())) (void)entry;
+    const YAML::Node& s = spec;
+    const std::string what = "friction at '" + name + "'";
+    f.coefficient = r.Expression(s["coefficient"], "coefficient of " + what);
+    if (r.Number(s["coefficient"], "coefficient of " + what) < 0)
+      r.Fail(s["coefficient"], "coefficient of " + what + " is negative; give mu >= 0");
+    if (type == JointType::kRevolute) {
+      if (!s["pin_radius"]) r.Fail(spec, what + ": a revolute joint needs pin_radius: r (the friction circle's radius is mu r)");
+      f.pin_radius = r.Expression(s["pin_radius"], "pin radius of " + what);
+      if (r.Number(s["pin_radius"], "pin radius of " + what) < 0)
+        r.Fail(s["pin_radius"], "pin radius of " + what + " is negative; give r >= 0");
+    } else if (s["pin_radius"]) {
+      r.Fail(s["pin_radius"], what + ": pin_radius is for revolute joints; a prismatic joint's friction acts on its normal force");
+    }
+    if (s["viscous"]) {
+      f.viscous = r.Expression(s["viscous"], "viscous coefficient of " + what);
+      if (r.Number(s["viscous"], "viscous coefficient of " + what) < 0)
+        r.Fail(s["viscous"], "viscous coefficient of " + what + " is negative");
+    }
+    for (const Friction& other : m.friction)
+      if (other.joint == f.joint) m.Fail(f.mark, "friction at joint '" + name + "' is given twice");
+    m.friction.push_back(f);
+  }
+}
+
+}  // namespace mechgen

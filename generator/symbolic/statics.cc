@@ -1,0 +1,607 @@
+// Statics by virtual work: generalized forces, driving forces, potential energy, joint
+// reactions. See statics.h.
+#include "symbolic/statics.h"
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <set>
+
+#include "joints/joint_kind.h"
+
+namespace mechgen {
+namespace {
+
+using GiNaC::ex;
+
+std::string N(int i) { return std::to_string(i); }
+
+ex Cross(const Vec2& a, const Vec2& b) { return a[0] * b[1] - a[1] * b[0]; }
+
+// Inverse of a small matrix by the adjugate, entries cofactor * inv_det.
+GiNaC::matrix Adjugate(const GiNaC::matrix& a, const ex& inv_det) {
+  const unsigned n = a.rows();
+  GiNaC::matrix inv(n, n);
+  if (n == 1) {
+    inv(0, 0) = inv_det;
+    return inv;
+  }
+  for (unsigned i = 0; i < n; ++i)
+    for (unsigned j = 0; j < n; ++j) {
+      GiNaC::matrix minor(n - 1, n - 1);
+      for (unsigned r = 0, mr = 0; r < n; ++r) {
+        if (r == j) continue;
+        for (unsigned c = 0, mc = 0; c < n; ++c) {
+          if (c == i) continue;
+          minor(mr, mc++) = a(r, c);
+        }
+        ++mr;
+      }
+      inv(i, j) = ((i + j) % 2 ? -1 : 1) * minor.determinant(GiNaC::determinant_algo::laplace) * inv_det;
+    }
+  return inv;
+}
+
+// Something that acts on one link: a force at a point and/or a couple.
+struct Item {
+  int link = -1;
+  Vec2 F{0, 0};
+  Vec2 at{0, 0};
+  ex couple = 0;
+};
+
+// The joint's coordinate symbol (s, psi, u), if it has one.
+const Coordinate* CoordinateOfJoint(const Model& m, const Kinematics& k, int joint) {
+  const auto c = KindOf(m.joints[joint]).Coordinate(m, m.joints[joint]);
+  if (!c) return nullptr;
+  for (const Coordinate& x : k.q)
+    if (x.name == c->name) return &x;
+  for (const Coordinate& x : k.phi)
+    if (x.name == c->name) return &x;
+  return nullptr;
+}
+
+// The absolute angle of a prismatic joint's line and its unit vectors u (along) and n.
+void PrismaticLine(const Model& m, const Kinematics& k, const Joint& j, Vec2* u, Vec2* n) {
+  const PrismaticData& d = j.Data<PrismaticData>();
+  const ex a = k.frames[j.link_a].theta + d.angle;
+  *u = {GiNaC::cos(a), GiNaC::sin(a)};
+  *n = {-GiNaC::sin(a), GiNaC::cos(a)};
+  (void)m;
+}
+
+}  // namespace
+
+StaticsLayout StaticsLayout::Of(const Model& m) {
+  StaticsLayout l;
+  l.any = m.outputs.Has(Quantity::kForces) || m.outputs.Has(Quantity::kPotential) || !m.outputs.reactions.empty();
+  for (int j : m.outputs.reactions) {
+    const Joint& joint = m.joints[j];
+    const std::string by = "'" + m.links[joint.link_a].name + "' on '" + m.links[joint.link_b].name + "'";
+    switch (joint.type()) {
+      case JointType::kRevolute:
+        l.reactions.push_back({j, "F_" + joint.name + "_x", "force of " + by + " at the pin, x"});
+        l.reactions.push_back({j, "F_" + joint.name + "_y", "force of " + by + " at the pin, y"});
+        break;
+      case JointType::kPrismatic:
+        l.reactions.push_back({j, "N_" + joint.name, "normal force of " + by + " along n = (-sin a, cos a), a = the line's angle"});
+        l.reactions.push_back({j, "T_" + joint.name, "force of " + by + " along the line u = (cos a, sin a): actuator and friction"});
+        l.reactions.push_back({j, "M_" + joint.name, "moment of " + by + " about the slider point, counter-clockwise"});
+        break;
+      default:
+        for (const ReactionComponent& c : KindOf(joint).ReactionComponents(m, joint))
+          l.reactions.push_back({j, c.name, c.what + " (the multiplier of the joint's row: its generalized force on "
+                                                     "each coordinate x is F dPhi_row/dx)"});
+        break;
+    }
+  }
+  for (const Friction& f : m.friction) l.friction.push_back(f.joint);
+  return l;
+}
+
+StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTable& t) {
+  layout = StaticsLayout::Of(m);
+  if (!layout.any) return;
+  forces = m.outputs.Has(Quantity::kForces);
+  potential = m.outputs.Has(Quantity::kPotential);
+  stiffness = forces && potential && t.requested.L;  // for the stability of equilibria
+  const int nq = k.nq(), nphi = k.nphi(), nc = k.nc(), nx = nq + nphi;
+
+  // ---- the symbols read from EvalCoefficients' output and the arguments ----
+  auto named = [&](const std::string& name) {
+    GiNaC::symbol s(name);
+    names.emplace_back(s, name);
+    return ex(s);
+  };
+  std::vector<std::vector<ex>> Kc(nphi, std::vector<ex>(nq));
+  for (int i = 0; i < nphi; ++i)
+    for (int j = 0; j < nq; ++j) Kc[i][j] = named("c.K(" + N(i) + ", " + N(j) + ")");
+  std::map<std::pair<int, int>, ex> Pc;
+  auto phi_phi = [&](int r, int c) -> ex {
+    if (k.Phi_phi(r, c).is_zero()) return 0;
+    auto it = Pc.find({r, c});
+    if (it == Pc.end()) it = Pc.emplace(std::make_pair(r, c), named("c.Phi_phi(" + N(r) + ", " + N(c) + ")")).first;
+    return it->second;
+  };
+  std::map<std::pair<int, int>, ex> Lc;
+  auto L = [&](int i, int j, int kk) -> ex {
+    auto it = Lc.find({i, j + nq * kk});
+    if (it == Lc.end())
+      it = Lc.emplace(std::make_pair(i, j + nq * kk), named("c.L(" + N(i) + ", " + N(j + nq * kk) + ")")).first;
+    return it->second;
+  };
+  std::vector<ex> fr;
+  for (size_t i = 0; i < layout.friction.size(); ++i) fr.push_back(named("friction_" + N(static_cast<int>(i))));
+
+  std::vector<ex> xs;  // x = (q, phi)
+  for (const Coordinate& c : k.q) xs.push_back(c.symbol);
+  for (const Coordinate& c : k.phi) xs.push_back(c.symbol);
+  // d/dq_j along the motion (K read from the coefficients).
+  auto along = [&](const ex& f, int j) {
+    ex s = f.diff(GiNaC::ex_to<GiNaC::symbol>(xs[j]));
+    for (int i = 0; i < nphi; ++i) s += f.diff(GiNaC::ex_to<GiNaC::symbol>(xs[nq + i])) * Kc[i][j];
+    return s;
+  };
+
+  // ---- the loads' expressions in the coordinates ----
+  GiNaC::exmap refs;
+  for (const auto& [name, sym] : m.coordinate_refs) {
+    bool found = false;
+    for (size_t l = 0; l < m.links.size() && !found; ++l)
+      if (name == "theta_" + m.links[l].name) {
+        refs[sym] = k.frames[l].theta;
+        found = true;
+      }
+    for (size_t j = 0; j < m.joints.size() && !found; ++j)
+      if (const Coordinate* c = CoordinateOfJoint(m, k, static_cast<int>(j)); c && c->name == name) {
+        refs[sym] = c->symbol;
+        found = true;
+      }
+    if (!found)
+      for (const Load& l : m.loads)
+        if ((l.fx.has(sym) || l.fy.has(sym) || l.torque.has(sym)))
+          m.Fail(l.mark, "load '" + l.name + "' uses '" + name + "', which is not a coordinate of this model (" +
+                             name.substr(0, name.find('_')) + "_<joint> exists only where the joint has that coordinate)");
+  }
+
+  // ---- the applied forces: items (a force at a point and/or a couple on one link) ----
+  // Each item's force is kept twice: as named locals for the values (a spring's length and
+  // tension computed once) and as expressions for the derivatives along the motion
+  // (stiffness, d2V/dq2).
+  auto position = [&](PointRef r) { return PointPosition(m, r, k.frames[r.link]); };
+  std::vector<Item> items;       // everything but the joints' forces and the actuators
+  std::vector<Item> items_expr;  // the same as expressions (frictionless items only)
+  std::vector<bool> conservative;  // per item: a spring or a weight (part of V)
+  auto add_item = [&](const Item& named_item, const Item& expr_item, bool is_conservative) {
+    items.push_back(named_item);
+    items_expr.push_back(expr_item);
+    conservative.push_back(is_conservative);
+  };
+  for (const Load& l : m.loads) {
+    Item it;
+    it.link = l.link;
+    if (l.kind == Load::Kind::kForce) {
+      Vec2 F = {l.fx.subs(refs), l.fy.subs(refs)};
+      if (l.link_frame) F = Rotate(k.frames[l.link].theta, F[0], F[1]);
+      it.F = F;
+      it.at = position(l.at);
+    } else {
+      it.couple = l.torque.subs(refs);
+    }
+    add_item(it, it, false);
+  }
+  V = 0;
+  if (m.has_gravity)
+    for (size_t l = 0; l < m.links.size(); ++l) {
+      const MassProperties& mp = m.links[l].mass;
+      if (!mp.given || m.links[l].ground) continue;
+      const Vec2 rc = Rotate(k.frames[l].theta, mp.center_x, mp.center_y);
+      const Vec2 rG = {k.frames[l].x + rc[0], k.frames[l].y + rc[1]};
+      V += -mp.mass * (m.gravity_x * rG[0] + m.gravity_y * rG[1]);
+      Item it;
+      it.link = static_cast<int>(l);
+      it.F = {mp.mass * m.gravity_x, mp.mass * m.gravity_y};
+      it.at = rG;
+      add_item(it, it, true);
+    }
+  for (const Spring& s : m.springs) {
+    if (s.torsional) {
+      const Joint& j = m.joints[s.joint];
+      const ex delta = k.frames[j.link_b].theta - k.frames[j.link_a].theta - s.free_angle;
+      V += s.stiffness * delta * delta / 2;
+      Item on_b, on_a;
+      on_b.link = j.link_b;
+      on_b.couple = -s.stiffness * delta;
+      on_a.link = j.link_a;
+      on_a.couple = s.stiffness * delta;
+      add_item(on_b, on_b, true);
+      add_item(on_a, on_a, true);
+    } else {
+      const Vec2 ra = position(s.a), rb = position(s.b);
+      const ex dx = rb[0] - ra[0], dy = rb[1] - ra[1];
+      const ex l = GiNaC::sqrt(dx * dx + dy * dy);
+      const ex stretch = l - s.free_length;
+      V += s.preload * stretch + s.stiffness * stretch * stretch / 2;
+      // The tension pulls each end towards the other: t = tension / length per unit of (dx, dy).
+      ex l_named, t_named, dx_named, dy_named;
+      program.push_back(Define("dx_" + s.name, dx, &dx_named));
+      program.push_back(Define("dy_" + s.name, dy, &dy_named));
+      program.push_back(Define("length_" + s.name, GiNaC::sqrt(dx_named * dx_named + dy_named * dy_named), &l_named));
+      program.push_back(Define("t_" + s.name, (s.preload + s.stiffness * (l_named - s.free_length)) / l_named, &t_named));
+      const ex t_expr = (s.preload + s.stiffness * stretch) / l;
+      Item on_a, on_b, on_a_e, on_b_e;
+      on_a.link = on_b.link = s.a.link;
+      on_b.link = s.b.link;
+      on_a.at = on_a_e.at = ra;
+      on_b.at = on_b_e.at = rb;
+      on_a_e.link = s.a.link;
+      on_b_e.link = s.b.link;
+      on_a.F = {t_named * dx_named, t_named * dy_named};
+      on_b.F = {-t_named * dx_named, -t_named * dy_named};
+      on_a_e.F = {t_expr * dx, t_expr * dy};
+      on_b_e.F = {-t_expr * dx, -t_expr * dy};
+      add_item(on_a, on_a_e, true);
+      add_item(on_b, on_b_e, true);
+    }
+  }
+  // Friction loads: a couple pair at a revolute joint, a force pair along a prismatic line.
+  for (size_t i = 0; i < layout.friction.size(); ++i) {
+    const Joint& j = m.joints[layout.friction[i]];
+    Item on_b, on_a;
+    on_b.link = j.link_b;
+    on_a.link = j.link_a;
+    if (j.type() == JointType::kRevolute) {
+      on_b.couple = fr[i];
+      on_a.couple = -fr[i];
+    } else {
+      Vec2 u, n;
+      PrismaticLine(m, k, j, &u, &n);
+      on_b.at = on_a.at = position(j.End(j.link_b));
+      on_b.F = {fr[i] * u[0], fr[i] * u[1]};
+      on_a.F = {-fr[i] * u[0], -fr[i] * u[1]};
+    }
+    items.push_back(on_b);
+    items.push_back(on_a);
+  }
+  // The virtual work of an item per unit dx_a: F . d(at)/dx_a + couple d(theta)/dx_a.
+  auto work = [&](const Item& it, int a) {
+    const GiNaC::symbol& x = GiNaC::ex_to<GiNaC::symbol>(xs[a]);
+    ex w = it.couple * k.frames[it.link].theta.diff(x);
+    if (!it.F[0].is_zero() || !it.F[1].is_zero()) w += it.F[0] * it.at[0].diff(x) + it.F[1] * it.at[1].diff(x);
+    return w;
+  };
+
+  // ---- Q and the driving forces ----
+  std::vector<ex> gs(nx, 0);  // named g_a, the generalized applied force on x_a
+  for (int a = 0; a < nx; ++a) {
+    ex g = 0;
+    for (const Item& it : items) g += work(it, a);
+    if (g.is_zero()) continue;
+    program.push_back(Define("g_" + N(a), g, &gs[a]));
+  }
+  Q.assign(nq, 0);
+  drive.assign(nq, 0);
+  std::vector<ex> Qs(nq);
+  for (int j = 0; j < nq; ++j) {
+    ex s = gs[j];
+    for (int i = 0; i < nphi; ++i) s += Kc[i][j] * gs[nq + i];
+    program.push_back(Define("Q_" + N(j), s, &Qs[j]));
+    Q[j] = Qs[j];
+    drive[j] = -Qs[j];
+  }
+  // The actuators: a couple on the input's moving link (revolute) or a force pair along the line.
+  for (int j = 0; j < nq; ++j) {
+    const Joint& in = m.joints[m.inputs[j].joint];
+    if (in.type() == JointType::kPrismatic) {
+      Vec2 u, n;
+      PrismaticLine(m, k, in, &u, &n);
+      const Vec2 at = position(in.End(in.link_b));
+      Item on_b, on_a;
+      on_b.link = in.link_b;
+      on_b.F = {-Qs[j] * u[0], -Qs[j] * u[1]};
+      on_b.at = at;
+      on_a.link = in.link_a;
+      on_a.F = {Qs[j] * u[0], Qs[j] * u[1]};
+      on_a.at = at;
+      items.push_back(on_b);
+      items.push_back(on_a);
+    } else {
+      const int moving = m.links[in.link_a].ground ? in.link_b : in.link_a;
+      Item on_m, on_g;
+      on_m.link = moving;
+      on_m.couple = -Qs[j];
+      on_g.link = in.OtherLink(moving);
+      on_g.couple = Qs[j];
+      items.push_back(on_m);
+      items.push_back(on_g);
+    }
+  }
+
+  // ---- potential energy and its derivatives along the motion ----
+  // dV/dq_j = -(virtual work of the springs and weights along q_j); the second derivatives
+  // from the expressions: d/dq_k of sum_a w_a V(a, j) = sum_a (d w_a/dq_k) V(a, j) +
+  // sum_i w_phi_i L(i, j, k), w the virtual work per unit dx (V = [I; K]).
+  auto along_motion = [&](const std::vector<Item>& list, const std::vector<bool>& pick, int j) {
+    ex s = 0;
+    for (size_t i = 0; i < list.size(); ++i) {
+      if (!pick[i]) continue;
+      s += work(list[i], j);
+      for (int r = 0; r < nphi; ++r) s += work(list[i], nq + r) * Kc[r][j];
+    }
+    return s;
+  };
+  auto derivative = [&](const std::vector<bool>& pick, int j, int kk) {
+    ex s = 0;
+    for (int a = 0; a < nx; ++a) {
+      ex w = 0;
+      for (size_t i = 0; i < items_expr.size(); ++i)
+        if (pick[i]) w += work(items_expr[i], a);
+      if (w.is_zero()) continue;
+      const ex d = along(w, kk);
+      s += a < nq ? (a == j ? d : ex(0)) : d * Kc[a - nq][j];
+      if (a >= nq) s += w * L(a - nq, std::min(j, kk), std::max(j, kk));
+    }
+    return s;
+  };
+  if (potential) {
+    dV_dq.resize(nq);
+    for (int j = 0; j < nq; ++j) dV_dq[j] = -along_motion(items, conservative, j);
+    if (t.requested.L) {
+      d2V_dq2.resize(nq * nq);
+      for (int j = 0; j < nq; ++j)
+        for (int kk = 0; kk < nq; ++kk) d2V_dq2[j + nq * kk] = -derivative(conservative, j, kk);
+    }
+  }
+  if (stiffness) {
+    const std::vector<bool> all(items_expr.size(), true);
+    stiffness_q.resize(nq * nq);
+    for (int j = 0; j < nq; ++j)
+      for (int kk = 0; kk < nq; ++kk) stiffness_q[j + nq * kk] = -derivative(all, j, kk);
+  }
+
+  // ---- reactions ----
+  std::set<int> needed(m.outputs.reactions.begin(), m.outputs.reactions.end());
+  needed.insert(layout.friction.begin(), layout.friction.end());
+  if (needed.empty()) return;
+
+  // Multipliers: Phi_phi^T lambda = -g_phi, block by block in reverse order (Phi_phi is
+  // block lower triangular, so its transpose is block upper triangular).
+  std::vector<ex> lam(nc, 0);
+  std::vector<bool> solved(nc, false);
+  for (int bi = static_cast<int>(t.blocks.size()) - 1; bi >= 0; --bi) {
+    const Block& b = t.blocks[bi];
+    const int n = static_cast<int>(b.cols.size());
+    std::vector<ex> rhs(n);
+    for (int a = 0; a < n; ++a) {
+      const int c = b.cols[a];
+      ex s = -gs[nq + c];
+      for (int r = 0; r < nc; ++r)
+        if (solved[r]) s -= phi_phi(r, c) * lam[r];
+      rhs[a] = s;
+    }
+    if (n <= kMaxSymbolicSolve) {
+      GiNaC::matrix JT(n, n);
+      for (int a = 0; a < n; ++a)
+        for (int bb = 0; bb < n; ++bb) JT(a, bb) = phi_phi(b.rows[bb], b.cols[a]);
+      ex det, inv_det;
+      program.push_back(Define("detT_block" + N(bi), JT.determinant(GiNaC::determinant_algo::laplace), &det));
+      program.push_back(Define("inv_detT_block" + N(bi), 1 / det, &inv_det));
+      const GiNaC::matrix inv = Adjugate(JT, inv_det);
+      for (int a = 0; a < n; ++a) {
+        const ex e = rhs[a].expand();
+        if (GiNaC::is_a<GiNaC::add>(e)) program.push_back(Define("lambda_rhs_" + N(b.cols[a]), e, &rhs[a]));
+        else rhs[a] = e;
+      }
+      for (int bb = 0; bb < n; ++bb) {
+        ex s = 0;
+        for (int a = 0; a < n; ++a) s += inv(bb, a) * rhs[a];
+        program.push_back(Define("lambda_" + N(b.rows[bb]), s, &lam[b.rows[bb]]));
+      }
+    } else {
+      const std::string J = "JT_block" + N(bi), lu = "luT_block" + N(bi), rv = "lambda_rhs_block" + N(bi),
+                        sol = "lambda_block" + N(bi);
+      program.push_back(Linear(Statement::Kind::kMatrix, J, n, n, {}, /*zero=*/true));
+      for (int a = 0; a < n; ++a)
+        for (int bb = 0; bb < n; ++bb)
+          if (!k.Phi_phi(b.rows[bb], b.cols[a]).is_zero())
+            program.push_back(Store(J + "(" + N(a) + ", " + N(bb) + ")", phi_phi(b.rows[bb], b.cols[a])));
+      program.push_back(Linear(Statement::Kind::kLuFactor, lu, n, n, {J}));
+      program.push_back(Linear(Statement::Kind::kMatrix, rv, n, 1));
+      for (int a = 0; a < n; ++a) program.push_back(Store(rv + "(" + N(a) + ", 0)", -rhs[a]));  // LU solve negates
+      Statement solve = Linear(Statement::Kind::kLuSolve, sol, n, 1, {lu, rv});
+      for (int bb = 0; bb < n; ++bb) {
+        GiNaC::symbol s(sol + "(" + N(bb) + ", 0)");
+        solve.names.emplace_back(s, sol + "(" + N(bb) + ", 0)");
+        lam[b.rows[bb]] = s;
+      }
+      program.push_back(solve);
+    }
+    for (int r : b.rows) solved[r] = true;
+  }
+
+  // Tree joints and the subtrees they carry.
+  std::vector<int> tree_of_joint(m.joints.size(), -1);  // index into placements
+  std::vector<std::vector<int>> children(m.links.size());
+  for (size_t i = 0; i < k.placements.size(); ++i) {
+    tree_of_joint[k.placements[i].joint] = static_cast<int>(i);
+    children[k.placements[i].parent].push_back(k.placements[i].child);
+  }
+  std::vector<std::vector<int>> rows_of(m.joints.size());
+  for (int i = 0; i < nc; ++i) rows_of[k.Phi_rows[i].joint].push_back(i);
+
+  // Each joint's force on link_b (by link_a) and the point it acts at; prismatic moments.
+  std::vector<Vec2> F(m.joints.size(), Vec2{0, 0}), F_at(m.joints.size(), Vec2{0, 0});
+  std::vector<bool> have_F(m.joints.size(), false), have_M(m.joints.size(), false);
+  std::vector<ex> M(m.joints.size(), 0);
+  std::vector<int> requested_by(m.joints.size(), -1);
+  auto fail = [&](int joint, const std::string& why) {
+    const SourceMark mark = m.outputs.reactions_mark.line ? m.outputs.reactions_mark : m.friction.front().mark;
+    m.Fail(mark, "the reaction at joint '" + m.joints[joint].name + "' cannot be derived: " + why);
+  };
+  auto joint_point = [&](int jn) -> Vec2 {
+    const Joint& j = m.joints[jn];
+    return position(j.End(j.link_b));
+  };
+  std::function<void(int, int)> force_of;  // (joint, asked for by joint)
+  std::function<void(int)> moment_of;
+  // Sum of the forces (and moments about `about`, if given) acting on the links of S from
+  // outside S, the joint `skip` excepted.
+  auto sum_on = [&](const std::set<int>& S, int skip, const Vec2* about, Vec2* force, ex* moment) {
+    *force = {0, 0};
+    *moment = 0;
+    auto add = [&](const Vec2& f, const Vec2& at, const ex& couple) {
+      (*force)[0] += f[0];
+      (*force)[1] += f[1];
+      if (about) *moment += Cross({at[0] - (*about)[0], at[1] - (*about)[1]}, f) + couple;
+    };
+    for (const Item& it : items)
+      if (S.count(it.link)) add(it.F, it.at, it.couple);
+    for (size_t jn = 0; jn < m.joints.size(); ++jn) {
+      const Joint& j = m.joints[jn];
+      if (static_cast<int>(jn) == skip || S.count(j.link_a) == S.count(j.link_b)) continue;
+      const bool lower = j.type() == JointType::kRevolute || j.type() == JointType::kPrismatic;
+      if (!lower)
+        fail(skip, std::string("it needs the contact force of ") + KindOf(j).Keys().section + " joint '" + j.name +
+                       "' as a vector, which mechgen derives only as the joint's multiplier; ask for reactions at "
+                       "revolute and prismatic joints whose links do not carry a gear, rack, cam or rolling contact");
+      force_of(static_cast<int>(jn), skip);
+      const double sign = S.count(j.link_b) ? 1 : -1;
+      add({sign * F[jn][0], sign * F[jn][1]}, F_at[jn], 0);
+      if (about && j.type() == JointType::kPrismatic) {
+        if (!have_M[jn]) {
+          if (tree_of_joint[jn] >= 0)
+            fail(skip, "the moments of prismatic joints '" + m.joints[skip].name + "' and '" + j.name +
+                           "' depend on each other; mechgen does not solve that case");
+          moment_of(static_cast<int>(jn));
+        }
+        *moment += sign * M[jn];
+      }
+    }
+  };
+  auto subtree = [&](int root) {
+    std::set<int> S;
+    std::vector<int> stack{root};
+    while (!stack.empty()) {
+      const int l = stack.back();
+      stack.pop_back();
+      S.insert(l);
+      for (int c : children[l]) stack.push_back(c);
+    }
+    return S;
+  };
+  force_of = [&](int jn, int asked_by) {
+    if (have_F[jn]) return;
+    const Joint& j = m.joints[jn];
+    if (requested_by[jn] >= 0)
+      fail(asked_by, "the reactions at '" + m.joints[asked_by].name + "' and '" + j.name + "' depend on each other");
+    requested_by[jn] = asked_by;
+    F_at[jn] = joint_point(jn);
+    const std::string base = (j.type() == JointType::kPrismatic ? "R_" : "F_") + j.name;
+    if (tree_of_joint[jn] < 0) {  // a cut joint: its rows' multipliers
+      if (j.type() != JointType::kRevolute && j.type() != JointType::kPrismatic) return;
+      int rx = -1, ry = -1;
+      for (int r : rows_of[jn]) {
+        if (k.Phi_rows[r].component == RowComponent::kX) rx = r;
+        if (k.Phi_rows[r].component == RowComponent::kY) ry = r;
+      }
+      program.push_back(Define(base + "_x", -lam[rx], &F[jn][0]));
+      program.push_back(Define(base + "_y", -lam[ry], &F[jn][1]));
+    } else {
+      const Placement& pl = k.placements[tree_of_joint[jn]];
+      const std::set<int> S = subtree(pl.child);
+      Vec2 f;
+      ex unused;
+      sum_on(S, jn, nullptr, &f, &unused);
+      // The parent's force on the child balances the subtree; F is the force on link_b.
+      const double sign = pl.child == j.link_b ? -1 : 1;
+      program.push_back(Define(base + "_x", sign * f[0], &F[jn][0]));
+      program.push_back(Define(base + "_y", sign * f[1], &F[jn][1]));
+    }
+    have_F[jn] = true;
+  };
+  moment_of = [&](int jn) {
+    if (have_M[jn]) return;
+    const Joint& j = m.joints[jn];
+    force_of(jn, jn);
+    const Vec2 P = F_at[jn];
+    std::set<int> S;
+    int sign_to_b = 1;
+    if (tree_of_joint[jn] >= 0) {
+      const Placement& pl = k.placements[tree_of_joint[jn]];
+      S = subtree(pl.child);
+      sign_to_b = pl.child == j.link_b ? 1 : -1;
+    } else {  // the slider's side of the rotation group: links reached over the other prismatic joints
+      std::vector<int> stack{j.link_b};
+      while (!stack.empty()) {
+        const int l = stack.back();
+        stack.pop_back();
+        if (!S.insert(l).second) continue;
+        for (size_t o = 0; o < m.joints.size(); ++o)
+          if (static_cast<int>(o) != jn && m.joints[o].type() == JointType::kPrismatic && m.joints[o].Joins(l))
+            stack.push_back(m.joints[o].OtherLink(l));
+      }
+      if (S.count(j.link_a)) fail(jn, "its prismatic joints close a loop of their own");
+    }
+    Vec2 f;
+    ex moment;
+    sum_on(S, jn, &P, &f, &moment);
+    program.push_back(Define("M_" + j.name, -sign_to_b * moment, &M[jn]));
+    have_M[jn] = true;
+  };
+  for (int jn : needed) {
+    const Joint& j = m.joints[jn];
+    if (j.type() == JointType::kRevolute) force_of(jn, jn);
+    else if (j.type() == JointType::kPrismatic) moment_of(jn);
+    else if (tree_of_joint[jn] >= 0)
+      fail(jn, "a rolling joint in the spanning tree: its contact force is not derived yet");
+  }
+  for (const StaticsLayout::Component& c : layout.reactions) {
+    const Joint& j = m.joints[c.joint];
+    if (j.type() == JointType::kRevolute) {
+      R.push_back(c.name.back() == 'x' ? F[c.joint][0] : F[c.joint][1]);
+    } else if (j.type() == JointType::kPrismatic) {
+      Vec2 u, n;
+      PrismaticLine(m, k, j, &u, &n);
+      if (c.name[0] == 'N') R.push_back(F[c.joint][0] * n[0] + F[c.joint][1] * n[1]);
+      else if (c.name[0] == 'T') {
+        // Along the line: the friction force and the actuator's (both applied apart from
+        // the reaction above, which has no component along u).
+        ex T = F[c.joint][0] * u[0] + F[c.joint][1] * u[1];
+        for (size_t i = 0; i < layout.friction.size(); ++i)
+          if (layout.friction[i] == c.joint) T += fr[i];
+        for (int j = 0; j < nq; ++j)
+          if (m.inputs[j].joint == c.joint) T += drive[j];
+        R.push_back(T);
+      }
+      else R.push_back(M[c.joint]);
+    } else {
+      // A higher pair: the multiplier of its row (its contact force, in the row's scale).
+      if (rows_of[c.joint].size() != 1) fail(c.joint, "a contour cam's contact is not derived yet");
+      R.push_back(lam[rows_of[c.joint][0]]);
+    }
+  }
+  for (size_t i = 0; i < layout.friction.size(); ++i) {
+    const int jn = layout.friction[i];
+    const Joint& j = m.joints[jn];
+    const Friction& f = m.friction[i];
+    if (j.type() == JointType::kRevolute) {
+      normal.push_back(GiNaC::sqrt(F[jn][0] * F[jn][0] + F[jn][1] * F[jn][1]));
+      gain.push_back(f.coefficient * f.pin_radius);
+      const ex rel = k.frames[j.link_b].theta - k.frames[j.link_a].theta;
+      std::vector<ex> kr(nq);
+      for (int q = 0; q < nq; ++q) kr[q] = along(rel, q);
+      K_rel.push_back(kr);
+    } else {
+      Vec2 u, n;
+      PrismaticLine(m, k, j, &u, &n);
+      normal.push_back(GiNaC::abs(F[jn][0] * n[0] + F[jn][1] * n[1]));
+      gain.push_back(f.coefficient);
+      const Coordinate* s = CoordinateOfJoint(m, k, jn);
+      std::vector<ex> kr(nq);
+      for (int q = 0; q < nq; ++q) kr[q] = along(s->symbol, q);
+      K_rel.push_back(kr);
+    }
+  }
+}
+
+}  // namespace mechgen

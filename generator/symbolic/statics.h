@@ -1,0 +1,78 @@
+// Statics by virtual work (Paul ch. 5): the generalized forces of the loads, springs,
+// gravity and friction, the driving forces that hold the mechanism in equilibrium, the
+// potential energy, and the joint reactions, derived symbolically from the same
+// coordinates, frames and rows as the kinematics.
+//
+// With x = (q, phi) and g_a the generalized applied force on x_a (the virtual work of the
+// loads per unit dx_a, minus dV/dx_a), the equilibrium of the unconstrained coordinates is
+//   g + Phi_x^T lambda + [drive; 0] = 0,
+// so lambda = -Phi_phi^-T g_phi (one multiplier per row of Phi) and
+//   Q_j = g_q,j + sum_i K(i, j) g_phi,i,   drive_j = -Q_j
+// (Paul §5.3: Q_j = sum F.K_P,j + sum T K_theta,j - dV/dq_j). The multipliers are the forces
+// at the cut joints (a revolute row r_a - r_b carries the force lambda on link a and
+// -lambda on link b). A tree joint's reaction balances everything that acts on the links it
+// carries (its subtree: loads, weights, springs, friction, actuators, and the cut joints'
+// forces that enter the subtree), and a prismatic joint's moment balances the moments on
+// the links it guides. The generated function (codegen/statics_functions.cc) reads K, L and
+// Phi_phi from EvalCoefficients at the same configuration.
+//
+// Conventions (the generated header repeats them): reactions are the force of the joint's
+// first link (Joint::link_a) on its second (link_b), in the fixed frame; a prismatic joint's
+// N (along n = (-sin a, cos a)), T (along u = (cos a, sin a)), a = the line's absolute
+// angle, at the slider point, and M (moment about the slider point), all of the guide on
+// the slider; torques counter-clockwise positive.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "analysis/kinematics.h"
+#include "model/model.h"
+#include "symbolic/program.h"
+#include "symbolic/table.h"
+
+namespace mechgen {
+
+/// The reaction components and friction joints a model's statics emits, in order.
+struct StaticsLayout {
+  struct Component {
+    int joint = -1;
+    std::string name;  ///< "F_A_x", "N_slide", ...
+    std::string what;  ///< one line for the header
+  };
+  std::vector<Component> reactions;  ///< of the joints in outputs.reactions, in that order
+  std::vector<int> friction;         ///< joints with friction, in the model's order
+  /// True if the model asks for any statics quantity.
+  bool any = false;
+  static StaticsLayout Of(const Model& m);
+};
+
+class StaticsTable {
+ public:
+  /// Derives what m.outputs asks (forces, potential, reactions); throws ModelError where a
+  /// reaction cannot be derived (a higher pair's contact force needed as a vector).
+  StaticsTable(const Model& m, const Kinematics& k, const SymbolicTable& t);
+
+  StaticsLayout layout;
+  bool forces = false, potential = false, stiffness = false;
+
+  /// The symbols the expressions read besides q, phi and p, with their C++ spelling:
+  /// c.K(i, j), c.L(i, j + kNq k), c.Phi_phi(r, c), (*friction)(i), drive(j).
+  std::vector<std::pair<GiNaC::ex, std::string>> names;
+  /// Named locals (the applied forces g, the multipliers, the subtree sums), in order.
+  Program program;
+
+  std::vector<GiNaC::ex> Q;          ///< nq: generalized forces (with the friction loads)
+  std::vector<GiNaC::ex> drive;      ///< nq: -Q, named
+  GiNaC::ex V;                       ///< potential energy (springs, gravity)
+  std::vector<GiNaC::ex> dV_dq;      ///< nq
+  std::vector<GiNaC::ex> d2V_dq2;    ///< nq x nq (j + nq k), needs L
+  std::vector<GiNaC::ex> stiffness_q;  ///< nq x nq: -dQ_j/dq_k along the motion, frictionless, needs L
+  std::vector<GiNaC::ex> R;          ///< per layout.reactions component
+  std::vector<GiNaC::ex> normal, gain;           ///< per friction joint
+  std::vector<std::vector<GiNaC::ex>> K_rel;     ///< per friction joint, nq
+  std::vector<std::string> notes;    ///< sentences for the generated header (conventions per joint)
+};
+
+}  // namespace mechgen
