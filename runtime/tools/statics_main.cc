@@ -219,7 +219,9 @@ int Run(int argc, char** argv) {
 
   statics::ScanOptions scan;
   scan.samples = samples;
-  if (dead_zones) {
+  if (dead_zones && !statics::StaticsFeatures<M>::kHasFriction) {
+    std::printf("dead zones: none, the model has no friction (self-locking needs friction)\n");
+  } else if (dead_zones) {
     for (int j = 0; j < M::kNq; ++j) {
       if (q_begin(j) == q_end(j)) continue;
       solver.AssembleDefault(nullptr);

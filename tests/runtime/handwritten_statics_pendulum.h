@@ -117,7 +117,7 @@ struct Model : Sizes {
     out->L << -p.l * cos(q(0)), -p.l * sin(q(0));
   }
   template <typename Scalar>
-  static void Statics(const Params<Scalar>& p, const Vec<Scalar, kNq>& q,
+  static void Forces(const Params<Scalar>& p, const Vec<Scalar, kNq>& q,
                       const Vec<Scalar, kNphi>& /*phi*/, const Coefficients<Scalar>& /*c*/,
                       StaticsT<Scalar>* out) {
     using std::cos;

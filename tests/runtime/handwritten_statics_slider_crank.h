@@ -207,7 +207,7 @@ struct Model : Sizes {
     EvalCoefficients(p, q, phi, out);
   }
   template <typename Scalar>
-  static void Statics(const Params<Scalar>& p, const Vec<Scalar, kNq>& q,
+  static void Forces(const Params<Scalar>& p, const Vec<Scalar, kNq>& q,
                       const Vec<Scalar, kNphi>& phi, const Coefficients<Scalar>& c,
                       StaticsT<Scalar>* out, const Vec<Scalar, kNumFriction>* friction = nullptr) {
     EvalStatics(p, q, phi, c, out, friction);

@@ -1,6 +1,6 @@
 /**
  * \file statics/solve.h
- * Statics at one configuration: the generated Model::Statics (generalized forces by virtual
+ * Statics at one configuration: the generated Model::Forces (EvalStatics: generalized forces by virtual
  * work, driving forces, reactions; Paul ch. 5) plus what the generated code cannot do
  * alone: Coulomb friction that depends on the reactions it changes (Paul §5.6), the
  * forward / backward driving force and self-locking of an input (§5.6.3), and the refusal
@@ -103,10 +103,10 @@ void Evaluate(const typename ModelTypes<M>::Params& p, const typename ModelTypes
               const typename ModelTypes<M>::Coefficients& c,
               const typename StaticsTypes<M>::VecF* f, typename StaticsTypes<M>::Statics* out) {
   if constexpr (StaticsTakesFriction<M>::value) {
-    M::template Statics<double>(p, q, phi, c, out, StaticsFeatures<M>::kHasFriction ? f : nullptr);
+    M::template Forces<double>(p, q, phi, c, out, StaticsFeatures<M>::kHasFriction ? f : nullptr);
   } else {
     (void)f;
-    M::template Statics<double>(p, q, phi, c, out);
+    M::template Forces<double>(p, q, phi, c, out);
   }
 }
 

@@ -6,7 +6,7 @@
  * in models/README.md) Sizes::kNumReactions, Sizes::kNumFriction, Model::kReactionNames,
  * Model::kFrictionJoints, Model::kFrictionPrismatic, the struct template Model::StaticsT<S>
  * (Q, drive, and, when asked for, V, dV_dq, d2V_dq2, stiffness, R, normal, gain, K_rel) and
- * the static function Model::Statics(p, q, phi, c, out, friction, trig). Every member is
+ * the static function Model::Forces(p, q, phi, c, out, friction, trig) (EvalStatics). Every member is
  * detected here, like the Coefficients members in core/model_traits.h, so that models
  * without statics (or without reactions, potential or friction) still compile against the
  * runtime: StaticsFeatures<M>::kHasStatics is false for them and the statics functions are
@@ -71,7 +71,7 @@ template <class M>
 struct NumFriction<M, std::void_t<decltype(M::kNumFriction), decltype(M::kFrictionJoints)>>
     : std::integral_constant<int, M::kNumFriction> {};
 
-/// Model::StaticsT<double> and Model::Statics(p, q, phi, c, out): the statics of a model.
+/// Model::StaticsT<double> and Model::Forces(p, q, phi, c, out): the statics of a model.
 template <class M, class = void>
 struct StaticsOf {
   using type = void;
@@ -80,7 +80,7 @@ struct StaticsOf {
 template <class M>
 struct StaticsOf<
     M, std::void_t<typename M::template StaticsT<double>,
-                   decltype(M::template Statics<double>(
+                   decltype(M::template Forces<double>(
                        std::declval<const typename M::template ParamsT<double>&>(),
                        std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
                        std::declval<const Eigen::Matrix<double, M::kNphi, 1>&>(),
@@ -90,13 +90,13 @@ struct StaticsOf<
   static constexpr bool value = HasQ<type>::value;
 };
 
-/// Model::Statics takes the friction loads as its 6th argument (a pointer to kNumFriction
+/// Model::Forces takes the friction loads as its 6th argument (a pointer to kNumFriction
 /// values); false for a model whose Statics has no such argument.
 template <class M, class = void>
 struct StaticsTakesFriction : std::false_type {};
 template <class M>
 struct StaticsTakesFriction<
-    M, std::void_t<decltype(M::template Statics<double>(
+    M, std::void_t<decltype(M::template Forces<double>(
            std::declval<const typename M::template ParamsT<double>&>(),
            std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
            std::declval<const Eigen::Matrix<double, M::kNphi, 1>&>(),
@@ -110,7 +110,7 @@ struct StaticsTakesFriction<
 /// What the statics of model M provide.
 template <class M>
 struct StaticsFeatures {
-  /// Model::StaticsT and Model::Statics exist (the model asked for `forces`).
+  /// Model::StaticsT and Model::Forces exist (the model asked for `forces`).
   static constexpr bool kHasStatics = internal::StaticsOf<M>::value;
   using Statics = typename internal::StaticsOf<M>::type;  ///< void without statics
   /// Reaction components (kReactionNames) and friction joints (kFrictionJoints); 0 if none.

@@ -114,7 +114,7 @@ struct Options {
 /// allocating.
 struct Summary {
   Status status = Status::kNotRun;
-  /// Generated Model::Statics evaluations (1 without friction).
+  /// Generated Model::Forces (EvalStatics) evaluations (1 without friction).
   int iterations = 0;
   /// ||drive_k - drive_{k-1}||_inf of the last two evaluations of the friction iteration
   /// (force units); 0 without friction, NaN when not evaluated.
