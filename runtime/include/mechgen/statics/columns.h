@@ -28,7 +28,9 @@
  *                                    generated statics evaluations of the row
  * A value cell is empty when its solution is not usable (a singular row: reactions and
  * drives are unbounded there, so no number is printed; a friction iteration that did not
- * converge: its columns); cond is printed whenever the configuration was evaluated.
+ * converge: its columns) or undefined (efficiency_<q>_back where T0 = 0 up to rounding);
+ * cond is printed whenever the configuration was evaluated. mechanical_advantage is "inf" at
+ * a toggle (K_P = 0 up to rounding).
  */
 #pragma once
 
