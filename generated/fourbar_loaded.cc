@@ -27,6 +27,11 @@ template void EvalStatics<double>(const Params<double>&,
                                   Statics<double>*,
                                   const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*,
                                   const typename NonDeduced<Trig<double>>::type*);
+template void EvalStiffness<double>(const Params<double>&,
+                                    const Vec<double, Sizes::kNq>&,
+                                    const Vec<double, Sizes::kNphi>&,
+                                    const Coefficients<double>&,
+                                    Statics<double>*);
 template void EvalDetPhiPhi<double>(const Params<double>&,
                                     const Vec<double, Sizes::kNq>&,
                                     const Vec<double, Sizes::kNphi>&,
@@ -64,6 +69,11 @@ template void EvalStatics<float>(const Params<float>&,
                                  Statics<float>*,
                                  const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*,
                                  const typename NonDeduced<Trig<float>>::type*);
+template void EvalStiffness<float>(const Params<float>&,
+                                   const Vec<float, Sizes::kNq>&,
+                                   const Vec<float, Sizes::kNphi>&,
+                                   const Coefficients<float>&,
+                                   Statics<float>*);
 template void EvalDetPhiPhi<float>(const Params<float>&,
                                    const Vec<float, Sizes::kNq>&,
                                    const Vec<float, Sizes::kNphi>&,

@@ -27,7 +27,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 2957 (adds 647, muls 2297, divs 3, calls 10); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 192 (adds 56, muls 127, divs 2, calls 7); EvalStiffness 2727 (adds 574, muls 2144, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -161,13 +161,14 @@ struct Statics {
   /// along the line.  (kNq)
   Vec<Scalar, Sizes::kNq> drive;
   /// stiffness(j, k) = -dQ_j/dq_k along the motion, friction excluded (d2V/dq2 for a conservative
-  /// model): an equilibrium (Q = 0) is stable where it is positive definite.  (kNq x kNq)
+  /// model): an equilibrium (Q = 0) is stable where it is positive definite. Set by
+  /// EvalStiffness(), not EvalStatics().  (kNq x kNq)
   Mat<Scalar, Sizes::kNq, Sizes::kNq> stiffness;
   /// V: potential energy of the springs and the weights.
   Scalar V;
   /// dV_dq(j) = dV/dq_j along the motion.  (kNq)
   Vec<Scalar, Sizes::kNq> dV_dq;
-  /// d2V_dq2(j, k) = d2V/dq_j dq_k along the motion.  (kNq x kNq)
+  /// d2V_dq2(j, k) = d2V/dq_j dq_k along the motion; set by EvalStiffness().  (kNq x kNq)
   Mat<Scalar, Sizes::kNq, Sizes::kNq> d2V_dq2;
   /// R(i): reaction component Model::kReactionNames[i]: the force (moment) of the joint's first link
   /// on its second, fixed frame.  (kNumReactions)
@@ -348,9 +349,8 @@ void EvalStatics(const Params<Scalar>& p,
                  Statics<Scalar>* out,
                  const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 2957 (adds 647, muls 2297, divs 3, calls 10); intermediate terms: 294
+  // Total ops: 192 (adds 56, muls 127, divs 2, calls 7); intermediate terms: 6
   using std::cos;
-  using std::pow;
   using std::sin;
   using std::sqrt;
   (void)friction;
@@ -401,300 +401,10 @@ void EvalStatics(const Params<Scalar>& p,
   const Scalar F_B_y = F_C_y + dy_spring*t_spring - p.Fy + p.g*p.m2;
   const Scalar F_D_x = F_C_x;
   const Scalar F_D_y = F_C_y - p.g*p.m3;
-  const Scalar _tmp6 = cos_phi0*cos_phi0;
-  const Scalar _tmp7 = p.eta*p.eta;
-  const Scalar _tmp8 = p.xi*p.xi;
-  const Scalar _tmp9 = cos_q0*cos_q0;
-  const Scalar _tmp10 = p.a*p.a;
-  const Scalar _tmp11 = sin_q0*sin_q0;
-  const Scalar _tmp12 = sin_phi0*sin_phi0;
-  const Scalar _tmp13 = p.xE*p.xE;
-  const Scalar _tmp14 = p.yE*p.yE;
-  const Scalar _tmp15 = Scalar(2)*cos_phi0*cos_q0*p.a*p.xi + Scalar(2)*cos_phi0*p.a*p.eta*sin_q0 - Scalar(2)*cos_phi0*p.eta*p.yE - Scalar(2)*cos_phi0*p.xE*p.xi - Scalar(2)*cos_q0*p.a*p.eta*sin_phi0 - Scalar(2)*cos_q0*p.a*p.xE + Scalar(2)*p.a*p.xi*sin_phi0*sin_q0 - Scalar(2)*p.a*p.yE*sin_q0 + Scalar(2)*p.eta*p.xE*sin_phi0 - Scalar(2)*p.xi*p.yE*sin_phi0 + _tmp10*_tmp11 + _tmp10*_tmp9 + _tmp12*_tmp7 + _tmp12*_tmp8 + _tmp13 + _tmp14 + _tmp6*_tmp7 + _tmp6*_tmp8;
-  const Scalar _tmp16 = sqrt(_tmp15);
-  const Scalar _tmp17 = cos_q0*p.a*p.eta*p.k*sin_phi0;
-  const Scalar _tmp18 = cos_q0*p.a*p.k*p.xE;
-  const Scalar _tmp19 = p.a*p.k*p.yE*sin_q0;
-  const Scalar _tmp20 = p.a*p.g*p.m1*sin_q0;
-  const Scalar _tmp21 = cos_phi0*cos_q0*p.a*p.k*p.xi;
-  const Scalar _tmp22 = cos_phi0*p.a*p.eta*p.k*sin_q0;
-  const Scalar _tmp23 = p.a*p.g*p.m2*sin_q0;
-  const Scalar _tmp24 = p.a*p.k*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp25 = Scalar(1)/sqrt(_tmp15);
-  const Scalar _tmp26 = c.K(0, 0)*c.K(0, 0);
-  const Scalar _tmp27 = _tmp25*_tmp26*cos_phi0*cos_q0*p.L0*p.a*p.k*p.xi;
-  const Scalar _tmp28 = _tmp25*_tmp26*cos_phi0*p.F0*p.eta*p.yE;
-  const Scalar _tmp29 = _tmp25*_tmp26*cos_phi0*p.F0*p.xE*p.xi;
-  const Scalar _tmp30 = _tmp25*_tmp26*cos_phi0*p.L0*p.a*p.eta*p.k*sin_q0;
-  const Scalar _tmp31 = _tmp25*_tmp26*cos_q0*p.F0*p.a*p.eta*sin_phi0;
-  const Scalar _tmp32 = _tmp25*_tmp26*p.F0*p.xi*p.yE*sin_phi0;
-  const Scalar _tmp33 = _tmp25*_tmp26*p.L0*p.a*p.k*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp34 = _tmp25*_tmp26*p.L0*p.eta*p.k*p.xE*sin_phi0;
-  const Scalar _tmp35 = _tmp25*c.L(0, 0)*cos_phi0*cos_q0*p.L0*p.a*p.eta*p.k;
-  const Scalar _tmp36 = _tmp25*c.L(0, 0)*cos_phi0*p.F0*p.a*p.xi*sin_q0;
-  const Scalar _tmp37 = _tmp25*c.L(0, 0)*cos_phi0*p.F0*p.eta*p.xE;
-  const Scalar _tmp38 = _tmp25*c.L(0, 0)*cos_phi0*p.L0*p.k*p.xi*p.yE;
-  const Scalar _tmp39 = _tmp25*c.L(0, 0)*cos_q0*p.L0*p.a*p.k*p.xi*sin_phi0;
-  const Scalar _tmp40 = _tmp25*c.L(0, 0)*p.F0*p.eta*p.yE*sin_phi0;
-  const Scalar _tmp41 = _tmp25*c.L(0, 0)*p.F0*p.xE*p.xi*sin_phi0;
-  const Scalar _tmp42 = _tmp25*c.L(0, 0)*p.L0*p.a*p.eta*p.k*sin_phi0*sin_q0;
-  const Scalar _tmp43 = _tmp25*cos_phi0*cos_q0*p.L0*p.a*p.k*p.xi;
-  const Scalar _tmp44 = _tmp25*cos_phi0*p.L0*p.a*p.eta*p.k*sin_q0;
-  const Scalar _tmp45 = _tmp25*cos_q0*p.F0*p.a*p.eta*sin_phi0;
-  const Scalar _tmp46 = _tmp25*cos_q0*p.F0*p.a*p.xE;
-  const Scalar _tmp47 = _tmp25*p.F0*p.a*p.yE*sin_q0;
-  const Scalar _tmp48 = _tmp25*p.L0*p.a*p.k*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp49 = pow(_tmp15, Scalar(-1.5));
-  const Scalar _tmp50 = _tmp10*_tmp26*_tmp49*_tmp6*_tmp7*_tmp9*p.L0*p.k;
-  const Scalar _tmp51 = _tmp10*_tmp11*_tmp26*_tmp49*_tmp6*_tmp8*p.L0*p.k;
-  const Scalar _tmp52 = _tmp13*_tmp26*_tmp49*_tmp6*_tmp7*p.L0*p.k;
-  const Scalar _tmp53 = _tmp14*_tmp26*_tmp49*_tmp6*_tmp8*p.L0*p.k;
-  const Scalar _tmp54 = _tmp10*_tmp12*_tmp26*_tmp49*_tmp8*_tmp9*p.L0*p.k;
-  const Scalar _tmp55 = _tmp10*_tmp11*_tmp12*_tmp26*_tmp49*_tmp7*p.L0*p.k;
-  const Scalar _tmp56 = _tmp12*_tmp14*_tmp26*_tmp49*_tmp7*p.L0*p.k;
-  const Scalar _tmp57 = _tmp12*_tmp13*_tmp26*_tmp49*_tmp8*p.L0*p.k;
-  const Scalar _tmp58 = _tmp26*cos_phi0*p.eta*p.k*p.yE;
-  const Scalar _tmp59 = _tmp26*cos_phi0*p.k*p.xE*p.xi;
-  const Scalar _tmp60 = _tmp26*cos_q0*p.a*p.eta*p.k*sin_phi0;
-  const Scalar _tmp61 = _tmp26*p.k*p.xi*p.yE*sin_phi0;
-  const Scalar _tmp62 = _tmp10*_tmp49*_tmp6*_tmp7*_tmp9*p.L0*p.k;
-  const Scalar _tmp63 = _tmp10*_tmp11*_tmp49*_tmp6*_tmp8*p.L0*p.k;
-  const Scalar _tmp64 = _tmp10*_tmp12*_tmp49*_tmp8*_tmp9*p.L0*p.k;
-  const Scalar _tmp65 = _tmp10*_tmp14*_tmp49*_tmp9*p.L0*p.k;
-  const Scalar _tmp66 = _tmp10*_tmp11*_tmp12*_tmp49*_tmp7*p.L0*p.k;
-  const Scalar _tmp67 = _tmp10*_tmp11*_tmp13*_tmp49*p.L0*p.k;
-  const Scalar _tmp68 = -_tmp25*_tmp26*cos_phi0*cos_q0*p.F0*p.a*p.xi;
-  const Scalar _tmp69 = -_tmp25*_tmp26*cos_phi0*p.F0*p.a*p.eta*sin_q0;
-  const Scalar _tmp70 = -_tmp25*_tmp26*cos_phi0*p.L0*p.eta*p.k*p.yE;
-  const Scalar _tmp71 = -_tmp25*_tmp26*cos_phi0*p.L0*p.k*p.xE*p.xi;
-  const Scalar _tmp72 = -_tmp25*_tmp26*cos_q0*p.L0*p.a*p.eta*p.k*sin_phi0;
-  const Scalar _tmp73 = -_tmp25*_tmp26*p.F0*p.a*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp74 = -_tmp25*_tmp26*p.F0*p.eta*p.xE*sin_phi0;
-  const Scalar _tmp75 = -_tmp25*_tmp26*p.L0*p.k*p.xi*p.yE*sin_phi0;
-  const Scalar _tmp76 = -_tmp25*c.L(0, 0)*cos_phi0*cos_q0*p.F0*p.a*p.eta;
-  const Scalar _tmp77 = -_tmp25*c.L(0, 0)*cos_phi0*p.F0*p.xi*p.yE;
-  const Scalar _tmp78 = -_tmp25*c.L(0, 0)*cos_phi0*p.L0*p.a*p.k*p.xi*sin_q0;
-  const Scalar _tmp79 = -_tmp25*c.L(0, 0)*cos_phi0*p.L0*p.eta*p.k*p.xE;
-  const Scalar _tmp80 = -_tmp25*c.L(0, 0)*cos_q0*p.F0*p.a*p.xi*sin_phi0;
-  const Scalar _tmp81 = -_tmp25*c.L(0, 0)*p.F0*p.a*p.eta*sin_phi0*sin_q0;
-  const Scalar _tmp82 = -_tmp25*c.L(0, 0)*p.L0*p.eta*p.k*p.yE*sin_phi0;
-  const Scalar _tmp83 = -_tmp25*c.L(0, 0)*p.L0*p.k*p.xE*p.xi*sin_phi0;
-  const Scalar _tmp84 = -_tmp25*cos_phi0*cos_q0*p.F0*p.a*p.xi;
-  const Scalar _tmp85 = -_tmp25*cos_phi0*p.F0*p.a*p.eta*sin_q0;
-  const Scalar _tmp86 = -_tmp25*cos_q0*p.L0*p.a*p.eta*p.k*sin_phi0;
-  const Scalar _tmp87 = -_tmp25*cos_q0*p.L0*p.a*p.k*p.xE;
-  const Scalar _tmp88 = -_tmp25*p.F0*p.a*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp89 = -_tmp25*p.L0*p.a*p.k*p.yE*sin_q0;
-  const Scalar _tmp90 = -_tmp10*_tmp26*_tmp49*_tmp6*_tmp7*_tmp9*p.F0;
-  const Scalar _tmp91 = -_tmp10*_tmp11*_tmp26*_tmp49*_tmp6*_tmp8*p.F0;
-  const Scalar _tmp92 = -_tmp13*_tmp26*_tmp49*_tmp6*_tmp7*p.F0;
-  const Scalar _tmp93 = -_tmp14*_tmp26*_tmp49*_tmp6*_tmp8*p.F0;
-  const Scalar _tmp94 = -_tmp10*_tmp12*_tmp26*_tmp49*_tmp8*_tmp9*p.F0;
-  const Scalar _tmp95 = -_tmp10*_tmp11*_tmp12*_tmp26*_tmp49*_tmp7*p.F0;
-  const Scalar _tmp96 = -_tmp12*_tmp14*_tmp26*_tmp49*_tmp7*p.F0;
-  const Scalar _tmp97 = -_tmp12*_tmp13*_tmp26*_tmp49*_tmp8*p.F0;
-  const Scalar _tmp98 = -_tmp26*cos_phi0*cos_q0*p.a*p.k*p.xi;
-  const Scalar _tmp99 = -_tmp26*cos_phi0*p.a*p.eta*p.k*sin_q0;
-  const Scalar _tmp100 = -_tmp26*p.a*p.k*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp101 = -_tmp26*p.eta*p.k*p.xE*sin_phi0;
-  const Scalar _tmp102 = -_tmp10*_tmp49*_tmp6*_tmp7*_tmp9*p.F0;
-  const Scalar _tmp103 = -_tmp10*_tmp11*_tmp49*_tmp6*_tmp8*p.F0;
-  const Scalar _tmp104 = -_tmp10*_tmp12*_tmp49*_tmp8*_tmp9*p.F0;
-  const Scalar _tmp105 = -_tmp10*_tmp14*_tmp49*_tmp9*p.F0;
-  const Scalar _tmp106 = -_tmp10*_tmp11*_tmp12*_tmp49*_tmp7*p.F0;
-  const Scalar _tmp107 = -_tmp10*_tmp11*_tmp13*_tmp49*p.F0;
-  const Scalar _tmp108 = -Scalar(0.5)*_tmp26*p.b*p.g*p.m2*sin_phi0;
-  const Scalar _tmp109 = -Scalar(0.5)*(c.K(1, 0)*c.K(1, 0))*p.c*p.g*p.m3*sin_phi1;
-  const Scalar _tmp110 = -Scalar(2)*_tmp25*c.K(0, 0)*cos_phi0*cos_q0*p.L0*p.a*p.k*p.xi;
-  const Scalar _tmp111 = -Scalar(2)*_tmp25*c.K(0, 0)*cos_phi0*p.L0*p.a*p.eta*p.k*sin_q0;
-  const Scalar _tmp112 = -Scalar(2)*_tmp25*c.K(0, 0)*cos_q0*p.F0*p.a*p.eta*sin_phi0;
-  const Scalar _tmp113 = -Scalar(2)*_tmp25*c.K(0, 0)*p.L0*p.a*p.k*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp114 = -Scalar(2)*_tmp10*_tmp26*_tmp49*_tmp6*cos_q0*p.L0*p.eta*p.k*p.xi*sin_q0;
-  const Scalar _tmp115 = -Scalar(2)*_tmp26*_tmp49*_tmp6*_tmp7*cos_q0*p.L0*p.a*p.k*p.xE;
-  const Scalar _tmp116 = -Scalar(2)*_tmp26*_tmp49*_tmp6*_tmp8*p.L0*p.a*p.k*p.yE*sin_q0;
-  const Scalar _tmp117 = -Scalar(2)*_tmp26*_tmp49*_tmp6*cos_q0*p.F0*p.a*p.eta*p.xi*p.yE;
-  const Scalar _tmp118 = -Scalar(2)*_tmp26*_tmp49*_tmp6*p.F0*p.a*p.eta*p.xE*p.xi*sin_q0;
-  const Scalar _tmp119 = -Scalar(2)*_tmp26*_tmp49*_tmp6*p.L0*p.eta*p.k*p.xE*p.xi*p.yE;
-  const Scalar _tmp120 = -Scalar(2)*_tmp10*_tmp26*_tmp49*_tmp9*cos_phi0*p.F0*p.eta*p.xi*sin_phi0;
-  const Scalar _tmp121 = -Scalar(2)*_tmp10*_tmp26*_tmp49*_tmp7*cos_phi0*cos_q0*p.F0*sin_phi0*sin_q0;
-  const Scalar _tmp122 = -Scalar(2)*_tmp10*_tmp26*_tmp49*_tmp8*cos_phi0*cos_q0*p.L0*p.k*sin_phi0*sin_q0;
-  const Scalar _tmp123 = -Scalar(2)*_tmp10*_tmp12*_tmp26*_tmp49*cos_q0*p.F0*p.eta*p.xi*sin_q0;
-  const Scalar _tmp124 = -Scalar(2)*_tmp10*_tmp11*_tmp26*_tmp49*cos_phi0*p.L0*p.eta*p.k*p.xi*sin_phi0;
-  const Scalar _tmp125 = -Scalar(2)*_tmp12*_tmp26*_tmp49*_tmp7*p.L0*p.a*p.k*p.yE*sin_q0;
-  const Scalar _tmp126 = -Scalar(2)*_tmp26*_tmp49*_tmp7*cos_phi0*cos_q0*p.L0*p.a*p.k*p.yE*sin_phi0;
-  const Scalar _tmp127 = -Scalar(2)*_tmp26*_tmp49*_tmp7*cos_phi0*p.F0*p.xE*p.yE*sin_phi0;
-  const Scalar _tmp128 = -Scalar(2)*_tmp26*_tmp49*_tmp7*cos_phi0*p.L0*p.a*p.k*p.xE*sin_phi0*sin_q0;
-  const Scalar _tmp129 = -Scalar(2)*_tmp13*_tmp26*_tmp49*cos_phi0*p.F0*p.eta*p.xi*sin_phi0;
-  const Scalar _tmp130 = -Scalar(2)*_tmp12*_tmp26*_tmp49*_tmp8*cos_q0*p.L0*p.a*p.k*p.xE;
-  const Scalar _tmp131 = -Scalar(2)*_tmp26*_tmp49*_tmp8*cos_phi0*cos_q0*p.F0*p.a*p.yE*sin_phi0;
-  const Scalar _tmp132 = -Scalar(2)*_tmp26*_tmp49*_tmp8*cos_phi0*p.F0*p.a*p.xE*sin_phi0*sin_q0;
-  const Scalar _tmp133 = -Scalar(2)*_tmp26*_tmp49*_tmp8*cos_phi0*p.L0*p.k*p.xE*p.yE*sin_phi0;
-  const Scalar _tmp134 = -Scalar(2)*_tmp14*_tmp26*_tmp49*cos_phi0*p.L0*p.eta*p.k*p.xi*sin_phi0;
-  const Scalar _tmp135 = -Scalar(2)*_tmp12*_tmp26*_tmp49*cos_q0*p.L0*p.a*p.eta*p.k*p.xi*p.yE;
-  const Scalar _tmp136 = -Scalar(2)*_tmp12*_tmp26*_tmp49*p.F0*p.eta*p.xE*p.xi*p.yE;
-  const Scalar _tmp137 = -Scalar(2)*_tmp12*_tmp26*_tmp49*p.L0*p.a*p.eta*p.k*p.xE*p.xi*sin_q0;
-  const Scalar _tmp138 = -Scalar(2)*_tmp10*_tmp49*_tmp6*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.k;
-  const Scalar _tmp139 = -Scalar(2)*_tmp10*_tmp11*_tmp49*_tmp6*_tmp8*c.K(0, 0)*p.L0*p.k;
-  const Scalar _tmp140 = -Scalar(2)*_tmp10*_tmp49*_tmp6*cos_q0*p.L0*p.eta*p.k*p.xi*sin_q0;
-  const Scalar _tmp141 = -Scalar(2)*_tmp49*_tmp6*_tmp7*c.K(0, 0)*cos_q0*p.F0*p.a*p.xE;
-  const Scalar _tmp142 = -Scalar(2)*_tmp49*_tmp6*_tmp8*c.K(0, 0)*p.F0*p.a*p.yE*sin_q0;
-  const Scalar _tmp143 = -Scalar(2)*_tmp49*_tmp6*c.K(0, 0)*cos_q0*p.L0*p.a*p.eta*p.k*p.xi*p.yE;
-  const Scalar _tmp144 = -Scalar(2)*_tmp49*_tmp6*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xE*p.xi*sin_q0;
-  const Scalar _tmp145 = -Scalar(2)*_tmp10*_tmp12*_tmp49*_tmp8*_tmp9*c.K(0, 0)*p.L0*p.k;
-  const Scalar _tmp146 = -Scalar(2)*_tmp10*_tmp49*_tmp9*c.K(0, 0)*cos_phi0*p.F0*p.eta*p.yE;
-  const Scalar _tmp147 = -Scalar(2)*_tmp10*_tmp49*_tmp9*c.K(0, 0)*p.F0*p.xi*p.yE*sin_phi0;
-  const Scalar _tmp148 = -Scalar(2)*_tmp10*_tmp49*_tmp9*cos_phi0*p.F0*p.eta*p.xi*sin_phi0;
-  const Scalar _tmp149 = -Scalar(2)*_tmp10*_tmp49*_tmp9*cos_phi0*p.L0*p.eta*p.k*p.yE;
-  const Scalar _tmp150 = -Scalar(2)*_tmp10*_tmp49*_tmp9*p.L0*p.k*p.xi*p.yE*sin_phi0;
-  const Scalar _tmp151 = -Scalar(2)*_tmp10*_tmp11*_tmp12*_tmp49*_tmp7*c.K(0, 0)*p.L0*p.k;
-  const Scalar _tmp152 = -Scalar(2)*_tmp10*_tmp49*_tmp7*cos_phi0*cos_q0*p.F0*sin_phi0*sin_q0;
-  const Scalar _tmp153 = -Scalar(2)*_tmp10*_tmp49*_tmp8*cos_phi0*cos_q0*p.L0*p.k*sin_phi0*sin_q0;
-  const Scalar _tmp154 = -Scalar(2)*_tmp10*_tmp12*_tmp49*cos_q0*p.F0*p.eta*p.xi*sin_q0;
-  const Scalar _tmp155 = -Scalar(2)*_tmp10*_tmp11*_tmp49*c.K(0, 0)*cos_phi0*p.F0*p.xE*p.xi;
-  const Scalar _tmp156 = -Scalar(2)*_tmp10*_tmp11*_tmp49*c.K(0, 0)*p.L0*p.eta*p.k*p.xE*sin_phi0;
-  const Scalar _tmp157 = -Scalar(2)*_tmp10*_tmp11*_tmp49*cos_phi0*p.L0*p.eta*p.k*p.xi*sin_phi0;
-  const Scalar _tmp158 = -Scalar(2)*_tmp10*_tmp11*_tmp49*cos_phi0*p.L0*p.k*p.xE*p.xi;
-  const Scalar _tmp159 = -Scalar(2)*_tmp10*_tmp11*_tmp49*p.F0*p.eta*p.xE*sin_phi0;
-  const Scalar _tmp160 = -Scalar(2)*_tmp10*_tmp49*c.K(0, 0)*cos_phi0*cos_q0*p.L0*p.eta*p.k*p.xE*sin_q0;
-  const Scalar _tmp161 = -Scalar(2)*_tmp10*_tmp49*c.K(0, 0)*cos_phi0*cos_q0*p.L0*p.k*p.xi*p.yE*sin_q0;
-  const Scalar _tmp162 = -Scalar(2)*_tmp10*_tmp49*c.K(0, 0)*cos_q0*p.F0*p.eta*p.yE*sin_phi0*sin_q0;
-  const Scalar _tmp163 = -Scalar(2)*_tmp10*_tmp49*c.K(0, 0)*cos_q0*p.L0*p.k*p.xE*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp164 = -Scalar(2)*_tmp10*_tmp49*cos_phi0*cos_q0*p.F0*p.eta*p.xE*sin_q0;
-  const Scalar _tmp165 = -Scalar(2)*_tmp10*_tmp49*cos_phi0*cos_q0*p.F0*p.xi*p.yE*sin_q0;
-  const Scalar _tmp166 = -Scalar(2)*_tmp10*_tmp49*cos_q0*p.F0*p.xE*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp167 = -Scalar(2)*_tmp10*_tmp49*cos_q0*p.L0*p.eta*p.k*p.yE*sin_phi0*sin_q0;
-  const Scalar _tmp168 = -Scalar(2)*_tmp10*_tmp49*cos_q0*p.L0*p.k*p.xE*p.yE*sin_q0;
-  const Scalar _tmp169 = -Scalar(2)*_tmp12*_tmp49*_tmp7*c.K(0, 0)*p.F0*p.a*p.yE*sin_q0;
-  const Scalar _tmp170 = -Scalar(2)*_tmp49*_tmp7*c.K(0, 0)*cos_phi0*cos_q0*p.F0*p.a*p.yE*sin_phi0;
-  const Scalar _tmp171 = -Scalar(2)*_tmp49*_tmp7*c.K(0, 0)*cos_phi0*p.F0*p.a*p.xE*sin_phi0*sin_q0;
-  const Scalar _tmp172 = -Scalar(2)*_tmp13*_tmp49*c.K(0, 0)*cos_phi0*p.F0*p.a*p.eta*sin_q0;
-  const Scalar _tmp173 = -Scalar(2)*_tmp13*_tmp49*c.K(0, 0)*p.F0*p.a*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp174 = -Scalar(2)*_tmp12*_tmp49*_tmp8*c.K(0, 0)*cos_q0*p.F0*p.a*p.xE;
-  const Scalar _tmp175 = -Scalar(2)*_tmp49*_tmp8*c.K(0, 0)*cos_phi0*cos_q0*p.L0*p.a*p.k*p.yE*sin_phi0;
-  const Scalar _tmp176 = -Scalar(2)*_tmp49*_tmp8*c.K(0, 0)*cos_phi0*p.L0*p.a*p.k*p.xE*sin_phi0*sin_q0;
-  const Scalar _tmp177 = -Scalar(2)*_tmp14*_tmp49*c.K(0, 0)*cos_phi0*cos_q0*p.F0*p.a*p.xi;
-  const Scalar _tmp178 = -Scalar(2)*_tmp14*_tmp49*c.K(0, 0)*cos_q0*p.L0*p.a*p.eta*p.k*sin_phi0;
-  const Scalar _tmp179 = -Scalar(2)*_tmp12*_tmp49*c.K(0, 0)*cos_q0*p.F0*p.a*p.eta*p.xi*p.yE;
-  const Scalar _tmp180 = -Scalar(2)*_tmp12*_tmp49*c.K(0, 0)*p.F0*p.a*p.eta*p.xE*p.xi*sin_q0;
-  const Scalar _tmp181 = -Scalar(2)*_tmp49*c.K(0, 0)*cos_phi0*cos_q0*p.L0*p.a*p.eta*p.k*p.xE*p.yE;
-  const Scalar _tmp182 = -Scalar(2)*_tmp49*c.K(0, 0)*cos_phi0*p.L0*p.a*p.k*p.xE*p.xi*p.yE*sin_q0;
-  const Scalar _tmp183 = -Scalar(2)*_tmp49*c.K(0, 0)*cos_q0*p.L0*p.a*p.k*p.xE*p.xi*p.yE*sin_phi0;
-  const Scalar _tmp184 = -Scalar(2)*_tmp49*c.K(0, 0)*p.F0*p.a*p.eta*p.xE*p.yE*sin_phi0*sin_q0;
-  const Scalar _tmp185 = -Scalar(2)*c.K(0, 0)*cos_q0*p.a*p.eta*p.k*sin_phi0;
-  const Scalar _tmp186 = -Scalar(4)*_tmp26*_tmp49*cos_phi0*cos_q0*p.L0*p.a*p.eta*p.k*p.xE*p.xi*sin_phi0;
-  const Scalar _tmp187 = -Scalar(4)*_tmp26*_tmp49*cos_phi0*p.F0*p.a*p.eta*p.xi*p.yE*sin_phi0*sin_q0;
-  const Scalar _tmp188 = -Scalar(4)*_tmp10*_tmp49*_tmp6*c.K(0, 0)*cos_q0*p.F0*p.eta*p.xi*sin_q0;
-  const Scalar _tmp189 = -Scalar(4)*_tmp10*_tmp49*_tmp9*c.K(0, 0)*cos_phi0*p.L0*p.eta*p.k*p.xi*sin_phi0;
-  const Scalar _tmp190 = -Scalar(4)*_tmp10*_tmp49*_tmp7*c.K(0, 0)*cos_phi0*cos_q0*p.L0*p.k*sin_phi0*sin_q0;
-  const Scalar _tmp191 = -Scalar(4)*_tmp10*_tmp49*_tmp8*c.K(0, 0)*cos_phi0*cos_q0*p.F0*sin_phi0*sin_q0;
-  const Scalar _tmp192 = -Scalar(4)*_tmp10*_tmp12*_tmp49*c.K(0, 0)*cos_q0*p.L0*p.eta*p.k*p.xi*sin_q0;
-  const Scalar _tmp193 = -Scalar(4)*_tmp10*_tmp11*_tmp49*c.K(0, 0)*cos_phi0*p.F0*p.eta*p.xi*sin_phi0;
-  const Scalar _tmp194 = -Scalar(4)*_tmp49*c.K(0, 0)*cos_phi0*cos_q0*p.F0*p.a*p.eta*p.xE*p.xi*sin_phi0;
-  const Scalar _tmp195 = -Scalar(4)*_tmp49*c.K(0, 0)*cos_phi0*p.L0*p.a*p.eta*p.k*p.xi*p.yE*sin_phi0*sin_q0;
-  const Scalar _tmp196 = -c.L(0, 0)*cos_phi0*cos_q0*p.a*p.eta*p.k;
-  const Scalar _tmp197 = -c.L(0, 0)*cos_phi0*p.k*p.xi*p.yE;
-  const Scalar _tmp198 = -c.L(0, 0)*cos_q0*p.a*p.k*p.xi*sin_phi0;
-  const Scalar _tmp199 = -c.L(0, 0)*p.a*p.eta*p.k*sin_phi0*sin_q0;
-  const Scalar _tmp200 = Scalar(0.5)*c.L(0, 0)*cos_phi0*p.b*p.g*p.m2;
-  const Scalar _tmp201 = Scalar(0.5)*c.L(1, 0)*cos_phi1*p.c*p.g*p.m3;
-  const Scalar _tmp202 = Scalar(2)*_tmp25*c.K(0, 0)*cos_phi0*cos_q0*p.F0*p.a*p.xi;
-  const Scalar _tmp203 = Scalar(2)*_tmp25*c.K(0, 0)*cos_phi0*p.F0*p.a*p.eta*sin_q0;
-  const Scalar _tmp204 = Scalar(2)*_tmp25*c.K(0, 0)*cos_q0*p.L0*p.a*p.eta*p.k*sin_phi0;
-  const Scalar _tmp205 = Scalar(2)*_tmp25*c.K(0, 0)*p.F0*p.a*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp206 = Scalar(2)*_tmp10*_tmp26*_tmp49*_tmp6*cos_q0*p.F0*p.eta*p.xi*sin_q0;
-  const Scalar _tmp207 = Scalar(2)*_tmp26*_tmp49*_tmp6*_tmp7*cos_q0*p.F0*p.a*p.xE;
-  const Scalar _tmp208 = Scalar(2)*_tmp26*_tmp49*_tmp6*_tmp8*p.F0*p.a*p.yE*sin_q0;
-  const Scalar _tmp209 = Scalar(2)*_tmp26*_tmp49*_tmp6*cos_q0*p.L0*p.a*p.eta*p.k*p.xi*p.yE;
-  const Scalar _tmp210 = Scalar(2)*_tmp26*_tmp49*_tmp6*p.F0*p.eta*p.xE*p.xi*p.yE;
-  const Scalar _tmp211 = Scalar(2)*_tmp26*_tmp49*_tmp6*p.L0*p.a*p.eta*p.k*p.xE*p.xi*sin_q0;
-  const Scalar _tmp212 = Scalar(2)*_tmp10*_tmp26*_tmp49*_tmp9*cos_phi0*p.L0*p.eta*p.k*p.xi*sin_phi0;
-  const Scalar _tmp213 = Scalar(2)*_tmp10*_tmp26*_tmp49*_tmp7*cos_phi0*cos_q0*p.L0*p.k*sin_phi0*sin_q0;
-  const Scalar _tmp214 = Scalar(2)*_tmp10*_tmp26*_tmp49*_tmp8*cos_phi0*cos_q0*p.F0*sin_phi0*sin_q0;
-  const Scalar _tmp215 = Scalar(2)*_tmp10*_tmp12*_tmp26*_tmp49*cos_q0*p.L0*p.eta*p.k*p.xi*sin_q0;
-  const Scalar _tmp216 = Scalar(2)*_tmp10*_tmp11*_tmp26*_tmp49*cos_phi0*p.F0*p.eta*p.xi*sin_phi0;
-  const Scalar _tmp217 = Scalar(2)*_tmp12*_tmp26*_tmp49*_tmp7*p.F0*p.a*p.yE*sin_q0;
-  const Scalar _tmp218 = Scalar(2)*_tmp26*_tmp49*_tmp7*cos_phi0*cos_q0*p.F0*p.a*p.yE*sin_phi0;
-  const Scalar _tmp219 = Scalar(2)*_tmp26*_tmp49*_tmp7*cos_phi0*p.F0*p.a*p.xE*sin_phi0*sin_q0;
-  const Scalar _tmp220 = Scalar(2)*_tmp26*_tmp49*_tmp7*cos_phi0*p.L0*p.k*p.xE*p.yE*sin_phi0;
-  const Scalar _tmp221 = Scalar(2)*_tmp13*_tmp26*_tmp49*cos_phi0*p.L0*p.eta*p.k*p.xi*sin_phi0;
-  const Scalar _tmp222 = Scalar(2)*_tmp12*_tmp26*_tmp49*_tmp8*cos_q0*p.F0*p.a*p.xE;
-  const Scalar _tmp223 = Scalar(2)*_tmp26*_tmp49*_tmp8*cos_phi0*cos_q0*p.L0*p.a*p.k*p.yE*sin_phi0;
-  const Scalar _tmp224 = Scalar(2)*_tmp26*_tmp49*_tmp8*cos_phi0*p.F0*p.xE*p.yE*sin_phi0;
-  const Scalar _tmp225 = Scalar(2)*_tmp26*_tmp49*_tmp8*cos_phi0*p.L0*p.a*p.k*p.xE*sin_phi0*sin_q0;
-  const Scalar _tmp226 = Scalar(2)*_tmp14*_tmp26*_tmp49*cos_phi0*p.F0*p.eta*p.xi*sin_phi0;
-  const Scalar _tmp227 = Scalar(2)*_tmp12*_tmp26*_tmp49*cos_q0*p.F0*p.a*p.eta*p.xi*p.yE;
-  const Scalar _tmp228 = Scalar(2)*_tmp12*_tmp26*_tmp49*p.F0*p.a*p.eta*p.xE*p.xi*sin_q0;
-  const Scalar _tmp229 = Scalar(2)*_tmp12*_tmp26*_tmp49*p.L0*p.eta*p.k*p.xE*p.xi*p.yE;
-  const Scalar _tmp230 = Scalar(2)*_tmp10*_tmp49*_tmp6*_tmp7*_tmp9*c.K(0, 0)*p.F0;
-  const Scalar _tmp231 = Scalar(2)*_tmp10*_tmp11*_tmp49*_tmp6*_tmp8*c.K(0, 0)*p.F0;
-  const Scalar _tmp232 = Scalar(2)*_tmp10*_tmp49*_tmp6*cos_q0*p.F0*p.eta*p.xi*sin_q0;
-  const Scalar _tmp233 = Scalar(2)*_tmp49*_tmp6*_tmp7*c.K(0, 0)*cos_q0*p.L0*p.a*p.k*p.xE;
-  const Scalar _tmp234 = Scalar(2)*_tmp49*_tmp6*_tmp8*c.K(0, 0)*p.L0*p.a*p.k*p.yE*sin_q0;
-  const Scalar _tmp235 = Scalar(2)*_tmp49*_tmp6*c.K(0, 0)*cos_q0*p.F0*p.a*p.eta*p.xi*p.yE;
-  const Scalar _tmp236 = Scalar(2)*_tmp49*_tmp6*c.K(0, 0)*p.F0*p.a*p.eta*p.xE*p.xi*sin_q0;
-  const Scalar _tmp237 = Scalar(2)*_tmp10*_tmp12*_tmp49*_tmp8*_tmp9*c.K(0, 0)*p.F0;
-  const Scalar _tmp238 = Scalar(2)*_tmp10*_tmp49*_tmp9*c.K(0, 0)*cos_phi0*p.L0*p.eta*p.k*p.yE;
-  const Scalar _tmp239 = Scalar(2)*_tmp10*_tmp49*_tmp9*c.K(0, 0)*p.L0*p.k*p.xi*p.yE*sin_phi0;
-  const Scalar _tmp240 = Scalar(2)*_tmp10*_tmp49*_tmp9*cos_phi0*p.F0*p.eta*p.yE;
-  const Scalar _tmp241 = Scalar(2)*_tmp10*_tmp49*_tmp9*cos_phi0*p.L0*p.eta*p.k*p.xi*sin_phi0;
-  const Scalar _tmp242 = Scalar(2)*_tmp10*_tmp49*_tmp9*p.F0*p.xi*p.yE*sin_phi0;
-  const Scalar _tmp243 = Scalar(2)*_tmp10*_tmp11*_tmp12*_tmp49*_tmp7*c.K(0, 0)*p.F0;
-  const Scalar _tmp244 = Scalar(2)*_tmp10*_tmp49*_tmp7*cos_phi0*cos_q0*p.L0*p.k*sin_phi0*sin_q0;
-  const Scalar _tmp245 = Scalar(2)*_tmp10*_tmp49*_tmp8*cos_phi0*cos_q0*p.F0*sin_phi0*sin_q0;
-  const Scalar _tmp246 = Scalar(2)*_tmp10*_tmp12*_tmp49*cos_q0*p.L0*p.eta*p.k*p.xi*sin_q0;
-  const Scalar _tmp247 = Scalar(2)*_tmp10*_tmp11*_tmp49*c.K(0, 0)*cos_phi0*p.L0*p.k*p.xE*p.xi;
-  const Scalar _tmp248 = Scalar(2)*_tmp10*_tmp11*_tmp49*c.K(0, 0)*p.F0*p.eta*p.xE*sin_phi0;
-  const Scalar _tmp249 = Scalar(2)*_tmp10*_tmp11*_tmp49*cos_phi0*p.F0*p.eta*p.xi*sin_phi0;
-  const Scalar _tmp250 = Scalar(2)*_tmp10*_tmp11*_tmp49*cos_phi0*p.F0*p.xE*p.xi;
-  const Scalar _tmp251 = Scalar(2)*_tmp10*_tmp11*_tmp49*p.L0*p.eta*p.k*p.xE*sin_phi0;
-  const Scalar _tmp252 = Scalar(2)*_tmp10*_tmp49*c.K(0, 0)*cos_phi0*cos_q0*p.F0*p.eta*p.xE*sin_q0;
-  const Scalar _tmp253 = Scalar(2)*_tmp10*_tmp49*c.K(0, 0)*cos_phi0*cos_q0*p.F0*p.xi*p.yE*sin_q0;
-  const Scalar _tmp254 = Scalar(2)*_tmp10*_tmp49*c.K(0, 0)*cos_q0*p.F0*p.xE*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp255 = Scalar(2)*_tmp10*_tmp49*c.K(0, 0)*cos_q0*p.L0*p.eta*p.k*p.yE*sin_phi0*sin_q0;
-  const Scalar _tmp256 = Scalar(2)*_tmp10*_tmp49*cos_phi0*cos_q0*p.L0*p.eta*p.k*p.xE*sin_q0;
-  const Scalar _tmp257 = Scalar(2)*_tmp10*_tmp49*cos_phi0*cos_q0*p.L0*p.k*p.xi*p.yE*sin_q0;
-  const Scalar _tmp258 = Scalar(2)*_tmp10*_tmp49*cos_q0*p.F0*p.eta*p.yE*sin_phi0*sin_q0;
-  const Scalar _tmp259 = Scalar(2)*_tmp10*_tmp49*cos_q0*p.F0*p.xE*p.yE*sin_q0;
-  const Scalar _tmp260 = Scalar(2)*_tmp10*_tmp49*cos_q0*p.L0*p.k*p.xE*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp261 = Scalar(2)*_tmp12*_tmp49*_tmp7*c.K(0, 0)*p.L0*p.a*p.k*p.yE*sin_q0;
-  const Scalar _tmp262 = Scalar(2)*_tmp49*_tmp7*c.K(0, 0)*cos_phi0*cos_q0*p.L0*p.a*p.k*p.yE*sin_phi0;
-  const Scalar _tmp263 = Scalar(2)*_tmp49*_tmp7*c.K(0, 0)*cos_phi0*p.L0*p.a*p.k*p.xE*sin_phi0*sin_q0;
-  const Scalar _tmp264 = Scalar(2)*_tmp13*_tmp49*c.K(0, 0)*cos_phi0*p.L0*p.a*p.eta*p.k*sin_q0;
-  const Scalar _tmp265 = Scalar(2)*_tmp13*_tmp49*c.K(0, 0)*p.L0*p.a*p.k*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp266 = Scalar(2)*_tmp12*_tmp49*_tmp8*c.K(0, 0)*cos_q0*p.L0*p.a*p.k*p.xE;
-  const Scalar _tmp267 = Scalar(2)*_tmp49*_tmp8*c.K(0, 0)*cos_phi0*cos_q0*p.F0*p.a*p.yE*sin_phi0;
-  const Scalar _tmp268 = Scalar(2)*_tmp49*_tmp8*c.K(0, 0)*cos_phi0*p.F0*p.a*p.xE*sin_phi0*sin_q0;
-  const Scalar _tmp269 = Scalar(2)*_tmp14*_tmp49*c.K(0, 0)*cos_phi0*cos_q0*p.L0*p.a*p.k*p.xi;
-  const Scalar _tmp270 = Scalar(2)*_tmp14*_tmp49*c.K(0, 0)*cos_q0*p.F0*p.a*p.eta*sin_phi0;
-  const Scalar _tmp271 = Scalar(2)*_tmp12*_tmp49*c.K(0, 0)*cos_q0*p.L0*p.a*p.eta*p.k*p.xi*p.yE;
-  const Scalar _tmp272 = Scalar(2)*_tmp12*_tmp49*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xE*p.xi*sin_q0;
-  const Scalar _tmp273 = Scalar(2)*_tmp49*c.K(0, 0)*cos_phi0*cos_q0*p.F0*p.a*p.eta*p.xE*p.yE;
-  const Scalar _tmp274 = Scalar(2)*_tmp49*c.K(0, 0)*cos_phi0*p.F0*p.a*p.xE*p.xi*p.yE*sin_q0;
-  const Scalar _tmp275 = Scalar(2)*_tmp49*c.K(0, 0)*cos_q0*p.F0*p.a*p.xE*p.xi*p.yE*sin_phi0;
-  const Scalar _tmp276 = Scalar(2)*_tmp49*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xE*p.yE*sin_phi0*sin_q0;
-  const Scalar _tmp277 = Scalar(2)*c.K(0, 0)*cos_phi0*cos_q0*p.a*p.k*p.xi;
-  const Scalar _tmp278 = Scalar(2)*c.K(0, 0)*cos_phi0*p.a*p.eta*p.k*sin_q0;
-  const Scalar _tmp279 = Scalar(2)*c.K(0, 0)*p.a*p.k*p.xi*sin_phi0*sin_q0;
-  const Scalar _tmp280 = Scalar(4)*_tmp26*_tmp49*cos_phi0*cos_q0*p.F0*p.a*p.eta*p.xE*p.xi*sin_phi0;
-  const Scalar _tmp281 = Scalar(4)*_tmp26*_tmp49*cos_phi0*p.L0*p.a*p.eta*p.k*p.xi*p.yE*sin_phi0*sin_q0;
-  const Scalar _tmp282 = Scalar(4)*_tmp10*_tmp49*_tmp6*c.K(0, 0)*cos_q0*p.L0*p.eta*p.k*p.xi*sin_q0;
-  const Scalar _tmp283 = Scalar(4)*_tmp10*_tmp49*_tmp9*c.K(0, 0)*cos_phi0*p.F0*p.eta*p.xi*sin_phi0;
-  const Scalar _tmp284 = Scalar(4)*_tmp10*_tmp49*_tmp7*c.K(0, 0)*cos_phi0*cos_q0*p.F0*sin_phi0*sin_q0;
-  const Scalar _tmp285 = Scalar(4)*_tmp10*_tmp49*_tmp8*c.K(0, 0)*cos_phi0*cos_q0*p.L0*p.k*sin_phi0*sin_q0;
-  const Scalar _tmp286 = Scalar(4)*_tmp10*_tmp12*_tmp49*c.K(0, 0)*cos_q0*p.F0*p.eta*p.xi*sin_q0;
-  const Scalar _tmp287 = Scalar(4)*_tmp10*_tmp11*_tmp49*c.K(0, 0)*cos_phi0*p.L0*p.eta*p.k*p.xi*sin_phi0;
-  const Scalar _tmp288 = Scalar(4)*_tmp49*c.K(0, 0)*cos_phi0*cos_q0*p.L0*p.a*p.eta*p.k*p.xE*p.xi*sin_phi0;
-  const Scalar _tmp289 = Scalar(4)*_tmp49*c.K(0, 0)*cos_phi0*p.F0*p.a*p.eta*p.xi*p.yE*sin_phi0*sin_q0;
-  const Scalar _tmp290 = c.L(0, 0)*cos_phi0*p.a*p.k*p.xi*sin_q0;
-  const Scalar _tmp291 = c.L(0, 0)*cos_phi0*p.eta*p.k*p.xE;
-  const Scalar _tmp292 = c.L(0, 0)*p.eta*p.k*p.yE*sin_phi0;
-  const Scalar _tmp293 = c.L(0, 0)*p.k*p.xE*p.xi*sin_phi0;
   out->Q(0) = Q_0;
   out->drive(0) = -Q_0;
-  out->V = Scalar(0.5)*(p.L0*p.L0)*p.k + Scalar(0.5)*_tmp10*_tmp11*p.k + Scalar(0.5)*_tmp10*_tmp9*p.k + Scalar(0.5)*_tmp12*_tmp7*p.k + Scalar(0.5)*_tmp12*_tmp8*p.k + Scalar(0.5)*_tmp13*p.k + Scalar(0.5)*_tmp14*p.k + Scalar(0.5)*_tmp20 + Scalar(0.5)*_tmp6*_tmp7*p.k + Scalar(0.5)*_tmp6*_tmp8*p.k + Scalar(0.5)*p.b*p.g*p.m2*sin_phi0 + Scalar(0.5)*p.c*p.g*p.m3*sin_phi1 + _tmp16*p.F0 - _tmp16*p.L0*p.k - _tmp17 - _tmp18 - _tmp19 + _tmp21 + _tmp22 + _tmp23 + _tmp24 - cos_phi0*p.eta*p.k*p.yE - cos_phi0*p.k*p.xE*p.xi - p.F0*p.L0 + p.eta*p.k*p.xE*sin_phi0 - p.k*p.xi*p.yE*sin_phi0;
+  out->V = Scalar(0.5)*(length_spring*length_spring)*p.k + Scalar(0.5)*(p.L0*p.L0)*p.k + Scalar(0.5)*p.a*p.g*p.m1*sin_q0 + Scalar(0.5)*p.b*p.g*p.m2*sin_phi0 + Scalar(0.5)*p.c*p.g*p.m3*sin_phi1 + length_spring*p.F0 - length_spring*p.L0*p.k - p.F0*p.L0 + p.a*p.g*p.m2*sin_q0;
   out->dV_dq(0) = Q_0 + Scalar(0.5)*_tmp1 + Scalar(0.5)*c.K(0, 0)*cos_phi0*p.b*p.g*p.m2 + Scalar(0.5)*c.K(1, 0)*cos_phi1*p.c*p.g*p.m3 + _tmp2 + _tmp3 - _tmp4 - c.K(0, 0)*cos_phi0*dx_spring*p.eta*t_spring + c.K(0, 0)*cos_phi0*dy_spring*p.xi*t_spring - c.K(0, 0)*dx_spring*p.xi*sin_phi0*t_spring - c.K(0, 0)*dy_spring*p.eta*sin_phi0*t_spring;
-  out->d2V_dq2(0, 0) = -Scalar(0.5)*_tmp20 + _tmp100 + _tmp101 + _tmp102 + _tmp103 + _tmp104 + _tmp105 + _tmp106 + _tmp107 + _tmp108 + _tmp109 + _tmp110 + _tmp111 + _tmp112 + _tmp113 + _tmp114 + _tmp115 + _tmp116 + _tmp117 + _tmp118 + _tmp119 + _tmp120 + _tmp121 + _tmp122 + _tmp123 + _tmp124 + _tmp125 + _tmp126 + _tmp127 + _tmp128 + _tmp129 + _tmp130 + _tmp131 + _tmp132 + _tmp133 + _tmp134 + _tmp135 + _tmp136 + _tmp137 + _tmp138 + _tmp139 + _tmp140 + _tmp141 + _tmp142 + _tmp143 + _tmp144 + _tmp145 + _tmp146 + _tmp147 + _tmp148 + _tmp149 + _tmp150 + _tmp151 + _tmp152 + _tmp153 + _tmp154 + _tmp155 + _tmp156 + _tmp157 + _tmp158 + _tmp159 + _tmp160 + _tmp161 + _tmp162 + _tmp163 + _tmp164 + _tmp165 + _tmp166 + _tmp167 + _tmp168 + _tmp169 + _tmp17 + _tmp170 + _tmp171 + _tmp172 + _tmp173 + _tmp174 + _tmp175 + _tmp176 + _tmp177 + _tmp178 + _tmp179 + _tmp18 + _tmp180 + _tmp181 + _tmp182 + _tmp183 + _tmp184 + _tmp185 + _tmp186 + _tmp187 + _tmp188 + _tmp189 + _tmp19 + _tmp190 + _tmp191 + _tmp192 + _tmp193 + _tmp194 + _tmp195 + _tmp196 + _tmp197 + _tmp198 + _tmp199 + _tmp200 + _tmp201 + _tmp202 + _tmp203 + _tmp204 + _tmp205 + _tmp206 + _tmp207 + _tmp208 + _tmp209 - _tmp21 + _tmp210 + _tmp211 + _tmp212 + _tmp213 + _tmp214 + _tmp215 + _tmp216 + _tmp217 + _tmp218 + _tmp219 - _tmp22 + _tmp220 + _tmp221 + _tmp222 + _tmp223 + _tmp224 + _tmp225 + _tmp226 + _tmp227 + _tmp228 + _tmp229 - _tmp23 + _tmp230 + _tmp231 + _tmp232 + _tmp233 + _tmp234 + _tmp235 + _tmp236 + _tmp237 + _tmp238 + _tmp239 - _tmp24 + _tmp240 + _tmp241 + _tmp242 + _tmp243 + _tmp244 + _tmp245 + _tmp246 + _tmp247 + _tmp248 + _tmp249 + _tmp250 + _tmp251 + _tmp252 + _tmp253 + _tmp254 + _tmp255 + _tmp256 + _tmp257 + _tmp258 + _tmp259 + _tmp260 + _tmp261 + _tmp262 + _tmp263 + _tmp264 + _tmp265 + _tmp266 + _tmp267 + _tmp268 + _tmp269 + _tmp27 + _tmp270 + _tmp271 + _tmp272 + _tmp273 + _tmp274 + _tmp275 + _tmp276 + _tmp277 + _tmp278 + _tmp279 + _tmp28 + _tmp280 + _tmp281 + _tmp282 + _tmp283 + _tmp284 + _tmp285 + _tmp286 + _tmp287 + _tmp288 + _tmp289 + _tmp29 + _tmp290 + _tmp291 + _tmp292 + _tmp293 + _tmp30 + _tmp31 + _tmp32 + _tmp33 + _tmp34 + _tmp35 + _tmp36 + _tmp37 + _tmp38 + _tmp39 + _tmp40 + _tmp41 + _tmp42 + _tmp43 + _tmp44 + _tmp45 + _tmp46 + _tmp47 + _tmp48 + _tmp50 + _tmp51 + _tmp52 + _tmp53 + _tmp54 + _tmp55 + _tmp56 + _tmp57 + _tmp58 + _tmp59 + _tmp60 + _tmp61 + _tmp62 + _tmp63 + _tmp64 + _tmp65 + _tmp66 + _tmp67 + _tmp68 + _tmp69 + _tmp70 + _tmp71 + _tmp72 + _tmp73 + _tmp74 + _tmp75 + _tmp76 + _tmp77 + _tmp78 + _tmp79 + _tmp80 + _tmp81 + _tmp82 + _tmp83 + _tmp84 + _tmp85 + _tmp86 + _tmp87 + _tmp88 + _tmp89 + _tmp90 + _tmp91 + _tmp92 + _tmp93 + _tmp94 + _tmp95 + _tmp96 + _tmp97 + _tmp98 + _tmp99;
-  out->stiffness(0, 0) = -Scalar(0.5)*_tmp20 + _tmp100 + _tmp101 + _tmp102 + _tmp103 + _tmp104 + _tmp105 + _tmp106 + _tmp107 + _tmp108 + _tmp109 + _tmp110 + _tmp111 + _tmp112 + _tmp113 + _tmp114 + _tmp115 + _tmp116 + _tmp117 + _tmp118 + _tmp119 + _tmp120 + _tmp121 + _tmp122 + _tmp123 + _tmp124 + _tmp125 + _tmp126 + _tmp127 + _tmp128 + _tmp129 + _tmp130 + _tmp131 + _tmp132 + _tmp133 + _tmp134 + _tmp135 + _tmp136 + _tmp137 + _tmp138 + _tmp139 + _tmp140 + _tmp141 + _tmp142 + _tmp143 + _tmp144 + _tmp145 + _tmp146 + _tmp147 + _tmp148 + _tmp149 + _tmp150 + _tmp151 + _tmp152 + _tmp153 + _tmp154 + _tmp155 + _tmp156 + _tmp157 + _tmp158 + _tmp159 + _tmp160 + _tmp161 + _tmp162 + _tmp163 + _tmp164 + _tmp165 + _tmp166 + _tmp167 + _tmp168 + _tmp169 + _tmp17 + _tmp170 + _tmp171 + _tmp172 + _tmp173 + _tmp174 + _tmp175 + _tmp176 + _tmp177 + _tmp178 + _tmp179 + _tmp18 + _tmp180 + _tmp181 + _tmp182 + _tmp183 + _tmp184 + _tmp185 + _tmp186 + _tmp187 + _tmp188 + _tmp189 + _tmp19 + _tmp190 + _tmp191 + _tmp192 + _tmp193 + _tmp194 + _tmp195 + _tmp196 + _tmp197 + _tmp198 + _tmp199 + _tmp200 + _tmp201 + _tmp202 + _tmp203 + _tmp204 + _tmp205 + _tmp206 + _tmp207 + _tmp208 + _tmp209 - _tmp21 + _tmp210 + _tmp211 + _tmp212 + _tmp213 + _tmp214 + _tmp215 + _tmp216 + _tmp217 + _tmp218 + _tmp219 - _tmp22 + _tmp220 + _tmp221 + _tmp222 + _tmp223 + _tmp224 + _tmp225 + _tmp226 + _tmp227 + _tmp228 + _tmp229 - _tmp23 + _tmp230 + _tmp231 + _tmp232 + _tmp233 + _tmp234 + _tmp235 + _tmp236 + _tmp237 + _tmp238 + _tmp239 - _tmp24 + _tmp240 + _tmp241 + _tmp242 + _tmp243 + _tmp244 + _tmp245 + _tmp246 + _tmp247 + _tmp248 + _tmp249 + _tmp250 + _tmp251 + _tmp252 + _tmp253 + _tmp254 + _tmp255 + _tmp256 + _tmp257 + _tmp258 + _tmp259 + _tmp26*cos_phi0*p.Fx*p.xi + _tmp26*cos_phi0*p.Fy*p.eta - _tmp26*p.Fx*p.eta*sin_phi0 + _tmp26*p.Fy*p.xi*sin_phi0 + _tmp260 + _tmp261 + _tmp262 + _tmp263 + _tmp264 + _tmp265 + _tmp266 + _tmp267 + _tmp268 + _tmp269 + _tmp27 + _tmp270 + _tmp271 + _tmp272 + _tmp273 + _tmp274 + _tmp275 + _tmp276 + _tmp277 + _tmp278 + _tmp279 + _tmp28 + _tmp280 + _tmp281 + _tmp282 + _tmp283 + _tmp284 + _tmp285 + _tmp286 + _tmp287 + _tmp288 + _tmp289 + _tmp29 + _tmp290 + _tmp291 + _tmp292 + _tmp293 + _tmp30 + _tmp31 + _tmp32 + _tmp33 + _tmp34 + _tmp35 + _tmp36 + _tmp37 + _tmp38 + _tmp39 + _tmp40 + _tmp41 + _tmp42 + _tmp43 + _tmp44 + _tmp45 + _tmp46 + _tmp47 + _tmp48 + _tmp50 + _tmp51 + _tmp52 + _tmp53 + _tmp54 + _tmp55 + _tmp56 + _tmp57 + _tmp58 + _tmp59 + _tmp60 + _tmp61 + _tmp62 + _tmp63 + _tmp64 + _tmp65 + _tmp66 + _tmp67 + _tmp68 + _tmp69 + _tmp70 + _tmp71 + _tmp72 + _tmp73 + _tmp74 + _tmp75 + _tmp76 + _tmp77 + _tmp78 + _tmp79 + _tmp80 + _tmp81 + _tmp82 + _tmp83 + _tmp84 + _tmp85 + _tmp86 + _tmp87 + _tmp88 + _tmp89 + _tmp90 + _tmp91 + _tmp92 + _tmp93 + _tmp94 + _tmp95 + _tmp96 + _tmp97 + _tmp98 + _tmp99 + c.L(0, 0)*cos_phi0*p.Fx*p.eta - c.L(0, 0)*cos_phi0*p.Fy*p.xi + c.L(0, 0)*p.Fx*p.xi*sin_phi0 + c.L(0, 0)*p.Fy*p.eta*sin_phi0 - c.L(1, 0)*p.Tr + cos_q0*p.Fx*p.a + p.Fy*p.a*sin_q0;
   out->R(0) = F_A_x;
   out->R(1) = F_A_y;
   out->R(2) = F_B_x;
@@ -703,6 +413,323 @@ void EvalStatics(const Params<Scalar>& p,
   out->R(5) = F_C_y;
   out->R(6) = F_D_x;
   out->R(7) = F_D_y;
+}
+
+/**
+ * \brief The second derivatives of the statics along the motion (Paul §6.5.2): d2V/dq2 and the
+ * stiffness -dQ/dq (friction excluded). An equilibrium (Q = 0) is stable where the stiffness is
+ * positive definite. Apart from EvalStatics: the derivatives of the springs' and loads' expressions
+ * are long, and only the search for equilibria needs them.
+ * \param[in]  p    Parameters.
+ * \param[in]  q    Inputs (dim kNq).
+ * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[in]  c    EvalCoefficients() at this (q, phi): K and L are read from it.
+ * \param[out] out  Statics: d2V_dq2 and stiffness are set; not nullptr.
+ */
+template <typename Scalar>
+void EvalStiffness(const Params<Scalar>& p,
+                   const Vec<Scalar, Sizes::kNq>& q,
+                   const Vec<Scalar, Sizes::kNphi>& phi,
+                   const Coefficients<Scalar>& c,
+                   Statics<Scalar>* out) {
+  // Total ops: 2727 (adds 574, muls 2144, divs 1, calls 8); intermediate terms: 291
+  using std::cos;
+  using std::pow;
+  using std::sin;
+  using std::sqrt;
+  const Scalar _tmp0 = cos(phi(0));
+  const Scalar _tmp1 = _tmp0*_tmp0;
+  const Scalar _tmp2 = p.eta*p.eta;
+  const Scalar _tmp3 = p.xi*p.xi;
+  const Scalar _tmp4 = cos(q(0));
+  const Scalar _tmp5 = _tmp4*_tmp4;
+  const Scalar _tmp6 = p.a*p.a;
+  const Scalar _tmp7 = sin(q(0));
+  const Scalar _tmp8 = _tmp7*_tmp7;
+  const Scalar _tmp9 = sin(phi(0));
+  const Scalar _tmp10 = _tmp9*_tmp9;
+  const Scalar _tmp11 = p.xE*p.xE;
+  const Scalar _tmp12 = p.yE*p.yE;
+  const Scalar _tmp13 = Scalar(2)*_tmp0*_tmp4*p.a*p.xi + Scalar(2)*_tmp0*_tmp7*p.a*p.eta - Scalar(2)*_tmp0*p.eta*p.yE - Scalar(2)*_tmp0*p.xE*p.xi - Scalar(2)*_tmp4*_tmp9*p.a*p.eta - Scalar(2)*_tmp4*p.a*p.xE + Scalar(2)*_tmp7*_tmp9*p.a*p.xi - Scalar(2)*_tmp7*p.a*p.yE + Scalar(2)*_tmp9*p.eta*p.xE - Scalar(2)*_tmp9*p.xi*p.yE + _tmp1*_tmp2 + _tmp1*_tmp3 + _tmp10*_tmp2 + _tmp10*_tmp3 + _tmp11 + _tmp12 + _tmp5*_tmp6 + _tmp6*_tmp8;
+  const Scalar _tmp14 = Scalar(1)/sqrt(_tmp13);
+  const Scalar _tmp15 = c.K(0, 0)*c.K(0, 0);
+  const Scalar _tmp16 = _tmp0*_tmp14*_tmp15*_tmp4*p.L0*p.a*p.k*p.xi;
+  const Scalar _tmp17 = _tmp0*_tmp14*_tmp15*p.F0*p.eta*p.yE;
+  const Scalar _tmp18 = _tmp0*_tmp14*_tmp15*p.F0*p.xE*p.xi;
+  const Scalar _tmp19 = _tmp0*_tmp14*_tmp15*_tmp7*p.L0*p.a*p.eta*p.k;
+  const Scalar _tmp20 = _tmp14*_tmp15*_tmp4*_tmp9*p.F0*p.a*p.eta;
+  const Scalar _tmp21 = _tmp14*_tmp15*_tmp9*p.F0*p.xi*p.yE;
+  const Scalar _tmp22 = _tmp14*_tmp15*_tmp7*_tmp9*p.L0*p.a*p.k*p.xi;
+  const Scalar _tmp23 = _tmp14*_tmp15*_tmp9*p.L0*p.eta*p.k*p.xE;
+  const Scalar _tmp24 = _tmp0*_tmp14*_tmp4*c.L(0, 0)*p.L0*p.a*p.eta*p.k;
+  const Scalar _tmp25 = _tmp0*_tmp14*_tmp7*c.L(0, 0)*p.F0*p.a*p.xi;
+  const Scalar _tmp26 = _tmp0*_tmp14*c.L(0, 0)*p.F0*p.eta*p.xE;
+  const Scalar _tmp27 = _tmp0*_tmp14*c.L(0, 0)*p.L0*p.k*p.xi*p.yE;
+  const Scalar _tmp28 = _tmp14*_tmp4*_tmp9*c.L(0, 0)*p.L0*p.a*p.k*p.xi;
+  const Scalar _tmp29 = _tmp14*_tmp9*c.L(0, 0)*p.F0*p.eta*p.yE;
+  const Scalar _tmp30 = _tmp14*_tmp9*c.L(0, 0)*p.F0*p.xE*p.xi;
+  const Scalar _tmp31 = _tmp14*_tmp7*_tmp9*c.L(0, 0)*p.L0*p.a*p.eta*p.k;
+  const Scalar _tmp32 = _tmp0*_tmp14*_tmp4*p.L0*p.a*p.k*p.xi;
+  const Scalar _tmp33 = _tmp0*_tmp14*_tmp7*p.L0*p.a*p.eta*p.k;
+  const Scalar _tmp34 = _tmp14*_tmp4*_tmp9*p.F0*p.a*p.eta;
+  const Scalar _tmp35 = _tmp14*_tmp4*p.F0*p.a*p.xE;
+  const Scalar _tmp36 = _tmp14*_tmp7*p.F0*p.a*p.yE;
+  const Scalar _tmp37 = _tmp14*_tmp7*_tmp9*p.L0*p.a*p.k*p.xi;
+  const Scalar _tmp38 = pow(_tmp13, Scalar(-1.5));
+  const Scalar _tmp39 = _tmp1*_tmp15*_tmp2*_tmp38*_tmp5*_tmp6*p.L0*p.k;
+  const Scalar _tmp40 = _tmp1*_tmp15*_tmp3*_tmp38*_tmp6*_tmp8*p.L0*p.k;
+  const Scalar _tmp41 = _tmp1*_tmp11*_tmp15*_tmp2*_tmp38*p.L0*p.k;
+  const Scalar _tmp42 = _tmp1*_tmp12*_tmp15*_tmp3*_tmp38*p.L0*p.k;
+  const Scalar _tmp43 = _tmp10*_tmp15*_tmp3*_tmp38*_tmp5*_tmp6*p.L0*p.k;
+  const Scalar _tmp44 = _tmp10*_tmp15*_tmp2*_tmp38*_tmp6*_tmp8*p.L0*p.k;
+  const Scalar _tmp45 = _tmp10*_tmp12*_tmp15*_tmp2*_tmp38*p.L0*p.k;
+  const Scalar _tmp46 = _tmp10*_tmp11*_tmp15*_tmp3*_tmp38*p.L0*p.k;
+  const Scalar _tmp47 = _tmp0*_tmp15*p.eta*p.k*p.yE;
+  const Scalar _tmp48 = _tmp0*_tmp15*p.k*p.xE*p.xi;
+  const Scalar _tmp49 = _tmp15*_tmp4*_tmp9*p.a*p.eta*p.k;
+  const Scalar _tmp50 = _tmp15*_tmp9*p.k*p.xi*p.yE;
+  const Scalar _tmp51 = _tmp1*_tmp2*_tmp38*_tmp5*_tmp6*p.L0*p.k;
+  const Scalar _tmp52 = _tmp1*_tmp3*_tmp38*_tmp6*_tmp8*p.L0*p.k;
+  const Scalar _tmp53 = _tmp10*_tmp3*_tmp38*_tmp5*_tmp6*p.L0*p.k;
+  const Scalar _tmp54 = _tmp12*_tmp38*_tmp5*_tmp6*p.L0*p.k;
+  const Scalar _tmp55 = _tmp10*_tmp2*_tmp38*_tmp6*_tmp8*p.L0*p.k;
+  const Scalar _tmp56 = _tmp11*_tmp38*_tmp6*_tmp8*p.L0*p.k;
+  const Scalar _tmp57 = -_tmp0*_tmp14*_tmp15*_tmp4*p.F0*p.a*p.xi;
+  const Scalar _tmp58 = -_tmp0*_tmp14*_tmp15*_tmp7*p.F0*p.a*p.eta;
+  const Scalar _tmp59 = -_tmp0*_tmp14*_tmp15*p.L0*p.eta*p.k*p.yE;
+  const Scalar _tmp60 = -_tmp0*_tmp14*_tmp15*p.L0*p.k*p.xE*p.xi;
+  const Scalar _tmp61 = -_tmp14*_tmp15*_tmp4*_tmp9*p.L0*p.a*p.eta*p.k;
+  const Scalar _tmp62 = -_tmp14*_tmp15*_tmp7*_tmp9*p.F0*p.a*p.xi;
+  const Scalar _tmp63 = -_tmp14*_tmp15*_tmp9*p.F0*p.eta*p.xE;
+  const Scalar _tmp64 = -_tmp14*_tmp15*_tmp9*p.L0*p.k*p.xi*p.yE;
+  const Scalar _tmp65 = -_tmp0*_tmp14*_tmp4*c.L(0, 0)*p.F0*p.a*p.eta;
+  const Scalar _tmp66 = -_tmp0*_tmp14*c.L(0, 0)*p.F0*p.xi*p.yE;
+  const Scalar _tmp67 = -_tmp0*_tmp14*_tmp7*c.L(0, 0)*p.L0*p.a*p.k*p.xi;
+  const Scalar _tmp68 = -_tmp0*_tmp14*c.L(0, 0)*p.L0*p.eta*p.k*p.xE;
+  const Scalar _tmp69 = -_tmp14*_tmp4*_tmp9*c.L(0, 0)*p.F0*p.a*p.xi;
+  const Scalar _tmp70 = -_tmp14*_tmp7*_tmp9*c.L(0, 0)*p.F0*p.a*p.eta;
+  const Scalar _tmp71 = -_tmp14*_tmp9*c.L(0, 0)*p.L0*p.eta*p.k*p.yE;
+  const Scalar _tmp72 = -_tmp14*_tmp9*c.L(0, 0)*p.L0*p.k*p.xE*p.xi;
+  const Scalar _tmp73 = -_tmp0*_tmp14*_tmp4*p.F0*p.a*p.xi;
+  const Scalar _tmp74 = -_tmp0*_tmp14*_tmp7*p.F0*p.a*p.eta;
+  const Scalar _tmp75 = -_tmp14*_tmp4*_tmp9*p.L0*p.a*p.eta*p.k;
+  const Scalar _tmp76 = -_tmp14*_tmp4*p.L0*p.a*p.k*p.xE;
+  const Scalar _tmp77 = -_tmp14*_tmp7*_tmp9*p.F0*p.a*p.xi;
+  const Scalar _tmp78 = -_tmp14*_tmp7*p.L0*p.a*p.k*p.yE;
+  const Scalar _tmp79 = -_tmp1*_tmp15*_tmp2*_tmp38*_tmp5*_tmp6*p.F0;
+  const Scalar _tmp80 = -_tmp1*_tmp15*_tmp3*_tmp38*_tmp6*_tmp8*p.F0;
+  const Scalar _tmp81 = -_tmp1*_tmp11*_tmp15*_tmp2*_tmp38*p.F0;
+  const Scalar _tmp82 = -_tmp1*_tmp12*_tmp15*_tmp3*_tmp38*p.F0;
+  const Scalar _tmp83 = -_tmp10*_tmp15*_tmp3*_tmp38*_tmp5*_tmp6*p.F0;
+  const Scalar _tmp84 = -_tmp10*_tmp15*_tmp2*_tmp38*_tmp6*_tmp8*p.F0;
+  const Scalar _tmp85 = -_tmp10*_tmp12*_tmp15*_tmp2*_tmp38*p.F0;
+  const Scalar _tmp86 = -_tmp10*_tmp11*_tmp15*_tmp3*_tmp38*p.F0;
+  const Scalar _tmp87 = -_tmp0*_tmp15*_tmp4*p.a*p.k*p.xi;
+  const Scalar _tmp88 = -_tmp0*_tmp15*_tmp7*p.a*p.eta*p.k;
+  const Scalar _tmp89 = -_tmp15*_tmp7*_tmp9*p.a*p.k*p.xi;
+  const Scalar _tmp90 = -_tmp15*_tmp9*p.eta*p.k*p.xE;
+  const Scalar _tmp91 = -_tmp1*_tmp2*_tmp38*_tmp5*_tmp6*p.F0;
+  const Scalar _tmp92 = -_tmp1*_tmp3*_tmp38*_tmp6*_tmp8*p.F0;
+  const Scalar _tmp93 = -_tmp10*_tmp3*_tmp38*_tmp5*_tmp6*p.F0;
+  const Scalar _tmp94 = -_tmp12*_tmp38*_tmp5*_tmp6*p.F0;
+  const Scalar _tmp95 = -_tmp10*_tmp2*_tmp38*_tmp6*_tmp8*p.F0;
+  const Scalar _tmp96 = -_tmp11*_tmp38*_tmp6*_tmp8*p.F0;
+  const Scalar _tmp97 = -Scalar(0.5)*_tmp15*_tmp9*p.b*p.g*p.m2;
+  const Scalar _tmp98 = -Scalar(0.5)*(c.K(1, 0)*c.K(1, 0))*p.c*p.g*p.m3*sin(phi(1));
+  const Scalar _tmp99 = -Scalar(0.5)*_tmp7*p.a*p.g*p.m1;
+  const Scalar _tmp100 = -Scalar(2)*_tmp0*_tmp14*_tmp4*c.K(0, 0)*p.L0*p.a*p.k*p.xi;
+  const Scalar _tmp101 = -Scalar(2)*_tmp0*_tmp14*_tmp7*c.K(0, 0)*p.L0*p.a*p.eta*p.k;
+  const Scalar _tmp102 = -Scalar(2)*_tmp14*_tmp4*_tmp9*c.K(0, 0)*p.F0*p.a*p.eta;
+  const Scalar _tmp103 = -Scalar(2)*_tmp14*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.a*p.k*p.xi;
+  const Scalar _tmp104 = -Scalar(2)*_tmp1*_tmp15*_tmp38*_tmp4*_tmp6*_tmp7*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp105 = -Scalar(2)*_tmp1*_tmp15*_tmp2*_tmp38*_tmp4*p.L0*p.a*p.k*p.xE;
+  const Scalar _tmp106 = -Scalar(2)*_tmp1*_tmp15*_tmp3*_tmp38*_tmp7*p.L0*p.a*p.k*p.yE;
+  const Scalar _tmp107 = -Scalar(2)*_tmp1*_tmp15*_tmp38*_tmp4*p.F0*p.a*p.eta*p.xi*p.yE;
+  const Scalar _tmp108 = -Scalar(2)*_tmp1*_tmp15*_tmp38*_tmp7*p.F0*p.a*p.eta*p.xE*p.xi;
+  const Scalar _tmp109 = -Scalar(2)*_tmp1*_tmp15*_tmp38*p.L0*p.eta*p.k*p.xE*p.xi*p.yE;
+  const Scalar _tmp110 = -Scalar(2)*_tmp0*_tmp15*_tmp38*_tmp5*_tmp6*_tmp9*p.F0*p.eta*p.xi;
+  const Scalar _tmp111 = -Scalar(2)*_tmp0*_tmp15*_tmp2*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.F0;
+  const Scalar _tmp112 = -Scalar(2)*_tmp0*_tmp15*_tmp3*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.L0*p.k;
+  const Scalar _tmp113 = -Scalar(2)*_tmp10*_tmp15*_tmp38*_tmp4*_tmp6*_tmp7*p.F0*p.eta*p.xi;
+  const Scalar _tmp114 = -Scalar(2)*_tmp0*_tmp15*_tmp38*_tmp6*_tmp8*_tmp9*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp115 = -Scalar(2)*_tmp10*_tmp15*_tmp2*_tmp38*_tmp7*p.L0*p.a*p.k*p.yE;
+  const Scalar _tmp116 = -Scalar(2)*_tmp0*_tmp15*_tmp2*_tmp38*_tmp4*_tmp9*p.L0*p.a*p.k*p.yE;
+  const Scalar _tmp117 = -Scalar(2)*_tmp0*_tmp15*_tmp2*_tmp38*_tmp9*p.F0*p.xE*p.yE;
+  const Scalar _tmp118 = -Scalar(2)*_tmp0*_tmp15*_tmp2*_tmp38*_tmp7*_tmp9*p.L0*p.a*p.k*p.xE;
+  const Scalar _tmp119 = -Scalar(2)*_tmp0*_tmp11*_tmp15*_tmp38*_tmp9*p.F0*p.eta*p.xi;
+  const Scalar _tmp120 = -Scalar(2)*_tmp10*_tmp15*_tmp3*_tmp38*_tmp4*p.L0*p.a*p.k*p.xE;
+  const Scalar _tmp121 = -Scalar(2)*_tmp0*_tmp15*_tmp3*_tmp38*_tmp4*_tmp9*p.F0*p.a*p.yE;
+  const Scalar _tmp122 = -Scalar(2)*_tmp0*_tmp15*_tmp3*_tmp38*_tmp7*_tmp9*p.F0*p.a*p.xE;
+  const Scalar _tmp123 = -Scalar(2)*_tmp0*_tmp15*_tmp3*_tmp38*_tmp9*p.L0*p.k*p.xE*p.yE;
+  const Scalar _tmp124 = -Scalar(2)*_tmp0*_tmp12*_tmp15*_tmp38*_tmp9*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp125 = -Scalar(2)*_tmp10*_tmp15*_tmp38*_tmp4*p.L0*p.a*p.eta*p.k*p.xi*p.yE;
+  const Scalar _tmp126 = -Scalar(2)*_tmp10*_tmp15*_tmp38*p.F0*p.eta*p.xE*p.xi*p.yE;
+  const Scalar _tmp127 = -Scalar(2)*_tmp10*_tmp15*_tmp38*_tmp7*p.L0*p.a*p.eta*p.k*p.xE*p.xi;
+  const Scalar _tmp128 = -Scalar(2)*_tmp1*_tmp2*_tmp38*_tmp5*_tmp6*c.K(0, 0)*p.L0*p.k;
+  const Scalar _tmp129 = -Scalar(2)*_tmp1*_tmp3*_tmp38*_tmp6*_tmp8*c.K(0, 0)*p.L0*p.k;
+  const Scalar _tmp130 = -Scalar(2)*_tmp1*_tmp38*_tmp4*_tmp6*_tmp7*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp131 = -Scalar(2)*_tmp1*_tmp2*_tmp38*_tmp4*c.K(0, 0)*p.F0*p.a*p.xE;
+  const Scalar _tmp132 = -Scalar(2)*_tmp1*_tmp3*_tmp38*_tmp7*c.K(0, 0)*p.F0*p.a*p.yE;
+  const Scalar _tmp133 = -Scalar(2)*_tmp1*_tmp38*_tmp4*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xi*p.yE;
+  const Scalar _tmp134 = -Scalar(2)*_tmp1*_tmp38*_tmp7*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xE*p.xi;
+  const Scalar _tmp135 = -Scalar(2)*_tmp10*_tmp3*_tmp38*_tmp5*_tmp6*c.K(0, 0)*p.L0*p.k;
+  const Scalar _tmp136 = -Scalar(2)*_tmp0*_tmp38*_tmp5*_tmp6*c.K(0, 0)*p.F0*p.eta*p.yE;
+  const Scalar _tmp137 = -Scalar(2)*_tmp38*_tmp5*_tmp6*_tmp9*c.K(0, 0)*p.F0*p.xi*p.yE;
+  const Scalar _tmp138 = -Scalar(2)*_tmp0*_tmp38*_tmp5*_tmp6*_tmp9*p.F0*p.eta*p.xi;
+  const Scalar _tmp139 = -Scalar(2)*_tmp0*_tmp38*_tmp5*_tmp6*p.L0*p.eta*p.k*p.yE;
+  const Scalar _tmp140 = -Scalar(2)*_tmp38*_tmp5*_tmp6*_tmp9*p.L0*p.k*p.xi*p.yE;
+  const Scalar _tmp141 = -Scalar(2)*_tmp10*_tmp2*_tmp38*_tmp6*_tmp8*c.K(0, 0)*p.L0*p.k;
+  const Scalar _tmp142 = -Scalar(2)*_tmp0*_tmp2*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.F0;
+  const Scalar _tmp143 = -Scalar(2)*_tmp0*_tmp3*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.L0*p.k;
+  const Scalar _tmp144 = -Scalar(2)*_tmp10*_tmp38*_tmp4*_tmp6*_tmp7*p.F0*p.eta*p.xi;
+  const Scalar _tmp145 = -Scalar(2)*_tmp0*_tmp38*_tmp6*_tmp8*c.K(0, 0)*p.F0*p.xE*p.xi;
+  const Scalar _tmp146 = -Scalar(2)*_tmp38*_tmp6*_tmp8*_tmp9*c.K(0, 0)*p.L0*p.eta*p.k*p.xE;
+  const Scalar _tmp147 = -Scalar(2)*_tmp0*_tmp38*_tmp6*_tmp8*_tmp9*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp148 = -Scalar(2)*_tmp0*_tmp38*_tmp6*_tmp8*p.L0*p.k*p.xE*p.xi;
+  const Scalar _tmp149 = -Scalar(2)*_tmp38*_tmp6*_tmp8*_tmp9*p.F0*p.eta*p.xE;
+  const Scalar _tmp150 = -Scalar(2)*_tmp0*_tmp38*_tmp4*_tmp6*_tmp7*c.K(0, 0)*p.L0*p.eta*p.k*p.xE;
+  const Scalar _tmp151 = -Scalar(2)*_tmp0*_tmp38*_tmp4*_tmp6*_tmp7*c.K(0, 0)*p.L0*p.k*p.xi*p.yE;
+  const Scalar _tmp152 = -Scalar(2)*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*c.K(0, 0)*p.F0*p.eta*p.yE;
+  const Scalar _tmp153 = -Scalar(2)*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.k*p.xE*p.xi;
+  const Scalar _tmp154 = -Scalar(2)*_tmp0*_tmp38*_tmp4*_tmp6*_tmp7*p.F0*p.eta*p.xE;
+  const Scalar _tmp155 = -Scalar(2)*_tmp0*_tmp38*_tmp4*_tmp6*_tmp7*p.F0*p.xi*p.yE;
+  const Scalar _tmp156 = -Scalar(2)*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.F0*p.xE*p.xi;
+  const Scalar _tmp157 = -Scalar(2)*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.L0*p.eta*p.k*p.yE;
+  const Scalar _tmp158 = -Scalar(2)*_tmp38*_tmp4*_tmp6*_tmp7*p.L0*p.k*p.xE*p.yE;
+  const Scalar _tmp159 = -Scalar(2)*_tmp10*_tmp2*_tmp38*_tmp7*c.K(0, 0)*p.F0*p.a*p.yE;
+  const Scalar _tmp160 = -Scalar(2)*_tmp0*_tmp2*_tmp38*_tmp4*_tmp9*c.K(0, 0)*p.F0*p.a*p.yE;
+  const Scalar _tmp161 = -Scalar(2)*_tmp0*_tmp2*_tmp38*_tmp7*_tmp9*c.K(0, 0)*p.F0*p.a*p.xE;
+  const Scalar _tmp162 = -Scalar(2)*_tmp0*_tmp11*_tmp38*_tmp7*c.K(0, 0)*p.F0*p.a*p.eta;
+  const Scalar _tmp163 = -Scalar(2)*_tmp11*_tmp38*_tmp7*_tmp9*c.K(0, 0)*p.F0*p.a*p.xi;
+  const Scalar _tmp164 = -Scalar(2)*_tmp10*_tmp3*_tmp38*_tmp4*c.K(0, 0)*p.F0*p.a*p.xE;
+  const Scalar _tmp165 = -Scalar(2)*_tmp0*_tmp3*_tmp38*_tmp4*_tmp9*c.K(0, 0)*p.L0*p.a*p.k*p.yE;
+  const Scalar _tmp166 = -Scalar(2)*_tmp0*_tmp3*_tmp38*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.a*p.k*p.xE;
+  const Scalar _tmp167 = -Scalar(2)*_tmp0*_tmp12*_tmp38*_tmp4*c.K(0, 0)*p.F0*p.a*p.xi;
+  const Scalar _tmp168 = -Scalar(2)*_tmp12*_tmp38*_tmp4*_tmp9*c.K(0, 0)*p.L0*p.a*p.eta*p.k;
+  const Scalar _tmp169 = -Scalar(2)*_tmp10*_tmp38*_tmp4*c.K(0, 0)*p.F0*p.a*p.eta*p.xi*p.yE;
+  const Scalar _tmp170 = -Scalar(2)*_tmp10*_tmp38*_tmp7*c.K(0, 0)*p.F0*p.a*p.eta*p.xE*p.xi;
+  const Scalar _tmp171 = -Scalar(2)*_tmp0*_tmp38*_tmp4*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xE*p.yE;
+  const Scalar _tmp172 = -Scalar(2)*_tmp0*_tmp38*_tmp7*c.K(0, 0)*p.L0*p.a*p.k*p.xE*p.xi*p.yE;
+  const Scalar _tmp173 = -Scalar(2)*_tmp38*_tmp4*_tmp9*c.K(0, 0)*p.L0*p.a*p.k*p.xE*p.xi*p.yE;
+  const Scalar _tmp174 = -Scalar(2)*_tmp38*_tmp7*_tmp9*c.K(0, 0)*p.F0*p.a*p.eta*p.xE*p.yE;
+  const Scalar _tmp175 = -Scalar(2)*_tmp4*_tmp9*c.K(0, 0)*p.a*p.eta*p.k;
+  const Scalar _tmp176 = -Scalar(4)*_tmp0*_tmp15*_tmp38*_tmp4*_tmp9*p.L0*p.a*p.eta*p.k*p.xE*p.xi;
+  const Scalar _tmp177 = -Scalar(4)*_tmp0*_tmp15*_tmp38*_tmp7*_tmp9*p.F0*p.a*p.eta*p.xi*p.yE;
+  const Scalar _tmp178 = -Scalar(4)*_tmp1*_tmp38*_tmp4*_tmp6*_tmp7*c.K(0, 0)*p.F0*p.eta*p.xi;
+  const Scalar _tmp179 = -Scalar(4)*_tmp0*_tmp38*_tmp5*_tmp6*_tmp9*c.K(0, 0)*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp180 = -Scalar(4)*_tmp0*_tmp2*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.k;
+  const Scalar _tmp181 = -Scalar(4)*_tmp0*_tmp3*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*c.K(0, 0)*p.F0;
+  const Scalar _tmp182 = -Scalar(4)*_tmp10*_tmp38*_tmp4*_tmp6*_tmp7*c.K(0, 0)*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp183 = -Scalar(4)*_tmp0*_tmp38*_tmp6*_tmp8*_tmp9*c.K(0, 0)*p.F0*p.eta*p.xi;
+  const Scalar _tmp184 = -Scalar(4)*_tmp0*_tmp38*_tmp4*_tmp9*c.K(0, 0)*p.F0*p.a*p.eta*p.xE*p.xi;
+  const Scalar _tmp185 = -Scalar(4)*_tmp0*_tmp38*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xi*p.yE;
+  const Scalar _tmp186 = -_tmp0*_tmp4*c.L(0, 0)*p.a*p.eta*p.k;
+  const Scalar _tmp187 = -_tmp0*c.L(0, 0)*p.k*p.xi*p.yE;
+  const Scalar _tmp188 = -_tmp4*_tmp9*c.L(0, 0)*p.a*p.k*p.xi;
+  const Scalar _tmp189 = -_tmp7*_tmp9*c.L(0, 0)*p.a*p.eta*p.k;
+  const Scalar _tmp190 = -_tmp0*_tmp4*p.a*p.k*p.xi;
+  const Scalar _tmp191 = -_tmp0*_tmp7*p.a*p.eta*p.k;
+  const Scalar _tmp192 = -_tmp7*p.a*p.g*p.m2;
+  const Scalar _tmp193 = -_tmp7*_tmp9*p.a*p.k*p.xi;
+  const Scalar _tmp194 = Scalar(0.5)*_tmp0*c.L(0, 0)*p.b*p.g*p.m2;
+  const Scalar _tmp195 = Scalar(0.5)*c.L(1, 0)*cos(phi(1))*p.c*p.g*p.m3;
+  const Scalar _tmp196 = Scalar(2)*_tmp0*_tmp14*_tmp4*c.K(0, 0)*p.F0*p.a*p.xi;
+  const Scalar _tmp197 = Scalar(2)*_tmp0*_tmp14*_tmp7*c.K(0, 0)*p.F0*p.a*p.eta;
+  const Scalar _tmp198 = Scalar(2)*_tmp14*_tmp4*_tmp9*c.K(0, 0)*p.L0*p.a*p.eta*p.k;
+  const Scalar _tmp199 = Scalar(2)*_tmp14*_tmp7*_tmp9*c.K(0, 0)*p.F0*p.a*p.xi;
+  const Scalar _tmp200 = Scalar(2)*_tmp1*_tmp15*_tmp38*_tmp4*_tmp6*_tmp7*p.F0*p.eta*p.xi;
+  const Scalar _tmp201 = Scalar(2)*_tmp1*_tmp15*_tmp2*_tmp38*_tmp4*p.F0*p.a*p.xE;
+  const Scalar _tmp202 = Scalar(2)*_tmp1*_tmp15*_tmp3*_tmp38*_tmp7*p.F0*p.a*p.yE;
+  const Scalar _tmp203 = Scalar(2)*_tmp1*_tmp15*_tmp38*_tmp4*p.L0*p.a*p.eta*p.k*p.xi*p.yE;
+  const Scalar _tmp204 = Scalar(2)*_tmp1*_tmp15*_tmp38*p.F0*p.eta*p.xE*p.xi*p.yE;
+  const Scalar _tmp205 = Scalar(2)*_tmp1*_tmp15*_tmp38*_tmp7*p.L0*p.a*p.eta*p.k*p.xE*p.xi;
+  const Scalar _tmp206 = Scalar(2)*_tmp0*_tmp15*_tmp38*_tmp5*_tmp6*_tmp9*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp207 = Scalar(2)*_tmp0*_tmp15*_tmp2*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.L0*p.k;
+  const Scalar _tmp208 = Scalar(2)*_tmp0*_tmp15*_tmp3*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.F0;
+  const Scalar _tmp209 = Scalar(2)*_tmp10*_tmp15*_tmp38*_tmp4*_tmp6*_tmp7*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp210 = Scalar(2)*_tmp0*_tmp15*_tmp38*_tmp6*_tmp8*_tmp9*p.F0*p.eta*p.xi;
+  const Scalar _tmp211 = Scalar(2)*_tmp10*_tmp15*_tmp2*_tmp38*_tmp7*p.F0*p.a*p.yE;
+  const Scalar _tmp212 = Scalar(2)*_tmp0*_tmp15*_tmp2*_tmp38*_tmp4*_tmp9*p.F0*p.a*p.yE;
+  const Scalar _tmp213 = Scalar(2)*_tmp0*_tmp15*_tmp2*_tmp38*_tmp7*_tmp9*p.F0*p.a*p.xE;
+  const Scalar _tmp214 = Scalar(2)*_tmp0*_tmp15*_tmp2*_tmp38*_tmp9*p.L0*p.k*p.xE*p.yE;
+  const Scalar _tmp215 = Scalar(2)*_tmp0*_tmp11*_tmp15*_tmp38*_tmp9*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp216 = Scalar(2)*_tmp10*_tmp15*_tmp3*_tmp38*_tmp4*p.F0*p.a*p.xE;
+  const Scalar _tmp217 = Scalar(2)*_tmp0*_tmp15*_tmp3*_tmp38*_tmp4*_tmp9*p.L0*p.a*p.k*p.yE;
+  const Scalar _tmp218 = Scalar(2)*_tmp0*_tmp15*_tmp3*_tmp38*_tmp9*p.F0*p.xE*p.yE;
+  const Scalar _tmp219 = Scalar(2)*_tmp0*_tmp15*_tmp3*_tmp38*_tmp7*_tmp9*p.L0*p.a*p.k*p.xE;
+  const Scalar _tmp220 = Scalar(2)*_tmp0*_tmp12*_tmp15*_tmp38*_tmp9*p.F0*p.eta*p.xi;
+  const Scalar _tmp221 = Scalar(2)*_tmp10*_tmp15*_tmp38*_tmp4*p.F0*p.a*p.eta*p.xi*p.yE;
+  const Scalar _tmp222 = Scalar(2)*_tmp10*_tmp15*_tmp38*_tmp7*p.F0*p.a*p.eta*p.xE*p.xi;
+  const Scalar _tmp223 = Scalar(2)*_tmp10*_tmp15*_tmp38*p.L0*p.eta*p.k*p.xE*p.xi*p.yE;
+  const Scalar _tmp224 = Scalar(2)*_tmp1*_tmp2*_tmp38*_tmp5*_tmp6*c.K(0, 0)*p.F0;
+  const Scalar _tmp225 = Scalar(2)*_tmp1*_tmp3*_tmp38*_tmp6*_tmp8*c.K(0, 0)*p.F0;
+  const Scalar _tmp226 = Scalar(2)*_tmp1*_tmp38*_tmp4*_tmp6*_tmp7*p.F0*p.eta*p.xi;
+  const Scalar _tmp227 = Scalar(2)*_tmp1*_tmp2*_tmp38*_tmp4*c.K(0, 0)*p.L0*p.a*p.k*p.xE;
+  const Scalar _tmp228 = Scalar(2)*_tmp1*_tmp3*_tmp38*_tmp7*c.K(0, 0)*p.L0*p.a*p.k*p.yE;
+  const Scalar _tmp229 = Scalar(2)*_tmp1*_tmp38*_tmp4*c.K(0, 0)*p.F0*p.a*p.eta*p.xi*p.yE;
+  const Scalar _tmp230 = Scalar(2)*_tmp1*_tmp38*_tmp7*c.K(0, 0)*p.F0*p.a*p.eta*p.xE*p.xi;
+  const Scalar _tmp231 = Scalar(2)*_tmp10*_tmp3*_tmp38*_tmp5*_tmp6*c.K(0, 0)*p.F0;
+  const Scalar _tmp232 = Scalar(2)*_tmp0*_tmp38*_tmp5*_tmp6*c.K(0, 0)*p.L0*p.eta*p.k*p.yE;
+  const Scalar _tmp233 = Scalar(2)*_tmp38*_tmp5*_tmp6*_tmp9*c.K(0, 0)*p.L0*p.k*p.xi*p.yE;
+  const Scalar _tmp234 = Scalar(2)*_tmp0*_tmp38*_tmp5*_tmp6*p.F0*p.eta*p.yE;
+  const Scalar _tmp235 = Scalar(2)*_tmp0*_tmp38*_tmp5*_tmp6*_tmp9*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp236 = Scalar(2)*_tmp38*_tmp5*_tmp6*_tmp9*p.F0*p.xi*p.yE;
+  const Scalar _tmp237 = Scalar(2)*_tmp10*_tmp2*_tmp38*_tmp6*_tmp8*c.K(0, 0)*p.F0;
+  const Scalar _tmp238 = Scalar(2)*_tmp0*_tmp2*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.L0*p.k;
+  const Scalar _tmp239 = Scalar(2)*_tmp0*_tmp3*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.F0;
+  const Scalar _tmp240 = Scalar(2)*_tmp10*_tmp38*_tmp4*_tmp6*_tmp7*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp241 = Scalar(2)*_tmp0*_tmp38*_tmp6*_tmp8*c.K(0, 0)*p.L0*p.k*p.xE*p.xi;
+  const Scalar _tmp242 = Scalar(2)*_tmp38*_tmp6*_tmp8*_tmp9*c.K(0, 0)*p.F0*p.eta*p.xE;
+  const Scalar _tmp243 = Scalar(2)*_tmp0*_tmp38*_tmp6*_tmp8*_tmp9*p.F0*p.eta*p.xi;
+  const Scalar _tmp244 = Scalar(2)*_tmp0*_tmp38*_tmp6*_tmp8*p.F0*p.xE*p.xi;
+  const Scalar _tmp245 = Scalar(2)*_tmp38*_tmp6*_tmp8*_tmp9*p.L0*p.eta*p.k*p.xE;
+  const Scalar _tmp246 = Scalar(2)*_tmp0*_tmp38*_tmp4*_tmp6*_tmp7*c.K(0, 0)*p.F0*p.eta*p.xE;
+  const Scalar _tmp247 = Scalar(2)*_tmp0*_tmp38*_tmp4*_tmp6*_tmp7*c.K(0, 0)*p.F0*p.xi*p.yE;
+  const Scalar _tmp248 = Scalar(2)*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*c.K(0, 0)*p.F0*p.xE*p.xi;
+  const Scalar _tmp249 = Scalar(2)*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.eta*p.k*p.yE;
+  const Scalar _tmp250 = Scalar(2)*_tmp0*_tmp38*_tmp4*_tmp6*_tmp7*p.L0*p.eta*p.k*p.xE;
+  const Scalar _tmp251 = Scalar(2)*_tmp0*_tmp38*_tmp4*_tmp6*_tmp7*p.L0*p.k*p.xi*p.yE;
+  const Scalar _tmp252 = Scalar(2)*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.F0*p.eta*p.yE;
+  const Scalar _tmp253 = Scalar(2)*_tmp38*_tmp4*_tmp6*_tmp7*p.F0*p.xE*p.yE;
+  const Scalar _tmp254 = Scalar(2)*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*p.L0*p.k*p.xE*p.xi;
+  const Scalar _tmp255 = Scalar(2)*_tmp10*_tmp2*_tmp38*_tmp7*c.K(0, 0)*p.L0*p.a*p.k*p.yE;
+  const Scalar _tmp256 = Scalar(2)*_tmp0*_tmp2*_tmp38*_tmp4*_tmp9*c.K(0, 0)*p.L0*p.a*p.k*p.yE;
+  const Scalar _tmp257 = Scalar(2)*_tmp0*_tmp2*_tmp38*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.a*p.k*p.xE;
+  const Scalar _tmp258 = Scalar(2)*_tmp0*_tmp11*_tmp38*_tmp7*c.K(0, 0)*p.L0*p.a*p.eta*p.k;
+  const Scalar _tmp259 = Scalar(2)*_tmp11*_tmp38*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.a*p.k*p.xi;
+  const Scalar _tmp260 = Scalar(2)*_tmp10*_tmp3*_tmp38*_tmp4*c.K(0, 0)*p.L0*p.a*p.k*p.xE;
+  const Scalar _tmp261 = Scalar(2)*_tmp0*_tmp3*_tmp38*_tmp4*_tmp9*c.K(0, 0)*p.F0*p.a*p.yE;
+  const Scalar _tmp262 = Scalar(2)*_tmp0*_tmp3*_tmp38*_tmp7*_tmp9*c.K(0, 0)*p.F0*p.a*p.xE;
+  const Scalar _tmp263 = Scalar(2)*_tmp0*_tmp12*_tmp38*_tmp4*c.K(0, 0)*p.L0*p.a*p.k*p.xi;
+  const Scalar _tmp264 = Scalar(2)*_tmp12*_tmp38*_tmp4*_tmp9*c.K(0, 0)*p.F0*p.a*p.eta;
+  const Scalar _tmp265 = Scalar(2)*_tmp10*_tmp38*_tmp4*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xi*p.yE;
+  const Scalar _tmp266 = Scalar(2)*_tmp10*_tmp38*_tmp7*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xE*p.xi;
+  const Scalar _tmp267 = Scalar(2)*_tmp0*_tmp38*_tmp4*c.K(0, 0)*p.F0*p.a*p.eta*p.xE*p.yE;
+  const Scalar _tmp268 = Scalar(2)*_tmp0*_tmp38*_tmp7*c.K(0, 0)*p.F0*p.a*p.xE*p.xi*p.yE;
+  const Scalar _tmp269 = Scalar(2)*_tmp38*_tmp4*_tmp9*c.K(0, 0)*p.F0*p.a*p.xE*p.xi*p.yE;
+  const Scalar _tmp270 = Scalar(2)*_tmp38*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xE*p.yE;
+  const Scalar _tmp271 = Scalar(2)*_tmp0*_tmp4*c.K(0, 0)*p.a*p.k*p.xi;
+  const Scalar _tmp272 = Scalar(2)*_tmp0*_tmp7*c.K(0, 0)*p.a*p.eta*p.k;
+  const Scalar _tmp273 = Scalar(2)*_tmp7*_tmp9*c.K(0, 0)*p.a*p.k*p.xi;
+  const Scalar _tmp274 = Scalar(4)*_tmp0*_tmp15*_tmp38*_tmp4*_tmp9*p.F0*p.a*p.eta*p.xE*p.xi;
+  const Scalar _tmp275 = Scalar(4)*_tmp0*_tmp15*_tmp38*_tmp7*_tmp9*p.L0*p.a*p.eta*p.k*p.xi*p.yE;
+  const Scalar _tmp276 = Scalar(4)*_tmp1*_tmp38*_tmp4*_tmp6*_tmp7*c.K(0, 0)*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp277 = Scalar(4)*_tmp0*_tmp38*_tmp5*_tmp6*_tmp9*c.K(0, 0)*p.F0*p.eta*p.xi;
+  const Scalar _tmp278 = Scalar(4)*_tmp0*_tmp2*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*c.K(0, 0)*p.F0;
+  const Scalar _tmp279 = Scalar(4)*_tmp0*_tmp3*_tmp38*_tmp4*_tmp6*_tmp7*_tmp9*c.K(0, 0)*p.L0*p.k;
+  const Scalar _tmp280 = Scalar(4)*_tmp10*_tmp38*_tmp4*_tmp6*_tmp7*c.K(0, 0)*p.F0*p.eta*p.xi;
+  const Scalar _tmp281 = Scalar(4)*_tmp0*_tmp38*_tmp6*_tmp8*_tmp9*c.K(0, 0)*p.L0*p.eta*p.k*p.xi;
+  const Scalar _tmp282 = Scalar(4)*_tmp0*_tmp38*_tmp4*_tmp9*c.K(0, 0)*p.L0*p.a*p.eta*p.k*p.xE*p.xi;
+  const Scalar _tmp283 = Scalar(4)*_tmp0*_tmp38*_tmp7*_tmp9*c.K(0, 0)*p.F0*p.a*p.eta*p.xi*p.yE;
+  const Scalar _tmp284 = _tmp0*_tmp7*c.L(0, 0)*p.a*p.k*p.xi;
+  const Scalar _tmp285 = _tmp0*c.L(0, 0)*p.eta*p.k*p.xE;
+  const Scalar _tmp286 = _tmp9*c.L(0, 0)*p.eta*p.k*p.yE;
+  const Scalar _tmp287 = _tmp9*c.L(0, 0)*p.k*p.xE*p.xi;
+  const Scalar _tmp288 = _tmp4*_tmp9*p.a*p.eta*p.k;
+  const Scalar _tmp289 = _tmp4*p.a*p.k*p.xE;
+  const Scalar _tmp290 = _tmp7*p.a*p.k*p.yE;
+  out->d2V_dq2(0, 0) = _tmp100 + _tmp101 + _tmp102 + _tmp103 + _tmp104 + _tmp105 + _tmp106 + _tmp107 + _tmp108 + _tmp109 + _tmp110 + _tmp111 + _tmp112 + _tmp113 + _tmp114 + _tmp115 + _tmp116 + _tmp117 + _tmp118 + _tmp119 + _tmp120 + _tmp121 + _tmp122 + _tmp123 + _tmp124 + _tmp125 + _tmp126 + _tmp127 + _tmp128 + _tmp129 + _tmp130 + _tmp131 + _tmp132 + _tmp133 + _tmp134 + _tmp135 + _tmp136 + _tmp137 + _tmp138 + _tmp139 + _tmp140 + _tmp141 + _tmp142 + _tmp143 + _tmp144 + _tmp145 + _tmp146 + _tmp147 + _tmp148 + _tmp149 + _tmp150 + _tmp151 + _tmp152 + _tmp153 + _tmp154 + _tmp155 + _tmp156 + _tmp157 + _tmp158 + _tmp159 + _tmp16 + _tmp160 + _tmp161 + _tmp162 + _tmp163 + _tmp164 + _tmp165 + _tmp166 + _tmp167 + _tmp168 + _tmp169 + _tmp17 + _tmp170 + _tmp171 + _tmp172 + _tmp173 + _tmp174 + _tmp175 + _tmp176 + _tmp177 + _tmp178 + _tmp179 + _tmp18 + _tmp180 + _tmp181 + _tmp182 + _tmp183 + _tmp184 + _tmp185 + _tmp186 + _tmp187 + _tmp188 + _tmp189 + _tmp19 + _tmp190 + _tmp191 + _tmp192 + _tmp193 + _tmp194 + _tmp195 + _tmp196 + _tmp197 + _tmp198 + _tmp199 + _tmp20 + _tmp200 + _tmp201 + _tmp202 + _tmp203 + _tmp204 + _tmp205 + _tmp206 + _tmp207 + _tmp208 + _tmp209 + _tmp21 + _tmp210 + _tmp211 + _tmp212 + _tmp213 + _tmp214 + _tmp215 + _tmp216 + _tmp217 + _tmp218 + _tmp219 + _tmp22 + _tmp220 + _tmp221 + _tmp222 + _tmp223 + _tmp224 + _tmp225 + _tmp226 + _tmp227 + _tmp228 + _tmp229 + _tmp23 + _tmp230 + _tmp231 + _tmp232 + _tmp233 + _tmp234 + _tmp235 + _tmp236 + _tmp237 + _tmp238 + _tmp239 + _tmp24 + _tmp240 + _tmp241 + _tmp242 + _tmp243 + _tmp244 + _tmp245 + _tmp246 + _tmp247 + _tmp248 + _tmp249 + _tmp25 + _tmp250 + _tmp251 + _tmp252 + _tmp253 + _tmp254 + _tmp255 + _tmp256 + _tmp257 + _tmp258 + _tmp259 + _tmp26 + _tmp260 + _tmp261 + _tmp262 + _tmp263 + _tmp264 + _tmp265 + _tmp266 + _tmp267 + _tmp268 + _tmp269 + _tmp27 + _tmp270 + _tmp271 + _tmp272 + _tmp273 + _tmp274 + _tmp275 + _tmp276 + _tmp277 + _tmp278 + _tmp279 + _tmp28 + _tmp280 + _tmp281 + _tmp282 + _tmp283 + _tmp284 + _tmp285 + _tmp286 + _tmp287 + _tmp288 + _tmp289 + _tmp29 + _tmp290 + _tmp30 + _tmp31 + _tmp32 + _tmp33 + _tmp34 + _tmp35 + _tmp36 + _tmp37 + _tmp39 + _tmp40 + _tmp41 + _tmp42 + _tmp43 + _tmp44 + _tmp45 + _tmp46 + _tmp47 + _tmp48 + _tmp49 + _tmp50 + _tmp51 + _tmp52 + _tmp53 + _tmp54 + _tmp55 + _tmp56 + _tmp57 + _tmp58 + _tmp59 + _tmp60 + _tmp61 + _tmp62 + _tmp63 + _tmp64 + _tmp65 + _tmp66 + _tmp67 + _tmp68 + _tmp69 + _tmp70 + _tmp71 + _tmp72 + _tmp73 + _tmp74 + _tmp75 + _tmp76 + _tmp77 + _tmp78 + _tmp79 + _tmp80 + _tmp81 + _tmp82 + _tmp83 + _tmp84 + _tmp85 + _tmp86 + _tmp87 + _tmp88 + _tmp89 + _tmp90 + _tmp91 + _tmp92 + _tmp93 + _tmp94 + _tmp95 + _tmp96 + _tmp97 + _tmp98 + _tmp99;
+  out->stiffness(0, 0) = _tmp0*_tmp15*p.Fx*p.xi + _tmp0*_tmp15*p.Fy*p.eta + _tmp0*c.L(0, 0)*p.Fx*p.eta - _tmp0*c.L(0, 0)*p.Fy*p.xi + _tmp100 + _tmp101 + _tmp102 + _tmp103 + _tmp104 + _tmp105 + _tmp106 + _tmp107 + _tmp108 + _tmp109 + _tmp110 + _tmp111 + _tmp112 + _tmp113 + _tmp114 + _tmp115 + _tmp116 + _tmp117 + _tmp118 + _tmp119 + _tmp120 + _tmp121 + _tmp122 + _tmp123 + _tmp124 + _tmp125 + _tmp126 + _tmp127 + _tmp128 + _tmp129 + _tmp130 + _tmp131 + _tmp132 + _tmp133 + _tmp134 + _tmp135 + _tmp136 + _tmp137 + _tmp138 + _tmp139 + _tmp140 + _tmp141 + _tmp142 + _tmp143 + _tmp144 + _tmp145 + _tmp146 + _tmp147 + _tmp148 + _tmp149 - _tmp15*_tmp9*p.Fx*p.eta + _tmp15*_tmp9*p.Fy*p.xi + _tmp150 + _tmp151 + _tmp152 + _tmp153 + _tmp154 + _tmp155 + _tmp156 + _tmp157 + _tmp158 + _tmp159 + _tmp16 + _tmp160 + _tmp161 + _tmp162 + _tmp163 + _tmp164 + _tmp165 + _tmp166 + _tmp167 + _tmp168 + _tmp169 + _tmp17 + _tmp170 + _tmp171 + _tmp172 + _tmp173 + _tmp174 + _tmp175 + _tmp176 + _tmp177 + _tmp178 + _tmp179 + _tmp18 + _tmp180 + _tmp181 + _tmp182 + _tmp183 + _tmp184 + _tmp185 + _tmp186 + _tmp187 + _tmp188 + _tmp189 + _tmp19 + _tmp190 + _tmp191 + _tmp192 + _tmp193 + _tmp194 + _tmp195 + _tmp196 + _tmp197 + _tmp198 + _tmp199 + _tmp20 + _tmp200 + _tmp201 + _tmp202 + _tmp203 + _tmp204 + _tmp205 + _tmp206 + _tmp207 + _tmp208 + _tmp209 + _tmp21 + _tmp210 + _tmp211 + _tmp212 + _tmp213 + _tmp214 + _tmp215 + _tmp216 + _tmp217 + _tmp218 + _tmp219 + _tmp22 + _tmp220 + _tmp221 + _tmp222 + _tmp223 + _tmp224 + _tmp225 + _tmp226 + _tmp227 + _tmp228 + _tmp229 + _tmp23 + _tmp230 + _tmp231 + _tmp232 + _tmp233 + _tmp234 + _tmp235 + _tmp236 + _tmp237 + _tmp238 + _tmp239 + _tmp24 + _tmp240 + _tmp241 + _tmp242 + _tmp243 + _tmp244 + _tmp245 + _tmp246 + _tmp247 + _tmp248 + _tmp249 + _tmp25 + _tmp250 + _tmp251 + _tmp252 + _tmp253 + _tmp254 + _tmp255 + _tmp256 + _tmp257 + _tmp258 + _tmp259 + _tmp26 + _tmp260 + _tmp261 + _tmp262 + _tmp263 + _tmp264 + _tmp265 + _tmp266 + _tmp267 + _tmp268 + _tmp269 + _tmp27 + _tmp270 + _tmp271 + _tmp272 + _tmp273 + _tmp274 + _tmp275 + _tmp276 + _tmp277 + _tmp278 + _tmp279 + _tmp28 + _tmp280 + _tmp281 + _tmp282 + _tmp283 + _tmp284 + _tmp285 + _tmp286 + _tmp287 + _tmp288 + _tmp289 + _tmp29 + _tmp290 + _tmp30 + _tmp31 + _tmp32 + _tmp33 + _tmp34 + _tmp35 + _tmp36 + _tmp37 + _tmp39 + _tmp4*p.Fx*p.a + _tmp40 + _tmp41 + _tmp42 + _tmp43 + _tmp44 + _tmp45 + _tmp46 + _tmp47 + _tmp48 + _tmp49 + _tmp50 + _tmp51 + _tmp52 + _tmp53 + _tmp54 + _tmp55 + _tmp56 + _tmp57 + _tmp58 + _tmp59 + _tmp60 + _tmp61 + _tmp62 + _tmp63 + _tmp64 + _tmp65 + _tmp66 + _tmp67 + _tmp68 + _tmp69 + _tmp7*p.Fy*p.a + _tmp70 + _tmp71 + _tmp72 + _tmp73 + _tmp74 + _tmp75 + _tmp76 + _tmp77 + _tmp78 + _tmp79 + _tmp80 + _tmp81 + _tmp82 + _tmp83 + _tmp84 + _tmp85 + _tmp86 + _tmp87 + _tmp88 + _tmp89 + _tmp9*c.L(0, 0)*p.Fx*p.xi + _tmp9*c.L(0, 0)*p.Fy*p.eta + _tmp90 + _tmp91 + _tmp92 + _tmp93 + _tmp94 + _tmp95 + _tmp96 + _tmp97 + _tmp98 + _tmp99 - c.L(1, 0)*p.Tr;
 }
 
 /**
@@ -892,6 +919,11 @@ extern template void EvalStatics<double>(const Params<double>&,
                                          Statics<double>*,
                                          const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*,
                                          const typename NonDeduced<Trig<double>>::type*);
+extern template void EvalStiffness<double>(const Params<double>&,
+                                           const Vec<double, Sizes::kNq>&,
+                                           const Vec<double, Sizes::kNphi>&,
+                                           const Coefficients<double>&,
+                                           Statics<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                            const Vec<double, Sizes::kNq>&,
                                            const Vec<double, Sizes::kNphi>&,
@@ -929,6 +961,11 @@ extern template void EvalStatics<float>(const Params<float>&,
                                         Statics<float>*,
                                         const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*,
                                         const typename NonDeduced<Trig<float>>::type*);
+extern template void EvalStiffness<float>(const Params<float>&,
+                                          const Vec<float, Sizes::kNq>&,
+                                          const Vec<float, Sizes::kNphi>&,
+                                          const Coefficients<float>&,
+                                          Statics<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -1032,6 +1069,14 @@ struct Model : Sizes {
                      const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
     EvalStatics(p, q, phi, c, out, friction, trig);
+  }
+  template <typename Scalar>
+  static void Stiffness(const Params<Scalar>& p,
+                        const Vec<Scalar, Sizes::kNq>& q,
+                        const Vec<Scalar, Sizes::kNphi>& phi,
+                        const Coefficients<Scalar>& c,
+                        Statics<Scalar>* out) {
+    EvalStiffness(p, q, phi, c, out);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,

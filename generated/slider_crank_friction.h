@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 32 (adds 12, muls 14, divs 2, calls 4); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 33 (adds 13, muls 14, divs 2, calls 4); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -320,7 +320,7 @@ void EvalStatics(const Params<Scalar>& p,
                  Statics<Scalar>* out,
                  const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 32 (adds 12, muls 14, divs 2, calls 4); intermediate terms: 0
+  // Total ops: 33 (adds 13, muls 14, divs 2, calls 4); intermediate terms: 0
   using std::abs;
   using std::sqrt;
   (void)q;
@@ -332,7 +332,7 @@ void EvalStatics(const Params<Scalar>& p,
   const Scalar friction_3 = friction != nullptr ? (*friction)(3) : Scalar(0);
   const Scalar g_0 = friction_0 - friction_1;
   const Scalar g_1 = friction_1 - friction_2;
-  const Scalar g_2 = -p.F;
+  const Scalar g_2 = friction_3 - p.F;
   const Scalar Q_0 = c.K(0, 0)*g_1 + c.K(1, 0)*g_2 + g_0;
   const Scalar detT_block1 = c.Phi_phi(0, 1);
   const Scalar inv_detT_block1 = Scalar(1)/detT_block1;

@@ -30,7 +30,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), ram.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 91 (adds 24, muls 59, divs 4, calls 4); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 61 (adds 16, muls 38, divs 3, calls 4); EvalStiffness 40 (adds 11, muls 24, divs 2, calls 3); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -144,13 +144,14 @@ struct Statics {
   /// along the line.  (kNq)
   Vec<Scalar, Sizes::kNq> drive;
   /// stiffness(j, k) = -dQ_j/dq_k along the motion, friction excluded (d2V/dq2 for a conservative
-  /// model): an equilibrium (Q = 0) is stable where it is positive definite.  (kNq x kNq)
+  /// model): an equilibrium (Q = 0) is stable where it is positive definite. Set by
+  /// EvalStiffness(), not EvalStatics().  (kNq x kNq)
   Mat<Scalar, Sizes::kNq, Sizes::kNq> stiffness;
   /// V: potential energy of the springs and the weights.
   Scalar V;
   /// dV_dq(j) = dV/dq_j along the motion.  (kNq)
   Vec<Scalar, Sizes::kNq> dV_dq;
-  /// d2V_dq2(j, k) = d2V/dq_j dq_k along the motion.  (kNq x kNq)
+  /// d2V_dq2(j, k) = d2V/dq_j dq_k along the motion; set by EvalStiffness().  (kNq x kNq)
   Mat<Scalar, Sizes::kNq, Sizes::kNq> d2V_dq2;
   /// R(i): reaction component Model::kReactionNames[i]: the force (moment) of the joint's first link
   /// on its second, fixed frame.  (kNumReactions)
@@ -317,7 +318,7 @@ void EvalStatics(const Params<Scalar>& p,
                  Statics<Scalar>* out,
                  const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 91 (adds 24, muls 59, divs 4, calls 4); intermediate terms: 9
+  // Total ops: 61 (adds 16, muls 38, divs 3, calls 4); intermediate terms: 4
   using std::cos;
   using std::sin;
   (void)friction;
@@ -341,9 +342,8 @@ void EvalStatics(const Params<Scalar>& p,
   const Scalar g_0 = -Scalar(0.5)*_tmp0 - _tmp1;
   const Scalar g_1 = -Scalar(0.5)*cos_phi0*p.b*p.g*p.m2;
   const Scalar _tmp2 = p.a + p.b + p.h - phi(1);
-  const Scalar _tmp3 = Scalar(1)/_tmp2;
-  const Scalar _tmp4 = _tmp3*p.P0*p.h;
-  const Scalar g_2 = -_tmp4;
+  const Scalar _tmp3 = p.P0*p.h/_tmp2;
+  const Scalar g_2 = -_tmp3;
   const Scalar Q_0 = c.K(0, 0)*g_1 + c.K(1, 0)*g_2 + g_0;
   const Scalar detT_block1 = c.Phi_phi(0, 1);
   const Scalar inv_detT_block1 = Scalar(1)/detT_block1;
@@ -358,19 +358,13 @@ void EvalStatics(const Params<Scalar>& p,
   const Scalar F_O_y = F_C_y + p.g*p.m1 + p.g*p.m2;
   const Scalar F_B_x = F_C_x;
   const Scalar F_B_y = F_C_y + p.g*p.m2;
-  const Scalar R_slide_x = -F_C_x + _tmp4;
+  const Scalar R_slide_x = -F_C_x + _tmp3;
   const Scalar R_slide_y = -F_C_y + p.g*p.m3;
   const Scalar M_slide = Scalar(0);
-  const Scalar _tmp5 = p.a*p.g*p.m1*sin_q0;
-  const Scalar _tmp6 = p.a*p.g*p.m2*sin_q0;
-  const Scalar _tmp7 = -Scalar(0.5)*(c.K(0, 0)*c.K(0, 0))*p.b*p.g*p.m2*sin_phi0;
-  const Scalar _tmp8 = Scalar(0.5)*c.L(0, 0)*cos_phi0*p.b*p.g*p.m2;
   out->Q(0) = Q_0;
   out->drive(0) = -Q_0;
-  out->V = Scalar(0.5)*_tmp5 + Scalar(0.5)*p.b*p.g*p.m2*sin_phi0 + _tmp6;
+  out->V = Scalar(0.5)*p.a*p.g*p.m1*sin_q0 + Scalar(0.5)*p.b*p.g*p.m2*sin_phi0 + p.a*p.g*p.m2*sin_q0;
   out->dV_dq(0) = Scalar(0.5)*_tmp0 + Scalar(0.5)*c.K(0, 0)*cos_phi0*p.b*p.g*p.m2 + _tmp1;
-  out->d2V_dq2(0, 0) = -Scalar(0.5)*_tmp5 - _tmp6 + _tmp7 + _tmp8;
-  out->stiffness(0, 0) = (c.K(1, 0)*c.K(1, 0))*p.P0*p.h/(_tmp2*_tmp2) - Scalar(0.5)*_tmp5 + _tmp3*c.L(1, 0)*p.P0*p.h - _tmp6 + _tmp7 + _tmp8;
   out->R(0) = F_O_x;
   out->R(1) = F_O_y;
   out->R(2) = F_B_x;
@@ -380,6 +374,36 @@ void EvalStatics(const Params<Scalar>& p,
   out->R(6) = R_slide_y;
   out->R(7) = R_slide_x;
   out->R(8) = M_slide;
+}
+
+/**
+ * \brief The second derivatives of the statics along the motion (Paul §6.5.2): d2V/dq2 and the
+ * stiffness -dQ/dq (friction excluded). An equilibrium (Q = 0) is stable where the stiffness is
+ * positive definite. Apart from EvalStatics: the derivatives of the springs' and loads' expressions
+ * are long, and only the search for equilibria needs them.
+ * \param[in]  p    Parameters.
+ * \param[in]  q    Inputs (dim kNq).
+ * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[in]  c    EvalCoefficients() at this (q, phi): K and L are read from it.
+ * \param[out] out  Statics: d2V_dq2 and stiffness are set; not nullptr.
+ */
+template <typename Scalar>
+void EvalStiffness(const Params<Scalar>& p,
+                   const Vec<Scalar, Sizes::kNq>& q,
+                   const Vec<Scalar, Sizes::kNphi>& phi,
+                   const Coefficients<Scalar>& c,
+                   Statics<Scalar>* out) {
+  // Total ops: 40 (adds 11, muls 24, divs 2, calls 3); intermediate terms: 6
+  using std::cos;
+  using std::sin;
+  const Scalar _tmp0 = -Scalar(0.5)*(c.K(0, 0)*c.K(0, 0))*p.b*p.g*p.m2*sin(phi(0));
+  const Scalar _tmp1 = sin(q(0));
+  const Scalar _tmp2 = -Scalar(0.5)*_tmp1*p.a*p.g*p.m1;
+  const Scalar _tmp3 = -_tmp1*p.a*p.g*p.m2;
+  const Scalar _tmp4 = Scalar(0.5)*c.L(0, 0)*cos(phi(0))*p.b*p.g*p.m2;
+  const Scalar _tmp5 = p.a + p.b + p.h - phi(1);
+  out->d2V_dq2(0, 0) = _tmp0 + _tmp2 + _tmp3 + _tmp4;
+  out->stiffness(0, 0) = (c.K(1, 0)*c.K(1, 0))*p.P0*p.h/(_tmp5*_tmp5) + _tmp0 + _tmp2 + _tmp3 + _tmp4 + c.L(1, 0)*p.P0*p.h/_tmp5;
 }
 
 /**
@@ -516,6 +540,11 @@ extern template void EvalStatics<double>(const Params<double>&,
                                          Statics<double>*,
                                          const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*,
                                          const typename NonDeduced<Trig<double>>::type*);
+extern template void EvalStiffness<double>(const Params<double>&,
+                                           const Vec<double, Sizes::kNq>&,
+                                           const Vec<double, Sizes::kNphi>&,
+                                           const Coefficients<double>&,
+                                           Statics<double>*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                            const Vec<double, Sizes::kNq>&,
                                            const Vec<double, Sizes::kNphi>&,
@@ -549,6 +578,11 @@ extern template void EvalStatics<float>(const Params<float>&,
                                         Statics<float>*,
                                         const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*,
                                         const typename NonDeduced<Trig<float>>::type*);
+extern template void EvalStiffness<float>(const Params<float>&,
+                                          const Vec<float, Sizes::kNq>&,
+                                          const Vec<float, Sizes::kNphi>&,
+                                          const Coefficients<float>&,
+                                          Statics<float>*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -649,6 +683,14 @@ struct Model : Sizes {
                      const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                      const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
     EvalStatics(p, q, phi, c, out, friction, trig);
+  }
+  template <typename Scalar>
+  static void Stiffness(const Params<Scalar>& p,
+                        const Vec<Scalar, Sizes::kNq>& q,
+                        const Vec<Scalar, Sizes::kNphi>& phi,
+                        const Coefficients<Scalar>& c,
+                        Statics<Scalar>* out) {
+    EvalStiffness(p, q, phi, c, out);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,

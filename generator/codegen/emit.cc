@@ -68,7 +68,8 @@ std::string StaticsStruct(const Model& m, const StaticsLayout& layout, bool has_
          "  Vec<Scalar, Sizes::kNq> drive;\n";
   if (forces && potential && has_L)
     s += "  /// stiffness(j, k) = -dQ_j/dq_k along the motion, friction excluded (d2V/dq2 for a conservative\n"
-         "  /// model): an equilibrium (Q = 0) is stable where it is positive definite.  (kNq x kNq)\n"
+         "  /// model): an equilibrium (Q = 0) is stable where it is positive definite. Set by\n"
+         "  /// EvalStiffness(), not EvalStatics().  (kNq x kNq)\n"
          "  Mat<Scalar, Sizes::kNq, Sizes::kNq> stiffness;\n";
   if (potential) {
     s += "  /// V: potential energy of the springs and the weights.\n"
@@ -76,7 +77,7 @@ std::string StaticsStruct(const Model& m, const StaticsLayout& layout, bool has_
          "  /// dV_dq(j) = dV/dq_j along the motion.  (kNq)\n"
          "  Vec<Scalar, Sizes::kNq> dV_dq;\n";
     if (has_L)
-      s += "  /// d2V_dq2(j, k) = d2V/dq_j dq_k along the motion.  (kNq x kNq)\n"
+      s += "  /// d2V_dq2(j, k) = d2V/dq_j dq_k along the motion; set by EvalStiffness().  (kNq x kNq)\n"
            "  Mat<Scalar, Sizes::kNq, Sizes::kNq> d2V_dq2;\n";
   }
   if (!layout.reactions.empty())

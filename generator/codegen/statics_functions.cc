@@ -78,11 +78,7 @@ FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter*
   if (st.potential) {
     P.push_back(Store("out->V", st.V));
     for (int j = 0; j < nq; ++j) P.push_back(Store("out->dV_dq(" + N(j) + ")", st.dV_dq[j]));
-    for (size_t i = 0; i < st.d2V_dq2.size(); ++i)
-      P.push_back(Store("out->d2V_dq2" + Idx(static_cast<int>(i) % nq, static_cast<int>(i) / nq), st.d2V_dq2[i]));
   }
-  for (size_t i = 0; i < st.stiffness_q.size(); ++i)
-    P.push_back(Store("out->stiffness" + Idx(static_cast<int>(i) % nq, static_cast<int>(i) / nq), st.stiffness_q[i]));
   for (size_t i = 0; i < st.R.size(); ++i) P.push_back(Store("out->R(" + N(static_cast<int>(i)) + ")", st.R[i]));
   for (size_t i = 0; i < st.normal.size(); ++i) {
     P.push_back(Store("out->normal(" + N(static_cast<int>(i)) + ")", st.normal[i]));
@@ -103,6 +99,29 @@ FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter*
     if (!drop) cleaned.push_back(s);
   }
   f.body = {cleaned};
+  return f;
+}
+
+FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st) {
+  const int nq = static_cast<int>(m.inputs.size());
+  FunctionSpec f;
+  f.name = "EvalStiffness";
+  f.model_member = "Stiffness";
+  f.doc = {"\\brief The second derivatives of the statics along the motion (Paul §6.5.2): d2V/dq2 and the",
+           "stiffness -dQ/dq (friction excluded). An equilibrium (Q = 0) is stable where the stiffness is",
+           "positive definite. Apart from EvalStatics: the derivatives of the springs' and loads' expressions",
+           "are long, and only the search for equilibria needs them."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn,
+                       "EvalCoefficients() at this (q, phi): K and L are read from it."));
+  f.args.push_back(Arg("Statics<Scalar>*", "out", Dir::kOut, "Statics: d2V_dq2 and stiffness are set; not nullptr."));
+  Program P;
+  for (size_t i = 0; i < st.d2V_dq2.size(); ++i)
+    P.push_back(Store("out->d2V_dq2" + Idx(static_cast<int>(i) % nq, static_cast<int>(i) / nq), st.d2V_dq2[i]));
+  for (size_t i = 0; i < st.stiffness_q.size(); ++i)
+    P.push_back(Store("out->stiffness" + Idx(static_cast<int>(i) % nq, static_cast<int>(i) / nq), st.stiffness_q[i]));
+  f.body = {P};
   return f;
 }
 

@@ -48,6 +48,14 @@ struct Item {
   Vec2 F{0, 0};
   Vec2 at{0, 0};
   ex couple = 0;
+  /// False for a pair whose virtual work is taken apart (friction: f times the joint's
+  /// relative motion; the guide's point under a slider is a material point of the guide,
+  /// which `at`, the slider's point, is not as a function of the coordinates).
+  bool does_work = true;
+  /// The prismatic joint whose friction or actuator force this is (-1: none). A cut
+  /// prismatic joint's rows carry the force along its line too (s is one of the
+  /// coordinates its rows close), so its multipliers already hold these forces.
+  int along_joint = -1;
 };
 
 // The joint's coordinate symbol (s, psi, u), if it has one.
@@ -221,13 +229,14 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       const ex dx = rb[0] - ra[0], dy = rb[1] - ra[1];
       const ex l = GiNaC::sqrt(dx * dx + dy * dy);
       const ex stretch = l - s.free_length;
-      V += s.preload * stretch + s.stiffness * stretch * stretch / 2;
       // The tension pulls each end towards the other: t = tension / length per unit of (dx, dy).
       ex l_named, t_named, dx_named, dy_named;
       program.push_back(Define("dx_" + s.name, dx, &dx_named));
       program.push_back(Define("dy_" + s.name, dy, &dy_named));
       program.push_back(Define("length_" + s.name, GiNaC::sqrt(dx_named * dx_named + dy_named * dy_named), &l_named));
       program.push_back(Define("t_" + s.name, (s.preload + s.stiffness * (l_named - s.free_length)) / l_named, &t_named));
+      const ex stretch_named = l_named - s.free_length;
+      V += s.preload * stretch_named + s.stiffness * stretch_named * stretch_named / 2;
       const ex t_expr = (s.preload + s.stiffness * stretch) / l;
       Item on_a, on_b, on_a_e, on_b_e;
       on_a.link = on_b.link = s.a.link;
@@ -244,12 +253,18 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       add_item(on_b, on_b_e, true);
     }
   }
-  // Friction loads: a couple pair at a revolute joint, a force pair along a prismatic line.
+  // Friction loads: a couple pair at a revolute joint, a force pair along a prismatic line;
+  // their virtual work is f times the joint's relative motion (gf).
+  std::vector<ex> gf(nx, 0);
   for (size_t i = 0; i < layout.friction.size(); ++i) {
     const Joint& j = m.joints[layout.friction[i]];
     Item on_b, on_a;
     on_b.link = j.link_b;
     on_a.link = j.link_a;
+    on_b.does_work = on_a.does_work = false;
+    const ex rel = j.type() == JointType::kRevolute ? k.frames[j.link_b].theta - k.frames[j.link_a].theta
+                                                     : ex(CoordinateOfJoint(m, k, layout.friction[i])->symbol);
+    for (int a = 0; a < nx; ++a) gf[a] += fr[i] * rel.diff(GiNaC::ex_to<GiNaC::symbol>(xs[a]));
     if (j.type() == JointType::kRevolute) {
       on_b.couple = fr[i];
       on_a.couple = -fr[i];
@@ -259,6 +274,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       on_b.at = on_a.at = position(j.End(j.link_b));
       on_b.F = {fr[i] * u[0], fr[i] * u[1]};
       on_a.F = {-fr[i] * u[0], -fr[i] * u[1]};
+      on_b.along_joint = on_a.along_joint = layout.friction[i];
     }
     items.push_back(on_b);
     items.push_back(on_a);
@@ -274,8 +290,9 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   // ---- Q and the driving forces ----
   std::vector<ex> gs(nx, 0);  // named g_a, the generalized applied force on x_a
   for (int a = 0; a < nx; ++a) {
-    ex g = 0;
-    for (const Item& it : items) g += work(it, a);
+    ex g = gf[a];
+    for (const Item& it : items)
+      if (it.does_work) g += work(it, a);
     if (g.is_zero()) continue;
     program.push_back(Define("g_" + N(a), g, &gs[a]));
   }
@@ -303,6 +320,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       on_a.link = in.link_a;
       on_a.F = {Qs[j] * u[0], Qs[j] * u[1]};
       on_a.at = at;
+      on_b.along_joint = on_a.along_joint = m.inputs[j].joint;
       items.push_back(on_b);
       items.push_back(on_a);
     } else {
@@ -455,7 +473,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       if (about) *moment += Cross({at[0] - (*about)[0], at[1] - (*about)[1]}, f) + couple;
     };
     for (const Item& it : items)
-      if (S.count(it.link)) add(it.F, it.at, it.couple);
+      if (S.count(it.link) && (it.along_joint < 0 || tree_of_joint[it.along_joint] >= 0)) add(it.F, it.at, it.couple);
     for (size_t jn = 0; jn < m.joints.size(); ++jn) {
       const Joint& j = m.joints[jn];
       if (static_cast<int>(jn) == skip || S.count(j.link_a) == S.count(j.link_b)) continue;
@@ -564,13 +582,15 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       PrismaticLine(m, k, j, &u, &n);
       if (c.name[0] == 'N') R.push_back(F[c.joint][0] * n[0] + F[c.joint][1] * n[1]);
       else if (c.name[0] == 'T') {
-        // Along the line: the friction force and the actuator's (both applied apart from
-        // the reaction above, which has no component along u).
+        // Along the line: the friction force and the actuator's (a tree joint's balance above
+        // leaves them out: they act apart from it).
         ex T = F[c.joint][0] * u[0] + F[c.joint][1] * u[1];
-        for (size_t i = 0; i < layout.friction.size(); ++i)
-          if (layout.friction[i] == c.joint) T += fr[i];
-        for (int j = 0; j < nq; ++j)
-          if (m.inputs[j].joint == c.joint) T += drive[j];
+        if (tree_of_joint[c.joint] >= 0) {  // a cut joint's multipliers hold them already
+          for (size_t i = 0; i < layout.friction.size(); ++i)
+            if (layout.friction[i] == c.joint) T += fr[i];
+          for (int j = 0; j < nq; ++j)
+            if (m.inputs[j].joint == c.joint) T += drive[j];
+        }
         R.push_back(T);
       }
       else R.push_back(M[c.joint]);
