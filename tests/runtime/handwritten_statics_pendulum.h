@@ -126,11 +126,18 @@ struct Model : Sizes {
     const Scalar u = q(0) - p.q0;
     out->V = w * sin(q(0)) + p.k * u * u / Scalar(2);
     out->dV_dq(0) = w * cos(q(0)) + p.k * u;
-    out->d2V_dq2(0, 0) = p.k - w * sin(q(0));
     out->Q(0) = -out->dV_dq(0);
     out->drive(0) = -out->Q(0);
-    out->stiffness = out->d2V_dq2;
     out->R << Scalar(0), p.m * p.g;
+  }
+  /// d2V/dq2 = stiffness = k - w sin q, apart from Forces as in generated headers.
+  template <typename Scalar>
+  static void Stiffness(const Params<Scalar>& p, const Vec<Scalar, kNq>& q,
+                        const Vec<Scalar, kNphi>& /*phi*/, const Coefficients<Scalar>& /*c*/,
+                        StaticsT<Scalar>* out) {
+    using std::sin;
+    out->d2V_dq2(0, 0) = p.k - p.m * p.g * p.lc * sin(q(0));
+    out->stiffness = out->d2V_dq2;
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p, const Vec<Scalar, kNq>& q,

@@ -28,7 +28,8 @@
  * |T0| > mu_O r_O |P|, i.e. a |sin(q - beta)| > mu_O r_O; inside, it is self-locking.
  * Reactions (contract order): F_O_x, F_O_y, F_B_x, F_B_y, F_C_x, F_C_y (each the force of
  * the joint's first link on its second), N_slide, T_slide, M_slide.
- * Q = -T (virtual work: Q = (-F) ds/dq + f), stiffness = -dQ/dq (friction excluded) = F s''.
+ * Q = -T (virtual work: Q = (-F) ds/dq + f); stiffness = -dQ/dq (friction excluded) = F s'',
+ * from Model::Stiffness apart from Model::Forces (as generated headers do).
  * Parameters a = b make the rod stand vertical at q = 90 deg: a dead point (cos beta = 0)
  * where P = F / cos beta grows without bound.
  */
@@ -134,7 +135,7 @@ void EvalCoefficients(const Params<Scalar>& p, const Vec<Scalar, 1>& q, const Ve
 /// ground at O, CCW +), or nullptr for none.
 template <typename Scalar>
 void EvalStatics(const Params<Scalar>& p, const Vec<Scalar, 1>& q, const Vec<Scalar, 2>& phi,
-                 const Coefficients<Scalar>& c, Statics<Scalar>* out,
+                 const Coefficients<Scalar>& /*c*/, Statics<Scalar>* out,
                  const Vec<Scalar, 1>* friction = nullptr) {
   using std::abs;
   using std::cos;
@@ -147,11 +148,17 @@ void EvalStatics(const Params<Scalar>& p, const Vec<Scalar, 1>& q, const Vec<Sca
   const Scalar T = P * p.a * sin_beta_q - f;       // driving torque on the crank
   out->drive(0) = T;
   out->Q(0) = -T;
-  out->stiffness(0, 0) = p.F * c.L(1, 0);          // F s''
   out->R << P * C2, P * S2, P * C2, P * S2, P * C2, P * S2, -P * S2, Scalar(0), Scalar(0);
   out->normal(0) = abs(P);
   out->gain(0) = p.mu_O * p.r_O;
   out->K_rel(0, 0) = Scalar(1);                    // d(theta_crank - 0)/dq
+}
+
+/// stiffness = -dQ/dq along the motion (friction excluded) = F s'' = F L_s, apart from
+/// EvalStatics as in generated headers (EvalStiffness).
+template <typename Scalar>
+void EvalStiffness(const Params<Scalar>& p, const Coefficients<Scalar>& c, Statics<Scalar>* out) {
+  out->stiffness(0, 0) = p.F * c.L(1, 0);
 }
 
 template <typename Scalar>
@@ -211,6 +218,12 @@ struct Model : Sizes {
                       const Vec<Scalar, kNphi>& phi, const Coefficients<Scalar>& c,
                       StaticsT<Scalar>* out, const Vec<Scalar, kNumFriction>* friction = nullptr) {
     EvalStatics(p, q, phi, c, out, friction);
+  }
+  template <typename Scalar>
+  static void Stiffness(const Params<Scalar>& p, const Vec<Scalar, kNq>& /*q*/,
+                        const Vec<Scalar, kNphi>& /*phi*/, const Coefficients<Scalar>& c,
+                        StaticsT<Scalar>* out) {
+    EvalStiffness(p, c, out);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p, const Vec<Scalar, kNq>& q,

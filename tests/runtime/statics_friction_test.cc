@@ -32,7 +32,7 @@ static_assert(StaticsFeatures<M>::kHasStatics);
 static_assert(StaticsFeatures<M>::kHasFriction);
 static_assert(StaticsFeatures<M>::kHasReactions);
 static_assert(!StaticsFeatures<M>::kHasPotential);
-static_assert(StaticsFeatures<M>::kHasStiffness);
+static_assert(StaticsFeatures<M>::kHasStiffness && StaticsFeatures<M>::kStiffnessApart);
 
 // The closed-form configuration (zero offset, rod to the right of the crank pin).
 double Beta(const Params& p, double q) { return std::asin(-p.a * std::sin(q) / p.b); }
@@ -135,6 +135,25 @@ TEST(StaticsFriction, ForwardBackwardAndEfficiency) {
   }
   EXPECT_GT(locked, 0);
   EXPECT_LT(locked, 360);
+}
+
+// Model::Stiffness runs only when asked for (Options::stiffness); stiffness = F s''.
+TEST(StaticsFriction, StiffnessOnRequest) {
+  const Params p;
+  const double q = 1.0, h = 1e-5;
+  Solution<M> s;
+  ASSERT_EQ(Solve<M>(Options(), p, VecQ::Constant(q), Configuration(p, q), CoeffsAt(p, q),
+                     VecQ::Zero(), &s),
+            Status::kConverged);
+  EXPECT_TRUE(std::isnan(s.statics.stiffness(0, 0)));
+  Options options;
+  options.stiffness = true;
+  ASSERT_EQ(Solve<M>(options, p, VecQ::Constant(q), Configuration(p, q), CoeffsAt(p, q),
+                     VecQ::Constant(1.0), &s),
+            Status::kConverged);
+  // -dQ/dq = dT0/dq, T0 = F ds/dq in closed form, by a central difference.
+  EXPECT_NEAR(s.statics.stiffness(0, 0),
+              (T0ByVirtualWork(p, q + h) - T0ByVirtualWork(p, q - h)) / (2 * h), 1e-5);
 }
 
 TEST(StaticsFriction, NoMotionMeansNoFriction) {

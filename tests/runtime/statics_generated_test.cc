@@ -44,6 +44,7 @@ static_assert(StaticsFeatures<Friction>::kNumFriction == 4);
 static_assert(StaticsFeatures<Press>::kHasStatics && StaticsFeatures<Press>::kHasPotential);
 static_assert(!StaticsFeatures<Press>::kHasFriction);
 static_assert(StaticsFeatures<Loaded>::kHasReactions && StaticsFeatures<Loaded>::kHasStiffness);
+static_assert(StaticsFeatures<Loaded>::kStiffnessApart && StaticsFeatures<Press>::kStiffnessApart);
 static_assert(!StaticsFeatures<mech::fourbar_loaded::Model>::kHasFriction);
 
 template <class M>
@@ -143,12 +144,10 @@ TEST(StaticsGenerated, SliderCrankDeadZonesMatchHandDerivedAngles) {
   EXPECT_GT(wider[1].end, zones[1].end);
 }
 
-// The friction iteration with the three pins' friction (the slide's coefficient 0: see
-// DISABLED_SlideFrictionEntersQ): the normal forces at B and C change with the friction
-// loads, so the iteration runs more than once.
-TEST(StaticsGenerated, PinFrictionSelfConsistentByVirtualWork) {
-  ModelTypes<Friction>::Params p;
-  p.mu_s = 0;
+// The friction iteration with all four friction joints: the normal forces at B, C and the
+// slide change with the friction loads, so the iteration runs more than once.
+TEST(StaticsGenerated, AllFrictionJointsSelfConsistentByVirtualWork) {
+  const ModelTypes<Friction>::Params p;
   position::PositionSolver<Friction> solver(position::Options(), p);
   ASSERT_EQ(solver.AssembleDefault(nullptr), position::Status::kConverged);
   using VecQ = ModelTypes<Friction>::VecQ;
@@ -187,12 +186,9 @@ TEST(StaticsGenerated, PinFrictionSelfConsistentByVirtualWork) {
   EXPECT_GT(max_iterations, 3);
 }
 
-// A friction force f on the slider along +u does the virtual work f ds: Q must change by
-// f ds/dq = f K_rel. The generated
-// slider_crank_friction (generator of main 5007af7) leaves Q and every reaction unchanged
-// for the slide's friction load, so the drive with the slide's friction is off by
-// mu_s |N| |ds/dq|: disabled until the generator applies it (reported to the lead).
-TEST(StaticsGenerated, DISABLED_SlideFrictionEntersQ) {
+// A friction force f on the slider along +u does the virtual work f ds: Q changes by
+// f ds/dq = f K_rel (the generator of main 5007af7 left it out; fixed in 36e53a7).
+TEST(StaticsGenerated, SlideFrictionEntersQ) {
   const ModelTypes<Friction>::Params p;
   position::PositionSolver<Friction> solver(position::Options(), p);
   ASSERT_EQ(solver.AssembleDefault(nullptr), position::Status::kConverged);

@@ -118,6 +118,14 @@ TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
     const double lever = sq * (root / p.b + p.a / p.b * std::cos(q));  // a sin(q - beta)
     const double sign = T0 < 0 ? -1 : 1;
     EXPECT_NEAR(std::stod(row[drive]), T0, 1e-8 * p.F);
+    // stiffness = -dQ/dq = dT0/dq (Model::Stiffness, once per row): a central difference.
+    const double h = 1e-5;
+    auto T0_at = [&](double x) {
+      const double sx = p.a * std::sin(x);
+      return p.F * (-sx - sx * p.a * std::cos(x) / std::sqrt(p.b * p.b - sx * sx));
+    };
+    EXPECT_NEAR(std::stod(row[Column(header, "stiffness")]), (T0_at(q + h) - T0_at(q - h)) / (2 * h),
+                1e-5 * p.F);
     EXPECT_NEAR(std::stod(row[fwd]), T0 + sign * mu_r * P, 1e-8 * p.F);
     EXPECT_NEAR(std::stod(row[back]), T0 - sign * mu_r * P, 1e-8 * p.F);
     EXPECT_NEAR(std::stod(row[F_O]), P, 1e-8 * p.F);

@@ -36,8 +36,8 @@ struct Equilibrium {
   typename T::VecPhi phi = T::VecPhi::Constant(kNaN);  ///< dependent variables (kNphi)
   /// Q at the equilibrium (kNq; force units: N m per rad, N per length): ~0 along the line.
   typename T::VecQ Q = T::VecQ::Constant(kNaN);
-  /// e^T (-dQ/dq) e: the stiffness along the line (N m/rad for an angle input); NaN for a
-  /// model without Statics::stiffness.
+  /// e^T (-dQ/dq) e: the stiffness along the line (N m/rad for an angle input; Model::Stiffness
+  /// at the equilibrium); NaN for a model without Statics::stiffness.
   double stiffness = kNaN;
   /// stiffness > 0: V has a minimum along the line (stable); false also when unknown (NaN).
   bool stable = false;
@@ -84,6 +84,9 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
   const VecQ e = (q_end - q_begin) / length;
   auto at = [&](double t) { return VecQ(q_begin + t * e); };
   Solution<M> solution;
+  typename ModelTypes<M>::Coefficients c;  // at the last evaluated configuration
+  Options without_stiffness = options;
+  without_stiffness.stiffness = false;  // evaluated at the equilibria only
   // g(t) into *g; false when unusable (position step or statics failed).
   auto evaluate = [&](double t, double* g) {
     const position::Status moved = solver->MoveTo(at(t), nullptr);
@@ -91,8 +94,10 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
       if (s.position_status == position::Status::kConverged) s.position_status = moved;
       return false;
     }
-    const Status status =
-        SolveAt<M>(options, solver->params(), solver->state(), VecQ::Zero(), &solution);
+    const position::State<M>& state = solver->state();
+    M::template Coeffs<double>(solver->params(), state.q, state.phi, &c);
+    const Status status = Solve<M>(without_stiffness, solver->params(), state.q, state.phi, c,
+                                   VecQ::Zero(), &solution);
     s.evaluations += solution.summary.iterations;
     if (status != Status::kConverged) return false;
     *g = e.dot(solution.statics.Q);
@@ -105,6 +110,7 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
     eq.phi = solver->state().phi;
     eq.Q = solution.statics.Q;
     if constexpr (F::kHasStiffness) {
+      internal::EvaluateStiffness<M>(solver->params(), eq.q, eq.phi, c, &solution.statics);
       eq.stiffness = e.dot(solution.statics.stiffness * e);
       eq.stable = eq.stiffness > 0;
     }

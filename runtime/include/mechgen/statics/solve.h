@@ -83,14 +83,14 @@ void SetNaN(S* s) {
   }
 }
 
-/// Every value of a generated Statics is finite (NaN and inf are not).
+/// Every value Model::Forces fills is finite (NaN and inf are not); stiffness and d2V_dq2
+/// (Model::Stiffness) are not checked.
 template <class S>
 bool AllFinite(const S& s) {
   bool finite = true;
   if constexpr (HasQ<S>::value) finite = finite && s.Q.allFinite() && s.drive.allFinite();
   if constexpr (HasV<S>::value) finite = finite && std::isfinite(s.V);
   if constexpr (HasDV<S>::value) finite = finite && s.dV_dq.allFinite();
-  if constexpr (HasStiffness<S>::value) finite = finite && s.stiffness.allFinite();
   if constexpr (HasR<S>::value) finite = finite && s.R.allFinite();
   if constexpr (HasFrictionMembers<S>::value) finite = finite && s.normal.allFinite();
   return finite;
@@ -107,6 +107,21 @@ void Evaluate(const typename ModelTypes<M>::Params& p, const typename ModelTypes
   } else {
     (void)f;
     M::template Forces<double>(p, q, phi, c, out);
+  }
+}
+
+/// Model::Stiffness into out (d2V_dq2, stiffness) when the model has it apart; a model whose
+/// Forces fills them already needs nothing.
+template <class M>
+void EvaluateStiffness(const typename ModelTypes<M>::Params& p,
+                       const typename ModelTypes<M>::VecQ& q,
+                       const typename ModelTypes<M>::VecPhi& phi,
+                       const typename ModelTypes<M>::Coefficients& c,
+                       typename StaticsTypes<M>::Statics* out) {
+  if constexpr (StaticsFeatures<M>::kStiffnessApart) {
+    M::template Stiffness<double>(p, q, phi, c, out);
+  } else {
+    (void)p, (void)q, (void)phi, (void)c, (void)out;
   }
 }
 
@@ -165,10 +180,14 @@ Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
   s = Summary();
   out->direction = direction;
   out->friction.setZero();
+  internal::SetNaN(&out->statics);  // nothing stale from an earlier call
   auto finish = [&](Status status, const char* reason, bool withhold) {
     s.status = status;
     s.reason = reason;
     if (withhold) internal::SetNaN(&out->statics);
+    if (status == Status::kConverged && options.stiffness) {
+      internal::EvaluateStiffness<M>(p, q, phi, c, &out->statics);
+    }
     return status;
   };
   if (!options.IsValid(nullptr)) return finish(Status::kInvalidInput, "invalid Options", true);

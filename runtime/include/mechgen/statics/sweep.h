@@ -32,7 +32,8 @@ struct StaticsRecord {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   /// The configuration: q, the position State, motion and the position step's Summary.
   SweepRecord<M> kinematics;
-  /// Without friction (no motion): Q, drive, V, stiffness, R (the members the model has).
+  /// Without friction (no motion): Q, drive, V, R, and stiffness, d2V_dq2 (Model::Stiffness,
+  /// evaluated for every converged row) — the members the model has.
   Solution<M> frictionless;
   /// Per input j (only j moving): T0, T_fwd, T_back, efficiencies, self-locking.
   std::array<DriveAnalysis, M::kNq> drives{};
@@ -90,7 +91,12 @@ Status EvaluateRecord(const Options& options, const typename ModelTypes<M>::Para
   }
   typename ModelTypes<M>::Coefficients c;
   M::template Coeffs<double>(p, state.q, state.phi, &c);
-  Status status = Solve<M>(options, p, state.q, state.phi, c, VecQ::Zero(), &r->frictionless);
+  // The stiffness once per row, without friction (it excludes friction anyway).
+  Options with_stiffness = options, without_stiffness = options;
+  with_stiffness.stiffness = true;
+  without_stiffness.stiffness = false;
+  Status status =
+      Solve<M>(with_stiffness, p, state.q, state.phi, c, VecQ::Zero(), &r->frictionless);
   r->evaluations += r->frictionless.summary.iterations;
   for (int j = 0; j < M::kNq; ++j) {
     if (r->frictionless.summary.status != Status::kConverged) {
@@ -101,8 +107,9 @@ Status EvaluateRecord(const Options& options, const typename ModelTypes<M>::Para
       continue;
     }
     Solution<M> unused;
-    const Status drive = AnalyzeDrive<M>(options, p, state.q, state.phi, c, j, &r->drives[j],
-                                         &unused, &r->forward[j], &r->backward[j]);
+    const Status drive =
+        AnalyzeDrive<M>(without_stiffness, p, state.q, state.phi, c, j, &r->drives[j], &unused,
+                        &r->forward[j], &r->backward[j]);
     if constexpr (StaticsFeatures<M>::kHasFriction) {
       r->evaluations += r->forward[j].summary.iterations + r->backward[j].summary.iterations;
     }

@@ -5,8 +5,10 @@
  * A header generated with `outputs: quantities: [..., forces]` has (issue 14, the contract
  * in models/README.md) Sizes::kNumReactions, Sizes::kNumFriction, Model::kReactionNames,
  * Model::kFrictionJoints, Model::kFrictionPrismatic, the struct template Model::StaticsT<S>
- * (Q, drive, and, when asked for, V, dV_dq, d2V_dq2, stiffness, R, normal, gain, K_rel) and
- * the static function Model::Forces(p, q, phi, c, out, friction, trig) (EvalStatics). Every member is
+ * (Q, drive, and, when asked for, V, dV_dq, d2V_dq2, stiffness, R, normal, gain, K_rel), the
+ * static functions Model::Forces(p, q, phi, c, out, friction, trig) (EvalStatics) and
+ * Model::Stiffness(p, q, phi, c, out) (EvalStiffness: d2V_dq2 and stiffness, apart because
+ * they are long). Every member is
  * detected here, like the Coefficients members in core/model_traits.h, so that models
  * without statics (or without reactions, potential or friction) still compile against the
  * runtime: StaticsFeatures<M>::kHasStatics is false for them and the statics functions are
@@ -105,6 +107,19 @@ struct StaticsTakesFriction<
            std::declval<const Eigen::Matrix<double, NumFriction<M>::value, 1>*>()))>>
     : std::true_type {};
 
+/// Model::Stiffness(p, q, phi, c, out): d2V/dq2 and the stiffness -dQ/dq apart from Forces
+/// (generated EvalStiffness: long expressions, only the equilibria need them).
+template <class M, class = void>
+struct HasStiffnessFunction : std::false_type {};
+template <class M>
+struct HasStiffnessFunction<
+    M, std::void_t<decltype(M::template Stiffness<double>(
+           std::declval<const typename M::template ParamsT<double>&>(),
+           std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
+           std::declval<const Eigen::Matrix<double, M::kNphi, 1>&>(),
+           std::declval<const typename M::template CoefficientsT<double>&>(),
+           std::declval<typename M::template StaticsT<double>*>()))>> : std::true_type {};
+
 }  // namespace internal
 
 /// What the statics of model M provide.
@@ -123,8 +138,11 @@ struct StaticsFeatures {
                                        internal::StaticsTakesFriction<M>::value;
   /// V (the potential energy of springs and gravity) and dV/dq.
   static constexpr bool kHasPotential = kHasStatics && internal::HasV<Statics>::value;
-  /// -dQ/dq along the motion (friction excluded): d2V/dq2 for a conservative model.
+  /// Statics::stiffness = -dQ/dq along the motion (friction excluded): d2V/dq2 for a
+  /// conservative model. Filled by Model::Stiffness (EvalStiffness) when the model has it
+  /// (kStiffnessApart; generated headers), else by Model::Forces itself.
   static constexpr bool kHasStiffness = kHasStatics && internal::HasStiffness<Statics>::value;
+  static constexpr bool kStiffnessApart = kHasStiffness && internal::HasStiffnessFunction<M>::value;
 };
 
 /// Fixed-size types of the statics of model M (double).

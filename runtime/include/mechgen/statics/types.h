@@ -83,6 +83,12 @@ struct Options {
   /// Convergence of the friction iteration (see Status::kConverged); model force units.
   double relative_tolerance = 1e-12;
   double absolute_tolerance = 1e-10;
+  /// Also evaluate Statics::stiffness and d2V_dq2 (Model::Stiffness, the generated
+  /// EvalStiffness) in Solve() when it converges. Off by default: the second derivatives of the
+  /// loads and springs are long (fourbar_loaded: 2727 operations, 14 x EvalStatics), and only
+  /// the equilibria (FindEquilibria evaluates them at each one) and the statics sweep (once
+  /// per row, without friction) need them.
+  bool stiffness = false;
 
   /// Checks every field; on failure writes "Options::field = value. Violated constraint: ..."
   /// to *error (if not nullptr) and returns false.
