@@ -265,6 +265,32 @@ TEST(StaticsGenerated, LoadedFourBarEquilibria) {
   EXPECT_EQ(2 * stable, static_cast<int>(found.size()));  // alternating along a turn
 }
 
+// slider_crank_friction has no potential, so no Statics::stiffness: FindEquilibria takes
+// -dQ/dq by a central difference; against F s'' = -F a cos q (1 + a cos q / b) at the dead
+// centres (V = F s: q = 0 a maximum, unstable; q = pi a minimum, stable).
+TEST(StaticsGenerated, EquilibriaWithoutStiffnessByDifference) {
+  static_assert(!StaticsFeatures<Friction>::kHasStiffness);
+  const ModelTypes<Friction>::Params p;
+  position::PositionSolver<Friction> solver(position::Options(), p);
+  ASSERT_EQ(solver.AssembleDefault(nullptr), position::Status::kConverged);
+  using VecQ = ModelTypes<Friction>::VecQ;
+  std::vector<Equilibrium<Friction>> found;
+  ScanOptions scan;
+  scan.samples = 100;
+  ASSERT_EQ(FindEquilibria(Options(), scan, &solver, VecQ::Constant(-0.5), VecQ::Constant(5.5),
+                           &found),
+            Status::kConverged);
+  ASSERT_EQ(found.size(), 2u);
+  EXPECT_NEAR(found[0].q(0), 0.0, 1e-10);
+  EXPECT_NEAR(found[1].q(0), M_PI, 1e-10);
+  for (const Equilibrium<Friction>& e : found) {
+    const double c = std::cos(e.q(0));
+    EXPECT_NEAR(e.stiffness, -p.F * p.a * c * (1 + p.a * c / p.b), 1e-5 * p.F * p.a);
+  }
+  EXPECT_FALSE(found[0].stable);
+  EXPECT_TRUE(found[1].stable);
+}
+
 TEST(StaticsGenerated, DeadPointRowIsSingularAndEmpty) {
   ModelTypes<Friction>::Params p;
   p.a = p.b = 0.3;  // the rod stands vertical at q = 90 deg

@@ -36,8 +36,10 @@ struct Equilibrium {
   typename T::VecPhi phi = T::VecPhi::Constant(kNaN);  ///< dependent variables (kNphi)
   /// Q at the equilibrium (kNq; force units: N m per rad, N per length): ~0 along the line.
   typename T::VecQ Q = T::VecQ::Constant(kNaN);
-  /// e^T (-dQ/dq) e: the stiffness along the line (N m/rad for an angle input; Model::Stiffness
-  /// at the equilibrium); NaN for a model without Statics::stiffness.
+  /// e^T (-dQ/dq) e: the stiffness along the line (N m/rad for an angle input): from
+  /// Model::Stiffness at the equilibrium, or for a model without Statics::stiffness (no
+  /// potential) a central difference of e . Q at solved positions t +- 1e-6 (friction
+  /// excluded either way); NaN if those could not be solved.
   double stiffness = kNaN;
   /// stiffness > 0: V has a minimum along the line (stable); false also when unknown (NaN).
   bool stable = false;
@@ -103,8 +105,8 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
     *g = e.dot(solution.statics.Q);
     return true;
   };
-  // Records the equilibrium at solver->state() (solution evaluated there).
-  auto record = [&](int iterations, bool located) {
+  // Records the equilibrium at solver->state() = at(t) (solution evaluated there).
+  auto record = [&](double t, int iterations, bool located) {
     Equilibrium<M> eq;
     eq.q = solver->state().q;
     eq.phi = solver->state().phi;
@@ -112,8 +114,18 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
     if constexpr (F::kHasStiffness) {
       internal::EvaluateStiffness<M>(solver->params(), eq.q, eq.phi, c, &solution.statics);
       eq.stiffness = e.dot(solution.statics.stiffness * e);
-      eq.stable = eq.stiffness > 0;
+    } else {
+      // No Statics::stiffness (a model without potential): -dg/dt by a central difference
+      // of g at solved positions, h = 1e-6 (truncation ~h^2, rounding ~1e-16 |Q| / h: both
+      // ~1e-10 relative); then back to the equilibrium.
+      const double h = 1e-6;
+      double g_plus = 0, g_minus = 0;
+      if (evaluate(t + h, &g_plus) && evaluate(t - h, &g_minus)) {
+        eq.stiffness = -(g_plus - g_minus) / (2 * h);
+      }
+      solver->MoveTo(at(t), nullptr);
     }
+    eq.stable = eq.stiffness > 0;
     eq.iterations = iterations;
     eq.located = located;
     found->push_back(eq);
@@ -123,38 +135,39 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
   // (not a pole), then moves the solver back to t_resume.
   auto refine = [&](double lo, double g_lo, double hi, double g_hi, double t_resume) {
     const double bound = std::max(std::abs(g_lo), std::abs(g_hi));
-    double c = lo, g_c = g_lo, c_previous = std::numeric_limits<double>::quiet_NaN();
+    double t_c = lo, g_t = g_lo, c_previous = std::numeric_limits<double>::quiet_NaN();
     int side = 0, it = 0;
     bool usable = true, located = false;
     for (; it < scan.max_refinements; ++it) {
-      c = (g_lo * hi - g_hi * lo) / (g_lo - g_hi);
-      if (!(c > std::min(lo, hi) && c < std::max(lo, hi))) c = 0.5 * (lo + hi);  // safeguard
-      if (!evaluate(c, &g_c)) {
+      t_c = (g_lo * hi - g_hi * lo) / (g_lo - g_hi);
+      // Safeguard: bisection when the secant leaves the bracket.
+      if (!(t_c > std::min(lo, hi) && t_c < std::max(lo, hi))) t_c = 0.5 * (lo + hi);
+      if (!evaluate(t_c, &g_t)) {
         usable = false;
         break;
       }
-      if (g_c == 0 || std::abs(hi - lo) <= scan.tolerance ||
-          std::abs(c - c_previous) <= 0.5 * scan.tolerance) {
+      if (g_t == 0 || std::abs(hi - lo) <= scan.tolerance ||
+          std::abs(t_c - c_previous) <= 0.5 * scan.tolerance) {
         located = true;
         break;
       }
-      c_previous = c;
-      if ((g_c > 0) == (g_hi > 0)) {
-        hi = c;
-        g_hi = g_c;
+      c_previous = t_c;
+      if ((g_t > 0) == (g_hi > 0)) {
+        hi = t_c;
+        g_hi = g_t;
         if (side == -1) g_lo *= 0.5;
         side = -1;
       } else {
-        lo = c;
-        g_lo = g_c;
+        lo = t_c;
+        g_lo = g_t;
         if (side == +1) g_hi *= 0.5;
         side = +1;
       }
     }
     if (!usable) {
       refinement_failed = true;
-    } else if (std::abs(g_c) <= bound) {  // a root, not a pole
-      record(it + 1, located);
+    } else if (std::abs(g_t) <= bound) {  // a root, not a pole
+      record(t_c, it + 1, located);
       if (!located) refinement_failed = true;
     }
     solver->MoveTo(at(t_resume), nullptr);
@@ -172,7 +185,7 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
       continue;
     }
     if (g == 0) {
-      record(0, true);
+      record(t, 0, true);
     } else if (has_previous && g_previous != 0 && (g > 0) != (g_previous > 0)) {
       refine(t_previous, g_previous, t, g, t);
     }
