@@ -27,7 +27,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 192 (adds 56, muls 127, divs 2, calls 7); EvalStiffness 2727 (adds 574, muls 2144, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 191 (adds 55, muls 127, divs 2, calls 7); EvalStiffness 2727 (adds 574, muls 2144, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -349,7 +349,7 @@ void EvalStatics(const Params<Scalar>& p,
                  Statics<Scalar>* out,
                  const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 192 (adds 56, muls 127, divs 2, calls 7); intermediate terms: 6
+  // Total ops: 191 (adds 55, muls 127, divs 2, calls 7); intermediate terms: 6
   using std::cos;
   using std::sin;
   using std::sqrt;
@@ -404,7 +404,7 @@ void EvalStatics(const Params<Scalar>& p,
   out->Q(0) = Q_0;
   out->drive(0) = -Q_0;
   out->V = Scalar(0.5)*(length_spring*length_spring)*p.k + Scalar(0.5)*(p.L0*p.L0)*p.k + Scalar(0.5)*p.a*p.g*p.m1*sin_q0 + Scalar(0.5)*p.b*p.g*p.m2*sin_phi0 + Scalar(0.5)*p.c*p.g*p.m3*sin_phi1 + length_spring*p.F0 - length_spring*p.L0*p.k - p.F0*p.L0 + p.a*p.g*p.m2*sin_q0;
-  out->dV_dq(0) = Q_0 + Scalar(0.5)*_tmp1 + Scalar(0.5)*c.K(0, 0)*cos_phi0*p.b*p.g*p.m2 + Scalar(0.5)*c.K(1, 0)*cos_phi1*p.c*p.g*p.m3 + _tmp2 + _tmp3 - _tmp4 - c.K(0, 0)*cos_phi0*dx_spring*p.eta*t_spring + c.K(0, 0)*cos_phi0*dy_spring*p.xi*t_spring - c.K(0, 0)*dx_spring*p.xi*sin_phi0*t_spring - c.K(0, 0)*dy_spring*p.eta*sin_phi0*t_spring;
+  out->dV_dq(0) = Scalar(0.5)*_tmp1 + Scalar(0.5)*c.K(0, 0)*cos_phi0*p.b*p.g*p.m2 + Scalar(0.5)*c.K(1, 0)*cos_phi1*p.c*p.g*p.m3 + _tmp2 + _tmp3 - _tmp4 - c.K(0, 0)*cos_phi0*dx_spring*p.eta*t_spring + c.K(0, 0)*cos_phi0*dy_spring*p.xi*t_spring - c.K(0, 0)*dx_spring*p.xi*sin_phi0*t_spring - c.K(0, 0)*dy_spring*p.eta*sin_phi0*t_spring;
   out->R(0) = F_A_x;
   out->R(1) = F_A_y;
   out->R(2) = F_B_x;

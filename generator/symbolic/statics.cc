@@ -341,7 +341,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   // sum_i w_phi_i L(i, j, k), w the virtual work per unit dx (V = [I; K]).
   auto along_motion = [&](const std::vector<Item>& list, const std::vector<bool>& pick, int j) {
     ex s = 0;
-    for (size_t i = 0; i < list.size(); ++i) {
+    for (size_t i = 0; i < pick.size(); ++i) {  // the applied items only (friction and actuators come after)
       if (!pick[i]) continue;
       s += work(list[i], j);
       for (int r = 0; r < nphi; ++r) s += work(list[i], nq + r) * Kc[r][j];
