@@ -1,4 +1,5 @@
-# mechgen_add_model(<name> <model.yaml> [NO_SWEEP] [STRATEGY blocks|monolithic])
+# mechgen_add_model(<name> <model.yaml> [NO_SWEEP] [STATICS|NO_STATICS]
+#                   [STRATEGY blocks|monolithic])
 #
 # Runs `mechgen generate` on <model.yaml> at build time (again whenever the model, the
 # templates or the mechgen program change) and defines:
@@ -7,6 +8,12 @@
 #   <name>_sweep           unless NO_SWEEP, MECHGEN_BUILD_SWEEPS is OFF, or Ceres is absent
 #                          (no target mechgen::runtime_ceres): the sweep command of the
 #                          runtime for this model. It assembles with Ceres.
+#   <name>_statics         under the same conditions, for a model whose outputs ask for
+#                          `forces` (its `quantities:` list, read from the model file at
+#                          configure time; STATICS forces it, NO_STATICS skips it): the statics
+#                          command (runtime/tools/statics_main.cc; driving forces, reactions,
+#                          dead zones, equilibria; CSV, SVG). A model without statics builds
+#                          into a stub that says so.
 # The model library needs Eigen only; with NO_SWEEP nothing here needs Ceres.
 # Requires MECHGEN_EXECUTABLE and MECHGEN_TEMPLATES_DIR (set by the build tree or by
 # find_package(mechgen)).
@@ -28,7 +35,7 @@ function(mechgen_add_model name model)
       "with '_'); it becomes the namespace mech::<name> and the files <name>.h/.cc. Rename it "
       "(for example ${suggestion}).")
   endif()
-  cmake_parse_arguments(ARG "NO_SWEEP" "STRATEGY" "" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SWEEP;STATICS;NO_STATICS" "STRATEGY" "" ${ARGN})
   set(strategy_args)
   if(ARG_STRATEGY)
     set(strategy_args --strategy ${ARG_STRATEGY})
@@ -58,5 +65,23 @@ function(mechgen_add_model name model)
     target_compile_definitions(${name}_sweep PRIVATE
       MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
     target_link_libraries(${name}_sweep PRIVATE mechgen_model_${name} mechgen::runtime_ceres)
+    # Statics: `forces` among the model's quantities, flow (`quantities: [K, forces]`) or
+    # block style (`quantities:` then `- forces` lines).
+    set(statics ${ARG_STATICS})
+    if(NOT ARG_STATICS AND NOT ARG_NO_STATICS)
+      set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${model_abs}")
+      file(READ "${model_abs}" model_text)
+      if(model_text MATCHES "quantities:[ \t]*\\[[^\n]*forces"
+         OR model_text MATCHES "quantities:[ \t]*\n([ \t]+-[^\n]*\n)*[ \t]+-[ \t]*forces")
+        set(statics TRUE)
+      endif()
+    endif()
+    if(statics AND EXISTS "${MECHGEN_TOOLS_DIR}/statics_main.cc")
+      add_executable(${name}_statics "${MECHGEN_TOOLS_DIR}/statics_main.cc")
+      target_compile_definitions(${name}_statics PRIVATE
+        MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
+      target_link_libraries(${name}_statics PRIVATE mechgen_model_${name}
+                            mechgen::runtime_ceres)
+    endif()
   endif()
 endfunction()

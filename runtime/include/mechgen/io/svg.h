@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <ostream>
 #include <string>
@@ -28,6 +29,16 @@ inline const char* ShortName(const char* name) {
 }
 }  // namespace internal
 
+/// The drawing's frame, for SvgOptions::overlay: model coordinates to pixels, and which
+/// records the faded snapshots show.
+struct SvgFrame {
+  double x_min = 0, y_max = 0, scale = 1;  ///< pixel x = (x - x_min) scale, y = (y_max - y) scale + 30
+  double span = 1;                          ///< the larger side of the drawn box (model units)
+  std::vector<size_t> snapshots;            ///< indices into the records of the snapshots
+  std::string X(double x) const { return internal::FormatNumber((x - x_min) * scale, "%.2f"); }
+  std::string Y(double y) const { return internal::FormatNumber((y_max - y) * scale + 30, "%.2f"); }
+};
+
 /// What WriteSvg() draws.
 struct SvgOptions {
   int width = 900;           ///< pixels; the height follows the aspect ratio
@@ -36,6 +47,8 @@ struct SvgOptions {
   double seconds = 6.0;      ///< duration of one animated cycle
   int max_frames = 240;      ///< animation frames (records are subsampled)
   std::string title;         ///< drawn at the top left
+  /// Drawn last, over everything (e.g. the reaction arrows of the statics sweep); none if empty.
+  std::function<void(const SvgFrame&, std::ostream&)> overlay;
 };
 
 /**
@@ -226,6 +239,19 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
         out << "</g>\n";
       }
     }
+  }
+  if (options.overlay) {
+    SvgFrame frame;
+    frame.x_min = x_min;
+    frame.y_max = y_max;
+    frame.scale = scale;
+    frame.span = span;
+    const size_t snapshots = std::min<size_t>(static_cast<size_t>(std::max(options.snapshots, 0)),
+                                              valid.size());
+    for (size_t k = 0; k < snapshots; ++k)
+      frame.snapshots.push_back(static_cast<size_t>(valid[valid.size() * k / snapshots] -
+                                                    records.data()));
+    options.overlay(frame, out);
   }
   out << "</svg>\n";
 }

@@ -1,0 +1,371 @@
+/**
+ * \file statics/solve.h
+ * Statics at one configuration: the generated Model::Forces (EvalStatics: generalized forces by virtual
+ * work, driving forces, reactions; Paul ch. 5) plus what the generated code cannot do
+ * alone: Coulomb friction that depends on the reactions it changes (Paul §5.6), the
+ * forward / backward driving force and self-locking of an input (§5.6.3), and the refusal
+ * to report forces at a dead point of the kinematics.
+ *
+ * Who calls it: the scans in statics/dead_zones.h and statics/equilibrium.h, the statics
+ * sweep (statics/sweep.h), and products that need forces at a configuration they solved
+ * (position::PositionSolver::state()). Fixed-size Eigen only; nothing allocates; no
+ * exceptions. Units and sign conventions: statics/types.h.
+ *
+ * Friction (the friction circle at a revolute joint, |N| at a prismatic one). The generated
+ * Statics is linear in the friction loads f it is given, and reports for each friction
+ * joint J its normal force normal_J (|F_J| at a pin, |N_J| at a slide), its gain_J (mu_J r_J
+ * at a pin, mu_J at a slide) and K_rel_J = d(theta_b - theta_a)/dq (pin) or ds/dq (slide).
+ * For a direction of motion e in q (qdot = e times a positive speed), Coulomb friction
+ * opposes the relative motion of each joint:
+ *     f_J = -gain_J normal_J(f) sign(K_rel_J . e),
+ * a fixed point in f because the normal forces depend on the friction loads. Solve()
+ * iterates it from f = 0 (the frictionless solution), one generated evaluation per step,
+ * until the driving forces and f settle (Options tolerances). A joint that does not move
+ * relatively (K_rel_J . e = 0) gets f_J = 0: static friction is then indeterminate, anywhere
+ * in [-gain_J normal_J, gain_J normal_J], and the frictionless value is the one reported.
+ * Several inputs are fully supported: e is a vector over all inputs, so any combination of
+ * input motions defines the relative motion of every joint; AnalyzeDrive() moves one input
+ * at a time (e = +-e_j) for the forward / backward figures of that input.
+ */
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Core>
+
+#include "mechgen/core/linear_algebra.h"
+#include "mechgen/core/model_traits.h"
+#include "mechgen/position/state.h"
+#include "mechgen/statics/traits.h"
+#include "mechgen/statics/types.h"
+
+namespace mechgen::statics {
+
+/// The statics of model M at one configuration, for one direction of motion.
+template <class M>
+struct Solution {
+  using Types = StaticsTypes<M>;
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  /// The generated Model::StaticsT<double> at the converged friction loads: Q, drive, V,
+  /// stiffness, R, normal, ... (the members the model asked for). All NaN unless
+  /// summary.status is kConverged (kDidNotConverge: the last iterate).
+  typename Types::Statics statics;
+  /// The friction loads f_J (kNumFriction) the statics were evaluated with: torque on link_b
+  /// by link_a (pin, CCW +) or force on the slider along +u (slide); 0 without friction.
+  typename Types::VecF friction = Types::VecF::Constant(kNaN);
+  /// The direction of motion e (kNq) the friction opposes; 0: no motion (frictionless).
+  typename Types::VecQ direction = Types::VecQ::Zero();
+  Summary summary;
+
+  Solution();
+};
+
+namespace internal {
+
+/// Every member of a generated Statics set to NaN ("no value"), whichever the model has.
+template <class S>
+void SetNaN(S* s) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if constexpr (HasQ<S>::value) {
+    s->Q.setConstant(kNaN);
+    s->drive.setConstant(kNaN);
+  }
+  if constexpr (HasV<S>::value) s->V = kNaN;
+  if constexpr (HasDV<S>::value) s->dV_dq.setConstant(kNaN);
+  if constexpr (HasD2V<S>::value) s->d2V_dq2.setConstant(kNaN);
+  if constexpr (HasStiffness<S>::value) s->stiffness.setConstant(kNaN);
+  if constexpr (HasR<S>::value) s->R.setConstant(kNaN);
+  if constexpr (HasFrictionMembers<S>::value) {
+    s->normal.setConstant(kNaN);
+    s->gain.setConstant(kNaN);
+    s->K_rel.setConstant(kNaN);
+  }
+}
+
+/// Every value Model::Forces fills is finite (NaN and inf are not); stiffness and d2V_dq2
+/// (Model::Stiffness) are not checked.
+template <class S>
+bool AllFinite(const S& s) {
+  bool finite = true;
+  if constexpr (HasQ<S>::value) finite = finite && s.Q.allFinite() && s.drive.allFinite();
+  if constexpr (HasV<S>::value) finite = finite && std::isfinite(s.V);
+  if constexpr (HasDV<S>::value) finite = finite && s.dV_dq.allFinite();
+  if constexpr (HasR<S>::value) finite = finite && s.R.allFinite();
+  if constexpr (HasFrictionMembers<S>::value) finite = finite && s.normal.allFinite();
+  return finite;
+}
+
+/// One generated evaluation, with the friction loads f when the model has friction.
+template <class M>
+void Evaluate(const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
+              const typename ModelTypes<M>::VecPhi& phi,
+              const typename ModelTypes<M>::Coefficients& c,
+              const typename StaticsTypes<M>::VecF* f, typename StaticsTypes<M>::Statics* out) {
+  if constexpr (StaticsTakesFriction<M>::value) {
+    M::template Forces<double>(p, q, phi, c, out, StaticsFeatures<M>::kHasFriction ? f : nullptr);
+  } else {
+    (void)f;
+    M::template Forces<double>(p, q, phi, c, out);
+  }
+}
+
+/// Model::Stiffness into out (d2V_dq2, stiffness) when the model has it apart; a model whose
+/// Forces fills them already needs nothing.
+template <class M>
+void EvaluateStiffness(const typename ModelTypes<M>::Params& p,
+                       const typename ModelTypes<M>::VecQ& q,
+                       const typename ModelTypes<M>::VecPhi& phi,
+                       const typename ModelTypes<M>::Coefficients& c,
+                       typename StaticsTypes<M>::Statics* out) {
+  if constexpr (StaticsFeatures<M>::kStiffnessApart) {
+    M::template Stiffness<double>(p, q, phi, c, out);
+  } else {
+    (void)p, (void)q, (void)phi, (void)c, (void)out;
+  }
+}
+
+/// cond_1(Phi_phi) at (q, phi): from the coefficients when they carry Phi_phi (generated
+/// headers do), else from Model::Phi.
+template <class M>
+double Condition(const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
+                 const typename ModelTypes<M>::VecPhi& phi,
+                 const typename ModelTypes<M>::Coefficients& c) {
+  double cond = 0, det = 0;
+  if constexpr (ModelFeatures<M>::kCoeffsHavePhi) {
+    ConditionAndDeterminant(c.Phi_phi, &cond, &det);
+  } else {
+    (void)c;
+    typename ModelTypes<M>::MatCPhi Phi_phi;
+    M::template Phi<double>(p, q, phi, nullptr, &Phi_phi, nullptr);
+    ConditionAndDeterminant(Phi_phi, &cond, &det);
+  }
+  return cond;
+}
+
+}  // namespace internal
+
+template <class M>
+Solution<M>::Solution() {
+  internal::SetNaN(&statics);
+}
+
+/**
+ * \brief The statics at (q, phi) for motion in direction e, with Coulomb friction iterated
+ *        to consistency with the reactions (see the file comment). No allocation.
+ * \param[in]  options    Tolerances, the singular threshold (statics/types.h).
+ * \param[in]  p          Parameters.
+ * \param[in]  q          Inputs (dim kNq).
+ * \param[in]  phi        Dependent variables (dim kNphi) closing the loops at q.
+ * \param[in]  c          Model::Coeffs at the same (q, phi) (the generated Statics uses K, L).
+ * \param[in]  direction  e (dim kNq): the direction of motion; only its signs along each
+ *                        joint matter (sign(K_rel_J . e)). Zero, or a model without
+ *                        friction: one frictionless evaluation.
+ * \param[out] out        Not nullptr. out->statics NaN unless kConverged (kDidNotConverge:
+ *                        the last iterate).
+ * \return kConverged, kSingular (cond_1(Phi_phi) > Options::max_condition or a value not
+ *         finite; out->summary.condition and reaction_norm say how bad), kDidNotConverge,
+ *         kInvalidInput.
+ */
+template <class M>
+Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
+             const typename ModelTypes<M>::VecQ& q, const typename ModelTypes<M>::VecPhi& phi,
+             const typename ModelTypes<M>::Coefficients& c,
+             const typename ModelTypes<M>::VecQ& direction, Solution<M>* out) {
+  static_assert(StaticsFeatures<M>::kHasStatics,
+                "the model has no statics: ask for `forces` in its outputs");
+  using Types = StaticsTypes<M>;
+  using F = StaticsFeatures<M>;
+  Summary& s = out->summary;
+  s = Summary();
+  out->direction = direction;
+  out->friction.setZero();
+  internal::SetNaN(&out->statics);  // nothing stale from an earlier call
+  auto finish = [&](Status status, const char* reason, bool withhold) {
+    s.status = status;
+    s.reason = reason;
+    if (withhold) internal::SetNaN(&out->statics);
+    if (status == Status::kConverged && options.stiffness) {
+      internal::EvaluateStiffness<M>(p, q, phi, c, &out->statics);
+    }
+    return status;
+  };
+  if (!options.IsValid(nullptr)) return finish(Status::kInvalidInput, "invalid Options", true);
+  if (!q.allFinite() || !phi.allFinite() || !direction.allFinite()) {
+    return finish(Status::kInvalidInput, "q, phi or the direction not finite", true);
+  }
+  s.condition = internal::Condition<M>(p, q, phi, c);
+
+  // The frictionless evaluation: the answer without friction, the start of the iteration
+  // with it, and the figure |R| that a singular configuration reports.
+  internal::Evaluate<M>(p, q, phi, c, nullptr, &out->statics);
+  s.iterations = 1;
+  if constexpr (F::kHasReactions) s.reaction_norm = out->statics.R.cwiseAbs().maxCoeff();
+  if (!(s.condition <= options.max_condition)) {
+    return finish(Status::kSingular, "cond_1(Phi_phi) > Options::max_condition (a dead point)",
+                  true);
+  }
+  if (!internal::AllFinite(out->statics)) {
+    return finish(Status::kSingular, "a generated value is not finite", true);
+  }
+  s.last_change = 0;
+  if constexpr (F::kHasFriction) {
+    using VecF = typename Types::VecF;
+    // sign(K_rel_J . e): K_rel depends on the configuration only.
+    VecF sign;
+    for (int J = 0; J < Types::kNumFriction; ++J)
+      sign(J) = Sign(out->statics.K_rel.row(J).dot(direction));
+    if (sign.isZero()) return finish(Status::kConverged, "", false);
+    VecF f_prev = VecF::Zero();
+    typename Types::VecQ drive_prev = out->statics.drive;
+    for (int k = 1; k < options.max_friction_iterations; ++k) {
+      const VecF f = -(out->statics.gain.cwiseProduct(out->statics.normal)).cwiseProduct(sign);
+      internal::Evaluate<M>(p, q, phi, c, &f, &out->statics);
+      ++s.iterations;
+      out->friction = f;
+      if (!internal::AllFinite(out->statics) || !f.allFinite()) {
+        return finish(Status::kDidNotConverge, "friction iteration diverged", false);
+      }
+      const double drive_change = (out->statics.drive - drive_prev).template lpNorm<Eigen::Infinity>();
+      const double f_change = (f - f_prev).template lpNorm<Eigen::Infinity>();
+      s.last_change = drive_change;
+      const double drive_scale = out->statics.drive.template lpNorm<Eigen::Infinity>();
+      const double f_scale = f.template lpNorm<Eigen::Infinity>();
+      if (drive_change <= options.relative_tolerance * drive_scale + options.absolute_tolerance &&
+          f_change <= options.relative_tolerance * f_scale + options.absolute_tolerance) {
+        return finish(Status::kConverged, "", false);
+      }
+      f_prev = f;
+      drive_prev = out->statics.drive;
+    }
+    return finish(Status::kDidNotConverge,
+                  "friction iteration reached Options::max_friction_iterations", false);
+  } else {
+    return finish(Status::kConverged, "", false);
+  }
+}
+
+/// Solve() at a configuration of the position solver (state.valid): evaluates Model::Coeffs
+/// there first. kInvalidInput when !state.valid.
+template <class M>
+Status SolveAt(const Options& options, const typename ModelTypes<M>::Params& p,
+               const position::State<M>& state, const typename ModelTypes<M>::VecQ& direction,
+               Solution<M>* out) {
+  if (!state.valid) {
+    out->summary = Summary();
+    out->summary.status = Status::kInvalidInput;
+    out->summary.reason = "no valid configuration";
+    internal::SetNaN(&out->statics);
+    return Status::kInvalidInput;
+  }
+  typename ModelTypes<M>::Coefficients c;
+  M::template Coeffs<double>(p, state.q, state.phi, &c);
+  return Solve<M>(options, p, state.q, state.phi, c, direction, out);
+}
+
+/// The driving force of one input with friction, forward and backward, and self-locking
+/// (Paul §5.6.3). Only input j moves (direction +-e_j). Forces: statics/types.h.
+struct DriveAnalysis {
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  int input = 0;  ///< j
+  /// T0 = drive_j without friction (N m for an angle input, N for a slide).
+  double drive = kNaN;
+  /// T_fwd = drive_j moving along sign(T0) e_j (+e_j when T0 = 0): the actuator drives the
+  /// load (does positive work); |T_fwd| >= |T0| when friction only dissipates.
+  double drive_forward = kNaN;
+  /// T_back = drive_j moving along -sign(T0) e_j: the load drives the machine backwards,
+  /// the actuator only holds back (T_back T0 > 0) or, self-locking, has to push along the
+  /// motion (T_back T0 <= 0).
+  double drive_backward = kNaN;
+  /// T0 / T_fwd: the forward efficiency (1 without friction, in (0, 1] with it).
+  double efficiency_forward = kNaN;
+  /// T_back / T0: the backward efficiency (1 without friction; <= 0 when self-locking; NaN
+  /// where T0 = 0 up to rounding, |T0| <= 1e-12 |T_fwd|).
+  double efficiency_backward = kNaN;
+  /// T_back T0 <= 0: the load alone cannot move the machine (a dead zone).
+  bool self_locking = false;
+  /// kConverged when all three solves converged, else the first failure's status.
+  Status status = Status::kNotRun;
+};
+
+/**
+ * \brief T0, T_fwd, T_back, the efficiencies and self-locking of input j at (q, phi).
+ *        Three Solve() calls (one without friction). No allocation.
+ * \param[in]  input         j in [0, kNq).
+ * \param[out] out           Not nullptr; NaN values unless out->status is kConverged.
+ * \param[out] frictionless  Solve() with no motion (may be nullptr); forward, backward: with
+ *                           motion along +-sign(T0) e_j (may be nullptr).
+ */
+template <class M>
+Status AnalyzeDrive(const Options& options, const typename ModelTypes<M>::Params& p,
+                    const typename ModelTypes<M>::VecQ& q,
+                    const typename ModelTypes<M>::VecPhi& phi,
+                    const typename ModelTypes<M>::Coefficients& c, int input,
+                    DriveAnalysis* out, Solution<M>* frictionless = nullptr,
+                    Solution<M>* forward = nullptr, Solution<M>* backward = nullptr) {
+  using VecQ = typename ModelTypes<M>::VecQ;
+  *out = DriveAnalysis();
+  out->input = input;
+  Solution<M> local[3];
+  Solution<M>* s0 = frictionless != nullptr ? frictionless : &local[0];
+  Solution<M>* s1 = forward != nullptr ? forward : &local[1];
+  Solution<M>* s2 = backward != nullptr ? backward : &local[2];
+  if (input < 0 || input >= M::kNq) {
+    for (Solution<M>* s : {s0, s1, s2}) {
+      s->summary = Summary();
+      s->summary.status = Status::kInvalidInput;
+      s->summary.reason = "input index out of range";
+    }
+    return out->status = Status::kInvalidInput;
+  }
+  Status status = Solve<M>(options, p, q, phi, c, VecQ::Zero(), s0);
+  if (status != Status::kConverged) {
+    *s1 = *s0;
+    *s2 = *s0;
+    return out->status = status;
+  }
+  const double T0 = s0->statics.drive(input);
+  const double sign = T0 < 0 ? -1.0 : 1.0;
+  const VecQ e = VecQ::Unit(input);
+  if constexpr (StaticsFeatures<M>::kHasFriction) {
+    const Status fwd = Solve<M>(options, p, q, phi, c, VecQ(sign * e), s1);
+    const Status back = Solve<M>(options, p, q, phi, c, VecQ(-sign * e), s2);
+    status = fwd != Status::kConverged ? fwd : back;
+  } else {
+    *s1 = *s0;
+    *s2 = *s0;
+    s1->direction = sign * e;
+    s2->direction = -sign * e;
+  }
+  if (status != Status::kConverged) return out->status = status;
+  out->drive = T0;
+  out->drive_forward = s1->statics.drive(input);
+  out->drive_backward = s2->statics.drive(input);
+  out->efficiency_forward = T0 / out->drive_forward;
+  // T_back / T0 tends to -inf as T0 -> 0 inside a dead zone; where T0 is 0 up to rounding
+  // (|T0| <= 1e-12 |T_fwd|, a dead centre) the ratio says nothing: NaN.
+  out->efficiency_backward = std::abs(T0) > 1e-12 * std::abs(out->drive_forward)
+                                 ? out->drive_backward / T0
+                                 : std::numeric_limits<double>::quiet_NaN();
+  out->self_locking = out->drive_backward * T0 <= 0;
+  return out->status = Status::kConverged;
+}
+
+/// AnalyzeDrive() at a configuration of the position solver (evaluates Model::Coeffs).
+template <class M>
+Status AnalyzeDriveAt(const Options& options, const typename ModelTypes<M>::Params& p,
+                      const position::State<M>& state, int input, DriveAnalysis* out,
+                      Solution<M>* frictionless = nullptr, Solution<M>* forward = nullptr,
+                      Solution<M>* backward = nullptr) {
+  if (!state.valid) {
+    *out = DriveAnalysis();
+    out->input = input;
+    return out->status = Status::kInvalidInput;
+  }
+  typename ModelTypes<M>::Coefficients c;
+  M::template Coeffs<double>(p, state.q, state.phi, &c);
+  return AnalyzeDrive<M>(options, p, state.q, state.phi, c, input, out, frictionless, forward,
+                         backward);
+}
+
+}  // namespace mechgen::statics
