@@ -1,9 +1,20 @@
 #!/usr/bin/env bash
 # The README's first command: install what is missing, build the generator and the
 # `fourbar` solver, and run the main job — sweep a full crank turn of models/fourbar.yaml,
-# print a short table, write out/fourbar.csv and out/fourbar.svg.
+# print a short table, write out/fourbar.csv and out/fourbar.svg. Then the statics of
+# models/slider_crank_friction.yaml: driving torque with friction forward and backward,
+# joint reactions and the dead zones over a crank turn (out/slider_crank_friction.csv,
+# .svg, and .png plotted by gnuplot).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh fourbar_sweep
+bash scripts/build.sh fourbar_sweep slider_crank_friction_statics
 mkdir -p out
 ./build/models/fourbar_sweep --steps 360 --csv out/fourbar.csv --svg out/fourbar.svg --table 8
+echo
+./build/models/slider_crank_friction_statics --steps 360 --table 6 --dead-zones \
+  --csv out/slider_crank_friction.csv --svg out/slider_crank_friction.svg
+if command -v gnuplot >/dev/null; then
+  gnuplot -e "csv='out/slider_crank_friction.csv'; png='out/slider_crank_friction.png'" \
+    runtime/tools/plot_statics.gnuplot
+  echo "wrote out/slider_crank_friction.png (driving torque forward/backward, reaction magnitudes)"
+fi

@@ -9,8 +9,8 @@
  * Units and signs (the contract of the generated statics, models/README.md): forces in the
  * model's force unit (N with SI models), torques in force x length (N m); an angle input's
  * driving force is a torque, a slide input's a force. drive_j is what the actuator of input
- * j applies for static equilibrium: the torque of the input joint's first link (link_a) on
- * its second (link_b), counter-clockwise positive, or the force along the slide on the
+ * j applies for static equilibrium: the torque on the input's moving link (the ground
+ * takes the opposite), counter-clockwise positive, or the force along the slide on the
  * slider. A revolute reaction F_J = (F_J_x, F_J_y) is the force of link_a on link_b at the
  * pin, fixed frame. A friction load f_J is the friction torque on link_b by link_a
  * (revolute, CCW +) or the friction force on the slider along the slide's +u (prismatic).
