@@ -29,6 +29,7 @@ label = {
     "Forces": "(2) + Q, drive",
     "Reactions": "(3) + 4 pin reactions",
     "Full": "(3+) + V, dV/dq",
+    "StaticsOnly": "(3s) positions + K + (3)",
     "FullStiffness": "(3++) + d2V, stiffness",
     "NewtonEuler": "(4) positions + N-E LU",
     "NewtonEulerFixedLU": "(4') same, fixed-size LU",
@@ -45,6 +46,7 @@ print(f"  (3) / (1) reactions / kinematics    = {r('Reactions', 'Kinematics'):6.
 print(f"  (3) / (2) reactions / forces        = {r('Reactions', 'Forces'):6.2f}")
 print(f"  (4) / (3) Newton-Euler / reactions  = {r('NewtonEuler', 'Reactions'):6.2f}   (target >= 5)")
 print(f"  (4') / (3) fixed-size LU / reactions = {r('NewtonEulerFixedLU', 'Reactions'):6.2f}")
+print(f"  (4) / (3s) Newton-Euler / statics-only model = {r('NewtonEuler', 'StaticsOnly'):6.2f}   (no L: what statics needs)")
 print(f"  (3+) / (1) with V and dV/dq        = {r('Full', 'Kinematics'):6.2f}")
 print(f"  (3++) / (1) with EvalStiffness      = {r('FullStiffness', 'Kinematics'):6.2f}")
 print(f"  N-E LU alone / ((3) - (1))          = {med['NewtonEulerSolveOnly'] / max(1e-9, med['Reactions'] - med['Kinematics']):6.2f}   (the statics part alone)")

@@ -31,15 +31,18 @@
 #include "fourbar_loaded_fb.h"
 #include "fourbar_loaded_forces.h"
 #include "fourbar_loaded_reactions.h"
+#include "fourbar_loaded_statics.h"
 
 namespace {
 
 namespace fl = mech::fourbar_loaded;
 namespace ff = mech::fourbar_loaded_forces;
 namespace fr = mech::fourbar_loaded_reactions;
+namespace fs = mech::fourbar_loaded_statics;
 using M = fl::Model;
 using MF = ff::Model;
 using MR = fr::Model;
+using MS = fs::Model;
 using Q1 = Eigen::Matrix<double, 1, 1>;
 
 constexpr double kStep = 0.5 * M_PI / 180;  // 0.5 deg per configuration
@@ -92,6 +95,8 @@ BENCHMARK(Kinematics);
 
 MECHGEN_STATICS_BENCH(Forces, ff, MF, (void)0);
 MECHGEN_STATICS_BENCH(Reactions, fr, MR, (void)0);
+// (3s) the same reactions from a model that asks for no more than statics needs (no L, no scene).
+MECHGEN_STATICS_BENCH(StaticsOnly, fs, MS, (void)0);
 MECHGEN_STATICS_BENCH(Full, fl, M, (void)0);
 MECHGEN_STATICS_BENCH(FullStiffness, fl, M, fl::EvalStiffness(p, q, phi, c, &st));
 
