@@ -318,7 +318,7 @@ void EvalStatics(const Params<Scalar>& p,
                  Statics<Scalar>* out,
                  const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 61 (adds 16, muls 38, divs 3, calls 4); intermediate terms: 4
+  // Total ops: 61 (adds 16, muls 38, divs 3, calls 4); intermediate terms: 3
   using std::cos;
   using std::sin;
   (void)friction;
@@ -341,9 +341,9 @@ void EvalStatics(const Params<Scalar>& p,
   const Scalar _tmp1 = cos_q0*p.a*p.g*p.m2;
   const Scalar g_0 = -Scalar(0.5)*_tmp0 - _tmp1;
   const Scalar g_1 = -Scalar(0.5)*cos_phi0*p.b*p.g*p.m2;
-  const Scalar _tmp2 = p.a + p.b + p.h - phi(1);
-  const Scalar _tmp3 = p.P0*p.h/_tmp2;
-  const Scalar g_2 = -_tmp3;
+  const Scalar sum_28ce42ce = p.a + p.b + p.h - phi(1);
+  const Scalar _tmp2 = p.P0*p.h/sum_28ce42ce;
+  const Scalar g_2 = -_tmp2;
   const Scalar Q_0 = c.K(0, 0)*g_1 + c.K(1, 0)*g_2 + g_0;
   const Scalar detT_block1 = c.Phi_phi(0, 1);
   const Scalar inv_detT_block1 = Scalar(1)/detT_block1;
@@ -358,7 +358,7 @@ void EvalStatics(const Params<Scalar>& p,
   const Scalar F_O_y = F_C_y + p.g*p.m1 + p.g*p.m2;
   const Scalar F_B_x = F_C_x;
   const Scalar F_B_y = F_C_y + p.g*p.m2;
-  const Scalar R_slide_x = -F_C_x + _tmp3;
+  const Scalar R_slide_x = -F_C_x + _tmp2;
   const Scalar R_slide_y = -F_C_y + p.g*p.m3;
   const Scalar M_slide = Scalar(0);
   out->Q(0) = Q_0;
@@ -393,7 +393,7 @@ void EvalStiffness(const Params<Scalar>& p,
                    const Vec<Scalar, Sizes::kNphi>& phi,
                    const Coefficients<Scalar>& c,
                    Statics<Scalar>* out) {
-  // Total ops: 40 (adds 11, muls 24, divs 2, calls 3); intermediate terms: 6
+  // Total ops: 40 (adds 11, muls 24, divs 2, calls 3); intermediate terms: 5
   using std::cos;
   using std::sin;
   const Scalar _tmp0 = -Scalar(0.5)*(c.K(0, 0)*c.K(0, 0))*p.b*p.g*p.m2*sin(phi(0));
@@ -401,9 +401,9 @@ void EvalStiffness(const Params<Scalar>& p,
   const Scalar _tmp2 = -Scalar(0.5)*_tmp1*p.a*p.g*p.m1;
   const Scalar _tmp3 = -_tmp1*p.a*p.g*p.m2;
   const Scalar _tmp4 = Scalar(0.5)*c.L(0, 0)*cos(phi(0))*p.b*p.g*p.m2;
-  const Scalar _tmp5 = p.a + p.b + p.h - phi(1);
+  const Scalar sum_28ce42ce = p.a + p.b + p.h - phi(1);
   out->d2V_dq2(0, 0) = _tmp0 + _tmp2 + _tmp3 + _tmp4;
-  out->stiffness(0, 0) = (c.K(1, 0)*c.K(1, 0))*p.P0*p.h/(_tmp5*_tmp5) + _tmp0 + _tmp2 + _tmp3 + _tmp4 + c.L(1, 0)*p.P0*p.h/_tmp5;
+  out->stiffness(0, 0) = (c.K(1, 0)*c.K(1, 0))*p.P0*p.h/(sum_28ce42ce*sum_28ce42ce) + _tmp0 + _tmp2 + _tmp3 + _tmp4 + c.L(1, 0)*p.P0*p.h/sum_28ce42ce;
 }
 
 /**

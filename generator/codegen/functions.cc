@@ -322,7 +322,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   ShareTrig(k, trig_done, printer, &coefficients, &positions, has_statics ? &statics_spec : nullptr);
   out.push_back(coefficients);
   if (has_statics) out.push_back(statics_spec);
-  if (has_statics && (!statics->d2V_dq2.empty() || !statics->stiffness_q.empty())) out.push_back(EvalStiffnessSpec(m, *statics));
+  if (has_statics && (!statics->d2V_dq2.empty() || !statics->stiffness_q.empty())) out.push_back(EvalStiffnessSpec(m, *statics, printer));
   out.push_back(EvalDetPhiPhiSpec(t));
   if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));
   out.push_back(positions);

@@ -45,7 +45,7 @@ FunctionSpec ContourSpec(const Model& m, const CamContour& c);
 /// EvalStatics (codegen/statics_functions.cc): Q, drive, V, reactions, friction (as requested).
 FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer);
 /// EvalStiffness: d2V/dq2 and -dQ/dq (potential with L).
-FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st);
+FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);
 

@@ -1,7 +1,12 @@
 // EvalStatics: the statics of symbolic/statics.h stored into the generated Statics struct.
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <tuple>
 #include <set>
 
 #include "codegen/functions.h"
+#include "codegen/sha256.h"
 
 namespace mechgen {
 namespace {
@@ -15,6 +20,94 @@ std::string Idx(int i, int j) { return "(" + N(i) + ", " + N(j) + ")"; }
 void CollectSymbols(const ex& e, std::set<ex, GiNaC::ex_is_less>* out) {
   for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
     if (GiNaC::is_a<GiNaC::symbol>(*it)) out->insert(*it);
+}
+
+// A sum's sign as the printed text fixes it: the term whose coefficient-free text sorts first
+// has a positive coefficient. (GiNaC normalizes the sign of a sum raised to an integer power
+// by its leading term in its own order, which changes from run to run: a load such as
+// P0 h / (h + a + b - s) would print as either sign.)
+bool NeedsFlip(const ex& sum, CxxPrinter* printer) {
+  std::string best;
+  bool negative = false, first = true;
+  for (size_t i = 0; i < sum.nops(); ++i) {
+    const ex t = sum.op(i);
+    ex core = t;
+    bool neg = false;
+    if (GiNaC::is_a<GiNaC::numeric>(t)) {
+      core = 1;
+      neg = GiNaC::ex_to<GiNaC::numeric>(t).is_negative();
+    } else if (GiNaC::is_a<GiNaC::mul>(t)) {
+      ex c = 1;
+      for (size_t j = 0; j < t.nops(); ++j)
+        if (GiNaC::is_a<GiNaC::numeric>(t.op(j))) c *= t.op(j);
+      core = t / c;
+      neg = GiNaC::ex_to<GiNaC::numeric>(c).is_negative();
+    }
+    const std::string& key = printer->Key(core);
+    if (first || key < best) {
+      best = key;
+      negative = neg;
+      first = false;
+    }
+  }
+  return negative;
+}
+
+// Every sum raised to an integer power becomes a named local of a fixed sign, defined before
+// the statement that first needs it, so that the text is the same on every run: the sums
+// are rewritten from the inside out, each named after a hash of its own text (not after
+// the order GiNaC visits them in, which changes from run to run) and defined inner sums
+// first, then in the order of their text.
+void NameSumPowers(Program* program, CxxPrinter* printer) {
+  struct Sum {
+    ex symbol;
+    int depth = 0;
+  };
+  std::map<std::string, Sum> named;  // canonical text -> its local
+  for (const Statement& s : *program)  // the locals' names, for printing the sums' text
+    if (s.kind == Statement::Kind::kDefine) printer->Name(s.symbol, s.target);
+  Program out;
+  for (Statement s : *program) {
+    if (s.kind == Statement::Kind::kDefine || s.kind == Statement::Kind::kStore) {
+      std::vector<std::tuple<int, std::string, Statement>> before;
+      struct Rewrite : GiNaC::map_function {
+        std::function<ex(const ex&)> f;
+        ex operator()(const ex& e) override { return f(e); }
+      } rewrite;
+      rewrite.f = [&](const ex& e) -> ex {
+        const ex r = e.map(rewrite);
+        if (!GiNaC::is_a<GiNaC::power>(r) || !GiNaC::is_a<GiNaC::add>(r.op(0)) ||
+            !GiNaC::is_a<GiNaC::numeric>(r.op(1)) || !GiNaC::ex_to<GiNaC::numeric>(r.op(1)).is_integer())
+          return r;
+        const bool flip = NeedsFlip(r.op(0), printer);
+        const ex base = flip ? (-r.op(0)).expand() : r.op(0);
+        const std::string text = printer->Print(base);
+        auto it = named.find(text);
+        if (it == named.end()) {
+          int depth = 0;
+          for (const auto& [t, other] : named)
+            if (base.has(other.symbol)) depth = std::max(depth, other.depth + 1);
+          std::string name = "sum_" + Sha256Hex(text).substr(0, 8);
+          for (const auto& [t, other] : named)
+            if (printer->Print(other.symbol) == name) name += "_" + N(static_cast<int>(named.size()));
+          ex sym;
+          Statement def = Define(name, base, &sym);
+          printer->Name(sym, name);
+          it = named.emplace(text, Sum{sym, depth}).first;
+          before.emplace_back(depth, text, def);
+        }
+        const GiNaC::numeric n = GiNaC::ex_to<GiNaC::numeric>(r.op(1));
+        return (flip && n.is_odd() ? -1 : 1) * GiNaC::pow(it->second.symbol, n);
+      };
+      s.value = rewrite(s.value);
+      std::sort(before.begin(), before.end(), [](const auto& x, const auto& y) {
+        return std::get<0>(x) != std::get<0>(y) ? std::get<0>(x) < std::get<0>(y) : std::get<1>(x) < std::get<1>(y);
+      });
+      for (const auto& [depth, text, def] : before) out.push_back(def);
+    }
+    out.push_back(s);
+  }
+  *program = out;
 }
 
 }  // namespace
@@ -98,11 +191,12 @@ FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter*
         if (s.target.rfind("const Scalar " + name + " =", 0) == 0 && !used.count(sym)) drop = true;
     if (!drop) cleaned.push_back(s);
   }
+  NameSumPowers(&cleaned, printer);
   f.body = {cleaned};
   return f;
 }
 
-FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st) {
+FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer) {
   const int nq = static_cast<int>(m.inputs.size());
   FunctionSpec f;
   f.name = "EvalStiffness";
@@ -121,6 +215,7 @@ FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st) {
     P.push_back(Store("out->d2V_dq2" + Idx(static_cast<int>(i) % nq, static_cast<int>(i) / nq), st.d2V_dq2[i]));
   for (size_t i = 0; i < st.stiffness_q.size(); ++i)
     P.push_back(Store("out->stiffness" + Idx(static_cast<int>(i) % nq, static_cast<int>(i) / nq), st.stiffness_q[i]));
+  NameSumPowers(&P, printer);
   f.body = {P};
   return f;
 }

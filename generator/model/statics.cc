@@ -3,6 +3,9 @@
 // (links.cc). Loads may depend on the coordinates: their expressions read the coordinates'
 // names as placeholder symbols (Model::coordinate_refs) that the statics derivation
 // (symbolic/statics.h) replaces by the coordinates themselves.
+#include <regex>
+
+#include "joints/joint_kind.h"
 #include "model/reader.h"
 
 namespace mechgen {
@@ -48,8 +51,7 @@ void MakeCoordinateRefs(Model& m) {
   if (!m.coordinate_refs.empty()) return;
   for (const Link& l : m.links) m.coordinate_refs.emplace("theta_" + l.name, GiNaC::symbol("theta_" + l.name));
   for (const Joint& j : m.joints)
-    for (const char* prefix : {"s_", "psi_", "u_"})
-      m.coordinate_refs.emplace(prefix + j.name, GiNaC::symbol(prefix + j.name));
+    if (const auto c = KindOf(j).Coordinate(m, j)) m.coordinate_refs.emplace(c->name, GiNaC::symbol(c->name));
 }
 
 GiNaC::ex LoadExpression(SectionReader& r, const YAML::Node& node, const std::string& what) {
@@ -59,6 +61,13 @@ GiNaC::ex LoadExpression(SectionReader& r, const YAML::Node& node, const std::st
   // with the coordinates' names besides the parameters.
   GiNaC::symtab coordinates;
   for (const auto& [name, sym] : m.coordinate_refs) coordinates[name] = sym;
+  // Time and velocities: names the dynamics will give meaning to.
+  static const std::regex reserved(R"((^|[^A-Za-z0-9_])(t|[A-Za-z_][A-Za-z0-9_]*_d?dot)($|[^A-Za-z0-9_]))");
+  std::smatch match;
+  const std::string text = r.Scalar(node, what);
+  if (std::regex_search(text, match, reserved))
+    r.Fail(node, what + ": '" + match[2].str() + "' is reserved for the dynamics (time t and velocities <coordinate>_dot); "
+                        "a static load depends on the parameters and the coordinates only");
   return r.Expression(node, what, coordinates);
 }
 
