@@ -65,9 +65,13 @@ GiNaC::ex LoadExpression(SectionReader& r, const YAML::Node& node, const std::st
   static const std::regex reserved(R"((^|[^A-Za-z0-9_])(t|[A-Za-z_][A-Za-z0-9_]*_d?dot)($|[^A-Za-z0-9_]))");
   std::smatch match;
   const std::string text = r.Scalar(node, what);
-  if (std::regex_search(text, match, reserved))
-    r.Fail(node, what + ": '" + match[2].str() + "' is reserved for the dynamics (time t and velocities <coordinate>_dot); "
+  if (std::regex_search(text, match, reserved)) {
+    SourceMark at = MarkOf(node);  // the name's own column (a plain scalar on one line)
+    if (node.Tag() != "!" && text.find('\n') == std::string::npos)
+      at.column += static_cast<int>(match.position(2));
+    m.Fail(at, what + ": '" + match[2].str() + "' is reserved for the dynamics (time t and velocities <coordinate>_dot); "
                         "a static load depends on the parameters and the coordinates only");
+  }
   return r.Expression(node, what, coordinates);
 }
 

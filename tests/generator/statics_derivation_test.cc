@@ -321,8 +321,9 @@ TEST(StaticsErrors, EachNamesItsPlaceAndWhatToChange) {
   ExpectError(base + "loads:\n  f: {force: [1, 0], at: coupler.Q}\n", "17:26", "has no point 'Q'");
   ExpectError(base + "loads:\n  f: {force: [1, 0], torque: 2, at: coupler.B}\n", "17:6", "exactly one of force");
   ExpectError(base + "loads:\n  f: {torque: 2, on: ground}\n", "17:3", "acts on the ground link");
-  ExpectError(base + "loads:\n  f: {force: [1, s_A], at: coupler.B}\noutputs: {quantities: [K, forces]}\n", "17:3",
-              "not a coordinate of this model");
+  ExpectError(base + "loads:\n  f: {force: [1, s_A], at: coupler.B}\n", "17:18", "unknown name 's_A'");
+  ExpectError(base + "loads:\n  f: {force: [1, 2*t], at: coupler.B}\n", "17:20", "reserved for the dynamics");
+  ExpectError(base + "loads:\n  f: {torque: theta_crank_dot, on: coupler}\n", "17:15", "reserved for the dynamics");
   ExpectError(base + "loads:\n  f: {force: [1, 0], at: coupler.B, frame: body}\n", "17:44", "fixed");
   ExpectError(base + "springs:\n  k: {torsional: A, stiffness: -1}\n", "17:32", "negative");
   ExpectError(base + "springs:\n  k: {between: [crank.A, crank.B], stiffness: 1}\n", "17:16", "one link");
