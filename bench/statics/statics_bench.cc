@@ -55,6 +55,19 @@ Eigen::Matrix<double, Model::kNphi, 1> AssemblyPhi() {
   return phi;
 }
 
+// (0) the position solve alone, as (4) calls it: what every pipeline below pays first.
+void Positions(benchmark::State& state) {
+  const fl::Params<double> p;
+  Eigen::Matrix<double, M::kNphi, 1> phi = AssemblyPhi<M>();
+  long k = 0;
+  for (auto _ : state) {
+    const auto report = M::Solve(p, Q1(Q1::Constant(CrankAngle(k++))), &phi);
+    benchmark::DoNotOptimize(report);
+    benchmark::DoNotOptimize(phi);
+  }
+}
+BENCHMARK(Positions);
+
 void Kinematics(benchmark::State& state) {
   const fl::Params<double> p;
   fl::Coefficients<double> c;
