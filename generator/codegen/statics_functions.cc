@@ -158,11 +158,7 @@ FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter*
   f.notes = {"\\note Everything is linear in the friction loads; the runtime iterates them on the normal",
              "forces (mechgen/statics). Near a dead point (Phi_phi singular) the multipliers, and so the",
              "reactions and the drive of a non-input load path, grow without bound: check the conditioning."};
-  Program P;
-  for (size_t i = 0; i < st.layout.friction.size(); ++i)
-    P.push_back(Raw("const Scalar friction_" + N(static_cast<int>(i)) + " = friction != nullptr ? (*friction)(" +
-                    N(static_cast<int>(i)) + ") : Scalar(0);"));
-  P.insert(P.end(), st.program.begin(), st.program.end());
+  Program P = st.program;
   if (st.forces)
     for (int j = 0; j < nq; ++j) {
       P.push_back(Store("out->Q(" + N(j) + ")", st.Q[j]));
@@ -179,20 +175,19 @@ FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter*
     for (int j = 0; j < nq; ++j) P.push_back(Store("out->K_rel" + Idx(static_cast<int>(i), j), st.K_rel[i][j]));
   }
   PruneUnusedDefines(&P);
-  // A friction load nobody reads (its joint's reaction does not enter what was asked).
-  Program cleaned;
+  // The friction loads the remaining statements read (a friction joint whose force enters
+  // nothing that was asked for is not read), each from the argument or 0.
   std::set<ex, GiNaC::ex_is_less> used;
   for (const Statement& s : P)
     if (s.kind == Statement::Kind::kDefine || s.kind == Statement::Kind::kStore) CollectSymbols(s.value, &used);
-  for (const Statement& s : P) {
-    bool drop = false;
-    if (s.kind == Statement::Kind::kRaw)
-      for (const auto& [sym, name] : st.names)
-        if (s.target.rfind("const Scalar " + name + " =", 0) == 0 && !used.count(sym)) drop = true;
-    if (!drop) cleaned.push_back(s);
-  }
-  NameSumPowers(&cleaned, printer);
-  f.body = {cleaned};
+  Program prologue;
+  for (const auto& [sym, name] : st.names)
+    if (name.rfind("friction_", 0) == 0 && used.count(sym))
+      prologue.push_back(Raw("const Scalar " + name + " = friction != nullptr ? (*friction)(" + name.substr(9) +
+                             ") : Scalar(0);"));
+  P.insert(P.begin(), prologue.begin(), prologue.end());
+  NameSumPowers(&P, printer);
+  f.body = {P};
   return f;
 }
 

@@ -135,6 +135,10 @@ const JointKind& GearKind();
 const JointKind& RackKind();
 const JointKind& CamKind();
 
+/// The unit vector u along a prismatic joint's line (its angle in the guide's frame plus
+/// the guide's absolute angle `guide_theta`; prismatic.cc).
+Vec2 LineDirection(const PrismaticData& d, const GiNaC::ex& guide_theta);
+
 /// The contact point of rolling joint `j` in the fixed frame: on the line or circle of the
 /// base link (frame `base`) at contact parameter `v` (roll.cc).
 Vec2 ContactPosition(const Model& m, const Joint& j, const Frame& base, const GiNaC::ex& v);

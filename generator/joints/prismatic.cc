@@ -7,12 +7,12 @@
 #include "joints/joint_kind.h"
 
 namespace mechgen {
-namespace {
 
-// Direction of the line: angle in the guide link's frame + its theta.
 Vec2 LineDirection(const PrismaticData& d, const GiNaC::ex& guide_theta) {
   return {cos(guide_theta + d.angle), sin(guide_theta + d.angle)};
 }
+
+namespace {
 
 class Prismatic : public JointKind {
  public:
@@ -87,9 +87,10 @@ class Prismatic : public JointKind {
   }
 
   std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
-    (void)m;
-    return {{"N_" + j.name, "normal force of the guide on the slider, perpendicular to the line"},
-            {"M_" + j.name, "moment of the guide on the slider (keeps the relative angle)"}};
+    // (The statics adds T_<joint>, the force along the line: the actuator's and friction's.)
+    const std::string by = "'" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name + "'";
+    return {{"N_" + j.name, "normal force of " + by + " along n = (-sin a, cos a), a = the line's angle"},
+            {"M_" + j.name, "moment of " + by + " about the slider point, counter-clockwise"}};
   }
 };
 

@@ -98,8 +98,6 @@ void ReadLoads(SectionReader& r, const YAML::Node& node) {
     l.name = name;
     l.mark = r.KeyMark(spec);
     if (!IsIdentifier(name)) m.Fail(l.mark, "load name '" + name + "' must be an identifier (letters, digits, _)");
-    for (const Load& other : m.loads)
-      if (other.name == name) m.Fail(l.mark, "duplicate load name '" + name + "'");
     if (!spec.IsMap())
       r.Fail(spec, "load '" + name + "' must be {force: [Fx, Fy], at: link.P} or {torque: T, on: link}");
     const YAML::Node& s = spec;
@@ -219,8 +217,6 @@ void ReadFriction(SectionReader& r, const YAML::Node& node) {
       if (r.Number(s["viscous"], "viscous coefficient of " + what) < 0)
         r.Fail(s["viscous"], "viscous coefficient of " + what + " is negative");
     }
-    for (const Friction& other : m.friction)
-      if (other.joint == f.joint) m.Fail(f.mark, "friction at joint '" + name + "' is given twice");
     m.friction.push_back(f);
   }
 }

@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <set>
+#include <stdexcept>
 
 #include "joints/joint_kind.h"
 
@@ -69,13 +70,10 @@ const Coordinate* CoordinateOfJoint(const Model& m, const Kinematics& k, int joi
   return nullptr;
 }
 
-// The absolute angle of a prismatic joint's line and its unit vectors u (along) and n.
-void PrismaticLine(const Model& m, const Kinematics& k, const Joint& j, Vec2* u, Vec2* n) {
-  const PrismaticData& d = j.Data<PrismaticData>();
-  const ex a = k.frames[j.link_a].theta + d.angle;
-  *u = {GiNaC::cos(a), GiNaC::sin(a)};
-  *n = {-GiNaC::sin(a), GiNaC::cos(a)};
-  (void)m;
+// A prismatic joint's unit vectors along its line (u) and normal to it (n = u turned by 90 deg).
+void PrismaticLine(const Kinematics& k, const Joint& j, Vec2* u, Vec2* n) {
+  *u = LineDirection(j.Data<PrismaticData>(), k.frames[j.link_a].theta);
+  *n = {-(*u)[1], (*u)[0]};
 }
 
 }  // namespace
@@ -86,21 +84,15 @@ StaticsLayout StaticsLayout::Of(const Model& m) {
   for (int j : m.outputs.reactions) {
     const Joint& joint = m.joints[j];
     const std::string by = "'" + m.links[joint.link_a].name + "' on '" + m.links[joint.link_b].name + "'";
-    switch (joint.type()) {
-      case JointType::kRevolute:
-        l.reactions.push_back({j, "F_" + joint.name + "_x", "force of " + by + " at the pin, x"});
-        l.reactions.push_back({j, "F_" + joint.name + "_y", "force of " + by + " at the pin, y"});
-        break;
-      case JointType::kPrismatic:
-        l.reactions.push_back({j, "N_" + joint.name, "normal force of " + by + " along n = (-sin a, cos a), a = the line's angle"});
-        l.reactions.push_back({j, "T_" + joint.name, "force of " + by + " along the line u = (cos a, sin a): actuator and friction"});
-        l.reactions.push_back({j, "M_" + joint.name, "moment of " + by + " about the slider point, counter-clockwise"});
-        break;
-      default:
-        for (const ReactionComponent& c : KindOf(joint).ReactionComponents(m, joint))
-          l.reactions.push_back({j, c.name, c.what + " (the multiplier of the joint's row: its generalized force on "
-                                                     "each coordinate x is F dPhi_row/dx)"});
-        break;
+    // The joint kind names its components; a slider's force along its line (T) is the
+    // statics' own: the actuator's and friction's, between N and M.
+    for (const ReactionComponent& c : KindOf(joint).ReactionComponents(m, joint)) {
+      if (joint.type() == JointType::kPrismatic && c.name[0] == 'M')
+        l.reactions.push_back(
+            {j, "T_" + joint.name, "force of " + by + " along the line u = (cos a, sin a): actuator and friction"});
+      l.reactions.push_back({j, c.name, joint.IsLowerPair() ? c.what
+                                                            : c.what + " (the multiplier of the joint's row: its generalized "
+                                                                       "force on each coordinate x is F dPhi_row/dx)"});
     }
   }
   for (const Friction& f : m.friction) l.friction.push_back(f.joint);
@@ -165,11 +157,8 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
         refs[sym] = c->symbol;
         found = true;
       }
-    if (!found)
-      for (const Load& l : m.loads)
-        if ((l.fx.has(sym) || l.fy.has(sym) || l.torque.has(sym)))
-          m.Fail(l.mark, "load '" + l.name + "' uses '" + name + "', which is not a coordinate of this model (" +
-                             name.substr(0, name.find('_')) + "_<joint> exists only where the joint has that coordinate)");
+    // The reader offers only the model's own coordinates (model/statics.cc).
+    if (!found) throw std::logic_error("mechgen bug: load coordinate '" + name + "' is not a coordinate");
   }
 
   // ---- the applied forces: items (a force at a point and/or a couple on one link) ----
@@ -270,7 +259,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       on_a.couple = -fr[i];
     } else {
       Vec2 u, n;
-      PrismaticLine(m, k, j, &u, &n);
+      PrismaticLine(k, j, &u, &n);
       on_b.at = on_a.at = position(j.End(j.link_b));
       on_b.F = {fr[i] * u[0], fr[i] * u[1]};
       on_a.F = {-fr[i] * u[0], -fr[i] * u[1]};
@@ -311,7 +300,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
     const Joint& in = m.joints[m.inputs[j].joint];
     if (in.type() == JointType::kPrismatic) {
       Vec2 u, n;
-      PrismaticLine(m, k, in, &u, &n);
+      PrismaticLine(k, in, &u, &n);
       const Vec2 at = position(in.End(in.link_b));
       Item on_b, on_a;
       on_b.link = in.link_b;
@@ -451,7 +440,6 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   std::vector<Vec2> F(m.joints.size(), Vec2{0, 0}), F_at(m.joints.size(), Vec2{0, 0});
   std::vector<bool> have_F(m.joints.size(), false), have_M(m.joints.size(), false);
   std::vector<ex> M(m.joints.size(), 0);
-  std::vector<int> requested_by(m.joints.size(), -1);
   auto fail = [&](int joint, const std::string& why) {
     const SourceMark mark = m.outputs.reactions_mark.line ? m.outputs.reactions_mark : m.friction.front().mark;
     m.Fail(mark, "the reaction at joint '" + m.joints[joint].name + "' cannot be derived: " + why);
@@ -460,7 +448,9 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
     const Joint& j = m.joints[jn];
     return position(j.End(j.link_b));
   };
-  std::function<void(int, int)> force_of;  // (joint, asked for by joint)
+  // A tree joint's force needs only the cut joints' (multipliers), so this recursion is
+  // one level deep.
+  std::function<void(int)> force_of;
   std::function<void(int)> moment_of;
   // Sum of the forces (and moments about `about`, if given) acting on the links of S from
   // outside S, the joint `skip` excepted.
@@ -482,7 +472,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
         fail(skip, std::string("it needs the contact force of ") + KindOf(j).Keys().section + " joint '" + j.name +
                        "' as a vector, which mechgen derives only as the joint's multiplier; ask for reactions at "
                        "revolute and prismatic joints whose links do not carry a gear, rack, cam or rolling contact");
-      force_of(static_cast<int>(jn), skip);
+      force_of(static_cast<int>(jn));
       const double sign = S.count(j.link_b) ? 1 : -1;
       add({sign * F[jn][0], sign * F[jn][1]}, F_at[jn], 0);
       if (about && j.type() == JointType::kPrismatic) {
@@ -507,12 +497,9 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
     }
     return S;
   };
-  force_of = [&](int jn, int asked_by) {
+  force_of = [&](int jn) {
     if (have_F[jn]) return;
     const Joint& j = m.joints[jn];
-    if (requested_by[jn] >= 0)
-      fail(asked_by, "the reactions at '" + m.joints[asked_by].name + "' and '" + j.name + "' depend on each other");
-    requested_by[jn] = asked_by;
     F_at[jn] = joint_point(jn);
     const std::string base = (j.type() == JointType::kPrismatic ? "R_" : "F_") + j.name;
     if (tree_of_joint[jn] < 0) {  // a cut joint: its rows' multipliers
@@ -540,7 +527,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   moment_of = [&](int jn) {
     if (have_M[jn]) return;
     const Joint& j = m.joints[jn];
-    force_of(jn, jn);
+    force_of(jn);
     const Vec2 P = F_at[jn];
     std::set<int> S;
     int sign_to_b = 1;
@@ -568,7 +555,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   };
   for (int jn : needed) {
     const Joint& j = m.joints[jn];
-    if (j.type() == JointType::kRevolute) force_of(jn, jn);
+    if (j.type() == JointType::kRevolute) force_of(jn);
     else if (j.type() == JointType::kPrismatic) moment_of(jn);
     else if (tree_of_joint[jn] >= 0)
       fail(jn, "a rolling joint in the spanning tree: its contact force is not derived yet");
@@ -579,7 +566,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       R.push_back(c.name.back() == 'x' ? F[c.joint][0] : F[c.joint][1]);
     } else if (j.type() == JointType::kPrismatic) {
       Vec2 u, n;
-      PrismaticLine(m, k, j, &u, &n);
+      PrismaticLine(k, j, &u, &n);
       if (c.name[0] == 'N') R.push_back(F[c.joint][0] * n[0] + F[c.joint][1] * n[1]);
       else if (c.name[0] == 'T') {
         // Along the line: the friction force and the actuator's (a tree joint's balance above
@@ -613,7 +600,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       K_rel.push_back(kr);
     } else {
       Vec2 u, n;
-      PrismaticLine(m, k, j, &u, &n);
+      PrismaticLine(k, j, &u, &n);
       normal.push_back(GiNaC::abs(F[jn][0] * n[0] + F[jn][1] * n[1]));
       gain.push_back(f.coefficient);
       const Coordinate* s = CoordinateOfJoint(m, k, jn);
