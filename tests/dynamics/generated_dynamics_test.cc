@@ -1,6 +1,6 @@
 // The generated dynamics (EvalDynamics, EvalKinetostatics; issue 15, Paul ch. 6) of
-// models/fourbar_massive.yaml and the test models pendulum.yaml (kNphi = 0) and
-// slider_crank_torque.yaml, against oracles written here from the models' text:
+// models/fourbar_massive.yaml, models/slider_crank_motor.yaml and the test models pendulum.yaml
+// (kNphi = 0) and slider_crank_torque.yaml, against oracles written here from the models' text:
 //  - the centres of mass and link angles come from the scene points (EvalScene of the solved
 //    positions) and the mass data of the model files, written out below by hand;
 //  - I(q) = 2 T(q, qd = 1) with T = sum 1/2 m |v_G|^2 + 1/2 J w^2, the velocities by central
@@ -8,6 +8,10 @@
 //    differences of that I; C = dI/dq / 2 (one DOF), h = C qd^2, T = 1/2 I qd^2;
 //  - V = sum m g y_G by hand, Q = -dV/dq by central differences (plus the crank torque M of the
 //    slider-crank), P_nc = (Q + dV/dq) qd;
+//  - the motor-driven slider-crank: Q against the virtual work of the motor's table (interpolated
+//    here), the gas force, the damper (c (dl/dq)^2 qd), the viscous bearing and the weights;
+//  - the excess-coordinate formulation: M by polarization of the kinetic energy, h and gamma by
+//    second differences along x(t) = x + xd t, Phi_x by differences of Phi, g = -dV/dx;
 //  - the kinetostatics: every moving link of the four-bar and of the pendulum obeys Newton–Euler
 //    (sum F = m a_G, sum M_G = J alpha) with the generated reactions and driving torque, the
 //    accelerations by second differences of the positions along q(t) = q0 + qd t + qdd t^2 / 2.
@@ -23,6 +27,7 @@
 #include <vector>
 
 #include "fourbar_massive.h"
+#include "slider_crank_motor.h"
 #include "pendulum.h"
 #include "slider_crank_torque.h"
 
@@ -81,6 +86,12 @@ struct Harness {
     const Vphi phi = Solve(q);
     Eigen::Matrix<double, 2, M::kNumScenePoints> r;
     M::Scene(p, qq, phi, &r);
+    return r;
+  }
+  // The scene at any (q, phi), closed or not (the excess-coordinate formulation's x).
+  Eigen::MatrixXd SceneAt(const Vq& q, const Vphi& phi) {
+    Eigen::Matrix<double, 2, M::kNumScenePoints> r;
+    M::Scene(p, q, phi, &r);
     return r;
   }
   // Centres of mass and angles of every body at q.
@@ -322,6 +333,160 @@ TEST(GeneratedKinetostatics, DriveIsTheInverseDynamics) {
     const double I = h.InertiaOracle(q0), dI = h.dInertiaOracle(q0);
     EXPECT_NEAR(st.drive(0), I * qdd + dI / 2 * qd * qd - h.p.M, 1e-6 * (1 + std::abs(I * qdd) + std::abs(dI * qd * qd)));
     EXPECT_NEAR(st.Q(0), -st.drive(0), 1e-12);
+  }
+}
+
+// ---- the motor-driven slider-crank: loads of speed, a table, a damper, viscous friction ----
+
+// The model's motor_curve, interpolated here (clamped outside its range).
+double MotorCurve(double w) {
+  const double x[] = {0, 20, 40, 60, 80, 100, 110, 120, 130, 135, 140, 145, 150, 153, 157.0796};
+  const double y[] = {23.077, 26.129, 30.037, 35.152, 41.942, 50.691, 55.405, 59.185,
+                      59.344, 56.453, 50.356, 40.198, 25.735, 15.325, 0};
+  if (w <= x[0]) return y[0];
+  if (w >= x[14]) return y[14];
+  int k = 0;
+  while (w >= x[k + 1]) ++k;
+  return y[k] + (y[k + 1] - y[k]) * (w - x[k]) / (x[k + 1] - x[k]);
+}
+
+TEST(GeneratedDynamics, MotorDrivenSliderCrankForcesAgainstVirtualWork) {
+  using M = mech::slider_crank_motor::Model;
+  Harness<M> h;
+  const auto& p = h.p;
+  h.g = p.g;
+  const int C = ScenePoint<M>("piston.C");
+  h.bodies = {Bar<M>(1, "crank.O", "crank.B", p.m1, p.J_fly, 0.0),
+              Bar<M>(2, "rod.B", "rod.C", p.m2, p.m2 * p.b * p.b / 12),
+              Body{3, p.m3, 0.001, [C](const Eigen::MatrixXd& s, Eigen::Vector2d* rG, double* th) {
+                     *rG = s.col(C);
+                     *th = 0;
+                   }}};
+  auto xC = [&](double q) { return h.Scene(q)(0, C); };
+  for (int i = 0; i < 10; ++i) {
+    const double q = 0.2 + 0.6 * i, qd = -20.0 + 19.0 * i;  // speeds from -20 to 151 rad/s
+    SCOPED_TRACE("q = " + std::to_string(q) + ", qd = " + std::to_string(qd));
+    const double dh = 1e-4;
+    const double dx = (xC(q + dh) - xC(q - dh)) / (2 * dh);
+    const double x = xC(q);
+    const double l = p.xH - x;  // the damper's length from H to the piston
+    const double dl = -dx;
+    const double gas = -p.P0 * p.h / (p.h + p.a + p.b - x);
+    const double Q = MotorCurve(qd) + gas * dx - p.c * dl * dl * qd - p.cO * qd - h.dPotentialOracle(q);
+    (void)l;
+    const auto d = h.Dynamics(q, qd, 1.0);
+    EXPECT_NEAR(d.Q(0), Q, 1e-6 * (1 + std::abs(Q)));
+    EXPECT_NEAR(d.P_nc, (Q + h.dPotentialOracle(q)) * qd, 1e-6 * (1 + std::abs(Q * qd)));
+    EXPECT_NEAR(d.I(0, 0), h.InertiaOracle(q), 1e-8 * h.InertiaOracle(q));
+  }
+  // The table itself, with its clamping.
+  EXPECT_NEAR(mech::slider_crank_motor::Table_motor_curve(-5.0, 0), 23.077, 1e-12);
+  EXPECT_NEAR(mech::slider_crank_motor::Table_motor_curve(200.0, 0), 0.0, 1e-12);
+  EXPECT_NEAR(mech::slider_crank_motor::Table_motor_curve(132.5, 0), (59.344 + 56.453) / 2, 1e-12);
+  EXPECT_NEAR(mech::slider_crank_motor::Table_motor_curve(132.5, 1), (56.453 - 59.344) / 5, 1e-12);
+}
+
+// ---- the excess-coordinate formulation ----
+
+TEST(GeneratedExcess, FourBarAgainstDifferencesOfEnergyAndConstraints) {
+  using M = mech::fourbar_massive::Model;
+  constexpr int n = M::kNq + M::kNphi;
+  auto h = FourBar();
+  using Vx = Eigen::Matrix<double, n, 1>;
+  auto split = [](const Vx& x, Eigen::Matrix<double, 1, 1>* q, Eigen::Matrix<double, 2, 1>* phi) {
+    (*q)(0) = x(0);
+    *phi = x.tail<2>();
+  };
+  // Centres of mass at any x.
+  auto where = [&](const Vx& x, std::vector<Eigen::Vector2d>* r, std::vector<double>* th) {
+    Eigen::Matrix<double, 1, 1> q;
+    Eigen::Matrix<double, 2, 1> phi;
+    split(x, &q, &phi);
+    const Eigen::MatrixXd s = h.SceneAt(q, phi);
+    r->resize(h.bodies.size());
+    th->resize(h.bodies.size());
+    for (size_t b = 0; b < h.bodies.size(); ++b) h.bodies[b].where(s, &(*r)[b], &(*th)[b]);
+  };
+  auto kinetic = [&](const Vx& x, const Vx& xd) {  // fourth-order differences along x + xd t
+    const double e = 1e-3;
+    std::vector<Eigen::Vector2d> r[4];
+    std::vector<double> t[4];
+    const double at[4] = {-2 * e, -e, e, 2 * e};
+    for (int i = 0; i < 4; ++i) where(x + at[i] * xd, &r[i], &t[i]);
+    double T = 0;
+    for (size_t b = 0; b < h.bodies.size(); ++b) {
+      const Eigen::Vector2d v = (r[0][b] - 8 * r[1][b] + 8 * r[2][b] - r[3][b]) / (12 * e);
+      const double w = (t[0][b] - 8 * t[1][b] + 8 * t[2][b] - t[3][b]) / (12 * e);
+      T += 0.5 * h.bodies[b].m * v.squaredNorm() + 0.5 * h.bodies[b].J * w * w;
+    }
+    return T;
+  };
+  auto residual = [&](const Vx& x) {
+    Eigen::Matrix<double, 1, 1> q;
+    Eigen::Matrix<double, 2, 1> phi;
+    split(x, &q, &phi);
+    Eigen::Matrix<double, M::kNc, 1> Phi;
+    M::Phi(h.p, q, phi, &Phi);
+    return Phi;
+  };
+  for (int i = 0; i < 4; ++i) {
+    // Not on the constraint manifold: the formulation holds at any x.
+    Vx x(0.4 + i, 0.5 - 0.1 * i, 1.9 + 0.05 * i), xd(1.0 - 0.4 * i, 0.3, -0.7 + 0.2 * i);
+    Eigen::Matrix<double, 1, 1> q, qd;
+    Eigen::Matrix<double, 2, 1> phi, phid;
+    split(x, &q, &phi);
+    split(xd, &qd, &phid);
+    M::ExcessT<double> ex;
+    M::ExcessDynamics(h.p, q, phi, qd, phid, 0.0, &ex);
+    // M by polarization of T(x, xd).
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        const Vx ea = Vx::Unit(a), eb = Vx::Unit(b);
+        const double Mab = a == b ? 2 * kinetic(x, ea) : kinetic(x, ea + eb) - kinetic(x, ea) - kinetic(x, eb);
+        EXPECT_NEAR(ex.M(a, b), Mab, 1e-7) << a << ", " << b;
+      }
+    EXPECT_NEAR(ex.T, kinetic(x, xd), 1e-7);
+    // h(a) = sum m dr_G/dx_a . (the acceleration of G along x + xd t); g = -dV/dx.
+    const double e = 1e-3;
+    std::vector<Eigen::Vector2d> r[5];
+    std::vector<double> th[5];
+    for (int s = -2; s <= 2; ++s) where(x + s * e * xd, &r[s + 2], &th[s + 2]);
+    for (int a = 0; a < n; ++a) {
+      std::vector<Eigen::Vector2d> ra[4];
+      std::vector<double> ta[4];
+      const double at[4] = {-2 * e, -e, e, 2 * e};
+      for (int k = 0; k < 4; ++k) where(x + at[k] * Vx::Unit(a), &ra[k], &ta[k]);
+      double ha = 0, ga = 0;
+      for (size_t b = 0; b < h.bodies.size(); ++b) {
+        const Eigen::Vector2d J = (ra[0][b] - 8 * ra[1][b] + 8 * ra[2][b] - ra[3][b]) / (12 * e);
+        const Eigen::Vector2d acc = (-r[0][b] + 16 * r[1][b] - 30 * r[2][b] + 16 * r[3][b] - r[4][b]) / (12 * e * e);
+        ha += h.bodies[b].m * J.dot(acc);
+        ga += -h.bodies[b].m * h.g * J.y();
+      }
+      EXPECT_NEAR(ex.h(a), ha, 1e-6 * (1 + std::abs(ha))) << a;
+      EXPECT_NEAR(ex.g(a), ga, 1e-7 * (1 + std::abs(ga))) << a;
+      // Phi_x by differences of Phi.
+      const auto dPhi = (residual(x - 2 * e * Vx::Unit(a)) - 8 * residual(x - e * Vx::Unit(a)) +
+                         8 * residual(x + e * Vx::Unit(a)) - residual(x + 2 * e * Vx::Unit(a))) /
+                        (12 * e);
+      for (int rr = 0; rr < M::kNc; ++rr) EXPECT_NEAR(ex.Phi_x(rr, a), dPhi(rr), 1e-8);
+    }
+    // gamma = -d2Phi/dt2 along x + xd t; Phi itself.
+    const auto d2 = (-residual(x - 2 * e * xd) + 16 * residual(x - e * xd) - 30 * residual(x) +
+                     16 * residual(x + e * xd) - residual(x + 2 * e * xd)) /
+                    (12 * e * e);
+    for (int rr = 0; rr < M::kNc; ++rr) {
+      EXPECT_NEAR(ex.gamma(rr), -d2(rr), 1e-6);
+      EXPECT_NEAR(ex.Phi(rr), residual(x)(rr), 1e-14);
+    }
+    EXPECT_NEAR(ex.V, [&] {
+      std::vector<Eigen::Vector2d> rr;
+      std::vector<double> tt;
+      where(x, &rr, &tt);
+      double V = 0;
+      for (size_t b = 0; b < h.bodies.size(); ++b) V += h.bodies[b].m * h.g * rr[b].y();
+      return V;
+    }(), 1e-10);
   }
 }
 
