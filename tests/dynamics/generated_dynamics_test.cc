@@ -490,4 +490,80 @@ TEST(GeneratedExcess, FourBarAgainstDifferencesOfEnergyAndConstraints) {
   }
 }
 
+// The motor-driven slider-crank's kinetostatics: every link in Newton–Euler balance with the
+// generated reactions (pins O, B, C; the slide's N, T, M), the motor's torque (the table, at
+// qd), the viscous bearing torque, the gas force and the damper's force written out here.
+TEST(GeneratedKinetostatics, MotorDrivenSliderCrankWithSpeedLoads) {
+  using M = mech::slider_crank_motor::Model;
+  static_assert(M::kNumReactions == 9, "F_O, F_B, F_C, N_slide, T_slide, M_slide");
+  Harness<M> h;
+  const auto& p = h.p;
+  h.g = p.g;
+  const int iO = ScenePoint<M>("crank.O"), iB = ScenePoint<M>("crank.B"), iC = ScenePoint<M>("piston.C"),
+            iH = ScenePoint<M>("ground.H");
+  h.bodies = {Bar<M>(1, "crank.O", "crank.B", p.m1, p.J_fly, 0.0),
+              Bar<M>(2, "rod.B", "rod.C", p.m2, p.m2 * p.b * p.b / 12),
+              Body{3, p.m3, 0.001, [iC](const Eigen::MatrixXd& s, Eigen::Vector2d* rG, double* th) {
+                     *rG = s.col(iC);
+                     *th = 0;
+                   }}};
+  for (int i = 0; i < 6; ++i) {
+    const double q0 = 0.4 + i, qd = 30.0 + 20 * i, qdd = 40.0 - 15 * i;
+    SCOPED_TRACE("q = " + std::to_string(q0));
+    const double dt = 1e-4;
+    std::vector<Eigen::Vector2d> r[5];
+    std::vector<double> th[5];
+    for (int s2 = -2; s2 <= 2; ++s2) {
+      const double t = s2 * dt;
+      h.Where(q0 + qd * t + qdd * t * t / 2, &r[s2 + 2], &th[s2 + 2]);
+    }
+    Eigen::Matrix<double, 1, 1> q, vqd, vqdd;
+    q(0) = q0;
+    vqd(0) = qd;
+    vqdd(0) = qdd;
+    const auto phi = h.Solve(q0);
+    M::CoefficientsT<double> c;
+    M::Coeffs(p, q, phi, &c);
+    M::StaticsT<double> st;
+    M::Kinetostatics(p, q, phi, vqd, vqdd, 0.0, c, &st);
+    const Eigen::MatrixXd s = h.Scene(q0);
+    const Eigen::Vector2d O = s.col(iO), B = s.col(iB), C = s.col(iC), H = s.col(iH);
+    const Eigen::Vector2d FO(st.R(0), st.R(1)), FB(st.R(2), st.R(3)), FC(st.R(4), st.R(5));
+    const double N = st.R(6), T = st.R(7), Mslide = st.R(8);
+    // The piston's speed along x by differences, for the damper.
+    const double vC = (r[3][2].x() - r[1][2].x()) / (2 * dt);
+    const Eigen::Vector2d u = (C - H).normalized();
+    const double ldot = vC * u.x();
+    const Eigen::Vector2d damper = -p.c * ldot * u;  // on the piston
+    const Eigen::Vector2d gas(-p.P0 * p.h / (p.h + p.a + p.b - C.x()), 0);
+    const double motor = MotorCurve(qd), viscous = -p.cO * qd;
+    auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
+    double scale = 1;
+    for (int k = 0; k < M::kNumReactions; ++k) scale = std::max(scale, std::abs(st.R(k)));
+    for (size_t b = 0; b < 3; ++b) {
+      const Body& body = h.bodies[b];
+      const Eigen::Vector2d a = (-r[0][b] + 16 * r[1][b] - 30 * r[2][b] + 16 * r[3][b] - r[4][b]) / (12 * dt * dt);
+      const double alpha = (-th[0][b] + 16 * th[1][b] - 30 * th[2][b] + 16 * th[3][b] - th[4][b]) / (12 * dt * dt);
+      const Eigen::Vector2d G = r[2][b];
+      Eigen::Vector2d F(0, -body.m * p.g);
+      double MG = 0;
+      if (b == 0) {  // crank: O (ground on crank), -B, the motor, the bearing, the actuator's drive
+        F += FO - FB;
+        MG += cross(O - G, FO) - cross(B - G, FB) + motor + viscous + st.drive(0);
+      } else if (b == 1) {  // rod: B, -C
+        F += FB - FC;
+        MG += cross(B - G, FB) - cross(C - G, FC);
+      } else {  // piston: C, the guide's N (along +y) and T (along +x), M; gas; damper
+        F += FC + Eigen::Vector2d(T, N) + gas + damper;
+        MG += Mslide;
+      }
+      const Eigen::Vector2d residual = F - body.m * a;
+      EXPECT_NEAR(residual.x(), 0.0, 1e-5 * scale) << M::kLinkNames[body.link];
+      EXPECT_NEAR(residual.y(), 0.0, 1e-5 * scale) << M::kLinkNames[body.link];
+      EXPECT_NEAR(MG - body.J * alpha, 0.0, 1e-5 * scale) << M::kLinkNames[body.link];
+    }
+    EXPECT_NEAR(T, 0.0, 1e-6 * scale);  // no actuator or friction along the slide
+  }
+}
+
 }  // namespace
