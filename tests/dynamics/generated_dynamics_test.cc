@@ -10,6 +10,10 @@
 //    slider-crank), P_nc = (Q + dV/dq) qd;
 //  - the motor-driven slider-crank: Q against the virtual work of the motor's table (interpolated
 //    here), the gas force, the damper (c (dl/dq)^2 qd), the viscous bearing and the weights;
+//  - tests/dynamics/models/damped_fourbar.yaml: Q of a torsional damper, viscous joint friction, a
+//    linear damper, a load of time and a load of a dependent velocity against their virtual work
+//    written out here with the links' velocity coefficients by differences; the same loads in
+//    the excess-coordinate g against the virtual work per unit dx;
 //  - the excess-coordinate formulation: M by polarization of the kinetic energy, h and gamma by
 //    second differences along x(t) = x + xd t, Phi_x by differences of Phi, g = -dV/dx;
 //  - the kinetostatics: every moving link of the four-bar and of the pendulum obeys Newton–Euler
@@ -26,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "damped_fourbar.h"
 #include "fourbar_massive.h"
 #include "slider_crank_motor.h"
 #include "pendulum.h"
@@ -563,6 +568,56 @@ TEST(GeneratedKinetostatics, MotorDrivenSliderCrankWithSpeedLoads) {
       EXPECT_NEAR(MG - body.J * alpha, 0.0, 1e-5 * scale) << M::kLinkNames[body.link];
     }
     EXPECT_NEAR(T, 0.0, 1e-6 * scale);  // no actuator or friction along the slide
+  }
+}
+
+// ---- dampers, viscous friction, loads of time and of a dependent velocity ----
+
+TEST(GeneratedDynamics, DampersAndLoadsOfTimeAndSpeedAgainstVirtualWork) {
+  using M = mech::damped_fourbar::Model;
+  Harness<M> h;
+  const auto& p = h.p;
+  const int iA = ScenePoint<M>("crank.A"), iB = ScenePoint<M>("crank.B"), iC = ScenePoint<M>("coupler.C"),
+            iD = ScenePoint<M>("rocker.D"), iP = ScenePoint<M>("coupler.P"), iE = ScenePoint<M>("ground.E");
+  // Link angles and the damper's length at q, from the scene.
+  auto angles = [&](double q, double* t1, double* t2, double* t3, double* l) {
+    const Eigen::MatrixXd s = h.Scene(q);
+    const Eigen::Vector2d A = s.col(iA), B = s.col(iB), C = s.col(iC), D = s.col(iD), P = s.col(iP), E = s.col(iE);
+    *t1 = std::atan2(B.y() - A.y(), B.x() - A.x());
+    *t2 = std::atan2(C.y() - B.y(), C.x() - B.x());
+    *t3 = std::atan2(C.y() - D.y(), C.x() - D.x());
+    *l = (P - E).norm();
+  };
+  for (int i = 0; i < 8; ++i) {
+    const double q = 0.3 + 0.75 * i, qd = -2.0 + 0.9 * i, t = 0.37 * i;
+    SCOPED_TRACE("q = " + std::to_string(q));
+    const double e = 1e-4;
+    double a1, a2, a3, al, b1, b2, b3, bl;
+    angles(q - e, &a1, &a2, &a3, &al);
+    angles(q + e, &b1, &b2, &b3, &bl);
+    auto wrap = [](double x) { return std::remainder(x, 6.283185307179586); };
+    const double K1 = wrap(b1 - a1) / (2 * e), K2 = wrap(b2 - a2) / (2 * e), K3 = wrap(b3 - a3) / (2 * e),
+                 Kl = (bl - al) / (2 * e);
+    // Virtual work per unit dq: each load times the velocity coefficient it works through.
+    const double Q = -p.cB * (K2 - K1) * qd * (K2 - K1)   // torsional damper at B
+                     - p.cC * (K3 - K2) * qd * (K3 - K2)  // viscous friction at C
+                     - p.cE * Kl * qd * Kl                // linear damper E-P
+                     + p.T0 * std::sin(p.w * t) * K3      // the harmonic torque on the rocker
+                     - p.kr * K3 * qd * K3;               // the rocker's drag
+    const auto d = h.Dynamics(q, qd, t);
+    EXPECT_NEAR(d.Q(0), Q, 1e-7 * (1 + std::abs(Q)));
+    EXPECT_NEAR(d.V, 0.0, 1e-14);
+    EXPECT_NEAR(d.P_nc, Q * qd, 1e-7 * (1 + std::abs(Q * qd)));
+    // The excess-coordinate g at the same (closed) configuration and velocities: its virtual
+    // work along the motion, g . (dx/dq), is Q.
+    Eigen::Matrix<double, 1, 1> vq, vqd;
+    vq(0) = q;
+    vqd(0) = qd;
+    const auto phi = h.Solve(q);
+    Eigen::Matrix<double, 2, 1> phid(K2 * qd, K3 * qd);
+    M::ExcessT<double> ex;
+    M::ExcessDynamics(p, vq, phi, vqd, phid, t, &ex);
+    EXPECT_NEAR(ex.g(0) + ex.g(1) * K2 + ex.g(2) * K3, Q, 1e-7 * (1 + std::abs(Q)));
   }
 }
 
