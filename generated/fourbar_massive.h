@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 190 (adds 33, muls 151, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 15 (adds 3, muls 6, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 163 (adds 29, muls 128, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 15 (adds 3, muls 6, divs 0, calls 6)
  */
 #pragma once
 
@@ -465,7 +465,7 @@ void EvalDynamics(const Params<Scalar>& p,
                   Dynamics<Scalar>* out,
                   const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                   const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 190 (adds 33, muls 151, divs 0, calls 6); intermediate terms: 8
+  // Total ops: 163 (adds 29, muls 128, divs 0, calls 6); intermediate terms: 8
   using std::cos;
   using std::sin;
   (void)t;
@@ -536,7 +536,7 @@ void EvalDynamics(const Params<Scalar>& p,
   out->Q(0) = Q_0;
   out->T = Scalar(0.5)*I_0_0*_tmp7;
   out->V = Scalar(0.5)*_tmp4*p.g*p.rho*sin_q0 + Scalar(0.5)*_tmp5*p.g*p.rho*sin_phi0 + Scalar(0.5)*_tmp6*p.g*p.rho*sin_phi1 + p.a*p.b*p.g*p.rho*sin_q0;
-  out->P_nc = Q_0*qd(0) + Scalar(0.5)*_tmp4*cos_q0*p.g*p.rho*qd(0) + Scalar(0.5)*_tmp5*c.K(0, 0)*cos_phi0*p.g*p.rho*qd(0) + Scalar(0.5)*_tmp6*c.K(1, 0)*cos_phi1*p.g*p.rho*qd(0) + cos_q0*p.a*p.b*p.g*p.rho*qd(0);
+  out->P_nc = Scalar(0);
 }
 
 /**
