@@ -18,6 +18,7 @@
  */
 #pragma once
 
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <utility>
@@ -142,6 +143,24 @@ std::vector<SweepColumn<M>> SweepColumns() {
           [t](const R& r) { return r.mu(t); });
   }
   return columns;
+}
+
+/**
+ * \brief The first column name that occurs twice in `columns`, or "" when all are unique.
+ * The generator rejects models whose names would collide (a link `rocker_dot` next to a
+ * link `rocker`: `theta_rocker_dot` twice); the tools check again at startup, so that a
+ * header from an older generator or written by hand cannot produce an ambiguous CSV.
+ */
+template <class M>
+std::string DuplicateColumnName(const std::vector<SweepColumn<M>>& columns) {
+  std::vector<const std::string*> names;
+  names.reserve(columns.size());
+  for (const SweepColumn<M>& c : columns) names.push_back(&c.name);
+  std::sort(names.begin(), names.end(),
+            [](const std::string* a, const std::string* b) { return *a < *b; });
+  for (size_t i = 1; i < names.size(); ++i)
+    if (*names[i] == *names[i - 1]) return *names[i];
+  return "";
 }
 
 }  // namespace mechgen
