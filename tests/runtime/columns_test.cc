@@ -2,8 +2,8 @@
 // the printed table of several generated models (one and two inputs, with and without
 // transmission angles and points) must be byte-identical to what the former output.h wrote
 // from its two hand-synchronised lists (copied below, unchanged but for names, as the
-// oracle); and the table's columns are exactly the table-named columns of the CSV, with the
-// same values (angles converted to degrees).
+// oracle, extended by the error-bound columns added since); and the table's columns are
+// exactly the table-named columns of the CSV, with the same values (angles converted to degrees).
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -63,6 +63,8 @@ std::vector<std::string> OldCsvColumns() {
   }
   for (const char* s : {"status", "iterations", "residual", "cond", "sigma_min"}) c.push_back(s);
   for (const char* phi : M::kPhiNames) c.push_back(std::string("singular_") + phi);
+  // Added since (issue 12): the error bounds the conditioning implies.
+  for (const char* s : {"phi_error", "K_error", "L_error"}) c.push_back(s);
   if constexpr (SweepRecord<M>::kNumMu > 0) {
     for (const char* joint : M::kTransmissionJoints) c.push_back(std::string("mu_") + joint);
   }
@@ -111,6 +113,8 @@ std::vector<std::string> OldCsvValues(const SweepRecord<M>& r) {
   v.push_back(FormatNumber(r.summary.condition, "%.6g"));
   v.push_back(FormatNumber(s.sigma_min, "%.6g"));
   for (int i = 0; i < M::kNphi; ++i) v.push_back(FormatNumber(s.singular_direction(i), "%.6g"));
+  // Added since (issue 12).
+  for (double e : {s.phi_error, s.K_error, s.L_error}) v.push_back(FormatNumber(e, "%.3g"));
   for (int i = 0; i < SweepRecord<M>::kNumMu; ++i) v.push_back(FormatNumber(r.mu(i)));
   return v;
 }

@@ -226,6 +226,16 @@ class PositionSolver {
   // model's coefficients have neither K, L nor points).
   bool CopyCoefficients(const typename T::Coefficients& c, const Factorization& f,
                         const MatCQ* Phi_q, State<M>* s) const;
+  // The error bounds of s (State::phi_error, K_error, L_error) from its residual, its
+  // conditioning (Classify()) and its coefficients; see "Accuracy" in the file comment.
+  static void ErrorBounds(State<M>* s);
+  // True when `from` is next to a singular configuration and `to` farther from it: the step
+  // leaves the singularity, and is judged by to's coefficients, not from's (whose K and L
+  // carry errors ~ eps cond^2, eps cond^3).
+  bool Leaving(const State<M>& from, const State<M>& to) const {
+    return from.sigma_min < options_.near_singular_ratio * from.sigma_max &&
+           to.sigma_min > from.sigma_min;
+  }
   static constexpr bool kCallCoeffs =
       Features::kHasK || Features::kHasL || Features::kHasPoints;
   // A result of M::Solve is checked on the Phi and Phi_phi of Model::Coeffs (one evaluation
@@ -265,6 +275,7 @@ class PositionSolver {
   // converges only linearly to a point whose phi passes the guard above but whose K is
   // O(1) off (it belongs to no solution curve), and the jump onto another curve after it.
   bool VelocityConsistent(const State<M>& from, const State<M>& to) const {
+    if (Leaving(from, to)) return VelocityConsistentBackwards(from, to);
     const VecQ dq = to.q - from.q;
     typename T::MatK change = T::MatK::Zero();  // L(i, j + kNq k) dq_k summed over k
     for (int k = 0; k < M::kNq; ++k) change += from.L.template middleCols<M::kNq>(M::kNq * k) * dq(k);
@@ -272,6 +283,35 @@ class PositionSolver {
     return remainder <= options_.max_correction_ratio * change.template lpNorm<Eigen::Infinity>() +
                             options_.max_correction_abs *
                                 (1 + from.K.template lpNorm<Eigen::Infinity>());
+  }
+  // The same guard for a step that leaves a singular configuration, expanded about `to`
+  // (the better-conditioned end): K(from) ~ K(to) - L(to) dq, within the K error bound of
+  // `from`. Its phi and K are still good there (errors eps cond, eps cond^2) while its L
+  // (eps cond^3) is not: a stop at cond 1e6 has L off by O(1), and judged by it every step
+  // away was refused. Landing on the other curve of a change point still fails: the two
+  // curves' K differ by O(1) at the crossing.
+  bool VelocityConsistentBackwards(const State<M>& from, const State<M>& to) const {
+    const VecQ dq = to.q - from.q;
+    typename T::MatK change = T::MatK::Zero();
+    for (int k = 0; k < M::kNq; ++k) change += to.L.template middleCols<M::kNq>(M::kNq * k) * dq(k);
+    const double remainder = (from.K - to.K + change).template lpNorm<Eigen::Infinity>();
+    return remainder <= options_.max_correction_ratio * change.template lpNorm<Eigen::Infinity>() +
+                            options_.max_correction_abs *
+                                (1 + to.K.template lpNorm<Eigen::Infinity>()) +
+                            from.K_error + to.K_error;
+  }
+  // The branch guard on phi for a step that leaves a singular configuration, expanded about
+  // `to`: phi(from) ~ phi(to) - K(to) dq + 1/2 L(to)(dq, dq), the correction measured
+  // against that last term (the Taylor remainder about the better-conditioned end).
+  bool CorrectionAcceptableBackwards(const State<M>& from, const State<M>& to) const {
+    const VecQ dq = to.q - from.q;
+    typename T::VecQQ dq_dq;
+    for (int k = 0; k < M::kNq; ++k) dq_dq.segment(M::kNq * k, M::kNq) = dq * dq(k);
+    const VecPhi second = 0.5 * to.L * dq_dq;
+    const VecPhi back = to.phi - to.K * dq + second;
+    return internal::MaxAbsDiff(from.phi, &back) <=
+           options_.max_correction_ratio * internal::MaxAbsDiff(second) +
+               options_.max_correction_abs + from.phi_error;
   }
   // One continuation sub-step from `from` to q: predictor, then the corrector M::Solve on
   // the branch's modes (has_modes_), and when that fails or the model has none, Newton on
@@ -294,6 +334,9 @@ class PositionSolver {
     s->condition = at.condition;
     s->sigma_min = at.sigma_min;
     s->branch = at.branch;
+    s->phi_error = at.phi_error;
+    s->K_error = at.K_error;
+    s->L_error = at.L_error;
   }
   // The Assembler at q starting from the predictor; the failure path.
   Status Fallback(const State<M>& from, const VecQ& q, State<M>* to, Summary* s) const;

@@ -11,6 +11,7 @@
  *   status, iterations, residual (||Phi||_inf), cond (cond_1 Phi_phi),
  *   sigma_min (smallest singular value of Phi_phi: the distance to singularity),
  *   singular_<phi_i> (its unit right singular vector: the singular direction),
+ *   phi_error, K_error, L_error (the error bounds the conditioning implies: State),
  *   mu_<J> (the transmission angle at joint J of each four-bar loop on the ground, in
  *   [0, pi]; 0 or pi where that loop toggles; models with such loops only).
  * Values are in model units and radians; the printed table shows angle columns in degrees.
@@ -137,6 +138,11 @@ std::vector<SweepColumn<M>> SweepColumns() {
   for (int i = 0; i < M::kNphi; ++i)
     add(std::string("singular_") + M::kPhiNames[i], "", false,
         [i](const R& r) { return r.state.singular_direction(i); }, "%.6g");
+  // How far the row's values may be from the exact ones (State::phi_error, K_error,
+  // L_error: eps cond, eps cond^2, eps cond^3 next to a singular configuration).
+  add("phi_error", "", false, [](const R& r) { return r.state.phi_error; }, "%.3g");
+  add("K_error", "", false, [](const R& r) { return r.state.K_error; }, "%.3g");
+  add("L_error", "", false, [](const R& r) { return r.state.L_error; }, "%.3g");
   if constexpr (SweepRecord<M>::kNumMu > 0) {
     for (int t = 0; t < SweepRecord<M>::kNumMu; ++t)
       add(std::string("mu_") + M::kTransmissionJoints[t], "", false,
