@@ -5,6 +5,7 @@
 // oracle, extended by the error-bound columns added since); and the table's columns are
 // exactly the table-named columns of the CSV, with the same values (angles converted to degrees).
 #include <cmath>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -299,6 +300,32 @@ TEST(SweepColumns, TableColumnsAreTheTableNamedCsvColumnsWithTheSameValues) {
             << c.name;
       }
     }
+  }
+}
+
+// Unique column names (issue 12): the generator refuses models whose names would collide
+// (csv_column_names_test.sh); the tools check again with DuplicateColumnName(), which must
+// find a duplicate wherever it is and nothing in the shipped models' tables.
+template <class M>
+std::set<std::string> NameSet() {
+  std::set<std::string> names;
+  for (const SweepColumn<M>& c : SweepColumns<M>()) names.insert(c.name);
+  return names;
+}
+TEST(SweepColumns, NamesAreUniqueAndDuplicatesAreFound) {
+  EXPECT_EQ(DuplicateColumnName(SweepColumns<mech::fourbar::Model>()), "");
+  EXPECT_EQ(DuplicateColumnName(SweepColumns<mech::fourbar_crossed::Model>()), "");
+  EXPECT_EQ(DuplicateColumnName(SweepColumns<mech::slider_crank::Model>()), "");
+  EXPECT_EQ(DuplicateColumnName(SweepColumns<mech::fivebar::Model>()), "");
+  // The set of names is as large as the table (an independent count).
+  EXPECT_EQ(NameSet<mech::fivebar::Model>().size(), SweepColumns<mech::fivebar::Model>().size());
+  const std::vector<SweepColumn<mech::fourbar::Model>> columns =
+      SweepColumns<mech::fourbar::Model>();
+  for (size_t i : {size_t(0), columns.size() / 2, columns.size() - 1}) {
+    std::vector<SweepColumn<mech::fourbar::Model>> twice = columns;
+    SweepColumn<mech::fourbar::Model> copy = columns[i];
+    twice.insert(twice.begin() + static_cast<long>((i * 7) % columns.size()), copy);
+    EXPECT_EQ(DuplicateColumnName(twice), columns[i].name);
   }
 }
 
