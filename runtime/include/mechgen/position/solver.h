@@ -51,6 +51,31 @@
  * and kNq^2 solves with the same factorization). Numeric L is kept because the default
  * second-order predictor and the K-consistency guard need it.
  * L is stored as the generated code does: L(i, j + kNq*k) = dK(i, j)/dq_k.
+ *
+ * Accuracy (State::phi_error, K_error, L_error, copied into Summary and the sweep's CSV):
+ * error bounds that the conditioning implies, by first-order propagation, for every
+ * configuration with coefficients. With u = eps/2, n = kNphi, kappa = cond_1(Phi_phi),
+ * ||Phi_phi^{-1}||_1 = kappa / ||Phi_phi||_1 (State::inverse_norm) and
+ * rho = ||Phi||_inf + 4 n u ||Phi_phi||_1 (1 + ||phi||_inf) (the residual plus the rounding
+ * of evaluating Phi):
+ *   phi_error = ||Phi_phi^{-1}||_1 n rho + u ||phi||_inf                     (~ eps cond)
+ *   K_error   = kappa (phi_error + n u) (1 + ||K||_1)                         (~ eps cond^2)
+ *   L_error   = kappa ((phi_error + n u) (||L||_1 + (1 + ||K||_1)^2)
+ *                      + 2 K_error (1 + ||K||_1))                             (~ eps cond^3)
+ * in the units of phi (rad or length), K and L. Scale: the second and third derivatives of
+ * Phi are taken as bounded by ||Phi_phi||_1 (link lengths: a revolute chain's Phi sums terms
+ * l (cos, sin), each derivative of which is bounded by l); a model with much larger
+ * constant terms (far-away ground pivots) has a larger rounding than rho assumes. For
+ * kNphi > 4, kappa is Eigen's estimate. Checked against a quad-precision closed form next to
+ * two change points (tests/runtime/near_singular_test.cc): the bounds hold up to cond 1e6,
+ * where L is off in its first digit; far from singular configurations they are ~1e-13
+ * (phi), ~1e-10 (K), ~1e-7 (L) or smaller.
+ * Leaving a singular configuration: a continuation step whose start is next to a singular
+ * configuration (sigma_min < Options::near_singular_ratio sigma_max) and whose end is
+ * farther from it is judged about its end: the branch guard on phi and the K-consistency
+ * guard expand about the end (its K and L), not about the start, whose L (error
+ * ~ eps cond^3) is unreliable there; the start's K_error widens the K guard. A landing on
+ * the other curve of a change point still fails the K guard (the curves' K differ by O(1)).
  */
 #pragma once
 
