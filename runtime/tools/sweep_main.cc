@@ -41,10 +41,22 @@ using Types = mechgen::ModelTypes<Model>;
 
 constexpr double kDegToRad = 0.017453292519943295;
 
-// 'text' for the messages, or its length when too long to quote.
+// 'text' for the messages (control characters as \xNN), or its length when too long to
+// quote.
 std::string Quote(const std::string& text) {
-  if (text.size() <= 40) return "'" + text + "'";
-  return "(a " + std::to_string(text.size()) + "-character value)";
+  if (text.size() > 40) return "(a " + std::to_string(text.size()) + "-character value)";
+  std::string quoted = "'";
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof(buffer), "\\x%02X", c);
+      quoted += buffer;
+    } else {
+      quoted += ch;
+    }
+  }
+  return quoted + "'";
 }
 
 // "1.5" -> 1.5 (model units, radians for angles); "90deg" -> pi/2. False if malformed.

@@ -265,6 +265,34 @@ TEST(AccuracyBounds, InTheSweepCsv) {
   EXPECT_GT(records[100].state.L_error, 1e3 * records[0].state.L_error);
 }
 
+TEST(Sweep, NotRunRowsKeepTheInputsTheyAskedFor) {
+  // -1 .. 1 in 200 steps stops at the change point (row 100); rows 101..200 are not run and
+  // hold q = -1 + i / 100, not NaN; their values are NaN.
+  std::vector<SweepRecord<CP>> records;
+  PositionSolver<CP> solver = AssembledAt(CP::ParamsT<double>(), -1);
+  EXPECT_EQ(Sweep(&solver, Q(-1), Q(1), 200, Q(1), Q(0), &records), 101);
+  ASSERT_EQ(records[100].summary.status, Status::kSingular);
+  for (int i = 101; i <= 200; ++i) {
+    EXPECT_EQ(records[i].summary.status, Status::kNotRun);
+    EXPECT_NEAR(records[i].q(0), -1 + i / 100.0, 1e-12) << i;
+    EXPECT_TRUE(std::isnan(records[i].state.phi(0)));
+  }
+  EXPECT_EQ(records[200].q(0), 1.0);
+  // The same rows streamed one at a time (SweepRows) as collected (Sweep).
+  PositionSolver<CP> again = AssembledAt(CP::ParamsT<double>(), -1);
+  int rows = 0;
+  SweepRows(&again, Q(-1), Q(1), 200, Q(1), Q(0), SweepOptions(),
+            [&](int i, const SweepRecord<CP>& r) {
+              EXPECT_EQ(i, rows++);
+              EXPECT_EQ(r.summary.status, records[i].summary.status);
+              EXPECT_EQ(r.q(0), records[i].q(0));
+              if (r.state.valid) {
+                EXPECT_EQ(r.state.phi, records[i].state.phi);
+              }
+            });
+  EXPECT_EQ(rows, 201);
+}
+
 TEST(LeavingASingularity, MoveAwayAfterAStopNextToAChangePointSucceeds) {
   for (const ChangePointCase& test : ChangePointCases()) {
     SCOPED_TRACE(test.name);

@@ -62,6 +62,7 @@ run_refused range_inf 2 "error: --range .*finite numbers.*" "$tool" --range thet
 run_refused range_overflow 2 "error: --range .*finite numbers.*" "$tool" --range theta_crank:0:1e400 $out
 run_refused range_too_long_per_step 2 "error: --range: theta_crank moves .* per step, more than the solver's limit of 1000; .*" "$tool" --range theta_crank:0:1e300 $out
 run_refused range_long_text 2 "error: --range \(a [0-9]+-character value\): .*" "$tool" --range "$(printf 'x%.0s' $(seq 200)):0:1" $out
+run_refused range_control_characters 2 "error: --range 'theta_crank.x1B\[2J': expected input:min:max; see --help" "$tool" --range "$(printf 'theta_crank\033[2J')" $out
 run_refused qd_count 2 "error: --qd takes one value; see --help" "$tool" --qd 1 2 $out
 run_refused qd_text 2 "error: --qd values must be finite numbers; see --help" "$tool" --qd fast $out
 run_refused qdd_inf 2 "error: --qdd values must be finite numbers; see --help" "$tool" --qdd inf $out
