@@ -160,6 +160,78 @@ void CheckTopology(const Model& m, const Topology& t) {
   }
 }
 
+void CheckCsvColumnNames(const Model& m, const Topology& t, const CoordinateTable& table) {
+  // The sweep's CSV (runtime/include/mechgen/sweep/columns.h) derives its column names from
+  // the coordinates: q, phi, <c>_dot, <c>_ddot, singular_<phi>, K_<phi>_<q>,
+  // L_<phi>_<q>_<q'> (q <= q' in input order); the rest (points "link.P.x", mu_<joint>,
+  // status, cond, ...) cannot meet them (a dot, or no coordinate prefix). Two equal names
+  // would make a CSV reader silently pick one.
+  const size_t n = table.all.size();
+  std::vector<bool> driven(n, false);
+  std::vector<size_t> q;
+  for (const Input& in : m.inputs) {
+    const Joint& j = m.joints[in.joint];
+    const int moving = j.link_a == m.ground ? j.link_b : j.link_a;
+    const int c = j.type() == JointType::kPrismatic ? table.of_joint[in.joint] : table.of_group[t.group[moving]];
+    if (c < 0 || driven[c]) continue;
+    driven[c] = true;
+    q.push_back(static_cast<size_t>(c));
+  }
+  // Where a coordinate comes from: the link its angle is named after, or its joint.
+  auto owner = [&](size_t c, SourceMark* mark) {
+    for (int g = 0; g < t.num_groups(); ++g)
+      if (table.of_group[g] == static_cast<int>(c) && t.rep[g] >= 0) {
+        *mark = m.links[t.rep[g]].mark;
+        return "link '" + m.links[t.rep[g]].name + "'";
+      }
+    for (size_t j = 0; j < m.joints.size(); ++j)
+      if (table.of_joint[j] == static_cast<int>(c)) {
+        *mark = m.joints[j].mark;
+        return "joint '" + m.joints[j].name + "'";
+      }
+    *mark = m.inputs_mark;
+    return "coordinate '" + table.all[c].name + "'";
+  };
+  struct Column {
+    std::string name, what;
+    size_t coordinate;
+  };
+  std::vector<Column> columns;
+  for (size_t c = 0; c < n; ++c) {
+    const std::string& name = table.all[c].name;
+    columns.push_back({name, "the coordinate " + name, c});
+    columns.push_back({name + "_dot", "the velocity of " + name, c});
+    columns.push_back({name + "_ddot", "the acceleration of " + name, c});
+    if (driven[c]) continue;
+    columns.push_back({"singular_" + name, "the singular direction's " + name, c});
+    for (size_t a = 0; a < q.size(); ++a) {
+      const std::string& qa = table.all[q[a]].name;
+      columns.push_back({"K_" + name + "_" + qa, "K of " + name + " by " + qa, c});
+      for (size_t b = a; b < q.size(); ++b)
+        columns.push_back({"L_" + name + "_" + qa + "_" + table.all[q[b]].name,
+                           "L of " + name + " by " + qa + ", " + table.all[q[b]].name, c});
+    }
+  }
+  std::vector<size_t> order(columns.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t x, size_t y) { return columns[x].name < columns[y].name; });
+  for (size_t i = 1; i < order.size(); ++i) {
+    const Column& x = columns[order[i - 1]];
+    const Column& y = columns[order[i]];
+    if (x.name != y.name) continue;
+    // Blame the coordinate with the longer name (the one that reads like a derived column,
+    // e.g. the link 'rocker_dot' next to 'rocker').
+    const size_t c = table.all[x.coordinate].name.size() >= table.all[y.coordinate].name.size() ? x.coordinate
+                                                                                                 : y.coordinate;
+    SourceMark mark;
+    const std::string who = owner(c, &mark);
+    m.Fail(mark, "the sweep's CSV would have two columns named '" + x.name + "' (" + x.what + " and " + y.what +
+                     "); rename " + who + " so that its coordinate " + table.all[c].name +
+                     " does not read like another coordinate's column");
+  }
+}
+
 Analysis Validate(const Model& m) {
   Analysis a;
   for (const Joint& j : m.joints) KindOf(j).Check(m, j);
@@ -180,6 +252,7 @@ Analysis Validate(const Model& m) {
       m.Fail(g.mark, "assembly: unknown coordinate '" + g.coordinate + "'; the coordinates are: " + list);
     }
   }
+  CheckCsvColumnNames(m, a.topology, a.coordinates);
   return a;
 }
 

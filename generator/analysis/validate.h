@@ -12,6 +12,7 @@
 //   4. cams: the law closes the cycle (here), no undercut or cusp (joints/cam_profile.cc, CheckCam), the
 //      contour's checks (joints/cam_profile.cc, BuildCamContour: they share its sampling and spline fit)
 //   5. the assembly guess names coordinates
+//   5b. the sweep's CSV column names derived from the coordinates are unique
 //   (6. the closed-form blocks' assembly check stays in blocks.cc (ChooseMode, the codegen
 //       part); it needs the derivation's blocks and belongs here once they are built before
 //       validation, after step 5.)
@@ -52,6 +53,11 @@ void CheckZeroRadii(const Model& m);
 /// Step 4 for a cam given by its law: the segments span one turn and the rises add up to
 /// the returns (ModelError at the law).
 void CheckCamLaw(const Model& m, const Joint& j);
+
+/// Step 5b: the names the sweep's CSV derives from the coordinates (<c>_dot, K_<phi>_<q>,
+/// ...) are unique: ModelError at the link or joint to rename (a link 'rocker_dot' next to
+/// 'rocker' gives 'theta_rocker_dot' twice).
+void CheckCsvColumnNames(const Model& m, const Topology& t, const CoordinateTable& table);
 
 /// Step 4: builds every cam's law (checked by CheckCamLaw), geometry (undercut and cusp:
 /// CheckCam in joints/cam_profile.cc) and contour (BuildCamContour checks it as it fits the spline), cam by

@@ -26,6 +26,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "mechgen/io/output_file.h"
 #include "mechgen/position/ceres_adapter.h"
 #include "mechgen/statics/columns.h"
 #include "mechgen/statics/dead_zones.h"
@@ -80,16 +81,6 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
     return false;
   }
   return true;
-}
-
-// Opens `path` for writing, creating its parent directory.
-bool OpenOutput(const std::string& path, std::ofstream* file) {
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  std::error_code ignored;
-  if (!parent.empty()) std::filesystem::create_directories(parent, ignored);
-  file->open(path);
-  if (!*file) std::cerr << "error: cannot write " << path << "\n";
-  return static_cast<bool>(*file);
 }
 
 template <class M>
@@ -257,20 +248,24 @@ int Run(int argc, char** argv) {
   }
 
   if (!csv_path.empty()) {
-    std::ofstream file;
-    if (!OpenOutput(csv_path, &file)) return 4;
-    statics::WriteStaticsCsv(records, file);
+    mechgen::OutputFile file;  // written whole or not at all (io/output_file.h)
+    std::string error;
+    if (!file.Open(csv_path, &error)) return std::cerr << "error: " << error << "\n", 4;
+    statics::WriteStaticsCsv(records, file.stream());
+    if (!file.Commit(&error)) return std::cerr << "error: " << error << "\n", 4;
     std::printf("wrote %s (%d rows x %zu columns)\n", csv_path.c_str(), rows,
                 statics::StaticsCsvColumns<M>().size());
   }
   if (!svg_path.empty()) {
-    std::ofstream file;
-    if (!OpenOutput(svg_path, &file)) return 4;
+    mechgen::OutputFile file;
+    std::string error;
+    if (!file.Open(svg_path, &error)) return std::cerr << "error: " << error << "\n", 4;
     mechgen::SvgOptions svg;
     svg.animate = animate;
     svg.snapshots = snapshots;
     svg.title = std::string("mechgen statics: ") + M::kName;
-    statics::WriteStaticsSvg(solver.params(), records, svg, file);
+    statics::WriteStaticsSvg(solver.params(), records, svg, file.stream());
+    if (!file.Commit(&error)) return std::cerr << "error: " << error << "\n", 4;
     std::printf("wrote %s\n", svg_path.c_str());
   }
   return 0;

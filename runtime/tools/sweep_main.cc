@@ -5,13 +5,17 @@
 // assembles the mechanism at the model's assembly configuration, sweeps the inputs along a
 // straight line (by default every input over the model's kQMin..kQMax) staying on that
 // assembly mode, and writes a CSV file, a short table and an SVG drawing with the traced
-// point paths. Example:
+// point paths. Rows are streamed to the CSV as they are solved; every output file is written
+// whole or not at all (io/output_file.h). Exit status: 0 every row converged, 3 some did not
+// (the outputs are written; counts per status on stderr), 2 bad arguments, 1 the model does
+// not assemble or an output cannot be written (nothing written). Example:
 //   fourbar_sweep --steps 360 --csv out/fourbar.csv --svg out/fourbar.svg --table 8
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -19,6 +23,7 @@
 #include <CLI/CLI.hpp>
 
 #include "mechgen/io/csv.h"
+#include "mechgen/io/output_file.h"
 #include "mechgen/io/svg.h"
 #include "mechgen/io/table.h"
 #include "mechgen/position/ceres_adapter.h"
@@ -35,6 +40,24 @@ using Model = MECHGEN_MODEL_NAMESPACE::Model;
 using Types = mechgen::ModelTypes<Model>;
 
 constexpr double kDegToRad = 0.017453292519943295;
+
+// 'text' for the messages (control characters as \xNN), or its length when too long to
+// quote.
+std::string Quote(const std::string& text) {
+  if (text.size() > 40) return "(a " + std::to_string(text.size()) + "-character value)";
+  std::string quoted = "'";
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof(buffer), "\\x%02X", c);
+      quoted += buffer;
+    } else {
+      quoted += ch;
+    }
+  }
+  return quoted + "'";
+}
 
 // "1.5" -> 1.5 (model units, radians for angles); "90deg" -> pi/2. False if malformed.
 bool ParseValue(const std::string& text, double* value) {
@@ -56,7 +79,7 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
   const size_t a = text.find(':');
   const size_t b = a == std::string::npos ? a : text.find(':', a + 1);
   if (b == std::string::npos) {
-    *error = "--range " + text + ": expected input:min:max";
+    *error = "--range " + Quote(text) + ": expected input:min:max";
     return false;
   }
   const std::string name = text.substr(0, a);
@@ -64,25 +87,37 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
   for (int j = 0; j < Model::kNq; ++j)
     if (name == Model::kQNames[j] || name == std::to_string(j)) *index = j;
   if (*index < 0) {
-    *error = "--range " + text + ": no input named '" + name + "'; inputs are";
+    *error = "--range " + Quote(text) + ": no input named " + Quote(name) + "; inputs are";
     for (const char* q : Model::kQNames) *error += std::string(" ") + q;
     return false;
   }
   if (!ParseValue(text.substr(a + 1, b - a - 1), min) || !ParseValue(text.substr(b + 1), max)) {
-    *error = "--range " + text + ": min and max must be numbers (append 'deg' for degrees)";
+    *error = "--range " + Quote(text) + ": min and max must be finite numbers (append 'deg' for "
+             "degrees)";
     return false;
   }
   return true;
 }
 
-// Opens `path` for writing, creating its parent directory.
-bool OpenOutput(const std::string& path, std::ofstream* file) {
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  std::error_code ignored;
-  if (!parent.empty()) std::filesystem::create_directories(parent, ignored);
-  file->open(path);
-  if (!*file) std::cerr << "error: cannot write " << path << "\n";
-  return static_cast<bool>(*file);
+// The bound on --steps: 10^7 steps make a CSV of a few GB; the sweep itself streams (holds
+// one row, plus the table's rows and at most kMaxSvgRows for the drawing).
+constexpr long long kMaxSteps = 10000000;
+constexpr size_t kMaxSvgRows = 3601;
+
+// An integer option in [min, max]: false with a short message (the text quoted only when
+// short) if `text` is not one.
+bool ParseCount(const char* option, const std::string& text, long long min, long long max,
+                long long* value, std::string* error) {
+  errno = 0;
+  char* end = nullptr;
+  const long long v = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || end == nullptr || *end != '\0' || errno == ERANGE || v < min || v > max) {
+    *error = std::string(option) + " " + Quote(text) + ": expected an integer from " +
+             std::to_string(min) + " to " + std::to_string(max);
+    return false;
+  }
+  *value = v;
+  return true;
 }
 
 std::string Describe(int j, double value) {
@@ -95,31 +130,62 @@ std::string Describe(int j, double value) {
   return buffer;
 }
 
+
+// Exit statuses (models/README.md, "Exit statuses of the sweep"):
+constexpr int kExitConverged = 0;    // every row converged; the outputs written
+constexpr int kExitError = 1;        // model or output error: nothing written
+constexpr int kExitUsage = 2;        // bad arguments: nothing written
+constexpr int kExitRowsFailed = 3;   // the outputs written, but some rows did not converge
+
+int Usage(const std::string& message) {
+  std::cerr << "error: " << message << "; see --help\n";
+  return kExitUsage;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{std::string("Sweep the inputs of the mechgen model '") + Model::kName +
-               "', staying on its assembly mode; write CSV, a table and an SVG drawing."};
-  int steps = 360;
+               "', staying on its assembly mode; write CSV, a table and an SVG drawing. Exit "
+               "status: 0 all rows converged, 3 some did not (counts on stderr), 2 bad "
+               "arguments, 1 model or output error."};
+  std::string steps_text = "360", table_text = "8";
   std::vector<std::string> ranges;
   std::vector<std::string> qd_text, qdd_text;
   std::string csv_path, svg_path;
-  int table_rows = 8;
   bool no_animation = false;
-  app.add_option("--steps", steps, "number of steps (rows = steps + 1)")
-      ->check(CLI::PositiveNumber);
+  app.add_option("--steps", steps_text,
+                 "number of steps, 1.." + std::to_string(kMaxSteps) + " (rows = steps + 1)");
   app.add_option("--range", ranges,
                  "input:min:max, input by name or index; values in model units (radians), "
                  "or with a 'deg' suffix (e.g. theta_crank:0:180deg). Default: the model's "
                  "range of every input");
   app.add_option("--qd", qd_text, "input speed(s), one value or one per input (default 1)");
   app.add_option("--qdd", qdd_text, "input acceleration(s), one value or one per input (default 0)");
-  app.add_option("--csv", csv_path, "write every row to this CSV file");
+  app.add_option("--csv", csv_path,
+                 "write every row to this CSV file (streamed; written whole or not at all)");
   app.add_option("--svg", svg_path, "write a drawing with the traced point paths to this SVG file");
-  app.add_option("--table", table_rows, "print this many rows to stdout (0: none)")
-      ->check(CLI::NonNegativeNumber);
+  app.add_option("--table", table_text, "print this many rows to stdout (0: none)");
   app.add_flag("--no-animation", no_animation, "SVG without the SMIL animation");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string what = e.what();
+    if (what.size() > 200) what = what.substr(0, 200) + "...";
+    return Usage(what);
+  }
+  std::string error;
+  long long steps_ll = 0, table_ll = 0;
+  if (!ParseCount("--steps", steps_text, 1, kMaxSteps, &steps_ll, &error) ||
+      !ParseCount("--table", table_text, 0, kMaxSteps + 1, &table_ll, &error)) {
+    return Usage(error);
+  }
+  const int steps = static_cast<int>(steps_ll);
+  const int table_rows = static_cast<int>(table_ll);
 
   // Path of the sweep and the input motion.
   Types::VecQ q_begin = Eigen::Map<const Types::VecQ>(Model::kQMin.data());
@@ -127,33 +193,56 @@ int main(int argc, char** argv) {
   for (const std::string& text : ranges) {
     int j = 0;
     double min = 0, max = 0;
-    std::string error;
-    if (!ParseRange(text, &j, &min, &max, &error)) {
-      std::cerr << "error: " << error << "\n";
-      return 2;
-    }
+    if (!ParseRange(text, &j, &min, &max, &error)) return Usage(error);
     q_begin(j) = min;
     q_end(j) = max;
   }
+  // One step longer than the solver accepts (Options::max_input_step) would make every row
+  // invalid_input: a units mistake, refused here.
+  const double max_step = mechgen::position::Options().max_input_step;
+  for (int j = 0; j < Model::kNq; ++j) {
+    if (!(std::abs(q_end(j) - q_begin(j)) / steps <= max_step)) {
+      char buffer[160];
+      std::snprintf(buffer, sizeof(buffer),
+                    "--range: %s moves %.3g per step, more than the solver's limit of %g; use "
+                    "more --steps or a shorter range",
+                    Model::kQNames[j], std::abs(q_end(j) - q_begin(j)) / steps, max_step);
+      return Usage(buffer);
+    }
+  }
   auto parse_vector = [](const std::vector<std::string>& text, double fallback,
-                         const char* option, Types::VecQ* out) {
+                         const char* option, Types::VecQ* out, std::string* error) {
     out->setConstant(fallback);
     if (text.empty()) return true;
     if (text.size() != 1 && text.size() != static_cast<size_t>(Model::kNq)) {
-      std::cerr << "error: " << option << " takes 1 or " << Model::kNq << " values\n";
+      *error = std::string(option) + (Model::kNq == 1 ? " takes one value"
+                                                      : " takes 1 or " +
+                                                            std::to_string(Model::kNq) +
+                                                            " values (one per input)");
       return false;
     }
     for (int j = 0; j < Model::kNq; ++j) {
       if (!ParseValue(text[text.size() == 1 ? 0 : static_cast<size_t>(j)], &(*out)(j))) {
-        std::cerr << "error: " << option << " values must be numbers\n";
+        *error = std::string(option) + " values must be finite numbers";
         return false;
       }
     }
     return true;
   };
   Types::VecQ qd, qdd;
-  if (!parse_vector(qd_text, 1.0, "--qd", &qd) || !parse_vector(qdd_text, 0.0, "--qdd", &qdd)) {
-    return 2;
+  if (!parse_vector(qd_text, 1.0, "--qd", &qd, &error) ||
+      !parse_vector(qdd_text, 0.0, "--qdd", &qdd, &error)) {
+    return Usage(error);
+  }
+
+  // The CSV's columns must be unique (the generator ensures it; checked again here).
+  const std::vector<mechgen::SweepColumn<Model>> columns = mechgen::SweepColumns<Model>();
+  const std::string duplicate = mechgen::DuplicateColumnName(columns);
+  if (!duplicate.empty()) {
+    std::cerr << "error: the model " << Model::kName << " has two CSV columns named '"
+              << duplicate << "'; rename the link, coordinate or point that makes it and "
+              << "generate the model again\n";
+    return kExitError;
   }
 
   // Assembly at the model's assembly configuration, then the sweep.
@@ -164,8 +253,17 @@ int main(int argc, char** argv) {
   if (solver.AssembleDefault(&assembly) != mechgen::position::Status::kConverged) {
     std::cerr << "error: cannot assemble " << Model::kName << " at its assembly configuration: "
               << mechgen::position::FormatSummary(assembly) << "\n";
-    return 3;
+    return kExitError;
   }
+  // The outputs, opened before the sweep (after the assembly, so that a model that does not assemble creates no directory) (an unwritable path fails at once); written to
+  // temporary files and renamed only when everything succeeded.
+  mechgen::OutputFile csv, svg;
+  if ((!csv_path.empty() && !csv.Open(csv_path, &error)) ||
+      (!svg_path.empty() && !svg.Open(svg_path, &error))) {
+    std::cerr << "error: " << error << "\n";
+    return kExitError;
+  }
+
   std::printf("mechgen sweep of '%s': assembled (branch %+d, |Phi|_inf = %.1e); ", Model::kName,
               assembly.branch, assembly.residual_norm);
   for (int j = 0; j < Model::kNq; ++j) {
@@ -174,55 +272,101 @@ int main(int argc, char** argv) {
   }
   std::printf(" in %d steps\n\n", steps);
 
-  std::vector<mechgen::SweepRecord<Model>> records;
-  const auto start = std::chrono::steady_clock::now();
-  const int failures = mechgen::Sweep(&solver, q_begin, q_end, steps, qd, qdd, &records);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  if (table_rows > 0) {
-    mechgen::PrintTable(records, table_rows, std::cout);
-    std::cout << "\n";
-  }
+  // The sweep, streamed: each row goes to the CSV as it is solved; kept are only the rows of
+  // the table, those the drawing uses (all up to kMaxSvgRows, else evenly spaced ones) and
+  // the first failures.
+  const size_t rows = static_cast<size_t>(steps) + 1;
+  const std::vector<size_t> table_indices = mechgen::TableRowIndices(rows, table_rows);
+  const size_t svg_stride = rows <= kMaxSvgRows ? 1 : (rows - 2) / (kMaxSvgRows - 1) + 1;
+  std::vector<mechgen::SweepRecord<Model>> table_records, svg_records, failed;
+  table_records.reserve(table_indices.size());
+  if (!svg_path.empty()) svg_records.reserve(std::min(rows, kMaxSvgRows + 1));
+  size_t next_table = 0;
   double max_residual = 0, max_condition = 0;
-  int iterations = 0, fallbacks = 0;
-  for (const auto& r : records) {
+  long long iterations = 0, fallbacks = 0;
+  int per_status[int(mechgen::position::Status::kNotRun) + 1] = {};
+  double output_seconds = 0;
+  if (!csv_path.empty()) mechgen::WriteCsvHeader(columns, csv.stream());
+  auto row = [&](int i, const mechgen::SweepRecord<Model>& r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const size_t index = static_cast<size_t>(i);
+    if (!csv_path.empty()) mechgen::WriteCsvRow(columns, r, csv.stream());
+    if (next_table < table_indices.size() && table_indices[next_table] == index) {
+      table_records.push_back(r);
+      ++next_table;
+    }
+    if (!svg_path.empty() && (index % svg_stride == 0 || index + 1 == rows)) {
+      svg_records.push_back(r);
+    }
+    ++per_status[int(r.summary.status)];
     iterations += r.summary.iterations;
     fallbacks += r.summary.used_assembler;
-    if (r.summary.status != mechgen::position::Status::kConverged) continue;
-    max_residual = std::max(max_residual, r.summary.residual_norm);
-    max_condition = std::max(max_condition, r.summary.condition);
-  }
-  const int rows = static_cast<int>(records.size());
-  std::printf("%d/%d configurations converged; max |Phi|_inf = %.1e, max cond(Phi_phi) = %.3g, "
-              "%.2f Newton iterations/step%s; %.2f us/step (incl. velocities, accelerations)\n",
-              rows - failures, rows, max_residual, max_condition, double(iterations) / rows,
-              fallbacks ? " (Ceres fallback used)" : "", 1e6 * seconds / rows);
-  if (failures > 0) {
-    int shown = 0;
-    for (const auto& r : records) {
-      if (r.summary.status == mechgen::position::Status::kConverged || shown++ >= 3) continue;
-      std::printf("  %s = %s: %s\n", Model::kQNames[0], Describe(0, r.q(0)).c_str(),
-                  mechgen::position::FormatSummary(r.summary).c_str());
+    if (r.summary.status == mechgen::position::Status::kConverged) {
+      max_residual = std::max(max_residual, r.summary.residual_norm);
+      max_condition = std::max(max_condition, r.summary.condition);
+    } else if (failed.size() < 3 && r.summary.status != mechgen::position::Status::kNotRun) {
+      failed.push_back(r);
     }
+    output_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  const auto start = std::chrono::steady_clock::now();
+  const int failures = mechgen::SweepRows(&solver, q_begin, q_end, steps, qd, qdd,
+                                          mechgen::SweepOptions(), row);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
+      output_seconds;
+
+  if (table_rows > 0) {
+    mechgen::PrintTableRows(table_records, std::cout);
+    std::cout << "\n";
+  }
+  std::printf("%d/%zu configurations converged; max |Phi|_inf = %.1e, max cond(Phi_phi) = %.3g, "
+              "%.2f Newton iterations/step%s; %.2f us/step (incl. velocities, accelerations)\n",
+              static_cast<int>(rows) - failures, rows, max_residual, max_condition,
+              double(iterations) / rows, fallbacks ? " (Ceres fallback used)" : "",
+              1e6 * seconds / rows);
+  for (const auto& r : failed) {
+    std::printf("  %s = %s: %s\n", Model::kQNames[0], Describe(0, r.q(0)).c_str(),
+                mechgen::position::FormatSummary(r.summary).c_str());
   }
 
-  if (!csv_path.empty()) {
-    std::ofstream file;
-    if (!OpenOutput(csv_path, &file)) return 4;
-    mechgen::WriteCsv(records, file);
-    std::printf("wrote %s (%d rows x %zu columns)\n", csv_path.c_str(), rows,
-                mechgen::CsvColumns<Model>().size());
-  }
   if (!svg_path.empty()) {
-    std::ofstream file;
-    if (!OpenOutput(svg_path, &file)) return 4;
     mechgen::SvgOptions options;
     options.animate = !no_animation;
     options.title = std::string("mechgen: ") + Model::kName;
-    mechgen::WriteSvg(solver.params(), records, options, file);
-    std::printf("wrote %s (%s)\n", svg_path.c_str(),
-                options.animate ? "animated; open it in a web browser" : "still");
+    mechgen::WriteSvg(solver.params(), svg_records, options, svg.stream());
   }
-  return 0;
+  // Each output whole or absent (OutputFile: a temporary file renamed on success).
+  if ((!csv_path.empty() && !csv.Commit(&error)) || (!svg_path.empty() && !svg.Commit(&error))) {
+    std::cerr << "error: " << error << "\n";
+    return kExitError;
+  }
+  if (!csv_path.empty()) {
+    std::printf("wrote %s (%zu rows x %zu columns)\n", csv_path.c_str(), rows, columns.size());
+  }
+  if (!svg_path.empty()) {
+    const std::string subsampled =
+        svg_stride > 1 ? ", every " + std::to_string(svg_stride) + "th row" : "";
+    std::printf("wrote %s (%s%s)\n", svg_path.c_str(),
+                !no_animation ? "animated; open it in a web browser" : "still",
+                subsampled.c_str());
+  }
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout.flush()) {
+    std::cerr << "error: cannot write the standard output\n";
+    return kExitError;
+  }
+  if (failures > 0) {
+    std::cerr << "error: " << failures << " of " << rows << " rows did not converge:";
+    const char* separator = " ";
+    for (int k = 0; k <= int(mechgen::position::Status::kNotRun); ++k) {
+      if (k == int(mechgen::position::Status::kConverged) || per_status[k] == 0) continue;
+      std::cerr << separator << per_status[k] << " "
+                << mechgen::position::ToString(mechgen::position::Status(k));
+      separator = ", ";
+    }
+    std::cerr << " (see the status column)\n";
+    return kExitRowsFailed;
+  }
+  return kExitConverged;
 }

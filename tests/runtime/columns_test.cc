@@ -2,9 +2,10 @@
 // the printed table of several generated models (one and two inputs, with and without
 // transmission angles and points) must be byte-identical to what the former output.h wrote
 // from its two hand-synchronised lists (copied below, unchanged but for names, as the
-// oracle); and the table's columns are exactly the table-named columns of the CSV, with the
-// same values (angles converted to degrees).
+// oracle, extended by the error-bound columns added since); and the table's columns are
+// exactly the table-named columns of the CSV, with the same values (angles converted to degrees).
 #include <cmath>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -63,6 +64,8 @@ std::vector<std::string> OldCsvColumns() {
   }
   for (const char* s : {"status", "iterations", "residual", "cond", "sigma_min"}) c.push_back(s);
   for (const char* phi : M::kPhiNames) c.push_back(std::string("singular_") + phi);
+  // Added since (issue 12): the error bounds the conditioning implies.
+  for (const char* s : {"phi_error", "K_error", "L_error"}) c.push_back(s);
   if constexpr (SweepRecord<M>::kNumMu > 0) {
     for (const char* joint : M::kTransmissionJoints) c.push_back(std::string("mu_") + joint);
   }
@@ -111,6 +114,8 @@ std::vector<std::string> OldCsvValues(const SweepRecord<M>& r) {
   v.push_back(FormatNumber(r.summary.condition, "%.6g"));
   v.push_back(FormatNumber(s.sigma_min, "%.6g"));
   for (int i = 0; i < M::kNphi; ++i) v.push_back(FormatNumber(s.singular_direction(i), "%.6g"));
+  // Added since (issue 12).
+  for (double e : {s.phi_error, s.K_error, s.L_error}) v.push_back(FormatNumber(e, "%.3g"));
   for (int i = 0; i < SweepRecord<M>::kNumMu; ++i) v.push_back(FormatNumber(r.mu(i)));
   return v;
 }
@@ -295,6 +300,32 @@ TEST(SweepColumns, TableColumnsAreTheTableNamedCsvColumnsWithTheSameValues) {
             << c.name;
       }
     }
+  }
+}
+
+// Unique column names (issue 12): the generator refuses models whose names would collide
+// (csv_column_names_test.sh); the tools check again with DuplicateColumnName(), which must
+// find a duplicate wherever it is and nothing in the shipped models' tables.
+template <class M>
+std::set<std::string> NameSet() {
+  std::set<std::string> names;
+  for (const SweepColumn<M>& c : SweepColumns<M>()) names.insert(c.name);
+  return names;
+}
+TEST(SweepColumns, NamesAreUniqueAndDuplicatesAreFound) {
+  EXPECT_EQ(DuplicateColumnName(SweepColumns<mech::fourbar::Model>()), "");
+  EXPECT_EQ(DuplicateColumnName(SweepColumns<mech::fourbar_crossed::Model>()), "");
+  EXPECT_EQ(DuplicateColumnName(SweepColumns<mech::slider_crank::Model>()), "");
+  EXPECT_EQ(DuplicateColumnName(SweepColumns<mech::fivebar::Model>()), "");
+  // The set of names is as large as the table (an independent count).
+  EXPECT_EQ(NameSet<mech::fivebar::Model>().size(), SweepColumns<mech::fivebar::Model>().size());
+  const std::vector<SweepColumn<mech::fourbar::Model>> columns =
+      SweepColumns<mech::fourbar::Model>();
+  for (size_t i : {size_t(0), columns.size() / 2, columns.size() - 1}) {
+    std::vector<SweepColumn<mech::fourbar::Model>> twice = columns;
+    SweepColumn<mech::fourbar::Model> copy = columns[i];
+    twice.insert(twice.begin() + static_cast<long>((i * 7) % columns.size()), copy);
+    EXPECT_EQ(DuplicateColumnName(twice), columns[i].name);
   }
 }
 

@@ -2,7 +2,8 @@
  * \file io/csv.h
  * A sweep as CSV: one header line, one line per record, one cell per column of the sweep's
  * column table (sweep/columns.h; names and values defined there together). Angles in
- * radians. Allocates; runs after the sweep.
+ * radians. Allocates (outside the solver's loop): WriteCsv() after a sweep, or
+ * WriteCsvHeader() and WriteCsvRow() from SweepRows()'s callback, one row at a time.
  */
 #pragma once
 
@@ -37,16 +38,27 @@ std::vector<std::string> CsvValues(const SweepRecord<M>& r) {
   return cells;
 }
 
+/// Writes the header line: the column names, comma-separated.
+template <class M>
+void WriteCsvHeader(const std::vector<SweepColumn<M>>& columns, std::ostream& out) {
+  for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i].name;
+  out << '\n';
+}
+
+/// Writes the line of one record (streaming: SweepRows() hands out one record at a time).
+template <class M>
+void WriteCsvRow(const std::vector<SweepColumn<M>>& columns, const SweepRecord<M>& r,
+                 std::ostream& out) {
+  for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << CsvCell(columns[i], r);
+  out << '\n';
+}
+
 /// Writes the header line and one line per record.
 template <class M>
 void WriteCsv(const std::vector<SweepRecord<M>>& records, std::ostream& out) {
   const std::vector<SweepColumn<M>> columns = SweepColumns<M>();
-  for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i].name;
-  out << '\n';
-  for (const SweepRecord<M>& r : records) {
-    for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << CsvCell(columns[i], r);
-    out << '\n';
-  }
+  WriteCsvHeader(columns, out);
+  for (const SweepRecord<M>& r : records) WriteCsvRow(columns, r, out);
 }
 
 }  // namespace mechgen

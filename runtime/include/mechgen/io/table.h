@@ -24,11 +24,22 @@ std::string TableCell(const SweepColumn<M>& c, const SweepRecord<M>& r) {
   return internal::FormatNumber(c.value(r) * (c.angle ? internal::kRadToDeg : 1), "%.4f");
 }
 
-/// Prints `rows` records spread evenly over the sweep: a header line of table names, a unit
-/// line ("[deg]" for angles), then the rows.
+/// The indices of the `rows` records PrintTable() shows out of `n`: evenly spaced, the last
+/// record excluded (for a full cycle it repeats the first: 0, 45, ..., 315 deg for 8 rows of
+/// a 360-step crank turn). Empty when n == 0 or rows <= 0.
+inline std::vector<size_t> TableRowIndices(size_t n, int rows) {
+  std::vector<size_t> indices;
+  if (n == 0 || rows <= 0) return indices;
+  const size_t count = std::min(static_cast<size_t>(rows), std::max<size_t>(n - 1, 1));
+  for (size_t r = 0; r < count; ++r) indices.push_back((n - 1) * r / count);
+  return indices;
+}
+
+/// Prints the given records, all of them: a header line of table names, a unit line
+/// ("[deg]" for angles), then one line per record.
 template <class M>
-void PrintTable(const std::vector<SweepRecord<M>>& records, int rows, std::ostream& out) {
-  if (records.empty() || rows <= 0) return;
+void PrintTableRows(const std::vector<SweepRecord<M>>& records, std::ostream& out) {
+  if (records.empty()) return;
   std::vector<SweepColumn<M>> columns = SweepColumns<M>();
   columns.erase(std::remove_if(columns.begin(), columns.end(),
                                [](const SweepColumn<M>& c) { return c.table_name.empty(); }),
@@ -51,17 +62,20 @@ void PrintTable(const std::vector<SweepRecord<M>>& records, int rows, std::ostre
   };
   print_row(names);
   print_row(units);
-  const int n = static_cast<int>(records.size());
-  rows = std::min(rows, std::max(n - 1, 1));
-  for (int r = 0; r < rows; ++r) {
-    // Evenly spaced, last row excluded: for a full cycle it repeats the first
-    // (0, 45, ..., 315 deg for 8 rows of a 360-step crank turn).
-    const int index = (n - 1) * r / rows;
-    const SweepRecord<M>& record = records[static_cast<size_t>(index)];
+  for (const SweepRecord<M>& record : records) {
     std::vector<std::string> cells;
     for (const SweepColumn<M>& c : columns) cells.push_back(TableCell(c, record));
     print_row(cells);
   }
+}
+
+/// Prints `rows` records spread evenly over the sweep (TableRowIndices()) with
+/// PrintTableRows().
+template <class M>
+void PrintTable(const std::vector<SweepRecord<M>>& records, int rows, std::ostream& out) {
+  std::vector<SweepRecord<M>> shown;
+  for (size_t i : TableRowIndices(records.size(), rows)) shown.push_back(records[i]);
+  PrintTableRows(shown, out);
 }
 
 }  // namespace mechgen

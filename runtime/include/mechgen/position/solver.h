@@ -51,6 +51,31 @@
  * and kNq^2 solves with the same factorization). Numeric L is kept because the default
  * second-order predictor and the K-consistency guard need it.
  * L is stored as the generated code does: L(i, j + kNq*k) = dK(i, j)/dq_k.
+ *
+ * Accuracy (State::phi_error, K_error, L_error, copied into Summary and the sweep's CSV):
+ * error bounds that the conditioning implies, by first-order propagation, for every
+ * configuration with coefficients. With u = eps/2, n = kNphi, kappa = cond_1(Phi_phi),
+ * ||Phi_phi^{-1}||_1 = kappa / ||Phi_phi||_1 (State::inverse_norm) and
+ * rho = ||Phi||_inf + 4 n u ||Phi_phi||_1 (1 + ||phi||_inf) (the residual plus the rounding
+ * of evaluating Phi):
+ *   phi_error = ||Phi_phi^{-1}||_1 n rho + u ||phi||_inf                     (~ eps cond)
+ *   K_error   = kappa (phi_error + n u) (1 + ||K||_1)                         (~ eps cond^2)
+ *   L_error   = kappa ((phi_error + n u) (||L||_1 + (1 + ||K||_1)^2)
+ *                      + 2 K_error (1 + ||K||_1))                             (~ eps cond^3)
+ * in the units of phi (rad or length), K and L. Scale: the second and third derivatives of
+ * Phi are taken as bounded by ||Phi_phi||_1 (link lengths: a revolute chain's Phi sums terms
+ * l (cos, sin), each derivative of which is bounded by l); a model with much larger
+ * constant terms (far-away ground pivots) has a larger rounding than rho assumes. For
+ * kNphi > 4, kappa is Eigen's estimate. Checked against a quad-precision closed form next to
+ * two change points (tests/runtime/near_singular_test.cc): the bounds hold up to cond 1e6,
+ * where L is off in its first digit; far from singular configurations they are ~1e-13
+ * (phi), ~1e-10 (K), ~1e-7 (L) or smaller.
+ * Leaving a singular configuration: a continuation step whose start is next to a singular
+ * configuration (sigma_min < Options::near_singular_ratio sigma_max) and whose end is
+ * farther from it is judged about its end: the branch guard on phi and the K-consistency
+ * guard expand about the end (its K and L), not about the start, whose L (error
+ * ~ eps cond^3) is unreliable there; the start's K_error widens the K guard. A landing on
+ * the other curve of a change point still fails the K guard (the curves' K differ by O(1)).
  */
 #pragma once
 
@@ -226,6 +251,16 @@ class PositionSolver {
   // model's coefficients have neither K, L nor points).
   bool CopyCoefficients(const typename T::Coefficients& c, const Factorization& f,
                         const MatCQ* Phi_q, State<M>* s) const;
+  // The error bounds of s (State::phi_error, K_error, L_error) from its residual, its
+  // conditioning (Classify()) and its coefficients; see "Accuracy" in the file comment.
+  static void ErrorBounds(State<M>* s);
+  // True when `from` is next to a singular configuration and `to` farther from it: the step
+  // leaves the singularity, and is judged by to's coefficients, not from's (whose K and L
+  // carry errors ~ eps cond^2, eps cond^3).
+  bool Leaving(const State<M>& from, const State<M>& to) const {
+    return from.sigma_min < options_.near_singular_ratio * from.sigma_max &&
+           to.sigma_min > from.sigma_min;
+  }
   static constexpr bool kCallCoeffs =
       Features::kHasK || Features::kHasL || Features::kHasPoints;
   // A result of M::Solve is checked on the Phi and Phi_phi of Model::Coeffs (one evaluation
@@ -265,6 +300,7 @@ class PositionSolver {
   // converges only linearly to a point whose phi passes the guard above but whose K is
   // O(1) off (it belongs to no solution curve), and the jump onto another curve after it.
   bool VelocityConsistent(const State<M>& from, const State<M>& to) const {
+    if (Leaving(from, to)) return VelocityConsistentBackwards(from, to);
     const VecQ dq = to.q - from.q;
     typename T::MatK change = T::MatK::Zero();  // L(i, j + kNq k) dq_k summed over k
     for (int k = 0; k < M::kNq; ++k) change += from.L.template middleCols<M::kNq>(M::kNq * k) * dq(k);
@@ -272,6 +308,35 @@ class PositionSolver {
     return remainder <= options_.max_correction_ratio * change.template lpNorm<Eigen::Infinity>() +
                             options_.max_correction_abs *
                                 (1 + from.K.template lpNorm<Eigen::Infinity>());
+  }
+  // The same guard for a step that leaves a singular configuration, expanded about `to`
+  // (the better-conditioned end): K(from) ~ K(to) - L(to) dq, within the K error bound of
+  // `from`. Its phi and K are still good there (errors eps cond, eps cond^2) while its L
+  // (eps cond^3) is not: a stop at cond 1e6 has L off by O(1), and judged by it every step
+  // away was refused. Landing on the other curve of a change point still fails: the two
+  // curves' K differ by O(1) at the crossing.
+  bool VelocityConsistentBackwards(const State<M>& from, const State<M>& to) const {
+    const VecQ dq = to.q - from.q;
+    typename T::MatK change = T::MatK::Zero();
+    for (int k = 0; k < M::kNq; ++k) change += to.L.template middleCols<M::kNq>(M::kNq * k) * dq(k);
+    const double remainder = (from.K - to.K + change).template lpNorm<Eigen::Infinity>();
+    return remainder <= options_.max_correction_ratio * change.template lpNorm<Eigen::Infinity>() +
+                            options_.max_correction_abs *
+                                (1 + to.K.template lpNorm<Eigen::Infinity>()) +
+                            from.K_error + to.K_error;
+  }
+  // The branch guard on phi for a step that leaves a singular configuration, expanded about
+  // `to`: phi(from) ~ phi(to) - K(to) dq + 1/2 L(to)(dq, dq), the correction measured
+  // against that last term (the Taylor remainder about the better-conditioned end).
+  bool CorrectionAcceptableBackwards(const State<M>& from, const State<M>& to) const {
+    const VecQ dq = to.q - from.q;
+    typename T::VecQQ dq_dq;
+    for (int k = 0; k < M::kNq; ++k) dq_dq.segment(M::kNq * k, M::kNq) = dq * dq(k);
+    const VecPhi second = 0.5 * to.L * dq_dq;
+    const VecPhi back = to.phi - to.K * dq + second;
+    return internal::MaxAbsDiff(from.phi, &back) <=
+           options_.max_correction_ratio * internal::MaxAbsDiff(second) +
+               options_.max_correction_abs + from.phi_error;
   }
   // One continuation sub-step from `from` to q: predictor, then the corrector M::Solve on
   // the branch's modes (has_modes_), and when that fails or the model has none, Newton on
@@ -294,6 +359,9 @@ class PositionSolver {
     s->condition = at.condition;
     s->sigma_min = at.sigma_min;
     s->branch = at.branch;
+    s->phi_error = at.phi_error;
+    s->K_error = at.K_error;
+    s->L_error = at.L_error;
   }
   // The Assembler at q starting from the predictor; the failure path.
   Status Fallback(const State<M>& from, const VecQ& q, State<M>* to, Summary* s) const;

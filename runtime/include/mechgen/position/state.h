@@ -44,6 +44,15 @@ struct State {
   /// PositionSolver's continuation steps for kNphi > 2 (see position/solver.h: "Distance to
   /// singularity"), sigma_min an upper bound and sigma_max a lower bound of the exact ones.
   bool sigma_exact = false;
+  /// Error bounds implied by the conditioning (position/solver.h, "Accuracy"): estimates of
+  /// ||phi - phi_exact||_inf, ||K - K_exact||_inf and ||L - L_exact||_inf at this q, growing
+  /// like eps cond, eps cond^2 and eps cond^3 (cond = cond_1 Phi_phi) next to a singular
+  /// configuration. NaN until the coefficients are computed.
+  double phi_error = kNaN;
+  double K_error = kNaN;
+  double L_error = kNaN;
+  /// ||Phi_phi^{-1}||_1 = cond_1 / ||Phi_phi||_1 (the scale of phi_error).
+  double inverse_norm = kNaN;
   int branch = 0;                                      ///< sign(det Phi_phi)
   bool valid = false;                                  ///< a converged configuration
 };

@@ -235,6 +235,14 @@ struct Summary {
   /// distance of Phi_phi to the nearest singular matrix; model length units), at the
   /// returned configuration. State::singular_direction holds its right singular vector.
   double sigma_min = std::numeric_limits<double>::quiet_NaN();
+  /// Error bounds implied by the conditioning at the returned configuration (State::
+  /// phi_error, K_error, L_error; position/solver.h, "Accuracy"): how far phi, K and L may
+  /// be from the exact ones. Grow like eps cond, eps cond^2, eps cond^3 next to a singular
+  /// configuration: a converged row with cond = 3e5 can have L wrong in its first digit,
+  /// and says so here. NaN when nothing was computed.
+  double phi_error = std::numeric_limits<double>::quiet_NaN();
+  double K_error = std::numeric_limits<double>::quiet_NaN();
+  double L_error = std::numeric_limits<double>::quiet_NaN();
   /// The Assembler (Levenberg–Marquardt from a poor guess: assembly, or the fallback of a
   /// continuation step) ran; Ceres when the solver's Assembler is CeresAssembler.
   bool used_assembler = false;

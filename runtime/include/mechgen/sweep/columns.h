@@ -11,6 +11,7 @@
  *   status, iterations, residual (||Phi||_inf), cond (cond_1 Phi_phi),
  *   sigma_min (smallest singular value of Phi_phi: the distance to singularity),
  *   singular_<phi_i> (its unit right singular vector: the singular direction),
+ *   phi_error, K_error, L_error (the error bounds the conditioning implies: State),
  *   mu_<J> (the transmission angle at joint J of each four-bar loop on the ground, in
  *   [0, pi]; 0 or pi where that loop toggles; models with such loops only).
  * Values are in model units and radians; the printed table shows angle columns in degrees.
@@ -18,6 +19,7 @@
  */
 #pragma once
 
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <utility>
@@ -136,12 +138,35 @@ std::vector<SweepColumn<M>> SweepColumns() {
   for (int i = 0; i < M::kNphi; ++i)
     add(std::string("singular_") + M::kPhiNames[i], "", false,
         [i](const R& r) { return r.state.singular_direction(i); }, "%.6g");
+  // How far the row's values may be from the exact ones (State::phi_error, K_error,
+  // L_error: eps cond, eps cond^2, eps cond^3 next to a singular configuration).
+  add("phi_error", "", false, [](const R& r) { return r.state.phi_error; }, "%.3g");
+  add("K_error", "", false, [](const R& r) { return r.state.K_error; }, "%.3g");
+  add("L_error", "", false, [](const R& r) { return r.state.L_error; }, "%.3g");
   if constexpr (SweepRecord<M>::kNumMu > 0) {
     for (int t = 0; t < SweepRecord<M>::kNumMu; ++t)
       add(std::string("mu_") + M::kTransmissionJoints[t], "", false,
           [t](const R& r) { return r.mu(t); });
   }
   return columns;
+}
+
+/**
+ * \brief The first column name that occurs twice in `columns`, or "" when all are unique.
+ * The generator rejects models whose names would collide (a link `rocker_dot` next to a
+ * link `rocker`: `theta_rocker_dot` twice); the tools check again at startup, so that a
+ * header from an older generator or written by hand cannot produce an ambiguous CSV.
+ */
+template <class M>
+std::string DuplicateColumnName(const std::vector<SweepColumn<M>>& columns) {
+  std::vector<const std::string*> names;
+  names.reserve(columns.size());
+  for (const SweepColumn<M>& c : columns) names.push_back(&c.name);
+  std::sort(names.begin(), names.end(),
+            [](const std::string* a, const std::string* b) { return *a < *b; });
+  for (size_t i = 1; i < names.size(); ++i)
+    if (*names[i] == *names[i - 1]) return *names[i];
+  return "";
 }
 
 }  // namespace mechgen

@@ -3,14 +3,18 @@
  * A sweep: the inputs move along the straight line q_begin -> q_end in equal steps and the
  * solver continues from one configuration to the next, on the branch it was assembled on.
  *
- * Every step is a PositionSolver::MoveTo() plus ComputeMotion(); the record vector is sized
- * once before the loop, so the loop itself does not allocate (unless a step falls back to
- * CeresAssembler). A step that fails is recorded with its Status and NaN values, and the solver
- * continues the next step from its last valid configuration; a step that reaches a singular
- * configuration (kSingular) stops the sweep there, unless SweepOptions asks to pass it.
+ * Every step is a PositionSolver::MoveTo() plus ComputeMotion(). SweepRows() hands each row
+ * to a callback as soon as it is solved (a million-step sweep streams to its CSV and holds
+ * one record); Sweep() collects the rows in a vector sized once before the loop. Neither
+ * loop allocates (unless a step falls back to CeresAssembler). A step that fails is recorded
+ * with its Status and NaN values, and the solver continues the next step from its last
+ * valid configuration; a step that reaches a singular configuration (kSingular) stops the
+ * sweep there, unless SweepOptions asks to pass it; the rows after a stop are kNotRun, with
+ * the inputs they asked for.
  */
 #pragma once
 
+#include <algorithm>
 #include <limits>
 #include <vector>
 
@@ -44,58 +48,67 @@ struct SweepOptions {
 };
 
 /**
- * \brief Sweeps the inputs from q_begin to q_end in `steps` equal steps (steps + 1 rows).
+ * \brief Sweeps the inputs from q_begin to q_end in `steps` equal steps (steps + 1 rows),
+ *        handing each row to `row(index, record)` as soon as it is solved (streaming: a
+ *        sweep of any length holds one record; the callback writes it out or keeps it).
  * \param[in,out] solver   An assembled solver (state().valid), e.g. after AssembleDefault().
  *                         The first row is reached by continuation from solver->state().
  * \param[in]     q_begin  First inputs (dim kNq).
  * \param[in]     q_end    Last inputs (dim kNq).
- * \param[in]     steps    Number of steps, >= 1.
+ * \param[in]     steps    Number of steps, >= 1 (smaller values are taken as 1).
  * \param[in]     qd       Input speeds for the motion (dim kNq), the same at every row.
  * \param[in]     qdd      Input accelerations (dim kNq).
- * \param[out]    records  steps + 1 rows.
- * \param[in]     options  What to do at a singular configuration (default: stop there).
+ * \param[in]     options  What to do at a singular configuration.
+ * \param[in]     row      Called as row(int index, const SweepRecord<M>&) for index
+ *                         0..steps, in order. A kNotRun row (after a stop) carries the input
+ *                         it would have been solved at, and NaN values.
  * \return the number of rows that did not converge (kNotRun rows after a stop included).
+ * Allocation-free apart from the solver's failure path and what `row` does.
  */
-template <class M, class Assembler>
-int Sweep(position::PositionSolver<M, Assembler>* solver,
-          const typename ModelTypes<M>::VecQ& q_begin,
-          const typename ModelTypes<M>::VecQ& q_end,
-          int steps,
-          const typename ModelTypes<M>::VecQ& qd,
-          const typename ModelTypes<M>::VecQ& qdd,
-          std::vector<SweepRecord<M>>* records,
-          const SweepOptions& options = SweepOptions()) {
+template <class M, class Assembler, class RowFn>
+int SweepRows(position::PositionSolver<M, Assembler>* solver,
+              const typename ModelTypes<M>::VecQ& q_begin,
+              const typename ModelTypes<M>::VecQ& q_end,
+              int steps,
+              const typename ModelTypes<M>::VecQ& qd,
+              const typename ModelTypes<M>::VecQ& qdd,
+              const SweepOptions& options,
+              RowFn&& row) {
   using VecQ = typename ModelTypes<M>::VecQ;
   if (steps < 1) steps = 1;
-  records->assign(static_cast<size_t>(steps) + 1, SweepRecord<M>());
   const VecQ delta = q_end - q_begin;
   const double delta2 = delta.squaredNorm();
   // u: position along the line (q = q_begin + u delta); dir: +1 forward, -1 after a reversal.
   auto at = [&](double u) { return VecQ(q_begin + u * delta); };
+  auto position_of = [&](const VecQ& q) {
+    return delta2 > 0 ? (q - q_begin).dot(delta) / delta2 : 0.0;
+  };
   double dir = 1;
   int failures = 0;
   bool stopped = false;
+  double u_prev = 0;   // where the previous row ended (its q)
+  double u_asked = 0;  // the input the previous row asked for
+  SweepRecord<M> record;
   for (int i = 0; i <= steps; ++i) {
-    SweepRecord<M>& record = (*records)[static_cast<size_t>(i)];
+    record = SweepRecord<M>();
     if (stopped) {
-      record.q = VecQ::Constant(std::numeric_limits<double>::quiet_NaN());
+      // Not run: the input this row would have been solved at, values NaN.
+      u_asked += dir / steps;
+      record.q = (i == steps && dir > 0) ? q_end : at(u_asked);
+      record.state.q = record.q;
       ++failures;
+      row(i, static_cast<const SweepRecord<M>&>(record));
       continue;
     }
-    double u = double(i) / steps;
-    if (i > 0) {
-      const SweepRecord<M>& prev = (*records)[static_cast<size_t>(i - 1)];
-      const double u_prev = delta2 > 0 ? (prev.q - q_begin).dot(delta) / delta2 : 0;
-      u = u_prev + dir / steps;
-    }
+    double u = i == 0 ? 0.0 : u_prev + dir / steps;
     record.q = (i == steps && dir > 0) ? q_end : at(u);
+    u_asked = u;
     position::Status status = solver->MoveTo(record.q, &record.summary);
     bool reversed = false;
     if (status == position::Status::kSingular &&
         options.at_singularity != position::Crossing::kStop) {
       // Pass, then finish the row: the rest of the step, mirrored after a reversal.
-      const double u_singular =
-          delta2 > 0 ? (solver->state().q - q_begin).dot(delta) / delta2 : 0;
+      const double u_singular = position_of(solver->state().q);
       position::Summary pass;
       if (solver->PassSingularity(record.q, options.at_singularity, &pass) ==
           position::Status::kConverged) {
@@ -104,9 +117,9 @@ int Sweep(position::PositionSolver<M, Assembler>* solver,
           dir = -dir;
           u = 2 * u_singular - u;
           record.q = at(u);
+          u_asked = u;
         }
-        const double u_passed =
-            delta2 > 0 ? (solver->state().q - q_begin).dot(delta) / delta2 : 0;
+        const double u_passed = position_of(solver->state().q);
         if ((u - u_passed) * dir > 0) {
           status = solver->MoveTo(record.q, &record.summary);
         } else {  // the pass already went beyond this row's input: record where it ended
@@ -136,8 +149,32 @@ int Sweep(position::PositionSolver<M, Assembler>* solver,
       record.state.q = record.q;
       ++failures;
     }
+    u_prev = position_of(record.q);
+    row(i, static_cast<const SweepRecord<M>&>(record));
   }
   return failures;
+}
+
+/**
+ * \brief SweepRows() into a vector: `records` gets steps + 1 rows (sized once, before the
+ *        loop). For long sweeps prefer SweepRows() with a callback that writes each row out.
+ * \param[out] records  steps + 1 rows.
+ * The other parameters and the return value as in SweepRows().
+ */
+template <class M, class Assembler>
+int Sweep(position::PositionSolver<M, Assembler>* solver,
+          const typename ModelTypes<M>::VecQ& q_begin,
+          const typename ModelTypes<M>::VecQ& q_end,
+          int steps,
+          const typename ModelTypes<M>::VecQ& qd,
+          const typename ModelTypes<M>::VecQ& qdd,
+          std::vector<SweepRecord<M>>* records,
+          const SweepOptions& options = SweepOptions()) {
+  records->assign(static_cast<size_t>(std::max(steps, 1)) + 1, SweepRecord<M>());
+  return SweepRows(solver, q_begin, q_end, steps, qd, qdd, options,
+                   [records](int i, const SweepRecord<M>& r) {
+                     (*records)[static_cast<size_t>(i)] = r;
+                   });
 }
 
 }  // namespace mechgen

@@ -61,7 +61,36 @@ bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficien
   }
   if constexpr (Features::kHasPointVelocities) s->K_P = c.K_P;
   if constexpr (Features::kHasPointAccelerations) s->L_P = c.L_P;
+  ErrorBounds(s);
   return finite;
+}
+
+template <class M, class Assembler>
+void PositionSolver<M, Assembler>::ErrorBounds(State<M>* s) {
+  // First-order propagation (position/solver.h, "Accuracy"). u: unit roundoff; n: kNphi;
+  // kappa = cond_1(Phi_phi); ||Phi_phi^{-1}||_1 = kappa / ||Phi_phi||_1. Scale: the second
+  // and third derivatives of Phi are taken as bounded by ||Phi_phi||_1 (link lengths: a
+  // revolute chain's Phi sums l (cos, sin) terms), and the rounding of Phi as
+  // 4 n u ||Phi_phi||_1 (1 + ||phi||_inf).
+  constexpr double u = std::numeric_limits<double>::epsilon() / 2;
+  constexpr double n = M::kNphi;
+  const double kappa = s->condition;
+  const double norm_A = kappa / s->inverse_norm;  // ||Phi_phi||_1
+  const double rho =
+      s->residual_norm + 4 * n * u * norm_A * (1 + s->phi.template lpNorm<Eigen::Infinity>());
+  // phi: the residual through Phi_phi^{-1} (1-norms; ||r||_1 <= n ||r||_inf), plus its own
+  // rounding.
+  s->phi_error = s->inverse_norm * n * rho + u * s->phi.template lpNorm<Eigen::Infinity>();
+  // K = -Phi_phi^{-1} Phi_q at a phi off by phi_error: Phi_phi and Phi_q change by
+  // ~ ||Phi_phi||_1 phi_error, amplified by ||Phi_phi^{-1}||_1; plus the solve's rounding.
+  const double norm_K = internal::Norm1(s->K);
+  const double delta = s->phi_error + n * u;
+  s->K_error = kappa * delta * (1 + norm_K);
+  // L = -Phi_phi^{-1} (Phi'' (K, K) + ...): the same for its terms, with K's error entering
+  // twice (kappa^2 phi_error ~ u kappa^3, the leading term next to a singularity).
+  const double norm_L = internal::Norm1(s->L);
+  s->L_error = kappa * (delta * (norm_L + (1 + norm_K) * (1 + norm_K)) +
+                        2 * s->K_error * (1 + norm_K));
 }
 
 }  // namespace mechgen::position

@@ -34,10 +34,14 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
                                double last_term, const VecPhi& phi, const MatCPhi* Phi_phi,
                                const MatCQ* Phi_q, double residual, State<M>* to,
                                const typename internal::TrigOf<M>::type* trig) const {
-  // (CorrectionAcceptable() fails on a phi that is not finite.)
-  if (!CorrectionAcceptable(last_term, predicted, phi) || MovesTooFar(from.phi, phi, true)) {
-    return false;
-  }
+  // (CorrectionAcceptable() fails on a phi that is not finite.) Next to a singular
+  // configuration from's L (error ~ eps cond^3) may spoil the predictor: a step that leaves
+  // it is judged about its end instead (CorrectionAcceptableBackwards(), below, once that
+  // end's coefficients are known).
+  const bool from_near_singular =
+      from.sigma_min < options_.near_singular_ratio * from.sigma_max;
+  if (!from_near_singular && !CorrectionAcceptable(last_term, predicted, phi)) return false;
+  if (!phi.allFinite() || MovesTooFar(from.phi, phi, true)) return false;
   MatCPhi A;
   MatCQ B;
   typename T::Coefficients c;
@@ -73,6 +77,11 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
   if (!Classify(*Phi_phi, f, &from, to) || to->branch != from.branch) return false;
   if (have_coefficients ? !CopyCoefficients(c, f, Phi_q, to) : !FillCoefficients(f, Phi_q, to)) {
     return false;
+  }
+  if (from_near_singular) {
+    const bool ok = Leaving(from, *to) ? CorrectionAcceptableBackwards(from, *to)
+                                       : CorrectionAcceptable(last_term, predicted, phi);
+    if (!ok) return false;
   }
   if (!VelocityConsistent(from, *to)) return false;
   to->valid = true;
@@ -250,10 +259,19 @@ Status PositionSolver<M, Assembler>::Fallback(const State<M>& from, const VecQ& 
   // The loop closes at q, but only on the other branch (det Phi_phi would pass through 0 on
   // the way) or exactly at a singular configuration: either way Phi_phi loses rank.
   if (!regular || to->branch != from.branch) return Status::kSingular;
-  if (!CorrectionAcceptable(last_term, predicted, phi) || MovesTooFar(from.phi, phi)) {
+  // Judged about the better-conditioned end when the step leaves a singular configuration
+  // (as in Accept()).
+  const bool from_near_singular =
+      from.sigma_min < options_.near_singular_ratio * from.sigma_max;
+  if ((!from_near_singular && !CorrectionAcceptable(last_term, predicted, phi)) ||
+      MovesTooFar(from.phi, phi)) {
     return Status::kDidNotConverge;
   }
   if (!FillCoefficients(f, kNeedPhiQ ? &Phi_q : nullptr, to)) return Status::kSingular;
+  if (from_near_singular && !(Leaving(from, *to) ? CorrectionAcceptableBackwards(from, *to)
+                                                 : CorrectionAcceptable(last_term, predicted, phi))) {
+    return Status::kDidNotConverge;
+  }
   if (!VelocityConsistent(from, *to)) return Status::kDidNotConverge;
   to->valid = true;
   return Status::kConverged;

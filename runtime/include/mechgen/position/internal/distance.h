@@ -14,6 +14,7 @@ template <class M, class Assembler>
 bool PositionSolver<M, Assembler>::Classify(const MatCPhi& Phi_phi, const Factorization& f,
                                  const State<M>* warm, State<M>* s) const {
   s->condition = f.condition();
+  s->inverse_norm = s->condition / internal::Norm1(Phi_phi);
   s->branch = Sign(f.determinant());
   Distance(Phi_phi, f, warm, s);
   // f.ok(): det finite and nonzero (so branch != 0), cond_1 finite.

@@ -11,61 +11,59 @@ namespace mechgen::position {
 
 template <class M, class Assembler>
 void PositionSolver<M, Assembler>::FindModes(const State<M>& s) {
+  const bool had_modes = has_modes_;
   has_modes_ = false;
   if constexpr (Features::kHasSolve) {
+    // Block by block on the solved configuration s, in solve order: a mode vector is right
+    // when M::Solve on it reproduces s.phi. A block's closed form depends only on earlier
+    // blocks' coordinates, and at s every block closes when the blocks before it are on
+    // s's modes; so when Solve fails in block f, some block before f has the wrong mode
+    // (that branch of the search is dropped), and when it converges elsewhere than s, a
+    // later block's mode is tried. Depth-first from the previous modes (or the model's
+    // defaults): one Solve when they still hold (the common case after a Newton step),
+    // a few where flipping a block makes a later one unassemblable (which the former
+    // search, flipping one block at a time from the defaults, took as "no modes").
     constexpr int nb = M::kNumBlocks;
-    auto solve = [&](const Modes& m, VecPhi* x) {
-      *x = s.phi;  // the reference of the closed forms' angles
-      const auto r = M::template Solve<double>(params_, s.q, x, m, options_.max_newton_iterations,
+    std::array<int, nb> closed{};  // the closed-form blocks, in solve order
+    int nc = 0;
+    for (int b = 0; b < nb; ++b)
+      if (M::kBlockClosedForm[b]) closed[static_cast<size_t>(nc++)] = b;
+    const double accuracy = 1e-6 * (1 + s.phi.template lpNorm<Eigen::Infinity>());
+    Modes m = had_modes ? modes_ : M::kDefaultModes;
+    int budget = 4096;  // Solve calls; 2^12 covers every mode vector of 12 closed-form blocks
+    // -1: Solve(m) reproduces s.phi; nb: converged elsewhere; else the block that failed.
+    auto attempt = [&]() {
+      --budget;
+      VecPhi x = s.phi;  // the reference of the closed forms' angles
+      const auto r = M::template Solve<double>(params_, s.q, &x, m,
+                                               options_.max_newton_iterations,
                                                options_.tolerance);
       using SolveStatus = decltype(r.status);
-      return r.status == SolveStatus::kConverged && x->allFinite();
+      if (r.status != SolveStatus::kConverged) return r.block >= 0 ? r.block : 0;
+      if (!x.allFinite()) return 0;
+      return (x - s.phi).template lpNorm<Eigen::Infinity>() <= accuracy ? -1 : nb;
     };
-    auto differs = [](double a, double b) { return std::abs(a - b) > 1e-9 * (1 + std::abs(b)); };
-    // Which coordinates each closed-form block owns: flipping block b's mode moves its own
-    // coordinates and those of later blocks that depend on it, never earlier ones; so
-    // own(b) = moved(b) minus moved(b') for every later b'.
-    Modes base = M::kDefaultModes;
-    VecPhi x0;
-    if (!solve(base, &x0)) return;
-    std::array<std::array<bool, M::kNphi>, nb> moved{};
-    for (int b = 0; b < nb; ++b) {
-      if (!M::kBlockClosedForm[b]) continue;
-      Modes m = base;
-      m[b] = -m[b];
-      VecPhi x;
-      if (!solve(m, &x)) return;
-      for (int i = 0; i < M::kNphi; ++i) moved[b][i] = differs(x(i), x0(i));
-    }
-    std::array<int, M::kNphi> owner;
-    owner.fill(-1);
-    for (int b = nb - 1; b >= 0; --b) {
-      for (int i = 0; i < M::kNphi; ++i) {
-        if (moved[b][i] && owner[i] == -1) owner[i] = b;
+    // Blocks closed[0..k) are settled; tries both modes of closed[k] (the current first).
+    auto search = [&](auto& self, int k) -> bool {
+      if (k >= nc) return false;
+      const int b = closed[static_cast<size_t>(k)];
+      for (int flip = 0; flip < 2 && budget > 0; ++flip) {
+        if (flip) m[static_cast<size_t>(b)] = -m[static_cast<size_t>(b)];
+        const int result = attempt();
+        if (result == -1) return true;
+        // Failed in block b or before it: b's mode (the earlier ones are settled) is wrong.
+        if (result > b && self(self, k + 1)) return true;
       }
+      m[static_cast<size_t>(b)] = -m[static_cast<size_t>(b)];  // restore
+      return false;
+    };
+    bool found = false;
+    if (nc == 0) {
+      found = attempt() == -1;  // Newton blocks only: Solve must still reproduce s
+    } else {
+      found = search(search, 0);
     }
-    // In solve order, the mode of each block that is closer to s.phi on its coordinates
-    // (earlier blocks are settled, so its inputs are right).
-    Modes m = base;
-    for (int b = 0; b < nb; ++b) {
-      if (!M::kBlockClosedForm[b]) continue;
-      VecPhi xa, xb;
-      Modes flipped = m;
-      flipped[b] = -flipped[b];
-      const bool oka = solve(m, &xa), okb = solve(flipped, &xb);
-      double ea = 0, eb = 0;
-      for (int i = 0; i < M::kNphi; ++i) {
-        if (owner[i] != b) continue;
-        ea = std::max(ea, std::abs(xa(i) - s.phi(i)));
-        eb = std::max(eb, std::abs(xb(i) - s.phi(i)));
-      }
-      if ((okb && !oka) || (oka && okb && eb < ea)) m = flipped;
-    }
-    VecPhi x;
-    if (!solve(m, &x)) return;
-    // Reproduced to the accuracy of s.phi (||Phi|| <= tolerance, 1/cond >= min_rcond).
-    const double error = (x - s.phi).template lpNorm<Eigen::Infinity>();
-    if (!(error <= 1e-6 * (1 + s.phi.template lpNorm<Eigen::Infinity>()))) return;
+    if (!found) return;
     modes_ = m;
     has_modes_ = true;
   }
