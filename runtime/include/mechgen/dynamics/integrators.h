@@ -437,14 +437,10 @@ class AdaptiveRungeKutta {
   }
 
   /// Replaces the current state (after a projection, or an event that changes the state)
-  /// and re-evaluates f there. The dense output of the last step is kept (it still
-  /// describes the step before the change).
+  /// and re-evaluates f there (one evaluation). The dense output of the last step is kept:
+  /// it interpolates the step as computed, before the change (y_new_, f_new_).
   template <class Rhs>
   bool Reset(Rhs& f, const State& y) {
-    if (!dense_ready_) {
-      if (!static_cast<Method*>(this)->PrepareDense(f)) return false;
-      dense_ready_ = true;
-    }
     y_ = y;
     State dy;
     if (!Eval(f, t_, y_, &dy)) return false;
@@ -567,13 +563,13 @@ class Dopri5 : public AdaptiveRungeKutta<N, Dopri5<N>> {
   template <class Rhs>
   bool PrepareDense(Rhs& /*f*/) {
     const double h = this->h_used_;
-    const State ydiff = this->y_ - this->y_prev_;
+    const State ydiff = this->y_new_ - this->y_prev_;
     const State bspl = h * s1_ - ydiff;
     r2_ = ydiff;
     r3_ = bspl;
-    r4_ = ydiff - h * this->f_ - bspl;
+    r4_ = ydiff - h * this->f_new_ - bspl;
     r5_ = h * (T::d1 * s1_ + T::d3 * k3_ + T::d4 * k4_ + T::d5 * k5_ + T::d6 * k6_ +
-               T::d7 * this->f_);
+               T::d7 * this->f_new_);
     return true;
   }
 
@@ -634,17 +630,17 @@ class Dop853 : public AdaptiveRungeKutta<N, Dop853<N>> {
   bool PrepareDense(Rhs& f) {
     const double h = this->h_used_;
     const double t = this->t_prev_;
-    k_[12] = this->f_;  // f at the end of the step (also after a Reset(): the step's own)
+    k_[12] = this->f_new_;  // f at the end of the step as computed (before any Reset())
     for (int s = 13; s < T::kExtended; ++s) {
       State dy = T::A[s][0] * k_[0];
       for (int j = 1; j < s; ++j)
         if (T::A[s][j] != 0) dy += T::A[s][j] * k_[j];
       if (!this->Eval(f, t + T::C[s] * h, this->y_prev_ + h * dy, &k_[s])) return false;
     }
-    const State dy = this->y_ - this->y_prev_;
+    const State dy = this->y_new_ - this->y_prev_;
     F_[0] = dy;
     F_[1] = h * k_[0] - dy;
-    F_[2] = 2 * dy - h * (this->f_ + k_[0]);
+    F_[2] = 2 * dy - h * (this->f_new_ + k_[0]);
     for (int r = 0; r < 4; ++r) {
       State s = T::D[r][0] * k_[0];
       for (int j = 5; j < T::kExtended; ++j) s += T::D[r][j] * k_[j];
