@@ -365,7 +365,8 @@ class MinimalDynamics {
    * \param[in] user_event  double(double t, const VecQ& q, const VecQ& qd, const VecPhi& phi):
    *            the run stops where it changes sign (Event::kUser); NoUserEvent for none.
    * \param[out] summary  not nullptr.
-   * \param[out] last  The state where the run ended. May be nullptr.
+   * \param[out] last  The last sample (where the run ended, or the observer stopped it). May be
+   *            nullptr.
    */
   template <class Observer, class UserEvent>
   bool Simulate(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer&& observer,
@@ -404,6 +405,7 @@ class MinimalDynamics {
     double next_sample = t0;
     auto emit = [&](const SampleT& s) {
       ++summary->samples;
+      if (last != nullptr) *last = s;
       summary->max_energy_error = std::max(summary->max_energy_error, std::abs(s.E - s.W - E0));
       return observer(s);
     };
