@@ -229,9 +229,51 @@ void DriftOf(F& f, const typename Integrator::State& y0, double tol, double t_en
 #endif
 
 #ifdef MECHGEN_BENCH_HAVE_MINIMAL
-// The mechgen minimal method, as a user runs it (forward.h).
-template <template <int> class Integrator>
-SimResult SimulateMechgen(double tol);
+// The mechgen minimal method, as a user runs it (forward.h): samples only at the start and
+// the end (sample_dt = t_end), no events but the dead-point check the runtime always makes.
+template <template <int> class Method>
+SimResult SimulateMechgen(double tol) {
+  using Sim = dyn::MinimalDynamics<Model, Method>;
+  static const typename Sim::Params p;
+  dyn::MinimalOptions o;
+  o.integrator = Tolerance(tol);
+  o.sample_dt = kTEnd;
+  Sim sim(p, o);
+  const typename Sim::VecQ q0 = Sim::VecQ::Constant(kQ0), qd0 = Sim::VecQ::Zero();
+  SimResult r;
+  if (!sim.Initialize(q0)) return r;
+  dyn::MinimalSummary summary;
+  typename Sim::SampleT last;
+  r.ok = sim.Simulate(0.0, q0, qd0, kTEnd, [](const typename Sim::SampleT&) { return true; },
+                      &summary, &last);
+  r.theta = last.q(0);
+  r.thetad = last.qd(0);
+  r.steps = summary.integrator.steps;
+  r.rhs = summary.integrator.rhs_evaluations;
+  return r;
+}
+
+// The runtime's right-hand side (MinimalDynamics::Derivative): warm-started positions, K, L,
+// dynamics, qdd; one configuration per 0.5 deg step.
+void RhsMinimalDynamics(benchmark::State& state) {
+  using Sim = dyn::MinimalDynamics<Model, dyn::Dopri5>;
+  const typename Sim::Params p;
+  Sim sim(p);
+  if (!sim.Initialize(Sim::VecQ::Constant(kQ0))) {
+    state.SkipWithError("assembly failed");
+    return;
+  }
+  typename Sim::State y, dy;
+  y << 0.0, 1.0, 0.0;
+  long k = 0;
+  for (auto _ : state) {
+    y(0) = (k++ % 720) * kStep;
+    const bool ok = sim.Derivative(0.0, y, &dy);
+    benchmark::DoNotOptimize(ok);
+    benchmark::DoNotOptimize(dy);
+  }
+}
+BENCHMARK(RhsMinimalDynamics)->Name("Rhs/MinimalDynamics");
 #endif
 
 struct Method {
@@ -243,6 +285,10 @@ std::vector<Method> Methods() {
   std::vector<Method> m;
 #ifndef MECHGEN_BENCH_SIMBODY_ONLY
 #ifdef MECHGEN_BENCH_HAVE_INTEGRATORS
+#ifdef MECHGEN_BENCH_HAVE_MINIMAL
+  m.push_back({"MechgenDopri5", SimulateMechgen<dyn::Dopri5>});
+  m.push_back({"MechgenDop853", SimulateMechgen<dyn::Dop853>});
+#endif
   m.push_back({"HandDopri5", SimulateHand<dyn::Dopri5<2>>});
   m.push_back({"HandDop853", SimulateHand<dyn::Dop853<2>>});
 #endif
