@@ -28,6 +28,7 @@
 #include <cstring>
 #include <functional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -359,6 +360,36 @@ int WriteDrift(const char* path, double t_end) {
       write("HandDopri5", tol, drift);
       DriftOf<dyn::Dop853<2>>(f, State2(kQ0, 0.0), tol, t_end, dt, energy, &drift);
       write("HandDop853", tol, drift);
+    }
+#endif
+#ifdef MECHGEN_BENCH_HAVE_MINIMAL
+    {
+      const FourbarParams<double> hp;
+      auto run = [&](auto* sim_tag, bool projection, const char* name) {
+        using Sim = std::remove_pointer_t<decltype(sim_tag)>;
+        const typename Sim::Params p;
+        dyn::MinimalOptions o;
+        o.integrator = Tolerance(tol);
+        o.sample_dt = dt;
+        o.energy_projection = projection;
+        Sim sim(p, o);
+        const typename Sim::VecQ q0 = Sim::VecQ::Constant(kQ0), qd0 = Sim::VecQ::Zero();
+        drift.clear();
+        if (!sim.Initialize(q0)) return;
+        const double e0 = Energy(hp, kQ0, 0.0);
+        dyn::MinimalSummary summary;
+        sim.Simulate(0.0, q0, qd0, t_end,
+                     [&](const typename Sim::SampleT& smp) {
+                       drift.push_back(Energy(hp, smp.q(0), smp.qd(0)) - e0);
+                       return true;
+                     },
+                     &summary);
+        write(name, tol, drift);
+      };
+      run(static_cast<dyn::MinimalDynamics<Model, dyn::Dopri5>*>(nullptr), false, "MechgenDopri5");
+      run(static_cast<dyn::MinimalDynamics<Model, dyn::Dop853>*>(nullptr), false, "MechgenDop853");
+      run(static_cast<dyn::MinimalDynamics<Model, dyn::Dopri5>*>(nullptr), true,
+          "MechgenDopri5EnergyProjection");
     }
 #endif
 #endif
