@@ -17,6 +17,7 @@
 #include "analysis/topology.h"
 #include "analysis/validate.h"
 #include "codegen/emit.h"
+#include "symbolic/dynamics.h"
 #include "symbolic/statics.h"
 #include "codegen/functions.h"
 #include "model/model.h"
@@ -74,6 +75,7 @@ struct Pipeline {
   mechgen::Kinematics kinematics;
   std::unique_ptr<mechgen::SymbolicTable> table;
   std::unique_ptr<mechgen::StaticsTable> statics;
+  std::unique_ptr<mechgen::DynamicsTable> dynamics;
   std::vector<mechgen::TransmissionAngle> transmission;
   mechgen::CxxPrinter printer;
   std::vector<mechgen::FunctionSpec> functions;
@@ -90,8 +92,9 @@ void Run(Pipeline* p, const std::string& path, const std::string& name, const st
   p->table = std::make_unique<mechgen::SymbolicTable>(p->model, p->kinematics, strategy);
   p->transmission = mechgen::FindTransmissionAngles(p->model, p->topology, p->kinematics, p->table->blocks);
   p->statics = std::make_unique<mechgen::StaticsTable>(p->model, p->kinematics, *p->table);
-  p->functions =
-      mechgen::BuildFunctions(p->model, p->kinematics, *p->table, p->transmission, &p->printer, p->statics.get());
+  p->dynamics = std::make_unique<mechgen::DynamicsTable>(p->model, p->kinematics, *p->table);
+  p->functions = mechgen::BuildFunctions(p->model, p->kinematics, *p->table, p->transmission, &p->printer,
+                                         p->statics.get(), p->dynamics.get());
   p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, *p->table, p->transmission, p->functions,
                              &p->printer, templates);
 }

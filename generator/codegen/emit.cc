@@ -112,6 +112,35 @@ std::string StaticsStruct(const Model& m, const StaticsLayout& layout, bool has_
   return s;
 }
 
+// The generated Dynamics struct (issue 15's contract).
+std::string DynamicsStruct() {
+  return "/// What EvalDynamics() fills (Paul ch. 6): the generalized equation of motion\n"
+         "///   I(q) qdd + h(q, qd) = Q(t, q, qd),   h_j = sum_kl C(j, k + kNq l) qd_k qd_l\n"
+         "/// (one DOF: I qdd + 1/2 I' qd^2 = Q, C = I'/2). Units follow the model's (SI: kg m^2, N m, J, W).\n"
+         "template <typename Scalar = double>\n"
+         "struct Dynamics {\n"
+         "  /// I(j, k) = sum over the massive links of m K_G,j . K_G,k + J_G K_theta,j K_theta,k: the\n"
+         "  /// generalized inertia.  (kNq x kNq)\n"
+         "  Mat<Scalar, Sizes::kNq, Sizes::kNq> I;\n"
+         "  /// dI_dq(j, k + kNq*l) = dI(j, k)/dq_l along the motion.  (kNq x kNq^2)\n"
+         "  Mat<Scalar, Sizes::kNq, Sizes::kNq * Sizes::kNq> dI_dq;\n"
+         "  /// C(j, k + kNq*l) = sum m K_G,j . L_G,kl + J K_theta,j L_theta,kl.  (kNq x kNq^2)\n"
+         "  Mat<Scalar, Sizes::kNq, Sizes::kNq * Sizes::kNq> C;\n"
+         "  /// h = C (qd (x) qd): the centripetal and Coriolis terms.  (kNq)\n"
+         "  Vec<Scalar, Sizes::kNq> h;\n"
+         "  /// Q(j): generalized applied force on q_j at (t, q, qd): loads (with their time and velocity\n"
+         "  /// dependence, tables), weights, springs, dampers, viscous joint friction and the given Coulomb\n"
+         "  /// friction loads.  (kNq)\n"
+         "  Vec<Scalar, Sizes::kNq> Q;\n"
+         "  /// T = 1/2 qd^T I qd: the kinetic energy.\n"
+         "  Scalar T;\n"
+         "  /// V: the potential energy of the springs and the weights (0 if none).\n"
+         "  Scalar V;\n"
+         "  /// P_nc = (Q + dV/dq) . qd: the power of the non-conservative forces (d(T + V)/dt = P_nc).\n"
+         "  Scalar P_nc;\n"
+         "};\n";
+}
+
 // Data for the templates, remembering every key so that a template naming a value the
 // generator does not provide is an error instead of an empty string.
 class TemplateData {
@@ -499,7 +528,9 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
                               ";  ///< reaction components (kReactionNames)\n"
                               "  static constexpr int kNumFriction = " + std::to_string(statics.friction.size()) +
                               ";   ///< joints with Coulomb friction (kFrictionJoints)\n");
-  data.Set("statics_struct", statics.any ? StaticsStruct(m, statics, table.requested.L) + "\n" : std::string());
+  const bool dynamics = m.outputs.Has(Quantity::kDynamics);
+  data.Set("statics_struct", (statics.any ? StaticsStruct(m, statics, table.requested.L) + "\n" : std::string()) +
+                                 (dynamics ? DynamicsStruct() + "\n" : std::string()));
   std::string constants =
       "  /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first\n"
       "  /// link on its second, in the fixed frame:\n";
@@ -523,6 +554,10 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   constants += "  static constexpr std::array<const char*, " + std::to_string(m.loads.size()) + "> kLoadNames{ " +
                Join(m.loads, [](const Load& l) { return Quote(l.name); }) + " };\n";
   constants += "  template <typename Scalar>\n  using StaticsT = mech::" + m.name + "::Statics<Scalar>;\n";
+  if (dynamics)
+    constants += "  /// EvalDynamics, EvalKinetostatics and EvalExcess are generated (Paul ch. 6).\n"
+                 "  static constexpr bool kHasDynamics = true;\n"
+                 "  template <typename Scalar>\n  using DynamicsT = mech::" + m.name + "::Dynamics<Scalar>;\n";
   if (!statics.any) constants.clear();
   data.Set("statics_constants", constants);
 

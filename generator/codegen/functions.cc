@@ -225,7 +225,7 @@ void ShareTrig(const Kinematics& k,
                CxxPrinter* printer,
                FunctionSpec* coefficients,
                FunctionSpec* positions,
-               FunctionSpec* statics) {
+               const std::vector<FunctionSpec*>& takers) {
   std::vector<TrigName> names;
   for (int i = 0; i < k.nq(); ++i) names.push_back(NameTrig(true, i, printer));
   for (int i = 0; i < k.nphi(); ++i) names.push_back(NameTrig(false, i, printer));
@@ -261,7 +261,7 @@ void ShareTrig(const Kinematics& k,
     }
   };
   take_trig(coefficients);
-  if (statics) take_trig(statics);
+  for (FunctionSpec* spec : takers) take_trig(spec);
 
   // SolvePositions: the inputs' sin and cos once, before the blocks (body[0] is its
   // prologue, then one program per block, then its epilogue).
@@ -302,7 +302,8 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
                                          const SymbolicTable& t,
                                          const std::vector<TransmissionAngle>& transmission,
                                          CxxPrinter* printer,
-                                         const StaticsTable* statics) {
+                                         const StaticsTable* statics,
+                                         const DynamicsTable* dynamics) {
   NameModelSymbols(m, k, printer);
   std::vector<FunctionSpec> out;
   // Cams: the law's function and the cam's geometry; splines' contour functions.
@@ -319,9 +320,23 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   FunctionSpec statics_spec;
   const bool has_statics = statics != nullptr && statics->layout.any;
   if (has_statics) statics_spec = EvalStaticsSpec(m, *statics, printer);
-  ShareTrig(k, trig_done, printer, &coefficients, &positions, has_statics ? &statics_spec : nullptr);
+  std::vector<FunctionSpec*> takers;
+  if (has_statics) takers.push_back(&statics_spec);
+  const bool has_dynamics = dynamics != nullptr && dynamics->any;
+  FunctionSpec dynamics_spec, kinetostatics_spec;
+  if (has_dynamics) {
+    dynamics_spec = EvalDynamicsSpec(m, *dynamics, printer);
+    kinetostatics_spec = EvalKinetostaticsSpec(m, *dynamics, printer);
+    takers.push_back(&dynamics_spec);
+    takers.push_back(&kinetostatics_spec);
+  }
+  ShareTrig(k, trig_done, printer, &coefficients, &positions, takers);
   out.push_back(coefficients);
   if (has_statics) out.push_back(statics_spec);
+  if (has_dynamics) {
+    out.push_back(dynamics_spec);
+    out.push_back(kinetostatics_spec);
+  }
   if (has_statics && (!statics->d2V_dq2.empty() || !statics->stiffness_q.empty())) out.push_back(EvalStiffnessSpec(m, *statics, printer));
   out.push_back(EvalDetPhiPhiSpec(t));
   if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));

@@ -14,6 +14,7 @@
 #include "codegen/function_spec.h"
 #include "analysis/kinematics.h"
 #include "model/model.h"
+#include "symbolic/dynamics.h"
 #include "symbolic/statics.h"
 #include "symbolic/table.h"
 #include "symbolic/transmission.h"
@@ -46,17 +47,24 @@ FunctionSpec ContourSpec(const Model& m, const CamContour& c);
 FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer);
 /// EvalStiffness: d2V/dq2 and -dQ/dq (potential with L).
 FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer);
+/// The statements of EvalStatics' body for a statics table (also EvalKinetostatics').
+Program StaticsBody(const Model& m, const StaticsTable& st, CxxPrinter* printer);
+/// EvalDynamics (codegen/statics_functions.cc): I, dI_dq, C, h, Q, T, V, P_nc.
+FunctionSpec EvalDynamicsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
+/// EvalKinetostatics: the statics with the inertia forces, into the Statics struct.
+FunctionSpec EvalKinetostaticsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);
 
 /// sin and cos shared between SolvePositions and EvalCoefficients (the Trig<Scalar>
-/// argument): rewrites both specs' programs, and EvalStatics' when given.
+/// argument): rewrites both specs' programs, and those of `takers` (EvalStatics, EvalDynamics, ...)
+/// that take a Trig argument too.
 void ShareTrig(const Kinematics& k,
                const std::vector<bool>& trig_done,
                CxxPrinter* printer,
                FunctionSpec* coefficients,
                FunctionSpec* positions,
-               FunctionSpec* statics = nullptr);
+               const std::vector<FunctionSpec*>& takers = {});
 
 /// Every generated function of the model, in the order of the header.
 std::vector<FunctionSpec> BuildFunctions(const Model& m,
@@ -64,6 +72,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
                                          const SymbolicTable& t,
                                          const std::vector<TransmissionAngle>& transmission,
                                          CxxPrinter* printer,
-                                         const StaticsTable* statics = nullptr);
+                                         const StaticsTable* statics = nullptr,
+                                         const DynamicsTable* dynamics = nullptr);
 
 }  // namespace mechgen

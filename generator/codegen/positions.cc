@@ -137,7 +137,10 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
                        "", true, "nullptr"));
   bool newton = false;
   for (const Block& b : t.blocks) newton |= b.solve == BlockSolve::kNewton;
-  Program prologue = {Raw("Vec<Scalar, Sizes::kNphi>& phi = *phi_io;"), Raw("int iterations = 0;")};
+  // No blocks (no loop: kNphi = 0, e.g. a pendulum): nothing reads phi (its argument is then void-cast).
+  Program prologue;
+  if (!t.blocks.empty()) prologue.push_back(Raw("Vec<Scalar, Sizes::kNphi>& phi = *phi_io;"));
+  prologue.push_back(Raw("int iterations = 0;"));
   if (newton) {
     prologue.push_back(Raw("// tolerance <= 0: 1e-12 (model units), 1e-5 for float"));
     prologue.push_back(

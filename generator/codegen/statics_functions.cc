@@ -132,8 +132,6 @@ void PruneUnusedDefines(Program* program) {
 }
 
 FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer) {
-  const int nq = static_cast<int>(m.inputs.size());
-  for (const auto& [sym, name] : st.names) printer->Name(sym, name);
   FunctionSpec f;
   f.name = "EvalStatics";
   f.model_member = "Forces";  // (the struct is Statics)
@@ -158,6 +156,36 @@ FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter*
   f.notes = {"\\note Everything is linear in the friction loads; the runtime iterates them on the normal",
              "forces (mechgen/statics). Near a dead point (Phi_phi singular) the multipliers, and so the",
              "reactions and the drive of a non-input load path, grow without bound: check the conditioning."};
+  f.body = {StaticsBody(m, st, printer)};
+  return f;
+}
+
+namespace {
+
+// Prunes the unused locals, reads the friction loads the rest uses (from the argument, or
+// 0), and names the sums raised to powers (deterministic text).
+Program Finish(Program P, const StaticsTable& st, CxxPrinter* printer) {
+  PruneUnusedDefines(&P);
+  // The friction loads the remaining statements read (a friction joint whose force enters
+  // nothing that was asked for is not read), each from the argument or 0.
+  std::set<ex, GiNaC::ex_is_less> used;
+  for (const Statement& s : P)
+    if (s.kind == Statement::Kind::kDefine || s.kind == Statement::Kind::kStore) CollectSymbols(s.value, &used);
+  Program prologue;
+  for (const auto& [sym, name] : st.names)
+    if (name.rfind("friction_", 0) == 0 && used.count(sym))
+      prologue.push_back(Raw("const Scalar " + name + " = friction != nullptr ? (*friction)(" + name.substr(9) +
+                             ") : Scalar(0);"));
+  P.insert(P.begin(), prologue.begin(), prologue.end());
+  NameSumPowers(&P, printer);
+  return P;
+}
+
+}  // namespace
+
+Program StaticsBody(const Model& m, const StaticsTable& st, CxxPrinter* printer) {
+  const int nq = static_cast<int>(m.inputs.size());
+  for (const auto& [sym, name] : st.names) printer->Name(sym, name);
   Program P = st.program;
   if (st.forces)
     for (int j = 0; j < nq; ++j) {
@@ -174,21 +202,7 @@ FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter*
     P.push_back(Store("out->gain(" + N(static_cast<int>(i)) + ")", st.gain[i]));
     for (int j = 0; j < nq; ++j) P.push_back(Store("out->K_rel" + Idx(static_cast<int>(i), j), st.K_rel[i][j]));
   }
-  PruneUnusedDefines(&P);
-  // The friction loads the remaining statements read (a friction joint whose force enters
-  // nothing that was asked for is not read), each from the argument or 0.
-  std::set<ex, GiNaC::ex_is_less> used;
-  for (const Statement& s : P)
-    if (s.kind == Statement::Kind::kDefine || s.kind == Statement::Kind::kStore) CollectSymbols(s.value, &used);
-  Program prologue;
-  for (const auto& [sym, name] : st.names)
-    if (name.rfind("friction_", 0) == 0 && used.count(sym))
-      prologue.push_back(Raw("const Scalar " + name + " = friction != nullptr ? (*friction)(" + name.substr(9) +
-                             ") : Scalar(0);"));
-  P.insert(P.begin(), prologue.begin(), prologue.end());
-  NameSumPowers(&P, printer);
-  f.body = {P};
-  return f;
+  return Finish(P, st, printer);
 }
 
 FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer) {
@@ -212,6 +226,82 @@ FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st, CxxPrinte
     P.push_back(Store("out->stiffness" + Idx(static_cast<int>(i) % nq, static_cast<int>(i) / nq), st.stiffness_q[i]));
   NameSumPowers(&P, printer);
   f.body = {P};
+  return f;
+}
+
+}  // namespace mechgen
+
+namespace mechgen {
+
+FunctionSpec EvalDynamicsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer) {
+  const int nq = static_cast<int>(m.inputs.size());
+  const StaticsTable& a = *dt.applied;
+  for (const auto& [sym, name] : a.names) printer->Name(sym, name);
+  FunctionSpec f;
+  f.name = "EvalDynamics";
+  f.model_member = "Dynamics";
+  f.doc = {"\\brief The generalized equation of motion (Paul ch. 6) at a closed configuration and velocity:",
+           "I(q) qdd + h(q, qd) = Q(t, q, qd), h = C (qd (x) qd) (one DOF: I qdd + I'/2 qd^2 = Q), with the",
+           "kinetic energy T, the potential energy V and the power P_nc of the non-conservative forces."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities dq/dt", "dim kNq"));
+  f.args.push_back(Arg("const Scalar&", "t", Dir::kIn, "Time (s), for loads that depend on it"));
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn,
+                       "EvalCoefficients() at this (q, phi): K and L are read from it."));
+  f.args.push_back(Arg("Dynamics<Scalar>*", "out", Dir::kOut, "Dynamics; not nullptr."));
+  f.args.push_back(Arg("const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type*", "friction", Dir::kIn,
+                       "Coulomb friction loads f (kFrictionJoints), as in EvalStatics(); nullptr: none.",
+                       "dim kNumFriction", true, "nullptr"));
+  f.args.push_back(Arg("const typename NonDeduced<Trig<Scalar>>::type*", "trig", Dir::kIn,
+                       "sin and cos of q and phi from SolvePositions() at this (q, phi), or nullptr: they are "
+                       "computed here.",
+                       "", false, "nullptr"));
+  f.notes = {"\\note The accelerations: qdd = I^-1 (Q - h); I is positive definite where the mechanism can move",
+             "(it loses rank only where every massive link stands still, at a dead point of a massless chain)."};
+  Program P = dt.program;
+  for (int j = 0; j < nq; ++j)
+    for (int k = 0; k < nq; ++k) P.push_back(Store("out->I" + Idx(j, k), dt.I[j + nq * k]));
+  for (int j = 0; j < nq; ++j)
+    for (int kl = 0; kl < nq * nq; ++kl) P.push_back(Store("out->dI_dq" + Idx(j, kl), dt.dI_dq[j + nq * kl]));
+  for (int j = 0; j < nq; ++j)
+    for (int kl = 0; kl < nq * nq; ++kl) P.push_back(Store("out->C" + Idx(j, kl), dt.C[j + nq * kl]));
+  for (int j = 0; j < nq; ++j) P.push_back(Store("out->h(" + N(j) + ")", dt.h[j]));
+  for (int j = 0; j < nq; ++j) P.push_back(Store("out->Q(" + N(j) + ")", dt.Q[j]));
+  P.push_back(Store("out->T", dt.T));
+  P.push_back(Store("out->V", dt.V));
+  P.push_back(Store("out->P_nc", dt.P_nc));
+  f.body = {Finish(P, a, printer)};
+  return f;
+}
+
+FunctionSpec EvalKinetostaticsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer) {
+  const StaticsTable& st = *dt.kinetostatics;
+  FunctionSpec f;
+  f.name = "EvalKinetostatics";
+  f.model_member = "Kinetostatics";
+  f.doc = {"\\brief Kinetostatics, or inverse dynamics (Paul §6.7): the statics of EvalStatics() with d'Alembert's",
+           "inertia forces -m a_G at every centre of mass and couples -J alpha added to the loads, for a",
+           "prescribed motion (q, qd, qdd) at time t: Q = Q_applied(t, q, qd) - (I qdd + h), drive = -Q (what",
+           "each input's actuator applies for this motion), and the reactions including the inertia forces."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities", "dim kNq"));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qdd", Dir::kIn, "Input accelerations", "dim kNq"));
+  f.args.push_back(Arg("const Scalar&", "t", Dir::kIn, "Time (s), for loads that depend on it"));
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn,
+                       "EvalCoefficients() at this (q, phi): K, L and Phi_phi are read from it."));
+  f.args.push_back(Arg("Statics<Scalar>*", "out", Dir::kOut,
+                       "Statics (Q, drive, V, dV_dq, R, and normal, gain, K_rel of the friction joints); not nullptr."));
+  f.args.push_back(Arg("const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type*", "friction", Dir::kIn,
+                       "Coulomb friction loads f (kFrictionJoints), as in EvalStatics(); nullptr: none.",
+                       "dim kNumFriction", true, "nullptr"));
+  f.args.push_back(Arg("const typename NonDeduced<Trig<Scalar>>::type*", "trig", Dir::kIn,
+                       "sin and cos of q and phi from SolvePositions() at this (q, phi), or nullptr: they are "
+                       "computed here.",
+                       "", false, "nullptr"));
+  f.notes = {"\\note stiffness and d2V_dq2 of the Statics struct are not set here (EvalStiffness())."};
+  f.body = {StaticsBody(m, st, printer)};
   return f;
 }
 

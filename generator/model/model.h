@@ -227,6 +227,7 @@ enum class Quantity {
   kScene,  ///< EvalScene: every link point, for drawing
   kForces,     ///< statics: the generalized forces Q of the loads and the driving forces (needs K)
   kPotential,  ///< statics: the potential energy V of springs and gravity and its derivatives
+  kDynamics,   ///< dynamics (Paul ch. 6): EvalDynamics, EvalKinetostatics, EvalExcess; implies K and L
 };
 
 /// What the generated code computes: the requested quantities and the points of interest.

@@ -12,7 +12,8 @@ const KeyTable& OutputKeys() {
       "outputs",
       {{"order", "shorthand: 0 positions, 1 + velocity coefficients K, 2 + centripetal coefficients L (default 2)",
         false},
-       {"quantities", "[K, L, scene, forces, potential]: the requested quantities, instead of order and scene", false},
+       {"quantities", "[K, L, scene, forces, potential, dynamics]: the requested quantities, instead of order and scene",
+        false},
        {"reactions", "[joint, ...]: joints whose reactions are emitted (statics; needs forces)", false},
        {"points", "[link.P, <rolling joint>.contact, ...]: points of interest (r_P, K_P, L_P as requested)", false},
        {"scene", "emit EvalScene (every link point, for drawing; default true)", false}}};
@@ -79,11 +80,17 @@ void ReadOutputs(SectionReader& r, const YAML::Node& node) {
                              : q == "L"         ? Quantity::kL
                              : q == "forces"    ? Quantity::kForces
                              : q == "potential" ? Quantity::kPotential
+                             : q == "dynamics"  ? Quantity::kDynamics
                                                 : Quantity::kScene;
-      if (q != "K" && q != "L" && q != "scene" && q != "forces" && q != "potential")
-        r.Fail(item, "unknown quantity '" + q + "'; the quantities are K, L, scene, forces and potential");
+      if (q != "K" && q != "L" && q != "scene" && q != "forces" && q != "potential" && q != "dynamics")
+        r.Fail(item, "unknown quantity '" + q + "'; the quantities are K, L, scene, forces, potential and dynamics");
       if (!out.quantities.insert(which).second) r.Fail(item, "quantity '" + q + "' is listed twice");
     }
+    // The dynamics reads the centres of mass' velocity and centripetal coefficients, and
+    // builds on the statics' applied forces and potential (its Statics struct holds the
+    // kinetostatics).
+    if (out.Has(Quantity::kDynamics))
+      for (Quantity q : {Quantity::kK, Quantity::kL, Quantity::kForces, Quantity::kPotential}) out.quantities.insert(q);
     if (out.Has(Quantity::kL) && !out.Has(Quantity::kK))
       r.Fail(quantities, "L needs K (the centripetal coefficients are computed from the velocity coefficients); "
                          "add K");
@@ -94,12 +101,18 @@ void ReadOutputs(SectionReader& r, const YAML::Node& node) {
   if (!out.reactions.empty() && !out.Has(Quantity::kForces))
     m.Fail(out.reactions_mark, "reactions need forces (the reactions balance the loads and the driving forces); add "
                                "forces to quantities");
-  if ((out.Has(Quantity::kForces) || out.Has(Quantity::kPotential)) && m.loads.empty() && m.springs.empty() &&
-      !m.has_gravity && m.friction.empty())
+  if ((out.Has(Quantity::kForces) || out.Has(Quantity::kPotential)) && !out.Has(Quantity::kDynamics) &&
+      m.loads.empty() && m.springs.empty() && !m.has_gravity && m.friction.empty())
     m.Fail(out.mark, "forces and potential need something to act: add gravity, loads, springs or friction");
   if (!m.friction.empty() && !out.Has(Quantity::kForces))
     m.Fail(m.friction.front().mark, "friction needs forces in the outputs' quantities (the friction forces act "
                                     "through the reactions)");
+  if (out.Has(Quantity::kDynamics)) {
+    bool massive = false;
+    for (const Link& l : m.links) massive = massive || (!l.ground && l.mass.given);
+    if (!massive)
+      m.Fail(out.mark, "dynamics needs a moving link with mass: give a link mass: (and center:, inertia:)");
+  }
   out.order = out.Order();
   out.scene = out.Has(Quantity::kScene);
 }

@@ -99,7 +99,9 @@ StaticsLayout StaticsLayout::Of(const Model& m) {
   return l;
 }
 
-StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTable& t) {
+StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTable& t, const StaticsOptions& opt)
+    : options(opt) {
+  if (options.inertia) options.dynamic = true;
   layout = StaticsLayout::Of(m);
   if (!layout.any) return;
   forces = m.outputs.Has(Quantity::kForces);
@@ -142,6 +144,65 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
     for (int i = 0; i < nphi; ++i) s += f.diff(GiNaC::ex_to<GiNaC::symbol>(xs[nq + i])) * Kc[i][j];
     return s;
   };
+
+  // ---- the dynamic modes: the velocities, time, and the centres of mass along the motion ----
+  // V(a, j) = dx_a/dq_j: [I; K].
+  auto Vx = [&](int a, int j) -> ex { return a < nq ? ex(a == j ? 1 : 0) : Kc[a - nq][j]; };
+  // d2f/dq_j dq_k along the motion: sum_ab d2f/dx_a dx_b V_aj V_bk + sum_i df/dphi_i L(i, j, k).
+  auto second = [&](const ex& f, int j, int kk) {
+    ex s = 0;
+    for (int a = 0; a < nx; ++a) {
+      const ex fa = f.diff(GiNaC::ex_to<GiNaC::symbol>(xs[a]));
+      if (fa.is_zero()) continue;
+      if (a >= nq) s += fa * L(a - nq, std::min(j, kk), std::max(j, kk));
+      for (int b = 0; b < nx; ++b) {
+        const ex fab = fa.diff(GiNaC::ex_to<GiNaC::symbol>(xs[b]));
+        if (!fab.is_zero()) s += fab * Vx(a, j) * Vx(b, kk);
+      }
+    }
+    return s;
+  };
+  // A named local for a non-trivial value (numbers and symbols stay as they are).
+  auto local = [&](const std::string& name, const ex& e) -> ex {
+    if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::symbol>(e)) return e;
+    ex sym;
+    program.push_back(Define(name, e, &sym));
+    return sym;
+  };
+  if (options.dynamic) {
+    for (int j = 0; j < nq; ++j) qd.push_back(named("qd(" + N(j) + ")"));
+    if (options.inertia)
+      for (int j = 0; j < nq; ++j) qdd.push_back(named("qdd(" + N(j) + ")"));
+    time = named("t");
+    for (size_t l = 0; l < m.links.size(); ++l) {
+      const MassProperties& mp = m.links[l].mass;
+      if (!mp.given || m.links[l].ground) continue;
+      MassKinematics mk;
+      mk.link = static_cast<int>(l);
+      mk.mass = mp.mass;
+      mk.inertia = mp.inertia;
+      const Vec2 rc = Rotate(k.frames[l].theta, mp.center_x, mp.center_y);
+      const Vec2 rG = {k.frames[l].x + rc[0], k.frames[l].y + rc[1]};
+      const ex& th = k.frames[l].theta;
+      const std::string tag = N(static_cast<int>(l));
+      for (int j = 0; j < nq; ++j) {
+        mk.K_G.push_back({local("KG" + tag + "_x_" + N(j), along(rG[0], j)), local("KG" + tag + "_y_" + N(j), along(rG[1], j))});
+        mk.K_theta.push_back(local("Kth" + tag + "_" + N(j), along(th, j)));
+      }
+      mk.L_G.assign(nq * nq, Vec2{0, 0});
+      mk.L_theta.assign(nq * nq, 0);
+      for (int j = 0; j < nq; ++j)
+        for (int kk = j; kk < nq; ++kk) {
+          const std::string jk = N(j) + "_" + N(kk);
+          const Vec2 LG = {local("LG" + tag + "_x_" + jk, second(rG[0], j, kk)),
+                           local("LG" + tag + "_y_" + jk, second(rG[1], j, kk))};
+          const ex Lth = local("Lth" + tag + "_" + jk, second(th, j, kk));
+          mk.L_G[j + nq * kk] = mk.L_G[kk + nq * j] = LG;
+          mk.L_theta[j + nq * kk] = mk.L_theta[kk + nq * j] = Lth;
+        }
+      masses.push_back(mk);
+    }
+  }
 
   // ---- the loads' expressions in the coordinates ----
   GiNaC::exmap refs;
@@ -200,6 +261,36 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       it.F = {mp.mass * m.gravity_x, mp.mass * m.gravity_y};
       it.at = rG;
       add_item(it, it, true);
+    }
+  // Kinetostatics: d'Alembert's inertia forces, -m a_G at G and -J alpha, with
+  // a_G = sum_j K_G,j qdd_j + sum_jk L_G,jk qd_j qd_k (the same for the angle).
+  if (options.inertia)
+    for (const MassKinematics& mk : masses) {
+      const MassProperties& mp = m.links[mk.link].mass;
+      const Vec2 rc = Rotate(k.frames[mk.link].theta, mp.center_x, mp.center_y);
+      Vec2 a{0, 0};
+      ex alpha = 0;
+      for (int j = 0; j < nq; ++j) {
+        a[0] += mk.K_G[j][0] * qdd[j];
+        a[1] += mk.K_G[j][1] * qdd[j];
+        alpha += mk.K_theta[j] * qdd[j];
+        for (int kk = 0; kk < nq; ++kk) {
+          a[0] += mk.L_G[j + nq * kk][0] * qd[j] * qd[kk];
+          a[1] += mk.L_G[j + nq * kk][1] * qd[j] * qd[kk];
+          alpha += mk.L_theta[j + nq * kk] * qd[j] * qd[kk];
+        }
+      }
+      const std::string tag = N(mk.link);
+      ex ax, ay, al;
+      program.push_back(Define("aG" + tag + "_x", a[0], &ax));
+      program.push_back(Define("aG" + tag + "_y", a[1], &ay));
+      program.push_back(Define("alpha" + tag, alpha, &al));
+      Item it;
+      it.link = mk.link;
+      it.F = {-mk.mass * ax, -mk.mass * ay};
+      it.at = {k.frames[mk.link].x + rc[0], k.frames[mk.link].y + rc[1]};
+      it.couple = -mk.inertia * al;
+      add_item(it, it, false);
     }
   for (const Spring& s : m.springs) {
     if (s.torsional) {
@@ -350,15 +441,16 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
     }
     return s;
   };
-  if (potential) {
+  if (potential || options.dynamic) {
     dV_dq.resize(nq);
     for (int j = 0; j < nq; ++j) dV_dq[j] = -along_motion(items, conservative, j);
-    if (t.requested.L) {
+    if (t.requested.L && !options.dynamic) {
       d2V_dq2.resize(nq * nq);
       for (int j = 0; j < nq; ++j)
         for (int kk = 0; kk < nq; ++kk) d2V_dq2[j + nq * kk] = -derivative(conservative, j, kk);
     }
   }
+  if (options.dynamic) stiffness = false;
   if (stiffness) {
     const std::vector<bool> all(items_expr.size(), true);
     stiffness_q.resize(nq * nq);
@@ -369,7 +461,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   // ---- reactions ----
   std::set<int> needed(m.outputs.reactions.begin(), m.outputs.reactions.end());
   needed.insert(layout.friction.begin(), layout.friction.end());
-  if (needed.empty()) return;
+  if (needed.empty() || !options.reactions) return;
 
   // Multipliers: Phi_phi^T lambda = -g_phi, block by block in reverse order (Phi_phi is
   // block lower triangular, so its transpose is block upper triangular).

@@ -48,11 +48,40 @@ struct StaticsLayout {
   static StaticsLayout Of(const Model& m);
 };
 
+/// What a StaticsTable derives beyond the statics (the dynamics builds on the same machinery).
+struct StaticsOptions {
+  /// Loads at (t, q, qd): the loads' t and <coordinate>_dot are the arguments t and qd(j) (the
+  /// dependent velocities through c.K), dampers and viscous joint friction act. Otherwise t and
+  /// the velocities are 0 (EvalStatics).
+  bool dynamic = false;
+  /// d'Alembert's inertia forces -m a_G at every centre of mass and couples -J alpha
+  /// (kinetostatics, Paul §6.7); the accelerations read qdd(j). Implies `dynamic`.
+  bool inertia = false;
+  /// Derive the reactions (and the friction joints' normal forces) as m.outputs asks.
+  bool reactions = true;
+};
+
+/// A massive moving link's centre of mass G and angle along the motion (the dynamic modes):
+/// r_G, K_G,j = dr_G/dq_j, L_G(j + nq k) = d2r_G/dq_j dq_k, K_theta, L_theta, as named locals
+/// of StaticsTable::program (in terms of c.K and c.L).
+struct MassKinematics {
+  int link = -1;
+  GiNaC::ex mass, inertia;
+  std::vector<Vec2> K_G, L_G;
+  std::vector<GiNaC::ex> K_theta, L_theta;
+};
+
 class StaticsTable {
  public:
   /// Derives what m.outputs asks (forces, potential, reactions); throws ModelError where a
   /// reaction cannot be derived (a higher pair's contact force needed as a vector).
-  StaticsTable(const Model& m, const Kinematics& k, const SymbolicTable& t);
+  StaticsTable(const Model& m, const Kinematics& k, const SymbolicTable& t, const StaticsOptions& options = {});
+
+  StaticsOptions options;
+  /// The dynamic modes' arguments: qd(j), qdd(j) (inertia mode), t.
+  std::vector<GiNaC::ex> qd, qdd;
+  GiNaC::ex time;
+  std::vector<MassKinematics> masses;  ///< the dynamic modes: every moving link with mass
 
   StaticsLayout layout;
   bool forces = false, potential = false, stiffness = false;

@@ -1,0 +1,328 @@
+// The generated dynamics (EvalDynamics, EvalKinetostatics; issue 15, Paul ch. 6) of
+// models/fourbar_massive.yaml and the test models pendulum.yaml (kNphi = 0) and
+// slider_crank_torque.yaml, against oracles written here from the models' text:
+//  - the centres of mass and link angles come from the scene points (EvalScene of the solved
+//    positions) and the mass data of the model files, written out below by hand;
+//  - I(q) = 2 T(q, qd = 1) with T = sum 1/2 m |v_G|^2 + 1/2 J w^2, the velocities by central
+//    differences (fourth order) of those positions along the motion; dI/dq by central
+//    differences of that I; C = dI/dq / 2 (one DOF), h = C qd^2, T = 1/2 I qd^2;
+//  - V = sum m g y_G by hand, Q = -dV/dq by central differences (plus the crank torque M of the
+//    slider-crank), P_nc = (Q + dV/dq) qd;
+//  - the kinetostatics: every moving link of the four-bar and of the pendulum obeys Newton–Euler
+//    (sum F = m a_G, sum M_G = J alpha) with the generated reactions and driving torque, the
+//    accelerations by second differences of the positions along q(t) = q0 + qd t + qdd t^2 / 2.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fourbar_massive.h"
+#include "pendulum.h"
+#include "slider_crank_torque.h"
+
+namespace {
+
+// One moving link's mass data and how to find its centre of mass and angle from the scene.
+struct Body {
+  int link;        // index into kLinkNames
+  double m, J;
+  std::function<void(const Eigen::MatrixXd& scene, Eigen::Vector2d* rG, double* theta)> where;
+};
+
+template <class M>
+int ScenePoint(const char* name) {
+  for (int i = 0; i < M::kNumScenePoints; ++i)
+    if (std::strcmp(M::kScenePointNames[i], name) == 0) return i;
+  ADD_FAILURE() << "no scene point " << name;
+  return 0;
+}
+
+// A bar between scene points a and b (uniform: G at the fraction f from a).
+template <class M>
+Body Bar(int link, const char* a, const char* b, double m, double J, double f = 0.5) {
+  const int ia = ScenePoint<M>(a), ib = ScenePoint<M>(b);
+  return {link, m, J, [ia, ib, f](const Eigen::MatrixXd& s, Eigen::Vector2d* rG, double* th) {
+            const Eigen::Vector2d A = s.col(ia), B = s.col(ib);
+            *rG = A + f * (B - A);
+            *th = std::atan2(B.y() - A.y(), B.x() - A.x());
+          }};
+}
+
+template <class M>
+struct Harness {
+  using P = typename M::template ParamsT<double>;
+  using Vq = Eigen::Matrix<double, M::kNq, 1>;
+  using Vphi = Eigen::Matrix<double, M::kNphi, 1>;
+  P p;
+  std::vector<Body> bodies;
+  double g = 0;  // gravity along -y
+  Vphi guess;
+
+  Harness() {
+    for (int i = 0; i < M::kNphi; ++i) guess(i) = M::kAssemblyPhi[i];
+  }
+  Vphi Solve(double q) {
+    Vq qq;
+    qq(0) = q;
+    Vphi phi = guess;
+    const auto report = M::Solve(p, qq, &phi);
+    EXPECT_EQ(report.status, decltype(report.status)::kConverged);
+    return phi;
+  }
+  Eigen::MatrixXd Scene(double q) {
+    Vq qq;
+    qq(0) = q;
+    const Vphi phi = Solve(q);
+    Eigen::Matrix<double, 2, M::kNumScenePoints> r;
+    M::Scene(p, qq, phi, &r);
+    return r;
+  }
+  // Centres of mass and angles of every body at q.
+  void Where(double q, std::vector<Eigen::Vector2d>* rG, std::vector<double>* th) {
+    const Eigen::MatrixXd s = Scene(q);
+    rG->resize(bodies.size());
+    th->resize(bodies.size());
+    for (size_t b = 0; b < bodies.size(); ++b) bodies[b].where(s, &(*rG)[b], &(*th)[b]);
+  }
+  // Fourth-order central difference of the positions along q: d/dq (r_G, theta) at q.
+  void Rates(double q, std::vector<Eigen::Vector2d>* v, std::vector<double>* w, double h = 1e-3) {
+    std::vector<Eigen::Vector2d> r[4];
+    std::vector<double> t[4];
+    const double at[4] = {q - 2 * h, q - h, q + h, q + 2 * h};
+    for (int i = 0; i < 4; ++i) Where(at[i], &r[i], &t[i]);
+    v->resize(bodies.size());
+    w->resize(bodies.size());
+    for (size_t b = 0; b < bodies.size(); ++b) {
+      (*v)[b] = (r[0][b] - 8 * r[1][b] + 8 * r[2][b] - r[3][b]) / (12 * h);
+      (*w)[b] = (t[0][b] - 8 * t[1][b] + 8 * t[2][b] - t[3][b]) / (12 * h);
+    }
+  }
+  double InertiaOracle(double q) {
+    std::vector<Eigen::Vector2d> v;
+    std::vector<double> w;
+    Rates(q, &v, &w);
+    double I = 0;
+    for (size_t b = 0; b < bodies.size(); ++b) I += bodies[b].m * v[b].squaredNorm() + bodies[b].J * w[b] * w[b];
+    return I;
+  }
+  double dInertiaOracle(double q, double h = 1e-3) {
+    return (InertiaOracle(q - 2 * h) - 8 * InertiaOracle(q - h) + 8 * InertiaOracle(q + h) - InertiaOracle(q + 2 * h)) /
+           (12 * h);
+  }
+  double PotentialOracle(double q) {
+    std::vector<Eigen::Vector2d> r;
+    std::vector<double> t;
+    Where(q, &r, &t);
+    double V = 0;
+    for (size_t b = 0; b < bodies.size(); ++b) V += bodies[b].m * g * r[b].y();
+    return V;
+  }
+  double dPotentialOracle(double q, double h = 1e-3) {
+    return (PotentialOracle(q - 2 * h) - 8 * PotentialOracle(q - h) + 8 * PotentialOracle(q + h) -
+            PotentialOracle(q + 2 * h)) /
+           (12 * h);
+  }
+  typename M::template DynamicsT<double> Dynamics(double q, double qd, double t = 0) {
+    Vq qq, qqd;
+    qq(0) = q;
+    qqd(0) = qd;
+    const Vphi phi = Solve(q);
+    typename M::template CoefficientsT<double> c;
+    M::Coeffs(p, qq, phi, &c);
+    typename M::template DynamicsT<double> d;
+    M::Dynamics(p, qq, phi, qqd, t, c, &d);
+    return d;
+  }
+};
+
+Harness<mech::fourbar_massive::Model> FourBar() {
+  using M = mech::fourbar_massive::Model;
+  Harness<M> h;
+  const double rho = h.p.rho, a = h.p.a, b = h.p.b, c = h.p.c;
+  h.g = h.p.g;
+  h.bodies = {Bar<M>(1, "crank.A", "crank.B", rho * a, rho * a * a * a / 12),
+              Bar<M>(2, "coupler.B", "coupler.C", rho * b, rho * b * b * b / 12),
+              Bar<M>(3, "rocker.D", "rocker.C", rho * c, rho * c * c * c / 12)};
+  return h;
+}
+
+Harness<mech::pendulum::Model> Pendulum() {
+  using M = mech::pendulum::Model;
+  Harness<M> h;
+  h.g = h.p.g;
+  h.bodies = {Bar<M>(1, "arm.O", "arm.P", h.p.m, h.p.J, h.p.lc / h.p.l)};
+  return h;
+}
+
+Harness<mech::slider_crank_torque::Model> SliderCrank() {
+  using M = mech::slider_crank_torque::Model;
+  Harness<M> h;
+  const auto& p = h.p;
+  const int C = ScenePoint<M>("slider.C");
+  h.bodies = {Bar<M>(1, "crank.O", "crank.B", p.m1, p.J1), Bar<M>(2, "rod.B", "rod.C", p.m2, p.m2 * p.b * p.b / 12),
+              Body{3, p.m3, 0.001, [C](const Eigen::MatrixXd& s, Eigen::Vector2d* rG, double* th) {
+                     *rG = s.col(C);
+                     *th = 0;  // the slider keeps the guide's angle
+                   }}};
+  return h;
+}
+
+// I, dI/dq, C, h, T, V, Q, P_nc of one model over a turn of its input.
+template <class M>
+void CheckEquationOfMotion(Harness<M> h, double q0, double q1, double extra_Q) {
+  for (int i = 0; i <= 12; ++i) {
+    const double q = q0 + (q1 - q0) * i / 12.0, qd = 1.7 - 0.3 * i;
+    const auto d = h.Dynamics(q, qd, 0.25);
+    const double I = h.InertiaOracle(q), dI = h.dInertiaOracle(q);
+    const double scale = std::max(1.0, std::abs(I));
+    SCOPED_TRACE("q = " + std::to_string(q));
+    EXPECT_NEAR(d.I(0, 0), I, 1e-8 * scale);
+    EXPECT_NEAR(d.dI_dq(0, 0), dI, 1e-6 * scale);
+    EXPECT_NEAR(d.C(0, 0), dI / 2, 1e-6 * scale);
+    EXPECT_NEAR(d.h(0), dI / 2 * qd * qd, 1e-6 * scale * qd * qd);
+    EXPECT_NEAR(d.T, I * qd * qd / 2, 1e-8 * scale * qd * qd);
+    const double V = h.PotentialOracle(q), dV = h.dPotentialOracle(q);
+    const double fscale = std::max(1.0, std::abs(dV) + std::abs(extra_Q));
+    EXPECT_NEAR(d.V, V, 1e-9 * std::max(1.0, std::abs(V)));
+    EXPECT_NEAR(d.Q(0), -dV + extra_Q, 1e-7 * fscale);
+    EXPECT_NEAR(d.P_nc, extra_Q * qd, 1e-7 * fscale * std::abs(qd) + 1e-12);
+  }
+}
+
+TEST(GeneratedDynamics, FourBarInertiaAndForcesAgainstFiniteDifferences) {
+  CheckEquationOfMotion(FourBar(), 0.1, 6.2, 0.0);
+}
+
+TEST(GeneratedDynamics, PendulumWithoutDependentCoordinates) {
+  static_assert(mech::pendulum::Model::kNphi == 0, "a pendulum has no loop");
+  auto h = Pendulum();
+  CheckEquationOfMotion(h, -3.0, 3.0, 0.0);
+  // Closed forms: I = J + m lc^2, constant; V = m g lc sin(theta).
+  const auto d = h.Dynamics(0.4, 2.0);
+  EXPECT_NEAR(d.I(0, 0), h.p.J + h.p.m * h.p.lc * h.p.lc, 1e-14);
+  EXPECT_NEAR(d.dI_dq(0, 0), 0.0, 1e-14);
+  EXPECT_NEAR(d.Q(0), -h.p.m * h.p.g * h.p.lc * std::cos(0.4), 1e-13);
+}
+
+TEST(GeneratedDynamics, SliderCrankUnderAConstantTorque) {
+  auto h = SliderCrank();
+  CheckEquationOfMotion(h, 0.0, 6.2, h.p.M);
+}
+
+TEST(GeneratedDynamics, FloatInstantiationAgreesWithDouble) {
+  using M = mech::fourbar_massive::Model;
+  auto h = FourBar();
+  const double q = 1.2, qd = -0.8;
+  const auto d = h.Dynamics(q, qd);
+  Eigen::Matrix<float, 1, 1> qf, qdf;
+  qf(0) = static_cast<float>(q);
+  qdf(0) = static_cast<float>(qd);
+  const auto pf = h.p.template Cast<float>();
+  Eigen::Matrix<float, M::kNphi, 1> phi = h.Solve(q).template cast<float>();
+  M::CoefficientsT<float> c;
+  M::Coeffs(pf, qf, phi, &c);
+  M::DynamicsT<float> df;
+  M::Dynamics(pf, qf, phi, qdf, 0.0f, c, &df);
+  EXPECT_NEAR(df.I(0, 0), d.I(0, 0), 1e-4 * std::abs(d.I(0, 0)));
+  EXPECT_NEAR(df.Q(0), d.Q(0), 1e-4 * std::abs(d.Q(0)) + 1e-3);
+}
+
+// ---- kinetostatics: Newton–Euler of every link with the generated reactions ----
+
+struct Pin {
+  int reaction;      // index of F_J_x in R (F_J_y follows)
+  int link_a, link_b;  // R is the force of link_a on link_b
+  const char* point;   // a scene point at the pin
+};
+
+template <class M>
+void CheckNewtonEuler(Harness<M> h, const std::vector<Pin>& pins, int input_link) {
+  using Vq = Eigen::Matrix<double, 1, 1>;
+  for (int i = 0; i < 8; ++i) {
+    const double q0 = 0.3 + 0.75 * i, qd = 1.5 - 0.4 * i, qdd = -2.0 + 0.7 * i;
+    SCOPED_TRACE("q = " + std::to_string(q0));
+    // Accelerations of the bodies along q(t) = q0 + qd t + qdd t^2 / 2 (fourth-order second differences).
+    const double dt = 1e-3;
+    std::vector<Eigen::Vector2d> r[5];
+    std::vector<double> th[5];
+    for (int s = -2; s <= 2; ++s) {
+      const double t = s * dt;
+      h.Where(q0 + qd * t + qdd * t * t / 2, &r[s + 2], &th[s + 2]);
+    }
+    Vq q, vqd, vqdd;
+    q(0) = q0;
+    vqd(0) = qd;
+    vqdd(0) = qdd;
+    const auto phi = h.Solve(q0);
+    typename M::template CoefficientsT<double> c;
+    M::Coeffs(h.p, q, phi, &c);
+    typename M::template StaticsT<double> st;
+    M::Kinetostatics(h.p, q, phi, vqd, vqdd, 0.0, c, &st);
+    const Eigen::MatrixXd scene = h.Scene(q0);
+    double scale = 1;
+    for (int k = 0; k < M::kNumReactions; ++k) scale = std::max(scale, std::abs(st.R(k)));
+    for (size_t b = 0; b < h.bodies.size(); ++b) {
+      const Body& body = h.bodies[b];
+      const Eigen::Vector2d a =
+          (-r[0][b] + 16 * r[1][b] - 30 * r[2][b] + 16 * r[3][b] - r[4][b]) / (12 * dt * dt);
+      const double alpha = (-th[0][b] + 16 * th[1][b] - 30 * th[2][b] + 16 * th[3][b] - th[4][b]) / (12 * dt * dt);
+      const Eigen::Vector2d G = r[2][b];
+      Eigen::Vector2d F(0, -body.m * h.g);
+      double MG = 0;
+      for (const Pin& pin : pins) {
+        const double sign = pin.link_b == body.link ? 1 : pin.link_a == body.link ? -1 : 0;
+        if (sign == 0) continue;
+        const Eigen::Vector2d f = sign * Eigen::Vector2d(st.R(pin.reaction), st.R(pin.reaction + 1));
+        const Eigen::Vector2d arm = scene.col(ScenePoint<M>(pin.point)) - G;
+        F += f;
+        MG += arm.x() * f.y() - arm.y() * f.x();
+      }
+      if (body.link == input_link) MG += st.drive(0);  // the actuator's torque on the input link
+      const Eigen::Vector2d residual = F - body.m * a;
+      EXPECT_NEAR(residual.x(), 0.0, 1e-6 * scale) << M::kLinkNames[body.link];
+      EXPECT_NEAR(residual.y(), 0.0, 1e-6 * scale) << M::kLinkNames[body.link];
+      EXPECT_NEAR(MG - body.J * alpha, 0.0, 1e-6 * scale) << M::kLinkNames[body.link];
+    }
+  }
+}
+
+TEST(GeneratedKinetostatics, FourBarLinksObeyNewtonEulerWithTheReactions) {
+  using M = mech::fourbar_massive::Model;
+  static_assert(M::kNumReactions == 8, "F_A, F_B, F_C, F_D");
+  // A: ground -> crank, B: crank -> coupler, C: coupler -> rocker, D: rocker -> ground.
+  CheckNewtonEuler(FourBar(), {{0, 0, 1, "crank.A"}, {2, 1, 2, "crank.B"}, {4, 2, 3, "rocker.C"}, {6, 3, 0, "rocker.D"}},
+                   1);
+}
+
+TEST(GeneratedKinetostatics, PendulumPinForce) {
+  CheckNewtonEuler(Pendulum(), {{0, 0, 1, "arm.O"}}, 1);
+}
+
+TEST(GeneratedKinetostatics, DriveIsTheInverseDynamics) {
+  // drive = I qdd + h - Q_applied with I, I' from the energy oracle (slider-crank: Q_applied = M).
+  using M = mech::slider_crank_torque::Model;
+  auto h = SliderCrank();
+  for (int i = 0; i < 6; ++i) {
+    const double q0 = 0.2 + i, qd = 3.0 - i, qdd = 1.5 - 0.5 * i;
+    Eigen::Matrix<double, 1, 1> q, vqd, vqdd;
+    q(0) = q0;
+    vqd(0) = qd;
+    vqdd(0) = qdd;
+    const auto phi = h.Solve(q0);
+    M::CoefficientsT<double> c;
+    M::Coeffs(h.p, q, phi, &c);
+    M::StaticsT<double> st;
+    M::Kinetostatics(h.p, q, phi, vqd, vqdd, 0.0, c, &st);
+    const double I = h.InertiaOracle(q0), dI = h.dInertiaOracle(q0);
+    EXPECT_NEAR(st.drive(0), I * qdd + dI / 2 * qd * qd - h.p.M, 1e-6 * (1 + std::abs(I * qdd) + std::abs(dI * qd * qd)));
+    EXPECT_NEAR(st.Q(0), -st.drive(0), 1e-12);
+  }
+}
+
+}  // namespace
