@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L).
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 60 (adds 14, muls 39, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 209 (adds 33, muls 170, divs 0, calls 6); EvalKinetostatics 245 (adds 51, muls 187, divs 1, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 15 (adds 3, muls 6, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 60 (adds 14, muls 39, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 190 (adds 33, muls 151, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 15 (adds 3, muls 6, divs 0, calls 6)
  */
 #pragma once
 
@@ -174,6 +174,27 @@ struct Dynamics {
   Scalar V;
   /// P_nc = (Q + dV/dq) . qd: the power of the non-conservative forces (d(T + V)/dt = P_nc).
   Scalar P_nc;
+};
+
+/// What EvalExcess() fills: the excess-coordinate formulation (Paul §6.6.2) on x = (q, phi),
+/// n = kNq + kNphi:  M xdd + h = g + Phi_x^T lambda,  Phi_x xdd = gamma.
+template <typename Scalar = double>
+struct Excess {
+  /// M(a, b) = sum m dr_G/dx_a . dr_G/dx_b + J dtheta/dx_a dtheta/dx_b.  (n x n)
+  Mat<Scalar, Sizes::kNq + Sizes::kNphi, Sizes::kNq + Sizes::kNphi> M;
+  /// h(a) = sum m dr_G/dx_a . (sum_bc d2r_G/dx_b dx_c xd_b xd_c).  (n)
+  Vec<Scalar, Sizes::kNq + Sizes::kNphi> h;
+  /// g(a): the applied generalized force on x_a at (t, x, xd) (loads, weights, springs, dampers,
+  /// viscous and the given Coulomb friction).  (n)
+  Vec<Scalar, Sizes::kNq + Sizes::kNphi> g;
+  /// Phi_x = [Phi_q  Phi_phi].  (kNc x n)
+  Mat<Scalar, Sizes::kNc, Sizes::kNq + Sizes::kNphi> Phi_x;
+  /// Phi(q, phi): the residual.  (kNc)
+  Vec<Scalar, Sizes::kNc> Phi;
+  /// gamma = -sum_bc d2Phi/dx_b dx_c xd_b xd_c: Phi_x xdd = gamma.  (kNc)
+  Vec<Scalar, Sizes::kNc> gamma;
+  /// T = 1/2 xd^T M xd, V: the kinetic and potential energies.
+  Scalar T, V;
 };
 
 
@@ -431,7 +452,7 @@ void EvalDynamics(const Params<Scalar>& p,
                   Dynamics<Scalar>* out,
                   const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                   const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 209 (adds 33, muls 170, divs 0, calls 6); intermediate terms: 10
+  // Total ops: 190 (adds 33, muls 151, divs 0, calls 6); intermediate terms: 8
   using std::cos;
   using std::sin;
   (void)t;
@@ -457,17 +478,23 @@ void EvalDynamics(const Params<Scalar>& p,
     sin_phi1 = sin(phi(1));
     cos_phi1 = cos(phi(1));
   }
+  const Scalar mass_1 = p.a*p.rho;
+  const Scalar inertia_1 = Scalar(0.083333333333333329)*(p.a*p.a*p.a)*p.rho;
   const Scalar _tmp0 = -Scalar(0.5)*p.a*sin_q0;
   const Scalar KG1_x_0 = _tmp0;
   const Scalar KG1_y_0 = Scalar(0.5)*cos_q0*p.a;
   const Scalar LG1_x_0_0 = -Scalar(0.5)*cos_q0*p.a;
   const Scalar LG1_y_0_0 = _tmp0;
+  const Scalar mass_2 = p.b*p.rho;
+  const Scalar inertia_2 = Scalar(0.083333333333333329)*(p.b*p.b*p.b)*p.rho;
   const Scalar _tmp1 = -p.a*sin_q0;
   const Scalar KG2_x_0 = -Scalar(0.5)*c.K(0, 0)*p.b*sin_phi0 + _tmp1;
   const Scalar KG2_y_0 = Scalar(0.5)*c.K(0, 0)*cos_phi0*p.b + cos_q0*p.a;
   const Scalar _tmp2 = c.K(0, 0)*c.K(0, 0);
   const Scalar LG2_x_0_0 = -Scalar(0.5)*_tmp2*cos_phi0*p.b - Scalar(0.5)*c.L(0, 0)*p.b*sin_phi0 - cos_q0*p.a;
   const Scalar LG2_y_0_0 = -Scalar(0.5)*_tmp2*p.b*sin_phi0 + Scalar(0.5)*c.L(0, 0)*cos_phi0*p.b + _tmp1;
+  const Scalar mass_3 = p.c*p.rho;
+  const Scalar inertia_3 = Scalar(0.083333333333333329)*(p.c*p.c*p.c)*p.rho;
   const Scalar KG3_x_0 = -Scalar(0.5)*c.K(1, 0)*p.c*sin_phi1;
   const Scalar KG3_y_0 = Scalar(0.5)*c.K(1, 0)*cos_phi1*p.c;
   const Scalar _tmp3 = c.K(1, 0)*c.K(1, 0);
@@ -480,17 +507,21 @@ void EvalDynamics(const Params<Scalar>& p,
   const Scalar _tmp6 = p.c*p.c;
   const Scalar g_2 = -Scalar(0.5)*_tmp6*cos_phi1*p.g*p.rho;
   const Scalar Q_0 = c.K(0, 0)*g_1 + c.K(1, 0)*g_2 + g_0;
-  const Scalar _tmp7 = p.b*p.b*p.b;
-  const Scalar _tmp8 = p.c*p.c*p.c;
-  const Scalar I_0_0 = (KG1_x_0*KG1_x_0)*p.a*p.rho + (KG1_y_0*KG1_y_0)*p.a*p.rho + (KG2_x_0*KG2_x_0)*p.b*p.rho + (KG2_y_0*KG2_y_0)*p.b*p.rho + (KG3_x_0*KG3_x_0)*p.c*p.rho + (KG3_y_0*KG3_y_0)*p.c*p.rho + Scalar(0.083333333333333329)*(p.a*p.a*p.a)*p.rho + Scalar(0.083333333333333329)*_tmp2*_tmp7*p.rho + Scalar(0.083333333333333329)*_tmp3*_tmp8*p.rho;
-  const Scalar C_0_0_0 = KG1_x_0*LG1_x_0_0*p.a*p.rho + KG1_y_0*LG1_y_0_0*p.a*p.rho + KG2_x_0*LG2_x_0_0*p.b*p.rho + KG2_y_0*LG2_y_0_0*p.b*p.rho + KG3_x_0*LG3_x_0_0*p.c*p.rho + KG3_y_0*LG3_y_0_0*p.c*p.rho + Scalar(0.083333333333333329)*_tmp7*c.K(0, 0)*c.L(0, 0)*p.rho + Scalar(0.083333333333333329)*_tmp8*c.K(1, 0)*c.L(1, 0)*p.rho;
-  const Scalar _tmp9 = qd(0)*qd(0);
+  const Scalar KK1_0_0 = KG1_x_0*KG1_x_0 + KG1_y_0*KG1_y_0;
+  const Scalar KK2_0_0 = KG2_x_0*KG2_x_0 + KG2_y_0*KG2_y_0;
+  const Scalar KK3_0_0 = KG3_x_0*KG3_x_0 + KG3_y_0*KG3_y_0;
+  const Scalar I_0_0 = KK1_0_0*mass_1 + KK2_0_0*mass_2 + KK3_0_0*mass_3 + _tmp2*inertia_2 + _tmp3*inertia_3 + inertia_1;
+  const Scalar KL1_0_0_0 = KG1_x_0*LG1_x_0_0 + KG1_y_0*LG1_y_0_0;
+  const Scalar KL2_0_0_0 = KG2_x_0*LG2_x_0_0 + KG2_y_0*LG2_y_0_0;
+  const Scalar KL3_0_0_0 = KG3_x_0*LG3_x_0_0 + KG3_y_0*LG3_y_0_0;
+  const Scalar C_0_0_0 = KL1_0_0_0*mass_1 + KL2_0_0_0*mass_2 + KL3_0_0_0*mass_3 + c.K(0, 0)*c.L(0, 0)*inertia_2 + c.K(1, 0)*c.L(1, 0)*inertia_3;
+  const Scalar _tmp7 = qd(0)*qd(0);
   out->I(0, 0) = I_0_0;
   out->dI_dq(0, 0) = Scalar(2)*C_0_0_0;
   out->C(0, 0) = C_0_0_0;
-  out->h(0) = C_0_0_0*_tmp9;
+  out->h(0) = C_0_0_0*_tmp7;
   out->Q(0) = Q_0;
-  out->T = Scalar(0.5)*I_0_0*_tmp9;
+  out->T = Scalar(0.5)*I_0_0*_tmp7;
   out->V = Scalar(0.5)*_tmp4*p.g*p.rho*sin_q0 + Scalar(0.5)*_tmp5*p.g*p.rho*sin_phi0 + Scalar(0.5)*_tmp6*p.g*p.rho*sin_phi1 + p.a*p.b*p.g*p.rho*sin_q0;
   out->P_nc = Q_0*qd(0) + Scalar(0.5)*_tmp4*cos_q0*p.g*p.rho*qd(0) + Scalar(0.5)*_tmp5*c.K(0, 0)*cos_phi0*p.g*p.rho*qd(0) + Scalar(0.5)*_tmp6*c.K(1, 0)*cos_phi1*p.g*p.rho*qd(0) + cos_q0*p.a*p.b*p.g*p.rho*qd(0);
 }
@@ -526,7 +557,7 @@ void EvalKinetostatics(const Params<Scalar>& p,
                        Statics<Scalar>* out,
                        const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                        const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 245 (adds 51, muls 187, divs 1, calls 6); intermediate terms: 13
+  // Total ops: 242 (adds 51, muls 184, divs 1, calls 6); intermediate terms: 11
   using std::cos;
   using std::sin;
   (void)t;
@@ -552,17 +583,23 @@ void EvalKinetostatics(const Params<Scalar>& p,
     sin_phi1 = sin(phi(1));
     cos_phi1 = cos(phi(1));
   }
+  const Scalar mass_1 = p.a*p.rho;
+  const Scalar inertia_1 = Scalar(0.083333333333333329)*(p.a*p.a*p.a)*p.rho;
   const Scalar _tmp0 = -Scalar(0.5)*p.a*sin_q0;
   const Scalar KG1_x_0 = _tmp0;
   const Scalar KG1_y_0 = Scalar(0.5)*cos_q0*p.a;
   const Scalar LG1_x_0_0 = -Scalar(0.5)*cos_q0*p.a;
   const Scalar LG1_y_0_0 = _tmp0;
+  const Scalar mass_2 = p.b*p.rho;
+  const Scalar inertia_2 = Scalar(0.083333333333333329)*(p.b*p.b*p.b)*p.rho;
   const Scalar _tmp1 = -p.a*sin_q0;
   const Scalar KG2_x_0 = -Scalar(0.5)*c.K(0, 0)*p.b*sin_phi0 + _tmp1;
   const Scalar KG2_y_0 = Scalar(0.5)*c.K(0, 0)*cos_phi0*p.b + cos_q0*p.a;
   const Scalar _tmp2 = c.K(0, 0)*c.K(0, 0);
   const Scalar LG2_x_0_0 = -Scalar(0.5)*_tmp2*cos_phi0*p.b - Scalar(0.5)*c.L(0, 0)*p.b*sin_phi0 - cos_q0*p.a;
   const Scalar LG2_y_0_0 = -Scalar(0.5)*_tmp2*p.b*sin_phi0 + Scalar(0.5)*c.L(0, 0)*cos_phi0*p.b + _tmp1;
+  const Scalar mass_3 = p.c*p.rho;
+  const Scalar inertia_3 = Scalar(0.083333333333333329)*(p.c*p.c*p.c)*p.rho;
   const Scalar KG3_x_0 = -Scalar(0.5)*c.K(1, 0)*p.c*sin_phi1;
   const Scalar KG3_y_0 = Scalar(0.5)*c.K(1, 0)*cos_phi1*p.c;
   const Scalar _tmp3 = c.K(1, 0)*c.K(1, 0);
@@ -581,11 +618,11 @@ void EvalKinetostatics(const Params<Scalar>& p,
   const Scalar _tmp5 = p.a*p.a;
   const Scalar _tmp6 = _tmp5*cos_q0*p.g*p.rho;
   const Scalar _tmp7 = cos_q0*p.a*p.b*p.g*p.rho;
-  const Scalar g_0 = -Scalar(0.083333333333333329)*(p.a*p.a*p.a)*alpha1*p.rho + Scalar(0.5)*_tmp5*aG1_x*p.rho*sin_q0 - Scalar(0.5)*_tmp5*aG1_y*cos_q0*p.rho - Scalar(0.5)*_tmp6 - _tmp7 + aG2_x*p.a*p.b*p.rho*sin_q0 - aG2_y*cos_q0*p.a*p.b*p.rho;
+  const Scalar g_0 = -Scalar(0.5)*_tmp6 + Scalar(0.5)*aG1_x*mass_1*p.a*sin_q0 - Scalar(0.5)*aG1_y*cos_q0*mass_1*p.a - _tmp7 + aG2_x*mass_2*p.a*sin_q0 - aG2_y*cos_q0*mass_2*p.a - alpha1*inertia_1;
   const Scalar _tmp8 = p.b*p.b;
-  const Scalar g_1 = -Scalar(0.083333333333333329)*(p.b*p.b*p.b)*alpha2*p.rho + Scalar(0.5)*_tmp8*aG2_x*p.rho*sin_phi0 - Scalar(0.5)*_tmp8*aG2_y*cos_phi0*p.rho - Scalar(0.5)*_tmp8*cos_phi0*p.g*p.rho;
+  const Scalar g_1 = -Scalar(0.5)*_tmp8*cos_phi0*p.g*p.rho + Scalar(0.5)*aG2_x*mass_2*p.b*sin_phi0 - Scalar(0.5)*aG2_y*cos_phi0*mass_2*p.b - alpha2*inertia_2;
   const Scalar _tmp9 = p.c*p.c;
-  const Scalar g_2 = -Scalar(0.083333333333333329)*(p.c*p.c*p.c)*alpha3*p.rho + Scalar(0.5)*_tmp9*aG3_x*p.rho*sin_phi1 - Scalar(0.5)*_tmp9*aG3_y*cos_phi1*p.rho - Scalar(0.5)*_tmp9*cos_phi1*p.g*p.rho;
+  const Scalar g_2 = -Scalar(0.5)*_tmp9*cos_phi1*p.g*p.rho + Scalar(0.5)*aG3_x*mass_3*p.c*sin_phi1 - Scalar(0.5)*aG3_y*cos_phi1*mass_3*p.c - alpha3*inertia_3;
   const Scalar Q_0 = c.K(0, 0)*g_1 + c.K(1, 0)*g_2 + g_0;
   const Scalar detT_block0 = c.Phi_phi(0, 0)*c.Phi_phi(1, 1) - c.Phi_phi(0, 1)*c.Phi_phi(1, 0);
   const Scalar inv_detT_block0 = Scalar(1)/detT_block0;
@@ -593,15 +630,13 @@ void EvalKinetostatics(const Params<Scalar>& p,
   const Scalar lambda_1 = -c.Phi_phi(0, 0)*g_2*inv_detT_block0 + c.Phi_phi(0, 1)*g_1*inv_detT_block0;
   const Scalar F_C_x = -lambda_0;
   const Scalar F_C_y = -lambda_1;
-  const Scalar _tmp10 = aG2_x*p.b*p.rho;
-  const Scalar F_A_x = F_C_x + _tmp10 + aG1_x*p.a*p.rho;
-  const Scalar _tmp11 = aG2_y*p.b*p.rho;
-  const Scalar _tmp12 = p.b*p.g*p.rho;
-  const Scalar F_A_y = F_C_y + _tmp11 + _tmp12 + aG1_y*p.a*p.rho + p.a*p.g*p.rho;
-  const Scalar F_B_x = F_C_x + _tmp10;
-  const Scalar F_B_y = F_C_y + _tmp11 + _tmp12;
-  const Scalar F_D_x = F_C_x - aG3_x*p.c*p.rho;
-  const Scalar F_D_y = F_C_y - aG3_y*p.c*p.rho - p.c*p.g*p.rho;
+  const Scalar F_A_x = F_C_x + aG1_x*mass_1 + aG2_x*mass_2;
+  const Scalar _tmp10 = p.b*p.g*p.rho;
+  const Scalar F_A_y = F_C_y + _tmp10 + aG1_y*mass_1 + aG2_y*mass_2 + p.a*p.g*p.rho;
+  const Scalar F_B_x = F_C_x + aG2_x*mass_2;
+  const Scalar F_B_y = F_C_y + _tmp10 + aG2_y*mass_2;
+  const Scalar F_D_x = F_C_x - aG3_x*mass_3;
+  const Scalar F_D_y = F_C_y - aG3_y*mass_3 - p.c*p.g*p.rho;
   out->Q(0) = Q_0;
   out->drive(0) = -Q_0;
   out->V = Scalar(0.5)*_tmp5*p.g*p.rho*sin_q0 + Scalar(0.5)*_tmp8*p.g*p.rho*sin_phi0 + Scalar(0.5)*_tmp9*p.g*p.rho*sin_phi1 + p.a*p.b*p.g*p.rho*sin_q0;
@@ -614,6 +649,111 @@ void EvalKinetostatics(const Params<Scalar>& p,
   out->R(5) = F_C_y;
   out->R(6) = F_D_x;
   out->R(7) = F_D_y;
+}
+
+/**
+ * \brief The excess-coordinate formulation (Paul §6.6.2) on x = (q, phi): M xdd + h = g + Phi_x^T lambda
+ * with Phi_x xdd = gamma, at any (q, phi) (closed or not: the integrator stabilizes Phi = 0).
+ * \param[in]  p         Parameters.
+ * \param[in]  q         Inputs (dim kNq).
+ * \param[in]  phi       Dependent variables (dim kNphi).
+ * \param[in]  qd        Input velocities (dim kNq).
+ * \param[in]  phid      Dependent velocities (dim kNphi).
+ * \param[in]  t         Time (s), for loads that depend on it.
+ * \param[out] out       Excess; not nullptr.
+ * \param[in]  friction  Coulomb friction loads f (kFrictionJoints), as in EvalStatics(); nullptr:
+ *                       none (dim kNumFriction). May be nullptr.
+ */
+template <typename Scalar>
+void EvalExcess(const Params<Scalar>& p,
+                const Vec<Scalar, Sizes::kNq>& q,
+                const Vec<Scalar, Sizes::kNphi>& phi,
+                const Vec<Scalar, Sizes::kNq>& qd,
+                const Vec<Scalar, Sizes::kNphi>& phid,
+                const Scalar& t,
+                Excess<Scalar>* out,
+                const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+  // Total ops: 244 (adds 41, muls 197, divs 0, calls 6); intermediate terms: 32
+  using std::cos;
+  using std::sin;
+  (void)t;
+  (void)friction;
+  const Scalar _tmp0 = cos(q(0));
+  const Scalar _tmp1 = p.a*p.a;
+  const Scalar g_0 = -Scalar(0.5)*_tmp0*_tmp1*p.g*p.rho - _tmp0*p.a*p.b*p.g*p.rho;
+  const Scalar _tmp2 = cos(phi(0));
+  const Scalar _tmp3 = p.b*p.b;
+  const Scalar g_1 = -Scalar(0.5)*_tmp2*_tmp3*p.g*p.rho;
+  const Scalar _tmp4 = cos(phi(1));
+  const Scalar _tmp5 = p.c*p.c;
+  const Scalar g_2 = -Scalar(0.5)*_tmp4*_tmp5*p.g*p.rho;
+  const Scalar _tmp6 = sin(q(0));
+  const Scalar JG1_x_0 = -Scalar(0.5)*_tmp6*p.a;
+  const Scalar JG1_y_0 = Scalar(0.5)*_tmp0*p.a;
+  const Scalar _tmp7 = qd(0)*qd(0);
+  const Scalar _tmp8 = _tmp0*_tmp7*p.a;
+  const Scalar aqG1_x = -Scalar(0.5)*_tmp8;
+  const Scalar _tmp9 = _tmp6*_tmp7*p.a;
+  const Scalar aqG1_y = -Scalar(0.5)*_tmp9;
+  const Scalar _tmp10 = -_tmp6*p.a;
+  const Scalar JG2_x_0 = _tmp10;
+  const Scalar JG2_y_0 = _tmp0*p.a;
+  const Scalar _tmp11 = sin(phi(0));
+  const Scalar JG2_x_1 = -Scalar(0.5)*_tmp11*p.b;
+  const Scalar JG2_y_1 = Scalar(0.5)*_tmp2*p.b;
+  const Scalar _tmp12 = phid(0)*phid(0);
+  const Scalar _tmp13 = _tmp12*_tmp2*p.b;
+  const Scalar aqG2_x = -Scalar(0.5)*_tmp13 - _tmp8;
+  const Scalar _tmp14 = _tmp11*_tmp12*p.b;
+  const Scalar aqG2_y = -Scalar(0.5)*_tmp14 - _tmp9;
+  const Scalar _tmp15 = sin(phi(1));
+  const Scalar JG3_x_2 = -Scalar(0.5)*_tmp15*p.c;
+  const Scalar JG3_y_2 = Scalar(0.5)*_tmp4*p.c;
+  const Scalar _tmp16 = phid(1)*phid(1);
+  const Scalar _tmp17 = _tmp16*_tmp4*p.c;
+  const Scalar aqG3_x = -Scalar(0.5)*_tmp17;
+  const Scalar _tmp18 = _tmp15*_tmp16*p.c;
+  const Scalar aqG3_y = -Scalar(0.5)*_tmp18;
+  const Scalar _tmp19 = JG1_x_0*JG1_x_0;
+  const Scalar _tmp20 = JG1_y_0*JG1_y_0;
+  const Scalar _tmp21 = JG2_x_0*JG2_x_0;
+  const Scalar _tmp22 = JG2_y_0*JG2_y_0;
+  const Scalar _tmp23 = p.a*p.a*p.a;
+  const Scalar _tmp24 = JG2_x_0*JG2_x_1*p.b*p.rho + JG2_y_0*JG2_y_1*p.b*p.rho;
+  const Scalar _tmp25 = JG2_x_1*JG2_x_1;
+  const Scalar _tmp26 = JG2_y_1*JG2_y_1;
+  const Scalar _tmp27 = p.b*p.b*p.b;
+  const Scalar _tmp28 = JG3_x_2*JG3_x_2;
+  const Scalar _tmp29 = JG3_y_2*JG3_y_2;
+  const Scalar _tmp30 = p.c*p.c*p.c;
+  const Scalar _tmp31 = -_tmp4*p.c;
+  out->M(0, 0) = Scalar(0.083333333333333329)*_tmp23*p.rho + _tmp19*p.a*p.rho + _tmp20*p.a*p.rho + _tmp21*p.b*p.rho + _tmp22*p.b*p.rho;
+  out->M(0, 1) = _tmp24;
+  out->M(0, 2) = Scalar(0);
+  out->M(1, 0) = _tmp24;
+  out->M(1, 1) = Scalar(0.083333333333333329)*_tmp27*p.rho + _tmp25*p.b*p.rho + _tmp26*p.b*p.rho;
+  out->M(1, 2) = Scalar(0);
+  out->M(2, 0) = Scalar(0);
+  out->M(2, 1) = Scalar(0);
+  out->M(2, 2) = Scalar(0.083333333333333329)*_tmp30*p.rho + _tmp28*p.c*p.rho + _tmp29*p.c*p.rho;
+  out->h(0) = JG1_x_0*aqG1_x*p.a*p.rho + JG1_y_0*aqG1_y*p.a*p.rho + JG2_x_0*aqG2_x*p.b*p.rho + JG2_y_0*aqG2_y*p.b*p.rho;
+  out->h(1) = JG2_x_1*aqG2_x*p.b*p.rho + JG2_y_1*aqG2_y*p.b*p.rho;
+  out->h(2) = JG3_x_2*aqG3_x*p.c*p.rho + JG3_y_2*aqG3_y*p.c*p.rho;
+  out->g(0) = g_0;
+  out->g(1) = g_1;
+  out->g(2) = g_2;
+  out->Phi_x(0, 0) = _tmp10;
+  out->Phi_x(0, 1) = -_tmp11*p.b;
+  out->Phi_x(0, 2) = _tmp15*p.c;
+  out->Phi_x(1, 0) = _tmp0*p.a;
+  out->Phi_x(1, 1) = _tmp2*p.b;
+  out->Phi_x(1, 2) = _tmp31;
+  out->Phi(0) = _tmp0*p.a + _tmp2*p.b + _tmp31 - p.d;
+  out->Phi(1) = _tmp11*p.b - _tmp15*p.c + _tmp6*p.a;
+  out->gamma(0) = _tmp13 - _tmp17 + _tmp8;
+  out->gamma(1) = _tmp14 - _tmp18 + _tmp9;
+  out->T = JG2_x_0*JG2_x_1*p.b*p.rho*phid(0)*qd(0) + JG2_y_0*JG2_y_1*p.b*p.rho*phid(0)*qd(0) + Scalar(0.041666666666666664)*_tmp12*_tmp27*p.rho + Scalar(0.041666666666666664)*_tmp16*_tmp30*p.rho + Scalar(0.041666666666666664)*_tmp23*_tmp7*p.rho + Scalar(0.5)*_tmp12*_tmp25*p.b*p.rho + Scalar(0.5)*_tmp12*_tmp26*p.b*p.rho + Scalar(0.5)*_tmp16*_tmp28*p.c*p.rho + Scalar(0.5)*_tmp16*_tmp29*p.c*p.rho + Scalar(0.5)*_tmp19*_tmp7*p.a*p.rho + Scalar(0.5)*_tmp20*_tmp7*p.a*p.rho + Scalar(0.5)*_tmp21*_tmp7*p.b*p.rho + Scalar(0.5)*_tmp22*_tmp7*p.b*p.rho;
+  out->V = Scalar(0.5)*_tmp1*_tmp6*p.g*p.rho + Scalar(0.5)*_tmp11*_tmp3*p.g*p.rho + Scalar(0.5)*_tmp15*_tmp5*p.g*p.rho + _tmp6*p.a*p.b*p.g*p.rho;
 }
 
 /**
@@ -844,6 +984,14 @@ extern template void EvalKinetostatics<double>(const Params<double>&,
                                                Statics<double>*,
                                                const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*,
                                                const typename NonDeduced<Trig<double>>::type*);
+extern template void EvalExcess<double>(const Params<double>&,
+                                        const Vec<double, Sizes::kNq>&,
+                                        const Vec<double, Sizes::kNphi>&,
+                                        const Vec<double, Sizes::kNq>&,
+                                        const Vec<double, Sizes::kNphi>&,
+                                        const double&,
+                                        Excess<double>*,
+                                        const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*);
 extern template void EvalStiffness<double>(const Params<double>&,
                                            const Vec<double, Sizes::kNq>&,
                                            const Vec<double, Sizes::kNphi>&,
@@ -905,6 +1053,14 @@ extern template void EvalKinetostatics<float>(const Params<float>&,
                                               Statics<float>*,
                                               const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*,
                                               const typename NonDeduced<Trig<float>>::type*);
+extern template void EvalExcess<float>(const Params<float>&,
+                                       const Vec<float, Sizes::kNq>&,
+                                       const Vec<float, Sizes::kNphi>&,
+                                       const Vec<float, Sizes::kNq>&,
+                                       const Vec<float, Sizes::kNphi>&,
+                                       const float&,
+                                       Excess<float>*,
+                                       const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*);
 extern template void EvalStiffness<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -990,6 +1146,8 @@ struct Model : Sizes {
   static constexpr bool kHasDynamics = true;
   template <typename Scalar>
   using DynamicsT = mech::fourbar_massive::Dynamics<Scalar>;
+  template <typename Scalar>
+  using ExcessT = mech::fourbar_massive::Excess<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -1042,6 +1200,17 @@ struct Model : Sizes {
                             const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                             const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
     EvalKinetostatics(p, q, phi, qd, qdd, t, c, out, friction, trig);
+  }
+  template <typename Scalar>
+  static void ExcessDynamics(const Params<Scalar>& p,
+                             const Vec<Scalar, Sizes::kNq>& q,
+                             const Vec<Scalar, Sizes::kNphi>& phi,
+                             const Vec<Scalar, Sizes::kNq>& qd,
+                             const Vec<Scalar, Sizes::kNphi>& phid,
+                             const Scalar& t,
+                             Excess<Scalar>* out,
+                             const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+    EvalExcess(p, q, phi, qd, phid, t, out, friction);
   }
   template <typename Scalar>
   static void Stiffness(const Params<Scalar>& p,

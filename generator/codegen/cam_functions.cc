@@ -140,3 +140,35 @@ FunctionSpec ContourSpec(const Model& m, const CamContour& c) {
 }
 
 }  // namespace mechgen
+
+namespace mechgen {
+
+FunctionSpec TableSpec(const Model& m, int index) {
+  const Table& t = m.tables[index];
+  const std::string n = std::to_string(t.x.size());
+  FunctionSpec f;
+  f.name = "Table_" + t.name;
+  f.returns = "Scalar";
+  f.instantiate = false;
+  f.count_ops = false;
+  f.doc = {"\\brief Table '" + t.name + "'" + (t.doc.empty() ? std::string() : ": " + t.doc) +
+               ". Piecewise linear through its " + n + " points (x_i, y_i); outside [x_0, x_" +
+               std::to_string(t.x.size() - 1) + "] the end values hold (slope 0)."};
+  f.args = {Arg("const Scalar&", "x", Dir::kIn, "The argument."),
+            Arg("int", "d", Dir::kIn, "0: the value, 1: the slope dy/dx.")};
+  std::string xs, ys;
+  for (size_t i = 0; i < t.x.size(); ++i) {
+    xs += (i ? ", " : "") + Num17(t.x[i]);
+    ys += (i ? ", " : "") + Num17(t.y[i]);
+  }
+  f.body = {{Raw("static constexpr int kN = " + n + ";"), Raw("static constexpr double kX[kN] = {" + xs + "};"),
+             Raw("static constexpr double kY[kN] = {" + ys + "};"),
+             Raw("if (!(x > Scalar(kX[0]))) return d == 0 ? Scalar(kY[0]) : Scalar(0);"),
+             Raw("if (!(x < Scalar(kX[kN - 1]))) return d == 0 ? Scalar(kY[kN - 1]) : Scalar(0);"),
+             Raw("int k = 0;"), Raw("while (k + 2 < kN && !(x < Scalar(kX[k + 1]))) ++k;"),
+             Raw("const Scalar slope = Scalar((kY[k + 1] - kY[k]) / (kX[k + 1] - kX[k]));"),
+             Raw("return d == 0 ? Scalar(kY[k]) + slope * (x - Scalar(kX[k])) : slope;")}};
+  return f;
+}
+
+}  // namespace mechgen

@@ -209,6 +209,12 @@ std::string CxxPrinter::Print(const GiNaC::ex& e, OpCounts* ops) {
       if (ops) ops->calls += 1;
       return it->second + "(p, " + Print(e.op(2), ops) + ", " + std::to_string(ex_to<GiNaC::numeric>(e.op(1)).to_int()) + ")";
     }
+    if (name == "mtable") {
+      const auto it = tables_.find(ex_to<GiNaC::numeric>(e.op(0)).to_int());
+      if (it == tables_.end()) throw std::logic_error("mechgen bug: no C++ name for a table");
+      if (ops) ops->calls += 1;
+      return it->second + "(" + Print(e.op(2), ops) + ", " + std::to_string(ex_to<GiNaC::numeric>(e.op(1)).to_int()) + ")";
+    }
     if (name == "camcontour") {
       const auto it = cam_contours_.find(ex_to<GiNaC::numeric>(e.op(0)).to_int());
       if (it == cam_contours_.end()) throw std::logic_error("mechgen bug: no C++ name for a cam contour");

@@ -35,6 +35,8 @@ class CxxPrinter {
   void Name(const GiNaC::ex& s, const std::string& name);
   /// camlaw(index, d, x) (joints/cam_profile.h) prints as `name(p, x, d)`.
   void NameCamLaw(int index, const std::string& name) { cam_laws_[index] = name; }
+  /// mtable(index, d, x) (model.h, a `tables:` entry) prints as `name(x, d)`.
+  void NameTable(int index, const std::string& name) { tables_[index] = name; }
   /// camcontour(index, c, d, u) (joints/cam_profile.h) prints as `name(p, u, c, d)`.
   void NameCamContour(int index, const std::string& name) { cam_contours_[index] = name; }
   /// stable_half and quadratic_root (symbolic/dyads.h) print as the expressions they stand for.
@@ -49,6 +51,7 @@ class CxxPrinter {
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> names_;
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> keys_;
   std::map<int, std::string> cam_laws_;
+  std::map<int, std::string> tables_;
   std::map<int, std::string> cam_contours_;
 };
 

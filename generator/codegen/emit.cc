@@ -138,6 +138,27 @@ std::string DynamicsStruct() {
          "  Scalar V;\n"
          "  /// P_nc = (Q + dV/dq) . qd: the power of the non-conservative forces (d(T + V)/dt = P_nc).\n"
          "  Scalar P_nc;\n"
+         "};\n"
+         "\n"
+         "/// What EvalExcess() fills: the excess-coordinate formulation (Paul §6.6.2) on x = (q, phi),\n"
+         "/// n = kNq + kNphi:  M xdd + h = g + Phi_x^T lambda,  Phi_x xdd = gamma.\n"
+         "template <typename Scalar = double>\n"
+         "struct Excess {\n"
+         "  /// M(a, b) = sum m dr_G/dx_a . dr_G/dx_b + J dtheta/dx_a dtheta/dx_b.  (n x n)\n"
+         "  Mat<Scalar, Sizes::kNq + Sizes::kNphi, Sizes::kNq + Sizes::kNphi> M;\n"
+         "  /// h(a) = sum m dr_G/dx_a . (sum_bc d2r_G/dx_b dx_c xd_b xd_c).  (n)\n"
+         "  Vec<Scalar, Sizes::kNq + Sizes::kNphi> h;\n"
+         "  /// g(a): the applied generalized force on x_a at (t, x, xd) (loads, weights, springs, dampers,\n"
+         "  /// viscous and the given Coulomb friction).  (n)\n"
+         "  Vec<Scalar, Sizes::kNq + Sizes::kNphi> g;\n"
+         "  /// Phi_x = [Phi_q  Phi_phi].  (kNc x n)\n"
+         "  Mat<Scalar, Sizes::kNc, Sizes::kNq + Sizes::kNphi> Phi_x;\n"
+         "  /// Phi(q, phi): the residual.  (kNc)\n"
+         "  Vec<Scalar, Sizes::kNc> Phi;\n"
+         "  /// gamma = -sum_bc d2Phi/dx_b dx_c xd_b xd_c: Phi_x xdd = gamma.  (kNc)\n"
+         "  Vec<Scalar, Sizes::kNc> gamma;\n"
+         "  /// T = 1/2 xd^T M xd, V: the kinetic and potential energies.\n"
+         "  Scalar T, V;\n"
          "};\n";
 }
 
@@ -557,7 +578,8 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   if (dynamics)
     constants += "  /// EvalDynamics, EvalKinetostatics and EvalExcess are generated (Paul ch. 6).\n"
                  "  static constexpr bool kHasDynamics = true;\n"
-                 "  template <typename Scalar>\n  using DynamicsT = mech::" + m.name + "::Dynamics<Scalar>;\n";
+                 "  template <typename Scalar>\n  using DynamicsT = mech::" + m.name + "::Dynamics<Scalar>;\n"
+                 "  template <typename Scalar>\n  using ExcessT = mech::" + m.name + "::Excess<Scalar>;\n";
   if (!statics.any) constants.clear();
   data.Set("statics_constants", constants);
 

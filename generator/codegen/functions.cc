@@ -73,6 +73,7 @@ void NameModelSymbols(const Model& m, const Kinematics& k, CxxPrinter* printer) 
   for (const CamLaw& law : k.cam_laws) printer->NameCamLaw(m.joints[law.joint].Data<CamData>().index, law.cxx_name);
   for (const CamGeometry& g : k.cam_geometry) printer->Name(g.x, "x");
   for (const CamContour& c : k.cam_contours) printer->NameCamContour(m.joints[c.joint].Data<CamData>().index, c.cxx_name);
+  for (size_t i = 0; i < m.tables.size(); ++i) printer->NameTable(static_cast<int>(i), "Table_" + m.tables[i].name);
 }
 
 FunctionSpec EvalPhiSpec(const SymbolicTable& t) {
@@ -313,6 +314,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   }
   for (const CamContour& c : k.cam_contours)
     if (m.joints[c.joint].Data<CamData>().contour == CamData::Contour::kSpline) out.push_back(ContourSpec(m, c));
+  for (size_t i = 0; i < m.tables.size(); ++i) out.push_back(TableSpec(m, static_cast<int>(i)));
   out.push_back(EvalPhiSpec(t));
   FunctionSpec coefficients = EvalCoefficientsSpec(t);
   std::vector<bool> trig_done;
@@ -336,6 +338,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   if (has_dynamics) {
     out.push_back(dynamics_spec);
     out.push_back(kinetostatics_spec);
+    out.push_back(EvalExcessSpec(m, k, *dynamics, printer));
   }
   if (has_statics && (!statics->d2V_dq2.empty() || !statics->stiffness_q.empty())) out.push_back(EvalStiffnessSpec(m, *statics, printer));
   out.push_back(EvalDetPhiPhiSpec(t));

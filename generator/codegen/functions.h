@@ -42,6 +42,8 @@ FunctionSpec EvalSceneSpec(const Kinematics& k);
 FunctionSpec CamLawSpec(const Model& m, const CamLaw& law, CxxPrinter* printer);
 FunctionSpec EvalCamSpec(const Model& m, const CamLaw& law, const CamGeometry& g);
 FunctionSpec ContourSpec(const Model& m, const CamContour& c);
+/// Table_<name>(x, d): a `tables:` entry's value or slope (codegen/cam_functions.cc).
+FunctionSpec TableSpec(const Model& m, int index);
 
 /// EvalStatics (codegen/statics_functions.cc): Q, drive, V, reactions, friction (as requested).
 FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer);
@@ -53,6 +55,8 @@ Program StaticsBody(const Model& m, const StaticsTable& st, CxxPrinter* printer)
 FunctionSpec EvalDynamicsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
 /// EvalKinetostatics: the statics with the inertia forces, into the Statics struct.
 FunctionSpec EvalKinetostaticsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
+/// EvalExcess: the excess-coordinate formulation's M, h, g, Phi_x, Phi, gamma, T, V.
+FunctionSpec EvalExcessSpec(const Model& m, const Kinematics& k, const DynamicsTable& dt, CxxPrinter* printer);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);
 

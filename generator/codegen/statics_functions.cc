@@ -305,4 +305,36 @@ FunctionSpec EvalKinetostaticsSpec(const Model& m, const DynamicsTable& dt, CxxP
   return f;
 }
 
+FunctionSpec EvalExcessSpec(const Model& /*m*/, const Kinematics& k, const DynamicsTable& dt, CxxPrinter* printer) {
+  const StaticsTable& x = *dt.excess_applied;
+  for (const auto& [sym, name] : x.names) printer->Name(sym, name);
+  const int nx = k.nq() + k.nphi(), nc = k.nc();
+  FunctionSpec f;
+  f.name = "EvalExcess";
+  f.model_member = "ExcessDynamics";
+  f.doc = {"\\brief The excess-coordinate formulation (Paul §6.6.2) on x = (q, phi): M xdd + h = g + Phi_x^T lambda",
+           "with Phi_x xdd = gamma, at any (q, phi) (closed or not: the integrator stabilizes Phi = 0)."};
+  f.args = AtConfiguration();
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities", "dim kNq"));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNphi>&", "phid", Dir::kIn, "Dependent velocities", "dim kNphi"));
+  f.args.push_back(Arg("const Scalar&", "t", Dir::kIn, "Time (s), for loads that depend on it"));
+  f.args.push_back(Arg("Excess<Scalar>*", "out", Dir::kOut, "Excess; not nullptr."));
+  f.args.push_back(Arg("const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type*", "friction", Dir::kIn,
+                       "Coulomb friction loads f (kFrictionJoints), as in EvalStatics(); nullptr: none.",
+                       "dim kNumFriction", true, "nullptr"));
+  Program P = dt.excess_program;
+  for (int a = 0; a < nx; ++a)
+    for (int b = 0; b < nx; ++b) P.push_back(Store("out->M" + Idx(a, b), dt.M[a + nx * b]));
+  for (int a = 0; a < nx; ++a) P.push_back(Store("out->h(" + N(a) + ")", dt.excess_h[a]));
+  for (int a = 0; a < nx; ++a) P.push_back(Store("out->g(" + N(a) + ")", dt.g[a]));
+  for (int r = 0; r < nc; ++r)
+    for (int a = 0; a < nx; ++a) P.push_back(Store("out->Phi_x" + Idx(r, a), dt.Phi_x[r + nc * a]));
+  for (int r = 0; r < nc; ++r) P.push_back(Store("out->Phi(" + N(r) + ")", k.Phi[r]));
+  for (int r = 0; r < nc; ++r) P.push_back(Store("out->gamma(" + N(r) + ")", dt.gamma[r]));
+  P.push_back(Store("out->T", dt.excess_T));
+  P.push_back(Store("out->V", dt.excess_V));
+  f.body = {Finish(P, x, printer)};
+  return f;
+}
+
 }  // namespace mechgen

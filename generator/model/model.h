@@ -288,6 +288,32 @@ struct Friction {
   SourceMark mark;
 };
 
+/// A viscous damper (dynamics, Paul ch. 6): linear between two link points (force
+/// coefficient * dl/dt along the line, resisting extension) or torsional at a revolute joint
+/// (torque -coefficient (omega_b - omega_a) on the joint's second link, the opposite on its first).
+struct Damper {
+  std::string name;
+  bool torsional = false;
+  PointRef a, b;   ///< linear: its two ends
+  int joint = -1;  ///< torsional: the revolute joint
+  GiNaC::ex coefficient = 0;
+  SourceMark mark;
+};
+
+/// A piecewise-linear function of one argument (`tables:`), usable in load expressions as
+/// name(expr): x strictly increasing, at least 2 points, the end values held outside.
+/// In expressions it is the GiNaC function mtable(index, d, x) (d = 0: value, 1: slope).
+struct Table {
+  std::string name;
+  std::vector<double> x, y;
+  std::string doc;
+  SourceMark mark;
+};
+
+DECLARE_FUNCTION_3P(mtable)
+/// The value (d = 0) or slope (d = 1) of table `t` at x, clamped outside [x0, xn].
+double EvalTable(const Table& t, double x, int d);
+
 struct Model {
   std::string file;  ///< the path it was read from (errors name it)
   std::string name;  ///< C++ identifier, namespace mech::<name>
@@ -307,6 +333,13 @@ struct Model {
   std::vector<Load> loads;
   std::vector<Spring> springs;
   std::vector<Friction> friction;
+  // Dynamics (generator/model/dynamics.cc): dampers, tables, and the time and velocities the
+  // loads may read (created when a load uses them; only with the `dynamics` quantity).
+  std::vector<Damper> dampers;
+  std::vector<Table> tables;
+  std::map<std::string, GiNaC::symbol> velocity_refs;  ///< "t" and "<coordinate>_dot"
+  SourceMark velocity_ref_mark;                        ///< the first use (an error without dynamics)
+  std::string velocity_ref_name;                       ///< its name as written
   /// The coordinates' names a load may use (theta_<link>, s_<joint>, psi_<joint>,
   /// u_<joint>), as placeholder symbols the statics derivation replaces by the coordinates.
   std::map<std::string, GiNaC::symbol> coordinate_refs;

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -280,7 +281,9 @@ const KeyTable& ModelKeys() {
                                {"gravity", "[gx, gy]: gravity in the fixed frame (statics, dynamics)", false},
                                {"loads", "forces at link points and torques on links", false},
                                {"springs", "linear springs between link points, torsional at revolute joints", false},
-                               {"friction", "Coulomb friction per revolute or prismatic joint", false},
+                               {"friction", "Coulomb and viscous friction per revolute or prismatic joint", false},
+                               {"dampers", "viscous dampers between link points, torsional at revolute joints (dynamics)", false},
+                               {"tables", "piecewise-linear functions of one argument, for loads (dynamics)", false},
                                {"outputs", "what the generated code computes", false},
                                {"assembly", "coordinate values near the wanted assembly mode", false}}};
   return table;
@@ -289,7 +292,8 @@ const KeyTable& ModelKeys() {
 std::vector<const KeyTable*> AllKeyTables() {
   std::vector<const KeyTable*> out = {&ModelKeys(),  &ParameterKeys(), &LinkKeys(),      &JointKeys(),
                                       &InputKeys(),  &OutputKeys(),    &LawSegmentKeys(), &ContourKeys(),
-                                      &LoadKeys(),   &SpringKeys(),     &FrictionKeys()};
+                                      &LoadKeys(),   &SpringKeys(),     &FrictionKeys(),   &DamperKeys(),
+                                      &TableKeys()};
   for (const JointKind* k : JointKinds()) out.push_back(&k->Keys());
   return out;
 }
@@ -386,7 +390,9 @@ std::string CharText(char c) {
 //   primary    := number | name | function '(' expression (',' expression)* ')' | '(' expression ')'
 class ExpressionSyntax {
  public:
-  ExpressionSyntax(const std::string& text, const std::set<std::string>& names) : t_(text), names_(names) {}
+  ExpressionSyntax(const std::string& text, const std::set<std::string>& names,
+                   const std::set<std::string>* tables = nullptr)
+      : t_(text), names_(names), tables_(tables) {}
 
   void Check() {
     if (t_.size() > kMaxExpressionLength)
@@ -464,18 +470,28 @@ class ExpressionSyntax {
       while (i_ < t_.size() && IsNameChar(t_[i_])) ++i_;
       const std::string name = t_.substr(start, i_ - start);
       const auto fn = Functions().find(name);
+      const bool table = tables_ && tables_->count(name);
       if (At('(')) {
-        if (fn == Functions().end())
-          Fail(start, "'" + name + "' is not a function of the expression language (" + FunctionList() + ")");
+        if (fn == Functions().end() && !table) {
+          std::string more;
+          if (tables_) {
+            for (const auto& t : *tables_) more += (more.empty() ? "" : " ") + t;
+            more = more.empty() ? "; the model has no tables:" : "; the model's tables: " + more;
+          }
+          Fail(start, "'" + name + "' is not a function of the expression language (" + FunctionList() + ")" + more);
+        }
+        const int wanted = table ? 1 : fn->second;
         const size_t open = i_;
         Open();
         int args = 1;
         Expression();
         while (At(',')) ++i_, Expression(), ++args;
         Close(open);
-        if (args != fn->second)
-          Fail(start, name + " takes " + std::to_string(fn->second) + " argument" + (fn->second > 1 ? "s" : "") +
-                          ", not " + std::to_string(args));
+        if (args != wanted)
+          Fail(start, name + " takes " + std::to_string(wanted) + " argument" + (wanted > 1 ? "s" : "") + ", not " +
+                          std::to_string(args));
+      } else if (table) {
+        Fail(start, "the table " + name + " needs its argument: " + name + "(x)");
       } else if (fn != Functions().end()) {
         Fail(start, "the function " + name + " needs its argument" + (fn->second > 1 ? "s" : "") + ": " + name +
                         (fn->second > 1 ? "(y, x)" : "(x)"));
@@ -515,6 +531,7 @@ class ExpressionSyntax {
 
   const std::string& t_;
   const std::set<std::string>& names_;
+  const std::set<std::string>* tables_;
   size_t i_ = 0;
   int depth_ = 0;
 };
@@ -610,8 +627,10 @@ GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& w
   for (const auto& p : m_.params) names.insert(p.name);
   const std::string fix = "; see Expressions in models/README.md";
   const std::string shown = text.size() > 80 ? text.substr(0, 77) + "..." : text;
+  std::set<std::string> tables;
+  for (const Table& t : m_.tables) tables.insert(t.name);
   try {
-    ExpressionSyntax(text, names).Check();
+    ExpressionSyntax(text, names, tables_ ? &tables : nullptr).Check();
   } catch (const ExpressionFailure& f) {
     FailAt(node, text, f.offset, what + ": cannot read '" + shown + "' as an expression: " + f.message + fix);
   }
@@ -619,10 +638,18 @@ GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& w
   for (const auto& p : m_.params) table[p.name] = p.symbol;
   table["deg"] = GiNaC::Pi / 180;
   for (const auto& [name, value] : extra) table[name] = value;
+  // A table call name(x) is read as mtable(index, 0, x).
+  std::string parsed = text;
+  // (GiNaC's default reader knows every registered function, mtable too; the syntax check
+  // above admits only the language's functions and, in loads, the model's tables.)
+  if (tables_)
+    for (size_t i = 0; i < m_.tables.size(); ++i)
+      parsed = std::regex_replace(parsed, std::regex("(^|[^A-Za-z0-9_])" + m_.tables[i].name + "\\s*\\("),
+                                  "$1mtable(" + std::to_string(i) + ", 0, ");
   GiNaC::parser reader(table, /*strict=*/true);
   GiNaC::ex e;
   try {
-    e = reader(text);
+    e = reader(parsed);
   } catch (const std::exception& err) {  // e.g. GiNaC's own evaluation: 1/0
     std::string why = err.what();
     why = why.substr(0, why.find('\n'));
@@ -631,7 +658,7 @@ GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& w
     if (why.find("division by zero") != std::string::npos) why = "it divides by zero";
     FailAt(node, text, 0, what + ": cannot read '" + shown + "' as an expression: " + why + fix);
   }
-  bool uses_extra = false;
+  bool uses_extra = e.has(mtable(GiNaC::wild(0), GiNaC::wild(1), GiNaC::wild(2)));  // tables: not evaluated here
   for (const auto& [name, value] : extra) uses_extra |= e.has(value);
   if (!uses_extra) {
     try {
@@ -806,10 +833,13 @@ Model LoadModelFromString(const std::string& text, const std::string& path,
     ReadJoints(r, get("joints"));
     ReadInputs(r, get("inputs"));
     ReadGravity(r, get("gravity"));
+    ReadTables(r, get("tables"));
     ReadLoads(r, get("loads"));
     ReadSprings(r, get("springs"));
     ReadFriction(r, get("friction"));
+    ReadDampers(r, get("dampers"));
     ReadOutputs(r, get("outputs"));
+    CheckDynamicRefs(m);
     ReadAssembly(r, get("assembly"));
   } catch (const YAML::Exception& e) {  // e.g. a conversion yaml-cpp refuses
     m.Fail({e.mark.line + 1, e.mark.column + 1}, e.msg);

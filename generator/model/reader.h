@@ -49,6 +49,8 @@ const KeyTable& ContourKeys();
 const KeyTable& LoadKeys();
 const KeyTable& SpringKeys();
 const KeyTable& FrictionKeys();
+const KeyTable& DamperKeys();
+const KeyTable& TableKeys();
 
 /// Reading helpers over one model being filled. Every failure is a ModelError at the
 /// offending node.
@@ -80,6 +82,8 @@ class SectionReader {
   /// maps each name to its symbol; the value at the defaults is checked only if the
   /// expression uses none of them.
   GiNaC::ex Expression(const YAML::Node& node, const std::string& what, const GiNaC::symtab& extra) const;
+  /// Whether the model's tables may be called in the expressions read next (loads only).
+  void AllowTables(bool allow) { tables_ = allow; }
   /// A number: an expression evaluated at the parameters' default values.
   double Number(const YAML::Node& node, const std::string& what) const;
   /// "link.point" -> PointRef.
@@ -97,6 +101,7 @@ class SectionReader {
 
   Model& m_;
   const std::string* source_ = nullptr;
+  bool tables_ = false;
   mutable std::map<int, SourceMark> keymarks_;  // value position -> mark of its key
 };
 
@@ -141,6 +146,10 @@ void ReadGravity(SectionReader& r, const YAML::Node& node);
 void ReadLoads(SectionReader& r, const YAML::Node& node);
 void ReadSprings(SectionReader& r, const YAML::Node& node);
 void ReadFriction(SectionReader& r, const YAML::Node& node);
+void ReadTables(SectionReader& r, const YAML::Node& node);
+void ReadDampers(SectionReader& r, const YAML::Node& node);
+/// After the outputs: a load that reads t or a velocity needs the `dynamics` quantity.
+void CheckDynamicRefs(const Model& m);
 void ReadOutputs(SectionReader& r, const YAML::Node& node);
 void ReadAssembly(SectionReader& r, const YAML::Node& node);
 

@@ -36,9 +36,9 @@ const KeyTable& SpringKeys() {
 const KeyTable& FrictionKeys() {
   static const KeyTable table{
       "friction",
-      {{"coefficient", "Coulomb coefficient mu (>= 0)", true},
-       {"pin_radius", "revolute: the pin's radius r (friction circle radius mu r)", false},
-       {"viscous", "viscous coefficient (read; used by the dynamics)", false}}};
+      {{"coefficient", "Coulomb coefficient mu (>= 0; default 0: viscous friction only)", false},
+       {"pin_radius", "revolute: the pin's radius r (friction circle radius mu r); needs coefficient", false},
+       {"viscous", "viscous coefficient c (dynamics): torque c omega_rel (N m s/rad) or force c v_rel (N s/m)", false}}};
   return table;
 }
 
@@ -61,18 +61,34 @@ GiNaC::ex LoadExpression(SectionReader& r, const YAML::Node& node, const std::st
   // with the coordinates' names besides the parameters.
   GiNaC::symtab coordinates;
   for (const auto& [name, sym] : m.coordinate_refs) coordinates[name] = sym;
-  // Time and velocities: names the dynamics will give meaning to.
-  static const std::regex reserved(R"((^|[^A-Za-z0-9_])(t|[A-Za-z_][A-Za-z0-9_]*_d?dot)($|[^A-Za-z0-9_]))");
-  std::smatch match;
+  // Time and velocities (the dynamics): t and <coordinate>_dot; accelerations are reserved.
+  static const std::regex reserved(R"((^|[^A-Za-z0-9_])(t|[A-Za-z_][A-Za-z0-9_]*_d?dot)(?=$|[^A-Za-z0-9_]))");
   const std::string text = r.Scalar(node, what);
-  if (std::regex_search(text, match, reserved)) {
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), reserved); it != std::sregex_iterator(); ++it) {
+    const std::smatch& match = *it;
     SourceMark at = MarkOf(node);  // the name's own column (a plain scalar on one line)
     if (node.Tag() != "!" && text.find('\n') == std::string::npos)
       at.column += static_cast<int>(match.position(2));
-    m.Fail(at, what + ": '" + match[2].str() + "' is reserved for the dynamics (time t and velocities <coordinate>_dot); "
-                        "a static load depends on the parameters and the coordinates only");
+    const std::string name = match[2].str();
+    if (name.size() > 5 && name.compare(name.size() - 5, 5, "_ddot") == 0)
+      m.Fail(at, what + ": '" + name + "' is reserved (accelerations); a load depends on the parameters, the "
+                        "coordinates, time t and the velocities <coordinate>_dot only");
+    // The names of time and every coordinate's velocity, created at their first use (new
+    // symbols would change GiNaC's term order for models without them).
+    if (m.velocity_refs.empty()) {
+      m.velocity_refs.emplace("t", GiNaC::symbol("t"));
+      for (const auto& [c, sym] : m.coordinate_refs) m.velocity_refs.emplace(c + "_dot", GiNaC::symbol(c + "_dot"));
+    }
+    if (!m.velocity_ref_mark.line) {
+      m.velocity_ref_mark = at;
+      m.velocity_ref_name = name;
+    }
   }
-  return r.Expression(node, what, coordinates);
+  for (const auto& [name, sym] : m.velocity_refs) coordinates[name] = sym;
+  r.AllowTables(true);
+  const GiNaC::ex e = r.Expression(node, what, coordinates);
+  r.AllowTables(false);
+  return e;
 }
 
 }  // namespace
@@ -201,10 +217,16 @@ void ReadFriction(SectionReader& r, const YAML::Node& node) {
     for (const auto& entry : r.Entries(spec, "friction at '" + name + "'", &FrictionKeys())) (void)entry;
     const YAML::Node& s = spec;
     const std::string what = "friction at '" + name + "'";
-    f.coefficient = r.Expression(s["coefficient"], "coefficient of " + what);
-    if (r.Number(s["coefficient"], "coefficient of " + what) < 0)
-      r.Fail(s["coefficient"], "coefficient of " + what + " is negative; give mu >= 0");
-    if (type == JointType::kRevolute) {
+    if (!s["coefficient"] && !s["viscous"])
+      r.Fail(spec, what + " needs coefficient: mu (Coulomb) or viscous: c (dynamics), or both");
+    if (s["coefficient"]) {
+      f.coefficient = r.Expression(s["coefficient"], "coefficient of " + what);
+      if (r.Number(s["coefficient"], "coefficient of " + what) < 0)
+        r.Fail(s["coefficient"], "coefficient of " + what + " is negative; give mu >= 0");
+    }
+    if (!s["coefficient"]) {
+      if (s["pin_radius"]) r.Fail(s["pin_radius"], what + ": pin_radius comes with coefficient: mu (Coulomb friction)");
+    } else if (type == JointType::kRevolute) {
       if (!s["pin_radius"]) r.Fail(spec, what + ": a revolute joint needs pin_radius: r (the friction circle's radius is mu r)");
       f.pin_radius = r.Expression(s["pin_radius"], "pin radius of " + what);
       if (r.Number(s["pin_radius"], "pin radius of " + what) < 0)

@@ -2,6 +2,7 @@
 #include "report/report.h"
 
 #include "joints/joint_kind.h"
+#include "report/equivalent.h"
 
 namespace mechgen {
 namespace {
@@ -217,6 +218,7 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
       if (!range.empty()) os << "  " << range << "\n";
     }
   }
+  WriteEquivalentLinks(m, tex, os);
   if (!tex) {
     os << "Generated code: " << d.strategy << "\n";
     os << "Operation counts: EvalPhi " << e.Ops("EvalPhi").Text() << "; EvalCoefficients "

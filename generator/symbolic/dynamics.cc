@@ -41,8 +41,9 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
   for (int j = 0; j < nq; ++j)
     for (int kk = j; kk < nq; ++kk) {
       ex s = 0;
-      for (const MassKinematics& mk : a.masses)
-        s += mk.mass * (mk.K_G[j][0] * mk.K_G[kk][0] + mk.K_G[j][1] * mk.K_G[kk][1]) +
+      for (const MassKinematics& mk : a.masses)  // each link's dot product named: m (K.K) + J K K
+        s += mk.mass * named("KK" + N(mk.link) + "_" + N(j) + "_" + N(kk),
+                             mk.K_G[j][0] * mk.K_G[kk][0] + mk.K_G[j][1] * mk.K_G[kk][1]) +
              mk.inertia * mk.K_theta[j] * mk.K_theta[kk];
       I[j + nq * kk] = I[kk + nq * j] = named("I_" + N(j) + "_" + N(kk), s);
     }
@@ -52,7 +53,9 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
         ex s = 0;
         for (const MassKinematics& mk : a.masses) {
           const Vec2& L = mk.L_G[kk + nq * l];
-          s += mk.mass * (mk.K_G[j][0] * L[0] + mk.K_G[j][1] * L[1]) + mk.inertia * mk.K_theta[j] * mk.L_theta[kk + nq * l];
+          s += mk.mass * named("KL" + N(mk.link) + "_" + N(j) + "_" + N(kk) + "_" + N(l),
+                               mk.K_G[j][0] * L[0] + mk.K_G[j][1] * L[1]) +
+               mk.inertia * mk.K_theta[j] * mk.L_theta[kk + nq * l];
         }
         C[j + nq * (kk + nq * l)] = C[j + nq * (l + nq * kk)] =
             named("C_" + N(j) + "_" + N(kk) + "_" + N(l), s);
@@ -72,6 +75,66 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
   V = a.V;
   P_nc = 0;
   for (int j = 0; j < nq; ++j) P_nc += (Q[j] + a.dV_dq[j]) * a.qd[j];
+
+  // ---- the excess-coordinate formulation ----
+  StaticsOptions xo = Dynamic(false);
+  xo.excess = true;
+  excess_applied = std::make_unique<StaticsTable>(m, k, t, xo);
+  const StaticsTable& x = *excess_applied;
+  const int nphi = k.nphi(), nx = nq + nphi, nc = k.nc();
+  std::vector<GiNaC::symbol> xs;
+  for (const Coordinate& c : k.q) xs.push_back(c.symbol);
+  for (const Coordinate& c : k.phi) xs.push_back(c.symbol);
+  std::vector<ex> xd = x.qd;
+  xd.insert(xd.end(), x.phid.begin(), x.phid.end());
+  excess_program = x.program;
+  auto xnamed = [&](const std::string& name, const ex& e) -> ex {
+    if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::symbol>(e)) return e;
+    ex sym;
+    excess_program.push_back(Define(name, e, &sym));
+    return sym;
+  };
+  // Per massive link: dr_G/dx_a, dtheta/dx_a, and the quadratic velocity terms of r_G.
+  M.assign(nx * nx, 0);
+  excess_h.assign(nx, 0);
+  std::vector<std::vector<Vec2>> J(m.links.size());  // per link, per a
+  std::vector<std::vector<ex>> Jth(m.links.size());
+  for (size_t l = 0; l < m.links.size(); ++l) {
+    const MassProperties& mp = m.links[l].mass;
+    if (!mp.given || m.links[l].ground) continue;
+    const Vec2 rc = Rotate(k.frames[l].theta, mp.center_x, mp.center_y);
+    const Vec2 rG = {k.frames[l].x + rc[0], k.frames[l].y + rc[1]};
+    const std::string tag = N(static_cast<int>(l));
+    Vec2 quad{0, 0};  // sum_bc d2r_G/dx_b dx_c xd_b xd_c
+    for (int a2 = 0; a2 < nx; ++a2) {
+      J[l].push_back({xnamed("JG" + tag + "_x_" + N(a2), rG[0].diff(xs[a2])),
+                      xnamed("JG" + tag + "_y_" + N(a2), rG[1].diff(xs[a2]))});
+      Jth[l].push_back(k.frames[l].theta.diff(xs[a2]));
+      for (int b = 0; b < nx; ++b)
+        for (int c = 0; c < 2; ++c) quad[c] += rG[c].diff(xs[a2]).diff(xs[b]) * xd[a2] * xd[b];
+    }
+    const Vec2 qn = {xnamed("aqG" + tag + "_x", quad[0]), xnamed("aqG" + tag + "_y", quad[1])};
+    for (int a2 = 0; a2 < nx; ++a2) {
+      excess_h[a2] += mp.mass * (J[l][a2][0] * qn[0] + J[l][a2][1] * qn[1]);
+      for (int b = 0; b < nx; ++b)
+        M[a2 + nx * b] += mp.mass * (J[l][a2][0] * J[l][b][0] + J[l][a2][1] * J[l][b][1]) + mp.inertia * Jth[l][a2] * Jth[l][b];
+    }
+  }
+  excess_T = 0;
+  for (int a2 = 0; a2 < nx; ++a2)
+    for (int b = 0; b < nx; ++b) excess_T += M[a2 + nx * b] * xd[a2] * xd[b] / 2;
+  g.assign(nx, 0);
+  for (int a2 = 0; a2 < nx; ++a2) g[a2] = x.g[a2];
+  Phi_x.assign(nc * nx, 0);
+  gamma.assign(nc, 0);
+  for (int r = 0; r < nc; ++r) {
+    for (int a2 = 0; a2 < nx; ++a2) Phi_x[r + nc * a2] = a2 < nq ? k.Phi_q(r, a2) : k.Phi_phi(r, a2 - nq);
+    ex s = 0;
+    for (int a2 = 0; a2 < nx; ++a2)
+      for (int b = 0; b < nx; ++b) s += k.Phi[r].diff(xs[a2]).diff(xs[b]) * xd[a2] * xd[b];
+    gamma[r] = -s;
+  }
+  excess_V = x.V;
 }
 
 }  // namespace mechgen

@@ -55,13 +55,14 @@ class DynamicsTable {
   GiNaC::ex T, V, P_nc;
 
   // ---- the excess-coordinate formulation (x = (q, phi), n = nq + nphi) ----
-  /// Symbols read from the arguments: xd(a) is qd(a) or phid(a - nq).
-  std::vector<std::pair<GiNaC::ex, std::string>> excess_names;
+  /// The applied forces on x at (t, x, xd) (phid(i) read as the dependent velocities); its
+  /// `names` are the symbols read from the arguments.
+  std::unique_ptr<StaticsTable> excess_applied;
   Program excess_program;
   std::vector<GiNaC::ex> M;         ///< n x n, M[a + n b]
   std::vector<GiNaC::ex> excess_h;  ///< n
   std::vector<GiNaC::ex> g;         ///< n
-  std::vector<GiNaC::ex> Phi_x;     ///< nc x n, Phi_x[r + nc a]
+  std::vector<GiNaC::ex> Phi_x;     ///< nc x n, Phi_x[r + nc a] (expressions in q, phi)
   std::vector<GiNaC::ex> gamma;     ///< nc
   GiNaC::ex excess_T, excess_V;
 };

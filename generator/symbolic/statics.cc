@@ -146,6 +146,13 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   };
 
   // ---- the dynamic modes: the velocities, time, and the centres of mass along the motion ----
+  // The dynamic modes: the coordinates' velocities xdot = (qd, K qd) and d/dt of f(x).
+  std::vector<ex> xdot;
+  auto ddt = [&](const ex& f) {
+    ex s = 0;
+    for (size_t a = 0; a < xdot.size(); ++a) s += f.diff(GiNaC::ex_to<GiNaC::symbol>(xs[a])) * xdot[a];
+    return s;
+  };
   // V(a, j) = dx_a/dq_j: [I; K].
   auto Vx = [&](int a, int j) -> ex { return a < nq ? ex(a == j ? 1 : 0) : Kc[a - nq][j]; };
   // d2f/dq_j dq_k along the motion: sum_ab d2f/dx_a dx_b V_aj V_bk + sum_i df/dphi_i L(i, j, k).
@@ -174,13 +181,29 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
     if (options.inertia)
       for (int j = 0; j < nq; ++j) qdd.push_back(named("qdd(" + N(j) + ")"));
     time = named("t");
-    for (size_t l = 0; l < m.links.size(); ++l) {
+    if (options.excess)
+      for (int i = 0; i < nphi; ++i) phid.push_back(named("phid(" + N(i) + ")"));
+    for (int a = 0; a < nx; ++a) {
+      if (a < nq) {
+        xdot.push_back(qd[a]);
+        continue;
+      }
+      if (options.excess) {
+        xdot.push_back(phid[a - nq]);
+        continue;
+      }
+      ex v = 0;
+      for (int j = 0; j < nq; ++j) v += Kc[a - nq][j] * qd[j];
+      xdot.push_back(v);
+    }
+    for (size_t l = 0; l < m.links.size() && !options.excess; ++l) {
       const MassProperties& mp = m.links[l].mass;
       if (!mp.given || m.links[l].ground) continue;
       MassKinematics mk;
       mk.link = static_cast<int>(l);
-      mk.mass = mp.mass;
-      mk.inertia = mp.inertia;
+      // Named, so that I = m (K_x^2 + K_y^2) + J K_theta^2 is not expanded into products of each term.
+      mk.mass = local("mass_" + N(static_cast<int>(l)), mp.mass);
+      mk.inertia = local("inertia_" + N(static_cast<int>(l)), mp.inertia);
       const Vec2 rc = Rotate(k.frames[l].theta, mp.center_x, mp.center_y);
       const Vec2 rG = {k.frames[l].x + rc[0], k.frames[l].y + rc[1]};
       const ex& th = k.frames[l].theta;
@@ -220,6 +243,19 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       }
     // The reader offers only the model's own coordinates (model/statics.cc).
     if (!found) throw std::logic_error("mechgen bug: load coordinate '" + name + "' is not a coordinate");
+  }
+  // Time and the velocities: the arguments in the dynamic modes, 0 in the statics.
+  for (const auto& [name, sym] : m.velocity_refs) {
+    if (!options.dynamic) {
+      refs[sym] = 0;
+      continue;
+    }
+    if (name == "t") {
+      refs[sym] = time;
+      continue;
+    }
+    const std::string coordinate = name.substr(0, name.size() - 4);  // without "_dot"
+    refs[sym] = ddt(refs.at(m.coordinate_refs.at(coordinate)));
   }
 
   // ---- the applied forces: items (a force at a point and/or a couple on one link) ----
@@ -333,6 +369,42 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       add_item(on_b, on_b_e, true);
     }
   }
+  // Dampers (dynamic modes): a linear one's force c dl/dt pulls its ends together while it
+  // extends; a torsional one's torque -c (omega_b - omega_a) acts on the joint's second link.
+  if (options.dynamic)
+    for (const Damper& d : m.dampers) {
+      if (d.torsional) {
+        const Joint& j = m.joints[d.joint];
+        ex torque;
+        program.push_back(Define("damper_" + d.name + "_torque",
+                                 -d.coefficient * ddt(k.frames[j.link_b].theta - k.frames[j.link_a].theta), &torque));
+        Item on_b, on_a;
+        on_b.link = j.link_b;
+        on_b.couple = torque;
+        on_a.link = j.link_a;
+        on_a.couple = -torque;
+        add_item(on_b, on_b, false);
+        add_item(on_a, on_a, false);
+      } else {
+        const Vec2 ra = position(d.a), rb = position(d.b);
+        ex dx, dy, l, t;
+        program.push_back(Define("damper_" + d.name + "_dx", rb[0] - ra[0], &dx));
+        program.push_back(Define("damper_" + d.name + "_dy", rb[1] - ra[1], &dy));
+        program.push_back(Define("damper_" + d.name + "_length", GiNaC::sqrt(dx * dx + dy * dy), &l));
+        // Force per unit (dx, dy): c (dl/dt) / l = c (dx dx' + dy dy') / l^2.
+        program.push_back(Define("damper_" + d.name + "_t",
+                                 d.coefficient * (dx * ddt(rb[0] - ra[0]) + dy * ddt(rb[1] - ra[1])) / (l * l), &t));
+        Item on_a, on_b;
+        on_a.link = d.a.link;
+        on_b.link = d.b.link;
+        on_a.at = ra;
+        on_b.at = rb;
+        on_a.F = {t * dx, t * dy};
+        on_b.F = {-t * dx, -t * dy};
+        add_item(on_a, on_a, false);
+        add_item(on_b, on_b, false);
+      }
+    }
   // Friction loads: a couple pair at a revolute joint, a force pair along a prismatic line;
   // their virtual work is f times the joint's relative motion (gf).
   std::vector<ex> gf(nx, 0);
@@ -344,6 +416,12 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
     on_b.does_work = on_a.does_work = false;
     const ex rel = j.type() == JointType::kRevolute ? k.frames[j.link_b].theta - k.frames[j.link_a].theta
                                                      : ex(CoordinateOfJoint(m, k, layout.friction[i])->symbol);
+    // Viscous friction (dynamic modes) adds -c d(rel)/dt to the given Coulomb load.
+    if (options.dynamic && !m.friction[i].viscous.is_zero()) {
+      ex f;
+      program.push_back(Define("friction_viscous_" + N(static_cast<int>(i)), fr[i] - m.friction[i].viscous * ddt(rel), &f));
+      fr[i] = f;
+    }
     for (int a = 0; a < nx; ++a) gf[a] += fr[i] * rel.diff(GiNaC::ex_to<GiNaC::symbol>(xs[a]));
     if (j.type() == JointType::kRevolute) {
       on_b.couple = fr[i];
@@ -376,6 +454,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
     if (g.is_zero()) continue;
     program.push_back(Define("g_" + N(a), g, &gs[a]));
   }
+  this->g = gs;
   Q.assign(nq, 0);
   drive.assign(nq, 0);
   std::vector<ex> Qs(nq);

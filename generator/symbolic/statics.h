@@ -59,6 +59,9 @@ struct StaticsOptions {
   bool inertia = false;
   /// Derive the reactions (and the friction joints' normal forces) as m.outputs asks.
   bool reactions = true;
+  /// The excess-coordinate formulation (with `dynamic`): the dependent coordinates' velocities
+  /// are the arguments phid(i), not K qd; no centres of mass (EvalExcess reads `g`).
+  bool excess = false;
 };
 
 /// A massive moving link's centre of mass G and angle along the motion (the dynamic modes):
@@ -92,6 +95,8 @@ class StaticsTable {
   /// Named locals (the applied forces g, the multipliers, the subtree sums), in order.
   Program program;
 
+  std::vector<GiNaC::ex> g;          ///< nq + nphi: the applied generalized forces on x = (q, phi) (named)
+  std::vector<GiNaC::ex> phid;       ///< the excess mode's dependent velocities
   std::vector<GiNaC::ex> Q;          ///< nq: generalized forces (with the friction loads)
   std::vector<GiNaC::ex> drive;      ///< nq: -Q, named
   GiNaC::ex V;                       ///< potential energy (springs, gravity)

@@ -362,7 +362,10 @@ class MinimalDynamics {
     }
     integrator_.set_options(options_.integrator);
     State y0;
-    y0 << q0, qd0, 0.0;
+    // By segments: a comma initializer from 1 x 1 blocks trips GCC 12's -Warray-bounds.
+    y0.template head<kNq>() = q0;
+    y0.template segment<kNq>(kNq) = qd0;
+    y0(2 * kNq) = 0.0;
     auto f = [this](double t, const State& y, State* dy) { return Derivative(t, y, dy); };
     SampleT s0;
     if (!Evaluate(t0, y0, &s0)) {
