@@ -15,7 +15,7 @@
 //   its curve reaches the errors of the others); counters: error =
 //   |theta(3 s) - reference| (reference.h), steps, rhs (evaluations; Simbody: realizations).
 //   Methods: Mechgen<integrator> (MinimalDynamics), Excess<integrator> (the excess-coordinate
-//   method of the runtime), Hand<integrator> (the hand-written EOM, the same integrator
+//   method of the runtime, excess.h, with the coordinate projection), Hand<integrator> (the hand-written EOM, the same integrator
 //   classes), Simbody{Debian,Release}/{RKMerson,RKFeldberg,CPodes}.
 // --drift_csv=FILE [--drift_t=T]: instead of the benchmarks, writes E(t) - E(0) against
 //   simulated time (every 0.05 s up to T, default 30 s) for each method at tolerances 1e-6
@@ -278,6 +278,36 @@ void RhsMinimalDynamics(benchmark::State& state) {
 BENCHMARK(RhsMinimalDynamics)->Name("Rhs/MinimalDynamics");
 #endif
 
+#ifdef MECHGEN_BENCH_HAVE_EXCESS
+// The excess-coordinate method (excess.h): x = (q, phi) and xd integrated with the
+// constraints at the acceleration level, the coordinate projection after each accepted step
+// (positions by the generated solver, phid = K qd); samples at the start and the end only.
+template <template <int> class Method>
+SimResult SimulateExcess(double tol) {
+  using Sim = dyn::ExcessDynamics<Model, Method>;
+  static const typename Sim::Params p;
+  dyn::ExcessOptions o;
+  o.integrator = Tolerance(tol);
+  o.projection = true;
+  o.sample_dt = kTEnd;
+  Sim sim(p, o);
+  const typename Sim::VecQ q0 = Sim::VecQ::Constant(kQ0), qd0 = Sim::VecQ::Zero();
+  typename Sim::VecPhi guess;
+  for (int i = 0; i < Model::kNphi; ++i) guess(i) = Model::kAssemblyPhi[i];
+  dyn::ExcessSummary summary;
+  typename Sim::SampleT last;
+  SimResult r;
+  r.ok = sim.Simulate(0.0, q0, qd0, guess, kTEnd, [](const typename Sim::SampleT&) { return true; },
+                      &summary, &last) &&
+         std::abs(last.t - kTEnd) < 1e-12;
+  r.theta = last.x(0);
+  r.thetad = last.xd(0);
+  r.steps = summary.integrator.steps;
+  r.rhs = summary.integrator.rhs_evaluations;
+  return r;
+}
+#endif
+
 struct Method {
   std::string name;
   std::function<SimResult(double)> simulate;
@@ -290,6 +320,10 @@ std::vector<Method> Methods() {
 #ifdef MECHGEN_BENCH_HAVE_MINIMAL
   m.push_back({"MechgenDopri5", SimulateMechgen<dyn::Dopri5>});
   m.push_back({"MechgenDop853", SimulateMechgen<dyn::Dop853>});
+#endif
+#ifdef MECHGEN_BENCH_HAVE_EXCESS
+  m.push_back({"ExcessDopri5", SimulateExcess<dyn::Dopri5>});
+  m.push_back({"ExcessDop853", SimulateExcess<dyn::Dop853>});
 #endif
   m.push_back({"HandDopri5", SimulateHand<dyn::Dopri5<2>>});
   m.push_back({"HandDop853", SimulateHand<dyn::Dop853<2>>});
@@ -394,6 +428,30 @@ int WriteDrift(const char* path, double t_end) {
       run(static_cast<dyn::MinimalDynamics<Model, dyn::Dop853>*>(nullptr), false, "MechgenDop853");
       run(static_cast<dyn::MinimalDynamics<Model, dyn::Dopri5>*>(nullptr), true,
           "MechgenDopri5EnergyProjection");
+    }
+#endif
+#ifdef MECHGEN_BENCH_HAVE_EXCESS
+    {
+      using Sim = dyn::ExcessDynamics<Model, dyn::Dopri5>;
+      const FourbarParams<double> hp;
+      const Sim::Params p;
+      dyn::ExcessOptions o;
+      o.integrator = Tolerance(tol);
+      o.projection = true;
+      o.sample_dt = dt;
+      Sim sim(p, o);
+      Sim::VecPhi guess;
+      for (int i = 0; i < Model::kNphi; ++i) guess(i) = Model::kAssemblyPhi[i];
+      const double e0 = Energy(hp, kQ0, 0.0);
+      drift.clear();
+      dyn::ExcessSummary summary;
+      sim.Simulate(0.0, Sim::VecQ::Constant(kQ0), Sim::VecQ::Zero(), guess, t_end,
+                   [&](const Sim::SampleT& smp) {
+                     drift.push_back(Energy(hp, smp.x(0), smp.xd(0)) - e0);
+                     return true;
+                   },
+                   &summary);
+      write("ExcessDopri5", tol, drift);
     }
 #endif
 #endif
