@@ -51,9 +51,9 @@ if [ -x "$BIN_DIR/dynamics_bench_simbody_release" ]; then
 fi
 { head -n 1 "$TMP/drift_main.csv"; for f in $DRIFTS; do tail -n +2 "$f"; done; } > "$OUT/energy_drift.csv"
 
-python3 - "$OUT" "$REPS" $JSONS <<'PY' | tee "$OUT/dynamics.txt"
+python3 - "$OUT" "$REPS" "$TMP" $JSONS <<'PY' | tee "$OUT/dynamics.txt"
 import json, math, sys
-out, reps, files = sys.argv[1], sys.argv[2], sys.argv[3:]
+out, reps, tmp, files = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
 rhs, sim, context = {}, {}, {}
 for f in files:
     data = json.load(open(f))
@@ -172,13 +172,13 @@ for m in methods:
 
 # Charts.
 import subprocess
-with open(f"{out}/cpu_vs_error.dat", "w") as f:
+with open(f"{tmp}/cpu_vs_error.dat", "w") as f:
     for m in methods:
         f.write(f"# {m}\n")
         for e, t in curve(m):
             f.write(f"{e:.6e} {t:.6e}\n")
         f.write("\n\n")
-plots = ", ".join(f"'{out}/cpu_vs_error.dat' index {i} with linespoints lw 2 title '{m}'"
+plots = ", ".join(f"'{tmp}/cpu_vs_error.dat' index {i} with linespoints lw 2 title '{m}'"
                   for i, m in enumerate(methods))
 script = f"""
 set terminal svg size 900,600 font 'sans,11'
@@ -199,7 +199,7 @@ drift = {}
 for line in open(f"{out}/energy_drift.csv").read().splitlines()[1:]:
     m, tol, t, d = line.split(",")
     drift.setdefault((m, tol), []).append((float(t), abs(float(d))))
-with open(f"{out}/energy_drift.dat", "w") as f:
+with open(f"{tmp}/energy_drift.dat", "w") as f:
     keys = list(drift)
     for k in keys:
         f.write(f"# {k[0]} {k[1]}\n")
@@ -207,7 +207,7 @@ with open(f"{out}/energy_drift.dat", "w") as f:
             if t > 0:
                 f.write(f"{t:.2f} {max(d, 1e-17):.6e}\n")
         f.write("\n\n")
-plots = ", ".join(f"'{out}/energy_drift.dat' index {i} with lines lw 2 dt {1 if k[1] == '1e-06' else 2} title '{k[0]} tol {k[1]}'"
+plots = ", ".join(f"'{tmp}/energy_drift.dat' index {i} with lines lw 2 dt {1 if k[1] == '1e-06' else 2} title '{k[0]} tol {k[1]}'"
                   for i, k in enumerate(keys))
 script = f"""
 set terminal svg size 900,600 font 'sans,11'
