@@ -33,7 +33,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 56 (adds 16, muls 31, divs 3, calls 6); EvalDynamics 114 (adds 27, muls 79, divs 2, calls 6); EvalKinetostatics 159 (adds 47, muls 101, divs 4, calls 7); EvalExcess 138 (adds 32, muls 98, divs 2, calls 6); EvalStiffness 34 (adds 9, muls 20, divs 2, calls 3); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 56 (adds 16, muls 31, divs 3, calls 6); EvalDynamics 114 (adds 28, muls 78, divs 2, calls 6); EvalKinetostatics 159 (adds 47, muls 101, divs 4, calls 7); EvalExcess 138 (adds 32, muls 98, divs 2, calls 6); EvalStiffness 34 (adds 9, muls 20, divs 2, calls 3); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -493,7 +493,7 @@ void EvalDynamics(const Params<Scalar>& p,
                   Dynamics<Scalar>* out,
                   const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                   const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 114 (adds 27, muls 79, divs 2, calls 6); intermediate terms: 3
+  // Total ops: 114 (adds 28, muls 78, divs 2, calls 6); intermediate terms: 5
   using std::cos;
   using std::sin;
   using std::sqrt;
@@ -526,10 +526,12 @@ void EvalDynamics(const Params<Scalar>& p,
   const Scalar damper_pump_length = sqrt(damper_pump_dx*damper_pump_dx + damper_pump_dy*damper_pump_dy);
   const Scalar damper_pump_t = c.K(1, 0)*damper_pump_dx*p.c*qd(0)/(damper_pump_length*damper_pump_length);
   const Scalar friction_viscous_0 = friction_0 - p.cO*qd(0);
-  const Scalar g_0 = Table_motor_curve(qd(0), 0) - cos_q0*p.a*p.g*p.m2 + friction_viscous_0;
+  const Scalar _tmp2 = Table_motor_curve(qd(0), 0);
+  const Scalar g_0 = _tmp2 - cos_q0*p.a*p.g*p.m2 + friction_viscous_0;
   const Scalar g_1 = -Scalar(0.5)*cos_phi0*p.b*p.g*p.m2;
   const Scalar sum_28ce42ce = p.a + p.b + p.h - phi(1);
-  const Scalar g_2 = -damper_pump_dx*damper_pump_t - p.P0*p.h/sum_28ce42ce;
+  const Scalar _tmp3 = Scalar(1)/sum_28ce42ce;
+  const Scalar g_2 = -_tmp3*p.P0*p.h - damper_pump_dx*damper_pump_t;
   const Scalar Q_0 = c.K(0, 0)*g_1 + c.K(1, 0)*g_2 + g_0;
   const Scalar KK2_0_0 = KG2_x_0*KG2_x_0 + KG2_y_0*KG2_y_0;
   const Scalar KK3_0_0 = c.K(1, 0)*c.K(1, 0);
@@ -537,15 +539,15 @@ void EvalDynamics(const Params<Scalar>& p,
   const Scalar KL2_0_0_0 = KG2_x_0*LG2_x_0_0 + KG2_y_0*LG2_y_0_0;
   const Scalar KL3_0_0_0 = c.K(1, 0)*c.L(1, 0);
   const Scalar C_0_0_0 = KL2_0_0_0*p.m2 + KL3_0_0_0*p.m3 + c.K(0, 0)*c.L(0, 0)*inertia_2;
-  const Scalar _tmp2 = qd(0)*qd(0);
+  const Scalar _tmp4 = qd(0)*qd(0);
   out->I(0, 0) = I_0_0;
   out->dI_dq(0, 0) = Scalar(2)*C_0_0_0;
   out->C(0, 0) = C_0_0_0;
-  out->h(0) = C_0_0_0*_tmp2;
+  out->h(0) = C_0_0_0*_tmp4;
   out->Q(0) = Q_0;
-  out->T = Scalar(0.5)*I_0_0*_tmp2;
+  out->T = Scalar(0.5)*I_0_0*_tmp4;
   out->V = Scalar(0.5)*p.b*p.g*p.m2*sin_phi0 + p.a*p.g*p.m2*sin_q0;
-  out->P_nc = Q_0*qd(0) + Scalar(0.5)*c.K(0, 0)*cos_phi0*p.b*p.g*p.m2*qd(0) + cos_q0*p.a*p.g*p.m2*qd(0);
+  out->P_nc = _tmp2*qd(0) - _tmp3*c.K(1, 0)*p.P0*p.h*qd(0) - c.K(1, 0)*damper_pump_dx*damper_pump_t*qd(0) + friction_viscous_0*qd(0);
 }
 
 /**

@@ -523,6 +523,16 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   if (potential || options.dynamic) {
     dV_dq.resize(nq);
     for (int j = 0; j < nq; ++j) dV_dq[j] = -along_motion(items, conservative, j);
+    if (options.dynamic) {  // Q + dV/dq: the virtual work of the loads, dampers and friction
+      std::vector<bool> non_conservative(conservative.size());
+      for (size_t i = 0; i < conservative.size(); ++i) non_conservative[i] = !conservative[i];
+      Q_nc.resize(nq);
+      for (int j = 0; j < nq; ++j) {
+        ex w = along_motion(items, non_conservative, j);
+        for (int a = 0; a < nx; ++a) w += gf[a] * Vx(a, j);
+        Q_nc[j] = w;
+      }
+    }
     if (t.requested.L && !options.dynamic) {
       d2V_dq2.resize(nq * nq);
       for (int j = 0; j < nq; ++j)

@@ -101,6 +101,7 @@ class StaticsTable {
   std::vector<GiNaC::ex> drive;      ///< nq: -Q, named
   GiNaC::ex V;                       ///< potential energy (springs, gravity)
   std::vector<GiNaC::ex> dV_dq;      ///< nq
+  std::vector<GiNaC::ex> Q_nc;       ///< nq, dynamic modes: Q + dV/dq, the non-conservative forces' part
   std::vector<GiNaC::ex> d2V_dq2;    ///< nq x nq (j + nq k), needs L
   std::vector<GiNaC::ex> stiffness_q;  ///< nq x nq: -dQ_j/dq_k along the motion, frictionless, needs L
   std::vector<GiNaC::ex> R;          ///< per layout.reactions component

@@ -14,6 +14,9 @@
 //    linear damper, a load of time and a load of a dependent velocity against their virtual work
 //    written out here with the links' velocity coefficients by differences; the same loads in
 //    the excess-coordinate g against the virtual work per unit dx;
+//  - tests/dynamics/models/fivebar_massive.yaml (two inputs): the 2 x 2 I by polarization of T,
+//    dI/dq by differences of it, C against the Christoffel symbols of I,
+//    C(j, k, l) = (dI_jk/dq_l + dI_jl/dq_k - dI_kl/dq_j) / 2, Q = -dV/dq;
 //  - the excess-coordinate formulation: M by polarization of the kinetic energy, h and gamma by
 //    second differences along x(t) = x + xd t, Phi_x by differences of Phi, g = -dV/dx;
 //  - the kinetostatics: every moving link of the four-bar and of the pendulum obeys Newton–Euler
@@ -31,6 +34,7 @@
 #include <vector>
 
 #include "damped_fourbar.h"
+#include "fivebar_massive.h"
 #include "fourbar_massive.h"
 #include "slider_crank_motor.h"
 #include "pendulum.h"
@@ -618,6 +622,110 @@ TEST(GeneratedDynamics, DampersAndLoadsOfTimeAndSpeedAgainstVirtualWork) {
     M::ExcessT<double> ex;
     M::ExcessDynamics(p, vq, phi, vqd, phid, t, &ex);
     EXPECT_NEAR(ex.g(0) + ex.g(1) * K2 + ex.g(2) * K3, Q, 1e-7 * (1 + std::abs(Q)));
+  }
+}
+
+// ---- two degrees of freedom ----
+
+TEST(GeneratedDynamics, FiveBarTwoInputsAgainstEnergyAndChristoffelSymbols) {
+  using M = mech::fivebar_massive::Model;
+  static_assert(M::kNq == 2, "two inputs");
+  using V2 = Eigen::Matrix<double, 2, 1>;
+  M::ParamsT<double> p;
+  // Each body: mass, J, the scene points of its frame's origin and axis point, G in its frame.
+  struct Link {
+    double m, J;
+    const char *origin, *axis;
+    double cx, cy;
+  };
+  const Link links[] = {{1.0, 0.1, "crank1.A", "crank1.B", 0.4, 0.05},
+                        {2.5, 1.3, "link1.B", "link1.C", 1.2, -0.1},
+                        {2.0, 0.7, "link2.D", "link2.C", 1.0, 0.15},
+                        {1.2, 0.12, "crank2.E", "crank2.D", 0.5, 0.0}};
+  Eigen::Matrix<double, M::kNphi, 1> guess;
+  for (int i = 0; i < M::kNphi; ++i) guess(i) = M::kAssemblyPhi[i];
+  auto where = [&](const V2& q, std::vector<Eigen::Vector2d>* r, std::vector<double>* th) {
+    Eigen::Matrix<double, M::kNphi, 1> phi = guess;
+    EXPECT_EQ(M::Solve(p, q, &phi).status, mech::fivebar_massive::SolveStatus::kConverged);
+    Eigen::Matrix<double, 2, M::kNumScenePoints> s;
+    M::Scene(p, q, phi, &s);
+    r->clear();
+    th->clear();
+    for (const Link& l : links) {
+      const Eigen::Vector2d O = s.col(ScenePoint<M>(l.origin)), X = s.col(ScenePoint<M>(l.axis));
+      const double t = std::atan2(X.y() - O.y(), X.x() - O.x());
+      r->push_back(O + Eigen::Vector2d(std::cos(t) * l.cx - std::sin(t) * l.cy, std::sin(t) * l.cx + std::cos(t) * l.cy));
+      th->push_back(t);
+    }
+  };
+  auto kinetic = [&](const V2& q, const V2& qd) {
+    const double e = 1e-3;
+    std::vector<Eigen::Vector2d> r[4];
+    std::vector<double> t[4];
+    const double at[4] = {-2 * e, -e, e, 2 * e};
+    for (int i = 0; i < 4; ++i) where(q + at[i] * qd, &r[i], &t[i]);
+    double T = 0;
+    for (size_t b = 0; b < 4; ++b) {
+      const Eigen::Vector2d v = (r[0][b] - 8 * r[1][b] + 8 * r[2][b] - r[3][b]) / (12 * e);
+      const double w = (t[0][b] - 8 * t[1][b] + 8 * t[2][b] - t[3][b]) / (12 * e);
+      T += 0.5 * links[b].m * v.squaredNorm() + 0.5 * links[b].J * w * w;
+    }
+    return T;
+  };
+  auto inertia = [&](const V2& q) {
+    Eigen::Matrix2d I;
+    const V2 e0 = V2::Unit(0), e1 = V2::Unit(1);
+    I(0, 0) = 2 * kinetic(q, e0);
+    I(1, 1) = 2 * kinetic(q, e1);
+    I(0, 1) = I(1, 0) = kinetic(q, e0 + e1) - kinetic(q, e0) - kinetic(q, e1);
+    return I;
+  };
+  auto potential = [&](const V2& q) {
+    std::vector<Eigen::Vector2d> r;
+    std::vector<double> t;
+    where(q, &r, &t);
+    double V = 0;
+    for (size_t b = 0; b < 4; ++b) V += links[b].m * p.g * r[b].y();
+    return V;
+  };
+  for (int i = 0; i < 4; ++i) {
+    const V2 q(1.4 + 0.25 * i, 1.2 - 0.2 * i), qd(0.8 - 0.5 * i, -0.3 + 0.4 * i);
+    SCOPED_TRACE("case " + std::to_string(i));
+    Eigen::Matrix<double, M::kNphi, 1> phi = guess;
+    ASSERT_EQ(M::Solve(p, q, &phi).status, mech::fivebar_massive::SolveStatus::kConverged);
+    M::CoefficientsT<double> c;
+    M::Coeffs(p, q, phi, &c);
+    M::DynamicsT<double> d;
+    M::Dynamics(p, q, phi, qd, 0.0, c, &d);
+    const Eigen::Matrix2d I = inertia(q);
+    const double h = 1e-3;
+    Eigen::Matrix2d dI[2];  // dI[l] = dI/dq_l
+    for (int l = 0; l < 2; ++l) {
+      const V2 e = V2::Unit(l);
+      dI[l] = (inertia(q - 2 * h * e) - 8 * inertia(q - h * e) + 8 * inertia(q + h * e) - inertia(q + 2 * h * e)) / (12 * h);
+    }
+    for (int j = 0; j < 2; ++j) {
+      for (int k = 0; k < 2; ++k) {
+        EXPECT_NEAR(d.I(j, k), I(j, k), 1e-7) << j << k;
+        for (int l = 0; l < 2; ++l) {
+          EXPECT_NEAR(d.dI_dq(j, k + 2 * l), dI[l](j, k), 1e-5) << j << k << l;
+          const double christoffel = 0.5 * (dI[l](j, k) + dI[k](j, l) - dI[j](k, l));
+          EXPECT_NEAR(d.C(j, k + 2 * l), christoffel, 1e-5) << j << k << l;
+        }
+      }
+      double hj = 0;
+      for (int k = 0; k < 2; ++k)
+        for (int l = 0; l < 2; ++l) hj += 0.5 * (dI[l](j, k) + dI[k](j, l) - dI[j](k, l)) * qd(k) * qd(l);
+      EXPECT_NEAR(d.h(j), hj, 1e-5) << j;
+      const V2 e = V2::Unit(j);
+      const double dV = (potential(q - 2 * h * e) - 8 * potential(q - h * e) + 8 * potential(q + h * e) -
+                         potential(q + 2 * h * e)) /
+                        (12 * h);
+      EXPECT_NEAR(d.Q(j), -dV, 1e-6) << j;
+    }
+    EXPECT_NEAR(d.T, 0.5 * qd.dot(I * qd), 1e-7);
+    EXPECT_NEAR(d.V, potential(q), 1e-9);
+    EXPECT_NEAR(d.P_nc, 0.0, 1e-9);
   }
 }
 

@@ -60,6 +60,10 @@ TEST(DynamicsModel, ErrorsNameTheirPlaceAndWhatToChange) {
   ExpectError(base + "loads:\n  m: {torque: g(theta_crank_dot), on: crank}\n" + kDyn, "17:15", "the model has no tables");
   ExpectError(base + "tables:\n  f: {x: [0, 1], y: [0, 1]}\nsprings:\n  k: {torsional: B, stiffness: f(1)}\n" + kDyn,
               "19:32", "'f' is not a function");
+  // A table's name becomes the C++ function Table_<name> and a function of the expressions.
+  ExpectError(base + "tables:\n  sin: {x: [0, 1], y: [0, 1]}\n" + kDyn, "17:3", "name of the expression language");
+  ExpectError(base + "tables:\n  int: {x: [0, 1], y: [0, 1]}\n" + kDyn, "17:3", "is a C++ keyword");
+  ExpectError(base + "tables:\n  a: {x: [0, 1], y: [0, 1]}\n" + kDyn, "17:3", "is a parameter's name");
   // Accelerations are reserved; time and speed need the dynamics.
   ExpectError(base + "loads:\n  m: {torque: 2*theta_crank_ddot, on: crank}\n" + kDyn, "17:17", "reserved (accelerations)");
   ExpectError(base + "loads:\n  m: {torque: 1 + t, on: crank}\noutputs: {quantities: [K, forces]}\n", "17:19",

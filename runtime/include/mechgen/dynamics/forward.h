@@ -285,6 +285,7 @@ class MinimalDynamics {
     const VecQ q = y.template head<kNq>();
     const VecQ qd = y.template segment<kNq>(kNq);
     VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
+    last_.valid = false;
     if (!SolveAt(q, &phi)) {
       ++position_failures_;
       return false;
@@ -298,6 +299,21 @@ class MinimalDynamics {
     dy->template head<kNq>() = qd;
     dy->template segment<kNq>(kNq) = qdd;
     (*dy)(2 * kNq) = d.P_nc;
+    if (caching_) {
+      // Simulate() reuses the last evaluation (the FSAL one at the accepted step's end) for
+      // the step's events and samples instead of evaluating that state again.
+      last_.t = t;
+      last_.y = y;
+      last_.sample.phi = phi;
+      last_.sample.K = c.K;
+      last_.sample.qdd = qdd;
+      last_.sample.Q = d.Q;
+      last_.sample.T = d.T;
+      last_.sample.V = d.V;
+      last_.sample.P_nc = d.P_nc;
+      if constexpr (kNphi > 0) last_.Phi_phi = c.Phi_phi;
+      last_.valid = true;
+    }
     return true;
   }
 
@@ -361,6 +377,8 @@ class MinimalDynamics {
       return Finish(Status::kInvalidInput, t0, summary);
     }
     integrator_.set_options(options_.integrator);
+    // Cache the last evaluation during this run (restored on every return by Finish()).
+    caching_ = true;
     State y0;
     // By segments: a comma initializer from 1 x 1 blocks trips GCC 12's -Warray-bounds.
     y0.template head<kNq>() = q0;
@@ -398,7 +416,7 @@ class MinimalDynamics {
       is = integrator_.Step(f);
       if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
       const double t = integrator_.t();
-      if (!Evaluate(t, integrator_.y(), &cur)) {
+      if (!FromCache(t, integrator_.y(), &cur) && !Evaluate(t, integrator_.y(), &cur)) {
         summary->message = "the positions failed at an accepted step";
         return Finish(Status::kPositionFailed, t, summary);
       }
@@ -520,6 +538,8 @@ class MinimalDynamics {
 
  private:
   bool Finish(Status s, double t, MinimalSummary* summary) {
+    caching_ = false;
+    last_.valid = false;
     summary->status = s;
     summary->t_end = t;
     summary->position_failures = position_failures_;
@@ -606,10 +626,32 @@ class MinimalDynamics {
       *rcond = 1;
       *det = 1;
     } else {
-      double cond = 0;
-      ConditionAndDeterminant(c.Phi_phi, &cond, det);
-      *rcond = std::isfinite(cond) && cond > 0 ? 1.0 / cond : 0.0;
+      ConditioningOf(c.Phi_phi, rcond, det);
     }
+  }
+  template <class A>
+  static void ConditioningOf(const A& Phi_phi, double* rcond, double* det) {
+    double cond = 0;
+    ConditionAndDeterminant(Phi_phi, &cond, det);
+    *rcond = std::isfinite(cond) && cond > 0 ? 1.0 / cond : 0.0;
+  }
+
+  /// The sample at (t, y) from the last Derivative() call, if it was at exactly (t, y).
+  bool FromCache(double t, const State& y, SampleT* s) const {
+    if (!last_.valid || last_.t != t || last_.y != y) return false;
+    *s = last_.sample;
+    s->t = t;
+    s->q = y.template head<kNq>();
+    s->qd = y.template segment<kNq>(kNq);
+    s->W = y(2 * kNq);
+    s->E = s->T + s->V;
+    if constexpr (kNphi == 0) {
+      s->rcond = 1;
+      s->det = 1;
+    } else {
+      ConditioningOf(last_.Phi_phi, &s->rcond, &s->det);
+    }
+    return true;
   }
 
   template <class F>
@@ -655,6 +697,15 @@ class MinimalDynamics {
   VecPhi phi_ref_ = VecPhi::Zero();
   Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
   Trig trig_{};
+  struct LastEvaluation {
+    bool valid = false;
+    double t = 0;
+    State y = State::Zero();
+    SampleT sample;
+    Eigen::Matrix<double, kNphi, kNphi> Phi_phi = Eigen::Matrix<double, kNphi, kNphi>::Zero();
+  };
+  LastEvaluation last_;
+  bool caching_ = false;
   double ref_det_ = 0;
   int position_failures_ = 0;
   bool initialized_ = false, last_solve_not_assemblable_ = false, singular_inertia_ = false;
