@@ -57,8 +57,9 @@ namespace mechgen::dynamics {
 enum class Status {
   kSuccess,            ///< t_end reached
   kStoppedByEvent,     ///< a terminal event that is not a failure: speed zero or the user's
-  kDeadPoint,          ///< 1/cond_1(Phi_phi) < min_rcond, det Phi_phi changed sign, or the
-                       ///< loop could not close (M::Solve kNotAssemblable) down to h_min
+  kDeadPoint,          ///< 1/cond_1(Phi_phi) < min_rcond, det Phi_phi changed sign, the
+                       ///< loop could not close (M::Solve kNotAssemblable) down to h_min, or
+                       ///< the integrator failed with 1/cond_1(Phi_phi) < 1e3 min_rcond
   kPositionFailed,     ///< M::Solve did not converge (a Newton block) down to h_min
   kSingularInertia,    ///< I(q) not positive definite (or not finite)
   kIntegratorFailed,   ///< max_steps, or the step fell below h_min for accuracy
@@ -364,7 +365,8 @@ class MinimalDynamics {
    * \param[in] user_event  double(double t, const VecQ& q, const VecQ& qd, const VecPhi& phi):
    *            the run stops where it changes sign (Event::kUser); NoUserEvent for none.
    * \param[out] summary  not nullptr.
-   * \param[out] last  The state where the run ended. May be nullptr.
+   * \param[out] last  The last sample (where the run ended, or the observer stopped it). May be
+   *            nullptr.
    */
   template <class Observer, class UserEvent>
   bool Simulate(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer&& observer,
@@ -403,6 +405,7 @@ class MinimalDynamics {
     double next_sample = t0;
     auto emit = [&](const SampleT& s) {
       ++summary->samples;
+      if (last != nullptr) *last = s;
       summary->max_energy_error = std::max(summary->max_energy_error, std::abs(s.E - s.W - E0));
       return observer(s);
     };
@@ -522,6 +525,13 @@ class MinimalDynamics {
       }
       summary->message = "the position solver failed";
       return Finish(Status::kPositionFailed, integrator_.t(), summary);
+    }
+    // The step collapsed (or the step budget ran out) next to a singular Phi_phi: the minimal
+    // coordinates cannot describe the motion through it (K, I grow without bound).
+    if (prev.rcond < 1e3 * options_.min_rcond) {
+      summary->event = Event::kDeadPoint;
+      summary->message = "the integrator stalled next to a dead point (Phi_phi nearly singular)";
+      return Finish(Status::kDeadPoint, integrator_.t(), summary);
     }
     summary->message = integrator_.summary().message;
     return Finish(Status::kIntegratorFailed, integrator_.t(), summary);
