@@ -5,7 +5,9 @@
 //     closing, compared here with the closed form of that limit (an oracle by hand);
 //   - a range within reach passes, also when it ends just short of the limit;
 //   - gear pairs: coincident axes on the carrier, and an internal pair whose ring is not
-//     larger than its gear, are errors at the pair or the ring's radius.
+//     larger than its gear, are errors at the pair or the ring's radius;
+//   - cams: an oscillating follower pivoted on the cam's axis, and a roller or knife-edge at
+//     the follower's own pivot, are errors at the cam's follower.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -112,6 +114,24 @@ TEST(GearCheck, InternalRingNotLargerThanItsGear) {
   const std::string error = Generate(text);
   EXPECT_NE(error.find("is internal, so 'ground' is the ring"), std::string::npos) << error;
   EXPECT_EQ(error.rfind(Where(text, "rr], carrier: arm, internal"), 0), 0u) << error;
+}
+
+TEST(CamCheck, OscillatingFollowerPivotedOnTheCamAxis) {
+  const std::string text = Replace(Read("cam_flat.yaml"), "A: [d, 0]}}", "A: [0, 0]}}");
+  const std::string error = Generate(text);
+  EXPECT_NE(error.find("the follower's pivot (joint 'A') is the cam's axis (joint 'O')"), std::string::npos) << error;
+  EXPECT_EQ(error.rfind(Where(text, "A\n      point"), 0), 0u) << error;
+}
+
+TEST(CamCheck, RollerOnTheFollowersPivot) {
+  // The oscillating follower with a roller at its own pivot A: turning it moves nothing.
+  const std::string roller = Replace(Read("cam_flat.yaml"), "face: 0", "roller: 0.1");
+  const std::string error = Generate(roller);
+  EXPECT_NE(error.find("the follower point follower.A is the follower's pivot (joint 'A')"), std::string::npos)
+      << error;
+  // At the arm's end F instead, that check passes (whatever else the variant meets).
+  const std::string at_f = Generate(Replace(roller, "point: follower.A", "point: follower.F"));
+  EXPECT_EQ(at_f.find("is the follower's pivot"), std::string::npos) << at_f;
 }
 
 }  // namespace
