@@ -1,5 +1,5 @@
 # mechgen_add_model(<name> <model.yaml> [NO_SWEEP] [STATICS|NO_STATICS]
-#                   [STRATEGY blocks|monolithic])
+#                   [SIMULATE|NO_SIMULATE] [STRATEGY blocks|monolithic])
 #
 # Runs `mechgen generate` on <model.yaml> at build time (again whenever the model, the
 # templates or the mechgen program change) and defines:
@@ -14,6 +14,11 @@
 #                          command (runtime/tools/statics_main.cc; driving forces, reactions,
 #                          dead zones, equilibria; CSV, SVG). A model without statics builds
 #                          into a stub that says so.
+#   <name>_simulate        unless NO_SWEEP or MECHGEN_BUILD_SWEEPS is OFF (Ceres not needed),
+#                          for a model whose outputs ask for `dynamics` (read like `forces`;
+#                          SIMULATE forces it, NO_SIMULATE skips it): the forward-dynamics
+#                          command (runtime/tools/simulate_main.cc; a transient to a steady
+#                          state, CSV for runtime/tools/plot_dynamics.gnuplot).
 # The model library needs Eigen only; with NO_SWEEP nothing here needs Ceres.
 # Requires MECHGEN_EXECUTABLE and MECHGEN_TEMPLATES_DIR (set by the build tree or by
 # find_package(mechgen)).
@@ -35,7 +40,8 @@ function(mechgen_add_model name model)
       "with '_'); it becomes the namespace mech::<name> and the files <name>.h/.cc. Rename it "
       "(for example ${suggestion}).")
   endif()
-  cmake_parse_arguments(ARG "NO_SWEEP;STATICS;NO_STATICS" "STRATEGY" "" ${ARGN})
+  cmake_parse_arguments(ARG "NO_SWEEP;STATICS;NO_STATICS;SIMULATE;NO_SIMULATE" "STRATEGY" ""
+                        ${ARGN})
   set(strategy_args)
   if(ARG_STRATEGY)
     set(strategy_args --strategy ${ARG_STRATEGY})
@@ -82,6 +88,24 @@ function(mechgen_add_model name model)
         MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
       target_link_libraries(${name}_statics PRIVATE mechgen_model_${name}
                             mechgen::runtime_ceres)
+    endif()
+  endif()
+  # Dynamics: `dynamics` among the model's quantities (as for `forces` above). Eigen only.
+  if(NOT ARG_NO_SWEEP AND MECHGEN_BUILD_SWEEPS AND EXISTS "${MECHGEN_TOOLS_DIR}/simulate_main.cc")
+    set(simulate ${ARG_SIMULATE})
+    if(NOT ARG_SIMULATE AND NOT ARG_NO_SIMULATE)
+      set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${model_abs}")
+      file(READ "${model_abs}" model_text)
+      if(model_text MATCHES "quantities:[ \t]*\\[[^\n]*dynamics"
+         OR model_text MATCHES "quantities:[ \t]*\n([ \t]+-[^\n]*\n)*[ \t]+-[ \t]*dynamics")
+        set(simulate TRUE)
+      endif()
+    endif()
+    if(simulate)
+      add_executable(${name}_simulate "${MECHGEN_TOOLS_DIR}/simulate_main.cc")
+      target_compile_definitions(${name}_simulate PRIVATE
+        MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
+      target_link_libraries(${name}_simulate PRIVATE mechgen_model_${name} mechgen::runtime)
     endif()
   endif()
 endfunction()

@@ -4,10 +4,12 @@
 # print a short table, write out/fourbar.csv and out/fourbar.svg. Then the statics of
 # models/slider_crank_friction.yaml: driving torque with friction forward and backward,
 # joint reactions and the dead zones over a crank turn (out/slider_crank_friction.csv,
-# .svg, and .png plotted by gnuplot).
+# .svg, and .png plotted by gnuplot). Last, the dynamics of models/slider_crank_motor.yaml:
+# the start-up of a motor-driven slider-crank against its load until the speed is periodic
+# (out/slider_crank_motor.csv, .png).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh fourbar_sweep slider_crank_friction_statics
+bash scripts/build.sh fourbar_sweep slider_crank_friction_statics slider_crank_motor_simulate
 mkdir -p out
 ./build/models/fourbar_sweep --steps 360 --csv out/fourbar.csv --svg out/fourbar.svg --table 8
 echo
@@ -17,4 +19,11 @@ if command -v gnuplot >/dev/null; then
   gnuplot -e "csv='out/slider_crank_friction.csv'; png='out/slider_crank_friction.png'" \
     runtime/tools/plot_statics.gnuplot
   echo "wrote out/slider_crank_friction.png (driving torque forward/backward, reaction magnitudes)"
+fi
+echo
+./build/models/slider_crank_motor_simulate --t-end 20 --dt 0.002 --csv out/slider_crank_motor.csv
+if command -v gnuplot >/dev/null; then
+  gnuplot -e "csv='out/slider_crank_motor.csv'; png='out/slider_crank_motor.png'" \
+    runtime/tools/plot_dynamics.gnuplot
+  echo "wrote out/slider_crank_motor.png (start-up: crank angle and speed, torque, energies, reactions)"
 fi

@@ -1,0 +1,714 @@
+/**
+ * \file dynamics/forward.h
+ * Forward dynamics by the minimal method (Paul §6.6.1): integrate the generalized coordinates
+ * q and speeds qd of a generated model with dynamics, the dependent positions phi solved at
+ * every stage by the generated position solver (no drift in phi: Phi(q, phi) = 0 to round-off
+ * at every evaluation, the assembly mode kept by the solver's modes).
+ *
+ * One evaluation of the right-hand side at (t, q, qd):
+ *   1. phi = M::Solve(p, q, phi_ref + K_ref (q - q_ref), modes): closed-form blocks exactly on
+ *      their mode, Newton blocks from that predictor (phi_ref, K_ref: the last accepted
+ *      configuration). A failed solve makes the evaluation fail (a status, never NaN): the
+ *      integrator then shortens the step, and a failure down to its minimal step ends the run
+ *      with Status::kDeadPoint (the loop cannot close: the motion reached a limit position of
+ *      the input) or kPositionFailed.
+ *   2. M::Coeffs (K, L, Phi_phi), M::Dynamics (I, C, h, Q, T, V, P_nc).
+ *   3. qdd = I^-1 (Q - h) (a division for kNq = 1, a fixed-size LDLT otherwise; I must be
+ *      positive definite, else the evaluation fails).
+ * The state integrated is y = (q, qd, W) with W = integral of P_nc dt, the work of the
+ * non-conservative forces, so that E - W = T + V - W is an invariant to check (and the energy
+ * level that MinimalOptions::energy_projection keeps).
+ *
+ * Events, checked after every accepted step and located on the integrator's dense output by
+ * the Illinois variant of regula falsi:
+ *  - dead point: 1/cond_1(Phi_phi) falls below MinimalOptions::min_rcond (or det Phi_phi
+ *    changes sign): a failure (Status::kDeadPoint) with figures in the Summary;
+ *  - speed through zero (kNq = 1: qd; a reversing machine), if MinimalOptions::stop_at_speed_zero;
+ *  - a user stop condition g(t, q, qd, phi): stops where it changes sign.
+ * Samples at requested times (MinimalOptions::sample_dt, 0: every accepted step) come from
+ * the dense output with the positions solved there, handed to an observer as a Sample
+ * (t, q, qd, qdd, phi, T, V, E, W, Q, P_nc). Nothing allocates after construction; nothing
+ * throws.
+ *
+ * Units and signs: those of the model (SI: rad, m, s, kg, N, N m, J); q and qd in the
+ * model's coordinates (an angle input CCW +); Q is the generalized applied force (torque for an
+ * angle input) of the loads, weights, springs, dampers and motor curves.
+ */
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "mechgen/core/linear_algebra.h"
+#include "mechgen/core/model_traits.h"
+#include "mechgen/dynamics/integrators.h"
+
+namespace mechgen::dynamics {
+
+/// How a simulation ended.
+enum class Status {
+  kSuccess,            ///< t_end reached
+  kStoppedByEvent,     ///< a terminal event that is not a failure: speed zero or the user's
+  kDeadPoint,          ///< 1/cond_1(Phi_phi) < min_rcond, det Phi_phi changed sign, or the
+                       ///< loop could not close (M::Solve kNotAssemblable) down to h_min
+  kPositionFailed,     ///< M::Solve did not converge (a Newton block) down to h_min
+  kSingularInertia,    ///< I(q) not positive definite (or not finite)
+  kIntegratorFailed,   ///< max_steps, or the step fell below h_min for accuracy
+  kStoppedByObserver,  ///< the sample observer returned false
+  kInvalidInput,       ///< options invalid, or the initial state does not assemble
+  kNotRun,
+};
+
+inline const char* ToString(Status s) {
+  switch (s) {
+    case Status::kSuccess:
+      return "success";
+    case Status::kStoppedByEvent:
+      return "stopped_by_event";
+    case Status::kDeadPoint:
+      return "dead_point";
+    case Status::kPositionFailed:
+      return "position_failed";
+    case Status::kSingularInertia:
+      return "singular_inertia";
+    case Status::kIntegratorFailed:
+      return "integrator_failed";
+    case Status::kStoppedByObserver:
+      return "stopped_by_observer";
+    case Status::kInvalidInput:
+      return "invalid_input";
+    case Status::kNotRun:
+      return "not_run";
+  }
+  return "unknown";
+}
+
+/// A failure is a run that did not reach t_end nor stop where it was asked to.
+inline bool IsFailure(Status s) {
+  return !(s == Status::kSuccess || s == Status::kStoppedByEvent ||
+           s == Status::kStoppedByObserver);
+}
+
+enum class Event { kNone, kDeadPoint, kSpeedZero, kUser };
+
+inline const char* ToString(Event e) {
+  switch (e) {
+    case Event::kNone:
+      return "none";
+    case Event::kDeadPoint:
+      return "dead_point";
+    case Event::kSpeedZero:
+      return "speed_zero";
+    case Event::kUser:
+      return "user";
+  }
+  return "unknown";
+}
+
+struct MinimalOptions {
+  IntegratorOptions integrator;
+  /// Dead point when 1/cond_1(Phi_phi) < min_rcond (the position solver's limit, 1e-6).
+  double min_rcond = 1e-6;
+  /// Stop (kStoppedByEvent, Event::kSpeedZero) where qd(0) changes sign.
+  bool stop_at_speed_zero = false;
+  /// Events are located to |t - t_event| <= event_tolerance (s).
+  double event_tolerance = 1e-12;
+  /// Samples every sample_dt from t0 (and at the end); 0: at every accepted step.
+  double sample_dt = 0;
+  /// Energy-keeping long runs: after each accepted step scale qd so that T + V - W equals its
+  /// initial value (T* = E0 + W - V; qd <- qd sqrt(T* / T) when T* > 0 and T > energy_floor
+  /// |E0|-scale; skipped near rest, where |qd| carries no energy to correct). One extra
+  /// evaluation per step. Exact for one DOF: at a given q, E fixes |qd|.
+  bool energy_projection = false;
+  double energy_floor = 1e-6;
+  /// Newton blocks of M::Solve: iterations and tolerance (0: the generated default).
+  int max_solver_iterations = 20;
+  double solver_tolerance = 0;
+
+  bool IsValid(std::string* error) const {
+    if (!integrator.IsValid(error)) return false;
+    char buffer[160];
+    auto fail = [&](const char* field, double value, const char* rule) {
+      std::snprintf(buffer, sizeof(buffer), "MinimalOptions::%s = %g. Violated constraint: %s",
+                    field, value, rule);
+      if (error != nullptr) *error = buffer;
+      return false;
+    };
+    if (!(min_rcond >= 0 && min_rcond < 1)) return fail("min_rcond", min_rcond, "0 <= min_rcond < 1");
+    if (!(event_tolerance > 0)) return fail("event_tolerance", event_tolerance, "event_tolerance > 0");
+    if (!(sample_dt >= 0) || !std::isfinite(sample_dt))
+      return fail("sample_dt", sample_dt, "0 <= sample_dt < inf");
+    if (!(energy_floor >= 0)) return fail("energy_floor", energy_floor, "energy_floor >= 0");
+    if (max_solver_iterations < 1)
+      return fail("max_solver_iterations", max_solver_iterations, "max_solver_iterations >= 1");
+    return true;
+  }
+};
+
+struct MinimalSummary {
+  Status status = Status::kNotRun;
+  Event event = Event::kNone;
+  IntegratorSummary integrator;
+  double t_end = std::numeric_limits<double>::quiet_NaN();  ///< where the run ended
+  int samples = 0;
+  int position_failures = 0;  ///< evaluations whose M::Solve failed (steps retried shorter)
+  /// The smallest 1/cond_1(Phi_phi) met at accepted steps and samples (1 for kNphi = 0).
+  double min_rcond_seen = std::numeric_limits<double>::infinity();
+  /// max |T + V - W - E0| over the samples (energy units): the energy balance's drift.
+  double max_energy_error = 0;
+  int projections = 0;  ///< energy projections made
+  const char* message = "";
+
+  bool IsSolutionUsable() const { return !IsFailure(status); }
+};
+
+inline std::string FormatSummary(const MinimalSummary& s) {
+  char buffer[512];
+  std::snprintf(buffer, sizeof(buffer),
+                "%s (event %s) at t = %.9g: %d samples, %d steps, %d rejected, %d rhs "
+                "evaluations, min 1/cond(Phi_phi) = %.3g, max |E - W - E0| = %.3g%s%s",
+                ToString(s.status), ToString(s.event), s.t_end, s.samples, s.integrator.steps,
+                s.integrator.rejected, s.integrator.rhs_evaluations, s.min_rcond_seen,
+                s.max_energy_error, s.message[0] != 0 ? "; " : "", s.message);
+  return buffer;
+}
+
+namespace internal {
+template <class M, class = void>
+struct HasDynamics : std::false_type {};
+template <class M>
+struct HasDynamics<M, std::void_t<typename M::template DynamicsT<double>>> : std::true_type {};
+
+template <class M>
+constexpr bool AllBlocksClosedForm() {
+  for (bool b : M::kBlockClosedForm)
+    if (!b) return false;
+  return true;
+}
+}  // namespace internal
+
+/// One evaluated configuration of the minimal method.
+template <class M>
+struct Sample {
+  static constexpr int kNq = M::kNq, kNphi = M::kNphi;
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  double t = kNaN;
+  Eigen::Matrix<double, kNq, 1> q = Eigen::Matrix<double, kNq, 1>::Constant(kNaN);
+  Eigen::Matrix<double, kNq, 1> qd = q, qdd = q, Q = q;
+  Eigen::Matrix<double, kNphi, 1> phi = Eigen::Matrix<double, kNphi, 1>::Constant(kNaN);
+  /// Velocity coefficients at (q, phi): phid = K qd.
+  Eigen::Matrix<double, kNphi, kNq> K = Eigen::Matrix<double, kNphi, kNq>::Constant(kNaN);
+  double T = 0, V = 0, E = 0;  ///< kinetic, potential, T + V
+  double W = 0;                ///< work of the non-conservative forces since t0
+  double P_nc = 0;             ///< their power
+  double rcond = 1;            ///< 1/cond_1(Phi_phi) (1 for kNphi = 0)
+  double det = 1;              ///< det Phi_phi (its sign: the branch)
+};
+
+/**
+ * MinimalDynamics<M, Method>: the minimal method on model M with the integrator Method
+ * (Dopri5 or Dop853). Construct with the parameters and options, Initialize() at (t0, q0,
+ * qd0), then Simulate() to t_end, or use Derivative() as the right-hand side of your own
+ * integrator (bench15 does).
+ */
+template <class M, template <int> class Method = Dopri5>
+class MinimalDynamics {
+ public:
+  static constexpr int kNq = M::kNq;
+  static constexpr int kNphi = M::kNphi;
+  static constexpr int kN = 2 * kNq + 1;  ///< (q, qd, W)
+  static_assert(internal::HasDynamics<M>::value,
+                "MinimalDynamics needs a model generated with `dynamics` (Model::DynamicsT)");
+  static_assert(ModelFeatures<M>::kHasSolve, "MinimalDynamics needs the generated M::Solve");
+  using Params = typename M::template ParamsT<double>;
+  using Coefficients = typename M::template CoefficientsT<double>;
+  using Dyn = typename M::template DynamicsT<double>;
+  using State = Eigen::Matrix<double, kN, 1>;
+  using VecQ = Eigen::Matrix<double, kNq, 1>;
+  using VecPhi = Eigen::Matrix<double, kNphi, 1>;
+  using Modes = std::array<int, M::kNumBlocks>;
+  using Integrator = Method<kN>;
+  using SampleT = Sample<M>;
+  static constexpr bool kHasTrig = ModelFeatures<M>::kHasTrig;
+  using Trig = typename mechgen::internal::TrigOf<M>::type;
+
+  explicit MinimalDynamics(const Params& params, const MinimalOptions& options = MinimalOptions())
+      : p_(params), options_(options), integrator_(options.integrator) {}
+
+  const Params& params() const { return p_; }
+  Params* mutable_params() { return &p_; }
+  const MinimalOptions& options() const { return options_; }
+  const Integrator& integrator() const { return integrator_; }
+  const Modes& modes() const { return modes_; }
+
+  /**
+   * \brief Assembles at q0 from phi_guess on the given modes and sets the reference
+   * configuration of the warm starts. false when it does not assemble.
+   */
+  bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes = M::kDefaultModes) {
+    modes_ = modes;
+    q_ref_ = q0;
+    phi_ref_ = phi_guess;
+    K_ref_.setZero();
+    VecPhi phi = phi_guess;
+    if (!SolveAt(q0, &phi)) return false;
+    Coefficients c;
+    EvalCoefficients(q0, phi, &c);
+    phi_ref_ = phi;
+    K_ref_ = c.K;
+    double rcond = 1;
+    Conditioning(c, &rcond, &ref_det_);
+    initialized_ = true;
+    return true;
+  }
+
+  /// Assembles at q0 from the model's assembly guess (kAssemblyPhi, kDefaultModes).
+  bool Initialize(const VecQ& q0) {
+    VecPhi guess;
+    for (int i = 0; i < kNphi; ++i) guess(i) = M::kAssemblyPhi[i];
+    return Initialize(q0, guess);
+  }
+
+  /**
+   * \brief The right-hand side: dy = (qd, qdd, P_nc) at (t, y = (q, qd, W)).
+   * \return false when the positions do not solve or I is not positive definite.
+   */
+  bool Derivative(double t, const State& y, State* dy) {
+    const VecQ q = y.template head<kNq>();
+    const VecQ qd = y.template segment<kNq>(kNq);
+    VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
+    last_.valid = false;
+    if (!SolveAt(q, &phi)) {
+      ++position_failures_;
+      return false;
+    }
+    Coefficients c;
+    EvalCoefficients(q, phi, &c);
+    Dyn d;
+    EvalDynamics(q, phi, qd, t, c, &d);
+    VecQ qdd;
+    if (!SolveInertia(d, &qdd)) return false;
+    dy->template head<kNq>() = qd;
+    dy->template segment<kNq>(kNq) = qdd;
+    (*dy)(2 * kNq) = d.P_nc;
+    if (caching_) {
+      // Simulate() reuses the last evaluation (the FSAL one at the accepted step's end) for
+      // the step's events and samples instead of evaluating that state again.
+      last_.t = t;
+      last_.y = y;
+      last_.sample.phi = phi;
+      last_.sample.K = c.K;
+      last_.sample.qdd = qdd;
+      last_.sample.Q = d.Q;
+      last_.sample.T = d.T;
+      last_.sample.V = d.V;
+      last_.sample.P_nc = d.P_nc;
+      if constexpr (kNphi > 0) last_.Phi_phi = c.Phi_phi;
+      last_.valid = true;
+    }
+    return true;
+  }
+
+  /**
+   * \brief Everything at one state: positions (warm-started from the reference), qdd, the
+   * energies, Q, the conditioning of Phi_phi. Updates nothing. false if it does not solve.
+   */
+  bool Evaluate(double t, const State& y, SampleT* s) {
+    s->t = t;
+    s->q = y.template head<kNq>();
+    s->qd = y.template segment<kNq>(kNq);
+    s->W = y(2 * kNq);
+    s->phi = phi_ref_ + K_ref_ * (s->q - q_ref_);
+    if (!SolveAt(s->q, &s->phi)) return false;
+    Coefficients c;
+    EvalCoefficients(s->q, s->phi, &c);
+    Dyn d;
+    EvalDynamics(s->q, s->phi, s->qd, t, c, &d);
+    if (!SolveInertia(d, &s->qdd)) return false;
+    s->T = d.T;
+    s->V = d.V;
+    s->E = d.T + d.V;
+    s->P_nc = d.P_nc;
+    s->Q = d.Q;
+    s->K = c.K;
+    Conditioning(c, &s->rcond, &s->det);
+    return true;
+  }
+
+  /// The positions phi at q (warm start from the reference configuration), and K there.
+  bool Positions(const VecQ& q, VecPhi* phi, Coefficients* c) {
+    *phi = phi_ref_ + K_ref_ * (q - q_ref_);
+    if (!SolveAt(q, phi)) return false;
+    EvalCoefficients(q, *phi, c);
+    return true;
+  }
+
+  /// Makes (q, phi, K) the reference of the warm starts (Simulate does after each step).
+  void SetReference(const VecQ& q, const VecPhi& phi, const Eigen::Matrix<double, kNphi, kNq>& K) {
+    q_ref_ = q;
+    phi_ref_ = phi;
+    K_ref_ = K;
+  }
+
+  /**
+   * \brief Integrates from (t0, q0, qd0) to t_end (Initialize() first, at q0).
+   * \param[in] observer  bool(const SampleT&): called at every sample; false stops.
+   * \param[in] user_event  double(double t, const VecQ& q, const VecQ& qd, const VecPhi& phi):
+   *            the run stops where it changes sign (Event::kUser); NoUserEvent for none.
+   * \param[out] summary  not nullptr.
+   * \param[out] last  The state where the run ended. May be nullptr.
+   */
+  template <class Observer, class UserEvent>
+  bool Simulate(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer&& observer,
+                UserEvent&& user_event, MinimalSummary* summary, SampleT* last = nullptr) {
+    *summary = MinimalSummary();
+    position_failures_ = 0;
+    std::string error;
+    if (!options_.IsValid(&error) || !initialized_ || !(t_end > t0)) {
+      summary->message = initialized_ ? "invalid options (or t_end <= t0)" : "Initialize() not called";
+      return Finish(Status::kInvalidInput, t0, summary);
+    }
+    integrator_.set_options(options_.integrator);
+    // Cache the last evaluation during this run (restored on every return by Finish()).
+    caching_ = true;
+    State y0;
+    // By segments: a comma initializer from 1 x 1 blocks trips GCC 12's -Warray-bounds.
+    y0.template head<kNq>() = q0;
+    y0.template segment<kNq>(kNq) = qd0;
+    y0(2 * kNq) = 0.0;
+    auto f = [this](double t, const State& y, State* dy) { return Derivative(t, y, dy); };
+    SampleT s0;
+    if (!Evaluate(t0, y0, &s0)) {
+      summary->message = "the initial state does not assemble (or I is singular)";
+      return Finish(Status::kInvalidInput, t0, summary);
+    }
+    const double E0 = s0.E;
+    summary->min_rcond_seen = s0.rcond;
+    if (s0.rcond < options_.min_rcond) {
+      summary->event = Event::kDeadPoint;
+      summary->message = "the initial configuration is a dead point";
+      if (last != nullptr) *last = s0;
+      return Finish(Status::kDeadPoint, t0, summary);
+    }
+    // Samples at t0 + k sample_dt.
+    int sample_index = 1;
+    double next_sample = t0;
+    auto emit = [&](const SampleT& s) {
+      ++summary->samples;
+      summary->max_energy_error = std::max(summary->max_energy_error, std::abs(s.E - s.W - E0));
+      return observer(s);
+    };
+    if (!emit(s0)) return Finish(Status::kStoppedByObserver, t0, summary);
+    next_sample = t0 + options_.sample_dt;
+
+    IntegratorStatus is = integrator_.Start(f, t0, y0, t_end);
+    SampleT prev = s0, cur;
+    double g_user_prev = user_event(t0, s0.q, s0.qd, s0.phi);
+    while (is == IntegratorStatus::kRunning) {
+      is = integrator_.Step(f);
+      if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
+      const double t = integrator_.t();
+      if (!FromCache(t, integrator_.y(), &cur) && !Evaluate(t, integrator_.y(), &cur)) {
+        summary->message = "the positions failed at an accepted step";
+        return Finish(Status::kPositionFailed, t, summary);
+      }
+      SetReference(cur.q, cur.phi, cur.K);
+      ref_det_ = cur.det;
+      summary->min_rcond_seen = std::min(summary->min_rcond_seen, cur.rcond);
+      // Events, the earliest one in this step.
+      Event event = Event::kNone;
+      double t_event = t;
+      auto consider = [&](Event e, double t_root) {
+        if (event == Event::kNone || t_root < t_event) {
+          event = e;
+          t_event = t_root;
+        }
+      };
+      if constexpr (kNphi > 0) {
+        const bool sign_change = (prev.det > 0) != (cur.det > 0);
+        if (cur.rcond < options_.min_rcond || sign_change) {
+          const double target = options_.min_rcond;
+          consider(Event::kDeadPoint,
+                   Locate(f, prev.t, t, prev.rcond - target, cur.rcond - target,
+                          [&](const SampleT& s) {
+                            return ((s.det > 0) == (prev.det > 0) ? s.rcond : -s.rcond) - target;
+                          }));
+        }
+      }
+      if (options_.stop_at_speed_zero && prev.qd(0) != 0 && (prev.qd(0) > 0) != (cur.qd(0) > 0)) {
+        consider(Event::kSpeedZero, Locate(f, prev.t, t, prev.qd(0), cur.qd(0),
+                                           [](const SampleT& s) { return s.qd(0); }));
+      }
+      const double g_user = user_event(t, cur.q, cur.qd, cur.phi);
+      if (g_user_prev != 0 && (g_user_prev > 0) != (g_user > 0)) {
+        consider(Event::kUser, Locate(f, prev.t, t, g_user_prev, g_user, [&](const SampleT& s) {
+                   return user_event(s.t, s.q, s.qd, s.phi);
+                 }));
+      }
+      g_user_prev = g_user;
+      const double t_stop_here = event != Event::kNone ? t_event : t;
+      // Samples strictly inside (prev.t, t_stop_here).
+      const double tiny = 1e-12 * std::max(1.0, std::abs(t));
+      if (options_.sample_dt > 0) {
+        while (next_sample < t_stop_here - tiny) {
+          SampleT s;
+          if (!DenseSample(f, next_sample, &s)) {
+            summary->message = "the positions failed at a sample";
+            return Finish(Status::kPositionFailed, next_sample, summary);
+          }
+          if (!emit(s)) return Finish(Status::kStoppedByObserver, s.t, summary);
+          next_sample = t0 + options_.sample_dt * ++sample_index;
+        }
+      }
+      if (event != Event::kNone) {
+        SampleT s;
+        if (!DenseSample(f, t_event, &s)) s = prev;
+        emit(s);
+        if (last != nullptr) *last = s;
+        summary->event = event;
+        summary->integrator = integrator_.summary();
+        if (event == Event::kDeadPoint) {
+          summary->message = "1/cond(Phi_phi) fell below min_rcond: a dead point";
+          return Finish(Status::kDeadPoint, t_event, summary);
+        }
+        return Finish(Status::kStoppedByEvent, t_event, summary);
+      }
+      // Energy projection.
+      if (options_.energy_projection) {
+        const double T_target = E0 + cur.W - cur.V;
+        const double scale = std::max({std::abs(E0), std::abs(cur.T), std::abs(cur.V), 1e-300});
+        if (T_target > 0 && cur.T > options_.energy_floor * scale) {
+          State y = integrator_.y();
+          y.template segment<kNq>(kNq) *= std::sqrt(T_target / cur.T);
+          if (integrator_.Reset(f, y)) {
+            ++summary->projections;
+            cur.qd = y.template segment<kNq>(kNq);
+            cur.qdd = integrator_.dy().template segment<kNq>(kNq);
+            cur.T = T_target;
+            cur.E = cur.T + cur.V;
+          }
+        }
+      }
+      // The step's end is a sample when sampling every step, on the grid, or at t_end.
+      const bool on_grid = options_.sample_dt > 0 && std::abs(next_sample - t) <= tiny;
+      if (on_grid) next_sample = t0 + options_.sample_dt * ++sample_index;
+      if (options_.sample_dt == 0 || on_grid || is == IntegratorStatus::kSuccess) {
+        if (!emit(cur)) return Finish(Status::kStoppedByObserver, t, summary);
+      }
+      prev = cur;
+    }
+    summary->integrator = integrator_.summary();
+    if (last != nullptr) *last = prev;
+    if (is == IntegratorStatus::kSuccess) return Finish(Status::kSuccess, integrator_.t(), summary);
+    // The integrator failed: say why from what the positions did.
+    if (is == IntegratorStatus::kRhsFailed) {
+      if (last_solve_not_assemblable_ || prev.rcond < 1e3 * options_.min_rcond) {
+        summary->event = Event::kDeadPoint;
+        summary->message =
+            "the loop cannot close beyond this input (a limit position): a dead point";
+        return Finish(Status::kDeadPoint, integrator_.t(), summary);
+      }
+      if (singular_inertia_) {
+        summary->message = "I(q) is not positive definite";
+        return Finish(Status::kSingularInertia, integrator_.t(), summary);
+      }
+      summary->message = "the position solver failed";
+      return Finish(Status::kPositionFailed, integrator_.t(), summary);
+    }
+    summary->message = integrator_.summary().message;
+    return Finish(Status::kIntegratorFailed, integrator_.t(), summary);
+  }
+
+  /// Simulate() without a user event.
+  template <class Observer>
+  bool Simulate(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer&& observer,
+                MinimalSummary* summary, SampleT* last = nullptr) {
+    return Simulate(t0, q0, qd0, t_end, observer,
+                    [](double, const VecQ&, const VecQ&, const VecPhi&) { return 1.0; }, summary,
+                    last);
+  }
+
+ private:
+  bool Finish(Status s, double t, MinimalSummary* summary) {
+    caching_ = false;
+    last_.valid = false;
+    summary->status = s;
+    summary->t_end = t;
+    summary->position_failures = position_failures_;
+    if (summary->integrator.status == IntegratorStatus::kNotRun)
+      summary->integrator = integrator_.summary();
+    return !IsFailure(s);
+  }
+
+  bool SolveAt(const VecQ& q, VecPhi* phi) {
+    if constexpr (kNphi == 0) {
+      (void)q;
+      (void)phi;
+      return true;
+    } else {
+      last_solve_not_assemblable_ = false;
+      const auto report = SolveCall(q, phi);
+      if (report.status != decltype(report.status)::kConverged) {
+        last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+        return false;
+      }
+      if (!phi->allFinite()) return false;
+      if constexpr (!internal::AllBlocksClosedForm<M>()) {
+        // A Newton block may converge to the other branch after a long step: refuse it.
+        Coefficients c;
+        EvalCoefficients(q, *phi, &c);
+        double cond = 0, det = 0;
+        ConditionAndDeterminant(c.Phi_phi, &cond, &det);
+        if (ref_det_ != 0 && (det > 0) != (ref_det_ > 0)) return false;
+      }
+      return true;
+    }
+  }
+
+  auto SolveCall(const VecQ& q, VecPhi* phi) {
+    if constexpr (kHasTrig) {
+      return M::template Solve<double>(p_, q, phi, modes_, options_.max_solver_iterations,
+                                       options_.solver_tolerance, &trig_);
+    } else {
+      return M::template Solve<double>(p_, q, phi, modes_, options_.max_solver_iterations,
+                                       options_.solver_tolerance);
+    }
+  }
+
+  void EvalCoefficients(const VecQ& q, const VecPhi& phi, Coefficients* c) {
+    if constexpr (kHasTrig && kNphi > 0) {
+      M::template Coeffs<double>(p_, q, phi, c, &trig_);
+    } else {
+      M::template Coeffs<double>(p_, q, phi, c);
+    }
+  }
+
+  void EvalDynamics(const VecQ& q, const VecPhi& phi, const VecQ& qd, double t,
+                    const Coefficients& c, Dyn* d) {
+    if constexpr (kHasTrig && kNphi > 0) {
+      M::template Dynamics<double>(p_, q, phi, qd, t, c, d, nullptr, &trig_);
+    } else {
+      M::template Dynamics<double>(p_, q, phi, qd, t, c, d);
+    }
+  }
+
+  bool SolveInertia(const Dyn& d, VecQ* qdd) {
+    singular_inertia_ = false;
+    if constexpr (kNq == 1) {
+      const double I = d.I(0, 0);
+      if (!(I > 0) || !std::isfinite(I)) {
+        singular_inertia_ = true;
+        return false;
+      }
+      (*qdd)(0) = (d.Q(0) - d.h(0)) / I;
+    } else {
+      const Eigen::LDLT<Eigen::Matrix<double, kNq, kNq>> ldlt(d.I);
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
+        singular_inertia_ = true;
+        return false;
+      }
+      *qdd = ldlt.solve(d.Q - d.h);
+    }
+    return qdd->allFinite();
+  }
+
+  void Conditioning(const Coefficients& c, double* rcond, double* det) {
+    if constexpr (kNphi == 0) {
+      (void)c;
+      *rcond = 1;
+      *det = 1;
+    } else {
+      ConditioningOf(c.Phi_phi, rcond, det);
+    }
+  }
+  template <class A>
+  static void ConditioningOf(const A& Phi_phi, double* rcond, double* det) {
+    double cond = 0;
+    ConditionAndDeterminant(Phi_phi, &cond, det);
+    *rcond = std::isfinite(cond) && cond > 0 ? 1.0 / cond : 0.0;
+  }
+
+  /// The sample at (t, y) from the last Derivative() call, if it was at exactly (t, y).
+  bool FromCache(double t, const State& y, SampleT* s) const {
+    if (!last_.valid || last_.t != t || last_.y != y) return false;
+    *s = last_.sample;
+    s->t = t;
+    s->q = y.template head<kNq>();
+    s->qd = y.template segment<kNq>(kNq);
+    s->W = y(2 * kNq);
+    s->E = s->T + s->V;
+    if constexpr (kNphi == 0) {
+      s->rcond = 1;
+      s->det = 1;
+    } else {
+      ConditioningOf(last_.Phi_phi, &s->rcond, &s->det);
+    }
+    return true;
+  }
+
+  template <class F>
+  bool DenseSample(F& f, double t, SampleT* s) {
+    State y;
+    if (!integrator_.Dense(f, t, &y)) return false;
+    return Evaluate(t, y, s);
+  }
+
+  /// Root of g on [ta, tb] (g(ta) = ga, g(tb) = gb of opposite signs) on the dense output,
+  /// Illinois regula falsi; returns tb if the dense output cannot be evaluated.
+  template <class F, class G>
+  double Locate(F& f, double ta, double tb, double ga, double gb, G&& g) {
+    if (!(ga * gb < 0)) return tb;
+    int side = 0;
+    for (int it = 0; it < 100 && std::abs(tb - ta) > options_.event_tolerance; ++it) {
+      double tm = tb - gb * (tb - ta) / (gb - ga);
+      if (!(tm > std::min(ta, tb) && tm < std::max(ta, tb))) tm = 0.5 * (ta + tb);
+      SampleT s;
+      if (!DenseSample(f, tm, &s)) return tb;
+      const double gm = g(s);
+      if (gm == 0) return tm;
+      if ((gm > 0) == (gb > 0)) {
+        tb = tm;
+        gb = gm;
+        if (side == -1) ga *= 0.5;
+        side = -1;
+      } else {
+        ta = tm;
+        ga = gm;
+        if (side == 1) gb *= 0.5;
+        side = 1;
+      }
+    }
+    return tb;
+  }
+
+  Params p_;
+  MinimalOptions options_;
+  Integrator integrator_;
+  Modes modes_ = M::kDefaultModes;
+  VecQ q_ref_ = VecQ::Zero();
+  VecPhi phi_ref_ = VecPhi::Zero();
+  Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
+  Trig trig_{};
+  struct LastEvaluation {
+    bool valid = false;
+    double t = 0;
+    State y = State::Zero();
+    SampleT sample;
+    Eigen::Matrix<double, kNphi, kNphi> Phi_phi = Eigen::Matrix<double, kNphi, kNphi>::Zero();
+  };
+  LastEvaluation last_;
+  bool caching_ = false;
+  double ref_det_ = 0;
+  int position_failures_ = 0;
+  bool initialized_ = false, last_solve_not_assemblable_ = false, singular_inertia_ = false;
+};
+
+}  // namespace mechgen::dynamics

@@ -1,0 +1,346 @@
+// <model>_simulate: the forward dynamics of one generated mechgen model (issue 15).
+//
+// mechgen_add_model() (cmake/MechgenAddModel.cmake) compiles this generic file per model
+// whose outputs ask for `dynamics`, with -DMECHGEN_MODEL_INCLUDE="<name>.h"
+// -DMECHGEN_MODEL_NAMESPACE=mech::<name>. It assembles the mechanism at the model's assembly
+// configuration (or --q0), starts from rest (or --qd0) and integrates the equation of motion
+// I(q) qdd + 1/2 I'(q) qd^2 = Q(t, q, qd) by the minimal method (mechgen/dynamics/forward.h)
+// until --t-end, or until the speed is periodic (steady state: the time of one revolution of the
+// first input changes by less than --steady-tol between revolutions, twice in a row; an angle
+// input only), or until an event stops it. Writes a CSV (one row every --dt seconds):
+//   t [s], each input q [rad or m], its speed q_dot, acceleration q_ddot, the kinetic energy
+//   T, potential V, E = T + V, W_nc = the work of the non-conservative forces since t = 0 [J],
+//   Q_<input> = the generalized applied force (loads, motor curves, dampers, weights, springs;
+//   a torque [N m] for an angle input, CCW +, a force [N] for a slide), then, when the model has
+//   reactions, each reaction component of the generated kinetostatics at the simulated motion
+//   (inertia forces included; the force of the joint's first link on its second, fixed frame)
+//   and |F| of each revolute joint (F_<joint>_mag).
+// Plot it with runtime/tools/plot_dynamics.gnuplot. Example:
+//   slider_crank_motor_simulate --t-end 10 --dt 0.002 --csv out/motor.csv
+//   gnuplot -e "csv='out/motor.csv'; png='out/motor.png'" runtime/tools/plot_dynamics.gnuplot
+// Exit status: 0 when the run reached --t-end or a steady state (or stopped at the speed
+// through zero with --stop-at-speed-zero); 1 when it ended on a failure (a dead point, the
+// position solver, a singular inertia, the integrator), with the reason on stderr; 2 for a
+// usage error. A model generated without `dynamics` builds into a stub that says so (exit 2).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "mechgen/dynamics/forward.h"
+#include "mechgen/dynamics/kinetostatics.h"
+#include "mechgen/statics/traits.h"
+
+#ifndef MECHGEN_MODEL_INCLUDE
+#error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
+#endif
+#include MECHGEN_MODEL_INCLUDE
+
+namespace {
+
+constexpr double kDegToRad = 0.017453292519943295;
+constexpr double kTwoPi = 6.283185307179586;
+
+// "1.5" -> 1.5; "90deg" -> pi/2. False if malformed.
+bool ParseValue(const std::string& text, double* value) {
+  std::string number = text;
+  double factor = 1;
+  if (number.size() > 3 && number.compare(number.size() - 3, 3, "deg") == 0) {
+    number.resize(number.size() - 3);
+    factor = kDegToRad;
+  }
+  char* end = nullptr;
+  *value = std::strtod(number.c_str(), &end) * factor;
+  return !number.empty() && end != nullptr && *end == '\0' && std::isfinite(*value);
+}
+
+struct Args {
+  double t_end = 10;
+  double dt = 0.001;
+  double rtol = 1e-8;
+  double atol = 1e-10;
+  std::string method = "dopri5";
+  std::vector<double> q0, qd0;
+  std::string csv;
+  double steady_tol = 1e-4;
+  bool steady = true;
+  bool energy_projection = false;
+  bool stop_at_speed_zero = false;
+  bool quiet = false;
+  int max_steps = 1000000;
+};
+
+void Usage(const char* program) {
+  std::printf(
+      "usage: %s [options]\n"
+      "Simulates the model's motion (minimal method, Paul 6.6.1) and writes a CSV.\n"
+      "  --t-end T            end time in s (default 10)\n"
+      "  --dt DT              CSV row spacing in s (default 0.001)\n"
+      "  --q0 V[,V...]        initial inputs (rad, or e.g. 90deg; default: the assembly)\n"
+      "  --qd0 V[,V...]       initial speeds (rad/s or m/s; default 0: from rest)\n"
+      "  --method M           dopri5 (default) or dop853\n"
+      "  --rtol R --atol A    integrator tolerances (default 1e-8, 1e-10)\n"
+      "  --steady-tol S       stop at a periodic steady state: the revolution time of the first\n"
+      "                       input changes by < S relative, twice in a row (default 1e-4)\n"
+      "  --no-steady          run to --t-end regardless\n"
+      "  --energy-projection  keep T + V - W_nc at its initial value (long conservative runs)\n"
+      "  --stop-at-speed-zero stop where the first input's speed changes sign\n"
+      "  --max-steps N        integrator steps before giving up (default 1e6)\n"
+      "  --csv FILE           write the CSV there (default: <model>_simulate.csv)\n"
+      "  --quiet              no summary on stdout\n",
+      program);
+}
+
+bool ParseList(const std::string& text, std::vector<double>* values) {
+  values->clear();
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos
+                                                                            : comma - start);
+    double v = 0;
+    if (!ParseValue(item, &v)) return false;
+    values->push_back(v);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return true;
+}
+
+// 0: ok, 1: --help, 2: error.
+int ParseArgs(int argc, char** argv, Args* a) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto next = [&](std::string* out) {
+      if (i + 1 >= argc) return false;
+      *out = argv[++i];
+      return true;
+    };
+    auto number = [&](double* out) {
+      std::string text;
+      return next(&text) && ParseValue(text, out);
+    };
+    std::string text;
+    bool ok = true;
+    if (arg == "--help" || arg == "-h") return 1;
+    if (arg == "--t-end") ok = number(&a->t_end) && a->t_end > 0;
+    else if (arg == "--dt") ok = number(&a->dt) && a->dt > 0;
+    else if (arg == "--rtol") ok = number(&a->rtol) && a->rtol > 0;
+    else if (arg == "--atol") ok = number(&a->atol) && a->atol > 0;
+    else if (arg == "--steady-tol") ok = number(&a->steady_tol) && a->steady_tol > 0;
+    else if (arg == "--no-steady") a->steady = false;
+    else if (arg == "--energy-projection") a->energy_projection = true;
+    else if (arg == "--stop-at-speed-zero") a->stop_at_speed_zero = true;
+    else if (arg == "--quiet") a->quiet = true;
+    else if (arg == "--max-steps") {
+      double v = 0;
+      ok = number(&v) && v >= 1 && v <= 2e9;
+      a->max_steps = static_cast<int>(v);
+    }
+    else if (arg == "--method") ok = next(&a->method) && (a->method == "dopri5" || a->method == "dop853");
+    else if (arg == "--q0") ok = next(&text) && ParseList(text, &a->q0);
+    else if (arg == "--qd0") ok = next(&text) && ParseList(text, &a->qd0);
+    else if (arg == "--csv") ok = next(&a->csv);
+    else {
+      std::fprintf(stderr, "error: unknown option '%s' (see --help)\n", arg.c_str());
+      return 2;
+    }
+    if (!ok) {
+      std::fprintf(stderr, "error: bad or missing value for %s (see --help)\n", arg.c_str());
+      return 2;
+    }
+  }
+  return 0;
+}
+
+template <class M, template <int> class Method>
+int Run(const Args& args) {
+  using Sim = mechgen::dynamics::MinimalDynamics<M, Method>;
+  using VecQ = typename Sim::VecQ;
+  using SampleT = typename Sim::SampleT;
+  constexpr int kNq = M::kNq;
+  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  const typename M::template ParamsT<double> params;
+
+  VecQ q0, qd0 = VecQ::Zero();
+  for (int i = 0; i < kNq; ++i) q0(i) = M::kAssemblyQ[i];
+  if (!args.q0.empty()) {
+    if (static_cast<int>(args.q0.size()) != kNq) {
+      std::fprintf(stderr, "error: --q0 needs %d value(s)\n", kNq);
+      return 2;
+    }
+    for (int i = 0; i < kNq; ++i) q0(i) = args.q0[i];
+  }
+  if (!args.qd0.empty()) {
+    if (static_cast<int>(args.qd0.size()) != kNq) {
+      std::fprintf(stderr, "error: --qd0 needs %d value(s)\n", kNq);
+      return 2;
+    }
+    for (int i = 0; i < kNq; ++i) qd0(i) = args.qd0[i];
+  }
+
+  mechgen::dynamics::MinimalOptions options;
+  options.integrator.rtol = args.rtol;
+  options.integrator.atol = args.atol;
+  options.integrator.max_steps = args.max_steps;
+  options.sample_dt = args.dt;
+  options.energy_projection = args.energy_projection;
+  options.stop_at_speed_zero = args.stop_at_speed_zero;
+  Sim sim(params, options);
+  if (!sim.Initialize(q0)) {
+    std::fprintf(stderr, "error: %s does not assemble at the initial inputs\n", M::kName);
+    return 1;
+  }
+  mechgen::dynamics::Kinetostatics<M> kineto(params);
+  kineto.Initialize(q0);
+
+  const std::string csv_path = args.csv.empty() ? std::string(M::kName) + "_simulate.csv" : args.csv;
+  std::ofstream csv(csv_path);
+  if (!csv) {
+    std::fprintf(stderr, "error: cannot write %s\n", csv_path.c_str());
+    return 2;
+  }
+  // Header.
+  csv << "t";
+  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i];
+  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i] << "_dot";
+  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i] << "_ddot";
+  csv << ",T,V,E,W_nc";
+  for (int i = 0; i < kNq; ++i) csv << ",Q_" << M::kQNames[i];
+  std::vector<std::pair<int, std::string>> magnitudes;  // (index of the x component, joint)
+  if constexpr (kNumReactions > 0) {
+    for (int r = 0; r < kNumReactions; ++r) csv << ',' << M::kReactionNames[r];
+    for (int r = 0; r + 1 < kNumReactions; ++r) {
+      const std::string a = M::kReactionNames[r], b = M::kReactionNames[r + 1];
+      if (a.size() > 4 && a.compare(0, 2, "F_") == 0 && a.compare(a.size() - 2, 2, "_x") == 0 &&
+          b == a.substr(0, a.size() - 2) + "_y") {
+        magnitudes.emplace_back(r, a.substr(2, a.size() - 4));
+        csv << ",F_" << magnitudes.back().second << "_mag";
+      }
+    }
+  }
+  csv << '\n';
+  csv.precision(10);
+
+  // Steady state: times at which the first input passes q0 + 2 pi k (angle inputs).
+  const bool angle = M::kQIsAngle[0];
+  double last_crossing = std::numeric_limits<double>::quiet_NaN(), last_period = 0;
+  int stable = 0, revolutions = 0;
+  bool steady_reached = false;
+  double prev_t = 0, prev_q = q0(0), steady_period = 0;
+  double max_reaction = 0;
+
+  auto observer = [&](const SampleT& s) {
+    csv << s.t;
+    for (int i = 0; i < kNq; ++i) csv << ',' << s.q(i);
+    for (int i = 0; i < kNq; ++i) csv << ',' << s.qd(i);
+    for (int i = 0; i < kNq; ++i) csv << ',' << s.qdd(i);
+    csv << ',' << s.T << ',' << s.V << ',' << s.E << ',' << s.W;
+    for (int i = 0; i < kNq; ++i) csv << ',' << s.Q(i);
+    if constexpr (kNumReactions > 0) {
+      mechgen::dynamics::KinetostaticsRow<M> row;
+      kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &row);
+      const bool usable = row.status == mechgen::dynamics::KinetostaticsStatus::kOk;
+      for (int r = 0; r < kNumReactions; ++r) {
+        csv << ',';
+        if (usable) csv << row.statics.R(r);
+      }
+      for (const auto& m : magnitudes) {
+        csv << ',';
+        if (usable) {
+          const double mag = std::hypot(row.statics.R(m.first), row.statics.R(m.first + 1));
+          max_reaction = std::max(max_reaction, mag);
+          csv << mag;
+        }
+      }
+    }
+    csv << '\n';
+    if (angle && args.steady && s.t > 0) {
+      // Crossings of q0 + 2 pi k, either direction, by linear interpolation between rows.
+      const double k_prev = std::floor((prev_q - q0(0)) / kTwoPi);
+      const double k_now = std::floor((s.q(0) - q0(0)) / kTwoPi);
+      if (k_now != k_prev) {
+        const double level = q0(0) + kTwoPi * std::max(k_now, k_prev);
+        const double t_cross = prev_t + (s.t - prev_t) * (level - prev_q) / (s.q(0) - prev_q);
+        if (!std::isnan(last_crossing)) {
+          const double period = t_cross - last_crossing;
+          ++revolutions;
+          if (last_period > 0 && std::abs(period - last_period) <= args.steady_tol * period) {
+            if (++stable >= 2) {
+              steady_reached = true;
+              steady_period = period;
+            }
+          } else {
+            stable = 0;
+          }
+          last_period = period;
+        }
+        last_crossing = t_cross;
+      }
+    }
+    prev_t = s.t;
+    prev_q = s.q(0);
+    return !steady_reached;
+  };
+
+  mechgen::dynamics::MinimalSummary summary;
+  SampleT last;
+  sim.Simulate(0.0, q0, qd0, args.t_end, observer, &summary, &last);
+  csv.close();
+  const bool failure = mechgen::dynamics::IsFailure(summary.status);
+  if (!args.quiet) {
+    std::printf("%s: %s\n", M::kName, mechgen::dynamics::FormatSummary(summary).c_str());
+    if (steady_reached) {
+      std::printf("steady state at t = %.6g s: revolution time %.6g s (mean speed %.6g rad/s)\n",
+                  summary.t_end, steady_period, kTwoPi / steady_period);
+    } else if (angle && args.steady) {
+      std::printf("no periodic steady state detected (%d revolutions)\n", revolutions);
+    }
+    std::printf("end: t = %.6g s, %s = %.6g, %s_dot = %.6g; E - W_nc drift %.3g J; max |F| %.6g N\n",
+                summary.t_end, M::kQNames[0], last.q(0), M::kQNames[0], last.qd(0),
+                summary.max_energy_error, max_reaction);
+    std::string png = csv_path;
+    if (png.size() > 4 && png.compare(png.size() - 4, 4, ".csv") == 0) png.resize(png.size() - 4);
+    png += ".png";
+    std::printf("wrote %s (%d rows); plot: gnuplot -e \"csv='%s'; png='%s'\" plot_dynamics.gnuplot\n",
+                csv_path.c_str(), summary.samples, csv_path.c_str(), png.c_str());
+  }
+  if (failure) {
+    std::fprintf(stderr, "%s: the simulation failed: %s at t = %.9g s: %s\n", M::kName,
+                 mechgen::dynamics::ToString(summary.status), summary.t_end, summary.message);
+    return 1;
+  }
+  return 0;
+}
+
+template <class M>
+int Main(const Args& args) {
+  if constexpr (!mechgen::dynamics::internal::HasDynamics<M>::value) {
+    (void)args;
+    std::fprintf(stderr,
+                 "%s: this model was generated without `dynamics` (add it to outputs.quantities)\n",
+                 M::kName);
+    return 2;
+  } else {
+    return args.method == "dop853" ? Run<M, mechgen::dynamics::Dop853>(args)
+                                   : Run<M, mechgen::dynamics::Dopri5>(args);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args args;
+  const int parsed = ParseArgs(argc, argv, &args);
+  if (parsed == 1) {
+    Usage(argv[0]);
+    return 0;
+  }
+  if (parsed != 0) return 2;
+  return Main<MECHGEN_MODEL_NAMESPACE::Model>(args);
+}

@@ -1,0 +1,186 @@
+// The runtime on the generated models of issue 15's later steps:
+//  - damped_fourbar (dampers, viscous friction, a load of time, a load of a dependent speed):
+//    the energy balance E - W_nc = E0 along a run (W_nc the integrated power of the
+//    non-conservative forces), and with the harmonic torque off E never increases;
+//  - fivebar_massive (two inputs: a 2 x 2 inertia, the LDLT path): energy kept under gravity;
+//  - slider_crank_motor: the start-up from rest reaches a periodic steady state below the
+//    motor's synchronous speed, with the energy balance kept;
+//  - the excess-coordinate formulation of fourbar_massive against the handwritten one (two
+//    derivations of M, h, g, Phi_x, gamma) and against the minimal method.
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "damped_fourbar.h"
+#include "fivebar_massive.h"
+#include "fourbar_massive.h"
+#include "handwritten_fourbar_dynamics.h"
+#include "mechgen/dynamics/excess.h"
+#include "mechgen/dynamics/forward.h"
+#include "slider_crank_motor.h"
+
+namespace {
+
+namespace hw = mech::handwritten_fourbar_dynamics;
+namespace fm = mech::fourbar_massive;
+using mechgen::dynamics::Dop853;
+using mechgen::dynamics::Dopri5;
+using mechgen::dynamics::MinimalDynamics;
+using mechgen::dynamics::MinimalOptions;
+using mechgen::dynamics::MinimalSummary;
+using mechgen::dynamics::Status;
+using Vec1 = Eigen::Matrix<double, 1, 1>;
+constexpr double kPi = 3.14159265358979323846;
+
+TEST(MinimalGeneratedMore, DampedFourbarKeepsTheEnergyBalance) {
+  namespace df = mech::damped_fourbar;
+  for (double T0 : {3.0, 0.0}) {
+    df::Params<double> p;
+    p.T0 = T0;
+    MinimalOptions o;
+    o.integrator.rtol = 1e-11;
+    o.integrator.atol = 1e-12;
+    o.sample_dt = 0.01;
+    MinimalDynamics<df::Model, Dop853> sim(p, o);
+    ASSERT_TRUE(sim.Initialize(Vec1(kPi / 2)));
+    MinimalSummary summary;
+    double E0 = std::numeric_limits<double>::quiet_NaN(), max_balance = 0, E_prev = 0;
+    bool increased = false;
+    ASSERT_TRUE(sim.Simulate(0.0, Vec1(kPi / 2), Vec1(4.0), 5.0,
+                             [&](const auto& s) {
+                               if (std::isnan(E0)) E0 = s.E;
+                               else if (s.E > E_prev + 1e-9 * E0) increased = true;
+                               E_prev = s.E;
+                               max_balance = std::max(max_balance, std::abs(s.E - s.W - E0));
+                               return true;
+                             },
+                             &summary))
+        << mechgen::dynamics::FormatSummary(summary);
+    EXPECT_LT(max_balance, 1e-8 * E0) << "T0 = " << T0;
+    EXPECT_LT(E_prev, 0.8 * E0) << "T0 = " << T0;  // the dampers took a good part of it
+    if (T0 == 0) EXPECT_FALSE(increased);           // dissipation only: E never grows
+  }
+}
+
+TEST(MinimalGeneratedMore, TwoInputFivebarKeepsItsEnergy) {
+  namespace fb = mech::fivebar_massive;
+  MinimalOptions o;
+  o.integrator.rtol = 1e-11;
+  o.integrator.atol = 1e-12;
+  MinimalDynamics<fb::Model, Dopri5> sim(fb::Params<double>(), o);
+  const Eigen::Vector2d q0(fb::Model::kAssemblyQ[0], fb::Model::kAssemblyQ[1]);
+  ASSERT_TRUE(sim.Initialize(q0));
+  MinimalSummary summary;
+  double E0 = std::numeric_limits<double>::quiet_NaN(), max_err = 0, moved = 0;
+  sim.Simulate(0.0, q0, Eigen::Vector2d(0.3, -0.2), 2.0,
+               [&](const auto& s) {
+                 if (std::isnan(E0)) E0 = s.E;
+                 max_err = std::max(max_err, std::abs(s.E - E0));
+                 moved = std::max(moved, (s.q - q0).norm());
+                 return true;
+               },
+               &summary);
+  // It either runs the 2 s or stops at a dead point of the five-bar: never NaN, and the
+  // energy is kept up to where it stopped.
+  EXPECT_TRUE(summary.status == Status::kSuccess || summary.status == Status::kDeadPoint)
+      << mechgen::dynamics::FormatSummary(summary);
+  EXPECT_GT(summary.samples, 10);
+  EXPECT_GT(moved, 0.1);
+  EXPECT_LT(max_err, 1e-7 * (1 + std::abs(E0)));
+}
+
+TEST(MinimalGeneratedMore, SliderCrankMotorStartsUpToASteadyState) {
+  namespace sm = mech::slider_crank_motor;
+  MinimalOptions o;
+  o.integrator.rtol = 1e-9;
+  o.integrator.atol = 1e-11;
+  o.sample_dt = 0.001;
+  MinimalDynamics<sm::Model, Dopri5> sim(sm::Params<double>(), o);
+  const double q0 = sm::Model::kAssemblyQ[0];
+  ASSERT_TRUE(sim.Initialize(Vec1(q0)));
+  // Revolution times (crossings of q0 + 2 pi k).
+  std::vector<double> crossings;
+  double prev_t = 0, prev_q = q0, E0 = std::numeric_limits<double>::quiet_NaN(), balance = 0;
+  double speed = 0;
+  MinimalSummary summary;
+  ASSERT_TRUE(sim.Simulate(0.0, Vec1(q0), Vec1(0.0), 20.0,
+                           [&](const auto& s) {
+                             if (std::isnan(E0)) E0 = s.E;
+                             balance = std::max(balance, std::abs(s.E - s.W - E0));
+                             const double k0 = std::floor((prev_q - q0) / (2 * kPi));
+                             const double k1 = std::floor((s.q(0) - q0) / (2 * kPi));
+                             if (k1 > k0) {
+                               const double level = q0 + 2 * kPi * k1;
+                               crossings.push_back(prev_t + (s.t - prev_t) * (level - prev_q) /
+                                                                (s.q(0) - prev_q));
+                             }
+                             prev_t = s.t;
+                             prev_q = s.q(0);
+                             speed = s.qd(0);
+                             return true;
+                           },
+                           &summary))
+      << mechgen::dynamics::FormatSummary(summary);
+  ASSERT_GT(crossings.size(), 20u);
+  const size_t n = crossings.size();
+  const double last = crossings[n - 1] - crossings[n - 2];
+  const double before = crossings[n - 2] - crossings[n - 3];
+  EXPECT_NEAR(last, before, 1e-4 * last);  // periodic
+  const double mean_speed = 2 * kPi / last;
+  EXPECT_GT(mean_speed, 100.0);
+  EXPECT_LT(mean_speed, 157.0796);  // an induction motor runs below its synchronous speed
+  EXPECT_GT(speed, 0.0);
+  // E - W_nc: the motor's work and the losses accounted for (J; E of the order of the
+  // flywheel's 1/2 J w^2 ~ 5 kJ).
+  EXPECT_LT(balance, 1e-5 * 0.5 * 0.5 * mean_speed * mean_speed);
+}
+
+TEST(MinimalGeneratedMore, ExcessFormulationMatchesTheHandwrittenOne) {
+  const fm::Params<double> pg;
+  const hw::Params<double> ph;
+  for (double q = 0.1; q < 2 * kPi; q += 0.8) {
+    // Any state, on or off the constraint manifold.
+    const Eigen::Vector2d phi(0.4 + 0.1 * q, 1.8 - 0.05 * q), phid(0.7, -1.1);
+    const Vec1 qq(q), qd(1.3);
+    fm::Excess<double> eg;
+    hw::Excess<double> eh;
+    fm::Model::ExcessDynamics(pg, qq, phi, qd, phid, 0.0, &eg);
+    hw::Model::ExcessDynamics(ph, qq, phi, qd, phid, 0.0, &eh);
+    EXPECT_LT((eg.M - eh.M).cwiseAbs().maxCoeff(), 1e-11) << "q = " << q;
+    EXPECT_LT((eg.h - eh.h).cwiseAbs().maxCoeff(), 1e-11) << "q = " << q;
+    EXPECT_LT((eg.g - eh.g).cwiseAbs().maxCoeff(), 1e-10) << "q = " << q;
+    EXPECT_LT((eg.Phi_x - eh.Phi_x).cwiseAbs().maxCoeff(), 1e-12) << "q = " << q;
+    EXPECT_LT((eg.Phi - eh.Phi).cwiseAbs().maxCoeff(), 1e-12) << "q = " << q;
+    EXPECT_LT((eg.gamma - eh.gamma).cwiseAbs().maxCoeff(), 1e-11) << "q = " << q;
+    EXPECT_NEAR(eg.T, eh.T, 1e-11);
+    EXPECT_NEAR(eg.V, eh.V, 1e-10);
+  }
+}
+
+TEST(MinimalGeneratedMore, ExcessMethodAgreesWithTheMinimalMethodOnTheGeneratedModel) {
+  MinimalOptions o;
+  o.integrator.rtol = 1e-12;
+  o.integrator.atol = 1e-13;
+  MinimalDynamics<fm::Model, Dop853> minimal(fm::Params<double>(), o);
+  ASSERT_TRUE(minimal.Initialize(Vec1(kPi / 2)));
+  MinimalSummary ms;
+  mechgen::dynamics::Sample<fm::Model> m_last;
+  ASSERT_TRUE(minimal.Simulate(0.0, Vec1(kPi / 2), Vec1(0.0), 3.0, [](const auto&) { return true; },
+                               &ms, &m_last));
+  mechgen::dynamics::ExcessOptions eo;
+  eo.integrator.rtol = 1e-11;
+  eo.integrator.atol = 1e-12;
+  eo.projection = true;
+  mechgen::dynamics::ExcessDynamics<fm::Model, Dop853> excess(fm::Params<double>(), eo);
+  mechgen::dynamics::ExcessSummary es;
+  mechgen::dynamics::ExcessSample<fm::Model> e_last;
+  ASSERT_TRUE(excess.Simulate(0.0, Vec1(kPi / 2), Vec1(0.0), Eigen::Vector2d(0.5, 1.9), 3.0,
+                              [](const auto&) { return true; }, &es, &e_last));
+  EXPECT_NEAR(e_last.x(0), m_last.q(0), 1e-7);
+  EXPECT_NEAR(e_last.xd(0), m_last.qd(0), 1e-6);
+  EXPECT_LT(es.max_Phi, 1e-9);
+}
+
+}  // namespace
