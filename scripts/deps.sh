@@ -7,6 +7,7 @@ MECHGEN_PACKAGES=(
   libeigen3-dev libginac-dev libcln-dev libceres-dev libgtest-dev libbenchmark-dev
   libyaml-cpp-dev libkainjow-mustache-dev libcli11-dev
   gnuplot-nox python3
+  libsimbody-dev  # bench/dynamics: the Simbody comparison (Debian's build; see its README part)
 )
 missing=()
 for p in "${MECHGEN_PACKAGES[@]}"; do

@@ -1,0 +1,161 @@
+/**
+ * \file handwritten_dynamics.h
+ * The issue's massive four-bar (ground d = 4, crank a = 1, coupler b = 3.5, rocker c = 3;
+ * uniform slender bars of rho = 2 kg/m, centre of mass mid-length, J = m L^2 / 12; gravity
+ * g = 9.81 along -y; open assembly; no driver), its equation of motion written by hand
+ * (Paul §6.4: I(q) qdd + 1/2 I'(q) qd^2 = Q(q)), in two forms:
+ *
+ *   Rhs          the fast one: closed-form positions from direction cosines (one sqrt, no
+ *                trigonometric function of a dependent angle), Paul's K and L by the addition
+ *                theorems, I, I', Q written out;
+ *   RhsTextbook  the textbook one: the dependent angles by atan2 and acos, K, L, I, I' with
+ *                sines and cosines of angle differences.
+ *
+ * Both are templates on the scalar (long double for the reference solution). Nothing here is
+ * generated: this is the benchmark's baseline and, in long double, the oracle of theta(3 s).
+ *
+ * Numbering as models/fourbar.yaml: A = (0, 0), D = (d, 0), q = theta_crank (AB),
+ * th2 = theta_coupler (BC), th3 = theta_rocker (DC, measured at D); C has y > 0 at q = 90 deg.
+ */
+#pragma once
+
+#include <cmath>
+
+namespace bench_dynamics {
+
+template <typename S>
+struct FourbarParams {
+  S a = S(1), b = S(3.5), c = S(3), d = S(4);
+  S rho = S(2);     // kg/m
+  S g = S(9.81);    // m/s^2 along -y
+  S m1() const { return rho * a; }
+  S m2() const { return rho * b; }
+  S m3() const { return rho * c; }
+};
+
+/// Positions, K, L of the four-bar at q (open assembly). Returns false past a dead point.
+template <typename S>
+struct FourbarKinematics {
+  S c1{}, s1{}, c2{}, s2{}, c3{}, s3{};  // direction cosines of crank, coupler, rocker
+  S K2{}, K3{}, L2{}, L3{};  // Paul's K and L of th2, th3 w.r.t. q
+};
+
+template <typename S>
+inline bool Kinematics(const FourbarParams<S>& p, S q, FourbarKinematics<S>* k) {
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const S c1 = cos(q), s1 = sin(q);
+  // e = D - B; C = B + x e + h e_perp with |C - B| = b, |C - D| = c (circle-circle).
+  const S ex = p.d - p.a * c1, ey = -p.a * s1;
+  const S inv_f2 = S(1) / (ex * ex + ey * ey);
+  const S x = S(0.5) * (p.b * p.b - p.c * p.c) * inv_f2 + S(0.5);
+  const S h2 = p.b * p.b * inv_f2 - x * x;
+  if (!(h2 >= S(0))) return false;
+  const S h = sqrt(h2);
+  const S bcx = x * ex - h * ey, bcy = x * ey + h * ex;  // C - B
+  const S inv_b = S(1) / p.b, inv_c = S(1) / p.c;
+  k->c1 = c1;
+  k->s1 = s1;
+  k->c2 = bcx * inv_b;
+  k->s2 = bcy * inv_b;
+  k->c3 = (bcx - ex) * inv_c;
+  k->s3 = (bcy - ey) * inv_c;
+  // Paul (1.1-8), (1.1-10) in this numbering (tests/runtime/handwritten_fourbar.h).
+  const S s23 = k->s2 * k->c3 - k->c2 * k->s3;
+  const S s31 = k->s3 * c1 - k->c3 * s1;
+  const S s21 = k->s2 * c1 - k->c2 * s1;
+  const S inv_s23 = S(1) / s23;
+  k->K2 = p.a * s31 * inv_b * inv_s23;
+  k->K3 = p.a * s21 * inv_c * inv_s23;
+  const S bK2 = p.b * k->K2 * k->K2, cK3 = p.c * k->K3 * k->K3;
+  const S R1 = p.a * c1 + bK2 * k->c2 - cK3 * k->c3;
+  const S R2 = p.a * s1 + bK2 * k->s2 - cK3 * k->s3;
+  k->L2 = -(k->c3 * R1 + k->s3 * R2) * inv_b * inv_s23;
+  k->L3 = -(k->c2 * R1 + k->s2 * R2) * inv_c * inv_s23;
+  return true;
+}
+
+/// What one right-hand side evaluation produces.
+template <typename S>
+struct FourbarEom {
+  S I = S(0), dI = S(0), Q = S(0), qdd = S(0);  // generalized inertia, dI/dq, generalized force (weights), acceleration
+};
+
+/// I = m1 a^2/3 + m2 (a^2 + a b K2 cos(th2 - q) + b^2 K2^2 / 3) + m3 c^2 K3^2 / 3,
+/// I' = dI/dq, Q = -g sum m_i d(y_Gi)/dq; qdd = (Q - I'/2 qd^2) / I.
+template <typename S>
+inline void EomFromKinematics(const FourbarParams<S>& p, const FourbarKinematics<S>& k, S qd,
+                              FourbarEom<S>* out) {
+  const S m1 = p.m1(), m2 = p.m2(), m3 = p.m3();
+  const S c21 = k.c2 * k.c1 + k.s2 * k.s1;  // cos(th2 - q)
+  const S s21 = k.s2 * k.c1 - k.c2 * k.s1;  // sin(th2 - q)
+  const S ab = p.a * p.b, b2 = p.b * p.b, c2 = p.c * p.c;
+  out->I = m1 * p.a * p.a * S(1.0 / 3) +
+           m2 * (p.a * p.a + ab * k.K2 * c21 + b2 * k.K2 * k.K2 * S(1.0 / 3)) +
+           m3 * c2 * k.K3 * k.K3 * S(1.0 / 3);
+  out->dI = m2 * (ab * (k.L2 * c21 - k.K2 * (k.K2 - S(1)) * s21) +
+                  S(2.0 / 3) * b2 * k.K2 * k.L2) +
+            S(2.0 / 3) * m3 * c2 * k.K3 * k.L3;
+  out->Q = -p.g * (m1 * S(0.5) * p.a * k.c1 + m2 * (p.a * k.c1 + S(0.5) * p.b * k.c2 * k.K2) +
+                   m3 * S(0.5) * p.c * k.c3 * k.K3);
+  out->qdd = (out->Q - S(0.5) * out->dI * qd * qd) / out->I;
+}
+
+/// The fast hand-written right-hand side: positions + K + L + I + I' + Q + qdd.
+template <typename S>
+inline bool Rhs(const FourbarParams<S>& p, S q, S qd, FourbarEom<S>* out) {
+  FourbarKinematics<S> k;
+  if (!Kinematics(p, q, &k)) return false;
+  EomFromKinematics(p, k, qd, out);
+  return true;
+}
+
+/// Total energy T + V (V = 0 at y = 0).
+template <typename S>
+inline S Energy(const FourbarParams<S>& p, S q, S qd) {
+  FourbarKinematics<S> k;
+  FourbarEom<S> e;
+  Kinematics(p, q, &k);
+  EomFromKinematics(p, k, qd, &e);
+  const S V = p.g * (p.m1() * S(0.5) * p.a * k.s1 + p.m2() * (p.a * k.s1 + S(0.5) * p.b * k.s2) +
+                     p.m3() * S(0.5) * p.c * k.s3);
+  return S(0.5) * e.I * qd * qd + V;
+}
+
+/// The textbook form: th2 = angle(BD) + acos(...), th3 = atan2(C - D); K, L, I, I', Q with
+/// sin/cos of the angles and of their differences.
+template <typename S>
+inline bool RhsTextbook(const FourbarParams<S>& p, S q, S qd, FourbarEom<S>* out) {
+  using std::acos;
+  using std::atan2;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const S bx = p.a * cos(q), by = p.a * sin(q);
+  const S ex = p.d - bx, ey = -by;
+  const S f = sqrt(ex * ex + ey * ey);
+  const S arg = (p.b * p.b + f * f - p.c * p.c) / (S(2) * p.b * f);
+  if (!(arg >= S(-1) && arg <= S(1))) return false;
+  const S th2 = atan2(ey, ex) + acos(arg);
+  const S th3 = atan2(by + p.b * sin(th2), bx + p.b * cos(th2) - p.d);
+  const S s23 = sin(th2 - th3);
+  const S K2 = p.a * sin(th3 - q) / (p.b * s23);
+  const S K3 = p.a * sin(th2 - q) / (p.c * s23);
+  // Differentiate b K2 e2 - c K3 e3 = -a e1' once more (qd = 1, qdd = 0), project on e3_perp / e2_perp.
+  const S L2 = (-p.a * cos(th3 - q) - p.b * K2 * K2 * cos(th2 - th3) + p.c * K3 * K3) / (p.b * s23);
+  const S L3 = (-p.a * cos(th2 - q) - p.b * K2 * K2 + p.c * K3 * K3 * cos(th2 - th3)) / (p.c * s23);
+  const S m1 = p.m1(), m2 = p.m2(), m3 = p.m3();
+  out->I = m1 * p.a * p.a / S(3) +
+           m2 * (p.a * p.a + p.a * p.b * K2 * cos(th2 - q) + p.b * p.b * K2 * K2 / S(3)) +
+           m3 * p.c * p.c * K3 * K3 / S(3);
+  out->dI = m2 * (p.a * p.b * (L2 * cos(th2 - q) - K2 * (K2 - S(1)) * sin(th2 - q)) +
+                  S(2) * p.b * p.b * K2 * L2 / S(3)) +
+            S(2) * m3 * p.c * p.c * K3 * L3 / S(3);
+  out->Q = -p.g * (m1 * p.a / S(2) * cos(q) + m2 * (p.a * cos(q) + p.b / S(2) * cos(th2) * K2) +
+                   m3 * p.c / S(2) * cos(th3) * K3);
+  out->qdd = (out->Q - out->dI * qd * qd / S(2)) / out->I;
+  return true;
+}
+
+}  // namespace bench_dynamics
