@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 190 (adds 33, muls 151, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 15 (adds 3, muls 6, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 163 (adds 29, muls 128, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 36 (adds 9, muls 23, divs 1, calls 3); EvalScene 15 (adds 3, muls 6, divs 0, calls 6)
  */
 #pragma once
 
@@ -488,7 +488,7 @@ void EvalDynamics(const Params<Scalar>& p,
                   Dynamics<Scalar>* out,
                   const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
                   const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 190 (adds 33, muls 151, divs 0, calls 6); intermediate terms: 8
+  // Total ops: 163 (adds 29, muls 128, divs 0, calls 6); intermediate terms: 8
   using std::cos;
   using std::sin;
   (void)t;
@@ -559,7 +559,7 @@ void EvalDynamics(const Params<Scalar>& p,
   out->Q(0) = Q_0;
   out->T = Scalar(0.5)*I_0_0*_tmp7;
   out->V = Scalar(0.5)*_tmp4*p.g*p.rho*sin_q0 + Scalar(0.5)*_tmp5*p.g*p.rho*sin_phi0 + Scalar(0.5)*_tmp6*p.g*p.rho*sin_phi1 + p.a*p.b*p.g*p.rho*sin_q0;
-  out->P_nc = Q_0*qd(0) + Scalar(0.5)*_tmp4*cos_q0*p.g*p.rho*qd(0) + Scalar(0.5)*_tmp5*c.K(0, 0)*cos_phi0*p.g*p.rho*qd(0) + Scalar(0.5)*_tmp6*c.K(1, 0)*cos_phi1*p.g*p.rho*qd(0) + cos_q0*p.a*p.b*p.g*p.rho*qd(0);
+  out->P_nc = Scalar(0);
 }
 
 /**
@@ -967,6 +967,81 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
 }
 
 /**
+ * \brief sin and cos of every angle at inputs q, as SolvePositions() would give them in *trig, without
+ * computing the angles themselves (no atan2): the closed forms' direction cosines, for
+ * EvalCoefficients() and the functions taking a Trig argument, which then do not read their phi
+ * argument. The same blocks, modes, statuses, measures and branch_measure as SolvePositions(); *trig
+ * holds finite values when the report says kConverged (and is meaningless otherwise). Generated only
+ * when every block is a closed form giving its angles' direction cosines and nothing downstream
+ * reads an angle other than through its sin and cos.
+ * \param[in]  p      Parameters.
+ * \param[in]  q      Inputs (dim kNq).
+ * \param[in]  modes  Assembly mode of each block (Model::kDefaultModes: the model's assembly) (dim
+ *                    kNumBlocks).
+ * \param[out] trig   sin and cos of q and phi at the solution, when the report says kConverged; not
+ *                    nullptr.
+ */
+template <typename Scalar>
+SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
+                                       const Vec<Scalar, Sizes::kNq>& q,
+                                       const std::array<int, Sizes::kNumBlocks>& modes,
+                                       Trig<Scalar>* trig) {
+  // Total ops: 36 (adds 9, muls 23, divs 1, calls 3); intermediate terms: 0
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  int iterations = 0;
+  const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
+  Scalar branch_measure = Scalar(1);
+  int branch_block = -1;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
+  {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
+    const Scalar bx_b0 = -p.c;
+    const Scalar wx_b0 = -cos_q0*p.a + p.d;
+    const Scalar wy_b0 = -p.a*sin_q0;
+    const Scalar ra2_b0 = p.b*p.b;
+    const Scalar rb2_b0 = bx_b0*bx_b0;
+    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
+    if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
+    const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
+    const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
+    if (!(h2_b0 >= Scalar(0)) && !(h2_b0 >= -(Scalar(64)*(((ra2_b0 + rb2_b0)*inv_d2_b0 + Scalar(1))*abs(k_b0) + inv_d2_b0*ra2_b0)*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
+    const Scalar h2c_b0 = h2_b0 > Scalar(0) ? h2_b0 : Scalar(0);
+    const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
+    const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
+    const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
+    const Scalar cross_u_b0 = my_b0*p.b;
+    const Scalar dot_u_b0 = mx_b0*p.b;
+    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
+    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
+    const Scalar branch_b0 = ((d2_b0*d2_b0)*h2c_b0) / (ra2_b0*rb2_b0);
+    if (branch_b0 < branch_measure) {
+      branch_measure = branch_b0;
+      branch_block = 0;
+    }
+    const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
+    trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
+    trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
+    trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
+    trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+    if (!(trig->cos_phi(0) - trig->cos_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(0)};
+    if (!(trig->sin_phi(0) - trig->sin_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(0)};
+    if (!(trig->cos_phi(1) - trig->cos_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(1)};
+    if (!(trig->sin_phi(1) - trig->sin_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(1)};
+  }
+  trig->sin_q(0) = sin_q0;
+  trig->cos_q(0) = cos_q0;
+
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
+}
+
+/**
  * \brief Positions of every named point of every link, for drawing (kScenePointNames).
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
@@ -1068,6 +1143,10 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                            int,
                                                            const double&,
                                                            Out<Trig<double>>);
+extern template SolveReport<double> SolvePositionsTrig<double>(const Params<double>&,
+                                                               const Vec<double, Sizes::kNq>&,
+                                                               const std::array<int, Sizes::kNumBlocks>&,
+                                                               Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                        const Vec<double, Sizes::kNq>&,
                                        const Vec<double, Sizes::kNphi>&,
@@ -1137,6 +1216,10 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                          int,
                                                          const float&,
                                                          Out<Trig<float>>);
+extern template SolveReport<float> SolvePositionsTrig<float>(const Params<float>&,
+                                                             const Vec<float, Sizes::kNq>&,
+                                                             const std::array<int, Sizes::kNumBlocks>&,
+                                                             Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -1299,6 +1382,13 @@ struct Model : Sizes {
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
     return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
+  }
+  template <typename Scalar>
+  static SolveReport<Scalar> SolveTrig(const Params<Scalar>& p,
+                                       const Vec<Scalar, Sizes::kNq>& q,
+                                       const std::array<int, Sizes::kNumBlocks>& modes,
+                                       Trig<Scalar>* trig) {
+    return SolvePositionsTrig(p, q, modes, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -14,8 +14,15 @@ std::string N(int i) { return std::to_string(i); }
 
 // The statements of one closed-form block (see dyads.h for the forms). *trig_done[i] is
 // set for each angle phi(i) whose sin and cos the block writes to *trig from its own
-// solution (no trigonometric call).
-void ClosedFormPositions(const ClosedForm& f, int bi, Program* P, CxxPrinter* printer, std::vector<bool>* trig_done) {
+// solution (no trigonometric call). trig_only (SolveTrig): no angle is computed, the
+// block writes its sin and cos to *trig unconditionally and checks them for finiteness
+// instead (every angle of the block must have its DyadTrig).
+void ClosedFormPositions(const ClosedForm& f,
+                         int bi,
+                         Program* P,
+                         CxxPrinter* printer,
+                         std::vector<bool>* trig_done,
+                         bool trig_only = false) {
   printer->Name(f.mode, "Scalar(modes[" + N(bi) + "])");
   printer->Name(ScalarEpsilon(), "epsilon");
   auto text = [&](const ex& e) { return printer->Print(e); };
@@ -75,6 +82,7 @@ void ClosedFormPositions(const ClosedForm& f, int bi, Program* P, CxxPrinter* pr
         break;
       }
       case DyadStep::Kind::kAngle:
+        if (trig_only) break;
         P->push_back(Raw(phi_ref(s.col) + " = AngleNear(atan2(" + text(s.y) + ", " + text(s.x) + ")" +
                          (s.value.is_zero() ? "" : " + " + text(s.value)) + ", " + phi_ref(s.col) + ");"));
         break;
@@ -88,6 +96,7 @@ void ClosedFormPositions(const ClosedForm& f, int bi, Program* P, CxxPrinter* pr
   // Nothing the checks above let through may come out NaN or inf (a non-finite input or
   // parameter, an overflow): x - x is 0 exactly for finite x only.
   for (const DyadStep& s : f.steps) {
+    if (trig_only) break;
     if (s.kind != DyadStep::Kind::kAngle && s.kind != DyadStep::Kind::kValue) continue;
     const std::string x = phi_ref(s.col);
     P->push_back(Raw("if (!(" + x + " - " + x + " == Scalar(0))) return {SolveStatus::kSingular, " + N(bi) +
@@ -113,6 +122,25 @@ void ClosedFormPositions(const ClosedForm& f, int bi, Program* P, CxxPrinter* pr
     P->push_back(Raw("}"));
   }
   if (f.trig.empty()) return;
+  if (trig_only) {
+    for (const DyadTrig& t : f.trig) {
+      const std::string norm2 = text(t.norm2);
+      P->push_back(Raw("const Scalar " + t.inv_name + f.suffix + " = Scalar(1) / " +
+                       (GiNaC::is_a<GiNaC::symbol>(t.norm2) ? norm2 : "(" + norm2 + ")") + ";"));
+    }
+    for (const DyadTrig& t : f.trig) {
+      const std::string c = "trig->cos_phi(" + N(t.col) + ")", s = "trig->sin_phi(" + N(t.col) + ")";
+      P->push_back(Raw(c + " = " + text(t.dot) + " * " + t.inv_name + f.suffix + ";"));
+      P->push_back(Raw(s + " = " + text(t.cross) + " * " + t.inv_name + f.suffix + ";"));
+      (*trig_done)[t.col] = true;
+    }
+    // As SolvePositions' check of its angles: nothing non-finite comes out as converged.
+    for (const DyadTrig& t : f.trig)
+      for (const std::string& x : {"trig->cos_phi(" + N(t.col) + ")", "trig->sin_phi(" + N(t.col) + ")"})
+        P->push_back(Raw("if (!(" + x + " - " + x + " == Scalar(0))) return {SolveStatus::kSingular, " + N(bi) +
+                         ", iterations, " + x + "};"));
+    return;
+  }
   P->push_back(Raw("if (trig != nullptr) {"));
   for (const DyadTrig& t : f.trig) {
     const std::string norm2 = text(t.norm2);
@@ -235,6 +263,70 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
                     Raw(branch ? "return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, "
                                  "branch_block};"
                                : "return {SolveStatus::kConverged, -1, iterations, Scalar(0)};")});
+  return f;
+}
+
+FunctionSpec SolveTrigSpec(const SymbolicTable& t, CxxPrinter* printer, bool* possible) {
+  const Kinematics& k = t.kinematics();
+  FunctionSpec f;
+  *possible = false;
+  if (t.blocks.empty()) return f;
+  for (const Coordinate& c : k.phi)
+    if (!c.is_angle) return f;
+  std::vector<ClosedForm> forms;
+  for (size_t bi = 0; bi < t.blocks.size(); ++bi) {
+    const Block& b = t.blocks[bi];
+    if (b.solve == BlockSolve::kNewton) return f;
+    forms.push_back(FormulateClosedForm(k, b, static_cast<int>(bi)));
+    // Every angle of the block from its own dot and cross products.
+    for (const DyadStep& s : forms.back().steps) {
+      if (s.kind == DyadStep::Kind::kValue) return f;
+      if (s.kind != DyadStep::Kind::kAngle) continue;
+      bool has = false;
+      for (const DyadTrig& tr : forms.back().trig) has |= tr.col == s.col;
+      if (!has) return f;
+    }
+  }
+  f.name = "SolvePositionsTrig";
+  f.model_member = "SolveTrig";
+  f.returns = "SolveReport<Scalar>";
+  f.reindent = true;
+  f.doc = {"\\brief sin and cos of every angle at inputs q, as SolvePositions() would give them in *trig, without",
+           "computing the angles themselves (no atan2): the closed forms' direction cosines, for",
+           "EvalCoefficients() and the functions taking a Trig argument, which then do not read their phi",
+           "argument. The same blocks, modes, statuses, measures and branch_measure as SolvePositions(); *trig",
+           "holds finite values when the report says kConverged (and is meaningless otherwise). Generated only",
+           "when every block is a closed form giving its angles' direction cosines and nothing downstream",
+           "reads an angle other than through its sin and cos."};
+  f.args.push_back(Arg("const Params<Scalar>&", "p", Dir::kIn, "Parameters."));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "q", Dir::kIn, "Inputs", "dim kNq"));
+  f.args.push_back(Arg("const std::array<int, Sizes::kNumBlocks>&", "modes", Dir::kIn,
+                       "Assembly mode of each block (Model::kDefaultModes: the model's assembly)", "dim kNumBlocks"));
+  f.args.push_back(Arg("Trig<Scalar>*", "trig", Dir::kOut,
+                       "sin and cos of q and phi at the solution, when the report says kConverged; not nullptr."));
+  Program prologue;
+  prologue.push_back(Raw("int iterations = 0;"));
+  f.body.push_back(prologue);
+  std::vector<bool> trig_done(k.phi.size(), false);
+  bool branch = false;
+  for (size_t bi = 0; bi < t.blocks.size(); ++bi) {
+    Program P;
+    P.push_back(Raw("{  // block " + N(static_cast<int>(bi)) + ": " + t.blocks[bi].Describe(k)));
+    branch |= forms[bi].has_branch;
+    ClosedFormPositions(forms[bi], static_cast<int>(bi), &P, printer, &trig_done, true);
+    P.push_back(Raw("}"));
+    f.body.push_back(P);
+  }
+  if (branch) {
+    f.body.front().push_back(
+        Raw("const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);"));
+    f.body.front().push_back(Raw("Scalar branch_measure = Scalar(1);"));
+    f.body.front().push_back(Raw("int branch_block = -1;"));
+  }
+  f.body.push_back({Raw(""), Raw(branch ? "return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, "
+                                          "branch_block};"
+                                        : "return {SolveStatus::kConverged, -1, iterations, Scalar(0)};")});
+  *possible = true;
   return f;
 }
 

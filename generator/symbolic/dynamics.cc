@@ -74,7 +74,11 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
   Q = a.Q;
   V = a.V;
   P_nc = 0;
-  for (int j = 0; j < nq; ++j) P_nc += (Q[j] + a.dV_dq[j]) * a.qd[j];
+  // Weights and springs only (no loads, friction or dampers): Q = -dV/dq term by term, so
+  // P_nc is 0 exactly (not the rounding of a cancellation the right-hand side would pay for).
+  const bool conservative = m.loads.empty() && m.friction.empty() && m.dampers.empty();
+  if (!conservative)
+    for (int j = 0; j < nq; ++j) P_nc += (Q[j] + a.dV_dq[j]) * a.qd[j];
 
   // ---- the excess-coordinate formulation ----
   StaticsOptions xo = Dynamic(false);
