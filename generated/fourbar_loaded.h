@@ -27,7 +27,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 185 (adds 54, muls 122, divs 2, calls 7); EvalStiffness 4686 (adds 982, muls 3693, divs 3, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 185 (adds 54, muls 122, divs 2, calls 7); EvalStiffness 4686 (adds 982, muls 3693, divs 3, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 36 (adds 9, muls 23, divs 1, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -176,28 +176,51 @@ struct Statics {
 };
 
 
-/// Why SolvePositions() stopped.
+/// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
 enum class SolveStatus {
-  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held
+  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held;
+                    ///< phi holds finite values
   kNotAssemblable,  ///< a closed-form block has no real solution (measure: its discriminant, < 0)
-  kDidNotConverge,  ///< a Newton block reached max_iterations (measure: its last |Phi_block|_inf)
+  kDidNotConverge,  ///< a Newton block reached max_iterations, or its residual was not finite
+                    ///< (measure: its last |Phi_block|_inf)
+  kSingular,        ///< a closed-form block is degenerate here, its solution not determined:
+                    ///< coincident circle centres (measure: their squared distance), a link of
+                    ///< zero length or a zero coefficient (measure: its squared length or the
+                    ///< coefficient), parallel slides (measure: the determinant), or a result
+                    ///< that is not finite (measure: that value)
 };
 
+/// What SolvePositions() did. Branch points: a closed-form block with two assembly modes
+/// (an RRR dyad, circle and line, one angle by acos) has a relative discriminant in [0, 1]
+/// that is 0 where its two modes meet (circles tangent: a change point, or the limit of an
+/// input's reach, where the mechanism can leave its branch) and 1 far from it; for an RRR
+/// dyad it is sin^2 of the angle between its two links, for one angle (acos) sin^2 of the
+/// acos term, for circle and line disc / (B^2 + 4 |A C|). branch_measure is the smallest
+/// over the blocks and branch_block its block: with fixed modes, a sequence of solutions
+/// whose branch_measure passes through (near) 0 has crossed a branch point, and the
+/// configurations on the two sides may belong to different branches; positions there are
+/// accurate only to about sqrt(epsilon) relative. A discriminant negative by no more than
+/// the rounding of its terms is taken as 0 (the touching configuration, branch_measure 0).
 template <typename Scalar>
 struct SolveReport {
   SolveStatus status = SolveStatus::kConverged;
   int block = -1;               ///< the block that failed, -1 if none
   int iterations = 0;           ///< Newton iterations over all blocks
   Scalar measure = Scalar(0);   ///< see SolveStatus
+  Scalar branch_measure = Scalar(1);  ///< kConverged: smallest relative discriminant, in [0, 1]
+  int branch_block = -1;        ///< its block; -1 if no closed-form block has two modes
 };
 
 /// `angle` moved by a multiple of 2 pi to lie within pi of `reference`: closed forms give
-/// atan2 values, a motion wants continuous angles.
+/// atan2 values, a motion wants continuous angles. A reference that is not finite is
+/// ignored (the angle is returned as it is).
 template <typename Scalar>
 Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
   using std::floor;
   const Scalar two_pi = Scalar(6.283185307179586);
-  return angle - two_pi * floor((angle - reference) / two_pi + Scalar(0.5));
+  const Scalar turns = floor((angle - reference) / two_pi + Scalar(0.5));
+  if (!(turns - turns == Scalar(0))) return angle;
+  return angle - two_pi * turns;
 }
 
 /**
@@ -1006,17 +1029,21 @@ void EvalTransmissionAngles(const Params<Scalar>& p,
 /**
  * \brief Positions phi at inputs q, block by block in the solve order: closed-form dyads
  * on the branch `modes[block]` (+1 or -1; Model::kDefaultModes is the model's assembly),
- * Newton–Raphson from the given phi for the other blocks.
+ * Newton–Raphson from the given phi for the other blocks. Solves into a local copy: *phi_io
+ * changes only when the report says kConverged, and then holds finite values only. The
+ * report's branch_measure says how close a closed-form block is to a branch point (see
+ * SolveReport).
  * \param[in]     p               Parameters.
  * \param[in]     q               Inputs (dim kNq).
  * \param[in,out] phi_io          In: the starting guess (a predictor) and, for angles found in
  *                                closed form, the reference they are kept continuous with. Out: the
- *                                solution, when the report says kConverged (dim kNphi).
+ *                                solution, when the report says kConverged; unchanged otherwise
+ *                                (dim kNphi).
  * \param[in]     modes           Assembly mode of each block (ignored for Newton blocks) (dim
  *                                kNumBlocks).
  * \param[in]     max_iterations  Newton blocks: at most this many iterations.
- * \param[in]     tolerance       Newton blocks stop when |Phi_block|_inf <= tolerance (then take
- *                                one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[in]     tolerance       Newton blocks stop at the first iterate with |Phi_block|_inf <=
+ *                                tolerance; tolerance <= 0 means 1e-12, 1e-5 for float.
  * \param[out]    trig            sin and cos of the angle coordinates at the solution (for
  *                                EvalCoefficients()), when the report says kConverged. May be
  *                                nullptr.
@@ -1030,14 +1057,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
   // Total ops: 36 (adds 9, muls 23, divs 1, calls 3); intermediate terms: 0
+  using std::abs;
   using std::atan2;
   using std::cos;
   using std::sin;
   using std::sqrt;
   (void)max_iterations;
   (void)tolerance;
-  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;
+  Vec<Scalar, Sizes::kNphi> phi = *phi_io;
   int iterations = 0;
+  const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
+  Scalar branch_measure = Scalar(1);
+  int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -1046,12 +1077,16 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
+    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
+    if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
-    if (!(h2_b0 >= Scalar(0))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
-    const Scalar h_b0 = (sqrt(h2_b0))*Scalar(modes[0]);
+    if (!(h2_b0 >= Scalar(0)) && !(h2_b0 >= -(Scalar(64)*(((ra2_b0 + rb2_b0)*inv_d2_b0 + Scalar(1))*abs(k_b0) + inv_d2_b0*ra2_b0)*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
+    const Scalar h2c_b0 = h2_b0 > Scalar(0) ? h2_b0 : Scalar(0);
+    const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
     const Scalar cross_u_b0 = my_b0*p.b;
@@ -1060,6 +1095,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
     phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
+    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
+    const Scalar branch_b0 = ((d2_b0*d2_b0)*h2c_b0) / (ra2_b0*rb2_b0);
+    if (branch_b0 < branch_measure) {
+      branch_measure = branch_b0;
+      branch_block = 0;
+    }
     if (trig != nullptr) {
       const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
       const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
@@ -1074,7 +1116,83 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     trig->cos_q(0) = cos_q0;
   }
 
-  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
+  *phi_io = phi;
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
+}
+
+/**
+ * \brief sin and cos of every angle at inputs q, as SolvePositions() would give them in *trig, without
+ * computing the angles themselves (no atan2): the closed forms' direction cosines, for
+ * EvalCoefficients() and the functions taking a Trig argument, which then do not read their phi
+ * argument. The same blocks, modes, statuses, measures and branch_measure as SolvePositions(); *trig
+ * holds finite values when the report says kConverged (and is meaningless otherwise). Generated only
+ * when every block is a closed form giving its angles' direction cosines and nothing downstream
+ * reads an angle other than through its sin and cos.
+ * \param[in]  p      Parameters.
+ * \param[in]  q      Inputs (dim kNq).
+ * \param[in]  modes  Assembly mode of each block (Model::kDefaultModes: the model's assembly) (dim
+ *                    kNumBlocks).
+ * \param[out] trig   sin and cos of q and phi at the solution, when the report says kConverged; not
+ *                    nullptr.
+ */
+template <typename Scalar>
+SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
+                                       const Vec<Scalar, Sizes::kNq>& q,
+                                       const std::array<int, Sizes::kNumBlocks>& modes,
+                                       Trig<Scalar>* trig) {
+  // Total ops: 36 (adds 9, muls 23, divs 1, calls 3); intermediate terms: 0
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  int iterations = 0;
+  const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
+  Scalar branch_measure = Scalar(1);
+  int branch_block = -1;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
+  {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
+    const Scalar bx_b0 = -p.c;
+    const Scalar wx_b0 = -cos_q0*p.a + p.d;
+    const Scalar wy_b0 = -p.a*sin_q0;
+    const Scalar ra2_b0 = p.b*p.b;
+    const Scalar rb2_b0 = bx_b0*bx_b0;
+    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
+    if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
+    const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
+    const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
+    if (!(h2_b0 >= Scalar(0)) && !(h2_b0 >= -(Scalar(64)*(((ra2_b0 + rb2_b0)*inv_d2_b0 + Scalar(1))*abs(k_b0) + inv_d2_b0*ra2_b0)*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
+    const Scalar h2c_b0 = h2_b0 > Scalar(0) ? h2_b0 : Scalar(0);
+    const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
+    const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
+    const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
+    const Scalar cross_u_b0 = my_b0*p.b;
+    const Scalar dot_u_b0 = mx_b0*p.b;
+    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
+    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
+    const Scalar branch_b0 = ((d2_b0*d2_b0)*h2c_b0) / (ra2_b0*rb2_b0);
+    if (branch_b0 < branch_measure) {
+      branch_measure = branch_b0;
+      branch_block = 0;
+    }
+    const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
+    trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
+    trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
+    trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
+    trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+    if (!(trig->cos_phi(0) - trig->cos_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(0)};
+    if (!(trig->sin_phi(0) - trig->sin_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(0)};
+    if (!(trig->cos_phi(1) - trig->cos_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(1)};
+    if (!(trig->sin_phi(1) - trig->sin_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(1)};
+  }
+  trig->sin_q(0) = sin_q0;
+  trig->cos_q(0) = cos_q0;
+
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
 }
 
 /**
@@ -1158,6 +1276,10 @@ extern template SolveReport<double> SolvePositions<double>(const Params<double>&
                                                            int,
                                                            const double&,
                                                            Out<Trig<double>>);
+extern template SolveReport<double> SolvePositionsTrig<double>(const Params<double>&,
+                                                               const Vec<double, Sizes::kNq>&,
+                                                               const std::array<int, Sizes::kNumBlocks>&,
+                                                               Trig<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                        const Vec<double, Sizes::kNq>&,
                                        const Vec<double, Sizes::kNphi>&,
@@ -1200,6 +1322,10 @@ extern template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                          int,
                                                          const float&,
                                                          Out<Trig<float>>);
+extern template SolveReport<float> SolvePositionsTrig<float>(const Params<float>&,
+                                                             const Vec<float, Sizes::kNq>&,
+                                                             const std::array<int, Sizes::kNumBlocks>&,
+                                                             Trig<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -1320,6 +1446,13 @@ struct Model : Sizes {
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
     return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
+  }
+  template <typename Scalar>
+  static SolveReport<Scalar> SolveTrig(const Params<Scalar>& p,
+                                       const Vec<Scalar, Sizes::kNq>& q,
+                                       const std::array<int, Sizes::kNumBlocks>& modes,
+                                       Trig<Scalar>* trig) {
+    return SolvePositionsTrig(p, q, modes, trig);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -28,7 +28,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), rocker.E.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 13 (adds 3, muls 6, divs 0, calls 4); EvalCoefficients 71 (adds 15, muls 51, divs 1, calls 4); EvalDetPhiPhi 7 (adds 1, muls 4, divs 0, calls 2); SolvePositions 24 (adds 5, muls 14, divs 2, calls 3) (per Newton iteration for Newton blocks); EvalScene 9 (adds 1, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 13 (adds 3, muls 6, divs 0, calls 4); EvalCoefficients 71 (adds 15, muls 51, divs 1, calls 4); EvalDetPhiPhi 7 (adds 1, muls 4, divs 0, calls 2); SolvePositions 27 (adds 5, muls 16, divs 2, calls 4) (per Newton iteration for Newton blocks); EvalScene 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -116,28 +116,51 @@ struct Trig {
 };
 
 
-/// Why SolvePositions() stopped.
+/// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
 enum class SolveStatus {
-  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held
+  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held;
+                    ///< phi holds finite values
   kNotAssemblable,  ///< a closed-form block has no real solution (measure: its discriminant, < 0)
-  kDidNotConverge,  ///< a Newton block reached max_iterations (measure: its last |Phi_block|_inf)
+  kDidNotConverge,  ///< a Newton block reached max_iterations, or its residual was not finite
+                    ///< (measure: its last |Phi_block|_inf)
+  kSingular,        ///< a closed-form block is degenerate here, its solution not determined:
+                    ///< coincident circle centres (measure: their squared distance), a link of
+                    ///< zero length or a zero coefficient (measure: its squared length or the
+                    ///< coefficient), parallel slides (measure: the determinant), or a result
+                    ///< that is not finite (measure: that value)
 };
 
+/// What SolvePositions() did. Branch points: a closed-form block with two assembly modes
+/// (an RRR dyad, circle and line, one angle by acos) has a relative discriminant in [0, 1]
+/// that is 0 where its two modes meet (circles tangent: a change point, or the limit of an
+/// input's reach, where the mechanism can leave its branch) and 1 far from it; for an RRR
+/// dyad it is sin^2 of the angle between its two links, for one angle (acos) sin^2 of the
+/// acos term, for circle and line disc / (B^2 + 4 |A C|). branch_measure is the smallest
+/// over the blocks and branch_block its block: with fixed modes, a sequence of solutions
+/// whose branch_measure passes through (near) 0 has crossed a branch point, and the
+/// configurations on the two sides may belong to different branches; positions there are
+/// accurate only to about sqrt(epsilon) relative. A discriminant negative by no more than
+/// the rounding of its terms is taken as 0 (the touching configuration, branch_measure 0).
 template <typename Scalar>
 struct SolveReport {
   SolveStatus status = SolveStatus::kConverged;
   int block = -1;               ///< the block that failed, -1 if none
   int iterations = 0;           ///< Newton iterations over all blocks
   Scalar measure = Scalar(0);   ///< see SolveStatus
+  Scalar branch_measure = Scalar(1);  ///< kConverged: smallest relative discriminant, in [0, 1]
+  int branch_block = -1;        ///< its block; -1 if no closed-form block has two modes
 };
 
 /// `angle` moved by a multiple of 2 pi to lie within pi of `reference`: closed forms give
-/// atan2 values, a motion wants continuous angles.
+/// atan2 values, a motion wants continuous angles. A reference that is not finite is
+/// ignored (the angle is returned as it is).
 template <typename Scalar>
 Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
   using std::floor;
   const Scalar two_pi = Scalar(6.283185307179586);
-  return angle - two_pi * floor((angle - reference) / two_pi + Scalar(0.5));
+  const Scalar turns = floor((angle - reference) / two_pi + Scalar(0.5));
+  if (!(turns - turns == Scalar(0))) return angle;
+  return angle - two_pi * turns;
 }
 
 /**
@@ -276,17 +299,21 @@ void EvalDetPhiPhi(const Params<Scalar>& p,
 /**
  * \brief Positions phi at inputs q, block by block in the solve order: closed-form dyads
  * on the branch `modes[block]` (+1 or -1; Model::kDefaultModes is the model's assembly),
- * Newton–Raphson from the given phi for the other blocks.
+ * Newton–Raphson from the given phi for the other blocks. Solves into a local copy: *phi_io
+ * changes only when the report says kConverged, and then holds finite values only. The
+ * report's branch_measure says how close a closed-form block is to a branch point (see
+ * SolveReport).
  * \param[in]     p               Parameters.
  * \param[in]     q               Inputs (dim kNq).
  * \param[in,out] phi_io          In: the starting guess (a predictor) and, for angles found in
  *                                closed form, the reference they are kept continuous with. Out: the
- *                                solution, when the report says kConverged (dim kNphi).
+ *                                solution, when the report says kConverged; unchanged otherwise
+ *                                (dim kNphi).
  * \param[in]     modes           Assembly mode of each block (ignored for Newton blocks) (dim
  *                                kNumBlocks).
  * \param[in]     max_iterations  Newton blocks: at most this many iterations.
- * \param[in]     tolerance       Newton blocks stop when |Phi_block|_inf <= tolerance (then take
- *                                one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[in]     tolerance       Newton blocks stop at the first iterate with |Phi_block|_inf <=
+ *                                tolerance; tolerance <= 0 means 1e-12, 1e-5 for float.
  * \param[out]    trig            sin and cos of the angle coordinates at the solution (for
  *                                EvalCoefficients()), when the report says kConverged. May be
  *                                nullptr.
@@ -299,34 +326,49 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 24 (adds 5, muls 14, divs 2, calls 3); intermediate terms: 1
+  // Total ops: 27 (adds 5, muls 16, divs 2, calls 4); intermediate terms: 1
+  using std::abs;
   using std::atan2;
   using std::cos;
   using std::sin;
   using std::sqrt;
   (void)max_iterations;
   (void)tolerance;
-  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;
+  Vec<Scalar, Sizes::kNphi> phi = *phi_io;
   int iterations = 0;
+  const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
+  Scalar branch_measure = Scalar(1);
+  int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_rocker, s_slot: closed form, angle and slide (RRP/RPR dyad, circle-line), mode 1
     const Scalar _tmp0 = p.a*p.a;
     const Scalar C_b0 = -(cos_q0*cos_q0)*_tmp0 - (sin_q0*sin_q0)*_tmp0 + Scalar(2)*cos_q0*p.a*p.d - p.d*p.d;
     const Scalar disc_b0 = -Scalar(4)*C_b0;
-    if (!(disc_b0 >= Scalar(0))) return {SolveStatus::kNotAssemblable, 0, iterations, disc_b0};
-    const Scalar sq_b0 = sqrt(disc_b0);
+    const Scalar disc_scale_b0 = Scalar(4)*abs(C_b0);
+    if (!(disc_b0 >= Scalar(0)) && !(disc_b0 >= -(Scalar(64)*disc_scale_b0*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, disc_b0};
+    const Scalar discc_b0 = disc_b0 > Scalar(0) ? disc_b0 : Scalar(0);
+    const Scalar sq_b0 = sqrt(discc_b0);
     const Scalar qq_b0 = -(Scalar(0) + (Scalar(0) >= Scalar(0) ? sq_b0 : -sq_b0)) / Scalar(2);
     const Scalar s_b0 = ((Scalar(modes[0]) > Scalar(0)) == (Scalar(0) >= Scalar(0))) ? (qq_b0 != Scalar(0) ? C_b0 / qq_b0 : Scalar(0)) : qq_b0 / Scalar(1);
     const Scalar wx_b0 = cos_q0*p.a - p.d;
     const Scalar wy_b0 = p.a*sin_q0;
     phi(1) = s_b0;
 
+    const Scalar a2_b0 = s_b0*s_b0;
+    if (!(a2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, a2_b0};
     const Scalar cross_u_b0 = s_b0*wy_b0;
     const Scalar dot_u_b0 = s_b0*wx_b0;
     phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
+    const Scalar branch_b0 = (disc_scale_b0) > Scalar(0) ? (discc_b0) / (disc_scale_b0) : Scalar(0);
+    if (branch_b0 < branch_measure) {
+      branch_measure = branch_b0;
+      branch_block = 0;
+    }
     if (trig != nullptr) {
-      const Scalar inv_a2_b0 = Scalar(1) / (s_b0*s_b0);
+      const Scalar inv_a2_b0 = Scalar(1) / a2_b0;
       trig->cos_phi(0) = dot_u_b0 * inv_a2_b0;
       trig->sin_phi(0) = cross_u_b0 * inv_a2_b0;
     }
@@ -336,7 +378,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     trig->cos_q(0) = cos_q0;
   }
 
-  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
+  *phi_io = phi;
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
 }
 
 /**

@@ -36,7 +36,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), ram.C.
  * Linear systems: Phi_phi is block lower triangular with 3 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 25 (adds 7, muls 12, divs 0, calls 6); EvalCoefficients 101 (adds 22, muls 70, divs 3, calls 6); EvalDetPhiPhi 11 (adds 1, muls 7, divs 0, calls 3); SolvePositions 35 (adds 7, muls 18, divs 3, calls 7) (per Newton iteration for Newton blocks); EvalScene 17 (adds 5, muls 6, divs 0, calls 6)
+ * Operation counts: EvalPhi 25 (adds 7, muls 12, divs 0, calls 6); EvalCoefficients 101 (adds 22, muls 70, divs 3, calls 6); EvalDetPhiPhi 11 (adds 1, muls 7, divs 0, calls 3); SolvePositions 38 (adds 7, muls 20, divs 3, calls 8) (per Newton iteration for Newton blocks); EvalScene 17 (adds 5, muls 6, divs 0, calls 6)
  */
 #pragma once
 
@@ -130,28 +130,51 @@ struct Trig {
 };
 
 
-/// Why SolvePositions() stopped.
+/// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
 enum class SolveStatus {
-  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held
+  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held;
+                    ///< phi holds finite values
   kNotAssemblable,  ///< a closed-form block has no real solution (measure: its discriminant, < 0)
-  kDidNotConverge,  ///< a Newton block reached max_iterations (measure: its last |Phi_block|_inf)
+  kDidNotConverge,  ///< a Newton block reached max_iterations, or its residual was not finite
+                    ///< (measure: its last |Phi_block|_inf)
+  kSingular,        ///< a closed-form block is degenerate here, its solution not determined:
+                    ///< coincident circle centres (measure: their squared distance), a link of
+                    ///< zero length or a zero coefficient (measure: its squared length or the
+                    ///< coefficient), parallel slides (measure: the determinant), or a result
+                    ///< that is not finite (measure: that value)
 };
 
+/// What SolvePositions() did. Branch points: a closed-form block with two assembly modes
+/// (an RRR dyad, circle and line, one angle by acos) has a relative discriminant in [0, 1]
+/// that is 0 where its two modes meet (circles tangent: a change point, or the limit of an
+/// input's reach, where the mechanism can leave its branch) and 1 far from it; for an RRR
+/// dyad it is sin^2 of the angle between its two links, for one angle (acos) sin^2 of the
+/// acos term, for circle and line disc / (B^2 + 4 |A C|). branch_measure is the smallest
+/// over the blocks and branch_block its block: with fixed modes, a sequence of solutions
+/// whose branch_measure passes through (near) 0 has crossed a branch point, and the
+/// configurations on the two sides may belong to different branches; positions there are
+/// accurate only to about sqrt(epsilon) relative. A discriminant negative by no more than
+/// the rounding of its terms is taken as 0 (the touching configuration, branch_measure 0).
 template <typename Scalar>
 struct SolveReport {
   SolveStatus status = SolveStatus::kConverged;
   int block = -1;               ///< the block that failed, -1 if none
   int iterations = 0;           ///< Newton iterations over all blocks
   Scalar measure = Scalar(0);   ///< see SolveStatus
+  Scalar branch_measure = Scalar(1);  ///< kConverged: smallest relative discriminant, in [0, 1]
+  int branch_block = -1;        ///< its block; -1 if no closed-form block has two modes
 };
 
 /// `angle` moved by a multiple of 2 pi to lie within pi of `reference`: closed forms give
-/// atan2 values, a motion wants continuous angles.
+/// atan2 values, a motion wants continuous angles. A reference that is not finite is
+/// ignored (the angle is returned as it is).
 template <typename Scalar>
 Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
   using std::floor;
   const Scalar two_pi = Scalar(6.283185307179586);
-  return angle - two_pi * floor((angle - reference) / two_pi + Scalar(0.5));
+  const Scalar turns = floor((angle - reference) / two_pi + Scalar(0.5));
+  if (!(turns - turns == Scalar(0))) return angle;
+  return angle - two_pi * turns;
 }
 
 /**
@@ -334,17 +357,21 @@ void EvalDetPhiPhi(const Params<Scalar>& p,
 /**
  * \brief Positions phi at inputs q, block by block in the solve order: closed-form dyads
  * on the branch `modes[block]` (+1 or -1; Model::kDefaultModes is the model's assembly),
- * Newton–Raphson from the given phi for the other blocks.
+ * Newton–Raphson from the given phi for the other blocks. Solves into a local copy: *phi_io
+ * changes only when the report says kConverged, and then holds finite values only. The
+ * report's branch_measure says how close a closed-form block is to a branch point (see
+ * SolveReport).
  * \param[in]     p               Parameters.
  * \param[in]     q               Inputs (dim kNq).
  * \param[in,out] phi_io          In: the starting guess (a predictor) and, for angles found in
  *                                closed form, the reference they are kept continuous with. Out: the
- *                                solution, when the report says kConverged (dim kNphi).
+ *                                solution, when the report says kConverged; unchanged otherwise
+ *                                (dim kNphi).
  * \param[in]     modes           Assembly mode of each block (ignored for Newton blocks) (dim
  *                                kNumBlocks).
  * \param[in]     max_iterations  Newton blocks: at most this many iterations.
- * \param[in]     tolerance       Newton blocks stop when |Phi_block|_inf <= tolerance (then take
- *                                one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[in]     tolerance       Newton blocks stop at the first iterate with |Phi_block|_inf <=
+ *                                tolerance; tolerance <= 0 means 1e-12, 1e-5 for float.
  * \param[out]    trig            sin and cos of the angle coordinates at the solution (for
  *                                EvalCoefficients()), when the report says kConverged. May be
  *                                nullptr.
@@ -357,7 +384,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 35 (adds 7, muls 18, divs 3, calls 7); intermediate terms: 1
+  // Total ops: 38 (adds 7, muls 20, divs 3, calls 8); intermediate terms: 1
   using std::abs;
   using std::acos;
   using std::atan2;
@@ -366,27 +393,41 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   using std::sqrt;
   (void)max_iterations;
   (void)tolerance;
-  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;
+  Vec<Scalar, Sizes::kNphi> phi = *phi_io;
   int iterations = 0;
+  const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
+  Scalar branch_measure = Scalar(1);
+  int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_rocker, s_slot: closed form, angle and slide (RRP/RPR dyad, circle-line), mode 1
     const Scalar _tmp0 = p.r*p.r;
     const Scalar C_b0 = -(cos_q0*cos_q0)*_tmp0 - (sin_q0*sin_q0)*_tmp0 - Scalar(2)*p.d*p.r*sin_q0 - p.d*p.d;
     const Scalar disc_b0 = -Scalar(4)*C_b0;
-    if (!(disc_b0 >= Scalar(0))) return {SolveStatus::kNotAssemblable, 0, iterations, disc_b0};
-    const Scalar sq_b0 = sqrt(disc_b0);
+    const Scalar disc_scale_b0 = Scalar(4)*abs(C_b0);
+    if (!(disc_b0 >= Scalar(0)) && !(disc_b0 >= -(Scalar(64)*disc_scale_b0*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, disc_b0};
+    const Scalar discc_b0 = disc_b0 > Scalar(0) ? disc_b0 : Scalar(0);
+    const Scalar sq_b0 = sqrt(discc_b0);
     const Scalar qq_b0 = -(Scalar(0) + (Scalar(0) >= Scalar(0) ? sq_b0 : -sq_b0)) / Scalar(2);
     const Scalar s_b0 = ((Scalar(modes[0]) > Scalar(0)) == (Scalar(0) >= Scalar(0))) ? (qq_b0 != Scalar(0) ? C_b0 / qq_b0 : Scalar(0)) : qq_b0 / Scalar(1);
     const Scalar wx_b0 = cos_q0*p.r;
     const Scalar wy_b0 = p.d + p.r*sin_q0;
     phi(2) = s_b0;
 
+    const Scalar a2_b0 = s_b0*s_b0;
+    if (!(a2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, a2_b0};
     const Scalar cross_u_b0 = s_b0*wy_b0;
     const Scalar dot_u_b0 = s_b0*wx_b0;
     phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(2)};
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
+    const Scalar branch_b0 = (disc_scale_b0) > Scalar(0) ? (discc_b0) / (disc_scale_b0) : Scalar(0);
+    if (branch_b0 < branch_measure) {
+      branch_measure = branch_b0;
+      branch_block = 0;
+    }
     if (trig != nullptr) {
-      const Scalar inv_a2_b0 = Scalar(1) / (s_b0*s_b0);
+      const Scalar inv_a2_b0 = Scalar(1) / a2_b0;
       trig->cos_phi(0) = dot_u_b0 * inv_a2_b0;
       trig->sin_phi(0) = cross_u_b0 * inv_a2_b0;
     }
@@ -394,13 +435,22 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   {  // block 1: rows 3 -> theta_link: closed form, one angle (acos), mode -1
     const Scalar c0_b1 = p.L*sin(phi(0)) - p.h;
     const Scalar rho_b1 = sqrt(p.l*p.l);
+    if (!(rho_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rho_b1};
     const Scalar cos_arg_b1 = -c0_b1/rho_b1;
-    if (!(abs(cos_arg_b1) <= Scalar(1))) return {SolveStatus::kNotAssemblable, 1, iterations, Scalar(1) - abs(cos_arg_b1)};
-    phi(1) = AngleNear(atan2(p.l, Scalar(0)) + Scalar(modes[1])*acos(cos_arg_b1), phi(1));
+    if (!(abs(cos_arg_b1) <= Scalar(1)) && !(abs(cos_arg_b1) <= Scalar(1) + Scalar(64)*epsilon)) return {SolveStatus::kNotAssemblable, 1, iterations, Scalar(1) - abs(cos_arg_b1)};
+    const Scalar cos_argc_b1 = cos_arg_b1 > Scalar(1) ? Scalar(1) : (cos_arg_b1 < Scalar(-1) ? Scalar(-1) : cos_arg_b1);
+    phi(1) = AngleNear(atan2(p.l, Scalar(0)) + Scalar(modes[1])*acos(cos_argc_b1), phi(1));
+    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
+    const Scalar branch_b1 = Scalar(1) - cos_argc_b1*cos_argc_b1;
+    if (branch_b1 < branch_measure) {
+      branch_measure = branch_b1;
+      branch_block = 1;
+    }
   }
   {  // block 2: rows 2 -> s_stroke: closed form, linear
     phi(3) = cos(phi(0))*p.L + cos(phi(1))*p.l;
 
+    if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 2, iterations, phi(3)};
   }
   if (trig != nullptr) {
     trig->sin_q(0) = sin_q0;
@@ -409,7 +459,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     trig->cos_phi(1) = cos(phi(1));
   }
 
-  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
+  *phi_io = phi;
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
 }
 
 /**

@@ -118,28 +118,51 @@ struct Trig {
 };
 
 
-/// Why SolvePositions() stopped.
+/// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
 enum class SolveStatus {
-  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held
+  kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held;
+                    ///< phi holds finite values
   kNotAssemblable,  ///< a closed-form block has no real solution (measure: its discriminant, < 0)
-  kDidNotConverge,  ///< a Newton block reached max_iterations (measure: its last |Phi_block|_inf)
+  kDidNotConverge,  ///< a Newton block reached max_iterations, or its residual was not finite
+                    ///< (measure: its last |Phi_block|_inf)
+  kSingular,        ///< a closed-form block is degenerate here, its solution not determined:
+                    ///< coincident circle centres (measure: their squared distance), a link of
+                    ///< zero length or a zero coefficient (measure: its squared length or the
+                    ///< coefficient), parallel slides (measure: the determinant), or a result
+                    ///< that is not finite (measure: that value)
 };
 
+/// What SolvePositions() did. Branch points: a closed-form block with two assembly modes
+/// (an RRR dyad, circle and line, one angle by acos) has a relative discriminant in [0, 1]
+/// that is 0 where its two modes meet (circles tangent: a change point, or the limit of an
+/// input's reach, where the mechanism can leave its branch) and 1 far from it; for an RRR
+/// dyad it is sin^2 of the angle between its two links, for one angle (acos) sin^2 of the
+/// acos term, for circle and line disc / (B^2 + 4 |A C|). branch_measure is the smallest
+/// over the blocks and branch_block its block: with fixed modes, a sequence of solutions
+/// whose branch_measure passes through (near) 0 has crossed a branch point, and the
+/// configurations on the two sides may belong to different branches; positions there are
+/// accurate only to about sqrt(epsilon) relative. A discriminant negative by no more than
+/// the rounding of its terms is taken as 0 (the touching configuration, branch_measure 0).
 template <typename Scalar>
 struct SolveReport {
   SolveStatus status = SolveStatus::kConverged;
   int block = -1;               ///< the block that failed, -1 if none
   int iterations = 0;           ///< Newton iterations over all blocks
   Scalar measure = Scalar(0);   ///< see SolveStatus
+  Scalar branch_measure = Scalar(1);  ///< kConverged: smallest relative discriminant, in [0, 1]
+  int branch_block = -1;        ///< its block; -1 if no closed-form block has two modes
 };
 
 /// `angle` moved by a multiple of 2 pi to lie within pi of `reference`: closed forms give
-/// atan2 values, a motion wants continuous angles.
+/// atan2 values, a motion wants continuous angles. A reference that is not finite is
+/// ignored (the angle is returned as it is).
 template <typename Scalar>
 Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
   using std::floor;
   const Scalar two_pi = Scalar(6.283185307179586);
-  return angle - two_pi * floor((angle - reference) / two_pi + Scalar(0.5));
+  const Scalar turns = floor((angle - reference) / two_pi + Scalar(0.5));
+  if (!(turns - turns == Scalar(0))) return angle;
+  return angle - two_pi * turns;
 }
 
 /**
@@ -273,17 +296,21 @@ void EvalDetPhiPhi(const Params<Scalar>& p,
 /**
  * \brief Positions phi at inputs q, block by block in the solve order: closed-form dyads
  * on the branch `modes[block]` (+1 or -1; Model::kDefaultModes is the model's assembly),
- * Newton–Raphson from the given phi for the other blocks.
+ * Newton–Raphson from the given phi for the other blocks. Solves into a local copy: *phi_io
+ * changes only when the report says kConverged, and then holds finite values only. The
+ * report's branch_measure says how close a closed-form block is to a branch point (see
+ * SolveReport).
  * \param[in]     p               Parameters.
  * \param[in]     q               Inputs (dim kNq).
  * \param[in,out] phi_io          In: the starting guess (a predictor) and, for angles found in
  *                                closed form, the reference they are kept continuous with. Out: the
- *                                solution, when the report says kConverged (dim kNphi).
+ *                                solution, when the report says kConverged; unchanged otherwise
+ *                                (dim kNphi).
  * \param[in]     modes           Assembly mode of each block (ignored for Newton blocks) (dim
  *                                kNumBlocks).
  * \param[in]     max_iterations  Newton blocks: at most this many iterations.
- * \param[in]     tolerance       Newton blocks stop when |Phi_block|_inf <= tolerance (then take
- *                                one more step); tolerance <= 0 means 1e-12, 1e-5 for float.
+ * \param[in]     tolerance       Newton blocks stop at the first iterate with |Phi_block|_inf <=
+ *                                tolerance; tolerance <= 0 means 1e-12, 1e-5 for float.
  * \param[out]    trig            sin and cos of the angle coordinates at the solution (for
  *                                EvalCoefficients()), when the report says kConverged. May be
  *                                nullptr.
@@ -305,20 +332,32 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   using std::sqrt;
   (void)max_iterations;
   (void)tolerance;
-  Vec<Scalar, Sizes::kNphi>& phi = *phi_io;
+  Vec<Scalar, Sizes::kNphi> phi = *phi_io;
   int iterations = 0;
+  const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
+  Scalar branch_measure = Scalar(1);
+  int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 1 -> theta_rod: closed form, one angle (acos), mode -1
     const Scalar c0_b0 = p.a*sin_q0 - p.e;
     const Scalar rho_b0 = sqrt(p.b*p.b);
+    if (!(rho_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rho_b0};
     const Scalar cos_arg_b0 = -c0_b0/rho_b0;
-    if (!(abs(cos_arg_b0) <= Scalar(1))) return {SolveStatus::kNotAssemblable, 0, iterations, Scalar(1) - abs(cos_arg_b0)};
-    phi(0) = AngleNear(atan2(p.b, Scalar(0)) + Scalar(modes[0])*acos(cos_arg_b0), phi(0));
+    if (!(abs(cos_arg_b0) <= Scalar(1)) && !(abs(cos_arg_b0) <= Scalar(1) + Scalar(64)*epsilon)) return {SolveStatus::kNotAssemblable, 0, iterations, Scalar(1) - abs(cos_arg_b0)};
+    const Scalar cos_argc_b0 = cos_arg_b0 > Scalar(1) ? Scalar(1) : (cos_arg_b0 < Scalar(-1) ? Scalar(-1) : cos_arg_b0);
+    phi(0) = AngleNear(atan2(p.b, Scalar(0)) + Scalar(modes[0])*acos(cos_argc_b0), phi(0));
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
+    const Scalar branch_b0 = Scalar(1) - cos_argc_b0*cos_argc_b0;
+    if (branch_b0 < branch_measure) {
+      branch_measure = branch_b0;
+      branch_block = 0;
+    }
   }
   {  // block 1: rows 0 -> s_slide: closed form, linear
     phi(1) = cos(phi(0))*p.b + cos_q0*p.a;
 
+    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
   }
   if (trig != nullptr) {
     trig->sin_q(0) = sin_q0;
@@ -327,7 +366,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     trig->cos_phi(0) = cos(phi(0));
   }
 
-  return {SolveStatus::kConverged, -1, iterations, Scalar(0)};
+  *phi_io = phi;
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
 }
 
 /**

@@ -35,6 +35,10 @@ template SolveReport<double> SolvePositions<double>(const Params<double>&,
                                                     int,
                                                     const double&,
                                                     Out<Trig<double>>);
+template SolveReport<double> SolvePositionsTrig<double>(const Params<double>&,
+                                                        const Vec<double, Sizes::kNq>&,
+                                                        const std::array<int, Sizes::kNumBlocks>&,
+                                                        Trig<double>*);
 template void EvalScene<double>(const Params<double>&,
                                 const Vec<double, Sizes::kNq>&,
                                 const Vec<double, Sizes::kNphi>&,
@@ -65,6 +69,10 @@ template SolveReport<float> SolvePositions<float>(const Params<float>&,
                                                   int,
                                                   const float&,
                                                   Out<Trig<float>>);
+template SolveReport<float> SolvePositionsTrig<float>(const Params<float>&,
+                                                      const Vec<float, Sizes::kNq>&,
+                                                      const std::array<int, Sizes::kNumBlocks>&,
+                                                      Trig<float>*);
 template void EvalScene<float>(const Params<float>&,
                                const Vec<float, Sizes::kNq>&,
                                const Vec<float, Sizes::kNphi>&,

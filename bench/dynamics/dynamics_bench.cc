@@ -5,11 +5,13 @@
 //   Rhs/Handwritten        direction cosines, Paul's K and L, I, I', Q by hand
 //                          (handwritten_dynamics.h)
 //   Rhs/Textbook           atan2/acos angles, sines of angle differences
-//   Rhs/Generated          mech::fourbar_massive: Solve (closed-form dyad) + Coeffs + Dynamics
+//   Rhs/Generated          mech::fourbar_massive: SolveTrig (the closed-form dyad's direction
+//                          cosines, no angles) + Coeffs + Dynamics
 //   Rhs/MinimalDynamics    the runtime's right-hand side (mechgen/dynamics/forward.h): the same
 //                          with the warm-started position solve and qdd
 //   Kinematics/Handwritten positions + K + L by hand
-//   Kinematics/Generated   Solve + Coeffs of mech::fourbar_massive
+//   Kinematics/Generated   Solve + Coeffs of mech::fourbar_massive (with the angles)
+//   Kinematics/GeneratedTrig  SolveTrig + Coeffs (sin and cos of the angles only)
 // (b) Simulate/<method>/<tolerance>: 3 s from rest at theta = 90 deg, integrator tolerance
 //   rtol = atol = 1e-4 .. 1e-10 (Simbody: Integrator::setAccuracy, and 1e-11, 1e-12 so that
 //   its curve reaches the errors of the others); counters: error =
@@ -142,6 +144,24 @@ void KinematicsGenerated(benchmark::State& state) {
 }
 BENCHMARK(KinematicsGenerated)->Name("Kinematics/Generated");
 
+// The kinematics the dynamics needs: sin and cos of the angles (Model::SolveTrig, no atan2).
+void KinematicsGeneratedTrig(benchmark::State& state) {
+  const Model::ParamsT<double> p;
+  Model::CoefficientsT<double> c;
+  Model::TrigT<double> trig;
+  Eigen::Matrix<double, Model::kNphi, 1> phi;
+  for (int i = 0; i < Model::kNphi; ++i) phi(i) = Model::kAssemblyPhi[i];
+  long k = 0;
+  for (auto _ : state) {
+    const Eigen::Matrix<double, 1, 1> q = Eigen::Matrix<double, 1, 1>::Constant((k++ % 720) * kStep);
+    const auto report = Model::SolveTrig(p, q, Model::kDefaultModes, &trig);
+    Model::Coeffs(p, q, phi, &c, &trig);
+    benchmark::DoNotOptimize(report);
+    benchmark::DoNotOptimize(c);
+  }
+}
+BENCHMARK(KinematicsGeneratedTrig)->Name("Kinematics/GeneratedTrig");
+
 void RhsGenerated(benchmark::State& state) {
   const Model::ParamsT<double> p;
   Model::CoefficientsT<double> c;
@@ -153,7 +173,8 @@ void RhsGenerated(benchmark::State& state) {
   long k = 0;
   for (auto _ : state) {
     const Eigen::Matrix<double, 1, 1> q = Eigen::Matrix<double, 1, 1>::Constant((k++ % 720) * kStep);
-    const auto report = Model::Solve(p, q, &phi, Model::kDefaultModes, 20, 0.0, &trig);
+    // sin and cos of the angles only (Model::SolveTrig): the functions given trig do not read phi.
+    const auto report = Model::SolveTrig(p, q, Model::kDefaultModes, &trig);
     Model::Coeffs(p, q, phi, &c, &trig);
     Model::Dynamics(p, q, phi, qd, 0.0, c, &dyn, nullptr, &trig);
     const double qdd = (dyn.Q(0) - dyn.h(0)) / dyn.I(0, 0);

@@ -1,6 +1,8 @@
 // Builders of the generated functions. See functions.h.
 #include "codegen/functions.h"
 
+#include <cctype>
+
 namespace mechgen {
 namespace {
 
@@ -226,7 +228,9 @@ void ShareTrig(const Kinematics& k,
                CxxPrinter* printer,
                FunctionSpec* coefficients,
                FunctionSpec* positions,
-               const std::vector<FunctionSpec*>& takers) {
+               const std::vector<FunctionSpec*>& takers,
+               FunctionSpec* solve_trig,
+               bool* solve_trig_possible) {
   std::vector<TrigName> names;
   for (int i = 0; i < k.nq(); ++i) names.push_back(NameTrig(true, i, printer));
   for (int i = 0; i < k.nphi(); ++i) names.push_back(NameTrig(false, i, printer));
@@ -296,6 +300,84 @@ void ShareTrig(const Kinematics& k,
   }
   tail.push_back(Raw("}"));
   positions->body.insert(positions->body.end() - 1, tail);
+
+  if (solve_trig == nullptr || solve_trig_possible == nullptr || !*solve_trig_possible) return;
+  // SolveTrig: sin and cos of the inputs once before the blocks; a later block reads an
+  // earlier block's angles through the direction cosines that block wrote to *trig. It is
+  // kept only if no statement of it, of EvalCoefficients or of a taker reads an angle
+  // other than through its sin and cos (their phi argument is then not read given trig).
+  auto reads_phi = [&](const Program& program, bool check_raw) {
+    for (const Statement& s : program) {
+      if (s.kind == Statement::Kind::kRaw) {
+        if (!check_raw) continue;
+        for (size_t pos = s.target.find("phi("); pos != std::string::npos; pos = s.target.find("phi(", pos + 1)) {
+          const char before = pos == 0 ? ' ' : s.target[pos - 1];
+          if (!(std::isalnum(static_cast<unsigned char>(before)) || before == '_' || before == '>')) return true;
+        }
+        continue;
+      }
+      for (const Coordinate& c : k.phi)
+        if (s.value.has(c.symbol)) return true;
+    }
+    return false;
+  };
+  for (const Program& program : coefficients->body)
+    if (reads_phi(program, false)) *solve_trig_possible = false;
+  for (const FunctionSpec* spec : takers)
+    for (const Program& program : spec->body)
+      if (reads_phi(program, false)) *solve_trig_possible = false;
+  std::vector<std::pair<bool, bool>> used(nq + k.nphi(), {false, false});
+  std::vector<Program> blocks(solve_trig->body.begin() + 1, solve_trig->body.end() - 1);
+  std::vector<std::vector<std::pair<bool, bool>>> block_used;
+  for (Program& block : blocks) {
+    block_used.push_back(SubstituteTrig(k, names, &block, true));
+    if (reads_phi(block, true)) *solve_trig_possible = false;
+    for (size_t j = 0; j < used.size(); ++j) {
+      used[j].first = used[j].first || block_used.back()[j].first;
+      used[j].second = used[j].second || block_used.back()[j].second;
+    }
+  }
+  if (!*solve_trig_possible) return;
+  std::vector<Program> body;
+  body.push_back(solve_trig->body.front());
+  for (int j = 0; j < nq; ++j) {
+    if (used[j].first) body.front().push_back(Raw("const Scalar " + names[j].sin + " = sin(" + names[j].arg + ");"));
+    if (used[j].second) body.front().push_back(Raw("const Scalar " + names[j].cos + " = cos(" + names[j].arg + ");"));
+    solve_trig->extra_calls += used[j].first + used[j].second;
+  }
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    body.push_back(blocks[b]);
+    // The angles this block solved that a later block reads.
+    Program reads;
+    for (int i = 0; i < k.nphi(); ++i) {
+      bool sin_later = false, cos_later = false;
+      for (size_t later = b + 1; later < blocks.size(); ++later) {
+        sin_later = sin_later || block_used[later][nq + i].first;
+        cos_later = cos_later || block_used[later][nq + i].second;
+      }
+      const TrigName& t = names[nq + i];
+      bool solved_here = false;
+      for (const Statement& s : blocks[b])
+        solved_here = solved_here || (s.kind == Statement::Kind::kRaw && s.target.rfind(t.cos_ref + " = ", 0) == 0);
+      if (!solved_here) continue;
+      if (sin_later) reads.push_back(Raw("const Scalar " + t.sin + " = " + t.sin_ref + ";"));
+      if (cos_later) reads.push_back(Raw("const Scalar " + t.cos + " = " + t.cos_ref + ";"));
+    }
+    if (!reads.empty()) body.push_back(reads);
+  }
+  Program end;
+  for (int j = 0; j < nq; ++j) {
+    if (!k.q[j].is_angle) continue;
+    const TrigName& t = names[j];
+    end.push_back(Raw(t.sin_ref + " = " + (used[j].first ? t.sin : "sin(" + t.arg + ")") + ";"));
+    end.push_back(Raw(t.cos_ref + " = " + (used[j].second ? t.cos : "cos(" + t.arg + ")") + ";"));
+    if (!used[j].first) ++solve_trig->extra_calls;
+    if (!used[j].second) ++solve_trig->extra_calls;
+  }
+  const Program& epilogue = solve_trig->body.back();
+  end.insert(end.end(), epilogue.begin(), epilogue.end());
+  body.push_back(end);
+  solve_trig->body = body;
 }
 
 std::vector<FunctionSpec> BuildFunctions(const Model& m,
@@ -332,7 +414,9 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
     takers.push_back(&dynamics_spec);
     takers.push_back(&kinetostatics_spec);
   }
-  ShareTrig(k, trig_done, printer, &coefficients, &positions, takers);
+  bool solve_trig_possible = false;
+  FunctionSpec solve_trig = SolveTrigSpec(t, printer, &solve_trig_possible);
+  ShareTrig(k, trig_done, printer, &coefficients, &positions, takers, &solve_trig, &solve_trig_possible);
   out.push_back(coefficients);
   if (has_statics) out.push_back(statics_spec);
   if (has_dynamics) {
@@ -344,6 +428,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   out.push_back(EvalDetPhiPhiSpec(t));
   if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));
   out.push_back(positions);
+  if (solve_trig_possible) out.push_back(solve_trig);
   if (m.outputs.scene && !k.scene.empty()) out.push_back(EvalSceneSpec(k));
   return out;
 }

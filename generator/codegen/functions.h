@@ -36,6 +36,11 @@ FunctionSpec EvalTransmissionAnglesSpec(const std::vector<TransmissionAngle>& an
 /// SolvePositions: block by block, closed-form dyads (symbolic/dyads.h) or Newton–Raphson
 /// (codegen/positions.cc). *trig_done[i]: phi(i)'s sin and cos come from its closed form.
 FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std::vector<bool>* trig_done);
+/// SolvePositionsTrig (Model::SolveTrig): SolvePositions' closed forms writing only sin and cos of the angles to *trig
+/// (no atan2). *possible is false (and the spec empty) unless every block is a closed form
+/// that gives each of its angles' direction cosines and every phi is an angle; ShareTrig
+/// then checks that nothing else reads an angle (else BuildFunctions drops it).
+FunctionSpec SolveTrigSpec(const SymbolicTable& t, CxxPrinter* printer, bool* possible);
 /// EvalScene: every named point of every link.
 FunctionSpec EvalSceneSpec(const Kinematics& k);
 /// CamLaw_<joint>, EvalCam_<joint> and Contour_<joint> (codegen/cam_functions.cc).
@@ -68,7 +73,9 @@ void ShareTrig(const Kinematics& k,
                CxxPrinter* printer,
                FunctionSpec* coefficients,
                FunctionSpec* positions,
-               const std::vector<FunctionSpec*>& takers = {});
+               const std::vector<FunctionSpec*>& takers = {},
+               FunctionSpec* solve_trig = nullptr,
+               bool* solve_trig_possible = nullptr);
 
 /// Every generated function of the model, in the order of the header.
 std::vector<FunctionSpec> BuildFunctions(const Model& m,

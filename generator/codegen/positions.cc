@@ -14,9 +14,17 @@ std::string N(int i) { return std::to_string(i); }
 
 // The statements of one closed-form block (see dyads.h for the forms). *trig_done[i] is
 // set for each angle phi(i) whose sin and cos the block writes to *trig from its own
-// solution (no trigonometric call).
-void ClosedFormPositions(const ClosedForm& f, int bi, Program* P, CxxPrinter* printer, std::vector<bool>* trig_done) {
+// solution (no trigonometric call). trig_only (SolveTrig): no angle is computed, the
+// block writes its sin and cos to *trig unconditionally and checks them for finiteness
+// instead (every angle of the block must have its DyadTrig).
+void ClosedFormPositions(const ClosedForm& f,
+                         int bi,
+                         Program* P,
+                         CxxPrinter* printer,
+                         std::vector<bool>* trig_done,
+                         bool trig_only = false) {
   printer->Name(f.mode, "Scalar(modes[" + N(bi) + "])");
+  printer->Name(ScalarEpsilon(), "epsilon");
   auto text = [&](const ex& e) { return printer->Print(e); };
   auto phi_ref = [&](int i) { return "phi(" + N(i) + ")"; };
   bool pending_store = false;
@@ -40,14 +48,41 @@ void ClosedFormPositions(const ClosedForm& f, int bi, Program* P, CxxPrinter* pr
         break;
       case DyadStep::Kind::kRequire: {
         const std::string v = text(s.value);
-        const std::string cond = s.require == DyadStep::Require::kNonNegative    ? "!(" + v + " >= Scalar(0))"
-                                 : s.require == DyadStep::Require::kAbsAtMostOne ? "!(abs(" + v + ") <= Scalar(1))"
-                                                                                 : v + " == Scalar(0)";
-        P->push_back(Raw("if (" + cond + ") return {SolveStatus::kNotAssemblable, " + N(bi) + ", iterations, " +
+        const bool slack = !s.slack.is_zero();
+        std::string cond;
+        switch (s.require) {
+          case DyadStep::Require::kNonNegative:
+            cond = "!(" + v + " >= Scalar(0))";
+            if (slack) cond += " && !(" + v + " >= -(" + text(s.slack) + "))";
+            break;
+          case DyadStep::Require::kAbsAtMostOne:
+            cond = "!(abs(" + v + ") <= Scalar(1))";
+            if (slack) cond += " && !(abs(" + v + ") <= Scalar(1) + " + text(s.slack) + ")";
+            break;
+          case DyadStep::Require::kPositive:
+            cond = "!(" + v + " > Scalar(0))";
+            break;
+          case DyadStep::Require::kNonZero:
+            cond = v + " == Scalar(0)";
+            break;
+        }
+        const std::string status = s.singular ? "kSingular" : "kNotAssemblable";
+        P->push_back(Raw("if (" + cond + ") return {SolveStatus::" + status + ", " + N(bi) + ", iterations, " +
                          text(s.measure) + "};"));
+        if (!s.clamped_name.empty()) {
+          // Within rounding of the range: clamped into it (the touching configuration).
+          const std::string c = s.clamped_name + f.suffix;
+          if (s.require == DyadStep::Require::kNonNegative)
+            P->push_back(Raw("const Scalar " + c + " = " + v + " > Scalar(0) ? " + v + " : Scalar(0);"));
+          else
+            P->push_back(Raw("const Scalar " + c + " = " + v + " > Scalar(1) ? Scalar(1) : (" + v +
+                             " < Scalar(-1) ? Scalar(-1) : " + v + ");"));
+          printer->Name(s.clamped, c);
+        }
         break;
       }
       case DyadStep::Kind::kAngle:
+        if (trig_only) break;
         P->push_back(Raw(phi_ref(s.col) + " = AngleNear(atan2(" + text(s.y) + ", " + text(s.x) + ")" +
                          (s.value.is_zero() ? "" : " + " + text(s.value)) + ", " + phi_ref(s.col) + ");"));
         break;
@@ -58,7 +93,54 @@ void ClosedFormPositions(const ClosedForm& f, int bi, Program* P, CxxPrinter* pr
     }
   }
   if (pending_store) P->push_back(Raw(""));
+  // Nothing the checks above let through may come out NaN or inf (a non-finite input or
+  // parameter, an overflow): x - x is 0 exactly for finite x only.
+  for (const DyadStep& s : f.steps) {
+    if (trig_only) break;
+    if (s.kind != DyadStep::Kind::kAngle && s.kind != DyadStep::Kind::kValue) continue;
+    const std::string x = phi_ref(s.col);
+    P->push_back(Raw("if (!(" + x + " - " + x + " == Scalar(0))) return {SolveStatus::kSingular, " + N(bi) +
+                     ", iterations, " + x + "};"));
+  }
+  if (f.has_branch) {
+    // The branch-point signal: the smallest relative discriminant over the blocks.
+    const std::string name = "branch" + f.suffix;
+    const std::string num = text(f.branch_num);
+    std::string value;
+    if (f.branch_den.is_equal(GiNaC::ex(1)))
+      value = num;
+    else if (f.branch_den_positive)
+      value = "(" + num + ") / (" + text(f.branch_den) + ")";
+    else {
+      const std::string den = text(f.branch_den);
+      value = "(" + den + ") > Scalar(0) ? (" + num + ") / (" + den + ") : Scalar(0)";
+    }
+    P->push_back(Raw("const Scalar " + name + " = " + value + ";"));
+    P->push_back(Raw("if (" + name + " < branch_measure) {"));
+    P->push_back(Raw("  branch_measure = " + name + ";"));
+    P->push_back(Raw("  branch_block = " + N(bi) + ";"));
+    P->push_back(Raw("}"));
+  }
   if (f.trig.empty()) return;
+  if (trig_only) {
+    for (const DyadTrig& t : f.trig) {
+      const std::string norm2 = text(t.norm2);
+      P->push_back(Raw("const Scalar " + t.inv_name + f.suffix + " = Scalar(1) / " +
+                       (GiNaC::is_a<GiNaC::symbol>(t.norm2) ? norm2 : "(" + norm2 + ")") + ";"));
+    }
+    for (const DyadTrig& t : f.trig) {
+      const std::string c = "trig->cos_phi(" + N(t.col) + ")", s = "trig->sin_phi(" + N(t.col) + ")";
+      P->push_back(Raw(c + " = " + text(t.dot) + " * " + t.inv_name + f.suffix + ";"));
+      P->push_back(Raw(s + " = " + text(t.cross) + " * " + t.inv_name + f.suffix + ";"));
+      (*trig_done)[t.col] = true;
+    }
+    // As SolvePositions' check of its angles: nothing non-finite comes out as converged.
+    for (const DyadTrig& t : f.trig)
+      for (const std::string& x : {"trig->cos_phi(" + N(t.col) + ")", "trig->sin_phi(" + N(t.col) + ")"})
+        P->push_back(Raw("if (!(" + x + " - " + x + " == Scalar(0))) return {SolveStatus::kSingular, " + N(bi) +
+                         ", iterations, " + x + "};"));
+    return;
+  }
   P->push_back(Raw("if (trig != nullptr) {"));
   for (const DyadTrig& t : f.trig) {
     const std::string norm2 = text(t.norm2);
@@ -80,25 +162,24 @@ void NewtonPositions(const Kinematics& k, const Block& b, int bi, Program* P) {
   P->push_back(Raw("Vec<Scalar, " + sz + "> r" + t + ";"));
   P->push_back(Raw("Mat<Scalar, " + sz + ", " + sz + "> J" + t + " = Mat<Scalar, " + sz + ", " + sz + ">::Zero();"));
   P->push_back(Raw("for (int iteration = 0;; ++iteration) {"));
-  for (int r = 0; r < n; ++r) {
-    P->push_back(Store("  r" + t + "(" + N(r) + ")", k.Phi[b.rows[r]]));
+  for (int r = 0; r < n; ++r) P->push_back(Store("  r" + t + "(" + N(r) + ")", k.Phi[b.rows[r]]));
+  P->push_back(Raw("  Scalar norm" + t + " = Scalar(0);"));
+  // The largest |residual|, NaN if any is NaN (a NaN never compares greater, so the max
+  // alone would skip it and call a NaN residual converged).
+  P->push_back(Raw("  for (int i = 0; i < " + sz + " && norm" + t + " == norm" + t + "; ++i) if (!(abs(r" + t +
+                   "(i)) <= norm" + t + ")) norm" + t + " = abs(r" + t + "(i));"));
+  // Converged: stop at this iterate (no step after the residual test has passed, so an
+  // exactly singular Jacobian at a converged configuration is never solved with).
+  P->push_back(Raw("  if (norm" + t + " <= tol) break;"));
+  P->push_back(Raw("  if (iteration == max_iterations || !(norm" + t + " - norm" + t +
+                   " == Scalar(0))) return {SolveStatus::kDidNotConverge, " + N(bi) + ", iterations, norm" + t + "};"));
+  for (int r = 0; r < n; ++r)
     for (int c = 0; c < n; ++c)
       if (!k.Phi_phi(b.rows[r], b.cols[c]).is_zero())
         P->push_back(Store("  J" + t + "(" + N(r) + ", " + N(c) + ")", k.Phi_phi(b.rows[r], b.cols[c])));
-  }
-  P->push_back(Raw("  Scalar norm" + t + " = Scalar(0);"));
-  P->push_back(Raw("  for (int i = 0; i < " + sz + "; ++i) if (abs(r" + t + "(i)) > norm" + t + ") norm" + t +
-                   " = abs(r" + t + "(i));"));
-  P->push_back(Raw("  const bool closed" + t + " = norm" + t + " <= tol;"));
-  P->push_back(Raw("  if (!closed" + t + " && (iteration == max_iterations || !(norm" + t + " == norm" + t +
-                   "))) return {SolveStatus::kDidNotConverge, " + N(bi) + ", iterations, norm" + t + "};"));
   P->push_back(Raw("  ++iterations;"));
   P->push_back(Raw("  const Vec<Scalar, " + sz + "> delta" + t + " = J" + t + ".partialPivLu().solve(r" + t + ");"));
   for (int c = 0; c < n; ++c) P->push_back(Raw("  phi(" + N(b.cols[c]) + ") -= delta" + t + "(" + N(c) + ");"));
-  // Once the residual test passes, the step just taken is a last polish (quadratic
-  // convergence): positions are then accurate to rounding, not just to the tolerance
-  // times cond(Phi_phi).
-  P->push_back(Raw("  if (closed" + t + ") break;"));
   P->push_back(Raw("}"));
 }
 
@@ -114,12 +195,16 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
   f.ops_note = "per Newton iteration for Newton blocks";
   f.doc = {"\\brief Positions phi at inputs q, block by block in the solve order: closed-form dyads",
            "on the branch `modes[block]` (+1 or -1; Model::kDefaultModes is the model's assembly),",
-           "Newton–Raphson from the given phi for the other blocks."};
+           "Newton–Raphson from the given phi for the other blocks. Solves into a local copy: *phi_io",
+           "changes only when the report says kConverged, and then holds finite values only. The",
+           "report's branch_measure says how close a closed-form block is to a branch point (see",
+           "SolveReport)."};
   f.args.push_back(Arg("const Params<Scalar>&", "p", Dir::kIn, "Parameters."));
   f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "q", Dir::kIn, "Inputs", "dim kNq"));
   f.args.push_back(Arg("Vec<Scalar, Sizes::kNphi>*", "phi_io", Dir::kInOut,
                        "In: the starting guess (a predictor) and, for angles found in closed form, the reference "
-                       "they are kept continuous with. Out: the solution, when the report says kConverged",
+                       "they are kept continuous with. Out: the solution, when the report says kConverged; unchanged "
+                       "otherwise",
                        "dim kNphi"));
   Argument modes = Arg("const std::array<int, Sizes::kNumBlocks>&", "modes", Dir::kIn,
                        "Assembly mode of each block (ignored for Newton blocks)", "dim kNumBlocks");
@@ -128,7 +213,7 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
   f.args.push_back(
       Arg("int", "max_iterations", Dir::kIn, "Newton blocks: at most this many iterations.", "", false, "20"));
   f.args.push_back(Arg("const Scalar&", "tolerance", Dir::kIn,
-                       "Newton blocks stop when |Phi_block|_inf <= tolerance (then take one more step); "
+                       "Newton blocks stop at the first iterate with |Phi_block|_inf <= tolerance; "
                        "tolerance <= 0 means 1e-12, 1e-5 for float.",
                        "", false, "Scalar(0)"));
   f.args.push_back(Arg("Out<Trig<Scalar>>", "trig", Dir::kOut,
@@ -137,9 +222,10 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
                        "", true, "nullptr"));
   bool newton = false;
   for (const Block& b : t.blocks) newton |= b.solve == BlockSolve::kNewton;
-  // No blocks (no loop: kNphi = 0, e.g. a pendulum): nothing reads phi (its argument is then void-cast).
+  // Solved into a local copy, written back on success only. No blocks (no loop: kNphi = 0, e.g. a
+  // pendulum): nothing reads phi (its argument is then void-cast).
   Program prologue;
-  if (!t.blocks.empty()) prologue.push_back(Raw("Vec<Scalar, Sizes::kNphi>& phi = *phi_io;"));
+  if (!t.blocks.empty()) prologue.push_back(Raw("Vec<Scalar, Sizes::kNphi> phi = *phi_io;"));
   prologue.push_back(Raw("int iterations = 0;"));
   if (newton) {
     prologue.push_back(Raw("// tolerance <= 0: 1e-12 (model units), 1e-5 for float"));
@@ -148,21 +234,99 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
   }
   f.body.push_back(prologue);
   trig_done->assign(k.phi.size(), false);
+  bool branch = false;
   for (size_t bi = 0; bi < t.blocks.size(); ++bi) {
     const Block& b = t.blocks[bi];
     // Each block is its own program: its values depend on the phi the blocks before it
     // wrote, so no subexpression may be shared across blocks.
     Program P;
     P.push_back(Raw("{  // block " + N(static_cast<int>(bi)) + ": " + b.Describe(k)));
-    if (b.solve == BlockSolve::kNewton)
+    if (b.solve == BlockSolve::kNewton) {
       NewtonPositions(k, b, static_cast<int>(bi), &P);
-    else
-      ClosedFormPositions(FormulateClosedForm(k, b, static_cast<int>(bi)), static_cast<int>(bi), &P, printer,
-                          trig_done);
+    } else {
+      const ClosedForm form = FormulateClosedForm(k, b, static_cast<int>(bi));
+      branch |= form.has_branch;
+      ClosedFormPositions(form, static_cast<int>(bi), &P, printer, trig_done);
+    }
     P.push_back(Raw("}"));
     f.body.push_back(P);
   }
-  f.body.push_back({Raw(""), Raw("return {SolveStatus::kConverged, -1, iterations, Scalar(0)};")});
+  if (branch) {
+    // The machine epsilon of Scalar (float, else double's), for the rounding slack of the
+    // closed forms' discriminants.
+    f.body.front().push_back(
+        Raw("const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);"));
+    f.body.front().push_back(Raw("Scalar branch_measure = Scalar(1);"));
+    f.body.front().push_back(Raw("int branch_block = -1;"));
+  }
+  f.body.push_back({Raw(""), Raw(t.blocks.empty() ? "" : "*phi_io = phi;"),
+                    Raw(branch ? "return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, "
+                                 "branch_block};"
+                               : "return {SolveStatus::kConverged, -1, iterations, Scalar(0)};")});
+  return f;
+}
+
+FunctionSpec SolveTrigSpec(const SymbolicTable& t, CxxPrinter* printer, bool* possible) {
+  const Kinematics& k = t.kinematics();
+  FunctionSpec f;
+  *possible = false;
+  if (t.blocks.empty()) return f;
+  for (const Coordinate& c : k.phi)
+    if (!c.is_angle) return f;
+  std::vector<ClosedForm> forms;
+  for (size_t bi = 0; bi < t.blocks.size(); ++bi) {
+    const Block& b = t.blocks[bi];
+    if (b.solve == BlockSolve::kNewton) return f;
+    forms.push_back(FormulateClosedForm(k, b, static_cast<int>(bi)));
+    // Every angle of the block from its own dot and cross products.
+    for (const DyadStep& s : forms.back().steps) {
+      if (s.kind == DyadStep::Kind::kValue) return f;
+      if (s.kind != DyadStep::Kind::kAngle) continue;
+      bool has = false;
+      for (const DyadTrig& tr : forms.back().trig) has |= tr.col == s.col;
+      if (!has) return f;
+    }
+  }
+  f.name = "SolvePositionsTrig";
+  f.model_member = "SolveTrig";
+  f.returns = "SolveReport<Scalar>";
+  f.reindent = true;
+  f.doc = {"\\brief sin and cos of every angle at inputs q, as SolvePositions() would give them in *trig, without",
+           "computing the angles themselves (no atan2): the closed forms' direction cosines, for",
+           "EvalCoefficients() and the functions taking a Trig argument, which then do not read their phi",
+           "argument. The same blocks, modes, statuses, measures and branch_measure as SolvePositions(); *trig",
+           "holds finite values when the report says kConverged (and is meaningless otherwise). Generated only",
+           "when every block is a closed form giving its angles' direction cosines and nothing downstream",
+           "reads an angle other than through its sin and cos."};
+  f.args.push_back(Arg("const Params<Scalar>&", "p", Dir::kIn, "Parameters."));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "q", Dir::kIn, "Inputs", "dim kNq"));
+  f.args.push_back(Arg("const std::array<int, Sizes::kNumBlocks>&", "modes", Dir::kIn,
+                       "Assembly mode of each block (Model::kDefaultModes: the model's assembly)", "dim kNumBlocks"));
+  f.args.push_back(Arg("Trig<Scalar>*", "trig", Dir::kOut,
+                       "sin and cos of q and phi at the solution, when the report says kConverged; not nullptr."));
+  Program prologue;
+  prologue.push_back(Raw("int iterations = 0;"));
+  f.body.push_back(prologue);
+  std::vector<bool> trig_done(k.phi.size(), false);
+  bool branch = false;
+  for (size_t bi = 0; bi < t.blocks.size(); ++bi) {
+    Program P;
+    P.push_back(Raw("{  // block " + N(static_cast<int>(bi)) + ": " + t.blocks[bi].Describe(k)));
+    branch |= forms[bi].has_branch;
+    ClosedFormPositions(forms[bi], static_cast<int>(bi), &P, printer, &trig_done, true);
+    P.push_back(Raw("}"));
+    f.body.push_back(P);
+  }
+  if (branch) {
+    f.body.front().push_back(
+        Raw("const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);"));
+    f.body.front().push_back(Raw("Scalar branch_measure = Scalar(1);"));
+    f.body.front().push_back(Raw("int branch_block = -1;"));
+  }
+  f.body.push_back({Raw(""), Raw(branch ? "return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, "
+                                          "branch_block};"
+                                        : "return {SolveStatus::kConverged, -1, iterations, Scalar(0)};")});
+  *possible = true;
   return f;
 }
 

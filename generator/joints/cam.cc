@@ -14,6 +14,9 @@
 
 #include "joints/joint_kind.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace mechgen {
 
 const KeyTable& LawSegmentKeys() {
@@ -227,6 +230,34 @@ class Cam : public JointKind {
       const std::string key = SegmentKey(s.kind);
       if (!(ValueAtDefaults(m, s.duration, s.duration_mark, key + " angle") > 0))
         m.Fail(s.duration_mark, key + " angle must be positive (a cam angle such as 90*deg)");
+    }
+    // An oscillating follower: its pivot must not be the cam's axis (the follower point would
+    // keep one distance from the cam's centre: no profile could lift it), and a roller's or
+    // knife-edge's point must not be its pivot (turning the follower would not move it).
+    const Joint& o = m.joints[c.follower_joint];
+    if (o.type() == JointType::kRevolute && c.pivot >= 0) {
+      auto at = [&](PointRef r, double* x, double* y) {
+        const LinkPoint& p = m.links[r.link].points[r.point];
+        *x = ValueAtDefaults(m, p.x, p.mark, "x of " + m.PointName(r));
+        *y = ValueAtDefaults(m, p.y, p.mark, "y of " + m.PointName(r));
+      };
+      double px, py, cx, cy, fx, fy, tx, ty;
+      at(o.End(c.carrier), &px, &py);
+      at(m.joints[c.pivot].End(c.carrier), &cx, &cy);
+      at(o.End(c.point.link), &fx, &fy);
+      at(c.point, &tx, &ty);
+      const double scale = std::max({1.0, std::abs(px), std::abs(py), std::abs(cx), std::abs(cy)});
+      if (std::hypot(px - cx, py - cy) <= 1e-12 * scale)
+        m.Fail(c.follower_mark, "cam '" + j.name + "': the follower's pivot (joint '" + o.name +
+                                    "') is the cam's axis (joint '" + m.joints[c.pivot].name +
+                                    "') at the parameters' defaults, so the follower point keeps one distance from "
+                                    "the cam's centre and no profile can move it; pivot the follower elsewhere");
+      // (A flat face may pass through its pivot: its point only names the face's line.)
+      if (!c.flat_face && std::hypot(fx - tx, fy - ty) <= 1e-12 * std::max({1.0, std::abs(fx), std::abs(fy)}))
+        m.Fail(c.follower_mark, "cam '" + j.name + "': the follower point " + m.PointName(c.point) +
+                                    " is the follower's pivot (joint '" + o.name +
+                                    "') at the parameters' defaults, so turning the follower does not move it; "
+                                    "give the follower arm a length");
     }
     if (c.contour == CamData::Contour::kExpressions) {  // (the default period, 2 pi, passes)
       const std::string what = "contour of cam '" + j.name + "'";

@@ -5,6 +5,9 @@
 //   cut joint:   r1 (th1 - thc) +- r2 (th2 - thc) = phase, one row (+ external, - internal)
 #include "joints/joint_kind.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <sstream>
 
 namespace mechgen {
@@ -58,9 +61,45 @@ class Gear : public JointKind {
 
   void Check(const Model& m, const Joint& j) const override {
     const GearData& d = j.Data<GearData>();
-    for (int i = 0; i < 2; ++i)
-      if (!(ValueAtDefaults(m, d.radius[i], d.radius_mark[i], "pitch radius") > 0))
-        m.Fail(d.radius_mark[i], "a pitch radius must be positive");
+    double r[2];
+    for (int i = 0; i < 2; ++i) {
+      r[i] = ValueAtDefaults(m, d.radius[i], d.radius_mark[i], "pitch radius");
+      if (!(r[i] > 0)) m.Fail(d.radius_mark[i], "a pitch radius must be positive");
+    }
+    // An internal pair: the second gear is the ring, larger than the gear inside it.
+    if (d.internal && !(r[1] > r[0]))
+      m.Fail(d.radius_mark[1], "gear pair '" + j.name + "' is internal, so '" + m.links[j.link_b].name +
+                                   "' is the ring and its pitch radius must exceed '" + m.links[j.link_a].name +
+                                   "''s (" + Text(r[1]) + " <= " + Text(r[0]) + "); swap the gears or the radii");
+    // Each gear's axis: its revolute joint to the carrier, where it has one. Both axes at one
+    // point of the carrier (coincident centres): no pair of pitch circles can mesh there.
+    double axis[2][2];
+    for (int i = 0; i < 2; ++i) {
+      const int gear = i == 0 ? j.link_a : j.link_b;
+      int found = -1;
+      for (size_t k = 0; k < m.joints.size(); ++k) {
+        const Joint& o = m.joints[k];
+        if (o.type() == JointType::kRevolute && o.Joins(gear) && o.Joins(d.carrier)) found = static_cast<int>(k);
+      }
+      if (found < 0) return;
+      const PointRef at = m.joints[found].End(d.carrier);
+      const LinkPoint& p = m.links[at.link].points[at.point];
+      axis[i][0] = ValueAtDefaults(m, p.x, p.mark, "x of " + m.PointName(at));
+      axis[i][1] = ValueAtDefaults(m, p.y, p.mark, "y of " + m.PointName(at));
+    }
+    const double distance = std::hypot(axis[0][0] - axis[1][0], axis[0][1] - axis[1][1]);
+    if (distance <= 1e-12 * std::max(1.0, r[0] + r[1]))
+      m.Fail(j.mark, "gear pair '" + j.name + "': the axes of '" + m.links[j.link_a].name + "' and '" +
+                         m.links[j.link_b].name + "' coincide on '" + m.links[d.carrier].name +
+                         "' at the parameters' defaults, so their pitch circles (radii " + Text(r[0]) + " and " +
+                         Text(r[1]) + ") cannot mesh; place the axes " + Text(d.internal ? r[1] - r[0] : r[0] + r[1]) +
+                         " apart");
+  }
+
+  static std::string Text(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
   }
 
   bool IsLowerPair() const override { return false; }

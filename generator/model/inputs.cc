@@ -44,6 +44,7 @@ void ReadInputs(SectionReader& r, const YAML::Node& node) {
       } else {
         if (!value.IsSequence() || value.size() != 2)
           r.Fail(value, "range must be [min, max]");
+        in.range_mark = MarkOf(value);
         in.min = r.Number(value[0], "range min");
         in.max = r.Number(value[1], "range max");
         has_range = true;

@@ -218,6 +218,7 @@ struct Input {
   int joint = -1;
   double min = 0, max = 0;  ///< default sweep range
   SourceMark mark;
+  SourceMark range_mark;  ///< its range: [min, max] (line 0 when the range is the default)
 };
 
 /// A quantity the generated code can compute, beyond the positions (always computed).

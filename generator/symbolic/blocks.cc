@@ -4,9 +4,11 @@
 #include "symbolic/dyads.h"
 
 #include <algorithm>
+#include <string>
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -21,6 +23,35 @@ struct RotationSplit {
   Vec2 p, rest;
 };
 
+// cos and sin of u + r (r free of u; a slot's or a point's constant angle on the link of
+// angle u) expanded into cos u, sin u: cos(u + r) = cos u cos r - sin u sin r, and so on.
+struct ExpandAngleSums : GiNaC::map_function {
+  explicit ExpandAngleSums(const GiNaC::symbol& u) : u(u) {}
+  ex operator()(const ex& e) override {
+    if (!e.has(u)) return e;
+    if (GiNaC::is_a<GiNaC::function>(e) && e.nops() == 1) {
+      const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+      if (name == "cos" || name == "sin") {
+        const ex arg = e.op(0).expand();
+        if (arg.degree(u) == 1 && arg.ldegree(u) >= 0) {
+          const ex c = arg.coeff(u, 1), r = arg.coeff(u, 0);
+          if (!r.is_zero() && !r.has(u) && (c.is_equal(1) || c.is_equal(-1))) {
+            const ex cu = GiNaC::cos(u), su = c * GiNaC::sin(u);  // cos(c u), sin(c u)
+            return name == "cos" ? cu * GiNaC::cos(r) - su * GiNaC::sin(r) : su * GiNaC::cos(r) + cu * GiNaC::sin(r);
+          }
+        }
+      }
+    }
+    return e.map(*this);
+  }
+  const GiNaC::symbol& u;
+};
+
+ex ExpandAngles(const ex& e, const GiNaC::symbol& u) {
+  ExpandAngleSums f(u);
+  return f(e);
+}
+
 std::optional<RotationSplit> SplitRotation(const Vec2& phi, const GiNaC::symbol& u) {
   GiNaC::symbol C("C"), S("S");
   GiNaC::exmap m;
@@ -28,7 +59,7 @@ std::optional<RotationSplit> SplitRotation(const Vec2& phi, const GiNaC::symbol&
   m[GiNaC::sin(u)] = S;
   ex e[2];
   for (int a = 0; a < 2; ++a) {
-    e[a] = phi[a].expand().subs(m);
+    e[a] = ExpandAngles(phi[a], u).expand().subs(m);
     if (e[a].has(u)) return std::nullopt;  // u also appears otherwise (cos(u + alpha), u * ...)
     if (e[a].degree(C) > 1 || e[a].degree(S) > 1 || e[a].coeff(C, 1).has(S)) return std::nullopt;
   }
@@ -62,7 +93,7 @@ void Recognize(const Kinematics& k, Block* b) {
       GiNaC::exmap m;
       m[GiNaC::cos(c.symbol)] = C;
       m[GiNaC::sin(c.symbol)] = S;
-      const ex g = f.subs(m);
+      const ex g = ExpandAngles(f, c.symbol).expand().subs(m);
       if (g.has(c.symbol) || g.degree(C) > 1 || g.degree(S) > 1 || g.coeff(C, 1).has(S)) return;
       b->solve = BlockSolve::kAngle;
       b->c0 = g.coeff(C, 0).coeff(S, 0);
@@ -227,6 +258,289 @@ void ChooseMode(const Kinematics& k, Block* b, int index, GiNaC::exmap* values, 
   for (const int c : b->cols) (*values)[k.phi[c].symbol] = chosen[c];
 }
 
+
+// ---- Reach over the declared input ranges ---------------------------------------------
+
+// An expression compiled for evaluation in double over numbered slots (the generator's
+// symbols: parameters, inputs, unknowns, the closed forms' locals): thousands of
+// evaluations per model, where GiNaC's subs and evalf would take seconds.
+class Compiled {
+ public:
+  using Slots = std::map<ex, int, GiNaC::ex_is_less>;
+  // Returns false (and compiles nothing) for what it does not know (a cam law's function).
+  bool Compile(const ex& e, const Slots& slots) {
+    ok_ = true;
+    root_ = Node(e, slots);
+    return ok_;
+  }
+  double operator()(const std::vector<double>& v) const { return root_(v); }
+
+ private:
+  using Fn = std::function<double(const std::vector<double>&)>;
+  Fn Fail() {
+    ok_ = false;
+    return [](const std::vector<double>&) { return std::nan(""); };
+  }
+  Fn Node(const ex& e, const Slots& slots) {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) {
+      const GiNaC::numeric n = GiNaC::ex_to<GiNaC::numeric>(e);
+      const double d = n.is_real() ? n.to_double() : std::nan("");
+      return [d](const std::vector<double>&) { return d; };
+    }
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      const auto it = slots.find(e);
+      if (it == slots.end()) return Fail();
+      const int i = it->second;
+      return [i](const std::vector<double>& v) { return v[i]; };
+    }
+    if (GiNaC::is_a<GiNaC::constant>(e)) {
+      const ex n = e.evalf();
+      if (!GiNaC::is_a<GiNaC::numeric>(n)) return Fail();
+      const double d = GiNaC::ex_to<GiNaC::numeric>(n).to_double();
+      return [d](const std::vector<double>&) { return d; };
+    }
+    std::vector<Fn> ops;
+    for (size_t i = 0; i < e.nops(); ++i) ops.push_back(Node(e.op(i), slots));
+    if (!ok_) return Fail();
+    if (GiNaC::is_a<GiNaC::add>(e))
+      return [ops](const std::vector<double>& v) {
+        double sum = 0;
+        for (const Fn& f : ops) sum += f(v);
+        return sum;
+      };
+    if (GiNaC::is_a<GiNaC::mul>(e))
+      return [ops](const std::vector<double>& v) {
+        double product = 1;
+        for (const Fn& f : ops) product *= f(v);
+        return product;
+      };
+    if (GiNaC::is_a<GiNaC::power>(e)) {
+      const Fn b = ops[0], x = ops[1];
+      if (e.op(1).is_equal(GiNaC::numeric(1, 2))) return [b](const std::vector<double>& v) { return std::sqrt(b(v)); };
+      return [b, x](const std::vector<double>& v) { return std::pow(b(v), x(v)); };
+    }
+    if (!GiNaC::is_a<GiNaC::function>(e)) return Fail();
+    const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+    using Unary = double (*)(double);
+    static const std::map<std::string, Unary> unary = {
+        {"sin", [](double x) { return std::sin(x); }},   {"cos", [](double x) { return std::cos(x); }},
+        {"tan", [](double x) { return std::tan(x); }},   {"asin", [](double x) { return std::asin(x); }},
+        {"acos", [](double x) { return std::acos(x); }}, {"atan", [](double x) { return std::atan(x); }},
+        {"exp", [](double x) { return std::exp(x); }},   {"log", [](double x) { return std::log(x); }},
+        {"abs", [](double x) { return std::abs(x); }}};
+    if (ops.size() == 1 && unary.count(name)) {
+      const Unary f = unary.at(name);
+      const Fn a = ops[0];
+      return [f, a](const std::vector<double>& v) { return f(a(v)); };
+    }
+    if (ops.size() == 2 && name == "atan2") {
+      const Fn y = ops[0], x = ops[1];
+      return [y, x](const std::vector<double>& v) { return std::atan2(y(v), x(v)); };
+    }
+    if (ops.size() == 2 && name == "stable_half") {  // -(B + sign(B) sq) / 2
+      const Fn b = ops[0], sq = ops[1];
+      return [b, sq](const std::vector<double>& v) {
+        const double B = b(v), S = sq(v);
+        return -(B + (B >= 0 ? S : -S)) / 2;
+      };
+    }
+    if (ops.size() == 5 && name == "quadratic_root") {  // (A, B, C, qq, mode)
+      return [ops](const std::vector<double>& v) {
+        const double A = ops[0](v), B = ops[1](v), C = ops[2](v), Q = ops[3](v), M = ops[4](v);
+        return ((M > 0) == (B >= 0)) ? (Q != 0 ? C / Q : 0.0) : Q / A;
+      };
+    }
+    return Fail();
+  }
+
+  bool ok_ = true;
+  Fn root_;
+};
+
+// The closed-form blocks compiled in solve order, evaluated at inputs q on the default
+// modes. Blocks after a Newton block that read its unknowns, and blocks with a function the
+// evaluator does not know (a cam law), are left out, with everything that reads theirs.
+class ReachModel {
+ public:
+  ReachModel(const Model& m, const Kinematics& k, const std::vector<Block>& blocks) : k_(k), blocks_(blocks) {
+    Compiled::Slots slots;
+    auto slot = [&](const ex& symbol) {
+      const auto it = slots.find(symbol);
+      if (it != slots.end()) return it->second;
+      const int i = static_cast<int>(values_.size());
+      slots[symbol] = i;
+      values_.push_back(std::nan(""));
+      return i;
+    };
+    for (const Parameter& p : m.params) values_[slot(p.symbol)] = p.value;
+    for (const Coordinate& c : k.q) q_slots_.push_back(slot(c.symbol));
+    for (const Coordinate& c : k.phi) phi_slots_.push_back(slot(c.symbol));
+    values_[slot(ScalarEpsilon())] = std::numeric_limits<double>::epsilon();
+    std::vector<bool> known(k.phi.size(), false);
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      const Block& b = blocks[bi];
+      if (b.solve == BlockSolve::kNewton) continue;
+      BlockCode code;
+      code.index = static_cast<int>(bi);
+      code.form = FormulateClosedForm(k, b, code.index);
+      values_[slot(code.form.mode)] = b.default_mode;
+      bool ok = true;
+      // The unknowns it reads must come from blocks evaluated here.
+      for (const DyadStep& st : code.form.steps)
+        for (size_t c = 0; c < k.phi.size(); ++c)
+          for (const ex& e : {st.value, st.x, st.y, st.slack})
+            if (!known[c] && std::find(b.cols.begin(), b.cols.end(), static_cast<int>(c)) == b.cols.end() &&
+                e.has(k.phi[c].symbol))
+              ok = false;
+      for (size_t si = 0; si < code.form.steps.size(); ++si) {
+        if (!ok) break;
+        const DyadStep& st = code.form.steps[si];
+        Step step;
+        step.step = static_cast<int>(si);  // an index: BlockCode is copied when code_ grows
+        auto compile = [&](const ex& e, Compiled* out) { ok = ok && out->Compile(e, slots); };
+        switch (st.kind) {
+          case DyadStep::Kind::kLocal:
+            if (!GiNaC::is_a<GiNaC::symbol>(st.symbol) || st.symbol.is_equal(st.value)) continue;
+            compile(st.value, &step.value);
+            step.target = slot(st.symbol);
+            break;
+          case DyadStep::Kind::kRequire:
+            compile(st.value, &step.value);
+            if (!st.slack.is_zero()) compile(st.slack, &step.slack);
+            if (!st.clamped_name.empty()) step.target = slot(st.clamped);
+            break;
+          case DyadStep::Kind::kAngle:
+            compile(st.y, &step.y);
+            compile(st.x, &step.x);
+            compile(st.value, &step.value);
+            step.target = phi_slots_[st.col];
+            break;
+          case DyadStep::Kind::kValue:
+            compile(st.value, &step.value);
+            step.target = phi_slots_[st.col];
+            break;
+        }
+        code.steps.push_back(step);
+      }
+      if (!ok) continue;
+      for (int c : b.cols) known[c] = true;
+      code_.push_back(std::move(code));
+    }
+  }
+
+  bool Empty() const { return code_.empty(); }
+
+  // Evaluates the blocks at q; false at the first requirement that fails (*block, *what).
+  bool Closes(const std::vector<double>& q, int* block, std::string* what) {
+    for (size_t i = 0; i < q.size(); ++i) values_[q_slots_[i]] = q[i];
+    for (const BlockCode& code : code_) {
+      for (const Step& s : code.steps) {
+        const DyadStep& st = code.form.steps[s.step];
+        switch (st.kind) {
+          case DyadStep::Kind::kLocal:
+            values_[s.target] = s.value(values_);
+            break;
+          case DyadStep::Kind::kRequire: {
+            const double d = s.value(values_);
+            const double slack = st.slack.is_zero() ? 0.0 : s.slack(values_);
+            const bool ok = st.require == DyadStep::Require::kNonNegative    ? d >= -slack
+                            : st.require == DyadStep::Require::kAbsAtMostOne ? std::abs(d) <= 1 + slack
+                            : st.require == DyadStep::Require::kPositive     ? d > 0
+                                                                             : d != 0;
+            if (!ok) {
+              *block = code.index;
+              *what = st.what;
+              return false;
+            }
+            if (!st.clamped_name.empty())
+              values_[s.target] = st.require == DyadStep::Require::kNonNegative ? std::max(d, 0.0)
+                                                                                : std::max(-1.0, std::min(d, 1.0));
+            break;
+          }
+          case DyadStep::Kind::kAngle:
+            values_[s.target] = std::atan2(s.y(values_), s.x(values_)) + s.value(values_);
+            break;
+          case DyadStep::Kind::kValue:
+            values_[s.target] = s.value(values_);
+            break;
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  struct Step {
+    int step = -1;  ///< index into the form's steps
+    Compiled value, x, y, slack;
+    int target = -1;
+  };
+  struct BlockCode {
+    int index = 0;
+    ClosedForm form;
+    std::vector<Step> steps;
+  };
+  const Kinematics& k_;
+  const std::vector<Block>& blocks_;
+  std::vector<double> values_;
+  std::vector<int> q_slots_, phi_slots_;
+  std::vector<BlockCode> code_;
+};
+
+// Every closed-form block must close over each input's declared range (the others at
+// their assembly values) at the parameters' defaults, on the default modes: walked from
+// the assembly input to each end of the range; where it stops closing is found by
+// bisection and reported at the input's range.
+void CheckReach(const Model& m, const Kinematics& k, const std::vector<Block>& blocks) {
+  ReachModel reach(m, k, blocks);
+  if (reach.Empty()) return;
+  constexpr int kSamples = 720;
+  for (int i = 0; i < k.nq(); ++i) {
+    const double lo = std::min(k.q_min[i], k.q_max[i]), hi = std::max(k.q_min[i], k.q_max[i]);
+    if (!(hi > lo) || !std::isfinite(hi - lo)) continue;
+    std::vector<double> q = k.assembly_q;
+    const double start = std::min(hi, std::max(lo, k.assembly_q[i]));
+    int block = -1;
+    std::string what;
+    q[i] = start;
+    if (!reach.Closes(q, &block, &what)) continue;  // the assembly's own check reports it
+    for (const double end : {hi, lo}) {
+      const double h = (hi - lo) / kSamples;
+      double good = start;
+      const int n = static_cast<int>(std::ceil(std::abs(end - start) / h));
+      for (int s = 1; s <= n; ++s) {
+        const double at = s == n ? end : start + (end > start ? h : -h) * s;
+        q[i] = at;
+        if (reach.Closes(q, &block, &what)) {
+          good = at;
+          continue;
+        }
+        // Bisection between the last input that closes and this one.
+        double bad = at;
+        for (int it = 0; it < 60 && std::abs(bad - good) > 1e-12 * (1 + std::abs(good)); ++it) {
+          q[i] = (good + bad) / 2;
+          int b2 = -1;
+          std::string w2;
+          if (reach.Closes(q, &b2, &w2)) {
+            good = q[i];
+          } else {
+            bad = q[i];
+            block = b2;
+            what = w2;
+          }
+        }
+        const Input& in = m.inputs[i];
+        const bool angle = k.q[i].is_angle;
+        m.Fail(in.range_mark.line > 0 ? in.range_mark : in.mark,
+               "input '" + k.q[i].name + "' is driven over [" + Number(k.q_min[i], angle) + ", " +
+                   Number(k.q_max[i], angle) + "], but block " + std::to_string(block) + " (" +
+                   blocks[block].Describe(k) + ") stops closing at " + k.q[i].name + " = " + Number(good, angle) +
+                   " (from the assembly at " + Number(start, angle) + "; " + what +
+                   " beyond it) with the parameters' default values; narrow the range or change the lengths");
+      }
+    }
+  }
+}
 }  // namespace
 
 std::string Block::Describe(const Kinematics& k) const {
@@ -391,6 +705,7 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
     }
     blocks.push_back(b);
   }
+  if (strategy == Strategy::kBlocks) CheckReach(m, k, blocks);
   return blocks;
 }
 

@@ -1,7 +1,9 @@
 // The closed-form dyad solutions, formulated once. See dyads.h.
 #include "symbolic/dyads.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace mechgen {
 
@@ -53,13 +55,35 @@ class Builder {
     f_.steps.push_back(s);
     return s.symbol;
   }
-  void Require(DyadStep::Require r, const ex& value, const ex& measure) {
+  // A requirement; with a slack, also the value clamped into the range (returned; else
+  // the value itself).
+  ex Require(DyadStep::Require r, const ex& value, const ex& measure, bool singular, const std::string& what,
+             const ex& slack = 0, const std::string& clamped_name = "") {
     DyadStep s;
     s.kind = DyadStep::Kind::kRequire;
     s.require = r;
     s.value = value;
     s.measure = measure;
+    s.singular = singular;
+    s.what = what;
+    s.slack = slack;
+    ex result = value;
+    if (!clamped_name.empty()) {
+      s.clamped_name = clamped_name;
+      s.clamped = GiNaC::symbol(clamped_name + f_.suffix);
+      result = s.clamped;
+    }
     f_.steps.push_back(s);
+    return result;
+  }
+  // Requires a squared length to be positive unless it is a positive number already.
+  void RequirePositive(const ex& value, const std::string& what) {
+    if (GiNaC::is_a<GiNaC::numeric>(value) && GiNaC::ex_to<GiNaC::numeric>(value).is_positive()) return;
+    Require(DyadStep::Require::kPositive, value, value, true, what);
+  }
+  void RequireNonZero(const ex& value, const std::string& what) {
+    if (GiNaC::is_a<GiNaC::numeric>(value) && !value.is_zero()) return;
+    Require(DyadStep::Require::kNonZero, value, value, true, what);
   }
   void Angle(int col, const ex& y, const ex& x, const ex& plus = 0) {
     DyadStep s;
@@ -87,12 +111,18 @@ class Builder {
 
 }  // namespace
 
+const GiNaC::symbol& ScalarEpsilon() {
+  static const GiNaC::symbol eps("scalar_epsilon");
+  return eps;
+}
+
 ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
   ClosedForm f;
   f.suffix = "_b" + std::to_string(index);
   f.mode = GiNaC::symbol("mode" + f.suffix);
   Builder s(&f);
   const ex mode = f.mode;
+  const ex eps = ScalarEpsilon();
   switch (b.solve) {
     case BlockSolve::kRR: {
       // R(u) a + R(v) b = w: the tip m = R(u) a lies on the circles |m| = |a|, |w - m| = |b|.
@@ -101,13 +131,26 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
       const ex bx = s.Local("bx", b.b[0]), by = s.Local("by", b.b[1]);
       const ex wx = s.Local("wx", -b.w0[0]), wy = s.Local("wy", -b.w0[1]);
       const ex ra2 = s.Local("ra2", ax * ax + ay * ay), rb2 = s.Local("rb2", bx * bx + by * by);
+      // A link of zero length: its angle is not determined.
+      s.RequirePositive(ra2, "a link of the dyad has zero length");
+      s.RequirePositive(rb2, "a link of the dyad has zero length");
       const ex d2 = s.Local("d2", wx * wx + wy * wy);
+      // Coincident centres (to rounding): the dyad may turn about them, nothing fixes it.
+      s.Require(DyadStep::Require::kPositive, d2 - eps * eps * (ra2 + rb2), d2, true,
+                "the two circle centres coincide");
       const ex inv_d2 = s.Local("inv_d2", 1 / d2);
       const ex kk = s.Local("k", GiNaC::numeric(1, 2) + (ra2 - rb2) * inv_d2 / 2);
       const ex h2 = s.Local("h2", ra2 * inv_d2 - kk * kk);
-      // h2 < 0: the two circles do not meet, the loop cannot close (NaN also fails).
-      s.Require(DyadStep::Require::kNonNegative, h2, h2);
-      const ex h = s.Local("h", mode * GiNaC::sqrt(h2));
+      // h2 < 0: the two circles do not meet, the loop cannot close (NaN also fails); within
+      // the rounding of its terms, the circles touch (h2 = 0).
+      const ex h2c = s.Require(DyadStep::Require::kNonNegative, h2, h2, false, "the two circles do not meet",
+                               64 * eps * (ra2 * inv_d2 + GiNaC::abs(kk) * (1 + (ra2 + rb2) * inv_d2)), "h2c");
+      // |m x w| = |h| |w|^2 = |a| |b| |sin(angle between the links)|.
+      f.branch_num = h2c * d2 * d2;
+      f.branch_den = ra2 * rb2;
+      f.has_branch = true;
+      f.branch_den_positive = true;
+      const ex h = s.Local("h", mode * GiNaC::sqrt(h2c));
       const ex mx = s.Local("mx", kk * wx - h * wy), my = s.Local("my", kk * wy + h * wx);
       // u: the angle from a to m, v: from b to w - m, each one atan2 of (cross, dot).
       const ex cu = s.Local("cross_u", ax * my - ay * mx), du = s.Local("dot_u", ax * mx + ay * my);
@@ -124,14 +167,19 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
       // c0 + c1 cos u + c2 sin u = 0: rho cos(u - delta) = -c0.
       const ex c0 = s.Local("c0", b.c0), c1 = s.Local("c1", b.c1), c2 = s.Local("c2", b.c2);
       const ex rho = s.Local("rho", GiNaC::sqrt(c1 * c1 + c2 * c2));
+      s.RequirePositive(rho, "the angle moves nothing (c1 = c2 = 0: a link of zero length)");
       const ex cos_arg = s.Local("cos_arg", -c0 / rho);
-      s.Require(DyadStep::Require::kAbsAtMostOne, cos_arg, 1 - GiNaC::abs(cos_arg));
-      s.Angle(b.cols[0], c2, c1, mode * GiNaC::acos(cos_arg));
+      const ex cos_argc = s.Require(DyadStep::Require::kAbsAtMostOne, cos_arg, 1 - GiNaC::abs(cos_arg), false,
+                                    "the loop cannot close, |c0| > sqrt(c1^2 + c2^2)", 64 * eps, "cos_argc");
+      s.Angle(b.cols[0], c2, c1, mode * GiNaC::acos(cos_argc));
+      f.branch_num = 1 - cos_argc * cos_argc;
+      f.branch_den = 1;
+      f.has_branch = true;
       break;
     }
     case BlockSolve::kLinear: {
       const ex c1 = s.Local("c1", b.c1);
-      if (!GiNaC::is_a<GiNaC::numeric>(c1)) s.Require(DyadStep::Require::kNonZero, c1, c1);
+      s.RequireNonZero(c1, "its coefficient is zero");
       s.Value(b.cols[0], -b.c0 / c1);
       break;
     }
@@ -144,27 +192,36 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
       const ex B = s.Local("B", poly.coeff(sx, 1)), C = s.Local("C", poly.coeff(sx, 0));
       ex root;
       if (A.is_zero()) {
-        s.Require(DyadStep::Require::kNonZero, B, B);
+        s.RequireNonZero(B, "the slide's equation does not depend on it");
         root = s.Local("s", -C / B);
       } else {
         const ex An = s.Local("A", A);
+        s.RequireNonZero(An, "its quadratic has no s^2 term here");
         const ex disc = s.Local("disc", B * B - 4 * An * C);
-        // disc < 0: the circle and the line do not meet.
-        s.Require(DyadStep::Require::kNonNegative, disc, disc);
-        const ex sq = s.Local("sq", GiNaC::sqrt(disc));
+        // disc < 0: the circle and the line do not meet (within rounding: they touch).
+        const ex scale = s.Local("disc_scale", B * B + 4 * GiNaC::abs(An * C));
+        const ex discc = s.Require(DyadStep::Require::kNonNegative, disc, disc, false,
+                                   "the circle and the line do not meet", 64 * eps * scale, "discc");
+        const ex sq = s.Local("sq", GiNaC::sqrt(discc));
         // The root of the requested sign without cancellation: roots qq / A and C / qq.
         const ex qq = s.Local("qq", stable_half(B, sq));
         root = s.Local("s", quadratic_root(An, B, C, qq, mode));
+        f.branch_num = discc;
+        f.branch_den = scale;
+        f.has_branch = true;
       }
       GiNaC::exmap at;
       at[sx] = root;
       const ex ax = s.Local("ax", b.a[0].subs(at)), ay = s.Local("ay", b.a[1].subs(at));
       const ex wx = s.Local("wx", -b.w0[0].subs(at)), wy = s.Local("wy", -b.w0[1].subs(at));
       s.Value(x, root);
+      // a(s) = 0: the slider's point on the pivot, the angle is not determined.
+      const ex a2 = s.Local("a2", ax * ax + ay * ay);
+      s.RequirePositive(a2, "the sliding point lies on the pivot (|a(s)| = 0)");
       // u: the angle from a to w, one atan2 of (cross, dot); R(u) a = w: a.w = |a|^2 cos u.
       const ex cu = s.Local("cross_u", ax * wy - ay * wx), du = s.Local("dot_u", ax * wx + ay * wy);
       s.Angle(u, cu, du);
-      s.Trig(u, "inv_a2", ax * ax + ay * ay, du, cu);
+      s.Trig(u, "inv_a2", a2, du, cu);
       break;
     }
     case BlockSolve::kSS: {
@@ -173,7 +230,7 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
       const ex e1x = s.Local("e1x", b.e1[0]), e1y = s.Local("e1y", b.e1[1]);
       const ex w0x = s.Local("w0x", b.w0[0]), w0y = s.Local("w0y", b.w0[1]);
       const ex det = s.Local("det", e0x * e1y - e0y * e1x);
-      s.Require(DyadStep::Require::kNonZero, det, det);  // parallel slides
+      s.RequireNonZero(det, "the two slides are parallel");
       const ex inv = s.Local("inv_det", 1 / det);
       s.Value(b.cols[0], (-w0x * e1y + w0y * e1x) * inv);
       s.Value(b.cols[1], (-e0x * w0y + e0y * w0x) * inv);
@@ -193,6 +250,7 @@ bool EvaluateClosedForm(const ClosedForm& f,
                         const DyadStep** failed) {
   GiNaC::exmap v = values;
   v[f.mode] = mode;
+  v[ScalarEpsilon()] = std::numeric_limits<double>::epsilon();
   auto eval = [&](const ex& e) {
     double d;
     return Number(e.subs(v), &d) ? d : std::nan("");
@@ -207,12 +265,20 @@ bool EvaluateClosedForm(const ClosedForm& f,
       }
       case DyadStep::Kind::kRequire: {
         const double d = eval(s.value);
-        const bool ok = s.require == DyadStep::Require::kNonNegative    ? d >= 0
-                        : s.require == DyadStep::Require::kAbsAtMostOne ? std::abs(d) <= 1
+        const double slack = s.slack.is_zero() ? 0.0 : eval(s.slack);
+        const bool ok = s.require == DyadStep::Require::kNonNegative    ? d >= -slack
+                        : s.require == DyadStep::Require::kAbsAtMostOne ? std::abs(d) <= 1 + slack
+                        : s.require == DyadStep::Require::kPositive     ? d > 0
                                                                         : d != 0;
         if (!ok) {
           *failed = &s;
           return false;
+        }
+        if (!s.clamped_name.empty()) {
+          const double c = s.require == DyadStep::Require::kNonNegative ? std::max(d, 0.0)
+                                                                         : std::max(-1.0, std::min(d, 1.0));
+          (*locals)[s.clamped_name] = c;
+          v[s.clamped] = c;
         }
         break;
       }

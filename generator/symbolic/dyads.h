@@ -8,6 +8,16 @@
 //     guess and to check that the loop can be assembled there (blocks.cc),
 // so the sign convention of a mode lives in one place.
 //
+// The generated solver's contract (issue 12): a closed form never hands out NaN or inf as a
+// solution. Each form checks what makes it degenerate before dividing (coincident circle
+// centres, a link of zero length, a zero coefficient: DyadStep::singular, reported as
+// SolveStatus::kSingular) and what makes it unassemblable (a negative discriminant:
+// kNotAssemblable); a discriminant that is negative only by rounding (|value| within
+// `slack`, a few ulps of the terms it is computed from) is taken as zero, so that an exact
+// change or dead point is solved (the double root) instead of failing at random. Each form
+// with two modes also gives its relative discriminant (`branch`, in [0, 1], 0 where its two
+// modes meet), which SolvePositions reports as SolveReport::branch_measure.
+//
 //   RRR  R(u) a + R(v) b = w:   tip m = R(u) a on the circles |m| = |a|, |w - m| = |b|:
 //        k = 1/2 + (|a|^2 - |b|^2) / 2|w|^2, h = mode sqrt(|a|^2/|w|^2 - k^2), m = k w + h w^perp
 //   RRP  R(u) a(s) = w(s):      |a(s)|^2 = |w(s)|^2, quadratic in s, the root of the mode's sign
@@ -39,11 +49,11 @@ DECLARE_FUNCTION_5P(quadratic_root)
 struct DyadStep {
   enum class Kind {
     kLocal,    ///< name = value (a symbol later steps use)
-    kRequire,  ///< else the block is not assemblable; `measure` is reported
+    kRequire,  ///< else the block fails (not assemblable, or singular); `measure` is reported
     kAngle,    ///< phi(col) = atan2(y, x) + value, kept continuous with its previous value
     kValue,    ///< phi(col) = value
   };
-  enum class Require { kNonNegative, kAbsAtMostOne, kNonZero };
+  enum class Require { kNonNegative, kAbsAtMostOne, kNonZero, kPositive };
   Kind kind = Kind::kLocal;
   std::string name;  ///< kLocal: the local's name without the block suffix
   GiNaC::ex symbol;  ///< kLocal: its symbol (named name + suffix), or its value when that is a number or a symbol
@@ -51,6 +61,15 @@ struct DyadStep {
   GiNaC::ex y, x;    ///< kAngle
   Require require = Require::kNonNegative;
   GiNaC::ex measure;  ///< kRequire
+  /// kRequire: a failure means the block is degenerate here (SolveStatus::kSingular: the
+  /// solution is not determined), not that the loop cannot close (kNotAssemblable).
+  bool singular = false;
+  /// kRequire (kNonNegative, kAbsAtMostOne): values outside the range by at most `slack`
+  /// (rounding) pass and are clamped into it as the local `clamped` (named clamped_name).
+  GiNaC::ex slack = 0;
+  GiNaC::ex clamped;
+  std::string clamped_name;
+  std::string what;  ///< kRequire: what a failure means, for the generator's messages
   int col = -1;       ///< kAngle, kValue: index into phi
 };
 
@@ -65,9 +84,22 @@ struct DyadTrig {
 struct ClosedForm {
   std::string suffix;  ///< "_b<block>": makes the locals' names unique in SolvePositions
   GiNaC::symbol mode;  ///< the assembly mode (+1 or -1)
+  /// The relative discriminant of a form with two modes, in [0, 1] (0 at a branch point,
+  /// where the two modes meet); 0 (no value) for forms with one solution. In terms of the
+  /// steps' locals: RRR sin^2 of the angle between the dyad's two links; one angle
+  /// 1 - cos_arg^2; RRP/RPR disc / (B^2 + 4 |A C|).
+  /// As branch_num / branch_den (branch_den > 0 where the form holds, or 0 where the
+  /// measure means nothing: then the measure is 0).
+  GiNaC::ex branch_num = 0, branch_den = 1;
+  bool has_branch = false;
+  bool branch_den_positive = false;  ///< the steps have required branch_den > 0 already
   std::vector<DyadStep> steps;
   std::vector<DyadTrig> trig;
 };
+
+/// The machine epsilon of the generated code's Scalar in the slack expressions (printed as
+/// the type's epsilon, evaluated as double's by EvaluateClosedForm).
+const GiNaC::symbol& ScalarEpsilon();
 
 /// The closed form of block `b` (index `index` in the solve order); b.solve must not be kNewton.
 ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index);

@@ -74,7 +74,7 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
   Q = a.Q;
   V = a.V;
   P_nc = 0;
-  for (int j = 0; j < nq; ++j) P_nc += a.Q_nc[j] * a.qd[j];
+  for (int j = 0; j < nq; ++j) P_nc += a.Q_nc[j] * a.qd[j];  // the non-conservative forces' own work
 
   // ---- the excess-coordinate formulation ----
   StaticsOptions xo = Dynamic(false);

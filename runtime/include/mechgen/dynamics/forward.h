@@ -188,6 +188,17 @@ struct HasDynamics : std::false_type {};
 template <class M>
 struct HasDynamics<M, std::void_t<typename M::template DynamicsT<double>>> : std::true_type {};
 
+/// The model has the generated SolveTrig (every block a closed form giving its angles' sin
+/// and cos; nothing downstream reads phi given trig): the stages need no angles.
+template <class M, class = void>
+struct HasSolveTrig : std::false_type {};
+template <class M>
+struct HasSolveTrig<M, std::void_t<decltype(M::template SolveTrig<double>(
+                           std::declval<const typename M::template ParamsT<double>&>(),
+                           std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
+                           std::declval<const std::array<int, M::kNumBlocks>&>(),
+                           std::declval<typename M::template TrigT<double>*>()))>> : std::true_type {};
+
 template <class M>
 constexpr bool AllBlocksClosedForm() {
   for (bool b : M::kBlockClosedForm)
@@ -240,6 +251,9 @@ class MinimalDynamics {
   using SampleT = Sample<M>;
   static constexpr bool kHasTrig = ModelFeatures<M>::kHasTrig;
   using Trig = typename mechgen::internal::TrigOf<M>::type;
+  /// The stages solve only the sin and cos of the angles (M::SolveTrig, no atan2); the angles
+  /// are recovered, continuous with the warm start's predictor, only where a sample needs them.
+  static constexpr bool kStagesByTrig = kHasTrig && kNphi > 0 && internal::HasSolveTrig<M>::value;
 
   explicit MinimalDynamics(const Params& params, const MinimalOptions& options = MinimalOptions())
       : p_(params), options_(options), integrator_(options.integrator) {}
@@ -287,7 +301,17 @@ class MinimalDynamics {
     const VecQ qd = y.template segment<kNq>(kNq);
     VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
     last_.valid = false;
-    if (!SolveAt(q, &phi)) {
+    if constexpr (kStagesByTrig) {
+      // sin and cos only: phi stays the predictor, which the generated functions given trig
+      // do not read; FromCache() recovers the angles at an accepted step.
+      last_solve_not_assemblable_ = false;
+      const auto report = M::template SolveTrig<double>(p_, q, modes_, &trig_);
+      if (report.status != decltype(report.status)::kConverged) {
+        last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+        ++position_failures_;
+        return false;
+      }
+    } else if (!SolveAt(q, &phi)) {
       ++position_failures_;
       return false;
     }
@@ -313,6 +337,7 @@ class MinimalDynamics {
       last_.sample.V = d.V;
       last_.sample.P_nc = d.P_nc;
       if constexpr (kNphi > 0) last_.Phi_phi = c.Phi_phi;
+      if constexpr (kStagesByTrig) last_.trig = trig_;
       last_.valid = true;
     }
     return true;
@@ -655,6 +680,15 @@ class MinimalDynamics {
     s->qd = y.template segment<kNq>(kNq);
     s->W = y(2 * kNq);
     s->E = s->T + s->V;
+    if constexpr (kStagesByTrig) {
+      // The angles from their sin and cos, within pi of the predictor (sample.phi).
+      const double two_pi = 6.283185307179586;
+      for (int i = 0; i < kNphi; ++i) {
+        const double angle = std::atan2(last_.trig.sin_phi(i), last_.trig.cos_phi(i));
+        const double turns = std::floor((angle - s->phi(i)) / two_pi + 0.5);
+        s->phi(i) = std::isfinite(turns) ? angle - two_pi * turns : angle;
+      }
+    }
     if constexpr (kNphi == 0) {
       s->rcond = 1;
       s->det = 1;
@@ -713,6 +747,7 @@ class MinimalDynamics {
     State y = State::Zero();
     SampleT sample;
     Eigen::Matrix<double, kNphi, kNphi> Phi_phi = Eigen::Matrix<double, kNphi, kNphi>::Zero();
+    Trig trig{};  ///< kStagesByTrig: the stage's sin and cos, for the angles
   };
   LastEvaluation last_;
   bool caching_ = false;

@@ -1,0 +1,151 @@
+// The generated SolveTrig (Model::SolveTrig), for every shipped model that has it: sin and
+// cos of every angle without the angles (no atan2), the same statuses as SolvePositions.
+// Oracles:
+//  - std::sin / std::cos of the angles the test's own Newton continuation finds on the
+//    assembly branch (kinematics_test_util.h), over the model's input range;
+//  - on every mode combination and over inputs beyond the range (where the loop may not
+//    close): SolvePositions' status, and std::sin / std::cos of its angles where it converges;
+//  - EvalCoefficients given SolveTrig's trig and a phi of NaNs equals EvalCoefficients
+//    without trig at the solved phi (the generator's promise that nothing reads phi then).
+// Models without SolveTrig (Newton blocks, displacement unknowns, one-angle forms, an angle
+// read downstream other than through sin and cos) skip.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <type_traits>
+#include <utility>
+
+#include "all_models.h"
+#include "kinematics_test_util.h"
+
+namespace {
+
+template <class M, class = void>
+struct HasSolveTrig : std::false_type {};
+template <class M>
+struct HasSolveTrig<M, std::void_t<decltype(M::template SolveTrig<double>(
+                           std::declval<const typename M::template ParamsT<double>&>(),
+                           std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
+                           std::declval<const std::array<int, M::kNumBlocks>&>(),
+                           std::declval<typename M::template TrigT<double>*>()))>> : std::true_type {};
+
+template <class M>
+class SolveTrigTest : public ::testing::Test {};
+TYPED_TEST_SUITE(SolveTrigTest, mechtest::AllModels, mechtest::ModelNames);
+
+template <class Trig>
+void Poison(Trig* trig) {
+  trig->sin_q.setConstant(NAN);
+  trig->cos_q.setConstant(NAN);
+  trig->sin_phi.setConstant(NAN);
+  trig->cos_phi.setConstant(NAN);
+}
+
+// |a - b| / max(1, |b|), the worst entry.
+template <class A, class B>
+double WorstRelative(const A& a, const B& b) {
+  double worst = 0;
+  for (int i = 0; i < a.rows(); ++i)
+    for (int j = 0; j < a.cols(); ++j)
+      worst = std::max(worst, std::abs(a(i, j) - b(i, j)) / std::max(1.0, std::abs(b(i, j))));
+  return worst;
+}
+
+TYPED_TEST(SolveTrigTest, DirectionCosinesOfTheAssemblyBranch) {
+  using M = TypeParam;
+  if constexpr (!HasSolveTrig<M>::value) {
+    GTEST_SKIP() << "no SolveTrig (Newton blocks, displacements or a raw angle downstream)";
+  } else {
+    const mechtest::ParamsD<M> p;
+    const auto configs = mechtest::SweepConfigs<M>(p, M::kNq == 1 ? 360 : 12);
+    ASSERT_FALSE(configs.empty());
+    for (const auto& c : configs) {
+      typename M::template TrigT<double> trig;
+      Poison(&trig);
+      const auto report = M::SolveTrig(p, c.q, M::kDefaultModes, &trig);
+      ASSERT_EQ(static_cast<int>(report.status), 0) << "q = " << c.q.transpose();
+      for (int j = 0; j < M::kNq; ++j) {
+        if (!M::kQIsAngle[j]) continue;
+        EXPECT_EQ(trig.sin_q(j), std::sin(c.q(j)));
+        EXPECT_EQ(trig.cos_q(j), std::cos(c.q(j)));
+      }
+      for (int i = 0; i < M::kNphi; ++i) {
+        EXPECT_NEAR(trig.sin_phi(i), std::sin(c.phi(i)), 1e-11) << M::kPhiNames[i] << " q = " << c.q.transpose();
+        EXPECT_NEAR(trig.cos_phi(i), std::cos(c.phi(i)), 1e-11) << M::kPhiNames[i] << " q = " << c.q.transpose();
+      }
+      // Given trig, EvalCoefficients does not read phi: NaNs there change nothing.
+      mechtest::VecPhi<M> nan_phi;
+      nan_phi.setConstant(NAN);
+      mechtest::CoeffsD<M> with, without;
+      M::Coeffs(p, c.q, nan_phi, &with, &trig);
+      M::Coeffs(p, c.q, c.phi, &without);
+      constexpr double kTol = 1e-9;
+      EXPECT_LT(WorstRelative(with.Phi, without.Phi), kTol);
+      EXPECT_LT(WorstRelative(with.Phi_phi, without.Phi_phi), kTol);
+      if constexpr (M::kOrder >= 1) {
+        EXPECT_LT(WorstRelative(with.K, without.K), kTol);
+      }
+      if constexpr (M::kOrder >= 2) {
+        EXPECT_LT(WorstRelative(with.L, without.L), kTol);
+      }
+      if constexpr (M::kNumPoints > 0) {
+        EXPECT_LT(WorstRelative(with.r_P, without.r_P), kTol);
+      }
+    }
+  }
+}
+
+TYPED_TEST(SolveTrigTest, SameStatusesAsSolvePositionsOnEveryMode) {
+  using M = TypeParam;
+  if constexpr (!HasSolveTrig<M>::value) {
+    GTEST_SKIP() << "no SolveTrig";
+  } else {
+    const mechtest::ParamsD<M> p;
+    constexpr int kBlocks = M::kNumBlocks;
+    int converged = 0, failed = 0;
+    for (int combo = 0; combo < (1 << kBlocks); ++combo) {
+      std::array<int, kBlocks> modes;
+      for (int b = 0; b < kBlocks; ++b) modes[b] = (combo >> b) & 1 ? -1 : 1;
+      // Inputs over twice the range, centred on it: beyond it the loop may not close.
+      const int n = M::kNq == 1 ? 400 : 40;
+      for (int k = 0; k < n; ++k) {
+        mechtest::VecQ<M> q;
+        for (int j = 0; j < M::kNq; ++j) {
+          const double lo = M::kQMin[j], hi = M::kQMax[j], span = hi - lo;
+          const double u = M::kNq == 1 ? double(k) / (n - 1) : std::fmod(0.6180339887498949 * (k + 1) * (j + 1), 1.0);
+          q(j) = lo - 0.5 * span + 2 * span * u;
+        }
+        mechtest::VecPhi<M> phi;
+        for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[i];
+        typename M::template TrigT<double> trig, trig_positions;
+        Poison(&trig);
+        const auto expected = M::Solve(p, q, &phi, modes, 20, 0.0, &trig_positions);
+        const auto report = M::SolveTrig(p, q, modes, &trig);
+        ASSERT_EQ(static_cast<int>(report.status), static_cast<int>(expected.status)) << "q = " << q.transpose();
+        EXPECT_EQ(report.block, expected.block);
+        if (expected.status != decltype(expected.status)::kConverged) {
+          // Later blocks read the earlier angles' direction cosines (not sin/cos of atan2).
+          EXPECT_NEAR(report.measure, expected.measure, 1e-9 * std::max(1.0, std::abs(expected.measure)))
+              << "q = " << q.transpose();
+          ++failed;
+          continue;
+        }
+        ++converged;
+        EXPECT_NEAR(report.branch_measure, expected.branch_measure, 1e-12);
+        EXPECT_EQ(report.branch_block, expected.branch_block);
+        for (int i = 0; i < M::kNphi; ++i) {
+          ASSERT_TRUE(std::isfinite(trig.sin_phi(i)) && std::isfinite(trig.cos_phi(i)));
+          EXPECT_NEAR(trig.sin_phi(i), std::sin(phi(i)), 1e-11) << M::kPhiNames[i] << " q = " << q.transpose();
+          EXPECT_NEAR(trig.cos_phi(i), std::cos(phi(i)), 1e-11) << M::kPhiNames[i] << " q = " << q.transpose();
+        }
+      }
+    }
+    EXPECT_GT(converged, 0);
+    this->RecordProperty("converged", converged);
+    this->RecordProperty("failed", failed);
+  }
+}
+
+}  // namespace
