@@ -4,6 +4,7 @@
 #
 #   bash fuzz/run.sh [model_seconds] [expression_seconds] [sweep_seconds]   # default 60 60 60
 #
+# (0 seconds skips a target; the corpora in build-fuzz/corpus/ grow from run to run.)
 # Builds fuzz/ with clang-14 into build-fuzz/ (MECHGEN_FUZZ_BUILD overrides) and keeps one
 # corpus per target in build-fuzz/corpus/<target>/ (grown run over run), seeded with
 #   model       models/*.yaml, fuzz/regressions/* (files), fuzz/degenerate/*.yaml and the
@@ -11,8 +12,9 @@
 #   expression  fuzz/seeds/expression/* (the shipped models' expressions) and the findings
 #   sweep       fuzz/seeds/sweep/* (argument lists, one argument per line) and the findings
 # with the dictionaries fuzz/yaml.dict, expression.dict, sweep.dict. The model target also
-# mutates lines and tokens itself (model_fuzzer.cc). A crash, sanitizer report, timeout
-# (> 60 s per input) or memory blow-up (> 2 GiB) is written to build-fuzz/artifacts/
+# mutates lines and tokens itself (model_fuzzer.cc). libFuzzer runs in fork mode (one job
+# at a time): a timeout (> 60 s per input) or memory blow-up (> 2 GiB) is kept and the
+# campaign goes on; a crash or sanitizer report stops it. Each is written to build-fuzz/artifacts/
 # <target>/; copy it to fuzz/regressions/ (model) or fuzz/regressions/<target>/ so that the ctests replay it forever.
 # Prints each target's executions, coverage (cov: edges, ft: features) and findings, and
 # the totals. The campaign of the issue 12 note was
@@ -42,22 +44,24 @@ total=0
 summary=""
 for i in 0 1 2; do
   t=${targets[$i]}
+  [ "${times[$i]}" = 0 ] && continue  # 0 seconds: skip this target
   dict=$PWD/fuzz/yaml.dict
   extra=(-max_len=8192)
-  [ "$t" = expression ] && dict=$PWD/fuzz/expression.dict && extra=(-max_len=512)
+  [ "$t" = expression ] && dict=$PWD/fuzz/expression.dict && extra=(-max_len=512 -timeout=10)
   [ "$t" = sweep ] && dict=$PWD/fuzz/sweep.dict && extra=(-max_len=1024 -close_fd_mask=3)
   mkdir -p "$build/artifacts/$t"
   log="$build/fuzz_$t.log"
   rc=0
   "$build/${t}_fuzzer" "$build/corpus/$t" -dict="$dict" -max_total_time="${times[$i]}" \
-    -timeout=60 -rss_limit_mb=2048 -print_final_stats=1 "${extra[@]}" \
+    -timeout=60 -rss_limit_mb=2048 -print_final_stats=1 -fork=1 -ignore_timeouts=1 -ignore_ooms=1 "${extra[@]}" \
     -artifact_prefix="$build/artifacts/$t/" >"$log" 2>&1 || rc=$?
   if [ $rc -ne 0 ]; then status=$rc; fi
-  runs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | awk '{print $2}' | tail -1 || true)
+  # (fork mode: the parent's last "#<executions>: cov: ... ft: ... corp: ..." line)
   last=$(grep -E '^#[0-9]+' "$log" | tail -1 || true)
+  runs=$(echo "$last" | grep -oE '^#[0-9]+' | tr -d '#' || true)
   cov=$(echo "$last" | grep -o 'cov: [0-9]*' | awk '{print $2}' || true)
   ft=$(echo "$last" | grep -o 'ft: [0-9]*' | awk '{print $2}' || true)
-  corpus=$(echo "$last" | grep -o 'corp: [0-9]*/[0-9a-zA-Z]*' | awk '{print $2}' || true)
+  corpus=$(echo "$last" | grep -oE 'corp: [0-9]+' | awk '{print $2}' || true)
   findings=$(find "$build/artifacts/$t" -type f | wc -l)
   total=$((total + ${runs:-0}))
   line=$(printf '%-10s %6ss  executions %9s  cov %6s  ft %6s  corpus %10s  findings %s  (rc %s)' \
