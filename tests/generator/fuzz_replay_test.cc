@@ -57,16 +57,4 @@ TEST(FuzzReplay, ExpressionFindingsAndSeeds) {
   }
 }
 
-// Open findings (fuzz/findings/, README there): inputs on which a target still fails, kept
-// until they are fixed; then they move to fuzz/regressions/ and this test's body runs them
-// with the others. Disabled: the one kept today hangs (a power of huge integers that GiNaC
-// evaluates exactly while parsing). Run with --gtest_also_run_disabled_tests.
-TEST(FuzzReplay, DISABLED_OpenExpressionFindings) {
-  for (const fs::path& f : Files(kFuzz / "findings" / "expression")) {
-    SCOPED_TRACE(f.string());
-    const std::string data = Read(f);
-    EXPECT_EQ(mechgen_fuzz::FuzzExpression(reinterpret_cast<const uint8_t*>(data.data()), data.size()), 0);
-  }
-}
-
 }  // namespace
