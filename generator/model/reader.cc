@@ -13,6 +13,7 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include <yaml-cpp/eventhandler.h>
 
@@ -381,6 +382,12 @@ std::string CharText(char c) {
   return std::string("'") + c + "'";
 }
 
+std::string G(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
 // The syntax of the expression language (models/README.md, "Expressions"), checked before
 // GiNaC's recursive parser sees the text: nesting is bounded, names are known, and an error
 // has its character.
@@ -416,29 +423,62 @@ class ExpressionSyntax {
     Skip();
     return i_ < t_.size() && t_[i_] == c;
   }
-  void Expression() {
-    Term();
-    while (At('+') || At('-')) ++i_, Term();
+  // What the checker knows of a sub-expression: constant (no parameter, table or load
+  // coordinate in it) and then its value in double (inf or NaN when out of double's range).
+  struct Value {
+    bool constant = false;
+    double v = 0;
+  };
+  static Value Combine(const Value& a, const Value& b, double v) { return {a.constant && b.constant, v}; }
+  Value Expression() {
+    Value a = Term();
+    while (At('+') || At('-')) {
+      const bool minus = t_[i_] == '-';
+      ++i_;
+      const Value b = Term();
+      a = Combine(a, b, minus ? a.v - b.v : a.v + b.v);
+    }
+    return a;
   }
-  void Term() {
-    Operand();
+  Value Term() {
+    Value a = Operand();
     while (At('*') || At('/')) {
+      const bool divide = t_[i_] == '/';
       ++i_;
       if (At('*') || At('/')) Fail(i_, "unexpected " + CharText(t_[i_]) + " (write a^b for a power)");
-      Operand();
+      const Value b = Operand();
+      a = Combine(a, b, divide ? a.v / b.v : a.v * b.v);
     }
+    return a;
   }
-  void Operand() {
-    Signs();
-    Primary();
-    if (!At('^')) return;
-    ++i_;
-    Signs();
-    Primary();
-    if (At('^')) Fail(i_, "a second '^' in a row: write (a^b)^c or a^(b^c)");
+  Value Operand() {
+    const bool negative = Signs();
+    Value base = Primary();
+    if (At('^')) {
+      const size_t hat = i_;
+      ++i_;
+      const bool negative_exponent = Signs();
+      Value exponent = Primary();
+      if (negative_exponent) exponent.v = -exponent.v;
+      if (At('^')) Fail(i_, "a second '^' in a row: write (a^b)^c or a^(b^c)");
+      if (exponent.constant && !(std::abs(exponent.v) <= kMaxConstantExponent))
+        Fail(hat, "a power whose exponent is a constant beyond " + G(kMaxConstantExponent) +
+                      " in magnitude (its exact value cannot be computed in reasonable time)");
+      if (exponent.constant && base.constant) {
+        const double digits = std::abs(exponent.v) * std::max(1.0, std::abs(std::log10(std::abs(base.v))));
+        if (!(digits <= kMaxExactDigits))
+          Fail(hat, "a power of constants whose exact value would have about " + G(digits) + " digits (at most " +
+                        G(kMaxExactDigits) + ")");
+      }
+      base = Combine(base, exponent, std::pow(base.v, exponent.v));
+    }
+    if (negative) base.v = -base.v;
+    return base;
   }
-  void Signs() {
-    while (At('+') || At('-')) ++i_;
+  bool Signs() {
+    bool negative = false;
+    while (At('+') || At('-')) negative ^= t_[i_++] == '-';
+    return negative;
   }
   void Open() {
     if (++depth_ > kMaxExpressionNesting)
@@ -454,18 +494,33 @@ class ExpressionSyntax {
     --depth_;
   }
   static bool IsNameChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
-  void Primary() {
+  static double Apply(const std::string& f, const std::vector<double>& x) {
+    if (f == "sin") return std::sin(x[0]);
+    if (f == "cos") return std::cos(x[0]);
+    if (f == "tan") return std::tan(x[0]);
+    if (f == "asin") return std::asin(x[0]);
+    if (f == "acos") return std::acos(x[0]);
+    if (f == "atan") return std::atan(x[0]);
+    if (f == "atan2") return std::atan2(x[0], x[1]);
+    if (f == "sqrt") return std::sqrt(x[0]);
+    if (f == "exp") return std::exp(x[0]);
+    if (f == "log") return std::log(x[0]);
+    if (f == "abs") return std::abs(x[0]);
+    return NAN;
+  }
+  Value Primary() {
     Skip();
     if (i_ == t_.size()) Fail(i_, "it ends where a number, a name or '(' is expected");
     const char c = t_[i_];
     if (c == '(') {
       const size_t open = i_;
       Open();
-      Expression();
+      const Value v = Expression();
       Close(open);
-    } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {
-      Number();
-    } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+      return v;
+    }
+    if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') return {true, Number()};
+    if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
       const size_t start = i_;
       while (i_ < t_.size() && IsNameChar(t_[i_])) ++i_;
       const std::string name = t_.substr(start, i_ - start);
@@ -483,30 +538,41 @@ class ExpressionSyntax {
         const int wanted = table ? 1 : fn->second;
         const size_t open = i_;
         Open();
-        int args = 1;
-        Expression();
-        while (At(',')) ++i_, Expression(), ++args;
+        std::vector<double> x;
+        bool constant = !table;
+        const Value first = Expression();
+        x.push_back(first.v);
+        constant = constant && first.constant;
+        while (At(',')) {
+          ++i_;
+          const Value more = Expression();
+          x.push_back(more.v);
+          constant = constant && more.constant;
+        }
         Close(open);
+        const int args = static_cast<int>(x.size());
         if (args != wanted)
           Fail(start, name + " takes " + std::to_string(wanted) + " argument" + (wanted > 1 ? "s" : "") + ", not " +
                           std::to_string(args));
-      } else if (table) {
-        Fail(start, "the table " + name + " needs its argument: " + name + "(x)");
-      } else if (fn != Functions().end()) {
+        return {constant, constant ? Apply(name, x) : 0.0};
+      }
+      if (table) Fail(start, "the table " + name + " needs its argument: " + name + "(x)");
+      if (fn != Functions().end())
         Fail(start, "the function " + name + " needs its argument" + (fn->second > 1 ? "s" : "") + ": " + name +
                         (fn->second > 1 ? "(y, x)" : "(x)"));
-      } else if (!names_.count(name)) {
+      if (!names_.count(name)) {
         std::string known;
         for (const auto& n : names_) known += (known.empty() ? "" : ", ") + n;
         Fail(start, "unknown name '" + name + "' (known: " + known + ")");
       }
-    } else if (c == ')') {
-      Fail(i_, "unexpected ')'; expected a number, a name or '('");
-    } else {
-      Fail(i_, "unexpected " + CharText(c) + "; expected a number, a name or '('");
+      if (name == "Pi") return {true, M_PI};
+      if (name == "deg") return {true, M_PI / 180};
+      return {false, 0.0};
     }
+    if (c == ')') Fail(i_, "unexpected ')'; expected a number, a name or '('");
+    Fail(i_, "unexpected " + CharText(c) + "; expected a number, a name or '('");
   }
-  void Number() {
+  double Number() {
     const size_t start = i_;
     auto digits = [&] {
       const size_t from = i_;
@@ -519,7 +585,13 @@ class ExpressionSyntax {
     if (i_ < t_.size() && (t_[i_] == 'e' || t_[i_] == 'E')) {
       ++i_;
       if (i_ < t_.size() && (t_[i_] == '+' || t_[i_] == '-')) ++i_;
+      const size_t exponent_start = i_;
       if (digits() == 0) Fail(start, "a number with an exponent but no exponent digits");
+      // GiNaC's reader builds 10^exponent exactly, even for a mantissa of 0 (0e308308045).
+      const std::string exponent = t_.substr(exponent_start, i_ - exponent_start);
+      if (exponent.size() > 4 || std::stoi(exponent) > 400)
+        Fail(start, "a number whose exponent (e" + (exponent.size() > 12 ? exponent.substr(0, 12) + "..." : exponent) +
+                        ") is beyond 400 in magnitude");
     }
     if (i_ < t_.size() && (IsNameChar(t_[i_]) || t_[i_] == '.'))
       Fail(i_, "unexpected " + CharText(t_[i_]) + " right after a number (write 2*b for a product)");
@@ -527,6 +599,7 @@ class ExpressionSyntax {
     const double v = std::strtod(literal.c_str(), nullptr);
     if (v != 0 ? !(std::abs(v) >= kMinMagnitude && std::abs(v) <= kMaxMagnitude) : literal.substr(0, literal.find_first_of("eE")).find_first_of("123456789") != std::string::npos)
       Fail(start, "the number " + literal + " is outside the range of model numbers (0, or 1e-100 to 1e100 in magnitude)");
+    return v;
   }
 
   const std::string& t_;
@@ -544,11 +617,6 @@ std::string Short(const GiNaC::ex& e) {
   return s;
 }
 
-std::string G(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 
 // The value of `e` at the defaults, after checking its sub-expressions bottom-up: every one
 // finite and real, no division by zero, no even root or logarithm of a negative number, no

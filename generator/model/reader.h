@@ -121,6 +121,12 @@ constexpr size_t kMaxExpressionLength = 4096;
 constexpr int kMaxExpressionNesting = 64;
 constexpr double kMinMagnitude = 1e-100;
 constexpr double kMaxMagnitude = 1e100;
+/// A power whose exponent has no parameter in it is computed exactly by GiNaC's reader (2^1000
+/// is an integer of 302 digits): its exponent is at most kMaxConstantExponent in magnitude, and
+/// a power of two constants at most kMaxExactDigits decimal digits, so that no model can make
+/// the reader run for minutes (fuzzing found 22222222222222^2222222222).
+constexpr double kMaxConstantExponent = 1000;
+constexpr double kMaxExactDigits = 100000;
 
 /// What a name of the model becomes in the generated C++ (models/README.md, "Names").
 enum class NameRole { kModel, kParameter, kLink, kPoint, kJoint };
