@@ -238,6 +238,18 @@ INSTANTIATE_TEST_SUITE_P(
         Hostile{"function_without_argument", "C: [b, 0]", "C: [b*sin, 0]", "sin", 0, "needs its argument"},
         Hostile{"nesting_65", "C: [b, 0]", "C: [" + Nested(65) + ", 0]", "((", 64, "nested deeper than 64"},
         Hostile{"nesting_10000", "C: [b, 0]", "C: [" + Nested(10000) + ", 0]", "((", 0, "longer than 4096 characters"},
+        // ---- exact constants GiNaC's reader would compute for minutes (fuzzing, issue 12) ----
+        Hostile{"power_huge_exponent", "C: [b, 0]", "C: [b + 22222222222222^2222222222, 0]", "^2222", 0,
+                "a power whose exponent is a constant beyond 1000"},
+        Hostile{"power_huge_negative_exponent", "C: [b, 0]", "C: [b + 2^-9827551997708061, 0]", "^-98", 0,
+                "a power whose exponent is a constant beyond 1000"},
+        Hostile{"power_of_pi_huge", "C: [b, 0]", "C: [b*Pi^66666666, 0]", "^6666", 0, "exponent is a constant beyond 1000"},
+        Hostile{"power_nested_exponent", "C: [b, 0]", "C: [b*(2^10)^(2^10), 0]", "^(2^10), 0", 0,
+                "exponent is a constant beyond 1000"},
+        Hostile{"power_too_many_digits", "C: [b, 0]", "C: [b*0 + (10^99*10^99)^999, 0]", "^999", 0,
+                "would have about"},
+        Hostile{"literal_zero_huge_exponent", "C: [b, 0]", "C: [b + 0e308308045, 0]", "0e30", 0,
+                "a number whose exponent (e308308045) is beyond 400"},
         // ---- numbers: inf and NaN at the defaults, division by zero, roots of negatives ----
         Hostile{"literal_inf", "C: [b, 0]", "C: [b + 1e400, 0]", "1e400", 0, "the number 1e400 is outside the range"},
         Hostile{"literal_underflow", "C: [b, 0]", "C: [b + 1e-400, 0]", "1e-400", 0, "outside the range"},
