@@ -393,7 +393,7 @@ std::string G(double v) {
 // has its character.
 //   expression := term (('+' | '-') term)*
 //   term       := operand (('*' | '/') operand)*
-//   operand    := ('+' | '-')* primary ['^' ('+' | '-')* primary]
+//   operand    := ('+' | '-')* primary ['^' primary]   (signs only first in an expression)
 //   primary    := number | name | function '(' expression (',' expression)* ')' | '(' expression ')'
 class ExpressionSyntax {
  public:
@@ -430,11 +430,20 @@ class ExpressionSyntax {
     double v = 0;
   };
   static Value Combine(const Value& a, const Value& b, double v) { return {a.constant && b.constant, v}; }
+  // A sign right after a binary operator is refused: GiNaC's reader takes it for the sign of
+  // everything that follows (it reads 3 * -1 + 4 as 3 * (-1 + 4) and 2^-1*4 as 2^(-4)).
+  void NoSignAfter(char op) {
+    if (At('+') || At('-'))
+      Fail(i_, std::string("a sign right after '") + op + "': write a " + op + " (" + t_[i_] +
+                   "b) in parentheses (GiNaC's reader would apply the sign to all that follows)");
+  }
   Value Expression() {
     Value a = Term();
     while (At('+') || At('-')) {
-      const bool minus = t_[i_] == '-';
+      const char op = t_[i_];
+      const bool minus = op == '-';
       ++i_;
+      NoSignAfter(op);
       const Value b = Term();
       a = Combine(a, b, minus ? a.v - b.v : a.v + b.v);
     }
@@ -443,9 +452,11 @@ class ExpressionSyntax {
   Value Term() {
     Value a = Operand();
     while (At('*') || At('/')) {
-      const bool divide = t_[i_] == '/';
+      const char op = t_[i_];
+      const bool divide = op == '/';
       ++i_;
       if (At('*') || At('/')) Fail(i_, "unexpected " + CharText(t_[i_]) + " (write a^b for a power)");
+      NoSignAfter(op);
       const Value b = Operand();
       a = Combine(a, b, divide ? a.v / b.v : a.v * b.v);
     }
@@ -457,9 +468,8 @@ class ExpressionSyntax {
     if (At('^')) {
       const size_t hat = i_;
       ++i_;
-      const bool negative_exponent = Signs();
+      NoSignAfter('^');
       Value exponent = Primary();
-      if (negative_exponent) exponent.v = -exponent.v;
       if (At('^')) Fail(i_, "a second '^' in a row: write (a^b)^c or a^(b^c)");
       if (exponent.constant && !(std::abs(exponent.v) <= kMaxConstantExponent))
         Fail(hat, "a power whose exponent is a constant beyond " + G(kMaxConstantExponent) +

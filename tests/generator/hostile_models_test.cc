@@ -241,13 +241,17 @@ INSTANTIATE_TEST_SUITE_P(
         // ---- exact constants GiNaC's reader would compute for minutes (fuzzing, issue 12) ----
         Hostile{"power_huge_exponent", "C: [b, 0]", "C: [b + 22222222222222^2222222222, 0]", "^2222", 0,
                 "a power whose exponent is a constant beyond 1000"},
-        Hostile{"power_huge_negative_exponent", "C: [b, 0]", "C: [b + 2^-9827551997708061, 0]", "^-98", 0,
+        Hostile{"power_huge_negative_exponent", "C: [b, 0]", "C: [b + 2^(-9827551997708061), 0]", "^(-98", 0,
                 "a power whose exponent is a constant beyond 1000"},
         Hostile{"power_of_pi_huge", "C: [b, 0]", "C: [b*Pi^66666666, 0]", "^6666", 0, "exponent is a constant beyond 1000"},
         Hostile{"power_nested_exponent", "C: [b, 0]", "C: [b*(2^10)^(2^10), 0]", "^(2^10), 0", 0,
                 "exponent is a constant beyond 1000"},
         Hostile{"power_too_many_digits", "C: [b, 0]", "C: [b*0 + (10^99*10^99)^999, 0]", "^999", 0,
                 "would have about"},
+        // ---- a sign after a binary operator: GiNaC would read 3*-1 + 4 as 3*(-1 + 4) ----
+        Hostile{"sign_after_times", "C: [b, 0]", "C: [b + 3*-1 + 3, 0]", "-1 + 3", 0, "a sign right after '*'"},
+        Hostile{"sign_after_power", "C: [b, 0]", "C: [b*2^-1*2, 0]", "-1*2", 0, "a sign right after '^'"},
+        Hostile{"sign_after_minus", "C: [b, 0]", "C: [b - -1 + 1, 0]", "-1 + 1", 0, "a sign right after '-'"},
         Hostile{"literal_zero_huge_exponent", "C: [b, 0]", "C: [b + 0e308308045, 0]", "0e30", 0,
                 "a number whose exponent (e308308045) is beyond 400"},
         // ---- numbers: inf and NaN at the defaults, division by zero, roots of negatives ----
@@ -322,7 +326,7 @@ TEST(HostileModel, TheEdgesOfTheLanguageAreAccepted) {
   std::string long_sum = "b";
   while (long_sum.size() + 6 <= mechgen::kMaxExpressionLength) long_sum += " + 0*a";  // 4093 characters
   for (const std::string& e :
-       {std::string("b*(-1)^(d - 2)"), std::string("-----b*-1"), std::string("(b^-1)^-1"), std::string("b + 0*sqrt(a - 1)"),
+       {std::string("b*(-1)^(d - 2)"), std::string("-----b*(-1)"), std::string("(b^(-1))^(-1)"), std::string("-(-b)"), std::string("(-2*4 + 1)*0 + b"), std::string("b + 0*sqrt(a - 1)"),
         std::string("b*exp(0)*cos(0)^2 + 0*log(a)"), std::string("\"b + 0*atan2(a, d)\""), std::string(".5*7"),
         std::string("35e-1"), std::string("3.5E+0"), std::string("b + 0*1e-100 + 0*1e100"), deep, nested_calls,
         long_sum}) {
