@@ -25,7 +25,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
-
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -36,15 +35,15 @@
 #include "damped_fourbar.h"
 #include "fivebar_massive.h"
 #include "fourbar_massive.h"
-#include "slider_crank_motor.h"
 #include "pendulum.h"
+#include "slider_crank_motor.h"
 #include "slider_crank_torque.h"
 
 namespace {
 
 // One moving link's mass data and how to find its centre of mass and angle from the scene.
 struct Body {
-  int link;        // index into kLinkNames
+  int link;  // index into kLinkNames
   double m, J;
   std::function<void(const Eigen::MatrixXd& scene, Eigen::Vector2d* rG, double* theta)> where;
 };
@@ -256,7 +255,7 @@ TEST(GeneratedDynamics, FloatInstantiationAgreesWithDouble) {
 // ---- kinetostatics: Newton–Euler of every link with the generated reactions ----
 
 struct Pin {
-  int reaction;      // index of F_J_x in R (F_J_y follows)
+  int reaction;        // index of F_J_x in R (F_J_y follows)
   int link_a, link_b;  // R is the force of link_a on link_b
   const char* point;   // a scene point at the pin
 };
@@ -289,8 +288,7 @@ void CheckNewtonEuler(Harness<M> h, const std::vector<Pin>& pins, int input_link
     for (int k = 0; k < M::kNumReactions; ++k) scale = std::max(scale, std::abs(st.R(k)));
     for (size_t b = 0; b < h.bodies.size(); ++b) {
       const Body& body = h.bodies[b];
-      const Eigen::Vector2d a =
-          (-r[0][b] + 16 * r[1][b] - 30 * r[2][b] + 16 * r[3][b] - r[4][b]) / (12 * dt * dt);
+      const Eigen::Vector2d a = (-r[0][b] + 16 * r[1][b] - 30 * r[2][b] + 16 * r[3][b] - r[4][b]) / (12 * dt * dt);
       const double alpha = (-th[0][b] + 16 * th[1][b] - 30 * th[2][b] + 16 * th[3][b] - th[4][b]) / (12 * dt * dt);
       const Eigen::Vector2d G = r[2][b];
       Eigen::Vector2d F(0, -body.m * h.g);
@@ -316,13 +314,11 @@ TEST(GeneratedKinetostatics, FourBarLinksObeyNewtonEulerWithTheReactions) {
   using M = mech::fourbar_massive::Model;
   static_assert(M::kNumReactions == 8, "F_A, F_B, F_C, F_D");
   // A: ground -> crank, B: crank -> coupler, C: coupler -> rocker, D: rocker -> ground.
-  CheckNewtonEuler(FourBar(), {{0, 0, 1, "crank.A"}, {2, 1, 2, "crank.B"}, {4, 2, 3, "rocker.C"}, {6, 3, 0, "rocker.D"}},
-                   1);
+  CheckNewtonEuler(FourBar(),
+                   {{0, 0, 1, "crank.A"}, {2, 1, 2, "crank.B"}, {4, 2, 3, "rocker.C"}, {6, 3, 0, "rocker.D"}}, 1);
 }
 
-TEST(GeneratedKinetostatics, PendulumPinForce) {
-  CheckNewtonEuler(Pendulum(), {{0, 0, 1, "arm.O"}}, 1);
-}
+TEST(GeneratedKinetostatics, PendulumPinForce) { CheckNewtonEuler(Pendulum(), {{0, 0, 1, "arm.O"}}, 1); }
 
 TEST(GeneratedKinetostatics, DriveIsTheInverseDynamics) {
   // drive = I qdd + h - Q_applied with I, I' from the energy oracle (slider-crank: Q_applied = M).
@@ -340,7 +336,8 @@ TEST(GeneratedKinetostatics, DriveIsTheInverseDynamics) {
     M::StaticsT<double> st;
     M::Kinetostatics(h.p, q, phi, vqd, vqdd, 0.0, c, &st);
     const double I = h.InertiaOracle(q0), dI = h.dInertiaOracle(q0);
-    EXPECT_NEAR(st.drive(0), I * qdd + dI / 2 * qd * qd - h.p.M, 1e-6 * (1 + std::abs(I * qdd) + std::abs(dI * qd * qd)));
+    EXPECT_NEAR(st.drive(0), I * qdd + dI / 2 * qd * qd - h.p.M,
+                1e-6 * (1 + std::abs(I * qdd) + std::abs(dI * qd * qd)));
     EXPECT_NEAR(st.Q(0), -st.drive(0), 1e-12);
   }
 }
@@ -475,27 +472,32 @@ TEST(GeneratedExcess, FourBarAgainstDifferencesOfEnergyAndConstraints) {
       EXPECT_NEAR(ex.h(a), ha, 1e-6 * (1 + std::abs(ha))) << a;
       EXPECT_NEAR(ex.g(a), ga, 1e-7 * (1 + std::abs(ga))) << a;
       // Phi_x by differences of Phi.
-      const auto dPhi = (residual(x - 2 * e * Vx::Unit(a)) - 8 * residual(x - e * Vx::Unit(a)) +
-                         8 * residual(x + e * Vx::Unit(a)) - residual(x + 2 * e * Vx::Unit(a))) /
-                        (12 * e);
+      const Eigen::Matrix<double, M::kNc, 1> dPhi =
+          (residual(x - 2 * e * Vx::Unit(a)) - 8 * residual(x - e * Vx::Unit(a)) + 8 * residual(x + e * Vx::Unit(a)) -
+           residual(x + 2 * e * Vx::Unit(a))) /
+          (12 * e);
       for (int rr = 0; rr < M::kNc; ++rr) EXPECT_NEAR(ex.Phi_x(rr, a), dPhi(rr), 1e-8);
     }
     // gamma = -d2Phi/dt2 along x + xd t; Phi itself.
-    const auto d2 = (-residual(x - 2 * e * xd) + 16 * residual(x - e * xd) - 30 * residual(x) +
-                     16 * residual(x + e * xd) - residual(x + 2 * e * xd)) /
-                    (12 * e * e);
+    const Eigen::Matrix<double, M::kNc, 1> d2 =
+        (-residual(x - 2 * e * xd) + 16 * residual(x - e * xd) - 30 * residual(x) + 16 * residual(x + e * xd) -
+         residual(x + 2 * e * xd)) /
+        (12 * e * e);
     for (int rr = 0; rr < M::kNc; ++rr) {
       EXPECT_NEAR(ex.gamma(rr), -d2(rr), 1e-6);
       EXPECT_NEAR(ex.Phi(rr), residual(x)(rr), 1e-14);
     }
-    EXPECT_NEAR(ex.V, [&] {
-      std::vector<Eigen::Vector2d> rr;
-      std::vector<double> tt;
-      where(x, &rr, &tt);
-      double V = 0;
-      for (size_t b = 0; b < h.bodies.size(); ++b) V += h.bodies[b].m * h.g * rr[b].y();
-      return V;
-    }(), 1e-10);
+    EXPECT_NEAR(
+        ex.V,
+        [&] {
+          std::vector<Eigen::Vector2d> rr;
+          std::vector<double> tt;
+          where(x, &rr, &tt);
+          double V = 0;
+          for (size_t b = 0; b < h.bodies.size(); ++b) V += h.bodies[b].m * h.g * rr[b].y();
+          return V;
+        }(),
+        1e-10);
   }
 }
 
@@ -654,7 +656,8 @@ TEST(GeneratedDynamics, FiveBarTwoInputsAgainstEnergyAndChristoffelSymbols) {
     for (const Link& l : links) {
       const Eigen::Vector2d O = s.col(ScenePoint<M>(l.origin)), X = s.col(ScenePoint<M>(l.axis));
       const double t = std::atan2(X.y() - O.y(), X.x() - O.x());
-      r->push_back(O + Eigen::Vector2d(std::cos(t) * l.cx - std::sin(t) * l.cy, std::sin(t) * l.cx + std::cos(t) * l.cy));
+      r->push_back(O +
+                   Eigen::Vector2d(std::cos(t) * l.cx - std::sin(t) * l.cy, std::sin(t) * l.cx + std::cos(t) * l.cy));
       th->push_back(t);
     }
   };
@@ -702,7 +705,8 @@ TEST(GeneratedDynamics, FiveBarTwoInputsAgainstEnergyAndChristoffelSymbols) {
     Eigen::Matrix2d dI[2];  // dI[l] = dI/dq_l
     for (int l = 0; l < 2; ++l) {
       const V2 e = V2::Unit(l);
-      dI[l] = (inertia(q - 2 * h * e) - 8 * inertia(q - h * e) + 8 * inertia(q + h * e) - inertia(q + 2 * h * e)) / (12 * h);
+      dI[l] = (inertia(q - 2 * h * e) - 8 * inertia(q - h * e) + 8 * inertia(q + h * e) - inertia(q + 2 * h * e)) /
+              (12 * h);
     }
     for (int j = 0; j < 2; ++j) {
       for (int k = 0; k < 2; ++k) {
@@ -718,9 +722,9 @@ TEST(GeneratedDynamics, FiveBarTwoInputsAgainstEnergyAndChristoffelSymbols) {
         for (int l = 0; l < 2; ++l) hj += 0.5 * (dI[l](j, k) + dI[k](j, l) - dI[j](k, l)) * qd(k) * qd(l);
       EXPECT_NEAR(d.h(j), hj, 1e-5) << j;
       const V2 e = V2::Unit(j);
-      const double dV = (potential(q - 2 * h * e) - 8 * potential(q - h * e) + 8 * potential(q + h * e) -
-                         potential(q + 2 * h * e)) /
-                        (12 * h);
+      const double dV =
+          (potential(q - 2 * h * e) - 8 * potential(q - h * e) + 8 * potential(q + h * e) - potential(q + 2 * h * e)) /
+          (12 * h);
       EXPECT_NEAR(d.Q(j), -dV, 1e-6) << j;
     }
     EXPECT_NEAR(d.T, 0.5 * qd.dot(I * qd), 1e-7);
