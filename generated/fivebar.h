@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); SolvePositions 42 (adds 11, muls 25, divs 1, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 11, muls 25, divs 1, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); SolvePositions 42 (adds 11, muls 25, divs 1, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8)
  */
 #pragma once
 
@@ -476,7 +476,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
                                        const Vec<Scalar, Sizes::kNq>& q,
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
-  // Total ops: 42 (adds 11, muls 25, divs 1, calls 5); intermediate terms: 0
+  // Total ops: 48 (adds 11, muls 29, divs 3, calls 5); intermediate terms: 0
   using std::abs;
   using std::cos;
   using std::sin;
@@ -511,13 +511,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar dot_u_b0 = mx_b0*p.a2;
     const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar branch_b0 = ((d2_b0*d2_b0)*h2c_b0) / (ra2_b0*rb2_b0);
+    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
     trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
     trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
     trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;

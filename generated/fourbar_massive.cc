@@ -78,6 +78,8 @@ template SolveReport<double> SolvePositionsTrig<double>(const Params<double>&,
                                                         const Vec<double, Sizes::kNq>&,
                                                         const std::array<int, Sizes::kNumBlocks>&,
                                                         Trig<double>*);
+template void PrepareRhs<double>(const Params<double>&,
+                                 RhsConstants<double>*);
 template void EvalScene<double>(const Params<double>&,
                                 const Vec<double, Sizes::kNq>&,
                                 const Vec<double, Sizes::kNphi>&,
@@ -151,6 +153,8 @@ template SolveReport<float> SolvePositionsTrig<float>(const Params<float>&,
                                                       const Vec<float, Sizes::kNq>&,
                                                       const std::array<int, Sizes::kNumBlocks>&,
                                                       Trig<float>*);
+template void PrepareRhs<float>(const Params<float>&,
+                                RhsConstants<float>*);
 template void EvalScene<float>(const Params<float>&,
                                const Vec<float, Sizes::kNq>&,
                                const Vec<float, Sizes::kNphi>&,

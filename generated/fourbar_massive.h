@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 163 (adds 29, muls 128, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 36 (adds 9, muls 23, divs 1, calls 3); EvalScene 15 (adds 3, muls 6, divs 0, calls 6)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 163 (adds 29, muls 128, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); PrepareRhs 47 (adds 4, muls 41, divs 2, calls 0); EvalRhs 134 (adds 32, muls 97, divs 2, calls 3); EvalScene 15 (adds 3, muls 6, divs 0, calls 6)
  */
 #pragma once
 
@@ -198,6 +198,31 @@ struct Excess {
   Vec<Scalar, Sizes::kNc> gamma;
   /// T = 1/2 xd^T M xd, V: the kinetic and potential energies.
   Scalar T, V;
+};
+
+/// What EvalRhs() fills: the equation of motion I(q) qdd + h(q, qd) = Q(t, q, qd) at a state, with
+/// what a simulation samples there. The same definitions and units as Dynamics.
+template <typename Scalar = double>
+struct Rhs {
+  /// K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd).  (kNphi x kNq)
+  Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
+  /// I: the generalized inertia.  (kNq x kNq)
+  Mat<Scalar, Sizes::kNq, Sizes::kNq> I;
+  /// h = C (qd (x) qd): the centripetal and Coriolis terms.  (kNq)
+  Vec<Scalar, Sizes::kNq> h;
+  /// Q: the generalized applied forces at (t, q, qd).  (kNq)
+  Vec<Scalar, Sizes::kNq> Q;
+  /// T = 1/2 qd^T I qd, V, and the power P_nc of the non-conservative forces.
+  Scalar T, V, P_nc;
+  /// dPhi/dphi at the solution: its conditioning tells a dead point.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
+};
+
+/// What EvalRhs() reads that depends on the parameters only (masses, their products with
+/// lengths, inverse squared lengths, ...): PrepareRhs() fills it once per parameter set.
+template <typename Scalar = double>
+struct RhsConstants {
+  std::array<Scalar, 18> c;
 };
 
 
@@ -986,7 +1011,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
                                        const Vec<Scalar, Sizes::kNq>& q,
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
-  // Total ops: 36 (adds 9, muls 23, divs 1, calls 3); intermediate terms: 0
+  // Total ops: 42 (adds 9, muls 27, divs 3, calls 3); intermediate terms: 0
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1019,13 +1044,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar dot_u_b0 = mx_b0*p.b;
     const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar branch_b0 = ((d2_b0*d2_b0)*h2c_b0) / (ra2_b0*rb2_b0);
+    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
     trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
     trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
     trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
@@ -1038,6 +1063,169 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
   trig->sin_q(0) = sin_q0;
   trig->cos_q(0) = cos_q0;
 
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
+}
+
+/**
+ * \brief The constants EvalRhs() reads: what depends on the parameters only, computed once
+ * (call it again after changing a parameter).
+ * \param[in]  p   Parameters.
+ * \param[out] rc  The constants; not nullptr.
+ */
+template <typename Scalar>
+void PrepareRhs(const Params<Scalar>& p,
+                RhsConstants<Scalar>* rc) {
+  // Total ops: 47 (adds 4, muls 41, divs 2, calls 0); intermediate terms: 10
+  const Scalar _tmp0 = p.a*p.a;
+  const Scalar _tmp1 = p.b*p.b;
+  const Scalar _tmp2 = _tmp1*p.a*p.rho;
+  const Scalar _tmp3 = _tmp0*p.g*p.rho;
+  const Scalar _tmp4 = p.a*p.b*p.g*p.rho;
+  const Scalar _tmp5 = _tmp1*p.g*p.rho;
+  const Scalar _tmp6 = p.c*p.c;
+  const Scalar _tmp7 = _tmp6*p.g*p.rho;
+  const Scalar _tmp8 = Scalar(1)/(p.b*p.b);
+  const Scalar _tmp9 = Scalar(1)/(p.c*p.c);
+  rc->c[0] = Scalar(0.33333333333333331)*(p.a*p.a*p.a)*p.rho + _tmp0*p.b*p.rho;
+  rc->c[1] = _tmp2;
+  rc->c[2] = -Scalar(0.5)*_tmp3 - _tmp4;
+  rc->c[3] = -Scalar(0.5)*_tmp2;
+  rc->c[4] = -Scalar(0.5)*_tmp5;
+  rc->c[5] = -Scalar(0.5)*_tmp7;
+  rc->c[6] = Scalar(0.33333333333333331)*(p.b*p.b*p.b)*p.rho;
+  rc->c[7] = Scalar(0.33333333333333331)*(p.c*p.c*p.c)*p.rho;
+  rc->c[8] = Scalar(0.5)*_tmp3 + _tmp4;
+  rc->c[9] = Scalar(0.5)*_tmp1 - Scalar(0.5)*_tmp6;
+  rc->c[10] = Scalar(0.5)*_tmp2;
+  rc->c[11] = Scalar(0.5)*_tmp5;
+  rc->c[12] = Scalar(0.5)*_tmp7;
+  rc->c[13] = _tmp8*_tmp9;
+  rc->c[14] = _tmp8;
+  rc->c[15] = _tmp9;
+  rc->c[16] = _tmp1;
+  rc->c[17] = _tmp6;
+}
+
+/**
+ * \brief The right-hand side of the equation of motion at a state (t, q, qd), in one pass:
+ * SolvePositionsTrig() (the closed forms' direction cosines, no angle), K and L, then I, h, Q
+ * (Paul §6.4, §6.6.1: qdd = I^-1 (Q - h)), with what a simulation samples (K, T, V, P_nc, Phi_phi).
+ * Nothing else of EvalCoefficients() (no residual, no points) and of EvalDynamics() (no C, dI_dq)
+ * is computed: the fast path of an integrator's stages. The same statuses and branch_measure as
+ * SolvePositionsTrig(); *trig and *out hold finite values when the report says kConverged.
+ * \param[in]  p         Parameters.
+ * \param[in]  rc        What depends on the parameters only: PrepareRhs(p) (again after p changes).
+ * \param[in]  q         Inputs (dim kNq).
+ * \param[in]  qd        Input velocities dq/dt (dim kNq).
+ * \param[in]  t         Time (s), for loads that depend on it.
+ * \param[in]  modes     Assembly mode of each block (Model::kDefaultModes: the model's assembly)
+ *                       (dim kNumBlocks).
+ * \param[out] trig      sin and cos of q and phi at the solution; not nullptr.
+ * \param[out] out       Rhs; not nullptr.
+ * \param[in]  friction  Coulomb friction loads f (kFrictionJoints), as in EvalStatics(); nullptr:
+ *                       none (dim kNumFriction). May be nullptr.
+ */
+template <typename Scalar>
+SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
+                            const RhsConstants<Scalar>& rc,
+                            const Vec<Scalar, Sizes::kNq>& q,
+                            const Vec<Scalar, Sizes::kNq>& qd,
+                            const Scalar& t,
+                            const std::array<int, Sizes::kNumBlocks>& modes,
+                            Trig<Scalar>* trig,
+                            Rhs<Scalar>* out,
+                            const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+  // Total ops: 134 (adds 32, muls 97, divs 2, calls 3); intermediate terms: 3
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  (void)t;
+  (void)friction;
+  int iterations = 0;
+  const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
+  Scalar branch_measure = Scalar(1);
+  int branch_block = -1;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
+  {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
+    const Scalar bx_b0 = -p.c;
+    const Scalar wx_b0 = -cos_q0*p.a + p.d;
+    const Scalar wy_b0 = -p.a*sin_q0;
+    const Scalar ra2_b0 = rc.c[16];
+    const Scalar rb2_b0 = rc.c[17];
+    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
+    if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
+    const Scalar k_b0 = Scalar(0.5) + inv_d2_b0*rc.c[9];
+    const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
+    if (!(h2_b0 >= Scalar(0)) && !(h2_b0 >= -(Scalar(64)*(((ra2_b0 + rb2_b0)*inv_d2_b0 + Scalar(1))*abs(k_b0) + inv_d2_b0*ra2_b0)*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
+    const Scalar h2c_b0 = h2_b0 > Scalar(0) ? h2_b0 : Scalar(0);
+    const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
+    const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
+    const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
+    const Scalar cross_u_b0 = my_b0*p.b;
+    const Scalar dot_u_b0 = mx_b0*p.b;
+    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
+    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
+    const Scalar inv_ra2_b0 = rc.c[14];
+    const Scalar inv_rb2_b0 = rc.c[15];
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*rc.c[13];
+    if (branch_b0 < branch_measure) {
+      branch_measure = branch_b0;
+      branch_block = 0;
+    }
+    trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
+    trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
+    trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
+    trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+    if (!(trig->cos_phi(0) - trig->cos_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(0)};
+    if (!(trig->sin_phi(0) - trig->sin_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(0)};
+    if (!(trig->cos_phi(1) - trig->cos_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(1)};
+    if (!(trig->sin_phi(1) - trig->sin_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(1)};
+  }
+  trig->sin_q(0) = sin_q0;
+  trig->cos_q(0) = cos_q0;
+
+  const Scalar sin_phi0 = trig->sin_phi(0);
+  const Scalar cos_phi0 = trig->cos_phi(0);
+  const Scalar sin_phi1 = trig->sin_phi(1);
+  const Scalar cos_phi1 = trig->cos_phi(1);
+  const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
+  const Scalar Phi_phi_0_1 = p.c*sin_phi1;
+  const Scalar Phi_phi_1_0 = cos_phi0*p.b;
+  const Scalar Phi_phi_1_1 = -cos_phi1*p.c;
+  const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
+  const Scalar inv_det_block0 = Scalar(1)/det_block0;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*p.a*sin_q0 - Phi_phi_inv_0_1*cos_q0*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*p.a*sin_q0 - Phi_phi_inv_1_1*cos_q0*p.a;
+  const Scalar _tmp0 = K_1_0*K_1_0;
+  const Scalar _tmp1 = K_0_0*K_0_0;
+  const Scalar L_rhs_0_0_0 = _tmp0*cos_phi1*p.c - _tmp1*cos_phi0*p.b - cos_q0*p.a;
+  const Scalar L_rhs_1_0_0 = _tmp0*p.c*sin_phi1 - _tmp1*p.b*sin_phi0 - p.a*sin_q0;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
+  const Scalar I_eom_0_0 = K_0_0*cos_phi0*cos_q0*rc.c[1] + K_0_0*rc.c[1]*sin_phi0*sin_q0 + _tmp0*rc.c[7] + _tmp1*rc.c[6] + rc.c[0];
+  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[6] + K_0_0*cos_phi0*rc.c[3]*sin_q0 + K_0_0*cos_q0*rc.c[10]*sin_phi0 + K_1_0*L_1_0_0*rc.c[7] + L_0_0_0*cos_phi0*cos_q0*rc.c[10] + L_0_0_0*rc.c[10]*sin_phi0*sin_q0 + _tmp1*cos_phi0*rc.c[10]*sin_q0 + _tmp1*cos_q0*rc.c[3]*sin_phi0;
+  const Scalar _tmp2 = qd(0)*qd(0);
+  out->K(0, 0) = K_0_0;
+  out->K(1, 0) = K_1_0;
+  out->I(0, 0) = I_eom_0_0;
+  out->h(0) = C_eom_0_0_0*_tmp2;
+  out->Q(0) = K_0_0*cos_phi0*rc.c[4] + K_1_0*cos_phi1*rc.c[5] + cos_q0*rc.c[2];
+  out->T = Scalar(0.5)*I_eom_0_0*_tmp2;
+  out->V = rc.c[11]*sin_phi0 + rc.c[12]*sin_phi1 + rc.c[8]*sin_q0;
+  out->P_nc = Scalar(0);
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
   return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
 }
 
@@ -1147,6 +1335,8 @@ extern template SolveReport<double> SolvePositionsTrig<double>(const Params<doub
                                                                const Vec<double, Sizes::kNq>&,
                                                                const std::array<int, Sizes::kNumBlocks>&,
                                                                Trig<double>*);
+extern template void PrepareRhs<double>(const Params<double>&,
+                                        RhsConstants<double>*);
 extern template void EvalScene<double>(const Params<double>&,
                                        const Vec<double, Sizes::kNq>&,
                                        const Vec<double, Sizes::kNphi>&,
@@ -1220,6 +1410,8 @@ extern template SolveReport<float> SolvePositionsTrig<float>(const Params<float>
                                                              const Vec<float, Sizes::kNq>&,
                                                              const std::array<int, Sizes::kNumBlocks>&,
                                                              Trig<float>*);
+extern template void PrepareRhs<float>(const Params<float>&,
+                                       RhsConstants<float>*);
 extern template void EvalScene<float>(const Params<float>&,
                                       const Vec<float, Sizes::kNq>&,
                                       const Vec<float, Sizes::kNphi>&,
@@ -1287,6 +1479,11 @@ struct Model : Sizes {
   using DynamicsT = mech::fourbar_massive::Dynamics<Scalar>;
   template <typename Scalar>
   using ExcessT = mech::fourbar_massive::Excess<Scalar>;
+  /// EvalRhs (SolveTrig, K, L and the equation of motion in one pass) is generated.
+  template <typename Scalar>
+  using RhsT = mech::fourbar_massive::Rhs<Scalar>;
+  template <typename Scalar>
+  using RhsConstantsT = mech::fourbar_massive::RhsConstants<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -1389,6 +1586,23 @@ struct Model : Sizes {
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
     return SolvePositionsTrig(p, q, modes, trig);
+  }
+  template <typename Scalar>
+  static void Prepare(const Params<Scalar>& p,
+                      RhsConstants<Scalar>* rc) {
+    PrepareRhs(p, rc);
+  }
+  template <typename Scalar>
+  static SolveReport<Scalar> Rhs(const Params<Scalar>& p,
+                                 const RhsConstants<Scalar>& rc,
+                                 const Vec<Scalar, Sizes::kNq>& q,
+                                 const Vec<Scalar, Sizes::kNq>& qd,
+                                 const Scalar& t,
+                                 const std::array<int, Sizes::kNumBlocks>& modes,
+                                 Trig<Scalar>* trig,
+                                 Rhs<Scalar>* out,
+                                 const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+    return EvalRhs(p, rc, q, qd, t, modes, trig, out, friction);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.E, coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 81 (adds 23, muls 50, divs 2, calls 6) (per Newton iteration for Newton blocks); SolvePositionsTrig 79 (adds 23, muls 50, divs 2, calls 4); EvalScene 37 (adds 13, muls 14, divs 0, calls 10)
+ * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 81 (adds 23, muls 50, divs 2, calls 6) (per Newton iteration for Newton blocks); SolvePositionsTrig 91 (adds 23, muls 58, divs 6, calls 4); EvalScene 37 (adds 13, muls 14, divs 0, calls 10)
  */
 #pragma once
 
@@ -597,7 +597,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
                                        const Vec<Scalar, Sizes::kNq>& q,
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
-  // Total ops: 79 (adds 23, muls 50, divs 2, calls 4); intermediate terms: 0
+  // Total ops: 91 (adds 23, muls 58, divs 6, calls 4); intermediate terms: 0
   using std::abs;
   using std::cos;
   using std::sin;
@@ -630,13 +630,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar dot_u_b0 = mx_b0*p.b;
     const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar branch_b0 = ((d2_b0*d2_b0)*h2c_b0) / (ra2_b0*rb2_b0);
+    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
     trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
     trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
     trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
@@ -670,13 +670,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar dot_u_b1 = mx_b1*p.f;
     const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
     const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
-    const Scalar branch_b1 = ((d2_b1*d2_b1)*h2c_b1) / (ra2_b1*rb2_b1);
+    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
+    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
-    const Scalar inv_ra2_b1 = Scalar(1) / ra2_b1;
-    const Scalar inv_rb2_b1 = Scalar(1) / rb2_b1;
     trig->cos_phi(2) = dot_u_b1 * inv_ra2_b1;
     trig->sin_phi(2) = cross_u_b1 * inv_ra2_b1;
     trig->cos_phi(3) = dot_v_b1 * inv_rb2_b1;

@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 84 (adds 22, muls 52, divs 2, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 82 (adds 22, muls 52, divs 2, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 84 (adds 22, muls 52, divs 2, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12)
  */
 #pragma once
 
@@ -599,7 +599,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
                                        const Vec<Scalar, Sizes::kNq>& q,
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
-  // Total ops: 82 (adds 22, muls 52, divs 2, calls 6); intermediate terms: 2
+  // Total ops: 94 (adds 22, muls 60, divs 6, calls 6); intermediate terms: 2
   using std::abs;
   using std::cos;
   using std::sin;
@@ -632,13 +632,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar dot_u_b0 = mx_b0*p.b;
     const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar branch_b0 = ((d2_b0*d2_b0)*h2c_b0) / (ra2_b0*rb2_b0);
+    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
     trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
     trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
     trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
@@ -674,13 +674,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar dot_u_b1 = mx_b1*p.f;
     const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
     const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
-    const Scalar branch_b1 = ((d2_b1*d2_b1)*h2c_b1) / (ra2_b1*rb2_b1);
+    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
+    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
-    const Scalar inv_ra2_b1 = Scalar(1) / ra2_b1;
-    const Scalar inv_rb2_b1 = Scalar(1) / rb2_b1;
     trig->cos_phi(2) = dot_u_b1 * inv_ra2_b1;
     trig->sin_phi(2) = cross_u_b1 * inv_ra2_b1;
     trig->cos_phi(3) = dot_v_b1 * inv_rb2_b1;

@@ -5,8 +5,9 @@
 //   Rhs/Handwritten        direction cosines, Paul's K and L, I, I', Q by hand
 //                          (handwritten_dynamics.h)
 //   Rhs/Textbook           atan2/acos angles, sines of angle differences
-//   Rhs/Generated          mech::fourbar_massive: SolveTrig (the closed-form dyad's direction
-//                          cosines, no angles) + Coeffs + Dynamics
+//   Rhs/Generated          mech::fourbar_massive's Rhs (EvalRhs: SolveTrig's closed-form
+//                          direction cosines, K, L, I, h, Q in one generated pass) + qdd
+//   Rhs/GeneratedThreeCalls  the same from SolveTrig + Coeffs + Dynamics (the general functions)
 //   Rhs/MinimalDynamics    the runtime's right-hand side (mechgen/dynamics/forward.h): the same
 //                          with the warm-started position solve and qdd
 //   Kinematics/Handwritten positions + K + L by hand
@@ -83,11 +84,20 @@ struct SimResult {
   bool ok = false;
 };
 
+// The parameters are run-time values for every variant and method (as in a design tool): their address
+// escapes, so the compiler cannot fold the lengths and masses into the loop as constants.
+template <class P>
+void RuntimeValues(P* p) {
+  benchmark::DoNotOptimize(p);
+  benchmark::ClobberMemory();
+}
+
 // ---------------------------------------------------------------------------------------------
 // (a) One right-hand side.
 #ifndef MECHGEN_BENCH_SIMBODY_ONLY
 void RhsHandwritten(benchmark::State& state) {
-  const FourbarParams<double> p;
+  FourbarParams<double> p;
+  RuntimeValues(&p);
   FourbarEom<double> e;
   long k = 0;
   for (auto _ : state) {
@@ -99,7 +109,8 @@ void RhsHandwritten(benchmark::State& state) {
 BENCHMARK(RhsHandwritten)->Name("Rhs/Handwritten");
 
 void RhsTextbook(benchmark::State& state) {
-  const FourbarParams<double> p;
+  FourbarParams<double> p;
+  RuntimeValues(&p);
   FourbarEom<double> e;
   long k = 0;
   for (auto _ : state) {
@@ -111,7 +122,8 @@ void RhsTextbook(benchmark::State& state) {
 BENCHMARK(RhsTextbook)->Name("Rhs/Textbook");
 
 void KinematicsHandwritten(benchmark::State& state) {
-  const FourbarParams<double> p;
+  FourbarParams<double> p;
+  RuntimeValues(&p);
   FourbarKinematics<double> kin;
   long k = 0;
   for (auto _ : state) {
@@ -127,7 +139,8 @@ BENCHMARK(KinematicsHandwritten)->Name("Kinematics/Handwritten");
 using Model = mech::fourbar_massive::Model;
 
 void KinematicsGenerated(benchmark::State& state) {
-  const Model::ParamsT<double> p;
+  Model::ParamsT<double> p;
+  RuntimeValues(&p);
   Model::CoefficientsT<double> c;
   Model::TrigT<double> trig;
   Eigen::Matrix<double, Model::kNphi, 1> phi;
@@ -146,7 +159,8 @@ BENCHMARK(KinematicsGenerated)->Name("Kinematics/Generated");
 
 // The kinematics the dynamics needs: sin and cos of the angles (Model::SolveTrig, no atan2).
 void KinematicsGeneratedTrig(benchmark::State& state) {
-  const Model::ParamsT<double> p;
+  Model::ParamsT<double> p;
+  RuntimeValues(&p);
   Model::CoefficientsT<double> c;
   Model::TrigT<double> trig;
   Eigen::Matrix<double, Model::kNphi, 1> phi;
@@ -162,8 +176,32 @@ void KinematicsGeneratedTrig(benchmark::State& state) {
 }
 BENCHMARK(KinematicsGeneratedTrig)->Name("Kinematics/GeneratedTrig");
 
+// The generated one-pass right-hand side (Model::Rhs = EvalRhs: SolveTrig, K, L, I, h, Q).
 void RhsGenerated(benchmark::State& state) {
-  const Model::ParamsT<double> p;
+  Model::ParamsT<double> p;
+  RuntimeValues(&p);
+  Model::RhsConstantsT<double> rc;
+  Model::Prepare(p, &rc);
+  Model::TrigT<double> trig;
+  Model::RhsT<double> rhs;
+  const Eigen::Matrix<double, 1, 1> qd = Eigen::Matrix<double, 1, 1>::Constant(1.0);
+  long k = 0;
+  for (auto _ : state) {
+    const Eigen::Matrix<double, 1, 1> q = Eigen::Matrix<double, 1, 1>::Constant((k++ % 720) * kStep);
+    const auto report = Model::Rhs(p, rc, q, qd, 0.0, Model::kDefaultModes, &trig, &rhs);
+    const double qdd = (rhs.Q(0) - rhs.h(0)) / rhs.I(0, 0);
+    benchmark::DoNotOptimize(report);
+    benchmark::DoNotOptimize(&qdd);
+    benchmark::DoNotOptimize(rhs);
+  }
+}
+BENCHMARK(RhsGenerated)->Name("Rhs/Generated");
+
+// The same from the three general functions (SolveTrig, Coeffs, Dynamics), each compiled in
+// the model's library.
+void RhsGeneratedThreeCalls(benchmark::State& state) {
+  Model::ParamsT<double> p;
+  RuntimeValues(&p);
   Model::CoefficientsT<double> c;
   Model::TrigT<double> trig;
   Model::DynamicsT<double> dyn;
@@ -183,7 +221,7 @@ void RhsGenerated(benchmark::State& state) {
     benchmark::DoNotOptimize(dyn);
   }
 }
-BENCHMARK(RhsGenerated)->Name("Rhs/Generated");
+BENCHMARK(RhsGeneratedThreeCalls)->Name("Rhs/GeneratedThreeCalls");
 #endif
 
 // ---------------------------------------------------------------------------------------------
@@ -213,6 +251,7 @@ dyn::IntegratorOptions Tolerance(double tol) {
 template <class Integrator>
 SimResult SimulateHand(double tol) {
   HandRhs f;
+  RuntimeValues(&f.p);
   Integrator integ(Tolerance(tol));
   const State2 y0(kQ0, 0.0);
   State2 y;

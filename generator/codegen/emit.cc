@@ -550,8 +550,14 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
                               "  static constexpr int kNumFriction = " + std::to_string(statics.friction.size()) +
                               ";   ///< joints with Coulomb friction (kFrictionJoints)\n");
   const bool dynamics = m.outputs.Has(Quantity::kDynamics);
+  bool rhs = false;
+  std::string declarations;
+  for (const FunctionSpec& f : functions) {
+    rhs = rhs || f.name == "EvalRhs";
+    if (!f.declarations.empty()) declarations += f.declarations + "\n";
+  }
   data.Set("statics_struct", (statics.any ? StaticsStruct(m, statics, table.requested.L) + "\n" : std::string()) +
-                                 (dynamics ? DynamicsStruct() + "\n" : std::string()));
+                                 (dynamics ? DynamicsStruct() + "\n" : std::string()) + declarations);
   std::string constants =
       "  /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first\n"
       "  /// link on its second, in the fixed frame:\n";
@@ -580,6 +586,10 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
                  "  static constexpr bool kHasDynamics = true;\n"
                  "  template <typename Scalar>\n  using DynamicsT = mech::" + m.name + "::Dynamics<Scalar>;\n"
                  "  template <typename Scalar>\n  using ExcessT = mech::" + m.name + "::Excess<Scalar>;\n";
+  if (rhs)
+    constants += "  /// EvalRhs (SolveTrig, K, L and the equation of motion in one pass) is generated.\n"
+                 "  template <typename Scalar>\n  using RhsT = mech::" + m.name + "::Rhs<Scalar>;\n"
+                 "  template <typename Scalar>\n  using RhsConstantsT = mech::" + m.name + "::RhsConstants<Scalar>;\n";
   if (!statics.any) constants.clear();
   data.Set("statics_constants", constants);
 

@@ -2,6 +2,7 @@
 #include "codegen/functions.h"
 
 #include <cctype>
+#include <set>
 
 namespace mechgen {
 namespace {
@@ -230,7 +231,8 @@ void ShareTrig(const Kinematics& k,
                FunctionSpec* positions,
                const std::vector<FunctionSpec*>& takers,
                FunctionSpec* solve_trig,
-               bool* solve_trig_possible) {
+               bool* solve_trig_possible,
+               FunctionSpec* rhs) {
   std::vector<TrigName> names;
   for (int i = 0; i < k.nq(); ++i) names.push_back(NameTrig(true, i, printer));
   for (int i = 0; i < k.nphi(); ++i) names.push_back(NameTrig(false, i, printer));
@@ -338,11 +340,14 @@ void ShareTrig(const Kinematics& k,
     }
   }
   if (!*solve_trig_possible) return;
+  std::set<std::string> defined;  // the sin and cos locals SolveTrig defines at function scope
   std::vector<Program> body;
   body.push_back(solve_trig->body.front());
   for (int j = 0; j < nq; ++j) {
     if (used[j].first) body.front().push_back(Raw("const Scalar " + names[j].sin + " = sin(" + names[j].arg + ");"));
     if (used[j].second) body.front().push_back(Raw("const Scalar " + names[j].cos + " = cos(" + names[j].arg + ");"));
+    if (used[j].first) defined.insert(names[j].sin);
+    if (used[j].second) defined.insert(names[j].cos);
     solve_trig->extra_calls += used[j].first + used[j].second;
   }
   for (size_t b = 0; b < blocks.size(); ++b) {
@@ -362,6 +367,8 @@ void ShareTrig(const Kinematics& k,
       if (!solved_here) continue;
       if (sin_later) reads.push_back(Raw("const Scalar " + t.sin + " = " + t.sin_ref + ";"));
       if (cos_later) reads.push_back(Raw("const Scalar " + t.cos + " = " + t.cos_ref + ";"));
+      if (sin_later) defined.insert(t.sin);
+      if (cos_later) defined.insert(t.cos);
     }
     if (!reads.empty()) body.push_back(reads);
   }
@@ -375,6 +382,33 @@ void ShareTrig(const Kinematics& k,
     if (!used[j].second) ++solve_trig->extra_calls;
   }
   const Program& epilogue = solve_trig->body.back();
+  if (rhs != nullptr && !rhs->body.empty()) {
+    // EvalRhs: SolveTrig without its return, the angles' sin and cos it wrote to *trig (those
+    // it has not named already), then K, L and the dynamics, then SolveTrig's return. Not
+    // generated if its body reads an angle other than through its sin and cos.
+    Program motion = rhs->body.front();
+    const auto u = SubstituteTrig(k, names, &motion, true);
+    if (reads_phi(motion, false)) {
+      rhs->body.clear();
+    } else {
+      std::vector<Program> fused = body;
+      Program finish = end, ret;
+      for (const Statement& s : epilogue)
+        (s.kind == Statement::Kind::kRaw && s.target.rfind("return", 0) == 0 ? ret : finish).push_back(s);
+      fused.push_back(finish);
+      Program reads;
+      for (size_t i = 0; i < names.size(); ++i) {
+        const TrigName& t = names[i];
+        if (u[i].first && !defined.count(t.sin)) reads.push_back(Raw("const Scalar " + t.sin + " = " + t.sin_ref + ";"));
+        if (u[i].second && !defined.count(t.cos)) reads.push_back(Raw("const Scalar " + t.cos + " = " + t.cos_ref + ";"));
+      }
+      motion.insert(motion.begin(), reads.begin(), reads.end());
+      fused.push_back(motion);
+      fused.push_back(ret);
+      rhs->body = fused;
+      rhs->extra_calls += solve_trig->extra_calls;
+    }
+  }
   end.insert(end.end(), epilogue.begin(), epilogue.end());
   body.push_back(end);
   solve_trig->body = body;
@@ -407,16 +441,18 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   std::vector<FunctionSpec*> takers;
   if (has_statics) takers.push_back(&statics_spec);
   const bool has_dynamics = dynamics != nullptr && dynamics->any;
-  FunctionSpec dynamics_spec, kinetostatics_spec;
+  FunctionSpec dynamics_spec, kinetostatics_spec, rhs_spec;
   if (has_dynamics) {
     dynamics_spec = EvalDynamicsSpec(m, *dynamics, printer);
+    rhs_spec = EvalRhsSpec(m, t, *dynamics, printer);
     kinetostatics_spec = EvalKinetostaticsSpec(m, *dynamics, printer);
     takers.push_back(&dynamics_spec);
     takers.push_back(&kinetostatics_spec);
   }
   bool solve_trig_possible = false;
   FunctionSpec solve_trig = SolveTrigSpec(t, printer, &solve_trig_possible);
-  ShareTrig(k, trig_done, printer, &coefficients, &positions, takers, &solve_trig, &solve_trig_possible);
+  ShareTrig(k, trig_done, printer, &coefficients, &positions, takers, &solve_trig, &solve_trig_possible,
+            has_dynamics ? &rhs_spec : nullptr);
   out.push_back(coefficients);
   if (has_statics) out.push_back(statics_spec);
   if (has_dynamics) {
@@ -429,6 +465,12 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));
   out.push_back(positions);
   if (solve_trig_possible) out.push_back(solve_trig);
+  if (has_dynamics && solve_trig_possible && !rhs_spec.body.empty()) {
+    FunctionSpec prepare;
+    HoistRhsConstants(m, printer, &rhs_spec, &prepare);
+    out.push_back(prepare);
+    out.push_back(rhs_spec);
+  }
   if (m.outputs.scene && !k.scene.empty()) out.push_back(EvalSceneSpec(k));
   return out;
 }

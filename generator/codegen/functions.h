@@ -58,6 +58,13 @@ FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st, CxxPrinte
 Program StaticsBody(const Model& m, const StaticsTable& st, CxxPrinter* printer);
 /// EvalDynamics (codegen/statics_functions.cc): I, dI_dq, C, h, Q, T, V, P_nc.
 FunctionSpec EvalDynamicsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
+/// EvalRhs: the equation of motion's right-hand side at (t, q, qd) in one pass (its body is
+/// K, L, I, h, Q, T, V, P_nc, Phi_phi here; ShareTrig puts SolvePositionsTrig's blocks before
+/// it, and BuildFunctions keeps it only where SolvePositionsTrig exists).
+FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsTable& dt, CxxPrinter* printer);
+/// Moves EvalRhs' parameter-only subexpressions into RhsConstants (hoist.h), sets its
+/// declarations (the Rhs and RhsConstants structs) and builds PrepareRhs, which fills them.
+void HoistRhsConstants(const Model& m, CxxPrinter* printer, FunctionSpec* rhs, FunctionSpec* prepare);
 /// EvalKinetostatics: the statics with the inertia forces, into the Statics struct.
 FunctionSpec EvalKinetostaticsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
 /// EvalExcess: the excess-coordinate formulation's M, h, g, Phi_x, Phi, gamma, T, V.
@@ -67,7 +74,8 @@ void PruneUnusedDefines(Program* program);
 
 /// sin and cos shared between SolvePositions and EvalCoefficients (the Trig<Scalar>
 /// argument): rewrites both specs' programs, and those of `takers` (EvalStatics, EvalDynamics, ...)
-/// that take a Trig argument too.
+/// that take a Trig argument too. With `rhs` (EvalRhsSpec), SolveTrig's blocks are put before
+/// its body, which then reads the angles' sin and cos from them.
 void ShareTrig(const Kinematics& k,
                const std::vector<bool>& trig_done,
                CxxPrinter* printer,
@@ -75,7 +83,8 @@ void ShareTrig(const Kinematics& k,
                FunctionSpec* positions,
                const std::vector<FunctionSpec*>& takers = {},
                FunctionSpec* solve_trig = nullptr,
-               bool* solve_trig_possible = nullptr);
+               bool* solve_trig_possible = nullptr,
+               FunctionSpec* rhs = nullptr);
 
 /// Every generated function of the model, in the order of the header.
 std::vector<FunctionSpec> BuildFunctions(const Model& m,

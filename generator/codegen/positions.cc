@@ -102,6 +102,17 @@ void ClosedFormPositions(const ClosedForm& f,
     P->push_back(Raw("if (!(" + x + " - " + x + " == Scalar(0))) return {SolveStatus::kSingular, " + N(bi) +
                      ", iterations, " + x + "};"));
   }
+  // Trig only: 1 / norm2 of each direction (a parameter only for a dyad's link lengths:
+  // EvalRhs computes it once per parameter set), also for the branch measure below.
+  ex inverse_norms = 1, norms = 1;
+  if (trig_only)
+    for (const DyadTrig& t : f.trig) {
+      ex inv;
+      P->push_back(Define(t.inv_name + f.suffix, 1 / t.norm2, &inv));
+      printer->Name(inv, t.inv_name + f.suffix);
+      inverse_norms *= inv;
+      norms *= t.norm2;
+    }
   if (f.has_branch) {
     // The branch-point signal: the smallest relative discriminant over the blocks.
     const std::string name = "branch" + f.suffix;
@@ -109,13 +120,17 @@ void ClosedFormPositions(const ClosedForm& f,
     std::string value;
     if (f.branch_den.is_equal(GiNaC::ex(1)))
       value = num;
-    else if (f.branch_den_positive)
+    else if (trig_only && f.branch_den_positive && !f.trig.empty() && (f.branch_den - norms).expand().is_zero()) {
+      ex branch;  // the denominator is the directions' norms: their inverses, no division
+      P->push_back(Define(name, f.branch_num * inverse_norms, &branch));
+      printer->Name(branch, name);
+    } else if (f.branch_den_positive)
       value = "(" + num + ") / (" + text(f.branch_den) + ")";
     else {
       const std::string den = text(f.branch_den);
       value = "(" + den + ") > Scalar(0) ? (" + num + ") / (" + den + ") : Scalar(0)";
     }
-    P->push_back(Raw("const Scalar " + name + " = " + value + ";"));
+    if (!value.empty()) P->push_back(Raw("const Scalar " + name + " = " + value + ";"));
     P->push_back(Raw("if (" + name + " < branch_measure) {"));
     P->push_back(Raw("  branch_measure = " + name + ";"));
     P->push_back(Raw("  branch_block = " + N(bi) + ";"));
@@ -123,11 +138,6 @@ void ClosedFormPositions(const ClosedForm& f,
   }
   if (f.trig.empty()) return;
   if (trig_only) {
-    for (const DyadTrig& t : f.trig) {
-      const std::string norm2 = text(t.norm2);
-      P->push_back(Raw("const Scalar " + t.inv_name + f.suffix + " = Scalar(1) / " +
-                       (GiNaC::is_a<GiNaC::symbol>(t.norm2) ? norm2 : "(" + norm2 + ")") + ";"));
-    }
     for (const DyadTrig& t : f.trig) {
       const std::string c = "trig->cos_phi(" + N(t.col) + ")", s = "trig->sin_phi(" + N(t.col) + ")";
       P->push_back(Raw(c + " = " + text(t.dot) + " * " + t.inv_name + f.suffix + ";"));

@@ -1,11 +1,13 @@
 // EvalStatics: the statics of symbolic/statics.h stored into the generated Statics struct.
 #include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <tuple>
 #include <set>
 
 #include "codegen/functions.h"
+#include "codegen/hoist.h"
 #include "codegen/sha256.h"
 
 namespace mechgen {
@@ -273,6 +275,156 @@ FunctionSpec EvalDynamicsSpec(const Model& m, const DynamicsTable& dt, CxxPrinte
   P.push_back(Store("out->P_nc", dt.P_nc));
   f.body = {Finish(P, a, printer)};
   return f;
+}
+
+FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsTable& dt, CxxPrinter* printer) {
+  const Kinematics& k = t.kinematics();
+  const int nq = k.nq(), nphi = k.nphi(), nc = k.nc();
+  const StaticsTable& a = *dt.applied;
+  for (const auto& [sym, name] : a.names) printer->Name(sym, name);
+  FunctionSpec f;
+  f.name = "EvalRhs";
+  f.model_member = "Rhs";
+  f.returns = "SolveReport<Scalar>";
+  f.reindent = true;
+  // Inlined where it is called (an integrator's inner loop): not compiled into <model>.cc.
+  f.instantiate = false;
+  f.doc = {"\\brief The right-hand side of the equation of motion at a state (t, q, qd), in one pass:",
+           "SolvePositionsTrig() (the closed forms' direction cosines, no angle), K and L, then I, h, Q",
+           "(Paul §6.4, §6.6.1: qdd = I^-1 (Q - h)), with what a simulation samples (K, T, V, P_nc, Phi_phi).",
+           "Nothing else of EvalCoefficients() (no residual, no points) and of EvalDynamics() (no C, dI_dq)",
+           "is computed: the fast path of an integrator's stages. The same statuses and branch_measure as",
+           "SolvePositionsTrig(); *trig and *out hold finite values when the report says kConverged."};
+  f.args.push_back(Arg("const Params<Scalar>&", "p", Dir::kIn, "Parameters."));
+  f.args.push_back(Arg("const RhsConstants<Scalar>&", "rc", Dir::kIn,
+                       "What depends on the parameters only: PrepareRhs(p) (again after p changes)."));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "q", Dir::kIn, "Inputs", "dim kNq"));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities dq/dt", "dim kNq"));
+  f.args.push_back(Arg("const Scalar&", "t", Dir::kIn, "Time (s), for loads that depend on it"));
+  f.args.push_back(Arg("const std::array<int, Sizes::kNumBlocks>&", "modes", Dir::kIn,
+                       "Assembly mode of each block (Model::kDefaultModes: the model's assembly)", "dim kNumBlocks"));
+  f.args.push_back(Arg("Trig<Scalar>*", "trig", Dir::kOut, "sin and cos of q and phi at the solution; not nullptr."));
+  f.args.push_back(Arg("Rhs<Scalar>*", "out", Dir::kOut, "Rhs; not nullptr."));
+  f.args.push_back(Arg("const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type*", "friction", Dir::kIn,
+                       "Coulomb friction loads f (kFrictionJoints), as in EvalStatics(); nullptr: none.",
+                       "dim kNumFriction", true, "nullptr"));
+  // EvalCoefficients' K and L (and Phi_phi's named entries) in place of what EvalDynamics
+  // reads from its Coefficients argument.
+  GiNaC::exmap from_c;
+  for (const auto& [sym, name] : a.names) {
+    int i = 0, j = 0;
+    if (std::sscanf(name.c_str(), "c.K(%d, %d)", &i, &j) == 2)
+      from_c[sym] = t.K[i][j];
+    else if (std::sscanf(name.c_str(), "c.L(%d, %d)", &i, &j) == 2)
+      from_c[sym] = t.L(i, j % nq, j / nq);
+    else if (std::sscanf(name.c_str(), "c.Phi_phi(%d, %d)", &i, &j) == 2)
+      from_c[sym] = t.Phi_phi_named(i, j);
+  }
+  Program P = t.k_program;
+  P.insert(P.end(), t.l_program.begin(), t.l_program.end());
+  GiNaC::exmap inlined;  // the dynamics' locals in terms of K, L, the angles and the parameters
+  for (Statement s : dt.program) {
+    if (s.kind == Statement::Kind::kDefine || s.kind == Statement::Kind::kStore) s.value = s.value.subs(from_c);
+    if (s.kind == Statement::Kind::kDefine) inlined[s.symbol] = s.value.subs(inlined);
+    P.push_back(s);
+  }
+  // Each output as a polynomial in K, L and the angles' sin and cos reduced by
+  // sin^2 + cos^2 = 1 (hoist.h), where that stays small; else through the locals.
+  ExSet params;
+  for (const Parameter& prm : m.params) params.insert(prm.symbol);
+  std::vector<std::pair<ex, ex>> sin_cos;
+  for (const Coordinate& c : k.q)
+    if (c.is_angle) sin_cos.emplace_back(GiNaC::sin(c.symbol), GiNaC::cos(c.symbol));
+  for (const Coordinate& c : k.phi)
+    if (c.is_angle) sin_cos.emplace_back(GiNaC::sin(c.symbol), GiNaC::cos(c.symbol));
+  auto output = [&](const ex& value) {
+    const ex v = value.subs(from_c);
+    size_t terms = 0;
+    const ex reduced = ReduceTrig(v.subs(inlined), sin_cos, params, &terms);
+    return terms <= 48 ? reduced : v;
+  };
+  // I and C as locals; h = C (qd (x) qd) and T = 1/2 qd^T I qd from them.
+  auto local = [&](const std::string& name, const ex& value) -> ex {
+    const ex v = output(value);
+    if (GiNaC::is_a<GiNaC::symbol>(v)) return v;
+    ex sym;
+    P.push_back(Define(name, v, &sym));
+    return sym;
+  };
+  std::vector<ex> qd(nq);
+  for (const auto& [sym, name] : a.names)
+    for (int j = 0; j < nq; ++j)
+      if (name == "qd(" + N(j) + ")") qd[j] = sym;
+  std::vector<ex> I(nq * nq), C(nq * nq * nq);
+  for (int j = 0; j < nq; ++j)
+    for (int kk = 0; kk < nq; ++kk) I[j + nq * kk] = local("I_eom_" + N(j) + "_" + N(kk), dt.I[j + nq * kk]);
+  for (int j = 0; j < nq; ++j)
+    for (int kl = 0; kl < nq * nq; ++kl)
+      C[j + nq * kl] = local("C_eom_" + N(j) + "_" + N(kl % nq) + "_" + N(kl / nq), dt.C[j + nq * kl]);
+  for (int i = 0; i < nphi; ++i)
+    for (int j = 0; j < nq; ++j) P.push_back(Store("out->K" + Idx(i, j), t.K[i][j]));
+  ex T = 0;
+  for (int j = 0; j < nq; ++j)
+    for (int kk = 0; kk < nq; ++kk) {
+      P.push_back(Store("out->I" + Idx(j, kk), I[j + nq * kk]));
+      T += I[j + nq * kk] * qd[j] * qd[kk] / 2;
+    }
+  for (int j = 0; j < nq; ++j) {
+    ex h = 0;
+    for (int kk = 0; kk < nq; ++kk)
+      for (int l = 0; l < nq; ++l) h += C[j + nq * (kk + nq * l)] * qd[kk] * qd[l];
+    P.push_back(Store("out->h(" + N(j) + ")", h));
+  }
+  for (int j = 0; j < nq; ++j) P.push_back(Store("out->Q(" + N(j) + ")", output(dt.Q[j])));
+  P.push_back(Store("out->T", T));
+  P.push_back(Store("out->V", output(dt.V)));
+  P.push_back(Store("out->P_nc", output(dt.P_nc)));
+  for (int i = 0; i < nc; ++i)
+    for (int j = 0; j < nphi; ++j) P.push_back(Store("out->Phi_phi" + Idx(i, j), t.Phi_phi_named(i, j)));
+  f.body = {Finish(P, a, printer)};
+  (void)m;
+  return f;
+}
+
+void HoistRhsConstants(const Model& m, CxxPrinter* printer, FunctionSpec* rhs, FunctionSpec* prepare) {
+  ExSet params;
+  for (const Parameter& prm : m.params) params.insert(prm.symbol);
+  const std::vector<ex> values = HoistParameters(params, "rc.c", printer, &rhs->body);
+  const std::string n = N(static_cast<int>(values.size()));
+  rhs->declarations =
+      "/// What EvalRhs() fills: the equation of motion I(q) qdd + h(q, qd) = Q(t, q, qd) at a state, with\n"
+      "/// what a simulation samples there. The same definitions and units as Dynamics.\n"
+      "template <typename Scalar = double>\n"
+      "struct Rhs {\n"
+      "  /// K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd).  (kNphi x kNq)\n"
+      "  Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;\n"
+      "  /// I: the generalized inertia.  (kNq x kNq)\n"
+      "  Mat<Scalar, Sizes::kNq, Sizes::kNq> I;\n"
+      "  /// h = C (qd (x) qd): the centripetal and Coriolis terms.  (kNq)\n"
+      "  Vec<Scalar, Sizes::kNq> h;\n"
+      "  /// Q: the generalized applied forces at (t, q, qd).  (kNq)\n"
+      "  Vec<Scalar, Sizes::kNq> Q;\n"
+      "  /// T = 1/2 qd^T I qd, V, and the power P_nc of the non-conservative forces.\n"
+      "  Scalar T, V, P_nc;\n"
+      "  /// dPhi/dphi at the solution: its conditioning tells a dead point.  (kNc x kNphi)\n"
+      "  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;\n"
+      "};\n"
+      "\n"
+      "/// What EvalRhs() reads that depends on the parameters only (masses, their products with\n"
+      "/// lengths, inverse squared lengths, ...): PrepareRhs() fills it once per parameter set.\n"
+      "template <typename Scalar = double>\n"
+      "struct RhsConstants {\n"
+      "  std::array<Scalar, " + n + "> c;\n"
+      "};\n";
+  prepare->name = "PrepareRhs";
+  prepare->model_member = "Prepare";
+  prepare->doc = {"\\brief The constants EvalRhs() reads: what depends on the parameters only, computed once",
+                  "(call it again after changing a parameter)."};
+  prepare->args.push_back(Arg("const Params<Scalar>&", "p", Dir::kIn, "Parameters."));
+  prepare->args.push_back(Arg("RhsConstants<Scalar>*", "rc", Dir::kOut, "The constants; not nullptr."));
+  Program P;
+  for (size_t i = 0; i < values.size(); ++i) P.push_back(Store("rc->c[" + N(static_cast<int>(i)) + "]", values[i]));
+  prepare->body = {P};
 }
 
 FunctionSpec EvalKinetostaticsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer) {

@@ -206,6 +206,17 @@ struct DrivenFourbarMassive : fm::Model {
     fm::EvalDynamics(p, q, phi, qd, t, c, out, nullptr, trig);
     out->Q(0) += Drive(p, t);
   }
+  // The stages' one-pass right-hand side (MinimalDynamics uses it where it is generated):
+  // the same drive added.
+  template <typename Scalar>
+  static fm::SolveReport<Scalar> Rhs(const fm::Params<Scalar>& p, const fm::RhsConstants<Scalar>& rc,
+                                     const fm::Vec<Scalar, 1>& q, const fm::Vec<Scalar, 1>& qd,
+                                     const Scalar& t, const std::array<int, 1>& modes,
+                                     fm::Trig<Scalar>* trig, fm::Rhs<Scalar>* out) {
+    const auto report = fm::EvalRhs(p, rc, q, qd, t, modes, trig, out);
+    out->Q(0) += Drive(p, t);
+    return report;
+  }
   static double Drive(const fm::Params<double>& p, double t) {
     static mechgen::dynamics::Kinetostatics<fm::Model> k(p);
     static bool initialized = k.Initialize(Vec1(Prescribed::q(0)));

@@ -199,6 +199,22 @@ struct HasSolveTrig<M, std::void_t<decltype(M::template SolveTrig<double>(
                            std::declval<const std::array<int, M::kNumBlocks>&>(),
                            std::declval<typename M::template TrigT<double>*>()))>> : std::true_type {};
 
+/// The model has the generated EvalRhs (SolveTrig, K, L, I, h, Q in one pass: Model::Rhs).
+template <class M, class = void>
+struct HasRhs : std::false_type {};
+template <class M>
+struct HasRhs<M, std::void_t<typename M::template RhsT<double>>> : std::true_type {};
+/// Its constants (M::RhsConstantsT), or an empty placeholder.
+struct NoRhsConstants {};
+template <class M, class = void>
+struct RhsConstantsOf {
+  using type = NoRhsConstants;
+};
+template <class M>
+struct RhsConstantsOf<M, std::void_t<typename M::template RhsConstantsT<double>>> {
+  using type = typename M::template RhsConstantsT<double>;
+};
+
 template <class M>
 constexpr bool AllBlocksClosedForm() {
   for (bool b : M::kBlockClosedForm)
@@ -254,12 +270,22 @@ class MinimalDynamics {
   /// The stages solve only the sin and cos of the angles (M::SolveTrig, no atan2); the angles
   /// are recovered, continuous with the warm start's predictor, only where a sample needs them.
   static constexpr bool kStagesByTrig = kHasTrig && kNphi > 0 && internal::HasSolveTrig<M>::value;
+  /// ... and, where the model has it, by the one-pass M::Rhs (no residual, no points, no C).
+  /// A model wrapper that changes M::Dynamics (an added load) must change M::Rhs alike.
+  static constexpr bool kStagesByRhs = kStagesByTrig && internal::HasRhs<M>::value;
 
   explicit MinimalDynamics(const Params& params, const MinimalOptions& options = MinimalOptions())
-      : p_(params), options_(options), integrator_(options.integrator) {}
+      : p_(params), options_(options), integrator_(options.integrator) {
+    PrepareConstants();
+  }
 
   const Params& params() const { return p_; }
-  Params* mutable_params() { return &p_; }
+  /// The parameters, to change (the constants of M::Rhs are prepared again at the next
+  /// Initialize() or Simulate()).
+  Params* mutable_params() {
+    constants_stale_ = true;
+    return &p_;
+  }
   const MinimalOptions& options() const { return options_; }
   const Integrator& integrator() const { return integrator_; }
   const Modes& modes() const { return modes_; }
@@ -269,6 +295,7 @@ class MinimalDynamics {
    * configuration of the warm starts. false when it does not assemble.
    */
   bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes = M::kDefaultModes) {
+    if (constants_stale_) PrepareConstants();
     modes_ = modes;
     q_ref_ = q0;
     phi_ref_ = phi_guess;
@@ -299,8 +326,40 @@ class MinimalDynamics {
   bool Derivative(double t, const State& y, State* dy) {
     const VecQ q = y.template head<kNq>();
     const VecQ qd = y.template segment<kNq>(kNq);
-    VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
     last_.valid = false;
+    if constexpr (kStagesByRhs) {
+      // One generated pass (M::Rhs): positions by their sin and cos, K, L, I, h, Q.
+      last_solve_not_assemblable_ = false;
+      if (constants_stale_) PrepareConstants();
+      typename M::template RhsT<double> r;
+      const auto report = M::template Rhs<double>(p_, rc_, q, qd, t, modes_, &trig_, &r);
+      if (report.status != decltype(report.status)::kConverged) {
+        last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+        ++position_failures_;
+        return false;
+      }
+      VecQ qdd;
+      if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
+      dy->template head<kNq>() = qd;
+      dy->template segment<kNq>(kNq) = qdd;
+      (*dy)(2 * kNq) = r.P_nc;
+      if (caching_) {
+        last_.t = t;
+        last_.y = y;
+        last_.sample.phi = phi_ref_ + K_ref_ * (q - q_ref_);  // the predictor; FromCache() corrects it
+        last_.sample.K = r.K;
+        last_.sample.qdd = qdd;
+        last_.sample.Q = r.Q;
+        last_.sample.T = r.T;
+        last_.sample.V = r.V;
+        last_.sample.P_nc = r.P_nc;
+        last_.Phi_phi = r.Phi_phi;
+        last_.trig = trig_;
+        last_.valid = true;
+      }
+      return true;
+    }
+    VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
     if constexpr (kStagesByTrig) {
       // sin and cos only: phi stays the predictor, which the generated functions given trig
       // do not read; FromCache() recovers the angles at an accepted step.
@@ -404,6 +463,7 @@ class MinimalDynamics {
       return Finish(Status::kInvalidInput, t0, summary);
     }
     integrator_.set_options(options_.integrator);
+    if (constants_stale_) PrepareConstants();
     // Cache the last evaluation during this run (restored on every return by Finish()).
     caching_ = true;
     State y0;
@@ -572,6 +632,11 @@ class MinimalDynamics {
   }
 
  private:
+  void PrepareConstants() {
+    if constexpr (kStagesByRhs) M::template Prepare<double>(p_, &rc_);
+    constants_stale_ = false;
+  }
+
   bool Finish(Status s, double t, MinimalSummary* summary) {
     caching_ = false;
     last_.valid = false;
@@ -635,22 +700,24 @@ class MinimalDynamics {
     }
   }
 
-  bool SolveInertia(const Dyn& d, VecQ* qdd) {
+  bool SolveInertia(const Dyn& d, VecQ* qdd) { return SolveInertia(d.I, d.Q - d.h, qdd); }
+  /// qdd = I^-1 f; false (singular_inertia_) unless I is positive definite.
+  bool SolveInertia(const Eigen::Matrix<double, kNq, kNq>& I, const VecQ& f, VecQ* qdd) {
     singular_inertia_ = false;
     if constexpr (kNq == 1) {
-      const double I = d.I(0, 0);
-      if (!(I > 0) || !std::isfinite(I)) {
+      const double I00 = I(0, 0);
+      if (!(I00 > 0) || !std::isfinite(I00)) {
         singular_inertia_ = true;
         return false;
       }
-      (*qdd)(0) = (d.Q(0) - d.h(0)) / I;
+      (*qdd)(0) = f(0) / I00;
     } else {
-      const Eigen::LDLT<Eigen::Matrix<double, kNq, kNq>> ldlt(d.I);
+      const Eigen::LDLT<Eigen::Matrix<double, kNq, kNq>> ldlt(I);
       if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
         singular_inertia_ = true;
         return false;
       }
-      *qdd = ldlt.solve(d.Q - d.h);
+      *qdd = ldlt.solve(f);
     }
     return qdd->allFinite();
   }
@@ -741,6 +808,8 @@ class MinimalDynamics {
   VecPhi phi_ref_ = VecPhi::Zero();
   Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
   Trig trig_{};
+  typename internal::RhsConstantsOf<M>::type rc_{};  ///< kStagesByRhs: M::PrepareRhs(p_)
+  bool constants_stale_ = true;
   struct LastEvaluation {
     bool valid = false;
     double t = 0;

@@ -1,0 +1,185 @@
+// See hoist.h.
+#include "codegen/hoist.h"
+
+#include <algorithm>
+#include <cctype>
+#include <functional>
+#include <map>
+#include <stdexcept>
+
+namespace mechgen {
+namespace {
+
+using GiNaC::ex;
+using GiNaC::is_a;
+
+void Symbols(const ex& e, ExSet* out) {
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (is_a<GiNaC::symbol>(*it)) out->insert(*it);
+}
+
+bool Only(const ex& e, const ExSet& allowed) {
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (is_a<GiNaC::symbol>(*it) && !allowed.count(*it)) return false;
+  return true;
+}
+
+// A number, a symbol, or a symbol times -1: nothing to gain from a constant.
+bool Trivial(const ex& e) {
+  if (is_a<GiNaC::numeric>(e) || is_a<GiNaC::symbol>(e)) return true;
+  if (is_a<GiNaC::mul>(e) && e.nops() == 2) {
+    const ex a = e.op(0), b = e.op(1);
+    if (is_a<GiNaC::symbol>(a) && b.is_equal(-1)) return true;
+    if (is_a<GiNaC::symbol>(b) && a.is_equal(-1)) return true;
+  }
+  return false;
+}
+
+struct MapBy : GiNaC::map_function {
+  explicit MapBy(const std::function<ex(const ex&)>& f) : f_(f) {}
+  ex operator()(const ex& e) override { return f_(e); }
+  const std::function<ex(const ex&)>& f_;
+};
+
+// Whether `name` occurs as a whole identifier in `text`.
+bool Mentions(const std::string& text, const std::string& name) {
+  auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (size_t pos = text.find(name); pos != std::string::npos; pos = text.find(name, pos + 1)) {
+    const bool before = pos > 0 && word(text[pos - 1]);
+    const bool after = pos + name.size() < text.size() && word(text[pos + name.size()]);
+    if (!before && !after) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+static ex ReducePolynomial(const ex& e,
+                           const std::vector<std::pair<ex, ex>>& sin_cos,
+                           const ExSet& params,
+                           size_t* terms);
+
+ex ReduceTrig(const ex& e, const std::vector<std::pair<ex, ex>>& sin_cos, const ExSet& params, size_t* terms) {
+  // Not a polynomial in them (a square root, a non-integer power): left as it is.
+  try {
+    return ReducePolynomial(e, sin_cos, params, terms);
+  } catch (const std::exception&) {
+    *terms = static_cast<size_t>(-1);
+    return e;
+  }
+}
+
+static ex ReducePolynomial(const ex& e,
+                           const std::vector<std::pair<ex, ex>>& sin_cos,
+                           const ExSet& params,
+                           size_t* terms) {
+  GiNaC::exmap to, from;
+  std::vector<std::pair<GiNaC::symbol, GiNaC::symbol>> sc;
+  for (const auto& [s, c] : sin_cos) {
+    GiNaC::symbol ss("reduce_sin"), cs("reduce_cos");
+    to[s] = ss;
+    to[c] = cs;
+    from[ss] = s;
+    from[cs] = c;
+    sc.emplace_back(ss, cs);
+  }
+  ex x = e.subs(to).expand();
+  // sin^n = sin^(n-2) (1 - cos^2) until no sin is squared.
+  for (int pass = 0; pass < 16; ++pass) {
+    bool changed = false;
+    for (const auto& [s, c] : sc) {
+      if (x.degree(s) < 2) continue;
+      x = x.subs(GiNaC::pow(s, 2) == 1 - GiNaC::pow(c, 2), GiNaC::subs_options::algebraic).expand();
+      changed = true;
+    }
+    if (!changed) break;
+  }
+  ExSet all;
+  Symbols(x, &all);
+  GiNaC::lst vars;
+  for (const ex& s : all)
+    if (!params.count(s)) vars.append(s);
+  if (vars.nops() > 0) x = GiNaC::collect(x, vars, true);
+  *terms = is_a<GiNaC::add>(x) ? x.nops() : 1;
+  return x.subs(from);
+}
+
+std::vector<ex> HoistParameters(const ExSet& params,
+                                const std::string& access,
+                                CxxPrinter* printer,
+                                std::vector<Program>* body) {
+  ExSet param_like = params;
+  GiNaC::exmap value_of;                            // a parameter-like local -> its value in the parameters
+  std::map<ex, ex, GiNaC::ex_is_less> constant_of;  // value -> its symbol
+  auto pure = [&](const ex& e) { return e.subs(value_of); };
+  auto constant = [&](const ex& e) -> ex {
+    const ex v = pure(e);
+    auto it = constant_of.find(v);
+    if (it == constant_of.end()) {
+      it = constant_of.emplace(v, GiNaC::symbol("hoisted")).first;
+      param_like.insert(it->second);
+      value_of[it->second] = v;
+    }
+    return it->second;
+  };
+  std::function<ex(const ex&)> hoist = [&](const ex& e) -> ex {
+    if (is_a<GiNaC::numeric>(e) || is_a<GiNaC::symbol>(e)) return e;
+    if (Only(e, param_like)) return Trivial(e) ? e : constant(e);
+    if (is_a<GiNaC::add>(e) || is_a<GiNaC::mul>(e)) {
+      const bool sum = is_a<GiNaC::add>(e);
+      ex fixed = sum ? 0 : 1, rest = sum ? 0 : 1;
+      for (size_t i = 0; i < e.nops(); ++i) {
+        const ex o = e.op(i);
+        if (Only(o, param_like))
+          fixed = sum ? fixed + o : fixed * o;
+        else
+          rest = sum ? rest + hoist(o) : rest * hoist(o);
+      }
+      if (!Trivial(fixed)) fixed = constant(fixed);
+      return sum ? fixed + rest : fixed * rest;
+    }
+    MapBy by(hoist);
+    return e.map(by);
+  };
+  for (Program& program : *body)
+    for (Statement& s : program) {
+      if (s.kind != Statement::Kind::kDefine && s.kind != Statement::Kind::kStore) continue;
+      s.value = hoist(s.value);
+      if (s.kind == Statement::Kind::kDefine && Only(s.value, param_like)) {
+        param_like.insert(s.symbol);
+        value_of[s.symbol] = pure(s.value);
+      }
+    }
+  std::vector<std::pair<std::string, std::pair<ex, ex>>> sorted;  // key, (value, symbol)
+  for (const auto& [value, sym] : constant_of) sorted.push_back({printer->Key(value), {value, sym}});
+  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<ex> values;
+  for (size_t i = 0; i < sorted.size(); ++i) {
+    printer->Name(sorted[i].second.second, access + "[" + std::to_string(i) + "]");
+    values.push_back(sorted[i].second.first);
+  }
+  // Locals nothing reads any more (their uses became constants): dropped, unless a raw line
+  // (a solver's check) names them.
+  std::string raw;
+  for (const Program& program : *body)
+    for (const Statement& s : program)
+      if (s.kind == Statement::Kind::kRaw) raw += s.target + "\n";
+  ExSet used;
+  for (auto p = body->rbegin(); p != body->rend(); ++p) {
+    Program kept;
+    for (auto it = p->rbegin(); it != p->rend(); ++it) {
+      const Statement& s = *it;
+      if (s.kind == Statement::Kind::kDefine) {
+        if (!used.count(s.symbol) && !Mentions(raw, s.target)) continue;
+        Symbols(s.value, &used);
+      } else if (s.kind == Statement::Kind::kStore) {
+        Symbols(s.value, &used);
+      }
+      kept.push_back(s);
+    }
+    p->assign(kept.rbegin(), kept.rend());
+  }
+  return values;
+}
+
+}  // namespace mechgen
