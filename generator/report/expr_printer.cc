@@ -34,6 +34,10 @@ struct ReportPrinterImpl {
     if (n.kind == Node::kAdd) return !n.ops.empty() && IsNegative(n.ops[0]);
     return false;
   }
+  static std::string Lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+  }
   static int Rank(const Node& n) {
     switch (n.kind) {
       case Node::kNum: return 0;
@@ -125,7 +129,9 @@ struct ReportPrinterImpl {
     if (coeff.is_zero()) return Num(0);
     std::stable_sort(flat.begin(), flat.end(), [](const Node& a, const Node& b) {
       const int ra = Rank(a), rb = Rank(b);
-      return ra != rb ? ra < rb : a.key < b.key;
+      if (ra != rb) return ra < rb;
+      const std::string la = Lower(a.key), lb = Lower(b.key);
+      return la != lb ? la < lb : a.key < b.key;
     });
     if (flat.empty()) return Num(coeff);
     if (flat.size() == 1 && coeff == 1) return flat[0];
@@ -233,7 +239,10 @@ struct ReportPrinterImpl {
                                                   "sinh", "cosh", "tanh", "exp", "log"};
       std::vector<Node> args;
       for (size_t i = 0; i < e.nops(); ++i) args.push_back(Build(e.op(i)));
-      const std::string tex = known.count(name)   ? "\\" + name
+      static const std::map<std::string, std::string> arc = {{"asin", "\\arcsin"}, {"acos", "\\arccos"},
+                                                             {"atan", "\\arctan"}};
+      const std::string tex = arc.count(name)     ? arc.at(name)
+                              : known.count(name) ? "\\" + name
                               : name == "abs"     ? "\\operatorname{abs}"
                               : name == "atan2"   ? "\\operatorname{atan2}"
                                                   : "\\operatorname{" + ReportPrinter::TexText(name) + "}";
@@ -392,7 +401,16 @@ struct ReportPrinterImpl {
           return s.empty() ? std::string("1") : s;
         };
         if (bottom.empty()) return join(top);
-        if (tex) return "\\frac{" + join(top) + "}{" + join(bottom) + "}";
+        if (tex) {
+          // A \frac's numerator needs no parentheses around a lone sum.
+          std::vector<const Node*> tops;
+          for (const Node& f : n.ops)
+            if (!(f.kind == Node::kPow && f.ops[1].kind == Node::kNum && f.ops[1].num.is_real() && f.ops[1].num < 0))
+              tops.push_back(&f);
+          if (top.size() == 1 && tops.size() == 1 && tops[0]->kind == Node::kAdd)
+            return "\\frac{" + Signed(*tops[0], tex) + "}{" + join(bottom) + "}";
+          return "\\frac{" + join(top) + "}{" + join(bottom) + "}";
+        }
         return join(top) + "/" + (bottom.size() > 1 ? "(" + join(bottom) + ")" : join(bottom));
       }
     }
@@ -422,6 +440,59 @@ std::string ReportPrinter::Print(const GiNaC::ex& e) const {
   ReportPrinterImpl impl{*this};
   const Node n = impl.Build(e);
   return impl.Signed(n, latex_);
+}
+
+size_t ReportPrinter::Width(const GiNaC::ex& e) const {
+  ReportPrinterImpl impl{*this};
+  return impl.Build(e).key.size();
+}
+
+std::vector<std::string> ReportPrinter::PrintLines(const GiNaC::ex& e, size_t width) const {
+  ReportPrinterImpl impl{*this};
+  const Node n = impl.Build(e);
+  const std::string whole = impl.Signed(n, latex_);
+  if (n.key.size() <= width) return {whole};
+  // The sum to break, and what goes before and after it.
+  const Node* sum = nullptr;
+  std::string before, after;
+  if (n.kind == Node::kAdd) {
+    sum = &n;
+  } else if (n.kind == Node::kMul) {
+    // c * (sum) * rest / den: the sum broken, the rest as a fraction in front.
+    int sums = 0;
+    for (const Node& f : n.ops) sums += f.kind == Node::kAdd;
+    for (const Node& f : n.ops)
+      if (f.kind == Node::kAdd && sums == 1) sum = &f;
+    if (sum != nullptr) {
+      Node rest = n;
+      rest.ops.clear();
+      for (const Node& f : n.ops)
+        if (&f != sum) rest.ops.push_back(f);
+      const bool negative = ReportPrinterImpl::IsNegative(rest);
+      rest.num = GiNaC::abs(rest.num);
+      const std::string r = rest.ops.empty() ? impl.NumText(rest.num, latex_) : impl.Unsigned(rest, latex_);
+      before = std::string(negative ? "-" : "") + (r == "1" ? "" : r + " ") + (latex_ ? "\\Bigl(" : "(");
+      after = latex_ ? "\\Bigr)" : ")";
+    }
+  }
+  if (sum == nullptr || sum->kind != Node::kAdd) return {whole};
+  std::vector<std::string> lines;
+  std::string line = before;
+  size_t used = before.empty() ? 0 : n.key.size() - sum->key.size();
+  for (size_t i = 0; i < sum->ops.size(); ++i) {
+    const Node& t = sum->ops[i];
+    const bool neg = ReportPrinterImpl::IsNegative(t);
+    const std::string term = impl.Abs(t, latex_);
+    if (used > 0 && used + t.key.size() > width) {
+      lines.push_back(line);
+      line.clear();
+      used = 0;
+    }
+    line += (i == 0 ? (neg ? "-" : "") : (neg ? " - " : " + ")) + term;
+    used += t.key.size() + 3;
+  }
+  lines.push_back(line + after);
+  return lines;
 }
 
 std::string ReportPrinter::TexText(const std::string& text) {

@@ -25,6 +25,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "model/model.h"
 
@@ -41,6 +42,14 @@ class ReportPrinter {
 
   /// `e` printed in this printer's format.
   std::string Print(const GiNaC::ex& e) const;
+
+  /// `e` in lines of about `width` characters of plain text each, for a LaTeX multline: a
+  /// sum broken between its terms, a fraction over a long sum as -\frac{c}{d} \Bigl(...\Bigr)
+  /// broken inside the parentheses. One line when `e` is short or cannot be broken.
+  std::vector<std::string> PrintLines(const GiNaC::ex& e, size_t width) const;
+
+  /// Length of `e` in plain text (a measure of its printed width in either format).
+  size_t Width(const GiNaC::ex& e) const;
 
   /// LaTeX for a name as the model writes it (see the file comment).
   static std::string TexName(const std::string& name);

@@ -1,9 +1,11 @@
 // The model report. See report.h.
 #include "report/report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 
 #include "joints/cam_profile.h"
 #include "joints/joint_kind.h"
@@ -88,6 +90,19 @@ std::string Exact(double v) {
     if (std::strtod(buf, nullptr) == v && (!exponent || std::abs(v) < 1e-5 || std::abs(v) >= 1e16)) break;
   }
   return buf;
+}
+
+// Simplified where that stays small: a polynomial in sines and cosines (the usual case);
+// anything with roots or other functions (a roller's offset, cam laws) as it is.
+GiNaC::ex Tidy(const GiNaC::ex& e, const Kinematics& k) {
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    if (GiNaC::is_a<GiNaC::power>(*it) && !(GiNaC::is_a<GiNaC::numeric>(it->op(1)) &&
+                                             GiNaC::ex_to<GiNaC::numeric>(it->op(1)).is_integer()))
+      return e;
+    if (GiNaC::is_a<GiNaC::function>(*it) && !is_ex_the_function(*it, GiNaC::sin) && !is_ex_the_function(*it, GiNaC::cos))
+      return e;
+  }
+  return Simplified(e, k);
 }
 
 // A float written in the model (a literal like 1.5) as the exact rational of its shortest
@@ -215,6 +230,7 @@ int AssemblyBranch(const Model& m, const Kinematics& k) {
 // Where the report writes: prose, headings, equations and matrices in either format.
 class Writer {
  public:
+  static constexpr size_t kLineWidth = 95;  ///< plain-text characters per LaTeX line (a rough page width)
   Writer(std::ostream& os, const ReportPrinter& pr) : os_(os), pr_(pr), tex_(pr.latex()) {}
   bool tex() const { return tex_; }
   std::string P(const GiNaC::ex& e) const { return pr_.Print(e); }
@@ -236,9 +252,16 @@ class Writer {
   void Equation(const std::string& lhs, const std::string& lhs_tex, const GiNaC::ex& e, const std::string& note = "",
                 const std::string& rhs_suffix_tex = "") {
     if (tex_) {
-      os_ << "\\[ " << lhs_tex << " = " << P(e) << rhs_suffix_tex;
-      if (!note.empty()) os_ << " \\qquad\\text{(" << ReportPrinter::TexText(note) << ")}";
-      os_ << " \\]\n";
+      const std::string tag = note.empty() ? "" : " \\qquad\\text{(" + ReportPrinter::TexText(note) + ")}";
+      const std::vector<std::string> lines = pr_.PrintLines(e, kLineWidth);
+      if (lines.size() == 1) {
+        os_ << "\\[ " << (lhs_tex.empty() ? "" : lhs_tex + " = ") << lines[0] << rhs_suffix_tex << tag << " \\]\n";
+      } else {
+        // A long formula broken between the terms of its sum.
+        os_ << "\\begin{multline*}\n" << (lhs_tex.empty() ? "" : lhs_tex + " = ");
+        for (size_t i = 0; i < lines.size(); ++i) os_ << (i ? " \\\\\n  " : "") << lines[i];
+        os_ << rhs_suffix_tex << tag << "\n\\end{multline*}\n";
+      }
     } else {
       os_ << "  " << lhs << " = " << P(e);
       if (!note.empty()) os_ << "   [" << note << "]";
@@ -246,6 +269,17 @@ class Writer {
     }
   }
   void Matrix(const std::string& name, const std::string& name_tex, const GiNaC::matrix& a) {
+    size_t widest = 0;
+    for (unsigned i = 0; i < a.rows(); ++i)
+      for (unsigned j = 0; j < a.cols(); ++j) widest = std::max(widest, pr_.Width(a(i, j)));
+    if (tex_ && widest * a.cols() > kLineWidth) {  // too wide for a page: entry by entry
+      for (unsigned i = 0; i < a.rows(); ++i)
+        for (unsigned j = 0; j < a.cols(); ++j)
+          if (!a(i, j).is_zero())
+            Equation("", "\\left(" + name_tex + "\\right)_{" + std::to_string(i) + "," + std::to_string(j) + "}", a(i, j));
+      if (a.rows() * a.cols() > 0) Line("(entries not shown are zero)", 0);
+      return;
+    }
     if (tex_) {
       os_ << "\\[ " << name_tex << " = \\begin{pmatrix}";
       for (unsigned i = 0; i < a.rows(); ++i) {
@@ -320,7 +354,7 @@ std::string RowsText(const Block& b) {
 
 // One block's system: its Jacobian J, det and inverse (adjugate / det, simplified).
 struct BlockInverse {
-  GiNaC::matrix J, inv;
+  GiNaC::matrix J, adj, inv;  // inv = adj / det
   GiNaC::ex det;
 };
 
@@ -332,6 +366,7 @@ BlockInverse InvertBlock(const Kinematics& k, const Block& b) {
     for (unsigned c = 0; c < n; ++c) out.J(r, c) = k.Phi_phi(b.rows[r], b.cols[c]);
   out.det = out.J.determinant(GiNaC::determinant_algo::laplace);
   out.inv = GiNaC::matrix(n, n);
+  out.adj = GiNaC::matrix(n, n);
   for (unsigned i = 0; i < n; ++i)
     for (unsigned j = 0; j < n; ++j) {
       GiNaC::ex cof = 1;
@@ -347,6 +382,7 @@ BlockInverse InvertBlock(const Kinematics& k, const Block& b) {
         }
         cof = ((i + j) % 2 ? -1 : 1) * minor.determinant(GiNaC::determinant_algo::laplace);
       }
+      out.adj(i, j) = cof;
       out.inv(i, j) = cof / out.det;
     }
   return out;
@@ -495,8 +531,11 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
 
   // ---- K and L block by block ----
   const int nq = k.nq();
+  constexpr size_t kInlineDet = 40;  // plain-text characters
   std::vector<BlockInverse> inverses;
   for (const Block& b : d.blocks) inverses.push_back(InvertBlock(k, b));
+  // Per block: numerator -> numerator / det, simplified (det inlined or named, see below).
+  std::vector<std::function<GiNaC::ex(const GiNaC::ex&)>> fractions(d.blocks.size());
   if (d.requested.K) {
     w.Heading("Velocity coefficients K = dphi/dq (phid = K qd), block by block as the generated code computes them");
     w.Line("Block b solves Phi_phi(rows, cols) K(cols, :) = -(Phi_q(rows, :) + Phi_phi(rows, earlier cols) K(earlier cols, :)), "
@@ -513,10 +552,24 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
                       ? " (the generated code solves this block's systems by a fixed-size LU; the closed form here is the same solution)"
                       : ""),
              0);
-      w.Equation("det", "\\det \\Phi_\\phi^{(" + bn + ")}", Simplified(inv.det, k));
+      const GiNaC::ex det = Simplified(inv.det, k);
+      w.Equation("det_block" + bn, "\\det \\Phi_\\phi^{(" + bn + ")}", det);
+      // A long determinant is written once, above, and named below (det_block<b>, as in
+      // the generated code); a short one is inlined and cancels where it can.
+      const bool named = printer.Width(det) > kInlineDet;
+      GiNaC::ex over = 1 / inv.det;
+      if (named) {
+        const GiNaC::symbol det_symbol("det_block" + bn);
+        printer.Name(det_symbol, "det_block" + bn, "\\det \\Phi_\\phi^{(" + bn + ")}");
+        over = 1 / GiNaC::ex(det_symbol);
+      }
+      auto fraction = [named, over, &k](const GiNaC::ex& numerator) {
+        return named ? Simplified(numerator, k) * over : Simplified(numerator * over, k);
+      };
+      fractions[bi] = fraction;
       GiNaC::matrix invs(n, n);
       for (unsigned i = 0; i < n; ++i)
-        for (unsigned j = 0; j < n; ++j) invs(i, j) = Simplified(inv.inv(i, j), k);
+        for (unsigned j = 0; j < n; ++j) invs(i, j) = fraction(inv.adj(i, j));
       w.Matrix("  Phi_phi(rows " + RowsText(b) + ", cols)^-1 (row i: cols[i], column j: rows[j])",
                "\\left(\\Phi_\\phi^{(" + bn + ")}\\right)^{-1}", invs);
       for (unsigned i = 0; i < n; ++i)
@@ -526,18 +579,19 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
             GiNaC::ex rhs = k.Phi_q(b.rows[r], j);
             for (size_t pb = 0; pb < bi; ++pb)
               for (int c : d.blocks[pb].cols) rhs += k.Phi_phi(b.rows[r], c) * co.K[c][j];
-            sum += inv.inv(i, r) * rhs;
+            sum += inv.adj(i, r) * rhs;
           }
           const int c = b.cols[i];
-          w.Equation(co.K[c][j].get_name(), "K_{" + N(c) + "," + N(j) + "}", Simplified(-sum, k),
+          w.Equation(co.K[c][j].get_name(), "K_{" + N(c) + "," + N(j) + "}", fraction(-sum),
                      "d " + k.phi[c].name + " / d " + k.q[j].name);
         }
     }
   }
   if (d.requested.L) {
     w.Heading("Centripetal coefficients L (phidd = K qdd + sum_jk L(:, j, k) qd_j qd_k), block by block");
-    w.Line("Block b solves Phi_phi(rows, cols) L(cols, j, k) = -(gamma(rows, j, k) + Phi_phi(rows, earlier cols) "
-           "L(earlier cols, j, k)), gamma_r(j, k) = the second derivative of Phi_r along the motion, "
+    w.Line("Block b solves Phi_phi(rows, cols) L(cols, j, k) = -L_rhs(rows, j, k), the right-hand side "
+           "L_rhs_r_j_k = gamma_r(j, k) + Phi_phi(r, earlier cols) L(earlier cols, j, k) named first as in the "
+           "generated code; gamma_r(j, k) is the second derivative of Phi(r) along the motion, "
            "sum_ab d2Phi_r/dx_a dx_b V_aj V_bk with x = (q, phi), V = [I; K] (in K_i_j). "
            "L_i_j_k is L(i, j, k) = d K(i, j) / d q(k), j <= k (symmetric).",
            0);
@@ -546,20 +600,30 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
       const BlockInverse& inv = inverses[bi];
       const unsigned n = static_cast<unsigned>(b.cols.size());
       w.Line("Block " + N(static_cast<int>(bi)) + ": rows " + RowsText(b) + " of Phi -> " + ColsText(k, b), 0);
-      for (unsigned i = 0; i < n; ++i)
-        for (size_t pj = 0; pj < co.pairs.size(); ++pj) {
-          const auto [j, kk] = co.pairs[pj];
+      for (size_t pj = 0; pj < co.pairs.size(); ++pj) {
+        const auto [j, kk] = co.pairs[pj];
+        const std::string jk = N(j) + "_" + N(kk);
+        std::vector<GiNaC::ex> rhs_symbol;
+        for (unsigned r = 0; r < n; ++r) {
+          GiNaC::ex rhs = co.Along(co.Along(k.Phi[b.rows[r]], j), kk);
+          for (size_t pb = 0; pb < bi; ++pb)
+            for (int c : d.blocks[pb].cols) rhs += k.Phi_phi(b.rows[r], c) * co.L[c][pj];
+          const std::string name = "L_rhs_" + N(b.rows[r]) + "_" + jk;
+          const GiNaC::symbol sym(name);
+          printer.Name(sym, name, "\\gamma_{" + N(b.rows[r]) + "," + N(j) + N(kk) + "}" +
+                                      (bi > 0 ? "^{+}" : ""));
+          rhs_symbol.push_back(sym);
+          w.Equation(name, "\\gamma_{" + N(b.rows[r]) + "," + N(j) + N(kk) + "}" + (bi > 0 ? "^{+}" : ""),
+                     Tidy(rhs, k));
+        }
+        for (unsigned i = 0; i < n; ++i) {
           GiNaC::ex sum = 0;
-          for (unsigned r = 0; r < n; ++r) {
-            GiNaC::ex rhs = co.Along(co.Along(k.Phi[b.rows[r]], j), kk);
-            for (size_t pb = 0; pb < bi; ++pb)
-              for (int c : d.blocks[pb].cols) rhs += k.Phi_phi(b.rows[r], c) * co.L[c][pj];
-            sum += inv.inv(i, r) * rhs;
-          }
+          for (unsigned r = 0; r < n; ++r) sum += inv.adj(i, r) * rhs_symbol[r];
           const int c = b.cols[i];
-          w.Equation(co.L[c][pj].get_name(), "L_{" + N(c) + "," + N(j) + N(kk) + "}", Simplified(-sum, k),
+          w.Equation(co.L[c][pj].get_name(), "L_{" + N(c) + "," + N(j) + N(kk) + "}", fractions[bi](-sum),
                      "d2 " + k.phi[c].name + " / d " + k.q[j].name + " d " + k.q[kk].name);
         }
+      }
     }
   }
 
