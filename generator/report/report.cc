@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 
 #include "joints/cam_profile.h"
@@ -517,8 +518,14 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
   for (int i = 0; i < k.nq(); ++i) {
     const bool angle = k.q[i].is_angle;
     const double scale = angle ? 180 / M_PI : 1;
-    w.Line("q(" + N(i) + ")   " + k.q[i].name + ": " + k.q[i].what + "; range [" + Exact(k.q_min[i] * scale) + ", " +
-           Exact(k.q_max[i] * scale) + "]" + (angle ? " deg" : ""));
+    auto shown = [&](double v) {  // degrees to 10 digits (a conversion, not the model's number)
+      if (!angle) return Exact(v);
+      char buf[40];
+      std::snprintf(buf, sizeof buf, "%.10g", v * scale);
+      return std::string(std::strcmp(buf, "-0") == 0 ? "0" : buf);
+    };
+    w.Line("q(" + N(i) + ")   " + k.q[i].name + ": " + k.q[i].what + "; range [" + shown(k.q_min[i]) + ", " +
+           shown(k.q_max[i]) + "]" + (angle ? " deg" : ""));
   }
   for (int i = 0; i < k.nphi(); ++i) w.Line("phi(" + N(i) + ") " + k.phi[i].name + ": " + k.phi[i].what);
 

@@ -282,6 +282,30 @@ TEST(Report, SameBytesFromSeparateProcesses) {
   }
 }
 
+// ---- models/README.md ----
+
+TEST(ModelsReadme, TheFirstExampleIsAModelThatReportsAndMatchesFourbar) {
+  // The example at the top of models/README.md, as written: every point it uses is defined,
+  // and it is the shipped four-bar (the same equations and K).
+  std::ifstream in(kSource / "models" / "README.md");
+  std::stringstream readme;
+  readme << in.rdbuf();
+  const std::string text = readme.str();
+  const size_t begin = text.find("```yaml\nname: fourbar");
+  ASSERT_NE(begin, std::string::npos);
+  const size_t body = begin + 8, end = text.find("```", body);
+  ASSERT_NE(end, std::string::npos);
+  TempDir dir;
+  const fs::path model = dir.path() / "example.yaml";
+  std::ofstream(model) << text.substr(body, end - body);
+  const Result example = RunCommand(std::string(MECHGEN_EXE) + " report " + model.string());
+  ASSERT_EQ(example.exit_code, 0) << example.out;
+  const Result shipped = Report("fourbar");
+  ASSERT_EQ(shipped.exit_code, 0);
+  auto from = [](const std::string& s, const std::string& what) { return s.substr(s.find(what)); };
+  EXPECT_EQ(from(example.out, "Loop-closure equations"), from(shipped.out, "Loop-closure equations"));
+}
+
 // ---- LaTeX ----
 
 bool HavePdflatex() { return std::system("pdflatex --version > /dev/null 2>&1") == 0; }
