@@ -264,7 +264,7 @@ int main(int argc, char** argv) {
     return kExitError;
   }
 
-  std::printf("mechgen sweep of '%s': assembled (branch %+d, |Phi|_inf = %.1e); ", Model::kName,
+  std::printf("mechgen sweep of '%s': assembled (branch %+d = sign det Phi_phi, the assembly `mechgen report` names by its blocks' modes; |Phi|_inf = %.1e); ", Model::kName,
               assembly.branch, assembly.residual_norm);
   for (int j = 0; j < Model::kNq; ++j) {
     std::printf("%s%s %s -> %s", j ? ", " : "", Model::kQNames[j],
