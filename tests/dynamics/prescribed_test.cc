@@ -505,6 +505,30 @@ TEST(Prescribed, RobotDrivenIntoAStretchedConfigurationStopsBeforeIt) {
   EXPECT_TRUE(std::string(summary.message).find("singular") != std::string::npos);
 }
 
+TEST(Prescribed, SingularConfigurationWithTheDefaultThresholdStopsQuickly) {
+  // The same opening motion with the default min_rcond = 1e-6: the torques grow like
+  // 1/sigma_min, the steps collapse before 1/cond reaches 1e-6; the approach rule ends the run
+  // with kDeadPoint before the stretched configuration, after a bounded number of steps.
+  const double q10 = 135 * kPi / 180, q20 = 45 * kPi / 180;
+  auto drive = MakeDrive(ConstantSpeedLaw{q10, 1.0, 0.0}, ConstantSpeedLaw{q20, -1.0, 0.0});
+  PrescribedOptions o;
+  o.sample_dt = 0.01;
+  PrescribedDynamics<Robot, 2, decltype(drive)> sim(Robot::ParamsT<double>(), {0, 1}, drive,
+                                                    dyn::NoForce(), o);
+  ASSERT_TRUE(sim.Initialize(0.0, V0()));
+  PrescribedSummary summary;
+  dyn::PrescribedSample<Robot, 2> last;
+  EXPECT_FALSE(sim.Simulate(0.0, V0(), V0(), 2.0, [](const auto&) { return true; }, &summary, &last));
+  EXPECT_EQ(summary.status, Status::kDeadPoint) << dyn::FormatSummary(summary);
+  EXPECT_EQ(summary.event, dyn::Event::kDeadPoint);
+  EXPECT_LT(summary.integrator.steps, 2000) << dyn::FormatSummary(summary);
+  EXPECT_LT(last.rcond, o.approach_rcond);
+  V2 B, C, D;
+  RobotPoints(last.q, &B, &C, &D);
+  EXPECT_LE((D - B).norm(), 2 * kB);
+  EXPECT_GT((D - B).norm(), 2 * kB * (1 - 1e-5));  // at the stretched configuration
+}
+
 TEST(Prescribed, InvalidIndicesAreRefused) {
   using FB = mech::fivebar_massive::Model;
   auto drive = MakeDrive(ConstantSpeedLaw{1.0, 0.0, 0.0});

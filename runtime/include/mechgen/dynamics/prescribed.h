@@ -34,7 +34,9 @@
  * step 1/cond_1(Phi_phi) and the sign of det Phi_phi are checked; a crossing of min_rcond (or a
  * sign change) is located on the dense output and ends the run with Status::kDeadPoint, the
  * figures in the Summary (t, 1/cond_1) and the last Sample (q, phi, lambda) -- never integrated
- * through. Nothing allocates after construction; nothing throws.
+ * through. Where the actuator forces' growth (like 1/sigma_min) makes the steps collapse before
+ * 1/cond reaches min_rcond, PrescribedOptions::approach_steps accepted steps in a row with
+ * 1/cond below approach_rcond and falling end the run there the same way. Nothing allocates after construction; nothing throws.
  *
  * Motion laws (each a callable MotionState(double t)): ConstantSpeedLaw, RestToRestLaw
  * (3-4-5 polynomial or cycloidal), SplineLaw<N> (a cubic spline through a table); Drive<Laws...>
@@ -241,6 +243,11 @@ struct PrescribedOptions {
   double sample_dt = 0;
   int max_solver_iterations = 20;
   double solver_tolerance = 0;
+  /// A singular configuration approached: approach_steps accepted steps in a row with
+  /// 1/cond_1(Phi_phi) < approach_rcond and falling also end the run with kDeadPoint (where
+  /// the step size collapses before 1/cond reaches min_rcond).
+  double approach_rcond = 1e-3;
+  int approach_steps = 200;
 
   bool IsValid(std::string* error) const {
     if (!integrator.IsValid(error)) return false;
@@ -257,6 +264,9 @@ struct PrescribedOptions {
       return fail("sample_dt", sample_dt, "0 <= sample_dt < inf");
     if (max_solver_iterations < 1)
       return fail("max_solver_iterations", max_solver_iterations, "max_solver_iterations >= 1");
+    if (!(approach_rcond >= 0 && approach_rcond < 1))
+      return fail("approach_rcond", approach_rcond, "0 <= approach_rcond < 1");
+    if (approach_steps < 1) return fail("approach_steps", approach_steps, "approach_steps >= 1");
     return true;
   }
 };
@@ -538,6 +548,7 @@ class PrescribedDynamics {
 
     IntegratorStatus is = integrator_.Start(f, t0, y0, t_end);
     SampleT prev = s0, cur;
+    int approach_steps = 0;
     while (is == IntegratorStatus::kRunning) {
       is = integrator_.Step(f);
       if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
@@ -561,6 +572,20 @@ class PrescribedDynamics {
                            });
         }
       }
+      // Creeping towards a singular configuration: the actuator forces grow like
+      // 1/sigma_min(Phi_phi), so the step size shrinks geometrically and 1/cond may never
+      // reach min_rcond inside the (tiny) window where the loop still closes. Many accepted
+      // steps in a row with 1/cond falling below approach_rcond end the run there.
+      if constexpr (kNphi > 0) {
+        if (!dead && cur.rcond < options_.approach_rcond && cur.rcond < prev.rcond) {
+          if (++approach_steps >= options_.approach_steps) {
+            dead = true;
+            t_event = t;
+          }
+        } else {
+          approach_steps = 0;
+        }
+      }
       const double t_stop_here = dead ? t_event : t;
       const double tiny = 1e-12 * std::max(1.0, std::abs(t));
       if (options_.sample_dt > 0) {
@@ -581,7 +606,10 @@ class PrescribedDynamics {
         emit(s);
         summary->event = Event::kDeadPoint;
         summary->integrator = integrator_.summary();
-        summary->message = "1/cond(Phi_phi) fell below min_rcond: a singular configuration";
+        summary->message = approach_steps >= options_.approach_steps
+                               ? "the steps collapsed while 1/cond(Phi_phi) kept falling below "
+                                 "approach_rcond: a singular configuration ahead"
+                               : "1/cond(Phi_phi) fell below min_rcond: a singular configuration";
         return Finish(Status::kDeadPoint, s.t, summary);
       }
       const bool on_grid = options_.sample_dt > 0 && std::abs(next_sample - t) <= tiny;
