@@ -353,6 +353,9 @@ class PrescribedDynamics {
   using SampleT = PrescribedSample<M, NP>;
   static constexpr bool kHasTrig = ModelFeatures<M>::kHasTrig;
   using Trig = typename mechgen::internal::TrigOf<M>::type;
+  /// The stages solve only the sin and cos of the angles (M::SolveTrig, no atan2), as
+  /// MinimalDynamics does; the angles are recovered where a sample needs them.
+  static constexpr bool kStagesByTrig = kHasTrig && kNphi > 0 && internal::HasSolveTrig<M>::value;
 
   /// prescribed: the indices into q of the prescribed coordinates, distinct, each in
   /// [0, kNq), in the order of the motion's components (checked by Initialize()).
@@ -438,46 +441,8 @@ class PrescribedDynamics {
    * not positive definite.
    */
   bool Evaluate(double t, const State& y, SampleT* s) {
-    const VecF qf = y.template head<kNf>();
-    const VecF qdf = y.template segment<kNf>(kNf);
-    VecQ q, qd;
-    VecP qddp;
-    Assemble(t, qf, qdf, &q, &qd, &qddp);
-    VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
-    if (!SolveAt(q, &phi)) {
-      ++position_failures_;
-      return false;
-    }
     Coefficients c;
-    EvalCoefficients(q, phi, &c);
-    Dyn d;
-    EvalDynamics(q, phi, qd, t, c, &d);
-    VecQ F;
-    force_(t, q, qd, &F);
-    VecQ qdd;
-    VecP lambda;
-    if (!Accelerations(d, F, qddp, &qdd, &lambda)) return false;
-    s->t = t;
-    s->q = q;
-    s->qd = qd;
-    s->qdd = qdd;
-    s->Q = d.Q;
-    s->F = F;
-    s->lambda = lambda;
-    s->phi = phi;
-    s->T = d.T;
-    s->V = d.V;
-    s->E = d.T + d.V;
-    s->W_nc = y(2 * kNf);
-    s->W_act = y(2 * kNf + 1);
-    s->W_F = y(2 * kNf + 2);
-    s->P_nc = d.P_nc;
-    double P_act = 0;
-    for (int i = 0; i < kNp; ++i) P_act += lambda(i) * qd(prescribed_[i]);
-    s->P_act = P_act;
-    s->P_F = F.dot(qd);
-    Conditioning(c, &s->rcond, &s->det);
-    return true;
+    return EvaluateFull(t, y, s, &c);
   }
 
   /**
@@ -486,7 +451,8 @@ class PrescribedDynamics {
    */
   bool Derivative(double t, const State& y, State* dy) {
     SampleT s;
-    if (!Evaluate(t, y, &s)) return false;
+    Coefficients c;
+    if (!Stage(t, y, /*by_trig=*/true, &s, &c)) return false;
     for (int i = 0; i < kNf; ++i) {
       (*dy)(i) = s.qd(free_[i]);
       (*dy)(kNf + i) = s.qdd(free_[i]);
@@ -494,6 +460,16 @@ class PrescribedDynamics {
     (*dy)(2 * kNf) = s.P_nc;
     (*dy)(2 * kNf + 1) = s.P_act;
     (*dy)(2 * kNf + 2) = s.P_F;
+    if (caching_) {
+      // Simulate() reuses the last evaluation (the FSAL one at an accepted step's end) for the
+      // step's events and samples instead of evaluating that state again.
+      cache_.valid = true;
+      cache_.t = t;
+      cache_.y = y;
+      cache_.sample = s;
+      cache_.c = c;
+      if constexpr (kStagesByTrig) cache_.trig = trig_;
+    }
     return dy->allFinite();
   }
 
@@ -517,6 +493,8 @@ class PrescribedDynamics {
       return Finish(Status::kInvalidInput, t0, summary);
     }
     integrator_.set_options(options_.integrator);
+    caching_ = true;  // restored by Finish()
+    cache_.valid = false;
     State y0 = State::Zero();
     y0.template head<kNf>() = qf0;
     y0.template segment<kNf>(kNf) = qdf0;
@@ -553,11 +531,13 @@ class PrescribedDynamics {
       is = integrator_.Step(f);
       if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
       const double t = integrator_.t();
-      if (!Evaluate(t, integrator_.y(), &cur)) {
+      Coefficients c_cur;
+      if (!FromCache(t, integrator_.y(), &cur, &c_cur) &&
+          !EvaluateFull(t, integrator_.y(), &cur, &c_cur)) {
         summary->message = "the positions failed at an accepted step";
         return Finish(Status::kPositionFailed, t, summary);
       }
-      SetReference(cur);
+      SetReference(cur, c_cur);
       summary->min_rcond_seen = std::min(summary->min_rcond_seen, cur.rcond);
       bool dead = false;
       double t_event = t;
@@ -642,7 +622,91 @@ class PrescribedDynamics {
   }
 
  private:
+  /// Evaluate() with the coefficients (positions by M::Solve, the angles included).
+  bool EvaluateFull(double t, const State& y, SampleT* s, Coefficients* c) {
+    if (!Stage(t, y, /*by_trig=*/false, s, c)) return false;
+    Conditioning(*c, &s->rcond, &s->det);
+    return true;
+  }
+
+  /// One evaluation without the conditioning. by_trig (and the model has SolveTrig): the
+  /// positions as sin and cos only; s->phi is then the warm start's predictor.
+  bool Stage(double t, const State& y, bool by_trig, SampleT* s, Coefficients* c) {
+    const VecF qf = y.template head<kNf>();
+    const VecF qdf = y.template segment<kNf>(kNf);
+    VecQ q, qd;
+    VecP qddp;
+    Assemble(t, qf, qdf, &q, &qd, &qddp);
+    VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
+    bool solved = false;
+    if constexpr (kStagesByTrig) {
+      if (by_trig) {
+        last_solve_not_assemblable_ = false;
+        const auto report = M::template SolveTrig<double>(p_, q, modes_, &trig_);
+        solved = report.status == decltype(report.status)::kConverged;
+        if (!solved) last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+      } else {
+        solved = SolveAt(q, &phi);
+      }
+    } else {
+      (void)by_trig;
+      solved = SolveAt(q, &phi);
+    }
+    if (!solved) {
+      ++position_failures_;
+      return false;
+    }
+    EvalCoefficients(q, phi, c);
+    Dyn d;
+    EvalDynamics(q, phi, qd, t, *c, &d);
+    VecQ F;
+    force_(t, q, qd, &F);
+    VecQ qdd;
+    VecP lambda;
+    if (!Accelerations(d, F, qddp, &qdd, &lambda)) return false;
+    s->t = t;
+    s->q = q;
+    s->qd = qd;
+    s->qdd = qdd;
+    s->Q = d.Q;
+    s->F = F;
+    s->lambda = lambda;
+    s->phi = phi;
+    s->T = d.T;
+    s->V = d.V;
+    s->E = d.T + d.V;
+    s->W_nc = y(2 * kNf);
+    s->W_act = y(2 * kNf + 1);
+    s->W_F = y(2 * kNf + 2);
+    s->P_nc = d.P_nc;
+    double P_act = 0;
+    for (int i = 0; i < kNp; ++i) P_act += lambda(i) * qd(prescribed_[i]);
+    s->P_act = P_act;
+    s->P_F = F.dot(qd);
+    return true;
+  }
+
+  /// The sample at (t, y) from the last Derivative() call, if it was at exactly (t, y).
+  bool FromCache(double t, const State& y, SampleT* s, Coefficients* c) const {
+    if (!cache_.valid || cache_.t != t || cache_.y != y) return false;
+    *s = cache_.sample;
+    *c = cache_.c;
+    if constexpr (kStagesByTrig) {
+      // The angles from their sin and cos, within pi of the predictor (sample.phi).
+      const double two_pi = 6.283185307179586;
+      for (int i = 0; i < kNphi; ++i) {
+        const double angle = std::atan2(cache_.trig.sin_phi(i), cache_.trig.cos_phi(i));
+        const double turns = std::floor((angle - s->phi(i)) / two_pi + 0.5);
+        s->phi(i) = std::isfinite(turns) ? angle - two_pi * turns : angle;
+      }
+    }
+    Conditioning(*c, &s->rcond, &s->det);
+    return true;
+  }
+
   bool Finish(Status s, double t, PrescribedSummary* summary) {
+    caching_ = false;
+    cache_.valid = false;
     summary->status = s;
     summary->t_end = t;
     summary->position_failures = position_failures_;
@@ -651,15 +715,11 @@ class PrescribedDynamics {
     return !IsFailure(s);
   }
 
-  void SetReference(const SampleT& s) {
+  void SetReference(const SampleT& s, const Coefficients& c) {
     q_ref_ = s.q;
     phi_ref_ = s.phi;
     ref_det_ = s.det;
-    if constexpr (kNphi > 0) {
-      Coefficients c;
-      EvalCoefficients(s.q, s.phi, &c);
-      K_ref_ = c.K;
-    }
+    if constexpr (kNphi > 0) K_ref_ = c.K;
   }
 
   /// The partitioned solve (file comment): qdd (the law's qdd_p in the prescribed rows) and lambda.
@@ -751,7 +811,7 @@ class PrescribedDynamics {
     }
   }
 
-  void Conditioning(const Coefficients& c, double* rcond, double* det) {
+  static void Conditioning(const Coefficients& c, double* rcond, double* det) {
     if constexpr (kNphi == 0) {
       (void)c;
       *rcond = 1;
@@ -810,6 +870,16 @@ class PrescribedDynamics {
   VecPhi phi_ref_ = VecPhi::Zero();
   Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
   Trig trig_{};
+  struct Cache {
+    bool valid = false;
+    double t = 0;
+    State y = State::Zero();
+    SampleT sample;
+    Coefficients c{};
+    Trig trig{};
+  };
+  Cache cache_;
+  bool caching_ = false;
   double ref_det_ = 0;
   int position_failures_ = 0;
   bool indices_valid_ = false, initialized_ = false;
