@@ -10,6 +10,11 @@
 //                            counters: error = max_i |q_i(1 s) - reference| (rad), steps, rhs
 //                            (Simbody: realizations). Methods: MechgenDopri5, MechgenDop853,
 //                            Simbody<Label>{RKMerson,RKFeldberg,CPodes}.
+//   Chain/Mechgen/<N>        one right-hand side of the N-loop chain (make_dyn_chain.sh: N
+//                            massive crank-rocker loops in series, one input, gravity):
+//                            MinimalDynamics<dyn_chain_N>::Derivative, N = 1, 2, 4, 8, 16
+//   Chain/Simbody<Label>/<N> the same chain in Simbody (simbody_chain.cc): realize(Acceleration)
+//                            at recorded states (positions, velocities, forces, N loop constraints)
 // The reference q(1 s): mechgen with Dop853 at rtol = atol = 1e-13; its difference to Simbody
 // RKMerson at accuracy 1e-12 is printed in the context (reference_vs_simbody).
 // MECHGEN_BENCH_SIMBODY_ONLY (the binary linked to the Release Simbody): only the Simbody
@@ -23,8 +28,15 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_fivebar_robot.h"
+#include "dyn_chain_1.h"
+#include "dyn_chain_16.h"
+#include "dyn_chain_2.h"
+#include "dyn_chain_4.h"
+#include "dyn_chain_8.h"
+#include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/prescribed.h"
 #include "robot_cycle.h"
+#include "simbody_chain.h"
 #include "simbody_fivebar.h"
 
 #ifndef MECHGEN_BENCH_SIMBODY_LABEL
@@ -131,6 +143,20 @@ void RhsMechgen(benchmark::State& state) {
   state.counters["states"] = static_cast<double>(states.size());
 }
 BENCHMARK(RhsMechgen)->Name("Rhs/Mechgen");
+
+// The control law alone (the commanded q_ref, qd_ref by the inverse kinematics, and the PD
+// torques): a cost both sides pay in every right-hand side.
+void PdLaw(benchmark::State& state) {
+  const RobotParams p;
+  const double q[2] = {2.3, 0.9}, qd[2] = {0.1, -0.2};
+  double tau[2];
+  long k = 0;
+  for (auto _ : state) {
+    Torques(p, (k++ % 256) / 256.0, q, qd, tau);
+    benchmark::DoNotOptimize(tau);
+  }
+}
+BENCHMARK(PdLaw)->Name("Rhs/ControlLawOnly");
 #endif
 
 void RhsSimbody(benchmark::State& state) {
@@ -140,6 +166,73 @@ void RhsSimbody(benchmark::State& state) {
   for (auto _ : state) {
     const double a = simbody.Rhs(k++);
     benchmark::DoNotOptimize(a);
+  }
+}
+
+// ---- the N-loop chain: one right-hand side ----
+template <class M>
+void ChainMechgen(benchmark::State& state) {
+  using Sim = dyn::MinimalDynamics<M, dyn::Dopri5>;
+  dyn::MinimalOptions o;
+  o.integrator.rtol = 1e-8;
+  o.integrator.atol = 1e-8;
+  o.sample_dt = 1.0 / 256;
+  Sim sim(typename M::template ParamsT<double>(), o);
+  const typename Sim::VecQ q0 = Sim::VecQ::Constant(M_PI / 2);
+  if (!sim.Initialize(q0)) {
+    state.SkipWithError("does not assemble");
+    return;
+  }
+  std::vector<std::pair<double, typename Sim::State>> states;
+  dyn::MinimalSummary summary;
+  sim.Simulate(0.0, q0, Sim::VecQ::Zero(), 1.0,
+               [&](const typename Sim::SampleT& s) {
+                 typename Sim::State y;
+                 y.template head<Sim::kNq>() = s.q;
+                 y.template segment<Sim::kNq>(Sim::kNq) = s.qd;
+                 y(2 * Sim::kNq) = s.W;
+                 states.emplace_back(s.t, y);
+                 return true;
+               },
+               &summary);
+  if (!summary.IsSolutionUsable() || states.empty()) {
+    state.SkipWithError("the recording run failed");
+    return;
+  }
+  sim.Initialize(q0);
+  typename Sim::State dy;
+  size_t k = 0;
+  for (auto _ : state) {
+    const auto& [t, y] = states[k++ % states.size()];
+    const bool ok = sim.Derivative(t, y, &dy);
+    benchmark::DoNotOptimize(ok);
+    benchmark::DoNotOptimize(dy);
+  }
+  state.counters["states"] = static_cast<double>(states.size());
+  state.counters["nphi"] = M::kNphi;
+}
+
+void ChainSimbody(benchmark::State& state, int n) {
+  SimbodyChain chain(n);
+  chain.RecordStates(256);
+  int k = 0;
+  for (auto _ : state) {
+    const double a = chain.Rhs(k++);
+    benchmark::DoNotOptimize(a);
+  }
+}
+
+void RegisterChains() {
+#ifndef MECHGEN_BENCH_SIMBODY_ONLY
+  benchmark::RegisterBenchmark("Chain/Mechgen/1", ChainMechgen<mech::dyn_chain_1::Model>);
+  benchmark::RegisterBenchmark("Chain/Mechgen/2", ChainMechgen<mech::dyn_chain_2::Model>);
+  benchmark::RegisterBenchmark("Chain/Mechgen/4", ChainMechgen<mech::dyn_chain_4::Model>);
+  benchmark::RegisterBenchmark("Chain/Mechgen/8", ChainMechgen<mech::dyn_chain_8::Model>);
+  benchmark::RegisterBenchmark("Chain/Mechgen/16", ChainMechgen<mech::dyn_chain_16::Model>);
+#endif
+  for (int n : {1, 2, 4, 8, 16}) {
+    const std::string name = std::string("Chain/") + MECHGEN_BENCH_SIMBODY_LABEL + "/" + std::to_string(n);
+    benchmark::RegisterBenchmark(name.c_str(), [n](benchmark::State& state) { ChainSimbody(state, n); });
   }
 }
 
@@ -208,6 +301,7 @@ int main(int argc, char** argv) {
   benchmark::AddCustomContext("reference_vs_simbody_rkmerson_1e-12", text);
   benchmark::AddCustomContext("simbody_library", SimbodyFivebar::LibraryPath());
   Register();
+  RegisterChains();
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
