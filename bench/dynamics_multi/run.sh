@@ -86,12 +86,35 @@ print(f"Simbody libraries: {', '.join(context['simbody_library'])}")
 print()
 print("(a) one right-hand side (positions + I + h + Q + PD torques + qdd), per configuration")
 for k, v in rhs.items():
-    print(f"  {k:<22} {v:9.1f} ns")
+    if not k.startswith("Chain/"):
+        print(f"  {k:<22} {v:9.1f} ns")
 for ref in ("Rhs/SimbodyRelease", "Rhs/SimbodyDebian"):
     if ref in rhs and "Rhs/Mechgen" in rhs:
         print(f"  {ref[4:]} / mechgen = {rhs[ref] / rhs['Rhs/Mechgen']:7.1f}x")
+if "Rhs/ControlLawOnly" in rhs and "Rhs/Mechgen" in rhs:
+    print(f"  (the control law, paid by both, is {rhs['Rhs/ControlLawOnly'] / rhs['Rhs/Mechgen'] * 100:.0f}% of mechgen's right-hand side)")
 print()
-print("(b) the 1 s cycle: CPU time [us] / max |q(1 s) error| [rad] per tolerance")
+print("(b) the N-loop chain (make_dyn_chain.sh: N massive crank-rocker loops in series, one input):")
+print("    one right-hand side [ns]; growth exponent p of time ~ N^p between consecutive N")
+chains = {}
+for k, v in rhs.items():
+    if k.startswith("Chain/"):
+        _, who, n = k.split("/")
+        chains.setdefault(who, {})[int(n)] = v
+ns = sorted({n for d in chains.values() for n in d})
+print("  " + "N".ljust(16) + "".join(str(n).rjust(12) for n in ns))
+for who, d in chains.items():
+    print("  " + who.ljust(16) + "".join((f"{d[n]:.0f}" if n in d else "-").rjust(12) for n in ns))
+    print("  " + "  growth p".ljust(16) + "".rjust(12) + "".join(
+        (f"{math.log(d[b] / d[a]) / math.log(b / a):.2f}" if a in d and b in d else "-").rjust(12)
+        for a, b in zip(ns, ns[1:])))
+for who in chains:
+    if who != "Mechgen" and "Mechgen" in chains:
+        print("  " + f"{who}/Mechgen".ljust(16) + "".join(
+            (f"{chains[who][n] / chains['Mechgen'][n]:.0f}x" if n in chains[who] and n in chains["Mechgen"] else "-").rjust(12)
+            for n in ns))
+print()
+print("(c) the 1 s cycle: CPU time [us] / max |q(1 s) error| [rad] per tolerance")
 w = 26
 print("  " + "method".ljust(w) + "".join(t.rjust(20) for t in tols))
 for m in methods:
