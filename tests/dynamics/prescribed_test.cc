@@ -529,6 +529,53 @@ TEST(Prescribed, SingularConfigurationWithTheDefaultThresholdStopsQuickly) {
   EXPECT_GT((D - B).norm(), 2 * kB * (1 - 1e-5));  // at the stretched configuration
 }
 
+TEST(Prescribed, FreeRobotThrownOpenStopsAtTheStretchedConfiguration) {
+  // No driver, no torque: the robot's motors thrown apart (qd = (+w, -w)) stretch the distal
+  // links; both the minimal method of forward.h and PrescribedDynamics with kNp = 0 must stop
+  // there with kDeadPoint (never integrate through it), the hand geometry at the stop
+  // confirming the stretched configuration.
+  const double q10 = 135 * kPi / 180, q20 = 45 * kPi / 180, w = 4.0;
+  const V2 q0(q10, q20), qd0(w, -w);
+  {
+    auto none = MakeDrive();
+    PrescribedOptions o;
+    o.sample_dt = 0.005;
+    PrescribedDynamics<Robot, 0, decltype(none)> sim(Robot::ParamsT<double>(), {}, none, dyn::NoForce(), o);
+    ASSERT_TRUE(sim.Initialize(0.0, q0));
+    PrescribedSummary summary;
+    dyn::PrescribedSample<Robot, 0> last;
+    double max_bd = 0;
+    EXPECT_FALSE(sim.Simulate(0.0, q0, qd0, 1.0,
+                              [&](const auto& s) {
+                                V2 B, C, D;
+                                RobotPoints(s.q, &B, &C, &D);
+                                max_bd = std::max(max_bd, (D - B).norm());
+                                return true;
+                              },
+                              &summary, &last));
+    EXPECT_EQ(summary.status, Status::kDeadPoint) << dyn::FormatSummary(summary);
+    EXPECT_LE(max_bd, 2 * kB);
+    V2 B, C, D;
+    RobotPoints(last.q, &B, &C, &D);
+    EXPECT_GT((D - B).norm(), 2 * kB * (1 - 1e-4)) << dyn::FormatSummary(summary);
+    EXPECT_LT(summary.integrator.steps, 5000);
+  }
+  {
+    dyn::MinimalOptions o;
+    o.sample_dt = 0.005;
+    dyn::MinimalDynamics<Robot> sim(Robot::ParamsT<double>(), o);
+    ASSERT_TRUE(sim.Initialize(q0));
+    dyn::MinimalSummary summary;
+    dyn::Sample<Robot> last;
+    EXPECT_FALSE(sim.Simulate(0.0, q0, qd0, 1.0, [](const auto&) { return true; }, &summary, &last));
+    EXPECT_EQ(summary.status, Status::kDeadPoint) << dyn::FormatSummary(summary);
+    V2 B, C, D;
+    RobotPoints(last.q, &B, &C, &D);
+    EXPECT_GT((D - B).norm(), 2 * kB * (1 - 1e-4)) << dyn::FormatSummary(summary);
+    EXPECT_LE((D - B).norm(), 2 * kB);
+  }
+}
+
 TEST(Prescribed, InvalidIndicesAreRefused) {
   using FB = mech::fivebar_massive::Model;
   auto drive = MakeDrive(ConstantSpeedLaw{1.0, 0.0, 0.0});
