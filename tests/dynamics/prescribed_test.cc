@@ -28,6 +28,7 @@
 #include "fivebar_locked_fourbar.h"
 #include "fivebar_massive.h"
 #include "fivebar_robot.h"
+#include "fivebar_spring_damper.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/prescribed.h"
 
@@ -245,6 +246,95 @@ TEST(Prescribed, InverseDynamicsWithDampersMatchesKinetostaticsAndTheWork) {
   EXPECT_LT(std::abs(last.W_nc), 1e3);
   EXPECT_LT(last.W_nc, -1e-3);  // the dampers took energy
   EXPECT_LT(max_err, 1e-8 * (std::abs(last.W_act) + std::abs(last.W_nc)));
+}
+
+// ---------------------------------------------------------------- springs and dampers
+
+TEST(Prescribed, FivebarSpringsAndDampersAgainstAHandComputation) {
+  // fivebar_spring_damper = fivebar_massive + a spring and a damper between B and D, a
+  // torsional spring at E and a torsional damper at C. Oracles: the springs' potential and the
+  // dampers' power by hand (the geometry by circle intersection, speeds by central
+  // differences along qd); the gravity part from fivebar_massive.
+  using SD = mech::fivebar_spring_damper::Model;
+  using FB = mech::fivebar_massive::Model;
+  const double f = 2, a1 = 1, a2 = 2.5, a3 = 2, a4 = 1, k = 40, L0 = 2.2, cL = 3, kt = 5, cC = 0.5;
+  auto geometry = [&](const V2& q, double* l, double* th1, double* th2) {
+    const V2 B = a1 * V2(std::cos(q(0)), std::sin(q(0)));
+    const V2 D = V2(f, 0) + a4 * V2(std::cos(q(1)), std::sin(q(1)));
+    const V2 w = D - B;
+    const double d = w.norm(), along = (a2 * a2 - a3 * a3 + d * d) / (2 * d);
+    const double h = std::sqrt(a2 * a2 - along * along);
+    const V2 C = B + along * w / d + h * V2(-w.y(), w.x()) / d;  // above BD: the assembly
+    *l = d;
+    *th1 = std::atan2(C.y() - B.y(), C.x() - B.x());
+    *th2 = std::atan2(C.y() - D.y(), C.x() - D.x());
+  };
+  auto potential = [&](const V2& q) {
+    double l, t1, t2;
+    geometry(q, &l, &t1, &t2);
+    return 0.5 * k * (l - L0) * (l - L0) + 0.5 * kt * (kPi / 2 - q(1)) * (kPi / 2 - q(1));
+  };
+  for (int i = 0; i < 4; ++i) {
+    SCOPED_TRACE("case " + std::to_string(i));
+    const V2 q(1.4 + 0.25 * i, 1.2 - 0.2 * i), qd(0.8 - 0.5 * i, -0.3 + 0.4 * i);
+    Eigen::Matrix<double, 2, 1> phi(0.9, 1.8);
+    ASSERT_EQ(SD::Solve(SD::ParamsT<double>(), q, &phi).status, mech::fivebar_spring_damper::SolveStatus::kConverged);
+    SD::CoefficientsT<double> c;
+    SD::Coeffs(SD::ParamsT<double>(), q, phi, &c);
+    SD::DynamicsT<double> d;
+    SD::Dynamics(SD::ParamsT<double>(), q, phi, qd, 0.0, c, &d);
+    FB::CoefficientsT<double> cf;
+    FB::Coeffs(FB::ParamsT<double>(), q, phi, &cf);
+    FB::DynamicsT<double> df;
+    FB::Dynamics(FB::ParamsT<double>(), q, phi, qd, 0.0, cf, &df);
+    double l, t1, t2;
+    geometry(q, &l, &t1, &t2);
+    EXPECT_NEAR(phi(0), t1, 1e-12);
+    EXPECT_NEAR(phi(1), t2, 1e-12);
+    EXPECT_NEAR(d.V - df.V, potential(q), 1e-10);
+    EXPECT_NEAR((d.I - df.I).norm(), 0.0, 1e-12);  // springs and dampers add no inertia
+    const double e = 1e-5;
+    double lp, t1p, t2p, lm, t1m, t2m;
+    geometry(q + e * qd, &lp, &t1p, &t2p);
+    geometry(q - e * qd, &lm, &t1m, &t2m);
+    const double ldot = (lp - lm) / (2 * e), w_rel = ((t2p - t1p) - (t2m - t1m)) / (2 * e);
+    const double P_hand = -cL * ldot * ldot - cC * w_rel * w_rel;
+    EXPECT_LT(P_hand, -1e-3);
+    EXPECT_NEAR(d.P_nc, P_hand, 1e-7 * (1 + std::abs(P_hand)));
+    const double dVdt = (potential(q + e * qd) - potential(q - e * qd)) / (2 * e);
+    EXPECT_NEAR((d.Q - df.Q).dot(qd), -dVdt + P_hand, 1e-7 * (1 + std::abs(dVdt)));
+  }
+}
+
+TEST(Prescribed, FivebarSpringsAndDampersWithADriverKeepTheWorkBalance) {
+  using SD = mech::fivebar_spring_damper::Model;
+  auto drive = MakeDrive(RestToRestLaw{kPi / 2, 130 * kPi / 180, 0.0, 0.6});
+  PrescribedOptions o;
+  o.integrator.rtol = 1e-11;
+  o.integrator.atol = 1e-12;
+  o.sample_dt = 0.01;
+  PrescribedDynamics<SD, 1, decltype(drive), dyn::NoForce, Dop853> sim(SD::ParamsT<double>(), {1},
+                                                                        drive, dyn::NoForce(), o);
+  ASSERT_TRUE(sim.Initialize(0.0, V1(kPi / 2)));
+  PrescribedSummary summary;
+  dyn::PrescribedSample<SD, 1> first, last;
+  bool have_first = false;
+  double max_err = 0;
+  ASSERT_TRUE(sim.Simulate(0.0, V1(kPi / 2), V1(0.0), 2.0,
+                           [&](const auto& s) {
+                             if (!have_first) {
+                               first = s;
+                               have_first = true;
+                             }
+                             max_err = std::max(max_err, std::abs(s.Balance() - first.Balance()));
+                             return true;
+                           },
+                           &summary, &last))
+      << dyn::FormatSummary(summary);
+  const double scale = std::abs(last.W_nc) + std::abs(last.W_act);
+  EXPECT_LT(last.W_nc, -0.1);  // the dampers took energy
+  EXPECT_GT(std::abs(last.W_act), 0.1);
+  EXPECT_LT(max_err, 1e-8 * scale);
 }
 
 // ---------------------------------------------------------------- the five-bar robot
