@@ -29,14 +29,17 @@
  * check (Sample::Balance()).
  *
  * Positions are solved at every stage by the generated solver, warm-started from the last
- * accepted configuration (no drift, as forward.h). A configuration where Phi_phi loses rank is
+ * accepted configuration (no drift, as forward.h; with the generated SolveTrig the stages
+ * solve the angles' sin and cos only, and the angles are recovered at accepted steps; the
+ * integrator's last stage at an accepted step is reused, not evaluated again). A configuration where Phi_phi loses rank is
  * where the minimal coordinates break down (K and I grow without bound): after every accepted
  * step 1/cond_1(Phi_phi) and the sign of det Phi_phi are checked; a crossing of min_rcond (or a
  * sign change) is located on the dense output and ends the run with Status::kDeadPoint, the
  * figures in the Summary (t, 1/cond_1) and the last Sample (q, phi, lambda) -- never integrated
  * through. Where the actuator forces' growth (like 1/sigma_min) makes the steps collapse before
  * 1/cond reaches min_rcond, PrescribedOptions::approach_steps accepted steps in a row with
- * 1/cond below approach_rcond and falling end the run there the same way. Nothing allocates after construction; nothing throws.
+ * 1/cond below approach_rcond and falling end the run there the same way.
+ * Nothing allocates after construction; nothing throws.
  *
  * Motion laws (each a callable MotionState(double t)): ConstantSpeedLaw, RestToRestLaw
  * (3-4-5 polynomial or cycloidal), SplineLaw<N> (a cubic spline through a table); Drive<Laws...>
