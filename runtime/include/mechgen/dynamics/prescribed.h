@@ -745,6 +745,16 @@ class PrescribedDynamics {
           return false;
         }
         qddf(0) = b(0) / Iff(0, 0);
+      } else if constexpr (kNf == 2) {
+        // Positive definite iff I_00 > 0 and det > 0; Cramer's rule (a fixed-size LDLT with
+        // pivoting costs several times more for two coordinates).
+        const double det = Iff(0, 0) * Iff(1, 1) - Iff(0, 1) * Iff(1, 0);
+        if (!(Iff(0, 0) > 0) || !(det > 0) || !std::isfinite(det)) {
+          singular_inertia_ = true;
+          return false;
+        }
+        qddf(0) = (Iff(1, 1) * b(0) - Iff(0, 1) * b(1)) / det;
+        qddf(1) = (Iff(0, 0) * b(1) - Iff(1, 0) * b(0)) / det;
       } else {
         const Eigen::LDLT<Eigen::Matrix<double, kNf, kNf>> ldlt(Iff);
         if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0)) {
