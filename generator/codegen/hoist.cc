@@ -84,6 +84,16 @@ static ex ReducePolynomial(const ex& e,
     sc.emplace_back(ss, cs);
   }
   ex x = e.subs(to).expand();
+  {
+    // Only a polynomial in the state (a rational function, a damper's 1/length, is left as
+    // it is: GiNaC's collect is defined for polynomials only).
+    ExSet all;
+    Symbols(x, &all);
+    GiNaC::lst state;
+    for (const ex& s : all)
+      if (!params.count(s)) state.append(s);
+    if (!x.is_polynomial(state)) throw std::domain_error("not a polynomial in the state");
+  }
   // sin^n = sin^(n-2) (1 - cos^2) until no sin is squared.
   for (int pass = 0; pass < 16; ++pass) {
     bool changed = false;

@@ -9,9 +9,16 @@
 
 #include <cmath>
 
+#include "damped_fourbar.h"
+#include "fivebar_locked_fourbar.h"
+#include "fivebar_massive.h"
+#include "fivebar_robot.h"
+#include "fivebar_spring_damper.h"
 #include "fourbar_massive.h"
 #include "handwritten_fourbar_dynamics.h"
 #include "mechgen/dynamics/forward.h"
+#include "published_andrews.h"
+#include "published_double_pendulum.h"
 
 namespace {
 
@@ -157,6 +164,64 @@ TEST(GeneratedRhs, MinimalDynamicsPreparesTheConstantsAgainAfterAParameterChange
   ASSERT_TRUE(h.ok);
   const double qdd = (h.d.Q(0) - h.d.h(0)) / h.d.I(0, 0);
   EXPECT_NEAR(dy(1), qdd, 1e-11 * (1 + std::abs(qdd)));
+}
+
+template <class Model>
+class RhsAgainstGeneralFunctions : public ::testing::Test {};
+using RhsModels = ::testing::Types<mech::fourbar_massive::Model,
+                                   mech::damped_fourbar::Model,
+                                   mech::fivebar_massive::Model,
+                                   mech::fivebar_robot::Model,
+                                   mech::fivebar_spring_damper::Model,
+                                   mech::fivebar_locked_fourbar::Model,
+                                   mech::published_andrews::Model,
+                                   mech::published_double_pendulum::Model>;
+TYPED_TEST_SUITE(RhsAgainstGeneralFunctions, RhsModels);
+
+TYPED_TEST(RhsAgainstGeneralFunctions, SameEquationOfMotionNearTheAssembly) {
+  using Mo = TypeParam;
+  constexpr int nq = Mo::kNq, nphi = Mo::kNphi;
+  using VQ = Eigen::Matrix<double, nq, 1>;
+  typename Mo::template ParamsT<double> p;
+  typename Mo::template RhsConstantsT<double> rc;
+  Mo::Prepare(p, &rc);
+  Eigen::Matrix<double, nphi, 1> phi;
+  for (int i = 0; i < nphi; ++i) phi(i) = Mo::kAssemblyPhi[i];
+  int compared = 0;
+  for (int k = 0; k <= 40; ++k) {
+    VQ q, qd;
+    for (int j = 0; j < nq; ++j) {
+      q(j) = Mo::kAssemblyQ[j] + 0.004 * k * (j % 2 == 0 ? 1.0 : -0.7);
+      qd(j) = 0.9 - 0.6 * j + 0.05 * k;
+    }
+    const double t = 0.01 * k;
+    typename Mo::template TrigT<double> trig, trig_rhs;
+    const auto solved = Mo::Solve(p, q, &phi, Mo::kDefaultModes, 50, 0.0, &trig);
+    if (solved.status != decltype(solved.status)::kConverged) continue;
+    typename Mo::template CoefficientsT<double> c;
+    typename Mo::template DynamicsT<double> d;
+    Mo::Coeffs(p, q, phi, &c, &trig);
+    Mo::Dynamics(p, q, phi, qd, t, c, &d, nullptr, &trig);
+    typename Mo::template RhsT<double> r;
+    const auto report = Mo::Rhs(p, rc, q, qd, t, Mo::kDefaultModes, &trig_rhs, &r);
+    ASSERT_EQ(report.status, solved.status) << k;
+    ++compared;
+    auto near = [&](double a, double b, const char* what) {
+      EXPECT_NEAR(a, b, 1e-10 * (1 + std::abs(b))) << what << " at step " << k;
+    };
+    for (int i = 0; i < nq; ++i) {
+      for (int j = 0; j < nq; ++j) near(r.I(i, j), d.I(i, j), "I");
+      near(r.h(i), d.h(i), "h");
+      near(r.Q(i), d.Q(i), "Q");
+      for (int a = 0; a < nphi; ++a) near(r.K(a, i), c.K(a, i), "K");
+    }
+    near(r.T, d.T, "T");
+    near(r.V, d.V, "V");
+    near(r.P_nc, d.P_nc, "P_nc");
+    for (int a = 0; a < nphi; ++a)
+      for (int b = 0; b < nphi; ++b) near(r.Phi_phi(a, b), c.Phi_phi(a, b), "Phi_phi");
+  }
+  EXPECT_GT(compared, 30);
 }
 
 }  // namespace

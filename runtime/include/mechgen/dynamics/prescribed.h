@@ -359,6 +359,8 @@ class PrescribedDynamics {
   /// The stages solve only the sin and cos of the angles (M::SolveTrig, no atan2), as
   /// MinimalDynamics does; the angles are recovered where a sample needs them.
   static constexpr bool kStagesByTrig = kHasTrig && kNphi > 0 && internal::HasSolveTrig<M>::value;
+  /// ... and by the one-pass M::Rhs where it is generated (forward.h: K, L, I, h, Q, Phi_phi).
+  static constexpr bool kStagesByRhs = kStagesByTrig && internal::HasRhs<M>::value;
 
   /// prescribed: the indices into q of the prescribed coordinates, distinct, each in
   /// [0, kNq), in the order of the motion's components (checked by Initialize()).
@@ -382,7 +384,11 @@ class PrescribedDynamics {
   }
 
   const Params& params() const { return p_; }
-  Params* mutable_params() { return &p_; }
+  /// The parameters, to change (M::Rhs' constants are prepared again at the next stage).
+  Params* mutable_params() {
+    constants_stale_ = true;
+    return &p_;
+  }
   const PrescribedOptions& options() const { return options_; }
   const std::array<int, NP>& prescribed() const { return prescribed_; }
   const std::array<int, kNf>& free() const { return free_; }
@@ -642,7 +648,38 @@ class PrescribedDynamics {
     Assemble(t, qf, qdf, &q, &qd, &qddp);
     VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
     bool solved = false;
-    if constexpr (kStagesByTrig) {
+    Dyn d;
+    bool evaluated = false;
+    if constexpr (kStagesByRhs) {
+      if (by_trig) {
+        // One generated pass: the positions' sin and cos, K, L, I, h, Q (and Phi_phi for the
+        // conditioning); c holds K and Phi_phi only.
+        if (constants_stale_) {
+          M::template Prepare<double>(p_, &rc_);
+          constants_stale_ = false;
+        }
+        last_solve_not_assemblable_ = false;
+        typename M::template RhsT<double> r;
+        const auto report = M::template Rhs<double>(p_, rc_, q, qd, t, modes_, &trig_, &r);
+        solved = report.status == decltype(report.status)::kConverged;
+        if (!solved) {
+          last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+          ++position_failures_;
+          return false;
+        }
+        c->K = r.K;
+        c->Phi_phi = r.Phi_phi;
+        d.I = r.I;
+        d.h = r.h;
+        d.Q = r.Q;
+        d.T = r.T;
+        d.V = r.V;
+        d.P_nc = r.P_nc;
+        evaluated = true;
+      }
+    }
+    if (evaluated) {
+    } else if constexpr (kStagesByTrig) {
       if (by_trig) {
         last_solve_not_assemblable_ = false;
         const auto report = M::template SolveTrig<double>(p_, q, modes_, &trig_);
@@ -659,9 +696,10 @@ class PrescribedDynamics {
       ++position_failures_;
       return false;
     }
-    EvalCoefficients(q, phi, c);
-    Dyn d;
-    EvalDynamics(q, phi, qd, t, *c, &d);
+    if (!evaluated) {
+      EvalCoefficients(q, phi, c);
+      EvalDynamics(q, phi, qd, t, *c, &d);
+    }
     VecQ F;
     force_(t, q, qd, &F);
     VecQ qdd;
@@ -883,6 +921,8 @@ class PrescribedDynamics {
   VecPhi phi_ref_ = VecPhi::Zero();
   Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
   Trig trig_{};
+  typename internal::RhsConstantsOf<M>::type rc_{};  ///< kStagesByRhs: M::Prepare(p_)
+  bool constants_stale_ = true;
   struct Cache {
     bool valid = false;
     double t = 0;
