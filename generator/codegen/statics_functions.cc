@@ -382,7 +382,6 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
   for (int i = 0; i < nc; ++i)
     for (int j = 0; j < nphi; ++j) P.push_back(Store("out->Phi_phi" + Idx(i, j), t.Phi_phi_named(i, j)));
   f.body = {Finish(P, a, printer)};
-  (void)m;
   return f;
 }
 

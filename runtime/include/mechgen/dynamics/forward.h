@@ -221,6 +221,114 @@ constexpr bool AllBlocksClosedForm() {
     if (!b) return false;
   return true;
 }
+
+// ---- the calls to the generated functions that MinimalDynamics and PrescribedDynamics
+// (prescribed.h) share: the sin and cos handed over where the model has them, M::Rhs'
+// constants prepared once per parameter set ----
+
+/// M::Solve, handing *trig over where the model has it.
+template <class M, class Trig>
+auto CallSolve(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
+               Eigen::Matrix<double, M::kNphi, 1>* phi, const std::array<int, M::kNumBlocks>& modes,
+               int max_iterations, double tolerance, Trig* trig) {
+  if constexpr (ModelFeatures<M>::kHasTrig) {
+    return M::template Solve<double>(p, q, phi, modes, max_iterations, tolerance, trig);
+  } else {
+    (void)trig;
+    return M::template Solve<double>(p, q, phi, modes, max_iterations, tolerance);
+  }
+}
+
+/// M::Coeffs, given the sin and cos of the last solve where the model has them.
+template <class M, class Trig>
+void CallCoeffs(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
+                const Eigen::Matrix<double, M::kNphi, 1>& phi, typename M::template CoefficientsT<double>* c,
+                const Trig* trig) {
+  if constexpr (ModelFeatures<M>::kHasTrig && M::kNphi > 0) {
+    M::template Coeffs<double>(p, q, phi, c, trig);
+  } else {
+    (void)trig;
+    M::template Coeffs<double>(p, q, phi, c);
+  }
+}
+
+/// M::Dynamics, likewise.
+template <class M, class Trig>
+void CallDynamics(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
+                  const Eigen::Matrix<double, M::kNphi, 1>& phi, const Eigen::Matrix<double, M::kNq, 1>& qd,
+                  double t, const typename M::template CoefficientsT<double>& c,
+                  typename M::template DynamicsT<double>* d, const Trig* trig) {
+  if constexpr (ModelFeatures<M>::kHasTrig && M::kNphi > 0) {
+    M::template Dynamics<double>(p, q, phi, qd, t, c, d, nullptr, trig);
+  } else {
+    (void)trig;
+    M::template Dynamics<double>(p, q, phi, qd, t, c, d);
+  }
+}
+
+/// The positions at q on the given modes from *phi (warm start): false when they do not
+/// solve (*not_assemblable: the loop cannot close), are not finite, or (a Newton block) land
+/// on the branch whose det Phi_phi has the other sign than ref_det (0: not checked).
+template <class M, class Trig>
+bool SolveOnBranch(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
+                   Eigen::Matrix<double, M::kNphi, 1>* phi, const std::array<int, M::kNumBlocks>& modes,
+                   int max_iterations, double tolerance, double ref_det, Trig* trig, bool* not_assemblable) {
+  *not_assemblable = false;
+  if constexpr (M::kNphi == 0) {
+    (void)p, (void)q, (void)phi, (void)modes, (void)max_iterations, (void)tolerance, (void)ref_det, (void)trig;
+    return true;
+  } else {
+    const auto report = CallSolve<M>(p, q, phi, modes, max_iterations, tolerance, trig);
+    if (report.status != decltype(report.status)::kConverged) {
+      *not_assemblable = report.status == decltype(report.status)::kNotAssemblable;
+      return false;
+    }
+    if (!phi->allFinite()) return false;
+    if constexpr (!AllBlocksClosedForm<M>()) {
+      // A Newton block may converge to the other branch after a long step: refuse it.
+      typename M::template CoefficientsT<double> c;
+      CallCoeffs<M>(p, q, *phi, &c, trig);
+      double cond = 0, det = 0;
+      ConditionAndDeterminant(c.Phi_phi, &cond, &det);
+      if (ref_det != 0 && (det > 0) != (ref_det > 0)) return false;
+    }
+    return true;
+  }
+}
+
+/// 1/cond_1 and det of Phi_phi (rcond 0 where cond is not finite); 1 and 1 for kNphi = 0.
+template <class A>
+void ConditioningOf(const A& Phi_phi, double* rcond, double* det) {
+  if constexpr (A::RowsAtCompileTime == 0) {
+    *rcond = 1;
+    *det = 1;
+  } else {
+    double cond = 0;
+    ConditionAndDeterminant(Phi_phi, &cond, det);
+    *rcond = std::isfinite(cond) && cond > 0 ? 1.0 / cond : 0.0;
+  }
+}
+
+/// M::Rhs' constants (M::Prepare), prepared again after the parameters may have changed.
+template <class M>
+class PreparedRhsConstants {
+ public:
+  void MarkStale() { stale_ = true; }
+  /// The constants of p, prepared first if stale (a model without M::Rhs has none).
+  const typename RhsConstantsOf<M>::type& Of(const typename M::template ParamsT<double>& p) {
+    if constexpr (HasRhs<M>::value) {
+      if (stale_) M::template Prepare<double>(p, &rc_);
+    } else {
+      (void)p;
+    }
+    stale_ = false;
+    return rc_;
+  }
+
+ private:
+  typename RhsConstantsOf<M>::type rc_{};
+  bool stale_ = true;
+};
 }  // namespace internal
 
 /// One evaluated configuration of the minimal method.
@@ -275,15 +383,13 @@ class MinimalDynamics {
   static constexpr bool kStagesByRhs = kStagesByTrig && internal::HasRhs<M>::value;
 
   explicit MinimalDynamics(const Params& params, const MinimalOptions& options = MinimalOptions())
-      : p_(params), options_(options), integrator_(options.integrator) {
-    PrepareConstants();
-  }
+      : p_(params), options_(options), integrator_(options.integrator) {}
 
   const Params& params() const { return p_; }
   /// The parameters, to change (the constants of M::Rhs are prepared again at the next
-  /// Initialize() or Simulate()).
+  /// stage).
   Params* mutable_params() {
-    constants_stale_ = true;
+    rhs_constants_.MarkStale();
     return &p_;
   }
   const MinimalOptions& options() const { return options_; }
@@ -295,7 +401,6 @@ class MinimalDynamics {
    * configuration of the warm starts. false when it does not assemble.
    */
   bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes = M::kDefaultModes) {
-    if (constants_stale_) PrepareConstants();
     modes_ = modes;
     q_ref_ = q0;
     phi_ref_ = phi_guess;
@@ -330,9 +435,9 @@ class MinimalDynamics {
     if constexpr (kStagesByRhs) {
       // One generated pass (M::Rhs): positions by their sin and cos, K, L, I, h, Q.
       last_solve_not_assemblable_ = false;
-      if (constants_stale_) PrepareConstants();
       typename M::template RhsT<double> r;
-      const auto report = M::template Rhs<double>(p_, rc_, q, qd, t, modes_, &trig_, &r);
+      const auto report =
+          M::template Rhs<double>(p_, rhs_constants_.Of(p_), q, qd, t, modes_, &trig_, &r);
       if (report.status != decltype(report.status)::kConverged) {
         last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
         ++position_failures_;
@@ -463,7 +568,6 @@ class MinimalDynamics {
       return Finish(Status::kInvalidInput, t0, summary);
     }
     integrator_.set_options(options_.integrator);
-    if (constants_stale_) PrepareConstants();
     // Cache the last evaluation during this run (restored on every return by Finish()).
     caching_ = true;
     State y0;
@@ -632,11 +736,6 @@ class MinimalDynamics {
   }
 
  private:
-  void PrepareConstants() {
-    if constexpr (kStagesByRhs) M::template Prepare<double>(p_, &rc_);
-    constants_stale_ = false;
-  }
-
   bool Finish(Status s, double t, MinimalSummary* summary) {
     caching_ = false;
     last_.valid = false;
@@ -649,55 +748,18 @@ class MinimalDynamics {
   }
 
   bool SolveAt(const VecQ& q, VecPhi* phi) {
-    if constexpr (kNphi == 0) {
-      (void)q;
-      (void)phi;
-      return true;
-    } else {
-      last_solve_not_assemblable_ = false;
-      const auto report = SolveCall(q, phi);
-      if (report.status != decltype(report.status)::kConverged) {
-        last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
-        return false;
-      }
-      if (!phi->allFinite()) return false;
-      if constexpr (!internal::AllBlocksClosedForm<M>()) {
-        // A Newton block may converge to the other branch after a long step: refuse it.
-        Coefficients c;
-        EvalCoefficients(q, *phi, &c);
-        double cond = 0, det = 0;
-        ConditionAndDeterminant(c.Phi_phi, &cond, &det);
-        if (ref_det_ != 0 && (det > 0) != (ref_det_ > 0)) return false;
-      }
-      return true;
-    }
-  }
-
-  auto SolveCall(const VecQ& q, VecPhi* phi) {
-    if constexpr (kHasTrig) {
-      return M::template Solve<double>(p_, q, phi, modes_, options_.max_solver_iterations,
-                                       options_.solver_tolerance, &trig_);
-    } else {
-      return M::template Solve<double>(p_, q, phi, modes_, options_.max_solver_iterations,
-                                       options_.solver_tolerance);
-    }
+    return internal::SolveOnBranch<M>(p_, q, phi, modes_, options_.max_solver_iterations,
+                                      options_.solver_tolerance, ref_det_, &trig_,
+                                      &last_solve_not_assemblable_);
   }
 
   void EvalCoefficients(const VecQ& q, const VecPhi& phi, Coefficients* c) {
-    if constexpr (kHasTrig && kNphi > 0) {
-      M::template Coeffs<double>(p_, q, phi, c, &trig_);
-    } else {
-      M::template Coeffs<double>(p_, q, phi, c);
-    }
+    internal::CallCoeffs<M>(p_, q, phi, c, &trig_);
   }
 
   void EvalDynamics(const VecQ& q, const VecPhi& phi, const VecQ& qd, double t,
                     const Coefficients& c, Dyn* d) {
-    if constexpr (kHasTrig && kNphi > 0) {
-      M::template Dynamics<double>(p_, q, phi, qd, t, c, d, nullptr, &trig_);
-    } else {
-      M::template Dynamics<double>(p_, q, phi, qd, t, c, d);
-    }
+    internal::CallDynamics<M>(p_, q, phi, qd, t, c, d, &trig_);
   }
 
   bool SolveInertia(const Dyn& d, VecQ* qdd) { return SolveInertia(d.I, d.Q - d.h, qdd); }
@@ -728,14 +790,8 @@ class MinimalDynamics {
       *rcond = 1;
       *det = 1;
     } else {
-      ConditioningOf(c.Phi_phi, rcond, det);
+      internal::ConditioningOf(c.Phi_phi, rcond, det);
     }
-  }
-  template <class A>
-  static void ConditioningOf(const A& Phi_phi, double* rcond, double* det) {
-    double cond = 0;
-    ConditionAndDeterminant(Phi_phi, &cond, det);
-    *rcond = std::isfinite(cond) && cond > 0 ? 1.0 / cond : 0.0;
   }
 
   /// The sample at (t, y) from the last Derivative() call, if it was at exactly (t, y).
@@ -756,12 +812,7 @@ class MinimalDynamics {
         s->phi(i) = std::isfinite(turns) ? angle - two_pi * turns : angle;
       }
     }
-    if constexpr (kNphi == 0) {
-      s->rcond = 1;
-      s->det = 1;
-    } else {
-      ConditioningOf(last_.Phi_phi, &s->rcond, &s->det);
-    }
+    internal::ConditioningOf(last_.Phi_phi, &s->rcond, &s->det);
     return true;
   }
 
@@ -808,8 +859,7 @@ class MinimalDynamics {
   VecPhi phi_ref_ = VecPhi::Zero();
   Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
   Trig trig_{};
-  typename internal::RhsConstantsOf<M>::type rc_{};  ///< kStagesByRhs: M::PrepareRhs(p_)
-  bool constants_stale_ = true;
+  internal::PreparedRhsConstants<M> rhs_constants_;  ///< kStagesByRhs: M::Prepare(p_)
   struct LastEvaluation {
     bool valid = false;
     double t = 0;

@@ -386,7 +386,7 @@ class PrescribedDynamics {
   const Params& params() const { return p_; }
   /// The parameters, to change (M::Rhs' constants are prepared again at the next stage).
   Params* mutable_params() {
-    constants_stale_ = true;
+    rhs_constants_.MarkStale();
     return &p_;
   }
   const PrescribedOptions& options() const { return options_; }
@@ -654,13 +654,10 @@ class PrescribedDynamics {
       if (by_trig) {
         // One generated pass: the positions' sin and cos, K, L, I, h, Q (and Phi_phi for the
         // conditioning); c holds K and Phi_phi only.
-        if (constants_stale_) {
-          M::template Prepare<double>(p_, &rc_);
-          constants_stale_ = false;
-        }
         last_solve_not_assemblable_ = false;
         typename M::template RhsT<double> r;
-        const auto report = M::template Rhs<double>(p_, rc_, q, qd, t, modes_, &trig_, &r);
+        const auto report =
+            M::template Rhs<double>(p_, rhs_constants_.Of(p_), q, qd, t, modes_, &trig_, &r);
         solved = report.status == decltype(report.status)::kConverged;
         if (!solved) {
           last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
@@ -811,55 +808,18 @@ class PrescribedDynamics {
   }
 
   bool SolveAt(const VecQ& q, VecPhi* phi) {
-    if constexpr (kNphi == 0) {
-      (void)q;
-      (void)phi;
-      return true;
-    } else {
-      last_solve_not_assemblable_ = false;
-      const auto report = SolveCall(q, phi);
-      if (report.status != decltype(report.status)::kConverged) {
-        last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
-        return false;
-      }
-      if (!phi->allFinite()) return false;
-      if constexpr (!internal::AllBlocksClosedForm<M>()) {
-        // A Newton block may converge to the other branch after a long step: refuse it.
-        Coefficients c;
-        EvalCoefficients(q, *phi, &c);
-        double cond = 0, det = 0;
-        ConditionAndDeterminant(c.Phi_phi, &cond, &det);
-        if (ref_det_ != 0 && (det > 0) != (ref_det_ > 0)) return false;
-      }
-      return true;
-    }
-  }
-
-  auto SolveCall(const VecQ& q, VecPhi* phi) {
-    if constexpr (kHasTrig) {
-      return M::template Solve<double>(p_, q, phi, modes_, options_.max_solver_iterations,
-                                       options_.solver_tolerance, &trig_);
-    } else {
-      return M::template Solve<double>(p_, q, phi, modes_, options_.max_solver_iterations,
-                                       options_.solver_tolerance);
-    }
+    return internal::SolveOnBranch<M>(p_, q, phi, modes_, options_.max_solver_iterations,
+                                      options_.solver_tolerance, ref_det_, &trig_,
+                                      &last_solve_not_assemblable_);
   }
 
   void EvalCoefficients(const VecQ& q, const VecPhi& phi, Coefficients* c) {
-    if constexpr (kHasTrig && kNphi > 0) {
-      M::template Coeffs<double>(p_, q, phi, c, &trig_);
-    } else {
-      M::template Coeffs<double>(p_, q, phi, c);
-    }
+    internal::CallCoeffs<M>(p_, q, phi, c, &trig_);
   }
 
   void EvalDynamics(const VecQ& q, const VecPhi& phi, const VecQ& qd, double t,
                     const Coefficients& c, Dyn* d) {
-    if constexpr (kHasTrig && kNphi > 0) {
-      M::template Dynamics<double>(p_, q, phi, qd, t, c, d, nullptr, &trig_);
-    } else {
-      M::template Dynamics<double>(p_, q, phi, qd, t, c, d);
-    }
+    internal::CallDynamics<M>(p_, q, phi, qd, t, c, d, &trig_);
   }
 
   static void Conditioning(const Coefficients& c, double* rcond, double* det) {
@@ -868,9 +828,7 @@ class PrescribedDynamics {
       *rcond = 1;
       *det = 1;
     } else {
-      double cond = 0;
-      ConditionAndDeterminant(c.Phi_phi, &cond, det);
-      *rcond = std::isfinite(cond) && cond > 0 ? 1.0 / cond : 0.0;
+      internal::ConditioningOf(c.Phi_phi, rcond, det);
     }
   }
 
@@ -921,8 +879,7 @@ class PrescribedDynamics {
   VecPhi phi_ref_ = VecPhi::Zero();
   Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
   Trig trig_{};
-  typename internal::RhsConstantsOf<M>::type rc_{};  ///< kStagesByRhs: M::Prepare(p_)
-  bool constants_stale_ = true;
+  internal::PreparedRhsConstants<M> rhs_constants_;  ///< kStagesByRhs: M::Prepare(p_)
   struct Cache {
     bool valid = false;
     double t = 0;
