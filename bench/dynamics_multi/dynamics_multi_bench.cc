@@ -71,7 +71,9 @@ struct SimResult {
   bool ok = false;
 };
 
-template <template <int> class Method>
+// breaks: integrate piece by piece between robot_cycle.h's kCycleBreaks (the integrator starts
+// again at each: Simulate() from the last sample; the position reference is kept).
+template <template <int> class Method, bool kBreaks = false>
 SimResult SimulateMechgen(double tol) {
   dyn::PrescribedOptions o;
   o.integrator.rtol = tol;
@@ -84,12 +86,23 @@ SimResult SimulateMechgen(double tol) {
   if (!sim.Initialize(0.0, V2(q0[0], q0[1]))) return r;
   dyn::PrescribedSummary summary;
   typename Sim<Method>::SampleT last;
-  r.ok = sim.Simulate(0.0, V2(q0[0], q0[1]), V2::Zero(), kTEnd,
-                      [](const typename Sim<Method>::SampleT&) { return true; }, &summary, &last);
+  last.t = 0.0;
+  last.q = V2(q0[0], q0[1]);
+  last.qd = V2::Zero();
+  r.ok = true;
+  auto piece = [&](double t_to) {
+    if (!r.ok) return;
+    r.ok = sim.Simulate(last.t, last.q, last.qd, t_to,
+                        [](const typename Sim<Method>::SampleT&) { return true; }, &summary, &last);
+    r.steps += summary.integrator.steps;
+    r.rhs += summary.integrator.rhs_evaluations;
+  };
+  if constexpr (kBreaks)
+    for (double t_break : kCycleBreaks)
+      if (t_break < kTEnd) piece(t_break);
+  piece(kTEnd);
   r.q[0] = last.q(0);
   r.q[1] = last.q(1);
-  r.steps = summary.integrator.steps;
-  r.rhs = summary.integrator.rhs_evaluations;
   r.ok = r.ok && std::abs(last.t - kTEnd) < 1e-12;
   return r;
 }
@@ -246,12 +259,16 @@ std::vector<Method> Methods() {
 #ifndef MECHGEN_BENCH_SIMBODY_ONLY
   m.push_back({"MechgenDopri5", SimulateMechgen<dyn::Dopri5>});
   m.push_back({"MechgenDop853", SimulateMechgen<dyn::Dop853>});
+  m.push_back({"MechgenDopri5Breaks", SimulateMechgen<dyn::Dopri5, true>});
+  m.push_back({"MechgenDop853Breaks", SimulateMechgen<dyn::Dop853, true>});
 #endif
+  for (bool breaks : {false, true})
   for (SimbodyIntegrator integ : {SimbodyIntegrator::kRungeKuttaMerson,
                                   SimbodyIntegrator::kRungeKuttaFeldberg,
                                   SimbodyIntegrator::kCPodes}) {
-    m.push_back({std::string(MECHGEN_BENCH_SIMBODY_LABEL) + Name(integ), [integ](double tol) {
-                   const SimbodyRobotRun run = Simbody().Simulate(integ, tol, kTEnd);
+    m.push_back({std::string(MECHGEN_BENCH_SIMBODY_LABEL) + Name(integ) + (breaks ? "Breaks" : ""),
+                 [integ, breaks](double tol) {
+                   const SimbodyRobotRun run = Simbody().Simulate(integ, tol, kTEnd, breaks);
                    SimResult r;
                    r.q[0] = run.q[0];
                    r.q[1] = run.q[1];

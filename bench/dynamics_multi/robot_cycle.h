@@ -1,4 +1,4 @@
-// The five-bar robot of tests/dynamics/models/fivebar_robot.yaml in a pick-and-place cycle
+// The five-bar robot of models/fivebar_robot.yaml in a pick-and-place cycle
 // under PD control, written without mechgen or Simbody headers (both sides of the benchmark
 // include it; the Simbody translation unit is compiled apart).
 //
@@ -26,6 +26,11 @@ struct RobotParams {
     return rho * b * b * b / 12 + rho * b * (xg - b / 2) * (xg - b / 2) + mp * (b - xg) * (b - xg);
   }
 };
+
+/// The times in the first cycle where the set point's law changes piece (the 3-4-5 moves' ends:
+/// its jerk jumps there, so the PD torques' second derivative does): an integrator that knows
+/// them restarts there instead of stepping across ("Breaks" variants of the benchmark).
+constexpr double kCycleBreaks[] = {0.4, 0.5, 0.9};
 
 /// The path parameter s in [0, 1] of the cycle at t (periodic, 1 s) and its derivatives.
 inline void CycleLaw(double t, double* s, double* sd, double* sdd) {

@@ -79,7 +79,7 @@ with open(f"{out}/simulate.csv", "w") as f:
                 r = sim[(m, t)]
                 f.write(f"{m},{t},{r['cpu_us']:.3f},{r['error']:.3e},{r['steps']:.0f},{r['rhs']:.0f}\n")
 
-print("five-bar robot (tests/dynamics/models/fivebar_robot.yaml), pick-and-place cycle of 1 s under PD control")
+print("five-bar robot (models/fivebar_robot.yaml), pick-and-place cycle of 1 s under PD control")
 print(f"median CPU time of {reps} repetitions; reference q(1 s) = {context['reference_q_1s'][0]} rad "
       f"(mechgen Dop853 1e-13; Simbody RKMerson 1e-12 differs by {context['reference_vs_simbody_rkmerson_1e-12'][0]})")
 print(f"Simbody libraries: {', '.join(context['simbody_library'])}")
@@ -115,7 +115,7 @@ for who in chains:
             for n in ns))
 print()
 print("(c) the 1 s cycle: CPU time [us] / max |q(1 s) error| [rad] per tolerance")
-w = 26
+w = 32
 print("  " + "method".ljust(w) + "".join(t.rjust(20) for t in tols))
 for m in methods:
     row = "  " + m.ljust(w)

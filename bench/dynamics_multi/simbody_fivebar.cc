@@ -110,19 +110,32 @@ SimbodyFivebar::SimbodyFivebar() : impl_(new Impl) {
 
 SimbodyFivebar::~SimbodyFivebar() { delete impl_; }
 
-SimbodyRobotRun SimbodyFivebar::Simulate(SimbodyIntegrator which, double accuracy, double t_end) const {
+SimbodyRobotRun SimbodyFivebar::Simulate(SimbodyIntegrator which, double accuracy, double t_end,
+                                         bool restart_at_breaks) const {
   SimbodyRobotRun run;
   State state = impl_->initial;
   auto integ = MakeIntegrator(which, impl_->system);
   integ->setAccuracy(accuracy);
   TimeStepper ts(impl_->system, *integ);
   ts.initialize(state);
-  const Integrator::SuccessfulStepStatus status = ts.stepTo(t_end);
+  Integrator::SuccessfulStepStatus status = Integrator::ReachedReportTime;
+  if (restart_at_breaks) {
+    for (double t_break : kCycleBreaks) {
+      if (t_break >= t_end) break;
+      status = ts.stepTo(t_break);
+      if (status != Integrator::ReachedReportTime) break;
+      run.steps += integ->getNumStepsTaken();
+      run.realizations += integ->getNumRealizations();
+      state = integ->getState();
+      ts.initialize(state);  // counters start again
+    }
+  }
+  if (status == Integrator::ReachedReportTime) status = ts.stepTo(t_end);
   const State& end = integ->getState();
   run.q[0] = impl_->prox1.getOneQ(end, 0);
   run.q[1] = impl_->prox2.getOneQ(end, 0);
-  run.steps = integ->getNumStepsTaken();
-  run.realizations = integ->getNumRealizations();
+  run.steps += integ->getNumStepsTaken();
+  run.realizations += integ->getNumRealizations();
   run.ok = status == Integrator::ReachedReportTime && std::abs(end.getTime() - t_end) < 1e-12;
   return run;
 }

@@ -25,7 +25,10 @@ class SimbodyFivebar {
   SimbodyFivebar& operator=(const SimbodyFivebar&) = delete;
 
   /// The cycle from rest at q_ref(0) to t_end at the given accuracy (Integrator::setAccuracy).
-  SimbodyRobotRun Simulate(SimbodyIntegrator integrator, double accuracy, double t_end) const;
+  /// restart_at_breaks: step to each of robot_cycle.h's kCycleBreaks and initialize the
+  /// integrator again there (as the mechgen "Breaks" runs restart theirs).
+  SimbodyRobotRun Simulate(SimbodyIntegrator integrator, double accuracy, double t_end,
+                           bool restart_at_breaks = false) const;
 
   /// Stores n states along a simulation (accuracy 1e-8) to time the right-hand side on.
   void RecordStates(int n, double t_end);

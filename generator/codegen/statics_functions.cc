@@ -81,8 +81,11 @@ void NameSumPowers(Program* program, CxxPrinter* printer) {
         if (!GiNaC::is_a<GiNaC::power>(r) || !GiNaC::is_a<GiNaC::add>(r.op(0)) ||
             !GiNaC::is_a<GiNaC::numeric>(r.op(1)) || !GiNaC::ex_to<GiNaC::numeric>(r.op(1)).is_integer())
           return r;
-        const bool flip = NeedsFlip(r.op(0), printer);
-        const ex base = flip ? (-r.op(0)).expand() : r.op(0);
+        // The expanded sum: GiNaC's unexpanded products of sums carry a sign picked by whichever
+        // term it saw first (run-dependent), the expanded form does not.
+        const ex expanded = r.op(0).expand();
+        const bool flip = NeedsFlip(expanded, printer);
+        const ex base = flip ? (-expanded).expand() : expanded;
         const std::string text = printer->Print(base);
         auto it = named.find(text);
         if (it == named.end()) {

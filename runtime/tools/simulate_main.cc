@@ -18,6 +18,15 @@
 // Plot it with runtime/tools/plot_dynamics.gnuplot. Example:
 //   slider_crank_motor_simulate --t-end 10 --dt 0.002 --csv out/motor.csv
 //   gnuplot -e "csv='out/motor.csv'; png='out/motor.png'" runtime/tools/plot_dynamics.gnuplot
+// With --drive (motion generators, Paul 8.4.4; mechgen/dynamics/prescribed.h) some inputs follow
+// a law of time and the others are free; the CSV then also has, per driven input, the actuator
+// force lambda_<input> that keeps it on its law (a torque [N m] on the input link, CCW +, or a
+// force [N] along the slide), W_act = its work since t = 0, the balance E - W_nc - W_act (constant
+// along an exact motion) and rcond = 1/cond_1(Phi_phi) (the run stops, exit 1, where it falls
+// below 1e-6: a singular configuration, never integrated through). Example, the five-bar robot
+// with its first motor at 2 rad/s and the second holding still (inverse dynamics when every
+// input is driven):
+//   fivebar_robot_simulate --drive theta_prox1=speed:2 --drive theta_prox2=speed:0 --t-end 0.5
 // Exit status: 0 when the run reached --t-end or a steady state (or stopped at the speed
 // through zero with --stop-at-speed-zero); 1 when it ended on a failure (a dead point, the
 // position solver, a singular inertia, the integrator), with the reason on stderr; 2 for a
@@ -34,6 +43,7 @@
 
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
+#include "mechgen/dynamics/prescribed.h"
 #include "mechgen/statics/traits.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
@@ -59,6 +69,15 @@ bool ParseValue(const std::string& text, double* value) {
   return !number.empty() && end != nullptr && *end == '\0' && std::isfinite(*value);
 }
 
+// One --drive NAME=LAW: the input's index and its law.
+struct DriveSpec {
+  std::string text;  // as given, for messages
+  std::string name;
+  std::string kind;  // speed, move, cycloidal, table
+  std::vector<double> values;
+  std::string file;
+};
+
 struct Args {
   double t_end = 10;
   double dt = 0.001;
@@ -73,6 +92,7 @@ struct Args {
   bool stop_at_speed_zero = false;
   bool quiet = false;
   int max_steps = 1000000;
+  std::vector<DriveSpec> drives;
 };
 
 void Usage(const char* program) {
@@ -91,6 +111,16 @@ void Usage(const char* program) {
       "  --energy-projection  keep T + V - W_nc at its initial value (long conservative runs)\n"
       "  --stop-at-speed-zero stop where the first input's speed changes sign\n"
       "  --max-steps N        integrator steps before giving up (default 1e6)\n"
+      "  --drive NAME=LAW     a motion generator: input NAME (as in the CSV header) follows LAW,\n"
+      "                       the other inputs are free; repeat for several. LAW is one of\n"
+      "                         speed:W            constant speed W (rad/s, or e.g. 90deg) from\n"
+      "                                            the input's initial value\n"
+      "                         move:Q1:T0:T1      rest to rest from the initial value to Q1 between\n"
+      "                                            T0 and T1 s, 3-4-5 polynomial\n"
+      "                         cycloidal:Q1:T0:T1 the same, cycloidal\n"
+      "                         table:FILE         the clamped cubic spline through the rows t,q of\n"
+      "                                            a CSV file (a header line is skipped)\n"
+      "                       The CSV gets lambda_NAME, the actuator force that the law needs.\n"
       "  --csv FILE           write the CSV there (default: <model>_simulate.csv)\n"
       "  --quiet              no summary on stdout\n",
       program);
@@ -109,6 +139,38 @@ bool ParseList(const std::string& text, std::vector<double>* values) {
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
+  return true;
+}
+
+// NAME=speed:W | move:Q1:T0:T1 | cycloidal:Q1:T0:T1 | table:FILE. The name is checked
+// against the model later.
+bool ParseDrive(const std::string& text, std::vector<DriveSpec>* drives) {
+  DriveSpec d;
+  d.text = text;
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) return false;
+  d.name = text.substr(0, eq);
+  const std::string law = text.substr(eq + 1);
+  const size_t colon = law.find(':');
+  if (colon == std::string::npos) return false;
+  d.kind = law.substr(0, colon);
+  const std::string rest = law.substr(colon + 1);
+  if (d.kind == "table") {
+    d.file = rest;
+    if (d.file.empty()) return false;
+  } else {
+    std::string list = rest;
+    std::replace(list.begin(), list.end(), ':', ',');
+    if (!ParseList(list, &d.values)) return false;
+    if (d.kind == "speed") {
+      if (d.values.size() != 1) return false;
+    } else if (d.kind == "move" || d.kind == "cycloidal") {
+      if (d.values.size() != 3 || !(d.values[2] > d.values[1])) return false;
+    } else {
+      return false;
+    }
+  }
+  drives->push_back(d);
   return true;
 }
 
@@ -146,6 +208,7 @@ int ParseArgs(int argc, char** argv, Args* a) {
     else if (arg == "--q0") ok = next(&text) && ParseList(text, &a->q0);
     else if (arg == "--qd0") ok = next(&text) && ParseList(text, &a->qd0);
     else if (arg == "--csv") ok = next(&a->csv);
+    else if (arg == "--drive") ok = next(&text) && ParseDrive(text, &a->drives);
     else {
       std::fprintf(stderr, "error: unknown option '%s' (see --help)\n", arg.c_str());
       return 2;
@@ -154,6 +217,61 @@ int ParseArgs(int argc, char** argv, Args* a) {
       std::fprintf(stderr, "error: bad or missing value for %s (see --help)\n", arg.c_str());
       return 2;
     }
+  }
+  return 0;
+}
+
+// The rows t,q of a CSV file (a first line that is not two numbers is a header). False with
+// a message naming the file and line.
+bool ReadTable(const std::string& path, std::vector<double>* t, std::vector<double>* q,
+               std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = "cannot read " + path;
+    return false;
+  }
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    std::vector<double> values;
+    if (!ParseList(line, &values) || values.size() != 2) {
+      if (number == 1) continue;  // a header
+      *error = path + ":" + std::to_string(number) + ": expected two numbers t,q";
+      return false;
+    }
+    t->push_back(values[0]);
+    q->push_back(values[1]);
+  }
+  if (t->size() < 2) {
+    *error = path + ": a table needs at least two rows t,q";
+    return false;
+  }
+  return true;
+}
+
+// The inputs' initial values and speeds from the model's assembly, --q0 and --qd0. 0 or the
+// usage error's exit status.
+template <class M, class VecQ>
+int InitialState(const Args& args, VecQ* q0, VecQ* qd0) {
+  constexpr int kNq = M::kNq;
+  qd0->setZero();
+  for (int i = 0; i < kNq; ++i) (*q0)(i) = M::kAssemblyQ[i];
+  if (!args.q0.empty()) {
+    if (static_cast<int>(args.q0.size()) != kNq) {
+      std::fprintf(stderr, "error: --q0 needs %d value(s)\n", kNq);
+      return 2;
+    }
+    for (int i = 0; i < kNq; ++i) (*q0)(i) = args.q0[i];
+  }
+  if (!args.qd0.empty()) {
+    if (static_cast<int>(args.qd0.size()) != kNq) {
+      std::fprintf(stderr, "error: --qd0 needs %d value(s)\n", kNq);
+      return 2;
+    }
+    for (int i = 0; i < kNq; ++i) (*qd0)(i) = args.qd0[i];
   }
   return 0;
 }
@@ -167,22 +285,8 @@ int Run(const Args& args) {
   constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
   const typename M::template ParamsT<double> params;
 
-  VecQ q0, qd0 = VecQ::Zero();
-  for (int i = 0; i < kNq; ++i) q0(i) = M::kAssemblyQ[i];
-  if (!args.q0.empty()) {
-    if (static_cast<int>(args.q0.size()) != kNq) {
-      std::fprintf(stderr, "error: --q0 needs %d value(s)\n", kNq);
-      return 2;
-    }
-    for (int i = 0; i < kNq; ++i) q0(i) = args.q0[i];
-  }
-  if (!args.qd0.empty()) {
-    if (static_cast<int>(args.qd0.size()) != kNq) {
-      std::fprintf(stderr, "error: --qd0 needs %d value(s)\n", kNq);
-      return 2;
-    }
-    for (int i = 0; i < kNq; ++i) qd0(i) = args.qd0[i];
-  }
+  VecQ q0, qd0;
+  if (const int status = InitialState<M>(args, &q0, &qd0); status != 0) return status;
 
   mechgen::dynamics::MinimalOptions options;
   options.integrator.rtol = args.rtol;
@@ -318,6 +422,165 @@ int Run(const Args& args) {
   return 0;
 }
 
+// The run with NP of the inputs driven (--drive): PrescribedDynamics.
+template <class M, template <int> class Method, int NP>
+int RunDriven(const Args& args) {
+  namespace dyn = mechgen::dynamics;
+  constexpr int kNq = M::kNq;
+  using Drive = dyn::AnyDrive<NP>;
+  using Sim = dyn::PrescribedDynamics<M, NP, Drive, dyn::NoForce, Method>;
+  using VecQ = typename Sim::VecQ;
+  using VecF = typename Sim::VecF;
+  using SampleT = typename Sim::SampleT;
+  constexpr int kNf = Sim::kNf;
+  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  const typename M::template ParamsT<double> params;
+
+  VecQ q0, qd0;
+  if (const int status = InitialState<M>(args, &q0, &qd0); status != 0) return status;
+  std::array<int, NP> prescribed{};
+  std::array<dyn::AnyLaw, NP> laws;
+  for (int i = 0; i < NP; ++i) {
+    const DriveSpec& d = args.drives[i];
+    int k = -1;
+    for (int j = 0; j < kNq; ++j)
+      if (d.name == M::kQNames[j]) k = j;
+    if (k < 0) {
+      std::string names;
+      for (int j = 0; j < kNq; ++j) names += std::string(j ? ", " : "") + M::kQNames[j];
+      std::fprintf(stderr, "error: --drive %s: the model has no input '%s' (its inputs: %s)\n",
+                   d.text.c_str(), d.name.c_str(), names.c_str());
+      return 2;
+    }
+    for (int j = 0; j < i; ++j) {
+      if (prescribed[j] == k) {
+        std::fprintf(stderr, "error: --drive %s: input '%s' is driven twice\n", d.text.c_str(),
+                     d.name.c_str());
+        return 2;
+      }
+    }
+    prescribed[i] = k;
+    if (d.kind == "speed") {
+      laws[i] = dyn::ConstantSpeedLaw{q0(k), d.values[0], 0.0};
+    } else if (d.kind == "move" || d.kind == "cycloidal") {
+      laws[i] = dyn::RestToRestLaw{q0(k), d.values[0], d.values[1], d.values[2],
+                                   d.kind == "move" ? dyn::RestToRestLaw::Profile::kPoly345
+                                                    : dyn::RestToRestLaw::Profile::kCycloidal};
+    } else {
+      std::vector<double> t, q;
+      std::string error;
+      if (!ReadTable(d.file, &t, &q, &error)) {
+        std::fprintf(stderr, "error: --drive %s: %s\n", d.text.c_str(), error.c_str());
+        return 2;
+      }
+      dyn::TableLaw law(std::move(t), std::move(q));
+      if (!law.IsValid()) {
+        std::fprintf(stderr,
+                     "error: --drive %s: the times of %s must increase strictly and every value "
+                     "be finite\n",
+                     d.text.c_str(), d.file.c_str());
+        return 2;
+      }
+      laws[i] = std::move(law);
+    }
+  }
+
+  dyn::PrescribedOptions options;
+  options.integrator.rtol = args.rtol;
+  options.integrator.atol = args.atol;
+  options.integrator.max_steps = args.max_steps;
+  options.sample_dt = args.dt;
+  Sim sim(params, prescribed, Drive(laws), dyn::NoForce(), options);
+  VecF qf0, qdf0;
+  for (int i = 0; i < kNf; ++i) {
+    qf0(i) = q0(sim.free()[i]);
+    qdf0(i) = qd0(sim.free()[i]);
+  }
+  if (!sim.Initialize(0.0, qf0)) {
+    std::fprintf(stderr, "error: %s does not assemble at the initial inputs and the drives' t = 0\n",
+                 M::kName);
+    return 1;
+  }
+  mechgen::dynamics::Kinetostatics<M> kineto(params);
+  kineto.Initialize(q0);
+
+  const std::string csv_path = args.csv.empty() ? std::string(M::kName) + "_simulate.csv" : args.csv;
+  std::ofstream csv(csv_path);
+  if (!csv) {
+    std::fprintf(stderr, "error: cannot write %s\n", csv_path.c_str());
+    return 2;
+  }
+  csv << "t";
+  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i];
+  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i] << "_dot";
+  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i] << "_ddot";
+  csv << ",T,V,E,W_nc,W_act";
+  for (int i = 0; i < kNq; ++i) csv << ",Q_" << M::kQNames[i];
+  for (int i = 0; i < NP; ++i) csv << ",lambda_" << M::kQNames[prescribed[i]];
+  csv << ",balance,rcond";
+  if constexpr (kNumReactions > 0)
+    for (int r = 0; r < kNumReactions; ++r) csv << ',' << M::kReactionNames[r];
+  csv << '\n';
+  csv.precision(17);  // round trip: a reader may difference the columns
+  auto observer = [&](const SampleT& s) {
+    csv << s.t;
+    for (int i = 0; i < kNq; ++i) csv << ',' << s.q(i);
+    for (int i = 0; i < kNq; ++i) csv << ',' << s.qd(i);
+    for (int i = 0; i < kNq; ++i) csv << ',' << s.qdd(i);
+    csv << ',' << s.T << ',' << s.V << ',' << s.E << ',' << s.W_nc << ',' << s.W_act;
+    for (int i = 0; i < kNq; ++i) csv << ',' << s.Q(i);
+    for (int i = 0; i < NP; ++i) csv << ',' << s.lambda(i);
+    csv << ',' << s.Balance() << ',' << s.rcond;
+    if constexpr (kNumReactions > 0) {
+      mechgen::dynamics::KinetostaticsRow<M> row;
+      kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &row);
+      const bool usable = row.status == mechgen::dynamics::KinetostaticsStatus::kOk;
+      for (int r = 0; r < kNumReactions; ++r) {
+        csv << ',';
+        if (usable) csv << row.statics.R(r);
+      }
+    }
+    csv << '\n';
+    return true;
+  };
+  dyn::PrescribedSummary summary;
+  SampleT last;
+  sim.Simulate(0.0, qf0, qdf0, args.t_end, observer, &summary, &last);
+  csv.close();
+  if (!csv) {
+    std::fprintf(stderr, "error: cannot write %s\n", csv_path.c_str());
+    return 1;
+  }
+  const bool failure = dyn::IsFailure(summary.status);
+  if (!args.quiet) {
+    std::printf("%s (%d of %d inputs driven): %s\n", M::kName, NP, kNq,
+                dyn::FormatSummary(summary).c_str());
+    for (int i = 0; i < NP; ++i)
+      std::printf("end: lambda_%s = %.6g\n", M::kQNames[prescribed[i]], last.lambda(i));
+    std::printf("wrote %s (%d rows)\n", csv_path.c_str(), summary.samples);
+  }
+  if (failure) {
+    std::fprintf(stderr, "%s: the simulation failed: %s at t = %.9g s (1/cond(Phi_phi) = %.3g): %s\n",
+                 M::kName, dyn::ToString(summary.status), summary.t_end, last.rcond,
+                 summary.message);
+    return 1;
+  }
+  return 0;
+}
+
+// RunDriven with NP = the number of --drive options (1 ... kNq).
+template <class M, template <int> class Method, int NP = 1>
+int DispatchDriven(const Args& args) {
+  if constexpr (NP > M::kNq) {
+    std::fprintf(stderr, "error: %d --drive options for a model with %d input(s)\n",
+                 static_cast<int>(args.drives.size()), M::kNq);
+    return 2;
+  } else {
+    if (static_cast<int>(args.drives.size()) == NP) return RunDriven<M, Method, NP>(args);
+    return DispatchDriven<M, Method, NP + 1>(args);
+  }
+}
+
 template <class M>
 int Main(const Args& args) {
   if constexpr (!mechgen::dynamics::internal::HasDynamics<M>::value) {
@@ -327,6 +590,10 @@ int Main(const Args& args) {
                  M::kName);
     return 2;
   } else {
+    if (!args.drives.empty()) {
+      return args.method == "dop853" ? DispatchDriven<M, mechgen::dynamics::Dop853>(args)
+                                     : DispatchDriven<M, mechgen::dynamics::Dopri5>(args);
+    }
     return args.method == "dop853" ? Run<M, mechgen::dynamics::Dop853>(args)
                                    : Run<M, mechgen::dynamics::Dopri5>(args);
   }

@@ -81,6 +81,33 @@ TEST(Prescribed, ClampedSplineReproducesACubicWithRestEnds) {
   EXPECT_FALSE(SplineLaw<3>({0.0, 1.0, 1.0}, {0.0, 1.0, 2.0}).IsValid());
 }
 
+TEST(Prescribed, TableLawIsTheClampedCubicOfItsRows) {
+  // The run-time sized table (the simulate command's table:FILE) through samples of the same
+  // cubic q = 3 t^2 - 2 t^3 (rest at both ends): the cubic itself, and the AnyDrive that carries
+  // it hands out the same values.
+  std::vector<double> t{0.0, 0.2, 0.45, 0.7, 1.0}, q;
+  for (double s : t) q.push_back(3 * s * s - 2 * s * s * s);
+  const mechgen::dynamics::TableLaw law(t, q);
+  ASSERT_TRUE(law.IsValid());
+  const mechgen::dynamics::AnyDrive<1> drive({mechgen::dynamics::AnyLaw(law)});
+  for (double s : {0.0, 0.1, 0.45, 0.52, 0.99, 1.0}) {
+    EXPECT_NEAR(law(s).q, 3 * s * s - 2 * s * s * s, 1e-13) << s;
+    EXPECT_NEAR(law(s).qd, 6 * s - 6 * s * s, 1e-12) << s;
+    EXPECT_NEAR(law(s).qdd, 6 - 12 * s, 1e-11) << s;
+    Eigen::Matrix<double, 1, 1> qp, qdp, qddp;
+    drive(s, &qp, &qdp, &qddp);
+    EXPECT_EQ(qp(0), law(s).q);
+    EXPECT_EQ(qddp(0), law(s).qdd);
+  }
+  // Refused tables: one row, repeated times, a value that is not finite, unequal lengths.
+  using mechgen::dynamics::TableLaw;
+  EXPECT_FALSE(TableLaw({0.0}, {1.0}).IsValid());
+  EXPECT_FALSE(TableLaw({0.0, 1.0, 1.0}, {0.0, 1.0, 2.0}).IsValid());
+  EXPECT_FALSE(TableLaw({0.0, 1.0}, {0.0, std::nan("")}).IsValid());
+  EXPECT_FALSE(TableLaw({0.0, 1.0, 2.0}, {0.0, 1.0}).IsValid());
+  EXPECT_EQ(TableLaw({0.0}, {1.0})(0.5).q, 1.0);
+}
+
 TEST(Prescribed, RestToRestLawsAgainstFiniteDifferences) {
   for (auto profile : {RestToRestLaw::Profile::kPoly345, RestToRestLaw::Profile::kCycloidal}) {
     const RestToRestLaw law{0.3, 1.7, 0.5, 1.3, profile};

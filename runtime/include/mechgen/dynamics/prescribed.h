@@ -42,7 +42,8 @@
  * Nothing allocates after construction; nothing throws.
  *
  * Motion laws (each a callable MotionState(double t)): ConstantSpeedLaw, RestToRestLaw
- * (3-4-5 polynomial or cycloidal), SplineLaw<N> (a cubic spline through a table); Drive<Laws...>
+ * (3-4-5 polynomial or cycloidal), SplineLaw<N> (a cubic spline through a table; TableLaw when
+ * the table's size is known at run time only); Drive<Laws...>
  * combines one law per prescribed coordinate into the motion callable the class takes:
  *     void motion(double t, VecP* q_p, VecP* qd_p, VecP* qdd_p).
  *
@@ -60,6 +61,8 @@
 #include <string>
 #include <tuple>
 #include <utility>
+#include <variant>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -113,73 +116,72 @@ struct RestToRestLaw {
   }
 };
 
+namespace internal {
 /**
- * A table law: the cubic spline through (t_i, q_i), i < N (t strictly increasing), with
- * zero speed at both ends (kClamped: a rest-to-rest move through via points; speed,
- * acceleration continuous inside) or zero acceleration there (kNatural). Outside [t_0, t_{N-1}]
- * the law continues with its end speed (kClamped: at rest) and zero acceleration: a clamped
- * spline's acceleration jumps there from its end value to 0 (speed and position continuous). Fixed size, no allocation; the
- * constructor solves the tridiagonal system of the knots' second derivatives (Thomas).
+ * The cubic spline through (t_i, q_i), i < n, of SplineLaw and TableLaw; Storage is
+ * std::array<double, N> (fixed size) or std::vector<double> (sized once, at construction).
  */
-template <int N>
-class SplineLaw {
+template <class Storage>
+class CubicSplineLaw {
  public:
-  static_assert(N >= 2, "a spline needs at least two points");
   enum class Ends { kClamped, kNatural };
 
-  SplineLaw(const std::array<double, N>& t, const std::array<double, N>& q,
-            Ends ends = Ends::kClamped)
-      : t_(t), q_(q) {
-    valid_ = true;
-    for (int i = 0; i + 1 < N; ++i)
+  CubicSplineLaw(Storage t, Storage q, Ends ends) : t_(std::move(t)), q_(std::move(q)), m_(t_) {
+    const int n = static_cast<int>(t_.size());
+    valid_ = n >= 2 && static_cast<int>(q_.size()) == n;
+    for (int i = 0; valid_ && i + 1 < n; ++i)
       if (!(t_[i + 1] > t_[i])) valid_ = false;
-    m_.fill(0.0);
+    for (int i = 0; valid_ && i < n; ++i)
+      if (!std::isfinite(t_[i]) || !std::isfinite(q_[i])) valid_ = false;
+    std::fill(m_.begin(), m_.end(), 0.0);
     if (!valid_) return;
     // Rows: a_i m_{i-1} + b_i m_i + c_i m_{i+1} = d_i (m: second derivatives at the knots).
-    std::array<double, N> a{}, b{}, c{}, d{};
-    for (int i = 1; i + 1 < N; ++i) {
+    Storage a = m_, b = m_, c = m_, d = m_;
+    for (int i = 1; i + 1 < n; ++i) {
       const double h0 = t_[i] - t_[i - 1], h1 = t_[i + 1] - t_[i];
       a[i] = h0 / 6;
       b[i] = (h0 + h1) / 3;
       c[i] = h1 / 6;
       d[i] = (q_[i + 1] - q_[i]) / h1 - (q_[i] - q_[i - 1]) / h0;
     }
-    const double hf = t_[1] - t_[0], hl = t_[N - 1] - t_[N - 2];
+    const double hf = t_[1] - t_[0], hl = t_[n - 1] - t_[n - 2];
     if (ends == Ends::kNatural) {
       b[0] = 1;
-      b[N - 1] = 1;
-    } else {  // q'(t_0) = q'(t_{N-1}) = 0
+      b[n - 1] = 1;
+    } else {  // q'(t_0) = q'(t_{n-1}) = 0
       b[0] = hf / 3;
       c[0] = hf / 6;
       d[0] = (q_[1] - q_[0]) / hf;
-      a[N - 1] = hl / 6;
-      b[N - 1] = hl / 3;
-      d[N - 1] = -(q_[N - 1] - q_[N - 2]) / hl;
+      a[n - 1] = hl / 6;
+      b[n - 1] = hl / 3;
+      d[n - 1] = -(q_[n - 1] - q_[n - 2]) / hl;
     }
-    for (int i = 1; i < N; ++i) {
+    for (int i = 1; i < n; ++i) {
       const double w = a[i] / b[i - 1];
       b[i] -= w * c[i - 1];
       d[i] -= w * d[i - 1];
     }
-    m_[N - 1] = d[N - 1] / b[N - 1];
-    for (int i = N - 2; i >= 0; --i) m_[i] = (d[i] - c[i] * m_[i + 1]) / b[i];
+    m_[n - 1] = d[n - 1] / b[n - 1];
+    for (int i = n - 2; i >= 0; --i) m_[i] = (d[i] - c[i] * m_[i + 1]) / b[i];
   }
 
-  /// false when the t are not strictly increasing (the law is then the constant q_0).
+  /// false when there are fewer than two points, the t are not strictly increasing or a
+  /// value is not finite (the law is then the constant q_0, or 0 without points).
   bool IsValid() const { return valid_; }
 
   MotionState operator()(double t) const {
-    if (!valid_) return {q_[0], 0.0, 0.0};
+    const int n = static_cast<int>(t_.size());
+    if (!valid_) return {q_.size() > 0 ? q_[0] : 0.0, 0.0, 0.0};
     if (t < t_[0]) {
       const double s = Slope(0, t_[0]);
       return {q_[0] + s * (t - t_[0]), s, 0.0};
     }
-    if (t > t_[N - 1]) {
-      const double s = Slope(N - 2, t_[N - 1]);
-      return {q_[N - 1] + s * (t - t_[N - 1]), s, 0.0};
+    if (t > t_[n - 1]) {
+      const double s = Slope(n - 2, t_[n - 1]);
+      return {q_[n - 1] + s * (t - t_[n - 1]), s, 0.0};
     }
     const int i = std::min(
-        N - 2, static_cast<int>(std::upper_bound(t_.begin(), t_.end(), t) - t_.begin()) - 1);
+        n - 2, static_cast<int>(std::upper_bound(t_.begin(), t_.end(), t) - t_.begin()) - 1);
     const double h = t_[i + 1] - t_[i], A = (t_[i + 1] - t) / h, B = (t - t_[i]) / h;
     const double q = A * q_[i] + B * q_[i + 1] + ((A * A * A - A) * m_[i] + (B * B * B - B) * m_[i + 1]) * h * h / 6;
     return {q, Slope(i, t), A * m_[i] + B * m_[i + 1]};
@@ -190,8 +192,38 @@ class SplineLaw {
     const double h = t_[i + 1] - t_[i], A = (t_[i + 1] - t) / h, B = (t - t_[i]) / h;
     return (q_[i + 1] - q_[i]) / h - (3 * A * A - 1) / 6 * h * m_[i] + (3 * B * B - 1) / 6 * h * m_[i + 1];
   }
-  std::array<double, N> t_, q_, m_;
+  Storage t_, q_, m_;
   bool valid_ = false;
+};
+}  // namespace internal
+
+/**
+ * A table law: the cubic spline through (t_i, q_i), i < N (t strictly increasing), with
+ * zero speed at both ends (kClamped: a rest-to-rest move through via points; speed,
+ * acceleration continuous inside) or zero acceleration there (kNatural). Outside [t_0, t_{N-1}]
+ * the law continues with its end speed (kClamped: at rest) and zero acceleration: a clamped
+ * spline's acceleration jumps there from its end value to 0 (speed and position continuous).
+ * Fixed size, no allocation; the constructor solves the tridiagonal system of the knots'
+ * second derivatives (Thomas).
+ */
+template <int N>
+class SplineLaw : public internal::CubicSplineLaw<std::array<double, N>> {
+ public:
+  static_assert(N >= 2, "a spline needs at least two points");
+  using Base = internal::CubicSplineLaw<std::array<double, N>>;
+  using Ends = typename Base::Ends;
+  SplineLaw(const std::array<double, N>& t, const std::array<double, N>& q,
+            Ends ends = Ends::kClamped)
+      : Base(t, q, ends) {}
+};
+
+/// SplineLaw with the number of points known at run time only (e.g. read from a CSV table):
+/// allocates its tables once, at construction; evaluating it allocates nothing.
+class TableLaw : public internal::CubicSplineLaw<std::vector<double>> {
+ public:
+  using Base = internal::CubicSplineLaw<std::vector<double>>;
+  TableLaw(std::vector<double> t, std::vector<double> q, Ends ends = Ends::kClamped)
+      : Base(std::move(t), std::move(q), ends) {}
 };
 
 /// One law per prescribed coordinate, in the order of the prescribed indices: the motion
@@ -227,6 +259,30 @@ template <class... Laws>
 Drive<Laws...> MakeDrive(Laws... laws) {
   return Drive<Laws...>(std::move(laws)...);
 }
+
+/// A law chosen at run time (e.g. from a command line): one of the laws above.
+using AnyLaw = std::variant<ConstantSpeedLaw, RestToRestLaw, TableLaw>;
+
+/// The motion callable of PrescribedDynamics from NP laws chosen at run time (AnyLaw).
+template <int NP>
+class AnyDrive {
+ public:
+  static constexpr int kNp = NP;
+  using VecP = Eigen::Matrix<double, kNp, 1>;
+  explicit AnyDrive(std::array<AnyLaw, NP> laws) : laws_(std::move(laws)) {}
+  void operator()(double t, VecP* q, VecP* qd, VecP* qdd) const {
+    for (int i = 0; i < kNp; ++i) {
+      const MotionState s = std::visit([t](const auto& law) { return law(t); }, laws_[i]);
+      (*q)(i) = s.q;
+      (*qd)(i) = s.qd;
+      (*qdd)(i) = s.qdd;
+    }
+  }
+  const std::array<AnyLaw, NP>& laws() const { return laws_; }
+
+ private:
+  std::array<AnyLaw, NP> laws_;
+};
 
 /// No forces of the caller (F = 0).
 struct NoForce {
