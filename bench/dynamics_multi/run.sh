@@ -81,7 +81,7 @@ with open(f"{out}/simulate.csv", "w") as f:
 
 print("five-bar robot (models/fivebar_robot.yaml), pick-and-place cycle of 1 s under PD control")
 print(f"median CPU time of {reps} repetitions; reference q(1 s) = {context['reference_q_1s'][0]} rad "
-      f"(mechgen Dop853 1e-13; Simbody RKMerson 1e-12 differs by {context['reference_vs_simbody_rkmerson_1e-12'][0]})")
+      f"(mechgen Dop853 1e-13 restarted at the breaks; Simbody RKMerson 1e-12 differs by {context['reference_vs_simbody_rkmerson_1e-12'][0]})")
 print(f"Simbody libraries: {', '.join(context['simbody_library'])}")
 print()
 print("(a) one right-hand side (positions + I + h + Q + PD torques + qdd), per configuration")
@@ -164,3 +164,5 @@ for ref in ("SimbodyRelease", "SimbodyDebian"):
             row += (f"{ts / r['cpu_us']:8.0f}x {sm[len(ref):]:<10}" if ts else "out of range").rjust(20)
         print(row)
 PY
+echo | tee -a "$OUT/dynamics_multi.txt"
+python3 bench/dynamics_multi/frontier.py "$OUT/simulate.csv" | tee -a "$OUT/dynamics_multi.txt"
