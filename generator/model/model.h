@@ -49,6 +49,17 @@ struct Parameter {
   SourceMark mark;
 };
 
+/// A derived parameter (`name: {derived: <expression>}` in `parameters`): an expression of
+/// the parameters above it, free or derived. It is no member of Params: every expression
+/// that names it reads its expression instead (in the free parameters' symbols), so it
+/// follows the free parameters when they change at run time.
+struct DerivedParameter {
+  std::string name;
+  GiNaC::ex value;  ///< in the free parameters' symbols only
+  std::string doc;
+  SourceMark mark;
+};
+
 /// A point fixed on a link, in the link's local frame (x along the link's axis).
 struct LinkPoint {
   std::string name;
@@ -321,6 +332,7 @@ struct Model {
   std::string title;
   std::string description;
   std::vector<Parameter> params;
+  std::vector<DerivedParameter> derived;  ///< in file order; each uses only those above it
   std::vector<Link> links;
   std::vector<Joint> joints;
   std::vector<Input> inputs;

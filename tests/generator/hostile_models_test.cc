@@ -281,6 +281,26 @@ INSTANTIATE_TEST_SUITE_P(
                 "link 'ground' has zero length in loop 1"}),
     [](const ::testing::TestParamInfo<Hostile>& info) { return info.param.name; });
 
+// Issue 13 (the model format as users write it): the same contract for its new errors.
+INSTANTIATE_TEST_SUITE_P(
+    Issue13, HostileModel,
+    ::testing::Values(
+        Hostile{"acos_beyond_one", "C: [b, 0]", "C: [b*acos(a + 1), 0]", "b*acos", 0, "acos of a number beyond [-1, 1]"},
+        Hostile{"atan2_zero_zero", "C: [b, 0]", "C: [\"b + atan2(0, a - 1)\", 0]", "b + atan2", 0, "atan2(0, 0)"},
+        Hostile{"function_unknown_lists_the_language", "C: [b, 0]", "C: [b + acosh(a), 0]", "acosh", 0,
+                "(abs acos asin atan atan2 cos exp log sin sqrt tan)"},
+        Hostile{"derived_forward_reference", "  a: 1.0", "  a: {derived: c/3}", "c/3", 0,
+                "'c' is a parameter defined further down (line 5)"},
+        Hostile{"derived_itself", "  a: 1.0", "  a: {derived: a + 1}", "a + 1", 0, "'a' is the parameter being defined"},
+        Hostile{"derived_and_value", "  a: 1.0", "  a: {value: 1, derived: 1}", "derived: 1", 9,
+                "has both value and derived"},
+        Hostile{"derived_out_of_domain", "  d: 4.0", "  d: {derived: sqrt(a - c)}", "sqrt(a - c)", 0,
+                "square root of a negative number"},
+        Hostile{"derived_bad_name", "  d: 4.0", "  d: 4.0\n  sin: {derived: a}", "sin:", 0, "is a name of the expression language"},
+        Hostile{"parameter_expression_as_value", "  d: 4.0", "  d: 4*a", "4*a", 0,
+                "a parameter computed from others is written d: {derived: <expression>}"}),
+    [](const ::testing::TestParamInfo<Hostile>& info) { return info.param.name; });
+
 TEST(HostileModel, ZeroLengthCrankIsNeverAGrashofCrankRocker) {
   // The issue's case: a = 0 was "Grashof crank-rocker: 'crank' can turn fully" with K = 0.
   std::string text = kGoodModel;
