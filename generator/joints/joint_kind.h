@@ -135,6 +135,11 @@ const JointKind& GearKind();
 const JointKind& RackKind();
 const JointKind& CamKind();
 
+/// A revolute joint over n > 2 links, `head.name: {revolute: [a.P, b.Q, c.R, ...]}`: n - 1
+/// pins sharing the first point, named `J` (first and second link) and `J_<link>` for each
+/// further link, each marked at its list element (revolute.cc). Errors: a link listed twice.
+std::vector<Joint> ReadPinOverLinks(SectionReader& r, const YAML::Node& body, const Joint& head);
+
 /// The unit vector u along a prismatic joint's line (its angle in the guide's frame plus
 /// the guide's absolute angle `guide_theta`; prismatic.cc).
 Vec2 LineDirection(const PrismaticData& d, const GiNaC::ex& guide_theta);

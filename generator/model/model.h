@@ -104,9 +104,13 @@ struct PointRef {
 /// description live in its own file, generator/joints/<kind>.cc (joints/joint_kind.h).
 enum class JointType { kRevolute, kPrismatic, kRoll, kGear, kRack, kCam };
 
-/// Pin: point `a` (on Joint::link_a) coincides with point `b` (on link_b).
+/// Pin: point `a` (on Joint::link_a) coincides with point `b` (on link_b). A pin over
+/// several links (`J: {revolute: [a.P, b.Q, c.R]}`) is read as one joint per link after the
+/// first, each pinning that link's point to the first one: `J` (a.P = b.Q), `J_c` (a.P = c.R).
 struct RevoluteData {
   PointRef a, b;
+  std::string pin;  ///< over several links: the pin's name as written (`J`), else ""
+  std::string pin_links;  ///< over several links: "a, b, c"
 };
 
 /// Slider: point `slider` (on link_b) moves along the line through `guide` (on link_a) at

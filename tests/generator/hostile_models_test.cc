@@ -297,6 +297,11 @@ INSTANTIATE_TEST_SUITE_P(
         Hostile{"derived_out_of_domain", "  d: 4.0", "  d: {derived: sqrt(a - c)}", "sqrt(a - c)", 0,
                 "square root of a negative number"},
         Hostile{"derived_bad_name", "  d: 4.0", "  d: 4.0\n  sin: {derived: a}", "sin:", 0, "is a name of the expression language"},
+        Hostile{"pin_lists_a_link_twice", "  B: {revolute: [crank.B, coupler.B]}",
+                "  B: {revolute: [crank.B, coupler.B, crank.A]}", "crank.A]}\n  C:", 0, "lists link 'crank' twice"},
+        Hostile{"pin_name_taken", "  D: {revolute: [rocker.D, ground.D]}",
+                "  D: {revolute: [rocker.D, ground.D]}\n  P_rocker: {revolute: [crank.B, rocker.C]}\n"
+                "  P: {revolute: [crank.B, coupler.B, rocker.C]}", "coupler.B, rocker.C", 11, "rename that joint"},
         Hostile{"parameter_expression_as_value", "  d: 4.0", "  d: 4*a", "4*a", 0,
                 "a parameter computed from others is written d: {derived: <expression>}"}),
     [](const ::testing::TestParamInfo<Hostile>& info) { return info.param.name; });

@@ -13,7 +13,9 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/kinematics.h"
 #include "analysis/validate.h"
+#include "joints/joint_kind.h"
 #include "model/model.h"
 #include "model/reader.h"
 
@@ -234,6 +236,84 @@ inputs:
   const std::string e = ErrorOf(text);
   EXPECT_EQ(e.rfind(At(text, "contact: [0, -1]"), 0), 0u) << e;
   EXPECT_NE(e.find("'roll.contact' would name both"), std::string::npos) << e;
+}
+
+// ---- a revolute joint over several links ----
+
+// A Stephenson-like six-bar: a four-bar whose crank pin B also carries link5, which drives
+// the output rocker about E. `pin` is the joints' text for B.
+std::string SixBar(const std::string& pin) {
+  return R"M(name: six
+parameters: {a: 1.0, b: 3.5, c: 3.0, d: 4.0, e: 3.0, f: 2.5}
+links:
+  ground:  {ground: true, points: {A: [0, 0], D: [d, 0], E: [1, -3]}}
+  crank:   {points: {A: [0, 0], B: [a, 0]}}
+  coupler: {points: {B: [0, 0], C: [b, 0]}}
+  rocker:  {points: {D: [0, 0], C: [c, 0]}}
+  link5:   {points: {B: [0, 0], F: [e, 0]}}
+  output:  {points: {E: [0, 0], F: [f, 0]}}
+joints:
+  A: {revolute: [ground.A, crank.A]}
+)M" + pin + R"M(
+  C: {revolute: [coupler.C, rocker.C]}
+  D: {revolute: [rocker.D, ground.D]}
+  E: {revolute: [output.E, ground.E]}
+  F: {revolute: [link5.F, output.F]}
+inputs:
+  - {joint: A}
+)M";
+}
+
+TEST(PinOverSeveralLinks, IsThePinsOfTheOldWorkaroundRowForRow) {
+  const Model pin = LoadModelFromString(SixBar("  B: {revolute: [crank.B, coupler.B, link5.B]}"), "pin.yaml");
+  // The workaround the issue's users wrote: a second joint at the same point.
+  const Model old = LoadModelFromString(
+      SixBar("  B: {revolute: [crank.B, coupler.B]}\n  B_link5: {revolute: [crank.B, link5.B]}"), "old.yaml");
+  ASSERT_EQ(pin.joints.size(), old.joints.size());
+  EXPECT_EQ(pin.joints[2].name, "B_link5");
+  EXPECT_EQ(pin.joints[1].link_b, 2);
+  EXPECT_EQ(pin.joints[2].link_b, 4);
+  const Analysis pa = Validate(pin), oa = Validate(old);
+  EXPECT_EQ(pa.topology.grubler_mobility, 1);
+  EXPECT_EQ(pa.topology.grubler_text, oa.topology.grubler_text);
+  const Kinematics pk = DeriveKinematics(pin, pa.topology, &pa.coordinates);
+  const Kinematics ok = DeriveKinematics(old, oa.topology, &oa.coordinates);
+  ASSERT_EQ(pk.nc(), ok.nc());
+  ASSERT_EQ(pk.nphi(), ok.nphi());
+  EXPECT_EQ(pk.Phi_source, ok.Phi_source);  // rows named by the pair's joint: "joint B_link5, x"
+  // The same equations: evaluated at arbitrary coordinates, matched by name.
+  auto at = [](const Kinematics& k, const Model& m, double t) {
+    GiNaC::exmap v = m.Defaults();
+    for (size_t i = 0; i < k.q.size(); ++i) v[k.q[i].symbol] = 0.3 + t;
+    for (size_t i = 0; i < k.phi.size(); ++i) v[k.phi[i].symbol] = 0.7 * (i + 1) + t;
+    return v;
+  };
+  for (double t : {0.0, 0.4, 1.9}) {
+    const GiNaC::exmap pv = at(pk, pin, t), ov = at(ok, old, t);
+    for (int i = 0; i < pk.nc(); ++i)
+      EXPECT_NEAR(GiNaC::ex_to<GiNaC::numeric>(pk.Phi[i].subs(pv).evalf()).to_double(),
+                  GiNaC::ex_to<GiNaC::numeric>(ok.Phi[i].subs(ov).evalf()).to_double(), 1e-14)
+          << pk.Phi_source[i];
+  }
+  EXPECT_EQ(KindOf(pin.joints[2]).Describe(pin, pin.joints[2]),
+            "revolute crank.B = link5.B (pin 'B' over crank, coupler, link5)");
+}
+
+TEST(PinOverSeveralLinks, ErrorsPointAtTheElement) {
+  const std::string twice = SixBar("  B: {revolute: [crank.B, coupler.B, crank.A]}");
+  EXPECT_EQ(ErrorOf(twice).rfind(At(twice, "coupler.B, crank.A", 11), 0), 0u) << ErrorOf(twice);
+  EXPECT_NE(ErrorOf(twice).find("lists link 'crank' twice"), std::string::npos);
+  // The pin to link5 would be B_link5: a joint of that name, below or above, is an error.
+  const std::string below =
+      SixBar("  B: {revolute: [crank.B, coupler.B, link5.B]}\n  B_link5: {revolute: [crank.A, link5.F]}");
+  EXPECT_EQ(ErrorOf(below).rfind(At(below, "B_link5:"), 0), 0u) << ErrorOf(below);
+  EXPECT_NE(ErrorOf(below).find("is the name of a pin of a revolute joint over several links"), std::string::npos);
+  const std::string above =
+      SixBar("  B_link5: {revolute: [crank.A, link5.F]}\n  B: {revolute: [crank.B, coupler.B, link5.B]}");
+  EXPECT_EQ(ErrorOf(above).rfind(At(above, "link5.B]"), 0), 0u) << ErrorOf(above);
+  EXPECT_NE(ErrorOf(above).find("rename that joint"), std::string::npos);
+  const std::string one = SixBar("  B: {revolute: [crank.B]}");
+  EXPECT_NE(ErrorOf(one).find("takes two or more link points"), std::string::npos) << ErrorOf(one);
 }
 
 }  // namespace
