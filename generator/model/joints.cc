@@ -29,7 +29,7 @@ void ReadJoints(SectionReader& r, const YAML::Node& node) {
     CheckName(m, name, NameRole::kJoint, j.mark);
     auto entries = r.Entries(spec, "joint '" + name + "'", &JointKeys());
     if (entries.size() != 1)
-      r.Fail(spec, "joint '" + name + "' must have exactly one kind: revolute, prismatic, roll, gear, rack or cam");
+      r.Fail(spec, "joint '" + name + "' must have exactly one kind: revolute, prismatic, roll, gear, rack, cam or slot");
     const auto& [kind, body] = entries[0];
     // A cam's data creates its contour parameter's symbol; any other kind makes one here.
     // GiNaC orders terms by symbol serial numbers, so this keeps the generated text as it

@@ -302,6 +302,12 @@ INSTANTIATE_TEST_SUITE_P(
         Hostile{"pin_name_taken", "  D: {revolute: [rocker.D, ground.D]}",
                 "  D: {revolute: [rocker.D, ground.D]}\n  P_rocker: {revolute: [crank.B, rocker.C]}\n"
                 "  P: {revolute: [crank.B, coupler.B, rocker.C]}", "coupler.B, rocker.C", 11, "rename that joint"},
+        Hostile{"slot_angle_and_through", "  D: {revolute: [rocker.D, ground.D]}",
+                "  D: {slot: {slot: rocker.D, pin: ground.D, angle: 0, through: rocker.C}}", "rocker.C}}", 0,
+                "has both angle and through"},
+        Hostile{"slot_driven", "  D: {revolute: [rocker.D, ground.D]}\ninputs:\n  - {joint: A}",
+                "  D: {slot: {slot: rocker.D, pin: ground.D}}\ninputs:\n  - {joint: D}", "{joint: D}", 8,
+                "is a slot joint and cannot be driven"},
         Hostile{"parameter_expression_as_value", "  d: 4.0", "  d: 4*a", "4*a", 0,
                 "a parameter computed from others is written d: {derived: <expression>}"}),
     [](const ::testing::TestParamInfo<Hostile>& info) { return info.param.name; });

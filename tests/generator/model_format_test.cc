@@ -316,5 +316,52 @@ TEST(PinOverSeveralLinks, ErrorsPointAtTheElement) {
   EXPECT_NE(ErrorOf(one).find("takes two or more link points"), std::string::npos) << ErrorOf(one);
 }
 
+// ---- the slot joint: reading and its errors (its kinematics: tests/kinematics/slot_joint_test.cc) ----
+
+std::string SlotModel(const std::string& slot, const std::string& input = "A") {
+  return R"M(name: sl
+parameters: {a: 1.0, d: 2.5, h: 0}
+links:
+  ground: {ground: true, points: {A: [0, 0], D: [d, 0]}}
+  crank:  {points: {A: [0, 0], B: [a, 0]}}
+  rocker: {points: {D: [0, 0], H: [h, 0], E: [3, 1]}}
+joints:
+  A: {revolute: [ground.A, crank.A]}
+  D: {revolute: [ground.D, rocker.D]}
+  slot: {slot: )M" + slot + R"M(}
+inputs:
+  - {joint: )M" + input + "}\n";
+}
+
+TEST(SlotJointReading, CoordinatesMobilityAndErrors) {
+  const Model m = LoadModelFromString(SlotModel("{slot: rocker.D, pin: crank.B, through: rocker.E}"), "s.yaml");
+  const Analysis a = Validate(m);
+  EXPECT_EQ(a.topology.grubler_mobility, 1);  // 3 (3 - 1) - 2*2 - 1
+  EXPECT_EQ(a.topology.loop_mobility, 1);     // theta_crank, theta_rocker, s_slot - 2 rows
+  EXPECT_EQ(KindOf(m.joints[2]).Coordinate(m, m.joints[2])->name, "s_slot");
+  EXPECT_EQ(m.PointName(m.joints[2].End(m.joints[2].link_a)), "rocker.D");
+  EXPECT_EQ(m.PointName(m.joints[2].End(m.joints[2].link_b)), "crank.B");
+  struct Case {
+    std::string slot, input, at;
+    size_t skip;
+    std::string message;
+  };
+  const Case cases[] = {
+      {"{slot: rocker.D}", "A", "{slot: rocker.D}", 0, "needs slot: link.point"},
+      {"{slot: rocker.D, pin: crank.B, angle: 0, through: rocker.E}", "A", "rocker.E}", 0, "both angle and through"},
+      {"{slot: rocker.D, pin: crank.B, through: crank.A}", "A", "crank.A}}", 0, "must be a point of the slotted link"},
+      {"{slot: rocker.D, pin: crank.B, through: rocker.D}", "A", "rocker.D}}", 0, "the slot point itself"},
+      {"{slot: rocker.D, pin: crank.B, through: rocker.H}", "A", "rocker.H}", 0, "give no direction"},
+      {"{slot: rocker.D, pin: crank.B, width: 1}", "A", "width", 0, "unknown key 'width'"},
+      {"{slot: rocker.D, pin: crank.B}", "slot", "slot}", 0, "is a slot joint and cannot be driven"},
+  };
+  for (const Case& c : cases) {
+    const std::string text = SlotModel(c.slot, c.input);
+    const std::string e = ErrorOf(text);
+    EXPECT_EQ(e.rfind(At(text, c.at, c.skip), 0), 0u) << c.slot << ": " << e;
+    EXPECT_NE(e.find(c.message), std::string::npos) << c.slot << ": " << e;
+  }
+}
+
 }  // namespace
 }  // namespace mechgen
