@@ -281,6 +281,14 @@ struct GuessValue {
   SourceMark mark;
 };
 
+/// A named assembly mode (`assembly_modes: {open: {...}, crossed: {...}}`): coordinate values
+/// near it, over the `assembly` guess (the values it does not give are the assembly's).
+struct NamedMode {
+  std::string name;
+  std::vector<GuessValue> guess;
+  SourceMark mark;
+};
+
 /// An applied load (statics, Paul ch. 5): a force at a link point, or a torque on a link.
 /// Its values are expressions of the parameters and of the coordinates (read through
 /// Model::coordinate_refs, resolved by the statics derivation).
@@ -355,6 +363,7 @@ struct Model {
   SourceMark inputs_mark;
   Outputs outputs;
   std::vector<GuessValue> guess;
+  std::vector<NamedMode> assembly_modes;  ///< named assembly modes, in file order
   // Statics (generator/model/statics.cc): gravity, loads, springs, friction.
   bool has_gravity = false;
   GiNaC::ex gravity_x = 0, gravity_y = 0;

@@ -286,7 +286,8 @@ const KeyTable& ModelKeys() {
                                {"dampers", "viscous dampers between link points, torsional at revolute joints (dynamics)", false},
                                {"tables", "piecewise-linear functions of one argument, for loads (dynamics)", false},
                                {"outputs", "what the generated code computes", false},
-                               {"assembly", "coordinate values near the wanted assembly mode", false}}};
+                               {"assembly", "coordinate values near the wanted assembly mode", false},
+                               {"assembly_modes", "named assembly modes: {name: {coordinate: value, ...}, ...}", false}}};
   return table;
 }
 
@@ -933,6 +934,7 @@ Model LoadModelFromString(const std::string& text, const std::string& path,
     ReadOutputs(r, get("outputs"));
     CheckDynamicRefs(m);
     ReadAssembly(r, get("assembly"));
+    ReadAssemblyModes(r, get("assembly_modes"));
   } catch (const YAML::Exception& e) {  // e.g. a conversion yaml-cpp refuses
     m.Fail({e.mark.line + 1, e.mark.column + 1}, e.msg);
   }

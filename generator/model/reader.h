@@ -166,5 +166,6 @@ void ReadDampers(SectionReader& r, const YAML::Node& node);
 void CheckDynamicRefs(const Model& m);
 void ReadOutputs(SectionReader& r, const YAML::Node& node);
 void ReadAssembly(SectionReader& r, const YAML::Node& node);
+void ReadAssemblyModes(SectionReader& r, const YAML::Node& node);
 
 }  // namespace mechgen

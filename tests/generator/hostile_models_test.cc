@@ -308,6 +308,13 @@ INSTANTIATE_TEST_SUITE_P(
         Hostile{"slot_driven", "  D: {revolute: [rocker.D, ground.D]}\ninputs:\n  - {joint: A}",
                 "  D: {slot: {slot: rocker.D, pin: ground.D}}\ninputs:\n  - {joint: D}", "{joint: D}", 8,
                 "is a slot joint and cannot be driven"},
+        Hostile{"mode_unknown_coordinate", "", "assembly_modes:\n  crossed: {theta_rock: -2}\n", "theta_rock", 0,
+                "assembly mode 'crossed': unknown coordinate 'theta_rock'; the coordinates are: theta_crank"},
+        Hostile{"mode_name_not_identifier", "", "assembly_modes:\n  open-branch: {}\n", "open-branch", 0,
+                "is not an identifier"},
+        Hostile{"mode_without_values", "", "assembly_modes:\n  open:\n  crossed: {}\n", "open:", 0,
+                "assembly mode 'open' has no values"},
+        Hostile{"mode_twice", "", "assembly_modes:\n  open: {}\n  open: {}\n", "open: {}\n", 11, "duplicate name 'open'"},
         Hostile{"parameter_expression_as_value", "  d: 4.0", "  d: 4*a", "4*a", 0,
                 "a parameter computed from others is written d: {derived: <expression>}"}),
     [](const ::testing::TestParamInfo<Hostile>& info) { return info.param.name; });

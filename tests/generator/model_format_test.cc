@@ -16,6 +16,7 @@
 #include "analysis/kinematics.h"
 #include "analysis/validate.h"
 #include "joints/joint_kind.h"
+#include "symbolic/blocks.h"
 #include "model/model.h"
 #include "model/reader.h"
 
@@ -360,6 +361,38 @@ TEST(SlotJointReading, CoordinatesMobilityAndErrors) {
     const std::string e = ErrorOf(text);
     EXPECT_EQ(e.rfind(At(text, c.at, c.skip), 0), 0u) << c.slot << ": " << e;
     EXPECT_NE(e.find(c.message), std::string::npos) << c.slot << ": " << e;
+  }
+}
+
+// ---- named assembly modes (their generated code: tests/kinematics/named_modes_test.cc) ----
+
+TEST(NamedModesReading, EachModeIsChosenNearItsValuesAndOneThatCannotCloseIsAnError) {
+  const std::string text = Replaced(kFourbar, "  - {joint: A}", "  - {joint: A, range: [0, 10*deg]}") +
+                           "assembly: {theta_coupler: 30*deg, theta_rocker: 110*deg}\n"
+                           "assembly_modes:\n  up: {}\n  down: {theta_coupler: -60*deg, theta_rocker: -138*deg}\n";
+  const Model m = LoadModelFromString(text, "m.yaml");
+  ASSERT_EQ(m.assembly_modes.size(), 2u);
+  EXPECT_EQ(m.assembly_modes[1].name, "down");
+  const Analysis a = Validate(m);
+  const Kinematics k = DeriveKinematics(m, a.topology, &a.coordinates);
+  const std::vector<Block> blocks = OrderBlocks(m, k);
+  ASSERT_EQ(blocks.size(), 1u);
+  ASSERT_EQ(blocks[0].named_modes.size(), 2u);
+  EXPECT_EQ(blocks[0].named_modes[0], blocks[0].default_mode);   // {}: the assembly's own
+  EXPECT_EQ(blocks[0].named_modes[1], -blocks[0].default_mode);  // the other root
+  // a = 2.8: at theta_crank = 180 deg |BD| = 6.8 > b + c = 6.5, the loop cannot close there.
+  const std::string bad = Replaced(Replaced(text, "  a: 1.0", "  a: 2.8"), "  down: {", "  down: {theta_crank: Pi, ");
+  const Model mb = LoadModelFromString(bad, "bad.yaml");
+  const Analysis ab = Validate(mb);
+  const Kinematics kb = DeriveKinematics(mb, ab.topology, &ab.coordinates);
+  try {
+    (void)OrderBlocks(mb, kb);
+    ADD_FAILURE() << "no error for a mode that cannot be assembled";
+  } catch (const ModelError& e) {
+    EXPECT_EQ(std::to_string(e.mark().line) + ":" + std::to_string(e.mark().column) + ":", At(bad, "down:"));
+    EXPECT_NE(e.message().find("assembly mode 'down' cannot be assembled (theta_crank = 180 deg)"), std::string::npos)
+        << e.message();
+    EXPECT_NE(e.message().find("centres 6.8 apart"), std::string::npos) << e.message();
   }
 }
 
