@@ -396,5 +396,17 @@ TEST(NamedModesReading, EachModeIsChosenNearItsValuesAndOneThatCannotCloseIsAnEr
   }
 }
 
+TEST(NamedModesReading, TheExampleModelNamesFourbarsOpenAndCrossedRoots) {
+  // tests/kinematics/models/fourbar_named_modes.yaml: open {} is the assembly's own (the
+  // shipped fourbar: block 0 mode 1, models/README.md), crossed the other root.
+  const Model m = LoadModel(std::string(MECHGEN_SOURCE_DIR) + "/tests/kinematics/models/fourbar_named_modes.yaml");
+  const Analysis a = Validate(m);
+  const Kinematics k = DeriveKinematics(m, a.topology, &a.coordinates);
+  const std::vector<Block> blocks = OrderBlocks(m, k);
+  ASSERT_EQ(blocks.size(), 1u);
+  EXPECT_EQ(blocks[0].default_mode, 1);
+  EXPECT_EQ(blocks[0].named_modes, (std::vector<int>{1, -1}));
+}
+
 }  // namespace
 }  // namespace mechgen
