@@ -156,13 +156,17 @@ Topology BuildTopology(const Model& m) {
   // degrees of freedom, higher pairs (gear, rack, cam contact) 1. Loop criterion: the
   // variables (angles, slides, contact parameters) minus the equations: 2 per lower-pair
   // cut joint, 1 per higher pair, and the no-slip equation of every rolling joint.
-  int j1 = 0, j2 = 0;
-  for (const Joint& j : m.joints) (j.IsLowerPair() ? j1 : j2) += 1;
+  // A slot joint (pin in slot) removes 1: a half joint, counted with j2; its slide is a
+  // variable, and a cut slot closes its loop with 2 equations like a lower pair.
+  int j1 = 0, j2 = 0, slides = 0;
+  for (const Joint& j : m.joints) (j.IsLowerPair() && j.type() != JointType::kSlot ? j1 : j2) += 1;
+  for (const Joint& j : m.joints) slides += j.type() == JointType::kSlot;
   // Every joint coordinate but a slider's displacement is a contact parameter (roll: s or
   // psi, contour cam: u), and comes with one more equation (no slip, the second contact row).
   for (const Joint& j : m.joints)
-    t.num_contact += KindOf(j).Coordinate(m, j).has_value() && j.type() != JointType::kPrismatic;
-  t.num_variables = (t.num_groups() - 1) + t.num_prismatic + t.num_contact;
+    t.num_contact += KindOf(j).Coordinate(m, j).has_value() && j.type() != JointType::kPrismatic &&
+                     j.type() != JointType::kSlot;
+  t.num_variables = (t.num_groups() - 1) + t.num_prismatic + slides + t.num_contact;
   t.num_equations = 0;
   for (int c : t.cut_joints) t.num_equations += m.joints[c].IsLowerPair() ? 2 : 1;
   t.num_equations += t.num_contact;

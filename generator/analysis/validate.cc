@@ -243,15 +243,18 @@ Analysis Validate(const Model& m) {
   for (const FourBarLoop& f : a.four_bars) CheckFourBarRange(m, f);
   a.coordinates = BuildCoordinates(m, a.topology);
   a.cams = AnalyzeCams(m);
-  for (const GuessValue& g : m.guess) {
+  auto check_guess = [&](const GuessValue& g, const std::string& where) {
     bool known = false;
     for (const Coordinate& c : a.coordinates.all) known |= c.name == g.coordinate;
     if (!known) {
       std::string list;
       for (const Coordinate& c : a.coordinates.all) list += (list.empty() ? "" : ", ") + c.name;
-      m.Fail(g.mark, "assembly: unknown coordinate '" + g.coordinate + "'; the coordinates are: " + list);
+      m.Fail(g.mark, where + ": unknown coordinate '" + g.coordinate + "'; the coordinates are: " + list);
     }
-  }
+  };
+  for (const GuessValue& g : m.guess) check_guess(g, "assembly");
+  for (const NamedMode& mode : m.assembly_modes)
+    for (const GuessValue& g : mode.guess) check_guess(g, "assembly mode '" + mode.name + "'");
   CheckCsvColumnNames(m, a.topology, a.coordinates);
   return a;
 }

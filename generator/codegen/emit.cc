@@ -519,6 +519,15 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.SetList("blocks_doc", blocks_doc, {"index", "text"});
   data.Set("num_blocks", static_cast<int>(table.blocks.size()));
   data.Set("default_modes", Join(table.blocks, [](const Block& b) { return std::to_string(b.default_mode); }));
+  // Named assembly modes (issue 13), only for a model that has `assembly_modes`.
+  data.Set("has_named_modes", !m.assembly_modes.empty());
+  data.Set("num_named_modes", static_cast<int>(m.assembly_modes.size()));
+  data.Set("mode_names", Join(m.assembly_modes, [](const NamedMode& n) { return Quote(n.name); }));
+  std::vector<size_t> mode_index(m.assembly_modes.size());
+  for (size_t i = 0; i < mode_index.size(); ++i) mode_index[i] = i;
+  data.Set("named_modes", Join(mode_index, [&table](size_t i) {
+             return "{ {" + Join(table.blocks, [i](const Block& b) { return std::to_string(b.named_modes[i]); }) + "} }";
+           }));
   data.Set("block_closed_form", Join(table.blocks, [](const Block& b) {
              return std::string(b.solve == BlockSolve::kNewton ? "false" : "true");
            }));

@@ -55,8 +55,8 @@ Frame JointKind::PlaceChild(const Model&, const Joint& j, int, const Frame&, con
 
 const std::vector<const JointKind*>& JointKinds() {
   // In JointType order; a new kind is registered here.
-  static const std::vector<const JointKind*> kinds = {&RevoluteKind(), &PrismaticKind(), &RollKind(),
-                                                      &GearKind(),     &RackKind(),      &CamKind()};
+  static const std::vector<const JointKind*> kinds = {&RevoluteKind(), &PrismaticKind(), &RollKind(), &GearKind(),
+                                                      &RackKind(),     &CamKind(),       &SlotKind()};
   return kinds;
 }
 

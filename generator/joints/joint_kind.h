@@ -1,5 +1,5 @@
 // Joint kinds behind one interface (Paul §1.1, §1.2). Each kind is one file in this folder
-// (revolute.cc, prismatic.cc, roll.cc, gear.cc, rack.cc, cam.cc) that says which keys it
+// (revolute.cc, prismatic.cc, roll.cc, gear.cc, rack.cc, cam.cc, slot.cc) that says which keys it
 // reads and parses them into its data (model.h: RevoluteData, ...), which coordinate it adds
 // (s, psi, u), how it places a child link when it is a tree joint, which rows it adds to
 // Phi when it is a cut joint (and a rolling joint's no-slip row always), how the report
@@ -134,6 +134,16 @@ const JointKind& RollKind();
 const JointKind& GearKind();
 const JointKind& RackKind();
 const JointKind& CamKind();
+const JointKind& SlotKind();
+
+/// A revolute joint over n > 2 links, `head.name: {revolute: [a.P, b.Q, c.R, ...]}`: n - 1
+/// pins sharing the first point, named `J` (first and second link) and `J_<link>` for each
+/// further link, each marked at its list element (revolute.cc). Errors: a link listed twice.
+std::vector<Joint> ReadPinOverLinks(SectionReader& r, const YAML::Node& body, const Joint& head);
+
+/// The unit vector u along a slot joint's line when its slotted link is at angle `theta`
+/// (slot.cc).
+Vec2 SlotDirection(const Model& m, const SlotData& d, const GiNaC::ex& theta);
 
 /// The unit vector u along a prismatic joint's line (its angle in the guide's frame plus
 /// the guide's absolute angle `guide_theta`; prismatic.cc).

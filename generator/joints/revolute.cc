@@ -1,5 +1,7 @@
 // Revolute joint (pin): point a of one link coincides with point b of the other.
-//   model file:  A: {revolute: [link1.P, link2.Q]}
+//   model file:  A: {revolute: [link1.P, link2.Q]}, or over several links
+//                A: {revolute: [link1.P, link2.Q, link3.R]}: one pin per link after the
+//                first, A (P = Q) and A_link3 (P = R) (ReadPinOverLinks)
 //   coordinate:  none (the links' angles are the coordinates)
 //   cut joint:   r_a - r_b = 0, two rows (x, y)
 #include "joints/joint_kind.h"
@@ -19,7 +21,7 @@ class Revolute : public JointKind {
   void Read(SectionReader& r, const YAML::Node& body, Joint* j) const override {
     const std::string& name = j->name;
     if (!body.IsSequence() || body.size() != 2)
-      r.Fail(body, "revolute joint '" + name + "' takes two link points: [link1.P, link2.Q]");
+      r.Fail(body, "revolute joint '" + name + "' takes two or more link points: [link1.P, link2.Q, ...]");
     RevoluteData d;
     d.a = r.Point(body[0], "joint '" + name + "'");
     d.b = r.Point(body[1], "joint '" + name + "'");
@@ -48,7 +50,8 @@ class Revolute : public JointKind {
 
   std::string Describe(const Model& m, const Joint& j) const override {
     const RevoluteData& d = j.Data<RevoluteData>();
-    return "revolute " + m.PointName(d.a) + " = " + m.PointName(d.b);
+    return "revolute " + m.PointName(d.a) + " = " + m.PointName(d.b) +
+           (d.pin.empty() ? "" : " (pin '" + d.pin + "' over " + d.pin_links + ")");
   }
 
   std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
@@ -58,6 +61,40 @@ class Revolute : public JointKind {
 };
 
 }  // namespace
+
+std::vector<Joint> ReadPinOverLinks(SectionReader& r, const YAML::Node& body, const Joint& head) {
+  const Model& m = r.model();
+  const std::string& name = head.name;
+  std::vector<PointRef> points;
+  std::string links;
+  for (size_t k = 0; k < body.size(); ++k) {
+    const PointRef p = r.Point(body[k], "joint '" + name + "'");
+    for (const PointRef& q : points)
+      if (q.link == p.link)
+        r.Fail(body[k], "revolute joint '" + name + "' lists link '" + m.links[p.link].name +
+                            "' twice; a pin joins each of its links once");
+    points.push_back(p);
+    links += (links.empty() ? "" : ", ") + m.links[p.link].name;
+  }
+  std::vector<Joint> out;
+  for (size_t k = 1; k < points.size(); ++k) {
+    Joint j = head;
+    if (k > 1) {
+      j.name = name + "_" + m.links[points[k].link].name;
+      j.mark = MarkOf(body[k]);
+    }
+    RevoluteData d;
+    d.a = points[0];
+    d.b = points[k];
+    d.pin = name;
+    d.pin_links = links;
+    j.link_a = d.a.link;
+    j.link_b = d.b.link;
+    j.data = d;
+    out.push_back(j);
+  }
+  return out;
+}
 
 const JointKind& RevoluteKind() {
   static const Revolute kind;

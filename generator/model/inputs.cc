@@ -37,6 +37,9 @@ void ReadInputs(SectionReader& r, const YAML::Node& node) {
         if (!j.IsLowerPair())
           r.Fail(value, "joint '" + jn + "' is a gear, rack or cam pair and cannot be driven; drive a " +
                           "revolute or prismatic joint of one of its links");
+        if (j.type() == JointType::kSlot)
+          r.Fail(value, "joint '" + jn + "' is a slot joint and cannot be driven; drive a revolute joint of one of "
+                        "its links (or make the slot a prismatic joint with a block)");
         if ((j.type() == JointType::kRevolute || j.type() == JointType::kRoll) && !j.Joins(m.ground))
           r.Fail(value, "input joint '" + jn +
                           "' connects two moving links; drive a revolute joint attached to " +

@@ -59,6 +59,10 @@ PointRef Joint::End(int link) const {
       const RollData& d = Data<RollData>();
       return link_a == link ? d.on : d.wheel;
     }
+    case JointType::kSlot: {
+      const SlotData& d = Data<SlotData>();
+      return link_a == link ? d.slot : d.pin;
+    }
     default: return {};
   }
 }

@@ -49,6 +49,17 @@ struct Parameter {
   SourceMark mark;
 };
 
+/// A derived parameter (`name: {derived: <expression>}` in `parameters`): an expression of
+/// the parameters above it, free or derived. It is no member of Params: every expression
+/// that names it reads its expression instead (in the free parameters' symbols), so it
+/// follows the free parameters when they change at run time.
+struct DerivedParameter {
+  std::string name;
+  GiNaC::ex value;  ///< in the free parameters' symbols only
+  std::string doc;
+  SourceMark mark;
+};
+
 /// A point fixed on a link, in the link's local frame (x along the link's axis).
 struct LinkPoint {
   std::string name;
@@ -91,11 +102,15 @@ struct PointRef {
 /// prismatic, roll) may place a link in the spanning tree; higher pairs (gear, rack, cam)
 /// never do: each closes a loop. Each kind's keys, coordinate, placement, equations and
 /// description live in its own file, generator/joints/<kind>.cc (joints/joint_kind.h).
-enum class JointType { kRevolute, kPrismatic, kRoll, kGear, kRack, kCam };
+enum class JointType { kRevolute, kPrismatic, kRoll, kGear, kRack, kCam, kSlot };
 
-/// Pin: point `a` (on Joint::link_a) coincides with point `b` (on link_b).
+/// Pin: point `a` (on Joint::link_a) coincides with point `b` (on link_b). A pin over
+/// several links (`J: {revolute: [a.P, b.Q, c.R]}`) is read as one joint per link after the
+/// first, each pinning that link's point to the first one: `J` (a.P = b.Q), `J_c` (a.P = c.R).
 struct RevoluteData {
   PointRef a, b;
+  std::string pin;  ///< over several links: the pin's name as written (`J`), else ""
+  std::string pin_links;  ///< over several links: "a, b, c"
 };
 
 /// Slider: point `slider` (on link_b) moves along the line through `guide` (on link_a) at
@@ -183,8 +198,18 @@ struct CamData {
   SourceMark contour_mark, period_mark, law_mark, roller_mark, follower_mark;
 };
 
+/// Pin in a slot: point `pin` (on link_b) slides along the line through `slot` (on link_a)
+/// at `angle` in link_a's frame, or through `slot` and `through` (a second point of link_a);
+/// both links keep their own angles. Slide s: pin = slot + s u.
+struct SlotData {
+  PointRef slot, pin;
+  PointRef through;  ///< link -1: the line is given by `angle`
+  GiNaC::ex angle = 0;
+  SourceMark through_mark;
+};
+
 /// A joint's kind-specific data; the alternatives follow JointType's order.
-using JointData = std::variant<RevoluteData, PrismaticData, RollData, GearData, RackData, CamData>;
+using JointData = std::variant<RevoluteData, PrismaticData, RollData, GearData, RackData, CamData, SlotData>;
 
 /// A joint: the header every kind shares (name, the two links it joins, where it is in
 /// the file) and its kind's data.
@@ -202,14 +227,16 @@ struct Joint {
   const T& Data() const { return std::get<T>(data); }
   template <class T>
   T& Data() { return std::get<T>(data); }
-  /// Lower pairs can place a link in the spanning tree.
+  /// Lower pairs can place a link in the spanning tree (a slot too: it has its slide, though
+  /// Grübler counts it as a half joint).
   bool IsLowerPair() const {
-    return type() == JointType::kRevolute || type() == JointType::kPrismatic || type() == JointType::kRoll;
+    return type() == JointType::kRevolute || type() == JointType::kPrismatic || type() == JointType::kRoll ||
+           type() == JointType::kSlot;
   }
   bool Joins(int link) const { return link_a == link || link_b == link; }
   int OtherLink(int link) const { return link_a == link ? link_b : link_a; }
   /// A lower pair's point on `link` (one of its two links): revolute a or b, prismatic
-  /// guide or slider, roll on or wheel.
+  /// guide or slider, roll on or wheel, slot slot or pin.
   PointRef End(int link) const;
 };
 
@@ -251,6 +278,14 @@ struct Outputs {
 struct GuessValue {
   std::string coordinate;
   double value = 0;
+  SourceMark mark;
+};
+
+/// A named assembly mode (`assembly_modes: {open: {...}, crossed: {...}}`): coordinate values
+/// near it, over the `assembly` guess (the values it does not give are the assembly's).
+struct NamedMode {
+  std::string name;
+  std::vector<GuessValue> guess;
   SourceMark mark;
 };
 
@@ -321,12 +356,14 @@ struct Model {
   std::string title;
   std::string description;
   std::vector<Parameter> params;
+  std::vector<DerivedParameter> derived;  ///< in file order; each uses only those above it
   std::vector<Link> links;
   std::vector<Joint> joints;
   std::vector<Input> inputs;
   SourceMark inputs_mark;
   Outputs outputs;
   std::vector<GuessValue> guess;
+  std::vector<NamedMode> assembly_modes;  ///< named assembly modes, in file order
   // Statics (generator/model/statics.cc): gravity, loads, springs, friction.
   bool has_gravity = false;
   GiNaC::ex gravity_x = 0, gravity_y = 0;

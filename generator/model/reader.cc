@@ -286,7 +286,8 @@ const KeyTable& ModelKeys() {
                                {"dampers", "viscous dampers between link points, torsional at revolute joints (dynamics)", false},
                                {"tables", "piecewise-linear functions of one argument, for loads (dynamics)", false},
                                {"outputs", "what the generated code computes", false},
-                               {"assembly", "coordinate values near the wanted assembly mode", false}}};
+                               {"assembly", "coordinate values near the wanted assembly mode", false},
+                               {"assembly_modes", "named assembly modes: {name: {coordinate: value, ...}, ...}", false}}};
   return table;
 }
 
@@ -350,16 +351,18 @@ bool SectionReader::Bool(const YAML::Node& node, const std::string& what) const 
   return v == "true";
 }
 
-namespace {
-
 // The functions of the expression language and their numbers of arguments: what GiNaC reads
 // and the C++ printer (codegen/cxx_code.cc) emits.
-const std::map<std::string, int>& Functions() {
+const std::map<std::string, int>& ExpressionFunctions() {
   static const std::map<std::string, int> f = {{"sin", 1},  {"cos", 1},  {"tan", 1}, {"asin", 1},
                                                {"acos", 1}, {"atan", 1}, {"atan2", 2}, {"sqrt", 1},
                                                {"exp", 1},  {"log", 1},  {"abs", 1}};
   return f;
 }
+
+namespace {
+
+const std::map<std::string, int>& Functions() { return ExpressionFunctions(); }
 
 std::string FunctionList() {
   std::string list;
@@ -398,8 +401,9 @@ std::string G(double v) {
 class ExpressionSyntax {
  public:
   ExpressionSyntax(const std::string& text, const std::set<std::string>& names,
-                   const std::set<std::string>* tables = nullptr)
-      : t_(text), names_(names), tables_(tables) {}
+                   const std::set<std::string>* tables = nullptr,
+                   const std::vector<std::pair<std::string, SourceMark>>* pending = nullptr)
+      : t_(text), names_(names), tables_(tables), pending_(pending) {}
 
   void Check() {
     if (t_.size() > kMaxExpressionLength)
@@ -571,6 +575,14 @@ class ExpressionSyntax {
         Fail(start, "the function " + name + " needs its argument" + (fn->second > 1 ? "s" : "") + ": " + name +
                         (fn->second > 1 ? "(y, x)" : "(x)"));
       if (!names_.count(name)) {
+        if (pending_)
+          for (size_t k = 0; k < pending_->size(); ++k)
+            if ((*pending_)[k].first == name)
+              Fail(start, k == 0 ? "'" + name + "' is the parameter being defined; a derived parameter cannot use itself"
+                                 : "'" + name + "' is a parameter defined further down (line " +
+                                       std::to_string((*pending_)[k].second.line) +
+                                       "); a derived parameter may use only the parameters above it: move it below '" +
+                                       name + "'");
         std::string known;
         for (const auto& n : names_) known += (known.empty() ? "" : ", ") + n;
         Fail(start, "unknown name '" + name + "' (known: " + known + ")");
@@ -615,6 +627,7 @@ class ExpressionSyntax {
   const std::string& t_;
   const std::set<std::string>& names_;
   const std::set<std::string>* tables_;
+  const std::vector<std::pair<std::string, SourceMark>>* pending_;
   size_t i_ = 0;
   int depth_ = 0;
 };
@@ -703,17 +716,19 @@ GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& w
   std::set<std::string> names = {"deg", "Pi"};
   for (const auto& [name, value] : extra) names.insert(name);
   for (const auto& p : m_.params) names.insert(p.name);
+  for (const auto& d : m_.derived) names.insert(d.name);
   const std::string fix = "; see Expressions in models/README.md";
   const std::string shown = text.size() > 80 ? text.substr(0, 77) + "..." : text;
   std::set<std::string> tables;
   for (const Table& t : m_.tables) tables.insert(t.name);
   try {
-    ExpressionSyntax(text, names, tables_ ? &tables : nullptr).Check();
+    ExpressionSyntax(text, names, tables_ ? &tables : nullptr, pending_.empty() ? nullptr : &pending_).Check();
   } catch (const ExpressionFailure& f) {
     FailAt(node, text, f.offset, what + ": cannot read '" + shown + "' as an expression: " + f.message + fix);
   }
   GiNaC::symtab table;
   for (const auto& p : m_.params) table[p.name] = p.symbol;
+  for (const auto& d : m_.derived) table[d.name] = d.value;  // inlined: no symbol of its own
   table["deg"] = GiNaC::Pi / 180;
   for (const auto& [name, value] : extra) table[name] = value;
   // A table call name(x) is read as mtable(index, 0, x).
@@ -919,19 +934,27 @@ Model LoadModelFromString(const std::string& text, const std::string& path,
     ReadOutputs(r, get("outputs"));
     CheckDynamicRefs(m);
     ReadAssembly(r, get("assembly"));
+    ReadAssemblyModes(r, get("assembly_modes"));
   } catch (const YAML::Exception& e) {  // e.g. a conversion yaml-cpp refuses
     m.Fail({e.mark.line + 1, e.mark.column + 1}, e.msg);
   }
-  // Names must not collide across parameters, links and joints: they become C++ names.
-  std::map<std::string, SourceMark> names;
-  auto claim = [&](const std::string& n, SourceMark mark, const char* what) {
-    if (!names.emplace(n, mark).second)
-      m.Fail(mark, std::string(what) + " name '" + n +
-                       "' is already used by a parameter, link or joint; rename one");
-  };
-  for (const auto& p : m.params) claim(p.name, p.mark, "parameter");
-  for (const auto& l : m.links) claim(l.name, l.mark, "link");
-  for (const auto& j : m.joints) claim(j.name, j.mark, "joint");
+  // Parameters, links and joints have a namespace each (a joint `ram` beside a link `ram`):
+  // in the generated C++ a parameter is a member of Params, a link's name only ever appears
+  // in theta_<link> and in strings, a joint's in s_/psi_/u_<joint>, in reaction names
+  // (F_<joint>_x, ...) and in the functions of cams (CamLaw_<joint>, ...): no two of them
+  // can meet (the CSV columns are checked apart, CheckCsvColumnNames). The one reference
+  // that could name either is a point: `<rolling joint>.contact` against a link of that
+  // name with a point `contact`.
+  for (const Joint& j : m.joints) {
+    if (j.type() != JointType::kRoll) continue;
+    for (const Link& l : m.links) {
+      const int k = l.name == j.name ? l.FindPoint("contact") : -1;
+      if (k >= 0)
+        m.Fail(l.points[k].mark, "'" + j.name + ".contact' would name both this point of link '" + l.name +
+                                     "' and the contact point of rolling joint '" + j.name +
+                                     "'; rename the point, the link or the joint");
+    }
+  }
   return m;
 }
 

@@ -84,6 +84,9 @@ class SectionReader {
   GiNaC::ex Expression(const YAML::Node& node, const std::string& what, const GiNaC::symtab& extra) const;
   /// Whether the model's tables may be called in the expressions read next (loads only).
   void AllowTables(bool allow) { tables_ = allow; }
+  /// The parameters not yet defined while a derived parameter is read (itself first, then
+  /// those below it), so that naming one is an error that says so; empty otherwise.
+  void SetPendingNames(std::vector<std::pair<std::string, SourceMark>> names) { pending_ = std::move(names); }
   /// A number: an expression evaluated at the parameters' default values.
   double Number(const YAML::Node& node, const std::string& what) const;
   /// "link.point" -> PointRef.
@@ -102,6 +105,7 @@ class SectionReader {
   Model& m_;
   const std::string* source_ = nullptr;
   bool tables_ = false;
+  std::vector<std::pair<std::string, SourceMark>> pending_;
   mutable std::map<int, SourceMark> keymarks_;  // value position -> mark of its key
 };
 
@@ -110,6 +114,10 @@ SourceMark MarkOf(const YAML::Node& node);
 /// a finite real number ("<what> must evaluate to a real number", "<what> is not finite").
 double ValueAtDefaults(const Model& m, const GiNaC::ex& e, SourceMark mark, const std::string& what);
 bool IsIdentifier(const std::string& s);
+/// The functions of the expression language, each with its number of arguments: exactly
+/// these are accepted (models/README.md, "Expressions", lists the same; an unknown function's
+/// error lists them).
+const std::map<std::string, int>& ExpressionFunctions();
 
 /// Limits of the reader (models/README.md, "Errors"): a model file is a regular file of at
 /// most kMaxModelBytes; an expression has at most kMaxExpressionLength characters and nests
@@ -158,5 +166,6 @@ void ReadDampers(SectionReader& r, const YAML::Node& node);
 void CheckDynamicRefs(const Model& m);
 void ReadOutputs(SectionReader& r, const YAML::Node& node);
 void ReadAssembly(SectionReader& r, const YAML::Node& node);
+void ReadAssemblyModes(SectionReader& r, const YAML::Node& node);
 
 }  // namespace mechgen

@@ -513,6 +513,15 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
            ", what the sweep and PositionSolver print as 'branch " + (branch > 0 ? "+1" : "-1") +
            "': the same assembly" + (modes.empty() ? "" : " (a mode is one block's root, the branch the sign of det Phi_phi over all blocks)");
     w.Line(s, 0);
+    // Named assembly modes (`assembly_modes`): each one's modes, as Model::kNamedModes holds them.
+    for (size_t i = 0; i < m.assembly_modes.size(); ++i) {
+      std::string line = "Assembly mode '" + m.assembly_modes[i].name + "' (Model::kNamedModes[" +
+                         N(static_cast<int>(i)) + "]): ";
+      for (size_t b = 0; b < d.blocks.size(); ++b)
+        line += (b ? ", " : "") + std::string("block ") + N(static_cast<int>(b)) + " mode " +
+                N(d.blocks[b].named_modes[i]);
+      w.Line(line, 0);
+    }
   }
   w.Heading("Coordinates (q: inputs, with their default sweep range; phi: unknowns)");
   for (int i = 0; i < k.nq(); ++i) {

@@ -705,6 +705,31 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
     }
     blocks.push_back(b);
   }
+  // Named assembly modes: each block's mode nearest the mode's guess (over the assembly's),
+  // chosen as the default's, block after block.
+  for (const NamedMode& mode : m.assembly_modes) {
+    GiNaC::exmap at;
+    for (const Parameter& p : m.params) at[p.symbol] = p.value;
+    std::map<std::string, double> guess;
+    for (const GuessValue& g : mode.guess) guess[g.coordinate] = g.value;
+    auto value = [&](const Coordinate& c, double otherwise) { return guess.count(c.name) ? guess[c.name] : otherwise; };
+    std::string where;
+    for (int i = 0; i < k.nq(); ++i) {
+      at[k.q[i].symbol] = value(k.q[i], k.assembly_q[i]);
+      where += (i ? ", " : "") + k.q[i].name + " = " + Number(value(k.q[i], k.assembly_q[i]), k.q[i].is_angle);
+    }
+    for (int i = 0; i < n; ++i) at[k.phi[i].symbol] = value(k.phi[i], k.assembly_phi[i]);
+    for (size_t i = 0; i < blocks.size(); ++i) {
+      Block b = blocks[i];
+      std::string no_solution;
+      ChooseMode(k, &b, static_cast<int>(i), &at, &no_solution);
+      if (!no_solution.empty())
+        m.Fail(mode.mark, "assembly mode '" + mode.name + "' cannot be assembled (" + where + ") with the parameters' "
+                          "default values: block " + std::to_string(i) + " (" + b.Describe(k) + "): " + no_solution +
+                          "; change its values or the lengths");
+      blocks[i].named_modes.push_back(b.default_mode);
+    }
+  }
   if (strategy == Strategy::kBlocks) CheckReach(m, k, blocks);
   return blocks;
 }

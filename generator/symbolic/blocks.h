@@ -39,6 +39,7 @@ struct Block {
   Vec2 a, b, w0, e0, e1;    ///< vectors as above (free of the block's unknowns unless noted)
   GiNaC::ex c0, c1, c2;     ///< kAngle, kLinear coefficients
   int default_mode = 1;     ///< assembly-mode sign matching the model's assembly guess
+  std::vector<int> named_modes;  ///< per Model::assembly_modes: its mode of this block
   std::string Describe(const Kinematics& k) const;  ///< "rows 0-1 -> theta_coupler, theta_rocker: closed form (RRR dyad)"
 };
 

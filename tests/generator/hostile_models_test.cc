@@ -281,6 +281,44 @@ INSTANTIATE_TEST_SUITE_P(
                 "link 'ground' has zero length in loop 1"}),
     [](const ::testing::TestParamInfo<Hostile>& info) { return info.param.name; });
 
+// Issue 13 (the model format as users write it): the same contract for its new errors.
+INSTANTIATE_TEST_SUITE_P(
+    Issue13, HostileModel,
+    ::testing::Values(
+        Hostile{"acos_beyond_one", "C: [b, 0]", "C: [b*acos(a + 1), 0]", "b*acos", 0, "acos of a number beyond [-1, 1]"},
+        Hostile{"atan2_zero_zero", "C: [b, 0]", "C: [\"b + atan2(0, a - 1)\", 0]", "b + atan2", 0, "atan2(0, 0)"},
+        Hostile{"function_unknown_lists_the_language", "C: [b, 0]", "C: [b + acosh(a), 0]", "acosh", 0,
+                "(abs acos asin atan atan2 cos exp log sin sqrt tan)"},
+        Hostile{"derived_forward_reference", "  a: 1.0", "  a: {derived: c/3}", "c/3", 0,
+                "'c' is a parameter defined further down (line 5)"},
+        Hostile{"derived_itself", "  a: 1.0", "  a: {derived: a + 1}", "a + 1", 0, "'a' is the parameter being defined"},
+        Hostile{"derived_and_value", "  a: 1.0", "  a: {value: 1, derived: 1}", "derived: 1", 9,
+                "has both value and derived"},
+        Hostile{"derived_out_of_domain", "  d: 4.0", "  d: {derived: sqrt(a - c)}", "sqrt(a - c)", 0,
+                "square root of a negative number"},
+        Hostile{"derived_bad_name", "  d: 4.0", "  d: 4.0\n  sin: {derived: a}", "sin:", 0, "is a name of the expression language"},
+        Hostile{"pin_lists_a_link_twice", "  B: {revolute: [crank.B, coupler.B]}",
+                "  B: {revolute: [crank.B, coupler.B, crank.A]}", "crank.A]}\n  C:", 0, "lists link 'crank' twice"},
+        Hostile{"pin_name_taken", "  D: {revolute: [rocker.D, ground.D]}",
+                "  D: {revolute: [rocker.D, ground.D]}\n  P_rocker: {revolute: [crank.B, rocker.C]}\n"
+                "  P: {revolute: [crank.B, coupler.B, rocker.C]}", "coupler.B, rocker.C", 11, "rename that joint"},
+        Hostile{"slot_angle_and_through", "  D: {revolute: [rocker.D, ground.D]}",
+                "  D: {slot: {slot: rocker.D, pin: ground.D, angle: 0, through: rocker.C}}", "rocker.C}}", 0,
+                "has both angle and through"},
+        Hostile{"slot_driven", "  D: {revolute: [rocker.D, ground.D]}\ninputs:\n  - {joint: A}",
+                "  D: {slot: {slot: rocker.D, pin: ground.D}}\ninputs:\n  - {joint: D}", "{joint: D}", 8,
+                "is a slot joint and cannot be driven"},
+        Hostile{"mode_unknown_coordinate", "", "assembly_modes:\n  crossed: {theta_rock: -2}\n", "theta_rock", 0,
+                "assembly mode 'crossed': unknown coordinate 'theta_rock'; the coordinates are: theta_crank"},
+        Hostile{"mode_name_not_identifier", "", "assembly_modes:\n  open-branch: {}\n", "open-branch", 0,
+                "is not an identifier"},
+        Hostile{"mode_without_values", "", "assembly_modes:\n  open:\n  crossed: {}\n", "open:", 0,
+                "assembly mode 'open' has no values"},
+        Hostile{"mode_twice", "", "assembly_modes:\n  open: {}\n  open: {}\n", "open: {}\n", 11, "duplicate name 'open'"},
+        Hostile{"parameter_expression_as_value", "  d: 4.0", "  d: 4*a", "4*a", 0,
+                "a parameter computed from others is written d: {derived: <expression>}"}),
+    [](const ::testing::TestParamInfo<Hostile>& info) { return info.param.name; });
+
 TEST(HostileModel, ZeroLengthCrankIsNeverAGrashofCrankRocker) {
   // The issue's case: a = 0 was "Grashof crank-rocker: 'crank' can turn fully" with K = 0.
   std::string text = kGoodModel;

@@ -71,7 +71,7 @@ TEST(ModelKeys, EveryAcceptedKeyIsInTheReadmeAndNoOther) {
     EXPECT_EQ(sections.count(section), 1u) << "README has a key table for '" << section << "', the reader none";
   // The reader's tables hold every section and every joint kind.
   for (const char* s : {"model", "parameter", "link", "joint", "input", "outputs", "law segment", "contour", "revolute",
-                        "prismatic", "roll", "gear", "rack", "cam"})
+                        "prismatic", "roll", "gear", "rack", "cam", "slot"})
     EXPECT_EQ(sections.count(s), 1u) << s;
 }
 
@@ -139,13 +139,14 @@ TEST(Outputs, OrderIsShorthandForTheSetOfQuantities) {
 }
 
 TEST(JointKinds, TheRegistryHoldsEveryKindOnceInTypeOrder) {
-  const JointType types[] = {JointType::kRevolute, JointType::kPrismatic, JointType::kRoll,
-                             JointType::kGear,     JointType::kRack,      JointType::kCam};
-  ASSERT_EQ(JointKinds().size(), 6u);
+  const JointType types[] = {JointType::kRevolute, JointType::kPrismatic, JointType::kRoll, JointType::kGear,
+                             JointType::kRack,     JointType::kCam,       JointType::kSlot};
+  ASSERT_EQ(JointKinds().size(), 7u);
   for (JointType t : types) {
     EXPECT_EQ(KindOf(t).type(), t);
     EXPECT_EQ(FindKind(KindOf(t).Keys().section), &KindOf(t));
-    EXPECT_EQ(KindOf(t).IsLowerPair(), t == JointType::kRevolute || t == JointType::kPrismatic || t == JointType::kRoll);
+    EXPECT_EQ(KindOf(t).IsLowerPair(), t == JointType::kRevolute || t == JointType::kPrismatic ||
+                                           t == JointType::kRoll || t == JointType::kSlot);
   }
   EXPECT_EQ(FindKind("hinge"), nullptr);
 }
