@@ -2,6 +2,7 @@
 //
 //   mechgen generate models/fourbar.yaml --out-dir generated
 //   mechgen report models/fourbar.yaml [--latex [--standalone]]
+//   mechgen sweep models/fourbar.yaml --steps 360 --csv out.csv   (generator/driver/)
 //
 // A bad model prints `file:line:column: error: message`, exits 1 and writes nothing.
 #include <CLI/CLI.hpp>
@@ -20,6 +21,7 @@
 #include "symbolic/dynamics.h"
 #include "symbolic/statics.h"
 #include "codegen/functions.h"
+#include "driver/sweep_command.h"
 #include "model/model.h"
 #include "model/reader.h"
 #include "report/report.h"
@@ -102,6 +104,16 @@ void Run(Pipeline* p, const std::string& path, const std::string& name, const st
 }  // namespace
 
 int main(int argc, char** argv) {
+  // `mechgen sweep [options] <model> [driver options...]`: what follows the model is the
+  // driver's, passed on unchanged; CLI11 sees only mechgen's part.
+  const std::vector<std::string> sweep_options_with_value = {"--templates", "--cache-dir"};
+  std::vector<std::string> driver_args;
+  if (argc > 1 && std::string(argv[1]) == "sweep") {
+    int model_end = argc;
+    mechgen::SplitSweepArguments(argc, argv, 2, sweep_options_with_value, &model_end, &driver_args);
+    argc = model_end;
+  }
+
   CLI::App app{"mechgen: generates standalone C++ kinematics (Phi, Phi_phi, Phi_q, K, L, points) "
                "for a planar mechanism described in a model file (see models/README.md)."};
   app.require_subcommand(1);
@@ -130,7 +142,51 @@ int main(int argc, char** argv) {
       ->needs(latex_flag);
   rep->add_option("--templates", templates, "directory of the .mustache templates")->capture_default_str();
 
+  mechgen::SweepCommand sweep_command;
+  CLI::App* sweep = app.add_subcommand(
+      "sweep",
+      "generate, compile (once: cached) and run the sweep command of a model: `mechgen sweep "
+      "MODEL [OPTIONS]` takes the options, and writes the table, CSV and SVG, of the "
+      "<model>_sweep that mechgen_add_model() builds (`mechgen sweep MODEL --help` lists them). "
+      "mechgen's own options come before MODEL.");
+  sweep->add_option("model", sweep_command.model_path, "model file (.yaml)")->required();
+  sweep->add_option("--templates", templates, "directory of the .mustache templates")->capture_default_str();
+  sweep->add_option("--cache-dir", sweep_command.cache_dir,
+                    "the cache (default: $MECHGEN_CACHE_DIR, else $XDG_CACHE_HOME/mechgen, else "
+                    "~/.cache/mechgen)");
+  sweep->add_flag("--no-cache", sweep_command.no_cache,
+                  "build in a temporary directory and delete it afterwards; the cache is not used");
+  sweep->add_flag("--rebuild", sweep_command.rebuild, "compile again and replace the cached program");
+  sweep->add_flag("-v,--verbose", sweep_command.verbose,
+                  "print the cache's place, the compiler commands and the times on stderr");
+
   CLI11_PARSE(app, argc, argv);
+
+  if (sweep->parsed()) {
+    sweep_command.templates = templates;
+    sweep_command.driver_args = driver_args;
+    const std::string sweep_templates = templates;
+    return mechgen::RunSweep(
+        sweep_command, [&sweep_templates](const std::string& path, const std::string& dir, std::string* model_name) {
+          Pipeline p;
+          try {
+            Run(&p, path, "", sweep_templates, mechgen::Strategy::kBlocks);
+          } catch (const mechgen::ModelError& e) {
+            std::cerr << OneLine(e.what()) << "\n";
+            return 1;
+          } catch (const std::exception& e) {
+            std::cerr << OneLine(path + ": error: " + e.what()) << "\n";
+            return 2;
+          }
+          std::string error;
+          if (!mechgen::WriteFiles(dir, p.model.name, p.emitted, &error)) {
+            std::cerr << OneLine(path + ": error: " + error) << "\n";
+            return 2;
+          }
+          *model_name = p.model.name;
+          return 0;
+        });
+  }
 
   // --name becomes a namespace, a file name in --out-dir and a macro: a C++ identifier only.
   if (!name.empty()) {

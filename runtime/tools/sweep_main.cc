@@ -10,6 +10,13 @@
 // (the outputs are written; counts per status on stderr), 2 bad arguments, 1 the model does
 // not assemble or an output cannot be written (nothing written). Example:
 //   fourbar_sweep --steps 360 --csv out/fourbar.csv --svg out/fourbar.svg --table 8
+//
+// By default it assembles with Ceres (CeresPositionSolver, link mechgen::runtime_ceres).
+// Compiled with -DMECHGEN_SWEEP_NO_CERES it needs Eigen and CLI11 only: the Ceres-free
+// PositionSolver (NewtonAssembler, position/assembler.h), which compiles in a fraction of
+// the time; `mechgen sweep <model.yaml>` builds it that way (generator/driver/). Both reach
+// the same configurations (the solver's Newton polish follows either assembler): the same
+// CSV, table and SVG on the shipped models.
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -20,13 +27,20 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
+#include "sweep_args.h"
+#ifndef MECHGEN_SWEEP_ARGS_SEPARATE
+#include "sweep_args.cc"
+#endif
 
 #include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
 #include "mechgen/io/svg.h"
 #include "mechgen/io/table.h"
+#ifdef MECHGEN_SWEEP_NO_CERES
+#include "mechgen/position/solver.h"
+#else
 #include "mechgen/position/ceres_adapter.h"
+#endif
 #include "mechgen/sweep/sweep.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
@@ -120,64 +134,36 @@ bool ParseCount(const char* option, const std::string& text, long long min, long
   return true;
 }
 
+// An input's value for the messages: "%g", in degrees for an angle; never "-0".
 std::string Describe(int j, double value) {
-  char buffer[64];
-  if (Model::kQIsAngle[j]) {
-    std::snprintf(buffer, sizeof(buffer), "%g deg", value / kDegToRad);
-  } else {
-    std::snprintf(buffer, sizeof(buffer), "%g", value);
-  }
-  return buffer;
+  if (Model::kQIsAngle[j]) return mechgen::internal::FormatNumber(value / kDegToRad, "%g") + " deg";
+  return mechgen::internal::FormatNumber(value, "%g");
 }
 
 
 // Exit statuses (models/README.md, "Exit statuses of the sweep"):
 constexpr int kExitConverged = 0;    // every row converged; the outputs written
 constexpr int kExitError = 1;        // model or output error: nothing written
-constexpr int kExitUsage = 2;        // bad arguments: nothing written
 constexpr int kExitRowsFailed = 3;   // the outputs written, but some rows did not converge
+// kExitUsage = 2 (sweep_args.h): bad arguments, nothing written.
 
-int Usage(const std::string& message) {
-  std::cerr << "error: " << message << "; see --help\n";
-  return kExitUsage;
-}
+int Usage(const std::string& message) { return mechgen::sweep_tool::UsageError(message); }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{std::string("Sweep the inputs of the mechgen model '") + Model::kName +
-               "', staying on its assembly mode; write CSV, a table and an SVG drawing. Exit "
-               "status: 0 all rows converged, 3 some did not (counts on stderr), 2 bad "
-               "arguments, 1 model or output error."};
-  std::string steps_text = "360", table_text = "8";
-  std::vector<std::string> ranges;
-  std::vector<std::string> qd_text, qdd_text;
-  std::string csv_path, svg_path;
-  bool no_animation = false;
-  app.add_option("--steps", steps_text,
-                 "number of steps, 1.." + std::to_string(kMaxSteps) + " (rows = steps + 1)");
-  app.add_option("--range", ranges,
-                 "input:min:max, input by name or index; values in model units (radians), "
-                 "or with a 'deg' suffix (e.g. theta_crank:0:180deg). Default: the model's "
-                 "range of every input");
-  app.add_option("--qd", qd_text, "input speed(s), one value or one per input (default 1)");
-  app.add_option("--qdd", qdd_text, "input acceleration(s), one value or one per input (default 0)");
-  app.add_option("--csv", csv_path,
-                 "write every row to this CSV file (streamed; written whole or not at all)");
-  app.add_option("--svg", svg_path, "write a drawing with the traced point paths to this SVG file");
-  app.add_option("--table", table_text, "print this many rows to stdout (0: none)");
-  app.add_flag("--no-animation", no_animation, "SVG without the SMIL animation");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::string what = e.what();
-    if (what.size() > 200) what = what.substr(0, 200) + "...";
-    return Usage(what);
-  }
+  mechgen::sweep_tool::Arguments arguments;
+  const int parsed =
+      mechgen::sweep_tool::ParseArguments(argc, argv, Model::kName, kMaxSteps, &arguments);
+  if (parsed >= 0) return parsed;
+  const std::string& steps_text = arguments.steps_text;
+  const std::string& table_text = arguments.table_text;
+  const std::vector<std::string>& ranges = arguments.ranges;
+  const std::vector<std::string>& qd_text = arguments.qd_text;
+  const std::vector<std::string>& qdd_text = arguments.qdd_text;
+  const std::string& csv_path = arguments.csv_path;
+  const std::string& svg_path = arguments.svg_path;
+  const bool no_animation = arguments.no_animation;
   std::string error;
   long long steps_ll = 0, table_ll = 0;
   if (!ParseCount("--steps", steps_text, 1, kMaxSteps, &steps_ll, &error) ||
@@ -246,9 +232,15 @@ int main(int argc, char** argv) {
   }
 
   // Assembly at the model's assembly configuration, then the sweep.
-  // Ceres assembles (position/ceres_adapter.h): the tool behaves as before the runtime's
-  // Ceres-free core; products that only continue can use PositionSolver<Model> without it.
+  // Ceres assembles (position/ceres_adapter.h) unless MECHGEN_SWEEP_NO_CERES: then the
+  // runtime's own Levenberg-Marquardt (NewtonAssembler), Eigen only.
+#ifdef MECHGEN_SWEEP_NO_CERES
+  mechgen::position::PositionSolver<Model> solver;
+  const char* const assembler_name = "Levenberg-Marquardt";
+#else
   mechgen::position::CeresPositionSolver<Model> solver;
+  const char* const assembler_name = "Ceres";
+#endif
   mechgen::position::Summary assembly;
   if (solver.AssembleDefault(&assembly) != mechgen::position::Status::kConverged) {
     std::cerr << "error: cannot assemble " << Model::kName << " at its assembly configuration: "
@@ -285,10 +277,16 @@ int main(int argc, char** argv) {
   double max_residual = 0, max_condition = 0;
   long long iterations = 0, fallbacks = 0;
   int per_status[int(mechgen::position::Status::kNotRun) + 1] = {};
-  double output_seconds = 0;
+  // Timing: the solver's time (SweepRows between two rows: the continuation step, the
+  // velocities and accelerations, the transmission angles) apart from the time this tool
+  // spends handing each row out (CSV formatting, keeping the table's and drawing's rows);
+  // the first row apart, since it continues from the assembly configuration.
+  double output_seconds = 0, first_row_seconds = 0;
   if (!csv_path.empty()) mechgen::WriteCsvHeader(columns, csv.stream());
+  const auto start = std::chrono::steady_clock::now();
   auto row = [&](int i, const mechgen::SweepRecord<Model>& r) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (i == 0) first_row_seconds = std::chrono::duration<double>(t0 - start).count();
     const size_t index = static_cast<size_t>(i);
     if (!csv_path.empty()) mechgen::WriteCsvRow(columns, r, csv.stream());
     if (next_table < table_indices.size() && table_indices[next_table] == index) {
@@ -310,22 +308,29 @@ int main(int argc, char** argv) {
     output_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  const auto start = std::chrono::steady_clock::now();
   const int failures = mechgen::SweepRows(&solver, q_begin, q_end, steps, qd, qdd,
                                           mechgen::SweepOptions(), row);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
-      output_seconds;
+  const double total_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double solve_seconds = total_seconds - output_seconds - first_row_seconds;
 
   if (table_rows > 0) {
     mechgen::PrintTableRows(table_records, std::cout);
     std::cout << "\n";
   }
   std::printf("%d/%zu configurations converged; max |Phi|_inf = %.1e, max cond(Phi_phi) = %.3g, "
-              "%.2f Newton iterations/step%s; %.2f us/step (incl. velocities, accelerations)\n",
+              "%.2f Newton iterations/step%s\n",
               static_cast<int>(rows) - failures, rows, max_residual, max_condition,
-              double(iterations) / rows, fallbacks ? " (Ceres fallback used)" : "",
-              1e6 * seconds / rows);
+              double(iterations) / rows,
+              fallbacks ? (std::string(" (") + assembler_name + " fallback used)").c_str() : "");
+  // Not the README's ~92 ns/step: that benchmark (bench/fourbar_bench.cc) times one
+  // continuation step (PositionSolver::MoveTo) alone, without velocities, accelerations or
+  // output.
+  std::printf("time per row: %.2f us solving (continuation step + velocities, accelerations), "
+              "%.2f us output (CSV row, table and drawing rows); the first row, from the "
+              "assembly configuration, %.1f us\n",
+              rows > 1 ? 1e6 * solve_seconds / double(rows - 1) : 0.0,
+              1e6 * output_seconds / double(rows), 1e6 * first_row_seconds);
   for (const auto& r : failed) {
     std::printf("  %s = %s: %s\n", Model::kQNames[0], Describe(0, r.q(0)).c_str(),
                 mechgen::position::FormatSummary(r.summary).c_str());

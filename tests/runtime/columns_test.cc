@@ -177,11 +177,12 @@ void OldPrintTable(const std::vector<SweepRecord<M>>& records, int rows, std::os
   print_row(names);
   print_row(units);
   const int n = static_cast<int>(records.size());
-  rows = std::min(rows, std::max(n - 1, 1));
+  rows = std::min(rows, n);
   for (int r = 0; r < rows; ++r) {
-    // Evenly spaced, last row excluded: for a full cycle it repeats the first
-    // (0, 45, ..., 315 deg for 8 rows of a 360-step crank turn).
-    const int index = (n - 1) * r / rows;
+    // Evenly spaced from the first row to the last, both shown (issue 13; the former writer
+    // left the last out and truncated: (n - 1) r / rows): the nearest to r (n - 1) / (rows - 1).
+    const int index =
+        rows == 1 ? 0 : static_cast<int>(std::floor((n - 1) * double(r) / (rows - 1) + 0.5));
     const SweepRecord<M>& rec = records[static_cast<size_t>(index)];
     const position::State<M>& s = rec.state;
     std::vector<std::string> cells;
@@ -266,7 +267,7 @@ TEST(SweepColumns, TableColumnsAreTheTableNamedCsvColumnsWithTheSameValues) {
   const std::vector<SweepColumn<M>> columns = SweepColumns<M>();
   std::ostringstream csv, table;
   WriteCsv(records, csv);
-  PrintTable(records, 8, table);
+  PrintTable(records, 9, table);
   std::istringstream csv_lines(csv.str()), table_lines(table.str());
   std::string line;
   std::getline(csv_lines, line);
@@ -282,8 +283,8 @@ TEST(SweepColumns, TableColumnsAreTheTableNamedCsvColumnsWithTheSameValues) {
   }
   ASSERT_EQ(table_header.size(), in_table.size());
   EXPECT_GE(in_table.size(), 1u + M::kNphi + 2u * M::kNumPoints);
-  // 8 rows of 9 records: every record but the last, in order.
-  for (size_t row = 0; row < 8; ++row) {
+  // 9 rows of 9 records: every record, in order.
+  for (size_t row = 0; row < 9; ++row) {
     ASSERT_TRUE(std::getline(csv_lines, line));
     const std::vector<std::string> csv_cells = Split(line, ',');
     ASSERT_TRUE(std::getline(table_lines, line));

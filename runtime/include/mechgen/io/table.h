@@ -24,14 +24,23 @@ std::string TableCell(const SweepColumn<M>& c, const SweepRecord<M>& r) {
   return internal::FormatNumber(c.value(r) * (c.angle ? internal::kRadToDeg : 1), "%.4f");
 }
 
-/// The indices of the `rows` records PrintTable() shows out of `n`: evenly spaced, the last
-/// record excluded (for a full cycle it repeats the first: 0, 45, ..., 315 deg for 8 rows of
-/// a 360-step crank turn). Empty when n == 0 or rows <= 0.
+/// The indices of the `rows` records PrintTable() shows out of `n`: evenly spaced from the
+/// first record to the last, both included (index round(r (n - 1) / (rows - 1))), e.g. 0,
+/// 45, ..., 360 deg for 9 rows of a 360-step crank turn; all n when rows >= n; the first
+/// alone when rows == 1. Strictly increasing. Empty when n == 0 or rows <= 0.
 inline std::vector<size_t> TableRowIndices(size_t n, int rows) {
   std::vector<size_t> indices;
   if (n == 0 || rows <= 0) return indices;
-  const size_t count = std::min(static_cast<size_t>(rows), std::max<size_t>(n - 1, 1));
-  for (size_t r = 0; r < count; ++r) indices.push_back((n - 1) * r / count);
+  const size_t count = std::min(static_cast<size_t>(rows), n);
+  indices.reserve(count);
+  if (count == 1) {
+    indices.push_back(0);
+    return indices;
+  }
+  // (n - 1) r / (count - 1) = q r + rem r / (count - 1), rounded half up; in integers, without
+  // overflow (rem < count - 1 <= INT_MAX, r < count).
+  const size_t span = count - 1, q = (n - 1) / span, rem = (n - 1) % span;
+  for (size_t r = 0; r < count; ++r) indices.push_back(q * r + (2 * rem * r + span) / (2 * span));
   return indices;
 }
 

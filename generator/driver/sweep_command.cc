@@ -1,0 +1,700 @@
+// `mechgen sweep`. See sweep_command.h.
+#include "driver/sweep_command.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "codegen/sha256.h"
+
+// Set by generator/CMakeLists.txt: where the build found things, and the install layout.
+#ifndef MECHGEN_VERSION
+#define MECHGEN_VERSION "unknown"
+#endif
+#ifndef MECHGEN_SOURCE_RUNTIME_INCLUDE
+#define MECHGEN_SOURCE_RUNTIME_INCLUDE ""
+#endif
+#ifndef MECHGEN_SOURCE_TOOLS
+#define MECHGEN_SOURCE_TOOLS ""
+#endif
+#ifndef MECHGEN_EIGEN_INCLUDE_DIR
+#define MECHGEN_EIGEN_INCLUDE_DIR "/usr/include/eigen3"
+#endif
+#ifndef MECHGEN_CLI11_INCLUDE_DIR
+#define MECHGEN_CLI11_INCLUDE_DIR ""
+#endif
+#ifndef MECHGEN_INSTALL_INCLUDEDIR
+#define MECHGEN_INSTALL_INCLUDEDIR "include"
+#endif
+#ifndef MECHGEN_INSTALL_DATADIR
+#define MECHGEN_INSTALL_DATADIR "share"
+#endif
+
+namespace mechgen {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Bumped when the layout of an entry or the way it is built changes.
+constexpr const char* kCacheFormat = "mechgen sweep cache 1";
+// Every compile; the driver adds its own.
+const std::vector<std::string> kFlags = {"-O2", "-std=c++17", "-DNDEBUG"};
+const std::vector<std::string> kDriverFlags = {"-DMECHGEN_SWEEP_NO_CERES",
+                                               "-DMECHGEN_SWEEP_ARGS_SEPARATE"};
+
+int Fail(const std::string& message) {
+  std::cerr << "mechgen: error: " << message << "\n";
+  return 1;
+}
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+std::string Fixed(double x, int digits) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, x);
+  return buffer;
+}
+
+bool ReadFile(const fs::path& path, std::string* bytes) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream text;
+  text << in.rdbuf();
+  *bytes = text.str();
+  return !in.bad();
+}
+
+std::string ReadOrEmpty(const fs::path& path) {
+  std::string bytes;
+  return ReadFile(path, &bytes) ? bytes : std::string();
+}
+
+// The model file as the generator reads it: a regular file of at most 1 MiB (+ 1 byte, so
+// that a larger one differs). False if it is not one: the generation then says why.
+bool ReadModel(const std::string& path, std::string* bytes) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return false;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  bytes->assign(1024 * 1024 + 1, '\0');
+  in.read(&(*bytes)[0], static_cast<std::streamsize>(bytes->size()));
+  bytes->resize(static_cast<size_t>(in.gcount()));
+  return !in.bad();
+}
+
+std::string Join(const std::vector<std::string>& words) {
+  std::string text;
+  for (const std::string& w : words) text += (text.empty() ? "" : " ") + w;
+  return text;
+}
+
+// ---- where things are ------------------------------------------------------------------
+
+struct Toolchain {
+  std::vector<std::string> compiler;  // $CXX split at blanks, or "c++"
+  std::string compiler_identity;      // resolved path, size, modification time
+  fs::path runtime_include;           // holds mechgen/position/solver.h
+  fs::path tools;                     // holds sweep_main.cc, sweep_args.h, sweep_args.cc
+  std::string eigen_include;          // holds Eigen/Core
+  std::string cli11_include;          // holds CLI/CLI.hpp; empty: a default search directory
+};
+
+// The installation prefix of this program: <prefix>/bin/mechgen (or the build tree's
+// generator/ directory's parent, where nothing is found and the source tree is used).
+fs::path Prefix() {
+  std::error_code ec;
+  const fs::path exe = fs::canonical("/proc/self/exe", ec);
+  return ec ? fs::path() : exe.parent_path().parent_path();
+}
+
+fs::path Under(const fs::path& prefix, const char* dir) {
+  const fs::path d(dir);
+  return d.is_absolute() ? d : prefix / d;
+}
+
+bool IsExecutableFile(const fs::path& path) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec) && access(path.c_str(), X_OK) == 0;
+}
+
+// `name` as execvp() would find it; empty if not found.
+fs::path FindProgram(const std::string& name) {
+  if (name.find('/') != std::string::npos) return IsExecutableFile(name) ? fs::path(name) : fs::path();
+  const char* path_env = std::getenv("PATH");
+  std::stringstream dirs(path_env != nullptr ? path_env : "/usr/local/bin:/usr/bin:/bin");
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    const fs::path candidate = fs::path(dir.empty() ? "." : dir) / name;
+    if (IsExecutableFile(candidate)) return candidate;
+  }
+  return fs::path();
+}
+
+bool DefaultIncludeDir(const std::string& dir) {
+  return dir == "/usr/include" || dir == "/usr/local/include";
+}
+
+bool FindToolchain(Toolchain* t) {
+  const fs::path prefix = Prefix();
+  std::error_code ec;
+  // The runtime headers and the driver: installed beside this program, else the source tree.
+  const fs::path installed_include = Under(prefix, MECHGEN_INSTALL_INCLUDEDIR);
+  t->runtime_include = fs::exists(installed_include / "mechgen/position/solver.h", ec)
+                           ? installed_include
+                           : fs::path(MECHGEN_SOURCE_RUNTIME_INCLUDE);
+  const fs::path installed_tools = Under(prefix, MECHGEN_INSTALL_DATADIR) / "mechgen" / "tools";
+  t->tools = fs::exists(installed_tools / "sweep_main.cc", ec) ? installed_tools
+                                                                : fs::path(MECHGEN_SOURCE_TOOLS);
+  if (!fs::exists(t->runtime_include / "mechgen/position/solver.h", ec))
+    return Fail("cannot find the mechgen runtime headers (looked in " + installed_include.string() +
+                (std::string(MECHGEN_SOURCE_RUNTIME_INCLUDE).empty()
+                     ? std::string()
+                     : " and " + std::string(MECHGEN_SOURCE_RUNTIME_INCLUDE)) +
+                "); is mechgen installed whole?"), false;
+  for (const char* file : {"sweep_main.cc", "sweep_args.h", "sweep_args.cc"}) {
+    if (!fs::exists(t->tools / file, ec))
+      return Fail("cannot find the sweep driver " + (t->tools / file).string() +
+                  "; is mechgen installed whole?"), false;
+  }
+  // Eigen: $MECHGEN_EIGEN_INCLUDE_DIR, the build's, or the usual places.
+  std::vector<std::string> eigen_candidates;
+  if (const char* env = std::getenv("MECHGEN_EIGEN_INCLUDE_DIR"); env != nullptr && *env != '\0')
+    eigen_candidates.push_back(env);
+  eigen_candidates.insert(eigen_candidates.end(),
+                          {MECHGEN_EIGEN_INCLUDE_DIR, "/usr/include/eigen3", "/usr/local/include/eigen3"});
+  for (const std::string& dir : eigen_candidates) {
+    if (!dir.empty() && fs::exists(fs::path(dir) / "Eigen/Core", ec)) {
+      t->eigen_include = dir;
+      break;
+    }
+  }
+  if (t->eigen_include.empty())
+    return Fail("cannot find Eigen (looked for Eigen/Core in " + Join(eigen_candidates) +
+                "); install libeigen3-dev or set MECHGEN_EIGEN_INCLUDE_DIR"), false;
+  // CLI11: the build's, else where the compiler looks anyway.
+  const std::string cli11 = MECHGEN_CLI11_INCLUDE_DIR;
+  if (!cli11.empty() && !DefaultIncludeDir(cli11) && fs::exists(fs::path(cli11) / "CLI/CLI.hpp", ec))
+    t->cli11_include = cli11;
+  // The compiler: $CXX (words: "ccache g++" works), else c++.
+  const char* cxx = std::getenv("CXX");
+  std::istringstream words(cxx != nullptr ? cxx : "");
+  for (std::string w; words >> w;) t->compiler.push_back(w);
+  if (t->compiler.empty()) t->compiler.push_back("c++");
+  const fs::path program = FindProgram(t->compiler[0]);
+  if (program.empty())
+    return Fail("no C++ compiler: cannot find '" + t->compiler[0] + "'" +
+                (cxx != nullptr && *cxx != '\0' ? " (from CXX)" : " on PATH") +
+                "; install g++ (or clang++), or set CXX to a C++17 compiler"), false;
+  const fs::path resolved = fs::canonical(program, ec);
+  struct stat st {};
+  if (!ec && stat(resolved.c_str(), &st) == 0) {
+    t->compiler_identity = resolved.string() + " " + std::to_string(st.st_size) + " " +
+                           std::to_string(static_cast<long long>(st.st_mtime));
+  } else {
+    t->compiler_identity = program.string();
+  }
+  return true;
+}
+
+// ---- the cache ---------------------------------------------------------------------------
+
+// "label\0size\0bytes": parts that cannot run into each other.
+void AddPart(std::string* material, const std::string& label, const std::string& bytes) {
+  *material += label;
+  *material += '\0';
+  *material += std::to_string(bytes.size());
+  *material += '\0';
+  *material += bytes;
+}
+
+// Every regular file under dir, sorted, with its path relative to dir.
+void AddTree(std::string* material, const fs::path& dir, const std::string& suffix) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (it->is_regular_file(ec) && name.size() >= suffix.size() &&
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+      files.push_back(it->path());
+  }
+  std::sort(files.begin(), files.end());
+  for (const fs::path& f : files) AddPart(material, fs::relative(f, dir, ec).string(), ReadOrEmpty(f));
+}
+
+std::string ToolchainPart(const Toolchain& t) {
+  std::string material;
+  AddPart(&material, "compiler", Join(t.compiler) + "\n" + t.compiler_identity);
+  AddPart(&material, "flags", Join(kFlags));
+  return material;
+}
+
+// The driver's program: the model's bytes and everything the program is built from.
+std::string EntryKey(const std::string& model_bytes, const std::string& templates, const Toolchain& t) {
+  std::string material = kCacheFormat;
+  AddPart(&material, "model", model_bytes);
+  AddPart(&material, "version", MECHGEN_VERSION);
+  AddPart(&material, "mechgen", ReadOrEmpty("/proc/self/exe"));
+  AddTree(&material, templates, ".mustache");
+  for (const char* file : {"sweep_main.cc", "sweep_args.h", "sweep_args.cc"})
+    AddPart(&material, file, ReadOrEmpty(t.tools / file));
+  AddTree(&material, t.runtime_include / "mechgen", "");
+  material += ToolchainPart(t);
+  AddPart(&material, "driver flags", Join(kDriverFlags));
+  AddPart(&material, "eigen", t.eigen_include + "\n" +
+                                  ReadOrEmpty(fs::path(t.eigen_include) / "Eigen/src/Core/util/Macros.h"));
+  AddPart(&material, "cli11", t.cli11_include);
+  return Sha256Hex(material).substr(0, 32);
+}
+
+// The CLI11 part, the same for every model.
+std::string ArgsKey(const Toolchain& t) {
+  std::string material = kCacheFormat;
+  for (const char* file : {"sweep_args.h", "sweep_args.cc"}) AddPart(&material, file, ReadOrEmpty(t.tools / file));
+  material += ToolchainPart(t);
+  const fs::path cli11 = t.cli11_include.empty() ? fs::path("/usr/include") : fs::path(t.cli11_include);
+  AddPart(&material, "cli11", t.cli11_include + "\n" + ReadOrEmpty(cli11 / "CLI/Version.hpp"));
+  return Sha256Hex(material).substr(0, 32);
+}
+
+bool CacheRoot(const std::string& option, fs::path* root) {
+  const char* env = std::getenv("MECHGEN_CACHE_DIR");
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  const char* home = std::getenv("HOME");
+  if (!option.empty()) {
+    *root = option;
+  } else if (env != nullptr && *env != '\0') {
+    *root = env;
+  } else if (xdg != nullptr && *xdg == '/') {  // the XDG spec: relative values are ignored
+    *root = fs::path(xdg) / "mechgen";
+  } else if (home != nullptr && *home != '\0') {
+    *root = fs::path(home) / ".cache" / "mechgen";
+  } else {
+    return Fail("no cache directory: HOME is not set; set MECHGEN_CACHE_DIR, or use --no-cache"), false;
+  }
+  std::error_code ec;
+  *root = fs::absolute(*root, ec);
+  return true;
+}
+
+std::string HostName() {
+  char buffer[256] = {};
+  if (gethostname(buffer, sizeof(buffer) - 1) != 0) return "host";
+  std::string host = buffer;
+  for (char& c : host)
+    if (c == '/' || c == '.') c = '_';
+  return host.empty() ? "host" : host;
+}
+
+// Temporary build directories (<host>.<pid>.<random>) of runs that were killed: those of a
+// process of this host that no longer runs, and any older than a day.
+void RemoveStaleTemporaries(const fs::path& tmp) {
+  std::error_code ec;
+  const std::string host = HostName();
+  const auto now = fs::file_time_type::clock::now();
+  for (fs::directory_iterator it(tmp, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const size_t last = name.rfind('.');
+    const size_t before = last == std::string::npos || last == 0 ? std::string::npos : name.rfind('.', last - 1);
+    bool stale = false;
+    if (before != std::string::npos && name.compare(0, before, host) == 0 && before == host.size()) {
+      const long pid = std::strtol(name.substr(before + 1, last - before - 1).c_str(), nullptr, 10);
+      stale = pid > 0 && kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+    }
+    std::error_code time_ec;
+    const auto modified = fs::last_write_time(it->path(), time_ec);
+    if (!time_ec && now - modified > std::chrono::hours(24)) stale = true;
+    if (stale) fs::remove_all(it->path(), time_ec);
+  }
+}
+
+// ---- processes ---------------------------------------------------------------------------
+
+// A signal during a build is passed on to the compilers; the build then removes its
+// temporary directory and ends by the same signal.
+volatile sig_atomic_t g_signal = 0;
+constexpr int kMaxChildren = 4;
+volatile pid_t g_children[kMaxChildren] = {0, 0, 0, 0};
+
+extern "C" void OnSignal(int sig) {
+  g_signal = sig;
+  for (int i = 0; i < kMaxChildren; ++i)
+    if (g_children[i] > 0) kill(g_children[i], sig);
+}
+
+class SignalGuard {
+ public:
+  SignalGuard() {
+    struct sigaction action {};
+    action.sa_handler = OnSignal;
+    sigemptyset(&action.sa_mask);
+    for (int i = 0; i < 3; ++i) sigaction(kSignals[i], &action, &old_[i]);
+  }
+  ~SignalGuard() {
+    for (int i = 0; i < 3; ++i) sigaction(kSignals[i], &old_[i], nullptr);
+  }
+  SignalGuard(const SignalGuard&) = delete;
+  SignalGuard& operator=(const SignalGuard&) = delete;
+  // After the cleanup: end by the signal that came, if one did.
+  static void ReraiseIfSignalled() {
+    if (g_signal == 0) return;
+    const int sig = g_signal;
+    signal(sig, SIG_DFL);
+    raise(sig);
+  }
+
+ private:
+  static constexpr int kSignals[3] = {SIGINT, SIGTERM, SIGHUP};
+  struct sigaction old_[3];
+};
+
+// A directory removed with everything in it unless Keep() was called.
+class TempDir {
+ public:
+  explicit TempDir(fs::path path) : path_(std::move(path)) {}
+  ~TempDir() {
+    if (!path_.empty()) {
+      std::error_code ec;
+      fs::remove_all(path_, ec);
+    }
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const fs::path& path() const { return path_; }
+  void Keep() { path_.clear(); }
+
+ private:
+  fs::path path_;
+};
+
+// mkdtemp(<dir>/<prefix>XXXXXX).
+bool MakeTempDir(const fs::path& dir, const std::string& prefix, fs::path* made) {
+  std::string pattern = (dir / (prefix + "XXXXXX")).string();
+  if (mkdtemp(&pattern[0]) == nullptr) return false;
+  *made = pattern;
+  return true;
+}
+
+// Starts argv (stdin from /dev/null, stdout and stderr to `log`); -1 with *error if it
+// cannot (an exec failure comes back through a close-on-exec pipe).
+pid_t Start(const std::vector<std::string>& argv, const fs::path& log, std::string* error) {
+  int pipe_fds[2];
+  if (pipe2(pipe_fds, O_CLOEXEC) != 0) {
+    *error = std::string("pipe: ") + std::strerror(errno);
+    return -1;
+  }
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) {
+    *error = std::string("fork: ") + std::strerror(errno);
+    close(pipe_fds[0]);
+    close(pipe_fds[1]);
+    return -1;
+  }
+  if (pid == 0) {
+    close(pipe_fds[0]);
+    const int in = open("/dev/null", O_RDONLY);
+    const int out = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (in >= 0) dup2(in, 0);
+    if (out >= 0) {
+      dup2(out, 1);
+      dup2(out, 2);
+    }
+    execvp(args[0], args.data());
+    const int e = errno;
+    ssize_t ignored = write(pipe_fds[1], &e, sizeof(e));
+    (void)ignored;
+    _exit(127);
+  }
+  close(pipe_fds[1]);
+  int exec_errno = 0;
+  ssize_t n;
+  do {
+    n = read(pipe_fds[0], &exec_errno, sizeof(exec_errno));
+  } while (n < 0 && errno == EINTR);
+  close(pipe_fds[0]);
+  if (n == static_cast<ssize_t>(sizeof(exec_errno))) {
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    *error = "cannot run '" + argv[0] + "': " + std::strerror(exec_errno);
+    return -1;
+  }
+  return pid;
+}
+
+// The exit status of a child: its code, or 128 + the signal that ended it.
+int Wait(pid_t pid) {
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return 1;
+  }
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return 1;
+}
+
+struct Job {
+  std::vector<std::string> argv;
+  fs::path log;
+  pid_t pid = -1;
+  int status = 0;
+};
+
+// Runs the jobs at once; false if one failed (its command and output printed).
+bool RunJobs(std::vector<Job>* jobs, const std::string& what, bool verbose) {
+  std::string error;
+  bool started = true;
+  for (size_t i = 0; i < jobs->size(); ++i) {
+    Job& job = (*jobs)[i];
+    if (verbose) std::cerr << "mechgen: " << Join(job.argv) << "\n";
+    job.pid = started ? Start(job.argv, job.log, &error) : -1;
+    if (job.pid < 0) started = false;
+    if (i < static_cast<size_t>(kMaxChildren)) g_children[i] = job.pid;
+  }
+  for (size_t i = 0; i < jobs->size(); ++i) {
+    Job& job = (*jobs)[i];
+    if (job.pid > 0) job.status = Wait(job.pid);
+    if (i < static_cast<size_t>(kMaxChildren)) g_children[i] = 0;
+  }
+  if (!started) return Fail(error + "; install g++ (or clang++), or set CXX to a C++17 compiler"), false;
+  if (g_signal != 0) return false;
+  for (const Job& job : *jobs) {
+    if (job.status == 0) continue;
+    std::cerr << "mechgen: error: " << what << " failed (exit status " << job.status << "): "
+              << Join(job.argv) << "\n";
+    std::ifstream log(job.log);
+    std::string line;
+    for (int n = 0; std::getline(log, line); ++n) {
+      if (n == 60) {
+        std::cerr << "[... the rest of the compiler's output left out]\n";
+        break;
+      }
+      std::cerr << line << "\n";
+    }
+    return false;
+  }
+  return true;
+}
+
+std::vector<std::string> Command(const Toolchain& t, std::vector<std::string> args) {
+  std::vector<std::string> command = t.compiler;
+  command.insert(command.end(), kFlags.begin(), kFlags.end());
+  command.insert(command.end(), args.begin(), args.end());
+  return command;
+}
+
+// Generates and compiles the model's sweep program in `dir`: dir/sweep. `args_object` is the
+// CLI11 part: used if it exists, else compiled into dir/args.o and renamed to it (when not
+// empty). Returns 0, or the exit status after printing the error.
+int Build(const SweepCommand& c, const GenerateFn& generate, const Toolchain& t,
+          const std::string& model_bytes, const fs::path& dir, const fs::path& args_object,
+          std::string* model_name) {
+  const auto start = std::chrono::steady_clock::now();
+  const int generated = generate(c.model_path, dir.string(), model_name);
+  if (generated != 0 || g_signal != 0) return generated != 0 ? generated : 1;
+  std::string again;
+  if (!ReadModel(c.model_path, &again) || again != model_bytes)
+    return Fail(c.model_path + " changed while it was being compiled; run again");
+  const double generate_seconds = Seconds(start);
+  const std::string& name = *model_name;
+  std::cerr << "mechgen: compiling the sweep command of '" << name << "' (" << c.model_path
+            << "; once, then cached)...\n";
+  const auto compile_start = std::chrono::steady_clock::now();
+  std::error_code ec;
+  const bool have_args = !args_object.empty() && fs::exists(args_object, ec);
+  std::vector<Job> jobs;
+  jobs.push_back({Command(t, {kDriverFlags[0], kDriverFlags[1],
+                              "-DMECHGEN_MODEL_INCLUDE=\"" + name + ".h\"",
+                              "-DMECHGEN_MODEL_NAMESPACE=mech::" + name, "-I" + dir.string(),
+                              "-I" + t.runtime_include.string(), "-isystem", t.eigen_include, "-c",
+                              (t.tools / "sweep_main.cc").string(), "-o",
+                              (dir / "sweep_main.o").string()}),
+                  dir / "sweep_main.log"});
+  jobs.push_back({Command(t, {"-isystem", t.eigen_include, "-c", (dir / (name + ".cc")).string(), "-o",
+                              (dir / (name + ".o")).string()}),
+                  dir / "model.log"});
+  if (!have_args) {
+    std::vector<std::string> args;
+    if (!t.cli11_include.empty()) args = {"-isystem", t.cli11_include};
+    args.insert(args.end(), {"-c", (t.tools / "sweep_args.cc").string(), "-o", (dir / "args.o").string()});
+    jobs.push_back({Command(t, args), dir / "args.log"});
+  }
+  if (!RunJobs(&jobs, "compiling the sweep command of '" + name + "'", c.verbose)) return 1;
+  std::vector<Job> link(1);
+  link[0].argv = t.compiler;
+  link[0].argv.insert(link[0].argv.end(), {(dir / "sweep_main.o").string(), (dir / (name + ".o")).string(),
+                                           have_args ? args_object.string() : (dir / "args.o").string(),
+                                           "-o", (dir / "sweep").string()});
+  link[0].log = dir / "link.log";
+  if (!RunJobs(&link, "linking the sweep command of '" + name + "'", c.verbose)) return 1;
+  // The CLI11 object for later models (rename: whole or not at all).
+  if (!have_args && !args_object.empty()) fs::rename(dir / "args.o", args_object, ec);
+  for (const char* file : {"sweep_main.o", "sweep_main.log", "model.log", "args.o", "args.log", "link.log"})
+    fs::remove(dir / file, ec);
+  fs::remove(dir / (name + ".o"), ec);
+  std::cerr << "mechgen: compiled in " << Fixed(Seconds(compile_start), 1) << " s";
+  if (c.verbose) std::cerr << " (generated in " << Fixed(generate_seconds, 2) << " s)";
+  std::cerr << "\n";
+  return 0;
+}
+
+std::vector<std::string> DriverArgv(const SweepCommand& c) {
+  std::vector<std::string> argv = {"mechgen sweep " + c.model_path};
+  argv.insert(argv.end(), c.driver_args.begin(), c.driver_args.end());
+  return argv;
+}
+
+// Becomes the driver; returns only if exec fails.
+int Exec(const fs::path& program, const SweepCommand& c) {
+  const std::vector<std::string> argv = DriverArgv(c);
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  std::cout.flush();
+  std::cerr.flush();
+  execv(program.c_str(), args.data());
+  return Fail("cannot run " + program.string() + ": " + std::strerror(errno));
+}
+
+}  // namespace
+
+void SplitSweepArguments(int argc, const char* const* argv, int first,
+                         const std::vector<std::string>& options_with_value, int* model_end,
+                         std::vector<std::string>* driver_args) {
+  driver_args->clear();
+  int i = first;
+  while (i < argc) {
+    const std::string a = argv[i];
+    if (a == "--") {  // the end of mechgen's options: the model follows
+      ++i;
+      break;
+    }
+    if (a.size() < 2 || a[0] != '-') break;  // the model
+    const bool takes_value =
+        std::find(options_with_value.begin(), options_with_value.end(), a) != options_with_value.end();
+    i += takes_value ? 2 : 1;
+  }
+  if (i >= argc) {
+    *model_end = argc;
+    return;
+  }
+  *model_end = i + 1;
+  int rest = i + 1;
+  if (rest < argc && std::string(argv[rest]) == "--") ++rest;
+  for (; rest < argc; ++rest) driver_args->push_back(argv[rest]);
+}
+
+int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
+  g_signal = 0;
+  Toolchain t;
+  if (!FindToolchain(&t)) return 1;
+  std::string model_bytes;
+  const bool readable = ReadModel(c.model_path, &model_bytes);
+  std::error_code ec;
+
+  if (c.no_cache || !readable) {
+    // Built in a temporary directory, run as a child, removed. (An unreadable model ends in
+    // the generator's message.)
+    fs::path dir;
+    if (!MakeTempDir(fs::temp_directory_path(ec), "mechgen-sweep.", &dir))
+      return Fail(std::string("cannot create a temporary directory: ") + std::strerror(errno));
+    int status = 0;
+    {
+      TempDir temp(dir);
+      SignalGuard guard;
+      std::string name;
+      status = Build(c, generate, t, model_bytes, dir, fs::path(), &name);
+      if (status == 0 && g_signal == 0) {
+        const std::vector<std::string> argv = DriverArgv(c);
+        std::vector<char*> args;
+        for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+        args.push_back(nullptr);
+        std::cout.flush();
+        std::cerr.flush();
+        const pid_t pid = fork();
+        if (pid == 0) {
+          execv((dir / "sweep").c_str(), args.data());
+          _exit(127);
+        }
+        if (pid < 0) {
+          status = Fail(std::string("fork: ") + std::strerror(errno));
+        } else {
+          g_children[0] = pid;
+          status = Wait(pid);
+          g_children[0] = 0;
+        }
+      }
+    }  // the signal handlers restored, then the directory removed
+    SignalGuard::ReraiseIfSignalled();
+    return status;
+  }
+
+  fs::path root;
+  if (!CacheRoot(c.cache_dir, &root)) return 1;
+  const fs::path sweep_dir = root / "sweep", tmp = sweep_dir / "tmp";
+  const std::string key = EntryKey(model_bytes, c.templates, t);
+  const fs::path entry = sweep_dir / key;
+  if (c.verbose) std::cerr << "mechgen: cache " << root.string() << ", entry " << entry.string() << "\n";
+  if (!c.rebuild && IsExecutableFile(entry / "sweep")) {
+    if (c.verbose) std::cerr << "mechgen: cached; running " << (entry / "sweep").string() << "\n";
+    return Exec(entry / "sweep", c);
+  }
+
+  fs::create_directories(tmp, ec);
+  if (ec) return Fail("cannot create the cache directory " + tmp.string() + ": " + ec.message() +
+                      "; set MECHGEN_CACHE_DIR, or use --no-cache");
+  RemoveStaleTemporaries(tmp);
+  fs::path dir;
+  if (!MakeTempDir(tmp, HostName() + "." + std::to_string(getpid()) + ".", &dir))
+    return Fail("cannot create a directory in " + tmp.string() + ": " + std::strerror(errno));
+  int status = 0;
+  {
+    TempDir temp(dir);
+    {
+      SignalGuard guard;  // restored before the directory goes
+      std::string name;
+      status = Build(c, generate, t, model_bytes, dir, sweep_dir / ("args-" + ArgsKey(t) + ".o"), &name);
+      if (status == 0 && g_signal == 0) {
+        // Into place whole. --rebuild: the old entry moved aside first; a concurrent run
+        // that got there first wins (its entry is as good as ours).
+        if (c.rebuild && fs::exists(entry, ec)) {
+          fs::path old;
+          if (MakeTempDir(tmp, HostName() + "." + std::to_string(getpid()) + ".old.", &old)) {
+            TempDir old_dir(old);
+            fs::rename(entry, old / "entry", ec);
+          }
+        }
+        fs::rename(dir, entry, ec);
+        if (!ec) {
+          temp.Keep();
+        } else if (!IsExecutableFile(entry / "sweep")) {
+          status = Fail("cannot create the cache entry " + entry.string() + ": " + ec.message());
+        }
+        if (status == 0) std::cerr << "mechgen: cached in " << entry.string() << "\n";
+      }
+    }
+  }
+  SignalGuard::ReraiseIfSignalled();
+  if (status != 0) return status;
+  return Exec(entry / "sweep", c);
+}
+
+}  // namespace mechgen

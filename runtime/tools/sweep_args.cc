@@ -1,0 +1,54 @@
+// The sweep command's options with CLI11 (sweep_args.h). Independent of the model.
+#include "sweep_args.h"
+
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace mechgen::sweep_tool {
+
+int UsageError(const std::string& message) {
+  std::cerr << "error: " << message << "; see --help\n";
+  return kExitUsage;
+}
+
+int ParseArguments(int argc, char** argv, const std::string& model_name, long long max_steps,
+                   Arguments* arguments) {
+  Arguments& a = *arguments;
+  CLI::App app{"Sweep the inputs of the mechgen model '" + model_name +
+               "', staying on its assembly mode; write CSV, a table and an SVG drawing. Exit "
+               "status: 0 all rows converged, 3 some did not (counts on stderr), 2 bad "
+               "arguments, 1 model or output error."};
+  app.add_option("--steps", a.steps_text,
+                 "number of steps, 1.." + std::to_string(max_steps) + " (rows = steps + 1)");
+  app.add_option("--range", a.ranges,
+                 "input:min:max, input by name or index; values in model units (radians), "
+                 "or with a 'deg' suffix (e.g. theta_crank:0:180deg). Default: the model's "
+                 "range of every input");
+  app.add_option("--qd", a.qd_text, "input speed(s), one value or one per input (default 1)");
+  app.add_option("--qdd", a.qdd_text,
+                 "input acceleration(s), one value or one per input (default 0)");
+  app.add_option("--csv", a.csv_path,
+                 "write every row to this CSV file (streamed; written whole or not at all)");
+  app.add_option("--svg", a.svg_path,
+                 "write a drawing with the traced point paths to this SVG file");
+  app.add_option("--table", a.table_text,
+                 "print this many rows to stdout, evenly spaced from the first row to the last "
+                 "(0: none)");
+  app.add_flag("--no-animation", a.no_animation, "SVG without the SMIL animation");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string what = e.what();
+    if (what.size() > 200) what = what.substr(0, 200) + "...";
+    return UsageError(what);
+  }
+  return -1;
+}
+
+}  // namespace mechgen::sweep_tool

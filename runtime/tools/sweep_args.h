@@ -1,0 +1,41 @@
+// The command line of the sweep command (sweep_main.cc), apart from the model: parsed with
+// CLI11 in sweep_args.cc, which does not depend on the model. sweep_main.cc includes
+// sweep_args.cc (one translation unit, as mechgen_add_model() compiles it) unless it is
+// compiled with -DMECHGEN_SWEEP_ARGS_SEPARATE: then sweep_args.cc is compiled once on its
+// own and linked in (`mechgen sweep` keeps that object in its cache for every model, so
+// that a model's first run does not compile CLI11 again).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace mechgen::sweep_tool {
+
+/// The options as given (text; sweep_main.cc checks and converts them).
+struct Arguments {
+  std::string steps_text = "360";
+  std::string table_text = "9";
+  std::vector<std::string> ranges;
+  std::vector<std::string> qd_text, qdd_text;
+  std::string csv_path, svg_path;
+  bool no_animation = false;
+};
+
+/// Exit status of a usage error (bad arguments: nothing written).
+constexpr int kExitUsage = 2;
+
+/// Prints "error: <message>; see --help" on stderr; returns kExitUsage.
+int UsageError(const std::string& message);
+
+/**
+ * \brief Parses the sweep command's options.
+ * \param[in]  model_name  The model's name, for --help.
+ * \param[in]  max_steps   The largest --steps, for --help.
+ * \param[out] arguments   The options.
+ * \return -1 to go on, else the exit status to end with: 0 after --help (printed on
+ *         stdout), kExitUsage after a parse error (UsageError() printed it).
+ */
+int ParseArguments(int argc, char** argv, const std::string& model_name, long long max_steps,
+                   Arguments* arguments);
+
+}  // namespace mechgen::sweep_tool

@@ -1,0 +1,136 @@
+#!/usr/bin/env bash
+# `mechgen sweep <model.yaml> [sweep options]` (generator/driver/sweep_command.cc), run in a
+# temporary directory outside the source tree with a private cache (MECHGEN_CACHE_DIR).
+# usage: sweep_command_test.sh errors <mechgen> <source dir>
+#   a model with an error: its file:line:column line, exit 1, no cache entry, nothing left in
+#   the cache's tmp/; no compiler (CXX names none): exit 1, one line naming it; a compile
+#   that fails (CXX adds -include of a missing file): exit 1, the compiler's message, no
+#   cache entry; no model: a usage error.
+# usage: sweep_command_test.sh full <mechgen> <source dir> <fourbar_sweep>
+#   the first run compiles (says so on stderr) and its CSV and SVG are byte-identical to those
+#   of build's fourbar_sweep (the Ceres-assembled <model>_sweep) with the same options, the
+#   table and summary lines too (only the timing line differs); a second run uses the cache
+#   (no "compiling" on stderr, the program's modification time unchanged); the options after
+#   the model (or after "--") reach the driver unchanged, its exit status comes back
+#   (--steps 0: 2); --no-cache leaves no cache; --rebuild compiles again.
+set -uo pipefail
+mode=$1 mechgen=$(realpath "$2") source_dir=$(realpath "$3")
+root=$(mktemp -d)
+trap 'rm -rf "$root"' EXIT
+cd "$root" || exit 1
+case "$root" in "$source_dir"/*) echo "FAIL: $root is inside the source tree"; exit 1 ;; esac
+export MECHGEN_CACHE_DIR=$root/cache
+cp "$source_dir/models/fourbar.yaml" fourbar.yaml
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+ok() { echo "ok $*"; }
+entries() { find "$MECHGEN_CACHE_DIR/sweep" -mindepth 1 -maxdepth 1 -type d ! -name tmp 2>/dev/null | wc -l; }
+tmp_left() { find "$MECHGEN_CACHE_DIR/sweep/tmp" -mindepth 1 2>/dev/null | head -3; }
+
+if [ "$mode" = errors ]; then
+  # A model with an unknown key on line 3: the generator's one line, exit 1, no entry.
+  sed 's/^description: |/descripton: |/' fourbar.yaml > bad.yaml
+  "$mechgen" sweep bad.yaml --steps 10 > bad.out 2> bad.err
+  status=$?
+  [ "$status" -eq 1 ] || fail "bad model: exit status $status, expected 1"
+  grep -Eq '^bad\.yaml:3:1: error: .*descripton' bad.err || fail "bad model: stderr $(cat bad.err)"
+  [ "$(grep -c '' bad.err)" -eq 1 ] || fail "bad model: more than one line: $(cat bad.err)"
+  [ ! -s bad.out ] || fail "bad model: stdout $(cat bad.out)"
+  [ "$(entries)" -eq 0 ] || fail "bad model: a cache entry was made"
+  [ -z "$(tmp_left)" ] || fail "bad model: left $(tmp_left)"
+  [ "$failures" -ne 0 ] || ok "bad model: $(cat bad.err)"
+
+  before=$failures
+  CXX=/nonexistent/c++ "$mechgen" sweep fourbar.yaml > nocxx.out 2> nocxx.err
+  status=$?
+  [ "$status" -eq 1 ] || fail "no compiler: exit status $status"
+  grep -Eq "^mechgen: error: no C\+\+ compiler: cannot find '/nonexistent/c\+\+' \(from CXX\)" nocxx.err ||
+    fail "no compiler: stderr $(cat nocxx.err)"
+  [ "$(entries)" -eq 0 ] || fail "no compiler: a cache entry was made"
+  [ "$failures" -ne "$before" ] || ok "no compiler: $(cat nocxx.err)"
+
+  before=$failures
+  CXX="c++ -include $root/missing.h" "$mechgen" sweep fourbar.yaml > cc.out 2> cc.err
+  status=$?
+  [ "$status" -eq 1 ] || fail "failed compile: exit status $status"
+  grep -q "^mechgen: error: compiling the sweep command of 'fourbar' failed" cc.err ||
+    fail "failed compile: stderr $(cat cc.err)"
+  grep -q "missing.h" cc.err || fail "failed compile: the compiler's message is not shown"
+  [ "$(entries)" -eq 0 ] || fail "failed compile: a cache entry was made"
+  [ -z "$(find "$MECHGEN_CACHE_DIR/sweep" -name 'args-*' 2>/dev/null)" ] ||
+    fail "failed compile: an args object was cached"
+  [ -z "$(tmp_left)" ] || fail "failed compile: left $(tmp_left)"
+  [ "$failures" -ne "$before" ] || ok "failed compile"
+
+  before=$failures
+  "$mechgen" sweep > nomodel.out 2> nomodel.err
+  status=$?
+  [ "$status" -ne 0 ] || fail "no model: exit status 0"
+  grep -q "model is required" nomodel.err || fail "no model: stderr $(cat nomodel.err)"
+  [ "$failures" -ne "$before" ] || ok "no model: exit status $status"
+  exit $((failures > 0))
+fi
+
+[ "$mode" = full ] || { echo "unknown mode $mode"; exit 2; }
+tool=$(realpath "$4")
+options=(--steps 360 --qd 2 --range theta_crank:10deg:370deg --table 9)
+mkdir -p a b
+(cd a && "$mechgen" sweep ../fourbar.yaml "${options[@]}" --csv out.csv --svg out.svg > ../a.out 2> ../a.err)
+status=$?
+[ "$status" -eq 0 ] || fail "first run: exit status $status: $(cat a.err)"
+grep -q "^mechgen: compiling the sweep command of 'fourbar'" a.err || fail "first run: no compile message: $(cat a.err)"
+(cd b && "$tool" "${options[@]}" --csv out.csv --svg out.svg > ../b.out 2> ../b.err)
+[ $? -eq 0 ] || fail "fourbar_sweep: $(cat b.err)"
+cmp a/out.csv b/out.csv || fail "the CSV differs from fourbar_sweep's"
+cmp a/out.svg b/out.svg || fail "the SVG differs from fourbar_sweep's"
+[ "$(grep -c '' a/out.csv)" -eq 362 ] || fail "the CSV has $(grep -c '' a/out.csv) lines, expected 362"
+# stdout: the same but for the timing line.
+diff <(grep -v '^time per row:' a.out) <(grep -v '^time per row:' b.out) > stdout.diff ||
+  fail "stdout differs from fourbar_sweep's: $(head -20 stdout.diff)"
+grep -q '^time per row: .* us solving' a.out || fail "no timing line: $(cat a.out)"
+[ "$failures" -ne 0 ] || ok "first run: the same CSV, SVG and table as fourbar_sweep"
+
+before=$failures
+program=$(find "$MECHGEN_CACHE_DIR/sweep" -mindepth 2 -maxdepth 2 -name sweep -type f)
+[ "$(printf '%s\n' "$program" | grep -c .)" -eq 1 ] || fail "expected one cached program: $program"
+[ "$(entries)" -eq 1 ] || fail "expected one cache entry, found $(entries)"
+[ -z "$(tmp_left)" ] || fail "left in tmp/: $(tmp_left)"
+stamp=$(stat -c %Y.%i "$program")
+sleep 1
+(cd a && "$mechgen" sweep ../fourbar.yaml "${options[@]}" --csv again.csv > ../c.out 2> ../c.err)
+status=$?
+[ "$status" -eq 0 ] || fail "second run: exit status $status: $(cat c.err)"
+[ ! -s c.err ] || fail "second run: stderr $(cat c.err)"
+[ "$(stat -c %Y.%i "$program")" = "$stamp" ] || fail "second run: the program was built again"
+cmp a/again.csv b/out.csv || fail "second run: the CSV differs"
+[ "$failures" -ne "$before" ] || ok "second run: cached"
+
+before=$failures
+# Options after the model reach the driver as they are; "--" after the model is dropped;
+# the driver's exit status comes back.
+(cd a && "$mechgen" sweep ../fourbar.yaml -- --steps 4 --table 5 > ../d.out 2> ../d.err)
+[ $? -eq 0 ] || fail "after --: $(cat d.err)"
+[ "$(grep -Ec '^ +(0|90|180|270|360)\.0000 ' d.out)" -eq 5 ] || fail "--table 5 of 4 steps: $(cat d.out)"
+"$mechgen" sweep fourbar.yaml --steps 0 > e.out 2> e.err
+status=$?
+[ "$status" -eq 2 ] || fail "--steps 0: exit status $status"
+grep -qx "error: --steps '0': expected an integer from 1 to 10000000; see --help" e.err ||
+  fail "--steps 0: $(cat e.err)"
+"$mechgen" sweep fourbar.yaml --help > h.out 2>&1 || fail "--help: exit status $?"
+grep -q -- "--no-animation" h.out || fail "--help is not the driver's: $(head -5 h.out)"
+# mechgen's own options before the model: --verbose says where the cache is.
+"$mechgen" sweep --verbose fourbar.yaml --steps 4 --table 0 > v.out 2> v.err || fail "--verbose: $(cat v.err)"
+grep -q "^mechgen: cache $MECHGEN_CACHE_DIR" v.err || fail "--verbose: $(cat v.err)"
+[ "$failures" -ne "$before" ] || ok "arguments pass through"
+
+before=$failures
+MECHGEN_CACHE_DIR=$root/nocache "$mechgen" sweep --no-cache fourbar.yaml --steps 36 --csv n.csv > n.out 2> n.err
+[ $? -eq 0 ] || fail "--no-cache: $(cat n.err)"
+[ ! -e "$root/nocache" ] || fail "--no-cache made a cache"
+[ "$(grep -c '' n.csv)" -eq 38 ] || fail "--no-cache: the CSV has $(grep -c '' n.csv) lines"
+"$mechgen" sweep --rebuild fourbar.yaml --steps 4 --table 0 > r.out 2> r.err || fail "--rebuild: $(cat r.err)"
+grep -q "^mechgen: compiling" r.err || fail "--rebuild did not compile: $(cat r.err)"
+[ "$(entries)" -eq 1 ] || fail "--rebuild: $(entries) entries"
+[ -z "$(tmp_left)" ] || fail "--rebuild left $(tmp_left)"
+[ "$failures" -ne "$before" ] || ok "--no-cache, --rebuild"
+exit $((failures > 0))
