@@ -18,6 +18,7 @@ struct Arguments {
   std::vector<std::string> ranges;
   std::vector<std::string> qd_text, qdd_text;
   std::string csv_path, svg_path;
+  std::string mode;  ///< a named assembly mode (the model's assembly_modes:); empty: the default
   bool no_animation = false;
 };
 

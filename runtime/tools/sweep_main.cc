@@ -18,6 +18,7 @@
 // the same configurations (the solver's Newton polish follows either assembler): the same
 // CSV, table and SVG on the shipped models.
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -25,6 +26,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "sweep_args.h"
@@ -149,6 +151,30 @@ constexpr int kExitRowsFailed = 3;   // the outputs written, but some rows did n
 
 int Usage(const std::string& message) { return mechgen::sweep_tool::UsageError(message); }
 
+// Models with named assembly modes (assembly_modes:) have Model::kNamedModes and ModesByName.
+template <class M, class = void>
+struct HasNamedModes : std::false_type {};
+template <class M>
+struct HasNamedModes<M, std::void_t<decltype(M::kNamedModes)>> : std::true_type {};
+
+// The blocks' modes of the named assembly mode; false with the message when there is none.
+template <class M>
+bool NamedModes(const std::string& name, std::array<int, M::kNumBlocks>* modes,
+                std::string* error) {
+  if constexpr (HasNamedModes<M>::value) {
+    if (M::ModesByName(name.c_str(), modes)) return true;
+    std::string names;
+    for (int i = 0; i < M::kNumNamedModes; ++i) names += std::string(i ? ", " : "") + M::kModeNames[i];
+    *error = "--mode: the model " + std::string(M::kName) + " has no assembly mode '" + name +
+             "' (its modes: " + names + ")";
+  } else {
+    (void)modes;
+    *error = "--mode: the model " + std::string(M::kName) +
+             " names no assembly modes (add assembly_modes: to the model; models/README.md)";
+  }
+  return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -172,6 +198,9 @@ int main(int argc, char** argv) {
   }
   const int steps = static_cast<int>(steps_ll);
   const int table_rows = static_cast<int>(table_ll);
+  std::array<int, Model::kNumBlocks> named_modes = Model::kDefaultModes;
+  if (!arguments.mode.empty() && !NamedModes<Model>(arguments.mode, &named_modes, &error))
+    return Usage(error);
 
   // Path of the sweep and the input motion.
   Types::VecQ q_begin = Eigen::Map<const Types::VecQ>(Model::kQMin.data());
@@ -242,8 +271,33 @@ int main(int argc, char** argv) {
   const char* const assembler_name = "Ceres";
 #endif
   mechgen::position::Summary assembly;
-  if (solver.AssembleDefault(&assembly) != mechgen::position::Status::kConverged) {
-    std::cerr << "error: cannot assemble " << Model::kName << " at its assembly configuration: "
+  mechgen::position::Status assembled;
+  if (arguments.mode.empty()) {
+    assembled = solver.AssembleDefault(&assembly);
+  } else {
+    // The named mode's closed-form roots at the assembly inputs, then the runtime's assembly
+    // there on the branch (sign det Phi_phi) those roots give.
+    const typename Model::template ParamsT<double> params;
+    Types::VecQ q = Eigen::Map<const Types::VecQ>(Model::kAssemblyQ.data());
+    typename Types::VecPhi phi = Eigen::Map<const typename Types::VecPhi>(Model::kAssemblyPhi.data());
+    const auto report = Model::Solve(params, q, &phi, named_modes);
+    // Angles as principal values (-pi, pi]: the closed forms keep them near the guess, which
+    // is the default mode's.
+    for (int i = 0; i < Model::kNphi; ++i)
+      if (Model::kPhiIsAngle[i] && std::isfinite(phi(i)))
+        phi(i) = std::remainder(phi(i), 2 * 3.14159265358979323846);
+    double det = 0;
+    if (report.status == decltype(report.status)::kConverged) Model::DetPhiPhi(params, q, phi, &det);
+    if (!(det != 0) || !std::isfinite(det)) {
+      std::cerr << "error: cannot assemble " << Model::kName << " in mode '" << arguments.mode
+                << "' at its assembly inputs (det Phi_phi = " << det << ")\n";
+      return kExitError;
+    }
+    assembled = solver.Assemble(q, phi, det > 0 ? 1 : -1, &assembly);
+  }
+  if (assembled != mechgen::position::Status::kConverged) {
+    std::cerr << "error: cannot assemble " << Model::kName << " at its assembly configuration"
+              << (arguments.mode.empty() ? "" : " in mode '" + arguments.mode + "'") << ": "
               << mechgen::position::FormatSummary(assembly) << "\n";
     return kExitError;
   }

@@ -6,13 +6,14 @@
 #   the cache's tmp/; no compiler (CXX names none): exit 1, one line naming it; a compile
 #   that fails (CXX adds -include of a missing file): exit 1, the compiler's message, no
 #   cache entry; no model: a usage error.
-# usage: sweep_command_test.sh full <mechgen> <source dir> <fourbar_sweep>
+# usage: sweep_command_test.sh full <mechgen> <source dir> <fourbar_sweep> <fourbar_crossed_sweep>
 #   the first run compiles (says so on stderr) and its CSV and SVG are byte-identical to those
 #   of build's fourbar_sweep (the Ceres-assembled <model>_sweep) with the same options, the
 #   table and summary lines too (only the timing line differs); a second run uses the cache
 #   (no "compiling" on stderr, the program's modification time unchanged); the options after
 #   the model (or after "--") reach the driver unchanged, its exit status comes back
-#   (--steps 0: 2); --no-cache leaves no cache; --rebuild compiles again.
+#   (--steps 0: 2); --no-cache leaves no cache; --rebuild compiles again; --mode NAME sweeps a
+#   named assembly mode (against fourbar_crossed_sweep), an unknown name is a usage error.
 set -uo pipefail
 mode=$1 mechgen=$(realpath "$2") source_dir=$(realpath "$3")
 root=$(mktemp -d)
@@ -133,4 +134,30 @@ grep -q "^mechgen: compiling" r.err || fail "--rebuild did not compile: $(cat r.
 [ "$(entries)" -eq 1 ] || fail "--rebuild: $(entries) entries"
 [ -z "$(tmp_left)" ] || fail "--rebuild left $(tmp_left)"
 [ "$failures" -ne "$before" ] || ok "--no-cache, --rebuild"
+
+# Named assembly modes: tests/kinematics/models/fourbar_named_modes.yaml is models/fourbar.yaml
+# with its two modes named; --mode crossed sweeps what the shipped fourbar_crossed_sweep does
+# (the same links assembled crossed): the same CSV. An unknown name is a usage error listing
+# the model's modes; --mode on a model without named modes says so.
+before=$failures
+crossed_tool=$(realpath "$5")
+cp "$source_dir/tests/kinematics/models/fourbar_named_modes.yaml" named.yaml
+mkdir -p m
+"$mechgen" sweep named.yaml --mode crossed --steps 72 --csv m/named.csv --table 0 > m.out 2> m.err
+[ $? -eq 0 ] || fail "--mode crossed: $(cat m.err)"
+(cd m && "$crossed_tool" --steps 72 --csv crossed.csv --table 0 > ../mc.out 2> ../mc.err) ||
+  fail "fourbar_crossed_sweep: $(cat mc.err)"
+cmp m/named.csv m/crossed.csv || fail "--mode crossed: the CSV differs from fourbar_crossed_sweep's"
+"$mechgen" sweep named.yaml --mode open --steps 72 --csv m/open.csv --table 0 > mo.out 2> mo.err ||
+  fail "--mode open: $(cat mo.err)"
+cmp -s m/open.csv m/named.csv && fail "--mode open gave the crossed CSV"
+"$mechgen" sweep named.yaml --mode inverted --steps 4 > mu.out 2> mu.err
+status=$?
+{ [ "$status" -eq 2 ] && grep -q "no assembly mode 'inverted' (its modes: open, crossed)" mu.err; } ||
+  fail "--mode inverted: exit status $status, $(cat mu.err)"
+"$mechgen" sweep fourbar.yaml --mode crossed --steps 4 > mn.out 2> mn.err
+status=$?
+{ [ "$status" -eq 2 ] && grep -q "names no assembly modes" mn.err; } ||
+  fail "--mode on fourbar: exit status $status, $(cat mn.err)"
+[ "$failures" -ne "$before" ] || ok "--mode: a named assembly mode, by name"
 exit $((failures > 0))
