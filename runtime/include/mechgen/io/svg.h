@@ -558,9 +558,19 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
                     "\"/>\n";
         }
       }
+      // Links with a slot first: its white inside must not hide the links that cross it.
+      std::vector<int> order;
+      for (int pass = 0; pass < 2; ++pass)
+        for (int l = 0; l < kLinks; ++l) {
+          bool slotted = false;
+          if constexpr (kDraw)
+            for (int j = 0; j < M::kNumDrawJoints; ++j)
+              slotted = slotted || (M::kDrawJointKind[j] == internal::kDrawPrismatic && M::kDrawJointLinkA[j] == l);
+          if (slotted == (pass == 0)) order.push_back(l);
+        }
       out << "<g id=\"mechanism\">\n";
       for (int layer = 0; layer < 2; ++layer)
-        for (int l = 0; l < kLinks; ++l) {
+        for (int l : order) {
           if (l == ground && layer == 0) continue;
           const std::string s = layer == 0 ? body(0, l, false) : riders(0, l);
           if (s.empty()) continue;
