@@ -31,7 +31,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), follower.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form up to 3 unknowns, by a fixed-size LU above, and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 108 (adds 25, muls 72, divs 1, calls 10); EvalCoefficients 550 (adds 106, muls 428, divs 3, calls 13); EvalDetPhiPhi 46 (adds 8, muls 29, divs 1, calls 8); SolvePositions 78 (adds 15, muls 46, divs 2, calls 15) (per Newton iteration for Newton blocks); EvalScene 1 (adds 1, muls 0, divs 0, calls 0)
+ * Operation counts: EvalPhi 108 (adds 25, muls 72, divs 1, calls 10); EvalCoefficients 550 (adds 106, muls 428, divs 3, calls 13); EvalDetPhiPhi 46 (adds 8, muls 29, divs 1, calls 8); SolvePositions 78 (adds 15, muls 46, divs 2, calls 15) (per Newton iteration for Newton blocks); EvalScene 1 (adds 1, muls 0, divs 0, calls 0); EvalDrawing 1 (adds 0, muls 1, divs 0, calls 0)
  * cam contact: translating roller follower; contour by a periodic cubic spline through 36 points (chord-length parameter u, period 6.275); min radius of curvature where convex 0.9978 at u = 0.004358, concave nowhere
  */
 #pragma once
@@ -585,6 +585,60 @@ void EvalScene(const Params<Scalar>& p,
   (*r)(1, 3) = Scalar(1) + phi(0);
 }
 
+/**
+ * \brief What a drawing needs besides the scene points: every link's frame and the joints'
+ * values (Model::kDrawJointValue).
+ * \param[in]  p       Parameters.
+ * \param[in]  q       Inputs (dim kNq).
+ * \param[in]  phi     Dependent variables (dim kNphi).
+ * \param[out] frames  frames.col(l) = link l's origin x, y and angle theta in the fixed frame; not
+ *                     nullptr (3 x kNumLinks).
+ * \param[out] values  The joints' values (Model::kDrawJointValue); not nullptr (dim
+ *                     kNumDrawValues).
+ */
+template <typename Scalar>
+void EvalDrawing(const Params<Scalar>& p,
+                 const Vec<Scalar, Sizes::kNq>& q,
+                 const Vec<Scalar, Sizes::kNphi>& phi,
+                 Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                 Vec<Scalar, 3>* values) {
+  // Total ops: 1 (adds 0, muls 1, divs 0, calls 0); intermediate terms: 0
+  (*frames)(0, 0) = Scalar(0);
+  (*frames)(1, 0) = Scalar(0);
+  (*frames)(2, 0) = Scalar(0);
+  (*frames)(0, 1) = Scalar(0);
+  (*frames)(1, 1) = Scalar(0);
+  (*frames)(2, 1) = q(0);
+  (*frames)(0, 2) = Scalar(0);
+  (*frames)(1, 2) = phi(0);
+  (*frames)(2, 2) = Scalar(0);
+  (*values)(0) = Scalar(0.5)*Scalar(3.1415926535897931);
+  (*values)(1) = p.rr;
+  (*values)(2) = Scalar(0);
+}
+
+/**
+ * \brief A point of the profile of cam joint `joint` in the cam's frame, at t in [0, 1) along
+ * the profile (counter-clockwise once round; law cams: the contact point at cam angle 2 pi t).
+ * \param[in]  p      Parameters.
+ * \param[in]  joint  The cam joint (index into the model's joints).
+ * \param[in]  t      Where along the profile, in [0, 1).
+ * \param[out] r      The profile's point in the cam's frame; not nullptr.
+ */
+template <typename Scalar>
+void EvalCamProfile(const Params<Scalar>& p,
+                    int joint,
+                    const Scalar& t,
+                    Mat<Scalar, 2, 1>* r) {
+  if (joint == 2) {  // contact
+    const Scalar u = Scalar(6.2752134778344537) * t;
+    (*r)(0) = Contour_contact(p, u, 0, 0);
+    (*r)(1) = Contour_contact(p, u, 1, 0);
+    return;
+  }
+  r->setZero();
+}
+
 #ifndef MECH_CAM_SPLINE_INSTANTIATING
 // Compiled in cam_spline.cc for these scalar types.
 extern template void EvalPhi<double>(const Params<double>&,
@@ -655,6 +709,21 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.O", "cam.O", "follower.C", "follower.T" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 1, 2, 2 };
+  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,
+  /// 2 roll, 3 gear, 4 rack, 5 cam), its two links (Joint::link_a, link_b), its two scene points
+  /// (-1: none; revolute: a, b; prismatic: guide, slider; roll: base point, wheel centre; gear: the
+  /// two gears' axes; rack: the pinion's axis; cam: the cam's pivot, the follower's point), and
+  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed
+  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;
+  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).
+  static constexpr int kNumDrawJoints = 3;
+  static constexpr int kNumDrawValues = 3;
+  static constexpr std::array<int, 3> kDrawJointKind{ 0, 1, 5 };
+  static constexpr std::array<int, 3> kDrawJointLinkA{ 0, 0, 1 };
+  static constexpr std::array<int, 3> kDrawJointLinkB{ 1, 2, 2 };
+  static constexpr std::array<int, 3> kDrawJointPointA{ 0, 0, 1 };
+  static constexpr std::array<int, 3> kDrawJointPointB{ 1, 2, 2 };
+  static constexpr std::array<int, 3> kDrawJointValue{ 0, 0, 1 };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -716,6 +785,21 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void Drawing(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                      Vec<Scalar, 3>* values) {
+    EvalDrawing(p, q, phi, frames, values);
+  }
+  template <typename Scalar>
+  static void CamProfile(const Params<Scalar>& p,
+                         int joint,
+                         const Scalar& t,
+                         Mat<Scalar, 2, 1>* r) {
+    EvalCamProfile(p, joint, t, r);
   }
 };
 

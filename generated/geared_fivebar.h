@@ -32,7 +32,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); EvalCoefficients 110 (adds 32, muls 68, divs 2, calls 8); EvalDetPhiPhi 12 (adds 1, muls 7, divs 0, calls 4); SolvePositions 45 (adds 12, muls 26, divs 2, calls 5) (per Newton iteration for Newton blocks); EvalScene 25 (adds 9, muls 8, divs 0, calls 8)
+ * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); EvalCoefficients 110 (adds 32, muls 68, divs 2, calls 8); EvalDetPhiPhi 12 (adds 1, muls 7, divs 0, calls 4); SolvePositions 45 (adds 12, muls 26, divs 2, calls 5) (per Newton iteration for Newton blocks); EvalScene 25 (adds 9, muls 8, divs 0, calls 8); EvalDrawing 11 (adds 3, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -495,6 +495,45 @@ void EvalScene(const Params<Scalar>& p,
   (*r)(1, 9) = _tmp5;
 }
 
+/**
+ * \brief What a drawing needs besides the scene points: every link's frame and the joints'
+ * values (Model::kDrawJointValue).
+ * \param[in]  p       Parameters.
+ * \param[in]  q       Inputs (dim kNq).
+ * \param[in]  phi     Dependent variables (dim kNphi).
+ * \param[out] frames  frames.col(l) = link l's origin x, y and angle theta in the fixed frame; not
+ *                     nullptr (3 x kNumLinks).
+ * \param[out] values  The joints' values (Model::kDrawJointValue); not nullptr (dim
+ *                     kNumDrawValues).
+ */
+template <typename Scalar>
+void EvalDrawing(const Params<Scalar>& p,
+                 const Vec<Scalar, Sizes::kNq>& q,
+                 const Vec<Scalar, Sizes::kNphi>& phi,
+                 Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                 Vec<Scalar, 2>* values) {
+  // Total ops: 11 (adds 3, muls 4, divs 0, calls 4); intermediate terms: 0
+  using std::cos;
+  using std::sin;
+  (*frames)(0, 0) = Scalar(0);
+  (*frames)(1, 0) = Scalar(0);
+  (*frames)(2, 0) = Scalar(0);
+  (*frames)(0, 1) = Scalar(0);
+  (*frames)(1, 1) = Scalar(0);
+  (*frames)(2, 1) = q(0);
+  (*frames)(0, 2) = cos(q(0))*p.a1;
+  (*frames)(1, 2) = p.a1*sin(q(0));
+  (*frames)(2, 2) = phi(0);
+  (*frames)(0, 3) = cos(phi(2))*p.a4 + p.r1 + p.r2;
+  (*frames)(1, 3) = p.a4*sin(phi(2));
+  (*frames)(2, 3) = phi(1);
+  (*frames)(0, 4) = p.r1 + p.r2;
+  (*frames)(1, 4) = Scalar(0);
+  (*frames)(2, 4) = phi(2);
+  (*values)(0) = p.r1;
+  (*values)(1) = p.r2;
+}
+
 #ifndef MECH_GEARED_FIVEBAR_INSTANTIATING
 // Compiled in geared_fivebar.cc for these scalar types.
 extern template void EvalPhi<double>(const Params<double>&,
@@ -565,6 +604,21 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.A", "ground.E", "crank1.A", "crank1.B", "link1.B", "link1.C", "link2.D", "link2.C", "crank2.E", "crank2.D" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 1, 1, 2, 2, 3, 3, 4, 4 };
+  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,
+  /// 2 roll, 3 gear, 4 rack, 5 cam), its two links (Joint::link_a, link_b), its two scene points
+  /// (-1: none; revolute: a, b; prismatic: guide, slider; roll: base point, wheel centre; gear: the
+  /// two gears' axes; rack: the pinion's axis; cam: the cam's pivot, the follower's point), and
+  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed
+  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;
+  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).
+  static constexpr int kNumDrawJoints = 6;
+  static constexpr int kNumDrawValues = 2;
+  static constexpr std::array<int, 6> kDrawJointKind{ 0, 0, 0, 0, 0, 3 };
+  static constexpr std::array<int, 6> kDrawJointLinkA{ 0, 1, 2, 3, 4, 1 };
+  static constexpr std::array<int, 6> kDrawJointLinkB{ 1, 2, 3, 4, 0, 4 };
+  static constexpr std::array<int, 6> kDrawJointPointA{ 0, 3, 5, 6, 8, 2 };
+  static constexpr std::array<int, 6> kDrawJointPointB{ 2, 4, 7, 9, 1, 8 };
+  static constexpr std::array<int, 6> kDrawJointValue{ 0, 0, 0, 0, 0, 0 };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -626,6 +680,14 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void Drawing(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                      Vec<Scalar, 2>* values) {
+    EvalDrawing(p, q, phi, frames, values);
   }
 };
 

@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), planet.M.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 13 (adds 7, muls 6, divs 0, calls 0); EvalCoefficients 87 (adds 26, muls 56, divs 1, calls 4); EvalDetPhiPhi 3 (adds 1, muls 2, divs 0, calls 0); SolvePositions 11 (adds 3, muls 7, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalScene 24 (adds 6, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 13 (adds 7, muls 6, divs 0, calls 0); EvalCoefficients 87 (adds 26, muls 56, divs 1, calls 4); EvalDetPhiPhi 3 (adds 1, muls 2, divs 0, calls 0); SolvePositions 11 (adds 3, muls 7, divs 1, calls 0) (per Newton iteration for Newton blocks); EvalScene 24 (adds 6, muls 12, divs 0, calls 6); EvalDrawing 8 (adds 2, muls 4, divs 0, calls 2)
  */
 #pragma once
 
@@ -387,6 +387,46 @@ void EvalScene(const Params<Scalar>& p,
   (*r)(1, 6) = _tmp2*p.rp + _tmp2*p.rs + p.rp*sin(phi(1));
 }
 
+/**
+ * \brief What a drawing needs besides the scene points: every link's frame and the joints'
+ * values (Model::kDrawJointValue).
+ * \param[in]  p       Parameters.
+ * \param[in]  q       Inputs (dim kNq).
+ * \param[in]  phi     Dependent variables (dim kNphi).
+ * \param[out] frames  frames.col(l) = link l's origin x, y and angle theta in the fixed frame; not
+ *                     nullptr (3 x kNumLinks).
+ * \param[out] values  The joints' values (Model::kDrawJointValue); not nullptr (dim
+ *                     kNumDrawValues).
+ */
+template <typename Scalar>
+void EvalDrawing(const Params<Scalar>& p,
+                 const Vec<Scalar, Sizes::kNq>& q,
+                 const Vec<Scalar, Sizes::kNphi>& phi,
+                 Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                 Vec<Scalar, 4>* values) {
+  // Total ops: 8 (adds 2, muls 4, divs 0, calls 2); intermediate terms: 2
+  using std::cos;
+  using std::sin;
+  const Scalar _tmp0 = cos(phi(0));
+  const Scalar _tmp1 = sin(phi(0));
+  (*frames)(0, 0) = Scalar(0);
+  (*frames)(1, 0) = Scalar(0);
+  (*frames)(2, 0) = Scalar(0);
+  (*frames)(0, 1) = Scalar(0);
+  (*frames)(1, 1) = Scalar(0);
+  (*frames)(2, 1) = q(0);
+  (*frames)(0, 2) = Scalar(0);
+  (*frames)(1, 2) = Scalar(0);
+  (*frames)(2, 2) = phi(0);
+  (*frames)(0, 3) = _tmp0*p.rp + _tmp0*p.rs;
+  (*frames)(1, 3) = _tmp1*p.rp + _tmp1*p.rs;
+  (*frames)(2, 3) = phi(1);
+  (*values)(0) = p.rs;
+  (*values)(1) = p.rp;
+  (*values)(2) = p.rp;
+  (*values)(3) = p.rr;
+}
+
 #ifndef MECH_PLANETARY_INSTANTIATING
 // Compiled in planetary.cc for these scalar types.
 extern template void EvalPhi<double>(const Params<double>&,
@@ -457,6 +497,21 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.O", "sun.O", "sun.S", "arm.O", "arm.P", "planet.P", "planet.M" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 1, 1, 2, 2, 3, 3 };
+  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,
+  /// 2 roll, 3 gear, 4 rack, 5 cam), its two links (Joint::link_a, link_b), its two scene points
+  /// (-1: none; revolute: a, b; prismatic: guide, slider; roll: base point, wheel centre; gear: the
+  /// two gears' axes; rack: the pinion's axis; cam: the cam's pivot, the follower's point), and
+  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed
+  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;
+  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).
+  static constexpr int kNumDrawJoints = 5;
+  static constexpr int kNumDrawValues = 4;
+  static constexpr std::array<int, 5> kDrawJointKind{ 0, 0, 0, 3, 3 };
+  static constexpr std::array<int, 5> kDrawJointLinkA{ 0, 0, 2, 1, 3 };
+  static constexpr std::array<int, 5> kDrawJointLinkB{ 1, 2, 3, 3, 0 };
+  static constexpr std::array<int, 5> kDrawJointPointA{ 0, 0, 4, 1, 5 };
+  static constexpr std::array<int, 5> kDrawJointPointB{ 1, 3, 5, 5, 0 };
+  static constexpr std::array<int, 5> kDrawJointValue{ 0, 0, 0, 0, 2 };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -518,6 +573,14 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void Drawing(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                      Vec<Scalar, 4>* values) {
+    EvalDrawing(p, q, phi, frames, values);
   }
 };
 

@@ -36,7 +36,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), ram.C.
  * Linear systems: Phi_phi is block lower triangular with 3 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 25 (adds 7, muls 12, divs 0, calls 6); EvalCoefficients 101 (adds 22, muls 70, divs 3, calls 6); EvalDetPhiPhi 11 (adds 1, muls 7, divs 0, calls 3); SolvePositions 38 (adds 7, muls 20, divs 3, calls 8) (per Newton iteration for Newton blocks); EvalScene 17 (adds 5, muls 6, divs 0, calls 6)
+ * Operation counts: EvalPhi 25 (adds 7, muls 12, divs 0, calls 6); EvalCoefficients 101 (adds 22, muls 70, divs 3, calls 6); EvalDetPhiPhi 11 (adds 1, muls 7, divs 0, calls 3); SolvePositions 38 (adds 7, muls 20, divs 3, calls 8) (per Newton iteration for Newton blocks); EvalScene 17 (adds 5, muls 6, divs 0, calls 6); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -508,6 +508,48 @@ void EvalScene(const Params<Scalar>& p,
   (*r)(1, 11) = -Scalar(0.29999999999999999) + p.h;
 }
 
+/**
+ * \brief What a drawing needs besides the scene points: every link's frame and the joints'
+ * values (Model::kDrawJointValue).
+ * \param[in]  p       Parameters.
+ * \param[in]  q       Inputs (dim kNq).
+ * \param[in]  phi     Dependent variables (dim kNphi).
+ * \param[out] frames  frames.col(l) = link l's origin x, y and angle theta in the fixed frame; not
+ *                     nullptr (3 x kNumLinks).
+ * \param[out] values  The joints' values (Model::kDrawJointValue); not nullptr (dim
+ *                     kNumDrawValues).
+ */
+template <typename Scalar>
+void EvalDrawing(const Params<Scalar>& p,
+                 const Vec<Scalar, Sizes::kNq>& q,
+                 const Vec<Scalar, Sizes::kNphi>& phi,
+                 Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                 Vec<Scalar, 2>* values) {
+  // Total ops: 9 (adds 1, muls 4, divs 0, calls 4); intermediate terms: 0
+  using std::cos;
+  using std::sin;
+  (*frames)(0, 0) = Scalar(0);
+  (*frames)(1, 0) = Scalar(0);
+  (*frames)(2, 0) = Scalar(0);
+  (*frames)(0, 1) = Scalar(0);
+  (*frames)(1, 1) = p.d;
+  (*frames)(2, 1) = q(0);
+  (*frames)(0, 2) = Scalar(0);
+  (*frames)(1, 2) = Scalar(0);
+  (*frames)(2, 2) = phi(0);
+  (*frames)(0, 3) = cos(q(0))*p.r;
+  (*frames)(1, 3) = p.d + p.r*sin(q(0));
+  (*frames)(2, 3) = phi(0);
+  (*frames)(0, 4) = cos(phi(0))*p.L;
+  (*frames)(1, 4) = p.L*sin(phi(0));
+  (*frames)(2, 4) = phi(1);
+  (*frames)(0, 5) = phi(3);
+  (*frames)(1, 5) = p.h;
+  (*frames)(2, 5) = Scalar(0);
+  (*values)(0) = phi(0);
+  (*values)(1) = Scalar(0);
+}
+
 #ifndef MECH_QUICK_RETURN_INSTANTIATING
 // Compiled in quick_return.cc for these scalar types.
 extern template void EvalPhi<double>(const Params<double>&,
@@ -578,6 +620,21 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.O4", "ground.O2", "ground.R", "crank.O2", "crank.A", "rocker.O4", "rocker.B", "block.A", "link.B", "link.C", "ram.C", "ram.T" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 0, 1, 1, 2, 2, 3, 4, 4, 5, 5 };
+  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,
+  /// 2 roll, 3 gear, 4 rack, 5 cam), its two links (Joint::link_a, link_b), its two scene points
+  /// (-1: none; revolute: a, b; prismatic: guide, slider; roll: base point, wheel centre; gear: the
+  /// two gears' axes; rack: the pinion's axis; cam: the cam's pivot, the follower's point), and
+  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed
+  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;
+  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).
+  static constexpr int kNumDrawJoints = 7;
+  static constexpr int kNumDrawValues = 2;
+  static constexpr std::array<int, 7> kDrawJointKind{ 0, 0, 1, 0, 0, 0, 1 };
+  static constexpr std::array<int, 7> kDrawJointLinkA{ 0, 1, 2, 0, 2, 4, 0 };
+  static constexpr std::array<int, 7> kDrawJointLinkB{ 1, 3, 3, 2, 4, 5, 5 };
+  static constexpr std::array<int, 7> kDrawJointPointA{ 1, 4, 5, 0, 6, 9, 2 };
+  static constexpr std::array<int, 7> kDrawJointPointB{ 3, 7, 7, 5, 8, 10, 10 };
+  static constexpr std::array<int, 7> kDrawJointValue{ 0, 0, 0, 1, 1, 1, 1 };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -639,6 +696,14 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void Drawing(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                      Vec<Scalar, 2>* values) {
+    EvalDrawing(p, q, phi, frames, values);
   }
 };
 

@@ -25,7 +25,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), wheel.P, roll.contact.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 2 (adds 1, muls 1, divs 0, calls 0); EvalCoefficients 16 (adds 5, muls 8, divs 1, calls 2); EvalDetPhiPhi 0 (adds 0, muls 0, divs 0, calls 0); SolvePositions 1 (adds 0, muls 1, divs 0, calls 0) (per Newton iteration for Newton blocks); EvalScene 6 (adds 2, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 2 (adds 1, muls 1, divs 0, calls 0); EvalCoefficients 16 (adds 5, muls 8, divs 1, calls 2); EvalDetPhiPhi 0 (adds 0, muls 0, divs 0, calls 0); SolvePositions 1 (adds 0, muls 1, divs 0, calls 0) (per Newton iteration for Newton blocks); EvalScene 6 (adds 2, muls 2, divs 0, calls 2); EvalDrawing 0 (adds 0, muls 0, divs 0, calls 0)
  */
 #pragma once
 
@@ -336,6 +336,35 @@ void EvalScene(const Params<Scalar>& p,
   (*r)(1, 3) = Scalar(0);
 }
 
+/**
+ * \brief What a drawing needs besides the scene points: every link's frame and the joints'
+ * values (Model::kDrawJointValue).
+ * \param[in]  p       Parameters.
+ * \param[in]  q       Inputs (dim kNq).
+ * \param[in]  phi     Dependent variables (dim kNphi).
+ * \param[out] frames  frames.col(l) = link l's origin x, y and angle theta in the fixed frame; not
+ *                     nullptr (3 x kNumLinks).
+ * \param[out] values  The joints' values (Model::kDrawJointValue); not nullptr (dim
+ *                     kNumDrawValues).
+ */
+template <typename Scalar>
+void EvalDrawing(const Params<Scalar>& p,
+                 const Vec<Scalar, Sizes::kNq>& q,
+                 const Vec<Scalar, Sizes::kNphi>& phi,
+                 Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                 Vec<Scalar, 3>* values) {
+  // Total ops: 0 (adds 0, muls 0, divs 0, calls 0); intermediate terms: 0
+  (*frames)(0, 0) = Scalar(0);
+  (*frames)(1, 0) = Scalar(0);
+  (*frames)(2, 0) = Scalar(0);
+  (*frames)(0, 1) = phi(0);
+  (*frames)(1, 1) = p.r;
+  (*frames)(2, 1) = q(0);
+  (*values)(0) = p.r;
+  (*values)(1) = Scalar(0);
+  (*values)(2) = Scalar(0);
+}
+
 #ifndef MECH_ROLLING_WHEEL_INSTANTIATING
 // Compiled in rolling_wheel.cc for these scalar types.
 extern template void EvalPhi<double>(const Params<double>&,
@@ -406,6 +435,21 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.G", "wheel.C", "wheel.P", "roll.contact" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 1, 1, 1 };
+  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,
+  /// 2 roll, 3 gear, 4 rack, 5 cam), its two links (Joint::link_a, link_b), its two scene points
+  /// (-1: none; revolute: a, b; prismatic: guide, slider; roll: base point, wheel centre; gear: the
+  /// two gears' axes; rack: the pinion's axis; cam: the cam's pivot, the follower's point), and
+  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed
+  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;
+  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).
+  static constexpr int kNumDrawJoints = 1;
+  static constexpr int kNumDrawValues = 3;
+  static constexpr std::array<int, 1> kDrawJointKind{ 2 };
+  static constexpr std::array<int, 1> kDrawJointLinkA{ 0 };
+  static constexpr std::array<int, 1> kDrawJointLinkB{ 1 };
+  static constexpr std::array<int, 1> kDrawJointPointA{ 0 };
+  static constexpr std::array<int, 1> kDrawJointPointB{ 1 };
+  static constexpr std::array<int, 1> kDrawJointValue{ 0 };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -467,6 +511,14 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void Drawing(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                      Vec<Scalar, 3>* values) {
+    EvalDrawing(p, q, phi, frames, values);
   }
 };
 

@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 33 (adds 13, muls 14, divs 2, calls 4); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 33 (adds 13, muls 14, divs 2, calls 4); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -529,6 +529,41 @@ void EvalScene(const Params<Scalar>& p,
   (*r)(1, 6) = Scalar(0);
 }
 
+/**
+ * \brief What a drawing needs besides the scene points: every link's frame and the joints'
+ * values (Model::kDrawJointValue).
+ * \param[in]  p       Parameters.
+ * \param[in]  q       Inputs (dim kNq).
+ * \param[in]  phi     Dependent variables (dim kNphi).
+ * \param[out] frames  frames.col(l) = link l's origin x, y and angle theta in the fixed frame; not
+ *                     nullptr (3 x kNumLinks).
+ * \param[out] values  The joints' values (Model::kDrawJointValue); not nullptr (dim
+ *                     kNumDrawValues).
+ */
+template <typename Scalar>
+void EvalDrawing(const Params<Scalar>& p,
+                 const Vec<Scalar, Sizes::kNq>& q,
+                 const Vec<Scalar, Sizes::kNphi>& phi,
+                 Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                 Vec<Scalar, 1>* values) {
+  // Total ops: 4 (adds 0, muls 2, divs 0, calls 2); intermediate terms: 0
+  using std::cos;
+  using std::sin;
+  (*frames)(0, 0) = Scalar(0);
+  (*frames)(1, 0) = Scalar(0);
+  (*frames)(2, 0) = Scalar(0);
+  (*frames)(0, 1) = Scalar(0);
+  (*frames)(1, 1) = Scalar(0);
+  (*frames)(2, 1) = q(0);
+  (*frames)(0, 2) = cos(q(0))*p.a;
+  (*frames)(1, 2) = p.a*sin(q(0));
+  (*frames)(2, 2) = phi(0);
+  (*frames)(0, 3) = phi(1);
+  (*frames)(1, 3) = Scalar(0);
+  (*frames)(2, 3) = Scalar(0);
+  (*values)(0) = Scalar(0);
+}
+
 #ifndef MECH_SLIDER_CRANK_FRICTION_INSTANTIATING
 // Compiled in slider_crank_friction.cc for these scalar types.
 extern template void EvalPhi<double>(const Params<double>&,
@@ -613,6 +648,21 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.O", "ground.S", "crank.O", "crank.B", "rod.B", "rod.C", "piston.C" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 1, 1, 2, 2, 3 };
+  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,
+  /// 2 roll, 3 gear, 4 rack, 5 cam), its two links (Joint::link_a, link_b), its two scene points
+  /// (-1: none; revolute: a, b; prismatic: guide, slider; roll: base point, wheel centre; gear: the
+  /// two gears' axes; rack: the pinion's axis; cam: the cam's pivot, the follower's point), and
+  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed
+  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;
+  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).
+  static constexpr int kNumDrawJoints = 4;
+  static constexpr int kNumDrawValues = 1;
+  static constexpr std::array<int, 4> kDrawJointKind{ 0, 0, 0, 1 };
+  static constexpr std::array<int, 4> kDrawJointLinkA{ 0, 1, 2, 0 };
+  static constexpr std::array<int, 4> kDrawJointLinkB{ 1, 2, 3, 3 };
+  static constexpr std::array<int, 4> kDrawJointPointA{ 0, 3, 5, 1 };
+  static constexpr std::array<int, 4> kDrawJointPointB{ 2, 4, 6, 6 };
+  static constexpr std::array<int, 4> kDrawJointValue{ 0, 0, 0, 0 };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -706,6 +756,14 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void Drawing(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                      Vec<Scalar, 1>* values) {
+    EvalDrawing(p, q, phi, frames, values);
   }
 };
 

@@ -34,7 +34,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), T2.Ea.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 4 unknowns; each block's system is solved in closed form up to 3 unknowns, by a fixed-size LU above, and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 74 (adds 32, muls 32, divs 0, calls 10); EvalCoefficients 178 (adds 68, muls 100, divs 0, calls 10); EvalDetPhiPhi 34 (adds 8, muls 18, divs 0, calls 8); SolvePositions 74 (adds 32, muls 32, divs 0, calls 10) (per Newton iteration for Newton blocks); EvalScene 62 (adds 28, muls 24, divs 0, calls 10)
+ * Operation counts: EvalPhi 74 (adds 32, muls 32, divs 0, calls 10); EvalCoefficients 178 (adds 68, muls 100, divs 0, calls 10); EvalDetPhiPhi 34 (adds 8, muls 18, divs 0, calls 8); SolvePositions 74 (adds 32, muls 32, divs 0, calls 10) (per Newton iteration for Newton blocks); EvalScene 62 (adds 28, muls 24, divs 0, calls 10); EvalDrawing 30 (adds 12, muls 10, divs 0, calls 8)
  */
 #pragma once
 
@@ -552,6 +552,49 @@ void EvalScene(const Params<Scalar>& p,
   (*r)(1, 13) = _tmp9;
 }
 
+/**
+ * \brief What a drawing needs besides the scene points: every link's frame and the joints'
+ * values (Model::kDrawJointValue).
+ * \param[in]  p       Parameters.
+ * \param[in]  q       Inputs (dim kNq).
+ * \param[in]  phi     Dependent variables (dim kNphi).
+ * \param[out] frames  frames.col(l) = link l's origin x, y and angle theta in the fixed frame; not
+ *                     nullptr (3 x kNumLinks).
+ * \param[out] values  The joints' values (Model::kDrawJointValue); not nullptr (dim
+ *                     kNumDrawValues).
+ */
+template <typename Scalar>
+void EvalDrawing(const Params<Scalar>& p,
+                 const Vec<Scalar, Sizes::kNq>& q,
+                 const Vec<Scalar, Sizes::kNphi>& phi,
+                 Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                 Vec<Scalar, 1>* values) {
+  // Total ops: 30 (adds 12, muls 10, divs 0, calls 8); intermediate terms: 2
+  using std::cos;
+  using std::sin;
+  const Scalar _tmp0 = cos(phi(3));
+  const Scalar _tmp1 = sin(phi(3));
+  (*frames)(0, 0) = Scalar(0);
+  (*frames)(1, 0) = Scalar(0);
+  (*frames)(2, 0) = Scalar(0);
+  (*frames)(0, 1) = Scalar(0);
+  (*frames)(1, 1) = Scalar(0);
+  (*frames)(2, 1) = q(0);
+  (*frames)(0, 2) = cos(q(0));
+  (*frames)(1, 2) = sin(q(0));
+  (*frames)(2, 2) = phi(0);
+  (*frames)(0, 3) = -Scalar(1.3)*_tmp0 - Scalar(1.8999999999999999)*_tmp1 - cos(phi(1))*p.la + p.x1;
+  (*frames)(1, 3) = -Scalar(1.3)*_tmp1 + Scalar(1.8999999999999999)*_tmp0 - p.la*sin(phi(1)) + p.y1;
+  (*frames)(2, 3) = phi(1);
+  (*frames)(0, 4) = Scalar(0.94999999999999996)*_tmp1 - _tmp0 - cos(phi(2))*p.lb + p.x1;
+  (*frames)(1, 4) = -Scalar(0.94999999999999996)*_tmp0 - _tmp1 - p.lb*sin(phi(2)) + p.y1;
+  (*frames)(2, 4) = phi(2);
+  (*frames)(0, 5) = p.x1;
+  (*frames)(1, 5) = p.y1;
+  (*frames)(2, 5) = phi(3);
+  (*values)(0) = Scalar(0);
+}
+
 #ifndef MECH_STEPHENSON_COUPLED_INSTANTIATING
 // Compiled in stephenson_coupled.cc for these scalar types.
 extern template void EvalPhi<double>(const Params<double>&,
@@ -622,6 +665,21 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.O", "ground.P1", "crank.O", "crank.D", "T2.D", "T2.Ea", "T2.Eb", "a.Ea", "a.Fa", "b.Eb", "b.Fb", "T1.P1", "T1.Fa", "T1.Fb" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 1, 1, 2, 2, 2, 3, 3, 4, 4, 5, 5, 5 };
+  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,
+  /// 2 roll, 3 gear, 4 rack, 5 cam), its two links (Joint::link_a, link_b), its two scene points
+  /// (-1: none; revolute: a, b; prismatic: guide, slider; roll: base point, wheel centre; gear: the
+  /// two gears' axes; rack: the pinion's axis; cam: the cam's pivot, the follower's point), and
+  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed
+  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;
+  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).
+  static constexpr int kNumDrawJoints = 7;
+  static constexpr int kNumDrawValues = 1;
+  static constexpr std::array<int, 7> kDrawJointKind{ 0, 0, 0, 0, 0, 0, 0 };
+  static constexpr std::array<int, 7> kDrawJointLinkA{ 0, 1, 2, 2, 3, 4, 0 };
+  static constexpr std::array<int, 7> kDrawJointLinkB{ 1, 2, 3, 4, 5, 5, 5 };
+  static constexpr std::array<int, 7> kDrawJointPointA{ 0, 3, 5, 6, 8, 10, 1 };
+  static constexpr std::array<int, 7> kDrawJointPointB{ 2, 4, 7, 9, 12, 13, 11 };
+  static constexpr std::array<int, 7> kDrawJointValue{ 0, 0, 0, 0, 0, 0, 0 };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -683,6 +741,14 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void Drawing(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                      Vec<Scalar, 1>* values) {
+    EvalDrawing(p, q, phi, frames, values);
   }
 };
 

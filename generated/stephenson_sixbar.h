@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.E, coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 81 (adds 23, muls 50, divs 2, calls 6) (per Newton iteration for Newton blocks); SolvePositionsTrig 91 (adds 23, muls 58, divs 6, calls 4); EvalScene 37 (adds 13, muls 14, divs 0, calls 10)
+ * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 81 (adds 23, muls 50, divs 2, calls 6) (per Newton iteration for Newton blocks); SolvePositionsTrig 91 (adds 23, muls 58, divs 6, calls 4); EvalScene 37 (adds 13, muls 14, divs 0, calls 10); EvalDrawing 16 (adds 4, muls 6, divs 0, calls 6)
  */
 #pragma once
 
@@ -745,6 +745,47 @@ void EvalScene(const Params<Scalar>& p,
   (*r)(1, 13) = _tmp7;
 }
 
+/**
+ * \brief What a drawing needs besides the scene points: every link's frame and the joints'
+ * values (Model::kDrawJointValue).
+ * \param[in]  p       Parameters.
+ * \param[in]  q       Inputs (dim kNq).
+ * \param[in]  phi     Dependent variables (dim kNphi).
+ * \param[out] frames  frames.col(l) = link l's origin x, y and angle theta in the fixed frame; not
+ *                     nullptr (3 x kNumLinks).
+ * \param[out] values  The joints' values (Model::kDrawJointValue); not nullptr (dim
+ *                     kNumDrawValues).
+ */
+template <typename Scalar>
+void EvalDrawing(const Params<Scalar>& p,
+                 const Vec<Scalar, Sizes::kNq>& q,
+                 const Vec<Scalar, Sizes::kNphi>& phi,
+                 Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                 Vec<Scalar, 1>* values) {
+  // Total ops: 16 (adds 4, muls 6, divs 0, calls 6); intermediate terms: 0
+  using std::cos;
+  using std::sin;
+  (*frames)(0, 0) = Scalar(0);
+  (*frames)(1, 0) = Scalar(0);
+  (*frames)(2, 0) = Scalar(0);
+  (*frames)(0, 1) = Scalar(0);
+  (*frames)(1, 1) = Scalar(0);
+  (*frames)(2, 1) = q(0);
+  (*frames)(0, 2) = cos(q(0))*p.a;
+  (*frames)(1, 2) = p.a*sin(q(0));
+  (*frames)(2, 2) = phi(0);
+  (*frames)(0, 3) = p.g;
+  (*frames)(1, 3) = Scalar(0);
+  (*frames)(2, 3) = phi(1);
+  (*frames)(0, 4) = -cos(phi(2))*p.f + cos(phi(3))*p.o + p.x6;
+  (*frames)(1, 4) = -p.f*sin(phi(2)) + p.o*sin(phi(3)) + p.y6;
+  (*frames)(2, 4) = phi(2);
+  (*frames)(0, 5) = p.x6;
+  (*frames)(1, 5) = p.y6;
+  (*frames)(2, 5) = phi(3);
+  (*values)(0) = Scalar(0);
+}
+
 #ifndef MECH_STEPHENSON_SIXBAR_INSTANTIATING
 // Compiled in stephenson_sixbar.cc for these scalar types.
 extern template void EvalPhi<double>(const Params<double>&,
@@ -831,6 +872,21 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.O2", "ground.O4", "ground.O6", "crank.O2", "crank.B", "coupler.B", "coupler.C", "coupler.P", "rocker.O4", "rocker.C", "link5.P", "link5.E", "output.O6", "output.E" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 0, 1, 1, 2, 2, 2, 3, 3, 4, 4, 5, 5 };
+  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,
+  /// 2 roll, 3 gear, 4 rack, 5 cam), its two links (Joint::link_a, link_b), its two scene points
+  /// (-1: none; revolute: a, b; prismatic: guide, slider; roll: base point, wheel centre; gear: the
+  /// two gears' axes; rack: the pinion's axis; cam: the cam's pivot, the follower's point), and
+  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed
+  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;
+  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).
+  static constexpr int kNumDrawJoints = 7;
+  static constexpr int kNumDrawValues = 1;
+  static constexpr std::array<int, 7> kDrawJointKind{ 0, 0, 0, 0, 0, 0, 0 };
+  static constexpr std::array<int, 7> kDrawJointLinkA{ 0, 1, 2, 0, 2, 4, 0 };
+  static constexpr std::array<int, 7> kDrawJointLinkB{ 1, 2, 3, 3, 4, 5, 5 };
+  static constexpr std::array<int, 7> kDrawJointPointA{ 0, 4, 6, 1, 7, 11, 2 };
+  static constexpr std::array<int, 7> kDrawJointPointB{ 3, 5, 9, 8, 10, 13, 12 };
+  static constexpr std::array<int, 7> kDrawJointValue{ 0, 0, 0, 0, 0, 0, 0 };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{ "C" };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -906,6 +962,14 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void Drawing(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                      Vec<Scalar, 1>* values) {
+    EvalDrawing(p, q, phi, frames, values);
   }
 };
 

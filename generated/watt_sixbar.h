@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 84 (adds 22, muls 52, divs 2, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 84 (adds 22, muls 52, divs 2, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -753,6 +753,51 @@ void EvalScene(const Params<Scalar>& p,
   (*r)(1, 13) = p.o*sin(phi(3)) + p.y6;
 }
 
+/**
+ * \brief What a drawing needs besides the scene points: every link's frame and the joints'
+ * values (Model::kDrawJointValue).
+ * \param[in]  p       Parameters.
+ * \param[in]  q       Inputs (dim kNq).
+ * \param[in]  phi     Dependent variables (dim kNphi).
+ * \param[out] frames  frames.col(l) = link l's origin x, y and angle theta in the fixed frame; not
+ *                     nullptr (3 x kNumLinks).
+ * \param[out] values  The joints' values (Model::kDrawJointValue); not nullptr (dim
+ *                     kNumDrawValues).
+ */
+template <typename Scalar>
+void EvalDrawing(const Params<Scalar>& p,
+                 const Vec<Scalar, Sizes::kNq>& q,
+                 const Vec<Scalar, Sizes::kNphi>& phi,
+                 Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                 Vec<Scalar, 1>* values) {
+  // Total ops: 19 (adds 3, muls 10, divs 0, calls 6); intermediate terms: 4
+  using std::cos;
+  using std::sin;
+  const Scalar _tmp0 = sin(p.beta);
+  const Scalar _tmp1 = sin(phi(1));
+  const Scalar _tmp2 = cos(p.beta);
+  const Scalar _tmp3 = cos(phi(1));
+  (*frames)(0, 0) = Scalar(0);
+  (*frames)(1, 0) = Scalar(0);
+  (*frames)(2, 0) = Scalar(0);
+  (*frames)(0, 1) = Scalar(0);
+  (*frames)(1, 1) = Scalar(0);
+  (*frames)(2, 1) = q(0);
+  (*frames)(0, 2) = cos(q(0))*p.a;
+  (*frames)(1, 2) = p.a*sin(q(0));
+  (*frames)(2, 2) = phi(0);
+  (*frames)(0, 3) = p.g;
+  (*frames)(1, 3) = Scalar(0);
+  (*frames)(2, 3) = phi(1);
+  (*frames)(0, 4) = -_tmp0*_tmp1*p.e + _tmp2*_tmp3*p.e + p.g;
+  (*frames)(1, 4) = _tmp0*_tmp3*p.e + _tmp1*_tmp2*p.e;
+  (*frames)(2, 4) = phi(2);
+  (*frames)(0, 5) = p.x6;
+  (*frames)(1, 5) = p.y6;
+  (*frames)(2, 5) = phi(3);
+  (*values)(0) = Scalar(0);
+}
+
 #ifndef MECH_WATT_SIXBAR_INSTANTIATING
 // Compiled in watt_sixbar.cc for these scalar types.
 extern template void EvalPhi<double>(const Params<double>&,
@@ -839,6 +884,21 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.O2", "ground.O4", "ground.O6", "crank.O2", "crank.B", "coupler.B", "coupler.C", "rocker.O4", "rocker.C", "rocker.E", "link5.E", "link5.F", "output.O6", "output.F" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 0, 1, 1, 2, 2, 3, 3, 3, 4, 4, 5, 5 };
+  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,
+  /// 2 roll, 3 gear, 4 rack, 5 cam), its two links (Joint::link_a, link_b), its two scene points
+  /// (-1: none; revolute: a, b; prismatic: guide, slider; roll: base point, wheel centre; gear: the
+  /// two gears' axes; rack: the pinion's axis; cam: the cam's pivot, the follower's point), and
+  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed
+  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;
+  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).
+  static constexpr int kNumDrawJoints = 7;
+  static constexpr int kNumDrawValues = 1;
+  static constexpr std::array<int, 7> kDrawJointKind{ 0, 0, 0, 0, 0, 0, 0 };
+  static constexpr std::array<int, 7> kDrawJointLinkA{ 0, 1, 2, 0, 3, 4, 0 };
+  static constexpr std::array<int, 7> kDrawJointLinkB{ 1, 2, 3, 3, 4, 5, 5 };
+  static constexpr std::array<int, 7> kDrawJointPointA{ 0, 4, 6, 1, 9, 11, 2 };
+  static constexpr std::array<int, 7> kDrawJointPointB{ 3, 5, 8, 7, 10, 13, 12 };
+  static constexpr std::array<int, 7> kDrawJointValue{ 0, 0, 0, 0, 0, 0, 0 };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{ "C", "F" };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -914,6 +974,14 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void Drawing(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                      Vec<Scalar, 1>* values) {
+    EvalDrawing(p, q, phi, frames, values);
   }
 };
 

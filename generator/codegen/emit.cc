@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "codegen/drawing.h"
 #include "codegen/sha256.h"
 #include "symbolic/statics.h"
 
@@ -545,6 +546,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("ground_index", m.ground);
   data.Set("scene_point_names", Join(k.scene_names, Quote));
   data.Set("scene_point_links", Join(k.scene_link, [](int l) { return std::to_string(l); }));
+  data.Set("drawing_constants", DrawingConstants(m, k));
   data.Set("assembly_q", numbers(k.assembly_q));
   data.Set("assembly_phi", numbers(k.assembly_phi));
   data.Set("q_min", numbers(k.q_min));

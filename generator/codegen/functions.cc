@@ -1,6 +1,8 @@
 // Builders of the generated functions. See functions.h.
 #include "codegen/functions.h"
 
+#include "codegen/drawing.h"
+
 #include <cctype>
 #include <set>
 
@@ -472,6 +474,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
     out.push_back(rhs_spec);
   }
   if (m.outputs.scene && !k.scene.empty()) out.push_back(EvalSceneSpec(k));
+  for (const FunctionSpec& f : DrawingFunctions(m, k, printer)) out.push_back(f);
   return out;
 }
 

@@ -1,20 +1,34 @@
 /**
  * \file io/svg.h
- * An SVG drawing of a sweep: the mechanism at a few configurations (the links through each
- * link's scene points, Model::Scene), the traced paths of its points (the coupler curve),
- * the ground pivots, plus one animated (SMIL) copy running through the whole sweep.
- * Allocates; runs after the sweep.
+ * An SVG drawing of a sweep: the mechanism at a few configurations, the traced paths of its
+ * requested points with a legend, a scale bar and the axes, plus one animated (SMIL) copy
+ * running through the whole sweep whose still image (static renderers, rsvg-convert) is the
+ * first configuration.
+ *
+ * What is drawn comes from the generated drawing description (Model::kDrawJoint*,
+ * Model::Drawing, Model::CamProfile; models generated without it get bars and plates only):
+ * a link with two points is a bar between them, with more a filled plate (their convex
+ * hull); a pin is a small circle, a pin to the ground a hatched pivot; a prismatic joint a
+ * block on the slider link over its guide (rails on the ground, a slot in a moving guide,
+ * as long as the slider travels); gears their pitch circles (with spokes, so that they are
+ * seen to turn), a rolling wheel its circle on its line or circle, a cam its profile and its
+ * follower's roller or face. Every moving link is drawn once in its own frame and moved by
+ * animateTransform. Allocates; runs after the sweep.
  */
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <limits>
 #include <ostream>
 #include <string>
+#include <type_traits>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "mechgen/io/format.h"
 #include "mechgen/sweep/sweep.h"
@@ -26,6 +40,55 @@ namespace internal {
 inline const char* ShortName(const char* name) {
   const char* dot = std::strrchr(name, '.');
   return dot != nullptr ? dot + 1 : name;
+}
+
+/// Whether the model has the generated drawing description (kDrawJoint*, Drawing).
+template <class M, class = void>
+struct HasDrawing : std::false_type {};
+template <class M>
+struct HasDrawing<M, std::void_t<decltype(M::kNumDrawJoints)>> : std::true_type {};
+
+/// Whether the model has cams to draw (Model::CamProfile).
+template <class M, class = void>
+struct HasCamProfile : std::false_type {};
+template <class M>
+struct HasCamProfile<M, std::void_t<decltype(&M::template CamProfile<double>)>> : std::true_type {};
+
+/// Joint kinds of Model::kDrawJointKind.
+enum DrawJoint { kDrawRevolute = 0, kDrawPrismatic, kDrawRoll, kDrawGear, kDrawRack, kDrawCam };
+
+/// A length of 1, 2 or 5 times a power of ten, at most `limit` (> 0).
+inline double RoundLength(double limit) {
+  const double p = std::pow(10.0, std::floor(std::log10(limit)));
+  for (double f : {5.0, 2.0, 1.0})
+    if (f * p <= limit) return f * p;
+  return p;
+}
+
+/// Indices of the convex hull of `pts` (counter-clockwise, Andrew's monotone chain).
+inline std::vector<int> ConvexHull(const std::vector<std::array<double, 2>>& pts) {
+  std::vector<int> idx(pts.size());
+  for (size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<int>(i);
+  std::sort(idx.begin(), idx.end(), [&](int a, int b) {
+    return pts[a][0] < pts[b][0] || (pts[a][0] == pts[b][0] && pts[a][1] < pts[b][1]);
+  });
+  if (idx.size() < 3) return idx;
+  auto cross = [&](int o, int a, int b) {
+    return (pts[a][0] - pts[o][0]) * (pts[b][1] - pts[o][1]) -
+           (pts[a][1] - pts[o][1]) * (pts[b][0] - pts[o][0]);
+  };
+  std::vector<int> hull(2 * idx.size());
+  size_t k = 0;
+  for (size_t i = 0; i < idx.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
+    hull[k++] = idx[i];
+  }
+  for (size_t i = idx.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
+    hull[k++] = idx[i];
+  }
+  hull.resize(k - 1);
+  return hull;
 }
 }  // namespace internal
 
@@ -52,10 +115,15 @@ struct SvgOptions {
 };
 
 /**
- * \brief Writes an SVG: paths of the requested points, the links (lines or polygons through
- *        each link's scene points) at a few configurations, ground pivots, and an animation.
- * \param[in] params   Parameters the sweep ran with (for Model::Scene).
+ * \brief Writes an SVG: the mechanism (bars, plates, pins, ground pivots, sliders on their
+ *        guides, gears, cams) at a few configurations, the paths of the requested points with
+ *        a legend, a scale bar, and an animation.
+ * \param[in] params   Parameters the sweep ran with (for Model::Scene and Model::Drawing).
  * \param[in] records  The sweep; only converged rows are drawn.
+ *
+ * The root element carries the mapping from model coordinates to pixels as data-x-min,
+ * data-y-max and data-scale (pixel x = (x - x_min) scale, y = (y_max - y) scale + 30), and
+ * every moving link's group its data-link name.
  */
 template <class M>
 void WriteSvg(const typename ModelTypes<M>::Params& params,
@@ -64,11 +132,66 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
               std::ostream& out) {
   using F = ModelFeatures<M>;
   using Scene = typename ModelTypes<M>::MatScene;
-  // Scene points of every converged row, and the bounding box of everything drawn.
+  using P2 = std::array<double, 2>;
+  constexpr bool kDraw = internal::HasDrawing<M>::value && F::kHasScene;
+  constexpr int kLinks = M::kNumLinks;
+  const int ground = M::kGroundLink;
+
   std::vector<const SweepRecord<M>*> valid;
   for (const SweepRecord<M>& r : records)
     if (r.state.valid) valid.push_back(&r);
-  std::vector<Scene> scenes(valid.size());
+  const size_t nv = valid.size();
+
+  // ---- Every configuration: the scene points, the links' frames (x, y, theta) and the
+  // joints' values. Without the drawing description the frames are the identity and each
+  // link is drawn in the fixed frame (bars and plates only, not animated by transforms).
+  std::vector<Scene> scenes(nv);
+  std::vector<Eigen::Matrix<double, 3, kLinks>> frames(nv, Eigen::Matrix<double, 3, kLinks>::Zero());
+  std::vector<std::vector<double>> values(nv);
+  for (size_t f = 0; f < nv; ++f) {
+    if constexpr (F::kHasScene)
+      M::template Scene<double>(params, valid[f]->state.q, valid[f]->state.phi, &scenes[f]);
+    if constexpr (kDraw) {
+      Eigen::Matrix<double, M::kNumDrawValues, 1> v;
+      M::template Drawing<double>(params, valid[f]->state.q, valid[f]->state.phi, &frames[f], &v);
+      values[f].assign(v.data(), v.data() + M::kNumDrawValues);
+    }
+  }
+  // Continuous link angles (an animation interpolates them).
+  for (size_t f = 1; f < nv; ++f)
+    for (int l = 0; l < kLinks; ++l) {
+      const double d = frames[f](2, l) - frames[f - 1](2, l);
+      frames[f](2, l) -= 2 * M_PI * std::floor(d / (2 * M_PI) + 0.5);
+    }
+  auto scene_point = [&](size_t f, int s) -> P2 {
+    if constexpr (F::kHasScene) return {scenes[f](0, s), scenes[f](1, s)};
+    (void)f, (void)s;
+    return {0, 0};
+  };
+  // Point `p` (fixed frame) in link l's frame at configuration f.
+  auto to_local = [&](size_t f, int l, const P2& p) -> P2 {
+    const double c = std::cos(frames[f](2, l)), s = std::sin(frames[f](2, l));
+    const double dx = p[0] - frames[f](0, l), dy = p[1] - frames[f](1, l);
+    return {c * dx + s * dy, -s * dx + c * dy};
+  };
+  auto to_fixed = [&](size_t f, int l, const P2& p) -> P2 {
+    const double c = std::cos(frames[f](2, l)), s = std::sin(frames[f](2, l));
+    return {frames[f](0, l) + c * p[0] - s * p[1], frames[f](1, l) + s * p[0] + c * p[1]};
+  };
+  auto link_of_point = [&](int s) {
+    if constexpr (F::kHasScene) {
+      // A rolling contact point ("<joint>.contact") is on no link's body.
+      const char* name = M::kScenePointNames[s];
+      const char* link = M::kLinkNames[M::kScenePointLink[s]];
+      const size_t n = std::strlen(link);
+      if (std::strncmp(name, link, n) != 0 || name[n] != '.') return -1;
+      return M::kScenePointLink[s];
+    }
+    (void)s;
+    return -1;
+  };
+
+  // ---- The bounding box of the scene and the paths, then the shapes' sizes.
   double x_min = std::numeric_limits<double>::infinity(), x_max = -x_min;
   double y_min = x_min, y_max = -x_min;
   auto extend = [&](double x, double y) {
@@ -78,166 +201,423 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
     y_min = std::min(y_min, y);
     y_max = std::max(y_max, y);
   };
-  for (size_t f = 0; f < valid.size(); ++f) {
-    if constexpr (F::kHasScene) {
-      M::template Scene<double>(params, valid[f]->state.q, valid[f]->state.phi, &scenes[f]);
+  for (size_t f = 0; f < nv; ++f) {
+    if constexpr (F::kHasScene)
       for (int s = 0; s < M::kNumScenePoints; ++s) extend(scenes[f](0, s), scenes[f](1, s));
-    }
-    if constexpr (F::kHasPoints) {
-      for (int p = 0; p < M::kNumPoints; ++p)
-        extend(valid[f]->state.r_P(0, p), valid[f]->state.r_P(1, p));
-    }
+    if constexpr (F::kHasPoints)
+      for (int p = 0; p < M::kNumPoints; ++p) extend(valid[f]->state.r_P(0, p), valid[f]->state.r_P(1, p));
   }
   if (!(x_max >= x_min)) x_min = -1, x_max = 1, y_min = -1, y_max = 1;
-  const double span = std::max({x_max - x_min, y_max - y_min, 1e-9});
+  double span = std::max({x_max - x_min, y_max - y_min, 1e-9});
+  const double unit = span / 100;  // shape sizes in model units
+  const double tol = 1e-9 * span;
+
+  // Cam profiles in their cams' frames (96 points each), per joint.
+  constexpr int kProfile = 96;
+  std::vector<std::vector<P2>> profiles;
+  // Slider travel along each prismatic joint's line: s = (slider - guide) . direction.
+  std::vector<double> s_lo, s_hi;
+  if constexpr (kDraw) {
+    profiles.resize(M::kNumDrawJoints);
+    s_lo.assign(M::kNumDrawJoints, std::numeric_limits<double>::infinity());
+    s_hi.assign(M::kNumDrawJoints, -std::numeric_limits<double>::infinity());
+    for (int j = 0; j < M::kNumDrawJoints; ++j) {
+      const int kind = M::kDrawJointKind[j], a = M::kDrawJointPointA[j], b = M::kDrawJointPointB[j];
+      const int v = M::kDrawJointValue[j];
+      if constexpr (internal::HasCamProfile<M>::value) {
+        if (kind == internal::kDrawCam) {
+          for (int i = 0; i < kProfile; ++i) {
+            Eigen::Matrix<double, 2, 1> r;
+            M::template CamProfile<double>(params, j, static_cast<double>(i) / kProfile, &r);
+            profiles[j].push_back({r(0), r(1)});
+          }
+        }
+      }
+      for (size_t f = 0; f < nv; ++f) {
+        if (kind == internal::kDrawPrismatic && a >= 0 && b >= 0) {
+          const P2 g = scene_point(f, a), p = scene_point(f, b);
+          const double s = (p[0] - g[0]) * std::cos(values[f][v]) + (p[1] - g[1]) * std::sin(values[f][v]);
+          s_lo[j] = std::min(s_lo[j], s);
+          s_hi[j] = std::max(s_hi[j], s);
+        }
+        // What reaches beyond the points: pitch circles, wheels, cam profiles.
+        auto circle = [&](int s, double r) {
+          if (s < 0) return;
+          const P2 c = scene_point(f, s);
+          extend(c[0] - r, c[1] - r);
+          extend(c[0] + r, c[1] + r);
+        };
+        if (kind == internal::kDrawGear) circle(a, values[f][v]), circle(b, values[f][v + 1]);
+        if (kind == internal::kDrawRack) circle(a, values[f][v]);
+        if (kind == internal::kDrawRoll) circle(b, values[f][v]), circle(a, values[f][v + 1]);
+        if (kind == internal::kDrawCam) {
+          circle(b, values[f][v]);
+          for (const P2& p : profiles[j]) {
+            const P2 q = to_fixed(f, M::kDrawJointLinkA[j], p);
+            extend(q[0], q[1]);
+          }
+        }
+      }
+    }
+    span = std::max({x_max - x_min, y_max - y_min, 1e-9});
+  }
   const double margin = 0.12 * span;
   x_min -= margin, x_max += margin, y_min -= margin, y_max += margin;
   const double scale = options.width / (x_max - x_min);
-  const int height = static_cast<int>(std::ceil((y_max - y_min) * scale)) + 30;
+  const int height = static_cast<int>(std::ceil((y_max - y_min) * scale)) + 60;
   auto X = [&](double x) { return internal::FormatNumber((x - x_min) * scale, "%.2f"); };
   auto Y = [&](double y) { return internal::FormatNumber((y_max - y) * scale + 30, "%.2f"); };
-  const double unit = span / 100;  // marker size in model units
-  const char* kColors[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
-  const char* kLinkColors[] = {"#444", "#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b",
+  auto L = [&](double v) { return internal::FormatNumber(v * scale, "%.2f"); };  // a length
+  auto num = [](double v) { return internal::FormatNumber(v, "%.2f"); };
+  const double px = 1 / scale;  // one pixel in model units
+  const double block_len = std::max(8 * px, 5 * unit), block_h = std::max(6 * px, 3 * unit);
+  const char* kPathColors[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+  const char* kLinkColors[] = {"#555", "#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b",
                                "#e377c2", "#17becf"};
 
   out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << options.width << "\" height=\""
-      << height << "\" viewBox=\"0 0 " << options.width << ' ' << height << "\">\n";
+      << height << "\" viewBox=\"0 0 " << options.width << ' ' << height << "\" data-x-min=\""
+      << internal::FormatNumber(x_min, "%.9g") << "\" data-y-max=\""
+      << internal::FormatNumber(y_max, "%.9g") << "\" data-scale=\""
+      << internal::FormatNumber(scale, "%.9g") << "\">\n";
   out << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  out << "<defs><pattern id=\"hatch\" width=\"6\" height=\"6\" patternUnits=\"userSpaceOnUse\" "
+         "patternTransform=\"rotate(45)\"><line x1=\"0\" y1=\"0\" x2=\"0\" y2=\"6\" stroke=\"#555\" "
+         "stroke-width=\"1.5\"/></pattern></defs>\n";
   out << "<text x=\"8\" y=\"20\" font-family=\"sans-serif\" font-size=\"15\">" << options.title
       << "</text>\n";
-  // The fixed x axis through the origin, if visible.
-  if (y_min < 0 && y_max > 0) {
-    out << "<line x1=\"0\" y1=\"" << Y(0) << "\" x2=\"" << options.width << "\" y2=\"" << Y(0)
-        << "\" stroke=\"#ddd\" stroke-dasharray=\"4 4\"/>\n";
+
+  // ---- Axes through the origin (when it is in view) and the scale bar.
+  {
+    const double len = internal::RoundLength(0.2 * span);
+    const bool origin = x_min < 0 && x_max > 0 && y_min < 0 && y_max > 0;
+    if (origin) {
+      const double a = std::min(len, 0.08 * span);
+      out << "<g id=\"axes\" stroke=\"#999\" stroke-width=\"1\" fill=\"#999\" font-family=\"sans-serif\" "
+             "font-size=\"11\">"
+          << "<line x1=\"" << X(0) << "\" y1=\"" << Y(0) << "\" x2=\"" << X(a) << "\" y2=\"" << Y(0)
+          << "\"/><line x1=\"" << X(0) << "\" y1=\"" << Y(0) << "\" x2=\"" << X(0) << "\" y2=\"" << Y(a)
+          << "\"/><text x=\"" << X(a + 4 * px) << "\" y=\"" << Y(-4 * px) << "\" stroke=\"none\">x</text>"
+          << "<text x=\"" << X(-3 * px) << "\" y=\"" << Y(a + 5 * px) << "\" stroke=\"none\">y</text></g>\n";
+    }
+    const double x0 = 16, y0 = height - 16, w = len * scale;
+    out << "<g id=\"scale\" stroke=\"#222\" stroke-width=\"1.5\"><line x1=\"" << num(x0) << "\" y1=\""
+        << num(y0) << "\" x2=\"" << num(x0 + w) << "\" y2=\"" << num(y0) << "\"/><line x1=\"" << num(x0)
+        << "\" y1=\"" << num(y0 - 5) << "\" x2=\"" << num(x0) << "\" y2=\"" << num(y0 + 5)
+        << "\"/><line x1=\"" << num(x0 + w) << "\" y1=\"" << num(y0 - 5) << "\" x2=\"" << num(x0 + w)
+        << "\" y2=\"" << num(y0 + 5) << "\"/><text x=\"" << num(x0 + w + 8) << "\" y=\"" << num(y0 + 4)
+        << "\" stroke=\"none\" font-family=\"sans-serif\" font-size=\"12\" fill=\"#222\">"
+        << internal::FormatNumber(len, "%g") << " (model length units)</text></g>\n";
   }
 
-  // Link outlines of one configuration as SVG point lists, one per moving link.
-  auto link_points = [&](const Scene& scene, int link) {
-    std::string points;
-    for (int s = 0; s < M::kNumScenePoints; ++s) {
-      if (M::kScenePointLink[s] != link) continue;
-      points += X(scene(0, s)) + "," + Y(scene(1, s)) + " ";
-    }
-    return points;
-  };
-  auto points_on_link = [&](int link) {
-    int n = 0;
-    for (int s = 0; s < M::kNumScenePoints; ++s) n += M::kScenePointLink[s] == link;
-    return n;
-  };
-  // Each moving link as a line (2 points) or a polygon (3 or more) through its scene points;
-  // `faded`: thin outlines for the snapshots.
-  auto draw_links = [&](const Scene& scene, bool faded, bool animated,
-                        std::vector<std::string>* frames_per_link) {
-    for (int link = 0; link < M::kNumLinks; ++link) {
-      if (link == M::kGroundLink) continue;
-      const int n = points_on_link(link);
-      if (n == 0) continue;
-      const char* color = kLinkColors[link % 8];
-      const char* shape = n >= 3 ? "polygon" : "polyline";
-      out << '<' << shape << " points=\"" << link_points(scene, link) << "\" stroke=\"" << color
-          << (faded ? "\" stroke-width=\"1.5\" stroke-opacity=\"0.4\" fill=\"none\""
-                    : "\" stroke-width=\"5\" fill=\"")
-          << (faded ? "" : (n >= 3 ? color : "none"))
-          << (faded ? "" : (n >= 3 ? "\" fill-opacity=\"0.2\"" : "\""))
-          << " stroke-linejoin=\"round\" stroke-linecap=\"round\"";
-      if (n == 1) out << " marker-start=\"url(#block)\"";
-      if (animated && frames_per_link != nullptr) {
-        out << "><animate attributeName=\"points\" dur=\"" << options.seconds
-            << "s\" repeatCount=\"indefinite\" values=\"" << (*frames_per_link)[link] << "\"/></"
-            << shape << ">\n";
-      } else {
-        out << "/>\n";
+  // ---- A link's shapes in its own frame (pixels, y down), as SVG elements.
+  // layer 0: the body (bar or plate, gear and wheel circles, cam profile, slots);
+  // layer 1: what rides on it (slider blocks, rollers, pins).
+  auto lp = [&](const P2& p) { return L(p[0]) + "," + L(-p[1]); };
+  auto body = [&](size_t f, int link, bool faded) {
+    std::string s;
+    const char* color = kLinkColors[link % 8];
+    std::vector<P2> pts;
+    if constexpr (F::kHasScene) {
+      for (int k = 0; k < M::kNumScenePoints; ++k) {
+        if (link_of_point(k) != link) continue;
+        const P2 p = to_local(f, link, scene_point(f, k));
+        bool seen = false;
+        for (const P2& q : pts) seen = seen || std::hypot(p[0] - q[0], p[1] - q[1]) <= tol;
+        if (!seen) pts.push_back(p);
       }
     }
+    const std::string stroke = faded ? "\" stroke-width=\"1.5\" stroke-opacity=\"0.35\" fill=\"none\""
+                                     : "\" stroke-width=\"6\"";
+    if (link == ground) pts.clear();  // the ground is its pivots and guides
+    const std::vector<int> hull = internal::ConvexHull(pts);
+    double area = 0;
+    for (size_t i = 0; i < hull.size(); ++i) {
+      const P2& a = pts[hull[i]];
+      const P2& b = pts[hull[(i + 1) % hull.size()]];
+      area += a[0] * b[1] - a[1] * b[0];
+    }
+    if (hull.size() >= 3 && std::abs(area) > 1e-4 * span * span) {
+      s += "<polygon points=\"";
+      for (int i : hull) s += lp(pts[i]) + " ";
+      s += "\" stroke=\"" + std::string(color) +
+           (faded ? stroke : "\" stroke-width=\"4\" fill=\"" + std::string(color) + "\" fill-opacity=\"0.25\"") +
+           " stroke-linejoin=\"round\"/>\n";
+    } else if (pts.size() >= 2) {
+      // A bar between its two farthest points.
+      size_t ia = 0, ib = 1;
+      double best = -1;
+      for (size_t i = 0; i < pts.size(); ++i)
+        for (size_t k = i + 1; k < pts.size(); ++k) {
+          const double d = std::hypot(pts[i][0] - pts[k][0], pts[i][1] - pts[k][1]);
+          if (d > best) best = d, ia = i, ib = k;
+        }
+      s += "<line x1=\"" + L(pts[ia][0]) + "\" y1=\"" + L(-pts[ia][1]) + "\" x2=\"" + L(pts[ib][0]) +
+           "\" y2=\"" + L(-pts[ib][1]) + "\" stroke=\"" + color + stroke + " stroke-linecap=\"round\"/>\n";
+    }
+    if constexpr (kDraw) {
+      const char* opacity = faded ? "0.35" : "1";
+      std::vector<std::array<double, 3>> drawn;  // circles drawn: centre and radius
+      auto wheel = [&](const P2& c, double r, bool spokes) {
+        for (const auto& d : drawn)
+          if (std::hypot(d[0] - c[0], d[1] - c[1]) <= tol && std::abs(d[2] - r) <= tol) return;
+        drawn.push_back({c[0], c[1], r});
+        if (link == ground) {  // a ring gear or a base circle: the ground's colour, no spokes
+          s += "<circle cx=\"" + L(c[0]) + "\" cy=\"" + L(-c[1]) + "\" r=\"" + L(r) +
+               "\" fill=\"none\" stroke=\"#555\" stroke-width=\"3\"/>\n";
+          return;
+        }
+        s += "<circle cx=\"" + L(c[0]) + "\" cy=\"" + L(-c[1]) + "\" r=\"" + L(r) + "\" fill=\"" +
+             (faded ? std::string("none") : std::string(color)) + "\" fill-opacity=\"0.12\" stroke=\"" + color +
+             "\" stroke-width=\"2\" stroke-opacity=\"" + opacity + "\"" +
+             (faded ? "" : " stroke-dasharray=\"6 3\"") + "/>\n";
+        if (!spokes || faded) return;
+        for (int k = 0; k < 3; ++k) {
+          const double t = 2 * M_PI * k / 3;
+          s += "<line x1=\"" + L(c[0]) + "\" y1=\"" + L(-c[1]) + "\" x2=\"" + L(c[0] + r * std::cos(t)) +
+               "\" y2=\"" + L(-(c[1] + r * std::sin(t))) + "\" stroke=\"" + color + "\" stroke-width=\"1.5\"/>\n";
+        }
+      };
+      for (int j = 0; j < M::kNumDrawJoints; ++j) {
+        const int kind = M::kDrawJointKind[j], a = M::kDrawJointPointA[j], b = M::kDrawJointPointB[j];
+        const int la = M::kDrawJointLinkA[j], lb = M::kDrawJointLinkB[j], v = M::kDrawJointValue[j];
+        const std::vector<double>& val = values[f];
+        if (kind == internal::kDrawGear || kind == internal::kDrawRack) {
+          if (la == link && a >= 0) wheel(to_local(f, link, scene_point(f, a)), val[v], true);
+          if (kind == internal::kDrawGear && lb == link && b >= 0)
+            wheel(to_local(f, link, scene_point(f, b)), val[v + 1], true);
+        } else if (kind == internal::kDrawRoll) {
+          if (lb == link && b >= 0) wheel(to_local(f, link, scene_point(f, b)), val[v], true);
+          if (la == link && a >= 0) {
+            const P2 c = to_local(f, link, scene_point(f, a));
+            if (val[v + 1] > 0) {
+              wheel(c, val[v + 1], false);
+            } else {
+              const double t = val[v + 2] - frames[f](2, link), r = 0.6 * span;
+              s += "<line x1=\"" + L(c[0] - r * std::cos(t)) + "\" y1=\"" + L(-(c[1] - r * std::sin(t))) +
+                   "\" x2=\"" + L(c[0] + r * std::cos(t)) + "\" y2=\"" + L(-(c[1] + r * std::sin(t))) +
+                   "\" stroke=\"#555\" stroke-width=\"2\"/>\n";
+            }
+          }
+        } else if (kind == internal::kDrawCam && la == link && !profiles[j].empty() && !faded) {
+          s += "<polygon points=\"";
+          for (const P2& p : profiles[j]) s += lp(p) + " ";
+          s += std::string("\" fill=\"") + (faded ? "none" : color) + "\" fill-opacity=\"0.25\" stroke=\"" + color +
+               "\" stroke-width=\"2\" stroke-opacity=\"" + opacity + "\"/>\n";
+        } else if (kind == internal::kDrawPrismatic && la == link && a >= 0 && s_hi[j] >= s_lo[j]) {
+          // The guide: rails on the ground, a slot in a moving link, as long as the travel.
+          const double t = val[v] - frames[f](2, link);
+          const P2 g = to_local(f, link, scene_point(f, a));
+          const double c = std::cos(t), sn = std::sin(t);
+          const double s0 = s_lo[j] - 0.7 * block_len, s1 = s_hi[j] + 0.7 * block_len;
+          auto at = [&](double along, double across) -> P2 {
+            return {g[0] + along * c - across * sn, g[1] + along * sn + across * c};
+          };
+          const double h = 0.5 * block_h + 1.5 * px;
+          if (link == ground) {
+            for (double side : {-1.0, 1.0}) {
+              const P2 p0 = at(s0, side * h), p1 = at(s1, side * h);
+              const P2 q0 = at(s0, side * (h + 2 * unit)), q1 = at(s1, side * (h + 2 * unit));
+              s += "<polygon points=\"" + lp(p0) + " " + lp(p1) + " " + lp(q1) + " " + lp(q0) +
+                   "\" fill=\"url(#hatch)\" stroke=\"none\" opacity=\"" + opacity + "\"/>\n";
+              s += "<line x1=\"" + L(p0[0]) + "\" y1=\"" + L(-p0[1]) + "\" x2=\"" + L(p1[0]) + "\" y2=\"" +
+                   L(-p1[1]) + "\" stroke=\"#333\" stroke-width=\"2\" stroke-opacity=\"" + opacity + "\"/>\n";
+            }
+          } else {
+            const P2 p0 = at(s0, -h), p1 = at(s1, -h), p2 = at(s1, h), p3 = at(s0, h);
+            s += "<polygon points=\"" + lp(p0) + " " + lp(p1) + " " + lp(p2) + " " + lp(p3) + "\" fill=\"" +
+                 (faded ? "none" : "white") + "\" stroke=\"" + color + "\" stroke-width=\"2\" stroke-opacity=\"" +
+                 opacity + "\" stroke-linejoin=\"round\"/>\n";
+          }
+        }
+      }
+    }
+    return s;
   };
-  out << "<defs><marker id=\"block\" viewBox=\"-5 -5 10 10\" markerWidth=\"10\" "
-         "markerHeight=\"10\"><rect x=\"-4\" y=\"-3\" width=\"8\" height=\"6\" fill=\"#555\"/>"
-         "</marker></defs>\n";
+  auto riders = [&](size_t f, int link) {
+    std::string s;
+    if constexpr (kDraw) {
+      const char* color = kLinkColors[link % 8];
+      for (int j = 0; j < M::kNumDrawJoints; ++j) {
+        const int kind = M::kDrawJointKind[j], a = M::kDrawJointPointA[j], b = M::kDrawJointPointB[j];
+        const int lb = M::kDrawJointLinkB[j], v = M::kDrawJointValue[j];
+        const std::vector<double>& val = values[f];
+        if (kind == internal::kDrawPrismatic && lb == link && b >= 0) {
+          const double t = val[v] - frames[f](2, link);
+          const P2 p = to_local(f, link, scene_point(f, b));
+          const double c = std::cos(t), sn = std::sin(t);
+          auto at = [&](double along, double across) -> P2 {
+            return {p[0] + along * c - across * sn, p[1] + along * sn + across * c};
+          };
+          const double hl = 0.5 * block_len, hh = 0.5 * block_h;
+          s += "<polygon points=\"" + lp(at(-hl, -hh)) + " " + lp(at(hl, -hh)) + " " + lp(at(hl, hh)) + " " +
+               lp(at(-hl, hh)) + "\" fill=\"" + color + "\" fill-opacity=\"0.85\" stroke=\"#222\" "
+               "stroke-width=\"1.5\" stroke-linejoin=\"round\"/>\n";
+        } else if (kind == internal::kDrawCam && lb == link && b >= 0) {
+          const P2 p = to_local(f, link, scene_point(f, b));
+          if (val[v] > 0) {
+            s += "<circle cx=\"" + L(p[0]) + "\" cy=\"" + L(-p[1]) + "\" r=\"" + L(val[v]) + "\" fill=\"white\" "
+                 "stroke=\"" + color + "\" stroke-width=\"2.5\"/>\n";
+          } else if (val[v + 1] != 0 || a < 0) {
+            const double t = val[v + 1] - frames[f](2, link), r = 0.25 * span;
+            s += "<line x1=\"" + L(p[0] - r * std::cos(t)) + "\" y1=\"" + L(-(p[1] - r * std::sin(t))) +
+                 "\" x2=\"" + L(p[0] + r * std::cos(t)) + "\" y2=\"" + L(-(p[1] + r * std::sin(t))) +
+                 "\" stroke=\"" + color + "\" stroke-width=\"4\" stroke-linecap=\"round\"/>\n";
+          }
+        } else if (kind == internal::kDrawRevolute && lb == link && b >= 0) {
+          const P2 p = to_local(f, link, scene_point(f, b));
+          s += "<circle cx=\"" + L(p[0]) + "\" cy=\"" + L(-p[1]) + "\" r=\"4\" fill=\"white\" stroke=\"#222\" "
+               "stroke-width=\"1.5\"/>\n";
+        }
+      }
+    }
+    (void)f, (void)link;
+    return s;
+  };
+  // A link's placement at configuration f as an SVG transform, and its values for animation.
+  auto translate = [&](size_t f, int l) { return X(frames[f](0, l)) + " " + Y(frames[f](1, l)); };
+  auto rotate = [&](size_t f, int l) { return internal::FormatNumber(-frames[f](2, l) * 180 / M_PI, "%.3f"); };
+  auto open_group = [&](size_t f, int l, const std::string& extra) {
+    return "<g data-link=\"" + std::string(M::kLinkNames[l]) + "\" transform=\"translate(" + translate(f, l) +
+           ") rotate(" + rotate(f, l) + ")\"" + extra + ">\n";
+  };
 
+  // ---- Faded snapshots.
   if constexpr (F::kHasScene) {
-    // Faded snapshots.
-    const int snapshots = std::min<int>(options.snapshots, static_cast<int>(valid.size()));
+    const int snapshots = std::min<int>(options.snapshots, static_cast<int>(nv));
     out << "<g id=\"snapshots\">\n";
     for (int k = 0; k < snapshots; ++k) {
-      const size_t f = valid.size() * static_cast<size_t>(k) / static_cast<size_t>(snapshots);
-      draw_links(scenes[f], true, false, nullptr);
+      const size_t f = nv * static_cast<size_t>(k) / static_cast<size_t>(snapshots);
+      for (int l = 0; l < kLinks; ++l) {
+        if (l == ground) continue;
+        const std::string b = body(f, l, true);
+        if (!b.empty()) out << open_group(f, l, "") << b << "</g>\n";
+      }
     }
     out << "</g>\n";
   }
-  // Traced paths of the requested points.
+  // ---- Traced paths of the requested points.
   if constexpr (F::kHasPoints) {
+    out << "<g id=\"paths\">\n";
     for (int p = 0; p < M::kNumPoints; ++p) {
-      out << "<polyline fill=\"none\" stroke=\"" << kColors[p % 6]
-          << "\" stroke-width=\"2\" points=\"";
-      for (const SweepRecord<M>* r : valid)
-        out << X(r->state.r_P(0, p)) << ',' << Y(r->state.r_P(1, p)) << ' ';
-      out << "\"/>\n";
-      if (!valid.empty()) {
-        out << "<text x=\"" << X(valid.front()->state.r_P(0, p) + unit) << "\" y=\""
-            << Y(valid.front()->state.r_P(1, p) + unit)
-            << "\" font-family=\"sans-serif\" font-size=\"13\" fill=\"" << kColors[p % 6]
-            << "\">" << M::kPointNames[p] << "</text>\n";
+      out << "<polyline fill=\"none\" stroke=\"" << kPathColors[p % 6] << "\" stroke-width=\"2\" points=\"";
+      for (const SweepRecord<M>* r : valid) out << X(r->state.r_P(0, p)) << ',' << Y(r->state.r_P(1, p)) << ' ';
+      out << "\"><title>" << M::kPointNames[p] << "</title></polyline>\n";
+    }
+    out << "</g>\n";
+  }
+  if constexpr (F::kHasScene) {
+    if (nv > 0) {
+      // ---- The ground: its body (rails, base lines and circles), then a hatched pivot under
+      // each of its revolute joints.
+      out << "<g id=\"ground\">\n" << open_group(0, ground, "") << body(0, ground, false) << "</g>\n";
+      std::vector<int> pivots;
+      if constexpr (kDraw) {
+        for (int j = 0; j < M::kNumDrawJoints; ++j) {
+          if (M::kDrawJointKind[j] != internal::kDrawRevolute) continue;
+          const int la = M::kDrawJointLinkA[j], lb = M::kDrawJointLinkB[j];
+          const int s = la == ground ? M::kDrawJointPointA[j] : lb == ground ? M::kDrawJointPointB[j] : -1;
+          if (s >= 0 && std::find(pivots.begin(), pivots.end(), s) == pivots.end()) pivots.push_back(s);
+        }
+      } else {
+        for (int s = 0; s < M::kNumScenePoints; ++s)
+          if (M::kScenePointLink[s] == ground) pivots.push_back(s);
+      }
+      for (int s : pivots) {
+        const P2 c = scene_point(0, s);
+        const double u = 9 * px, h = 14 * px;  // pixels
+        out << "<polygon points=\"" << X(c[0]) << ',' << Y(c[1]) << ' ' << X(c[0] - u) << ',' << Y(c[1] - h) << ' '
+            << X(c[0] + u) << ',' << Y(c[1] - h) << "\" fill=\"#ddd\" stroke=\"#333\" stroke-width=\"1.5\"/>\n";
+        out << "<rect x=\"" << X(c[0] - 1.6 * u) << "\" y=\"" << Y(c[1] - h) << "\" width=\"" << num(3.2 * u * scale)
+            << "\" height=\"7\" fill=\"url(#hatch)\"/><line x1=\"" << X(c[0] - 1.6 * u) << "\" y1=\"" << Y(c[1] - h)
+            << "\" x2=\"" << X(c[0] + 1.6 * u) << "\" y2=\"" << Y(c[1] - h) << "\" stroke=\"#333\" stroke-width=\"2\"/>\n";
+        out << "<text x=\"" << X(c[0]) << "\" y=\"" << Y(c[1] - h - 17 * px)
+            << "\" text-anchor=\"middle\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#333\">"
+            << internal::ShortName(M::kScenePointNames[s]) << "</text>\n";
+      }
+      out << "</g>\n";
+
+      // ---- The mechanism at the first configuration, each moving link animated through the
+      // sweep (translate and rotate of its frame) when asked.
+      const bool animate = kDraw && options.animate && nv > 1;
+      std::vector<std::string> anim(kLinks);
+      if (animate) {
+        const size_t frames_n = std::min<size_t>(nv, static_cast<size_t>(std::max(options.max_frames, 2)));
+        for (int l = 0; l < kLinks; ++l) {
+          if (l == ground) continue;
+          std::string tv, rv;
+          for (size_t k = 0; k < frames_n; ++k) {
+            const size_t f = (nv - 1) * k / (frames_n - 1);
+            tv += (k ? ";" : "") + translate(f, l);
+            rv += (k ? ";" : "") + rotate(f, l);
+          }
+          const std::string dur = internal::FormatNumber(options.seconds, "%g") + "s";
+          anim[l] = "<animateTransform attributeName=\"transform\" type=\"translate\" dur=\"" + dur +
+                    "\" repeatCount=\"indefinite\" values=\"" + tv + "\"/><animateTransform attributeName=\"transform\" "
+                    "type=\"rotate\" additive=\"sum\" dur=\"" + dur + "\" repeatCount=\"indefinite\" values=\"" + rv +
+                    "\"/>\n";
+        }
+      }
+      // Links with a slot first: its white inside must not hide the links that cross it.
+      std::vector<int> order;
+      for (int pass = 0; pass < 2; ++pass)
+        for (int l = 0; l < kLinks; ++l) {
+          bool slotted = false;
+          if constexpr (kDraw)
+            for (int j = 0; j < M::kNumDrawJoints; ++j)
+              slotted = slotted || (M::kDrawJointKind[j] == internal::kDrawPrismatic && M::kDrawJointLinkA[j] == l);
+          if (slotted == (pass == 0)) order.push_back(l);
+        }
+      out << "<g id=\"mechanism\">\n";
+      for (int layer = 0; layer < 2; ++layer)
+        for (int l : order) {
+          if (l == ground && layer == 0) continue;
+          const std::string s = layer == 0 ? body(0, l, false) : riders(0, l);
+          if (s.empty()) continue;
+          if (l == ground) {
+            out << open_group(0, l, "") << s << "</g>\n";
+          } else {
+            out << open_group(0, l, layer == 0 ? " class=\"link\"" : "") << anim[l] << s << "</g>\n";
+          }
+        }
+      out << "</g>\n";
+      // ---- Dots running along the paths (a static renderer shows them at the first row).
+      if constexpr (F::kHasPoints) {
+        for (int p = 0; p < M::kNumPoints; ++p) {
+          out << "<circle cx=\"" << X(valid[0]->state.r_P(0, p)) << "\" cy=\"" << Y(valid[0]->state.r_P(1, p))
+              << "\" r=\"5\" fill=\"" << kPathColors[p % 6] << "\" stroke=\"white\" stroke-width=\"1\">";
+          if (options.animate && nv > 1) {
+            const size_t frames_n = std::min<size_t>(nv, static_cast<size_t>(std::max(options.max_frames, 2)));
+            std::string xs, ys;
+            for (size_t k = 0; k < frames_n; ++k) {
+              const size_t f = (nv - 1) * k / (frames_n - 1);
+              xs += (k ? ";" : "") + X(valid[f]->state.r_P(0, p));
+              ys += (k ? ";" : "") + Y(valid[f]->state.r_P(1, p));
+            }
+            out << "<animate attributeName=\"cx\" dur=\"" << options.seconds
+                << "s\" repeatCount=\"indefinite\" values=\"" << xs << "\"/><animate attributeName=\"cy\" dur=\""
+                << options.seconds << "s\" repeatCount=\"indefinite\" values=\"" << ys << "\"/>";
+          }
+          out << "</circle>\n";
+        }
       }
     }
   }
-  if constexpr (F::kHasScene) {
-    if (!valid.empty()) {
-      // Ground pivots: a triangle with a hatched base under each ground point.
-      const Scene& first = scenes.front();
-      for (int s = 0; s < M::kNumScenePoints; ++s) {
-        if (M::kScenePointLink[s] != M::kGroundLink) continue;
-        const double x = first(0, s), y = first(1, s);
-        const double u = 2.5 * unit;
-        out << "<polygon points=\"" << X(x) << ',' << Y(y) << ' ' << X(x - u) << ','
-            << Y(y - 1.6 * u) << ' ' << X(x + u) << ',' << Y(y - 1.6 * u)
-            << "\" fill=\"#bbb\" stroke=\"#333\"/>\n";
-        out << "<line x1=\"" << X(x - 1.5 * u) << "\" y1=\"" << Y(y - 1.6 * u) << "\" x2=\""
-            << X(x + 1.5 * u) << "\" y2=\"" << Y(y - 1.6 * u)
-            << "\" stroke=\"#333\" stroke-width=\"2\"/>\n";
-        out << "<text x=\"" << X(x + 1.2 * u) << "\" y=\"" << Y(y - 2.6 * u)
-            << "\" font-family=\"sans-serif\" font-size=\"12\" fill=\"#333\">"
-            << internal::ShortName(M::kScenePointNames[s]) << "</text>\n";
+  // ---- Legend: the traced paths' colours and names (top right).
+  if constexpr (F::kHasPoints) {
+    if (M::kNumPoints > 0) {
+      const int w = 190, row = 18;
+      const int x0 = options.width - w - 8, y0 = 8;
+      out << "<g id=\"legend\" font-family=\"sans-serif\" font-size=\"12\"><rect x=\"" << x0 << "\" y=\"" << y0
+          << "\" width=\"" << w << "\" height=\"" << row * M::kNumPoints + 10
+          << "\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#bbb\"/>\n";
+      for (int p = 0; p < M::kNumPoints; ++p) {
+        const int y = y0 + 14 + row * p;
+        out << "<line x1=\"" << x0 + 8 << "\" y1=\"" << y << "\" x2=\"" << x0 + 34 << "\" y2=\"" << y
+            << "\" stroke=\"" << kPathColors[p % 6] << "\" stroke-width=\"3\"/><text x=\"" << x0 + 42 << "\" y=\""
+            << y + 4 << "\">path of " << M::kPointNames[p] << "</text>\n";
       }
-      // The first configuration, solid, or an animated copy through the sweep (whose still
-      // image, for viewers without SMIL, is the first configuration).
-      const bool animate = options.animate && valid.size() > 1;
-      if (!animate) {
-        draw_links(first, false, false, nullptr);
-        for (int s = 0; s < M::kNumScenePoints; ++s) {
-          out << "<circle cx=\"" << X(first(0, s)) << "\" cy=\"" << Y(first(1, s))
-              << "\" r=\"3.5\" fill=\"white\" stroke=\"#222\" stroke-width=\"1.5\"/>\n";
-        }
-      } else {
-        const size_t frames = std::min<size_t>(valid.size(), static_cast<size_t>(options.max_frames));
-        std::vector<std::string> per_link(M::kNumLinks);
-        std::vector<std::string> per_point_x(M::kNumPoints), per_point_y(M::kNumPoints);
-        for (size_t k = 0; k < frames; ++k) {
-          const size_t f = (valid.size() - 1) * k / (frames - 1);
-          for (int link = 0; link < M::kNumLinks; ++link) {
-            if (!per_link[link].empty()) per_link[link] += ';';
-            per_link[link] += link_points(scenes[f], link);
-          }
-          if constexpr (F::kHasPoints) {
-            for (int p = 0; p < M::kNumPoints; ++p) {
-              per_point_x[p] += (k ? ";" : "") + X(valid[f]->state.r_P(0, p));
-              per_point_y[p] += (k ? ";" : "") + Y(valid[f]->state.r_P(1, p));
-            }
-          }
-        }
-        out << "<g id=\"animation\">\n";
-        draw_links(first, false, true, &per_link);
-        if constexpr (F::kHasPoints) {
-          for (int p = 0; p < M::kNumPoints; ++p) {
-            out << "<circle r=\"5\" fill=\"" << kColors[p % 6] << "\"><animate attributeName=\"cx\" dur=\""
-                << options.seconds << "s\" repeatCount=\"indefinite\" values=\"" << per_point_x[p]
-                << "\"/><animate attributeName=\"cy\" dur=\"" << options.seconds
-                << "s\" repeatCount=\"indefinite\" values=\"" << per_point_y[p] << "\"/></circle>\n";
-          }
-        }
-        out << "</g>\n";
-      }
+      out << "</g>\n";
     }
   }
   if (options.overlay) {
@@ -246,11 +626,9 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
     frame.y_max = y_max;
     frame.scale = scale;
     frame.span = span;
-    const size_t snapshots = std::min<size_t>(static_cast<size_t>(std::max(options.snapshots, 0)),
-                                              valid.size());
+    const size_t snapshots = std::min<size_t>(static_cast<size_t>(std::max(options.snapshots, 0)), nv);
     for (size_t k = 0; k < snapshots; ++k)
-      frame.snapshots.push_back(static_cast<size_t>(valid[valid.size() * k / snapshots] -
-                                                    records.data()));
+      frame.snapshots.push_back(static_cast<size_t>(valid[nv * k / snapshots] - records.data()));
     options.overlay(frame, out);
   }
   out << "</svg>\n";
