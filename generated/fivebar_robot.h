@@ -34,7 +34,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), dist1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalStatics 144 (adds 26, muls 109, divs 1, calls 8); EvalDynamics 572 (adds 122, muls 441, divs 1, calls 8); EvalKinetostatics 588 (adds 114, muls 465, divs 1, calls 8); EvalExcess 495 (adds 99, muls 387, divs 1, calls 8); EvalStiffness 138 (adds 20, muls 112, divs 0, calls 6); EvalDetPhiPhi 10 (adds 1, muls 5, divs 0, calls 4); SolvePositions 42 (adds 11, muls 25, divs 1, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); PrepareRhs 138 (adds 27, muls 107, divs 4, calls 0); EvalRhs 396 (adds 98, muls 291, divs 2, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalStatics 144 (adds 26, muls 109, divs 1, calls 8); EvalDynamics 572 (adds 122, muls 441, divs 1, calls 8); EvalKinetostatics 588 (adds 114, muls 465, divs 1, calls 8); EvalExcess 495 (adds 99, muls 387, divs 1, calls 8); EvalStiffness 138 (adds 20, muls 112, divs 0, calls 6); EvalDetPhiPhi 10 (adds 1, muls 5, divs 0, calls 4); SolvePositions 42 (adds 11, muls 25, divs 1, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); PrepareRhs 138 (adds 27, muls 107, divs 4, calls 0); EvalRhs 396 (adds 98, muls 291, divs 2, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -1504,6 +1504,44 @@ void EvalScene(const Params<Scalar>& p,
   (*r)(1, 9) = _tmp4;
 }
 
+/**
+ * \brief What a drawing needs besides the scene points: every link's frame and the joints'
+ * values (Model::kDrawJointValue).
+ * \param[in]  p       Parameters.
+ * \param[in]  q       Inputs (dim kNq).
+ * \param[in]  phi     Dependent variables (dim kNphi).
+ * \param[out] frames  frames.col(l) = link l's origin x, y and angle theta in the fixed frame; not
+ *                     nullptr (3 x kNumLinks).
+ * \param[out] values  The joints' values (Model::kDrawJointValue); not nullptr (dim
+ *                     kNumDrawValues).
+ */
+template <typename Scalar>
+void EvalDrawing(const Params<Scalar>& p,
+                 const Vec<Scalar, Sizes::kNq>& q,
+                 const Vec<Scalar, Sizes::kNphi>& phi,
+                 Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                 Vec<Scalar, 1>* values) {
+  // Total ops: 9 (adds 1, muls 4, divs 0, calls 4); intermediate terms: 0
+  using std::cos;
+  using std::sin;
+  (*frames)(0, 0) = Scalar(0);
+  (*frames)(1, 0) = Scalar(0);
+  (*frames)(2, 0) = Scalar(0);
+  (*frames)(0, 1) = Scalar(0);
+  (*frames)(1, 1) = Scalar(0);
+  (*frames)(2, 1) = q(0);
+  (*frames)(0, 2) = cos(q(0))*p.a;
+  (*frames)(1, 2) = p.a*sin(q(0));
+  (*frames)(2, 2) = phi(0);
+  (*frames)(0, 3) = cos(q(1))*p.a + p.f;
+  (*frames)(1, 3) = p.a*sin(q(1));
+  (*frames)(2, 3) = phi(1);
+  (*frames)(0, 4) = p.f;
+  (*frames)(1, 4) = Scalar(0);
+  (*frames)(2, 4) = q(1);
+  (*values)(0) = Scalar(0);
+}
+
 #ifndef MECH_FIVEBAR_ROBOT_INSTANTIATING
 // Compiled in fivebar_robot.cc for these scalar types.
 extern template void EvalPhi<double>(const Params<double>&,
@@ -1664,6 +1702,21 @@ struct Model : Sizes {
   /// Scene points ("link.point") and the link each belongs to.
   static constexpr std::array<const char*, kNumScenePoints> kScenePointNames{ "ground.A", "ground.E", "prox1.A", "prox1.B", "dist1.B", "dist1.C", "dist2.D", "dist2.C", "prox2.E", "prox2.D" };
   static constexpr std::array<int, kNumScenePoints> kScenePointLink{ 0, 0, 1, 1, 2, 2, 3, 3, 4, 4 };
+  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,
+  /// 2 roll, 3 gear, 4 rack, 5 cam), its two links (Joint::link_a, link_b), its two scene points
+  /// (-1: none; revolute: a, b; prismatic: guide, slider; roll: base point, wheel centre; gear: the
+  /// two gears' axes; rack: the pinion's axis; cam: the cam's pivot, the follower's point), and
+  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed
+  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;
+  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).
+  static constexpr int kNumDrawJoints = 5;
+  static constexpr int kNumDrawValues = 1;
+  static constexpr std::array<int, 5> kDrawJointKind{ 0, 0, 0, 0, 0 };
+  static constexpr std::array<int, 5> kDrawJointLinkA{ 0, 1, 2, 3, 4 };
+  static constexpr std::array<int, 5> kDrawJointLinkB{ 1, 2, 3, 4, 0 };
+  static constexpr std::array<int, 5> kDrawJointPointA{ 0, 3, 5, 6, 8 };
+  static constexpr std::array<int, 5> kDrawJointPointB{ 2, 4, 7, 9, 1 };
+  static constexpr std::array<int, 5> kDrawJointValue{ 0, 0, 0, 0, 0 };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -1827,6 +1880,14 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void Drawing(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 3, Sizes::kNumLinks>* frames,
+                      Vec<Scalar, 1>* values) {
+    EvalDrawing(p, q, phi, frames, values);
   }
 };
 
