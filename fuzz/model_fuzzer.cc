@@ -57,12 +57,12 @@ const char* const kWords[] = {
     "inputs", "joint", "range", "outputs", "order", "scene", "quantities", "reactions", "assembly", "mass",
     "center", "inertia", "gravity", "loads", "springs", "friction", "force", "torque", "at", "frame",
     "between", "stiffness", "free_length", "free_angle", "preload", "coefficient", "pin_radius",
-    "viscous", "torsional",
+    "viscous", "torsional", "derived", "assembly_modes",
     // joint kinds and their keys
     "revolute", "prismatic", "gear", "rack", "cam", "roll", "guide", "slider", "angle", "relative_angle",
     "gears", "radii", "carrier", "internal", "phase", "pinion", "radius", "slide", "wheel", "on",
     "line_angle", "on_radius", "inside", "follower", "point", "start", "law", "roller", "face", "contour",
-    "x", "y", "period", "u",
+    "x", "y", "period", "u", "slot", "pin", "through",
     // cam laws
     "dwell", "rise", "return", "lift", "motion", "cycloidal", "harmonic", "poly345",
     // quantities
@@ -73,6 +73,11 @@ const char* const kWords[] = {
     "class", "std", "M_PI", "_x", "p", "T", "true", "false", "null", "~"};
 
 const char* const kLines[] = {
+    "J: {slot: {slot: rocker.D, pin: crank.B, angle: 0}}",
+    "J: {slot: {slot: rocker.D, through: rocker.C, pin: crank.B}}",
+    "B: {revolute: [crank.B, coupler.B, rocker.C]}",
+    "c: {derived: \"sqrt(a^2 + b^2)\"}",
+    "assembly_modes: {open: {}, crossed: {theta_coupler: -60*deg}}",
     "G: {gear: {gears: [crank, rocker], radii: [1, 2]}}",
     "G: {gear: {gears: [crank, ground], radii: [1, 3], internal: true}}",
     "G: {gear: {gears: [crank, coupler], radii: [r, r], carrier: rocker, phase: 0.1}}",
