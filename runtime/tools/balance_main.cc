@@ -1,9 +1,10 @@
 // mechgen_balance: balancing and flywheel sizing that need no mechanism model (issue 16).
 //
-//   mechgen_balance table [--csv] [--rotating-ratio R] [--layout NAME]...
+//   mechgen_balance table [--csv] [--rotating-ratio R] [--layout NAME]... [--engine FILE]...
 //       The primary/secondary shaking force and moment table of multi-cylinder engines
 //       (mechgen/balancing/engine_balance.h): max over a turn in units of m r w^2 (primary) and
-//       m r w^2 (r/l) (secondary), moments times the cylinder spacing a.
+//       m r w^2 (r/l) (secondary), moments times the cylinder spacing a. --engine: a layout of
+//       your own, one cylinder a line: throw angle [deg], bank angle [deg], z [spacings].
 //   mechgen_balance rotor --csv FILE --radius R [--left ZL --right ZR]
 //       Rigid-rotor balancing (mechgen/balancing/rotor.h, Paul §7.1). FILE has one unbalance a
 //       line: m [kg], r [m], angle [deg], z [m] (comma-separated; '#' comments and a header
@@ -12,13 +13,15 @@
 //       ZR; without: static balancing in one plane. Prints the corrections and the residual.
 //   mechgen_balance flywheel --areas "295,-685,40,-340,960,-270" --scale S --rpm N
 //                            (--inertia I | --mass M --gyration K | --cs C)
-//   mechgen_balance flywheel --torque-csv FILE [--cycle-deg 360] [--remove-mean] --rpm N (...)
+//   mechgen_balance flywheel --torque-csv FILE [--cycle-deg 360] [--remove-mean]
+//                            [--energy-csv OUT] --rpm N (...)
 //       Flywheel sizing by the energy-loop method (mechgen/flywheel/energy_loop.h, Paul §6.9.2):
 //       dE from the loop areas of a turning-moment diagram (S = J per unit area, or
 //       --torque-scale [N m per unit] with --angle-scale [deg per unit]) or from a sampled
 //       excess torque (FILE: angle_deg, torque [N m] (T_d - T_l), or angle_deg, T_d, T_l,
 //       equally spaced over one cycle); then C_s = dE/(I w^2) for a flywheel I, or the
-//       I = dE/(C_s w^2) for a coefficient of fluctuation of speed C_s.
+//       I = dE/(C_s w^2) for a coefficient of fluctuation of speed C_s. --energy-csv writes
+//       angle_deg, excess_torque, E over the cycle (the energy loop, for a chart).
 // Exit status 0 on success; 1 on bad input, with a message naming the problem on stderr and
 // nothing on stdout; CLI11's usage errors exit with its own non-zero codes.
 #include <cmath>
@@ -138,10 +141,31 @@ int Fail(const std::string& message) {
 }
 
 // ---- table ----
-int RunTable(bool csv, double rotating_ratio, const std::vector<std::string>& names) {
+int RunTable(bool csv, double rotating_ratio, const std::vector<std::string>& names,
+             const std::vector<std::string>& engine_files) {
   if (!(rotating_ratio >= 0)) return Fail("--rotating-ratio must be >= 0");
   const auto all = bal::EngineLayouts();
   std::vector<bal::EngineLayout> chosen;
+  // A layout from a file: throw_deg, bank_deg, z a cylinder; named after the file. The names
+  // live in `file_names` (stable: reserved) for the table's const char*.
+  std::vector<std::string> file_names;
+  file_names.reserve(engine_files.size());
+  for (const std::string& path : engine_files) {
+    std::vector<std::vector<double>> rows;
+    std::string error;
+    if (!ReadCsv(path, 3, 3, &rows, &error)) return Fail(error);
+    if (static_cast<int>(rows.size()) > bal::kMaxCylinders)
+      return Fail(path + ": " + std::to_string(rows.size()) + " cylinders, at most " +
+                  std::to_string(bal::kMaxCylinders));
+    std::string name = path.substr(path.find_last_of('/') + 1);
+    name = name.substr(0, name.find('.'));
+    file_names.push_back(name);
+    bal::EngineLayout e;
+    e.name = file_names.back().c_str();
+    e.description = "from a file";
+    for (const auto& row : rows) e.cylinders[e.count++] = {row[0] * kDeg, row[1] * kDeg, row[2]};
+    chosen.push_back(e);
+  }
   for (const std::string& name : names) {
     const bal::EngineLayout* e = bal::FindLayout(all, name);
     if (e == nullptr) {
@@ -151,7 +175,7 @@ int RunTable(bool csv, double rotating_ratio, const std::vector<std::string>& na
     }
     chosen.push_back(*e);
   }
-  if (chosen.empty()) chosen.assign(all.begin(), all.end());
+  if (names.empty() && engine_files.empty()) chosen.assign(all.begin(), all.end());
   std::ostringstream out;
   bal::PrintBalanceTable(chosen, out, csv, rotating_ratio);
   std::cout << out.str();
@@ -219,7 +243,7 @@ int RunRotor(const RotorArgs& a) {
 
 // ---- flywheel ----
 struct FlywheelArgs {
-  std::string areas, torque_csv;
+  std::string areas, torque_csv, energy_csv;
   double scale = kUnset, torque_scale = kUnset, angle_scale = kUnset;
   double cycle_deg = 360;
   bool remove_mean = false;
@@ -240,7 +264,9 @@ int RunFlywheel(const FlywheelArgs& a) {
   for (const auto& [name, x] : {std::pair<const char*, double>{"--inertia", a.inertia},
                                 {"--mass", a.mass}, {"--gyration", a.gyration}, {"--cs", a.cs}})
     if (Given(x) && !(x > 0)) return Fail(std::string(name) + " must be > 0");
+  if (!a.energy_csv.empty() && a.torque_csv.empty()) return Fail("--energy-csv needs --torque-csv");
   double delta_E = 0;
+  std::string energy_text;  // written last: nothing is written unless everything succeeded
   if (!a.areas.empty()) {
     std::vector<double> areas;
     std::string error;
@@ -293,7 +319,9 @@ int RunFlywheel(const FlywheelArgs& a) {
     }
     fw::EnergyLoopOptions o;
     o.remove_mean = a.remove_mean;
-    const fw::EnergyLoop loop = fw::ExcessEnergy(dT.data(), n, a.cycle_deg * kDeg, theta0 * kDeg, o);
+    std::vector<double> E(n);
+    const fw::EnergyLoop loop =
+        fw::ExcessEnergy(dT.data(), n, a.cycle_deg * kDeg, theta0 * kDeg, o, E.data());
     if (loop.status == fw::LoopStatus::kNotSteady)
       return Fail(a.torque_csv + ": not a steady cycle: the mean excess torque is " +
                   Format("%.6g", loop.mean_torque) +
@@ -307,6 +335,17 @@ int RunFlywheel(const FlywheelArgs& a) {
         << " deg, E_min = " << Format("%.6g", loop.E_min) << " J at "
         << Format("%.3f", loop.theta_min / kDeg) << " deg\n";
     out << "  dE = " << Format("%.6g", delta_E) << " J\n";
+    if (!a.energy_csv.empty()) {
+      std::ostringstream csv;
+      csv << "angle_deg,excess_torque,E\n";
+      for (int k = 0; k < n; ++k)
+        csv << Format("%.10g", theta0 + k * step) << ',' << Format("%.10g", dT[k] - (a.remove_mean ? loop.mean_torque : 0.0))
+            << ',' << Format("%.10g", E[k]) << '\n';
+      csv << Format("%.10g", theta0 + a.cycle_deg) << ',' << Format("%.10g", dT[0] - (a.remove_mean ? loop.mean_torque : 0.0))
+          << ',' << Format("%.10g", loop.cycle_work) << '\n';
+      energy_text = csv.str();
+      out << "  energy loop written to " << a.energy_csv << " (angle_deg, excess_torque [N m], E [J])\n";
+    }
   }
   const double omega = fw::RpmToRadPerSecond(a.rpm);
   out << "mean speed " << Format("%g", a.rpm) << " rpm = " << Format("%.6g", omega) << " rad/s\n";
@@ -320,6 +359,10 @@ int RunFlywheel(const FlywheelArgs& a) {
     const double I = fw::RequiredInertia(delta_E, a.cs, omega);
     out << "C_s = " << Format("%.6g", a.cs) << ": required I = dE/(C_s w^2) = "
         << Format("%.6g", I) << " kg m^2\n";
+  }
+  if (!a.energy_csv.empty()) {
+    std::ofstream file(a.energy_csv);
+    if (!(file << energy_text) || !file.flush()) return Fail(a.energy_csv + ": cannot write");
   }
   std::cout << out.str();
   return 0;
@@ -341,6 +384,10 @@ int main(int argc, char** argv) {
   table->add_option("--rotating-ratio", rotating_ratio,
                     "rotating mass per cylinder at the crank pin, over the reciprocating mass");
   table->add_option("--layout", layouts, "only these layouts (default: all presets)");
+  std::vector<std::string> engine_files;
+  table->add_option("--engine", engine_files,
+                    "a layout of your own: a CSV file, one cylinder a line: throw angle [deg], "
+                    "bank angle [deg], z [cylinder spacings] (named after the file)");
 
   RotorArgs rotor_args;
   CLI::App* rotor = app.add_subcommand("rotor", "static or two-plane balancing of a rigid rotor");
@@ -363,6 +410,8 @@ int main(int argc, char** argv) {
   flywheel->add_option("--torque-csv", fly.torque_csv,
                        "sampled excess torque: angle_deg, T_d - T_l [N m] (or angle_deg, T_d, T_l)");
   flywheel->add_option("--cycle-deg", fly.cycle_deg, "the cycle of --torque-csv [deg] (720: four-stroke)");
+  flywheel->add_option("--energy-csv", fly.energy_csv,
+                       "write the excess energy E over the cycle (with --torque-csv) to this CSV");
   flywheel->add_flag("--remove-mean", fly.remove_mean,
                      "take the load as the mean torque (subtract the mean of the excess torque)");
   flywheel->add_option("--rpm", fly.rpm, "mean speed [rev/min]")->required();
@@ -372,7 +421,7 @@ int main(int argc, char** argv) {
   flywheel->add_option("--cs", fly.cs, "coefficient of fluctuation of speed -> required inertia");
 
   CLI11_PARSE(app, argc, argv);
-  if (table->parsed()) return RunTable(csv, rotating_ratio, layouts);
+  if (table->parsed()) return RunTable(csv, rotating_ratio, layouts, engine_files);
   if (rotor->parsed()) return RunRotor(rotor_args);
   if (flywheel->parsed()) return RunFlywheel(fly);
   return 1;

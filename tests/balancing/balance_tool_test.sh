@@ -17,7 +17,7 @@ grep -Eq '^inline6 +6  0 +0 +0 +0 *$' "$out/table.txt" || fail "inline6 row"
 grep -Eq '^v8_crossplane +8  0 +0 +3\.162 rotating +0 *$' "$out/table.txt" || fail "v8 row"
 grep -Eq '^inline3 +3  0 +0 +1\.732 line +1\.732 line *$' "$out/table.txt" || fail "inline3 row"
 "$tool" table --csv > "$out/table.csv" || fail "table --csv"
-[ "$(wc -l < "$out/table.csv")" -eq 11 ] || fail "CSV rows"
+[ "$(wc -l < "$out/table.csv")" -eq 12 ] || fail "CSV rows"
 grep -q '^vtwin90,2,1,1,rotating,1.41421356,0,line,0,0,balanced,0,0,balanced$' "$out/table.csv" \
   || fail "vtwin90 CSV"
 
@@ -40,6 +40,13 @@ cat "$out/fly.txt"
 grep -q 'dE = 985 area units x 0.0872665 J per unit = 85.9575 J' "$out/fly.txt" || fail "dE"
 grep -q 'flywheel I = 0.81 kg m^2: C_s = dE/(I w^2) = 0.00298673' "$out/fly.txt" || fail "C_s"
 
+# A layout of one's own from a file: the in-line five preset again, with the bank angle column.
+printf '# in-line five\n0,0,-2\n216,0,-1\n144,0,0\n72,0,1\n288,0,2\n' > "$out/five.csv"
+"$tool" table --csv --engine "$out/five.csv" --layout inline5 > "$out/five.txt" || fail "--engine"
+[ "$(sed -n 2p "$out/five.txt" | cut -d, -f2-)" = "$(sed -n 3p "$out/five.txt" | cut -d, -f2-)" ] \
+  || fail "--engine differs from the preset"
+grep -q '^five,5,0,0,balanced,0,0,balanced,0.449' "$out/five.txt" || fail "five"
+
 # A sampled excess torque 120 sin(theta) N m (T_d - T_l, T_l = 100): dE = 240 J exactly.
 awk 'BEGIN { print "angle_deg,T_d,T_l"; for (k = 0; k < 360; k += 2)
   printf "%d,%.15g,100\n", k, 100 + 120 * sin(k * atan2(0, -1) / 180) }' > "$out/torque.csv"
@@ -48,7 +55,16 @@ awk 'BEGIN { print "angle_deg,T_d,T_l"; for (k = 0; k < 360; k += 2)
 cat "$out/torque.txt"
 grep -q 'E_max = 240 J at 180.000 deg, E_min = 0 J at 0.000 deg' "$out/torque.txt" || fail "E"
 grep -q 'required I = dE/(C_s w^2) = 6.07927 kg m^2' "$out/torque.txt" || fail "I"
+"$tool" flywheel --torque-csv "$out/torque.csv" --rpm 600 --cs 0.01 --energy-csv "$out/E.csv" \
+  > /dev/null || fail "--energy-csv"
+[ "$(head -n 1 "$out/E.csv")" = "angle_deg,excess_torque,E" ] || fail "E.csv header"
+[ "$(wc -l < "$out/E.csv")" -eq 182 ] || fail "E.csv rows"
+# E(180°) = 240 J to the fourth-order integration error (about 5e-6 J at 2° steps).
+awk -F, '$1 == 180 { found = 1; if ($3 < 240 - 1e-4 || $3 > 240 + 1e-4) exit 1 }
+  END { exit !found }' "$out/E.csv" || fail "E(180 deg) = 240 J"
 
+awk 'BEGIN { for (k = 0; k < 720; k += 2) printf "%d,%.15g\n", k, 30 + 120 * sin(k * atan2(0, -1) / 360)^2 }' \
+  > "$out/t720.csv"
 # Bad input: status 1, the problem named, no partial output.
 expect_error() {
   local pattern=$1
@@ -72,4 +88,7 @@ expect_error "cannot open" rotor --csv "$out/missing.csv" --radius 0.1
 expect_error "the loop does not close (sum of the areas = 270" flywheel --areas "295,-685,40,-340,960" --scale 1 --rpm 1800 --cs 0.003
 expect_error "give either the flywheel" flywheel --areas "1,-1" --scale 1 --rpm 1800
 expect_error "no such layout" table --layout w12
+expect_error "energy-csv needs --torque-csv" flywheel --areas "1,-1" --scale 1 --rpm 600 --cs 0.01 --energy-csv "$out/x.csv"
+[ ! -e "$out/x.csv" ] || fail "x.csv written on error"
+expect_error "mean excess torque is 90 N m" flywheel --torque-csv "$out/t720.csv" --cycle-deg 720 --rpm 600 --cs 0.01
 echo PASS

@@ -1,5 +1,6 @@
 // balancing/engine_balance.h against (1) the classical balance facts of multi-cylinder engines
-// (Taylor, *The Internal-Combustion Engine in Theory and Practice*, vol. 2, ch. 8 "Balance";
+// (Taylor, *The Internal-Combustion Engine in Theory and Practice*, vol. 2, the chapter on
+// engine balance;
 // the same table is in most machine-dynamics texts), with the amplitudes derived by hand in
 // the comments, and (2) an independent time-domain route: the per-cylinder two-mass forces
 // summed as real x, y components over a turn, and their moments, analysed by engine/harmonics.h.
@@ -76,6 +77,16 @@ TEST(EngineBalance, ClassicalBalanceTable) {
     const bal::OrderVector& primary = x.force1 > 0 ? b.force[0] : b.moment[0];
     EXPECT_EQ(bal::Classify(primary), x.kind1) << x.name;
   }
+  // In-line five, firing order 1-2-4-5-3 (throws 0, 216, 144, 72, 288 at z = −2..2): forces
+  // balanced; Σ z e^{iα} = −2 − e^{i216°} + e^{i72°} + 2 e^{i288°} = −0.264 − 0.363i, |·| = 0.449;
+  // Σ z e^{2iα} = −2 − e^{i72°} + e^{i144°} + 2 e^{i216°} = −4.736 − 1.539i, |·| = 4.980: the
+  // widely quoted 0.449 m r ω² a and 4.98 m r ω² (r/l) a of the five-cylinder engine.
+  const bal::EngineBalance i5 = bal::AnalyzeBalance(Layout("inline5"));
+  EXPECT_NEAR(i5.force[0].Max(), 0, 1e-14);
+  EXPECT_NEAR(i5.force[1].Max(), 0, 1e-14);
+  EXPECT_NEAR(i5.moment[0].Max(), 0.449, 0.0005);
+  EXPECT_NEAR(i5.moment[1].Max(), 4.98, 0.005);
+  EXPECT_EQ(bal::Classify(i5.moment[0]), bal::OrderKind::kLine);
   // V6 60° with common pins: forces balanced, both couples not.
   const bal::EngineBalance v6 = bal::AnalyzeBalance(Layout("v6_60"));
   EXPECT_NEAR(v6.force[0].Max(), 0, 1e-14);

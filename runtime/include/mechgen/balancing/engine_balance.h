@@ -36,7 +36,8 @@
  * vanishes; the presets place z = 0 at the middle of the engine.
  *
  * The presets of EngineLayouts(): single, in-line twins (360° and 180° cranks), in-line
- * three, four (flat crank 0-180-180-0) and six, 60° V6 with a 120° crank and common crank pins,
+ * three, four (flat crank 0-180-180-0), five (firing order 1-2-4-5-3, four-stroke: a
+ * cylinder's throw is minus half its firing angle, 0-216-144-72-288) and six, 60° V6 with a 120° crank and common crank pins,
  * 90° V8 with the cross-plane crank 0-90-270-180, flat-four boxer (opposed pistons on throws
  * 180° apart) and the 90° V-twin with a common crank pin. The two cylinders on one pin of a V
  * are given the same z (the rod offset neglected, as in the textbooks).
@@ -172,7 +173,7 @@ inline EngineLayout Make(const char* name, const char* description,
 }
 }  // namespace internal
 
-constexpr int kNumLayouts = 10;
+constexpr int kNumLayouts = 11;
 
 /// The preset layouts (angles given here in degrees, stored in rad; z in cylinder spacings,
 /// centred on 0).
@@ -186,6 +187,8 @@ inline std::array<EngineLayout, kNumLayouts> EngineLayouts() {
            {{0, 0, -1}, {120, 0, 0}, {240, 0, 1}}),
       Make("inline4", "in-line four, flat crank 0-180-180-0",
            {{0, 0, -1.5}, {180, 0, -0.5}, {180, 0, 0.5}, {0, 0, 1.5}}),
+      Make("inline5", "in-line five, firing 1-2-4-5-3: throws 0-216-144-72-288",
+           {{0, 0, -2}, {216, 0, -1}, {144, 0, 0}, {72, 0, 1}, {288, 0, 2}}),
       Make("inline6", "in-line six, 0-120-240-240-120-0",
            {{0, 0, -2.5}, {120, 0, -1.5}, {240, 0, -0.5}, {240, 0, 0.5}, {120, 0, 1.5},
             {0, 0, 2.5}}),
