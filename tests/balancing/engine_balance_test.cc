@@ -1,8 +1,7 @@
 // balancing/engine_balance.h against (1) the classical balance facts of multi-cylinder engines
 // (Taylor, *The Internal-Combustion Engine in Theory and Practice*, vol. 2, the chapter on
-// engine balance;
-// the same table is in most machine-dynamics texts), with the amplitudes derived by hand in
-// the comments, and (2) an independent time-domain route: the per-cylinder two-mass forces
+// engine balance; the same table is in most machine-dynamics texts), with the amplitudes
+// derived by hand in the comments, and (2) an independent time-domain route: the per-cylinder two-mass forces
 // summed as real x, y components over a turn, and their moments, analysed by engine/harmonics.h.
 // The analytic route sums rotating complex vectors instead; the two must agree to rounding.
 // (3) The exact slider-crank kinematics: its first order is exactly the two-mass primary, its
