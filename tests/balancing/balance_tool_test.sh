@@ -3,9 +3,10 @@
 # (the lever-rule hand case of rotor_test.cc), the Khurmi & Gupta flywheel (energy_loop_test.cc)
 # from loop areas and a sampled torque; then bad input: exit status 1, a message naming the
 # problem on stderr and nothing on stdout.
-# usage: balance_tool_test.sh <mechgen_balance>
+# And plot_energy_loop.gnuplot on the energy loop it writes (when gnuplot is installed).
+# usage: balance_tool_test.sh <mechgen_balance> <plot_energy_loop.gnuplot>
 set -euo pipefail
-tool=$1
+tool=$1 plot=$2
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -62,6 +63,11 @@ grep -q 'required I = dE/(C_s w^2) = 6.07927 kg m^2' "$out/torque.txt" || fail "
 # E(180°) = 240 J to the fourth-order integration error (about 5e-6 J at 2° steps).
 awk -F, '$1 == 180 { found = 1; if ($3 < 240 - 1e-4 || $3 > 240 + 1e-4) exit 1 }
   END { exit !found }' "$out/E.csv" || fail "E(180 deg) = 240 J"
+
+if command -v gnuplot > /dev/null; then
+  gnuplot -e "csv='$out/E.csv'; png='$out/E.png'" "$plot" || fail "gnuplot"
+  [ -s "$out/E.png" ] || fail "no PNG"
+fi
 
 awk 'BEGIN { for (k = 0; k < 720; k += 2) printf "%d,%.15g\n", k, 30 + 120 * sin(k * atan2(0, -1) / 360)^2 }' \
   > "$out/t720.csv"
