@@ -22,8 +22,15 @@
 //       equally spaced over one cycle); then C_s = dE/(I w^2) for a flywheel I, or the
 //       I = dE/(C_s w^2) for a coefficient of fluctuation of speed C_s. --energy-csv writes
 //       angle_deg, excess_torque, E over the cycle (the energy loop, for a chart).
+//   mechgen_balance wittenbauer --csv FILE [--design --rpm N --cs C] [--diagram-csv OUT]
+//       Wittenbauer's diagram (Paul §6.9.3): from samples (angle_deg, I, T) of a machine's
+//       generalized inertia and kinetic energy, w_max and w_min (the rays from the origin tangent
+//       to the T(I) curve); with --design, from (angle_deg, I_m, E), the machine's own inertia
+//       and the excess work, the flywheel I_f and T0 whose tangents of slopes w_max^2/2 and
+//       w_min^2/2 meet at the origin, compared with the energy-loop flywheel.
 // Exit status 0 on success; 1 on bad input, with a message naming the problem on stderr and
 // nothing on stdout; CLI11's usage errors exit with its own non-zero codes.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -368,6 +375,85 @@ int RunFlywheel(const FlywheelArgs& a) {
   return 0;
 }
 
+// ---- wittenbauer ----
+struct WittenbauerArgs {
+  std::string csv, diagram_csv;
+  bool design = false;
+  double rpm = kUnset, cs = kUnset;
+};
+
+int RunWittenbauer(const WittenbauerArgs& a) {
+  std::vector<std::vector<double>> rows;
+  std::string error;
+  if (!ReadCsv(a.csv, 3, 3, &rows, &error)) return Fail(error);
+  const int n = static_cast<int>(rows.size());
+  if (n < 2) return Fail(a.csv + ": need at least 2 samples");
+  std::vector<double> angle(n), I(n), T(n);
+  for (int k = 0; k < n; ++k) angle[k] = rows[k][0], I[k] = rows[k][1], T[k] = rows[k][2];
+  std::ostringstream out;
+  const double to_rpm = 60 / (2 * kPi);
+  if (a.design) {
+    if (!(a.rpm > 0)) return Fail("--design needs --rpm (the mean speed) > 0");
+    if (!(a.cs > 0 && a.cs < 2)) return Fail("--design needs --cs, 0 < C_s < 2");
+    const double omega = fw::RpmToRadPerSecond(a.rpm);
+    const double omega_max = omega * (1 + a.cs / 2), omega_min = omega * (1 - a.cs / 2);
+    // Columns: angle, I_m (machine), E (excess work from the first sample).
+    const fw::WittenbauerDesign d = fw::DesignByWittenbauer(I.data(), T.data(), n, omega_max, omega_min);
+    if (d.status == fw::WittenbauerStatus::kNonPositive)
+      return Fail(a.csv + ": the machine's inertia I_m (column 2) must be >= 0");
+    if (d.status != fw::WittenbauerStatus::kOk && d.status != fw::WittenbauerStatus::kNoFlywheelNeeded)
+      return Fail(a.csv + ": bad samples or speeds");
+    double E_max = T[0], E_min = T[0], I_mean = 0;
+    for (int k = 0; k < n; ++k) {
+      E_max = std::max(E_max, T[k]);
+      E_min = std::min(E_min, T[k]);
+      I_mean += I[k] / n;
+    }
+    out << "Wittenbauer design from " << n << " samples of (I_m, E) in " << a.csv << "\n";
+    out << "  speeds " << Format("%.6g", omega_min * to_rpm) << " to " << Format("%.6g", omega_max * to_rpm)
+        << " rpm (C_s = " << Format("%.6g", a.cs) << " about " << Format("%g", a.rpm) << " rpm)\n";
+    out << "  tangent of slope w_max^2/2 = " << Format("%.6g", d.slope_max) << " touches at "
+        << Format("%.6g", angle[d.k_max]) << " deg; of slope w_min^2/2 = " << Format("%.6g", d.slope_min)
+        << " at " << Format("%.6g", angle[d.k_min]) << " deg\n";
+    if (d.status == fw::WittenbauerStatus::kNoFlywheelNeeded) {
+      out << "  no flywheel needed: the machine alone stays within these speeds (I_f = "
+          << Format("%.6g", d.I_flywheel) << " kg m^2 < 0)\n";
+    } else {
+      out << "  flywheel I_f = " << Format("%.6g", d.I_flywheel) << " kg m^2, kinetic energy at "
+          << Format("%.6g", angle[0]) << " deg T0 = " << Format("%.6g", d.T0) << " J\n";
+    }
+    const double I_loop = fw::RequiredInertia(E_max - E_min, a.cs, omega) - I_mean;
+    out << "  energy loop (I_m taken as its mean " << Format("%.6g", I_mean) << " kg m^2): I_f = "
+        << Format("%.6g", I_loop) << " kg m^2 (" << Format("%+.3g", 100 * (I_loop - d.I_flywheel) / std::abs(d.I_flywheel))
+        << "% against Wittenbauer)\n";
+    for (int k = 0; k < n; ++k) I[k] += d.I_flywheel, T[k] += d.T0;
+  } else {
+    const fw::WittenbauerSpeeds w = fw::Wittenbauer(I.data(), T.data(), n);
+    if (w.status == fw::WittenbauerStatus::kNonPositive)
+      return Fail(a.csv + ": the inertia I (column 2) and kinetic energy T (column 3) must be > 0");
+    if (w.status != fw::WittenbauerStatus::kOk) return Fail(a.csv + ": bad samples");
+    const double mid = 0.5 * (w.omega_max + w.omega_min);
+    out << "Wittenbauer diagram of " << n << " samples of (I, T) in " << a.csv << "\n";
+    out << "  w_max = " << Format("%.6g", w.omega_max) << " rad/s (" << Format("%.6g", w.omega_max * to_rpm)
+        << " rpm) at " << Format("%.6g", angle[w.k_max]) << " deg, w_min = " << Format("%.6g", w.omega_min)
+        << " rad/s (" << Format("%.6g", w.omega_min * to_rpm) << " rpm) at " << Format("%.6g", angle[w.k_min])
+        << " deg\n";
+    out << "  C_s = (w_max - w_min)/w_mid = " << Format("%.6g", (w.omega_max - w.omega_min) / mid) << "\n";
+  }
+  std::string diagram;
+  if (!a.diagram_csv.empty()) {
+    std::ostringstream csv;
+    csv << "angle_deg,I,T\n";
+    for (int k = 0; k < n; ++k)
+      csv << Format("%.10g", angle[k]) << ',' << Format("%.10g", I[k]) << ',' << Format("%.10g", T[k]) << '\n';
+    std::ofstream file(a.diagram_csv);
+    if (!(file << csv.str()) || !file.flush()) return Fail(a.diagram_csv + ": cannot write");
+    out << "  diagram (I, T) written to " << a.diagram_csv << "\n";
+  }
+  std::cout << out.str();
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -420,9 +506,25 @@ int main(int argc, char** argv) {
   flywheel->add_option("--gyration", fly.gyration, "radius of gyration [m]");
   flywheel->add_option("--cs", fly.cs, "coefficient of fluctuation of speed -> required inertia");
 
+  WittenbauerArgs wit;
+  CLI::App* wittenbauer = app.add_subcommand(
+      "wittenbauer", "Wittenbauer's diagram: speeds from (I, T), or with --design the flywheel "
+                     "from the machine's (I_m, E)");
+  wittenbauer->add_option("--csv", wit.csv,
+                          "samples over a cycle: angle_deg, I [kg m^2], T [J]; with --design: "
+                          "angle_deg, I_m [kg m^2], E [J] (excess work from the first sample)")
+      ->required();
+  wittenbauer->add_flag("--design", wit.design, "find the flywheel and T0 for --rpm and --cs");
+  wittenbauer->add_option("--rpm", wit.rpm, "mean speed [rev/min] (--design)");
+  wittenbauer->add_option("--cs", wit.cs, "coefficient of fluctuation of speed (--design)");
+  wittenbauer->add_option("--diagram-csv", wit.diagram_csv,
+                          "write the diagram's points (angle_deg, I, T; with the flywheel for "
+                          "--design) for runtime/tools/plot_wittenbauer.gnuplot");
+
   CLI11_PARSE(app, argc, argv);
   if (table->parsed()) return RunTable(csv, rotating_ratio, layouts, engine_files);
   if (rotor->parsed()) return RunRotor(rotor_args);
   if (flywheel->parsed()) return RunFlywheel(fly);
+  if (wittenbauer->parsed()) return RunWittenbauer(wit);
   return 1;
 }

@@ -3,10 +3,11 @@
 # (the lever-rule hand case of rotor_test.cc), the Khurmi & Gupta flywheel (energy_loop_test.cc)
 # from loop areas and a sampled torque; then bad input: exit status 1, a message naming the
 # problem on stderr and nothing on stdout.
-# And plot_energy_loop.gnuplot on the energy loop it writes (when gnuplot is installed).
-# usage: balance_tool_test.sh <mechgen_balance> <plot_energy_loop.gnuplot>
+# Wittenbauer's design on a machine with a known flywheel. And plot_energy_loop.gnuplot and
+# plot_wittenbauer.gnuplot on what it writes (when gnuplot is installed).
+# usage: balance_tool_test.sh <mechgen_balance> <plot_energy_loop.gnuplot> <plot_wittenbauer.gnuplot>
 set -euo pipefail
-tool=$1 plot=$2
+tool=$1 plot=$2 wplot=$3
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -69,6 +70,30 @@ if command -v gnuplot > /dev/null; then
   [ -s "$out/E.png" ] || fail "no PNG"
 fi
 
+# Wittenbauer (the synthetic machine of energy_loop_test.cc): I_m = 0.2 + 0.05 cos 2t +
+# 0.02 sin t, E = 30 sin t + 12 (sin(2t + 0.5) - sin 0.5), flywheel 1.3 kg m^2, T0 = 900 J.
+# The speeds of the trace give --rpm (mid-range) and --cs; the design must return 1.3 and 900.
+awk 'BEGIN { pi = atan2(0, -1); print "angle_deg,I_m,E"
+  for (k = 0; k < 360; ++k) { t = k * pi / 180
+    printf "%d,%.17g,%.17g\n", k, 0.2 + 0.05 * cos(2 * t) + 0.02 * sin(t),
+      30 * sin(t) + 12 * (sin(2 * t + 0.5) - sin(0.5)) } }' > "$out/machine.csv"
+read -r rpm cs < <(awk -F, 'NR > 1 { w = sqrt(2 * (900 + $3) / (1.3 + $2))
+  if (NR == 2 || w > hi) hi = w; if (NR == 2 || w < lo) lo = w }
+  END { mid = (hi + lo) / 2; printf "%.17g %.17g\n", mid * 30 / atan2(0, -1), (hi - lo) / mid }' \
+  "$out/machine.csv")
+"$tool" wittenbauer --csv "$out/machine.csv" --design --rpm "$rpm" --cs "$cs" \
+  --diagram-csv "$out/diagram.csv" > "$out/wit.txt" || fail "wittenbauer --design"
+cat "$out/wit.txt"
+grep -q 'flywheel I_f = 1.3 kg m^2, kinetic energy at 0 deg T0 = 900 J' "$out/wit.txt" \
+  || fail "Wittenbauer flywheel"
+"$tool" wittenbauer --csv "$out/diagram.csv" > "$out/wit2.txt" || fail "wittenbauer"
+cat "$out/wit2.txt"
+grep -q "C_s = (w_max - w_min)/w_mid = $(printf '%.6g' "$cs")\$" "$out/wit2.txt" || fail "C_s back"
+if command -v gnuplot > /dev/null; then
+  gnuplot -e "csv='$out/diagram.csv'; png='$out/W.png'" "$wplot" || fail "gnuplot wittenbauer"
+  [ -s "$out/W.png" ] || fail "no Wittenbauer PNG"
+fi
+
 awk 'BEGIN { for (k = 0; k < 720; k += 2) printf "%d,%.15g\n", k, 30 + 120 * sin(k * atan2(0, -1) / 360)^2 }' \
   > "$out/t720.csv"
 # Bad input: status 1, the problem named, no partial output.
@@ -94,6 +119,7 @@ expect_error "cannot open" rotor --csv "$out/missing.csv" --radius 0.1
 expect_error "the loop does not close (sum of the areas = 270" flywheel --areas "295,-685,40,-340,960" --scale 1 --rpm 1800 --cs 0.003
 expect_error "give either the flywheel" flywheel --areas "1,-1" --scale 1 --rpm 1800
 expect_error "no such layout" table --layout w12
+expect_error "needs --cs" wittenbauer --csv "$out/machine.csv" --design --rpm 300
 expect_error "energy-csv needs --torque-csv" flywheel --areas "1,-1" --scale 1 --rpm 600 --cs 0.01 --energy-csv "$out/x.csv"
 [ ! -e "$out/x.csv" ] || fail "x.csv written on error"
 expect_error "mean excess torque is 90 N m" flywheel --torque-csv "$out/t720.csv" --cycle-deg 720 --rpm 600 --cs 0.01
