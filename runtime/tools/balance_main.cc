@@ -30,18 +30,17 @@
 //       w_min^2/2 meet at the origin, compared with the energy-loop flywheel.
 // Exit status 0 on success; 1 on bad input, with a message naming the problem on stderr and
 // nothing on stdout; CLI11's usage errors exit with its own non-zero codes.
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <limits>
-#include <utility>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "mechgen/balancing/engine_balance.h"
 #include "mechgen/balancing/rotor.h"
@@ -100,8 +99,11 @@ bool ParseList(const std::string& text, std::vector<double>* values, std::string
 
 // The numeric rows of a CSV file (comments '#', blank lines and a first non-numeric header
 // line skipped), each with `min_columns`..`max_columns` fields.
-bool ReadCsv(const std::string& path, int min_columns, int max_columns,
-             std::vector<std::vector<double>>* rows, std::string* error) {
+bool ReadCsv(const std::string& path,
+             int min_columns,
+             int max_columns,
+             std::vector<std::vector<double>>* rows,
+             std::string* error) {
   std::ifstream in(path);
   if (!in) {
     *error = path + ": cannot open";
@@ -129,8 +131,8 @@ bool ReadCsv(const std::string& path, int min_columns, int max_columns,
     first = false;
     if (static_cast<int>(row.size()) < min_columns || static_cast<int>(row.size()) > max_columns) {
       *error = path + ":" + std::to_string(number) + ": expected " + std::to_string(min_columns) +
-               (max_columns > min_columns ? " to " + std::to_string(max_columns) : std::string()) +
-               " numbers, found " + std::to_string(row.size());
+               (max_columns > min_columns ? " to " + std::to_string(max_columns) : std::string()) + " numbers, found " +
+               std::to_string(row.size());
       return false;
     }
     rows->push_back(row);
@@ -148,7 +150,9 @@ int Fail(const std::string& message) {
 }
 
 // ---- table ----
-int RunTable(bool csv, double rotating_ratio, const std::vector<std::string>& names,
+int RunTable(bool csv,
+             double rotating_ratio,
+             const std::vector<std::string>& names,
              const std::vector<std::string>& engine_files) {
   if (!(rotating_ratio >= 0)) return Fail("--rotating-ratio must be >= 0");
   const auto all = bal::EngineLayouts();
@@ -212,22 +216,20 @@ int RunRotor(const RotorArgs& a) {
   const double r_left = Given(a.left_radius) ? a.left_radius : a.radius;
   const double r_right = Given(a.right_radius) ? a.right_radius : a.radius;
   const bal::RotorBalance b =
-      two_planes ? bal::BalanceTwoPlanes(u.data(), static_cast<int>(u.size()), a.left, a.right,
-                                         r_left, r_right)
+      two_planes ? bal::BalanceTwoPlanes(u.data(), static_cast<int>(u.size()), a.left, a.right, r_left, r_right)
                  : bal::BalanceStatic(u.data(), static_cast<int>(u.size()), r_left);
   if (b.status == bal::RotorStatus::kBadUnbalance)
-    return Fail(a.csv + ": unbalance " + std::to_string(b.index + 1) + ": " +
-                bal::ToString(b.status));
+    return Fail(a.csv + ": unbalance " + std::to_string(b.index + 1) + ": " + bal::ToString(b.status));
   if (b.status == bal::RotorStatus::kZeroRadius)
     return Fail(std::string(bal::ToString(b.status)) + " (--radius, or --left-radius and --right-radius)");
   if (b.status != bal::RotorStatus::kOk) return Fail(bal::ToString(b.status));
   const bal::UnbalanceSums residual = bal::Residual(u.data(), static_cast<int>(u.size()), b, two_planes);
   std::ostringstream out;
   out << "rotor: " << u.size() << " unbalances from " << a.csv << "\n";
-  out << "  static unbalance U = sum m r e^(i angle): " << Format("%.6g", std::abs(b.before.U))
-      << " kg m at " << Format("%.4f", Degrees(std::arg(b.before.U))) << " deg\n";
-  out << "  moment M = sum m r z e^(i angle) about z = 0: " << Format("%.6g", std::abs(b.before.M))
-      << " kg m^2 at " << Format("%.4f", Degrees(std::arg(b.before.M))) << " deg\n";
+  out << "  static unbalance U = sum m r e^(i angle): " << Format("%.6g", std::abs(b.before.U)) << " kg m at "
+      << Format("%.4f", Degrees(std::arg(b.before.U))) << " deg\n";
+  out << "  moment M = sum m r z e^(i angle) about z = 0: " << Format("%.6g", std::abs(b.before.M)) << " kg m^2 at "
+      << Format("%.4f", Degrees(std::arg(b.before.M))) << " deg\n";
   auto plane = [&](const char* name, const bal::Correction& c) {
     out << "  " << name << " plane z = " << Format("%.6g", c.z) << " m: " << Format("%.6g", c.mass)
         << " kg at r = " << Format("%.6g", c.radius) << " m, angle " << Format("%.4f", Degrees(c.angle))
@@ -259,17 +261,17 @@ struct FlywheelArgs {
 
 int RunFlywheel(const FlywheelArgs& a) {
   std::ostringstream out;
-  if (a.areas.empty() == a.torque_csv.empty())
-    return Fail("give exactly one of --areas and --torque-csv");
+  if (a.areas.empty() == a.torque_csv.empty()) return Fail("give exactly one of --areas and --torque-csv");
   if (!(a.rpm > 0)) return Fail("--rpm (the mean speed) must be > 0");
   const bool by_inertia = Given(a.inertia) || Given(a.mass) || Given(a.gyration);
-  if (by_inertia == Given(a.cs))
-    return Fail("give either the flywheel (--inertia, or --mass and --gyration) or --cs");
+  if (by_inertia == Given(a.cs)) return Fail("give either the flywheel (--inertia, or --mass and --gyration) or --cs");
   if (Given(a.inertia) && (Given(a.mass) || Given(a.gyration)))
     return Fail("give --inertia or --mass with --gyration, not both");
   if (Given(a.mass) != Given(a.gyration)) return Fail("--mass and --gyration go together");
   for (const auto& [name, x] : {std::pair<const char*, double>{"--inertia", a.inertia},
-                                {"--mass", a.mass}, {"--gyration", a.gyration}, {"--cs", a.cs}})
+                                {"--mass", a.mass},
+                                {"--gyration", a.gyration},
+                                {"--cs", a.cs}})
     if (Given(x) && !(x > 0)) return Fail(std::string(name) + " must be > 0");
   if (!a.energy_csv.empty() && a.torque_csv.empty()) return Fail("--energy-csv needs --torque-csv");
   double delta_E = 0;
@@ -280,23 +282,24 @@ int RunFlywheel(const FlywheelArgs& a) {
     if (!ParseList(a.areas, &areas, &error)) return Fail("--areas: " + error);
     const bool by_scales = Given(a.torque_scale) || Given(a.angle_scale);
     if (by_scales == Given(a.scale))
-      return Fail("give the diagram's scale: --scale (J per unit area) or --torque-scale with "
-                  "--angle-scale");
+      return Fail(
+          "give the diagram's scale: --scale (J per unit area) or --torque-scale with "
+          "--angle-scale");
     if (by_scales && !(a.torque_scale > 0 && a.angle_scale > 0))
       return Fail("--torque-scale and --angle-scale go together (both > 0)");
     if (!by_scales && !(a.scale > 0)) return Fail("--scale must be > 0");
     const double scale = by_scales ? a.torque_scale * a.angle_scale * kDeg : a.scale;
     const fw::AreaLoop loop = fw::DeltaEFromAreas(areas.data(), static_cast<int>(areas.size()));
     if (loop.status == fw::LoopStatus::kNotSteady)
-      return Fail("--areas: the loop does not close (sum of the areas = " +
-                  Format("%.6g", loop.closure) + ", must be 0: not a steady cycle)");
+      return Fail("--areas: the loop does not close (sum of the areas = " + Format("%.6g", loop.closure) +
+                  ", must be 0: not a steady cycle)");
     if (loop.status != fw::LoopStatus::kOk) return Fail(std::string("--areas: ") + fw::ToString(loop.status));
     out << "energy loop from " << areas.size() << " areas; energy after each:";
     double s = 0;
     out << " 0";
     for (double x : areas) out << ' ' << Format("%.6g", s += x);
-    out << "\n  largest after area " << loop.after_max << " (" << Format("%.6g", loop.max)
-        << "), smallest after area " << loop.after_min << " (" << Format("%.6g", loop.min) << ")\n";
+    out << "\n  largest after area " << loop.after_max << " (" << Format("%.6g", loop.max) << "), smallest after area "
+        << loop.after_min << " (" << Format("%.6g", loop.min) << ")\n";
     delta_E = loop.delta * scale;
     out << "  dE = " << Format("%.6g", loop.delta) << " area units x " << Format("%.6g", scale)
         << " J per unit = " << Format("%.6g", delta_E) << " J\n";
@@ -307,9 +310,7 @@ int RunFlywheel(const FlywheelArgs& a) {
     if (!(a.cycle_deg > 0)) return Fail("--cycle-deg must be > 0");
     const double theta0 = rows[0][0];
     // The last row may repeat the first one's angle plus a cycle: dropped.
-    if (rows.size() > 1 &&
-        std::abs(rows.back()[0] - theta0 - a.cycle_deg) < 1e-9 * a.cycle_deg)
-      rows.pop_back();
+    if (rows.size() > 1 && std::abs(rows.back()[0] - theta0 - a.cycle_deg) < 1e-9 * a.cycle_deg) rows.pop_back();
     const int n = static_cast<int>(rows.size());
     if (n < 4) return Fail(a.torque_csv + ": need at least 4 samples over the cycle");
     const double step = a.cycle_deg / n;
@@ -318,20 +319,17 @@ int RunFlywheel(const FlywheelArgs& a) {
       if (rows[k].size() != rows[0].size())
         return Fail(a.torque_csv + ": row " + std::to_string(k + 1) + " has a different number of columns");
       if (std::abs(rows[k][0] - (theta0 + k * step)) > 1e-6 * step)
-        return Fail(a.torque_csv + ": the angles must be equally spaced over --cycle-deg " +
-                    Format("%g", a.cycle_deg) + " (expected " + Format("%.6g", theta0 + k * step) +
-                    " deg at data row " + std::to_string(k + 1) + ", found " +
-                    Format("%.6g", rows[k][0]) + ")");
+        return Fail(a.torque_csv + ": the angles must be equally spaced over --cycle-deg " + Format("%g", a.cycle_deg) +
+                    " (expected " + Format("%.6g", theta0 + k * step) + " deg at data row " + std::to_string(k + 1) +
+                    ", found " + Format("%.6g", rows[k][0]) + ")");
       dT[k] = rows[k].size() == 3 ? rows[k][1] - rows[k][2] : rows[k][1];
     }
     fw::EnergyLoopOptions o;
     o.remove_mean = a.remove_mean;
     std::vector<double> E(n);
-    const fw::EnergyLoop loop =
-        fw::ExcessEnergy(dT.data(), n, a.cycle_deg * kDeg, theta0 * kDeg, o, E.data());
+    const fw::EnergyLoop loop = fw::ExcessEnergy(dT.data(), n, a.cycle_deg * kDeg, theta0 * kDeg, o, E.data());
     if (loop.status == fw::LoopStatus::kNotSteady)
-      return Fail(a.torque_csv + ": not a steady cycle: the mean excess torque is " +
-                  Format("%.6g", loop.mean_torque) +
+      return Fail(a.torque_csv + ": not a steady cycle: the mean excess torque is " + Format("%.6g", loop.mean_torque) +
                   " N m (use --remove-mean to take the load as the mean torque)");
     if (loop.status != fw::LoopStatus::kOk) return Fail(a.torque_csv + ": " + fw::ToString(loop.status));
     delta_E = loop.delta_E;
@@ -339,17 +337,19 @@ int RunFlywheel(const FlywheelArgs& a) {
         << " deg (mean excess torque " << Format("%.6g", loop.mean_torque) << " N m"
         << (a.remove_mean ? ", removed" : "") << ")\n";
     out << "  E_max = " << Format("%.6g", loop.E_max) << " J at " << Format("%.3f", loop.theta_max / kDeg)
-        << " deg, E_min = " << Format("%.6g", loop.E_min) << " J at "
-        << Format("%.3f", loop.theta_min / kDeg) << " deg\n";
+        << " deg, E_min = " << Format("%.6g", loop.E_min) << " J at " << Format("%.3f", loop.theta_min / kDeg)
+        << " deg\n";
     out << "  dE = " << Format("%.6g", delta_E) << " J\n";
     if (!a.energy_csv.empty()) {
       std::ostringstream csv;
       csv << "angle_deg,excess_torque,E\n";
       for (int k = 0; k < n; ++k)
-        csv << Format("%.10g", theta0 + k * step) << ',' << Format("%.10g", dT[k] - (a.remove_mean ? loop.mean_torque : 0.0))
-            << ',' << Format("%.10g", E[k]) << '\n';
-      csv << Format("%.10g", theta0 + a.cycle_deg) << ',' << Format("%.10g", dT[0] - (a.remove_mean ? loop.mean_torque : 0.0))
-          << ',' << Format("%.10g", loop.cycle_work) << '\n';
+        csv << Format("%.10g", theta0 + k * step) << ','
+            << Format("%.10g", dT[k] - (a.remove_mean ? loop.mean_torque : 0.0)) << ',' << Format("%.10g", E[k])
+            << '\n';
+      csv << Format("%.10g", theta0 + a.cycle_deg) << ','
+          << Format("%.10g", dT[0] - (a.remove_mean ? loop.mean_torque : 0.0)) << ','
+          << Format("%.10g", loop.cycle_work) << '\n';
       energy_text = csv.str();
       out << "  energy loop written to " << a.energy_csv << " (angle_deg, excess_torque [N m], E [J])\n";
     }
@@ -359,13 +359,11 @@ int RunFlywheel(const FlywheelArgs& a) {
   if (by_inertia) {
     const double I = Given(a.inertia) ? a.inertia : a.mass * a.gyration * a.gyration;
     const double cs = fw::SpeedFluctuation(delta_E, I, omega);
-    out << "flywheel I = " << Format("%.6g", I) << " kg m^2: C_s = dE/(I w^2) = "
-        << Format("%.6g", cs) << " (speed " << Format("%.6g", a.rpm * (1 - cs / 2)) << " to "
-        << Format("%.6g", a.rpm * (1 + cs / 2)) << " rpm)\n";
+    out << "flywheel I = " << Format("%.6g", I) << " kg m^2: C_s = dE/(I w^2) = " << Format("%.6g", cs) << " (speed "
+        << Format("%.6g", a.rpm * (1 - cs / 2)) << " to " << Format("%.6g", a.rpm * (1 + cs / 2)) << " rpm)\n";
   } else {
     const double I = fw::RequiredInertia(delta_E, a.cs, omega);
-    out << "C_s = " << Format("%.6g", a.cs) << ": required I = dE/(C_s w^2) = "
-        << Format("%.6g", I) << " kg m^2\n";
+    out << "C_s = " << Format("%.6g", a.cs) << ": required I = dE/(C_s w^2) = " << Format("%.6g", I) << " kg m^2\n";
   }
   if (!a.energy_csv.empty()) {
     std::ofstream file(a.energy_csv);
@@ -413,19 +411,19 @@ int RunWittenbauer(const WittenbauerArgs& a) {
     out << "  speeds " << Format("%.6g", omega_min * to_rpm) << " to " << Format("%.6g", omega_max * to_rpm)
         << " rpm (C_s = " << Format("%.6g", a.cs) << " about " << Format("%g", a.rpm) << " rpm)\n";
     out << "  tangent of slope w_max^2/2 = " << Format("%.6g", d.slope_max) << " touches at "
-        << Format("%.6g", angle[d.k_max]) << " deg; of slope w_min^2/2 = " << Format("%.6g", d.slope_min)
-        << " at " << Format("%.6g", angle[d.k_min]) << " deg\n";
+        << Format("%.6g", angle[d.k_max]) << " deg; of slope w_min^2/2 = " << Format("%.6g", d.slope_min) << " at "
+        << Format("%.6g", angle[d.k_min]) << " deg\n";
     if (d.status == fw::WittenbauerStatus::kNoFlywheelNeeded) {
-      out << "  no flywheel needed: the machine alone stays within these speeds (I_f = "
-          << Format("%.6g", d.I_flywheel) << " kg m^2 < 0)\n";
+      out << "  no flywheel needed: the machine alone stays within these speeds (I_f = " << Format("%.6g", d.I_flywheel)
+          << " kg m^2 < 0)\n";
     } else {
       out << "  flywheel I_f = " << Format("%.6g", d.I_flywheel) << " kg m^2, kinetic energy at "
           << Format("%.6g", angle[0]) << " deg T0 = " << Format("%.6g", d.T0) << " J\n";
     }
     const double I_loop = fw::RequiredInertia(E_max - E_min, a.cs, omega) - I_mean;
-    out << "  energy loop (I_m taken as its mean " << Format("%.6g", I_mean) << " kg m^2): I_f = "
-        << Format("%.6g", I_loop) << " kg m^2 (" << Format("%+.3g", 100 * (I_loop - d.I_flywheel) / std::abs(d.I_flywheel))
-        << "% against Wittenbauer)\n";
+    out << "  energy loop (I_m taken as its mean " << Format("%.6g", I_mean)
+        << " kg m^2): I_f = " << Format("%.6g", I_loop) << " kg m^2 ("
+        << Format("%+.3g", 100 * (I_loop - d.I_flywheel) / std::abs(d.I_flywheel)) << "% against Wittenbauer)\n";
     for (int k = 0; k < n; ++k) I[k] += d.I_flywheel, T[k] += d.T0;
   } else {
     const fw::WittenbauerSpeeds w = fw::Wittenbauer(I.data(), T.data(), n);
@@ -457,15 +455,17 @@ int RunWittenbauer(const WittenbauerArgs& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"mechgen_balance: engine balance table, rigid-rotor balancing, flywheel sizing "
-               "by the energy loop (no mechanism model needed)."};
+  CLI::App app{
+      "mechgen_balance: engine balance table, rigid-rotor balancing, flywheel sizing "
+      "by the energy loop (no mechanism model needed)."};
   app.require_subcommand(1);
 
   bool csv = false;
   double rotating_ratio = 0;
   std::vector<std::string> layouts;
-  CLI::App* table = app.add_subcommand("table", "primary/secondary shaking force and moment of "
-                                                "multi-cylinder engine layouts");
+  CLI::App* table = app.add_subcommand("table",
+                                       "primary/secondary shaking force and moment of "
+                                       "multi-cylinder engine layouts");
   table->add_flag("--csv", csv, "CSV instead of the text table");
   table->add_option("--rotating-ratio", rotating_ratio,
                     "rotating mass per cylinder at the crank pin, over the reciprocating mass");
@@ -477,8 +477,7 @@ int main(int argc, char** argv) {
 
   RotorArgs rotor_args;
   CLI::App* rotor = app.add_subcommand("rotor", "static or two-plane balancing of a rigid rotor");
-  rotor->add_option("--csv", rotor_args.csv, "unbalances: m [kg], r [m], angle [deg], z [m] a line")
-      ->required();
+  rotor->add_option("--csv", rotor_args.csv, "unbalances: m [kg], r [m], angle [deg], z [m] a line")->required();
   rotor->add_option("--radius", rotor_args.radius, "correction radius [m] (both planes)");
   rotor->add_option("--left-radius", rotor_args.left_radius, "correction radius, left plane [m]");
   rotor->add_option("--right-radius", rotor_args.right_radius, "correction radius, right plane [m]");
@@ -507,12 +506,13 @@ int main(int argc, char** argv) {
   flywheel->add_option("--cs", fly.cs, "coefficient of fluctuation of speed -> required inertia");
 
   WittenbauerArgs wit;
-  CLI::App* wittenbauer = app.add_subcommand(
-      "wittenbauer", "Wittenbauer's diagram: speeds from (I, T), or with --design the flywheel "
-                     "from the machine's (I_m, E)");
-  wittenbauer->add_option("--csv", wit.csv,
-                          "samples over a cycle: angle_deg, I [kg m^2], T [J]; with --design: "
-                          "angle_deg, I_m [kg m^2], E [J] (excess work from the first sample)")
+  CLI::App* wittenbauer = app.add_subcommand("wittenbauer",
+                                             "Wittenbauer's diagram: speeds from (I, T), or with --design the flywheel "
+                                             "from the machine's (I_m, E)");
+  wittenbauer
+      ->add_option("--csv", wit.csv,
+                   "samples over a cycle: angle_deg, I [kg m^2], T [J]; with --design: "
+                   "angle_deg, I_m [kg m^2], E [J] (excess work from the first sample)")
       ->required();
   wittenbauer->add_flag("--design", wit.design, "find the flywheel and T0 for --rpm and --cs");
   wittenbauer->add_option("--rpm", wit.rpm, "mean speed [rev/min] (--design)");

@@ -1,14 +1,14 @@
 // flywheel/energy_loop.h: a textbook flywheel with published numbers, a closed-form excess
 // torque with the convergence of the sampled integration, and Wittenbauer's tangents on
 // synthetic data whose flywheel is known by construction.
+#include "mechgen/flywheel/energy_loop.h"
+
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
-
-#include <gtest/gtest.h>
-
-#include "mechgen/flywheel/energy_loop.h"
 
 namespace {
 
@@ -24,8 +24,8 @@ constexpr double kPi = 3.14159265358979323846;
 // C_s ≈ 0.003. Exactly: ΔE = 985 · 5 · π/180 = 85.957 J, I = 36 · 0.15² = 0.81 kg m²,
 // ω = 1800 · 2π/60 = 188.50 rad/s, C_s = 85.957/(0.81 · 188.50²) = 0.0029866.
 constexpr double kAreas[6] = {295, -685, 40, -340, 960, -270};
-constexpr double kTorqueScale = 5;          // N m per mm
-constexpr double kAngleScale = kPi / 180;   // rad per mm
+constexpr double kTorqueScale = 5;         // N m per mm
+constexpr double kAngleScale = kPi / 180;  // rad per mm
 
 TEST(EnergyLoop, KhurmiGuptaPetrolEngineFromLoopAreas) {
   const fw::AreaLoop loop = fw::DeltaEFromAreas(kAreas, 6);
@@ -81,9 +81,8 @@ TEST(EnergyLoop, SmoothCurveWithTheTextbookAreasReproducesDeltaE) {
     ASSERT_EQ(loop.status, fw::LoopStatus::kOk);
     EXPECT_LT(std::abs(loop.mean_torque), 1.0 / n);
     const double error = std::abs(loop.delta_E - exact);
-    std::printf("n = %5d  mean %.2e N m  dE = %.9f J  error %.3e  max at %.3f deg, min at %.3f deg\n",
-                n, loop.mean_torque, loop.delta_E, error, loop.theta_max / kAngleScale,
-                loop.theta_min / kAngleScale);
+    std::printf("n = %5d  mean %.2e N m  dE = %.9f J  error %.3e  max at %.3f deg, min at %.3f deg\n", n,
+                loop.mean_torque, loop.delta_E, error, loop.theta_max / kAngleScale, loop.theta_min / kAngleScale);
     EXPECT_LT(error, previous);
     previous = error;
     // The maximum is at the end of lobe 1 (25°), the minimum at the end of lobe 4 (110°).
@@ -110,8 +109,7 @@ TEST(EnergyLoop, ClosedFormSineConvergesAtFourthOrder) {
       double e_error = 0;
       for (int k = 0; k < n; ++k) {
         const double t = theta0 + 2 * kPi * k / n;
-        e_error = std::max(e_error, std::abs(E[k] - A / order * (std::cos(order * theta0) -
-                                                                 std::cos(order * t))));
+        e_error = std::max(e_error, std::abs(E[k] - A / order * (std::cos(order * theta0) - std::cos(order * t))));
       }
       const double error = std::abs(loop.delta_E - 2 * A / order);
       std::printf("order %d n = %4d  dE error %.3e  E error %.3e\n", order, n, error, e_error);
@@ -210,16 +208,14 @@ TEST(Wittenbauer, TangentsRecoverTheFlywheelAndTheSpeeds) {
   }
   EXPECT_LT(e_error, 1e-9);
   const double I_loop = fw::RequiredInertia(loop.delta_E, trace.C_s, trace.omega_mid) - mean_I_m;
-  std::printf("Wittenbauer I_f = %.6f kg m^2, energy loop (I variation neglected) %.6f: %+.2f%%\n",
-              design.I_flywheel, I_loop, 100 * (I_loop - I_f) / I_f);
+  std::printf("Wittenbauer I_f = %.6f kg m^2, energy loop (I variation neglected) %.6f: %+.2f%%\n", design.I_flywheel,
+              I_loop, 100 * (I_loop - I_f) / I_f);
 
   // Constant machine inertia: the energy loop is exact, ΔE = ½ I (ω_max² − ω_min²).
   for (int k = 0; k < n; ++k) omega[k] = std::sqrt(2 * T[k] / (I_f + 0.2));
   const fw::SpeedTrace constant = fw::AnalyzeSpeedTrace(omega.data(), n, fw::TraceSampling::kAngle);
-  const double delta_E_samples = *std::max_element(E.begin(), E.end()) -
-                                 *std::min_element(E.begin(), E.end());
-  EXPECT_NEAR(fw::RequiredInertia(delta_E_samples, constant.C_s, constant.omega_mid), I_f + 0.2,
-              1e-12);
+  const double delta_E_samples = *std::max_element(E.begin(), E.end()) - *std::min_element(E.begin(), E.end());
+  EXPECT_NEAR(fw::RequiredInertia(delta_E_samples, constant.C_s, constant.omega_mid), I_f + 0.2, 1e-12);
   // The time mean of an angle-sampled trace is the harmonic mean; close to the mid-range speed.
   EXPECT_LT(std::abs(constant.omega_mean - constant.omega_mid), constant.C_s * constant.omega_mid);
 }
@@ -230,8 +226,7 @@ TEST(Wittenbauer, BadInput) {
   const double T[3] = {5, -1, 4};
   EXPECT_EQ(fw::Wittenbauer(I_m, T, 3).status, fw::WittenbauerStatus::kNonPositive);
   const double omega[3] = {3, 0, 2};
-  EXPECT_EQ(fw::AnalyzeSpeedTrace(omega, 3, fw::TraceSampling::kTime).status,
-            fw::TraceStatus::kNonPositiveSpeed);
+  EXPECT_EQ(fw::AnalyzeSpeedTrace(omega, 3, fw::TraceSampling::kTime).status, fw::TraceStatus::kNonPositiveSpeed);
 }
 
 }  // namespace

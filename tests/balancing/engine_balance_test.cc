@@ -6,15 +6,16 @@
 // The analytic route sums rotating complex vectors instead; the two must agree to rounding.
 // (3) The exact slider-crank kinematics: its first order is exactly the two-mass primary, its
 // second order is λ (1 + λ²/4 + 15λ⁴/128 + 35λ⁶/512 + …), the known series.
+#include "mechgen/balancing/engine_balance.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
-#include "mechgen/balancing/engine_balance.h"
 #include "mechgen/engine/harmonics.h"
 
 namespace {
@@ -105,8 +106,14 @@ TEST(EngineBalance, ClassicalBalanceTable) {
 // The time-domain route: per cylinder, the reciprocating mass's force m r ω² (cos ψ + λ cos 2ψ)
 // along (cos β, sin β) and the rotating mass's m_rot r ω² (cos(θ + α), sin(θ + α)), summed in x
 // and y, with moments M_x = −Σ z F_y, M_y = Σ z F_x; DFT of the four components over a turn.
-void TimeDomain(const bal::EngineLayout& e, double lambda, double rho, bool exact, int n,
-                std::vector<double>* Fx, std::vector<double>* Fy, std::vector<double>* Mx,
+void TimeDomain(const bal::EngineLayout& e,
+                double lambda,
+                double rho,
+                bool exact,
+                int n,
+                std::vector<double>* Fx,
+                std::vector<double>* Fy,
+                std::vector<double>* Mx,
                 std::vector<double>* My) {
   Fx->assign(n, 0);
   Fy->assign(n, 0);
@@ -121,8 +128,8 @@ void TimeDomain(const bal::EngineLayout& e, double lambda, double rho, bool exac
       if (exact) {
         // x = r cos ψ + l √(1 − λ² sin² ψ): d²x/dψ² = −r [cos ψ + λ (cos 2ψ/S + λ² sin² 2ψ/(4 S³))].
         const double S = std::sqrt(1 - lambda * lambda * std::sin(psi) * std::sin(psi));
-        along = std::cos(psi) + lambda * (std::cos(2 * psi) / S + lambda * lambda *
-                                          std::pow(std::sin(2 * psi), 2) / (4 * S * S * S));
+        along = std::cos(psi) +
+                lambda * (std::cos(2 * psi) / S + lambda * lambda * std::pow(std::sin(2 * psi), 2) / (4 * S * S * S));
       } else {
         along = std::cos(psi) + lambda * std::cos(2 * psi);
       }
@@ -144,8 +151,7 @@ TEST(EngineBalance, AnalyticAgreesWithTimeDomainHarmonicsForEveryLayout) {
     std::vector<double> comp[4];
     TimeDomain(e, lambda, rho, false, n, &comp[0], &comp[1], &comp[2], &comp[3]);
     Harmonic h[4][4];
-    for (int c = 0; c < 4; ++c)
-      ASSERT_EQ(Analyze(comp[c].data(), n, 2 * kPi, 0.1, 4, h[c]), HarmonicsStatus::kOk);
+    for (int c = 0; c < 4; ++c) ASSERT_EQ(Analyze(comp[c].data(), n, 2 * kPi, 0.1, 4, h[c]), HarmonicsStatus::kOk);
     for (int order = 1; order <= 2; ++order) {
       const double unit = order == 1 ? 1 : lambda;
       const bal::OrderVector& F = b.force[order - 1];
@@ -187,8 +193,8 @@ TEST(EngineBalance, ExactKinematicsPrimaryExactSecondaryFollowsTheSeries) {
       ASSERT_EQ(Analyze(Fy.data(), n, 2 * kPi, 0.1, 3, hy), HarmonicsStatus::kOk);
       EXPECT_NEAR(hx[1].a, b.force[0].ax(), 1e-13) << name;
       EXPECT_NEAR(hy[1].b, b.force[0].by(), 1e-13) << name;
-      const double series = 1 + std::pow(lambda, 2) / 4 + 15 * std::pow(lambda, 4) / 128 +
-                            35 * std::pow(lambda, 6) / 512;
+      const double series =
+          1 + std::pow(lambda, 2) / 4 + 15 * std::pow(lambda, 4) / 128 + 35 * std::pow(lambda, 6) / 512;
       // Each cylinder's exact second order is A₂ cos 2ψ: every coefficient scales by A₂/λ.
       const double tolerance = std::pow(lambda, 8) * lambda * b.force[1].Max();
       EXPECT_NEAR(hx[2].a, lambda * series * b.force[1].ax(), tolerance) << name << lambda;
@@ -209,8 +215,7 @@ TEST(EngineBalance, TablePrintsEveryLayout) {
     EXPECT_NE(text.str().find(e.name), std::string::npos);
     EXPECT_NE(csv.str().find(std::string("\n") + e.name + ","), std::string::npos);
   }
-  EXPECT_NE(csv.str().find("inline4,4,0,0,balanced,4,0,line,0,0,balanced,0,0,balanced"),
-            std::string::npos);
+  EXPECT_NE(csv.str().find("inline4,4,0,0,balanced,4,0,line,0,0,balanced,0,0,balanced"), std::string::npos);
 }
 
 }  // namespace

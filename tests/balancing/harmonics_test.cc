@@ -1,12 +1,12 @@
 // engine/harmonics.h against synthetic signals whose harmonics are known by construction, at
 // several sampling offsets, and against Parseval's identity.
-#include <cmath>
-#include <random>
-#include <vector>
+#include "mechgen/engine/harmonics.h"
 
 #include <gtest/gtest.h>
 
-#include "mechgen/engine/harmonics.h"
+#include <cmath>
+#include <random>
+#include <vector>
 
 namespace {
 
@@ -42,8 +42,7 @@ TEST(Harmonics, RecoversKnownOrdersAtAnySamplingOffset) {
     // The reconstruction is the signal between the samples too.
     for (double t : {0.1, 1.0, 4.4})
       EXPECT_NEAR(Reconstruct(h, 6, 2 * kPi, t),
-                  3 + 2 * std::cos(t - 0.4) + 0.5 * std::cos(2 * t + 1.1) + 0.25 * std::sin(4 * t),
-                  1e-12);
+                  3 + 2 * std::cos(t - 0.4) + 0.5 * std::cos(2 * t + 1.1) + 0.25 * std::sin(4 * t), 1e-12);
   }
 }
 
@@ -86,8 +85,7 @@ TEST(Harmonics, ParsevalOnRandomSamples) {
     for (int m = 1; m < count; ++m) energy += 0.5 * h[m].amplitude * h[m].amplitude;
     EXPECT_NEAR(energy, MeanSquare(f.data(), n), 1e-12 * MeanSquare(f.data(), n)) << n;
     // ... and the harmonics interpolate the samples.
-    for (int k = 0; k < n; ++k)
-      EXPECT_NEAR(Reconstruct(h.data(), count, 2 * kPi, 0.9 + 2 * kPi * k / n), f[k], 1e-11);
+    for (int k = 0; k < n; ++k) EXPECT_NEAR(Reconstruct(h.data(), count, 2 * kPi, 0.9 + 2 * kPi * k / n), f[k], 1e-11);
   }
 }
 

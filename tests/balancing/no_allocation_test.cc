@@ -1,11 +1,11 @@
 // The runtime math of issue 16 (harmonics, energy loop, Wittenbauer, rotor and engine balance)
 // allocates nothing: the global operator new is replaced by a counting one, armed around the
 // calls (PrintBalanceTable, which formats text, is the documented exception and not called).
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <new>
-
-#include <gtest/gtest.h>
 
 #include "mechgen/balancing/engine_balance.h"
 #include "mechgen/balancing/rotor.h"

@@ -1,14 +1,14 @@
 // balancing/rotor.h: the corrections cancel the unbalance's force and moment exactly (to
 // rounding) for random rotors, a hand computation by the lever rule, static balancing, and
 // the statuses of bad input.
+#include "mechgen/balancing/rotor.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <complex>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
-
-#include "mechgen/balancing/rotor.h"
 
 namespace {
 
@@ -20,8 +20,7 @@ constexpr double kDeg = kPi / 180;
 // Σ m r e^{iθ} = 0 and Σ m r z e^{iθ} = 0 to rounding (relative to Σ m r and Σ m r |z|).
 TEST(Rotor, TwoPlaneCorrectionsCancelForceAndMomentOfRandomRotors) {
   std::mt19937 gen(42);
-  std::uniform_real_distribution<double> mass(0.01, 2), radius(0.01, 0.3), angle(-kPi, kPi),
-      z(-0.5, 1.5);
+  std::uniform_real_distribution<double> mass(0.01, 2), radius(0.01, 0.3), angle(-kPi, kPi), z(-0.5, 1.5);
   double worst_U = 0, worst_M = 0;
   for (int trial = 0; trial < 200; ++trial) {
     const int n = 1 + trial % 8;
@@ -94,8 +93,7 @@ TEST(Rotor, BalancedRotorNeedsNoCorrection) {
 
 TEST(Rotor, BadInputNamesTheProblem) {
   bal::Unbalance u[3] = {{1, 0.1, 0, 0}, {1, 0.1, 1, 0.5}, {1, 0.1, 2, 1}};
-  EXPECT_EQ(bal::BalanceTwoPlanes(u, 3, 0.2, 0.2, 0.1, 0.1).status,
-            bal::RotorStatus::kCoincidentPlanes);
+  EXPECT_EQ(bal::BalanceTwoPlanes(u, 3, 0.2, 0.2, 0.1, 0.1).status, bal::RotorStatus::kCoincidentPlanes);
   EXPECT_EQ(bal::BalanceTwoPlanes(u, 3, 0.0, 1.0, 0.0, 0.1).status, bal::RotorStatus::kZeroRadius);
   EXPECT_EQ(bal::BalanceStatic(u, 3, -0.1).status, bal::RotorStatus::kZeroRadius);
   u[1].m = -1;

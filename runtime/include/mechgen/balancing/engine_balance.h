@@ -37,10 +37,10 @@
  *
  * The presets of EngineLayouts(): single, in-line twins (360° and 180° cranks), in-line
  * three, four (flat crank 0-180-180-0), five (firing order 1-2-4-5-3, four-stroke: a
- * cylinder's throw is minus half its firing angle, 0-216-144-72-288) and six, 60° V6 with a 120° crank and common crank pins,
- * 90° V8 with the cross-plane crank 0-90-270-180, flat-four boxer (opposed pistons on throws
- * 180° apart) and the 90° V-twin with a common crank pin. The two cylinders on one pin of a V
- * are given the same z (the rod offset neglected, as in the textbooks).
+ * cylinder's throw is minus half its firing angle, 0-216-144-72-288) and six, 60° V6 with a 120° crank and common crank
+ * pins, 90° V8 with the cross-plane crank 0-90-270-180, flat-four boxer (opposed pistons on throws 180° apart) and the
+ * 90° V-twin with a common crank pin. The two cylinders on one pin of a V are given the same z (the rod offset
+ * neglected, as in the textbooks).
  *
  * Allocation-free except PrintBalanceTable(); nothing throws.
  */
@@ -136,8 +136,7 @@ enum class OrderKind {
 
 inline OrderKind Classify(const OrderVector& v, double tolerance = 1e-9) {
   if (v.Max() <= tolerance) return OrderKind::kBalanced;
-  if (std::abs(v.backward) <= tolerance || std::abs(v.forward) <= tolerance)
-    return OrderKind::kRotating;
+  if (std::abs(v.backward) <= tolerance || std::abs(v.forward) <= tolerance) return OrderKind::kRotating;
   if (v.Min() <= tolerance) return OrderKind::kLine;
   return OrderKind::kEllipse;
 }
@@ -158,8 +157,7 @@ inline const char* ToString(OrderKind k) {
 
 namespace internal {
 constexpr double kDeg = 3.14159265358979323846 / 180;
-inline EngineLayout Make(const char* name, const char* description,
-                         std::initializer_list<Cylinder> cylinders) {
+inline EngineLayout Make(const char* name, const char* description, std::initializer_list<Cylinder> cylinders) {
   EngineLayout e;
   e.name = name;
   e.description = description;
@@ -183,21 +181,24 @@ inline std::array<EngineLayout, kNumLayouts> EngineLayouts() {
       Make("single", "single cylinder", {{0, 0, 0}}),
       Make("inline2_360", "in-line twin, 360 deg crank", {{0, 0, -0.5}, {0, 0, 0.5}}),
       Make("inline2_180", "in-line twin, 180 deg crank", {{0, 0, -0.5}, {180, 0, 0.5}}),
-      Make("inline3", "in-line three, 0-120-240",
-           {{0, 0, -1}, {120, 0, 0}, {240, 0, 1}}),
+      Make("inline3", "in-line three, 0-120-240", {{0, 0, -1}, {120, 0, 0}, {240, 0, 1}}),
       Make("inline4", "in-line four, flat crank 0-180-180-0",
            {{0, 0, -1.5}, {180, 0, -0.5}, {180, 0, 0.5}, {0, 0, 1.5}}),
       Make("inline5", "in-line five, firing 1-2-4-5-3: throws 0-216-144-72-288",
            {{0, 0, -2}, {216, 0, -1}, {144, 0, 0}, {72, 0, 1}, {288, 0, 2}}),
       Make("inline6", "in-line six, 0-120-240-240-120-0",
-           {{0, 0, -2.5}, {120, 0, -1.5}, {240, 0, -0.5}, {240, 0, 0.5}, {120, 0, 1.5},
-            {0, 0, 2.5}}),
+           {{0, 0, -2.5}, {120, 0, -1.5}, {240, 0, -0.5}, {240, 0, 0.5}, {120, 0, 1.5}, {0, 0, 2.5}}),
       Make("v6_60", "60 deg V6, 120 deg crank, common pins",
-           {{0, 30, -1}, {0, -30, -1}, {120, 30, 0}, {120, -30, 0}, {240, 30, 1},
-            {240, -30, 1}}),
+           {{0, 30, -1}, {0, -30, -1}, {120, 30, 0}, {120, -30, 0}, {240, 30, 1}, {240, -30, 1}}),
       Make("v8_crossplane", "90 deg V8, cross-plane crank 0-90-270-180",
-           {{0, 45, -1.5}, {0, -45, -1.5}, {90, 45, -0.5}, {90, -45, -0.5}, {270, 45, 0.5},
-            {270, -45, 0.5}, {180, 45, 1.5}, {180, -45, 1.5}}),
+           {{0, 45, -1.5},
+            {0, -45, -1.5},
+            {90, 45, -0.5},
+            {90, -45, -0.5},
+            {270, 45, 0.5},
+            {270, -45, 0.5},
+            {180, 45, 1.5},
+            {180, -45, 1.5}}),
       Make("boxer4", "flat-four boxer, throws 0-180-180-0, banks R-L-R-L",
            {{0, 90, -1.5}, {180, -90, -0.5}, {180, 90, 0.5}, {0, -90, 1.5}}),
       Make("vtwin90", "90 deg V-twin, common crank pin", {{0, 45, 0}, {0, -45, 0}}),
@@ -205,8 +206,7 @@ inline std::array<EngineLayout, kNumLayouts> EngineLayouts() {
 }
 
 /// The preset named `name`, or nullptr.
-inline const EngineLayout* FindLayout(const std::array<EngineLayout, kNumLayouts>& all,
-                                      const std::string& name) {
+inline const EngineLayout* FindLayout(const std::array<EngineLayout, kNumLayouts>& all, const std::string& name) {
   for (const EngineLayout& e : all)
     if (name == e.name) return &e;
   return nullptr;
@@ -219,8 +219,7 @@ inline const EngineLayout* FindLayout(const std::array<EngineLayout, kNumLayouts
  * m r ω² (r/l) (secondary), moments times a. csv: one line per layout with max, min and kind.
  */
 template <class Range>
-void PrintBalanceTable(const Range& layouts, std::ostream& out, bool csv = false,
-                       double rotating_ratio = 0) {
+void PrintBalanceTable(const Range& layouts, std::ostream& out, bool csv = false, double rotating_ratio = 0) {
   auto cell = [](const OrderVector& v) -> std::string {
     const OrderKind k = Classify(v);
     char buffer[64];
@@ -240,12 +239,11 @@ void PrintBalanceTable(const Range& layouts, std::ostream& out, bool csv = false
     out << "Shaking forces and moments, two-mass approximation (max over a turn; forces in m r w^2\n"
            "(primary) and m r w^2 (r/l) (secondary), moments about the engine's middle times the\n"
            "cylinder spacing a; reciprocating masses only"
-        << (rotating_ratio != 0 ? ", plus rotating mass ratio " + std::to_string(rotating_ratio)
-                                : std::string())
+        << (rotating_ratio != 0 ? ", plus rotating mass ratio " + std::to_string(rotating_ratio) : std::string())
         << ")\n";
     char line[256];
-    std::snprintf(line, sizeof(line), "%-14s %3s  %-24s %-24s %-24s %-24s\n", "layout", "cyl",
-                  "primary force", "secondary force", "primary moment", "secondary moment");
+    std::snprintf(line, sizeof(line), "%-14s %3s  %-24s %-24s %-24s %-24s\n", "layout", "cyl", "primary force",
+                  "secondary force", "primary moment", "secondary moment");
     out << line;
   }
   for (const EngineLayout& e : layouts) {
@@ -265,9 +263,8 @@ void PrintBalanceTable(const Range& layouts, std::ostream& out, bool csv = false
       out << '\n';
     } else {
       char line[256];
-      std::snprintf(line, sizeof(line), "%-14s %3d  %-24s %-24s %-24s %-24s\n", e.name, e.count,
-                    cell(*v[0]).c_str(), cell(*v[1]).c_str(), cell(*v[2]).c_str(),
-                    cell(*v[3]).c_str());
+      std::snprintf(line, sizeof(line), "%-14s %3d  %-24s %-24s %-24s %-24s\n", e.name, e.count, cell(*v[0]).c_str(),
+                    cell(*v[1]).c_str(), cell(*v[2]).c_str(), cell(*v[3]).c_str());
       out << line;
     }
   }

@@ -88,8 +88,8 @@ namespace internal {
 inline int FirstBadUnbalance(const Unbalance* u, int n) {
   for (int i = 0; i < n; ++i) {
     const Unbalance& x = u[i];
-    if (!(std::isfinite(x.m) && std::isfinite(x.r) && std::isfinite(x.angle) &&
-          std::isfinite(x.z) && x.m >= 0 && x.r >= 0))
+    if (!(std::isfinite(x.m) && std::isfinite(x.r) && std::isfinite(x.angle) && std::isfinite(x.z) && x.m >= 0 &&
+          x.r >= 0))
       return i;
   }
   return -1;
@@ -142,8 +142,8 @@ inline RotorBalance BalanceStatic(const Unbalance* u, int n, double radius, doub
  * \param[in] z_left, z_right  the correction planes (m), distinct
  * \param[in] r_left, r_right  the correction radii (m) > 0
  */
-inline RotorBalance BalanceTwoPlanes(const Unbalance* u, int n, double z_left, double z_right,
-                                     double r_left, double r_right) {
+inline RotorBalance BalanceTwoPlanes(
+    const Unbalance* u, int n, double z_left, double z_right, double r_left, double r_right) {
   RotorBalance r;
   r.index = internal::FirstBadUnbalance(u, n);
   if (r.index >= 0) {
@@ -174,8 +174,7 @@ inline RotorBalance BalanceTwoPlanes(const Unbalance* u, int n, double z_left, d
 }
 
 /// U and M of the unbalances with the corrections added (the residual: 0 to rounding).
-inline UnbalanceSums Residual(const Unbalance* u, int n, const RotorBalance& b,
-                              bool two_planes = true) {
+inline UnbalanceSums Residual(const Unbalance* u, int n, const RotorBalance& b, bool two_planes = true) {
   UnbalanceSums s = Sums(u, n);
   const Correction* planes[2] = {&b.left, &b.right};
   for (int p = 0; p < (two_planes ? 2 : 1); ++p) {

@@ -30,19 +30,19 @@ namespace mechgen::engine {
 
 /// One order of a periodic signal (m = 0: the mean, a = mean, b = 0, amplitude = |mean|).
 struct Harmonic {
-  int m = 0;           ///< index of the order: ν = 2π m / Θ
-  double order = 0;    ///< ν_m, cycles per crank revolution (m/2 for a 4π cycle)
-  double a = 0;        ///< cosine coefficient a_m
-  double b = 0;        ///< sine coefficient b_m
+  int m = 0;             ///< index of the order: ν = 2π m / Θ
+  double order = 0;      ///< ν_m, cycles per crank revolution (m/2 for a 4π cycle)
+  double a = 0;          ///< cosine coefficient a_m
+  double b = 0;          ///< sine coefficient b_m
   double amplitude = 0;  ///< A_m = √(a_m² + b_m²)
-  double phase = 0;    ///< φ_m = atan2(b_m, a_m) (rad): the term is A_m cos(ν_m θ - φ_m)
+  double phase = 0;      ///< φ_m = atan2(b_m, a_m) (rad): the term is A_m cos(ν_m θ - φ_m)
 };
 
 enum class HarmonicsStatus {
   kOk = 0,
-  kTooFewSamples,   ///< N < 1, count < 1, or count - 1 >= N/2 (an order at or above Nyquist)
-  kBadCycle,        ///< Θ not finite or <= 0
-  kNonFinite,       ///< a sample or θ_0 is NaN or infinite
+  kTooFewSamples,  ///< N < 1, count < 1, or count - 1 >= N/2 (an order at or above Nyquist)
+  kBadCycle,       ///< Θ not finite or <= 0
+  kNonFinite,      ///< a sample or θ_0 is NaN or infinite
 };
 
 inline const char* ToString(HarmonicsStatus s) {
@@ -68,8 +68,7 @@ inline const char* ToString(HarmonicsStatus s) {
  * \param[in]  count   harmonics to fill: out[0] the mean, out[m] order m (count - 1 < N/2)
  * \param[out] out     count Harmonic values
  */
-inline HarmonicsStatus Analyze(const double* f, int n, double cycle, double theta0, int count,
-                               Harmonic* out) {
+inline HarmonicsStatus Analyze(const double* f, int n, double cycle, double theta0, int count, Harmonic* out) {
   if (n < 1 || count < 1 || 2 * (count - 1) >= n) return HarmonicsStatus::kTooFewSamples;
   if (!(std::isfinite(cycle) && cycle > 0)) return HarmonicsStatus::kBadCycle;
   if (!std::isfinite(theta0)) return HarmonicsStatus::kNonFinite;

@@ -93,16 +93,16 @@ struct EnergyLoopOptions {
 /// The result of ExcessEnergy(): the swing of the excess energy over one cycle.
 struct EnergyLoop {
   LoopStatus status = LoopStatus::kTooFewSamples;
-  int n = 0;                  ///< samples N
-  double cycle = 0;           ///< Θ (rad)
-  double mean_torque = 0;     ///< (1/N) Σ ΔT_k (N m), before any removal
-  double cycle_work = 0;      ///< E(θ_0 + Θ) as integrated (J): 0 steady, Θ·mean otherwise
-  double E_max = 0;           ///< largest E (J), refined between samples
-  double theta_max = 0;       ///< where (rad, in [θ_0, θ_0 + Θ))
-  double E_min = 0;           ///< smallest E (J)
-  double theta_min = 0;       ///< where (rad)
-  double delta_E = 0;         ///< ΔE = E_max − E_min (J)
-  int k_max = -1, k_min = -1; ///< the sample with the largest / smallest E
+  int n = 0;                   ///< samples N
+  double cycle = 0;            ///< Θ (rad)
+  double mean_torque = 0;      ///< (1/N) Σ ΔT_k (N m), before any removal
+  double cycle_work = 0;       ///< E(θ_0 + Θ) as integrated (J): 0 steady, Θ·mean otherwise
+  double E_max = 0;            ///< largest E (J), refined between samples
+  double theta_max = 0;        ///< where (rad, in [θ_0, θ_0 + Θ))
+  double E_min = 0;            ///< smallest E (J)
+  double theta_min = 0;        ///< where (rad)
+  double delta_E = 0;          ///< ΔE = E_max − E_min (J)
+  int k_max = -1, k_min = -1;  ///< the sample with the largest / smallest E
   bool IsUsable() const { return status == LoopStatus::kOk; }
 };
 
@@ -117,8 +117,7 @@ void HermiteCandidates(double p0, double p1, double g0, double g1, double h, Vis
   const double m0 = h * g0, m1 = h * g1;
   auto value = [&](double s) {
     const double s2 = s * s, s3 = s2 * s;
-    return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * p1 +
-           (s3 - s2) * m1;
+    return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * p1 + (s3 - s2) * m1;
   };
   visit(0.0, p0);
   visit(1.0, p1);
@@ -155,7 +154,10 @@ void HermiteCandidates(double p0, double p1, double g0, double g1, double h, Vis
  * \param[in]  theta0   θ_0 (rad), the angle of dT[0] (E = 0 there)
  * \param[out] E        optional: n values E(θ_k) (J), E[0] = 0 (the mean removed if asked)
  */
-inline EnergyLoop ExcessEnergy(const double* dT, int n, double cycle, double theta0,
+inline EnergyLoop ExcessEnergy(const double* dT,
+                               int n,
+                               double cycle,
+                               double theta0,
                                const EnergyLoopOptions& options = EnergyLoopOptions(),
                                double* E = nullptr) {
   EnergyLoop r;
@@ -177,8 +179,7 @@ inline EnergyLoop ExcessEnergy(const double* dT, int n, double cycle, double the
   }
   r.mean_torque = sum / n;
   const double shift = options.remove_mean ? r.mean_torque : 0.0;
-  const bool steady =
-      options.remove_mean || std::abs(r.mean_torque) <= options.mean_tolerance * peak;
+  const bool steady = options.remove_mean || std::abs(r.mean_torque) <= options.mean_tolerance * peak;
   const double h = cycle / n;
   auto g = [&](int k) { return dT[((k % n) + n) % n] - shift; };
   // First pass: E at the samples, the extreme samples, the cycle's work.
@@ -231,8 +232,12 @@ inline EnergyLoop ExcessEnergy(const double* dT, int n, double cycle, double the
 
 /// The same from the driving and load torques sampled at the same angles (N m): ΔT_k =
 /// T_d[k] − T_l[k]. `work` is scratch for n values (holds ΔT on return).
-inline EnergyLoop ExcessEnergy(const double* T_d, const double* T_l, int n, double cycle,
-                               double theta0, double* work,
+inline EnergyLoop ExcessEnergy(const double* T_d,
+                               const double* T_l,
+                               int n,
+                               double cycle,
+                               double theta0,
+                               double* work,
                                const EnergyLoopOptions& options = EnergyLoopOptions(),
                                double* E = nullptr) {
   for (int k = 0; k < n; ++k) work[k] = T_d[k] - T_l[k];
@@ -288,8 +293,7 @@ inline double RequiredInertia(double delta_E, double C_s, double omega_mean) {
 /// C_s = ΔE / (I ω_m²): the coefficient of fluctuation of speed with a constant inertia I.
 /// NaN unless ΔE >= 0, I > 0, ω_m > 0.
 inline double SpeedFluctuation(double delta_E, double inertia, double omega_mean) {
-  if (!(delta_E >= 0 && inertia > 0 && omega_mean > 0 &&
-        std::isfinite(delta_E * inertia * omega_mean)))
+  if (!(delta_E >= 0 && inertia > 0 && omega_mean > 0 && std::isfinite(delta_E * inertia * omega_mean)))
     return std::numeric_limits<double>::quiet_NaN();
   return delta_E / (inertia * omega_mean * omega_mean);
 }
@@ -312,10 +316,10 @@ struct SpeedTrace {
   TraceStatus status = TraceStatus::kTooFewSamples;
   double omega_max = 0, omega_min = 0;  ///< rad/s
   int k_max = -1, k_min = -1;           ///< their samples
-  double omega_mid = 0;   ///< ½(ω_max + ω_min)
+  double omega_mid = 0;                 ///< ½(ω_max + ω_min)
   /// The time mean: the plain mean of time samples, or Θ / ∫dθ/ω = N / Σ 1/ω_k of angle samples.
   double omega_mean = 0;
-  double C_s = 0;         ///< (ω_max − ω_min)/ω_mid (the textbook definition, consistent with ΔE)
+  double C_s = 0;            ///< (ω_max − ω_min)/ω_mid (the textbook definition, consistent with ΔE)
   double C_s_time_mean = 0;  ///< (ω_max − ω_min)/omega_mean
 };
 
@@ -350,10 +354,10 @@ inline SpeedTrace AnalyzeSpeedTrace(const double* omega, int n, TraceSampling sa
 
 enum class WittenbauerStatus {
   kOk = 0,
-  kTooFewSamples,      ///< fewer than 2 samples
-  kNonFinite,          ///< a sample or a speed is NaN or infinite
-  kNonPositive,        ///< an inertia <= 0 or (analysis) a kinetic energy <= 0
-  kBadSpeeds,          ///< (design) not 0 < ω_min < ω_max
+  kTooFewSamples,  ///< fewer than 2 samples
+  kNonFinite,      ///< a sample or a speed is NaN or infinite
+  kNonPositive,    ///< an inertia <= 0 or (analysis) a kinetic energy <= 0
+  kBadSpeeds,      ///< (design) not 0 < ω_min < ω_max
   /// (design) I_f < 0: the machine alone already keeps the speed within the limits (reaching
   /// them exactly would take removing inertia); no flywheel is needed (I_f, T_0 still filled).
   kNoFlywheelNeeded,
@@ -399,10 +403,10 @@ inline WittenbauerSpeeds Wittenbauer(const double* I, const double* T, int n) {
 struct WittenbauerDesign {
   WittenbauerStatus status = WittenbauerStatus::kTooFewSamples;
   double slope_max = 0, slope_min = 0;  ///< ω_max²/2, ω_min²/2
-  double c_max = 0, c_min = 0;  ///< the tangent lines E = slope I_m + c (J)
-  int k_max = -1, k_min = -1;   ///< their points of contact (the samples at ω_max, ω_min)
-  double I_flywheel = 0;        ///< I_f (kg m²), the constant inertia to add
-  double T0 = 0;                ///< T_0 (J), the kinetic energy at θ_0 (where E = 0)
+  double c_max = 0, c_min = 0;          ///< the tangent lines E = slope I_m + c (J)
+  int k_max = -1, k_min = -1;           ///< their points of contact (the samples at ω_max, ω_min)
+  double I_flywheel = 0;                ///< I_f (kg m²), the constant inertia to add
+  double T0 = 0;                        ///< T_0 (J), the kinetic energy at θ_0 (where E = 0)
   bool IsUsable() const { return status == WittenbauerStatus::kOk; }
 };
 
@@ -412,8 +416,8 @@ struct WittenbauerDesign {
  * \param[in] E      the excess work E(θ_k) (J) from θ_0, n values (e.g. from ExcessEnergy())
  * \param[in] omega_max, omega_min  the allowed speeds (rad/s), 0 < ω_min < ω_max
  */
-inline WittenbauerDesign DesignByWittenbauer(const double* I_m, const double* E, int n,
-                                             double omega_max, double omega_min) {
+inline WittenbauerDesign DesignByWittenbauer(
+    const double* I_m, const double* E, int n, double omega_max, double omega_min) {
   WittenbauerDesign r;
   if (n < 2) return r;
   if (!std::isfinite(omega_max) || !std::isfinite(omega_min)) {
