@@ -156,6 +156,13 @@ inline const char* ToString(OrderKind k) {
 }
 
 namespace internal {
+// The line without its trailing blanks (the last column is padded), newline kept.
+inline std::string TrimRight(const char* line) {
+  std::string s(line);
+  const bool newline = !s.empty() && s.back() == '\n';
+  s.erase(s.find_last_not_of(" \n") + 1);
+  return newline ? s + '\n' : s;
+}
 constexpr double kDeg = 3.14159265358979323846 / 180;
 inline EngineLayout Make(const char* name, const char* description, std::initializer_list<Cylinder> cylinders) {
   EngineLayout e;
@@ -244,7 +251,7 @@ void PrintBalanceTable(const Range& layouts, std::ostream& out, bool csv = false
     char line[256];
     std::snprintf(line, sizeof(line), "%-14s %3s  %-24s %-24s %-24s %-24s\n", "layout", "cyl", "primary force",
                   "secondary force", "primary moment", "secondary moment");
-    out << line;
+    out << internal::TrimRight(line);
   }
   for (const EngineLayout& e : layouts) {
     const EngineBalance b = AnalyzeBalance(e, rotating_ratio);
@@ -265,7 +272,7 @@ void PrintBalanceTable(const Range& layouts, std::ostream& out, bool csv = false
       char line[256];
       std::snprintf(line, sizeof(line), "%-14s %3d  %-24s %-24s %-24s %-24s\n", e.name, e.count, cell(*v[0]).c_str(),
                     cell(*v[1]).c_str(), cell(*v[2]).c_str(), cell(*v[3]).c_str());
-      out << line;
+      out << internal::TrimRight(line);
     }
   }
 }
