@@ -206,6 +206,43 @@ TEST(EngineBalance, ExactKinematicsPrimaryExactSecondaryFollowsTheSeries) {
   }
 }
 
+// Counterweights on the crank (BalancePrimaryForward) put into the time-domain sums as rotating masses: the V-twin's
+// primary force and the cross-plane V8's primary couple vanish at every crank angle; the single keeps a force of
+// constant length ½ m r ω² (the backward half, which a counterweight cannot reach).
+TEST(EngineBalance, CrankCounterweightsCancelTheRotatingPrimary) {
+  struct Case {
+    const char* name;
+    double force_left, moment_left;  // |F|, |M| of the primary after the counterweights, at every angle
+  };
+  for (const Case& c : {Case{"vtwin90", 0, 0}, Case{"v8_crossplane", 0, 0}, Case{"single", 0.5, 0}}) {
+    const bal::EngineLayout& e = Layout(c.name);
+    const bal::PrimaryCounterweights w = bal::BalancePrimaryForward(bal::AnalyzeBalance(e), 2.0);
+    for (int k = 0; k < 72; ++k) {
+      const double theta = 0.05 + 2 * kPi * k / 72;
+      double Fx = 0, Fy = 0, Mx = 0, My = 0;
+      auto add = [&](double fx, double fy, double z) {
+        Fx += fx;
+        Fy += fy;
+        Mx -= z * fy;
+        My += z * fx;
+      };
+      for (int j = 0; j < e.count; ++j) {
+        const bal::Cylinder& cyl = e.cylinders[j];
+        const double along = std::cos(theta + cyl.throw_angle - cyl.bank_angle);  // primary only
+        add(along * std::cos(cyl.bank_angle), along * std::sin(cyl.bank_angle), cyl.z);
+      }
+      for (const bal::Counterweight& cw : {w.force, w.couple[0], w.couple[1]})
+        add(cw.mr * std::cos(theta + cw.angle), cw.mr * std::sin(theta + cw.angle), cw.z);
+      EXPECT_NEAR(std::hypot(Fx, Fy), c.force_left, 1e-14) << c.name << " " << theta;
+      EXPECT_NEAR(std::hypot(Mx, My), c.moment_left, 1e-14) << c.name << " " << theta;
+    }
+  }
+  // The V8's couple counterweights: √10 / (2 · 2) m r each at z = ±2 a.
+  const bal::PrimaryCounterweights v8 = bal::BalancePrimaryForward(bal::AnalyzeBalance(Layout("v8_crossplane")), 2.0);
+  EXPECT_NEAR(v8.couple[0].mr, std::sqrt(10.0) / 4, 1e-15);
+  EXPECT_NEAR(v8.force.mr, 0, 1e-15);
+}
+
 TEST(EngineBalance, TablePrintsEveryLayout) {
   std::ostringstream text, csv;
   bal::PrintBalanceTable(bal::EngineLayouts(), text);

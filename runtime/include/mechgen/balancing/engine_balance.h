@@ -125,6 +125,42 @@ inline EngineBalance AnalyzeBalance(const EngineLayout& e, double rotating_ratio
   return b;
 }
 
+/// A mass on the crankshaft, turning with it: m_cw r_cw (in units of m r) at the angle `angle` from x at θ = 0
+/// (so at θ + angle at crank angle θ), at the axial position z.
+struct Counterweight {
+  double mr = 0;
+  double angle = 0;
+  double z = 0;
+};
+
+/// The crank counterweights that cancel the forward (turning with the crank) parts of the primary force and moment.
+struct PrimaryCounterweights {
+  Counterweight force;      ///< at z = 0: its centrifugal force is −f_1 (and its moment about z = 0 is zero)
+  Counterweight couple[2];  ///< equal and opposite at z = ±half_span: no force, moment −f of the primary moment
+};
+
+/**
+ * \brief Counterweights for the primary's forward parts. A counterweight w e^{iφ} at z turning with the crank adds
+ * w e^{iφ} to the forward primary force and i z w e^{iφ} to the forward primary moment (centrifugal force
+ * m_cw r_cw ω² on the frame), so one at z = 0 with w e^{iφ} = −f_1 cancels the forward force, and a pair
+ * ±w e^{iφ} at z = ±c with 2 i c w e^{iφ} = −f_M, i.e. w e^{iφ} = i f_M/(2c), cancels the forward moment. The
+ * backward parts (the cos 2β_j − α_j terms) turn against the crank and stay: a counter-rotating balance shaft would
+ * be needed. A V8 with the cross-plane crank and a 90° V-twin on one pin have no backward primary: their primary
+ * couple and force are fully balanced this way; a single keeps ½ m r ω² turning backwards.
+ * \param[in] b          the balance (AnalyzeBalance())
+ * \param[in] half_span  c > 0: the couple's counterweights at z = ±c (units of a)
+ */
+inline PrimaryCounterweights BalancePrimaryForward(const EngineBalance& b, double half_span) {
+  PrimaryCounterweights p;
+  const std::complex<double> force = -b.force[0].forward;
+  p.force = {std::abs(force), std::abs(force) > 0 ? std::arg(force) : 0.0, 0.0};
+  const std::complex<double> w = std::complex<double>(0, 1) * b.moment[0].forward / (2 * half_span);
+  const double angle = std::abs(w) > 0 ? std::arg(w) : 0.0;
+  p.couple[0] = {std::abs(w), angle, half_span};
+  p.couple[1] = {std::abs(w), std::abs(w) > 0 ? std::arg(-w) : 0.0, -half_span};
+  return p;
+}
+
 /// How an order vector moves over a turn (for the table).
 enum class OrderKind {
   kBalanced,  ///< max |X| <= tolerance
