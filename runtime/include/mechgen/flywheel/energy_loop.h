@@ -6,8 +6,9 @@
  *
  * Energy loop. Over one cycle Θ of the crank (rad; 2π, or 4π for a four-stroke engine, or
  * the period of the turning-moment diagram, e.g. π when it repeats every half turn) the
- * excess torque ΔT(θ) = T_d(θ) − T_l(θ) (N m; T_d the driving torque on the crank, T_l the
- * load torque resisting it, both positive in the sense of rotation) does the excess work
+ * excess torque ΔT(θ) = T_d(θ) − T_l(θ) (N m; T_d the driving torque on the crank, positive in
+ * the sense of rotation, T_l the load torque, positive when it opposes the rotation) does the
+ * excess work
  *     E(θ) = ∫_{θ_0}^{θ} ΔT(s) ds        (J; E(θ_0) = 0),
  * which goes into kinetic energy. In a steady cycle E(θ_0 + Θ) = 0, i.e. the mean of ΔT over
  * the cycle is zero (otherwise the machine speeds up or slows down: ExcessEnergy() reports
@@ -34,7 +35,7 @@
  * Wittenbauer's diagram (Paul §6.9.3). The kinetic energy T = ½ I(θ) ω² of a one-DOF machine
  * plotted against its generalized inertia I(θ): a ray from the origin to a point of the curve
  * has the slope ω²/2, so ω_max and ω_min are the slopes of the two rays tangent to the curve
- * (WittenbauerSpeeds()). In design the origin is unknown: only the excess work E(θ) and the
+ * (Wittenbauer()). In design the origin is unknown: only the excess work E(θ) and the
  * machine's own inertia I_m(θ) are known, and the flywheel I_f and the energy T_0 at θ_0 are
  * sought, T = T_0 + E, I = I_f + I_m. The lines of slopes s_max = ω_max²/2 and s_min = ω_min²/2
  * that touch the (I_m, E) curve from above and from below,
