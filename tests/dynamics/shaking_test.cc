@@ -11,16 +11,23 @@
 //  - F is the sum of the per-link columns, M the sum of M_link, mass and r_C the masses' sum and
 //    their weighted mean;
 //  - the four-bar without gravity: F and M equal what the kinetostatics' ground reactions and the
-//    driving torque's reaction load the frame with (-R_A + R_D, d R_D,y - drive about A = O).
+//    driving torque's reaction load the frame with (-R_A + R_D, d R_D,y - drive about A = O);
+//  - models/fourbar_balanced.yaml (Berkof-Lowen counterweights): F = 0 to rounding against the
+//    scale sum m |a_G| at 360 crank angles at constant speed and with a crank acceleration, r_C
+//    still and at the point the derivation in the model's description predicts,
+//    (m4 d + m3 z3 d / b) / m with the rocker's and crank's totals written out here; with the
+//    counterweights removed (balance = 0) F is of the order of that scale.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <vector>
 
+#include "fourbar_balanced.h"
 #include "fourbar_massive.h"
 #include "slider_crank_motor.h"
 
@@ -29,6 +36,7 @@ namespace {
 // Every shipped model says whether it has EvalShaking.
 static_assert(mech::slider_crank_motor::Model::kHasShaking);
 static_assert(mech::fourbar_massive::Model::kHasShaking);
+static_assert(mech::fourbar_balanced::Model::kHasShaking);
 
 // A mechanism's mass data as the oracle sees it: per link (by index), the centre of mass and
 // the angle at time t along the motion.
@@ -228,6 +236,67 @@ TEST(GeneratedShaking, FourBarEqualsTheFramesLoadFromTheKinetostatics) {
     EXPECT_NEAR(s.M, moment_on_frame, 1e-10 * scale * (1 + p.d));
     EXPECT_GT(s.F.norm(), 1e-3 * scale);  // an unbalanced four-bar shakes its frame
   }
+}
+
+// The balanced four-bar over a turn at constant crank speed (and with a crank acceleration):
+// the largest |F| / sum m |a_G|, the centre of mass' largest distance from its value at the
+// first angle, and the sweep's largest scale.
+struct BalanceSweep {
+  double worst_ratio = 0, worst_drift = 0, max_force = 0, max_scale = 0;
+  Eigen::Vector2d r_C0{0, 0};
+};
+
+BalanceSweep SweepBalanced(const mech::fourbar_balanced::Model::ParamsT<double>& p, double qdd0) {
+  using M = mech::fourbar_balanced::Model;
+  BalanceSweep out;
+  Eigen::Matrix<double, M::kNphi, 1> phi;
+  for (int k = 0; k < M::kNphi; ++k) phi(k) = M::kAssemblyPhi[k];
+  for (int i = 0; i < 360; ++i) {
+    Eigen::Matrix<double, 1, 1> q, qd, qdd;
+    q(0) = i * M_PI / 180;
+    qd(0) = 10.0;  // rad/s
+    qdd(0) = qdd0;
+    const auto report = M::Solve(p, q, &phi);  // continued from the last angle: one branch
+    EXPECT_EQ(report.status, mech::fourbar_balanced::SolveStatus::kConverged) << i;
+    M::CoefficientsT<double> c;
+    M::Coeffs(p, q, phi, &c);
+    M::ShakingT<double> s;
+    M::Shaking(p, q, phi, qd, qdd, c, &s);
+    double scale = 0;  // sum m |a_G|
+    for (int l = 0; l < M::kNumLinks; ++l) scale += s.F_link.col(l).norm();
+    if (i == 0) out.r_C0 = s.r_C;
+    out.worst_ratio = std::max(out.worst_ratio, s.F.norm() / scale);
+    out.worst_drift = std::max(out.worst_drift, (s.r_C - out.r_C0).norm());
+    out.max_force = std::max(out.max_force, s.F.norm());
+    out.max_scale = std::max(out.max_scale, scale);
+  }
+  return out;
+}
+
+TEST(GeneratedShaking, BalancedFourBarHasNoShakingForce) {
+  using M = mech::fourbar_balanced::Model;
+  M::ParamsT<double> p;
+  ASSERT_EQ(p.balance, 1.0);
+  for (double qdd0 : {0.0, 40.0}) {
+    SCOPED_TRACE("qdd = " + std::to_string(qdd0));
+    const BalanceSweep b = SweepBalanced(p, qdd0);
+    EXPECT_GT(b.max_scale, 1.0);  // N: the links do accelerate
+    EXPECT_LT(b.worst_ratio, 1e-9);
+    EXPECT_LT(b.worst_drift, 1e-12);  // m; the links are 0.05 to 0.2 m long
+    // Where the derivation puts it: S = m4 d + m3 z3 d / b with the rocker's total mass m4
+    // (bar and counterweight), over the total mass.
+    const double m2 = p.m2b + p.mc2, m4 = p.m4b + p.mc4, m = m2 + p.m3 + m4;
+    EXPECT_NEAR(b.r_C0.x(), (m4 * p.d + p.m3 * p.x3 * p.d / p.b) / m, 1e-14);
+    EXPECT_NEAR(b.r_C0.y(), p.m3 * p.y3 * p.d / p.b / m, 1e-14);
+  }
+  // The unbalanced twin: the counterweights removed at run time.
+  double* balance = p.Find("balance");
+  ASSERT_NE(balance, nullptr);
+  *balance = 0;
+  const BalanceSweep u = SweepBalanced(p, 0.0);
+  EXPECT_GT(u.worst_ratio, 0.3);
+  EXPECT_GT(u.max_force, 1.0);  // N
+  EXPECT_GT(u.worst_drift, 1e-3);  // m
 }
 
 }  // namespace
