@@ -969,7 +969,7 @@ void EvalShaking(const Params<Scalar>& p,
                  const Coefficients<Scalar>& c,
                  Shaking<Scalar>* out,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 571 (adds 120, muls 436, divs 9, calls 6); intermediate terms: 53
+  // Total ops: 571 (adds 120, muls 436, divs 9, calls 6); intermediate terms: 52
   using std::cos;
   using std::sin;
   Scalar sin_q0;
@@ -1068,6 +1068,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar rG2_y = cos_phi0*p.y3 + p.a*sin_q0 + p.x3*sin_phi0;
   const Scalar rG3_x = -Scalar(0.5)*_tmp28*cos_phi1*p.balance*p.c*p.m4b + Scalar(0.5)*_tmp28*cos_phi1*p.c*p.m4b - _tmp1*_tmp28*cos_phi1*p.balance*p.c*p.m3*p.x3 + _tmp1*_tmp28*p.balance*p.c*p.m3*p.y3*sin_phi1 + p.d;
   const Scalar rG3_y = -Scalar(0.5)*_tmp28*p.balance*p.c*p.m4b*sin_phi1 + Scalar(0.5)*_tmp28*p.c*p.m4b*sin_phi1 - _tmp1*_tmp28*cos_phi1*p.balance*p.c*p.m3*p.y3 - _tmp1*_tmp28*p.balance*p.c*p.m3*p.x3*sin_phi1;
+  const Scalar mass_total = mass_1 + mass_3 + p.m3;
   const Scalar _tmp36 = -aG1_x*mass_1;
   const Scalar _tmp37 = -aG2_x*p.m3;
   const Scalar _tmp38 = -aG3_x*mass_3;
@@ -1083,9 +1084,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar _tmp48 = aG1_x*mass_1*rG1_y;
   const Scalar _tmp49 = aG2_x*p.m3*rG2_y;
   const Scalar _tmp50 = aG3_x*mass_3*rG3_y;
-  const Scalar _tmp51 = mass_1 + mass_3 + p.m3;
-  const Scalar sum_8b5365a3 = _tmp51;
-  const Scalar _tmp52 = Scalar(1)/sum_8b5365a3;
+  const Scalar _tmp51 = Scalar(1)/mass_total;
   out->F(0) = _tmp36 + _tmp37 + _tmp38;
   out->F(1) = _tmp39 + _tmp40 + _tmp41;
   out->M = _tmp42 + _tmp43 + _tmp44 + _tmp45 + _tmp46 + _tmp47 + _tmp48 + _tmp49 + _tmp50;
@@ -1107,9 +1106,9 @@ void EvalShaking(const Params<Scalar>& p,
   out->M_link(3) = _tmp44 + _tmp47 + _tmp50;
   out->r_G(0, 3) = rG3_x;
   out->r_G(1, 3) = rG3_y;
-  out->mass = _tmp51;
-  out->r_C(0) = _tmp52*mass_1*rG1_x + _tmp52*mass_3*rG3_x + _tmp52*p.m3*rG2_x;
-  out->r_C(1) = _tmp52*mass_1*rG1_y + _tmp52*mass_3*rG3_y + _tmp52*p.m3*rG2_y;
+  out->mass = mass_total;
+  out->r_C(0) = _tmp51*mass_1*rG1_x + _tmp51*mass_3*rG3_x + _tmp51*p.m3*rG2_x;
+  out->r_C(1) = _tmp51*mass_1*rG1_y + _tmp51*mass_3*rG3_y + _tmp51*p.m3*rG2_y;
   out->r_G.col(0).setConstant(std::numeric_limits<Scalar>::quiet_NaN());
 }
 
