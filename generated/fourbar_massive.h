@@ -885,7 +885,7 @@ void EvalShaking(const Params<Scalar>& p,
                  const Coefficients<Scalar>& c,
                  Shaking<Scalar>* out,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 174 (adds 43, muls 124, divs 1, calls 6); intermediate terms: 23
+  // Total ops: 174 (adds 43, muls 124, divs 1, calls 6); intermediate terms: 22
   using std::cos;
   using std::sin;
   Scalar sin_q0;
@@ -948,6 +948,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar rG2_y = Scalar(0.5)*p.b*sin_phi0 + p.a*sin_q0;
   const Scalar rG3_x = Scalar(0.5)*cos_phi1*p.c + p.d;
   const Scalar rG3_y = Scalar(0.5)*p.c*sin_phi1;
+  const Scalar mass_total = mass_1 + mass_2 + mass_3;
   const Scalar _tmp6 = -aG1_x*mass_1;
   const Scalar _tmp7 = -aG2_x*mass_2;
   const Scalar _tmp8 = -aG3_x*mass_3;
@@ -963,9 +964,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar _tmp18 = aG1_x*mass_1*rG1_y;
   const Scalar _tmp19 = aG2_x*mass_2*rG2_y;
   const Scalar _tmp20 = aG3_x*mass_3*rG3_y;
-  const Scalar _tmp21 = mass_1 + mass_2 + mass_3;
-  const Scalar sum_6100896a = _tmp21;
-  const Scalar _tmp22 = Scalar(1)/sum_6100896a;
+  const Scalar _tmp21 = Scalar(1)/mass_total;
   out->F(0) = _tmp6 + _tmp7 + _tmp8;
   out->F(1) = _tmp10 + _tmp11 + _tmp9;
   out->M = _tmp12 + _tmp13 + _tmp14 + _tmp15 + _tmp16 + _tmp17 + _tmp18 + _tmp19 + _tmp20;
@@ -987,9 +986,9 @@ void EvalShaking(const Params<Scalar>& p,
   out->M_link(3) = _tmp14 + _tmp17 + _tmp20;
   out->r_G(0, 3) = rG3_x;
   out->r_G(1, 3) = rG3_y;
-  out->mass = _tmp21;
-  out->r_C(0) = _tmp22*mass_1*rG1_x + _tmp22*mass_2*rG2_x + _tmp22*mass_3*rG3_x;
-  out->r_C(1) = _tmp22*mass_1*rG1_y + _tmp22*mass_2*rG2_y + _tmp22*mass_3*rG3_y;
+  out->mass = mass_total;
+  out->r_C(0) = _tmp21*mass_1*rG1_x + _tmp21*mass_2*rG2_x + _tmp21*mass_3*rG3_x;
+  out->r_C(1) = _tmp21*mass_1*rG1_y + _tmp21*mass_2*rG2_y + _tmp21*mass_3*rG3_y;
   out->r_G.col(0).setConstant(std::numeric_limits<Scalar>::quiet_NaN());
 }
 

@@ -851,7 +851,7 @@ void EvalShaking(const Params<Scalar>& p,
                  const Coefficients<Scalar>& c,
                  Shaking<Scalar>* out,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 115 (adds 36, muls 74, divs 1, calls 4); intermediate terms: 19
+  // Total ops: 115 (adds 36, muls 74, divs 1, calls 4); intermediate terms: 18
   using std::cos;
   using std::sin;
   Scalar sin_q0;
@@ -892,6 +892,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar rG2_y = Scalar(0.5)*p.b*sin_phi0 + p.a*sin_q0;
   const Scalar rG3_x = phi(1);
   const Scalar rG3_y = Scalar(0);
+  const Scalar mass_total = p.m1 + p.m2 + p.m3;
   const Scalar _tmp3 = -aG1_x*p.m1;
   const Scalar _tmp4 = -aG2_x*p.m2;
   const Scalar _tmp5 = -aG3_x*p.m3;
@@ -906,9 +907,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar _tmp14 = aG1_x*p.m1*rG1_y;
   const Scalar _tmp15 = aG2_x*p.m2*rG2_y;
   const Scalar _tmp16 = aG3_x*p.m3*rG3_y;
-  const Scalar _tmp17 = p.m1 + p.m2 + p.m3;
-  const Scalar sum_c7d8b186 = _tmp17;
-  const Scalar _tmp18 = Scalar(1)/sum_c7d8b186;
+  const Scalar _tmp17 = Scalar(1)/mass_total;
   out->F(0) = _tmp3 + _tmp4 + _tmp5;
   out->F(1) = _tmp6 + _tmp7 + _tmp8;
   out->M = -Scalar(0.001)*alpha3 + _tmp10 + _tmp11 + _tmp12 + _tmp13 + _tmp14 + _tmp15 + _tmp16 + _tmp9;
@@ -930,9 +929,9 @@ void EvalShaking(const Params<Scalar>& p,
   out->M_link(3) = -Scalar(0.001)*alpha3 + _tmp11 + _tmp16;
   out->r_G(0, 3) = rG3_x;
   out->r_G(1, 3) = rG3_y;
-  out->mass = _tmp17;
-  out->r_C(0) = _tmp18*p.m1*rG1_x + _tmp18*p.m2*rG2_x + _tmp18*p.m3*rG3_x;
-  out->r_C(1) = _tmp18*p.m1*rG1_y + _tmp18*p.m2*rG2_y + _tmp18*p.m3*rG3_y;
+  out->mass = mass_total;
+  out->r_C(0) = _tmp17*p.m1*rG1_x + _tmp17*p.m2*rG2_x + _tmp17*p.m3*rG3_x;
+  out->r_C(1) = _tmp17*p.m1*rG1_y + _tmp17*p.m2*rG2_y + _tmp17*p.m3*rG3_y;
   out->r_G.col(0).setConstant(std::numeric_limits<Scalar>::quiet_NaN());
 }
 

@@ -178,6 +178,10 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
     M_total += M_link[l];
     mass_total += mk.mass;
   }
+  // Named, so that 1/mass is the reciprocal of a local (not of a sum, which the emitter names).
+  ex total;
+  shaking_program.push_back(Define("mass_total", mass_total, &total));
+  mass_total = total;
   for (int c = 0; c < 2; ++c) r_C[c] = moment_of_mass[c] / mass_total;
 }
 
