@@ -364,6 +364,9 @@ int ParseArgs(int argc, char** argv, Args* a) {
     else if (opt == "--samples") {
       ok = ParseDouble(val, &v) && v >= 16 && v <= 1e6 && v == std::floor(v);
       a->samples = static_cast<int>(v);
+    } else if (opt == "--smoothing") {
+      ok = ParseDouble(val, &v) && v >= 1 && v <= 64 && v == std::floor(v);
+      a->smoothing = static_cast<int>(v);
     } else if (opt == "--csv") a->csv = val;
     else if (opt == "--loop") a->loop_csv = val;
     else if (opt == "--sweep") a->sweep_csv = val;
