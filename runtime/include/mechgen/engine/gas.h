@@ -153,13 +153,16 @@ class PolytropicWiebeCycle {
     Vd_ = 2 * r_ * A_;
     Vc_ = Vd_ / (P.compression_ratio - 1);
     cycle_ = P.strokes == 4 ? 4 * internal::kGasPi : 2 * internal::kGasPi;
-    // F(a) = ∫_{a_s}^{a} V^(n-1) x_b' da on a grid over the burn and on to BDC.
-    a0_ = P.burn_start;
+    // F(a) = ∫_{a_s}^{a} V^(n-1) x_b' da at nodes: 1024 panels over the burn and as long
+    // again (however short the burn), 1024 more from there to BDC.
     const double a_end = internal::kGasPi;
-    nodes_ = 2048;
-    h_ = (a_end - a0_) / nodes_;
-    F_.assign(nodes_ + 1, 0.0);
-    for (int k = 0; k < nodes_; ++k) F_[k + 1] = F_[k] + Gauss(a0_ + k * h_, a0_ + (k + 1) * h_);
+    const double a_mid = std::min(P.burn_start + 2 * P.burn_duration, a_end);
+    x_.clear();
+    for (int k = 0; k <= 1024; ++k) x_.push_back(P.burn_start + (a_mid - P.burn_start) * k / 1024);
+    if (a_mid < a_end)
+      for (int k = 1; k <= 1024; ++k) x_.push_back(a_mid + (a_end - a_mid) * k / 1024);
+    F_.assign(x_.size(), 0.0);
+    for (size_t k = 0; k + 1 < x_.size(); ++k) F_[k + 1] = F_[k] + Gauss(x_[k], x_[k + 1]);
     ok_ = true;
     return true;
   }
@@ -186,10 +189,10 @@ class PolytropicWiebeCycle {
     const double n = P_.n;
     const double Vb = Volume(internal::kGasPi);
     double F = 0;
-    if (a > a0_) {
-      const double u = std::min((a - a0_) / h_, static_cast<double>(nodes_));
-      const int k = std::min(static_cast<int>(u), nodes_ - 1);
-      F = F_[k] + Gauss(a0_ + k * h_, a);
+    if (a > x_.front()) {
+      // the last node at or below a (a beyond BDC: the last node)
+      const size_t k = static_cast<size_t>(std::upper_bound(x_.begin(), x_.end(), a) - x_.begin()) - 1;
+      F = F_[k] + Gauss(x_[k], a);
     }
     return (P_.p_intake * std::pow(Vb, n) + (n - 1) * P_.heat * F) / std::pow(Volume(a), n);
   }
@@ -227,9 +230,7 @@ class PolytropicWiebeCycle {
 
   PolytropicWiebeParams P_;
   double r_ = 0, l_ = 0, A_ = 0, Vd_ = 0, Vc_ = 0, cycle_ = 4 * internal::kGasPi;
-  double a0_ = 0, h_ = 0;
-  int nodes_ = 0;
-  std::vector<double> F_;
+  std::vector<double> x_, F_;  ///< nodes from the burn's start to BDC, the integral there
   bool ok_ = false;
 };
 
