@@ -1,0 +1,40 @@
+# plot_energy_loop.gnuplot: the energy loop of a flywheel sizing, from the CSV that
+# `mechgen_balance flywheel --torque-csv T.csv --energy-csv E.csv` writes (columns angle_deg,
+# excess_torque [N m] = T_d - T_l, E [J] = its integral from the first angle).
+#
+#   gnuplot -e "csv='out/E.csv'; png='out/energy_loop.png'" runtime/tools/plot_energy_loop.gnuplot
+#   gnuplot -e "csv='out/E.csv'; svg='out/energy_loop.svg'" runtime/tools/plot_energy_loop.gnuplot
+#
+# Top: the excess torque against the crank angle (the areas above and below zero are the
+# loops). Bottom: the excess energy E, with its largest and smallest value marked: their
+# difference is dE, the energy the flywheel must absorb (Paul §6.9.2). Needs gnuplot >= 5 with
+# pngcairo (png) or the svg terminal.
+if (!exists("csv")) {
+  print "usage: gnuplot -e \"csv='E.csv'; png='energy_loop.png'\" plot_energy_loop.gnuplot"
+  exit
+}
+if (!exists("png") && !exists("svg")) { png = csv . ".png" }
+set datafile separator ","
+set datafile columnheaders
+stats csv using 3 name "E" nooutput
+if (exists("png")) {
+  set terminal pngcairo size 900,700 noenhanced font ",10"
+  set output png
+} else {
+  set terminal svg size 900,700 noenhanced dynamic
+  set output svg
+}
+set grid
+set autoscale xfix
+set xlabel "crank angle [deg]"
+set multiplot layout 2,1 title sprintf("energy loop: %s   dE = %.6g J (over the samples)", csv, E_max - E_min)
+set ylabel "T_d - T_l [N m]"
+plot csv using 1:2 with filledcurves y1=0 fillstyle transparent solid 0.3 notitle, \
+     "" using 1:2 with lines lw 2 title "excess torque"
+set ylabel "E [J]"
+set arrow 1 from graph 0, first E_max to graph 1, first E_max nohead dashtype 2
+set arrow 2 from graph 0, first E_min to graph 1, first E_min nohead dashtype 2
+plot csv using 1:3 with lines lw 2 title "excess energy E", \
+     "" using 1:($3 == E_max ? $3 : 1/0) with points pt 7 ps 1.5 title sprintf("E_max %.6g J", E_max), \
+     "" using 1:($3 == E_min ? $3 : 1/0) with points pt 7 ps 1.5 title sprintf("E_min %.6g J", E_min)
+unset multiplot

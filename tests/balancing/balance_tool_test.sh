@@ -1,0 +1,126 @@
+#!/usr/bin/env bash
+# mechgen_balance (runtime/tools/balance_main.cc): the balance table, a two-plane rotor
+# (the lever-rule hand case of rotor_test.cc), the Khurmi & Gupta flywheel (energy_loop_test.cc)
+# from loop areas and a sampled torque; then bad input: exit status 1, a message naming the
+# problem on stderr and nothing on stdout.
+# Wittenbauer's design on a machine with a known flywheel. And plot_energy_loop.gnuplot and
+# plot_wittenbauer.gnuplot on what it writes (when gnuplot is installed).
+# usage: balance_tool_test.sh <mechgen_balance> <plot_energy_loop.gnuplot> <plot_wittenbauer.gnuplot>
+set -euo pipefail
+tool=$1 plot=$2 wplot=$3
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+"$tool" table > "$out/table.txt" || fail "table exit status"
+cat "$out/table.txt"
+grep -Eq '^inline4 +4  0 +4\.000 line +0 +0 *$' "$out/table.txt" || fail "inline4 row"
+grep -Eq '^inline6 +6  0 +0 +0 +0 *$' "$out/table.txt" || fail "inline6 row"
+grep -Eq '^v8_crossplane +8  0 +0 +3\.162 rotating +0 *$' "$out/table.txt" || fail "v8 row"
+grep -Eq '^inline3 +3  0 +0 +1\.732 line +1\.732 line *$' "$out/table.txt" || fail "inline3 row"
+"$tool" table --csv > "$out/table.csv" || fail "table --csv"
+[ "$(wc -l < "$out/table.csv")" -eq 12 ] || fail "CSV rows"
+grep -q '^vtwin90,2,1,1,rotating,1.41421356,0,line,0,0,balanced,0,0,balanced$' "$out/table.csv" \
+  || fail "vtwin90 CSV"
+
+printf '# two unbalances\nm,r,angle_deg,z\n2,0.1,0,0.1\n1,0.2,90,0.3\n' > "$out/rotor.csv"
+"$tool" rotor --csv "$out/rotor.csv" --radius 0.1 --left 0 --right 0.4 > "$out/rotor.txt" \
+  || fail "rotor exit status"
+cat "$out/rotor.txt"
+grep -q 'left  plane z = 0 m: 1.58114 kg at r = 0.1 m, angle 198.4349 deg' "$out/rotor.txt" \
+  || fail "left correction"
+grep -q 'right plane z = 0.4 m: 1.58114 kg at r = 0.1 m, angle 251.5651 deg' "$out/rotor.txt" \
+  || fail "right correction"
+grep -Eq 'residual after the corrections: \|U\| = [0-9.e-]+ kg m, \|M\| = [0-9.e-]+ kg m\^2$' \
+  "$out/rotor.txt" || fail "residual line"
+residual=$(sed -n 's/.*|U| = \([0-9.e-]*\) kg m.*/\1/p' "$out/rotor.txt")
+awk -v r="$residual" 'BEGIN { exit !(r < 1e-15) }' || fail "residual $residual"
+
+"$tool" flywheel --areas "295,-685,40,-340,960,-270" --torque-scale 5 --angle-scale 1 \
+  --rpm 1800 --mass 36 --gyration 0.15 > "$out/fly.txt" || fail "flywheel exit status"
+cat "$out/fly.txt"
+grep -q 'dE = 985 area units x 0.0872665 J per unit = 85.9575 J' "$out/fly.txt" || fail "dE"
+grep -q 'flywheel I = 0.81 kg m^2: C_s = dE/(I w^2) = 0.00298673' "$out/fly.txt" || fail "C_s"
+
+# A layout of one's own from a file: the in-line five preset again, with the bank angle column.
+printf '# in-line five\n0,0,-2\n216,0,-1\n144,0,0\n72,0,1\n288,0,2\n' > "$out/five.csv"
+"$tool" table --csv --engine "$out/five.csv" --layout inline5 > "$out/five.txt" || fail "--engine"
+[ "$(sed -n 2p "$out/five.txt" | cut -d, -f2-)" = "$(sed -n 3p "$out/five.txt" | cut -d, -f2-)" ] \
+  || fail "--engine differs from the preset"
+grep -q '^five,5,0,0,balanced,0,0,balanced,0.449' "$out/five.txt" || fail "five"
+
+# A sampled excess torque 120 sin(theta) N m (T_d - T_l, T_l = 100): dE = 240 J exactly.
+awk 'BEGIN { print "angle_deg,T_d,T_l"; for (k = 0; k < 360; k += 2)
+  printf "%d,%.15g,100\n", k, 100 + 120 * sin(k * atan2(0, -1) / 180) }' > "$out/torque.csv"
+"$tool" flywheel --torque-csv "$out/torque.csv" --rpm 600 --cs 0.01 > "$out/torque.txt" \
+  || fail "torque-csv exit status"
+cat "$out/torque.txt"
+grep -q 'E_max = 240 J at 180.000 deg, E_min = 0 J at 0.000 deg' "$out/torque.txt" || fail "E"
+grep -q 'required I = dE/(C_s w^2) = 6.07927 kg m^2' "$out/torque.txt" || fail "I"
+"$tool" flywheel --torque-csv "$out/torque.csv" --rpm 600 --cs 0.01 --energy-csv "$out/E.csv" \
+  > /dev/null || fail "--energy-csv"
+[ "$(head -n 1 "$out/E.csv")" = "angle_deg,excess_torque,E" ] || fail "E.csv header"
+[ "$(wc -l < "$out/E.csv")" -eq 182 ] || fail "E.csv rows"
+# E(180°) = 240 J to the fourth-order integration error (about 5e-6 J at 2° steps).
+awk -F, '$1 == 180 { found = 1; if ($3 < 240 - 1e-4 || $3 > 240 + 1e-4) exit 1 }
+  END { exit !found }' "$out/E.csv" || fail "E(180 deg) = 240 J"
+
+if command -v gnuplot > /dev/null; then
+  gnuplot -e "csv='$out/E.csv'; png='$out/E.png'" "$plot" || fail "gnuplot"
+  [ -s "$out/E.png" ] || fail "no PNG"
+fi
+
+# Wittenbauer (the synthetic machine of energy_loop_test.cc): I_m = 0.2 + 0.05 cos 2t +
+# 0.02 sin t, E = 30 sin t + 12 (sin(2t + 0.5) - sin 0.5), flywheel 1.3 kg m^2, T0 = 900 J.
+# The speeds of the trace give --rpm (mid-range) and --cs; the design must return 1.3 and 900.
+awk 'BEGIN { pi = atan2(0, -1); print "angle_deg,I_m,E"
+  for (k = 0; k < 360; ++k) { t = k * pi / 180
+    printf "%d,%.17g,%.17g\n", k, 0.2 + 0.05 * cos(2 * t) + 0.02 * sin(t),
+      30 * sin(t) + 12 * (sin(2 * t + 0.5) - sin(0.5)) } }' > "$out/machine.csv"
+read -r rpm cs < <(awk -F, 'NR > 1 { w = sqrt(2 * (900 + $3) / (1.3 + $2))
+  if (NR == 2 || w > hi) hi = w; if (NR == 2 || w < lo) lo = w }
+  END { mid = (hi + lo) / 2; printf "%.17g %.17g\n", mid * 30 / atan2(0, -1), (hi - lo) / mid }' \
+  "$out/machine.csv")
+"$tool" wittenbauer --csv "$out/machine.csv" --design --rpm "$rpm" --cs "$cs" \
+  --diagram-csv "$out/diagram.csv" > "$out/wit.txt" || fail "wittenbauer --design"
+cat "$out/wit.txt"
+grep -q 'flywheel I_f = 1.3 kg m^2, kinetic energy at 0 deg T0 = 900 J' "$out/wit.txt" \
+  || fail "Wittenbauer flywheel"
+"$tool" wittenbauer --csv "$out/diagram.csv" > "$out/wit2.txt" || fail "wittenbauer"
+cat "$out/wit2.txt"
+grep -q "C_s = (w_max - w_min)/w_mid = $(printf '%.6g' "$cs")\$" "$out/wit2.txt" || fail "C_s back"
+if command -v gnuplot > /dev/null; then
+  gnuplot -e "csv='$out/diagram.csv'; png='$out/W.png'" "$wplot" || fail "gnuplot wittenbauer"
+  [ -s "$out/W.png" ] || fail "no Wittenbauer PNG"
+fi
+
+awk 'BEGIN { for (k = 0; k < 720; k += 2) printf "%d,%.15g\n", k, 30 + 120 * sin(k * atan2(0, -1) / 360)^2 }' \
+  > "$out/t720.csv"
+# Bad input: status 1, the problem named, no partial output.
+expect_error() {
+  local pattern=$1
+  shift
+  set +e
+  "$tool" "$@" > "$out/bad.out" 2> "$out/bad.err"
+  local status=$?
+  set -e
+  [ "$status" -ne 0 ] || fail "exit status 0 for: $*"
+  grep -q -- "$pattern" "$out/bad.err" || { cat "$out/bad.err"; fail "message for: $*"; }
+  [ ! -s "$out/bad.out" ] || fail "partial output for: $*"
+  echo "ok (status $status): $(cat "$out/bad.err")"
+}
+expect_error "correction planes coincide" rotor --csv "$out/rotor.csv" --radius 0.1 --left 0.2 --right 0.2
+expect_error "correction radius must be finite and > 0" rotor --csv "$out/rotor.csv" --radius 0 --left 0 --right 1
+printf '2,0.1,0,0.1\n-1,0.2,90,0.3\n' > "$out/negative.csv"
+expect_error "negative.csv: unbalance 2: bad unbalance" rotor --csv "$out/negative.csv" --radius 0.1
+printf '2,0.1,0,0.1\n1,0.2,abc,0.3\n' > "$out/text.csv"
+expect_error "text.csv:2: 'abc' is not a number" rotor --csv "$out/text.csv" --radius 0.1
+expect_error "cannot open" rotor --csv "$out/missing.csv" --radius 0.1
+expect_error "the loop does not close (sum of the areas = 270" flywheel --areas "295,-685,40,-340,960" --scale 1 --rpm 1800 --cs 0.003
+expect_error "give either the flywheel" flywheel --areas "1,-1" --scale 1 --rpm 1800
+expect_error "no such layout" table --layout w12
+expect_error "needs --cs" wittenbauer --csv "$out/machine.csv" --design --rpm 300
+expect_error "energy-csv needs --torque-csv" flywheel --areas "1,-1" --scale 1 --rpm 600 --cs 0.01 --energy-csv "$out/x.csv"
+[ ! -e "$out/x.csv" ] || fail "x.csv written on error"
+expect_error "mean excess torque is 90 N m" flywheel --torque-csv "$out/t720.csv" --cycle-deg 720 --rpm 600 --cs 0.01
+echo PASS
