@@ -25,12 +25,13 @@
 //             u along the throw outward, v 90 deg ahead: the polar diagram) and the wrist pin
 //             load wrist_j_x, wrist_j_y (rod j on piston j). The crank is held at constant
 //             speed by a dynamometer absorbing T_total. Summary: mean torque, its harmonics by
-//             order (multiples of the crank speed; a DFT of this file's own), max/mean, and
+//             order (multiples of the crank speed; mechgen/engine/harmonics.h), max/mean, and
 //             the power smoothing of Paul §6.8.5: the torque of k cylinders evenly spaced over
 //             the cycle, k = 1..n, each the torque of cylinder 1 of this model (its gas torque
 //             plus its own inertia torque) shifted by cycle/k (summed phase-shifted
 //             single-cylinder torques), k up to max(--smoothing, n).
-//   flywheel  Energy loop (Paul §6.9.2) of T_total at constant speed about its mean: the
+//   flywheel  Energy loop (Paul §6.9.2; mechgen/flywheel/energy_loop.h) of T_total at
+//             constant speed about its mean: the
 //             largest swing dE, the generalized inertia for --cs, I = dE / (C_s omega^2), and
 //             J_fly = I - mean(I(theta) - J_fly) (the reciprocating parts' mean inertia taken
 //             off); then the periodic steady state with that J_fly against the viscous load
@@ -63,6 +64,8 @@
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/engine/crank_dynamics.h"
 #include "mechgen/engine/gas.h"
+#include "mechgen/engine/harmonics.h"
+#include "mechgen/flywheel/energy_loop.h"
 #include "mechgen/io/output_file.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
@@ -263,27 +266,6 @@ double Interp(const std::vector<double>& y, double cycle, double x) {
   const int k = std::min(static_cast<int>(u), n - 1);
   const double f = u - k;
   return y[k] * (1 - f) + y[(k + 1) % n] * f;
-}
-
-struct Harmonic {
-  double order = 0, amplitude = 0, phase_deg = 0;
-};
-/// A small DFT of samples over one cycle (this tool's own; the engine's harmonics helper is
-/// another file): the mean and the amplitudes of the first kmax harmonics,
-/// y = mean + sum A_k cos(k 2 pi theta / cycle + phi_k); order = k 2 pi / cycle.
-double Dft(const std::vector<double>& y, double cycle, int kmax, std::vector<Harmonic>* h) {
-  const int n = static_cast<int>(y.size());
-  double mean = 0;
-  for (double v : y) mean += v;
-  mean /= n;
-  h->clear();
-  for (int k = 1; k <= kmax && 2 * k < n; ++k) {
-    std::complex<double> s = 0;
-    for (int i = 0; i < n; ++i) s += y[i] * std::polar(1.0, -2 * kPi * k * i / n);
-    s *= 2.0 / n;
-    h->push_back({k * 2 * kPi / cycle, std::abs(s), std::arg(s) / kDeg});
-  }
-  return mean;
 }
 
 // ---- command line -------------------------------------------------------------------------
@@ -498,12 +480,15 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
     Tmax = std::max(Tmax, T[i]);
     Tmin = std::min(Tmin, T[i]);
   }
-  std::vector<Harmonic> h;
-  const double mean = Dft(T, e.cycle, e.strokes == 4 ? 16 : 8, &h);
+  // The mean and the orders up to 8 times the crank speed (engine/harmonics.h).
+  const int count = (e.strokes == 4 ? 16 : 8) + 1;
+  std::vector<eng::Harmonic> h(count), hg(1);
+  const auto hs = eng::Analyze(T.data(), static_cast<int>(T.size()), e.cycle, 0.0, count, h.data());
+  if (hs != eng::HarmonicsStatus::kOk) return Fail(std::string("harmonics: ") + eng::ToString(hs));
   std::vector<double> Tg(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) Tg[i] = pts[i].T_gas;
-  std::vector<Harmonic> hg;
-  const double mean_gas = Dft(Tg, e.cycle, 1, &hg);
+  eng::Analyze(Tg.data(), static_cast<int>(Tg.size()), e.cycle, 0.0, 1, hg.data());
+  const double mean = h[0].a, mean_gas = hg[0].a;
   if (!outs.Commit(&error)) return Fail(error);
   std::printf("%s cycle at %.6g rpm (%d samples over %d deg), %d cylinder(s), %d-stroke\n", Model::kName,
               a.rpm, a.samples, e.strokes == 4 ? 720 : 360, e.n, e.strokes);
@@ -512,9 +497,10 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
   std::printf("  T_total max %.6g, min %.6g N m; max/mean %.4g; (max - min)/mean %.4g\n", Tmax, Tmin,
               Tmax / mean, (Tmax - Tmin) / mean);
   std::printf("  harmonics of T_total (order = multiple of the crank speed; amplitude N m):\n");
-  for (const Harmonic& x : h)
-    if (x.amplitude > 1e-6 * std::max(1.0, std::abs(mean)))
-      std::printf("    order %4.1f  %12.6g  (phase %7.2f deg)\n", x.order, x.amplitude, x.phase_deg);
+  for (int m = 1; m < count; ++m)
+    if (h[m].amplitude > 1e-6 * std::max(1.0, std::abs(mean)))
+      std::printf("    order %4.1f  %12.6g  (A cos(order theta - phi), phi %7.2f deg)\n", h[m].order,
+                  h[m].amplitude, h[m].phase / kDeg);
   std::printf("  power smoothing (Paul 6.8.5): k cylinders evenly spaced, each cylinder 1's torque\n"
               "  (its gas + its own inertia torque) shifted by cycle/k:\n");
   std::printf("    k   mean (N m)   max/mean   (max - min)/mean\n");
@@ -546,22 +532,25 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   if (!RunCycle(p0, e, gas, omega, a.samples, &pts, &error)) return Fail(error);
   const int n = static_cast<int>(pts.size());
   const double dth = e.cycle / n;
-  // Energy loop about the mean (trapezoids on the periodic samples).
-  double mean = 0, mean_gas = 0, mean_I = 0;
-  for (const Point& pt : pts) {
-    mean += pt.T_total / n;
-    mean_gas += pt.T_gas / n;
-    mean_I += pt.I / n;
-  }
-  if (!(mean > 0)) return Fail("the mean torque is not positive: no load to size a flywheel against");
-  std::vector<double> E(n + 1, 0.0), Eg(n + 1, 0.0);
+  // Energy loop about the mean (mechgen/flywheel/energy_loop.h: the mean torque line is the
+  // load; E at the samples, the extremes refined between them).
+  double mean_I = 0;
+  std::vector<double> T(n), Tg(n), E(n), Eg(n);
   for (int i = 0; i < n; ++i) {
-    const Point& p1 = pts[(i + 1) % n];
-    E[i + 1] = E[i] + 0.5 * dth * (pts[i].T_total + p1.T_total - 2 * mean);
-    Eg[i + 1] = Eg[i] + 0.5 * dth * (pts[i].T_gas + p1.T_gas - 2 * mean_gas);
+    T[i] = pts[i].T_total;
+    Tg[i] = pts[i].T_gas;
+    mean_I += pts[i].I / n;
   }
-  const double dE = *std::max_element(E.begin(), E.end()) - *std::min_element(E.begin(), E.end());
-  const double dEg = *std::max_element(Eg.begin(), Eg.end()) - *std::min_element(Eg.begin(), Eg.end());
+  mechgen::flywheel::EnergyLoopOptions lo_opt;
+  lo_opt.remove_mean = true;
+  const auto loop = mechgen::flywheel::ExcessEnergy(T.data(), n, e.cycle, 0.0, lo_opt, E.data());
+  const auto loop_gas = mechgen::flywheel::ExcessEnergy(Tg.data(), n, e.cycle, 0.0, lo_opt, Eg.data());
+  if (!loop.IsUsable()) return Fail(std::string("energy loop: ") + mechgen::flywheel::ToString(loop.status));
+  if (!loop_gas.IsUsable())
+    return Fail(std::string("energy loop (gas): ") + mechgen::flywheel::ToString(loop_gas.status));
+  const double mean = loop.mean_torque;
+  if (!(mean > 0)) return Fail("the mean torque is not positive: no load to size a flywheel against");
+  const double dE = loop.delta_E, dEg = loop_gas.delta_E;
   const double I_req = dE / (a.cs * omega * omega);
   const double I_recip = mean_I - e.J_fly;  // the mean of the variable part
   const double J_fly = I_req - I_recip;
@@ -595,7 +584,7 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   if (lo == nullptr) return Fail(error);
   *lo << "theta_deg,T_total,T_mean,E\n";
   for (int i = 0; i <= n; ++i)
-    *lo << dth * i / kDeg << "," << pts[i % n].T_total << "," << mean << "," << E[i] << "\n";
+    *lo << dth * i / kDeg << "," << pts[i % n].T_total << "," << mean << "," << (i < n ? E[i] : 0.0) << "\n";
   std::ostream* so = outs.Open(a.sweep_csv, &error);
   if (so == nullptr) return Fail(error);
   *so << "J_fly,Cs_energy_loop,Cs_simulated\n";
