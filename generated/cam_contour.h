@@ -36,6 +36,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -72,6 +73,16 @@ struct Params {
     p.R = T(R);
     p.rr = T(rr);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "e") == 0) return &e;
+    if (std::strcmp(name, "R") == 0) return &R;
+    if (std::strcmp(name, "rr") == 0) return &rr;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -592,6 +603,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::cam_contour::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::cam_contour::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

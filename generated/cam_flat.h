@@ -33,6 +33,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -71,6 +72,17 @@ struct Params {
     p.lift = T(lift);
     p.phase = T(phase);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "d") == 0) return &d;
+    if (std::strcmp(name, "rb") == 0) return &rb;
+    if (std::strcmp(name, "lift") == 0) return &lift;
+    if (std::strcmp(name, "phase") == 0) return &phase;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -624,6 +636,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::cam_flat::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::cam_flat::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

@@ -33,6 +33,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -73,6 +74,18 @@ struct Params {
     p.h = T(h);
     p.phase = T(phase);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "e") == 0) return &e;
+    if (std::strcmp(name, "rb") == 0) return &rb;
+    if (std::strcmp(name, "rr") == 0) return &rr;
+    if (std::strcmp(name, "h") == 0) return &h;
+    if (std::strcmp(name, "phase") == 0) return &phase;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -606,6 +619,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::cam_roller::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::cam_roller::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

@@ -38,6 +38,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -70,6 +71,14 @@ struct Params {
     Params<T> p;
     p.rr = T(rr);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "rr") == 0) return &rr;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -744,6 +753,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::cam_spline::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::cam_spline::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

@@ -32,6 +32,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -66,6 +67,15 @@ struct Params {
     p.r = T(r);
     p.R = T(R);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "r") == 0) return &r;
+    if (std::strcmp(name, "R") == 0) return &R;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -498,6 +508,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::cardan::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::cardan::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

@@ -35,6 +35,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -75,6 +76,18 @@ struct Params {
     p.a3 = T(a3);
     p.a4 = T(a4);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "f") == 0) return &f;
+    if (std::strcmp(name, "a1") == 0) return &a1;
+    if (std::strcmp(name, "a2") == 0) return &a2;
+    if (std::strcmp(name, "a3") == 0) return &a3;
+    if (std::strcmp(name, "a4") == 0) return &a4;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -728,6 +741,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::fivebar::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::fivebar::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

@@ -40,6 +40,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -84,6 +85,19 @@ struct Params {
     p.mp = T(mp);
     p.g = T(g);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "f") == 0) return &f;
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "rho") == 0) return &rho;
+    if (std::strcmp(name, "mp") == 0) return &mp;
+    if (std::strcmp(name, "g") == 0) return &g;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -1737,6 +1751,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::fivebar_robot::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::fivebar_robot::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
   /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first
   /// link on its second, in the fixed frame:
   static constexpr std::array<const char*, kNumReactions> kReactionNames{  };

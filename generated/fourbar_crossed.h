@@ -32,6 +32,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -74,6 +75,19 @@ struct Params {
     p.xi = T(xi);
     p.eta = T(eta);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "c") == 0) return &c;
+    if (std::strcmp(name, "d") == 0) return &d;
+    if (std::strcmp(name, "xi") == 0) return &xi;
+    if (std::strcmp(name, "eta") == 0) return &eta;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -706,6 +720,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::fourbar_crossed::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::fourbar_crossed::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

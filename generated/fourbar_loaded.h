@@ -33,6 +33,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -101,6 +102,31 @@ struct Params {
     p.m2 = T(m2);
     p.m3 = T(m3);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "c") == 0) return &c;
+    if (std::strcmp(name, "d") == 0) return &d;
+    if (std::strcmp(name, "xi") == 0) return &xi;
+    if (std::strcmp(name, "eta") == 0) return &eta;
+    if (std::strcmp(name, "xE") == 0) return &xE;
+    if (std::strcmp(name, "yE") == 0) return &yE;
+    if (std::strcmp(name, "k") == 0) return &k;
+    if (std::strcmp(name, "L0") == 0) return &L0;
+    if (std::strcmp(name, "F0") == 0) return &F0;
+    if (std::strcmp(name, "Fx") == 0) return &Fx;
+    if (std::strcmp(name, "Fy") == 0) return &Fy;
+    if (std::strcmp(name, "Tr") == 0) return &Tr;
+    if (std::strcmp(name, "g") == 0) return &g;
+    if (std::strcmp(name, "m1") == 0) return &m1;
+    if (std::strcmp(name, "m2") == 0) return &m2;
+    if (std::strcmp(name, "m3") == 0) return &m3;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -1416,6 +1442,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::fourbar_loaded::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::fourbar_loaded::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
   /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first
   /// link on its second, in the fixed frame:
   ///   F_A_x: force of 'ground' on 'crank' at the pin, x

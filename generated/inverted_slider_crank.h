@@ -34,6 +34,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -68,6 +69,15 @@ struct Params {
     p.a = T(a);
     p.d = T(d);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "d") == 0) return &d;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -555,6 +565,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::inverted_slider_crank::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::inverted_slider_crank::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

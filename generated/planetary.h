@@ -35,6 +35,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -71,6 +72,16 @@ struct Params {
     p.rp = T(rp);
     p.rr = T(rr);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "rs") == 0) return &rs;
+    if (std::strcmp(name, "rp") == 0) return &rp;
+    if (std::strcmp(name, "rr") == 0) return &rr;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -532,6 +543,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::planetary::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::planetary::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

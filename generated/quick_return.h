@@ -42,6 +42,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -82,6 +83,18 @@ struct Params {
     p.l = T(l);
     p.h = T(h);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "r") == 0) return &r;
+    if (std::strcmp(name, "d") == 0) return &d;
+    if (std::strcmp(name, "L") == 0) return &L;
+    if (std::strcmp(name, "l") == 0) return &l;
+    if (std::strcmp(name, "h") == 0) return &h;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -655,6 +668,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::quick_return::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::quick_return::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

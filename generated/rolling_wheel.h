@@ -31,6 +31,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -63,6 +64,14 @@ struct Params {
     Params<T> p;
     p.r = T(r);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "r") == 0) return &r;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -470,6 +479,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::rolling_wheel::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::rolling_wheel::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

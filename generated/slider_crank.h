@@ -34,6 +34,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -70,6 +71,16 @@ struct Params {
     p.b = T(b);
     p.e = T(e);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "e") == 0) return &e;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -543,6 +554,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::slider_crank::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::slider_crank::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

@@ -35,6 +35,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -87,6 +88,23 @@ struct Params {
     p.r_C = T(r_C);
     p.mu_s = T(mu_s);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "F") == 0) return &F;
+    if (std::strcmp(name, "mu_O") == 0) return &mu_O;
+    if (std::strcmp(name, "r_O") == 0) return &r_O;
+    if (std::strcmp(name, "mu_B") == 0) return &mu_B;
+    if (std::strcmp(name, "r_B") == 0) return &r_B;
+    if (std::strcmp(name, "mu_C") == 0) return &mu_C;
+    if (std::strcmp(name, "r_C") == 0) return &r_C;
+    if (std::strcmp(name, "mu_s") == 0) return &mu_s;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -683,6 +701,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::slider_crank_friction::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::slider_crank_friction::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
   /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first
   /// link on its second, in the fixed frame:
   ///   F_O_x: force of 'ground' on 'crank' at the pin, x

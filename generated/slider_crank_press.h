@@ -36,6 +36,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -84,6 +85,21 @@ struct Params {
     p.m2 = T(m2);
     p.m3 = T(m3);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "P0") == 0) return &P0;
+    if (std::strcmp(name, "h") == 0) return &h;
+    if (std::strcmp(name, "g") == 0) return &g;
+    if (std::strcmp(name, "m1") == 0) return &m1;
+    if (std::strcmp(name, "m2") == 0) return &m2;
+    if (std::strcmp(name, "m3") == 0) return &m3;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -724,6 +740,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::slider_crank_press::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::slider_crank_press::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
   /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first
   /// link on its second, in the fixed frame:
   ///   F_O_x: force of 'ground' on 'crank' at the pin, x

@@ -40,6 +40,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -78,6 +79,17 @@ struct Params {
     p.x1 = T(x1);
     p.y1 = T(y1);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "la") == 0) return &la;
+    if (std::strcmp(name, "lb") == 0) return &lb;
+    if (std::strcmp(name, "x1") == 0) return &x1;
+    if (std::strcmp(name, "y1") == 0) return &y1;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -700,6 +712,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::stephenson_coupled::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::stephenson_coupled::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

@@ -41,6 +41,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 
@@ -91,6 +92,23 @@ struct Params {
     p.x6 = T(x6);
     p.y6 = T(y6);
     return p;
+  }
+
+  /// The parameter with this name (as in the model file), or nullptr: for setting parameters
+  /// by name at run time (a design sweep, or a tool that sets a model maker's parameters).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "c") == 0) return &c;
+    if (std::strcmp(name, "g") == 0) return &g;
+    if (std::strcmp(name, "e") == 0) return &e;
+    if (std::strcmp(name, "beta") == 0) return &beta;
+    if (std::strcmp(name, "f") == 0) return &f;
+    if (std::strcmp(name, "o") == 0) return &o;
+    if (std::strcmp(name, "x6") == 0) return &x6;
+    if (std::strcmp(name, "y6") == 0) return &y6;
+    (void)name;
+    return nullptr;
   }
 };
 
@@ -919,6 +937,9 @@ struct Model : Sizes {
   using CoefficientsT = mech::watt_sixbar::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::watt_sixbar::Trig<Scalar>;
+  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
+  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  static constexpr bool kHasShaking = false;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

@@ -597,12 +597,15 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
                  "  static constexpr bool kHasDynamics = true;\n"
                  "  template <typename Scalar>\n  using DynamicsT = mech::" + m.name + "::Dynamics<Scalar>;\n"
                  "  template <typename Scalar>\n  using ExcessT = mech::" + m.name + "::Excess<Scalar>;\n";
+  if (m.outputs.Has(Quantity::kShaking))
+    constants += "  template <typename Scalar>\n  using ShakingT = mech::" + m.name + "::Shaking<Scalar>;\n";
   if (rhs)
     constants += "  /// EvalRhs (SolveTrig, K, L and the equation of motion in one pass) is generated.\n"
                  "  template <typename Scalar>\n  using RhsT = mech::" + m.name + "::Rhs<Scalar>;\n"
                  "  template <typename Scalar>\n  using RhsConstantsT = mech::" + m.name + "::RhsConstants<Scalar>;\n";
   if (!statics.any) constants.clear();
   data.Set("statics_constants", constants);
+  data.Set("has_shaking", std::string(m.outputs.Has(Quantity::kShaking) ? "true" : "false"));
 
   out.header = data.Render(templates_dir + "/mechanism.h.mustache");
   out.source = data.Render(templates_dir + "/mechanism.cc.mustache");

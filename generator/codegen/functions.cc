@@ -443,13 +443,18 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   std::vector<FunctionSpec*> takers;
   if (has_statics) takers.push_back(&statics_spec);
   const bool has_dynamics = dynamics != nullptr && dynamics->any;
-  FunctionSpec dynamics_spec, kinetostatics_spec, rhs_spec;
+  FunctionSpec dynamics_spec, kinetostatics_spec, rhs_spec, shaking_spec;
+  const bool has_shaking = has_dynamics && dynamics->shaking;
   if (has_dynamics) {
     dynamics_spec = EvalDynamicsSpec(m, *dynamics, printer);
     rhs_spec = EvalRhsSpec(m, t, *dynamics, printer);
     kinetostatics_spec = EvalKinetostaticsSpec(m, *dynamics, printer);
     takers.push_back(&dynamics_spec);
     takers.push_back(&kinetostatics_spec);
+  }
+  if (has_shaking) {
+    shaking_spec = EvalShakingSpec(m, *dynamics, printer);
+    takers.push_back(&shaking_spec);
   }
   bool solve_trig_possible = false;
   FunctionSpec solve_trig = SolveTrigSpec(t, printer, &solve_trig_possible);
@@ -462,6 +467,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
     out.push_back(kinetostatics_spec);
     out.push_back(EvalExcessSpec(m, k, *dynamics, printer));
   }
+  if (has_shaking) out.push_back(shaking_spec);
   if (has_statics && (!statics->d2V_dq2.empty() || !statics->stiffness_q.empty())) out.push_back(EvalStiffnessSpec(m, *statics, printer));
   out.push_back(EvalDetPhiPhiSpec(t));
   if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));

@@ -69,6 +69,9 @@ void HoistRhsConstants(const Model& m, CxxPrinter* printer, FunctionSpec* rhs, F
 FunctionSpec EvalKinetostaticsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
 /// EvalExcess: the excess-coordinate formulation's M, h, g, Phi_x, Phi, gamma, T, V.
 FunctionSpec EvalExcessSpec(const Model& m, const Kinematics& k, const DynamicsTable& dt, CxxPrinter* printer);
+/// EvalShaking (with the `shaking` quantity): the shaking force and moment, per link, the
+/// centres of mass; its Shaking struct comes in its declarations.
+FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);
 

@@ -492,3 +492,81 @@ FunctionSpec EvalExcessSpec(const Model& /*m*/, const Kinematics& k, const Dynam
 }
 
 }  // namespace mechgen
+
+namespace mechgen {
+
+FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer) {
+  const StaticsTable& st = *dt.kinetostatics;
+  for (const auto& [sym, name] : st.names) printer->Name(sym, name);
+  FunctionSpec f;
+  f.name = "EvalShaking";
+  f.model_member = "Shaking";
+  f.doc = {"\\brief The shaking force and moment (Paul ch. 7) for a prescribed motion (q, qd, qdd): the resultant",
+           "F = -sum m a_G of the moving links' inertia forces and its moment about the origin O,",
+           "M = -sum (r_G x m a_G + J alpha), with a_G = K_G qdd + qd^T L_G qd and alpha = K_theta qdd + qd^T",
+           "L_theta qd; per link, the masses' centres and the total centre of mass (see the Shaking struct)."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities", "dim kNq"));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qdd", Dir::kIn, "Input accelerations", "dim kNq"));
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn,
+                       "EvalCoefficients() at this (q, phi): K and L are read from it."));
+  f.args.push_back(Arg("Shaking<Scalar>*", "out", Dir::kOut, "Shaking; not nullptr."));
+  f.args.push_back(Arg("const typename NonDeduced<Trig<Scalar>>::type*", "trig", Dir::kIn,
+                       "sin and cos of q and phi from SolvePositions() at this (q, phi), or nullptr: they are "
+                       "computed here.",
+                       "", false, "nullptr"));
+  f.notes = {"\\note Without loads and gravity, (F, M) is all the frame feels from the moving links (the",
+             "ground joints' reactions and the input actuators' reaction torques and forces); a shaking-force",
+             "balanced linkage has F = 0, its total centre of mass r_C standing still."};
+  Program P = dt.shaking_program;
+  const int nl = static_cast<int>(m.links.size());
+  P.push_back(Store("out->F(0)", dt.F[0]));
+  P.push_back(Store("out->F(1)", dt.F[1]));
+  P.push_back(Store("out->M", dt.M_total));
+  for (int l = 0; l < nl; ++l) {
+    P.push_back(Store("out->F_link" + Idx(0, l), dt.F_link[l][0]));
+    P.push_back(Store("out->F_link" + Idx(1, l), dt.F_link[l][1]));
+    P.push_back(Store("out->M_link(" + N(l) + ")", dt.M_link[l]));
+    if (dt.massive[l]) {
+      P.push_back(Store("out->r_G" + Idx(0, l), dt.r_G[l][0]));
+      P.push_back(Store("out->r_G" + Idx(1, l), dt.r_G[l][1]));
+    }
+  }
+  P.push_back(Store("out->mass", dt.mass_total));
+  P.push_back(Store("out->r_C(0)", dt.r_C[0]));
+  P.push_back(Store("out->r_C(1)", dt.r_C[1]));
+  for (int l = 0; l < nl; ++l)
+    if (!dt.massive[l]) P.push_back(Raw("out->r_G.col(" + N(l) + ").setConstant(std::numeric_limits<Scalar>::quiet_NaN());"));
+  f.body = {Finish(P, st, printer)};
+  f.declarations =
+      "/// What EvalShaking() fills (Paul ch. 7): the shaking force and moment, the resultant of the moving\n"
+      "/// links' d'Alembert inertia forces -m a_G (at each centre of mass G) and couples -J alpha. Units\n"
+      "/// follow the model's (SI: N, N m, kg, m). Sign convention: F and M are what the moving links exert ON\n"
+      "/// THE FRAME (ground) through the ground joints' reactions and the input actuators' reactions, when no\n"
+      "/// loads and no gravity act: Newton for the moving links gives (frame on links) + loads = sum m a_G, so\n"
+      "/// (links on frame) = F + the loads' resultant (and M + the loads' moment about O). M is about the\n"
+      "/// fixed frame's origin O, counter-clockwise +, with the planar cross product r x F = r_x F_y - r_y F_x;\n"
+      "/// about another point P it is M - r_P x F. Columns are indexed like Model::kLinkNames.\n"
+      "template <typename Scalar = double>\n"
+      "struct Shaking {\n"
+      "  /// F = -sum_i m_i a_Gi: the shaking force (N).  (2)\n"
+      "  Vec<Scalar, 2> F;\n"
+      "  /// M = -sum_i (r_Gi x m_i a_Gi + J_i alpha_i): the shaking moment about O (N m, CCW +).\n"
+      "  Scalar M;\n"
+      "  /// F_link.col(l) = -m_l a_Gl: link l's share of F; 0 for the ground and massless links.  (2 x kNumLinks)\n"
+      "  Mat<Scalar, 2, Sizes::kNumLinks> F_link;\n"
+      "  /// M_link(l) = r_Gl x F_link.col(l) - J_l alpha_l: link l's share of M; 0 for the ground and massless\n"
+      "  /// links.  (kNumLinks)\n"
+      "  Vec<Scalar, Sizes::kNumLinks> M_link;\n"
+      "  /// r_G.col(l): link l's centre of mass in the fixed frame (m); NaN for the ground and massless\n"
+      "  /// links.  (2 x kNumLinks)\n"
+      "  Mat<Scalar, 2, Sizes::kNumLinks> r_G;\n"
+      "  /// The moving links' total mass (kg) and their common centre of mass r_C (m): F = -mass d2r_C/dt2.\n"
+      "  Scalar mass;\n"
+      "  Vec<Scalar, 2> r_C;\n"
+      "};\n";
+  return f;
+}
+
+}  // namespace mechgen

@@ -256,6 +256,7 @@ enum class Quantity {
   kForces,     ///< statics: the generalized forces Q of the loads and the driving forces (needs K)
   kPotential,  ///< statics: the potential energy V of springs and gravity and its derivatives
   kDynamics,   ///< dynamics (Paul ch. 6): EvalDynamics, EvalKinetostatics, EvalExcess; implies K and L
+  kShaking,    ///< shaking force and moment on the frame (Paul ch. 7): EvalShaking; implies dynamics
 };
 
 /// What the generated code computes: the requested quantities and the points of interest.

@@ -12,7 +12,8 @@ const KeyTable& OutputKeys() {
       "outputs",
       {{"order", "shorthand: 0 positions, 1 + velocity coefficients K, 2 + centripetal coefficients L (default 2)",
         false},
-       {"quantities", "[K, L, scene, forces, potential, dynamics]: the requested quantities, instead of order and scene",
+       {"quantities", "[K, L, scene, forces, potential, dynamics, shaking]: the requested quantities, instead of order and "
+        "scene",
         false},
        {"reactions", "[joint, ...]: joints whose reactions are emitted (statics; needs forces)", false},
        {"points", "[link.P, <rolling joint>.contact, ...]: points of interest (r_P, K_P, L_P as requested)", false},
@@ -81,11 +82,17 @@ void ReadOutputs(SectionReader& r, const YAML::Node& node) {
                              : q == "forces"    ? Quantity::kForces
                              : q == "potential" ? Quantity::kPotential
                              : q == "dynamics"  ? Quantity::kDynamics
+                             : q == "shaking"   ? Quantity::kShaking
                                                 : Quantity::kScene;
-      if (q != "K" && q != "L" && q != "scene" && q != "forces" && q != "potential" && q != "dynamics")
-        r.Fail(item, "unknown quantity '" + q + "'; the quantities are K, L, scene, forces, potential and dynamics");
+      if (q != "K" && q != "L" && q != "scene" && q != "forces" && q != "potential" && q != "dynamics" &&
+          q != "shaking")
+        r.Fail(item, "unknown quantity '" + q +
+                         "'; the quantities are K, L, scene, forces, potential, dynamics and shaking");
       if (!out.quantities.insert(which).second) r.Fail(item, "quantity '" + q + "' is listed twice");
     }
+    // The shaking force and moment read the centres of mass' accelerations, which the
+    // dynamics derives (its kinetostatics' d'Alembert forces).
+    if (out.Has(Quantity::kShaking)) out.quantities.insert(Quantity::kDynamics);
     // The dynamics reads the centres of mass' velocity and centripetal coefficients, and
     // builds on the statics' applied forces and potential (its Statics struct holds the
     // kinetostatics).
@@ -111,7 +118,8 @@ void ReadOutputs(SectionReader& r, const YAML::Node& node) {
     bool massive = false;
     for (const Link& l : m.links) massive = massive || (!l.ground && l.mass.given);
     if (!massive)
-      m.Fail(out.mark, "dynamics needs a moving link with mass: give a link mass: (and center:, inertia:)");
+      m.Fail(out.mark, std::string(out.Has(Quantity::kShaking) ? "shaking" : "dynamics") +
+                           " needs a moving link with mass: give a link mass: (and center:, inertia:)");
   }
   out.order = out.Order();
   out.scene = out.Has(Quantity::kScene);

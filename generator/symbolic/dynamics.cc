@@ -2,6 +2,9 @@
 // at (t, q, qd) and the energies. See dynamics.h.
 #include "symbolic/dynamics.h"
 
+#include <map>
+#include <stdexcept>
+
 namespace mechgen {
 namespace {
 
@@ -135,6 +138,47 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
     gamma[r] = -s;
   }
   excess_V = x.V;
+
+  // ---- the shaking force and moment, from the kinetostatics' accelerations ----
+  shaking = m.outputs.Has(Quantity::kShaking);
+  if (!shaking) return;
+  const StaticsTable& ks = *kinetostatics;
+  shaking_program = ks.program;
+  std::map<std::string, ex> locals;  // the kinetostatics' named accelerations
+  for (const Statement& s : ks.program)
+    if (s.kind == Statement::Kind::kDefine) locals[s.target] = s.symbol;
+  auto local = [&](const std::string& name) {
+    const auto it = locals.find(name);
+    if (it == locals.end()) throw std::logic_error("mechgen bug: the kinetostatics has no local " + name);
+    return it->second;
+  };
+  const size_t nl = m.links.size();
+  F_link.assign(nl, Vec2{0, 0});
+  r_G.assign(nl, Vec2{0, 0});
+  M_link.assign(nl, 0);
+  massive.assign(nl, false);
+  Vec2 moment_of_mass{0, 0};
+  for (const MassKinematics& mk : ks.masses) {
+    const int l = mk.link;
+    const MassProperties& mp = m.links[l].mass;
+    const Vec2 rc = Rotate(k.frames[l].theta, mp.center_x, mp.center_y);
+    const std::string tag = N(l);
+    ex rx, ry;
+    shaking_program.push_back(Define("rG" + tag + "_x", k.frames[l].x + rc[0], &rx));
+    shaking_program.push_back(Define("rG" + tag + "_y", k.frames[l].y + rc[1], &ry));
+    const ex ax = local("aG" + tag + "_x"), ay = local("aG" + tag + "_y"), alpha = local("alpha" + tag);
+    massive[l] = true;
+    r_G[l] = {rx, ry};
+    F_link[l] = {-mk.mass * ax, -mk.mass * ay};
+    M_link[l] = rx * F_link[l][1] - ry * F_link[l][0] - mk.inertia * alpha;
+    for (int c = 0; c < 2; ++c) {
+      F[c] += F_link[l][c];
+      moment_of_mass[c] += mk.mass * r_G[l][c];
+    }
+    M_total += M_link[l];
+    mass_total += mk.mass;
+  }
+  for (int c = 0; c < 2; ++c) r_C[c] = moment_of_mass[c] / mass_total;
 }
 
 }  // namespace mechgen

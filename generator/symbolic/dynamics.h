@@ -65,6 +65,20 @@ class DynamicsTable {
   std::vector<GiNaC::ex> Phi_x;     ///< nc x n, Phi_x[r + nc a] (expressions in q, phi)
   std::vector<GiNaC::ex> gamma;     ///< nc
   GiNaC::ex excess_T, excess_V;
+
+  // ---- the shaking force and moment (Paul ch. 7), if m.outputs asks for `shaking` ----
+  /// With the kinetostatics' centre-of-mass accelerations a_G (named aG<l>_x, aG<l>_y, alpha<l>
+  /// in kinetostatics->program, from K_G, L_G, K_theta, L_theta and qd, qdd), per link l (every
+  /// link of the model, in its order; zero for the ground and the massless links):
+  ///   F_link = -m a_G,  M_link = r_G x F_link - J alpha  (about the origin O, CCW +),
+  /// F = sum F_link, M = sum M_link, and the total mass and centre of mass r_C.
+  bool shaking = false;
+  Program shaking_program;                  ///< kinetostatics->program and the r_G locals
+  std::vector<Vec2> F_link, r_G;            ///< per link (r_G unused where !massive)
+  std::vector<GiNaC::ex> M_link;            ///< per link
+  std::vector<bool> massive;                ///< per link: a moving link with mass
+  Vec2 F{0, 0}, r_C{0, 0};
+  GiNaC::ex M_total = 0, mass_total = 0;
 };
 
 }  // namespace mechgen

@@ -83,6 +83,33 @@ TEST(DynamicsModel, ErrorsNameTheirPlaceAndWhatToChange) {
   const std::string crank = "  crank:   {points: {A: [0, 0], B: [a, 0]}, mass: 1, center: [a/2, 0], inertia: 0.1}";
   massless.replace(massless.find(crank), crank.size(), "  crank:   {points: {A: [0, 0], B: [a, 0]}}");
   ExpectError(massless + kDyn, "16:10", "dynamics needs a moving link with mass");
+  ExpectError(massless + "outputs: {quantities: [shaking]}\n", "16:10", "shaking needs a moving link with mass");
+  ExpectError(base + "outputs: {quantities: [shake]}\n", "16:24", "the quantities are K, L, scene, forces, potential, "
+                                                                "dynamics and shaking");
+}
+
+// `shaking` implies the dynamics it reads the accelerations from (and so K, L, forces, potential),
+// and derives one column per link: zero for the ground and the massless links.
+TEST(DynamicsModel, ShakingImpliesTheDynamics) {
+  const Model m = LoadModelFromString(std::string(kBase) + "outputs: {quantities: [shaking]}\n", "ok.yaml");
+  for (Quantity q : {Quantity::kK, Quantity::kL, Quantity::kForces, Quantity::kPotential, Quantity::kDynamics,
+                     Quantity::kShaking})
+    EXPECT_TRUE(m.outputs.Has(q)) << static_cast<int>(q);
+  const Analysis a = Validate(m);
+  const Kinematics k = DeriveKinematics(m, a.topology, &a.coordinates, &a.cams);
+  const SymbolicTable t(m, k);
+  const DynamicsTable d(m, k, t);
+  ASSERT_TRUE(d.shaking);
+  ASSERT_EQ(d.F_link.size(), 4u);
+  EXPECT_EQ(d.massive, (std::vector<bool>{false, true, false, false}));
+  for (int l : {0, 2, 3}) EXPECT_TRUE(d.F_link[l][0].is_zero() && d.F_link[l][1].is_zero() && d.M_link[l].is_zero());
+  EXPECT_FALSE(d.F[0].is_zero());
+  // Without `shaking` nothing of it is derived.
+  const Model plain = LoadModelFromString(std::string(kBase) + kDyn, "ok.yaml");
+  const Analysis pa = Validate(plain);
+  const Kinematics pk = DeriveKinematics(plain, pa.topology, &pa.coordinates, &pa.cams);
+  const SymbolicTable pt(plain, pk);
+  EXPECT_FALSE(DynamicsTable(plain, pk, pt).shaking);
 }
 
 TEST(DynamicsModel, TablesInterpolateAndClamp) {
