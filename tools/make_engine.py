@@ -245,7 +245,7 @@ def build(args, argv):
         k = j + 1
         w(f"  gas_{k}: {{force: [-p_gas_{k}*A_pis*cos(beta_{k}), -p_gas_{k}*A_pis*sin(beta_{k})], at: piston_{k}.C}}")
     w("outputs:")
-    w("  quantities: [K, L, scene, forces, potential, dynamics]")
+    w("  quantities: [K, L, scene, forces, potential, dynamics, shaking]")
     w("  points: [" + ", ".join(f"piston_{j + 1}.C" for j in range(n)) + "]")
     reac = ["O"] + [f"B_{j + 1}" for j in range(n)] + [f"C_{j + 1}" for j in range(n)] + \
         [f"slide_{j + 1}" for j in range(n)]

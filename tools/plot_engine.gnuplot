@@ -8,6 +8,9 @@
 #                crank angle (deg), with the mean of T_total
 #   polar        (cycle CSV) polar diagram of the load of rod 1 on crank pin 1 in the crank's
 #                frame (pin_1_u along the throw, pin_1_v 90 deg ahead; N)
+#   shaking      (cycle CSV of a model with `shaking`) polar diagram of the shaking force on
+#                the frame, shake_F_x against shake_F_y (N, fixed frame)
+#   shaking_angle  the same components against the crank angle
 #   loop         (flywheel --loop CSV) the energy loop E(theta) = integral of (T - T_mean) (J)
 #   cs           (flywheel --sweep CSV) C_s against the flywheel inertia J_fly: energy loop
 #                and simulation
@@ -53,6 +56,36 @@ if (chart eq "polar") {
   }
   plot csv using cu:cv with lines lw 1.5 title "load of rod 1 on crank pin 1 (crank's frame)", \
        "+" using (0):(0) with points pt 7 ps 1 lc rgb "black" notitle
+}
+if (chart eq "shaking") {
+  set size ratio -1
+  set xlabel "shaking force F_x (N)"
+  set ylabel "shaking force F_y (N)"
+  set xzeroaxis lt -1
+  set yzeroaxis lt -1
+  header = system("head -n 1 '" . csv . "' | tr ',' ' '")
+  cx = 0
+  cy = 0
+  do for [i = 1:words(header)] {
+    if (word(header, i) eq "shake_F_x") { cx = i }
+    if (word(header, i) eq "shake_F_y") { cy = i }
+  }
+  plot csv using cx:cy with lines lw 1.5 title "shaking force on the frame over the cycle", \
+       "+" using (0):(0) with points pt 7 ps 1 lc rgb "black" notitle
+}
+if (chart eq "shaking_angle") {
+  header = system("head -n 1 '" . csv . "' | tr ',' ' '")
+  cx = 0
+  cy = 0
+  cm = 0
+  do for [i = 1:words(header)] {
+    if (word(header, i) eq "shake_F_x") { cx = i }
+    if (word(header, i) eq "shake_F_y") { cy = i }
+    if (word(header, i) eq "shake_M") { cm = i }
+  }
+  set xlabel "crank angle (deg)"
+  set ylabel "shaking force on the frame (N)"
+  plot csv using 1:cx with lines lw 1.5 title "F_x", csv using 1:cy with lines lw 1.5 title "F_y"
 }
 if (chart eq "loop") {
   set xlabel "crank angle (deg)"

@@ -23,7 +23,9 @@
 //             F_O_x, F_O_y (frame on crank), per cylinder the crank pin load pin_j_x, pin_j_y
 //             (crank on rod j), pin_j_u, pin_j_v (rod j on the crank pin in the crank's frame:
 //             u along the throw outward, v 90 deg ahead: the polar diagram) and the wrist pin
-//             load wrist_j_x, wrist_j_y (rod j on piston j). The crank is held at constant
+//             load wrist_j_x, wrist_j_y (rod j on piston j), and for a model with `shaking` the
+//             shaking force shake_F_x, shake_F_y (N, on the frame) and moment shake_M about O
+//             (N m, CCW +) of the generated EvalShaking. The crank is held at constant
 //             speed by a dynamometer absorbing T_total. Summary: mean torque, its harmonics by
 //             order (multiples of the crank speed; mechgen/engine/harmonics.h), max/mean, and
 //             the power smoothing of Paul §6.8.5: the torque of k cylinders evenly spaced over
@@ -185,6 +187,7 @@ struct Point {
   double I1 = 0;   ///< cylinder 1's share of I(theta)
   std::array<double, kMaxCyl> p{}, thrust{};
   std::array<double, Model::kNumReactions> R{};
+  double shake_x = 0, shake_y = 0, shake_M = 0;  ///< generated shaking force and moment about O
 };
 
 /// The positions at theta from *phi (warm start), K and L there.
@@ -210,6 +213,21 @@ void CylinderInertia(const Engine& e, int j, double theta, const VecPhi& phi,
   const double LGy = -e.r * std::sin(a) + e.l_G * (Lf * std::cos(f) - Kf * Kf * std::sin(f));
   *I = e.m_pis * Ks * Ks + e.m_rod * (KGx * KGx + KGy * KGy) + e.J_rod * Kf * Kf;
   *dI = 2 * (e.m_pis * Ks * Ls + e.m_rod * (KGx * LGx + KGy * LGy) + e.J_rod * Kf * Lf);
+}
+
+/// The generated shaking force and moment into *pt (a model without `shaking`: zeros).
+template <class MM>
+void FillShaking(const Params& p, const VecQ& q, const VecPhi& phi, const VecQ& qd, const VecQ& qdd,
+                 const typename MM::template CoefficientsT<double>& c, Point* pt) {
+  if constexpr (MM::kHasShaking) {
+    typename MM::template ShakingT<double> sh;
+    MM::Shaking(p, q, phi, qd, qdd, c, &sh);
+    pt->shake_x = sh.F(0);
+    pt->shake_y = sh.F(1);
+    pt->shake_M = sh.M;
+  } else {
+    (void)p, (void)q, (void)phi, (void)qd, (void)qdd, (void)c, (void)pt;
+  }
 }
 
 /// The cycle at constant speed omega, n samples from theta = 0.
@@ -250,6 +268,7 @@ bool RunCycle(const Params& p0, const Engine& e, const Gas& gas, double omega, i
     pt.drive = st.drive(0);
     for (int k = 0; k < Model::kNumReactions; ++k) pt.R[k] = st.R(k);
     for (int j = 0; j < e.n; ++j) pt.thrust[j] = -st.R(e.R_N[j]);
+    FillShaking<Model>(p, q, phi, qd, qdd, c, &pt);
     double I1, dI1;
     CylinderInertia(e, 0, pt.theta, phi, c, &I1, &dI1);
     pt.I1 = I1;
@@ -453,6 +472,7 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
   for (int j = 1; j <= e.n; ++j)
     *o << ",pin_" << j << "_x,pin_" << j << "_y,pin_" << j << "_u,pin_" << j << "_v,wrist_" << j
        << "_x,wrist_" << j << "_y";
+  if (Model::kHasShaking) *o << ",shake_F_x,shake_F_y,shake_M";
   *o << "\n";
   double max_check = 0, scale = 0;
   for (const Point& pt : pts) {
@@ -468,6 +488,7 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
       *o << "," << fx << "," << fy << "," << u << "," << v << "," << pt.R[e.R_C[j]] << ","
          << pt.R[e.R_C[j] + 1];
     }
+    if (Model::kHasShaking) *o << "," << pt.shake_x << "," << pt.shake_y << "," << pt.shake_M;
     *o << "\n";
     max_check = std::max(max_check, std::abs(pt.drive + pt.T_total));
     scale = std::max(scale, std::abs(pt.T_total));
@@ -516,6 +537,27 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
     }
     const double mk = sum / n;
     std::printf("    %-3d %11.5g %10.4g %14.4g\n", k, mk, mx / mk, (mx - mn) / mk);
+  }
+  if (Model::kHasShaking) {
+    // Orders 1 (primary), 2 (secondary), 4, 6 of the shaking force and moment (they repeat
+    // every revolution at constant speed).
+    const int per = e.strokes == 4 ? 2 : 1, cnt = 6 * per + 1;
+    std::vector<double> fx(pts.size()), fy(pts.size()), mz(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) {
+      fx[i] = pts[i].shake_x;
+      fy[i] = pts[i].shake_y;
+      mz[i] = pts[i].shake_M;
+    }
+    std::vector<eng::Harmonic> hx(cnt), hy(cnt), hm(cnt);
+    const int np = static_cast<int>(pts.size());
+    eng::Analyze(fx.data(), np, e.cycle, 0.0, cnt, hx.data());
+    eng::Analyze(fy.data(), np, e.cycle, 0.0, cnt, hy.data());
+    eng::Analyze(mz.data(), np, e.cycle, 0.0, cnt, hm.data());
+    std::printf("  shaking force on the frame F = -sum m a_G (N) and moment about O (N m), generated:\n");
+    std::printf("    order   |F_x|         |F_y|         |M|\n");
+    for (int order : {1, 2, 4, 6})
+      std::printf("    %-5d %12.6g  %12.6g  %12.6g\n", order, hx[order * per].amplitude, hy[order * per].amplitude,
+                  hm[order * per].amplitude);
   }
   std::printf("  check: generated kinetostatics' drive + T_total, max %.3g N m (of %.3g)\n", max_check, scale);
   std::printf("  wrote %s\n", a.csv.c_str());

@@ -9,8 +9,8 @@
 //    through the generated K), the integral of p dV (the law's pressure and the hand-derived
 //    piston volume), and the thermodynamic identity of the polytropic cycle;
 //  - the steady state against a viscous load: the load's work over the cycle equals the gas's.
-// The shaking force here is computed from the generated kinematics (the generator's `shaking`
-// output is another change).
+// The shaking force is the generated one (`shaking` quantity, EvalShaking), cross-checked
+// with the sum of m a_G from the generated positions, K and L.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -29,7 +29,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 /// The inertia force sum m a_G of the pistons and rods (fixed frame, N) at crank angle theta
-/// and constant speed omega, from the generated phi, K, L (crank's centre of mass on O).
+/// and constant speed omega: minus the generated shaking force (EvalShaking), checked against
+/// the same sum from the generated phi, K, L (crank's centre of mass on O).
 template <class M>
 bool ReciprocatingForce(typename M::template ParamsT<double>& p, int n, double theta, double omega,
                         Eigen::Matrix<double, M::kNphi, 1>* phi, double* Fx, double* Fy) {
@@ -59,6 +60,18 @@ bool ReciprocatingForce(typename M::template ParamsT<double>& p, int n, double t
     *Fx += m_rod * w2 * (-r * std::cos(a) - lG * (Lf * std::sin(f) + Kf * Kf * std::cos(f)));
     *Fy += m_rod * w2 * (-r * std::sin(a) + lG * (Lf * std::cos(f) - Kf * Kf * std::sin(f)));
   }
+  // The generated shaking force is -sum m a_G of every moving link (the crank's centre of
+  // mass is on O): it must be the negative of the sum above; the tests use the generated one.
+  typename M::template ShakingT<double> sh;
+  Eigen::Matrix<double, 1, 1> qd, qdd;
+  qd(0) = omega;
+  qdd(0) = 0;
+  M::Shaking(p, q, *phi, qd, qdd, c, &sh);
+  const double scale = (m_rod + m_pis) * n * r * w2;
+  EXPECT_NEAR(-sh.F(0), *Fx, 1e-12 * scale) << "theta " << theta;
+  EXPECT_NEAR(-sh.F(1), *Fy, 1e-12 * scale) << "theta " << theta;
+  *Fx = -sh.F(0);
+  *Fy = -sh.F(1);
   return true;
 }
 
