@@ -1,5 +1,5 @@
 # mechgen_add_model(<name> <model.yaml> [NO_SWEEP] [STATICS|NO_STATICS]
-#                   [SIMULATE|NO_SIMULATE] [STRATEGY blocks|monolithic])
+#                   [SIMULATE|NO_SIMULATE] [ENGINE] [STRATEGY blocks|monolithic])
 #
 # Runs `mechgen generate` on <model.yaml> at build time (again whenever the model, the
 # templates or the mechgen program change) and defines:
@@ -19,6 +19,10 @@
 #                          SIMULATE forces it, NO_SIMULATE skips it): the forward-dynamics
 #                          command (runtime/tools/simulate_main.cc; a transient to a steady
 #                          state, CSV for runtime/tools/plot_dynamics.gnuplot).
+#   <name>_engine          with ENGINE (a model made by tools/make_engine.py), unless NO_SWEEP
+#                          or MECHGEN_BUILD_SWEEPS is OFF: the engine command
+#                          (runtime/tools/engine_main.cc; crank torque over a cycle, bearing
+#                          loads, flywheel sizing, run-up; CSV for tools/plot_engine.gnuplot).
 # The model library needs Eigen only; with NO_SWEEP nothing here needs Ceres.
 # Requires MECHGEN_EXECUTABLE and MECHGEN_TEMPLATES_DIR (set by the build tree or by
 # find_package(mechgen)).
@@ -40,7 +44,7 @@ function(mechgen_add_model name model)
       "with '_'); it becomes the namespace mech::<name> and the files <name>.h/.cc. Rename it "
       "(for example ${suggestion}).")
   endif()
-  cmake_parse_arguments(ARG "NO_SWEEP;STATICS;NO_STATICS;SIMULATE;NO_SIMULATE" "STRATEGY" ""
+  cmake_parse_arguments(ARG "NO_SWEEP;STATICS;NO_STATICS;SIMULATE;NO_SIMULATE;ENGINE" "STRATEGY" ""
                         ${ARGN})
   set(strategy_args)
   if(ARG_STRATEGY)
@@ -107,5 +111,12 @@ function(mechgen_add_model name model)
         MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
       target_link_libraries(${name}_simulate PRIVATE mechgen_model_${name} mechgen::runtime)
     endif()
+  endif()
+  if(ARG_ENGINE AND NOT ARG_NO_SWEEP AND MECHGEN_BUILD_SWEEPS
+     AND EXISTS "${MECHGEN_TOOLS_DIR}/engine_main.cc")
+    add_executable(${name}_engine "${MECHGEN_TOOLS_DIR}/engine_main.cc")
+    target_compile_definitions(${name}_engine PRIVATE
+      MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
+    target_link_libraries(${name}_engine PRIVATE mechgen_model_${name} mechgen::runtime)
   endif()
 endfunction()

@@ -16,7 +16,9 @@
  *
  * GasDriven<M, Source> is the model M with Q_gas added to M::Dynamics (and to P_nc, so that
  * the energy balance T - W_nc stays an invariant), for MinimalDynamics (dynamics/forward.h).
- * It is for models without the one-pass M::Rhs (the engine maker does not ask for it).
+ * It is for models without the one-pass M::Rhs (the engine models have none: their slides
+ * are not angles). Compiled and checked by tests/engine (the steady cycle against the load)
+ * and used by <model>_engine (runtime/tools/engine_main.cc).
  *
  * FindSteadyCycle() finds the periodic steady state by shooting on the crank speed at the
  * start of a cycle: F(ω0) = ω(θ0 + Θ) - ω0 = 0 by the secant method (the map is nearly
@@ -80,6 +82,9 @@ struct GasTorque {
 template <class M, class Source>
 struct GasDriven : M {
   static_assert(M::kNq == 1, "GasDriven: one-DOF crank models only");
+  static_assert(!mechgen::dynamics::internal::HasRhs<M>::value,
+                "GasDriven: the model has the one-pass M::Rhs, which MinimalDynamics would call "
+                "instead of the Dynamics with the gas torque");
   static inline const Source* source = nullptr;
 
   using TrigType = typename mechgen::internal::TrigOf<M>::type;
@@ -160,8 +165,6 @@ SteadyCycle FindSteadyCycle(Sim* sim, const SteadyCycleOptions& o) {
     out.message = "FindSteadyCycle: the model does not assemble at theta0";
     return out;
   }
-  dynamics::MinimalOptions mo = sim->options();
-  (void)mo;
   const double theta_end = o.theta0 + o.cycle;
   auto shoot = [&](double omega0, double* omega1, double* t1) -> bool {
     VecQ q, qd;

@@ -1,0 +1,787 @@
+// <model>_engine: crank torque, bearing loads, flywheel sizing and run-up of a reciprocating
+// engine model made by tools/make_engine.py (Paul §6.8 DYREC, §6.9 FLYLOOP; issue 16).
+//
+// mechgen_add_model(<name> ... ENGINE) compiles this generic file per engine model with
+// -DMECHGEN_MODEL_INCLUDE="<name>.h" -DMECHGEN_MODEL_NAMESPACE=mech::<name>. It reads the
+// engine from the model's parameters by name (Params::Find: bore, r, l, strokes, J_fly,
+// phase_j, p_gas_j, gamma_j, beta_j, m_rod, l_G, J_rod, m_pis) and its coordinates
+// (s_slide_j, theta_rod_j) and reactions (F_O, F_B_j, F_C_j, N_slide_j) by name.
+//
+// Gas: one pressure law for every cylinder (mechgen/engine/gas.h), cylinder j at the cycle
+// angle theta - phase_j: the parametric polytropic cycle with a Wiebe heat release (default),
+// or --table FILE, an indicator diagram (CSV rows: cycle angle in deg from firing TDC, gauge
+// pressure in Pa; a header line is skipped). The gas torque T_gas = -sum p_j A ds_j/dtheta
+// (N m on the crank, CCW +) comes from the generated velocity coefficients
+// (mechgen/engine/crank_dynamics.h, GasTorque); the bearing loads and side thrusts come from
+// the generated kinetostatics with the model's p_gas_j parameters set to p_j at each angle.
+//
+// Subcommands (signs: torques on the crank CCW +, N m; forces N in the fixed frame):
+//   cycle     At constant crank speed (--rpm), over one cycle: CSV columns theta_deg, T_gas,
+//             T_inertia = -1/2 I'(theta) omega^2 (the generated dynamics' h at thetadd = 0),
+//             T_total, per cylinder p_j (gauge, Pa) and thrust_j (the force of piston j on the
+//             cylinder wall along n_j = (-sin beta_j, cos beta_j), N), the main bearing load
+//             F_O_x, F_O_y (frame on crank), per cylinder the crank pin load pin_j_x, pin_j_y
+//             (crank on rod j), pin_j_u, pin_j_v (rod j on the crank pin in the crank's frame:
+//             u along the throw outward, v 90 deg ahead: the polar diagram) and the wrist pin
+//             load wrist_j_x, wrist_j_y (rod j on piston j), and for a model with `shaking` the
+//             shaking force shake_F_x, shake_F_y (N, on the frame) and moment shake_M about O
+//             (N m, CCW +) of the generated EvalShaking. The crank is held at constant
+//             speed by a dynamometer absorbing T_total. Summary: mean torque, its harmonics by
+//             order (multiples of the crank speed; mechgen/engine/harmonics.h), max/mean, and
+//             the power smoothing of Paul §6.8.5: the torque of k cylinders evenly spaced over
+//             the cycle, k = 1..n, each the torque of cylinder 1 of this model (its gas torque
+//             plus its own inertia torque) shifted by cycle/k (summed phase-shifted
+//             single-cylinder torques), k up to max(--smoothing, n).
+//   flywheel  Energy loop (Paul §6.9.2; mechgen/flywheel/energy_loop.h) of T_total at
+//             constant speed about its mean: the
+//             largest swing dE, the generalized inertia for --cs, I = dE / (C_s omega^2), and
+//             J_fly = I - mean(I(theta) - J_fly) (the reciprocating parts' mean inertia taken
+//             off); then the periodic steady state with that J_fly against the viscous load
+//             c_load = T_mean / omega (FindSteadyCycle, Paul §6.9.1): simulated C_s against
+//             the prescribed one, and what neglecting I(theta) (gas torque only, constant I)
+//             predicts. CSVs: --loop FILE (theta_deg, T_total, T_mean, E: the energy loop),
+//             --sweep FILE (J_fly, Cs_energy_loop, Cs_simulated), --wittenbauer FILE
+//             (theta_deg, t, omega, I, T_kin of the steady cycle: Paul §6.9.3).
+//   runup     From --idle-rpm against the load c_load = T_mean / omega(--rpm) (plus T_load of
+//             the model), the one-DOF simulator (mechgen/dynamics/forward.h) until the cycle
+//             mean speed settles (relative change < --steady-tol twice) or --t-end: CSV t,
+//             theta_deg, omega, rpm, T_gas, T_load; summary: the time to reach 99 % of the
+//             final speed, the final mean speed, mean gas torque against the load.
+// Exit status: 0 done, 1 a computation failed (the reason on stderr), 2 a usage error. No
+// output file is written unless the whole computation succeeded (io/output_file.h).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "mechgen/dynamics/forward.h"
+#include "mechgen/engine/crank_dynamics.h"
+#include "mechgen/engine/gas.h"
+#include "mechgen/engine/harmonics.h"
+#include "mechgen/flywheel/energy_loop.h"
+#include "mechgen/io/output_file.h"
+
+#ifndef MECHGEN_MODEL_INCLUDE
+#error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
+#endif
+#include MECHGEN_MODEL_INCLUDE
+
+namespace {
+
+namespace eng = mechgen::engine;
+namespace dyn = mechgen::dynamics;
+using Model = MECHGEN_MODEL_NAMESPACE::Model;
+using Params = MECHGEN_MODEL_NAMESPACE::Params<double>;
+using VecQ = Eigen::Matrix<double, Model::kNq, 1>;
+using VecPhi = Eigen::Matrix<double, Model::kNphi, 1>;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180;
+constexpr int kMaxCyl = 16;
+
+/// One pressure law for all cylinders: the parametric cycle or a table.
+struct Law {
+  const eng::PolytropicWiebeCycle* wiebe = nullptr;
+  const eng::PressureTable* table = nullptr;
+  double Pressure(double a) const { return wiebe != nullptr ? wiebe->Pressure(a) : table->Pressure(a); }
+};
+using Gas = eng::GasTorque<Law, kMaxCyl>;
+
+/// The engine as the model's names describe it.
+struct Engine {
+  int n = 0;
+  double bore = 0, area = 0, r = 0, l = 0, cycle = 4 * kPi, J_fly = 0;
+  int strokes = 4;
+  std::array<int, kMaxCyl> slide{}, rod{}, R_B{}, R_C{}, R_N{};
+  std::array<double, kMaxCyl> gamma{}, beta{};
+  std::array<double*, kMaxCyl> p_gas{};
+  int R_O = -1;
+  double m_rod = 0, l_G = 0, J_rod = 0, m_pis = 0;
+};
+
+int PhiIndex(const std::string& name) {
+  for (int i = 0; i < Model::kNphi; ++i)
+    if (name == Model::kPhiNames[i]) return i;
+  return -1;
+}
+int ReactionIndex(const std::string& name) {
+  for (int i = 0; i < Model::kNumReactions; ++i)
+    if (name == Model::kReactionNames[i]) return i;
+  return -1;
+}
+
+bool ReadEngine(Params* p, Engine* e, std::string* error) {
+  auto get = [&](const std::string& name, double* v) {
+    double* x = p->Find(name.c_str());
+    if (x == nullptr) {
+      *error = "the model has no parameter '" + name + "': not an engine model of tools/make_engine.py";
+      return false;
+    }
+    *v = *x;
+    return true;
+  };
+  double strokes = 0;
+  if (!get("bore", &e->bore) || !get("r", &e->r) || !get("l", &e->l) || !get("strokes", &strokes) ||
+      !get("J_fly", &e->J_fly) || !get("m_rod", &e->m_rod) || !get("l_G", &e->l_G) ||
+      !get("J_rod", &e->J_rod) || !get("m_pis", &e->m_pis))
+    return false;
+  if (strokes != 2 && strokes != 4) {
+    *error = "the model's parameter strokes must be 2 or 4";
+    return false;
+  }
+  e->strokes = static_cast<int>(strokes);
+  e->cycle = e->strokes == 4 ? 4 * kPi : 2 * kPi;
+  e->area = kPi * e->bore * e->bore / 4;
+  e->R_O = ReactionIndex("F_O_x");
+  for (int j = 0; j < kMaxCyl; ++j) {
+    const std::string k = std::to_string(j + 1);
+    const int s = PhiIndex("s_slide_" + k);
+    if (s < 0) break;
+    e->slide[j] = s;
+    e->rod[j] = PhiIndex("theta_rod_" + k);
+    e->R_B[j] = ReactionIndex("F_B_" + k + "_x");
+    e->R_C[j] = ReactionIndex("F_C_" + k + "_x");
+    e->R_N[j] = ReactionIndex("N_slide_" + k);
+    e->p_gas[j] = p->Find(("p_gas_" + k).c_str());
+    if (e->rod[j] < 0 || e->R_B[j] < 0 || e->R_C[j] < 0 || e->R_N[j] < 0 || e->p_gas[j] == nullptr ||
+        e->R_O < 0) {
+      *error = "cylinder " + k + " lacks theta_rod_" + k + ", p_gas_" + k +
+               " or the reactions F_O, F_B_" + k + ", F_C_" + k + ", N_slide_" + k;
+      return false;
+    }
+    if (!get("gamma_" + k, &e->gamma[j]) || !get("beta_" + k, &e->beta[j])) return false;
+    e->n = j + 1;
+  }
+  if (e->n == 0) {
+    *error = "the model has no cylinder (no coordinate s_slide_1)";
+    return false;
+  }
+  return true;
+}
+
+Gas MakeGas(Params* p, const Engine& e, const Law* law) {
+  Gas g;
+  g.law = law;
+  g.cycle = e.cycle;
+  g.count = e.n;
+  for (int j = 0; j < e.n; ++j) {
+    g.cylinders[j].slide = e.slide[j];
+    g.cylinders[j].area = e.area;
+    g.cylinders[j].phase = *p->Find(("phase_" + std::to_string(j + 1)).c_str());
+  }
+  return g;
+}
+
+/// One crank angle at constant speed.
+struct Point {
+  double theta = 0, T_gas = 0, T_inertia = 0, T_total = 0, I = 0, drive = 0;
+  double T1 = 0;   ///< cylinder 1 alone: its gas torque + its own inertia torque
+  double I1 = 0;   ///< cylinder 1's share of I(theta)
+  std::array<double, kMaxCyl> p{}, thrust{};
+  std::array<double, Model::kNumReactions> R{};
+  double shake_x = 0, shake_y = 0, shake_M = 0;  ///< generated shaking force and moment about O
+};
+
+/// The positions at theta from *phi (warm start), K and L there.
+bool Positions(const Params& p, double theta, VecPhi* phi, typename Model::CoefficientsT<double>* c) {
+  VecQ q;
+  q(0) = theta;
+  const auto report = Model::Solve(p, q, phi);
+  if (report.status != decltype(report.status)::kConverged) return false;
+  Model::Coeffs(p, q, *phi, c);
+  return true;
+}
+
+/// Cylinder j's generalized inertia and its derivative, from the generated phi, K, L (the rod
+/// by its centre of mass and K_theta, the piston along its slide).
+void CylinderInertia(const Engine& e, int j, double theta, const VecPhi& phi,
+                     const typename Model::CoefficientsT<double>& c, double* I, double* dI) {
+  const double a = theta + e.gamma[j];
+  const double f = phi(e.rod[j]), Kf = c.K(e.rod[j], 0), Lf = c.L(e.rod[j], 0);
+  const double Ks = c.K(e.slide[j], 0), Ls = c.L(e.slide[j], 0);
+  const double KGx = -e.r * std::sin(a) - e.l_G * Kf * std::sin(f);
+  const double KGy = e.r * std::cos(a) + e.l_G * Kf * std::cos(f);
+  const double LGx = -e.r * std::cos(a) - e.l_G * (Lf * std::sin(f) + Kf * Kf * std::cos(f));
+  const double LGy = -e.r * std::sin(a) + e.l_G * (Lf * std::cos(f) - Kf * Kf * std::sin(f));
+  *I = e.m_pis * Ks * Ks + e.m_rod * (KGx * KGx + KGy * KGy) + e.J_rod * Kf * Kf;
+  *dI = 2 * (e.m_pis * Ks * Ls + e.m_rod * (KGx * LGx + KGy * LGy) + e.J_rod * Kf * Lf);
+}
+
+/// The generated shaking force and moment into *pt (a model without `shaking`: zeros).
+template <class MM>
+void FillShaking(const Params& p, const VecQ& q, const VecPhi& phi, const VecQ& qd, const VecQ& qdd,
+                 const typename MM::template CoefficientsT<double>& c, Point* pt) {
+  if constexpr (MM::kHasShaking) {
+    typename MM::template ShakingT<double> sh;
+    MM::Shaking(p, q, phi, qd, qdd, c, &sh);
+    pt->shake_x = sh.F(0);
+    pt->shake_y = sh.F(1);
+    pt->shake_M = sh.M;
+  } else {
+    (void)p, (void)q, (void)phi, (void)qd, (void)qdd, (void)c, (void)pt;
+  }
+}
+
+/// The cycle at constant speed omega, n samples from theta = 0.
+bool RunCycle(const Params& p0, const Engine& e, const Gas& gas, double omega, int samples,
+              std::vector<Point>* out, std::string* error) {
+  Params p = p0;
+  *p.Find("T_load") = 0;
+  *p.Find("c_load") = 0;
+  VecPhi phi;
+  for (int i = 0; i < Model::kNphi; ++i) phi(i) = Model::kAssemblyPhi[i];
+  out->assign(samples, Point());
+  for (int i = 0; i < samples; ++i) {
+    Point& pt = (*out)[i];
+    pt.theta = e.cycle * i / samples;
+    typename Model::CoefficientsT<double> c;
+    if (!Positions(p, pt.theta, &phi, &c)) {
+      char buf[160];
+      std::snprintf(buf, sizeof(buf), "the positions failed at theta = %.3f deg", pt.theta / kDeg);
+      *error = buf;
+      return false;
+    }
+    VecQ q, qd, qdd;
+    q(0) = pt.theta;
+    qd(0) = omega;
+    qdd(0) = 0;
+    typename Model::template DynamicsT<double> d;
+    Model::Dynamics(p, q, phi, qd, 0.0, c, &d);
+    pt.I = d.I(0, 0);
+    pt.T_inertia = -d.h(0);
+    pt.T_gas = gas.Torque(pt.theta, c.K);
+    pt.T_total = pt.T_gas + pt.T_inertia;
+    for (int j = 0; j < e.n; ++j) {
+      pt.p[j] = gas.Pressure(j, pt.theta);
+      *p.Find(("p_gas_" + std::to_string(j + 1)).c_str()) = pt.p[j];
+    }
+    Model::StaticsT<double> st;
+    Model::Kinetostatics(p, q, phi, qd, qdd, 0.0, c, &st);
+    pt.drive = st.drive(0);
+    for (int k = 0; k < Model::kNumReactions; ++k) pt.R[k] = st.R(k);
+    for (int j = 0; j < e.n; ++j) pt.thrust[j] = -st.R(e.R_N[j]);
+    FillShaking<Model>(p, q, phi, qd, qdd, c, &pt);
+    double I1, dI1;
+    CylinderInertia(e, 0, pt.theta, phi, c, &I1, &dI1);
+    pt.I1 = I1;
+    pt.T1 = -pt.p[0] * e.area * c.K(e.slide[0], 0) - 0.5 * dI1 * omega * omega;
+  }
+  return true;
+}
+
+/// Periodic linear interpolation of samples y over [0, cycle).
+double Interp(const std::vector<double>& y, double cycle, double x) {
+  const int n = static_cast<int>(y.size());
+  double u = std::fmod(x, cycle) / cycle * n;
+  if (u < 0) u += n;
+  const int k = std::min(static_cast<int>(u), n - 1);
+  const double f = u - k;
+  return y[k] * (1 - f) + y[(k + 1) % n] * f;
+}
+
+// ---- command line -------------------------------------------------------------------------
+
+struct Args {
+  std::string command;
+  double rpm = 3000;
+  int samples = 1440;
+  std::string csv, loop_csv, sweep_csv, witt_csv, table;
+  double cs = 0.02;
+  double idle_rpm = -1;
+  double t_end = 60;
+  double dt = 0.002;
+  double steady_tol = 1e-5;
+  int smoothing = 6;
+  eng::PolytropicWiebeParams wiebe;
+  bool wiebe_geometry_given = false;
+};
+
+void Usage(const char* program) {
+  std::printf(
+      "usage: %s cycle|flywheel|runup [options]\n"
+      "Crank torque, bearing loads, flywheel and run-up of this engine model (Paul 6.8-6.9).\n"
+      "  --rpm N             crank speed (cycle, flywheel) or the target speed (runup); default 3000\n"
+      "  --samples N         samples per cycle (default 1440)\n"
+      "  --csv FILE          cycle, runup: the CSV (default <model>_<command>.csv)\n"
+      "  --smoothing K       cycle: power smoothing for 1..max(K, cylinders) (default 6)\n"
+      "  --cs C              flywheel: the prescribed C_s = (w_max - w_min)/w_mean (default 0.02)\n"
+      "  --loop FILE --sweep FILE --wittenbauer FILE   flywheel's CSVs (default <model>_*.csv)\n"
+      "  --idle-rpm N        runup: the starting speed (default rpm/4)\n"
+      "  --t-end T --dt DT   runup: end time and CSV row spacing (s; default 60, 0.002)\n"
+      "  --steady-tol S      runup: stop when the cycle mean speed changes by < S (default 1e-5)\n"
+      "Pressure law (one for every cylinder, at its own cycle angle from firing TDC):\n"
+      "  --table FILE        indicator diagram: rows 'angle_deg,p_gauge_Pa' over the cycle\n"
+      "  or the polytropic cycle with a Wiebe heat release (bore, stroke, rod from the model):\n"
+      "  --cr E (10)  --p-intake PA (1e5)  --p-ambient PA (101325)  --n N (1.32)\n"
+      "  --burn-start DEG (-15)  --burn-duration DEG (60)  --wiebe-a A (5)  --wiebe-m M (2)\n"
+      "  --heat J (800, per cylinder and cycle)\n",
+      program);
+}
+
+bool ParseDouble(const char* text, double* v) {
+  char* end = nullptr;
+  *v = std::strtod(text, &end);
+  return end != text && *end == '\0' && std::isfinite(*v);
+}
+
+int UsageError(const std::string& message) {
+  std::fprintf(stderr, "engine: error: %s (--help for usage)\n", message.c_str());
+  return 2;
+}
+
+int ParseArgs(int argc, char** argv, Args* a) {
+  if (argc < 2) return UsageError("a subcommand: cycle, flywheel or runup");
+  a->command = argv[1];
+  if (a->command == "--help" || a->command == "-h") {
+    Usage(argv[0]);
+    return -1;
+  }
+  if (a->command != "cycle" && a->command != "flywheel" && a->command != "runup")
+    return UsageError("unknown subcommand '" + a->command + "': cycle, flywheel or runup");
+  for (int i = 2; i < argc; ++i) {
+    const std::string opt = argv[i];
+    if (opt == "--help" || opt == "-h") {
+      Usage(argv[0]);
+      return -1;
+    }
+    if (i + 1 >= argc) return UsageError(opt + " needs a value (or is unknown)");
+    const char* val = argv[++i];
+    double v = 0;
+    auto num = [&](double* out, bool positive) {
+      if (!ParseDouble(val, &v) || (positive && !(v > 0))) return false;
+      *out = v;
+      return true;
+    };
+    bool ok = true;
+    if (opt == "--rpm") ok = num(&a->rpm, true);
+    else if (opt == "--samples") {
+      ok = ParseDouble(val, &v) && v >= 16 && v <= 1e6 && v == std::floor(v);
+      a->samples = static_cast<int>(v);
+    } else if (opt == "--smoothing") {
+      ok = ParseDouble(val, &v) && v >= 1 && v <= 64 && v == std::floor(v);
+      a->smoothing = static_cast<int>(v);
+    } else if (opt == "--csv") a->csv = val;
+    else if (opt == "--loop") a->loop_csv = val;
+    else if (opt == "--sweep") a->sweep_csv = val;
+    else if (opt == "--wittenbauer") a->witt_csv = val;
+    else if (opt == "--table") a->table = val;
+    else if (opt == "--cs") ok = num(&a->cs, true) && a->cs < 1;
+    else if (opt == "--idle-rpm") ok = num(&a->idle_rpm, true);
+    else if (opt == "--t-end") ok = num(&a->t_end, true);
+    else if (opt == "--dt") ok = num(&a->dt, true);
+    else if (opt == "--steady-tol") ok = num(&a->steady_tol, true);
+    else if (opt == "--cr") ok = num(&a->wiebe.compression_ratio, true);
+    else if (opt == "--p-intake") ok = num(&a->wiebe.p_intake, true);
+    else if (opt == "--p-ambient") ok = num(&a->wiebe.p_ambient, true);
+    else if (opt == "--n") ok = num(&a->wiebe.n, true);
+    else if (opt == "--burn-start") {
+      ok = ParseDouble(val, &v);
+      a->wiebe.burn_start = v * kDeg;
+    } else if (opt == "--burn-duration") {
+      ok = num(&v, true);
+      a->wiebe.burn_duration = v * kDeg;
+    } else if (opt == "--wiebe-a") ok = num(&a->wiebe.wiebe_a, true);
+    else if (opt == "--wiebe-m") ok = ParseDouble(val, &a->wiebe.wiebe_m) && a->wiebe.wiebe_m >= 0;
+    else if (opt == "--heat") ok = ParseDouble(val, &a->wiebe.heat) && a->wiebe.heat >= 0;
+    else return UsageError("unknown option " + opt);
+    if (!ok) return UsageError(opt + ": bad value '" + std::string(val) + "'");
+  }
+  if (a->command == "cycle" || a->command == "runup") {
+    if (a->csv.empty()) a->csv = std::string(Model::kName) + "_" + a->command + ".csv";
+  }
+  const std::string base = Model::kName;
+  if (a->loop_csv.empty()) a->loop_csv = base + "_energy_loop.csv";
+  if (a->sweep_csv.empty()) a->sweep_csv = base + "_cs_sweep.csv";
+  if (a->witt_csv.empty()) a->witt_csv = base + "_wittenbauer.csv";
+  return 0;
+}
+
+bool ReadTable(const std::string& path, double cycle, eng::PressureTable* t, std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = "cannot read the pressure table " + path;
+    return false;
+  }
+  std::vector<double> a, p;
+  std::string line;
+  int row = 0;
+  while (std::getline(in, line)) {
+    ++row;
+    if (line.empty() || line[0] == '#') continue;
+    const size_t comma = line.find(',');
+    double x = 0, y = 0;
+    if (comma == std::string::npos || !ParseDouble(line.substr(0, comma).c_str(), &x) ||
+        !ParseDouble(line.substr(comma + 1).c_str(), &y)) {
+      if (a.empty() && row == 1) continue;  // a header
+      *error = path + ":" + std::to_string(row) + ": expected 'angle_deg,p_gauge_Pa'";
+      return false;
+    }
+    a.push_back(x * kDeg);
+    p.push_back(y);
+  }
+  std::string why;
+  if (!t->Set(a, p, cycle, &why)) {
+    *error = path + ": " + why;
+    return false;
+  }
+  return true;
+}
+
+/// Opened output files, committed together at the end.
+struct Outputs {
+  std::vector<std::unique_ptr<mechgen::OutputFile>> files;
+  std::ostream* Open(const std::string& path, std::string* error) {
+    files.push_back(std::make_unique<mechgen::OutputFile>());
+    if (!files.back()->Open(path, error)) return nullptr;
+    files.back()->stream().precision(10);
+    return &files.back()->stream();
+  }
+  bool Commit(std::string* error) {
+    for (auto& f : files)
+      if (!f->Commit(error)) return false;
+    return true;
+  }
+};
+
+int Fail(const std::string& message) {
+  std::fprintf(stderr, "engine: error: %s\n", message.c_str());
+  return 1;
+}
+
+// ---- subcommands --------------------------------------------------------------------------
+
+int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
+  const double omega = a.rpm * 2 * kPi / 60;
+  std::vector<Point> pts;
+  std::string error;
+  if (!RunCycle(p, e, gas, omega, a.samples, &pts, &error)) return Fail(error);
+  Outputs outs;
+  std::ostream* o = outs.Open(a.csv, &error);
+  if (o == nullptr) return Fail(error);
+  *o << "theta_deg,T_gas,T_inertia,T_total";
+  for (int j = 1; j <= e.n; ++j) *o << ",p_" << j << ",thrust_" << j;
+  *o << ",F_O_x,F_O_y";
+  for (int j = 1; j <= e.n; ++j)
+    *o << ",pin_" << j << "_x,pin_" << j << "_y,pin_" << j << "_u,pin_" << j << "_v,wrist_" << j
+       << "_x,wrist_" << j << "_y";
+  if (Model::kHasShaking) *o << ",shake_F_x,shake_F_y,shake_M";
+  *o << "\n";
+  double max_check = 0, scale = 0;
+  for (const Point& pt : pts) {
+    *o << pt.theta / kDeg << "," << pt.T_gas << "," << pt.T_inertia << "," << pt.T_total;
+    for (int j = 0; j < e.n; ++j) *o << "," << pt.p[j] << "," << pt.thrust[j];
+    *o << "," << pt.R[e.R_O] << "," << pt.R[e.R_O + 1];
+    for (int j = 0; j < e.n; ++j) {
+      const double fx = pt.R[e.R_B[j]], fy = pt.R[e.R_B[j] + 1];
+      const double a_pin = pt.theta + e.gamma[j];
+      // rod on crank = -(crank on rod), in the crank's frame (u along the throw).
+      const double u = -(fx * std::cos(a_pin) + fy * std::sin(a_pin));
+      const double v = -(-fx * std::sin(a_pin) + fy * std::cos(a_pin));
+      *o << "," << fx << "," << fy << "," << u << "," << v << "," << pt.R[e.R_C[j]] << ","
+         << pt.R[e.R_C[j] + 1];
+    }
+    if (Model::kHasShaking) *o << "," << pt.shake_x << "," << pt.shake_y << "," << pt.shake_M;
+    *o << "\n";
+    max_check = std::max(max_check, std::abs(pt.drive + pt.T_total));
+    scale = std::max(scale, std::abs(pt.T_total));
+  }
+  std::vector<double> T(pts.size()), T1(pts.size());
+  double Tmax = -1e300, Tmin = 1e300;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    T[i] = pts[i].T_total;
+    T1[i] = pts[i].T1;
+    Tmax = std::max(Tmax, T[i]);
+    Tmin = std::min(Tmin, T[i]);
+  }
+  // The mean and the orders up to 8 times the crank speed (engine/harmonics.h).
+  const int count = (e.strokes == 4 ? 16 : 8) + 1;
+  std::vector<eng::Harmonic> h(count), hg(1);
+  const auto hs = eng::Analyze(T.data(), static_cast<int>(T.size()), e.cycle, 0.0, count, h.data());
+  if (hs != eng::HarmonicsStatus::kOk) return Fail(std::string("harmonics: ") + eng::ToString(hs));
+  std::vector<double> Tg(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) Tg[i] = pts[i].T_gas;
+  eng::Analyze(Tg.data(), static_cast<int>(Tg.size()), e.cycle, 0.0, 1, hg.data());
+  const double mean = h[0].a, mean_gas = hg[0].a;
+  if (!outs.Commit(&error)) return Fail(error);
+  std::printf("%s cycle at %.6g rpm (%d samples over %d deg), %d cylinder(s), %d-stroke\n", Model::kName,
+              a.rpm, a.samples, e.strokes == 4 ? 720 : 360, e.n, e.strokes);
+  std::printf("  mean torque %.6g N m (gas %.6g; inertia's mean %.3g), power %.6g kW\n", mean, mean_gas,
+              mean - mean_gas, mean * omega / 1000);
+  std::printf("  T_total max %.6g, min %.6g N m; max/mean %.4g; (max - min)/mean %.4g\n", Tmax, Tmin,
+              Tmax / mean, (Tmax - Tmin) / mean);
+  std::printf("  harmonics of T_total (order = multiple of the crank speed; amplitude N m):\n");
+  for (int m = 1; m < count; ++m)
+    if (h[m].amplitude > 1e-6 * std::max(1.0, std::abs(mean)))
+      std::printf("    order %4.1f  %12.6g  (A cos(order theta - phi), phi %7.2f deg)\n", h[m].order,
+                  h[m].amplitude, h[m].phase / kDeg);
+  std::printf("  power smoothing (Paul 6.8.5): k cylinders evenly spaced, each cylinder 1's torque\n"
+              "  (its gas + its own inertia torque) shifted by cycle/k:\n");
+  std::printf("    k   mean (N m)   max/mean   (max - min)/mean\n");
+  for (int k = 1; k <= std::max(e.n, a.smoothing); ++k) {
+    double mx = -1e300, mn = 1e300, sum = 0;
+    const int n = static_cast<int>(pts.size());
+    for (int i = 0; i < n; ++i) {
+      double t = 0;
+      for (int m = 0; m < k; ++m) t += Interp(T1, e.cycle, pts[i].theta - m * e.cycle / k);
+      mx = std::max(mx, t);
+      mn = std::min(mn, t);
+      sum += t;
+    }
+    const double mk = sum / n;
+    std::printf("    %-3d %11.5g %10.4g %14.4g\n", k, mk, mx / mk, (mx - mn) / mk);
+  }
+  if (Model::kHasShaking) {
+    // Orders 1 (primary), 2 (secondary), 4, 6 of the shaking force and moment (they repeat
+    // every revolution at constant speed).
+    const int per = e.strokes == 4 ? 2 : 1, cnt = 6 * per + 1;
+    std::vector<double> fx(pts.size()), fy(pts.size()), mz(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) {
+      fx[i] = pts[i].shake_x;
+      fy[i] = pts[i].shake_y;
+      mz[i] = pts[i].shake_M;
+    }
+    std::vector<eng::Harmonic> hx(cnt), hy(cnt), hm(cnt);
+    const int np = static_cast<int>(pts.size());
+    eng::Analyze(fx.data(), np, e.cycle, 0.0, cnt, hx.data());
+    eng::Analyze(fy.data(), np, e.cycle, 0.0, cnt, hy.data());
+    eng::Analyze(mz.data(), np, e.cycle, 0.0, cnt, hm.data());
+    std::printf("  shaking force on the frame F = -sum m a_G (N) and moment about O (N m), generated:\n");
+    std::printf("    order   |F_x|         |F_y|         |M|\n");
+    for (int order : {1, 2, 4, 6})
+      std::printf("    %-5d %12.6g  %12.6g  %12.6g\n", order, hx[order * per].amplitude, hy[order * per].amplitude,
+                  hm[order * per].amplitude);
+  }
+  std::printf("  check: generated kinetostatics' drive + T_total, max %.3g N m (of %.3g)\n", max_check, scale);
+  std::printf("  wrote %s\n", a.csv.c_str());
+  return 0;
+}
+
+using Driven = eng::GasDriven<Model, Gas>;
+using Sim = dyn::MinimalDynamics<Driven>;
+
+int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
+  const double omega = a.rpm * 2 * kPi / 60;
+  std::vector<Point> pts;
+  std::string error;
+  if (!RunCycle(p0, e, gas, omega, a.samples, &pts, &error)) return Fail(error);
+  const int n = static_cast<int>(pts.size());
+  const double dth = e.cycle / n;
+  // Energy loop about the mean (mechgen/flywheel/energy_loop.h: the mean torque line is the
+  // load; E at the samples, the extremes refined between them).
+  double mean_I = 0;
+  std::vector<double> T(n), Tg(n), E(n), Eg(n);
+  for (int i = 0; i < n; ++i) {
+    T[i] = pts[i].T_total;
+    Tg[i] = pts[i].T_gas;
+    mean_I += pts[i].I / n;
+  }
+  mechgen::flywheel::EnergyLoopOptions lo_opt;
+  lo_opt.remove_mean = true;
+  const auto loop = mechgen::flywheel::ExcessEnergy(T.data(), n, e.cycle, 0.0, lo_opt, E.data());
+  const auto loop_gas = mechgen::flywheel::ExcessEnergy(Tg.data(), n, e.cycle, 0.0, lo_opt, Eg.data());
+  if (!loop.IsUsable()) return Fail(std::string("energy loop: ") + mechgen::flywheel::ToString(loop.status));
+  if (!loop_gas.IsUsable())
+    return Fail(std::string("energy loop (gas): ") + mechgen::flywheel::ToString(loop_gas.status));
+  const double mean = loop.mean_torque;
+  if (!(mean > 0)) return Fail("the mean torque is not positive: no load to size a flywheel against");
+  const double dE = loop.delta_E, dEg = loop_gas.delta_E;
+  const double I_req = dE / (a.cs * omega * omega);
+  const double I_recip = mean_I - e.J_fly;  // the mean of the variable part
+  const double J_fly = I_req - I_recip;
+  if (!(J_fly > 0))
+    return Fail("the reciprocating parts alone give C_s below the prescribed one: no flywheel needed");
+  // Simulation with that flywheel against c_load = mean / omega.
+  auto simulate = [&](double J, eng::SteadyCycle* sc) {
+    Params p = p0;
+    *p.Find("J_fly") = J;
+    *p.Find("T_load") = 0;
+    *p.Find("c_load") = mean / omega;
+    for (int j = 0; j < e.n; ++j) *p.Find(("p_gas_" + std::to_string(j + 1)).c_str()) = 0;
+    dyn::MinimalOptions mo;
+    mo.integrator.rtol = 1e-10;
+    mo.integrator.atol = 1e-10;
+    Sim sim(p, mo);
+    eng::SteadyCycleOptions so;
+    so.cycle = e.cycle;
+    so.omega_guess = omega;
+    so.samples = a.samples;
+    so.tolerance = 1e-9;
+    *sc = eng::FindSteadyCycle(&sim, so);
+    return sc->ok;
+  };
+  Driven::source = &gas;
+  eng::SteadyCycle sc;
+  if (!simulate(J_fly, &sc)) return Fail(sc.message);
+  // Sweep of C_s against J_fly.
+  Outputs outs;
+  std::ostream* lo = outs.Open(a.loop_csv, &error);
+  if (lo == nullptr) return Fail(error);
+  *lo << "theta_deg,T_total,T_mean,E\n";
+  for (int i = 0; i <= n; ++i)
+    *lo << dth * i / kDeg << "," << pts[i % n].T_total << "," << mean << "," << (i < n ? E[i] : 0.0) << "\n";
+  std::ostream* so = outs.Open(a.sweep_csv, &error);
+  if (so == nullptr) return Fail(error);
+  *so << "J_fly,Cs_energy_loop,Cs_simulated\n";
+  std::vector<std::array<double, 3>> sweep;
+  for (double f : {0.25, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 2.8, 4.0}) {
+    const double J = f * J_fly;
+    eng::SteadyCycle s;
+    if (!simulate(J, &s)) return Fail("sweep at J_fly = " + std::to_string(J) + ": " + s.message);
+    sweep.push_back({J, dE / ((J + I_recip) * omega * omega), s.Cs});
+    *so << J << "," << sweep.back()[1] << "," << s.Cs << "\n";
+  }
+  std::ostream* wo = outs.Open(a.witt_csv, &error);
+  if (wo == nullptr) return Fail(error);
+  *wo << "theta_deg,t,omega,I,T_kin\n";
+  for (const auto& q : sc.points) *wo << q.theta / kDeg << "," << q.t << "," << q.omega << "," << q.I << "," << q.T << "\n";
+  if (!outs.Commit(&error)) return Fail(error);
+  const double cs_gas_only = dEg / (I_req * omega * omega);
+  std::printf("%s flywheel at %.6g rpm (omega %.6g rad/s), prescribed C_s = %.6g\n", Model::kName, a.rpm,
+              omega, a.cs);
+  std::printf("  mean torque %.6g N m (the load: c_load = %.6g N m s/rad)\n", mean, mean / omega);
+  std::printf("  energy loop: dE = %.6g J (gas torque only: %.6g J)\n", dE, dEg);
+  std::printf("  required I = dE/(C_s omega^2) = %.6g kg m^2; reciprocating parts' mean %.6g; J_fly = %.6g kg m^2\n",
+              I_req, I_recip, J_fly);
+  std::printf("  simulated steady cycle with that J_fly: C_s = %.6g (%+.2f %% of prescribed), omega %.6g..%.6g rad/s,"
+              " mean %.6g, %d shots\n",
+              sc.Cs, 100 * (sc.Cs / a.cs - 1), sc.omega_min, sc.omega_max, sc.omega_mean_time, sc.shots);
+  std::printf("  neglecting I(theta) (gas torque only, constant I): C_s = %.6g (%+.2f %% of simulated)\n",
+              cs_gas_only, 100 * (cs_gas_only / sc.Cs - 1));
+  std::printf("  C_s against J_fly (energy loop / simulated):\n");
+  for (const auto& s : sweep) std::printf("    J_fly %10.5g   %10.5g   %10.5g\n", s[0], s[1], s[2]);
+  std::printf("  wrote %s, %s, %s\n", a.loop_csv.c_str(), a.sweep_csv.c_str(), a.witt_csv.c_str());
+  return 0;
+}
+
+int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
+  const double omega = a.rpm * 2 * kPi / 60;
+  std::vector<Point> pts;
+  std::string error;
+  if (!RunCycle(p0, e, gas, omega, std::min(a.samples, 720), &pts, &error)) return Fail(error);
+  double mean_gas = 0;
+  for (const Point& pt : pts) mean_gas += pt.T_gas / pts.size();
+  Params p = p0;
+  const double T_load = *p.Find("T_load");
+  const double c_load = (mean_gas - T_load) / omega;
+  if (!(c_load > 0)) return Fail("the mean gas torque does not exceed T_load: the engine cannot run at --rpm");
+  *p.Find("c_load") = c_load;
+  for (int j = 0; j < e.n; ++j) *p.Find(("p_gas_" + std::to_string(j + 1)).c_str()) = 0;
+  Driven::source = &gas;
+  dyn::MinimalOptions mo;
+  mo.integrator.rtol = 1e-8;
+  mo.integrator.atol = 1e-10;
+  // Samples fine enough to time the cycles (720 per cycle at the target speed); the CSV
+  // gets one row every --dt.
+  mo.sample_dt = std::min(a.dt, e.cycle / omega / 720);
+  Sim sim(p, mo);
+  VecQ q, qd;
+  q(0) = 0;
+  qd(0) = (a.idle_rpm > 0 ? a.idle_rpm : a.rpm / 4) * 2 * kPi / 60;
+  if (!sim.Initialize(q)) return Fail("the model does not assemble at theta = 0");
+  struct Row {
+    double t, theta, omega, T_gas, T_load;
+  };
+  std::vector<Row> rows;
+  // Cycle mean speeds from the crossings of theta = k cycle (linear between fine samples).
+  std::vector<double> t_cross, means;
+  int next_cycle = 1;
+  bool steady = false;
+  double next_row = 0, t_prev = 0, th_prev = 0;
+  dyn::MinimalSummary summary;
+  sim.Simulate(
+      0.0, q, qd, a.t_end,
+      [&](const auto& s) {
+        if (s.t >= next_row - 1e-12 * a.t_end) {
+          const double tg = gas.Torque(s.q(0), s.K);
+          rows.push_back({s.t, s.q(0), s.qd(0), tg, -(T_load + c_load * s.qd(0))});
+          next_row += a.dt;
+        }
+        const double target = next_cycle * e.cycle;
+        const bool crossed = s.q(0) >= target;
+        if (crossed) {
+          t_cross.push_back(t_prev + (s.t - t_prev) * (target - th_prev) / (s.q(0) - th_prev));
+          ++next_cycle;
+          if (t_cross.size() >= 2) {
+            means.push_back(e.cycle / (t_cross[t_cross.size() - 1] - t_cross[t_cross.size() - 2]));
+            const size_t m = means.size();
+            if (m >= 3 && std::abs(means[m - 1] - means[m - 2]) < a.steady_tol * means[m - 1] &&
+                std::abs(means[m - 2] - means[m - 3]) < a.steady_tol * means[m - 1]) {
+              steady = true;
+              t_prev = s.t;
+              th_prev = s.q(0);
+              return false;
+            }
+          }
+        }
+        t_prev = s.t;
+        th_prev = s.q(0);
+        return true;
+      },
+      &summary);
+  if (!summary.IsSolutionUsable()) return Fail("the run-up failed: " + dyn::FormatSummary(summary));
+  if (means.empty()) return Fail("the run-up did not complete two cycles before --t-end");
+  const double final_mean = means.back();
+  double t99 = -1;
+  for (size_t i = 0; i < means.size(); ++i)
+    if (std::abs(means[i] - final_mean) <= 0.01 * final_mean) {
+      t99 = t_cross[i + 1];
+      break;
+    }
+  Outputs outs;
+  std::ostream* o = outs.Open(a.csv, &error);
+  if (o == nullptr) return Fail(error);
+  *o << "t,theta_deg,omega,rpm,T_gas,T_load\n";
+  for (const Row& r : rows)
+    *o << r.t << "," << r.theta / kDeg << "," << r.omega << "," << r.omega * 60 / (2 * kPi) << "," << r.T_gas
+       << "," << r.T_load << "\n";
+  if (!outs.Commit(&error)) return Fail(error);
+  std::printf("%s run-up from %.6g rpm against T_load %.6g N m + c_load %.6g N m s/rad (target %.6g rpm)\n",
+              Model::kName, qd(0) * 60 / (2 * kPi), T_load, c_load, a.rpm);
+  std::printf("  %s at t = %.4g s after %zu cycles: cycle mean speed %.6g rad/s (%.6g rpm)\n",
+              steady ? "steady" : "not yet steady (--t-end)", rows.back().t, means.size() + 1, final_mean,
+              final_mean * 60 / (2 * kPi));
+  std::printf("  within 1 %% of the final speed from t = %.4g s\n", t99);
+  std::printf("  mean gas torque %.6g N m, load at the final speed %.6g N m\n", mean_gas,
+              T_load + c_load * final_mean);
+  std::printf("  wrote %s\n", a.csv.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  const int rc = ParseArgs(argc, argv, &a);
+  if (rc == -1) return 0;
+  if (rc != 0) return rc;
+  Params p;
+  Engine e;
+  std::string error;
+  if (!ReadEngine(&p, &e, &error)) return Fail(error);
+  eng::PolytropicWiebeCycle wiebe;
+  eng::PressureTable table;
+  Law law;
+  if (!a.table.empty()) {
+    if (!ReadTable(a.table, e.cycle, &table, &error)) return UsageError(error);
+    law.table = &table;
+  } else {
+    a.wiebe.strokes = e.strokes;
+    a.wiebe.bore = e.bore;
+    a.wiebe.stroke = 2 * e.r;
+    a.wiebe.rod_length = e.l;
+    if (!wiebe.Init(a.wiebe, &error)) return UsageError(error);
+    law.wiebe = &wiebe;
+  }
+  const Gas gas = MakeGas(&p, e, &law);
+  if (a.command == "cycle") return Cycle(a, p, e, gas);
+  if (a.command == "flywheel") return Flywheel(a, p, e, gas);
+  return Runup(a, p, e, gas);
+}
