@@ -1672,7 +1672,7 @@ void EvalShaking(const Params<Scalar>& p,
                  const Coefficients<Scalar>& c,
                  Shaking<Scalar>* out,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 443 (adds 154, muls 262, divs 1, calls 26); intermediate terms: 80
+  // Total ops: 443 (adds 154, muls 262, divs 1, calls 26); intermediate terms: 79
   using std::cos;
   using std::sin;
   Scalar sin_q0;
@@ -1818,6 +1818,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar rG8_y = _tmp28 + _tmp30 + p.l_G*sin_phi3;
   const Scalar rG9_x = _tmp34*phi(7) - _tmp35*p.e;
   const Scalar rG9_y = _tmp34*p.e + _tmp35*phi(7);
+  const Scalar mass_total = Scalar(4)*p.m_pis + Scalar(4)*p.m_rod + p.m_crank;
   const Scalar _tmp37 = -aG1_x*p.m_crank;
   const Scalar _tmp38 = -aG2_x*p.m_rod;
   const Scalar _tmp39 = -aG3_x*p.m_pis;
@@ -1859,9 +1860,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar _tmp75 = aG7_x*p.m_pis*rG7_y;
   const Scalar _tmp76 = aG8_x*p.m_rod*rG8_y;
   const Scalar _tmp77 = aG9_x*p.m_pis*rG9_y;
-  const Scalar _tmp78 = Scalar(4)*p.m_pis + Scalar(4)*p.m_rod + p.m_crank;
-  const Scalar sum_bde4e670 = _tmp78;
-  const Scalar _tmp79 = Scalar(1)/sum_bde4e670;
+  const Scalar _tmp78 = Scalar(1)/mass_total;
   out->F(0) = _tmp37 + _tmp38 + _tmp39 + _tmp40 + _tmp41 + _tmp42 + _tmp43 + _tmp44 + _tmp45;
   out->F(1) = _tmp46 + _tmp47 + _tmp48 + _tmp49 + _tmp50 + _tmp51 + _tmp52 + _tmp53 + _tmp54;
   out->M = _tmp55 + _tmp56 + _tmp57 + _tmp58 + _tmp59 + _tmp60 + _tmp61 + _tmp62 + _tmp63 + _tmp64 + _tmp65 + _tmp66 + _tmp67 + _tmp68 + _tmp69 + _tmp70 + _tmp71 + _tmp72 + _tmp73 + _tmp74 + _tmp75 + _tmp76 + _tmp77;
@@ -1913,9 +1912,9 @@ void EvalShaking(const Params<Scalar>& p,
   out->M_link(9) = _tmp63 + _tmp77;
   out->r_G(0, 9) = rG9_x;
   out->r_G(1, 9) = rG9_y;
-  out->mass = _tmp78;
-  out->r_C(0) = _tmp79*p.m_crank*rG1_x + _tmp79*p.m_pis*rG3_x + _tmp79*p.m_pis*rG5_x + _tmp79*p.m_pis*rG7_x + _tmp79*p.m_pis*rG9_x + _tmp79*p.m_rod*rG2_x + _tmp79*p.m_rod*rG4_x + _tmp79*p.m_rod*rG6_x + _tmp79*p.m_rod*rG8_x;
-  out->r_C(1) = _tmp79*p.m_crank*rG1_y + _tmp79*p.m_pis*rG3_y + _tmp79*p.m_pis*rG5_y + _tmp79*p.m_pis*rG7_y + _tmp79*p.m_pis*rG9_y + _tmp79*p.m_rod*rG2_y + _tmp79*p.m_rod*rG4_y + _tmp79*p.m_rod*rG6_y + _tmp79*p.m_rod*rG8_y;
+  out->mass = mass_total;
+  out->r_C(0) = _tmp78*p.m_crank*rG1_x + _tmp78*p.m_pis*rG3_x + _tmp78*p.m_pis*rG5_x + _tmp78*p.m_pis*rG7_x + _tmp78*p.m_pis*rG9_x + _tmp78*p.m_rod*rG2_x + _tmp78*p.m_rod*rG4_x + _tmp78*p.m_rod*rG6_x + _tmp78*p.m_rod*rG8_x;
+  out->r_C(1) = _tmp78*p.m_crank*rG1_y + _tmp78*p.m_pis*rG3_y + _tmp78*p.m_pis*rG5_y + _tmp78*p.m_pis*rG7_y + _tmp78*p.m_pis*rG9_y + _tmp78*p.m_rod*rG2_y + _tmp78*p.m_rod*rG4_y + _tmp78*p.m_rod*rG6_y + _tmp78*p.m_rod*rG8_y;
   out->r_G.col(0).setConstant(std::numeric_limits<Scalar>::quiet_NaN());
 }
 

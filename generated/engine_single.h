@@ -845,7 +845,7 @@ void EvalShaking(const Params<Scalar>& p,
                  const Coefficients<Scalar>& c,
                  Shaking<Scalar>* out,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 126 (adds 43, muls 74, divs 1, calls 8); intermediate terms: 26
+  // Total ops: 126 (adds 43, muls 74, divs 1, calls 8); intermediate terms: 25
   using std::cos;
   using std::sin;
   Scalar sin_q0;
@@ -895,6 +895,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar rG2_y = _tmp1 + _tmp3 + p.l_G*sin_phi0;
   const Scalar rG3_x = _tmp7*phi(1) - _tmp8*p.e;
   const Scalar rG3_y = _tmp7*p.e + _tmp8*phi(1);
+  const Scalar mass_total = p.m_crank + p.m_pis + p.m_rod;
   const Scalar _tmp10 = -aG1_x*p.m_crank;
   const Scalar _tmp11 = -aG2_x*p.m_rod;
   const Scalar _tmp12 = -aG3_x*p.m_pis;
@@ -909,9 +910,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar _tmp21 = aG1_x*p.m_crank*rG1_y;
   const Scalar _tmp22 = aG2_x*p.m_rod*rG2_y;
   const Scalar _tmp23 = aG3_x*p.m_pis*rG3_y;
-  const Scalar _tmp24 = p.m_crank + p.m_pis + p.m_rod;
-  const Scalar sum_1065de2a = _tmp24;
-  const Scalar _tmp25 = Scalar(1)/sum_1065de2a;
+  const Scalar _tmp24 = Scalar(1)/mass_total;
   out->F(0) = _tmp10 + _tmp11 + _tmp12;
   out->F(1) = _tmp13 + _tmp14 + _tmp15;
   out->M = _tmp16 + _tmp17 + _tmp18 + _tmp19 + _tmp20 + _tmp21 + _tmp22 + _tmp23;
@@ -933,9 +932,9 @@ void EvalShaking(const Params<Scalar>& p,
   out->M_link(3) = _tmp18 + _tmp23;
   out->r_G(0, 3) = rG3_x;
   out->r_G(1, 3) = rG3_y;
-  out->mass = _tmp24;
-  out->r_C(0) = _tmp25*p.m_crank*rG1_x + _tmp25*p.m_pis*rG3_x + _tmp25*p.m_rod*rG2_x;
-  out->r_C(1) = _tmp25*p.m_crank*rG1_y + _tmp25*p.m_pis*rG3_y + _tmp25*p.m_rod*rG2_y;
+  out->mass = mass_total;
+  out->r_C(0) = _tmp24*p.m_crank*rG1_x + _tmp24*p.m_pis*rG3_x + _tmp24*p.m_rod*rG2_x;
+  out->r_C(1) = _tmp24*p.m_crank*rG1_y + _tmp24*p.m_pis*rG3_y + _tmp24*p.m_rod*rG2_y;
   out->r_G.col(0).setConstant(std::numeric_limits<Scalar>::quiet_NaN());
 }
 

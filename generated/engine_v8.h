@@ -2996,7 +2996,7 @@ void EvalShaking(const Params<Scalar>& p,
                  const Coefficients<Scalar>& c,
                  Shaking<Scalar>* out,
                  const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 863 (adds 302, muls 510, divs 1, calls 50); intermediate terms: 152
+  // Total ops: 863 (adds 302, muls 510, divs 1, calls 50); intermediate terms: 151
   using std::cos;
   using std::sin;
   Scalar sin_q0;
@@ -3270,6 +3270,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar rG16_y = _tmp64 + _tmp66 + p.l_G*sin_phi7;
   const Scalar rG17_x = _tmp70*phi(15) - _tmp71*p.e;
   const Scalar rG17_y = _tmp70*p.e + _tmp71*phi(15);
+  const Scalar mass_total = Scalar(8)*p.m_pis + Scalar(8)*p.m_rod + p.m_crank;
   const Scalar _tmp73 = -aG10_x*p.m_rod;
   const Scalar _tmp74 = -aG11_x*p.m_pis;
   const Scalar _tmp75 = -aG12_x*p.m_rod;
@@ -3347,9 +3348,7 @@ void EvalShaking(const Params<Scalar>& p,
   const Scalar _tmp147 = aG7_x*p.m_pis*rG7_y;
   const Scalar _tmp148 = aG8_x*p.m_rod*rG8_y;
   const Scalar _tmp149 = aG9_x*p.m_pis*rG9_y;
-  const Scalar _tmp150 = Scalar(8)*p.m_pis + Scalar(8)*p.m_rod + p.m_crank;
-  const Scalar sum_68ad2696 = _tmp150;
-  const Scalar _tmp151 = Scalar(1)/sum_68ad2696;
+  const Scalar _tmp150 = Scalar(1)/mass_total;
   out->F(0) = _tmp73 + _tmp74 + _tmp75 + _tmp76 + _tmp77 + _tmp78 + _tmp79 + _tmp80 + _tmp81 + _tmp82 + _tmp83 + _tmp84 + _tmp85 + _tmp86 + _tmp87 + _tmp88 + _tmp89;
   out->F(1) = _tmp100 + _tmp101 + _tmp102 + _tmp103 + _tmp104 + _tmp105 + _tmp106 + _tmp90 + _tmp91 + _tmp92 + _tmp93 + _tmp94 + _tmp95 + _tmp96 + _tmp97 + _tmp98 + _tmp99;
   out->M = _tmp107 + _tmp108 + _tmp109 + _tmp110 + _tmp111 + _tmp112 + _tmp113 + _tmp114 + _tmp115 + _tmp116 + _tmp117 + _tmp118 + _tmp119 + _tmp120 + _tmp121 + _tmp122 + _tmp123 + _tmp124 + _tmp125 + _tmp126 + _tmp127 + _tmp128 + _tmp129 + _tmp130 + _tmp131 + _tmp132 + _tmp133 + _tmp134 + _tmp135 + _tmp136 + _tmp137 + _tmp138 + _tmp139 + _tmp140 + _tmp141 + _tmp142 + _tmp143 + _tmp144 + _tmp145 + _tmp146 + _tmp147 + _tmp148 + _tmp149;
@@ -3441,9 +3440,9 @@ void EvalShaking(const Params<Scalar>& p,
   out->M_link(17) = _tmp114 + _tmp140;
   out->r_G(0, 17) = rG17_x;
   out->r_G(1, 17) = rG17_y;
-  out->mass = _tmp150;
-  out->r_C(0) = _tmp151*p.m_crank*rG1_x + _tmp151*p.m_pis*rG11_x + _tmp151*p.m_pis*rG13_x + _tmp151*p.m_pis*rG15_x + _tmp151*p.m_pis*rG17_x + _tmp151*p.m_pis*rG3_x + _tmp151*p.m_pis*rG5_x + _tmp151*p.m_pis*rG7_x + _tmp151*p.m_pis*rG9_x + _tmp151*p.m_rod*rG10_x + _tmp151*p.m_rod*rG12_x + _tmp151*p.m_rod*rG14_x + _tmp151*p.m_rod*rG16_x + _tmp151*p.m_rod*rG2_x + _tmp151*p.m_rod*rG4_x + _tmp151*p.m_rod*rG6_x + _tmp151*p.m_rod*rG8_x;
-  out->r_C(1) = _tmp151*p.m_crank*rG1_y + _tmp151*p.m_pis*rG11_y + _tmp151*p.m_pis*rG13_y + _tmp151*p.m_pis*rG15_y + _tmp151*p.m_pis*rG17_y + _tmp151*p.m_pis*rG3_y + _tmp151*p.m_pis*rG5_y + _tmp151*p.m_pis*rG7_y + _tmp151*p.m_pis*rG9_y + _tmp151*p.m_rod*rG10_y + _tmp151*p.m_rod*rG12_y + _tmp151*p.m_rod*rG14_y + _tmp151*p.m_rod*rG16_y + _tmp151*p.m_rod*rG2_y + _tmp151*p.m_rod*rG4_y + _tmp151*p.m_rod*rG6_y + _tmp151*p.m_rod*rG8_y;
+  out->mass = mass_total;
+  out->r_C(0) = _tmp150*p.m_crank*rG1_x + _tmp150*p.m_pis*rG11_x + _tmp150*p.m_pis*rG13_x + _tmp150*p.m_pis*rG15_x + _tmp150*p.m_pis*rG17_x + _tmp150*p.m_pis*rG3_x + _tmp150*p.m_pis*rG5_x + _tmp150*p.m_pis*rG7_x + _tmp150*p.m_pis*rG9_x + _tmp150*p.m_rod*rG10_x + _tmp150*p.m_rod*rG12_x + _tmp150*p.m_rod*rG14_x + _tmp150*p.m_rod*rG16_x + _tmp150*p.m_rod*rG2_x + _tmp150*p.m_rod*rG4_x + _tmp150*p.m_rod*rG6_x + _tmp150*p.m_rod*rG8_x;
+  out->r_C(1) = _tmp150*p.m_crank*rG1_y + _tmp150*p.m_pis*rG11_y + _tmp150*p.m_pis*rG13_y + _tmp150*p.m_pis*rG15_y + _tmp150*p.m_pis*rG17_y + _tmp150*p.m_pis*rG3_y + _tmp150*p.m_pis*rG5_y + _tmp150*p.m_pis*rG7_y + _tmp150*p.m_pis*rG9_y + _tmp150*p.m_rod*rG10_y + _tmp150*p.m_rod*rG12_y + _tmp150*p.m_rod*rG14_y + _tmp150*p.m_rod*rG16_y + _tmp150*p.m_rod*rG2_y + _tmp150*p.m_rod*rG4_y + _tmp150*p.m_rod*rG6_y + _tmp150*p.m_rod*rG8_y;
   out->r_G.col(0).setConstant(std::numeric_limits<Scalar>::quiet_NaN());
 }
 
