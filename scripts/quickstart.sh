@@ -6,10 +6,13 @@
 # joint reactions and the dead zones over a crank turn (out/slider_crank_friction.csv,
 # .svg, and .png plotted by gnuplot). Last, the dynamics of models/slider_crank_motor.yaml:
 # the start-up of a motor-driven slider-crank against its load until the speed is periodic
-# (out/slider_crank_motor.csv, .png).
+# (out/slider_crank_motor.csv, .png). And an engine: the flywheel of the single-cylinder
+# models/engine_single.yaml sized by the energy loop for C_s = 0.02 at 3000 rpm and checked by
+# simulating its steady cycle (out/engine_single_*.csv).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh fourbar_sweep slider_crank_friction_statics slider_crank_motor_simulate
+bash scripts/build.sh fourbar_sweep slider_crank_friction_statics slider_crank_motor_simulate \
+  engine_single_engine
 mkdir -p out
 ./build/models/fourbar_sweep --steps 360 --csv out/fourbar.csv --svg out/fourbar.svg --table 8
 echo
@@ -27,3 +30,6 @@ if command -v gnuplot >/dev/null; then
     runtime/tools/plot_dynamics.gnuplot
   echo "wrote out/slider_crank_motor.png (start-up: crank angle and speed, torque, energies, reactions)"
 fi
+echo
+./build/models/engine_single_engine flywheel --rpm 3000 --cs 0.02 --loop out/engine_single_loop.csv \
+  --sweep out/engine_single_cs.csv --wittenbauer out/engine_single_wittenbauer.csv
