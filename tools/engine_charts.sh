@@ -23,6 +23,7 @@ for m in single inline4 v8; do
   chart torque "$tmp/$m.csv" "engine_${m}_torque.png" "engine_$m at 3000 rpm: crank torque"
 done
 chart polar "$tmp/single.csv" engine_single_crankpin_polar.png "engine_single at 3000 rpm: crank pin load"
+chart bearings "$tmp/single.csv" engine_single_bearings_polar.png "engine_single at 3000 rpm: bearing loads"
 chart shaking "$tmp/single.csv" engine_single_shaking.png "engine_single at 3000 rpm: shaking force"
 chart shaking_angle "$tmp/inline4.csv" engine_inline4_shaking.png "engine_inline4 at 3000 rpm: shaking force (secondary)"
 "$build/models/engine_single_engine" flywheel --rpm 3000 --cs 0.02 --loop "$tmp/loop.csv" \

@@ -8,6 +8,8 @@
 #                crank angle (deg), with the mean of T_total
 #   polar        (cycle CSV) polar diagram of the load of rod 1 on crank pin 1 in the crank's
 #                frame (pin_1_u along the throw, pin_1_v 90 deg ahead; N)
+#   bearings     (cycle CSV) polar diagrams in the fixed frame of the main bearing load (the
+#                crank on the frame: -F_O) and of wrist pin 1 (rod 1 on piston 1), in kN
 #   shaking      (cycle CSV of a model with `shaking`) polar diagram of the shaking force on
 #                the frame, shake_F_x against shake_F_y (N, fixed frame)
 #   shaking_angle  the same components against the crank angle
@@ -56,6 +58,31 @@ if (chart eq "polar") {
   }
   plot csv using cu:cv with lines lw 1.5 title "load of rod 1 on crank pin 1 (crank's frame)", \
        "+" using (0):(0) with points pt 7 ps 1 lc rgb "black" notitle
+}
+if (chart eq "bearings") {
+  set terminal pngcairo size 900,820 font "sans,11" noenhanced
+  set output png
+  header = system("head -n 1 '" . csv . "' | tr ',' ' '")
+  ox = 0; oy = 0; wx = 0; wy = 0
+  do for [i = 1:words(header)] {
+    if (word(header, i) eq "F_O_x") { ox = i }
+    if (word(header, i) eq "F_O_y") { oy = i }
+    if (word(header, i) eq "wrist_1_x") { wx = i }
+    if (word(header, i) eq "wrist_1_y") { wy = i }
+  }
+  set multiplot layout 2,1 title title
+  set title "main bearing: load of the crank on the frame"
+  set size ratio -1
+  set xlabel "x (kN)"
+  set ylabel "y (kN)"
+  set xzeroaxis lt -1
+  set yzeroaxis lt -1
+  plot csv using (-column(ox) / 1000):(-column(oy) / 1000) with lines lw 1.5 notitle, \
+       "+" using (0):(0) with points pt 7 ps 1 lc rgb "black" notitle
+  set title "wrist pin 1: load of rod 1 on piston 1"
+  plot csv using (column(wx) / 1000):(column(wy) / 1000) with lines lw 1.5 lc rgb "#009e73" notitle, \
+       "+" using (0):(0) with points pt 7 ps 1 lc rgb "black" notitle
+  unset multiplot
 }
 if (chart eq "shaking") {
   set size ratio -1
