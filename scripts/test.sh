@@ -4,8 +4,11 @@
 # UndefinedBehaviorSanitizer (scripts/sanitize.sh; MECHGEN_SANITIZERS=0 skips that stage).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+start=$(date +%s)
 bash scripts/build.sh
+echo "test: Release build took $(( $(date +%s) - start )) s"
 ctest --test-dir build --output-on-failure --parallel 2 "$@"
+echo "test: Release build and tests took $(( $(date +%s) - start )) s"
 if [ "${MECHGEN_SANITIZERS:-1}" != "0" ]; then
   bash scripts/sanitize.sh "$@"
 fi
