@@ -10,7 +10,8 @@ l) and a piston piston_j sliding on the cylinder axis: the line at the bank angl
 through the point e n_j of the frame (e: the cylinder offset, desaxe; n_j = (-sin beta_j,
 cos beta_j)). The slide s_slide_j is measured outward (from the crank towards the cylinder
 head) from that point. Cylinders at different axial positions z_j of a real crankshaft are
-superposed in the plane (z_j is documentation: the planar model has no rocking couple).
+superposed in the plane; the planar motion does not use z_j, but the rocking couples (about
+axes across the crankshaft) of mechgen/engine/couples.h do: rod_j and piston_j act at z_j.
 
 Conventions: the crank angle theta_crank is CCW +; an in-line engine's cylinders point along
 +x, so cylinder j is at top dead centre (TDC) where theta_crank + gamma_j = beta_j +
@@ -219,7 +220,7 @@ def build(args, argv):
           f"axis (rad; {banks[j]:g} deg)\"}}")
         w(f"  phase_{k}: {{value: {fmt(math.radians(phases[j]))}, doc: \"crank angle of cylinder {k}'s "
           f"firing TDC (rad; {phases[j]:g} deg)\"}}")
-        w(f"  z_{k}:     {{value: {fmt(z[j])}, doc: \"axial position of cylinder {k} (m; documentation)\"}}")
+        w(f"  z_{k}:     {{value: {fmt(z[j])}, doc: \"axial position of cylinder {k} along the crankshaft (m; for the rocking couples, mechgen/engine/couples.h)\"}}")
         w(f"  p_gas_{k}: {{value: 0.0, doc: \"gas gauge pressure on piston {k} (Pa), set at run time\"}}")
     w("links:")
     pts = ", ".join(f"S_{j + 1}: [-e*sin(beta_{j + 1}), e*cos(beta_{j + 1})]" for j in range(n))
