@@ -268,6 +268,28 @@ TEST(EngineCouples, ModelWithoutAxialPositionsIsRefused) {
   EXPECT_NE(std::string(mechgen::engine::ToString(axial.status)).find("z_1"), std::string::npos);
 }
 
+TEST(EngineCouples, OrderAmplitudeIsTheLargestMagnitudeOverATurn) {
+  // Against a brute-force maximum over the turn and the table's OrderVector::Max().
+  const double cases[][4] = {{1, 0, 0, 1}, {1, 0, 0, -1}, {2, 0, 0, 0}, {0.3, -1.2, 0.7, 0.4}, {0, 0, 0, 0}};
+  for (const auto& k : cases) {
+    double brute = 0;
+    for (int i = 0; i < 100000; ++i) {
+      const double t = 2 * kPi * i / 100000;
+      brute = std::max(brute, std::hypot(k[0] * std::cos(t) + k[1] * std::sin(t), k[2] * std::cos(t) + k[3] * std::sin(t)));
+    }
+    const double amp = mechgen::engine::CoupleOrderAmplitude(k[0], k[1], k[2], k[3]);
+    EXPECT_NEAR(amp, brute, 1e-8 * (1 + brute));
+    mechgen::balancing::OrderVector v;
+    v.forward = C(k[0] + k[3], k[2] - k[1]) / 2.0;
+    v.backward = C(k[0] - k[3], k[2] + k[1]) / 2.0;
+    EXPECT_NEAR(v.ax(), k[0], 1e-15);
+    EXPECT_NEAR(v.bx(), k[1], 1e-15);
+    EXPECT_NEAR(v.ay(), k[2], 1e-15);
+    EXPECT_NEAR(v.by(), k[3], 1e-15);
+    EXPECT_NEAR(amp, v.Max(), 1e-15);
+  }
+}
+
 // A model whose links name a cylinder without its z_j.
 struct FakeParams {
   double z_1 = 0.1;

@@ -34,6 +34,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
@@ -173,6 +174,18 @@ Eigen::Matrix<typename DerivedM::Scalar, 2, 1> ShiftReference(const Eigen::Matri
   using S = typename DerivedM::Scalar;
   const S d = S(z_ref - z_ref_new);
   return Eigen::Matrix<S, 2, 1>(M(0) - d * F(1), M(1) + d * F(0));
+}
+
+/**
+ * \brief The largest magnitude over a turn of one order n of a couple vector, from the cosine and
+ * sine coefficients of its components: M_x = ax cos nθ + bx sin nθ, M_y = ay cos nθ + by sin nθ
+ * (e.g. the Harmonic a, b of mechgen/engine/harmonics.h for M_x and M_y). As M_x + i M_y =
+ * f e^{inθ} + b e^{−inθ} with f = ½(ax + by + i(ay − bx)), b = ½(ax − by + i(ay + bx)), the tip
+ * traces an ellipse with semi-axes |f| + |b| (returned) and ||f| − |b||; |b| = 0: a couple of
+ * constant size turning with the crank (mechgen/balancing/engine_balance.h's OrderVector::Max()).
+ */
+inline double CoupleOrderAmplitude(double ax, double bx, double ay, double by) {
+  return 0.5 * (std::hypot(ax + by, ay - bx) + std::hypot(ax - by, ay + bx));
 }
 
 }  // namespace mechgen::engine
