@@ -118,5 +118,10 @@ function(mechgen_add_model name model)
     target_compile_definitions(${name}_engine PRIVATE
       MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
     target_link_libraries(${name}_engine PRIVATE mechgen_model_${name} mechgen::runtime)
+    # Its command line is parsed with CLI11 (header-only): where the build tree found it
+    # (runtime/CMakeLists.txt), else on the default include path.
+    if(MECHGEN_CLI11_INCLUDE_DIR)
+      target_include_directories(${name}_engine SYSTEM PRIVATE "${MECHGEN_CLI11_INCLUDE_DIR}")
+    endif()
   endif()
 endfunction()

@@ -47,8 +47,22 @@
 //             mean speed settles (relative change < --steady-tol twice) or --t-end: CSV t,
 //             theta_deg, omega, rpm, T_gas, T_load; summary: the time to reach 99 % of the
 //             final speed, the final mean speed, mean gas torque against the load.
-// Exit status: 0 done, 1 a computation failed (the reason on stderr), 2 a usage error. No
-// output file is written unless the whole computation succeeded (io/output_file.h).
+// Options (CLI11; `<model>_engine --help` lists them with their defaults) may come before or
+// after the subcommand; one that only another subcommand uses is accepted and ignored. Common:
+// --rpm (default 3000), --samples per cycle (16..1e6, default 1440); cycle: --csv,
+// --smoothing (1..64, default 6); flywheel: --cs (in (0, 1), default 0.02), --loop, --sweep,
+// --wittenbauer; runup: --csv, --idle-rpm, --t-end (60 s), --dt (0.002 s), --steady-tol
+// (1e-5); CSVs default to <model>_<subcommand>.csv, <model>_energy_loop.csv,
+// <model>_cs_sweep.csv, <model>_wittenbauer.csv. Pressure law: --table, or --cr (10),
+// --p-intake (1e5 Pa), --p-ambient (101325 Pa), --n (1.32), --burn-start (-15 deg),
+// --burn-duration (60 deg), --wiebe-a (5), --wiebe-m (2), --heat (800 J per cylinder and
+// cycle). Numbers must be finite; speeds, times and the law's parameters > 0 (--burn-start
+// any, --wiebe-m and --heat >= 0); the law's parameters are checked together by
+// PolytropicWiebeCycle::Init.
+// Exit status: 0 done, 1 a computation failed (the reason on stderr), 2 a usage error (an
+// unknown or missing subcommand, an unknown option, a bad value, a bad pressure table or law;
+// "engine: error: ..." on stderr). No output file is written unless the whole computation
+// succeeded (io/output_file.h).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -62,6 +76,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/engine/crank_dynamics.h"
@@ -295,36 +311,13 @@ struct Args {
   int samples = 1440;
   std::string csv, loop_csv, sweep_csv, witt_csv, table;
   double cs = 0.02;
-  double idle_rpm = -1;
+  double idle_rpm = -1;  ///< <= 0: rpm / 4
   double t_end = 60;
   double dt = 0.002;
   double steady_tol = 1e-5;
   int smoothing = 6;
   eng::PolytropicWiebeParams wiebe;
-  bool wiebe_geometry_given = false;
 };
-
-void Usage(const char* program) {
-  std::printf(
-      "usage: %s cycle|flywheel|runup [options]\n"
-      "Crank torque, bearing loads, flywheel and run-up of this engine model (Paul 6.8-6.9).\n"
-      "  --rpm N             crank speed (cycle, flywheel) or the target speed (runup); default 3000\n"
-      "  --samples N         samples per cycle (default 1440)\n"
-      "  --csv FILE          cycle, runup: the CSV (default <model>_<command>.csv)\n"
-      "  --smoothing K       cycle: power smoothing for 1..max(K, cylinders) (default 6)\n"
-      "  --cs C              flywheel: the prescribed C_s = (w_max - w_min)/w_mean (default 0.02)\n"
-      "  --loop FILE --sweep FILE --wittenbauer FILE   flywheel's CSVs (default <model>_*.csv)\n"
-      "  --idle-rpm N        runup: the starting speed (default rpm/4)\n"
-      "  --t-end T --dt DT   runup: end time and CSV row spacing (s; default 60, 0.002)\n"
-      "  --steady-tol S      runup: stop when the cycle mean speed changes by < S (default 1e-5)\n"
-      "Pressure law (one for every cylinder, at its own cycle angle from firing TDC):\n"
-      "  --table FILE        indicator diagram: rows 'angle_deg,p_gauge_Pa' over the cycle\n"
-      "  or the polytropic cycle with a Wiebe heat release (bore, stroke, rod from the model):\n"
-      "  --cr E (10)  --p-intake PA (1e5)  --p-ambient PA (101325)  --n N (1.32)\n"
-      "  --burn-start DEG (-15)  --burn-duration DEG (60)  --wiebe-a A (5)  --wiebe-m M (2)\n"
-      "  --heat J (800, per cylinder and cycle)\n",
-      program);
-}
 
 bool ParseDouble(const char* text, double* v) {
   char* end = nullptr;
@@ -337,71 +330,158 @@ int UsageError(const std::string& message) {
   return 2;
 }
 
+/// A CLI11 validator: a finite number (CLI11's own number checks let nan and inf through)
+/// for which ok(value) holds; the message says what is required.
+CLI::Validator Number(const std::string& what, bool (*ok)(double)) {
+  return CLI::Validator(
+      [what, ok](std::string& text) -> std::string {
+        double v = 0;
+        if (ParseDouble(text.c_str(), &v) && ok(v)) return {};
+        return "bad value '" + text + "': " + what;
+      },
+      "", what);
+}
+
+/// A CLI11 validator: an integer in [lo, hi], also written as a number ("720.0", "1e3": the
+/// value is rewritten as an integer for the int option).
+CLI::Validator Integer(int lo, int hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        double v = 0;
+        if (ParseDouble(text.c_str(), &v) && v == std::floor(v) && v >= lo && v <= hi) {
+          text = std::to_string(static_cast<int>(v));
+          return {};
+        }
+        return "bad value '" + text + "': expected an integer in " + std::to_string(lo) + ".." +
+               std::to_string(hi);
+      },
+      "", "integer");
+}
+
+/// Parses the command line into *a (CLI11). Returns -1 to go on, otherwise the exit status:
+/// 0 after --help, 2 after a usage error (the message on stderr).
 int ParseArgs(int argc, char** argv, Args* a) {
-  if (argc < 2) return UsageError("a subcommand: cycle, flywheel or runup");
-  a->command = argv[1];
-  if (a->command == "--help" || a->command == "-h") {
-    Usage(argv[0]);
-    return -1;
-  }
-  if (a->command != "cycle" && a->command != "flywheel" && a->command != "runup")
-    return UsageError("unknown subcommand '" + a->command + "': cycle, flywheel or runup");
-  for (int i = 2; i < argc; ++i) {
-    const std::string opt = argv[i];
-    if (opt == "--help" || opt == "-h") {
-      Usage(argv[0]);
-      return -1;
+  const CLI::Validator finite = Number("expected a finite number", [](double) { return true; });
+  const CLI::Validator positive = Number("expected a number > 0", [](double v) { return v > 0; });
+  const CLI::Validator non_negative =
+      Number("expected a number >= 0", [](double v) { return v >= 0; });
+  const CLI::Validator fraction =
+      Number("expected a number in (0, 1)", [](double v) { return v > 0 && v < 1; });
+
+  CLI::App app{std::string("Crank torque, bearing loads, flywheel sizing and run-up of the engine "
+                           "model '") +
+               Model::kName + "' (Paul 6.8-6.9). Options may come before or after the subcommand."};
+  app.footer(
+      "Exit status: 0 done, 1 a computation failed, 2 a usage error; no output file is written "
+      "unless the whole computation succeeded.");
+  app.require_subcommand(1);
+  CLI::App* cycle = app.add_subcommand(
+      "cycle", "torque, pressures, side thrusts, bearing loads (and shaking) over one cycle at "
+               "constant --rpm; harmonics and power smoothing");
+  CLI::App* flywheel = app.add_subcommand(
+      "flywheel", "energy loop at constant --rpm, J_fly for --cs, checked by simulating the "
+                  "periodic steady state; C_s against J_fly");
+  CLI::App* runup = app.add_subcommand(
+      "runup", "from --idle-rpm against the load that balances the engine at --rpm, until the "
+               "cycle mean speed settles or --t-end");
+  // Every option is the parent's, so that it may follow the subcommand (fallthrough); an
+  // option another subcommand uses is accepted and ignored.
+  for (CLI::App* sub : {cycle, flywheel, runup}) sub->fallthrough();
+
+  const std::string general = "Options";
+  app.add_option("--rpm", a->rpm, "crank speed (cycle, flywheel) or the target speed (runup)")
+      ->check(positive)->capture_default_str()->group(general);
+  app.add_option("--samples", a->samples, "samples per cycle, 16..1000000")
+      ->transform(Integer(16, 1000000))->capture_default_str()->group(general);
+  const std::string model = Model::kName;
+  app.add_option("--csv", a->csv, "cycle, runup: the CSV (default " + model + "_<subcommand>.csv)")
+      ->group(general);
+  app.add_option("--smoothing", a->smoothing,
+                 "cycle: power smoothing for 1..max(K, cylinders), K in 1..64")
+      ->transform(Integer(1, 64))->capture_default_str()->group(general);
+  app.add_option("--cs", a->cs, "flywheel: the prescribed C_s = (w_max - w_min)/w_mean")
+      ->check(fraction)->capture_default_str()->group(general);
+  app.add_option("--loop", a->loop_csv, "flywheel: the energy loop CSV (default " + model +
+                                            "_energy_loop.csv)")
+      ->group(general);
+  app.add_option("--sweep", a->sweep_csv,
+                 "flywheel: C_s against J_fly CSV (default " + model + "_cs_sweep.csv)")
+      ->group(general);
+  app.add_option("--wittenbauer", a->witt_csv,
+                 "flywheel: the steady cycle CSV (default " + model + "_wittenbauer.csv)")
+      ->group(general);
+  app.add_option("--idle-rpm", a->idle_rpm, "runup: the starting speed (default rpm/4)")
+      ->check(positive)->group(general);
+  app.add_option("--t-end", a->t_end, "runup: end time (s)")
+      ->check(positive)->capture_default_str()->group(general);
+  app.add_option("--dt", a->dt, "runup: CSV row spacing (s)")
+      ->check(positive)->capture_default_str()->group(general);
+  app.add_option("--steady-tol", a->steady_tol,
+                 "runup: stop when the cycle mean speed changes by less than this (relative)")
+      ->check(positive)->capture_default_str()->group(general);
+
+  // The pressure law, one for every cylinder at its own cycle angle from firing TDC.
+  const std::string law =
+      "Pressure law (--table, or the polytropic cycle with a Wiebe heat release; bore, stroke "
+      "and rod from the model)";
+  eng::PolytropicWiebeParams& w = a->wiebe;
+  app.add_option("--table", a->table,
+                 "indicator diagram: rows 'angle_deg,p_gauge_Pa' over the cycle (a header line "
+                 "is skipped)")
+      ->group(law);
+  app.add_option("--cr", w.compression_ratio, "compression ratio")
+      ->check(positive)->capture_default_str()->group(law);
+  app.add_option("--p-intake", w.p_intake, "absolute intake pressure (Pa)")
+      ->check(positive)->capture_default_str()->group(law);
+  app.add_option("--p-ambient", w.p_ambient, "absolute ambient pressure (Pa; gauge 0)")
+      ->check(positive)->capture_default_str()->group(law);
+  app.add_option("--n", w.n, "polytropic exponent")
+      ->check(positive)->capture_default_str()->group(law);
+  double burn_start_deg = -15, burn_duration_deg = 60;
+  CLI::Option* burn_start =
+      app.add_option("--burn-start", burn_start_deg, "start of the burn (deg from firing TDC)")
+          ->check(finite)->capture_default_str()->group(law);
+  CLI::Option* burn_duration =
+      app.add_option("--burn-duration", burn_duration_deg, "duration of the burn (deg)")
+          ->check(positive)->capture_default_str()->group(law);
+  app.add_option("--wiebe-a", w.wiebe_a, "Wiebe efficiency parameter a")
+      ->check(positive)->capture_default_str()->group(law);
+  app.add_option("--wiebe-m", w.wiebe_m, "Wiebe form factor m")
+      ->check(non_negative)->capture_default_str()->group(law);
+  app.add_option("--heat", w.heat, "heat released per cylinder and cycle (J)")
+      ->check(non_negative)->capture_default_str()->group(law);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    // The whole help (every option is the parent's), also after a subcommand.
+    std::cout << app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::Normal);
+    return 0;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::All);
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::string extra;  // what CLI11 could not place, in command-line order
+    for (const std::string& word : app.remaining(true)) extra += " " + word;
+    if (app.get_subcommands().empty()) {
+      // CLI11 reports a stray word before the subcommand check: name the subcommands.
+      for (const std::string& word : app.remaining())
+        if (!word.empty() && word[0] != '-')
+          return UsageError("unknown subcommand '" + word + "': cycle, flywheel or runup");
+      return UsageError("a subcommand is required: cycle, flywheel or runup");
     }
-    if (i + 1 >= argc) return UsageError(opt + " needs a value (or is unknown)");
-    const char* val = argv[++i];
-    double v = 0;
-    auto num = [&](double* out, bool positive) {
-      if (!ParseDouble(val, &v) || (positive && !(v > 0))) return false;
-      *out = v;
-      return true;
-    };
-    bool ok = true;
-    if (opt == "--rpm") ok = num(&a->rpm, true);
-    else if (opt == "--samples") {
-      ok = ParseDouble(val, &v) && v >= 16 && v <= 1e6 && v == std::floor(v);
-      a->samples = static_cast<int>(v);
-    } else if (opt == "--smoothing") {
-      ok = ParseDouble(val, &v) && v >= 1 && v <= 64 && v == std::floor(v);
-      a->smoothing = static_cast<int>(v);
-    } else if (opt == "--csv") a->csv = val;
-    else if (opt == "--loop") a->loop_csv = val;
-    else if (opt == "--sweep") a->sweep_csv = val;
-    else if (opt == "--wittenbauer") a->witt_csv = val;
-    else if (opt == "--table") a->table = val;
-    else if (opt == "--cs") ok = num(&a->cs, true) && a->cs < 1;
-    else if (opt == "--idle-rpm") ok = num(&a->idle_rpm, true);
-    else if (opt == "--t-end") ok = num(&a->t_end, true);
-    else if (opt == "--dt") ok = num(&a->dt, true);
-    else if (opt == "--steady-tol") ok = num(&a->steady_tol, true);
-    else if (opt == "--cr") ok = num(&a->wiebe.compression_ratio, true);
-    else if (opt == "--p-intake") ok = num(&a->wiebe.p_intake, true);
-    else if (opt == "--p-ambient") ok = num(&a->wiebe.p_ambient, true);
-    else if (opt == "--n") ok = num(&a->wiebe.n, true);
-    else if (opt == "--burn-start") {
-      ok = ParseDouble(val, &v);
-      a->wiebe.burn_start = v * kDeg;
-    } else if (opt == "--burn-duration") {
-      ok = num(&v, true);
-      a->wiebe.burn_duration = v * kDeg;
-    } else if (opt == "--wiebe-a") ok = num(&a->wiebe.wiebe_a, true);
-    else if (opt == "--wiebe-m") ok = ParseDouble(val, &a->wiebe.wiebe_m) && a->wiebe.wiebe_m >= 0;
-    else if (opt == "--heat") ok = ParseDouble(val, &a->wiebe.heat) && a->wiebe.heat >= 0;
-    else return UsageError("unknown option " + opt);
-    if (!ok) return UsageError(opt + ": bad value '" + std::string(val) + "'");
+    if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr)
+      return UsageError("unknown option or stray argument:" + extra);
+    return UsageError(e.what());
   }
-  if (a->command == "cycle" || a->command == "runup") {
-    if (a->csv.empty()) a->csv = std::string(Model::kName) + "_" + a->command + ".csv";
-  }
-  const std::string base = Model::kName;
-  if (a->loop_csv.empty()) a->loop_csv = base + "_energy_loop.csv";
-  if (a->sweep_csv.empty()) a->sweep_csv = base + "_cs_sweep.csv";
-  if (a->witt_csv.empty()) a->witt_csv = base + "_wittenbauer.csv";
-  return 0;
+  a->command = app.get_subcommands().front()->get_name();
+  if (burn_start->count() > 0) w.burn_start = burn_start_deg * kDeg;
+  if (burn_duration->count() > 0) w.burn_duration = burn_duration_deg * kDeg;
+  if (a->csv.empty() && a->command != "flywheel") a->csv = model + "_" + a->command + ".csv";
+  if (a->loop_csv.empty()) a->loop_csv = model + "_energy_loop.csv";
+  if (a->sweep_csv.empty()) a->sweep_csv = model + "_cs_sweep.csv";
+  if (a->witt_csv.empty()) a->witt_csv = model + "_wittenbauer.csv";
+  return -1;
 }
 
 bool ReadTable(const std::string& path, double cycle, eng::PressureTable* t, std::string* error) {
@@ -760,8 +840,7 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
 int main(int argc, char** argv) {
   Args a;
   const int rc = ParseArgs(argc, argv, &a);
-  if (rc == -1) return 0;
-  if (rc != 0) return rc;
+  if (rc != -1) return rc;
   Params p;
   Engine e;
   std::string error;

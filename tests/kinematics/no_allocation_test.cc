@@ -17,20 +17,22 @@ std::atomic<long> g_operator_new_calls{0};
 }  // namespace
 inline std::atomic<long> g_eigen_assert_failures{0};
 
-void* operator new(std::size_t n) {
+// The replacements: operator new(size_t) and operator delete(void*) are the one malloc/free
+// pair, kept out of line as they would be in a translation unit of their own; the array and
+// sized forms forward to them, as the library's defaults do (operator new[] is counted too).
+// Inlined into a caller, the malloc() or free() of one met the other's call there and GCC 12
+// warned -Wmismatched-new-delete (free() on a pointer from operator new, or operator delete
+// on one from malloc()).
+[[gnu::noinline]] void* operator new(std::size_t size) {
   ++g_operator_new_calls;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
   throw std::bad_alloc();
 }
-void* operator new[](std::size_t n) {
-  ++g_operator_new_calls;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void* operator new[](std::size_t size) { return ::operator new(size); }
+[[gnu::noinline]] void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { ::operator delete(p); }
+void operator delete(void* p, std::size_t) noexcept { ::operator delete(p); }
+void operator delete[](void* p, std::size_t) noexcept { ::operator delete(p); }
 
 // clang-format off (the order matters: the macros, then Eigen, then the model headers)
 #define eigen_assert(x)                    \

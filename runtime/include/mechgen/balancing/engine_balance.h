@@ -54,6 +54,8 @@
 #include <ostream>
 #include <string>
 
+#include "mechgen/core/constants.h"
+
 namespace mechgen::balancing {
 
 /// One cylinder: crank throw angle α, axis angle β (rad), axial position z (units of a).
@@ -199,7 +201,7 @@ inline std::string TrimRight(const char* line) {
   s.erase(s.find_last_not_of(" \n") + 1);
   return newline ? s + '\n' : s;
 }
-constexpr double kDeg = 3.14159265358979323846 / 180;
+constexpr double kDeg = kPi / 180;
 inline EngineLayout Make(const char* name, const char* description, std::initializer_list<Cylinder> cylinders) {
   EngineLayout e;
   e.name = name;

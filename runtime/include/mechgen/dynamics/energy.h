@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "mechgen/core/constants.h"
 #include "mechgen/core/model_traits.h"
 
 namespace mechgen::dynamics {
@@ -149,7 +150,7 @@ class EnergyIntegral {
     // W is accumulated from q0 to the first node, then node to node (q increases with u).
     Restart();
     double W = 0, q_prev = q0_, sum = 0;
-    const double du = M_PI / panels;
+    const double du = kPi / panels;
     for (int k = 0; k < panels; ++k) {
       for (int i = 0; i < 8; ++i) {
         const double u = du * (k + 0.5 * (1 + internal::kGL8x[i]));

@@ -696,6 +696,16 @@ class PrescribedDynamics {
 
   /// One evaluation without the conditioning. by_trig (and the model has SolveTrig): the
   /// positions as sin and cos only; s->phi is then the warm start's predictor.
+  /// NaN in the members of *c that the by-Rhs stage does not compute (all but K, Phi_phi).
+  static void MarkNotComputed(Coefficients* c) {
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    if constexpr (mechgen::internal::HasPhiPhi<Coefficients>::value) c->Phi.setConstant(kNaN);
+    if constexpr (mechgen::internal::HasL<Coefficients>::value) c->L.setConstant(kNaN);
+    if constexpr (mechgen::internal::HasRP<Coefficients>::value) c->r_P.setConstant(kNaN);
+    if constexpr (mechgen::internal::HasKP<Coefficients>::value) c->K_P.setConstant(kNaN);
+    if constexpr (mechgen::internal::HasLP<Coefficients>::value) c->L_P.setConstant(kNaN);
+  }
+
   bool Stage(double t, const State& y, bool by_trig, SampleT* s, Coefficients* c) {
     const VecF qf = y.template head<kNf>();
     const VecF qdf = y.template segment<kNf>(kNf);
@@ -709,7 +719,8 @@ class PrescribedDynamics {
     if constexpr (kStagesByRhs) {
       if (by_trig) {
         // One generated pass: the positions' sin and cos, K, L, I, h, Q (and Phi_phi for the
-        // conditioning); c holds K and Phi_phi only.
+        // conditioning); c holds K and Phi_phi only, its other members are set NaN (not
+        // computed) rather than left indeterminate (Derivative() copies c into its cache).
         last_solve_not_assemblable_ = false;
         typename M::template RhsT<double> r;
         const auto report =
@@ -722,6 +733,7 @@ class PrescribedDynamics {
         }
         c->K = r.K;
         c->Phi_phi = r.Phi_phi;
+        MarkNotComputed(c);
         d.I = r.I;
         d.h = r.h;
         d.Q = r.Q;

@@ -37,11 +37,10 @@
 
 #include <Eigen/Core>
 
+#include "mechgen/core/constants.h"
 #include "mechgen/dynamics/forward.h"
 
 namespace mechgen::engine {
-
-constexpr double kPi = 3.14159265358979323846;
 
 /// The cylinders of an engine model and their pressure law: the source of Q_gas.
 /// Law: anything with `double Pressure(double cycle_angle) const` (gauge pressure, Pa, at the

@@ -35,10 +35,11 @@
 #include <string>
 #include <vector>
 
+#include "mechgen/core/constants.h"
+
 namespace mechgen::engine {
 
 namespace internal {
-constexpr double kGasPi = 3.14159265358979323846;
 /// a modulo c, in [0, c).
 inline double Wrap(double a, double c) {
   double x = std::fmod(a, c);
@@ -104,7 +105,7 @@ class PressureTable {
     return false;
   }
   std::vector<double> a_, p_;
-  double cycle_ = 4 * internal::kGasPi;
+  double cycle_ = 4 * kPi;
   bool ok_ = false;
 };
 
@@ -118,8 +119,8 @@ struct PolytropicWiebeParams {
   double p_intake = 1.0e5;         ///< absolute intake pressure (Pa)
   double p_ambient = 1.01325e5;    ///< absolute ambient pressure (Pa): gauge 0
   double n = 1.32;                 ///< polytropic exponent (> 1)
-  double burn_start = -15 * internal::kGasPi / 180;  ///< a_s (rad, > -π)
-  double burn_duration = 60 * internal::kGasPi / 180;  ///< Δa (rad, > 0, a_s + Δa < π)
+  double burn_start = -15 * kPi / 180;  ///< a_s (rad, > -π)
+  double burn_duration = 60 * kPi / 180;  ///< Δa (rad, > 0, a_s + Δa < π)
   double wiebe_a = 5;              ///< w: x_b = 1 - exp(-w) at the end of the burn
   double wiebe_m = 2;              ///< form factor m (>= 0)
   double heat = 800;               ///< Q_total, heat released per cycle (J, >= 0)
@@ -143,19 +144,19 @@ class PolytropicWiebeCycle {
     if (!(P.p_intake > 0) || !(P.p_ambient > 0)) return fail("the pressures must be > 0 (absolute)");
     if (!(P.n > 1)) return fail("the polytropic exponent n must be > 1");
     if (!(P.heat >= 0)) return fail("the heat released must be >= 0");
-    if (!(P.burn_duration > 0) || !(P.burn_start > -internal::kGasPi) ||
-        !(P.burn_start + P.burn_duration < internal::kGasPi))
+    if (!(P.burn_duration > 0) || !(P.burn_start > -kPi) ||
+        !(P.burn_start + P.burn_duration < kPi))
       return fail("the burn must lie between the BDCs: -180 deg < start, start + duration < 180 deg");
     if (!(P.wiebe_a > 0) || !(P.wiebe_m >= 0)) return fail("Wiebe a must be > 0, m >= 0");
     r_ = P.stroke / 2;
     l_ = P.rod_length;
-    A_ = internal::kGasPi * P.bore * P.bore / 4;
+    A_ = kPi * P.bore * P.bore / 4;
     Vd_ = 2 * r_ * A_;
     Vc_ = Vd_ / (P.compression_ratio - 1);
-    cycle_ = P.strokes == 4 ? 4 * internal::kGasPi : 2 * internal::kGasPi;
+    cycle_ = P.strokes == 4 ? 4 * kPi : 2 * kPi;
     // F(a) = ∫_{a_s}^{a} V^(n-1) x_b' da at nodes: 1024 panels over the burn and as long
     // again (however short the burn), 1024 more from there to BDC.
-    const double a_end = internal::kGasPi;
+    const double a_end = kPi;
     const double a_mid = std::min(P.burn_start + 2 * P.burn_duration, a_end);
     x_.clear();
     for (int k = 0; k <= 1024; ++k) x_.push_back(P.burn_start + (a_mid - P.burn_start) * k / 1024);
@@ -187,7 +188,7 @@ class PolytropicWiebeCycle {
   /// Absolute pressure on the closed part, a in [-π, π].
   double ClosedPressure(double a) const {
     const double n = P_.n;
-    const double Vb = Volume(internal::kGasPi);
+    const double Vb = Volume(kPi);
     double F = 0;
     if (a > x_.front()) {
       // the last node at or below a (a beyond BDC: the last node)
@@ -198,7 +199,7 @@ class PolytropicWiebeCycle {
   }
   /// Gauge pressure (Pa) at cycle angle a (taken modulo the cycle).
   double Pressure(double a) const {
-    const double pi = internal::kGasPi;
+    const double pi = kPi;
     const double x = internal::Wrap(a, cycle_);
     if (P_.strokes == 2) return ClosedPressure(x < pi ? x : x - 2 * pi) - P_.p_ambient;
     if (x <= pi) return ClosedPressure(x) - P_.p_ambient;
@@ -229,7 +230,7 @@ class PolytropicWiebeCycle {
   }
 
   PolytropicWiebeParams P_;
-  double r_ = 0, l_ = 0, A_ = 0, Vd_ = 0, Vc_ = 0, cycle_ = 4 * internal::kGasPi;
+  double r_ = 0, l_ = 0, A_ = 0, Vd_ = 0, Vc_ = 0, cycle_ = 4 * kPi;
   std::vector<double> x_, F_;  ///< nodes from the burn's start to BDC, the integral there
   bool ok_ = false;
 };

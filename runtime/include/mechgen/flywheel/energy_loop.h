@@ -54,6 +54,8 @@
 #include <cmath>
 #include <limits>
 
+#include "mechgen/core/constants.h"
+
 namespace mechgen::flywheel {
 
 enum class LoopStatus {
@@ -108,8 +110,6 @@ struct EnergyLoop {
 };
 
 namespace internal {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Cubic Hermite on one interval of width h: p(0) = p0, p(1) = p1, p'(0) = h g0, p'(1) = h g1
 // (s = (θ − θ_a)/h). Calls visit(s, p(s)) at s = 0, 1 and the stationary points in (0, 1).
@@ -300,7 +300,7 @@ inline double SpeedFluctuation(double delta_E, double inertia, double omega_mean
 }
 
 /// rev/min -> rad/s.
-inline double RpmToRadPerSecond(double rpm) { return rpm * 2 * internal::kPi / 60; }
+inline double RpmToRadPerSecond(double rpm) { return rpm * 2 * kPi / 60; }
 
 /// How a speed trace was sampled: at equal time steps, or at equal crank angle steps.
 enum class TraceSampling { kTime, kAngle };

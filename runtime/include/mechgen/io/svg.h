@@ -30,6 +30,7 @@
 
 #include <Eigen/Core>
 
+#include "mechgen/core/constants.h"
 #include "mechgen/io/format.h"
 #include "mechgen/sweep/sweep.h"
 
@@ -161,7 +162,7 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
   for (size_t f = 1; f < nv; ++f)
     for (int l = 0; l < kLinks; ++l) {
       const double d = frames[f](2, l) - frames[f - 1](2, l);
-      frames[f](2, l) -= 2 * M_PI * std::floor(d / (2 * M_PI) + 0.5);
+      frames[f](2, l) -= 2 * kPi * std::floor(d / (2 * kPi) + 0.5);
     }
   auto scene_point = [&](size_t f, int s) -> P2 {
     if constexpr (F::kHasScene) return {scenes[f](0, s), scenes[f](1, s)};
@@ -373,7 +374,7 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
              (faded ? "" : " stroke-dasharray=\"6 3\"") + "/>\n";
         if (!spokes || faded) return;
         for (int k = 0; k < 3; ++k) {
-          const double t = 2 * M_PI * k / 3;
+          const double t = 2 * kPi * k / 3;
           s += "<line x1=\"" + L(c[0]) + "\" y1=\"" + L(-c[1]) + "\" x2=\"" + L(c[0] + r * std::cos(t)) +
                "\" y2=\"" + L(-(c[1] + r * std::sin(t))) + "\" stroke=\"" + color + "\" stroke-width=\"1.5\"/>\n";
         }
@@ -476,7 +477,7 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
   };
   // A link's placement at configuration f as an SVG transform, and its values for animation.
   auto translate = [&](size_t f, int l) { return X(frames[f](0, l)) + " " + Y(frames[f](1, l)); };
-  auto rotate = [&](size_t f, int l) { return internal::FormatNumber(-frames[f](2, l) * 180 / M_PI, "%.3f"); };
+  auto rotate = [&](size_t f, int l) { return internal::FormatNumber(-frames[f](2, l) * 180 / kPi, "%.3f"); };
   auto open_group = [&](size_t f, int l, const std::string& extra) {
     return "<g data-link=\"" + std::string(M::kLinkNames[l]) + "\" transform=\"translate(" + translate(f, l) +
            ") rotate(" + rotate(f, l) + ")\"" + extra + ">\n";

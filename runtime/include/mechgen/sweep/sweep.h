@@ -27,7 +27,10 @@ namespace mechgen {
 template <class M>
 struct SweepRecord {
   static constexpr int kNumMu = ModelFeatures<M>::kNumTransmissionAngles;
-  typename ModelTypes<M>::VecQ q;  ///< requested inputs (kNq)
+  /// Requested inputs (kNq); NaN until the sweep sets them (a fixed-size Eigen vector is
+  /// left uninitialized by SweepRecord<M>() without this initializer).
+  typename ModelTypes<M>::VecQ q =
+      ModelTypes<M>::VecQ::Constant(std::numeric_limits<double>::quiet_NaN());
   position::State<M> state;    ///< the configuration at q; NaN and !valid when failed
   position::Motion<M> motion;  ///< velocities and accelerations; NaN when failed
   position::Summary summary;   ///< how the step went
