@@ -25,7 +25,10 @@
 //             u along the throw outward, v 90 deg ahead: the polar diagram) and the wrist pin
 //             load wrist_j_x, wrist_j_y (rod j on piston j), and for a model with `shaking` the
 //             shaking force shake_F_x, shake_F_y (N, on the frame) and moment shake_M about O
-//             (N m, CCW +) of the generated EvalShaking. The crank is held at constant
+//             (N m, CCW +) of the generated EvalShaking, and the rocking couple M_rock_x,
+//             M_rock_y (N m, about axes across the crankshaft through its point at the mean of
+//             the cylinders' axial positions z_j; z along the shaft; on the frame:
+//             mechgen/engine/couples.h). The crank is held at constant
 //             speed by a dynamometer absorbing T_total. Summary: mean torque, its harmonics by
 //             order (multiples of the crank speed; mechgen/engine/harmonics.h), max/mean, and
 //             the power smoothing of Paul §6.8.5: the torque of k cylinders evenly spaced over
@@ -80,6 +83,7 @@
 #include <CLI/CLI.hpp>
 
 #include "mechgen/dynamics/forward.h"
+#include "mechgen/engine/couples.h"
 #include "mechgen/engine/crank_dynamics.h"
 #include "mechgen/engine/gas.h"
 #include "mechgen/engine/harmonics.h"
@@ -204,6 +208,7 @@ struct Point {
   std::array<double, kMaxCyl> p{}, thrust{};
   std::array<double, Model::kNumReactions> R{};
   double shake_x = 0, shake_y = 0, shake_M = 0;  ///< generated shaking force and moment about O
+  double rock_x = 0, rock_y = 0;  ///< rocking couple about the cylinders' middle (couples.h)
 };
 
 /// The positions at theta from *phi (warm start), K and L there.
@@ -231,18 +236,23 @@ void CylinderInertia(const Engine& e, int j, double theta, const VecPhi& phi,
   *dI = 2 * (e.m_pis * Ks * Ls + e.m_rod * (KGx * LGx + KGy * LGy) + e.J_rod * Kf * Lf);
 }
 
-/// The generated shaking force and moment into *pt (a model without `shaking`: zeros).
+/// The generated shaking force and moment into *pt, and the rocking couple about the middle of
+/// the cylinders from the links' axial positions (a model without `shaking`: zeros).
 template <class MM>
 void FillShaking(const Params& p, const VecQ& q, const VecPhi& phi, const VecQ& qd, const VecQ& qdd,
-                 const typename MM::template CoefficientsT<double>& c, Point* pt) {
+                 const typename MM::template CoefficientsT<double>& c,
+                 const mechgen::engine::LinkAxial<MM::kNumLinks>& axial, Point* pt) {
   if constexpr (MM::kHasShaking) {
     typename MM::template ShakingT<double> sh;
     MM::Shaking(p, q, phi, qd, qdd, c, &sh);
     pt->shake_x = sh.F(0);
     pt->shake_y = sh.F(1);
     pt->shake_M = sh.M;
+    const Eigen::Vector2d rock = mechgen::engine::RockingCouple(sh, axial);
+    pt->rock_x = rock(0);
+    pt->rock_y = rock(1);
   } else {
-    (void)p, (void)q, (void)phi, (void)qd, (void)qdd, (void)c, (void)pt;
+    (void)p, (void)q, (void)phi, (void)qd, (void)qdd, (void)c, (void)axial, (void)pt;
   }
 }
 
@@ -252,6 +262,13 @@ bool RunCycle(const Params& p0, const Engine& e, const Gas& gas, double omega, i
   Params p = p0;
   *p.Find("T_load") = 0;
   *p.Find("c_load") = 0;
+  // The links' axial positions for the rocking couple (rod_j, piston_j at z_j; the crank at the
+  // mean, the reference point).
+  const auto axial = mechgen::engine::LinkAxialPositions<Model>(p);
+  if (Model::kHasShaking && !axial.ok()) {
+    *error = std::string("rocking couple: ") + mechgen::engine::ToString(axial.status);
+    return false;
+  }
   VecPhi phi;
   for (int i = 0; i < Model::kNphi; ++i) phi(i) = Model::kAssemblyPhi[i];
   out->assign(samples, Point());
@@ -284,7 +301,7 @@ bool RunCycle(const Params& p0, const Engine& e, const Gas& gas, double omega, i
     pt.drive = st.drive(0);
     for (int k = 0; k < Model::kNumReactions; ++k) pt.R[k] = st.R(k);
     for (int j = 0; j < e.n; ++j) pt.thrust[j] = -st.R(e.R_N[j]);
-    FillShaking<Model>(p, q, phi, qd, qdd, c, &pt);
+    FillShaking<Model>(p, q, phi, qd, qdd, c, axial, &pt);
     double I1, dI1;
     CylinderInertia(e, 0, pt.theta, phi, c, &I1, &dI1);
     pt.I1 = I1;
@@ -552,7 +569,7 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
   for (int j = 1; j <= e.n; ++j)
     *o << ",pin_" << j << "_x,pin_" << j << "_y,pin_" << j << "_u,pin_" << j << "_v,wrist_" << j
        << "_x,wrist_" << j << "_y";
-  if (Model::kHasShaking) *o << ",shake_F_x,shake_F_y,shake_M";
+  if (Model::kHasShaking) *o << ",shake_F_x,shake_F_y,shake_M,M_rock_x,M_rock_y";
   *o << "\n";
   double max_check = 0, scale = 0;
   for (const Point& pt : pts) {
@@ -568,7 +585,8 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
       *o << "," << fx << "," << fy << "," << u << "," << v << "," << pt.R[e.R_C[j]] << ","
          << pt.R[e.R_C[j] + 1];
     }
-    if (Model::kHasShaking) *o << "," << pt.shake_x << "," << pt.shake_y << "," << pt.shake_M;
+    if (Model::kHasShaking)
+      *o << "," << pt.shake_x << "," << pt.shake_y << "," << pt.shake_M << "," << pt.rock_x << "," << pt.rock_y;
     *o << "\n";
     max_check = std::max(max_check, std::abs(pt.drive + pt.T_total));
     scale = std::max(scale, std::abs(pt.T_total));
@@ -638,6 +656,25 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
     for (int order : {1, 2, 4, 6})
       std::printf("    %-5d %12.6g  %12.6g  %12.6g\n", order, hx[order * per].amplitude, hy[order * per].amplitude,
                   hm[order * per].amplitude);
+    // The rocking couple (M_x, M_y): per order the largest magnitude over a turn (couples.h).
+    std::vector<double> rx(pts.size()), ry(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) {
+      rx[i] = pts[i].rock_x;
+      ry[i] = pts[i].rock_y;
+    }
+    std::vector<eng::Harmonic> hrx(cnt), hry(cnt);
+    eng::Analyze(rx.data(), np, e.cycle, 0.0, cnt, hrx.data());
+    eng::Analyze(ry.data(), np, e.cycle, 0.0, cnt, hry.data());
+    double amp[2];
+    for (int order : {1, 2}) {
+      const eng::Harmonic &x = hrx[order * per], &y = hry[order * per];
+      amp[order - 1] = mechgen::engine::CoupleOrderAmplitude(x.a, x.b, y.a, y.b);
+    }
+    Params pz = p;
+    const auto axial = mechgen::engine::LinkAxialPositions<Model>(pz);
+    std::printf("  rocking couple about the cylinders' middle (z = %.6g m), max over a turn: primary %.6g N m, "
+                "secondary %.6g N m\n",
+                axial.z_mean, amp[0], amp[1]);
   }
   std::printf("  check: generated kinetostatics' drive + T_total, max %.3g N m (of %.3g)\n", max_check, scale);
   std::printf("  wrote %s\n", a.csv.c_str());
