@@ -2,9 +2,11 @@
 # Second stage of the test command: builds the test suite with AddressSanitizer and
 # UndefinedBehaviorSanitizer in ./build-asan (MECHGEN_ASAN_BUILD overrides) and runs ctest
 # there. Called by scripts/test.sh (and so by .ci/run) after the Release suite. Neither the
-# benchmarks nor the <model>_sweep commands are built (no test runs them, and the 17 sweep
-# commands were most of this stage's build time). Every test runs; extra ctest arguments
-# are passed on (e.g. -R runtime to restrict it, -LE slow to skip the slow ones).
+# benchmarks nor the per-model commands (<model>_sweep, _statics, _simulate, _engine:
+# MECHGEN_BUILD_SWEEPS=OFF) are built: one executable per model, most of this stage's build
+# time once; the few tests that run those commands are run by the Release suite only. Every
+# other test runs; extra ctest arguments are passed on (e.g. -R runtime to restrict it,
+# -LE slow to skip the slow ones).
 # Optimization: -O1 with line tables (-g1), the level the sanitizers' manuals advise. At
 # RelWithDebInfo's -O2 -g this stage's build took about three times as long (the Jet typed
 # test: 277 s against 109 s; the V8 engine's model library: 79 s against 25 s) and pushed
