@@ -1,6 +1,5 @@
 // EvalStatics: the statics of symbolic/statics.h stored into the generated Statics struct.
 #include <algorithm>
-#include <cstdio>
 #include <functional>
 #include <map>
 #include <tuple>
@@ -9,6 +8,7 @@
 #include "codegen/functions.h"
 #include "codegen/hoist.h"
 #include "codegen/sha256.h"
+#include "codegen/slot_spelling.h"
 
 namespace mechgen {
 namespace {
@@ -177,10 +177,10 @@ Program Finish(Program P, const StaticsTable& st, CxxPrinter* printer) {
   for (const Statement& s : P)
     if (s.kind == Statement::Kind::kDefine || s.kind == Statement::Kind::kStore) CollectSymbols(s.value, &used);
   Program prologue;
-  for (const auto& [sym, name] : st.names)
-    if (name.rfind("friction_", 0) == 0 && used.count(sym))
-      prologue.push_back(Raw("const Scalar " + name + " = friction != nullptr ? (*friction)(" + name.substr(9) +
-                             ") : Scalar(0);"));
+  for (const auto& [sym, slot] : st.slots.all())
+    if (slot.kind == Slot::Kind::kFriction && used.count(sym))
+      prologue.push_back(Raw("const Scalar " + SlotSpelling(slot) + " = friction != nullptr ? (*friction)(" +
+                             std::to_string(slot.i) + ") : Scalar(0);"));
   P.insert(P.begin(), prologue.begin(), prologue.end());
   NameSumPowers(&P, printer);
   return P;
@@ -190,7 +190,7 @@ Program Finish(Program P, const StaticsTable& st, CxxPrinter* printer) {
 
 Program StaticsBody(const Model& m, const StaticsTable& st, CxxPrinter* printer) {
   const int nq = static_cast<int>(m.inputs.size());
-  for (const auto& [sym, name] : st.names) printer->Name(sym, name);
+  NameSlots(st.slots, printer);
   Program P = st.program;
   if (st.forces)
     for (int j = 0; j < nq; ++j) {
@@ -241,7 +241,7 @@ namespace mechgen {
 FunctionSpec EvalDynamicsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer) {
   const int nq = static_cast<int>(m.inputs.size());
   const StaticsTable& a = *dt.applied;
-  for (const auto& [sym, name] : a.names) printer->Name(sym, name);
+  NameSlots(a.slots, printer);
   FunctionSpec f;
   f.name = "EvalDynamics";
   f.model_member = "Dynamics";
@@ -284,7 +284,7 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
   const Kinematics& k = t.kinematics();
   const int nq = k.nq(), nphi = k.nphi(), nc = k.nc();
   const StaticsTable& a = *dt.applied;
-  for (const auto& [sym, name] : a.names) printer->Name(sym, name);
+  NameSlots(a.slots, printer);
   FunctionSpec f;
   f.name = "EvalRhs";
   f.model_member = "Rhs";
@@ -314,14 +314,13 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
   // EvalCoefficients' K and L (and Phi_phi's named entries) in place of what EvalDynamics
   // reads from its Coefficients argument.
   GiNaC::exmap from_c;
-  for (const auto& [sym, name] : a.names) {
-    int i = 0, j = 0;
-    if (std::sscanf(name.c_str(), "c.K(%d, %d)", &i, &j) == 2)
-      from_c[sym] = t.K[i][j];
-    else if (std::sscanf(name.c_str(), "c.L(%d, %d)", &i, &j) == 2)
-      from_c[sym] = t.L(i, j % nq, j / nq);
-    else if (std::sscanf(name.c_str(), "c.Phi_phi(%d, %d)", &i, &j) == 2)
-      from_c[sym] = t.Phi_phi_named(i, j);
+  for (const auto& [sym, slot] : a.slots.all()) {
+    if (slot.kind == Slot::Kind::kK)
+      from_c[sym] = t.K[slot.i][slot.j];
+    else if (slot.kind == Slot::Kind::kL)
+      from_c[sym] = t.L(slot.i, slot.j % nq, slot.j / nq);
+    else if (slot.kind == Slot::Kind::kPhiPhi)
+      from_c[sym] = t.Phi_phi_named(slot.i, slot.j);
   }
   Program P = t.k_program;
   P.insert(P.end(), t.l_program.begin(), t.l_program.end());
@@ -354,10 +353,7 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
     P.push_back(Define(name, v, &sym));
     return sym;
   };
-  std::vector<ex> qd(nq);
-  for (const auto& [sym, name] : a.names)
-    for (int j = 0; j < nq; ++j)
-      if (name == "qd(" + N(j) + ")") qd[j] = sym;
+  const std::vector<ex>& qd = a.qd;
   std::vector<ex> I(nq * nq), C(nq * nq * nq);
   for (int j = 0; j < nq; ++j)
     for (int kk = 0; kk < nq; ++kk) I[j + nq * kk] = local("I_eom_" + N(j) + "_" + N(kk), dt.I[j + nq * kk]);
@@ -461,7 +457,7 @@ FunctionSpec EvalKinetostaticsSpec(const Model& m, const DynamicsTable& dt, CxxP
 
 FunctionSpec EvalExcessSpec(const Model& /*m*/, const Kinematics& k, const DynamicsTable& dt, CxxPrinter* printer) {
   const StaticsTable& x = *dt.excess_applied;
-  for (const auto& [sym, name] : x.names) printer->Name(sym, name);
+  NameSlots(x.slots, printer);
   const int nx = k.nq() + k.nphi(), nc = k.nc();
   FunctionSpec f;
   f.name = "EvalExcess";
@@ -497,7 +493,7 @@ namespace mechgen {
 
 FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer) {
   const StaticsTable& st = *dt.kinetostatics;
-  for (const auto& [sym, name] : st.names) printer->Name(sym, name);
+  NameSlots(st.slots, printer);
   FunctionSpec f;
   f.name = "EvalShaking";
   f.model_member = "Shaking";

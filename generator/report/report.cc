@@ -12,6 +12,8 @@
 #include "joints/joint_kind.h"
 #include "report/equivalent.h"
 #include "report/expr_printer.h"
+#include "symbolic/linalg.h"
+#include "symbolic/motion.h"
 
 namespace mechgen {
 namespace {
@@ -334,12 +336,13 @@ struct Coefficients {
       if (pairs[p].first == lo && pairs[p].second == hi) return static_cast<int>(p);
     return -1;
   }
-  // df/dq_j along the motion.
-  GiNaC::ex Along(const GiNaC::ex& f, int j) const {
-    GiNaC::ex s = f.diff(k.q[j].symbol);
-    for (int a = 0; a < k.nphi(); ++a) s += f.diff(k.phi[a].symbol) * K[a][j];
-    return s;
+  // The derivative along the motion (symbolic/motion.h) in these symbols.
+  Motion motion() const {
+    return Motion(
+        k, [this](int i, int j) -> GiNaC::ex { return K[i][j]; },
+        [this](int i, int j, int kk) -> GiNaC::ex { return L[i][Pair(j, kk)]; });
   }
+  GiNaC::ex Along(const GiNaC::ex& f, int j) const { return motion().Along(f, j); }
 };
 
 std::string ColsText(const Kinematics& k, const Block& b) {
@@ -366,26 +369,10 @@ BlockInverse InvertBlock(const Kinematics& k, const Block& b) {
   for (unsigned r = 0; r < n; ++r)
     for (unsigned c = 0; c < n; ++c) out.J(r, c) = k.Phi_phi(b.rows[r], b.cols[c]);
   out.det = out.J.determinant(GiNaC::determinant_algo::laplace);
+  out.adj = Adjugate(out.J);
   out.inv = GiNaC::matrix(n, n);
-  out.adj = GiNaC::matrix(n, n);
   for (unsigned i = 0; i < n; ++i)
-    for (unsigned j = 0; j < n; ++j) {
-      GiNaC::ex cof = 1;
-      if (n > 1) {
-        GiNaC::matrix minor(n - 1, n - 1);
-        for (unsigned r = 0, mr = 0; r < n; ++r) {
-          if (r == j) continue;
-          for (unsigned c = 0, mc = 0; c < n; ++c) {
-            if (c == i) continue;
-            minor(mr, mc++) = out.J(r, c);
-          }
-          ++mr;
-        }
-        cof = ((i + j) % 2 ? -1 : 1) * minor.determinant(GiNaC::determinant_algo::laplace);
-      }
-      out.adj(i, j) = cof;
-      out.inv(i, j) = cof / out.det;
-    }
+    for (unsigned j = 0; j < n; ++j) out.inv(i, j) = out.adj(i, j) / out.det;
   return out;
 }
 

@@ -2,7 +2,6 @@
 // at (t, q, qd) and the energies. See dynamics.h.
 #include "symbolic/dynamics.h"
 
-#include <map>
 #include <stdexcept>
 
 namespace mechgen {
@@ -102,25 +101,23 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
   excess_h.assign(nx, 0);
   std::vector<std::vector<Vec2>> J(m.links.size());  // per link, per a
   std::vector<std::vector<ex>> Jth(m.links.size());
-  for (size_t l = 0; l < m.links.size(); ++l) {
-    const MassProperties& mp = m.links[l].mass;
-    if (!mp.given || m.links[l].ground) continue;
-    const Vec2 rc = Rotate(k.frames[l].theta, mp.center_x, mp.center_y);
-    const Vec2 rG = {k.frames[l].x + rc[0], k.frames[l].y + rc[1]};
-    const std::string tag = N(static_cast<int>(l));
+  for (const MassiveLink& body : t.bodies) {
+    const int l = body.link;
+    const Vec2& rG = body.r_G;
+    const std::string tag = N(l);
     Vec2 quad{0, 0};  // sum_bc d2r_G/dx_b dx_c xd_b xd_c
     for (int a2 = 0; a2 < nx; ++a2) {
       J[l].push_back({xnamed("JG" + tag + "_x_" + N(a2), rG[0].diff(xs[a2])),
                       xnamed("JG" + tag + "_y_" + N(a2), rG[1].diff(xs[a2]))});
-      Jth[l].push_back(k.frames[l].theta.diff(xs[a2]));
+      Jth[l].push_back(body.theta.diff(xs[a2]));
       for (int b = 0; b < nx; ++b)
         for (int c = 0; c < 2; ++c) quad[c] += rG[c].diff(xs[a2]).diff(xs[b]) * xd[a2] * xd[b];
     }
     const Vec2 qn = {xnamed("aqG" + tag + "_x", quad[0]), xnamed("aqG" + tag + "_y", quad[1])};
     for (int a2 = 0; a2 < nx; ++a2) {
-      excess_h[a2] += mp.mass * (J[l][a2][0] * qn[0] + J[l][a2][1] * qn[1]);
+      excess_h[a2] += body.mass * (J[l][a2][0] * qn[0] + J[l][a2][1] * qn[1]);
       for (int b = 0; b < nx; ++b)
-        M[a2 + nx * b] += mp.mass * (J[l][a2][0] * J[l][b][0] + J[l][a2][1] * J[l][b][1]) + mp.inertia * Jth[l][a2] * Jth[l][b];
+        M[a2 + nx * b] += body.mass * (J[l][a2][0] * J[l][b][0] + J[l][a2][1] * J[l][b][1]) + body.inertia * Jth[l][a2] * Jth[l][b];
     }
   }
   excess_T = 0;
@@ -144,14 +141,6 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
   if (!shaking) return;
   const StaticsTable& ks = *kinetostatics;
   shaking_program = ks.program;
-  std::map<std::string, ex> locals;  // the kinetostatics' named accelerations
-  for (const Statement& s : ks.program)
-    if (s.kind == Statement::Kind::kDefine) locals[s.target] = s.symbol;
-  auto local = [&](const std::string& name) {
-    const auto it = locals.find(name);
-    if (it == locals.end()) throw std::logic_error("mechgen bug: the kinetostatics has no local " + name);
-    return it->second;
-  };
   const size_t nl = m.links.size();
   F_link.assign(nl, Vec2{0, 0});
   r_G.assign(nl, Vec2{0, 0});
@@ -160,13 +149,11 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
   Vec2 moment_of_mass{0, 0};
   for (const MassKinematics& mk : ks.masses) {
     const int l = mk.link;
-    const MassProperties& mp = m.links[l].mass;
-    const Vec2 rc = Rotate(k.frames[l].theta, mp.center_x, mp.center_y);
     const std::string tag = N(l);
     ex rx, ry;
-    shaking_program.push_back(Define("rG" + tag + "_x", k.frames[l].x + rc[0], &rx));
-    shaking_program.push_back(Define("rG" + tag + "_y", k.frames[l].y + rc[1], &ry));
-    const ex ax = local("aG" + tag + "_x"), ay = local("aG" + tag + "_y"), alpha = local("alpha" + tag);
+    shaking_program.push_back(Define("rG" + tag + "_x", mk.r_G[0], &rx));
+    shaking_program.push_back(Define("rG" + tag + "_y", mk.r_G[1], &ry));
+    const ex ax = mk.a_G[0], ay = mk.a_G[1], alpha = mk.alpha;
     massive[l] = true;
     r_G[l] = {rx, ry};
     F_link[l] = {-mk.mass * ax, -mk.mass * ay};

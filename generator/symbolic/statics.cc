@@ -9,6 +9,8 @@
 #include <stdexcept>
 
 #include "joints/joint_kind.h"
+#include "symbolic/linalg.h"
+#include "symbolic/motion.h"
 
 namespace mechgen {
 namespace {
@@ -18,30 +20,6 @@ using GiNaC::ex;
 std::string N(int i) { return std::to_string(i); }
 
 ex Cross(const Vec2& a, const Vec2& b) { return a[0] * b[1] - a[1] * b[0]; }
-
-// Inverse of a small matrix by the adjugate, entries cofactor * inv_det.
-GiNaC::matrix Adjugate(const GiNaC::matrix& a, const ex& inv_det) {
-  const unsigned n = a.rows();
-  GiNaC::matrix inv(n, n);
-  if (n == 1) {
-    inv(0, 0) = inv_det;
-    return inv;
-  }
-  for (unsigned i = 0; i < n; ++i)
-    for (unsigned j = 0; j < n; ++j) {
-      GiNaC::matrix minor(n - 1, n - 1);
-      for (unsigned r = 0, mr = 0; r < n; ++r) {
-        if (r == j) continue;
-        for (unsigned c = 0, mc = 0; c < n; ++c) {
-          if (c == i) continue;
-          minor(mr, mc++) = a(r, c);
-        }
-        ++mr;
-      }
-      inv(i, j) = ((i + j) % 2 ? -1 : 1) * minor.determinant(GiNaC::determinant_algo::laplace) * inv_det;
-    }
-  return inv;
-}
 
 // Something that acts on one link: a force at a point and/or a couple.
 struct Item {
@@ -109,80 +87,30 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   stiffness = forces && potential && t.requested.L;  // for the stability of equilibria
   const int nq = k.nq(), nphi = k.nphi(), nc = k.nc(), nx = nq + nphi;
 
-  // ---- the symbols read from EvalCoefficients' output and the arguments ----
-  auto named = [&](const std::string& name) {
-    GiNaC::symbol s(name);
-    names.emplace_back(s, name);
-    return ex(s);
-  };
+  // ---- the slots read from EvalCoefficients' output and the arguments ----
+  using Kind = Slot::Kind;
   std::vector<std::vector<ex>> Kc(nphi, std::vector<ex>(nq));
   for (int i = 0; i < nphi; ++i)
-    for (int j = 0; j < nq; ++j) Kc[i][j] = named("c.K(" + N(i) + ", " + N(j) + ")");
-  std::map<std::pair<int, int>, ex> Pc;
-  auto phi_phi = [&](int r, int c) -> ex {
-    if (k.Phi_phi(r, c).is_zero()) return 0;
-    auto it = Pc.find({r, c});
-    if (it == Pc.end()) it = Pc.emplace(std::make_pair(r, c), named("c.Phi_phi(" + N(r) + ", " + N(c) + ")")).first;
-    return it->second;
-  };
-  std::map<std::pair<int, int>, ex> Lc;
-  auto L = [&](int i, int j, int kk) -> ex {
-    auto it = Lc.find({i, j + nq * kk});
-    if (it == Lc.end())
-      it = Lc.emplace(std::make_pair(i, j + nq * kk), named("c.L(" + N(i) + ", " + N(j + nq * kk) + ")")).first;
-    return it->second;
-  };
+    for (int j = 0; j < nq; ++j) Kc[i][j] = slots(Kind::kK, i, j);
+  auto phi_phi = [&](int r, int c) -> ex { return k.Phi_phi(r, c).is_zero() ? ex(0) : slots(Kind::kPhiPhi, r, c); };
+  auto L = [&](int i, int j, int kk) -> ex { return slots(Kind::kL, i, j + nq * kk); };
   std::vector<ex> fr;
-  for (size_t i = 0; i < layout.friction.size(); ++i) fr.push_back(named("friction_" + N(static_cast<int>(i))));
+  for (size_t i = 0; i < layout.friction.size(); ++i) fr.push_back(slots(Kind::kFriction, static_cast<int>(i)));
 
-  std::vector<ex> xs;  // x = (q, phi)
-  for (const Coordinate& c : k.q) xs.push_back(c.symbol);
-  for (const Coordinate& c : k.phi) xs.push_back(c.symbol);
-  // d/dq_j along the motion (K read from the coefficients).
-  auto along = [&](const ex& f, int j) {
-    ex s = f.diff(GiNaC::ex_to<GiNaC::symbol>(xs[j]));
-    for (int i = 0; i < nphi; ++i) s += f.diff(GiNaC::ex_to<GiNaC::symbol>(xs[nq + i])) * Kc[i][j];
-    return s;
-  };
-
-  // ---- the dynamic modes: the velocities, time, and the centres of mass along the motion ----
+  // The derivative along the motion with K and L read from the coefficients.
+  const Motion mo(k, [&](int i, int j) { return Kc[i][j]; }, L);
+  auto along = [&](const ex& f, int j) { return mo.Along(f, j); };
   // The dynamic modes: the coordinates' velocities xdot = (qd, K qd) and d/dt of f(x).
   std::vector<ex> xdot;
-  auto ddt = [&](const ex& f) {
-    ex s = 0;
-    for (size_t a = 0; a < xdot.size(); ++a) s += f.diff(GiNaC::ex_to<GiNaC::symbol>(xs[a])) * xdot[a];
-    return s;
-  };
-  // V(a, j) = dx_a/dq_j: [I; K].
-  auto Vx = [&](int a, int j) -> ex { return a < nq ? ex(a == j ? 1 : 0) : Kc[a - nq][j]; };
-  // d2f/dq_j dq_k along the motion: sum_ab d2f/dx_a dx_b V_aj V_bk + sum_i df/dphi_i L(i, j, k).
-  auto second = [&](const ex& f, int j, int kk) {
-    ex s = 0;
-    for (int a = 0; a < nx; ++a) {
-      const ex fa = f.diff(GiNaC::ex_to<GiNaC::symbol>(xs[a]));
-      if (fa.is_zero()) continue;
-      if (a >= nq) s += fa * L(a - nq, std::min(j, kk), std::max(j, kk));
-      for (int b = 0; b < nx; ++b) {
-        const ex fab = fa.diff(GiNaC::ex_to<GiNaC::symbol>(xs[b]));
-        if (!fab.is_zero()) s += fab * Vx(a, j) * Vx(b, kk);
-      }
-    }
-    return s;
-  };
-  // A named local for a non-trivial value (numbers and symbols stay as they are).
-  auto local = [&](const std::string& name, const ex& e) -> ex {
-    if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::symbol>(e)) return e;
-    ex sym;
-    program.push_back(Define(name, e, &sym));
-    return sym;
-  };
+  auto ddt = [&](const ex& f) { return mo.Rate(f, xdot); };
+
   if (options.dynamic) {
-    for (int j = 0; j < nq; ++j) qd.push_back(named("qd(" + N(j) + ")"));
+    for (int j = 0; j < nq; ++j) qd.push_back(slots(Kind::kQd, j));
     if (options.inertia)
-      for (int j = 0; j < nq; ++j) qdd.push_back(named("qdd(" + N(j) + ")"));
-    time = named("t");
+      for (int j = 0; j < nq; ++j) qdd.push_back(slots(Kind::kQdd, j));
+    time = slots(Kind::kTime);
     if (options.excess)
-      for (int i = 0; i < nphi; ++i) phid.push_back(named("phid(" + N(i) + ")"));
+      for (int i = 0; i < nphi; ++i) phid.push_back(slots(Kind::kPhid, i));
     for (int a = 0; a < nx; ++a) {
       if (a < nq) {
         xdot.push_back(qd[a]);
@@ -196,35 +124,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       for (int j = 0; j < nq; ++j) v += Kc[a - nq][j] * qd[j];
       xdot.push_back(v);
     }
-    for (size_t l = 0; l < m.links.size() && !options.excess; ++l) {
-      const MassProperties& mp = m.links[l].mass;
-      if (!mp.given || m.links[l].ground) continue;
-      MassKinematics mk;
-      mk.link = static_cast<int>(l);
-      // Named, so that I = m (K_x^2 + K_y^2) + J K_theta^2 is not expanded into products of each term.
-      mk.mass = local("mass_" + N(static_cast<int>(l)), mp.mass);
-      mk.inertia = local("inertia_" + N(static_cast<int>(l)), mp.inertia);
-      const Vec2 rc = Rotate(k.frames[l].theta, mp.center_x, mp.center_y);
-      const Vec2 rG = {k.frames[l].x + rc[0], k.frames[l].y + rc[1]};
-      const ex& th = k.frames[l].theta;
-      const std::string tag = N(static_cast<int>(l));
-      for (int j = 0; j < nq; ++j) {
-        mk.K_G.push_back({local("KG" + tag + "_x_" + N(j), along(rG[0], j)), local("KG" + tag + "_y_" + N(j), along(rG[1], j))});
-        mk.K_theta.push_back(local("Kth" + tag + "_" + N(j), along(th, j)));
-      }
-      mk.L_G.assign(nq * nq, Vec2{0, 0});
-      mk.L_theta.assign(nq * nq, 0);
-      for (int j = 0; j < nq; ++j)
-        for (int kk = j; kk < nq; ++kk) {
-          const std::string jk = N(j) + "_" + N(kk);
-          const Vec2 LG = {local("LG" + tag + "_x_" + jk, second(rG[0], j, kk)),
-                           local("LG" + tag + "_y_" + jk, second(rG[1], j, kk))};
-          const ex Lth = local("Lth" + tag + "_" + jk, second(th, j, kk));
-          mk.L_G[j + nq * kk] = mk.L_G[kk + nq * j] = LG;
-          mk.L_theta[j + nq * kk] = mk.L_theta[kk + nq * j] = Lth;
-        }
-      masses.push_back(mk);
-    }
+    if (!options.excess) masses = BodyCoefficients(t.bodies, mo, &program);
   }
 
   // ---- the loads' expressions in the coordinates ----
@@ -286,24 +186,18 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   }
   V = 0;
   if (m.has_gravity)
-    for (size_t l = 0; l < m.links.size(); ++l) {
-      const MassProperties& mp = m.links[l].mass;
-      if (!mp.given || m.links[l].ground) continue;
-      const Vec2 rc = Rotate(k.frames[l].theta, mp.center_x, mp.center_y);
-      const Vec2 rG = {k.frames[l].x + rc[0], k.frames[l].y + rc[1]};
-      V += -mp.mass * (m.gravity_x * rG[0] + m.gravity_y * rG[1]);
+    for (const MassiveLink& b : t.bodies) {
+      V += -b.mass * (m.gravity_x * b.r_G[0] + m.gravity_y * b.r_G[1]);
       Item it;
-      it.link = static_cast<int>(l);
-      it.F = {mp.mass * m.gravity_x, mp.mass * m.gravity_y};
-      it.at = rG;
+      it.link = b.link;
+      it.F = {b.mass * m.gravity_x, b.mass * m.gravity_y};
+      it.at = b.r_G;
       add_item(it, it, true);
     }
   // Kinetostatics: d'Alembert's inertia forces, -m a_G at G and -J alpha, with
   // a_G = sum_j K_G,j qdd_j + sum_jk L_G,jk qd_j qd_k (the same for the angle).
   if (options.inertia)
-    for (const MassKinematics& mk : masses) {
-      const MassProperties& mp = m.links[mk.link].mass;
-      const Vec2 rc = Rotate(k.frames[mk.link].theta, mp.center_x, mp.center_y);
+    for (MassKinematics& mk : masses) {
       Vec2 a{0, 0};
       ex alpha = 0;
       for (int j = 0; j < nq; ++j) {
@@ -321,10 +215,12 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       program.push_back(Define("aG" + tag + "_x", a[0], &ax));
       program.push_back(Define("aG" + tag + "_y", a[1], &ay));
       program.push_back(Define("alpha" + tag, alpha, &al));
+      mk.a_G = {ax, ay};
+      mk.alpha = al;
       Item it;
       it.link = mk.link;
       it.F = {-mk.mass * ax, -mk.mass * ay};
-      it.at = {k.frames[mk.link].x + rc[0], k.frames[mk.link].y + rc[1]};
+      it.at = mk.r_G;
       it.couple = -mk.inertia * al;
       add_item(it, it, false);
     }
@@ -422,7 +318,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       program.push_back(Define("friction_viscous_" + N(static_cast<int>(i)), fr[i] - m.friction[i].viscous * ddt(rel), &f));
       fr[i] = f;
     }
-    for (int a = 0; a < nx; ++a) gf[a] += fr[i] * rel.diff(GiNaC::ex_to<GiNaC::symbol>(xs[a]));
+    for (int a = 0; a < nx; ++a) gf[a] += fr[i] * rel.diff(mo.x(a));
     if (j.type() == JointType::kRevolute) {
       on_b.couple = fr[i];
       on_a.couple = -fr[i];
@@ -439,7 +335,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   }
   // The virtual work of an item per unit dx_a: F . d(at)/dx_a + couple d(theta)/dx_a.
   auto work = [&](const Item& it, int a) {
-    const GiNaC::symbol& x = GiNaC::ex_to<GiNaC::symbol>(xs[a]);
+    const GiNaC::symbol& x = mo.x(a);
     ex w = it.couple * k.frames[it.link].theta.diff(x);
     if (!it.F[0].is_zero() || !it.F[1].is_zero()) w += it.F[0] * it.at[0].diff(x) + it.F[1] * it.at[1].diff(x);
     return w;
@@ -516,7 +412,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       if (w.is_zero()) continue;
       const ex d = along(w, kk);
       s += a < nq ? (a == j ? d : ex(0)) : d * Kc[a - nq][j];
-      if (a >= nq) s += w * L(a - nq, std::min(j, kk), std::max(j, kk));
+      if (a >= nq) s += w * mo.L(a - nq, j, kk);
     }
     return s;
   };
@@ -529,7 +425,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       Q_nc.resize(nq);
       for (int j = 0; j < nq; ++j) {
         ex w = along_motion(items, non_conservative, j);
-        for (int a = 0; a < nx; ++a) w += gf[a] * Vx(a, j);
+        for (int a = 0; a < nx; ++a) w += gf[a] * mo.V(a, j);
         Q_nc[j] = w;
       }
     }
@@ -574,7 +470,7 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
       ex det, inv_det;
       program.push_back(Define("detT_block" + N(bi), JT.determinant(GiNaC::determinant_algo::laplace), &det));
       program.push_back(Define("inv_detT_block" + N(bi), 1 / det, &inv_det));
-      const GiNaC::matrix inv = Adjugate(JT, inv_det);
+      const GiNaC::matrix inv = AdjugateInverse(JT, inv_det);
       for (int a = 0; a < n; ++a) {
         const ex e = rhs[a].expand();
         if (GiNaC::is_a<GiNaC::add>(e)) program.push_back(Define("lambda_rhs_" + N(b.cols[a]), e, &rhs[a]));

@@ -29,7 +29,9 @@
 
 #include "analysis/kinematics.h"
 #include "model/model.h"
+#include "symbolic/bodies.h"
 #include "symbolic/program.h"
+#include "symbolic/slot.h"
 #include "symbolic/table.h"
 
 namespace mechgen {
@@ -64,16 +66,6 @@ struct StaticsOptions {
   bool excess = false;
 };
 
-/// A massive moving link's centre of mass G and angle along the motion (the dynamic modes):
-/// r_G, K_G,j = dr_G/dq_j, L_G(j + nq k) = d2r_G/dq_j dq_k, K_theta, L_theta, as named locals
-/// of StaticsTable::program (in terms of c.K and c.L).
-struct MassKinematics {
-  int link = -1;
-  GiNaC::ex mass, inertia;
-  std::vector<Vec2> K_G, L_G;
-  std::vector<GiNaC::ex> K_theta, L_theta;
-};
-
 class StaticsTable {
  public:
   /// Derives what m.outputs asks (forces, potential, reactions); throws ModelError where a
@@ -89,9 +81,10 @@ class StaticsTable {
   StaticsLayout layout;
   bool forces = false, potential = false, stiffness = false;
 
-  /// The symbols the expressions read besides q, phi and p, with their C++ spelling:
-  /// c.K(i, j), c.L(i, j + kNq k), c.Phi_phi(r, c), (*friction)(i), drive(j).
-  std::vector<std::pair<GiNaC::ex, std::string>> names;
+  /// The symbols the expressions read besides q, phi and p, with their meaning (slot.h):
+  /// K(i, j), L(i, j + nq k), Phi_phi(r, c) of EvalCoefficients' output, the arguments qd(j),
+  /// qdd(j), phid(i), t, and the friction loads; only the printer spells them.
+  SlotSymbols slots;
   /// Named locals (the applied forces g, the multipliers, the subtree sums), in order.
   Program program;
 

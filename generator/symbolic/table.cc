@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "symbolic/linalg.h"
+
 namespace mechgen {
 namespace {
 
@@ -10,31 +12,6 @@ using GiNaC::ex;
 
 std::string N(int i) { return std::to_string(i); }
 std::string Idx(int i, int j) { return "(" + N(i) + ", " + N(j) + ")"; }
-
-// Inverse of a small matrix of symbols by the adjugate: entries cofactor / det.
-GiNaC::matrix AdjugateInverse(const GiNaC::matrix& a, const ex& inv_det) {
-  const unsigned n = a.rows();
-  GiNaC::matrix inv(n, n);
-  if (n == 1) {
-    inv(0, 0) = inv_det;
-    return inv;
-  }
-  for (unsigned i = 0; i < n; ++i)
-    for (unsigned j = 0; j < n; ++j) {
-      GiNaC::matrix minor(n - 1, n - 1);
-      for (unsigned r = 0, mr = 0; r < n; ++r) {
-        if (r == j) continue;
-        for (unsigned c = 0, mc = 0; c < n; ++c) {
-          if (c == i) continue;
-          minor(mr, mc++) = a(r, c);
-        }
-        ++mr;
-      }
-      const ex cof = ((i + j) % 2 ? -1 : 1) * minor.determinant(GiNaC::determinant_algo::laplace);
-      inv(i, j) = cof * inv_det;
-    }
-  return inv;
-}
 
 // Sign of the permutation that takes Phi_phi to its block order (rows and columns).
 int PermutationSign(const std::vector<Block>& blocks, int n) {
@@ -174,6 +151,7 @@ SymbolicTable::SymbolicTable(const Model& m, const Kinematics& k, Strategy strat
   Phi_phi_named = k.Phi_phi;
   r_P.resize(k.points.size());
   for (size_t pt = 0; pt < k.points.size(); ++pt) r_P[pt] = {k.points[pt][0], k.points[pt][1]};
+  bodies = MassiveLinks(m, k);
   std::vector<BlockSystem> systems;
   if (requested.K) {
     SolveVelocityCoefficients(&systems);
@@ -245,12 +223,13 @@ void SymbolicTable::SolveCentripetalCoefficients(std::vector<BlockSystem>* syste
       pair_suffix.push_back(N(j) + "_" + N(kk));
     }
   L_pairs.assign(nphi(), std::vector<ex>(pairs.size()));
+  const Motion mo = motion();
   for (size_t bi = 0; bi < blocks.size(); ++bi) {
     const Block& b = blocks[bi];
     std::vector<std::vector<ex>> R(b.rows.size(), std::vector<ex>(pairs.size()));
     for (size_t r = 0; r < b.rows.size(); ++r)
       for (size_t pj = 0; pj < pairs.size(); ++pj) {
-        ex s = Along(Along(k_.Phi[b.rows[r]], pairs[pj].first), pairs[pj].second);
+        ex s = mo.Along(mo.Along(k_.Phi[b.rows[r]], pairs[pj].first), pairs[pj].second);
         for (size_t pb = 0; pb < bi; ++pb)
           for (int c : blocks[pb].cols) s += k_.Phi_phi(b.rows[r], c) * L_pairs[c][pj];
         R[r][pj] = s;
@@ -268,39 +247,27 @@ int SymbolicTable::PairIndex(int j, int k) const {
   return -1;
 }
 
-ex SymbolicTable::Along(const ex& f, int j) const {
-  ex s = 0;
-  for (int a = 0; a < nq(); ++a) s += f.diff(k_.q[a].symbol) * ex(a == j ? 1 : 0);
-  for (int a = 0; a < nphi(); ++a) s += f.diff(k_.phi[a].symbol) * K[a][j];
-  return s;
+Motion SymbolicTable::motion() const {
+  return Motion(
+      k_, [this](int i, int j) { return K[i][j]; }, [this](int i, int j, int k) { return L(i, j, k); });
 }
 
-std::vector<ex> SymbolicTable::VelocityCoefficients(const ex& f) const {
-  std::vector<ex> K_f;
-  for (int j = 0; j < nq(); ++j) K_f.push_back(Along(f, j));
-  return K_f;
-}
+ex SymbolicTable::Along(const ex& f, int j) const { return motion().Along(f, j); }
 
-// d/dq_k of (df/dx V(:, j)) = its partials along V(:, k) plus df/dphi L(:, j, k).
+std::vector<ex> SymbolicTable::VelocityCoefficients(const ex& f) const { return motion().VelocityCoefficients(f); }
+
 std::vector<ex> SymbolicTable::CentripetalCoefficients(const ex& f, const std::vector<ex>& K_f) const {
-  std::vector<ex> L_f(nq() * nq());
-  for (int j = 0; j < nq(); ++j)
-    for (int kk = 0; kk < nq(); ++kk) {
-      const int lo = std::min(j, kk), hi = std::max(j, kk);
-      ex s = Along(K_f[lo], hi);
-      for (int i = 0; i < nphi(); ++i) s += f.diff(k_.phi[i].symbol) * L(i, lo, hi);
-      L_f[j + nq() * kk] = s;
-    }
-  return L_f;
+  return motion().CentripetalCoefficients(f, K_f);
 }
 
 void SymbolicTable::PointCoefficients() {
   K_P.resize(r_P.size());
   L_P.resize(r_P.size());
+  const Motion mo = motion();
   for (size_t pt = 0; pt < r_P.size(); ++pt)
     for (int a = 0; a < 2; ++a) {
-      K_P[pt][a] = VelocityCoefficients(r_P[pt][a]);
-      if (requested.L) L_P[pt][a] = CentripetalCoefficients(r_P[pt][a], K_P[pt][a]);
+      K_P[pt][a] = mo.VelocityCoefficients(r_P[pt][a]);
+      if (requested.L) L_P[pt][a] = mo.CentripetalCoefficients(r_P[pt][a], K_P[pt][a]);
     }
 }
 

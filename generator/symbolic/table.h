@@ -26,6 +26,8 @@
 
 #include "analysis/kinematics.h"
 #include "symbolic/blocks.h"
+#include "symbolic/bodies.h"
+#include "symbolic/motion.h"
 #include "symbolic/program.h"
 
 namespace mechgen {
@@ -74,12 +76,19 @@ class SymbolicTable {
   std::vector<std::array<GiNaC::ex, 2>> r_P;
   std::vector<std::array<std::vector<GiNaC::ex>, 2>> K_P, L_P;
 
+  /// The moving links with mass: r_G and theta in (q, phi) (bodies.h; their coefficients
+  /// along the motion come from BodyCoefficients with the K and L the caller reads).
+  std::vector<MassiveLink> bodies;
+
   /// det Phi_phi as the product of the blocks' determinants in the model's own row and
   /// column order: `det_program` defines det_block<i>, `det_Phi_phi` is their product.
   Program det_program;
   GiNaC::ex det_Phi_phi;
 
   // ---- Operations later quantities use ----
+  /// The derivative along the motion (motion.h) with this table's K and L (named locals of
+  /// k_program and l_program).
+  Motion motion() const;
   /// sum_a df/dx_a V(a, j): the derivative of f(q, phi) along the motion with q_j.
   GiNaC::ex Along(const GiNaC::ex& f, int j) const;
   /// K_f(j) = df/dq_j along the motion (needs K).

@@ -172,11 +172,11 @@ TEST_P(StaticsAt50Digits, EveryLinkIsInEquilibriumWithTheDriveAndTheReactions) {
   }
   const GiNaC::matrix K = Jp.inverse().mul(Jq).mul_scalar(-1);
   std::vector<numeric> f;
-  for (const auto& [sym, name] : st.names) {
-    int i = 0, j = 0;
-    if (std::sscanf(name.c_str(), "c.K(%d, %d)", &i, &j) == 2) E.at[sym] = K(i, j);
-    else if (std::sscanf(name.c_str(), "c.Phi_phi(%d, %d)", &i, &j) == 2) E.at[sym] = Jp(i, j);
-    else if (std::sscanf(name.c_str(), "friction_%d", &i) == 1) {
+  for (const auto& [sym, slot] : st.slots.all()) {
+    const int i = slot.i, j = slot.j;
+    if (slot.kind == Slot::Kind::kK) E.at[sym] = K(i, j);
+    else if (slot.kind == Slot::Kind::kPhiPhi) E.at[sym] = Jp(i, j);
+    else if (slot.kind == Slot::Kind::kFriction) {
       E.at[sym] = numeric(i % 2 ? -3 : 2, 7) * (i + 1);  // arbitrary friction loads
       f.push_back(GiNaC::ex_to<numeric>(E.at[sym]));
     }
