@@ -43,10 +43,12 @@
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "mechgen/core/constants.h"
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/integrators.h"
@@ -116,8 +118,8 @@ inline const char* ToString(Event e) {
 
 struct MinimalOptions {
   IntegratorOptions integrator;
-  /// Dead point when 1/cond_1(Phi_phi) < min_rcond (the position solver's limit, 1e-6).
-  double min_rcond = 1e-6;
+  /// Dead point when 1/cond_1(Phi_phi) < min_rcond (the position solver's limit, kMinRcond).
+  double min_rcond = kMinRcond;
   /// Stop (kStoppedByEvent, Event::kSpeedZero) where qd(0) changes sign.
   bool stop_at_speed_zero = false;
   /// Events are located to |t - t_event| <= event_tolerance (s).
