@@ -681,8 +681,7 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
   return 0;
 }
 
-using Driven = eng::GasDriven<Model, Gas>;
-using Sim = dyn::MinimalDynamics<Driven>;
+using Sim = eng::GasDriven<Model, Gas>;
 
 int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   const double omega = a.rpm * 2 * kPi / 60;
@@ -725,7 +724,7 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
     dyn::MinimalOptions mo;
     mo.integrator.rtol = 1e-10;
     mo.integrator.atol = 1e-10;
-    Sim sim(p, mo);
+    Sim sim(p, mo, {gas});
     eng::SteadyCycleOptions so;
     so.cycle = e.cycle;
     so.omega_guess = omega;
@@ -734,7 +733,6 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
     *sc = eng::FindSteadyCycle(&sim, so);
     return sc->ok;
   };
-  Driven::source = &gas;
   eng::SteadyCycle sc;
   if (!simulate(J_fly, &sc)) return Fail(sc.message);
   // Sweep of C_s against J_fly.
@@ -791,14 +789,13 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   if (!(c_load > 0)) return Fail("the mean gas torque does not exceed T_load: the engine cannot run at --rpm");
   *p.Find("c_load") = c_load;
   for (int j = 0; j < e.n; ++j) *p.Find(("p_gas_" + std::to_string(j + 1)).c_str()) = 0;
-  Driven::source = &gas;
   dyn::MinimalOptions mo;
   mo.integrator.rtol = 1e-8;
   mo.integrator.atol = 1e-10;
   // Samples fine enough to time the cycles (720 per cycle at the target speed); the CSV
   // gets one row every --dt.
   mo.sample_dt = std::min(a.dt, e.cycle / omega / 720);
-  Sim sim(p, mo);
+  Sim sim(p, mo, {gas});
   VecQ q, qd;
   q(0) = 0;
   qd(0) = (a.idle_rpm > 0 ? a.idle_rpm : a.rpm / 4) * 2 * kPi / 60;

@@ -267,12 +267,10 @@ TEST(Engine, SteadyCycleLoadBalancesTheGas) {
   const double W_gas = GasTorqueWork(law);  // J per cycle (checked above)
   const double omega = 250;
   p.c_load = W_gas / law.cycle() / omega;  // mean gas torque / omega
-  using Driven = mechgen::engine::GasDriven<M, Gas>;
-  Driven::source = &gas;
   mechgen::dynamics::MinimalOptions mo;
   mo.integrator.rtol = 1e-10;
   mo.integrator.atol = 1e-10;
-  mechgen::dynamics::MinimalDynamics<Driven> sim(p, mo);
+  mechgen::engine::GasDriven<M, Gas> sim(p, mo, {gas});
   mechgen::engine::SteadyCycleOptions so;
   so.cycle = law.cycle();
   so.omega_guess = 0.8 * omega;  // start away from the answer

@@ -43,10 +43,12 @@
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "mechgen/core/constants.h"
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/integrators.h"
@@ -116,8 +118,8 @@ inline const char* ToString(Event e) {
 
 struct MinimalOptions {
   IntegratorOptions integrator;
-  /// Dead point when 1/cond_1(Phi_phi) < min_rcond (the position solver's limit, 1e-6).
-  double min_rcond = 1e-6;
+  /// Dead point when 1/cond_1(Phi_phi) < min_rcond (the position solver's limit, kMinRcond).
+  double min_rcond = kMinRcond;
   /// Stop (kStoppedByEvent, Event::kSpeedZero) where qd(0) changes sign.
   bool stop_at_speed_zero = false;
   /// Events are located to |t - t_event| <= event_tolerance (s).
@@ -349,13 +351,23 @@ struct Sample {
   double det = 1;              ///< det Phi_phi (its sign: the branch)
 };
 
+/// No load of the caller: the model's own Q only.
+struct NoLoad {};
+
 /**
- * MinimalDynamics<M, Method>: the minimal method on model M with the integrator Method
+ * MinimalDynamics<M, Method, Load>: the minimal method on model M with the integrator Method
  * (Dopri5 or Dop853). Construct with the parameters and options, Initialize() at (t0, q0,
  * qd0), then Simulate() to t_end, or use Derivative() as the right-hand side of your own
  * integrator (bench15 does).
+ *
+ * Load (NoLoad: none) adds a generalized force of the caller to the model's Q (and its power
+ * Q_load . qd to P_nc, so that T + V - W stays the invariant): an object held by value in the
+ * simulation (each simulation its own: no shared state, so simulations run on several
+ * threads at once) with
+ *     void operator()(double t, const VecQ& q, const VecQ& qd, const MatK& K, VecQ* Q_load) const
+ * (K: the velocity coefficients of the configuration, kNphi x kNq); e.g. engine::GasLoad.
  */
-template <class M, template <int> class Method = Dopri5>
+template <class M, template <int> class Method = Dopri5, class Load = NoLoad>
 class MinimalDynamics {
  public:
   static constexpr int kNq = M::kNq;
@@ -382,10 +394,15 @@ class MinimalDynamics {
   /// A model wrapper that changes M::Dynamics (an added load) must change M::Rhs alike.
   static constexpr bool kStagesByRhs = kStagesByTrig && internal::HasRhs<M>::value;
 
-  explicit MinimalDynamics(const Params& params, const MinimalOptions& options = MinimalOptions())
-      : p_(params), options_(options), integrator_(options.integrator) {}
+  static constexpr bool kHasLoad = !std::is_same_v<Load, NoLoad>;
+
+  explicit MinimalDynamics(const Params& params, const MinimalOptions& options = MinimalOptions(),
+                           Load load = Load())
+      : p_(params), options_(options), integrator_(options.integrator), load_(std::move(load)) {}
 
   const Params& params() const { return p_; }
+  /// The caller's load (a copy of it lives in each simulation).
+  const Load& load() const { return load_; }
   /// The parameters, to change (the constants of M::Rhs are prepared again at the next
   /// stage).
   Params* mutable_params() {
@@ -443,6 +460,7 @@ class MinimalDynamics {
         ++position_failures_;
         return false;
       }
+      AddLoad(t, q, qd, r.K, &r.Q, &r.P_nc);
       VecQ qdd;
       if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
       dy->template head<kNq>() = qd;
@@ -760,6 +778,20 @@ class MinimalDynamics {
   void EvalDynamics(const VecQ& q, const VecPhi& phi, const VecQ& qd, double t,
                     const Coefficients& c, Dyn* d) {
     internal::CallDynamics<M>(p_, q, phi, qd, t, c, d, &trig_);
+    AddLoad(t, q, qd, c.K, &d->Q, &d->P_nc);
+  }
+
+  /// The caller's load added to Q and its power to P_nc (nothing without one).
+  template <class MatK, class VecQLike>
+  void AddLoad(double t, const VecQ& q, const VecQ& qd, const MatK& K, VecQLike* Q, double* P_nc) const {
+    if constexpr (kHasLoad) {
+      VecQ Q_load;
+      load_(t, q, qd, K, &Q_load);
+      *Q += Q_load;
+      *P_nc += Q_load.dot(qd);
+    } else {
+      (void)t, (void)q, (void)qd, (void)K, (void)Q, (void)P_nc;
+    }
   }
 
   bool SolveInertia(const Dyn& d, VecQ* qdd) { return SolveInertia(d.I, d.Q - d.h, qdd); }
@@ -854,6 +886,7 @@ class MinimalDynamics {
   Params p_;
   MinimalOptions options_;
   Integrator integrator_;
+  Load load_;
   Modes modes_ = M::kDefaultModes;
   VecQ q_ref_ = VecQ::Zero();
   VecPhi phi_ref_ = VecPhi::Zero();

@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 
+#include "mechgen/core/constants.h"
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/statics/traits.h"
@@ -53,7 +54,7 @@ inline const char* ToString(KinetostaticsStatus s) {
 
 struct KinetostaticsOptions {
   /// Singular (a dead point) when cond_1(Phi_phi) > max_condition (as the statics runtime).
-  double max_condition = 1e6;
+  double max_condition = kMaxCondition;  // 1 / kMinRcond (core/constants.h)
   int max_solver_iterations = 20;
   double solver_tolerance = 0;
 };

@@ -67,6 +67,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "mechgen/core/constants.h"
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/forward.h"
@@ -294,8 +295,8 @@ struct NoForce {
 
 struct PrescribedOptions {
   IntegratorOptions integrator;
-  /// Dead point when 1/cond_1(Phi_phi) < min_rcond (or det Phi_phi changes sign).
-  double min_rcond = 1e-6;
+  /// Dead point when 1/cond_1(Phi_phi) < min_rcond (or det Phi_phi changes sign); kMinRcond.
+  double min_rcond = kMinRcond;
   /// Events are located to |t - t_event| <= event_tolerance (s).
   double event_tolerance = 1e-12;
   /// Samples every sample_dt from t0 (and at the end); 0: at every accepted step.

@@ -14,11 +14,11 @@
  * crank angle of its firing top dead centre), periodic over the cycle (4π for four-stroke,
  * 2π for two-stroke engines).
  *
- * GasDriven<M, Source> is the model M with Q_gas added to M::Dynamics (and to P_nc, so that
- * the energy balance T - W_nc stays an invariant), for MinimalDynamics (dynamics/forward.h).
- * It is for models without the one-pass M::Rhs (the engine models have none: their slides
- * are not angles). Compiled and checked by tests/engine (the steady cycle against the load)
- * and used by <model>_engine (runtime/tools/engine_main.cc).
+ * GasDriven<M, Source> is MinimalDynamics (dynamics/forward.h) on the model M with Q_gas added
+ * to its Q (and to P_nc, so that the energy balance T - W_nc stays an invariant) by the load
+ * GasLoad<Source>, which each simulation holds by value (no shared state: simulations with
+ * different gas laws run at once on several threads). Compiled and checked by tests/engine
+ * (the steady cycle against the load) and used by <model>_engine (runtime/tools/engine_main.cc).
  *
  * FindSteadyCycle() finds the periodic steady state by shooting on the crank speed at the
  * start of a cycle: F(ω0) = ω(θ0 + Θ) - ω0 = 0 by the secant method (the map is nearly
@@ -75,40 +75,24 @@ struct GasTorque {
   }
 };
 
-/// Model M with the generalized force of Source (Source::Torque(theta, K)) added on its one
-/// input. Source is reached through a static pointer: set GasDriven<M, Source>::source before
-/// a simulation (one source per wrapper type at a time).
-template <class M, class Source>
-struct GasDriven : M {
-  static_assert(M::kNq == 1, "GasDriven: one-DOF crank models only");
-  static_assert(!mechgen::dynamics::internal::HasRhs<M>::value,
-                "GasDriven: the model has the one-pass M::Rhs, which MinimalDynamics would call "
-                "instead of the Dynamics with the gas torque");
-  static inline const Source* source = nullptr;
-
-  using TrigType = typename mechgen::internal::TrigOf<M>::type;
-
-  /// M::Dynamics with Q_gas added to Q and its power to P_nc. Called by MinimalDynamics as
-  /// M::Dynamics<double>(p, q, phi, qd, t, c, out[, nullptr, trig]).
-  template <typename Scalar>
-  static void Dynamics(const typename M::template ParamsT<Scalar>& p,
-                       const Eigen::Matrix<Scalar, 1, 1>& q,
-                       const Eigen::Matrix<Scalar, M::kNphi, 1>& phi,
-                       const Eigen::Matrix<Scalar, 1, 1>& qd, const Scalar& t,
-                       const typename M::template CoefficientsT<Scalar>& c,
-                       typename M::template DynamicsT<Scalar>* out, const void* /*friction*/ = nullptr,
-                       const TrigType* trig = nullptr) {
-    if constexpr (mechgen::internal::TrigOf<M>::value) {
-      M::template Dynamics<Scalar>(p, q, phi, qd, t, c, out, nullptr, trig);
-    } else {
-      (void)trig;
-      M::template Dynamics<Scalar>(p, q, phi, qd, t, c, out);
-    }
-    const Scalar Q_gas = source->Torque(q(0), c.K);
-    out->Q(0) += Q_gas;
-    out->P_nc += Q_gas * qd(0);
+/// The generalized force of Source (Source::Torque(theta, K), e.g. a GasTorque) on the one
+/// input of a crank model: the Load of dynamics::MinimalDynamics. The source is held by value,
+/// so each simulation has its own (two simulations with different gas laws can run at once).
+template <class Source>
+struct GasLoad {
+  Source source;
+  template <class VecQ, class MatK>
+  void operator()(double /*t*/, const VecQ& q, const VecQ& /*qd*/, const MatK& K, VecQ* Q) const {
+    static_assert(VecQ::RowsAtCompileTime == 1, "GasLoad: one-DOF crank models only");
+    (*Q)(0) = source.Torque(q(0), K);
   }
 };
+
+/// The minimal dynamics of crank model M with the gas torque of Source added to its Q (and to
+/// P_nc, so that the energy balance T - W_nc stays an invariant). Construct with
+/// (params, options, GasLoad<Source>{gas}).
+template <class M, class Source, template <int> class Method = dynamics::Dopri5>
+using GasDriven = dynamics::MinimalDynamics<M, Method, GasLoad<Source>>;
 
 /// One sample of a steady cycle.
 struct CyclePoint {
@@ -240,7 +224,7 @@ SteadyCycle FindSteadyCycle(Sim* sim, const SteadyCycleOptions& o) {
   out.period = t_cycle;
   dynamics::MinimalOptions opts = sim->options();
   opts.sample_dt = t_cycle / o.samples;
-  Sim sampler(sim->params(), opts);
+  Sim sampler(sim->params(), opts, sim->load());
   VecQ q, qd;
   q(0) = o.theta0;
   qd(0) = out.omega0;

@@ -19,6 +19,8 @@
 #include <limits>
 #include <string>
 
+#include "mechgen/core/constants.h"
+
 namespace mechgen::position {
 
 /// The outcome of a position solve (assembly or continuation step).
@@ -121,7 +123,7 @@ struct Options {
   /// ~ r / sigma_min in phi and K by ~ r / sigma_min^2. At a change point approached to
   /// 1e-6 rad (1/cond ~ 1e-6) K already loses ~ 6 digits (bench/stability/README.md);
   /// closer, a solve landing on the crossing itself returns K with O(1) errors.
-  double min_rcond = 1e-6;
+  double min_rcond = kMinRcond;  // core/constants.h: the one threshold
   /// A continuation step q0 -> q1 that fails (no convergence, branch change, or a correction
   /// too large for the predictor) is retried on halves, down to |q1 - q0| / 2^max_bisections.
   int max_bisections = 16;

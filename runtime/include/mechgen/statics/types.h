@@ -74,7 +74,7 @@ struct Options {
   /// approached to within delta (rad) cond grows like 1/delta and so do the reactions
   /// (a slider-crank with a = b, rod force F / cos(beta)). 1e6 matches the position
   /// solver: a configuration it accepts gets its forces, one it refuses does not.
-  double max_condition = 1e6;
+  double max_condition = kMaxCondition;  // 1 / kMinRcond (core/constants.h)
   /// Friction iteration (Paul §5.6): f_J <- -gain_J normal_J(f) sign(K_rel_J . direction),
   /// one generated evaluation each, at most this many evaluations. The iteration contracts
   /// by ~ gain / lever arm per step (pin radius x mu / link length, 1e-2 typically), so it
