@@ -28,9 +28,13 @@
 //       to the T(I) curve); with --design, from (angle_deg, I_m, E), the machine's own inertia
 //       and the excess work, the flywheel I_f and T0 whose tangents of slopes w_max^2/2 and
 //       w_min^2/2 meet at the origin, compared with the energy-loop flywheel.
-// Exit status 0 on success; 1 on bad input, with a message naming the problem on stderr and
-// nothing on stdout; CLI11's usage errors exit with its own non-zero codes.
-#include <CLI/CLI.hpp>
+// Options (the command-line layer of every mechgen tool, runtime/tools/common/): `--opt=value`
+// and `--opt value`; every number finite and inside the range --help lists (nan and inf are
+// refused, never read as "not given").
+// Exit status 0 on success; 2 on a usage error (an unknown option or subcommand, a bad or
+// missing option value, options that do not go together), 1 on bad input data (a file that
+// cannot be read or holds bad rows) or a failed computation; either way one line
+// "mechgen_balance: error: ..." on stderr and nothing on stdout.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -42,6 +46,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/cli.h"
 #include "mechgen/balancing/engine_balance.h"
 #include "mechgen/balancing/rotor.h"
 #include "mechgen/flywheel/energy_loop.h"
@@ -144,17 +149,23 @@ bool ReadCsv(const std::string& path,
   return true;
 }
 
+constexpr const char* kTool = "mechgen_balance";
+
+// Bad input data or a failed computation: one line, exit status 1.
 int Fail(const std::string& message) {
-  std::cerr << "mechgen_balance: error: " << message << '\n';
+  std::cerr << kTool << ": error: " << message << '\n';
   return 1;
 }
+
+// A usage error (options): one line, exit status 2.
+int Usage(const std::string& message) { return mechgen::tools::UsageError(kTool, message); }
 
 // ---- table ----
 int RunTable(bool csv,
              double rotating_ratio,
              const std::vector<std::string>& names,
              const std::vector<std::string>& engine_files) {
-  if (!(rotating_ratio >= 0)) return Fail("--rotating-ratio must be >= 0");
+  if (!(rotating_ratio >= 0)) return Usage("--rotating-ratio must be >= 0");
   const auto all = bal::EngineLayouts();
   std::vector<bal::EngineLayout> chosen;
   // A layout from a file: throw_deg, bank_deg, z a cylinder; named after the file. The names
@@ -182,7 +193,8 @@ int RunTable(bool csv,
     if (e == nullptr) {
       std::string known;
       for (const bal::EngineLayout& x : all) known += std::string(" ") + x.name;
-      return Fail("--layout " + name + ": no such layout; layouts are" + known);
+      return Usage("--layout: bad value " + mechgen::tools::Quote(name) +
+                   ": no such layout; layouts are" + known);
     }
     chosen.push_back(*e);
   }
@@ -212,7 +224,7 @@ int RunRotor(const RotorArgs& a) {
   for (const auto& row : rows) u.push_back({row[0], row[1], row[2] * kDeg, row[3]});
   const bool two_planes = Given(a.left) || Given(a.right);
   if (two_planes && !(Given(a.left) && Given(a.right)))
-    return Fail("two-plane balancing needs both --left and --right (the planes' z)");
+    return Usage("two-plane balancing needs both --left and --right (the planes' z)");
   const double r_left = Given(a.left_radius) ? a.left_radius : a.radius;
   const double r_right = Given(a.right_radius) ? a.right_radius : a.radius;
   const bal::RotorBalance b =
@@ -221,7 +233,7 @@ int RunRotor(const RotorArgs& a) {
   if (b.status == bal::RotorStatus::kBadUnbalance)
     return Fail(a.csv + ": unbalance " + std::to_string(b.index + 1) + ": " + bal::ToString(b.status));
   if (b.status == bal::RotorStatus::kZeroRadius)
-    return Fail(std::string(bal::ToString(b.status)) + " (--radius, or --left-radius and --right-radius)");
+    return Usage(std::string(bal::ToString(b.status)) + " (--radius, or --left-radius and --right-radius)");
   if (b.status != bal::RotorStatus::kOk) return Fail(bal::ToString(b.status));
   const bal::UnbalanceSums residual = bal::Residual(u.data(), static_cast<int>(u.size()), b, two_planes);
   std::ostringstream out;
@@ -261,39 +273,39 @@ struct FlywheelArgs {
 
 int RunFlywheel(const FlywheelArgs& a) {
   std::ostringstream out;
-  if (a.areas.empty() == a.torque_csv.empty()) return Fail("give exactly one of --areas and --torque-csv");
-  if (!(a.rpm > 0)) return Fail("--rpm (the mean speed) must be > 0");
+  if (a.areas.empty() == a.torque_csv.empty()) return Usage("give exactly one of --areas and --torque-csv");
+  if (!(a.rpm > 0)) return Usage("--rpm (the mean speed) must be > 0");
   const bool by_inertia = Given(a.inertia) || Given(a.mass) || Given(a.gyration);
-  if (by_inertia == Given(a.cs)) return Fail("give either the flywheel (--inertia, or --mass and --gyration) or --cs");
+  if (by_inertia == Given(a.cs)) return Usage("give either the flywheel (--inertia, or --mass and --gyration) or --cs");
   if (Given(a.inertia) && (Given(a.mass) || Given(a.gyration)))
-    return Fail("give --inertia or --mass with --gyration, not both");
-  if (Given(a.mass) != Given(a.gyration)) return Fail("--mass and --gyration go together");
+    return Usage("give --inertia or --mass with --gyration, not both");
+  if (Given(a.mass) != Given(a.gyration)) return Usage("--mass and --gyration go together");
   for (const auto& [name, x] : {std::pair<const char*, double>{"--inertia", a.inertia},
                                 {"--mass", a.mass},
                                 {"--gyration", a.gyration},
                                 {"--cs", a.cs}})
-    if (Given(x) && !(x > 0)) return Fail(std::string(name) + " must be > 0");
-  if (!a.energy_csv.empty() && a.torque_csv.empty()) return Fail("--energy-csv needs --torque-csv");
+    if (Given(x) && !(x > 0)) return Usage(std::string(name) + " must be > 0");
+  if (!a.energy_csv.empty() && a.torque_csv.empty()) return Usage("--energy-csv needs --torque-csv");
   double delta_E = 0;
   std::string energy_text;  // written last: nothing is written unless everything succeeded
   if (!a.areas.empty()) {
     std::vector<double> areas;
     std::string error;
-    if (!ParseList(a.areas, &areas, &error)) return Fail("--areas: " + error);
+    if (!ParseList(a.areas, &areas, &error)) return Usage("--areas: " + error);
     const bool by_scales = Given(a.torque_scale) || Given(a.angle_scale);
     if (by_scales == Given(a.scale))
-      return Fail(
+      return Usage(
           "give the diagram's scale: --scale (J per unit area) or --torque-scale with "
           "--angle-scale");
     if (by_scales && !(a.torque_scale > 0 && a.angle_scale > 0))
-      return Fail("--torque-scale and --angle-scale go together (both > 0)");
-    if (!by_scales && !(a.scale > 0)) return Fail("--scale must be > 0");
+      return Usage("--torque-scale and --angle-scale go together (both > 0)");
+    if (!by_scales && !(a.scale > 0)) return Usage("--scale must be > 0");
     const double scale = by_scales ? a.torque_scale * a.angle_scale * kDeg : a.scale;
     const fw::AreaLoop loop = fw::DeltaEFromAreas(areas.data(), static_cast<int>(areas.size()));
     if (loop.status == fw::LoopStatus::kNotSteady)
-      return Fail("--areas: the loop does not close (sum of the areas = " + Format("%.6g", loop.closure) +
+      return Usage("--areas: the loop does not close (sum of the areas = " + Format("%.6g", loop.closure) +
                   ", must be 0: not a steady cycle)");
-    if (loop.status != fw::LoopStatus::kOk) return Fail(std::string("--areas: ") + fw::ToString(loop.status));
+    if (loop.status != fw::LoopStatus::kOk) return Usage(std::string("--areas: ") + fw::ToString(loop.status));
     out << "energy loop from " << areas.size() << " areas; energy after each:";
     double s = 0;
     out << " 0";
@@ -307,7 +319,7 @@ int RunFlywheel(const FlywheelArgs& a) {
     std::vector<std::vector<double>> rows;
     std::string error;
     if (!ReadCsv(a.torque_csv, 2, 3, &rows, &error)) return Fail(error);
-    if (!(a.cycle_deg > 0)) return Fail("--cycle-deg must be > 0");
+    if (!(a.cycle_deg > 0)) return Usage("--cycle-deg must be > 0");
     const double theta0 = rows[0][0];
     // The last row may repeat the first one's angle plus a cycle: dropped.
     if (rows.size() > 1 && std::abs(rows.back()[0] - theta0 - a.cycle_deg) < 1e-9 * a.cycle_deg) rows.pop_back();
@@ -391,8 +403,8 @@ int RunWittenbauer(const WittenbauerArgs& a) {
   std::ostringstream out;
   const double to_rpm = 60 / (2 * kPi);
   if (a.design) {
-    if (!(a.rpm > 0)) return Fail("--design needs --rpm (the mean speed) > 0");
-    if (!(a.cs > 0 && a.cs < 2)) return Fail("--design needs --cs, 0 < C_s < 2");
+    if (!(a.rpm > 0)) return Usage("--design needs --rpm (the mean speed) > 0");
+    if (!(a.cs > 0 && a.cs < 2)) return Usage("--design needs --cs, 0 < C_s < 2");
     const double omega = fw::RpmToRadPerSecond(a.rpm);
     const double omega_max = omega * (1 + a.cs / 2), omega_min = omega * (1 - a.cs / 2);
     // Columns: angle, I_m (machine), E (excess work from the first sample).
@@ -454,7 +466,18 @@ int RunWittenbauer(const WittenbauerArgs& a) {
 
 }  // namespace
 
+// The limits of the options (--help lists them): SI units; a C_s = (w_max - w_min) / w_mean
+// is below 2 for any motion that keeps turning.
+constexpr double kMaxRpm = 1e6;
+constexpr double kMaxLength = 1e6;      // m
+constexpr double kMaxMass = 1e9;        // kg
+constexpr double kMaxInertia = 1e12;    // kg m^2
+constexpr double kMaxScale = 1e12;      // J per unit area, N m per unit
+constexpr double kMaxCycleDeg = 1e5;    // deg
+const mechgen::tools::NumberRange kCsRange{0, 2, true, true};
+
 int main(int argc, char** argv) {
+  namespace tools = mechgen::tools;
   CLI::App app{
       "mechgen_balance: engine balance table, rigid-rotor balancing, flywheel sizing "
       "by the energy loop (no mechanism model needed)."};
@@ -468,7 +491,8 @@ int main(int argc, char** argv) {
                                        "multi-cylinder engine layouts");
   table->add_flag("--csv", csv, "CSV instead of the text table");
   table->add_option("--rotating-ratio", rotating_ratio,
-                    "rotating mass per cylinder at the crank pin, over the reciprocating mass");
+                    "rotating mass per cylinder at the crank pin, over the reciprocating mass")
+      ->check(tools::NumberValidator(tools::NonNegative(1e3)));
   table->add_option("--layout", layouts, "only these layouts (default: all presets)");
   std::vector<std::string> engine_files;
   table->add_option("--engine", engine_files,
@@ -478,32 +502,48 @@ int main(int argc, char** argv) {
   RotorArgs rotor_args;
   CLI::App* rotor = app.add_subcommand("rotor", "static or two-plane balancing of a rigid rotor");
   rotor->add_option("--csv", rotor_args.csv, "unbalances: m [kg], r [m], angle [deg], z [m] a line")->required();
-  rotor->add_option("--radius", rotor_args.radius, "correction radius [m] (both planes)");
-  rotor->add_option("--left-radius", rotor_args.left_radius, "correction radius, left plane [m]");
-  rotor->add_option("--right-radius", rotor_args.right_radius, "correction radius, right plane [m]");
-  rotor->add_option("--left", rotor_args.left, "left correction plane z [m] (two-plane balancing)");
-  rotor->add_option("--right", rotor_args.right, "right correction plane z [m]");
+  rotor->add_option("--radius", rotor_args.radius, "correction radius [m] (both planes)")
+      ->check(tools::NumberValidator(tools::Positive(kMaxLength)));
+  rotor->add_option("--left-radius", rotor_args.left_radius, "correction radius, left plane [m]")
+      ->check(tools::NumberValidator(tools::Positive(kMaxLength)));
+  rotor->add_option("--right-radius", rotor_args.right_radius, "correction radius, right plane [m]")
+      ->check(tools::NumberValidator(tools::Positive(kMaxLength)));
+  rotor->add_option("--left", rotor_args.left, "left correction plane z [m] (two-plane balancing)")
+      ->check(tools::NumberValidator(tools::Magnitude(kMaxLength)));
+  rotor->add_option("--right", rotor_args.right, "right correction plane z [m]")
+      ->check(tools::NumberValidator(tools::Magnitude(kMaxLength)));
 
   FlywheelArgs fly;
   CLI::App* flywheel = app.add_subcommand("flywheel", "flywheel sizing by the energy-loop method");
   flywheel->add_option("--areas", fly.areas,
                        "signed loop areas of the turning-moment diagram in order, e.g. "
                        "\"295,-685,40,-340,960,-270\"");
-  flywheel->add_option("--scale", fly.scale, "J per unit area of the diagram");
-  flywheel->add_option("--torque-scale", fly.torque_scale, "N m per unit of the torque axis");
-  flywheel->add_option("--angle-scale", fly.angle_scale, "deg per unit of the angle axis");
+  flywheel->add_option("--scale", fly.scale, "J per unit area of the diagram")
+      ->check(tools::NumberValidator(tools::Positive(kMaxScale)));
+  flywheel->add_option("--torque-scale", fly.torque_scale, "N m per unit of the torque axis")
+      ->check(tools::NumberValidator(tools::Positive(kMaxScale)));
+  flywheel->add_option("--angle-scale", fly.angle_scale, "deg per unit of the angle axis")
+      ->check(tools::NumberValidator(tools::Positive(kMaxCycleDeg)));
   flywheel->add_option("--torque-csv", fly.torque_csv,
                        "sampled excess torque: angle_deg, T_d - T_l [N m] (or angle_deg, T_d, T_l)");
-  flywheel->add_option("--cycle-deg", fly.cycle_deg, "the cycle of --torque-csv [deg] (720: four-stroke)");
+  flywheel->add_option("--cycle-deg", fly.cycle_deg, "the cycle of --torque-csv [deg] (720: four-stroke)")
+      ->check(tools::NumberValidator(tools::Positive(kMaxCycleDeg)))
+      ->capture_default_str();
   flywheel->add_option("--energy-csv", fly.energy_csv,
                        "write the excess energy E over the cycle (with --torque-csv) to this CSV");
   flywheel->add_flag("--remove-mean", fly.remove_mean,
                      "take the load as the mean torque (subtract the mean of the excess torque)");
-  flywheel->add_option("--rpm", fly.rpm, "mean speed [rev/min]")->required();
-  flywheel->add_option("--inertia", fly.inertia, "flywheel inertia [kg m^2] -> C_s");
-  flywheel->add_option("--mass", fly.mass, "rotating mass [kg] (with --gyration) -> C_s");
-  flywheel->add_option("--gyration", fly.gyration, "radius of gyration [m]");
-  flywheel->add_option("--cs", fly.cs, "coefficient of fluctuation of speed -> required inertia");
+  flywheel->add_option("--rpm", fly.rpm, "mean speed [rev/min]")
+      ->required()
+      ->check(tools::NumberValidator(tools::Positive(kMaxRpm)));
+  flywheel->add_option("--inertia", fly.inertia, "flywheel inertia [kg m^2] -> C_s")
+      ->check(tools::NumberValidator(tools::Positive(kMaxInertia)));
+  flywheel->add_option("--mass", fly.mass, "rotating mass [kg] (with --gyration) -> C_s")
+      ->check(tools::NumberValidator(tools::Positive(kMaxMass)));
+  flywheel->add_option("--gyration", fly.gyration, "radius of gyration [m]")
+      ->check(tools::NumberValidator(tools::Positive(kMaxLength)));
+  flywheel->add_option("--cs", fly.cs, "coefficient of fluctuation of speed -> required inertia")
+      ->check(mechgen::tools::NumberValidator(kCsRange));
 
   WittenbauerArgs wit;
   CLI::App* wittenbauer = app.add_subcommand("wittenbauer",
@@ -515,16 +555,19 @@ int main(int argc, char** argv) {
                    "angle_deg, I_m [kg m^2], E [J] (excess work from the first sample)")
       ->required();
   wittenbauer->add_flag("--design", wit.design, "find the flywheel and T0 for --rpm and --cs");
-  wittenbauer->add_option("--rpm", wit.rpm, "mean speed [rev/min] (--design)");
-  wittenbauer->add_option("--cs", wit.cs, "coefficient of fluctuation of speed (--design)");
+  wittenbauer->add_option("--rpm", wit.rpm, "mean speed [rev/min] (--design)")
+      ->check(tools::NumberValidator(tools::Positive(kMaxRpm)));
+  wittenbauer->add_option("--cs", wit.cs, "coefficient of fluctuation of speed (--design)")
+      ->check(mechgen::tools::NumberValidator(kCsRange));
   wittenbauer->add_option("--diagram-csv", wit.diagram_csv,
                           "write the diagram's points (angle_deg, I, T; with the flywheel for "
                           "--design) for runtime/tools/plot_wittenbauer.gnuplot");
 
-  CLI11_PARSE(app, argc, argv);
+  if (const int parsed = tools::Parse(&app, argc, argv, kTool); parsed >= 0)
+    return parsed;
   if (table->parsed()) return RunTable(csv, rotating_ratio, layouts, engine_files);
   if (rotor->parsed()) return RunRotor(rotor_args);
   if (flywheel->parsed()) return RunFlywheel(fly);
   if (wittenbauer->parsed()) return RunWittenbauer(wit);
-  return 1;
+  return Usage("a subcommand is required: table, rotor, flywheel or wittenbauer");
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # mechgen_balance (runtime/tools/balance_main.cc): the balance table, a two-plane rotor
 # (the lever-rule hand case of rotor_test.cc), the Khurmi & Gupta flywheel (energy_loop_test.cc)
-# from loop areas and a sampled torque; then bad input: exit status 1, a message naming the
+# from loop areas and a sampled torque; then bad input: exit status 2 (options) or 1 (data), a message naming the
 # problem on stderr and nothing on stdout.
 # Wittenbauer's design on a machine with a known flywheel. And plot_energy_loop.gnuplot and
 # plot_wittenbauer.gnuplot on what it writes (when gnuplot is installed).
@@ -96,31 +96,51 @@ fi
 
 awk 'BEGIN { for (k = 0; k < 720; k += 2) printf "%d,%.15g\n", k, 30 + 120 * sin(k * atan2(0, -1) / 360)^2 }' \
   > "$out/t720.csv"
-# Bad input: status 1, the problem named, no partial output.
+# Bad input: one line "mechgen_balance: error: ..." naming the problem, no partial output;
+# exit status 2 for a usage error (options), 1 for bad data in a file or a failed computation.
 expect_error() {
-  local pattern=$1
-  shift
+  local expected=$1 pattern=$2
+  shift 2
   set +e
   "$tool" "$@" > "$out/bad.out" 2> "$out/bad.err"
   local status=$?
   set -e
-  [ "$status" -ne 0 ] || fail "exit status 0 for: $*"
+  [ "$status" -eq "$expected" ] || fail "exit status $status (expected $expected) for: $* ($(cat "$out/bad.err"))"
+  [ "$(wc -l < "$out/bad.err")" -eq 1 ] || { cat "$out/bad.err"; fail "not one line on stderr for: $*"; }
+  grep -q "^mechgen_balance: error: " "$out/bad.err" || { cat "$out/bad.err"; fail "no tool prefix for: $*"; }
   grep -q -- "$pattern" "$out/bad.err" || { cat "$out/bad.err"; fail "message for: $*"; }
   [ ! -s "$out/bad.out" ] || fail "partial output for: $*"
   echo "ok (status $status): $(cat "$out/bad.err")"
 }
-expect_error "correction planes coincide" rotor --csv "$out/rotor.csv" --radius 0.1 --left 0.2 --right 0.2
-expect_error "correction radius must be finite and > 0" rotor --csv "$out/rotor.csv" --radius 0 --left 0 --right 1
+expect_error 1 "correction planes coincide" rotor --csv "$out/rotor.csv" --radius 0.1 --left 0.2 --right 0.2
+expect_error 2 "--radius: bad value '0': expected a number in (0, 1e+06]" rotor --csv "$out/rotor.csv" --radius 0 --left 0 --right 1
 printf '2,0.1,0,0.1\n-1,0.2,90,0.3\n' > "$out/negative.csv"
-expect_error "negative.csv: unbalance 2: bad unbalance" rotor --csv "$out/negative.csv" --radius 0.1
+expect_error 1 "negative.csv: unbalance 2: bad unbalance" rotor --csv "$out/negative.csv" --radius 0.1
 printf '2,0.1,0,0.1\n1,0.2,abc,0.3\n' > "$out/text.csv"
-expect_error "text.csv:2: 'abc' is not a number" rotor --csv "$out/text.csv" --radius 0.1
-expect_error "cannot open" rotor --csv "$out/missing.csv" --radius 0.1
-expect_error "the loop does not close (sum of the areas = 270" flywheel --areas "295,-685,40,-340,960" --scale 1 --rpm 1800 --cs 0.003
-expect_error "give either the flywheel" flywheel --areas "1,-1" --scale 1 --rpm 1800
-expect_error "no such layout" table --layout w12
-expect_error "needs --cs" wittenbauer --csv "$out/machine.csv" --design --rpm 300
-expect_error "energy-csv needs --torque-csv" flywheel --areas "1,-1" --scale 1 --rpm 600 --cs 0.01 --energy-csv "$out/x.csv"
+expect_error 1 "text.csv:2: 'abc' is not a number" rotor --csv "$out/text.csv" --radius 0.1
+expect_error 1 "cannot open" rotor --csv "$out/missing.csv" --radius 0.1
+expect_error 2 "the loop does not close (sum of the areas = 270" flywheel --areas "295,-685,40,-340,960" --scale 1 --rpm 1800 --cs 0.003
+expect_error 2 "give either the flywheel" flywheel --areas "1,-1" --scale 1 --rpm 1800
+expect_error 2 "no such layout" table --layout w12
+expect_error 2 "needs --cs" wittenbauer --csv "$out/machine.csv" --design --rpm 300
+expect_error 2 "energy-csv needs --torque-csv" flywheel --areas "1,-1" --scale 1 --rpm 600 --cs 0.01 --energy-csv "$out/x.csv"
 [ ! -e "$out/x.csv" ] || fail "x.csv written on error"
-expect_error "mean excess torque is 90 N m" flywheel --torque-csv "$out/t720.csv" --cycle-deg 720 --rpm 600 --cs 0.01
+expect_error 1 "mean excess torque is 90 N m" flywheel --torque-csv "$out/t720.csv" --cycle-deg 720 --rpm 600 --cs 0.01
+# Usage errors of CLI11 itself: exit 2 (not CLI11's own codes in the hundreds), one line.
+expect_error 2 "nosuch" table --nosuch
+expect_error 2 "subcommand" frobnicate
+expect_error 2 "rpm" flywheel --areas "1,-1" --scale 1 --cs 0.01
+# Values that cannot mean anything: nan is not "not given", inf and 1e300 are not numbers
+# of a flywheel; --opt=value as --opt value.
+expect_error 2 "--inertia: bad value 'inf': expected a number in (0, 1e+12]" flywheel --areas "1,-1" --scale 1 --rpm 600 --inertia inf
+expect_error 2 "--cs: bad value 'nan': expected a number in (0, 2)" flywheel --areas "1,-1" --scale 1 --rpm 600 --cs nan
+expect_error 2 "--cs: bad value 'nan'" flywheel --areas "1,-1" --scale 1 --rpm 600 --inertia 2 --cs=nan
+expect_error 2 "--rpm: bad value '1e300'" flywheel --areas "1,-1" --scale 1 --rpm=1e300 --cs 0.01
+expect_error 2 "--rotating-ratio: bad value '-inf'" table --rotating-ratio=-inf
+expect_error 2 "--areas: 'inf' is not a number" flywheel --areas "1,inf,-1" --scale 1 --rpm 600 --cs 0.01
+"$tool" flywheel --areas=295,-685,40,-340,960,-270 --scale=1 --rpm=1800 --mass=36 --gyration=0.15 > "$out/eq.txt" \
+  || fail "--opt=value: exit status"
+"$tool" flywheel --areas 295,-685,40,-340,960,-270 --scale 1 --rpm 1800 --mass 36 --gyration 0.15 > "$out/sp.txt" \
+  || fail "--opt value: exit status"
+cmp -s "$out/eq.txt" "$out/sp.txt" || fail "--opt=value and --opt value differ"
 echo PASS
