@@ -65,22 +65,62 @@ class UsageError(Exception):
     pass
 
 
+# The ranges every number of the command line must lie in (finite always): lengths up to
+# 1 km, masses and inertias up to 1e6 (kg, kg m^2), load torques up to 1e7 N m (N m s/rad),
+# angles within two turns either way. Beyond them the model's arithmetic (l^2 - (e - b)^2,
+# the phases) stops being meaningful long before it overflows to inf or nan.
+MAX_LENGTH = 1e3
+MAX_MASS = 1e6
+MAX_LOAD = 1e7
+MAX_ANGLE = 720.0
+
+
+def number(text, what, lo, hi, lo_open=False, hi_open=False, unit=""):
+    """text as a finite float in [lo, hi] (an open end excludes it), else a UsageError."""
+    try:
+        x = float(text)
+    except (TypeError, ValueError):
+        raise UsageError(f"{what}: a number is needed, got '{text}'")
+    above = x > lo if lo_open else x >= lo
+    below = x < hi if hi_open else x <= hi
+    if not (math.isfinite(x) and above and below):
+        interval = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
+        raise UsageError(f"{what} must be a finite number in {interval}{unit}, got '{text}'")
+    return x
+
+
+def numeric(what, lo, hi, lo_open=False, hi_open=False, unit=""):
+    """An argparse type: a finite number in range (see number)."""
+    def parse(text):
+        return number(text, what, lo, hi, lo_open, hi_open, unit)
+    parse.__name__ = "number"
+    return parse
+
+
 def fmt(x):
     """A number as a plain YAML/model number (repr: round-trips, deterministic)."""
+    if not math.isfinite(x):
+        # Every input is checked finite and in range; a non-finite result is a bug here.
+        raise UsageError(f"internal error: a non-finite number ({x!r}) would be written")
     if x == 0:
         return "0.0"
     s = repr(float(x))
     return s
 
 
-def deg_list(text, what):
-    try:
-        vals = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise UsageError(f"--{what}: a comma-separated list of numbers (degrees), got '{text}'")
-    if not all(math.isfinite(v) for v in vals):
-        raise UsageError(f"--{what}: the angles must be finite")
+def number_list(text, what, lo, hi, unit):
+    vals = []
+    for v in text.split(","):
+        try:
+            float(v)
+        except ValueError:
+            raise UsageError(f"--{what}: a comma-separated list of numbers ({unit.strip()}), got '{text}'")
+        vals.append(number(v, f"--{what}: each value", lo, hi, unit=unit))
     return vals
+
+
+def deg_list(text, what):
+    return number_list(text, what, -MAX_ANGLE, MAX_ANGLE, " deg")
 
 
 def positive(name, value):
@@ -136,6 +176,8 @@ def build(args, argv):
     if args.order:
         try:
             order = [int(v) for v in args.order.replace("-", ",").split(",")]
+            if any(abs(v) > 1000 for v in order):
+                raise ValueError
         except ValueError:
             raise UsageError(f"--order: cylinder numbers like 1-3-4-2, got '{args.order}'")
     else:
@@ -161,10 +203,7 @@ def build(args, argv):
     if not (args.l_G < l):
         raise UsageError(f"--l-G ({args.l_G:g}) must be less than the rod length ({l:g})")
     if args.z:
-        try:
-            z = [float(v) for v in args.z.split(",")]
-        except ValueError:
-            raise UsageError(f"--z: a comma-separated list of numbers (m), got '{args.z}'")
+        z = number_list(args.z, "z", -MAX_LENGTH, MAX_LENGTH, " m")
         if len(z) != n:
             raise UsageError(f"--z: {len(z)} positions for {n} cylinders")
     else:
@@ -272,26 +311,26 @@ def main(argv):
     p.add_argument("--name", help="model name (default engine_<preset>)")
     p.add_argument("--throws", help="throw angles gamma_j of the crank pins (deg, comma-separated)")
     p.add_argument("--banks", help="bank angles beta_j of the cylinder axes (deg, comma-separated)")
-    p.add_argument("--v-angle", type=float, help="V angle (deg) for v6, v8, vtwin")
+    p.add_argument("--v-angle", type=numeric("--v-angle", 0, 180, True, True, " deg"), help="V angle (deg) for v6, v8, vtwin")
     p.add_argument("--order", help="firing order, e.g. 1-3-4-2")
     p.add_argument("--strokes", type=int, default=4, help="2 or 4 (default 4)")
-    p.add_argument("--bore", type=float, default=0.086, help="bore (m; default 0.086)")
-    p.add_argument("--stroke", type=float, default=0.086, help="stroke 2 r (m; default 0.086)")
-    p.add_argument("--rod-length", dest="rod_length", type=float, default=0.145,
+    p.add_argument("--bore", type=numeric("--bore", 0, MAX_LENGTH, True, unit=" m"), default=0.086, help="bore (m; default 0.086)")
+    p.add_argument("--stroke", type=numeric("--stroke", 0, MAX_LENGTH, True, unit=" m"), default=0.086, help="stroke 2 r (m; default 0.086)")
+    p.add_argument("--rod-length", dest="rod_length", type=numeric("--rod-length", 0, MAX_LENGTH, True, unit=" m"), default=0.145,
                    help="connecting rod length l (m; default 0.145)")
-    p.add_argument("--offset", type=float, default=0.0, help="cylinder offset e (m; default 0)")
-    p.add_argument("--m-rod", dest="m_rod", type=float, default=0.55, help="rod mass (kg)")
-    p.add_argument("--l-G", dest="l_G", type=float, default=0.038,
+    p.add_argument("--offset", type=numeric("--offset", -MAX_LENGTH, MAX_LENGTH, unit=" m"), default=0.0, help="cylinder offset e (m; default 0)")
+    p.add_argument("--m-rod", dest="m_rod", type=numeric("--m-rod", 0, MAX_MASS, True, unit=" kg"), default=0.55, help="rod mass (kg)")
+    p.add_argument("--l-G", dest="l_G", type=numeric("--l-G", 0, MAX_LENGTH, True, unit=" m"), default=0.038,
                    help="rod centre of mass from the crank pin (m)")
-    p.add_argument("--J-rod", dest="J_rod", type=float, default=0.0018,
+    p.add_argument("--J-rod", dest="J_rod", type=numeric("--J-rod", 0, MAX_MASS, True, unit=" kg m^2"), default=0.0018,
                    help="rod moment of inertia about its centre of mass (kg m^2)")
-    p.add_argument("--m-pis", dest="m_pis", type=float, default=0.45, help="piston mass (kg)")
-    p.add_argument("--m-crank", dest="m_crank", type=float, default=8.0, help="crankshaft mass (kg)")
-    p.add_argument("--J-fly", dest="J_fly", type=float, default=0.15,
+    p.add_argument("--m-pis", dest="m_pis", type=numeric("--m-pis", 0, MAX_MASS, True, unit=" kg"), default=0.45, help="piston mass (kg)")
+    p.add_argument("--m-crank", dest="m_crank", type=numeric("--m-crank", 0, MAX_MASS, True, unit=" kg"), default=8.0, help="crankshaft mass (kg)")
+    p.add_argument("--J-fly", dest="J_fly", type=numeric("--J-fly", 0, MAX_MASS, True, unit=" kg m^2"), default=0.15,
                    help="crankshaft and flywheel inertia about O (kg m^2)")
-    p.add_argument("--T-load", dest="T_load", type=float, default=0.0, help="load torque (N m)")
-    p.add_argument("--c-load", dest="c_load", type=float, default=0.0, help="viscous load (N m s/rad)")
-    p.add_argument("--pitch", type=float, default=0.095, help="cylinder pitch along the shaft (m)")
+    p.add_argument("--T-load", dest="T_load", type=numeric("--T-load", 0, MAX_LOAD, unit=" N m"), default=0.0, help="load torque (N m)")
+    p.add_argument("--c-load", dest="c_load", type=numeric("--c-load", 0, MAX_LOAD, unit=" N m s/rad"), default=0.0, help="viscous load (N m s/rad)")
+    p.add_argument("--pitch", type=numeric("--pitch", -MAX_LENGTH, MAX_LENGTH, unit=" m"), default=0.095, help="cylinder pitch along the shaft (m)")
     p.add_argument("--z", help="axial positions z_j (m, comma-separated) instead of --pitch")
 
     def error(message):
