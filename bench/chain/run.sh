@@ -3,13 +3,16 @@
 # monolithic), the generation time (median of 5 runs of `mechgen generate`), generated lines
 # and operation counts, and the time per configuration of positions + K + L (Google
 # Benchmark medians, both strategies side by side in one run). Writes
-# bench/chain/results/{generation,time}.csv and chain.svg.
+# bench/chain/results/{generation,time}.csv and chain.svg. Then the project's target on the
+# chain (issue 24), from fourbar_bench in one run, with PASS / MISS:
+#   runtime continuation (PositionSolver::MoveTo) / plain Newton loop on chain_4 and chain_8
+#   (target <= 1.00)
 # Usage: bash bench/chain/run.sh [build-dir] [repetitions]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 BUILD=${1:-build}
 REPS=${2:-5}
-cmake --build "$BUILD" --parallel 2 --target mechgen chain_bench >/dev/null
+cmake --build "$BUILD" --parallel 2 --target mechgen chain_bench fourbar_bench >/dev/null
 OUT=bench/chain/results
 mkdir -p "$OUT"
 tmp=$(mktemp -d)
@@ -89,3 +92,21 @@ plot "< grep ',blocks,' $OUT/generation.csv" using 1:4 with linespoints title "h
 unset multiplot
 GP
 echo "wrote $OUT/generation.csv $OUT/time.csv $OUT/chain.svg"
+
+# The target on the chain: the runtime's continuation against a plain Newton loop (both in
+# fourbar_bench, side by side in one run).
+FOURBAR=$(find "$BUILD" -name fourbar_bench -type f -perm -u+x | head -n 1)
+"$FOURBAR" --benchmark_filter='^(Continuation|PlainNewton)/chain_' --benchmark_repetitions="$REPS" \
+    --benchmark_report_aggregates_only=true --benchmark_min_time=0.2 \
+    --benchmark_out="$tmp/runtime.json" --benchmark_out_format=json >/dev/null
+python3 - "$tmp/runtime.json" <<'PY'
+import json, sys
+med = {b["run_name"]: b["cpu_time"] for b in json.load(open(sys.argv[1]))["benchmarks"]
+       if b.get("aggregate_name") == "median"}
+print("runtime on the chain, median CPU time per 0.5 deg step")
+for m in sorted({n.split("/", 1)[1] for n in med}):
+    c, n = med[f"Continuation/{m}"], med[f"PlainNewton/{m}"]
+    verdict = "PASS" if c / n <= 1.0 else "MISS"
+    print(f"  {m:<8} continuation {c:8.1f} ns, plain Newton {n:8.1f} ns: "
+          f"continuation / plain Newton = {c / n:5.2f}   target <= 1.00 {verdict}")
+PY
