@@ -753,10 +753,32 @@ struct Model : Sizes {
   using CoefficientsT = mech::cam_spline::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::cam_spline::Trig<Scalar>;
-  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
-  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  /// The outputs this model has: each struct, its alias and the functions that fill it exist
+  /// exactly where its flag is true (and each optional member where its own flag is).
+  /// Statics, StaticsT, EvalStatics (Model::Forces): forces, potential or reactions.
+  static constexpr bool kHasStatics = false;
+  /// Statics::Q and drive (the `forces` quantity).
+  static constexpr bool kHasStaticsQ = false;
+  /// Statics::stiffness, set by EvalStiffness (Model::Stiffness).
+  static constexpr bool kHasStaticsStiffness = false;
+  /// Statics::V and dV_dq (the `potential` quantity).
+  static constexpr bool kHasStaticsV = false;
+  /// Statics::d2V_dq2, set by EvalStiffness (Model::Stiffness).
+  static constexpr bool kHasStaticsD2V = false;
+  /// Statics::R (kReactionNames): reactions.
+  static constexpr bool kHasStaticsR = false;
+  /// Statics::normal, gain, K_rel (kFrictionJoints): Coulomb friction.
+  static constexpr bool kHasStaticsFriction = false;
+  /// Dynamics, DynamicsT, EvalDynamics, EvalKinetostatics (Paul ch. 6): `dynamics`.
+  static constexpr bool kHasDynamics = false;
+  /// Excess, ExcessT, EvalExcess (Model::ExcessDynamics, Paul §6.6.2): `dynamics`.
+  static constexpr bool kHasExcess = false;
+  /// Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.
   static constexpr bool kHasShaking = false;
-
+  /// Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).
+  static constexpr bool kHasRhs = false;
+  /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
+  static constexpr bool kHasRhsConstants = false;
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
                   const Vec<Scalar, Sizes::kNq>& q,

@@ -310,7 +310,6 @@ struct RhsConstants {
   std::array<Scalar, 18> c;
 };
 
-
 /// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
 enum class SolveStatus {
   kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held;
@@ -1855,9 +1854,44 @@ struct Model : Sizes {
   using CoefficientsT = mech::fourbar_balanced::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::fourbar_balanced::Trig<Scalar>;
-  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
-  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  /// The outputs this model has: each struct, its alias and the functions that fill it exist
+  /// exactly where its flag is true (and each optional member where its own flag is).
+  /// Statics, StaticsT, EvalStatics (Model::Forces): forces, potential or reactions.
+  static constexpr bool kHasStatics = true;
+  /// Statics::Q and drive (the `forces` quantity).
+  static constexpr bool kHasStaticsQ = true;
+  /// Statics::stiffness, set by EvalStiffness (Model::Stiffness).
+  static constexpr bool kHasStaticsStiffness = true;
+  /// Statics::V and dV_dq (the `potential` quantity).
+  static constexpr bool kHasStaticsV = true;
+  /// Statics::d2V_dq2, set by EvalStiffness (Model::Stiffness).
+  static constexpr bool kHasStaticsD2V = true;
+  /// Statics::R (kReactionNames): reactions.
+  static constexpr bool kHasStaticsR = true;
+  /// Statics::normal, gain, K_rel (kFrictionJoints): Coulomb friction.
+  static constexpr bool kHasStaticsFriction = false;
+  /// Dynamics, DynamicsT, EvalDynamics, EvalKinetostatics (Paul ch. 6): `dynamics`.
+  static constexpr bool kHasDynamics = true;
+  /// Excess, ExcessT, EvalExcess (Model::ExcessDynamics, Paul §6.6.2): `dynamics`.
+  static constexpr bool kHasExcess = true;
+  /// Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.
   static constexpr bool kHasShaking = true;
+  /// Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).
+  static constexpr bool kHasRhs = true;
+  /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
+  static constexpr bool kHasRhsConstants = true;
+  template <typename Scalar>
+  using StaticsT = mech::fourbar_balanced::Statics<Scalar>;
+  template <typename Scalar>
+  using DynamicsT = mech::fourbar_balanced::Dynamics<Scalar>;
+  template <typename Scalar>
+  using ExcessT = mech::fourbar_balanced::Excess<Scalar>;
+  template <typename Scalar>
+  using ShakingT = mech::fourbar_balanced::Shaking<Scalar>;
+  template <typename Scalar>
+  using RhsT = mech::fourbar_balanced::Rhs<Scalar>;
+  template <typename Scalar>
+  using RhsConstantsT = mech::fourbar_balanced::RhsConstants<Scalar>;
   /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first
   /// link on its second, in the fixed frame:
   ///   F_O2_x: force of 'ground' on 'crank' at the pin, x
@@ -1877,21 +1911,6 @@ struct Model : Sizes {
   static constexpr std::array<bool, kNumFriction> kFrictionPrismatic{  };
   /// The loads, in the model's order.
   static constexpr std::array<const char*, 0> kLoadNames{  };
-  template <typename Scalar>
-  using StaticsT = mech::fourbar_balanced::Statics<Scalar>;
-  /// EvalDynamics, EvalKinetostatics and EvalExcess are generated (Paul ch. 6).
-  static constexpr bool kHasDynamics = true;
-  template <typename Scalar>
-  using DynamicsT = mech::fourbar_balanced::Dynamics<Scalar>;
-  template <typename Scalar>
-  using ExcessT = mech::fourbar_balanced::Excess<Scalar>;
-  template <typename Scalar>
-  using ShakingT = mech::fourbar_balanced::Shaking<Scalar>;
-  /// EvalRhs (SolveTrig, K, L and the equation of motion in one pass) is generated.
-  template <typename Scalar>
-  using RhsT = mech::fourbar_balanced::Rhs<Scalar>;
-  template <typename Scalar>
-  using RhsConstantsT = mech::fourbar_balanced::RhsConstants<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

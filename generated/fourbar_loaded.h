@@ -201,7 +201,6 @@ struct Statics {
   Vec<Scalar, Sizes::kNumReactions> R;
 };
 
-
 /// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
 enum class SolveStatus {
   kConverged,       ///< every block closed: |Phi_block|_inf <= tolerance, or its closed form held;
@@ -1442,9 +1441,34 @@ struct Model : Sizes {
   using CoefficientsT = mech::fourbar_loaded::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::fourbar_loaded::Trig<Scalar>;
-  /// EvalShaking (Model::Shaking, the Shaking struct: the shaking force and moment on the frame,
-  /// Paul ch. 7) is generated: the model asks for the `shaking` quantity.
+  /// The outputs this model has: each struct, its alias and the functions that fill it exist
+  /// exactly where its flag is true (and each optional member where its own flag is).
+  /// Statics, StaticsT, EvalStatics (Model::Forces): forces, potential or reactions.
+  static constexpr bool kHasStatics = true;
+  /// Statics::Q and drive (the `forces` quantity).
+  static constexpr bool kHasStaticsQ = true;
+  /// Statics::stiffness, set by EvalStiffness (Model::Stiffness).
+  static constexpr bool kHasStaticsStiffness = true;
+  /// Statics::V and dV_dq (the `potential` quantity).
+  static constexpr bool kHasStaticsV = true;
+  /// Statics::d2V_dq2, set by EvalStiffness (Model::Stiffness).
+  static constexpr bool kHasStaticsD2V = true;
+  /// Statics::R (kReactionNames): reactions.
+  static constexpr bool kHasStaticsR = true;
+  /// Statics::normal, gain, K_rel (kFrictionJoints): Coulomb friction.
+  static constexpr bool kHasStaticsFriction = false;
+  /// Dynamics, DynamicsT, EvalDynamics, EvalKinetostatics (Paul ch. 6): `dynamics`.
+  static constexpr bool kHasDynamics = false;
+  /// Excess, ExcessT, EvalExcess (Model::ExcessDynamics, Paul §6.6.2): `dynamics`.
+  static constexpr bool kHasExcess = false;
+  /// Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.
   static constexpr bool kHasShaking = false;
+  /// Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).
+  static constexpr bool kHasRhs = false;
+  /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
+  static constexpr bool kHasRhsConstants = false;
+  template <typename Scalar>
+  using StaticsT = mech::fourbar_loaded::Statics<Scalar>;
   /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first
   /// link on its second, in the fixed frame:
   ///   F_A_x: force of 'ground' on 'crank' at the pin, x
@@ -1464,8 +1488,6 @@ struct Model : Sizes {
   static constexpr std::array<bool, kNumFriction> kFrictionPrismatic{  };
   /// The loads, in the model's order.
   static constexpr std::array<const char*, 2> kLoadNames{ "coupler_force", "rocker_torque" };
-  template <typename Scalar>
-  using StaticsT = mech::fourbar_loaded::Statics<Scalar>;
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

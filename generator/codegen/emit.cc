@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "codegen/drawing.h"
+#include "codegen/output_spec.h"
 #include "codegen/sha256.h"
 #include "symbolic/statics.h"
 
@@ -63,105 +64,6 @@ std::string Join(const std::vector<T>& v, F f) {
 }
 
 std::string Quote(const std::string& s) { return "\"" + s + "\""; }
-
-// The generated Statics struct: only the members the model asked for.
-std::string StaticsStruct(const Model& m, const StaticsLayout& layout, bool has_L) {
-  const bool forces = m.outputs.Has(Quantity::kForces), potential = m.outputs.Has(Quantity::kPotential);
-  std::string s =
-      "/// What EvalStatics() fills (statics by virtual work, Paul ch. 5). Units follow the model's\n"
-      "/// (SI: N, N m, J). A generalized force of an angle input is a torque (per radian), of a slide\n"
-      "/// input a force. Only the members the model asked for exist.\n"
-      "template <typename Scalar = double>\n"
-      "struct Statics {\n";
-  if (forces)
-    s += "  /// Q(j): generalized force of the loads, springs, weights and given friction loads on q_j\n"
-         "  /// (virtual work: Q_j = sum F.K_P,j + sum T K_theta,j - dV/dq_j).  (kNq)\n"
-         "  Vec<Scalar, Sizes::kNq> Q;\n"
-         "  /// drive(j) = -Q(j): what input j's actuator applies for static equilibrium: the torque on the\n"
-         "  /// input's moving link (counter-clockwise +, reacting on the ground) or the force on its slider\n"
-         "  /// along the line.  (kNq)\n"
-         "  Vec<Scalar, Sizes::kNq> drive;\n";
-  if (forces && potential && has_L)
-    s += "  /// stiffness(j, k) = -dQ_j/dq_k along the motion, friction excluded (d2V/dq2 for a conservative\n"
-         "  /// model): an equilibrium (Q = 0) is stable where it is positive definite. Set by\n"
-         "  /// EvalStiffness(), not EvalStatics().  (kNq x kNq)\n"
-         "  Mat<Scalar, Sizes::kNq, Sizes::kNq> stiffness;\n";
-  if (potential) {
-    s += "  /// V: potential energy of the springs and the weights.\n"
-         "  Scalar V;\n"
-         "  /// dV_dq(j) = dV/dq_j along the motion.  (kNq)\n"
-         "  Vec<Scalar, Sizes::kNq> dV_dq;\n";
-    if (has_L)
-      s += "  /// d2V_dq2(j, k) = d2V/dq_j dq_k along the motion; set by EvalStiffness().  (kNq x kNq)\n"
-           "  Mat<Scalar, Sizes::kNq, Sizes::kNq> d2V_dq2;\n";
-  }
-  if (!layout.reactions.empty())
-    s += "  /// R(i): reaction component Model::kReactionNames[i]: the force (moment) of the joint's first link\n"
-         "  /// on its second, fixed frame.  (kNumReactions)\n"
-         "  Vec<Scalar, Sizes::kNumReactions> R;\n";
-  if (!layout.friction.empty())
-    s += "  /// normal(i): the force friction acts with at kFrictionJoints[i]: |F| at a revolute joint, |N| at\n"
-         "  /// a prismatic joint.  (kNumFriction)\n"
-         "  Vec<Scalar, Sizes::kNumFriction> normal;\n"
-         "  /// gain(i): mu r (revolute: the friction circle's radius) or mu (prismatic): the friction load's\n"
-         "  /// magnitude is gain(i) normal(i).  (kNumFriction)\n"
-         "  Vec<Scalar, Sizes::kNumFriction> gain;\n"
-         "  /// K_rel(i, j): the joint's relative velocity per unit qd_j: d(theta_b - theta_a)/dq_j (revolute)\n"
-         "  /// or ds/dq_j (prismatic); friction opposes it.  (kNumFriction x kNq)\n"
-         "  Mat<Scalar, Sizes::kNumFriction, Sizes::kNq> K_rel;\n";
-  s += "};\n";
-  return s;
-}
-
-// The generated Dynamics struct (issue 15's contract).
-std::string DynamicsStruct() {
-  return "/// What EvalDynamics() fills (Paul ch. 6): the generalized equation of motion\n"
-         "///   I(q) qdd + h(q, qd) = Q(t, q, qd),   h_j = sum_kl C(j, k + kNq l) qd_k qd_l\n"
-         "/// (one DOF: I qdd + 1/2 I' qd^2 = Q, C = I'/2). Units follow the model's (SI: kg m^2, N m, J, W).\n"
-         "template <typename Scalar = double>\n"
-         "struct Dynamics {\n"
-         "  /// I(j, k) = sum over the massive links of m K_G,j . K_G,k + J_G K_theta,j K_theta,k: the\n"
-         "  /// generalized inertia.  (kNq x kNq)\n"
-         "  Mat<Scalar, Sizes::kNq, Sizes::kNq> I;\n"
-         "  /// dI_dq(j, k + kNq*l) = dI(j, k)/dq_l along the motion.  (kNq x kNq^2)\n"
-         "  Mat<Scalar, Sizes::kNq, Sizes::kNq * Sizes::kNq> dI_dq;\n"
-         "  /// C(j, k + kNq*l) = sum m K_G,j . L_G,kl + J K_theta,j L_theta,kl.  (kNq x kNq^2)\n"
-         "  Mat<Scalar, Sizes::kNq, Sizes::kNq * Sizes::kNq> C;\n"
-         "  /// h = C (qd (x) qd): the centripetal and Coriolis terms.  (kNq)\n"
-         "  Vec<Scalar, Sizes::kNq> h;\n"
-         "  /// Q(j): generalized applied force on q_j at (t, q, qd): loads (with their time and velocity\n"
-         "  /// dependence, tables), weights, springs, dampers, viscous joint friction and the given Coulomb\n"
-         "  /// friction loads.  (kNq)\n"
-         "  Vec<Scalar, Sizes::kNq> Q;\n"
-         "  /// T = 1/2 qd^T I qd: the kinetic energy.\n"
-         "  Scalar T;\n"
-         "  /// V: the potential energy of the springs and the weights (0 if none).\n"
-         "  Scalar V;\n"
-         "  /// P_nc = (Q + dV/dq) . qd: the power of the non-conservative forces (d(T + V)/dt = P_nc).\n"
-         "  Scalar P_nc;\n"
-         "};\n"
-         "\n"
-         "/// What EvalExcess() fills: the excess-coordinate formulation (Paul §6.6.2) on x = (q, phi),\n"
-         "/// n = kNq + kNphi:  M xdd + h = g + Phi_x^T lambda,  Phi_x xdd = gamma.\n"
-         "template <typename Scalar = double>\n"
-         "struct Excess {\n"
-         "  /// M(a, b) = sum m dr_G/dx_a . dr_G/dx_b + J dtheta/dx_a dtheta/dx_b.  (n x n)\n"
-         "  Mat<Scalar, Sizes::kNq + Sizes::kNphi, Sizes::kNq + Sizes::kNphi> M;\n"
-         "  /// h(a) = sum m dr_G/dx_a . (sum_bc d2r_G/dx_b dx_c xd_b xd_c).  (n)\n"
-         "  Vec<Scalar, Sizes::kNq + Sizes::kNphi> h;\n"
-         "  /// g(a): the applied generalized force on x_a at (t, x, xd) (loads, weights, springs, dampers,\n"
-         "  /// viscous and the given Coulomb friction).  (n)\n"
-         "  Vec<Scalar, Sizes::kNq + Sizes::kNphi> g;\n"
-         "  /// Phi_x = [Phi_q  Phi_phi].  (kNc x n)\n"
-         "  Mat<Scalar, Sizes::kNc, Sizes::kNq + Sizes::kNphi> Phi_x;\n"
-         "  /// Phi(q, phi): the residual.  (kNc)\n"
-         "  Vec<Scalar, Sizes::kNc> Phi;\n"
-         "  /// gamma = -sum_bc d2Phi/dx_b dx_c xd_b xd_c: Phi_x xdd = gamma.  (kNc)\n"
-         "  Vec<Scalar, Sizes::kNc> gamma;\n"
-         "  /// T = 1/2 xd^T M xd, V: the kinetic and potential energies.\n"
-         "  Scalar T, V;\n"
-         "};\n";
-}
 
 // Data for the templates, remembering every key so that a template naming a value the
 // generator does not provide is an error instead of an empty string.
@@ -560,15 +462,45 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
                               ";  ///< reaction components (kReactionNames)\n"
                               "  static constexpr int kNumFriction = " + std::to_string(statics.friction.size()) +
                               ";   ///< joints with Coulomb friction (kFrictionJoints)\n");
-  const bool dynamics = m.outputs.Has(Quantity::kDynamics);
-  bool rhs = false;
-  std::string declarations;
-  for (const FunctionSpec& f : functions) {
-    rhs = rhs || f.name == "EvalRhs";
-    if (!f.declarations.empty()) declarations += f.declarations + "\n";
+  // ---- The output structs, their flags and aliases, from their descriptions ----
+  mus::data outputs{mus::data::type::list}, flags{mus::data::type::list}, aliases{mus::data::type::list};
+  auto flag = [&flags](const OutputFlag& f) {
+    mus::data o{mus::data::type::object};
+    o.set("flag_name", f.name);
+    o.set("flag_doc", f.doc);
+    o.set("flag_value", std::string(f.value ? "true" : "false"));
+    flags.push_back(o);
+  };
+  for (const OutputSpec& spec : OutputSpecs(m, table, functions)) {
+    flag(spec.flag);
+    for (const OutputFlag& f : spec.member_flags) flag(f);
+    if (!spec.present()) continue;
+    mus::data o{mus::data::type::object}, members{mus::data::type::list};
+    o.set("struct_name", spec.name);
+    o.set("struct_doc", Lines(spec.doc));
+    for (const OutputMember& mem : spec.members) {
+      if (!mem.present) continue;
+      std::vector<std::string> doc = mem.doc;
+      if (!mem.size.empty() && !doc.empty()) doc.back() += "  (" + mem.size + ")";
+      std::string doc_lines;  // "  /// ..." lines (none where the member before documents it)
+      for (const std::string& l : doc) doc_lines += "  ///" + (l.empty() ? std::string() : " " + l) + "\n";
+      mus::data mo{mus::data::type::object};
+      mo.set("member_doc", doc_lines);
+      mo.set("member_type", mem.type);
+      mo.set("member_names", mem.names);
+      members.push_back(mo);
+    }
+    o.set("struct_members", members);
+    outputs.push_back(o);
+    mus::data a{mus::data::type::object};
+    a.set("alias", spec.alias);
+    a.set("struct_name", spec.name);
+    aliases.push_back(a);
   }
-  data.Set("statics_struct", (statics.any ? StaticsStruct(m, statics, table.requested.L) + "\n" : std::string()) +
-                                 (dynamics ? DynamicsStruct() + "\n" : std::string()) + declarations);
+  data.SetData("outputs", outputs,
+               {"struct_name", "struct_doc", "struct_members", "member_doc", "member_type", "member_names", "line"});
+  data.SetData("output_flags", flags, {"flag_name", "flag_doc", "flag_value"});
+  data.SetData("output_aliases", aliases, {"alias", "struct_name"});
   std::string constants =
       "  /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first\n"
       "  /// link on its second, in the fixed frame:\n";
@@ -591,21 +523,8 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   constants += "  /// The loads, in the model's order.\n";
   constants += "  static constexpr std::array<const char*, " + std::to_string(m.loads.size()) + "> kLoadNames{ " +
                Join(m.loads, [](const Load& l) { return Quote(l.name); }) + " };\n";
-  constants += "  template <typename Scalar>\n  using StaticsT = mech::" + m.name + "::Statics<Scalar>;\n";
-  if (dynamics)
-    constants += "  /// EvalDynamics, EvalKinetostatics and EvalExcess are generated (Paul ch. 6).\n"
-                 "  static constexpr bool kHasDynamics = true;\n"
-                 "  template <typename Scalar>\n  using DynamicsT = mech::" + m.name + "::Dynamics<Scalar>;\n"
-                 "  template <typename Scalar>\n  using ExcessT = mech::" + m.name + "::Excess<Scalar>;\n";
-  if (m.outputs.Has(Quantity::kShaking))
-    constants += "  template <typename Scalar>\n  using ShakingT = mech::" + m.name + "::Shaking<Scalar>;\n";
-  if (rhs)
-    constants += "  /// EvalRhs (SolveTrig, K, L and the equation of motion in one pass) is generated.\n"
-                 "  template <typename Scalar>\n  using RhsT = mech::" + m.name + "::Rhs<Scalar>;\n"
-                 "  template <typename Scalar>\n  using RhsConstantsT = mech::" + m.name + "::RhsConstants<Scalar>;\n";
   if (!statics.any) constants.clear();
   data.Set("statics_constants", constants);
-  data.Set("has_shaking", std::string(m.outputs.Has(Quantity::kShaking) ? "true" : "false"));
 
   out.header = data.Render(templates_dir + "/mechanism.h.mustache");
   out.source = data.Render(templates_dir + "/mechanism.cc.mustache");

@@ -45,8 +45,8 @@ struct FunctionSpec {
   bool reindent = false;     ///< indent the body by its braces (nested control flow)
   std::string model_member;  ///< name of the static member of `Model` that calls it ("": none)
   bool instantiate = true;   ///< compiled for double and float in <model>.cc
-  /// C++ declarations this function brings (its structs), emitted before the functions.
-  std::string declarations;
+  /// PrepareRhs: how many parameter-only constants it fills (RhsConstants::c, codegen/output_spec.h).
+  int constants = 0;
 };
 
 inline Argument Arg(const std::string& type,

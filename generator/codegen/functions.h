@@ -62,15 +62,15 @@ FunctionSpec EvalDynamicsSpec(const Model& m, const DynamicsTable& dt, CxxPrinte
 /// K, L, I, h, Q, T, V, P_nc, Phi_phi here; ShareTrig puts SolvePositionsTrig's blocks before
 /// it, and BuildFunctions keeps it only where SolvePositionsTrig exists).
 FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsTable& dt, CxxPrinter* printer);
-/// Moves EvalRhs' parameter-only subexpressions into RhsConstants (hoist.h), sets its
-/// declarations (the Rhs and RhsConstants structs) and builds PrepareRhs, which fills them.
+/// Moves EvalRhs' parameter-only subexpressions into RhsConstants (hoist.h) and builds
+/// PrepareRhs, which fills them (its `constants` sizes RhsConstants, codegen/output_spec.h).
 void HoistRhsConstants(const Model& m, CxxPrinter* printer, FunctionSpec* rhs, FunctionSpec* prepare);
 /// EvalKinetostatics: the statics with the inertia forces, into the Statics struct.
 FunctionSpec EvalKinetostaticsSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
 /// EvalExcess: the excess-coordinate formulation's M, h, g, Phi_x, Phi, gamma, T, V.
 FunctionSpec EvalExcessSpec(const Model& m, const Kinematics& k, const DynamicsTable& dt, CxxPrinter* printer);
 /// EvalShaking (with the `shaking` quantity): the shaking force and moment, per link, the
-/// centres of mass; its Shaking struct comes in its declarations.
+/// centres of mass (the Shaking struct: codegen/output_spec.h).
 FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);

@@ -389,31 +389,7 @@ void HoistRhsConstants(const Model& m, CxxPrinter* printer, FunctionSpec* rhs, F
   for (const Parameter& prm : m.params) params.insert(prm.symbol);
   const std::vector<ex> values = HoistParameters(params, "rc.c", printer, &rhs->body);
   const std::string n = N(static_cast<int>(values.size()));
-  rhs->declarations =
-      "/// What EvalRhs() fills: the equation of motion I(q) qdd + h(q, qd) = Q(t, q, qd) at a state, with\n"
-      "/// what a simulation samples there. The same definitions and units as Dynamics.\n"
-      "template <typename Scalar = double>\n"
-      "struct Rhs {\n"
-      "  /// K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd).  (kNphi x kNq)\n"
-      "  Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;\n"
-      "  /// I: the generalized inertia.  (kNq x kNq)\n"
-      "  Mat<Scalar, Sizes::kNq, Sizes::kNq> I;\n"
-      "  /// h = C (qd (x) qd): the centripetal and Coriolis terms.  (kNq)\n"
-      "  Vec<Scalar, Sizes::kNq> h;\n"
-      "  /// Q: the generalized applied forces at (t, q, qd).  (kNq)\n"
-      "  Vec<Scalar, Sizes::kNq> Q;\n"
-      "  /// T = 1/2 qd^T I qd, V, and the power P_nc of the non-conservative forces.\n"
-      "  Scalar T, V, P_nc;\n"
-      "  /// dPhi/dphi at the solution: its conditioning tells a dead point.  (kNc x kNphi)\n"
-      "  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;\n"
-      "};\n"
-      "\n"
-      "/// What EvalRhs() reads that depends on the parameters only (masses, their products with\n"
-      "/// lengths, inverse squared lengths, ...): PrepareRhs() fills it once per parameter set.\n"
-      "template <typename Scalar = double>\n"
-      "struct RhsConstants {\n"
-      "  std::array<Scalar, " + n + "> c;\n"
-      "};\n";
+  prepare->constants = static_cast<int>(values.size());
   prepare->name = "PrepareRhs";
   prepare->model_member = "Prepare";
   prepare->doc = {"\\brief The constants EvalRhs() reads: what depends on the parameters only, computed once",
@@ -535,33 +511,6 @@ FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter
   for (int l = 0; l < nl; ++l)
     if (!dt.massive[l]) P.push_back(Raw("out->r_G.col(" + N(l) + ").setConstant(std::numeric_limits<Scalar>::quiet_NaN());"));
   f.body = {Finish(P, st, printer)};
-  f.declarations =
-      "/// What EvalShaking() fills (Paul ch. 7): the shaking force and moment, the resultant of the moving\n"
-      "/// links' d'Alembert inertia forces -m a_G (at each centre of mass G) and couples -J alpha. Units\n"
-      "/// follow the model's (SI: N, N m, kg, m). Sign convention: F and M are what the moving links exert ON\n"
-      "/// THE FRAME (ground) through the ground joints' reactions and the input actuators' reactions, when no\n"
-      "/// loads and no gravity act: Newton for the moving links gives (frame on links) + loads = sum m a_G, so\n"
-      "/// (links on frame) = F + the loads' resultant (and M + the loads' moment about O). M is about the\n"
-      "/// fixed frame's origin O, counter-clockwise +, with the planar cross product r x F = r_x F_y - r_y F_x;\n"
-      "/// about another point P it is M - r_P x F. Columns are indexed like Model::kLinkNames.\n"
-      "template <typename Scalar = double>\n"
-      "struct Shaking {\n"
-      "  /// F = -sum_i m_i a_Gi: the shaking force (N).  (2)\n"
-      "  Vec<Scalar, 2> F;\n"
-      "  /// M = -sum_i (r_Gi x m_i a_Gi + J_i alpha_i): the shaking moment about O (N m, CCW +).\n"
-      "  Scalar M;\n"
-      "  /// F_link.col(l) = -m_l a_Gl: link l's share of F; 0 for the ground and massless links.  (2 x kNumLinks)\n"
-      "  Mat<Scalar, 2, Sizes::kNumLinks> F_link;\n"
-      "  /// M_link(l) = r_Gl x F_link.col(l) - J_l alpha_l: link l's share of M; 0 for the ground and massless\n"
-      "  /// links.  (kNumLinks)\n"
-      "  Vec<Scalar, Sizes::kNumLinks> M_link;\n"
-      "  /// r_G.col(l): link l's centre of mass in the fixed frame (m); NaN for the ground and massless\n"
-      "  /// links.  (2 x kNumLinks)\n"
-      "  Mat<Scalar, 2, Sizes::kNumLinks> r_G;\n"
-      "  /// The moving links' total mass (kg) and their common centre of mass r_C (m): F = -mass d2r_C/dt2.\n"
-      "  Scalar mass;\n"
-      "  Vec<Scalar, 2> r_C;\n"
-      "};\n";
   return f;
 }
 

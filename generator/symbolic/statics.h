@@ -101,6 +101,14 @@ class StaticsTable {
   std::vector<GiNaC::ex> normal, gain;           ///< per friction joint
   std::vector<std::vector<GiNaC::ex>> K_rel;     ///< per friction joint, nq
   std::vector<std::string> notes;    ///< sentences for the generated header (conventions per joint)
+
+ private:
+  // The stages, in order (statics_stage.h): each reads what the ones before derived.
+  struct Stage;
+  void DeriveArguments(Stage& st);      // statics.cc
+  void DeriveAppliedForces(Stage& st);  // forces.cc
+  void DerivePotential(Stage& st);      // forces.cc
+  void DeriveReactions(Stage& st);      // reactions.cc
 };
 
 }  // namespace mechgen

@@ -1,0 +1,220 @@
+// The descriptions of the output structs. See output_spec.h.
+#include "codegen/output_spec.h"
+
+namespace mechgen {
+namespace {
+
+bool Generated(const std::vector<FunctionSpec>& functions, const std::string& name) {
+  for (const FunctionSpec& f : functions)
+    if (f.name == name) return true;
+  return false;
+}
+
+OutputMember Member(const std::string& type, const std::string& names, std::vector<std::string> doc,
+                    const std::string& size = "", const std::string& flag = "", bool present = true) {
+  OutputMember m;
+  m.type = type;
+  m.names = names;
+  m.doc = std::move(doc);
+  m.size = size;
+  m.flag = flag;
+  m.present = present;
+  return m;
+}
+
+OutputSpec Output(const std::string& name, bool present, const std::string& flag_doc, std::vector<std::string> doc) {
+  OutputSpec o;
+  o.name = name;
+  o.alias = name + "T";
+  o.flag = {"kHas" + name, flag_doc, present};
+  o.doc = std::move(doc);
+  return o;
+}
+
+const char* kVecNq = "Vec<Scalar, Sizes::kNq>";
+const char* kMatNqNq = "Mat<Scalar, Sizes::kNq, Sizes::kNq>";
+const char* kMatNqNq2 = "Mat<Scalar, Sizes::kNq, Sizes::kNq * Sizes::kNq>";
+const char* kVecNx = "Vec<Scalar, Sizes::kNq + Sizes::kNphi>";
+
+// Statics (EvalStatics, EvalKinetostatics, EvalStiffness): only the members the model asked for.
+OutputSpec Statics(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions) {
+  const StaticsLayout layout = StaticsLayout::Of(m);
+  const bool forces = m.outputs.Has(Quantity::kForces), potential = m.outputs.Has(Quantity::kPotential);
+  const bool has_L = t.requested.L;
+  OutputSpec o = Output("Statics", Generated(functions, "EvalStatics"),
+                        "Statics, StaticsT, EvalStatics (Model::Forces): forces, potential or reactions.",
+                        {"What EvalStatics() fills (statics by virtual work, Paul ch. 5). Units follow the model's",
+                         "(SI: N, N m, J). A generalized force of an angle input is a torque (per radian), of a slide",
+                         "input a force. Only the members the model asked for exist."});
+  const bool any = o.present();
+  o.member_flags = {
+      {"kHasStaticsQ", "Statics::Q and drive (the `forces` quantity).", any && forces},
+      {"kHasStaticsStiffness", "Statics::stiffness, set by EvalStiffness (Model::Stiffness).",
+       any && forces && potential && has_L},
+      {"kHasStaticsV", "Statics::V and dV_dq (the `potential` quantity).", any && potential},
+      {"kHasStaticsD2V", "Statics::d2V_dq2, set by EvalStiffness (Model::Stiffness).", any && potential && has_L},
+      {"kHasStaticsR", "Statics::R (kReactionNames): reactions.", any && !layout.reactions.empty()},
+      {"kHasStaticsFriction", "Statics::normal, gain, K_rel (kFrictionJoints): Coulomb friction.",
+       any && !layout.friction.empty()},
+  };
+  const auto& f = o.member_flags;
+  o.members = {
+      Member(kVecNq, "Q",
+             {"Q(j): generalized force of the loads, springs, weights and given friction loads on q_j",
+              "(virtual work: Q_j = sum F.K_P,j + sum T K_theta,j - dV/dq_j)."},
+             "kNq", f[0].name, f[0].value),
+      Member(kVecNq, "drive",
+             {"drive(j) = -Q(j): what input j's actuator applies for static equilibrium: the torque on the",
+              "input's moving link (counter-clockwise +, reacting on the ground) or the force on its slider",
+              "along the line."},
+             "kNq", f[0].name, f[0].value),
+      Member(kMatNqNq, "stiffness",
+             {"stiffness(j, k) = -dQ_j/dq_k along the motion, friction excluded (d2V/dq2 for a conservative",
+              "model): an equilibrium (Q = 0) is stable where it is positive definite. Set by",
+              "EvalStiffness(), not EvalStatics()."},
+             "kNq x kNq", f[1].name, f[1].value),
+      Member("Scalar", "V", {"V: potential energy of the springs and the weights."}, "", f[2].name, f[2].value),
+      Member(kVecNq, "dV_dq", {"dV_dq(j) = dV/dq_j along the motion."}, "kNq", f[2].name, f[2].value),
+      Member(kMatNqNq, "d2V_dq2", {"d2V_dq2(j, k) = d2V/dq_j dq_k along the motion; set by EvalStiffness()."},
+             "kNq x kNq", f[3].name, f[3].value),
+      Member("Vec<Scalar, Sizes::kNumReactions>", "R",
+             {"R(i): reaction component Model::kReactionNames[i]: the force (moment) of the joint's first link",
+              "on its second, fixed frame."},
+             "kNumReactions", f[4].name, f[4].value),
+      Member("Vec<Scalar, Sizes::kNumFriction>", "normal",
+             {"normal(i): the force friction acts with at kFrictionJoints[i]: |F| at a revolute joint, |N| at",
+              "a prismatic joint."},
+             "kNumFriction", f[5].name, f[5].value),
+      Member("Vec<Scalar, Sizes::kNumFriction>", "gain",
+             {"gain(i): mu r (revolute: the friction circle's radius) or mu (prismatic): the friction load's",
+              "magnitude is gain(i) normal(i)."},
+             "kNumFriction", f[5].name, f[5].value),
+      Member("Mat<Scalar, Sizes::kNumFriction, Sizes::kNq>", "K_rel",
+             {"K_rel(i, j): the joint's relative velocity per unit qd_j: d(theta_b - theta_a)/dq_j (revolute)",
+              "or ds/dq_j (prismatic); friction opposes it."},
+             "kNumFriction x kNq", f[5].name, f[5].value),
+  };
+  return o;
+}
+
+OutputSpec Dynamics(const std::vector<FunctionSpec>& functions) {
+  OutputSpec o = Output(
+      "Dynamics", Generated(functions, "EvalDynamics"),
+      "Dynamics, DynamicsT, EvalDynamics, EvalKinetostatics (Paul ch. 6): `dynamics`.",
+      {"What EvalDynamics() fills (Paul ch. 6): the generalized equation of motion",
+       "  I(q) qdd + h(q, qd) = Q(t, q, qd),   h_j = sum_kl C(j, k + kNq l) qd_k qd_l",
+       "(one DOF: I qdd + 1/2 I' qd^2 = Q, C = I'/2). Units follow the model's (SI: kg m^2, N m, J, W)."});
+  o.members = {
+      Member(kMatNqNq, "I",
+             {"I(j, k) = sum over the massive links of m K_G,j . K_G,k + J_G K_theta,j K_theta,k: the",
+              "generalized inertia."},
+             "kNq x kNq"),
+      Member(kMatNqNq2, "dI_dq", {"dI_dq(j, k + kNq*l) = dI(j, k)/dq_l along the motion."}, "kNq x kNq^2"),
+      Member(kMatNqNq2, "C", {"C(j, k + kNq*l) = sum m K_G,j . L_G,kl + J K_theta,j L_theta,kl."}, "kNq x kNq^2"),
+      Member(kVecNq, "h", {"h = C (qd (x) qd): the centripetal and Coriolis terms."}, "kNq"),
+      Member(kVecNq, "Q",
+             {"Q(j): generalized applied force on q_j at (t, q, qd): loads (with their time and velocity",
+              "dependence, tables), weights, springs, dampers, viscous joint friction and the given Coulomb",
+              "friction loads."},
+             "kNq"),
+      Member("Scalar", "T", {"T = 1/2 qd^T I qd: the kinetic energy."}),
+      Member("Scalar", "V", {"V: the potential energy of the springs and the weights (0 if none)."}),
+      Member("Scalar", "P_nc",
+             {"P_nc = (Q + dV/dq) . qd: the power of the non-conservative forces (d(T + V)/dt = P_nc)."}),
+  };
+  return o;
+}
+
+OutputSpec Excess(const std::vector<FunctionSpec>& functions) {
+  OutputSpec o = Output("Excess", Generated(functions, "EvalExcess"),
+                        "Excess, ExcessT, EvalExcess (Model::ExcessDynamics, Paul §6.6.2): `dynamics`.",
+                        {"What EvalExcess() fills: the excess-coordinate formulation (Paul §6.6.2) on x = (q, phi),",
+                         "n = kNq + kNphi:  M xdd + h = g + Phi_x^T lambda,  Phi_x xdd = gamma."});
+  o.members = {
+      Member("Mat<Scalar, Sizes::kNq + Sizes::kNphi, Sizes::kNq + Sizes::kNphi>", "M",
+             {"M(a, b) = sum m dr_G/dx_a . dr_G/dx_b + J dtheta/dx_a dtheta/dx_b."}, "n x n"),
+      Member(kVecNx, "h", {"h(a) = sum m dr_G/dx_a . (sum_bc d2r_G/dx_b dx_c xd_b xd_c)."}, "n"),
+      Member(kVecNx, "g",
+             {"g(a): the applied generalized force on x_a at (t, x, xd) (loads, weights, springs, dampers,",
+              "viscous and the given Coulomb friction)."},
+             "n"),
+      Member("Mat<Scalar, Sizes::kNc, Sizes::kNq + Sizes::kNphi>", "Phi_x", {"Phi_x = [Phi_q  Phi_phi]."}, "kNc x n"),
+      Member("Vec<Scalar, Sizes::kNc>", "Phi", {"Phi(q, phi): the residual."}, "kNc"),
+      Member("Vec<Scalar, Sizes::kNc>", "gamma", {"gamma = -sum_bc d2Phi/dx_b dx_c xd_b xd_c: Phi_x xdd = gamma."},
+             "kNc"),
+      Member("Scalar", "T, V", {"T = 1/2 xd^T M xd, V: the kinetic and potential energies."}),
+  };
+  return o;
+}
+
+OutputSpec Shaking(const std::vector<FunctionSpec>& functions) {
+  OutputSpec o = Output(
+      "Shaking", Generated(functions, "EvalShaking"),
+      "Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.",
+      {"What EvalShaking() fills (Paul ch. 7): the shaking force and moment, the resultant of the moving",
+       "links' d'Alembert inertia forces -m a_G (at each centre of mass G) and couples -J alpha. Units",
+       "follow the model's (SI: N, N m, kg, m). Sign convention: F and M are what the moving links exert ON",
+       "THE FRAME (ground) through the ground joints' reactions and the input actuators' reactions, when no",
+       "loads and no gravity act: Newton for the moving links gives (frame on links) + loads = sum m a_G, so",
+       "(links on frame) = F + the loads' resultant (and M + the loads' moment about O). M is about the",
+       "fixed frame's origin O, counter-clockwise +, with the planar cross product r x F = r_x F_y - r_y F_x;",
+       "about another point P it is M - r_P x F. Columns are indexed like Model::kLinkNames."});
+  o.members = {
+      Member("Vec<Scalar, 2>", "F", {"F = -sum_i m_i a_Gi: the shaking force (N)."}, "2"),
+      Member("Scalar", "M", {"M = -sum_i (r_Gi x m_i a_Gi + J_i alpha_i): the shaking moment about O (N m, CCW +)."}),
+      Member("Mat<Scalar, 2, Sizes::kNumLinks>", "F_link",
+             {"F_link.col(l) = -m_l a_Gl: link l's share of F; 0 for the ground and massless links."},
+             "2 x kNumLinks"),
+      Member("Vec<Scalar, Sizes::kNumLinks>", "M_link",
+             {"M_link(l) = r_Gl x F_link.col(l) - J_l alpha_l: link l's share of M; 0 for the ground and massless",
+              "links."},
+             "kNumLinks"),
+      Member("Mat<Scalar, 2, Sizes::kNumLinks>", "r_G",
+             {"r_G.col(l): link l's centre of mass in the fixed frame (m); NaN for the ground and massless",
+              "links."},
+             "2 x kNumLinks"),
+      Member("Scalar", "mass",
+             {"The moving links' total mass (kg) and their common centre of mass r_C (m): F = -mass d2r_C/dt2."}),
+      Member("Vec<Scalar, 2>", "r_C", {}),
+  };
+  return o;
+}
+
+OutputSpec Rhs(const std::vector<FunctionSpec>& functions) {
+  OutputSpec o = Output("Rhs", Generated(functions, "EvalRhs"),
+                        "Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).",
+                        {"What EvalRhs() fills: the equation of motion I(q) qdd + h(q, qd) = Q(t, q, qd) at a state, with",
+                         "what a simulation samples there. The same definitions and units as Dynamics."});
+  o.members = {
+      Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq>", "K",
+             {"K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd)."}, "kNphi x kNq"),
+      Member(kMatNqNq, "I", {"I: the generalized inertia."}, "kNq x kNq"),
+      Member(kVecNq, "h", {"h = C (qd (x) qd): the centripetal and Coriolis terms."}, "kNq"),
+      Member(kVecNq, "Q", {"Q: the generalized applied forces at (t, q, qd)."}, "kNq"),
+      Member("Scalar", "T, V, P_nc", {"T = 1/2 qd^T I qd, V, and the power P_nc of the non-conservative forces."}),
+      Member("Mat<Scalar, Sizes::kNc, Sizes::kNphi>", "Phi_phi",
+             {"dPhi/dphi at the solution: its conditioning tells a dead point."}, "kNc x kNphi"),
+  };
+  return o;
+}
+
+OutputSpec RhsConstants(const std::vector<FunctionSpec>& functions) {
+  int n = 0;
+  for (const FunctionSpec& f : functions)
+    if (f.name == "PrepareRhs") n = f.constants;
+  OutputSpec o = Output("RhsConstants", Generated(functions, "PrepareRhs"),
+                        "RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.",
+                        {"What EvalRhs() reads that depends on the parameters only (masses, their products with",
+                         "lengths, inverse squared lengths, ...): PrepareRhs() fills it once per parameter set."});
+  o.members = {Member("std::array<Scalar, " + std::to_string(n) + ">", "c", {})};
+  return o;
+}
+
+}  // namespace
+
+std::vector<OutputSpec> OutputSpecs(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions) {
+  return {Statics(m, t, functions), Dynamics(functions), Excess(functions),
+          Shaking(functions),       Rhs(functions),      RhsConstants(functions)};
+}
+
+}  // namespace mechgen

@@ -1,0 +1,271 @@
+// The joints' reactions (a stage of StaticsTable, statics_stage.h): the multipliers
+// Phi_phi^T lambda = -g_phi block by block, a cut joint's force from its rows' multipliers, a
+// tree joint's from the balance of the subtree it carries, a prismatic joint's moment from
+// the links it guides, each component as the joint kind names it, and the friction joints'
+// normal forces and relative velocities.
+#include <functional>
+#include <set>
+
+#include "symbolic/linalg.h"
+#include "symbolic/statics_stage.h"
+
+namespace mechgen {
+
+using GiNaC::ex;
+using statics_detail::CoordinateOfJoint;
+using statics_detail::Cross;
+using statics_detail::Item;
+using statics_detail::N;
+using statics_detail::PrismaticLine;
+
+void StaticsTable::DeriveReactions(Stage& st) {
+  const Model& m = st.m;
+  const Kinematics& k = st.k;
+  const SymbolicTable& t = st.t;
+  const int nq = st.nq, nc = st.nc;
+  // ---- reactions ----
+  std::set<int> needed(m.outputs.reactions.begin(), m.outputs.reactions.end());
+  needed.insert(layout.friction.begin(), layout.friction.end());
+  if (needed.empty() || !options.reactions) return;
+
+  // Multipliers: Phi_phi^T lambda = -g_phi, block by block in reverse order (Phi_phi is
+  // block lower triangular, so its transpose is block upper triangular).
+  std::vector<ex> lam(nc, 0);
+  std::vector<bool> solved(nc, false);
+  for (int bi = static_cast<int>(t.blocks.size()) - 1; bi >= 0; --bi) {
+    const Block& b = t.blocks[bi];
+    const int n = static_cast<int>(b.cols.size());
+    std::vector<ex> rhs(n);
+    for (int a = 0; a < n; ++a) {
+      const int c = b.cols[a];
+      ex s = -st.gs[nq + c];
+      for (int r = 0; r < nc; ++r)
+        if (solved[r]) s -= st.PhiPhi(r, c) * lam[r];
+      rhs[a] = s;
+    }
+    if (n <= kMaxSymbolicSolve) {
+      GiNaC::matrix JT(n, n);
+      for (int a = 0; a < n; ++a)
+        for (int bb = 0; bb < n; ++bb) JT(a, bb) = st.PhiPhi(b.rows[bb], b.cols[a]);
+      ex det, inv_det;
+      program.push_back(Define("detT_block" + N(bi), JT.determinant(GiNaC::determinant_algo::laplace), &det));
+      program.push_back(Define("inv_detT_block" + N(bi), 1 / det, &inv_det));
+      const GiNaC::matrix inv = AdjugateInverse(JT, inv_det);
+      for (int a = 0; a < n; ++a) {
+        const ex e = rhs[a].expand();
+        if (GiNaC::is_a<GiNaC::add>(e)) program.push_back(Define("lambda_rhs_" + N(b.cols[a]), e, &rhs[a]));
+        else rhs[a] = e;
+      }
+      for (int bb = 0; bb < n; ++bb) {
+        ex s = 0;
+        for (int a = 0; a < n; ++a) s += inv(bb, a) * rhs[a];
+        program.push_back(Define("lambda_" + N(b.rows[bb]), s, &lam[b.rows[bb]]));
+      }
+    } else {
+      const std::string J = "JT_block" + N(bi), lu = "luT_block" + N(bi), rv = "lambda_rhs_block" + N(bi),
+                        sol = "lambda_block" + N(bi);
+      program.push_back(Linear(Statement::Kind::kMatrix, J, n, n, {}, /*zero=*/true));
+      for (int a = 0; a < n; ++a)
+        for (int bb = 0; bb < n; ++bb)
+          if (!k.Phi_phi(b.rows[bb], b.cols[a]).is_zero())
+            program.push_back(Store(J + "(" + N(a) + ", " + N(bb) + ")", st.PhiPhi(b.rows[bb], b.cols[a])));
+      program.push_back(Linear(Statement::Kind::kLuFactor, lu, n, n, {J}));
+      program.push_back(Linear(Statement::Kind::kMatrix, rv, n, 1));
+      for (int a = 0; a < n; ++a) program.push_back(Store(rv + "(" + N(a) + ", 0)", -rhs[a]));  // LU solve negates
+      Statement solve = Linear(Statement::Kind::kLuSolve, sol, n, 1, {lu, rv});
+      for (int bb = 0; bb < n; ++bb) {
+        GiNaC::symbol s(sol + "(" + N(bb) + ", 0)");
+        solve.names.emplace_back(s, sol + "(" + N(bb) + ", 0)");
+        lam[b.rows[bb]] = s;
+      }
+      program.push_back(solve);
+    }
+    for (int r : b.rows) solved[r] = true;
+  }
+
+  // Tree joints and the subtrees they carry.
+  std::vector<int> tree_of_joint(m.joints.size(), -1);  // index into placements
+  std::vector<std::vector<int>> children(m.links.size());
+  for (size_t i = 0; i < k.placements.size(); ++i) {
+    tree_of_joint[k.placements[i].joint] = static_cast<int>(i);
+    children[k.placements[i].parent].push_back(k.placements[i].child);
+  }
+  std::vector<std::vector<int>> rows_of(m.joints.size());
+  for (int i = 0; i < nc; ++i) rows_of[k.Phi_rows[i].joint].push_back(i);
+
+  // Each joint's force on link_b (by link_a) and the point it acts at; prismatic moments.
+  std::vector<Vec2> F(m.joints.size(), Vec2{0, 0}), F_at(m.joints.size(), Vec2{0, 0});
+  std::vector<bool> have_F(m.joints.size(), false), have_M(m.joints.size(), false);
+  std::vector<ex> M(m.joints.size(), 0);
+  auto fail = [&](int joint, const std::string& why) {
+    const SourceMark mark = m.outputs.reactions_mark.line ? m.outputs.reactions_mark : m.friction.front().mark;
+    m.Fail(mark, "the reaction at joint '" + m.joints[joint].name + "' cannot be derived: " + why);
+  };
+  auto joint_point = [&](int jn) -> Vec2 {
+    const Joint& j = m.joints[jn];
+    return st.Position(j.End(j.link_b));
+  };
+  // A tree joint's force needs only the cut joints' (multipliers), so this recursion is
+  // one level deep.
+  std::function<void(int)> force_of;
+  std::function<void(int)> moment_of;
+  // Sum of the forces (and moments about `about`, if given) acting on the links of S from
+  // outside S, the joint `skip` excepted.
+  auto sum_on = [&](const std::set<int>& S, int skip, const Vec2* about, Vec2* force, ex* moment) {
+    *force = {0, 0};
+    *moment = 0;
+    auto add = [&](const Vec2& f, const Vec2& at, const ex& couple) {
+      (*force)[0] += f[0];
+      (*force)[1] += f[1];
+      if (about) *moment += Cross({at[0] - (*about)[0], at[1] - (*about)[1]}, f) + couple;
+    };
+    for (const Item& it : st.items)
+      if (S.count(it.link) && (it.along_joint < 0 || tree_of_joint[it.along_joint] >= 0)) add(it.F, it.at, it.couple);
+    for (size_t jn = 0; jn < m.joints.size(); ++jn) {
+      const Joint& j = m.joints[jn];
+      if (static_cast<int>(jn) == skip || S.count(j.link_a) == S.count(j.link_b)) continue;
+      const bool lower = j.type() == JointType::kRevolute || j.type() == JointType::kPrismatic;
+      if (!lower)
+        fail(skip, std::string("it needs the contact force of ") + KindOf(j).Keys().section + " joint '" + j.name +
+                       "' as a vector, which mechgen derives only as the joint's multiplier; ask for reactions at "
+                       "revolute and prismatic joints whose links do not carry a gear, rack, cam or rolling contact");
+      force_of(static_cast<int>(jn));
+      const double sign = S.count(j.link_b) ? 1 : -1;
+      add({sign * F[jn][0], sign * F[jn][1]}, F_at[jn], 0);
+      if (about && j.type() == JointType::kPrismatic) {
+        if (!have_M[jn]) {
+          if (tree_of_joint[jn] >= 0)
+            fail(skip, "the moments of prismatic joints '" + m.joints[skip].name + "' and '" + j.name +
+                           "' depend on each other; mechgen does not solve that case");
+          moment_of(static_cast<int>(jn));
+        }
+        *moment += sign * M[jn];
+      }
+    }
+  };
+  auto subtree = [&](int root) {
+    std::set<int> S;
+    std::vector<int> stack{root};
+    while (!stack.empty()) {
+      const int l = stack.back();
+      stack.pop_back();
+      S.insert(l);
+      for (int c : children[l]) stack.push_back(c);
+    }
+    return S;
+  };
+  force_of = [&](int jn) {
+    if (have_F[jn]) return;
+    const Joint& j = m.joints[jn];
+    F_at[jn] = joint_point(jn);
+    const std::string base = (j.type() == JointType::kPrismatic ? "R_" : "F_") + j.name;
+    if (tree_of_joint[jn] < 0) {  // a cut joint: its rows' multipliers
+      if (j.type() != JointType::kRevolute && j.type() != JointType::kPrismatic) return;
+      int rx = -1, ry = -1;
+      for (int r : rows_of[jn]) {
+        if (k.Phi_rows[r].component == RowComponent::kX) rx = r;
+        if (k.Phi_rows[r].component == RowComponent::kY) ry = r;
+      }
+      program.push_back(Define(base + "_x", -lam[rx], &F[jn][0]));
+      program.push_back(Define(base + "_y", -lam[ry], &F[jn][1]));
+    } else {
+      const Placement& pl = k.placements[tree_of_joint[jn]];
+      const std::set<int> S = subtree(pl.child);
+      Vec2 f;
+      ex unused;
+      sum_on(S, jn, nullptr, &f, &unused);
+      // The parent's force on the child balances the subtree; F is the force on link_b.
+      const double sign = pl.child == j.link_b ? -1 : 1;
+      program.push_back(Define(base + "_x", sign * f[0], &F[jn][0]));
+      program.push_back(Define(base + "_y", sign * f[1], &F[jn][1]));
+    }
+    have_F[jn] = true;
+  };
+  moment_of = [&](int jn) {
+    if (have_M[jn]) return;
+    const Joint& j = m.joints[jn];
+    force_of(jn);
+    const Vec2 P = F_at[jn];
+    std::set<int> S;
+    int sign_to_b = 1;
+    if (tree_of_joint[jn] >= 0) {
+      const Placement& pl = k.placements[tree_of_joint[jn]];
+      S = subtree(pl.child);
+      sign_to_b = pl.child == j.link_b ? 1 : -1;
+    } else {  // the slider's side of the rotation group: links reached over the other prismatic joints
+      std::vector<int> stack{j.link_b};
+      while (!stack.empty()) {
+        const int l = stack.back();
+        stack.pop_back();
+        if (!S.insert(l).second) continue;
+        for (size_t o = 0; o < m.joints.size(); ++o)
+          if (static_cast<int>(o) != jn && m.joints[o].type() == JointType::kPrismatic && m.joints[o].Joins(l))
+            stack.push_back(m.joints[o].OtherLink(l));
+      }
+      if (S.count(j.link_a)) fail(jn, "its prismatic joints close a loop of their own");
+    }
+    Vec2 f;
+    ex moment;
+    sum_on(S, jn, &P, &f, &moment);
+    program.push_back(Define("M_" + j.name, -sign_to_b * moment, &M[jn]));
+    have_M[jn] = true;
+  };
+  for (int jn : needed) {
+    const Joint& j = m.joints[jn];
+    if (j.type() == JointType::kRevolute) force_of(jn);
+    else if (j.type() == JointType::kPrismatic) moment_of(jn);
+    else if (tree_of_joint[jn] >= 0)
+      fail(jn, "a rolling joint in the spanning tree: its contact force is not derived yet");
+  }
+  for (const StaticsLayout::Component& c : layout.reactions) {
+    const Joint& j = m.joints[c.joint];
+    if (j.type() == JointType::kRevolute) {
+      R.push_back(c.name.back() == 'x' ? F[c.joint][0] : F[c.joint][1]);
+    } else if (j.type() == JointType::kPrismatic) {
+      Vec2 u, n;
+      PrismaticLine(k, j, &u, &n);
+      if (c.name[0] == 'N') R.push_back(F[c.joint][0] * n[0] + F[c.joint][1] * n[1]);
+      else if (c.name[0] == 'T') {
+        // Along the line: the friction force and the actuator's (a tree joint's balance above
+        // leaves them out: they act apart from it).
+        ex T = F[c.joint][0] * u[0] + F[c.joint][1] * u[1];
+        if (tree_of_joint[c.joint] >= 0) {  // a cut joint's multipliers hold them already
+          for (size_t i = 0; i < layout.friction.size(); ++i)
+            if (layout.friction[i] == c.joint) T += st.fr[i];
+          for (int j = 0; j < nq; ++j)
+            if (m.inputs[j].joint == c.joint) T += drive[j];
+        }
+        R.push_back(T);
+      }
+      else R.push_back(M[c.joint]);
+    } else {
+      // A higher pair: the multiplier of its row (its contact force, in the row's scale).
+      if (rows_of[c.joint].size() != 1) fail(c.joint, "a contour cam's contact is not derived yet");
+      R.push_back(lam[rows_of[c.joint][0]]);
+    }
+  }
+  for (size_t i = 0; i < layout.friction.size(); ++i) {
+    const int jn = layout.friction[i];
+    const Joint& j = m.joints[jn];
+    const Friction& f = m.friction[i];
+    if (j.type() == JointType::kRevolute) {
+      normal.push_back(GiNaC::sqrt(F[jn][0] * F[jn][0] + F[jn][1] * F[jn][1]));
+      gain.push_back(f.coefficient * f.pin_radius);
+      const ex rel = k.frames[j.link_b].theta - k.frames[j.link_a].theta;
+      std::vector<ex> kr(nq);
+      for (int q = 0; q < nq; ++q) kr[q] = st.Along(rel, q);
+      K_rel.push_back(kr);
+    } else {
+      Vec2 u, n;
+      PrismaticLine(k, j, &u, &n);
+      normal.push_back(GiNaC::abs(F[jn][0] * n[0] + F[jn][1] * n[1]));
+      gain.push_back(f.coefficient);
+      const Coordinate* s = CoordinateOfJoint(m, k, jn);
+      std::vector<ex> kr(nq);
+      for (int q = 0; q < nq; ++q) kr[q] = st.Along(s->symbol, q);
+      K_rel.push_back(kr);
+    }
+  }
+}
+
+}  // namespace mechgen
