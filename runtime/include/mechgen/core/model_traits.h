@@ -19,9 +19,11 @@
 
 namespace mechgen {
 
-/// Fixed-size types of model M (double precision). Sizes in the names: Q = kNq,
-/// Phi = kNphi, C = kNc (rows of Phi), P = kNumPoints, S = kNumScenePoints.
-template <class M>
+/// Fixed-size types of model M in the scalar type Scalar (double by default; the generated
+/// functions are templates on their scalar too, e.g. float, or ceres::Jet for derivatives).
+/// Sizes in the names: Q = kNq, Phi = kNphi, C = kNc (rows of Phi), P = kNumPoints,
+/// S = kNumScenePoints.
+template <class M, class Scalar = double>
 struct ModelTypes {
   static constexpr int kNq = M::kNq;
   static constexpr int kNphi = M::kNphi;
@@ -30,20 +32,21 @@ struct ModelTypes {
   static constexpr int kNumScenePoints = M::kNumScenePoints;
   static_assert(kNc == kNphi, "Phi_phi must be square: kNc == kNphi");
 
-  using Params = typename M::template ParamsT<double>;
-  using Coefficients = typename M::template CoefficientsT<double>;
-  using VecQ = Eigen::Matrix<double, kNq, 1>;
-  using VecPhi = Eigen::Matrix<double, kNphi, 1>;
-  using VecC = Eigen::Matrix<double, kNc, 1>;
-  using VecQQ = Eigen::Matrix<double, kNq * kNq, 1>;       ///< qd (x) qd
-  using MatCPhi = Eigen::Matrix<double, kNc, kNphi>;       ///< Phi_phi
-  using MatCQ = Eigen::Matrix<double, kNc, kNq>;           ///< Phi_q
-  using MatK = Eigen::Matrix<double, kNphi, kNq>;          ///< K
-  using MatL = Eigen::Matrix<double, kNphi, kNq * kNq>;    ///< L
-  using MatRP = Eigen::Matrix<double, 2, kNumPoints>;      ///< r_P
-  using MatKP = Eigen::Matrix<double, 2 * kNumPoints, kNq>;        ///< K_P
-  using MatLP = Eigen::Matrix<double, 2 * kNumPoints, kNq * kNq>;  ///< L_P
-  using MatScene = Eigen::Matrix<double, 2, kNumScenePoints>;
+  using ScalarType = Scalar;
+  using Params = typename M::template ParamsT<Scalar>;
+  using Coefficients = typename M::template CoefficientsT<Scalar>;
+  using VecQ = Eigen::Matrix<Scalar, kNq, 1>;
+  using VecPhi = Eigen::Matrix<Scalar, kNphi, 1>;
+  using VecC = Eigen::Matrix<Scalar, kNc, 1>;
+  using VecQQ = Eigen::Matrix<Scalar, kNq * kNq, 1>;       ///< qd (x) qd
+  using MatCPhi = Eigen::Matrix<Scalar, kNc, kNphi>;       ///< Phi_phi
+  using MatCQ = Eigen::Matrix<Scalar, kNc, kNq>;           ///< Phi_q
+  using MatK = Eigen::Matrix<Scalar, kNphi, kNq>;          ///< K
+  using MatL = Eigen::Matrix<Scalar, kNphi, kNq * kNq>;    ///< L
+  using MatRP = Eigen::Matrix<Scalar, 2, kNumPoints>;      ///< r_P
+  using MatKP = Eigen::Matrix<Scalar, 2 * kNumPoints, kNq>;        ///< K_P
+  using MatLP = Eigen::Matrix<Scalar, 2 * kNumPoints, kNq * kNq>;  ///< L_P
+  using MatScene = Eigen::Matrix<Scalar, 2, kNumScenePoints>;
 };
 
 namespace internal {
@@ -76,44 +79,45 @@ template <class C>
 struct HasPhiPhi<C, std::void_t<decltype(std::declval<C&>().Phi),
                                 decltype(std::declval<C&>().Phi_phi)>> : std::true_type {};
 
-/// M::Solve(p, q, &phi, modes, max_iterations, tolerance): the generated block-ordered
-/// position solver (with M::kNumBlocks, M::kDefaultModes, M::kBlockClosedForm).
-template <class M, class = void>
+/// M::Solve<Scalar>(p, q, &phi, modes, max_iterations, tolerance): the generated
+/// block-ordered position solver (with M::kNumBlocks, M::kDefaultModes, M::kBlockClosedForm).
+template <class M, class Scalar = double, class = void>
 struct HasSolve : std::false_type {};
-template <class M>
+template <class M, class Scalar>
 struct HasSolve<
-    M, std::void_t<decltype(M::template Solve<double>(
-                       std::declval<const typename M::template ParamsT<double>&>(),
-                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
-                       std::declval<Eigen::Matrix<double, M::kNphi, 1>*>(),
-                       std::declval<const std::array<int, M::kNumBlocks>&>(), 0, 0.0)),
-                   decltype(M::kDefaultModes), decltype(M::kBlockClosedForm)>>
-    : std::true_type {};
+    M, Scalar,
+    std::void_t<decltype(M::template Solve<Scalar>(
+                    std::declval<const typename M::template ParamsT<Scalar>&>(),
+                    std::declval<const Eigen::Matrix<Scalar, M::kNq, 1>&>(),
+                    std::declval<Eigen::Matrix<Scalar, M::kNphi, 1>*>(),
+                    std::declval<const std::array<int, M::kNumBlocks>&>(), 0, Scalar(0))),
+                decltype(M::kDefaultModes), decltype(M::kBlockClosedForm)>> : std::true_type {};
 
-/// M::TrigT<double>: sin and cos of the angles that M::Solve hands out (its last argument)
+/// M::TrigT<Scalar>: sin and cos of the angles that M::Solve hands out (its last argument)
 /// and M::Coeffs takes (its last argument) instead of calling sin and cos again.
 struct NoTrig {};
-template <class M, class = void>
+template <class M, class Scalar = double, class = void>
 struct TrigOf {
   using type = NoTrig;
   static constexpr bool value = false;
 };
-template <class M>
+template <class M, class Scalar>
 struct TrigOf<
-    M, std::void_t<typename M::template TrigT<double>,
-                   decltype(M::template Solve<double>(
-                       std::declval<const typename M::template ParamsT<double>&>(),
-                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
-                       std::declval<Eigen::Matrix<double, M::kNphi, 1>*>(),
-                       std::declval<const std::array<int, M::kNumBlocks>&>(), 0, 0.0,
-                       std::declval<typename M::template TrigT<double>*>())),
-                   decltype(M::template Coeffs<double>(
-                       std::declval<const typename M::template ParamsT<double>&>(),
-                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
-                       std::declval<const Eigen::Matrix<double, M::kNphi, 1>&>(),
-                       std::declval<typename M::template CoefficientsT<double>*>(),
-                       std::declval<const typename M::template TrigT<double>*>()))>> {
-  using type = typename M::template TrigT<double>;
+    M, Scalar,
+    std::void_t<typename M::template TrigT<Scalar>,
+                decltype(M::template Solve<Scalar>(
+                    std::declval<const typename M::template ParamsT<Scalar>&>(),
+                    std::declval<const Eigen::Matrix<Scalar, M::kNq, 1>&>(),
+                    std::declval<Eigen::Matrix<Scalar, M::kNphi, 1>*>(),
+                    std::declval<const std::array<int, M::kNumBlocks>&>(), 0, Scalar(0),
+                    std::declval<typename M::template TrigT<Scalar>*>())),
+                decltype(M::template Coeffs<Scalar>(
+                    std::declval<const typename M::template ParamsT<Scalar>&>(),
+                    std::declval<const Eigen::Matrix<Scalar, M::kNq, 1>&>(),
+                    std::declval<const Eigen::Matrix<Scalar, M::kNphi, 1>&>(),
+                    std::declval<typename M::template CoefficientsT<Scalar>*>(),
+                    std::declval<const typename M::template TrigT<Scalar>*>()))>> {
+  using type = typename M::template TrigT<Scalar>;
   static constexpr bool value = true;
 };
 
@@ -137,10 +141,10 @@ struct BlockCount<M, true> {
 
 }  // namespace internal
 
-/// What model M provides, decided at compile time.
-template <class M>
+/// What model M provides in the scalar type Scalar, decided at compile time.
+template <class M, class Scalar = double>
 struct ModelFeatures {
-  using Coefficients = typename ModelTypes<M>::Coefficients;
+  using Coefficients = typename ModelTypes<M, Scalar>::Coefficients;
   static constexpr bool kHasK = internal::HasK<Coefficients>::value;
   static constexpr bool kHasL = internal::HasL<Coefficients>::value;
   static constexpr bool kHasPoints = M::kNumPoints > 0 && internal::HasRP<Coefficients>::value;
@@ -152,12 +156,88 @@ struct ModelFeatures {
   /// step checks closure and conditioning on them, without a separate Model::Phi call.
   static constexpr bool kCoeffsHavePhi = internal::HasPhiPhi<Coefficients>::value;
   /// The generated block-ordered solver Model::Solve (closed-form dyads, Newton blocks).
-  static constexpr bool kHasSolve = internal::HasSolve<M>::value;
+  static constexpr bool kHasSolve = internal::HasSolve<M, Scalar>::value;
   /// Model::Solve hands sin and cos of the angles to Model::Coeffs (Model::TrigT): a
   /// continuation step then calls no sin or cos for the angles a closed form solved.
-  static constexpr bool kHasTrig = kHasSolve && internal::TrigOf<M>::value;
+  static constexpr bool kHasTrig = kHasSolve && internal::TrigOf<M, Scalar>::value;
   /// Model::TransmissionAngles (EvalTransmissionAngles) gives this many angles; 0 without it.
   static constexpr int kNumTransmissionAngles = internal::TransmissionAngleCount<M>::value;
 };
+
+// ---- What a generated model has, output by output: the one place the runtime asks. ----
+// Each is a std::bool_constant of the model type M (the generated `struct Model`). Today they
+// detect the generated types and functions; when the generator emits a `kHas*` flag for every
+// output, each becomes that flag, here and nowhere else.
+
+namespace internal {
+template <class M, class = void>
+struct DetectDynamics : std::false_type {};
+template <class M>
+struct DetectDynamics<M, std::void_t<typename M::template DynamicsT<double>>> : std::true_type {};
+template <class M, class = void>
+struct DetectRhs : std::false_type {};
+template <class M>
+struct DetectRhs<M, std::void_t<typename M::template RhsT<double>>> : std::true_type {};
+template <class M, class = void>
+struct DetectSolveTrig : std::false_type {};
+template <class M>
+struct DetectSolveTrig<M, std::void_t<decltype(M::template SolveTrig<double>(
+                              std::declval<const typename M::template ParamsT<double>&>(),
+                              std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
+                              std::declval<const std::array<int, M::kNumBlocks>&>(),
+                              std::declval<typename M::template TrigT<double>*>()))>>
+    : std::true_type {};
+template <class M, class = void>
+struct DetectExcess : std::false_type {};
+template <class M>
+struct DetectExcess<M, std::void_t<typename M::template ExcessT<double>>> : std::true_type {};
+template <class M, class = void>
+struct DetectShaking : std::false_type {};
+template <class M>
+struct DetectShaking<M, std::void_t<typename M::template ShakingT<double>>> : std::true_type {};
+template <class M, class = void>
+struct DetectStatics : std::false_type {};
+template <class M>
+struct DetectStatics<
+    M, std::void_t<typename M::template StaticsT<double>,
+                   decltype(M::template Forces<double>(
+                       std::declval<const typename M::template ParamsT<double>&>(),
+                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
+                       std::declval<const Eigen::Matrix<double, M::kNphi, 1>&>(),
+                       std::declval<const typename M::template CoefficientsT<double>&>(),
+                       std::declval<typename M::template StaticsT<double>*>()))>>
+    : std::true_type {};
+/// Its constants (M::RhsConstantsT), or an empty placeholder.
+struct NoRhsConstants {};
+template <class M, class = void>
+struct RhsConstantsOf {
+  using type = NoRhsConstants;
+};
+template <class M>
+struct RhsConstantsOf<M, std::void_t<typename M::template RhsConstantsT<double>>> {
+  using type = typename M::template RhsConstantsT<double>;
+};
+}  // namespace internal
+
+/// EvalDynamics (M::DynamicsT, M::Dynamics: I, h, Q, T, V, P_nc; the `dynamics` quantity).
+template <class M>
+struct HasDynamics : internal::DetectDynamics<M> {};
+/// EvalRhs (M::RhsT, M::Rhs, M::Prepare, M::RhsConstantsT: SolveTrig, K, L and the equation
+/// of motion in one pass).
+template <class M>
+struct HasRhs : internal::DetectRhs<M> {};
+/// SolveTrig (every block a closed form handing out its angles' sin and cos).
+template <class M>
+struct HasSolveTrig : internal::DetectSolveTrig<M> {};
+/// EvalExcess (M::ExcessT, M::ExcessDynamics: the excess-coordinate formulation).
+template <class M>
+struct HasExcess : internal::DetectExcess<M> {};
+/// EvalShaking (M::ShakingT, M::Shaking: the shaking force and moment, Paul ch. 7).
+template <class M>
+struct HasShaking : internal::DetectShaking<M> {};
+/// EvalStatics (M::StaticsT, M::Forces: the `forces` quantity). What the statics hold in
+/// detail (reactions, potential, friction) is statics::StaticsFeatures.
+template <class M>
+struct HasStatics : internal::DetectStatics<M> {};
 
 }  // namespace mechgen

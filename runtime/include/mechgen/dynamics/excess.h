@@ -56,10 +56,9 @@ struct ExcessSummary {
 };
 
 namespace internal {
-template <class M, class = void>
-struct HasExcess : std::false_type {};
+/// core/model_traits.h: the one place that says what a model has.
 template <class M>
-struct HasExcess<M, std::void_t<typename M::template ExcessT<double>>> : std::true_type {};
+using HasExcess = mechgen::HasExcess<M>;
 }  // namespace internal
 
 template <class M>
