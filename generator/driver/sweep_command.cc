@@ -110,7 +110,7 @@ struct Toolchain {
   std::vector<std::string> compiler;  // $CXX split at blanks, or "c++"
   std::string compiler_identity;      // resolved path, size, modification time
   fs::path runtime_include;           // holds mechgen/position/solver.h
-  fs::path tools;                     // holds sweep_main.cc, sweep_args.h, sweep_args.cc
+  fs::path tools;                     // holds sweep_main.cc, sweep_args.h, sweep_args.cc, common/
   std::string eigen_include;          // holds Eigen/Core
   std::string cli11_include;          // holds CLI/CLI.hpp; empty: a default search directory
 };
@@ -167,7 +167,8 @@ bool FindToolchain(Toolchain* t) {
                      ? std::string()
                      : " and " + std::string(MECHGEN_SOURCE_RUNTIME_INCLUDE)) +
                 "); is mechgen installed whole?"), false;
-  for (const char* file : {"sweep_main.cc", "sweep_args.h", "sweep_args.cc"}) {
+  for (const char* file : {"sweep_main.cc", "sweep_args.h", "sweep_args.cc", "common/numbers.h",
+                           "common/cli.h"}) {
     if (!fs::exists(t->tools / file, ec))
       return Fail("cannot find the sweep driver " + (t->tools / file).string() +
                   "; is mechgen installed whole?"), false;
@@ -251,7 +252,8 @@ std::string EntryKey(const std::string& model_bytes, const std::string& template
   AddPart(&material, "version", MECHGEN_VERSION);
   AddPart(&material, "mechgen", ReadOrEmpty("/proc/self/exe"));
   AddTree(&material, templates, ".mustache");
-  for (const char* file : {"sweep_main.cc", "sweep_args.h", "sweep_args.cc"})
+  for (const char* file : {"sweep_main.cc", "sweep_args.h", "sweep_args.cc", "common/numbers.h",
+                           "common/cli.h"})
     AddPart(&material, file, ReadOrEmpty(t.tools / file));
   AddTree(&material, t.runtime_include / "mechgen", "");
   material += ToolchainPart(t);
@@ -265,7 +267,8 @@ std::string EntryKey(const std::string& model_bytes, const std::string& template
 // The CLI11 part, the same for every model.
 std::string ArgsKey(const Toolchain& t) {
   std::string material = kCacheFormat;
-  for (const char* file : {"sweep_args.h", "sweep_args.cc"}) AddPart(&material, file, ReadOrEmpty(t.tools / file));
+  for (const char* file : {"sweep_args.h", "sweep_args.cc", "common/numbers.h", "common/cli.h"})
+    AddPart(&material, file, ReadOrEmpty(t.tools / file));
   material += ToolchainPart(t);
   const fs::path cli11 = t.cli11_include.empty() ? fs::path("/usr/include") : fs::path(t.cli11_include);
   AddPart(&material, "cli11", t.cli11_include + "\n" + ReadOrEmpty(cli11 / "CLI/Version.hpp"));

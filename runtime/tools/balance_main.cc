@@ -73,13 +73,7 @@ double Degrees(double rad) {
 }
 
 bool ParseNumber(const std::string& text, double* value) {
-  size_t begin = text.find_first_not_of(" \t\r");
-  size_t end = text.find_last_not_of(" \t\r");
-  if (begin == std::string::npos) return false;
-  const std::string t = text.substr(begin, end - begin + 1);
-  char* stop = nullptr;
-  *value = std::strtod(t.c_str(), &stop);
-  return stop != nullptr && *stop == '\0' && std::isfinite(*value);
+  return mechgen::tools::ParseField(text, value);
 }
 
 // Comma-separated numbers; false (and the offending field in *error) if one is not a number.

@@ -62,9 +62,13 @@
 // cycle). Numbers must be finite; speeds, times and the law's parameters > 0 (--burn-start
 // any, --wiebe-m and --heat >= 0); the law's parameters are checked together by
 // PolytropicWiebeCycle::Init.
+// Options are read by the command-line layer of every tool (runtime/tools/common/):
+// `--opt=value` or `--opt value`, each number finite and in the range --help lists (e.g. --rpm
+// in (0, 1e5], --t-end in (0, 1e6] s, --dt at least --t-end / 1e8 so that the run-up's time
+// advances).
 // Exit status: 0 done, 1 a computation failed (the reason on stderr), 2 a usage error (an
 // unknown or missing subcommand, an unknown option, a bad value, a bad pressure table or law;
-// "engine: error: ..." on stderr). No output file is written unless the whole computation
+// one line "<tool>: error: ..." on stderr). No output file is written unless the whole computation
 // succeeded (io/output_file.h).
 #include <algorithm>
 #include <array>
@@ -80,8 +84,7 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
+#include "common/cli.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/engine/couples.h"
 #include "mechgen/engine/crank_dynamics.h"
@@ -322,7 +325,13 @@ double Interp(const std::vector<double>& y, double cycle, double x) {
 
 // ---- command line -------------------------------------------------------------------------
 
+// The limits of the options (--help lists them).
+constexpr double kMaxRpm = 1e5;
+constexpr double kMaxTime = 1e6;       // s
+constexpr double kMaxPressure = 1e9;   // Pa
+
 struct Args {
+  std::string tool = "engine";  ///< for messages (argv[0])
   std::string command;
   double rpm = 3000;
   int samples = 1440;
@@ -336,54 +345,15 @@ struct Args {
   eng::PolytropicWiebeParams wiebe;
 };
 
-bool ParseDouble(const char* text, double* v) {
-  char* end = nullptr;
-  *v = std::strtod(text, &end);
-  return end != text && *end == '\0' && std::isfinite(*v);
-}
-
-int UsageError(const std::string& message) {
-  std::fprintf(stderr, "engine: error: %s (--help for usage)\n", message.c_str());
-  return 2;
-}
-
-/// A CLI11 validator: a finite number (CLI11's own number checks let nan and inf through)
-/// for which ok(value) holds; the message says what is required.
-CLI::Validator Number(const std::string& what, bool (*ok)(double)) {
-  return CLI::Validator(
-      [what, ok](std::string& text) -> std::string {
-        double v = 0;
-        if (ParseDouble(text.c_str(), &v) && ok(v)) return {};
-        return "bad value '" + text + "': " + what;
-      },
-      "", what);
-}
-
-/// A CLI11 validator: an integer in [lo, hi], also written as a number ("720.0", "1e3": the
-/// value is rewritten as an integer for the int option).
-CLI::Validator Integer(int lo, int hi) {
-  return CLI::Validator(
-      [lo, hi](std::string& text) -> std::string {
-        double v = 0;
-        if (ParseDouble(text.c_str(), &v) && v == std::floor(v) && v >= lo && v <= hi) {
-          text = std::to_string(static_cast<int>(v));
-          return {};
-        }
-        return "bad value '" + text + "': expected an integer in " + std::to_string(lo) + ".." +
-               std::to_string(hi);
-      },
-      "", "integer");
-}
+namespace tools = mechgen::tools;
 
 /// Parses the command line into *a (CLI11). Returns -1 to go on, otherwise the exit status:
 /// 0 after --help, 2 after a usage error (the message on stderr).
 int ParseArgs(int argc, char** argv, Args* a) {
-  const CLI::Validator finite = Number("expected a finite number", [](double) { return true; });
-  const CLI::Validator positive = Number("expected a number > 0", [](double v) { return v > 0; });
-  const CLI::Validator non_negative =
-      Number("expected a number >= 0", [](double v) { return v >= 0; });
-  const CLI::Validator fraction =
-      Number("expected a number in (0, 1)", [](double v) { return v > 0 && v < 1; });
+  a->tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
+  auto UsageError = [a](const std::string& message) { return tools::UsageError(a->tool, message); };
+  using tools::Between;
+  using tools::Positive;
 
   CLI::App app{std::string("Crank torque, bearing loads, flywheel sizing and run-up of the engine "
                            "model '") +
@@ -406,18 +376,19 @@ int ParseArgs(int argc, char** argv, Args* a) {
   for (CLI::App* sub : {cycle, flywheel, runup}) sub->fallthrough();
 
   const std::string general = "Options";
-  app.add_option("--rpm", a->rpm, "crank speed (cycle, flywheel) or the target speed (runup)")
-      ->check(positive)->capture_default_str()->group(general);
-  app.add_option("--samples", a->samples, "samples per cycle, 16..1000000")
-      ->transform(Integer(16, 1000000))->capture_default_str()->group(general);
+  tools::Number(&app, "--rpm", &a->rpm, Positive(kMaxRpm),
+                "crank speed (cycle, flywheel) or the target speed (runup)")
+      ->group(general);
+  tools::Count(&app, "--samples", &a->samples, 16, 1000000, "samples per cycle")->group(general);
   const std::string model = Model::kName;
   app.add_option("--csv", a->csv, "cycle, runup: the CSV (default " + model + "_<subcommand>.csv)")
       ->group(general);
-  app.add_option("--smoothing", a->smoothing,
-                 "cycle: power smoothing for 1..max(K, cylinders), K in 1..64")
-      ->transform(Integer(1, 64))->capture_default_str()->group(general);
-  app.add_option("--cs", a->cs, "flywheel: the prescribed C_s = (w_max - w_min)/w_mean")
-      ->check(fraction)->capture_default_str()->group(general);
+  tools::Count(&app, "--smoothing", &a->smoothing, 1, 64,
+               "cycle: power smoothing for 1..max(K, cylinders)")
+      ->group(general);
+  tools::Number(&app, "--cs", &a->cs, tools::NumberRange{0, 1, true, true},
+                "flywheel: the prescribed C_s = (w_max - w_min)/w_mean")
+      ->group(general);
   app.add_option("--loop", a->loop_csv, "flywheel: the energy loop CSV (default " + model +
                                             "_energy_loop.csv)")
       ->group(general);
@@ -428,14 +399,15 @@ int ParseArgs(int argc, char** argv, Args* a) {
                  "flywheel: the steady cycle CSV (default " + model + "_wittenbauer.csv)")
       ->group(general);
   app.add_option("--idle-rpm", a->idle_rpm, "runup: the starting speed (default rpm/4)")
-      ->check(positive)->group(general);
-  app.add_option("--t-end", a->t_end, "runup: end time (s)")
-      ->check(positive)->capture_default_str()->group(general);
-  app.add_option("--dt", a->dt, "runup: CSV row spacing (s)")
-      ->check(positive)->capture_default_str()->group(general);
-  app.add_option("--steady-tol", a->steady_tol,
-                 "runup: stop when the cycle mean speed changes by less than this (relative)")
-      ->check(positive)->capture_default_str()->group(general);
+      ->check(tools::NumberValidator(Positive(kMaxRpm)))->group(general);
+  tools::Number(&app, "--t-end", &a->t_end, Positive(kMaxTime), "runup: end time (s)")
+      ->group(general);
+  tools::Number(&app, "--dt", &a->dt, Positive(kMaxTime),
+                "runup: CSV row spacing (s); at least --t-end / 1e8")
+      ->group(general);
+  tools::Number(&app, "--steady-tol", &a->steady_tol, Between(1e-12, 0.5),
+                "runup: stop when the cycle mean speed changes by less than this (relative)")
+      ->group(general);
 
   // The pressure law, one for every cylinder at its own cycle angle from firing TDC.
   const std::string law =
@@ -446,27 +418,31 @@ int ParseArgs(int argc, char** argv, Args* a) {
                  "indicator diagram: rows 'angle_deg,p_gauge_Pa' over the cycle (a header line "
                  "is skipped)")
       ->group(law);
-  app.add_option("--cr", w.compression_ratio, "compression ratio")
-      ->check(positive)->capture_default_str()->group(law);
-  app.add_option("--p-intake", w.p_intake, "absolute intake pressure (Pa)")
-      ->check(positive)->capture_default_str()->group(law);
-  app.add_option("--p-ambient", w.p_ambient, "absolute ambient pressure (Pa; gauge 0)")
-      ->check(positive)->capture_default_str()->group(law);
-  app.add_option("--n", w.n, "polytropic exponent")
-      ->check(positive)->capture_default_str()->group(law);
+  tools::Number(&app, "--cr", &w.compression_ratio, Positive(1000), "compression ratio")
+      ->group(law);
+  tools::Number(&app, "--p-intake", &w.p_intake, Positive(kMaxPressure),
+                "absolute intake pressure (Pa)")
+      ->group(law);
+  tools::Number(&app, "--p-ambient", &w.p_ambient, Positive(kMaxPressure),
+                "absolute ambient pressure (Pa; gauge 0)")
+      ->group(law);
+  tools::Number(&app, "--n", &w.n, Positive(10), "polytropic exponent")->group(law);
   double burn_start_deg = -15, burn_duration_deg = 60;
   CLI::Option* burn_start =
-      app.add_option("--burn-start", burn_start_deg, "start of the burn (deg from firing TDC)")
-          ->check(finite)->capture_default_str()->group(law);
+      tools::Number(&app, "--burn-start", &burn_start_deg, tools::Magnitude(720),
+                    "start of the burn (deg from firing TDC)")
+          ->group(law);
   CLI::Option* burn_duration =
-      app.add_option("--burn-duration", burn_duration_deg, "duration of the burn (deg)")
-          ->check(positive)->capture_default_str()->group(law);
-  app.add_option("--wiebe-a", w.wiebe_a, "Wiebe efficiency parameter a")
-      ->check(positive)->capture_default_str()->group(law);
-  app.add_option("--wiebe-m", w.wiebe_m, "Wiebe form factor m")
-      ->check(non_negative)->capture_default_str()->group(law);
-  app.add_option("--heat", w.heat, "heat released per cylinder and cycle (J)")
-      ->check(non_negative)->capture_default_str()->group(law);
+      tools::Number(&app, "--burn-duration", &burn_duration_deg, Positive(720),
+                    "duration of the burn (deg)")
+          ->group(law);
+  tools::Number(&app, "--wiebe-a", &w.wiebe_a, Positive(100), "Wiebe efficiency parameter a")
+      ->group(law);
+  tools::Number(&app, "--wiebe-m", &w.wiebe_m, tools::NonNegative(100), "Wiebe form factor m")
+      ->group(law);
+  tools::Number(&app, "--heat", &w.heat, tools::NonNegative(1e9),
+                "heat released per cylinder and cycle (J)")
+      ->group(law);
 
   try {
     app.parse(argc, argv);
@@ -492,6 +468,11 @@ int ParseArgs(int argc, char** argv, Args* a) {
     return UsageError(e.what());
   }
   a->command = app.get_subcommands().front()->get_name();
+  // The run-up's time stepping must advance (t + dt > t) and its rows stay bounded.
+  std::string error;
+  if (a->command == "runup" &&
+      !tools::CheckTimeStep("--dt", tools::FormatNumber(a->dt), a->dt, a->t_end, 1e8, &error))
+    return UsageError(error);
   if (burn_start->count() > 0) w.burn_start = burn_start_deg * kDeg;
   if (burn_duration->count() > 0) w.burn_duration = burn_duration_deg * kDeg;
   if (a->csv.empty() && a->command != "flywheel") a->csv = model + "_" + a->command + ".csv";
@@ -515,8 +496,8 @@ bool ReadTable(const std::string& path, double cycle, eng::PressureTable* t, std
     if (line.empty() || line[0] == '#') continue;
     const size_t comma = line.find(',');
     double x = 0, y = 0;
-    if (comma == std::string::npos || !ParseDouble(line.substr(0, comma).c_str(), &x) ||
-        !ParseDouble(line.substr(comma + 1).c_str(), &y)) {
+    if (comma == std::string::npos || !tools::ParseField(line.substr(0, comma), &x) ||
+        !tools::ParseField(line.substr(comma + 1), &y)) {
       if (a.empty() && row == 1) continue;  // a header
       *error = path + ":" + std::to_string(row) + ": expected 'angle_deg,p_gauge_Pa'";
       return false;
@@ -883,14 +864,14 @@ int main(int argc, char** argv) {
   eng::PressureTable table;
   Law law;
   if (!a.table.empty()) {
-    if (!ReadTable(a.table, e.cycle, &table, &error)) return UsageError(error);
+    if (!ReadTable(a.table, e.cycle, &table, &error)) return tools::UsageError(a.tool, error);
     law.table = &table;
   } else {
     a.wiebe.strokes = e.strokes;
     a.wiebe.bore = e.bore;
     a.wiebe.stroke = 2 * e.r;
     a.wiebe.rod_length = e.l;
-    if (!wiebe.Init(a.wiebe, &error)) return UsageError(error);
+    if (!wiebe.Init(a.wiebe, &error)) return tools::UsageError(a.tool, error);
     law.wiebe = &wiebe;
   }
   const Gas gas = MakeGas(&p, e, &law);

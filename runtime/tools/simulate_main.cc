@@ -30,7 +30,11 @@
 // Exit status: 0 when the run reached --t-end or a steady state (or stopped at the speed
 // through zero with --stop-at-speed-zero); 1 when it ended on a failure (a dead point, the
 // position solver, a singular inertia, the integrator), with the reason on stderr; 2 for a
-// usage error. A model generated without `dynamics` builds into a stub that says so (exit 2).
+// usage error (one line "<tool>: error: ..."). A model generated without `dynamics` builds into
+// a stub that says so (exit 2). Options are read by the command-line layer of every tool
+// (runtime/tools/common/): `--opt=value` or `--opt value`; each number finite and in the range
+// --help lists: --rtol in [1e-14, 0.1] (what double precision resolves), |--q0| <= 1e4,
+// |--qd0| <= 1e5, --dt at least --t-end / 1e8 (so that t + dt > t all the way).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -41,6 +45,7 @@
 #include <string>
 #include <vector>
 
+#include "common/cli.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/dynamics/prescribed.h"
@@ -56,18 +61,19 @@ namespace {
 constexpr double kDegToRad = 0.017453292519943295;
 constexpr double kTwoPi = 6.283185307179586;
 
-// "1.5" -> 1.5; "90deg" -> pi/2. False if malformed.
-bool ParseValue(const std::string& text, double* value) {
-  std::string number = text;
-  double factor = 1;
-  if (number.size() > 3 && number.compare(number.size() - 3, 3, "deg") == 0) {
-    number.resize(number.size() - 3);
-    factor = kDegToRad;
-  }
-  char* end = nullptr;
-  *value = std::strtod(number.c_str(), &end) * factor;
-  return !number.empty() && end != nullptr && *end == '\0' && std::isfinite(*value);
-}
+namespace tools = mechgen::tools;
+
+// The limits of the options (--help lists them; common/numbers.h): positions in model units
+// (rad, m), speeds per second; a time step must leave at most kMaxTimeSteps rows over
+// --t-end, so that t + dt > t all the way and the CSV stays bounded.
+constexpr double kMaxTime = 1e6;  // s
+constexpr double kMaxPosition = tools::kMaxPosition;
+constexpr double kMaxSpeed = tools::kMaxSpeed;
+constexpr double kMaxRows = tools::kMaxTimeSteps;
+constexpr double kMinRtol = 1e-14;        // ~50 ulp: below, rounding dominates the error
+constexpr double kMaxRtol = 0.1;
+constexpr double kMaxAtol = 1;
+constexpr long long kMaxIntegratorSteps = 2000000000;
 
 // One --drive NAME=LAW: the input's index and its law.
 struct DriveSpec {
@@ -79,12 +85,14 @@ struct DriveSpec {
 };
 
 struct Args {
+  std::string tool = "simulate";  // for messages (argv[0])
   double t_end = 10;
   double dt = 0.001;
   double rtol = 1e-8;
   double atol = 1e-10;
   std::string method = "dopri5";
   std::vector<double> q0, qd0;
+  std::string q0_text, qd0_text;  // as given, for messages
   std::string csv;
   double steady_tol = 1e-4;
   bool steady = true;
@@ -95,56 +103,19 @@ struct Args {
   std::vector<DriveSpec> drives;
 };
 
-void Usage(const char* program) {
-  std::printf(
-      "usage: %s [options]\n"
-      "Simulates the model's motion (minimal method, Paul 6.6.1) and writes a CSV.\n"
-      "  --t-end T            end time in s (default 10)\n"
-      "  --dt DT              CSV row spacing in s (default 0.001)\n"
-      "  --q0 V[,V...]        initial inputs (rad, or e.g. 90deg; default: the assembly)\n"
-      "  --qd0 V[,V...]       initial speeds (rad/s or m/s; default 0: from rest)\n"
-      "  --method M           dopri5 (default) or dop853\n"
-      "  --rtol R --atol A    integrator tolerances (default 1e-8, 1e-10)\n"
-      "  --steady-tol S       stop at a periodic steady state: the revolution time of the first\n"
-      "                       input changes by < S relative, twice in a row (default 1e-4)\n"
-      "  --no-steady          run to --t-end regardless\n"
-      "  --energy-projection  keep T + V - W_nc at its initial value (long conservative runs)\n"
-      "  --stop-at-speed-zero stop where the first input's speed changes sign\n"
-      "  --max-steps N        integrator steps before giving up (default 1e6)\n"
-      "  --drive NAME=LAW     a motion generator: input NAME (as in the CSV header) follows LAW,\n"
-      "                       the other inputs are free; repeat for several. LAW is one of\n"
-      "                         speed:W            constant speed W (rad/s, or e.g. 90deg) from\n"
-      "                                            the input's initial value\n"
-      "                         move:Q1:T0:T1      rest to rest from the initial value to Q1 between\n"
-      "                                            T0 and T1 s, 3-4-5 polynomial\n"
-      "                         cycloidal:Q1:T0:T1 the same, cycloidal\n"
-      "                         table:FILE         the clamped cubic spline through the rows t,q of\n"
-      "                                            a CSV file (a header line is skipped)\n"
-      "                       The CSV gets lambda_NAME, the actuator force that the law needs.\n"
-      "  --csv FILE           write the CSV there (default: <model>_simulate.csv)\n"
-      "  --quiet              no summary on stdout\n",
-      program);
-}
-
+// Comma-separated numbers (each with an optional 'deg' suffix).
 bool ParseList(const std::string& text, std::vector<double>* values) {
-  values->clear();
-  size_t start = 0;
-  while (start <= text.size()) {
-    const size_t comma = text.find(',', start);
-    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos
-                                                                            : comma - start);
-    double v = 0;
-    if (!ParseValue(item, &v)) return false;
-    values->push_back(v);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return true;
+  std::string error;
+  return tools::CheckNumberList("", text, tools::Finite(), true, values, &error);
 }
 
-// NAME=speed:W | move:Q1:T0:T1 | cycloidal:Q1:T0:T1 | table:FILE. The name is checked
-// against the model later.
-bool ParseDrive(const std::string& text, std::vector<DriveSpec>* drives) {
+constexpr const char* kDriveForm =
+    "NAME=speed:W, NAME=move:Q1:T0:T1, NAME=cycloidal:Q1:T0:T1 (0 <= T0 < T1) or "
+    "NAME=table:FILE";
+
+// NAME=speed:W | move:Q1:T0:T1 | cycloidal:Q1:T0:T1 | table:FILE, with W, Q1, T0, T1 inside
+// the tool's limits. The name is checked against the model later.
+bool ParseDrive(const std::string& text, DriveSpec* drive) {
   DriveSpec d;
   d.text = text;
   const size_t eq = text.find('=');
@@ -163,62 +134,94 @@ bool ParseDrive(const std::string& text, std::vector<DriveSpec>* drives) {
     std::replace(list.begin(), list.end(), ':', ',');
     if (!ParseList(list, &d.values)) return false;
     if (d.kind == "speed") {
-      if (d.values.size() != 1) return false;
+      if (d.values.size() != 1 || !tools::Magnitude(kMaxSpeed).Contains(d.values[0])) return false;
     } else if (d.kind == "move" || d.kind == "cycloidal") {
-      if (d.values.size() != 3 || !(d.values[2] > d.values[1])) return false;
+      if (d.values.size() != 3 || !tools::Magnitude(kMaxPosition).Contains(d.values[0]) ||
+          !(d.values[1] >= 0 && d.values[2] > d.values[1] && d.values[2] <= kMaxTime))
+        return false;
     } else {
       return false;
     }
   }
-  drives->push_back(d);
+  *drive = d;
   return true;
 }
 
-// 0: ok, 1: --help, 2: error.
-int ParseArgs(int argc, char** argv, Args* a) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto next = [&](std::string* out) {
-      if (i + 1 >= argc) return false;
-      *out = argv[++i];
-      return true;
-    };
-    auto number = [&](double* out) {
-      std::string text;
-      return next(&text) && ParseValue(text, out);
-    };
-    std::string text;
-    bool ok = true;
-    if (arg == "--help" || arg == "-h") return 1;
-    if (arg == "--t-end") ok = number(&a->t_end) && a->t_end > 0;
-    else if (arg == "--dt") ok = number(&a->dt) && a->dt > 0;
-    else if (arg == "--rtol") ok = number(&a->rtol) && a->rtol > 0;
-    else if (arg == "--atol") ok = number(&a->atol) && a->atol > 0;
-    else if (arg == "--steady-tol") ok = number(&a->steady_tol) && a->steady_tol > 0;
-    else if (arg == "--no-steady") a->steady = false;
-    else if (arg == "--energy-projection") a->energy_projection = true;
-    else if (arg == "--stop-at-speed-zero") a->stop_at_speed_zero = true;
-    else if (arg == "--quiet") a->quiet = true;
-    else if (arg == "--max-steps") {
-      double v = 0;
-      ok = number(&v) && v >= 1 && v <= 2e9;
-      a->max_steps = static_cast<int>(v);
-    }
-    else if (arg == "--method") ok = next(&a->method) && (a->method == "dopri5" || a->method == "dop853");
-    else if (arg == "--q0") ok = next(&text) && ParseList(text, &a->q0);
-    else if (arg == "--qd0") ok = next(&text) && ParseList(text, &a->qd0);
-    else if (arg == "--csv") ok = next(&a->csv);
-    else if (arg == "--drive") ok = next(&text) && ParseDrive(text, &a->drives);
-    else {
-      std::fprintf(stderr, "error: unknown option '%s' (see --help)\n", arg.c_str());
-      return 2;
-    }
-    if (!ok) {
-      std::fprintf(stderr, "error: bad or missing value for %s (see --help)\n", arg.c_str());
-      return 2;
-    }
+// Parses the command line (CLI11, common/cli.h). -1 to go on, else the exit status: 0 after
+// --help, 2 after a usage error (one line on stderr).
+int ParseArgs(int argc, char** argv, const std::string& model, Args* a) {
+  a->tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
+  CLI::App app{"Simulates the motion of the mechgen model '" + model +
+               "' (minimal method, Paul 6.6.1) and writes a CSV."};
+  app.footer(
+      "Exit status: 0 reached --t-end or a steady state, 1 the run failed (the reason on "
+      "stderr), 2 a usage error (one line on stderr).");
+  tools::Number(&app, "--t-end", &a->t_end, tools::Positive(kMaxTime), "end time (s)");
+  tools::Number(&app, "--dt", &a->dt, tools::Positive(kMaxTime),
+                "CSV row spacing (s); at least --t-end / 1e8");
+  std::string& q0_text = a->q0_text;
+  std::string& qd0_text = a->qd0_text;
+  app.add_option("--q0", q0_text,
+                 "initial inputs V[,V...] (rad, or e.g. 90deg; m for a slide; |V| <= 1e4; "
+                 "default: the assembly)")
+      ->check(tools::NumberListValidator(tools::Magnitude(kMaxPosition), true));
+  app.add_option("--qd0", qd0_text,
+                 "initial speeds V[,V...] (rad/s or m/s, |V| <= 1e5; default 0: from rest)")
+      ->check(tools::NumberListValidator(tools::Magnitude(kMaxSpeed), true));
+  app.add_option("--method", a->method, "dopri5 or dop853")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            if (text == "dopri5" || text == "dop853") return {};
+            return "bad value " + tools::Quote(text) + ": expected dopri5 or dop853";
+          },
+          "dopri5|dop853", ""))
+      ->capture_default_str();
+  tools::Number(&app, "--rtol", &a->rtol, tools::Between(kMinRtol, kMaxRtol),
+                "integrator relative tolerance");
+  tools::Number(&app, "--atol", &a->atol, tools::NonNegative(kMaxAtol),
+                "integrator absolute tolerance (model units)");
+  tools::Number(&app, "--steady-tol", &a->steady_tol, tools::Between(1e-12, 0.5),
+                "stop at a periodic steady state: the revolution time of the first input "
+                "changes by less than this, relative, twice in a row");
+  bool no_steady = false;
+  app.add_flag("--no-steady", no_steady, "run to --t-end regardless");
+  app.add_flag("--energy-projection", a->energy_projection,
+               "keep T + V - W_nc at its initial value (long conservative runs)");
+  app.add_flag("--stop-at-speed-zero", a->stop_at_speed_zero,
+               "stop where the first input's speed changes sign");
+  tools::Count(&app, "--max-steps", &a->max_steps, 1, kMaxIntegratorSteps,
+               "integrator steps before giving up");
+  std::vector<std::string> drive_text;
+  app.add_option("--drive", drive_text,
+                 "a motion generator NAME=LAW: input NAME (as in the CSV header) follows LAW, "
+                 "the other inputs are free; repeat for several. LAW: speed:W (constant speed "
+                 "W, rad/s or e.g. 90deg, from the initial value), move:Q1:T0:T1 (rest to rest "
+                 "to Q1 between T0 and T1 s, 3-4-5 polynomial), cycloidal:Q1:T0:T1 (the same, "
+                 "cycloidal), table:FILE (the clamped cubic spline through the rows t,q of a "
+                 "CSV file; a header line is skipped). The CSV gets lambda_NAME, the actuator "
+                 "force the law needs.")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            DriveSpec d;
+            if (ParseDrive(text, &d)) return {};
+            return "bad value " + tools::Quote(text) + ": expected " + kDriveForm;
+          },
+          "NAME=LAW", ""));
+  app.add_option("--csv", a->csv, "write the CSV there (default: " + model + "_simulate.csv)");
+  app.add_flag("--quiet", a->quiet, "no summary on stdout");
+  if (const int parsed = tools::Parse(&app, argc, argv, a->tool); parsed >= 0) return parsed;
+  a->steady = !no_steady;
+  std::string error;
+  if (!tools::CheckTimeStep("--dt", tools::FormatNumber(a->dt), a->dt, a->t_end, kMaxRows,
+                            &error))
+    return tools::UsageError(a->tool, error);
+  if (!q0_text.empty()) ParseList(q0_text, &a->q0);
+  if (!qd0_text.empty()) ParseList(qd0_text, &a->qd0);
+  for (const std::string& text : drive_text) {
+    a->drives.emplace_back();
+    ParseDrive(text, &a->drives.back());
   }
-  return 0;
+  return -1;
 }
 
 // The rows t,q of a CSV file (a first line that is not two numbers is a header). False with
@@ -261,15 +264,17 @@ int InitialState(const Args& args, VecQ* q0, VecQ* qd0) {
   for (int i = 0; i < kNq; ++i) (*q0)(i) = M::kAssemblyQ[i];
   if (!args.q0.empty()) {
     if (static_cast<int>(args.q0.size()) != kNq) {
-      std::fprintf(stderr, "error: --q0 needs %d value(s)\n", kNq);
-      return 2;
+      return tools::UsageError(args.tool, "--q0: bad value " + tools::Quote(args.q0_text) +
+                                              ": expected " + std::to_string(kNq) +
+                                              " value(s), one per input");
     }
     for (int i = 0; i < kNq; ++i) (*q0)(i) = args.q0[i];
   }
   if (!args.qd0.empty()) {
     if (static_cast<int>(args.qd0.size()) != kNq) {
-      std::fprintf(stderr, "error: --qd0 needs %d value(s)\n", kNq);
-      return 2;
+      return tools::UsageError(args.tool, "--qd0: bad value " + tools::Quote(args.qd0_text) +
+                                              ": expected " + std::to_string(kNq) +
+                                              " value(s), one per input");
     }
     for (int i = 0; i < kNq; ++i) (*qd0)(i) = args.qd0[i];
   }
@@ -448,15 +453,16 @@ int RunDriven(const Args& args) {
     if (k < 0) {
       std::string names;
       for (int j = 0; j < kNq; ++j) names += std::string(j ? ", " : "") + M::kQNames[j];
-      std::fprintf(stderr, "error: --drive %s: the model has no input '%s' (its inputs: %s)\n",
-                   d.text.c_str(), d.name.c_str(), names.c_str());
-      return 2;
+      return tools::UsageError(args.tool, "--drive: bad value " + tools::Quote(d.text) +
+                                              ": the model has no input " +
+                                              tools::Quote(d.name) + " (its inputs: " + names +
+                                              ")");
     }
     for (int j = 0; j < i; ++j) {
       if (prescribed[j] == k) {
-        std::fprintf(stderr, "error: --drive %s: input '%s' is driven twice\n", d.text.c_str(),
-                     d.name.c_str());
-        return 2;
+        return tools::UsageError(args.tool, "--drive: bad value " + tools::Quote(d.text) +
+                                                ": input " + tools::Quote(d.name) +
+                                                " is driven twice");
       }
     }
     prescribed[i] = k;
@@ -470,16 +476,14 @@ int RunDriven(const Args& args) {
       std::vector<double> t, q;
       std::string error;
       if (!ReadTable(d.file, &t, &q, &error)) {
-        std::fprintf(stderr, "error: --drive %s: %s\n", d.text.c_str(), error.c_str());
-        return 2;
+        return tools::UsageError(args.tool, "--drive: " + tools::Quote(d.text) + ": " + error);
       }
       dyn::TableLaw law(std::move(t), std::move(q));
       if (!law.IsValid()) {
-        std::fprintf(stderr,
-                     "error: --drive %s: the times of %s must increase strictly and every value "
-                     "be finite\n",
-                     d.text.c_str(), d.file.c_str());
-        return 2;
+        return tools::UsageError(args.tool, "--drive: " + tools::Quote(d.text) + ": the times of " +
+                                                d.file +
+                                                " must increase strictly and every value be "
+                                                "finite");
       }
       laws[i] = std::move(law);
     }
@@ -572,9 +576,9 @@ int RunDriven(const Args& args) {
 template <class M, template <int> class Method, int NP = 1>
 int DispatchDriven(const Args& args) {
   if constexpr (NP > M::kNq) {
-    std::fprintf(stderr, "error: %d --drive options for a model with %d input(s)\n",
-                 static_cast<int>(args.drives.size()), M::kNq);
-    return 2;
+    return tools::UsageError(args.tool, std::to_string(args.drives.size()) +
+                                            " --drive options for a model with " +
+                                            std::to_string(M::kNq) + " input(s)");
   } else {
     if (static_cast<int>(args.drives.size()) == NP) return RunDriven<M, Method, NP>(args);
     return DispatchDriven<M, Method, NP + 1>(args);
@@ -603,11 +607,7 @@ int Main(const Args& args) {
 
 int main(int argc, char** argv) {
   Args args;
-  const int parsed = ParseArgs(argc, argv, &args);
-  if (parsed == 1) {
-    Usage(argv[0]);
-    return 0;
-  }
-  if (parsed != 0) return 2;
+  const int parsed = ParseArgs(argc, argv, MECHGEN_MODEL_NAMESPACE::Model::kName, &args);
+  if (parsed >= 0) return parsed;
   return Main<MECHGEN_MODEL_NAMESPACE::Model>(args);
 }

@@ -12,6 +12,12 @@
 // runtime/tools/plot_statics.gnuplot. Example:
 //   slider_crank_friction_statics --steps 720 --csv out/scf.csv --svg out/scf.svg --dead-zones
 //   gnuplot -e "csv='out/scf.csv'; png='out/scf.png'" runtime/tools/plot_statics.gnuplot
+// Options are read by the command-line layer of every tool (runtime/tools/common/):
+// `--opt=value` or `--opt value`, every number finite and in the range --help lists; --steps
+// up to 10^6 (every row is held in memory); --samples from 36 (statics::ScanOptions::
+// kMinSamples) and at most 10 deg apart along an angle input, so that a scan cannot report
+// what a few samples happen to show as converged. Exit status: 0 done, 2 a usage error (one
+// line "<tool>: error: ..."), 3 the model does not assemble, 4 an output cannot be written.
 // A model generated without `forces` builds into a stub that says so (exit status 2).
 #include <algorithm>
 #include <chrono>
@@ -24,8 +30,7 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
+#include "common/cli.h"
 #include "mechgen/io/output_file.h"
 #include "mechgen/position/ceres_adapter.h"
 #include "mechgen/statics/columns.h"
@@ -43,19 +48,18 @@ namespace {
 
 constexpr double kDegToRad = 0.017453292519943295;
 
+namespace tools = mechgen::tools;
+
 // "1.5" -> 1.5 (model units, radians for angles); "90deg" -> pi/2. False if malformed.
 bool ParseValue(const std::string& text, double* value) {
-  std::string number = text;
-  double factor = 1;
-  if (number.size() > 3 && number.compare(number.size() - 3, 3, "deg") == 0) {
-    number.resize(number.size() - 3);
-    factor = kDegToRad;
-  }
-  char* end = nullptr;
-  *value = std::strtod(number.c_str(), &end);
-  *value *= factor;
-  return !number.empty() && end != nullptr && *end == '\0' && std::isfinite(*value);
+  return tools::ParseNumber(text, value, /*allow_degrees=*/true);
 }
+
+// The bounds of the counts: every row is held in memory (the table, the CSV and the SVG are
+// written after the sweep), so --steps stops at 10^6 rows; the scans at 10^6 samples.
+constexpr long long kMaxSteps = 1000000;
+constexpr long long kMaxSamples = 1000000;
+constexpr long long kMaxSnapshots = 1000;
 
 // "i:min:max" with i an input index or name -> (index, min, max).
 template <class M>
@@ -64,7 +68,7 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
   const size_t a = text.find(':');
   const size_t b = a == std::string::npos ? a : text.find(':', a + 1);
   if (b == std::string::npos) {
-    *error = "--range " + text + ": expected input:min:max";
+    *error = tools::BadValue("--range", text, "input:min:max");
     return false;
   }
   const std::string name = text.substr(0, a);
@@ -72,12 +76,16 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
   for (int j = 0; j < M::kNq; ++j)
     if (name == M::kQNames[j] || name == std::to_string(j)) *index = j;
   if (*index < 0) {
-    *error = "--range " + text + ": no input named '" + name + "'; inputs are";
+    *error = tools::BadValue("--range", text, "input:min:max") + "; no input named " +
+             tools::Quote(name) + "; inputs are";
     for (const char* q : M::kQNames) *error += std::string(" ") + q;
     return false;
   }
-  if (!ParseValue(text.substr(a + 1, b - a - 1), min) || !ParseValue(text.substr(b + 1), max)) {
-    *error = "--range " + text + ": min and max must be numbers (append 'deg' for degrees)";
+  if (!ParseValue(text.substr(a + 1, b - a - 1), min) || !ParseValue(text.substr(b + 1), max) ||
+      !(std::abs(*min) <= tools::kMaxPosition) || !(std::abs(*max) <= tools::kMaxPosition)) {
+    *error = tools::BadValue("--range", text,
+                             "input:min:max with min and max in [-1e4, 1e4] (append 'deg' for "
+                             "degrees)");
     return false;
   }
   return true;
@@ -101,14 +109,16 @@ int Run(int argc, char** argv) {
   CLI::App app{std::string("Statics of the mechgen model '") + M::kName +
                "' along a motion: driving forces (with friction forward and backward), "
                "reactions, V, mechanical advantage, dead zones, equilibria; CSV, table, SVG."};
+  const std::string tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
+  app.footer("Exit status: 0 done, 2 a usage error (one line on stderr), 3 the model does not "
+             "assemble, 4 an output cannot be written.");
   int steps = 360;
   std::vector<std::string> ranges;
   std::string csv_path, svg_path;
   int table_rows = 8, snapshots = 4, samples = 360;
   bool animate = false, dead_zones = false, equilibria = false;
   double max_condition = statics::Options().max_condition;
-  app.add_option("--steps", steps, "number of steps (rows = steps + 1)")
-      ->check(CLI::PositiveNumber);
+  tools::Count(&app, "--steps", &steps, 1, kMaxSteps, "number of steps (rows = steps + 1)");
   app.add_option("--range", ranges,
                  "input:min:max, input by name or index; values in model units (radians), "
                  "or with a 'deg' suffix (e.g. theta_crank:0:180deg). Default: the model's "
@@ -117,21 +127,21 @@ int Run(int argc, char** argv) {
                                     "runtime/tools/plot_statics.gnuplot)");
   app.add_option("--svg", svg_path, "write the mechanism with its reaction vectors at a few "
                                     "configurations to this SVG file");
-  app.add_option("--snapshots", snapshots, "configurations drawn in the SVG")
-      ->check(CLI::PositiveNumber);
+  tools::Count(&app, "--snapshots", &snapshots, 1, kMaxSnapshots,
+               "configurations drawn in the SVG");
   app.add_flag("--animate", animate, "add the animated copy of the sweep to the SVG");
-  app.add_option("--table", table_rows, "print this many rows to stdout (0: none)")
-      ->check(CLI::NonNegativeNumber);
+  tools::Count(&app, "--table", &table_rows, 0, kMaxSteps + 1,
+               "print this many rows to stdout (0: none)");
   app.add_flag("--dead-zones", dead_zones,
                "scan each input's range for self-locking intervals (T_back T0 <= 0)");
   app.add_flag("--equilibria", equilibria,
                "find the configurations where Q = 0 along the range, with their stability");
-  app.add_option("--samples", samples, "samples of the dead-zone and equilibrium scans")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--max-condition", max_condition,
-                 "forces are withheld (status singular) where cond_1(Phi_phi) exceeds this")
-      ->check(CLI::PositiveNumber);
-  CLI11_PARSE(app, argc, argv);
+  tools::Count(&app, "--samples", &samples, statics::ScanOptions::kMinSamples, kMaxSamples,
+               "samples of the dead-zone and equilibrium scans; at least 36, and at most 10 "
+               "deg apart along an angle input");
+  tools::Number(&app, "--max-condition", &max_condition, tools::Between(1, 1e16),
+                "forces are withheld (status singular) where cond_1(Phi_phi) exceeds this");
+  if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
 
   typename Types::VecQ q_begin = Eigen::Map<const typename Types::VecQ>(M::kQMin.data());
   typename Types::VecQ q_end = Eigen::Map<const typename Types::VecQ>(M::kQMax.data());
@@ -139,20 +149,42 @@ int Run(int argc, char** argv) {
     int j = 0;
     double min = 0, max = 0;
     std::string error;
-    if (!ParseRange<M>(text, &j, &min, &max, &error)) {
-      std::cerr << "error: " << error << "\n";
-      return 2;
-    }
+    if (!ParseRange<M>(text, &j, &min, &max, &error)) return tools::UsageError(tool, error);
     q_begin(j) = min;
     q_end(j) = max;
+  }
+  // A step longer than the position solver accepts (position::Options::max_input_step)
+  // would make every row invalid_input: a units mistake, refused here as by the sweep.
+  const double max_step = mechgen::position::Options().max_input_step;
+  for (int j = 0; j < M::kNq; ++j) {
+    if (!(std::abs(q_end(j) - q_begin(j)) / steps <= max_step)) {
+      return tools::UsageError(
+          tool, std::string("--range: ") + M::kQNames[j] + " moves " +
+                    tools::FormatNumber(std::abs(q_end(j) - q_begin(j)) / steps) +
+                    " per step, more than the solver's limit of " +
+                    tools::FormatNumber(max_step) + "; use more --steps or a shorter range");
+    }
+  }
+  // A scan too coarse for its range (statics::ScanOptions::kMaxAngleStep) would report what
+  // its few samples happen to show as converged: refused before anything is computed.
+  statics::ScanOptions scan;
+  scan.samples = samples;
+  if (dead_zones || equilibria) {
+    for (int j = 0; j < M::kNq; ++j) {
+      const double angle = std::abs(q_end(j) - q_begin(j));
+      if (!M::kQIsAngle[j] || scan.ResolvesAngle(angle)) continue;
+      const double needed = std::ceil(angle / statics::ScanOptions::kMaxAngleStep);
+      return tools::UsageError(
+          tool, tools::BadValue("--samples", std::to_string(samples),
+                                "at least " + tools::FormatNumber(needed) + " for the " +
+                                    tools::FormatNumber(angle / kDegToRad) + " deg of " +
+                                    M::kQNames[j] + " (at most 10 deg per sample)"));
+    }
   }
   statics::Options options;
   options.max_condition = max_condition;
   std::string error;
-  if (!options.IsValid(&error)) {
-    std::cerr << "error: " << error << "\n";
-    return 2;
-  }
+  if (!options.IsValid(&error)) return tools::UsageError(tool, error);
 
   mechgen::position::CeresPositionSolver<M> solver;
   mechgen::position::Summary assembly;
@@ -208,8 +240,6 @@ int Run(int argc, char** argv) {
     }
   }
 
-  statics::ScanOptions scan;
-  scan.samples = samples;
   if (dead_zones && !statics::StaticsFeatures<M>::kHasFriction) {
     std::printf("dead zones: none, the model has no friction (self-locking needs friction)\n");
   } else if (dead_zones) {
@@ -223,6 +253,8 @@ int Run(int argc, char** argv) {
       std::printf("dead zones of %s (self-locking: the load cannot drive it back): %zu (%s%s%s)\n",
                   M::kQNames[j], zones.size(), statics::ToString(summary.status),
                   summary.reason[0] ? ": " : "", summary.reason);
+      std::printf("  scan step %s: a zone or gap narrower than one step may be missed\n",
+                  Describe<M>(j, (q_end(j) - q_begin(j)) / samples).c_str());
       for (const statics::DeadZone& z : zones) {
         std::printf("  %s%s .. %s%s\n", Describe<M>(j, z.begin).c_str(),
                     z.begin_located ? "" : " (range end)", Describe<M>(j, z.end).c_str(),
@@ -237,6 +269,10 @@ int Run(int argc, char** argv) {
     statics::FindEquilibria(options, scan, &solver, q_begin, q_end, &found, &summary);
     std::printf("equilibrium positions (Q = 0 along the line): %zu (%s%s%s)\n", found.size(),
                 statics::ToString(summary.status), summary.reason[0] ? ": " : "", summary.reason);
+    std::printf("  scan step");
+    for (int j = 0; j < M::kNq; ++j)
+      std::printf("%s %s", j ? "," : "", Describe<M>(j, (q_end(j) - q_begin(j)) / samples).c_str());
+    std::printf(": two equilibria closer than one step may be missed\n");
     for (const statics::Equilibrium<M>& e : found) {
       std::printf("  ");
       for (int j = 0; j < M::kNq; ++j)

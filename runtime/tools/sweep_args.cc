@@ -1,27 +1,21 @@
 // The sweep command's options with CLI11 (sweep_args.h). Independent of the model.
 #include "sweep_args.h"
 
-#include <iostream>
 #include <string>
 
-#include <CLI/CLI.hpp>
+#include "common/cli.h"
 
 namespace mechgen::sweep_tool {
-
-int UsageError(const std::string& message) {
-  std::cerr << "error: " << message << "; see --help\n";
-  return kExitUsage;
-}
 
 int ParseArguments(int argc, char** argv, const std::string& model_name, long long max_steps,
                    Arguments* arguments) {
   Arguments& a = *arguments;
+  a.tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
   CLI::App app{"Sweep the inputs of the mechgen model '" + model_name +
                "', staying on its assembly mode; write CSV, a table and an SVG drawing. Exit "
                "status: 0 all rows converged, 3 some did not (counts on stderr), 2 bad "
-               "arguments, 1 model or output error."};
-  app.add_option("--steps", a.steps_text,
-                 "number of steps, 1.." + std::to_string(max_steps) + " (rows = steps + 1)");
+               "arguments (one line on stderr), 1 model or output error."};
+  tools::Count(&app, "--steps", &a.steps, 1, max_steps, "number of steps (rows = steps + 1)");
   app.add_option("--range", a.ranges,
                  "input:min:max, input by name or index; values in model units (radians), "
                  "or with a 'deg' suffix (e.g. theta_crank:0:180deg). Default: the model's "
@@ -33,25 +27,14 @@ int ParseArguments(int argc, char** argv, const std::string& model_name, long lo
                  "write every row to this CSV file (streamed; written whole or not at all)");
   app.add_option("--svg", a.svg_path,
                  "write a drawing with the traced point paths to this SVG file");
-  app.add_option("--table", a.table_text,
-                 "print this many rows to stdout, evenly spaced from the first row to the last "
-                 "(0: none)");
+  tools::Count(&app, "--table", &a.table, 0, max_steps + 1,
+               "print this many rows to stdout, evenly spaced from the first row to the last "
+               "(0: none)");
   app.add_flag("--no-animation", a.no_animation, "SVG without the SMIL animation");
   app.add_option("--mode", a.mode,
                  "assemble in this named assembly mode of the model (its assembly_modes:) "
                  "instead of the model's assembly");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::string what = e.what();
-    if (what.size() > 200) what = what.substr(0, 200) + "...";
-    return UsageError(what);
-  }
-  return -1;
+  return tools::Parse(&app, argc, argv, a.tool);
 }
 
 }  // namespace mechgen::sweep_tool

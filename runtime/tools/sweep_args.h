@@ -3,7 +3,8 @@
 // sweep_args.cc (one translation unit, as mechgen_add_model() compiles it) unless it is
 // compiled with -DMECHGEN_SWEEP_ARGS_SEPARATE: then sweep_args.cc is compiled once on its
 // own and linked in (`mechgen sweep` keeps that object in its cache for every model, so
-// that a model's first run does not compile CLI11 again).
+// that a model's first run does not compile CLI11 again). The checks are the command-line
+// layer of every tool (common/cli.h on CLI11, common/numbers.h without it).
 #pragma once
 
 #include <string>
@@ -11,10 +12,12 @@
 
 namespace mechgen::sweep_tool {
 
-/// The options as given (text; sweep_main.cc checks and converts them).
+/// The options: counts checked; --range, --qd, --qdd as given (text; sweep_main.cc checks
+/// them against the model).
 struct Arguments {
-  std::string steps_text = "360";
-  std::string table_text = "9";
+  std::string tool = "sweep";  ///< the tool's name for messages (argv[0])
+  long long steps = 360;
+  long long table = 9;
   std::vector<std::string> ranges;
   std::vector<std::string> qd_text, qdd_text;
   std::string csv_path, svg_path;
@@ -25,16 +28,13 @@ struct Arguments {
 /// Exit status of a usage error (bad arguments: nothing written).
 constexpr int kExitUsage = 2;
 
-/// Prints "error: <message>; see --help" on stderr; returns kExitUsage.
-int UsageError(const std::string& message);
-
 /**
  * \brief Parses the sweep command's options.
  * \param[in]  model_name  The model's name, for --help.
- * \param[in]  max_steps   The largest --steps, for --help.
+ * \param[in]  max_steps   The largest --steps (--table: up to max_steps + 1).
  * \param[out] arguments   The options.
  * \return -1 to go on, else the exit status to end with: 0 after --help (printed on
- *         stdout), kExitUsage after a parse error (UsageError() printed it).
+ *         stdout), kExitUsage after a usage error (one line "<tool>: error: ..." on stderr).
  */
 int ParseArguments(int argc, char** argv, const std::string& model_name, long long max_steps,
                    Arguments* arguments);

@@ -29,6 +29,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "common/numbers.h"
 #include "sweep_args.h"
 #ifndef MECHGEN_SWEEP_ARGS_SEPARATE
 #include "sweep_args.cc"
@@ -57,36 +58,11 @@ using Types = mechgen::ModelTypes<Model>;
 
 constexpr double kDegToRad = 0.017453292519943295;
 
-// 'text' for the messages (control characters as \xNN), or its length when too long to
-// quote.
-std::string Quote(const std::string& text) {
-  if (text.size() > 40) return "(a " + std::to_string(text.size()) + "-character value)";
-  std::string quoted = "'";
-  for (const char ch : text) {
-    const unsigned char c = static_cast<unsigned char>(ch);
-    if (c < 0x20 || c == 0x7f) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\x%02X", c);
-      quoted += buffer;
-    } else {
-      quoted += ch;
-    }
-  }
-  return quoted + "'";
-}
+using mechgen::tools::Quote;
 
 // "1.5" -> 1.5 (model units, radians for angles); "90deg" -> pi/2. False if malformed.
 bool ParseValue(const std::string& text, double* value) {
-  std::string number = text;
-  double factor = 1;
-  if (number.size() > 3 && number.compare(number.size() - 3, 3, "deg") == 0) {
-    number.resize(number.size() - 3);
-    factor = kDegToRad;
-  }
-  char* end = nullptr;
-  *value = std::strtod(number.c_str(), &end);
-  *value *= factor;
-  return !number.empty() && end != nullptr && *end == '\0' && std::isfinite(*value);
+  return mechgen::tools::ParseNumber(text, value, /*allow_degrees=*/true);
 }
 
 // "i:min:max" with i an input index or name -> (index, min, max).
@@ -95,7 +71,7 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
   const size_t a = text.find(':');
   const size_t b = a == std::string::npos ? a : text.find(':', a + 1);
   if (b == std::string::npos) {
-    *error = "--range " + Quote(text) + ": expected input:min:max";
+    *error = mechgen::tools::BadValue("--range", text, "input:min:max");
     return false;
   }
   const std::string name = text.substr(0, a);
@@ -103,13 +79,17 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
   for (int j = 0; j < Model::kNq; ++j)
     if (name == Model::kQNames[j] || name == std::to_string(j)) *index = j;
   if (*index < 0) {
-    *error = "--range " + Quote(text) + ": no input named " + Quote(name) + "; inputs are";
+    *error = mechgen::tools::BadValue("--range", text, "input:min:max") + "; no input named " +
+             Quote(name) + "; inputs are";
     for (const char* q : Model::kQNames) *error += std::string(" ") + q;
     return false;
   }
-  if (!ParseValue(text.substr(a + 1, b - a - 1), min) || !ParseValue(text.substr(b + 1), max)) {
-    *error = "--range " + Quote(text) + ": min and max must be finite numbers (append 'deg' for "
-             "degrees)";
+  if (!ParseValue(text.substr(a + 1, b - a - 1), min) || !ParseValue(text.substr(b + 1), max) ||
+      !(std::abs(*min) <= mechgen::tools::kMaxPosition) ||
+      !(std::abs(*max) <= mechgen::tools::kMaxPosition)) {
+    *error = mechgen::tools::BadValue("--range", text,
+                                      "input:min:max with min and max in [-1e4, 1e4] (append "
+                                      "'deg' for degrees)");
     return false;
   }
   return true;
@@ -119,22 +99,6 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
 // one row, plus the table's rows and at most kMaxSvgRows for the drawing).
 constexpr long long kMaxSteps = 10000000;
 constexpr size_t kMaxSvgRows = 3601;
-
-// An integer option in [min, max]: false with a short message (the text quoted only when
-// short) if `text` is not one.
-bool ParseCount(const char* option, const std::string& text, long long min, long long max,
-                long long* value, std::string* error) {
-  errno = 0;
-  char* end = nullptr;
-  const long long v = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || end == nullptr || *end != '\0' || errno == ERANGE || v < min || v > max) {
-    *error = std::string(option) + " " + Quote(text) + ": expected an integer from " +
-             std::to_string(min) + " to " + std::to_string(max);
-    return false;
-  }
-  *value = v;
-  return true;
-}
 
 // An input's value for the messages: "%g", in degrees for an angle; never "-0".
 std::string Describe(int j, double value) {
@@ -147,9 +111,8 @@ std::string Describe(int j, double value) {
 constexpr int kExitConverged = 0;    // every row converged; the outputs written
 constexpr int kExitError = 1;        // model or output error: nothing written
 constexpr int kExitRowsFailed = 3;   // the outputs written, but some rows did not converge
-// kExitUsage = 2 (sweep_args.h): bad arguments, nothing written.
-
-int Usage(const std::string& message) { return mechgen::sweep_tool::UsageError(message); }
+// kExitUsage = 2 (sweep_args.h): bad arguments, nothing written (one line on stderr,
+// common/numbers.h).
 
 // Models with named assembly modes (assembly_modes:) have Model::kNamedModes and ModesByName.
 template <class M, class = void>
@@ -182,8 +145,9 @@ int main(int argc, char** argv) {
   const int parsed =
       mechgen::sweep_tool::ParseArguments(argc, argv, Model::kName, kMaxSteps, &arguments);
   if (parsed >= 0) return parsed;
-  const std::string& steps_text = arguments.steps_text;
-  const std::string& table_text = arguments.table_text;
+  auto Usage = [&arguments](const std::string& message) {
+    return mechgen::tools::UsageError(arguments.tool, message);
+  };
   const std::vector<std::string>& ranges = arguments.ranges;
   const std::vector<std::string>& qd_text = arguments.qd_text;
   const std::vector<std::string>& qdd_text = arguments.qdd_text;
@@ -191,13 +155,9 @@ int main(int argc, char** argv) {
   const std::string& svg_path = arguments.svg_path;
   const bool no_animation = arguments.no_animation;
   std::string error;
-  long long steps_ll = 0, table_ll = 0;
-  if (!ParseCount("--steps", steps_text, 1, kMaxSteps, &steps_ll, &error) ||
-      !ParseCount("--table", table_text, 0, kMaxSteps + 1, &table_ll, &error)) {
-    return Usage(error);
-  }
-  const int steps = static_cast<int>(steps_ll);
-  const int table_rows = static_cast<int>(table_ll);
+  // Counts checked by the parser: --steps in 1..kMaxSteps, --table in 0..kMaxSteps + 1.
+  const int steps = static_cast<int>(arguments.steps);
+  const int table_rows = static_cast<int>(arguments.table);
   std::array<int, Model::kNumBlocks> named_modes = Model::kDefaultModes;
   if (!arguments.mode.empty() && !NamedModes<Model>(arguments.mode, &named_modes, &error))
     return Usage(error);
@@ -225,28 +185,31 @@ int main(int argc, char** argv) {
       return Usage(buffer);
     }
   }
-  auto parse_vector = [](const std::vector<std::string>& text, double fallback,
+  auto parse_vector = [](const std::vector<std::string>& text, double fallback, double bound,
                          const char* option, Types::VecQ* out, std::string* error) {
     out->setConstant(fallback);
     if (text.empty()) return true;
     if (text.size() != 1 && text.size() != static_cast<size_t>(Model::kNq)) {
-      *error = std::string(option) + (Model::kNq == 1 ? " takes one value"
-                                                      : " takes 1 or " +
+      *error = std::string(option) + (Model::kNq == 1 ? ": takes one value"
+                                                      : ": takes 1 or " +
                                                             std::to_string(Model::kNq) +
                                                             " values (one per input)");
       return false;
     }
     for (int j = 0; j < Model::kNq; ++j) {
-      if (!ParseValue(text[text.size() == 1 ? 0 : static_cast<size_t>(j)], &(*out)(j))) {
-        *error = std::string(option) + " values must be finite numbers";
+      const std::string& item = text[text.size() == 1 ? 0 : static_cast<size_t>(j)];
+      if (!ParseValue(item, &(*out)(j)) || !(std::abs((*out)(j)) <= bound)) {
+        *error = mechgen::tools::BadValue(
+            option, item,
+            mechgen::tools::Magnitude(bound).Describe() + " (append 'deg' for degrees)");
         return false;
       }
     }
     return true;
   };
   Types::VecQ qd, qdd;
-  if (!parse_vector(qd_text, 1.0, "--qd", &qd, &error) ||
-      !parse_vector(qdd_text, 0.0, "--qdd", &qdd, &error)) {
+  if (!parse_vector(qd_text, 1.0, mechgen::tools::kMaxSpeed, "--qd", &qd, &error) ||
+      !parse_vector(qdd_text, 0.0, mechgen::tools::kMaxAcceleration, "--qdd", &qdd, &error)) {
     return Usage(error);
   }
 

@@ -127,12 +127,14 @@ for t, q in knots + [(0.7, knots[-1][1]), (0.8, knots[-1][1])]:
 for args, expect in (
         (["--drive", "theta_nope=speed:1"], "no input 'theta_nope'"),
         (["--drive", "theta_prox1=speed:1", "--drive", "theta_prox1=speed:2"], "driven twice"),
-        (["--drive", "theta_prox1=warp:1"], "bad or missing value for --drive"),
-        (["--drive", "theta_prox1=move:1:0.5:0.2"], "bad or missing value for --drive"),
+        (["--drive", "theta_prox1=warp:1"], "--drive: bad value"),
+        (["--drive", "theta_prox1=move:1:0.5:0.2"], "--drive: bad value"),
         (["--drive", "theta_prox1=table:" + os.path.join(scratch, "missing.csv")], "cannot read")):
     p, _ = run(args, "bad")
-    check(p.returncode == 2 and expect in p.stderr,
-          "%s: exit %d, stderr %r (expected exit 2 and %r)" % (args, p.returncode, p.stderr, expect))
+    check(p.returncode == 2 and expect in p.stderr and p.stderr.count("\n") == 1
+          and p.stderr.startswith("fivebar_robot_simulate: error: "),
+          "%s: exit %d, stderr %r (expected exit 2 and one line with %r)"
+          % (args, p.returncode, p.stderr, expect))
     check(not os.path.exists(os.path.join(scratch, "bad.csv")), "%s: a CSV was written" % args)
 
 # 5. One motor at speed, the other free: the free arm falls into a singular configuration;

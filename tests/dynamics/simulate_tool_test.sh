@@ -32,9 +32,22 @@ grep -q "success" "$out/fb.txt" || fail "no success in the summary: $(cat "$out/
 "$sim" --t-end 100 --max-steps 20 --csv "$out/bad.csv" > "$out/bad.txt" 2> "$out/bad.err"
 [ $? -eq 1 ] || fail "a failed run did not exit 1"
 grep -q "integrator_failed" "$out/bad.err" || fail "no reason on stderr: $(cat "$out/bad.err")"
-# A usage error.
-"$sim" --t-end 1 --bogus > /dev/null 2>&1
-[ $? -eq 2 ] || fail "usage error did not exit 2"
+# Usage errors: exit 2, one line "<tool>: error: ...", no CSV; --opt=value as --opt value.
+name=$(basename "$sim")
+for args in "--t-end 1 --bogus" "--rtol 1e300" "--rtol=nan" "--q0 1e300" "--dt 1e-300" "--t-end inf" \
+            "--max-steps 2e9x" "--atol=-1"; do
+  rm -f "$out/usage.csv"
+  # shellcheck disable=SC2086
+  "$sim" $args --csv "$out/usage.csv" > /dev/null 2> "$out/usage.err"
+  status=$?
+  [ "$status" -eq 2 ] || fail "'$args': exit status $status, expected 2"
+  [ "$(wc -l < "$out/usage.err")" -eq 1 ] || fail "'$args': not one line on stderr: $(cat "$out/usage.err")"
+  grep -q "^$name: error: " "$out/usage.err" || fail "'$args': message $(cat "$out/usage.err")"
+  [ ! -e "$out/usage.csv" ] || fail "'$args': wrote a CSV"
+done
+"$sim" --t-end=0.2 --dt=0.01 --q0=0.3 --qd0=-1 --csv="$out/eq.csv" --quiet || fail "--opt=value run"
+"$sim" --t-end 0.2 --dt 0.01 --q0 0.3 --qd0 -1 --csv "$out/sp.csv" --quiet || fail "--opt value run"
+cmp -s "$out/eq.csv" "$out/sp.csv" || fail "--opt=value and --opt value wrote different CSVs"
 
 if command -v gnuplot > /dev/null 2>&1; then
   gnuplot -e "csv='$out/fb.csv'; png='$out/fb.png'" "$plot" > "$out/plot.txt" 2>&1 \

@@ -24,7 +24,9 @@ grep -q 'simulated steady cycle' "$tmp/fly.txt" || fail "flywheel summary"
 grep -q '^  steady at' "$tmp/runup.txt" || fail "runup did not reach a steady state"
 
 # usage errors: exit 2, nothing written
-for args in "bogus" "cycle --rpm -1" "cycle --nosuch 1" "flywheel --cs 2" "cycle --samples 3"; do
+for args in "bogus" "cycle --rpm -1" "cycle --nosuch 1" "flywheel --cs 2" "cycle --samples 3" \
+            "cycle --rpm inf" "cycle --rpm=nan" "cycle --samples 2e9" "runup --dt 1e-300" \
+            "runup --t-end=1e300"; do
   set +e
   # shellcheck disable=SC2086
   "$tool" $args --csv "$tmp/bad.csv" > /dev/null 2> "$tmp/err.txt"
@@ -32,7 +34,8 @@ for args in "bogus" "cycle --rpm -1" "cycle --nosuch 1" "flywheel --cs 2" "cycle
   set -e
   [ "$rc" -eq 2 ] || fail "'$args' exited $rc, expected 2"
   [ ! -e "$tmp/bad.csv" ] || fail "'$args' left $tmp/bad.csv"
-  grep -q 'error' "$tmp/err.txt" || fail "'$args': no message"
+  grep -q "^$(basename "$tool"): error: " "$tmp/err.txt" || fail "'$args': no message"
+  [ "$(wc -l < "$tmp/err.txt")" -eq 1 ] || fail "'$args': not one line on stderr"
 done
 # a bad pressure table: exit 2, nothing written
 printf 'angle_deg,p\n0,1e5\n0,2e5\n' > "$tmp/table.csv"

@@ -115,7 +115,7 @@ before=$failures
 "$mechgen" sweep fourbar.yaml --steps 0 > e.out 2> e.err
 status=$?
 [ "$status" -eq 2 ] || fail "--steps 0: exit status $status"
-grep -qx "error: --steps '0': expected an integer from 1 to 10000000; see --help" e.err ||
+grep -qx "mechgen sweep: error: --steps: bad value '0': expected an integer from 1 to 10000000" e.err ||
   fail "--steps 0: $(cat e.err)"
 "$mechgen" sweep fourbar.yaml --help > h.out 2>&1 || fail "--help: exit status $?"
 grep -q -- "--no-animation" h.out || fail "--help is not the driver's: $(head -5 h.out)"

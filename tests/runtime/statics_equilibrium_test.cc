@@ -8,6 +8,7 @@
 //    friction off): V = F s, equilibria at the dead centres q = 0 (s maximal: unstable) and
 //    q = pi (s minimal: stable), stiffness F s'' with s'' = -a cos q (1 + a cos q / b) there.
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -109,6 +110,48 @@ TEST(StaticsEquilibrium, SliderCrankDeadCentres) {
   }
   EXPECT_FALSE(found[0].stable);  // top dead centre: V = F s maximal
   EXPECT_TRUE(found[1].stable);   // bottom dead centre
+}
+
+// A scan too coarse for its range is refused, never reported as converged (issue 24): one
+// sample over a full turn sees Q with the same sign at both ends (the two dead centres in
+// between, SliderCrankDeadCentres) and used to report no equilibrium, converged.
+TEST(StaticsEquilibrium, RefusesTooCoarseScan) {
+  using VecQ = ModelTypes<SliderCrank>::VecQ;
+  ModelTypes<SliderCrank>::Params p;
+  p.mu_O = 0;
+  position::PositionSolver<SliderCrank> solver(position::Options(), p);
+  ASSERT_EQ(solver.AssembleDefault(nullptr), position::Status::kConverged);
+  std::vector<Equilibrium<SliderCrank>> found;
+  ScanSummary summary;
+  ScanOptions scan;
+  for (int samples : {1, 2, ScanOptions::kMinSamples - 1}) {
+    scan.samples = samples;
+    EXPECT_FALSE(scan.IsValid(nullptr)) << samples;
+    EXPECT_EQ(FindEquilibria(Options(), scan, &solver, VecQ::Constant(-0.5), VecQ::Constant(5.5),
+                             &found, &summary),
+              Status::kInvalidInput)
+        << samples;
+    EXPECT_TRUE(found.empty());
+  }
+  // Enough samples, but more than 10 deg apart along the angle: two turns in 40 samples.
+  scan.samples = 40;
+  EXPECT_TRUE(scan.IsValid(nullptr));
+  EXPECT_FALSE(scan.ResolvesAngle(4 * M_PI));
+  EXPECT_EQ(FindEquilibria(Options(), scan, &solver, VecQ::Constant(-0.5),
+                           VecQ::Constant(-0.5 + 4 * M_PI), &found, &summary),
+            Status::kInvalidInput);
+  EXPECT_NE(std::string(summary.reason).find("too coarse"), std::string::npos) << summary.reason;
+  // The minimum itself over one turn (10 deg a sample) finds both dead centres.
+  scan.samples = ScanOptions::kMinSamples;
+  EXPECT_TRUE(scan.ResolvesAngle(2 * M_PI));
+  ASSERT_EQ(solver.AssembleDefault(nullptr), position::Status::kConverged);
+  ASSERT_EQ(FindEquilibria(Options(), scan, &solver, VecQ::Constant(-0.5),
+                           VecQ::Constant(-0.5 + 2 * M_PI), &found, &summary),
+            Status::kConverged)
+      << summary.reason;
+  ASSERT_EQ(found.size(), 2u);
+  EXPECT_NEAR(found[0].q(0), 0.0, 1e-10);
+  EXPECT_NEAR(found[1].q(0), M_PI, 1e-10);
 }
 
 TEST(StaticsEquilibrium, RejectsBadInput) {

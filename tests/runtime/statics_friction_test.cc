@@ -299,6 +299,32 @@ TEST(StaticsDeadZones, MatchHandDerivedAngles) {
   ASSERT_EQ(FindDeadZones(Options(), scan, &solver, 0, 0.1, 2 * M_PI - 0.1, &zones, &summary),
             Status::kConverged);
   EXPECT_TRUE(zones.empty());
+
+  // A scan too coarse for its range is refused (issue 24): 2 samples of the full turn land on
+  // 0, pi and 2 pi, all inside the zones above, and used to report the whole turn as one dead
+  // zone, converged; 40 samples over two turns are more than 10 deg apart.
+  solver.set_params(p);
+  ASSERT_EQ(solver.AssembleDefault(nullptr), position::Status::kConverged);
+  for (int samples : {2, ScanOptions::kMinSamples - 1}) {
+    scan.samples = samples;
+    EXPECT_EQ(FindDeadZones(Options(), scan, &solver, 0, 0.0, 2 * M_PI, &zones, &summary),
+              Status::kInvalidInput)
+        << samples;
+    EXPECT_TRUE(zones.empty());
+  }
+  scan.samples = 40;
+  EXPECT_EQ(FindDeadZones(Options(), scan, &solver, 0, 0.0, 4 * M_PI, &zones, &summary),
+            Status::kInvalidInput);
+  // At the minimum (10 deg a sample) the three zones of the turn, located as above.
+  scan.samples = ScanOptions::kMinSamples;
+  ASSERT_EQ(FindDeadZones(Options(), scan, &solver, 0, 0.0, 2 * M_PI, &zones, &summary),
+            Status::kConverged)
+      << summary.reason;
+  ASSERT_EQ(zones.size(), 3u);
+  EXPECT_NEAR(zones[0].end, q1, 1e-9);
+  EXPECT_NEAR(zones[1].begin, q2, 1e-9);
+  EXPECT_NEAR(zones[1].end, 2 * M_PI - q2, 1e-9);
+  EXPECT_NEAR(zones[2].begin, 2 * M_PI - q1, 1e-9);
 }
 
 }  // namespace

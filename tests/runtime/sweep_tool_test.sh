@@ -40,32 +40,41 @@ run_refused() {
 }
 
 out="--csv out/f.csv --svg out/f.svg"
-steps_msg="error: --steps .*: expected an integer from 1 to 10000000; see --help"
-run_refused steps_zero 2 "error: --steps '0': expected an integer from 1 to 10000000; see --help" "$tool" --steps 0 $out
+# Usage errors: one line "<tool>: error: --x: bad value '...': expected ..." (the command-line
+# layer of every tool, runtime/tools/common/).
+T=$(basename "$tool")
+steps_msg="$T: error: --steps: bad value .*: expected an integer from 1 to 10000000"
+run_refused steps_zero 2 "$T: error: --steps: bad value '0': expected an integer from 1 to 10000000" "$tool" --steps 0 $out
 run_refused steps_negative 2 "$steps_msg" "$tool" --steps -5 $out
-run_refused steps_int_max 2 "error: --steps '2147483647': .*" "$tool" --steps 2147483647 $out
-run_refused steps_huge 2 "error: --steps \(a 300-character value\): .*" "$tool" --steps "$(printf '9%.0s' $(seq 300))" $out
+run_refused steps_int_max 2 "$T: error: --steps: bad value '2147483647': .*" "$tool" --steps 2147483647 $out
+run_refused steps_huge 2 "$T: error: --steps: bad value \(a 300-character value\): .*" "$tool" --steps "$(printf '9%.0s' $(seq 300))" $out
 run_refused steps_overflow 2 "$steps_msg" "$tool" --steps 99999999999999999999 $out
 run_refused steps_text 2 "$steps_msg" "$tool" --steps many $out
-run_refused steps_float 2 "$steps_msg" "$tool" --steps 1e3 $out
+run_refused steps_float 2 "$steps_msg" "$tool" --steps 1.5 $out
+run_refused steps_nan 2 "$steps_msg" "$tool" --steps nan $out
+run_refused steps_inf 2 "$steps_msg" "$tool" --steps=inf $out
+run_refused steps_1e300 2 "$steps_msg" "$tool" --steps 1e300 $out
 run_refused steps_empty 2 "$steps_msg" "$tool" --steps "" $out
-run_refused steps_missing 2 "error: --steps: .*; see --help" "$tool" $out --steps
-run_refused table_negative 2 "error: --table '-1': expected an integer from 0 to .*" "$tool" --table -1 $out
-run_refused table_text 2 "error: --table 'x': .*" "$tool" --table x $out
-run_refused unknown_option 2 "error: .*--frobnicate.*; see --help" "$tool" --frobnicate $out
-run_refused extra_positional 2 "error: .*extra.*; see --help" "$tool" extra $out
-run_refused range_no_colon 2 "error: --range 'theta_crank': expected input:min:max; see --help" "$tool" --range theta_crank $out
-run_refused range_unknown_input 2 "error: --range 'rocker:0:1': no input named 'rocker'; inputs are theta_crank; see --help" "$tool" --range rocker:0:1 $out
-run_refused range_not_number 2 "error: --range 'theta_crank:a:b': min and max must be finite numbers .*" "$tool" --range theta_crank:a:b $out
-run_refused range_nan 2 "error: --range .*finite numbers.*" "$tool" --range theta_crank:nan:1 $out
-run_refused range_inf 2 "error: --range .*finite numbers.*" "$tool" --range theta_crank:0:inf $out
-run_refused range_overflow 2 "error: --range .*finite numbers.*" "$tool" --range theta_crank:0:1e400 $out
-run_refused range_too_long_per_step 2 "error: --range: theta_crank moves .* per step, more than the solver's limit of 1000; .*" "$tool" --range theta_crank:0:1e300 $out
-run_refused range_long_text 2 "error: --range \(a [0-9]+-character value\): .*" "$tool" --range "$(printf 'x%.0s' $(seq 200)):0:1" $out
-run_refused range_control_characters 2 "error: --range 'theta_crank.x1B\[2J': expected input:min:max; see --help" "$tool" --range "$(printf 'theta_crank\033[2J')" $out
-run_refused qd_count 2 "error: --qd takes one value; see --help" "$tool" --qd 1 2 $out
-run_refused qd_text 2 "error: --qd values must be finite numbers; see --help" "$tool" --qd fast $out
-run_refused qdd_inf 2 "error: --qdd values must be finite numbers; see --help" "$tool" --qdd inf $out
+run_refused steps_missing 2 "$T: error: --steps: .*" "$tool" $out --steps
+run_refused table_negative 2 "$T: error: --table: bad value '-1': expected an integer from 0 to .*" "$tool" --table -1 $out
+run_refused table_text 2 "$T: error: --table: bad value 'x': .*" "$tool" --table x $out
+run_refused unknown_option 2 "$T: error: .*--frobnicate.*" "$tool" --frobnicate $out
+run_refused extra_positional 2 "$T: error: .*extra.*" "$tool" extra $out
+run_refused range_no_colon 2 "$T: error: --range: bad value 'theta_crank': expected input:min:max" "$tool" --range theta_crank $out
+run_refused range_unknown_input 2 "$T: error: --range: bad value 'rocker:0:1': expected input:min:max; no input named 'rocker'; inputs are theta_crank" "$tool" --range rocker:0:1 $out
+range_msg="$T: error: --range: bad value .*: expected input:min:max with min and max in \[-1e4, 1e4\] .*"
+run_refused range_not_number 2 "$range_msg" "$tool" --range theta_crank:a:b $out
+run_refused range_nan 2 "$range_msg" "$tool" --range theta_crank:nan:1 $out
+run_refused range_inf 2 "$range_msg" "$tool" --range theta_crank:0:inf $out
+run_refused range_overflow 2 "$range_msg" "$tool" --range theta_crank:0:1e400 $out
+run_refused range_1e300 2 "$range_msg" "$tool" --range=theta_crank:0:1e300 $out
+run_refused range_too_long_per_step 2 "$T: error: --range: theta_crank moves .* per step, more than the solver's limit of 1000; .*" "$tool" --range theta_crank:0:9999 --steps 1 $out
+run_refused range_long_text 2 "$T: error: --range: bad value \(a [0-9]+-character value\): .*" "$tool" --range "$(printf 'x%.0s' $(seq 200)):0:1" $out
+run_refused range_control_characters 2 "$T: error: --range: bad value 'theta_crank.x1B\[2J': expected input:min:max" "$tool" --range "$(printf 'theta_crank\033[2J')" $out
+run_refused qd_count 2 "$T: error: --qd: takes one value" "$tool" --qd 1 2 $out
+run_refused qd_text 2 "$T: error: --qd: bad value 'fast': expected a number in \[-100000, 100000\] .*" "$tool" --qd fast $out
+run_refused qd_1e300 2 "$T: error: --qd: bad value '1e300': expected a number in \[-100000, 100000\] .*" "$tool" --qd=1e300 $out
+run_refused qdd_inf 2 "$T: error: --qdd: bad value 'inf': expected .*" "$tool" --qdd inf $out
 
 # Outputs that cannot be written: exit 1, one line with the path and the reason.
 run_refused csv_dev_full 1 "error: cannot write /dev/full: No space left on device" "$tool" --csv /dev/full --table 0

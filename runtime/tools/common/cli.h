@@ -61,7 +61,7 @@ inline CLI::Validator NumberListValidator(const NumberRange& range, bool allow_d
         if (CheckNumberList("", text, range, allow_degrees, &values, &error)) return {};
         return error.substr(2);  // without the empty option's ": "
       },
-      "list of " + range.Describe(), "");
+      "V[,V...], each " + range.Describe(), "");
 }
 
 /// A number option bound to *value (its default shown by --help), checked by
@@ -88,10 +88,12 @@ inline int Parse(CLI::App* app, int argc, char** argv, const std::string& tool) 
   try {
     app->parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
-    std::cout << app->help("", CLI::AppFormatMode::Normal);
+    const std::string help = app->help("", CLI::AppFormatMode::Normal);
+    std::cout << help << (help.empty() || help.back() != '\n' ? "\n" : "");
     return 0;
   } catch (const CLI::CallForAllHelp&) {
-    std::cout << app->help("", CLI::AppFormatMode::All);
+    const std::string help = app->help("", CLI::AppFormatMode::All);
+    std::cout << help << (help.empty() || help.back() != '\n' ? "\n" : "");
     return 0;
   } catch (const CLI::ParseError& e) {
     return UsageError(tool, e.what());

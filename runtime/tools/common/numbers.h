@@ -145,6 +145,15 @@ inline bool ParseNumber(const std::string& text, double* value, bool allow_degre
   return std::isfinite(*value);
 }
 
+/// A field of a data file (CSV) as a finite number: ParseNumber() of the text without the
+/// blanks (space, tab, carriage return) around it.
+inline bool ParseField(const std::string& text, double* value) {
+  const size_t begin = text.find_first_not_of(" \t\r");
+  if (begin == std::string::npos) return false;
+  const size_t end = text.find_last_not_of(" \t\r");
+  return ParseNumber(text.substr(begin, end - begin + 1), value);
+}
+
 /// A number option's text checked against its range: false with the message
 /// "--x: bad value '...': expected ..." in *error.
 inline bool CheckNumber(const std::string& option, const std::string& text,

@@ -11,8 +11,12 @@
  * FindDeadZones() samples the range with the position solver (one continuation step per
  * sample, on the branch it is assembled on), evaluates self-locking at each sample, and
  * refines every change between neighbouring samples by bisection on the sign of
- * T_back T0, each bisection point a continuation step of the same solver. Only the zone
- * list allocates (push_back); the evaluations do not. No exceptions.
+ * T_back T0, each bisection point a continuation step of the same solver. A scan coarser
+ * than ScanOptions::kMinSamples samples or kMaxAngleStep per sample along an angle input is
+ * refused (kInvalidInput): samples that all land in the zones (the dead centres) would make
+ * the whole range one zone. A zone, or a gap between zones, narrower than one sample step
+ * can still be missed. Only the zone list allocates (push_back); the evaluations do not. No
+ * exceptions.
  */
 #pragma once
 
@@ -68,6 +72,11 @@ Status FindDeadZones(const Options& options, const ScanOptions& scan,
       !std::isfinite(begin) || !std::isfinite(end) || !solver->state().valid) {
     return finish(Status::kInvalidInput,
                   "invalid options or input, range not finite, or solver not assembled");
+  }
+  if (M::kQIsAngle[input] && !scan.ResolvesAngle(end - begin)) {
+    return finish(Status::kInvalidInput,
+                  "scan too coarse: more than 10 deg per sample along an angle input "
+                  "(ScanOptions::kMaxAngleStep); use more samples");
   }
   VecQ q0 = solver->state().q;
   auto at = [&](double t) {

@@ -13,7 +13,11 @@
  * sign change between neighbouring samples with the Illinois variant of regula falsi
  * (bracketing, superlinear), each point a continuation step of the same solver. A sign
  * change through a pole (|g| growing instead of vanishing: a dead point) is not reported.
- * Only the result list allocates. No exceptions.
+ * A scan coarser than ScanOptions::kMinSamples samples or kMaxAngleStep per sample along an
+ * angle input is refused (kInvalidInput): it would report "none" as converged where its few
+ * samples straddle two equilibria. Two equilibria closer than one sample step are still
+ * missed (g changes sign twice between the samples). Only the result list allocates. No
+ * exceptions.
  */
 #pragma once
 
@@ -82,6 +86,13 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
       !std::isfinite(length) || !solver->state().valid) {
     return finish(Status::kInvalidInput,
                   "invalid options, empty or infinite line, or solver not assembled");
+  }
+  for (int j = 0; j < M::kNq; ++j) {
+    if (M::kQIsAngle[j] && !scan.ResolvesAngle(q_end(j) - q_begin(j))) {
+      return finish(Status::kInvalidInput,
+                    "scan too coarse: more than 10 deg per sample along an angle input "
+                    "(ScanOptions::kMaxAngleStep); use more samples");
+    }
   }
   const VecQ e = (q_end - q_begin) / length;
   auto at = [&](double t) { return VecQ(q_begin + t * e); };

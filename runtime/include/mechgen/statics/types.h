@@ -143,6 +143,21 @@ struct ScanOptions {
   /// next with the position solver); a transition narrower than one sample step can be
   /// missed (two sign changes between neighbouring samples cancel).
   int samples = 360;
+  /// The coarsest scan FindDeadZones() and FindEquilibria() accept (a coarser one returns
+  /// kInvalidInput): at least kMinSamples samples, and at most kMaxAngleStep (10 deg) per
+  /// sample along every angle input that moves. A coarser scan reports what its few samples
+  /// happen to show as converged: 2 samples of a slider-crank's full turn land on its dead
+  /// centres, all self-locking, and make the whole turn one dead zone; 1 sample of a turn
+  /// sees Q with the same sign at both ends and no equilibrium where there are two. Even at
+  /// this resolution a pair of transitions closer than one sample step cancels: the result
+  /// is certain only down to the step (the statics tool prints it).
+  static constexpr int kMinSamples = 36;
+  static constexpr double kMaxAngleStep = 0.17453292519943295;  ///< 10 deg, rad
+  /// True when an angle input moving by `angle_range` (rad) is sampled at most
+  /// kMaxAngleStep apart.
+  bool ResolvesAngle(double angle_range) const {
+    return std::abs(angle_range) <= kMaxAngleStep * samples;
+  }
   /// A transition found between two samples is refined (bisection for dead zones, the
   /// Illinois variant of regula falsi for equilibria, each evaluation a continuation step to
   /// the new input) until its bracket is shorter than `tolerance` (input units: rad for an
@@ -158,7 +173,7 @@ struct ScanOptions {
       if (error != nullptr) *error = buffer;
       return false;
     };
-    if (samples < 1) return fail("samples", samples, "samples >= 1");
+    if (samples < kMinSamples) return fail("samples", samples, "samples >= kMinSamples = 36");
     if (!(tolerance > 0) || !std::isfinite(tolerance))
       return fail("tolerance", tolerance, "0 < tolerance < inf");
     if (max_refinements < 1) return fail("max_refinements", max_refinements, "max_refinements >= 1");
@@ -171,7 +186,8 @@ struct ScanSummary {
   /// kConverged: every sample was usable and every transition refined to the tolerance;
   /// kSingular: some samples were singular (position or statics), their neighbourhood is not
   /// resolved; kDidNotConverge: a friction iteration or a refinement did not converge;
-  /// kInvalidInput: bad options, input index, or the solver not assembled.
+  /// kInvalidInput: bad options, input index, a scan too coarse for its range
+  /// (ScanOptions::kMinSamples, kMaxAngleStep), or the solver not assembled.
   Status status = Status::kNotRun;
   int samples = 0;             ///< samples evaluated
   int unusable_samples = 0;    ///< samples whose position step or statics failed
