@@ -34,15 +34,14 @@
 #include "sweep_args.cc"
 #endif
 
-#include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
 #include "mechgen/io/svg.h"
-#include "mechgen/io/table.h"
 #ifdef MECHGEN_SWEEP_NO_CERES
 #include "mechgen/position/solver.h"
 #else
 #include "mechgen/position/ceres_adapter.h"
 #endif
+#include "mechgen/sweep/columns.h"
 #include "mechgen/sweep/sweep.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
