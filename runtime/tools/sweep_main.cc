@@ -395,8 +395,10 @@ int main(int argc, char** argv) {
     options.title = std::string("mechgen: ") + Model::kName;
     mechgen::WriteSvg(solver.params(), svg_records, options, svg.stream());
   }
-  // Each output whole or absent (OutputFile: a temporary file renamed on success).
-  if ((!csv_path.empty() && !csv.Commit(&error)) || (!svg_path.empty() && !svg.Commit(&error))) {
+  // Each output whole or absent (OutputFile: a temporary file renamed on success); both
+  // closed, every write checked, before either is renamed into place.
+  if ((!csv_path.empty() && !csv.Close(&error)) || (!svg_path.empty() && !svg.Close(&error)) ||
+      (!csv_path.empty() && !csv.Commit(&error)) || (!svg_path.empty() && !svg.Commit(&error))) {
     std::cerr << "error: " << error << "\n";
     return kExitError;
   }
