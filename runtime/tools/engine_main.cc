@@ -91,7 +91,9 @@
 #include "mechgen/engine/gas.h"
 #include "mechgen/engine/harmonics.h"
 #include "mechgen/flywheel/energy_loop.h"
+#include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
+#include "mechgen/table/columns.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
 #error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
@@ -513,16 +515,20 @@ bool ReadTable(const std::string& path, double cycle, eng::PressureTable* t, std
   return true;
 }
 
-/// Opened output files, committed together at the end.
+/// Opened output files, committed together at the end (each whole or absent:
+/// io/output_file.h); the CSVs are written by io/csv.h from the column tables below.
 struct Outputs {
   std::vector<std::unique_ptr<mechgen::OutputFile>> files;
   std::ostream* Open(const std::string& path, std::string* error) {
     files.push_back(std::make_unique<mechgen::OutputFile>());
     if (!files.back()->Open(path, error)) return nullptr;
-    files.back()->stream().precision(10);
     return &files.back()->stream();
   }
+  /// Every file closed (each write checked) before any is renamed into place: one that
+  /// cannot be written leaves all the destinations as they were.
   bool Commit(std::string* error) {
+    for (auto& f : files)
+      if (!f->Close(error)) return false;
     for (auto& f : files)
       if (!f->Commit(error)) return false;
     return true;
@@ -532,6 +538,143 @@ struct Outputs {
 int Fail(const std::string& message) {
   std::fprintf(stderr, "engine: error: %s\n", message.c_str());
   return 1;
+}
+
+/// 0, or 1 with one line on stderr when the standard output cannot be written.
+int FlushStdout() {
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return 0;
+  return Fail("cannot write the standard output");
+}
+
+// ---- the CSVs' column tables (table/columns.h) ----------------------------------------------
+
+/// The cycle CSV (one row per crank angle; see the file comment for the columns and signs).
+mechgen::table::Columns<Point> CycleColumns(const Engine& e) {
+  mechgen::table::Columns<Point> columns;
+  mechgen::table::Builder<Point> add(&columns);
+  add.Number("theta_deg", "deg", "crank angle", [](const Point& pt) { return pt.theta / kDeg; });
+  add.Number("T_gas", "N m", "gas torque on the crank, CCW +",
+             [](const Point& pt) { return pt.T_gas; });
+  add.Number("T_inertia", "N m", "inertia torque -1/2 I'(theta) omega^2 on the crank, CCW +",
+             [](const Point& pt) { return pt.T_inertia; });
+  add.Number("T_total", "N m", "T_gas + T_inertia, CCW +",
+             [](const Point& pt) { return pt.T_total; });
+  for (int j = 0; j < e.n; ++j) {
+    const std::string k = std::to_string(j + 1);
+    add.Number("p_" + k, "Pa", "gauge gas pressure of cylinder " + k,
+               [j](const Point& pt) { return pt.p[j]; });
+    add.Number("thrust_" + k, "N",
+               "force of piston " + k + " on the cylinder wall along n = (-sin beta, cos beta)",
+               [j](const Point& pt) { return pt.thrust[j]; });
+  }
+  const int R_O = e.R_O;
+  add.Number("F_O_x", "N", "main bearing: force of the frame on the crank, x",
+             [R_O](const Point& pt) { return pt.R[R_O]; });
+  add.Number("F_O_y", "N", "main bearing: force of the frame on the crank, y",
+             [R_O](const Point& pt) { return pt.R[R_O + 1]; });
+  for (int j = 0; j < e.n; ++j) {
+    const std::string k = std::to_string(j + 1);
+    const int B = e.R_B[j], C = e.R_C[j];
+    const double gamma = e.gamma[j];
+    // rod on crank = -(crank on rod), in the crank's frame (u along the throw).
+    auto u = [B, gamma](const Point& pt) {
+      const double a = pt.theta + gamma;
+      return -(pt.R[B] * std::cos(a) + pt.R[B + 1] * std::sin(a));
+    };
+    auto v = [B, gamma](const Point& pt) {
+      const double a = pt.theta + gamma;
+      return -(-pt.R[B] * std::sin(a) + pt.R[B + 1] * std::cos(a));
+    };
+    add.Number("pin_" + k + "_x", "N", "crank pin: force of the crank on rod " + k + ", x",
+               [B](const Point& pt) { return pt.R[B]; });
+    add.Number("pin_" + k + "_y", "N", "crank pin: force of the crank on rod " + k + ", y",
+               [B](const Point& pt) { return pt.R[B + 1]; });
+    add.Number("pin_" + k + "_u", "N",
+               "force of rod " + k + " on the crank pin along the throw, outward", u);
+    add.Number("pin_" + k + "_v", "N",
+               "force of rod " + k + " on the crank pin 90 deg ahead of the throw", v);
+    add.Number("wrist_" + k + "_x", "N", "wrist pin: force of rod " + k + " on the piston, x",
+               [C](const Point& pt) { return pt.R[C]; });
+    add.Number("wrist_" + k + "_y", "N", "wrist pin: force of rod " + k + " on the piston, y",
+               [C](const Point& pt) { return pt.R[C + 1]; });
+  }
+  if (Model::kHasShaking) {
+    add.Number("shake_F_x", "N", "shaking force on the frame -sum m a_G, x",
+               [](const Point& pt) { return pt.shake_x; });
+    add.Number("shake_F_y", "N", "shaking force on the frame -sum m a_G, y",
+               [](const Point& pt) { return pt.shake_y; });
+    add.Number("shake_M", "N m", "shaking moment on the frame about O, CCW +",
+               [](const Point& pt) { return pt.shake_M; });
+    add.Number("M_rock_x", "N m",
+               "rocking couple on the frame about the cylinders' middle, x (z along the shaft)",
+               [](const Point& pt) { return pt.rock_x; });
+    add.Number("M_rock_y", "N m", "rocking couple on the frame about the cylinders' middle, y",
+               [](const Point& pt) { return pt.rock_y; });
+  }
+  return columns;
+}
+
+/// One row of the energy loop CSV.
+struct LoopRow {
+  double theta = 0, T_total = 0, T_mean = 0, E = 0;
+};
+mechgen::table::Columns<LoopRow> LoopColumns() {
+  mechgen::table::Columns<LoopRow> columns;
+  mechgen::table::Builder<LoopRow> add(&columns);
+  add.Number("theta_deg", "deg", "crank angle", [](const LoopRow& r) { return r.theta / kDeg; });
+  add.Number("T_total", "N m", "crank torque at constant speed, CCW +",
+             [](const LoopRow& r) { return r.T_total; });
+  add.Number("T_mean", "N m", "its mean (the load)", [](const LoopRow& r) { return r.T_mean; });
+  add.Number("E", "J", "excess energy: the integral of T_total - T_mean from theta = 0",
+             [](const LoopRow& r) { return r.E; });
+  return columns;
+}
+
+/// One row of the C_s against J_fly CSV.
+struct CsRow {
+  double J_fly = 0, Cs_energy_loop = 0, Cs_simulated = 0;
+};
+mechgen::table::Columns<CsRow> CsColumns() {
+  mechgen::table::Columns<CsRow> columns;
+  mechgen::table::Builder<CsRow> add(&columns);
+  add.Number("J_fly", "kg m^2", "flywheel inertia", [](const CsRow& r) { return r.J_fly; });
+  add.Number("Cs_energy_loop", "1", "(w_max - w_min)/w_mean from the energy loop",
+             [](const CsRow& r) { return r.Cs_energy_loop; });
+  add.Number("Cs_simulated", "1", "(w_max - w_min)/w_mean of the simulated steady cycle",
+             [](const CsRow& r) { return r.Cs_simulated; });
+  return columns;
+}
+
+/// One row of the Wittenbauer CSV: a point of the steady cycle.
+using WittenbauerRow = eng::CyclePoint;
+mechgen::table::Columns<WittenbauerRow> WittenbauerColumns() {
+  using R = WittenbauerRow;
+  mechgen::table::Columns<R> columns;
+  mechgen::table::Builder<R> add(&columns);
+  add.Number("theta_deg", "deg", "crank angle", [](const R& r) { return r.theta / kDeg; });
+  add.Number("t", "s", "time", [](const R& r) { return double(r.t); });
+  add.Number("omega", "rad/s", "crank speed", [](const R& r) { return double(r.omega); });
+  add.Number("I", "kg m^2", "generalized inertia I(theta)", [](const R& r) { return double(r.I); });
+  add.Number("T_kin", "J", "kinetic energy", [](const R& r) { return double(r.T); });
+  return columns;
+}
+
+/// One row of the run-up CSV.
+struct RunupRow {
+  double t, theta, omega, T_gas, T_load;
+};
+mechgen::table::Columns<RunupRow> RunupColumns() {
+  using R = RunupRow;
+  mechgen::table::Columns<R> columns;
+  mechgen::table::Builder<R> add(&columns);
+  add.Number("t", "s", "time", [](const R& r) { return r.t; });
+  add.Number("theta_deg", "deg", "crank angle", [](const R& r) { return r.theta / kDeg; });
+  add.Number("omega", "rad/s", "crank speed", [](const R& r) { return r.omega; });
+  add.Number("rpm", "1/min", "crank speed", [](const R& r) { return r.omega * 60 / (2 * kPi); });
+  add.Number("T_gas", "N m", "gas torque on the crank, CCW +", [](const R& r) { return r.T_gas; });
+  add.Number("T_load", "N m", "load torque on the crank, CCW + (negative: it brakes)",
+             [](const R& r) { return r.T_load; });
+  return columns;
 }
 
 // ---- subcommands --------------------------------------------------------------------------
@@ -544,31 +687,9 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
   Outputs outs;
   std::ostream* o = outs.Open(a.csv, &error);
   if (o == nullptr) return Fail(error);
-  *o << "theta_deg,T_gas,T_inertia,T_total";
-  for (int j = 1; j <= e.n; ++j) *o << ",p_" << j << ",thrust_" << j;
-  *o << ",F_O_x,F_O_y";
-  for (int j = 1; j <= e.n; ++j)
-    *o << ",pin_" << j << "_x,pin_" << j << "_y,pin_" << j << "_u,pin_" << j << "_v,wrist_" << j
-       << "_x,wrist_" << j << "_y";
-  if (Model::kHasShaking) *o << ",shake_F_x,shake_F_y,shake_M,M_rock_x,M_rock_y";
-  *o << "\n";
+  mechgen::WriteCsv(CycleColumns(e), pts, *o);
   double max_check = 0, scale = 0;
   for (const Point& pt : pts) {
-    *o << pt.theta / kDeg << "," << pt.T_gas << "," << pt.T_inertia << "," << pt.T_total;
-    for (int j = 0; j < e.n; ++j) *o << "," << pt.p[j] << "," << pt.thrust[j];
-    *o << "," << pt.R[e.R_O] << "," << pt.R[e.R_O + 1];
-    for (int j = 0; j < e.n; ++j) {
-      const double fx = pt.R[e.R_B[j]], fy = pt.R[e.R_B[j] + 1];
-      const double a_pin = pt.theta + e.gamma[j];
-      // rod on crank = -(crank on rod), in the crank's frame (u along the throw).
-      const double u = -(fx * std::cos(a_pin) + fy * std::sin(a_pin));
-      const double v = -(-fx * std::sin(a_pin) + fy * std::cos(a_pin));
-      *o << "," << fx << "," << fy << "," << u << "," << v << "," << pt.R[e.R_C[j]] << ","
-         << pt.R[e.R_C[j] + 1];
-    }
-    if (Model::kHasShaking)
-      *o << "," << pt.shake_x << "," << pt.shake_y << "," << pt.shake_M << "," << pt.rock_x << "," << pt.rock_y;
-    *o << "\n";
     max_check = std::max(max_check, std::abs(pt.drive + pt.T_total));
     scale = std::max(scale, std::abs(pt.T_total));
   }
@@ -659,7 +780,7 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
   }
   std::printf("  check: generated kinetostatics' drive + T_total, max %.3g N m (of %.3g)\n", max_check, scale);
   std::printf("  wrote %s\n", a.csv.c_str());
-  return 0;
+  return FlushStdout();
 }
 
 using Sim = eng::GasDriven<Model, Gas>;
@@ -720,24 +841,24 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   Outputs outs;
   std::ostream* lo = outs.Open(a.loop_csv, &error);
   if (lo == nullptr) return Fail(error);
-  *lo << "theta_deg,T_total,T_mean,E\n";
-  for (int i = 0; i <= n; ++i)
-    *lo << dth * i / kDeg << "," << pts[i % n].T_total << "," << mean << "," << (i < n ? E[i] : 0.0) << "\n";
+  std::vector<LoopRow> loop_rows;
+  for (int i = 0; i <= n; ++i) loop_rows.push_back({dth * i, pts[i % n].T_total, mean, i < n ? E[i] : 0.0});
+  mechgen::WriteCsv(LoopColumns(), loop_rows, *lo);
   std::ostream* so = outs.Open(a.sweep_csv, &error);
   if (so == nullptr) return Fail(error);
-  *so << "J_fly,Cs_energy_loop,Cs_simulated\n";
   std::vector<std::array<double, 3>> sweep;
+  std::vector<CsRow> cs_rows;
   for (double f : {0.25, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0, 2.8, 4.0}) {
     const double J = f * J_fly;
     eng::SteadyCycle s;
     if (!simulate(J, &s)) return Fail("sweep at J_fly = " + std::to_string(J) + ": " + s.message);
     sweep.push_back({J, dE / ((J + I_recip) * omega * omega), s.Cs});
-    *so << J << "," << sweep.back()[1] << "," << s.Cs << "\n";
+    cs_rows.push_back({J, sweep.back()[1], s.Cs});
   }
+  mechgen::WriteCsv(CsColumns(), cs_rows, *so);
   std::ostream* wo = outs.Open(a.witt_csv, &error);
   if (wo == nullptr) return Fail(error);
-  *wo << "theta_deg,t,omega,I,T_kin\n";
-  for (const auto& q : sc.points) *wo << q.theta / kDeg << "," << q.t << "," << q.omega << "," << q.I << "," << q.T << "\n";
+  mechgen::WriteCsv(WittenbauerColumns(), sc.points, *wo);
   if (!outs.Commit(&error)) return Fail(error);
   const double cs_gas_only = dEg / (I_req * omega * omega);
   std::printf("%s flywheel at %.6g rpm (omega %.6g rad/s), prescribed C_s = %.6g\n", Model::kName, a.rpm,
@@ -754,7 +875,7 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   std::printf("  C_s against J_fly (energy loop / simulated):\n");
   for (const auto& s : sweep) std::printf("    J_fly %10.5g   %10.5g   %10.5g\n", s[0], s[1], s[2]);
   std::printf("  wrote %s, %s, %s\n", a.loop_csv.c_str(), a.sweep_csv.c_str(), a.witt_csv.c_str());
-  return 0;
+  return FlushStdout();
 }
 
 int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
@@ -781,10 +902,7 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   q(0) = 0;
   qd(0) = (a.idle_rpm > 0 ? a.idle_rpm : a.rpm / 4) * 2 * kPi / 60;
   if (!sim.Initialize(q)) return Fail("the model does not assemble at theta = 0");
-  struct Row {
-    double t, theta, omega, T_gas, T_load;
-  };
-  std::vector<Row> rows;
+  std::vector<RunupRow> rows;
   // Cycle mean speeds from the crossings of theta = k cycle (linear between fine samples).
   std::vector<double> t_cross, means;
   int next_cycle = 1;
@@ -833,10 +951,7 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   Outputs outs;
   std::ostream* o = outs.Open(a.csv, &error);
   if (o == nullptr) return Fail(error);
-  *o << "t,theta_deg,omega,rpm,T_gas,T_load\n";
-  for (const Row& r : rows)
-    *o << r.t << "," << r.theta / kDeg << "," << r.omega << "," << r.omega * 60 / (2 * kPi) << "," << r.T_gas
-       << "," << r.T_load << "\n";
+  mechgen::WriteCsv(RunupColumns(), rows, *o);
   if (!outs.Commit(&error)) return Fail(error);
   std::printf("%s run-up from %.6g rpm against T_load %.6g N m + c_load %.6g N m s/rad (target %.6g rpm)\n",
               Model::kName, qd(0) * 60 / (2 * kPi), T_load, c_load, a.rpm);
@@ -847,7 +962,7 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   std::printf("  mean gas torque %.6g N m, load at the final speed %.6g N m\n", mean_gas,
               T_load + c_load * final_mean);
   std::printf("  wrote %s\n", a.csv.c_str());
-  return 0;
+  return FlushStdout();
 }
 
 }  // namespace

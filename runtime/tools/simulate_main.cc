@@ -7,7 +7,10 @@
 // I(q) qdd + 1/2 I'(q) qd^2 = Q(t, q, qd) by the minimal method (mechgen/dynamics/forward.h)
 // until --t-end, or until the speed is periodic (steady state: the time of one revolution of the
 // first input changes by less than --steady-tol between revolutions, twice in a row; an angle
-// input only), or until an event stops it. Writes a CSV (one row every --dt seconds):
+// input only), or until an event stops it. Writes a CSV (one row every --dt seconds; its columns
+// declared once below with their units and signs and written by the one CSV writer, io/csv.h,
+// every number so that it reads back to the same double; the file written whole or not at
+// all, io/output_file.h: a CSV that cannot be written exits 1 with one line):
 //   t [s], each input q [rad or m], its speed q_dot, acceleration q_ddot, the kinetic energy
 //   T, potential V, E = T + V, W_nc = the work of the non-conservative forces since t = 0 [J],
 //   Q_<input> = the generalized applied force (loads, motor curves, dampers, weights, springs;
@@ -36,20 +39,26 @@
 // --help lists: --rtol in [1e-14, 0.1] (what double precision resolves), |--q0| <= 1e4,
 // |--qd0| <= 1e5, --dt at least --t-end / 1e8 (so that t + dt > t all the way).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/cli.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/dynamics/prescribed.h"
+#include "mechgen/io/csv.h"
+#include "mechgen/io/output_file.h"
 #include "mechgen/statics/traits.h"
+#include "mechgen/table/columns.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
 #error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
@@ -255,6 +264,157 @@ bool ReadTable(const std::string& path, std::vector<double>* t, std::vector<doub
   return true;
 }
 
+// ---- output: the CSV's column table (table/columns.h), written by io/csv.h -----------------
+
+// One CSV row: a sample and the reactions of the generated kinetostatics at it (nullptr when
+// withheld: the row's reaction cells are then empty).
+template <class SampleT>
+struct CsvRow {
+  const SampleT* s = nullptr;
+  const double* R = nullptr;
+};
+
+// The columns every run has: t, each input, its speed and acceleration, then T, V, E, W_nc
+// (and W_act when driven).
+template <class M, class SampleT, bool kDriven>
+void AddMotionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
+  using Row = CsvRow<SampleT>;
+  constexpr int kNq = M::kNq;
+  auto unit = [](int i, const char* per) {
+    return std::string(M::kQIsAngle[i] ? "rad" : "m") + per;
+  };
+  add->Number("t", "s", "time", [](const Row& r) { return double(r.s->t); });
+  for (int i = 0; i < kNq; ++i)
+    add->Number(M::kQNames[i], unit(i, ""), "input", [i](const Row& r) { return r.s->q(i); });
+  for (int i = 0; i < kNq; ++i)
+    add->Number(std::string(M::kQNames[i]) + "_dot", unit(i, "/s"), "input speed",
+                [i](const Row& r) { return r.s->qd(i); });
+  for (int i = 0; i < kNq; ++i)
+    add->Number(std::string(M::kQNames[i]) + "_ddot", unit(i, "/s^2"), "input acceleration",
+                [i](const Row& r) { return r.s->qdd(i); });
+  add->Number("T", "J", "kinetic energy", [](const Row& r) { return double(r.s->T); });
+  add->Number("V", "J", "potential energy (springs, gravity)",
+              [](const Row& r) { return double(r.s->V); });
+  add->Number("E", "J", "T + V", [](const Row& r) { return double(r.s->E); });
+  if constexpr (!kDriven) {
+    add->Number("W_nc", "J", "work of the non-conservative forces since t = 0",
+                [](const Row& r) { return double(r.s->W); });
+  } else {
+    add->Number("W_nc", "J", "work of the non-conservative forces since t = 0",
+                [](const Row& r) { return double(r.s->W_nc); });
+    add->Number("W_act", "J", "work of the actuators since t = 0",
+                [](const Row& r) { return double(r.s->W_act); });
+  }
+}
+
+// Q_<input>: the generalized applied force.
+template <class M, class SampleT>
+void AddForceColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
+  using Row = CsvRow<SampleT>;
+  for (int i = 0; i < M::kNq; ++i)
+    add->Number(std::string("Q_") + M::kQNames[i], M::kQIsAngle[i] ? "N m" : "N",
+                "generalized applied force (loads, motors, dampers, weights, springs): a torque "
+                "CCW + for an angle input, a force along +q for a slide",
+                [i](const Row& r) { return r.s->Q(i); });
+}
+
+// Each reaction component of the generated kinetostatics at the simulated motion (empty cells
+// where withheld).
+template <class M, class SampleT>
+void AddReactionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
+  using Row = CsvRow<SampleT>;
+  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  if constexpr (kNumReactions > 0) {
+    for (int k = 0; k < kNumReactions; ++k)
+      add->Number(M::kReactionNames[k], M::kReactionNames[k][0] == 'M' ? "N m" : "N",
+                  "reaction with the inertia forces: the force of the joint's first link on its "
+                  "second, fixed frame",
+                  [k](const Row& r) {
+                    return r.R != nullptr ? r.R[k] : std::numeric_limits<double>::quiet_NaN();
+                  })
+          .missing = "";
+  }
+}
+
+// The revolute joints among the reactions, F_<joint>_x followed by F_<joint>_y: (index of the
+// x component, joint).
+template <class M>
+std::vector<std::pair<int, std::string>> RevoluteMagnitudes() {
+  std::vector<std::pair<int, std::string>> magnitudes;
+  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  if constexpr (kNumReactions > 0) {
+    for (int r = 0; r + 1 < kNumReactions; ++r) {
+      const std::string a = M::kReactionNames[r], b = M::kReactionNames[r + 1];
+      if (a.size() > 4 && a.compare(0, 2, "F_") == 0 && a.compare(a.size() - 2, 2, "_x") == 0 &&
+          b == a.substr(0, a.size() - 2) + "_y") {
+        magnitudes.emplace_back(r, a.substr(2, a.size() - 4));
+      }
+    }
+  }
+  return magnitudes;
+}
+
+// The CSV of a run with every input free: t, q, q_dot, q_ddot, T, V, E, W_nc, Q, the
+// reactions and |F| of each revolute joint.
+template <class M, class SampleT>
+mechgen::table::Columns<CsvRow<SampleT>> FreeColumns() {
+  using Row = CsvRow<SampleT>;
+  mechgen::table::Columns<Row> columns;
+  mechgen::table::Builder<Row> add(&columns);
+  AddMotionColumns<M, SampleT, false>(&add);
+  AddForceColumns<M, SampleT>(&add);
+  AddReactionColumns<M, SampleT>(&add);
+  for (const auto& m : RevoluteMagnitudes<M>()) {
+    const int x = m.first;
+    add.Number("F_" + m.second + "_mag", "N", "|force| at the revolute joint",
+               [x](const Row& r) {
+                 return r.R != nullptr ? std::hypot(r.R[x], r.R[x + 1])
+                                       : std::numeric_limits<double>::quiet_NaN();
+               })
+        .missing = "";
+  }
+  return columns;
+}
+
+// The CSV of a run with NP inputs driven: t, q, q_dot, q_ddot, T, V, E, W_nc, W_act, Q,
+// lambda per driven input, balance, rcond, the reactions.
+template <class M, class SampleT, int NP>
+mechgen::table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>& prescribed) {
+  using Row = CsvRow<SampleT>;
+  mechgen::table::Columns<Row> columns;
+  mechgen::table::Builder<Row> add(&columns);
+  AddMotionColumns<M, SampleT, true>(&add);
+  AddForceColumns<M, SampleT>(&add);
+  for (int i = 0; i < NP; ++i) {
+    const int k = prescribed[i];
+    add.Number(std::string("lambda_") + M::kQNames[k], M::kQIsAngle[k] ? "N m" : "N",
+               "actuator force that keeps the input on its law: a torque on the input link CCW +, "
+               "or a force along the slide",
+               [i](const Row& r) { return r.s->lambda(i); });
+  }
+  add.Number("balance", "J", "E - W_nc - W_act (constant along an exact motion)",
+             [](const Row& r) { return double(r.s->Balance()); });
+  add.Number("rcond", "1", "1/cond_1(Phi_phi) (the run stops below 1e-6)",
+             [](const Row& r) { return double(r.s->rcond); });
+  AddReactionColumns<M, SampleT>(&add);
+  return columns;
+}
+
+// Commits the CSV (io/output_file.h: whole or absent); false with one line on stderr.
+bool CommitCsv(mechgen::OutputFile* csv) {
+  std::string error;
+  if (csv->Commit(&error)) return true;
+  std::fprintf(stderr, "error: %s\n", error.c_str());
+  return false;
+}
+
+// The standard output flushed; false with one line on stderr when it cannot be written.
+bool FlushStdout() {
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return true;
+  std::fprintf(stderr, "error: cannot write the standard output\n");
+  return false;
+}
+
 // The inputs' initial values and speeds from the model's assembly, --q0 and --qd0. 0 or the
 // usage error's exit status.
 template <class M, class VecQ>
@@ -286,7 +446,6 @@ int Run(const Args& args) {
   using Sim = mechgen::dynamics::MinimalDynamics<M, Method>;
   using VecQ = typename Sim::VecQ;
   using SampleT = typename Sim::SampleT;
-  constexpr int kNq = M::kNq;
   constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
   const typename M::template ParamsT<double> params;
 
@@ -309,32 +468,16 @@ int Run(const Args& args) {
   kineto.Initialize(q0);
 
   const std::string csv_path = args.csv.empty() ? std::string(M::kName) + "_simulate.csv" : args.csv;
-  std::ofstream csv(csv_path);
-  if (!csv) {
-    std::fprintf(stderr, "error: cannot write %s\n", csv_path.c_str());
-    return 2;
+  // The CSV, written to a temporary file and renamed when whole (io/output_file.h).
+  mechgen::OutputFile csv;
+  std::string error;
+  if (!csv.Open(csv_path, &error)) {
+    std::fprintf(stderr, "error: %s\n", error.c_str());
+    return 1;
   }
-  // Header.
-  csv << "t";
-  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i];
-  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i] << "_dot";
-  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i] << "_ddot";
-  csv << ",T,V,E,W_nc";
-  for (int i = 0; i < kNq; ++i) csv << ",Q_" << M::kQNames[i];
-  std::vector<std::pair<int, std::string>> magnitudes;  // (index of the x component, joint)
-  if constexpr (kNumReactions > 0) {
-    for (int r = 0; r < kNumReactions; ++r) csv << ',' << M::kReactionNames[r];
-    for (int r = 0; r + 1 < kNumReactions; ++r) {
-      const std::string a = M::kReactionNames[r], b = M::kReactionNames[r + 1];
-      if (a.size() > 4 && a.compare(0, 2, "F_") == 0 && a.compare(a.size() - 2, 2, "_x") == 0 &&
-          b == a.substr(0, a.size() - 2) + "_y") {
-        magnitudes.emplace_back(r, a.substr(2, a.size() - 4));
-        csv << ",F_" << magnitudes.back().second << "_mag";
-      }
-    }
-  }
-  csv << '\n';
-  csv.precision(10);
+  const auto columns = FreeColumns<M, SampleT>();
+  const auto magnitudes = RevoluteMagnitudes<M>();
+  mechgen::WriteCsvHeader(columns, csv.stream());
 
   // Steady state: times at which the first input passes q0 + 2 pi k (angle inputs).
   const bool angle = M::kQIsAngle[0];
@@ -345,30 +488,20 @@ int Run(const Args& args) {
   double max_reaction = 0;
 
   auto observer = [&](const SampleT& s) {
-    csv << s.t;
-    for (int i = 0; i < kNq; ++i) csv << ',' << s.q(i);
-    for (int i = 0; i < kNq; ++i) csv << ',' << s.qd(i);
-    for (int i = 0; i < kNq; ++i) csv << ',' << s.qdd(i);
-    csv << ',' << s.T << ',' << s.V << ',' << s.E << ',' << s.W;
-    for (int i = 0; i < kNq; ++i) csv << ',' << s.Q(i);
+    CsvRow<SampleT> row{&s, nullptr};
     if constexpr (kNumReactions > 0) {
-      mechgen::dynamics::KinetostaticsRow<M> row;
-      kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &row);
-      const bool usable = row.status == mechgen::dynamics::KinetostaticsStatus::kOk;
-      for (int r = 0; r < kNumReactions; ++r) {
-        csv << ',';
-        if (usable) csv << row.statics.R(r);
+      mechgen::dynamics::KinetostaticsRow<M> k;
+      kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+      if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) {
+        row.R = k.statics.R.data();
+        for (const auto& m : magnitudes)
+          max_reaction =
+              std::max(max_reaction, std::hypot(k.statics.R(m.first), k.statics.R(m.first + 1)));
       }
-      for (const auto& m : magnitudes) {
-        csv << ',';
-        if (usable) {
-          const double mag = std::hypot(row.statics.R(m.first), row.statics.R(m.first + 1));
-          max_reaction = std::max(max_reaction, mag);
-          csv << mag;
-        }
-      }
+      mechgen::WriteCsvRow(columns, row, csv.stream());
+    } else {
+      mechgen::WriteCsvRow(columns, row, csv.stream());
     }
-    csv << '\n';
     if (angle && args.steady && s.t > 0) {
       // Crossings of q0 + 2 pi k, either direction, by linear interpolation between rows.
       const double k_prev = std::floor((prev_q - q0(0)) / kTwoPi);
@@ -400,7 +533,7 @@ int Run(const Args& args) {
   mechgen::dynamics::MinimalSummary summary;
   SampleT last;
   sim.Simulate(0.0, q0, qd0, args.t_end, observer, &summary, &last);
-  csv.close();
+  if (!CommitCsv(&csv)) return 1;
   const bool failure = mechgen::dynamics::IsFailure(summary.status);
   if (!args.quiet) {
     std::printf("%s: %s\n", M::kName, mechgen::dynamics::FormatSummary(summary).c_str());
@@ -419,6 +552,7 @@ int Run(const Args& args) {
     std::printf("wrote %s (%d rows); plot: gnuplot -e \"csv='%s'; png='%s'\" plot_dynamics.gnuplot\n",
                 csv_path.c_str(), summary.samples, csv_path.c_str(), png.c_str());
   }
+  if (!FlushStdout()) return 1;
   if (failure) {
     std::fprintf(stderr, "%s: the simulation failed: %s at t = %.9g s: %s\n", M::kName,
                  mechgen::dynamics::ToString(summary.status), summary.t_end, summary.message);
@@ -509,52 +643,31 @@ int RunDriven(const Args& args) {
   kineto.Initialize(q0);
 
   const std::string csv_path = args.csv.empty() ? std::string(M::kName) + "_simulate.csv" : args.csv;
-  std::ofstream csv(csv_path);
-  if (!csv) {
-    std::fprintf(stderr, "error: cannot write %s\n", csv_path.c_str());
-    return 2;
+  // The CSV, written to a temporary file and renamed when whole (io/output_file.h).
+  mechgen::OutputFile csv;
+  std::string error;
+  if (!csv.Open(csv_path, &error)) {
+    std::fprintf(stderr, "error: %s\n", error.c_str());
+    return 1;
   }
-  csv << "t";
-  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i];
-  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i] << "_dot";
-  for (int i = 0; i < kNq; ++i) csv << ',' << M::kQNames[i] << "_ddot";
-  csv << ",T,V,E,W_nc,W_act";
-  for (int i = 0; i < kNq; ++i) csv << ",Q_" << M::kQNames[i];
-  for (int i = 0; i < NP; ++i) csv << ",lambda_" << M::kQNames[prescribed[i]];
-  csv << ",balance,rcond";
-  if constexpr (kNumReactions > 0)
-    for (int r = 0; r < kNumReactions; ++r) csv << ',' << M::kReactionNames[r];
-  csv << '\n';
-  csv.precision(17);  // round trip: a reader may difference the columns
+  const auto columns = DrivenColumns<M, SampleT, NP>(prescribed);
+  mechgen::WriteCsvHeader(columns, csv.stream());
   auto observer = [&](const SampleT& s) {
-    csv << s.t;
-    for (int i = 0; i < kNq; ++i) csv << ',' << s.q(i);
-    for (int i = 0; i < kNq; ++i) csv << ',' << s.qd(i);
-    for (int i = 0; i < kNq; ++i) csv << ',' << s.qdd(i);
-    csv << ',' << s.T << ',' << s.V << ',' << s.E << ',' << s.W_nc << ',' << s.W_act;
-    for (int i = 0; i < kNq; ++i) csv << ',' << s.Q(i);
-    for (int i = 0; i < NP; ++i) csv << ',' << s.lambda(i);
-    csv << ',' << s.Balance() << ',' << s.rcond;
+    CsvRow<SampleT> row{&s, nullptr};
     if constexpr (kNumReactions > 0) {
-      mechgen::dynamics::KinetostaticsRow<M> row;
-      kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &row);
-      const bool usable = row.status == mechgen::dynamics::KinetostaticsStatus::kOk;
-      for (int r = 0; r < kNumReactions; ++r) {
-        csv << ',';
-        if (usable) csv << row.statics.R(r);
-      }
+      mechgen::dynamics::KinetostaticsRow<M> k;
+      kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+      if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) row.R = k.statics.R.data();
+      mechgen::WriteCsvRow(columns, row, csv.stream());
+    } else {
+      mechgen::WriteCsvRow(columns, row, csv.stream());
     }
-    csv << '\n';
     return true;
   };
   dyn::PrescribedSummary summary;
   SampleT last;
   sim.Simulate(0.0, qf0, qdf0, args.t_end, observer, &summary, &last);
-  csv.close();
-  if (!csv) {
-    std::fprintf(stderr, "error: cannot write %s\n", csv_path.c_str());
-    return 1;
-  }
+  if (!CommitCsv(&csv)) return 1;
   const bool failure = dyn::IsFailure(summary.status);
   if (!args.quiet) {
     std::printf("%s (%d of %d inputs driven): %s\n", M::kName, NP, kNq,
@@ -563,6 +676,7 @@ int RunDriven(const Args& args) {
       std::printf("end: lambda_%s = %.6g\n", M::kQNames[prescribed[i]], last.lambda(i));
     std::printf("wrote %s (%d rows)\n", csv_path.c_str(), summary.samples);
   }
+  if (!FlushStdout()) return 1;
   if (failure) {
     std::fprintf(stderr, "%s: the simulation failed: %s at t = %.9g s (1/cond(Phi_phi) = %.3g): %s\n",
                  M::kName, dyn::ToString(summary.status), summary.t_end, last.rcond,

@@ -283,26 +283,38 @@ int Run(int argc, char** argv) {
     }
   }
 
+  // Each output whole or absent (io/output_file.h: a temporary file renamed on success), both
+  // closed, every write checked, before either is renamed into place; a failed write (a full
+  // disk, /dev/full) exits 1 with one line.
+  mechgen::OutputFile csv, svg;
+  auto failed = [&error]() {
+    std::cerr << "error: " << error << "\n";
+    return 1;
+  };
   if (!csv_path.empty()) {
-    mechgen::OutputFile file;  // written whole or not at all (io/output_file.h)
-    std::string error;
-    if (!file.Open(csv_path, &error)) return std::cerr << "error: " << error << "\n", 4;
-    statics::WriteStaticsCsv(records, file.stream());
-    if (!file.Commit(&error)) return std::cerr << "error: " << error << "\n", 4;
+    if (!csv.Open(csv_path, &error)) return failed();
+    statics::WriteStaticsCsv(records, csv.stream());
+  }
+  if (!svg_path.empty()) {
+    if (!svg.Open(svg_path, &error)) return failed();
+    mechgen::SvgOptions svg_options;
+    svg_options.animate = animate;
+    svg_options.snapshots = snapshots;
+    svg_options.title = std::string("mechgen statics: ") + M::kName;
+    statics::WriteStaticsSvg(solver.params(), records, svg_options, svg.stream());
+  }
+  if ((!csv_path.empty() && !csv.Close(&error)) || (!svg_path.empty() && !svg.Close(&error)) ||
+      (!csv_path.empty() && !csv.Commit(&error)) || (!svg_path.empty() && !svg.Commit(&error))) {
+    return failed();
+  }
+  if (!csv_path.empty()) {
     std::printf("wrote %s (%d rows x %zu columns)\n", csv_path.c_str(), rows,
                 statics::StaticsCsvColumns<M>().size());
   }
-  if (!svg_path.empty()) {
-    mechgen::OutputFile file;
-    std::string error;
-    if (!file.Open(svg_path, &error)) return std::cerr << "error: " << error << "\n", 4;
-    mechgen::SvgOptions svg;
-    svg.animate = animate;
-    svg.snapshots = snapshots;
-    svg.title = std::string("mechgen statics: ") + M::kName;
-    statics::WriteStaticsSvg(solver.params(), records, svg, file.stream());
-    if (!file.Commit(&error)) return std::cerr << "error: " << error << "\n", 4;
-    std::printf("wrote %s\n", svg_path.c_str());
+  if (!svg_path.empty()) std::printf("wrote %s\n", svg_path.c_str());
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout.flush()) {
+    std::cerr << "error: cannot write the standard output\n";
+    return 1;
   }
   return 0;
 }

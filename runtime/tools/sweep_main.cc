@@ -35,15 +35,14 @@
 #include "sweep_args.cc"
 #endif
 
-#include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
 #include "mechgen/io/svg.h"
-#include "mechgen/io/table.h"
 #ifdef MECHGEN_SWEEP_NO_CERES
 #include "mechgen/position/solver.h"
 #else
 #include "mechgen/position/ceres_adapter.h"
 #endif
+#include "mechgen/sweep/columns.h"
 #include "mechgen/sweep/sweep.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
@@ -359,8 +358,10 @@ int main(int argc, char** argv) {
     options.title = std::string("mechgen: ") + Model::kName;
     mechgen::WriteSvg(solver.params(), svg_records, options, svg.stream());
   }
-  // Each output whole or absent (OutputFile: a temporary file renamed on success).
-  if ((!csv_path.empty() && !csv.Commit(&error)) || (!svg_path.empty() && !svg.Commit(&error))) {
+  // Each output whole or absent (OutputFile: a temporary file renamed on success); both
+  // closed, every write checked, before either is renamed into place.
+  if ((!csv_path.empty() && !csv.Close(&error)) || (!svg_path.empty() && !svg.Close(&error)) ||
+      (!csv_path.empty() && !csv.Commit(&error)) || (!svg_path.empty() && !svg.Commit(&error))) {
     std::cerr << "error: " << error << "\n";
     return kExitError;
   }

@@ -1,8 +1,9 @@
 // The sweep's one column table (sweep/columns.h) against the writer it replaced: the CSV and
 // the printed table of several generated models (one and two inputs, with and without
 // transmission angles and points) must be byte-identical to what the former output.h wrote
-// from its two hand-synchronised lists (copied below, unchanged but for names, as the
-// oracle, extended by the error-bound columns added since); and the table's columns are
+// from its two hand-synchronised lists (copied below, unchanged but for names and for the
+// numbers' round-trip format of issue 24, as the oracle, extended by the error-bound columns
+// added since); and the table's columns are
 // exactly the table-named columns of the CSV, with the same values (angles converted to degrees).
 #include <cmath>
 #include <set>
@@ -75,7 +76,9 @@ std::vector<std::string> OldCsvColumns() {
 template <class M>
 std::vector<std::string> OldCsvValues(const SweepRecord<M>& r) {
   using F = ModelFeatures<M>;
-  using mechgen::internal::FormatNumber;
+  // Every number as it reads back bit for bit (issue 24; io/format.h, tested in
+  // table_format_test.cc), where the former writer had 12, 6 or 3 significant digits.
+  auto FormatNumber = [](double x) { return mechgen::internal::FormatRoundTrip(x); };
   std::vector<std::string> v;
   const position::State<M>& s = r.state;
   const position::Motion<M>& m = r.motion;
@@ -110,12 +113,12 @@ std::vector<std::string> OldCsvValues(const SweepRecord<M>& r) {
   }
   v.push_back(position::ToString(r.summary.status));
   v.push_back(std::to_string(r.summary.iterations));
-  v.push_back(FormatNumber(r.summary.residual_norm, "%.3g"));
-  v.push_back(FormatNumber(r.summary.condition, "%.6g"));
-  v.push_back(FormatNumber(s.sigma_min, "%.6g"));
-  for (int i = 0; i < M::kNphi; ++i) v.push_back(FormatNumber(s.singular_direction(i), "%.6g"));
+  v.push_back(FormatNumber(r.summary.residual_norm));
+  v.push_back(FormatNumber(r.summary.condition));
+  v.push_back(FormatNumber(s.sigma_min));
+  for (int i = 0; i < M::kNphi; ++i) v.push_back(FormatNumber(s.singular_direction(i)));
   // Added since (issue 12).
-  for (double e : {s.phi_error, s.K_error, s.L_error}) v.push_back(FormatNumber(e, "%.3g"));
+  for (double e : {s.phi_error, s.K_error, s.L_error}) v.push_back(FormatNumber(e));
   for (int i = 0; i < SweepRecord<M>::kNumMu; ++i) v.push_back(FormatNumber(r.mu(i)));
   return v;
 }

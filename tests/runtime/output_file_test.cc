@@ -116,6 +116,38 @@ TEST_F(OutputFileTest, DevFullFailsWithEnospc) {
   EXPECT_TRUE(S_ISCHR(st.st_mode));  // still the device, not replaced by a file
 }
 
+// Close() then Commit() (issue 24: a tool with several outputs closes all before renaming
+// any): after Close() the destination is still the previous file, after Commit() the new one;
+// a second output that fails at Close() leaves the first one's destination unchanged too.
+TEST_F(OutputFileTest, CloseChecksEveryWriteBeforeAnyRename) {
+  const fs::path a = dir_ / "a.csv";
+  std::ofstream(a) << "previous a\n";
+  {
+    OutputFile first, second;
+    std::string error;
+    ASSERT_TRUE(first.Open(a.string(), &error)) << error;
+    ASSERT_TRUE(second.Open("/dev/full", &error)) << error;
+    first.stream() << "new a\n";
+    second.stream() << "x\n";
+    ASSERT_TRUE(first.Close(&error)) << error;
+    EXPECT_EQ(Read(a), "previous a\n");
+    EXPECT_FALSE(second.Close(&error));
+    EXPECT_EQ(error, std::string("cannot write /dev/full: ") + std::strerror(ENOSPC));
+  }  // the tool returns: neither is committed
+  EXPECT_EQ(Read(a), "previous a\n");
+  EXPECT_EQ(Listing(dir_), "a.csv ");
+  OutputFile f;
+  std::string error;
+  ASSERT_TRUE(f.Open(a.string(), &error)) << error;
+  f.stream() << "new a\n";
+  ASSERT_TRUE(f.Close(&error)) << error;
+  ASSERT_TRUE(f.Close(&error)) << error;  // a second Close() is a no-op
+  EXPECT_EQ(Read(a), "previous a\n");
+  ASSERT_TRUE(f.Commit(&error)) << error;
+  EXPECT_EQ(Read(a), "new a\n");
+  EXPECT_EQ(Listing(dir_), "a.csv ");
+}
+
 TEST_F(OutputFileTest, UnopenablePathsFailAtOpenAndCreateNothing) {
   std::string error;
   OutputFile f;

@@ -26,6 +26,7 @@
 #include "mechgen/io/table.h"
 #include "mechgen/position/ceres_adapter.h"
 #include "mechgen/position/solver.h"
+#include "mechgen/sweep/columns.h"
 #include "mechgen/sweep/sweep.h"
 #include "test_util.h"
 

@@ -17,6 +17,7 @@
 #include "mechgen/io/table.h"
 #include "mechgen/position/ceres_adapter.h"
 #include "mechgen/position/solver.h"
+#include "mechgen/sweep/columns.h"
 #include "mechgen/sweep/sweep.h"
 #include "slider_crank.h"
 

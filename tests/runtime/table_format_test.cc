@@ -1,9 +1,14 @@
 // The printed table's rows and the number formatting (issue 13): --table N shows N rows
 // evenly spaced from the first to the last, both included; no number is printed as -0.
 // Oracles: hand-counted indices, the exact real spacing r (n - 1) / (N - 1), and the text
-// of plain printf.
+// of plain printf. And (issue 24) every number the one CSV writer (io/csv.h) writes reads
+// back with strtod to the same double, bit for bit (oracle: the bits of the double written).
+#include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -16,7 +21,9 @@
 #include "mechgen/io/format.h"
 #include "mechgen/io/table.h"
 #include "mechgen/position/solver.h"
+#include "mechgen/sweep/columns.h"
 #include "mechgen/sweep/sweep.h"
+#include "mechgen/table/columns.h"
 
 namespace {
 
@@ -118,6 +125,189 @@ TEST(FormatNumber, TableAndCsvPrintNoNegativeZero) {
   EXPECT_EQ(text.find(",-0,"), std::string::npos) << text;
   EXPECT_EQ(text.find("\n-0,"), std::string::npos) << text;
   EXPECT_NE(text.find("\n0,"), std::string::npos) << text;
+}
+
+// ---- Round trip (issue 24) ---------------------------------------------------------------
+
+bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
+
+// Significant digits of a number's text: the digits of its mantissa without leading zeros.
+int SignificantDigits(const std::string& text) {
+  int digits = 0;
+  bool leading = true;
+  for (char c : text) {
+    if (c == 'e' || c == 'E') break;
+    if (c < '0' || c > '9') continue;
+    if (c == '0' && leading) continue;
+    leading = false;
+    ++digits;
+  }
+  return digits;
+}
+
+// The values that printf with 10 or 12 digits does not keep, the extremes of double, the
+// subnormals, and 20000 doubles of deterministic pseudo-random bits (every exponent).
+std::vector<double> HardValues() {
+  constexpr double kDenorm = std::numeric_limits<double>::denorm_min();
+  std::vector<double> values = {
+      0.1, 0.2, 0.3, 0.1 + 0.2, 1.0 / 3, 2.0 / 3, -1.0 / 7, 5e-12, -5e-12, 1e300, -1e300,
+      1e-300, M_PI, -M_E, 1e-5, 1e-4, 1e5, 1e16, 1e17, 1e22, 1e23, 123456.789, 9007199254740992.0,
+      9007199254740994.0, 4503599627370497.5, DBL_MAX, -DBL_MAX, DBL_MIN, -DBL_MIN, kDenorm,
+      -kDenorm, 3 * kDenorm, DBL_MIN - kDenorm /* the largest subnormal */, DBL_EPSILON,
+      std::nextafter(1.0, 2.0), std::nextafter(1.0, 0.0), 0.49999999999999994,
+      2.2250738585072011e-308, 1.7976931348623157e308, 5e-324, 6.02214076e23};
+  uint64_t state = 0x9E3779B97F4A7C15ull;
+  while (values.size() < 20000) {
+    // splitmix64
+    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    double x;
+    std::memcpy(&x, &z, sizeof(x));
+    if (std::isfinite(x)) values.push_back(x);
+  }
+  return values;
+}
+
+TEST(FormatRoundTrip, ReadsBackBitForBitInAtMost17Digits) {
+  int lost_by_12_digits = 0;
+  for (double x : HardValues()) {
+    const std::string text = mechgen::internal::FormatRoundTrip(x);
+    char* end = nullptr;
+    const double y = std::strtod(text.c_str(), &end);
+    ASSERT_EQ(*end, '\0') << text;
+    EXPECT_TRUE(SameBits(x, y)) << text << " for " << FormatNumber(x, "%.17g");
+    EXPECT_LE(SignificantDigits(text), 17) << text;
+    EXPECT_EQ(text.find(','), std::string::npos) << text;  // a CSV cell, whatever the locale
+    lost_by_12_digits += std::strtod(FormatNumber(x, "%.12g").c_str(), nullptr) != x;
+  }
+  // What the former "%.12g" lost: nearly every value (the test would be idle otherwise).
+  EXPECT_GT(lost_by_12_digits, 19000);
+}
+
+TEST(FormatRoundTrip, ShortTextForShortValuesAndSpecials) {
+  using mechgen::internal::FormatRoundTrip;
+  EXPECT_EQ(FormatRoundTrip(0.1), "0.1");
+  EXPECT_EQ(FormatRoundTrip(0.5), "0.5");
+  EXPECT_EQ(FormatRoundTrip(-2.0), "-2");
+  EXPECT_EQ(FormatRoundTrip(5e-12), "5e-12");
+  EXPECT_EQ(FormatRoundTrip(1e300), "1e+300");
+  EXPECT_EQ(FormatRoundTrip(1.0 / 3), "0.3333333333333333");
+  EXPECT_EQ(FormatRoundTrip(0.1 + 0.2), "0.30000000000000004");
+  EXPECT_EQ(FormatRoundTrip(std::numeric_limits<double>::denorm_min()), "5e-324");
+  EXPECT_EQ(FormatRoundTrip(std::numeric_limits<double>::quiet_NaN()), "nan");
+  EXPECT_EQ(FormatRoundTrip(-std::numeric_limits<double>::quiet_NaN()), "nan");
+  EXPECT_EQ(FormatRoundTrip(std::numeric_limits<double>::infinity()), "inf");
+  EXPECT_EQ(FormatRoundTrip(-std::numeric_limits<double>::infinity()), "-inf");
+  // The outputs never print "-0" (issue 13): negative zero is written "0", reads back as +0
+  // (equal in value; the one value whose sign bit is not kept).
+  EXPECT_EQ(FormatRoundTrip(-0.0), "0");
+  EXPECT_EQ(FormatRoundTrip(0.0), "0");
+}
+
+// The CSV writer over a column table of the hard values: every numeric cell reads back bit
+// for bit; a NaN is the column's missing cell; text cells as given.
+struct HardRow {
+  double x = 0;
+  int index = 0;
+};
+
+TEST(CsvWriter, EveryNumberReadsBackBitForBit) {
+  mechgen::table::Columns<HardRow> columns;
+  mechgen::table::Builder<HardRow> add(&columns);
+  add.Number("x", "1", "the value", [](const HardRow& r) { return r.x; });
+  add.Number("minus_x", "1", "its negative", [](const HardRow& r) { return -r.x; });
+  add.Number("withheld", "1", "NaN: an empty cell", [](const HardRow&) {
+       return std::numeric_limits<double>::quiet_NaN();
+     }).missing = "";
+  add.Text("index", "row index", [](const HardRow& r) { return std::to_string(r.index); });
+  std::vector<HardRow> rows;
+  for (double x : HardValues()) rows.push_back({x, static_cast<int>(rows.size())});
+  rows.push_back({-0.0, static_cast<int>(rows.size())});
+  std::ostringstream out;
+  mechgen::WriteCsv(columns, rows, out);
+  std::istringstream in(out.str());
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  EXPECT_EQ(line, "x,minus_x,withheld,index");
+  size_t n = 0;
+  while (std::getline(in, line)) {
+    ASSERT_LT(n, rows.size());
+    const HardRow& r = rows[n];
+    const size_t a = line.find(','), b = line.find(',', a + 1), c = line.find(',', b + 1);
+    ASSERT_NE(c, std::string::npos) << line;
+    const double x = std::strtod(line.substr(0, a).c_str(), nullptr);
+    const double minus_x = std::strtod(line.substr(a + 1, b - a - 1).c_str(), nullptr);
+    if (r.x == 0) {  // -0.0 and 0.0: "0"
+      EXPECT_EQ(line.substr(0, b), "0,0") << line;
+    } else {
+      EXPECT_TRUE(SameBits(x, r.x)) << line;
+      EXPECT_TRUE(SameBits(minus_x, -r.x)) << line;
+    }
+    EXPECT_EQ(line.substr(b + 1, c - b - 1), "") << line;
+    EXPECT_EQ(line.substr(c + 1), std::to_string(r.index)) << line;
+    ++n;
+  }
+  EXPECT_EQ(n, rows.size());
+}
+
+// With CsvOptions::describe, '#' lines before the header state each column's unit and
+// meaning; the header and the rows are those without.
+TEST(CsvWriter, DescribedHeaderStatesUnitsAndMeanings) {
+  mechgen::table::Columns<HardRow> columns;
+  mechgen::table::Builder<HardRow> add(&columns);
+  add.Number("T", "N m", "torque on the crank, CCW +", [](const HardRow& r) { return r.x; });
+  add.Text("status", "how the step went", [](const HardRow&) { return std::string("ok"); });
+  const std::vector<HardRow> rows = {{0.25, 0}};
+  std::ostringstream plain, described;
+  mechgen::WriteCsv(columns, rows, plain);
+  mechgen::CsvOptions options;
+  options.describe = true;
+  mechgen::WriteCsv(columns, rows, described, options);
+  EXPECT_EQ(plain.str(), "T,status\n0.25,ok\n");
+  EXPECT_EQ(described.str(),
+            "# T [N m]: torque on the crank, CCW +\n# status: how the step went\n" + plain.str());
+}
+
+// A sweep's CSV (sweep/columns.h through io/csv.h): every numeric cell is its column's value
+// bit for bit.
+TEST(CsvWriter, SweepCsvReadsBackBitForBit) {
+  using M = mech::handwritten_fourbar::Model;
+  using VecQ = mechgen::ModelTypes<M>::VecQ;
+  mechgen::position::PositionSolver<M> solver;
+  ASSERT_EQ(solver.AssembleDefault(nullptr), mechgen::position::Status::kConverged);
+  std::vector<mechgen::SweepRecord<M>> records;
+  ASSERT_EQ(mechgen::Sweep(&solver, VecQ::Constant(0.0), VecQ::Constant(1.0), 37,
+                           VecQ::Constant(1.3), VecQ::Constant(-0.7), &records),
+            0);
+  const std::vector<mechgen::SweepColumn<M>> columns = mechgen::SweepColumns<M>();
+  std::ostringstream out;
+  mechgen::WriteCsv(records, out);
+  std::istringstream in(out.str());
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  int checked = 0;
+  for (const mechgen::SweepRecord<M>& r : records) {
+    ASSERT_TRUE(std::getline(in, line));
+    std::vector<std::string> cells;
+    std::stringstream split(line);
+    std::string cell;
+    while (std::getline(split, cell, ',')) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), columns.size()) << line;
+    for (size_t c = 0; c < columns.size(); ++c) {
+      if (columns[c].text) continue;
+      const double value = columns[c].value(r);
+      const double read = std::strtod(cells[c].c_str(), nullptr);
+      if (value == 0) {
+        EXPECT_EQ(cells[c], "0") << columns[c].name;
+      } else {
+        EXPECT_TRUE(SameBits(read, value)) << columns[c].name << ": " << cells[c];
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 38 * 20);
 }
 
 }  // namespace

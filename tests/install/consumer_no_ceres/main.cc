@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "fourbar.h"
-#include "mechgen/io/csv.h"
 #include "mechgen/position/solver.h"
+#include "mechgen/sweep/columns.h"
 #include "mechgen/sweep/sweep.h"
 
 #if defined(CERES_PUBLIC_CERES_H_) || defined(CERES_PUBLIC_JET_H_)

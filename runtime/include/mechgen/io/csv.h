@@ -1,9 +1,14 @@
 /**
  * \file io/csv.h
- * A sweep as CSV: one header line, one line per record, one cell per column of the sweep's
- * column table (sweep/columns.h; names and values defined there together). Angles in
- * radians. Allocates (outside the solver's loop): WriteCsv() after a sweep, or
- * WriteCsvHeader() and WriteCsvRow() from SweepRows()'s callback, one row at a time.
+ * The one CSV writer of every tool: a column table (table/columns.h) and its rows as CSV. One
+ * header line of the column names, then one line per row, one cell per column. Numbers are
+ * written so that they read back to the same double (FormatRoundTrip(): the shortest text
+ * that round-trips, at most 17 significant digits); a NaN value is the column's `missing`
+ * cell ("nan", or empty for "no value"); text columns as they are. Optionally
+ * (CsvOptions::describe) '#' comment lines before the header state each column's unit and
+ * meaning with its sign convention (DescribeColumns()).
+ * Streaming: WriteCsvHeader() once, then WriteCsvRow() per row as the rows are computed;
+ * WriteCsv() for rows held in a vector. Allocates (outside the solvers' loops).
  */
 #pragma once
 
@@ -12,53 +17,58 @@
 #include <vector>
 
 #include "mechgen/io/format.h"
-#include "mechgen/sweep/columns.h"
+#include "mechgen/table/columns.h"
 
 namespace mechgen {
 
-/// The cell of column c in record r as written to the CSV.
-template <class M>
-std::string CsvCell(const SweepColumn<M>& c, const SweepRecord<M>& r) {
-  return c.text ? c.text(r) : internal::FormatNumber(c.value(r), c.csv_format);
+/// How WriteCsvHeader() starts the file.
+struct CsvOptions {
+  /// Before the header line, one comment line per column: "# name [unit]: description".
+  bool describe = false;
+};
+
+/// The cell of column c in row r as written to the CSV.
+template <class Row>
+std::string CsvCell(const table::Column<Row>& c, const Row& r) {
+  if (c.text) return c.text(r);
+  const double x = c.value(r);
+  return x != x ? c.missing : internal::FormatRoundTrip(x);
 }
 
-/// The CSV header: the names of SweepColumns<M>(), in order.
-template <class M>
-std::vector<std::string> CsvColumns() {
-  std::vector<std::string> names;
-  for (const SweepColumn<M>& c : SweepColumns<M>()) names.push_back(c.name);
-  return names;
+/// One line per column, "# name [unit]: description" (no brackets for a text column).
+template <class Row>
+void DescribeColumns(const table::Columns<Row>& columns, std::ostream& out) {
+  for (const table::Column<Row>& c : columns) {
+    out << "# " << c.name;
+    if (!c.unit.empty()) out << " [" << c.unit << "]";
+    if (!c.description.empty()) out << ": " << c.description;
+    out << '\n';
+  }
 }
 
-/// The CSV cells of one record, in the order of CsvColumns().
-template <class M>
-std::vector<std::string> CsvValues(const SweepRecord<M>& r) {
-  std::vector<std::string> cells;
-  for (const SweepColumn<M>& c : SweepColumns<M>()) cells.push_back(CsvCell(c, r));
-  return cells;
-}
-
-/// Writes the header line: the column names, comma-separated.
-template <class M>
-void WriteCsvHeader(const std::vector<SweepColumn<M>>& columns, std::ostream& out) {
+/// Writes the header line: the column names, comma-separated (after the column descriptions
+/// with options.describe).
+template <class Row>
+void WriteCsvHeader(const table::Columns<Row>& columns, std::ostream& out,
+                    const CsvOptions& options = CsvOptions()) {
+  if (options.describe) DescribeColumns(columns, out);
   for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i].name;
   out << '\n';
 }
 
-/// Writes the line of one record (streaming: SweepRows() hands out one record at a time).
-template <class M>
-void WriteCsvRow(const std::vector<SweepColumn<M>>& columns, const SweepRecord<M>& r,
-                 std::ostream& out) {
+/// Writes the line of one row.
+template <class Row>
+void WriteCsvRow(const table::Columns<Row>& columns, const Row& r, std::ostream& out) {
   for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << CsvCell(columns[i], r);
   out << '\n';
 }
 
-/// Writes the header line and one line per record.
-template <class M>
-void WriteCsv(const std::vector<SweepRecord<M>>& records, std::ostream& out) {
-  const std::vector<SweepColumn<M>> columns = SweepColumns<M>();
-  WriteCsvHeader(columns, out);
-  for (const SweepRecord<M>& r : records) WriteCsvRow(columns, r, out);
+/// Writes the header line and one line per row.
+template <class Row>
+void WriteCsv(const table::Columns<Row>& columns, const std::vector<Row>& rows, std::ostream& out,
+              const CsvOptions& options = CsvOptions()) {
+  WriteCsvHeader(columns, out, options);
+  for (const Row& r : rows) WriteCsvRow(columns, r, out);
 }
 
 }  // namespace mechgen

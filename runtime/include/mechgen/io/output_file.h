@@ -1,7 +1,7 @@
 /**
  * \file io/output_file.h
  * OutputFile: an output file that is either whole or absent. The tools (<model>_sweep,
- * <model>_statics) write every CSV and SVG through it:
+ * <model>_statics, <model>_simulate, <model>_engine) write every CSV and SVG through it:
  *  - Open() creates a temporary file next to the destination (same directory, so that the
  *    final rename() is atomic: ".<name>.tmp.XXXXXX", via mkstemp), creating the parent
  *    directory; the destination is not touched yet.
@@ -11,6 +11,8 @@
  *    destination. Any failure on the way (write, flush, fsync, close, rename) returns false
  *    with "cannot write <path>: <strerror>" and removes the temporary file: the
  *    destination then is exactly what it was before (absent, or the previous whole file).
+ *  - Close() is Commit() without the rename: a tool writing several files closes each (every
+ *    write checked) before it renames any, so that one failure leaves none of them changed.
  *  - Discard() (and the destructor, when Commit() was not called) removes the temporary.
  * A destination that exists and is not a regular file (/dev/stdout, /dev/full, a FIFO;
  * a symbolic link counts as what it points to, and a link to a regular file is replaced
@@ -140,9 +142,12 @@ class OutputFile {
   /// The destination path.
   const std::string& path() const { return path_; }
 
-  /// Flushes, closes and renames onto the destination; false with "cannot write <path>:
-  /// <reason>" in *error (the temporary file is then removed).
-  bool Commit(std::string* error) {
+  /// Flushes, fsyncs and closes the temporary file without renaming it yet (the first half
+  /// of Commit(), so that a tool writing several files checks every one before any is put in
+  /// place); false with "cannot write <path>: <reason>" in *error (the temporary file is
+  /// then removed). Commit() afterwards only renames.
+  bool Close(std::string* error) {
+    if (closed_) return true;
     if (fd_ < 0) return Fail("not open", error);
     stream_.flush();
     int failure = buf_.Drain() ? 0 : buf_.error();
@@ -150,15 +155,26 @@ class OutputFile {
     if (failure == 0 && !direct_ && ::fsync(fd_) != 0) failure = errno;
     if (::close(fd_) != 0 && failure == 0) failure = errno;
     fd_ = -1;
-    if (failure == 0 && !direct_ && std::rename(temp_.c_str(), path_.c_str()) != 0) {
-      failure = errno;
-    }
     if (failure != 0) {
+      Discard();
+      return Fail(std::strerror(failure), error);
+    }
+    closed_ = true;
+    return true;
+  }
+
+  /// Flushes, closes (Close()) and renames onto the destination; false with "cannot write
+  /// <path>: <reason>" in *error (the temporary file is then removed).
+  bool Commit(std::string* error) {
+    if (!Close(error)) return false;
+    if (!direct_ && std::rename(temp_.c_str(), path_.c_str()) != 0) {
+      const int failure = errno;
       Discard();
       return Fail(std::strerror(failure), error);
     }
     temp_.clear();
     direct_ = false;
+    closed_ = false;
     return true;
   }
 
@@ -169,6 +185,7 @@ class OutputFile {
     if (!temp_.empty()) ::unlink(temp_.c_str());
     temp_.clear();
     direct_ = false;
+    closed_ = false;
   }
 
  private:
@@ -183,6 +200,7 @@ class OutputFile {
   std::string temp_;
   int fd_ = -1;
   bool direct_ = false;
+  bool closed_ = false;  ///< Close() succeeded; Commit() renames
 };
 
 }  // namespace mechgen

@@ -31,8 +31,8 @@
 #include <Eigen/Core>
 
 #include "mechgen/core/constants.h"
+#include "mechgen/core/model_traits.h"
 #include "mechgen/io/format.h"
-#include "mechgen/sweep/sweep.h"
 
 namespace mechgen {
 
@@ -120,15 +120,16 @@ struct SvgOptions {
  *        guides, gears, cams) at a few configurations, the paths of the requested points with
  *        a legend, a scale bar, and an animation.
  * \param[in] params   Parameters the sweep ran with (for Model::Scene and Model::Drawing).
- * \param[in] records  The sweep; only converged rows are drawn.
+ * \param[in] records  The sweep (SweepRecord<M> of sweep/sweep.h, or any record template
+ *                     with a position::State<M> `state`); only converged rows are drawn.
  *
  * The root element carries the mapping from model coordinates to pixels as data-x-min,
  * data-y-max and data-scale (pixel x = (x - x_min) scale, y = (y_max - y) scale + 30), and
  * every moving link's group its data-link name.
  */
-template <class M>
+template <class M, template <class> class Record>
 void WriteSvg(const typename ModelTypes<M>::Params& params,
-              const std::vector<SweepRecord<M>>& records,
+              const std::vector<Record<M>>& records,
               const SvgOptions& options,
               std::ostream& out) {
   using F = ModelFeatures<M>;
@@ -138,8 +139,8 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
   constexpr int kLinks = M::kNumLinks;
   const int ground = M::kGroundLink;
 
-  std::vector<const SweepRecord<M>*> valid;
-  for (const SweepRecord<M>& r : records)
+  std::vector<const Record<M>*> valid;
+  for (const Record<M>& r : records)
     if (r.state.valid) valid.push_back(&r);
   const size_t nv = valid.size();
 
@@ -502,7 +503,7 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
     out << "<g id=\"paths\">\n";
     for (int p = 0; p < M::kNumPoints; ++p) {
       out << "<polyline fill=\"none\" stroke=\"" << kPathColors[p % 6] << "\" stroke-width=\"2\" points=\"";
-      for (const SweepRecord<M>* r : valid) out << X(r->state.r_P(0, p)) << ',' << Y(r->state.r_P(1, p)) << ' ';
+      for (const Record<M>* r : valid) out << X(r->state.r_P(0, p)) << ',' << Y(r->state.r_P(1, p)) << ' ';
       out << "\"><title>" << M::kPointNames[p] << "</title></polyline>\n";
     }
     out << "</g>\n";

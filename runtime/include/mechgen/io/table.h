@@ -1,8 +1,10 @@
 /**
  * \file io/table.h
- * A short fixed-width table of a sweep for people: the columns of the sweep's column table
- * (sweep/columns.h) that have a table name (q, phi, K, L, the points, the status), angles in
- * degrees, at a few records spread over the sweep. Allocates; runs after the sweep.
+ * The one terminal table of every tool: a short fixed-width table for people of the columns
+ * of a column table (table/columns.h) that have a table name, numbers with 4 decimals,
+ * angles in degrees, a NaN as the column's `missing` cell ("-" when that is empty). The rows
+ * to show are the caller's (TableRowIndices(): a few spread evenly over a sweep).
+ * Allocates; runs after the computation.
  */
 #pragma once
 
@@ -12,16 +14,18 @@
 #include <vector>
 
 #include "mechgen/io/format.h"
-#include "mechgen/sweep/columns.h"
+#include "mechgen/table/columns.h"
 
 namespace mechgen {
 
-/// The cell of column c in record r as printed in the table: text columns as they are,
-/// numbers with 4 decimals, angles in degrees.
-template <class M>
-std::string TableCell(const SweepColumn<M>& c, const SweepRecord<M>& r) {
+/// The cell of column c in row r as printed in the table: text columns as they are, numbers
+/// with 4 decimals, angles in degrees.
+template <class Row>
+std::string TableCell(const table::Column<Row>& c, const Row& r) {
   if (c.text) return c.text(r);
-  return internal::FormatNumber(c.value(r) * (c.angle ? internal::kRadToDeg : 1), "%.4f");
+  const double x = c.value(r);
+  if (x != x) return c.missing.empty() ? std::string("-") : c.missing;
+  return internal::FormatNumber(x * (c.angle ? internal::kRadToDeg : 1), "%.4f");
 }
 
 /// The indices of the `rows` records PrintTable() shows out of `n`: evenly spaced from the
@@ -44,19 +48,20 @@ inline std::vector<size_t> TableRowIndices(size_t n, int rows) {
   return indices;
 }
 
-/// Prints the given records, all of them: a header line of table names, a unit line
-/// ("[deg]" for angles), then one line per record.
-template <class M>
-void PrintTableRows(const std::vector<SweepRecord<M>>& records, std::ostream& out) {
-  if (records.empty()) return;
-  std::vector<SweepColumn<M>> columns = SweepColumns<M>();
-  columns.erase(std::remove_if(columns.begin(), columns.end(),
-                               [](const SweepColumn<M>& c) { return c.table_name.empty(); }),
-                columns.end());
+/// Prints the given rows, all of them: a header line of table names, a unit line ("[deg]"
+/// for angles), then one line per row; each cell right-aligned in a column at least 10 wide.
+/// Nothing when `rows` is empty.
+template <class Row>
+void PrintTableRows(const table::Columns<Row>& all_columns, const std::vector<Row>& rows,
+                    std::ostream& out) {
+  if (rows.empty()) return;
+  std::vector<const table::Column<Row>*> columns;
+  for (const table::Column<Row>& c : all_columns)
+    if (!c.table_name.empty()) columns.push_back(&c);
   std::vector<std::string> names, units;
-  for (const SweepColumn<M>& c : columns) {
-    names.push_back(c.table_name);
-    units.push_back(c.angle ? "[deg]" : "");
+  for (const table::Column<Row>* c : columns) {
+    names.push_back(c->table_name);
+    units.push_back(c->angle ? "[deg]" : "");
   }
   std::vector<size_t> width(names.size());
   for (size_t c = 0; c < names.size(); ++c) width[c] = std::max<size_t>(names[c].size(), 10);
@@ -71,20 +76,20 @@ void PrintTableRows(const std::vector<SweepRecord<M>>& records, std::ostream& ou
   };
   print_row(names);
   print_row(units);
-  for (const SweepRecord<M>& record : records) {
+  for (const Row& row : rows) {
     std::vector<std::string> cells;
-    for (const SweepColumn<M>& c : columns) cells.push_back(TableCell(c, record));
+    for (const table::Column<Row>* c : columns) cells.push_back(TableCell(*c, row));
     print_row(cells);
   }
 }
 
-/// Prints `rows` records spread evenly over the sweep (TableRowIndices()) with
-/// PrintTableRows().
-template <class M>
-void PrintTable(const std::vector<SweepRecord<M>>& records, int rows, std::ostream& out) {
-  std::vector<SweepRecord<M>> shown;
-  for (size_t i : TableRowIndices(records.size(), rows)) shown.push_back(records[i]);
-  PrintTableRows(shown, out);
+/// Prints `count` rows spread evenly over `rows` (TableRowIndices()) with PrintTableRows().
+template <class Row>
+void PrintTable(const table::Columns<Row>& columns, const std::vector<Row>& rows, int count,
+                std::ostream& out) {
+  std::vector<Row> shown;
+  for (size_t i : TableRowIndices(rows.size(), count)) shown.push_back(rows[i]);
+  PrintTableRows(columns, shown, out);
 }
 
 }  // namespace mechgen

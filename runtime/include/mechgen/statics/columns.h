@@ -1,9 +1,10 @@
 /**
  * \file statics/columns.h
- * The one column table of a statics sweep (like sweep/columns.h for the kinematics): each
- * column's name and the value it takes from a StaticsRecord are defined together in
- * StaticsColumns<M>(); WriteStaticsCsv() writes every column, PrintStaticsTable() the ones
- * with a table name. Building the table allocates; it runs after the sweep.
+ * The columns of a statics sweep (table/columns.h, like sweep/columns.h for the kinematics):
+ * each column's name, unit, meaning and the value it takes from a StaticsRecord are defined
+ * together in StaticsColumns<M>(); WriteStaticsCsv() writes every column with the one CSV
+ * writer (io/csv.h: numbers that round-trip), PrintStaticsTable() the ones with a table name
+ * with the one printer (io/table.h). Building the table allocates; it runs after the sweep.
  *
  * Columns, in order (q_j, phi_i the coordinate names, R_k = Model::kReactionNames, J the
  * joints of the reactions; "_fwd", "_back" become "_fwd_<q_j>", "_back_<q_j>" for the
@@ -37,14 +38,17 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <ostream>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "mechgen/io/format.h"
+#include "mechgen/io/csv.h"
+#include "mechgen/io/table.h"
 #include "mechgen/statics/sweep.h"
+#include "mechgen/table/columns.h"
 
 namespace mechgen::statics {
 
@@ -103,18 +107,10 @@ double ReactionMagnitude(const ReactionJoint& j, const VecR& R) {
   return std::hypot(at(j.n), at(j.t));
 }
 
-/// One column of a statics sweep's output.
+/// One column of a statics sweep's output (a NaN value is "no value": an empty CSV cell, "-"
+/// in the printed table).
 template <class M>
-struct StaticsColumn {
-  std::string name;        ///< the CSV header
-  std::string table_name;  ///< in the printed table; empty: CSV only
-  bool angle = false;      ///< radians (degrees in the table)
-  const char* csv_format = "%.12g";
-  /// The value (NaN: no value, an empty CSV cell).
-  std::function<double(const StaticsRecord<M>&)> value;
-  /// A text column (status); value is then unused.
-  std::function<std::string(const StaticsRecord<M>&)> text;
-};
+using StaticsColumn = table::Column<StaticsRecord<M>>;
 
 /// The column table of model M's statics sweeps (see the file comment).
 template <class M>
@@ -124,182 +120,171 @@ std::vector<StaticsColumn<M>> StaticsColumns() {
   using R = StaticsRecord<M>;
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   std::vector<StaticsColumn<M>> columns;
-  auto add = [&columns](std::string name, std::string table_name, bool angle,
-                        std::function<double(const R&)> value, const char* format = "%.12g") {
-    StaticsColumn<M> c;
-    c.name = std::move(name);
-    c.table_name = std::move(table_name);
-    c.angle = angle;
-    c.csv_format = format;
-    c.value = std::move(value);
-    columns.push_back(std::move(c));
-  };
+  table::Builder<R> add(&columns, "");
   auto usable = [](const Solution<M>& s) { return s.summary.status == Status::kConverged; };
   const bool one_input = M::kNq == 1;
   auto suffix = [one_input](const char* way, int j) {
     return std::string("_") + way + (one_input ? "" : std::string("_") + M::kQNames[j]);
   };
+  // The generalized force's unit along input j: a torque for an angle, a force for a slide.
+  auto force_unit = [](int j) { return std::string(M::kQIsAngle[j] ? "N m" : "N"); };
+  auto length_unit = [](bool angle) { return std::string(angle ? "rad" : "model length"); };
+  const char* const kReactionConvention =
+      "force of the joint's first link on its second, fixed frame (N_J normal, T_J along a "
+      "prismatic joint, M_J its moment), without friction";
 
   for (int j = 0; j < M::kNq; ++j)
-    add(M::kQNames[j], M::kQNames[j], M::kQIsAngle[j], [j](const R& r) { return r.kinematics.q(j); });
+    table::Shown(add.Number(M::kQNames[j], length_unit(M::kQIsAngle[j]), "input",
+                            [j](const R& r) { return r.kinematics.q(j); }),
+                 M::kQNames[j]);
   for (int i = 0; i < M::kNphi; ++i)
-    add(M::kPhiNames[i], "", M::kPhiIsAngle[i], [i](const R& r) {
-      return r.kinematics.state.valid ? r.kinematics.state.phi(i) : kNaN;
-    });
+    add.Number(M::kPhiNames[i], length_unit(M::kPhiIsAngle[i]), "dependent coordinate",
+               [i](const R& r) {
+                 return r.kinematics.state.valid ? r.kinematics.state.phi(i) : kNaN;
+               });
   for (int j = 0; j < M::kNq; ++j) {
     const std::string q = M::kQNames[j];
-    add("drive_" + q, "drive_" + q, false, [j, usable](const R& r) {
-      return usable(r.frictionless) ? r.frictionless.statics.drive(j) : kNaN;
-    });
+    table::Shown(add.Number("drive_" + q, force_unit(j),
+                            "T0: the driving force on the input without friction, along +q",
+                            [j, usable](const R& r) {
+                              return usable(r.frictionless) ? r.frictionless.statics.drive(j)
+                                                            : kNaN;
+                            }),
+                 "drive_" + q);
     if constexpr (F::kHasFriction) {
-      add("drive_" + q + "_fwd", "drive_" + q + "_fwd", false, [j](const R& r) {
-        return r.drives[j].status == Status::kConverged ? r.drives[j].drive_forward : kNaN;
-      });
-      add("drive_" + q + "_back", "drive_" + q + "_back", false, [j](const R& r) {
-        return r.drives[j].status == Status::kConverged ? r.drives[j].drive_backward : kNaN;
-      });
-      add("efficiency_" + q + "_fwd", "", false, [j](const R& r) {
+      table::Shown(add.Number("drive_" + q + "_fwd", force_unit(j),
+                              "with friction, the actuator driving the load (motion along "
+                              "sign T0)",
+                              [j](const R& r) {
+                                return r.drives[j].status == Status::kConverged
+                                           ? r.drives[j].drive_forward
+                                           : kNaN;
+                              }),
+                   "drive_" + q + "_fwd");
+      table::Shown(add.Number("drive_" + q + "_back", force_unit(j),
+                              "with friction, the load driving the actuator back",
+                              [j](const R& r) {
+                                return r.drives[j].status == Status::kConverged
+                                           ? r.drives[j].drive_backward
+                                           : kNaN;
+                              }),
+                   "drive_" + q + "_back");
+      add.Number("efficiency_" + q + "_fwd", "1", "T0 / T_fwd", [j](const R& r) {
         return r.drives[j].status == Status::kConverged ? r.drives[j].efficiency_forward : kNaN;
       });
-      add("efficiency_" + q + "_back", "", false, [j](const R& r) {
-        return r.drives[j].status == Status::kConverged ? r.drives[j].efficiency_backward : kNaN;
-      });
-      add("self_locking_" + q, "locked", false, [j](const R& r) {
-        return r.drives[j].status == Status::kConverged ? (r.drives[j].self_locking ? 1.0 : 0.0)
-                                                        : kNaN;
-      }, "%g");
+      add.Number("efficiency_" + q + "_back", "1", "T_back / T0 (none where T0 = 0)",
+                 [j](const R& r) {
+                   return r.drives[j].status == Status::kConverged
+                              ? r.drives[j].efficiency_backward
+                              : kNaN;
+                 });
+      table::Shown(add.Number("self_locking_" + q, "1",
+                              "1 where T_back T0 <= 0 (a dead zone), else 0",
+                              [j](const R& r) {
+                                return r.drives[j].status == Status::kConverged
+                                           ? (r.drives[j].self_locking ? 1.0 : 0.0)
+                                           : kNaN;
+                              }),
+                   "locked");
     }
   }
   const std::vector<ReactionJoint> joints = ReactionJoints<M>();
   if constexpr (F::kHasReactions) {
     for (int i = 0; i < F::kNumReactions; ++i)
-      add(M::kReactionNames[i], "", false, [i, usable](const R& r) {
-        return usable(r.frictionless) ? r.frictionless.statics.R(i) : kNaN;
-      });
+      add.Number(M::kReactionNames[i], M::kReactionNames[i][0] == 'M' ? "N m" : "N",
+                 kReactionConvention, [i, usable](const R& r) {
+                   return usable(r.frictionless) ? r.frictionless.statics.R(i) : kNaN;
+                 });
     for (const ReactionJoint& joint : joints)
-      add("F_" + joint.joint + "_mag", "|F_" + joint.joint + "|", false,
-          [joint, usable](const R& r) {
-            return usable(r.frictionless) ? ReactionMagnitude(joint, r.frictionless.statics.R)
-                                          : kNaN;
-          });
+      table::Shown(add.Number("F_" + joint.joint + "_mag", "N",
+                              "|force| at the joint without friction",
+                              [joint, usable](const R& r) {
+                                return usable(r.frictionless)
+                                           ? ReactionMagnitude(joint, r.frictionless.statics.R)
+                                           : kNaN;
+                              }),
+                   "|F_" + joint.joint + "|");
     if constexpr (F::kHasFriction) {
       for (int j = 0; j < M::kNq; ++j) {
         for (const ReactionJoint& joint : joints) {
-          add("F_" + joint.joint + "_mag" + suffix("fwd", j), "", false,
-              [joint, j, usable](const R& r) {
-                return usable(r.forward[j]) ? ReactionMagnitude(joint, r.forward[j].statics.R)
-                                            : kNaN;
-              });
-          add("F_" + joint.joint + "_mag" + suffix("back", j), "", false,
-              [joint, j, usable](const R& r) {
-                return usable(r.backward[j]) ? ReactionMagnitude(joint, r.backward[j].statics.R)
-                                             : kNaN;
-              });
+          add.Number("F_" + joint.joint + "_mag" + suffix("fwd", j), "N",
+                     "|force| at the joint with friction, driving forward",
+                     [joint, j, usable](const R& r) {
+                       return usable(r.forward[j])
+                                  ? ReactionMagnitude(joint, r.forward[j].statics.R)
+                                  : kNaN;
+                     });
+          add.Number("F_" + joint.joint + "_mag" + suffix("back", j), "N",
+                     "|force| at the joint with friction, driven back",
+                     [joint, j, usable](const R& r) {
+                       return usable(r.backward[j])
+                                  ? ReactionMagnitude(joint, r.backward[j].statics.R)
+                                  : kNaN;
+                     });
         }
       }
     }
   }
   if constexpr (F::kHasPotential) {
-    add("V", "V", false,
-        [usable](const R& r) { return usable(r.frictionless) ? double(r.frictionless.statics.V) : kNaN; });
+    table::Shown(add.Number("V", "J", "potential energy of springs and gravity",
+                            [usable](const R& r) {
+                              return usable(r.frictionless) ? double(r.frictionless.statics.V)
+                                                            : kNaN;
+                            }),
+                 "V");
   }
   if constexpr (F::kHasStiffness) {
     for (int j = 0; j < M::kNq; ++j)
       for (int k = j; k < M::kNq; ++k)
-        add(one_input ? std::string("stiffness")
-                      : std::string("stiffness_") + M::kQNames[j] + "_" + M::kQNames[k],
-            "", false, [j, k, usable](const R& r) {
-              return usable(r.frictionless) ? r.frictionless.statics.stiffness(j, k) : kNaN;
-            });
+        add.Number(one_input ? std::string("stiffness")
+                             : std::string("stiffness_") + M::kQNames[j] + "_" + M::kQNames[k],
+                   force_unit(j) + "/" + (M::kQIsAngle[k] ? "rad" : "model length"),
+                   "-dQ_j/dq_k, friction excluded", [j, k, usable](const R& r) {
+                     return usable(r.frictionless) ? r.frictionless.statics.stiffness(j, k)
+                                                   : kNaN;
+                   });
   }
   if constexpr (M::kNq == 1 && ModelFeatures<M>::kHasPointVelocities) {
-    add("mechanical_advantage", "MA", false, [](const R& r) { return r.mechanical_advantage; });
+    table::Shown(add.Number("mechanical_advantage",
+                            M::kQIsAngle[0] ? "rad/model length" : "1",
+                            "1 / |K_P| of the first point (inf at a toggle)",
+                            [](const R& r) { return r.mechanical_advantage; }),
+                 "MA");
   }
-  StaticsColumn<M> status;
-  status.name = status.table_name = "status";
-  status.text = [](const R& r) { return std::string(RowStatus(r)); };
-  columns.push_back(status);
-  add("cond", "", false, [](const R& r) { return r.frictionless.summary.condition; }, "%.6g");
-  StaticsColumn<M> evaluations;
-  evaluations.name = "evaluations";
-  evaluations.text = [](const R& r) { return std::to_string(r.evaluations); };
-  columns.push_back(evaluations);
+  table::Shown(add.Text("status",
+                        "converged, singular, did_not_converge, or the position step's failure",
+                        [](const R& r) { return std::string(RowStatus(r)); }),
+               "status");
+  add.Number("cond", "1", "cond_1 Phi_phi",
+             [](const R& r) { return r.frictionless.summary.condition; });
+  add.Text("evaluations", "generated statics evaluations of the row",
+           [](const R& r) { return std::to_string(r.evaluations); });
   return columns;
 }
 
 /// The names of StaticsColumns<M>(), in order.
 template <class M>
 std::vector<std::string> StaticsCsvColumns() {
-  std::vector<std::string> names;
-  for (const StaticsColumn<M>& c : StaticsColumns<M>()) names.push_back(c.name);
-  return names;
+  return table::ColumnNames(StaticsColumns<M>());
 }
 
 /// A CSV cell: the text, the number, or empty for no value (NaN).
 template <class M>
 std::string StaticsCsvCell(const StaticsColumn<M>& c, const StaticsRecord<M>& r) {
-  if (c.text) return c.text(r);
-  const double x = c.value(r);
-  return std::isnan(x) ? std::string() : ::mechgen::internal::FormatNumber(x, c.csv_format);
+  return ::mechgen::CsvCell(c, r);
 }
 
-/// Writes the header line and one line per record.
+/// Writes the header line and one line per record (io/csv.h).
 template <class M>
 void WriteStaticsCsv(const std::vector<StaticsRecord<M>>& records, std::ostream& out) {
-  const std::vector<StaticsColumn<M>> columns = StaticsColumns<M>();
-  for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i].name;
-  out << '\n';
-  for (const StaticsRecord<M>& r : records) {
-    for (size_t i = 0; i < columns.size(); ++i)
-      out << (i ? "," : "") << StaticsCsvCell(columns[i], r);
-    out << '\n';
-  }
+  ::mechgen::WriteCsv(StaticsColumns<M>(), records, out);
 }
 
-/// Prints `rows` records spread evenly over the sweep (the columns with a table name;
-/// angles in degrees, "-" for no value).
+/// Prints `rows` records spread evenly over the sweep, the first and the last included
+/// (io/table.h: the columns with a table name; angles in degrees, "-" for no value).
 template <class M>
 void PrintStaticsTable(const std::vector<StaticsRecord<M>>& records, int rows, std::ostream& out) {
-  if (records.empty() || rows <= 0) return;
-  std::vector<StaticsColumn<M>> columns = StaticsColumns<M>();
-  columns.erase(std::remove_if(columns.begin(), columns.end(),
-                               [](const StaticsColumn<M>& c) { return c.table_name.empty(); }),
-                columns.end());
-  std::vector<size_t> width;
-  for (const StaticsColumn<M>& c : columns) width.push_back(std::max<size_t>(c.table_name.size(), 10));
-  auto print_row = [&](const std::vector<std::string>& cells) {
-    std::string line;
-    for (size_t c = 0; c < cells.size(); ++c) {
-      std::string cell = cells[c];
-      if (cell.size() < width[c]) cell.insert(0, width[c] - cell.size(), ' ');
-      line += (c ? "  " : "") + cell;
-    }
-    out << line << '\n';
-  };
-  std::vector<std::string> names, units;
-  for (const StaticsColumn<M>& c : columns) {
-    names.push_back(c.table_name);
-    units.push_back(c.angle ? "[deg]" : "");
-  }
-  print_row(names);
-  print_row(units);
-  const int n = static_cast<int>(records.size());
-  rows = std::min(rows, std::max(n - 1, 1));
-  for (int k = 0; k < rows; ++k) {
-    const StaticsRecord<M>& r = records[static_cast<size_t>((n - 1) * k / rows)];
-    std::vector<std::string> cells;
-    for (const StaticsColumn<M>& c : columns) {
-      if (c.text) {
-        cells.push_back(c.text(r));
-        continue;
-      }
-      const double x = c.value(r);
-      cells.push_back(std::isnan(x) ? "-"
-                                    : ::mechgen::internal::FormatNumber(
-                                          x * (c.angle ? ::mechgen::internal::kRadToDeg : 1), "%.4f"));
-    }
-    print_row(cells);
-  }
+  ::mechgen::PrintTable(StaticsColumns<M>(), records, rows, out);
 }
 
 }  // namespace mechgen::statics

@@ -1,9 +1,10 @@
 /**
  * \file sweep/columns.h
- * The one column table of a sweep: each column's name and the value it takes from a
- * SweepRecord are defined together, in SweepColumns<M>(). The CSV writer (io/csv.h) writes
- * every column; the printed table (io/table.h) prints the columns that have a table name,
- * so the two cannot drift apart. A new quantity is one Add() here.
+ * The columns of a sweep (table/columns.h: name, unit, meaning and the value taken from a
+ * SweepRecord, defined together) in SweepColumns<M>(); the CSV writer (io/csv.h) writes
+ * every column, the printed table (io/table.h) the columns that have a table name, so the
+ * two cannot drift apart. A new quantity is one column here. WriteCsv(), PrintTable() and
+ * the rest below apply the one writer and printer to a sweep's records.
  *
  * Columns, in order (q_j, phi_i the model's coordinate names, P the point names):
  *   q_j, phi_i, K_<phi_i>_<q_j>, L_<phi_i>_<q_j>_<q_k> (j <= k; L is symmetric in j, k),
@@ -14,38 +15,30 @@
  *   phi_error, K_error, L_error (the error bounds the conditioning implies: State),
  *   mu_<J> (the transmission angle at joint J of each four-bar loop on the ground, in
  *   [0, pi]; 0 or pi where that loop toggles; models with such loops only).
- * Values are in model units and radians; the printed table shows angle columns in degrees.
- * Building the table allocates (names, std::function); it runs after the sweep.
+ * Values are in model units and radians, every number written to round-trip (io/format.h,
+ * FormatRoundTrip); the printed table shows angle columns in degrees. A failed step's
+ * values are "nan". Building the table allocates (names, std::function); it runs after the
+ * sweep.
  */
 #pragma once
 
-#include <algorithm>
-#include <functional>
+#include <initializer_list>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "mechgen/io/csv.h"
+#include "mechgen/io/table.h"
 #include "mechgen/sweep/sweep.h"
+#include "mechgen/table/columns.h"
 
 namespace mechgen {
 
 /// One column of a sweep's output.
 template <class M>
-struct SweepColumn {
-  /// The CSV header, e.g. "K_theta_coupler_theta_crank".
-  std::string name;
-  /// The header in the printed table (PrintTable), e.g. "K_theta_coupler"; empty: the column
-  /// is in the CSV only.
-  std::string table_name;
-  /// The value is an angle in radians (printed in degrees in the table).
-  bool angle = false;
-  /// printf format of the value in the CSV ("%.12g" for positions and coefficients).
-  const char* csv_format = "%.12g";
-  /// The numeric value of the column in a record (NaN when the step failed).
-  std::function<double(const SweepRecord<M>&)> value;
-  /// For a text column (status, iterations): the cell itself; value is then unused.
-  std::function<std::string(const SweepRecord<M>&)> text;
-};
+using SweepColumn = table::Column<SweepRecord<M>>;
+
+using table::DuplicateColumnName;
 
 /**
  * \brief The column table of model M's sweeps (see the file comment for the order).
@@ -57,116 +50,149 @@ std::vector<SweepColumn<M>> SweepColumns() {
   using F = ModelFeatures<M>;
   using R = SweepRecord<M>;
   std::vector<SweepColumn<M>> columns;
-  auto add = [&columns](std::string name, std::string table_name, bool angle,
-                        std::function<double(const R&)> value, const char* format = "%.12g") {
-    SweepColumn<M> c;
-    c.name = std::move(name);
-    c.table_name = std::move(table_name);
-    c.angle = angle;
-    c.csv_format = format;
-    c.value = std::move(value);
-    columns.push_back(std::move(c));
-  };
-  auto add_text = [&columns](std::string name, std::string table_name,
-                             std::function<std::string(const R&)> text) {
-    SweepColumn<M> c;
-    c.name = std::move(name);
-    c.table_name = std::move(table_name);
-    c.text = std::move(text);
-    columns.push_back(std::move(c));
-  };
+  table::Builder<R> add(&columns);
   const bool one_input = M::kNq == 1;
-  const std::string kPoint[2] = {".x", ".y"};
+  auto unit = [](bool angle, const char* per_second = "") {
+    return std::string(angle ? "rad" : "model length") + per_second;
+  };
+  // The unit of a coefficient d^n phi_i / dq^n: phi_i's unit over the inputs' units.
+  auto ratio = [](int i, std::initializer_list<int> inputs) {
+    std::string u = M::kPhiIsAngle[i] ? "rad" : "model length";
+    for (int j : inputs) u += std::string("/") + (M::kQIsAngle[j] ? "rad" : "model length");
+    return u;
+  };
+  const std::string kAxis[2] = {"x", "y"};
 
   // Positions and the coefficients: also in the printed table.
   for (int j = 0; j < M::kNq; ++j)
-    add(M::kQNames[j], M::kQNames[j], M::kQIsAngle[j], [j](const R& r) { return r.q(j); });
+    table::Shown(add.Number(M::kQNames[j], unit(M::kQIsAngle[j]), "input (driven coordinate)",
+                            [j](const R& r) { return r.q(j); }),
+                 M::kQNames[j]);
   for (int i = 0; i < M::kNphi; ++i)
-    add(M::kPhiNames[i], M::kPhiNames[i], M::kPhiIsAngle[i],
-        [i](const R& r) { return r.state.phi(i); });
+    table::Shown(add.Number(M::kPhiNames[i], unit(M::kPhiIsAngle[i]),
+                            "dependent coordinate (angles CCW + from the x axis)",
+                            [i](const R& r) { return r.state.phi(i); }),
+                 M::kPhiNames[i]);
   for (int i = 0; i < M::kNphi; ++i)
     for (int j = 0; j < M::kNq; ++j)
-      add(std::string("K_") + M::kPhiNames[i] + "_" + M::kQNames[j],
-          std::string("K_") + M::kPhiNames[i] + (one_input ? "" : std::string("/") + M::kQNames[j]),
-          false, [i, j](const R& r) { return r.state.K(i, j); });
+      table::Shown(add.Number(std::string("K_") + M::kPhiNames[i] + "_" + M::kQNames[j],
+                              ratio(i, {j}), "first-order coefficient dphi/dq",
+                              [i, j](const R& r) { return r.state.K(i, j); }),
+                   std::string("K_") + M::kPhiNames[i] +
+                       (one_input ? "" : std::string("/") + M::kQNames[j]))
+          .angle = false;
   for (int i = 0; i < M::kNphi; ++i)
     for (int j = 0; j < M::kNq; ++j)
       for (int k = j; k < M::kNq; ++k)
-        add(std::string("L_") + M::kPhiNames[i] + "_" + M::kQNames[j] + "_" + M::kQNames[k],
+        table::Shown(
+            add.Number(std::string("L_") + M::kPhiNames[i] + "_" + M::kQNames[j] + "_" +
+                           M::kQNames[k],
+                       ratio(i, {j, k}), "second-order coefficient d2phi/dq_j dq_k",
+                       [i, j, k](const R& r) { return r.state.L(i, j + M::kNq * k); }),
             std::string("L_") + M::kPhiNames[i] +
-                (one_input ? "" : std::string("/") + M::kQNames[j] + "," + M::kQNames[k]),
-            false, [i, j, k](const R& r) { return r.state.L(i, j + M::kNq * k); });
+                (one_input ? "" : std::string("/") + M::kQNames[j] + "," + M::kQNames[k]))
+            .angle = false;
   if constexpr (F::kHasPoints) {
     for (int p = 0; p < M::kNumPoints; ++p)
       for (int a = 0; a < 2; ++a)
-        add(M::kPointNames[p] + kPoint[a], M::kPointNames[p] + kPoint[a], false,
-            [p, a](const R& r) { return r.state.r_P(a, p); });
+        table::Shown(add.Number(std::string(M::kPointNames[p]) + "." + kAxis[a], "model length",
+                                "point " + kAxis[a] + " in the fixed frame",
+                                [p, a](const R& r) { return r.state.r_P(a, p); }),
+                     std::string(M::kPointNames[p]) + "." + kAxis[a]);
   }
   // Velocities and accelerations: CSV only.
   for (int j = 0; j < M::kNq; ++j)
-    add(std::string(M::kQNames[j]) + "_dot", "", false, [j](const R& r) { return r.motion.qd(j); });
+    add.Number(std::string(M::kQNames[j]) + "_dot", unit(M::kQIsAngle[j], "/s"),
+               "input speed (given)", [j](const R& r) { return r.motion.qd(j); })
+        .angle = false;
   for (int j = 0; j < M::kNq; ++j)
-    add(std::string(M::kQNames[j]) + "_ddot", "", false,
-        [j](const R& r) { return r.motion.qdd(j); });
+    add.Number(std::string(M::kQNames[j]) + "_ddot", unit(M::kQIsAngle[j], "/s^2"),
+               "input acceleration (given)", [j](const R& r) { return r.motion.qdd(j); })
+        .angle = false;
   for (int i = 0; i < M::kNphi; ++i)
-    add(std::string(M::kPhiNames[i]) + "_dot", "", false,
-        [i](const R& r) { return r.motion.phid(i); });
+    add.Number(std::string(M::kPhiNames[i]) + "_dot", unit(M::kPhiIsAngle[i], "/s"),
+               "dependent velocity K qd", [i](const R& r) { return r.motion.phid(i); })
+        .angle = false;
   for (int i = 0; i < M::kNphi; ++i)
-    add(std::string(M::kPhiNames[i]) + "_ddot", "", false,
-        [i](const R& r) { return r.motion.phidd(i); });
+    add.Number(std::string(M::kPhiNames[i]) + "_ddot", unit(M::kPhiIsAngle[i], "/s^2"),
+               "dependent acceleration K qdd + qd' L qd",
+               [i](const R& r) { return r.motion.phidd(i); })
+        .angle = false;
   if constexpr (F::kHasPointVelocities) {
-    const std::string kVelocity[2] = {".vx", ".vy"};
     for (int p = 0; p < M::kNumPoints; ++p)
       for (int a = 0; a < 2; ++a)
-        add(M::kPointNames[p] + kVelocity[a], "", false,
-            [p, a](const R& r) { return r.motion.v_P(a, p); });
+        add.Number(std::string(M::kPointNames[p]) + ".v" + kAxis[a], "model length/s",
+                   "point velocity, fixed frame", [p, a](const R& r) { return r.motion.v_P(a, p); });
   }
   if constexpr (F::kHasPointAccelerations) {
-    const std::string kAcceleration[2] = {".ax", ".ay"};
     for (int p = 0; p < M::kNumPoints; ++p)
       for (int a = 0; a < 2; ++a)
-        add(M::kPointNames[p] + kAcceleration[a], "", false,
-            [p, a](const R& r) { return r.motion.a_P(a, p); });
+        add.Number(std::string(M::kPointNames[p]) + ".a" + kAxis[a], "model length/s^2",
+                   "point acceleration, fixed frame",
+                   [p, a](const R& r) { return r.motion.a_P(a, p); });
   }
   // How the step went; the status also in the printed table.
-  add_text("status", "status",
-           [](const R& r) { return std::string(position::ToString(r.summary.status)); });
-  add_text("iterations", "", [](const R& r) { return std::to_string(r.summary.iterations); });
-  add("residual", "", false, [](const R& r) { return r.summary.residual_norm; }, "%.3g");
-  add("cond", "", false, [](const R& r) { return r.summary.condition; }, "%.6g");
-  add("sigma_min", "", false, [](const R& r) { return r.state.sigma_min; }, "%.6g");
+  table::Shown(add.Text("status", "the position step's status (converged, or why not)",
+                        [](const R& r) { return std::string(position::ToString(r.summary.status)); }),
+               "status");
+  add.Text("iterations", "Newton iterations of the step",
+           [](const R& r) { return std::to_string(r.summary.iterations); });
+  add.Number("residual", "model length", "||Phi||_inf at the solution",
+             [](const R& r) { return r.summary.residual_norm; });
+  add.Number("cond", "1", "cond_1 Phi_phi", [](const R& r) { return r.summary.condition; });
+  add.Number("sigma_min", "1", "smallest singular value of Phi_phi (distance to singularity)",
+             [](const R& r) { return r.state.sigma_min; });
   for (int i = 0; i < M::kNphi; ++i)
-    add(std::string("singular_") + M::kPhiNames[i], "", false,
-        [i](const R& r) { return r.state.singular_direction(i); }, "%.6g");
+    add.Number(std::string("singular_") + M::kPhiNames[i], "1",
+               "unit right singular vector of sigma_min (the singular direction)",
+               [i](const R& r) { return r.state.singular_direction(i); });
   // How far the row's values may be from the exact ones (State::phi_error, K_error,
   // L_error: eps cond, eps cond^2, eps cond^3 next to a singular configuration).
-  add("phi_error", "", false, [](const R& r) { return r.state.phi_error; }, "%.3g");
-  add("K_error", "", false, [](const R& r) { return r.state.K_error; }, "%.3g");
-  add("L_error", "", false, [](const R& r) { return r.state.L_error; }, "%.3g");
+  add.Number("phi_error", "1", "relative error bound of phi (eps cond)",
+             [](const R& r) { return r.state.phi_error; });
+  add.Number("K_error", "1", "relative error bound of K (eps cond^2)",
+             [](const R& r) { return r.state.K_error; });
+  add.Number("L_error", "1", "relative error bound of L (eps cond^3)",
+             [](const R& r) { return r.state.L_error; });
   if constexpr (SweepRecord<M>::kNumMu > 0) {
     for (int t = 0; t < SweepRecord<M>::kNumMu; ++t)
-      add(std::string("mu_") + M::kTransmissionJoints[t], "", false,
-          [t](const R& r) { return r.mu(t); });
+      add.Number(std::string("mu_") + M::kTransmissionJoints[t], "rad",
+                 "transmission angle at the joint, in [0, pi]",
+                 [t](const R& r) { return r.mu(t); });
   }
   return columns;
 }
 
-/**
- * \brief The first column name that occurs twice in `columns`, or "" when all are unique.
- * The generator rejects models whose names would collide (a link `rocker_dot` next to a
- * link `rocker`: `theta_rocker_dot` twice); the tools check again at startup, so that a
- * header from an older generator or written by hand cannot produce an ambiguous CSV.
- */
+/// The CSV header: the names of SweepColumns<M>(), in order.
 template <class M>
-std::string DuplicateColumnName(const std::vector<SweepColumn<M>>& columns) {
-  std::vector<const std::string*> names;
-  names.reserve(columns.size());
-  for (const SweepColumn<M>& c : columns) names.push_back(&c.name);
-  std::sort(names.begin(), names.end(),
-            [](const std::string* a, const std::string* b) { return *a < *b; });
-  for (size_t i = 1; i < names.size(); ++i)
-    if (*names[i] == *names[i - 1]) return *names[i];
-  return "";
+std::vector<std::string> CsvColumns() {
+  return table::ColumnNames(SweepColumns<M>());
+}
+
+/// The CSV cells of one record, in the order of CsvColumns().
+template <class M>
+std::vector<std::string> CsvValues(const SweepRecord<M>& r) {
+  std::vector<std::string> cells;
+  for (const SweepColumn<M>& c : SweepColumns<M>()) cells.push_back(CsvCell(c, r));
+  return cells;
+}
+
+/// Writes the header line and one line per record (io/csv.h).
+template <class M>
+void WriteCsv(const std::vector<SweepRecord<M>>& records, std::ostream& out) {
+  WriteCsv(SweepColumns<M>(), records, out);
+}
+
+/// Prints the given records, all of them (io/table.h, PrintTableRows()).
+template <class M>
+void PrintTableRows(const std::vector<SweepRecord<M>>& records, std::ostream& out) {
+  PrintTableRows(SweepColumns<M>(), records, out);
+}
+
+/// Prints `rows` records spread evenly over the sweep (TableRowIndices()).
+template <class M>
+void PrintTable(const std::vector<SweepRecord<M>>& records, int rows, std::ostream& out) {
+  PrintTable(SweepColumns<M>(), records, rows, out);
 }
 
 }  // namespace mechgen
