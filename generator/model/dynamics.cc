@@ -115,6 +115,11 @@ void ReadDampers(SectionReader& r, const YAML::Node& node) {
       d.a = r.Point(b[0], what);
       d.b = r.Point(b[1], what);
       if (d.a.link == d.b.link) r.Fail(b, what + " joins two points of one link: it never changes length; join two links");
+      const std::string together = AlwaysTogether(m, d.a, d.b);
+      if (!together.empty())
+        r.Fail(b, what + " joins " + m.PointName(d.a) + " and " + m.PointName(d.b) + ", which are always at one "
+                      "place (" + together + "): it has no length and no direction; join two points that move "
+                      "apart, or use a torsional damper at the joint (joint: J)");
     } else {
       d.torsional = true;
       const std::string jn = r.Scalar(s["joint"], what);

@@ -17,7 +17,7 @@ const KeyTable& InputKeys() {
 
 void ReadInputs(SectionReader& r, const YAML::Node& node) {
   Model& m = r.model();
-  if (!node) m.Fail({}, "the model has no 'inputs'; list the driven joints");
+  if (!node) m.Fail({1, 1}, "the model has no 'inputs'; list the driven joints: inputs: [{joint: <name>}]");
   m.inputs_mark = MarkOf(node);
   if (!node.IsSequence()) r.Fail(node, "inputs must be a list: - {joint: A, range: [0, 360*deg]}");
   std::set<int> used;

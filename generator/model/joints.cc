@@ -20,7 +20,7 @@ const KeyTable& JointKeys() {
 
 void ReadJoints(SectionReader& r, const YAML::Node& node) {
   Model& m = r.model();
-  if (!node) m.Fail({}, "the model has no 'joints'");
+  if (!node) m.Fail({1, 1}, "the model has no 'joints'; add a joints: section (the joints between the links)");
   std::map<std::string, SourceMark> later_names;  // the pins' names of revolute joints over several links
   for (const auto& [name, spec] : r.Entries(node, "joints")) {
     Joint j;

@@ -18,7 +18,7 @@ const KeyTable& LinkKeys() {
 
 void ReadLinks(SectionReader& r, const YAML::Node& node) {
   Model& m = r.model();
-  if (!node) m.Fail({}, "the model has no 'links'; add a links: section with a ground link");
+  if (!node) m.Fail({1, 1}, "the model has no 'links'; add a links: section with a ground link");
   std::set<std::string> point_names_checked;
   for (const auto& [name, spec] : r.Entries(node, "links")) {
     Link l;

@@ -336,12 +336,19 @@ std::vector<std::pair<std::string, YAML::Node>> SectionReader::Entries(const YAM
     }
     out.emplace_back(key, it->second);
     keymarks_[it->second.Mark().pos] = MarkOf(it->first);
+    keynames_[it->second.Mark().pos] = key;
   }
   return out;
 }
 
 std::string SectionReader::Scalar(const YAML::Node& node, const std::string& what) const {
-  if (!node.IsScalar()) Fail(node, what + " must be a single value");
+  // A key written without its value (`stiffness:`, `at: ~`) is YAML's null.
+  if (node.IsNull()) {
+    const auto key = keynames_.find(node.Mark().pos);
+    Fail(node, what + (key == keynames_.end() ? std::string() : ": " + key->second) +
+                   " has no value (the key is there, its value is empty); write the value after the colon");
+  }
+  if (!node.IsScalar()) Fail(node, what + " must be a single value; give one value, not a list or a mapping");
   return node.as<std::string>();
 }
 

@@ -107,6 +107,7 @@ class SectionReader {
   bool tables_ = false;
   std::vector<std::pair<std::string, SourceMark>> pending_;
   mutable std::map<int, SourceMark> keymarks_;  // value position -> mark of its key
+  mutable std::map<int, std::string> keynames_;  // value position -> its key
 };
 
 SourceMark MarkOf(const YAML::Node& node);
@@ -114,6 +115,12 @@ SourceMark MarkOf(const YAML::Node& node);
 /// a finite real number ("<what> must evaluate to a real number", "<what> is not finite").
 double ValueAtDefaults(const Model& m, const GiNaC::ex& e, SourceMark mark, const std::string& what);
 bool IsIdentifier(const std::string& s);
+/// Why points `a` and `b` (of different links) are always at one place, whatever the motion:
+/// joined by revolute joints (directly, or through a pin over several links), possibly via
+/// other points of a link at the same coordinates (equal expressions). "" if not; else how,
+/// e.g. "the revolute joint A keeps them together". A spring or damper between them would
+/// have no length and no direction.
+std::string AlwaysTogether(const Model& m, const PointRef& a, const PointRef& b);
 /// The functions of the expression language, each with its number of arguments: exactly
 /// these are accepted (models/README.md, "Expressions", lists the same; an unknown function's
 /// error lists them).

@@ -93,6 +93,46 @@ GiNaC::ex LoadExpression(SectionReader& r, const YAML::Node& node, const std::st
 
 }  // namespace
 
+std::string AlwaysTogether(const Model& m, const PointRef& a, const PointRef& b) {
+  if (a.link < 0 || b.link < 0 || a.contact_joint >= 0 || b.contact_joint >= 0) return "";
+  // Union-find over every link point: a revolute joint's two points are one; so are two points
+  // of one link whose coordinates are the same expressions.
+  std::vector<int> first(m.links.size() + 1, 0);
+  for (size_t l = 0; l < m.links.size(); ++l) first[l + 1] = first[l] + static_cast<int>(m.links[l].points.size());
+  std::vector<int> parent(static_cast<size_t>(first.back()));
+  for (size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+  auto find = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  auto index = [&](const PointRef& p) { return first[p.link] + p.point; };
+  std::vector<std::string> joints;  // the revolute joints that join a's class to b's
+  for (const Joint& j : m.joints) {
+    if (j.type() != JointType::kRevolute) continue;
+    const RevoluteData& d = j.Data<RevoluteData>();
+    if (d.a.link < 0 || d.b.link < 0) continue;
+    parent[find(index(d.a))] = find(index(d.b));
+  }
+  for (size_t l = 0; l < m.links.size(); ++l) {
+    const std::vector<LinkPoint>& pts = m.links[l].points;
+    for (size_t i = 0; i < pts.size(); ++i)
+      for (size_t k = i + 1; k < pts.size(); ++k)
+        if ((pts[i].x - pts[k].x).expand().is_zero() && (pts[i].y - pts[k].y).expand().is_zero())
+          parent[find(first[l] + static_cast<int>(i))] = find(first[l] + static_cast<int>(k));
+  }
+  if (find(index(a)) != find(index(b))) return "";
+  for (const Joint& j : m.joints) {
+    if (j.type() != JointType::kRevolute) continue;
+    const RevoluteData& d = j.Data<RevoluteData>();
+    if (d.a.link >= 0 && find(index(d.a)) == find(index(a))) joints.push_back(j.name);
+  }
+  std::string list;
+  for (size_t i = 0; i < joints.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == joints.size() ? " and " : ", ") + joints[i];
+  return joints.size() == 1 ? "the revolute joint " + list + " keeps them together"
+                            : "the revolute joints " + list + " keep them together";
+}
+
 void ReadGravity(SectionReader& r, const YAML::Node& node) {
   Model& m = r.model();
   if (!node) return;
@@ -164,6 +204,8 @@ void ReadSprings(SectionReader& r, const YAML::Node& node) {
     if (static_cast<bool>(s["between"]) == static_cast<bool>(s["torsional"]))
       r.Fail(spec, "spring '" + name + "' needs exactly one of between: [link1.P, link2.Q] (linear) or torsional: <revolute joint>");
     const std::string what = "spring '" + name + "'";
+    if (!s["stiffness"])
+      r.Fail(spec, what + " needs stiffness: k (N/m for a linear spring, N m/rad for a torsional one); add it");
     sp.stiffness = r.Expression(s["stiffness"], "stiffness of " + what);
     if (r.Number(s["stiffness"], "stiffness of " + what) < 0)
       r.Fail(s["stiffness"], "stiffness of " + what + " is negative; give k >= 0");
@@ -173,6 +215,11 @@ void ReadSprings(SectionReader& r, const YAML::Node& node) {
       sp.a = r.Point(b[0], what);
       sp.b = r.Point(b[1], what);
       if (sp.a.link == sp.b.link) r.Fail(b, what + " joins two points of one link: it never changes length; join two links");
+      const std::string together = AlwaysTogether(m, sp.a, sp.b);
+      if (!together.empty())
+        r.Fail(b, what + " joins " + m.PointName(sp.a) + " and " + m.PointName(sp.b) + ", which are always at one "
+                      "place (" + together + "): it has no length and no direction; join two points that move "
+                      "apart, or use a torsional spring at the joint");
       if (s["free_angle"]) r.Fail(s["free_angle"], what + ": free_angle is for torsional springs; a linear spring takes free_length");
       if (s["free_length"]) {
         sp.free_length = r.Expression(s["free_length"], "free length of " + what);

@@ -319,6 +319,44 @@ INSTANTIATE_TEST_SUITE_P(
                 "a parameter computed from others is written d: {derived: <expression>}"}),
     [](const ::testing::TestParamInfo<Hostile>& info) { return info.param.name; });
 
+// Issue 24: a spring without its stiffness gave `invalid node; first invalid key` with no
+// place, and one whose ends are one point `power::eval(): division by zero` with exit 2. The
+// same classes further: keys given without their values, dampers like springs, ends that are
+// one point through a pin over several links or through a second point at the same
+// coordinates.
+INSTANTIATE_TEST_SUITE_P(
+    Issue24, HostileModel,
+    ::testing::Values(
+        Hostile{"spring_without_stiffness", "", "springs:\n  s1: {between: [crank.B, rocker.C]}\n", "{between", 0,
+                "spring 's1' needs stiffness: k"},
+        Hostile{"torsional_spring_without_stiffness", "", "springs:\n  s1: {torsional: A}\n", "{torsional", 0,
+                "spring 's1' needs stiffness: k"},
+        Hostile{"spring_stiffness_without_value", "", "springs:\n  s1: {between: [crank.B, rocker.C], stiffness: }\n",
+                "stiffness: }", 11, "stiffness of spring 's1': stiffness has no value"},
+        Hostile{"spring_stiffness_null", "", "springs:\n  s1: {between: [crank.B, rocker.C], stiffness: ~}\n", "~}", 0,
+                "stiffness has no value"},
+        Hostile{"load_point_without_value", "", "loads:\n  l1: {force: [1, 0], at: }\n", "at: }", 4,
+                "load 'l1': at has no value"},
+        Hostile{"load_link_without_value", "", "loads:\n  l1: {torque: 1, on: }\n", "on: }", 4,
+                "load 'l1': on has no value"},
+        Hostile{"friction_coefficient_without_value", "", "friction:\n  A: {coefficient: , pin_radius: 0.1}\n",
+                "coefficient: ,", 13, "coefficient has no value"},
+        Hostile{"spring_ends_at_one_pin", "", "springs:\n  s1: {between: [ground.A, crank.A], stiffness: 10}\n",
+                "[ground.A", 0, "joins ground.A and crank.A, which are always at one place (the revolute joint A keeps"},
+        Hostile{"spring_ends_at_one_pin_reversed", "", "springs:\n  s1: {between: [coupler.B, crank.B], stiffness: 1}\n",
+                "[coupler.B", 0, "which are always at one place (the revolute joint B keeps them together)"},
+        Hostile{"spring_ends_at_a_pin_over_three_links", "  B: {revolute: [crank.B, coupler.B]}",
+                "  B: {revolute: [crank.B, coupler.B, rocker.C]}\nsprings:\n  s1: {between: [coupler.B, rocker.C], "
+                "stiffness: 1}",
+                "[coupler.B, rocker.C], stiff", 0, "always at one place (the revolute joints B"},
+        Hostile{"spring_end_at_the_same_coordinates", "  rocker:  {points: {D: [0, 0], C: [c, 0]}}\n",
+                "  rocker:  {points: {D: [0, 0], C: [c, 0], E: [0, 0]}}\nsprings:\n  s1: {between: [ground.D, rocker.E], "
+                "stiffness: 10}\n",
+                "[ground.D", 0, "joins ground.D and rocker.E, which are always at one place (the revolute joint D"},
+        Hostile{"damper_ends_at_one_pin", "", "dampers:\n  d1: {between: [rocker.D, ground.D], coefficient: 1}\n",
+                "[rocker.D", 0, "damper 'd1' joins rocker.D and ground.D, which are always at one place"}),
+    [](const ::testing::TestParamInfo<Hostile>& info) { return info.param.name; });
+
 TEST(HostileModel, ZeroLengthCrankIsNeverAGrashofCrankRocker) {
   // The issue's case: a = 0 was "Grashof crank-rocker: 'crank' can turn fully" with K = 0.
   std::string text = kGoodModel;
