@@ -529,7 +529,10 @@ int RunDriven(const Args& args) {
     for (int i = 0; i < kNq; ++i) csv << ',' << s.qdd(i);
     csv << ',' << s.T << ',' << s.V << ',' << s.E << ',' << s.W_nc << ',' << s.W_act;
     for (int i = 0; i < kNq; ++i) csv << ',' << s.Q(i);
-    for (int i = 0; i < NP; ++i) csv << ',' << s.lambda(i);
+    for (int i = 0; i < NP; ++i) {
+      csv << ',';
+      if (std::isfinite(s.lambda(i))) csv << s.lambda(i);  // empty: withheld (singular)
+    }
     csv << ',' << s.Balance() << ',' << s.rcond;
     if constexpr (kNumReactions > 0) {
       mechgen::dynamics::KinetostaticsRow<M> row;
@@ -555,8 +558,12 @@ int RunDriven(const Args& args) {
   if (!args.quiet) {
     std::printf("%s (%d of %d inputs driven): %s\n", M::kName, NP, kNq,
                 dyn::FormatSummary(summary).c_str());
-    for (int i = 0; i < NP; ++i)
-      std::printf("end: lambda_%s = %.6g\n", M::kQNames[prescribed[i]], last.lambda(i));
+    for (int i = 0; i < NP; ++i) {
+      if (std::isfinite(last.lambda(i)))
+        std::printf("end: lambda_%s = %.6g\n", M::kQNames[prescribed[i]], last.lambda(i));
+      else
+        std::printf("end: lambda_%s withheld (a singular configuration)\n", M::kQNames[prescribed[i]]);
+    }
     std::printf("wrote %s (%d rows)\n", csv_path.c_str(), summary.samples);
   }
   if (failure) {
@@ -583,7 +590,7 @@ int DispatchDriven(const Args& args) {
 
 template <class M>
 int Main(const Args& args) {
-  if constexpr (!mechgen::dynamics::internal::HasDynamics<M>::value) {
+  if constexpr (!mechgen::HasDynamics<M>::value) {
     (void)args;
     std::fprintf(stderr,
                  "%s: this model was generated without `dynamics` (add it to outputs.quantities)\n",

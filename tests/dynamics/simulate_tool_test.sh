@@ -32,6 +32,11 @@ grep -q "success" "$out/fb.txt" || fail "no success in the summary: $(cat "$out/
 "$sim" --t-end 100 --max-steps 20 --csv "$out/bad.csv" > "$out/bad.txt" 2> "$out/bad.err"
 [ $? -eq 1 ] || fail "a failed run did not exit 1"
 grep -q "integrator_failed" "$out/bad.err" || fail "no reason on stderr: $(cat "$out/bad.err")"
+# A sample step that cannot advance the time (t + dt == t): refused (exit 1 or 2), never a
+# loop without end.
+timeout 120 "$sim" --t-end 1 --dt 1e-300 --csv "$out/tiny.csv" > /dev/null 2> "$out/tiny.err"
+rc=$?
+[ $rc -eq 1 ] || [ $rc -eq 2 ] || fail "--dt 1e-300 exited $rc (124: it did not stop)"
 # A usage error.
 "$sim" --t-end 1 --bogus > /dev/null 2>&1
 [ $? -eq 2 ] || fail "usage error did not exit 2"
