@@ -389,8 +389,9 @@ mechgen::table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>
     const int k = prescribed[i];
     add.Number(std::string("lambda_") + M::kQNames[k], M::kQIsAngle[k] ? "N m" : "N",
                "actuator force that keeps the input on its law: a torque on the input link CCW +, "
-               "or a force along the slide",
-               [i](const Row& r) { return r.s->lambda(i); });
+               "or a force along the slide; empty: withheld at a singular configuration",
+               [i](const Row& r) { return r.s->lambda(i); })
+        .missing = "";
   }
   add.Number("balance", "J", "E - W_nc - W_act (constant along an exact motion)",
              [](const Row& r) { return double(r.s->Balance()); });
@@ -672,8 +673,12 @@ int RunDriven(const Args& args) {
   if (!args.quiet) {
     std::printf("%s (%d of %d inputs driven): %s\n", M::kName, NP, kNq,
                 dyn::FormatSummary(summary).c_str());
-    for (int i = 0; i < NP; ++i)
-      std::printf("end: lambda_%s = %.6g\n", M::kQNames[prescribed[i]], last.lambda(i));
+    for (int i = 0; i < NP; ++i) {
+      if (std::isfinite(last.lambda(i)))
+        std::printf("end: lambda_%s = %.6g\n", M::kQNames[prescribed[i]], last.lambda(i));
+      else
+        std::printf("end: lambda_%s withheld (a singular configuration)\n", M::kQNames[prescribed[i]]);
+    }
     std::printf("wrote %s (%d rows)\n", csv_path.c_str(), summary.samples);
   }
   if (!FlushStdout()) return 1;
@@ -701,7 +706,7 @@ int DispatchDriven(const Args& args) {
 
 template <class M>
 int Main(const Args& args) {
-  if constexpr (!mechgen::dynamics::internal::HasDynamics<M>::value) {
+  if constexpr (!mechgen::HasDynamics<M>::value) {
     (void)args;
     std::fprintf(stderr,
                  "%s: this model was generated without `dynamics` (add it to outputs.quantities)\n",

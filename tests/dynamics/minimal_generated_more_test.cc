@@ -203,4 +203,44 @@ TEST(MinimalGeneratedMore, ExcessMethodAgreesWithTheMinimalMethodOnTheGeneratedM
   EXPECT_LT(es.max_Phi, 1e-9);
 }
 
+TEST(MinimalGeneratedMore, ASampleGridThatCannotAdvanceIsRefused) {
+  // A sample step so small that t + sample_dt == t (the simulate tool's --dt, the engine's
+  // run-up) is refused with a status before any step, never a loop without end; so is one at
+  // times so large that a step of sample_dt does not move them, and a grid of more than
+  // max_samples samples. The same options with a usable step run.
+  struct Case {
+    double t0, t_end, sample_dt;
+    int max_samples;
+    Status expected;
+  };
+  const Case cases[] = {{0.0, 1.0, 1e-300, 100000000, Status::kInvalidInput},
+                        {0.0, 1.0, 1e-17, 100000000, Status::kInvalidInput},
+                        {1e20, 1e20 + 1e5, 1.0, 100000000, Status::kInvalidInput},
+                        {0.0, 1.0, 1e-3, 999, Status::kInvalidInput},
+                        {0.0, 1.0, 1e-3, 1000, Status::kSuccess}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.sample_dt);
+    MinimalOptions o;
+    o.sample_dt = c.sample_dt;
+    o.max_samples = c.max_samples;
+    MinimalDynamics<fm::Model> sim(fm::Params<double>(), o);
+    ASSERT_TRUE(sim.Initialize(Vec1(kPi / 2)));
+    MinimalSummary summary;
+    int samples = 0;
+    sim.Simulate(c.t0, Vec1(kPi / 2), Vec1(0.0), c.t_end,
+                 [&](const auto&) {
+                   ++samples;
+                   return true;
+                 },
+                 &summary);
+    EXPECT_EQ(summary.status, c.expected) << mechgen::dynamics::FormatSummary(summary);
+    if (c.expected == Status::kInvalidInput) {
+      EXPECT_EQ(samples, 0);
+      EXPECT_EQ(summary.integrator.steps, 0);
+    } else {
+      EXPECT_EQ(samples, 1001);
+    }
+  }
+}
+
 }  // namespace

@@ -619,6 +619,7 @@ TEST(Prescribed, RobotDrivenIntoAStretchedConfigurationStopsBeforeIt) {
   EXPECT_GT(bcd, kPi - 0.02);
   EXPECT_LT(bcd, kPi);
   EXPECT_GT(summary.max_abs_lambda, 0.0);
+  EXPECT_TRUE(std::isnan(last.lambda(0)) && std::isnan(last.lambda(1)));  // withheld there
   EXPECT_TRUE(std::string(summary.message).find("singular") != std::string::npos);
 }
 
@@ -635,7 +636,13 @@ TEST(Prescribed, SingularConfigurationWithTheDefaultThresholdStopsQuickly) {
   ASSERT_TRUE(sim.Initialize(0.0, V0()));
   PrescribedSummary summary;
   dyn::PrescribedSample<Robot, 2> last;
-  EXPECT_FALSE(sim.Simulate(0.0, V0(), V0(), 2.0, [](const auto&) { return true; }, &summary, &last));
+  std::vector<dyn::PrescribedSample<Robot, 2>> samples;
+  EXPECT_FALSE(sim.Simulate(0.0, V0(), V0(), 2.0,
+                            [&](const auto& s) {
+                              samples.push_back(s);
+                              return true;
+                            },
+                            &summary, &last));
   EXPECT_EQ(summary.status, Status::kDeadPoint) << dyn::FormatSummary(summary);
   EXPECT_EQ(summary.event, dyn::Event::kDeadPoint);
   EXPECT_LT(summary.integrator.steps, 2000) << dyn::FormatSummary(summary);
@@ -644,6 +651,20 @@ TEST(Prescribed, SingularConfigurationWithTheDefaultThresholdStopsQuickly) {
   RobotPoints(last.q, &B, &C, &D);
   EXPECT_LE((D - B).norm(), 2 * kB);
   EXPECT_GT((D - B).norm(), 2 * kB * (1 - 1e-5));  // at the stretched configuration
+  // The motors' torques there grow like 1/sigma_min(Phi_phi) (they were 2.5e19 N m): the
+  // sample where the run stopped withholds them (NaN), as the statics does; every sample
+  // before has them, finite, and the summary's largest |lambda| is the largest of those.
+  ASSERT_GE(samples.size(), 3u);
+  EXPECT_EQ(samples.back().t, last.t);
+  EXPECT_TRUE(std::isnan(last.lambda(0)) && std::isnan(last.lambda(1)));
+  EXPECT_TRUE(std::isnan(samples.back().lambda(0)) && std::isnan(samples.back().P_act));
+  double max_lambda = 0;
+  for (size_t i = 0; i + 1 < samples.size(); ++i) {
+    ASSERT_TRUE(samples[i].lambda.allFinite()) << "t = " << samples[i].t;
+    max_lambda = std::max(max_lambda, samples[i].lambda.cwiseAbs().maxCoeff());
+  }
+  EXPECT_EQ(summary.max_abs_lambda, max_lambda);
+  EXPECT_LT(summary.max_abs_lambda, 1e6) << dyn::FormatSummary(summary);
 }
 
 TEST(Prescribed, FreeRobotThrownOpenStopsAtTheStretchedConfiguration) {
@@ -700,6 +721,77 @@ TEST(Prescribed, InvalidIndicesAreRefused) {
   EXPECT_FALSE(bad.Initialize(0.0, V1(kPi / 2)));
   PrescribedSummary summary;
   EXPECT_FALSE(bad.Simulate(0.0, V1(kPi / 2), V1(0.0), 1.0, [](const auto&) { return true; }, &summary));
+  EXPECT_EQ(summary.status, Status::kInvalidInput);
+}
+
+TEST(Prescribed, EvaluateAtASingularConfigurationWithholdsTheActuatorForces) {
+  // Both motors driven to the stretched configuration's inputs (found by bisection on the
+  // hand geometry |D - B| = 2 b): 1/cond_1(Phi_phi) there is below min_rcond, and Evaluate()
+  // gives lambda NaN instead of a huge number; a regular configuration nearby has them.
+  const double q10 = 135 * kPi / 180, q20 = 45 * kPi / 180;
+  auto bd = [&](double s) {
+    const V2 B = kA * V2(std::cos(q10 + s), std::sin(q10 + s));
+    const V2 D = V2(kF, 0) + kA * V2(std::cos(q20 - s), std::sin(q20 - s));
+    return (D - B).norm();
+  };
+  double lo = 0, hi = 0.5;
+  ASSERT_LT(bd(lo), 2 * kB);
+  ASSERT_GT(bd(hi), 2 * kB);
+  for (int i = 0; i < 200; ++i) ((bd(0.5 * (lo + hi)) < 2 * kB) ? lo : hi) = 0.5 * (lo + hi);
+  auto at = [&](double s) {
+    return MakeDrive(ConstantSpeedLaw{q10 + s, 0.0, 0.0}, ConstantSpeedLaw{q20 - s, 0.0, 0.0});
+  };
+  using Sim = PrescribedDynamics<Robot, 2, decltype(at(0.0))>;
+  {
+    Sim sim(Robot::ParamsT<double>(), {0, 1}, at(lo - 0.05), dyn::NoForce(), PrescribedOptions());
+    ASSERT_TRUE(sim.Initialize(0.0, V0()));
+    typename Sim::SampleT s;
+    ASSERT_TRUE(sim.Evaluate(0.0, Sim::State::Zero(), &s));
+    EXPECT_GT(s.rcond, PrescribedOptions().min_rcond);
+    EXPECT_TRUE(s.lambda.allFinite());
+  }
+  {
+    // Assembled near it, then evaluated at it (the warm start keeps the branch).
+    Sim sim(Robot::ParamsT<double>(), {0, 1}, at(lo), dyn::NoForce(), PrescribedOptions());
+    if (!sim.Initialize(0.0, V0())) GTEST_SKIP() << "does not assemble at the stretched inputs";
+    typename Sim::SampleT s;
+    if (!sim.Evaluate(0.0, Sim::State::Zero(), &s)) GTEST_SKIP() << "no evaluation there";
+    EXPECT_LT(s.rcond, PrescribedOptions().min_rcond);
+    EXPECT_TRUE(std::isnan(s.lambda(0)) && std::isnan(s.lambda(1)));
+  }
+}
+
+TEST(Prescribed, ASampleGridThatCannotAdvanceIsRefused) {
+  // sample_dt so small that t + sample_dt == t: refused with a status before any step, not a
+  // loop without end; likewise a grid of more than max_samples samples.
+  auto drive = MakeDrive(ConstantSpeedLaw{135 * kPi / 180, 0.1, 0.0},
+                         ConstantSpeedLaw{45 * kPi / 180, 0.0, 0.0});
+  for (double dt : {1e-300, 1e-17}) {
+    PrescribedOptions o;
+    o.sample_dt = dt;
+    PrescribedDynamics<Robot, 2, decltype(drive)> sim(Robot::ParamsT<double>(), {0, 1}, drive,
+                                                      dyn::NoForce(), o);
+    ASSERT_TRUE(sim.Initialize(0.0, V0()));
+    PrescribedSummary summary;
+    int samples = 0;
+    EXPECT_FALSE(sim.Simulate(0.0, V0(), V0(), 1.0,
+                              [&](const auto&) {
+                                ++samples;
+                                return true;
+                              },
+                              &summary));
+    EXPECT_EQ(summary.status, Status::kInvalidInput) << dt;
+    EXPECT_EQ(samples, 0);
+    EXPECT_EQ(summary.integrator.steps, 0);
+  }
+  PrescribedOptions o;
+  o.sample_dt = 1e-3;
+  o.max_samples = 999;  // 1000 samples asked for
+  PrescribedDynamics<Robot, 2, decltype(drive)> sim(Robot::ParamsT<double>(), {0, 1}, drive,
+                                                    dyn::NoForce(), o);
+  ASSERT_TRUE(sim.Initialize(0.0, V0()));
+  PrescribedSummary summary;
+  EXPECT_FALSE(sim.Simulate(0.0, V0(), V0(), 1.0, [](const auto&) { return true; }, &summary));
   EXPECT_EQ(summary.status, Status::kInvalidInput);
 }
 

@@ -144,5 +144,23 @@ check(p.returncode == 1 and "dead_point" in p.stderr and "1/cond(Phi_phi)" in p.
       "singular: exit %d, stderr %r" % (p.returncode, p.stderr))
 check(rows and rows[-1]["rcond"] < 1e-3, "singular: the last row's rcond is not small")
 
+# 6. Both motors driven into the stretched configuration: the run stops there (exit 1); the
+#    motors' torques there grow like 1/sigma_min(Phi_phi) (they were printed as 2.5e19 N m): the
+#    last row's lambda cells are empty (withheld), every row before has them finite, and the
+#    summary says 'withheld' instead of a number.
+p, rows = run(["--drive", "theta_prox1=speed:1", "--drive", "theta_prox2=speed:-1", "--t-end", "2",
+               "--dt", "0.001"], "stretched")
+check(p.returncode == 1 and "dead_point" in p.stderr, "stretched: exit %d, stderr %r" % (p.returncode, p.stderr))
+check(len(rows) > 10 and all(math.isnan(rows[-1][k]) for k in ("lambda_theta_prox1", "lambda_theta_prox2")),
+      "stretched: the last row's torques are not withheld: %r" % (rows[-1] if rows else None))
+check(all(math.isfinite(r[k]) and abs(r[k]) < 1e6 for r in rows[:-1]
+          for k in ("lambda_theta_prox1", "lambda_theta_prox2")),
+      "stretched: a row before the stop has a torque that is not finite or is huge")
+q = subprocess.run([tool, "--drive", "theta_prox1=speed:1", "--drive", "theta_prox2=speed:-1",
+                    "--t-end", "2", "--csv", os.path.join(scratch, "stretched2.csv")],
+                   capture_output=True, text=True)
+check(q.returncode == 1 and "lambda_theta_prox1 withheld" in q.stdout and "e+19" not in q.stdout,
+      "stretched: the summary does not withhold the torques: %r" % q.stdout)
+
 print("%d failure(s)" % len(failures))
 sys.exit(1 if failures else 0)

@@ -48,6 +48,14 @@ done
 "$sim" --t-end=0.2 --dt=0.01 --q0=0.3 --qd0=-1 --csv="$out/eq.csv" --quiet || fail "--opt=value run"
 "$sim" --t-end 0.2 --dt 0.01 --q0 0.3 --qd0 -1 --csv "$out/sp.csv" --quiet || fail "--opt value run"
 cmp -s "$out/eq.csv" "$out/sp.csv" || fail "--opt=value and --opt value wrote different CSVs"
+# A sample step that cannot advance the time (t + dt == t): refused (exit 1 or 2), never a
+# loop without end.
+timeout 120 "$sim" --t-end 1 --dt 1e-300 --csv "$out/tiny.csv" > /dev/null 2> "$out/tiny.err"
+rc=$?
+[ $rc -eq 1 ] || [ $rc -eq 2 ] || fail "--dt 1e-300 exited $rc (124: it did not stop)"
+# A usage error.
+"$sim" --t-end 1 --bogus > /dev/null 2>&1
+[ $? -eq 2 ] || fail "usage error did not exit 2"
 
 if command -v gnuplot > /dev/null 2>&1; then
   gnuplot -e "csv='$out/fb.csv'; png='$out/fb.png'" "$plot" > "$out/plot.txt" 2>&1 \

@@ -50,6 +50,13 @@ set +e
 rc=$?
 set -e
 [ "$rc" -eq 1 ] && [ ! -e "$tmp/bad.csv" ] || fail "motored runup: exit $rc"
+# a run-up whose CSV step cannot advance the time (t + dt == t): refused (exit 1 or 2, nothing
+# written), never a loop without end
+set +e
+timeout 120 "$tool" runup --dt 1e-300 --csv "$tmp/bad.csv" > /dev/null 2> "$tmp/err.txt"
+rc=$?
+set -e
+{ [ "$rc" -eq 1 ] || [ "$rc" -eq 2 ]; } && [ ! -e "$tmp/bad.csv" ] || fail "runup --dt 1e-300: exit $rc"
 # a table: a constant 1 bar over the expansion stroke only
 printf 'angle_deg,p\n0,1e5\n179.9,1e5\n180,0\n719.9,0\n' > "$tmp/table.csv"
 "$tool" cycle --table "$tmp/table.csv" --csv "$tmp/t.csv" > /dev/null || fail "table cycle"

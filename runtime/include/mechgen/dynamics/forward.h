@@ -19,8 +19,9 @@
  * non-conservative forces, so that E - W = T + V - W is an invariant to check (and the energy
  * level that MinimalOptions::energy_projection keeps).
  *
- * Events, checked after every accepted step and located on the integrator's dense output by
- * the Illinois variant of regula falsi:
+ * Events, checked after every accepted step by the one event loop of the runtime
+ * (dynamics/simulator.h, shared with prescribed.h) and located on the integrator's dense
+ * output by the Illinois variant of regula falsi:
  *  - dead point: 1/cond_1(Phi_phi) falls below MinimalOptions::min_rcond (or det Phi_phi
  *    changes sign): a failure (Status::kDeadPoint) with figures in the Summary;
  *  - speed through zero (kNq = 1: qd; a reversing machine), if MinimalOptions::stop_at_speed_zero;
@@ -52,69 +53,9 @@
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/integrators.h"
+#include "mechgen/dynamics/simulator.h"
 
 namespace mechgen::dynamics {
-
-/// How a simulation ended.
-enum class Status {
-  kSuccess,            ///< t_end reached
-  kStoppedByEvent,     ///< a terminal event that is not a failure: speed zero or the user's
-  kDeadPoint,          ///< 1/cond_1(Phi_phi) < min_rcond, det Phi_phi changed sign, the
-                       ///< loop could not close (M::Solve kNotAssemblable) down to h_min, or
-                       ///< the integrator failed with 1/cond_1(Phi_phi) < 1e3 min_rcond
-  kPositionFailed,     ///< M::Solve did not converge (a Newton block) down to h_min
-  kSingularInertia,    ///< I(q) not positive definite (or not finite)
-  kIntegratorFailed,   ///< max_steps, or the step fell below h_min for accuracy
-  kStoppedByObserver,  ///< the sample observer returned false
-  kInvalidInput,       ///< options invalid, or the initial state does not assemble
-  kNotRun,
-};
-
-inline const char* ToString(Status s) {
-  switch (s) {
-    case Status::kSuccess:
-      return "success";
-    case Status::kStoppedByEvent:
-      return "stopped_by_event";
-    case Status::kDeadPoint:
-      return "dead_point";
-    case Status::kPositionFailed:
-      return "position_failed";
-    case Status::kSingularInertia:
-      return "singular_inertia";
-    case Status::kIntegratorFailed:
-      return "integrator_failed";
-    case Status::kStoppedByObserver:
-      return "stopped_by_observer";
-    case Status::kInvalidInput:
-      return "invalid_input";
-    case Status::kNotRun:
-      return "not_run";
-  }
-  return "unknown";
-}
-
-/// A failure is a run that did not reach t_end nor stop where it was asked to.
-inline bool IsFailure(Status s) {
-  return !(s == Status::kSuccess || s == Status::kStoppedByEvent ||
-           s == Status::kStoppedByObserver);
-}
-
-enum class Event { kNone, kDeadPoint, kSpeedZero, kUser };
-
-inline const char* ToString(Event e) {
-  switch (e) {
-    case Event::kNone:
-      return "none";
-    case Event::kDeadPoint:
-      return "dead_point";
-    case Event::kSpeedZero:
-      return "speed_zero";
-    case Event::kUser:
-      return "user";
-  }
-  return "unknown";
-}
 
 struct MinimalOptions {
   IntegratorOptions integrator;
@@ -126,6 +67,8 @@ struct MinimalOptions {
   double event_tolerance = 1e-12;
   /// Samples every sample_dt from t0 (and at the end); 0: at every accepted step.
   double sample_dt = 0;
+  /// A run whose sample grid would hand out more samples than this is refused (kInvalidInput).
+  int max_samples = 100000000;
   /// Energy-keeping long runs: after each accepted step scale qd so that T + V - W equals its
   /// initial value (T* = E0 + W - V; qd <- qd sqrt(T* / T) when T* > 0 and T > energy_floor
   /// |E0|-scale; skipped near rest, where |qd| carries no energy to correct). One extra
@@ -149,6 +92,7 @@ struct MinimalOptions {
     if (!(event_tolerance > 0)) return fail("event_tolerance", event_tolerance, "event_tolerance > 0");
     if (!(sample_dt >= 0) || !std::isfinite(sample_dt))
       return fail("sample_dt", sample_dt, "0 <= sample_dt < inf");
+    if (max_samples < 1) return fail("max_samples", max_samples, "max_samples >= 1");
     if (!(energy_floor >= 0)) return fail("energy_floor", energy_floor, "energy_floor >= 0");
     if (max_solver_iterations < 1)
       return fail("max_solver_iterations", max_solver_iterations, "max_solver_iterations >= 1");
@@ -185,37 +129,15 @@ inline std::string FormatSummary(const MinimalSummary& s) {
 }
 
 namespace internal {
-template <class M, class = void>
-struct HasDynamics : std::false_type {};
+// What the model has: core/model_traits.h (the one place), by these names here too.
 template <class M>
-struct HasDynamics<M, std::void_t<typename M::template DynamicsT<double>>> : std::true_type {};
-
-/// The model has the generated SolveTrig (every block a closed form giving its angles' sin
-/// and cos; nothing downstream reads phi given trig): the stages need no angles.
-template <class M, class = void>
-struct HasSolveTrig : std::false_type {};
+using HasDynamics = mechgen::HasDynamics<M>;
 template <class M>
-struct HasSolveTrig<M, std::void_t<decltype(M::template SolveTrig<double>(
-                           std::declval<const typename M::template ParamsT<double>&>(),
-                           std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
-                           std::declval<const std::array<int, M::kNumBlocks>&>(),
-                           std::declval<typename M::template TrigT<double>*>()))>> : std::true_type {};
-
-/// The model has the generated EvalRhs (SolveTrig, K, L, I, h, Q in one pass: Model::Rhs).
-template <class M, class = void>
-struct HasRhs : std::false_type {};
+using HasSolveTrig = mechgen::HasSolveTrig<M>;
 template <class M>
-struct HasRhs<M, std::void_t<typename M::template RhsT<double>>> : std::true_type {};
-/// Its constants (M::RhsConstantsT), or an empty placeholder.
-struct NoRhsConstants {};
-template <class M, class = void>
-struct RhsConstantsOf {
-  using type = NoRhsConstants;
-};
-template <class M>
-struct RhsConstantsOf<M, std::void_t<typename M::template RhsConstantsT<double>>> {
-  using type = typename M::template RhsConstantsT<double>;
-};
+using HasRhs = mechgen::HasRhs<M>;
+using mechgen::internal::NoRhsConstants;
+using mechgen::internal::RhsConstantsOf;
 
 template <class M>
 constexpr bool AllBlocksClosedForm() {
@@ -583,186 +505,71 @@ class MinimalDynamics {
     std::string error;
     if (!options_.IsValid(&error) || !initialized_ || !(t_end > t0)) {
       summary->message = initialized_ ? "invalid options (or t_end <= t0)" : "Initialize() not called";
-      return Finish(Status::kInvalidInput, t0, summary);
+      EndRun();
+      summary->status = Status::kInvalidInput;
+      summary->t_end = t0;
+      summary->integrator = integrator_.summary();
+      return false;
     }
     integrator_.set_options(options_.integrator);
-    // Cache the last evaluation during this run (restored on every return by Finish()).
+    // Cache the last evaluation during this run (stopped on every return by EndRun()).
     caching_ = true;
     State y0;
     // By segments: a comma initializer from 1 x 1 blocks trips GCC 12's -Warray-bounds.
     y0.template head<kNq>() = q0;
     y0.template segment<kNq>(kNq) = qd0;
     y0(2 * kNq) = 0.0;
-    auto f = [this](double t, const State& y, State* dy) { return Derivative(t, y, dy); };
-    SampleT s0;
-    if (!Evaluate(t0, y0, &s0)) {
-      summary->message = "the initial state does not assemble (or I is singular)";
-      return Finish(Status::kInvalidInput, t0, summary);
-    }
-    const double E0 = s0.E;
-    summary->min_rcond_seen = s0.rcond;
-    if (s0.rcond < options_.min_rcond) {
-      summary->event = Event::kDeadPoint;
-      summary->message = "the initial configuration is a dead point";
-      if (last != nullptr) *last = s0;
-      return Finish(Status::kDeadPoint, t0, summary);
-    }
-    // Samples at t0 + k sample_dt.
-    int sample_index = 1;
-    double next_sample = t0;
-    auto emit = [&](const SampleT& s) {
-      ++summary->samples;
-      if (last != nullptr) *last = s;
-      summary->max_energy_error = std::max(summary->max_energy_error, std::abs(s.E - s.W - E0));
-      return observer(s);
-    };
-    if (!emit(s0)) return Finish(Status::kStoppedByObserver, t0, summary);
-    next_sample = t0 + options_.sample_dt;
-
-    IntegratorStatus is = integrator_.Start(f, t0, y0, t_end);
-    SampleT prev = s0, cur;
-    double g_user_prev = user_event(t0, s0.q, s0.qd, s0.phi);
-    while (is == IntegratorStatus::kRunning) {
-      is = integrator_.Step(f);
-      if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
-      const double t = integrator_.t();
-      if (!FromCache(t, integrator_.y(), &cur) && !Evaluate(t, integrator_.y(), &cur)) {
-        summary->message = "the positions failed at an accepted step";
-        return Finish(Status::kPositionFailed, t, summary);
-      }
-      SetReference(cur.q, cur.phi, cur.K);
-      ref_det_ = cur.det;
-      summary->min_rcond_seen = std::min(summary->min_rcond_seen, cur.rcond);
-      // Events, the earliest one in this step.
-      Event event = Event::kNone;
-      double t_event = t;
-      auto consider = [&](Event e, double t_root) {
-        if (event == Event::kNone || t_root < t_event) {
-          event = e;
-          t_event = t_root;
-        }
-      };
-      if constexpr (kNphi > 0) {
-        const bool sign_change = (prev.det > 0) != (cur.det > 0);
-        if (cur.rcond < options_.min_rcond || sign_change) {
-          const double target = options_.min_rcond;
-          consider(Event::kDeadPoint,
-                   Locate(f, prev.t, t, prev.rcond - target, cur.rcond - target,
-                          [&](const SampleT& s) {
-                            return ((s.det > 0) == (prev.det > 0) ? s.rcond : -s.rcond) - target;
-                          }));
-        }
-      }
-      if (options_.stop_at_speed_zero && prev.qd(0) != 0 && (prev.qd(0) > 0) != (cur.qd(0) > 0)) {
-        consider(Event::kSpeedZero, Locate(f, prev.t, t, prev.qd(0), cur.qd(0),
-                                           [](const SampleT& s) { return s.qd(0); }));
-      }
-      const double g_user = user_event(t, cur.q, cur.qd, cur.phi);
-      if (g_user_prev != 0 && (g_user_prev > 0) != (g_user > 0)) {
-        consider(Event::kUser, Locate(f, prev.t, t, g_user_prev, g_user, [&](const SampleT& s) {
-                   return user_event(s.t, s.q, s.qd, s.phi);
-                 }));
-      }
-      g_user_prev = g_user;
-      const double t_stop_here = event != Event::kNone ? t_event : t;
-      // Samples strictly inside (prev.t, t_stop_here).
-      const double tiny = 1e-12 * std::max(1.0, std::abs(t));
-      if (options_.sample_dt > 0) {
-        while (next_sample < t_stop_here - tiny) {
-          SampleT s;
-          if (!DenseSample(f, next_sample, &s)) {
-            summary->message = "the positions failed at a sample";
-            return Finish(Status::kPositionFailed, next_sample, summary);
-          }
-          if (!emit(s)) return Finish(Status::kStoppedByObserver, s.t, summary);
-          next_sample = t0 + options_.sample_dt * ++sample_index;
-        }
-      }
-      if (event != Event::kNone) {
-        SampleT s;
-        if (!DenseSample(f, t_event, &s)) s = prev;
-        emit(s);
-        if (last != nullptr) *last = s;
-        summary->event = event;
-        summary->integrator = integrator_.summary();
-        if (event == Event::kDeadPoint) {
-          summary->message = "1/cond(Phi_phi) fell below min_rcond: a dead point";
-          return Finish(Status::kDeadPoint, t_event, summary);
-        }
-        return Finish(Status::kStoppedByEvent, t_event, summary);
-      }
-      // Energy projection.
-      if (options_.energy_projection) {
-        const double T_target = E0 + cur.W - cur.V;
-        const double scale = std::max({std::abs(E0), std::abs(cur.T), std::abs(cur.V), 1e-300});
-        if (T_target > 0 && cur.T > options_.energy_floor * scale) {
-          State y = integrator_.y();
-          y.template segment<kNq>(kNq) *= std::sqrt(T_target / cur.T);
-          if (integrator_.Reset(f, y)) {
-            ++summary->projections;
-            cur.qd = y.template segment<kNq>(kNq);
-            cur.qdd = integrator_.dy().template segment<kNq>(kNq);
-            cur.T = T_target;
-            cur.E = cur.T + cur.V;
-          }
-        }
-      }
-      // The step's end is a sample when sampling every step, on the grid, or at t_end.
-      const bool on_grid = options_.sample_dt > 0 && std::abs(next_sample - t) <= tiny;
-      if (on_grid) next_sample = t0 + options_.sample_dt * ++sample_index;
-      if (options_.sample_dt == 0 || on_grid || is == IntegratorStatus::kSuccess) {
-        if (!emit(cur)) return Finish(Status::kStoppedByObserver, t, summary);
-      }
-      prev = cur;
-    }
-    summary->integrator = integrator_.summary();
-    if (last != nullptr) *last = prev;
-    if (is == IntegratorStatus::kSuccess) return Finish(Status::kSuccess, integrator_.t(), summary);
-    // The integrator failed: say why from what the positions did.
-    if (is == IntegratorStatus::kRhsFailed) {
-      if (last_solve_not_assemblable_ || prev.rcond < 1e3 * options_.min_rcond) {
-        summary->event = Event::kDeadPoint;
-        summary->message =
-            "the loop cannot close beyond this input (a limit position): a dead point";
-        return Finish(Status::kDeadPoint, integrator_.t(), summary);
-      }
-      if (singular_inertia_) {
-        summary->message = "I(q) is not positive definite";
-        return Finish(Status::kSingularInertia, integrator_.t(), summary);
-      }
-      summary->message = "the position solver failed";
-      return Finish(Status::kPositionFailed, integrator_.t(), summary);
-    }
-    // The step collapsed (or the step budget ran out) next to a singular Phi_phi: the minimal
-    // coordinates cannot describe the motion through it (K, I grow without bound).
-    if (prev.rcond < 1e3 * options_.min_rcond) {
-      summary->event = Event::kDeadPoint;
-      summary->message = "the integrator stalled next to a dead point (Phi_phi nearly singular)";
-      return Finish(Status::kDeadPoint, integrator_.t(), summary);
-    }
-    summary->message = integrator_.summary().message;
-    return Finish(Status::kIntegratorFailed, integrator_.t(), summary);
+    internal::EventSettings events;
+    events.min_rcond = options_.min_rcond;
+    events.event_tolerance = options_.event_tolerance;
+    events.sample_dt = options_.sample_dt;
+    events.max_samples = options_.max_samples;
+    events.stop_at_speed_zero = options_.stop_at_speed_zero;
+    events.energy_projection = options_.energy_projection;
+    return internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);
   }
 
   /// Simulate() without a user event.
   template <class Observer>
   bool Simulate(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer&& observer,
                 MinimalSummary* summary, SampleT* last = nullptr) {
-    return Simulate(t0, q0, qd0, t_end, observer,
-                    [](double, const VecQ&, const VecQ&, const VecPhi&) { return 1.0; }, summary,
-                    last);
+    return Simulate(t0, q0, qd0, t_end, observer, NoUserEvent(), summary, last);
   }
 
  private:
-  bool Finish(Status s, double t, MinimalSummary* summary) {
+  friend struct internal::EventLoop;
+  static constexpr bool kCanProjectEnergy = true;
+
+  // ---- the hooks of the event loop (simulator.h) ----
+  void EndRun() {
     caching_ = false;
     last_.valid = false;
-    summary->status = s;
-    summary->t_end = t;
-    summary->position_failures = position_failures_;
-    if (summary->integrator.status == IntegratorStatus::kNotRun)
-      summary->integrator = integrator_.summary();
-    return !IsFailure(s);
+  }
+  static double Balance(const SampleT& s) { return s.E - s.W; }
+  static void Record(const SampleT&, MinimalSummary*) {}
+  static void OnDeadPoint(SampleT*) {}
+  /// The accepted step's configuration (from the last stage when it was there), made the
+  /// reference of the warm starts.
+  bool Accept(double t, const State& y, SampleT* cur) {
+    if (!FromCache(t, y, cur) && !Evaluate(t, y, cur)) return false;
+    SetReference(cur->q, cur->phi, cur->K);
+    ref_det_ = cur->det;
+    return true;
+  }
+  /// Energy projection (MinimalOptions::energy_projection) of the accepted state *cur.
+  template <class F>
+  bool ProjectEnergy(F& f, double E0, SampleT* cur) {
+    const double T_target = E0 + cur->W - cur->V;
+    const double scale = std::max({std::abs(E0), std::abs(cur->T), std::abs(cur->V), 1e-300});
+    if (!(T_target > 0 && cur->T > options_.energy_floor * scale)) return false;
+    State y = integrator_.y();
+    y.template segment<kNq>(kNq) *= std::sqrt(T_target / cur->T);
+    if (!integrator_.Reset(f, y)) return false;
+    cur->qd = y.template segment<kNq>(kNq);
+    cur->qdd = integrator_.dy().template segment<kNq>(kNq);
+    cur->T = T_target;
+    cur->E = cur->T + cur->V;
+    return true;
   }
 
   bool SolveAt(const VecQ& q, VecPhi* phi) {
@@ -846,41 +653,6 @@ class MinimalDynamics {
     }
     internal::ConditioningOf(last_.Phi_phi, &s->rcond, &s->det);
     return true;
-  }
-
-  template <class F>
-  bool DenseSample(F& f, double t, SampleT* s) {
-    State y;
-    if (!integrator_.Dense(f, t, &y)) return false;
-    return Evaluate(t, y, s);
-  }
-
-  /// Root of g on [ta, tb] (g(ta) = ga, g(tb) = gb of opposite signs) on the dense output,
-  /// Illinois regula falsi; returns tb if the dense output cannot be evaluated.
-  template <class F, class G>
-  double Locate(F& f, double ta, double tb, double ga, double gb, G&& g) {
-    if (!(ga * gb < 0)) return tb;
-    int side = 0;
-    for (int it = 0; it < 100 && std::abs(tb - ta) > options_.event_tolerance; ++it) {
-      double tm = tb - gb * (tb - ta) / (gb - ga);
-      if (!(tm > std::min(ta, tb) && tm < std::max(ta, tb))) tm = 0.5 * (ta + tb);
-      SampleT s;
-      if (!DenseSample(f, tm, &s)) return tb;
-      const double gm = g(s);
-      if (gm == 0) return tm;
-      if ((gm > 0) == (gb > 0)) {
-        tb = tm;
-        gb = gm;
-        if (side == -1) ga *= 0.5;
-        side = -1;
-      } else {
-        ta = tm;
-        ga = gm;
-        if (side == 1) gb *= 0.5;
-        side = 1;
-      }
-    }
-    return tb;
   }
 
   Params p_;

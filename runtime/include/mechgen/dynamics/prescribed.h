@@ -35,8 +35,11 @@
  * where the minimal coordinates break down (K and I grow without bound): after every accepted
  * step 1/cond_1(Phi_phi) and the sign of det Phi_phi are checked; a crossing of min_rcond (or a
  * sign change) is located on the dense output and ends the run with Status::kDeadPoint, the
- * figures in the Summary (t, 1/cond_1) and the last Sample (q, phi, lambda) -- never integrated
- * through. Where the actuator forces' growth (like 1/sigma_min) makes the steps collapse before
+ * figures in the Summary (t, 1/cond_1) and the last Sample (q, phi) -- never integrated
+ * through. The actuator forces of a sample at a singular configuration (1/cond_1 below
+ * min_rcond, or the sample where a run ended with kDeadPoint) are withheld, NaN: they grow like
+ * 1/sigma_min(Phi_phi) there (a status, never a huge number; as the statics withholds its
+ * forces). The event loop is the one of dynamics/simulator.h, shared with forward.h. Where the actuator forces' growth (like 1/sigma_min) makes the steps collapse before
  * 1/cond reaches min_rcond, PrescribedOptions::approach_steps accepted steps in a row with
  * 1/cond below approach_rcond and falling end the run there the same way.
  * Nothing allocates after construction; nothing throws.
@@ -72,6 +75,7 @@
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/integrators.h"
+#include "mechgen/dynamics/simulator.h"
 
 namespace mechgen::dynamics {
 
@@ -295,12 +299,15 @@ struct NoForce {
 
 struct PrescribedOptions {
   IntegratorOptions integrator;
-  /// Dead point when 1/cond_1(Phi_phi) < min_rcond (or det Phi_phi changes sign); kMinRcond.
+  /// Dead point when 1/cond_1(Phi_phi) < min_rcond (or det Phi_phi changes sign); the
+  /// actuator forces of a sample there are withheld (NaN).
   double min_rcond = kMinRcond;
   /// Events are located to |t - t_event| <= event_tolerance (s).
   double event_tolerance = 1e-12;
   /// Samples every sample_dt from t0 (and at the end); 0: at every accepted step.
   double sample_dt = 0;
+  /// A run whose sample grid would hand out more samples than this is refused (kInvalidInput).
+  int max_samples = 100000000;
   int max_solver_iterations = 20;
   double solver_tolerance = 0;
   /// A singular configuration approached: approach_steps accepted steps in a row with
@@ -322,6 +329,7 @@ struct PrescribedOptions {
     if (!(event_tolerance > 0)) return fail("event_tolerance", event_tolerance, "event_tolerance > 0");
     if (!(sample_dt >= 0) || !std::isfinite(sample_dt))
       return fail("sample_dt", sample_dt, "0 <= sample_dt < inf");
+    if (max_samples < 1) return fail("max_samples", max_samples, "max_samples >= 1");
     if (max_solver_iterations < 1)
       return fail("max_solver_iterations", max_solver_iterations, "max_solver_iterations >= 1");
     if (!(approach_rcond >= 0 && approach_rcond < 1))
@@ -548,143 +556,41 @@ class PrescribedDynamics {
    * \param[out] last  The last sample; may be nullptr.
    * \return summary->IsSolutionUsable().
    */
-  template <class Observer>
+  template <class Observer, class UserEvent>
   bool Simulate(double t0, const VecF& qf0, const VecF& qdf0, double t_end, Observer&& observer,
-                PrescribedSummary* summary, SampleT* last = nullptr) {
+                UserEvent&& user_event, PrescribedSummary* summary, SampleT* last = nullptr) {
     *summary = PrescribedSummary();
     position_failures_ = 0;
     std::string error;
     if (!options_.IsValid(&error) || !initialized_ || !(t_end > t0)) {
       summary->message = initialized_ ? "invalid options (or t_end <= t0)" : "Initialize() not called";
-      return Finish(Status::kInvalidInput, t0, summary);
+      EndRun();
+      summary->status = Status::kInvalidInput;
+      summary->t_end = t0;
+      summary->integrator = integrator_.summary();
+      return false;
     }
     integrator_.set_options(options_.integrator);
-    caching_ = true;  // restored by Finish()
+    caching_ = true;  // stopped by EndRun() on every return
     cache_.valid = false;
     State y0 = State::Zero();
     y0.template head<kNf>() = qf0;
     y0.template segment<kNf>(kNf) = qdf0;
-    auto f = [this](double t, const State& y, State* dy) { return Derivative(t, y, dy); };
-    SampleT s0;
-    if (!Evaluate(t0, y0, &s0)) {
-      summary->message = "the initial state does not assemble (or I_ff is singular)";
-      return Finish(Status::kInvalidInput, t0, summary);
-    }
-    const double E0 = s0.E;
-    summary->min_rcond_seen = s0.rcond;
-    if (s0.rcond < options_.min_rcond) {
-      summary->event = Event::kDeadPoint;
-      summary->message = "the initial configuration is singular (Phi_phi)";
-      if (last != nullptr) *last = s0;
-      return Finish(Status::kDeadPoint, t0, summary);
-    }
-    auto emit = [&](const SampleT& s) {
-      ++summary->samples;
-      if (last != nullptr) *last = s;
-      summary->max_energy_error = std::max(summary->max_energy_error, std::abs(s.Balance() - E0));
-      for (int i = 0; i < kNp; ++i)
-        summary->max_abs_lambda = std::max(summary->max_abs_lambda, std::abs(s.lambda(i)));
-      return observer(s);
-    };
-    if (!emit(s0)) return Finish(Status::kStoppedByObserver, t0, summary);
-    int sample_index = 1;
-    double next_sample = t0 + options_.sample_dt;
+    internal::EventSettings events;
+    events.min_rcond = options_.min_rcond;
+    events.event_tolerance = options_.event_tolerance;
+    events.sample_dt = options_.sample_dt;
+    events.max_samples = options_.max_samples;
+    events.approach_rcond = options_.approach_rcond;
+    events.approach_steps = options_.approach_steps;
+    return internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);
+  }
 
-    IntegratorStatus is = integrator_.Start(f, t0, y0, t_end);
-    SampleT prev = s0, cur;
-    int approach_steps = 0;
-    while (is == IntegratorStatus::kRunning) {
-      is = integrator_.Step(f);
-      if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
-      const double t = integrator_.t();
-      Coefficients c_cur;
-      if (!FromCache(t, integrator_.y(), &cur, &c_cur) &&
-          !EvaluateFull(t, integrator_.y(), &cur, &c_cur)) {
-        summary->message = "the positions failed at an accepted step";
-        return Finish(Status::kPositionFailed, t, summary);
-      }
-      SetReference(cur, c_cur);
-      summary->min_rcond_seen = std::min(summary->min_rcond_seen, cur.rcond);
-      bool dead = false;
-      double t_event = t;
-      if constexpr (kNphi > 0) {
-        const bool sign_change = (prev.det > 0) != (cur.det > 0);
-        if (cur.rcond < options_.min_rcond || sign_change) {
-          dead = true;
-          const double target = options_.min_rcond;
-          t_event = Locate(f, prev.t, t, prev.rcond - target,
-                           (sign_change ? -cur.rcond : cur.rcond) - target, [&](const SampleT& s) {
-                             return ((s.det > 0) == (prev.det > 0) ? s.rcond : -s.rcond) - target;
-                           });
-        }
-      }
-      // Creeping towards a singular configuration: the actuator forces grow like
-      // 1/sigma_min(Phi_phi), so the step size shrinks geometrically and 1/cond may never
-      // reach min_rcond inside the (tiny) window where the loop still closes. Many accepted
-      // steps in a row with 1/cond falling below approach_rcond end the run there.
-      if constexpr (kNphi > 0) {
-        if (!dead && cur.rcond < options_.approach_rcond && cur.rcond < prev.rcond) {
-          if (++approach_steps >= options_.approach_steps) {
-            dead = true;
-            t_event = t;
-          }
-        } else {
-          approach_steps = 0;
-        }
-      }
-      const double t_stop_here = dead ? t_event : t;
-      const double tiny = 1e-12 * std::max(1.0, std::abs(t));
-      if (options_.sample_dt > 0) {
-        while (next_sample < t_stop_here - tiny) {
-          SampleT s;
-          if (!DenseSample(f, next_sample, &s)) {
-            summary->message = "the positions failed at a sample";
-            return Finish(Status::kPositionFailed, next_sample, summary);
-          }
-          if (!emit(s)) return Finish(Status::kStoppedByObserver, s.t, summary);
-          next_sample = t0 + options_.sample_dt * ++sample_index;
-        }
-      }
-      if (dead) {
-        SampleT s;
-        if (!DenseSample(f, t_event, &s)) s = prev;
-        summary->min_rcond_seen = std::min(summary->min_rcond_seen, s.rcond);
-        emit(s);
-        summary->event = Event::kDeadPoint;
-        summary->integrator = integrator_.summary();
-        summary->message = approach_steps >= options_.approach_steps
-                               ? "the steps collapsed while 1/cond(Phi_phi) kept falling below "
-                                 "approach_rcond: a singular configuration ahead"
-                               : "1/cond(Phi_phi) fell below min_rcond: a singular configuration";
-        return Finish(Status::kDeadPoint, s.t, summary);
-      }
-      const bool on_grid = options_.sample_dt > 0 && std::abs(next_sample - t) <= tiny;
-      if (on_grid) next_sample = t0 + options_.sample_dt * ++sample_index;
-      if (options_.sample_dt == 0 || on_grid || is == IntegratorStatus::kSuccess) {
-        if (!emit(cur)) return Finish(Status::kStoppedByObserver, t, summary);
-      }
-      prev = cur;
-    }
-    summary->integrator = integrator_.summary();
-    if (is == IntegratorStatus::kSuccess) return Finish(Status::kSuccess, integrator_.t(), summary);
-    if (last_solve_not_assemblable_ || prev.rcond < 1e3 * options_.min_rcond) {
-      summary->event = Event::kDeadPoint;
-      summary->message =
-          "the integrator stalled next to a singular configuration (Phi_phi nearly singular, or "
-          "the loop cannot close)";
-      if (last != nullptr) *last = prev;
-      return Finish(Status::kDeadPoint, integrator_.t(), summary);
-    }
-    if (singular_inertia_) {
-      summary->message = "I_ff(q) is not positive definite";
-      return Finish(Status::kSingularInertia, integrator_.t(), summary);
-    }
-    if (is == IntegratorStatus::kRhsFailed) {
-      summary->message = "the position solver failed";
-      return Finish(Status::kPositionFailed, integrator_.t(), summary);
-    }
-    summary->message = integrator_.summary().message;
-    return Finish(Status::kIntegratorFailed, integrator_.t(), summary);
+  /// Simulate() without a user event.
+  template <class Observer>
+  bool Simulate(double t0, const VecF& qf0, const VecF& qdf0, double t_end, Observer&& observer,
+                PrescribedSummary* summary, SampleT* last = nullptr) {
+    return Simulate(t0, qf0, qdf0, t_end, observer, NoUserEvent(), summary, last);
   }
 
  private:
@@ -692,6 +598,7 @@ class PrescribedDynamics {
   bool EvaluateFull(double t, const State& y, SampleT* s, Coefficients* c) {
     if (!Stage(t, y, /*by_trig=*/false, s, c)) return false;
     Conditioning(*c, &s->rcond, &s->det);
+    if (s->rcond < options_.min_rcond) Withhold(s);
     return true;
   }
 
@@ -808,18 +715,38 @@ class PrescribedDynamics {
       }
     }
     Conditioning(*c, &s->rcond, &s->det);
+    if (s->rcond < options_.min_rcond) Withhold(s);
     return true;
   }
 
-  bool Finish(Status s, double t, PrescribedSummary* summary) {
+  friend struct internal::EventLoop;
+  static constexpr bool kCanProjectEnergy = false;
+
+  // ---- the hooks of the event loop (simulator.h) ----
+  void EndRun() {
     caching_ = false;
     cache_.valid = false;
-    summary->status = s;
-    summary->t_end = t;
-    summary->position_failures = position_failures_;
-    if (summary->integrator.status == IntegratorStatus::kNotRun)
-      summary->integrator = integrator_.summary();
-    return !IsFailure(s);
+  }
+  static double Balance(const SampleT& s) { return s.Balance(); }
+  static void Record(const SampleT& s, PrescribedSummary* summary) {
+    for (int i = 0; i < kNp; ++i)
+      if (std::isfinite(s.lambda(i)))
+        summary->max_abs_lambda = std::max(summary->max_abs_lambda, std::abs(s.lambda(i)));
+  }
+  /// A sample where the run met a singular configuration: its actuator forces (which grow
+  /// like 1/sigma_min(Phi_phi) there) are withheld, NaN, as the statics withholds its forces.
+  static void OnDeadPoint(SampleT* s) { Withhold(s); }
+  static void Withhold(SampleT* s) {
+    s->lambda.setConstant(std::numeric_limits<double>::quiet_NaN());
+    s->P_act = std::numeric_limits<double>::quiet_NaN();
+  }
+  /// The accepted step's configuration (from the last stage when it was there), made the
+  /// reference of the warm starts.
+  bool Accept(double t, const State& y, SampleT* cur) {
+    Coefficients c;
+    if (!FromCache(t, y, cur, &c) && !EvaluateFull(t, y, cur, &c)) return false;
+    SetReference(*cur, c);
+    return true;
   }
 
   void SetReference(const SampleT& s, const Coefficients& c) {
@@ -899,41 +826,6 @@ class PrescribedDynamics {
     } else {
       internal::ConditioningOf(c.Phi_phi, rcond, det);
     }
-  }
-
-  template <class Fn>
-  bool DenseSample(Fn& f, double t, SampleT* s) {
-    State y;
-    if (!integrator_.Dense(f, t, &y)) return false;
-    return Evaluate(t, y, s);
-  }
-
-  /// Root of g on [ta, tb] (g(ta) = ga, g(tb) = gb of opposite signs) on the dense output,
-  /// Illinois regula falsi; tb if the dense output cannot be evaluated.
-  template <class Fn, class G>
-  double Locate(Fn& f, double ta, double tb, double ga, double gb, G&& g) {
-    if (!(ga * gb < 0)) return tb;
-    int side = 0;
-    for (int it = 0; it < 100 && std::abs(tb - ta) > options_.event_tolerance; ++it) {
-      double tm = tb - gb * (tb - ta) / (gb - ga);
-      if (!(tm > std::min(ta, tb) && tm < std::max(ta, tb))) tm = 0.5 * (ta + tb);
-      SampleT s;
-      if (!DenseSample(f, tm, &s)) return tb;
-      const double gm = g(s);
-      if (gm == 0) return tm;
-      if ((gm > 0) == (gb > 0)) {
-        tb = tm;
-        gb = gm;
-        if (side == -1) ga *= 0.5;
-        side = -1;
-      } else {
-        ta = tm;
-        ga = gm;
-        if (side == 1) gb *= 0.5;
-        side = 1;
-      }
-    }
-    return tb;
   }
 
   Params p_;

@@ -1,0 +1,364 @@
+/**
+ * \file dynamics/simulator.h
+ * The one event loop of the runtime's simulations: the free (MinimalDynamics, forward.h),
+ * driven (PrescribedDynamics, prescribed.h) and engine (engine::GasDriven, a MinimalDynamics
+ * with a load) simulations configure it; it drives their integrator from t0 to t_end.
+ *
+ * After every accepted step (the configuration there from the integrator's last stage when it
+ * was at exactly that state, else evaluated; it becomes the warm start of the next stages):
+ *  - singular configuration (a dead point): 1/cond_1(Phi_phi) below min_rcond or det Phi_phi
+ *    changing sign, located on the dense output (Illinois regula falsi) and ending the run with
+ *    Status::kDeadPoint; where the steps collapse before 1/cond reaches min_rcond,
+ *    approach_steps accepted steps in a row with 1/cond below approach_rcond and falling end
+ *    it there the same way (approach_steps = 0: not watched);
+ *  - the speed qd(0) through zero (stop_at_speed_zero): Status::kStoppedByEvent;
+ *  - a user stop condition g(t, q, qd, phi) changing sign: Status::kStoppedByEvent.
+ * The earliest event of a step wins. Samples at t0 + k sample_dt (0: every accepted step, and
+ * always at t_end) come from the dense output; an observer gets each and may stop the run.
+ * Energy projection (free simulation only) after each step keeps T + V - W on its initial
+ * value. When the integrator gives up, the figures of the last configuration say why (a dead
+ * point, a singular inertia, the position solver, the integrator).
+ *
+ * A sample grid that cannot advance (t + sample_dt == t anywhere in [t0, t_end]) or that would
+ * hand out more than max_samples samples is refused with Status::kInvalidInput before any
+ * step: never a loop without end.
+ *
+ * Nothing allocates; nothing throws; no state outside the simulation objects (two simulations
+ * run at once on two threads).
+ */
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "mechgen/core/constants.h"
+#include "mechgen/dynamics/integrators.h"
+
+namespace mechgen::dynamics {
+
+/// How a simulation ended.
+enum class Status {
+  kSuccess,            ///< t_end reached
+  kStoppedByEvent,     ///< a terminal event that is not a failure: speed zero or the user's
+  kDeadPoint,          ///< 1/cond_1(Phi_phi) < min_rcond, det Phi_phi changed sign, the
+                       ///< loop could not close (M::Solve kNotAssemblable) down to h_min, or
+                       ///< the integrator failed with 1/cond_1(Phi_phi) < 1e3 min_rcond
+  kPositionFailed,     ///< M::Solve did not converge (a Newton block) down to h_min
+  kSingularInertia,    ///< I(q) not positive definite (or not finite)
+  kIntegratorFailed,   ///< max_steps, or the step fell below h_min for accuracy
+  kStoppedByObserver,  ///< the sample observer returned false
+  kInvalidInput,       ///< options invalid, the initial state does not assemble, or the
+                       ///< sample grid cannot advance
+  kNotRun,
+};
+
+inline const char* ToString(Status s) {
+  switch (s) {
+    case Status::kSuccess:
+      return "success";
+    case Status::kStoppedByEvent:
+      return "stopped_by_event";
+    case Status::kDeadPoint:
+      return "dead_point";
+    case Status::kPositionFailed:
+      return "position_failed";
+    case Status::kSingularInertia:
+      return "singular_inertia";
+    case Status::kIntegratorFailed:
+      return "integrator_failed";
+    case Status::kStoppedByObserver:
+      return "stopped_by_observer";
+    case Status::kInvalidInput:
+      return "invalid_input";
+    case Status::kNotRun:
+      return "not_run";
+  }
+  return "unknown";
+}
+
+/// A failure is a run that did not reach t_end nor stop where it was asked to.
+inline bool IsFailure(Status s) {
+  return !(s == Status::kSuccess || s == Status::kStoppedByEvent ||
+           s == Status::kStoppedByObserver);
+}
+
+enum class Event { kNone, kDeadPoint, kSpeedZero, kUser };
+
+inline const char* ToString(Event e) {
+  switch (e) {
+    case Event::kNone:
+      return "none";
+    case Event::kDeadPoint:
+      return "dead_point";
+    case Event::kSpeedZero:
+      return "speed_zero";
+    case Event::kUser:
+      return "user";
+  }
+  return "unknown";
+}
+
+/// No user stop condition.
+struct NoUserEvent {
+  template <class VecQ, class VecPhi>
+  double operator()(double, const VecQ&, const VecQ&, const VecPhi&) const {
+    return 1.0;
+  }
+};
+
+namespace internal {
+
+/// What the event loop watches: read from MinimalOptions or PrescribedOptions.
+struct EventSettings {
+  double min_rcond = kMinRcond;
+  double event_tolerance = 1e-12;
+  double sample_dt = 0;
+  int max_samples = 100000000;
+  bool stop_at_speed_zero = false;
+  double approach_rcond = 1e-3;
+  int approach_steps = 0;  ///< 0: the approach to a singular configuration is not watched
+  bool energy_projection = false;
+};
+
+/// The sample grid t0 + k sample_dt over [t0, t_end] advances at every t in it and has at
+/// most max_samples points (sample_dt = 0: a sample per accepted step).
+inline bool SampleGridIsUsable(double t0, double t_end, double sample_dt, int max_samples) {
+  if (sample_dt == 0) return true;
+  const double t_far = std::max(std::abs(t0), std::abs(t_end));
+  if (!(t_far + sample_dt > t_far)) return false;
+  return (t_end - t0) / sample_dt <= static_cast<double>(max_samples);
+}
+
+/**
+ * The event loop. P is the simulation (MinimalDynamics, PrescribedDynamics), which declares
+ * `friend struct internal::EventLoop` and has:
+ *   kNphi, State, SampleT, Integrator integrator_, int position_failures_,
+ *   bool last_solve_not_assemblable_, singular_inertia_,
+ *   bool Evaluate(t, y, SampleT*)          one configuration, updates nothing,
+ *   bool Derivative(t, y, State*)          the right-hand side,
+ *   bool Accept(t, y, SampleT*)            the accepted step's configuration (from the last
+ *                                          stage when it was there), made the warm start,
+ *   void EndRun()                          stops caching stages,
+ *   static double Balance(const SampleT&)  the energy balance, constant along an exact motion,
+ *   void Record(const SampleT&, Summary*)  its own figures of each sample,
+ *   void OnDeadPoint(SampleT*)             what a sample at a singular configuration withholds,
+ *   bool ProjectEnergy(f, E0, SampleT*)    when kCanProjectEnergy.
+ * Summary has status, event, integrator, t_end, samples, position_failures, min_rcond_seen,
+ * max_energy_error, message (and projections when P::kCanProjectEnergy).
+ */
+struct EventLoop {
+  template <class P, class Summary, class Observer, class UserEvent>
+  static bool Run(P* sim, const EventSettings& o, double t0, const typename P::State& y0,
+                  double t_end, Observer& observer, UserEvent& user_event, Summary* summary,
+                  typename P::SampleT* last) {
+    using SampleT = typename P::SampleT;
+    using State = typename P::State;
+    auto& integrator = sim->integrator_;
+    auto finish = [&](Status s, double t) {
+      sim->EndRun();
+      summary->status = s;
+      summary->t_end = t;
+      summary->position_failures = sim->position_failures_;
+      if (summary->integrator.status == IntegratorStatus::kNotRun)
+        summary->integrator = integrator.summary();
+      return !IsFailure(s);
+    };
+    if (!SampleGridIsUsable(t0, t_end, o.sample_dt, o.max_samples)) {
+      summary->message =
+          "sample_dt cannot advance the sample grid (t + sample_dt == t) or gives more than "
+          "max_samples samples";
+      return finish(Status::kInvalidInput, t0);
+    }
+    auto f = [sim](double t, const State& y, State* dy) { return sim->Derivative(t, y, dy); };
+    auto dense_sample = [&](double t, SampleT* s) {
+      State y;
+      if (!integrator.Dense(f, t, &y)) return false;
+      return sim->Evaluate(t, y, s);
+    };
+    // Root of g on [ta, tb] (g(ta) = ga, g(tb) = gb of opposite signs) on the dense output,
+    // Illinois regula falsi; tb if the dense output cannot be evaluated.
+    auto locate = [&](double ta, double tb, double ga, double gb, auto&& g) {
+      if (!(ga * gb < 0)) return tb;
+      int side = 0;
+      for (int it = 0; it < 100 && std::abs(tb - ta) > o.event_tolerance; ++it) {
+        double tm = tb - gb * (tb - ta) / (gb - ga);
+        if (!(tm > std::min(ta, tb) && tm < std::max(ta, tb))) tm = 0.5 * (ta + tb);
+        SampleT s;
+        if (!dense_sample(tm, &s)) return tb;
+        const double gm = g(s);
+        if (gm == 0) return tm;
+        if ((gm > 0) == (gb > 0)) {
+          tb = tm;
+          gb = gm;
+          if (side == -1) ga *= 0.5;
+          side = -1;
+        } else {
+          ta = tm;
+          ga = gm;
+          if (side == 1) gb *= 0.5;
+          side = 1;
+        }
+      }
+      return tb;
+    };
+
+    SampleT s0;
+    if (!sim->Evaluate(t0, y0, &s0)) {
+      summary->message = "the initial state does not assemble (or its inertia is singular)";
+      return finish(Status::kInvalidInput, t0);
+    }
+    const double E0 = s0.E;
+    summary->min_rcond_seen = s0.rcond;
+    if (s0.rcond < o.min_rcond) {
+      summary->event = Event::kDeadPoint;
+      summary->message = "the initial configuration is singular (Phi_phi): a dead point";
+      sim->OnDeadPoint(&s0);
+      if (last != nullptr) *last = s0;
+      return finish(Status::kDeadPoint, t0);
+    }
+    auto emit = [&](const SampleT& s) {
+      ++summary->samples;
+      if (last != nullptr) *last = s;
+      summary->max_energy_error = std::max(summary->max_energy_error, std::abs(P::Balance(s) - E0));
+      sim->Record(s, summary);
+      return observer(s);
+    };
+    if (!emit(s0)) return finish(Status::kStoppedByObserver, t0);
+    int sample_index = 1;
+    double next_sample = t0 + o.sample_dt;
+
+    IntegratorStatus is = integrator.Start(f, t0, y0, t_end);
+    SampleT prev = s0, cur;
+    double g_user_prev = user_event(t0, s0.q, s0.qd, s0.phi);
+    int approach_steps = 0;
+    while (is == IntegratorStatus::kRunning) {
+      is = integrator.Step(f);
+      if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
+      const double t = integrator.t();
+      if (!sim->Accept(t, integrator.y(), &cur)) {
+        summary->message = "the positions failed at an accepted step";
+        return finish(Status::kPositionFailed, t);
+      }
+      summary->min_rcond_seen = std::min(summary->min_rcond_seen, cur.rcond);
+      // Events, the earliest one in this step.
+      Event event = Event::kNone;
+      double t_event = t;
+      bool approached = false;
+      auto consider = [&](Event e, double t_root) {
+        if (event == Event::kNone || t_root < t_event) {
+          event = e;
+          t_event = t_root;
+        }
+      };
+      if constexpr (P::kNphi > 0) {
+        const bool sign_change = (prev.det > 0) != (cur.det > 0);
+        if (cur.rcond < o.min_rcond || sign_change) {
+          const double target = o.min_rcond;
+          consider(Event::kDeadPoint,
+                   locate(prev.t, t, prev.rcond - target,
+                          (sign_change ? -cur.rcond : cur.rcond) - target, [&](const SampleT& s) {
+                            return ((s.det > 0) == (prev.det > 0) ? s.rcond : -s.rcond) - target;
+                          }));
+        } else if (o.approach_steps > 0) {
+          // Creeping towards a singular configuration: forces grow like 1/sigma_min(Phi_phi),
+          // the step size shrinks geometrically and 1/cond may never reach min_rcond inside
+          // the (tiny) window where the loop still closes.
+          if (cur.rcond < o.approach_rcond && cur.rcond < prev.rcond) {
+            if (++approach_steps >= o.approach_steps) {
+              approached = true;
+              consider(Event::kDeadPoint, t);
+            }
+          } else {
+            approach_steps = 0;
+          }
+        }
+      }
+      if (o.stop_at_speed_zero && prev.qd(0) != 0 && (prev.qd(0) > 0) != (cur.qd(0) > 0)) {
+        consider(Event::kSpeedZero,
+                 locate(prev.t, t, prev.qd(0), cur.qd(0), [](const SampleT& s) { return s.qd(0); }));
+      }
+      const double g_user = user_event(t, cur.q, cur.qd, cur.phi);
+      if (g_user_prev != 0 && (g_user_prev > 0) != (g_user > 0)) {
+        consider(Event::kUser, locate(prev.t, t, g_user_prev, g_user, [&](const SampleT& s) {
+                   return user_event(s.t, s.q, s.qd, s.phi);
+                 }));
+      }
+      g_user_prev = g_user;
+      const double t_stop_here = event != Event::kNone ? t_event : t;
+      // Samples strictly inside (prev.t, t_stop_here).
+      const double tiny = 1e-12 * std::max(1.0, std::abs(t));
+      if (o.sample_dt > 0) {
+        while (next_sample < t_stop_here - tiny) {
+          SampleT s;
+          if (!dense_sample(next_sample, &s)) {
+            summary->message = "the positions failed at a sample";
+            return finish(Status::kPositionFailed, next_sample);
+          }
+          if (!emit(s)) return finish(Status::kStoppedByObserver, s.t);
+          next_sample = t0 + o.sample_dt * ++sample_index;
+        }
+      }
+      if (event != Event::kNone) {
+        SampleT s;
+        if (!dense_sample(t_event, &s)) s = prev;
+        if (event == Event::kDeadPoint) {
+          summary->min_rcond_seen = std::min(summary->min_rcond_seen, s.rcond);
+          sim->OnDeadPoint(&s);
+        }
+        emit(s);
+        summary->event = event;
+        summary->integrator = integrator.summary();
+        if (event == Event::kDeadPoint) {
+          summary->message = approached
+                                 ? "the steps collapsed while 1/cond(Phi_phi) kept falling below "
+                                   "approach_rcond: a singular configuration (dead point) ahead"
+                                 : "1/cond(Phi_phi) fell below min_rcond: a singular "
+                                   "configuration (dead point)";
+          return finish(Status::kDeadPoint, s.t);
+        }
+        return finish(Status::kStoppedByEvent, t_event);
+      }
+      if constexpr (P::kCanProjectEnergy) {
+        if (o.energy_projection && sim->ProjectEnergy(f, E0, &cur)) ++summary->projections;
+      }
+      // The step's end is a sample when sampling every step, on the grid, or at t_end.
+      const bool on_grid = o.sample_dt > 0 && std::abs(next_sample - t) <= tiny;
+      if (on_grid) next_sample = t0 + o.sample_dt * ++sample_index;
+      if (o.sample_dt == 0 || on_grid || is == IntegratorStatus::kSuccess) {
+        if (!emit(cur)) return finish(Status::kStoppedByObserver, t);
+      }
+      prev = cur;
+    }
+    summary->integrator = integrator.summary();
+    if (is == IntegratorStatus::kSuccess) {
+      if (last != nullptr) *last = prev;
+      return finish(Status::kSuccess, integrator.t());
+    }
+    // The integrator gave up: say why from what the positions did.
+    const bool near_singular = prev.rcond < 1e3 * o.min_rcond;
+    if (sim->last_solve_not_assemblable_ || near_singular) {
+      summary->event = Event::kDeadPoint;
+      summary->message =
+          "the integrator stalled next to a singular configuration (Phi_phi nearly singular, or "
+          "the loop cannot close beyond this input: a limit position): a dead point";
+      sim->OnDeadPoint(&prev);
+      if (last != nullptr) *last = prev;
+      return finish(Status::kDeadPoint, integrator.t());
+    }
+    if (last != nullptr) *last = prev;
+    if (sim->singular_inertia_) {
+      summary->message = "the inertia matrix (of the free coordinates) is not positive definite";
+      return finish(Status::kSingularInertia, integrator.t());
+    }
+    if (is == IntegratorStatus::kRhsFailed) {
+      summary->message = "the position solver failed";
+      return finish(Status::kPositionFailed, integrator.t());
+    }
+    summary->message = integrator.summary().message;
+    return finish(Status::kIntegratorFailed, integrator.t());
+  }
+};
+
+}  // namespace internal
+}  // namespace mechgen::dynamics
