@@ -489,6 +489,7 @@ int Run(const Args& args) {
   double max_reaction = 0;
 
   auto observer = [&](const SampleT& s) {
+    // The row is written inside the branch that holds the kinetostatics it points into.
     CsvRow<SampleT> row{&s, nullptr};
     if constexpr (kNumReactions > 0) {
       mechgen::dynamics::KinetostaticsRow<M> k;
@@ -654,6 +655,7 @@ int RunDriven(const Args& args) {
   const auto columns = DrivenColumns<M, SampleT, NP>(prescribed);
   mechgen::WriteCsvHeader(columns, csv.stream());
   auto observer = [&](const SampleT& s) {
+    // The row is written inside the branch that holds the kinetostatics it points into.
     CsvRow<SampleT> row{&s, nullptr};
     if constexpr (kNumReactions > 0) {
       mechgen::dynamics::KinetostaticsRow<M> k;
