@@ -27,7 +27,9 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
     : any(Asked(m)) {
   if (!any) return;
   applied = std::make_unique<StaticsTable>(m, k, t, Dynamic(false));
-  kinetostatics = std::make_unique<StaticsTable>(m, k, t, Dynamic(true));
+  StaticsOptions inertia = Dynamic(true);
+  inertia.bodies = applied.get();  // the bodies' coefficients once
+  kinetostatics = std::make_unique<StaticsTable>(m, k, t, inertia);
   const StaticsTable& a = *applied;
   const int nq = k.nq();
   program = a.program;

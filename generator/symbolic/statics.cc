@@ -99,6 +99,8 @@ void StaticsTable::DeriveArguments(Stage& st) {
   const SymbolicTable& t = st.t;
   // ---- the slots read from EvalCoefficients' output and the arguments ----
   using Kind = Slot::Kind;
+  // The bodies' coefficients derived once: a table that shares them starts from its slots.
+  if (options.bodies != nullptr) slots = options.bodies->slots;
   auto& Kc = st.Kc;
   for (int i = 0; i < nphi; ++i)
     for (int j = 0; j < nq; ++j) Kc[i][j] = slots(Kind::kK, i, j);
@@ -126,7 +128,14 @@ void StaticsTable::DeriveArguments(Stage& st) {
       for (int j = 0; j < nq; ++j) v += Kc[a - nq][j] * qd[j];
       xdot.push_back(v);
     }
-    if (!options.excess) masses = BodyCoefficients(t.bodies, st.motion, &program);
+    if (options.bodies != nullptr) {
+      const StaticsTable& b = *options.bodies;
+      masses = b.masses;
+      program.assign(b.program.begin(), b.program.begin() + b.body_statements);
+    } else if (!options.excess) {
+      masses = BodyCoefficients(t.bodies, st.motion, &program);
+    }
+    body_statements = program.size();
   }
 }
 

@@ -50,6 +50,8 @@ struct StaticsLayout {
   static StaticsLayout Of(const Model& m);
 };
 
+class StaticsTable;
+
 /// What a StaticsTable derives beyond the statics (the dynamics builds on the same machinery).
 struct StaticsOptions {
   /// Loads at (t, q, qd): the loads' t and <coordinate>_dot are the arguments t and qd(j) (the
@@ -64,6 +66,9 @@ struct StaticsOptions {
   /// The excess-coordinate formulation (with `dynamic`): the dependent coordinates' velocities
   /// are the arguments phid(i), not K qd; no centres of mass (EvalExcess reads `g`).
   bool excess = false;
+  /// A dynamic table whose slots and bodies' coefficients (masses and their locals) this one
+  /// reads instead of deriving them again (the kinetostatics reads the applied forces' table).
+  const StaticsTable* bodies = nullptr;
 };
 
 class StaticsTable {
@@ -85,8 +90,10 @@ class StaticsTable {
   /// K(i, j), L(i, j + nq k), Phi_phi(r, c) of EvalCoefficients' output, the arguments qd(j),
   /// qdd(j), phid(i), t, and the friction loads; only the printer spells them.
   SlotSymbols slots;
-  /// Named locals (the applied forces g, the multipliers, the subtree sums), in order.
+  /// Named locals (the bodies' coefficients, the applied forces g, the multipliers, the
+  /// subtree sums), in order; the first body_statements are the bodies' coefficients.
   Program program;
+  size_t body_statements = 0;
 
   std::vector<GiNaC::ex> g;          ///< nq + nphi: the applied generalized forces on x = (q, phi) (named)
   std::vector<GiNaC::ex> phid;       ///< the excess mode's dependent velocities

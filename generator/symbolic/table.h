@@ -14,9 +14,9 @@
 // x = (q, phi) and V = dx/dq = [I; K],
 //   Phi_phi L(:, j, k) = -gamma(:, j, k),  gamma_i(j, k) = sum_ab d2Phi_i/dx_a dx_b V_aj V_bk,
 // so only second partial derivatives of Phi are taken, never derivatives of K. The same
-// derivative along the motion gives K and L of any expression in (q, phi):
-// VelocityCoefficients() and CentripetalCoefficients() (points today; centres of mass and
-// link angles next).
+// derivative along the motion gives K and L of any expression in (q, phi) (motion.h, with
+// this table's K and L or with the slots a generated function reads): the points' here, the
+// massive links' centres of mass and angles (`bodies`, bodies.h) wherever they are read.
 #pragma once
 
 #include <array>
