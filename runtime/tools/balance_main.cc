@@ -475,6 +475,10 @@ int main(int argc, char** argv) {
   CLI::App app{
       "mechgen_balance: engine balance table, rigid-rotor balancing, flywheel sizing "
       "by the energy loop (no mechanism model needed)."};
+  app.footer(
+      "Exit status: 0 done, 2 a usage error (an option, a value outside its range, options "
+      "that do not go together), 1 bad data in a file or a failed computation; one line "
+      "'mechgen_balance: error: ...' on stderr either way.");
   app.require_subcommand(1);
 
   bool csv = false;

@@ -121,8 +121,8 @@ int Run(int argc, char** argv) {
   tools::Count(&app, "--steps", &steps, 1, kMaxSteps, "number of steps (rows = steps + 1)");
   app.add_option("--range", ranges,
                  "input:min:max, input by name or index; values in model units (radians), "
-                 "or with a 'deg' suffix (e.g. theta_crank:0:180deg). Default: the model's "
-                 "range of every input");
+                 "or with a 'deg' suffix (e.g. theta_crank:0:180deg), min and max in "
+                 "[-1e4, 1e4]. Default: the model's range of every input");
   app.add_option("--csv", csv_path, "write every row to this CSV file (plot it with "
                                     "runtime/tools/plot_statics.gnuplot)");
   app.add_option("--svg", svg_path, "write the mechanism with its reaction vectors at a few "

@@ -18,11 +18,13 @@ int ParseArguments(int argc, char** argv, const std::string& model_name, long lo
   tools::Count(&app, "--steps", &a.steps, 1, max_steps, "number of steps (rows = steps + 1)");
   app.add_option("--range", a.ranges,
                  "input:min:max, input by name or index; values in model units (radians), "
-                 "or with a 'deg' suffix (e.g. theta_crank:0:180deg). Default: the model's "
-                 "range of every input");
-  app.add_option("--qd", a.qd_text, "input speed(s), one value or one per input (default 1)");
+                 "or with a 'deg' suffix (e.g. theta_crank:0:180deg), min and max in "
+                 "[-1e4, 1e4]. Default: the model's range of every input");
+  app.add_option("--qd", a.qd_text,
+                 "input speed(s), one value or one per input, |value| <= 1e5 (default 1)");
   app.add_option("--qdd", a.qdd_text,
-                 "input acceleration(s), one value or one per input (default 0)");
+                 "input acceleration(s), one value or one per input, |value| <= 1e10 (default "
+                 "0)");
   app.add_option("--csv", a.csv_path,
                  "write every row to this CSV file (streamed; written whole or not at all)");
   app.add_option("--svg", a.svg_path,
