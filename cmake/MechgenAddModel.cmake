@@ -4,33 +4,114 @@
 # Runs `mechgen generate` on <model.yaml> at build time (again whenever the model, the
 # templates or the mechgen program change) and defines:
 #   mechgen_model_<name>   a static library (alias mechgen::model_<name>) whose include
-#                          directory holds <name>.h; link a product against it.
-#   <name>_sweep           unless NO_SWEEP, MECHGEN_BUILD_SWEEPS is OFF, or Ceres is absent
-#                          (no target mechgen::runtime_ceres): the sweep command of the
-#                          runtime for this model. It assembles with Ceres.
-#   <name>_statics         under the same conditions, for a model whose outputs ask for
-#                          `forces` (its `quantities:` list, read from the model file at
-#                          configure time; STATICS forces it, NO_STATICS skips it): the statics
-#                          command (runtime/tools/statics_main.cc; driving forces, reactions,
-#                          dead zones, equilibria; CSV, SVG). A model without statics builds
-#                          into a stub that says so.
-#   <name>_simulate        unless NO_SWEEP or MECHGEN_BUILD_SWEEPS is OFF (Ceres not needed),
-#                          for a model whose outputs ask for `dynamics` (read like `forces`;
-#                          SIMULATE forces it, NO_SIMULATE skips it): the forward-dynamics
-#                          command (runtime/tools/simulate_main.cc; a transient to a steady
-#                          state, CSV for runtime/tools/plot_dynamics.gnuplot).
-#   <name>_engine          with ENGINE (a model made by tools/make_engine.py), unless NO_SWEEP
-#                          or MECHGEN_BUILD_SWEEPS is OFF: the engine command
-#                          (runtime/tools/engine_main.cc; crank torque over a cycle, bearing
-#                          loads, flywheel sizing, run-up; CSV for tools/plot_engine.gnuplot).
-# The model library needs Eigen only; with NO_SWEEP nothing here needs Ceres.
-# Requires MECHGEN_EXECUTABLE and MECHGEN_TEMPLATES_DIR (set by the build tree or by
-# find_package(mechgen)).
+#                          directory holds <name>.h; link a product against it. It needs
+#                          Eigen only.
+# and the model's command-line tools (runtime/tools/*_main.cc compiled against <name>.h):
+#   <name>_sweep           the sweep command (positions, K, L, points over the inputs' range;
+#                          table, CSV, SVG). Needs mechgen::runtime_ceres (Ceres).
+#   <name>_statics         the statics command (runtime/tools/statics_main.cc: driving forces,
+#                          reactions, dead zones, equilibria; CSV, SVG), for a model with
+#                          `forces`. Needs mechgen::runtime_ceres.
+#   <name>_simulate        the forward-dynamics command (runtime/tools/simulate_main.cc: a
+#                          transient to a steady state; CSV for plot_dynamics.gnuplot), for a
+#                          model with `dynamics`. Eigen only.
+#   <name>_engine          with ENGINE only: the engine command (runtime/tools/engine_main.cc:
+#                          crank torque over a cycle, bearing loads, flywheel, run-up) of a model
+#                          made by tools/make_engine.py (it reads the engine's parameters by
+#                          name, which no quantity says). Eigen only.
+#
+# What a model has is what the generator says, never a reading of the YAML here: its
+# quantities as the generator's model reader resolves them, with what they imply (`dynamics`
+# brings K, L, forces and potential; `shaking` brings dynamics), as
+# `mechgen generate <model.yaml> --print-quantities` prints them. Two cases:
+#  - mechgen is installed (find_package(mechgen)): it is asked at configure time (again when
+#    the model file changes), and only the tools the model has are defined;
+#  - mechgen is built by this project (its target `mechgen` exists): it cannot run at
+#    configure time, so every tool is defined, and the generation also writes a manifest
+#    (<name>_manifest.h: MECHGEN_MODEL_HAS_FORCES 0|1, ...; `mechgen generate --manifest`)
+#    from which each tool compiles as the tool itself or, for a model without what it needs,
+#    as a stub (a few lines, no runtime) that says so and exits with status 2.
+# Either way a tool that runs is the real tool exactly when the model's quantities allow it.
+#
+# Options:
+#   NO_SWEEP               no tools at all: the library only (nothing here needs Ceres).
+#   STATICS | NO_STATICS   define <name>_statics even where the model is known to lack
+#                          `forces` (its stub) | never define it.
+#   SIMULATE | NO_SIMULATE the same for <name>_simulate and `dynamics`.
+#   ENGINE                 define <name>_engine (a stub without `dynamics`).
+#   STRATEGY blocks|monolithic   passed to `mechgen generate --strategy` (default blocks).
+# The cache variable MECHGEN_BUILD_SWEEPS (default ON) OFF defines no tools for any model (as
+# NO_SWEEP everywhere); without Ceres (no target mechgen::runtime_ceres) there are no
+# <name>_sweep and <name>_statics, the Eigen-only tools remain.
+#
+# Requires MECHGEN_EXECUTABLE, MECHGEN_TEMPLATES_DIR and MECHGEN_TOOLS_DIR (set by the build
+# tree or by find_package(mechgen)).
 include_guard(GLOBAL)
 
 # OFF skips every <model>_sweep tool (e.g. the sanitizer build: one executable per model
 # that no test runs).
 option(MECHGEN_BUILD_SWEEPS "Build the <model>_sweep tool of each mechgen_add_model()" ON)
+
+# The source every tool but the sweep compiles: the tool's main where the model's manifest
+# says it has what the tool needs, else a stub.
+set(_MECHGEN_TOOL_SOURCE "${CMAKE_BINARY_DIR}/CMakeFiles/mechgen/tool_main.cc")
+set(_mechgen_tool_text [=[
+// A tool of a model, defined by mechgen_add_model() (cmake/MechgenAddModel.cmake): the tool's
+// own main (MECHGEN_TOOL_MAIN) when the model has what the tool needs (MECHGEN_TOOL_NEEDS, a
+// macro of the model's manifest, written by `mechgen generate --manifest`), else a stub that
+// says what the model lacks and exits with status 2.
+#include MECHGEN_MODEL_MANIFEST
+#if MECHGEN_TOOL_NEEDS
+#include MECHGEN_TOOL_MAIN
+#else
+#include <cstdio>
+int main() {
+  std::fprintf(stderr,
+               "error: the model '%s' was generated without %s (its quantities: %s); add `%s` to its "
+               "outputs' quantities\n",
+               MECHGEN_MODEL_NAME, MECHGEN_TOOL_LACKS, MECHGEN_MODEL_QUANTITIES, MECHGEN_TOOL_QUANTITY);
+  return 2;
+}
+#endif
+]=])
+# Written only when it changes (a rewrite would rebuild every tool).
+set(_mechgen_tool_old "")
+if(EXISTS "${_MECHGEN_TOOL_SOURCE}")
+  file(READ "${_MECHGEN_TOOL_SOURCE}" _mechgen_tool_old)
+endif()
+if(NOT _mechgen_tool_old STREQUAL _mechgen_tool_text)
+  file(WRITE "${_MECHGEN_TOOL_SOURCE}" "${_mechgen_tool_text}")
+endif()
+unset(_mechgen_tool_old)
+unset(_mechgen_tool_text)
+
+# <name>_<tool> from runtime/tools/<main>: real when the manifest's macro `need` is 1, else
+# the stub that names `lacks` and the quantity `quantity` to add.
+function(_mechgen_add_tool name tool main need lacks quantity)
+  set(out_dir "${CMAKE_CURRENT_BINARY_DIR}/mechgen_${name}")
+  add_executable(${name}_${tool} "${_MECHGEN_TOOL_SOURCE}" "${out_dir}/${name}_manifest.h")
+  target_compile_definitions(${name}_${tool} PRIVATE
+    MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name}
+    MECHGEN_MODEL_MANIFEST="${name}_manifest.h" MECHGEN_TOOL_MAIN="${MECHGEN_TOOLS_DIR}/${main}"
+    MECHGEN_TOOL_NEEDS=${need} MECHGEN_TOOL_LACKS="${lacks}" MECHGEN_TOOL_QUANTITY="${quantity}")
+  target_link_libraries(${name}_${tool} PRIVATE mechgen_model_${name} ${ARGN})
+  # CLI11 (header-only): where the build tree found it (runtime/CMakeLists.txt), else on the
+  # default include path.
+  if(MECHGEN_CLI11_INCLUDE_DIR)
+    target_include_directories(${name}_${tool} SYSTEM PRIVATE "${MECHGEN_CLI11_INCLUDE_DIR}")
+  endif()
+endfunction()
+
+# In mechgen_add_model: whether to define a tool (sets `var`): asked for (`force`), or not
+# refused (`refuse`) and the quantities unknown or `quantity` among them.
+macro(_mechgen_wants var force refuse quantity)
+  set(${var} FALSE)
+  if(${force})
+    set(${var} TRUE)
+  elseif(NOT ${refuse} AND (NOT quantities_known OR "${quantity}" IN_LIST quantities))
+    set(${var} TRUE)
+  endif()
+endmacro()
 
 function(mechgen_add_model name model)
   # <name> becomes target names, a directory, the files <name>.h/.cc and (via --name) the
@@ -46,21 +127,27 @@ function(mechgen_add_model name model)
   endif()
   cmake_parse_arguments(ARG "NO_SWEEP;STATICS;NO_STATICS;SIMULATE;NO_SIMULATE;ENGINE" "STRATEGY" ""
                         ${ARGN})
+  if(ARG_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "mechgen_add_model(${name}): unknown arguments ${ARG_UNPARSED_ARGUMENTS}; "
+      "the options are NO_SWEEP, STATICS, NO_STATICS, SIMULATE, NO_SIMULATE, ENGINE, STRATEGY")
+  endif()
   set(strategy_args)
   if(ARG_STRATEGY)
     set(strategy_args --strategy ${ARG_STRATEGY})
   endif()
   get_filename_component(model_abs "${model}" ABSOLUTE)
   set(out_dir "${CMAKE_CURRENT_BINARY_DIR}/mechgen_${name}")
+  set(manifest "${out_dir}/${name}_manifest.h")
   file(GLOB templates CONFIGURE_DEPENDS "${MECHGEN_TEMPLATES_DIR}/*.mustache")
   set(gen_deps "${model_abs}" ${templates})
   if(TARGET mechgen)
     list(APPEND gen_deps mechgen)
   endif()
   add_custom_command(
-    OUTPUT "${out_dir}/${name}.h" "${out_dir}/${name}.cc"
+    OUTPUT "${out_dir}/${name}.h" "${out_dir}/${name}.cc" "${manifest}"
     COMMAND "${MECHGEN_EXECUTABLE}" generate "${model_abs}" --name "${name}"
             --out-dir "${out_dir}" --templates "${MECHGEN_TEMPLATES_DIR}" ${strategy_args}
+            --manifest "${manifest}"
     DEPENDS ${gen_deps}
     COMMENT "mechgen: generating ${name} from ${model}"
     VERBATIM)
@@ -69,59 +156,46 @@ function(mechgen_add_model name model)
   target_include_directories(mechgen_model_${name} PUBLIC "${out_dir}")
   target_link_libraries(mechgen_model_${name} PUBLIC Eigen3::Eigen)
   target_compile_features(mechgen_model_${name} PUBLIC cxx_std_17)
-  if(NOT ARG_NO_SWEEP AND MECHGEN_BUILD_SWEEPS AND TARGET mechgen::runtime_ceres
-     AND EXISTS "${MECHGEN_TOOLS_DIR}/sweep_main.cc")
+  if(ARG_NO_SWEEP OR NOT MECHGEN_BUILD_SWEEPS)
+    return()
+  endif()
+
+  # The model's quantities, from the installed generator at configure time; in the build
+  # tree (no mechgen to run yet) unknown here: every tool is defined and the manifest decides.
+  set(quantities_known FALSE)
+  set(quantities)
+  if(NOT TARGET mechgen AND TARGET mechgen::mechgen)
+    get_target_property(mechgen_now mechgen::mechgen LOCATION)
+    execute_process(
+      COMMAND "${mechgen_now}" generate "${model_abs}" --name "${name}" --print-quantities
+      RESULT_VARIABLE status OUTPUT_VARIABLE printed ERROR_VARIABLE error
+      OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_STRIP_TRAILING_WHITESPACE)
+    if(NOT status EQUAL 0)
+      message(FATAL_ERROR "mechgen_add_model(${name}): ${error}")
+    endif()
+    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${model_abs}" "${mechgen_now}")
+    separate_arguments(quantities UNIX_COMMAND "${printed}")
+    set(quantities_known TRUE)
+  endif()
+
+  if(TARGET mechgen::runtime_ceres AND EXISTS "${MECHGEN_TOOLS_DIR}/sweep_main.cc")
     add_executable(${name}_sweep "${MECHGEN_TOOLS_DIR}/sweep_main.cc")
     target_compile_definitions(${name}_sweep PRIVATE
       MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
     target_link_libraries(${name}_sweep PRIVATE mechgen_model_${name} mechgen::runtime_ceres)
-    # Statics: `forces` among the model's quantities, flow (`quantities: [K, forces]`) or
-    # block style (`quantities:` then `- forces` lines).
-    set(statics ${ARG_STATICS})
-    if(NOT ARG_STATICS AND NOT ARG_NO_STATICS)
-      set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${model_abs}")
-      file(READ "${model_abs}" model_text)
-      if(model_text MATCHES "quantities:[ \t]*\\[[^\n]*forces"
-         OR model_text MATCHES "quantities:[ \t]*\n([ \t]+-[^\n]*\n)*[ \t]+-[ \t]*forces")
-        set(statics TRUE)
-      endif()
-    endif()
+    _mechgen_wants(statics ARG_STATICS ARG_NO_STATICS forces)
     if(statics AND EXISTS "${MECHGEN_TOOLS_DIR}/statics_main.cc")
-      add_executable(${name}_statics "${MECHGEN_TOOLS_DIR}/statics_main.cc")
-      target_compile_definitions(${name}_statics PRIVATE
-        MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
-      target_link_libraries(${name}_statics PRIVATE mechgen_model_${name}
-                            mechgen::runtime_ceres)
+      _mechgen_add_tool(${name} statics statics_main.cc MECHGEN_MODEL_HAS_FORCES statics forces
+                        mechgen::runtime_ceres)
     endif()
   endif()
-  # Dynamics: `dynamics` among the model's quantities (as for `forces` above). Eigen only.
-  if(NOT ARG_NO_SWEEP AND MECHGEN_BUILD_SWEEPS AND EXISTS "${MECHGEN_TOOLS_DIR}/simulate_main.cc")
-    set(simulate ${ARG_SIMULATE})
-    if(NOT ARG_SIMULATE AND NOT ARG_NO_SIMULATE)
-      set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${model_abs}")
-      file(READ "${model_abs}" model_text)
-      if(model_text MATCHES "quantities:[ \t]*\\[[^\n]*dynamics"
-         OR model_text MATCHES "quantities:[ \t]*\n([ \t]+-[^\n]*\n)*[ \t]+-[ \t]*dynamics")
-        set(simulate TRUE)
-      endif()
-    endif()
-    if(simulate)
-      add_executable(${name}_simulate "${MECHGEN_TOOLS_DIR}/simulate_main.cc")
-      target_compile_definitions(${name}_simulate PRIVATE
-        MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
-      target_link_libraries(${name}_simulate PRIVATE mechgen_model_${name} mechgen::runtime)
-    endif()
+  _mechgen_wants(simulate ARG_SIMULATE ARG_NO_SIMULATE dynamics)
+  if(simulate AND EXISTS "${MECHGEN_TOOLS_DIR}/simulate_main.cc")
+    _mechgen_add_tool(${name} simulate simulate_main.cc MECHGEN_MODEL_HAS_DYNAMICS dynamics dynamics
+                      mechgen::runtime)
   endif()
-  if(ARG_ENGINE AND NOT ARG_NO_SWEEP AND MECHGEN_BUILD_SWEEPS
-     AND EXISTS "${MECHGEN_TOOLS_DIR}/engine_main.cc")
-    add_executable(${name}_engine "${MECHGEN_TOOLS_DIR}/engine_main.cc")
-    target_compile_definitions(${name}_engine PRIVATE
-      MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
-    target_link_libraries(${name}_engine PRIVATE mechgen_model_${name} mechgen::runtime)
-    # Its command line is parsed with CLI11 (header-only): where the build tree found it
-    # (runtime/CMakeLists.txt), else on the default include path.
-    if(MECHGEN_CLI11_INCLUDE_DIR)
-      target_include_directories(${name}_engine SYSTEM PRIVATE "${MECHGEN_CLI11_INCLUDE_DIR}")
-    endif()
+  if(ARG_ENGINE AND EXISTS "${MECHGEN_TOOLS_DIR}/engine_main.cc")
+    _mechgen_add_tool(${name} engine engine_main.cc MECHGEN_MODEL_HAS_DYNAMICS dynamics dynamics
+                      mechgen::runtime)
   endif()
 endfunction()

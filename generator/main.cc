@@ -1,16 +1,20 @@
 // mechgen: planar-mechanism code generator (model file -> symbolic derivation -> C++).
 //
 //   mechgen generate models/fourbar.yaml --out-dir generated
+//   mechgen generate models/fourbar.yaml --print-quantities   (K L scene: what the model has)
 //   mechgen report models/fourbar.yaml [--latex [--standalone]]
 //   mechgen sweep models/fourbar.yaml --steps 360 --csv out.csv   (generator/driver/)
 //
 // A bad model prints `file:line:column: error: message`, exits 1 and writes nothing.
 #include <CLI/CLI.hpp>
 
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <memory>
 
 #include "analysis/grashof.h"
@@ -101,6 +105,40 @@ void Run(Pipeline* p, const std::string& path, const std::string& name, const st
                              &p->printer, templates);
 }
 
+// The build's manifest of a model (--manifest): its resolved quantities as C macros, from
+// which mechgen_add_model() compiles each tool of the model as the tool itself or as a stub
+// that says what the model lacks (cmake/MechgenAddModel.cmake). Written only when its bytes
+// change, so that the tools are not rebuilt for nothing.
+bool WriteManifest(const std::string& path, const mechgen::Model& m, std::string* error) {
+  using mechgen::Quantity;
+  std::string text = "// " + m.name + ": what mechgen generated for it (mechgen generate --manifest), for the tools\n"
+                     "// that mechgen_add_model() compiles as the tool or as a stub (cmake/MechgenAddModel.cmake).\n"
+                     "#pragma once\n"
+                     "#define MECHGEN_MODEL_NAME \"" + m.name + "\"\n"
+                     "#define MECHGEN_MODEL_QUANTITIES \"" + mechgen::QuantityList(m.outputs.quantities) + "\"\n";
+  for (Quantity q : {Quantity::kK, Quantity::kL, Quantity::kScene, Quantity::kForces, Quantity::kPotential,
+                     Quantity::kDynamics, Quantity::kShaking}) {
+    std::string macro = mechgen::QuantityName(q);
+    for (char& c : macro) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    text += "#define MECHGEN_MODEL_HAS_" + macro + " " + (m.outputs.Has(q) ? "1" : "0") + "\n";
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream old;
+  old << in.rdbuf();
+  if (in && old.str() == text) return true;
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) return *error = "cannot write " + tmp, false;
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return *error = "cannot write " + path + ": " + ec.message(), false;
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -118,7 +156,8 @@ int main(int argc, char** argv) {
                "for a planar mechanism described in a model file (see models/README.md)."};
   app.require_subcommand(1);
   std::string model_path, out_dir = ".", name, templates = DefaultTemplates();
-  bool latex = false, standalone = false, quiet = false;
+  bool latex = false, standalone = false, quiet = false, print_quantities = false;
+  std::string manifest;
   std::string strategy = "blocks";
 
   CLI::App* gen = app.add_subcommand("generate", "write <name>.h and <name>.cc for a model");
@@ -132,6 +171,15 @@ int main(int argc, char** argv) {
                   "Newton solve and one dense LU over all loops (for comparison)")
       ->check(CLI::IsMember({"blocks", "monolithic"}))
       ->capture_default_str();
+  CLI::Option* print_flag = gen->add_flag(
+      "--print-quantities", print_quantities,
+      "print the model's quantities as the generator resolves them (with what they imply: dynamics brings K, "
+      "L, forces and potential, shaking brings dynamics), on one line separated by blanks, e.g. `K L scene "
+      "forces`, and write nothing; the build's tools follow from it (cmake/MechgenAddModel.cmake)");
+  gen->add_option("--manifest", manifest,
+                  "also write this file: the quantities as a C header (MECHGEN_MODEL_HAS_FORCES 0|1, ...) "
+                  "from which mechgen_add_model() builds each tool of the model or a stub")
+      ->excludes(print_flag);
 
   CLI::App* rep = app.add_subcommand(
       "report", "print loops, mobility, Phi, Phi_phi, Phi_q, K and L block by block, the points' K_P and L_P");
@@ -199,6 +247,22 @@ int main(int argc, char** argv) {
     }
   }
 
+  // --print-quantities: the model reader alone (it applies what each quantity implies).
+  if (gen->parsed() && print_quantities) {
+    try {
+      const mechgen::Model m = mechgen::LoadModel(model_path, name);
+      std::cout << mechgen::QuantityList(m.outputs.quantities) << "\n";
+    } catch (const mechgen::ModelError& e) {
+      std::cerr << OneLine(e.what()) << "\n";
+      return 1;
+    } catch (const std::exception& e) {
+      std::cerr << OneLine(model_path + ": error: " + e.what()) << "\n";
+      return 2;
+    }
+    std::cout.flush();
+    return std::cout ? 0 : 2;
+  }
+
   Pipeline p;
   const auto start = std::chrono::steady_clock::now();
   try {
@@ -216,7 +280,8 @@ int main(int argc, char** argv) {
 
   if (gen->parsed()) {
     std::string error;
-    if (!mechgen::WriteFiles(out_dir, p.model.name, p.emitted, &error)) {
+    if (!mechgen::WriteFiles(out_dir, p.model.name, p.emitted, &error) ||
+        (!manifest.empty() && !WriteManifest(manifest, p.model, &error))) {
       std::cerr << model_path << ": error: " << error << "\n";
       return 2;
     }

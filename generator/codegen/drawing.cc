@@ -36,7 +36,7 @@ PointRef AxisPoint(const Model& m, int link, int carrier) {
 }
 
 // The values a joint's shape needs, in the fixed frame where they are directions.
-std::vector<ex> JointValues(const Kinematics& k, const Joint& j) {
+std::vector<ex> JointValues(const Model& m, const Kinematics& k, const Joint& j) {
   switch (j.type()) {
     case JointType::kRevolute: return {};
     case JointType::kPrismatic: return {j.Data<PrismaticData>().angle + k.frames[j.link_a].theta};
@@ -52,6 +52,15 @@ std::vector<ex> JointValues(const Kinematics& k, const Joint& j) {
     case JointType::kCam: {
       const CamData& d = j.Data<CamData>();
       return {d.roller, d.flat_face ? d.face_angle + k.frames[j.link_b].theta : ex(0)};
+    }
+    case JointType::kSlot: {
+      // The slot's line in the fixed frame: `angle` in the slotted link's frame, or the
+      // direction from `slot` to `through` (slot.cc, SlotDirection).
+      const SlotData& d = j.Data<SlotData>();
+      if (d.through.link < 0) return {d.angle + k.frames[j.link_a].theta};
+      const LinkPoint& g = m.links[d.slot.link].points[d.slot.point];
+      const LinkPoint& h = m.links[d.through.link].points[d.through.point];
+      return {atan2(h.y - g.y, h.x - g.x) + k.frames[j.link_a].theta};
     }
   }
   return {};
@@ -87,6 +96,10 @@ std::pair<int, int> JointPoints(const Model& m, const Kinematics& k, const Joint
       const int pivot = d.pivot >= 0 ? SceneIndex(m, k, m.joints[d.pivot].End(j.link_a)) : -1;
       return {pivot, SceneIndex(m, k, d.point)};
     }
+    case JointType::kSlot: {
+      const SlotData& d = j.Data<SlotData>();
+      return {SceneIndex(m, k, d.slot), SceneIndex(m, k, d.pin)};
+    }
   }
   return {-1, -1};
 }
@@ -104,7 +117,7 @@ int NumDrawValues(const Model& m) {
   Kinematics none;
   none.frames.resize(m.links.size());
   size_t n = 0;
-  for (const Joint& j : m.joints) n += JointValues(none, j).size();
+  for (const Joint& j : m.joints) n += JointValues(m, none, j).size();
   return std::max<int>(1, static_cast<int>(n));
 }
 
@@ -115,7 +128,7 @@ std::string DrawingConstants(const Model& m, const Kinematics& k) {
   int v = 0;
   for (const Joint& j : m.joints) {
     first.push_back(v);
-    v += static_cast<int>(JointValues(k, j).size());
+    v += static_cast<int>(JointValues(m, k, j).size());
   }
   std::string s;
   s += "  /// Drawing (mechgen/io/svg.h), per joint in the model's order: its kind (0 revolute, 1 prismatic,\n"
@@ -125,6 +138,12 @@ std::string DrawingConstants(const Model& m, const Kinematics& k) {
        "  /// the first of its values in EvalDrawing's `values` (prismatic: the line's angle in the fixed\n"
        "  /// frame; roll: radius, base radius (0: a line), base line's angle; gear: both pitch radii;\n"
        "  /// rack: the pinion's pitch radius; cam: roller radius, flat face's angle).\n";
+  // Said only where it applies, so that the headers of models without slots keep their bytes.
+  bool slots = false;
+  for (const Joint& j : m.joints) slots = slots || j.type() == JointType::kSlot;
+  if (slots)
+    s += "  /// Slot joints are kind 6: scene points the slot's point and the pin; value: the slot's\n"
+         "  /// line's angle in the fixed frame.\n";
   s += "  static constexpr int kNumDrawJoints = " + nj + ";\n";
   s += "  static constexpr int kNumDrawValues = " + N(NumDrawValues(m)) + ";\n";
   s += "  static constexpr std::array<int, " + nj + "> kDrawJointKind{ " +
@@ -167,7 +186,7 @@ std::vector<FunctionSpec> DrawingFunctions(const Model& m, const Kinematics& k, 
   }
   int v = 0;
   for (const Joint& j : m.joints)
-    for (const ex& e : JointValues(k, j)) P.push_back(Store("(*values)(" + N(v++) + ")", e));
+    for (const ex& e : JointValues(m, k, j)) P.push_back(Store("(*values)(" + N(v++) + ")", e));
   if (v == 0) P.push_back(Store("(*values)(0)", 0));
   f.body = {P};
   out.push_back(f);

@@ -259,6 +259,12 @@ enum class Quantity {
   kShaking,    ///< shaking force and moment on the frame (Paul ch. 7): EvalShaking; implies dynamics
 };
 
+/// The quantity's name in the model file (`quantities: [...]`): K, L, scene, forces, ...
+const char* QuantityName(Quantity q);
+/// The names of `quantities` in the order of Quantity, separated by blanks: what
+/// `mechgen generate --print-quantities` prints and the build's manifest records.
+std::string QuantityList(const std::set<Quantity>& quantities);
+
 /// What the generated code computes: the requested quantities and the points of interest.
 /// `order: 0|1|2` in the model file is shorthand for {}, {K}, {K, L}.
 struct Outputs {

@@ -2,6 +2,7 @@
 // of interest (OutputKeys). `order: 0|1|2` is shorthand for the quantities {}, {K}, {K, L};
 // `scene: true|false` adds or drops EvalScene.
 #include <set>
+#include <string>
 
 #include "model/reader.h"
 
@@ -19,6 +20,25 @@ const KeyTable& OutputKeys() {
        {"points", "[link.P, <rolling joint>.contact, ...]: points of interest (r_P, K_P, L_P as requested)", false},
        {"scene", "emit EvalScene (every link point, for drawing; default true)", false}}};
   return table;
+}
+
+const char* QuantityName(Quantity q) {
+  switch (q) {
+    case Quantity::kK: return "K";
+    case Quantity::kL: return "L";
+    case Quantity::kScene: return "scene";
+    case Quantity::kForces: return "forces";
+    case Quantity::kPotential: return "potential";
+    case Quantity::kDynamics: return "dynamics";
+    case Quantity::kShaking: return "shaking";
+  }
+  return "";
+}
+
+std::string QuantityList(const std::set<Quantity>& quantities) {
+  std::string list;
+  for (Quantity q : quantities) list += (list.empty() ? "" : " ") + std::string(QuantityName(q));
+  return list;
 }
 
 void ReadOutputs(SectionReader& r, const YAML::Node& node) {
@@ -77,15 +97,12 @@ void ReadOutputs(SectionReader& r, const YAML::Node& node) {
     out.quantities.clear();
     for (const auto& item : quantities) {
       const std::string q = r.Scalar(item, "quantity");
-      const Quantity which = q == "K"           ? Quantity::kK
-                             : q == "L"         ? Quantity::kL
-                             : q == "forces"    ? Quantity::kForces
-                             : q == "potential" ? Quantity::kPotential
-                             : q == "dynamics"  ? Quantity::kDynamics
-                             : q == "shaking"   ? Quantity::kShaking
-                                                : Quantity::kScene;
-      if (q != "K" && q != "L" && q != "scene" && q != "forces" && q != "potential" && q != "dynamics" &&
-          q != "shaking")
+      Quantity which = Quantity::kK;
+      bool known = false;
+      for (Quantity k : {Quantity::kK, Quantity::kL, Quantity::kScene, Quantity::kForces, Quantity::kPotential,
+                         Quantity::kDynamics, Quantity::kShaking})
+        if (q == QuantityName(k)) which = k, known = true;
+      if (!known)
         r.Fail(item, "unknown quantity '" + q +
                          "'; the quantities are K, L, scene, forces, potential, dynamics and shaking");
       if (!out.quantities.insert(which).second) r.Fail(item, "quantity '" + q + "' is listed twice");

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs mechgen from the build tree into a temporary prefix, then configures, builds
 # and runs two consumer projects that use find_package(mechgen) and mechgen_add_model:
-#   consumer/           the generated four-bar alone (Ceres findable);
+#   consumer/           the generated four-bar alone (Ceres findable), and the tools
+#                       mechgen_add_model defines for two models as their quantities say
+#                       (asked of the installed mechgen at configure time; issue 24);
 #   consumer_no_ceres/  the generated four-bar and the Ceres-free runtime, configured with
 #                       Ceres made unfindable (find_package(mechgen) must still succeed).
 # Then the installed `mechgen sweep` on a copy of the four-bar in a directory outside the

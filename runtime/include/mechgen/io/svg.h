@@ -10,8 +10,10 @@
  * a link with two points is a bar between them, with more a filled plate (their convex
  * hull); a pin is a small circle, a pin to the ground a hatched pivot; a prismatic joint a
  * block on the slider link over its guide (rails on the ground, a slot in a moving guide,
- * as long as the slider travels); gears their pitch circles (with spokes, so that they are
- * seen to turn), a rolling wheel its circle on its line or circle, a cam its profile and its
+ * as long as the slider travels); a slot joint a slot in the slotted link (a rounded groove
+ * as long as the pin travels, class "slot") with the pin in it (a small circle on the pin's
+ * link, class "slot-pin"); gears their pitch circles (with spokes, so that they are seen to
+ * turn), a rolling wheel its circle on its line or circle, a cam its profile and its
  * follower's roller or face. Every moving link is drawn once in its own frame and moved by
  * animateTransform. Allocates; runs after the sweep.
  */
@@ -56,7 +58,11 @@ template <class M>
 struct HasCamProfile<M, std::void_t<decltype(&M::template CamProfile<double>)>> : std::true_type {};
 
 /// Joint kinds of Model::kDrawJointKind.
-enum DrawJoint { kDrawRevolute = 0, kDrawPrismatic, kDrawRoll, kDrawGear, kDrawRack, kDrawCam };
+enum DrawJoint { kDrawRevolute = 0, kDrawPrismatic, kDrawRoll, kDrawGear, kDrawRack, kDrawCam, kDrawSlot };
+
+/// Whether a joint kind slides along a line of its first link (its value: the line's angle in
+/// the fixed frame; its points: a point of the line, the sliding point).
+constexpr bool SlidesOnLine(int kind) { return kind == kDrawPrismatic || kind == kDrawSlot; }
 
 /// A length of 1, 2 or 5 times a power of ten, at most `limit` (> 0).
 inline double RoundLength(double limit) {
@@ -217,7 +223,8 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
   // Cam profiles in their cams' frames (96 points each), per joint.
   constexpr int kProfile = 96;
   std::vector<std::vector<P2>> profiles;
-  // Slider travel along each prismatic joint's line: s = (slider - guide) . direction.
+  // Travel along each prismatic or slot joint's line: s = (slider or pin - guide or slot
+  // point) . direction.
   std::vector<double> s_lo, s_hi;
   if constexpr (kDraw) {
     profiles.resize(M::kNumDrawJoints);
@@ -236,7 +243,7 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
         }
       }
       for (size_t f = 0; f < nv; ++f) {
-        if (kind == internal::kDrawPrismatic && a >= 0 && b >= 0) {
+        if (internal::SlidesOnLine(kind) && a >= 0 && b >= 0) {
           const P2 g = scene_point(f, a), p = scene_point(f, b);
           const double s = (p[0] - g[0]) * std::cos(values[f][v]) + (p[1] - g[1]) * std::sin(values[f][v]);
           s_lo[j] = std::min(s_lo[j], s);
@@ -431,6 +438,19 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
                  (faded ? "none" : "white") + "\" stroke=\"" + color + "\" stroke-width=\"2\" stroke-opacity=\"" +
                  opacity + "\" stroke-linejoin=\"round\"/>\n";
           }
+        } else if (kind == internal::kDrawSlot && la == link && a >= 0 && s_hi[j] >= s_lo[j]) {
+          // The slot: a groove from the pin's nearest to its farthest place along the line
+          // (round ends: the pin's circle fits at both), the link's colour round a white inside.
+          const double t = val[v] - frames[f](2, link);
+          const P2 g = to_local(f, link, scene_point(f, a));
+          const P2 p0 = {g[0] + s_lo[j] * std::cos(t), g[1] + s_lo[j] * std::sin(t)};
+          const P2 p1 = {g[0] + s_hi[j] * std::cos(t), g[1] + s_hi[j] * std::sin(t)};
+          const std::string ends = "x1=\"" + L(p0[0]) + "\" y1=\"" + L(-p0[1]) + "\" x2=\"" + L(p1[0]) +
+                                   "\" y2=\"" + L(-p1[1]) + "\"";
+          s += "<line class=\"slot\" " + ends + " stroke=\"" + color + "\" stroke-width=\"13\" stroke-opacity=\"" +
+               opacity + "\" stroke-linecap=\"round\"/>\n";
+          if (!faded)
+            s += "<line " + ends + " stroke=\"white\" stroke-width=\"10\" stroke-linecap=\"round\"/>\n";
         }
       }
     }
@@ -466,6 +486,11 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
                  "\" x2=\"" + L(p[0] + r * std::cos(t)) + "\" y2=\"" + L(-(p[1] + r * std::sin(t))) +
                  "\" stroke=\"" + color + "\" stroke-width=\"4\" stroke-linecap=\"round\"/>\n";
           }
+        } else if (kind == internal::kDrawSlot && lb == link && b >= 0) {
+          // The pin, free to turn in the slot (on the pin's link; the slot is on the other).
+          const P2 p = to_local(f, link, scene_point(f, b));
+          s += "<circle class=\"slot-pin\" cx=\"" + L(p[0]) + "\" cy=\"" + L(-p[1]) + "\" r=\"4\" fill=\"white\" "
+               "stroke=\"#222\" stroke-width=\"1.5\"/>\n";
         } else if (kind == internal::kDrawRevolute && lb == link && b >= 0) {
           const P2 p = to_local(f, link, scene_point(f, b));
           s += "<circle cx=\"" + L(p[0]) + "\" cy=\"" + L(-p[1]) + "\" r=\"4\" fill=\"white\" stroke=\"#222\" "
@@ -560,14 +585,15 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
                     "\"/>\n";
         }
       }
-      // Links with a slot first: its white inside must not hide the links that cross it.
+      // Links with a slot (a prismatic guide or a slot joint) first: its white inside must not
+  // hide the links that cross it.
       std::vector<int> order;
       for (int pass = 0; pass < 2; ++pass)
         for (int l = 0; l < kLinks; ++l) {
           bool slotted = false;
           if constexpr (kDraw)
             for (int j = 0; j < M::kNumDrawJoints; ++j)
-              slotted = slotted || (M::kDrawJointKind[j] == internal::kDrawPrismatic && M::kDrawJointLinkA[j] == l);
+              slotted = slotted || (internal::SlidesOnLine(M::kDrawJointKind[j]) && M::kDrawJointLinkA[j] == l);
           if (slotted == (pass == 0)) order.push_back(l);
         }
       out << "<g id=\"mechanism\">\n";

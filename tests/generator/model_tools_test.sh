@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# Issue 24: every shipped model gets every tool its quantities allow, and what a model has is
+# what the generator says (cmake/MechgenAddModel.cmake reads no YAML).
+# usage: model_tools_test.sh <mechgen> <source dir> <models binary dir> <models,...> \
+#                            <model>:<tool>:<program> ...
+# For each shipped model: its quantities from `mechgen generate --print-quantities`; the tool
+# <model>_<tool> runs as the real tool (`--help` exits 0 and prints its usage) exactly when
+# the quantities allow it (sweep: always; statics: forces; simulate: dynamics; engine: the
+# engine models, with dynamics), else it is the stub (exit 2, "generated without", naming the
+# quantity to add). Independently of --print-quantities, the generated header of the build
+# (<models binary dir>/mechgen_<model>/<model>.h) must hold EvalStatics exactly when the
+# printed quantities hold forces, and EvalDynamics exactly when they hold dynamics; the
+# models of the issue (fivebar_robot, fourbar_balanced: dynamics and shaking imply forces)
+# must have a real statics tool; the printed list implies what the reader documents
+# (dynamics brings K, L, forces, potential; shaking brings dynamics).
+set -uo pipefail
+mechgen=$(realpath "$1") source_dir=$(realpath "$2") models_dir=$(realpath "$3") models=$4
+shift 4
+declare -A program
+for spec in "$@"; do
+  IFS=: read -r model tool path <<< "$spec"
+  program[$model:$tool]=$path
+done
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+has() { [[ " $1 " == *" $2 "* ]]; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+real_tools=0 stubs=0
+IFS=, read -r -a shipped <<< "$models"
+for model in "${shipped[@]}"; do
+  quantities=$("$mechgen" generate "$source_dir/models/$model.yaml" --print-quantities 2> "$work/err")
+  status=$?
+  if [ "$status" -ne 0 ] || [ -s "$work/err" ]; then
+    fail "$model: --print-quantities exit $status: $(cat "$work/err")"
+    continue
+  fi
+  [ "$(printf '%s\n' "$quantities" | grep -c '')" -eq 1 ] || fail "$model: not one line: $quantities"
+  # What the reader's implications promise.
+  if has "$quantities" shaking && ! has "$quantities" dynamics; then fail "$model: shaking without dynamics"; fi
+  if has "$quantities" dynamics; then
+    for q in K L forces potential; do has "$quantities" "$q" || fail "$model: dynamics without $q: $quantities"; done
+  fi
+  # The generated code agrees (a second witness of what the model has).
+  header="$models_dir/mechgen_$model/$model.h"
+  if [ -f "$header" ]; then
+    grep -q "EvalStatics" "$header" && statics_code=1 || statics_code=0
+    grep -q "EvalDynamics" "$header" && dynamics_code=1 || dynamics_code=0
+    has "$quantities" forces && want=1 || want=0
+    [ "$statics_code" -eq "$want" ] || fail "$model: EvalStatics in the header: $statics_code, forces listed: $want"
+    has "$quantities" dynamics && want=1 || want=0
+    [ "$dynamics_code" -eq "$want" ] || fail "$model: EvalDynamics in the header: $dynamics_code, dynamics listed: $want"
+  else
+    fail "$model: no generated header $header"
+  fi
+  for tool in sweep statics simulate engine; do
+    case $tool in
+      sweep) allowed=1 quantity="" ;;
+      statics) has "$quantities" forces && allowed=1 || allowed=0; quantity=forces ;;
+      simulate) has "$quantities" dynamics && allowed=1 || allowed=0; quantity=dynamics ;;
+      engine)
+        # Only the engine models (tools/make_engine.py) are given ENGINE; they have dynamics.
+        [[ $model == engine_* ]] || continue
+        has "$quantities" dynamics && allowed=1 || allowed=0; quantity=dynamics ;;
+    esac
+    path=${program[$model:$tool]:-}
+    if [ -z "$path" ]; then
+      fail "$model: no ${model}_$tool tool (quantities: $quantities)"
+      continue
+    fi
+    "$path" --help > "$work/out" 2> "$work/err" < /dev/null
+    status=$?
+    if [ "$allowed" -eq 1 ]; then
+      if [ "$status" -ne 0 ] || [ ! -s "$work/out" ] || grep -q "generated without" "$work/out" "$work/err"; then
+        fail "${model}_$tool should be the real tool (quantities: $quantities): exit $status, $(head -c 300 "$work/err")"
+      else
+        real_tools=$((real_tools + 1))
+      fi
+    else
+      if [ "$status" -ne 2 ] || ! grep -q "^error: the model '$model' was generated without .*add \`$quantity\`" "$work/err" ||
+         [ "$(grep -c '' "$work/err")" -ne 1 ] || [ -s "$work/out" ]; then
+        fail "${model}_$tool should be the stub (quantities: $quantities): exit $status, stderr $(head -c 300 "$work/err")"
+      else
+        stubs=$((stubs + 1))
+      fi
+    fi
+  done
+done
+
+# The models the issue names: their quantities imply forces, so they have a statics tool.
+for model in fivebar_robot fourbar_balanced; do
+  path=${program[$model:statics]:-}
+  if [ -z "$path" ]; then
+    fail "$model has no statics tool"
+  else
+    "$path" --help > "$work/out" 2>&1 || fail "${model}_statics --help: exit $?: $(head -c 300 "$work/out")"
+  fi
+done
+# --print-quantities writes nothing, and refuses a bad model with the reader's located line.
+(cd "$work" && "$mechgen" generate "$source_dir/models/fourbar.yaml" --print-quantities > q.txt) ||
+  fail "--print-quantities on fourbar"
+[ "$(cat "$work/q.txt")" = "K L scene" ] || fail "fourbar: $(cat "$work/q.txt"), expected 'K L scene'"
+[ "$(ls "$work")" = "err
+out
+q.txt" ] || fail "--print-quantities wrote files: $(ls "$work")"
+printf 'name: x\noutputs:\n  quantities: [K, speed]\n' > "$work/bad.yaml"
+"$mechgen" generate "$work/bad.yaml" --print-quantities > "$work/out" 2> "$work/err"
+status=$?
+{ [ "$status" -eq 1 ] && [ ! -s "$work/out" ] && grep -q "^$work/bad.yaml:[0-9]*:[0-9]*: error: " "$work/err"; } ||
+  fail "a bad model: exit $status, $(cat "$work/err")"
+
+echo "$real_tools real tools and $stubs stubs, as the quantities say; $failures failure(s)"
+exit $((failures > 0))
