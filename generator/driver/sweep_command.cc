@@ -50,7 +50,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bumped when the layout of an entry or the way it is built changes.
-constexpr const char* kCacheFormat = "mechgen sweep cache 1";
+constexpr const char* kCacheFormat = "mechgen sweep cache 2";  // 2: sweep.sha256 beside sweep
 // Every compile; the driver adds its own.
 const std::vector<std::string> kFlags = {"-O2", "-std=c++17", "-DNDEBUG"};
 const std::vector<std::string> kDriverFlags = {"-DMECHGEN_SWEEP_NO_CERES",
@@ -273,6 +273,79 @@ std::string ArgsKey(const Toolchain& t) {
   const fs::path cli11 = t.cli11_include.empty() ? fs::path("/usr/include") : fs::path(t.cli11_include);
   AddPart(&material, "cli11", t.cli11_include + "\n" + ReadOrEmpty(cli11 / "CLI/Version.hpp"));
   return Sha256Hex(material).substr(0, 32);
+}
+
+// ---- what a cached file must be: its size and SHA-256, recorded when it was built ----------
+// A cached program (or object) is checked against its record before it is used, so that one
+// truncated or overwritten on disk (a full disk, a crash while copying the cache, a stray
+// write) is rebuilt rather than run.
+
+// "<size> <sha256 hex>\n" of `bytes`: the record kept in <file>.sha256.
+std::string Record(const std::string& bytes) { return std::to_string(bytes.size()) + " " + Sha256Hex(bytes) + "\n"; }
+
+fs::path RecordPath(const fs::path& file) { return fs::path(file.string() + ".sha256"); }
+
+// Writes the record of `file` (whole, then renamed: a reader sees the old record or the new).
+bool WriteRecord(const fs::path& file) {
+  std::string bytes;
+  if (!ReadFile(file, &bytes)) return false;
+  const fs::path record = RecordPath(file), part = fs::path(record.string() + ".part");
+  {
+    std::ofstream out(part, std::ios::binary | std::ios::trunc);
+    out << Record(bytes);
+    out.close();
+    if (!out) return false;
+  }
+  std::error_code ec;
+  fs::rename(part, record, ec);
+  return !ec;
+}
+
+// Why `bytes` (the contents of `file`) are not what was recorded; "" if they are.
+std::string RecordMismatch(const fs::path& file, const std::string& bytes) {
+  std::string record;
+  if (!ReadFile(RecordPath(file), &record) || record.empty()) return "it has no record of its size and SHA-256";
+  const size_t blank = record.find(' ');
+  const std::string size = record.substr(0, blank);
+  if (blank == std::string::npos || size != std::to_string(bytes.size()))
+    return "it is " + std::to_string(bytes.size()) + " bytes, recorded " + size;
+  if (record != Record(bytes)) return "its SHA-256 is not the recorded one";
+  return "";
+}
+
+// Whether `file` is what its record says (false, and *why, if not).
+bool MatchesRecord(const fs::path& file, std::string* why) {
+  std::string bytes;
+  if (!ReadFile(file, &bytes)) return *why = "it cannot be read", false;
+  *why = RecordMismatch(file, bytes);
+  return why->empty();
+}
+
+// The cached program opened for fexecve: read through the descriptor that will be run, so
+// that what runs is what was checked (an entry replaced meanwhile is a different file). -1
+// and *why if it cannot be opened or does not match its record.
+int OpenChecked(const fs::path& program, std::string* why) {
+  const int fd = open(program.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return *why = std::string("it cannot be opened: ") + std::strerror(errno), -1;
+  std::string bytes;
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      *why = std::string("it cannot be read: ") + std::strerror(errno);
+      close(fd);
+      return -1;
+    }
+    if (n == 0) break;
+    bytes.append(buffer, static_cast<size_t>(n));
+  }
+  *why = RecordMismatch(program, bytes);
+  if (!why->empty()) {
+    close(fd);
+    return -1;
+  }
+  return fd;
 }
 
 bool CacheRoot(const std::string& option, fs::path* root) {
@@ -522,7 +595,14 @@ int Build(const SweepCommand& c, const GenerateFn& generate, const Toolchain& t,
             << "; once, then cached)...\n";
   const auto compile_start = std::chrono::steady_clock::now();
   std::error_code ec;
-  const bool have_args = !args_object.empty() && fs::exists(args_object, ec);
+  bool have_args = !args_object.empty() && fs::exists(args_object, ec);
+  std::string why;
+  if (have_args && !MatchesRecord(args_object, &why)) {
+    // Damaged: compiled afresh below and put in its place.
+    std::cerr << "mechgen: the cached object " << args_object.string() << " is damaged (" << why
+              << "); compiling it again\n";
+    have_args = false;
+  }
   std::vector<Job> jobs;
   jobs.push_back({Command(t, {kDriverFlags[0], kDriverFlags[1],
                               "-DMECHGEN_MODEL_INCLUDE=\"" + name + ".h\"",
@@ -548,9 +628,15 @@ int Build(const SweepCommand& c, const GenerateFn& generate, const Toolchain& t,
                                            "-o", (dir / "sweep").string()});
   link[0].log = dir / "link.log";
   if (!RunJobs(&link, "linking the sweep command of '" + name + "'", c.verbose)) return 1;
-  // The CLI11 object for later models (rename: whole or not at all).
-  if (!have_args && !args_object.empty()) fs::rename(dir / "args.o", args_object, ec);
-  for (const char* file : {"sweep_main.o", "sweep_main.log", "model.log", "args.o", "args.log", "link.log"})
+  // The program's record, in the entry; the CLI11 object's for later models, then the object
+  // (rename: whole or not at all).
+  if (!WriteRecord(dir / "sweep")) return Fail("cannot record the size and SHA-256 of " + (dir / "sweep").string());
+  if (!have_args && !args_object.empty() && WriteRecord(dir / "args.o")) {
+    fs::rename(RecordPath(dir / "args.o"), RecordPath(args_object), ec);
+    if (!ec) fs::rename(dir / "args.o", args_object, ec);
+  }
+  for (const char* file : {"sweep_main.o", "sweep_main.log", "model.log", "args.o", "args.o.sha256", "args.log",
+                           "link.log"})
     fs::remove(dir / file, ec);
   fs::remove(dir / (name + ".o"), ec);
   std::cerr << "mechgen: compiled in " << Fixed(Seconds(compile_start), 1) << " s";
@@ -565,16 +651,18 @@ std::vector<std::string> DriverArgv(const SweepCommand& c) {
   return argv;
 }
 
-// Becomes the driver; returns only if exec fails.
-int Exec(const fs::path& program, const SweepCommand& c) {
+// Becomes the driver `fd` (opened by OpenChecked); returns only if exec fails.
+int Exec(int fd, const fs::path& program, const SweepCommand& c) {
   const std::vector<std::string> argv = DriverArgv(c);
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   std::cout.flush();
   std::cerr.flush();
-  execv(program.c_str(), args.data());
-  return Fail("cannot run " + program.string() + ": " + std::strerror(errno));
+  fexecve(fd, args.data(), environ);
+  const int error = errno;
+  close(fd);
+  return Fail("cannot run " + program.string() + ": " + std::strerror(error));
 }
 
 }  // namespace
@@ -656,9 +744,18 @@ int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
   const std::string key = EntryKey(model_bytes, c.templates, t);
   const fs::path entry = sweep_dir / key;
   if (c.verbose) std::cerr << "mechgen: cache " << root.string() << ", entry " << entry.string() << "\n";
-  if (!c.rebuild && IsExecutableFile(entry / "sweep")) {
-    if (c.verbose) std::cerr << "mechgen: cached; running " << (entry / "sweep").string() << "\n";
-    return Exec(entry / "sweep", c);
+  bool rebuild = c.rebuild;
+  if (!rebuild && fs::exists(entry, ec)) {
+    std::string why;
+    const int fd = OpenChecked(entry / "sweep", &why);
+    if (fd >= 0) {
+      if (c.verbose) std::cerr << "mechgen: cached; running " << (entry / "sweep").string() << "\n";
+      return Exec(fd, entry / "sweep", c);
+    }
+    // Damaged: built again and put in its place (as --rebuild does).
+    std::cerr << "mechgen: the cached sweep command " << (entry / "sweep").string() << " is damaged (" << why
+              << "); building it again\n";
+    rebuild = true;
   }
 
   fs::create_directories(tmp, ec);
@@ -678,7 +775,7 @@ int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
       if (status == 0 && g_signal == 0) {
         // Into place whole. --rebuild: the old entry moved aside first; a concurrent run
         // that got there first wins (its entry is as good as ours).
-        if (c.rebuild && fs::exists(entry, ec)) {
+        if (rebuild && fs::exists(entry, ec)) {
           fs::path old;
           if (MakeTempDir(tmp, HostName() + "." + std::to_string(getpid()) + ".old.", &old)) {
             TempDir old_dir(old);
@@ -686,10 +783,11 @@ int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
           }
         }
         fs::rename(dir, entry, ec);
+        const std::string rename_error = ec.message();
         if (!ec) {
           temp.Keep();
-        } else if (!IsExecutableFile(entry / "sweep")) {
-          status = Fail("cannot create the cache entry " + entry.string() + ": " + ec.message());
+        } else if (!IsExecutableFile(entry / "sweep") || !fs::exists(RecordPath(entry / "sweep"), ec)) {
+          status = Fail("cannot create the cache entry " + entry.string() + ": " + rename_error);
         }
         if (status == 0) std::cerr << "mechgen: cached in " << entry.string() << "\n";
       }
@@ -697,7 +795,14 @@ int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
   }
   SignalGuard::ReraiseIfSignalled();
   if (status != 0) return status;
-  return Exec(entry / "sweep", c);
+  // Checked once more: what runs is the file its record describes, even if another run's
+  // entry won the rename.
+  std::string why;
+  const int fd = OpenChecked(entry / "sweep", &why);
+  if (fd < 0)
+    return Fail("the sweep command just built in " + entry.string() + " does not match its record (" + why +
+                "); check the disk, or use --no-cache");
+  return Exec(fd, entry / "sweep", c);
 }
 
 }  // namespace mechgen

@@ -12,7 +12,10 @@
 // whole (rename(2) is atomic), so an interrupted or failed build leaves no entry, and two
 // runs at once at worst both compile (the first rename wins). The CLI11 part of the driver
 // (runtime/tools/sweep_args.cc, the same for every model) is compiled once into
-// sweep/args-<key>.o.
+// sweep/args-<key>.o. Each cached program and object has its size and SHA-256 recorded
+// beside it when it is built (<file>.sha256); it is checked before each use (the program
+// through the descriptor that is then executed), and one that does not match (truncated,
+// overwritten) is said so on stderr and built again, never run.
 #pragma once
 
 #include <functional>

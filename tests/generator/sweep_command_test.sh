@@ -12,7 +12,9 @@
 #   table and summary lines too (only the timing line differs); a second run uses the cache
 #   (no "compiling" on stderr, the program's modification time unchanged); the options after
 #   the model (or after "--") reach the driver unchanged, its exit status comes back
-#   (--steps 0: 2); --no-cache leaves no cache; --rebuild compiles again; --mode NAME sweeps a
+#   (--steps 0: 2); a cached program truncated or with a byte changed (its recorded size and
+#   SHA-256 differ) is said damaged and built again, never run, and so is the CLI11 object;
+#   --no-cache leaves no cache; --rebuild compiles again; --mode NAME sweeps a
 #   named assembly mode (against fourbar_crossed_sweep), an unknown name is a usage error.
 set -uo pipefail
 mode=$1 mechgen=$(realpath "$2") source_dir=$(realpath "$3")
@@ -105,6 +107,42 @@ status=$?
 [ "$(stat -c %Y.%i "$program")" = "$stamp" ] || fail "second run: the program was built again"
 cmp a/again.csv b/out.csv || fail "second run: the CSV differs"
 [ "$failures" -ne "$before" ] || ok "second run: cached"
+
+before=$failures
+# A damaged entry is built again, never run: the program truncated (it segfaulted when run),
+# then overwritten with one byte changed at the same size (only the SHA-256 tells).
+size=$(stat -c %s "$program")
+read -r recorded_size recorded_hash < "$program.sha256" || fail "no record beside $program"
+[ "$recorded_size" = "$size" ] || fail "the record's size $recorded_size is not the program's $size"
+[ "$recorded_hash" = "$(sha256sum "$program" | cut -d' ' -f1)" ] || fail "the record's SHA-256 is not sha256sum's"
+for damage in truncate flip; do
+  if [ "$damage" = truncate ]; then
+    truncate -s $((size / 2)) "$program"
+  else
+    printf '\x5a' | dd of="$program" bs=1 seek=$((size / 3)) conv=notrunc status=none
+    [ "$(stat -c %s "$program")" = "$size" ] || fail "$damage: the size changed"
+  fi
+  (cd a && "$mechgen" sweep ../fourbar.yaml "${options[@]}" --csv damaged.csv > ../t.out 2> ../t.err)
+  status=$?
+  [ "$status" -eq 0 ] || fail "$damage: exit status $status: $(cat t.err)"
+  grep -q "^mechgen: the cached sweep command .* is damaged" t.err || fail "$damage: not said damaged: $(cat t.err)"
+  grep -q "^mechgen: compiling the sweep command of 'fourbar'" t.err || fail "$damage: not built again: $(cat t.err)"
+  cmp a/damaged.csv b/out.csv || fail "$damage: the CSV differs from fourbar_sweep's"
+  [ "$(stat -c %s "$program")" = "$size" ] || fail "$damage: the rebuilt program is $(stat -c %s "$program") bytes"
+  [ "$(entries)" -eq 1 ] || fail "$damage: $(entries) entries"
+  [ -z "$(tmp_left)" ] || fail "$damage: left $(tmp_left)"
+done
+# The rebuilt entry is used as it is.
+(cd a && "$mechgen" sweep ../fourbar.yaml --steps 4 --table 0 > ../u.out 2> ../u.err) || fail "after rebuild: $(cat u.err)"
+[ ! -s u.err ] || fail "after rebuild: stderr $(cat u.err)"
+# A damaged CLI11 object is compiled again (its record says so), not linked.
+args_object=$(find "$MECHGEN_CACHE_DIR/sweep" -maxdepth 1 -name 'args-*.o')
+[ -n "$args_object" ] && [ -s "$args_object.sha256" ] || fail "no args object with its record: $args_object"
+truncate -s 100 "$args_object"
+"$mechgen" sweep --rebuild fourbar.yaml --steps 4 --table 0 > w.out 2> w.err || fail "damaged args object: $(cat w.err)"
+grep -q "^mechgen: the cached object .*args-.* is damaged" w.err || fail "damaged args object: $(cat w.err)"
+[ "$(stat -c %s "$args_object")" -gt 100 ] || fail "the args object was not replaced"
+[ "$failures" -ne "$before" ] || ok "a damaged entry (truncated, one byte changed) is rebuilt, not run"
 
 before=$failures
 # Options after the model reach the driver as they are; "--" after the model is dropped;
