@@ -50,11 +50,22 @@
 #include "mechgen/balancing/engine_balance.h"
 #include "mechgen/balancing/rotor.h"
 #include "mechgen/flywheel/energy_loop.h"
+#include "mechgen/io/format.h"
+#include "mechgen/io/output_file.h"
 
 namespace {
 
 namespace bal = mechgen::balancing;
 namespace fw = mechgen::flywheel;
+
+// Writes text to path whole or not at all (io/output_file.h: a temporary file renamed when
+// every write and the close succeeded); false with the reason in *error.
+bool WriteWhole(const std::string& path, const std::string& text, std::string* error) {
+  mechgen::OutputFile file;
+  if (!file.Open(path, error)) return false;
+  file.stream() << text;
+  return file.Commit(error);
+}
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180;
 
@@ -350,12 +361,12 @@ int RunFlywheel(const FlywheelArgs& a) {
       std::ostringstream csv;
       csv << "angle_deg,excess_torque,E\n";
       for (int k = 0; k < n; ++k)
-        csv << Format("%.10g", theta0 + k * step) << ','
-            << Format("%.10g", dT[k] - (a.remove_mean ? loop.mean_torque : 0.0)) << ',' << Format("%.10g", E[k])
+        csv << mechgen::FormatRoundTrip(theta0 + k * step) << ','
+            << mechgen::FormatRoundTrip(dT[k] - (a.remove_mean ? loop.mean_torque : 0.0)) << ',' << mechgen::FormatRoundTrip(E[k])
             << '\n';
-      csv << Format("%.10g", theta0 + a.cycle_deg) << ','
-          << Format("%.10g", dT[0] - (a.remove_mean ? loop.mean_torque : 0.0)) << ','
-          << Format("%.10g", loop.cycle_work) << '\n';
+      csv << mechgen::FormatRoundTrip(theta0 + a.cycle_deg) << ','
+          << mechgen::FormatRoundTrip(dT[0] - (a.remove_mean ? loop.mean_torque : 0.0)) << ','
+          << mechgen::FormatRoundTrip(loop.cycle_work) << '\n';
       energy_text = csv.str();
       out << "  energy loop written to " << a.energy_csv << " (angle_deg, excess_torque [N m], E [J])\n";
     }
@@ -372,8 +383,8 @@ int RunFlywheel(const FlywheelArgs& a) {
     out << "C_s = " << Format("%.6g", a.cs) << ": required I = dE/(C_s w^2) = " << Format("%.6g", I) << " kg m^2\n";
   }
   if (!a.energy_csv.empty()) {
-    std::ofstream file(a.energy_csv);
-    if (!(file << energy_text) || !file.flush()) return Fail(a.energy_csv + ": cannot write");
+    std::string error;
+    if (!WriteWhole(a.energy_csv, energy_text, &error)) return Fail(error);
   }
   std::cout << out.str();
   return 0;
@@ -449,9 +460,9 @@ int RunWittenbauer(const WittenbauerArgs& a) {
     std::ostringstream csv;
     csv << "angle_deg,I,T\n";
     for (int k = 0; k < n; ++k)
-      csv << Format("%.10g", angle[k]) << ',' << Format("%.10g", I[k]) << ',' << Format("%.10g", T[k]) << '\n';
-    std::ofstream file(a.diagram_csv);
-    if (!(file << csv.str()) || !file.flush()) return Fail(a.diagram_csv + ": cannot write");
+      csv << mechgen::FormatRoundTrip(angle[k]) << ',' << mechgen::FormatRoundTrip(I[k]) << ',' << mechgen::FormatRoundTrip(T[k]) << '\n';
+    std::string error;
+    if (!WriteWhole(a.diagram_csv, csv.str(), &error)) return Fail(error);
     out << "  diagram (I, T) written to " << a.diagram_csv << "\n";
   }
   std::cout << out.str();
