@@ -34,10 +34,10 @@ def r(a, b): return med[a] / med[b]
 def verdict(x, limit): return "PASS" if x <= limit else "MISS"
 def target(label, a, b, limit):
     if a not in med or b not in med:
-        print(f"  {label:<38} (not measured: {a if a not in med else b} missing)")
+        print(f"  {label:<44} (not measured: {a if a not in med else b} missing)")
         return
     x = r(a, b)
-    print(f"  {label:<38} = {x:6.2f}   target <= {limit:<5.2f} {verdict(x, limit)}")
+    print(f"  {label:<44} = {x:6.2f}   target <= {limit:<5.2f} {verdict(x, limit)}")
 print()
 print("  targets (issue 24)")
 target("mechgen continuation / closed form", "MechgenContinuation", "ClosedForm", 1.15)

@@ -468,7 +468,11 @@ struct SolveReport {
 /// ignored (the angle is returned as it is).
 template <typename Scalar>
 Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
+  using std::abs;
   using std::floor;
+  // Within 3 rad (< pi) of the reference the turns below are 0 exactly: the angle as it is,
+  // without the division and floor (the common case, a continuation step).
+  if (abs(angle - reference) <= Scalar(3)) return angle;
   const Scalar two_pi = Scalar(6.283185307179586);
   const Scalar turns = floor((angle - reference) / two_pi + Scalar(0.5));
   if (!(turns - turns == Scalar(0))) return angle;

@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); SolvePositions 42 (adds 11, muls 25, divs 1, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); SolvePositions 48 (adds 11, muls 29, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -176,7 +176,11 @@ struct SolveReport {
 /// ignored (the angle is returned as it is).
 template <typename Scalar>
 Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
+  using std::abs;
   using std::floor;
+  // Within 3 rad (< pi) of the reference the turns below are 0 exactly: the angle as it is,
+  // without the division and floor (the common case, a continuation step).
+  if (abs(angle - reference) <= Scalar(3)) return angle;
   const Scalar two_pi = Scalar(6.283185307179586);
   const Scalar turns = floor((angle - reference) / two_pi + Scalar(0.5));
   if (!(turns - turns == Scalar(0))) return angle;
@@ -401,7 +405,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 42 (adds 11, muls 25, divs 1, calls 5); intermediate terms: 0
+  // Total ops: 48 (adds 11, muls 29, divs 3, calls 5); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -444,14 +448,14 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
-    const Scalar branch_b0 = ((d2_b0*d2_b0)*h2c_b0) / (ra2_b0*rb2_b0);
+    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
     if (trig != nullptr) {
-      const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
-      const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
       trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
       trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
       trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;

@@ -52,7 +52,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.G3.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 0 (adds 0, muls 0, divs 0, calls 0); EvalDynamics 467 (adds 88, muls 365, divs 8, calls 6); EvalKinetostatics 655 (adds 118, muls 522, divs 9, calls 6); EvalExcess 630 (adds 118, muls 498, divs 8, calls 6); EvalShaking 571 (adds 120, muls 436, divs 9, calls 6); EvalStiffness 0 (adds 0, muls 0, divs 0, calls 0); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 36 (adds 9, muls 23, divs 1, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); PrepareRhs 473 (adds 71, muls 393, divs 9, calls 0); EvalRhs 154 (adds 36, muls 113, divs 2, calls 3); EvalScene 137 (adds 24, muls 95, divs 4, calls 14); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 0 (adds 0, muls 0, divs 0, calls 0); EvalDynamics 467 (adds 88, muls 365, divs 8, calls 6); EvalKinetostatics 655 (adds 118, muls 522, divs 9, calls 6); EvalExcess 630 (adds 118, muls 498, divs 8, calls 6); EvalShaking 571 (adds 120, muls 436, divs 9, calls 6); EvalStiffness 0 (adds 0, muls 0, divs 0, calls 0); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); PrepareRhs 473 (adds 71, muls 393, divs 9, calls 0); EvalRhs 154 (adds 36, muls 113, divs 2, calls 3); EvalScene 137 (adds 24, muls 95, divs 4, calls 14); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -350,7 +350,11 @@ struct SolveReport {
 /// ignored (the angle is returned as it is).
 template <typename Scalar>
 Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
+  using std::abs;
   using std::floor;
+  // Within 3 rad (< pi) of the reference the turns below are 0 exactly: the angle as it is,
+  // without the division and floor (the common case, a continuation step).
+  if (abs(angle - reference) <= Scalar(3)) return angle;
   const Scalar two_pi = Scalar(6.283185307179586);
   const Scalar turns = floor((angle - reference) / two_pi + Scalar(0.5));
   if (!(turns - turns == Scalar(0))) return angle;
@@ -1219,7 +1223,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 36 (adds 9, muls 23, divs 1, calls 3); intermediate terms: 0
+  // Total ops: 42 (adds 9, muls 27, divs 3, calls 3); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -1260,14 +1264,14 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
-    const Scalar branch_b0 = ((d2_b0*d2_b0)*h2c_b0) / (ra2_b0*rb2_b0);
+    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
     if (trig != nullptr) {
-      const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
-      const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
       trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
       trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
       trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;

@@ -32,7 +32,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); EvalCoefficients 110 (adds 32, muls 68, divs 2, calls 8); EvalDetPhiPhi 12 (adds 1, muls 7, divs 0, calls 4); SolvePositions 45 (adds 12, muls 26, divs 2, calls 5) (per Newton iteration for Newton blocks); EvalScene 25 (adds 9, muls 8, divs 0, calls 8); EvalDrawing 11 (adds 3, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); EvalCoefficients 110 (adds 32, muls 68, divs 2, calls 8); EvalDetPhiPhi 12 (adds 1, muls 7, divs 0, calls 4); SolvePositions 51 (adds 12, muls 30, divs 4, calls 5) (per Newton iteration for Newton blocks); EvalScene 25 (adds 9, muls 8, divs 0, calls 8); EvalDrawing 11 (adds 3, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -182,7 +182,11 @@ struct SolveReport {
 /// ignored (the angle is returned as it is).
 template <typename Scalar>
 Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
+  using std::abs;
   using std::floor;
+  // Within 3 rad (< pi) of the reference the turns below are 0 exactly: the angle as it is,
+  // without the division and floor (the common case, a continuation step).
+  if (abs(angle - reference) <= Scalar(3)) return angle;
   const Scalar two_pi = Scalar(6.283185307179586);
   const Scalar turns = floor((angle - reference) / two_pi + Scalar(0.5));
   if (!(turns - turns == Scalar(0))) return angle;
@@ -394,7 +398,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 45 (adds 12, muls 26, divs 2, calls 5); intermediate terms: 0
+  // Total ops: 51 (adds 12, muls 30, divs 4, calls 5); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -441,14 +445,14 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
-    const Scalar branch_b1 = ((d2_b1*d2_b1)*h2c_b1) / (ra2_b1*rb2_b1);
+    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
+    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
     if (trig != nullptr) {
-      const Scalar inv_ra2_b1 = Scalar(1) / ra2_b1;
-      const Scalar inv_rb2_b1 = Scalar(1) / rb2_b1;
       trig->cos_phi(0) = dot_u_b1 * inv_ra2_b1;
       trig->sin_phi(0) = cross_u_b1 * inv_ra2_b1;
       trig->cos_phi(1) = dot_v_b1 * inv_rb2_b1;

@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 84 (adds 22, muls 52, divs 2, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 96 (adds 22, muls 60, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -197,7 +197,11 @@ struct SolveReport {
 /// ignored (the angle is returned as it is).
 template <typename Scalar>
 Scalar AngleNear(const Scalar& angle, const Scalar& reference) {
+  using std::abs;
   using std::floor;
+  // Within 3 rad (< pi) of the reference the turns below are 0 exactly: the angle as it is,
+  // without the division and floor (the common case, a continuation step).
+  if (abs(angle - reference) <= Scalar(3)) return angle;
   const Scalar two_pi = Scalar(6.283185307179586);
   const Scalar turns = floor((angle - reference) / two_pi + Scalar(0.5));
   if (!(turns - turns == Scalar(0))) return angle;
@@ -489,7 +493,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 84 (adds 22, muls 52, divs 2, calls 8); intermediate terms: 4
+  // Total ops: 96 (adds 22, muls 60, divs 6, calls 8); intermediate terms: 4
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -530,14 +534,14 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
-    const Scalar branch_b0 = ((d2_b0*d2_b0)*h2c_b0) / (ra2_b0*rb2_b0);
+    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
     if (trig != nullptr) {
-      const Scalar inv_ra2_b0 = Scalar(1) / ra2_b0;
-      const Scalar inv_rb2_b0 = Scalar(1) / rb2_b0;
       trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
       trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
       trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
@@ -574,14 +578,14 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(3) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(3));
     if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(2)};
     if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(3)};
-    const Scalar branch_b1 = ((d2_b1*d2_b1)*h2c_b1) / (ra2_b1*rb2_b1);
+    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
+    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
     if (trig != nullptr) {
-      const Scalar inv_ra2_b1 = Scalar(1) / ra2_b1;
-      const Scalar inv_rb2_b1 = Scalar(1) / rb2_b1;
       trig->cos_phi(2) = dot_u_b1 * inv_ra2_b1;
       trig->sin_phi(2) = cross_u_b1 * inv_ra2_b1;
       trig->cos_phi(3) = dot_v_b1 * inv_rb2_b1;

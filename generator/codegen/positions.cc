@@ -102,16 +102,25 @@ void ClosedFormPositions(const ClosedForm& f,
     P->push_back(Raw("if (!(" + x + " - " + x + " == Scalar(0))) return {SolveStatus::kSingular, " + N(bi) +
                      ", iterations, " + x + "};"));
   }
-  // Trig only: 1 / norm2 of each direction (a parameter only for a dyad's link lengths:
-  // EvalRhs computes it once per parameter set), also for the branch measure below.
-  ex inverse_norms = 1, norms = 1;
-  if (trig_only)
+  // 1 / norm2 of each direction (a parameter only for a dyad's link lengths: EvalRhs
+  // computes it once per parameter set), for the direction cosines and for the branch
+  // measure below when its denominator is the directions' norms: then the branch measure
+  // multiplies by the inverses instead of dividing (one division less per block), and
+  // SolvePositions and SolvePositionsTrig compute it the same way (the same bits). Trig
+  // only: always; SolvePositions: when they serve the branch measure (else only inside
+  // `if (trig != nullptr)` below).
+  ex norms = 1;
+  for (const DyadTrig& t : f.trig) norms *= t.norm2;
+  const bool shared_inverses = trig_only || (f.has_branch && f.branch_den_positive && !f.trig.empty() &&
+                                             !f.branch_den.is_equal(GiNaC::ex(1)) &&
+                                             (f.branch_den - norms).expand().is_zero());
+  ex inverse_norms = 1;
+  if (shared_inverses)
     for (const DyadTrig& t : f.trig) {
       ex inv;
       P->push_back(Define(t.inv_name + f.suffix, 1 / t.norm2, &inv));
       printer->Name(inv, t.inv_name + f.suffix);
       inverse_norms *= inv;
-      norms *= t.norm2;
     }
   if (f.has_branch) {
     // The branch-point signal: the smallest relative discriminant over the blocks.
@@ -120,7 +129,7 @@ void ClosedFormPositions(const ClosedForm& f,
     std::string value;
     if (f.branch_den.is_equal(GiNaC::ex(1)))
       value = num;
-    else if (trig_only && f.branch_den_positive && !f.trig.empty() && (f.branch_den - norms).expand().is_zero()) {
+    else if (shared_inverses && f.branch_den_positive && !f.trig.empty() && (f.branch_den - norms).expand().is_zero()) {
       ex branch;  // the denominator is the directions' norms: their inverses, no division
       P->push_back(Define(name, f.branch_num * inverse_norms, &branch));
       printer->Name(branch, name);
@@ -152,11 +161,12 @@ void ClosedFormPositions(const ClosedForm& f,
     return;
   }
   P->push_back(Raw("if (trig != nullptr) {"));
-  for (const DyadTrig& t : f.trig) {
-    const std::string norm2 = text(t.norm2);
-    P->push_back(Raw("  const Scalar " + t.inv_name + f.suffix + " = Scalar(1) / " +
-                     (GiNaC::is_a<GiNaC::symbol>(t.norm2) ? norm2 : "(" + norm2 + ")") + ";"));
-  }
+  if (!shared_inverses)
+    for (const DyadTrig& t : f.trig) {
+      const std::string norm2 = text(t.norm2);
+      P->push_back(Raw("  const Scalar " + t.inv_name + f.suffix + " = Scalar(1) / " +
+                       (GiNaC::is_a<GiNaC::symbol>(t.norm2) ? norm2 : "(" + norm2 + ")") + ";"));
+    }
   for (const DyadTrig& t : f.trig) {
     P->push_back(Raw("  trig->cos_phi(" + N(t.col) + ") = " + text(t.dot) + " * " + t.inv_name + f.suffix + ";"));
     P->push_back(Raw("  trig->sin_phi(" + N(t.col) + ") = " + text(t.cross) + " * " + t.inv_name + f.suffix + ";"));

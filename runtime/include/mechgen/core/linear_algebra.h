@@ -157,7 +157,10 @@ inline void FixSign2(double* x, double* y) {
  * ((e + D)/2, g) for e >= 0 and (g, (D - e)/2) else, so v ~ (-2g, |e| + D) or (|e| + D, -2g):
  * no cancellation, and D comes from its own square root, in parallel with sigma_max instead
  * of after sigma_min (a shorter chain of dependent sqrt and divisions: ~5 ns per continuation
- * step). Its sign makes the largest-magnitude entry positive (FixSign). u = the unit vector
+ * step). One division, 1 / (sigma_max |w|), gives both 1 / sigma_max and 1 / |w| (the
+ * divider is the scarce unit of a continuation step: one division less per step, sigma_min
+ * and v within a few ulp of dividing twice). Its sign makes the largest-magnitude entry
+ * positive (FixSign). u = the unit vector
  * orthogonal to v, sign-fixed the same way (the right singular vector of sigma_max); may be
  * nullptr. Not finite input gives NaN outputs.
  */
@@ -173,7 +176,6 @@ inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, doubl
   const double r = std::sqrt((a - d) * (a - d) + (b + c) * (b + c));
   const double smax = 0.5 * (p + r);
   const double det = a * d - b * c;
-  const double smin = smax > 0 ? std::abs(det) / smax : 0.0;
   const double alpha = a * a + c * c, beta = b * b + d * d, g = a * b + c * d;
   const double e = alpha - beta;
   const double gap = p * r;  // (p r)^2 = |A|_F^4 - 4 det^2 = e^2 + 4 g^2
@@ -181,11 +183,17 @@ inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, doubl
   double w0 = e >= 0 ? -2 * g : big;
   double w1 = e >= 0 ? big : -2 * g;
   const double norm = std::sqrt(w0 * w0 + w1 * w1);
+  double smin;
   if (norm > 0) {
-    const double inv = 1.0 / norm;
+    // One division serves 1 / smax (sigma_min = |det| / smax) and 1 / |w|: a division
+    // occupies the divider as long as a dozen multiplications (norm > 0: smax > 0).
+    const double inv_both = 1.0 / (smax * norm);
+    smin = std::abs(det) * (norm * inv_both);
+    const double inv = smax * inv_both;
     w0 *= inv;
     w1 *= inv;
   } else {  // A^T A = sigma^2 I (every vector is singular) or A = 0
+    smin = smax > 0 ? std::abs(det) / smax : 0.0;
     w0 = 1;
     w1 = 0;
   }
@@ -239,30 +247,41 @@ class SquareFactorization {
       ok_ = det_ != 0 && std::isfinite(det_);
       const double inv = 1.0 / det_;
       inverse_ << d * inv, -b * inv, -c * inv, a * inv;
-      const double norm1 = std::max(std::abs(a) + std::abs(c), std::abs(b) + std::abs(d));
+      norm1_ = std::max(std::abs(a) + std::abs(c), std::abs(b) + std::abs(d));
       const double norm_inf = std::max(std::abs(a) + std::abs(b), std::abs(c) + std::abs(d));
-      cond_ = ok_ ? norm1 * norm_inf * std::abs(inv) : kInf;
+      inverse_norm1_ = norm_inf * std::abs(inv);
+      cond_ = ok_ ? norm1_ * norm_inf * std::abs(inv) : kInf;
     } else if constexpr (n <= 4) {
       bool invertible = false;
       A.computeInverseAndDetWithCheck(inverse_, det_, invertible, 0.0);
       ok_ = invertible && inverse_.allFinite() && std::isfinite(det_);
-      cond_ = ok_ ? internal::Norm1(A) * internal::Norm1(inverse_) : kInf;
+      norm1_ = internal::Norm1(A);
+      inverse_norm1_ = internal::Norm1(inverse_);
+      cond_ = ok_ ? norm1_ * inverse_norm1_ : kInf;
     } else {
       lu_.compute(A);
       det_ = lu_.determinant();
       ok_ = det_ != 0 && std::isfinite(det_);
       const double rcond = ok_ ? lu_.rcond() : 0.0;
       cond_ = rcond > 0 ? 1.0 / rcond : kInf;
+      norm1_ = internal::Norm1(A);
+      inverse_norm1_ = cond_ / norm1_;
     }
     if (!std::isfinite(cond_)) {
       cond_ = kInf;
       ok_ = false;
     }
+    if (!ok_) inverse_norm1_ = kInf;  // as cond_1 / ||A||_1 was
   }
   bool ok() const { return ok_; }
   double determinant() const { return det_; }
   /// cond_1(A) (exact for n <= 4, else Eigen's estimate); +inf when singular.
   double condition() const { return cond_; }
+  /// ||A||_1, and ||A^{-1}||_1 (exact for n <= 4: ||A||_inf / |det| for n = 2; else
+  /// cond_1 / ||A||_1 from Eigen's estimate; +inf when singular), the two factors of
+  /// condition(), without dividing one by the other.
+  double norm1() const { return norm1_; }
+  double inverse_norm1() const { return inverse_norm1_; }
   /// A^{-1} B for any number of columns.
   template <class Rhs>
   auto Solve(const Eigen::MatrixBase<Rhs>& B) const {
@@ -287,6 +306,8 @@ class SquareFactorization {
   bool ok_ = false;
   double det_ = 0;
   double cond_ = std::numeric_limits<double>::infinity();
+  double norm1_ = std::numeric_limits<double>::quiet_NaN();
+  double inverse_norm1_ = std::numeric_limits<double>::quiet_NaN();
   std::conditional_t<(n <= 4), Matrix, None> inverse_;
   std::conditional_t<(n <= 4), None, Eigen::PartialPivLU<Matrix>> lu_;
 };

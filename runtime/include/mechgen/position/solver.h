@@ -253,7 +253,8 @@ class PositionSolver {
                         const MatCQ* Phi_q, State<M>* s) const;
   // The error bounds of s (State::phi_error, K_error, L_error) from its residual, its
   // conditioning (Classify()) and its coefficients; see "Accuracy" in the file comment.
-  static void ErrorBounds(State<M>* s);
+  // f: the factorization of Phi_phi at s (its ||Phi_phi||_1).
+  static void ErrorBounds(const Factorization& f, State<M>* s);
   // True when `from` is next to a singular configuration and `to` farther from it: the step
   // leaves the singularity, and is judged by to's coefficients, not from's (whose K and L
   // carry errors ~ eps cond^2, eps cond^3).

@@ -61,12 +61,12 @@ bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficien
   }
   if constexpr (Features::kHasPointVelocities) s->K_P = c.K_P;
   if constexpr (Features::kHasPointAccelerations) s->L_P = c.L_P;
-  ErrorBounds(s);
+  ErrorBounds(f, s);
   return finite;
 }
 
 template <class M, class Assembler>
-void PositionSolver<M, Assembler>::ErrorBounds(State<M>* s) {
+void PositionSolver<M, Assembler>::ErrorBounds(const Factorization& f, State<M>* s) {
   // First-order propagation (position/solver.h, "Accuracy"). u: unit roundoff; n: kNphi;
   // kappa = cond_1(Phi_phi); ||Phi_phi^{-1}||_1 = kappa / ||Phi_phi||_1. Scale: the second
   // and third derivatives of Phi are taken as bounded by ||Phi_phi||_1 (link lengths: a
@@ -75,7 +75,7 @@ void PositionSolver<M, Assembler>::ErrorBounds(State<M>* s) {
   constexpr double u = std::numeric_limits<double>::epsilon() / 2;
   constexpr double n = M::kNphi;
   const double kappa = s->condition;
-  const double norm_A = kappa / s->inverse_norm;  // ||Phi_phi||_1
+  const double norm_A = f.norm1();  // ||Phi_phi||_1 (= kappa / inverse_norm, without the division)
   const double rho =
       s->residual_norm + 4 * n * u * norm_A * (1 + s->phi.template lpNorm<Eigen::Infinity>());
   // phi: the residual through Phi_phi^{-1} (1-norms; ||r||_1 <= n ||r||_inf), plus its own

@@ -14,7 +14,7 @@ template <class M, class Assembler>
 bool PositionSolver<M, Assembler>::Classify(const MatCPhi& Phi_phi, const Factorization& f,
                                  const State<M>* warm, State<M>* s) const {
   s->condition = f.condition();
-  s->inverse_norm = s->condition / internal::Norm1(Phi_phi);
+  s->inverse_norm = f.inverse_norm1();  // ||Phi_phi^{-1}||_1, no division by ||Phi_phi||_1
   s->branch = Sign(f.determinant());
   Distance(Phi_phi, f, warm, s);
   // f.ok(): det finite and nonzero (so branch != 0), cond_1 finite.
