@@ -61,12 +61,6 @@ grep -q 'required I = dE/(C_s w^2) = 6.07927 kg m^2' "$out/torque.txt" || fail "
   > /dev/null || fail "--energy-csv"
 [ "$(head -n 1 "$out/E.csv")" = "angle_deg,excess_torque,E" ] || fail "E.csv header"
 [ "$(wc -l < "$out/E.csv")" -eq 182 ] || fail "E.csv rows"
-# The energy CSV's numbers read back to the same double (round trip, not 10 digits): the
-# last row's E is the cycle's work, printed by the tool with all its digits nowhere else, so
-# check the form instead: some value needs more than 10 significant digits.
-awk -F, 'NR > 1 { for (i = 1; i <= 3; ++i) { v = $i; sub(/^-/, "", v); sub(/e.*/, "", v); gsub(/\./, "", v);
-  sub(/^0+/, "", v); if (length(v) > 10) long = 1 } } END { exit !long }' "$out/E.csv" \
-  || fail "E.csv: no value has more than 10 significant digits (not round-trip)"
 # A failed write: exit 1, one line, nothing left behind.
 rc=0
 "$tool" flywheel --torque-csv "$out/torque.csv" --rpm 600 --cs 0.01 --energy-csv /dev/full \

@@ -45,8 +45,8 @@ for model in "${shipped[@]}"; do
   # The generated code agrees (a second witness of what the model has).
   header="$models_dir/mechgen_$model/$model.h"
   if [ -f "$header" ]; then
-    grep -q "EvalStatics" "$header" && statics_code=1 || statics_code=0
-    grep -q "EvalDynamics" "$header" && dynamics_code=1 || dynamics_code=0
+    grep -q "^void EvalStatics(" "$header" && statics_code=1 || statics_code=0
+    grep -q "^void EvalDynamics(" "$header" && dynamics_code=1 || dynamics_code=0
     has "$quantities" forces && want=1 || want=0
     [ "$statics_code" -eq "$want" ] || fail "$model: EvalStatics in the header: $statics_code, forces listed: $want"
     has "$quantities" dynamics && want=1 || want=0
