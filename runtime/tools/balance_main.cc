@@ -361,12 +361,12 @@ int RunFlywheel(const FlywheelArgs& a) {
       std::ostringstream csv;
       csv << "angle_deg,excess_torque,E\n";
       for (int k = 0; k < n; ++k)
-        csv << mechgen::FormatRoundTrip(theta0 + k * step) << ','
-            << mechgen::FormatRoundTrip(dT[k] - (a.remove_mean ? loop.mean_torque : 0.0)) << ',' << mechgen::FormatRoundTrip(E[k])
+        csv << mechgen::internal::FormatRoundTrip(theta0 + k * step) << ','
+            << mechgen::internal::FormatRoundTrip(dT[k] - (a.remove_mean ? loop.mean_torque : 0.0)) << ',' << mechgen::internal::FormatRoundTrip(E[k])
             << '\n';
-      csv << mechgen::FormatRoundTrip(theta0 + a.cycle_deg) << ','
-          << mechgen::FormatRoundTrip(dT[0] - (a.remove_mean ? loop.mean_torque : 0.0)) << ','
-          << mechgen::FormatRoundTrip(loop.cycle_work) << '\n';
+      csv << mechgen::internal::FormatRoundTrip(theta0 + a.cycle_deg) << ','
+          << mechgen::internal::FormatRoundTrip(dT[0] - (a.remove_mean ? loop.mean_torque : 0.0)) << ','
+          << mechgen::internal::FormatRoundTrip(loop.cycle_work) << '\n';
       energy_text = csv.str();
       out << "  energy loop written to " << a.energy_csv << " (angle_deg, excess_torque [N m], E [J])\n";
     }
@@ -460,7 +460,7 @@ int RunWittenbauer(const WittenbauerArgs& a) {
     std::ostringstream csv;
     csv << "angle_deg,I,T\n";
     for (int k = 0; k < n; ++k)
-      csv << mechgen::FormatRoundTrip(angle[k]) << ',' << mechgen::FormatRoundTrip(I[k]) << ',' << mechgen::FormatRoundTrip(T[k]) << '\n';
+      csv << mechgen::internal::FormatRoundTrip(angle[k]) << ',' << mechgen::internal::FormatRoundTrip(I[k]) << ',' << mechgen::internal::FormatRoundTrip(T[k]) << '\n';
     std::string error;
     if (!WriteWhole(a.diagram_csv, csv.str(), &error)) return Fail(error);
     out << "  diagram (I, T) written to " << a.diagram_csv << "\n";
