@@ -202,8 +202,8 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
     on_b.link = j.link_b;
     on_a.link = j.link_a;
     on_b.does_work = on_a.does_work = false;
-    const ex rel = j.type() == JointType::kRevolute ? k.frames[j.link_b].theta - k.frames[j.link_a].theta
-                                                     : ex(CoordinateOfJoint(m, k, layout.friction[i])->symbol);
+    const Coordinate* s = CoordinateOfJoint(m, k, layout.friction[i]);
+    const ex rel = KindOf(j).RelativeMotion(m, j, k.frames, s ? ex(s->symbol) : ex(0));
     // Viscous friction (dynamic modes) adds -c d(rel)/dt to the given Coulomb load.
     if (options.dynamic && !m.friction[i].viscous.is_zero()) {
       ex f;
