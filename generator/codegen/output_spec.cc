@@ -4,10 +4,15 @@
 namespace mechgen {
 namespace {
 
-bool Generated(const std::vector<FunctionSpec>& functions, const std::string& name) {
+// The function that decides the struct's presence, or nullptr where it is not generated.
+const FunctionSpec* Filling(const std::vector<FunctionSpec>& functions, OutputStruct output) {
   for (const FunctionSpec& f : functions)
-    if (f.name == name) return true;
-  return false;
+    if (f.fills == output) return &f;
+  return nullptr;
+}
+
+bool Generated(const std::vector<FunctionSpec>& functions, OutputStruct output) {
+  return Filling(functions, output) != nullptr;
 }
 
 OutputMember Member(const std::string& type, const std::string& names, std::vector<std::string> doc,
@@ -41,7 +46,7 @@ OutputSpec Statics(const Model& m, const SymbolicTable& t, const std::vector<Fun
   const StaticsLayout layout = StaticsLayout::Of(m);
   const bool forces = m.outputs.Has(Quantity::kForces), potential = m.outputs.Has(Quantity::kPotential);
   const bool has_L = t.requested.L;
-  OutputSpec o = Output("Statics", Generated(functions, "EvalStatics"),
+  OutputSpec o = Output("Statics", Generated(functions, OutputStruct::kStatics),
                         "Statics, StaticsT, EvalStatics (Model::Forces): forces, potential or reactions.",
                         {"What EvalStatics() fills (statics by virtual work, Paul ch. 5). Units follow the model's",
                          "(SI: N, N m, J). A generalized force of an angle input is a torque (per radian), of a slide",
@@ -99,7 +104,7 @@ OutputSpec Statics(const Model& m, const SymbolicTable& t, const std::vector<Fun
 
 OutputSpec Dynamics(const std::vector<FunctionSpec>& functions) {
   OutputSpec o = Output(
-      "Dynamics", Generated(functions, "EvalDynamics"),
+      "Dynamics", Generated(functions, OutputStruct::kDynamics),
       "Dynamics, DynamicsT, EvalDynamics, EvalKinetostatics (Paul ch. 6): `dynamics`.",
       {"What EvalDynamics() fills (Paul ch. 6): the generalized equation of motion",
        "  I(q) qdd + h(q, qd) = Q(t, q, qd),   h_j = sum_kl C(j, k + kNq l) qd_k qd_l",
@@ -126,7 +131,7 @@ OutputSpec Dynamics(const std::vector<FunctionSpec>& functions) {
 }
 
 OutputSpec Excess(const std::vector<FunctionSpec>& functions) {
-  OutputSpec o = Output("Excess", Generated(functions, "EvalExcess"),
+  OutputSpec o = Output("Excess", Generated(functions, OutputStruct::kExcess),
                         "Excess, ExcessT, EvalExcess (Model::ExcessDynamics, Paul §6.6.2): `dynamics`.",
                         {"What EvalExcess() fills: the excess-coordinate formulation (Paul §6.6.2) on x = (q, phi),",
                          "n = kNq + kNphi:  M xdd + h = g + Phi_x^T lambda,  Phi_x xdd = gamma."});
@@ -149,7 +154,7 @@ OutputSpec Excess(const std::vector<FunctionSpec>& functions) {
 
 OutputSpec Shaking(const std::vector<FunctionSpec>& functions) {
   OutputSpec o = Output(
-      "Shaking", Generated(functions, "EvalShaking"),
+      "Shaking", Generated(functions, OutputStruct::kShaking),
       "Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.",
       {"What EvalShaking() fills (Paul ch. 7): the shaking force and moment, the resultant of the moving",
        "links' d'Alembert inertia forces -m a_G (at each centre of mass G) and couples -J alpha. Units",
@@ -181,7 +186,7 @@ OutputSpec Shaking(const std::vector<FunctionSpec>& functions) {
 }
 
 OutputSpec Rhs(const std::vector<FunctionSpec>& functions) {
-  OutputSpec o = Output("Rhs", Generated(functions, "EvalRhs"),
+  OutputSpec o = Output("Rhs", Generated(functions, OutputStruct::kRhs),
                         "Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).",
                         {"What EvalRhs() fills: the equation of motion I(q) qdd + h(q, qd) = Q(t, q, qd) at a state, with",
                          "what a simulation samples there. The same definitions and units as Dynamics."});
@@ -199,10 +204,9 @@ OutputSpec Rhs(const std::vector<FunctionSpec>& functions) {
 }
 
 OutputSpec RhsConstants(const std::vector<FunctionSpec>& functions) {
-  int n = 0;
-  for (const FunctionSpec& f : functions)
-    if (f.name == "PrepareRhs") n = f.constants;
-  OutputSpec o = Output("RhsConstants", Generated(functions, "PrepareRhs"),
+  const FunctionSpec* prepare = Filling(functions, OutputStruct::kRhsConstants);
+  const int n = prepare ? prepare->constants : 0;
+  OutputSpec o = Output("RhsConstants", Generated(functions, OutputStruct::kRhsConstants),
                         "RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.",
                         {"What EvalRhs() reads that depends on the parameters only (masses, their products with",
                          "lengths, inverse squared lengths, ...): PrepareRhs() fills it once per parameter set."});
