@@ -82,9 +82,12 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   forces = m.outputs.Has(Quantity::kForces);
   potential = m.outputs.Has(Quantity::kPotential);
   stiffness = forces && potential && t.requested.L;  // for the stability of equilibria
+  // The stages each mode reads (the excess formulation reads g and V only: no Q on q, no
+  // actuators, no reactions), each derived once.
   Stage st(m, k, t, &slots);
   DeriveArguments(st);
   DeriveAppliedForces(st);
+  if (!options.excess) DeriveDrive(st);
   DerivePotential(st);
   DeriveReactions(st);
 }
