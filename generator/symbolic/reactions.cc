@@ -7,6 +7,7 @@
 // (JointKind::CoulombFriction) and relative velocities.
 #include <functional>
 #include <set>
+#include <stdexcept>
 
 #include "symbolic/linalg.h"
 #include "symbolic/statics_stage.h"
@@ -244,6 +245,8 @@ void StaticsTable::DeriveReactions(Stage& st) {
     std::string why;
     const std::vector<ex> values = KindOf(j).Reaction(m, j, k.frames, r, &why);
     if (values.empty()) fail(jn, why);
+    if (values.size() != KindOf(j).ReactionComponents(m, j).size())
+      throw std::logic_error("mechgen bug: joint '" + j.name + "' gives a value per component of another count");
     R.insert(R.end(), values.begin(), values.end());
   }
   for (size_t i = 0; i < layout.friction.size(); ++i) {
