@@ -59,8 +59,8 @@ GiNaC::ex JointKind::RelativeMotion(const Model&, const Joint& j, const std::vec
   throw std::logic_error("mechgen bug: friction at joint '" + j.name + "', whose kind models none");
 }
 
-JointFriction JointKind::CoulombFriction(const Model&, const Joint& j, const mechgen::Friction&, const std::vector<Frame>&,
-                                  const JointReaction&) const {
+JointFriction JointKind::CoulombFriction(const Model&, const Joint& j, const mechgen::Friction&,
+                                         const std::vector<Frame>&, const JointReaction&) const {
   throw std::logic_error("mechgen bug: friction at joint '" + j.name + "', whose kind models none");
 }
 

@@ -90,8 +90,8 @@ enum class ReactionForm {
 /// The unknowns of the force analysis at one joint, from which its kind makes its reaction
 /// components (JointKind::Reaction).
 struct JointReaction {
-  Vec2 F{0, 0};       ///< force of link_a on link_b at the joint's point (kForce, kForceAndMoment)
-  GiNaC::ex M = 0;    ///< moment of link_a on link_b about that point (kForceAndMoment)
+  Vec2 F{0, 0};         ///< force of link_a on link_b at the joint's point (kForce, kForceAndMoment)
+  GiNaC::ex M = 0;      ///< moment of link_a on link_b about that point (kForceAndMoment)
   GiNaC::ex along = 0;  ///< forces along the joint's line that act apart from F (a tree slider's friction and actuator)
   std::vector<GiNaC::ex> multipliers;  ///< the multipliers of the joint's Phi rows, in row order
 };
@@ -156,8 +156,8 @@ class JointKind {
   virtual GiNaC::ex RelativeMotion(const Model& m, const Joint& j, const std::vector<Frame>& frames,
                                    const GiNaC::ex& s) const;
   /// Coulomb friction with coefficient data `f` at the joint whose unknowns are `r`.
-  virtual JointFriction CoulombFriction(const Model& m, const Joint& j, const Friction& f, const std::vector<Frame>& frames,
-                                 const JointReaction& r) const;
+  virtual JointFriction CoulombFriction(const Model& m, const Joint& j, const Friction& f,
+                                        const std::vector<Frame>& frames, const JointReaction& r) const;
 };
 
 /// Every joint kind, in JointType order (the registry).
