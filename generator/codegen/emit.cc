@@ -480,8 +480,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
     o.set("struct_doc", Lines(spec.doc));
     for (const OutputMember& mem : spec.members) {
       if (!mem.present) continue;
-      std::vector<std::string> doc = mem.doc;
-      if (!mem.size.empty() && !doc.empty()) doc.back() += "  (" + mem.size + ")";
+      const std::vector<std::string> doc = RenderedDoc(mem);
       std::string doc_lines;  // "  /// ..." lines (none where the member before documents it)
       for (const std::string& l : doc) doc_lines += "  ///" + (l.empty() ? std::string() : " " + l) + "\n";
       mus::data mo{mus::data::type::object};

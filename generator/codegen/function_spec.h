@@ -29,8 +29,14 @@ struct Argument {
   std::string member_default;  ///< in the Model wrapper when it differs ("kDefaultModes")
 };
 
+/// An output struct of the generated header (codegen/output_spec.h).
+enum class OutputStruct { kNone, kStatics, kDynamics, kExcess, kShaking, kRhs, kRhsConstants };
+
 struct FunctionSpec {
   std::string name;                ///< EvalPhi, CamLaw_<joint>, ...
+  /// The output struct whose presence this function decides: the struct exists exactly where
+  /// the function is generated (EvalStatics: Statics, ...; kNone: none).
+  OutputStruct fills = OutputStruct::kNone;
   std::vector<std::string> doc;    ///< \brief and notes, one line each (without " * ")
   std::vector<std::string> notes;  ///< after the arguments (\note ...)
   std::string scalar = "Scalar";   ///< the template parameter: template <typename Scalar>

@@ -4,14 +4,23 @@
 namespace mechgen {
 namespace {
 
-bool Generated(const std::vector<FunctionSpec>& functions, const std::string& name) {
+// The function that decides the struct's presence, or nullptr where it is not generated.
+const FunctionSpec* Filling(const std::vector<FunctionSpec>& functions, OutputStruct output) {
   for (const FunctionSpec& f : functions)
-    if (f.name == name) return true;
-  return false;
+    if (f.fills == output) return &f;
+  return nullptr;
 }
 
-OutputMember Member(const std::string& type, const std::string& names, std::vector<std::string> doc,
-                    const std::string& size = "", const std::string& flag = "", bool present = true) {
+bool Generated(const std::vector<FunctionSpec>& functions, OutputStruct output) {
+  return Filling(functions, output) != nullptr;
+}
+
+OutputMember Member(const std::string& type,
+                    const std::string& names,
+                    std::vector<std::string> doc,
+                    const std::string& size = "",
+                    const std::string& flag = "",
+                    bool present = true) {
   OutputMember m;
   m.type = type;
   m.names = names;
@@ -19,6 +28,12 @@ OutputMember Member(const std::string& type, const std::string& names, std::vect
   m.size = size;
   m.flag = flag;
   m.present = present;
+  return m;
+}
+
+OutputMember Unit(OutputMember m, const std::string& unit, const std::string& sign = "") {
+  m.unit = unit;
+  m.sign = sign;
   return m;
 }
 
@@ -41,7 +56,7 @@ OutputSpec Statics(const Model& m, const SymbolicTable& t, const std::vector<Fun
   const StaticsLayout layout = StaticsLayout::Of(m);
   const bool forces = m.outputs.Has(Quantity::kForces), potential = m.outputs.Has(Quantity::kPotential);
   const bool has_L = t.requested.L;
-  OutputSpec o = Output("Statics", Generated(functions, "EvalStatics"),
+  OutputSpec o = Output("Statics", Generated(functions, OutputStruct::kStatics),
                         "Statics, StaticsT, EvalStatics (Model::Forces): forces, potential or reactions.",
                         {"What EvalStatics() fills (statics by virtual work, Paul ch. 5). Units follow the model's",
                          "(SI: N, N m, J). A generalized force of an angle input is a torque (per radian), of a slide",
@@ -59,160 +74,203 @@ OutputSpec Statics(const Model& m, const SymbolicTable& t, const std::vector<Fun
   };
   const auto& f = o.member_flags;
   o.members = {
-      Member(kVecNq, "Q",
-             {"Q(j): generalized force of the loads, springs, weights and given friction loads on q_j",
-              "(virtual work: Q_j = sum F.K_P,j + sum T K_theta,j - dV/dq_j)."},
-             "kNq", f[0].name, f[0].value),
-      Member(kVecNq, "drive",
-             {"drive(j) = -Q(j): what input j's actuator applies for static equilibrium: the torque on the",
-              "input's moving link (counter-clockwise +, reacting on the ground) or the force on its slider",
-              "along the line."},
-             "kNq", f[0].name, f[0].value),
-      Member(kMatNqNq, "stiffness",
-             {"stiffness(j, k) = -dQ_j/dq_k along the motion, friction excluded (d2V/dq2 for a conservative",
-              "model): an equilibrium (Q = 0) is stable where it is positive definite. Set by",
-              "EvalStiffness(), not EvalStatics()."},
-             "kNq x kNq", f[1].name, f[1].value),
-      Member("Scalar", "V", {"V: potential energy of the springs and the weights."}, "", f[2].name, f[2].value),
-      Member(kVecNq, "dV_dq", {"dV_dq(j) = dV/dq_j along the motion."}, "kNq", f[2].name, f[2].value),
-      Member(kMatNqNq, "d2V_dq2", {"d2V_dq2(j, k) = d2V/dq_j dq_k along the motion; set by EvalStiffness()."},
-             "kNq x kNq", f[3].name, f[3].value),
-      Member("Vec<Scalar, Sizes::kNumReactions>", "R",
-             {"R(i): reaction component Model::kReactionNames[i]: the force (moment) of the joint's first link",
-              "on its second, fixed frame."},
-             "kNumReactions", f[4].name, f[4].value),
-      Member("Vec<Scalar, Sizes::kNumFriction>", "normal",
-             {"normal(i): the force friction acts with at kFrictionJoints[i]: |F| at a revolute joint, |N| at",
-              "a prismatic joint."},
-             "kNumFriction", f[5].name, f[5].value),
-      Member("Vec<Scalar, Sizes::kNumFriction>", "gain",
-             {"gain(i): mu r (revolute: the friction circle's radius) or mu (prismatic): the friction load's",
-              "magnitude is gain(i) normal(i)."},
-             "kNumFriction", f[5].name, f[5].value),
-      Member("Mat<Scalar, Sizes::kNumFriction, Sizes::kNq>", "K_rel",
-             {"K_rel(i, j): the joint's relative velocity per unit qd_j: d(theta_b - theta_a)/dq_j (revolute)",
-              "or ds/dq_j (prismatic); friction opposes it."},
-             "kNumFriction x kNq", f[5].name, f[5].value),
+      Unit(Member(kVecNq, "Q",
+                  {"Q(j): generalized force of the loads, springs, weights and given friction loads on q_j",
+                   "(virtual work: Q_j = sum F.K_P,j + sum T K_theta,j - dV/dq_j)."},
+                  "kNq", f[0].name, f[0].value),
+           "N m or N"),
+      Unit(
+          Member(kVecNq, "drive",
+                 {"drive(j) = -Q(j): what input j's actuator applies for static equilibrium: the torque on the",
+                  "input's moving link ({sign}, reacting on the ground) or the force on its slider", "along the line."},
+                 "kNq", f[0].name, f[0].value),
+          "N m or N", "counter-clockwise +"),
+      Unit(Member(kMatNqNq, "stiffness",
+                  {"stiffness(j, k) = -dQ_j/dq_k along the motion, friction excluded (d2V/dq2 for a conservative",
+                   "model): an equilibrium (Q = 0) is stable where it is positive definite. Set by",
+                   "EvalStiffness(), not EvalStatics()."},
+                  "kNq x kNq", f[1].name, f[1].value),
+           "N m, N or N/m"),
+      Unit(Member("Scalar", "V", {"V: potential energy of the springs and the weights."}, "", f[2].name, f[2].value),
+           "J"),
+      Unit(Member(kVecNq, "dV_dq", {"dV_dq(j) = dV/dq_j along the motion."}, "kNq", f[2].name, f[2].value), "N m or N"),
+      Unit(Member(kMatNqNq, "d2V_dq2", {"d2V_dq2(j, k) = d2V/dq_j dq_k along the motion; set by EvalStiffness()."},
+                  "kNq x kNq", f[3].name, f[3].value),
+           "N m, N or N/m"),
+      Unit(Member("Vec<Scalar, Sizes::kNumReactions>", "R",
+                  {"R(i): reaction component Model::kReactionNames[i]: the force (moment) of the joint's first link",
+                   "on its second, {sign}."},
+                  "kNumReactions", f[4].name, f[4].value),
+           "N or N m", "fixed frame"),
+      Unit(Member("Vec<Scalar, Sizes::kNumFriction>", "normal",
+                  {"normal(i): the force friction acts with at kFrictionJoints[i]: |F| at a revolute joint, |N| at",
+                   "a prismatic joint."},
+                  "kNumFriction", f[5].name, f[5].value),
+           "N"),
+      Unit(Member("Vec<Scalar, Sizes::kNumFriction>", "gain",
+                  {"gain(i): mu r (revolute: the friction circle's radius) or mu (prismatic): the friction load's",
+                   "magnitude is gain(i) normal(i)."},
+                  "kNumFriction", f[5].name, f[5].value),
+           "m or 1"),
+      Unit(Member("Mat<Scalar, Sizes::kNumFriction, Sizes::kNq>", "K_rel",
+                  {"K_rel(i, j): the joint's relative velocity per unit qd_j: d(theta_b - theta_a)/dq_j (revolute)",
+                   "or ds/dq_j (prismatic); friction opposes it."},
+                  "kNumFriction x kNq", f[5].name, f[5].value),
+           "1, 1/m or m"),
   };
   return o;
 }
 
 OutputSpec Dynamics(const std::vector<FunctionSpec>& functions) {
-  OutputSpec o = Output(
-      "Dynamics", Generated(functions, "EvalDynamics"),
-      "Dynamics, DynamicsT, EvalDynamics, EvalKinetostatics (Paul ch. 6): `dynamics`.",
-      {"What EvalDynamics() fills (Paul ch. 6): the generalized equation of motion",
-       "  I(q) qdd + h(q, qd) = Q(t, q, qd),   h_j = sum_kl C(j, k + kNq l) qd_k qd_l",
-       "(one DOF: I qdd + 1/2 I' qd^2 = Q, C = I'/2). Units follow the model's (SI: kg m^2, N m, J, W)."});
+  OutputSpec o =
+      Output("Dynamics", Generated(functions, OutputStruct::kDynamics),
+             "Dynamics, DynamicsT, EvalDynamics, EvalKinetostatics (Paul ch. 6): `dynamics`.",
+             {"What EvalDynamics() fills (Paul ch. 6): the generalized equation of motion",
+              "  I(q) qdd + h(q, qd) = Q(t, q, qd),   h_j = sum_kl C(j, k + kNq l) qd_k qd_l",
+              "(one DOF: I qdd + 1/2 I' qd^2 = Q, C = I'/2). Units follow the model's (SI: kg m^2, N m, J, W)."});
   o.members = {
-      Member(kMatNqNq, "I",
-             {"I(j, k) = sum over the massive links of m K_G,j . K_G,k + J_G K_theta,j K_theta,k: the",
-              "generalized inertia."},
-             "kNq x kNq"),
-      Member(kMatNqNq2, "dI_dq", {"dI_dq(j, k + kNq*l) = dI(j, k)/dq_l along the motion."}, "kNq x kNq^2"),
-      Member(kMatNqNq2, "C", {"C(j, k + kNq*l) = sum m K_G,j . L_G,kl + J K_theta,j L_theta,kl."}, "kNq x kNq^2"),
-      Member(kVecNq, "h", {"h = C (qd (x) qd): the centripetal and Coriolis terms."}, "kNq"),
-      Member(kVecNq, "Q",
-             {"Q(j): generalized applied force on q_j at (t, q, qd): loads (with their time and velocity",
-              "dependence, tables), weights, springs, dampers, viscous joint friction and the given Coulomb",
-              "friction loads."},
-             "kNq"),
-      Member("Scalar", "T", {"T = 1/2 qd^T I qd: the kinetic energy."}),
-      Member("Scalar", "V", {"V: the potential energy of the springs and the weights (0 if none)."}),
-      Member("Scalar", "P_nc",
-             {"P_nc = (Q + dV/dq) . qd: the power of the non-conservative forces (d(T + V)/dt = P_nc)."}),
+      Unit(Member(kMatNqNq, "I",
+                  {"I(j, k) = sum over the massive links of m K_G,j . K_G,k + J_G K_theta,j K_theta,k: the",
+                   "generalized inertia."},
+                  "kNq x kNq"),
+           "kg m^2, kg m or kg"),
+      Unit(Member(kMatNqNq2, "dI_dq", {"dI_dq(j, k + kNq*l) = dI(j, k)/dq_l along the motion."}, "kNq x kNq^2"),
+           "kg m^2, kg m or kg"),
+      Unit(Member(kMatNqNq2, "C", {"C(j, k + kNq*l) = sum m K_G,j . L_G,kl + J K_theta,j L_theta,kl."}, "kNq x kNq^2"),
+           "kg m^2, kg m or kg"),
+      Unit(Member(kVecNq, "h", {"h = C (qd (x) qd): the centripetal and Coriolis terms."}, "kNq"), "N m or N"),
+      Unit(Member(kVecNq, "Q",
+                  {"Q(j): generalized applied force on q_j at (t, q, qd): loads (with their time and velocity",
+                   "dependence, tables), weights, springs, dampers, viscous joint friction and the given Coulomb",
+                   "friction loads."},
+                  "kNq"),
+           "N m or N"),
+      Unit(Member("Scalar", "T", {"T = 1/2 qd^T I qd: the kinetic energy."}), "J"),
+      Unit(Member("Scalar", "V", {"V: the potential energy of the springs and the weights (0 if none)."}), "J"),
+      Unit(Member("Scalar", "P_nc",
+                  {"P_nc = (Q + dV/dq) . qd: the power of the non-conservative forces (d(T + V)/dt = P_nc)."}),
+           "W"),
   };
   return o;
 }
 
 OutputSpec Excess(const std::vector<FunctionSpec>& functions) {
-  OutputSpec o = Output("Excess", Generated(functions, "EvalExcess"),
+  OutputSpec o = Output("Excess", Generated(functions, OutputStruct::kExcess),
                         "Excess, ExcessT, EvalExcess (Model::ExcessDynamics, Paul §6.6.2): `dynamics`.",
                         {"What EvalExcess() fills: the excess-coordinate formulation (Paul §6.6.2) on x = (q, phi),",
                          "n = kNq + kNphi:  M xdd + h = g + Phi_x^T lambda,  Phi_x xdd = gamma."});
   o.members = {
-      Member("Mat<Scalar, Sizes::kNq + Sizes::kNphi, Sizes::kNq + Sizes::kNphi>", "M",
-             {"M(a, b) = sum m dr_G/dx_a . dr_G/dx_b + J dtheta/dx_a dtheta/dx_b."}, "n x n"),
-      Member(kVecNx, "h", {"h(a) = sum m dr_G/dx_a . (sum_bc d2r_G/dx_b dx_c xd_b xd_c)."}, "n"),
-      Member(kVecNx, "g",
-             {"g(a): the applied generalized force on x_a at (t, x, xd) (loads, weights, springs, dampers,",
-              "viscous and the given Coulomb friction)."},
-             "n"),
-      Member("Mat<Scalar, Sizes::kNc, Sizes::kNq + Sizes::kNphi>", "Phi_x", {"Phi_x = [Phi_q  Phi_phi]."}, "kNc x n"),
-      Member("Vec<Scalar, Sizes::kNc>", "Phi", {"Phi(q, phi): the residual."}, "kNc"),
-      Member("Vec<Scalar, Sizes::kNc>", "gamma", {"gamma = -sum_bc d2Phi/dx_b dx_c xd_b xd_c: Phi_x xdd = gamma."},
-             "kNc"),
-      Member("Scalar", "T, V", {"T = 1/2 xd^T M xd, V: the kinetic and potential energies."}),
+      Unit(Member("Mat<Scalar, Sizes::kNq + Sizes::kNphi, Sizes::kNq + Sizes::kNphi>", "M",
+                  {"M(a, b) = sum m dr_G/dx_a . dr_G/dx_b + J dtheta/dx_a dtheta/dx_b."}, "n x n"),
+           "kg, kg m or kg m^2"),
+      Unit(Member(kVecNx, "h", {"h(a) = sum m dr_G/dx_a . (sum_bc d2r_G/dx_b dx_c xd_b xd_c)."}, "n"), "N or N m"),
+      Unit(Member(kVecNx, "g",
+                  {"g(a): the applied generalized force on x_a at (t, x, xd) (loads, weights, springs, dampers,",
+                   "viscous and the given Coulomb friction)."},
+                  "n"),
+           "N or N m"),
+      Unit(Member("Mat<Scalar, Sizes::kNc, Sizes::kNq + Sizes::kNphi>", "Phi_x", {"Phi_x = [Phi_q  Phi_phi]."},
+                  "kNc x n"),
+           "1 or m"),
+      Unit(Member("Vec<Scalar, Sizes::kNc>", "Phi", {"Phi(q, phi): the residual."}, "kNc"), "m or 1"),
+      Unit(Member("Vec<Scalar, Sizes::kNc>", "gamma", {"gamma = -sum_bc d2Phi/dx_b dx_c xd_b xd_c: Phi_x xdd = gamma."},
+                  "kNc"),
+           "m/s^2 or 1/s^2"),
+      Unit(Member("Scalar", "T, V", {"T = 1/2 xd^T M xd, V: the kinetic and potential energies."}), "J"),
   };
   return o;
 }
 
 OutputSpec Shaking(const std::vector<FunctionSpec>& functions) {
-  OutputSpec o = Output(
-      "Shaking", Generated(functions, "EvalShaking"),
-      "Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.",
-      {"What EvalShaking() fills (Paul ch. 7): the shaking force and moment, the resultant of the moving",
-       "links' d'Alembert inertia forces -m a_G (at each centre of mass G) and couples -J alpha. Units",
-       "follow the model's (SI: N, N m, kg, m). Sign convention: F and M are what the moving links exert ON",
-       "THE FRAME (ground) through the ground joints' reactions and the input actuators' reactions, when no",
-       "loads and no gravity act: Newton for the moving links gives (frame on links) + loads = sum m a_G, so",
-       "(links on frame) = F + the loads' resultant (and M + the loads' moment about O). M is about the",
-       "fixed frame's origin O, counter-clockwise +, with the planar cross product r x F = r_x F_y - r_y F_x;",
-       "about another point P it is M - r_P x F. Columns are indexed like Model::kLinkNames."});
+  OutputSpec o =
+      Output("Shaking", Generated(functions, OutputStruct::kShaking),
+             "Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.",
+             {"What EvalShaking() fills (Paul ch. 7): the shaking force and moment, the resultant of the moving",
+              "links' d'Alembert inertia forces -m a_G (at each centre of mass G) and couples -J alpha. Units",
+              "follow the model's (SI: N, N m, kg, m). Sign convention: F and M are what the moving links exert ON",
+              "THE FRAME (ground) through the ground joints' reactions and the input actuators' reactions, when no",
+              "loads and no gravity act: Newton for the moving links gives (frame on links) + loads = sum m a_G, so",
+              "(links on frame) = F + the loads' resultant (and M + the loads' moment about O). M is about the",
+              "fixed frame's origin O, counter-clockwise +, with the planar cross product r x F = r_x F_y - r_y F_x;",
+              "about another point P it is M - r_P x F. Columns are indexed like Model::kLinkNames."});
   o.members = {
-      Member("Vec<Scalar, 2>", "F", {"F = -sum_i m_i a_Gi: the shaking force (N)."}, "2"),
-      Member("Scalar", "M", {"M = -sum_i (r_Gi x m_i a_Gi + J_i alpha_i): the shaking moment about O (N m, CCW +)."}),
-      Member("Mat<Scalar, 2, Sizes::kNumLinks>", "F_link",
-             {"F_link.col(l) = -m_l a_Gl: link l's share of F; 0 for the ground and massless links."},
-             "2 x kNumLinks"),
-      Member("Vec<Scalar, Sizes::kNumLinks>", "M_link",
-             {"M_link(l) = r_Gl x F_link.col(l) - J_l alpha_l: link l's share of M; 0 for the ground and massless",
-              "links."},
-             "kNumLinks"),
-      Member("Mat<Scalar, 2, Sizes::kNumLinks>", "r_G",
-             {"r_G.col(l): link l's centre of mass in the fixed frame (m); NaN for the ground and massless",
-              "links."},
-             "2 x kNumLinks"),
-      Member("Scalar", "mass",
-             {"The moving links' total mass (kg) and their common centre of mass r_C (m): F = -mass d2r_C/dt2."}),
-      Member("Vec<Scalar, 2>", "r_C", {}),
+      Unit(Member("Vec<Scalar, 2>", "F", {"F = -sum_i m_i a_Gi: the shaking force ({unit})."}, "2"), "N"),
+      Unit(Member("Scalar", "M",
+                  {"M = -sum_i (r_Gi x m_i a_Gi + J_i alpha_i): the shaking moment about O ({unit}, {sign})."}),
+           "N m", "CCW +"),
+      Unit(Member("Mat<Scalar, 2, Sizes::kNumLinks>", "F_link",
+                  {"F_link.col(l) = -m_l a_Gl: link l's share of F; 0 for the ground and massless links."},
+                  "2 x kNumLinks"),
+           "N"),
+      Unit(Member("Vec<Scalar, Sizes::kNumLinks>", "M_link",
+                  {"M_link(l) = r_Gl x F_link.col(l) - J_l alpha_l: link l's share of M; 0 for the ground and massless",
+                   "links."},
+                  "kNumLinks"),
+           "N m"),
+      Unit(Member("Mat<Scalar, 2, Sizes::kNumLinks>", "r_G",
+                  {"r_G.col(l): link l's centre of mass in the fixed frame ({unit}); NaN for the ground and massless",
+                   "links."},
+                  "2 x kNumLinks"),
+           "m"),
+      Unit(Member(
+               "Scalar", "mass",
+               {"The moving links' total mass ({unit}) and their common centre of mass r_C (m): F = -mass d2r_C/dt2."}),
+           "kg"),
+      Unit(Member("Vec<Scalar, 2>", "r_C", {}), "m"),
   };
   return o;
 }
 
 OutputSpec Rhs(const std::vector<FunctionSpec>& functions) {
-  OutputSpec o = Output("Rhs", Generated(functions, "EvalRhs"),
-                        "Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).",
-                        {"What EvalRhs() fills: the equation of motion I(q) qdd + h(q, qd) = Q(t, q, qd) at a state, with",
-                         "what a simulation samples there. The same definitions and units as Dynamics."});
+  OutputSpec o =
+      Output("Rhs", Generated(functions, OutputStruct::kRhs),
+             "Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).",
+             {"What EvalRhs() fills: the equation of motion I(q) qdd + h(q, qd) = Q(t, q, qd) at a state, with",
+              "what a simulation samples there. The same definitions and units as Dynamics."});
   o.members = {
-      Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq>", "K",
-             {"K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd)."}, "kNphi x kNq"),
-      Member(kMatNqNq, "I", {"I: the generalized inertia."}, "kNq x kNq"),
-      Member(kVecNq, "h", {"h = C (qd (x) qd): the centripetal and Coriolis terms."}, "kNq"),
-      Member(kVecNq, "Q", {"Q: the generalized applied forces at (t, q, qd)."}, "kNq"),
-      Member("Scalar", "T, V, P_nc", {"T = 1/2 qd^T I qd, V, and the power P_nc of the non-conservative forces."}),
-      Member("Mat<Scalar, Sizes::kNc, Sizes::kNphi>", "Phi_phi",
-             {"dPhi/dphi at the solution: its conditioning tells a dead point."}, "kNc x kNphi"),
+      Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq>", "K",
+                  {"K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd)."}, "kNphi x kNq"),
+           "1, m or 1/m"),
+      Unit(Member(kMatNqNq, "I", {"I: the generalized inertia."}, "kNq x kNq"), "kg m^2, kg m or kg"),
+      Unit(Member(kVecNq, "h", {"h = C (qd (x) qd): the centripetal and Coriolis terms."}, "kNq"), "N m or N"),
+      Unit(Member(kVecNq, "Q", {"Q: the generalized applied forces at (t, q, qd)."}, "kNq"), "N m or N"),
+      Unit(Member("Scalar", "T, V, P_nc", {"T = 1/2 qd^T I qd, V, and the power P_nc of the non-conservative forces."}),
+           "J, J, W"),
+      Unit(Member("Mat<Scalar, Sizes::kNc, Sizes::kNphi>", "Phi_phi",
+                  {"dPhi/dphi at the solution: its conditioning tells a dead point."}, "kNc x kNphi"),
+           "m or 1"),
   };
   return o;
 }
 
 OutputSpec RhsConstants(const std::vector<FunctionSpec>& functions) {
-  int n = 0;
-  for (const FunctionSpec& f : functions)
-    if (f.name == "PrepareRhs") n = f.constants;
-  OutputSpec o = Output("RhsConstants", Generated(functions, "PrepareRhs"),
+  const FunctionSpec* prepare = Filling(functions, OutputStruct::kRhsConstants);
+  const int n = prepare ? prepare->constants : 0;
+  OutputSpec o = Output("RhsConstants", Generated(functions, OutputStruct::kRhsConstants),
                         "RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.",
                         {"What EvalRhs() reads that depends on the parameters only (masses, their products with",
                          "lengths, inverse squared lengths, ...): PrepareRhs() fills it once per parameter set."});
-  o.members = {Member("std::array<Scalar, " + std::to_string(n) + ">", "c", {})};
+  o.members = {
+      Unit(Member("std::array<Scalar, " + std::to_string(n) + ">", "c", {}), "mixed: products of the parameters")};
   return o;
 }
 
 }  // namespace
 
-std::vector<OutputSpec> OutputSpecs(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions) {
+std::vector<std::string> RenderedDoc(const OutputMember& member) {
+  std::vector<std::string> doc = member.doc;
+  for (std::string& line : doc)
+    for (const auto& [mark, value] : {std::pair<std::string, const std::string*>{"{unit}", &member.unit},
+                                      std::pair<std::string, const std::string*>{"{sign}", &member.sign}})
+      for (size_t at = line.find(mark); at != std::string::npos; at = line.find(mark, at + value->size()))
+        line.replace(at, mark.size(), *value);
+  if (!member.size.empty() && !doc.empty()) doc.back() += "  (" + member.size + ")";
+  return doc;
+}
+
+std::vector<OutputSpec> OutputSpecs(const Model& m,
+                                    const SymbolicTable& t,
+                                    const std::vector<FunctionSpec>& functions) {
   return {Statics(m, t, functions), Dynamics(functions), Excess(functions),
           Shaking(functions),       Rhs(functions),      RhsConstants(functions)};
 }

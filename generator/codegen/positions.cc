@@ -39,7 +39,7 @@ void ClosedFormPositions(const ClosedForm& f,
         {
           Statement d;
           d.kind = Statement::Kind::kDefine;
-          d.target = s.name + f.suffix;
+          d.target = DyadLocalName(s.local) + f.suffix;
           d.value = s.value;
           d.symbol = s.symbol;
           P->push_back(d);
@@ -69,9 +69,9 @@ void ClosedFormPositions(const ClosedForm& f,
         const std::string status = s.singular ? "kSingular" : "kNotAssemblable";
         P->push_back(Raw("if (" + cond + ") return {SolveStatus::" + status + ", " + N(bi) + ", iterations, " +
                          text(s.measure) + "};"));
-        if (!s.clamped_name.empty()) {
+        if (s.has_clamped) {
           // Within rounding of the range: clamped into it (the touching configuration).
-          const std::string c = s.clamped_name + f.suffix;
+          const std::string c = DyadLocalName(s.clamped_local) + f.suffix;
           if (s.require == DyadStep::Require::kNonNegative)
             P->push_back(Raw("const Scalar " + c + " = " + v + " > Scalar(0) ? " + v + " : Scalar(0);"));
           else

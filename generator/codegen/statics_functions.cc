@@ -139,6 +139,7 @@ void PruneUnusedDefines(Program* program) {
 FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer) {
   FunctionSpec f;
   f.name = "EvalStatics";
+  f.fills = OutputStruct::kStatics;
   f.model_member = "Forces";  // (the struct is Statics)
   f.doc = {"\\brief Statics by virtual work (Paul ch. 5) at a closed configuration: what the model asked of",
            "Q (generalized forces of the loads, springs, weights and the given friction loads),",
@@ -244,6 +245,7 @@ FunctionSpec EvalDynamicsSpec(const Model& m, const DynamicsTable& dt, CxxPrinte
   NameSlots(a.slots, printer);
   FunctionSpec f;
   f.name = "EvalDynamics";
+  f.fills = OutputStruct::kDynamics;
   f.model_member = "Dynamics";
   f.doc = {"\\brief The generalized equation of motion (Paul ch. 6) at a closed configuration and velocity:",
            "I(q) qdd + h(q, qd) = Q(t, q, qd), h = C (qd (x) qd) (one DOF: I qdd + I'/2 qd^2 = Q), with the",
@@ -287,6 +289,7 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
   NameSlots(a.slots, printer);
   FunctionSpec f;
   f.name = "EvalRhs";
+  f.fills = OutputStruct::kRhs;
   f.model_member = "Rhs";
   f.returns = "SolveReport<Scalar>";
   f.reindent = true;
@@ -391,6 +394,7 @@ void HoistRhsConstants(const Model& m, CxxPrinter* printer, FunctionSpec* rhs, F
   const std::string n = N(static_cast<int>(values.size()));
   prepare->constants = static_cast<int>(values.size());
   prepare->name = "PrepareRhs";
+  prepare->fills = OutputStruct::kRhsConstants;
   prepare->model_member = "Prepare";
   prepare->doc = {"\\brief The constants EvalRhs() reads: what depends on the parameters only, computed once",
                   "(call it again after changing a parameter)."};
@@ -437,6 +441,7 @@ FunctionSpec EvalExcessSpec(const Model& /*m*/, const Kinematics& k, const Dynam
   const int nx = k.nq() + k.nphi(), nc = k.nc();
   FunctionSpec f;
   f.name = "EvalExcess";
+  f.fills = OutputStruct::kExcess;
   f.model_member = "ExcessDynamics";
   f.doc = {"\\brief The excess-coordinate formulation (Paul §6.6.2) on x = (q, phi): M xdd + h = g + Phi_x^T lambda",
            "with Phi_x xdd = gamma, at any (q, phi) (closed or not: the integrator stabilizes Phi = 0)."};
@@ -472,6 +477,7 @@ FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter
   NameSlots(st.slots, printer);
   FunctionSpec f;
   f.name = "EvalShaking";
+  f.fills = OutputStruct::kShaking;
   f.model_member = "Shaking";
   f.doc = {"\\brief The shaking force and moment (Paul ch. 7) for a prescribed motion (q, qd, qdd): the resultant",
            "F = -sum m a_G of the moving links' inertia forces and its moment about the origin O,",

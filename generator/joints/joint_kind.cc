@@ -48,6 +48,22 @@ void JointKind::Check(const Model&, const Joint&) const {}
 
 std::optional<JointCoordinate> JointKind::Coordinate(const Model&, const Joint&) const { return std::nullopt; }
 
+std::vector<GiNaC::ex> JointKind::Reaction(const Model&, const Joint&, const std::vector<Frame>&,
+                                           const JointReaction& r, std::string* why) const {
+  // A higher pair: the multiplier of its row (its contact force, in the row's scale).
+  if (r.multipliers.size() != 1) return *why = "a contour cam's contact is not derived yet", std::vector<GiNaC::ex>{};
+  return {r.multipliers[0]};
+}
+
+GiNaC::ex JointKind::RelativeMotion(const Model&, const Joint& j, const std::vector<Frame>&, const GiNaC::ex&) const {
+  throw std::logic_error("mechgen bug: friction at joint '" + j.name + "', whose kind models none");
+}
+
+JointFriction JointKind::CoulombFriction(const Model&, const Joint& j, const mechgen::Friction&,
+                                         const std::vector<Frame>&, const JointReaction&) const {
+  throw std::logic_error("mechgen bug: friction at joint '" + j.name + "', whose kind models none");
+}
+
 Frame JointKind::PlaceChild(const Model&, const Joint& j, int, const Frame&, const GiNaC::ex&,
                             const GiNaC::ex&) const {
   throw std::logic_error("mechgen bug: joint '" + j.name + "' is a higher pair and cannot place a link");

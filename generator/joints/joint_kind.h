@@ -3,7 +3,9 @@
 // reads and parses them into its data (model.h: RevoluteData, ...), which coordinate it adds
 // (s, psi, u), how it places a child link when it is a tree joint, which rows it adds to
 // Phi when it is a cut joint (and a rolling joint's no-slip row always), how the report
-// describes it, and which reaction components it will transmit (statics, issue 14).
+// describes it, which reaction components it transmits and their values in the force
+// analysis' unknowns (statics, issue 14; symbolic/reactions.cc keeps only what is common),
+// and the relative motion its Coulomb friction opposes.
 //
 // A new joint kind: add its data to JointData (model.h) and its JointType, write
 // joints/<kind>.cc implementing JointKind, register it in JointKinds() (joint_kind.cc), and
@@ -77,6 +79,29 @@ struct ReactionComponent {
   std::string what;  ///< a sentence for the header
 };
 
+/// How a joint transmits its reaction (statics, issue 14; symbolic/reactions.cc derives the
+/// unknowns, the kind makes its components of them).
+enum class ReactionForm {
+  kForce,           ///< a force at the joint's point (revolute)
+  kForceAndMoment,  ///< a force at the joint's point and a moment about it (prismatic: no relative rotation)
+  kContact,         ///< a contact force along its row's direction, the row's multiplier (higher pairs, rolling)
+};
+
+/// The unknowns of the force analysis at one joint, from which its kind makes its reaction
+/// components (JointKind::Reaction).
+struct JointReaction {
+  Vec2 F{0, 0};         ///< force of link_a on link_b at the joint's point (kForce, kForceAndMoment)
+  GiNaC::ex M = 0;      ///< moment of link_a on link_b about that point (kForceAndMoment)
+  GiNaC::ex along = 0;  ///< forces along the joint's line that act apart from F (a tree slider's friction and actuator)
+  std::vector<GiNaC::ex> multipliers;  ///< the multipliers of the joint's Phi rows, in row order
+};
+
+/// Coulomb friction at a joint: the friction load is gain normal, against `relative`.
+struct JointFriction {
+  GiNaC::ex normal;  ///< the force friction acts with (>= 0)
+  GiNaC::ex gain;    ///< mu r (revolute: the friction circle's radius) or mu (prismatic)
+};
+
 class JointKind {
  public:
   virtual ~JointKind() = default;
@@ -118,6 +143,21 @@ class JointKind {
   /// kind, acting against the relative motion of the joint's coordinate) will be a key of
   /// the kind and a term in these components. Not used by the kinematics.
   virtual std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const = 0;
+  /// How the joint transmits its reaction (default: a contact force, its row's multiplier).
+  virtual ReactionForm Reacts() const { return ReactionForm::kContact; }
+  /// The values of ReactionComponents(), in their order, from the unknowns `r` at the joint;
+  /// \param frames every link's frame. Empty, with *why set, where the kind cannot give them
+  /// (the default: the multiplier of the joint's one row, not a contact of two rows).
+  virtual std::vector<GiNaC::ex> Reaction(const Model& m, const Joint& j, const std::vector<Frame>& frames,
+                                          const JointReaction& r, std::string* why) const;
+  /// The relative motion Coulomb friction opposes (revolute: theta_b - theta_a; prismatic:
+  /// its slide s), from every link's frame and the joint's coordinate `s` (0 if none).
+  /// Friction is modelled at revolute and prismatic joints only (model/statics.cc).
+  virtual GiNaC::ex RelativeMotion(const Model& m, const Joint& j, const std::vector<Frame>& frames,
+                                   const GiNaC::ex& s) const;
+  /// Coulomb friction with coefficient data `f` at the joint whose unknowns are `r`.
+  virtual JointFriction CoulombFriction(const Model& m, const Joint& j, const Friction& f,
+                                        const std::vector<Frame>& frames, const JointReaction& r) const;
 };
 
 /// Every joint kind, in JointType order (the registry).

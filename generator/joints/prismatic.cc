@@ -4,6 +4,9 @@
 //   model file:  P: {prismatic: {guide: link1.G, slider: link2.S, angle: a, relative_angle: b}}
 //   coordinate:  s_<joint>, the slider point's displacement from the guide point
 //   cut joint:   r_guide + s u - r_slider = 0, two rows (x, y)
+//   reaction:    N (along n = u turned by 90 deg), T (along u: the actuator's and friction's
+//                force) and M (about the slider point), of the guide on the slider; friction
+//                the force mu |N| along u against s
 #include "joints/joint_kind.h"
 
 namespace mechgen {
@@ -87,10 +90,31 @@ class Prismatic : public JointKind {
   }
 
   std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
-    // (The statics adds T_<joint>, the force along the line: the actuator's and friction's.)
     const std::string by = "'" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name + "'";
     return {{"N_" + j.name, "normal force of " + by + " along n = (-sin a, cos a), a = the line's angle"},
+            {"T_" + j.name, "force of " + by + " along the line u = (cos a, sin a): actuator and friction"},
             {"M_" + j.name, "moment of " + by + " about the slider point, counter-clockwise"}};
+  }
+
+  // The force at the slider point and the moment about it: the guide keeps the slider's angle.
+  ReactionForm Reacts() const override { return ReactionForm::kForceAndMoment; }
+
+  // N = F.n, T = F.u (and the forces along the line that act apart from F), M.
+  std::vector<GiNaC::ex> Reaction(const Model&, const Joint& j, const std::vector<Frame>& frames,
+                                  const JointReaction& r, std::string*) const override {
+    const Vec2 u = LineDirection(j.Data<PrismaticData>(), frames[j.link_a].theta), n = {-u[1], u[0]};
+    return {r.F[0] * n[0] + r.F[1] * n[1], r.F[0] * u[0] + r.F[1] * u[1] + r.along, r.M};
+  }
+
+  // Friction acts along the line, gain mu |N|, against the slide s.
+  GiNaC::ex RelativeMotion(const Model&, const Joint&, const std::vector<Frame>&, const GiNaC::ex& s) const override {
+    return s;
+  }
+
+  JointFriction CoulombFriction(const Model&, const Joint& j, const Friction& f, const std::vector<Frame>& frames,
+                                const JointReaction& r) const override {
+    const Vec2 u = LineDirection(j.Data<PrismaticData>(), frames[j.link_a].theta), n = {-u[1], u[0]};
+    return {GiNaC::abs(r.F[0] * n[0] + r.F[1] * n[1]), f.coefficient};
   }
 };
 

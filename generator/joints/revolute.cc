@@ -4,6 +4,8 @@
 //                first, A (P = Q) and A_link3 (P = R) (ReadPinOverLinks)
 //   coordinate:  none (the links' angles are the coordinates)
 //   cut joint:   r_a - r_b = 0, two rows (x, y)
+//   reaction:    F_x, F_y, the force of link a on link b at the pin (fixed frame); friction
+//                the couple mu r |F| against theta_b - theta_a
 #include "joints/joint_kind.h"
 
 namespace mechgen {
@@ -57,6 +59,25 @@ class Revolute : public JointKind {
   std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
     const std::string on = "force of '" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name + "' at the pin, ";
     return {{"F_" + j.name + "_x", on + "x"}, {"F_" + j.name + "_y", on + "y"}};
+  }
+
+  // The force on the pin, in the fixed frame.
+  ReactionForm Reacts() const override { return ReactionForm::kForce; }
+
+  std::vector<GiNaC::ex> Reaction(const Model&, const Joint&, const std::vector<Frame>&, const JointReaction& r,
+                                  std::string*) const override {
+    return {r.F[0], r.F[1]};
+  }
+
+  // Friction turns the links against each other: a couple of gain |F| opposing theta_b - theta_a.
+  GiNaC::ex RelativeMotion(const Model&, const Joint& j, const std::vector<Frame>& frames,
+                           const GiNaC::ex&) const override {
+    return frames[j.link_b].theta - frames[j.link_a].theta;
+  }
+
+  JointFriction CoulombFriction(const Model&, const Joint&, const Friction& f, const std::vector<Frame>&,
+                                const JointReaction& r) const override {
+    return {GiNaC::sqrt(r.F[0] * r.F[0] + r.F[1] * r.F[1]), f.coefficient * f.pin_radius};
   }
 };
 

@@ -207,7 +207,7 @@ void ChooseMode(const Kinematics& k, Block* b, int index, GiNaC::exmap* values, 
   // Two slides (Cramer) have one solution and leave the assembly guess as it was.
   if (b->solve == BlockSolve::kNewton || b->solve == BlockSolve::kSS) return;
   const ClosedForm form = FormulateClosedForm(k, *b, index);
-  std::map<std::string, double> locals;
+  std::map<DyadLocal, double> locals;
   std::map<int, double> solution;
   const DyadStep* failed = nullptr;
   if (b->solve == BlockSolve::kLinear) {
@@ -229,22 +229,22 @@ void ChooseMode(const Kinematics& k, Block* b, int index, GiNaC::exmap* values, 
       // The requirement that failed: h2 >= 0 (RRR), disc >= 0 (RRP), |cos_arg| <= 1 (one angle).
       GiNaC::exmap at = *values;
       for (const DyadStep& s : form.steps)
-        if (s.kind == DyadStep::Kind::kLocal && locals.count(s.name) && GiNaC::is_a<GiNaC::symbol>(s.symbol))
-          at[s.symbol] = locals.at(s.name);
+        if (s.kind == DyadStep::Kind::kLocal && locals.count(s.local) && GiNaC::is_a<GiNaC::symbol>(s.symbol))
+          at[s.symbol] = locals.at(s.local);
       const double measure = Eval(failed->value, at);
       if (b->solve == BlockSolve::kRR && std::isfinite(measure))
-        *no_solution = "no real solution, the two circles do not meet: radii " + G(std::sqrt(locals["ra2"])) + " and " +
-                       G(std::sqrt(locals["rb2"])) + ", centres " + G(std::sqrt(locals["d2"])) + " apart";
-      if (b->solve == BlockSolve::kRS && std::isfinite(measure) && locals.count("A") && locals["A"] != 0)
+        *no_solution = "no real solution, the two circles do not meet: radii " + G(std::sqrt(locals[DyadLocal::kRa2])) + " and " +
+                       G(std::sqrt(locals[DyadLocal::kRb2])) + ", centres " + G(std::sqrt(locals[DyadLocal::kD2])) + " apart";
+      if (b->solve == BlockSolve::kRS && std::isfinite(measure) && locals.count(DyadLocal::kQuadA) && locals[DyadLocal::kQuadA] != 0)
         *no_solution = "no real solution, the circle and the line do not meet (discriminant " + G(measure) + " < 0)";
-      if (b->solve == BlockSolve::kAngle && std::isfinite(locals["c0"]) && std::isfinite(locals["rho"]) &&
-          std::abs(locals["c0"]) > locals["rho"])
+      if (b->solve == BlockSolve::kAngle && std::isfinite(locals[DyadLocal::kC0]) && std::isfinite(locals[DyadLocal::kRho]) &&
+          std::abs(locals[DyadLocal::kC0]) > locals[DyadLocal::kRho])
         *no_solution = "no real solution, c0 + c1 cos u + c2 sin u = 0 needs |c0| <= sqrt(c1^2 + c2^2), but |c0| = " +
-                       G(std::abs(locals["c0"])) + " > " + G(locals["rho"]);
+                       G(std::abs(locals[DyadLocal::kC0])) + " > " + G(locals[DyadLocal::kRho]);
       continue;
     }
     // A slide solved from a quadratic with no s^2 term has no second root to choose.
-    if (b->solve == BlockSolve::kRS && !(locals.count("A") && locals["A"] != 0)) continue;
+    if (b->solve == BlockSolve::kRS && !(locals.count(DyadLocal::kQuadA) && locals[DyadLocal::kQuadA] != 0)) continue;
     double dist = 0;
     for (const int c : b->cols)
       dist += k.phi[c].is_angle ? AngleDistance(solution[c], guess.at(c)) : std::abs(solution[c] - guess.at(c));
@@ -407,7 +407,7 @@ class ReachModel {
           case DyadStep::Kind::kRequire:
             compile(st.value, &step.value);
             if (!st.slack.is_zero()) compile(st.slack, &step.slack);
-            if (!st.clamped_name.empty()) step.target = slot(st.clamped);
+            if (st.has_clamped) step.target = slot(st.clamped);
             break;
           case DyadStep::Kind::kAngle:
             compile(st.y, &step.y);
@@ -452,7 +452,7 @@ class ReachModel {
               *what = st.what;
               return false;
             }
-            if (!st.clamped_name.empty())
+            if (st.has_clamped)
               values_[s.target] = st.require == DyadStep::Require::kNonNegative ? std::max(d, 0.0)
                                                                                 : std::max(-1.0, std::min(d, 1.0));
             break;

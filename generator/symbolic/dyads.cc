@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace mechgen {
 
@@ -36,6 +37,59 @@ static ex quadratic_root_evalf(const ex& a, const ex& b, const ex& c, const ex& 
 REGISTER_FUNCTION(stable_half, evalf_func(stable_half_evalf))
 REGISTER_FUNCTION(quadratic_root, evalf_func(quadratic_root_evalf))
 
+const char* DyadLocalName(DyadLocal l) {
+  switch (l) {
+    case DyadLocal::kAx: return "ax";
+    case DyadLocal::kAy: return "ay";
+    case DyadLocal::kBx: return "bx";
+    case DyadLocal::kBy: return "by";
+    case DyadLocal::kWx: return "wx";
+    case DyadLocal::kWy: return "wy";
+    case DyadLocal::kRa2: return "ra2";
+    case DyadLocal::kRb2: return "rb2";
+    case DyadLocal::kD2: return "d2";
+    case DyadLocal::kInvD2: return "inv_d2";
+    case DyadLocal::kK: return "k";
+    case DyadLocal::kH2: return "h2";
+    case DyadLocal::kH2c: return "h2c";
+    case DyadLocal::kH: return "h";
+    case DyadLocal::kMx: return "mx";
+    case DyadLocal::kMy: return "my";
+    case DyadLocal::kCrossU: return "cross_u";
+    case DyadLocal::kDotU: return "dot_u";
+    case DyadLocal::kCrossV: return "cross_v";
+    case DyadLocal::kDotV: return "dot_v";
+    case DyadLocal::kInvRa2: return "inv_ra2";
+    case DyadLocal::kInvRb2: return "inv_rb2";
+    case DyadLocal::kC0: return "c0";
+    case DyadLocal::kC1: return "c1";
+    case DyadLocal::kC2: return "c2";
+    case DyadLocal::kRho: return "rho";
+    case DyadLocal::kCosArg: return "cos_arg";
+    case DyadLocal::kCosArgc: return "cos_argc";
+    case DyadLocal::kQuadA: return "A";
+    case DyadLocal::kQuadB: return "B";
+    case DyadLocal::kQuadC: return "C";
+    case DyadLocal::kS: return "s";
+    case DyadLocal::kDisc: return "disc";
+    case DyadLocal::kDiscc: return "discc";
+    case DyadLocal::kDiscScale: return "disc_scale";
+    case DyadLocal::kSq: return "sq";
+    case DyadLocal::kQq: return "qq";
+    case DyadLocal::kA2: return "a2";
+    case DyadLocal::kInvA2: return "inv_a2";
+    case DyadLocal::kE0x: return "e0x";
+    case DyadLocal::kE0y: return "e0y";
+    case DyadLocal::kE1x: return "e1x";
+    case DyadLocal::kE1y: return "e1y";
+    case DyadLocal::kW0x: return "w0x";
+    case DyadLocal::kW0y: return "w0y";
+    case DyadLocal::kDet: return "det";
+    case DyadLocal::kInvDet: return "inv_det";
+  }
+  return "";
+}
+
 namespace {
 
 class Builder {
@@ -43,10 +97,11 @@ class Builder {
   explicit Builder(ClosedForm* f) : f_(*f) {}
 
   // A named local, or the value itself when it is a number or a symbol already.
-  ex Local(const std::string& name, const ex& value) {
+  ex Local(DyadLocal local, const ex& value) {
+    const std::string name = DyadLocalName(local);
     DyadStep s;
     s.kind = DyadStep::Kind::kLocal;
-    s.name = name;
+    s.local = local;
     s.value = value;
     if (GiNaC::is_a<GiNaC::numeric>(value) || GiNaC::is_a<GiNaC::symbol>(value))
       s.symbol = value;
@@ -58,7 +113,7 @@ class Builder {
   // A requirement; with a slack, also the value clamped into the range (returned; else
   // the value itself).
   ex Require(DyadStep::Require r, const ex& value, const ex& measure, bool singular, const std::string& what,
-             const ex& slack = 0, const std::string& clamped_name = "") {
+             const ex& slack = 0, std::optional<DyadLocal> clamped = std::nullopt) {
     DyadStep s;
     s.kind = DyadStep::Kind::kRequire;
     s.require = r;
@@ -68,9 +123,10 @@ class Builder {
     s.what = what;
     s.slack = slack;
     ex result = value;
-    if (!clamped_name.empty()) {
-      s.clamped_name = clamped_name;
-      s.clamped = GiNaC::symbol(clamped_name + f_.suffix);
+    if (clamped) {
+      s.has_clamped = true;
+      s.clamped_local = *clamped;
+      s.clamped = GiNaC::symbol(DyadLocalName(*clamped) + f_.suffix);
       result = s.clamped;
     }
     f_.steps.push_back(s);
@@ -101,8 +157,8 @@ class Builder {
     s.value = value;
     f_.steps.push_back(s);
   }
-  void Trig(int col, const std::string& inv_name, const ex& norm2, const ex& dot, const ex& cross) {
-    f_.trig.push_back({col, inv_name, norm2, dot, cross});
+  void Trig(int col, DyadLocal inv, const ex& norm2, const ex& dot, const ex& cross) {
+    f_.trig.push_back({col, DyadLocalName(inv), norm2, dot, cross});
   }
 
  private:
@@ -127,50 +183,50 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
     case BlockSolve::kRR: {
       // R(u) a + R(v) b = w: the tip m = R(u) a lies on the circles |m| = |a|, |w - m| = |b|.
       const int u = b.cols[b.iu], v = b.cols[1 - b.iu];
-      const ex ax = s.Local("ax", b.a[0]), ay = s.Local("ay", b.a[1]);
-      const ex bx = s.Local("bx", b.b[0]), by = s.Local("by", b.b[1]);
-      const ex wx = s.Local("wx", -b.w0[0]), wy = s.Local("wy", -b.w0[1]);
-      const ex ra2 = s.Local("ra2", ax * ax + ay * ay), rb2 = s.Local("rb2", bx * bx + by * by);
+      const ex ax = s.Local(DyadLocal::kAx, b.a[0]), ay = s.Local(DyadLocal::kAy, b.a[1]);
+      const ex bx = s.Local(DyadLocal::kBx, b.b[0]), by = s.Local(DyadLocal::kBy, b.b[1]);
+      const ex wx = s.Local(DyadLocal::kWx, -b.w0[0]), wy = s.Local(DyadLocal::kWy, -b.w0[1]);
+      const ex ra2 = s.Local(DyadLocal::kRa2, ax * ax + ay * ay), rb2 = s.Local(DyadLocal::kRb2, bx * bx + by * by);
       // A link of zero length: its angle is not determined.
       s.RequirePositive(ra2, "a link of the dyad has zero length");
       s.RequirePositive(rb2, "a link of the dyad has zero length");
-      const ex d2 = s.Local("d2", wx * wx + wy * wy);
+      const ex d2 = s.Local(DyadLocal::kD2, wx * wx + wy * wy);
       // Coincident centres (to rounding): the dyad may turn about them, nothing fixes it.
       s.Require(DyadStep::Require::kPositive, d2 - eps * eps * (ra2 + rb2), d2, true,
                 "the two circle centres coincide");
-      const ex inv_d2 = s.Local("inv_d2", 1 / d2);
-      const ex kk = s.Local("k", GiNaC::numeric(1, 2) + (ra2 - rb2) * inv_d2 / 2);
-      const ex h2 = s.Local("h2", ra2 * inv_d2 - kk * kk);
+      const ex inv_d2 = s.Local(DyadLocal::kInvD2, 1 / d2);
+      const ex kk = s.Local(DyadLocal::kK, GiNaC::numeric(1, 2) + (ra2 - rb2) * inv_d2 / 2);
+      const ex h2 = s.Local(DyadLocal::kH2, ra2 * inv_d2 - kk * kk);
       // h2 < 0: the two circles do not meet, the loop cannot close (NaN also fails); within
       // the rounding of its terms, the circles touch (h2 = 0).
       const ex h2c = s.Require(DyadStep::Require::kNonNegative, h2, h2, false, "the two circles do not meet",
-                               64 * eps * (ra2 * inv_d2 + GiNaC::abs(kk) * (1 + (ra2 + rb2) * inv_d2)), "h2c");
+                               64 * eps * (ra2 * inv_d2 + GiNaC::abs(kk) * (1 + (ra2 + rb2) * inv_d2)), DyadLocal::kH2c);
       // |m x w| = |h| |w|^2 = |a| |b| |sin(angle between the links)|.
       f.branch_num = h2c * d2 * d2;
       f.branch_den = ra2 * rb2;
       f.has_branch = true;
       f.branch_den_positive = true;
-      const ex h = s.Local("h", mode * GiNaC::sqrt(h2c));
-      const ex mx = s.Local("mx", kk * wx - h * wy), my = s.Local("my", kk * wy + h * wx);
+      const ex h = s.Local(DyadLocal::kH, mode * GiNaC::sqrt(h2c));
+      const ex mx = s.Local(DyadLocal::kMx, kk * wx - h * wy), my = s.Local(DyadLocal::kMy, kk * wy + h * wx);
       // u: the angle from a to m, v: from b to w - m, each one atan2 of (cross, dot).
-      const ex cu = s.Local("cross_u", ax * my - ay * mx), du = s.Local("dot_u", ax * mx + ay * my);
-      const ex cv = s.Local("cross_v", bx * (wy - my) - by * (wx - mx));
-      const ex dv = s.Local("dot_v", bx * (wx - mx) + by * (wy - my));
+      const ex cu = s.Local(DyadLocal::kCrossU, ax * my - ay * mx), du = s.Local(DyadLocal::kDotU, ax * mx + ay * my);
+      const ex cv = s.Local(DyadLocal::kCrossV, bx * (wy - my) - by * (wx - mx));
+      const ex dv = s.Local(DyadLocal::kDotV, bx * (wx - mx) + by * (wy - my));
       s.Angle(u, cu, du);
       s.Angle(v, cv, dv);
       // m = R(u) a and w - m = R(v) b: a.m = |a|^2 cos u, a x m = |a|^2 sin u, and so for v.
-      s.Trig(u, "inv_ra2", ra2, du, cu);
-      s.Trig(v, "inv_rb2", rb2, dv, cv);
+      s.Trig(u, DyadLocal::kInvRa2, ra2, du, cu);
+      s.Trig(v, DyadLocal::kInvRb2, rb2, dv, cv);
       break;
     }
     case BlockSolve::kAngle: {
       // c0 + c1 cos u + c2 sin u = 0: rho cos(u - delta) = -c0.
-      const ex c0 = s.Local("c0", b.c0), c1 = s.Local("c1", b.c1), c2 = s.Local("c2", b.c2);
-      const ex rho = s.Local("rho", GiNaC::sqrt(c1 * c1 + c2 * c2));
+      const ex c0 = s.Local(DyadLocal::kC0, b.c0), c1 = s.Local(DyadLocal::kC1, b.c1), c2 = s.Local(DyadLocal::kC2, b.c2);
+      const ex rho = s.Local(DyadLocal::kRho, GiNaC::sqrt(c1 * c1 + c2 * c2));
       s.RequirePositive(rho, "the angle moves nothing (c1 = c2 = 0: a link of zero length)");
-      const ex cos_arg = s.Local("cos_arg", -c0 / rho);
+      const ex cos_arg = s.Local(DyadLocal::kCosArg, -c0 / rho);
       const ex cos_argc = s.Require(DyadStep::Require::kAbsAtMostOne, cos_arg, 1 - GiNaC::abs(cos_arg), false,
-                                    "the loop cannot close, |c0| > sqrt(c1^2 + c2^2)", 64 * eps, "cos_argc");
+                                    "the loop cannot close, |c0| > sqrt(c1^2 + c2^2)", 64 * eps, DyadLocal::kCosArgc);
       s.Angle(b.cols[0], c2, c1, mode * GiNaC::acos(cos_argc));
       f.branch_num = 1 - cos_argc * cos_argc;
       f.branch_den = 1;
@@ -178,7 +234,7 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
       break;
     }
     case BlockSolve::kLinear: {
-      const ex c1 = s.Local("c1", b.c1);
+      const ex c1 = s.Local(DyadLocal::kC1, b.c1);
       s.RequireNonZero(c1, "its coefficient is zero");
       s.Value(b.cols[0], -b.c0 / c1);
       break;
@@ -189,49 +245,49 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
       // |a(s)|^2 = |w0(s)|^2: A s^2 + B s + C = 0
       const ex poly = (b.a[0] * b.a[0] + b.a[1] * b.a[1] - b.w0[0] * b.w0[0] - b.w0[1] * b.w0[1]).expand();
       const ex A = poly.coeff(sx, 2);
-      const ex B = s.Local("B", poly.coeff(sx, 1)), C = s.Local("C", poly.coeff(sx, 0));
+      const ex B = s.Local(DyadLocal::kQuadB, poly.coeff(sx, 1)), C = s.Local(DyadLocal::kQuadC, poly.coeff(sx, 0));
       ex root;
       if (A.is_zero()) {
         s.RequireNonZero(B, "the slide's equation does not depend on it");
-        root = s.Local("s", -C / B);
+        root = s.Local(DyadLocal::kS, -C / B);
       } else {
-        const ex An = s.Local("A", A);
+        const ex An = s.Local(DyadLocal::kQuadA, A);
         s.RequireNonZero(An, "its quadratic has no s^2 term here");
-        const ex disc = s.Local("disc", B * B - 4 * An * C);
+        const ex disc = s.Local(DyadLocal::kDisc, B * B - 4 * An * C);
         // disc < 0: the circle and the line do not meet (within rounding: they touch).
-        const ex scale = s.Local("disc_scale", B * B + 4 * GiNaC::abs(An * C));
+        const ex scale = s.Local(DyadLocal::kDiscScale, B * B + 4 * GiNaC::abs(An * C));
         const ex discc = s.Require(DyadStep::Require::kNonNegative, disc, disc, false,
-                                   "the circle and the line do not meet", 64 * eps * scale, "discc");
-        const ex sq = s.Local("sq", GiNaC::sqrt(discc));
+                                   "the circle and the line do not meet", 64 * eps * scale, DyadLocal::kDiscc);
+        const ex sq = s.Local(DyadLocal::kSq, GiNaC::sqrt(discc));
         // The root of the requested sign without cancellation: roots qq / A and C / qq.
-        const ex qq = s.Local("qq", stable_half(B, sq));
-        root = s.Local("s", quadratic_root(An, B, C, qq, mode));
+        const ex qq = s.Local(DyadLocal::kQq, stable_half(B, sq));
+        root = s.Local(DyadLocal::kS, quadratic_root(An, B, C, qq, mode));
         f.branch_num = discc;
         f.branch_den = scale;
         f.has_branch = true;
       }
       GiNaC::exmap at;
       at[sx] = root;
-      const ex ax = s.Local("ax", b.a[0].subs(at)), ay = s.Local("ay", b.a[1].subs(at));
-      const ex wx = s.Local("wx", -b.w0[0].subs(at)), wy = s.Local("wy", -b.w0[1].subs(at));
+      const ex ax = s.Local(DyadLocal::kAx, b.a[0].subs(at)), ay = s.Local(DyadLocal::kAy, b.a[1].subs(at));
+      const ex wx = s.Local(DyadLocal::kWx, -b.w0[0].subs(at)), wy = s.Local(DyadLocal::kWy, -b.w0[1].subs(at));
       s.Value(x, root);
       // a(s) = 0: the slider's point on the pivot, the angle is not determined.
-      const ex a2 = s.Local("a2", ax * ax + ay * ay);
+      const ex a2 = s.Local(DyadLocal::kA2, ax * ax + ay * ay);
       s.RequirePositive(a2, "the sliding point lies on the pivot (|a(s)| = 0)");
       // u: the angle from a to w, one atan2 of (cross, dot); R(u) a = w: a.w = |a|^2 cos u.
-      const ex cu = s.Local("cross_u", ax * wy - ay * wx), du = s.Local("dot_u", ax * wx + ay * wy);
+      const ex cu = s.Local(DyadLocal::kCrossU, ax * wy - ay * wx), du = s.Local(DyadLocal::kDotU, ax * wx + ay * wy);
       s.Angle(u, cu, du);
-      s.Trig(u, "inv_a2", a2, du, cu);
+      s.Trig(u, DyadLocal::kInvA2, a2, du, cu);
       break;
     }
     case BlockSolve::kSS: {
       // w0 + s0 e0 + s1 e1 = 0 by Cramer's rule.
-      const ex e0x = s.Local("e0x", b.e0[0]), e0y = s.Local("e0y", b.e0[1]);
-      const ex e1x = s.Local("e1x", b.e1[0]), e1y = s.Local("e1y", b.e1[1]);
-      const ex w0x = s.Local("w0x", b.w0[0]), w0y = s.Local("w0y", b.w0[1]);
-      const ex det = s.Local("det", e0x * e1y - e0y * e1x);
+      const ex e0x = s.Local(DyadLocal::kE0x, b.e0[0]), e0y = s.Local(DyadLocal::kE0y, b.e0[1]);
+      const ex e1x = s.Local(DyadLocal::kE1x, b.e1[0]), e1y = s.Local(DyadLocal::kE1y, b.e1[1]);
+      const ex w0x = s.Local(DyadLocal::kW0x, b.w0[0]), w0y = s.Local(DyadLocal::kW0y, b.w0[1]);
+      const ex det = s.Local(DyadLocal::kDet, e0x * e1y - e0y * e1x);
       s.RequireNonZero(det, "the two slides are parallel");
-      const ex inv = s.Local("inv_det", 1 / det);
+      const ex inv = s.Local(DyadLocal::kInvDet, 1 / det);
       s.Value(b.cols[0], (-w0x * e1y + w0y * e1x) * inv);
       s.Value(b.cols[1], (-e0x * w0y + e0y * w0x) * inv);
       break;
@@ -245,7 +301,7 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
 bool EvaluateClosedForm(const ClosedForm& f,
                         const GiNaC::exmap& values,
                         int mode,
-                        std::map<std::string, double>* locals,
+                        std::map<DyadLocal, double>* locals,
                         std::map<int, double>* solution,
                         const DyadStep** failed) {
   GiNaC::exmap v = values;
@@ -259,7 +315,7 @@ bool EvaluateClosedForm(const ClosedForm& f,
     switch (s.kind) {
       case DyadStep::Kind::kLocal: {
         const double d = eval(s.value);
-        (*locals)[s.name] = d;
+        (*locals)[s.local] = d;
         if (GiNaC::is_a<GiNaC::symbol>(s.symbol) && !GiNaC::is_a<GiNaC::symbol>(s.value)) v[s.symbol] = d;
         break;
       }
@@ -274,10 +330,10 @@ bool EvaluateClosedForm(const ClosedForm& f,
           *failed = &s;
           return false;
         }
-        if (!s.clamped_name.empty()) {
+        if (s.has_clamped) {
           const double c = s.require == DyadStep::Require::kNonNegative ? std::max(d, 0.0)
                                                                          : std::max(-1.0, std::min(d, 1.0));
-          (*locals)[s.clamped_name] = c;
+          (*locals)[s.clamped_local] = c;
           v[s.clamped] = c;
         }
         break;

@@ -45,6 +45,23 @@ DECLARE_FUNCTION_2P(stable_half)
 /// (-B + mode sqrt(disc)) / 2A, from qq = stable_half(B, sqrt(disc)) without cancellation.
 DECLARE_FUNCTION_5P(quadratic_root)
 
+/// The locals of the closed forms, by meaning: the messages of the generator read them
+/// (blocks.cc: the radii of two circles that do not meet, ...), and only DyadLocalName()
+/// spells them, for the generated code (with the block's suffix) and the symbols' names.
+/// RRR: a, b, w = -w0, |a|^2, |b|^2, |w|^2, 1/|w|^2, k, h^2 (h2c: clamped), h, the tip m,
+/// cross and dot of each link with its direction, 1/|a|^2, 1/|b|^2; one angle: c0, c1, c2,
+/// rho, cos_arg (clamped); RRP: the quadratic's A, B, C, the root s, disc (clamped), its scale,
+/// sqrt, stable half qq, |a|^2, 1/|a|^2; PRP: e0, e1, w0, det, 1/det.
+enum class DyadLocal {
+  kAx, kAy, kBx, kBy, kWx, kWy, kRa2, kRb2, kD2, kInvD2, kK, kH2, kH2c, kH, kMx, kMy, kCrossU,
+  kDotU, kCrossV, kDotV, kInvRa2, kInvRb2, kC0, kC1, kC2, kRho, kCosArg, kCosArgc, kQuadA, kQuadB,
+  kQuadC, kS, kDisc, kDiscc, kDiscScale, kSq, kQq, kA2, kInvA2, kE0x, kE0y, kE1x, kE1y, kW0x, kW0y,
+  kDet, kInvDet,
+};
+
+/// The name of a closed form's local in the generated code, without the block's suffix.
+const char* DyadLocalName(DyadLocal l);
+
 /// One step of a closed form.
 struct DyadStep {
   enum class Kind {
@@ -55,7 +72,7 @@ struct DyadStep {
   };
   enum class Require { kNonNegative, kAbsAtMostOne, kNonZero, kPositive };
   Kind kind = Kind::kLocal;
-  std::string name;  ///< kLocal: the local's name without the block suffix
+  DyadLocal local = DyadLocal::kAx;  ///< kLocal: which local it is
   GiNaC::ex symbol;  ///< kLocal: its symbol (named name + suffix), or its value when that is a number or a symbol
   GiNaC::ex value;   ///< kLocal, kValue: the value; kAngle: the term added to atan2; kRequire: tested
   GiNaC::ex y, x;    ///< kAngle
@@ -65,10 +82,11 @@ struct DyadStep {
   /// solution is not determined), not that the loop cannot close (kNotAssemblable).
   bool singular = false;
   /// kRequire (kNonNegative, kAbsAtMostOne): values outside the range by at most `slack`
-  /// (rounding) pass and are clamped into it as the local `clamped` (named clamped_name).
+  /// (rounding) pass and are clamped into it as the local `clamped` (clamped_local).
   GiNaC::ex slack = 0;
   GiNaC::ex clamped;
-  std::string clamped_name;
+  bool has_clamped = false;
+  DyadLocal clamped_local = DyadLocal::kH2c;  ///< has_clamped: which local the clamped value is
   std::string what;  ///< kRequire: what a failure means, for the generator's messages
   int col = -1;       ///< kAngle, kValue: index into phi
 };
@@ -77,7 +95,7 @@ struct DyadStep {
 /// cos = dot / norm2, sin = cross / norm2.
 struct DyadTrig {
   int col = -1;
-  std::string inv_name;  ///< name of the local 1 / norm2 (without suffix)
+  std::string inv_name;  ///< name of the local 1 / norm2 (without suffix): DyadLocalName() of it
   GiNaC::ex norm2, dot, cross;
 };
 
@@ -106,11 +124,11 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index);
 
 /// The closed form evaluated in double at `values` (parameters, inputs, earlier unknowns)
 /// with the given mode. Returns false at the first requirement that fails (*failed is its
-/// step). *locals gets every local by name (without suffix), *solution every unknown it sets.
+/// step). *locals gets every local it computed, *solution every unknown it sets.
 bool EvaluateClosedForm(const ClosedForm& f,
                         const GiNaC::exmap& values,
                         int mode,
-                        std::map<std::string, double>* locals,
+                        std::map<DyadLocal, double>* locals,
                         std::map<int, double>* solution,
                         const DyadStep** failed);
 

@@ -109,11 +109,12 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
     const std::string tag = N(l);
     Vec2 quad{0, 0};  // sum_bc d2r_G/dx_b dx_c xd_b xd_c
     for (int a2 = 0; a2 < nx; ++a2) {
-      J[l].push_back({xnamed("JG" + tag + "_x_" + N(a2), rG[0].diff(xs[a2])),
-                      xnamed("JG" + tag + "_y_" + N(a2), rG[1].diff(xs[a2]))});
+      const Vec2 d{rG[0].diff(xs[a2]), rG[1].diff(xs[a2])};
+      J[l].push_back({xnamed("JG" + tag + "_x_" + N(a2), d[0]), xnamed("JG" + tag + "_y_" + N(a2), d[1])});
       Jth[l].push_back(body.theta.diff(xs[a2]));
-      for (int b = 0; b < nx; ++b)
-        for (int c = 0; c < 2; ++c) quad[c] += rG[c].diff(xs[a2]).diff(xs[b]) * xd[a2] * xd[b];
+      // Each second derivative once: d2/dx_a dx_b = d2/dx_b dx_a.
+      for (int b = a2; b < nx; ++b)
+        for (int c = 0; c < 2; ++c) quad[c] += (b == a2 ? 1 : 2) * d[c].diff(xs[b]) * xd[a2] * xd[b];
     }
     const Vec2 qn = {xnamed("aqG" + tag + "_x", quad[0]), xnamed("aqG" + tag + "_y", quad[1])};
     for (int a2 = 0; a2 < nx; ++a2) {
@@ -132,8 +133,10 @@ DynamicsTable::DynamicsTable(const Model& m, const Kinematics& k, const Symbolic
   for (int r = 0; r < nc; ++r) {
     for (int a2 = 0; a2 < nx; ++a2) Phi_x[r + nc * a2] = a2 < nq ? k.Phi_q(r, a2) : k.Phi_phi(r, a2 - nq);
     ex s = 0;
-    for (int a2 = 0; a2 < nx; ++a2)
-      for (int b = 0; b < nx; ++b) s += k.Phi[r].diff(xs[a2]).diff(xs[b]) * xd[a2] * xd[b];
+    for (int a2 = 0; a2 < nx; ++a2) {
+      const ex d = k.Phi[r].diff(xs[a2]);
+      for (int b = a2; b < nx; ++b) s += (b == a2 ? 1 : 2) * d.diff(xs[b]) * xd[a2] * xd[b];
+    }
     gamma[r] = -s;
   }
   excess_V = x.V;

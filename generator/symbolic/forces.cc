@@ -1,7 +1,7 @@
 // The applied forces and the potential energy (stages of StaticsTable, statics_stage.h):
 // loads, weights, d'Alembert's inertia forces, springs, dampers and friction as items on
-// the links, their generalized forces g on x = (q, phi), Q = g_q + K^T g_phi and the drive,
-// the actuators' items (for the reactions), V and its derivatives along the motion.
+// the links and their generalized forces g on x = (q, phi); Q = g_q + K^T g_phi, the drive
+// and the actuators' items (for the reactions); V and its derivatives along the motion.
 #include <stdexcept>
 
 #include "symbolic/statics_stage.h"
@@ -18,7 +18,7 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
   const Model& m = st.m;
   const Kinematics& k = st.k;
   const SymbolicTable& t = st.t;
-  const int nq = st.nq, nphi = st.nphi, nx = st.nx;
+  const int nq = st.nq, nx = st.nx;
   // ---- the loads' expressions in the coordinates ----
   GiNaC::exmap refs;
   for (const auto& [name, sym] : m.coordinate_refs) {
@@ -202,8 +202,8 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
     on_b.link = j.link_b;
     on_a.link = j.link_a;
     on_b.does_work = on_a.does_work = false;
-    const ex rel = j.type() == JointType::kRevolute ? k.frames[j.link_b].theta - k.frames[j.link_a].theta
-                                                     : ex(CoordinateOfJoint(m, k, layout.friction[i])->symbol);
+    const Coordinate* s = CoordinateOfJoint(m, k, layout.friction[i]);
+    const ex rel = KindOf(j).RelativeMotion(m, j, k.frames, s ? ex(s->symbol) : ex(0));
     // Viscous friction (dynamic modes) adds -c d(rel)/dt to the given Coulomb load.
     if (options.dynamic && !m.friction[i].viscous.is_zero()) {
       ex f;
@@ -236,6 +236,14 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
     program.push_back(Define("g_" + N(a), g, &gs[a]));
   }
   this->g = gs;
+}
+
+void StaticsTable::DeriveDrive(Stage& st) {
+  const Model& m = st.m;
+  const Kinematics& k = st.k;
+  const int nq = st.nq, nphi = st.nphi;
+  auto& items = st.items;
+  const auto& gs = st.gs;
   Q.assign(nq, 0);
   drive.assign(nq, 0);
   std::vector<ex> Qs(nq);
@@ -305,24 +313,28 @@ void StaticsTable::DerivePotential(Stage& st) {
     }
     return s;
   };
-  if (potential || options.dynamic) {
+  // Each mode derives what its function reads: dV/dq the statics and the kinetostatics (the
+  // `potential` quantity), Q_nc the applied forces' table (EvalDynamics' P_nc), d2V/dq2 the
+  // statics; the excess formulation none of them (it reads g and V).
+  const bool applied_forces = options.dynamic && !options.inertia && !options.excess;
+  if (potential && !applied_forces && !options.excess) {
     dV_dq.resize(nq);
     for (int j = 0; j < nq; ++j) dV_dq[j] = -along_motion(st.items, st.conservative, j);
-    if (options.dynamic) {  // Q + dV/dq: the virtual work of the loads, dampers and friction
-      std::vector<bool> non_conservative(st.conservative.size());
-      for (size_t i = 0; i < st.conservative.size(); ++i) non_conservative[i] = !st.conservative[i];
-      Q_nc.resize(nq);
-      for (int j = 0; j < nq; ++j) {
-        ex w = along_motion(st.items, non_conservative, j);
-        for (int a = 0; a < nx; ++a) w += st.gf[a] * st.motion.V(a, j);
-        Q_nc[j] = w;
-      }
+  }
+  if (applied_forces) {  // Q + dV/dq: the virtual work of the loads, dampers and friction
+    std::vector<bool> non_conservative(st.conservative.size());
+    for (size_t i = 0; i < st.conservative.size(); ++i) non_conservative[i] = !st.conservative[i];
+    Q_nc.resize(nq);
+    for (int j = 0; j < nq; ++j) {
+      ex w = along_motion(st.items, non_conservative, j);
+      for (int a = 0; a < nx; ++a) w += st.gf[a] * st.motion.V(a, j);
+      Q_nc[j] = w;
     }
-    if (t.requested.L && !options.dynamic) {
-      d2V_dq2.resize(nq * nq);
-      for (int j = 0; j < nq; ++j)
-        for (int kk = 0; kk < nq; ++kk) d2V_dq2[j + nq * kk] = -derivative(st.conservative, j, kk);
-    }
+  }
+  if (potential && t.requested.L && !options.dynamic) {
+    d2V_dq2.resize(nq * nq);
+    for (int j = 0; j < nq; ++j)
+      for (int kk = 0; kk < nq; ++kk) d2V_dq2[j + nq * kk] = -derivative(st.conservative, j, kk);
   }
   if (options.dynamic) stiffness = false;
   if (stiffness) {

@@ -1,10 +1,13 @@
-// The joints' reactions (a stage of StaticsTable, statics_stage.h): the multipliers
-// Phi_phi^T lambda = -g_phi block by block, a cut joint's force from its rows' multipliers, a
-// tree joint's from the balance of the subtree it carries, a prismatic joint's moment from
-// the links it guides, each component as the joint kind names it, and the friction joints'
-// normal forces and relative velocities.
+// The joints' reactions (a stage of StaticsTable, statics_stage.h): what every joint kind
+// shares. The multipliers Phi_phi^T lambda = -g_phi block by block; the unknowns at each
+// joint (JointReaction, joints/joint_kind.h): a cut joint's force from its rows'
+// multipliers, a tree joint's from the balance of the subtree it carries, a moment from the
+// links the joint keeps from turning; the table of components, each value as the joint's
+// kind makes it (JointKind::Reaction, joints/<kind>.cc); the friction joints' normal forces
+// (JointKind::CoulombFriction) and relative velocities.
 #include <functional>
 #include <set>
+#include <stdexcept>
 
 #include "symbolic/linalg.h"
 #include "symbolic/statics_stage.h"
@@ -16,7 +19,6 @@ using statics_detail::CoordinateOfJoint;
 using statics_detail::Cross;
 using statics_detail::Item;
 using statics_detail::N;
-using statics_detail::PrismaticLine;
 
 void StaticsTable::DeriveReactions(Stage& st) {
   const Model& m = st.m;
@@ -124,15 +126,15 @@ void StaticsTable::DeriveReactions(Stage& st) {
     for (size_t jn = 0; jn < m.joints.size(); ++jn) {
       const Joint& j = m.joints[jn];
       if (static_cast<int>(jn) == skip || S.count(j.link_a) == S.count(j.link_b)) continue;
-      const bool lower = j.type() == JointType::kRevolute || j.type() == JointType::kPrismatic;
-      if (!lower)
+      const ReactionForm form = KindOf(j).Reacts();
+      if (form == ReactionForm::kContact)
         fail(skip, std::string("it needs the contact force of ") + KindOf(j).Keys().section + " joint '" + j.name +
                        "' as a vector, which mechgen derives only as the joint's multiplier; ask for reactions at "
                        "revolute and prismatic joints whose links do not carry a gear, rack, cam or rolling contact");
       force_of(static_cast<int>(jn));
       const double sign = S.count(j.link_b) ? 1 : -1;
       add({sign * F[jn][0], sign * F[jn][1]}, F_at[jn], 0);
-      if (about && j.type() == JointType::kPrismatic) {
+      if (about && form == ReactionForm::kForceAndMoment) {
         if (!have_M[jn]) {
           if (tree_of_joint[jn] >= 0)
             fail(skip, "the moments of prismatic joints '" + m.joints[skip].name + "' and '" + j.name +
@@ -158,9 +160,10 @@ void StaticsTable::DeriveReactions(Stage& st) {
     if (have_F[jn]) return;
     const Joint& j = m.joints[jn];
     F_at[jn] = joint_point(jn);
-    const std::string base = (j.type() == JointType::kPrismatic ? "R_" : "F_") + j.name;
+    const ReactionForm form = KindOf(j).Reacts();
+    const std::string base = (form == ReactionForm::kForceAndMoment ? "R_" : "F_") + j.name;
     if (tree_of_joint[jn] < 0) {  // a cut joint: its rows' multipliers
-      if (j.type() != JointType::kRevolute && j.type() != JointType::kPrismatic) return;
+      if (form == ReactionForm::kContact) return;
       int rx = -1, ry = -1;
       for (int r : rows_of[jn]) {
         if (k.Phi_rows[r].component == RowComponent::kX) rx = r;
@@ -192,14 +195,16 @@ void StaticsTable::DeriveReactions(Stage& st) {
       const Placement& pl = k.placements[tree_of_joint[jn]];
       S = subtree(pl.child);
       sign_to_b = pl.child == j.link_b ? 1 : -1;
-    } else {  // the slider's side of the rotation group: links reached over the other prismatic joints
+    } else {  // the slider's side of the rotation group: links reached over the other joints that keep
+              // their links from turning (prismatic)
       std::vector<int> stack{j.link_b};
       while (!stack.empty()) {
         const int l = stack.back();
         stack.pop_back();
         if (!S.insert(l).second) continue;
         for (size_t o = 0; o < m.joints.size(); ++o)
-          if (static_cast<int>(o) != jn && m.joints[o].type() == JointType::kPrismatic && m.joints[o].Joins(l))
+          if (static_cast<int>(o) != jn && KindOf(m.joints[o]).Reacts() == ReactionForm::kForceAndMoment &&
+              m.joints[o].Joins(l))
             stack.push_back(m.joints[o].OtherLink(l));
       }
       if (S.count(j.link_a)) fail(jn, "its prismatic joints close a loop of their own");
@@ -211,60 +216,51 @@ void StaticsTable::DeriveReactions(Stage& st) {
     have_M[jn] = true;
   };
   for (int jn : needed) {
-    const Joint& j = m.joints[jn];
-    if (j.type() == JointType::kRevolute) force_of(jn);
-    else if (j.type() == JointType::kPrismatic) moment_of(jn);
+    const ReactionForm form = KindOf(m.joints[jn]).Reacts();
+    if (form == ReactionForm::kForce) force_of(jn);
+    else if (form == ReactionForm::kForceAndMoment) moment_of(jn);
     else if (tree_of_joint[jn] >= 0)
       fail(jn, "a rolling joint in the spanning tree: its contact force is not derived yet");
   }
-  for (const StaticsLayout::Component& c : layout.reactions) {
-    const Joint& j = m.joints[c.joint];
-    if (j.type() == JointType::kRevolute) {
-      R.push_back(c.name.back() == 'x' ? F[c.joint][0] : F[c.joint][1]);
-    } else if (j.type() == JointType::kPrismatic) {
-      Vec2 u, n;
-      PrismaticLine(k, j, &u, &n);
-      if (c.name[0] == 'N') R.push_back(F[c.joint][0] * n[0] + F[c.joint][1] * n[1]);
-      else if (c.name[0] == 'T') {
-        // Along the line: the friction force and the actuator's (a tree joint's balance above
-        // leaves them out: they act apart from it).
-        ex T = F[c.joint][0] * u[0] + F[c.joint][1] * u[1];
-        if (tree_of_joint[c.joint] >= 0) {  // a cut joint's multipliers hold them already
-          for (size_t i = 0; i < layout.friction.size(); ++i)
-            if (layout.friction[i] == c.joint) T += st.fr[i];
-          for (int j = 0; j < nq; ++j)
-            if (m.inputs[j].joint == c.joint) T += drive[j];
-        }
-        R.push_back(T);
-      }
-      else R.push_back(M[c.joint]);
-    } else {
-      // A higher pair: the multiplier of its row (its contact force, in the row's scale).
-      if (rows_of[c.joint].size() != 1) fail(c.joint, "a contour cam's contact is not derived yet");
-      R.push_back(lam[rows_of[c.joint][0]]);
+  // The unknowns at a joint, from which its kind makes its components and its friction.
+  auto unknowns = [&](int jn) {
+    JointReaction r;
+    r.F = F[jn];
+    r.M = M[jn];
+    for (int row : rows_of[jn]) r.multipliers.push_back(lam[row]);
+    return r;
+  };
+  for (size_t i = 0; i < m.outputs.reactions.size(); ++i) {
+    const int jn = m.outputs.reactions[i];
+    const Joint& j = m.joints[jn];
+    JointReaction r = unknowns(jn);
+    // Along a tree joint's line: the friction force and the actuator's (its subtree's balance
+    // above leaves them out: they act apart from it; a cut joint's multipliers hold them).
+    if (tree_of_joint[jn] >= 0) {
+      for (size_t f = 0; f < layout.friction.size(); ++f)
+        if (layout.friction[f] == jn) r.along += st.fr[f];
+      for (int q = 0; q < nq; ++q)
+        if (m.inputs[q].joint == jn) r.along += drive[q];
     }
+    std::string why;
+    const std::vector<ex> values = KindOf(j).Reaction(m, j, k.frames, r, &why);
+    if (values.empty()) fail(jn, why);
+    if (values.size() != KindOf(j).ReactionComponents(m, j).size())
+      throw std::logic_error("mechgen bug: joint '" + j.name + "' gives a value per component of another count");
+    R.insert(R.end(), values.begin(), values.end());
   }
   for (size_t i = 0; i < layout.friction.size(); ++i) {
     const int jn = layout.friction[i];
     const Joint& j = m.joints[jn];
-    const Friction& f = m.friction[i];
-    if (j.type() == JointType::kRevolute) {
-      normal.push_back(GiNaC::sqrt(F[jn][0] * F[jn][0] + F[jn][1] * F[jn][1]));
-      gain.push_back(f.coefficient * f.pin_radius);
-      const ex rel = k.frames[j.link_b].theta - k.frames[j.link_a].theta;
-      std::vector<ex> kr(nq);
-      for (int q = 0; q < nq; ++q) kr[q] = st.Along(rel, q);
-      K_rel.push_back(kr);
-    } else {
-      Vec2 u, n;
-      PrismaticLine(k, j, &u, &n);
-      normal.push_back(GiNaC::abs(F[jn][0] * n[0] + F[jn][1] * n[1]));
-      gain.push_back(f.coefficient);
-      const Coordinate* s = CoordinateOfJoint(m, k, jn);
-      std::vector<ex> kr(nq);
-      for (int q = 0; q < nq; ++q) kr[q] = st.Along(s->symbol, q);
-      K_rel.push_back(kr);
-    }
+    const JointKind& kind = KindOf(j);
+    const JointFriction f = kind.CoulombFriction(m, j, m.friction[i], k.frames, unknowns(jn));
+    normal.push_back(f.normal);
+    gain.push_back(f.gain);
+    const Coordinate* s = CoordinateOfJoint(m, k, jn);
+    const ex rel = kind.RelativeMotion(m, j, k.frames, s ? ex(s->symbol) : ex(0));
+    std::vector<ex> kr(nq);
+    for (int q = 0; q < nq; ++q) kr[q] = st.Along(rel, q);
+    K_rel.push_back(kr);
   }
 }
 

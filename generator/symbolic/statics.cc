@@ -63,13 +63,8 @@ StaticsLayout StaticsLayout::Of(const Model& m) {
   l.any = m.outputs.Has(Quantity::kForces) || m.outputs.Has(Quantity::kPotential) || !m.outputs.reactions.empty();
   for (int j : m.outputs.reactions) {
     const Joint& joint = m.joints[j];
-    const std::string by = "'" + m.links[joint.link_a].name + "' on '" + m.links[joint.link_b].name + "'";
-    // The joint kind names its components; a slider's force along its line (T) is the
-    // statics' own: the actuator's and friction's, between N and M.
+    // The joint kind names its components (joints/<kind>.cc).
     for (const ReactionComponent& c : KindOf(joint).ReactionComponents(m, joint)) {
-      if (joint.type() == JointType::kPrismatic && c.name[0] == 'M')
-        l.reactions.push_back(
-            {j, "T_" + joint.name, "force of " + by + " along the line u = (cos a, sin a): actuator and friction"});
       l.reactions.push_back({j, c.name, joint.IsLowerPair() ? c.what
                                                             : c.what + " (the multiplier of the joint's row: its generalized "
                                                                        "force on each coordinate x is F dPhi_row/dx)"});
@@ -87,9 +82,12 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   forces = m.outputs.Has(Quantity::kForces);
   potential = m.outputs.Has(Quantity::kPotential);
   stiffness = forces && potential && t.requested.L;  // for the stability of equilibria
+  // The stages each mode reads (the excess formulation reads g and V only: no Q on q, no
+  // actuators, no reactions), each derived once.
   Stage st(m, k, t, &slots);
   DeriveArguments(st);
   DeriveAppliedForces(st);
+  if (!options.excess) DeriveDrive(st);
   DerivePotential(st);
   DeriveReactions(st);
 }

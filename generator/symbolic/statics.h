@@ -113,7 +113,8 @@ class StaticsTable {
   // The stages, in order (statics_stage.h): each reads what the ones before derived.
   struct Stage;
   void DeriveArguments(Stage& st);      // statics.cc
-  void DeriveAppliedForces(Stage& st);  // forces.cc
+  void DeriveAppliedForces(Stage& st);  // forces.cc: the items, g and V
+  void DeriveDrive(Stage& st);          // forces.cc: Q, the drive and the actuators' items
   void DerivePotential(Stage& st);      // forces.cc
   void DeriveReactions(Stage& st);      // reactions.cc
 };

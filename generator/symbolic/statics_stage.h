@@ -5,7 +5,9 @@
 //   statics.cc    the arguments: K, friction, qd, qdd, t, phid slots; the bodies' coefficients
 //   forces.cc     the applied forces (loads, weights, inertia forces, springs, dampers,
 //                 friction), g, Q and the drive; the potential energy's derivatives and the stiffness
-//   reactions.cc  the multipliers and the joints' reactions, the friction joints' normal forces
+//   reactions.cc  the multipliers, the unknowns at each joint and the table of reactions (each
+//                 joint kind's own equations: JointKind::Reaction, joints/<kind>.cc), the
+//                 friction joints' normal forces
 // Internal to symbolic/: nothing outside includes it.
 #pragma once
 

@@ -4,6 +4,7 @@
 // the validation stage.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <regex>
@@ -161,10 +162,68 @@ TEST(JointKinds, DescriptionsCoordinatesAndReactionComponents) {
   ASSERT_TRUE(KindOf(slide).Coordinate(m, slide).has_value());
   EXPECT_EQ(KindOf(slide).Coordinate(m, slide)->name, "s_P");
   EXPECT_EQ(KindOf(pin).ReactionComponents(m, pin).size(), 2u);    // Fx, Fy
-  EXPECT_EQ(KindOf(slide).ReactionComponents(m, slide).size(), 2u);  // N, M
+  EXPECT_EQ(KindOf(slide).ReactionComponents(m, slide).size(), 3u);  // N, T, M
   // The lower pairs' ends: the points each joint holds on each of its links.
   EXPECT_EQ(m.PointName(slide.End(slide.link_a)), "g.S");
   EXPECT_EQ(m.PointName(slide.End(slide.link_b)), "s.C");
+}
+
+// Each kind's reaction equations (JointKind::Reaction, CoulombFriction, RelativeMotion), at
+// numbers, against the hand formulas of Paul §5: a pin passes its force on; a slider on a
+// line at absolute angle a has N = F.(-sin a, cos a), T = F.(cos a, sin a) plus the forces
+// along the line that act apart from F, and its moment; a higher pair its row's multiplier.
+TEST(JointKinds, ReactionComponentsFromTheUnknownsByHand) {
+  const Model m = LoadModelFromString(SliderCrank("{guide: g.S, slider: s.C, angle: 0.3}"), "sc.yaml");
+  const Joint& pin = m.joints[0];
+  const Joint& slide = m.joints[3];
+  const double guide_theta = 0.5, a = guide_theta + 0.3;  // the line's absolute angle
+  std::vector<Frame> frames(m.links.size());
+  frames[slide.link_a].theta = guide_theta;
+  frames[slide.link_b].theta = 1.25;
+  frames[pin.link_b].theta = 0.75;
+  JointReaction r;
+  r.F = {GiNaC::ex(2.5), GiNaC::ex(-1.5)};
+  r.M = 0.125;
+  r.along = 4;
+  auto value = [](const GiNaC::ex& e) { return GiNaC::ex_to<GiNaC::numeric>(e.evalf()).to_double(); };
+  std::string why;
+  const std::vector<GiNaC::ex> at_pin = KindOf(pin).Reaction(m, pin, frames, r, &why);
+  ASSERT_EQ(at_pin.size(), KindOf(pin).ReactionComponents(m, pin).size());
+  EXPECT_EQ(value(at_pin[0]), 2.5);
+  EXPECT_EQ(value(at_pin[1]), -1.5);
+  const std::vector<GiNaC::ex> at_slide = KindOf(slide).Reaction(m, slide, frames, r, &why);
+  ASSERT_EQ(at_slide.size(), KindOf(slide).ReactionComponents(m, slide).size());
+  EXPECT_NEAR(value(at_slide[0]), -2.5 * std::sin(a) - 1.5 * std::cos(a), 1e-15);
+  EXPECT_NEAR(value(at_slide[1]), 2.5 * std::cos(a) - 1.5 * std::sin(a) + 4, 1e-15);
+  EXPECT_EQ(value(at_slide[2]), 0.125);
+  EXPECT_EQ(KindOf(pin).Reacts(), ReactionForm::kForce);
+  EXPECT_EQ(KindOf(slide).Reacts(), ReactionForm::kForceAndMoment);
+
+  // Friction: a pin's circle mu r |F| against theta_b - theta_a, a slider's mu |N| against s.
+  Friction f;
+  f.coefficient = 0.2;
+  f.pin_radius = 0.01;
+  const JointFriction at_pin_f = KindOf(pin).CoulombFriction(m, pin, f, frames, r);
+  EXPECT_NEAR(value(at_pin_f.normal), std::hypot(2.5, 1.5), 1e-15);
+  EXPECT_NEAR(value(at_pin_f.gain), 0.002, 1e-18);
+  ASSERT_EQ(pin.link_a, slide.link_a);  // the ground, at theta 0.5 here
+  EXPECT_EQ(value(KindOf(pin).RelativeMotion(m, pin, frames, 0)), 0.25);
+  const JointFriction at_slide_f = KindOf(slide).CoulombFriction(m, slide, f, frames, r);
+  EXPECT_NEAR(value(at_slide_f.normal), std::abs(-2.5 * std::sin(a) - 1.5 * std::cos(a)), 1e-15);
+  EXPECT_EQ(value(at_slide_f.gain), 0.2);
+  EXPECT_EQ(value(KindOf(slide).RelativeMotion(m, slide, frames, 0.375)), 0.375);
+
+  // A higher pair: its one row's multiplier; a contact of two rows is refused with a reason.
+  const JointKind& gear = KindOf(JointType::kGear);
+  JointReaction contact;
+  contact.multipliers = {GiNaC::ex(7)};
+  ASSERT_EQ(gear.Reacts(), ReactionForm::kContact);
+  const std::vector<GiNaC::ex> at_gear = gear.Reaction(m, pin, frames, contact, &why);
+  ASSERT_EQ(at_gear.size(), 1u);
+  EXPECT_EQ(value(at_gear[0]), 7);
+  contact.multipliers.push_back(8);
+  EXPECT_TRUE(gear.Reaction(m, pin, frames, contact, &why).empty());
+  EXPECT_FALSE(why.empty());
 }
 
 TEST(Provenance, EveryPhiRowNamesItsJointLoopAndComponent) {

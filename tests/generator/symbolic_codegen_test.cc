@@ -58,7 +58,7 @@ struct Pipeline {
     *v = At(q);
     for (size_t bi = 0; bi < table.blocks.size(); ++bi) {
       const ClosedForm f = FormulateClosedForm(k, table.blocks[bi], static_cast<int>(bi));
-      std::map<std::string, double> locals;
+      std::map<DyadLocal, double> locals;
       std::map<int, double> solution;
       const DyadStep* failed = nullptr;
       if (!EvaluateClosedForm(f, *v, mode, &locals, &solution, &failed)) return false;
@@ -107,13 +107,13 @@ TEST(Dyads, RequirementFailsWhereTheLoopCannotClose) {
   GiNaC::exmap v = p.At({M_PI});
   for (const Parameter& par : p.m.params)
     if (par.name == "d") v[par.symbol] = 8.0;  // |BD| = 9 > b + c = 6.5
-  std::map<std::string, double> locals;
+  std::map<DyadLocal, double> locals;
   std::map<int, double> solution;
   const DyadStep* failed = nullptr;
   EXPECT_FALSE(EvaluateClosedForm(f, v, 1, &locals, &solution, &failed));
   ASSERT_NE(failed, nullptr);
   EXPECT_EQ(failed->kind, DyadStep::Kind::kRequire);
-  EXPECT_LT(locals.at("h2"), 0);
+  EXPECT_LT(locals.at(DyadLocal::kH2), 0);
   EXPECT_TRUE(solution.empty());
 }
 
