@@ -323,7 +323,7 @@ void AddForceColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
 template <class M, class SampleT>
 void AddReactionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
   using Row = CsvRow<SampleT>;
-  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
   if constexpr (kNumReactions > 0) {
     for (int k = 0; k < kNumReactions; ++k)
       add->Number(M::kReactionNames[k], M::kReactionNames[k][0] == 'M' ? "N m" : "N",
@@ -341,7 +341,7 @@ void AddReactionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
 template <class M>
 std::vector<std::pair<int, std::string>> RevoluteMagnitudes() {
   std::vector<std::pair<int, std::string>> magnitudes;
-  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
   if constexpr (kNumReactions > 0) {
     for (int r = 0; r + 1 < kNumReactions; ++r) {
       const std::string a = M::kReactionNames[r], b = M::kReactionNames[r + 1];
@@ -447,7 +447,7 @@ int Run(const Args& args) {
   using Sim = mechgen::dynamics::MinimalDynamics<M, Method>;
   using VecQ = typename Sim::VecQ;
   using SampleT = typename Sim::SampleT;
-  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
   const typename M::template ParamsT<double> params;
 
   VecQ q0, qd0;
@@ -574,7 +574,7 @@ int RunDriven(const Args& args) {
   using VecF = typename Sim::VecF;
   using SampleT = typename Sim::SampleT;
   constexpr int kNf = Sim::kNf;
-  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
   const typename M::template ParamsT<double> params;
 
   VecQ q0, qd0;
