@@ -47,7 +47,8 @@
 //             (theta_deg, t, omega, I, T_kin of the steady cycle: Paul §6.9.3).
 //   runup     From --idle-rpm against the load c_load = T_mean / omega(--rpm) (plus T_load of
 //             the model), the one-DOF simulator (mechgen/dynamics/forward.h) until the cycle
-//             mean speed settles (relative change < --steady-tol twice) or --t-end: CSV t,
+//             mean speed settles (relative change < --steady-tol twice: the simulator's
+//             steady-state detection, mechgen/dynamics/simulator.h) or --t-end: CSV t,
 //             theta_deg, omega, rpm, T_gas, T_load; summary: the time to reach 99 % of the
 //             final speed, the final mean speed, mean gas torque against the load.
 // Options (CLI11; `<model>_engine --help` lists them with their defaults) may come before or
@@ -897,17 +898,23 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   // Samples fine enough to time the cycles (720 per cycle at the target speed); the CSV
   // gets one row every --dt.
   mo.sample_dt = std::min(a.dt, e.cycle / omega / 720);
+  // Steady when the cycle-mean speed changed by less than --steady-tol of the last one over
+  // two successive cycles (the simulator's detection, dynamics/simulator.h: cycles of the
+  // crank angle from 0, e.cycle each).
+  mo.steady.enabled = true;
+  mo.steady.coordinate = 0;
+  mo.steady.cycle = e.cycle;
+  mo.steady.tolerance = a.steady_tol;
+  mo.steady.consecutive = 2;
   Sim sim(p, mo, {gas});
   VecQ q, qd;
   q(0) = 0;
   qd(0) = (a.idle_rpm > 0 ? a.idle_rpm : a.rpm / 4) * 2 * kPi / 60;
   if (!sim.Initialize(q)) return Fail("the model does not assemble at theta = 0");
   std::vector<RunupRow> rows;
-  // Cycle mean speeds from the crossings of theta = k cycle (linear between fine samples).
-  std::vector<double> t_cross, means;
-  int next_cycle = 1;
-  bool steady = false;
-  double next_row = 0, t_prev = 0, th_prev = 0;
+  // Each cycle's mean speed and the time it ended, as the simulator's detection reports them.
+  std::vector<double> cycle_end, means;
+  double next_row = 0;
   dyn::MinimalSummary summary;
   sim.Simulate(
       0.0, q, qd, a.t_end,
@@ -917,35 +924,21 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
           rows.push_back({s.t, s.q(0), s.qd(0), tg, -(T_load + c_load * s.qd(0))});
           next_row += a.dt;
         }
-        const double target = next_cycle * e.cycle;
-        const bool crossed = s.q(0) >= target;
-        if (crossed) {
-          t_cross.push_back(t_prev + (s.t - t_prev) * (target - th_prev) / (s.q(0) - th_prev));
-          ++next_cycle;
-          if (t_cross.size() >= 2) {
-            means.push_back(e.cycle / (t_cross[t_cross.size() - 1] - t_cross[t_cross.size() - 2]));
-            const size_t m = means.size();
-            if (m >= 3 && std::abs(means[m - 1] - means[m - 2]) < a.steady_tol * means[m - 1] &&
-                std::abs(means[m - 2] - means[m - 3]) < a.steady_tol * means[m - 1]) {
-              steady = true;
-              t_prev = s.t;
-              th_prev = s.q(0);
-              return false;
-            }
-          }
+        if (summary.steady.cycles > static_cast<int>(means.size())) {
+          cycle_end.push_back(summary.steady.t_crossing);
+          means.push_back(summary.steady.mean_speed);
         }
-        t_prev = s.t;
-        th_prev = s.q(0);
         return true;
       },
       &summary);
+  const bool steady = summary.steady.steady;
   if (!summary.IsSolutionUsable()) return Fail("the run-up failed: " + dyn::FormatSummary(summary));
   if (means.empty()) return Fail("the run-up did not complete two cycles before --t-end");
   const double final_mean = means.back();
   double t99 = -1;
   for (size_t i = 0; i < means.size(); ++i)
     if (std::abs(means[i] - final_mean) <= 0.01 * final_mean) {
-      t99 = t_cross[i + 1];
+      t99 = cycle_end[i];
       break;
     }
   Outputs outs;
@@ -955,8 +948,8 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   if (!outs.Commit(&error)) return Fail(error);
   std::printf("%s run-up from %.6g rpm against T_load %.6g N m + c_load %.6g N m s/rad (target %.6g rpm)\n",
               Model::kName, qd(0) * 60 / (2 * kPi), T_load, c_load, a.rpm);
-  std::printf("  %s at t = %.4g s after %zu cycles: cycle mean speed %.6g rad/s (%.6g rpm)\n",
-              steady ? "steady" : "not yet steady (--t-end)", rows.back().t, means.size() + 1, final_mean,
+  std::printf("  %s at t = %.4g s after %d cycles: cycle mean speed %.6g rad/s (%.6g rpm)\n",
+              steady ? "steady" : "not yet steady (--t-end)", rows.back().t, summary.steady.crossings, final_mean,
               final_mean * 60 / (2 * kPi));
   std::printf("  within 1 %% of the final speed from t = %.4g s\n", t99);
   std::printf("  mean gas torque %.6g N m, load at the final speed %.6g N m\n", mean_gas,

@@ -5,9 +5,10 @@
 // -DMECHGEN_MODEL_NAMESPACE=mech::<name>. It assembles the mechanism at the model's assembly
 // configuration (or --q0), starts from rest (or --qd0) and integrates the equation of motion
 // I(q) qdd + 1/2 I'(q) qd^2 = Q(t, q, qd) by the minimal method (mechgen/dynamics/forward.h)
-// until --t-end, or until the speed is periodic (steady state: the time of one revolution of the
-// first input changes by less than --steady-tol between revolutions, twice in a row; an angle
-// input only), or until an event stops it. Writes a CSV (one row every --dt seconds; its columns
+// until --t-end, or until the speed is periodic (steady state, the simulator's detection in
+// mechgen/dynamics/simulator.h: the mean speed of a revolution of the first input changes by
+// less than --steady-tol of the last one, two revolutions in a row; an angle input only), or
+// until an event stops it. Writes a CSV (one row every --dt seconds; its columns
 // declared once below with their units and signs and written by the one CSV writer, io/csv.h,
 // every number so that it reads back to the same double; the file written whole or not at
 // all, io/output_file.h: a CSV that cannot be written exits 1 with one line):
@@ -190,8 +191,8 @@ int ParseArgs(int argc, char** argv, const std::string& model, Args* a) {
   tools::Number(&app, "--atol", &a->atol, tools::NonNegative(kMaxAtol),
                 "integrator absolute tolerance (model units)");
   tools::Number(&app, "--steady-tol", &a->steady_tol, tools::Between(1e-12, 0.5),
-                "stop at a periodic steady state: the revolution time of the first input "
-                "changes by less than this, relative, twice in a row");
+                "stop at a periodic steady state: the mean speed of a revolution of the first "
+                "input changes by less than this, relative, twice in a row");
   bool no_steady = false;
   app.add_flag("--no-steady", no_steady, "run to --t-end regardless");
   app.add_flag("--energy-projection", a->energy_projection,
@@ -323,7 +324,7 @@ void AddForceColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
 template <class M, class SampleT>
 void AddReactionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
   using Row = CsvRow<SampleT>;
-  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
   if constexpr (kNumReactions > 0) {
     for (int k = 0; k < kNumReactions; ++k)
       add->Number(M::kReactionNames[k], M::kReactionNames[k][0] == 'M' ? "N m" : "N",
@@ -341,7 +342,7 @@ void AddReactionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
 template <class M>
 std::vector<std::pair<int, std::string>> RevoluteMagnitudes() {
   std::vector<std::pair<int, std::string>> magnitudes;
-  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
   if constexpr (kNumReactions > 0) {
     for (int r = 0; r + 1 < kNumReactions; ++r) {
       const std::string a = M::kReactionNames[r], b = M::kReactionNames[r + 1];
@@ -447,7 +448,7 @@ int Run(const Args& args) {
   using Sim = mechgen::dynamics::MinimalDynamics<M, Method>;
   using VecQ = typename Sim::VecQ;
   using SampleT = typename Sim::SampleT;
-  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
   const typename M::template ParamsT<double> params;
 
   VecQ q0, qd0;
@@ -460,6 +461,14 @@ int Run(const Args& args) {
   options.sample_dt = args.dt;
   options.energy_projection = args.energy_projection;
   options.stop_at_speed_zero = args.stop_at_speed_zero;
+  // Steady state: the simulator's detection (dynamics/simulator.h) per revolution of the first
+  // input, an angle: the cycle-mean speed settled to --steady-tol over two successive cycles.
+  const bool angle = M::kQIsAngle[0];
+  options.steady.enabled = angle && args.steady;
+  options.steady.coordinate = 0;
+  options.steady.cycle = kTwoPi;
+  options.steady.tolerance = args.steady_tol;
+  options.steady.consecutive = 2;
   Sim sim(params, options);
   if (!sim.Initialize(q0)) {
     std::fprintf(stderr, "error: %s does not assemble at the initial inputs\n", M::kName);
@@ -480,12 +489,6 @@ int Run(const Args& args) {
   const auto magnitudes = RevoluteMagnitudes<M>();
   mechgen::WriteCsvHeader(columns, csv.stream());
 
-  // Steady state: times at which the first input passes q0 + 2 pi k (angle inputs).
-  const bool angle = M::kQIsAngle[0];
-  double last_crossing = std::numeric_limits<double>::quiet_NaN(), last_period = 0;
-  int stable = 0, revolutions = 0;
-  bool steady_reached = false;
-  double prev_t = 0, prev_q = q0(0), steady_period = 0;
   double max_reaction = 0;
 
   auto observer = [&](const SampleT& s) {
@@ -504,32 +507,7 @@ int Run(const Args& args) {
     } else {
       mechgen::WriteCsvRow(columns, row, csv.stream());
     }
-    if (angle && args.steady && s.t > 0) {
-      // Crossings of q0 + 2 pi k, either direction, by linear interpolation between rows.
-      const double k_prev = std::floor((prev_q - q0(0)) / kTwoPi);
-      const double k_now = std::floor((s.q(0) - q0(0)) / kTwoPi);
-      if (k_now != k_prev) {
-        const double level = q0(0) + kTwoPi * std::max(k_now, k_prev);
-        const double t_cross = prev_t + (s.t - prev_t) * (level - prev_q) / (s.q(0) - prev_q);
-        if (!std::isnan(last_crossing)) {
-          const double period = t_cross - last_crossing;
-          ++revolutions;
-          if (last_period > 0 && std::abs(period - last_period) <= args.steady_tol * period) {
-            if (++stable >= 2) {
-              steady_reached = true;
-              steady_period = period;
-            }
-          } else {
-            stable = 0;
-          }
-          last_period = period;
-        }
-        last_crossing = t_cross;
-      }
-    }
-    prev_t = s.t;
-    prev_q = s.q(0);
-    return !steady_reached;
+    return true;
   };
 
   mechgen::dynamics::MinimalSummary summary;
@@ -539,11 +517,12 @@ int Run(const Args& args) {
   const bool failure = mechgen::dynamics::IsFailure(summary.status);
   if (!args.quiet) {
     std::printf("%s: %s\n", M::kName, mechgen::dynamics::FormatSummary(summary).c_str());
-    if (steady_reached) {
+    const auto& steady = summary.steady;
+    if (steady.steady) {
       std::printf("steady state at t = %.6g s: revolution time %.6g s (mean speed %.6g rad/s)\n",
-                  summary.t_end, steady_period, kTwoPi / steady_period);
+                  steady.t_steady, steady.period, steady.mean_speed);
     } else if (angle && args.steady) {
-      std::printf("no periodic steady state detected (%d revolutions)\n", revolutions);
+      std::printf("no periodic steady state detected (%d revolutions)\n", steady.cycles);
     }
     std::printf("end: t = %.6g s, %s = %.6g, %s_dot = %.6g; E - W_nc drift %.3g J; max |F| %.6g N\n",
                 summary.t_end, M::kQNames[0], last.q(0), M::kQNames[0], last.qd(0),
@@ -574,7 +553,7 @@ int RunDriven(const Args& args) {
   using VecF = typename Sim::VecF;
   using SampleT = typename Sim::SampleT;
   constexpr int kNf = Sim::kNf;
-  constexpr int kNumReactions = mechgen::statics::internal::NumReactions<M>::value;
+  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
   const typename M::template ParamsT<double> params;
 
   VecQ q0, qd0;

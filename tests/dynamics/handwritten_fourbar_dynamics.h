@@ -461,7 +461,20 @@ void EvalScene(const Params<Scalar>& p, const Vec<Scalar, Sizes::kNq>& q,
 
 struct Model : Sizes {
   static constexpr const char* kName = "handwritten_fourbar_dynamics";
+  // Output flags (core/model_traits.h reads them; the same twelve as a generated header):
+  // Statics with Q, drive, V, dV_dq and reactions (no stiffness, no friction), Dynamics and Excess.
+  static constexpr bool kHasStatics = true;
+  static constexpr bool kHasStaticsQ = true;
+  static constexpr bool kHasStaticsStiffness = false;
+  static constexpr bool kHasStaticsV = true;
+  static constexpr bool kHasStaticsD2V = false;
+  static constexpr bool kHasStaticsR = true;
+  static constexpr bool kHasStaticsFriction = false;
   static constexpr bool kHasDynamics = true;
+  static constexpr bool kHasExcess = true;
+  static constexpr bool kHasShaking = false;
+  static constexpr bool kHasRhs = false;
+  static constexpr bool kHasRhsConstants = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_crank"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"theta_coupler", "theta_rocker"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

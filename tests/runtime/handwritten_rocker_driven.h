@@ -98,6 +98,20 @@ void EvalCoefficients(const Params<Scalar>& p,
 
 struct Model : Sizes {
   static constexpr const char* kName = "handwritten_rocker_driven";
+  // Output flags (core/model_traits.h reads them; the same twelve as a generated header):
+  // positions and coefficients only.
+  static constexpr bool kHasStatics = false;
+  static constexpr bool kHasStaticsQ = false;
+  static constexpr bool kHasStaticsStiffness = false;
+  static constexpr bool kHasStaticsV = false;
+  static constexpr bool kHasStaticsD2V = false;
+  static constexpr bool kHasStaticsR = false;
+  static constexpr bool kHasStaticsFriction = false;
+  static constexpr bool kHasDynamics = false;
+  static constexpr bool kHasExcess = false;
+  static constexpr bool kHasShaking = false;
+  static constexpr bool kHasRhs = false;
+  static constexpr bool kHasRhsConstants = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_rocker"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"theta_crank", "theta_coupler"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

@@ -74,6 +74,20 @@ struct Statics {
 
 struct Model : Sizes {
   static constexpr const char* kName = "handwritten_statics_pendulum";
+  // Output flags (core/model_traits.h reads them; the same twelve as a generated header):
+  // Statics with Q, drive, V, dV_dq, d2V_dq2 and stiffness (Model::Stiffness) and reactions.
+  static constexpr bool kHasStatics = true;
+  static constexpr bool kHasStaticsQ = true;
+  static constexpr bool kHasStaticsStiffness = true;
+  static constexpr bool kHasStaticsV = true;
+  static constexpr bool kHasStaticsD2V = true;
+  static constexpr bool kHasStaticsR = true;
+  static constexpr bool kHasStaticsFriction = false;
+  static constexpr bool kHasDynamics = false;
+  static constexpr bool kHasExcess = false;
+  static constexpr bool kHasShaking = false;
+  static constexpr bool kHasRhs = false;
+  static constexpr bool kHasRhsConstants = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_pendulum"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"x_P", "y_P"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

@@ -174,6 +174,20 @@ void EvalScene(const Params<Scalar>& p, const Vec<Scalar, 1>& q, const Vec<Scala
 
 struct Model : Sizes {
   static constexpr const char* kName = "handwritten_statics_slider_crank";
+  // Output flags (core/model_traits.h reads them; the same twelve as a generated header):
+  // Statics with Q, drive, stiffness (Model::Stiffness), reactions and friction.
+  static constexpr bool kHasStatics = true;
+  static constexpr bool kHasStaticsQ = true;
+  static constexpr bool kHasStaticsStiffness = true;
+  static constexpr bool kHasStaticsV = false;
+  static constexpr bool kHasStaticsD2V = false;
+  static constexpr bool kHasStaticsR = true;
+  static constexpr bool kHasStaticsFriction = true;
+  static constexpr bool kHasDynamics = false;
+  static constexpr bool kHasExcess = false;
+  static constexpr bool kHasShaking = false;
+  static constexpr bool kHasRhs = false;
+  static constexpr bool kHasRhsConstants = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_crank"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"theta_rod", "s_slide"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

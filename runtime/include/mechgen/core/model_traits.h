@@ -165,19 +165,50 @@ struct ModelFeatures {
 };
 
 // ---- What a generated model has, output by output: the one place the runtime asks. ----
-// Each is a std::bool_constant of the model type M (the generated `struct Model`). Today they
-// detect the generated types and functions; when the generator emits a `kHas*` flag for every
-// output, each becomes that flag, here and nowhere else.
+// Every generated header declares twelve `static constexpr bool kHas*` flags, one per output
+// and one per optional member of Statics (generator/codegen/output_spec.cc renders them from
+// the output descriptions; tests/kinematics/output_flags_test.cc checks them against the
+// structs). The runtime reads those flags here and nowhere else; it does not detect members.
+// A hand-written model declares the same twelve flags with the values that describe it. A
+// type without a flag that the runtime reads stops the build with one static_assert naming
+// the flag (the detector below only serves that message; its answer is never used as the
+// flag's value).
 
 namespace internal {
-template <class M, class = void>
-struct DetectDynamics : std::false_type {};
-template <class M>
-struct DetectDynamics<M, std::void_t<typename M::template DynamicsT<double>>> : std::true_type {};
-template <class M, class = void>
-struct DetectRhs : std::false_type {};
-template <class M>
-struct DetectRhs<M, std::void_t<typename M::template RhsT<double>>> : std::true_type {};
+// Declares<Flag>_<M>: whether M declares `Flag` at all. ReadFlag_<Flag><M>(): M::Flag, after a
+// static_assert that names the flag when M lacks it (and then false, so no second error).
+#define MECHGEN_OUTPUT_FLAG_READER(Flag)                                                     \
+  template <class M, class = void>                                                           \
+  struct Declares_##Flag : std::false_type {};                                               \
+  template <class M>                                                                         \
+  struct Declares_##Flag<M, std::void_t<decltype(M::Flag)>> : std::true_type {};             \
+  template <class M>                                                                         \
+  constexpr bool ReadFlag_##Flag() {                                                         \
+    static_assert(Declares_##Flag<M>::value,                                                 \
+                  "the model type does not declare `static constexpr bool " #Flag            \
+                  "`: every generated header has it; a hand-written model must declare it "  \
+                  "(true only if it provides that output)");                                 \
+    if constexpr (Declares_##Flag<M>::value) {                                               \
+      return static_cast<bool>(M::Flag);                                                     \
+    } else {                                                                                 \
+      return false;                                                                          \
+    }                                                                                        \
+  }
+MECHGEN_OUTPUT_FLAG_READER(kHasStatics)
+MECHGEN_OUTPUT_FLAG_READER(kHasStaticsQ)
+MECHGEN_OUTPUT_FLAG_READER(kHasStaticsStiffness)
+MECHGEN_OUTPUT_FLAG_READER(kHasStaticsV)
+MECHGEN_OUTPUT_FLAG_READER(kHasStaticsD2V)
+MECHGEN_OUTPUT_FLAG_READER(kHasStaticsR)
+MECHGEN_OUTPUT_FLAG_READER(kHasStaticsFriction)
+MECHGEN_OUTPUT_FLAG_READER(kHasDynamics)
+MECHGEN_OUTPUT_FLAG_READER(kHasExcess)
+MECHGEN_OUTPUT_FLAG_READER(kHasShaking)
+MECHGEN_OUTPUT_FLAG_READER(kHasRhs)
+MECHGEN_OUTPUT_FLAG_READER(kHasRhsConstants)
+#undef MECHGEN_OUTPUT_FLAG_READER
+
+/// SolveTrig has no flag (it is not an output struct): whether M::SolveTrig exists, detected.
 template <class M, class = void>
 struct DetectSolveTrig : std::false_type {};
 template <class M>
@@ -187,57 +218,65 @@ struct DetectSolveTrig<M, std::void_t<decltype(M::template SolveTrig<double>(
                               std::declval<const std::array<int, M::kNumBlocks>&>(),
                               std::declval<typename M::template TrigT<double>*>()))>>
     : std::true_type {};
-template <class M, class = void>
-struct DetectExcess : std::false_type {};
-template <class M>
-struct DetectExcess<M, std::void_t<typename M::template ExcessT<double>>> : std::true_type {};
-template <class M, class = void>
-struct DetectShaking : std::false_type {};
-template <class M>
-struct DetectShaking<M, std::void_t<typename M::template ShakingT<double>>> : std::true_type {};
-template <class M, class = void>
-struct DetectStatics : std::false_type {};
-template <class M>
-struct DetectStatics<
-    M, std::void_t<typename M::template StaticsT<double>,
-                   decltype(M::template Forces<double>(
-                       std::declval<const typename M::template ParamsT<double>&>(),
-                       std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
-                       std::declval<const Eigen::Matrix<double, M::kNphi, 1>&>(),
-                       std::declval<const typename M::template CoefficientsT<double>&>(),
-                       std::declval<typename M::template StaticsT<double>*>()))>>
-    : std::true_type {};
-/// Its constants (M::RhsConstantsT), or an empty placeholder.
+
+/// Its constants (M::RhsConstantsT, when M::kHasRhsConstants), or an empty placeholder.
 struct NoRhsConstants {};
-template <class M, class = void>
+template <class M, bool = ReadFlag_kHasRhsConstants<M>()>
 struct RhsConstantsOf {
   using type = NoRhsConstants;
 };
 template <class M>
-struct RhsConstantsOf<M, std::void_t<typename M::template RhsConstantsT<double>>> {
+struct RhsConstantsOf<M, true> {
   using type = typename M::template RhsConstantsT<double>;
 };
 }  // namespace internal
 
-/// EvalDynamics (M::DynamicsT, M::Dynamics: I, h, Q, T, V, P_nc; the `dynamics` quantity).
+/// M::kHasStatics: EvalStatics (M::StaticsT, M::Forces; the `forces` or `potential`
+/// quantity). What the statics hold (Q, potential, reactions, friction) are the member flags
+/// below; statics::StaticsFeatures combines them.
 template <class M>
-struct HasDynamics : internal::DetectDynamics<M> {};
-/// EvalRhs (M::RhsT, M::Rhs, M::Prepare, M::RhsConstantsT: SolveTrig, K, L and the equation
-/// of motion in one pass).
+struct HasStatics : std::bool_constant<internal::ReadFlag_kHasStatics<M>()> {};
+/// M::kHasStaticsQ: Statics::Q and drive (the `forces` quantity).
 template <class M>
-struct HasRhs : internal::DetectRhs<M> {};
-/// SolveTrig (every block a closed form handing out its angles' sin and cos).
+struct HasStaticsQ : std::bool_constant<internal::ReadFlag_kHasStaticsQ<M>()> {};
+/// M::kHasStaticsStiffness: Statics::stiffness, set by M::Stiffness (EvalStiffness).
+template <class M>
+struct HasStaticsStiffness : std::bool_constant<internal::ReadFlag_kHasStaticsStiffness<M>()> {};
+/// M::kHasStaticsV: Statics::V and dV_dq (the `potential` quantity).
+template <class M>
+struct HasStaticsV : std::bool_constant<internal::ReadFlag_kHasStaticsV<M>()> {};
+/// M::kHasStaticsD2V: Statics::d2V_dq2, set by M::Stiffness (EvalStiffness).
+template <class M>
+struct HasStaticsD2V : std::bool_constant<internal::ReadFlag_kHasStaticsD2V<M>()> {};
+/// M::kHasStaticsR: Statics::R, the reactions (M::kNumReactions, M::kReactionNames).
+template <class M>
+struct HasStaticsR : std::bool_constant<internal::ReadFlag_kHasStaticsR<M>()> {};
+/// M::kHasStaticsFriction: Statics::normal, gain, K_rel and the friction loads M::Forces
+/// takes (M::kNumFriction, M::kFrictionJoints): Coulomb friction.
+template <class M>
+struct HasStaticsFriction : std::bool_constant<internal::ReadFlag_kHasStaticsFriction<M>()> {};
+/// M::kHasDynamics: EvalDynamics (M::DynamicsT, M::Dynamics: I, h, Q, T, V, P_nc; the
+/// `dynamics` quantity).
+template <class M>
+struct HasDynamics : std::bool_constant<internal::ReadFlag_kHasDynamics<M>()> {};
+/// M::kHasExcess: EvalExcess (M::ExcessT, M::ExcessDynamics: the excess-coordinate
+/// formulation).
+template <class M>
+struct HasExcess : std::bool_constant<internal::ReadFlag_kHasExcess<M>()> {};
+/// M::kHasShaking: EvalShaking (M::ShakingT, M::Shaking: the shaking force and moment, Paul
+/// ch. 7).
+template <class M>
+struct HasShaking : std::bool_constant<internal::ReadFlag_kHasShaking<M>()> {};
+/// M::kHasRhs: EvalRhs (M::RhsT, M::Rhs, M::Prepare: SolveTrig, K, L and the equation of
+/// motion in one pass).
+template <class M>
+struct HasRhs : std::bool_constant<internal::ReadFlag_kHasRhs<M>()> {};
+/// M::kHasRhsConstants: M::RhsConstantsT (what M::Prepare computes once per parameter set).
+template <class M>
+struct HasRhsConstants : std::bool_constant<internal::ReadFlag_kHasRhsConstants<M>()> {};
+/// SolveTrig (every block a closed form handing out its angles' sin and cos). Not an output
+/// struct, so no flag: detected.
 template <class M>
 struct HasSolveTrig : internal::DetectSolveTrig<M> {};
-/// EvalExcess (M::ExcessT, M::ExcessDynamics: the excess-coordinate formulation).
-template <class M>
-struct HasExcess : internal::DetectExcess<M> {};
-/// EvalShaking (M::ShakingT, M::Shaking: the shaking force and moment, Paul ch. 7).
-template <class M>
-struct HasShaking : internal::DetectShaking<M> {};
-/// EvalStatics (M::StaticsT, M::Forces: the `forces` quantity). What the statics hold in
-/// detail (reactions, potential, friction) is statics::StaticsFeatures.
-template <class M>
-struct HasStatics : internal::DetectStatics<M> {};
 
 }  // namespace mechgen

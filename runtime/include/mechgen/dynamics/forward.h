@@ -79,6 +79,10 @@ struct MinimalOptions {
   int max_solver_iterations = 20;
   double solver_tolerance = 0;
 
+  /// Stop at a periodic steady state (simulator.h: per cycle of one coordinate, the change of
+  /// the cycle-mean speed); off by default. Reported in the summary's `steady`.
+  SteadyStateOptions steady;
+
   bool IsValid(std::string* error) const {
     if (!integrator.IsValid(error)) return false;
     char buffer[160];
@@ -112,6 +116,7 @@ struct MinimalSummary {
   /// max |T + V - W - E0| over the samples (energy units): the energy balance's drift.
   double max_energy_error = 0;
   int projections = 0;  ///< energy projections made
+  SteadyStateSummary steady;  ///< the steady-state detection (options.steady)
   const char* message = "";
 
   bool IsSolutionUsable() const { return !IsFailure(status); }
@@ -524,6 +529,7 @@ class MinimalDynamics {
     events.event_tolerance = options_.event_tolerance;
     events.sample_dt = options_.sample_dt;
     events.max_samples = options_.max_samples;
+    events.steady = options_.steady;
     events.stop_at_speed_zero = options_.stop_at_speed_zero;
     events.energy_projection = options_.energy_projection;
     return internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);

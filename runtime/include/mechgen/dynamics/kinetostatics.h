@@ -212,7 +212,7 @@ class Kinetostatics {
 
   template <class S>
   static double ReactionNorm(const S& s) {
-    if constexpr (statics::internal::NumReactions<M>::value > 0) {
+    if constexpr (statics::StaticsFeatures<M>::kNumReactions > 0) {
       return s.R.cwiseAbs().maxCoeff();
     } else {
       (void)s;
@@ -221,7 +221,7 @@ class Kinetostatics {
   }
   template <class S>
   static void WithholdReactions(S* s) {
-    if constexpr (statics::internal::NumReactions<M>::value > 0) s->R.setConstant(Row::kNaN);
+    if constexpr (statics::StaticsFeatures<M>::kNumReactions > 0) s->R.setConstant(Row::kNaN);
     s->Q.setConstant(Row::kNaN);
   }
 

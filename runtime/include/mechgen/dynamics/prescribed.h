@@ -316,6 +316,10 @@ struct PrescribedOptions {
   double approach_rcond = 1e-3;
   int approach_steps = 200;
 
+  /// Stop at a periodic steady state (simulator.h: per cycle of one coordinate, the change of
+  /// the cycle-mean speed); off by default. Reported in the summary's `steady`.
+  SteadyStateOptions steady;
+
   bool IsValid(std::string* error) const {
     if (!integrator.IsValid(error)) return false;
     char buffer[160];
@@ -351,6 +355,7 @@ struct PrescribedSummary {
   /// max |T + V - W_nc - W_act - W_F - E0| over the samples: the energy balance's drift.
   double max_energy_error = 0;
   double max_abs_lambda = 0;  ///< max_i,samples |lambda_i|
+  SteadyStateSummary steady;  ///< the steady-state detection (options.steady)
   const char* message = "";
 
   bool IsSolutionUsable() const { return !IsFailure(status); }
@@ -581,6 +586,7 @@ class PrescribedDynamics {
     events.event_tolerance = options_.event_tolerance;
     events.sample_dt = options_.sample_dt;
     events.max_samples = options_.max_samples;
+    events.steady = options_.steady;
     events.approach_rcond = options_.approach_rcond;
     events.approach_steps = options_.approach_steps;
     return internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);

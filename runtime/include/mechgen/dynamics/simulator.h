@@ -12,7 +12,10 @@
  *    approach_steps accepted steps in a row with 1/cond below approach_rcond and falling end
  *    it there the same way (approach_steps = 0: not watched);
  *  - the speed qd(0) through zero (stop_at_speed_zero): Status::kStoppedByEvent;
- *  - a user stop condition g(t, q, qd, phi) changing sign: Status::kStoppedByEvent.
+ *  - a user stop condition g(t, q, qd, phi) changing sign: Status::kStoppedByEvent;
+ *  - a periodic steady state (SteadyStateOptions, when enabled): per cycle of one coordinate,
+ *    the cycle-mean speeds of the last N cycles settled; Status::kStoppedByEvent,
+ *    Event::kSteadyState after the sample that shows it (the observer sees that sample).
  * The earliest event of a step wins. Samples at t0 + k sample_dt (0: every accepted step, and
  * always at t_end) come from the dense output; an observer gets each and may stop the run.
  * Energy projection (free simulation only) after each step keeps T + V - W on its initial
@@ -29,6 +32,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -83,7 +87,7 @@ inline bool IsFailure(Status s) {
            s == Status::kStoppedByObserver);
 }
 
-enum class Event { kNone, kDeadPoint, kSpeedZero, kUser };
+enum class Event { kNone, kDeadPoint, kSpeedZero, kUser, kSteadyState };
 
 inline const char* ToString(Event e) {
   switch (e) {
@@ -95,6 +99,8 @@ inline const char* ToString(Event e) {
       return "speed_zero";
     case Event::kUser:
       return "user";
+    case Event::kSteadyState:
+      return "steady_state";
   }
   return "unknown";
 }
@@ -105,6 +111,144 @@ struct NoUserEvent {
   double operator()(double, const VecQ&, const VecQ&, const VecPhi&) const {
     return 1.0;
   }
+};
+
+
+/**
+ * Steady-state detection: the one definition of "the motion has become periodic" that the
+ * free, driven and engine simulations share (the simulate tool's stop at a steady state, the
+ * engine's run-up).
+ *
+ * Cycles of coordinate q_c = q(coordinate): the levels q_c(t0) + k cycle (k integer). A
+ * crossing is a sample at which q_c has passed into another interval between levels (either
+ * direction) through a level other than the one last crossed; its time is interpolated
+ * linearly between that sample and the one before, at the level passed (of the two levels
+ * around the move, the one with the larger k). Passing the last crossed level again does not
+ * count, and the start's level q_c(t0) counts as crossed at t0 (but not as a crossing): an
+ * oscillation about a level completes no cycle, and a motion that starts backwards does not
+ * pass its start level at once. Cycle n lies between two successive
+ * crossings (two adjacent levels: q_c has advanced one cycle); its duration is P_n and its
+ * mean speed w_n = cycle / P_n (the mean of |q_c dot| over it when q_c moves one way). The
+ * start is not a crossing: the first timed cycle ends at the second crossing.
+ *
+ * Steady after cycle n when the last N = consecutive changes of the mean speed are all
+ * smaller than tolerance times the latest mean speed:
+ *     |w_i - w_(i-1)| < tolerance w_n   for i = n - N + 1, ..., n.
+ * (This is the engine run-up's check as it was, N = 2, which this detector replaced without
+ * moving a number; the simulate tool's old check compared successive periods, |P_n - P_(n-1)|
+ * <= tolerance P_n, which differs from this one at second order in the tolerance.)
+ * Reported in the summary's SteadyStateSummary: crossings and cycles counted, the last
+ * period, mean speed and relative change |w_n - w_(n-1)| / w_n, and the time of the sample at
+ * which the motion was found steady. Nothing allocates.
+ */
+struct SteadyStateOptions {
+  static constexpr int kMaxConsecutive = 16;
+  bool enabled = false;
+  int coordinate = 0;        ///< which q (an index into the sample's q)
+  double cycle = 2 * kPi;    ///< the advance of q_c per cycle (2 pi: a revolution; 4 pi: a
+                             ///< four-stroke engine's cycle)
+  double tolerance = 1e-4;   ///< relative, in (0, 0.5]
+  int consecutive = 2;       ///< N, in [1, kMaxConsecutive]
+
+  /// The options make sense for a sample q of kNq coordinates.
+  bool IsValid(int kNq) const {
+    return coordinate >= 0 && coordinate < kNq && std::isfinite(cycle) && cycle > 0 &&
+           std::isfinite(tolerance) && tolerance > 0 && tolerance <= 0.5 && consecutive >= 1 &&
+           consecutive <= kMaxConsecutive;
+  }
+};
+
+/// What the steady-state detection saw (all NaN or 0 when it was not enabled).
+struct SteadyStateSummary {
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  bool steady = false;        ///< the run was found steady (and stopped there)
+  int crossings = 0;          ///< levels q_c(t0) + k cycle passed
+  int cycles = 0;             ///< cycles timed: crossings - 1 (0 before the second crossing)
+  double t_crossing = kNaN;   ///< time of the last crossing (s)
+  double period = kNaN;       ///< P_n: the duration of the last cycle (s)
+  double mean_speed = kNaN;   ///< w_n = cycle / P_n (rad/s for an angle)
+  double last_change = kNaN;  ///< |w_n - w_(n-1)| / w_n (NaN before two cycles)
+  double t_steady = kNaN;     ///< the time of the sample at which the run was found steady
+};
+
+/// The detector of SteadyStateOptions, fed one sample (t, q_c) at a time.
+class SteadyStateDetector {
+ public:
+  /// A run from (t0, q_c(t0)).
+  void Start(const SteadyStateOptions& o, double t0, double q0) {
+    o_ = o;
+    origin_ = q0;
+    prev_t_ = t0;
+    prev_q_ = q0;
+    k_ = 0;
+    k_last_ = 0;
+    prev_mean_ = SteadyStateSummary::kNaN;
+    count_ = 0;
+  }
+  /// The sample (t, q_c) after the previous one; updates *s. True when it shows the motion
+  /// steady (s->steady is then set).
+  bool Add(double t, double q, SteadyStateSummary* s) {
+    if (!std::isfinite(q)) return false;
+    const double k_now = Interval(q);
+    bool steady = false;
+    const double k_level = std::max(k_now, k_);
+    if (k_now != k_ && k_level != k_last_) {
+      const double level = origin_ + o_.cycle * k_level;
+      const double t_cross = prev_t_ + (t - prev_t_) * (level - prev_q_) / (q - prev_q_);
+      if (s->crossings > 0 && t_cross > s->t_crossing) {
+        const double period = t_cross - s->t_crossing;
+        const double mean = o_.cycle / period;
+        ++s->cycles;
+        s->period = period;
+        s->mean_speed = mean;
+        if (s->cycles >= 2) {
+          // The last N changes, newest first.
+          for (int i = std::min(count_, SteadyStateOptions::kMaxConsecutive - 1); i > 0; --i)
+            changes_[i] = changes_[i - 1];
+          changes_[0] = std::abs(mean - prev_mean_);
+          count_ = std::min(count_ + 1, SteadyStateOptions::kMaxConsecutive);
+          s->last_change = changes_[0] / mean;
+          if (count_ >= o_.consecutive) {
+            steady = true;
+            for (int i = 0; i < o_.consecutive; ++i) steady = steady && changes_[i] < o_.tolerance * mean;
+          }
+        }
+        prev_mean_ = mean;
+      }
+      ++s->crossings;
+      s->t_crossing = t_cross;
+      k_last_ = k_level;
+    }
+    k_ = k_now;
+    prev_t_ = t;
+    prev_q_ = q;
+    if (steady) {
+      s->steady = true;
+      s->t_steady = t;
+    }
+    return steady;
+  }
+
+ private:
+  /// k with origin + k cycle <= q < origin + (k + 1) cycle, by the same comparisons against
+  /// the levels that a crossing's interpolation uses.
+  double Interval(double q) const {
+    double k = std::floor((q - origin_) / o_.cycle);
+    if (q >= origin_ + o_.cycle * (k + 1)) {
+      k += 1;
+    } else if (q < origin_ + o_.cycle * k) {
+      k -= 1;
+    }
+    return k;
+  }
+
+  SteadyStateOptions o_;
+  double origin_ = 0, prev_t_ = 0, prev_q_ = 0;
+  double k_ = 0;       ///< the interval q_c was in at the last sample
+  double k_last_ = 0;  ///< the level crossed last (its k); the start's level to begin with
+  double prev_mean_ = SteadyStateSummary::kNaN;
+  std::array<double, SteadyStateOptions::kMaxConsecutive> changes_{};
+  int count_ = 0;  ///< changes held in changes_
 };
 
 namespace internal {
@@ -119,6 +263,7 @@ struct EventSettings {
   double approach_rcond = 1e-3;
   int approach_steps = 0;  ///< 0: the approach to a singular configuration is not watched
   bool energy_projection = false;
+  SteadyStateOptions steady;
 };
 
 /// The sample grid t0 + k sample_dt over [t0, t_end] advances at every t in it and has at
@@ -145,7 +290,7 @@ inline bool SampleGridIsUsable(double t0, double t_end, double sample_dt, int ma
  *   void OnDeadPoint(SampleT*)             what a sample at a singular configuration withholds,
  *   bool ProjectEnergy(f, E0, SampleT*)    when kCanProjectEnergy.
  * Summary has status, event, integrator, t_end, samples, position_failures, min_rcond_seen,
- * max_energy_error, message (and projections when P::kCanProjectEnergy).
+ * max_energy_error, steady, message (and projections when P::kCanProjectEnergy).
  */
 struct EventLoop {
   template <class P, class Summary, class Observer, class UserEvent>
@@ -168,6 +313,12 @@ struct EventLoop {
       summary->message =
           "sample_dt cannot advance the sample grid (t + sample_dt == t) or gives more than "
           "max_samples samples";
+      return finish(Status::kInvalidInput, t0);
+    }
+    if (o.steady.enabled && !o.steady.IsValid(P::kNq)) {
+      summary->message =
+          "steady-state options invalid: coordinate out of range, cycle not > 0, tolerance not "
+          "in (0, 0.5] or consecutive not in [1, 16]";
       return finish(Status::kInvalidInput, t0);
     }
     auto f = [sim](double t, const State& y, State* dy) { return sim->Derivative(t, y, dy); };
@@ -217,14 +368,38 @@ struct EventLoop {
       if (last != nullptr) *last = s0;
       return finish(Status::kDeadPoint, t0);
     }
+    // Each sample: the summary's figures and the steady-state detection, then the observer
+    // (which sees them). False: stop with status `stop` (the observer, or a steady state).
+    SteadyStateDetector steady;
+    const int c = o.steady.coordinate;
+    if (o.steady.enabled) steady.Start(o.steady, t0, s0.q(c));
+    Status stop = Status::kStoppedByObserver;
+    bool first = true;
     auto emit = [&](const SampleT& s) {
       ++summary->samples;
       if (last != nullptr) *last = s;
       summary->max_energy_error = std::max(summary->max_energy_error, std::abs(P::Balance(s) - E0));
       sim->Record(s, summary);
-      return observer(s);
+      const bool is_steady = o.steady.enabled && !first && steady.Add(s.t, s.q(c), &summary->steady);
+      first = false;
+      if (!observer(s)) {
+        stop = Status::kStoppedByObserver;
+        return false;
+      }
+      if (is_steady) {
+        stop = Status::kStoppedByEvent;
+        return false;
+      }
+      return true;
     };
-    if (!emit(s0)) return finish(Status::kStoppedByObserver, t0);
+    auto stopped = [&](double t) {
+      if (stop == Status::kStoppedByEvent) {
+        summary->event = Event::kSteadyState;
+        summary->message = "a periodic steady state: the cycle-mean speed settled";
+      }
+      return finish(stop, t);
+    };
+    if (!emit(s0)) return stopped(t0);
     int sample_index = 1;
     double next_sample = t0 + o.sample_dt;
 
@@ -295,7 +470,7 @@ struct EventLoop {
             summary->message = "the positions failed at a sample";
             return finish(Status::kPositionFailed, next_sample);
           }
-          if (!emit(s)) return finish(Status::kStoppedByObserver, s.t);
+          if (!emit(s)) return stopped(s.t);
           next_sample = t0 + o.sample_dt * ++sample_index;
         }
       }
@@ -326,7 +501,7 @@ struct EventLoop {
       const bool on_grid = o.sample_dt > 0 && std::abs(next_sample - t) <= tiny;
       if (on_grid) next_sample = t0 + o.sample_dt * ++sample_index;
       if (o.sample_dt == 0 || on_grid || is == IntegratorStatus::kSuccess) {
-        if (!emit(cur)) return finish(Status::kStoppedByObserver, t);
+        if (!emit(cur)) return stopped(t);
       }
       prev = cur;
     }

@@ -63,20 +63,21 @@ struct Solution {
 
 namespace internal {
 
-/// Every member of a generated Statics set to NaN ("no value"), whichever the model has.
-template <class S>
-void SetNaN(S* s) {
+/// Every member of model M's Statics set to NaN ("no value"), whichever the model has.
+template <class M>
+void SetNaN(typename StaticsTypes<M>::Statics* s) {
+  using F = StaticsFeatures<M>;
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  if constexpr (HasQ<S>::value) {
-    s->Q.setConstant(kNaN);
-    s->drive.setConstant(kNaN);
+  s->Q.setConstant(kNaN);
+  s->drive.setConstant(kNaN);
+  if constexpr (F::kHasPotential) {
+    s->V = kNaN;
+    s->dV_dq.setConstant(kNaN);
   }
-  if constexpr (HasV<S>::value) s->V = kNaN;
-  if constexpr (HasDV<S>::value) s->dV_dq.setConstant(kNaN);
-  if constexpr (HasD2V<S>::value) s->d2V_dq2.setConstant(kNaN);
-  if constexpr (HasStiffness<S>::value) s->stiffness.setConstant(kNaN);
-  if constexpr (HasR<S>::value) s->R.setConstant(kNaN);
-  if constexpr (HasFrictionMembers<S>::value) {
+  if constexpr (F::kHasD2V) s->d2V_dq2.setConstant(kNaN);
+  if constexpr (F::kHasStiffness) s->stiffness.setConstant(kNaN);
+  if constexpr (F::kHasReactions) s->R.setConstant(kNaN);
+  if constexpr (F::kHasFriction) {
     s->normal.setConstant(kNaN);
     s->gain.setConstant(kNaN);
     s->K_rel.setConstant(kNaN);
@@ -85,14 +86,13 @@ void SetNaN(S* s) {
 
 /// Every value Model::Forces fills is finite (NaN and inf are not); stiffness and d2V_dq2
 /// (Model::Stiffness) are not checked.
-template <class S>
-bool AllFinite(const S& s) {
-  bool finite = true;
-  if constexpr (HasQ<S>::value) finite = finite && s.Q.allFinite() && s.drive.allFinite();
-  if constexpr (HasV<S>::value) finite = finite && std::isfinite(s.V);
-  if constexpr (HasDV<S>::value) finite = finite && s.dV_dq.allFinite();
-  if constexpr (HasR<S>::value) finite = finite && s.R.allFinite();
-  if constexpr (HasFrictionMembers<S>::value) finite = finite && s.normal.allFinite();
+template <class M>
+bool AllFinite(const typename StaticsTypes<M>::Statics& s) {
+  using F = StaticsFeatures<M>;
+  bool finite = s.Q.allFinite() && s.drive.allFinite();
+  if constexpr (F::kHasPotential) finite = finite && std::isfinite(s.V) && s.dV_dq.allFinite();
+  if constexpr (F::kHasReactions) finite = finite && s.R.allFinite();
+  if constexpr (F::kHasFriction) finite = finite && s.normal.allFinite();
   return finite;
 }
 
@@ -102,16 +102,15 @@ void Evaluate(const typename ModelTypes<M>::Params& p, const typename ModelTypes
               const typename ModelTypes<M>::VecPhi& phi,
               const typename ModelTypes<M>::Coefficients& c,
               const typename StaticsTypes<M>::VecF* f, typename StaticsTypes<M>::Statics* out) {
-  if constexpr (StaticsTakesFriction<M>::value) {
-    M::template Forces<double>(p, q, phi, c, out, StaticsFeatures<M>::kHasFriction ? f : nullptr);
+  if constexpr (StaticsFeatures<M>::kHasFriction) {
+    M::template Forces<double>(p, q, phi, c, out, f);
   } else {
     (void)f;
     M::template Forces<double>(p, q, phi, c, out);
   }
 }
 
-/// Model::Stiffness into out (d2V_dq2, stiffness) when the model has it apart; a model whose
-/// Forces fills them already needs nothing.
+/// Model::Stiffness into out (d2V_dq2, stiffness) when the model has them.
 template <class M>
 void EvaluateStiffness(const typename ModelTypes<M>::Params& p,
                        const typename ModelTypes<M>::VecQ& q,
@@ -147,7 +146,7 @@ double Condition(const typename ModelTypes<M>::Params& p, const typename ModelTy
 
 template <class M>
 Solution<M>::Solution() {
-  internal::SetNaN(&statics);
+  internal::SetNaN<M>(&statics);
 }
 
 /**
@@ -180,11 +179,11 @@ Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
   s = Summary();
   out->direction = direction;
   out->friction.setZero();
-  internal::SetNaN(&out->statics);  // nothing stale from an earlier call
+  internal::SetNaN<M>(&out->statics);  // nothing stale from an earlier call
   auto finish = [&](Status status, const char* reason, bool withhold) {
     s.status = status;
     s.reason = reason;
-    if (withhold) internal::SetNaN(&out->statics);
+    if (withhold) internal::SetNaN<M>(&out->statics);
     if (status == Status::kConverged && options.stiffness) {
       internal::EvaluateStiffness<M>(p, q, phi, c, &out->statics);
     }
@@ -205,7 +204,7 @@ Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
     return finish(Status::kSingular, "cond_1(Phi_phi) > Options::max_condition (a dead point)",
                   true);
   }
-  if (!internal::AllFinite(out->statics)) {
+  if (!internal::AllFinite<M>(out->statics)) {
     return finish(Status::kSingular, "a generated value is not finite", true);
   }
   s.last_change = 0;
@@ -223,7 +222,7 @@ Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
       internal::Evaluate<M>(p, q, phi, c, &f, &out->statics);
       ++s.iterations;
       out->friction = f;
-      if (!internal::AllFinite(out->statics) || !f.allFinite()) {
+      if (!internal::AllFinite<M>(out->statics) || !f.allFinite()) {
         return finish(Status::kDidNotConverge, "friction iteration diverged", false);
       }
       const double drive_change = (out->statics.drive - drive_prev).template lpNorm<Eigen::Infinity>();
@@ -255,7 +254,7 @@ Status SolveAt(const Options& options, const typename ModelTypes<M>::Params& p,
     out->summary = Summary();
     out->summary.status = Status::kInvalidInput;
     out->summary.reason = "no valid configuration";
-    internal::SetNaN(&out->statics);
+    internal::SetNaN<M>(&out->statics);
     return Status::kInvalidInput;
   }
   typename ModelTypes<M>::Coefficients c;
