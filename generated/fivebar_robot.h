@@ -1218,6 +1218,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
   const Scalar cos_q0 = cos(q(0));
   const Scalar sin_q1 = sin(q(1));
   const Scalar cos_q1 = cos(q(1));
+  Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
   {  // block 0: rows 0 1 -> theta_dist1, theta_dist2: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b0 = -p.b;
     const Scalar wx_b0 = -cos_q0*p.a + cos_q1*p.a + p.f;
@@ -1247,15 +1248,16 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
-    trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
-    trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
-    trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
-    if (!(trig->cos_phi(0) - trig->cos_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(0)};
-    if (!(trig->sin_phi(0) - trig->sin_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(0)};
-    if (!(trig->cos_phi(1) - trig->cos_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(1)};
-    if (!(trig->sin_phi(1) - trig->sin_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(1)};
+    cos_phi0 = dot_u_b0 * inv_ra2_b0;
+    sin_phi0 = cross_u_b0 * inv_ra2_b0;
+    cos_phi1 = dot_v_b0 * inv_rb2_b0;
+    sin_phi1 = cross_v_b0 * inv_rb2_b0;
+    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
   }
+  trig->sin_phi(0) = sin_phi0;
+  trig->cos_phi(0) = cos_phi0;
+  trig->sin_phi(1) = sin_phi1;
+  trig->cos_phi(1) = cos_phi1;
   trig->sin_q(0) = sin_q0;
   trig->cos_q(0) = cos_q0;
   trig->sin_q(1) = sin_q1;
@@ -1363,6 +1365,7 @@ SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar cos_q0 = cos(q(0));
   const Scalar sin_q1 = sin(q(1));
   const Scalar cos_q1 = cos(q(1));
+  Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
   {  // block 0: rows 0 1 -> theta_dist1, theta_dist2: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b0 = -p.b;
     const Scalar wx_b0 = -cos_q0*p.a + cos_q1*p.a + p.f;
@@ -1392,24 +1395,12 @@ SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
-    trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
-    trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
-    trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
-    if (!(trig->cos_phi(0) - trig->cos_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(0)};
-    if (!(trig->sin_phi(0) - trig->sin_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(0)};
-    if (!(trig->cos_phi(1) - trig->cos_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(1)};
-    if (!(trig->sin_phi(1) - trig->sin_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(1)};
+    cos_phi0 = dot_u_b0 * inv_ra2_b0;
+    sin_phi0 = cross_u_b0 * inv_ra2_b0;
+    cos_phi1 = dot_v_b0 * inv_rb2_b0;
+    sin_phi1 = cross_v_b0 * inv_rb2_b0;
+    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
   }
-  trig->sin_q(0) = sin_q0;
-  trig->cos_q(0) = cos_q0;
-  trig->sin_q(1) = sin_q1;
-  trig->cos_q(1) = cos_q1;
-
-  const Scalar sin_phi0 = trig->sin_phi(0);
-  const Scalar cos_phi0 = trig->cos_phi(0);
-  const Scalar sin_phi1 = trig->sin_phi(1);
-  const Scalar cos_phi1 = trig->cos_phi(1);
   const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
   const Scalar Phi_phi_0_1 = p.b*sin_phi1;
   const Scalar Phi_phi_1_0 = cos_phi0*p.b;
@@ -1476,6 +1467,15 @@ SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
   out->Phi_phi(1, 1) = Phi_phi_1_1;
+  trig->sin_phi(0) = sin_phi0;
+  trig->cos_phi(0) = cos_phi0;
+  trig->sin_phi(1) = sin_phi1;
+  trig->cos_phi(1) = cos_phi1;
+  trig->sin_q(0) = sin_q0;
+  trig->cos_q(0) = cos_q0;
+  trig->sin_q(1) = sin_q1;
+  trig->cos_q(1) = cos_q1;
+
   return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
 }
 

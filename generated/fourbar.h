@@ -486,6 +486,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
   int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b0 = -p.c;
     const Scalar wx_b0 = -cos_q0*p.a + p.d;
@@ -515,15 +516,16 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
-    trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
-    trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
-    trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
-    if (!(trig->cos_phi(0) - trig->cos_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(0)};
-    if (!(trig->sin_phi(0) - trig->sin_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(0)};
-    if (!(trig->cos_phi(1) - trig->cos_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(1)};
-    if (!(trig->sin_phi(1) - trig->sin_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(1)};
+    cos_phi0 = dot_u_b0 * inv_ra2_b0;
+    sin_phi0 = cross_u_b0 * inv_ra2_b0;
+    cos_phi1 = dot_v_b0 * inv_rb2_b0;
+    sin_phi1 = cross_v_b0 * inv_rb2_b0;
+    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
   }
+  trig->sin_phi(0) = sin_phi0;
+  trig->cos_phi(0) = cos_phi0;
+  trig->sin_phi(1) = sin_phi1;
+  trig->cos_phi(1) = cos_phi1;
   trig->sin_q(0) = sin_q0;
   trig->cos_q(0) = cos_q0;
 

@@ -630,6 +630,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
   int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b0 = -p.c;
     const Scalar wx_b0 = -cos_q0*p.a + p.g;
@@ -659,17 +660,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
-    trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
-    trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
-    trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
-    if (!(trig->cos_phi(0) - trig->cos_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(0)};
-    if (!(trig->sin_phi(0) - trig->sin_phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(0)};
-    if (!(trig->cos_phi(1) - trig->cos_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->cos_phi(1)};
-    if (!(trig->sin_phi(1) - trig->sin_phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, trig->sin_phi(1)};
+    cos_phi0 = dot_u_b0 * inv_ra2_b0;
+    sin_phi0 = cross_u_b0 * inv_ra2_b0;
+    cos_phi1 = dot_v_b0 * inv_rb2_b0;
+    sin_phi1 = cross_v_b0 * inv_rb2_b0;
+    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
   }
-  const Scalar sin_phi0 = trig->sin_phi(0);
-  const Scalar cos_phi0 = trig->cos_phi(0);
+  Scalar cos_phi2, sin_phi2, cos_phi3, sin_phi3;
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b1 = -p.o;
     const Scalar wx_b1 = -cos_phi0*p.xi - cos_q0*p.a + p.eta*sin_phi0 + p.x6;
@@ -699,15 +696,20 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
       branch_measure = branch_b1;
       branch_block = 1;
     }
-    trig->cos_phi(2) = dot_u_b1 * inv_ra2_b1;
-    trig->sin_phi(2) = cross_u_b1 * inv_ra2_b1;
-    trig->cos_phi(3) = dot_v_b1 * inv_rb2_b1;
-    trig->sin_phi(3) = cross_v_b1 * inv_rb2_b1;
-    if (!(trig->cos_phi(2) - trig->cos_phi(2) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, trig->cos_phi(2)};
-    if (!(trig->sin_phi(2) - trig->sin_phi(2) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, trig->sin_phi(2)};
-    if (!(trig->cos_phi(3) - trig->cos_phi(3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, trig->cos_phi(3)};
-    if (!(trig->sin_phi(3) - trig->sin_phi(3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, trig->sin_phi(3)};
+    cos_phi2 = dot_u_b1 * inv_ra2_b1;
+    sin_phi2 = cross_u_b1 * inv_ra2_b1;
+    cos_phi3 = dot_v_b1 * inv_rb2_b1;
+    sin_phi3 = cross_v_b1 * inv_rb2_b1;
+    if (!((cos_phi2 - cos_phi2) + (sin_phi2 - sin_phi2) + (cos_phi3 - cos_phi3) + (sin_phi3 - sin_phi3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, !(cos_phi2 - cos_phi2 == Scalar(0)) ? cos_phi2 : !(sin_phi2 - sin_phi2 == Scalar(0)) ? sin_phi2 : !(cos_phi3 - cos_phi3 == Scalar(0)) ? cos_phi3 : sin_phi3};
   }
+  trig->sin_phi(0) = sin_phi0;
+  trig->cos_phi(0) = cos_phi0;
+  trig->sin_phi(1) = sin_phi1;
+  trig->cos_phi(1) = cos_phi1;
+  trig->sin_phi(2) = sin_phi2;
+  trig->cos_phi(2) = cos_phi2;
+  trig->sin_phi(3) = sin_phi3;
+  trig->cos_phi(3) = cos_phi3;
   trig->sin_q(0) = sin_q0;
   trig->cos_q(0) = cos_q0;
 

@@ -5,6 +5,7 @@
 
 #include <cctype>
 #include <set>
+#include <stdexcept>
 
 namespace mechgen {
 namespace {
@@ -352,29 +353,76 @@ void ShareTrig(const Kinematics& k,
     if (used[j].second) defined.insert(names[j].cos);
     solve_trig->extra_calls += used[j].first + used[j].second;
   }
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    body.push_back(blocks[b]);
-    // The angles this block solved that a later block reads.
-    Program reads;
-    for (int i = 0; i < k.nphi(); ++i) {
-      bool sin_later = false, cos_later = false;
-      for (size_t later = b + 1; later < blocks.size(); ++later) {
-        sin_later = sin_later || block_used[later][nq + i].first;
-        cos_later = cos_later || block_used[later][nq + i].second;
-      }
-      const TrigName& t = names[nq + i];
-      bool solved_here = false;
-      for (const Statement& s : blocks[b])
-        solved_here = solved_here || (s.kind == Statement::Kind::kRaw && s.target.rfind(t.cos_ref + " = ", 0) == 0);
-      if (!solved_here) continue;
-      if (sin_later) reads.push_back(Raw("const Scalar " + t.sin + " = " + t.sin_ref + ";"));
-      if (cos_later) reads.push_back(Raw("const Scalar " + t.cos + " = " + t.cos_ref + ";"));
-      if (sin_later) defined.insert(t.sin);
-      if (cos_later) defined.insert(t.cos);
-    }
-    if (!reads.empty()) body.push_back(reads);
+  // Each block solves its angles' sin and cos into the function's locals sin_phi<i>,
+  // cos_phi<i> (declared before the block, SolveTrigSpec), which later blocks read by name.
+  std::vector<bool> solved(k.nphi(), false);
+  for (const Program& block : blocks)
+    for (int i = 0; i < k.nphi(); ++i)
+      for (const Statement& s : block)
+        if (s.kind == Statement::Kind::kRaw && s.target.rfind(names[nq + i].cos + " = ", 0) == 0) solved[i] = true;
+  for (int i = 0; i < k.nphi(); ++i) {
+    if (!solved[i]) continue;
+    defined.insert(names[nq + i].sin);
+    defined.insert(names[nq + i].cos);
   }
+  body.insert(body.end(), blocks.begin(), blocks.end());
+  // The stores to *trig, at the end (SolveTrig: after the last block; EvalRhs: after the
+  // dynamics, so that no store through trig comes between the parameters' loads and their uses).
   Program end;
+  for (int i = 0; i < k.nphi(); ++i) {
+    if (!solved[i]) continue;
+    const TrigName& t = names[nq + i];
+    end.push_back(Raw(t.sin_ref + " = " + t.sin + ";"));
+    end.push_back(Raw(t.cos_ref + " = " + t.cos + ";"));
+  }
+  const Program& epilogue = solve_trig->body.back();
+  if (rhs != nullptr && !rhs->body.empty()) {
+    // EvalRhs: SolveTrig without its return and its stores, the inputs' sin and cos the
+    // blocks did not name, then K, L and the dynamics, then SolveTrig's stores and return.
+    // Not generated if its body reads an angle other than through its sin and cos.
+    Program motion = rhs->body.front();
+    const auto u = SubstituteTrig(k, names, &motion, true);
+    if (reads_phi(motion, false)) {
+      rhs->body.clear();
+    } else {
+      std::vector<Program> fused = body;
+      std::set<std::string> named = defined;
+      Program inputs, stores = end, ret;
+      for (int j = 0; j < nq; ++j) {
+        if (!k.q[j].is_angle) continue;
+        const TrigName& t = names[j];
+        // A sin or cos of an input the blocks did not use: called once here when the
+        // dynamics reads it too (then stored from the local), else called in the store.
+        for (int is_cos = 0; is_cos < 2; ++is_cos) {
+          const bool in_blocks = is_cos ? used[j].second : used[j].first;
+          const bool in_motion = is_cos ? u[j].second : u[j].first;
+          const std::string& local = is_cos ? t.cos : t.sin;
+          const std::string& ref = is_cos ? t.cos_ref : t.sin_ref;
+          const std::string call = (is_cos ? "cos(" : "sin(") + t.arg + ")";
+          if (!in_blocks && in_motion) {
+            inputs.push_back(Raw("const Scalar " + local + " = " + call + ";"));
+            named.insert(local);
+          }
+          stores.push_back(Raw(ref + " = " + (named.count(local) ? local : call) + ";"));
+          if (!in_blocks) ++rhs->extra_calls;
+        }
+      }
+      for (const Statement& s : epilogue)
+        (s.kind == Statement::Kind::kRaw && s.target.rfind("return", 0) == 0 ? ret : stores).push_back(s);
+      for (size_t i = 0; i < names.size(); ++i) {
+        const TrigName& t = names[i];
+        // Every angle of phi is solved by a block (SolveTrig exists); the inputs are above.
+        if ((u[i].first && !named.count(t.sin)) || (u[i].second && !named.count(t.cos)))
+          throw std::logic_error("EvalRhs reads " + t.sin + " or " + t.cos + ", which SolveTrig does not name");
+      }
+      if (!inputs.empty()) fused.push_back(inputs);
+      fused.push_back(motion);
+      fused.push_back(stores);
+      fused.push_back(ret);
+      rhs->body = fused;
+      rhs->extra_calls += solve_trig->extra_calls;
+    }
+  }
   for (int j = 0; j < nq; ++j) {
     if (!k.q[j].is_angle) continue;
     const TrigName& t = names[j];
@@ -382,34 +430,6 @@ void ShareTrig(const Kinematics& k,
     end.push_back(Raw(t.cos_ref + " = " + (used[j].second ? t.cos : "cos(" + t.arg + ")") + ";"));
     if (!used[j].first) ++solve_trig->extra_calls;
     if (!used[j].second) ++solve_trig->extra_calls;
-  }
-  const Program& epilogue = solve_trig->body.back();
-  if (rhs != nullptr && !rhs->body.empty()) {
-    // EvalRhs: SolveTrig without its return, the angles' sin and cos it wrote to *trig (those
-    // it has not named already), then K, L and the dynamics, then SolveTrig's return. Not
-    // generated if its body reads an angle other than through its sin and cos.
-    Program motion = rhs->body.front();
-    const auto u = SubstituteTrig(k, names, &motion, true);
-    if (reads_phi(motion, false)) {
-      rhs->body.clear();
-    } else {
-      std::vector<Program> fused = body;
-      Program finish = end, ret;
-      for (const Statement& s : epilogue)
-        (s.kind == Statement::Kind::kRaw && s.target.rfind("return", 0) == 0 ? ret : finish).push_back(s);
-      fused.push_back(finish);
-      Program reads;
-      for (size_t i = 0; i < names.size(); ++i) {
-        const TrigName& t = names[i];
-        if (u[i].first && !defined.count(t.sin)) reads.push_back(Raw("const Scalar " + t.sin + " = " + t.sin_ref + ";"));
-        if (u[i].second && !defined.count(t.cos)) reads.push_back(Raw("const Scalar " + t.cos + " = " + t.cos_ref + ";"));
-      }
-      motion.insert(motion.begin(), reads.begin(), reads.end());
-      fused.push_back(motion);
-      fused.push_back(ret);
-      rhs->body = fused;
-      rhs->extra_calls += solve_trig->extra_calls;
-    }
   }
   end.insert(end.end(), epilogue.begin(), epilogue.end());
   body.push_back(end);

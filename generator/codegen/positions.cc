@@ -147,17 +147,29 @@ void ClosedFormPositions(const ClosedForm& f,
   }
   if (f.trig.empty()) return;
   if (trig_only) {
+    // Into the function's locals cos_phi<i>, sin_phi<i> (declared by SolveTrigSpec before
+    // the block), not through *trig: a store through the pointer may alias the parameters,
+    // which the compiler would then load again, and reading it back waits on the store.
+    // SolvePositionsTrig and EvalRhs store them to *trig at their end.
+    std::vector<std::string> values;
     for (const DyadTrig& t : f.trig) {
-      const std::string c = "trig->cos_phi(" + N(t.col) + ")", s = "trig->sin_phi(" + N(t.col) + ")";
+      const std::string c = "cos_phi" + N(t.col), s = "sin_phi" + N(t.col);
       P->push_back(Raw(c + " = " + text(t.dot) + " * " + t.inv_name + f.suffix + ";"));
       P->push_back(Raw(s + " = " + text(t.cross) + " * " + t.inv_name + f.suffix + ";"));
+      values.push_back(c);
+      values.push_back(s);
       (*trig_done)[t.col] = true;
     }
     // As SolvePositions' check of its angles: nothing non-finite comes out as converged.
-    for (const DyadTrig& t : f.trig)
-      for (const std::string& x : {"trig->cos_phi(" + N(t.col) + ")", "trig->sin_phi(" + N(t.col) + ")"})
-        P->push_back(Raw("if (!(" + x + " - " + x + " == Scalar(0))) return {SolveStatus::kSingular, " + N(bi) +
-                         ", iterations, " + x + "};"));
+    // One test on the sum of the x - x (0 exactly when every x is finite, else NaN); the
+    // measure reported is the first non-finite value, as one test per value gave.
+    std::string sum, first;
+    for (const std::string& x : values) sum += (sum.empty() ? "" : " + ") + ("(" + x + " - " + x + ")");
+    for (size_t i = 0; i + 1 < values.size(); ++i)
+      first += "!(" + values[i] + " - " + values[i] + " == Scalar(0)) ? " + values[i] + " : ";
+    first += values.back();
+    P->push_back(Raw("if (!(" + sum + " == Scalar(0))) return {SolveStatus::kSingular, " + N(bi) +
+                     ", iterations, " + first + "};"));
     return;
   }
   P->push_back(Raw("if (trig != nullptr) {"));
@@ -331,6 +343,12 @@ FunctionSpec SolveTrigSpec(const SymbolicTable& t, CxxPrinter* printer, bool* po
   bool branch = false;
   for (size_t bi = 0; bi < t.blocks.size(); ++bi) {
     Program P;
+    // The direction cosines the block solves, read by later blocks and stored to *trig at
+    // the end: the function's locals (ClosedFormPositions(), trig_only).
+    std::string locals;
+    for (const DyadTrig& tr : forms[bi].trig)
+      locals += (locals.empty() ? "" : ", ") + ("cos_phi" + N(tr.col) + ", sin_phi" + N(tr.col));
+    if (!locals.empty()) P.push_back(Raw("Scalar " + locals + ";"));
     P.push_back(Raw("{  // block " + N(static_cast<int>(bi)) + ": " + t.blocks[bi].Describe(k)));
     branch |= forms[bi].has_branch;
     ClosedFormPositions(forms[bi], static_cast<int>(bi), &P, printer, &trig_done, true);

@@ -219,8 +219,49 @@ TEST(PositionSolver, RockerDrivenPastToggleStopsSingularAtLastValidConfiguration
   EXPECT_EQ(solver.MoveTo(Q(th_min + 1e-4), nullptr), Status::kConverged);
 }
 
+// The hand-written four-bar with its coefficients cut down to K: the solver forms L itself
+// (from one evaluation of Phi in dual numbers, position/internal/dual.h).
+struct FourBarKOnly : FourBar {
+  template <typename Scalar>
+  struct CoefficientsT {
+    Eigen::Matrix<Scalar, kNphi, kNq> K;
+  };
+  template <typename Scalar>
+  static void Coeffs(const mech::handwritten_fourbar::Params<Scalar>& p,
+                     const Eigen::Matrix<Scalar, kNq, 1>& q,
+                     const Eigen::Matrix<Scalar, kNphi, 1>& phi, CoefficientsT<Scalar>* out) {
+    mech::handwritten_fourbar::Coefficients<Scalar> c;
+    FourBar::Coeffs(p, q, phi, &c);
+    out->K = c.K;
+  }
+};
+
+TEST(PositionSolver, LOfModelWithoutItEqualsPaulsClosedForm) {
+  // Over a whole turn of the crank-rocker, the L the solver forms for the model without it
+  // agrees with Paul's closed-form L of the hand-written model (EvalCoefficients) to
+  // rounding: 1e-13 relative, where central differences (h = cbrt(eps)) were ~1e-11 off.
+  static_assert(!ModelFeatures<FourBarKOnly>::kHasL && ModelFeatures<FourBarKOnly>::kHasK);
+  CeresPositionSolver<FourBar> exact;
+  CeresPositionSolver<FourBarKOnly> formed;
+  ASSERT_EQ(exact.AssembleDefault(nullptr), Status::kConverged);
+  ASSERT_EQ(formed.AssembleDefault(nullptr), Status::kConverged);
+  double worst = 0;
+  for (int k = 1; k <= 720; ++k) {
+    const double q = M_PI / 2 + k * M_PI / 360;
+    ASSERT_EQ(exact.MoveTo(Q(q), nullptr), Status::kConverged) << q;
+    ASSERT_EQ(formed.MoveTo(Q(q), nullptr), Status::kConverged) << q;
+    ASSERT_LE((formed.state().phi - exact.state().phi).cwiseAbs().maxCoeff(), 1e-14) << q;
+    const auto& L = exact.state().L;
+    const double error = (formed.state().L - L).cwiseAbs().maxCoeff() /
+                         (1 + L.cwiseAbs().maxCoeff());
+    worst = std::max(worst, error);
+    EXPECT_LE(error, 1e-13) << q;
+  }
+  EXPECT_GT(worst, 0.0);  // two computations, not one copied
+}
+
 TEST(PositionSolver, NumericalCentripetalCoefficientsOfOrderOneModel) {
-  // Rocker has K only; the solver forms L by central differences (h = cbrt(eps)). Compare
+  // Rocker has K only; the solver forms L (dual numbers, exact to rounding). Compare
   // with differences of K between solved positions at h = 1e-5 (error ~ h^2 |K''| + 1e-10/h).
   CeresPositionSolver<Rocker> solver, probe;
   ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);

@@ -46,9 +46,12 @@
  * ModelFeatures::kCoeffsHavePhi): one generated evaluation per step. Models whose
  * coefficients lack them (or that ask for positions only) evaluate Model::Phi instead.
  * K and L come from Model::Coeffs when the model has them; otherwise K = -Phi_phi^{-1} Phi_q
- * (Phi_q from the same evaluation as Phi_phi, the step's factorization) and L by central
- * differences of Phi_phi and Phi_q along the motion (NumericalL(): two more evaluations
- * and kNq^2 solves with the same factorization). Numeric L is kept because the default
+ * (Phi_q from the same evaluation as Phi_phi, the step's factorization) and L from the
+ * derivatives of Phi_phi and Phi_q along the motion (NumericalL()) and kNq^2 solves with the
+ * same factorization. Those derivatives come, for a model of at most 12 coordinates, from
+ * the step's one evaluation of Model::Phi, done in dual numbers (position/internal/dual.h:
+ * exact to rounding, and Phi, Phi_phi, Phi_q bit for bit those of Model::Phi<double>); for a
+ * larger one, by central differences (two more evaluations). L is kept because the default
  * second-order predictor and the K-consistency guard need it.
  * L is stored as the generated code does: L(i, j + kNq*k) = dK(i, j)/dq_k.
  *
@@ -91,6 +94,7 @@
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/position/assembler.h"
+#include "mechgen/position/internal/dual.h"
 #include "mechgen/position/state.h"
 #include "mechgen/position/types.h"
 
@@ -242,15 +246,19 @@ class PositionSolver {
   void MakeDistanceExact(State<M>* s) const;
   // K, L and the points at (s->q, s->phi); false if any is not finite. Phi_q: dPhi/dq
   // there, or nullptr (evaluated when the model lacks K). Calls Model::Coeffs once.
-  bool FillCoefficients(const Factorization& f, const MatCQ* Phi_q, State<M>* s) const {
+  // Derivatives of Phi_phi and Phi_q at (s->q, s->phi) (PhiDerivatives): from the caller's
+  // EvalPhiWithDerivatives() there, or nullptr (evaluated here when L needs them).
+  struct PhiDerivatives;
+  bool FillCoefficients(const Factorization& f, const MatCQ* Phi_q, State<M>* s,
+                        const PhiDerivatives* d = nullptr) const {
     typename T::Coefficients c;
     if constexpr (kCallCoeffs) M::template Coeffs<double>(params_, s->q, s->phi, &c);
-    return CopyCoefficients(c, f, Phi_q, s);
+    return CopyCoefficients(c, f, Phi_q, s, d);
   }
   // The same from c = Model::Coeffs at (s->q, s->phi), already evaluated (unused when the
   // model's coefficients have neither K, L nor points).
   bool CopyCoefficients(const typename T::Coefficients& c, const Factorization& f,
-                        const MatCQ* Phi_q, State<M>* s) const;
+                        const MatCQ* Phi_q, State<M>* s, const PhiDerivatives* d = nullptr) const;
   // The error bounds of s (State::phi_error, K_error, L_error) from its residual, its
   // conditioning (Classify()) and its coefficients; see "Accuracy" in the file comment.
   // f: the factorization of Phi_phi at s (its ||Phi_phi||_1).
@@ -268,8 +276,23 @@ class PositionSolver {
   // per step) when the coefficients have them and the step needs Coeffs anyway; else on
   // Model::Phi (a model without Coefficients::Phi_phi, or asking for positions only).
   static constexpr bool kPhiFromCoeffs = Features::kCoeffsHavePhi && kCallCoeffs;
+  // L of a model whose coefficients lack it: dK/dq_k = -Phi_phi^{-1} (D_k Phi_phi K + D_k Phi_q)
+  // with D_k the derivative along the motion (e_k, K e_k). kDualL: from the derivatives of one
+  // evaluation of Phi in dual numbers (d, or evaluated when nullptr; exact to rounding); else
+  // by central differences (two more evaluations of Phi per input).
   void NumericalL(const VecQ& q, const VecPhi& phi, const Factorization& f,
-                  const typename T::MatK& K, typename T::MatL* L) const;
+                  const typename T::MatK& K, typename T::MatL* L,
+                  const PhiDerivatives* d = nullptr) const;
+  // The number of directions of the dual numbers (every q and phi), and whether L is taken
+  // with them: a model without L, of at most 12 coordinates (the derivatives of Phi_phi and
+  // Phi_q in every direction are kept: (kNq + kNphi) kNc (kNphi + kNq) numbers).
+  static constexpr int kDualN = M::kNq + M::kNphi;
+  static constexpr bool kDualL = !Features::kHasL && kDualN <= 12;
+  // Phi, Phi_phi and Phi_q at (q, phi), equal bit for bit to Model::Phi<double> there, and the
+  // derivatives of Phi_phi and Phi_q in each of the kDualN directions (q first, then phi), from
+  // one evaluation of Model::Phi in internal::Dual<kDualN>.
+  void EvalPhiWithDerivatives(const VecQ& q, const VecPhi& phi, VecC* Phi, MatCPhi* Phi_phi,
+                              MatCQ* Phi_q, PhiDerivatives* d) const;
   // Newton–Raphson on the whole system with a polishing step (Newton() with Phi_q).
   NewtonResult FullNewton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_phi, MatCQ* Phi_q) const;
   // The assembly modes of every closed-form block of M::Solve that reproduce s.phi at s.q

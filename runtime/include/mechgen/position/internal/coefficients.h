@@ -1,7 +1,9 @@
 /**
  * \file position/internal/coefficients.h
  * K, L and the points of a closed configuration: from Model::Coeffs, or K = -Phi_phi^{-1}
- * Phi_q and L by central differences (NumericalL) when the model lacks them.
+ * Phi_q and L from the derivatives of Phi_phi and Phi_q along the motion (NumericalL: one
+ * evaluation of Phi in dual numbers, or central differences for a large model) when the model
+ * lacks them.
  * Part of PositionSolver (position/solver.h, which includes this file after the class).
  */
 #pragma once
@@ -11,34 +13,100 @@
 namespace mechgen::position {
 
 template <class M, class Assembler>
+struct PositionSolver<M, Assembler>::PhiDerivatives {
+  // A[i] = dPhi_phi/dx_i, B[i] = dPhi_q/dx_i, x = (q, phi); empty unless kDualL.
+  static constexpr int kCount = kDualL ? kDualN : 0;
+  std::array<MatCPhi, kCount> A;
+  std::array<MatCQ, kCount> B;
+};
+
+template <class M, class Assembler>
+void PositionSolver<M, Assembler>::EvalPhiWithDerivatives(const VecQ& q, const VecPhi& phi,
+                                                          VecC* Phi, MatCPhi* Phi_phi,
+                                                          MatCQ* Phi_q, PhiDerivatives* d) const {
+  if constexpr (kDualL) {
+    using D = internal::Dual<kDualN>;
+    using TD = ModelTypes<M, D>;
+    const typename TD::Params p = params_.template Cast<D>();
+    typename TD::VecQ qd;
+    typename TD::VecPhi phid;
+    for (int k = 0; k < M::kNq; ++k) qd(k) = D::Variable(q(k), k);
+    for (int j = 0; j < M::kNphi; ++j) phid(j) = D::Variable(phi(j), M::kNq + j);
+    typename TD::VecC Phi_d;
+    typename TD::MatCPhi A_d;
+    typename TD::MatCQ B_d;
+    M::template Phi<D>(p, qd, phid, &Phi_d, &A_d, &B_d);
+    for (int r = 0; r < M::kNc; ++r) {
+      (*Phi)(r) = Phi_d(r).v;
+      for (int c = 0; c < M::kNphi; ++c) {
+        (*Phi_phi)(r, c) = A_d(r, c).v;
+        for (int i = 0; i < kDualN; ++i) d->A[static_cast<size_t>(i)](r, c) = A_d(r, c).d[i];
+      }
+      for (int c = 0; c < M::kNq; ++c) {
+        (*Phi_q)(r, c) = B_d(r, c).v;
+        for (int i = 0; i < kDualN; ++i) d->B[static_cast<size_t>(i)](r, c) = B_d(r, c).d[i];
+      }
+    }
+  } else {
+    (void)d;
+    M::template Phi<double>(params_, q, phi, Phi, Phi_phi, Phi_q);
+  }
+}
+
+template <class M, class Assembler>
 void PositionSolver<M, Assembler>::NumericalL(const VecQ& q, const VecPhi& phi, const Factorization& f,
-                                   const typename T::MatK& K, typename T::MatL* L) const {
+                                   const typename T::MatK& K, typename T::MatL* L,
+                                   const PhiDerivatives* d) const {
   // K = -Phi_phi^{-1} Phi_q  =>  dK/dq_k = -Phi_phi^{-1} (D_k Phi_phi K + D_k Phi_q), where
-  // D_k is the total derivative along the motion (dq, dphi) = (e_k, K e_k), taken by central
-  // differences. h = cbrt(eps) ~ 6e-6 balances truncation O(h^2) and rounding O(eps/h):
-  // both ~ 1e-11 relative. Uses the step's factorization of Phi_phi.
-  const double h = std::cbrt(std::numeric_limits<double>::epsilon());
-  for (int k = 0; k < M::kNq; ++k) {
-    VecQ dq = VecQ::Zero();
-    dq(k) = h;
-    const VecPhi dphi = K.col(k) * h;
-    MatCPhi A_plus, A_minus;
-    MatCQ B_plus, B_minus;
-    M::template Phi<double>(params_, VecQ(q + dq), VecPhi(phi + dphi), nullptr, &A_plus,
-                            &B_plus);
-    M::template Phi<double>(params_, VecQ(q - dq), VecPhi(phi - dphi), nullptr, &A_minus,
-                            &B_minus);
-    const MatCPhi dA = (A_plus - A_minus) / (2 * h);
-    const MatCQ dB = (B_plus - B_minus) / (2 * h);
-    L->template middleCols<M::kNq>(M::kNq * k) = -f.Solve(MatCQ(dA * K + dB));
+  // D_k is the total derivative along the motion (dq, dphi) = (e_k, K e_k). Uses the step's
+  // factorization of Phi_phi.
+  if constexpr (kDualL) {
+    // Exact to rounding: D_k = d/dq_k + sum_j K(j, k) d/dphi_j of the dual evaluation.
+    PhiDerivatives own;
+    if (d == nullptr) {
+      VecC Phi;
+      MatCPhi A;
+      MatCQ B;
+      EvalPhiWithDerivatives(q, phi, &Phi, &A, &B, &own);
+      d = &own;
+    }
+    for (int k = 0; k < M::kNq; ++k) {
+      MatCPhi dA = d->A[static_cast<size_t>(k)];
+      MatCQ dB = d->B[static_cast<size_t>(k)];
+      for (int j = 0; j < M::kNphi; ++j) {
+        dA += K(j, k) * d->A[static_cast<size_t>(M::kNq + j)];
+        dB += K(j, k) * d->B[static_cast<size_t>(M::kNq + j)];
+      }
+      L->template middleCols<M::kNq>(M::kNq * k) = -f.Solve(MatCQ(dA * K + dB));
+    }
+  } else {
+    // By central differences: h = cbrt(eps) ~ 6e-6 balances truncation O(h^2) and rounding
+    // O(eps/h): both ~ 1e-11 relative.
+    (void)d;
+    const double h = std::cbrt(std::numeric_limits<double>::epsilon());
+    for (int k = 0; k < M::kNq; ++k) {
+      VecQ dq = VecQ::Zero();
+      dq(k) = h;
+      const VecPhi dphi = K.col(k) * h;
+      MatCPhi A_plus, A_minus;
+      MatCQ B_plus, B_minus;
+      M::template Phi<double>(params_, VecQ(q + dq), VecPhi(phi + dphi), nullptr, &A_plus,
+                              &B_plus);
+      M::template Phi<double>(params_, VecQ(q - dq), VecPhi(phi - dphi), nullptr, &A_minus,
+                              &B_minus);
+      const MatCPhi dA = (A_plus - A_minus) / (2 * h);
+      const MatCQ dB = (B_plus - B_minus) / (2 * h);
+      L->template middleCols<M::kNq>(M::kNq * k) = -f.Solve(MatCQ(dA * K + dB));
+    }
   }
 }
 
 template <class M, class Assembler>
 bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficients& c,
                                          const Factorization& f, const MatCQ* Phi_q,
-                                         State<M>* s) const {
+                                         State<M>* s, const PhiDerivatives* d) const {
   (void)c;
+  (void)d;
   if constexpr (Features::kHasK) {
     s->K = c.K;
   } else {
@@ -52,7 +120,7 @@ bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficien
   if constexpr (Features::kHasL) {
     s->L = c.L;
   } else {
-    NumericalL(s->q, s->phi, f, s->K, &s->L);
+    NumericalL(s->q, s->phi, f, s->K, &s->L, d);
   }
   bool finite = s->K.allFinite() && s->L.allFinite();
   if constexpr (Features::kHasPoints) {

@@ -46,6 +46,8 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
   MatCQ B;
   typename T::Coefficients c;
   bool have_coefficients = false;
+  PhiDerivatives derivatives;
+  bool have_derivatives = false;
   if (Phi_phi == nullptr) {  // the residual test of a result of M::Solve
     if constexpr (kPhiFromCoeffs) {
       // One evaluation gives Phi and Phi_phi for the checks and K, L and the points: the
@@ -63,7 +65,13 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
       have_coefficients = true;
     } else {
       VecC Phi;
-      M::template Phi<double>(params_, q, phi, &Phi, &A, kNeedPhiQ ? &B : nullptr);
+      if constexpr (kDualL) {
+        // The same Phi, Phi_phi and Phi_q, with their derivatives for L: one evaluation.
+        EvalPhiWithDerivatives(q, phi, &Phi, &A, &B, &derivatives);
+        have_derivatives = true;
+      } else {
+        M::template Phi<double>(params_, q, phi, &Phi, &A, kNeedPhiQ ? &B : nullptr);
+      }
       residual = Phi.template lpNorm<Eigen::Infinity>();
       if (!(residual <= options_.tolerance)) return false;
       Phi_phi = &A;
@@ -75,7 +83,8 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
   to->residual_norm = residual;
   const Factorization f(*Phi_phi);
   if (!Classify(*Phi_phi, f, &from, to) || to->branch != from.branch) return false;
-  if (have_coefficients ? !CopyCoefficients(c, f, Phi_q, to) : !FillCoefficients(f, Phi_q, to)) {
+  const PhiDerivatives* d = have_derivatives ? &derivatives : nullptr;
+  if (have_coefficients ? !CopyCoefficients(c, f, Phi_q, to, d) : !FillCoefficients(f, Phi_q, to, d)) {
     return false;
   }
   if (from_near_singular) {
