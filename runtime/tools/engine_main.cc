@@ -677,6 +677,16 @@ mechgen::table::Columns<RunupRow> RunupColumns() {
   return columns;
 }
 
+/// The comment lines of every engine CSV (io/csv.h): the tool, the model, what the file
+/// holds and the signs, then every column's unit and meaning.
+mechgen::CsvOptions EngineCsvOptions(const char* what) {
+  return mechgen::Described(mechgen::CsvAbout(
+      std::string(Model::kName) + "_engine", Model::kName, what,
+      "torques on the crank CCW +; F_O: the frame on the crank; pin: the crank on the rod "
+      "(x, y) and the rod on the crank pin (u, v); wrist: the rod on the piston; thrust, shake "
+      "and rocking couple: on the frame; fixed frame x, y"));
+}
+
 // ---- subcommands --------------------------------------------------------------------------
 
 int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
@@ -687,7 +697,7 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
   Outputs outs;
   std::ostream* o = outs.Open(a.csv, &error);
   if (o == nullptr) return Fail(error);
-  mechgen::WriteCsv(CycleColumns(e), pts, *o);
+  mechgen::WriteCsv(CycleColumns(e), pts, *o, EngineCsvOptions("cycle at constant crank speed"));
   double max_check = 0, scale = 0;
   for (const Point& pt : pts) {
     max_check = std::max(max_check, std::abs(pt.drive + pt.T_total));
@@ -843,7 +853,7 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   if (lo == nullptr) return Fail(error);
   std::vector<LoopRow> loop_rows;
   for (int i = 0; i <= n; ++i) loop_rows.push_back({dth * i, pts[i % n].T_total, mean, i < n ? E[i] : 0.0});
-  mechgen::WriteCsv(LoopColumns(), loop_rows, *lo);
+  mechgen::WriteCsv(LoopColumns(), loop_rows, *lo, EngineCsvOptions("flywheel: energy loop"));
   std::ostream* so = outs.Open(a.sweep_csv, &error);
   if (so == nullptr) return Fail(error);
   std::vector<std::array<double, 3>> sweep;
@@ -855,10 +865,11 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
     sweep.push_back({J, dE / ((J + I_recip) * omega * omega), s.Cs});
     cs_rows.push_back({J, sweep.back()[1], s.Cs});
   }
-  mechgen::WriteCsv(CsColumns(), cs_rows, *so);
+  mechgen::WriteCsv(CsColumns(), cs_rows, *so, EngineCsvOptions("flywheel: C_s against J_fly"));
   std::ostream* wo = outs.Open(a.witt_csv, &error);
   if (wo == nullptr) return Fail(error);
-  mechgen::WriteCsv(WittenbauerColumns(), sc.points, *wo);
+  mechgen::WriteCsv(WittenbauerColumns(), sc.points, *wo,
+                    EngineCsvOptions("flywheel: Wittenbauer, the simulated steady cycle"));
   if (!outs.Commit(&error)) return Fail(error);
   const double cs_gas_only = dEg / (I_req * omega * omega);
   std::printf("%s flywheel at %.6g rpm (omega %.6g rad/s), prescribed C_s = %.6g\n", Model::kName, a.rpm,
@@ -951,7 +962,7 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   Outputs outs;
   std::ostream* o = outs.Open(a.csv, &error);
   if (o == nullptr) return Fail(error);
-  mechgen::WriteCsv(RunupColumns(), rows, *o);
+  mechgen::WriteCsv(RunupColumns(), rows, *o, EngineCsvOptions("run-up"));
   if (!outs.Commit(&error)) return Fail(error);
   std::printf("%s run-up from %.6g rpm against T_load %.6g N m + c_load %.6g N m s/rad (target %.6g rpm)\n",
               Model::kName, qd(0) * 60 / (2 * kPi), T_load, c_load, a.rpm);
