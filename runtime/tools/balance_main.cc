@@ -2,11 +2,11 @@
 //
 //   mechgen_balance table [--csv] [--rotating-ratio R] [--layout NAME]... [--engine FILE]...
 //       The primary/secondary shaking force and moment table of multi-cylinder engines
-//       (mechgen/balancing/engine_balance.h): max over a turn in units of m r w^2 (primary) and
+//       (mechgen/machines/balancing/engine_balance.h): max over a turn in units of m r w^2 (primary) and
 //       m r w^2 (r/l) (secondary), moments times the cylinder spacing a. --engine: a layout of
 //       your own, one cylinder a line: throw angle [deg], bank angle [deg], z [spacings].
 //   mechgen_balance rotor --csv FILE --radius R [--left ZL --right ZR]
-//       Rigid-rotor balancing (mechgen/balancing/rotor.h, Paul §7.1). FILE has one unbalance a
+//       Rigid-rotor balancing (mechgen/machines/balancing/rotor.h, Paul §7.1). FILE has one unbalance a
 //       line: m [kg], r [m], angle [deg], z [m] (comma-separated; '#' comments and a header
 //       line "m,r,angle_deg,z" allowed). With --left/--right: two-plane dynamic balancing, the
 //       correction masses at radius R (or --left-radius/--right-radius) in the planes z = ZL,
@@ -15,7 +15,7 @@
 //                            (--inertia I | --mass M --gyration K | --cs C)
 //   mechgen_balance flywheel --torque-csv FILE [--cycle-deg 360] [--remove-mean]
 //                            [--energy-csv OUT] --rpm N (...)
-//       Flywheel sizing by the energy-loop method (mechgen/flywheel/energy_loop.h, Paul §6.9.2):
+//       Flywheel sizing by the energy-loop method (mechgen/machines/flywheel/energy_loop.h, Paul §6.9.2):
 //       dE from the loop areas of a turning-moment diagram (S = J per unit area, or
 //       --torque-scale [N m per unit] with --angle-scale [deg per unit]) or from a sampled
 //       excess torque (FILE: angle_deg, torque [N m] (T_d - T_l), or angle_deg, T_d, T_l,
@@ -47,9 +47,9 @@
 #include <vector>
 
 #include "common/cli.h"
-#include "mechgen/balancing/engine_balance.h"
-#include "mechgen/balancing/rotor.h"
-#include "mechgen/flywheel/energy_loop.h"
+#include "mechgen/machines/balancing/engine_balance.h"
+#include "mechgen/machines/balancing/rotor.h"
+#include "mechgen/machines/flywheel/energy_loop.h"
 #include "mechgen/io/csv.h"
 #include "mechgen/io/format.h"
 #include "mechgen/io/output_file.h"

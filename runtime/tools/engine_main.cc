@@ -7,12 +7,12 @@
 // phase_j, p_gas_j, gamma_j, beta_j, m_rod, l_G, J_rod, m_pis) and its coordinates
 // (s_slide_j, theta_rod_j) and reactions (F_O, F_B_j, F_C_j, N_slide_j) by name.
 //
-// Gas: one pressure law for every cylinder (mechgen/engine/gas.h), cylinder j at the cycle
+// Gas: one pressure law for every cylinder (mechgen/machines/engine/gas.h), cylinder j at the cycle
 // angle theta - phase_j: the parametric polytropic cycle with a Wiebe heat release (default),
 // or --table FILE, an indicator diagram (CSV rows: cycle angle in deg from firing TDC, gauge
 // pressure in Pa; a header line is skipped). The gas torque T_gas = -sum p_j A ds_j/dtheta
 // (N m on the crank, CCW +) comes from the generated velocity coefficients
-// (mechgen/engine/crank_dynamics.h, GasTorque); the bearing loads and side thrusts come from
+// (mechgen/machines/engine/crank_dynamics.h, GasTorque); the bearing loads and side thrusts come from
 // the generated kinetostatics with the model's p_gas_j parameters set to p_j at each angle.
 //
 // Subcommands (signs: torques on the crank CCW +, N m; forces N in the fixed frame):
@@ -28,14 +28,14 @@
 //             (N m, CCW +) of the generated EvalShaking, and the rocking couple M_rock_x,
 //             M_rock_y (N m, about axes across the crankshaft through its point at the mean of
 //             the cylinders' axial positions z_j; z along the shaft; on the frame:
-//             mechgen/engine/couples.h). The crank is held at constant
+//             mechgen/machines/engine/couples.h). The crank is held at constant
 //             speed by a dynamometer absorbing T_total. Summary: mean torque, its harmonics by
-//             order (multiples of the crank speed; mechgen/engine/harmonics.h), max/mean, and
+//             order (multiples of the crank speed; mechgen/machines/engine/harmonics.h), max/mean, and
 //             the power smoothing of Paul §6.8.5: the torque of k cylinders evenly spaced over
 //             the cycle, k = 1..n, each the torque of cylinder 1 of this model (its gas torque
 //             plus its own inertia torque) shifted by cycle/k (summed phase-shifted
 //             single-cylinder torques), k up to max(--smoothing, n).
-//   flywheel  Energy loop (Paul §6.9.2; mechgen/flywheel/energy_loop.h) of T_total at
+//   flywheel  Energy loop (Paul §6.9.2; mechgen/machines/flywheel/energy_loop.h) of T_total at
 //             constant speed about its mean: the
 //             largest swing dE, the generalized inertia for --cs, I = dE / (C_s omega^2), and
 //             J_fly = I - mean(I(theta) - J_fly) (the reciprocating parts' mean inertia taken
@@ -86,11 +86,11 @@
 
 #include "common/cli.h"
 #include "mechgen/dynamics/forward.h"
-#include "mechgen/engine/couples.h"
-#include "mechgen/engine/crank_dynamics.h"
-#include "mechgen/engine/gas.h"
-#include "mechgen/engine/harmonics.h"
-#include "mechgen/flywheel/energy_loop.h"
+#include "mechgen/machines/engine/couples.h"
+#include "mechgen/machines/engine/crank_dynamics.h"
+#include "mechgen/machines/engine/gas.h"
+#include "mechgen/machines/engine/harmonics.h"
+#include "mechgen/machines/flywheel/energy_loop.h"
 #include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
 #include "mechgen/table/columns.h"
@@ -711,7 +711,7 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
     Tmax = std::max(Tmax, T[i]);
     Tmin = std::min(Tmin, T[i]);
   }
-  // The mean and the orders up to 8 times the crank speed (engine/harmonics.h).
+  // The mean and the orders up to 8 times the crank speed (machines/engine/harmonics.h).
   const int count = (e.strokes == 4 ? 16 : 8) + 1;
   std::vector<eng::Harmonic> h(count), hg(1);
   const auto hs = eng::Analyze(T.data(), static_cast<int>(T.size()), e.cycle, 0.0, count, h.data());
@@ -802,7 +802,7 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   if (!RunCycle(p0, e, gas, omega, a.samples, &pts, &error)) return Fail(error);
   const int n = static_cast<int>(pts.size());
   const double dth = e.cycle / n;
-  // Energy loop about the mean (mechgen/flywheel/energy_loop.h: the mean torque line is the
+  // Energy loop about the mean (mechgen/machines/flywheel/energy_loop.h: the mean torque line is the
   // load; E at the samples, the extremes refined between them).
   double mean_I = 0;
   std::vector<double> T(n), Tg(n), E(n), Eg(n);

@@ -1,5 +1,5 @@
 /**
- * \file balancing/engine_balance.h
+ * \file machines/balancing/engine_balance.h
  * Primary and secondary shaking forces and moments of multi-cylinder reciprocating engines
  * (Paul ch. 7: shaking forces and moments of single- and multi-cylinder engines), analytic, by
  * the two-mass approximation; and the classical balance table.
