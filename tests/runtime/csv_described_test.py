@@ -51,6 +51,7 @@ UNIT_LINE = re.compile(r"^# (\S+) \[([^\]]+)\](: .+)?$")
 
 def check_csv(name, first_line, signs):
     path = os.path.join(scratch, name)
+    before = len(failures)
     if not os.path.exists(path):
         check(False, "%s: not written" % name)
         return
@@ -100,7 +101,8 @@ def check_csv(name, first_line, signs):
                     check(False, "%s: row %d, %s: %r, the shortest text that reads back is %r" %
                           (name, k + 1, column, cell, repr(x)))
     check(numbers > 0, "%s: no numbers" % name)
-    print("ok %s: %d columns described, %d rows, %d numbers" % (name, len(header), len(rows), numbers))
+    print("%s %s: %d columns described, %d rows, %d numbers" %
+          ("ok" if len(failures) == before else "FAILED", name, len(header), len(rows), numbers))
 
 
 model_line = r"^# %s, model %s: "
