@@ -6,7 +6,8 @@
 //   fourbar_balancing [--omega W] [--steps N] OUT_DIR
 //
 // writes OUT_DIR/fourbar_balancing_balanced.csv and OUT_DIR/fourbar_balancing_unbalanced.csv
-// (both or neither: each is written to a temporary file first), columns:
+// (both or neither: each is written to a temporary file first; io/csv.h: numbers that round-trip,
+// after '#' lines that name the tool, the model, the signs and each column's unit), columns:
 //   theta_deg            crank angle (deg)
 //   F_x, F_y, F_mag      shaking force, what the moving links exert on the frame (N): -sum m a_G
 //   M                    shaking moment about the crank pivot O2 (N m, CCW +); it includes the
@@ -26,9 +27,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "fourbar_balanced.h"
+#include "mechgen/io/csv.h"
+#include "mechgen/table/columns.h"
 
 namespace {
 
@@ -42,20 +47,51 @@ int Index(const char* const* names, int n, const char* name) {
   std::exit(1);
 }
 
+// One row of a CSV: the values at one crank angle.
+struct Row {
+  double theta_deg, F_x, F_y, F_mag, M, drive, O2_x, O2_y, O2_mag, O4_x, O4_y, O4_mag, A_mag, B_mag, r_C_x, r_C_y;
+};
+
+// The columns of both CSVs (table/columns.h; the file comment lists them).
+mechgen::table::Columns<Row> Columns() {
+  mechgen::table::Columns<Row> columns;
+  mechgen::table::Builder<Row> add(&columns);
+  add.Number("theta_deg", "deg", "crank angle", [](const Row& r) { return r.theta_deg; });
+  add.Number("F_x", "N", "shaking force on the frame, -sum m a_G, x", [](const Row& r) { return r.F_x; });
+  add.Number("F_y", "N", "shaking force on the frame, -sum m a_G, y", [](const Row& r) { return r.F_y; });
+  add.Number("F_mag", "N", "|shaking force|", [](const Row& r) { return r.F_mag; });
+  add.Number("M", "N m", "shaking moment on the frame about O2, CCW + (with the driving torque's reaction)",
+             [](const Row& r) { return r.M; });
+  add.Number("drive", "N m", "driving torque on the crank, CCW + (kinetostatics, no load)",
+             [](const Row& r) { return r.drive; });
+  add.Number("O2_x", "N", "bearing load of the crank on the frame at O2, x", [](const Row& r) { return r.O2_x; });
+  add.Number("O2_y", "N", "bearing load of the crank on the frame at O2, y", [](const Row& r) { return r.O2_y; });
+  add.Number("O2_mag", "N", "|bearing load at O2|", [](const Row& r) { return r.O2_mag; });
+  add.Number("O4_x", "N", "bearing load of the rocker on the frame at O4, x", [](const Row& r) { return r.O4_x; });
+  add.Number("O4_y", "N", "bearing load of the rocker on the frame at O4, y", [](const Row& r) { return r.O4_y; });
+  add.Number("O4_mag", "N", "|bearing load at O4|", [](const Row& r) { return r.O4_mag; });
+  add.Number("A_mag", "N", "|pin force at the crank pin A|", [](const Row& r) { return r.A_mag; });
+  add.Number("B_mag", "N", "|pin force at the coupler-rocker pin B|", [](const Row& r) { return r.B_mag; });
+  add.Number("r_C_x", "m", "centre of mass of the moving links, x", [](const Row& r) { return r.r_C_x; });
+  add.Number("r_C_y", "m", "centre of mass of the moving links, y", [](const Row& r) { return r.r_C_y; });
+  return columns;
+}
+
 struct Peaks {
   double F = 0, M = 0, drive = 0, O2 = 0, O4 = 0, A = 0, B = 0;
 };
 
-// One revolution at omega into `path` (via path.tmp); false on a failure (message printed).
-bool Revolution(const Params& p, double omega, int steps, const std::string& path, Peaks* peaks) {
+// One revolution at omega of the case `name` into `path` (via path.tmp); false on a failure
+// (message printed).
+bool Revolution(const Params& p, const char* name, double omega, int steps, const std::string& path,
+                Peaks* peaks) {
   const std::string tmp = path + ".tmp";
   std::FILE* f = std::fopen(tmp.c_str(), "w");
   if (f == nullptr) {
     std::fprintf(stderr, "fourbar_balancing: cannot write %s\n", tmp.c_str());
     return false;
   }
-  std::fprintf(f,
-               "theta_deg,F_x,F_y,F_mag,M,drive,O2_x,O2_y,O2_mag,O4_x,O4_y,O4_mag,A_mag,B_mag,r_C_x,r_C_y\n");
+  std::vector<Row> rows;
   const int O2 = Index(M::kReactionNames.data(), M::kNumReactions, "F_O2_x");
   const int O4 = Index(M::kReactionNames.data(), M::kNumReactions, "F_O4_x");
   const int A = Index(M::kReactionNames.data(), M::kNumReactions, "F_A_x");
@@ -84,9 +120,8 @@ bool Revolution(const Params& p, double omega, int steps, const std::string& pat
     // crank and the rocker, so the frame carries -R there.
     const Eigen::Vector2d o2(-st.R(O2), -st.R(O2 + 1)), o4(-st.R(O4), -st.R(O4 + 1));
     const double a = std::hypot(st.R(A), st.R(A + 1)), b = std::hypot(st.R(B), st.R(B + 1));
-    std::fprintf(f, "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
-                 q(0) * 180 / M_PI, s.F(0), s.F(1), s.F.norm(), s.M, st.drive(0), o2.x(), o2.y(), o2.norm(),
-                 o4.x(), o4.y(), o4.norm(), a, b, s.r_C(0), s.r_C(1));
+    rows.push_back({q(0) * 180 / M_PI, s.F(0), s.F(1), s.F.norm(), s.M, st.drive(0), o2.x(), o2.y(), o2.norm(),
+                    o4.x(), o4.y(), o4.norm(), a, b, s.r_C(0), s.r_C(1)});
     peaks->F = std::max(peaks->F, s.F.norm());
     peaks->M = std::max(peaks->M, std::abs(s.M));
     peaks->drive = std::max(peaks->drive, std::abs(st.drive(0)));
@@ -95,7 +130,16 @@ bool Revolution(const Params& p, double omega, int steps, const std::string& pat
     peaks->A = std::max(peaks->A, a);
     peaks->B = std::max(peaks->B, b);
   }
-  if (std::fclose(f) != 0) {
+  std::ostringstream csv;
+  mechgen::WriteCsv(Columns(), rows, csv,
+                    mechgen::Described(mechgen::CsvAbout(
+                        "fourbar_balancing", M::kName,
+                        std::string(name) + " (balance = " + (std::strcmp(name, "balanced") == 0 ? "1" : "0") +
+                            "), one crank revolution at constant speed",
+                        "F and M: what the moving links exert on the frame; drive: the torque on the crank, CCW +; "
+                        "O2, O4: the load of the crank and the rocker on the frame; fixed frame x, y")));
+  const std::string text = csv.str();
+  if (std::fputs(text.c_str(), f) < 0 || std::fclose(f) != 0) {
     std::fprintf(stderr, "fourbar_balancing: cannot write %s\n", tmp.c_str());
     std::remove(tmp.c_str());
     return false;
@@ -159,7 +203,7 @@ int main(int argc, char** argv) {
   std::string paths[2];
   for (int k = 0; k < 2; ++k) {
     paths[k] = dir + "/fourbar_balancing_" + names[k] + ".csv";
-    if (!Revolution(*params[k], omega, steps, paths[k], &peaks[k])) {
+    if (!Revolution(*params[k], names[k], omega, steps, paths[k], &peaks[k])) {
       if (k == 1) std::remove((paths[0] + ".tmp").c_str());
       return 1;
     }

@@ -49,7 +49,7 @@ if (chart eq "polar") {
   set ylabel "90 deg ahead of the throw, v (N)"
   set xzeroaxis lt -1
   set yzeroaxis lt -1
-  header = system("head -n 1 '" . csv . "' | tr ',' ' '")
+  header = system("awk '!/^#/ { print; exit }' '" . csv . "' | tr ',' ' '")
   cu = 0
   cv = 0
   do for [i = 1:words(header)] {
@@ -62,7 +62,7 @@ if (chart eq "polar") {
 if (chart eq "bearings") {
   set terminal pngcairo size 900,820 font "sans,11" noenhanced
   set output png
-  header = system("head -n 1 '" . csv . "' | tr ',' ' '")
+  header = system("awk '!/^#/ { print; exit }' '" . csv . "' | tr ',' ' '")
   ox = 0; oy = 0; wx = 0; wy = 0
   do for [i = 1:words(header)] {
     if (word(header, i) eq "F_O_x") { ox = i }
@@ -90,7 +90,7 @@ if (chart eq "shaking") {
   set ylabel "shaking force F_y (N)"
   set xzeroaxis lt -1
   set yzeroaxis lt -1
-  header = system("head -n 1 '" . csv . "' | tr ',' ' '")
+  header = system("awk '!/^#/ { print; exit }' '" . csv . "' | tr ',' ' '")
   cx = 0
   cy = 0
   do for [i = 1:words(header)] {
@@ -101,7 +101,7 @@ if (chart eq "shaking") {
        "+" using (0):(0) with points pt 7 ps 1 lc rgb "black" notitle
 }
 if (chart eq "shaking_angle") {
-  header = system("head -n 1 '" . csv . "' | tr ',' ' '")
+  header = system("awk '!/^#/ { print; exit }' '" . csv . "' | tr ',' ' '")
   cx = 0
   cy = 0
   cm = 0

@@ -2,11 +2,11 @@
 //
 //   mechgen_balance table [--csv] [--rotating-ratio R] [--layout NAME]... [--engine FILE]...
 //       The primary/secondary shaking force and moment table of multi-cylinder engines
-//       (mechgen/balancing/engine_balance.h): max over a turn in units of m r w^2 (primary) and
+//       (mechgen/machines/balancing/engine_balance.h): max over a turn in units of m r w^2 (primary) and
 //       m r w^2 (r/l) (secondary), moments times the cylinder spacing a. --engine: a layout of
 //       your own, one cylinder a line: throw angle [deg], bank angle [deg], z [spacings].
 //   mechgen_balance rotor --csv FILE --radius R [--left ZL --right ZR]
-//       Rigid-rotor balancing (mechgen/balancing/rotor.h, Paul §7.1). FILE has one unbalance a
+//       Rigid-rotor balancing (mechgen/machines/balancing/rotor.h, Paul §7.1). FILE has one unbalance a
 //       line: m [kg], r [m], angle [deg], z [m] (comma-separated; '#' comments and a header
 //       line "m,r,angle_deg,z" allowed). With --left/--right: two-plane dynamic balancing, the
 //       correction masses at radius R (or --left-radius/--right-radius) in the planes z = ZL,
@@ -15,7 +15,7 @@
 //                            (--inertia I | --mass M --gyration K | --cs C)
 //   mechgen_balance flywheel --torque-csv FILE [--cycle-deg 360] [--remove-mean]
 //                            [--energy-csv OUT] --rpm N (...)
-//       Flywheel sizing by the energy-loop method (mechgen/flywheel/energy_loop.h, Paul §6.9.2):
+//       Flywheel sizing by the energy-loop method (mechgen/machines/flywheel/energy_loop.h, Paul §6.9.2):
 //       dE from the loop areas of a turning-moment diagram (S = J per unit area, or
 //       --torque-scale [N m per unit] with --angle-scale [deg per unit]) or from a sampled
 //       excess torque (FILE: angle_deg, torque [N m] (T_d - T_l), or angle_deg, T_d, T_l,
@@ -47,11 +47,13 @@
 #include <vector>
 
 #include "common/cli.h"
-#include "mechgen/balancing/engine_balance.h"
-#include "mechgen/balancing/rotor.h"
-#include "mechgen/flywheel/energy_loop.h"
+#include "mechgen/machines/balancing/engine_balance.h"
+#include "mechgen/machines/balancing/rotor.h"
+#include "mechgen/machines/flywheel/energy_loop.h"
+#include "mechgen/io/csv.h"
 #include "mechgen/io/format.h"
 #include "mechgen/io/output_file.h"
+#include "mechgen/table/columns.h"
 
 namespace {
 
@@ -205,7 +207,12 @@ int RunTable(bool csv,
   }
   if (names.empty() && engine_files.empty()) chosen.assign(all.begin(), all.end());
   std::ostringstream out;
-  bal::PrintBalanceTable(chosen, out, csv, rotating_ratio);
+  bal::PrintBalanceTable(chosen, out, csv, rotating_ratio,
+                         mechgen::Described(std::string(kTool) +
+                                            " table: the balance table of engine layouts, two-mass approximation"
+                                            ", rotating mass ratio " +
+                                            mechgen::internal::FormatRoundTrip(rotating_ratio) +
+                                            ". Signs: " + bal::kBalanceSigns));
   std::cout << out.str();
   return 0;
 }
@@ -268,6 +275,23 @@ int RunRotor(const RotorArgs& a) {
 }
 
 // ---- flywheel ----
+
+// The rows and columns of the energy-loop CSV (table/columns.h, written by io/csv.h).
+struct EnergyRow {
+  double angle_deg, excess_torque, E;
+};
+mechgen::table::Columns<EnergyRow> EnergyColumns() {
+  mechgen::table::Columns<EnergyRow> columns;
+  mechgen::table::Builder<EnergyRow> add(&columns);
+  add.Number("angle_deg", "deg", "angle of the machine's shaft",
+             [](const EnergyRow& r) { return r.angle_deg; });
+  add.Number("excess_torque", "N m", "T_d - T_l: driving minus load torque (less its mean with --remove-mean)",
+             [](const EnergyRow& r) { return r.excess_torque; });
+  add.Number("E", "J", "excess energy: the integral of excess_torque from the first angle",
+             [](const EnergyRow& r) { return r.E; });
+  return columns;
+}
+
 struct FlywheelArgs {
   std::string areas, torque_csv, energy_csv;
   double scale = kUnset, torque_scale = kUnset, angle_scale = kUnset;
@@ -358,15 +382,15 @@ int RunFlywheel(const FlywheelArgs& a) {
         << " deg\n";
     out << "  dE = " << Format("%.6g", delta_E) << " J\n";
     if (!a.energy_csv.empty()) {
-      std::ostringstream csv;
-      csv << "angle_deg,excess_torque,E\n";
+      std::vector<EnergyRow> energy;
       for (int k = 0; k < n; ++k)
-        csv << mechgen::internal::FormatRoundTrip(theta0 + k * step) << ','
-            << mechgen::internal::FormatRoundTrip(dT[k] - (a.remove_mean ? loop.mean_torque : 0.0)) << ',' << mechgen::internal::FormatRoundTrip(E[k])
-            << '\n';
-      csv << mechgen::internal::FormatRoundTrip(theta0 + a.cycle_deg) << ','
-          << mechgen::internal::FormatRoundTrip(dT[0] - (a.remove_mean ? loop.mean_torque : 0.0)) << ','
-          << mechgen::internal::FormatRoundTrip(loop.cycle_work) << '\n';
+        energy.push_back({theta0 + k * step, dT[k] - (a.remove_mean ? loop.mean_torque : 0.0), E[k]});
+      energy.push_back({theta0 + a.cycle_deg, dT[0] - (a.remove_mean ? loop.mean_torque : 0.0), loop.cycle_work});
+      std::ostringstream csv;
+      mechgen::WriteCsv(EnergyColumns(), energy, csv,
+                        mechgen::Described(std::string(kTool) + " flywheel, from the torque table " + a.torque_csv +
+                                           ": energy loop. Signs: excess_torque = T_d - T_l, the driving torque on the "
+                                           "shaft minus the load's, + along the rotation"));
       energy_text = csv.str();
       out << "  energy loop written to " << a.energy_csv << " (angle_deg, excess_torque [N m], E [J])\n";
     }
@@ -391,6 +415,24 @@ int RunFlywheel(const FlywheelArgs& a) {
 }
 
 // ---- wittenbauer ----
+
+// The rows and columns of the Wittenbauer diagram CSV (with --design: the machine's samples
+// plus the flywheel found).
+struct DiagramRow {
+  double angle_deg, I, T;
+};
+mechgen::table::Columns<DiagramRow> DiagramColumns(bool design) {
+  mechgen::table::Columns<DiagramRow> columns;
+  mechgen::table::Builder<DiagramRow> add(&columns);
+  add.Number("angle_deg", "deg", "angle of the machine's shaft",
+             [](const DiagramRow& r) { return r.angle_deg; });
+  add.Number("I", "kg m^2",
+             design ? "generalized inertia with the flywheel, I_m + I_f" : "generalized inertia",
+             [](const DiagramRow& r) { return r.I; });
+  add.Number("T", "J", design ? "kinetic energy, E + T0" : "kinetic energy",
+             [](const DiagramRow& r) { return r.T; });
+  return columns;
+}
 struct WittenbauerArgs {
   std::string csv, diagram_csv;
   bool design = false;
@@ -457,10 +499,13 @@ int RunWittenbauer(const WittenbauerArgs& a) {
   }
   std::string diagram;
   if (!a.diagram_csv.empty()) {
+    std::vector<DiagramRow> diagram_rows;
+    for (int k = 0; k < n; ++k) diagram_rows.push_back({angle[k], I[k], T[k]});
     std::ostringstream csv;
-    csv << "angle_deg,I,T\n";
-    for (int k = 0; k < n; ++k)
-      csv << mechgen::internal::FormatRoundTrip(angle[k]) << ',' << mechgen::internal::FormatRoundTrip(I[k]) << ',' << mechgen::internal::FormatRoundTrip(T[k]) << '\n';
+    mechgen::WriteCsv(DiagramColumns(a.design), diagram_rows, csv,
+                      mechgen::Described(std::string(kTool) + " wittenbauer, from the samples " + a.csv +
+                                         (a.design ? ": Wittenbauer diagram with the flywheel found"
+                                                   : ": Wittenbauer diagram")));
     std::string error;
     if (!WriteWhole(a.diagram_csv, csv.str(), &error)) return Fail(error);
     out << "  diagram (I, T) written to " << a.diagram_csv << "\n";

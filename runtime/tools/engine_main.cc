@@ -7,12 +7,12 @@
 // phase_j, p_gas_j, gamma_j, beta_j, m_rod, l_G, J_rod, m_pis) and its coordinates
 // (s_slide_j, theta_rod_j) and reactions (F_O, F_B_j, F_C_j, N_slide_j) by name.
 //
-// Gas: one pressure law for every cylinder (mechgen/engine/gas.h), cylinder j at the cycle
+// Gas: one pressure law for every cylinder (mechgen/machines/engine/gas.h), cylinder j at the cycle
 // angle theta - phase_j: the parametric polytropic cycle with a Wiebe heat release (default),
 // or --table FILE, an indicator diagram (CSV rows: cycle angle in deg from firing TDC, gauge
 // pressure in Pa; a header line is skipped). The gas torque T_gas = -sum p_j A ds_j/dtheta
 // (N m on the crank, CCW +) comes from the generated velocity coefficients
-// (mechgen/engine/crank_dynamics.h, GasTorque); the bearing loads and side thrusts come from
+// (mechgen/machines/engine/crank_dynamics.h, GasTorque); the bearing loads and side thrusts come from
 // the generated kinetostatics with the model's p_gas_j parameters set to p_j at each angle.
 //
 // Subcommands (signs: torques on the crank CCW +, N m; forces N in the fixed frame):
@@ -28,14 +28,14 @@
 //             (N m, CCW +) of the generated EvalShaking, and the rocking couple M_rock_x,
 //             M_rock_y (N m, about axes across the crankshaft through its point at the mean of
 //             the cylinders' axial positions z_j; z along the shaft; on the frame:
-//             mechgen/engine/couples.h). The crank is held at constant
+//             mechgen/machines/engine/couples.h). The crank is held at constant
 //             speed by a dynamometer absorbing T_total. Summary: mean torque, its harmonics by
-//             order (multiples of the crank speed; mechgen/engine/harmonics.h), max/mean, and
+//             order (multiples of the crank speed; mechgen/machines/engine/harmonics.h), max/mean, and
 //             the power smoothing of Paul §6.8.5: the torque of k cylinders evenly spaced over
 //             the cycle, k = 1..n, each the torque of cylinder 1 of this model (its gas torque
 //             plus its own inertia torque) shifted by cycle/k (summed phase-shifted
 //             single-cylinder torques), k up to max(--smoothing, n).
-//   flywheel  Energy loop (Paul §6.9.2; mechgen/flywheel/energy_loop.h) of T_total at
+//   flywheel  Energy loop (Paul §6.9.2; mechgen/machines/flywheel/energy_loop.h) of T_total at
 //             constant speed about its mean: the
 //             largest swing dE, the generalized inertia for --cs, I = dE / (C_s omega^2), and
 //             J_fly = I - mean(I(theta) - J_fly) (the reciprocating parts' mean inertia taken
@@ -87,11 +87,11 @@
 
 #include "common/cli.h"
 #include "mechgen/dynamics/forward.h"
-#include "mechgen/engine/couples.h"
-#include "mechgen/engine/crank_dynamics.h"
-#include "mechgen/engine/gas.h"
-#include "mechgen/engine/harmonics.h"
-#include "mechgen/flywheel/energy_loop.h"
+#include "mechgen/machines/engine/couples.h"
+#include "mechgen/machines/engine/crank_dynamics.h"
+#include "mechgen/machines/engine/gas.h"
+#include "mechgen/machines/engine/harmonics.h"
+#include "mechgen/machines/flywheel/energy_loop.h"
 #include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
 #include "mechgen/table/columns.h"
@@ -678,6 +678,16 @@ mechgen::table::Columns<RunupRow> RunupColumns() {
   return columns;
 }
 
+/// The comment lines of every engine CSV (io/csv.h): the tool, the model, what the file
+/// holds and the signs, then every column's unit and meaning.
+mechgen::CsvOptions EngineCsvOptions(const char* what) {
+  return mechgen::Described(mechgen::CsvAbout(
+      std::string(Model::kName) + "_engine", Model::kName, what,
+      "torques on the crank CCW +; F_O: the frame on the crank; pin: the crank on the rod "
+      "(x, y) and the rod on the crank pin (u, v); wrist: the rod on the piston; thrust, shake "
+      "and rocking couple: on the frame; fixed frame x, y"));
+}
+
 // ---- subcommands --------------------------------------------------------------------------
 
 int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
@@ -688,7 +698,7 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
   Outputs outs;
   std::ostream* o = outs.Open(a.csv, &error);
   if (o == nullptr) return Fail(error);
-  mechgen::WriteCsv(CycleColumns(e), pts, *o);
+  mechgen::WriteCsv(CycleColumns(e), pts, *o, EngineCsvOptions("cycle at constant crank speed"));
   double max_check = 0, scale = 0;
   for (const Point& pt : pts) {
     max_check = std::max(max_check, std::abs(pt.drive + pt.T_total));
@@ -702,7 +712,7 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
     Tmax = std::max(Tmax, T[i]);
     Tmin = std::min(Tmin, T[i]);
   }
-  // The mean and the orders up to 8 times the crank speed (engine/harmonics.h).
+  // The mean and the orders up to 8 times the crank speed (machines/engine/harmonics.h).
   const int count = (e.strokes == 4 ? 16 : 8) + 1;
   std::vector<eng::Harmonic> h(count), hg(1);
   const auto hs = eng::Analyze(T.data(), static_cast<int>(T.size()), e.cycle, 0.0, count, h.data());
@@ -793,7 +803,7 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   if (!RunCycle(p0, e, gas, omega, a.samples, &pts, &error)) return Fail(error);
   const int n = static_cast<int>(pts.size());
   const double dth = e.cycle / n;
-  // Energy loop about the mean (mechgen/flywheel/energy_loop.h: the mean torque line is the
+  // Energy loop about the mean (mechgen/machines/flywheel/energy_loop.h: the mean torque line is the
   // load; E at the samples, the extremes refined between them).
   double mean_I = 0;
   std::vector<double> T(n), Tg(n), E(n), Eg(n);
@@ -844,7 +854,7 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   if (lo == nullptr) return Fail(error);
   std::vector<LoopRow> loop_rows;
   for (int i = 0; i <= n; ++i) loop_rows.push_back({dth * i, pts[i % n].T_total, mean, i < n ? E[i] : 0.0});
-  mechgen::WriteCsv(LoopColumns(), loop_rows, *lo);
+  mechgen::WriteCsv(LoopColumns(), loop_rows, *lo, EngineCsvOptions("flywheel: energy loop"));
   std::ostream* so = outs.Open(a.sweep_csv, &error);
   if (so == nullptr) return Fail(error);
   std::vector<std::array<double, 3>> sweep;
@@ -856,10 +866,11 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
     sweep.push_back({J, dE / ((J + I_recip) * omega * omega), s.Cs});
     cs_rows.push_back({J, sweep.back()[1], s.Cs});
   }
-  mechgen::WriteCsv(CsColumns(), cs_rows, *so);
+  mechgen::WriteCsv(CsColumns(), cs_rows, *so, EngineCsvOptions("flywheel: C_s against J_fly"));
   std::ostream* wo = outs.Open(a.witt_csv, &error);
   if (wo == nullptr) return Fail(error);
-  mechgen::WriteCsv(WittenbauerColumns(), sc.points, *wo);
+  mechgen::WriteCsv(WittenbauerColumns(), sc.points, *wo,
+                    EngineCsvOptions("flywheel: Wittenbauer, the simulated steady cycle"));
   if (!outs.Commit(&error)) return Fail(error);
   const double cs_gas_only = dEg / (I_req * omega * omega);
   std::printf("%s flywheel at %.6g rpm (omega %.6g rad/s), prescribed C_s = %.6g\n", Model::kName, a.rpm,
@@ -944,7 +955,7 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   Outputs outs;
   std::ostream* o = outs.Open(a.csv, &error);
   if (o == nullptr) return Fail(error);
-  mechgen::WriteCsv(RunupColumns(), rows, *o);
+  mechgen::WriteCsv(RunupColumns(), rows, *o, EngineCsvOptions("run-up"));
   if (!outs.Commit(&error)) return Fail(error);
   std::printf("%s run-up from %.6g rpm against T_load %.6g N m + c_load %.6g N m s/rad (target %.6g rpm)\n",
               Model::kName, qd(0) * 60 / (2 * kPi), T_load, c_load, a.rpm);

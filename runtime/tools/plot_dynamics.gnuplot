@@ -17,7 +17,7 @@ if (!exists("csv")) {
 }
 if (!exists("png") && !exists("svg")) { png = csv . ".png" }
 
-header = system("head -n 1 '" . csv . "' | tr ',' ' '")
+header = system("awk '!/^#/ { print; exit }' '" . csv . "' | tr ',' ' '")
 n = words(header)
 q_name = word(header, 2)
 if (!exists("deg")) { deg = (strstrt(q_name, "theta") == 1 || strstrt(q_name, "psi") == 1) ? 1 : 0 }

@@ -17,7 +17,7 @@ if (!exists("csv")) {
 }
 if (!exists("png") && !exists("svg")) { png = csv . ".png" }
 
-header = system("head -n 1 '" . csv . "' | tr ',' ' '")
+header = system("awk '!/^#/ { print; exit }' '" . csv . "' | tr ',' ' '")
 n = words(header)
 x_name = word(header, 1)
 if (!exists("deg")) { deg = (strstrt(x_name, "theta") == 1 || strstrt(x_name, "psi") == 1) ? 1 : 0 }

@@ -402,6 +402,17 @@ mechgen::table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>
   return columns;
 }
 
+// The CSV's comment lines (io/csv.h): the tool, the model, the run and the signs, then every
+// column's unit and meaning.
+template <class M>
+mechgen::CsvOptions SimulateCsvOptions(const char* run) {
+  return mechgen::Described(mechgen::CsvAbout(
+      std::string(M::kName) + "_simulate", M::kName, run,
+      "Q_<q> and lambda_<q> act on the input: a torque CCW + for an angle, a force along +q for "
+      "a slide; reactions (inertia forces included) are the force (and moment) of each joint's "
+      "first link on its second, fixed frame; angles CCW + from the fixed x axis"));
+}
+
 // Commits the CSV (io/output_file.h: whole or absent); false with one line on stderr.
 bool CommitCsv(mechgen::OutputFile* csv) {
   std::string error;
@@ -487,7 +498,7 @@ int Run(const Args& args) {
   }
   const auto columns = FreeColumns<M, SampleT>();
   const auto magnitudes = RevoluteMagnitudes<M>();
-  mechgen::WriteCsvHeader(columns, csv.stream());
+  mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions<M>("free motion"));
 
   double max_reaction = 0;
 
@@ -632,7 +643,7 @@ int RunDriven(const Args& args) {
     return 1;
   }
   const auto columns = DrivenColumns<M, SampleT, NP>(prescribed);
-  mechgen::WriteCsvHeader(columns, csv.stream());
+  mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions<M>("driven motion"));
   auto observer = [&](const SampleT& s) {
     // The row is written inside the branch that holds the kinetostatics it points into.
     CsvRow<SampleT> row{&s, nullptr};

@@ -293,7 +293,10 @@ int Run(int argc, char** argv) {
   };
   if (!csv_path.empty()) {
     if (!csv.Open(csv_path, &error)) return failed();
-    statics::WriteStaticsCsv(records, csv.stream());
+    statics::WriteStaticsCsv(records, csv.stream(),
+                             mechgen::Described(mechgen::CsvAbout(
+                                 std::string(M::kName) + "_statics", M::kName, "statics sweep",
+                                 statics::kStaticsSigns)));
   }
   if (!svg_path.empty()) {
     if (!svg.Open(svg_path, &error)) return failed();

@@ -298,7 +298,11 @@ int main(int argc, char** argv) {
   // spends handing each row out (CSV formatting, keeping the table's and drawing's rows);
   // the first row apart, since it continues from the assembly configuration.
   double output_seconds = 0, first_row_seconds = 0;
-  if (!csv_path.empty()) mechgen::WriteCsvHeader(columns, csv.stream());
+  if (!csv_path.empty())
+    mechgen::WriteCsvHeader(columns, csv.stream(),
+                            mechgen::Described(mechgen::CsvAbout(
+                                std::string(Model::kName) + "_sweep", Model::kName,
+                                "kinematic sweep", mechgen::kSweepSigns)));
   const auto start = std::chrono::steady_clock::now();
   auto row = [&](int i, const mechgen::SweepRecord<Model>& r) {
     const auto t0 = std::chrono::steady_clock::now();

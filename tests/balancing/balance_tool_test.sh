@@ -19,9 +19,17 @@ grep -Eq '^inline6 +6  0 +0 +0 +0 *$' "$out/table.txt" || fail "inline6 row"
 grep -Eq '^v8_crossplane +8  0 +0 +3\.162 rotating +0 *$' "$out/table.txt" || fail "v8 row"
 grep -Eq '^inline3 +3  0 +0 +1\.732 line +1\.732 line *$' "$out/table.txt" || fail "inline3 row"
 "$tool" table --csv > "$out/table.csv" || fail "table --csv"
-[ "$(wc -l < "$out/table.csv")" -eq 12 ] || fail "CSV rows"
-grep -q '^vtwin90,2,1,1,rotating,1.41421356,0,line,0,0,balanced,0,0,balanced$' "$out/table.csv" \
-  || fail "vtwin90 CSV"
+[ "$(grep -vc '^#' "$out/table.csv")" -eq 12 ] || fail "CSV rows"
+head -n 1 "$out/table.csv" | grep -q '^# mechgen_balance table: .*Signs: ' || fail "table CSV: first line"
+[ "$(grep -c '^# [a-z_]* \[[^]]*\]: ' "$out/table.csv")" -eq 14 ] || fail "table CSV: unit lines"
+# The 90 deg V-twin (hand values): a primary force of constant length 1 turning with the crank,
+# a secondary force on a line of amplitude sqrt 2, no moments; every number round-trips, so
+# to the last bit.
+awk -F, '$1 == "vtwin90" { found = 1
+    ok = $2 == 2 && $3 - 1 < 1e-15 && 1 - $3 < 1e-15 && $4 - 1 < 1e-15 && 1 - $4 < 1e-15 &&
+         $5 == "rotating" && ($6 - sqrt(2))^2 < 1e-30 && $7 == 0 && $8 == "line" &&
+         $9 == 0 && $10 == 0 && $11 == "balanced" && $12 == 0 && $13 == 0 && $14 == "balanced" }
+  END { exit !(found && ok) }' "$out/table.csv" || fail "vtwin90 CSV"
 
 printf '# two unbalances\nm,r,angle_deg,z\n2,0.1,0,0.1\n1,0.2,90,0.3\n' > "$out/rotor.csv"
 "$tool" rotor --csv "$out/rotor.csv" --radius 0.1 --left 0 --right 0.4 > "$out/rotor.txt" \
@@ -45,7 +53,7 @@ grep -q 'flywheel I = 0.81 kg m^2: C_s = dE/(I w^2) = 0.00298673' "$out/fly.txt"
 # A layout of one's own from a file: the in-line five preset again, with the bank angle column.
 printf '# in-line five\n0,0,-2\n216,0,-1\n144,0,0\n72,0,1\n288,0,2\n' > "$out/five.csv"
 "$tool" table --csv --engine "$out/five.csv" --layout inline5 > "$out/five.txt" || fail "--engine"
-[ "$(sed -n 2p "$out/five.txt" | cut -d, -f2-)" = "$(sed -n 3p "$out/five.txt" | cut -d, -f2-)" ] \
+[ "$(grep -v '^#' "$out/five.txt" | sed -n 2p | cut -d, -f2-)" = "$(grep -v '^#' "$out/five.txt" | sed -n 3p | cut -d, -f2-)" ] \
   || fail "--engine differs from the preset"
 grep -q '^five,5,0,0,balanced,0,0,balanced,0.449' "$out/five.txt" || fail "five"
 
@@ -59,8 +67,13 @@ grep -q 'E_max = 240 J at 180.000 deg, E_min = 0 J at 0.000 deg' "$out/torque.tx
 grep -q 'required I = dE/(C_s w^2) = 6.07927 kg m^2' "$out/torque.txt" || fail "I"
 "$tool" flywheel --torque-csv "$out/torque.csv" --rpm 600 --cs 0.01 --energy-csv "$out/E.csv" \
   > /dev/null || fail "--energy-csv"
-[ "$(head -n 1 "$out/E.csv")" = "angle_deg,excess_torque,E" ] || fail "E.csv header"
-[ "$(wc -l < "$out/E.csv")" -eq 182 ] || fail "E.csv rows"
+[ "$(awk '!/^#/ { print; exit }' "$out/E.csv")" = "angle_deg,excess_torque,E" ] || fail "E.csv header"
+[ "$(grep -vc '^#' "$out/E.csv")" -eq 182 ] || fail "E.csv rows"
+# Its comment lines: the tool and the signs, then each column's unit.
+head -n 1 "$out/E.csv" | grep -q '^# mechgen_balance flywheel, .*Signs: excess_torque = T_d - T_l' \
+  || fail "E.csv: first comment line $(head -n 1 "$out/E.csv")"
+[ "$(sed -n 2,4p "$out/E.csv" | cut -d: -f1 | tr '\n' ' ')" = "# angle_deg [deg] # excess_torque [N m] # E [J] " ] \
+  || fail "E.csv: unit lines $(sed -n 2,4p "$out/E.csv")"
 # A failed write: exit 1, one line, nothing left behind.
 rc=0
 "$tool" flywheel --torque-csv "$out/torque.csv" --rpm 600 --cs 0.01 --energy-csv /dev/full \

@@ -1,7 +1,7 @@
-// flywheel/energy_loop.h: a textbook flywheel with published numbers, a closed-form excess
+// machines/flywheel/energy_loop.h: a textbook flywheel with published numbers, a closed-form excess
 // torque with the convergence of the sampled integration, and Wittenbauer's tangents on
 // synthetic data whose flywheel is known by construction.
-#include "mechgen/flywheel/energy_loop.h"
+#include "mechgen/machines/flywheel/energy_loop.h"
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
-// balancing/engine_balance.h against (1) the classical balance facts of multi-cylinder engines
+// machines/balancing/engine_balance.h against (1) the classical balance facts of multi-cylinder engines
 // (Taylor, *The Internal-Combustion Engine in Theory and Practice*, vol. 2, the chapter on
 // engine balance; the same table is in most machine-dynamics texts), with the amplitudes
 // derived by hand in the comments, and (2) an independent time-domain route: the per-cylinder two-mass forces
-// summed as real x, y components over a turn, and their moments, analysed by engine/harmonics.h.
+// summed as real x, y components over a turn, and their moments, analysed by machines/engine/harmonics.h.
 // The analytic route sums rotating complex vectors instead; the two must agree to rounding.
 // (3) The exact slider-crank kinematics: its first order is exactly the two-mass primary, its
 // second order is λ (1 + λ²/4 + 15λ⁴/128 + 35λ⁶/512 + …), the known series.
-#include "mechgen/balancing/engine_balance.h"
+#include "mechgen/machines/balancing/engine_balance.h"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "mechgen/engine/harmonics.h"
+#include "mechgen/machines/engine/harmonics.h"
 
 namespace {
 

@@ -1,6 +1,6 @@
-// engine/harmonics.h against synthetic signals whose harmonics are known by construction, at
+// machines/engine/harmonics.h against synthetic signals whose harmonics are known by construction, at
 // several sampling offsets, and against Parseval's identity.
-#include "mechgen/engine/harmonics.h"
+#include "mechgen/machines/engine/harmonics.h"
 
 #include <gtest/gtest.h>
 

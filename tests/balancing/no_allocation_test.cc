@@ -7,10 +7,10 @@
 #include <cstdlib>
 #include <new>
 
-#include "mechgen/balancing/engine_balance.h"
-#include "mechgen/balancing/rotor.h"
-#include "mechgen/engine/harmonics.h"
-#include "mechgen/flywheel/energy_loop.h"
+#include "mechgen/machines/balancing/engine_balance.h"
+#include "mechgen/machines/balancing/rotor.h"
+#include "mechgen/machines/engine/harmonics.h"
+#include "mechgen/machines/flywheel/energy_loop.h"
 
 namespace {
 bool armed = false;

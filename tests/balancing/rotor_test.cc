@@ -1,7 +1,7 @@
-// balancing/rotor.h: the corrections cancel the unbalance's force and moment exactly (to
+// machines/balancing/rotor.h: the corrections cancel the unbalance's force and moment exactly (to
 // rounding) for random rotors, a hand computation by the lever rule, static balancing, and
 // the statuses of bad input.
-#include "mechgen/balancing/rotor.h"
+#include "mechgen/machines/balancing/rotor.h"
 
 #include <gtest/gtest.h>
 

@@ -38,7 +38,7 @@ def run(args, name):
     if os.path.exists(path):
         with open(path) as f:
             rows = [{k: (float(v) if v != "" else math.nan) for k, v in r.items()}
-                    for r in csv.DictReader(f)]
+                    for r in csv.DictReader(line for line in f if not line.startswith("#"))]
     return p, rows
 
 

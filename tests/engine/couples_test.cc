@@ -1,9 +1,9 @@
-// Rocking couples of the engine models (mechgen/engine/couples.h) from the generated per-link
+// Rocking couples of the engine models (mechgen/machines/engine/couples.h) from the generated per-link
 // shaking forces (Shaking::F_link) and the axial positions z_j, against independent oracles:
 //  - in-line four (flat crank 0-180-180-0, z mirror-symmetric): no couple about the middle at
 //    any crank angle (while the couple about an end is not zero: the secondary force's arm);
 //  - cross-plane V8: the order-1 harmonic of the couple vector over a revolution at constant
-//    speed (a direct DFT here) equals the two-mass table of mechgen/balancing/engine_balance.h for
+//    speed (a direct DFT here) equals the two-mass table of mechgen/machines/balancing/engine_balance.h for
 //    the same masses and axial positions: exact for the first harmonic (the rod split into masses
 //    at B and C by its centre of mass; the exact piston acceleration's first Fourier coefficient is
 //    r w^2 without offset); with the textbook's z (pairs of a pin at one z) it is
@@ -21,8 +21,8 @@
 #include "engine_inline4.h"
 #include "engine_single.h"
 #include "engine_v8.h"
-#include "mechgen/balancing/engine_balance.h"
-#include "mechgen/engine/couples.h"
+#include "mechgen/machines/balancing/engine_balance.h"
+#include "mechgen/machines/engine/couples.h"
 #include "slider_crank.h"
 
 namespace {

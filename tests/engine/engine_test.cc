@@ -21,8 +21,8 @@
 #include "engine_inline4.h"
 #include "engine_single.h"
 #include "mechgen/dynamics/forward.h"
-#include "mechgen/engine/crank_dynamics.h"
-#include "mechgen/engine/gas.h"
+#include "mechgen/machines/engine/crank_dynamics.h"
+#include "mechgen/machines/engine/gas.h"
 
 namespace {
 

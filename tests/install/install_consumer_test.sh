@@ -37,7 +37,7 @@ export MECHGEN_CACHE_DIR="$work/cache"
 grep -q -- "-I$work/prefix/include " sweep.err || { echo "not the installed headers:"; cat sweep.err; exit 1; }
 grep -q -- " $work/prefix/share/mechgen/tools/sweep_main.cc " sweep.err || { echo "not the installed driver:"; cat sweep.err; exit 1; }
 if grep -q -- "$source_dir/runtime" sweep.err; then echo "used the source tree:"; cat sweep.err; exit 1; fi
-[ "$(grep -c '' out.csv)" -eq 38 ] || { echo "out.csv: $(grep -c '' out.csv) lines, expected 38"; exit 1; }
+[ "$(grep -vc '^#' out.csv)" -eq 38 ] || { echo "out.csv: $(grep -vc '^#' out.csv) lines, expected 38"; exit 1; }
 grep -q "^37/37 configurations converged" sweep.out || { cat sweep.out; exit 1; }
 "$work/prefix/bin/mechgen" sweep my_fourbar.yaml --steps 36 --csv again.csv > again.out 2> again.err ||
   { cat again.err; exit 1; }

@@ -35,7 +35,7 @@ def fail(model, msg):
 
 def first_row(path):
     with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     return {k: float(v) for k, v in rows[0].items() if k != "status"}
 
 

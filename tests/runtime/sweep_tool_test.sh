@@ -115,13 +115,13 @@ status=$?
 [ "$status" -eq 3 ] || fail "stop: exit status $status"
 grep -Eqx "error: 181 of 361 rows did not converge: 1 singular, 180 not_run \(see the status column\)" \
   "$root/stop.err" || fail "stop: message $(cat "$root/stop.err")"
-[ "$(wc -l < "$dir/f.csv")" -eq 362 ] || fail "stop: CSV rows"
+[ "$(grep -vc '^#' "$dir/f.csv")" -eq 362 ] || fail "stop: CSV rows"
 # Row 182 (index 181): theta_crank = 1 deg asked, not run.
-awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) col[$i] = i }
-         NR > 1 && $col["status"] == "not_run" {
-           n++; q = $col["theta_crank"]; want = -3.14159265358979 + (NR - 2) * 6.28318530717959 / 360
-           if (q == "nan" || (q - want) > 1e-9 || (want - q) > 1e-9) { print "row " NR ": " q; bad++ }
-           if ($col["theta_coupler"] != "nan") { print "row " NR " has a value"; bad++ } }
+awk -F, '/^#/ { next } ++line == 1 { for (i = 1; i <= NF; ++i) col[$i] = i }
+         line > 1 && $col["status"] == "not_run" {
+           n++; q = $col["theta_crank"]; want = -3.14159265358979 + (line - 2) * 6.28318530717959 / 360
+           if (q == "nan" || (q - want) > 1e-9 || (want - q) > 1e-9) { print "row " line ": " q; bad++ }
+           if ($col["theta_coupler"] != "nan") { print "row " line " has a value"; bad++ } }
          END { if (n != 180 || bad) { print n " not_run rows, " bad " bad"; exit 1 } }' \
   "$dir/f.csv" || fail "stop: not_run rows"
 echo "ok stop: $(cat "$root/stop.err")"
@@ -133,8 +133,8 @@ mkdir -p "$dir"
 status=$?
 [ "$status" -eq 0 ] || fail "clean: exit status $status"
 [ ! -s "$root/clean.err" ] || fail "clean: stderr $(cat "$root/clean.err")"
-[ "$(wc -l < "$dir/out/f.csv")" -eq 38 ] || fail "clean: CSV rows"
-dups=$(head -n 1 "$dir/out/f.csv" | tr ',' '\n' | sort | uniq -d)
+[ "$(grep -vc '^#' "$dir/out/f.csv")" -eq 38 ] || fail "clean: CSV rows"
+dups=$(awk '!/^#/ { print; exit }' "$dir/out/f.csv" | tr ',' '\n' | sort | uniq -d)
 [ -z "$dups" ] || fail "clean: duplicate columns $dups"
 tail -n 1 "$dir/out/f.svg" | grep -q "</svg>" || fail "clean: SVG not whole"
 [ "$(cd "$dir/out" && ls -A | tr '\n' ' ')" = "f.csv f.svg " ] || fail "clean: left $(ls -A "$dir/out")"

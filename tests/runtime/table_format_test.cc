@@ -262,16 +262,28 @@ TEST(CsvWriter, DescribedHeaderStatesUnitsAndMeanings) {
   const std::vector<HardRow> rows = {{0.25, 0}};
   std::ostringstream plain, described;
   mechgen::WriteCsv(columns, rows, plain);
-  mechgen::CsvOptions options;
-  options.describe = true;
-  mechgen::WriteCsv(columns, rows, described, options);
+  mechgen::WriteCsv(columns, rows, described,
+                    mechgen::Described(mechgen::CsvAbout("press_statics", "press", "statics sweep",
+                                                         "torques CCW +")));
   EXPECT_EQ(plain.str(), "T,status\n0.25,ok\n");
   EXPECT_EQ(described.str(),
-            "# T [N m]: torque on the crank, CCW +\n# status: how the step went\n" + plain.str());
+            "# press_statics, model press: statics sweep. Signs: torques CCW +\n"
+            "# T [N m]: torque on the crank, CCW +\n# status [text]: how the step went\n" +
+                plain.str());
+  // Without `about` only the column lines; a line break in a description stays on its line.
+  columns[0].description = "torque\non the crank";
+  mechgen::CsvOptions options;
+  options.describe = true;
+  std::ostringstream bare;
+  mechgen::WriteCsv(columns, rows, bare, options);
+  EXPECT_EQ(bare.str(),
+            "# T [N m]: torque on the crank\n# status [text]: how the step went\n" + plain.str());
 }
 
-// A sweep's CSV (sweep/columns.h through io/csv.h): every numeric cell is its column's value
-// bit for bit.
+// A sweep's CSV (sweep/columns.h through io/csv.h) as the sweep tool writes it, with its
+// comment lines: the first names the tool, the model and the signs, then one unit line per
+// column in the header's order; every numeric cell after them is its column's value bit for
+// bit.
 TEST(CsvWriter, SweepCsvReadsBackBitForBit) {
   using M = mech::handwritten_fourbar::Model;
   using VecQ = mechgen::ModelTypes<M>::VecQ;
@@ -283,10 +295,24 @@ TEST(CsvWriter, SweepCsvReadsBackBitForBit) {
             0);
   const std::vector<mechgen::SweepColumn<M>> columns = mechgen::SweepColumns<M>();
   std::ostringstream out;
-  mechgen::WriteCsv(records, out);
+  mechgen::WriteCsv(records, out,
+                    mechgen::Described(mechgen::CsvAbout("handwritten_fourbar_sweep", M::kName,
+                                                         "kinematic sweep", mechgen::kSweepSigns)));
   std::istringstream in(out.str());
   std::string line;
   ASSERT_TRUE(std::getline(in, line));
+  EXPECT_EQ(line, std::string("# handwritten_fourbar_sweep, model handwritten_fourbar: kinematic "
+                              "sweep. Signs: ") +
+                      mechgen::kSweepSigns);
+  for (const mechgen::SweepColumn<M>& c : columns) {
+    ASSERT_TRUE(std::getline(in, line));
+    const std::string unit = c.text ? "text" : c.unit;
+    EXPECT_FALSE(unit.empty()) << c.name;
+    EXPECT_EQ(line.rfind("# " + c.name + " [" + unit + "]: ", 0), 0u) << line;
+  }
+  ASSERT_TRUE(std::getline(in, line));
+  EXPECT_EQ(line.find('#'), std::string::npos) << line;  // the header
+  EXPECT_EQ(line.substr(0, line.find(',')), M::kQNames[0]);
   int checked = 0;
   for (const mechgen::SweepRecord<M>& r : records) {
     ASSERT_TRUE(std::getline(in, line));

@@ -274,10 +274,18 @@ std::string StaticsCsvCell(const StaticsColumn<M>& c, const StaticsRecord<M>& r)
   return ::mechgen::CsvCell(c, r);
 }
 
-/// Writes the header line and one line per record (io/csv.h).
+/// The sign convention of a statics sweep's CSV (its first comment line, io/csv.h CsvAbout()).
+inline constexpr const char* kStaticsSigns =
+    "drive_<q> is the torque (CCW +) or force (along +q) the actuator applies to its input for "
+    "equilibrium, -Q; reactions are the force (and moment) of each joint's first link on its "
+    "second, fixed frame; angles CCW + from the fixed x axis";
+
+/// Writes the header line and one line per record (io/csv.h; with options.describe, the
+/// comment lines before the header).
 template <class M>
-void WriteStaticsCsv(const std::vector<StaticsRecord<M>>& records, std::ostream& out) {
-  ::mechgen::WriteCsv(StaticsColumns<M>(), records, out);
+void WriteStaticsCsv(const std::vector<StaticsRecord<M>>& records, std::ostream& out,
+                     const CsvOptions& options = CsvOptions()) {
+  ::mechgen::WriteCsv(StaticsColumns<M>(), records, out, options);
 }
 
 /// Prints `rows` records spread evenly over the sweep, the first and the last included

@@ -177,10 +177,17 @@ std::vector<std::string> CsvValues(const SweepRecord<M>& r) {
   return cells;
 }
 
-/// Writes the header line and one line per record (io/csv.h).
+/// The sign convention of a sweep's CSV (its first comment line, io/csv.h CsvAbout()).
+inline constexpr const char* kSweepSigns =
+    "angles CCW + from the fixed x axis; points, velocities and accelerations in the fixed "
+    "frame; K = d phi/d q, L = d2 phi/d q_j d q_k";
+
+/// Writes the header line and one line per record (io/csv.h; with options.describe, the
+/// comment lines before the header).
 template <class M>
-void WriteCsv(const std::vector<SweepRecord<M>>& records, std::ostream& out) {
-  WriteCsv(SweepColumns<M>(), records, out);
+void WriteCsv(const std::vector<SweepRecord<M>>& records, std::ostream& out,
+              const CsvOptions& options = CsvOptions()) {
+  WriteCsv(SweepColumns<M>(), records, out, options);
 }
 
 /// Prints the given records, all of them (io/table.h, PrintTableRows()).

@@ -1,5 +1,5 @@
 /**
- * \file engine/harmonics.h
+ * \file machines/engine/harmonics.h
  * The harmonic content of a periodic signal sampled over one cycle of a crank: crank torque,
  * a bearing load component, a shaking force component (Paul §6.8.5 on power smoothing and
  * ch. 7 on the primary and secondary shaking forces are statements about these orders).

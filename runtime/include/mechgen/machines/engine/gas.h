@@ -1,5 +1,5 @@
 /**
- * \file engine/gas.h
+ * \file machines/engine/gas.h
  * Cylinder pressure laws of reciprocating engines (Paul §6.8): the gas gauge pressure p (Pa)
  * against the cycle angle a (rad) of one cylinder, a = 0 at its firing top dead centre (TDC),
  * periodic over the cycle (4π for a four-stroke, 2π for a two-stroke engine). Each law has

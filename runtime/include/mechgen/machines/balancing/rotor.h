@@ -1,5 +1,5 @@
 /**
- * \file balancing/rotor.h
+ * \file machines/balancing/rotor.h
  * Static and two-plane dynamic balancing of a rigid rotor (Paul §7.1).
  *
  * The rotor turns about its z axis. Unbalance i is a mass m_i (kg) at radius r_i (m) and angle

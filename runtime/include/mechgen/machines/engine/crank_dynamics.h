@@ -1,5 +1,5 @@
 /**
- * \file engine/crank_dynamics.h
+ * \file machines/engine/crank_dynamics.h
  * The one-DOF crank dynamics of a reciprocating machine with cylinder gas forces (Paul
  * §6.8.3–6.8.4 and §6.9.1): run-up transients and the periodic steady state with a flywheel.
  *

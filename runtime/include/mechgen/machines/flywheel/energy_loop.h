@@ -1,5 +1,5 @@
 /**
- * \file flywheel/energy_loop.h
+ * \file machines/flywheel/energy_loop.h
  * Flywheel sizing by the energy-loop method (Paul §6.9.2, the book's FLYLOOP) and by
  * Wittenbauer's diagram (Paul §6.9.3), with the coefficient of speed fluctuation of a speed
  * trace (the simulation route of Paul §6.9.1 ends with one).

@@ -1,5 +1,5 @@
 /**
- * \file engine/couples.h
+ * \file machines/engine/couples.h
  * The rocking couples of an engine model of tools/make_engine.py: the moments, about axes across
  * the crankshaft, of the shaking forces of cylinders at different axial positions (Paul ch. 7).
  *
@@ -14,7 +14,7 @@
  * (N m): the rocking couple the moving parts exert on the frame (same sign convention as F: what
  * the engine block feels, what its mounts must resist). The in-plane moment M_z is the generated
  * Shaking::M and is not repeated here. As a complex number M_x + i M_y = i Σ_l (z_l − z_ref) F_l
- * (F_l = F_x + i F_y): the convention of mechgen/balancing/engine_balance.h's moments.
+ * (F_l = F_x + i F_y): the convention of mechgen/machines/balancing/engine_balance.h's moments.
  *
  * Reference point. The couple depends on z_ref unless the total force F is zero:
  *     M(z_ref') = M(z_ref) + (z_ref − z_ref') ẑ × F,
@@ -179,10 +179,10 @@ Eigen::Matrix<typename DerivedM::Scalar, 2, 1> ShiftReference(const Eigen::Matri
 /**
  * \brief The largest magnitude over a turn of one order n of a couple vector, from the cosine and
  * sine coefficients of its components: M_x = ax cos nθ + bx sin nθ, M_y = ay cos nθ + by sin nθ
- * (e.g. the Harmonic a, b of mechgen/engine/harmonics.h for M_x and M_y). As M_x + i M_y =
+ * (e.g. the Harmonic a, b of mechgen/machines/engine/harmonics.h for M_x and M_y). As M_x + i M_y =
  * f e^{inθ} + b e^{−inθ} with f = ½(ax + by + i(ay − bx)), b = ½(ax − by + i(ay + bx)), the tip
  * traces an ellipse with semi-axes |f| + |b| (returned) and ||f| − |b||; |b| = 0: a couple of
- * constant size turning with the crank (mechgen/balancing/engine_balance.h's OrderVector::Max()).
+ * constant size turning with the crank (mechgen/machines/balancing/engine_balance.h's OrderVector::Max()).
  */
 inline double CoupleOrderAmplitude(double ax, double bx, double ay, double by) {
   return 0.5 * (std::hypot(ax + by, ay - bx) + std::hypot(ax - by, ay + bx));

@@ -1,5 +1,5 @@
 /**
- * \file balancing/engine_balance.h
+ * \file machines/balancing/engine_balance.h
  * Primary and secondary shaking forces and moments of multi-cylinder reciprocating engines
  * (Paul ch. 7: shaking forces and moments of single- and multi-cylinder engines), analytic, by
  * the two-mass approximation; and the classical balance table.
@@ -42,7 +42,7 @@
  * 90° V-twin with a common crank pin. The two cylinders on one pin of a V are given the same z (the rod offset
  * neglected, as in the textbooks).
  *
- * Allocation-free except PrintBalanceTable(); nothing throws.
+ * Allocation-free except PrintBalanceTable(), BalanceRows() and BalanceColumns(); nothing throws.
  */
 #pragma once
 
@@ -53,8 +53,11 @@
 #include <initializer_list>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "mechgen/core/constants.h"
+#include "mechgen/io/csv.h"
+#include "mechgen/table/columns.h"
 
 namespace mechgen::balancing {
 
@@ -257,14 +260,82 @@ inline const EngineLayout* FindLayout(const std::array<EngineLayout, kNumLayouts
   return nullptr;
 }
 
+/// One row of the balance table: a layout and its balance.
+struct BalanceRow {
+  const char* name = "";
+  int count = 0;
+  EngineBalance balance;
+};
+
+/// The balance table's rows for `layouts` (rotating_ratio as in AnalyzeBalance()).
+template <class Range>
+std::vector<BalanceRow> BalanceRows(const Range& layouts, double rotating_ratio = 0) {
+  std::vector<BalanceRow> rows;
+  for (const EngineLayout& e : layouts) rows.push_back({e.name, e.count, AnalyzeBalance(e, rotating_ratio)});
+  return rows;
+}
+
+/// The sign convention of the balance table's CSV (its first comment line, io/csv.h).
+inline constexpr const char* kBalanceSigns =
+    "the shaking force and moment of the reciprocating (and rotating) masses on the frame, "
+    "moments about the engine's middle; magnitudes, so no sign";
+
+/**
+ * \brief The balance table's CSV columns (table/columns.h): layout, cylinders, then per
+ * quantity (primary and secondary force and moment) its largest and smallest magnitude over a
+ * turn and how it moves (balanced, rotating, line, ellipse). Below the classification's
+ * tolerance a figure is 0 (not 1e-16); a line's minimum is 0.
+ */
+inline table::Columns<BalanceRow> BalanceColumns() {
+  table::Columns<BalanceRow> columns;
+  table::Builder<BalanceRow> add(&columns);
+  add.Text("layout", "the layout's name", [](const BalanceRow& r) { return std::string(r.name); });
+  add.Text("cylinders", "its number of cylinders", [](const BalanceRow& r) { return std::to_string(r.count); });
+  struct Quantity {
+    const char* name;
+    const char* unit;
+    const char* what;
+    bool moment;
+    int order;
+  };
+  for (const Quantity& q : {Quantity{"primary_force", "m r w^2", "primary shaking force", false, 0},
+                            Quantity{"secondary_force", "m r w^2 (r/l)", "secondary shaking force", false, 1},
+                            Quantity{"primary_moment", "m r w^2 a", "primary shaking moment", true, 0},
+                            Quantity{"secondary_moment", "m r w^2 (r/l) a", "secondary shaking moment", true, 1}}) {
+    auto vector = [q](const BalanceRow& r) -> const OrderVector& {
+      return q.moment ? r.balance.moment[q.order] : r.balance.force[q.order];
+    };
+    add.Number(std::string(q.name) + "_max", q.unit, std::string("largest |") + q.what + "| over a turn",
+               [vector](const BalanceRow& r) {
+                 const OrderVector& v = vector(r);
+                 return Classify(v) == OrderKind::kBalanced ? 0.0 : v.Max();
+               });
+    add.Number(std::string(q.name) + "_min", q.unit, std::string("smallest |") + q.what + "| over a turn",
+               [vector](const BalanceRow& r) {
+                 const OrderVector& v = vector(r);
+                 const OrderKind k = Classify(v);
+                 return k == OrderKind::kBalanced || k == OrderKind::kLine ? 0.0 : v.Min();
+               });
+    add.Text(std::string(q.name) + "_kind", "how it moves: balanced, rotating, line or ellipse",
+             [vector](const BalanceRow& r) { return std::string(ToString(Classify(vector(r)))); });
+  }
+  return columns;
+}
+
 /**
  * \brief Prints the balance table of the layouts: one row per layout; per order, the largest
  * magnitude over a turn of the force and of the moment about the engine's middle, "0" where
  * balanced, with how it moves (rotating / line / ellipse min). Forces in m r ω² (primary) and
- * m r ω² (r/l) (secondary), moments times a. csv: one line per layout with max, min and kind.
+ * m r ω² (r/l) (secondary), moments times a. csv: BalanceColumns() through the one CSV writer
+ * (io/csv.h; `options` may describe the columns).
  */
 template <class Range>
-void PrintBalanceTable(const Range& layouts, std::ostream& out, bool csv = false, double rotating_ratio = 0) {
+void PrintBalanceTable(const Range& layouts, std::ostream& out, bool csv = false, double rotating_ratio = 0,
+                       const CsvOptions& options = CsvOptions()) {
+  if (csv) {
+    WriteCsv(BalanceColumns(), BalanceRows(layouts, rotating_ratio), out, options);
+    return;
+  }
   auto cell = [](const OrderVector& v) -> std::string {
     const OrderKind k = Classify(v);
     char buffer[64];
@@ -275,43 +346,21 @@ void PrintBalanceTable(const Range& layouts, std::ostream& out, bool csv = false
       std::snprintf(buffer, sizeof(buffer), "%.3f %s", v.Max(), ToString(k));
     return buffer;
   };
-  if (csv) {
-    out << "layout,cylinders";
-    for (const char* q : {"primary_force", "secondary_force", "primary_moment", "secondary_moment"})
-      out << ',' << q << "_max," << q << "_min," << q << "_kind";
-    out << '\n';
-  } else {
-    out << "Shaking forces and moments, two-mass approximation (max over a turn; forces in m r w^2\n"
-           "(primary) and m r w^2 (r/l) (secondary), moments about the engine's middle times the\n"
-           "cylinder spacing a; reciprocating masses only"
-        << (rotating_ratio != 0 ? ", plus rotating mass ratio " + std::to_string(rotating_ratio) : std::string())
-        << ")\n";
-    char line[256];
-    std::snprintf(line, sizeof(line), "%-14s %3s  %-24s %-24s %-24s %-24s\n", "layout", "cyl", "primary force",
-                  "secondary force", "primary moment", "secondary moment");
-    out << internal::TrimRight(line);
-  }
+  out << "Shaking forces and moments, two-mass approximation (max over a turn; forces in m r w^2\n"
+         "(primary) and m r w^2 (r/l) (secondary), moments about the engine's middle times the\n"
+         "cylinder spacing a; reciprocating masses only"
+      << (rotating_ratio != 0 ? ", plus rotating mass ratio " + std::to_string(rotating_ratio) : std::string())
+      << ")\n";
+  char line[256];
+  std::snprintf(line, sizeof(line), "%-14s %3s  %-24s %-24s %-24s %-24s\n", "layout", "cyl", "primary force",
+                "secondary force", "primary moment", "secondary moment");
+  out << internal::TrimRight(line);
   for (const EngineLayout& e : layouts) {
     const EngineBalance b = AnalyzeBalance(e, rotating_ratio);
     const OrderVector* v[4] = {&b.force[0], &b.force[1], &b.moment[0], &b.moment[1]};
-    if (csv) {
-      out << e.name << ',' << e.count;
-      for (const OrderVector* x : v) {
-        char buffer[96];
-        const OrderKind k = Classify(*x);
-        // Below the classification's tolerance a figure is printed as 0 (not 1e-16).
-        const double max = k == OrderKind::kBalanced ? 0.0 : x->Max();
-        const double min = k == OrderKind::kBalanced || k == OrderKind::kLine ? 0.0 : x->Min();
-        std::snprintf(buffer, sizeof(buffer), ",%.9g,%.9g,%s", max, min, ToString(k));
-        out << buffer;
-      }
-      out << '\n';
-    } else {
-      char line[256];
-      std::snprintf(line, sizeof(line), "%-14s %3d  %-24s %-24s %-24s %-24s\n", e.name, e.count, cell(*v[0]).c_str(),
-                    cell(*v[1]).c_str(), cell(*v[2]).c_str(), cell(*v[3]).c_str());
-      out << internal::TrimRight(line);
-    }
+    std::snprintf(line, sizeof(line), "%-14s %3d  %-24s %-24s %-24s %-24s\n", e.name, e.count, cell(*v[0]).c_str(),
+                  cell(*v[1]).c_str(), cell(*v[2]).c_str(), cell(*v[3]).c_str());
+    out << internal::TrimRight(line);
   }
 }
 
