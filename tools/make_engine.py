@@ -11,7 +11,7 @@ through the point e n_j of the frame (e: the cylinder offset, desaxe; n_j = (-si
 cos beta_j)). The slide s_slide_j is measured outward (from the crank towards the cylinder
 head) from that point. Cylinders at different axial positions z_j of a real crankshaft are
 superposed in the plane; the planar motion does not use z_j, but the rocking couples (about
-axes across the crankshaft) of mechgen/engine/couples.h do: rod_j and piston_j act at z_j.
+axes across the crankshaft) of mechgen/machines/engine/couples.h do: rod_j and piston_j act at z_j.
 
 Conventions: the crank angle theta_crank is CCW +; an in-line engine's cylinders point along
 +x, so cylinder j is at top dead centre (TDC) where theta_crank + gamma_j = beta_j +
@@ -29,7 +29,7 @@ Gas: each piston carries the load p_gas_j A (A = pi bore^2/4) along its axis, aw
 cylinder head, with p_gas_j a parameter (gauge pressure, Pa; default 0): a tool sets it at run
 time (Params::Find) for bearing loads and side thrust at a crank angle (kinetostatics). For
 the motion, the engine tool adds the gas torque -sum p_j(theta - phase_j) A ds_j/dtheta from
-its pressure law through mechgen/engine/crank_dynamics.h (GasTorque), with p_gas_j = 0.
+its pressure law through mechgen/machines/engine/crank_dynamics.h (GasTorque), with p_gas_j = 0.
 
 Load: the torque -(T_load + c_load theta_crank_dot) on the crank (N m). Gravity off.
 Bad arguments: a message on stderr, exit status 2, nothing on stdout.
@@ -259,7 +259,7 @@ def build(args, argv):
           f"axis (rad; {banks[j]:g} deg)\"}}")
         w(f"  phase_{k}: {{value: {fmt(math.radians(phases[j]))}, doc: \"crank angle of cylinder {k}'s "
           f"firing TDC (rad; {phases[j]:g} deg)\"}}")
-        w(f"  z_{k}:     {{value: {fmt(z[j])}, doc: \"axial position of cylinder {k} along the crankshaft (m; for the rocking couples, mechgen/engine/couples.h)\"}}")
+        w(f"  z_{k}:     {{value: {fmt(z[j])}, doc: \"axial position of cylinder {k} along the crankshaft (m; for the rocking couples, mechgen/machines/engine/couples.h)\"}}")
         w(f"  p_gas_{k}: {{value: 0.0, doc: \"gas gauge pressure on piston {k} (Pa), set at run time\"}}")
     w("links:")
     pts = ", ".join(f"S_{j + 1}: [-e*sin(beta_{j + 1}), e*cos(beta_{j + 1})]" for j in range(n))
