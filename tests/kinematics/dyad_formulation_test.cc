@@ -69,7 +69,7 @@ TYPED_TEST(DyadFormulationTest, GeneratedSolveMatchesTheGeneratorsEvaluation) {
       int failed_block = -1;
       for (size_t bi = 0; bi < table.blocks.size() && ok; ++bi) {
         const mechgen::ClosedForm f = mechgen::FormulateClosedForm(k, table.blocks[bi], static_cast<int>(bi));
-        std::map<std::string, double> locals;
+        std::map<mechgen::DyadLocal, double> locals;
         std::map<int, double> solution;
         const mechgen::DyadStep* failed = nullptr;
         ok = mechgen::EvaluateClosedForm(f, v, modes[bi], &locals, &solution, &failed);
