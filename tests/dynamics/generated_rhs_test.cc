@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "damped_fourbar.h"
 #include "fivebar_locked_fourbar.h"
@@ -202,7 +203,16 @@ TYPED_TEST(RhsAgainstGeneralFunctions, SameEquationOfMotionNearTheAssembly) {
     typename Mo::template DynamicsT<double> d;
     Mo::Coeffs(p, q, phi, &c, &trig);
     Mo::Dynamics(p, q, phi, qd, t, c, &d, nullptr, &trig);
+    // Every member compared below starts as NaN: Rhs must write each one (and the compiler
+    // sees no read of an unset value).
     typename Mo::template RhsT<double> r;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    r.I.setConstant(nan);
+    r.h.setConstant(nan);
+    r.Q.setConstant(nan);
+    r.K.setConstant(nan);
+    r.Phi_phi.setConstant(nan);
+    r.T = r.V = r.P_nc = nan;
     const auto report = Mo::Rhs(p, rc, q, qd, t, Mo::kDefaultModes, &trig_rhs, &r);
     ASSERT_EQ(report.status, solved.status) << k;
     ++compared;
