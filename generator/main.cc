@@ -4,16 +4,19 @@
 //   mechgen generate models/fourbar.yaml --print-quantities   (K L scene: what the model has)
 //   mechgen report models/fourbar.yaml [--latex [--standalone]]
 //   mechgen sweep models/fourbar.yaml --steps 360 --csv out.csv   (generator/driver/)
+//   mechgen statics|simulate|engine MODEL [options]                (the same, each tool)
 //
 // A bad model prints `file:line:column: error: message`, exits 1 and writes nothing.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <memory>
 
@@ -25,7 +28,7 @@
 #include "symbolic/dynamics.h"
 #include "symbolic/statics.h"
 #include "codegen/functions.h"
-#include "driver/sweep_command.h"
+#include "driver/tool_command.h"
 #include "model/model.h"
 #include "model/reader.h"
 #include "report/report.h"
@@ -142,18 +145,25 @@ bool WriteManifest(const std::string& path, const mechgen::Model& m, std::string
 }  // namespace
 
 int main(int argc, char** argv) {
-  // `mechgen sweep [options] <model> [driver options...]`: what follows the model is the
+  // `mechgen <tool> [options] <model> [driver options...]`: what follows the model is the
   // driver's, passed on unchanged; CLI11 sees only mechgen's part.
-  const std::vector<std::string> sweep_options_with_value = {"--templates", "--cache-dir"};
+  const std::vector<std::string> tool_options_with_value = {"--templates", "--cache-dir"};
+  const std::vector<std::string>& tool_names = mechgen::ToolNames();
   std::vector<std::string> driver_args;
-  if (argc > 1 && std::string(argv[1]) == "sweep") {
+  if (argc > 1 && std::find(tool_names.begin(), tool_names.end(), std::string(argv[1])) != tool_names.end()) {
     int model_end = argc;
-    mechgen::SplitSweepArguments(argc, argv, 2, sweep_options_with_value, &model_end, &driver_args);
+    mechgen::SplitToolArguments(argc, argv, 2, tool_options_with_value, &model_end, &driver_args);
     argc = model_end;
   }
 
-  CLI::App app{"mechgen: generates standalone C++ kinematics (Phi, Phi_phi, Phi_q, K, L, points) "
-               "for a planar mechanism described in a model file (see models/README.md)."};
+  CLI::App app{"mechgen: derives the equations of a planar mechanism described in a model file "
+               "(models/README.md) symbolically, after Paul's Kinematics and Dynamics of Planar "
+               "Machinery, and writes standalone C++ for it: positions, velocity and centripetal "
+               "coefficients (Phi, Phi_phi, K, L), points, statics (driving forces, reactions, "
+               "friction), dynamics (generalized inertia, equations of motion, bearing loads) and "
+               "shaking, as the model's outputs ask. `generate` writes the code; `sweep`, `statics`, "
+               "`simulate` and `engine` compile (once, cached) and run the analysis of a model "
+               "directly."};
   app.require_subcommand(1);
   std::string model_path, out_dir = ".", name, templates = DefaultTemplates();
   bool latex = false, standalone = false, quiet = false, print_quantities = false;
@@ -190,50 +200,72 @@ int main(int argc, char** argv) {
       ->needs(latex_flag);
   rep->add_option("--templates", templates, "directory of the .mustache templates")->capture_default_str();
 
-  mechgen::SweepCommand sweep_command;
-  CLI::App* sweep = app.add_subcommand(
-      "sweep",
-      "generate, compile (once: cached) and run the sweep command of a model: `mechgen sweep "
-      "MODEL [OPTIONS]` takes the options, and writes the table, CSV and SVG, of the "
-      "<model>_sweep that mechgen_add_model() builds (`mechgen sweep MODEL --help` lists them). "
-      "mechgen's own options come before MODEL.");
-  sweep->add_option("model", sweep_command.model_path, "model file (.yaml)")->required();
-  sweep->add_option("--templates", templates, "directory of the .mustache templates")->capture_default_str();
-  sweep->add_option("--cache-dir", sweep_command.cache_dir,
+  // One subcommand per analysis (generator/driver/tool_command.h); each takes the options
+  // of the <model>_<tool> that mechgen_add_model() builds, after the model.
+  const std::map<std::string, std::string> tool_help = {
+      {"sweep", "the positions, velocity and centripetal coefficients and points along the inputs' "
+                "range: table, CSV and SVG"},
+      {"statics", "the driving forces (with friction: forward and backward), reactions, potential "
+                  "and mechanical advantage along the range, dead zones and equilibria (needs the "
+                  "output `forces`)"},
+      {"simulate", "forward dynamics from rest or a given state, or a prescribed motion with its "
+                   "motor torque and bearing loads (needs the output `dynamics`)"},
+      {"engine", "an engine made by tools/make_engine.py: crank torque, bearing loads, flywheel "
+                 "sizing and run-up (needs the output `dynamics`)"},
+  };
+  mechgen::ToolCommand tool_command;
+  std::vector<CLI::App*> tool_apps;
+  for (const std::string& tool : tool_names) {
+    const auto help = tool_help.find(tool);
+    CLI::App* sub = app.add_subcommand(
+        tool, "generate, compile (once: cached) and run the " + tool + " command of a model: " +
+                  (help != tool_help.end() ? help->second : std::string()) + ". `mechgen " + tool +
+                  " MODEL [OPTIONS]` takes the options of the <model>_" + tool +
+                  " that mechgen_add_model() builds (`mechgen " + tool +
+                  " MODEL --help` lists them); mechgen's own options come before MODEL.");
+    sub->add_option("model", tool_command.model_path, "model file (.yaml)")->required();
+    sub->add_option("--templates", templates, "directory of the .mustache templates")->capture_default_str();
+    sub->add_option("--cache-dir", tool_command.cache_dir,
                     "the cache (default: $MECHGEN_CACHE_DIR, else $XDG_CACHE_HOME/mechgen, else "
                     "~/.cache/mechgen)");
-  sweep->add_flag("--no-cache", sweep_command.no_cache,
+    sub->add_flag("--no-cache", tool_command.no_cache,
                   "build in a temporary directory and delete it afterwards; the cache is not used");
-  sweep->add_flag("--rebuild", sweep_command.rebuild, "compile again and replace the cached program");
-  sweep->add_flag("-v,--verbose", sweep_command.verbose,
+    sub->add_flag("--rebuild", tool_command.rebuild, "compile again and replace the cached program");
+    sub->add_flag("-v,--verbose", tool_command.verbose,
                   "print the cache's place, the compiler commands and the times on stderr");
+    tool_apps.push_back(sub);
+  }
 
   CLI11_PARSE(app, argc, argv);
 
-  if (sweep->parsed()) {
-    sweep_command.templates = templates;
-    sweep_command.driver_args = driver_args;
-    const std::string sweep_templates = templates;
-    return mechgen::RunSweep(
-        sweep_command, [&sweep_templates](const std::string& path, const std::string& dir, std::string* model_name) {
-          Pipeline p;
-          try {
-            Run(&p, path, "", sweep_templates, mechgen::Strategy::kBlocks);
-          } catch (const mechgen::ModelError& e) {
-            std::cerr << OneLine(e.what()) << "\n";
-            return 1;
-          } catch (const std::exception& e) {
-            std::cerr << OneLine(path + ": error: " + e.what()) << "\n";
-            return 2;
-          }
-          std::string error;
-          if (!mechgen::WriteFiles(dir, p.model.name, p.emitted, &error)) {
-            std::cerr << OneLine(path + ": error: " + error) << "\n";
-            return 2;
-          }
-          *model_name = p.model.name;
-          return 0;
-        });
+  for (CLI::App* sub : tool_apps) {
+    if (!sub->parsed()) continue;
+    tool_command.tool = sub->get_name();
+    tool_command.templates = templates;
+    tool_command.driver_args = driver_args;
+    const std::string tool_templates = templates;
+    return mechgen::RunTool(tool_command, [&tool_templates](const std::string& path, const std::string& dir,
+                                                            mechgen::GeneratedModel* model) {
+      Pipeline p;
+      try {
+        Run(&p, path, "", tool_templates, mechgen::Strategy::kBlocks);
+      } catch (const mechgen::ModelError& e) {
+        std::cerr << OneLine(e.what()) << "\n";
+        return 1;
+      } catch (const std::exception& e) {
+        std::cerr << OneLine(path + ": error: " + e.what()) << "\n";
+        return 2;
+      }
+      std::string error;
+      if (!mechgen::WriteFiles(dir, p.model.name, p.emitted, &error)) {
+        std::cerr << OneLine(path + ": error: " + error) << "\n";
+        return 2;
+      }
+      model->name = p.model.name;
+      std::istringstream words(mechgen::QuantityList(p.model.outputs.quantities));
+      for (std::string q; words >> q;) model->quantities.push_back(q);
+      return 0;
+    });
   }
 
   // --name becomes a namespace, a file name in --out-dir and a macro: a C++ identifier only.

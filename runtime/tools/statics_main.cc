@@ -19,6 +19,9 @@
 // what a few samples happen to show as converged. Exit status: 0 done, 2 a usage error (one
 // line "<tool>: error: ..."), 3 the model does not assemble, 4 an output cannot be written.
 // A model generated without `forces` builds into a stub that says so (exit status 2).
+// Compiled with -DMECHGEN_TOOL_NO_CERES it needs Eigen and CLI11 only: it assembles with the
+// Ceres-free PositionSolver (NewtonAssembler, position/assembler.h), as `mechgen statics
+// <model.yaml>` builds it (generator/driver/); the Newton polish follows either assembler.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -32,7 +35,11 @@
 
 #include "common/cli.h"
 #include "mechgen/io/output_file.h"
+#ifdef MECHGEN_TOOL_NO_CERES
+#include "mechgen/position/solver.h"
+#else
 #include "mechgen/position/ceres_adapter.h"
+#endif
 #include "mechgen/statics/columns.h"
 #include "mechgen/statics/dead_zones.h"
 #include "mechgen/statics/equilibrium.h"
@@ -186,7 +193,11 @@ int Run(int argc, char** argv) {
   std::string error;
   if (!options.IsValid(&error)) return tools::UsageError(tool, error);
 
+#ifdef MECHGEN_TOOL_NO_CERES
+  mechgen::position::PositionSolver<M> solver;  // NewtonAssembler: Eigen only
+#else
   mechgen::position::CeresPositionSolver<M> solver;
+#endif
   mechgen::position::Summary assembly;
   if (solver.AssembleDefault(&assembly) != mechgen::position::Status::kConverged) {
     std::cerr << "error: cannot assemble " << M::kName << " at its assembly configuration: "

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `mechgen sweep <model.yaml> [sweep options]` (generator/driver/sweep_command.cc), run in a
+# `mechgen sweep <model.yaml> [sweep options]` (generator/driver/tool_command.cc), run in a
 # temporary directory outside the source tree with a private cache (MECHGEN_CACHE_DIR).
 # usage: sweep_command_test.sh errors <mechgen> <source dir>
 #   a model with an error: its file:line:column line, exit 1, no cache entry, nothing left in

@@ -1,5 +1,5 @@
-// `mechgen sweep`. See sweep_command.h.
-#include "driver/sweep_command.h"
+// `mechgen sweep|statics|simulate|engine`. See tool_command.h.
+#include "driver/tool_command.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -50,11 +50,35 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bumped when the layout of an entry or the way it is built changes.
-constexpr const char* kCacheFormat = "mechgen sweep cache 2";  // 2: sweep.sha256 beside sweep
+// 2: sweep.sha256 beside sweep; 3: every tool, its name and all of runtime/tools/ in the key.
+constexpr const char* kCacheFormat = "mechgen tool cache 3";
 // Every compile; the driver adds its own.
 const std::vector<std::string> kFlags = {"-O2", "-std=c++17", "-DNDEBUG"};
-const std::vector<std::string> kDriverFlags = {"-DMECHGEN_SWEEP_NO_CERES",
-                                               "-DMECHGEN_SWEEP_ARGS_SEPARATE"};
+
+// A command `mechgen <tool> MODEL`: which driver it compiles and what the model must have.
+struct ToolSpec {
+  std::string name;                // "statics": the command, the cache's folder, the program
+  std::string main;                // its driver in runtime/tools/
+  std::vector<std::string> flags;  // the driver's own (each is Ceres-free)
+  bool separate_args = false;      // its CLI11 part (sweep_args.cc) compiled once for all models
+  std::string quantity;            // what the model's outputs must have; "" nothing
+};
+
+const std::vector<ToolSpec>& Specs() {
+  static const std::vector<ToolSpec> specs = {
+      {"sweep", "sweep_main.cc", {"-DMECHGEN_SWEEP_NO_CERES", "-DMECHGEN_SWEEP_ARGS_SEPARATE"}, true, ""},
+      {"statics", "statics_main.cc", {"-DMECHGEN_TOOL_NO_CERES"}, false, "forces"},
+      {"simulate", "simulate_main.cc", {}, false, "dynamics"},
+      {"engine", "engine_main.cc", {}, false, "dynamics"},
+  };
+  return specs;
+}
+
+const ToolSpec* FindSpec(const std::string& tool) {
+  for (const ToolSpec& spec : Specs())
+    if (spec.name == tool) return &spec;
+  return nullptr;
+}
 
 int Fail(const std::string& message) {
   std::cerr << "mechgen: error: " << message << "\n";
@@ -110,7 +134,7 @@ struct Toolchain {
   std::vector<std::string> compiler;  // $CXX split at blanks, or "c++"
   std::string compiler_identity;      // resolved path, size, modification time
   fs::path runtime_include;           // holds mechgen/position/solver.h
-  fs::path tools;                     // holds sweep_main.cc, sweep_args.h, sweep_args.cc, common/
+  fs::path tools;                     // holds the drivers (<tool>_main.cc, sweep_args.*, common/)
   std::string eigen_include;          // holds Eigen/Core
   std::string cli11_include;          // holds CLI/CLI.hpp; empty: a default search directory
 };
@@ -150,7 +174,7 @@ bool DefaultIncludeDir(const std::string& dir) {
   return dir == "/usr/include" || dir == "/usr/local/include";
 }
 
-bool FindToolchain(Toolchain* t) {
+bool FindToolchain(const ToolSpec& spec, Toolchain* t) {
   const fs::path prefix = Prefix();
   std::error_code ec;
   // The runtime headers and the driver: installed beside this program, else the source tree.
@@ -159,18 +183,18 @@ bool FindToolchain(Toolchain* t) {
                            ? installed_include
                            : fs::path(MECHGEN_SOURCE_RUNTIME_INCLUDE);
   const fs::path installed_tools = Under(prefix, MECHGEN_INSTALL_DATADIR) / "mechgen" / "tools";
-  t->tools = fs::exists(installed_tools / "sweep_main.cc", ec) ? installed_tools
-                                                                : fs::path(MECHGEN_SOURCE_TOOLS);
+  t->tools = fs::exists(installed_tools / spec.main, ec) ? installed_tools : fs::path(MECHGEN_SOURCE_TOOLS);
   if (!fs::exists(t->runtime_include / "mechgen/position/solver.h", ec))
     return Fail("cannot find the mechgen runtime headers (looked in " + installed_include.string() +
                 (std::string(MECHGEN_SOURCE_RUNTIME_INCLUDE).empty()
                      ? std::string()
                      : " and " + std::string(MECHGEN_SOURCE_RUNTIME_INCLUDE)) +
                 "); is mechgen installed whole?"), false;
-  for (const char* file : {"sweep_main.cc", "sweep_args.h", "sweep_args.cc", "common/numbers.h",
-                           "common/cli.h"}) {
+  std::vector<std::string> needed = {spec.main, "common/numbers.h", "common/cli.h"};
+  if (spec.separate_args) needed.insert(needed.end(), {"sweep_args.h", "sweep_args.cc"});
+  for (const std::string& file : needed) {
     if (!fs::exists(t->tools / file, ec))
-      return Fail("cannot find the sweep driver " + (t->tools / file).string() +
+      return Fail("cannot find the " + spec.name + " driver " + (t->tools / file).string() +
                   "; is mechgen installed whole?"), false;
   }
   // Eigen: $MECHGEN_EIGEN_INCLUDE_DIR, the build's, or the usual places.
@@ -245,19 +269,20 @@ std::string ToolchainPart(const Toolchain& t) {
   return material;
 }
 
-// The driver's program: the model's bytes and everything the program is built from.
-std::string EntryKey(const std::string& model_bytes, const std::string& templates, const Toolchain& t) {
+// The driver's program: the model's bytes and everything the program is built from (all of
+// runtime/tools/: the drivers share their command-line layer).
+std::string EntryKey(const ToolSpec& spec, const std::string& model_bytes, const std::string& templates,
+                     const Toolchain& t) {
   std::string material = kCacheFormat;
+  AddPart(&material, "tool", spec.name);
   AddPart(&material, "model", model_bytes);
   AddPart(&material, "version", MECHGEN_VERSION);
   AddPart(&material, "mechgen", ReadOrEmpty("/proc/self/exe"));
   AddTree(&material, templates, ".mustache");
-  for (const char* file : {"sweep_main.cc", "sweep_args.h", "sweep_args.cc", "common/numbers.h",
-                           "common/cli.h"})
-    AddPart(&material, file, ReadOrEmpty(t.tools / file));
+  AddTree(&material, t.tools, "");
   AddTree(&material, t.runtime_include / "mechgen", "");
   material += ToolchainPart(t);
-  AddPart(&material, "driver flags", Join(kDriverFlags));
+  AddPart(&material, "driver flags", Join(spec.flags));
   AddPart(&material, "eigen", t.eigen_include + "\n" +
                                   ReadOrEmpty(fs::path(t.eigen_include) / "Eigen/src/Core/util/Macros.h"));
   AddPart(&material, "cli11", t.cli11_include);
@@ -577,25 +602,41 @@ std::vector<std::string> Command(const Toolchain& t, std::vector<std::string> ar
   return command;
 }
 
-// Generates and compiles the model's sweep program in `dir`: dir/sweep. `args_object` is the
-// CLI11 part: used if it exists, else compiled into dir/args.o and renamed to it (when not
-// empty). Returns 0, or the exit status after printing the error.
-int Build(const SweepCommand& c, const GenerateFn& generate, const Toolchain& t,
+// Whether the generated model has what the tool needs (spec.quantity).
+bool HasQuantity(const GeneratedModel& model, const std::string& quantity) {
+  return quantity.empty() ||
+         std::find(model.quantities.begin(), model.quantities.end(), quantity) != model.quantities.end();
+}
+
+// Generates and compiles the model's <tool> program in `dir`: dir/<tool>. `args_object` (the
+// sweep's CLI11 part): used if it exists, else compiled into dir/args.o and renamed to it
+// (when not empty). Returns 0, or the exit status after printing the error.
+int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate, const Toolchain& t,
           const std::string& model_bytes, const fs::path& dir, const fs::path& args_object,
           std::string* model_name) {
   const auto start = std::chrono::steady_clock::now();
-  const int generated = generate(c.model_path, dir.string(), model_name);
+  GeneratedModel model;
+  const int generated = generate(c.model_path, dir.string(), &model);
   if (generated != 0 || g_signal != 0) return generated != 0 ? generated : 1;
+  *model_name = model.name;
+  if (!HasQuantity(model, spec.quantity)) {
+    std::string have;
+    for (const std::string& q : model.quantities) have += (have.empty() ? "" : " ") + q;
+    return Fail("the model '" + model.name + "' (" + c.model_path + ") has no `" + spec.quantity +
+                "` among its outputs' quantities (it has: " + have + "), which `mechgen " + spec.name +
+                "` needs; add `" + spec.quantity + "` to its outputs (outputs: {quantities: [..., " +
+                spec.quantity + "]}, models/README.md)");
+  }
   std::string again;
   if (!ReadModel(c.model_path, &again) || again != model_bytes)
     return Fail(c.model_path + " changed while it was being compiled; run again");
   const double generate_seconds = Seconds(start);
   const std::string& name = *model_name;
-  std::cerr << "mechgen: compiling the sweep command of '" << name << "' (" << c.model_path
-            << "; once, then cached)...\n";
+  const std::string what = "the " + spec.name + " command of '" + name + "'";
+  std::cerr << "mechgen: compiling " << what << " (" << c.model_path << "; once, then cached)...\n";
   const auto compile_start = std::chrono::steady_clock::now();
   std::error_code ec;
-  bool have_args = !args_object.empty() && fs::exists(args_object, ec);
+  bool have_args = spec.separate_args && !args_object.empty() && fs::exists(args_object, ec);
   std::string why;
   if (have_args && !MatchesRecord(args_object, &why)) {
     // Damaged: compiled afresh below and put in its place.
@@ -603,40 +644,42 @@ int Build(const SweepCommand& c, const GenerateFn& generate, const Toolchain& t,
               << "); compiling it again\n";
     have_args = false;
   }
+  std::vector<std::string> main_args = spec.flags;
+  main_args.insert(main_args.end(), {"-DMECHGEN_MODEL_INCLUDE=\"" + name + ".h\"",
+                                     "-DMECHGEN_MODEL_NAMESPACE=mech::" + name, "-I" + dir.string(),
+                                     "-I" + t.runtime_include.string(), "-isystem", t.eigen_include});
+  if (!spec.separate_args && !t.cli11_include.empty())
+    main_args.insert(main_args.end(), {"-isystem", t.cli11_include});
+  main_args.insert(main_args.end(),
+                   {"-c", (t.tools / spec.main).string(), "-o", (dir / "main.o").string()});
   std::vector<Job> jobs;
-  jobs.push_back({Command(t, {kDriverFlags[0], kDriverFlags[1],
-                              "-DMECHGEN_MODEL_INCLUDE=\"" + name + ".h\"",
-                              "-DMECHGEN_MODEL_NAMESPACE=mech::" + name, "-I" + dir.string(),
-                              "-I" + t.runtime_include.string(), "-isystem", t.eigen_include, "-c",
-                              (t.tools / "sweep_main.cc").string(), "-o",
-                              (dir / "sweep_main.o").string()}),
-                  dir / "sweep_main.log"});
+  jobs.push_back({Command(t, main_args), dir / "main.log"});
   jobs.push_back({Command(t, {"-isystem", t.eigen_include, "-c", (dir / (name + ".cc")).string(), "-o",
                               (dir / (name + ".o")).string()}),
                   dir / "model.log"});
-  if (!have_args) {
+  if (spec.separate_args && !have_args) {
     std::vector<std::string> args;
     if (!t.cli11_include.empty()) args = {"-isystem", t.cli11_include};
     args.insert(args.end(), {"-c", (t.tools / "sweep_args.cc").string(), "-o", (dir / "args.o").string()});
     jobs.push_back({Command(t, args), dir / "args.log"});
   }
-  if (!RunJobs(&jobs, "compiling the sweep command of '" + name + "'", c.verbose)) return 1;
+  if (!RunJobs(&jobs, "compiling " + what, c.verbose)) return 1;
+  const fs::path program = dir / spec.name;
   std::vector<Job> link(1);
   link[0].argv = t.compiler;
-  link[0].argv.insert(link[0].argv.end(), {(dir / "sweep_main.o").string(), (dir / (name + ".o")).string(),
-                                           have_args ? args_object.string() : (dir / "args.o").string(),
-                                           "-o", (dir / "sweep").string()});
+  link[0].argv.insert(link[0].argv.end(), {(dir / "main.o").string(), (dir / (name + ".o")).string()});
+  if (spec.separate_args) link[0].argv.push_back(have_args ? args_object.string() : (dir / "args.o").string());
+  link[0].argv.insert(link[0].argv.end(), {"-o", program.string()});
   link[0].log = dir / "link.log";
-  if (!RunJobs(&link, "linking the sweep command of '" + name + "'", c.verbose)) return 1;
+  if (!RunJobs(&link, "linking " + what, c.verbose)) return 1;
   // The program's record, in the entry; the CLI11 object's for later models, then the object
   // (rename: whole or not at all).
-  if (!WriteRecord(dir / "sweep")) return Fail("cannot record the size and SHA-256 of " + (dir / "sweep").string());
-  if (!have_args && !args_object.empty() && WriteRecord(dir / "args.o")) {
+  if (!WriteRecord(program)) return Fail("cannot record the size and SHA-256 of " + program.string());
+  if (spec.separate_args && !have_args && !args_object.empty() && WriteRecord(dir / "args.o")) {
     fs::rename(RecordPath(dir / "args.o"), RecordPath(args_object), ec);
     if (!ec) fs::rename(dir / "args.o", args_object, ec);
   }
-  for (const char* file : {"sweep_main.o", "sweep_main.log", "model.log", "args.o", "args.o.sha256", "args.log",
-                           "link.log"})
+  for (const char* file : {"main.o", "main.log", "model.log", "args.o", "args.o.sha256", "args.log", "link.log"})
     fs::remove(dir / file, ec);
   fs::remove(dir / (name + ".o"), ec);
   std::cerr << "mechgen: compiled in " << Fixed(Seconds(compile_start), 1) << " s";
@@ -645,14 +688,14 @@ int Build(const SweepCommand& c, const GenerateFn& generate, const Toolchain& t,
   return 0;
 }
 
-std::vector<std::string> DriverArgv(const SweepCommand& c) {
-  std::vector<std::string> argv = {"mechgen sweep " + c.model_path};
+std::vector<std::string> DriverArgv(const ToolCommand& c) {
+  std::vector<std::string> argv = {"mechgen " + c.tool + " " + c.model_path};
   argv.insert(argv.end(), c.driver_args.begin(), c.driver_args.end());
   return argv;
 }
 
 // Becomes the driver `fd` (opened by OpenChecked); returns only if exec fails.
-int Exec(int fd, const fs::path& program, const SweepCommand& c) {
+int Exec(int fd, const fs::path& program, const ToolCommand& c) {
   const std::vector<std::string> argv = DriverArgv(c);
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
@@ -667,7 +710,7 @@ int Exec(int fd, const fs::path& program, const SweepCommand& c) {
 
 }  // namespace
 
-void SplitSweepArguments(int argc, const char* const* argv, int first,
+void SplitToolArguments(int argc, const char* const* argv, int first,
                          const std::vector<std::string>& options_with_value, int* model_end,
                          std::vector<std::string>* driver_args) {
   driver_args->clear();
@@ -693,10 +736,22 @@ void SplitSweepArguments(int argc, const char* const* argv, int first,
   for (; rest < argc; ++rest) driver_args->push_back(argv[rest]);
 }
 
-int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
+const std::vector<std::string>& ToolNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const ToolSpec& spec : Specs()) n.push_back(spec.name);
+    return n;
+  }();
+  return names;
+}
+
+int RunTool(const ToolCommand& c, const GenerateFn& generate) {
+  const ToolSpec* found = FindSpec(c.tool);
+  if (found == nullptr) return Fail("no command '" + c.tool + "'");
+  const ToolSpec& spec = *found;
   g_signal = 0;
   Toolchain t;
-  if (!FindToolchain(&t)) return 1;
+  if (!FindToolchain(spec, &t)) return 1;
   std::string model_bytes;
   const bool readable = ReadModel(c.model_path, &model_bytes);
   std::error_code ec;
@@ -705,14 +760,14 @@ int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
     // Built in a temporary directory, run as a child, removed. (An unreadable model ends in
     // the generator's message.)
     fs::path dir;
-    if (!MakeTempDir(fs::temp_directory_path(ec), "mechgen-sweep.", &dir))
+    if (!MakeTempDir(fs::temp_directory_path(ec), "mechgen-" + spec.name + ".", &dir))
       return Fail(std::string("cannot create a temporary directory: ") + std::strerror(errno));
     int status = 0;
     {
       TempDir temp(dir);
       SignalGuard guard;
       std::string name;
-      status = Build(c, generate, t, model_bytes, dir, fs::path(), &name);
+      status = Build(spec, c, generate, t, model_bytes, dir, fs::path(), &name);
       if (status == 0 && g_signal == 0) {
         const std::vector<std::string> argv = DriverArgv(c);
         std::vector<char*> args;
@@ -722,7 +777,7 @@ int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
         std::cerr.flush();
         const pid_t pid = fork();
         if (pid == 0) {
-          execv((dir / "sweep").c_str(), args.data());
+          execv((dir / spec.name).c_str(), args.data());
           _exit(127);
         }
         if (pid < 0) {
@@ -740,20 +795,20 @@ int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
 
   fs::path root;
   if (!CacheRoot(c.cache_dir, &root)) return 1;
-  const fs::path sweep_dir = root / "sweep", tmp = sweep_dir / "tmp";
-  const std::string key = EntryKey(model_bytes, c.templates, t);
-  const fs::path entry = sweep_dir / key;
+  const fs::path tool_dir = root / spec.name, tmp = tool_dir / "tmp";
+  const std::string key = EntryKey(spec, model_bytes, c.templates, t);
+  const fs::path entry = tool_dir / key, program = entry / spec.name;
   if (c.verbose) std::cerr << "mechgen: cache " << root.string() << ", entry " << entry.string() << "\n";
   bool rebuild = c.rebuild;
   if (!rebuild && fs::exists(entry, ec)) {
     std::string why;
-    const int fd = OpenChecked(entry / "sweep", &why);
+    const int fd = OpenChecked(program, &why);
     if (fd >= 0) {
-      if (c.verbose) std::cerr << "mechgen: cached; running " << (entry / "sweep").string() << "\n";
-      return Exec(fd, entry / "sweep", c);
+      if (c.verbose) std::cerr << "mechgen: cached; running " << program.string() << "\n";
+      return Exec(fd, program, c);
     }
     // Damaged: built again and put in its place (as --rebuild does).
-    std::cerr << "mechgen: the cached sweep command " << (entry / "sweep").string() << " is damaged (" << why
+    std::cerr << "mechgen: the cached " << spec.name << " command " << program.string() << " is damaged (" << why
               << "); building it again\n";
     rebuild = true;
   }
@@ -771,7 +826,9 @@ int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
     {
       SignalGuard guard;  // restored before the directory goes
       std::string name;
-      status = Build(c, generate, t, model_bytes, dir, sweep_dir / ("args-" + ArgsKey(t) + ".o"), &name);
+      const fs::path args_object =
+          spec.separate_args ? tool_dir / ("args-" + ArgsKey(t) + ".o") : fs::path();
+      status = Build(spec, c, generate, t, model_bytes, dir, args_object, &name);
       if (status == 0 && g_signal == 0) {
         // Into place whole. --rebuild: the old entry moved aside first; a concurrent run
         // that got there first wins (its entry is as good as ours).
@@ -786,7 +843,7 @@ int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
         const std::string rename_error = ec.message();
         if (!ec) {
           temp.Keep();
-        } else if (!IsExecutableFile(entry / "sweep") || !fs::exists(RecordPath(entry / "sweep"), ec)) {
+        } else if (!IsExecutableFile(program) || !fs::exists(RecordPath(program), ec)) {
           status = Fail("cannot create the cache entry " + entry.string() + ": " + rename_error);
         }
         if (status == 0) std::cerr << "mechgen: cached in " << entry.string() << "\n";
@@ -798,11 +855,11 @@ int RunSweep(const SweepCommand& c, const GenerateFn& generate) {
   // Checked once more: what runs is the file its record describes, even if another run's
   // entry won the rename.
   std::string why;
-  const int fd = OpenChecked(entry / "sweep", &why);
+  const int fd = OpenChecked(program, &why);
   if (fd < 0)
-    return Fail("the sweep command just built in " + entry.string() + " does not match its record (" + why +
+    return Fail("the " + spec.name + " command just built in " + entry.string() + " does not match its record (" + why +
                 "); check the disk, or use --no-cache");
-  return Exec(fd, entry / "sweep", c);
+  return Exec(fd, program, c);
 }
 
 }  // namespace mechgen

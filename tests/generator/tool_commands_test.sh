@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# `mechgen statics|simulate|engine <model.yaml> [options]` (generator/driver/tool_command.cc),
+# each against the <model>_<tool> that mechgen_add_model() builds (the oracle: the same driver
+# source compiled by CMake, statics with the Ceres assembler), run in a temporary directory
+# outside the source tree on copies of the shipped models, with a private cache.
+# usage: tool_commands_test.sh <mechgen> <source dir> <slider_crank_friction_statics>
+#                              <slider_crank_motor_simulate> <engine_single_engine>
+#   - a model without what the tool needs (fourbar: no `forces`, no `dynamics`): exit 1, one
+#     line naming the quantity to add, nothing compiled, no cache entry;
+#   - statics: the first run compiles (says so), its CSV and SVG are byte-identical to
+#     slider_crank_friction_statics' with the same options, stdout too but for the timing
+#     line; a second run uses the cache (no "compiling", the program unchanged) and gives the
+#     same CSV; a usage error of the driver comes back with its exit status 2; --help works;
+#   - simulate: the CSV of the motor start-up byte-identical to slider_crank_motor_simulate's;
+#   - engine: the cycle CSV byte-identical to engine_single_engine's.
+set -uo pipefail
+mechgen=$(realpath "$1") source_dir=$(realpath "$2")
+statics_tool=$(realpath "$3") simulate_tool=$(realpath "$4") engine_tool=$(realpath "$5")
+root=$(mktemp -d)
+trap 'rm -rf "$root"' EXIT
+cd "$root" || exit 1
+case "$root" in "$source_dir"/*) echo "FAIL: $root is inside the source tree"; exit 1 ;; esac
+export MECHGEN_CACHE_DIR=$root/cache
+for m in fourbar slider_crank_friction slider_crank_motor engine_single; do
+  cp "$source_dir/models/$m.yaml" "$m.yaml"
+done
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+ok() { echo "ok $*"; }
+entries() { find "$MECHGEN_CACHE_DIR/$1" -mindepth 1 -maxdepth 1 -type d ! -name tmp 2>/dev/null | wc -l; }
+
+# A model without the quantity: said before anything is compiled.
+before=$failures
+for tool_quantity in statics:forces simulate:dynamics engine:dynamics; do
+  tool=${tool_quantity%%:*} quantity=${tool_quantity#*:}
+  "$mechgen" "$tool" fourbar.yaml --help > lack.out 2> lack.err
+  status=$?
+  [ "$status" -eq 1 ] || fail "$tool on fourbar: exit status $status, expected 1: $(cat lack.err)"
+  [ "$(wc -l < lack.err)" -eq 1 ] || fail "$tool on fourbar: expected one line: $(cat lack.err)"
+  grep -q "^mechgen: error: the model 'fourbar' (fourbar.yaml) has no \`$quantity\` among its outputs' quantities (it has: K L scene), which \`mechgen $tool\` needs; add \`$quantity\`" lack.err ||
+    fail "$tool on fourbar: $(cat lack.err)"
+  grep -q compiling lack.err && fail "$tool on fourbar: compiled: $(cat lack.err)"
+  [ "$(entries "$tool")" -eq 0 ] || fail "$tool on fourbar: a cache entry was made"
+done
+[ "$failures" -ne "$before" ] || ok "a model without forces or dynamics: one line, nothing compiled"
+
+# statics against slider_crank_friction_statics.
+before=$failures
+options=(--steps 72 --table 7 --dead-zones --equilibria)
+mkdir -p a b
+(cd a && "$mechgen" statics ../slider_crank_friction.yaml "${options[@]}" --csv s.csv --svg s.svg > ../a.out 2> ../a.err)
+status=$?
+[ "$status" -eq 0 ] || fail "statics: exit status $status: $(cat a.err)"
+grep -q "^mechgen: compiling the statics command of 'slider_crank_friction'" a.err ||
+  fail "statics: no compile message: $(cat a.err)"
+(cd b && "$statics_tool" "${options[@]}" --csv s.csv --svg s.svg > ../b.out 2> ../b.err) ||
+  fail "slider_crank_friction_statics: $(cat b.err)"
+cmp a/s.csv b/s.csv || fail "statics: the CSV differs from slider_crank_friction_statics'"
+cmp a/s.svg b/s.svg || fail "statics: the SVG differs from slider_crank_friction_statics'"
+[ "$(grep -vc '^#' a/s.csv)" -eq 74 ] || fail "statics: $(grep -vc '^#' a/s.csv) CSV lines, expected 74"
+diff <(grep -v 'us/row' a.out) <(grep -v 'us/row' b.out) > stdout.diff ||
+  fail "statics: stdout differs: $(head -20 stdout.diff)"
+grep -q 'us/row' a.out || fail "statics: no timing line: $(cat a.out)"
+program=$(find "$MECHGEN_CACHE_DIR/statics" -mindepth 2 -maxdepth 2 -name statics -type f)
+[ "$(printf '%s\n' "$program" | grep -c .)" -eq 1 ] || fail "statics: expected one cached program: $program"
+[ "$failures" -ne "$before" ] || ok "statics: the same CSV, SVG and table as slider_crank_friction_statics"
+
+before=$failures
+stamp=$(stat -c %Y.%s "$program")
+(cd a && "$mechgen" statics ../slider_crank_friction.yaml "${options[@]}" --csv again.csv > ../c.out 2> ../c.err) ||
+  fail "statics, cached: $(cat c.err)"
+grep -q compiling c.err && fail "statics, cached: compiled again: $(cat c.err)"
+[ "$(stat -c %Y.%s "$program")" = "$stamp" ] || fail "statics, cached: the program changed"
+cmp a/again.csv a/s.csv || fail "statics, cached: a different CSV"
+"$mechgen" statics slider_crank_friction.yaml --steps 0 > e.out 2> e.err
+status=$?
+{ [ "$status" -eq 2 ] && grep -q -- '--steps' e.err; } || fail "statics --steps 0: exit status $status: $(cat e.err)"
+"$mechgen" statics slider_crank_friction.yaml --help > h.out 2>&1 || fail "statics --help: exit status $?"
+grep -q -- '--dead-zones' h.out || fail "statics --help does not list --dead-zones: $(head -5 h.out)"
+[ "$(entries statics)" -eq 1 ] || fail "statics: expected one cache entry, found $(entries statics)"
+[ "$failures" -ne "$before" ] || ok "statics: cached (no compile), the options reach the driver"
+
+# simulate against slider_crank_motor_simulate (the motor start-up of scripts/quickstart.sh).
+before=$failures
+options=(--t-end 1 --dt 0.002)
+(cd a && "$mechgen" simulate ../slider_crank_motor.yaml "${options[@]}" --csv m.csv > ../sa.out 2> ../sa.err) ||
+  fail "simulate: $(cat sa.err)"
+(cd b && "$simulate_tool" "${options[@]}" --csv m.csv > ../sb.out 2> ../sb.err) ||
+  fail "slider_crank_motor_simulate: $(cat sb.err)"
+cmp a/m.csv b/m.csv || fail "simulate: the CSV differs from slider_crank_motor_simulate's"
+[ "$(grep -vc '^#' a/m.csv)" -gt 100 ] || fail "simulate: only $(grep -vc '^#' a/m.csv) CSV lines"
+[ "$failures" -ne "$before" ] || ok "simulate: the same CSV as slider_crank_motor_simulate"
+
+# engine against engine_single_engine.
+before=$failures
+options=(cycle --rpm 3000 --samples 360)
+(cd a && "$mechgen" engine ../engine_single.yaml "${options[@]}" --csv e.csv > ../ea.out 2> ../ea.err) ||
+  fail "engine: $(cat ea.err)"
+(cd b && "$engine_tool" "${options[@]}" --csv e.csv > ../eb.out 2> ../eb.err) ||
+  fail "engine_single_engine: $(cat eb.err)"
+cmp a/e.csv b/e.csv || fail "engine: the cycle CSV differs from engine_single_engine's"
+[ "$(grep -vc '^#' a/e.csv)" -gt 300 ] || fail "engine: only $(grep -vc '^#' a/e.csv) CSV lines"
+[ "$failures" -ne "$before" ] || ok "engine: the same cycle CSV as engine_single_engine"
+exit $((failures > 0))
