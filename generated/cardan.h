@@ -77,6 +77,13 @@ struct Params {
     (void)name;
     return nullptr;
   }
+
+  /// The parameters' names as in the model file, in the order of the members above (the
+  /// tools' --set and --params check names against them and list them).
+  static constexpr std::array<const char*, 2> kNames{ "r", "R" };
+  /// The derived parameters' names: not members (every expression reads its definition in the
+  /// parameters above), so they follow those when they change; set those instead.
+  static constexpr std::array<const char*, 0> kDerivedNames{  };
 };
 
 template <typename Scalar, int R, int C>

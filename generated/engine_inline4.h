@@ -197,6 +197,13 @@ struct Params {
     (void)name;
     return nullptr;
   }
+
+  /// The parameters' names as in the model file, in the order of the members above (the
+  /// tools' --set and --params check names against them and list them).
+  static constexpr std::array<const char*, 33> kNames{ "bore", "r", "l", "e", "m_rod", "l_G", "J_rod", "m_pis", "m_crank", "J_fly", "strokes", "T_load", "c_load", "gamma_1", "beta_1", "phase_1", "z_1", "p_gas_1", "gamma_2", "beta_2", "phase_2", "z_2", "p_gas_2", "gamma_3", "beta_3", "phase_3", "z_3", "p_gas_3", "gamma_4", "beta_4", "phase_4", "z_4", "p_gas_4" };
+  /// The derived parameters' names: not members (every expression reads its definition in the
+  /// parameters above), so they follow those when they change; set those instead.
+  static constexpr std::array<const char*, 1> kDerivedNames{ "A_pis" };
 };
 
 template <typename Scalar, int R, int C>

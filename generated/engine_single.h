@@ -134,6 +134,13 @@ struct Params {
     (void)name;
     return nullptr;
   }
+
+  /// The parameters' names as in the model file, in the order of the members above (the
+  /// tools' --set and --params check names against them and list them).
+  static constexpr std::array<const char*, 18> kNames{ "bore", "r", "l", "e", "m_rod", "l_G", "J_rod", "m_pis", "m_crank", "J_fly", "strokes", "T_load", "c_load", "gamma_1", "beta_1", "phase_1", "z_1", "p_gas_1" };
+  /// The derived parameters' names: not members (every expression reads its definition in the
+  /// parameters above), so they follow those when they change; set those instead.
+  static constexpr std::array<const char*, 1> kDerivedNames{ "A_pis" };
 };
 
 template <typename Scalar, int R, int C>

@@ -138,6 +138,13 @@ struct Params {
     (void)name;
     return nullptr;
   }
+
+  /// The parameters' names as in the model file, in the order of the members above (the
+  /// tools' --set and --params check names against them and list them).
+  static constexpr std::array<const char*, 13> kNames{ "a", "b", "c", "d", "m3", "x3", "y3", "J3", "m2b", "m4b", "mc2", "mc4", "balance" };
+  /// The derived parameters' names: not members (every expression reads its definition in the
+  /// parameters above), so they follow those when they change; set those instead.
+  static constexpr std::array<const char*, 16> kDerivedNames{ "W2x", "W2y", "W4x", "W4y", "r2", "r4", "g2", "g4", "M2", "X2", "Y2", "J2", "M4", "X4", "Y4", "J4" };
 };
 
 template <typename Scalar, int R, int C>

@@ -341,6 +341,10 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   for (const Parameter& p : m.params)
     params.push_back({{"name", p.name}, {"value", Number(p.value)}, {"comment", CommentText(p.doc)}});
   data.SetList("params", params, {"name", "value", "comment"});
+  data.Set("num_params", static_cast<int>(m.params.size()));
+  data.Set("param_names", Join(m.params, [](const Parameter& p) { return Quote(p.name); }));
+  data.Set("num_derived_params", static_cast<int>(m.derived.size()));
+  data.Set("derived_param_names", Join(m.derived, [](const DerivedParameter& d) { return Quote(d.name); }));
   const bool has_points = !k.points.empty();
   data.Set("has_K", table.requested.K);
   data.Set("has_L", table.requested.L);

@@ -346,6 +346,7 @@ struct Args {
   double steady_tol = 1e-5;
   int smoothing = 6;
   eng::PolytropicWiebeParams wiebe;
+  mechgen::tools::ParameterOptions params;  ///< --params, --set: the model's Params
 };
 
 namespace tools = mechgen::tools;
@@ -417,6 +418,7 @@ int ParseArgs(int argc, char** argv, Args* a) {
       "Pressure law (--table, or the polytropic cycle with a Wiebe heat release; bore, stroke "
       "and rod from the model)";
   eng::PolytropicWiebeParams& w = a->wiebe;
+  tools::AddParameterOptions(&app, &a->params);
   app.add_option("--table", a->table,
                  "indicator diagram: rows 'angle_deg,p_gauge_Pa' over the cycle (a header line "
                  "is skipped)")
@@ -978,6 +980,9 @@ int main(int argc, char** argv) {
   Params p;
   Engine e;
   std::string error;
+  if (!tools::ApplyParameters(a.params, &p, &error)) return tools::UsageError(a.tool, error);
+  if (const std::string changed = tools::ChangedParameters(p); !changed.empty())
+    std::printf("parameters set: %s\n", changed.c_str());
   if (!ReadEngine(&p, &e, &error)) return Fail(error);
   eng::PolytropicWiebeCycle wiebe;
   eng::PressureTable table;

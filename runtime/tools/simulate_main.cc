@@ -111,6 +111,7 @@ struct Args {
   bool quiet = false;
   int max_steps = 1000000;
   std::vector<DriveSpec> drives;
+  tools::ParameterOptions params;  // --params, --set: applied to the model's Params
 };
 
 // Comma-separated numbers (each with an optional 'deg' suffix).
@@ -219,6 +220,7 @@ int ParseArgs(int argc, char** argv, const std::string& model, Args* a) {
           "NAME=LAW", ""));
   app.add_option("--csv", a->csv, "write the CSV there (default: " + model + "_simulate.csv)");
   app.add_flag("--quiet", a->quiet, "no summary on stdout");
+  tools::AddParameterOptions(&app, &a->params);
   if (const int parsed = tools::Parse(&app, argc, argv, a->tool); parsed >= 0) return parsed;
   a->steady = !no_steady;
   std::string error;
@@ -460,7 +462,8 @@ int Run(const Args& args) {
   using VecQ = typename Sim::VecQ;
   using SampleT = typename Sim::SampleT;
   constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
-  const typename M::template ParamsT<double> params;
+  typename M::template ParamsT<double> params;
+  if (std::string why; !tools::ApplyParameters(args.params, &params, &why)) return tools::UsageError(args.tool, why);
 
   VecQ q0, qd0;
   if (const int status = InitialState<M>(args, &q0, &qd0); status != 0) return status;
@@ -527,6 +530,8 @@ int Run(const Args& args) {
   if (!CommitCsv(&csv)) return 1;
   const bool failure = mechgen::dynamics::IsFailure(summary.status);
   if (!args.quiet) {
+    if (const std::string changed = tools::ChangedParameters(params); !changed.empty())
+      std::printf("parameters set: %s\n", changed.c_str());
     std::printf("%s: %s\n", M::kName, mechgen::dynamics::FormatSummary(summary).c_str());
     const auto& steady = summary.steady;
     if (steady.steady) {
@@ -565,7 +570,8 @@ int RunDriven(const Args& args) {
   using SampleT = typename Sim::SampleT;
   constexpr int kNf = Sim::kNf;
   constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
-  const typename M::template ParamsT<double> params;
+  typename M::template ParamsT<double> params;
+  if (std::string why; !tools::ApplyParameters(args.params, &params, &why)) return tools::UsageError(args.tool, why);
 
   VecQ q0, qd0;
   if (const int status = InitialState<M>(args, &q0, &qd0); status != 0) return status;
@@ -663,6 +669,8 @@ int RunDriven(const Args& args) {
   if (!CommitCsv(&csv)) return 1;
   const bool failure = dyn::IsFailure(summary.status);
   if (!args.quiet) {
+    if (const std::string changed = tools::ChangedParameters(params); !changed.empty())
+      std::printf("parameters set: %s\n", changed.c_str());
     std::printf("%s (%d of %d inputs driven): %s\n", M::kName, NP, kNq,
                 dyn::FormatSummary(summary).c_str());
     for (int i = 0; i < NP; ++i) {

@@ -148,7 +148,12 @@ int Run(int argc, char** argv) {
                "deg apart along an angle input");
   tools::Number(&app, "--max-condition", &max_condition, tools::Between(1, 1e16),
                 "forces are withheld (status singular) where cond_1(Phi_phi) exceeds this");
+  tools::ParameterOptions parameter_options;
+  tools::AddParameterOptions(&app, &parameter_options);
   if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
+  typename M::template ParamsT<double> params;
+  if (std::string why; !tools::ApplyParameters(parameter_options, &params, &why))
+    return tools::UsageError(tool, why);
 
   typename Types::VecQ q_begin = Eigen::Map<const typename Types::VecQ>(M::kQMin.data());
   typename Types::VecQ q_end = Eigen::Map<const typename Types::VecQ>(M::kQMax.data());
@@ -194,9 +199,9 @@ int Run(int argc, char** argv) {
   if (!options.IsValid(&error)) return tools::UsageError(tool, error);
 
 #ifdef MECHGEN_TOOL_NO_CERES
-  mechgen::position::PositionSolver<M> solver;  // NewtonAssembler: Eigen only
+  mechgen::position::PositionSolver<M> solver(mechgen::position::Options(), params);  // Eigen only
 #else
-  mechgen::position::CeresPositionSolver<M> solver;
+  mechgen::position::CeresPositionSolver<M> solver(mechgen::position::Options(), params);
 #endif
   mechgen::position::Summary assembly;
   if (solver.AssembleDefault(&assembly) != mechgen::position::Status::kConverged) {
@@ -210,9 +215,12 @@ int Run(int argc, char** argv) {
     std::printf("%s%s %s -> %s", j ? ", " : "", M::kQNames[j], Describe<M>(j, q_begin(j)).c_str(),
                 Describe<M>(j, q_end(j)).c_str());
   }
-  std::printf(" in %d steps; %d friction joint(s), %d reaction component(s)\n\n", steps,
+  std::printf(" in %d steps; %d friction joint(s), %d reaction component(s)\n", steps,
               statics::StaticsFeatures<M>::kNumFriction,
               statics::StaticsFeatures<M>::kNumReactions);
+  if (const std::string changed = tools::ChangedParameters(params); !changed.empty())
+    std::printf("parameters set: %s\n", changed.c_str());
+  std::printf("\n");
 
   std::vector<statics::StaticsRecord<M>> records;
   const auto start = std::chrono::steady_clock::now();

@@ -36,6 +36,7 @@ int ParseArguments(int argc, char** argv, const std::string& model_name, long lo
   app.add_option("--mode", a.mode,
                  "assemble in this named assembly mode of the model (its assembly_modes:) "
                  "instead of the model's assembly");
+  tools::AddParameterOptions(&app, &a.params);
   return tools::Parse(&app, argc, argv, a.tool);
 }
 

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "common/params.h"
+
 namespace mechgen::sweep_tool {
 
 /// The options: counts checked; --range, --qd, --qdd as given (text; sweep_main.cc checks
@@ -23,6 +25,7 @@ struct Arguments {
   std::string csv_path, svg_path;
   std::string mode;  ///< a named assembly mode (the model's assembly_modes:); empty: the default
   bool no_animation = false;
+  tools::ParameterOptions params;  ///< --params, --set: applied to the model's Params
 };
 
 /// Exit status of a usage error (bad arguments: nothing written).

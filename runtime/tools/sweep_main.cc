@@ -222,14 +222,18 @@ int main(int argc, char** argv) {
     return kExitError;
   }
 
+  // The model's parameters: its defaults, then --params and --set.
+  typename Model::template ParamsT<double> params;
+  if (!mechgen::tools::ApplyParameters(arguments.params, &params, &error)) return Usage(error);
+
   // Assembly at the model's assembly configuration, then the sweep.
   // Ceres assembles (position/ceres_adapter.h) unless MECHGEN_SWEEP_NO_CERES: then the
   // runtime's own Levenberg-Marquardt (NewtonAssembler), Eigen only.
 #ifdef MECHGEN_SWEEP_NO_CERES
-  mechgen::position::PositionSolver<Model> solver;
+  mechgen::position::PositionSolver<Model> solver(mechgen::position::Options(), params);
   const char* const assembler_name = "Levenberg-Marquardt";
 #else
-  mechgen::position::CeresPositionSolver<Model> solver;
+  mechgen::position::CeresPositionSolver<Model> solver(mechgen::position::Options(), params);
   const char* const assembler_name = "Ceres";
 #endif
   mechgen::position::Summary assembly;
@@ -239,7 +243,6 @@ int main(int argc, char** argv) {
   } else {
     // The named mode's closed-form roots at the assembly inputs, then the runtime's assembly
     // there on the branch (sign det Phi_phi) those roots give.
-    const typename Model::template ParamsT<double> params;
     Types::VecQ q = Eigen::Map<const Types::VecQ>(Model::kAssemblyQ.data());
     typename Types::VecPhi phi = Eigen::Map<const typename Types::VecPhi>(Model::kAssemblyPhi.data());
     const auto report = Model::Solve(params, q, &phi, named_modes);
@@ -278,7 +281,10 @@ int main(int argc, char** argv) {
     std::printf("%s%s %s -> %s", j ? ", " : "", Model::kQNames[j],
                 Describe(j, q_begin(j)).c_str(), Describe(j, q_end(j)).c_str());
   }
-  std::printf(" in %d steps\n\n", steps);
+  std::printf(" in %d steps\n", steps);
+  const std::string changed = mechgen::tools::ChangedParameters(params);
+  if (!changed.empty()) std::printf("parameters set: %s\n", changed.c_str());
+  std::printf("\n");
 
   // The sweep, streamed: each row goes to the CSV as it is solved; kept are only the rows of
   // the table, those the drawing uses (all up to kMaxSvgRows, else evenly spaced ones) and

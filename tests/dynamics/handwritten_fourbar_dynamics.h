@@ -33,6 +33,7 @@
 #pragma once
 
 #include <array>
+#include <cstring>
 #include <cmath>
 
 #include <Eigen/Core>
@@ -78,6 +79,21 @@ struct Params {
     p.damp = T(damp);
     return p;
   }
+
+  /// By name, as the generated Params (the tools' --set and --params).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "c") == 0) return &c;
+    if (std::strcmp(name, "d") == 0) return &d;
+    if (std::strcmp(name, "rho") == 0) return &rho;
+    if (std::strcmp(name, "g") == 0) return &g;
+    if (std::strcmp(name, "tau") == 0) return &tau;
+    if (std::strcmp(name, "damp") == 0) return &damp;
+    return nullptr;
+  }
+  static constexpr std::array<const char*, 8> kNames{ "a", "b", "c", "d", "rho", "g", "tau", "damp" };
+  static constexpr std::array<const char*, 0> kDerivedNames{};
 };
 
 template <typename Scalar, int R, int C>

@@ -12,10 +12,17 @@
 #     line; a second run uses the cache (no "compiling", the program unchanged) and gives the
 #     same CSV; a usage error of the driver comes back with its exit status 2; --help works;
 #   - simulate: the CSV of the motor start-up byte-identical to slider_crank_motor_simulate's;
-#   - engine: the cycle CSV byte-identical to engine_single_engine's.
+#   - engine: the cycle CSV byte-identical to engine_single_engine's;
+#   - parameters at run time: slider_crank_friction_statics with --set a=0.12 --set mu_s=0.3
+#     (and the same from a --params file) gives byte for byte the CSV and SVG of `mechgen
+#     statics` on a copy of the model with those two values edited by hand; an unknown name
+#     (the parameters listed), a derived parameter (fourbar_balanced_sweep --set W2x=...), a
+#     bad value and a line of a --params file without a value are one-line usage errors
+#     (exit 2) naming the fault.
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2")
 statics_tool=$(realpath "$3") simulate_tool=$(realpath "$4") engine_tool=$(realpath "$5")
+balanced_sweep=$(realpath "$6")
 root=$(mktemp -d)
 trap 'rm -rf "$root"' EXIT
 cd "$root" || exit 1
@@ -101,4 +108,43 @@ options=(cycle --rpm 3000 --samples 360)
 cmp a/e.csv b/e.csv || fail "engine: the cycle CSV differs from engine_single_engine's"
 [ "$(grep -vc '^#' a/e.csv)" -gt 300 ] || fail "engine: only $(grep -vc '^#' a/e.csv) CSV lines"
 [ "$failures" -ne "$before" ] || ok "engine: the same cycle CSV as engine_single_engine"
+# Parameters at run time against the model edited by hand.
+before=$failures
+sed -e 's/^  a:    {value: 0.1,/  a:    {value: 0.12,/' -e 's/^  mu_s: {value: 0.15,/  mu_s: {value: 0.3,/' \
+  slider_crank_friction.yaml > edited.yaml
+[ "$(diff slider_crank_friction.yaml edited.yaml | grep -c '^>')" -eq 2 ] || fail "the edit did not take: $(diff slider_crank_friction.yaml edited.yaml)"
+options=(--steps 72 --table 0 --dead-zones)
+(cd a && "$mechgen" statics ../edited.yaml "${options[@]}" --csv p.csv --svg p.svg > ../pa.out 2> ../pa.err) ||
+  fail "statics on the edited model: $(cat pa.err)"
+(cd b && "$statics_tool" "${options[@]}" --set a=0.12 --set mu_s=0.3 --csv p.csv --svg p.svg > ../pb.out 2> ../pb.err) ||
+  fail "--set: $(cat pb.err)"
+cmp a/p.csv b/p.csv || fail "--set: the CSV differs from the edited model's"
+cmp a/p.svg b/p.svg || fail "--set: the SVG differs from the edited model's"
+cmp -s a/p.csv a/s.csv && fail "--set: the CSV is the unedited model's"
+grep -q '^parameters set: a = 0.12 (default 0.1), mu_s = 0.3 (default 0.15)$' pb.out ||
+  fail "--set: no 'parameters set' line: $(head -3 pb.out)"
+printf '# the edited values\na = 0.12\n\nmu_s: 0.3  # at the slide\n' > edited.params
+(cd b && "$statics_tool" "${options[@]}" --params ../edited.params --csv f.csv > ../pf.out 2> ../pf.err) ||
+  fail "--params: $(cat pf.err)"
+cmp a/p.csv b/f.csv || fail "--params: the CSV differs from the edited model's"
+[ "$failures" -ne "$before" ] || ok "--set and --params: the same bytes as the model edited by hand"
+
+before=$failures
+usage() {  # usage <expected text> <command...>: exit status 2, one line containing the text
+  local expected=$1
+  shift
+  "$@" > u.out 2> u.err
+  local status=$?
+  { [ "$status" -eq 2 ] && [ "$(wc -l < u.err)" -eq 1 ] && grep -qF -- "$expected" u.err; } ||
+    fail "$*: exit status $status, expected 2 and '$expected': $(cat u.err)"
+}
+usage "--set 'radius=1': no parameter 'radius' in the model (parameters: a, b, F, mu_O, r_O, mu_B, r_B, mu_C, r_C, mu_s)" \
+  "$statics_tool" --steps 4 --set radius=1
+usage "'W2x' is a derived parameter" "$balanced_sweep" --steps 4 --set W2x=1
+usage "--set 'a=big': bad value 'big' for 'a'" "$statics_tool" --steps 4 --set a=big
+usage "--set 'a': expected name=value" "$statics_tool" --steps 4 --set a
+printf 'a = 0.12\nmu_s\n' > bad.params
+usage "bad.params:2: expected \`name = value\`, got 'mu_s'" "$statics_tool" --steps 4 --params bad.params
+usage "--params: cannot read 'missing.params'" "$statics_tool" --steps 4 --params missing.params
+[ "$failures" -ne "$before" ] || ok "--set and --params: bad names, values and files are usage errors"
 exit $((failures > 0))

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <array>
+#include <cstring>
 #include <cmath>
 
 #include <Eigen/Core>
@@ -56,6 +57,19 @@ struct Params {
     p.eta = T(eta);
     return p;
   }
+
+  /// By name, as the generated Params (the tools' --set and --params).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "c") == 0) return &c;
+    if (std::strcmp(name, "d") == 0) return &d;
+    if (std::strcmp(name, "xi") == 0) return &xi;
+    if (std::strcmp(name, "eta") == 0) return &eta;
+    return nullptr;
+  }
+  static constexpr std::array<const char*, 6> kNames{ "a", "b", "c", "d", "xi", "eta" };
+  static constexpr std::array<const char*, 0> kDerivedNames{};
 };
 
 template <typename Scalar, int R, int C>

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <cstring>
 #include <cmath>
 
 #include <Eigen/Core>
@@ -49,6 +50,17 @@ struct Params {
     p.d = T(d);
     return p;
   }
+
+  /// By name, as the generated Params (the tools' --set and --params).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "c") == 0) return &c;
+    if (std::strcmp(name, "d") == 0) return &d;
+    return nullptr;
+  }
+  static constexpr std::array<const char*, 4> kNames{ "a", "b", "c", "d" };
+  static constexpr std::array<const char*, 0> kDerivedNames{};
 };
 
 template <typename Scalar, int R, int C>

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <array>
+#include <cstring>
 #include <cmath>
 
 #include <Eigen/Core>
@@ -48,6 +49,19 @@ struct Params {
   Scalar g = Scalar(9.81);   ///< gravity along -y (m/s^2)
   Scalar k = Scalar(0.5);    ///< torsional spring at O (N m/rad)
   Scalar q0 = Scalar(0.0);   ///< its free angle (rad)
+
+  /// By name, as the generated Params (the tools' --set and --params).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "l") == 0) return &l;
+    if (std::strcmp(name, "lc") == 0) return &lc;
+    if (std::strcmp(name, "m") == 0) return &m;
+    if (std::strcmp(name, "g") == 0) return &g;
+    if (std::strcmp(name, "k") == 0) return &k;
+    if (std::strcmp(name, "q0") == 0) return &q0;
+    return nullptr;
+  }
+  static constexpr std::array<const char*, 6> kNames{ "l", "lc", "m", "g", "k", "q0" };
+  static constexpr std::array<const char*, 0> kDerivedNames{};
 };
 
 template <typename Scalar, int R, int C>

@@ -36,6 +36,7 @@
 #pragma once
 
 #include <array>
+#include <cstring>
 #include <cmath>
 
 #include <Eigen/Core>
@@ -63,6 +64,18 @@ struct Params {
   Scalar F = Scalar(1000.0);  ///< piston force on the slider along -x (N)
   Scalar mu_O = Scalar(0.2);  ///< friction coefficient at O
   Scalar r_O = Scalar(0.03);  ///< journal radius at O (m)
+
+  /// By name, as the generated Params (the tools' --set and --params).
+  Scalar* Find(const char* name) {
+    if (std::strcmp(name, "a") == 0) return &a;
+    if (std::strcmp(name, "b") == 0) return &b;
+    if (std::strcmp(name, "F") == 0) return &F;
+    if (std::strcmp(name, "mu_O") == 0) return &mu_O;
+    if (std::strcmp(name, "r_O") == 0) return &r_O;
+    return nullptr;
+  }
+  static constexpr std::array<const char*, 5> kNames{ "a", "b", "F", "mu_O", "r_O" };
+  static constexpr std::array<const char*, 0> kDerivedNames{};
 };
 
 template <typename Scalar, int R, int C>

@@ -16,6 +16,7 @@
 #include <CLI/CLI.hpp>
 
 #include "numbers.h"
+#include "params.h"
 
 namespace mechgen::tools {
 
@@ -79,6 +80,18 @@ template <class T>
 CLI::Option* Count(CLI::App* app, const std::string& name, T* value, long long lo, long long hi,
                    const std::string& help) {
   return app->add_option(name, *value, help)->transform(CountValidator(lo, hi))->capture_default_str();
+}
+
+/// --params FILE and --set name=value (repeatable): the model's parameters at run time
+/// (common/params.h applies them).
+inline void AddParameterOptions(CLI::App* app, ParameterOptions* options) {
+  app->add_option("--params", options->file,
+                  "a file of parameter values, one `name = value` per line (# comments), in the "
+                  "model's units; applied before --set");
+  app->add_option("--set", options->sets,
+                  "name=value: a parameter of the model at run time, in the model's units (an angle "
+                  "may end in deg); repeatable; no recompilation")
+      ->allow_extra_args(false);  // one value per --set: a word after it is not taken
 }
 
 /// Parses the command line. Returns -1 to go on; otherwise the exit status to end with:
