@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "analysis/kinematics.h"
@@ -113,6 +114,14 @@ TEST(PointMasses, CombineWithTheLinksOwnMassByTheParallelAxisTheorem) {
   EXPECT_NEAR(eq[0].m, M, 1e-14);
   EXPECT_NEAR(eq[0].J, J, 1e-14);
   EXPECT_NEAR(eq[0].Gx, Gx, 1e-14);
+  // And say what they combine.
+  std::ostringstream report;
+  WriteEquivalentLinks(m, false, report);
+  EXPECT_NE(report.str().find("  crank: m = 3.5, "), std::string::npos) << report.str();
+  EXPECT_NE(report.str().find("(m, J_G and G include its point masses: w m = 0.5 at (-0.2, 0.1), head m = 2 at "
+                              "crank.B with J = 0.03)\n"),
+            std::string::npos)
+      << report.str();
 }
 
 TEST(PointMasses, APointMassMakesAMasslessLinkMassiveAndIsItsBody) {
