@@ -46,7 +46,8 @@ std::vector<PointMass> ReadPointMasses(SectionReader& r, const Link& l, const YA
         std::string points;
         for (const LinkPoint& p : l.points) points += (points.empty() ? "" : ", ") + p.name;
         if (!value.IsScalar())
-          r.Fail(value, what + ": at: must name a point of '" + l.name + "' (" + points + ") or give [x, y] in its frame");
+          r.Fail(value,
+                 what + ": at: must name a point of '" + l.name + "' (" + points + ") or give [x, y] in its frame");
         pm.at = r.Scalar(value, what + ": at");
         if (pm.at.find('.') != std::string::npos)
           r.Fail(value, what + ": at: '" + pm.at + "' names no point of '" + l.name +
@@ -131,7 +132,8 @@ const KeyTable& LinkKeys() {
                                {"mass", "the link's mass (expression; default: massless)", false},
                                {"center", "[x, y]: its centre of mass in the link's frame (default [0, 0]; needs mass)", false},
                                {"inertia", "its moment of inertia about the centre of mass (default 0; needs mass)", false},
-                               {"point_masses", "{NAME: {at: P or [x, y], mass: m, inertia: J}}: masses at its points", false}}};
+                               {"point_masses", "{NAME: {at: P or [x, y], mass: m, inertia: J}}: masses at its points",
+                                false}}};
   return table;
 }
 

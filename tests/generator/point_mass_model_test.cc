@@ -127,7 +127,8 @@ TEST(PointMasses, CombineWithTheLinksOwnMassByTheParallelAxisTheorem) {
 TEST(PointMasses, APointMassMakesAMasslessLinkMassiveAndIsItsBody) {
   const std::string text =
       Fourbar("{points: {A: [0, 0], B: [a, 0]}}",
-              "{points: {B: [0, 0], C: [b, 0], P: [b/2, 0.3]}, point_masses: {payload: {at: P, mass: mh, inertia: 0.2}}}",
+              "{points: {B: [0, 0], C: [b, 0], P: [b/2, 0.3]},\n"
+              "            point_masses: {payload: {at: P, mass: mh, inertia: 0.2}}}",
               "outputs: {quantities: [dynamics, shaking]}\n");
   EXPECT_EQ(ErrorOf(text), "");
   const Model m = LoadModelFromString(text, "ok.yaml");
@@ -176,7 +177,8 @@ TEST(PointMasses, ErrorsNameTheirPlaceAndWhatToChange) {
   t = with("{h: {at: {x: 1}, mass: 1}}");
   ExpectError(t, "{x: 1}", "must name a point of 'crank' (A, B) or give [x, y]");
   t = with("{h: {at: B, mass: -mh}}");
-  ExpectError(t, "-mh", "mass of point mass 'h' of link 'crank' is negative at the parameters' defaults; give a mass >= 0");
+  ExpectError(t, "-mh",
+              "mass of point mass 'h' of link 'crank' is negative at the parameters' defaults; give a mass >= 0");
   t = with("{h: {at: B, mass: 1, inertia: -0.1}}");
   ExpectError(t, "-0.1", "moment of inertia of point mass 'h' of link 'crank' is negative");
   t = with("{h: {at: B, mass: 1, J: 0.1}}");
