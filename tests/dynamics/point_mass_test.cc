@@ -9,6 +9,9 @@
 //    excess-coordinate M, h, g, the one-pass right-hand side and the shaking force agree to
 //    1e-12 at several configurations, at the defaults and after changing the point masses'
 //    parameters at run time (the combined body is symbolic in them);
+//  - the same four-bar's kinetostatic reactions and driving torque against Newton–Euler of each
+//    link with its particles (own mass, point masses) one by one, their accelerations from the
+//    links' angular velocities and accelerations (K, L): no combined body in the oracle;
 //  - tests/dynamics/models/pendulum_point_mass.yaml (a massless arm with a head of mass m and
 //    own inertia J at its tip, distance l) against the closed form: I = m l^2 + J, the weight's
 //    generalized force -m g l cos(theta), the pin reaction m a_G + m g (up), the kinetostatic
@@ -18,6 +21,8 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "fourbar_point_masses.h"
 #include "fourbar_point_masses_folded.h"
@@ -172,6 +177,83 @@ TEST(PointMasses, FourbarFollowsThePointMassesParametersAtRunTime) {
   const double th = 0.9;  // the crank is the input: its centre is the counterweight's place
   EXPECT_NEAR(a.shaking.r_G(0, 1), p.wx * std::cos(th) - p.wy * std::sin(th), 1e-12);
   EXPECT_NEAR(a.shaking.r_G(1, 1), p.wx * std::sin(th) + p.wy * std::cos(th), 1e-12);
+}
+
+// A particle of a link: mass, own inertia, place in the link's frame.
+struct Particle {
+  double m, J, x, y;
+};
+
+// Newton–Euler of one link with its particles taken one by one (no combined body): the link's
+// frame origin O at r_O with acceleration a_O, angle th, speed w, acceleration al; `forces` act
+// at points given in the fixed frame, `torque` is a couple. Returns the residuals
+// (sum F - sum m a, sum M_O - sum (rho x m a + J al)) in three numbers.
+Eigen::Vector3d LinkBalance(const std::vector<Particle>& particles, const Eigen::Vector2d& r_O,
+                            const Eigen::Vector2d& a_O, double th, double w, double al, double g,
+                            const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& forces, double torque) {
+  auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
+  Eigen::Vector2d F = Eigen::Vector2d::Zero();
+  double M = torque;
+  for (const auto& [at, f] : forces) {
+    F += f;
+    M += cross(at - r_O, f);
+  }
+  for (const Particle& k : particles) {
+    const Eigen::Vector2d rho(std::cos(th) * k.x - std::sin(th) * k.y, std::sin(th) * k.x + std::cos(th) * k.y);
+    const Eigen::Vector2d a = a_O + al * Eigen::Vector2d(-rho.y(), rho.x()) - w * w * rho;
+    const Eigen::Vector2d weight(0, -k.m * g);
+    F += weight - k.m * a;
+    M += cross(rho, weight - k.m * a) - k.J * al;
+  }
+  return {F.x(), F.y(), M};
+}
+
+// The kinetostatic reactions and driving torque of the four-bar with point masses balance every
+// link with each particle's own d'Alembert force (the link's own mass, each point mass), the
+// accelerations from the link angles' velocity and centripetal coefficients K, L: an oracle
+// without the combined body.
+TEST(PointMasses, FourbarKinetostaticsBalanceEveryParticle) {
+  Point::ParamsT<double> changed;
+  changed.mp = 6.5;
+  changed.wy = -0.4;
+  changed.mk = 3.0;
+  for (const Point::ParamsT<double>& p : {Point::ParamsT<double>(), changed}) {
+    const std::vector<Particle> crank = {{p.m1, p.J1, p.a / 2, 0}, {p.mw, 0, p.wx, p.wy}};
+    const std::vector<Particle> coupler = {{p.mp, p.Jp, p.px, p.py}};
+    const std::vector<Particle> rocker = {{p.m3, p.J3, p.c / 2, 0.1}, {p.mc, p.Jc, p.c, 0}, {p.mk, 0, p.kx, p.ky}};
+    for (double q0 : {0.4, 1.9, 3.1, 4.6}) {
+      SCOPED_TRACE("theta_crank = " + std::to_string(q0));
+      Eigen::Matrix<double, 1, 1> q, qd, qdd;
+      q(0) = q0;
+      qd(0) = 1.5 + 0.2 * q0;
+      qdd(0) = -2.0 + 0.5 * q0;
+      Eigen::Vector2d phi(Point::kAssemblyPhi[0], Point::kAssemblyPhi[1]);
+      ASSERT_EQ(Point::Solve(p, q, &phi).status, mech::fourbar_point_masses::SolveStatus::kConverged);
+      Point::CoefficientsT<double> c;
+      Point::Coeffs(p, q, phi, &c);
+      Point::StaticsT<double> s;
+      Point::Kinetostatics(p, q, phi, qd, qdd, 0.0, c, &s);
+      const Eigen::Vector2d w2 = c.K * qd(0), al2 = c.K * qdd(0) + c.L * qd(0) * qd(0);
+      const double th1 = q0, w1 = qd(0), al1 = qdd(0);
+      const Eigen::Vector2d A(0, 0), D(p.d, 0);
+      const Eigen::Vector2d B(p.a * std::cos(th1), p.a * std::sin(th1));
+      const Eigen::Vector2d a_B = al1 * Eigen::Vector2d(-B.y(), B.x()) - w1 * w1 * B;
+      const Eigen::Vector2d C = D + p.c * Eigen::Vector2d(std::cos(phi(1)), std::sin(phi(1)));
+      const Eigen::Vector2d R_A = s.R.segment<2>(0), R_B = s.R.segment<2>(2), R_C = s.R.segment<2>(4),
+                            R_D = s.R.segment<2>(6);
+      // A: ground on crank; B: crank on coupler; C: coupler on rocker; D: rocker on ground.
+      const double scale = s.R.norm() + std::abs(s.drive(0));
+      ASSERT_GT(scale, 10.0);
+      const Eigen::Vector3d e1 = LinkBalance(crank, A, Eigen::Vector2d::Zero(), th1, w1, al1, p.g,
+                                             {{A, R_A}, {B, -R_B}}, s.drive(0));
+      const Eigen::Vector3d e2 = LinkBalance(coupler, B, a_B, phi(0), w2(0), al2(0), p.g, {{B, R_B}, {C, -R_C}}, 0);
+      const Eigen::Vector3d e3 = LinkBalance(rocker, D, Eigen::Vector2d::Zero(), phi(1), w2(1), al2(1), p.g,
+                                             {{C, R_C}, {D, -R_D}}, 0);
+      EXPECT_LT(e1.norm(), 1e-12 * scale) << e1.transpose();
+      EXPECT_LT(e2.norm(), 1e-12 * scale) << e2.transpose();
+      EXPECT_LT(e3.norm(), 1e-12 * scale) << e3.transpose();
+    }
+  }
 }
 
 TEST(PointMasses, PendulumOfAMasslessArmIsItsHeadInClosedForm) {
