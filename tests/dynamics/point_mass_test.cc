@@ -98,8 +98,8 @@ typename M::template RhsT<double> EvaluateRhs(const typename M::template ParamsT
 // The same parameter values in both models (the folded one has the same free parameters).
 template <class P, class F>
 void CopyParams(P from, F* to) {
-  for (const char* name : {"a", "b", "c", "d", "g", "m1", "J1", "mw", "wx", "wy", "px", "py", "mp", "Jp", "m3", "J3",
-                           "mc", "Jc", "mk", "kx", "ky"}) {
+  for (const char* name : {"a",  "b",  "c",  "d",  "g",  "m1", "J1", "mw", "wx", "wy", "px",
+                           "py", "mp", "Jp", "m3", "J3", "mc", "Jc", "mk", "kx", "ky"}) {
     double* dst = to->Find(name);
     ASSERT_NE(dst, nullptr) << name;
     *dst = *from.Find(name);
@@ -188,9 +188,15 @@ struct Particle {
 // frame origin O at r_O with acceleration a_O, angle th, speed w, acceleration al; `forces` act
 // at points given in the fixed frame, `torque` is a couple. Returns the residuals
 // (sum F - sum m a, sum M_O - sum (rho x m a + J al)) in three numbers.
-Eigen::Vector3d LinkBalance(const std::vector<Particle>& particles, const Eigen::Vector2d& r_O,
-                            const Eigen::Vector2d& a_O, double th, double w, double al, double g,
-                            const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& forces, double torque) {
+Eigen::Vector3d LinkBalance(const std::vector<Particle>& particles,
+                            const Eigen::Vector2d& r_O,
+                            const Eigen::Vector2d& a_O,
+                            double th,
+                            double w,
+                            double al,
+                            double g,
+                            const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& forces,
+                            double torque) {
   auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
   Eigen::Vector2d F = Eigen::Vector2d::Zero();
   double M = torque;
@@ -244,11 +250,11 @@ TEST(PointMasses, FourbarKinetostaticsBalanceEveryParticle) {
       // A: ground on crank; B: crank on coupler; C: coupler on rocker; D: rocker on ground.
       const double scale = s.R.norm() + std::abs(s.drive(0));
       ASSERT_GT(scale, 10.0);
-      const Eigen::Vector3d e1 = LinkBalance(crank, A, Eigen::Vector2d::Zero(), th1, w1, al1, p.g,
-                                             {{A, R_A}, {B, -R_B}}, s.drive(0));
+      const Eigen::Vector3d e1 =
+          LinkBalance(crank, A, Eigen::Vector2d::Zero(), th1, w1, al1, p.g, {{A, R_A}, {B, -R_B}}, s.drive(0));
       const Eigen::Vector3d e2 = LinkBalance(coupler, B, a_B, phi(0), w2(0), al2(0), p.g, {{B, R_B}, {C, -R_C}}, 0);
-      const Eigen::Vector3d e3 = LinkBalance(rocker, D, Eigen::Vector2d::Zero(), phi(1), w2(1), al2(1), p.g,
-                                             {{C, R_C}, {D, -R_D}}, 0);
+      const Eigen::Vector3d e3 =
+          LinkBalance(rocker, D, Eigen::Vector2d::Zero(), phi(1), w2(1), al2(1), p.g, {{C, R_C}, {D, -R_D}}, 0);
       EXPECT_LT(e1.norm(), 1e-12 * scale) << e1.transpose();
       EXPECT_LT(e2.norm(), 1e-12 * scale) << e2.transpose();
       EXPECT_LT(e3.norm(), 1e-12 * scale) << e3.transpose();
