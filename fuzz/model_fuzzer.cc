@@ -55,7 +55,7 @@ const char* const kWords[] = {
     // keys
     "name", "title", "description", "parameters", "value", "doc", "links", "ground", "points", "joints",
     "inputs", "joint", "range", "outputs", "order", "scene", "quantities", "reactions", "assembly", "mass",
-    "center", "inertia", "gravity", "loads", "springs", "friction", "force", "torque", "at", "frame",
+    "center", "inertia", "point_masses", "gravity", "loads", "springs", "friction", "force", "torque", "at", "frame",
     "between", "stiffness", "free_length", "free_angle", "preload", "coefficient", "pin_radius",
     "viscous", "torsional", "derived", "assembly_modes",
     // joint kinds and their keys
@@ -99,6 +99,8 @@ const char* const kLines[] = {
     "- {rise: 90*deg, lift: 2, motion: cycloidal}",
     "- {dwell: 90*deg}",
     "crank:  {points: {A: [0, 0], B: [a, 0]}, mass: 1, center: [a/2, 0], inertia: 0.1}",
+    "crank:  {points: {A: [0, 0], B: [a, 0]}, point_masses: {h: {at: B, mass: 1, inertia: 0.1}, w: {at: [-a, 0], "
+    "mass: 0}}}",
     "coupler: {points: {B: [0, 0], C: [b, 0], P: [xi, eta]}}",
     "a: {value: 1.0, doc: crank}",
     "d: {value: 0, doc: coincident}",

@@ -68,7 +68,7 @@ struct LinkPoint {
 };
 
 /// A link's mass properties (statics: its weight; dynamics: its inertia). Massless if
-/// `mass` is not given.
+/// `mass` is not given and it carries no point masses.
 struct MassProperties {
   bool given = false;
   GiNaC::ex mass = 0;                ///< kg (or the model's mass unit)
@@ -77,11 +77,27 @@ struct MassProperties {
   SourceMark mark;
 };
 
+/// A point mass on a link (`point_masses:`): a lamp head, a payload, a counterweight, the pin
+/// of a slider; a particle of `mass` at (x, y) in the link's frame with its own moment of
+/// inertia `inertia` about itself (0 if not given).
+struct PointMass {
+  std::string name;
+  std::string at;   ///< the link's point it sits at, as written ("" if given as [x, y])
+  GiNaC::ex x = 0, y = 0;
+  GiNaC::ex mass = 0;
+  GiNaC::ex inertia = 0;
+  SourceMark mark;
+};
+
 struct Link {
   std::string name;
   bool ground = false;
   std::vector<LinkPoint> points;
+  /// The link's rigid body as every analysis reads it: its own `mass`, `center`, `inertia`
+  /// combined with its point masses (total mass, common centre, moment of inertia about it by
+  /// the parallel-axis theorem; links.cc). Without point masses, the link's own keys as written.
   MassProperties mass;
+  std::vector<PointMass> point_masses;  ///< as written (already combined into `mass`)
   SourceMark mark;
   int FindPoint(const std::string& point) const;
 };

@@ -136,7 +136,7 @@ void ReadOutputs(SectionReader& r, const YAML::Node& node) {
     for (const Link& l : m.links) massive = massive || (!l.ground && l.mass.given);
     if (!massive)
       m.Fail(out.mark, std::string(out.Has(Quantity::kShaking) ? "shaking" : "dynamics") +
-                           " needs a moving link with mass: give a link mass: (and center:, inertia:)");
+                           " needs a moving link with mass: give a link mass: (and center:, inertia:) or point_masses:");
   }
   out.order = out.Order();
   out.scene = out.Has(Quantity::kScene);

@@ -295,7 +295,7 @@ std::vector<const KeyTable*> AllKeyTables() {
   std::vector<const KeyTable*> out = {&ModelKeys(),  &ParameterKeys(), &LinkKeys(),      &JointKeys(),
                                       &InputKeys(),  &OutputKeys(),    &LawSegmentKeys(), &ContourKeys(),
                                       &LoadKeys(),   &SpringKeys(),     &FrictionKeys(),   &DamperKeys(),
-                                      &TableKeys()};
+                                      &TableKeys(),  &PointMassKeys()};
   for (const JointKind* k : JointKinds()) out.push_back(&k->Keys());
   return out;
 }

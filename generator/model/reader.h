@@ -41,6 +41,7 @@ std::vector<const KeyTable*> AllKeyTables();
 const KeyTable& ModelKeys();
 const KeyTable& ParameterKeys();
 const KeyTable& LinkKeys();
+const KeyTable& PointMassKeys();
 const KeyTable& JointKeys();
 const KeyTable& InputKeys();
 const KeyTable& OutputKeys();

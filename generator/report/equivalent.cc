@@ -91,6 +91,17 @@ void WriteEquivalentLinks(const Model& m, bool latex, std::ostream& os) {
   for (const EquivalentLink& e : links) {
     os << c << "  " << e.link << ": m = " << G(e.m) << ", J_G = " << G(e.J) << ", k^2 = J_G/m = " << G(e.k2)
        << ", G = (" << G(e.Gx) << ", " << G(e.Gy) << ")\n";
+    for (const Link& l : m.links) {
+      if (l.name != e.link || l.point_masses.empty()) continue;
+      os << c << "    (m, J_G and G include its point masses";
+      for (const PointMass& pm : l.point_masses) {
+        os << (&pm == &l.point_masses.front() ? ": " : ", ") << pm.name << " m = " << G(Value(m, pm.mass)) << " at "
+           << (pm.at.empty() ? "(" + G(Value(m, pm.x)) + ", " + G(Value(m, pm.y)) + ")" : l.name + "." + pm.at);
+        const double J = Value(m, pm.inertia);
+        if (J != 0) os << " with J = " << G(J);
+      }
+      os << ")\n";
+    }
     for (const EquivalentPoint& q : e.dynamic)
       os << c << "    through " << q.through << " (a = " << G(q.a) << "): B on AG beyond G at b = k^2/a = " << G(q.b)
          << ", B = (" << G(q.Bx) << ", " << G(q.By) << "); m_A = m b/(a+b) = " << G(q.m_A)
