@@ -295,6 +295,10 @@ INSTANTIATE_TEST_SUITE_P(
         Hostile{"min_one_argument", "C: [b, 0]", "C: [b + min(a), 0]", "min(a)", 0, "min takes 2 arguments, not 1"},
         Hostile{"clamp_without_arguments", "C: [b, 0]", "C: [b + clamp, 0]", "clamp, 0", 0,
                 "the function clamp needs its arguments: clamp(x, a, b)"},
+        Hostile{"load_jumps_where_a_velocity_is_0", "  rocker:  {points: {D: [0, 0], C: [c, 0]}}\n",
+                "  rocker:  {points: {D: [0, 0], C: [c, 0]}, mass: 1, center: [c/2, 0], inertia: 0.1}\nloads:\n"
+                "  cut: {torque: \"-5*step(theta_rocker_dot)\", on: crank}\noutputs: {quantities: [dynamics]}\n",
+                "step(theta_rocker_dot)", 0, "step(theta_rocker_dot) jumps where the velocity in it is 0"},
         Hostile{"parameter_named_max", "  d: 4.0\n", "  d: 4.0\n  max: 1.0\n", "max:", 0,
                 "is a name of the expression language"},
         Hostile{"derived_forward_reference", "  a: 1.0", "  a: {derived: c/3}", "c/3", 0,
