@@ -44,7 +44,7 @@ ex mmod_eval(const ex& x, const ex& p) {
   if (Rational(x) && Rational(p) && Num(p) > 0) {
     const numeric q = Num(x) / Num(p);
     numeric f = GiNaC::iquo(q.numer(), q.denom());  // truncated towards zero
-    if (q < 0 && f != q) f -= 1;                   // floor
+    if (q < 0 && f != q) f -= 1;                    // floor
     return Num(x) - Num(p) * f;
   }
   return mmod(x, p).hold();
@@ -56,12 +56,8 @@ ex mmod_evalf(const ex& x, const ex& p) {
 
 ex mstep_deriv(const ex&, unsigned) { return 0; }
 ex msign_deriv(const ex&, unsigned) { return 0; }
-ex mmin_deriv(const ex& a, const ex& b, unsigned param) {
-  return param == 0 ? mstep(b - a) : 1 - mstep(b - a);
-}
-ex mmax_deriv(const ex& a, const ex& b, unsigned param) {
-  return param == 0 ? mstep(a - b) : 1 - mstep(a - b);
-}
+ex mmin_deriv(const ex& a, const ex& b, unsigned param) { return param == 0 ? mstep(b - a) : 1 - mstep(b - a); }
+ex mmax_deriv(const ex& a, const ex& b, unsigned param) { return param == 0 ? mstep(a - b) : 1 - mstep(a - b); }
 ex mmod_deriv(const ex& x, const ex& p, unsigned param) { return param == 0 ? ex(1) : (mmod(x, p) - x) / p; }
 
 // Printed (error messages, GiNaC's text) with the language's names.
@@ -92,16 +88,36 @@ ex ReadMod(const GiNaC::exvector& a) { return mmod(a[0], a[1]); }
 
 }  // namespace
 
-REGISTER_FUNCTION(mstep, eval_func(mstep_eval).evalf_func(mstep_eval).derivative_func(mstep_deriv).
-                         print_func<GiNaC::print_dflt>(mstep_print).latex_name("\\operatorname{step}"))
-REGISTER_FUNCTION(msign, eval_func(msign_eval).evalf_func(msign_eval).derivative_func(msign_deriv).
-                         print_func<GiNaC::print_dflt>(msign_print).latex_name("\\operatorname{sign}"))
-REGISTER_FUNCTION(mmin, eval_func(mmin_eval).evalf_func(mmin_eval).derivative_func(mmin_deriv).
-                        print_func<GiNaC::print_dflt>(mmin_print).latex_name("\\min"))
-REGISTER_FUNCTION(mmax, eval_func(mmax_eval).evalf_func(mmax_eval).derivative_func(mmax_deriv).
-                        print_func<GiNaC::print_dflt>(mmax_print).latex_name("\\max"))
-REGISTER_FUNCTION(mmod, eval_func(mmod_eval).evalf_func(mmod_evalf).derivative_func(mmod_deriv).
-                        print_func<GiNaC::print_dflt>(mmod_print).latex_name("\\operatorname{mod}"))
+REGISTER_FUNCTION(mstep,
+                  eval_func(mstep_eval)
+                      .evalf_func(mstep_eval)
+                      .derivative_func(mstep_deriv)
+                      .print_func<GiNaC::print_dflt>(mstep_print)
+                      .latex_name("\\operatorname{step}"))
+REGISTER_FUNCTION(msign,
+                  eval_func(msign_eval)
+                      .evalf_func(msign_eval)
+                      .derivative_func(msign_deriv)
+                      .print_func<GiNaC::print_dflt>(msign_print)
+                      .latex_name("\\operatorname{sign}"))
+REGISTER_FUNCTION(mmin,
+                  eval_func(mmin_eval)
+                      .evalf_func(mmin_eval)
+                      .derivative_func(mmin_deriv)
+                      .print_func<GiNaC::print_dflt>(mmin_print)
+                      .latex_name("\\min"))
+REGISTER_FUNCTION(mmax,
+                  eval_func(mmax_eval)
+                      .evalf_func(mmax_eval)
+                      .derivative_func(mmax_deriv)
+                      .print_func<GiNaC::print_dflt>(mmax_print)
+                      .latex_name("\\max"))
+REGISTER_FUNCTION(mmod,
+                  eval_func(mmod_eval)
+                      .evalf_func(mmod_evalf)
+                      .derivative_func(mmod_deriv)
+                      .print_func<GiNaC::print_dflt>(mmod_print)
+                      .latex_name("\\operatorname{mod}"))
 
 const GiNaC::prototype_table& ExpressionReader() {
   static const GiNaC::prototype_table table = [] {

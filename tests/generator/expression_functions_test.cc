@@ -4,6 +4,8 @@
 // differences away from the switch points; and a load that jumps where a velocity is 0,
 // refused at the function's name when the model has statics. The generated C++ helpers are
 // checked against the same hand values in tests/statics/shaper_test.cc.
+#include "model/expression_functions.h"
+
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -15,7 +17,6 @@
 
 #include "analysis/kinematics.h"
 #include "analysis/validate.h"
-#include "model/expression_functions.h"
 #include "model/model.h"
 #include "model/reader.h"
 
@@ -30,8 +31,8 @@ std::string Num(double v) {
 
 // A model with parameters x, y, z at the given values and a derived parameter f = `expr`.
 std::string ModelWith(const std::string& expr, double x, double y, double z) {
-  return "name: e\nparameters:\n  x: " + Num(x) + "\n  y: " + Num(y) + "\n  z: " + Num(z) +
-         "\n  f: {derived: \"" + expr +
+  return "name: e\nparameters:\n  x: " + Num(x) + "\n  y: " + Num(y) + "\n  z: " + Num(z) + "\n  f: {derived: \"" +
+         expr +
          "\"}\n"
          "links:\n  ground: {ground: true, points: {O: [0, 0]}}\n  crank: {points: {O: [0, 0], B: [1, 0]}}\n"
          "joints:\n  O: {revolute: [ground.O, crank.O]}\ninputs:\n  - {joint: O}\n";
@@ -111,9 +112,15 @@ TEST(PiecewiseFunctions, DerivativesMatchFiniteDifferencesAwayFromTheSwitches) {
     const double X = u(rng), Y = std::abs(u(rng)) + 0.1, Z = u(rng) * 0.5;
     auto near_int = [](double v) { return std::abs(v - std::round(v)); };
     // Distances to the switch points, in the units of the function's argument.
-    const double gaps[] = {std::abs(X * X - Y), std::abs(X - 2 * Y), std::abs(X - Z),   std::abs(3 * X + Y),
-                           std::abs(3 * X - Y), std::abs(X - Y),     std::abs(Y - 3 * X),
-                           near_int(5 * X / (Y + 1)) * (Y + 1), near_int(X * Y / (Z + 2)) * (Z + 2)};
+    const double gaps[] = {std::abs(X * X - Y),
+                           std::abs(X - 2 * Y),
+                           std::abs(X - Z),
+                           std::abs(3 * X + Y),
+                           std::abs(3 * X - Y),
+                           std::abs(X - Y),
+                           std::abs(Y - 3 * X),
+                           near_int(5 * X / (Y + 1)) * (Y + 1),
+                           near_int(X * Y / (Z + 2)) * (Z + 2)};
     bool smooth = true;
     for (double g : gaps) smooth = smooth && g > 1e-3;
     if (!smooth) continue;
@@ -173,23 +180,25 @@ TEST(PiecewiseFunctions, AJumpInAVelocityIsAnErrorAtTheFunctionWithStatics) {
   const std::string dyn = "outputs: {quantities: [dynamics]}\n";
   // `dynamics` brings `forces`: EvalStatics would hold the crank at rest.
   const std::string step = ErrorOf(base + "loads:\n  cut: {torque: \"-5*step(theta_rocker_dot)\", on: crank}\n" + dyn);
-  EXPECT_EQ(step.rfind("17:21: torque of load 'cut': step(theta_rocker_dot) jumps where the velocity in it is 0", 0), 0u)
+  EXPECT_EQ(step.rfind("17:21: torque of load 'cut': step(theta_rocker_dot) jumps where the velocity in it is 0", 0),
+            0u)
       << step;
   EXPECT_NE(step.find("switch the load with the coordinates instead"), std::string::npos) << step;
   // In a force, inside other functions, in a plain (unquoted) scalar; sign and mod too.
   const std::string sign2 = ErrorOf(
       base + "loads:\n  cut: {force: [0, 2 + 3*cos(theta_crank)*sign(1 + theta_crank_dot)], at: crank.B}\n" + dyn);
   EXPECT_EQ(sign2.rfind("17:43: y of load 'cut': sign(1 + theta_crank_dot) jumps", 0), 0u) << sign2;
-  const std::string mod =
-      ErrorOf(base + "loads:\n  cut: {torque: \"mod(theta_crank_dot*2, 3)\", on: crank}\n" + dyn);
+  const std::string mod = ErrorOf(base + "loads:\n  cut: {torque: \"mod(theta_crank_dot*2, 3)\", on: crank}\n" + dyn);
   EXPECT_EQ(mod.rfind("17:18: torque of load 'cut': mod(theta_crank_dot*2, 3) jumps", 0), 0u) << mod;
   // Continuous in the velocities (evaluated at rest: their limit of a slow motion), jumps in
   // the coordinates, and time: all fine.
-  EXPECT_EQ(ErrorOf(base + "loads:\n  drag: {torque: \"-2*theta_crank_dot + min(theta_crank_dot, 1) - "
-                           "abs(theta_rocker_dot)\", on: crank}\n" + dyn),
-            "");
-  EXPECT_EQ(ErrorOf(base + "loads:\n  cut: {torque: \"-5*step(mod(theta_crank, 2*Pi) - Pi)*sign(t - 1)\", on: crank}\n" +
+  EXPECT_EQ(ErrorOf(base +
+                    "loads:\n  drag: {torque: \"-2*theta_crank_dot + min(theta_crank_dot, 1) - "
+                    "abs(theta_rocker_dot)\", on: crank}\n" +
                     dyn),
+            "");
+  EXPECT_EQ(ErrorOf(base +
+                    "loads:\n  cut: {torque: \"-5*step(mod(theta_crank, 2*Pi) - Pi)*sign(t - 1)\", on: crank}\n" + dyn),
             "");
 }
 

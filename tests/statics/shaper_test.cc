@@ -9,7 +9,10 @@
 //    switches at the ram's extremes, where its velocity is 0, so the relation is exact).
 //  - EvalStiffness (-dQ/dq along the motion, through min, max, clamp and sign of the
 //    coordinates) against central differences of EvalStatics' Q, away from the switches.
+#include "shaper.h"
+
 #include <ceres/jet.h>
+#include <ginac/ginac.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,10 +20,7 @@
 #include <functional>
 #include <vector>
 
-#include <ginac/ginac.h>
-
 #include "model/expression_functions.h"
-#include "shaper.h"
 #include "statics_test_util.h"
 
 namespace {
@@ -51,9 +51,13 @@ TEST(ShaperPiecewise, GeneratedHelpersMatchTheReaderOnBothSidesOfEverySwitch) {
   using namespace mech::shaper;
   const double e = 1e-12;
   for (double x : {-2.0, -e, 0.0, e, 3.0}) {
-    ExpectAll(ExprStep(x), Reader(mechgen::mstep(Exact(x))), Reader(mechgen::mstep(Float(x))), x >= 0 ? 1 : 0, "step", x);
+    ExpectAll(ExprStep(x), Reader(mechgen::mstep(Exact(x))), Reader(mechgen::mstep(Float(x))), x >= 0 ? 1 : 0, "step",
+              x);
     ExpectAll(ExprSign(x), Reader(mechgen::msign(Exact(x))), Reader(mechgen::msign(Float(x))),
-              x > 0 ? 1 : x < 0 ? -1 : 0, "sign", x);
+              x > 0   ? 1
+              : x < 0 ? -1
+                      : 0,
+              "sign", x);
     EXPECT_EQ(ExprStep(static_cast<float>(x)), x >= 0 ? 1.0f : 0.0f);
   }
   for (const auto& [a, b] : {std::pair<double, double>{0.5, 0.5 + e}, {0.5, 0.5}, {0.5 + e, 0.5}, {-3, 2}, {2, -3}}) {
@@ -124,7 +128,10 @@ double Extreme(const M::ParamsT<double>& p, double lo, double hi, double sign) {
   double a = lo, b = hi;
   for (int i = 0; i < 200 && b - a > 1e-10; ++i) {
     const double c = b - g * (b - a), d = a + g * (b - a);
-    if (x(c) > x(d)) b = d; else a = c;
+    if (x(c) > x(d))
+      b = d;
+    else
+      a = c;
   }
   return sign * x((a + b) / 2);
 }
@@ -180,8 +187,9 @@ TEST(ShaperStatics, StiffnessIsMinusDQdqAwayFromTheSwitches) {
     // The probe's switches: theta_rocker - 90 deg at -0.2 and 0.3, s_slot at 1.6, cos u at 0,
     // s_stroke at 0.5; and the cut's at -30 and 210 deg.
     const double rocker = st.phi(0) - 90 * kDeg;
-    const double gaps[] = {std::abs(rocker + 0.2), std::abs(rocker - 0.3), std::abs(st.phi(2) - 1.6),
-                           std::abs(std::cos(u)), std::abs(st.phi(3) - 0.5), std::abs(deg - 210), std::abs(deg + 30)};
+    const double gaps[] = {std::abs(rocker + 0.2), std::abs(rocker - 0.3),    std::abs(st.phi(2) - 1.6),
+                           std::abs(std::cos(u)),  std::abs(st.phi(3) - 0.5), std::abs(deg - 210),
+                           std::abs(deg + 30)};
     if (*std::min_element(std::begin(gaps), std::end(gaps)) < 0.02) continue;
     ++checked;
     M::StaticsT<double> s = st.s;
@@ -201,7 +209,8 @@ TEST(ShaperStatics, FloatAndJetInstantiationsAgreeWithDouble) {
     const State st = At(p, deg * kDeg);
     const M::ParamsT<float> pf = p.Cast<float>();
     Eigen::Matrix<float, M::kNphi, 1> phif = st.phi.cast<float>();
-    const Eigen::Matrix<float, M::kNq, 1> qf = Eigen::Matrix<float, M::kNq, 1>::Constant(static_cast<float>(deg * kDeg));
+    const Eigen::Matrix<float, M::kNq, 1> qf =
+        Eigen::Matrix<float, M::kNq, 1>::Constant(static_cast<float>(deg * kDeg));
     M::CoefficientsT<float> cf;
     M::StaticsT<float> sf;
     M::Coeffs(pf, qf, phif, &cf);
