@@ -69,6 +69,7 @@ const char* const kWords[] = {
     "K", "L", "forces", "potential",
     // expression functions and names
     "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "exp", "log", "abs", "deg", "Pi",
+    "step", "sign", "min", "max", "clamp", "mod",
     // hostile names
     "class", "std", "M_PI", "_x", "p", "T", "true", "false", "null", "~"};
 

@@ -234,6 +234,16 @@ std::string CxxPrinter::Print(const GiNaC::ex& e, OpCounts* ops) {
       return "((" + mode + " > Scalar(0)) == (" + b + " >= Scalar(0))) ? (" + qq + " != Scalar(0) ? " + c + " / " + qq +
              " : Scalar(0)) : " + qq + " / " + a;
     }
+    // The expression language's piecewise functions (model/expression_functions.h): the
+    // generated header's helpers ExprStep ... ExprMod (codegen/functions.cc).
+    static const std::map<std::string, std::string> kPiecewise = {
+        {"mstep", "ExprStep"}, {"msign", "ExprSign"}, {"mmin", "ExprMin"}, {"mmax", "ExprMax"}, {"mmod", "ExprMod"}};
+    if (const auto it = kPiecewise.find(name); it != kPiecewise.end()) {
+      std::string s = it->second + "(";
+      for (size_t i = 0; i < e.nops(); ++i) s += (i ? ", " : "") + Print(e.op(i), ops);
+      if (ops) ops->calls += 1;
+      return s + ")";
+    }
     if (name == "arctan") name = "atan";
     if (name == "arcsin") name = "asin";
     if (name == "arccos") name = "acos";

@@ -2,6 +2,7 @@
 #include "codegen/functions.h"
 
 #include "codegen/drawing.h"
+#include "model/expression_functions.h"
 
 #include <cctype>
 #include <set>
@@ -68,6 +69,56 @@ std::vector<std::pair<bool, bool>> SubstituteTrig(const Kinematics& k,
     s.value = s.value.subs(map);
   }
   return used;
+}
+
+// The helpers of the expression language's piecewise functions (model/expression_functions.h)
+// that the functions in `fs` call, in the order step, sign, min, max, mod: a model that uses
+// none has none (and its header stays as it was).
+std::vector<FunctionSpec> PiecewiseHelpers(const std::vector<FunctionSpec>& fs) {
+  std::set<std::string> used;
+  for (const FunctionSpec& f : fs)
+    for (const Program& p : f.body)
+      for (const Statement& s : p)
+        if (s.kind == Statement::Kind::kDefine || s.kind == Statement::Kind::kStore)
+          for (const char* n : {"mstep", "msign", "mmin", "mmax", "mmod"})
+            if (!used.count(n) && HasPiecewise(s.value, n)) used.insert(n);
+  std::vector<FunctionSpec> out;
+  auto helper = [&](const std::string& name, const std::string& doc, std::vector<Argument> args,
+                    const std::vector<std::string>& lines) {
+    FunctionSpec f;
+    f.name = name;
+    f.returns = "Scalar";
+    f.instantiate = false;
+    f.count_ops = false;
+    f.doc = {doc};
+    f.args = std::move(args);
+    Program P;
+    for (const std::string& l : lines) P.push_back(Raw(l));
+    f.body = {P};
+    out.push_back(f);
+  };
+  auto x = [](const std::string& n, const std::string& doc) { return Arg("const Scalar&", n, Dir::kIn, doc); };
+  // Comparisons of Scalar with Scalar: ceres::Jet compares its values (.a), so a Jet gets
+  // the derivative of the branch taken (step and sign: 0).
+  if (used.count("mstep"))
+    helper("ExprStep", "\\brief step(x) of the model's expressions: 1 for x >= 0 (step(0) = 1), 0 for x < 0.",
+           {x("x", "The argument.")}, {"return x >= Scalar(0) ? Scalar(1) : Scalar(0);"});
+  if (used.count("msign"))
+    helper("ExprSign", "\\brief sign(x) of the model's expressions: 1 for x > 0, -1 for x < 0, 0 at 0.",
+           {x("x", "The argument.")},
+           {"return x > Scalar(0) ? Scalar(1) : (x < Scalar(0) ? Scalar(-1) : Scalar(0));"});
+  if (used.count("mmin"))
+    helper("ExprMin", "\\brief min(a, b) of the model's expressions (and clamp(x, a, b) = min(max(x, a), b)): a where a <= b.",
+           {x("a", "The first argument."), x("b", "The second argument.")}, {"return a <= b ? a : b;"});
+  if (used.count("mmax"))
+    helper("ExprMax", "\\brief max(a, b) of the model's expressions: a where a >= b.",
+           {x("a", "The first argument."), x("b", "The second argument.")}, {"return a >= b ? a : b;"});
+  if (used.count("mmod"))
+    helper("ExprMod", "\\brief mod(x, p) of the model's expressions: x - p floor(x/p), in [0, p) for p > 0.",
+           {x("x", "The argument."), x("p", "The period, > 0.")},
+           {"Scalar r = x - p * floor(x / p);", "// Rounding: x just below a multiple of p gives r = p (or just below 0).",
+            "if (r < Scalar(0)) r += p;", "if (r >= p) r -= p;", "return r;"});
+  return out;
 }
 
 }  // namespace
@@ -501,6 +552,8 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   }
   if (m.outputs.scene && !k.scene.empty()) out.push_back(EvalSceneSpec(k));
   for (const FunctionSpec& f : DrawingFunctions(m, k, printer)) out.push_back(f);
+  const std::vector<FunctionSpec> helpers = PiecewiseHelpers(out);
+  out.insert(out.begin(), helpers.begin(), helpers.end());
   return out;
 }
 

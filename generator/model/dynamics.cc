@@ -139,6 +139,13 @@ void CheckDynamicRefs(const Model& m) {
                                     "' is reserved for the dynamics (time t and velocities <coordinate>_dot); a static "
                                     "load depends on the parameters and the coordinates only (add dynamics to the "
                                     "outputs' quantities for a load of time or speed)");
+  if (m.outputs.Has(Quantity::kForces) && m.at_rest_jump_mark.line)
+    m.Fail(m.at_rest_jump_mark,
+           m.at_rest_jump_load + ": " + m.at_rest_jump_call +
+               " jumps where the velocity in it is 0, and the statics (EvalStatics: `forces`, which `dynamics` "
+               "brings) holds the machine at rest, where such a load has no value (it would be taken on one side of "
+               "its jump or dropped); switch the load with the coordinates instead, e.g. F*step(...) of the input "
+               "angle over the working stroke (see Expressions in models/README.md)");
   if (!dynamic && !m.dampers.empty())
     m.Fail(m.dampers.front().mark, "dampers act in the dynamics only; add dynamics to the outputs' quantities");
 }

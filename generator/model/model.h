@@ -401,6 +401,11 @@ struct Model {
   std::map<std::string, GiNaC::symbol> velocity_refs;  ///< "t" and "<coordinate>_dot"
   SourceMark velocity_ref_mark;                        ///< the first use (an error without dynamics)
   std::string velocity_ref_name;                       ///< its name as written
+  /// The first load that jumps where a velocity is 0 (step, sign or mod of an argument with
+  /// a velocity): it has no value at rest, so no statics (an error with `forces`,
+  /// CheckDynamicRefs). Its mark (the function's name), the load and the call as written.
+  SourceMark at_rest_jump_mark;
+  std::string at_rest_jump_load, at_rest_jump_call;
   /// The coordinates' names a load may use (theta_<link>, s_<joint>, psi_<joint>,
   /// u_<joint>), as placeholder symbols the statics derivation replaces by the coordinates.
   std::map<std::string, GiNaC::symbol> coordinate_refs;

@@ -18,6 +18,7 @@
 #include <yaml-cpp/eventhandler.h>
 
 #include "joints/joint_kind.h"
+#include "model/expression_functions.h"
 
 namespace mechgen {
 
@@ -171,7 +172,8 @@ const std::set<std::string>& GeneratedNames() {
 }
 const std::set<std::string>& ExpressionNames() {
   static const std::set<std::string> words = SplitWords(
-      "deg Pi pi u sin cos tan asin acos atan atan2 sqrt exp log abs pow I Euler Catalan");
+      "deg Pi pi u sin cos tan asin acos atan atan2 sqrt exp log abs step sign min max clamp mod pow I Euler "
+      "Catalan");
   return words;
 }
 // C and POSIX headers a model name must not shadow (<name>.h is written, and the model's
@@ -361,9 +363,10 @@ bool SectionReader::Bool(const YAML::Node& node, const std::string& what) const 
 // The functions of the expression language and their numbers of arguments: what GiNaC reads
 // and the C++ printer (codegen/cxx_code.cc) emits.
 const std::map<std::string, int>& ExpressionFunctions() {
-  static const std::map<std::string, int> f = {{"sin", 1},  {"cos", 1},  {"tan", 1}, {"asin", 1},
-                                               {"acos", 1}, {"atan", 1}, {"atan2", 2}, {"sqrt", 1},
-                                               {"exp", 1},  {"log", 1},  {"abs", 1}};
+  static const std::map<std::string, int> f = {
+      {"sin", 1},  {"cos", 1},  {"tan", 1},  {"asin", 1}, {"acos", 1}, {"atan", 1},  {"atan2", 2},
+      {"sqrt", 1}, {"exp", 1},  {"log", 1},  {"abs", 1},  {"step", 1}, {"sign", 1},  {"min", 2},
+      {"max", 2},  {"mod", 2},  {"clamp", 3}};
   return f;
 }
 
@@ -527,6 +530,12 @@ class ExpressionSyntax {
     if (f == "exp") return std::exp(x[0]);
     if (f == "log") return std::log(x[0]);
     if (f == "abs") return std::abs(x[0]);
+    if (f == "step") return StepValue(x[0]);
+    if (f == "sign") return SignValue(x[0]);
+    if (f == "min") return MinValue(x[0], x[1]);
+    if (f == "max") return MaxValue(x[0], x[1]);
+    if (f == "clamp") return MinValue(MaxValue(x[0], x[1]), x[2]);
+    if (f == "mod") return x[1] > 0 ? ModValue(x[0], x[1]) : NAN;
     return NAN;
   }
   Value Primary() {
@@ -578,9 +587,13 @@ class ExpressionSyntax {
         return {constant, constant ? Apply(name, x) : 0.0};
       }
       if (table) Fail(start, "the table " + name + " needs its argument: " + name + "(x)");
-      if (fn != Functions().end())
+      if (fn != Functions().end()) {
+        static const std::map<std::string, std::string> kArgs = {
+            {"atan2", "(y, x)"}, {"min", "(a, b)"}, {"max", "(a, b)"}, {"mod", "(x, p)"}, {"clamp", "(x, a, b)"}};
+        const auto args = kArgs.find(name);
         Fail(start, "the function " + name + " needs its argument" + (fn->second > 1 ? "s" : "") + ": " + name +
-                        (fn->second > 1 ? "(y, x)" : "(x)"));
+                        (args == kArgs.end() ? "(x)" : args->second));
+      }
       if (!names_.count(name)) {
         if (pending_)
           for (size_t k = 0; k < pending_->size(); ++k)
@@ -672,6 +685,8 @@ double CheckedValue(const GiNaC::ex& e, const GiNaC::exmap& defaults) {
       fail("takes " + name + " of a number beyond [-1, 1]: " + Short(e.op(0)) + " = " + G(args[0]));
     if (name == "atan2" && args.size() == 2 && args[0] == 0 && args[1] == 0)
       fail("takes atan2(0, 0), which has no angle: " + Short(e));
+    if (name == "mmod" && args.size() == 2 && !(args[1] > 0))
+      fail("takes mod(x, p) with a period p that is not positive: " + Short(e.op(1)) + " = " + G(args[1]));
   }
   GiNaC::ex v;
   try {
@@ -700,6 +715,10 @@ double CheckedValue(const GiNaC::ex& e, const GiNaC::exmap& defaults) {
 
 void SectionReader::FailAt(const YAML::Node& node, const std::string& text, size_t offset,
                            const std::string& message) const {
+  m_.Fail(MarkAt(node, text, offset), message);
+}
+
+SourceMark SectionReader::MarkAt(const YAML::Node& node, const std::string& text, size_t offset) const {
   SourceMark mark = MarkOf(node);
   const YAML::Mark ym = node.Mark();
   if (source_ && !ym.is_null() && ym.pos >= 0 && static_cast<size_t>(ym.pos) < source_->size() &&
@@ -709,7 +728,7 @@ void SectionReader::FailAt(const YAML::Node& node, const std::string& text, size
     const size_t skip = c == '"' || c == '\'' ? 1 : 0;
     if (source_->compare(pos + skip, text.size(), text) == 0) mark.column += static_cast<int>(skip + offset);
   }
-  m_.Fail(mark, message);
+  return mark;
 }
 
 GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& what, const GiNaC::symbol* u) const {
@@ -746,7 +765,7 @@ GiNaC::ex SectionReader::Expression(const YAML::Node& node, const std::string& w
     for (size_t i = 0; i < m_.tables.size(); ++i)
       parsed = std::regex_replace(parsed, std::regex("(^|[^A-Za-z0-9_])" + m_.tables[i].name + "\\s*\\("),
                                   "$1mtable(" + std::to_string(i) + ", 0, ");
-  GiNaC::parser reader(table, /*strict=*/true);
+  GiNaC::parser reader(table, /*strict=*/true, ExpressionReader());
   GiNaC::ex e;
   try {
     e = reader(parsed);

@@ -98,6 +98,9 @@ class SectionReader {
   int LinkIndex(const YAML::Node& node, const std::string& what) const;
   /// The mark of the key whose value is `value` (the value's own mark if unknown).
   SourceMark KeyMark(const YAML::Node& value) const;
+  /// The mark of the character at `offset` of the expression `text`, the value of `node`
+  /// (the node's mark where the text cannot be located in the file, e.g. a block scalar).
+  SourceMark MarkAt(const YAML::Node& node, const std::string& text, size_t offset) const;
 
  private:
   [[noreturn]] void FailAt(const YAML::Node& node, const std::string& text, size_t offset,

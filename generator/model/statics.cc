@@ -4,8 +4,10 @@
 // names as placeholder symbols (Model::coordinate_refs) that the statics derivation
 // (symbolic/statics.h) replaces by the coordinates themselves.
 #include <regex>
+#include <sstream>
 
 #include "joints/joint_kind.h"
+#include "model/expression_functions.h"
 #include "model/reader.h"
 
 namespace mechgen {
@@ -54,6 +56,42 @@ void MakeCoordinateRefs(Model& m) {
     if (const auto c = KindOf(j).Coordinate(m, j)) m.coordinate_refs.emplace(c->name, GiNaC::symbol(c->name));
 }
 
+// Notes (in the model) the first load that jumps where a velocity is 0: step, sign or mod of
+// an argument that holds a velocity <coordinate>_dot. At rest (the statics) it has no value:
+// its limits as the velocity goes to 0 from either side differ. A load continuous in the
+// velocities (c*theta_dot, a table of a speed, min, max, abs) has the limit of a slow motion
+// there, its value at zero velocity. CheckDynamicRefs refuses the first one with `forces`.
+void NoteJumpAtRest(const SectionReader& r, const YAML::Node& node, const std::string& text, const std::string& what,
+                    const GiNaC::ex& e) {
+  Model& m = r.model();
+  bool jumps = false;
+  for (auto it = e.preorder_begin(); it != e.preorder_end() && !jumps; ++it) {
+    if (!is_ex_the_function(*it, mstep) && !is_ex_the_function(*it, msign) && !is_ex_the_function(*it, mmod)) continue;
+    for (const auto& [name, sym] : m.velocity_refs) jumps = jumps || (name != "t" && it->has(sym));
+  }
+  if (!jumps) return;
+  m.at_rest_jump_load = what;
+  m.at_rest_jump_mark = MarkOf(node);
+  m.at_rest_jump_call = "";
+  // The call as written: the first step(, sign( or mod( whose argument names a velocity.
+  static const std::regex call(R"((^|[^A-Za-z0-9_])(step|sign|mod)\s*\()");
+  static const std::regex velocity(R"((^|[^A-Za-z0-9_])[A-Za-z_][A-Za-z0-9_]*_dot($|[^A-Za-z0-9_]))");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), call); it != std::sregex_iterator(); ++it) {
+    const size_t start = static_cast<size_t>(it->position(2));
+    size_t close = static_cast<size_t>(it->position(0) + it->length(0));
+    int depth = 1;
+    for (; close < text.size() && depth > 0; ++close) depth += text[close] == '(' ? 1 : text[close] == ')' ? -1 : 0;
+    const std::string written = text.substr(start, close - start);
+    if (!std::regex_search(written, velocity)) continue;
+    m.at_rest_jump_mark = r.MarkAt(node, text, start);
+    m.at_rest_jump_call = written;
+    return;
+  }
+  std::ostringstream os;
+  os << e;
+  m.at_rest_jump_call = os.str();
+}
+
 GiNaC::ex LoadExpression(SectionReader& r, const YAML::Node& node, const std::string& what) {
   Model& m = r.model();
   MakeCoordinateRefs(m);
@@ -88,6 +126,7 @@ GiNaC::ex LoadExpression(SectionReader& r, const YAML::Node& node, const std::st
   r.AllowTables(true);
   const GiNaC::ex e = r.Expression(node, what, coordinates);
   r.AllowTables(false);
+  if (!m.at_rest_jump_mark.line) NoteJumpAtRest(r, node, text, what, e);
   return e;
 }
 

@@ -2,6 +2,7 @@
 #include "report/expr_printer.h"
 
 #include <algorithm>
+#include <map>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -232,6 +233,17 @@ struct ReportPrinterImpl {
         return MakeFunc("contour" + xy + "_" + who + Primes(d),
                         "\\mathrm{contour}_{" + xy + "," + ReportPrinter::TexName(who) + "}" + Primes(d),
                         {Build(e.op(3))}, 0);
+      }
+      // The expression language's piecewise functions by their names in the model
+      // (model/expression_functions.h).
+      static const std::map<std::string, std::string> piecewise = {
+          {"mstep", "step"}, {"msign", "sign"}, {"mmin", "min"}, {"mmax", "max"}, {"mmod", "mod"}};
+      if (const auto it = piecewise.find(name); it != piecewise.end()) {
+        std::vector<Node> args;
+        for (size_t i = 0; i < e.nops(); ++i) args.push_back(Build(e.op(i)));
+        const std::string tex = it->second == "min" || it->second == "max" ? "\\" + it->second
+                                                                          : "\\operatorname{" + it->second + "}";
+        return MakeFunc(it->second, tex, args, 0);
       }
       static const std::set<std::string> odd = {"sin", "tan", "asin", "atan", "sinh", "tanh"};
       static const std::set<std::string> even = {"cos", "abs", "cosh"};

@@ -1,6 +1,7 @@
 // Block-triangular ordering and dyad recognition. See blocks.h.
 #include "symbolic/blocks.h"
 
+#include "model/expression_functions.h"
 #include "symbolic/dyads.h"
 
 #include <algorithm>
@@ -332,6 +333,20 @@ class Compiled {
       const Unary f = unary.at(name);
       const Fn a = ops[0];
       return [f, a](const std::vector<double>& v) { return f(a(v)); };
+    }
+    // The expression language's piecewise functions (model/expression_functions.h).
+    if (ops.size() == 1 && (name == "mstep" || name == "msign")) {
+      const Unary f = name == "mstep" ? [](double x) { return StepValue(x); } : [](double x) { return SignValue(x); };
+      const Fn a = ops[0];
+      return [f, a](const std::vector<double>& v) { return f(a(v)); };
+    }
+    if (ops.size() == 2 && (name == "mmin" || name == "mmax" || name == "mmod")) {
+      using Binary = double (*)(double, double);
+      const Binary f = name == "mmin"   ? [](double a, double b) { return MinValue(a, b); }
+                       : name == "mmax" ? [](double a, double b) { return MaxValue(a, b); }
+                                        : [](double x, double p) { return p > 0 ? ModValue(x, p) : std::nan(""); };
+      const Fn a = ops[0], b = ops[1];
+      return [f, a, b](const std::vector<double>& v) { return f(a(v), b(v)); };
     }
     if (ops.size() == 2 && name == "atan2") {
       const Fn y = ops[0], x = ops[1];
