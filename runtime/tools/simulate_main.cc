@@ -540,9 +540,12 @@ int Run(const Args& args) {
     } else if (angle && args.steady) {
       std::printf("no periodic steady state detected (%d revolutions)\n", steady.cycles);
     }
-    std::printf("end: t = %.6g s, %s = %.6g, %s_dot = %.6g; E - W_nc drift %.3g J; max |F| %.6g N\n",
-                summary.t_end, M::kQNames[0], last.q(0), M::kQNames[0], last.qd(0),
-                summary.max_energy_error, max_reaction);
+    // Units said: an angle in rad (and deg), a slide in m.
+    const bool q0_angle = M::kQIsAngle[0];
+    std::printf("end: t = %.6g s, %s = %.6g %s", summary.t_end, M::kQNames[0], last.q(0), q0_angle ? "rad" : "m");
+    if (q0_angle) std::printf(" (%.6g deg)", last.q(0) * 180 / 3.14159265358979323846);
+    std::printf(", %s_dot = %.6g %s; E - W_nc drift %.3g J; max |F| %.6g N\n", M::kQNames[0], last.qd(0),
+                q0_angle ? "rad/s" : "m/s", summary.max_energy_error, max_reaction);
     std::string png = csv_path;
     if (png.size() > 4 && png.compare(png.size() - 4, 4, ".csv") == 0) png.resize(png.size() - 4);
     png += ".png";
@@ -675,7 +678,8 @@ int RunDriven(const Args& args) {
                 dyn::FormatSummary(summary).c_str());
     for (int i = 0; i < NP; ++i) {
       if (std::isfinite(last.lambda(i)))
-        std::printf("end: lambda_%s = %.6g\n", M::kQNames[prescribed[i]], last.lambda(i));
+        std::printf("end: lambda_%s = %.6g %s (the actuator force the law needs)\n", M::kQNames[prescribed[i]],
+                    last.lambda(i), M::kQIsAngle[prescribed[i]] ? "N m" : "N");
       else
         std::printf("end: lambda_%s withheld (a singular configuration)\n", M::kQNames[prescribed[i]]);
     }

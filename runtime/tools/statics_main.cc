@@ -104,7 +104,7 @@ std::string Describe(int j, double value) {
   if (M::kQIsAngle[j]) {
     std::snprintf(buffer, sizeof(buffer), "%.4f deg", value / kDegToRad);
   } else {
-    std::snprintf(buffer, sizeof(buffer), "%.6g", value);
+    std::snprintf(buffer, sizeof(buffer), "%.6g m", value);
   }
   return buffer;
 }
@@ -247,7 +247,7 @@ int Run(int argc, char** argv) {
       if (r.drives[j].status == statics::Status::kConverged)
         largest = std::max({largest, std::abs(r.drives[j].drive),
                             std::abs(r.drives[j].drive_forward)});
-    std::printf("  max |drive_%s| = %.6g\n", M::kQNames[j], largest);
+    std::printf("  max |drive_%s| = %.6g %s\n", M::kQNames[j], largest, M::kQIsAngle[j] ? "N m" : "N");
   }
   if (failures > 0) {
     int shown = 0;
@@ -296,7 +296,9 @@ int Run(int argc, char** argv) {
       std::printf("  ");
       for (int j = 0; j < M::kNq; ++j)
         std::printf("%s%s = %s", j ? ", " : "", M::kQNames[j], Describe<M>(j, e.q(j)).c_str());
-      std::printf(": stiffness %.6g, %s\n", e.stiffness,
+      // Along the line of the inputs; for one input in N m/rad (an angle) or N/m (a slide).
+      std::printf(": stiffness %.6g%s, %s\n", e.stiffness,
+                  M::kNq == 1 ? (M::kQIsAngle[0] ? " N m/rad" : " N/m") : "",
                   std::isnan(e.stiffness) ? "stability unknown"
                                           : (e.stable ? "stable" : "unstable"));
     }
