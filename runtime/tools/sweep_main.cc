@@ -272,8 +272,13 @@ int main(int argc, char** argv) {
     return kExitError;
   }
 
-  std::printf("mechgen sweep of '%s': assembled (branch %+d = sign det Phi_phi, the assembly `mechgen report` names by its blocks' modes; |Phi|_inf = %.1e); ", Model::kName,
-              assembly.branch, assembly.residual_norm);
+  if constexpr (mechgen::ModelFeatures<Model>::kLoopFree) {
+    std::printf("mechgen sweep of '%s': no closed loop (every coordinate is an input, nothing to "
+                "assemble); ", Model::kName);
+  } else {
+    std::printf("mechgen sweep of '%s': assembled (branch %+d = sign det Phi_phi, the assembly `mechgen report` names by its blocks' modes; |Phi|_inf = %.1e); ", Model::kName,
+                assembly.branch, assembly.residual_norm);
+  }
   for (int j = 0; j < Model::kNq; ++j) {
     std::printf("%s%s %s -> %s", j ? ", " : "", Model::kQNames[j],
                 Describe(j, q_begin(j)).c_str(), Describe(j, q_end(j)).c_str());
@@ -338,11 +343,17 @@ int main(int argc, char** argv) {
     mechgen::PrintTableRows(table_records, std::cout);
     std::cout << "\n";
   }
-  std::printf("%d/%zu configurations converged; max |Phi|_inf = %.1e, max cond(Phi_phi) = %.3g, "
-              "%.2f Newton iterations/step%s\n",
-              static_cast<int>(rows) - failures, rows, max_residual, max_condition,
-              double(iterations) / rows,
-              fallbacks ? (std::string(" (") + assembler_name + " fallback used)").c_str() : "");
+  if constexpr (mechgen::ModelFeatures<Model>::kLoopFree) {
+    (void)max_residual, (void)max_condition, (void)iterations, (void)assembler_name;
+    std::printf("%d/%zu configurations (no loop: no equation to solve)\n",
+                static_cast<int>(rows) - failures, rows);
+  } else {
+    std::printf("%d/%zu configurations converged; max |Phi|_inf = %.1e, max cond(Phi_phi) = %.3g, "
+                "%.2f Newton iterations/step%s\n",
+                static_cast<int>(rows) - failures, rows, max_residual, max_condition,
+                double(iterations) / rows,
+                fallbacks ? (std::string(" (") + assembler_name + " fallback used)").c_str() : "");
+  }
   // Not the README's ~92 ns/step: that benchmark (bench/fourbar_bench.cc) times one
   // continuation step (PositionSolver::MoveTo) alone, without velocities, accelerations or
   // output.

@@ -166,6 +166,9 @@ Status PositionSolver<M, Assembler>::MoveTo(const VecQ& q_target, Summary* summa
                                         : "step larger than Options::max_input_step";
     return Finish(Status::kInvalidInput, nullptr, s);
   }
+  if constexpr (Features::kLoopFree) {
+    return PlaceLoopFree(q_target, s);
+  } else {
   // The common case (every step of a sweep with small steps): one sub-step straight to
   // q_target, written into the other state and adopted by flipping current_.
   bool used_newton = false;
@@ -177,6 +180,7 @@ Status PositionSolver<M, Assembler>::MoveTo(const VecQ& q_target, Summary* summa
   }
   ++s->rejected_substeps;
   return Subdivide(q_target, s);
+  }
 }
 
 template <class M, class Assembler>

@@ -31,6 +31,9 @@ Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Cross
   d /= length;
   Describe(state_ref(), &s);
   if (crossing == Crossing::kStop) return finish(Status::kSingular, "Crossing::kStop");
+  if constexpr (Features::kLoopFree) {
+    return finish(Status::kSingular, "a model without constraints has no singular configuration");
+  } else {
   MakeDistanceExact(&state_ref());  // the same configuration; only an estimate becomes exact
   s.sigma_min = state_ref().sigma_min;
   if (!(state_ref().sigma_min < options_.near_singular_ratio * state_ref().sigma_max)) {
@@ -188,6 +191,7 @@ Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Cross
     }
   }
   return finish(Status::kSingular, "did not get beyond the singular configuration in 64 steps");
+  }
 }
 
 }  // namespace mechgen::position
