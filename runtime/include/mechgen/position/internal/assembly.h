@@ -17,48 +17,48 @@ Status PositionSolver<M, Assembler>::Assemble(const VecQ& q, const VecPhi& phi_g
     (void)required_branch;
     return PlaceLoopFree(q, summary);
   } else {
-  Summary s;
-  s.used_assembler = true;
-  auto finish = [&](Status status, const State<M>* at = nullptr) {
-    return Finish(status, at, &s, summary);
-  };
-  if (!options_valid_ || !q.allFinite() || !phi_guess.allFinite()) {
-    return finish(Status::kInvalidInput);
-  }
-  VecC Phi;
-  M::template Phi<double>(params_, q, phi_guess, &Phi, nullptr, nullptr);
-  if (!Phi.allFinite()) return finish(Status::kInvalidInput);  // parameters not finite
+    Summary s;
+    s.used_assembler = true;
+    auto finish = [&](Status status, const State<M>* at = nullptr) {
+      return Finish(status, at, &s, summary);
+    };
+    if (!options_valid_ || !q.allFinite() || !phi_guess.allFinite()) {
+      return finish(Status::kInvalidInput);
+    }
+    VecC Phi;
+    M::template Phi<double>(params_, q, phi_guess, &Phi, nullptr, nullptr);
+    if (!Phi.allFinite()) return finish(Status::kInvalidInput);  // parameters not finite
 
-  VecPhi phi = phi_guess;
-  const AssemblyResult lm = Assembler::template Minimize<M>(params_, q, &phi, options_.max_lm_iterations);
-  s.iterations = lm.iterations;
-  s.residual_norm = lm.residual_norm;
-  MatCPhi Phi_phi;
-  MatCQ Phi_q;
-  // Newton to Options::tolerance, and one polishing step.
-  const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr);
-  s.iterations += newton.iterations;
-  if (newton.status != Status::kConverged) {
-    return finish(lm.stationary ? Status::kNotAssemblable : Status::kDidNotConverge);
-  }
-  State<M> next;
-  next.q = q;
-  next.phi = phi;
-  next.residual_norm = newton.residual_norm;
-  const Factorization f(Phi_phi);
-  const bool regular = Classify(Phi_phi, f, nullptr, &next);
-  s.substeps = 1;
-  if (!regular) return finish(Status::kSingular, &next);
-  if (required_branch != 0 && next.branch != Sign(required_branch)) {
-    return finish(Status::kWrongBranch, &next);
-  }
-  if (!FillCoefficients(f, kNeedPhiQ ? &Phi_q : nullptr, &next)) {
-    return finish(Status::kSingular, &next);
-  }
-  next.valid = true;
-  state_ref() = next;
-  FindModes(state_ref());
-  return finish(Status::kConverged, &next);
+    VecPhi phi = phi_guess;
+    const AssemblyResult lm = Assembler::template Minimize<M>(params_, q, &phi, options_.max_lm_iterations);
+    s.iterations = lm.iterations;
+    s.residual_norm = lm.residual_norm;
+    MatCPhi Phi_phi;
+    MatCQ Phi_q;
+    // Newton to Options::tolerance, and one polishing step.
+    const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr);
+    s.iterations += newton.iterations;
+    if (newton.status != Status::kConverged) {
+      return finish(lm.stationary ? Status::kNotAssemblable : Status::kDidNotConverge);
+    }
+    State<M> next;
+    next.q = q;
+    next.phi = phi;
+    next.residual_norm = newton.residual_norm;
+    const Factorization f(Phi_phi);
+    const bool regular = Classify(Phi_phi, f, nullptr, &next);
+    s.substeps = 1;
+    if (!regular) return finish(Status::kSingular, &next);
+    if (required_branch != 0 && next.branch != Sign(required_branch)) {
+      return finish(Status::kWrongBranch, &next);
+    }
+    if (!FillCoefficients(f, kNeedPhiQ ? &Phi_q : nullptr, &next)) {
+      return finish(Status::kSingular, &next);
+    }
+    next.valid = true;
+    state_ref() = next;
+    FindModes(state_ref());
+    return finish(Status::kConverged, &next);
   }
 }
 
@@ -68,12 +68,12 @@ Status PositionSolver<M, Assembler>::AssembleDefault(Summary* summary) {
   if constexpr (Features::kLoopFree) {
     return PlaceLoopFree(q, summary);
   } else {
-  const VecPhi phi = Eigen::Map<const VecPhi>(M::kAssemblyPhi.data());
-  MatCPhi Phi_phi;
-  M::template Phi<double>(params_, q, phi, nullptr, &Phi_phi, nullptr);
-  double cond = 0, det = 0;
-  ConditionAndDeterminant(Phi_phi, &cond, &det);
-  return Assemble(q, phi, Sign(det), summary);
+    const VecPhi phi = Eigen::Map<const VecPhi>(M::kAssemblyPhi.data());
+    MatCPhi Phi_phi;
+    M::template Phi<double>(params_, q, phi, nullptr, &Phi_phi, nullptr);
+    double cond = 0, det = 0;
+    ConditionAndDeterminant(Phi_phi, &cond, &det);
+    return Assemble(q, phi, Sign(det), summary);
   }
 }
 
