@@ -43,6 +43,7 @@
 #include "mechgen/position/ceres_adapter.h"
 #endif
 #include "mechgen/sweep/columns.h"
+#include "mechgen/sweep/motion_summary.h"
 #include "mechgen/sweep/sweep.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
@@ -308,11 +309,15 @@ int main(int argc, char** argv) {
                             mechgen::Described(mechgen::CsvAbout(
                                 std::string(Model::kName) + "_sweep", Model::kName,
                                 "kinematic sweep", mechgen::kSweepSigns)));
+  // The motion summary (strokes, extremes, time ratios) of a one-input sweep, row by row
+  // (nothing for a model of several inputs).
+  mechgen::MotionSummaryBuilder<Model> motion_summary(q_begin(0), q_end(0));
   const auto start = std::chrono::steady_clock::now();
   auto row = [&](int i, const mechgen::SweepRecord<Model>& r) {
     const auto t0 = std::chrono::steady_clock::now();
     if (i == 0) first_row_seconds = std::chrono::duration<double>(t0 - start).count();
     const size_t index = static_cast<size_t>(i);
+    motion_summary.Add(r);
     if (!csv_path.empty()) mechgen::WriteCsvRow(columns, r, csv.stream());
     if (next_table < table_indices.size() && table_indices[next_table] == index) {
       table_records.push_back(r);
@@ -341,6 +346,10 @@ int main(int argc, char** argv) {
 
   if (table_rows > 0) {
     mechgen::PrintTableRows(table_records, std::cout);
+    std::cout << "\n";
+  }
+  if (Model::kNq == 1) {
+    mechgen::PrintMotionSummary(motion_summary.Finish(), std::cout);
     std::cout << "\n";
   }
   if constexpr (mechgen::ModelFeatures<Model>::kLoopFree) {
