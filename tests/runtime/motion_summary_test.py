@@ -114,6 +114,19 @@ def quick_return(tool):
         close(slot.get("ratio"), 1.0, 10 * tol_q, "quick_return slot time ratio" + what)
 
 
+def quick_return_wrap(tool):
+    """Extremes on the first and last rows of a full turn (the same configuration twice): each
+    counted once, whatever the sign of K's rounding there."""
+    r, d = 0.75, 1.5
+    beta = math.asin(r / d)
+    ratio = (math.pi + 2 * beta) / (math.pi - 2 * beta)
+    text, c = summary(tool, ["--range", "theta_crank:-30deg:330deg", "--steps", "360"])
+    for name in ("theta_rocker", "s_stroke"):
+        close(c.get(name, {}).get("ratio"), ratio, 1e-9, name + " time ratio, extreme on the end rows")
+    angle_close(c.get("theta_rocker", {}).get("min_at"), 2 * math.pi - beta, 1e-9,
+                "quick_return rocker min on the end rows")
+
+
 def fourbar(tool):
     a, b, c, d = 1.0, 3.5, 3.0, 4.0
     # Rocker angle (at D, from +x) and crank angle with A C of length s, C above the x axis.
@@ -165,6 +178,7 @@ def slider_crank(tool):
 
 def main():
     quick_return(sys.argv[1])
+    quick_return_wrap(sys.argv[1])
     fourbar(sys.argv[2])
     if len(sys.argv) > 3:
         slider_crank(sys.argv[3])

@@ -56,6 +56,10 @@ struct CoordinateMotion {
   /// minimum to the maximum (in the sweep's direction) and back, and their ratio (the
   /// longer over the shorter, >= 1). NaN otherwise.
   double rising = kNaN, falling = kNaN, time_ratio = kNaN;
+  /// Full turn of the input: the change of a coordinate that does not come back (a slide
+  /// or an angle that is not periodic in one turn: a planetary's arm, a contour parameter);
+  /// 0 otherwise.
+  double net_change = 0;
   double stroke() const { return max.value - min.value; }
 };
 
@@ -169,7 +173,11 @@ class MotionSummaryBuilder {
     const double q = r.state.q(0);
     for (int i = 0; i < M::kNphi; ++i) {
       const size_t k = static_cast<size_t>(i);
-      const Sample now{q, r.state.phi(i), r.state.K(i, 0), r.state.L(i, 0)};
+      Sample now{q, r.state.phi(i), r.state.K(i, 0), r.state.L(i, 0)};
+      // K within its error bound of zero (and of rounding) is zero: a turning point on a row
+      // (at the ends of a full turn: the same configuration twice) counts once, on the
+      // interval it ends, whatever the sign of the noise.
+      if (std::abs(now.k) <= r.state.K_error + 8 * kEps * (1 + std::abs(now.y))) now.k = 0;
       CoordinateMotion& c = s_.coordinates[k];
       if (s_.rows == 1) first_[k] = now;
       if (have_prev_) {
@@ -208,11 +216,16 @@ class MotionSummaryBuilder {
     const double span = std::abs(s.q_end - s.q_begin);
     for (size_t k = 0; k < s.coordinates.size(); ++k) {
       CoordinateMotion& c = s.coordinates[k];
+      const double net = prev_[k].y - first_[k].y;  // over the sweep (a full turn: 0 or 2 pi n)
       if (c.is_angle && (c.stroke() >= 2 * kPi - 1e-9 ||
-                         (s.full_turn && s.failed == 0 &&
-                          std::abs(prev_[k].y - first_[k].y) > kPi))) {
+                         (s.full_turn && s.failed == 0 && std::abs(net) > kPi))) {
         c.turns_fully = true;
         c.min = c.max = SweepExtreme();
+        continue;
+      }
+      if (s.full_turn && s.failed == 0 &&
+          std::abs(net) > 1e-9 * (1 + std::abs(first_[k].y))) {
+        c.net_change = net;  // does not come back in one turn of the input
         continue;
       }
       if (s.full_turn && s.failed == 0 && c.maxima == 1 && c.minima == 1) {
@@ -229,6 +242,7 @@ class MotionSummaryBuilder {
 
  private:
   static constexpr double kPi = 3.14159265358979323846;
+  static constexpr double kEps = std::numeric_limits<double>::epsilon();
   struct Sample {
     double q = 0, y = 0, k = 0, l = 0;  // input, coordinate, K, L (dK/dq)
   };
@@ -305,7 +319,10 @@ inline void PrintMotionSummary(const MotionSummary& s, std::ostream& out) {
       std::snprintf(buffer, sizeof(buffer), "%.9g", c.time_ratio);
       out << "    rises over " << interval(c.rising) << " of " << s.input_name << ", falls over "
           << interval(c.falling) << ": time ratio " << buffer << "\n";
-    } else if (s.full_turn && s.failed == 0) {
+    } else if (c.net_change != 0) {
+      out << "    does not come back in one turn of " << s.input_name << " (changes by "
+          << value(c.net_change, c.is_angle) << ")\n";
+    } else if (s.full_turn && s.failed == 0 && c.maxima + c.minima > 0) {
       out << "    " << c.maxima << " maxima and " << c.minima
           << " minima per turn: no single time ratio\n";
     }
