@@ -581,14 +581,33 @@ bool RunJobs(std::vector<Job>* jobs, const std::string& what, bool verbose) {
     if (job.status == 0) continue;
     std::cerr << "mechgen: error: " << what << " failed (exit status " << job.status << "): "
               << Join(job.argv) << "\n";
-    std::ifstream log(job.log);
-    std::string line;
-    for (int n = 0; std::getline(log, line); ++n) {
+    std::vector<std::string> lines;
+    {
+      std::ifstream log(job.log);
+      for (std::string line; std::getline(log, line);) lines.push_back(line);
+    }
+    // The compiler's first error lines first (a template error's "error:" line comes after
+    // dozens of "In instantiation of" lines), then the start of its output.
+    std::vector<std::string> errors;
+    for (const std::string& line : lines) {
+      if (line.find("error:") != std::string::npos || line.find("error ") == 0) {
+        errors.push_back(line);
+        if (errors.size() == 3) break;
+      }
+    }
+    if (!errors.empty()) {
+      std::cerr << "the compiler's first error" << (errors.size() > 1 ? "s" : "") << ":\n";
+      for (const std::string& e : errors) std::cerr << "  " << e << "\n";
+      std::cerr << "(a model that `mechgen generate` accepts should compile: report this with "
+                   "the model file; the compiler's output follows)\n";
+    }
+    for (size_t n = 0; n < lines.size(); ++n) {
       if (n == 60) {
-        std::cerr << "[... the rest of the compiler's output left out]\n";
+        std::cerr << "[... the rest of the compiler's output (" << lines.size() - 60
+                  << " more lines) left out]\n";
         break;
       }
-      std::cerr << line << "\n";
+      std::cerr << lines[n] << "\n";
     }
     return false;
   }

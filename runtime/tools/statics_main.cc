@@ -210,7 +210,11 @@ int Run(int argc, char** argv) {
     return 3;
   }
   const auto assembled = solver.state();
-  std::printf("mechgen statics of '%s': assembled (branch %+d); ", M::kName, assembly.branch);
+  if constexpr (mechgen::ModelFeatures<M>::kLoopFree) {
+    std::printf("mechgen statics of '%s': no closed loop (every coordinate is an input); ", M::kName);
+  } else {
+    std::printf("mechgen statics of '%s': assembled (branch %+d); ", M::kName, assembly.branch);
+  }
   for (int j = 0; j < M::kNq; ++j) {
     std::printf("%s%s %s -> %s", j ? ", " : "", M::kQNames[j], Describe<M>(j, q_begin(j)).c_str(),
                 Describe<M>(j, q_end(j)).c_str());

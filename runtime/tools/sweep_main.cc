@@ -43,6 +43,7 @@
 #include "mechgen/position/ceres_adapter.h"
 #endif
 #include "mechgen/sweep/columns.h"
+#include "mechgen/sweep/motion_summary.h"
 #include "mechgen/sweep/sweep.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
@@ -275,8 +276,13 @@ int main(int argc, char** argv) {
     return kExitError;
   }
 
-  std::printf("mechgen sweep of '%s': assembled (branch %+d = sign det Phi_phi, the assembly `mechgen report` names by its blocks' modes; |Phi|_inf = %.1e); ", Model::kName,
-              assembly.branch, assembly.residual_norm);
+  if constexpr (mechgen::ModelFeatures<Model>::kLoopFree) {
+    std::printf("mechgen sweep of '%s': no closed loop (every coordinate is an input, nothing to "
+                "assemble); ", Model::kName);
+  } else {
+    std::printf("mechgen sweep of '%s': assembled (branch %+d = sign det Phi_phi, the assembly `mechgen report` names by its blocks' modes; |Phi|_inf = %.1e); ", Model::kName,
+                assembly.branch, assembly.residual_norm);
+  }
   for (int j = 0; j < Model::kNq; ++j) {
     std::printf("%s%s %s -> %s", j ? ", " : "", Model::kQNames[j],
                 Describe(j, q_begin(j)).c_str(), Describe(j, q_end(j)).c_str());
@@ -309,11 +315,15 @@ int main(int argc, char** argv) {
                             mechgen::Described(mechgen::CsvAbout(
                                 std::string(Model::kName) + "_sweep", Model::kName,
                                 "kinematic sweep", mechgen::kSweepSigns)));
+  // The motion summary (strokes, extremes, time ratios) of a one-input sweep, row by row
+  // (nothing for a model of several inputs).
+  mechgen::MotionSummaryBuilder<Model> motion_summary(q_begin(0), q_end(0));
   const auto start = std::chrono::steady_clock::now();
   auto row = [&](int i, const mechgen::SweepRecord<Model>& r) {
     const auto t0 = std::chrono::steady_clock::now();
     if (i == 0) first_row_seconds = std::chrono::duration<double>(t0 - start).count();
     const size_t index = static_cast<size_t>(i);
+    motion_summary.Add(r);
     if (!csv_path.empty()) mechgen::WriteCsvRow(columns, r, csv.stream());
     if (next_table < table_indices.size() && table_indices[next_table] == index) {
       table_records.push_back(r);
@@ -344,11 +354,21 @@ int main(int argc, char** argv) {
     mechgen::PrintTableRows(table_records, std::cout);
     std::cout << "\n";
   }
-  std::printf("%d/%zu configurations converged; max |Phi|_inf = %.1e, max cond(Phi_phi) = %.3g, "
-              "%.2f Newton iterations/step%s\n",
-              static_cast<int>(rows) - failures, rows, max_residual, max_condition,
-              double(iterations) / rows,
-              fallbacks ? (std::string(" (") + assembler_name + " fallback used)").c_str() : "");
+  if (Model::kNq == 1) {
+    mechgen::PrintMotionSummary(motion_summary.Finish(), std::cout);
+    std::cout << "\n";
+  }
+  if constexpr (mechgen::ModelFeatures<Model>::kLoopFree) {
+    (void)max_residual, (void)max_condition, (void)iterations, (void)assembler_name;
+    std::printf("%d/%zu configurations (no loop: no equation to solve)\n",
+                static_cast<int>(rows) - failures, rows);
+  } else {
+    std::printf("%d/%zu configurations converged; max |Phi|_inf = %.1e, max cond(Phi_phi) = %.3g, "
+                "%.2f Newton iterations/step%s\n",
+                static_cast<int>(rows) - failures, rows, max_residual, max_condition,
+                double(iterations) / rows,
+                fallbacks ? (std::string(" (") + assembler_name + " fallback used)").c_str() : "");
+  }
   // Not the README's ~92 ns/step: that benchmark (bench/fourbar_bench.cc) times one
   // continuation step (PositionSolver::MoveTo) alone, without velocities, accelerations or
   // output.

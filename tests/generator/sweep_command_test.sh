@@ -59,6 +59,9 @@ if [ "$mode" = errors ]; then
   grep -q "^mechgen: error: compiling the sweep command of 'fourbar' failed" cc.err ||
     fail "failed compile: stderr $(cat cc.err)"
   grep -q "missing.h" cc.err || fail "failed compile: the compiler's message is not shown"
+  # The first error line comes first, before the compiler's output (issue 25).
+  grep -A1 "^the compiler's first error" cc.err | tail -n 1 | grep -q "error:.*missing.h" ||
+    fail "failed compile: the first error line is not shown first: $(cat cc.err)"
   [ "$(entries)" -eq 0 ] || fail "failed compile: a cache entry was made"
   [ -z "$(find "$MECHGEN_CACHE_DIR/sweep" -name 'args-*' 2>/dev/null)" ] ||
     fail "failed compile: an args object was cached"

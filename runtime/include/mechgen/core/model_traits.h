@@ -162,6 +162,9 @@ struct ModelFeatures {
   static constexpr bool kHasTrig = kHasSolve && internal::TrigOf<M, Scalar>::value;
   /// Model::TransmissionAngles (EvalTransmissionAngles) gives this many angles; 0 without it.
   static constexpr int kNumTransmissionAngles = internal::TransmissionAngleCount<M>::value;
+  /// No constraint equations (kNc = 0: no closed loop, every coordinate an input: a
+  /// pendulum, a lever): q alone is the configuration; Phi, Phi_phi and K are empty.
+  static constexpr bool kLoopFree = M::kNc == 0;
 };
 
 // ---- What a generated model has, output by output: the one place the runtime asks. ----

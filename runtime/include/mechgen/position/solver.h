@@ -221,6 +221,13 @@ class PositionSolver {
   Status PassSingularity(const VecQ& q_toward, Crossing crossing, Summary* summary);
 
  private:
+  // A model without constraints (Features::kLoopFree: no loop, every coordinate an input):
+  // the configuration at q is q itself, with its coefficients from Model::Coeffs. Assemble(),
+  // MoveTo() and PassSingularity() of such a model come here only, so nothing that factors the
+  // empty Phi_phi is instantiated. The state: residual 0, cond 1, branch +1 (det of the empty
+  // matrix), sigma_min +inf and sigma_max 0 (no singular value: never singular), error
+  // bounds 0. kInvalidInput for options, q or coefficients that are not valid or finite.
+  Status PlaceLoopFree(const VecQ& q, Summary* summary);
   // True when phi moves an angle coordinate by more than Options::max_predicted_angle from
   // phi0, or is not finite.
   bool MovesTooFar(const VecPhi& phi0, const VecPhi& phi, bool known_finite = false) const {

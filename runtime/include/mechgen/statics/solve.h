@@ -125,13 +125,17 @@ void EvaluateStiffness(const typename ModelTypes<M>::Params& p,
 }
 
 /// cond_1(Phi_phi) at (q, phi): from the coefficients when they carry Phi_phi (generated
-/// headers do), else from Model::Phi.
+/// headers do), else from Model::Phi; 1 for a model without constraints (kLoopFree: the
+/// empty Phi_phi, never singular).
 template <class M>
 double Condition(const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
                  const typename ModelTypes<M>::VecPhi& phi,
                  const typename ModelTypes<M>::Coefficients& c) {
   double cond = 0, det = 0;
-  if constexpr (ModelFeatures<M>::kCoeffsHavePhi) {
+  if constexpr (ModelFeatures<M>::kLoopFree) {
+    (void)p, (void)q, (void)phi, (void)c, (void)det;
+    cond = 1;
+  } else if constexpr (ModelFeatures<M>::kCoeffsHavePhi) {
     ConditionAndDeterminant(c.Phi_phi, &cond, &det);
   } else {
     (void)c;

@@ -12,59 +12,107 @@ namespace mechgen::position {
 template <class M, class Assembler>
 Status PositionSolver<M, Assembler>::Assemble(const VecQ& q, const VecPhi& phi_guess, int required_branch,
                                    Summary* summary) {
-  Summary s;
-  s.used_assembler = true;
-  auto finish = [&](Status status, const State<M>* at = nullptr) {
-    return Finish(status, at, &s, summary);
-  };
-  if (!options_valid_ || !q.allFinite() || !phi_guess.allFinite()) {
-    return finish(Status::kInvalidInput);
-  }
-  VecC Phi;
-  M::template Phi<double>(params_, q, phi_guess, &Phi, nullptr, nullptr);
-  if (!Phi.allFinite()) return finish(Status::kInvalidInput);  // parameters not finite
+  if constexpr (Features::kLoopFree) {
+    (void)phi_guess;
+    (void)required_branch;
+    return PlaceLoopFree(q, summary);
+  } else {
+    Summary s;
+    s.used_assembler = true;
+    auto finish = [&](Status status, const State<M>* at = nullptr) {
+      return Finish(status, at, &s, summary);
+    };
+    if (!options_valid_ || !q.allFinite() || !phi_guess.allFinite()) {
+      return finish(Status::kInvalidInput);
+    }
+    VecC Phi;
+    M::template Phi<double>(params_, q, phi_guess, &Phi, nullptr, nullptr);
+    if (!Phi.allFinite()) return finish(Status::kInvalidInput);  // parameters not finite
 
-  VecPhi phi = phi_guess;
-  const AssemblyResult lm = Assembler::template Minimize<M>(params_, q, &phi, options_.max_lm_iterations);
-  s.iterations = lm.iterations;
-  s.residual_norm = lm.residual_norm;
-  MatCPhi Phi_phi;
-  MatCQ Phi_q;
-  // Newton to Options::tolerance, and one polishing step.
-  const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr);
-  s.iterations += newton.iterations;
-  if (newton.status != Status::kConverged) {
-    return finish(lm.stationary ? Status::kNotAssemblable : Status::kDidNotConverge);
+    VecPhi phi = phi_guess;
+    const AssemblyResult lm = Assembler::template Minimize<M>(params_, q, &phi, options_.max_lm_iterations);
+    s.iterations = lm.iterations;
+    s.residual_norm = lm.residual_norm;
+    MatCPhi Phi_phi;
+    MatCQ Phi_q;
+    // Newton to Options::tolerance, and one polishing step.
+    const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr);
+    s.iterations += newton.iterations;
+    if (newton.status != Status::kConverged) {
+      return finish(lm.stationary ? Status::kNotAssemblable : Status::kDidNotConverge);
+    }
+    State<M> next;
+    next.q = q;
+    next.phi = phi;
+    next.residual_norm = newton.residual_norm;
+    const Factorization f(Phi_phi);
+    const bool regular = Classify(Phi_phi, f, nullptr, &next);
+    s.substeps = 1;
+    if (!regular) return finish(Status::kSingular, &next);
+    if (required_branch != 0 && next.branch != Sign(required_branch)) {
+      return finish(Status::kWrongBranch, &next);
+    }
+    if (!FillCoefficients(f, kNeedPhiQ ? &Phi_q : nullptr, &next)) {
+      return finish(Status::kSingular, &next);
+    }
+    next.valid = true;
+    state_ref() = next;
+    FindModes(state_ref());
+    return finish(Status::kConverged, &next);
   }
-  State<M> next;
-  next.q = q;
-  next.phi = phi;
-  next.residual_norm = newton.residual_norm;
-  const Factorization f(Phi_phi);
-  const bool regular = Classify(Phi_phi, f, nullptr, &next);
-  s.substeps = 1;
-  if (!regular) return finish(Status::kSingular, &next);
-  if (required_branch != 0 && next.branch != Sign(required_branch)) {
-    return finish(Status::kWrongBranch, &next);
-  }
-  if (!FillCoefficients(f, kNeedPhiQ ? &Phi_q : nullptr, &next)) {
-    return finish(Status::kSingular, &next);
-  }
-  next.valid = true;
-  state_ref() = next;
-  FindModes(state_ref());
-  return finish(Status::kConverged, &next);
 }
 
 template <class M, class Assembler>
 Status PositionSolver<M, Assembler>::AssembleDefault(Summary* summary) {
   const VecQ q = Eigen::Map<const VecQ>(M::kAssemblyQ.data());
-  const VecPhi phi = Eigen::Map<const VecPhi>(M::kAssemblyPhi.data());
-  MatCPhi Phi_phi;
-  M::template Phi<double>(params_, q, phi, nullptr, &Phi_phi, nullptr);
-  double cond = 0, det = 0;
-  ConditionAndDeterminant(Phi_phi, &cond, &det);
-  return Assemble(q, phi, Sign(det), summary);
+  if constexpr (Features::kLoopFree) {
+    return PlaceLoopFree(q, summary);
+  } else {
+    const VecPhi phi = Eigen::Map<const VecPhi>(M::kAssemblyPhi.data());
+    MatCPhi Phi_phi;
+    M::template Phi<double>(params_, q, phi, nullptr, &Phi_phi, nullptr);
+    double cond = 0, det = 0;
+    ConditionAndDeterminant(Phi_phi, &cond, &det);
+    return Assemble(q, phi, Sign(det), summary);
+  }
+}
+
+template <class M, class Assembler>
+Status PositionSolver<M, Assembler>::PlaceLoopFree(const VecQ& q, Summary* summary) {
+  Summary s;
+  State<M> next;
+  next.q = q;
+  if (!options_valid_ || !q.allFinite()) {
+    s.reason = !options_valid_ ? "invalid Options" : "input not finite";
+    return Finish(Status::kInvalidInput, nullptr, &s, summary);
+  }
+  typename T::Coefficients c;
+  if constexpr (kCallCoeffs) M::template Coeffs<double>(params_, q, next.phi, &c);
+  (void)c;
+  bool finite = true;
+  // phi, K and L are empty (0 rows).
+  if constexpr (Features::kHasPoints) {
+    next.r_P = c.r_P;
+    finite = next.r_P.allFinite();
+  }
+  if constexpr (Features::kHasPointVelocities) next.K_P = c.K_P;
+  if constexpr (Features::kHasPointAccelerations) next.L_P = c.L_P;
+  next.residual_norm = 0;
+  next.condition = 1;
+  next.inverse_norm = 0;
+  next.sigma_min = std::numeric_limits<double>::infinity();
+  next.sigma_max = 0;
+  next.sigma_exact = true;
+  next.phi_error = next.K_error = next.L_error = 0;
+  next.branch = 1;
+  s.substeps = 1;
+  if (!finite) {  // parameters not finite
+    s.reason = "points not finite (parameters not finite?)";
+    return Finish(Status::kInvalidInput, nullptr, &s, summary);
+  }
+  next.valid = true;
+  state_ref() = next;
+  return Finish(Status::kConverged, &next, &s, summary);
 }
 
 }  // namespace mechgen::position

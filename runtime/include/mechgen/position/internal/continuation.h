@@ -166,17 +166,21 @@ Status PositionSolver<M, Assembler>::MoveTo(const VecQ& q_target, Summary* summa
                                         : "step larger than Options::max_input_step";
     return Finish(Status::kInvalidInput, nullptr, s);
   }
-  // The common case (every step of a sweep with small steps): one sub-step straight to
-  // q_target, written into the other state and adopted by flipping current_.
-  bool used_newton = false;
-  if (Step(from, q_target, &states_[1 - current_], s, &used_newton)) {
-    current_ = 1 - current_;
-    if (used_newton) FindModes(state_ref());
-    s->substeps = 1;
-    return Finish(Status::kConverged, &state_ref(), s);
+  if constexpr (Features::kLoopFree) {
+    return PlaceLoopFree(q_target, s);
+  } else {
+    // The common case (every step of a sweep with small steps): one sub-step straight to
+    // q_target, written into the other state and adopted by flipping current_.
+    bool used_newton = false;
+    if (Step(from, q_target, &states_[1 - current_], s, &used_newton)) {
+      current_ = 1 - current_;
+      if (used_newton) FindModes(state_ref());
+      s->substeps = 1;
+      return Finish(Status::kConverged, &state_ref(), s);
+    }
+    ++s->rejected_substeps;
+    return Subdivide(q_target, s);
   }
-  ++s->rejected_substeps;
-  return Subdivide(q_target, s);
 }
 
 template <class M, class Assembler>
