@@ -2,6 +2,8 @@
 #include "model/expression_functions.h"
 
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
 
 namespace mechgen {
 
@@ -79,12 +81,20 @@ void mmin_print(const ex& a, const ex& b, const GiNaC::print_context& c) { Print
 void mmax_print(const ex& a, const ex& b, const GiNaC::print_context& c) { Print2("max", a, b, c); }
 void mmod_print(const ex& a, const ex& b, const GiNaC::print_context& c) { Print2("mod", a, b, c); }
 
-ex ReadStep(const GiNaC::exvector& a) { return mstep(a[0]); }
-ex ReadSign(const GiNaC::exvector& a) { return msign(a[0]); }
-ex ReadMin(const GiNaC::exvector& a) { return mmin(a[0], a[1]); }
-ex ReadMax(const GiNaC::exvector& a) { return mmax(a[0], a[1]); }
-ex ReadClamp(const GiNaC::exvector& a) { return mmin(mmax(a[0], a[1]), a[2]); }
-ex ReadMod(const GiNaC::exvector& a) { return mmod(a[0], a[1]); }
+// The reader's functions. GiNaC's parser tells a reader function from a registered function's
+// serial number by the pointer's lowest bit (an odd "pointer" is a serial: parser.cpp,
+// encode_serial_as_reader_func), so these must sit at even addresses. -O2 aligns functions to
+// 16 bytes anyway, but -O1 (the sanitizer build) packs them at any byte: ReadStep at an odd
+// address was taken for a serial and crashed in function::eval(). Hence the attribute, and
+// the check in ExpressionReader().
+#define MECHGEN_READER_FUNCTION __attribute__((aligned(16)))
+MECHGEN_READER_FUNCTION ex ReadStep(const GiNaC::exvector& a) { return mstep(a[0]); }
+MECHGEN_READER_FUNCTION ex ReadSign(const GiNaC::exvector& a) { return msign(a[0]); }
+MECHGEN_READER_FUNCTION ex ReadMin(const GiNaC::exvector& a) { return mmin(a[0], a[1]); }
+MECHGEN_READER_FUNCTION ex ReadMax(const GiNaC::exvector& a) { return mmax(a[0], a[1]); }
+MECHGEN_READER_FUNCTION ex ReadClamp(const GiNaC::exvector& a) { return mmin(mmax(a[0], a[1]), a[2]); }
+MECHGEN_READER_FUNCTION ex ReadMod(const GiNaC::exvector& a) { return mmod(a[0], a[1]); }
+#undef MECHGEN_READER_FUNCTION
 
 }  // namespace
 
@@ -128,6 +138,11 @@ const GiNaC::prototype_table& ExpressionReader() {
     t[{"max", 2}] = ReadMax;
     t[{"clamp", 3}] = ReadClamp;
     t[{"mod", 2}] = ReadMod;
+    for (GiNaC::reader_func f : {ReadStep, ReadSign, ReadMin, ReadMax, ReadClamp, ReadMod}) {
+      if ((reinterpret_cast<std::uintptr_t>(reinterpret_cast<void*>(f)) & 1) != 0)
+        throw std::logic_error("a reader function of the expression language is at an odd address, which "
+                               "GiNaC's parser would take for a function serial (see ReadStep)");
+    }
     return t;
   }();
   return table;
