@@ -16,7 +16,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <sstream>
 #include <memory>
 
@@ -202,24 +201,12 @@ int main(int argc, char** argv) {
 
   // One subcommand per analysis (generator/driver/tool_command.h); each takes the options
   // of the <model>_<tool> that mechgen_add_model() builds, after the model.
-  const std::map<std::string, std::string> tool_help = {
-      {"sweep", "the positions, velocity and centripetal coefficients and points along the inputs' "
-                "range: table, CSV and SVG"},
-      {"statics", "the driving forces (with friction: forward and backward), reactions, potential "
-                  "and mechanical advantage along the range, dead zones and equilibria (needs the "
-                  "output `forces`)"},
-      {"simulate", "forward dynamics from rest or a given state, or a prescribed motion with its "
-                   "motor torque and bearing loads (needs the output `dynamics`)"},
-      {"engine", "an engine made by tools/make_engine.py: crank torque, bearing loads, flywheel "
-                 "sizing and run-up (needs the output `dynamics`)"},
-  };
   mechgen::ToolCommand tool_command;
   std::vector<CLI::App*> tool_apps;
   for (const std::string& tool : tool_names) {
-    const auto help = tool_help.find(tool);
     CLI::App* sub = app.add_subcommand(
         tool, "generate, compile (once: cached) and run the " + tool + " command of a model: " +
-                  (help != tool_help.end() ? help->second : std::string()) + ". `mechgen " + tool +
+                  mechgen::ToolSummary(tool) + ". `mechgen " + tool +
                   " MODEL [OPTIONS]` takes the options of the <model>_" + tool +
                   " that mechgen_add_model() builds (`mechgen " + tool +
                   " MODEL --help` lists them); mechgen's own options come before MODEL.");

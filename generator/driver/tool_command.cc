@@ -62,14 +62,23 @@ struct ToolSpec {
   std::vector<std::string> flags;  // the driver's own (each is Ceres-free)
   bool separate_args = false;      // its CLI11 part (sweep_args.cc) compiled once for all models
   std::string quantity;            // what the model's outputs must have; "" nothing
+  std::string summary;             // what the analysis gives (mechgen --help)
 };
 
 const std::vector<ToolSpec>& Specs() {
   static const std::vector<ToolSpec> specs = {
-      {"sweep", "sweep_main.cc", {"-DMECHGEN_SWEEP_NO_CERES", "-DMECHGEN_SWEEP_ARGS_SEPARATE"}, true, ""},
-      {"statics", "statics_main.cc", {"-DMECHGEN_TOOL_NO_CERES"}, false, "forces"},
-      {"simulate", "simulate_main.cc", {}, false, "dynamics"},
-      {"engine", "engine_main.cc", {}, false, "dynamics"},
+      {"sweep", "sweep_main.cc", {"-DMECHGEN_SWEEP_NO_CERES", "-DMECHGEN_SWEEP_ARGS_SEPARATE"}, true, "",
+       "the positions, velocity and centripetal coefficients and points along the inputs' range: table, "
+       "CSV and SVG"},
+      {"statics", "statics_main.cc", {"-DMECHGEN_TOOL_NO_CERES"}, false, "forces",
+       "the driving forces (with friction: forward and backward), reactions, potential and mechanical "
+       "advantage along the range, dead zones and equilibria (needs the output `forces`)"},
+      {"simulate", "simulate_main.cc", {}, false, "dynamics",
+       "forward dynamics from rest or a given state, or a prescribed motion with its motor torque and "
+       "bearing loads (needs the output `dynamics`)"},
+      {"engine", "engine_main.cc", {}, false, "dynamics",
+       "an engine made by tools/make_engine.py: crank torque, bearing loads, flywheel sizing and run-up "
+       "(needs the output `dynamics`)"},
   };
   return specs;
 }
@@ -762,6 +771,11 @@ const std::vector<std::string>& ToolNames() {
     return n;
   }();
   return names;
+}
+
+std::string ToolSummary(const std::string& tool) {
+  const ToolSpec* spec = FindSpec(tool);
+  return spec != nullptr ? spec->summary : std::string();
 }
 
 int RunTool(const ToolCommand& c, const GenerateFn& generate) {

@@ -29,6 +29,9 @@ namespace mechgen {
 /// The commands `mechgen <tool> MODEL` runs: "sweep", "statics", "simulate", "engine".
 const std::vector<std::string>& ToolNames();
 
+/// What the analysis of `tool` gives, for `mechgen --help` ("" for no such tool).
+std::string ToolSummary(const std::string& tool);
+
 /// What `mechgen <tool>` was asked.
 struct ToolCommand {
   std::string tool;  ///< one of ToolNames()

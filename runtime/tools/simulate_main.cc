@@ -543,7 +543,7 @@ int Run(const Args& args) {
     // Units said: an angle in rad (and deg), a slide in m.
     const bool q0_angle = M::kQIsAngle[0];
     std::printf("end: t = %.6g s, %s = %.6g %s", summary.t_end, M::kQNames[0], last.q(0), q0_angle ? "rad" : "m");
-    if (q0_angle) std::printf(" (%.6g deg)", last.q(0) * 180 / 3.14159265358979323846);
+    if (q0_angle) std::printf(" (%.6g deg)", last.q(0) / kDegToRad);
     std::printf(", %s_dot = %.6g %s; E - W_nc drift %.3g J; max |F| %.6g N\n", M::kQNames[0], last.qd(0),
                 q0_angle ? "rad/s" : "m/s", summary.max_energy_error, max_reaction);
     std::string png = csv_path;

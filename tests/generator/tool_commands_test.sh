@@ -17,7 +17,8 @@
 #     (and the same from a --params file) gives byte for byte the CSV and SVG of `mechgen
 #     statics` on a copy of the model with those two values edited by hand; an unknown name
 #     (the parameters listed), a derived parameter (fourbar_balanced_sweep --set W2x=...), a
-#     bad value and a line of a --params file without a value are one-line usage errors
+#     bad value (also nan, inf, an overflowing number) and a line of a --params file without a
+#     value are one-line usage errors
 #     (exit 2) naming the fault.
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2")
@@ -142,6 +143,9 @@ usage "--set 'radius=1': no parameter 'radius' in the model (parameters: a, b, F
   "$statics_tool" --steps 4 --set radius=1
 usage "'W2x' is a derived parameter" "$balanced_sweep" --steps 4 --set W2x=1
 usage "--set 'a=big': bad value 'big' for 'a'" "$statics_tool" --steps 4 --set a=big
+usage "--set 'a=nan': bad value 'nan' for 'a'" "$statics_tool" --steps 4 --set a=nan
+usage "--set 'mu_s=inf': bad value 'inf' for 'mu_s'" "$statics_tool" --steps 4 --set mu_s=inf
+usage "--set 'a=1e999': bad value '1e999' for 'a'" "$statics_tool" --steps 4 --set a=1e999
 usage "--set 'a': expected name=value" "$statics_tool" --steps 4 --set a
 printf 'a = 0.12\nmu_s\n' > bad.params
 usage "bad.params:2: expected \`name = value\`, got 'mu_s'" "$statics_tool" --steps 4 --params bad.params
