@@ -40,25 +40,34 @@ import math
 import shlex
 import sys
 
-# name: (throws gamma_j deg, banks beta_j deg, firing order (1-based), V angle used)
+# name: (throws gamma_j deg, banks beta_j deg, firing order (1-based)). The names and the
+# throws and banks are those of mechgen_balance's layouts (mechgen/machines/balancing/
+# engine_balance.h, `mechgen_balance layouts`; tests/engine/layout_names_test.py checks that
+# every preset here is a layout there, cylinder by cylinder).
 PRESETS = {
     "single": ([0], [0], [1]),
-    "inline2": ([0, 180], [0, 0], [1, 2]),
+    "inline2_180": ([0, 180], [0, 0], [1, 2]),
+    "inline2_360": ([0, 0], [0, 0], [1, 2]),
     "inline3": ([0, 120, 240], [0, 0, 0], [1, 2, 3]),
     "inline4": ([0, 180, 180, 0], [0, 0, 0, 0], [1, 3, 4, 2]),
+    "inline5": ([0, 216, 144, 72, 288], [0] * 5, [1, 2, 4, 5, 3]),
     "inline6": ([0, 240, 120, 120, 240, 0], [0] * 6, [1, 5, 3, 6, 2, 4]),
     # 60 deg V6, six split pins 60 deg apart, even firing every 120 deg; cylinders 1-3 on the
     # bank at +30 deg, 4-6 at -30 deg.
-    "v6": ([30, 150, 270, 210, 330, 90], [30, 30, 30, -30, -30, -30], [1, 4, 2, 5, 3, 6]),
+    "v6_60": ([30, 150, 270, 210, 330, 90], [30, 30, 30, -30, -30, -30], [1, 4, 2, 5, 3, 6]),
     # 90 deg cross-plane V8: pins at 0, 90, 270, 180 deg, cylinder i (bank +45 deg) and i + 4
     # (bank -45 deg) on pin i; even firing every 90 deg.
-    "v8": ([0, 90, 270, 180, 0, 90, 270, 180], [45] * 4 + [-45] * 4, [1, 8, 4, 5, 7, 3, 6, 2]),
+    "v8_crossplane": ([0, 90, 270, 180, 0, 90, 270, 180], [45] * 4 + [-45] * 4, [1, 8, 4, 5, 7, 3, 6, 2]),
     # 90 deg V-twin (L-twin), both rods on one pin: firing intervals 270/450 deg.
-    "vtwin": ([0, 0], [45, -45], [1, 2]),
+    "vtwin90": ([0, 0], [45, -45], [1, 2]),
     # flat four: opposed pistons move in opposite directions (each pair on pins 180 deg apart).
     "boxer4": ([0, 180, 180, 0], [0, 180, 0, 180], [1, 3, 2, 4]),
     "radial5": ([0] * 5, [0, 72, 144, 216, 288], [1, 3, 5, 2, 4]),
 }
+
+# The presets' earlier names (before they took mechgen_balance's): refused with the new name.
+RENAMED = {"inline2": "inline2_180", "v6": "v6_60", "v8": "v8_crossplane", "vtwin": "vtwin90"}
+V_PRESETS = ("v6_60", "v8_crossplane", "vtwin90")
 
 
 class UsageError(Exception):
@@ -159,13 +168,22 @@ def firing_phases(tdc, order, strokes):
     return phase
 
 
+def preset_name(text):
+    """--preset: a name of PRESETS; an earlier name is refused with its new one."""
+    if text in RENAMED:
+        raise argparse.ArgumentTypeError(f"preset '{text}' is now called '{RENAMED[text]}' (the name mechgen_balance uses)")
+    if text not in PRESETS:
+        raise argparse.ArgumentTypeError(f"no preset '{text}'; presets are {', '.join(sorted(PRESETS))}")
+    return text
+
+
 def build(args, argv):
     preset = PRESETS[args.preset]
     throws = deg_list(args.throws, "throws") if args.throws else list(preset[0])
     banks = deg_list(args.banks, "banks") if args.banks else list(preset[1])
     if args.v_angle is not None:
-        if args.preset not in ("v6", "v8", "vtwin"):
-            raise UsageError("--v-angle applies to the v6, v8 and vtwin presets only")
+        if args.preset not in V_PRESETS:
+            raise UsageError("--v-angle applies to the " + ", ".join(V_PRESETS) + " presets only")
         if not (0 < args.v_angle < 180):
             raise UsageError(f"--v-angle must be in (0, 180) deg (got {args.v_angle})")
         half = args.v_angle / 2
@@ -307,11 +325,12 @@ def main(argv):
     p = argparse.ArgumentParser(
         prog="make_engine.py",
         description="Prints a mechgen model (YAML) of a single-crankshaft reciprocating engine.")
-    p.add_argument("--preset", required=True, choices=sorted(PRESETS))
+    p.add_argument("--preset", required=True, type=preset_name, metavar="{" + ",".join(sorted(PRESETS)) + "}",
+                   help="the layout, named as in mechgen_balance")
     p.add_argument("--name", help="model name (default engine_<preset>)")
     p.add_argument("--throws", help="throw angles gamma_j of the crank pins (deg, comma-separated)")
     p.add_argument("--banks", help="bank angles beta_j of the cylinder axes (deg, comma-separated)")
-    p.add_argument("--v-angle", type=numeric("--v-angle", 0, 180, True, True, " deg"), help="V angle (deg) for v6, v8, vtwin")
+    p.add_argument("--v-angle", type=numeric("--v-angle", 0, 180, True, True, " deg"), help="V angle (deg) for " + ", ".join(V_PRESETS))
     p.add_argument("--order", help="firing order, e.g. 1-3-4-2")
     p.add_argument("--strokes", type=int, default=4, help="2 or 4 (default 4)")
     p.add_argument("--bore", type=numeric("--bore", 0, MAX_LENGTH, True, unit=" m"), default=0.086, help="bore (m; default 0.086)")

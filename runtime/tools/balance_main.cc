@@ -5,6 +5,9 @@
 //       (mechgen/machines/balancing/engine_balance.h): max over a turn in units of m r w^2 (primary) and
 //       m r w^2 (r/l) (secondary), moments times the cylinder spacing a. --engine: a layout of
 //       your own, one cylinder a line: throw angle [deg], bank angle [deg], z [spacings].
+//   mechgen_balance layouts
+//       The preset layouts as CSV, one cylinder a row: throw and bank angles [deg] and z
+//       [spacings]. tools/make_engine.py --preset takes the same names for the same layouts.
 //   mechgen_balance rotor --csv FILE --radius R [--left ZL --right ZR]
 //       Rigid-rotor balancing (mechgen/machines/balancing/rotor.h, Paul §7.1). FILE has one unbalance a
 //       line: m [kg], r [m], angle [deg], z [m] (comma-separated; '#' comments and a header
@@ -213,6 +216,17 @@ int RunTable(bool csv,
                                             ", rotating mass ratio " +
                                             mechgen::internal::FormatRoundTrip(rotating_ratio) +
                                             ". Signs: " + bal::kBalanceSigns));
+  std::cout << out.str();
+  return 0;
+}
+
+int RunLayouts() {
+  const auto all = bal::EngineLayouts();
+  std::ostringstream out;
+  mechgen::WriteCsv(bal::LayoutCylinderColumns(), bal::LayoutCylinderRows(all), out,
+                    mechgen::Described(std::string(kTool) +
+                                       " layouts: the preset engine layouts, one cylinder a row (the names and "
+                                       "the cylinders' numbers of tools/make_engine.py --preset)"));
   std::cout << out.str();
   return 0;
 }
@@ -553,6 +567,9 @@ int main(int argc, char** argv) {
                     "a layout of your own: a CSV file, one cylinder a line: throw angle [deg], "
                     "bank angle [deg], z [cylinder spacings] (named after the file)");
 
+  CLI::App* layouts_command =
+      app.add_subcommand("layouts", "the preset engine layouts (throw and bank angles, z) as CSV");
+
   RotorArgs rotor_args;
   CLI::App* rotor = app.add_subcommand("rotor", "static or two-plane balancing of a rigid rotor");
   rotor->add_option("--csv", rotor_args.csv, "unbalances: m [kg], r [m], angle [deg], z [m] a line")->required();
@@ -620,8 +637,9 @@ int main(int argc, char** argv) {
   if (const int parsed = tools::Parse(&app, argc, argv, kTool); parsed >= 0)
     return parsed;
   if (table->parsed()) return RunTable(csv, rotating_ratio, layouts, engine_files);
+  if (layouts_command->parsed()) return RunLayouts();
   if (rotor->parsed()) return RunRotor(rotor_args);
   if (flywheel->parsed()) return RunFlywheel(fly);
   if (wittenbauer->parsed()) return RunWittenbauer(wit);
-  return Usage("a subcommand is required: table, rotor, flywheel or wittenbauer");
+  return Usage("a subcommand is required: table, layouts, rotor, flywheel or wittenbauer");
 }

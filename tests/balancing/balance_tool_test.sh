@@ -19,7 +19,7 @@ grep -Eq '^inline6 +6  0 +0 +0 +0 *$' "$out/table.txt" || fail "inline6 row"
 grep -Eq '^v8_crossplane +8  0 +0 +3\.162 rotating +0 *$' "$out/table.txt" || fail "v8 row"
 grep -Eq '^inline3 +3  0 +0 +1\.732 line +1\.732 line *$' "$out/table.txt" || fail "inline3 row"
 "$tool" table --csv > "$out/table.csv" || fail "table --csv"
-[ "$(grep -vc '^#' "$out/table.csv")" -eq 12 ] || fail "CSV rows"
+[ "$(grep -vc '^#' "$out/table.csv")" -eq 14 ] || fail "CSV rows"
 head -n 1 "$out/table.csv" | grep -q '^# mechgen_balance table: .*Signs: ' || fail "table CSV: first line"
 [ "$(grep -c '^# [a-z_]* \[[^]]*\]: ' "$out/table.csv")" -eq 14 ] || fail "table CSV: unit lines"
 # The 90 deg V-twin (hand values): a primary force of constant length 1 turning with the crank,

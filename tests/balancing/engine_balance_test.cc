@@ -88,7 +88,7 @@ TEST(EngineBalance, ClassicalBalanceTable) {
   EXPECT_NEAR(i5.moment[1].Max(), 4.98, 0.005);
   EXPECT_EQ(bal::Classify(i5.moment[0]), bal::OrderKind::kLine);
   // V6 60° with common pins: forces balanced, both couples not.
-  const bal::EngineBalance v6 = bal::AnalyzeBalance(Layout("v6_60"));
+  const bal::EngineBalance v6 = bal::AnalyzeBalance(Layout("v6_60_common"));
   EXPECT_NEAR(v6.force[0].Max(), 0, 1e-14);
   EXPECT_NEAR(v6.force[1].Max(), 0, 1e-14);
   EXPECT_GT(v6.moment[0].Max(), 1);

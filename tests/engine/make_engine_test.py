@@ -45,10 +45,10 @@ for bad in (["--preset", "nosuch"], ["--preset", "single", "--bore", "-1"],
             ["--preset", "single", "--m-pis", "-inf"], ["--preset", "single", "--m-crank", "nan"],
             ["--preset", "single", "--J-fly", "inf"], ["--preset", "single", "--T-load", "inf"],
             ["--preset", "single", "--T-load", "-1"], ["--preset", "single", "--c-load", "nan"],
-            ["--preset", "v8", "--v-angle", "nan"], ["--preset", "v8", "--v-angle", "inf"],
-            ["--preset", "inline2", "--throws", "0,inf"], ["--preset", "inline2", "--throws", "0,1e300"],
-            ["--preset", "inline2", "--banks", "nan,0"], ["--preset", "inline2", "--z", "0,inf"],
-            ["--preset", "inline2", "--z", "nan,0"], ["--preset", "inline2", "--z", "0,1e300"],
+            ["--preset", "v8_crossplane", "--v-angle", "nan"], ["--preset", "v8_crossplane", "--v-angle", "inf"],
+            ["--preset", "inline2_180", "--throws", "0,inf"], ["--preset", "inline2_180", "--throws", "0,1e300"],
+            ["--preset", "inline2_180", "--banks", "nan,0"], ["--preset", "inline2_180", "--z", "0,inf"],
+            ["--preset", "inline2_180", "--z", "nan,0"], ["--preset", "inline2_180", "--z", "0,1e300"],
             ["--preset", "inline4", "--order", "1-3-4-1e999"], ["--preset", "single", "--strokes", "inf"]):
     out = subprocess.run([sys.executable, maker] + bad, capture_output=True)
     if (out.returncode != 2 or out.stdout or b"error" not in out.stderr
@@ -59,7 +59,7 @@ for bad in (["--preset", "nosuch"], ["--preset", "single", "--bore", "-1"],
 # In-range extremes: a model, all of whose numbers are finite.
 for good in (["--preset", "inline4", "--pitch", "-1000", "--bore", "1000", "--stroke", "2",
               "--rod-length", "1000", "--J-fly", "1e6", "--T-load", "1e7"],
-             ["--preset", "inline2", "--throws=-720,720", "--z=1e3,-1e3"]):
+             ["--preset", "inline2_180", "--throws=-720,720", "--z=1e3,-1e3"]):
     out = subprocess.run([sys.executable, maker] + good, capture_output=True)
     low = out.stdout.lower()
     if out.returncode != 0 or not out.stdout or b"nan" in low or b"inf" in low.replace(b"inline", b""):

@@ -219,37 +219,45 @@ inline EngineLayout Make(const char* name, const char* description, std::initial
 }
 }  // namespace internal
 
-constexpr int kNumLayouts = 11;
+constexpr int kNumLayouts = 13;
 
 /// The preset layouts (angles given here in degrees, stored in rad; z in cylinder spacings,
-/// centred on 0).
+/// centred on 0). The cylinders are numbered as in tools/make_engine.py, whose presets carry
+/// the same names, throws and banks (tests/engine/layout_names_test.py); v6_60_common is
+/// here only (a textbook case with uneven firing, not an engine the maker builds).
 inline std::array<EngineLayout, kNumLayouts> EngineLayouts() {
   using internal::Make;
   return {
       Make("single", "single cylinder", {{0, 0, 0}}),
-      Make("inline2_360", "in-line twin, 360 deg crank", {{0, 0, -0.5}, {0, 0, 0.5}}),
       Make("inline2_180", "in-line twin, 180 deg crank", {{0, 0, -0.5}, {180, 0, 0.5}}),
+      Make("inline2_360", "in-line twin, 360 deg crank", {{0, 0, -0.5}, {0, 0, 0.5}}),
       Make("inline3", "in-line three, 0-120-240", {{0, 0, -1}, {120, 0, 0}, {240, 0, 1}}),
       Make("inline4", "in-line four, flat crank 0-180-180-0",
            {{0, 0, -1.5}, {180, 0, -0.5}, {180, 0, 0.5}, {0, 0, 1.5}}),
       Make("inline5", "in-line five, firing 1-2-4-5-3: throws 0-216-144-72-288",
            {{0, 0, -2}, {216, 0, -1}, {144, 0, 0}, {72, 0, 1}, {288, 0, 2}}),
-      Make("inline6", "in-line six, 0-120-240-240-120-0",
-           {{0, 0, -2.5}, {120, 0, -1.5}, {240, 0, -0.5}, {240, 0, 0.5}, {120, 0, 1.5}, {0, 0, 2.5}}),
-      Make("v6_60", "60 deg V6, 120 deg crank, common pins",
+      Make("inline6", "in-line six, 0-240-120-120-240-0, firing 1-5-3-6-2-4",
+           {{0, 0, -2.5}, {240, 0, -1.5}, {120, 0, -0.5}, {120, 0, 0.5}, {240, 0, 1.5}, {0, 0, 2.5}}),
+      // The six pins along the shaft in throw order 30-90-150-210-270-330, half a spacing apart.
+      Make("v6_60", "60 deg V6, six split pins 60 deg apart (even firing); cylinders 1-3 on the +30 deg bank",
+           {{30, 30, -1.25}, {150, 30, -0.25}, {270, 30, 0.75}, {210, -30, 0.25}, {330, -30, 1.25},
+            {90, -30, -0.75}}),
+      Make("v6_60_common", "60 deg V6, 120 deg crank, common pins",
            {{0, 30, -1}, {0, -30, -1}, {120, 30, 0}, {120, -30, 0}, {240, 30, 1}, {240, -30, 1}}),
-      Make("v8_crossplane", "90 deg V8, cross-plane crank 0-90-270-180",
+      Make("v8_crossplane", "90 deg V8, cross-plane crank 0-90-270-180; cylinders i and i + 4 on pin i",
            {{0, 45, -1.5},
-            {0, -45, -1.5},
             {90, 45, -0.5},
-            {90, -45, -0.5},
             {270, 45, 0.5},
-            {270, -45, 0.5},
             {180, 45, 1.5},
+            {0, -45, -1.5},
+            {90, -45, -0.5},
+            {270, -45, 0.5},
             {180, -45, 1.5}}),
-      Make("boxer4", "flat-four boxer, throws 0-180-180-0, banks R-L-R-L",
-           {{0, 90, -1.5}, {180, -90, -0.5}, {180, 90, 0.5}, {0, -90, 1.5}}),
       Make("vtwin90", "90 deg V-twin, common crank pin", {{0, 45, 0}, {0, -45, 0}}),
+      Make("boxer4", "flat-four boxer, throws 0-180-180-0, opposed cylinders along the x axis",
+           {{0, 0, -1.5}, {180, 180, -0.5}, {180, 0, 0.5}, {0, 180, 1.5}}),
+      Make("radial5", "five-cylinder radial, one crank pin, banks 72 deg apart",
+           {{0, 0, 0}, {0, 72, 0}, {0, 144, 0}, {0, 216, 0}, {0, 288, 0}}),
   };
 }
 
@@ -258,6 +266,40 @@ inline const EngineLayout* FindLayout(const std::array<EngineLayout, kNumLayouts
   for (const EngineLayout& e : all)
     if (name == e.name) return &e;
   return nullptr;
+}
+
+/// One row of the layout listing (`mechgen_balance layouts`): one cylinder of a layout.
+struct LayoutCylinderRow {
+  const EngineLayout* layout = nullptr;
+  int cylinder = 0;  ///< 1-based, the numbering of tools/make_engine.py
+};
+
+/// The rows of the listing: every cylinder of every layout in `layouts`, in order.
+template <class Range>
+std::vector<LayoutCylinderRow> LayoutCylinderRows(const Range& layouts) {
+  std::vector<LayoutCylinderRow> rows;
+  for (const EngineLayout& e : layouts)
+    for (int i = 0; i < e.count; ++i) rows.push_back({&e, i + 1});
+  return rows;
+}
+
+/// The columns of the listing: the geometry of each cylinder, angles in degrees.
+inline table::Columns<LayoutCylinderRow> LayoutCylinderColumns() {
+  table::Columns<LayoutCylinderRow> columns;
+  table::Builder<LayoutCylinderRow> add(&columns);
+  auto cylinder = [](const LayoutCylinderRow& r) -> const Cylinder& { return r.layout->cylinders[r.cylinder - 1]; };
+  add.Text("layout", "the layout's name (tools/make_engine.py --preset takes the same names)",
+           [](const LayoutCylinderRow& r) { return std::string(r.layout->name); });
+  add.Text("cylinder", "the cylinder's number, from 1",
+           [](const LayoutCylinderRow& r) { return std::to_string(r.cylinder); });
+  add.Number("throw_deg", "deg", "the crank pin's throw angle gamma from the crank's reference line, CCW +",
+             [cylinder](const LayoutCylinderRow& r) { return cylinder(r).throw_angle / internal::kDeg; });
+  add.Number("bank_deg", "deg", "the cylinder axis's bank angle beta from the x axis, CCW +",
+             [cylinder](const LayoutCylinderRow& r) { return cylinder(r).bank_angle / internal::kDeg; });
+  add.Number("z", "cylinder spacings", "the cylinder's axial position along the crankshaft, centred on 0",
+             [cylinder](const LayoutCylinderRow& r) { return cylinder(r).z; });
+  add.Text("description", "what the layout is", [](const LayoutCylinderRow& r) { return std::string(r.layout->description); });
+  return columns;
 }
 
 /// One row of the balance table: a layout and its balance.
