@@ -357,6 +357,22 @@ std::vector<std::pair<int, std::string>> RevoluteMagnitudes() {
   return magnitudes;
 }
 
+// |F| of each revolute joint among the reactions (F_<joint>_mag, N; empty where withheld): the
+// bearing loads of every run, free or driven.
+template <class M, class SampleT>
+void AddMagnitudeColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
+  using Row = CsvRow<SampleT>;
+  for (const auto& m : RevoluteMagnitudes<M>()) {
+    const int x = m.first;
+    add->Number("F_" + m.second + "_mag", "N", "|force| at the revolute joint (inertia forces included)",
+                [x](const Row& r) {
+                  return r.R != nullptr ? std::hypot(r.R[x], r.R[x + 1])
+                                        : std::numeric_limits<double>::quiet_NaN();
+                })
+        .missing = "";
+  }
+}
+
 // The CSV of a run with every input free: t, q, q_dot, q_ddot, T, V, E, W_nc, Q, the
 // reactions and |F| of each revolute joint.
 template <class M, class SampleT>
@@ -367,20 +383,12 @@ mechgen::table::Columns<CsvRow<SampleT>> FreeColumns() {
   AddMotionColumns<M, SampleT, false>(&add);
   AddForceColumns<M, SampleT>(&add);
   AddReactionColumns<M, SampleT>(&add);
-  for (const auto& m : RevoluteMagnitudes<M>()) {
-    const int x = m.first;
-    add.Number("F_" + m.second + "_mag", "N", "|force| at the revolute joint",
-               [x](const Row& r) {
-                 return r.R != nullptr ? std::hypot(r.R[x], r.R[x + 1])
-                                       : std::numeric_limits<double>::quiet_NaN();
-               })
-        .missing = "";
-  }
+  AddMagnitudeColumns<M, SampleT>(&add);
   return columns;
 }
 
 // The CSV of a run with NP inputs driven: t, q, q_dot, q_ddot, T, V, E, W_nc, W_act, Q,
-// lambda per driven input, balance, rcond, the reactions.
+// lambda per driven input, balance, rcond, the reactions and |F| of each revolute joint.
 template <class M, class SampleT, int NP>
 mechgen::table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>& prescribed) {
   using Row = CsvRow<SampleT>;
@@ -401,6 +409,7 @@ mechgen::table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>
   add.Number("rcond", "1", "1/cond_1(Phi_phi) (the run stops below 1e-6)",
              [](const Row& r) { return double(r.s->rcond); });
   AddReactionColumns<M, SampleT>(&add);
+  AddMagnitudeColumns<M, SampleT>(&add);
   return columns;
 }
 
@@ -653,13 +662,35 @@ int RunDriven(const Args& args) {
   }
   const auto columns = DrivenColumns<M, SampleT, NP>(prescribed);
   mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions<M>("driven motion"));
+  // The summary's extremes: each lambda's range and the largest bearing load (|F| at a
+  // revolute joint) over the written rows.
+  const auto magnitudes = RevoluteMagnitudes<M>();
+  std::array<double, NP> lambda_min, lambda_max;
+  lambda_min.fill(std::numeric_limits<double>::infinity());
+  lambda_max.fill(-std::numeric_limits<double>::infinity());
+  double max_reaction = 0;
+  std::string max_reaction_joint;
   auto observer = [&](const SampleT& s) {
+    for (int i = 0; i < NP; ++i) {
+      if (!std::isfinite(s.lambda(i))) continue;
+      lambda_min[i] = std::min(lambda_min[i], double(s.lambda(i)));
+      lambda_max[i] = std::max(lambda_max[i], double(s.lambda(i)));
+    }
     // The row is written inside the branch that holds the kinetostatics it points into.
     CsvRow<SampleT> row{&s, nullptr};
     if constexpr (kNumReactions > 0) {
       mechgen::dynamics::KinetostaticsRow<M> k;
       kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
-      if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) row.R = k.statics.R.data();
+      if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) {
+        row.R = k.statics.R.data();
+        for (const auto& m : magnitudes) {
+          const double f = std::hypot(k.statics.R(m.first), k.statics.R(m.first + 1));
+          if (f > max_reaction) {
+            max_reaction = f;
+            max_reaction_joint = m.second;
+          }
+        }
+      }
       mechgen::WriteCsvRow(columns, row, csv.stream());
     } else {
       mechgen::WriteCsvRow(columns, row, csv.stream());
@@ -682,7 +713,13 @@ int RunDriven(const Args& args) {
                     last.lambda(i), M::kQIsAngle[prescribed[i]] ? "N m" : "N");
       else
         std::printf("end: lambda_%s withheld (a singular configuration)\n", M::kQNames[prescribed[i]]);
+      if (lambda_min[i] <= lambda_max[i])
+        std::printf("  over the run: lambda_%s from %.6g to %.6g %s\n", M::kQNames[prescribed[i]], lambda_min[i],
+                    lambda_max[i], M::kQIsAngle[prescribed[i]] ? "N m" : "N");
     }
+    if (!max_reaction_joint.empty())
+      std::printf("largest bearing load: %.6g N at joint %s (inertia forces included)\n", max_reaction,
+                  max_reaction_joint.c_str());
     std::printf("wrote %s (%d rows)\n", csv_path.c_str(), summary.samples);
   }
   if (!FlushStdout()) return 1;
