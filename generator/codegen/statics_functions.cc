@@ -162,6 +162,10 @@ FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter*
   f.notes = {"\\note Everything is linear in the friction loads; the runtime iterates them on the normal",
              "forces (mechgen/statics). Near a dead point (Phi_phi singular) the multipliers, and so the",
              "reactions and the drive of a non-input load path, grow without bound: check the conditioning."};
+  // The loads that read velocities or time: taken at rest here (their slow-motion value).
+  for (const auto& [load, reads] : m.at_rest_loads)
+    f.notes.push_back("\\note At rest: the " + load + " is taken with " + reads +
+                      (reads.find(',') == std::string::npos ? " = 0" : " all 0") + " (its value in a slow motion).");
   f.body = {StaticsBody(m, st, printer)};
   return f;
 }

@@ -406,6 +406,11 @@ struct Model {
   /// CheckDynamicRefs). Its mark (the function's name), the load and the call as written.
   SourceMark at_rest_jump_mark;
   std::string at_rest_jump_load, at_rest_jump_call;
+  /// The loads that read time or a velocity (continuously: the jumps are refused above), in
+  /// model order: the load as the errors name it ("torque of load 'load'") and the names it
+  /// reads ("theta_crank_dot, t"). The statics evaluates them at rest (velocities 0, t = 0): the
+  /// generator says so (a note on stderr and in EvalStatics' documentation).
+  std::vector<std::pair<std::string, std::string>> at_rest_loads;
   /// The coordinates' names a load may use (theta_<link>, s_<joint>, psi_<joint>,
   /// u_<joint>), as placeholder symbols the statics derivation replaces by the coordinates.
   std::map<std::string, GiNaC::symbol> coordinate_refs;

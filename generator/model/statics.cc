@@ -127,6 +127,12 @@ GiNaC::ex LoadExpression(SectionReader& r, const YAML::Node& node, const std::st
   const GiNaC::ex e = r.Expression(node, what, coordinates);
   r.AllowTables(false);
   if (!m.at_rest_jump_mark.line) NoteJumpAtRest(r, node, text, what, e);
+  std::string reads;  // the velocities (then t) it reads, in name order
+  for (const auto& [name, sym] : m.velocity_refs)
+    if (name != "t" && e.has(sym)) reads += (reads.empty() ? "" : ", ") + name;
+  if (const auto t = m.velocity_refs.find("t"); t != m.velocity_refs.end() && e.has(t->second))
+    reads += std::string(reads.empty() ? "" : ", ") + "t";
+  if (!reads.empty()) m.at_rest_loads.emplace_back(what, reads);
   return e;
 }
 

@@ -112,6 +112,29 @@ TEST(Cli, HelpListsTheSubcommands) {
   EXPECT_NE(r.output.find("report"), std::string::npos);
 }
 
+// A load that reads a velocity is taken at rest by the statics (its slow-motion value, 0 for a
+// viscous torque): the generator says so, naming the load and the velocity, and the generated
+// EvalStatics documents it; a model whose loads read no velocity gets no such note.
+TEST(Cli, StaticsAtRestLoadsAreNamed) {
+  TempDir out;
+  const Result engine = RunMechgen("generate " + (kSource / "models" / "engine_single.yaml").string() + " -o " +
+                                   out.path().string());
+  ASSERT_EQ(engine.exit_code, 0) << engine.output;
+  EXPECT_NE(engine.output.find("note: the statics (EvalStatics) evaluates the torque of load 'load' at rest "
+                               "(theta_crank_dot = 0)"),
+            std::string::npos)
+      << engine.output;
+  EXPECT_EQ(engine.output.find("load 'gas_1'"), std::string::npos) << engine.output;  // p_gas_1: no velocity
+  EXPECT_NE(Slurp(out.path() / "engine_single.h").find("At rest: the torque of load 'load' is taken with "
+                                                       "theta_crank_dot = 0"),
+            std::string::npos);
+  const Result loaded = RunMechgen("generate " + (kSource / "models" / "fourbar_loaded.yaml").string() + " -o " +
+                                   out.path().string());
+  ASSERT_EQ(loaded.exit_code, 0) << loaded.output;
+  EXPECT_EQ(loaded.output.find("note:"), std::string::npos) << loaded.output;
+  EXPECT_EQ(Slurp(out.path() / "fourbar_loaded.h").find("At rest:"), std::string::npos);
+}
+
 TEST(Cli, ReportShowsLoopsMobilityEquationsAndK) {
   const Result r = RunMechgen("report " + (kSource / "models" / "fourbar.yaml").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
