@@ -142,6 +142,7 @@ int Run(int argc, char** argv) {
              "line on stderr), 3 the model does not assemble.");
   double rpm = 60, cs = 0.02, slip = 0.05, steady_tol = 1e-7;
   std::string theta0_text, cycle_text, motor = "constant", csv_path, png_path, svg_path;
+  std::vector<std::string> break_texts;
   int samples = 720, check_samples = 720, max_cycles = 400;
   bool no_check = false, check = false;
   tools::Number(&app, "--rpm", &rpm, tools::Between(1e-3, 1e6),
@@ -155,6 +156,11 @@ int Run(int argc, char** argv) {
                  "the cycle's start (rad, or with a 'deg' suffix); default the model's range start");
   app.add_option("--cycle", cycle_text,
                  "the cycle (rad, or 'deg'); default the model's range when whole turns, else 360deg");
+  app.add_option("--break", break_texts,
+                 "an angle (rad, or 'deg') where a switched load makes T_req kink, on a sample: the "
+                 "energy loop does not integrate across it (fourth order instead of second); "
+                 "repeatable")
+      ->allow_extra_args(false);
   app.add_option("--motor", motor, "the simulated check's motor: constant (T = T_mean) or shunt "
                                    "(T = T_stall (1 - w/w_0) through w_m, T_mean)")
       ->check(CLI::IsMember({"constant", "shunt"}))
@@ -196,6 +202,11 @@ int Run(int argc, char** argv) {
     if (const int e = angle("--theta0", theta0_text, false, &options.theta0); e >= 0) return e;
   if (!cycle_text.empty())
     if (const int e = angle("--cycle", cycle_text, true, &options.cycle); e >= 0) return e;
+  for (const std::string& text : break_texts) {
+    double b = 0;
+    if (const int e = angle("--break", text, false, &b); e >= 0) return e;
+    options.breaks.push_back(b);
+  }
   const double cycle = std::isnan(options.cycle) ? fw::DefaultCycle<M>() : options.cycle;
   if (!(cycle / samples <= mechgen::position::Options().max_input_step))
     return tools::UsageError(tool, tools::BadValue("--samples", std::to_string(samples),
@@ -208,6 +219,8 @@ int Run(int argc, char** argv) {
     std::cerr << "error: cannot size a flywheel for " << M::kName << ": " << machine.message << "\n";
     return 3;
   }
+  if (machine.status == fw::CycleStatus::kBadOptions && !options.breaks.empty())
+    return tools::UsageError(tool, "--break: " + machine.message);
   if (!machine.IsUsable()) {
     std::cerr << "error: cannot size a flywheel for " << M::kName << ": " << machine.message << "\n";
     return 1;
