@@ -16,6 +16,8 @@
 #include <functional>
 #include <vector>
 
+#include "fourbar_massive.h"
+#include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
 #include "punch_press.h"
 #include "shaper.h"
@@ -223,6 +225,26 @@ TEST(FlywheelPunchPress, EnergyPerStrokeIsTheHandFigure) {
     // torque and the weights only, much smaller than the punch's peak.
     EXPECT_GT(c.theta_T_max, t1);
     EXPECT_GT(c.T_max, 0.5 * h.F0 * std::abs(h.ds(t2)));
+    // T_req against a second derivation: the generated kinetostatics (d'Alembert's inertia
+    // forces at every link, dynamics/kinetostatics.h) at the constant speed, qdd = 0.
+    if (n == 3600) {
+      mech::punch_press::Model::ParamsT<double> pk;
+      mechgen::dynamics::Kinetostatics<M> kin(pk);
+      Eigen::Matrix<double, 1, 1> q, qd, qdd;
+      q(0) = c.points[0].theta;
+      ASSERT_TRUE(kin.Initialize(q));
+      qd(0) = o.omega;
+      qdd(0) = 0;
+      double worst = 0, largest = 0;
+      for (const fw::CyclePoint& pt : c.points) {
+        typename mechgen::dynamics::Kinetostatics<M>::Row row;
+        q(0) = pt.theta;
+        ASSERT_EQ(kin.Evaluate(0, q, qd, qdd, &row), mechgen::dynamics::KinetostaticsStatus::kOk);
+        worst = std::max(worst, std::abs(row.statics.drive(0) - pt.T_req));
+        largest = std::max(largest, std::abs(pt.T_req));
+      }
+      EXPECT_LT(worst, 1e-10 * largest);
+    }
     // The inertia torque and the weights do no net work over the cycle.
     double inertia = 0, statics = 0;
     for (const fw::CyclePoint& pt : c.points) inertia += pt.T_inertia, statics += pt.T_static;
@@ -260,6 +282,45 @@ TEST(FlywheelPunchPress, SimulatedCheckAgreesToOrderCs) {
     ASSERT_TRUE(shunt.ok) << shunt.message;
     EXPECT_LT(shunt.trace.C_s, sim.trace.C_s);
     EXPECT_GT(shunt.trace.C_s, 0.3 * C_s);
+  }
+}
+
+// WithFlywheel<M> adds the flywheel on both of the simulator's paths: the one-pass M::Rhs (the
+// four-bar's stages) and M::Dynamics (its samples). Against qdd = (Q - h)/(I + I_fly) from the
+// bare model's generated dynamics.
+TEST(FlywheelWrapper, AddsTheInertiaOnBothPaths) {
+  using M = mech::fourbar_massive::Model;
+  using W = fw::WithFlywheel<M>;
+  using Sim = mechgen::dynamics::MinimalDynamics<W>;
+  static_assert(Sim::kStagesByRhs, "the four-bar's stages are meant to take the M::Rhs path");
+  W::ParamsT<double> pf;
+  pf.I_flywheel = 0.7;
+  const M::ParamsT<double>& p = pf;
+  Sim sim(pf);
+  Eigen::Matrix<double, 1, 1> q0;
+  q0(0) = 0.4;
+  ASSERT_TRUE(sim.Initialize(q0));
+  for (double qd : {0.0, 3.0, -7.5}) {
+    typename Sim::State y;
+    y(0) = q0(0);
+    y(1) = qd;
+    y(2) = 0;
+    typename Sim::State dy;
+    ASSERT_TRUE(sim.Derivative(0.0, y, &dy));
+    typename Sim::SampleT sample;
+    ASSERT_TRUE(sim.Evaluate(0.0, y, &sample));
+    // The bare model at the same configuration.
+    Eigen::Matrix<double, M::kNphi, 1> phi = sample.phi;
+    M::CoefficientsT<double> c;
+    M::Coeffs<double>(p, q0, phi, &c);
+    M::DynamicsT<double> d;
+    Eigen::Matrix<double, 1, 1> qdv;
+    qdv(0) = qd;
+    M::Dynamics<double>(p, q0, phi, qdv, 0.0, c, &d);
+    const double qdd = (d.Q(0) - d.h(0)) / (d.I(0, 0) + 0.7);
+    EXPECT_NEAR(dy(1), qdd, 1e-12 * (1 + std::abs(qdd))) << "qd = " << qd;
+    EXPECT_NEAR(sample.qdd(0), qdd, 1e-12 * (1 + std::abs(qdd))) << "qd = " << qd;
+    EXPECT_NEAR(sample.T, 0.5 * (d.I(0, 0) + 0.7) * qd * qd, 1e-12 * (1 + sample.T));
   }
 }
 
