@@ -324,4 +324,45 @@ TEST(FlywheelWrapper, AddsTheInertiaOnBothPaths) {
   }
 }
 
+// energy_loop.h's breaks on a kinked excess torque with a closed-form integral:
+// dT = |sin t| - 2/pi on [0, 2 pi), kinks at 0 and pi, E(t) = 1 - cos t - 2t/pi on [0, pi] and
+// 3 + cos t - 2t/pi on [pi, 2 pi]. Without breaks E is second order, with them fourth.
+TEST(FlywheelEnergyLoop, BreaksKeepAKinkedTorqueFourthOrder) {
+  auto E_exact = [](double t) {
+    return t <= kPi ? 1 - std::cos(t) - 2 * t / kPi : 3 + std::cos(t) - 2 * t / kPi;
+  };
+  auto error = [&](int n, bool breaks) {
+    std::vector<double> dT(static_cast<size_t>(n)), E(static_cast<size_t>(n));
+    for (int k = 0; k < n; ++k) dT[static_cast<size_t>(k)] = std::abs(std::sin(2 * kPi * k / n)) - 2 / kPi;
+    const int b[2] = {0, n / 2};
+    fw::EnergyLoopOptions o;
+    o.remove_mean = true;  // the sampled mean is not exactly 2/pi: take the rule's own
+    if (breaks) o.breaks = b, o.num_breaks = 2;
+    const fw::EnergyLoop loop = fw::ExcessEnergy(dT.data(), n, 2 * kPi, 0.0, o, E.data());
+    EXPECT_EQ(loop.status, fw::LoopStatus::kOk);
+    double worst = 0;
+    for (int k = 0; k < n; ++k)
+      worst = std::max(worst, std::abs(E[static_cast<size_t>(k)] - E_exact(2 * kPi * k / n)));
+    // The mean the rule integrates against the exact 0.
+    worst = std::max(worst, std::abs(loop.mean_torque) * 2 * kPi);
+    return worst;
+  };
+  const double plain = error(96, false), plain2 = error(192, false);
+  const double fourth = error(96, true), fourth2 = error(192, true);
+  EXPECT_NEAR(plain / plain2, 4, 0.4);     // second order
+  EXPECT_NEAR(fourth / fourth2, 16, 2.5);  // fourth order
+  EXPECT_LT(fourth, 1e-3 * plain);
+  // Breaks must be samples at least 3 intervals apart.
+  std::vector<double> dT(96, 1.0);
+  int close[2] = {10, 12};
+  fw::EnergyLoopOptions o;
+  o.breaks = close;
+  o.num_breaks = 2;
+  EXPECT_EQ(fw::ExcessEnergy(dT.data(), 96, 2 * kPi, 0.0, o).status, fw::LoopStatus::kTooFewSamples);
+  int outside[1] = {96};
+  o.breaks = outside;
+  o.num_breaks = 1;
+  EXPECT_EQ(fw::ExcessEnergy(dT.data(), 96, 2 * kPi, 0.0, o).status, fw::LoopStatus::kTooFewSamples);
+}
+
 }  // namespace
