@@ -138,8 +138,9 @@ int Run(int argc, char** argv) {
                "': the driving torque at constant speed over a cycle, its energy loop, the "
                "flywheel for a coefficient of speed fluctuation, and a simulated check."};
   app.footer("Exit status: 0 done, 1 the machine cannot be sized (the reason and angle on "
-             "stderr), the check failed or an output cannot be written, 2 a usage error (one "
-             "line on stderr), 3 the model does not assemble.");
+             "stderr; nothing written), the simulated check failed (the loop's CSV and pictures "
+             "are still written: they do not depend on it) or an output cannot be written, 2 a "
+             "usage error (one line on stderr), 3 the model does not assemble.");
   double rpm = 60, cs = 0.02, slip = 0.05, steady_tol = 1e-7;
   std::string theta0_text, cycle_text, motor = "constant", csv_path, png_path, svg_path;
   std::vector<std::string> break_texts;
@@ -183,6 +184,9 @@ int Run(int argc, char** argv) {
   tools::AddParameterOptions(&app, &parameter_options);
   if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
   if (check && no_check) return tools::UsageError(tool, "--check and --no-check: choose one");
+  if (check && !mechgen::HasDynamics<M>::value)
+    return tools::UsageError(tool, std::string("--check needs a model with `dynamics` (") + M::kName +
+                                       " has none: its machine is massless)");
   typename M::template ParamsT<double> params;
   if (std::string why; !tools::ApplyParameters(parameter_options, &params, &why))
     return tools::UsageError(tool, why);
@@ -253,10 +257,7 @@ int Run(int argc, char** argv) {
 
   int status = 0;
   const bool do_check = machine.has_dynamics && !no_check && size.needed;
-  if (check && !machine.has_dynamics) {
-    std::cerr << "error: --check needs a model with `dynamics` (" << M::kName << " has none)\n";
-    status = 1;
-  } else if (do_check) {
+  if (do_check) {
     fw::CheckOptions co;
     co.law = motor == "shunt" ? fw::MotorLaw::kShunt : fw::MotorLaw::kConstant;
     co.slip = slip;

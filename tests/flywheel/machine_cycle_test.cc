@@ -119,7 +119,9 @@ TEST(FlywheelShaper, EnergyLoopAgainstTheHandLoop) {
       const double closure_tol =
           breaks ? 5e-10 * s.F * stroke * std::pow(720.0 / n, 4) : 1.02 * h * h / 12 * jumps;
       EXPECT_NEAR(c.work, s.F * stroke, closure_tol) << n << (breaks ? " with breaks" : "");
-      if (!breaks) EXPECT_GT(std::abs(c.work - s.F * stroke), 0.9 * h * h / 12 * jumps);
+      if (!breaks) {
+        EXPECT_GT(std::abs(c.work - s.F * stroke), 0.9 * h * h / 12 * jumps);
+      }
       EXPECT_NEAR(c.T_mean, T_mean, closure_tol / (2 * kPi));
       double worst = 0;
       for (const fw::CyclePoint& pt : c.points) worst = std::max(worst, std::abs(pt.E - E_hand(pt.theta)));

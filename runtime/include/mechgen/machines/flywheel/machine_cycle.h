@@ -286,20 +286,20 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
                 pt.theta = theta;
                 pt.condition = run.summary.condition;
                 pt.T_static = run.statics.drive(0);
-                double Q_static = -run.statics.drive(0);
-                if constexpr (statics::StaticsFeatures<M>::kHasFriction) {
-                  statics::Solution<M> still;
-                  statics::Solve<M>(o.statics, p, r.state.q, r.state.phi, c, VecQ::Zero(), &still);
-                  Q_static = still.statics.Q(0);
-                }
                 if constexpr (kDynamics) {
+                  // Q_static: the loads' generalized force without friction (the same as the
+                  // run's with a frictionless model).
+                  double Q_static = -run.statics.drive(0);
+                  if constexpr (statics::StaticsFeatures<M>::kHasFriction) {
+                    statics::Solution<M> still;
+                    statics::Solve<M>(o.statics, p, r.state.q, r.state.phi, c, VecQ::Zero(), &still);
+                    Q_static = still.statics.Q(0);
+                  }
                   typename M::template DynamicsT<double> d;
                   M::template Dynamics<double>(p, r.state.q, r.state.phi, qd, 0.0, c, &d);
                   pt.T_inertia = d.h(0);
                   pt.T_speed = Q_static - d.Q(0);
                   pt.I = d.I(0, 0);
-                } else {
-                  (void)Q_static;
                 }
                 pt.T_req = pt.T_static + pt.T_inertia + pt.T_speed;
                 if (!std::isfinite(pt.T_req) || !std::isfinite(pt.I)) {
