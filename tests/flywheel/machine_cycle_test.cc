@@ -273,8 +273,10 @@ TEST(FlywheelPunchPress, SimulatedCheckAgreesToOrderCs) {
     ASSERT_TRUE(sim.ok) << sim.message;
     EXPECT_LT(std::abs(sim.last_change), 1e-5);  // the neutral cycle's creep per cycle
     // The energy loop assumes a constant inertia and the inertia torque at w_m: the simulated
-    // C_s agrees to O(C_s) relative.
-    EXPECT_NEAR(sim.trace.C_s / C_s, 1, C_s) << "simulated " << sim.trace.C_s;
+    // C_s agrees to O(C_s) relative (measured +0.0011 at C_s = 0.02 and +0.0028 at 0.05: about
+    // 0.056 C_s, linear in C_s).
+    EXPECT_NEAR(sim.trace.C_s / C_s, 1, 0.1 * C_s) << "simulated " << sim.trace.C_s;
+    EXPECT_GT(std::abs(sim.trace.C_s / C_s - 1), 0.02 * C_s);  // not exact: what the loop neglects
     // The speed is lowest right after the punch and highest before it.
     EXPECT_NEAR(sim.trace.omega_mid, o.omega, C_s * o.omega);
     // A shunt motor gives torque as the machine slows: a smaller fluctuation.
