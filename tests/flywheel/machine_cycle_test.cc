@@ -16,6 +16,7 @@
 #include <functional>
 #include <vector>
 
+#include "fourbar_loaded.h"
 #include "fourbar_massive.h"
 #include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
@@ -181,6 +182,30 @@ TEST(FlywheelShaper, StatusesNotNumbers) {
     EXPECT_TRUE(std::isfinite(dead.failed_theta));
     EXPECT_NE(dead.message.find("theta = "), std::string::npos) << dead.message;
   }
+}
+
+// A crank that cannot turn: the loaded four-bar (models/fourbar_loaded.yaml) with its crank
+// lengthened to a = 2.6 is no longer Grashof (2.6 + 4 > 3.5 + 3); coupler and rocker stretch
+// out where |BD| = b + c, cos theta = (a^2 + d^2 - (b + c)^2) / (2 a d): 159.62 deg. The
+// sizing stops there with a status and that angle, no torque.
+TEST(FlywheelFourbar, ALimitPositionInsideTheCycleIsAStatusWithItsAngle) {
+  using M = mech::fourbar_loaded::Model;
+  M::ParamsT<double> p;
+  p.a = 2.6;
+  const double limit = std::acos((p.a * p.a + p.d * p.d - (p.b + p.c) * (p.b + p.c)) / (2 * p.a * p.d));
+  fw::MachineCycleOptions o;
+  o.omega = 1;
+  o.samples = 360;
+  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  EXPECT_TRUE(c.status == fw::CycleStatus::kDeadPoint || c.status == fw::CycleStatus::kPositionFailed)
+      << c.message;
+  EXPECT_TRUE(c.points.empty());
+  EXPECT_NEAR(c.failed_theta, limit, 1.5 * kDeg) << c.message;
+  EXPECT_NE(c.message.find("theta = 1"), std::string::npos) << c.message;
+  // The same machine with its own crank turns: sized.
+  M::ParamsT<double> ok;
+  EXPECT_TRUE(fw::SampleMachineCycle<M>(ok, o).status == fw::CycleStatus::kOk ||
+              fw::SampleMachineCycle<M>(ok, o).status == fw::CycleStatus::kNoLoad);
 }
 
 // ---- the punch press by hand: s(theta) = a cos theta + sqrt(b^2 - a^2 sin^2 theta). ----
