@@ -49,8 +49,8 @@
  *    with the slip s = 1 − ω_m/ω_0 (T_stall = T_m/s). From θ_0 at the speed the energy loop
  *    predicts there, the one-DOF simulator (dynamics/forward.h, Dopri5) integrates to a
  *    periodic steady state (dynamics/simulator.h: the cycle-mean speed settled; with the
- *    constant-torque motor, whose cycle is neutral when the loads depend on the position only,
- *    the second full cycle, the creep of its mean speed reported); the last cycle's
+ *    constant-torque motor and loads of the position only, a neutral cycle, the second full
+ *    cycle, the creep of its mean speed reported); the last cycle's
  *    speed trace, sampled at equal times, gives C_s = (ω_max − ω_min)/ω_mid
  *    (AnalyzeSpeedTrace). The energy loop assumes a constant inertia and a constant motor
  *    torque, and ω_max − ω_min from ½ I (ω_max² − ω_min²) = ΔE: with the constant-torque motor the
@@ -507,7 +507,14 @@ SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
     mo.steady.enabled = true;
     mo.steady.coordinate = 0;
     mo.steady.cycle = cycle.cycle;
-    if (o.law == MotorLaw::kConstant) {
+    // Loads that depend on the speed (T_speed not 0 somewhere) fix the mean speed themselves.
+    double largest = 0, speed_part = 0;
+    for (const CyclePoint& pt : cycle.points) {
+      largest = std::max(largest, std::abs(pt.T_req));
+      speed_part = std::max(speed_part, std::abs(pt.T_speed));
+    }
+    const bool neutral = o.law == MotorLaw::kConstant && !(speed_part > 1e-12 * largest);
+    if (neutral) {
       // Neutral: with loads of the position only every mean speed is periodic under a constant
       // torque, and the sampled T_mean's own error makes the mean speed creep by
       // (error of Θ T_mean)/(I ω²) per cycle without ever settling. The cycles from the
