@@ -1,7 +1,7 @@
 #!/bin/bash
 # The flywheel command (issue 25): the per-model tool <model>_flywheel and `mechgen flywheel
-# MODEL` on a model file outside the source tree, uncached then cached (the same CSV bytes as
-# the per-model tool), --help, a bad option (exit 2, one line), a model without `forces` (one
+# MODEL` on a model file outside the source tree, with an empty cache, cached, and --no-cache
+# (the same CSV bytes as the per-model tool each time), --help, a bad option (exit 2, one line), a model without `forces` (one
 # line, exit 1, nothing compiled), a machine that cannot be sized (exit 1, the angle said).
 # usage: flywheel_command_test.sh <mechgen> <source dir> <punch_press_flywheel>
 set -u
@@ -52,6 +52,14 @@ start=$(date +%s.%N)
 end=$(date +%s.%N)
 cmp -s "$work/tool.csv" "$work/second.csv" || fail "cached CSV differs"
 awk -v a="$start" -v b="$end" 'BEGIN { exit !(b - a < 5) }' || fail "the cached run took $(echo "$end - $start" | bc) s"
+# --no-cache: built in a temporary directory, run, deleted; the cache untouched.
+entries_before=$(find "$MECHGEN_CACHE_DIR/flywheel" -mindepth 1 -maxdepth 1 | wc -l)
+"$mechgen" flywheel --no-cache "$work/models/press.yaml" --rpm 300 --cs 0.02 --samples 3600 \
+  --csv "$work/nocache.csv" > /dev/null 2> "$work/nocache.err" ||
+  fail "mechgen flywheel --no-cache exited $?: $(cat "$work/nocache.err")"
+cmp -s "$work/tool.csv" "$work/nocache.csv" || fail "--no-cache CSV differs"
+[ "$(find "$MECHGEN_CACHE_DIR/flywheel" -mindepth 1 -maxdepth 1 | wc -l)" = "$entries_before" ] ||
+  fail "--no-cache changed the cache"
 "$mechgen" flywheel "$work/models/press.yaml" --help > "$work/help.out" || fail "--help exited $?"
 grep -q -- '--cs' "$work/help.out" || fail "--help lists --cs"
 "$mechgen" flywheel "$work/models/press.yaml" --rpm -3 > /dev/null 2> "$work/bad.err"; status=$?
