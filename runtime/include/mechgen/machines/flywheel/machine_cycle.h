@@ -22,6 +22,8 @@
  *        T_dynamic = h(θ, ω_m) − (Q(θ, ω_m) − Q_static(θ)),  h = ½ I' ω_m²:
  *    the inertia torque plus what the speed-dependent loads (dampers, viscous friction,
  *    speed tables) need. Without `dynamics` the machine is taken as massless (T_dynamic = 0).
+ *    Coulomb friction is that of the static loads: the share of the bearing loads that the
+ *    inertia forces add is not in it (a friction iteration on the kinetostatics is not done).
  *    A sample where the positions fail, or at a dead point (cond_1(Phi_phi) above the statics'
  *    max_condition: the driving torque grows without bound there), ends the sampling with a
  *    status and the angle: never a huge number.
