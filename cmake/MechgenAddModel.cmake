@@ -1,5 +1,5 @@
 # mechgen_add_model(<name> <model.yaml> [NO_SWEEP] [STATICS|NO_STATICS]
-#                   [SIMULATE|NO_SIMULATE] [ENGINE] [STRATEGY blocks|monolithic])
+#                   [SIMULATE|NO_SIMULATE] [ENGINE] [FLYWHEEL] [STRATEGY blocks|monolithic])
 #
 # Runs `mechgen generate` on <model.yaml> at build time (again whenever the model, the
 # templates or the mechgen program change) and defines:
@@ -19,6 +19,12 @@
 #                          crank torque over a cycle, bearing loads, flywheel, run-up) of a model
 #                          made by tools/make_engine.py (it reads the engine's parameters by
 #                          name, which no quantity says). Eigen only.
+#   <name>_flywheel        with FLYWHEEL only: the flywheel command (runtime/tools/
+#                          flywheel_main.cc: the driving torque at constant speed over a cycle,
+#                          its energy loop, the flywheel for a C_s, with `dynamics` a simulated
+#                          check), for a one-input model with `forces` (a stub without). Eigen
+#                          only. Opt-in, so that the shipped models' build does not grow; any
+#                          model file has it as `mechgen flywheel MODEL`.
 #
 # What a model has is what the generator says, never a reading of the YAML here: its
 # quantities as the generator's model reader resolves them, with what they imply (`dynamics`
@@ -39,6 +45,7 @@
 #                          `forces` (its stub) | never define it.
 #   SIMULATE | NO_SIMULATE the same for <name>_simulate and `dynamics`.
 #   ENGINE                 define <name>_engine (a stub without `dynamics`).
+#   FLYWHEEL               define <name>_flywheel (a stub without `forces`).
 #   STRATEGY blocks|monolithic   passed to `mechgen generate --strategy` (default blocks).
 # The cache variable MECHGEN_BUILD_SWEEPS (default ON) OFF defines no tools for any model (as
 # NO_SWEEP everywhere); without Ceres (no target mechgen::runtime_ceres) there are no
@@ -130,11 +137,11 @@ function(mechgen_add_model name model)
       "with '_'); it becomes the namespace mech::<name> and the files <name>.h/.cc. Rename it "
       "(for example ${suggestion}).")
   endif()
-  cmake_parse_arguments(ARG "NO_SWEEP;STATICS;NO_STATICS;SIMULATE;NO_SIMULATE;ENGINE" "STRATEGY" ""
+  cmake_parse_arguments(ARG "NO_SWEEP;STATICS;NO_STATICS;SIMULATE;NO_SIMULATE;ENGINE;FLYWHEEL" "STRATEGY" ""
                         ${ARGN})
   if(ARG_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "mechgen_add_model(${name}): unknown arguments ${ARG_UNPARSED_ARGUMENTS}; "
-      "the options are NO_SWEEP, STATICS, NO_STATICS, SIMULATE, NO_SIMULATE, ENGINE, STRATEGY")
+      "the options are NO_SWEEP, STATICS, NO_STATICS, SIMULATE, NO_SIMULATE, ENGINE, FLYWHEEL, STRATEGY")
   endif()
   set(strategy_args)
   if(ARG_STRATEGY)
@@ -202,6 +209,10 @@ function(mechgen_add_model name model)
   endif()
   if(ARG_ENGINE AND EXISTS "${MECHGEN_TOOLS_DIR}/engine_main.cc")
     _mechgen_add_tool(${name} engine engine_main.cc MECHGEN_MODEL_HAS_DYNAMICS dynamics dynamics
+                      mechgen::runtime)
+  endif()
+  if(ARG_FLYWHEEL AND EXISTS "${MECHGEN_TOOLS_DIR}/flywheel_main.cc")
+    _mechgen_add_tool(${name} flywheel flywheel_main.cc MECHGEN_MODEL_HAS_FORCES statics forces
                       mechgen::runtime)
   endif()
 endfunction()

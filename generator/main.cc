@@ -161,8 +161,8 @@ int main(int argc, char** argv) {
                "coefficients (Phi, Phi_phi, K, L), points, statics (driving forces, reactions, "
                "friction), dynamics (generalized inertia, equations of motion, bearing loads) and "
                "shaking, as the model's outputs ask. `generate` writes the code; `sweep`, `statics`, "
-               "`simulate` and `engine` compile (once, cached) and run the analysis of a model "
-               "directly."};
+               "`simulate`, `engine` and `flywheel` compile (once, cached) and run the analysis of a "
+               "model directly."};
   app.require_subcommand(1);
   std::string model_path, out_dir = ".", name, templates = DefaultTemplates();
   bool latex = false, standalone = false, quiet = false, print_quantities = false;

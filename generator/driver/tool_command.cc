@@ -1,4 +1,4 @@
-// `mechgen sweep|statics|simulate|engine`. See tool_command.h.
+// `mechgen sweep|statics|simulate|engine|flywheel`. See tool_command.h.
 #include "driver/tool_command.h"
 
 #include <fcntl.h>
@@ -79,6 +79,10 @@ const std::vector<ToolSpec>& Specs() {
       {"engine", "engine_main.cc", {}, false, "dynamics",
        "an engine made by tools/make_engine.py: crank torque, bearing loads, flywheel sizing and run-up "
        "(needs the output `dynamics`)"},
+      {"flywheel", "flywheel_main.cc", {}, false, "forces",
+       "flywheel sizing of a one-input machine: the driving torque at constant speed over a cycle, its "
+       "energy loop, the flywheel for a coefficient of speed fluctuation and, with `dynamics`, its "
+       "simulated check under a motor law (needs the output `forces`)"},
   };
   return specs;
 }

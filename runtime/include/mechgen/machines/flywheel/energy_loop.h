@@ -24,6 +24,9 @@
  *     ∫_{θ_k}^{θ_{k+1}} ΔT ≈ h/24 (−ΔT_{k−1} + 13 ΔT_k + 13 ΔT_{k+1} − ΔT_{k+2})
  * (local error O(h⁵), so E is O(h⁴) for a smooth ΔT; over the whole cycle it sums to the
  * periodic trapezoid rule h Σ ΔT_k, which is spectrally accurate: E(θ_0 + Θ) = Θ·mean exactly).
+ * At a kink of ΔT (a switched load) both are only second order, unless the kink is a sample
+ * named in EnergyLoopOptions::breaks: the stencils then do not reach across it (one-sided
+ * 4-point formulas), and E and the closure stay fourth order.
  * The extremes are refined between samples with the cubic Hermite interpolant of E (values
  * E_k and slopes ΔT_k) on the two intervals next to the extreme sample, so ΔE and the angles
  * of E_max and E_min do not depend on where the samples fall to within O(h⁴).
@@ -60,7 +63,8 @@ namespace mechgen::flywheel {
 
 enum class LoopStatus {
   kOk = 0,
-  kTooFewSamples,  ///< fewer than 4 samples (the 4-point formula), or no areas
+  kTooFewSamples,  ///< fewer than 4 samples (the 4-point formula), or no areas, or a break
+                   ///< not a sample or fewer than 3 intervals from another
   kBadCycle,       ///< Θ not finite or <= 0
   kNonFinite,      ///< a sample, area or the start angle is NaN or infinite
   /// |mean(ΔT)| > mean_tolerance · max|ΔT| (or |Σ areas| > tolerance · Σ|areas|): the cycle is
@@ -91,6 +95,17 @@ struct EnergyLoopOptions {
   /// extra load that makes the cycle steady (the textbook's "mean torque line" when only T_d
   /// is given). The mean is still reported; the status is then kOk.
   bool remove_mean = false;
+  /// Breaks: the samples k (0 <= k < n, any order) where ΔT has a kink (a switched load, e.g.
+  /// a force switched on where its point is at rest) or where the two sides meet. The 4-point
+  /// stencil of an interval never reaches across a break: next to one it takes the one-sided
+  /// 4-point formula of the same order, h/24 (9 f_k + 19 f_{k+1} − 5 f_{k+2} + f_{k+3}) and its
+  /// mirror, and on an interval with a break at both ends the trapezoid. So a ΔT smooth between
+  /// breaks keeps E fourth order (without breaks a kink makes E, and even the cycle's closure,
+  /// second order: the trapezoid's end terms h²/12 × the slope jump do not cancel). A jump of
+  /// ΔT at a sample cannot be represented by one value there: put it between samples or
+  /// accept first order. Not owned; nullptr / 0: none.
+  const int* breaks = nullptr;
+  int num_breaks = 0;
 };
 
 /// The result of ExcessEnergy(): the swing of the excess energy over one cycle.
@@ -98,7 +113,8 @@ struct EnergyLoop {
   LoopStatus status = LoopStatus::kTooFewSamples;
   int n = 0;                   ///< samples N
   double cycle = 0;            ///< Θ (rad)
-  double mean_torque = 0;      ///< (1/N) Σ ΔT_k (N m), before any removal
+  double mean_torque = 0;      ///< (1/N) Σ ΔT_k (N m), before any removal; with breaks
+                               ///< the break-aware integral of ΔT over Θ, divided by Θ
   double cycle_work = 0;       ///< E(θ_0 + Θ) as integrated (J): 0 steady, Θ·mean otherwise
   double E_max = 0;            ///< largest E (J), refined between samples
   double theta_max = 0;        ///< where (rad, in [θ_0, θ_0 + Θ))
@@ -169,6 +185,14 @@ inline EnergyLoop ExcessEnergy(const double* dT,
     r.status = LoopStatus::kBadCycle;
     return r;
   }
+  // Breaks: on samples, and at least 3 intervals apart (the one-sided stencils).
+  for (int i = 0; i < options.num_breaks; ++i) {
+    if (options.breaks[i] < 0 || options.breaks[i] >= n) return r;
+    for (int j = 0; j < options.num_breaks; ++j) {
+      const int d = ((options.breaks[j] - options.breaks[i]) % n + n) % n;
+      if (d == 1 || d == 2) return r;
+    }
+  }
   double sum = 0, peak = 0;
   for (int k = 0; k < n; ++k) {
     if (!std::isfinite(dT[k]) || !std::isfinite(theta0)) {
@@ -179,16 +203,38 @@ inline EnergyLoop ExcessEnergy(const double* dT,
     peak = std::max(peak, std::abs(dT[k]));
   }
   r.mean_torque = sum / n;
-  const double shift = options.remove_mean ? r.mean_torque : 0.0;
-  const bool steady = options.remove_mean || std::abs(r.mean_torque) <= options.mean_tolerance * peak;
+  double shift = 0;
   const double h = cycle / n;
   auto g = [&](int k) { return dT[((k % n) + n) % n] - shift; };
+  auto is_break = [&](int k) {
+    const int kk = ((k % n) + n) % n;
+    for (int i = 0; i < options.num_breaks; ++i)
+      if (options.breaks[i] == kk) return true;
+    return false;
+  };
+  // The integral over [θ_k, θ_k+1]: the centred 4-point rule, one-sided next to a break.
+  auto interval = [&](int k) {
+    const bool left = options.num_breaks > 0 && is_break(k);
+    const bool right = options.num_breaks > 0 && is_break(k + 1);
+    if (left && right) return h / 2 * (g(k) + g(k + 1));
+    if (left) return h / 24 * (9 * g(k) + 19 * g(k + 1) - 5 * g(k + 2) + g(k + 3));
+    if (right) return h / 24 * (9 * g(k + 1) + 19 * g(k) - 5 * g(k - 1) + g(k - 2));
+    return h / 24 * (-g(k - 1) + 13 * g(k) + 13 * g(k + 1) - g(k + 2));
+  };
+  if (options.num_breaks > 0) {
+    // The mean as the break-aware rule integrates it (the sample mean is the trapezoid's).
+    double W = 0;
+    for (int k = 0; k < n; ++k) W += interval(k);
+    r.mean_torque = W / cycle;
+  }
+  shift = options.remove_mean ? r.mean_torque : 0.0;
+  const bool steady = options.remove_mean || std::abs(r.mean_torque) <= options.mean_tolerance * peak;
   // First pass: E at the samples, the extreme samples, the cycle's work.
   double e = 0, e_hi = 0, e_lo = 0;
   int k_hi = 0, k_lo = 0;
   if (E != nullptr) E[0] = 0;
   for (int k = 0; k < n; ++k) {
-    e += h / 24 * (-g(k - 1) + 13 * g(k) + 13 * g(k + 1) - g(k + 2));
+    e += interval(k);
     if (k + 1 < n) {
       if (E != nullptr) E[k + 1] = e;
       if (e > e_hi) e_hi = e, k_hi = k + 1;
@@ -201,7 +247,7 @@ inline EnergyLoop ExcessEnergy(const double* dT,
   auto E_at = [&](int j) {
     const int jj = ((j % n) + n) % n;
     double v = 0;
-    for (int k = 0; k < jj; ++k) v += h / 24 * (-g(k - 1) + 13 * g(k) + 13 * g(k + 1) - g(k + 2));
+    for (int k = 0; k < jj; ++k) v += interval(k);
     if (j < 0) v -= e;
     if (j >= n) v += e;
     return v;

@@ -1,0 +1,603 @@
+/**
+ * \file machines/flywheel/machine_cycle.h
+ * Flywheel sizing of any one-DOF machine with forces (Paul §6.9): the driving torque a
+ * constant-speed motor must supply over one cycle of the input, its energy loop, the flywheel
+ * for a coefficient of speed fluctuation C_s, and (with `dynamics`) a simulated check of that
+ * flywheel under a motor law. The engines' own tool (engine_main.cc) does the same for gas
+ * forces; this header is for the shaper, the punch press, the crusher: any generated model
+ * with one input and the output `forces`.
+ *
+ * 1. The required torque (SampleMachineCycle). The input θ moves at the constant speed ω_m
+ *    (> 0, counter-clockwise) over one cycle [θ_0, θ_0 + Θ): N samples θ_k = θ_0 + k Θ/N, the
+ *    positions continued from the model's assembly configuration (sweep/sweep.h, the position
+ *    solver's branch kept). At each sample
+ *        T_req(θ) = T_static(θ) + T_dynamic(θ)                                     (N m, CCW +)
+ *    T_static: the statics driving torque of the loads, weights and springs (statics/solve.h,
+ *    the generated EvalStatics by virtual work; with Coulomb friction the friction iterated
+ *    for the motion in +θ: the torque to run forward). T_dynamic, with the quantity
+ *    `dynamics` only: Paul's one-DOF equation I(θ) θ̈ + ½ I'(θ) θ̇² = Q(θ, θ̇) at θ̇ = ω_m,
+ *    θ̈ = 0 asks for the torque ½ I'(θ) ω_m² − Q(θ, ω_m) (the generated EvalDynamics' h and Q:
+ *    the drive of EvalKinetostatics at that motion), of which the statics already counted
+ *    the position-dependent part −Q_static = drive_0 (frictionless), so
+ *        T_dynamic = h(θ, ω_m) − (Q(θ, ω_m) − Q_static(θ)),  h = ½ I' ω_m²:
+ *    the inertia torque plus what the speed-dependent loads (dampers, viscous friction,
+ *    speed tables) need. Without `dynamics` the machine is taken as massless (T_dynamic = 0).
+ *    Coulomb friction is that of the static loads: the share of the bearing loads that the
+ *    inertia forces add is not in it (a friction iteration on the kinetostatics is not done).
+ *    A sample where the positions fail, or at a dead point (cond_1(Phi_phi) above the statics'
+ *    max_condition: the driving torque grows without bound there), ends the sampling with a
+ *    status and the angle: never a huge number.
+ * 2. The energy loop (machines/flywheel/energy_loop.h, ExcessEnergy): a motor of constant
+ *    torque T_m = mean(T_req) (the steady cycle: the motor's work per cycle equals the load's)
+ *    leaves the excess torque ΔT = T_m − T_req, the excess energy E(θ) = ∫_{θ_0}^{θ} ΔT
+ *    (E(θ_0) = 0), ΔE = E_max − E_min, and the constant inertia I_req = ΔE/(C_s ω_m²) that keeps
+ *    the speed within ±C_s/2 of ω_m. With `dynamics` the machine already has I(θ): the flywheel
+ *    to add is I_fly = I_req − mean I(θ) (as the engine tool does); without, I_fly = I_req.
+ *    Accuracy: E is the 4-point rule of energy_loop.h, fourth order in the sample step h = Θ/N
+ *    where T_req is smooth. A switched load (step(), clamp(), mod() in the model) makes T_req
+ *    kink (a force switched on where its point does not move, e.g. the shaper's cut at the
+ *    ram's dead points) or jump (a force switched on while its point moves); E is then second
+ *    order at a kink (error h²/12 × the slope jump: the trapezoid's end terms) and first order
+ *    at a jump between samples (error up to h × the torque jump / 2). A kink on a sample named
+ *    in MachineCycleOptions::breaks keeps E fourth order (energy_loop.h's one-sided stencils):
+ *    the shaper's switches at its ram's dead points, with θ_0 on one and N a multiple of 3. The
+ *    loop's closure, Θ × mean(T_req), is the periodic trapezoid rule (or with breaks the
+ *    break-aware rule): exact to rounding for a smooth periodic T_req, second order at a kink
+ *    that is not a break.
+ * 3. The simulated check (CheckBySimulation, `dynamics` only): the model with I_fly added to
+ *    the input (WithFlywheel<M>: I(θ) + I_fly in the generated dynamics) driven by a motor
+ *    law (MotorLoad): kConstant, T = T_m; or kShunt, the linear torque–speed line of a
+ *    shunt (or induction, near synchronism) motor T = T_stall (1 − ω/ω_0) through (ω_m, T_m)
+ *    with the slip s = 1 − ω_m/ω_0 (T_stall = T_m/s). From θ_0 at the speed the energy loop
+ *    predicts there, the one-DOF simulator (dynamics/forward.h, Dopri5) integrates to a
+ *    periodic steady state (dynamics/simulator.h: the cycle-mean speed settled; with the
+ *    constant-torque motor and loads of the position only, a neutral cycle, the second full
+ *    cycle, the creep of its mean speed reported); the last cycle's
+ *    speed trace, sampled at equal times, gives C_s = (ω_max − ω_min)/ω_mid
+ *    (AnalyzeSpeedTrace). The energy loop assumes a constant inertia and a constant motor
+ *    torque, and ω_max − ω_min from ½ I (ω_max² − ω_min²) = ΔE: with the constant-torque motor the
+ *    simulated C_s agrees with the asked one to O(C_s) relative (the variation of I(θ) and of
+ *    the speed-dependent loads over the cycle; the inertia torque ½ I' ω² taken at ω_m instead
+ *    of ω(θ)); a shunt motor also absorbs part of the fluctuation (its torque rises as the
+ *    machine slows), so its C_s is smaller, the more so the smaller the slip.
+ *
+ * Units: the model's (SI: rad, rad/s, N m, J, kg m²); angles CCW +. Allocates (the samples'
+ * vectors, outside any solver's loop); nothing throws; every result has a status.
+ */
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mechgen/core/constants.h"
+#include "mechgen/core/model_traits.h"
+#include "mechgen/dynamics/forward.h"
+#include "mechgen/machines/flywheel/energy_loop.h"
+#include "mechgen/position/solver.h"
+#include "mechgen/statics/solve.h"
+#include "mechgen/statics/traits.h"
+#include "mechgen/sweep/sweep.h"
+
+
+namespace mechgen::flywheel {
+
+/// Why a machine could (not) be sized.
+enum class CycleStatus {
+  kOk = 0,
+  kNotOneDof,       ///< the model has more (or fewer) than one input
+  kNoForces,        ///< the model was generated without `forces`
+  kNotAngle,        ///< the input is a slide: no cycle of a turning input
+  kBadOptions,      ///< ω_m, Θ or the samples out of range
+  kNotAssembled,    ///< the model does not assemble at its assembly configuration
+  kPositionFailed,  ///< the positions failed at a sample (the loop does not close there)
+  kDeadPoint,       ///< a dead point inside the cycle: cond_1(Phi_phi) too large at a sample
+  kStaticsFailed,   ///< the statics (friction iteration) did not converge at a sample
+  kNotFinite,       ///< a torque or an inertia at a sample is not finite
+  kNoLoad,          ///< mean(T_req) <= 0: the load does no net work; no motor to size
+};
+
+inline const char* ToString(CycleStatus s) {
+  switch (s) {
+    case CycleStatus::kOk:
+      return "ok";
+    case CycleStatus::kNotOneDof:
+      return "not a one-DOF machine (flywheel sizing needs exactly one input)";
+    case CycleStatus::kNoForces:
+      return "the model has no forces (add `forces` to its outputs' quantities)";
+    case CycleStatus::kNotAngle:
+      return "the input is a slide, not a turning crank: no cycle to size a flywheel for";
+    case CycleStatus::kBadOptions:
+      return "bad options (speed, cycle or samples)";
+    case CycleStatus::kNotAssembled:
+      return "the model does not assemble at its assembly configuration";
+    case CycleStatus::kPositionFailed:
+      return "the positions failed inside the cycle";
+    case CycleStatus::kDeadPoint:
+      return "a dead point inside the cycle (the driving torque grows without bound there)";
+    case CycleStatus::kStaticsFailed:
+      return "the statics did not converge inside the cycle";
+    case CycleStatus::kNotFinite:
+      return "a torque or inertia inside the cycle is not finite";
+    case CycleStatus::kNoLoad:
+      return "the mean required torque is not positive: the loads do no net work per cycle";
+  }
+  return "unknown";
+}
+
+struct MachineCycleOptions {
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  double omega = 0;       ///< ω_m, the mean speed (rad/s), > 0
+  double theta0 = kNaN;   ///< θ_0 (rad); NaN: the model's kQMin
+  double cycle = kNaN;    ///< Θ (rad); NaN: DefaultCycle()
+  int samples = 720;      ///< N >= 4
+  /// Angles (rad) where the load switches so that T_req kinks (energy_loop.h's breaks: E stays
+  /// fourth order); each must fall on a sample (θ_0 + k Θ/N up to 1e-9 of a step) and be at
+  /// least 3 samples from another.
+  std::vector<double> breaks;
+  statics::Options statics;
+
+  bool IsValid() const {
+    return std::isfinite(omega) && omega > 0 && samples >= 4 && samples <= 10000000 &&
+           (std::isnan(theta0) || std::isfinite(theta0)) &&
+           (std::isnan(cycle) || (std::isfinite(cycle) && cycle > 0)) && statics.IsValid(nullptr);
+  }
+};
+
+/// One sample of the cycle.
+struct CyclePoint {
+  double theta = 0;      ///< θ_k (rad)
+  double T_req = 0;      ///< the required driving torque (N m, on the input link, CCW +)
+  double T_static = 0;   ///< its statics part (loads, weights, springs, Coulomb friction)
+  double T_inertia = 0;  ///< h = ½ I'(θ) ω_m² (N m; 0 without `dynamics`)
+  double T_speed = 0;    ///< what the speed-dependent loads need: Q_static − Q(θ, ω_m) (N m)
+  double I = 0;          ///< the machine's generalized inertia I(θ) (kg m²; 0 without `dynamics`)
+  double E = 0;          ///< the excess energy E(θ_k) (J), E(θ_0) = 0
+  double condition = 0;  ///< cond_1(Phi_phi)
+};
+
+/// The sampled cycle, its energy loop and the flywheel.
+struct MachineCycle {
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  CycleStatus status = CycleStatus::kBadOptions;
+  std::string message;        ///< what went wrong, with the angle and the figures ("" if ok)
+  double failed_theta = kNaN; ///< the sample where it went wrong (rad)
+  bool has_dynamics = false;  ///< T_inertia, T_speed and I are the model's (else 0)
+  double omega = 0, theta0 = 0, cycle = 0;
+  std::vector<CyclePoint> points;
+  EnergyLoop loop;            ///< of ΔT = T_mean − T_req (E_max, E_min, their angles, ΔE)
+  double T_mean = kNaN;       ///< mean(T_req) = the constant motor torque of a steady cycle (N m)
+  double work = kNaN;         ///< Θ T_mean: the load's work per cycle (J)
+  double T_max = kNaN, T_min = kNaN;  ///< extremes of T_req over the samples (N m)
+  double theta_T_max = kNaN, theta_T_min = kNaN;
+  double I_mean = 0;          ///< mean I(θ) (kg m²; 0 without `dynamics`)
+  bool IsUsable() const { return status == CycleStatus::kOk; }
+};
+
+/// The flywheel for a C_s.
+struct FlywheelSize {
+  double C_s = 0;          ///< asked
+  double I_required = 0;   ///< ΔE/(C_s ω_m²): the total constant inertia (kg m²)
+  double I_flywheel = 0;   ///< I_required − mean I(θ): the inertia to add (kg m²)
+  bool needed = true;      ///< false when the machine's own mean inertia already suffices
+};
+
+/// Θ by default: the model's input range when it is a whole number of turns (720° for a
+/// four-stroke engine model), else one turn.
+template <class M>
+double DefaultCycle() {
+  const double range = M::kQMax[0] - M::kQMin[0];
+  const double turns = std::round(range / (2 * kPi));
+  if (turns >= 1 && std::abs(range - turns * 2 * kPi) <= 1e-9 * range) return turns * 2 * kPi;
+  return 2 * kPi;
+}
+
+namespace internal {
+inline std::string Degrees(double theta) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "theta = %.6g deg", theta * 180 / kPi);
+  return buffer;
+}
+}  // namespace internal
+
+/**
+ * \brief T_req over one cycle at ω_m, its energy loop (see the file comment).
+ * \param[in] p  the model's parameters.
+ */
+template <class M>
+MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
+                                const MachineCycleOptions& o) {
+  MachineCycle out;
+  if constexpr (M::kNq != 1) {
+    (void)p, (void)o;
+    out.status = CycleStatus::kNotOneDof;
+    out.message = ToString(out.status);
+    return out;
+  } else if constexpr (!statics::StaticsFeatures<M>::kHasStatics) {
+    (void)p, (void)o;
+    out.status = CycleStatus::kNoForces;
+    out.message = ToString(out.status);
+    return out;
+  } else {
+    using VecQ = typename ModelTypes<M>::VecQ;
+    auto fail = [&](CycleStatus s, double theta, const std::string& why) {
+      out.status = s;
+      out.failed_theta = theta;
+      out.message = std::string(ToString(s)) + (std::isnan(theta) ? "" : " at " + internal::Degrees(theta)) +
+                    (why.empty() ? "" : ": " + why);
+      return out;
+    };
+    if (!M::kQIsAngle[0]) return fail(CycleStatus::kNotAngle, MachineCycle::kNaN, "");
+    if (!o.IsValid()) return fail(CycleStatus::kBadOptions, MachineCycle::kNaN, "");
+    const int n = o.samples;
+    out.omega = o.omega;
+    out.theta0 = std::isnan(o.theta0) ? M::kQMin[0] : o.theta0;
+    out.cycle = std::isnan(o.cycle) ? DefaultCycle<M>() : o.cycle;
+    const double h_theta = out.cycle / n;
+    if (!(h_theta <= position::Options().max_input_step))
+      return fail(CycleStatus::kBadOptions, MachineCycle::kNaN,
+                  "the samples are further apart than the position solver's step limit; use more");
+    constexpr bool kDynamics = HasDynamics<M>::value;
+    out.has_dynamics = kDynamics;
+    position::PositionSolver<M> solver(position::Options(), p);
+    position::Summary assembly;
+    if (solver.AssembleDefault(&assembly) != position::Status::kConverged)
+      return fail(CycleStatus::kNotAssembled, MachineCycle::kNaN, position::FormatSummary(assembly));
+    out.points.assign(static_cast<size_t>(n), CyclePoint());
+    VecQ q_begin, q_end, qd, qdd;
+    q_begin(0) = out.theta0;
+    // n steps to θ_0 + Θ; the last row (θ_0 + Θ = θ_0 of the next cycle) is not kept.
+    q_end(0) = out.theta0 + out.cycle;
+    qd(0) = o.omega;
+    qdd(0) = 0;
+    const VecQ forward = VecQ::Ones();
+    bool failed = false;
+    SweepRows(&solver, q_begin, q_end, n, qd, qdd, SweepOptions(),
+              [&](int k, const SweepRecord<M>& r) {
+                if (failed || k >= n) return;
+                const double theta = out.theta0 + k * h_theta;
+                const position::Status ps = r.summary.status;
+                if (ps == position::Status::kSingular) {
+                  failed = true;
+                  fail(CycleStatus::kDeadPoint, theta, position::FormatSummary(r.summary));
+                  return;
+                }
+                if (ps != position::Status::kConverged || !r.state.valid) {
+                  failed = true;
+                  fail(CycleStatus::kPositionFailed, theta, position::FormatSummary(r.summary));
+                  return;
+                }
+                typename ModelTypes<M>::Coefficients c;
+                M::template Coeffs<double>(p, r.state.q, r.state.phi, &c);
+                statics::Solution<M> run;
+                const statics::Status st =
+                    statics::Solve<M>(o.statics, p, r.state.q, r.state.phi, c, forward, &run);
+                if (st != statics::Status::kConverged) {
+                  failed = true;
+                  fail(st == statics::Status::kSingular ? CycleStatus::kDeadPoint
+                                                        : CycleStatus::kStaticsFailed,
+                       theta, statics::FormatSummary(run.summary));
+                  return;
+                }
+                CyclePoint& pt = out.points[static_cast<size_t>(k)];
+                pt.theta = theta;
+                pt.condition = run.summary.condition;
+                pt.T_static = run.statics.drive(0);
+                if constexpr (kDynamics) {
+                  // Q_static: the loads' generalized force without friction (the same as the
+                  // run's with a frictionless model).
+                  double Q_static = -run.statics.drive(0);
+                  if constexpr (statics::StaticsFeatures<M>::kHasFriction) {
+                    statics::Solution<M> still;
+                    statics::Solve<M>(o.statics, p, r.state.q, r.state.phi, c, VecQ::Zero(), &still);
+                    Q_static = still.statics.Q(0);
+                  }
+                  typename M::template DynamicsT<double> d;
+                  M::template Dynamics<double>(p, r.state.q, r.state.phi, qd, 0.0, c, &d);
+                  pt.T_inertia = d.h(0);
+                  pt.T_speed = Q_static - d.Q(0);
+                  pt.I = d.I(0, 0);
+                }
+                pt.T_req = pt.T_static + pt.T_inertia + pt.T_speed;
+                if (!std::isfinite(pt.T_req) || !std::isfinite(pt.I)) {
+                  failed = true;
+                  fail(CycleStatus::kNotFinite, theta, "");
+                }
+              });
+    if (failed) {
+      out.points.clear();
+      return out;
+    }
+    // The energy loop of ΔT = T_mean − T_req: ExcessEnergy of −T_req with its mean removed.
+    std::vector<double> minus_T(static_cast<size_t>(n)), E(static_cast<size_t>(n));
+    out.T_max = -std::numeric_limits<double>::infinity();
+    out.T_min = std::numeric_limits<double>::infinity();
+    double I_sum = 0;
+    for (int k = 0; k < n; ++k) {
+      const CyclePoint& pt = out.points[static_cast<size_t>(k)];
+      minus_T[static_cast<size_t>(k)] = -pt.T_req;
+      I_sum += pt.I;
+      if (pt.T_req > out.T_max) out.T_max = pt.T_req, out.theta_T_max = pt.theta;
+      if (pt.T_req < out.T_min) out.T_min = pt.T_req, out.theta_T_min = pt.theta;
+    }
+    out.I_mean = I_sum / n;
+    EnergyLoopOptions loop_options;
+    loop_options.remove_mean = true;
+    std::vector<int> break_samples;
+    for (double b : o.breaks) {
+      const double u = (b - out.theta0) / h_theta;
+      const double k = std::round(u);
+      if (!(std::abs(u - k) <= 1e-9 * std::max(1.0, std::abs(u)))) {
+        out.status = CycleStatus::kBadOptions;
+        out.failed_theta = b;
+        out.message = "the break at " + internal::Degrees(b) +
+                      " is not on a sample: choose the samples (or the start) so that it is";
+        out.points.clear();
+        return out;
+      }
+      break_samples.push_back(static_cast<int>(((static_cast<long long>(k) % n) + n) % n));
+    }
+    loop_options.breaks = break_samples.data();
+    loop_options.num_breaks = static_cast<int>(break_samples.size());
+    out.loop = ExcessEnergy(minus_T.data(), n, out.cycle, out.theta0, loop_options, E.data());
+    out.T_mean = -out.loop.mean_torque;
+    out.work = out.T_mean * out.cycle;
+    for (int k = 0; k < n; ++k) out.points[static_cast<size_t>(k)].E = E[static_cast<size_t>(k)];
+    if (!out.loop.IsUsable()) {
+      out.status = out.loop.status == LoopStatus::kTooFewSamples ? CycleStatus::kBadOptions
+                                                                 : CycleStatus::kNotFinite;
+      out.message = std::string("energy loop: ") + ToString(out.loop.status);
+      return out;
+    }
+    if (!(out.T_mean > 0)) {
+      out.status = CycleStatus::kNoLoad;
+      char buffer[160];
+      std::snprintf(buffer, sizeof(buffer), "%s (mean %.6g N m)", ToString(out.status), out.T_mean);
+      out.message = buffer;
+      return out;
+    }
+    out.status = CycleStatus::kOk;
+    return out;
+  }
+}
+
+/// The flywheel that keeps the speed of `cycle` within C_s (see the file comment).
+inline FlywheelSize SizeFlywheel(const MachineCycle& cycle, double C_s) {
+  FlywheelSize f;
+  f.C_s = C_s;
+  f.I_required = RequiredInertia(cycle.loop.delta_E, C_s, cycle.omega);
+  f.I_flywheel = f.I_required - cycle.I_mean;
+  f.needed = f.I_flywheel > 0;
+  return f;
+}
+
+// ---------------------------------------------------------------------------------------
+// The simulated check (models with `dynamics`).
+
+/// How the motor's torque depends on the speed.
+enum class MotorLaw { kConstant, kShunt };
+
+inline const char* ToString(MotorLaw law) { return law == MotorLaw::kConstant ? "constant" : "shunt"; }
+
+/// The motor: the Load of dynamics::MinimalDynamics (a torque on the input, CCW +).
+struct MotorLoad {
+  MotorLaw law = MotorLaw::kConstant;
+  double T_mean = 0;   ///< N m: the torque at ω_m
+  double T_stall = 0;  ///< kShunt: T_mean / slip (N m)
+  double omega_0 = 0;  ///< kShunt: the no-load speed ω_m / (1 − slip) (rad/s)
+
+  static MotorLoad Make(MotorLaw law, double T_mean, double omega_m, double slip) {
+    MotorLoad m;
+    m.law = law;
+    m.T_mean = T_mean;
+    m.T_stall = T_mean / slip;
+    m.omega_0 = omega_m / (1 - slip);
+    return m;
+  }
+  double Torque(double omega) const {
+    return law == MotorLaw::kConstant ? T_mean : T_stall * (1 - omega / omega_0);
+  }
+  template <class VecQ, class MatK>
+  void operator()(double /*t*/, const VecQ& /*q*/, const VecQ& qd, const MatK& /*K*/, VecQ* Q) const {
+    (*Q)(0) = Torque(qd(0));
+  }
+};
+
+/**
+ * WithFlywheel<M>: model M with a constant inertia I_flywheel added to its one input (a
+ * flywheel keyed to the crank): the generated dynamics (M::Dynamics and, where the model has
+ * it, the one-pass M::Rhs) with I(0, 0) + I_flywheel and T + ½ I_flywheel θ̇². Everything
+ * else is M's; its parameters are M's with the member I_flywheel (kg m²) added.
+ */
+template <class M>
+struct WithFlywheel : M {
+  template <class S>
+  struct ParamsT : M::template ParamsT<S> {
+    S I_flywheel = S(0);
+  };
+  template <class S, class VQ, class VPhi, class VQd, class C, class Out, class... Rest>
+  static void Dynamics(const ParamsT<S>& p, const VQ& q, const VPhi& phi, const VQd& qd, const S& t,
+                       const C& c, Out* out, Rest... rest) {
+    M::template Dynamics<S>(p, q, phi, qd, t, c, out, rest...);
+    out->I(0, 0) += p.I_flywheel;
+    out->T += S(0.5) * p.I_flywheel * qd(0) * qd(0);
+  }
+  template <class S, class RC, class VQ, class VQd, class Modes, class Trig, class Out, class... Rest>
+  static auto Rhs(const ParamsT<S>& p, const RC& rc, const VQ& q, const VQd& qd, const S& t,
+                  const Modes& modes, Trig* trig, Out* out, Rest... rest) {
+    const auto report = M::template Rhs<S>(p, rc, q, qd, t, modes, trig, out, rest...);
+    out->I(0, 0) += p.I_flywheel;
+    out->T += S(0.5) * p.I_flywheel * qd(0) * qd(0);
+    return report;
+  }
+};
+
+struct CheckOptions {
+  MotorLaw law = MotorLaw::kConstant;
+  double slip = 0.05;           ///< kShunt: s = 1 − ω_m/ω_0, in (0, 1)
+  int samples_per_cycle = 720;  ///< the speed trace's equal-time samples per cycle
+  double steady_tolerance = 1e-7;  ///< relative change of the cycle-mean speed
+  int max_cycles = 400;         ///< give up after this many cycles (at ω_m)
+  double rtol = 1e-10, atol = 1e-10;
+};
+
+struct SimulatedCheck {
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  bool ok = false;
+  std::string message;          ///< why not ("" if ok)
+  double I_flywheel = kNaN;     ///< the flywheel simulated (kg m²)
+  double omega_start = kNaN;    ///< the speed at θ_0 the run started with (rad/s)
+  int cycles = 0;               ///< cycles until the steady state
+  double period = kNaN;         ///< the steady cycle's duration (s)
+  double last_change = kNaN;    ///< relative change of the cycle-mean speed at the end
+  SpeedTrace trace;             ///< the last cycle's ω_max, ω_min, ω_mid, time mean, C_s
+  double theta_at_max = kNaN, theta_at_min = kNaN;  ///< where (rad, in [θ_0, θ_0 + Θ))
+  double max_energy_error = kNaN;  ///< the simulator's max |E − W_nc − E_0| (J)
+};
+
+/**
+ * \brief The machine of `cycle` with the flywheel I_flywheel added, driven by the motor law,
+ * integrated to a periodic steady state; C_s of its last cycle (see the file comment).
+ */
+template <class M>
+SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
+                                 const MachineCycle& cycle, double I_flywheel,
+                                 const CheckOptions& o = CheckOptions()) {
+  SimulatedCheck out;
+  out.I_flywheel = I_flywheel;
+  if constexpr (!HasDynamics<M>::value || M::kNq != 1) {
+    (void)p, (void)cycle, (void)o;
+    out.message = "the model has no dynamics (add `dynamics` to its outputs' quantities)";
+    return out;
+  } else {
+    using Machine = WithFlywheel<M>;
+    using Sim = dynamics::MinimalDynamics<Machine, dynamics::Dopri5, MotorLoad>;
+    using VecQ = typename Sim::VecQ;
+    char buffer[400];
+    if (!cycle.IsUsable() || cycle.points.empty()) {
+      out.message = "no usable cycle to check";
+      return out;
+    }
+    if (!(I_flywheel >= 0) || !std::isfinite(I_flywheel) || !(o.slip > 0 && o.slip < 1) ||
+        o.samples_per_cycle < 8 || o.max_cycles < 3) {
+      out.message = "bad check options (flywheel, slip, samples or cycles)";
+      return out;
+    }
+    typename Machine::template ParamsT<double> pf;
+    static_cast<typename M::template ParamsT<double>&>(pf) = p;
+    pf.I_flywheel = I_flywheel;
+    const double w = cycle.omega;
+    // The speed at θ_0 on the cycle whose extremes the energy loop puts at ω_m ± C_s ω_m / 2:
+    // ½ I ω² = ½ I ω_m² + E(θ) − ½ (E_max + E_min), E(θ_0) = 0.
+    const double I0 = I_flywheel + cycle.points[0].I;
+    const double w2 = w * w - (cycle.loop.E_max + cycle.loop.E_min) / I0;
+    if (!(w2 > 0)) {
+      out.message = "the flywheel is too small to keep the machine turning (the speed would reach zero)";
+      return out;
+    }
+    out.omega_start = std::sqrt(w2);
+    dynamics::MinimalOptions mo;
+    mo.integrator.rtol = o.rtol;
+    mo.integrator.atol = o.atol;
+    const double period_guess = cycle.cycle / w;
+    mo.sample_dt = period_guess / o.samples_per_cycle;
+    mo.steady.enabled = true;
+    mo.steady.coordinate = 0;
+    mo.steady.cycle = cycle.cycle;
+    // Loads that depend on the speed (T_speed not 0 somewhere) fix the mean speed themselves.
+    double largest = 0, speed_part = 0;
+    for (const CyclePoint& pt : cycle.points) {
+      largest = std::max(largest, std::abs(pt.T_req));
+      speed_part = std::max(speed_part, std::abs(pt.T_speed));
+    }
+    const bool neutral = o.law == MotorLaw::kConstant && !(speed_part > 1e-12 * largest);
+    if (neutral) {
+      // Neutral: with loads of the position only every mean speed is periodic under a constant
+      // torque, and the sampled T_mean's own error makes the mean speed creep by
+      // (error of Θ T_mean)/(I ω²) per cycle without ever settling. The cycles from the
+      // predicted start are steady from the first: the second timed cycle is taken (its
+      // change of the cycle-mean speed reported in last_change).
+      mo.steady.tolerance = 0.5;
+      mo.steady.consecutive = 1;
+    } else {
+      mo.steady.tolerance = o.steady_tolerance;
+      mo.steady.consecutive = 2;
+    }
+    Sim sim(pf, mo, MotorLoad::Make(o.law, cycle.T_mean, w, o.slip));
+    VecQ q0, qd0;
+    q0(0) = cycle.theta0;
+    qd0(0) = out.omega_start;
+    if (!sim.Initialize(q0)) {
+      out.message = "the model does not assemble at the cycle's start";
+      return out;
+    }
+    struct Point {
+      double t, theta, omega;
+    };
+    std::vector<Point> trace;
+    trace.reserve(static_cast<size_t>(o.samples_per_cycle) * 8);
+    dynamics::MinimalSummary summary;
+    const double t_end = o.max_cycles * period_guess;
+    sim.Simulate(
+        0.0, q0, qd0, t_end,
+        [&](const typename Sim::SampleT& s) {
+          trace.push_back({s.t, s.q(0), s.qd(0)});
+          // Keep the last few cycles only (the steady cycle is the last one).
+          if (trace.size() > static_cast<size_t>(o.samples_per_cycle) * 16) {
+            trace.erase(trace.begin(), trace.begin() + static_cast<long>(trace.size() / 2));
+          }
+          return true;
+        },
+        &summary);
+    out.cycles = summary.steady.cycles;
+    out.period = summary.steady.period;
+    out.last_change = summary.steady.last_change;
+    out.max_energy_error = summary.max_energy_error;
+    if (!(summary.status == dynamics::Status::kStoppedByEvent &&
+          summary.event == dynamics::Event::kSteadyState)) {
+      std::snprintf(buffer, sizeof(buffer),
+                    "the simulation did not reach a steady cycle: %s",
+                    dynamics::FormatSummary(summary).c_str());
+      out.message = buffer;
+      if (summary.status == dynamics::Status::kSuccess) {
+        std::snprintf(buffer, sizeof(buffer),
+                      "no steady cycle within %d cycles (the cycle-mean speed still changing by "
+                      "%.3g relative; asked %.3g)",
+                      o.max_cycles, summary.steady.last_change, o.steady_tolerance);
+        out.message = buffer;
+      }
+      return out;
+    }
+    // The last cycle: [t_crossing − period, t_crossing).
+    const double t1 = summary.steady.t_crossing, t0 = t1 - summary.steady.period;
+    std::vector<double> omega;
+    std::vector<double> theta;
+    for (const Point& pt : trace) {
+      if (pt.t >= t0 && pt.t < t1) {
+        omega.push_back(pt.omega);
+        theta.push_back(pt.theta);
+      }
+    }
+    out.trace = AnalyzeSpeedTrace(omega.data(), static_cast<int>(omega.size()), TraceSampling::kTime);
+    if (out.trace.status != TraceStatus::kOk || omega.size() < 8) {
+      out.message = "the steady cycle's speed trace is unusable (too few samples or a speed <= 0)";
+      return out;
+    }
+    auto wrap = [&](double th) {
+      double a = std::fmod(th - cycle.theta0, cycle.cycle);
+      if (a < 0) a += cycle.cycle;
+      return cycle.theta0 + a;
+    };
+    out.theta_at_max = wrap(theta[static_cast<size_t>(out.trace.k_max)]);
+    out.theta_at_min = wrap(theta[static_cast<size_t>(out.trace.k_min)]);
+    out.ok = true;
+    return out;
+  }
+}
+
+}  // namespace mechgen::flywheel

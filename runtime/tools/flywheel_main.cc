@@ -1,0 +1,370 @@
+// <model>_flywheel: flywheel sizing of one generated one-DOF machine (issue 25).
+//
+// mechgen_add_model() (cmake/MechgenAddModel.cmake) compiles this generic file per model whose
+// outputs ask for `forces`, with -DMECHGEN_MODEL_INCLUDE="<name>.h"
+// -DMECHGEN_MODEL_NAMESPACE=mech::<name>; `mechgen flywheel <model.yaml>` compiles it the same
+// way for any model file (generator/driver/tool_command.cc). What it computes
+// (mechgen/machines/flywheel/machine_cycle.h): the driving torque T_req(theta) a motor turning
+// the input at the constant speed --rpm must supply over one cycle (the statics of the loads,
+// weights, springs and friction, plus with `dynamics` the inertia torque 1/2 I'(theta) w^2 and
+// the speed-dependent loads: Paul's one-DOF equation at constant speed), its mean (the
+// constant motor torque of a steady cycle), the energy loop E(theta) of the excess torque
+// T_mean - T_req (Paul §6.9.2), dE = E_max - E_min and the flywheel for --cs: I = dE/(C_s w^2)
+// (less the machine's own mean inertia with `dynamics`). With `dynamics` (and not --no-check)
+// it then simulates the machine with that flywheel, driven by a --motor law (constant torque
+// T_mean, or a shunt motor's line T = T_stall (1 - w/w_0) through (w_m, T_mean) with --slip),
+// to a periodic steady state, and prints the simulated C_s against the asked one.
+// Writes the energy loop as CSV (--csv; its columns described in its '#' header lines, every
+// number so that it reads back to the same double) and draws it with gnuplot (--png, --svg:
+// runtime/tools/plot_energy_loop.gnuplot, when gnuplot is on the PATH). Example:
+//   shaper_flywheel --rpm 60 --cs 0.05 --csv out/shaper_loop.csv --png out/shaper_loop.png
+// Signs: the input turns counter-clockwise (theta increasing) at w > 0; torques on the input
+// link, CCW +; T_req > 0 where the motor drives, < 0 where the machine gives energy back.
+// Exit status: 0 done; 1 the machine cannot be sized (not one-DOF, a slide input, a dead point
+// or a failed position inside the cycle: the angle is printed; no net load) or the simulated
+// check failed or an output cannot be written; 2 a usage error (one line "<tool>: error: ...");
+// 3 the model does not assemble. A model generated without `forces` builds into a stub that
+// says so (exit status 2). Eigen, CLI11 only (the runtime's Newton assembler).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "common/cli.h"
+#include "mechgen/io/csv.h"
+#include "mechgen/io/output_file.h"
+#include "mechgen/machines/flywheel/machine_cycle.h"
+#include "mechgen/table/columns.h"
+
+#ifndef MECHGEN_MODEL_INCLUDE
+#error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
+#endif
+#include MECHGEN_MODEL_INCLUDE
+
+namespace {
+
+constexpr double kRadToDeg = 57.295779513082323;
+namespace tools = mechgen::tools;
+namespace fw = mechgen::flywheel;
+
+// One CSV row: a sample of the cycle and the mean torque line.
+struct LoopRow {
+  fw::CyclePoint point;
+  double T_mean = 0;
+};
+
+mechgen::table::Columns<LoopRow> LoopColumns(bool dynamics) {
+  mechgen::table::Columns<LoopRow> columns;
+  mechgen::table::Builder<LoopRow> add(&columns);
+  add.Number("theta", "rad", "input angle (CCW +), one cycle from theta0, the end not repeated",
+             [](const LoopRow& r) { return r.point.theta; });
+  add.Number("theta_deg", "deg", "the same in degrees",
+             [](const LoopRow& r) { return r.point.theta * kRadToDeg; });
+  add.Number("T_req", "N m",
+             "driving torque a motor turning the input at the constant speed must apply (on the "
+             "input link, CCW +): T_static + T_inertia + T_speed",
+             [](const LoopRow& r) { return r.point.T_req; });
+  add.Number("T_mean", "N m", "its mean over the cycle: the constant motor torque of a steady cycle",
+             [](const LoopRow& r) { return r.T_mean; });
+  add.Number("E", "J",
+             "excess energy: the integral of T_mean - T_req from theta0 (the energy the flywheel "
+             "stores; E_max - E_min = dE)",
+             [](const LoopRow& r) { return r.point.E; });
+  add.Number("T_static", "N m",
+             "the statics part: loads, weights, springs and Coulomb friction for motion in +theta",
+             [](const LoopRow& r) { return r.point.T_static; });
+  if (dynamics) {
+    add.Number("T_inertia", "N m", "the inertia torque 1/2 I'(theta) w^2 at the constant speed",
+               [](const LoopRow& r) { return r.point.T_inertia; });
+    add.Number("T_speed", "N m",
+               "what the speed-dependent loads (dampers, viscous friction, speed tables) need at w",
+               [](const LoopRow& r) { return r.point.T_speed; });
+    add.Number("I", "kg m^2", "the machine's generalized inertia I(theta) about the input (no flywheel)",
+               [](const LoopRow& r) { return r.point.I; });
+  }
+  add.Number("cond", "1", "cond_1(Phi_phi) of the configuration",
+             [](const LoopRow& r) { return r.point.condition; });
+  return columns;
+}
+
+// The directory of the plot scripts: beside this file (the source tree's runtime/tools, or an
+// installed share/mechgen/tools), unless MECHGEN_PLOT_DIR says otherwise.
+std::string PlotScript() {
+#ifdef MECHGEN_PLOT_DIR
+  return std::string(MECHGEN_PLOT_DIR) + "/plot_energy_loop.gnuplot";
+#else
+  std::string here = __FILE__;
+  const size_t slash = here.find_last_of('/');
+  return (slash == std::string::npos ? std::string(".") : here.substr(0, slash)) +
+         "/plot_energy_loop.gnuplot";
+#endif
+}
+
+// gnuplot on the CSV at csv_path, writing `picture` (png or svg). One line on failure.
+bool Plot(const std::string& csv_path, const std::string& kind, const std::string& picture,
+          std::string* error) {
+  for (const std::string* s : {&csv_path, &picture}) {
+    if (s->find_first_of("'\"\\$`\n") != std::string::npos) {
+      *error = "cannot pass the path " + tools::Quote(*s) + " to gnuplot (quotes, $, ` or \\ in it)";
+      return false;
+    }
+  }
+  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+    *error = "gnuplot is not on the PATH: no --" + kind + " picture (the CSV has the data)";
+    return false;
+  }
+  const std::string script = PlotScript();
+  if (access(script.c_str(), R_OK) != 0) {
+    *error = "cannot read the plot script " + script;
+    return false;
+  }
+  const std::string command = "gnuplot -e \"csv='" + csv_path + "'; " + kind + "='" + picture +
+                              "'\" '" + script + "' >/dev/null 2>&1";
+  if (std::system(command.c_str()) != 0) {
+    *error = "gnuplot failed to draw " + picture;
+    return false;
+  }
+  return true;
+}
+
+template <class M>
+int Run(int argc, char** argv) {
+  const std::string tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
+  CLI::App app{std::string("Flywheel sizing of the mechgen model '") + M::kName +
+               "': the driving torque at constant speed over a cycle, its energy loop, the "
+               "flywheel for a coefficient of speed fluctuation, and a simulated check."};
+  app.footer("Exit status: 0 done, 1 the machine cannot be sized (the reason and angle on "
+             "stderr; nothing written), the simulated check failed (the loop's CSV and pictures "
+             "are still written: they do not depend on it) or an output cannot be written, 2 a "
+             "usage error (one line on stderr), 3 the model does not assemble.");
+  double rpm = 60, cs = 0.02, slip = 0.05, steady_tol = 1e-7;
+  std::string theta0_text, cycle_text, motor = "constant", csv_path, png_path, svg_path;
+  std::vector<std::string> break_texts;
+  int samples = 720, check_samples = 720, max_cycles = 400;
+  bool no_check = false, check = false;
+  tools::Number(&app, "--rpm", &rpm, tools::Between(1e-3, 1e6),
+                "the mean speed of the input (rev/min)");
+  tools::Number(&app, "--cs", &cs, tools::NumberRange{0, 0.5, true, false},
+                "the coefficient of speed fluctuation C_s = (w_max - w_min)/w_mean to size for");
+  tools::Count(&app, "--samples", &samples, 8, 10000000,
+               "samples of the cycle (equal angle steps; the energy loop's accuracy: see --help "
+               "of the README, fourth order where T_req is smooth)");
+  app.add_option("--theta0", theta0_text,
+                 "the cycle's start (rad, or with a 'deg' suffix); default the model's range start");
+  app.add_option("--cycle", cycle_text,
+                 "the cycle (rad, or 'deg'); default the model's range when whole turns, else 360deg");
+  app.add_option("--break", break_texts,
+                 "an angle (rad, or 'deg') where a switched load makes T_req kink, on a sample: the "
+                 "energy loop does not integrate across it (fourth order instead of second); "
+                 "repeatable")
+      ->allow_extra_args(false);
+  app.add_option("--motor", motor, "the simulated check's motor: constant (T = T_mean) or shunt "
+                                   "(T = T_stall (1 - w/w_0) through w_m, T_mean)")
+      ->check(CLI::IsMember({"constant", "shunt"}))
+      ->capture_default_str();
+  tools::Number(&app, "--slip", &slip, tools::NumberRange{0, 1, true, true},
+                "shunt motor: the slip 1 - w_m/w_0 at the mean speed");
+  app.add_flag("--check", check, "simulate the machine with the flywheel (default with `dynamics`)");
+  app.add_flag("--no-check", no_check, "no simulated check");
+  tools::Count(&app, "--check-samples", &check_samples, 16, 1000000,
+               "the check's speed samples per cycle (equal time steps)");
+  tools::Count(&app, "--max-cycles", &max_cycles, 3, 100000,
+               "the check gives up without a steady cycle after this many cycles");
+  tools::Number(&app, "--steady-tol", &steady_tol, tools::Between(1e-12, 1e-2),
+                "the check's steady state: the cycle-mean speed changing by less than this, "
+                "relative, two cycles in a row");
+  app.add_option("--csv", csv_path, "write the energy loop (theta, T_req, T_mean, E, ...) to this CSV");
+  app.add_option("--png", png_path, "draw the torque and energy loop to this PNG (needs gnuplot)");
+  app.add_option("--svg", svg_path, "draw the torque and energy loop to this SVG (needs gnuplot)");
+  tools::ParameterOptions parameter_options;
+  tools::AddParameterOptions(&app, &parameter_options);
+  if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
+  if (check && no_check) return tools::UsageError(tool, "--check and --no-check: choose one");
+  if (check && !mechgen::HasDynamics<M>::value)
+    return tools::UsageError(tool, std::string("--check needs a model with `dynamics` (") + M::kName +
+                                       " has none: its machine is massless)");
+  typename M::template ParamsT<double> params;
+  if (std::string why; !tools::ApplyParameters(parameter_options, &params, &why))
+    return tools::UsageError(tool, why);
+  fw::MachineCycleOptions options;
+  options.omega = fw::RpmToRadPerSecond(rpm);
+  options.samples = samples;
+  auto angle = [&](const std::string& option, const std::string& text, bool positive,
+                   double* value) {
+    if (!tools::ParseNumber(text, value, /*allow_degrees=*/true) ||
+        !(std::abs(*value) <= tools::kMaxPosition) || (positive && !(*value > 0)))
+      return tools::UsageError(tool, tools::BadValue(option, text,
+                                                     std::string(positive ? "an angle > 0" : "an angle") +
+                                                         " in rad (or with a 'deg' suffix), at most 1e4"));
+    return -1;
+  };
+  if (!theta0_text.empty())
+    if (const int e = angle("--theta0", theta0_text, false, &options.theta0); e >= 0) return e;
+  if (!cycle_text.empty())
+    if (const int e = angle("--cycle", cycle_text, true, &options.cycle); e >= 0) return e;
+  for (const std::string& text : break_texts) {
+    double b = 0;
+    if (const int e = angle("--break", text, false, &b); e >= 0) return e;
+    options.breaks.push_back(b);
+  }
+  const double cycle = std::isnan(options.cycle) ? fw::DefaultCycle<M>() : options.cycle;
+  if (!(cycle / samples <= mechgen::position::Options().max_input_step))
+    return tools::UsageError(tool, tools::BadValue("--samples", std::to_string(samples),
+                                                   "at least " + tools::FormatNumber(std::ceil(
+                                                       cycle / mechgen::position::Options().max_input_step)) +
+                                                       " for this cycle (the position solver's step limit)"));
+
+  const fw::MachineCycle machine = fw::SampleMachineCycle<M>(params, options);
+  if (machine.status == fw::CycleStatus::kNotAssembled) {
+    std::cerr << "error: cannot size a flywheel for " << M::kName << ": " << machine.message << "\n";
+    return 3;
+  }
+  if (machine.status == fw::CycleStatus::kBadOptions && !options.breaks.empty())
+    return tools::UsageError(tool, "--break: " + machine.message);
+  if (!machine.IsUsable()) {
+    std::cerr << "error: cannot size a flywheel for " << M::kName << ": " << machine.message << "\n";
+    return 1;
+  }
+  const fw::FlywheelSize size = fw::SizeFlywheel(machine, cs);
+  const fw::EnergyLoop& loop = machine.loop;
+  std::printf("mechgen flywheel of '%s': %s from %.6g deg over %.6g deg in %d samples at %.6g rpm "
+              "(w_m = %.9g rad/s)%s\n",
+              M::kName, M::kQNames[0], machine.theta0 * kRadToDeg, machine.cycle * kRadToDeg, samples,
+              rpm, machine.omega,
+              machine.has_dynamics ? "; statics + inertia torque (dynamics)" : "; statics only (massless)");
+  if (const std::string changed = tools::ChangedParameters(params); !changed.empty())
+    std::printf("parameters set: %s\n", changed.c_str());
+  std::printf("  required torque T_req: mean %.9g N m (the constant motor torque), max %.6g N m at "
+              "%.6g deg, min %.6g N m at %.6g deg\n",
+              machine.T_mean, machine.T_max, machine.theta_T_max * kRadToDeg, machine.T_min,
+              machine.theta_T_min * kRadToDeg);
+  std::printf("  work per cycle %.9g J; mean power %.6g W\n", machine.work, machine.T_mean * machine.omega);
+  std::printf("  energy loop: E_max = %.9g J at %.6g deg, E_min = %.9g J at %.6g deg; dE = %.9g J\n",
+              loop.E_max, loop.theta_max * kRadToDeg, loop.E_min, loop.theta_min * kRadToDeg,
+              loop.delta_E);
+  std::printf("  C_s = %.6g: I = dE/(C_s w_m^2) = %.9g kg m^2", cs, size.I_required);
+  if (machine.has_dynamics) {
+    std::printf("; the machine's own mean I = %.6g kg m^2; flywheel I_fly = %.9g kg m^2%s\n",
+                machine.I_mean, size.I_flywheel,
+                size.needed ? "" : " (none needed: the machine's own inertia suffices)");
+  } else {
+    std::printf(" (the flywheel; the machine is massless: no `dynamics`)\n");
+  }
+
+  int status = 0;
+  const bool do_check = machine.has_dynamics && !no_check && size.needed;
+  if (do_check) {
+    fw::CheckOptions co;
+    co.law = motor == "shunt" ? fw::MotorLaw::kShunt : fw::MotorLaw::kConstant;
+    co.slip = slip;
+    co.samples_per_cycle = check_samples;
+    co.max_cycles = max_cycles;
+    co.steady_tolerance = steady_tol;
+    const fw::SimulatedCheck sim = fw::CheckBySimulation<M>(params, machine, size.I_flywheel, co);
+    if (!sim.ok) {
+      std::cerr << "error: the simulated check failed: " << sim.message << "\n";
+      status = 1;
+    } else {
+      std::printf("  simulated with I_fly and a %s motor%s: steady after %d cycles (period %.6g s); "
+                  "w %.9g .. %.9g rad/s (max at %.6g deg, min at %.6g deg), w_mid %.9g, time mean "
+                  "%.9g rad/s\n",
+                  fw::ToString(co.law), co.law == fw::MotorLaw::kShunt ? (" (slip " + tools::FormatNumber(slip) + ")").c_str() : "",
+                  sim.cycles, sim.period, sim.trace.omega_min, sim.trace.omega_max,
+                  sim.theta_at_max * kRadToDeg, sim.theta_at_min * kRadToDeg, sim.trace.omega_mid,
+                  sim.trace.omega_mean);
+      std::printf("  simulated C_s = %.6g against the asked %.6g (%+.3f %%; the energy loop is exact "
+                  "to O(C_s) relative)\n",
+                  sim.trace.C_s, cs, 100 * (sim.trace.C_s / cs - 1));
+    }
+  } else if (machine.has_dynamics && !no_check && !size.needed) {
+    std::printf("  no simulated check: no flywheel to add\n");
+  }
+
+  // The CSV (whole or absent), then the pictures from it.
+  std::vector<LoopRow> rows;
+  rows.reserve(machine.points.size());
+  for (const fw::CyclePoint& pt : machine.points) rows.push_back({pt, machine.T_mean});
+  const auto columns = LoopColumns(machine.has_dynamics);
+  const bool picture = !png_path.empty() || !svg_path.empty();
+  std::string csv_for_plot = csv_path;
+  std::string temporary;
+  if (csv_path.empty() && picture) {
+    char name[] = "/tmp/mechgen_flywheel_XXXXXX";
+    const int fd = mkstemp(name);
+    if (fd < 0) {
+      std::cerr << "error: cannot create a temporary CSV for the picture\n";
+      return 1;
+    }
+    close(fd);
+    temporary = csv_for_plot = name;
+  }
+  if (!csv_for_plot.empty()) {
+    mechgen::OutputFile csv;
+    std::string error;
+    if (!csv.Open(csv_for_plot, &error)) {
+      std::cerr << "error: " << error << "\n";
+      return 1;
+    }
+    mechgen::WriteCsv(columns, rows, csv.stream(),
+                      mechgen::Described(mechgen::CsvAbout(
+                          std::string(M::kName) + "_flywheel", M::kName,
+                          "energy loop at " + tools::FormatNumber(rpm) + " rpm (w_m = " +
+                              tools::FormatNumber(machine.omega) + " rad/s), C_s = " +
+                              tools::FormatNumber(cs) + ", dE = " + tools::FormatNumber(loop.delta_E) +
+                              " J, I = " + tools::FormatNumber(size.I_required) + " kg m^2",
+                          "torques on the input link, CCW + (the input turns CCW at w_m > 0); E > 0 "
+                          "where the machine runs ahead of its mean")));
+    if (!csv.Close(&error) || !csv.Commit(&error)) {
+      std::cerr << "error: " << error << "\n";
+      if (!temporary.empty()) std::remove(temporary.c_str());
+      return 1;
+    }
+    if (!csv_path.empty())
+      std::printf("wrote %s (%zu rows x %zu columns)\n", csv_path.c_str(), rows.size(), columns.size());
+  }
+  for (const auto& [kind, path] : {std::pair<std::string, std::string>{"png", png_path},
+                                   std::pair<std::string, std::string>{"svg", svg_path}}) {
+    if (path.empty()) continue;
+    std::string error;
+    if (Plot(csv_for_plot, kind, path, &error)) {
+      std::printf("wrote %s\n", path.c_str());
+    } else {
+      std::cerr << "error: " << error << "\n";
+      status = 1;
+    }
+  }
+  if (!temporary.empty()) std::remove(temporary.c_str());
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    std::cerr << "error: cannot write the standard output\n";
+    return 1;
+  }
+  return status;
+}
+
+// The flywheel command for a one-input model with statics; a stub for the others.
+template <class M>
+int Main(int argc, char** argv) {
+  if constexpr (mechgen::statics::StaticsFeatures<M>::kHasStatics && M::kNq == 1) {
+    return Run<M>(argc, argv);
+  } else {
+    (void)argc;
+    (void)argv;
+    if constexpr (M::kNq != 1) {
+      std::cerr << "error: the model '" << M::kName << "' has " << M::kNq
+                << " inputs; flywheel sizing is for one-DOF machines\n";
+      return 1;
+    } else {
+      std::cerr << "error: the model '" << M::kName
+                << "' was generated without statics; add `forces` to its outputs' quantities\n";
+      return 2;
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return Main<MECHGEN_MODEL_NAMESPACE::Model>(argc, argv); }

@@ -1,0 +1,76 @@
+#!/bin/bash
+# The flywheel command (issue 25): the per-model tool <model>_flywheel and `mechgen flywheel
+# MODEL` on a model file outside the source tree, with an empty cache, cached, and --no-cache
+# (the same CSV bytes as the per-model tool each time), --help, a bad option (exit 2, one line), a model without `forces` (one
+# line, exit 1, nothing compiled), a machine that cannot be sized (exit 1, the angle said).
+# usage: flywheel_command_test.sh <mechgen> <source dir> <punch_press_flywheel>
+set -u
+mechgen=$1 src=$2 tool=$3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+# The per-model tool: CSV with units in its header, the summary with units.
+"$tool" --rpm 300 --cs 0.02 --samples 3600 --csv "$work/tool.csv" > "$work/tool.out" 2>&1 ||
+  fail "punch_press_flywheel exited $?: $(cat "$work/tool.out")"
+grep -q '^theta,theta_deg,T_req,T_mean,E,' "$work/tool.csv" || fail "CSV header"
+grep -q '^# T_req \[N m\]' "$work/tool.csv" || fail "CSV column units"
+grep -q '^# punch_press_flywheel, model punch_press: energy loop' "$work/tool.csv" || fail "CSV about line"
+[ "$(grep -vc '^#' "$work/tool.csv")" = 3601 ] || fail "CSV rows"
+grep -q 'dE = [0-9.]* J' "$work/tool.out" || fail "summary dE"
+grep -q 'flywheel I_fly = [0-9.]* kg m^2' "$work/tool.out" || fail "summary I_fly"
+grep -q 'simulated C_s = ' "$work/tool.out" || fail "summary simulated C_s"
+# Energy per stroke: F0 (delta - w/2) = 110 J (the trapezoid's error at the punch's kinks is
+# below 1e-3 J at 3600 samples: tests/flywheel/machine_cycle_test.cc).
+awk '/work per cycle/ { w = $4; exit } END { if (w < 109.999 || w > 110.001) exit 1 }' "$work/tool.out" ||
+  fail "work per cycle: $(grep 'work per cycle' "$work/tool.out")"
+
+# A bad option: exit 2, one line.
+"$tool" --cs 2 > "$work/bad.out" 2> "$work/bad.err"; status=$?
+[ $status = 2 ] || fail "--cs 2 exited $status"
+[ "$(wc -l < "$work/bad.err")" = 1 ] || fail "--cs 2: not one line: $(cat "$work/bad.err")"
+"$tool" --motor diesel 2> "$work/bad.err"; [ $? = 2 ] || fail "--motor diesel"
+"$tool" --break 7.5deg --samples 360 --rpm 60 2> "$work/bad.err" > /dev/null; status=$?
+[ $status = 2 ] || fail "--break off the samples exited $status"
+grep -q 'not on a sample' "$work/bad.err" || fail "--break message: $(cat "$work/bad.err")"
+# A machine that cannot be sized: the punch reversed (it drives the ram: no net load).
+"$tool" --set F0=-20000 --no-check > /dev/null 2> "$work/noload.err"; status=$?
+[ $status = 1 ] || fail "F0 < 0 exited $status"
+grep -q 'mean required torque is not positive' "$work/noload.err" || fail "no-load message"
+
+# mechgen flywheel on a copy of the model outside the tree, uncached (compiles) then cached.
+mkdir -p "$work/models" "$work/cache"
+cp "$src/tests/flywheel/models/punch_press.yaml" "$work/models/press.yaml"
+export MECHGEN_CACHE_DIR="$work/cache"
+"$mechgen" flywheel "$work/models/press.yaml" --rpm 300 --cs 0.02 --samples 3600 \
+  --csv "$work/first.csv" > "$work/first.out" 2> "$work/first.err" ||
+  fail "mechgen flywheel (uncached) exited $?: $(cat "$work/first.err")"
+cmp -s "$work/tool.csv" "$work/first.csv" || fail "mechgen flywheel's CSV differs from punch_press_flywheel's"
+start=$(date +%s.%N)
+"$mechgen" flywheel "$work/models/press.yaml" --rpm 300 --cs 0.02 --samples 3600 \
+  --csv "$work/second.csv" > "$work/second.out" 2>&1 || fail "mechgen flywheel (cached) exited $?"
+end=$(date +%s.%N)
+cmp -s "$work/tool.csv" "$work/second.csv" || fail "cached CSV differs"
+awk -v a="$start" -v b="$end" 'BEGIN { exit !(b - a < 5) }' || fail "the cached run took $(echo "$end - $start" | bc) s"
+# --no-cache: built in a temporary directory, run, deleted; the cache untouched.
+entries_before=$(find "$MECHGEN_CACHE_DIR/flywheel" -mindepth 1 -maxdepth 1 | wc -l)
+"$mechgen" flywheel --no-cache "$work/models/press.yaml" --rpm 300 --cs 0.02 --samples 3600 \
+  --csv "$work/nocache.csv" > /dev/null 2> "$work/nocache.err" ||
+  fail "mechgen flywheel --no-cache exited $?: $(cat "$work/nocache.err")"
+cmp -s "$work/tool.csv" "$work/nocache.csv" || fail "--no-cache CSV differs"
+[ "$(find "$MECHGEN_CACHE_DIR/flywheel" -mindepth 1 -maxdepth 1 | wc -l)" = "$entries_before" ] ||
+  fail "--no-cache changed the cache"
+"$mechgen" flywheel "$work/models/press.yaml" --help > "$work/help.out" || fail "--help exited $?"
+grep -q -- '--cs' "$work/help.out" || fail "--help lists --cs"
+"$mechgen" flywheel "$work/models/press.yaml" --rpm -3 > /dev/null 2> "$work/bad.err"; status=$?
+[ $status = 2 ] || fail "mechgen flywheel --rpm -3 exited $status"
+[ "$(wc -l < "$work/bad.err")" = 1 ] || fail "mechgen flywheel --rpm -3: not one line"
+"$mechgen" --help | grep -q 'flywheel' || fail "mechgen --help does not list flywheel"
+
+# A model without forces: one line, exit 1, nothing compiled.
+cp "$src/models/fourbar.yaml" "$work/models/plain.yaml"
+"$mechgen" flywheel "$work/models/plain.yaml" > /dev/null 2> "$work/plain.err"; status=$?
+[ $status = 1 ] || fail "a model without forces exited $status"
+[ "$(wc -l < "$work/plain.err")" = 1 ] || fail "a model without forces: not one line: $(cat "$work/plain.err")"
+grep -q 'forces' "$work/plain.err" || fail "the message does not name forces"
+echo "flywheel command: ok"

@@ -1,0 +1,397 @@
+// Flywheel sizing of any one-DOF machine (machines/flywheel/machine_cycle.h) against hand
+// energy loops written here from the machines' own closed-form geometry (independent of the
+// generated code), and its simulated check.
+//  - The quick-return shaper of tests/statics/models/shaper.yaml (massless; the probe torque
+//    P set to 0): a cutting force F resists the ram on the forward stroke (crank -30 .. 210 deg)
+//    only. T_req dtheta = F |dx|, so T_mean = F stroke / (2 pi) and
+//        E(theta) = T_mean (theta - theta0) - F (x(theta0) - x(theta))   (forward stroke)
+//        E(theta) = T_mean (theta - theta0) - F stroke                    (return),
+//    x(theta) the ram's position from the quick-return geometry below.
+//  - The punch press of models/punch_press.yaml (masses, gravity, dynamics): the punch's
+//    energy per stroke F0 (delta - w/2), and the simulated check of its flywheel.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "fourbar_loaded.h"
+#include "fourbar_massive.h"
+#include "mechgen/dynamics/kinetostatics.h"
+#include "mechgen/machines/flywheel/machine_cycle.h"
+#include "punch_press.h"
+#include "shaper.h"
+
+namespace {
+
+namespace fw = mechgen::flywheel;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180;
+
+// ---- the shaper's geometry by hand: crank O2A = r about O2 = (0, d), the block A slides in
+// the rocker through O4 = (0, 0), rocker O4B = L, link BC = l, ram C on y = h (C to the right
+// of B, the assembly's branch). ----
+struct Shaper {
+  double r = 0.75, d = 1.5, L = 4.0, l = 1.5, h = 4.2, F = 1000.0;
+  double x(double theta) const {
+    const double ax = r * std::cos(theta), ay = d + r * std::sin(theta);
+    const double beta = std::atan2(ay, ax);
+    const double bx = L * std::cos(beta), by = L * std::sin(beta);
+    return bx + std::sqrt(l * l - (h - by) * (h - by));
+  }
+};
+
+// The largest of f on [a, b] by golden-section search (f unimodal there).
+double GoldenMax(const std::function<double(double)>& f, double a, double b, double* at) {
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  double c = b - g * (b - a), e = a + g * (b - a);
+  double fc = f(c), fe = f(e);
+  for (int i = 0; i < 200 && b - a > 1e-13; ++i) {
+    if (fc > fe) {
+      b = e, e = c, fe = fc, c = b - g * (b - a), fc = f(c);
+    } else {
+      a = c, c = e, fc = fe, e = a + g * (b - a), fe = f(e);
+    }
+  }
+  *at = 0.5 * (a + b);
+  return f(*at);
+}
+
+TEST(FlywheelShaper, EnergyLoopAgainstTheHandLoop) {
+  using M = mech::shaper::Model;
+  M::ParamsT<double> p;
+  p.P = 0;  // the probe torque off: the cut alone
+  const Shaper s;
+  const double theta0 = -30 * kDeg, theta_end = 210 * kDeg;
+  const double stroke = s.x(theta0) - s.x(theta_end);
+  ASSERT_GT(stroke, 0);
+  // The forward stroke's ends are the ram's extremes (sin theta = -r/d): dx/dtheta = 0 there.
+  EXPECT_NEAR((s.x(theta0 + 1e-6) - s.x(theta0 - 1e-6)) / 2e-6, 0, 1e-8);
+  EXPECT_NEAR((s.x(theta_end + 1e-6) - s.x(theta_end - 1e-6)) / 2e-6, 0, 1e-8);
+  const double T_mean = s.F * stroke / (2 * kPi);
+  auto E_hand = [&](double theta) {
+    return theta <= theta_end ? T_mean * (theta - theta0) - s.F * (s.x(theta0) - s.x(theta))
+                              : T_mean * (theta - theta0) - s.F * stroke;
+  };
+  // E_max and E_min lie inside the forward stroke (where F |x'| = T_mean); bracket each on a
+  // fine grid, then golden section.
+  int k_hi = 0, k_lo = 0;
+  const int grid = 24000;
+  for (int k = 0; k <= grid; ++k) {
+    const double t = theta0 + (theta_end - theta0) * k / grid;
+    if (E_hand(t) > E_hand(theta0 + (theta_end - theta0) * k_hi / grid)) k_hi = k;
+    if (E_hand(t) < E_hand(theta0 + (theta_end - theta0) * k_lo / grid)) k_lo = k;
+  }
+  auto at = [&](int k) { return theta0 + (theta_end - theta0) * k / grid; };
+  double theta_max = 0, theta_min = 0;
+  const double E_max = GoldenMax(E_hand, at(k_hi - 1), at(k_hi + 1), &theta_max);
+  const double E_min =
+      -GoldenMax([&](double t) { return -E_hand(t); }, at(k_lo - 1), at(k_lo + 1), &theta_min);
+  const double dE = E_max - E_min;
+  ASSERT_GT(E_max, 0);
+  ASSERT_LT(E_min, -s.F * stroke / 3);  // below E(210 deg) = -F stroke/3: interior
+
+  const double omega = 2 * kPi;  // 60 rpm
+  const double C_s = 0.05;
+  // T_req = F |x'| kinks at the switches (-30 and 210 deg, where x' = 0): its slope jumps by
+  // F |x''| there. N is a multiple of 3, so both fall on samples.
+  auto x2 = [&](double t) { return (s.x(t + 1e-4) - 2 * s.x(t) + s.x(t - 1e-4)) / 1e-8; };
+  const double jumps = s.F * (std::abs(x2(theta0)) + std::abs(x2(theta_end)));
+  for (bool breaks : {false, true}) {
+    for (int n : {720, 1440}) {
+      fw::MachineCycleOptions o;
+      o.omega = omega;
+      o.samples = n;
+      if (breaks) o.breaks = {theta0, theta_end};
+      const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+      ASSERT_TRUE(c.IsUsable()) << c.message;
+      ASSERT_EQ(static_cast<int>(c.points.size()), n);
+      EXPECT_FALSE(c.has_dynamics);
+      EXPECT_DOUBLE_EQ(c.theta0, theta0);
+      EXPECT_NEAR(c.cycle, 2 * kPi, 1e-12);
+      const double h = 2 * kPi / n;
+      // Without breaks the kinks make the loop second order, the closure's error being the
+      // trapezoid's end terms h^2/12 x the slope jumps (to O(h^4)); with them, fourth order
+      // (measured: 2.7e-9 of dE for E at 720 samples, 1.7e-10 at 1440: the ratio 16).
+      const double tol = breaks ? 1e-8 * dE * std::pow(720.0 / n, 4) : 1.02 * h * h / 12 * jumps;
+      // The closure with breaks: fourth order too (measured 3.4e-10 of F stroke at 720
+      // samples, 2.2e-11 at 1440).
+      const double closure_tol =
+          breaks ? 5e-10 * s.F * stroke * std::pow(720.0 / n, 4) : 1.02 * h * h / 12 * jumps;
+      EXPECT_NEAR(c.work, s.F * stroke, closure_tol) << n << (breaks ? " with breaks" : "");
+      if (!breaks) {
+        EXPECT_GT(std::abs(c.work - s.F * stroke), 0.9 * h * h / 12 * jumps);
+      }
+      EXPECT_NEAR(c.T_mean, T_mean, closure_tol / (2 * kPi));
+      double worst = 0;
+      for (const fw::CyclePoint& pt : c.points) worst = std::max(worst, std::abs(pt.E - E_hand(pt.theta)));
+      EXPECT_LT(worst, tol) << n << (breaks ? " with breaks" : "");
+      EXPECT_NEAR(c.loop.E_max, E_max, tol) << n;
+      EXPECT_NEAR(c.loop.E_min, E_min, tol) << n;
+      EXPECT_NEAR(c.loop.delta_E, dE, 2 * tol) << n;
+      // The angles from the Hermite refinement between samples: E'' = -F x'' is O(F) at the
+      // extremes, so the angle is good to ~sqrt(E's error / F).
+      const double angle_tol = breaks ? 2e-5 : 2e-4;
+      EXPECT_NEAR(c.loop.theta_max, theta_max, angle_tol) << n;
+      EXPECT_NEAR(c.loop.theta_min, theta_min, angle_tol) << n;
+      const fw::FlywheelSize f = fw::SizeFlywheel(c, C_s);
+      EXPECT_NEAR(f.I_required, dE / (C_s * omega * omega), 2 * tol / (C_s * omega * omega));
+      EXPECT_DOUBLE_EQ(f.I_flywheel, f.I_required);  // massless: nothing to subtract
+      // The required torque at a cut sample: F |x'| by a central difference of the hand x.
+      const fw::CyclePoint& mid = c.points[static_cast<size_t>(n / 4)];
+      const double dx = (s.x(mid.theta + 1e-6) - s.x(mid.theta - 1e-6)) / 2e-6;
+      EXPECT_NEAR(mid.T_req, -s.F * dx, 1e-6 * s.F);
+    }
+  }
+  // A break that is not on a sample is refused, not rounded.
+  fw::MachineCycleOptions o;
+  o.omega = omega;
+  o.samples = 700;
+  o.breaks = {theta_end};
+  EXPECT_EQ(fw::SampleMachineCycle<M>(p, o).status, fw::CycleStatus::kBadOptions);
+}
+
+TEST(FlywheelShaper, StatusesNotNumbers) {
+  using M = mech::shaper::Model;
+  M::ParamsT<double> p;
+  fw::MachineCycleOptions o;
+  o.omega = 0;  // no speed
+  EXPECT_EQ(fw::SampleMachineCycle<M>(p, o).status, fw::CycleStatus::kBadOptions);
+  o.omega = 1;
+  o.samples = 3;  // the 4-point rule needs 4
+  EXPECT_EQ(fw::SampleMachineCycle<M>(p, o).status, fw::CycleStatus::kBadOptions);
+  // No load: the cut reversed (F < 0 helps the ram) makes the mean torque negative.
+  p.F = -1000;
+  p.P = 0;
+  o.samples = 360;
+  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  EXPECT_EQ(c.status, fw::CycleStatus::kNoLoad) << c.message;
+  // A dead point inside the cycle: a rocker so short that the link BC cannot reach the ram's
+  // line for part of the turn (the positions fail there), reported with the angle.
+  M::ParamsT<double> q;
+  q.h = 4.2 + 1.45;  // B at most L = 4 high, BC = 1.5: reachable only near the top
+  const fw::MachineCycle dead = fw::SampleMachineCycle<M>(q, o);
+  EXPECT_FALSE(dead.IsUsable());
+  EXPECT_TRUE(dead.status == fw::CycleStatus::kDeadPoint ||
+              dead.status == fw::CycleStatus::kPositionFailed ||
+              dead.status == fw::CycleStatus::kNotAssembled)
+      << fw::ToString(dead.status);
+  EXPECT_TRUE(dead.points.empty());
+  if (dead.status != fw::CycleStatus::kNotAssembled) {
+    EXPECT_TRUE(std::isfinite(dead.failed_theta));
+    EXPECT_NE(dead.message.find("theta = "), std::string::npos) << dead.message;
+  }
+}
+
+// A crank that cannot turn: the loaded four-bar (models/fourbar_loaded.yaml) with its crank
+// lengthened to a = 2.6 is no longer Grashof (2.6 + 4 > 3.5 + 3); coupler and rocker stretch
+// out where |BD| = b + c, cos theta = (a^2 + d^2 - (b + c)^2) / (2 a d): 159.62 deg. The
+// sizing stops there with a status and that angle, no torque.
+TEST(FlywheelFourbar, ALimitPositionInsideTheCycleIsAStatusWithItsAngle) {
+  using M = mech::fourbar_loaded::Model;
+  M::ParamsT<double> p;
+  p.a = 2.6;
+  const double limit = std::acos((p.a * p.a + p.d * p.d - (p.b + p.c) * (p.b + p.c)) / (2 * p.a * p.d));
+  fw::MachineCycleOptions o;
+  o.omega = 1;
+  o.samples = 360;
+  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  EXPECT_TRUE(c.status == fw::CycleStatus::kDeadPoint || c.status == fw::CycleStatus::kPositionFailed)
+      << c.message;
+  EXPECT_TRUE(c.points.empty());
+  EXPECT_NEAR(c.failed_theta, limit, 1.5 * kDeg) << c.message;
+  EXPECT_NE(c.message.find("theta = 1"), std::string::npos) << c.message;
+  // The same machine with its own crank turns: sized.
+  M::ParamsT<double> ok;
+  EXPECT_TRUE(fw::SampleMachineCycle<M>(ok, o).status == fw::CycleStatus::kOk ||
+              fw::SampleMachineCycle<M>(ok, o).status == fw::CycleStatus::kNoLoad);
+}
+
+// ---- the punch press by hand: s(theta) = a cos theta + sqrt(b^2 - a^2 sin^2 theta). ----
+struct Press {
+  double a = 0.05, b = 0.25, delta = 0.006, w = 0.001, F0 = 20000;
+  double s(double t) const { return a * std::cos(t) + std::sqrt(b * b - a * a * std::sin(t) * std::sin(t)); }
+  double ds(double t) const {
+    return -a * std::sin(t) - a * a * std::sin(t) * std::cos(t) / std::sqrt(b * b - a * a * std::sin(t) * std::sin(t));
+  }
+  // The angle in (pi, 2 pi) where the ram (approaching the die) reaches x.
+  double ThetaAt(double x) const {
+    double lo = kPi, hi = 2 * kPi;  // s increases from b - a to a + b
+    for (int i = 0; i < 200; ++i) {
+      const double m = 0.5 * (lo + hi);
+      (s(m) < x ? lo : hi) = m;
+    }
+    return 0.5 * (lo + hi);
+  }
+};
+
+TEST(FlywheelPunchPress, EnergyPerStrokeIsTheHandFigure) {
+  using M = mech::punch_press::Model;
+  M::ParamsT<double> p;
+  const Press h;
+  const double W_hand = h.F0 * (h.delta - h.w / 2);  // 110 J
+  // T_req kinks where the punch touches (s = s_p) and where its force is full (s_p + w): the
+  // slope of T_req = F0 clamp(...) s' jumps there by F0 s'^2 / w. The cycle's work is the
+  // periodic trapezoid rule, whose error on an interval with a kink of slope jump alpha is at
+  // most h^2 alpha / 8 (exact elsewhere for this smooth periodic integrand, to rounding).
+  const double s_p = h.a + h.b - h.delta;
+  const double t1 = h.ThetaAt(s_p), t2 = h.ThetaAt(s_p + h.w);
+  const double alpha = h.F0 * (h.ds(t1) * h.ds(t1) + h.ds(t2) * h.ds(t2)) / h.w;
+  for (int n : {3600, 36000}) {
+    fw::MachineCycleOptions o;
+    o.omega = 300 * 2 * kPi / 60;
+    o.samples = n;
+    const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+    ASSERT_TRUE(c.IsUsable()) << c.message;
+    EXPECT_TRUE(c.has_dynamics);
+    const double step = 2 * kPi / n;
+    const double bound = step * step * alpha / 8 + 1e-10 * W_hand;
+    EXPECT_NEAR(c.work, W_hand, bound) << n << " samples";
+    // Punching happens only between t1 and 2 pi: the required torque elsewhere is the inertia
+    // torque and the weights only, much smaller than the punch's peak.
+    EXPECT_GT(c.theta_T_max, t1);
+    EXPECT_GT(c.T_max, 0.5 * h.F0 * std::abs(h.ds(t2)));
+    // T_req against a second derivation: the generated kinetostatics (d'Alembert's inertia
+    // forces at every link, dynamics/kinetostatics.h) at the constant speed, qdd = 0.
+    if (n == 3600) {
+      mech::punch_press::Model::ParamsT<double> pk;
+      mechgen::dynamics::Kinetostatics<M> kin(pk);
+      Eigen::Matrix<double, 1, 1> q, qd, qdd;
+      q(0) = c.points[0].theta;
+      ASSERT_TRUE(kin.Initialize(q));
+      qd(0) = o.omega;
+      qdd(0) = 0;
+      double worst = 0, largest = 0;
+      for (const fw::CyclePoint& pt : c.points) {
+        typename mechgen::dynamics::Kinetostatics<M>::Row row;
+        q(0) = pt.theta;
+        ASSERT_EQ(kin.Evaluate(0, q, qd, qdd, &row), mechgen::dynamics::KinetostaticsStatus::kOk);
+        worst = std::max(worst, std::abs(row.statics.drive(0) - pt.T_req));
+        largest = std::max(largest, std::abs(pt.T_req));
+      }
+      EXPECT_LT(worst, 1e-10 * largest);
+    }
+    // The inertia torque and the weights do no net work over the cycle.
+    double inertia = 0, statics = 0;
+    for (const fw::CyclePoint& pt : c.points) inertia += pt.T_inertia, statics += pt.T_static;
+    EXPECT_NEAR(inertia * step, 0, 1e-9 * W_hand);
+    EXPECT_NEAR(statics * step, W_hand, bound);
+  }
+}
+
+TEST(FlywheelPunchPress, SimulatedCheckAgreesToOrderCs) {
+  using M = mech::punch_press::Model;
+  M::ParamsT<double> p;
+  fw::MachineCycleOptions o;
+  o.omega = 300 * 2 * kPi / 60;
+  o.samples = 7200;
+  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  ASSERT_TRUE(c.IsUsable()) << c.message;
+  for (double C_s : {0.02, 0.05}) {
+    const fw::FlywheelSize f = fw::SizeFlywheel(c, C_s);
+    ASSERT_TRUE(f.needed);
+    EXPECT_NEAR(f.I_flywheel, c.loop.delta_E / (C_s * o.omega * o.omega) - c.I_mean, 1e-12 * f.I_required);
+    fw::CheckOptions co;
+    co.law = fw::MotorLaw::kConstant;
+    const fw::SimulatedCheck sim = fw::CheckBySimulation<M>(p, c, f.I_flywheel, co);
+    ASSERT_TRUE(sim.ok) << sim.message;
+    EXPECT_LT(std::abs(sim.last_change), 1e-5);  // the neutral cycle's creep per cycle
+    // The energy loop assumes a constant inertia and the inertia torque at w_m: the simulated
+    // C_s agrees to O(C_s) relative (measured +0.0011 at C_s = 0.02 and +0.0028 at 0.05: about
+    // 0.056 C_s, linear in C_s).
+    EXPECT_NEAR(sim.trace.C_s / C_s, 1, 0.1 * C_s) << "simulated " << sim.trace.C_s;
+    EXPECT_GT(std::abs(sim.trace.C_s / C_s - 1), 0.02 * C_s);  // not exact: what the loop neglects
+    // The speed is lowest right after the punch and highest before it.
+    EXPECT_NEAR(sim.trace.omega_mid, o.omega, C_s * o.omega);
+    // A shunt motor gives torque as the machine slows: a smaller fluctuation.
+    co.law = fw::MotorLaw::kShunt;
+    co.slip = 0.05;
+    const fw::SimulatedCheck shunt = fw::CheckBySimulation<M>(p, c, f.I_flywheel, co);
+    ASSERT_TRUE(shunt.ok) << shunt.message;
+    EXPECT_LT(shunt.trace.C_s, sim.trace.C_s);
+    EXPECT_GT(shunt.trace.C_s, 0.3 * C_s);
+  }
+}
+
+// WithFlywheel<M> adds the flywheel on both of the simulator's paths: the one-pass M::Rhs (the
+// four-bar's stages) and M::Dynamics (its samples). Against qdd = (Q - h)/(I + I_fly) from the
+// bare model's generated dynamics.
+TEST(FlywheelWrapper, AddsTheInertiaOnBothPaths) {
+  using M = mech::fourbar_massive::Model;
+  using W = fw::WithFlywheel<M>;
+  using Sim = mechgen::dynamics::MinimalDynamics<W>;
+  static_assert(Sim::kStagesByRhs, "the four-bar's stages are meant to take the M::Rhs path");
+  W::ParamsT<double> pf;
+  pf.I_flywheel = 0.7;
+  const M::ParamsT<double>& p = pf;
+  Sim sim(pf);
+  Eigen::Matrix<double, 1, 1> q0;
+  q0(0) = 0.4;
+  ASSERT_TRUE(sim.Initialize(q0));
+  for (double qd : {0.0, 3.0, -7.5}) {
+    typename Sim::State y;
+    y(0) = q0(0);
+    y(1) = qd;
+    y(2) = 0;
+    typename Sim::State dy;
+    ASSERT_TRUE(sim.Derivative(0.0, y, &dy));
+    typename Sim::SampleT sample;
+    ASSERT_TRUE(sim.Evaluate(0.0, y, &sample));
+    // The bare model at the same configuration.
+    Eigen::Matrix<double, M::kNphi, 1> phi = sample.phi;
+    M::CoefficientsT<double> c;
+    M::Coeffs<double>(p, q0, phi, &c);
+    M::DynamicsT<double> d;
+    Eigen::Matrix<double, 1, 1> qdv;
+    qdv(0) = qd;
+    M::Dynamics<double>(p, q0, phi, qdv, 0.0, c, &d);
+    const double qdd = (d.Q(0) - d.h(0)) / (d.I(0, 0) + 0.7);
+    EXPECT_NEAR(dy(1), qdd, 1e-12 * (1 + std::abs(qdd))) << "qd = " << qd;
+    EXPECT_NEAR(sample.qdd(0), qdd, 1e-12 * (1 + std::abs(qdd))) << "qd = " << qd;
+    EXPECT_NEAR(sample.T, 0.5 * (d.I(0, 0) + 0.7) * qd * qd, 1e-12 * (1 + sample.T));
+  }
+}
+
+// energy_loop.h's breaks on a kinked excess torque with a closed-form integral:
+// dT = |sin t| - 2/pi on [0, 2 pi), kinks at 0 and pi, E(t) = 1 - cos t - 2t/pi on [0, pi] and
+// 3 + cos t - 2t/pi on [pi, 2 pi]. Without breaks E is second order, with them fourth.
+TEST(FlywheelEnergyLoop, BreaksKeepAKinkedTorqueFourthOrder) {
+  auto E_exact = [](double t) {
+    return t <= kPi ? 1 - std::cos(t) - 2 * t / kPi : 3 + std::cos(t) - 2 * t / kPi;
+  };
+  auto error = [&](int n, bool breaks) {
+    std::vector<double> dT(static_cast<size_t>(n)), E(static_cast<size_t>(n));
+    for (int k = 0; k < n; ++k) dT[static_cast<size_t>(k)] = std::abs(std::sin(2 * kPi * k / n)) - 2 / kPi;
+    const int b[2] = {0, n / 2};
+    fw::EnergyLoopOptions o;
+    o.remove_mean = true;  // the sampled mean is not exactly 2/pi: take the rule's own
+    if (breaks) o.breaks = b, o.num_breaks = 2;
+    const fw::EnergyLoop loop = fw::ExcessEnergy(dT.data(), n, 2 * kPi, 0.0, o, E.data());
+    EXPECT_EQ(loop.status, fw::LoopStatus::kOk);
+    double worst = 0;
+    for (int k = 0; k < n; ++k)
+      worst = std::max(worst, std::abs(E[static_cast<size_t>(k)] - E_exact(2 * kPi * k / n)));
+    // The mean the rule integrates against the exact 0.
+    worst = std::max(worst, std::abs(loop.mean_torque) * 2 * kPi);
+    return worst;
+  };
+  const double plain = error(96, false), plain2 = error(192, false);
+  const double fourth = error(96, true), fourth2 = error(192, true);
+  EXPECT_NEAR(plain / plain2, 4, 0.4);     // second order
+  EXPECT_NEAR(fourth / fourth2, 16, 2.5);  // fourth order
+  EXPECT_LT(fourth, 1e-3 * plain);
+  // Breaks must be samples at least 3 intervals apart.
+  std::vector<double> dT(96, 1.0);
+  int close[2] = {10, 12};
+  fw::EnergyLoopOptions o;
+  o.breaks = close;
+  o.num_breaks = 2;
+  EXPECT_EQ(fw::ExcessEnergy(dT.data(), 96, 2 * kPi, 0.0, o).status, fw::LoopStatus::kTooFewSamples);
+  int outside[1] = {96};
+  o.breaks = outside;
+  o.num_breaks = 1;
+  EXPECT_EQ(fw::ExcessEnergy(dT.data(), 96, 2 * kPi, 0.0, o).status, fw::LoopStatus::kTooFewSamples);
+}
+
+}  // namespace
