@@ -309,6 +309,9 @@ int main(int argc, char** argv) {
                 << p.topology.loops.size() << " loop(s), mobility " << p.topology.loop_mobility
                 << ", EvalCoefficients " << p.emitted.Ops("EvalCoefficients").Total() << " ops) in "
                 << static_cast<int>(ms + 0.5) << " ms\n";
+    if (!quiet)
+      for (const std::string& note : mechgen::ChangePointNotes(p.kinematics, p.table->blocks))
+        std::cout << "mechgen: " << model_path << ": note: " << note << "\n";
     return 0;
   }
   mechgen::WriteReport(p.model, p.topology, p.four_bars, p.kinematics, *p.table, p.transmission, p.emitted,
