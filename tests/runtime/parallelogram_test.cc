@@ -105,6 +105,32 @@ TEST(Parallelogram, SweepFollowingTheTangentStaysOnTheParallelogramAndShowsTheCr
   EXPECT_EQ(flips, 1);
 }
 
+TEST(Parallelogram, SweepOfTwoTurnsPassesFourChangePoints) {
+  // 0.5 deg -> 720.5 deg in 720 steps of 1 deg: the change points at 180, 360, 540 and 720
+  // deg lie half a step from the rows on either side; each is passed on the parallelogram
+  // with one flip of sign det Phi_phi there. (A row asked for exactly at a change point has
+  // no K there, Phi_phi being singular: the runtime stops or passes beside it.)
+  mechgen::position::PositionSolver<M> solver;
+  ASSERT_EQ(solver.AssembleDefault(nullptr), mechgen::position::Status::kConverged);
+  std::vector<mechgen::SweepRecord<M>> records;
+  mechgen::SweepOptions options;
+  options.at_singularity = mechgen::position::Crossing::kFollowTangent;
+  EXPECT_EQ(mechgen::Sweep(&solver, Vec1(0.5 * kDeg), Vec1(720.5 * kDeg), 720, Vec1(1), Vec1(0), &records, options),
+            0);
+  std::vector<double> flips_at;
+  for (size_t i = 0; i < records.size(); ++i) {
+    const auto& r = records[i];
+    ASSERT_EQ(r.summary.status, mechgen::position::Status::kConverged) << i << mechgen::position::FormatSummary(r.summary);
+    const double q = r.state.q(0);
+    EXPECT_NEAR(q, (0.5 + static_cast<double>(i)) * kDeg, 1e-12) << i;
+    EXPECT_LT(AngleDistance(r.state.phi(1), q), 1e-9) << i;
+    EXPECT_LT(AngleDistance(r.state.phi(0), 0), 1e-9) << i;
+    if (i > 0 && r.state.branch != records[i - 1].state.branch) flips_at.push_back(static_cast<double>(i));
+  }
+  // Row i is at i + 0.5 deg: a flip between rows i - 1 and i is a crossing at i deg.
+  EXPECT_EQ(flips_at, (std::vector<double>{180, 360, 540, 720}));
+}
+
 TEST(Parallelogram, SweepThatStopsStopsJustBeforeTheChangePoint) {
   // Crossing::kStop (the default): the sweep ends at the last valid configuration before
   // 180 deg, with kSingular there, still on the parallelogram.
