@@ -732,14 +732,16 @@ std::vector<std::string> ChangePointNotes(const Kinematics& k, const std::vector
       const std::string other = (b.default_mode > 0 ? "-" : "+") + std::to_string(std::abs(b.default_mode));
       notes.push_back(
           "input '" + k.q[input].name + "' passes " + (count == 1 ? "a change point" : "change points") + " of block " +
-          std::to_string(bi) + " (" + b.Describe(k) + ") at " + k.q[input].name + " = " + at + ": " +
+          std::to_string(bi) + " (" + b.Describe(k) + ") at " + k.q[input].name + " = " + at +
+          (k.nq() > 1 ? " (the other inputs at their assembly values)" : "") + ": " +
           (coincide ? "its two circle centres coincide there (the dyad can turn about them) or its two modes meet"
                     : "its two assembly modes meet there (the linkage folds flat)") +
           ". The generated SolvePositions keeps mode " + mode +
-          ", which past each of them names the other branch of the linkage (its report's branch_measure falls to 0 "
+          ", which past " + (count == 1 ? "it" : "each of them") +
+          " names the other branch of the linkage (its report's branch_measure falls to 0 "
           "there" + (coincide ? ", and it returns kSingular exactly where the centres coincide" : "") +
           "); a motion that stays on its smooth branch goes on in mode " + other +
-          " (the runtime's PositionSolver::PassSingularity with Crossing::kFollowTangent)");
+          " (the runtime's PositionSolver::PassSingularity with Crossing::kFollowTangent).");
     }
   }
   return notes;

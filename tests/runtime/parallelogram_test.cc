@@ -37,6 +37,17 @@ double Residual(const M::ParamsT<double>& p, double q, const Eigen::Vector2d& ph
   return Phi.cwiseAbs().maxCoeff();
 }
 
+TEST(Parallelogram, TheHeaderNamesItsChangePoints) {
+  // At 0, 180 and 360 deg of input 0, all in block 0 (the only one); none for shipped models.
+  static_assert(M::kNumChangePoints == 3, "0, 180 and 360 deg");
+  const double expected[] = {0, kPi, 2 * kPi};
+  for (int i = 0; i < M::kNumChangePoints; ++i) {
+    EXPECT_EQ(M::kChangePointInput[i], 0) << i;
+    EXPECT_EQ(M::kChangePointBlock[i], 0) << i;
+    EXPECT_NEAR(M::kChangePointQ[i], expected[i], 1e-12) << i;
+  }
+}
+
 TEST(Parallelogram, FixedModesReportTheChangePointsAndNameTheOtherBranchPastThem) {
   const M::ParamsT<double> p;
   Eigen::Vector2d phi(M::kAssemblyPhi[0], M::kAssemblyPhi[1]);
