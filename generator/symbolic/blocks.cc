@@ -224,6 +224,13 @@ std::string JointsOf(const Model& m, const Kinematics& k, const Block& b) {
   return (joints.size() == 1 ? "joint " : "joints ") + s;
 }
 
+std::string LinksOf(const Model& m, const Kinematics& k, const Block& b) {
+  std::string s;
+  for (size_t i = 0; i < b.cols.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == b.cols.size() ? " and " : ", ") + LinkOf(m, k, b.cols[i]);
+  return s;
+}
+
 void ChooseMode(const Model& m, const Kinematics& k, Block* b, int index, GiNaC::exmap* values,
                 std::string* no_solution) {
   // Two slides (Cramer) have one solution and leave the assembly guess as it was.
@@ -702,8 +709,9 @@ void CheckReach(const Model& m, const Kinematics& k, std::vector<Block>* blocks)
                "input '" + k.q[i].name + "' is driven over [" + Number(k.q_min[i], angle) + ", " +
                    Number(k.q_max[i], angle) + "], but block " + std::to_string(block) + " (" +
                    (*blocks)[block].Describe(k) + ") stops closing at " + k.q[i].name + " = " + Number(good, angle) +
-                   " (from the assembly at " + Number(start, angle) + "; " + what +
-                   " beyond it) with the parameters' default values; narrow the range or change the lengths");
+                   " (from the assembly at " + Number(start, angle) + "; " + what + " beyond it: " +
+                   LinksOf(m, k, (*blocks)[block]) + " cannot close " + JointsOf(m, k, (*blocks)[block]) +
+                   " there) with the parameters' default values; narrow the range or change the lengths");
       }
     }
   }

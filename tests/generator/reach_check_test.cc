@@ -93,6 +93,9 @@ TEST(ReachCheck, SixBarWhoseSecondLoopCannotReach) {
   EXPECT_NE(error.find("block 1"), std::string::npos) << error;
   EXPECT_NE(error.find("the two circles do not meet"), std::string::npos) << error;
   EXPECT_EQ(error.rfind(Where(text, "[0, 360*deg]"), 0), 0u) << error;
+  // In the model's terms: the links of that block and the joint they close.
+  EXPECT_NE(error.find("beyond it: link '"), std::string::npos) << error;
+  EXPECT_NE(error.find(" cannot close joint"), std::string::npos) << error;
 }
 
 TEST(ReachCheck, ShippedModelsPass) {
