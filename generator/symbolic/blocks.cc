@@ -661,8 +661,14 @@ void CheckReach(const Model& m, const Kinematics& k, std::vector<Block>* blocks)
               record(i, b1, std::abs(at_min - at1) < 1e-6 * h ? at1 : at_min, ChangePoint::Kind::kModesMeet);
             }
           }
-          // The end of the range at a change point (the measure 0 there).
-          if (s == n && b0 >= 0 && m0 < kTouch) record(i, b0, at, ChangePoint::Kind::kModesMeet);
+          // The end of the range at a change point: the measure 0 there and the loop closing
+          // beyond it (else it is the limit of the reach, a dead point, ending the range).
+          if (s == n && b0 >= 0 && m0 < kTouch) {
+            int b3 = -1;
+            std::string w3;
+            q[i] = at + (end > start ? 1 : -1) * 1e-6 * h;
+            if (reach.Closes(q, &b3, &w3)) record(i, b0, at, ChangePoint::Kind::kModesMeet);
+          }
           at2 = at1;
           m2 = m1;
           at1 = at;

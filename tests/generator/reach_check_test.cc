@@ -185,6 +185,17 @@ TEST(ChangePoints, RhombusWhoseDyadCentresCoincideIsAccepted) {
   EXPECT_EQ(points[2].second, mechgen::ChangePoint::Kind::kCentresCoincide);
 }
 
+TEST(ChangePoints, ARangeEndingAtTheLimitOfItsReachHasNone) {
+  // The offset slider-crank of ReachCheck.SliderCrankWhoseRodCannotReachTheLine driven up to
+  // its limit 180 deg + asin(0.7) exactly: the measure is 0 at the end, but the loop does not
+  // close beyond it (a dead point of the rod, not a change point).
+  const std::string text = Replace(Replace(Read("slider_crank.yaml"), "e: {value: 0.4", "e: {value: 2.5"),
+                                   "[0, 360*deg]", "[0, 180*deg + asin(0.7)]");
+  std::string error;
+  EXPECT_TRUE(ChangePoints(text, &error).empty());
+  EXPECT_EQ(error, "");
+}
+
 TEST(ChangePoints, ShippedModelsHaveNone) {
   // None of the shipped linkages passes a change point within its range (the generator
   // prints a note for every one it finds).
