@@ -309,9 +309,12 @@ int main(int argc, char** argv) {
                 << p.topology.loops.size() << " loop(s), mobility " << p.topology.loop_mobility
                 << ", EvalCoefficients " << p.emitted.Ops("EvalCoefficients").Total() << " ops) in "
                 << static_cast<int>(ms + 0.5) << " ms\n";
+    if (!quiet)
+      for (const std::string& note : mechgen::ChangePointNotes(p.kinematics, p.table->blocks))
+        std::cout << "mechgen: " << model_path << ": note: " << note << "\n";
     if (!quiet && p.model.outputs.Has(mechgen::Quantity::kForces))
       for (const auto& [load, reads] : p.model.at_rest_loads)
-        std::cout << "mechgen: note: the statics (EvalStatics) evaluates the " << load << " at rest (" << reads
+        std::cout << "mechgen: " << model_path << ": note: the statics (EvalStatics) evaluates the " << load << " at rest (" << reads
                   << (reads.find(',') == std::string::npos ? " = 0" : " all 0")
                   << "): its value in a slow motion; the dynamics reads it as written\n";
     return 0;

@@ -424,6 +424,36 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   for (size_t i = 0; i < table.blocks.size(); ++i)
     blocks_doc.push_back({{"index", std::to_string(i)}, {"text", table.blocks[i].Describe(k)}});
   data.SetList("blocks_doc", blocks_doc, {"index", "text"});
+  // Change points in the inputs' ranges (issue 26), only for a model that passes some: the
+  // generator's note in the file comment (wrapped) and the points as constants.
+  std::vector<std::map<std::string, std::string>> change_point_doc;
+  for (const std::string& note : ChangePointNotes(k, table.blocks)) {
+    std::string line = "Note:";
+    std::istringstream words(CommentText(note));
+    for (std::string w; words >> w;) {
+      if (line.size() + 1 + w.size() > 92) {
+        change_point_doc.push_back({{"line", line}});
+        line = "  " + w;
+      } else {
+        line += " " + w;
+      }
+    }
+    change_point_doc.push_back({{"line", line}});
+  }
+  data.SetList("change_point_doc", change_point_doc, {"line"});
+  std::vector<int> cp_input, cp_block;
+  std::vector<double> cp_q;
+  for (size_t i = 0; i < table.blocks.size(); ++i)
+    for (const ChangePoint& c : table.blocks[i].change_points) {
+      cp_input.push_back(c.input);
+      cp_block.push_back(static_cast<int>(i));
+      cp_q.push_back(c.value);
+    }
+  data.Set("has_change_points", !cp_q.empty());
+  data.Set("num_change_points", static_cast<int>(cp_q.size()));
+  data.Set("change_point_inputs", Join(cp_input, [](int i) { return std::to_string(i); }));
+  data.Set("change_point_blocks", Join(cp_block, [](int i) { return std::to_string(i); }));
+  data.Set("change_point_q", Join(cp_q, [](double x) { return Number(x); }));
   data.Set("num_blocks", static_cast<int>(table.blocks.size()));
   data.Set("default_modes", Join(table.blocks, [](const Block& b) { return std::to_string(b.default_mode); }));
   // Named assembly modes (issue 13), only for a model that has `assembly_modes`.

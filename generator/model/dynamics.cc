@@ -58,7 +58,7 @@ void ReadTables(SectionReader& r, const YAML::Node& node) {
     Table t;
     t.name = name;
     t.mark = r.KeyMark(spec);
-    CheckName(m, name, NameRole::kParameter, t.mark);
+    CheckName(m, name, NameRole::kTable, t.mark);
     for (const Parameter& p : m.params)
       if (p.name == name) m.Fail(t.mark, "table name '" + name + "' is a parameter's name; rename one");
     if (!spec.IsMap()) r.Fail(spec, "table '" + name + "' must be {x: [x0, x1, ...], y: [y0, y1, ...]}");

@@ -176,6 +176,12 @@ const std::set<std::string>& ExpressionNames() {
       "Catalan");
   return words;
 }
+// The functions among them: what a table (called like one) must not be named.
+const std::set<std::string>& ExpressionFunctionNames() {
+  static const std::set<std::string> words = SplitWords(
+      "sin cos tan asin acos atan atan2 sqrt exp log abs step sign min max clamp mod pow");
+  return words;
+}
 // C and POSIX headers a model name must not shadow (<name>.h is written, and the model's
 // include directory is put on the include path).
 const std::set<std::string>& HeaderNames() {
@@ -194,6 +200,7 @@ const char* RoleName(NameRole role) {
     case NameRole::kLink: return "link";
     case NameRole::kPoint: return "point";
     case NameRole::kJoint: return "joint";
+    case NameRole::kTable: return "table";
   }
   return "";
 }
@@ -211,12 +218,15 @@ std::string NameProblem(const std::string& name, NameRole role) {
     return "begins with an underscore (reserved in C++, and it makes a double underscore in "
            "names such as theta_<link> or CamLaw_<joint>)";
   if (name.find("__") != std::string::npos) return "contains a double underscore (reserved in C++)";
-  if (role != NameRole::kModel && role != NameRole::kParameter) return "";
+  if (role != NameRole::kModel && role != NameRole::kParameter && role != NameRole::kTable) return "";
   if (Macros().count(name) || name.rfind("EIGEN_", 0) == 0)
     return "is a macro of the headers the generated code includes (<cmath>, <array>, Eigen)";
   if (GeneratedNames().count(name))
     return "is a name the generated code uses (Scalar, T, p, q, phi, Params, Cast, std, Eigen, mech, mechgen)";
-  if (role == NameRole::kParameter && ExpressionNames().count(name))
+  if (role == NameRole::kTable && ExpressionFunctionNames().count(name))
+    return "is a function of the expression language: '" + name + "(x)' in an expression calls the function, "
+           "never the table";
+  if ((role == NameRole::kParameter || role == NameRole::kTable) && ExpressionNames().count(name))
     return "is a name of the expression language (deg, Pi, u, sin, cos, sqrt, ...)";
   if (role == NameRole::kModel) {
     if (name.back() == '_')
@@ -330,6 +340,17 @@ std::vector<std::pair<std::string, YAML::Node>> SectionReader::Entries(const YAM
     const std::string key = it->first.as<std::string>();
     if (!seen.insert(key).second) Fail(it->first, "duplicate name '" + key + "' in " + what + "; names must be unique");
     if (table && !table->Accepts(key)) {
+      // In a { } mapping a comma ends the value: `{doc: crank AB, the input}` makes a key
+      // 'the input' with no value out of the text's second half. Said at the text, with the fix.
+      if (map.Style() == YAML::EmitterStyle::Flow && it->second.IsNull() && it != map.begin()) {
+        auto before = map.begin();
+        for (auto next = std::next(before); next != it; ++next) before = next;
+        if (before->second.IsScalar() && before->first.IsScalar())
+          Fail(before->second, "the " + before->first.as<std::string>() + ": text of " + what +
+                                   " ends at a comma (in a { } mapping a comma ends a value, and '" + key +
+                                   "' became a key); quote the whole text: " + before->first.as<std::string>() +
+                                   ": \"" + before->second.as<std::string>() + ", " + key + "\"");
+      }
       std::set<std::string> sorted;
       for (const Key& k : table->keys) sorted.insert(k.name);
       std::string list;

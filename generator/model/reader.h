@@ -148,12 +148,13 @@ constexpr double kMaxConstantExponent = 1000;
 constexpr double kMaxExactDigits = 100000;
 
 /// What a name of the model becomes in the generated C++ (models/README.md, "Names").
-enum class NameRole { kModel, kParameter, kLink, kPoint, kJoint };
+enum class NameRole { kModel, kParameter, kLink, kPoint, kJoint, kTable };
 /// Why `name` cannot be a `role` name ("is a C++ keyword", ...), or "" if it can: not an
 /// ASCII identifier, a C++ keyword, reserved (a leading underscore, a double underscore), and
 /// for the model and the parameters (C++ names of their own) a macro of the headers the
 /// generated code includes or a name the generated code uses; for the model also a trailing
-/// underscore and the name of a C header.
+/// underscore and the name of a C header; for a table (called like a function, `name(x)`, and
+/// a C++ name of its own like a parameter) also the name of a function of the expression language.
 std::string NameProblem(const std::string& name, NameRole role);
 /// A ModelError at `mark` if NameProblem(name, role) is not empty.
 void CheckName(const Model& m, const std::string& name, NameRole role, SourceMark mark);

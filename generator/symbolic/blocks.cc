@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
 
 namespace mechgen {
 namespace {
@@ -204,7 +205,34 @@ double AngleDistance(double a, double b) { return std::abs(std::remainder(a - b,
 // nearest the current values of its unknowns and stores the solution in *values, so that
 // later blocks see it. A block with no real solution there (the loop cannot close at the
 // model's assembly inputs) sets *no_solution to the reason.
-void ChooseMode(const Kinematics& k, Block* b, int index, GiNaC::exmap* values, std::string* no_solution) {
+// The designer's names of a block: the link an unknown angle turns ("link 'rod'"; the
+// coordinate's name for another unknown) and the joints whose loop equations the block solves.
+std::string LinkOf(const Model& m, const Kinematics& k, int col) {
+  for (size_t l = 0; l < k.frames.size() && l < m.links.size(); ++l)
+    if (k.frames[l].theta.is_equal(k.phi[col].symbol)) return "link '" + m.links[l].name + "'";
+  return "'" + k.phi[col].name + "'";
+}
+std::string JointsOf(const Model& m, const Kinematics& k, const Block& b) {
+  std::vector<int> joints;
+  for (int r : b.rows) {
+    const int j = r < static_cast<int>(k.Phi_rows.size()) ? k.Phi_rows[r].joint : -1;
+    if (j >= 0 && std::find(joints.begin(), joints.end(), j) == joints.end()) joints.push_back(j);
+  }
+  std::string s;
+  for (size_t i = 0; i < joints.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == joints.size() ? " and " : ", ") + m.joints[joints[i]].name;
+  return (joints.size() == 1 ? "joint " : "joints ") + s;
+}
+
+std::string LinksOf(const Model& m, const Kinematics& k, const Block& b) {
+  std::string s;
+  for (size_t i = 0; i < b.cols.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == b.cols.size() ? " and " : ", ") + LinkOf(m, k, b.cols[i]);
+  return s;
+}
+
+void ChooseMode(const Model& m, const Kinematics& k, Block* b, int index, GiNaC::exmap* values,
+                std::string* no_solution) {
   // Two slides (Cramer) have one solution and leave the assembly guess as it was.
   if (b->solve == BlockSolve::kNewton || b->solve == BlockSolve::kSS) return;
   const ClosedForm form = FormulateClosedForm(k, *b, index);
@@ -233,15 +261,36 @@ void ChooseMode(const Kinematics& k, Block* b, int index, GiNaC::exmap* values, 
         if (s.kind == DyadStep::Kind::kLocal && locals.count(s.local) && GiNaC::is_a<GiNaC::symbol>(s.symbol))
           at[s.symbol] = locals.at(s.local);
       const double measure = Eval(failed->value, at);
-      if (b->solve == BlockSolve::kRR && std::isfinite(measure))
-        *no_solution = "no real solution, the two circles do not meet: radii " + G(std::sqrt(locals[DyadLocal::kRa2])) + " and " +
-                       G(std::sqrt(locals[DyadLocal::kRb2])) + ", centres " + G(std::sqrt(locals[DyadLocal::kD2])) + " apart";
+      if (b->solve == BlockSolve::kRR && std::isfinite(measure)) {
+        // The links a (angle u) and b (angle v) hang from two points d apart: they meet
+        // when |ra - rb| <= d <= ra + rb.
+        const double ra = std::sqrt(locals[DyadLocal::kRa2]), rb = std::sqrt(locals[DyadLocal::kRb2]);
+        const double d = std::sqrt(locals[DyadLocal::kD2]);
+        const std::string la = LinkOf(m, k, b->cols[b->iu]), lb = LinkOf(m, k, b->cols[1 - b->iu]);
+        const std::string pair = la + " (" + G(ra) + ") and " + lb + " (" + G(rb) + ")";
+        *no_solution = d > ra + rb
+                           ? pair + " cannot reach each other to close " + JointsOf(m, k, *b) + ": the points they turn about are " +
+                                 G(d) + " apart, more than " + G(ra) + " + " + G(rb) + " = " + G(ra + rb) +
+                                 "; together they need at least " + G(d)
+                           : pair + " cannot close " + JointsOf(m, k, *b) + ": the points they turn about are only " + G(d) +
+                                 " apart, less than |" + G(ra) + " - " + G(rb) + "| = " + G(std::abs(ra - rb)) +
+                                 "; the difference of their lengths must be at most " + G(d);
+        *no_solution += " (no real solution, the two circles do not meet: radii " + G(ra) + " and " + G(rb) + ", centres " +
+                        G(d) + " apart)";
+      }
       if (b->solve == BlockSolve::kRS && std::isfinite(measure) && locals.count(DyadLocal::kQuadA) && locals[DyadLocal::kQuadA] != 0)
-        *no_solution = "no real solution, the circle and the line do not meet (discriminant " + G(measure) + " < 0)";
+        *no_solution = LinkOf(m, k, b->cols[b->iu]) + " cannot reach the line of its slide to close " + JointsOf(m, k, *b) +
+                       "; lengthen it or move the line (no real solution, the circle and the line do not meet: "
+                       "discriminant " + G(measure) + " < 0)";
       if (b->solve == BlockSolve::kAngle && std::isfinite(locals[DyadLocal::kC0]) && std::isfinite(locals[DyadLocal::kRho]) &&
           std::abs(locals[DyadLocal::kC0]) > locals[DyadLocal::kRho])
-        *no_solution = "no real solution, c0 + c1 cos u + c2 sin u = 0 needs |c0| <= sqrt(c1^2 + c2^2), but |c0| = " +
-                       G(std::abs(locals[DyadLocal::kC0])) + " > " + G(locals[DyadLocal::kRho]);
+        // rho = sqrt(c1^2 + c2^2) is how far the link reaches across the line the loop
+        // closes on (its length when it is a plain bar), |c0| how far it must reach.
+        *no_solution = LinkOf(m, k, b->cols[0]) + " (" + G(locals[DyadLocal::kRho]) + ") cannot reach across to close " +
+                       JointsOf(m, k, *b) + "; it needs at least " + G(std::abs(locals[DyadLocal::kC0])) +
+                       ": lengthen it or shorten what it spans (no real solution, c0 + c1 cos u + c2 sin u = 0 needs "
+                       "|c0| <= sqrt(c1^2 + c2^2), but |c0| = " +
+                       G(std::abs(locals[DyadLocal::kC0])) + " > " + G(locals[DyadLocal::kRho]) + ")";
       continue;
     }
     // A slide solved from a quadratic with no s^2 term has no second root to choose.
@@ -407,12 +456,12 @@ class ReachModel {
             if (!known[c] && std::find(b.cols.begin(), b.cols.end(), static_cast<int>(c)) == b.cols.end() &&
                 e.has(k.phi[c].symbol))
               ok = false;
+      auto compile = [&](const ex& e, Compiled* out) { ok = ok && out->Compile(e, slots); };
       for (size_t si = 0; si < code.form.steps.size(); ++si) {
         if (!ok) break;
         const DyadStep& st = code.form.steps[si];
         Step step;
         step.step = static_cast<int>(si);  // an index: BlockCode is copied when code_ grows
-        auto compile = [&](const ex& e, Compiled* out) { ok = ok && out->Compile(e, slots); };
         switch (st.kind) {
           case DyadStep::Kind::kLocal:
             if (!GiNaC::is_a<GiNaC::symbol>(st.symbol) || st.symbol.is_equal(st.value)) continue;
@@ -437,6 +486,11 @@ class ReachModel {
         }
         code.steps.push_back(step);
       }
+      if (ok && code.form.has_branch) {
+        code.has_branch = true;
+        compile(code.form.branch_num, &code.branch_num);
+        compile(code.form.branch_den, &code.branch_den);
+      }
       if (!ok) continue;
       for (int c : b.cols) known[c] = true;
       code_.push_back(std::move(code));
@@ -444,6 +498,23 @@ class ReachModel {
   }
 
   bool Empty() const { return code_.empty(); }
+
+  // After Closes(q) returned true: the smallest relative discriminant of the blocks with two
+  // modes (SolveReport::branch_measure, in [0, 1]; 1 if none) and its block.
+  double BranchMeasure(int* block) const {
+    double smallest = 1;
+    *block = -1;
+    for (const BlockCode& code : code_) {
+      if (!code.has_branch) continue;
+      const double den = code.branch_den(values_);
+      const double measure = den > 0 ? std::min(1.0, std::max(0.0, code.branch_num(values_) / den)) : 0.0;
+      if (*block < 0 || measure < smallest) {
+        smallest = measure;
+        *block = code.index;
+      }
+    }
+    return smallest;
+  }
 
   // Evaluates the blocks at q; false at the first requirement that fails (*block, *what).
   bool Closes(const std::vector<double>& q, int* block, std::string* what) {
@@ -494,6 +565,8 @@ class ReachModel {
     int index = 0;
     ClosedForm form;
     std::vector<Step> steps;
+    bool has_branch = false;
+    Compiled branch_num, branch_den;
   };
   const Kinematics& k_;
   const std::vector<Block>& blocks_;
@@ -505,11 +578,23 @@ class ReachModel {
 // Every closed-form block must close over each input's declared range (the others at
 // their assembly values) at the parameters' defaults, on the default modes: walked from
 // the assembly input to each end of the range; where it stops closing is found by
-// bisection and reported at the input's range.
-void CheckReach(const Model& m, const Kinematics& k, const std::vector<Block>& blocks) {
-  ReachModel reach(m, k, blocks);
+// bisection and reported at the input's range. A change point is not the end of the reach:
+// a block's two modes meet at an isolated input (its relative discriminant, the branch
+// measure, touches 0 and the loop closes on both sides; or its circle centres coincide
+// there, and it closes again just beyond). Those are recorded in the block's change_points.
+void CheckReach(const Model& m, const Kinematics& k, std::vector<Block>* blocks) {
+  ReachModel reach(m, k, *blocks);
   if (reach.Empty()) return;
   constexpr int kSamples = 720;
+  // A relative discriminant this small at its minimum: the modes meet (to rounding: the
+  // measure is sin^2 of an angle, so 1e-12 is a configuration within 1e-6 rad of the point).
+  constexpr double kTouch = 1e-12;
+  auto record = [&](int input, int block, double at, ChangePoint::Kind kind) {
+    if (block < 0) return;
+    for (const ChangePoint& c : (*blocks)[block].change_points)
+      if (c.input == input && std::abs(c.value - at) < 1e-9 * (1 + std::abs(at))) return;
+    (*blocks)[block].change_points.push_back({input, at, kind});
+  };
   for (int i = 0; i < k.nq(); ++i) {
     const double lo = std::min(k.q_min[i], k.q_max[i]), hi = std::max(k.q_min[i], k.q_max[i]);
     if (!(hi > lo) || !std::isfinite(hi - lo)) continue;
@@ -519,14 +604,76 @@ void CheckReach(const Model& m, const Kinematics& k, const std::vector<Block>& b
     std::string what;
     q[i] = start;
     if (!reach.Closes(q, &block, &what)) continue;  // the assembly's own check reports it
+    auto measure_at = [&](double at, int* b) {
+      q[i] = at;
+      int failed = -1;
+      std::string w;
+      if (!reach.Closes(q, &failed, &w)) {
+        *b = failed;
+        return 0.0;
+      }
+      return reach.BranchMeasure(b);
+    };
     for (const double end : {hi, lo}) {
       const double h = (hi - lo) / kSamples;
       double good = start;
       const int n = static_cast<int>(std::ceil(std::abs(end - start) / h));
+      // The last two samples that closed and their branch measures.
+      double at1 = start, at2 = NAN, m1 = NAN, m2 = NAN;
+      int b1 = -1;
+      m1 = measure_at(start, &b1);
       for (int s = 1; s <= n; ++s) {
         const double at = s == n ? end : start + (end > start ? h : -h) * s;
         q[i] = at;
         if (reach.Closes(q, &block, &what)) {
+          int b0 = -1;
+          const double m0 = reach.BranchMeasure(&b0);
+          // A local minimum of the measure at the previous sample: refined (golden section
+          // between its neighbours); touching 0 there is a change point.
+          if (b1 >= 0 && std::isfinite(m2) && m1 <= m2 && m1 <= m0 && m1 < 1e-3) {
+            double a = at2, c = at;
+            const double g = (std::sqrt(5.0) - 1) / 2;
+            double x1 = c - g * (c - a), x2 = a + g * (c - a);
+            int bx = -1;
+            double f1 = measure_at(x1, &bx), f2 = measure_at(x2, &bx);
+            for (int it = 0; it < 100 && std::abs(c - a) > 1e-13 * (1 + std::abs(a)); ++it) {
+              if (f1 <= f2) {
+                c = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = c - g * (c - a);
+                f1 = measure_at(x1, &bx);
+              } else {
+                a = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = a + g * (c - a);
+                f2 = measure_at(x2, &bx);
+              }
+            }
+            double at_min = f1 <= f2 ? x1 : x2, f_min = std::min(f1, f2);
+            if (m1 <= f_min) {
+              at_min = at1;
+              f_min = m1;
+            }
+            if (f_min < kTouch) {
+              // Nearest a whole sample when that is where it is (0 and 180 deg by hand).
+              record(i, b1, std::abs(at_min - at1) < 1e-6 * h ? at1 : at_min, ChangePoint::Kind::kModesMeet);
+            }
+          }
+          // The end of the range at a change point: the measure 0 there and the loop closing
+          // beyond it (else it is the limit of the reach, a dead point, ending the range).
+          if (s == n && b0 >= 0 && m0 < kTouch) {
+            int b3 = -1;
+            std::string w3;
+            q[i] = at + (end > start ? 1 : -1) * 1e-6 * h;
+            if (reach.Closes(q, &b3, &w3)) record(i, b0, at, ChangePoint::Kind::kModesMeet);
+          }
+          at2 = at1;
+          m2 = m1;
+          at1 = at;
+          m1 = m0;
+          b1 = b0;
           good = at;
           continue;
         }
@@ -544,19 +691,75 @@ void CheckReach(const Model& m, const Kinematics& k, const std::vector<Block>& b
             what = w2;
           }
         }
+        // An isolated input where a dyad's circle centres coincide (the dyad can turn about
+        // them: a change point of the linkage, e.g. a rhombus folded flat), with the loop
+        // closing again just beyond: not the end of the reach.
+        {
+          int b3 = -1;
+          std::string w3;
+          q[i] = bad + (end > start ? 1 : -1) * 1e-6 * h;
+          const bool closes_beyond = reach.Closes(q, &b3, &w3);
+          if (closes_beyond && what == kCentresCoincide) {
+            record(i, block, std::abs(bad - at) < 1e-9 * (1 + std::abs(at)) ? at : (good + bad) / 2,
+                   ChangePoint::Kind::kCentresCoincide);
+            at2 = NAN;
+            m2 = NAN;
+            b1 = -1;
+            good = q[i];
+            continue;
+          }
+        }
         const Input& in = m.inputs[i];
         const bool angle = k.q[i].is_angle;
         m.Fail(in.range_mark.line > 0 ? in.range_mark : in.mark,
                "input '" + k.q[i].name + "' is driven over [" + Number(k.q_min[i], angle) + ", " +
                    Number(k.q_max[i], angle) + "], but block " + std::to_string(block) + " (" +
-                   blocks[block].Describe(k) + ") stops closing at " + k.q[i].name + " = " + Number(good, angle) +
-                   " (from the assembly at " + Number(start, angle) + "; " + what +
-                   " beyond it) with the parameters' default values; narrow the range or change the lengths");
+                   (*blocks)[block].Describe(k) + ") stops closing at " + k.q[i].name + " = " + Number(good, angle) +
+                   " (from the assembly at " + Number(start, angle) + "; " + what + " beyond it: " +
+                   LinksOf(m, k, (*blocks)[block]) + " cannot close " + JointsOf(m, k, (*blocks)[block]) +
+                   " there) with the parameters' default values; narrow the range or change the lengths");
       }
     }
   }
+  for (Block& b : *blocks)
+    std::sort(b.change_points.begin(), b.change_points.end(),
+              [](const ChangePoint& x, const ChangePoint& y) { return std::tie(x.input, x.value) < std::tie(y.input, y.value); });
 }
 }  // namespace
+
+std::vector<std::string> ChangePointNotes(const Kinematics& k, const std::vector<Block>& blocks) {
+  std::vector<std::string> notes;
+  for (size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    for (int input = 0; input < k.nq(); ++input) {
+      std::string at;
+      bool coincide = false;
+      int count = 0;
+      for (const ChangePoint& c : b.change_points) {
+        if (c.input != input) continue;
+        at += std::string(count ? ", " : "") + Number(c.value, k.q[input].is_angle);
+        coincide |= c.kind == ChangePoint::Kind::kCentresCoincide;
+        ++count;
+      }
+      if (count == 0) continue;
+      const std::string mode = (b.default_mode > 0 ? "+" : "-") + std::to_string(std::abs(b.default_mode));
+      const std::string other = (b.default_mode > 0 ? "-" : "+") + std::to_string(std::abs(b.default_mode));
+      notes.push_back(
+          "input '" + k.q[input].name + "' passes " + (count == 1 ? "a change point" : "change points") + " of block " +
+          std::to_string(bi) + " (" + b.Describe(k) + ") at " + k.q[input].name + " = " + at +
+          (k.nq() > 1 ? " (the other inputs at their assembly values)" : "") + ": " +
+          (coincide ? "its two circle centres coincide there (the dyad can turn about them) or its two modes meet"
+                    : "its two assembly modes meet there (the linkage folds flat)") +
+          ". The generated SolvePositions keeps mode " + mode +
+          ", which past " + (count == 1 ? "it" : "each of them") +
+          " names the other branch of the linkage (its report's branch_measure falls to 0 "
+          "there" + (coincide ? ", and it returns kSingular exactly where the centres coincide" : "") +
+          "); a motion that stays on its smooth branch goes on in mode " + other +
+          " (the runtime's PositionSolver::PassSingularity with Crossing::kFollowTangent).");
+    }
+  }
+  return notes;
+}
 
 std::string Block::Describe(const Kinematics& k) const {
   std::string s = "rows";
@@ -672,7 +875,7 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
       }
     }
     std::string no_solution;
-    ChooseMode(k, &b, static_cast<int>(blocks.size()), &values, &no_solution);
+    ChooseMode(m, k, &b, static_cast<int>(blocks.size()), &values, &no_solution);
     if (no_solution.empty() &&
         (b.solve == BlockSolve::kRR || b.solve == BlockSolve::kRS || b.solve == BlockSolve::kAngle)) {
       // Solved at the assembly configuration: its Jacobian must be regular there. |det| is
@@ -737,7 +940,7 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
     for (size_t i = 0; i < blocks.size(); ++i) {
       Block b = blocks[i];
       std::string no_solution;
-      ChooseMode(k, &b, static_cast<int>(i), &at, &no_solution);
+      ChooseMode(m, k, &b, static_cast<int>(i), &at, &no_solution);
       if (!no_solution.empty())
         m.Fail(mode.mark, "assembly mode '" + mode.name + "' cannot be assembled (" + where + ") with the parameters' "
                           "default values: block " + std::to_string(i) + " (" + b.Describe(k) + "): " + no_solution +
@@ -745,7 +948,7 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
       blocks[i].named_modes.push_back(b.default_mode);
     }
   }
-  if (strategy == Strategy::kBlocks) CheckReach(m, k, blocks);
+  if (strategy == Strategy::kBlocks) CheckReach(m, k, &blocks);
   return blocks;
 }
 

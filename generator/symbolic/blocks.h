@@ -27,6 +27,21 @@ enum class BlockSolve {
   kLinear,  ///< one unknown x: c0 + c1 x = 0
 };
 
+/// Where an input's declared range passes a change point of a block: its two assembly
+/// modes meet at an isolated input (the linkage folds flat, e.g. a parallelogram at 0 and
+/// 180 deg), and the loop closes on both sides. The generated solve keeps a block's mode
+/// through it, which past the point is the other branch of the linkage; a smooth motion
+/// through it (the runtime's PassSingularity with Crossing::kFollowTangent) changes mode.
+struct ChangePoint {
+  enum class Kind {
+    kModesMeet,        ///< the relative discriminant (SolveReport::branch_measure) touches 0
+    kCentresCoincide,  ///< an RRR dyad's circle centres coincide: it is not determined there
+  };
+  int input = 0;       ///< index into q
+  double value = 0;    ///< the input there (model units, radians for an angle)
+  Kind kind = Kind::kModesMeet;
+};
+
 struct Block {
   std::vector<int> rows;  ///< rows of Phi
   std::vector<int> cols;  ///< indices into phi, solved by this block
@@ -40,8 +55,15 @@ struct Block {
   GiNaC::ex c0, c1, c2;     ///< kAngle, kLinear coefficients
   int default_mode = 1;     ///< assembly-mode sign matching the model's assembly guess
   std::vector<int> named_modes;  ///< per Model::assembly_modes: its mode of this block
+  /// Change points within the inputs' declared ranges (at the parameters' defaults, the
+  /// other inputs at their assembly values), by input and value.
+  std::vector<ChangePoint> change_points;
   std::string Describe(const Kinematics& k) const;  ///< "rows 0-1 -> theta_coupler, theta_rocker: closed form (RRR dyad)"
 };
+
+/// One sentence per block with change points, for the generator to print: which input
+/// reaches them and where, and which branch the model's modes name past them.
+std::vector<std::string> ChangePointNotes(const Kinematics& k, const std::vector<Block>& blocks);
 
 /// How the generated code is organized.
 enum class Strategy {

@@ -193,7 +193,7 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
       const ex d2 = s.Local(DyadLocal::kD2, wx * wx + wy * wy);
       // Coincident centres (to rounding): the dyad may turn about them, nothing fixes it.
       s.Require(DyadStep::Require::kPositive, d2 - eps * eps * (ra2 + rb2), d2, true,
-                "the two circle centres coincide");
+                kCentresCoincide);
       const ex inv_d2 = s.Local(DyadLocal::kInvD2, 1 / d2);
       const ex kk = s.Local(DyadLocal::kK, GiNaC::numeric(1, 2) + (ra2 - rb2) * inv_d2 / 2);
       const ex h2 = s.Local(DyadLocal::kH2, ra2 * inv_d2 - kk * kk);

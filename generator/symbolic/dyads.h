@@ -38,6 +38,10 @@
 
 namespace mechgen {
 
+/// What an RRR dyad's requirement says when its two circle centres coincide (the reach
+/// check tells this isolated case, a change point, from the end of a reach).
+inline constexpr const char* kCentresCoincide = "the two circle centres coincide";
+
 /// stable_half(B, sq) = -(B + sign(B) sq) / 2 (sign(0) = +1): the larger-magnitude
 /// q of a quadratic's roots q / A and C / q.
 DECLARE_FUNCTION_2P(stable_half)

@@ -61,7 +61,10 @@ TEST(DynamicsModel, ErrorsNameTheirPlaceAndWhatToChange) {
   ExpectError(base + "tables:\n  f: {x: [0, 1], y: [0, 1]}\nsprings:\n  k: {torsional: B, stiffness: f(1)}\n" + kDyn,
               "19:32", "'f' is not a function");
   // A table's name becomes the C++ function Table_<name> and a function of the expressions.
-  ExpectError(base + "tables:\n  sin: {x: [0, 1], y: [0, 1]}\n" + kDyn, "17:3", "name of the expression language");
+  ExpectError(base + "tables:\n  sin: {x: [0, 1], y: [0, 1]}\n" + kDyn, "17:3",
+              "table name 'sin' is a function of the expression language");
+  ExpectError(base + "tables:\n  deg: {x: [0, 1], y: [0, 1]}\n" + kDyn, "17:3",
+              "table name 'deg' is a name of the expression language");
   ExpectError(base + "tables:\n  int: {x: [0, 1], y: [0, 1]}\n" + kDyn, "17:3", "is a C++ keyword");
   ExpectError(base + "tables:\n  a: {x: [0, 1], y: [0, 1]}\n" + kDyn, "17:3", "is a parameter's name");
   // Accelerations are reserved; time and speed need the dynamics.

@@ -244,7 +244,17 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"unknown_parameter", "C: [b, 0]}}", "C: [bb, 0]}}", 10, 37,
                 "cannot read 'bb' as an expression"},
         BadCase{"unknown_key", "  - {joint: A}\n", "  - {joint: A, rnage: [0, 1]}\n", 18, 16,
-                "unknown key 'rnage'"}),
+                "unknown key 'rnage'"},
+        // A comma in an unquoted doc: text cuts it (a comma ends a value in { }): said at the
+        // text, with the quoted text to write instead.
+        BadCase{"comma_in_doc", "  a: 1.0\n", "  a: {value: 1.0, doc: crank AB, the input}\n", 3, 24,
+                "quote the whole text: doc: \"crank AB, the input\""},
+        // A table is called like a function: one named like a function of the language.
+        BadCase{"table_named_sin", "", "tables:\n  sin: {x: [0, 1], y: [0, 1]}\n", 20, 3,
+                "table name 'sin' is a function of the expression language: 'sin(x)' in an expression calls the "
+                "function, never the table; rename it"},
+        BadCase{"table_named_step", "", "tables:\n  step: {x: [0, 1], y: [0, 1]}\n", 20, 3,
+                "table name 'step' is a function of the expression language"}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return std::string(info.param.name); });
 
 TEST(BadModelMore, DisconnectedLinkIsNamed) {
@@ -300,7 +310,56 @@ TEST(BadModelMore, AssemblyThatCannotCloseIsReportedAtTheGuess) {
   EXPECT_NE(r.output.find("cannot be assembled at the assembly configuration (theta_crank = 180 deg)"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("the two circles do not meet"), std::string::npos) << r.output;
+  // In the designer's terms: the links, their lengths and the distance they must span (B at
+  // (-1, 0), D at (7.3, 0): 8.3 > 3.5 + 3).
+  EXPECT_NE(r.output.find("link 'coupler' (3.5) and link 'rocker' (3) cannot reach each other to close joint C: the "
+                          "points they turn about are 8.3 apart, more than 3.5 + 3 = 6.5; together they need at least 8.3"),
+            std::string::npos)
+      << r.output;
   EXPECT_NE(r.output.find("change the assembly inputs or the lengths"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
+}
+
+TEST(ChangePoint, ParallelogramThroughAFullTurnIsGeneratedWithANote) {
+  // tests/kinematics/models/parallelogram.yaml: crank = rocker, coupler = ground, driven over
+  // [0, 360 deg]; its change points (all links collinear) at 0, 180 and 360 deg by hand.
+  TempDir dir;
+  const Result r = RunMechgen("generate " + (kSource / "tests/kinematics/models/parallelogram.yaml").string() +
+                              " --out-dir " + (dir.path() / "out").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir.path() / "out" / "parallelogram.h")) << r.output;
+  EXPECT_NE(r.output.find("note: input 'theta_crank' passes change points of block 0"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("at theta_crank = 0 deg, 180 deg, 360 deg"), std::string::npos) << r.output;
+  // --quiet: nothing.
+  const Result quiet = RunMechgen("generate --quiet " + (kSource / "tests/kinematics/models/parallelogram.yaml").string() +
+                                  " --out-dir " + (dir.path() / "out2").string());
+  EXPECT_EQ(quiet.exit_code, 0) << quiet.output;
+  EXPECT_EQ(quiet.output, "");
+}
+
+TEST(BadModelMore, RodThatCannotReachTheSlideIsNamedWithItsLengths) {
+  // The slider-crank with a rod of 0.2: at the assembly input 90 deg the crank pin B is at
+  // (0, 1) and the slide's line at y = 0.4, so the rod must span 1 - 0.4 = 0.6 (by hand).
+  std::ifstream in(kSource / "models" / "slider_crank.yaml");
+  std::stringstream read;
+  read << in.rdbuf();
+  std::string text = read.str();
+  text.replace(text.find("b: {value: 3.2"), 14, "b: {value: 0.2");
+  const std::string guess = "  theta_crank: 90*deg";
+  const size_t at = text.find(guess);
+  ASSERT_NE(at, std::string::npos);
+  const int line = static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) + 1;
+  TempDir dir;
+  const fs::path model = dir.path() / "short_rod.yaml";
+  std::ofstream(model) << text;
+  const Result r = RunMechgen("generate " + model.string() + " --out-dir " + (dir.path() / "out").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.output.rfind(model.string() + ":" + std::to_string(line) + ":3: error: ", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find("link 'rod' (0.2) cannot reach across to close joint C; it needs at least 0.6: lengthen "
+                          "it or shorten what it spans"),
+            std::string::npos)
+      << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   EXPECT_FALSE(fs::exists(dir.path() / "out"));
 }
