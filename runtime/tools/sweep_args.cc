@@ -36,6 +36,13 @@ int ParseArguments(int argc, char** argv, const std::string& model_name, long lo
   app.add_option("--mode", a.mode,
                  "assemble in this named assembly mode of the model (its assembly_modes:) "
                  "instead of the model's assembly");
+  app.add_option("--at-singular", a.at_singular,
+                 "at a singular configuration: stop (the rest of the rows not_run), follow (a change "
+                 "point, e.g. a parallelogram folding flat: go on along the same curve, the branch "
+                 "it was on), switch (a change point: onto the other curve) or reverse (a dead "
+                 "point: the input turns back)")
+      ->check(CLI::IsMember({"stop", "follow", "switch", "reverse"}))
+      ->capture_default_str();
   tools::AddParameterOptions(&app, &a.params);
   return tools::Parse(&app, argc, argv, a.tool);
 }

@@ -344,8 +344,12 @@ int main(int argc, char** argv) {
     output_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  const int failures = mechgen::SweepRows(&solver, q_begin, q_end, steps, qd, qdd,
-                                          mechgen::SweepOptions(), row);
+  mechgen::SweepOptions sweep_options;
+  sweep_options.at_singularity = arguments.at_singular == "follow"    ? mechgen::position::Crossing::kFollowTangent
+                                 : arguments.at_singular == "switch"  ? mechgen::position::Crossing::kSwitchBranch
+                                 : arguments.at_singular == "reverse" ? mechgen::position::Crossing::kReverseInput
+                                                                 : mechgen::position::Crossing::kStop;
+  const int failures = mechgen::SweepRows(&solver, q_begin, q_end, steps, qd, qdd, sweep_options, row);
   const double total_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double solve_seconds = total_seconds - output_seconds - first_row_seconds;

@@ -106,6 +106,33 @@ grep -Eqx "error: cannot write f.csv: File too large" "$root/limit.err" \
 [ "$(cd "$dir" && ls -A)" = "f.csv" ] || fail "limit: left $(cd "$dir" && ls -A)"
 echo "ok limit: $(cat "$root/limit.err")"
 
+# --at-singular follow passes the change point (issue 26): -179.5 .. 179.5 deg in 359 steps (no
+# row at exactly 0 deg, where Phi_phi is singular) all converge, exit 0; every row closes the
+# loop (B + b e_coupler = D + c e_rocker, a = 1, b = 3, c = d = 2: by hand from the CSV's
+# angles), and the motion goes on along the same smooth curve: the coupler's K keeps its sign
+# through 0 deg (both rows next to it have K_theta_coupler < -2) while the rocker's angle
+# changes sign (the folded-flat position is passed, not bounced off).
+dir="$root/follow"
+mkdir -p "$dir"
+(cd "$dir" && "$stop_tool" --at-singular follow --range theta_crank:-179.5deg:179.5deg --steps 359 \
+   --csv f.csv --table 0 > ../follow.out 2> ../follow.err)
+status=$?
+[ "$status" -eq 0 ] || fail "follow: exit status $status: $(cat "$root/follow.err")"
+awk -F, '/^#/ { next } ++line == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+         { n++
+           if ($col["status"] != "converged") { print "row " line ": " $col["status"]; bad++ }
+           t = $col["theta_crank"]; u = $col["theta_coupler"]; v = $col["theta_rocker"]
+           ex = cos(t) + 3 * cos(u) - 2 - 2 * cos(v); ey = sin(t) + 3 * sin(u) - 2 * sin(v)
+           e = sqrt(ex * ex + ey * ey); if (e > worst) worst = e
+           if (t > -0.01 && t < 0.01) { near++; if ($col["K_theta_coupler_theta_crank"] > -2) bad++
+                                        if (t < 0) before = v; else after = v } }
+         END { if (n != 360 || near != 2 || worst > 1e-12 || bad || before * after >= 0) {
+                 print n " rows, " near " next to 0 deg, closure " worst ", " bad " bad, rocker " before " / " after; exit 1 }
+               print "closure residual " worst }' "$dir/f.csv" > "$root/follow.awk" \
+  || fail "follow: $(cat "$root/follow.awk")"
+echo "ok follow: $(cat "$root/follow.awk")"
+run_refused at_singular_bad 2 ".*--at-singular.*" "$stop_tool" --at-singular bounce
+
 # A sweep that stops at the change point (-180 .. 180 deg, 360 steps; theta_crank = 0 is row
 # 180): exit 3, the counts on stderr, the CSV whole, not_run rows with their inputs.
 dir="$root/stop"
