@@ -4,8 +4,8 @@
 #   gnuplot -e "csv='out/press.csv'; png='out/press.png'" runtime/tools/plot_statics.gnuplot
 #   gnuplot -e "csv='out/press.csv'; svg='out/press_plot.svg'" runtime/tools/plot_statics.gnuplot
 #
-# Top: every drive_* column (the driving torque or force without friction, and with friction
-# forward and backward), with the self-locking rows (self_locking_* = 1: the dead zones)
+# Top: every drive_* column (the driving torque or force without friction, drive_<q>, and
+# with friction to run the input in +q and in -q, drive_<q>_plus and drive_<q>_minus), with the self-locking rows (self_locking_* = 1: the dead zones)
 # marked on the axis. Bottom: every F_<joint>_mag column (|reaction force| at each joint,
 # without friction). The x axis is the CSV's first column, in degrees when its name says it
 # is an angle (theta_*, psi_*; set deg=0 or deg=1 to override). Rows whose forces are

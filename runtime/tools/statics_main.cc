@@ -246,12 +246,19 @@ int Run(int argc, char** argv) {
               rows - failures, rows, singular, double(evaluations) / std::max(rows, 1),
               1e6 * seconds / std::max(rows, 1));
   for (int j = 0; j < M::kNq; ++j) {
-    double largest = 0;
-    for (const auto& r : records)
-      if (r.drives[j].status == statics::Status::kConverged)
-        largest = std::max({largest, std::abs(r.drives[j].drive),
-                            std::abs(r.drives[j].drive_forward)});
-    std::printf("  max |drive_%s| = %.6g %s\n", M::kQNames[j], largest, M::kQIsAngle[j] ? "N m" : "N");
+    double largest = 0, with_friction = 0;
+    for (const auto& r : records) {
+      if (r.drives[j].status != statics::Status::kConverged) continue;
+      largest = std::max(largest, std::abs(r.drives[j].drive));
+      with_friction = std::max({with_friction, std::abs(r.drives[j].drive_plus),
+                                std::abs(r.drives[j].drive_minus)});
+    }
+    const char* unit = M::kQIsAngle[j] ? "N m" : "N";
+    std::printf("  max |drive_%s| = %.6g %s", M::kQNames[j], largest, unit);
+    if (statics::StaticsFeatures<M>::kHasFriction)
+      std::printf(" without friction, %.6g %s with friction (running in +%s or -%s)",
+                  with_friction, unit, M::kQNames[j], M::kQNames[j]);
+    std::printf("\n");
   }
   if (failures > 0) {
     int shown = 0;

@@ -70,12 +70,12 @@ TEST(StaticsSweep, ColumnNamesAreUniqueAndNamedFromTheModel) {
   ExpectUniqueColumns<M>();
   ExpectUniqueColumns<mech::handwritten_statics_pendulum::Model>();
   const std::vector<std::string> expected = {
-      "theta_crank", "theta_rod", "s_slide", "drive_theta_crank", "drive_theta_crank_fwd",
-      "drive_theta_crank_back", "efficiency_theta_crank_fwd", "efficiency_theta_crank_back",
+      "theta_crank", "theta_rod", "s_slide", "drive_theta_crank", "drive_theta_crank_plus",
+      "drive_theta_crank_minus", "efficiency_theta_crank_fwd", "efficiency_theta_crank_back",
       "self_locking_theta_crank", "F_O_x", "F_O_y", "F_B_x", "F_B_y", "F_C_x", "F_C_y",
       "N_slide", "T_slide", "M_slide", "F_O_mag", "F_B_mag", "F_C_mag", "F_slide_mag",
-      "F_O_mag_fwd", "F_O_mag_back", "F_B_mag_fwd", "F_B_mag_back", "F_C_mag_fwd",
-      "F_C_mag_back", "F_slide_mag_fwd", "F_slide_mag_back", "stiffness",
+      "F_O_mag_plus", "F_O_mag_minus", "F_B_mag_plus", "F_B_mag_minus", "F_C_mag_plus",
+      "F_C_mag_minus", "F_slide_mag_plus", "F_slide_mag_minus", "stiffness",
       "mechanical_advantage", "status", "cond", "evaluations"};
   EXPECT_EQ(StaticsCsvColumns<M>(), expected);
   const std::vector<std::string> pendulum = {
@@ -97,11 +97,12 @@ TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
   ASSERT_EQ(table.size(), records.size() + 1);
   const auto& header = table[0];
   const int drive = Column(header, "drive_theta_crank");
-  const int fwd = Column(header, "drive_theta_crank_fwd");
-  const int back = Column(header, "drive_theta_crank_back");
+  const int plus = Column(header, "drive_theta_crank_plus");
+  const int minus = Column(header, "drive_theta_crank_minus");
+  const int eff_fwd = Column(header, "efficiency_theta_crank_fwd");
   const int locked = Column(header, "self_locking_theta_crank");
   const int F_O = Column(header, "F_O_mag"), F_B = Column(header, "F_B_mag");
-  const int F_C_fwd = Column(header, "F_C_mag_fwd");
+  const int F_C_plus = Column(header, "F_C_mag_plus");
   const int ma = Column(header, "mechanical_advantage");
   const int status = Column(header, "status");
   int locked_rows = 0;
@@ -126,11 +127,15 @@ TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
     };
     EXPECT_NEAR(std::stod(row[Column(header, "stiffness")]), (T0_at(q + h) - T0_at(q - h)) / (2 * h),
                 1e-5 * p.F);
-    EXPECT_NEAR(std::stod(row[fwd]), T0 + sign * mu_r * P, 1e-8 * p.F);
-    EXPECT_NEAR(std::stod(row[back]), T0 - sign * mu_r * P, 1e-8 * p.F);
+    // The input running in +q: the bearing's friction torque mu_r P opposes it, whatever the
+    // sign of T0 (continuous through T0 = 0); in -q the same torque the other way.
+    EXPECT_NEAR(std::stod(row[plus]), T0 + mu_r * P, 1e-8 * p.F);
+    EXPECT_NEAR(std::stod(row[minus]), T0 - mu_r * P, 1e-8 * p.F);
+    // Forward (the motion along sign T0, the actuator driving): T0 / (T0 + sign mu_r P).
+    EXPECT_NEAR(std::stod(row[eff_fwd]), T0 / (T0 + sign * mu_r * P), 1e-9);
     EXPECT_NEAR(std::stod(row[F_O]), P, 1e-8 * p.F);
     EXPECT_NEAR(std::stod(row[F_B]), P, 1e-8 * p.F);
-    EXPECT_NEAR(std::stod(row[F_C_fwd]), P, 1e-8 * p.F);  // the rod force ignores O's friction
+    EXPECT_NEAR(std::stod(row[F_C_plus]), P, 1e-8 * p.F);  // the rod force ignores O's friction
     if (std::abs(std::abs(lever) - mu_r) > 1e-9) {
       EXPECT_EQ(row[locked], std::abs(lever) <= mu_r ? "1" : "0") << "q = " << q;
     }
@@ -145,7 +150,7 @@ TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
 
   std::ostringstream printed;
   PrintStaticsTable(records, 8, printed);
-  EXPECT_NE(printed.str().find("drive_theta_crank_fwd"), std::string::npos) << printed.str();
+  EXPECT_NE(printed.str().find("drive_theta_crank_plus"), std::string::npos) << printed.str();
   EXPECT_NE(printed.str().find("converged"), std::string::npos);
 
   std::ostringstream svg;
@@ -190,8 +195,8 @@ TEST(StaticsSweep, DeadPointRowsAreSingularAndEmpty) {
     }
     singular += row[status] == "singular";
     not_run += row[status] == "not_run";
-    for (const char* name : {"drive_theta_crank", "drive_theta_crank_fwd", "F_O_x", "F_O_mag",
-                             "F_C_mag_back", "stiffness", "mechanical_advantage"})
+    for (const char* name : {"drive_theta_crank", "drive_theta_crank_plus", "F_O_x", "F_O_mag",
+                             "F_C_mag_minus", "stiffness", "mechanical_advantage"})
       EXPECT_TRUE(row[Column(header, name)].empty()) << name << " = " << row[Column(header, name)];
   }
   EXPECT_EQ(singular, 1);
