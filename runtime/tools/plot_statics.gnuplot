@@ -20,6 +20,8 @@ if (!exists("png") && !exists("svg")) { png = csv . ".png" }
 header = system("awk '!/^#/ { print; exit }' '" . csv . "' | tr ',' ' '")
 n = words(header)
 x_name = word(header, 1)
+# The drive's unit from the CSV's comment line "# drive_<q> [N m]: ...".
+drive_unit = system("awk -F'[][]' '/^# drive_/ { print $2; exit }' '" . csv . "'")
 if (!exists("deg")) { deg = (strstrt(x_name, "theta") == 1 || strstrt(x_name, "psi") == 1) ? 1 : 0 }
 
 drive_columns = ""
@@ -49,7 +51,7 @@ set grid
 set autoscale xfix
 set multiplot layout 2,1 title "statics: " . csv
 set xlabel x_name . (deg ? " [deg]" : "")
-set ylabel "driving force (N m or N)"
+set ylabel "driving torque or force [" . drive_unit . "]"
 if (lock_column > 0) {
   plot for [c in drive_columns] csv using (x(column(1))):(column(int(c)))  \
          with lines lw 2 title word(header, int(c)), \
@@ -59,7 +61,7 @@ if (lock_column > 0) {
   plot for [c in drive_columns] csv using (x(column(1))):(column(int(c)))  \
          with lines lw 2 title word(header, int(c))
 }
-set ylabel "|reaction force| (N)"
+set ylabel "|reaction force| [N]"
 if (strlen(magnitude_columns) > 0) {
   plot for [c in magnitude_columns] csv using (x(column(1))):(column(int(c)))  \
          with lines lw 2 title word(header, int(c))

@@ -27,6 +27,11 @@
  *   F_<J>_mag                        |force| at joint J: hypot(F_J_x, F_J_y), hypot(N_J, T_J)
  *                                    at a prismatic joint, |F_J| at a gear or cam
  *   F_<J>_mag_plus, F_<J>_mag_minus  the same with friction, the input running in +q / -q
+ *   bearing_<J>_x, bearing_<J>_y     at each revolute joint J with the ground (a bearing, models
+ *                                    with a drawing: Model::kDrawJointLink*): the force of the
+ *                                    ground on the moving link, fixed frame, without friction
+ *                                    (F_J or -F_J by the joint's link order); their polar
+ *                                    diagram is runtime/tools/plot_bearings.gnuplot's
  *   V                                potential energy of springs and gravity (models with it)
  *   stiffness (stiffness_<q_j>_<q_k>, j <= k, with several inputs)   -dQ/dq, friction excluded
  *   mechanical_advantage             one input with points: 1 / |K_P| of the first point
@@ -48,6 +53,7 @@
 #include <ostream>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -102,6 +108,54 @@ std::vector<ReactionJoint> ReactionJoints() {
     }
   }
   return joints;
+}
+
+namespace internal {
+/// Whether M names the joint of each reaction and the links of each joint (generated models
+/// with reactions and a drawing: Model::kReactionJoint, kDrawJointLinkA, kDrawJointLinkB).
+template <class M, class = void>
+struct HasJointLinks : std::false_type {};
+template <class M>
+struct HasJointLinks<M, std::void_t<decltype(M::kReactionJoint), decltype(M::kDrawJointLinkA),
+                                    decltype(M::kDrawJointLinkB), decltype(M::kLinkNames)>>
+    : std::true_type {};
+}  // namespace internal
+
+/// A revolute joint with the ground (a bearing): its reaction components and the sign that
+/// turns them into the force of the ground on the moving link.
+struct GroundBearing {
+  std::string joint;  ///< the joint's name, J
+  std::string link;   ///< the moving link the ground carries there
+  int x = -1, y = -1;  ///< F_J_x, F_J_y in R
+  double sign = 1;     ///< +1: the ground is the joint's first link (R is its force); -1: second
+};
+
+/// The ground bearings of M, in the order of the reactions; empty for a model that does not
+/// name its joints' links (hand-written models without a drawing).
+template <class M>
+std::vector<GroundBearing> GroundBearings() {
+  std::vector<GroundBearing> bearings;
+  if constexpr (StaticsFeatures<M>::kHasReactions && internal::HasJointLinks<M>::value) {
+    for (int i = 0; i < StaticsFeatures<M>::kNumReactions; ++i) {
+      const std::string name = M::kReactionNames[i];
+      const bool x = name.size() > 4 && name.compare(0, 2, "F_") == 0 &&
+                     name.compare(name.size() - 2, 2, "_x") == 0;
+      if (!x || i + 1 >= StaticsFeatures<M>::kNumReactions) continue;
+      const std::string joint = name.substr(2, name.size() - 4);
+      if (std::string(M::kReactionNames[i + 1]) != "F_" + joint + "_y") continue;
+      const int j = M::kReactionJoint[i];
+      const int a = M::kDrawJointLinkA[j], b = M::kDrawJointLinkB[j];
+      if (a != M::kGroundLink && b != M::kGroundLink) continue;
+      GroundBearing g;
+      g.joint = joint;
+      g.link = M::kLinkNames[a == M::kGroundLink ? b : a];
+      g.x = i;
+      g.y = i + 1;
+      g.sign = a == M::kGroundLink ? 1.0 : -1.0;
+      bearings.push_back(g);
+    }
+  }
+  return bearings;
 }
 
 /// |force| at a joint from reactions R (NaN when any component is NaN).
@@ -234,6 +288,18 @@ std::vector<StaticsColumn<M>> StaticsColumns() {
           }
         }
       }
+    }
+  }
+  for (const GroundBearing& g : GroundBearings<M>()) {
+    for (const int axis : {0, 1}) {
+      add.Number("bearing_" + g.joint + (axis ? "_y" : "_x"), "N",
+                 std::string("force of the ground on ") + g.link + " at the bearing " + g.joint +
+                     ", fixed frame " + (axis ? "y" : "x") + ", without friction",
+                 [g, axis, usable](const R& r) {
+                   return usable(r.frictionless)
+                              ? g.sign * r.frictionless.statics.R(axis ? g.y : g.x) + 0.0  // no -0
+                              : kNaN;
+                 });
     }
   }
   if constexpr (F::kHasPotential) {
