@@ -6,6 +6,7 @@
 // (|T0| MA = F); at a dead point the rows say `singular` and print no force; the column
 // names are unique.
 #include <cmath>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -82,6 +83,60 @@ TEST(StaticsSweep, ColumnNamesAreUniqueAndNamedFromTheModel) {
       "theta_pendulum", "x_P", "y_P", "drive_theta_pendulum", "F_O_x", "F_O_y", "F_O_mag",
       "V", "stiffness", "status", "cond", "evaluations"};
   EXPECT_EQ(StaticsCsvColumns<mech::handwritten_statics_pendulum::Model>(), pendulum);
+}
+
+// The force diagram of the hand-written slider-crank's sweep (statics/svg.h): every arrow of
+// the pins O and B is the rod force P = F b / sqrt(b^2 - a^2 sin^2 q) (the closed form, at
+// the snapshot's q read from its group) long at the drawing's force scale, to within the
+// 0.01 px rounding of its end points; the scale bar is its force at that scale; each
+// snapshot is labelled with its input angle, each arrow with its magnitude.
+void ExpectForceDiagram(const std::string& text, const Params& p) {
+  const std::regex scale_re("<g id=\"reactions\" data-force-scale=\"([^\"]+)\">");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(text, m, scale_re));
+  const double pixels_per_newton = std::stod(m[1]);
+  ASSERT_GT(pixels_per_newton, 0.0);
+  // The bar: from x = 8 to 8 + force * scale.
+  const std::regex bar_re(
+      "<g id=\"force_scale\" data-force=\"([^\"]+)\"><line x1=\"8\" y1=\"54\" x2=\"([^\"]+)\"");
+  ASSERT_TRUE(std::regex_search(text, m, bar_re));
+  const double bar = std::stod(m[1]);
+  EXPECT_NEAR(std::stod(m[2]) - 8, bar * pixels_per_newton, 0.006);
+  EXPECT_NE(text.find(" N (force scale: "), std::string::npos);
+  // Snapshots and their arrows.
+  const std::regex group_re("<g class=\"snapshot\" data-q=\"([^\"]+)\">\n([\\s\\S]*?)</g>");
+  const std::regex line_re(
+      "<line x1=\"([^\"]+)\" y1=\"([^\"]+)\" x2=\"([^\"]+)\" y2=\"([^\"]+)\"[^>]*><title>F_([A-Z]+) = ");
+  int groups = 0, checked = 0;
+  for (auto g = std::sregex_iterator(text.begin(), text.end(), group_re);
+       g != std::sregex_iterator(); ++g, ++groups) {
+    const double q = std::stod((*g)[1]);
+    const std::string body = (*g)[2];
+    const double sq = p.a * std::sin(q);
+    const double P = p.F * p.b / std::sqrt(p.b * p.b - sq * sq);
+    char label[64];
+    std::snprintf(label, sizeof(label), "theta_crank = %.4g deg", q * 180 / M_PI);
+    EXPECT_NE(body.find(label), std::string::npos) << label;
+    int magnitudes = 0;
+    for (size_t at = body.find("class=\"magnitude\""); at != std::string::npos;
+         at = body.find("class=\"magnitude\"", at + 1))
+      ++magnitudes;
+    EXPECT_EQ(magnitudes, 3) << body;  // O, B, C
+    for (auto l = std::sregex_iterator(body.begin(), body.end(), line_re);
+         l != std::sregex_iterator(); ++l) {
+      const std::string joint = (*l)[5];
+      if (joint != "O" && joint != "B") continue;
+      const double length = std::hypot(std::stod((*l)[3]) - std::stod((*l)[1]),
+                                        std::stod((*l)[4]) - std::stod((*l)[2]));
+      EXPECT_NEAR(length, pixels_per_newton * P, 0.015) << "F_" << joint << " at q = " << q;
+      char magnitude[64];
+      std::snprintf(magnitude, sizeof(magnitude), "F_%s %.4g N", joint.c_str(), P);
+      EXPECT_NE(body.find(magnitude), std::string::npos) << magnitude;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(groups, 4);
+  EXPECT_EQ(checked, 8);
 }
 
 TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
@@ -166,6 +221,7 @@ TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
   EXPECT_EQ(arrows, 4u * 3u);  // joints O, B and C at each of 4 snapshots
   EXPECT_NE(text.find("<title>F_B = ("), std::string::npos);
   EXPECT_EQ(text.rfind("</svg>\n"), text.size() - 7);
+  ExpectForceDiagram(text, p);
 }
 
 // a = b: the position sweep stops next to the dead point at q = 90 deg; that row says
