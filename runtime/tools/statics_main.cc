@@ -8,10 +8,14 @@
 // the driving forces (without friction and, with friction, forward and backward), the
 // reactions, V, the mechanical advantage and a status per row; optionally the dead zones
 // (self-locking intervals) and the equilibrium positions along the range. Writes a CSV file,
-// a short table and an SVG drawing with the reaction vectors. Plot the CSV with
-// runtime/tools/plot_statics.gnuplot. Example:
-//   slider_crank_friction_statics --steps 720 --csv out/scf.csv --svg out/scf.svg --dead-zones
-//   gnuplot -e "csv='out/scf.csv'; png='out/scf.png'" runtime/tools/plot_statics.gnuplot
+// a short table and an SVG force diagram (statics/svg.h). `--plots PREFIX` runs gnuplot on
+// the CSV: PREFIX_drive.png (runtime/tools/plot_statics.gnuplot: the driving torque, with
+// friction to run in +q and -q, and the reaction magnitudes against the input) and
+// PREFIX_bearings.png (plot_bearings.gnuplot: the polar diagram of each ground bearing's
+// load); gnuplot missing or the scripts not found: one line, exit 1, before anything is
+// computed. Example:
+//   slider_crank_friction_statics --steps 720 --csv out/scf.csv --svg out/scf.svg --dead-zones \
+//     --plots out/scf
 // Options are read by the command-line layer of every tool (runtime/tools/common/):
 // `--opt=value` or `--opt value`, every number finite and in the range --help lists; --steps
 // up to 10^6 (every row is held in memory); --samples from 36 (statics::ScanOptions::
@@ -155,6 +159,8 @@ bool RunGnuplot(const fs::path& gnuplot, const fs::path& script, const std::stri
                 const std::string& format, const std::string& picture, std::string* error) {
   const fs::path target(picture);
   const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+  std::error_code made;
+  if (!target.parent_path().empty()) fs::create_directories(target.parent_path(), made);
   const std::string expression = "csv='" + csv + "'; " + format + "='" + tmp.string() + "'";
   std::vector<std::string> args = {gnuplot.string(), "-e", expression, script.string()};
   std::vector<char*> argv;

@@ -9,7 +9,8 @@
 #     O (the slide's normal force is vertical, no friction in these columns), so
 #     bearing_O_x = +1000 N on every row; |bearing| equals the joint's F_<J>_mag;
 #   - the pictures: PNG and SVG written, the SVG legends name the curves and the link each
-#     bearing carries, every SVG rendered by rsvg-convert to a PNG;
+#     bearing carries, every SVG rendered by rsvg-convert to a PNG; the statics SVG (one
+#     snapshot) says at each arrow which link's force on which it is;
 #   - --table includes the last row of the range (0, 120, 240, 360 deg for 4 rows);
 #   - gnuplot missing from PATH: one error line, exit 1, nothing written; a bad --plot-format:
 #     one line, exit 2.
@@ -22,7 +23,8 @@ fail() { echo "FAIL: $*"; exit 1; }
 command -v gnuplot > /dev/null || { echo "gnuplot not installed: skipped"; exit 0; }
 
 cd "$out"
-"$scf" --steps 360 --plots scf --table 4 > scf.txt || fail "slider_crank_friction exit $?"
+"$scf" --steps 360 --plots scf --table 4 --svg scf.svg --snapshots 1 > scf.txt \
+  || fail "slider_crank_friction exit $?"
 cat scf.txt
 [ -s scf.csv ] && [ -s scf_drive.png ] && [ -s scf_bearings.png ] || fail "scf outputs"
 head -c 8 scf_drive.png | od -An -c | grep -q "P   N   G" || fail "scf_drive.png is not a PNG"
@@ -33,6 +35,11 @@ awk '$NF == "converged" { print $1 }' scf.txt > angles.txt
 grep -q "^# bearing_O_x \[N\]: force of the ground on crank at the bearing O" scf.csv \
   || fail "bearing_O_x described"
 grep -q "^# drive_theta_crank_plus \[N m\]:" scf.csv || fail "drive_plus described"
+# The force diagram (one configuration): who acts on whom at each arrow, rendered.
+grep -q '<title>F_B = ([^)]*) N: force of crank on rod</title>' scf.svg || fail "SVG: F_B's tooltip"
+grep -q '<title>F_O = ([^)]*) N: force of ground on crank</title>' scf.svg || fail "SVG: F_O's tooltip"
+[ "$(grep -c '<g class="snapshot"' scf.svg)" -eq 1 ] || fail "SVG: one snapshot"
+rsvg-convert scf.svg -o scf_svg.png && [ -s scf_svg.png ] || fail "rsvg-convert scf.svg"
 # Whole-machine balance along x, and the magnitude.
 awk -F, '
   /^#/ { next }

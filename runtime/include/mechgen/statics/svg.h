@@ -8,7 +8,8 @@
  * force of the joint's first link on its second (the contract's convention), drawn from the
  * pin: at the scene point whose name is J (e.g. "crank.B" for joint B); joints without such
  * a point and the reactions of prismatic, gear and cam joints (whose direction the runtime
- * does not know) are not drawn. Each arrow has its magnitude written at its tip ("1000 N").
+ * does not know) are not drawn. Each arrow has its magnitude written at its tip ("F_B 1000 N")
+ * and says who acts on whom in its tooltip ("F_B = (..) N: force of crank on rod").
  * Each snapshot's arrows are one group <g class="snapshot" data-q="..."> (the inputs, model
  * units) with a label of its inputs ("theta_crank = 90 deg") at the last point of a moving
  * link; `--snapshots 1` draws one configuration per picture. One scale for all arrows: the
@@ -52,6 +53,7 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
   struct Arrow {
     std::string joint;
     int x, y, point;
+    std::string who;  ///< ": force of <link a> on <link b>" when the model names the links
   };
   std::vector<Arrow> arrows;
   if constexpr (StaticsFeatures<M>::kHasReactions && ModelFeatures<M>::kHasScene) {
@@ -59,7 +61,13 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
       if (j.x < 0 || j.y < 0) continue;
       for (int s = 0; s < M::kNumScenePoints; ++s) {
         if (j.joint == ::mechgen::internal::ShortName(M::kScenePointNames[s])) {
-          arrows.push_back({j.joint, j.x, j.y, s});
+          std::string who;
+          if constexpr (internal::HasJointLinks<M>::value) {
+            const int joint = M::kReactionJoint[j.x];
+            who = std::string(": force of ") + M::kLinkNames[M::kDrawJointLinkA[joint]] + " on " +
+                  M::kLinkNames[M::kDrawJointLinkB[joint]];
+          }
+          arrows.push_back({j.joint, j.x, j.y, s, who});
           break;
         }
       }
@@ -122,8 +130,8 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
           svg << "<line x1=\"" << frame.X(x) << "\" y1=\"" << frame.Y(y) << "\" x2=\""
               << frame.X(x + per_unit * fx) << "\" y2=\"" << frame.Y(y + per_unit * fy)
               << "\" stroke=\"#c00\" stroke-width=\"2\" marker-end=\"url(#reaction_head)\">"
-              << "<title>F_" << a.joint << " = (" << number(fx) << ", " << number(fy)
-              << ")</title></line>\n"
+              << "<title>F_" << a.joint << " = (" << number(fx) << ", " << number(fy) << ") N"
+              << a.who << "</title></line>\n"
               << "<text class=\"magnitude\" x=\"" << frame.X(x + per_unit * fx) << "\" y=\""
               << frame.Y(y + per_unit * fy) << "\" dx=\"4\" dy=\"-4\" font-family=\"sans-serif\" "
               << "font-size=\"10\" fill=\"#c00\">F_" << a.joint << " " << number(magnitude)
