@@ -14,8 +14,7 @@
 // PREFIX_bearings.png (plot_bearings.gnuplot: the polar diagram of each ground bearing's
 // load); gnuplot missing or the scripts not found: one line, exit 1, before anything is
 // computed. Example:
-//   slider_crank_friction_statics --steps 720 --csv out/scf.csv --svg out/scf.svg --dead-zones \
-//     --plots out/scf
+//   slider_crank_friction_statics --steps 720 --csv out/scf.csv --svg out/scf.svg --plots out/scf
 // Options are read by the command-line layer of every tool (runtime/tools/common/):
 // `--opt=value` or `--opt value`, every number finite and in the range --help lists; --steps
 // up to 10^6 (every row is held in memory); --samples from 36 (statics::ScanOptions::
@@ -186,6 +185,22 @@ bool RunGnuplot(const fs::path& gnuplot, const fs::path& script, const std::stri
   return true;
 }
 
+// The units of a table's columns other than its angles (printed in degrees, said by the
+// table's unit line) and dimensionless ones: "drive_theta_crank, drive_theta_crank_plus
+// [N m]; |F_O|, |F_B| [N]", consecutive columns of one unit together.
+template <class Columns>
+std::string TableUnits(const Columns& columns) {
+  std::string text, unit;
+  for (const auto& c : columns) {
+    if (c.table_name.empty() || c.angle || c.unit.empty() || c.unit == "1" || c.text) continue;
+    if (c.unit != unit && !unit.empty()) text += " [" + unit + "]; ";
+    else if (!unit.empty()) text += ", ";
+    text += c.table_name;
+    unit = c.unit;
+  }
+  return unit.empty() ? std::string("none") : text + " [" + unit + "]";
+}
+
 template <class M>
 std::string Describe(int j, double value) {
   char buffer[64];
@@ -353,7 +368,7 @@ int Run(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (table_rows > 0) {
     statics::PrintStaticsTable(records, table_rows, std::cout);
-    std::cout << "\n";
+    std::cout << "units: " << TableUnits(statics::StaticsColumns<M>()) << "\n\n";
   }
   const int rows = static_cast<int>(records.size());
   int singular = 0, evaluations = 0;

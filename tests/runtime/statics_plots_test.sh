@@ -11,7 +11,8 @@
 #   - the pictures: PNG and SVG written, the SVG legends name the curves and the link each
 #     bearing carries, every SVG rendered by rsvg-convert to a PNG; the statics SVG (one
 #     snapshot) says at each arrow which link's force on which it is;
-#   - --table includes the last row of the range (0, 120, 240, 360 deg for 4 rows);
+#   - --table includes the last row of the range (0, 120, 240, 360 deg for 4 rows) and says
+#     the units of its columns;
 #   - gnuplot missing from PATH: one error line, exit 1, nothing written; a bad --plot-format:
 #     one line, exit 2.
 # usage: statics_plots_test.sh <slider_crank_friction_statics> <fourbar_loaded_statics>
@@ -29,6 +30,8 @@ cat scf.txt
 [ -s scf.csv ] && [ -s scf_drive.png ] && [ -s scf_bearings.png ] || fail "scf outputs"
 head -c 8 scf_drive.png | od -An -c | grep -q "P   N   G" || fail "scf_drive.png is not a PNG"
 # The table: the first and the last row of the range.
+grep -q "^units: drive_theta_crank, drive_theta_crank_plus, drive_theta_crank_minus \[N m\]; |F_O|, .* \[N\]" \
+  scf.txt || fail "table units"
 awk '$NF == "converged" { print $1 }' scf.txt > angles.txt
 [ "$(tr '\n' ' ' < angles.txt)" = "0.0000 120.0000 240.0000 360.0000 " ] \
   || fail "table rows: $(tr '\n' ' ' < angles.txt)"
