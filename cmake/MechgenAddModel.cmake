@@ -200,6 +200,8 @@ function(mechgen_add_model name model)
     if(statics AND EXISTS "${MECHGEN_TOOLS_DIR}/statics_main.cc")
       _mechgen_add_tool(${name} statics statics_main.cc MECHGEN_MODEL_HAS_FORCES statics forces
                         mechgen::runtime_ceres)
+      # Where `--plots` finds plot_statics.gnuplot and plot_bearings.gnuplot.
+      target_compile_definitions(${name}_statics PRIVATE MECHGEN_TOOLS_DIR="${MECHGEN_TOOLS_DIR}")
     endif()
   endif()
   _mechgen_wants(simulate ARG_SIMULATE ARG_NO_SIMULATE dynamics)

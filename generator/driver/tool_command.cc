@@ -71,8 +71,9 @@ const std::vector<ToolSpec>& Specs() {
        "the positions, velocity and centripetal coefficients and points along the inputs' range: table, "
        "CSV and SVG"},
       {"statics", "statics_main.cc", {"-DMECHGEN_TOOL_NO_CERES"}, false, "forces",
-       "the driving forces (with friction: forward and backward), reactions, potential and mechanical "
-       "advantage along the range, dead zones and equilibria (needs the output `forces`)"},
+       "the driving forces (with friction: to run the input in +q and in -q), reactions, potential and "
+       "mechanical advantage along the range, dead zones and equilibria; --plots draws the driving torque "
+       "and the ground bearings' polar diagrams with gnuplot (needs the output `forces`)"},
       {"simulate", "simulate_main.cc", {}, false, "dynamics",
        "forward dynamics from rest or a given state, or a prescribed motion with its motor torque and "
        "bearing loads (needs the output `dynamics`)"},
@@ -682,6 +683,7 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
                                      "-I" + t.runtime_include.string(), "-isystem", t.eigen_include});
   if (!spec.separate_args && !t.cli11_include.empty())
     main_args.insert(main_args.end(), {"-isystem", t.cli11_include});
+  main_args.push_back("-DMECHGEN_TOOLS_DIR=\"" + t.tools.string() + "\"");  // statics --plots' scripts
   main_args.insert(main_args.end(),
                    {"-c", (t.tools / spec.main).string(), "-o", (dir / "main.o").string()});
   std::vector<Job> jobs;

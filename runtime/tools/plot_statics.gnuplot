@@ -4,8 +4,8 @@
 #   gnuplot -e "csv='out/press.csv'; png='out/press.png'" runtime/tools/plot_statics.gnuplot
 #   gnuplot -e "csv='out/press.csv'; svg='out/press_plot.svg'" runtime/tools/plot_statics.gnuplot
 #
-# Top: every drive_* column (the driving torque or force without friction, and with friction
-# forward and backward), with the self-locking rows (self_locking_* = 1: the dead zones)
+# Top: every drive_* column (the driving torque or force without friction, drive_<q>, and
+# with friction to run the input in +q and in -q, drive_<q>_plus and drive_<q>_minus), with the self-locking rows (self_locking_* = 1: the dead zones)
 # marked on the axis. Bottom: every F_<joint>_mag column (|reaction force| at each joint,
 # without friction). The x axis is the CSV's first column, in degrees when its name says it
 # is an angle (theta_*, psi_*; set deg=0 or deg=1 to override). Rows whose forces are
@@ -20,6 +20,8 @@ if (!exists("png") && !exists("svg")) { png = csv . ".png" }
 header = system("awk '!/^#/ { print; exit }' '" . csv . "' | tr ',' ' '")
 n = words(header)
 x_name = word(header, 1)
+# The drive's unit from the CSV's comment line "# drive_<q> [N m]: ...".
+drive_unit = system("awk -F'[][]' '/^# drive_/ { print $2; exit }' '" . csv . "'")
 if (!exists("deg")) { deg = (strstrt(x_name, "theta") == 1 || strstrt(x_name, "psi") == 1) ? 1 : 0 }
 
 drive_columns = ""
@@ -49,7 +51,7 @@ set grid
 set autoscale xfix
 set multiplot layout 2,1 title "statics: " . csv
 set xlabel x_name . (deg ? " [deg]" : "")
-set ylabel "driving force (N m or N)"
+set ylabel "driving torque or force [" . drive_unit . "]"
 if (lock_column > 0) {
   plot for [c in drive_columns] csv using (x(column(1))):(column(int(c)))  \
          with lines lw 2 title word(header, int(c)), \
@@ -59,7 +61,7 @@ if (lock_column > 0) {
   plot for [c in drive_columns] csv using (x(column(1))):(column(int(c)))  \
          with lines lw 2 title word(header, int(c))
 }
-set ylabel "|reaction force| (N)"
+set ylabel "|reaction force| [N]"
 if (strlen(magnitude_columns) > 0) {
   plot for [c in magnitude_columns] csv using (x(column(1))):(column(int(c)))  \
          with lines lw 2 title word(header, int(c))

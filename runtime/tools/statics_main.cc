@@ -8,10 +8,13 @@
 // the driving forces (without friction and, with friction, forward and backward), the
 // reactions, V, the mechanical advantage and a status per row; optionally the dead zones
 // (self-locking intervals) and the equilibrium positions along the range. Writes a CSV file,
-// a short table and an SVG drawing with the reaction vectors. Plot the CSV with
-// runtime/tools/plot_statics.gnuplot. Example:
-//   slider_crank_friction_statics --steps 720 --csv out/scf.csv --svg out/scf.svg --dead-zones
-//   gnuplot -e "csv='out/scf.csv'; png='out/scf.png'" runtime/tools/plot_statics.gnuplot
+// a short table and an SVG force diagram (statics/svg.h). `--plots PREFIX` runs gnuplot on
+// the CSV: PREFIX_drive.png (runtime/tools/plot_statics.gnuplot: the driving torque, with
+// friction to run in +q and -q, and the reaction magnitudes against the input) and
+// PREFIX_bearings.png (plot_bearings.gnuplot: the polar diagram of each ground bearing's
+// load); gnuplot missing or the scripts not found: one line, exit 1, before anything is
+// computed. Example:
+//   slider_crank_friction_statics --steps 720 --csv out/scf.csv --svg out/scf.svg --plots out/scf
 // Options are read by the command-line layer of every tool (runtime/tools/common/):
 // `--opt=value` or `--opt value`, every number finite and in the range --help lists; --steps
 // up to 10^6 (every row is held in memory); --samples from 36 (statics::ScanOptions::
@@ -22,7 +25,12 @@
 // Compiled with -DMECHGEN_TOOL_NO_CERES it needs Eigen and CLI11 only: it assembles with the
 // Ceres-free PositionSolver (NewtonAssembler, position/assembler.h), as `mechgen statics
 // <model.yaml>` builds it (generator/driver/); the Newton polish follows either assembler.
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -30,7 +38,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <cstring>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "common/cli.h"
@@ -50,6 +60,8 @@
 #error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
 #endif
 #include MECHGEN_MODEL_INCLUDE
+
+extern char** environ;  // the environment gnuplot inherits (posix_spawn)
 
 namespace {
 
@@ -98,6 +110,97 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
   return true;
 }
 
+namespace fs = std::filesystem;
+
+// The pictures of --plots: gnuplot (found on PATH) runs the plot scripts of runtime/tools/ on
+// the command's own CSV. The scripts are looked up in $MECHGEN_TOOLS_DIR, then in the tools
+// directory the command was compiled from (-DMECHGEN_TOOLS_DIR=..., set by
+// mechgen_add_model() and by `mechgen statics`), then beside the program as installed
+// (<prefix>/bin -> <prefix>/share/mechgen/tools).
+constexpr const char* kPlotScripts[] = {"plot_statics.gnuplot", "plot_bearings.gnuplot"};
+
+fs::path FindPlotScripts() {
+  std::vector<fs::path> candidates;
+  if (const char* env = std::getenv("MECHGEN_TOOLS_DIR"); env != nullptr && *env != 0)
+    candidates.push_back(env);
+#ifdef MECHGEN_TOOLS_DIR
+  candidates.push_back(MECHGEN_TOOLS_DIR);
+#endif
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) candidates.push_back(self.parent_path().parent_path() / "share" / "mechgen" / "tools");
+  for (const fs::path& dir : candidates) {
+    bool all = true;
+    for (const char* script : kPlotScripts) all = all && fs::is_regular_file(dir / script, ec);
+    if (all) return dir;
+  }
+  return fs::path();
+}
+
+// The gnuplot program on PATH, or empty.
+fs::path FindOnPath(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path != nullptr ? path : "";
+  for (size_t begin = 0; begin <= dirs.size();) {
+    size_t end = dirs.find(':', begin);
+    if (end == std::string::npos) end = dirs.size();
+    const fs::path candidate = fs::path(end > begin ? dirs.substr(begin, end - begin) : ".") /
+                               program;
+    if (::access(candidate.c_str(), X_OK) == 0 && fs::is_regular_file(candidate)) return candidate;
+    begin = end + 1;
+  }
+  return fs::path();
+}
+
+// Runs `gnuplot -e "csv='<csv>'; <format>='<tmp>'" <script>` (no shell) and renames the
+// temporary picture onto `picture` when gnuplot succeeded and wrote it; false with *error.
+bool RunGnuplot(const fs::path& gnuplot, const fs::path& script, const std::string& csv,
+                const std::string& format, const std::string& picture, std::string* error) {
+  const fs::path target(picture);
+  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+  std::error_code made;
+  if (!target.parent_path().empty()) fs::create_directories(target.parent_path(), made);
+  const std::string expression = "csv='" + csv + "'; " + format + "='" + tmp.string() + "'";
+  std::vector<std::string> args = {gnuplot.string(), "-e", expression, script.string()};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, gnuplot.c_str(), nullptr, nullptr, argv.data(), environ);
+  int status = 0;
+  std::error_code ec;
+  if (spawned != 0 || waitpid(pid, &status, 0) != pid || !WIFEXITED(status) ||
+      WEXITSTATUS(status) != 0 || !fs::is_regular_file(tmp, ec) || fs::file_size(tmp, ec) == 0) {
+    fs::remove(tmp, ec);
+    *error = "gnuplot " + script.filename().string() + " on " + csv + " failed" +
+             (spawned != 0 ? std::string(": ") + std::strerror(spawned) : std::string());
+    return false;
+  }
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    *error = "cannot write " + picture + ": " + ec.message();
+    return false;
+  }
+  return true;
+}
+
+// The units of a table's columns other than its angles (printed in degrees, said by the
+// table's unit line) and dimensionless ones: "drive_theta_crank, drive_theta_crank_plus
+// [N m]; |F_O|, |F_B| [N]", consecutive columns of one unit together.
+template <class Columns>
+std::string TableUnits(const Columns& columns) {
+  std::string text, unit;
+  for (const auto& c : columns) {
+    if (c.table_name.empty() || c.angle || c.unit.empty() || c.unit == "1" || c.text) continue;
+    if (c.unit != unit && !unit.empty()) text += " [" + unit + "]; ";
+    else if (!unit.empty()) text += ", ";
+    text += c.table_name;
+    unit = c.unit;
+  }
+  return unit.empty() ? std::string("none") : text + " [" + unit + "]";
+}
+
 template <class M>
 std::string Describe(int j, double value) {
   char buffer[64];
@@ -134,6 +237,15 @@ int Run(int argc, char** argv) {
                                     "runtime/tools/plot_statics.gnuplot)");
   app.add_option("--svg", svg_path, "write the mechanism with its reaction vectors at a few "
                                     "configurations to this SVG file");
+  std::string plots_prefix, plot_format = "png";
+  app.add_option("--plots", plots_prefix,
+                 "draw with gnuplot (on PATH) PREFIX_drive.<format>, the driving forces (and "
+                 "with friction to run in +q and -q) and the reaction magnitudes against the "
+                 "input (plot_statics.gnuplot), and PREFIX_bearings.<format>, the polar diagram "
+                 "of each ground bearing's load: the force of the ground on the moving link, "
+                 "fixed frame (plot_bearings.gnuplot); from the --csv file, else PREFIX.csv");
+  app.add_option("--plot-format", plot_format, "png or svg (default png)")
+      ->check(CLI::IsMember({"png", "svg"}));
   tools::Count(&app, "--snapshots", &snapshots, 1, kMaxSnapshots,
                "configurations drawn in the SVG");
   app.add_flag("--animate", animate, "add the animated copy of the sweep to the SVG");
@@ -193,6 +305,29 @@ int Run(int argc, char** argv) {
                                     M::kQNames[j] + " (at most 10 deg per sample)"));
     }
   }
+  // The pictures asked for: gnuplot and the scripts found, and paths gnuplot's quoted
+  // strings can carry, before anything is computed or written.
+  fs::path gnuplot, scripts;
+  if (!plots_prefix.empty()) {
+    if (csv_path.empty()) csv_path = plots_prefix + ".csv";
+    for (const std::string& path : {plots_prefix, csv_path}) {
+      if (path.find_first_of("'\n") != std::string::npos)
+        return tools::UsageError(tool, tools::BadValue("--plots", path,
+                                                       "a path without ' or a line break"));
+    }
+    gnuplot = FindOnPath("gnuplot");
+    if (gnuplot.empty()) {
+      std::cerr << "error: --plots: gnuplot not found on PATH (install gnuplot, or leave out "
+                   "--plots)\n";
+      return 1;
+    }
+    scripts = FindPlotScripts();
+    if (scripts.empty()) {
+      std::cerr << "error: --plots: cannot find plot_statics.gnuplot and plot_bearings.gnuplot "
+                   "(set MECHGEN_TOOLS_DIR to mechgen's runtime/tools or share/mechgen/tools)\n";
+      return 1;
+    }
+  }
   statics::Options options;
   options.max_condition = max_condition;
   std::string error;
@@ -233,7 +368,7 @@ int Run(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (table_rows > 0) {
     statics::PrintStaticsTable(records, table_rows, std::cout);
-    std::cout << "\n";
+    std::cout << "units: " << TableUnits(statics::StaticsColumns<M>()) << "\n\n";
   }
   const int rows = static_cast<int>(records.size());
   int singular = 0, evaluations = 0;
@@ -246,12 +381,19 @@ int Run(int argc, char** argv) {
               rows - failures, rows, singular, double(evaluations) / std::max(rows, 1),
               1e6 * seconds / std::max(rows, 1));
   for (int j = 0; j < M::kNq; ++j) {
-    double largest = 0;
-    for (const auto& r : records)
-      if (r.drives[j].status == statics::Status::kConverged)
-        largest = std::max({largest, std::abs(r.drives[j].drive),
-                            std::abs(r.drives[j].drive_forward)});
-    std::printf("  max |drive_%s| = %.6g %s\n", M::kQNames[j], largest, M::kQIsAngle[j] ? "N m" : "N");
+    double largest = 0, with_friction = 0;
+    for (const auto& r : records) {
+      if (r.drives[j].status != statics::Status::kConverged) continue;
+      largest = std::max(largest, std::abs(r.drives[j].drive));
+      with_friction = std::max({with_friction, std::abs(r.drives[j].drive_plus),
+                                std::abs(r.drives[j].drive_minus)});
+    }
+    const char* unit = M::kQIsAngle[j] ? "N m" : "N";
+    std::printf("  max |drive_%s| = %.6g %s", M::kQNames[j], largest, unit);
+    if (statics::StaticsFeatures<M>::kHasFriction)
+      std::printf(" without friction, %.6g %s with friction (running in +%s or -%s)",
+                  with_friction, unit, M::kQNames[j], M::kQNames[j]);
+    std::printf("\n");
   }
   if (failures > 0) {
     int shown = 0;
@@ -340,6 +482,26 @@ int Run(int argc, char** argv) {
                 statics::StaticsCsvColumns<M>().size());
   }
   if (!svg_path.empty()) std::printf("wrote %s\n", svg_path.c_str());
+  if (!plots_prefix.empty()) {
+    std::fflush(stdout);
+    const std::string drive = plots_prefix + "_drive." + plot_format;
+    if (!RunGnuplot(gnuplot, scripts / kPlotScripts[0], csv_path, plot_format, drive, &error))
+      return failed();
+    std::printf("wrote %s (driving forces and reaction magnitudes against %s)\n", drive.c_str(),
+                M::kQNames[0]);
+    if (statics::GroundBearings<M>().empty()) {
+      std::printf("no polar diagram: the model has no revolute joint with the ground whose "
+                  "reaction it computes\n");
+    } else {
+      const std::string bearings = plots_prefix + "_bearings." + plot_format;
+      if (!RunGnuplot(gnuplot, scripts / kPlotScripts[1], csv_path, plot_format, bearings,
+                      &error))
+        return failed();
+      std::printf("wrote %s (polar diagram of the ground bearings' loads: the force of the "
+                  "ground on the moving link, fixed frame)\n",
+                  bearings.c_str());
+    }
+  }
   if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout.flush()) {
     std::cerr << "error: cannot write the standard output\n";
     return 1;

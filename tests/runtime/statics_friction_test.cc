@@ -124,6 +124,8 @@ TEST(StaticsFriction, ForwardBackwardAndEfficiency) {
     EXPECT_NEAR(d.drive, T0, 1e-6);
     EXPECT_NEAR(d.drive_forward, T0 + sign * friction, 1e-6);   // moving along sign(T0)
     EXPECT_NEAR(d.drive_backward, T0 - sign * friction, 1e-6);  // the load drives it back
+    EXPECT_NEAR(d.drive_plus, T0 + friction, 1e-6);   // running in +q, whatever sign T0
+    EXPECT_NEAR(d.drive_minus, T0 - friction, 1e-6);  // running in -q
     EXPECT_NEAR(d.efficiency_forward, T0 / (T0 + sign * friction), 1e-9);
     EXPECT_NEAR(d.efficiency_backward, (T0 - sign * friction) / T0, 1e-6);
     EXPECT_GT(d.efficiency_forward, 0.0);

@@ -97,6 +97,8 @@ TEST(StaticsGenerated, SliderCrankFrictionCircleAtO) {
     EXPECT_NEAR(d.drive, T0, 1e-9 * p.F) << q;
     EXPECT_NEAR(d.drive_forward, T0 + sign * mu_r * P, 1e-9 * p.F) << q;
     EXPECT_NEAR(d.drive_backward, T0 - sign * mu_r * P, 1e-9 * p.F) << q;
+    EXPECT_NEAR(d.drive_plus, T0 + mu_r * P, 1e-9 * p.F) << q;
+    EXPECT_NEAR(d.drive_minus, T0 - mu_r * P, 1e-9 * p.F) << q;
     if (std::abs(std::abs(Lever(p.a, p.b, q)) - mu_r) > 1e-9) {
       EXPECT_EQ(d.self_locking, std::abs(Lever(p.a, p.b, q)) <= mu_r) << q;
     }

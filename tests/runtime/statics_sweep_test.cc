@@ -6,6 +6,7 @@
 // (|T0| MA = F); at a dead point the rows say `singular` and print no force; the column
 // names are unique.
 #include <cmath>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -70,18 +71,72 @@ TEST(StaticsSweep, ColumnNamesAreUniqueAndNamedFromTheModel) {
   ExpectUniqueColumns<M>();
   ExpectUniqueColumns<mech::handwritten_statics_pendulum::Model>();
   const std::vector<std::string> expected = {
-      "theta_crank", "theta_rod", "s_slide", "drive_theta_crank", "drive_theta_crank_fwd",
-      "drive_theta_crank_back", "efficiency_theta_crank_fwd", "efficiency_theta_crank_back",
+      "theta_crank", "theta_rod", "s_slide", "drive_theta_crank", "drive_theta_crank_plus",
+      "drive_theta_crank_minus", "efficiency_theta_crank_fwd", "efficiency_theta_crank_back",
       "self_locking_theta_crank", "F_O_x", "F_O_y", "F_B_x", "F_B_y", "F_C_x", "F_C_y",
       "N_slide", "T_slide", "M_slide", "F_O_mag", "F_B_mag", "F_C_mag", "F_slide_mag",
-      "F_O_mag_fwd", "F_O_mag_back", "F_B_mag_fwd", "F_B_mag_back", "F_C_mag_fwd",
-      "F_C_mag_back", "F_slide_mag_fwd", "F_slide_mag_back", "stiffness",
+      "F_O_mag_plus", "F_O_mag_minus", "F_B_mag_plus", "F_B_mag_minus", "F_C_mag_plus",
+      "F_C_mag_minus", "F_slide_mag_plus", "F_slide_mag_minus", "stiffness",
       "mechanical_advantage", "status", "cond", "evaluations"};
   EXPECT_EQ(StaticsCsvColumns<M>(), expected);
   const std::vector<std::string> pendulum = {
       "theta_pendulum", "x_P", "y_P", "drive_theta_pendulum", "F_O_x", "F_O_y", "F_O_mag",
       "V", "stiffness", "status", "cond", "evaluations"};
   EXPECT_EQ(StaticsCsvColumns<mech::handwritten_statics_pendulum::Model>(), pendulum);
+}
+
+// The force diagram of the hand-written slider-crank's sweep (statics/svg.h): every arrow of
+// the pins O and B is the rod force P = F b / sqrt(b^2 - a^2 sin^2 q) (the closed form, at
+// the snapshot's q read from its group) long at the drawing's force scale, to within the
+// 0.01 px rounding of its end points; the scale bar is its force at that scale; each
+// snapshot is labelled with its input angle, each arrow with its magnitude.
+void ExpectForceDiagram(const std::string& text, const Params& p) {
+  const std::regex scale_re("<g id=\"reactions\" data-force-scale=\"([^\"]+)\">");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(text, m, scale_re));
+  const double pixels_per_newton = std::stod(m[1]);
+  ASSERT_GT(pixels_per_newton, 0.0);
+  // The bar: from x = 8 to 8 + force * scale.
+  const std::regex bar_re(
+      "<g id=\"force_scale\" data-force=\"([^\"]+)\"><line x1=\"8\" y1=\"54\" x2=\"([^\"]+)\"");
+  ASSERT_TRUE(std::regex_search(text, m, bar_re));
+  const double bar = std::stod(m[1]);
+  EXPECT_NEAR(std::stod(m[2]) - 8, bar * pixels_per_newton, 0.006);
+  EXPECT_NE(text.find(" N (force scale: "), std::string::npos);
+  // Snapshots and their arrows.
+  const std::regex group_re("<g class=\"snapshot\" data-q=\"([^\"]+)\">\n([\\s\\S]*?)</g>");
+  const std::regex line_re(
+      "<line x1=\"([^\"]+)\" y1=\"([^\"]+)\" x2=\"([^\"]+)\" y2=\"([^\"]+)\"[^>]*><title>F_([A-Z]+) = ");
+  int groups = 0, checked = 0;
+  for (auto g = std::sregex_iterator(text.begin(), text.end(), group_re);
+       g != std::sregex_iterator(); ++g, ++groups) {
+    const double q = std::stod((*g)[1]);
+    const std::string body = (*g)[2];
+    const double sq = p.a * std::sin(q);
+    const double P = p.F * p.b / std::sqrt(p.b * p.b - sq * sq);
+    char label[64];
+    std::snprintf(label, sizeof(label), "theta_crank = %.4g deg", q * 180 / M_PI);
+    EXPECT_NE(body.find(label), std::string::npos) << label;
+    int magnitudes = 0;
+    for (size_t at = body.find("class=\"magnitude\""); at != std::string::npos;
+         at = body.find("class=\"magnitude\"", at + 1))
+      ++magnitudes;
+    EXPECT_EQ(magnitudes, 3) << body;  // O, B, C
+    for (auto l = std::sregex_iterator(body.begin(), body.end(), line_re);
+         l != std::sregex_iterator(); ++l) {
+      const std::string joint = (*l)[5];
+      if (joint != "O" && joint != "B") continue;
+      const double length = std::hypot(std::stod((*l)[3]) - std::stod((*l)[1]),
+                                        std::stod((*l)[4]) - std::stod((*l)[2]));
+      EXPECT_NEAR(length, pixels_per_newton * P, 0.015) << "F_" << joint << " at q = " << q;
+      char magnitude[64];
+      std::snprintf(magnitude, sizeof(magnitude), "F_%s %.4g N", joint.c_str(), P);
+      EXPECT_NE(body.find(magnitude), std::string::npos) << magnitude;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(groups, 4);
+  EXPECT_EQ(checked, 8);
 }
 
 TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
@@ -97,11 +152,12 @@ TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
   ASSERT_EQ(table.size(), records.size() + 1);
   const auto& header = table[0];
   const int drive = Column(header, "drive_theta_crank");
-  const int fwd = Column(header, "drive_theta_crank_fwd");
-  const int back = Column(header, "drive_theta_crank_back");
+  const int plus = Column(header, "drive_theta_crank_plus");
+  const int minus = Column(header, "drive_theta_crank_minus");
+  const int eff_fwd = Column(header, "efficiency_theta_crank_fwd");
   const int locked = Column(header, "self_locking_theta_crank");
   const int F_O = Column(header, "F_O_mag"), F_B = Column(header, "F_B_mag");
-  const int F_C_fwd = Column(header, "F_C_mag_fwd");
+  const int F_C_plus = Column(header, "F_C_mag_plus");
   const int ma = Column(header, "mechanical_advantage");
   const int status = Column(header, "status");
   int locked_rows = 0;
@@ -126,11 +182,15 @@ TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
     };
     EXPECT_NEAR(std::stod(row[Column(header, "stiffness")]), (T0_at(q + h) - T0_at(q - h)) / (2 * h),
                 1e-5 * p.F);
-    EXPECT_NEAR(std::stod(row[fwd]), T0 + sign * mu_r * P, 1e-8 * p.F);
-    EXPECT_NEAR(std::stod(row[back]), T0 - sign * mu_r * P, 1e-8 * p.F);
+    // The input running in +q: the bearing's friction torque mu_r P opposes it, whatever the
+    // sign of T0 (continuous through T0 = 0); in -q the same torque the other way.
+    EXPECT_NEAR(std::stod(row[plus]), T0 + mu_r * P, 1e-8 * p.F);
+    EXPECT_NEAR(std::stod(row[minus]), T0 - mu_r * P, 1e-8 * p.F);
+    // Forward (the motion along sign T0, the actuator driving): T0 / (T0 + sign mu_r P).
+    EXPECT_NEAR(std::stod(row[eff_fwd]), T0 / (T0 + sign * mu_r * P), 1e-9);
     EXPECT_NEAR(std::stod(row[F_O]), P, 1e-8 * p.F);
     EXPECT_NEAR(std::stod(row[F_B]), P, 1e-8 * p.F);
-    EXPECT_NEAR(std::stod(row[F_C_fwd]), P, 1e-8 * p.F);  // the rod force ignores O's friction
+    EXPECT_NEAR(std::stod(row[F_C_plus]), P, 1e-8 * p.F);  // the rod force ignores O's friction
     if (std::abs(std::abs(lever) - mu_r) > 1e-9) {
       EXPECT_EQ(row[locked], std::abs(lever) <= mu_r ? "1" : "0") << "q = " << q;
     }
@@ -145,7 +205,7 @@ TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
 
   std::ostringstream printed;
   PrintStaticsTable(records, 8, printed);
-  EXPECT_NE(printed.str().find("drive_theta_crank_fwd"), std::string::npos) << printed.str();
+  EXPECT_NE(printed.str().find("drive_theta_crank_plus"), std::string::npos) << printed.str();
   EXPECT_NE(printed.str().find("converged"), std::string::npos);
 
   std::ostringstream svg;
@@ -161,6 +221,7 @@ TEST(StaticsSweep, SliderCrankFullTurnAgainstClosedForms) {
   EXPECT_EQ(arrows, 4u * 3u);  // joints O, B and C at each of 4 snapshots
   EXPECT_NE(text.find("<title>F_B = ("), std::string::npos);
   EXPECT_EQ(text.rfind("</svg>\n"), text.size() - 7);
+  ExpectForceDiagram(text, p);
 }
 
 // a = b: the position sweep stops next to the dead point at q = 90 deg; that row says
@@ -190,8 +251,8 @@ TEST(StaticsSweep, DeadPointRowsAreSingularAndEmpty) {
     }
     singular += row[status] == "singular";
     not_run += row[status] == "not_run";
-    for (const char* name : {"drive_theta_crank", "drive_theta_crank_fwd", "F_O_x", "F_O_mag",
-                             "F_C_mag_back", "stiffness", "mechanical_advantage"})
+    for (const char* name : {"drive_theta_crank", "drive_theta_crank_plus", "F_O_x", "F_O_mag",
+                             "F_C_mag_minus", "stiffness", "mechanical_advantage"})
       EXPECT_TRUE(row[Column(header, name)].empty()) << name << " = " << row[Column(header, name)];
   }
   EXPECT_EQ(singular, 1);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The statics command on the hand-written slider-crank (friction at the crank bearing):
 # its table, dead zones (three over a full turn: about 0, 180 and 360 deg, see
-# statics_friction_test.cc for the angles), equilibria (the dead centres), CSV and SVG; the
+# statics_friction_test.cc for the angles), equilibria (the dead centres), CSV and SVG (a force
+# diagram: scale bar, magnitudes, input labels; rendered by rsvg-convert when installed); the
 # stub for a model without statics; and plot_statics.gnuplot on the CSV.
 # usage: statics_tool_test.sh <statics tool> <stub tool> <plot_statics.gnuplot>
 set -euo pipefail
@@ -22,7 +23,14 @@ grep -q "theta_crank = 180.0000 deg: stiffness .*, stable" "$out/stdout.txt" || 
 awk '!/^#/ { print; exit }' "$out/s.csv" | grep -q "^theta_crank,theta_rod,s_slide,drive_theta_crank," \
   || fail "CSV header"
 [ "$(grep -vc '^#' "$out/s.csv")" -eq 722 ] || fail "CSV rows"
-grep -q '<g id="reactions">' "$out/s.svg" || fail "SVG reactions"
+grep -q '<g id="reactions" data-force-scale="' "$out/s.svg" || fail "SVG reactions"
+grep -q '<g id="force_scale"' "$out/s.svg" || fail "SVG force scale"
+grep -q 'class="magnitude"' "$out/s.svg" || fail "SVG arrow magnitudes"
+grep -q 'class="input"[^>]*>theta_crank = ' "$out/s.svg" || fail "SVG input labels"
+if command -v rsvg-convert > /dev/null; then
+  rsvg-convert "$out/s.svg" -o "$out/s_svg.png" || fail "rsvg-convert"
+  [ -s "$out/s_svg.png" ] || fail "rendered SVG"
+fi
 
 set +e
 "$stub" > "$out/stub.txt" 2>&1

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "mechgen/statics/solve.h"
 #include "slider_crank_fb.h"
 #include "slider_crank_friction.h"
 #include "statics_test_util.h"
@@ -370,5 +371,93 @@ void SliderCrankFrictionStatics::CheckOneFrictionJoint(const bool at_O) {
 TEST_F(SliderCrankFrictionStatics, FrictionCircleAtOClosedForm) { CheckOneFrictionJoint(true); }
 
 TEST_F(SliderCrankFrictionStatics, SlideFrictionClosedForm) { CheckOneFrictionJoint(false); }
+
+// The driving torque with friction to run the crank in +q and in -q (issue 26), from the
+// runtime (AnalyzeDrive on the generated statics), against the Newton–Euler free bodies
+// with each joint's friction opposing that motion (pins and slide). Friction opposes the
+// motion, so T_minus <= T0 <= T_plus; and the two curves are continuous through the dead
+// centres, where T0 changes sign and the forward / backward pair swaps (jumps by
+// T_plus - T_minus).
+TEST_F(SliderCrankFrictionStatics, DrivePlusMinusAgainstNewtonEulerAndContinuous) {
+  namespace statics = mechgen::statics;
+  SliderCrankFb fb = MakeFb();
+  auto analyze = [&](double q, statics::DriveAnalysis* d) {
+    Phi phi;
+    if (!mechtest::statics::SolveAt<M>(p, q, &phi)) return false;
+    sf::Coefficients<double> c;
+    const Q1 qv = Q1::Constant(q);
+    sf::EvalCoefficients(p, qv, phi, &c);
+    return statics::AnalyzeDrive<M>(statics::Options(), p, qv, phi, c, 0, d) ==
+           statics::Status::kConverged;
+  };
+  auto oracle = [&](double q, double dir) {
+    Phi phi;
+    EXPECT_TRUE(mechtest::statics::SolveAt<M>(p, q, &phi));
+    const VecF K_rel = KRelFd(q);
+    fb.Place(q, phi(i_rod), phi(i_s));
+    std::vector<FreeBodySystem::FrictionSpec> specs;
+    specs.push_back({fb.jO, p.mu_O * p.r_O, dir * K_rel(f_O) > 0 ? 1.0 : -1.0});
+    specs.push_back({fb.jB, p.mu_B * p.r_B, dir * K_rel(f_B) > 0 ? 1.0 : -1.0});
+    specs.push_back({fb.jC, p.mu_C * p.r_C, dir * K_rel(f_C) > 0 ? 1.0 : -1.0});
+    specs.push_back({fb.jS, p.mu_s, dir * K_rel(f_S) > 0 ? 1.0 : -1.0});
+    Eigen::VectorXd x;
+    EXPECT_TRUE(fb.s.SolveWithFriction(specs, &x));
+    return fb.s.Drive(fb.jO, x);
+  };
+  int negative_T0 = 0, positive_T0 = 0;
+  for (double q : Angles()) {
+    statics::DriveAnalysis d;
+    ASSERT_TRUE(analyze(q, &d)) << q;
+    const std::string at = "q = " + std::to_string(q / kDeg) + " deg";
+    const double scale = std::abs(d.drive_plus) + std::abs(d.drive_minus);
+    EXPECT_TRUE(Near(d.drive_plus, oracle(q, +1), 1e-8, scale, "drive_plus")) << at;
+    EXPECT_TRUE(Near(d.drive_minus, oracle(q, -1), 1e-8, scale, "drive_minus")) << at;
+    EXPECT_LT(d.drive_minus, d.drive) << at;
+    EXPECT_GT(d.drive_plus, d.drive) << at;
+    (d.drive < 0 ? negative_T0 : positive_T0)++;
+  }
+  EXPECT_GT(negative_T0, 10);  // both signs of T0 are visited
+  EXPECT_GT(positive_T0, 10);
+  // Through each dead centre (T0 = 0, located by bisection) forward and backward swap. The
+  // plus and minus torques do not: with the slide's friction they jump only by what the
+  // slide's friction force reversing with the piston's velocity (K_rel of the slide changes
+  // sign there) does to the pins' loads, the same jump as the free bodies'; without it they
+  // change by no more than a slope times the step.
+  for (const double mu_s : {p.mu_s, 0.0})
+  for (const double centre : {180 * kDeg, 360 * kDeg}) {
+    p.mu_s = mu_s;
+    fb = MakeFb();
+    double lo = centre - 5 * kDeg, hi = centre + 5 * kDeg;
+    statics::DriveAnalysis d_lo, d_hi;
+    ASSERT_TRUE(analyze(lo, &d_lo));
+    ASSERT_TRUE(analyze(hi, &d_hi));
+    ASSERT_LT(d_lo.drive * d_hi.drive, 0.0) << centre / kDeg;
+    const double lo_sign = d_lo.drive;
+    for (int k = 0; k < 60; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      statics::DriveAnalysis d;
+      ASSERT_TRUE(analyze(mid, &d));
+      (d.drive * lo_sign > 0 ? lo : hi) = mid;
+    }
+    const double delta = 1e-7;
+    statics::DriveAnalysis before, after;
+    ASSERT_TRUE(analyze(lo - delta, &before));
+    ASSERT_TRUE(analyze(hi + delta, &after));
+    ASSERT_LT(before.drive * after.drive, 0.0);
+    const double width = before.drive_plus - before.drive_minus;  // the friction's span
+    ASSERT_GT(width, 1.0);                                       // N m: friction is there
+    const std::string at = "dead centre near " + std::to_string(centre / kDeg) +
+                           " deg, mu_s = " + std::to_string(mu_s);
+    const double jump_plus = oracle(hi + delta, +1) - oracle(lo - delta, +1);
+    const double jump_minus = oracle(hi + delta, -1) - oracle(lo - delta, -1);
+    EXPECT_NEAR(after.drive_plus - before.drive_plus, jump_plus, 1e-9 * width) << at;
+    EXPECT_NEAR(after.drive_minus - before.drive_minus, jump_minus, 1e-9 * width) << at;
+    const double bound = mu_s > 0 ? 1e-2 * width : 1e-5 * width;
+    EXPECT_LT(std::abs(after.drive_plus - before.drive_plus), bound) << at;
+    EXPECT_LT(std::abs(after.drive_minus - before.drive_minus), bound) << at;
+    // The forward curve (the motion along sign T0) jumps by the whole span there.
+    EXPECT_NEAR(std::abs(after.drive_forward - before.drive_forward), width, 1e-2 * width) << at;
+  }
+}
 
 }  // namespace

@@ -6,13 +6,19 @@
  * writer (io/csv.h: numbers that round-trip), PrintStaticsTable() the ones with a table name
  * with the one printer (io/table.h). Building the table allocates; it runs after the sweep.
  *
+ * With friction, two directions of motion of each input (statics/solve.h DriveAnalysis):
+ * "plus" and "minus" are the input running in +q_j and in -q_j (continuous curves, T_minus
+ * <= T0 <= T_plus); "forward" is the motion along sign(T0), the actuator driving the load,
+ * and "backward" the motion against it, the load driving the machine (efficiencies and
+ * self-locking are defined on these two).
+ *
  * Columns, in order (q_j, phi_i the coordinate names, R_k = Model::kReactionNames, J the
- * joints of the reactions; "_fwd", "_back" become "_fwd_<q_j>", "_back_<q_j>" for the
+ * joints of the reactions; "_plus", "_minus" become "_plus_<q_j>", "_minus_<q_j>" for the
  * reactions of models with several inputs):
  *   q_j, phi_i                       the configuration (rad, model length)
  *   drive_<q_j>                      T0: the driving torque (N m) or force (N) without friction
- *   drive_<q_j>_fwd, drive_<q_j>_back           with friction: the actuator drives the load
- *                                    (motion along sign T0) / the load drives it back
+ *   drive_<q_j>_plus, drive_<q_j>_minus         with friction: the driving torque or force
+ *                                    to run the input in +q_j / in -q_j
  *   efficiency_<q_j>_fwd, efficiency_<q_j>_back T0 / T_fwd and T_back / T0
  *   self_locking_<q_j>               1 where T_back T0 <= 0 (a dead zone), else 0
  *   R_k                              the reactions without friction (contract convention:
@@ -20,7 +26,12 @@
  *                                    frame; N_J, T_J, M_J at a prismatic joint)
  *   F_<J>_mag                        |force| at joint J: hypot(F_J_x, F_J_y), hypot(N_J, T_J)
  *                                    at a prismatic joint, |F_J| at a gear or cam
- *   F_<J>_mag_fwd, F_<J>_mag_back    the same with friction, forward / backward
+ *   F_<J>_mag_plus, F_<J>_mag_minus  the same with friction, the input running in +q / -q
+ *   bearing_<J>_x, bearing_<J>_y     at each revolute joint J with the ground (a bearing, models
+ *                                    with a drawing: Model::kDrawJointLink*): the force of the
+ *                                    ground on the moving link, fixed frame, without friction
+ *                                    (F_J or -F_J by the joint's link order); their polar
+ *                                    diagram is runtime/tools/plot_bearings.gnuplot's
  *   V                                potential energy of springs and gravity (models with it)
  *   stiffness (stiffness_<q_j>_<q_k>, j <= k, with several inputs)   -dQ/dq, friction excluded
  *   mechanical_advantage             one input with points: 1 / |K_P| of the first point
@@ -42,6 +53,7 @@
 #include <ostream>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -98,6 +110,54 @@ std::vector<ReactionJoint> ReactionJoints() {
   return joints;
 }
 
+namespace internal {
+/// Whether M names the joint of each reaction and the links of each joint (generated models
+/// with reactions and a drawing: Model::kReactionJoint, kDrawJointLinkA, kDrawJointLinkB).
+template <class M, class = void>
+struct HasJointLinks : std::false_type {};
+template <class M>
+struct HasJointLinks<M, std::void_t<decltype(M::kReactionJoint), decltype(M::kDrawJointLinkA),
+                                    decltype(M::kDrawJointLinkB), decltype(M::kLinkNames)>>
+    : std::true_type {};
+}  // namespace internal
+
+/// A revolute joint with the ground (a bearing): its reaction components and the sign that
+/// turns them into the force of the ground on the moving link.
+struct GroundBearing {
+  std::string joint;  ///< the joint's name, J
+  std::string link;   ///< the moving link the ground carries there
+  int x = -1, y = -1;  ///< F_J_x, F_J_y in R
+  double sign = 1;     ///< +1: the ground is the joint's first link (R is its force); -1: second
+};
+
+/// The ground bearings of M, in the order of the reactions; empty for a model that does not
+/// name its joints' links (hand-written models without a drawing).
+template <class M>
+std::vector<GroundBearing> GroundBearings() {
+  std::vector<GroundBearing> bearings;
+  if constexpr (StaticsFeatures<M>::kHasReactions && internal::HasJointLinks<M>::value) {
+    for (int i = 0; i < StaticsFeatures<M>::kNumReactions; ++i) {
+      const std::string name = M::kReactionNames[i];
+      const bool x = name.size() > 4 && name.compare(0, 2, "F_") == 0 &&
+                     name.compare(name.size() - 2, 2, "_x") == 0;
+      if (!x || i + 1 >= StaticsFeatures<M>::kNumReactions) continue;
+      const std::string joint = name.substr(2, name.size() - 4);
+      if (std::string(M::kReactionNames[i + 1]) != "F_" + joint + "_y") continue;
+      const int j = M::kReactionJoint[i];
+      const int a = M::kDrawJointLinkA[j], b = M::kDrawJointLinkB[j];
+      if (a != M::kGroundLink && b != M::kGroundLink) continue;
+      GroundBearing g;
+      g.joint = joint;
+      g.link = M::kLinkNames[a == M::kGroundLink ? b : a];
+      g.x = i;
+      g.y = i + 1;
+      g.sign = a == M::kGroundLink ? 1.0 : -1.0;
+      bearings.push_back(g);
+    }
+  }
+  return bearings;
+}
+
 /// |force| at a joint from reactions R (NaN when any component is NaN).
 template <class VecR>
 double ReactionMagnitude(const ReactionJoint& j, const VecR& R) {
@@ -152,27 +212,35 @@ std::vector<StaticsColumn<M>> StaticsColumns() {
                             }),
                  "drive_" + q);
     if constexpr (F::kHasFriction) {
-      table::Shown(add.Number("drive_" + q + "_fwd", force_unit(j),
-                              "with friction, the actuator driving the load (motion along "
-                              "sign T0)",
+      table::Shown(add.Number("drive_" + q + "_plus", force_unit(j),
+                              "T_plus: with friction, the driving force to run the input in +" +
+                                  q + " (" + q + " increasing); >= T0",
                               [j](const R& r) {
                                 return r.drives[j].status == Status::kConverged
-                                           ? r.drives[j].drive_forward
+                                           ? r.drives[j].drive_plus
                                            : kNaN;
                               }),
-                   "drive_" + q + "_fwd");
-      table::Shown(add.Number("drive_" + q + "_back", force_unit(j),
-                              "with friction, the load driving the actuator back",
+                   "drive_" + q + "_plus");
+      table::Shown(add.Number("drive_" + q + "_minus", force_unit(j),
+                              "T_minus: with friction, the driving force to run the input in -" +
+                                  q + " (" + q + " decreasing); <= T0",
                               [j](const R& r) {
                                 return r.drives[j].status == Status::kConverged
-                                           ? r.drives[j].drive_backward
+                                           ? r.drives[j].drive_minus
                                            : kNaN;
                               }),
-                   "drive_" + q + "_back");
-      add.Number("efficiency_" + q + "_fwd", "1", "T0 / T_fwd", [j](const R& r) {
-        return r.drives[j].status == Status::kConverged ? r.drives[j].efficiency_forward : kNaN;
-      });
-      add.Number("efficiency_" + q + "_back", "1", "T_back / T0 (none where T0 = 0)",
+                   "drive_" + q + "_minus");
+      add.Number("efficiency_" + q + "_fwd", "1",
+                 "T0 / T_fwd, forward: the motion along sign(T0), the actuator driving the "
+                 "load (T_fwd is T_plus where T0 >= 0, else T_minus)",
+                 [j](const R& r) {
+                   return r.drives[j].status == Status::kConverged
+                              ? r.drives[j].efficiency_forward
+                              : kNaN;
+                 });
+      add.Number("efficiency_" + q + "_back", "1",
+                 "T_back / T0, backward: the motion against sign(T0), the load driving the "
+                 "machine (none where T0 = 0)",
                  [j](const R& r) {
                    return r.drives[j].status == Status::kConverged
                               ? r.drives[j].efficiency_backward
@@ -207,22 +275,31 @@ std::vector<StaticsColumn<M>> StaticsColumns() {
     if constexpr (F::kHasFriction) {
       for (int j = 0; j < M::kNq; ++j) {
         for (const ReactionJoint& joint : joints) {
-          add.Number("F_" + joint.joint + "_mag" + suffix("fwd", j), "N",
-                     "|force| at the joint with friction, driving forward",
-                     [joint, j, usable](const R& r) {
-                       return usable(r.forward[j])
-                                  ? ReactionMagnitude(joint, r.forward[j].statics.R)
-                                  : kNaN;
-                     });
-          add.Number("F_" + joint.joint + "_mag" + suffix("back", j), "N",
-                     "|force| at the joint with friction, driven back",
-                     [joint, j, usable](const R& r) {
-                       return usable(r.backward[j])
-                                  ? ReactionMagnitude(joint, r.backward[j].statics.R)
-                                  : kNaN;
-                     });
+          for (const double way : {+1.0, -1.0}) {
+            add.Number("F_" + joint.joint + "_mag" + suffix(way > 0 ? "plus" : "minus", j),
+                       "N",
+                       std::string("|force| at the joint with friction, the input ") +
+                           M::kQNames[j] + " running in " + (way > 0 ? "+" : "-") +
+                           M::kQNames[j],
+                       [joint, j, way, usable](const R& r) {
+                         const Solution<M>& s = Moving(r, j, way);
+                         return usable(s) ? ReactionMagnitude(joint, s.statics.R) : kNaN;
+                       });
+          }
         }
       }
+    }
+  }
+  for (const GroundBearing& g : GroundBearings<M>()) {
+    for (const int axis : {0, 1}) {
+      add.Number("bearing_" + g.joint + (axis ? "_y" : "_x"), "N",
+                 std::string("force of the ground on ") + g.link + " at the bearing " + g.joint +
+                     ", fixed frame " + (axis ? "y" : "x") + ", without friction",
+                 [g, axis, usable](const R& r) {
+                   return usable(r.frictionless)
+                              ? g.sign * r.frictionless.statics.R(axis ? g.y : g.x) + 0.0  // no -0
+                              : kNaN;
+                 });
     }
   }
   if constexpr (F::kHasPotential) {
@@ -277,7 +354,11 @@ std::string StaticsCsvCell(const StaticsColumn<M>& c, const StaticsRecord<M>& r)
 /// The sign convention of a statics sweep's CSV (its first comment line, io/csv.h CsvAbout()).
 inline constexpr const char* kStaticsSigns =
     "drive_<q> is the torque (CCW +) or force (along +q) the actuator applies to its input for "
-    "equilibrium, -Q; reactions are the force (and moment) of each joint's first link on its "
+    "equilibrium, -Q; with friction drive_<q>_plus and drive_<q>_minus are that torque or "
+    "force with the input running in +q and in -q (friction opposes the motion: "
+    "drive_<q>_minus <= drive_<q> <= drive_<q>_plus), forward is the motion along "
+    "sign(drive_<q>) (the actuator drives the load) and backward the motion against it (the "
+    "load drives the machine); reactions are the force (and moment) of each joint's first link on its "
     "second, fixed frame; angles CCW + from the fixed x axis";
 
 /// Writes the header line and one line per record (io/csv.h; with options.describe, the

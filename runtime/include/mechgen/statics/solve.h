@@ -268,6 +268,18 @@ Status SolveAt(const Options& options, const typename ModelTypes<M>::Params& p,
 
 /// The driving force of one input with friction, forward and backward, and self-locking
 /// (Paul §5.6.3). Only input j moves (direction +-e_j). Forces: statics/types.h.
+///
+/// Two ways to name the same two solutions:
+///   - by the direction of the input's motion: T_plus (the input runs in +q_j, q_j
+///     increasing) and T_minus (-q_j). Friction opposes the motion, so by virtual work
+///     T_plus = T0 + sum_J gain_J normal_J |K_rel_J| >= T0 >= T_minus = T0 - sum_J (...),
+///     each with its own normal forces: continuous curves along a motion wherever T0 and the
+///     reactions are (they do not swap where T0 changes sign).
+///   - by who drives: forward, the motion along sign(T0) (the actuator drives the load, does
+///     positive work: T_fwd = T_plus where T0 >= 0, T_minus where T0 < 0), and backward, the
+///     motion against it (the load drives the machine, the actuator holds back). The
+///     efficiencies and self-locking are defined on these; the curves T_fwd, T_back swap
+///     where T0 changes sign.
 struct DriveAnalysis {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   int input = 0;  ///< j
@@ -280,6 +292,10 @@ struct DriveAnalysis {
   /// the actuator only holds back (T_back T0 > 0) or, self-locking, has to push along the
   /// motion (T_back T0 <= 0).
   double drive_backward = kNaN;
+  /// T_plus = drive_j moving along +e_j (the input's coordinate increasing).
+  double drive_plus = kNaN;
+  /// T_minus = drive_j moving along -e_j; T_minus <= T0 <= T_plus (friction opposes motion).
+  double drive_minus = kNaN;
   /// T0 / T_fwd: the forward efficiency (1 without friction, in (0, 1] with it).
   double efficiency_forward = kNaN;
   /// T_back / T0: the backward efficiency (1 without friction; <= 0 when self-locking; NaN
@@ -344,6 +360,8 @@ Status AnalyzeDrive(const Options& options, const typename ModelTypes<M>::Params
   out->drive = T0;
   out->drive_forward = s1->statics.drive(input);
   out->drive_backward = s2->statics.drive(input);
+  out->drive_plus = sign > 0 ? out->drive_forward : out->drive_backward;
+  out->drive_minus = sign > 0 ? out->drive_backward : out->drive_forward;
   out->efficiency_forward = T0 / out->drive_forward;
   // T_back / T0 tends to -inf as T0 -> 0 inside a dead zone; where T0 is 0 up to rounding
   // (|T0| <= 1e-12 |T_fwd|, a dead centre) the ratio says nothing: NaN.

@@ -54,6 +54,13 @@ struct StaticsRecord {
   int evaluations = 0;
 };
 
+/// The solution of row r with input j moving along +e_j (way > 0) or -e_j (way < 0): the
+/// forward or the backward one, whichever moved that way (see DriveAnalysis).
+template <class M>
+const Solution<M>& Moving(const StaticsRecord<M>& r, int j, double way) {
+  return r.forward[j].direction(j) * way > 0 ? r.forward[j] : r.backward[j];
+}
+
 /// The status text of a row: the statics status, or the position step's when it failed.
 template <class M>
 const char* RowStatus(const StaticsRecord<M>& r) {
