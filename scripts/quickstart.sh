@@ -2,9 +2,10 @@
 # The README's first command: install what is missing, build the generator and the
 # `fourbar` solver, and run the main job — sweep a full crank turn of models/fourbar.yaml,
 # print a short table, write out/fourbar.csv and out/fourbar.svg. Then the statics of
-# models/slider_crank_friction.yaml: driving torque with friction forward and backward,
-# joint reactions and the dead zones over a crank turn (out/slider_crank_friction.csv,
-# .svg, and .png plotted by gnuplot). Last, the dynamics of models/slider_crank_motor.yaml:
+# models/slider_crank_friction.yaml: the driving torque with friction to run the crank in +q
+# and in -q, joint reactions and the dead zones over a crank turn (out/slider_crank_friction.csv,
+# the force diagram .svg, and the torque against the angle and the polar diagrams of the ground
+# bearings' loads, _drive.png and _bearings.png, plotted by gnuplot through --plots). Last, the dynamics of models/slider_crank_motor.yaml:
 # the start-up of a motor-driven slider-crank against its load until the speed is periodic
 # (out/slider_crank_motor.csv, .png). And an engine: the flywheel of the single-cylinder
 # models/engine_single.yaml sized by the energy loop for C_s = 0.02 at 3000 rpm and checked by
@@ -17,12 +18,7 @@ mkdir -p out
 ./build/models/fourbar_sweep --steps 360 --csv out/fourbar.csv --svg out/fourbar.svg --table 8
 echo
 ./build/models/slider_crank_friction_statics --steps 360 --table 6 --dead-zones \
-  --csv out/slider_crank_friction.csv --svg out/slider_crank_friction.svg
-if command -v gnuplot >/dev/null; then
-  gnuplot -e "csv='out/slider_crank_friction.csv'; png='out/slider_crank_friction.png'" \
-    runtime/tools/plot_statics.gnuplot
-  echo "wrote out/slider_crank_friction.png (driving torque forward/backward, reaction magnitudes)"
-fi
+  --csv out/slider_crank_friction.csv --svg out/slider_crank_friction.svg --plots out/slider_crank_friction
 echo
 ./build/models/slider_crank_motor_simulate --t-end 20 --dt 0.002 --csv out/slider_crank_motor.csv
 if command -v gnuplot >/dev/null; then
