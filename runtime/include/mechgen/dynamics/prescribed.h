@@ -727,6 +727,9 @@ class PrescribedDynamics {
 
   friend struct internal::EventLoop;
   static constexpr bool kCanProjectEnergy = false;
+  /// The driven run does not restart at the loads' switching points (forward.h does).
+  static constexpr bool kHasSwitches = false;
+  using SwitchModes = std::array<int, 0>;
 
   // ---- the hooks of the event loop (simulator.h) ----
   void EndRun() {

@@ -1,0 +1,203 @@
+// Switching points of the loads (issue 26): the generated EvalSwitchModes (Model::SwitchModes)
+// and the restart of the minimal method's integrator at the switches it locates
+// (MinimalOptions::restart_at_switches, dynamics/simulator.h), on the loop-free wheel
+// tests/dynamics/models/wheel_switched.yaml (inertia J about its pin, torques
+// T0 step(mod(theta, 2 pi) - theta_s) and A tent(theta)).
+//
+// Oracles, each independent of the integrator:
+//  - the modes against the definitions (models/README.md, Expressions) evaluated by hand;
+//  - T0 alone: the motion is constant speed off [theta_s, 2 pi) of each turn and constant
+//    acceleration T0/J on it, so the state at t_end follows in closed form turn by turn
+//    (the time to cover d at speed w and acceleration a: (sqrt(w^2 + 2 a d) - w)/a); the
+//    restarted run must match it to 1e-10 and restart once per crossing of theta_s + 2 pi k
+//    and 2 pi k (counted from the closed form);
+//  - A alone: 1/2 J w^2 = 1/2 J w0^2 + A integral of the tent over [theta0, theta] (exact
+//    piecewise quadratics) at every sample, and a restart per point of the tent passed.
+// The runs without restarts are printed beside them (their error and steps: a comparison,
+// not a timing).
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "mechgen/dynamics/forward.h"
+#include "wheel_switched.h"
+
+namespace {
+
+namespace dyn = mechgen::dynamics;
+namespace ws = mech::wheel_switched;
+using M = ws::Model;
+using Sim = dyn::MinimalDynamics<M>;
+constexpr double kPi = 3.14159265358979323846;
+
+static_assert(M::kNumSwitches == 3, "mod, step and the table: three switching items");
+static_assert(Sim::kHasSwitches, "the runtime sees the model's switches");
+
+std::array<int, M::kNumSwitches> ModesAt(const ws::Params<double>& p, double theta, double w) {
+  Eigen::Matrix<double, 1, 1> q, qd;
+  q(0) = theta;
+  qd(0) = w;
+  Eigen::Matrix<double, 0, 1> phi;
+  ws::Coefficients<double> c;
+  M::Coeffs<double>(p, q, phi, &c);
+  std::array<int, M::kNumSwitches> modes{};
+  M::SwitchModes<double>(p, q, phi, qd, 0.0, c, &modes);
+  return modes;
+}
+
+// The items in the generated order (documented in the header): 0 mod(theta, 2 pi),
+// 1 step(mod(theta, 2 pi) - theta_s), 2 the tent table of theta.
+TEST(Switches, ModesFollowTheDefinitions) {
+  ws::Params<double> p;
+  for (double theta : {-7.0, -1.0, 0.0, 0.5, 1.0, 1.5, 2.0, 2.99, 3.0, 3.5, 3.999, 4.0, 4.5, 6.28, 6.3, 10.4, 20.0}) {
+    const auto m = ModesAt(p, theta, 1.0);
+    const double floor_turns = std::floor(theta / (2 * kPi));
+    EXPECT_EQ(m[0], static_cast<int>(floor_turns)) << theta;
+    const double in_turn = theta - 2 * kPi * floor_turns;
+    EXPECT_EQ(m[1], in_turn >= p.theta_s ? 1 : 0) << theta;
+    EXPECT_EQ(m[2], (theta >= 1) + (theta >= 2) + (theta >= 3)) << theta;
+  }
+  // step(0) = 1: on at theta_s exactly.
+  EXPECT_EQ(ModesAt(p, p.theta_s, 1.0)[1], 1);
+}
+
+struct RunResult {
+  dyn::MinimalSummary summary;
+  double theta = 0, w = 0;
+  double max_energy_oracle_error = 0;
+};
+
+// A run of the wheel from (theta0, w0) to t_end; `energy` (optional) is the closed-form
+// kinetic energy at an angle, checked at every sample.
+template <class Energy>
+RunResult Simulate(const ws::Params<double>& p, double theta0, double w0, double t_end, bool restart, Energy&& energy) {
+  dyn::MinimalOptions o;
+  o.integrator.rtol = 1e-12;
+  o.integrator.atol = 1e-12;
+  o.restart_at_switches = restart;
+  Sim sim(p, o);
+  Sim::VecQ q0, qd0;
+  q0(0) = theta0;
+  qd0(0) = w0;
+  EXPECT_TRUE(sim.Initialize(q0));
+  RunResult run;
+  Sim::SampleT last;
+  sim.Simulate(
+      0.0, q0, qd0, t_end,
+      [&](const Sim::SampleT& s) {
+        const double T = 0.5 * p.J * s.qd(0) * s.qd(0);
+        run.max_energy_oracle_error = std::max(run.max_energy_oracle_error, std::abs(T - energy(s.q(0))));
+        return true;
+      },
+      &run.summary, &last);
+  run.theta = last.q(0);
+  run.w = last.qd(0);
+  return run;
+}
+
+/// T0 alone in closed form: (theta, w) at t_end from (theta0, w0 > 0), and the crossings of
+/// the switching angles theta_s + 2 pi k and 2 pi k on the way.
+struct StepOracle {
+  double J, T0, theta_s;
+  void At(double theta0, double w0, double t_end, double* theta, double* w, int* crossings) const {
+    const double a = T0 / J;
+    double t = 0, th = theta0, v = w0;
+    *crossings = 0;
+    for (;;) {
+      const double turn = std::floor(th / (2 * kPi));
+      const double in_turn = th - 2 * kPi * turn;
+      const bool on = in_turn >= theta_s;
+      const double next = on ? 2 * kPi * (turn + 1) : 2 * kPi * turn + theta_s;
+      const double d = next - th;
+      const double dt = on ? (std::sqrt(v * v + 2 * a * d) - v) / a : d / v;
+      if (t + dt >= t_end) {
+        const double tau = t_end - t;
+        *theta = th + v * tau + (on ? 0.5 * a * tau * tau : 0.0);
+        *w = v + (on ? a * tau : 0.0);
+        return;
+      }
+      t += dt;
+      v = on ? std::sqrt(v * v + 2 * a * d) : v;
+      th = next;
+      ++*crossings;
+    }
+  }
+};
+
+TEST(Switches, StepTorqueMatchesTheClosedFormWithRestarts) {
+  ws::Params<double> p;  // T0 = 3, theta_s = 4, J = 0.5, A = 0
+  const double theta0 = 0.5, w0 = 2.0, t_end = 6.0;
+  double theta_x = 0, w_x = 0;
+  int crossings = 0;
+  StepOracle{p.J, p.T0, p.theta_s}.At(theta0, w0, t_end, &theta_x, &w_x, &crossings);
+  ASSERT_GE(crossings, 4);  // several turns: on and off, and the table's points in the first turn
+  // The kinetic energy by the work of T0 over the angles in [theta_s, 2 pi) of each turn.
+  auto energy = [&](double theta) {
+    double on = 0;
+    for (int k = 0; k < 100; ++k) {
+      const double lo = std::max(theta0, 2 * kPi * k + p.theta_s), hi = std::min(theta, 2 * kPi * (k + 1));
+      if (hi > lo) on += hi - lo;
+    }
+    return 0.5 * p.J * w0 * w0 + p.T0 * on;
+  };
+  const RunResult with = Simulate(p, theta0, w0, t_end, true, energy);
+  const RunResult without = Simulate(p, theta0, w0, t_end, false, energy);
+  ASSERT_EQ(with.summary.status, dyn::Status::kSuccess) << dyn::FormatSummary(with.summary);
+  ASSERT_EQ(without.summary.status, dyn::Status::kSuccess) << dyn::FormatSummary(without.summary);
+  // The table's points 1, 2, 3 rad are switching items too (A = 0: they change nothing).
+  const int table_points = (theta0 < 1) + (theta0 < 2) + (theta0 < 3);
+  EXPECT_EQ(with.summary.switch_restarts, crossings + table_points) << dyn::FormatSummary(with.summary);
+  EXPECT_EQ(with.summary.switches_through, 0);
+  EXPECT_EQ(without.summary.switch_restarts, 0);
+  EXPECT_NEAR(with.theta, theta_x, 1e-10 * std::abs(theta_x));
+  EXPECT_NEAR(with.w, w_x, 1e-10 * std::abs(w_x));
+  EXPECT_LT(with.max_energy_oracle_error, 1e-10 * energy(theta_x));
+  EXPECT_LT(with.summary.max_energy_error, 1e-10 * energy(theta_x));
+  std::printf("step torque, %d crossings, closed form theta = %.15g, w = %.15g\n", crossings, theta_x, w_x);
+  std::printf("  with restarts:    |theta error| = %.3g, |w error| = %.3g, max |T - T_exact| = %.3g, %d steps, "
+              "%d rejected, %d rhs, %d restarts\n",
+              std::abs(with.theta - theta_x), std::abs(with.w - w_x), with.max_energy_oracle_error,
+              with.summary.integrator.steps, with.summary.integrator.rejected,
+              with.summary.integrator.rhs_evaluations, with.summary.switch_restarts);
+  std::printf("  without restarts: |theta error| = %.3g, |w error| = %.3g, max |T - T_exact| = %.3g, %d steps, "
+              "%d rejected, %d rhs\n",
+              std::abs(without.theta - theta_x), std::abs(without.w - w_x), without.max_energy_oracle_error,
+              without.summary.integrator.steps, without.summary.integrator.rejected,
+              without.summary.integrator.rhs_evaluations);
+}
+
+TEST(Switches, TableTorqueKeepsTheEnergyWithRestarts) {
+  ws::Params<double> p;
+  p.T0 = 0;  // the tent alone
+  p.A = 4.0;
+  p.theta_s = 10;  // beyond a turn: the step item never switches (the mod item does, at 2 pi)
+  const double theta0 = 0.5, w0 = 1.5, t_end = 2.0;
+  // Integral of the tent (0 at 1, 1 at 2, 0 at 3) from -inf to x.
+  auto tent_integral = [](double x) {
+    if (x <= 1) return 0.0;
+    if (x <= 2) return 0.5 * (x - 1) * (x - 1);
+    if (x <= 3) return 0.5 + (x - 2) - 0.5 * (x - 2) * (x - 2);
+    return 1.0;
+  };
+  auto energy = [&](double theta) { return 0.5 * p.J * w0 * w0 + p.A * (tent_integral(theta) - tent_integral(theta0)); };
+  const RunResult with = Simulate(p, theta0, w0, t_end, true, energy);
+  const RunResult without = Simulate(p, theta0, w0, t_end, false, energy);
+  ASSERT_EQ(with.summary.status, dyn::Status::kSuccess) << dyn::FormatSummary(with.summary);
+  ASSERT_GT(with.theta, 3.0);  // past the tent
+  ASSERT_GT(with.theta, 2 * kPi);
+  ASSERT_LT(with.theta, 4 * kPi);
+  // The tent's three points and mod(theta, 2 pi) at 2 pi.
+  EXPECT_EQ(with.summary.switch_restarts, 4) << dyn::FormatSummary(with.summary);
+  const double T_end = energy(with.theta);
+  EXPECT_NEAR(0.5 * p.J * with.w * with.w, T_end, 1e-10 * T_end);
+  EXPECT_LT(with.max_energy_oracle_error, 1e-10 * T_end);
+  std::printf("tent torque: with restarts max |T - T_exact| = %.3g (%d steps, %d rhs, %d restarts); without: %.3g "
+              "(%d steps, %d rhs)\n",
+              with.max_energy_oracle_error, with.summary.integrator.steps, with.summary.integrator.rhs_evaluations,
+              with.summary.switch_restarts, without.max_energy_oracle_error, without.summary.integrator.steps,
+              without.summary.integrator.rhs_evaluations);
+}
+
+}  // namespace
