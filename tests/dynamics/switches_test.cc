@@ -12,7 +12,11 @@
 //    restarted run must match it to 1e-10 and restart once per crossing of theta_s + 2 pi k
 //    and 2 pi k (counted from the closed form);
 //  - A alone: 1/2 J w^2 = 1/2 J w0^2 + A integral of the tent over [theta0, theta] (exact
-//    piecewise quadratics) at every sample, and a restart per point of the tent passed.
+//    piecewise quadratics) at every sample, and a restart per point of the tent passed;
+//  - the shaper with masses (tests/dynamics/models/shaper_massive.yaml) coasting one turn of
+//    the crank from -30 deg: the work of its cutting force, which acts over the forward
+//    stroke only, is -F times the stroke (the ram's x at -30 and 210 deg from the position
+//    solver), and T + V - W stays E0 across the switches.
 // The runs without restarts are printed beside them (their error and steps: a comparison,
 // not a timing).
 #include <cmath>
@@ -22,6 +26,7 @@
 #include <gtest/gtest.h>
 
 #include "mechgen/dynamics/forward.h"
+#include "shaper_massive.h"
 #include "wheel_switched.h"
 
 namespace {
@@ -198,6 +203,63 @@ TEST(Switches, TableTorqueKeepsTheEnergyWithRestarts) {
               with.max_energy_oracle_error, with.summary.integrator.steps, with.summary.integrator.rhs_evaluations,
               with.summary.switch_restarts, without.max_energy_oracle_error, without.summary.integrator.steps,
               without.summary.integrator.rhs_evaluations);
+}
+
+TEST(Switches, ShaperWorkPerTurnIsForceTimesStroke) {
+  using S = mech::shaper_massive::Model;
+  using ShaperSim = dyn::MinimalDynamics<S>;
+  static_assert(S::kNumSwitches == 2, "mod and step");
+  const mech::shaper_massive::Params<double> p;
+  const double deg = kPi / 180;
+  // The ram's x at the crank's -30 and 210 deg (its extremes) by the position solver.
+  auto ram_x = [&](double theta) {
+    ShaperSim::VecQ q;
+    q(0) = theta;
+    ShaperSim::VecPhi phi;
+    for (int i = 0; i < S::kNphi; ++i) phi(i) = S::kAssemblyPhi[i];
+    mech::shaper_massive::Coefficients<double> c;
+    ShaperSim sim(p);
+    EXPECT_TRUE(sim.Initialize(q));
+    EXPECT_TRUE(sim.Positions(q, &phi, &c));
+    return c.r_P(0, 0);
+  };
+  const double stroke = ram_x(-30 * deg) - ram_x(210 * deg);
+  ASSERT_GT(stroke, 1.0);
+  const double W_exact = -p.F * stroke;
+  const double theta0 = -30 * deg, theta_end = 330 * deg;
+  for (bool restart : {true, false}) {
+    dyn::MinimalOptions o;
+    o.integrator.rtol = 1e-10;
+    o.integrator.atol = 1e-10;
+    o.restart_at_switches = restart;
+    ShaperSim sim(p, o);
+    ShaperSim::VecQ q0, qd0;
+    q0(0) = theta0;
+    qd0(0) = 6.0;
+    ASSERT_TRUE(sim.Initialize(q0));
+    dyn::MinimalSummary summary;
+    ShaperSim::SampleT last;
+    sim.Simulate(
+        0.0, q0, qd0, 100.0, [](const ShaperSim::SampleT&) { return true; },
+        [&](double, const ShaperSim::VecQ& q, const ShaperSim::VecQ&, const ShaperSim::VecPhi&) {
+          return q(0) - theta_end;
+        },
+        &summary, &last);
+    ASSERT_EQ(summary.status, dyn::Status::kStoppedByEvent) << dyn::FormatSummary(summary);
+    ASSERT_EQ(summary.event, dyn::Event::kUser);
+    std::printf("shaper, one turn, restarts %s: W = %.12g, -F stroke = %.12g, |dW| = %.3g, max |E - W - E0| = %.3g, "
+                "%d steps, %d rhs, %d restarts\n",
+                restart ? "on " : "off", last.W, W_exact, std::abs(last.W - W_exact), summary.max_energy_error,
+                summary.integrator.steps, summary.integrator.rhs_evaluations, summary.switch_restarts);
+    if (restart) {
+      // The forward stroke's end at 210 deg and the turn's end at 330 deg = -30 deg, where
+      // the force comes on again (the start, at -30 deg, is on already).
+      EXPECT_GE(summary.switch_restarts, 1);
+      EXPECT_LE(summary.switch_restarts, 3);
+      EXPECT_NEAR(last.W, W_exact, 1e-10 * std::abs(W_exact));  // 5.8e-6 J off without restarts
+      EXPECT_LT(summary.max_energy_error, 1e-8 * std::abs(W_exact));
+    }
+  }
 }
 
 }  // namespace

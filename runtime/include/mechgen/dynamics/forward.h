@@ -25,7 +25,10 @@
  *  - dead point: 1/cond_1(Phi_phi) falls below MinimalOptions::min_rcond (or det Phi_phi
  *    changes sign): a failure (Status::kDeadPoint) with figures in the Summary;
  *  - speed through zero (kNq = 1: qd; a reversing machine), if MinimalOptions::stop_at_speed_zero;
- *  - a user stop condition g(t, q, qd, phi): stops where it changes sign.
+ *  - a user stop condition g(t, q, qd, phi): stops where it changes sign;
+ *  - a switching point of the loads (a model with M::SwitchModes, Model::kNumSwitches > 0, and
+ *    MinimalOptions::restart_at_switches): not an event that stops the run; the step that
+ *    crossed it is redone up to it and the integrator restarts just after it (simulator.h).
  * Samples at requested times (MinimalOptions::sample_dt, 0: every accepted step) come from
  * the dense output with the positions solved there, handed to an observer as a Sample
  * (t, q, qd, qdd, phi, T, V, E, W, Q, P_nc). Nothing allocates after construction; nothing
