@@ -21,6 +21,7 @@
 // not a timing).
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -37,7 +38,7 @@ using M = ws::Model;
 using Sim = dyn::MinimalDynamics<M>;
 constexpr double kPi = 3.14159265358979323846;
 
-static_assert(M::kNumSwitches == 3, "mod, step and the table: three switching items");
+static_assert(M::kNumSwitches == 4, "mod, sign, step and the table: four switching items");
 static_assert(Sim::kHasSwitches, "the runtime sees the model's switches");
 
 std::array<int, M::kNumSwitches> ModesAt(const ws::Params<double>& p, double theta, double w) {
@@ -53,19 +54,25 @@ std::array<int, M::kNumSwitches> ModesAt(const ws::Params<double>& p, double the
 }
 
 // The items in the generated order (documented in the header): 0 mod(theta, 2 pi),
-// 1 step(mod(theta, 2 pi) - theta_s), 2 the tent table of theta.
+// 1 sign(theta - theta_b), 2 step(mod(theta, 2 pi) - theta_s), 3 the tent table of theta.
 TEST(Switches, ModesFollowTheDefinitions) {
   ws::Params<double> p;
-  for (double theta : {-7.0, -1.0, 0.0, 0.5, 1.0, 1.5, 2.0, 2.99, 3.0, 3.5, 3.999, 4.0, 4.5, 6.28, 6.3, 10.4, 20.0}) {
+  for (double theta : {-7.0, -1.0, 0.0, 0.5, 1.0, 1.5, 2.0, 2.99, 3.0, 3.5, 3.999, 4.0, 4.5, 6.28, 6.3, 10.4, 20.0,
+                       100.0, 120.0}) {
     const auto m = ModesAt(p, theta, 1.0);
     const double floor_turns = std::floor(theta / (2 * kPi));
     EXPECT_EQ(m[0], static_cast<int>(floor_turns)) << theta;
     const double in_turn = theta - 2 * kPi * floor_turns;
-    EXPECT_EQ(m[1], in_turn >= p.theta_s ? 1 : 0) << theta;
-    EXPECT_EQ(m[2], (theta >= 1) + (theta >= 2) + (theta >= 3)) << theta;
+    EXPECT_EQ(m[1], theta > p.theta_b ? 1 : theta < p.theta_b ? -1 : 0) << theta;
+    EXPECT_EQ(m[2], in_turn >= p.theta_s ? 1 : 0) << theta;
+    EXPECT_EQ(m[3], (theta >= 1) + (theta >= 2) + (theta >= 3)) << theta;
   }
-  // step(0) = 1: on at theta_s exactly.
-  EXPECT_EQ(ModesAt(p, p.theta_s, 1.0)[1], 1);
+  // step(0) = 1: on at theta_s exactly; sign(0) = 0.
+  EXPECT_EQ(ModesAt(p, p.theta_s, 1.0)[2], 1);
+  p.theta_b = 2.5;
+  EXPECT_EQ(ModesAt(p, 2.5, 1.0)[1], 0);
+  EXPECT_EQ(ModesAt(p, 2.6, 1.0)[1], 1);
+  EXPECT_EQ(ModesAt(p, 2.4, 1.0)[1], -1);
 }
 
 struct RunResult {
@@ -260,6 +267,109 @@ TEST(Switches, ShaperWorkPerTurnIsForceTimesStroke) {
       EXPECT_LT(summary.max_energy_error, 1e-8 * std::abs(W_exact));
     }
   }
+}
+
+// The bang-bang spring with damping: J theta'' = -Kb sign(theta - theta_b) - cd theta'. Its
+// swings about theta_b shorten without end; each half swing (constant torque -+Kb and the
+// damper) is in closed form, which gives every crossing of theta_b. The guard against
+// chattering is checked on it: with the defaults every crossing is restarted at; with a cap,
+// the first max_switch_restarts are and the rest are stepped through (and the message says
+// so); with a long switch_min_interval, a crossing is restarted at only if it comes that
+// long after the last restart, which the closed form's crossing times decide.
+std::vector<double> BangBangCrossings(const ws::Params<double>& p, double theta0, double t_end) {
+  // From theta_b at speed v (or theta0 at rest), with a = -Kb/J s (s: the side the motion
+  // goes to) and k = cd/J (v' = a - k v): v(t) = a/k + (v - a/k) e^(-k t) and
+  // x(t) = x + a t/k + (v - a/k)(1 - e^(-k t))/k; the next x = 0 by bisection.
+  const double k = p.cd / p.J;
+  double x = theta0 - p.theta_b, v = 0, t = 0;
+  std::vector<double> crossings;
+  for (;;) {
+    const double s = x > 0 || (x == 0 && v > 0) ? 1.0 : -1.0;
+    const double a = -p.Kb / p.J * s;
+    auto X = [&](double tau) { return x + a / k * tau - (v - a / k) * std::expm1(-k * tau) / k; };
+    // The half swing lasts about 2 |v| / |a| (or from rest sqrt(2 |x| / |a|)): bracket it.
+    double lo = 0.25 * (x != 0 ? std::sqrt(2 * std::abs(x) / std::abs(a)) : 2 * std::abs(v) / std::abs(a));
+    double hi = 4 * lo;
+    while (X(hi) * s > 0) hi *= 2;
+    while (lo > 0 && X(lo) * s <= 0) lo *= 0.5;
+    for (int it = 0; it < 200; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (X(mid) * s > 0 ? lo : hi) = mid;
+    }
+    if (t + hi > t_end) return crossings;
+    v = a / k + (v - a / k) * std::exp(-k * hi);
+    x = 0;
+    t += hi;
+    crossings.push_back(t);
+  }
+}
+
+dyn::MinimalSummary RunBangBang(const ws::Params<double>& p, double theta0, double t_end, const dyn::MinimalOptions& o) {
+  Sim sim(p, o);
+  Sim::VecQ q0, qd0;
+  q0(0) = theta0;
+  qd0(0) = 0;
+  EXPECT_TRUE(sim.Initialize(q0));
+  dyn::MinimalSummary summary;
+  sim.Simulate(0.0, q0, qd0, t_end, [](const Sim::SampleT&) { return true; }, &summary);
+  return summary;
+}
+
+TEST(Switches, ChatteringGuardFollowsTheCrossings) {
+  ws::Params<double> p;
+  p.T0 = 0;
+  p.theta_s = 10;
+  p.Kb = 1.0;
+  p.theta_b = 1.0;
+  p.cd = 0.2;
+  const double theta0 = 1.5, t_end = 30.0;
+  const std::vector<double> crossings = BangBangCrossings(p, theta0, t_end);
+  const int n = static_cast<int>(crossings.size());
+  ASSERT_GE(n, 50);
+  // Each crossing's interval from the one before shrinks: the swings shorten.
+  EXPECT_LT(crossings[n - 1] - crossings[n - 2], 0.5 * (crossings[1] - crossings[0]));
+  dyn::MinimalOptions o;
+  o.integrator.rtol = 1e-10;
+  o.integrator.atol = 1e-10;
+  const double scale = 0.5 * p.Kb * (theta0 - p.theta_b);  // the initial energy above theta_b (J)
+
+  const dyn::MinimalSummary all = RunBangBang(p, theta0, t_end, o);
+  std::printf("bang-bang with damping: %d crossings in %g s (the last %.3g s apart); defaults: %s\n", n, t_end,
+              crossings[n - 1] - crossings[n - 2], dyn::FormatSummary(all).c_str());
+  ASSERT_EQ(all.status, dyn::Status::kSuccess);
+  EXPECT_EQ(all.switch_restarts, n);
+  EXPECT_EQ(all.switches_through, 0);
+  EXPECT_LT(all.max_energy_error, 1e-9 * scale);
+
+  dyn::MinimalOptions capped = o;
+  capped.max_switch_restarts = 20;
+  const dyn::MinimalSummary cap = RunBangBang(p, theta0, t_end, capped);
+  std::printf("  max_switch_restarts = 20: %s\n", dyn::FormatSummary(cap).c_str());
+  ASSERT_EQ(cap.status, dyn::Status::kSuccess);
+  EXPECT_EQ(cap.switch_restarts, 20);
+  EXPECT_EQ(cap.switches_through, n - 20);
+  EXPECT_NE(std::string(cap.message).find("max_switch_restarts"), std::string::npos);
+
+  dyn::MinimalOptions spaced = o;
+  spaced.switch_min_interval = 0.5;
+  int restarted = 0, through = 0;
+  double t_last = -1e300;
+  for (double tc : crossings) {
+    ASSERT_GT(std::abs(tc - t_last - spaced.switch_min_interval), 1e-6);  // no crossing on the fence
+    if (tc - t_last >= spaced.switch_min_interval) {
+      ++restarted;
+      t_last = tc;
+    } else {
+      ++through;
+    }
+  }
+  const dyn::MinimalSummary space = RunBangBang(p, theta0, t_end, spaced);
+  std::printf("  switch_min_interval = 0.5 s: %s (closed form: %d restarted, %d through)\n",
+              dyn::FormatSummary(space).c_str(), restarted, through);
+  ASSERT_EQ(space.status, dyn::Status::kSuccess);
+  EXPECT_EQ(space.switch_restarts, restarted);
+  EXPECT_EQ(space.switches_through, through);
+  EXPECT_GT(through, 0);
 }
 
 }  // namespace

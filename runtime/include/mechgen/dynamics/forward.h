@@ -85,10 +85,11 @@ struct MinimalOptions {
   /// kink) and the integrator restarts just after it with f evaluated there. Off, or for a
   /// model without switches: the integrator steps through them (shrinking its steps).
   bool restart_at_switches = true;
-  /// Chattering guard (a velocity switch such as sign(theta_dot) at rest switches at every
-  /// step): a switch less than switch_min_interval (s) after the last restart is stepped
-  /// through (counted in MinimalSummary::switches_through), and after max_switch_restarts
-  /// restarts every later switch is (the summary's message says so).
+  /// Chattering guard (a load that switches ever more often, such as a bang-bang spring
+  /// -K sign(theta - theta_b) whose swings shorten without end): a switch less than
+  /// switch_min_interval (s) after the last restart is stepped through (counted in
+  /// MinimalSummary::switches_through), and after max_switch_restarts restarts every later
+  /// switch is (the summary's message says so).
   double switch_min_interval = 1e-6;
   int max_switch_restarts = 1000;
   /// Newton blocks of M::Solve: iterations and tolerance (0: the generated default).

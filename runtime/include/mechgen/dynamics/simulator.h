@@ -428,7 +428,7 @@ struct EventLoop {
     int approach_steps = 0;
     // Switching points: the modes at the last accepted state; a pending switch is redone up
     // to t_switch_a, then restarted at t_switch_b with the step h_switch.
-    typename P::SwitchModes modes_now{};
+    typename P::SwitchModes modes_now{}, modes_b{};  // modes_b: those at t_switch_b
     bool switches_on = false, switch_pending = false;
     double t_switch_a = t0, t_switch_b = t0, h_switch = 0;
     double t_last_restart = -std::numeric_limits<double>::infinity();
@@ -448,7 +448,9 @@ struct EventLoop {
         is = integrator.summary().status;
         ++summary->switch_restarts;
         t_last_restart = t_switch_b;
-        if (!sim->SwitchModesAt(t_switch_b, y_b, &modes_now)) switches_on = false;
+        // The new side's modes as the bisection found them at t_switch_b (the state carried
+        // over the gap may lie a rounding short of the switch: not a second switch).
+        modes_now = modes_b;
         prev = cur;
       }
       return true;
@@ -467,6 +469,7 @@ struct EventLoop {
             // The earliest change in (t_prev, t]: bisection on the mode vector.
             const double t_start = integrator.t_prev();
             double ta = t_start, tb = t;
+            modes_b = modes_end;
             bool located = true;
             for (int it = 0; it < 200 && tb - ta > o.event_tolerance; ++it) {
               const double tm = 0.5 * (ta + tb);
@@ -481,6 +484,19 @@ struct EventLoop {
                 ta = tm;
               } else {
                 tb = tm;
+                modes_b = mm;
+              }
+            }
+            // A mode of zero width at the switch (sign(x) = 0 where x is 0 to the last bit):
+            // the modes one bracket further on are the new side's.
+            if (located && tb < t) {
+              const double tc = std::min(t, tb + (tb - ta));
+              State yc;
+              typename P::SwitchModes mc{};
+              if (integrator.Dense(f, tc, &yc) && sim->SwitchModesAt(tc, yc, &mc) && mc != modes_b &&
+                  mc != modes_now) {
+                tb = tc;
+                modes_b = mc;
               }
             }
             const bool chattering = tb - t_last_restart < o.switch_min_interval;
