@@ -27,6 +27,7 @@
 #include <gtest/gtest.h>
 
 #include "mechgen/dynamics/forward.h"
+#include "mechgen/dynamics/prescribed.h"
 #include "shaper_massive.h"
 #include "wheel_switched.h"
 
@@ -370,6 +371,51 @@ TEST(Switches, ChatteringGuardFollowsTheCrossings) {
   EXPECT_EQ(space.switch_restarts, restarted);
   EXPECT_EQ(space.switches_through, through);
   EXPECT_GT(through, 0);
+}
+
+// Driven at constant speed omega (PrescribedDynamics, inverse dynamics: no free coordinate),
+// the actuator holds the speed against the switched torque: lambda = -Q, and its work from
+// theta0 is -T0 times the angle turned inside [theta_s, 2 pi) of each turn (the closed form);
+// a restart per crossing.
+TEST(Switches, DrivenWheelActuatorWorkWithRestarts) {
+  ws::Params<double> p;  // T0 = 3, theta_s = 4
+  const double theta0 = 0.5, omega = 3.0, t_end = 5.0;
+  auto drive = dyn::MakeDrive(dyn::ConstantSpeedLaw{theta0, omega, 0.0});
+  using Driven = dyn::PrescribedDynamics<M, 1, decltype(drive)>;
+  static_assert(Driven::kHasSwitches, "the driven run sees the switches too");
+  const double theta_end = theta0 + omega * t_end;
+  double on = 0;
+  int crossings = 0;
+  for (int k = 0; k < 10; ++k) {
+    const double lo = 2 * kPi * k + p.theta_s, hi = 2 * kPi * (k + 1);
+    on += std::max(0.0, std::min(theta_end, hi) - std::max(theta0, lo));
+    crossings += (lo > theta0 && lo < theta_end) + (hi > theta0 && hi < theta_end);
+  }
+  const double W_act_exact = -p.T0 * on;
+  const int table_points = 3;  // the tent's 1, 2, 3 rad, passed in the first turn
+  for (bool restart : {true, false}) {
+    dyn::PrescribedOptions o;
+    o.integrator.rtol = 1e-12;
+    o.integrator.atol = 1e-12;
+    o.restart_at_switches = restart;
+    Driven sim(p, {0}, drive, dyn::NoForce(), o);
+    ASSERT_TRUE(sim.Initialize(0.0, Driven::VecF()));
+    dyn::PrescribedSummary summary;
+    Driven::SampleT last;
+    ASSERT_TRUE(sim.Simulate(0.0, Driven::VecF(), Driven::VecF(), t_end, [](const Driven::SampleT&) { return true; },
+                             &summary, &last))
+        << dyn::FormatSummary(summary);
+    std::printf("driven wheel, restarts %s: W_act = %.15g, closed form %.15g, |dW| = %.3g, %d steps, %d restarts\n",
+                restart ? "on " : "off", last.W_act, W_act_exact, std::abs(last.W_act - W_act_exact),
+                summary.integrator.steps, summary.switch_restarts);
+    if (restart) {
+      EXPECT_EQ(summary.switch_restarts, crossings + table_points) << dyn::FormatSummary(summary);
+      EXPECT_NEAR(last.W_act, W_act_exact, 1e-10 * std::abs(W_act_exact));
+      EXPECT_NEAR(last.W_nc, -W_act_exact, 1e-10 * std::abs(W_act_exact));  // the load's work
+    } else {
+      EXPECT_EQ(summary.switch_restarts, 0);
+    }
+  }
 }
 
 }  // namespace
