@@ -464,8 +464,9 @@ struct EventLoop {
         if (switch_pending) {
           restart_here = t == t_switch_a;
         } else if (switches_on) {
-          typename P::SwitchModes modes_end{};
-          if (sim->SwitchModesAt(t, integrator.y(), &modes_end) && modes_end != modes_now) {
+          typename P::SwitchModes modes_end = modes_now;  // kept where the positions fail
+          if (!sim->SwitchModesAt(t, integrator.y(), &modes_end)) modes_end = modes_now;
+          if (modes_end != modes_now) {
             // The earliest change in (t_prev, t]: bisection on the mode vector.
             const double t_start = integrator.t_prev();
             double ta = t_start, tb = t;
@@ -522,8 +523,6 @@ struct EventLoop {
               if (!restart()) return finish(Status::kPositionFailed, t_switch_b);
               continue;
             }
-          } else {
-            modes_now = modes_end;
           }
         }
       }
