@@ -61,6 +61,7 @@ struct Sizes {
   static constexpr int kNumTransmissionAngles = 0;  ///< four-bar loops with a ground link
   static constexpr int kNumReactions = 9;  ///< reaction components (kReactionNames)
   static constexpr int kNumFriction = 1;   ///< joints with Coulomb friction (kFrictionJoints)
+  static constexpr int kNumSwitches = 1;  ///< switching items of the loads (EvalSwitchModes)
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -1073,6 +1074,45 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The switching items of the applied loads Q (step, sign, min, max, mod and table calls,
+ * each once) and the piecewise-constant mode of each at a state: Q is smooth while no mode changes.
+ *   step(x): 1 for x >= 0, else 0; sign(x): sign of x (1, 0, -1); min(a, b): 0 where a <= b (a
+ *   taken), else 1; max(a, b): 0 where a >= b, else 1; mod(x, p): floor(x/p) as ExprMod takes it;
+ *   a table of x: the number of its points x_k <= x (its segment).
+ * Items (kNumSwitches):
+ *   0: table 'motor_curve' (Table_motor_curve(qd(0), 0))
+ * \param[in]  p      Parameters.
+ * \param[in]  q      Inputs (dim kNq).
+ * \param[in]  phi    Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[in]  qd     Input velocities dq/dt (dim kNq).
+ * \param[in]  t      Time (s).
+ * \param[in]  c      EvalCoefficients() at this (q, phi): K and L are read from it.
+ * \param[out] modes  The mode of each item; not nullptr (dim kNumSwitches).
+ */
+template <typename Scalar>
+void EvalSwitchModes(const Params<Scalar>& p,
+                     const Vec<Scalar, Sizes::kNq>& q,
+                     const Vec<Scalar, Sizes::kNphi>& phi,
+                     const Vec<Scalar, Sizes::kNq>& qd,
+                     const Scalar& t,
+                     const Coefficients<Scalar>& c,
+                     std::array<int, Sizes::kNumSwitches>* modes) {
+  (void)p;
+  (void)q;
+  (void)phi;
+  (void)t;
+  (void)c;
+  Scalar x[1];
+  x[0] = qd(0);
+  {
+    static constexpr double kX[] = {0, 20, 40, 60, 80, 100, 110, 120, 130, 135, 140, 145, 150, 153, 157.0796};
+    int n = 0;
+    for (double xk : kX) n += x[0] >= Scalar(xk) ? 1 : 0;
+    (*modes)[0] = n;
+  }
+}
+
+/**
  * \brief Positions of every named point of every link, for drawing (kScenePointNames).
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
@@ -1494,6 +1534,16 @@ struct Model : Sizes {
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
     return SolvePositions(p, q, phi_io, modes, max_iterations, tolerance, trig);
+  }
+  template <typename Scalar>
+  static void SwitchModes(const Params<Scalar>& p,
+                          const Vec<Scalar, Sizes::kNq>& q,
+                          const Vec<Scalar, Sizes::kNphi>& phi,
+                          const Vec<Scalar, Sizes::kNq>& qd,
+                          const Scalar& t,
+                          const Coefficients<Scalar>& c,
+                          std::array<int, Sizes::kNumSwitches>* modes) {
+    EvalSwitchModes(p, q, phi, qd, t, c, modes);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

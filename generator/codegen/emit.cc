@@ -496,6 +496,12 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
                               ";  ///< reaction components (kReactionNames)\n"
                               "  static constexpr int kNumFriction = " + std::to_string(statics.friction.size()) +
                               ";   ///< joints with Coulomb friction (kFrictionJoints)\n");
+  // ---- Switch modes: kNumSwitches where the applied loads have switching items ----
+  int num_switches = 0;
+  for (const FunctionSpec& f : functions) num_switches += f.switches;
+  data.Set("switch_sizes", num_switches == 0 ? std::string()
+                                             : "  static constexpr int kNumSwitches = " + std::to_string(num_switches) +
+                                                   ";  ///< switching items of the loads (EvalSwitchModes)\n");
   // ---- The output structs, their flags and aliases, from their descriptions ----
   mus::data outputs{mus::data::type::list}, flags{mus::data::type::list}, aliases{mus::data::type::list};
   auto flag = [&flags](const OutputFlag& f) {

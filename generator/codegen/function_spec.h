@@ -53,6 +53,8 @@ struct FunctionSpec {
   bool instantiate = true;   ///< compiled for double and float in <model>.cc
   /// PrepareRhs: how many parameter-only constants it fills (RhsConstants::c, codegen/output_spec.h).
   int constants = 0;
+  /// EvalSwitchModes: how many switching items it gives a mode of (Sizes::kNumSwitches).
+  int switches = 0;
 };
 
 inline Argument Arg(const std::string& type,

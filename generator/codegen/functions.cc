@@ -550,6 +550,10 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
     out.push_back(prepare);
     out.push_back(rhs_spec);
   }
+  if (has_dynamics) {  // the switching items of Q: only where there are some
+    FunctionSpec switches = EvalSwitchModesSpec(m, *dynamics, printer);
+    if (!switches.name.empty()) out.push_back(switches);
+  }
   if (m.outputs.scene && !k.scene.empty()) out.push_back(EvalSceneSpec(k));
   for (const FunctionSpec& f : DrawingFunctions(m, k, printer)) out.push_back(f);
   const std::vector<FunctionSpec> helpers = PiecewiseHelpers(out);

@@ -74,6 +74,17 @@ FunctionSpec EvalExcessSpec(const Model& m, const Kinematics& k, const DynamicsT
 FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);
+/// A body over a statics table's program, finished as EvalStatics' is (codegen/statics_functions.cc):
+/// the unused locals pruned, the friction loads read, the sums raised to powers named.
+Program FinishAppliedProgram(Program P, const StaticsTable& st, CxxPrinter* printer);
+
+/// The switching items of a program's values (mstep, msign, mmin, mmax, mmod and table calls,
+/// a table's slope as its value's item), each once (codegen/switch_functions.cc).
+std::vector<GiNaC::ex> SwitchItems(const Program& program);
+/// EvalSwitchModes (the `Model::SwitchModes` member): the mode of each switching item of the
+/// dynamics' applied loads Q; an empty spec (no name) where Q has none. Its `switches` is
+/// kNumSwitches.
+FunctionSpec EvalSwitchModesSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
 
 /// sin and cos shared between SolvePositions and EvalCoefficients (the Trig<Scalar>
 /// argument): rewrites both specs' programs, and those of `takers` (EvalStatics, EvalDynamics, ...)

@@ -193,6 +193,8 @@ Program Finish(Program P, const StaticsTable& st, CxxPrinter* printer) {
 
 }  // namespace
 
+Program FinishAppliedProgram(Program P, const StaticsTable& st, CxxPrinter* printer) { return Finish(P, st, printer); }
+
 Program StaticsBody(const Model& m, const StaticsTable& st, CxxPrinter* printer) {
   const int nq = static_cast<int>(m.inputs.size());
   NameSlots(st.slots, printer);

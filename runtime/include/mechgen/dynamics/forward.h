@@ -25,7 +25,10 @@
  *  - dead point: 1/cond_1(Phi_phi) falls below MinimalOptions::min_rcond (or det Phi_phi
  *    changes sign): a failure (Status::kDeadPoint) with figures in the Summary;
  *  - speed through zero (kNq = 1: qd; a reversing machine), if MinimalOptions::stop_at_speed_zero;
- *  - a user stop condition g(t, q, qd, phi): stops where it changes sign.
+ *  - a user stop condition g(t, q, qd, phi): stops where it changes sign;
+ *  - a switching point of the loads (a model with M::SwitchModes, Model::kNumSwitches > 0, and
+ *    MinimalOptions::restart_at_switches): not an event that stops the run; the step that
+ *    crossed it is redone up to it and the integrator restarts just after it (simulator.h).
  * Samples at requested times (MinimalOptions::sample_dt, 0: every accepted step) come from
  * the dense output with the positions solved there, handed to an observer as a Sample
  * (t, q, qd, qdd, phi, T, V, E, W, Q, P_nc). Nothing allocates after construction; nothing
@@ -75,6 +78,20 @@ struct MinimalOptions {
   /// evaluation per step. Exact for one DOF: at a given q, E fixes |qd|.
   bool energy_projection = false;
   double energy_floor = 1e-6;
+  /// Switching points of the model's loads (a step, sign, min, max, mod or table in Q: the
+  /// generated M::SwitchModes, where Model::kNumSwitches > 0): after a step whose end has other
+  /// modes than its start, the earliest change is located on the dense output (bisection to
+  /// event_tolerance), the step is redone up to just before it (no stage straddles the jump or
+  /// kink) and the integrator restarts just after it with f evaluated there. Off, or for a
+  /// model without switches: the integrator steps through them (shrinking its steps).
+  bool restart_at_switches = true;
+  /// Chattering guard (a load that switches ever more often, such as a bang-bang spring
+  /// -K sign(theta - theta_b) whose swings shorten without end): a switch less than
+  /// switch_min_interval (s) after the last restart is stepped through (counted in
+  /// MinimalSummary::switches_through), and after max_switch_restarts restarts every later
+  /// switch is (the summary's message says so).
+  double switch_min_interval = 1e-6;
+  int max_switch_restarts = 1000;
   /// Newton blocks of M::Solve: iterations and tolerance (0: the generated default).
   int max_solver_iterations = 20;
   double solver_tolerance = 0;
@@ -98,6 +115,9 @@ struct MinimalOptions {
       return fail("sample_dt", sample_dt, "0 <= sample_dt < inf");
     if (max_samples < 1) return fail("max_samples", max_samples, "max_samples >= 1");
     if (!(energy_floor >= 0)) return fail("energy_floor", energy_floor, "energy_floor >= 0");
+    if (!(switch_min_interval >= 0) || !std::isfinite(switch_min_interval))
+      return fail("switch_min_interval", switch_min_interval, "0 <= switch_min_interval < inf");
+    if (max_switch_restarts < 0) return fail("max_switch_restarts", max_switch_restarts, "max_switch_restarts >= 0");
     if (max_solver_iterations < 1)
       return fail("max_solver_iterations", max_solver_iterations, "max_solver_iterations >= 1");
     return true;
@@ -116,6 +136,10 @@ struct MinimalSummary {
   /// max |T + V - W - E0| over the samples (energy units): the energy balance's drift.
   double max_energy_error = 0;
   int projections = 0;  ///< energy projections made
+  /// Switching points of the loads (MinimalOptions::restart_at_switches): located and
+  /// restarted at, and stepped through (the chattering guard, or after max_switch_restarts).
+  int switch_restarts = 0;
+  int switches_through = 0;
   SteadyStateSummary steady;  ///< the steady-state detection (options.steady)
   const char* message = "";
 
@@ -130,6 +154,11 @@ inline std::string FormatSummary(const MinimalSummary& s) {
                 ToString(s.status), ToString(s.event), s.t_end, s.samples, s.integrator.steps,
                 s.integrator.rejected, s.integrator.rhs_evaluations, s.min_rcond_seen,
                 s.max_energy_error, s.message[0] != 0 ? "; " : "", s.message);
+  if (s.switch_restarts > 0 || s.switches_through > 0) {
+    const std::string head = buffer;
+    std::snprintf(buffer, sizeof(buffer), "%s; %d switch restarts, %d switches stepped through", head.c_str(),
+                  s.switch_restarts, s.switches_through);
+  }
   return buffer;
 }
 
@@ -143,6 +172,13 @@ template <class M>
 using HasRhs = mechgen::HasRhs<M>;
 using mechgen::internal::NoRhsConstants;
 using mechgen::internal::RhsConstantsOf;
+
+/// The number of switching items of the model's loads (Model::kNumSwitches, generated only
+/// where there are some; 0 otherwise).
+template <class M, class = void>
+struct NumSwitches : std::integral_constant<int, 0> {};
+template <class M>
+struct NumSwitches<M, std::void_t<decltype(M::kNumSwitches)>> : std::integral_constant<int, M::kNumSwitches> {};
 
 template <class M>
 constexpr bool AllBlocksClosedForm() {
@@ -322,6 +358,10 @@ class MinimalDynamics {
   static constexpr bool kStagesByRhs = kStagesByTrig && internal::HasRhs<M>::value;
 
   static constexpr bool kHasLoad = !std::is_same_v<Load, NoLoad>;
+  /// The model's loads have switching points (M::SwitchModes): see MinimalOptions::restart_at_switches.
+  static constexpr int kNumSwitches = internal::NumSwitches<M>::value;
+  static constexpr bool kHasSwitches = kNumSwitches > 0;
+  using SwitchModes = std::array<int, kNumSwitches>;
 
   explicit MinimalDynamics(const Params& params, const MinimalOptions& options = MinimalOptions(),
                            Load load = Load())
@@ -486,6 +526,23 @@ class MinimalDynamics {
     return true;
   }
 
+  /// The modes of the loads' switching items at (t, y) (M::SwitchModes at the positions there);
+  /// false where the positions do not solve. Nothing for a model without switches.
+  bool SwitchModesAt(double t, const State& y, SwitchModes* modes) {
+    if constexpr (kHasSwitches) {
+      const VecQ q = y.template head<kNq>();
+      const VecQ qd = y.template segment<kNq>(kNq);
+      VecPhi phi;
+      Coefficients c;
+      if (!Positions(q, &phi, &c)) return false;
+      M::template SwitchModes<double>(p_, q, phi, qd, t, c, modes);
+      return true;
+    } else {
+      (void)t, (void)y, (void)modes;
+      return true;
+    }
+  }
+
   /// Makes (q, phi, K) the reference of the warm starts (Simulate does after each step).
   void SetReference(const VecQ& q, const VecPhi& phi, const Eigen::Matrix<double, kNphi, kNq>& K) {
     q_ref_ = q;
@@ -532,6 +589,9 @@ class MinimalDynamics {
     events.steady = options_.steady;
     events.stop_at_speed_zero = options_.stop_at_speed_zero;
     events.energy_projection = options_.energy_projection;
+    events.restart_at_switches = options_.restart_at_switches && kHasSwitches;
+    events.switch_min_interval = options_.switch_min_interval;
+    events.max_switch_restarts = options_.max_switch_restarts;
     return internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);
   }
 

@@ -448,6 +448,42 @@ class AdaptiveRungeKutta {
     return true;
   }
 
+  /// Undoes the last accepted step: back to (t_prev(), y_prev()) with f there, the step
+  /// counted as rejected and the dense output gone (a step that crossed a switching point
+  /// of f is redone up to it: Step(f, t_switch)). Once per accepted step.
+  void Rewind() {
+    if (h_used_ == 0) return;
+    t_ = t_prev_;
+    y_ = y_prev_;
+    f_ = f_prev_;
+    h_used_ = 0;
+    dense_ready_ = false;
+    --summary_.steps;
+    ++summary_.rejected;
+    summary_.t = t_;
+    summary_.status = IntegratorStatus::kRunning;
+  }
+
+  /// Starts afresh at (t, y), keeping the counts: f evaluated there (not the first-same-as-last
+  /// stage of the step before, which belongs to the other side of a switching point of f), the
+  /// step-size controller's memory cleared, the next step |h| (at most h_max). The dense output
+  /// of the step before is gone (Dense() gives y). false when f fails there.
+  template <class Rhs>
+  bool Restart(Rhs& f, double t, const State& y, double h) {
+    t_ = t_prev_ = t;
+    y_ = y_prev_ = y;
+    if (!Eval(f, t_, y_, &f_)) return false;
+    f_prev_ = f_;
+    h_used_ = 0;
+    dense_ready_ = false;
+    err_prev_ = 1e-4;
+    reject_last_ = false;
+    h_ = std::min(std::abs(h), options_.h_max);
+    summary_.t = t_;
+    summary_.status = direction_ * (t_end_ - t_) <= 0 ? IntegratorStatus::kSuccess : IntegratorStatus::kRunning;
+    return true;
+  }
+
   double t() const { return t_; }
   double t_prev() const { return t_prev_; }
   const State& y() const { return y_; }

@@ -315,6 +315,10 @@ struct PrescribedOptions {
   /// the step size collapses before 1/cond reaches min_rcond).
   double approach_rcond = 1e-3;
   int approach_steps = 200;
+  /// Switching points of the model's loads: restarted at as MinimalOptions says (forward.h).
+  bool restart_at_switches = true;
+  double switch_min_interval = 1e-6;
+  int max_switch_restarts = 1000;
 
   /// Stop at a periodic steady state (simulator.h: per cycle of one coordinate, the change of
   /// the cycle-mean speed); off by default. Reported in the summary's `steady`.
@@ -339,6 +343,9 @@ struct PrescribedOptions {
     if (!(approach_rcond >= 0 && approach_rcond < 1))
       return fail("approach_rcond", approach_rcond, "0 <= approach_rcond < 1");
     if (approach_steps < 1) return fail("approach_steps", approach_steps, "approach_steps >= 1");
+    if (!(switch_min_interval >= 0) || !std::isfinite(switch_min_interval))
+      return fail("switch_min_interval", switch_min_interval, "0 <= switch_min_interval < inf");
+    if (max_switch_restarts < 0) return fail("max_switch_restarts", max_switch_restarts, "max_switch_restarts >= 0");
     return true;
   }
 };
@@ -355,6 +362,8 @@ struct PrescribedSummary {
   /// max |T + V - W_nc - W_act - W_F - E0| over the samples: the energy balance's drift.
   double max_energy_error = 0;
   double max_abs_lambda = 0;  ///< max_i,samples |lambda_i|
+  int switch_restarts = 0;    ///< switching points of the loads restarted at (forward.h)
+  int switches_through = 0;   ///< ... and stepped through (the chattering guard)
   SteadyStateSummary steady;  ///< the steady-state detection (options.steady)
   const char* message = "";
 
@@ -369,6 +378,11 @@ inline std::string FormatSummary(const PrescribedSummary& s) {
                 ToString(s.status), ToString(s.event), s.t_end, s.samples, s.integrator.steps,
                 s.integrator.rejected, s.integrator.rhs_evaluations, s.min_rcond_seen,
                 s.max_energy_error, s.max_abs_lambda, s.message[0] != 0 ? "; " : "", s.message);
+  if (s.switch_restarts > 0 || s.switches_through > 0) {
+    const std::string head = buffer;
+    std::snprintf(buffer, sizeof(buffer), "%s; %d switch restarts, %d switches stepped through", head.c_str(),
+                  s.switch_restarts, s.switches_through);
+  }
   return buffer;
 }
 
@@ -431,6 +445,10 @@ class PrescribedDynamics {
   static constexpr bool kStagesByTrig = kHasTrig && kNphi > 0 && internal::HasSolveTrig<M>::value;
   /// ... and by the one-pass M::Rhs where it is generated (forward.h: K, L, I, h, Q, Phi_phi).
   static constexpr bool kStagesByRhs = kStagesByTrig && internal::HasRhs<M>::value;
+  /// The model's loads have switching points (M::SwitchModes): PrescribedOptions::restart_at_switches.
+  static constexpr int kNumSwitches = internal::NumSwitches<M>::value;
+  static constexpr bool kHasSwitches = kNumSwitches > 0;
+  using SwitchModes = std::array<int, kNumSwitches>;
 
   /// prescribed: the indices into q of the prescribed coordinates, distinct, each in
   /// [0, kNq), in the order of the motion's components (checked by Initialize()).
@@ -463,6 +481,25 @@ class PrescribedDynamics {
   const std::array<int, NP>& prescribed() const { return prescribed_; }
   const std::array<int, kNf>& free() const { return free_; }
   const Motion& motion() const { return motion_; }
+
+  /// The modes of the loads' switching items at (t, y) (M::SwitchModes at the positions
+  /// there); false where the positions do not solve. Nothing for a model without switches.
+  bool SwitchModesAt(double t, const State& y, SwitchModes* modes) {
+    if constexpr (kHasSwitches) {
+      VecQ q, qd;
+      VecP qddp;
+      Assemble(t, y.template head<kNf>(), y.template segment<kNf>(kNf), &q, &qd, &qddp);
+      VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
+      if (!SolveAt(q, &phi)) return false;
+      Coefficients c;
+      EvalCoefficients(q, phi, &c);
+      M::template SwitchModes<double>(p_, q, phi, qd, t, c, modes);
+      return true;
+    } else {
+      (void)t, (void)y, (void)modes;
+      return true;
+    }
+  }
 
   /// The full q, qd (and qdd_p of the law) at t from the free state.
   void Assemble(double t, const VecF& qf, const VecF& qdf, VecQ* q, VecQ* qd, VecP* qddp) const {
@@ -589,6 +626,9 @@ class PrescribedDynamics {
     events.steady = options_.steady;
     events.approach_rcond = options_.approach_rcond;
     events.approach_steps = options_.approach_steps;
+    events.restart_at_switches = options_.restart_at_switches && kHasSwitches;
+    events.switch_min_interval = options_.switch_min_interval;
+    events.max_switch_restarts = options_.max_switch_restarts;
     return internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);
   }
 

@@ -264,6 +264,10 @@ struct EventSettings {
   int approach_steps = 0;  ///< 0: the approach to a singular configuration is not watched
   bool energy_projection = false;
   SteadyStateOptions steady;
+  /// Switching points of the loads (P::kHasSwitches): located and restarted at (see Run).
+  bool restart_at_switches = false;
+  double switch_min_interval = 1e-6;
+  int max_switch_restarts = 1000;
 };
 
 /// The sample grid t0 + k sample_dt over [t0, t_end] advances at every t in it and has at
@@ -288,9 +292,24 @@ inline bool SampleGridIsUsable(double t0, double t_end, double sample_dt, int ma
  *   static double Balance(const SampleT&)  the energy balance, constant along an exact motion,
  *   void Record(const SampleT&, Summary*)  its own figures of each sample,
  *   void OnDeadPoint(SampleT*)             what a sample at a singular configuration withholds,
- *   bool ProjectEnergy(f, E0, SampleT*)    when kCanProjectEnergy.
+ *   bool ProjectEnergy(f, E0, SampleT*)    when kCanProjectEnergy,
+ *   kHasSwitches, SwitchModes               the loads' switching items (std::array<int, n>),
+ *   bool SwitchModesAt(t, y, SwitchModes*)  their modes at a state, when kHasSwitches.
  * Summary has status, event, integrator, t_end, samples, position_failures, min_rcond_seen,
- * max_energy_error, steady, message (and projections when P::kCanProjectEnergy).
+ * max_energy_error, steady, message (and projections when P::kCanProjectEnergy;
+ * switch_restarts and switches_through when P::kHasSwitches).
+ *
+ * Switching points (P::kHasSwitches and EventSettings::restart_at_switches): after a step
+ * (t_a, t_b] whose end has other modes than the last accepted state, the earliest change is
+ * bracketed on the dense output by bisection on the mode vector to [t_s-, t_s+] (width
+ * event_tolerance; t_s- has the old modes, t_s+ the new); the step is undone
+ * (Integrator::Rewind) and made again up to t_s- exactly (every stage on the old side; the
+ * steps up to it are ordinary accepted steps, with their events and samples), then the
+ * integrator restarts at t_s+ (Integrator::Restart: f evaluated afresh on the new side, the
+ * state carried over the gap by y + (t_s+ - t_s-) f, the step size of before the switch).
+ * Chattering guard: a switch within switch_min_interval of the last restart, or after
+ * max_switch_restarts restarts, is stepped through (counted; the message says when the cap
+ * was reached).
  */
 struct EventLoop {
   template <class P, class Summary, class Observer, class UserEvent>
@@ -407,10 +426,106 @@ struct EventLoop {
     SampleT prev = s0, cur;
     double g_user_prev = user_event(t0, s0.q, s0.qd, s0.phi);
     int approach_steps = 0;
+    // Switching points: the modes at the last accepted state; a pending switch is redone up
+    // to t_switch_a, then restarted at t_switch_b with the step h_switch.
+    typename P::SwitchModes modes_now{}, modes_b{};  // modes_b: those at t_switch_b
+    bool switches_on = false, switch_pending = false;
+    double t_switch_a = t0, t_switch_b = t0, h_switch = 0;
+    double t_last_restart = -std::numeric_limits<double>::infinity();
+    if constexpr (P::kHasSwitches) {
+      switches_on = o.restart_at_switches && sim->SwitchModesAt(t0, y0, &modes_now);
+    }
+    // From (t_switch_a, integrator.y()) over the gap to t_switch_b, f evaluated afresh there;
+    // the state there becomes prev (false: the positions failed there).
+    auto restart = [&]() {
+      if constexpr (P::kHasSwitches) {
+        switch_pending = false;
+        const State y_b = integrator.y() + (t_switch_b - t_switch_a) * integrator.dy();
+        if (!integrator.Restart(f, t_switch_b, y_b, h_switch) || !sim->Accept(t_switch_b, y_b, &cur)) {
+          summary->message = "the positions failed where the integrator restarted after a switch";
+          return false;
+        }
+        is = integrator.summary().status;
+        ++summary->switch_restarts;
+        t_last_restart = t_switch_b;
+        // The new side's modes as the bisection found them at t_switch_b (the state carried
+        // over the gap may lie a rounding short of the switch: not a second switch).
+        modes_now = modes_b;
+        prev = cur;
+      }
+      return true;
+    };
     while (is == IntegratorStatus::kRunning) {
-      is = integrator.Step(f);
+      is = integrator.Step(f, switch_pending ? t_switch_a : std::numeric_limits<double>::quiet_NaN());
       if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
       const double t = integrator.t();
+      bool restart_here = false;
+      if constexpr (P::kHasSwitches) {
+        if (switch_pending) {
+          restart_here = t == t_switch_a;
+        } else if (switches_on) {
+          typename P::SwitchModes modes_end = modes_now;  // kept where the positions fail
+          if (!sim->SwitchModesAt(t, integrator.y(), &modes_end)) modes_end = modes_now;
+          if (modes_end != modes_now) {
+            // The earliest change in (t_prev, t]: bisection on the mode vector.
+            const double t_start = integrator.t_prev();
+            double ta = t_start, tb = t;
+            modes_b = modes_end;
+            bool located = true;
+            for (int it = 0; it < 200 && tb - ta > o.event_tolerance; ++it) {
+              const double tm = 0.5 * (ta + tb);
+              State ym;
+              typename P::SwitchModes mm{};
+              if (!(tm > ta && tm < tb)) break;
+              if (!integrator.Dense(f, tm, &ym) || !sim->SwitchModesAt(tm, ym, &mm)) {
+                located = false;
+                break;
+              }
+              if (mm == modes_now) {
+                ta = tm;
+              } else {
+                tb = tm;
+                modes_b = mm;
+              }
+            }
+            // A mode of zero width at the switch (sign(x) = 0 where x is 0 to the last bit):
+            // the modes one bracket further on are the new side's.
+            if (located && tb < t) {
+              const double tc = std::min(t, tb + (tb - ta));
+              State yc;
+              typename P::SwitchModes mc{};
+              if (integrator.Dense(f, tc, &yc) && sim->SwitchModesAt(tc, yc, &mc) && mc != modes_b &&
+                  mc != modes_now) {
+                tb = tc;
+                modes_b = mc;
+              }
+            }
+            const bool chattering = tb - t_last_restart < o.switch_min_interval;
+            const bool capped = summary->switch_restarts >= o.max_switch_restarts;
+            if (!located || chattering || capped) {
+              ++summary->switches_through;
+              modes_now = modes_end;
+              if (capped)
+                summary->message =
+                    "max_switch_restarts reached: the later switching points of the loads were "
+                    "stepped through";
+            } else {
+              h_switch = std::max(integrator.summary().h_last, 4 * (tb - ta));
+              integrator.Rewind();
+              t_switch_a = ta;
+              t_switch_b = tb;
+              is = IntegratorStatus::kRunning;
+              if (ta > t_start) {
+                switch_pending = true;  // redo the step up to t_switch_a
+                continue;
+              }
+              // The switch is at the step's start (t_switch_a, already processed): restart at once.
+              if (!restart()) return finish(Status::kPositionFailed, t_switch_b);
+              continue;
+            }
+          }
+        }
+      }
       if (!sim->Accept(t, integrator.y(), &cur)) {
         summary->message = "the positions failed at an accepted step";
         return finish(Status::kPositionFailed, t);
@@ -502,6 +617,10 @@ struct EventLoop {
       if (on_grid) next_sample = t0 + o.sample_dt * ++sample_index;
       if (o.sample_dt == 0 || on_grid || is == IntegratorStatus::kSuccess) {
         if (!emit(cur)) return stopped(t);
+      }
+      if constexpr (P::kHasSwitches) {
+        // The step ended at t_switch_a: restart on the other side, at t_switch_b.
+        if (restart_here && !restart()) return finish(Status::kPositionFailed, t_switch_b);
       }
       prev = cur;
     }
