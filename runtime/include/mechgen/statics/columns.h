@@ -290,16 +290,18 @@ std::vector<StaticsColumn<M>> StaticsColumns() {
       }
     }
   }
-  for (const GroundBearing& g : GroundBearings<M>()) {
-    for (const int axis : {0, 1}) {
-      add.Number("bearing_" + g.joint + (axis ? "_y" : "_x"), "N",
-                 std::string("force of the ground on ") + g.link + " at the bearing " + g.joint +
-                     ", fixed frame " + (axis ? "y" : "x") + ", without friction",
-                 [g, axis, usable](const R& r) {
-                   return usable(r.frictionless)
-                              ? g.sign * r.frictionless.statics.R(axis ? g.y : g.x) + 0.0  // no -0
-                              : kNaN;
-                 });
+  if constexpr (F::kHasReactions) {  // (a model without reactions has no Statics::R)
+    for (const GroundBearing& g : GroundBearings<M>()) {
+      for (const int axis : {0, 1}) {
+        add.Number("bearing_" + g.joint + (axis ? "_y" : "_x"), "N",
+                   std::string("force of the ground on ") + g.link + " at the bearing " + g.joint +
+                       ", fixed frame " + (axis ? "y" : "x") + ", without friction",
+                   [g, axis, usable](const R& r) {
+                     return usable(r.frictionless)
+                                ? g.sign * r.frictionless.statics.R(axis ? g.y : g.x) + 0.0  // no -0
+                                : kNaN;
+                   });
+      }
     }
   }
   if constexpr (F::kHasPotential) {
