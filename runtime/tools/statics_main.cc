@@ -490,8 +490,13 @@ int Run(int argc, char** argv) {
     std::printf("wrote %s (driving forces and reaction magnitudes against %s)\n", drive.c_str(),
                 M::kQNames[0]);
     if (statics::GroundBearings<M>().empty()) {
-      std::printf("no polar diagram: the model has no revolute joint with the ground whose "
-                  "reaction it computes\n");
+      if constexpr (statics::StaticsFeatures<M>::kHasReactions &&
+                    !statics::internal::HasJointLinks<M>::value)
+        std::printf("no polar diagram: the model does not name its joints' links (add `scene` to "
+                    "the outputs' quantities for the ground bearings' polar diagram)\n");
+      else
+        std::printf("no polar diagram: the model has no revolute joint with the ground whose "
+                    "reaction it computes\n");
     } else {
       const std::string bearings = plots_prefix + "_bearings." + plot_format;
       if (!RunGnuplot(gnuplot, scripts / kPlotScripts[1], csv_path, plot_format, bearings,
