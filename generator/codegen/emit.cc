@@ -157,8 +157,10 @@ std::string StripComments(const std::string& text) {
   return std::regex_replace(text, comment, "");
 }
 
+// Whether `code` uses the variable `name`: a member of the same spelling (`p.c`, a parameter
+// named like the coefficients' argument `c`; `out->q`, `ns::t`) is not a use.
 bool Mentions(const std::string& code, const std::string& name) {
-  const std::regex word("(^|[^A-Za-z0-9_])" + name + "([^A-Za-z0-9_]|$)");
+  const std::regex word("(^|[^A-Za-z0-9_.:>])" + name + "([^A-Za-z0-9_]|$)");
   return std::regex_search(code, word);
 }
 
