@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "common/cli.h"
+#include "common/gnuplot.h"
 #include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
@@ -91,20 +92,8 @@ mechgen::table::Columns<LoopRow> LoopColumns(bool dynamics) {
   return columns;
 }
 
-// The directory of the plot scripts: beside this file (the source tree's runtime/tools, or an
-// installed share/mechgen/tools), unless MECHGEN_PLOT_DIR says otherwise.
-std::string PlotScript() {
-#ifdef MECHGEN_PLOT_DIR
-  return std::string(MECHGEN_PLOT_DIR) + "/plot_energy_loop.gnuplot";
-#else
-  std::string here = __FILE__;
-  const size_t slash = here.find_last_of('/');
-  return (slash == std::string::npos ? std::string(".") : here.substr(0, slash)) +
-         "/plot_energy_loop.gnuplot";
-#endif
-}
-
-// gnuplot on the CSV at csv_path, writing `picture` (png or svg). One line on failure.
+// gnuplot (common/gnuplot.h) on the CSV at csv_path, writing `picture` (png or svg) with
+// plot_energy_loop.gnuplot. One line on failure.
 bool Plot(const std::string& csv_path, const std::string& kind, const std::string& picture,
           std::string* error) {
   for (const std::string* s : {&csv_path, &picture}) {
@@ -113,22 +102,18 @@ bool Plot(const std::string& csv_path, const std::string& kind, const std::strin
       return false;
     }
   }
-  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+  const std::filesystem::path gnuplot = tools::FindOnPath("gnuplot");
+  if (gnuplot.empty()) {
     *error = "gnuplot is not on the PATH: no --" + kind + " picture (the CSV has the data)";
     return false;
   }
-  const std::string script = PlotScript();
-  if (access(script.c_str(), R_OK) != 0) {
-    *error = "cannot read the plot script " + script;
+  const std::filesystem::path scripts = tools::FindPlotScripts({"plot_energy_loop.gnuplot"});
+  if (scripts.empty()) {
+    *error = "cannot find plot_energy_loop.gnuplot (set MECHGEN_TOOLS_DIR to mechgen's runtime/tools or "
+             "share/mechgen/tools)";
     return false;
   }
-  const std::string command = "gnuplot -e \"csv='" + csv_path + "'; " + kind + "='" + picture +
-                              "'\" '" + script + "' >/dev/null 2>&1";
-  if (std::system(command.c_str()) != 0) {
-    *error = "gnuplot failed to draw " + picture;
-    return false;
-  }
-  return true;
+  return tools::RunGnuplot(gnuplot, scripts / "plot_energy_loop.gnuplot", csv_path, kind, picture, error);
 }
 
 template <class M>

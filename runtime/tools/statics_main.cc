@@ -25,12 +25,7 @@
 // Compiled with -DMECHGEN_TOOL_NO_CERES it needs Eigen and CLI11 only: it assembles with the
 // Ceres-free PositionSolver (NewtonAssembler, position/assembler.h), as `mechgen statics
 // <model.yaml>` builds it (generator/driver/); the Newton polish follows either assembler.
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -38,12 +33,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <cstring>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "common/cli.h"
+#include "common/gnuplot.h"
 #include "mechgen/io/output_file.h"
 #ifdef MECHGEN_TOOL_NO_CERES
 #include "mechgen/position/solver.h"
@@ -60,8 +54,6 @@
 #error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
 #endif
 #include MECHGEN_MODEL_INCLUDE
-
-extern char** environ;  // the environment gnuplot inherits (posix_spawn)
 
 namespace {
 
@@ -112,78 +104,9 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
 
 namespace fs = std::filesystem;
 
-// The pictures of --plots: gnuplot (found on PATH) runs the plot scripts of runtime/tools/ on
-// the command's own CSV. The scripts are looked up in $MECHGEN_TOOLS_DIR, then in the tools
-// directory the command was compiled from (-DMECHGEN_TOOLS_DIR=..., set by
-// mechgen_add_model() and by `mechgen statics`), then beside the program as installed
-// (<prefix>/bin -> <prefix>/share/mechgen/tools).
+// The pictures of --plots: gnuplot (found on PATH) runs these plot scripts of runtime/tools/
+// on the command's own CSV (common/gnuplot.h: where the scripts are looked up).
 constexpr const char* kPlotScripts[] = {"plot_statics.gnuplot", "plot_bearings.gnuplot"};
-
-fs::path FindPlotScripts() {
-  std::vector<fs::path> candidates;
-  if (const char* env = std::getenv("MECHGEN_TOOLS_DIR"); env != nullptr && *env != 0)
-    candidates.push_back(env);
-#ifdef MECHGEN_TOOLS_DIR
-  candidates.push_back(MECHGEN_TOOLS_DIR);
-#endif
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) candidates.push_back(self.parent_path().parent_path() / "share" / "mechgen" / "tools");
-  for (const fs::path& dir : candidates) {
-    bool all = true;
-    for (const char* script : kPlotScripts) all = all && fs::is_regular_file(dir / script, ec);
-    if (all) return dir;
-  }
-  return fs::path();
-}
-
-// The gnuplot program on PATH, or empty.
-fs::path FindOnPath(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path != nullptr ? path : "";
-  for (size_t begin = 0; begin <= dirs.size();) {
-    size_t end = dirs.find(':', begin);
-    if (end == std::string::npos) end = dirs.size();
-    const fs::path candidate = fs::path(end > begin ? dirs.substr(begin, end - begin) : ".") /
-                               program;
-    if (::access(candidate.c_str(), X_OK) == 0 && fs::is_regular_file(candidate)) return candidate;
-    begin = end + 1;
-  }
-  return fs::path();
-}
-
-// Runs `gnuplot -e "csv='<csv>'; <format>='<tmp>'" <script>` (no shell) and renames the
-// temporary picture onto `picture` when gnuplot succeeded and wrote it; false with *error.
-bool RunGnuplot(const fs::path& gnuplot, const fs::path& script, const std::string& csv,
-                const std::string& format, const std::string& picture, std::string* error) {
-  const fs::path target(picture);
-  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
-  std::error_code made;
-  if (!target.parent_path().empty()) fs::create_directories(target.parent_path(), made);
-  const std::string expression = "csv='" + csv + "'; " + format + "='" + tmp.string() + "'";
-  std::vector<std::string> args = {gnuplot.string(), "-e", expression, script.string()};
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, gnuplot.c_str(), nullptr, nullptr, argv.data(), environ);
-  int status = 0;
-  std::error_code ec;
-  if (spawned != 0 || waitpid(pid, &status, 0) != pid || !WIFEXITED(status) ||
-      WEXITSTATUS(status) != 0 || !fs::is_regular_file(tmp, ec) || fs::file_size(tmp, ec) == 0) {
-    fs::remove(tmp, ec);
-    *error = "gnuplot " + script.filename().string() + " on " + csv + " failed" +
-             (spawned != 0 ? std::string(": ") + std::strerror(spawned) : std::string());
-    return false;
-  }
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    *error = "cannot write " + picture + ": " + ec.message();
-    return false;
-  }
-  return true;
-}
 
 // The units of a table's columns other than its angles (printed in degrees, said by the
 // table's unit line) and dimensionless ones: "drive_theta_crank, drive_theta_crank_plus
@@ -315,13 +238,13 @@ int Run(int argc, char** argv) {
         return tools::UsageError(tool, tools::BadValue("--plots", path,
                                                        "a path without ' or a line break"));
     }
-    gnuplot = FindOnPath("gnuplot");
+    gnuplot = tools::FindOnPath("gnuplot");
     if (gnuplot.empty()) {
       std::cerr << "error: --plots: gnuplot not found on PATH (install gnuplot, or leave out "
                    "--plots)\n";
       return 1;
     }
-    scripts = FindPlotScripts();
+    scripts = tools::FindPlotScripts({kPlotScripts[0], kPlotScripts[1]});
     if (scripts.empty()) {
       std::cerr << "error: --plots: cannot find plot_statics.gnuplot and plot_bearings.gnuplot "
                    "(set MECHGEN_TOOLS_DIR to mechgen's runtime/tools or share/mechgen/tools)\n";
@@ -485,7 +408,7 @@ int Run(int argc, char** argv) {
   if (!plots_prefix.empty()) {
     std::fflush(stdout);
     const std::string drive = plots_prefix + "_drive." + plot_format;
-    if (!RunGnuplot(gnuplot, scripts / kPlotScripts[0], csv_path, plot_format, drive, &error))
+    if (!tools::RunGnuplot(gnuplot, scripts / kPlotScripts[0], csv_path, plot_format, drive, &error))
       return failed();
     std::printf("wrote %s (driving forces and reaction magnitudes against %s)\n", drive.c_str(),
                 M::kQNames[0]);
@@ -499,7 +422,7 @@ int Run(int argc, char** argv) {
                     "reaction it computes\n");
     } else {
       const std::string bearings = plots_prefix + "_bearings." + plot_format;
-      if (!RunGnuplot(gnuplot, scripts / kPlotScripts[1], csv_path, plot_format, bearings,
+      if (!tools::RunGnuplot(gnuplot, scripts / kPlotScripts[1], csv_path, plot_format, bearings,
                       &error))
         return failed();
       std::printf("wrote %s (polar diagram of the ground bearings' loads: the force of the "

@@ -378,12 +378,7 @@ inline std::string FormatSummary(const PrescribedSummary& s) {
                 ToString(s.status), ToString(s.event), s.t_end, s.samples, s.integrator.steps,
                 s.integrator.rejected, s.integrator.rhs_evaluations, s.min_rcond_seen,
                 s.max_energy_error, s.max_abs_lambda, s.message[0] != 0 ? "; " : "", s.message);
-  if (s.switch_restarts > 0 || s.switches_through > 0) {
-    const std::string head = buffer;
-    std::snprintf(buffer, sizeof(buffer), "%s; %d switch restarts, %d switches stepped through", head.c_str(),
-                  s.switch_restarts, s.switches_through);
-  }
-  return buffer;
+  return buffer + SwitchCounts(s.switch_restarts, s.switches_through);
 }
 
 /// One evaluated configuration with drivers.

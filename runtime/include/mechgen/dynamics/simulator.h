@@ -34,7 +34,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include "mechgen/core/constants.h"
 #include "mechgen/dynamics/integrators.h"
@@ -103,6 +105,15 @@ inline const char* ToString(Event e) {
       return "steady_state";
   }
   return "unknown";
+}
+
+/// What a summary line adds about the loads' switching points ("; 4 switch restarts, 0
+/// switches stepped through"; nothing when there were none).
+inline std::string SwitchCounts(int restarts, int through) {
+  if (restarts == 0 && through == 0) return "";
+  char buffer[96];
+  std::snprintf(buffer, sizeof(buffer), "; %d switch restarts, %d switches stepped through", restarts, through);
+  return buffer;
 }
 
 /// No user stop condition.
