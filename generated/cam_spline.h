@@ -790,6 +790,8 @@ struct Model : Sizes {
   static constexpr bool kHasRhs = false;
   /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
   static constexpr bool kHasRhsConstants = false;
+  /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
+  static constexpr bool kHasDesignDerivatives = false;
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
                   const Vec<Scalar, Sizes::kNq>& q,

@@ -2640,6 +2640,8 @@ struct Model : Sizes {
   static constexpr bool kHasRhs = false;
   /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
   static constexpr bool kHasRhsConstants = false;
+  /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
+  static constexpr bool kHasDesignDerivatives = false;
   template <typename Scalar>
   using StaticsT = mech::engine_inline4::Statics<Scalar>;
   template <typename Scalar>

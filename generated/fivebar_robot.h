@@ -1787,6 +1787,8 @@ struct Model : Sizes {
   static constexpr bool kHasRhs = true;
   /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
   static constexpr bool kHasRhsConstants = true;
+  /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
+  static constexpr bool kHasDesignDerivatives = false;
   template <typename Scalar>
   using StaticsT = mech::fivebar_robot::Statics<Scalar>;
   template <typename Scalar>

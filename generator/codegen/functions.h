@@ -14,6 +14,7 @@
 #include "codegen/function_spec.h"
 #include "analysis/kinematics.h"
 #include "model/model.h"
+#include "symbolic/design.h"
 #include "symbolic/dynamics.h"
 #include "symbolic/statics.h"
 #include "symbolic/table.h"
@@ -72,6 +73,9 @@ FunctionSpec EvalExcessSpec(const Model& m, const Kinematics& k, const DynamicsT
 /// EvalShaking (with the `shaking` quantity): the shaking force and moment, per link, the
 /// centres of mass (the Shaking struct: codegen/output_spec.h).
 FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
+/// EvalDesignDerivatives (codegen/design_functions.cc, with a `design` section): dphi/dp, the
+/// points' dr_P/dp, dK/dp, dL/dp (the DesignDerivatives struct: codegen/output_spec.h).
+FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTable& t);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);
 /// A body over a statics table's program, finished as EvalStatics' is (codegen/statics_functions.cc):
@@ -107,6 +111,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
                                          const std::vector<TransmissionAngle>& transmission,
                                          CxxPrinter* printer,
                                          const StaticsTable* statics = nullptr,
-                                         const DynamicsTable* dynamics = nullptr);
+                                         const DynamicsTable* dynamics = nullptr,
+                                         const DesignTable* design = nullptr);
 
 }  // namespace mechgen

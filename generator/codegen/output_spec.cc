@@ -255,6 +255,44 @@ OutputSpec RhsConstants(const std::vector<FunctionSpec>& functions) {
   return o;
 }
 
+// DesignDerivatives (EvalDesignDerivatives, with a `design` section): the derivatives of the
+// kinematic quantities with respect to the design parameters (symbolic/design.h).
+OutputSpec DesignOutput(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions) {
+  OutputSpec o = Output("DesignDerivatives", Generated(functions, OutputStruct::kDesign),
+                        "DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.",
+                        {"What EvalDesignDerivatives() fills: the derivatives of the positions, K, L and the points",
+                         "with respect to the design parameters p_d (kDesignNames[d], Params members), the other",
+                         "parameters and the inputs q held: dphi/dp = -Phi_phi^-1 dPhi/dp, and so on (Paul's",
+                         "K and L, differentiated). Units: the quantity's per unit of p_d."});
+  // Which members exist follows from Sizes (no flags of their own): dr_P_dp where kNumPoints > 0,
+  // dK_dp where kOrder >= 1, dL_dp where kOrder == 2, the points' where both hold.
+  const bool points = !t.r_P.empty(), K = t.requested.K, L = t.requested.L;
+  o.members = {
+      Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNumDesign>", "dphi_dp", {"dphi_dp(i, d) = dphi_i/dp_d."},
+                  "kNphi x kNumDesign"),
+           "rad or m per unit of p_d"),
+      Unit(Member("Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNumDesign>", "dr_P_dp",
+                  {"dr_P_dp(2m + a, d) = d r_P(a, m)/dp_d (a = 0: x, 1: y)."}, "2 kNumPoints x kNumDesign", "", points),
+           "m per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNumDesign>", "dK_dp",
+                  {"dK_dp(i, j + kNq*d) = dK(i, j)/dp_d."}, "kNphi x kNq kNumDesign", "", K),
+           "K's unit per unit of p_d"),
+      Unit(Member("Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNumDesign>", "dK_P_dp",
+                  {"dK_P_dp(2m + a, j + kNq*d) = dK_P(2m + a, j)/dp_d."}, "2 kNumPoints x kNq kNumDesign", "",
+                  K && points),
+           "K_P's unit per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign>", "dL_dp",
+                  {"dL_dp(i, j + kNq*k + kNq^2*d) = dL(i, j + kNq*k)/dp_d."}, "kNphi x kNq^2 kNumDesign", "", L),
+           "L's unit per unit of p_d"),
+      Unit(Member("Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign>", "dL_P_dp",
+                  {"dL_P_dp(2m + a, j + kNq*k + kNq^2*d) = dL_P(2m + a, j + kNq*k)/dp_d."},
+                  "2 kNumPoints x kNq^2 kNumDesign", "", L && points),
+           "L_P's unit per unit of p_d"),
+  };
+  (void)m;
+  return o;
+}
+
 }  // namespace
 
 std::vector<std::string> RenderedDoc(const OutputMember& member) {
@@ -272,7 +310,8 @@ std::vector<OutputSpec> OutputSpecs(const Model& m,
                                     const SymbolicTable& t,
                                     const std::vector<FunctionSpec>& functions) {
   return {Statics(m, t, functions), Dynamics(functions), Excess(functions),
-          Shaking(functions),       Rhs(functions),      RhsConstants(functions)};
+          Shaking(functions),       Rhs(functions),      RhsConstants(functions),
+          DesignOutput(m, t, functions)};
 }
 
 }  // namespace mechgen

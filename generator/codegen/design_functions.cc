@@ -1,0 +1,53 @@
+// EvalDesignDerivatives: the design sensitivities of symbolic/design.h, stored into the
+// DesignDerivatives struct (codegen/output_spec.cc).
+#include "codegen/functions.h"
+
+namespace mechgen {
+namespace {
+
+std::string N(int i) { return std::to_string(i); }
+std::string Idx(int i, int j) { return "(" + N(i) + ", " + N(j) + ")"; }
+
+}  // namespace
+
+FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTable& t) {
+  using Dir = Argument::Direction;
+  const int nq = t.nq(), nphi = t.nphi(), nd = dt.nd();
+  FunctionSpec f;
+  f.name = "EvalDesignDerivatives";
+  f.fills = OutputStruct::kDesign;
+  f.model_member = "Design";
+  f.doc = {"\\brief Design sensitivities at a closed configuration: the derivatives of phi, the points, K and L",
+           "(as the model has them) with respect to the design parameters kDesignNames, q held.",
+           "Each block's Phi_phi is set up once: dphi/dp = -Phi_phi^-1 dPhi/dp, and K, L differentiated",
+           "by the same forward substitution over the blocks."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("DesignDerivatives<Scalar>*", "out", Dir::kOut, "DesignDerivatives; not nullptr."));
+  f.notes = {"\\note Phi_phi must be regular at (q, phi): near a singular configuration the derivatives grow like",
+             "1/sigma_min(Phi_phi); check its conditioning first (the runtime does, with EvalCoefficients)."};
+  Program P = dt.program;
+  for (int i = 0; i < nphi; ++i)
+    for (int d = 0; d < nd; ++d) P.push_back(Store("out->dphi_dp" + Idx(i, d), dt.dphi_dp[i][d]));
+  if (dt.has_K)
+    for (int i = 0; i < nphi; ++i)
+      for (int c = 0; c < nq * nd; ++c) P.push_back(Store("out->dK_dp" + Idx(i, c), dt.dK_dp[i][c]));
+  if (dt.has_L)
+    for (int i = 0; i < nphi; ++i)
+      for (int c = 0; c < nq * nq * nd; ++c) P.push_back(Store("out->dL_dp" + Idx(i, c), dt.dL_dp[i][c]));
+  for (size_t pt = 0; pt < dt.dr_P_dp.size(); ++pt)
+    for (int a = 0; a < 2; ++a) {
+      const int row = 2 * static_cast<int>(pt) + a;
+      for (int d = 0; d < nd; ++d) P.push_back(Store("out->dr_P_dp" + Idx(row, d), dt.dr_P_dp[pt][a][d]));
+      if (dt.has_K)
+        for (int c = 0; c < nq * nd; ++c) P.push_back(Store("out->dK_P_dp" + Idx(row, c), dt.dK_P_dp[pt][a][c]));
+      if (dt.has_L)
+        for (int c = 0; c < nq * nq * nd; ++c)
+          P.push_back(Store("out->dL_P_dp" + Idx(row, c), dt.dL_P_dp[pt][a][c]));
+    }
+  PruneUnusedDefines(&P);
+  f.body = {P};
+  return f;
+}
+
+}  // namespace mechgen

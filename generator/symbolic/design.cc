@@ -1,0 +1,238 @@
+// Design sensitivities: derivatives of positions, K, L and the points with respect to the
+// design parameters. See design.h.
+#include "symbolic/design.h"
+
+#include <algorithm>
+
+#include "symbolic/block_system.h"
+#include "symbolic/motion.h"
+
+namespace mechgen {
+namespace {
+
+using GiNaC::ex;
+using Columns = std::vector<std::vector<ex>>;  // [row or unknown][column]
+
+std::string N(int i) { return std::to_string(i); }
+
+// X = -J^-1 R over the columns of R that are not all zero (a design parameter that no row of
+// a block depends on, directly or through earlier blocks, has a zero column: no local is
+// defined for it).
+Columns SolveNonzero(BlockSystem* system, const Columns& R, const std::string& prefix,
+                     const std::vector<std::string>& suffix, Program* P) {
+  const size_t n = R.size(), m = suffix.size();
+  std::vector<size_t> keep;
+  for (size_t j = 0; j < m; ++j) {
+    bool zero = true;
+    for (size_t r = 0; r < n; ++r) zero &= R[r][j].expand().is_zero();
+    if (!zero) keep.push_back(j);
+  }
+  Columns X(n, std::vector<ex>(m, 0));
+  if (keep.empty()) return X;
+  Columns Rk(n, std::vector<ex>(keep.size()));
+  std::vector<std::string> sk;
+  for (size_t c = 0; c < keep.size(); ++c) {
+    sk.push_back(suffix[keep[c]]);
+    for (size_t r = 0; r < n; ++r) Rk[r][c] = R[r][keep[c]];
+  }
+  const Columns Xk = system->Solve(Rk, prefix, sk, P);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t c = 0; c < keep.size(); ++c) X[i][keep[c]] = Xk[i][c];
+  return X;
+}
+
+// Sum over earlier blocks' unknowns c of Phi_phi(row, c) X[c][col].
+ex EarlierBlocks(const Kinematics& k, const std::vector<Block>& blocks, size_t bi, int row, const Columns& X, size_t col) {
+  ex s = 0;
+  for (size_t pb = 0; pb < bi; ++pb)
+    for (int c : blocks[pb].cols) s += k.Phi_phi(row, c) * X[c][col];
+  return s;
+}
+
+}  // namespace
+
+DesignTable::DesignTable(const Model& m, const SymbolicTable& t) {
+  if (!m.design.any()) return;
+  const Kinematics& k = t.kinematics();
+  const std::vector<Block>& blocks = t.blocks;
+  const int nq = k.nq(), nphi = k.nphi();
+  for (int index : m.design.params) {
+    p.push_back(m.params[index].symbol);
+    names.push_back(m.params[index].name);
+  }
+  const int n_d = nd();
+  has_K = t.requested.K;
+  has_L = t.requested.L;
+
+  std::vector<GiNaC::symbol> q_symbols, phi_symbols;
+  for (const Coordinate& c : k.q) q_symbols.push_back(c.symbol);
+  for (const Coordinate& c : k.phi) phi_symbols.push_back(c.symbol);
+
+  std::vector<std::string> q_suffix, p_suffix, qp_suffix;
+  for (int j = 0; j < nq; ++j) q_suffix.push_back(N(j));
+  for (int d = 0; d < n_d; ++d) {
+    p_suffix.push_back(names[d]);
+    for (int j = 0; j < nq; ++j) qp_suffix.push_back(N(j) + "_" + names[d]);
+  }
+  std::vector<std::pair<int, int>> pairs;  // (j, k), j <= k
+  std::vector<std::string> pair_suffix, pair_p_suffix;
+  for (int j = 0; j < nq; ++j)
+    for (int kk = j; kk < nq; ++kk) {
+      pairs.emplace_back(j, kk);
+      pair_suffix.push_back(N(j) + "_" + N(kk));
+    }
+  const size_t np = pairs.size();
+  for (int d = 0; d < n_d; ++d)
+    for (size_t pj = 0; pj < np; ++pj) pair_p_suffix.push_back(pair_suffix[pj] + "_" + names[d]);
+  auto pair_index = [&pairs](int j, int kk) {
+    const std::pair<int, int> key(std::min(j, kk), std::max(j, kk));
+    return static_cast<size_t>(std::find(pairs.begin(), pairs.end(), key) - pairs.begin());
+  };
+
+  // ---- Each block's Phi_phi set up once; K and dphi/dp by forward substitution ----
+  Columns K(nphi, std::vector<ex>(nq, 0));
+  dphi_dp.assign(nphi, std::vector<ex>(n_d, 0));
+  std::vector<BlockSystem> systems;
+  for (size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    systems.emplace_back(b, static_cast<int>(bi), k, &program);
+    const size_t nr = b.rows.size();
+    if (has_K) {
+      Columns R(nr, std::vector<ex>(nq));
+      for (size_t r = 0; r < nr; ++r)
+        for (int j = 0; j < nq; ++j) R[r][j] = k.Phi_q(b.rows[r], j) + EarlierBlocks(k, blocks, bi, b.rows[r], K, j);
+      // The same statements as EvalCoefficients' K (SymbolicTable::SolveVelocityCoefficients).
+      const Columns X = systems.back().Solve(R, "K", q_suffix, &program);
+      for (size_t i = 0; i < b.cols.size(); ++i)
+        for (int j = 0; j < nq; ++j) K[b.cols[i]][j] = X[i][j];
+    }
+    Columns R(nr, std::vector<ex>(n_d));
+    for (size_t r = 0; r < nr; ++r)
+      for (int d = 0; d < n_d; ++d)
+        R[r][d] = k.Phi[b.rows[r]].diff(p[d]) + EarlierBlocks(k, blocks, bi, b.rows[r], dphi_dp, d);
+    const Columns X = SolveNonzero(&systems.back(), R, "dphi_dp", p_suffix, &program);
+    for (size_t i = 0; i < b.cols.size(); ++i)
+      for (int d = 0; d < n_d; ++d) dphi_dp[b.cols[i]][d] = X[i][d];
+  }
+
+  // The motion over q, with this program's K and L.
+  Columns L(nphi, std::vector<ex>(np, 0));  // L[i][pair]: this program's locals
+  const Motion along_q(q_symbols, phi_symbols, [&K](int i, int j) { return K[i][j]; },
+                       [&L, &pair_index](int i, int j, int kk) { return L[i][pair_index(j, kk)]; });
+  Columns dL(nphi, std::vector<ex>(np * n_d, 0));  // dL[i][pair + np d]
+  dK_dp.assign(nphi, std::vector<ex>(nq * n_d, 0));
+  // D_d f for every d: the total derivative with respect to p_d, through p_d, phi and the K
+  // (and, with `through_L`, L) locals f holds. f's partial derivative along each variable is
+  // the same for every p_d: it is named once (a local) where it is not a single factor.
+  int chain_locals = 0;
+  auto name_once = [&](const ex& g) -> ex {
+    if (n_d < 2 || GiNaC::is_a<GiNaC::symbol>(g) || GiNaC::is_a<GiNaC::numeric>(g)) return g;
+    ex named;
+    program.push_back(Define("dchain_" + N(chain_locals++), g, &named));
+    return named;
+  };
+  auto total = [&](const ex& f, bool through_K, bool through_L) {
+    std::vector<ex> out(n_d);
+    for (int d = 0; d < n_d; ++d) out[d] = f.diff(p[d]);
+    auto chain = [&](const ex& v, const std::vector<ex>& dv_dp, int stride, int offset) {
+      if (!GiNaC::is_a<GiNaC::symbol>(v)) return;
+      const ex g = f.diff(GiNaC::ex_to<GiNaC::symbol>(v));
+      if (g.is_zero()) return;
+      const ex gn = name_once(g);
+      for (int d = 0; d < n_d; ++d) out[d] += gn * dv_dp[offset + stride * d];
+    };
+    for (int i = 0; i < nphi; ++i) {
+      chain(phi_symbols[i], dphi_dp[i], 1, 0);
+      if (through_K)
+        for (int j = 0; j < nq; ++j) chain(K[i][j], dK_dp[i], nq, j);
+      if (through_L)
+        for (size_t pj = 0; pj < np; ++pj) chain(L[i][pj], dL[i], static_cast<int>(np), static_cast<int>(pj));
+    }
+    return out;
+  };
+
+  // ---- dK/dp: Phi_phi dK(:, j)/dp_d = -(d/dp_d of dPhi/dq_j with K held) ----
+  if (has_K)
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      const Block& b = blocks[bi];
+      Columns R(b.rows.size(), std::vector<ex>(nq * n_d));
+      for (size_t r = 0; r < b.rows.size(); ++r) {
+        for (int j = 0; j < nq; ++j) {
+          const std::vector<ex> D = total(along_q.Along(k.Phi[b.rows[r]], j), false, false);
+          for (int d = 0; d < n_d; ++d)
+            R[r][j + nq * d] = D[d] + EarlierBlocks(k, blocks, bi, b.rows[r], dK_dp, j + nq * d);
+        }
+      }
+      const Columns X = SolveNonzero(&systems[bi], R, "dK_dp", qp_suffix, &program);
+      for (size_t i = 0; i < b.cols.size(); ++i)
+        for (int c = 0; c < nq * n_d; ++c) dK_dp[b.cols[i]][c] = X[i][c];
+    }
+
+  // ---- L (as EvalCoefficients' l_program) and dL/dp ----
+  if (has_L) {
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      const Block& b = blocks[bi];
+      Columns R(b.rows.size(), std::vector<ex>(np));
+      for (size_t r = 0; r < b.rows.size(); ++r)
+        for (size_t pj = 0; pj < np; ++pj)
+          R[r][pj] = along_q.Along(along_q.Along(k.Phi[b.rows[r]], pairs[pj].first), pairs[pj].second) +
+                     EarlierBlocks(k, blocks, bi, b.rows[r], L, pj);
+      const Columns X = systems[bi].Solve(R, "L", pair_suffix, &program);
+      for (size_t i = 0; i < b.cols.size(); ++i)
+        for (size_t pj = 0; pj < np; ++pj) L[b.cols[i]][pj] = X[i][pj];
+    }
+    // d2Phi_r/dq_j dq_k = g_r + sum_c Phi_phi(r, c) L_c = 0 with g_r = Along_k Along_j Phi_r (K
+    // held): its total derivative has sum_c Phi_phi(r, c) dL_c/dp_d and D_d of the rest, L held.
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      const Block& b = blocks[bi];
+      Columns R(b.rows.size(), std::vector<ex>(np * n_d));
+      for (size_t r = 0; r < b.rows.size(); ++r) {
+        const int row = b.rows[r];
+        for (size_t pj = 0; pj < np; ++pj) {
+          ex f = along_q.Along(along_q.Along(k.Phi[row], pairs[pj].first), pairs[pj].second);
+          for (int c = 0; c < nphi; ++c) f += k.Phi_phi(row, c) * L[c][pj];
+          const std::vector<ex> D = total(f, /*through_K=*/true, /*through_L=*/false);
+          for (int d = 0; d < n_d; ++d) R[r][pj + np * d] = D[d] + EarlierBlocks(k, blocks, bi, row, dL, pj + np * d);
+        }
+      }
+      const Columns X = SolveNonzero(&systems[bi], R, "dL_dp", pair_p_suffix, &program);
+      for (size_t i = 0; i < b.cols.size(); ++i)
+        for (size_t c = 0; c < np * n_d; ++c) dL[b.cols[i]][c] = X[i][c];
+    }
+    dL_dp.assign(nphi, std::vector<ex>(nq * nq * n_d, 0));
+    for (int i = 0; i < nphi; ++i)
+      for (int d = 0; d < n_d; ++d)
+        for (int j = 0; j < nq; ++j)
+          for (int kk = 0; kk < nq; ++kk) dL_dp[i][j + nq * kk + nq * nq * d] = dL[i][pair_index(j, kk) + np * d];
+  }
+
+  // ---- The points ----
+  dr_P_dp.resize(t.r_P.size());
+  dK_P_dp.resize(t.r_P.size());
+  dL_P_dp.resize(t.r_P.size());
+  for (size_t pt = 0; pt < t.r_P.size(); ++pt)
+    for (int a = 0; a < 2; ++a) {
+      const ex& r = t.r_P[pt][a];
+      dr_P_dp[pt][a] = total(r, false, false);
+      if (has_K) {
+        dK_P_dp[pt][a].assign(nq * n_d, 0);
+        for (int j = 0; j < nq; ++j) {
+          const std::vector<ex> D = total(along_q.Along(r, j), /*through_K=*/true, false);
+          for (int d = 0; d < n_d; ++d) dK_P_dp[pt][a][j + nq * d] = D[d];
+        }
+      }
+      if (has_L) {
+        dL_P_dp[pt][a].assign(nq * nq * n_d, 0);
+        for (int j = 0; j < nq; ++j)
+          for (int kk = j; kk < nq; ++kk) {
+            const std::vector<ex> D = total(along_q.Second(r, j, kk), /*through_K=*/true, /*through_L=*/true);
+            for (int d = 0; d < n_d; ++d) {
+              dL_P_dp[pt][a][j + nq * kk + nq * nq * d] = D[d];
+              dL_P_dp[pt][a][kk + nq * j + nq * nq * d] = D[d];
+            }
+          }
+      }
+    }
+}
+
+}  // namespace mechgen

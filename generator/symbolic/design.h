@@ -1,0 +1,54 @@
+// Design sensitivities (issue 27): the derivatives of the kinematic quantities with respect
+// to the model's design parameters p_d (`design:`, model/design.cc), derived symbolically.
+//
+// The design parameters are treated as further inputs: with x = (q, p, phi), the loop
+// closure Phi(q, p, phi) = 0 gives, column by column and block by block in the solve order
+// (the forward substitution of K, symbolic/table.h, with the same block systems),
+//   Phi_phi dphi/dp_d = -Phi_p_d                                   (positions),
+//   Phi_phi dK(:, j)/dp_d = -D_d(dPhi/dq_j along the motion)        (velocity coefficients),
+//   Phi_phi dL(:, j, k)/dp_d = -D_d(d2Phi/dq_j dq_k along the motion) (centripetal coefficients),
+// where D_d is the total derivative with respect to p_d: through p_d itself, through phi
+// (dphi/dp_d) and through the coefficients the expression holds as named locals (K through
+// dK/dp_d, L through dL/dp_d), the unknown block's own term left on the left-hand side. So
+// only partial derivatives of Phi are taken and each block's Phi_phi is set up once for
+// all of K, L and their design derivatives. A point r_P(q, p, phi) follows: dr_P/dp_d =
+// D_d r_P, dK_P/dp_d = D_d K_P, dL_P/dp_d = D_d L_P.
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "model/model.h"
+#include "symbolic/program.h"
+#include "symbolic/table.h"
+
+namespace mechgen {
+
+struct DesignTable {
+  /// Derives what the table has (positions, K and L as requested, the points) with respect
+  /// to m.design's parameters. Empty (nd() == 0) without a design section.
+  DesignTable(const Model& m, const SymbolicTable& t);
+
+  int nd() const { return static_cast<int>(p.size()); }
+  bool has_K = false, has_L = false;
+  std::vector<GiNaC::symbol> p;    ///< the design parameters' symbols
+  std::vector<std::string> names;  ///< their names
+
+  /// The body that computes all of them: each block's Phi_phi set up once, then K, dphi/dp,
+  /// dK/dp, L and dL/dp by forward substitution over the blocks.
+  Program program;
+  /// dphi_dp[i][d] = dphi_i/dp_d.
+  std::vector<std::vector<GiNaC::ex>> dphi_dp;
+  /// dK_dp[i][j + nq d] = dK(i, j)/dp_d (has_K).
+  std::vector<std::vector<GiNaC::ex>> dK_dp;
+  /// dL_dp[i][j + nq k + nq^2 d] = dL(i, j, k)/dp_d (has_L), symmetric in j, k.
+  std::vector<std::vector<GiNaC::ex>> dL_dp;
+  /// Per requested point and axis (0: x, 1: y): dr_P/dp_d [d], dK_P/dp_d [j + nq d],
+  /// dL_P/dp_d [j + nq k + nq^2 d].
+  std::vector<std::array<std::vector<GiNaC::ex>, 2>> dr_P_dp, dK_P_dp, dL_P_dp;
+};
+
+}  // namespace mechgen
