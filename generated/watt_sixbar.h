@@ -170,17 +170,17 @@ struct Trig {
 /// K and L, differentiated). Units: the quantity's per unit of p_d.
 template <typename Scalar = double>
 struct DesignDerivatives {
-  /// dphi_dp(i, d) = dphi_i/dp_d.  (kNphi x kNumDesign)
+  /// dphi_dp(i, d) = dphi_i/dp_d (rad or m per unit of p_d).  (kNphi x kNumDesign)
   Mat<Scalar, Sizes::kNphi, Sizes::kNumDesign> dphi_dp;
-  /// dr_P_dp(2m + a, d) = d r_P(a, m)/dp_d (a = 0: x, 1: y).  (2 kNumPoints x kNumDesign)
+  /// dr_P_dp(2m + a, d) = d r_P(a, m)/dp_d, a = 0: x, 1: y (m per unit of p_d).  (2 kNumPoints x kNumDesign)
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNumDesign> dr_P_dp;
-  /// dK_dp(i, j + kNq*d) = dK(i, j)/dp_d.  (kNphi x kNq kNumDesign)
+  /// dK_dp(i, j + kNq*d) = dK(i, j)/dp_d (K's unit per unit of p_d).  (kNphi x kNq kNumDesign)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNumDesign> dK_dp;
-  /// dK_P_dp(2m + a, j + kNq*d) = dK_P(2m + a, j)/dp_d.  (2 kNumPoints x kNq kNumDesign)
+  /// dK_P_dp(2m + a, j + kNq*d) = dK_P(2m + a, j)/dp_d (K_P's unit per unit of p_d).  (2 kNumPoints x kNq kNumDesign)
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNumDesign> dK_P_dp;
-  /// dL_dp(i, j + kNq*k + kNq^2*d) = dL(i, j + kNq*k)/dp_d.  (kNphi x kNq^2 kNumDesign)
+  /// dL_dp(i, j + kNq*k + kNq^2*d) = dL(i, j + kNq*k)/dp_d (L's unit per unit of p_d).  (kNphi x kNq^2 kNumDesign)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign> dL_dp;
-  /// dL_P_dp(2m + a, j + kNq*k + kNq^2*d) = dL_P(2m + a, j + kNq*k)/dp_d.  (2 kNumPoints x kNq^2 kNumDesign)
+  /// dL_P_dp(2m + a, j + kNq*k + kNq^2*d) = dL_P(2m + a, j + kNq*k)/dp_d (L_P's unit per unit of p_d).  (2 kNumPoints x kNq^2 kNumDesign)
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign> dL_P_dp;
 };
 
