@@ -642,6 +642,8 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
   static constexpr bool kHasDesignDerivatives = false;
+  /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
+  static constexpr bool kHasStaticsDesign = false;
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
                   const Vec<Scalar, Sizes::kNq>& q,

@@ -4502,6 +4502,8 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
   static constexpr bool kHasDesignDerivatives = false;
+  /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
+  static constexpr bool kHasStaticsDesign = false;
   template <typename Scalar>
   using StaticsT = mech::engine_v8::Statics<Scalar>;
   template <typename Scalar>

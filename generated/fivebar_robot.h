@@ -1789,6 +1789,8 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = true;
   /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
   static constexpr bool kHasDesignDerivatives = false;
+  /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
+  static constexpr bool kHasStaticsDesign = false;
   template <typename Scalar>
   using StaticsT = mech::fivebar_robot::Statics<Scalar>;
   template <typename Scalar>

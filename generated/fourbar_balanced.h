@@ -1893,6 +1893,8 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = true;
   /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
   static constexpr bool kHasDesignDerivatives = false;
+  /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
+  static constexpr bool kHasStaticsDesign = false;
   template <typename Scalar>
   using StaticsT = mech::fourbar_balanced::Statics<Scalar>;
   template <typename Scalar>

@@ -733,6 +733,8 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
   static constexpr bool kHasDesignDerivatives = true;
+  /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
+  static constexpr bool kHasStaticsDesign = false;
   template <typename Scalar>
   using DesignDerivativesT = mech::slider_crank::DesignDerivatives<Scalar>;
   /// The design parameters (`design`): EvalDesignDerivatives differentiates with respect to

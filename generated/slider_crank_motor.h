@@ -1409,6 +1409,8 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
   static constexpr bool kHasDesignDerivatives = false;
+  /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
+  static constexpr bool kHasStaticsDesign = false;
   template <typename Scalar>
   using StaticsT = mech::slider_crank_motor::Statics<Scalar>;
   template <typename Scalar>

@@ -1,6 +1,7 @@
 // EvalDesignDerivatives: the design sensitivities of symbolic/design.h, stored into the
 // DesignDerivatives struct (codegen/output_spec.cc).
 #include "codegen/functions.h"
+#include "codegen/slot_spelling.h"
 
 namespace mechgen {
 namespace {
@@ -47,6 +48,46 @@ FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTabl
     }
   PruneUnusedDefines(&P);
   f.body = {P};
+  return f;
+}
+
+FunctionSpec EvalStaticsDesignSpec(const Model& m, const StaticsTable& st, const DesignStatics& ds,
+                                   CxxPrinter* printer) {
+  using Dir = Argument::Direction;
+  const int nq = static_cast<int>(m.inputs.size()), nd = static_cast<int>(m.design.params.size());
+  FunctionSpec f;
+  f.name = "EvalStaticsDesign";
+  f.fills = OutputStruct::kStaticsDesign;
+  f.model_member = "StaticsDesign";
+  f.doc = {"\\brief Design sensitivities of the statics at a closed configuration: d/dp of Q, the drive, V and",
+           "the reactions for the design parameters kDesignNames, q held and the given friction loads held",
+           "(EvalStatics differentiated statement by statement; phi, K and L through EvalDesignDerivatives)."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn, "EvalCoefficients() at this (q, phi)."));
+  f.args.push_back(Arg("const DesignDerivatives<Scalar>&", "dc", Dir::kIn, "EvalDesignDerivatives() at this (q, phi)."));
+  f.args.push_back(Arg("StaticsDesign<Scalar>*", "out", Dir::kOut, "StaticsDesign; not nullptr."));
+  if (st.layout.friction.size() > 0)
+    f.args.push_back(Arg("const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type*", "friction", Dir::kIn,
+                         "the friction loads EvalStatics was given (kFrictionJoints), held; nullptr: none.",
+                         "dim kNumFriction", true, "nullptr"));
+  f.notes = {"\\note The friction loads are held: with Coulomb friction iterated on the normal forces, the",
+             "derivative of the converged friction loads is not included. Near a dead point the derivatives",
+             "grow like the reactions: check the conditioning first."};
+  NameSlots(st.slots, printer);
+  NameSlots(ds.slots, printer);
+  Program P = st.program;
+  P.insert(P.end(), ds.program.begin(), ds.program.end());
+  for (int j = 0; j < static_cast<int>(ds.dQ.size()); ++j)
+    for (int d = 0; d < nd; ++d) {
+      P.push_back(Store("out->dQ_dp" + Idx(j, d), ds.dQ[j][d]));
+      P.push_back(Store("out->ddrive_dp" + Idx(j, d), ds.ddrive[j][d]));
+    }
+  for (int d = 0; d < static_cast<int>(ds.dV.size()); ++d) P.push_back(Store("out->dV_dp(" + N(d) + ")", ds.dV[d]));
+  for (size_t i = 0; i < ds.dR.size(); ++i)
+    for (int d = 0; d < nd; ++d) P.push_back(Store("out->dR_dp" + Idx(static_cast<int>(i), d), ds.dR[i][d]));
+  (void)nq;
+  f.body = {FinishAppliedProgram(P, st, printer)};
   return f;
 }
 

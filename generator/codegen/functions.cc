@@ -541,7 +541,13 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   }
   if (has_shaking) out.push_back(shaking_spec);
   if (has_statics && (!statics->d2V_dq2.empty() || !statics->stiffness_q.empty())) out.push_back(EvalStiffnessSpec(m, *statics, printer));
-  if (design != nullptr && design->nd() > 0) out.push_back(EvalDesignDerivativesSpec(*design, t));
+  if (design != nullptr && design->nd() > 0) {
+    out.push_back(EvalDesignDerivativesSpec(*design, t));
+    if (has_statics) {
+      const DesignStatics ds(m, k, *statics, *design);
+      if (ds.possible) out.push_back(EvalStaticsDesignSpec(m, *statics, ds, printer));
+    }
+  }
   out.push_back(EvalDetPhiPhiSpec(t));
   if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));
   out.push_back(positions);

@@ -293,6 +293,32 @@ OutputSpec DesignOutput(const Model& m, const SymbolicTable& t, const std::vecto
   return o;
 }
 
+// StaticsDesign (EvalStaticsDesign: a design section and statics).
+OutputSpec StaticsDesignOutput(const Model& m, const std::vector<FunctionSpec>& functions) {
+  const StaticsLayout layout = StaticsLayout::Of(m);
+  OutputSpec o = Output("StaticsDesign", Generated(functions, OutputStruct::kStaticsDesign),
+                        "StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.",
+                        {"What EvalStaticsDesign() fills: the derivatives of the statics (Statics) with respect to the",
+                         "design parameters p_d (kDesignNames[d]), q and the given friction loads held."});
+  const bool forces = m.outputs.Has(Quantity::kForces), potential = m.outputs.Has(Quantity::kPotential);
+  o.members = {
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNumDesign>", "dQ_dp", {"dQ_dp(j, d) = dQ_j/dp_d ({unit})."},
+                  "kNq x kNumDesign", "", forces),
+           "N m or N per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNumDesign>", "ddrive_dp",
+                  {"ddrive_dp(j, d) = d drive_j/dp_d = -dQ_dp(j, d) ({unit})."}, "kNq x kNumDesign", "", forces),
+           "N m or N per unit of p_d"),
+      Unit(Member("Vec<Scalar, Sizes::kNumDesign>", "dV_dp", {"dV_dp(d) = dV/dp_d ({unit})."}, "kNumDesign", "",
+                  potential),
+           "J per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNumReactions, Sizes::kNumDesign>", "dR_dp",
+                  {"dR_dp(i, d) = dR_i/dp_d, R as in Statics ({unit})."}, "kNumReactions x kNumDesign", "",
+                  !layout.reactions.empty()),
+           "N or N m per unit of p_d"),
+  };
+  return o;
+}
+
 }  // namespace
 
 std::vector<std::string> RenderedDoc(const OutputMember& member) {
@@ -311,7 +337,7 @@ std::vector<OutputSpec> OutputSpecs(const Model& m,
                                     const std::vector<FunctionSpec>& functions) {
   return {Statics(m, t, functions), Dynamics(functions), Excess(functions),
           Shaking(functions),       Rhs(functions),      RhsConstants(functions),
-          DesignOutput(m, t, functions)};
+          DesignOutput(m, t, functions), StaticsDesignOutput(m, functions)};
 }
 
 }  // namespace mechgen

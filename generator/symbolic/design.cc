@@ -3,6 +3,8 @@
 #include "symbolic/design.h"
 
 #include <algorithm>
+#include <map>
+#include <set>
 
 #include "symbolic/block_system.h"
 #include "symbolic/motion.h"
@@ -233,6 +235,109 @@ DesignTable::DesignTable(const Model& m, const SymbolicTable& t) {
           }
       }
     }
+}
+
+}  // namespace mechgen
+
+// ---- The statics' design sensitivities ----
+
+namespace mechgen {
+namespace {
+
+void Symbols(const GiNaC::ex& e, std::set<GiNaC::ex, GiNaC::ex_is_less>* out) {
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (GiNaC::is_a<GiNaC::symbol>(*it)) out->insert(*it);
+}
+
+}  // namespace
+
+DesignStatics::DesignStatics(const Model& m, const Kinematics& k, const StaticsTable& st, const DesignTable& dt) {
+  using GiNaC::ex;
+  const int nq = k.nq(), nd = dt.nd();
+  if (nd == 0 || !st.layout.any) return;
+  for (const Statement& s : st.program)
+    if (s.kind != Statement::Kind::kDefine) {
+      why_not = "the reactions of a block of more than " + std::to_string(kMaxSymbolicSolve) +
+                " unknowns are solved by an LU";
+      return;
+    }
+  for (const auto& [sym, slot] : st.slots.all())
+    if ((slot.kind == Slot::Kind::kK && dt.dK_dp.empty()) || (slot.kind == Slot::Kind::kL && dt.dL_dp.empty())) {
+      why_not = "the statics read a coefficient whose design derivative the model does not derive";
+      return;
+    }
+  possible = true;
+  // d/dp_d of each symbol the statics read, as an expression (empty: held, zero).
+  std::map<ex, std::vector<ex>, GiNaC::ex_is_less> derivative;
+  for (int i = 0; i < k.nphi(); ++i) {
+    std::vector<ex> v;
+    // Structurally zero where no row of Phi depends on p_d (a mass, a load): not read.
+    for (int d = 0; d < nd; ++d) v.push_back(dt.dphi_dp[i][d].is_zero() ? ex(0) : slots(Slot::Kind::kDphiDp, i, d));
+    derivative[k.phi[i].symbol] = v;
+  }
+  // An expression of (q, phi, p): its total derivative, phi through dphi/dp.
+  auto explicit_total = [&](const ex& e, int d) {
+    ex s = e.diff(dt.p[d]);
+    for (int i = 0; i < k.nphi(); ++i) {
+      const ex ei = e.diff(k.phi[i].symbol);
+      if (!ei.is_zero()) s += ei * derivative[k.phi[i].symbol][d];
+    }
+    return s;
+  };
+  for (const auto& [sym, slot] : st.slots.all()) {
+    std::vector<ex> v(nd, 0);
+    for (int d = 0; d < nd; ++d) switch (slot.kind) {
+        case Slot::Kind::kK:
+          if (!dt.dK_dp[slot.i][slot.j + nq * d].is_zero()) v[d] = slots(Slot::Kind::kDKDp, slot.i, slot.j + nq * d);
+          break;
+        case Slot::Kind::kL:
+          if (!dt.dL_dp[slot.i][slot.j + nq * nq * d].is_zero())
+            v[d] = slots(Slot::Kind::kDLDp, slot.i, slot.j + nq * nq * d);
+          break;
+        case Slot::Kind::kPhiPhi: v[d] = explicit_total(k.Phi_phi(slot.i, slot.j), d); break;
+        default: break;  // the arguments and the given friction loads are held
+      }
+    derivative[sym] = v;
+  }
+  // D_d v for every d; each partial that every d shares named once (where it is not one factor).
+  int locals = 0;
+  auto total = [&](const ex& v) {
+    std::vector<ex> out(nd);
+    for (int d = 0; d < nd; ++d) out[d] = v.diff(dt.p[d]);
+    std::set<ex, GiNaC::ex_is_less> reads;
+    Symbols(v, &reads);
+    for (const ex& x : reads) {
+      const auto it = derivative.find(x);
+      if (it == derivative.end()) continue;
+      bool any = false;
+      for (const ex& dx : it->second) any |= !dx.is_zero();
+      if (!any) continue;
+      ex g = v.diff(GiNaC::ex_to<GiNaC::symbol>(x));
+      if (g.is_zero()) continue;
+      if (nd > 1 && !GiNaC::is_a<GiNaC::symbol>(g) && !GiNaC::is_a<GiNaC::numeric>(g)) {
+        ex named;
+        program.push_back(Define("dstatics_chain_" + std::to_string(locals++), g, &named));
+        g = named;
+      }
+      for (int d = 0; d < nd; ++d) out[d] += g * it->second[d];
+    }
+    return out;
+  };
+  for (const Statement& s : st.program) {
+    const std::vector<ex> D = total(s.value);
+    std::vector<ex> named(nd, 0);
+    for (int d = 0; d < nd; ++d)
+      if (!D[d].is_zero()) program.push_back(Define("d_" + s.target + "_" + dt.names[d], D[d], &named[d]));
+    derivative[s.symbol] = named;
+  }
+  if (st.forces)
+    for (int j = 0; j < nq; ++j) {
+      dQ.push_back(total(st.Q[j]));
+      ddrive.push_back(total(st.drive[j]));
+    }
+  if (st.potential) dV = total(st.V);
+  for (const ex& r : st.R) dR.push_back(total(r));
+  (void)m;
 }
 
 }  // namespace mechgen

@@ -23,6 +23,8 @@
 
 #include "model/model.h"
 #include "symbolic/program.h"
+#include "symbolic/slot.h"
+#include "symbolic/statics.h"
 #include "symbolic/table.h"
 
 namespace mechgen {
@@ -49,6 +51,28 @@ struct DesignTable {
   /// Per requested point and axis (0: x, 1: y): dr_P/dp_d [d], dK_P/dp_d [j + nq d],
   /// dL_P/dp_d [j + nq k + nq^2 d].
   std::vector<std::array<std::vector<GiNaC::ex>, 2>> dr_P_dp, dK_P_dp, dL_P_dp;
+};
+
+/// The statics' design sensitivities (EvalStaticsDesign): d/dp_d of Q, the drive, V and the
+/// reactions at a closed configuration, q held and the given friction loads held. Each named
+/// local of the statics program gets its derivative (forward mode over the program, symbolically):
+/// D_d v = dv/dp_d + sum over what v reads of dv/dx D_d x, where x runs over phi (dphi/dp read
+/// from EvalDesignDerivatives' output), the coefficients K and L it reads (dK/dp and dL/dp read
+/// from there too), Phi_phi (its expression differentiated in p and phi) and the locals before it.
+struct DesignStatics {
+  DesignStatics(const Model& m, const Kinematics& k, const StaticsTable& st, const DesignTable& dt);
+
+  /// False (with the reason) where the statics program is not straight-line (a large block's
+  /// reactions by an LU) or there is nothing to differentiate.
+  bool possible = false;
+  std::string why_not;
+  /// What the derivatives read of EvalDesignDerivatives' output (slot.h: kDphiDp, kDKDp, kDLDp).
+  SlotSymbols slots;
+  /// The derivative locals, after the statics program's own (which they read).
+  Program program;
+  std::vector<std::vector<GiNaC::ex>> dQ, ddrive;  ///< nq x nd (forces)
+  std::vector<GiNaC::ex> dV;                       ///< nd (potential)
+  std::vector<std::vector<GiNaC::ex>> dR;          ///< per reaction component x nd
 };
 
 }  // namespace mechgen

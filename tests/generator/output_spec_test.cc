@@ -32,7 +32,8 @@ std::string Read(const std::string& path) {
 std::vector<FunctionSpec> AllFilling() {
   std::vector<FunctionSpec> functions;
   for (OutputStruct o : {OutputStruct::kStatics, OutputStruct::kDynamics, OutputStruct::kExcess, OutputStruct::kShaking,
-                         OutputStruct::kRhs, OutputStruct::kRhsConstants, OutputStruct::kDesign}) {
+                         OutputStruct::kRhs, OutputStruct::kRhsConstants, OutputStruct::kDesign,
+                         OutputStruct::kStaticsDesign}) {
     FunctionSpec f;
     f.fills = o;
     functions.push_back(f);

@@ -1,0 +1,146 @@
+// The generated statics sensitivities (EvalStaticsDesign, issue 27) of the loaded four-bar
+// (a spring, a force and a torque, weights, four pin reactions; every parameter a design
+// parameter: lengths, spring constants, loads, masses) against two oracles independent of it:
+//   - the generated EvalCoefficients and EvalStatics instantiated with ceres::Jet<double, N>
+//     (p seeded, phi carrying dphi/dp from Jets of EvalPhi): forward-mode automatic
+//     differentiation of the values code;
+//   - Richardson-extrapolated central differences of EvalStatics at positions solved by
+//     Newton's method at p +- h, p +- h/2.
+#include <ceres/jet.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <string>
+
+#include "design_fourbar_loaded.h"
+#include "kinematics_test_util.h"
+
+namespace {
+
+using M = mech::design_fourbar_loaded::Model;
+using mechtest::Config;
+using ParamsD = M::ParamsT<double>;
+constexpr int kNd = M::kNumDesign, kNphi = M::kNphi, kNq = M::kNq;
+
+double Rel(double v) { return std::max(1.0, std::abs(v)); }
+
+std::vector<Config<M>> Configs(const ParamsD& p) {
+  const std::vector<Config<M>> all = mechtest::SweepConfigs<M>(p, 72);
+  std::vector<Config<M>> out;
+  for (size_t i = 0; i < all.size(); i += 6) out.push_back(all[i]);
+  return out;
+}
+
+struct Generated {
+  M::CoefficientsT<double> c;
+  M::DesignDerivativesT<double> dc;
+  M::StaticsT<double> s;
+  M::StaticsDesignT<double> ds;
+};
+
+Generated Evaluate(const ParamsD& p, const Config<M>& x) {
+  Generated g;
+  M::Coeffs(p, x.q, x.phi, &g.c);
+  M::Design(p, x.q, x.phi, &g.dc);
+  M::Forces(p, x.q, x.phi, g.c, &g.s);
+  M::StaticsDesign(p, x.q, x.phi, g.c, g.dc, &g.ds);
+  return g;
+}
+
+TEST(DesignStatics, AgreesWithJetsOfTheGeneratedStatics) {
+  static_assert(M::kHasStaticsDesign && M::kNumReactions > 0);
+  using JetPhi = ceres::Jet<double, kNd + kNphi>;
+  using Jet = ceres::Jet<double, kNd>;
+  const ParamsD p;
+  double worst = 0;
+  int compared = 0;
+  for (const auto& x : Configs(p)) {
+    const Generated g = Evaluate(p, x);
+    // dphi/dp = -Phi_phi^-1 Phi_p from Jets of EvalPhi.
+    auto pj = p.Cast<JetPhi>();
+    for (int d = 0; d < kNd; ++d) *pj.Find(M::kDesignNames[d]) = JetPhi(*const_cast<ParamsD&>(p).Find(M::kDesignNames[d]), d);
+    Eigen::Matrix<JetPhi, kNq, 1> qj = x.q.cast<JetPhi>();
+    Eigen::Matrix<JetPhi, kNphi, 1> phij;
+    for (int i = 0; i < kNphi; ++i) phij(i) = JetPhi(x.phi(i), kNd + i);
+    Eigen::Matrix<JetPhi, M::kNc, 1> Phij;
+    M::Phi(pj, qj, phij, &Phij);
+    Eigen::Matrix<double, M::kNc, kNd> Phi_p;
+    Eigen::Matrix<double, M::kNc, kNphi> Phi_phi;
+    for (int r = 0; r < M::kNc; ++r) {
+      Phi_p.row(r) = Phij(r).v.head<kNd>().transpose();
+      Phi_phi.row(r) = Phij(r).v.tail<kNphi>().transpose();
+    }
+    const Eigen::Matrix<double, kNphi, kNd> dphi_dp = -Phi_phi.fullPivLu().solve(Phi_p);
+    // The values code in Jets carrying d/dp.
+    auto pk = p.Cast<Jet>();
+    for (int d = 0; d < kNd; ++d) *pk.Find(M::kDesignNames[d]) = Jet(*const_cast<ParamsD&>(p).Find(M::kDesignNames[d]), d);
+    Eigen::Matrix<Jet, kNq, 1> qk = x.q.cast<Jet>();
+    Eigen::Matrix<Jet, kNphi, 1> phik;
+    for (int i = 0; i < kNphi; ++i) {
+      phik(i) = Jet(x.phi(i));
+      phik(i).v = dphi_dp.row(i).transpose();
+    }
+    M::CoefficientsT<Jet> cj;
+    M::Coeffs(pk, qk, phik, &cj);
+    M::StaticsT<Jet> sj;
+    M::Forces(pk, qk, phik, cj, &sj);
+    auto compare = [&](double ref, double got, const std::string& what) {
+      const double e = std::abs(got - ref) / Rel(ref);
+      worst = std::max(worst, e);
+      ++compared;
+      EXPECT_LE(e, 1e-12) << what << " at " << x.q(0) << ": " << got << " vs " << ref;
+    };
+    for (int d = 0; d < kNd; ++d) {
+      const std::string by = std::string(" /d ") + M::kDesignNames[d];
+      for (int j = 0; j < kNq; ++j) {
+        compare(sj.Q(j).v(d), g.ds.dQ_dp(j, d), "dQ" + by);
+        compare(sj.drive(j).v(d), g.ds.ddrive_dp(j, d), "ddrive" + by);
+      }
+      compare(sj.V.v(d), g.ds.dV_dp(d), "dV" + by);
+      for (int i = 0; i < M::kNumReactions; ++i)
+        compare(sj.R(i).v(d), g.ds.dR_dp(i, d), std::string("d") + M::kReactionNames[i] + by);
+    }
+  }
+  EXPECT_GT(compared, 1000);
+  RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+TEST(DesignStatics, AgreesWithRichardsonDifferences) {
+  const ParamsD p0;
+  double worst = 0;
+  const auto configs = Configs(p0);
+  for (size_t ci = 0; ci < configs.size(); ci += 3) {
+    const Config<M>& x = configs[ci];
+    const Generated g = Evaluate(p0, x);
+    for (int d = 0; d < kNd; ++d) {
+      ParamsD p = p0;
+      const double v0 = *p.Find(M::kDesignNames[d]), h = 1e-4 * Rel(v0);
+      auto at = [&](double delta) {
+        ParamsD q = p0;
+        *q.Find(M::kDesignNames[d]) = v0 + delta;
+        Config<M> y = x;
+        EXPECT_TRUE(mechtest::SolvePhi<M>(q, y.q, &y.phi).converged);
+        M::CoefficientsT<double> c;
+        M::Coeffs(q, y.q, y.phi, &c);
+        M::StaticsT<double> s;
+        M::Forces(q, y.q, y.phi, c, &s);
+        return s;
+      };
+      const auto a = at(h), b = at(-h), a2 = at(h / 2), b2 = at(-h / 2);
+      auto D = [&](double fa, double fb, double fa2, double fb2) { return (4 * (fa2 - fb2) / h - (fa - fb) / (2 * h)) / 3; };
+      auto compare = [&](double ref, double got, const std::string& what) {
+        const double e = std::abs(got - ref) / Rel(ref);
+        worst = std::max(worst, e);
+        EXPECT_LE(e, 1e-7) << what << " /d " << M::kDesignNames[d] << ": " << got << " vs " << ref;
+      };
+      compare(D(a.Q(0), b.Q(0), a2.Q(0), b2.Q(0)), g.ds.dQ_dp(0, d), "dQ");
+      compare(D(a.V, b.V, a2.V, b2.V), g.ds.dV_dp(d), "dV");
+      for (int i = 0; i < M::kNumReactions; ++i)
+        compare(D(a.R(i), b.R(i), a2.R(i), b2.R(i)), g.ds.dR_dp(i, d), std::string("d") + M::kReactionNames[i]);
+    }
+  }
+  RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+}  // namespace
