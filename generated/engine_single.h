@@ -1415,6 +1415,8 @@ struct Model : Sizes {
   static constexpr bool kHasDesignDerivatives = false;
   /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
   static constexpr bool kHasStaticsDesign = false;
+  /// DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.
+  static constexpr bool kHasDynamicsDesign = false;
   template <typename Scalar>
   using StaticsT = mech::engine_single::Statics<Scalar>;
   template <typename Scalar>

@@ -1484,6 +1484,8 @@ struct Model : Sizes {
   static constexpr bool kHasDesignDerivatives = false;
   /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
   static constexpr bool kHasStaticsDesign = false;
+  /// DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.
+  static constexpr bool kHasDynamicsDesign = false;
   template <typename Scalar>
   using StaticsT = mech::fourbar_loaded::Statics<Scalar>;
   /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first

@@ -1733,6 +1733,8 @@ struct Model : Sizes {
   static constexpr bool kHasDesignDerivatives = false;
   /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
   static constexpr bool kHasStaticsDesign = false;
+  /// DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.
+  static constexpr bool kHasDynamicsDesign = false;
   template <typename Scalar>
   using StaticsT = mech::fourbar_massive::Statics<Scalar>;
   template <typename Scalar>

@@ -1486,6 +1486,8 @@ struct Model : Sizes {
   static constexpr bool kHasDesignDerivatives = true;
   /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
   static constexpr bool kHasStaticsDesign = false;
+  /// DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.
+  static constexpr bool kHasDynamicsDesign = false;
   template <typename Scalar>
   using DesignDerivativesT = mech::watt_sixbar::DesignDerivatives<Scalar>;
   /// The design parameters (`design`): EvalDesignDerivatives differentiates with respect to

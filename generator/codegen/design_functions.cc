@@ -91,4 +91,45 @@ FunctionSpec EvalStaticsDesignSpec(const Model& m, const StaticsTable& st, const
   return f;
 }
 
+FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, const DesignDynamics& dd,
+                                    CxxPrinter* printer) {
+  using Dir = Argument::Direction;
+  const int nq = static_cast<int>(m.inputs.size()), nd = static_cast<int>(m.design.params.size());
+  FunctionSpec f;
+  f.name = "EvalDynamicsDesign";
+  f.fills = OutputStruct::kDynamicsDesign;
+  f.model_member = "DynamicsDesign";
+  f.doc = {"\\brief Design sensitivities of the equation of motion at (t, q, qd): d/dp of I, dI/dq, h, Q, T",
+           "and V for the design parameters kDesignNames, t, q, qd and the given friction loads held",
+           "(EvalDynamics differentiated statement by statement; phi, K and L through EvalDesignDerivatives)."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities dq/dt", "dim kNq"));
+  f.args.push_back(Arg("const Scalar&", "t", Dir::kIn, "Time (s), for loads that depend on it"));
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn, "EvalCoefficients() at this (q, phi)."));
+  f.args.push_back(Arg("const DesignDerivatives<Scalar>&", "dc", Dir::kIn, "EvalDesignDerivatives() at this (q, phi)."));
+  f.args.push_back(Arg("DynamicsDesign<Scalar>*", "out", Dir::kOut, "DynamicsDesign; not nullptr."));
+  f.args.push_back(Arg("const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type*", "friction", Dir::kIn,
+                       "Coulomb friction loads (kFrictionJoints) as EvalDynamics() was given them, held; nullptr: none.",
+                       "dim kNumFriction", true, "nullptr"));
+  const StaticsTable& a = *dyn.applied;
+  NameSlots(a.slots, printer);
+  NameSlots(dd.slots, printer);
+  Program P = dyn.program;
+  P.insert(P.end(), dd.program.begin(), dd.program.end());
+  for (int d = 0; d < nd; ++d) {
+    for (int jk = 0; jk < nq * nq; ++jk) P.push_back(Store("out->dI_dp" + Idx(jk % nq, jk / nq + nq * d), dd.dI[jk][d]));
+    for (int jkl = 0; jkl < nq * nq * nq; ++jkl)
+      P.push_back(Store("out->ddI_dq_dp" + Idx(jkl % nq, jkl / nq + nq * nq * d), dd.ddI_dq[jkl][d]));
+    for (int j = 0; j < nq; ++j) {
+      P.push_back(Store("out->dh_dp" + Idx(j, d), dd.dh[j][d]));
+      P.push_back(Store("out->dQ_dp" + Idx(j, d), dd.dQ[j][d]));
+    }
+    P.push_back(Store("out->dT_dp(" + N(d) + ")", dd.dT[d]));
+    P.push_back(Store("out->dV_dp(" + N(d) + ")", dd.dV[d]));
+  }
+  f.body = {FinishAppliedProgram(P, a, printer)};
+  return f;
+}
+
 }  // namespace mechgen

@@ -547,6 +547,10 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
       const DesignStatics ds(m, k, *statics, *design);
       if (ds.possible) out.push_back(EvalStaticsDesignSpec(m, *statics, ds, printer));
     }
+    if (has_dynamics) {
+      const DesignDynamics dd(m, k, *dynamics, *design);
+      if (dd.possible) out.push_back(EvalDynamicsDesignSpec(m, *dynamics, dd, printer));
+    }
   }
   out.push_back(EvalDetPhiPhiSpec(t));
   if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));

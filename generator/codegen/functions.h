@@ -80,6 +80,10 @@ FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTabl
 /// StaticsDesign struct), reading EvalDesignDerivatives' output.
 FunctionSpec EvalStaticsDesignSpec(const Model& m, const StaticsTable& st, const DesignStatics& ds,
                                    CxxPrinter* printer);
+/// EvalDynamicsDesign (codegen/design_functions.cc): d/dp of I, dI/dq, h, Q, T, V at (t, q, qd)
+/// (the DynamicsDesign struct), reading EvalDesignDerivatives' output.
+FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, const DesignDynamics& dd,
+                                    CxxPrinter* printer);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);
 /// A body over a statics table's program, finished as EvalStatics' is (codegen/statics_functions.cc):

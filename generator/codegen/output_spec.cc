@@ -319,6 +319,32 @@ OutputSpec StaticsDesignOutput(const Model& m, const std::vector<FunctionSpec>& 
   return o;
 }
 
+// DynamicsDesign (EvalDynamicsDesign: a design section and dynamics).
+OutputSpec DynamicsDesignOutput(const std::vector<FunctionSpec>& functions) {
+  OutputSpec o = Output("DynamicsDesign", Generated(functions, OutputStruct::kDynamicsDesign),
+                        "DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.",
+                        {"What EvalDynamicsDesign() fills: the derivatives of the equation of motion (Dynamics) with",
+                         "respect to the design parameters p_d (kDesignNames[d]), t, q, qd and the given friction loads held."});
+  o.members = {
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNq * Sizes::kNumDesign>", "dI_dp",
+                  {"dI_dp(j, k + kNq*d) = dI(j, k)/dp_d ({unit})."}, "kNq x kNq kNumDesign"),
+           "I's unit per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign>", "ddI_dq_dp",
+                  {"ddI_dq_dp(j, k + kNq*l + kNq^2*d) = d dI_dq(j, k + kNq*l)/dp_d (one DOF: dI'/dp) ({unit})."},
+                  "kNq x kNq^2 kNumDesign"),
+           "I's unit per unit of q and of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNumDesign>", "dh_dp", {"dh_dp(j, d) = dh_j/dp_d ({unit})."},
+                  "kNq x kNumDesign"),
+           "N m or N per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNumDesign>", "dQ_dp", {"dQ_dp(j, d) = dQ_j/dp_d ({unit})."},
+                  "kNq x kNumDesign"),
+           "N m or N per unit of p_d"),
+      Unit(Member("Vec<Scalar, Sizes::kNumDesign>", "dT_dp, dV_dp", {"dT/dp_d and dV/dp_d ({unit})."}, "kNumDesign"),
+           "J per unit of p_d"),
+  };
+  return o;
+}
+
 }  // namespace
 
 std::vector<std::string> RenderedDoc(const OutputMember& member) {
@@ -337,7 +363,7 @@ std::vector<OutputSpec> OutputSpecs(const Model& m,
                                     const std::vector<FunctionSpec>& functions) {
   return {Statics(m, t, functions), Dynamics(functions), Excess(functions),
           Shaking(functions),       Rhs(functions),      RhsConstants(functions),
-          DesignOutput(m, t, functions), StaticsDesignOutput(m, functions)};
+          DesignOutput(m, t, functions), StaticsDesignOutput(m, functions), DynamicsDesignOutput(functions)};
 }
 
 }  // namespace mechgen

@@ -251,28 +251,32 @@ void Symbols(const GiNaC::ex& e, std::set<GiNaC::ex, GiNaC::ex_is_less>* out) {
 
 }  // namespace
 
-DesignStatics::DesignStatics(const Model& m, const Kinematics& k, const StaticsTable& st, const DesignTable& dt) {
+ProgramDesign DifferentiateProgram(const Kinematics& k, const DesignTable& dt, const Program& program,
+                                   const SlotSymbols& reads, const std::vector<GiNaC::ex>& outputs,
+                                   const std::string& chain_prefix) {
   using GiNaC::ex;
+  ProgramDesign out;
   const int nq = k.nq(), nd = dt.nd();
-  if (nd == 0 || !st.layout.any) return;
-  for (const Statement& s : st.program)
+  if (nd == 0) return out;
+  for (const Statement& s : program)
     if (s.kind != Statement::Kind::kDefine) {
-      why_not = "the reactions of a block of more than " + std::to_string(kMaxSymbolicSolve) +
-                " unknowns are solved by an LU";
-      return;
+      out.why_not = "a block of more than " + std::to_string(kMaxSymbolicSolve) + " unknowns is solved by an LU";
+      return out;
     }
-  for (const auto& [sym, slot] : st.slots.all())
-    if ((slot.kind == Slot::Kind::kK && dt.dK_dp.empty()) || (slot.kind == Slot::Kind::kL && dt.dL_dp.empty())) {
-      why_not = "the statics read a coefficient whose design derivative the model does not derive";
-      return;
+  for (const auto& [sym, slot] : reads.all())
+    if ((slot.kind == Slot::Kind::kK && dt.dK_dp.empty()) || (slot.kind == Slot::Kind::kL && dt.dL_dp.empty()) ||
+        slot.kind == Slot::Kind::kPhid) {
+      out.why_not = "it reads a quantity whose design derivative the model does not derive";
+      return out;
     }
-  possible = true;
-  // d/dp_d of each symbol the statics read, as an expression (empty: held, zero).
+  out.possible = true;
+  // d/dp_d of each symbol the program reads, as an expression (absent or zero: held).
   std::map<ex, std::vector<ex>, GiNaC::ex_is_less> derivative;
   for (int i = 0; i < k.nphi(); ++i) {
     std::vector<ex> v;
     // Structurally zero where no row of Phi depends on p_d (a mass, a load): not read.
-    for (int d = 0; d < nd; ++d) v.push_back(dt.dphi_dp[i][d].is_zero() ? ex(0) : slots(Slot::Kind::kDphiDp, i, d));
+    for (int d = 0; d < nd; ++d)
+      v.push_back(dt.dphi_dp[i][d].is_zero() ? ex(0) : out.slots(Slot::Kind::kDphiDp, i, d));
     derivative[k.phi[i].symbol] = v;
   }
   // An expression of (q, phi, p): its total derivative, phi through dphi/dp.
@@ -284,29 +288,30 @@ DesignStatics::DesignStatics(const Model& m, const Kinematics& k, const StaticsT
     }
     return s;
   };
-  for (const auto& [sym, slot] : st.slots.all()) {
+  for (const auto& [sym, slot] : reads.all()) {
     std::vector<ex> v(nd, 0);
     for (int d = 0; d < nd; ++d) switch (slot.kind) {
         case Slot::Kind::kK:
-          if (!dt.dK_dp[slot.i][slot.j + nq * d].is_zero()) v[d] = slots(Slot::Kind::kDKDp, slot.i, slot.j + nq * d);
+          if (!dt.dK_dp[slot.i][slot.j + nq * d].is_zero())
+            v[d] = out.slots(Slot::Kind::kDKDp, slot.i, slot.j + nq * d);
           break;
         case Slot::Kind::kL:
           if (!dt.dL_dp[slot.i][slot.j + nq * nq * d].is_zero())
-            v[d] = slots(Slot::Kind::kDLDp, slot.i, slot.j + nq * nq * d);
+            v[d] = out.slots(Slot::Kind::kDLDp, slot.i, slot.j + nq * nq * d);
           break;
         case Slot::Kind::kPhiPhi: v[d] = explicit_total(k.Phi_phi(slot.i, slot.j), d); break;
-        default: break;  // the arguments and the given friction loads are held
+        default: break;  // the arguments (qd, qdd, t) and the given friction loads are held
       }
     derivative[sym] = v;
   }
   // D_d v for every d; each partial that every d shares named once (where it is not one factor).
   int locals = 0;
   auto total = [&](const ex& v) {
-    std::vector<ex> out(nd);
-    for (int d = 0; d < nd; ++d) out[d] = v.diff(dt.p[d]);
-    std::set<ex, GiNaC::ex_is_less> reads;
-    Symbols(v, &reads);
-    for (const ex& x : reads) {
+    std::vector<ex> D(nd);
+    for (int d = 0; d < nd; ++d) D[d] = v.diff(dt.p[d]);
+    std::set<ex, GiNaC::ex_is_less> symbols;
+    Symbols(v, &symbols);
+    for (const ex& x : symbols) {
       const auto it = derivative.find(x);
       if (it == derivative.end()) continue;
       bool any = false;
@@ -316,27 +321,72 @@ DesignStatics::DesignStatics(const Model& m, const Kinematics& k, const StaticsT
       if (g.is_zero()) continue;
       if (nd > 1 && !GiNaC::is_a<GiNaC::symbol>(g) && !GiNaC::is_a<GiNaC::numeric>(g)) {
         ex named;
-        program.push_back(Define("dstatics_chain_" + std::to_string(locals++), g, &named));
+        out.program.push_back(Define(chain_prefix + std::to_string(locals++), g, &named));
         g = named;
       }
-      for (int d = 0; d < nd; ++d) out[d] += g * it->second[d];
+      for (int d = 0; d < nd; ++d) D[d] += g * it->second[d];
     }
-    return out;
+    return D;
   };
-  for (const Statement& s : st.program) {
+  for (const Statement& s : program) {
     const std::vector<ex> D = total(s.value);
     std::vector<ex> named(nd, 0);
     for (int d = 0; d < nd; ++d)
-      if (!D[d].is_zero()) program.push_back(Define("d_" + s.target + "_" + dt.names[d], D[d], &named[d]));
+      if (!D[d].is_zero()) out.program.push_back(Define("d_" + s.target + "_" + dt.names[d], D[d], &named[d]));
     derivative[s.symbol] = named;
   }
-  if (st.forces)
-    for (int j = 0; j < nq; ++j) {
-      dQ.push_back(total(st.Q[j]));
-      ddrive.push_back(total(st.drive[j]));
-    }
-  if (st.potential) dV = total(st.V);
-  for (const ex& r : st.R) dR.push_back(total(r));
+  for (const ex& o : outputs) out.d.push_back(total(o));
+  return out;
+}
+
+DesignStatics::DesignStatics(const Model& m, const Kinematics& k, const StaticsTable& st, const DesignTable& dt) {
+  const int nq = k.nq();
+  if (dt.nd() == 0 || !st.layout.any) return;
+  std::vector<GiNaC::ex> outputs;
+  if (st.forces) {
+    outputs.insert(outputs.end(), st.Q.begin(), st.Q.end());
+    outputs.insert(outputs.end(), st.drive.begin(), st.drive.end());
+  }
+  if (st.potential) outputs.push_back(st.V);
+  outputs.insert(outputs.end(), st.R.begin(), st.R.end());
+  ProgramDesign pd = DifferentiateProgram(k, dt, st.program, st.slots, outputs, "dstatics_chain_");
+  possible = pd.possible;
+  why_not = pd.why_not;
+  if (!possible) return;
+  slots = pd.slots;
+  program = pd.program;
+  size_t at = 0;
+  if (st.forces) {
+    for (int j = 0; j < nq; ++j) dQ.push_back(pd.d[at++]);
+    for (int j = 0; j < nq; ++j) ddrive.push_back(pd.d[at++]);
+  }
+  if (st.potential) dV = pd.d[at++];
+  while (at < pd.d.size()) dR.push_back(pd.d[at++]);
+  (void)m;
+}
+
+DesignDynamics::DesignDynamics(const Model& m, const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt) {
+  const int nq = k.nq();
+  if (dt.nd() == 0 || !dyn.any) return;
+  std::vector<GiNaC::ex> outputs = dyn.I;
+  outputs.insert(outputs.end(), dyn.dI_dq.begin(), dyn.dI_dq.end());
+  outputs.insert(outputs.end(), dyn.h.begin(), dyn.h.end());
+  outputs.insert(outputs.end(), dyn.Q.begin(), dyn.Q.end());
+  outputs.push_back(dyn.T);
+  outputs.push_back(dyn.V);
+  ProgramDesign pd = DifferentiateProgram(k, dt, dyn.program, dyn.applied->slots, outputs, "ddynamics_chain_");
+  possible = pd.possible;
+  why_not = pd.why_not;
+  if (!possible) return;
+  slots = pd.slots;
+  program = pd.program;
+  size_t at = 0;
+  for (int i = 0; i < nq * nq; ++i) dI.push_back(pd.d[at++]);
+  for (int i = 0; i < nq * nq * nq; ++i) ddI_dq.push_back(pd.d[at++]);
+  for (int j = 0; j < nq; ++j) dh.push_back(pd.d[at++]);
+  for (int j = 0; j < nq; ++j) dQ.push_back(pd.d[at++]);
+  dT = pd.d[at++];
+  dV = pd.d[at++];
   (void)m;
 }
 

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "model/model.h"
+#include "symbolic/dynamics.h"
 #include "symbolic/program.h"
 #include "symbolic/slot.h"
 #include "symbolic/statics.h"
@@ -53,12 +54,26 @@ struct DesignTable {
   std::vector<std::array<std::vector<GiNaC::ex>, 2>> dr_P_dp, dK_P_dp, dL_P_dp;
 };
 
+/// A straight-line program's locals and some expressions of them, differentiated with respect
+/// to the design parameters (forward mode over the program, symbolically): D_d v = dv/dp_d + sum
+/// over what v reads of dv/dx D_d x, x running over phi (dphi/dp read from EvalDesignDerivatives'
+/// output), the coefficients K and L (dK/dp, dL/dp read from there too), Phi_phi (its expression
+/// differentiated in p and phi) and the locals before it; the arguments (qd, qdd, t) and the
+/// given friction loads are held. Not possible for a program with an LU (a large block).
+struct ProgramDesign {
+  bool possible = false;
+  std::string why_not;
+  SlotSymbols slots;   ///< what the derivatives read of EvalDesignDerivatives' output
+  Program program;     ///< the derivative locals, after the program's own (which they read)
+  std::vector<std::vector<GiNaC::ex>> d;  ///< per output expression: its D_d, d = 0..nd-1
+};
+ProgramDesign DifferentiateProgram(const Kinematics& k, const DesignTable& dt, const Program& program,
+                                   const SlotSymbols& reads, const std::vector<GiNaC::ex>& outputs,
+                                   const std::string& chain_prefix);
+
 /// The statics' design sensitivities (EvalStaticsDesign): d/dp_d of Q, the drive, V and the
-/// reactions at a closed configuration, q held and the given friction loads held. Each named
-/// local of the statics program gets its derivative (forward mode over the program, symbolically):
-/// D_d v = dv/dp_d + sum over what v reads of dv/dx D_d x, where x runs over phi (dphi/dp read
-/// from EvalDesignDerivatives' output), the coefficients K and L it reads (dK/dp and dL/dp read
-/// from there too), Phi_phi (its expression differentiated in p and phi) and the locals before it.
+/// reactions at a closed configuration, q held and the given friction loads held
+/// (DifferentiateProgram over the statics program).
 struct DesignStatics {
   DesignStatics(const Model& m, const Kinematics& k, const StaticsTable& st, const DesignTable& dt);
 
@@ -73,6 +88,20 @@ struct DesignStatics {
   std::vector<std::vector<GiNaC::ex>> dQ, ddrive;  ///< nq x nd (forces)
   std::vector<GiNaC::ex> dV;                       ///< nd (potential)
   std::vector<std::vector<GiNaC::ex>> dR;          ///< per reaction component x nd
+};
+
+/// The dynamics' design sensitivities (EvalDynamicsDesign): d/dp_d of I, dI/dq (I' for one DOF),
+/// h, Q, T and V at (t, q, qd), those held (DifferentiateProgram over the dynamics program).
+struct DesignDynamics {
+  DesignDynamics(const Model& m, const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt);
+  bool possible = false;
+  std::string why_not;
+  SlotSymbols slots;
+  Program program;
+  std::vector<std::vector<GiNaC::ex>> dI;      ///< I[j + nq k] x nd
+  std::vector<std::vector<GiNaC::ex>> ddI_dq;  ///< dI_dq[j + nq (k + nq l)] x nd
+  std::vector<std::vector<GiNaC::ex>> dh, dQ;  ///< nq x nd
+  std::vector<GiNaC::ex> dT, dV;               ///< nd
 };
 
 }  // namespace mechgen

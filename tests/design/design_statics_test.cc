@@ -1,4 +1,5 @@
-// The generated statics sensitivities (EvalStaticsDesign, issue 27) of the loaded four-bar
+// The generated statics and dynamics sensitivities (EvalStaticsDesign, EvalDynamicsDesign,
+// issue 27). The statics: of the loaded four-bar
 // (a spring, a force and a torque, weights, four pin reactions; every parameter a design
 // parameter: lengths, spring constants, loads, masses) against two oracles independent of it:
 //   - the generated EvalCoefficients and EvalStatics instantiated with ceres::Jet<double, N>
@@ -6,6 +7,9 @@
 //     differentiation of the values code;
 //   - Richardson-extrapolated central differences of EvalStatics at positions solved by
 //     Newton's method at p +- h, p +- h/2.
+// The dynamics: the massive four-bar (bars of mass rho per length, gravity; design parameters
+// a, b, c, d, rho, g), EvalDynamics' I, dI/dq, h, Q, T and V at a crank speed, against the same
+// two oracles.
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
@@ -14,6 +18,7 @@
 #include <string>
 
 #include "design_fourbar_loaded.h"
+#include "design_fourbar_massive.h"
 #include "kinematics_test_util.h"
 
 namespace {
@@ -142,5 +147,110 @@ TEST(DesignStatics, AgreesWithRichardsonDifferences) {
   }
   RecordProperty("worst_relative_error", mechtest::Sci(worst));
 }
+
+// ---- The dynamics ----
+
+namespace dyn {
+
+using MD = mech::design_fourbar_massive::Model;
+using ParamsM = MD::ParamsT<double>;
+constexpr int kN = MD::kNumDesign;
+constexpr double kQd = 1.3, kT = 0.0;
+
+// Everything EvalDynamics gives, as one vector: I, dI_dq, h, Q, T, V (one DOF).
+template <class S>
+Eigen::Matrix<S, 6, 1> Flat(const typename MD::template DynamicsT<S>& y) {
+  Eigen::Matrix<S, 6, 1> v;
+  v << y.I(0, 0), y.dI_dq(0, 0), y.h(0), y.Q(0), y.T, y.V;
+  return v;
+}
+
+Eigen::Matrix<double, 6, kN> Generated(const ParamsM& p, const Config<MD>& x) {
+  MD::CoefficientsT<double> c;
+  MD::Coeffs(p, x.q, x.phi, &c);
+  MD::DesignDerivativesT<double> dc;
+  MD::Design(p, x.q, x.phi, &dc);
+  MD::DynamicsDesignT<double> dd;
+  MD::DynamicsDesign(p, x.q, x.phi, Eigen::Matrix<double, 1, 1>(kQd), kT, c, dc, &dd);
+  Eigen::Matrix<double, 6, kN> g;
+  for (int d = 0; d < kN; ++d)
+    g.col(d) << dd.dI_dp(0, d), dd.ddI_dq_dp(0, d), dd.dh_dp(0, d), dd.dQ_dp(0, d), dd.dT_dp(d), dd.dV_dp(d);
+  return g;
+}
+
+Eigen::Matrix<double, 6, 1> Values(const ParamsM& p, const Config<MD>& x) {
+  MD::CoefficientsT<double> c;
+  MD::Coeffs(p, x.q, x.phi, &c);
+  MD::DynamicsT<double> y;
+  MD::Dynamics(p, x.q, x.phi, Eigen::Matrix<double, 1, 1>(kQd), kT, c, &y);
+  return Flat<double>(y);
+}
+
+const char* kWhat[6] = {"dI", "dI'", "dh", "dQ", "dT", "dV"};
+
+TEST(DesignDynamics, AgreesWithJetsOfTheGeneratedDynamics) {
+  static_assert(MD::kHasDynamicsDesign);
+  using Jet = ceres::Jet<double, kN>;
+  const ParamsM p;
+  const auto all = mechtest::SweepConfigs<MD>(p, 72);
+  double worst = 0;
+  for (size_t ci = 0; ci < all.size(); ci += 6) {
+    const Config<MD>& x = all[ci];
+    MD::DesignDerivativesT<double> dc;
+    MD::Design(p, x.q, x.phi, &dc);  // dphi/dp, checked against Jets of EvalPhi in design_derivatives_test
+    auto pk = p.Cast<Jet>();
+    for (int d = 0; d < kN; ++d) *pk.Find(MD::kDesignNames[d]) = Jet(*const_cast<ParamsM&>(p).Find(MD::kDesignNames[d]), d);
+    Eigen::Matrix<Jet, 1, 1> qk = x.q.cast<Jet>();
+    Eigen::Matrix<Jet, MD::kNphi, 1> phik;
+    for (int i = 0; i < MD::kNphi; ++i) {
+      phik(i) = Jet(x.phi(i));
+      phik(i).v = dc.dphi_dp.row(i).transpose();
+    }
+    MD::CoefficientsT<Jet> cj;
+    MD::Coeffs(pk, qk, phik, &cj);
+    MD::DynamicsT<Jet> yj;
+    MD::Dynamics(pk, qk, phik, Eigen::Matrix<Jet, 1, 1>(Jet(kQd)), Jet(kT), cj, &yj);
+    const Eigen::Matrix<Jet, 6, 1> ref = Flat<Jet>(yj);
+    const Eigen::Matrix<double, 6, kN> g = Generated(p, x);
+    for (int r = 0; r < 6; ++r)
+      for (int d = 0; d < kN; ++d) {
+        const double e = std::abs(g(r, d) - ref(r).v(d)) / Rel(ref(r).v(d));
+        worst = std::max(worst, e);
+        EXPECT_LE(e, 1e-12) << kWhat[r] << " /d " << MD::kDesignNames[d] << " at " << x.q(0);
+      }
+  }
+  RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+TEST(DesignDynamics, AgreesWithRichardsonDifferences) {
+  const ParamsM p0;
+  const auto all = mechtest::SweepConfigs<MD>(p0, 72);
+  double worst = 0;
+  for (size_t ci = 0; ci < all.size(); ci += 18) {
+    const Config<MD>& x = all[ci];
+    const Eigen::Matrix<double, 6, kN> g = Generated(p0, x);
+    for (int d = 0; d < kN; ++d) {
+      ParamsM p = p0;
+      const double v0 = *p.Find(MD::kDesignNames[d]), h = 1e-4 * Rel(v0);
+      auto at = [&](double delta) {
+        ParamsM q = p0;
+        *q.Find(MD::kDesignNames[d]) = v0 + delta;
+        Config<MD> y = x;
+        EXPECT_TRUE(mechtest::SolvePhi<MD>(q, y.q, &y.phi).converged);
+        return Values(q, y);
+      };
+      const Eigen::Matrix<double, 6, 1> D =
+          (4 * (at(h / 2) - at(-h / 2)) / h - (at(h) - at(-h)) / (2 * h)) / 3;
+      for (int r = 0; r < 6; ++r) {
+        const double e = std::abs(g(r, d) - D(r)) / Rel(D(r));
+        worst = std::max(worst, e);
+        EXPECT_LE(e, 1e-7) << kWhat[r] << " /d " << MD::kDesignNames[d] << ": " << g(r, d) << " vs " << D(r);
+      }
+    }
+  }
+  RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+}  // namespace dyn
 
 }  // namespace

@@ -33,7 +33,7 @@ std::vector<FunctionSpec> AllFilling() {
   std::vector<FunctionSpec> functions;
   for (OutputStruct o : {OutputStruct::kStatics, OutputStruct::kDynamics, OutputStruct::kExcess, OutputStruct::kShaking,
                          OutputStruct::kRhs, OutputStruct::kRhsConstants, OutputStruct::kDesign,
-                         OutputStruct::kStaticsDesign}) {
+                         OutputStruct::kStaticsDesign, OutputStruct::kDynamicsDesign}) {
     FunctionSpec f;
     f.fills = o;
     functions.push_back(f);
