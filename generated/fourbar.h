@@ -27,7 +27,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalDesignDerivatives 378 (adds 128, muls 243, divs 1, calls 6); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalDesignDerivatives 378 (adds 128, muls 243, divs 1, calls 6); EvalDesignChecks 23 (adds 3, muls 8, divs 4, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -54,6 +54,7 @@ struct Sizes {
   static constexpr int kNumBlocks = 1;   ///< blocks of the solve order (see the file comment)
   static constexpr int kNumTransmissionAngles = 1;  ///< four-bar loops with a ground link
   static constexpr int kNumDesign = 6;  ///< design parameters (kDesignNames)
+  static constexpr int kNumDesignChecks = 5;  ///< design checks (kDesignCheckNames, EvalDesignChecks)
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -538,6 +539,76 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The design checks as signed margins of the parameters (>= 0 where the design is
+ * acceptable) and their derivatives with respect to the design parameters: constraints for
+ * synthesis. The generator checks the same at the parameters' defaults.
+ *   margin(0) length_ground_loop0: the length of link 'ground' between its joints in four-bar loop0 (> 0)
+ *   margin(1) length_rocker_loop0: the length of link 'rocker' between its joints in four-bar loop0 (> 0)
+ *   margin(2) length_coupler_loop0: the length of link 'coupler' between its joints in four-bar loop0 (> 0)
+ *   margin(3) length_crank_loop0: the length of link 'crank' between its joints in four-bar loop0 (> 0)
+ *   margin(4) grashof_loop0: Grashof's margin (p + q) - (s + l) of four-bar loop0, s = 'crank', l = 'ground' as at the defaults: >= 0 where a link turns fully
+ * \param[in]  p           Parameters.
+ * \param[out] margin      the margins; not nullptr (dim kNumDesignChecks).
+ * \param[out] dmargin_dp  d margin(i) / dp_d (kNumDesignChecks x kNumDesign). May be nullptr.
+ */
+template <typename Scalar>
+void EvalDesignChecks(const Params<Scalar>& p,
+                      Vec<Scalar, Sizes::kNumDesignChecks>* margin,
+                      Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>> dmargin_dp = nullptr) {
+  // Total ops: 23 (adds 3, muls 8, divs 4, calls 8); intermediate terms: 12
+  using std::sqrt;
+  const Scalar _tmp0 = p.d*p.d;
+  const Scalar _tmp1 = sqrt(_tmp0);
+  const Scalar _tmp2 = (Scalar(1)/sqrt(_tmp0))*p.d;
+  const Scalar _tmp3 = p.c*p.c;
+  const Scalar _tmp4 = sqrt(_tmp3);
+  const Scalar _tmp5 = (Scalar(1)/sqrt(_tmp3))*p.c;
+  const Scalar _tmp6 = p.b*p.b;
+  const Scalar _tmp7 = sqrt(_tmp6);
+  const Scalar _tmp8 = (Scalar(1)/sqrt(_tmp6))*p.b;
+  const Scalar _tmp9 = p.a*p.a;
+  const Scalar _tmp10 = sqrt(_tmp9);
+  const Scalar _tmp11 = (Scalar(1)/sqrt(_tmp9))*p.a;
+  (*margin)(0) = _tmp1;
+  (*margin)(1) = _tmp4;
+  (*margin)(2) = _tmp7;
+  (*margin)(3) = _tmp10;
+  (*margin)(4) = -_tmp1 - _tmp10 + _tmp4 + _tmp7;
+  if (dmargin_dp != nullptr) {
+    (*dmargin_dp)(0, 0) = Scalar(0);
+    (*dmargin_dp)(0, 1) = Scalar(0);
+    (*dmargin_dp)(0, 2) = Scalar(0);
+    (*dmargin_dp)(0, 3) = _tmp2;
+    (*dmargin_dp)(0, 4) = Scalar(0);
+    (*dmargin_dp)(0, 5) = Scalar(0);
+    (*dmargin_dp)(1, 0) = Scalar(0);
+    (*dmargin_dp)(1, 1) = Scalar(0);
+    (*dmargin_dp)(1, 2) = _tmp5;
+    (*dmargin_dp)(1, 3) = Scalar(0);
+    (*dmargin_dp)(1, 4) = Scalar(0);
+    (*dmargin_dp)(1, 5) = Scalar(0);
+    (*dmargin_dp)(2, 0) = Scalar(0);
+    (*dmargin_dp)(2, 1) = _tmp8;
+    (*dmargin_dp)(2, 2) = Scalar(0);
+    (*dmargin_dp)(2, 3) = Scalar(0);
+    (*dmargin_dp)(2, 4) = Scalar(0);
+    (*dmargin_dp)(2, 5) = Scalar(0);
+    (*dmargin_dp)(3, 0) = _tmp11;
+    (*dmargin_dp)(3, 1) = Scalar(0);
+    (*dmargin_dp)(3, 2) = Scalar(0);
+    (*dmargin_dp)(3, 3) = Scalar(0);
+    (*dmargin_dp)(3, 4) = Scalar(0);
+    (*dmargin_dp)(3, 5) = Scalar(0);
+    (*dmargin_dp)(4, 0) = -_tmp11;
+    (*dmargin_dp)(4, 1) = _tmp8;
+    (*dmargin_dp)(4, 2) = _tmp5;
+    (*dmargin_dp)(4, 3) = -_tmp2;
+    (*dmargin_dp)(4, 4) = Scalar(0);
+    (*dmargin_dp)(4, 5) = Scalar(0);
+  }
+}
+
+/**
  * \brief det Phi_phi: zero where the mechanism is singular (a dead point, a change point),
  * as the product of the blocks' determinants. Its sign is the assembly branch of a loop.
  * \param[in]  p            Parameters.
@@ -851,6 +922,9 @@ extern template void EvalDesignDerivatives<double>(const Params<double>&,
                                                    const Vec<double, Sizes::kNq>&,
                                                    const Vec<double, Sizes::kNphi>&,
                                                    DesignDerivatives<double>*);
+extern template void EvalDesignChecks<double>(const Params<double>&,
+                                              Vec<double, Sizes::kNumDesignChecks>*,
+                                              Out<Mat<double, Sizes::kNumDesignChecks, Sizes::kNumDesign>>);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                            const Vec<double, Sizes::kNq>&,
                                            const Vec<double, Sizes::kNphi>&,
@@ -889,6 +963,9 @@ extern template void EvalDesignDerivatives<float>(const Params<float>&,
                                                   const Vec<float, Sizes::kNq>&,
                                                   const Vec<float, Sizes::kNphi>&,
                                                   DesignDerivatives<float>*);
+extern template void EvalDesignChecks<float>(const Params<float>&,
+                                             Vec<float, Sizes::kNumDesignChecks>*,
+                                             Out<Mat<float, Sizes::kNumDesignChecks, Sizes::kNumDesign>>);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -1000,6 +1077,8 @@ struct Model : Sizes {
   /// The design parameters (`design`): EvalDesignDerivatives differentiates with respect to
   /// these Params members, in this order.
   static constexpr std::array<const char*, kNumDesign> kDesignNames{ "a", "b", "c", "d", "xi", "eta" };
+  /// The design checks' margins (EvalDesignChecks), in order.
+  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{ "length_ground_loop0", "length_rocker_loop0", "length_coupler_loop0", "length_crank_loop0", "grashof_loop0" };
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -1024,6 +1103,12 @@ struct Model : Sizes {
                      const Vec<Scalar, Sizes::kNphi>& phi,
                      DesignDerivatives<Scalar>* out) {
     EvalDesignDerivatives(p, q, phi, out);
+  }
+  template <typename Scalar>
+  static void DesignChecks(const Params<Scalar>& p,
+                           Vec<Scalar, Sizes::kNumDesignChecks>* margin,
+                           Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>> dmargin_dp = nullptr) {
+    EvalDesignChecks(p, margin, dmargin_dp);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,

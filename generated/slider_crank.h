@@ -55,6 +55,7 @@ struct Sizes {
   static constexpr int kNumBlocks = 2;   ///< blocks of the solve order (see the file comment)
   static constexpr int kNumTransmissionAngles = 0;  ///< four-bar loops with a ground link
   static constexpr int kNumDesign = 3;  ///< design parameters (kDesignNames)
+  static constexpr int kNumDesignChecks = 0;  ///< design checks (kDesignCheckNames, EvalDesignChecks)
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -742,6 +743,8 @@ struct Model : Sizes {
   /// The design parameters (`design`): EvalDesignDerivatives differentiates with respect to
   /// these Params members, in this order.
   static constexpr std::array<const char*, kNumDesign> kDesignNames{ "a", "b", "e" };
+  /// The design checks' margins (EvalDesignChecks), in order.
+  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{  };
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDesignDerivatives 1266 (adds 426, muls 826, divs 2, calls 12); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 96 (adds 22, muls 60, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDesignDerivatives 1266 (adds 426, muls 826, divs 2, calls 12); EvalDesignChecks 71 (adds 14, muls 31, divs 8, calls 18); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 96 (adds 22, muls 60, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -62,6 +62,7 @@ struct Sizes {
   static constexpr int kNumBlocks = 2;   ///< blocks of the solve order (see the file comment)
   static constexpr int kNumTransmissionAngles = 2;  ///< four-bar loops with a ground link
   static constexpr int kNumDesign = 10;  ///< design parameters (kDesignNames)
+  static constexpr int kNumDesignChecks = 10;  ///< design checks (kDesignCheckNames, EvalDesignChecks)
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -908,6 +909,179 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The design checks as signed margins of the parameters (>= 0 where the design is
+ * acceptable) and their derivatives with respect to the design parameters: constraints for
+ * synthesis. The generator checks the same at the parameters' defaults.
+ *   margin(0) length_ground_loop0: the length of link 'ground' between its joints in four-bar loop0 (> 0)
+ *   margin(1) length_rocker_loop0: the length of link 'rocker' between its joints in four-bar loop0 (> 0)
+ *   margin(2) length_coupler_loop0: the length of link 'coupler' between its joints in four-bar loop0 (> 0)
+ *   margin(3) length_crank_loop0: the length of link 'crank' between its joints in four-bar loop0 (> 0)
+ *   margin(4) grashof_loop0: Grashof's margin (p + q) - (s + l) of four-bar loop0, s = 'crank', l = 'coupler' as at the defaults: >= 0 where a link turns fully
+ *   margin(5) length_ground_loop1: the length of link 'ground' between its joints in four-bar loop1 (> 0)
+ *   margin(6) length_output_loop1: the length of link 'output' between its joints in four-bar loop1 (> 0)
+ *   margin(7) length_link5_loop1: the length of link 'link5' between its joints in four-bar loop1 (> 0)
+ *   margin(8) length_rocker_loop1: the length of link 'rocker' between its joints in four-bar loop1 (> 0)
+ *   margin(9) grashof_loop1: Grashof's margin (p + q) - (s + l) of four-bar loop1, s = 'rocker', l = 'ground' as at the defaults: >= 0 where a link turns fully
+ * \param[in]  p           Parameters.
+ * \param[out] margin      the margins; not nullptr (dim kNumDesignChecks).
+ * \param[out] dmargin_dp  d margin(i) / dp_d (kNumDesignChecks x kNumDesign). May be nullptr.
+ */
+template <typename Scalar>
+void EvalDesignChecks(const Params<Scalar>& p,
+                      Vec<Scalar, Sizes::kNumDesignChecks>* margin,
+                      Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>> dmargin_dp = nullptr) {
+  // Total ops: 71 (adds 14, muls 31, divs 8, calls 18); intermediate terms: 33
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const Scalar _tmp0 = p.g*p.g;
+  const Scalar _tmp1 = sqrt(_tmp0);
+  const Scalar _tmp2 = (Scalar(1)/sqrt(_tmp0))*p.g;
+  const Scalar _tmp3 = p.c*p.c;
+  const Scalar _tmp4 = sqrt(_tmp3);
+  const Scalar _tmp5 = (Scalar(1)/sqrt(_tmp3))*p.c;
+  const Scalar _tmp6 = p.b*p.b;
+  const Scalar _tmp7 = sqrt(_tmp6);
+  const Scalar _tmp8 = (Scalar(1)/sqrt(_tmp6))*p.b;
+  const Scalar _tmp9 = p.a*p.a;
+  const Scalar _tmp10 = sqrt(_tmp9);
+  const Scalar _tmp11 = (Scalar(1)/sqrt(_tmp9))*p.a;
+  const Scalar _tmp12 = -Scalar(2)*p.g*p.x6 + _tmp0 + p.x6*p.x6 + p.y6*p.y6;
+  const Scalar _tmp13 = sqrt(_tmp12);
+  const Scalar _tmp14 = Scalar(1)/sqrt(_tmp12);
+  const Scalar _tmp15 = _tmp14*p.g - _tmp14*p.x6;
+  const Scalar _tmp16 = -_tmp14*p.g + _tmp14*p.x6;
+  const Scalar _tmp17 = p.o*p.o;
+  const Scalar _tmp18 = sqrt(_tmp17);
+  const Scalar _tmp19 = (Scalar(1)/sqrt(_tmp17))*p.o;
+  const Scalar _tmp20 = p.f*p.f;
+  const Scalar _tmp21 = sqrt(_tmp20);
+  const Scalar _tmp22 = (Scalar(1)/sqrt(_tmp20))*p.f;
+  const Scalar _tmp23 = cos(p.beta);
+  const Scalar _tmp24 = _tmp23*_tmp23;
+  const Scalar _tmp25 = p.e*p.e;
+  const Scalar _tmp26 = sin(p.beta);
+  const Scalar _tmp27 = _tmp26*_tmp26;
+  const Scalar _tmp28 = _tmp24*_tmp25 + _tmp25*_tmp27;
+  const Scalar _tmp29 = sqrt(_tmp28);
+  const Scalar _tmp30 = Scalar(1)/sqrt(_tmp28);
+  const Scalar _tmp31 = _tmp24*_tmp30*p.e;
+  const Scalar _tmp32 = _tmp27*_tmp30*p.e;
+  (*margin)(0) = _tmp1;
+  (*margin)(1) = _tmp4;
+  (*margin)(2) = _tmp7;
+  (*margin)(3) = _tmp10;
+  (*margin)(4) = _tmp1 - _tmp10 + _tmp4 - _tmp7;
+  (*margin)(5) = _tmp13;
+  (*margin)(6) = _tmp18;
+  (*margin)(7) = _tmp21;
+  (*margin)(8) = _tmp29;
+  (*margin)(9) = -_tmp13 + _tmp18 + _tmp21 - _tmp29;
+  if (dmargin_dp != nullptr) {
+    (*dmargin_dp)(0, 0) = Scalar(0);
+    (*dmargin_dp)(0, 1) = Scalar(0);
+    (*dmargin_dp)(0, 2) = Scalar(0);
+    (*dmargin_dp)(0, 3) = _tmp2;
+    (*dmargin_dp)(0, 4) = Scalar(0);
+    (*dmargin_dp)(0, 5) = Scalar(0);
+    (*dmargin_dp)(0, 6) = Scalar(0);
+    (*dmargin_dp)(0, 7) = Scalar(0);
+    (*dmargin_dp)(0, 8) = Scalar(0);
+    (*dmargin_dp)(0, 9) = Scalar(0);
+    (*dmargin_dp)(1, 0) = Scalar(0);
+    (*dmargin_dp)(1, 1) = Scalar(0);
+    (*dmargin_dp)(1, 2) = _tmp5;
+    (*dmargin_dp)(1, 3) = Scalar(0);
+    (*dmargin_dp)(1, 4) = Scalar(0);
+    (*dmargin_dp)(1, 5) = Scalar(0);
+    (*dmargin_dp)(1, 6) = Scalar(0);
+    (*dmargin_dp)(1, 7) = Scalar(0);
+    (*dmargin_dp)(1, 8) = Scalar(0);
+    (*dmargin_dp)(1, 9) = Scalar(0);
+    (*dmargin_dp)(2, 0) = Scalar(0);
+    (*dmargin_dp)(2, 1) = _tmp8;
+    (*dmargin_dp)(2, 2) = Scalar(0);
+    (*dmargin_dp)(2, 3) = Scalar(0);
+    (*dmargin_dp)(2, 4) = Scalar(0);
+    (*dmargin_dp)(2, 5) = Scalar(0);
+    (*dmargin_dp)(2, 6) = Scalar(0);
+    (*dmargin_dp)(2, 7) = Scalar(0);
+    (*dmargin_dp)(2, 8) = Scalar(0);
+    (*dmargin_dp)(2, 9) = Scalar(0);
+    (*dmargin_dp)(3, 0) = _tmp11;
+    (*dmargin_dp)(3, 1) = Scalar(0);
+    (*dmargin_dp)(3, 2) = Scalar(0);
+    (*dmargin_dp)(3, 3) = Scalar(0);
+    (*dmargin_dp)(3, 4) = Scalar(0);
+    (*dmargin_dp)(3, 5) = Scalar(0);
+    (*dmargin_dp)(3, 6) = Scalar(0);
+    (*dmargin_dp)(3, 7) = Scalar(0);
+    (*dmargin_dp)(3, 8) = Scalar(0);
+    (*dmargin_dp)(3, 9) = Scalar(0);
+    (*dmargin_dp)(4, 0) = -_tmp11;
+    (*dmargin_dp)(4, 1) = -_tmp8;
+    (*dmargin_dp)(4, 2) = _tmp5;
+    (*dmargin_dp)(4, 3) = _tmp2;
+    (*dmargin_dp)(4, 4) = Scalar(0);
+    (*dmargin_dp)(4, 5) = Scalar(0);
+    (*dmargin_dp)(4, 6) = Scalar(0);
+    (*dmargin_dp)(4, 7) = Scalar(0);
+    (*dmargin_dp)(4, 8) = Scalar(0);
+    (*dmargin_dp)(4, 9) = Scalar(0);
+    (*dmargin_dp)(5, 0) = Scalar(0);
+    (*dmargin_dp)(5, 1) = Scalar(0);
+    (*dmargin_dp)(5, 2) = Scalar(0);
+    (*dmargin_dp)(5, 3) = _tmp15;
+    (*dmargin_dp)(5, 4) = Scalar(0);
+    (*dmargin_dp)(5, 5) = Scalar(0);
+    (*dmargin_dp)(5, 6) = Scalar(0);
+    (*dmargin_dp)(5, 7) = Scalar(0);
+    (*dmargin_dp)(5, 8) = _tmp16;
+    (*dmargin_dp)(5, 9) = _tmp14*p.y6;
+    (*dmargin_dp)(6, 0) = Scalar(0);
+    (*dmargin_dp)(6, 1) = Scalar(0);
+    (*dmargin_dp)(6, 2) = Scalar(0);
+    (*dmargin_dp)(6, 3) = Scalar(0);
+    (*dmargin_dp)(6, 4) = Scalar(0);
+    (*dmargin_dp)(6, 5) = Scalar(0);
+    (*dmargin_dp)(6, 6) = Scalar(0);
+    (*dmargin_dp)(6, 7) = _tmp19;
+    (*dmargin_dp)(6, 8) = Scalar(0);
+    (*dmargin_dp)(6, 9) = Scalar(0);
+    (*dmargin_dp)(7, 0) = Scalar(0);
+    (*dmargin_dp)(7, 1) = Scalar(0);
+    (*dmargin_dp)(7, 2) = Scalar(0);
+    (*dmargin_dp)(7, 3) = Scalar(0);
+    (*dmargin_dp)(7, 4) = Scalar(0);
+    (*dmargin_dp)(7, 5) = Scalar(0);
+    (*dmargin_dp)(7, 6) = _tmp22;
+    (*dmargin_dp)(7, 7) = Scalar(0);
+    (*dmargin_dp)(7, 8) = Scalar(0);
+    (*dmargin_dp)(7, 9) = Scalar(0);
+    (*dmargin_dp)(8, 0) = Scalar(0);
+    (*dmargin_dp)(8, 1) = Scalar(0);
+    (*dmargin_dp)(8, 2) = Scalar(0);
+    (*dmargin_dp)(8, 3) = Scalar(0);
+    (*dmargin_dp)(8, 4) = _tmp31 + _tmp32;
+    (*dmargin_dp)(8, 5) = Scalar(0);
+    (*dmargin_dp)(8, 6) = Scalar(0);
+    (*dmargin_dp)(8, 7) = Scalar(0);
+    (*dmargin_dp)(8, 8) = Scalar(0);
+    (*dmargin_dp)(8, 9) = Scalar(0);
+    (*dmargin_dp)(9, 0) = Scalar(0);
+    (*dmargin_dp)(9, 1) = Scalar(0);
+    (*dmargin_dp)(9, 2) = Scalar(0);
+    (*dmargin_dp)(9, 3) = _tmp16;
+    (*dmargin_dp)(9, 4) = -_tmp31 - _tmp32;
+    (*dmargin_dp)(9, 5) = Scalar(0);
+    (*dmargin_dp)(9, 6) = _tmp22;
+    (*dmargin_dp)(9, 7) = _tmp19;
+    (*dmargin_dp)(9, 8) = _tmp15;
+    (*dmargin_dp)(9, 9) = -_tmp14*p.y6;
+  }
+}
+
+/**
  * \brief det Phi_phi: zero where the mechanism is singular (a dead point, a change point),
  * as the product of the blocks' determinants. Its sign is the assembly branch of a loop.
  * \param[in]  p            Parameters.
@@ -1344,6 +1518,9 @@ extern template void EvalDesignDerivatives<double>(const Params<double>&,
                                                    const Vec<double, Sizes::kNq>&,
                                                    const Vec<double, Sizes::kNphi>&,
                                                    DesignDerivatives<double>*);
+extern template void EvalDesignChecks<double>(const Params<double>&,
+                                              Vec<double, Sizes::kNumDesignChecks>*,
+                                              Out<Mat<double, Sizes::kNumDesignChecks, Sizes::kNumDesign>>);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                            const Vec<double, Sizes::kNq>&,
                                            const Vec<double, Sizes::kNphi>&,
@@ -1382,6 +1559,9 @@ extern template void EvalDesignDerivatives<float>(const Params<float>&,
                                                   const Vec<float, Sizes::kNq>&,
                                                   const Vec<float, Sizes::kNphi>&,
                                                   DesignDerivatives<float>*);
+extern template void EvalDesignChecks<float>(const Params<float>&,
+                                             Vec<float, Sizes::kNumDesignChecks>*,
+                                             Out<Mat<float, Sizes::kNumDesignChecks, Sizes::kNumDesign>>);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -1493,6 +1673,8 @@ struct Model : Sizes {
   /// The design parameters (`design`): EvalDesignDerivatives differentiates with respect to
   /// these Params members, in this order.
   static constexpr std::array<const char*, kNumDesign> kDesignNames{ "a", "b", "c", "g", "e", "beta", "f", "o", "x6", "y6" };
+  /// The design checks' margins (EvalDesignChecks), in order.
+  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{ "length_ground_loop0", "length_rocker_loop0", "length_coupler_loop0", "length_crank_loop0", "grashof_loop0", "length_ground_loop1", "length_output_loop1", "length_link5_loop1", "length_rocker_loop1", "grashof_loop1" };
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -1517,6 +1699,12 @@ struct Model : Sizes {
                      const Vec<Scalar, Sizes::kNphi>& phi,
                      DesignDerivatives<Scalar>* out) {
     EvalDesignDerivatives(p, q, phi, out);
+  }
+  template <typename Scalar>
+  static void DesignChecks(const Params<Scalar>& p,
+                           Vec<Scalar, Sizes::kNumDesignChecks>* margin,
+                           Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>> dmargin_dp = nullptr) {
+    EvalDesignChecks(p, margin, dmargin_dp);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,

@@ -51,6 +51,32 @@ FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTabl
   return f;
 }
 
+FunctionSpec EvalDesignChecksSpec(const DesignTable& dt) {
+  using Dir = Argument::Direction;
+  FunctionSpec f;
+  f.name = "EvalDesignChecks";
+  f.model_member = "DesignChecks";
+  f.doc = {"\\brief The design checks as signed margins of the parameters (>= 0 where the design is",
+           "acceptable) and their derivatives with respect to the design parameters: constraints for",
+           "synthesis. The generator checks the same at the parameters' defaults."};
+  for (size_t i = 0; i < dt.checks.size(); ++i)
+    f.doc.push_back("  margin(" + N(static_cast<int>(i)) + ") " + dt.checks[i].name + ": " + dt.checks[i].what);
+  f.args.push_back(Arg("const Params<Scalar>&", "p", Dir::kIn, "Parameters."));
+  f.args.push_back(Arg("Vec<Scalar, Sizes::kNumDesignChecks>*", "margin", Dir::kOut, "the margins; not nullptr.",
+                       "dim kNumDesignChecks"));
+  f.args.push_back(Arg("Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>>", "dmargin_dp", Dir::kOut,
+                       "d margin(i) / dp_d", "kNumDesignChecks x kNumDesign", true, "nullptr"));
+  for (const DesignCheck& c : dt.checks) f.design_checks.push_back(c.name);
+  Program P;
+  for (size_t i = 0; i < dt.checks.size(); ++i) {
+    P.push_back(Store("(*margin)(" + N(static_cast<int>(i)) + ")", dt.checks[i].margin));
+    for (int d = 0; d < dt.nd(); ++d)
+      P.push_back(Store("(*dmargin_dp)" + Idx(static_cast<int>(i), d), dt.checks[i].d[d], "dmargin_dp"));
+  }
+  f.body = {P};
+  return f;
+}
+
 FunctionSpec EvalStaticsDesignSpec(const Model& m, const StaticsTable& st, const DesignStatics& ds,
                                    CxxPrinter* printer) {
   using Dir = Argument::Direction;

@@ -55,6 +55,8 @@ struct FunctionSpec {
   int constants = 0;
   /// EvalSwitchModes: how many switching items it gives a mode of (Sizes::kNumSwitches).
   int switches = 0;
+  /// EvalDesignChecks: the names of its margins (Sizes::kNumDesignChecks, kDesignCheckNames).
+  std::vector<std::string> design_checks;
 };
 
 inline Argument Arg(const std::string& type,

@@ -543,6 +543,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   if (has_statics && (!statics->d2V_dq2.empty() || !statics->stiffness_q.empty())) out.push_back(EvalStiffnessSpec(m, *statics, printer));
   if (design != nullptr && design->nd() > 0) {
     out.push_back(EvalDesignDerivativesSpec(*design, t));
+    if (!design->checks.empty()) out.push_back(EvalDesignChecksSpec(*design));
     if (has_statics) {
       const DesignStatics ds(m, k, *statics, *design);
       if (ds.possible) out.push_back(EvalStaticsDesignSpec(m, *statics, ds, printer));

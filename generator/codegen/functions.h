@@ -76,6 +76,8 @@ FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter
 /// EvalDesignDerivatives (codegen/design_functions.cc, with a `design` section): dphi/dp, the
 /// points' dr_P/dp, dK/dp, dL/dp (the DesignDerivatives struct: codegen/output_spec.h).
 FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTable& t);
+/// EvalDesignChecks (codegen/design_functions.cc): the design checks' margins and their d/dp.
+FunctionSpec EvalDesignChecksSpec(const DesignTable& dt);
 /// EvalStaticsDesign (codegen/design_functions.cc): d/dp of Q, drive, V and the reactions (the
 /// StaticsDesign struct), reading EvalDesignDerivatives' output.
 FunctionSpec EvalStaticsDesignSpec(const Model& m, const StaticsTable& st, const DesignStatics& ds,

@@ -53,7 +53,8 @@ ex EarlierBlocks(const Kinematics& k, const std::vector<Block>& blocks, size_t b
 
 }  // namespace
 
-DesignTable::DesignTable(const Model& m, const SymbolicTable& t) {
+DesignTable::DesignTable(const Model& m, const SymbolicTable& t, const Topology* topo,
+                         const std::vector<FourBarLoop>* four_bars) {
   if (!m.design.any()) return;
   const Kinematics& k = t.kinematics();
   const std::vector<Block>& blocks = t.blocks;
@@ -235,6 +236,33 @@ DesignTable::DesignTable(const Model& m, const SymbolicTable& t) {
           }
       }
     }
+  // ---- Design checks: the four-bar loops' link lengths and Grashof margins ----
+  if (topo != nullptr && four_bars != nullptr)
+    for (size_t fi = 0; fi < four_bars->size(); ++fi) {
+      const FourBarLoop& f = (*four_bars)[fi];
+      const Loop& loop = topo->loops[f.loop];
+      const std::string tag = "loop" + N(static_cast<int>(fi));
+      ex length[4];
+      for (int i = 0; i < 4; ++i) {
+        const int link = loop.links[i];
+        const PointRef a = m.joints[loop.joints[(i + 3) % 4]].End(link), b = m.joints[loop.joints[i]].End(link);
+        const LinkPoint& pa = m.links[link].points[a.point];
+        const LinkPoint& pb = m.links[link].points[b.point];
+        length[i] = GiNaC::sqrt(GiNaC::pow(pb.x - pa.x, 2) + GiNaC::pow(pb.y - pa.y, 2));
+        checks.push_back({"length_" + f.links[i] + "_" + tag,
+                          "the length of link '" + f.links[i] + "' between its joints in four-bar " + tag + " (> 0)",
+                          length[i], {}});
+      }
+      // s, l, p, q as the defaults order them (ties by position in the loop).
+      int order[4] = {0, 1, 2, 3};
+      std::stable_sort(order, order + 4, [&f](int x, int y) { return f.lengths[x] < f.lengths[y]; });
+      checks.push_back({"grashof_" + tag,
+                        "Grashof's margin (p + q) - (s + l) of four-bar " + tag + ", s = '" + f.links[order[0]] +
+                            "', l = '" + f.links[order[3]] + "' as at the defaults: >= 0 where a link turns fully",
+                        length[order[1]] + length[order[2]] - length[order[0]] - length[order[3]], {}});
+    }
+  for (DesignCheck& c : checks)
+    for (int d = 0; d < n_d; ++d) c.d.push_back(c.margin.diff(p[d]));
 }
 
 }  // namespace mechgen

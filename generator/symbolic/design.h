@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "analysis/grashof.h"
+#include "analysis/topology.h"
 #include "model/model.h"
 #include "symbolic/dynamics.h"
 #include "symbolic/program.h"
@@ -30,10 +32,26 @@
 
 namespace mechgen {
 
+/// A design check (EvalDesignChecks): a signed margin of the parameters, >= 0 where the design
+/// is acceptable, with its derivatives: for synthesis, as a constraint.
+struct DesignCheck {
+  std::string name;  ///< "grashof_loop0", "length_crank_loop0"
+  std::string what;  ///< a sentence for the header
+  GiNaC::ex margin;  ///< in the parameters' symbols
+  std::vector<GiNaC::ex> d;  ///< d margin / dp_d
+};
+
 struct DesignTable {
   /// Derives what the table has (positions, K and L as requested, the points) with respect
-  /// to m.design's parameters. Empty (nd() == 0) without a design section.
-  DesignTable(const Model& m, const SymbolicTable& t);
+  /// to m.design's parameters, and the design checks of the four-bar loops (`four_bars` of
+  /// topology `topo`, may be null). Empty (nd() == 0) without a design section.
+  DesignTable(const Model& m, const SymbolicTable& t, const Topology* topo = nullptr,
+              const std::vector<FourBarLoop>* four_bars = nullptr);
+
+  /// Per four-bar loop: each link's length (> 0) and Grashof's margin (p + q) - (s + l), >= 0
+  /// for a Grashof loop (a link turns fully), with s, l, p, q taken as the parameters' defaults
+  /// order them (valid while that order holds).
+  std::vector<DesignCheck> checks;
 
   int nd() const { return static_cast<int>(p.size()); }
   bool has_K = false, has_L = false;

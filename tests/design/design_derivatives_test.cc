@@ -214,7 +214,49 @@ TYPED_TEST(DesignDerivativesTest, AgreesWithRichardsonDifferences) {
   this->RecordProperty("worst_relative_error", mechtest::Sci(worst));
 }
 
+// The design checks' derivatives against central differences of their margins (a model with
+// four-bar loops: kNumDesignChecks > 0).
+TYPED_TEST(DesignDerivativesTest, DesignCheckDerivativesAreDifferencesOfTheMargins) {
+  using M = TypeParam;
+  if constexpr (M::kNumDesignChecks > 0) {
+    Eigen::Matrix<double, M::kNumDesignChecks, 1> margin, plus, minus;
+    Eigen::Matrix<double, M::kNumDesignChecks, M::kNumDesign> dm;
+    M::DesignChecks(this->p_, &margin, &dm);
+    for (int d = 0; d < M::kNumDesign; ++d) {
+      ParamsD<M> pp = this->p_, pm = this->p_;
+      const double v = DesignParam<M>(&pp, d), h = 1e-6 * Rel(v);
+      DesignParam<M>(&pp, d) = v + h;
+      DesignParam<M>(&pm, d) = v - h;
+      M::DesignChecks(pp, &plus);
+      M::DesignChecks(pm, &minus);
+      for (int i = 0; i < M::kNumDesignChecks; ++i)
+        EXPECT_NEAR(dm(i, d), (plus(i) - minus(i)) / (2 * h), 1e-8) << M::kDesignCheckNames[i] << " / " << M::kDesignNames[d];
+    }
+  } else {
+    GTEST_SKIP() << M::kName << " has no four-bar loop";
+  }
+}
+
 // ---- Hand formulas ----
+
+// The four-bar's checks: its link lengths a, b, c, d, and Grashof's margin with s = a (crank),
+// l = d (ground): (b + c) - (a + d) = 1.5 at the defaults, derivatives -1, +1, +1, -1.
+TEST(DesignHandFormulas, FourBarGrashofMargin) {
+  using M = mech::fourbar::Model;
+  ParamsD<M> p;
+  Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
+  Eigen::Matrix<double, M::kNumDesignChecks, M::kNumDesign> dm;
+  M::DesignChecks(p, &margin, &dm);
+  ASSERT_EQ(M::kNumDesignChecks, 5);
+  ASSERT_STREQ(M::kDesignCheckNames[4], "grashof_loop0");
+  EXPECT_NEAR(margin(4), (p.b + p.c) - (p.a + p.d), 1e-15);
+  const double expected[6] = {-1, 1, 1, -1, 0, 0};  // a, b, c, d, xi, eta
+  for (int d = 0; d < 6; ++d) EXPECT_NEAR(dm(4, d), expected[d], 1e-15) << M::kDesignNames[d];
+  for (int i = 0; i < 4; ++i) EXPECT_GT(margin(i), 0) << M::kDesignCheckNames[i];
+  p.b = 2.0;  // (2 + 3) - (1 + 4) = 0: a change point
+  M::DesignChecks(p, &margin);
+  EXPECT_NEAR(margin(4), 0.0, 1e-15);
+}
 
 // Four-bar a u2 + b u3 - c u4 - d e_x = 0 (u_k = (cos theta_k, sin theta_k)). Differentiated
 // with respect to a parameter at fixed theta_2: b n3 dtheta_3 - c n4 dtheta_4 = -w, n_k = u_k
