@@ -27,7 +27,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalDesignDerivatives 378 (adds 128, muls 243, divs 1, calls 6); EvalDesignChecks 23 (adds 3, muls 8, divs 4, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalDesignDerivatives 500 (adds 153, muls 338, divs 2, calls 7); EvalDesignChecks 23 (adds 3, muls 8, divs 4, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -163,6 +163,9 @@ struct DesignDerivatives {
   Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign> dL_dp;
   /// dL_P_dp(2m + a, j + kNq*k + kNq^2*d) = dL_P(2m + a, j + kNq*k)/dp_d (L_P's unit per unit of p_d).  (2 kNumPoints x kNq^2 kNumDesign)
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign> dL_P_dp;
+  /// dmu_dp(i, d) = d mu_i/dp_d of the transmission angles (EvalTransmissionAngles), NaN at a
+  /// toggle (rad per unit of p_d).  (kNumTransmissionAngles x kNumDesign)
+  Mat<Scalar, Sizes::kNumTransmissionAngles, Sizes::kNumDesign> dmu_dp;
 };
 
 /// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
@@ -354,7 +357,8 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
                            const Vec<Scalar, Sizes::kNq>& q,
                            const Vec<Scalar, Sizes::kNphi>& phi,
                            DesignDerivatives<Scalar>* out) {
-  // Total ops: 378 (adds 128, muls 243, divs 1, calls 6); intermediate terms: 27
+  // Total ops: 500 (adds 153, muls 338, divs 2, calls 7); intermediate terms: 35
+  using std::abs;
   using std::cos;
   using std::sin;
   const Scalar _tmp0 = sin(phi(0));
@@ -463,7 +467,22 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
   const Scalar dchain_21 = -L_0_0_0*_tmp0*p.xi - L_0_0_0*_tmp2*p.eta + _tmp0*_tmp13*p.eta - _tmp13*_tmp2*p.xi;
   const Scalar dchain_22 = -Scalar(2)*_tmp24 - Scalar(2)*_tmp25;
   const Scalar dchain_23 = _tmp23;
-  const Scalar _tmp26 = _tmp17 + _tmp18;
+  const Scalar _tmp26 = _tmp0*_tmp3*p.b*p.c;
+  const Scalar _tmp27 = _tmp1*_tmp2*p.b*p.c;
+  const Scalar _tmp28 = -_tmp26 + _tmp27;
+  const Scalar cross_0 = _tmp28;
+  const Scalar _tmp29 = _tmp2*_tmp3*p.b*p.c;
+  const Scalar _tmp30 = _tmp0*_tmp1*p.b*p.c;
+  const Scalar _tmp31 = _tmp29 + _tmp30;
+  const Scalar dot_0 = _tmp31;
+  const Scalar dchain_24 = -_tmp29 - _tmp30;
+  const Scalar dchain_25 = _tmp31;
+  const Scalar dchain_26 = _tmp28;
+  const Scalar dchain_27 = _tmp26 - _tmp27;
+  const Scalar _tmp32 = cross_0*cross_0 + dot_0*dot_0;
+  const Scalar _tmp33 = abs(cross_0);
+  const Scalar dmu_scale_0 = cross_0/(_tmp32*_tmp33);
+  const Scalar _tmp34 = _tmp17 + _tmp18;
   out->dphi_dp(0, 0) = dphi_dp_0_a;
   out->dphi_dp(0, 1) = dphi_dp_0_b;
   out->dphi_dp(0, 2) = dphi_dp_0_c;
@@ -516,7 +535,7 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
   out->dL_P_dp(0, 1) = dK_dp_0_0_b*dchain_16 + dL_dp_0_0_0_b*dchain_17 + dchain_15*dphi_dp_0_b;
   out->dL_P_dp(0, 2) = dK_dp_0_0_c*dchain_16 + dL_dp_0_0_0_c*dchain_17 + dchain_15*dphi_dp_0_c;
   out->dL_P_dp(0, 3) = dK_dp_0_0_d*dchain_16 + dL_dp_0_0_0_d*dchain_17 + dchain_15*dphi_dp_0_d;
-  out->dL_P_dp(0, 4) = _tmp26;
+  out->dL_P_dp(0, 4) = _tmp34;
   out->dL_P_dp(0, 5) = -L_0_0_0*_tmp2 + _tmp0*_tmp13;
   out->dr_P_dp(1, 0) = _tmp5 + dchain_18*dphi_dp_0_a;
   out->dr_P_dp(1, 1) = dchain_18*dphi_dp_0_b;
@@ -535,7 +554,13 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
   out->dL_P_dp(1, 2) = dK_dp_0_0_c*dchain_22 + dL_dp_0_0_0_c*dchain_23 + dchain_21*dphi_dp_0_c;
   out->dL_P_dp(1, 3) = dK_dp_0_0_d*dchain_22 + dL_dp_0_0_0_d*dchain_23 + dchain_21*dphi_dp_0_d;
   out->dL_P_dp(1, 4) = L_0_0_0*_tmp2 + _tmp19;
-  out->dL_P_dp(1, 5) = _tmp26;
+  out->dL_P_dp(1, 5) = _tmp34;
+  out->dmu_dp(0, 0) = -cross_0*dchain_26*dmu_scale_0*dphi_dp_0_a - cross_0*dchain_27*dmu_scale_0*dphi_dp_1_a + dchain_24*dmu_scale_0*dot_0*dphi_dp_0_a + dchain_25*dmu_scale_0*dot_0*dphi_dp_1_a;
+  out->dmu_dp(0, 1) = -_tmp0*_tmp1*cross_0*dmu_scale_0*p.c - _tmp0*_tmp3*dmu_scale_0*dot_0*p.c + _tmp1*_tmp2*dmu_scale_0*dot_0*p.c - _tmp2*_tmp3*cross_0*dmu_scale_0*p.c - cross_0*dchain_26*dmu_scale_0*dphi_dp_0_b - cross_0*dchain_27*dmu_scale_0*dphi_dp_1_b + dchain_24*dmu_scale_0*dot_0*dphi_dp_0_b + dchain_25*dmu_scale_0*dot_0*dphi_dp_1_b;
+  out->dmu_dp(0, 2) = -_tmp0*_tmp1*cross_0*dmu_scale_0*p.b - _tmp0*_tmp3*dmu_scale_0*dot_0*p.b + _tmp1*_tmp2*dmu_scale_0*dot_0*p.b - _tmp2*_tmp3*cross_0*dmu_scale_0*p.b - cross_0*dchain_26*dmu_scale_0*dphi_dp_0_c - cross_0*dchain_27*dmu_scale_0*dphi_dp_1_c + dchain_24*dmu_scale_0*dot_0*dphi_dp_0_c + dchain_25*dmu_scale_0*dot_0*dphi_dp_1_c;
+  out->dmu_dp(0, 3) = -cross_0*dchain_26*dmu_scale_0*dphi_dp_0_d - cross_0*dchain_27*dmu_scale_0*dphi_dp_1_d + dchain_24*dmu_scale_0*dot_0*dphi_dp_0_d + dchain_25*dmu_scale_0*dot_0*dphi_dp_1_d;
+  out->dmu_dp(0, 4) = Scalar(0);
+  out->dmu_dp(0, 5) = Scalar(0);
 }
 
 /**

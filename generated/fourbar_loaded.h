@@ -27,7 +27,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 185 (adds 54, muls 122, divs 2, calls 7); EvalStiffness 4686 (adds 982, muls 3693, divs 3, calls 8); EvalDesignDerivatives 378 (adds 128, muls 243, divs 1, calls 6); EvalDesignChecks 23 (adds 3, muls 8, divs 4, calls 8); EvalStaticsDesign 657 (adds 206, muls 438, divs 5, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 185 (adds 54, muls 122, divs 2, calls 7); EvalStiffness 4686 (adds 982, muls 3693, divs 3, calls 8); EvalDesignDerivatives 500 (adds 153, muls 338, divs 2, calls 7); EvalDesignChecks 23 (adds 3, muls 8, divs 4, calls 8); EvalStaticsDesign 657 (adds 206, muls 438, divs 5, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -228,6 +228,9 @@ struct DesignDerivatives {
   Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign> dL_dp;
   /// dL_P_dp(2m + a, j + kNq*k + kNq^2*d) = dL_P(2m + a, j + kNq*k)/dp_d (L_P's unit per unit of p_d).  (2 kNumPoints x kNq^2 kNumDesign)
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign> dL_P_dp;
+  /// dmu_dp(i, d) = d mu_i/dp_d of the transmission angles (EvalTransmissionAngles), NaN at a
+  /// toggle (rad per unit of p_d).  (kNumTransmissionAngles x kNumDesign)
+  Mat<Scalar, Sizes::kNumTransmissionAngles, Sizes::kNumDesign> dmu_dp;
 };
 
 /// What EvalStaticsDesign() fills: the derivatives of the statics (Statics) with respect to the
@@ -1063,7 +1066,8 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
                            const Vec<Scalar, Sizes::kNq>& q,
                            const Vec<Scalar, Sizes::kNphi>& phi,
                            DesignDerivatives<Scalar>* out) {
-  // Total ops: 378 (adds 128, muls 243, divs 1, calls 6); intermediate terms: 27
+  // Total ops: 500 (adds 153, muls 338, divs 2, calls 7); intermediate terms: 35
+  using std::abs;
   using std::cos;
   using std::sin;
   const Scalar _tmp0 = sin(phi(0));
@@ -1172,7 +1176,22 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
   const Scalar dchain_21 = -L_0_0_0*_tmp0*p.xi - L_0_0_0*_tmp2*p.eta + _tmp0*_tmp13*p.eta - _tmp13*_tmp2*p.xi;
   const Scalar dchain_22 = -Scalar(2)*_tmp24 - Scalar(2)*_tmp25;
   const Scalar dchain_23 = _tmp23;
-  const Scalar _tmp26 = _tmp17 + _tmp18;
+  const Scalar _tmp26 = _tmp0*_tmp3*p.b*p.c;
+  const Scalar _tmp27 = _tmp1*_tmp2*p.b*p.c;
+  const Scalar _tmp28 = -_tmp26 + _tmp27;
+  const Scalar cross_0 = _tmp28;
+  const Scalar _tmp29 = _tmp2*_tmp3*p.b*p.c;
+  const Scalar _tmp30 = _tmp0*_tmp1*p.b*p.c;
+  const Scalar _tmp31 = _tmp29 + _tmp30;
+  const Scalar dot_0 = _tmp31;
+  const Scalar dchain_24 = -_tmp29 - _tmp30;
+  const Scalar dchain_25 = _tmp31;
+  const Scalar dchain_26 = _tmp28;
+  const Scalar dchain_27 = _tmp26 - _tmp27;
+  const Scalar _tmp32 = cross_0*cross_0 + dot_0*dot_0;
+  const Scalar _tmp33 = abs(cross_0);
+  const Scalar dmu_scale_0 = cross_0/(_tmp32*_tmp33);
+  const Scalar _tmp34 = _tmp17 + _tmp18;
   out->dphi_dp(0, 0) = dphi_dp_0_a;
   out->dphi_dp(0, 1) = dphi_dp_0_b;
   out->dphi_dp(0, 2) = dphi_dp_0_c;
@@ -1241,7 +1260,7 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
   out->dL_P_dp(0, 1) = dK_dp_0_0_b*dchain_16 + dL_dp_0_0_0_b*dchain_17 + dchain_15*dphi_dp_0_b;
   out->dL_P_dp(0, 2) = dK_dp_0_0_c*dchain_16 + dL_dp_0_0_0_c*dchain_17 + dchain_15*dphi_dp_0_c;
   out->dL_P_dp(0, 3) = dK_dp_0_0_d*dchain_16 + dL_dp_0_0_0_d*dchain_17 + dchain_15*dphi_dp_0_d;
-  out->dL_P_dp(0, 4) = _tmp26;
+  out->dL_P_dp(0, 4) = _tmp34;
   out->dL_P_dp(0, 5) = -L_0_0_0*_tmp2 + _tmp0*_tmp13;
   out->dL_P_dp(0, 6) = Scalar(0);
   out->dL_P_dp(0, 7) = Scalar(0);
@@ -1266,9 +1285,17 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
   out->dL_P_dp(1, 2) = dK_dp_0_0_c*dchain_22 + dL_dp_0_0_0_c*dchain_23 + dchain_21*dphi_dp_0_c;
   out->dL_P_dp(1, 3) = dK_dp_0_0_d*dchain_22 + dL_dp_0_0_0_d*dchain_23 + dchain_21*dphi_dp_0_d;
   out->dL_P_dp(1, 4) = L_0_0_0*_tmp2 + _tmp19;
-  out->dL_P_dp(1, 5) = _tmp26;
+  out->dL_P_dp(1, 5) = _tmp34;
   out->dL_P_dp(1, 6) = Scalar(0);
   out->dL_P_dp(1, 7) = Scalar(0);
+  out->dmu_dp(0, 0) = -cross_0*dchain_26*dmu_scale_0*dphi_dp_0_a - cross_0*dchain_27*dmu_scale_0*dphi_dp_1_a + dchain_24*dmu_scale_0*dot_0*dphi_dp_0_a + dchain_25*dmu_scale_0*dot_0*dphi_dp_1_a;
+  out->dmu_dp(0, 1) = -_tmp0*_tmp1*cross_0*dmu_scale_0*p.c - _tmp0*_tmp3*dmu_scale_0*dot_0*p.c + _tmp1*_tmp2*dmu_scale_0*dot_0*p.c - _tmp2*_tmp3*cross_0*dmu_scale_0*p.c - cross_0*dchain_26*dmu_scale_0*dphi_dp_0_b - cross_0*dchain_27*dmu_scale_0*dphi_dp_1_b + dchain_24*dmu_scale_0*dot_0*dphi_dp_0_b + dchain_25*dmu_scale_0*dot_0*dphi_dp_1_b;
+  out->dmu_dp(0, 2) = -_tmp0*_tmp1*cross_0*dmu_scale_0*p.b - _tmp0*_tmp3*dmu_scale_0*dot_0*p.b + _tmp1*_tmp2*dmu_scale_0*dot_0*p.b - _tmp2*_tmp3*cross_0*dmu_scale_0*p.b - cross_0*dchain_26*dmu_scale_0*dphi_dp_0_c - cross_0*dchain_27*dmu_scale_0*dphi_dp_1_c + dchain_24*dmu_scale_0*dot_0*dphi_dp_0_c + dchain_25*dmu_scale_0*dot_0*dphi_dp_1_c;
+  out->dmu_dp(0, 3) = -cross_0*dchain_26*dmu_scale_0*dphi_dp_0_d - cross_0*dchain_27*dmu_scale_0*dphi_dp_1_d + dchain_24*dmu_scale_0*dot_0*dphi_dp_0_d + dchain_25*dmu_scale_0*dot_0*dphi_dp_1_d;
+  out->dmu_dp(0, 4) = Scalar(0);
+  out->dmu_dp(0, 5) = Scalar(0);
+  out->dmu_dp(0, 6) = Scalar(0);
+  out->dmu_dp(0, 7) = Scalar(0);
 }
 
 /**
@@ -1427,29 +1454,29 @@ void EvalStaticsDesign(const Params<Scalar>& p,
   const Scalar d_t_spring_eta = d_length_spring_eta*dstatics_chain_4;
   const Scalar d_t_spring_k = Scalar(1) - _tmp6*p.L0;
   const Scalar d_t_spring_F0 = _tmp6;
-  const Scalar dstatics_chain_5 = -_tmp3*dy_spring*p.a + _tmp4*dx_spring*p.a;
-  const Scalar dstatics_chain_6 = _tmp4*p.a*t_spring;
-  const Scalar dstatics_chain_7 = -_tmp3*p.a*t_spring;
-  const Scalar d_g_0_a = -Scalar(0.5)*_tmp3*p.g*p.m1 - _tmp3*dy_spring*t_spring + _tmp3*p.Fy - _tmp3*p.g*p.m2 + _tmp4*dx_spring*t_spring - _tmp4*p.Fx + d_dx_spring_a*dstatics_chain_6 + d_dy_spring_a*dstatics_chain_7 + d_t_spring_a*dstatics_chain_5;
-  const Scalar d_g_0_b = d_dx_spring_b*dstatics_chain_6 + d_dy_spring_b*dstatics_chain_7 + d_t_spring_b*dstatics_chain_5;
-  const Scalar d_g_0_c = d_dx_spring_c*dstatics_chain_6 + d_dy_spring_c*dstatics_chain_7 + d_t_spring_c*dstatics_chain_5;
-  const Scalar d_g_0_d = d_dx_spring_d*dstatics_chain_6 + d_dy_spring_d*dstatics_chain_7 + d_t_spring_d*dstatics_chain_5;
-  const Scalar d_g_0_xi = d_dx_spring_xi*dstatics_chain_6 + d_dy_spring_xi*dstatics_chain_7 + d_t_spring_xi*dstatics_chain_5;
-  const Scalar d_g_0_eta = d_dx_spring_eta*dstatics_chain_6 + d_dy_spring_eta*dstatics_chain_7 + d_t_spring_eta*dstatics_chain_5;
-  const Scalar d_g_0_k = d_t_spring_k*dstatics_chain_5;
-  const Scalar d_g_0_F0 = d_t_spring_F0*dstatics_chain_5;
-  const Scalar dstatics_chain_8 = Scalar(0.5)*_tmp0*p.b*p.g*p.m2 - _tmp0*dx_spring*p.eta*t_spring + _tmp0*dy_spring*p.xi*t_spring + _tmp0*p.Fx*p.eta - _tmp0*p.Fy*p.xi + _tmp2*dx_spring*p.xi*t_spring + _tmp2*dy_spring*p.eta*t_spring - _tmp2*p.Fx*p.xi - _tmp2*p.Fy*p.eta;
-  const Scalar dstatics_chain_9 = _tmp0*dx_spring*p.xi + _tmp0*dy_spring*p.eta + _tmp2*dx_spring*p.eta - _tmp2*dy_spring*p.xi;
-  const Scalar dstatics_chain_10 = _tmp0*p.xi*t_spring + _tmp2*p.eta*t_spring;
-  const Scalar dstatics_chain_11 = _tmp0*p.eta*t_spring - _tmp2*p.xi*t_spring;
-  const Scalar d_g_1_a = d_dx_spring_a*dstatics_chain_10 + d_dy_spring_a*dstatics_chain_11 + d_t_spring_a*dstatics_chain_9 + dc.dphi_dp(0, 0)*dstatics_chain_8;
-  const Scalar d_g_1_b = -Scalar(0.5)*_tmp2*p.g*p.m2 + d_dx_spring_b*dstatics_chain_10 + d_dy_spring_b*dstatics_chain_11 + d_t_spring_b*dstatics_chain_9 + dc.dphi_dp(0, 1)*dstatics_chain_8;
-  const Scalar d_g_1_c = d_dx_spring_c*dstatics_chain_10 + d_dy_spring_c*dstatics_chain_11 + d_t_spring_c*dstatics_chain_9 + dc.dphi_dp(0, 2)*dstatics_chain_8;
-  const Scalar d_g_1_d = d_dx_spring_d*dstatics_chain_10 + d_dy_spring_d*dstatics_chain_11 + d_t_spring_d*dstatics_chain_9 + dc.dphi_dp(0, 3)*dstatics_chain_8;
-  const Scalar d_g_1_xi = _tmp0*dx_spring*t_spring - _tmp0*p.Fx - _tmp2*dy_spring*t_spring + _tmp2*p.Fy + d_dx_spring_xi*dstatics_chain_10 + d_dy_spring_xi*dstatics_chain_11 + d_t_spring_xi*dstatics_chain_9;
-  const Scalar d_g_1_eta = _tmp0*dy_spring*t_spring - _tmp0*p.Fy + _tmp2*dx_spring*t_spring - _tmp2*p.Fx + d_dx_spring_eta*dstatics_chain_10 + d_dy_spring_eta*dstatics_chain_11 + d_t_spring_eta*dstatics_chain_9;
-  const Scalar d_g_1_k = d_t_spring_k*dstatics_chain_9;
-  const Scalar d_g_1_F0 = d_t_spring_F0*dstatics_chain_9;
+  const Scalar dstatics_chain_5 = _tmp4*p.a*t_spring;
+  const Scalar dstatics_chain_6 = -_tmp3*p.a*t_spring;
+  const Scalar dstatics_chain_7 = -_tmp3*dy_spring*p.a + _tmp4*dx_spring*p.a;
+  const Scalar d_g_0_a = -Scalar(0.5)*_tmp3*p.g*p.m1 - _tmp3*dy_spring*t_spring + _tmp3*p.Fy - _tmp3*p.g*p.m2 + _tmp4*dx_spring*t_spring - _tmp4*p.Fx + d_dx_spring_a*dstatics_chain_5 + d_dy_spring_a*dstatics_chain_6 + d_t_spring_a*dstatics_chain_7;
+  const Scalar d_g_0_b = d_dx_spring_b*dstatics_chain_5 + d_dy_spring_b*dstatics_chain_6 + d_t_spring_b*dstatics_chain_7;
+  const Scalar d_g_0_c = d_dx_spring_c*dstatics_chain_5 + d_dy_spring_c*dstatics_chain_6 + d_t_spring_c*dstatics_chain_7;
+  const Scalar d_g_0_d = d_dx_spring_d*dstatics_chain_5 + d_dy_spring_d*dstatics_chain_6 + d_t_spring_d*dstatics_chain_7;
+  const Scalar d_g_0_xi = d_dx_spring_xi*dstatics_chain_5 + d_dy_spring_xi*dstatics_chain_6 + d_t_spring_xi*dstatics_chain_7;
+  const Scalar d_g_0_eta = d_dx_spring_eta*dstatics_chain_5 + d_dy_spring_eta*dstatics_chain_6 + d_t_spring_eta*dstatics_chain_7;
+  const Scalar d_g_0_k = d_t_spring_k*dstatics_chain_7;
+  const Scalar d_g_0_F0 = d_t_spring_F0*dstatics_chain_7;
+  const Scalar dstatics_chain_8 = _tmp0*p.xi*t_spring + _tmp2*p.eta*t_spring;
+  const Scalar dstatics_chain_9 = _tmp0*p.eta*t_spring - _tmp2*p.xi*t_spring;
+  const Scalar dstatics_chain_10 = Scalar(0.5)*_tmp0*p.b*p.g*p.m2 - _tmp0*dx_spring*p.eta*t_spring + _tmp0*dy_spring*p.xi*t_spring + _tmp0*p.Fx*p.eta - _tmp0*p.Fy*p.xi + _tmp2*dx_spring*p.xi*t_spring + _tmp2*dy_spring*p.eta*t_spring - _tmp2*p.Fx*p.xi - _tmp2*p.Fy*p.eta;
+  const Scalar dstatics_chain_11 = _tmp0*dx_spring*p.xi + _tmp0*dy_spring*p.eta + _tmp2*dx_spring*p.eta - _tmp2*dy_spring*p.xi;
+  const Scalar d_g_1_a = d_dx_spring_a*dstatics_chain_8 + d_dy_spring_a*dstatics_chain_9 + d_t_spring_a*dstatics_chain_11 + dc.dphi_dp(0, 0)*dstatics_chain_10;
+  const Scalar d_g_1_b = -Scalar(0.5)*_tmp2*p.g*p.m2 + d_dx_spring_b*dstatics_chain_8 + d_dy_spring_b*dstatics_chain_9 + d_t_spring_b*dstatics_chain_11 + dc.dphi_dp(0, 1)*dstatics_chain_10;
+  const Scalar d_g_1_c = d_dx_spring_c*dstatics_chain_8 + d_dy_spring_c*dstatics_chain_9 + d_t_spring_c*dstatics_chain_11 + dc.dphi_dp(0, 2)*dstatics_chain_10;
+  const Scalar d_g_1_d = d_dx_spring_d*dstatics_chain_8 + d_dy_spring_d*dstatics_chain_9 + d_t_spring_d*dstatics_chain_11 + dc.dphi_dp(0, 3)*dstatics_chain_10;
+  const Scalar d_g_1_xi = _tmp0*dx_spring*t_spring - _tmp0*p.Fx - _tmp2*dy_spring*t_spring + _tmp2*p.Fy + d_dx_spring_xi*dstatics_chain_8 + d_dy_spring_xi*dstatics_chain_9 + d_t_spring_xi*dstatics_chain_11;
+  const Scalar d_g_1_eta = _tmp0*dy_spring*t_spring - _tmp0*p.Fy + _tmp2*dx_spring*t_spring - _tmp2*p.Fx + d_dx_spring_eta*dstatics_chain_8 + d_dy_spring_eta*dstatics_chain_9 + d_t_spring_eta*dstatics_chain_11;
+  const Scalar d_g_1_k = d_t_spring_k*dstatics_chain_11;
+  const Scalar d_g_1_F0 = d_t_spring_F0*dstatics_chain_11;
   const Scalar _tmp12 = sin(phi(1));
   const Scalar dstatics_chain_12 = Scalar(0.5)*_tmp12*p.c*p.g*p.m3;
   const Scalar d_g_2_a = dc.dphi_dp(1, 0)*dstatics_chain_12;
@@ -1475,32 +1502,32 @@ void EvalStaticsDesign(const Params<Scalar>& p,
   const Scalar d_inv_detT_block0_b = d_detT_block0_b*dstatics_chain_15;
   const Scalar d_inv_detT_block0_c = d_detT_block0_c*dstatics_chain_15;
   const Scalar d_inv_detT_block0_d = d_detT_block0_d*dstatics_chain_15;
-  const Scalar dstatics_chain_16 = -c.Phi_phi(1, 1)*inv_detT_block0;
-  const Scalar dstatics_chain_17 = g_2*inv_detT_block0;
-  const Scalar dstatics_chain_18 = c.Phi_phi(1, 0)*inv_detT_block0;
-  const Scalar dstatics_chain_19 = c.Phi_phi(1, 0)*g_2 - c.Phi_phi(1, 1)*g_1;
-  const Scalar dstatics_chain_20 = -g_1*inv_detT_block0;
-  const Scalar d_lambda_0_a = -_tmp0*dc.dphi_dp(0, 0)*dstatics_chain_17*p.b + _tmp12*dc.dphi_dp(1, 0)*dstatics_chain_20*p.c + d_g_1_a*dstatics_chain_16 + d_g_2_a*dstatics_chain_18 + d_inv_detT_block0_a*dstatics_chain_19;
-  const Scalar d_lambda_0_b = -_tmp0*dc.dphi_dp(0, 1)*dstatics_chain_17*p.b + _tmp12*dc.dphi_dp(1, 1)*dstatics_chain_20*p.c + _tmp2*dstatics_chain_17 + d_g_1_b*dstatics_chain_16 + d_g_2_b*dstatics_chain_18 + d_inv_detT_block0_b*dstatics_chain_19;
-  const Scalar d_lambda_0_c = -_tmp0*dc.dphi_dp(0, 2)*dstatics_chain_17*p.b + _tmp12*dc.dphi_dp(1, 2)*dstatics_chain_20*p.c - _tmp8*dstatics_chain_20 + d_g_1_c*dstatics_chain_16 + d_g_2_c*dstatics_chain_18 + d_inv_detT_block0_c*dstatics_chain_19;
-  const Scalar d_lambda_0_d = -_tmp0*dc.dphi_dp(0, 3)*dstatics_chain_17*p.b + _tmp12*dc.dphi_dp(1, 3)*dstatics_chain_20*p.c + d_g_1_d*dstatics_chain_16 + d_g_2_d*dstatics_chain_18 + d_inv_detT_block0_d*dstatics_chain_19;
-  const Scalar d_lambda_0_xi = d_g_1_xi*dstatics_chain_16;
-  const Scalar d_lambda_0_eta = d_g_1_eta*dstatics_chain_16;
-  const Scalar d_lambda_0_k = d_g_1_k*dstatics_chain_16;
-  const Scalar d_lambda_0_F0 = d_g_1_F0*dstatics_chain_16;
-  const Scalar dstatics_chain_21 = c.Phi_phi(0, 1)*inv_detT_block0;
-  const Scalar dstatics_chain_22 = -c.Phi_phi(0, 0)*inv_detT_block0;
-  const Scalar dstatics_chain_23 = -c.Phi_phi(0, 0)*g_2 + c.Phi_phi(0, 1)*g_1;
-  const Scalar dstatics_chain_24 = g_1*inv_detT_block0;
-  const Scalar dstatics_chain_25 = -g_2*inv_detT_block0;
-  const Scalar d_lambda_1_a = -_tmp2*dc.dphi_dp(0, 0)*dstatics_chain_25*p.b + _tmp8*dc.dphi_dp(1, 0)*dstatics_chain_24*p.c + d_g_1_a*dstatics_chain_21 + d_g_2_a*dstatics_chain_22 + d_inv_detT_block0_a*dstatics_chain_23;
-  const Scalar d_lambda_1_b = -_tmp0*dstatics_chain_25 - _tmp2*dc.dphi_dp(0, 1)*dstatics_chain_25*p.b + _tmp8*dc.dphi_dp(1, 1)*dstatics_chain_24*p.c + d_g_1_b*dstatics_chain_21 + d_g_2_b*dstatics_chain_22 + d_inv_detT_block0_b*dstatics_chain_23;
-  const Scalar d_lambda_1_c = _tmp12*dstatics_chain_24 - _tmp2*dc.dphi_dp(0, 2)*dstatics_chain_25*p.b + _tmp8*dc.dphi_dp(1, 2)*dstatics_chain_24*p.c + d_g_1_c*dstatics_chain_21 + d_g_2_c*dstatics_chain_22 + d_inv_detT_block0_c*dstatics_chain_23;
-  const Scalar d_lambda_1_d = -_tmp2*dc.dphi_dp(0, 3)*dstatics_chain_25*p.b + _tmp8*dc.dphi_dp(1, 3)*dstatics_chain_24*p.c + d_g_1_d*dstatics_chain_21 + d_g_2_d*dstatics_chain_22 + d_inv_detT_block0_d*dstatics_chain_23;
-  const Scalar d_lambda_1_xi = d_g_1_xi*dstatics_chain_21;
-  const Scalar d_lambda_1_eta = d_g_1_eta*dstatics_chain_21;
-  const Scalar d_lambda_1_k = d_g_1_k*dstatics_chain_21;
-  const Scalar d_lambda_1_F0 = d_g_1_F0*dstatics_chain_21;
+  const Scalar dstatics_chain_16 = -g_1*inv_detT_block0;
+  const Scalar dstatics_chain_17 = -c.Phi_phi(1, 1)*inv_detT_block0;
+  const Scalar dstatics_chain_18 = g_2*inv_detT_block0;
+  const Scalar dstatics_chain_19 = c.Phi_phi(1, 0)*inv_detT_block0;
+  const Scalar dstatics_chain_20 = c.Phi_phi(1, 0)*g_2 - c.Phi_phi(1, 1)*g_1;
+  const Scalar d_lambda_0_a = -_tmp0*dc.dphi_dp(0, 0)*dstatics_chain_18*p.b + _tmp12*dc.dphi_dp(1, 0)*dstatics_chain_16*p.c + d_g_1_a*dstatics_chain_17 + d_g_2_a*dstatics_chain_19 + d_inv_detT_block0_a*dstatics_chain_20;
+  const Scalar d_lambda_0_b = -_tmp0*dc.dphi_dp(0, 1)*dstatics_chain_18*p.b + _tmp12*dc.dphi_dp(1, 1)*dstatics_chain_16*p.c + _tmp2*dstatics_chain_18 + d_g_1_b*dstatics_chain_17 + d_g_2_b*dstatics_chain_19 + d_inv_detT_block0_b*dstatics_chain_20;
+  const Scalar d_lambda_0_c = -_tmp0*dc.dphi_dp(0, 2)*dstatics_chain_18*p.b + _tmp12*dc.dphi_dp(1, 2)*dstatics_chain_16*p.c - _tmp8*dstatics_chain_16 + d_g_1_c*dstatics_chain_17 + d_g_2_c*dstatics_chain_19 + d_inv_detT_block0_c*dstatics_chain_20;
+  const Scalar d_lambda_0_d = -_tmp0*dc.dphi_dp(0, 3)*dstatics_chain_18*p.b + _tmp12*dc.dphi_dp(1, 3)*dstatics_chain_16*p.c + d_g_1_d*dstatics_chain_17 + d_g_2_d*dstatics_chain_19 + d_inv_detT_block0_d*dstatics_chain_20;
+  const Scalar d_lambda_0_xi = d_g_1_xi*dstatics_chain_17;
+  const Scalar d_lambda_0_eta = d_g_1_eta*dstatics_chain_17;
+  const Scalar d_lambda_0_k = d_g_1_k*dstatics_chain_17;
+  const Scalar d_lambda_0_F0 = d_g_1_F0*dstatics_chain_17;
+  const Scalar dstatics_chain_21 = -g_2*inv_detT_block0;
+  const Scalar dstatics_chain_22 = c.Phi_phi(0, 1)*inv_detT_block0;
+  const Scalar dstatics_chain_23 = -c.Phi_phi(0, 0)*inv_detT_block0;
+  const Scalar dstatics_chain_24 = -c.Phi_phi(0, 0)*g_2 + c.Phi_phi(0, 1)*g_1;
+  const Scalar dstatics_chain_25 = g_1*inv_detT_block0;
+  const Scalar d_lambda_1_a = -_tmp2*dc.dphi_dp(0, 0)*dstatics_chain_21*p.b + _tmp8*dc.dphi_dp(1, 0)*dstatics_chain_25*p.c + d_g_1_a*dstatics_chain_22 + d_g_2_a*dstatics_chain_23 + d_inv_detT_block0_a*dstatics_chain_24;
+  const Scalar d_lambda_1_b = -_tmp0*dstatics_chain_21 - _tmp2*dc.dphi_dp(0, 1)*dstatics_chain_21*p.b + _tmp8*dc.dphi_dp(1, 1)*dstatics_chain_25*p.c + d_g_1_b*dstatics_chain_22 + d_g_2_b*dstatics_chain_23 + d_inv_detT_block0_b*dstatics_chain_24;
+  const Scalar d_lambda_1_c = _tmp12*dstatics_chain_25 - _tmp2*dc.dphi_dp(0, 2)*dstatics_chain_21*p.b + _tmp8*dc.dphi_dp(1, 2)*dstatics_chain_25*p.c + d_g_1_c*dstatics_chain_22 + d_g_2_c*dstatics_chain_23 + d_inv_detT_block0_c*dstatics_chain_24;
+  const Scalar d_lambda_1_d = -_tmp2*dc.dphi_dp(0, 3)*dstatics_chain_21*p.b + _tmp8*dc.dphi_dp(1, 3)*dstatics_chain_25*p.c + d_g_1_d*dstatics_chain_22 + d_g_2_d*dstatics_chain_23 + d_inv_detT_block0_d*dstatics_chain_24;
+  const Scalar d_lambda_1_xi = d_g_1_xi*dstatics_chain_22;
+  const Scalar d_lambda_1_eta = d_g_1_eta*dstatics_chain_22;
+  const Scalar d_lambda_1_k = d_g_1_k*dstatics_chain_22;
+  const Scalar d_lambda_1_F0 = d_g_1_F0*dstatics_chain_22;
   const Scalar d_F_C_x_a = -d_lambda_0_a;
   const Scalar d_F_C_x_b = -d_lambda_0_b;
   const Scalar d_F_C_x_c = -d_lambda_0_c;
@@ -1581,9 +1608,9 @@ void EvalStaticsDesign(const Params<Scalar>& p,
   const Scalar d_F_D_y_eta = d_F_C_y_eta;
   const Scalar d_F_D_y_k = d_F_C_y_k;
   const Scalar d_F_D_y_F0 = d_F_C_y_F0;
-  const Scalar dstatics_chain_26 = length_spring*p.k + p.F0 - p.L0*p.k;
-  const Scalar dstatics_chain_27 = Scalar(0.5)*_tmp7;
-  const Scalar dstatics_chain_28 = Scalar(0.5)*_tmp9;
+  const Scalar dstatics_chain_26 = Scalar(0.5)*_tmp9;
+  const Scalar dstatics_chain_27 = length_spring*p.k + p.F0 - p.L0*p.k;
+  const Scalar dstatics_chain_28 = Scalar(0.5)*_tmp7;
   const Scalar _tmp29 = length_spring - p.L0;
   const Scalar sum_9a9b1dd1 = _tmp29;
   out->dQ_dp(0, 0) = d_Q_0_a;
@@ -1602,12 +1629,12 @@ void EvalStaticsDesign(const Params<Scalar>& p,
   out->ddrive_dp(0, 6) = -d_Q_0_k;
   out->dQ_dp(0, 7) = d_Q_0_F0;
   out->ddrive_dp(0, 7) = -d_Q_0_F0;
-  out->dV_dp(0) = Scalar(0.5)*_tmp4*p.g*p.m1 + _tmp4*p.g*p.m2 + d_length_spring_a*dstatics_chain_26 + dc.dphi_dp(0, 0)*dstatics_chain_27 + dc.dphi_dp(1, 0)*dstatics_chain_28;
-  out->dV_dp(1) = Scalar(0.5)*_tmp0*p.g*p.m2 + d_length_spring_b*dstatics_chain_26 + dc.dphi_dp(0, 1)*dstatics_chain_27 + dc.dphi_dp(1, 1)*dstatics_chain_28;
-  out->dV_dp(2) = Scalar(0.5)*_tmp12*p.g*p.m3 + d_length_spring_c*dstatics_chain_26 + dc.dphi_dp(0, 2)*dstatics_chain_27 + dc.dphi_dp(1, 2)*dstatics_chain_28;
-  out->dV_dp(3) = d_length_spring_d*dstatics_chain_26 + dc.dphi_dp(0, 3)*dstatics_chain_27 + dc.dphi_dp(1, 3)*dstatics_chain_28;
-  out->dV_dp(4) = d_length_spring_xi*dstatics_chain_26;
-  out->dV_dp(5) = d_length_spring_eta*dstatics_chain_26;
+  out->dV_dp(0) = Scalar(0.5)*_tmp4*p.g*p.m1 + _tmp4*p.g*p.m2 + d_length_spring_a*dstatics_chain_27 + dc.dphi_dp(0, 0)*dstatics_chain_28 + dc.dphi_dp(1, 0)*dstatics_chain_26;
+  out->dV_dp(1) = Scalar(0.5)*_tmp0*p.g*p.m2 + d_length_spring_b*dstatics_chain_27 + dc.dphi_dp(0, 1)*dstatics_chain_28 + dc.dphi_dp(1, 1)*dstatics_chain_26;
+  out->dV_dp(2) = Scalar(0.5)*_tmp12*p.g*p.m3 + d_length_spring_c*dstatics_chain_27 + dc.dphi_dp(0, 2)*dstatics_chain_28 + dc.dphi_dp(1, 2)*dstatics_chain_26;
+  out->dV_dp(3) = d_length_spring_d*dstatics_chain_27 + dc.dphi_dp(0, 3)*dstatics_chain_28 + dc.dphi_dp(1, 3)*dstatics_chain_26;
+  out->dV_dp(4) = d_length_spring_xi*dstatics_chain_27;
+  out->dV_dp(5) = d_length_spring_eta*dstatics_chain_27;
   out->dV_dp(6) = Scalar(0.5)*(sum_9a9b1dd1*sum_9a9b1dd1);
   out->dV_dp(7) = _tmp29;
   out->dR_dp(0, 0) = d_F_A_x_a;

@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDesignDerivatives 1266 (adds 426, muls 826, divs 2, calls 12); EvalDesignChecks 71 (adds 14, muls 31, divs 8, calls 18); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 96 (adds 22, muls 60, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDesignDerivatives 1600 (adds 494, muls 1088, divs 4, calls 14); EvalDesignChecks 71 (adds 14, muls 31, divs 8, calls 18); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 96 (adds 22, muls 60, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -183,6 +183,9 @@ struct DesignDerivatives {
   Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign> dL_dp;
   /// dL_P_dp(2m + a, j + kNq*k + kNq^2*d) = dL_P(2m + a, j + kNq*k)/dp_d (L_P's unit per unit of p_d).  (2 kNumPoints x kNq^2 kNumDesign)
   Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign> dL_P_dp;
+  /// dmu_dp(i, d) = d mu_i/dp_d of the transmission angles (EvalTransmissionAngles), NaN at a
+  /// toggle (rad per unit of p_d).  (kNumTransmissionAngles x kNumDesign)
+  Mat<Scalar, Sizes::kNumTransmissionAngles, Sizes::kNumDesign> dmu_dp;
 };
 
 /// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
@@ -447,7 +450,8 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
                            const Vec<Scalar, Sizes::kNq>& q,
                            const Vec<Scalar, Sizes::kNphi>& phi,
                            DesignDerivatives<Scalar>* out) {
-  // Total ops: 1266 (adds 426, muls 826, divs 2, calls 12); intermediate terms: 48
+  // Total ops: 1600 (adds 494, muls 1088, divs 4, calls 14); intermediate terms: 64
+  using std::abs;
   using std::cos;
   using std::sin;
   const Scalar _tmp0 = sin(phi(0));
@@ -726,6 +730,36 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
   const Scalar dchain_39 = -_tmp33 - _tmp46;
   const Scalar dchain_40 = -Scalar(2)*_tmp24;
   const Scalar dchain_41 = _tmp9*p.o;
+  const Scalar _tmp48 = _tmp0*_tmp3*p.b*p.c;
+  const Scalar _tmp49 = _tmp1*_tmp2*p.b*p.c;
+  const Scalar _tmp50 = -_tmp48 + _tmp49;
+  const Scalar cross_0 = _tmp50;
+  const Scalar _tmp51 = _tmp2*_tmp3*p.b*p.c;
+  const Scalar _tmp52 = _tmp0*_tmp1*p.b*p.c;
+  const Scalar _tmp53 = _tmp51 + _tmp52;
+  const Scalar dot_0 = _tmp53;
+  const Scalar dchain_42 = -_tmp51 - _tmp52;
+  const Scalar dchain_43 = _tmp53;
+  const Scalar dchain_44 = _tmp50;
+  const Scalar dchain_45 = _tmp48 - _tmp49;
+  const Scalar _tmp54 = cross_0*cross_0 + dot_0*dot_0;
+  const Scalar _tmp55 = abs(cross_0);
+  const Scalar dmu_scale_0 = cross_0/(_tmp54*_tmp55);
+  const Scalar _tmp56 = _tmp6*_tmp9*p.f*p.o;
+  const Scalar _tmp57 = _tmp7*_tmp8*p.f*p.o;
+  const Scalar _tmp58 = -_tmp56 + _tmp57;
+  const Scalar cross_1 = _tmp58;
+  const Scalar _tmp59 = _tmp8*_tmp9*p.f*p.o;
+  const Scalar _tmp60 = _tmp6*_tmp7*p.f*p.o;
+  const Scalar _tmp61 = _tmp59 + _tmp60;
+  const Scalar dot_1 = _tmp61;
+  const Scalar dchain_46 = -_tmp59 - _tmp60;
+  const Scalar dchain_47 = _tmp61;
+  const Scalar dchain_48 = _tmp58;
+  const Scalar dchain_49 = _tmp56 - _tmp57;
+  const Scalar _tmp62 = cross_1*cross_1 + dot_1*dot_1;
+  const Scalar _tmp63 = abs(cross_1);
+  const Scalar dmu_scale_1 = cross_1/(_tmp62*_tmp63);
   out->dphi_dp(0, 0) = dphi_dp_0_a;
   out->dphi_dp(0, 1) = dphi_dp_0_b;
   out->dphi_dp(0, 2) = dphi_dp_0_c;
@@ -906,6 +940,26 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
   out->dL_P_dp(1, 7) = L_3_0_0*_tmp9 - _tmp32*_tmp7 + dK_dp_3_0_o*dchain_40 + dL_dp_3_0_0_o*dchain_41 + dchain_39*dphi_dp_3_o;
   out->dL_P_dp(1, 8) = dK_dp_3_0_x6*dchain_40 + dL_dp_3_0_0_x6*dchain_41 + dchain_39*dphi_dp_3_x6;
   out->dL_P_dp(1, 9) = dK_dp_3_0_y6*dchain_40 + dL_dp_3_0_0_y6*dchain_41 + dchain_39*dphi_dp_3_y6;
+  out->dmu_dp(0, 0) = -cross_0*dchain_44*dmu_scale_0*dphi_dp_0_a - cross_0*dchain_45*dmu_scale_0*dphi_dp_1_a + dchain_42*dmu_scale_0*dot_0*dphi_dp_0_a + dchain_43*dmu_scale_0*dot_0*dphi_dp_1_a;
+  out->dmu_dp(0, 1) = -_tmp0*_tmp1*cross_0*dmu_scale_0*p.c - _tmp0*_tmp3*dmu_scale_0*dot_0*p.c + _tmp1*_tmp2*dmu_scale_0*dot_0*p.c - _tmp2*_tmp3*cross_0*dmu_scale_0*p.c - cross_0*dchain_44*dmu_scale_0*dphi_dp_0_b - cross_0*dchain_45*dmu_scale_0*dphi_dp_1_b + dchain_42*dmu_scale_0*dot_0*dphi_dp_0_b + dchain_43*dmu_scale_0*dot_0*dphi_dp_1_b;
+  out->dmu_dp(0, 2) = -_tmp0*_tmp1*cross_0*dmu_scale_0*p.b - _tmp0*_tmp3*dmu_scale_0*dot_0*p.b + _tmp1*_tmp2*dmu_scale_0*dot_0*p.b - _tmp2*_tmp3*cross_0*dmu_scale_0*p.b - cross_0*dchain_44*dmu_scale_0*dphi_dp_0_c - cross_0*dchain_45*dmu_scale_0*dphi_dp_1_c + dchain_42*dmu_scale_0*dot_0*dphi_dp_0_c + dchain_43*dmu_scale_0*dot_0*dphi_dp_1_c;
+  out->dmu_dp(0, 3) = -cross_0*dchain_44*dmu_scale_0*dphi_dp_0_g - cross_0*dchain_45*dmu_scale_0*dphi_dp_1_g + dchain_42*dmu_scale_0*dot_0*dphi_dp_0_g + dchain_43*dmu_scale_0*dot_0*dphi_dp_1_g;
+  out->dmu_dp(0, 4) = Scalar(0);
+  out->dmu_dp(0, 5) = Scalar(0);
+  out->dmu_dp(0, 6) = Scalar(0);
+  out->dmu_dp(0, 7) = Scalar(0);
+  out->dmu_dp(0, 8) = Scalar(0);
+  out->dmu_dp(0, 9) = Scalar(0);
+  out->dmu_dp(1, 0) = -cross_1*dchain_48*dmu_scale_1*dphi_dp_2_a - cross_1*dchain_49*dmu_scale_1*dphi_dp_3_a + dchain_46*dmu_scale_1*dot_1*dphi_dp_2_a + dchain_47*dmu_scale_1*dot_1*dphi_dp_3_a;
+  out->dmu_dp(1, 1) = -cross_1*dchain_48*dmu_scale_1*dphi_dp_2_b - cross_1*dchain_49*dmu_scale_1*dphi_dp_3_b + dchain_46*dmu_scale_1*dot_1*dphi_dp_2_b + dchain_47*dmu_scale_1*dot_1*dphi_dp_3_b;
+  out->dmu_dp(1, 2) = -cross_1*dchain_48*dmu_scale_1*dphi_dp_2_c - cross_1*dchain_49*dmu_scale_1*dphi_dp_3_c + dchain_46*dmu_scale_1*dot_1*dphi_dp_2_c + dchain_47*dmu_scale_1*dot_1*dphi_dp_3_c;
+  out->dmu_dp(1, 3) = -cross_1*dchain_48*dmu_scale_1*dphi_dp_2_g - cross_1*dchain_49*dmu_scale_1*dphi_dp_3_g + dchain_46*dmu_scale_1*dot_1*dphi_dp_2_g + dchain_47*dmu_scale_1*dot_1*dphi_dp_3_g;
+  out->dmu_dp(1, 4) = -cross_1*dchain_48*dmu_scale_1*dphi_dp_2_e - cross_1*dchain_49*dmu_scale_1*dphi_dp_3_e + dchain_46*dmu_scale_1*dot_1*dphi_dp_2_e + dchain_47*dmu_scale_1*dot_1*dphi_dp_3_e;
+  out->dmu_dp(1, 5) = -cross_1*dchain_48*dmu_scale_1*dphi_dp_2_beta - cross_1*dchain_49*dmu_scale_1*dphi_dp_3_beta + dchain_46*dmu_scale_1*dot_1*dphi_dp_2_beta + dchain_47*dmu_scale_1*dot_1*dphi_dp_3_beta;
+  out->dmu_dp(1, 6) = -_tmp6*_tmp7*cross_1*dmu_scale_1*p.o - _tmp6*_tmp9*dmu_scale_1*dot_1*p.o + _tmp7*_tmp8*dmu_scale_1*dot_1*p.o - _tmp8*_tmp9*cross_1*dmu_scale_1*p.o - cross_1*dchain_48*dmu_scale_1*dphi_dp_2_f - cross_1*dchain_49*dmu_scale_1*dphi_dp_3_f + dchain_46*dmu_scale_1*dot_1*dphi_dp_2_f + dchain_47*dmu_scale_1*dot_1*dphi_dp_3_f;
+  out->dmu_dp(1, 7) = -_tmp6*_tmp7*cross_1*dmu_scale_1*p.f - _tmp6*_tmp9*dmu_scale_1*dot_1*p.f + _tmp7*_tmp8*dmu_scale_1*dot_1*p.f - _tmp8*_tmp9*cross_1*dmu_scale_1*p.f - cross_1*dchain_48*dmu_scale_1*dphi_dp_2_o - cross_1*dchain_49*dmu_scale_1*dphi_dp_3_o + dchain_46*dmu_scale_1*dot_1*dphi_dp_2_o + dchain_47*dmu_scale_1*dot_1*dphi_dp_3_o;
+  out->dmu_dp(1, 8) = -cross_1*dchain_48*dmu_scale_1*dphi_dp_2_x6 - cross_1*dchain_49*dmu_scale_1*dphi_dp_3_x6 + dchain_46*dmu_scale_1*dot_1*dphi_dp_2_x6 + dchain_47*dmu_scale_1*dot_1*dphi_dp_3_x6;
+  out->dmu_dp(1, 9) = -cross_1*dchain_48*dmu_scale_1*dphi_dp_2_y6 - cross_1*dchain_49*dmu_scale_1*dphi_dp_3_y6 + dchain_46*dmu_scale_1*dot_1*dphi_dp_2_y6 + dchain_47*dmu_scale_1*dot_1*dphi_dp_3_y6;
 }
 
 /**

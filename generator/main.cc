@@ -102,7 +102,8 @@ void Run(Pipeline* p, const std::string& path, const std::string& name, const st
   p->transmission = mechgen::FindTransmissionAngles(p->model, p->topology, p->kinematics, p->table->blocks);
   p->statics = std::make_unique<mechgen::StaticsTable>(p->model, p->kinematics, *p->table);
   p->dynamics = std::make_unique<mechgen::DynamicsTable>(p->model, p->kinematics, *p->table);
-  p->design = std::make_unique<mechgen::DesignTable>(p->model, *p->table, &p->topology, &p->four_bars);
+  p->design = std::make_unique<mechgen::DesignTable>(p->model, *p->table, &p->topology, &p->four_bars,
+                                                     &p->transmission);
   p->functions = mechgen::BuildFunctions(p->model, p->kinematics, *p->table, p->transmission, &p->printer,
                                          p->statics.get(), p->dynamics.get(), p->design.get());
   p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, *p->table, p->transmission, p->functions,

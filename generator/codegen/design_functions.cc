@@ -46,6 +46,8 @@ FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTabl
         for (int c = 0; c < nq * nq * nd; ++c)
           P.push_back(Store("out->dL_P_dp" + Idx(row, c), dt.dL_P_dp[pt][a][c]));
     }
+  for (size_t i = 0; i < dt.dmu_dp.size(); ++i)
+    for (int d = 0; d < nd; ++d) P.push_back(Store("out->dmu_dp" + Idx(static_cast<int>(i), d), dt.dmu_dp[i][d]));
   PruneUnusedDefines(&P);
   f.body = {P};
   return f;

@@ -255,6 +255,12 @@ OutputSpec RhsConstants(const std::vector<FunctionSpec>& functions) {
   return o;
 }
 
+bool HasTransmission(const std::vector<FunctionSpec>& functions) {
+  for (const FunctionSpec& f : functions)
+    if (f.name == "EvalTransmissionAngles") return true;
+  return false;
+}
+
 // DesignDerivatives (EvalDesignDerivatives, with a `design` section): the derivatives of the
 // kinematic quantities with respect to the design parameters (symbolic/design.h).
 OutputSpec DesignOutput(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions) {
@@ -288,6 +294,11 @@ OutputSpec DesignOutput(const Model& m, const SymbolicTable& t, const std::vecto
                   {"dL_P_dp(2m + a, j + kNq*k + kNq^2*d) = dL_P(2m + a, j + kNq*k)/dp_d ({unit})."},
                   "2 kNumPoints x kNq^2 kNumDesign", "", L && points),
            "L_P's unit per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNumTransmissionAngles, Sizes::kNumDesign>", "dmu_dp",
+                  {"dmu_dp(i, d) = d mu_i/dp_d of the transmission angles (EvalTransmissionAngles), NaN at a",
+                   "toggle ({unit})."},
+                  "kNumTransmissionAngles x kNumDesign", "", m.design.any() && HasTransmission(functions)),
+           "rad per unit of p_d"),
   };
   (void)m;
   return o;

@@ -54,7 +54,8 @@ ex EarlierBlocks(const Kinematics& k, const std::vector<Block>& blocks, size_t b
 }  // namespace
 
 DesignTable::DesignTable(const Model& m, const SymbolicTable& t, const Topology* topo,
-                         const std::vector<FourBarLoop>* four_bars) {
+                         const std::vector<FourBarLoop>* four_bars,
+                         const std::vector<TransmissionAngle>* transmission) {
   if (!m.design.any()) return;
   const Kinematics& k = t.kinematics();
   const std::vector<Block>& blocks = t.blocks;
@@ -235,6 +236,21 @@ DesignTable::DesignTable(const Model& m, const SymbolicTable& t, const Topology*
             }
           }
       }
+    }
+  // ---- The transmission angles ----
+  if (transmission != nullptr)
+    for (size_t i = 0; i < transmission->size(); ++i) {
+      const TransmissionAngle& ta = (*transmission)[i];
+      ex cross, dot;
+      program.push_back(Define("cross_" + N(static_cast<int>(i)), ta.cross, &cross));
+      program.push_back(Define("dot_" + N(static_cast<int>(i)), ta.dot, &dot));
+      const std::vector<ex> dcross = total(ta.cross, false, false), ddot = total(ta.dot, false, false);
+      ex scale;
+      program.push_back(Define("dmu_scale_" + N(static_cast<int>(i)),
+                               cross / (GiNaC::abs(cross) * (cross * cross + dot * dot)), &scale));
+      std::vector<ex> row;
+      for (int d = 0; d < n_d; ++d) row.push_back(scale * (dot * dcross[d] - cross * ddot[d]));
+      dmu_dp.push_back(row);
     }
   // ---- Design checks: the four-bar loops' link lengths and Grashof margins ----
   if (topo != nullptr && four_bars != nullptr)

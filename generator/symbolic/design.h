@@ -29,6 +29,7 @@
 #include "symbolic/slot.h"
 #include "symbolic/statics.h"
 #include "symbolic/table.h"
+#include "symbolic/transmission.h"
 
 namespace mechgen {
 
@@ -46,7 +47,8 @@ struct DesignTable {
   /// to m.design's parameters, and the design checks of the four-bar loops (`four_bars` of
   /// topology `topo`, may be null). Empty (nd() == 0) without a design section.
   DesignTable(const Model& m, const SymbolicTable& t, const Topology* topo = nullptr,
-              const std::vector<FourBarLoop>* four_bars = nullptr);
+              const std::vector<FourBarLoop>* four_bars = nullptr,
+              const std::vector<TransmissionAngle>* transmission = nullptr);
 
   /// Per four-bar loop: each link's length (> 0) and Grashof's margin (p + q) - (s + l), >= 0
   /// for a Grashof loop (a link turns fully), with s, l, p, q taken as the parameters' defaults
@@ -70,6 +72,9 @@ struct DesignTable {
   /// Per requested point and axis (0: x, 1: y): dr_P/dp_d [d], dK_P/dp_d [j + nq d],
   /// dL_P/dp_d [j + nq k + nq^2 d].
   std::vector<std::array<std::vector<GiNaC::ex>, 2>> dr_P_dp, dK_P_dp, dL_P_dp;
+  /// dmu_dp[i][d] = d mu_i/dp_d of each transmission angle mu = atan2(|cross|, dot):
+  /// sign(cross) (dot dcross - cross ddot) / (cross^2 + dot^2) (undefined at a toggle, cross = 0).
+  std::vector<std::vector<GiNaC::ex>> dmu_dp;
 };
 
 /// A straight-line program's locals and some expressions of them, differentiated with respect

@@ -133,6 +133,16 @@ TYPED_TEST(DesignDerivativesTest, AgreesWithJetsOfTheGeneratedValues) {
       worst = std::max(worst, e);
       EXPECT_LE(e, kJetTol) << what << " at q(0) = " << c.q(0);
     };
+    if constexpr (M::kNumTransmissionAngles > 0) {
+      Eigen::Matrix<Jet, M::kNumTransmissionAngles, 1> muj;
+      M::TransmissionAngles(pk, qk, phik, &muj);
+      for (int i = 0; i < M::kNumTransmissionAngles; ++i)
+        for (int d = 0; d < kNd; ++d) {
+          const double e = std::abs(g.dmu_dp(i, d) - muj(i).v(d)) / Rel(muj(i).v(d));
+          worst = std::max(worst, e);
+          EXPECT_LE(e, kJetTol) << "dmu /d " << M::kDesignNames[d];
+        }
+    }
     for (int d = 0; d < kNd; ++d) {
       const std::string p_name = std::string("/d ") + M::kDesignNames[d];
       if constexpr (M::kOrder >= 1)

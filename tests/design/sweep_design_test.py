@@ -37,7 +37,7 @@ for c in design_cols:
         failures.append(f"column {c} is not described with its unit in the header")
 
 defaults = {"a": 1.0, "b": 3.5, "c": 3.0, "d": 4.0, "xi": 1.5, "eta": 1.0}  # models/fourbar.yaml
-outputs = ["theta_coupler", "theta_rocker", "coupler.P.x", "coupler.P.y"]
+outputs = ["theta_coupler", "theta_rocker", "coupler.P.x", "coupler.P.y", "mu_C"]
 worst = 0.0
 for p, v in defaults.items():
     h = 1e-5 * max(1.0, abs(v))

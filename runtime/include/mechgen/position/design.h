@@ -33,6 +33,7 @@ DesignOf<M> NanDesign() {
     if constexpr (M::kOrder >= 1 && M::kNumPoints > 0) d.dK_P_dp.setConstant(nan);
     if constexpr (M::kOrder >= 2) d.dL_dp.setConstant(nan);
     if constexpr (M::kOrder >= 2 && M::kNumPoints > 0) d.dL_P_dp.setConstant(nan);
+    if constexpr (M::kNumTransmissionAngles > 0) d.dmu_dp.setConstant(nan);
   }
   return d;
 }

@@ -16,7 +16,8 @@
  *   mu_<J> (the transmission angle at joint J of each four-bar loop on the ground, in
  *   [0, pi]; 0 or pi where that loop toggles; models with such loops only).
  * DesignColumns<M>() (a model with a design section, the sweep's --design) adds, for each
- * design parameter p: d<phi_i>/d<p>, dK_<phi_i>_<q_j>/d<p>, d<P>.x/d<p>, d<P>.y/d<p>.
+ * design parameter p: d<phi_i>/d<p>, dK_<phi_i>_<q_j>/d<p>, d<P>.x/d<p>, d<P>.y/d<p>,
+ * dmu_<J>/d<p>.
  * Values are in model units and radians, every number written to round-trip (io/format.h,
  * FormatRoundTrip); the printed table shows angle columns in degrees. A failed step's
  * values are "nan". Building the table allocates (names, std::function); it runs after the
@@ -76,6 +77,12 @@ void AppendDesignColumns(std::vector<SweepColumn<M>>* columns) {
             add.Number("d" + std::string(M::kPointNames[m]) + (a ? ".y" : ".x") + "/d" + p,
                        "model length per unit of " + p, "sensitivity of the point in the fixed frame",
                        [m, a, d](const R& r) { return r.design.dr_P_dp(2 * m + a, d); });
+      if constexpr (M::kNumTransmissionAngles > 0)
+        for (int i = 0; i < M::kNumTransmissionAngles; ++i)
+          add.Number("dmu_" + std::string(M::kTransmissionJoints[i]) + "/d" + p, "rad per unit of " + p,
+                     "sensitivity of the transmission angle (q held)",
+                     [i, d](const R& r) { return r.design.dmu_dp(i, d); })
+              .angle = false;
     }
   } else {
     (void)columns;
