@@ -1891,6 +1891,12 @@ struct Model : Sizes {
   static constexpr bool kHasRhs = true;
   /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
   static constexpr bool kHasRhsConstants = true;
+  /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
+  static constexpr bool kHasDesignDerivatives = false;
+  /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
+  static constexpr bool kHasStaticsDesign = false;
+  /// DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.
+  static constexpr bool kHasDynamicsDesign = false;
   template <typename Scalar>
   using StaticsT = mech::fourbar_balanced::Statics<Scalar>;
   template <typename Scalar>

@@ -776,6 +776,12 @@ struct Model : Sizes {
   static constexpr bool kHasRhs = false;
   /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
   static constexpr bool kHasRhsConstants = false;
+  /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
+  static constexpr bool kHasDesignDerivatives = false;
+  /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
+  static constexpr bool kHasStaticsDesign = false;
+  /// DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.
+  static constexpr bool kHasDynamicsDesign = false;
   template <typename Scalar>
   using StaticsT = mech::slider_crank_press::Statics<Scalar>;
   /// Reaction components of EvalStatics (Statics::R), each the force (or moment) of the joint's first

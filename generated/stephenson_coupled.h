@@ -749,6 +749,12 @@ struct Model : Sizes {
   static constexpr bool kHasRhs = false;
   /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
   static constexpr bool kHasRhsConstants = false;
+  /// DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.
+  static constexpr bool kHasDesignDerivatives = false;
+  /// StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.
+  static constexpr bool kHasStaticsDesign = false;
+  /// DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.
+  static constexpr bool kHasDynamicsDesign = false;
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
                   const Vec<Scalar, Sizes::kNq>& q,

@@ -84,6 +84,7 @@ struct Pipeline {
   std::unique_ptr<mechgen::SymbolicTable> table;
   std::unique_ptr<mechgen::StaticsTable> statics;
   std::unique_ptr<mechgen::DynamicsTable> dynamics;
+  std::unique_ptr<mechgen::DesignTable> design;
   std::vector<mechgen::TransmissionAngle> transmission;
   mechgen::CxxPrinter printer;
   std::vector<mechgen::FunctionSpec> functions;
@@ -101,8 +102,10 @@ void Run(Pipeline* p, const std::string& path, const std::string& name, const st
   p->transmission = mechgen::FindTransmissionAngles(p->model, p->topology, p->kinematics, p->table->blocks);
   p->statics = std::make_unique<mechgen::StaticsTable>(p->model, p->kinematics, *p->table);
   p->dynamics = std::make_unique<mechgen::DynamicsTable>(p->model, p->kinematics, *p->table);
+  p->design = std::make_unique<mechgen::DesignTable>(p->model, *p->table, &p->topology, &p->four_bars,
+                                                     &p->transmission);
   p->functions = mechgen::BuildFunctions(p->model, p->kinematics, *p->table, p->transmission, &p->printer,
-                                         p->statics.get(), p->dynamics.get());
+                                         p->statics.get(), p->dynamics.get(), p->design.get());
   p->emitted = mechgen::Emit(p->model, p->topology, p->kinematics, *p->table, p->transmission, p->functions,
                              &p->printer, templates);
 }

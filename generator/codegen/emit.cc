@@ -504,6 +504,26 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("switch_sizes", num_switches == 0 ? std::string()
                                              : "  static constexpr int kNumSwitches = " + std::to_string(num_switches) +
                                                    ";  ///< switching items of the loads (EvalSwitchModes)\n");
+  // ---- Design parameters: kNumDesign and their names where the model has a `design` section ----
+  const std::string num_design = std::to_string(m.design.params.size());
+  std::vector<std::string> design_checks;  // EvalDesignChecks' margins, by name
+  for (const FunctionSpec& f : functions)
+    design_checks.insert(design_checks.end(), f.design_checks.begin(), f.design_checks.end());
+  data.Set("design_sizes", !m.design.any() ? std::string()
+                                           : "  static constexpr int kNumDesign = " + num_design +
+                                                 ";  ///< design parameters (kDesignNames)\n"
+                                                 "  static constexpr int kNumDesignChecks = " +
+                                                 std::to_string(design_checks.size()) +
+                                                 ";  ///< design checks (kDesignCheckNames, EvalDesignChecks)\n");
+  data.Set("design_constants",
+           !m.design.any() ? std::string()
+                           : "  /// The design parameters (`design`): EvalDesignDerivatives differentiates with respect to\n"
+                             "  /// these Params members, in this order.\n"
+                             "  static constexpr std::array<const char*, kNumDesign> kDesignNames{ " +
+                                 Join(m.design.params, [&m](int i) { return Quote(m.params[i].name); }) + " };\n"
+                                 "  /// The design checks' margins (EvalDesignChecks), in order.\n"
+                                 "  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{ " +
+                                 Join(design_checks, Quote) + " };\n");
   // ---- The output structs, their flags and aliases, from their descriptions ----
   mus::data outputs{mus::data::type::list}, flags{mus::data::type::list}, aliases{mus::data::type::list};
   auto flag = [&flags](const OutputFlag& f) {

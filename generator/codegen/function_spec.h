@@ -30,7 +30,7 @@ struct Argument {
 };
 
 /// An output struct of the generated header (codegen/output_spec.h).
-enum class OutputStruct { kNone, kStatics, kDynamics, kExcess, kShaking, kRhs, kRhsConstants };
+enum class OutputStruct { kNone, kStatics, kDynamics, kExcess, kShaking, kRhs, kRhsConstants, kDesign, kStaticsDesign, kDynamicsDesign };
 
 struct FunctionSpec {
   std::string name;                ///< EvalPhi, CamLaw_<joint>, ...
@@ -55,6 +55,8 @@ struct FunctionSpec {
   int constants = 0;
   /// EvalSwitchModes: how many switching items it gives a mode of (Sizes::kNumSwitches).
   int switches = 0;
+  /// EvalDesignChecks: the names of its margins (Sizes::kNumDesignChecks, kDesignCheckNames).
+  std::vector<std::string> design_checks;
 };
 
 inline Argument Arg(const std::string& type,

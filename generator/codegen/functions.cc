@@ -493,7 +493,8 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
                                          const std::vector<TransmissionAngle>& transmission,
                                          CxxPrinter* printer,
                                          const StaticsTable* statics,
-                                         const DynamicsTable* dynamics) {
+                                         const DynamicsTable* dynamics,
+                                         const DesignTable* design) {
   NameModelSymbols(m, k, printer);
   std::vector<FunctionSpec> out;
   // Cams: the law's function and the cam's geometry; splines' contour functions.
@@ -540,6 +541,18 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   }
   if (has_shaking) out.push_back(shaking_spec);
   if (has_statics && (!statics->d2V_dq2.empty() || !statics->stiffness_q.empty())) out.push_back(EvalStiffnessSpec(m, *statics, printer));
+  if (design != nullptr && design->nd() > 0) {
+    out.push_back(EvalDesignDerivativesSpec(*design, t));
+    if (!design->checks.empty()) out.push_back(EvalDesignChecksSpec(*design));
+    if (has_statics) {
+      const DesignStatics ds(m, k, *statics, *design);
+      if (ds.possible) out.push_back(EvalStaticsDesignSpec(m, *statics, ds, printer));
+    }
+    if (has_dynamics) {
+      const DesignDynamics dd(m, k, *dynamics, *design);
+      if (dd.possible) out.push_back(EvalDynamicsDesignSpec(m, *dynamics, dd, printer));
+    }
+  }
   out.push_back(EvalDetPhiPhiSpec(t));
   if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));
   out.push_back(positions);

@@ -14,6 +14,7 @@
 #include "codegen/function_spec.h"
 #include "analysis/kinematics.h"
 #include "model/model.h"
+#include "symbolic/design.h"
 #include "symbolic/dynamics.h"
 #include "symbolic/statics.h"
 #include "symbolic/table.h"
@@ -72,6 +73,19 @@ FunctionSpec EvalExcessSpec(const Model& m, const Kinematics& k, const DynamicsT
 /// EvalShaking (with the `shaking` quantity): the shaking force and moment, per link, the
 /// centres of mass (the Shaking struct: codegen/output_spec.h).
 FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
+/// EvalDesignDerivatives (codegen/design_functions.cc, with a `design` section): dphi/dp, the
+/// points' dr_P/dp, dK/dp, dL/dp (the DesignDerivatives struct: codegen/output_spec.h).
+FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTable& t);
+/// EvalDesignChecks (codegen/design_functions.cc): the design checks' margins and their d/dp.
+FunctionSpec EvalDesignChecksSpec(const DesignTable& dt);
+/// EvalStaticsDesign (codegen/design_functions.cc): d/dp of Q, drive, V and the reactions (the
+/// StaticsDesign struct), reading EvalDesignDerivatives' output.
+FunctionSpec EvalStaticsDesignSpec(const Model& m, const StaticsTable& st, const DesignStatics& ds,
+                                   CxxPrinter* printer);
+/// EvalDynamicsDesign (codegen/design_functions.cc): d/dp of I, dI/dq, h, Q, T, V at (t, q, qd)
+/// (the DynamicsDesign struct), reading EvalDesignDerivatives' output.
+FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, const DesignDynamics& dd,
+                                    CxxPrinter* printer);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);
 /// A body over a statics table's program, finished as EvalStatics' is (codegen/statics_functions.cc):
@@ -107,6 +121,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
                                          const std::vector<TransmissionAngle>& transmission,
                                          CxxPrinter* printer,
                                          const StaticsTable* statics = nullptr,
-                                         const DynamicsTable* dynamics = nullptr);
+                                         const DynamicsTable* dynamics = nullptr,
+                                         const DesignTable* design = nullptr);
 
 }  // namespace mechgen

@@ -255,6 +255,107 @@ OutputSpec RhsConstants(const std::vector<FunctionSpec>& functions) {
   return o;
 }
 
+bool HasTransmission(const std::vector<FunctionSpec>& functions) {
+  for (const FunctionSpec& f : functions)
+    if (f.name == "EvalTransmissionAngles") return true;
+  return false;
+}
+
+// DesignDerivatives (EvalDesignDerivatives, with a `design` section): the derivatives of the
+// kinematic quantities with respect to the design parameters (symbolic/design.h).
+OutputSpec DesignOutput(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions) {
+  OutputSpec o = Output("DesignDerivatives", Generated(functions, OutputStruct::kDesign),
+                        "DesignDerivatives, DesignDerivativesT, EvalDesignDerivatives (Model::Design): `design`.",
+                        {"What EvalDesignDerivatives() fills: the derivatives of the positions, K, L and the points",
+                         "with respect to the design parameters p_d (kDesignNames[d], Params members), the other",
+                         "parameters and the inputs q held: dphi/dp = -Phi_phi^-1 dPhi/dp, and so on (Paul's",
+                         "K and L, differentiated). Units: the quantity's per unit of p_d."});
+  // Which members exist follows from Sizes (no flags of their own): dr_P_dp where kNumPoints > 0,
+  // dK_dp where kOrder >= 1, dL_dp where kOrder == 2, the points' where both hold.
+  const bool points = !t.r_P.empty(), K = t.requested.K, L = t.requested.L;
+  o.members = {
+      Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNumDesign>", "dphi_dp", {"dphi_dp(i, d) = dphi_i/dp_d ({unit})."},
+                  "kNphi x kNumDesign"),
+           "rad or m per unit of p_d"),
+      Unit(Member("Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNumDesign>", "dr_P_dp",
+                  {"dr_P_dp(2m + a, d) = d r_P(a, m)/dp_d, a = 0: x, 1: y ({unit})."}, "2 kNumPoints x kNumDesign", "", points),
+           "m per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNumDesign>", "dK_dp",
+                  {"dK_dp(i, j + kNq*d) = dK(i, j)/dp_d ({unit})."}, "kNphi x kNq kNumDesign", "", K),
+           "K's unit per unit of p_d"),
+      Unit(Member("Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNumDesign>", "dK_P_dp",
+                  {"dK_P_dp(2m + a, j + kNq*d) = dK_P(2m + a, j)/dp_d ({unit})."}, "2 kNumPoints x kNq kNumDesign", "",
+                  K && points),
+           "K_P's unit per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign>", "dL_dp",
+                  {"dL_dp(i, j + kNq*k + kNq^2*d) = dL(i, j + kNq*k)/dp_d ({unit})."}, "kNphi x kNq^2 kNumDesign", "", L),
+           "L's unit per unit of p_d"),
+      Unit(Member("Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign>", "dL_P_dp",
+                  {"dL_P_dp(2m + a, j + kNq*k + kNq^2*d) = dL_P(2m + a, j + kNq*k)/dp_d ({unit})."},
+                  "2 kNumPoints x kNq^2 kNumDesign", "", L && points),
+           "L_P's unit per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNumTransmissionAngles, Sizes::kNumDesign>", "dmu_dp",
+                  {"dmu_dp(i, d) = d mu_i/dp_d of the transmission angles (EvalTransmissionAngles), NaN at a",
+                   "toggle ({unit})."},
+                  "kNumTransmissionAngles x kNumDesign", "", m.design.any() && HasTransmission(functions)),
+           "rad per unit of p_d"),
+  };
+  (void)m;
+  return o;
+}
+
+// StaticsDesign (EvalStaticsDesign: a design section and statics).
+OutputSpec StaticsDesignOutput(const Model& m, const std::vector<FunctionSpec>& functions) {
+  const StaticsLayout layout = StaticsLayout::Of(m);
+  OutputSpec o = Output("StaticsDesign", Generated(functions, OutputStruct::kStaticsDesign),
+                        "StaticsDesign, StaticsDesignT, EvalStaticsDesign (Model::StaticsDesign): `design` and statics.",
+                        {"What EvalStaticsDesign() fills: the derivatives of the statics (Statics) with respect to the",
+                         "design parameters p_d (kDesignNames[d]), q and the given friction loads held."});
+  const bool forces = m.outputs.Has(Quantity::kForces), potential = m.outputs.Has(Quantity::kPotential);
+  o.members = {
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNumDesign>", "dQ_dp", {"dQ_dp(j, d) = dQ_j/dp_d ({unit})."},
+                  "kNq x kNumDesign", "", forces),
+           "N m or N per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNumDesign>", "ddrive_dp",
+                  {"ddrive_dp(j, d) = d drive_j/dp_d = -dQ_dp(j, d) ({unit})."}, "kNq x kNumDesign", "", forces),
+           "N m or N per unit of p_d"),
+      Unit(Member("Vec<Scalar, Sizes::kNumDesign>", "dV_dp", {"dV_dp(d) = dV/dp_d ({unit})."}, "kNumDesign", "",
+                  potential),
+           "J per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNumReactions, Sizes::kNumDesign>", "dR_dp",
+                  {"dR_dp(i, d) = dR_i/dp_d, R as in Statics ({unit})."}, "kNumReactions x kNumDesign", "",
+                  !layout.reactions.empty()),
+           "N or N m per unit of p_d"),
+  };
+  return o;
+}
+
+// DynamicsDesign (EvalDynamicsDesign: a design section and dynamics).
+OutputSpec DynamicsDesignOutput(const std::vector<FunctionSpec>& functions) {
+  OutputSpec o = Output("DynamicsDesign", Generated(functions, OutputStruct::kDynamicsDesign),
+                        "DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.",
+                        {"What EvalDynamicsDesign() fills: the derivatives of the equation of motion (Dynamics) with",
+                         "respect to the design parameters p_d (kDesignNames[d]), t, q, qd and the given friction loads held."});
+  o.members = {
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNq * Sizes::kNumDesign>", "dI_dp",
+                  {"dI_dp(j, k + kNq*d) = dI(j, k)/dp_d ({unit})."}, "kNq x kNq kNumDesign"),
+           "I's unit per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNq * Sizes::kNq * Sizes::kNumDesign>", "ddI_dq_dp",
+                  {"ddI_dq_dp(j, k + kNq*l + kNq^2*d) = d dI_dq(j, k + kNq*l)/dp_d (one DOF: dI'/dp) ({unit})."},
+                  "kNq x kNq^2 kNumDesign"),
+           "I's unit per unit of q and of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNumDesign>", "dh_dp", {"dh_dp(j, d) = dh_j/dp_d ({unit})."},
+                  "kNq x kNumDesign"),
+           "N m or N per unit of p_d"),
+      Unit(Member("Mat<Scalar, Sizes::kNq, Sizes::kNumDesign>", "dQ_dp", {"dQ_dp(j, d) = dQ_j/dp_d ({unit})."},
+                  "kNq x kNumDesign"),
+           "N m or N per unit of p_d"),
+      Unit(Member("Vec<Scalar, Sizes::kNumDesign>", "dT_dp, dV_dp", {"dT/dp_d and dV/dp_d ({unit})."}, "kNumDesign"),
+           "J per unit of p_d"),
+  };
+  return o;
+}
+
 }  // namespace
 
 std::vector<std::string> RenderedDoc(const OutputMember& member) {
@@ -272,7 +373,8 @@ std::vector<OutputSpec> OutputSpecs(const Model& m,
                                     const SymbolicTable& t,
                                     const std::vector<FunctionSpec>& functions) {
   return {Statics(m, t, functions), Dynamics(functions), Excess(functions),
-          Shaking(functions),       Rhs(functions),      RhsConstants(functions)};
+          Shaking(functions),       Rhs(functions),      RhsConstants(functions),
+          DesignOutput(m, t, functions), StaticsDesignOutput(m, functions), DynamicsDesignOutput(functions)};
 }
 
 }  // namespace mechgen

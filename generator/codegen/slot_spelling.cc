@@ -14,6 +14,9 @@ std::string SlotSpelling(const Slot& s) {
     case Slot::Kind::kPhid: return "phid(" + i + ")";
     case Slot::Kind::kTime: return "t";
     case Slot::Kind::kFriction: return "friction_" + i;  // a local of the body (statics_functions.cc)
+    case Slot::Kind::kDphiDp: return "dc.dphi_dp(" + i + ", " + j + ")";
+    case Slot::Kind::kDKDp: return "dc.dK_dp(" + i + ", " + j + ")";
+    case Slot::Kind::kDLDp: return "dc.dL_dp(" + i + ", " + j + ")";
   }
   return "";
 }

@@ -297,6 +297,14 @@ struct Outputs {
   int Order() const { return Has(Quantity::kL) ? 2 : Has(Quantity::kK) ? 1 : 0; }
 };
 
+/// The design parameters (`design:`, issue 27): the free parameters the generated code
+/// differentiates its outputs with respect to (EvalDesignDerivatives), in the order given.
+struct Design {
+  std::vector<int> params;  ///< indices into Model::params
+  SourceMark mark;
+  bool any() const { return !params.empty(); }
+};
+
 /// A value of the assembly guess: a coordinate name and its value.
 struct GuessValue {
   std::string coordinate;
@@ -385,6 +393,7 @@ struct Model {
   std::vector<Input> inputs;
   SourceMark inputs_mark;
   Outputs outputs;
+  Design design;
   std::vector<GuessValue> guess;
   std::vector<NamedMode> assembly_modes;  ///< named assembly modes, in file order
   // Statics (generator/model/statics.cc): gravity, loads, springs, friction.

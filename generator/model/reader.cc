@@ -298,6 +298,7 @@ const KeyTable& ModelKeys() {
                                {"dampers", "viscous dampers between link points, torsional at revolute joints (dynamics)", false},
                                {"tables", "piecewise-linear functions of one argument, for loads (dynamics)", false},
                                {"outputs", "what the generated code computes", false},
+                               {"design", "the design parameters the outputs are differentiated with respect to", false},
                                {"assembly", "coordinate values near the wanted assembly mode", false},
                                {"assembly_modes", "named assembly modes: {name: {coordinate: value, ...}, ...}", false}}};
   return table;
@@ -307,7 +308,7 @@ std::vector<const KeyTable*> AllKeyTables() {
   std::vector<const KeyTable*> out = {&ModelKeys(),  &ParameterKeys(), &LinkKeys(),      &JointKeys(),
                                       &InputKeys(),  &OutputKeys(),    &LawSegmentKeys(), &ContourKeys(),
                                       &LoadKeys(),   &SpringKeys(),     &FrictionKeys(),   &DamperKeys(),
-                                      &TableKeys(),  &PointMassKeys()};
+                                      &TableKeys(),  &PointMassKeys(),   &DesignKeys()};
   for (const JointKind* k : JointKinds()) out.push_back(&k->Keys());
   return out;
 }
@@ -979,6 +980,7 @@ Model LoadModelFromString(const std::string& text, const std::string& path,
     ReadFriction(r, get("friction"));
     ReadDampers(r, get("dampers"));
     ReadOutputs(r, get("outputs"));
+    ReadDesign(r, get("design"));
     CheckDynamicRefs(m);
     ReadAssembly(r, get("assembly"));
     ReadAssemblyModes(r, get("assembly_modes"));

@@ -52,6 +52,7 @@ const KeyTable& SpringKeys();
 const KeyTable& FrictionKeys();
 const KeyTable& DamperKeys();
 const KeyTable& TableKeys();
+const KeyTable& DesignKeys();
 
 /// Reading helpers over one model being filled. Every failure is a ModelError at the
 /// offending node.
@@ -177,6 +178,7 @@ void ReadDampers(SectionReader& r, const YAML::Node& node);
 /// After the outputs: a load that reads t or a velocity needs the `dynamics` quantity.
 void CheckDynamicRefs(const Model& m);
 void ReadOutputs(SectionReader& r, const YAML::Node& node);
+void ReadDesign(SectionReader& r, const YAML::Node& node);
 void ReadAssembly(SectionReader& r, const YAML::Node& node);
 void ReadAssemblyModes(SectionReader& r, const YAML::Node& node);
 

@@ -630,6 +630,46 @@ void WriteReport(const Model& m, const Topology& t, const std::vector<FourBarLoo
     }
   }
 
+  // ---- Design sensitivities dphi/dp (the design section) ----
+  if (m.design.any()) {
+    w.Heading("Design sensitivities dphi/dp (EvalDesignDerivatives), block by block with the same inverses as K");
+    w.Line("Block b solves Phi_phi(rows, cols) dphi(cols)/dp = -(dPhi(rows)/dp + Phi_phi(rows, earlier cols) "
+           "dphi(earlier cols)/dp), q held: the design parameters as further inputs. dphi_i_p is d phi(i) / d p. "
+           "dK/dp, dL/dp and the points' derivatives follow by the same forward substitution (see the generated code).",
+           0);
+    std::vector<std::vector<GiNaC::ex>> dphi(k.nphi(), std::vector<GiNaC::ex>(m.design.params.size()));
+    for (int i = 0; i < k.nphi(); ++i)
+      for (size_t dd = 0; dd < m.design.params.size(); ++dd) {
+        const std::string name = "dphi_" + N(i) + "_" + m.params[m.design.params[dd]].name;
+        const GiNaC::symbol sym(name);
+        printer.Name(sym, name, "\\partial\\phi_{" + N(i) + "}/\\partial " + m.params[m.design.params[dd]].name);
+        dphi[i][dd] = sym;
+      }
+    for (size_t bi = 0; bi < d.blocks.size(); ++bi) {
+      const Block& b = d.blocks[bi];
+      const BlockInverse& inv = inverses[bi];
+      const unsigned n = static_cast<unsigned>(b.cols.size());
+      w.Line("Block " + N(static_cast<int>(bi)) + ": rows " + RowsText(b) + " of Phi -> " + ColsText(k, b), 0);
+      for (size_t dd = 0; dd < m.design.params.size(); ++dd) {
+        const Parameter& par = m.params[m.design.params[dd]];
+        for (unsigned i = 0; i < n; ++i) {
+          GiNaC::ex sum = 0;
+          for (unsigned r = 0; r < n; ++r) {
+            GiNaC::ex rhs = k.Phi[b.rows[r]].diff(par.symbol);
+            for (size_t pb = 0; pb < bi; ++pb)
+              for (int c : d.blocks[pb].cols) rhs += k.Phi_phi(b.rows[r], c) * dphi[c][dd];
+            sum += inv.adj(i, r) * rhs;
+          }
+          const int c = b.cols[i];
+          w.Equation(GiNaC::ex_to<GiNaC::symbol>(dphi[c][dd]).get_name(),
+                     "\\partial\\phi_{" + N(c) + "}/\\partial " + par.name, fractions[bi] ? fractions[bi](-sum)
+                                                                                        : Simplified(-sum / inv.det, k),
+                     "d " + k.phi[c].name + " / d " + par.name);
+        }
+      }
+    }
+  }
+
   // ---- Points ----
   if (!k.points.empty()) {
     w.Heading("Requested points: r_P, K_P = d r_P/dq, L_P (rdd_P = K_P qdd + sum_jk L_P(:, j, k) qd_j qd_k)");

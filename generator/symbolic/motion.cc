@@ -12,6 +12,11 @@ Motion::Motion(const Kinematics& k, KFn K, LFn L) : nq_(k.nq()), K_(std::move(K)
   for (const Coordinate& c : k.phi) x_.push_back(c.symbol);
 }
 
+Motion::Motion(std::vector<GiNaC::symbol> inputs, const std::vector<GiNaC::symbol>& phi, KFn K, LFn L)
+    : nq_(static_cast<int>(inputs.size())), x_(std::move(inputs)), K_(std::move(K)), L_(std::move(L)) {
+  x_.insert(x_.end(), phi.begin(), phi.end());
+}
+
 ex Motion::V(int a, int j) const { return a < nq_ ? ex(a == j ? 1 : 0) : K_(a - nq_, j); }
 
 ex Motion::L(int i, int j, int k) const { return L_(i, std::min(j, k), std::max(j, k)); }

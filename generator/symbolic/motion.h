@@ -25,6 +25,10 @@ class Motion {
   /// `K(i, j)` and `L(i, j, k)` give the coefficients of phi_i (L may be empty when only
   /// first derivatives are taken).
   Motion(const Kinematics& k, KFn K, LFn L = {});
+  /// Over other inputs than the model's q: `inputs` are the independent variables (the
+  /// model's q, then design parameters, symbolic/design.h), `phi` the dependent ones, and
+  /// K(i, j) = dphi_i/d input_j.
+  Motion(std::vector<GiNaC::symbol> inputs, const std::vector<GiNaC::symbol>& phi, KFn K, LFn L = {});
 
   int nq() const { return nq_; }
   int nx() const { return static_cast<int>(x_.size()); }

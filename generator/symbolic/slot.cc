@@ -14,6 +14,9 @@ std::string Slot::SymbolName() const {
     case Kind::kPhid: return "phid_" + i_;
     case Kind::kTime: return "t";
     case Kind::kFriction: return "friction_" + i_;
+    case Kind::kDphiDp: return "dphi_dp_" + i_ + "_" + j_;
+    case Kind::kDKDp: return "dK_dp_" + i_ + "_" + j_;
+    case Kind::kDLDp: return "dL_dp_" + i_ + "_" + j_;
   }
   return "slot";
 }

@@ -27,6 +27,9 @@ struct Slot {
     kPhid,      ///< phid(i): the dependent velocities (argument, excess coordinates)
     kTime,      ///< t (argument)
     kFriction,  ///< friction(i): the given Coulomb friction load of friction joint i (argument)
+    kDphiDp,    ///< dphi_dp(i, d), read from EvalDesignDerivatives' output (design sensitivities)
+    kDKDp,      ///< dK_dp(i, j + nq d), read from EvalDesignDerivatives' output
+    kDLDp,      ///< dL_dp(i, j + nq^2 d), read from EvalDesignDerivatives' output
   };
   Kind kind = Kind::kK;
   int i = 0, j = 0;

@@ -25,16 +25,13 @@
 #include <vector>
 
 #include "analysis/kinematics.h"
+#include "symbolic/block_system.h"
 #include "symbolic/blocks.h"
 #include "symbolic/bodies.h"
 #include "symbolic/motion.h"
 #include "symbolic/program.h"
 
 namespace mechgen {
-
-/// Largest block solved in closed form (adjugate / determinant, then CSE); larger blocks
-/// are emitted as a fixed-size LU solve of the generated matrices.
-constexpr int kMaxSymbolicSolve = 3;
 
 /// What the table derives (outputs.order today: 0 positions, 1 + K, 2 + L).
 struct Requested {
@@ -97,7 +94,6 @@ class SymbolicTable {
   std::vector<GiNaC::ex> CentripetalCoefficients(const GiNaC::ex& f, const std::vector<GiNaC::ex>& K_f) const;
 
  private:
-  struct BlockSystem;
   int PairIndex(int j, int k) const;
   void OrderAndDescribe(const Model& m, Strategy strategy);
   void FindSparsity();

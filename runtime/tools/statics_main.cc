@@ -172,6 +172,10 @@ int Run(int argc, char** argv) {
   tools::Count(&app, "--snapshots", &snapshots, 1, kMaxSnapshots,
                "configurations drawn in the SVG");
   app.add_flag("--animate", animate, "add the animated copy of the sweep to the SVG");
+  bool design = false;
+  app.add_flag("--design", design,
+               "add the CSV columns ddrive_<q>/d<p>, dR/d<p>, dV/d<p>: the derivatives without friction "
+               "with respect to the model's design parameters (its `design` section)");
   tools::Count(&app, "--table", &table_rows, 0, kMaxSteps + 1,
                "print this many rows to stdout (0: none)");
   app.add_flag("--dead-zones", dead_zones,
@@ -251,8 +255,13 @@ int Run(int argc, char** argv) {
       return 1;
     }
   }
+  if (design && !mechgen::HasStaticsDesign<M>::value)
+    return tools::UsageError(tool, std::string("--design: the model ") + M::kName +
+                                       " has no design section; add design: [parameter, ...] to it and "
+                                       "generate it again");
   statics::Options options;
   options.max_condition = max_condition;
+  options.design = design;
   std::string error;
   if (!options.IsValid(&error)) return tools::UsageError(tool, error);
 
@@ -386,7 +395,8 @@ int Run(int argc, char** argv) {
     statics::WriteStaticsCsv(records, csv.stream(),
                              mechgen::Described(mechgen::CsvAbout(
                                  std::string(M::kName) + "_statics", M::kName, "statics sweep",
-                                 statics::kStaticsSigns)));
+                                 statics::kStaticsSigns)),
+                             design);
   }
   if (!svg_path.empty()) {
     if (!svg.Open(svg_path, &error)) return failed();
@@ -402,7 +412,7 @@ int Run(int argc, char** argv) {
   }
   if (!csv_path.empty()) {
     std::printf("wrote %s (%d rows x %zu columns)\n", csv_path.c_str(), rows,
-                statics::StaticsCsvColumns<M>().size());
+                statics::StaticsCsvColumns<M>(design).size());
   }
   if (!svg_path.empty()) std::printf("wrote %s\n", svg_path.c_str());
   if (!plots_prefix.empty()) {

@@ -33,6 +33,9 @@ int ParseArguments(int argc, char** argv, const std::string& model_name, long lo
                "print this many rows to stdout, evenly spaced from the first row to the last "
                "(0: none)");
   app.add_flag("--no-animation", a.no_animation, "SVG without the SMIL animation");
+  app.add_flag("--design", a.design,
+               "add the CSV columns d<output>/d<parameter>: the derivatives of the dependent coordinates, K "
+               "and the points with respect to the model's design parameters (its `design` section)");
   app.add_option("--mode", a.mode,
                  "assemble in this named assembly mode of the model (its assembly_modes:) "
                  "instead of the model's assembly");

@@ -25,6 +25,9 @@ struct Arguments {
   std::string csv_path, svg_path;
   std::string mode;  ///< a named assembly mode (the model's assembly_modes:); empty: the default
   bool no_animation = false;
+  /// --design: the design-sensitivity columns d<output>/d<parameter> (a model with a design
+  /// section).
+  bool design = false;
   /// What the sweep does at a singular configuration (--at-singular): stop, follow (a change
   /// point: on along the same smooth curve, the branch it was on), switch (a change point: onto
   /// the other curve) or reverse (a dead point: the input turns back).

@@ -214,7 +214,13 @@ int main(int argc, char** argv) {
   }
 
   // The CSV's columns must be unique (the generator ensures it; checked again here).
-  const std::vector<mechgen::SweepColumn<Model>> columns = mechgen::SweepColumns<Model>();
+  std::vector<mechgen::SweepColumn<Model>> columns = mechgen::SweepColumns<Model>();
+  if (arguments.design) {
+    if (!mechgen::HasDesignDerivatives<Model>::value)
+      return Usage(std::string("--design: the model ") + Model::kName +
+                   " has no design section; add design: [parameter, ...] to it and generate it again");
+    mechgen::AppendDesignColumns<Model>(&columns);
+  }
   const std::string duplicate = mechgen::DuplicateColumnName(columns);
   if (!duplicate.empty()) {
     std::cerr << "error: the model " << Model::kName << " has two CSV columns named '"
@@ -345,6 +351,7 @@ int main(int argc, char** argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   mechgen::SweepOptions sweep_options;
+  sweep_options.design = arguments.design;
   sweep_options.at_singularity = arguments.at_singular == "follow"    ? mechgen::position::Crossing::kFollowTangent
                                  : arguments.at_singular == "switch"  ? mechgen::position::Crossing::kSwitchBranch
                                  : arguments.at_singular == "reverse" ? mechgen::position::Crossing::kReverseInput

@@ -32,7 +32,8 @@ std::string Read(const std::string& path) {
 std::vector<FunctionSpec> AllFilling() {
   std::vector<FunctionSpec> functions;
   for (OutputStruct o : {OutputStruct::kStatics, OutputStruct::kDynamics, OutputStruct::kExcess, OutputStruct::kShaking,
-                         OutputStruct::kRhs, OutputStruct::kRhsConstants}) {
+                         OutputStruct::kRhs, OutputStruct::kRhsConstants, OutputStruct::kDesign,
+                         OutputStruct::kStaticsDesign, OutputStruct::kDynamicsDesign}) {
     FunctionSpec f;
     f.fills = o;
     functions.push_back(f);
@@ -107,7 +108,7 @@ TEST(OutputSpec, EveryMemberHasAUnitAndItsRenderedDocSaysWhatItsFieldsSay) {
 // The rendered lines are the committed headers' lines: units and signs substituted from their
 // fields give the text the header had when they were part of it.
 TEST(OutputSpec, RenderedDocsAreTheCommittedHeadersLines) {
-  for (const std::string name : {"slider_crank_friction", "fourbar_balanced", "engine_single"}) {
+  for (const std::string name : {"slider_crank_friction", "fourbar_balanced", "engine_single", "watt_sixbar"}) {
     const Loaded l(name);
     const std::string header = Read(std::string(MECHGEN_SOURCE_DIR) + "/generated/" + name + ".h");
     ASSERT_FALSE(header.empty()) << name;

@@ -96,7 +96,7 @@ ParsedReport Parse(const std::string& text) {
   ParsedReport r;
   r.text = text;
   static const std::regex formula(
-      R"(^  (det_block\d+|K_\d+_\d+|L_rhs_\d+_\d+_\d+|L_\d+_\d+_\d+|r_\d+_[xy]|K_P\d+_[xy]_\d+|L_P\d+_[xy]_\d+_\d+) = (.*?)(   \[.*\])?$)");
+      R"(^  (det_block\d+|K_\d+_\d+|L_rhs_\d+_\d+_\d+|L_\d+_\d+_\d+|r_\d+_[xy]|K_P\d+_[xy]_\d+|L_P\d+_[xy]_\d+_\d+|dphi_\d+_[A-Za-z_][A-Za-z0-9_]*) = (.*?)(   \[.*\])?$)");
   static const std::regex param(R"(^  ([A-Za-z_][A-Za-z0-9_]*) = ([-+0-9.eE]+)(   \(.*\))?$)");
   std::istringstream in(text);
   bool in_params = false;
@@ -245,6 +245,21 @@ TYPED_TEST(ReportFormulas, MatchFiniteDifferencesOfTheGeneratedPositions) {
           EXPECT_NEAR(value("L_P" + N(m) + "_" + (a ? "y" : "x") + "_" + jk), d2(nphi + 2 * m + a),
                       2e-5 * (1 + std::abs(d2(nphi + 2 * m + a))));
     }
+
+  // The design sensitivities dphi/dp (a model with a design section) against central
+  // differences of the generated positions over each design parameter.
+  if constexpr (M::kHasDesignDerivatives) {
+    for (int d = 0; d < M::kNumDesign; ++d) {
+      auto pp = p, pm = p;
+      const double pd = *pp.Find(M::kDesignNames[d]), h = 1e-6 * std::max(1.0, std::abs(pd));
+      *pp.Find(M::kDesignNames[d]) = pd + h;
+      *pm.Find(M::kDesignNames[d]) = pd - h;
+      const VecPhi<M> dphi = (Positions<M>(pp, q, phi) - Positions<M>(pm, q, phi)) / (2 * h);
+      for (int i = 0; i < nphi; ++i)
+        EXPECT_NEAR(value("dphi_" + N(i) + "_" + M::kDesignNames[d]), dphi(i), 1e-7 * (1 + std::abs(dphi(i))))
+            << M::kPhiNames[i] << " / " << M::kDesignNames[d];
+    }
+  }
 
   // det Phi_phi: the blocks' determinants multiply to the generated one (up to the sign of
   // the block order's permutation).

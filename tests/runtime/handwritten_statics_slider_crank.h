@@ -201,6 +201,8 @@ struct Model : Sizes {
   static constexpr bool kHasShaking = false;
   static constexpr bool kHasRhs = false;
   static constexpr bool kHasRhsConstants = false;
+  static constexpr bool kHasDesignDerivatives = false;
+  static constexpr bool kHasStaticsDesign = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_crank"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"theta_rod", "s_slide"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

@@ -168,11 +168,11 @@ struct ModelFeatures {
 };
 
 // ---- What a generated model has, output by output: the one place the runtime asks. ----
-// Every generated header declares twelve `static constexpr bool kHas*` flags, one per output
+// Every generated header declares fourteen `static constexpr bool kHas*` flags, one per output
 // and one per optional member of Statics (generator/codegen/output_spec.cc renders them from
 // the output descriptions; tests/kinematics/output_flags_test.cc checks them against the
 // structs). The runtime reads those flags here and nowhere else; it does not detect members.
-// A hand-written model declares the same twelve flags with the values that describe it. A
+// A hand-written model declares the same fourteen flags with the values that describe it. A
 // type without a flag that the runtime reads stops the build with one static_assert naming
 // the flag (the detector below only serves that message; its answer is never used as the
 // flag's value).
@@ -209,6 +209,8 @@ MECHGEN_OUTPUT_FLAG_READER(kHasExcess)
 MECHGEN_OUTPUT_FLAG_READER(kHasShaking)
 MECHGEN_OUTPUT_FLAG_READER(kHasRhs)
 MECHGEN_OUTPUT_FLAG_READER(kHasRhsConstants)
+MECHGEN_OUTPUT_FLAG_READER(kHasDesignDerivatives)
+MECHGEN_OUTPUT_FLAG_READER(kHasStaticsDesign)
 #undef MECHGEN_OUTPUT_FLAG_READER
 
 /// SolveTrig has no flag (it is not an output struct): whether M::SolveTrig exists, detected.
@@ -231,6 +233,28 @@ struct RhsConstantsOf {
 template <class M>
 struct RhsConstantsOf<M, true> {
   using type = typename M::template RhsConstantsT<double>;
+};
+
+/// Its design derivatives (M::DesignDerivativesT, when M::kHasDesignDerivatives), or an empty
+/// placeholder.
+struct NoDesignDerivatives {};
+template <class M, bool = ReadFlag_kHasDesignDerivatives<M>()>
+struct DesignDerivativesOf {
+  using type = NoDesignDerivatives;
+};
+template <class M>
+struct DesignDerivativesOf<M, true> {
+  using type = typename M::template DesignDerivativesT<double>;
+};
+/// Its statics' design derivatives (M::StaticsDesignT, when M::kHasStaticsDesign), or empty.
+struct NoStaticsDesign {};
+template <class M, bool = ReadFlag_kHasStaticsDesign<M>()>
+struct StaticsDesignOf {
+  using type = NoStaticsDesign;
+};
+template <class M>
+struct StaticsDesignOf<M, true> {
+  using type = typename M::template StaticsDesignT<double>;
 };
 }  // namespace internal
 
@@ -277,6 +301,14 @@ struct HasRhs : std::bool_constant<internal::ReadFlag_kHasRhs<M>()> {};
 /// M::kHasRhsConstants: M::RhsConstantsT (what M::Prepare computes once per parameter set).
 template <class M>
 struct HasRhsConstants : std::bool_constant<internal::ReadFlag_kHasRhsConstants<M>()> {};
+/// M::kHasDesignDerivatives: EvalDesignDerivatives (M::DesignDerivativesT, M::Design: d/dp of
+/// phi, K, L and the points for the design parameters M::kDesignNames; the `design` section).
+template <class M>
+struct HasDesignDerivatives : std::bool_constant<internal::ReadFlag_kHasDesignDerivatives<M>()> {};
+/// M::kHasStaticsDesign: EvalStaticsDesign (M::StaticsDesignT, M::StaticsDesign: d/dp of Q, the
+/// drive, V and the reactions; a design section and statics).
+template <class M>
+struct HasStaticsDesign : std::bool_constant<internal::ReadFlag_kHasStaticsDesign<M>()> {};
 /// SolveTrig (every block a closed form handing out its angles' sin and cos). Not an output
 /// struct, so no flag: detected.
 template <class M>

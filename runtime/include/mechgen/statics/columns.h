@@ -38,6 +38,8 @@
  *   status, cond, evaluations        the row's status (converged, singular, did_not_converge,
  *                                    or the position step's failure), cond_1 Phi_phi, and the
  *                                    generated statics evaluations of the row
+ *   ddrive_<q_j>/d<p>, dR_k/d<p>, dV/d<p>   with --design (EvalStaticsDesign): per design
+ *                                    parameter p, the derivatives without friction, q held
  * A value cell is empty when its solution is not usable (a singular row: reactions and
  * drives are unbounded there, so no number is printed; a friction iteration that did not
  * converge: its columns) or undefined (efficiency_<q>_back where T0 = 0 up to rounding);
@@ -172,9 +174,11 @@ double ReactionMagnitude(const ReactionJoint& j, const VecR& R) {
 template <class M>
 using StaticsColumn = table::Column<StaticsRecord<M>>;
 
-/// The column table of model M's statics sweeps (see the file comment).
+/// The column table of model M's statics sweeps (see the file comment); with `design` (a model
+/// with EvalStaticsDesign, Options::design), also for each design parameter p (kDesignNames)
+/// d drive_<q_j>/d<p>, dR_k/d<p>, dV/d<p> without friction, q held.
 template <class M>
-std::vector<StaticsColumn<M>> StaticsColumns() {
+std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
   static_assert(StaticsFeatures<M>::kHasStatics, "the model has no statics");
   using F = StaticsFeatures<M>;
   using R = StaticsRecord<M>;
@@ -338,13 +342,34 @@ std::vector<StaticsColumn<M>> StaticsColumns() {
              [](const R& r) { return r.frictionless.summary.condition; });
   add.Text("evaluations", "generated statics evaluations of the row",
            [](const R& r) { return std::to_string(r.evaluations); });
+  if constexpr (HasStaticsDesign<M>::value) {
+    for (int d = 0; design && d < M::kNumDesign; ++d) {
+      const std::string p = M::kDesignNames[d];
+      if constexpr (HasStaticsQ<M>::value)
+        for (int j = 0; j < M::kNq; ++j)
+          add.Number("ddrive_" + std::string(M::kQNames[j]) + "/d" + p,
+                     std::string(M::kQIsAngle[j] ? "N m" : "N") + " per unit of " + p,
+                     "sensitivity of the driving torque or force without friction (q held)",
+                     [j, d](const R& r) { return r.design.ddrive_dp(j, d); });
+      if constexpr (HasStaticsR<M>::value)
+        for (int k = 0; k < M::kNumReactions; ++k)
+          add.Number("d" + std::string(M::kReactionNames[k]) + "/d" + p, "N or N m per unit of " + p,
+                     "sensitivity of the reaction without friction (q held)",
+                     [k, d](const R& r) { return r.design.dR_dp(k, d); });
+      if constexpr (HasStaticsV<M>::value)
+        add.Number("dV/d" + p, "J per unit of " + p, "sensitivity of the potential energy (q held)",
+                   [d](const R& r) { return r.design.dV_dp(d); });
+    }
+  } else {
+    (void)design;
+  }
   return columns;
 }
 
 /// The names of StaticsColumns<M>(), in order.
 template <class M>
-std::vector<std::string> StaticsCsvColumns() {
-  return table::ColumnNames(StaticsColumns<M>());
+std::vector<std::string> StaticsCsvColumns(bool design = false) {
+  return table::ColumnNames(StaticsColumns<M>(design));
 }
 
 /// A CSV cell: the text, the number, or empty for no value (NaN).
@@ -367,8 +392,8 @@ inline constexpr const char* kStaticsSigns =
 /// comment lines before the header).
 template <class M>
 void WriteStaticsCsv(const std::vector<StaticsRecord<M>>& records, std::ostream& out,
-                     const CsvOptions& options = CsvOptions()) {
-  ::mechgen::WriteCsv(StaticsColumns<M>(), records, out, options);
+                     const CsvOptions& options = CsvOptions(), bool design = false) {
+  ::mechgen::WriteCsv(StaticsColumns<M>(design), records, out, options);
 }
 
 /// Prints `rows` records spread evenly over the sweep, the first and the last included

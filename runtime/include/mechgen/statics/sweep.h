@@ -27,6 +27,22 @@
 namespace mechgen::statics {
 
 /// One row of a statics sweep.
+/// The statics' design derivatives with every member NaN (or the empty placeholder).
+template <class M>
+typename ::mechgen::internal::StaticsDesignOf<M>::type NanStaticsDesign() {
+  typename ::mechgen::internal::StaticsDesignOf<M>::type d;
+  if constexpr (HasStaticsDesign<M>::value) {
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    if constexpr (HasStaticsQ<M>::value) {
+      d.dQ_dp.setConstant(nan);
+      d.ddrive_dp.setConstant(nan);
+    }
+    if constexpr (HasStaticsV<M>::value) d.dV_dp.setConstant(nan);
+    if constexpr (HasStaticsR<M>::value) d.dR_dp.setConstant(nan);
+  }
+  return d;
+}
+
 template <class M>
 struct StaticsRecord {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -52,6 +68,9 @@ struct StaticsRecord {
   Status status = Status::kNotRun;
   /// Generated statics evaluations of the row.
   int evaluations = 0;
+  /// With Options::design (a model with EvalStaticsDesign): d/dp of Q, the drive, V and the
+  /// reactions without friction; NaN where the frictionless solution is withheld.
+  typename ::mechgen::internal::StaticsDesignOf<M>::type design = NanStaticsDesign<M>();
 };
 
 /// The solution of row r with input j moving along +e_j (way > 0) or -e_j (way < 0): the
@@ -98,6 +117,7 @@ Status EvaluateRecord(const Options& options, const typename ModelTypes<M>::Para
   }
   typename ModelTypes<M>::Coefficients c;
   M::template Coeffs<double>(p, state.q, state.phi, &c);
+  r->design = NanStaticsDesign<M>();
   // The stiffness once per row, without friction (it excludes friction anyway).
   Options with_stiffness = options, without_stiffness = options;
   with_stiffness.stiffness = true;
@@ -121,6 +141,12 @@ Status EvaluateRecord(const Options& options, const typename ModelTypes<M>::Para
       r->evaluations += r->forward[j].summary.iterations + r->backward[j].summary.iterations;
     }
     if (status == Status::kConverged) status = drive;
+  }
+  if constexpr (HasStaticsDesign<M>::value) {
+    if (options.design && r->frictionless.summary.status == Status::kConverged) {
+      position::EvalDesign<M>(p, state, &r->kinematics.design);
+      M::StaticsDesign(p, state.q, state.phi, c, r->kinematics.design, &r->design);
+    }
   }
   if constexpr (M::kNq == 1 && ModelFeatures<M>::kHasPointVelocities) {
     if (status == Status::kConverged) {

@@ -89,6 +89,9 @@ struct Options {
   /// the equilibria (FindEquilibria evaluates them at each one) and the statics sweep (once
   /// per row, without friction) need them.
   bool stiffness = false;
+  /// The statics sweep also evaluates the design derivatives of each row (a model with
+  /// EvalStaticsDesign: StaticsRecord::design, the columns of --design).
+  bool design = false;
 
   /// Checks every field; on failure writes "Options::field = value. Violated constraint: ..."
   /// to *error (if not nullptr) and returns false.

@@ -15,6 +15,9 @@
  *   phi_error, K_error, L_error (the error bounds the conditioning implies: State),
  *   mu_<J> (the transmission angle at joint J of each four-bar loop on the ground, in
  *   [0, pi]; 0 or pi where that loop toggles; models with such loops only).
+ * DesignColumns<M>() (a model with a design section, the sweep's --design) adds, for each
+ * design parameter p: d<phi_i>/d<p>, dK_<phi_i>_<q_j>/d<p>, d<P>.x/d<p>, d<P>.y/d<p>,
+ * dmu_<J>/d<p>.
  * Values are in model units and radians, every number written to round-trip (io/format.h,
  * FormatRoundTrip); the printed table shows angle columns in degrees. A failed step's
  * values are "nan". Building the table allocates (names, std::function); it runs after the
@@ -39,6 +42,52 @@ template <class M>
 using SweepColumn = table::Column<SweepRecord<M>>;
 
 using table::DuplicateColumnName;
+
+/**
+ * \brief The design-sensitivity columns of model M (M::kHasDesignDerivatives), appended to
+ *        *columns: for each design parameter p (M::kDesignNames) the derivatives of the
+ *        dependent coordinates, of K (with K) and of the points (with points), q held. CSV
+ *        only; NaN where the step failed (SweepRecord::design).
+ */
+template <class M>
+void AppendDesignColumns(std::vector<SweepColumn<M>>* columns) {
+  if constexpr (HasDesignDerivatives<M>::value) {
+    using R = SweepRecord<M>;
+    table::Builder<R> add(columns);
+    auto per = [](bool angle, int d) {
+      return std::string(angle ? "rad" : "model length") + " per unit of " + M::kDesignNames[d];
+    };
+    for (int d = 0; d < M::kNumDesign; ++d) {
+      const std::string p = M::kDesignNames[d];
+      for (int i = 0; i < M::kNphi; ++i)
+        add.Number("d" + std::string(M::kPhiNames[i]) + "/d" + p, per(M::kPhiIsAngle[i], d),
+                   "sensitivity of the dependent coordinate to the design parameter (q held)",
+                   [i, d](const R& r) { return r.design.dphi_dp(i, d); })
+            .angle = false;
+      if constexpr (M::kOrder >= 1)
+        for (int i = 0; i < M::kNphi; ++i)
+          for (int j = 0; j < M::kNq; ++j)
+            add.Number("dK_" + std::string(M::kPhiNames[i]) + "_" + M::kQNames[j] + "/d" + p,
+                       "K's unit per unit of " + p, "sensitivity of the first-order coefficient dphi/dq",
+                       [i, j, d](const R& r) { return r.design.dK_dp(i, j + M::kNq * d); })
+                .angle = false;
+      if constexpr (M::kNumPoints > 0)
+        for (int m = 0; m < M::kNumPoints; ++m)
+          for (int a = 0; a < 2; ++a)
+            add.Number("d" + std::string(M::kPointNames[m]) + (a ? ".y" : ".x") + "/d" + p,
+                       "model length per unit of " + p, "sensitivity of the point in the fixed frame",
+                       [m, a, d](const R& r) { return r.design.dr_P_dp(2 * m + a, d); });
+      if constexpr (M::kNumTransmissionAngles > 0)
+        for (int i = 0; i < M::kNumTransmissionAngles; ++i)
+          add.Number("dmu_" + std::string(M::kTransmissionJoints[i]) + "/d" + p, "rad per unit of " + p,
+                     "sensitivity of the transmission angle (q held)",
+                     [i, d](const R& r) { return r.design.dmu_dp(i, d); })
+              .angle = false;
+    }
+  } else {
+    (void)columns;
+  }
+}
 
 /**
  * \brief The column table of model M's sweeps (see the file comment for the order).

@@ -18,6 +18,7 @@
 #include <limits>
 #include <vector>
 
+#include "mechgen/position/design.h"
 #include "mechgen/position/motion.h"
 #include "mechgen/position/solver.h"
 
@@ -38,6 +39,9 @@ struct SweepRecord {
   /// NaN when the step failed.
   Eigen::Matrix<double, kNumMu, 1> mu =
       Eigen::Matrix<double, kNumMu, 1>::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// d/dp of phi, K, L and the points for M's design parameters (position/design.h), where
+  /// SweepOptions::design asks for them; NaN otherwise and where the step failed.
+  position::DesignOf<M> design = position::NanDesign<M>();
 };
 
 /// What a sweep does at a singular configuration.
@@ -48,6 +52,9 @@ struct SweepOptions {
   /// kReverseInput the input moves back (the remaining rows mirror about the dead point,
   /// and the input speed qd changes sign), so a rocker-driven linkage swings back and forth.
   position::Crossing at_singularity = position::Crossing::kStop;
+  /// Evaluate the design derivatives of every row (SweepRecord::design; a model with a design
+  /// section only: M::kHasDesignDerivatives).
+  bool design = false;
 };
 
 /**
@@ -144,6 +151,7 @@ int SweepRows(position::PositionSolver<M, Assembler>* solver,
       if constexpr (SweepRecord<M>::kNumMu > 0) {
         M::TransmissionAngles(solver->params(), record.state.q, record.state.phi, &record.mu);
       }
+      if (options.design) position::EvalDesign<M>(solver->params(), record.state, &record.design);
       if (status == position::Status::kSingular) {
         stopped = true;
         ++failures;

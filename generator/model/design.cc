@@ -1,0 +1,77 @@
+// The `design` section (issue 27): the free parameters the generated code differentiates its
+// outputs with respect to (EvalDesignDerivatives: dphi/dp, the points' dr_P/dp, dK/dp, ...).
+//   design: [a, b, c]                  # short form
+//   design: {parameters: [a, b, c]}
+//   design: {parameters: all}          # every free parameter, in file order
+// A derived parameter cannot be one (it follows the free ones it is made of: name those).
+#include <string>
+
+#include "model/reader.h"
+
+namespace mechgen {
+
+const KeyTable& DesignKeys() {
+  static const KeyTable table{
+      "design",
+      {{"parameters", "[name, ...] or all: the free parameters to differentiate with respect to", true}}};
+  return table;
+}
+
+namespace {
+
+std::string FreeParameterList(const Model& m) {
+  std::string list;
+  for (const Parameter& p : m.params) list += (list.empty() ? "" : ", ") + p.name;
+  return list.empty() ? "(none)" : list;
+}
+
+}  // namespace
+
+void ReadDesign(SectionReader& r, const YAML::Node& node) {
+  Model& m = r.model();
+  if (!node) return;
+  m.design.mark = MarkOf(node);
+  // A cam's law or contour is a function the generated code calls: its parameters are inside
+  // it, out of reach of the symbolic derivative.
+  for (const Joint& j : m.joints)
+    if (j.type() == JointType::kCam)
+      r.Fail(node, "design derivatives are not available for a model with a cam (joint '" + j.name +
+                       "': its law or contour hides its parameters from the derivation); remove design");
+  // (yaml-cpp's Node::operator= writes through to the node it refers to: rebind with reset.)
+  YAML::Node list;
+  list.reset(node);
+  if (node.IsMap()) {
+    list.reset();
+    for (const auto& [key, value] : r.Entries(node, "design", &DesignKeys()))
+      if (key == "parameters") list.reset(value);
+    if (!list) r.Fail(node, "design needs parameters: [name, ...] (or parameters: all)");
+  }
+  if (list.IsScalar() && r.Scalar(list, "design parameters") == "all") {
+    for (size_t i = 0; i < m.params.size(); ++i) m.design.params.push_back(static_cast<int>(i));
+    if (m.design.params.empty())
+      r.Fail(list, "design: all names no parameter: the model has no free parameters; add parameters or remove design");
+    return;
+  }
+  if (!list.IsSequence())
+    r.Fail(list, "design parameters must be a list of parameter names ([a, b]) or all");
+  if (list.size() == 0) r.Fail(list, "design parameters is empty; name at least one parameter or remove design");
+  for (const auto& item : list) {
+    const std::string name = r.Scalar(item, "design parameter");
+    int index = -1;
+    for (size_t i = 0; i < m.params.size(); ++i)
+      if (m.params[i].name == name) index = static_cast<int>(i);
+    if (index < 0) {
+      for (const DerivedParameter& d : m.derived)
+        if (d.name == name)
+          r.Fail(item, "design parameter '" + name +
+                           "' is derived (it follows the free parameters of its expression); name those instead: " +
+                           FreeParameterList(m));
+      r.Fail(item, "design: unknown parameter '" + name + "'; the free parameters are " + FreeParameterList(m));
+    }
+    for (int other : m.design.params)
+      if (other == index) r.Fail(item, "design parameter '" + name + "' is listed twice");
+    m.design.params.push_back(index);
+  }
+}
+
+}  // namespace mechgen

@@ -1,0 +1,437 @@
+// Design sensitivities: derivatives of positions, K, L and the points with respect to the
+// design parameters. See design.h.
+#include "symbolic/design.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "symbolic/block_system.h"
+#include "symbolic/motion.h"
+
+namespace mechgen {
+namespace {
+
+using GiNaC::ex;
+using Columns = std::vector<std::vector<ex>>;  // [row or unknown][column]
+
+std::string N(int i) { return std::to_string(i); }
+
+// X = -J^-1 R over the columns of R that are not all zero (a design parameter that no row of
+// a block depends on, directly or through earlier blocks, has a zero column: no local is
+// defined for it).
+Columns SolveNonzero(BlockSystem* system, const Columns& R, const std::string& prefix,
+                     const std::vector<std::string>& suffix, Program* P) {
+  const size_t n = R.size(), m = suffix.size();
+  std::vector<size_t> keep;
+  for (size_t j = 0; j < m; ++j) {
+    bool zero = true;
+    for (size_t r = 0; r < n; ++r) zero &= R[r][j].expand().is_zero();
+    if (!zero) keep.push_back(j);
+  }
+  Columns X(n, std::vector<ex>(m, 0));
+  if (keep.empty()) return X;
+  Columns Rk(n, std::vector<ex>(keep.size()));
+  std::vector<std::string> sk;
+  for (size_t c = 0; c < keep.size(); ++c) {
+    sk.push_back(suffix[keep[c]]);
+    for (size_t r = 0; r < n; ++r) Rk[r][c] = R[r][keep[c]];
+  }
+  const Columns Xk = system->Solve(Rk, prefix, sk, P);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t c = 0; c < keep.size(); ++c) X[i][keep[c]] = Xk[i][c];
+  return X;
+}
+
+// Sum over earlier blocks' unknowns c of Phi_phi(row, c) X[c][col].
+ex EarlierBlocks(const Kinematics& k, const std::vector<Block>& blocks, size_t bi, int row, const Columns& X, size_t col) {
+  ex s = 0;
+  for (size_t pb = 0; pb < bi; ++pb)
+    for (int c : blocks[pb].cols) s += k.Phi_phi(row, c) * X[c][col];
+  return s;
+}
+
+}  // namespace
+
+DesignTable::DesignTable(const Model& m, const SymbolicTable& t, const Topology* topo,
+                         const std::vector<FourBarLoop>* four_bars,
+                         const std::vector<TransmissionAngle>* transmission) {
+  if (!m.design.any()) return;
+  const Kinematics& k = t.kinematics();
+  const std::vector<Block>& blocks = t.blocks;
+  const int nq = k.nq(), nphi = k.nphi();
+  for (int index : m.design.params) {
+    p.push_back(m.params[index].symbol);
+    names.push_back(m.params[index].name);
+  }
+  const int n_d = nd();
+  has_K = t.requested.K;
+  has_L = t.requested.L;
+
+  std::vector<GiNaC::symbol> q_symbols, phi_symbols;
+  for (const Coordinate& c : k.q) q_symbols.push_back(c.symbol);
+  for (const Coordinate& c : k.phi) phi_symbols.push_back(c.symbol);
+
+  std::vector<std::string> q_suffix, p_suffix, qp_suffix;
+  for (int j = 0; j < nq; ++j) q_suffix.push_back(N(j));
+  for (int d = 0; d < n_d; ++d) {
+    p_suffix.push_back(names[d]);
+    for (int j = 0; j < nq; ++j) qp_suffix.push_back(N(j) + "_" + names[d]);
+  }
+  std::vector<std::pair<int, int>> pairs;  // (j, k), j <= k
+  std::vector<std::string> pair_suffix, pair_p_suffix;
+  for (int j = 0; j < nq; ++j)
+    for (int kk = j; kk < nq; ++kk) {
+      pairs.emplace_back(j, kk);
+      pair_suffix.push_back(N(j) + "_" + N(kk));
+    }
+  const size_t np = pairs.size();
+  for (int d = 0; d < n_d; ++d)
+    for (size_t pj = 0; pj < np; ++pj) pair_p_suffix.push_back(pair_suffix[pj] + "_" + names[d]);
+  auto pair_index = [&pairs](int j, int kk) {
+    const std::pair<int, int> key(std::min(j, kk), std::max(j, kk));
+    return static_cast<size_t>(std::find(pairs.begin(), pairs.end(), key) - pairs.begin());
+  };
+
+  // ---- Each block's Phi_phi set up once; K and dphi/dp by forward substitution ----
+  Columns K(nphi, std::vector<ex>(nq, 0));
+  dphi_dp.assign(nphi, std::vector<ex>(n_d, 0));
+  std::vector<BlockSystem> systems;
+  for (size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    systems.emplace_back(b, static_cast<int>(bi), k, &program);
+    const size_t nr = b.rows.size();
+    if (has_K) {
+      Columns R(nr, std::vector<ex>(nq));
+      for (size_t r = 0; r < nr; ++r)
+        for (int j = 0; j < nq; ++j) R[r][j] = k.Phi_q(b.rows[r], j) + EarlierBlocks(k, blocks, bi, b.rows[r], K, j);
+      // The same statements as EvalCoefficients' K (SymbolicTable::SolveVelocityCoefficients).
+      const Columns X = systems.back().Solve(R, "K", q_suffix, &program);
+      for (size_t i = 0; i < b.cols.size(); ++i)
+        for (int j = 0; j < nq; ++j) K[b.cols[i]][j] = X[i][j];
+    }
+    Columns R(nr, std::vector<ex>(n_d));
+    for (size_t r = 0; r < nr; ++r)
+      for (int d = 0; d < n_d; ++d)
+        R[r][d] = k.Phi[b.rows[r]].diff(p[d]) + EarlierBlocks(k, blocks, bi, b.rows[r], dphi_dp, d);
+    const Columns X = SolveNonzero(&systems.back(), R, "dphi_dp", p_suffix, &program);
+    for (size_t i = 0; i < b.cols.size(); ++i)
+      for (int d = 0; d < n_d; ++d) dphi_dp[b.cols[i]][d] = X[i][d];
+  }
+
+  // The motion over q, with this program's K and L.
+  Columns L(nphi, std::vector<ex>(np, 0));  // L[i][pair]: this program's locals
+  const Motion along_q(q_symbols, phi_symbols, [&K](int i, int j) { return K[i][j]; },
+                       [&L, &pair_index](int i, int j, int kk) { return L[i][pair_index(j, kk)]; });
+  Columns dL(nphi, std::vector<ex>(np * n_d, 0));  // dL[i][pair + np d]
+  dK_dp.assign(nphi, std::vector<ex>(nq * n_d, 0));
+  // D_d f for every d: the total derivative with respect to p_d, through p_d, phi and the K
+  // (and, with `through_L`, L) locals f holds. f's partial derivative along each variable is
+  // the same for every p_d: it is named once (a local) where it is not a single factor.
+  int chain_locals = 0;
+  auto name_once = [&](const ex& g) -> ex {
+    if (n_d < 2 || GiNaC::is_a<GiNaC::symbol>(g) || GiNaC::is_a<GiNaC::numeric>(g)) return g;
+    ex named;
+    program.push_back(Define("dchain_" + N(chain_locals++), g, &named));
+    return named;
+  };
+  auto total = [&](const ex& f, bool through_K, bool through_L) {
+    std::vector<ex> out(n_d);
+    for (int d = 0; d < n_d; ++d) out[d] = f.diff(p[d]);
+    auto chain = [&](const ex& v, const std::vector<ex>& dv_dp, int stride, int offset) {
+      if (!GiNaC::is_a<GiNaC::symbol>(v)) return;
+      const ex g = f.diff(GiNaC::ex_to<GiNaC::symbol>(v));
+      if (g.is_zero()) return;
+      const ex gn = name_once(g);
+      for (int d = 0; d < n_d; ++d) out[d] += gn * dv_dp[offset + stride * d];
+    };
+    for (int i = 0; i < nphi; ++i) {
+      chain(phi_symbols[i], dphi_dp[i], 1, 0);
+      if (through_K)
+        for (int j = 0; j < nq; ++j) chain(K[i][j], dK_dp[i], nq, j);
+      if (through_L)
+        for (size_t pj = 0; pj < np; ++pj) chain(L[i][pj], dL[i], static_cast<int>(np), static_cast<int>(pj));
+    }
+    return out;
+  };
+
+  // ---- dK/dp: Phi_phi dK(:, j)/dp_d = -(d/dp_d of dPhi/dq_j with K held) ----
+  if (has_K)
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      const Block& b = blocks[bi];
+      Columns R(b.rows.size(), std::vector<ex>(nq * n_d));
+      for (size_t r = 0; r < b.rows.size(); ++r) {
+        for (int j = 0; j < nq; ++j) {
+          const std::vector<ex> D = total(along_q.Along(k.Phi[b.rows[r]], j), false, false);
+          for (int d = 0; d < n_d; ++d)
+            R[r][j + nq * d] = D[d] + EarlierBlocks(k, blocks, bi, b.rows[r], dK_dp, j + nq * d);
+        }
+      }
+      const Columns X = SolveNonzero(&systems[bi], R, "dK_dp", qp_suffix, &program);
+      for (size_t i = 0; i < b.cols.size(); ++i)
+        for (int c = 0; c < nq * n_d; ++c) dK_dp[b.cols[i]][c] = X[i][c];
+    }
+
+  // ---- L (as EvalCoefficients' l_program) and dL/dp ----
+  if (has_L) {
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      const Block& b = blocks[bi];
+      Columns R(b.rows.size(), std::vector<ex>(np));
+      for (size_t r = 0; r < b.rows.size(); ++r)
+        for (size_t pj = 0; pj < np; ++pj)
+          R[r][pj] = along_q.Along(along_q.Along(k.Phi[b.rows[r]], pairs[pj].first), pairs[pj].second) +
+                     EarlierBlocks(k, blocks, bi, b.rows[r], L, pj);
+      const Columns X = systems[bi].Solve(R, "L", pair_suffix, &program);
+      for (size_t i = 0; i < b.cols.size(); ++i)
+        for (size_t pj = 0; pj < np; ++pj) L[b.cols[i]][pj] = X[i][pj];
+    }
+    // d2Phi_r/dq_j dq_k = g_r + sum_c Phi_phi(r, c) L_c = 0 with g_r = Along_k Along_j Phi_r (K
+    // held): its total derivative has sum_c Phi_phi(r, c) dL_c/dp_d and D_d of the rest, L held.
+    for (size_t bi = 0; bi < blocks.size(); ++bi) {
+      const Block& b = blocks[bi];
+      Columns R(b.rows.size(), std::vector<ex>(np * n_d));
+      for (size_t r = 0; r < b.rows.size(); ++r) {
+        const int row = b.rows[r];
+        for (size_t pj = 0; pj < np; ++pj) {
+          ex f = along_q.Along(along_q.Along(k.Phi[row], pairs[pj].first), pairs[pj].second);
+          for (int c = 0; c < nphi; ++c) f += k.Phi_phi(row, c) * L[c][pj];
+          const std::vector<ex> D = total(f, /*through_K=*/true, /*through_L=*/false);
+          for (int d = 0; d < n_d; ++d) R[r][pj + np * d] = D[d] + EarlierBlocks(k, blocks, bi, row, dL, pj + np * d);
+        }
+      }
+      const Columns X = SolveNonzero(&systems[bi], R, "dL_dp", pair_p_suffix, &program);
+      for (size_t i = 0; i < b.cols.size(); ++i)
+        for (size_t c = 0; c < np * n_d; ++c) dL[b.cols[i]][c] = X[i][c];
+    }
+    dL_dp.assign(nphi, std::vector<ex>(nq * nq * n_d, 0));
+    for (int i = 0; i < nphi; ++i)
+      for (int d = 0; d < n_d; ++d)
+        for (int j = 0; j < nq; ++j)
+          for (int kk = 0; kk < nq; ++kk) dL_dp[i][j + nq * kk + nq * nq * d] = dL[i][pair_index(j, kk) + np * d];
+  }
+
+  // ---- The points ----
+  dr_P_dp.resize(t.r_P.size());
+  dK_P_dp.resize(t.r_P.size());
+  dL_P_dp.resize(t.r_P.size());
+  for (size_t pt = 0; pt < t.r_P.size(); ++pt)
+    for (int a = 0; a < 2; ++a) {
+      const ex& r = t.r_P[pt][a];
+      dr_P_dp[pt][a] = total(r, false, false);
+      if (has_K) {
+        dK_P_dp[pt][a].assign(nq * n_d, 0);
+        for (int j = 0; j < nq; ++j) {
+          const std::vector<ex> D = total(along_q.Along(r, j), /*through_K=*/true, false);
+          for (int d = 0; d < n_d; ++d) dK_P_dp[pt][a][j + nq * d] = D[d];
+        }
+      }
+      if (has_L) {
+        dL_P_dp[pt][a].assign(nq * nq * n_d, 0);
+        for (int j = 0; j < nq; ++j)
+          for (int kk = j; kk < nq; ++kk) {
+            const std::vector<ex> D = total(along_q.Second(r, j, kk), /*through_K=*/true, /*through_L=*/true);
+            for (int d = 0; d < n_d; ++d) {
+              dL_P_dp[pt][a][j + nq * kk + nq * nq * d] = D[d];
+              dL_P_dp[pt][a][kk + nq * j + nq * nq * d] = D[d];
+            }
+          }
+      }
+    }
+  // ---- The transmission angles ----
+  if (transmission != nullptr)
+    for (size_t i = 0; i < transmission->size(); ++i) {
+      const TransmissionAngle& ta = (*transmission)[i];
+      ex cross, dot;
+      program.push_back(Define("cross_" + N(static_cast<int>(i)), ta.cross, &cross));
+      program.push_back(Define("dot_" + N(static_cast<int>(i)), ta.dot, &dot));
+      const std::vector<ex> dcross = total(ta.cross, false, false), ddot = total(ta.dot, false, false);
+      ex scale;
+      program.push_back(Define("dmu_scale_" + N(static_cast<int>(i)),
+                               cross / (GiNaC::abs(cross) * (cross * cross + dot * dot)), &scale));
+      std::vector<ex> row;
+      for (int d = 0; d < n_d; ++d) row.push_back(scale * (dot * dcross[d] - cross * ddot[d]));
+      dmu_dp.push_back(row);
+    }
+  // ---- Design checks: the four-bar loops' link lengths and Grashof margins ----
+  if (topo != nullptr && four_bars != nullptr)
+    for (size_t fi = 0; fi < four_bars->size(); ++fi) {
+      const FourBarLoop& f = (*four_bars)[fi];
+      const Loop& loop = topo->loops[f.loop];
+      const std::string tag = "loop" + N(static_cast<int>(fi));
+      ex length[4];
+      for (int i = 0; i < 4; ++i) {
+        const int link = loop.links[i];
+        const PointRef a = m.joints[loop.joints[(i + 3) % 4]].End(link), b = m.joints[loop.joints[i]].End(link);
+        const LinkPoint& pa = m.links[link].points[a.point];
+        const LinkPoint& pb = m.links[link].points[b.point];
+        length[i] = GiNaC::sqrt(GiNaC::pow(pb.x - pa.x, 2) + GiNaC::pow(pb.y - pa.y, 2));
+        checks.push_back({"length_" + f.links[i] + "_" + tag,
+                          "the length of link '" + f.links[i] + "' between its joints in four-bar " + tag + " (> 0)",
+                          length[i], {}});
+      }
+      // s, l, p, q as the defaults order them (ties by position in the loop).
+      int order[4] = {0, 1, 2, 3};
+      std::stable_sort(order, order + 4, [&f](int x, int y) { return f.lengths[x] < f.lengths[y]; });
+      checks.push_back({"grashof_" + tag,
+                        "Grashof's margin (p + q) - (s + l) of four-bar " + tag + ", s = '" + f.links[order[0]] +
+                            "', l = '" + f.links[order[3]] + "' as at the defaults: >= 0 where a link turns fully",
+                        length[order[1]] + length[order[2]] - length[order[0]] - length[order[3]], {}});
+    }
+  for (DesignCheck& c : checks)
+    for (int d = 0; d < n_d; ++d) c.d.push_back(c.margin.diff(p[d]));
+}
+
+}  // namespace mechgen
+
+// ---- The statics' design sensitivities ----
+
+namespace mechgen {
+namespace {
+
+void Symbols(const GiNaC::ex& e, std::set<GiNaC::ex, GiNaC::ex_is_less>* out) {
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (GiNaC::is_a<GiNaC::symbol>(*it)) out->insert(*it);
+}
+
+}  // namespace
+
+ProgramDesign DifferentiateProgram(const Kinematics& k, const DesignTable& dt, const Program& program,
+                                   const SlotSymbols& reads, const std::vector<GiNaC::ex>& outputs,
+                                   const std::string& chain_prefix) {
+  using GiNaC::ex;
+  ProgramDesign out;
+  const int nq = k.nq(), nd = dt.nd();
+  if (nd == 0) return out;
+  for (const Statement& s : program)
+    if (s.kind != Statement::Kind::kDefine) {
+      out.why_not = "a block of more than " + std::to_string(kMaxSymbolicSolve) + " unknowns is solved by an LU";
+      return out;
+    }
+  for (const auto& [sym, slot] : reads.all())
+    if ((slot.kind == Slot::Kind::kK && dt.dK_dp.empty()) || (slot.kind == Slot::Kind::kL && dt.dL_dp.empty()) ||
+        slot.kind == Slot::Kind::kPhid) {
+      out.why_not = "it reads a quantity whose design derivative the model does not derive";
+      return out;
+    }
+  out.possible = true;
+  // d/dp_d of each symbol the program reads, as an expression (absent or zero: held).
+  std::map<ex, std::vector<ex>, GiNaC::ex_is_less> derivative;
+  for (int i = 0; i < k.nphi(); ++i) {
+    std::vector<ex> v;
+    // Structurally zero where no row of Phi depends on p_d (a mass, a load): not read.
+    for (int d = 0; d < nd; ++d)
+      v.push_back(dt.dphi_dp[i][d].is_zero() ? ex(0) : out.slots(Slot::Kind::kDphiDp, i, d));
+    derivative[k.phi[i].symbol] = v;
+  }
+  // An expression of (q, phi, p): its total derivative, phi through dphi/dp.
+  auto explicit_total = [&](const ex& e, int d) {
+    ex s = e.diff(dt.p[d]);
+    for (int i = 0; i < k.nphi(); ++i) {
+      const ex ei = e.diff(k.phi[i].symbol);
+      if (!ei.is_zero()) s += ei * derivative[k.phi[i].symbol][d];
+    }
+    return s;
+  };
+  for (const auto& [sym, slot] : reads.all()) {
+    std::vector<ex> v(nd, 0);
+    for (int d = 0; d < nd; ++d) switch (slot.kind) {
+        case Slot::Kind::kK:
+          if (!dt.dK_dp[slot.i][slot.j + nq * d].is_zero())
+            v[d] = out.slots(Slot::Kind::kDKDp, slot.i, slot.j + nq * d);
+          break;
+        case Slot::Kind::kL:
+          if (!dt.dL_dp[slot.i][slot.j + nq * nq * d].is_zero())
+            v[d] = out.slots(Slot::Kind::kDLDp, slot.i, slot.j + nq * nq * d);
+          break;
+        case Slot::Kind::kPhiPhi: v[d] = explicit_total(k.Phi_phi(slot.i, slot.j), d); break;
+        default: break;  // the arguments (qd, qdd, t) and the given friction loads are held
+      }
+    derivative[sym] = v;
+  }
+  // D_d v for every d; each partial that every d shares named once (where it is not one factor).
+  int locals = 0;
+  auto total = [&](const ex& v) {
+    std::vector<ex> D(nd);
+    for (int d = 0; d < nd; ++d) D[d] = v.diff(dt.p[d]);
+    std::set<ex, GiNaC::ex_is_less> symbols;
+    Symbols(v, &symbols);
+    for (const ex& x : symbols) {
+      const auto it = derivative.find(x);
+      if (it == derivative.end()) continue;
+      bool any = false;
+      for (const ex& dx : it->second) any |= !dx.is_zero();
+      if (!any) continue;
+      ex g = v.diff(GiNaC::ex_to<GiNaC::symbol>(x));
+      if (g.is_zero()) continue;
+      if (nd > 1 && !GiNaC::is_a<GiNaC::symbol>(g) && !GiNaC::is_a<GiNaC::numeric>(g)) {
+        ex named;
+        out.program.push_back(Define(chain_prefix + std::to_string(locals++), g, &named));
+        g = named;
+      }
+      for (int d = 0; d < nd; ++d) D[d] += g * it->second[d];
+    }
+    return D;
+  };
+  for (const Statement& s : program) {
+    const std::vector<ex> D = total(s.value);
+    std::vector<ex> named(nd, 0);
+    for (int d = 0; d < nd; ++d)
+      if (!D[d].is_zero()) out.program.push_back(Define("d_" + s.target + "_" + dt.names[d], D[d], &named[d]));
+    derivative[s.symbol] = named;
+  }
+  for (const ex& o : outputs) out.d.push_back(total(o));
+  return out;
+}
+
+DesignStatics::DesignStatics(const Model& m, const Kinematics& k, const StaticsTable& st, const DesignTable& dt) {
+  const int nq = k.nq();
+  if (dt.nd() == 0 || !st.layout.any) return;
+  std::vector<GiNaC::ex> outputs;
+  if (st.forces) {
+    outputs.insert(outputs.end(), st.Q.begin(), st.Q.end());
+    outputs.insert(outputs.end(), st.drive.begin(), st.drive.end());
+  }
+  if (st.potential) outputs.push_back(st.V);
+  outputs.insert(outputs.end(), st.R.begin(), st.R.end());
+  ProgramDesign pd = DifferentiateProgram(k, dt, st.program, st.slots, outputs, "dstatics_chain_");
+  possible = pd.possible;
+  why_not = pd.why_not;
+  if (!possible) return;
+  slots = pd.slots;
+  program = pd.program;
+  size_t at = 0;
+  if (st.forces) {
+    for (int j = 0; j < nq; ++j) dQ.push_back(pd.d[at++]);
+    for (int j = 0; j < nq; ++j) ddrive.push_back(pd.d[at++]);
+  }
+  if (st.potential) dV = pd.d[at++];
+  while (at < pd.d.size()) dR.push_back(pd.d[at++]);
+  (void)m;
+}
+
+DesignDynamics::DesignDynamics(const Model& m, const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt) {
+  const int nq = k.nq();
+  if (dt.nd() == 0 || !dyn.any) return;
+  std::vector<GiNaC::ex> outputs = dyn.I;
+  outputs.insert(outputs.end(), dyn.dI_dq.begin(), dyn.dI_dq.end());
+  outputs.insert(outputs.end(), dyn.h.begin(), dyn.h.end());
+  outputs.insert(outputs.end(), dyn.Q.begin(), dyn.Q.end());
+  outputs.push_back(dyn.T);
+  outputs.push_back(dyn.V);
+  ProgramDesign pd = DifferentiateProgram(k, dt, dyn.program, dyn.applied->slots, outputs, "ddynamics_chain_");
+  possible = pd.possible;
+  why_not = pd.why_not;
+  if (!possible) return;
+  slots = pd.slots;
+  program = pd.program;
+  size_t at = 0;
+  for (int i = 0; i < nq * nq; ++i) dI.push_back(pd.d[at++]);
+  for (int i = 0; i < nq * nq * nq; ++i) ddI_dq.push_back(pd.d[at++]);
+  for (int j = 0; j < nq; ++j) dh.push_back(pd.d[at++]);
+  for (int j = 0; j < nq; ++j) dQ.push_back(pd.d[at++]);
+  dT = pd.d[at++];
+  dV = pd.d[at++];
+  (void)m;
+}
+
+}  // namespace mechgen

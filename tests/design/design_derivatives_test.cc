@@ -1,0 +1,323 @@
+// The generated design sensitivities (EvalDesignDerivatives, issue 27) against three oracles
+// independent of them:
+//   - Jets: dphi/dp = -Phi_phi^-1 Phi_p with Phi_phi and Phi_p from ceres::Jet derivatives of
+//     the generated EvalPhi; then EvalCoefficients instantiated with Jet<double, kNumDesign>
+//     at (p seeded, phi carrying that dphi/dp) gives d/dp of K, L, r_P, K_P and L_P: the same
+//     generated values code, differentiated by forward-mode automatic differentiation;
+//   - central differences with Richardson extrapolation of positions solved by Newton's
+//     method and of EvalCoefficients at p +- h, p +- h/2;
+//   - hand formulas: the four-bar's dtheta_3/dp and dtheta_4/dp from its loop equation
+//     differentiated by hand, and the offset slider-crank's ds/da, ds/db, ds/de from
+//     s = a cos(theta) + sqrt(b^2 - (e - a sin(theta))^2).
+// The models: the shipped ones with a design section (fourbar, slider_crank, watt_sixbar) and
+// two test models (design_stephenson: a four-unknown block, solved by an LU and Newton's
+// method; design_fivebar: two inputs, L with three input pairs).
+#include <ceres/jet.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <string>
+
+#include "design_fivebar.h"
+#include "design_stephenson.h"
+#include "fourbar.h"
+#include "kinematics_test_util.h"
+#include "slider_crank.h"
+#include "watt_sixbar.h"
+
+namespace {
+
+using mechtest::Config;
+using mechtest::ParamsD;
+
+template <class M>
+using DesignD = typename M::template DesignDerivativesT<double>;
+
+using DesignModels = ::testing::Types<mech::fourbar::Model, mech::slider_crank::Model, mech::watt_sixbar::Model,
+                                      mech::design_stephenson::Model, mech::design_fivebar::Model>;
+
+class ModelNames {
+ public:
+  template <typename M>
+  static std::string GetName(int) {
+    return M::kName;
+  }
+};
+
+double Rel(double v) { return std::max(1.0, std::abs(v)); }
+
+// A few dozen configurations over the input range (every fifth of the kinematics tests'
+// sweep): each costs a Jet evaluation and, for the differences, 4 x kNumDesign solves.
+template <class M>
+std::vector<Config<M>> Configs(const ParamsD<M>& p, int every) {
+  const std::vector<Config<M>> all = mechtest::SweepConfigs<M>(p, M::kNq == 1 ? 72 : M::kNq == 2 ? 6 : 12);
+  std::vector<Config<M>> out;
+  for (size_t i = 0; i < all.size(); i += every) out.push_back(all[i]);
+  return out;
+}
+
+template <class M>
+double& DesignParam(ParamsD<M>* p, int d) {
+  double* v = p->Find(M::kDesignNames[d]);
+  EXPECT_NE(v, nullptr) << M::kDesignNames[d];
+  return *v;
+}
+
+template <class M>
+class DesignDerivativesTest : public ::testing::Test {
+ protected:
+  static constexpr int kNd = M::kNumDesign;
+  void SetUp() override {
+    configs_ = Configs<M>(p_, M::kNq == 1 ? 5 : 1);
+    ASSERT_FALSE(configs_.empty());
+  }
+  DesignD<M> Generated(const Config<M>& c) const {
+    DesignD<M> out;
+    M::Design(p_, c.q, c.phi, &out);
+    return out;
+  }
+  ParamsD<M> p_;
+  std::vector<Config<M>> configs_;
+};
+TYPED_TEST_SUITE(DesignDerivativesTest, DesignModels, ModelNames);
+
+// Both sides are rounding of O(1000) flops through one factorization of Phi_phi away from
+// the singular configurations: ~1e-14; 1e-12 relative to max(1, |value|) is the issue's bar.
+constexpr double kJetTol = 1e-12;
+
+TYPED_TEST(DesignDerivativesTest, AgreesWithJetsOfTheGeneratedValues) {
+  using M = TypeParam;
+  constexpr int kNd = M::kNumDesign, kNphi = M::kNphi, kNq = M::kNq;
+  using JetPhi = ceres::Jet<double, kNd + kNphi>;
+  using Jet = ceres::Jet<double, kNd>;
+  double worst = 0;
+  for (const auto& c : this->configs_) {
+    // Phi_p and Phi_phi from Jets of EvalPhi seeded on (p_design, phi).
+    auto pj = this->p_.template Cast<JetPhi>();
+    for (int d = 0; d < kNd; ++d) *pj.Find(M::kDesignNames[d]) = JetPhi(DesignParam<M>(&this->p_, d), d);
+    Eigen::Matrix<JetPhi, kNq, 1> qj = c.q.template cast<JetPhi>();
+    Eigen::Matrix<JetPhi, kNphi, 1> phij;
+    for (int i = 0; i < kNphi; ++i) phij(i) = JetPhi(c.phi(i), kNd + i);
+    Eigen::Matrix<JetPhi, M::kNc, 1> Phij;
+    M::Phi(pj, qj, phij, &Phij);
+    Eigen::Matrix<double, M::kNc, kNd> Phi_p;
+    Eigen::Matrix<double, M::kNc, kNphi> Phi_phi;
+    for (int r = 0; r < M::kNc; ++r) {
+      Phi_p.row(r) = Phij(r).v.template head<kNd>().transpose();
+      Phi_phi.row(r) = Phij(r).v.template tail<kNphi>().transpose();
+    }
+    const Eigen::Matrix<double, kNphi, kNd> dphi_dp = -Phi_phi.fullPivLu().solve(Phi_p);
+
+    const DesignD<M> g = this->Generated(c);
+    for (int i = 0; i < kNphi; ++i)
+      for (int d = 0; d < kNd; ++d) {
+        const double e = std::abs(g.dphi_dp(i, d) - dphi_dp(i, d)) / Rel(dphi_dp(i, d));
+        worst = std::max(worst, e);
+        EXPECT_LE(e, kJetTol) << "dphi_dp(" << i << ", " << M::kDesignNames[d] << ")";
+      }
+
+    // EvalCoefficients in Jets carrying d/dp: p seeded, phi(p) to first order.
+    auto pk = this->p_.template Cast<Jet>();
+    for (int d = 0; d < kNd; ++d) *pk.Find(M::kDesignNames[d]) = Jet(DesignParam<M>(&this->p_, d), d);
+    Eigen::Matrix<Jet, kNq, 1> qk = c.q.template cast<Jet>();
+    Eigen::Matrix<Jet, kNphi, 1> phik;
+    for (int i = 0; i < kNphi; ++i) {
+      phik(i) = Jet(c.phi(i));
+      phik(i).v = dphi_dp.row(i).transpose();
+    }
+    typename M::template CoefficientsT<Jet> cj;
+    M::Coeffs(pk, qk, phik, &cj);
+    auto compare = [&](double ref, double got, const std::string& what) {
+      const double e = std::abs(got - ref) / Rel(ref);
+      worst = std::max(worst, e);
+      EXPECT_LE(e, kJetTol) << what << " at q(0) = " << c.q(0);
+    };
+    if constexpr (M::kNumTransmissionAngles > 0) {
+      Eigen::Matrix<Jet, M::kNumTransmissionAngles, 1> muj;
+      M::TransmissionAngles(pk, qk, phik, &muj);
+      for (int i = 0; i < M::kNumTransmissionAngles; ++i)
+        for (int d = 0; d < kNd; ++d) {
+          const double e = std::abs(g.dmu_dp(i, d) - muj(i).v(d)) / Rel(muj(i).v(d));
+          worst = std::max(worst, e);
+          EXPECT_LE(e, kJetTol) << "dmu /d " << M::kDesignNames[d];
+        }
+    }
+    for (int d = 0; d < kNd; ++d) {
+      const std::string p_name = std::string("/d ") + M::kDesignNames[d];
+      if constexpr (M::kOrder >= 1)
+        for (int i = 0; i < kNphi; ++i)
+          for (int j = 0; j < kNq; ++j) compare(cj.K(i, j).v(d), g.dK_dp(i, j + kNq * d), "dK" + p_name);
+      if constexpr (M::kOrder >= 2)
+        for (int i = 0; i < kNphi; ++i)
+          for (int jk = 0; jk < kNq * kNq; ++jk)
+            compare(cj.L(i, jk).v(d), g.dL_dp(i, jk + kNq * kNq * d), "dL" + p_name);
+      if constexpr (M::kNumPoints > 0) {
+        for (int m = 0; m < M::kNumPoints; ++m)
+          for (int a = 0; a < 2; ++a) {
+            compare(cj.r_P(a, m).v(d), g.dr_P_dp(2 * m + a, d), "dr_P" + p_name);
+            if constexpr (M::kOrder >= 1)
+              for (int j = 0; j < kNq; ++j)
+                compare(cj.K_P(2 * m + a, j).v(d), g.dK_P_dp(2 * m + a, j + kNq * d), "dK_P" + p_name);
+            if constexpr (M::kOrder >= 2)
+              for (int jk = 0; jk < kNq * kNq; ++jk)
+                compare(cj.L_P(2 * m + a, jk).v(d), g.dL_P_dp(2 * m + a, jk + kNq * kNq * d), "dL_P" + p_name);
+          }
+      }
+    }
+  }
+  this->RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+// Richardson-extrapolated central differences: (4 D(h/2) - D(h)) / 3, error O(h^4) plus
+// rounding ~1e-15 / h: h = 1e-4 max(1, |p_d|) gives ~1e-11; 1e-7 is the issue's bar.
+TYPED_TEST(DesignDerivativesTest, AgreesWithRichardsonDifferences) {
+  using M = TypeParam;
+  constexpr int kNd = M::kNumDesign, kNphi = M::kNphi, kNq = M::kNq;
+  using CoeffsD = mechtest::CoeffsD<M>;
+  struct Values {
+    mechtest::VecPhi<M> phi;
+    CoeffsD c;
+  };
+  double worst = 0;
+  for (size_t ci = 0; ci < this->configs_.size(); ci += 3) {
+    const Config<M>& c = this->configs_[ci];
+    const DesignD<M> g = this->Generated(c);
+    for (int d = 0; d < kNd; ++d) {
+      const double p0 = DesignParam<M>(&this->p_, d), h = 1e-4 * Rel(p0);
+      auto at = [&](double delta) {
+        ParamsD<M> p = this->p_;
+        DesignParam<M>(&p, d) = p0 + delta;
+        Values v;
+        v.phi = c.phi;
+        EXPECT_TRUE(mechtest::SolvePhi<M>(p, c.q, &v.phi).converged);
+        M::Coeffs(p, c.q, v.phi, &v.c);
+        return v;
+      };
+      const Values a = at(h), b = at(-h), a2 = at(h / 2), b2 = at(-h / 2);
+      auto D = [&](double fa, double fb, double fa2, double fb2) {
+        return (4 * (fa2 - fb2) / h - (fa - fb) / (2 * h)) / 3;
+      };
+      auto compare = [&](double ref, double got, const std::string& what) {
+        const double e = std::abs(got - ref) / Rel(ref);
+        worst = std::max(worst, e);
+        EXPECT_LE(e, 1e-7) << what << " /d " << M::kDesignNames[d] << " at q(0) = " << c.q(0) << ": " << got
+                           << " vs " << ref;
+      };
+      for (int i = 0; i < kNphi; ++i)
+        compare(D(a.phi(i), b.phi(i), a2.phi(i), b2.phi(i)), g.dphi_dp(i, d), "dphi(" + std::to_string(i) + ")");
+      if constexpr (M::kOrder >= 1)
+        for (int i = 0; i < kNphi; ++i)
+          for (int j = 0; j < kNq; ++j)
+            compare(D(a.c.K(i, j), b.c.K(i, j), a2.c.K(i, j), b2.c.K(i, j)), g.dK_dp(i, j + kNq * d), "dK");
+      if constexpr (M::kOrder >= 2)
+        for (int i = 0; i < kNphi; ++i)
+          for (int jk = 0; jk < kNq * kNq; ++jk)
+            compare(D(a.c.L(i, jk), b.c.L(i, jk), a2.c.L(i, jk), b2.c.L(i, jk)), g.dL_dp(i, jk + kNq * kNq * d), "dL");
+      if constexpr (M::kNumPoints > 0)
+        for (int m = 0; m < M::kNumPoints; ++m)
+          for (int ax = 0; ax < 2; ++ax)
+            compare(D(a.c.r_P(ax, m), b.c.r_P(ax, m), a2.c.r_P(ax, m), b2.c.r_P(ax, m)), g.dr_P_dp(2 * m + ax, d),
+                    "dr_P");
+    }
+  }
+  this->RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+// The design checks' derivatives against central differences of their margins (a model with
+// four-bar loops: kNumDesignChecks > 0).
+TYPED_TEST(DesignDerivativesTest, DesignCheckDerivativesAreDifferencesOfTheMargins) {
+  using M = TypeParam;
+  if constexpr (M::kNumDesignChecks > 0) {
+    Eigen::Matrix<double, M::kNumDesignChecks, 1> margin, plus, minus;
+    Eigen::Matrix<double, M::kNumDesignChecks, M::kNumDesign> dm;
+    M::DesignChecks(this->p_, &margin, &dm);
+    for (int d = 0; d < M::kNumDesign; ++d) {
+      ParamsD<M> pp = this->p_, pm = this->p_;
+      const double v = DesignParam<M>(&pp, d), h = 1e-6 * Rel(v);
+      DesignParam<M>(&pp, d) = v + h;
+      DesignParam<M>(&pm, d) = v - h;
+      M::DesignChecks(pp, &plus);
+      M::DesignChecks(pm, &minus);
+      for (int i = 0; i < M::kNumDesignChecks; ++i)
+        EXPECT_NEAR(dm(i, d), (plus(i) - minus(i)) / (2 * h), 1e-8) << M::kDesignCheckNames[i] << " / " << M::kDesignNames[d];
+    }
+  } else {
+    GTEST_SKIP() << M::kName << " has no four-bar loop";
+  }
+}
+
+// ---- Hand formulas ----
+
+// The four-bar's checks: its link lengths a, b, c, d, and Grashof's margin with s = a (crank),
+// l = d (ground): (b + c) - (a + d) = 1.5 at the defaults, derivatives -1, +1, +1, -1.
+TEST(DesignHandFormulas, FourBarGrashofMargin) {
+  using M = mech::fourbar::Model;
+  ParamsD<M> p;
+  Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
+  Eigen::Matrix<double, M::kNumDesignChecks, M::kNumDesign> dm;
+  M::DesignChecks(p, &margin, &dm);
+  ASSERT_EQ(M::kNumDesignChecks, 5);
+  ASSERT_STREQ(M::kDesignCheckNames[4], "grashof_loop0");
+  EXPECT_NEAR(margin(4), (p.b + p.c) - (p.a + p.d), 1e-15);
+  const double expected[6] = {-1, 1, 1, -1, 0, 0};  // a, b, c, d, xi, eta
+  for (int d = 0; d < 6; ++d) EXPECT_NEAR(dm(4, d), expected[d], 1e-15) << M::kDesignNames[d];
+  for (int i = 0; i < 4; ++i) EXPECT_GT(margin(i), 0) << M::kDesignCheckNames[i];
+  p.b = 2.0;  // (2 + 3) - (1 + 4) = 0: a change point
+  M::DesignChecks(p, &margin);
+  EXPECT_NEAR(margin(4), 0.0, 1e-15);
+}
+
+// Four-bar a u2 + b u3 - c u4 - d e_x = 0 (u_k = (cos theta_k, sin theta_k)). Differentiated
+// with respect to a parameter at fixed theta_2: b n3 dtheta_3 - c n4 dtheta_4 = -w, n_k = u_k
+// turned +90 deg, w the explicit derivative of the loop (u2, u3, -u4, -e_x for a, b, c, d).
+// Dotted with u4 and with u3: dtheta_3 = (w . u4) / (b sin(theta_3 - theta_4)),
+// dtheta_4 = (w . u3) / (c sin(theta_3 - theta_4)).
+TEST(DesignHandFormulas, FourBarCouplerAndRocker) {
+  using M = mech::fourbar::Model;
+  ParamsD<M> p;
+  double worst = 0;
+  for (const auto& c : Configs<M>(p, 3)) {
+    typename M::template DesignDerivativesT<double> g;
+    M::Design(p, c.q, c.phi, &g);
+    const double t2 = c.q(0), t3 = c.phi(0), t4 = c.phi(1);
+    const Eigen::Vector2d u2(std::cos(t2), std::sin(t2)), u3(std::cos(t3), std::sin(t3)), u4(std::cos(t4), std::sin(t4));
+    const double s34 = std::sin(t3 - t4);
+    const Eigen::Vector2d w[4] = {u2, u3, -u4, Eigen::Vector2d(-1, 0)};
+    for (int d = 0; d < 4; ++d) {  // a, b, c, d (kDesignNames' first four)
+      ASSERT_STREQ(M::kDesignNames[d], std::string("abcd").substr(d, 1).c_str());
+      const double dt3 = w[d].dot(u4) / (p.b * s34), dt4 = w[d].dot(u3) / (p.c * s34);
+      worst = std::max({worst, std::abs(g.dphi_dp(0, d) - dt3), std::abs(g.dphi_dp(1, d) - dt4)});
+      EXPECT_NEAR(g.dphi_dp(0, d), dt3, 1e-12 * Rel(dt3)) << "dtheta_coupler/d" << M::kDesignNames[d];
+      EXPECT_NEAR(g.dphi_dp(1, d), dt4, 1e-12 * Rel(dt4)) << "dtheta_rocker/d" << M::kDesignNames[d];
+    }
+    // The coupler point P = B + xi u3 + eta n3: dP/dxi = u3, dP/deta = n3 (the angles do not move).
+    EXPECT_NEAR(g.dr_P_dp(0, 4), u3.x(), 1e-15);
+    EXPECT_NEAR(g.dr_P_dp(1, 4), u3.y(), 1e-15);
+    EXPECT_NEAR(g.dr_P_dp(0, 5), -u3.y(), 1e-15);
+    EXPECT_NEAR(g.dr_P_dp(1, 5), u3.x(), 1e-15);
+  }
+  RecordProperty("worst_absolute_error", mechtest::Sci(worst));
+}
+
+// Offset slider-crank: slider C = (s, e), s = a cos(theta) + D, D = sqrt(b^2 - (e - a sin(theta))^2):
+// ds/da = cos(theta) + (e - a sin(theta)) sin(theta) / D, ds/db = b / D, ds/de = -(e - a sin(theta)) / D.
+TEST(DesignHandFormulas, SliderCrankStroke) {
+  using M = mech::slider_crank::Model;
+  ParamsD<M> p;
+  ASSERT_STREQ(M::kPhiNames[1], "s_slide");
+  for (const auto& c : Configs<M>(p, 3)) {
+    typename M::template DesignDerivativesT<double> g;
+    M::Design(p, c.q, c.phi, &g);
+    const double th = c.q(0), y = p.e - p.a * std::sin(th), D = std::sqrt(p.b * p.b - y * y);
+    const double ds[3] = {std::cos(th) + y * std::sin(th) / D, p.b / D, -y / D};
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_NEAR(g.dphi_dp(1, d), ds[d], 1e-13 * Rel(ds[d])) << "ds/d" << M::kDesignNames[d];
+      EXPECT_NEAR(g.dr_P_dp(0, d), ds[d], 1e-13 * Rel(ds[d])) << "dx_C/d" << M::kDesignNames[d];
+    }
+    EXPECT_NEAR(g.dr_P_dp(1, 2), 1.0, 1e-15);  // y_C = e
+    EXPECT_NEAR(g.dr_P_dp(1, 0), 0.0, 1e-15);
+  }
+}
+
+}  // namespace
