@@ -55,6 +55,8 @@ struct FunctionSpec {
   int constants = 0;
   /// EvalSwitchModes: how many switching items it gives a mode of (Sizes::kNumSwitches).
   int switches = 0;
+  /// Lines of `Model` (constexpr tables that describe its output), after the drawing's.
+  std::string model_constants;
 };
 
 inline Argument Arg(const std::string& type,
