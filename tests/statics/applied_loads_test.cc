@@ -12,7 +12,8 @@
 //   - the SVG written by WriteStaticsSvg, parsed: at every snapshot (its q read from its
 //     group) each load's arrow starts at its hand point (the picture's own pixel mapping) and
 //     is its force long at the picture's force scale, the spring's zig-zag runs from E to P,
-//     the torque's arc starts below D; every label carries its magnitude and unit, and no two
+//     the torque's arc starts below D (the test model: the torsional spring's dashed arc turns
+//     with its torque's sign); every label carries its magnitude and unit, and no two
 //     labels of any snapshots overlap (boxes at 0.62 em a character, the placer's estimate).
 #include <gtest/gtest.h>
 
@@ -328,6 +329,85 @@ TEST(AppliedLoads, FourbarLoadedForceDiagram) {
       const bool apart = a.x1 <= b.x0 + 1e-9 || b.x1 <= a.x0 + 1e-9 || a.y1 <= b.y0 + 1e-9 || b.y1 <= a.y0 + 1e-9;
       EXPECT_TRUE(apart) << "'" << a.text << "' overlaps '" << b.text << "'";
     }
+}
+
+// The test model's picture: the torsional spring at O as a dashed arc whose direction is its
+// torque's sign (-kt (q - theta0) on the crank), the rod torque T1 q as a solid arc at A where
+// it is not zero, both loads' arrows (the rod force in the rod's frame) and the spring's
+// zig-zag from E to B.
+TEST(AppliedLoads, SprungSliderCrankForceDiagram) {
+  using namespace mechgen;
+  SC::ParamsT<double> p;
+  position::PositionSolver<SC> solver(position::Options(), p);
+  ASSERT_EQ(solver.AssembleDefault(nullptr), position::Status::kConverged);
+  std::vector<statics::StaticsRecord<SC>> records;
+  const ModelTypes<SC>::VecQ q0 = ModelTypes<SC>::VecQ::Constant(0.0);
+  const ModelTypes<SC>::VecQ q1 = ModelTypes<SC>::VecQ::Constant(2 * M_PI);
+  ASSERT_EQ(statics::StaticsSweep(statics::Options(), &solver, q0, q1, 72, &records), 0);
+  std::ostringstream svg;
+  SvgOptions options;
+  options.snapshots = 4;
+  options.animate = false;
+  statics::WriteStaticsSvg(solver.params(), records, options, svg);
+  const std::string text = svg.str();
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(text, m, std::regex("<svg [^>]*>")));
+  const std::string root = m[0];
+  const double x_min = Attr(root, "data-x-min"), y_max = Attr(root, "data-y-max"), scale = Attr(root, "data-scale");
+  auto X = [&](double x) { return (x - x_min) * scale; };
+  auto Y = [&](double y) { return (y_max - y) * scale + 30; };
+  ASSERT_TRUE(std::regex_search(text, m, std::regex("<g id=\"reactions\" data-force-scale=\"([^\"]+)\">")));
+  const double per_newton = std::stod(m[1]);
+  const double px = 0.006;
+  const int i_rod = IndexOf(SC::kPhiNames, "theta_rod"), i_s = IndexOf(SC::kPhiNames, "s_slide");
+  const std::regex group_re("<g class=\"snapshot\" data-q=\"([^\"]+)\">\n([\\s\\S]*?)\n</g>");
+  int groups = 0, torques = 0;
+  for (auto g = std::sregex_iterator(text.begin(), text.end(), group_re); g != std::sregex_iterator(); ++g) {
+    ++groups;
+    const double q = std::stod((*g)[1]);
+    const std::string body = (*g)[2];
+    Eigen::Matrix<double, SC::kNphi, 1> phi;
+    ASSERT_TRUE(mechtest::statics::SolveAt<SC>(p, q, &phi));
+    const double tr = phi(i_rod);
+    const V2 pA{p.a * std::cos(q), p.a * std::sin(q)}, pB{phi(i_s), 0}, pE{p.xE, p.yE};
+    const V2 pC = pA + p.c * V2{std::cos(tr), std::sin(tr)}, F = Rot(tr, {p.Fu, p.Fn});
+    // The torsional spring: from below O, counter-clockwise (sweep 0) for a positive torque.
+    const double twist = -p.kt * (q - p.theta0);
+    std::smatch e;
+    ASSERT_TRUE(std::regex_search(body, e, std::regex("<path class=\"torsion\" data-at=\"([^\"]+)\" data-value=\"([^\"]+)\" "
+                                                      "d=\"M([^,]+),([^ ]+) A16,16 0 1 ([01]) [^\"]*\"[^>]*stroke-dasharray")))
+        << body;
+    EXPECT_NEAR(std::stod(e[2]), twist, 1e-12 * 10);
+    EXPECT_NEAR(std::stod(e[3]), X(0), px);
+    EXPECT_NEAR(std::stod(e[4]), Y(0) + 16, px);
+    EXPECT_EQ(std::string(e[5]), twist > 0 ? "0" : "1");
+    // The rod torque at A, where it is not zero.
+    if (std::abs(p.T1 * q) > 1e-9) {
+      ASSERT_TRUE(std::regex_search(body, e, std::regex("<path class=\"torque\"[^>]* d=\"M([^,]+),([^ ]+) A16,16 0 1 ([01]) ")));
+      EXPECT_NEAR(std::stod(e[1]), X(pA.x), px);
+      EXPECT_NEAR(std::stod(e[2]), Y(pA.y) + 16, px);
+      EXPECT_EQ(std::string(e[3]), "0");  // T1 q > 0 on (0, 2 pi]
+      ++torques;
+    }
+    // The two force loads: the rod force from C, the push from B.
+    const std::regex load_re("<line class=\"load\"[^>]*>");
+    std::vector<std::string> loads;
+    for (auto l = std::sregex_iterator(body.begin(), body.end(), load_re); l != std::sregex_iterator(); ++l)
+      loads.push_back((*l)[0]);
+    ASSERT_EQ(loads.size(), 2u) << body;
+    EXPECT_NEAR(Attr(loads[0], "x1"), X(pC.x), px);
+    EXPECT_NEAR(Attr(loads[0], "y1"), Y(pC.y), px);
+    EXPECT_NEAR(Attr(loads[0], "x2") - Attr(loads[0], "x1"), per_newton * F.x, 2 * px);
+    EXPECT_NEAR(Attr(loads[0], "y2") - Attr(loads[0], "y1"), -per_newton * F.y, 2 * px);
+    EXPECT_NEAR(Attr(loads[1], "x1"), X(pB.x), px);
+    EXPECT_NEAR(Attr(loads[1], "x2") - Attr(loads[1], "x1"), -per_newton * p.P, 2 * px);
+    EXPECT_NEAR(Attr(loads[1], "y2"), Attr(loads[1], "y1"), px);
+    // The spring from E to B.
+    ASSERT_TRUE(std::regex_search(body, e, std::regex("<polyline class=\"spring\"[^>]* data-value=\"([^\"]+)\"")));
+    EXPECT_NEAR(std::stod(e[1]), p.F0 + p.k * (Norm(pB - pE) - p.L0), 1e-9);
+  }
+  EXPECT_EQ(groups, 4);
+  EXPECT_GE(torques, 3);
 }
 
 }  // namespace
