@@ -51,7 +51,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston_1.C, piston_2.C, piston_3.C, piston_4.C.
  * Linear systems: Phi_phi is block lower triangular with 4 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 122 (adds 40, muls 56, divs 0, calls 26); EvalCoefficients 286 (adds 84, muls 172, divs 4, calls 26); EvalStatics 163 (adds 34, muls 117, divs 4, calls 8); EvalDynamics 384 (adds 97, muls 261, divs 0, calls 26); EvalKinetostatics 610 (adds 166, muls 414, divs 4, calls 26); EvalExcess 587 (adds 148, muls 413, divs 0, calls 26); EvalShaking 443 (adds 154, muls 262, divs 1, calls 26); EvalStiffness 64 (adds 7, muls 49, divs 0, calls 8); EvalDetPhiPhi 39 (adds 4, muls 19, divs 0, calls 16); SolvePositions 422 (adds 92, muls 296, divs 8, calls 26) (per Newton iteration for Newton blocks); EvalScene 118 (adds 32, muls 60, divs 0, calls 26); EvalDrawing 82 (adds 16, muls 48, divs 0, calls 18)
+ * Operation counts: EvalPhi 122 (adds 40, muls 56, divs 0, calls 26); EvalCoefficients 286 (adds 84, muls 172, divs 4, calls 26); EvalStatics 163 (adds 34, muls 117, divs 4, calls 8); EvalDynamics 384 (adds 97, muls 261, divs 0, calls 26); EvalKinetostatics 610 (adds 166, muls 414, divs 4, calls 26); EvalExcess 587 (adds 148, muls 413, divs 0, calls 26); EvalShaking 443 (adds 154, muls 262, divs 1, calls 26); EvalStiffness 64 (adds 7, muls 49, divs 0, calls 8); EvalDetPhiPhi 39 (adds 4, muls 19, divs 0, calls 16); SolvePositions 422 (adds 92, muls 296, divs 8, calls 26) (per Newton iteration for Newton blocks); EvalScene 118 (adds 32, muls 60, divs 0, calls 26); EvalAppliedLoads 65 (adds 8, muls 49, divs 0, calls 8); EvalDrawing 82 (adds 16, muls 48, divs 0, calls 18)
  */
 #pragma once
 
@@ -2342,6 +2342,88 @@ void EvalScene(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The applied loads and springs at a configuration, as a force diagram draws them
+ * (Model::kAppliedLoadNames, kAppliedLoadKind, kAppliedLoadUnits): column i of *out is
+ * (x, y, x_b, y_b, F_x, F_y, value) in the fixed frame, as EvalStatics() takes them:
+ *   force load (kind 0): (x, y) its point of application, (F_x, F_y) its force (N), value 0;
+ *   torque load (kind 1): (x, y) its link's pivot (first revolute joint, to the ground first;
+ *     else the link's origin), value its torque (N m, counter-clockwise +), F 0;
+ *   linear spring (kind 2): (x, y) and (x_b, y_b) its ends a and b, value its tension
+ *     F0 + k (l - l0) (N, + pulling the ends together), (F_x, F_y) its force on end a;
+ *   torsional spring (kind 3): (x, y) its joint, value its torque on the joint's second link
+ *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0.
+ * (x_b, y_b) = (x, y) but for a linear spring. Loads that read velocities or time are taken at
+ * rest, as in EvalStatics().
+ * \param[in]  p    Parameters.
+ * \param[in]  q    Inputs (dim kNq).
+ * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[out] out  out->col(i) = load or spring i (kAppliedLoadNames); not nullptr (7 x
+ *                  kNumAppliedLoads).
+ */
+template <typename Scalar>
+void EvalAppliedLoads(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 7, 5>* out) {
+  // Total ops: 65 (adds 8, muls 49, divs 0, calls 8); intermediate terms: 17
+  using std::cos;
+  using std::sin;
+  (void)q;
+  const Scalar _tmp0 = sin(p.beta_1);
+  const Scalar _tmp1 = cos(p.beta_1);
+  const Scalar _tmp2 = -_tmp0*p.e + _tmp1*phi(4);
+  const Scalar _tmp3 = _tmp0*phi(4) + _tmp1*p.e;
+  const Scalar _tmp4 = p.bore*p.bore;
+  const Scalar _tmp5 = sin(p.beta_2);
+  const Scalar _tmp6 = cos(p.beta_2);
+  const Scalar _tmp7 = -_tmp5*p.e + _tmp6*phi(5);
+  const Scalar _tmp8 = _tmp5*phi(5) + _tmp6*p.e;
+  const Scalar _tmp9 = sin(p.beta_3);
+  const Scalar _tmp10 = cos(p.beta_3);
+  const Scalar _tmp11 = _tmp10*phi(6) - _tmp9*p.e;
+  const Scalar _tmp12 = _tmp10*p.e + _tmp9*phi(6);
+  const Scalar _tmp13 = sin(p.beta_4);
+  const Scalar _tmp14 = cos(p.beta_4);
+  const Scalar _tmp15 = -_tmp13*p.e + _tmp14*phi(7);
+  const Scalar _tmp16 = _tmp13*phi(7) + _tmp14*p.e;
+  (*out)(0, 0) = Scalar(0);
+  (*out)(1, 0) = Scalar(0);
+  (*out)(2, 0) = Scalar(0);
+  (*out)(3, 0) = Scalar(0);
+  (*out)(4, 0) = Scalar(0);
+  (*out)(5, 0) = Scalar(0);
+  (*out)(6, 0) = -p.T_load;
+  (*out)(0, 1) = _tmp2;
+  (*out)(1, 1) = _tmp3;
+  (*out)(2, 1) = _tmp2;
+  (*out)(3, 1) = _tmp3;
+  (*out)(4, 1) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp1*_tmp4*p.p_gas_1;
+  (*out)(5, 1) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp0*_tmp4*p.p_gas_1;
+  (*out)(6, 1) = Scalar(0);
+  (*out)(0, 2) = _tmp7;
+  (*out)(1, 2) = _tmp8;
+  (*out)(2, 2) = _tmp7;
+  (*out)(3, 2) = _tmp8;
+  (*out)(4, 2) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp4*_tmp6*p.p_gas_2;
+  (*out)(5, 2) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp4*_tmp5*p.p_gas_2;
+  (*out)(6, 2) = Scalar(0);
+  (*out)(0, 3) = _tmp11;
+  (*out)(1, 3) = _tmp12;
+  (*out)(2, 3) = _tmp11;
+  (*out)(3, 3) = _tmp12;
+  (*out)(4, 3) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp10*_tmp4*p.p_gas_3;
+  (*out)(5, 3) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp4*_tmp9*p.p_gas_3;
+  (*out)(6, 3) = Scalar(0);
+  (*out)(0, 4) = _tmp15;
+  (*out)(1, 4) = _tmp16;
+  (*out)(2, 4) = _tmp15;
+  (*out)(3, 4) = _tmp16;
+  (*out)(4, 4) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp14*_tmp4*p.p_gas_4;
+  (*out)(5, 4) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp13*_tmp4*p.p_gas_4;
+  (*out)(6, 4) = Scalar(0);
+}
+
+/**
  * \brief What a drawing needs besides the scene points: every link's frame and the joints'
  * values (Model::kDrawJointValue).
  * \param[in]  p       Parameters.
@@ -2594,6 +2676,13 @@ struct Model : Sizes {
   static constexpr std::array<int, 13> kDrawJointPointA{ 0, 6, 11, 1, 7, 14, 2, 8, 17, 3, 9, 20, 4 };
   static constexpr std::array<int, 13> kDrawJointPointB{ 5, 10, 12, 12, 13, 15, 15, 16, 18, 18, 19, 21, 21 };
   static constexpr std::array<int, 13> kDrawJointValue{ 0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3 };
+  /// The applied loads and springs of EvalAppliedLoads (Model::AppliedLoads), the model's loads
+  /// then its springs: name, kind (0 force load, 1 torque load, 2 linear spring, 3 torsional
+  /// spring) and the unit of its force or torque.
+  static constexpr int kNumAppliedLoads = 5;
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "load", "gas_1", "gas_2", "gas_3", "gas_4" };
+  static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 1, 0, 0, 0, 0 };
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadUnits{ "N m", "N", "N", "N", "N" };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -2801,6 +2890,13 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void AppliedLoads(const Params<Scalar>& p,
+                           const Vec<Scalar, Sizes::kNq>& q,
+                           const Vec<Scalar, Sizes::kNphi>& phi,
+                           Mat<Scalar, 7, 5>* out) {
+    EvalAppliedLoads(p, q, phi, out);
   }
   template <typename Scalar>
   static void Drawing(const Params<Scalar>& p,

@@ -33,7 +33,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston_1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 32 (adds 10, muls 14, divs 0, calls 8); EvalCoefficients 73 (adds 21, muls 43, divs 1, calls 8); EvalStatics 40 (adds 7, muls 30, divs 1, calls 2); EvalDynamics 105 (adds 25, muls 72, divs 0, calls 8); EvalKinetostatics 160 (adds 43, muls 108, divs 1, calls 8); EvalExcess 152 (adds 37, muls 107, divs 0, calls 8); EvalShaking 126 (adds 43, muls 74, divs 1, calls 8); EvalStiffness 16 (adds 1, muls 13, divs 0, calls 2); EvalDetPhiPhi 9 (adds 1, muls 4, divs 0, calls 4); SolvePositions 107 (adds 23, muls 74, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 31 (adds 8, muls 15, divs 0, calls 8); EvalDrawing 22 (adds 4, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 32 (adds 10, muls 14, divs 0, calls 8); EvalCoefficients 73 (adds 21, muls 43, divs 1, calls 8); EvalStatics 40 (adds 7, muls 30, divs 1, calls 2); EvalDynamics 105 (adds 25, muls 72, divs 0, calls 8); EvalKinetostatics 160 (adds 43, muls 108, divs 1, calls 8); EvalExcess 152 (adds 37, muls 107, divs 0, calls 8); EvalShaking 126 (adds 43, muls 74, divs 1, calls 8); EvalStiffness 16 (adds 1, muls 13, divs 0, calls 2); EvalDetPhiPhi 9 (adds 1, muls 4, divs 0, calls 4); SolvePositions 107 (adds 23, muls 74, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 31 (adds 8, muls 15, divs 0, calls 8); EvalAppliedLoads 17 (adds 2, muls 13, divs 0, calls 2); EvalDrawing 22 (adds 4, muls 12, divs 0, calls 6)
  */
 #pragma once
 
@@ -1146,6 +1146,55 @@ void EvalScene(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The applied loads and springs at a configuration, as a force diagram draws them
+ * (Model::kAppliedLoadNames, kAppliedLoadKind, kAppliedLoadUnits): column i of *out is
+ * (x, y, x_b, y_b, F_x, F_y, value) in the fixed frame, as EvalStatics() takes them:
+ *   force load (kind 0): (x, y) its point of application, (F_x, F_y) its force (N), value 0;
+ *   torque load (kind 1): (x, y) its link's pivot (first revolute joint, to the ground first;
+ *     else the link's origin), value its torque (N m, counter-clockwise +), F 0;
+ *   linear spring (kind 2): (x, y) and (x_b, y_b) its ends a and b, value its tension
+ *     F0 + k (l - l0) (N, + pulling the ends together), (F_x, F_y) its force on end a;
+ *   torsional spring (kind 3): (x, y) its joint, value its torque on the joint's second link
+ *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0.
+ * (x_b, y_b) = (x, y) but for a linear spring. Loads that read velocities or time are taken at
+ * rest, as in EvalStatics().
+ * \param[in]  p    Parameters.
+ * \param[in]  q    Inputs (dim kNq).
+ * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[out] out  out->col(i) = load or spring i (kAppliedLoadNames); not nullptr (7 x
+ *                  kNumAppliedLoads).
+ */
+template <typename Scalar>
+void EvalAppliedLoads(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 7, 2>* out) {
+  // Total ops: 17 (adds 2, muls 13, divs 0, calls 2); intermediate terms: 5
+  using std::cos;
+  using std::sin;
+  (void)q;
+  const Scalar _tmp0 = sin(p.beta_1);
+  const Scalar _tmp1 = cos(p.beta_1);
+  const Scalar _tmp2 = -_tmp0*p.e + _tmp1*phi(1);
+  const Scalar _tmp3 = _tmp0*phi(1) + _tmp1*p.e;
+  const Scalar _tmp4 = p.bore*p.bore;
+  (*out)(0, 0) = Scalar(0);
+  (*out)(1, 0) = Scalar(0);
+  (*out)(2, 0) = Scalar(0);
+  (*out)(3, 0) = Scalar(0);
+  (*out)(4, 0) = Scalar(0);
+  (*out)(5, 0) = Scalar(0);
+  (*out)(6, 0) = -p.T_load;
+  (*out)(0, 1) = _tmp2;
+  (*out)(1, 1) = _tmp3;
+  (*out)(2, 1) = _tmp2;
+  (*out)(3, 1) = _tmp3;
+  (*out)(4, 1) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp1*_tmp4*p.p_gas_1;
+  (*out)(5, 1) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp0*_tmp4*p.p_gas_1;
+  (*out)(6, 1) = Scalar(0);
+}
+
+/**
  * \brief What a drawing needs besides the scene points: every link's frame and the joints'
  * values (Model::kDrawJointValue).
  * \param[in]  p       Parameters.
@@ -1365,6 +1414,13 @@ struct Model : Sizes {
   static constexpr std::array<int, 4> kDrawJointPointA{ 0, 3, 5, 1 };
   static constexpr std::array<int, 4> kDrawJointPointB{ 2, 4, 6, 6 };
   static constexpr std::array<int, 4> kDrawJointValue{ 0, 0, 0, 0 };
+  /// The applied loads and springs of EvalAppliedLoads (Model::AppliedLoads), the model's loads
+  /// then its springs: name, kind (0 force load, 1 torque load, 2 linear spring, 3 torsional
+  /// spring) and the unit of its force or torque.
+  static constexpr int kNumAppliedLoads = 2;
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "load", "gas_1" };
+  static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 1, 0 };
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadUnits{ "N m", "N" };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -1551,6 +1607,13 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void AppliedLoads(const Params<Scalar>& p,
+                           const Vec<Scalar, Sizes::kNq>& q,
+                           const Vec<Scalar, Sizes::kNphi>& phi,
+                           Mat<Scalar, 7, 2>* out) {
+    EvalAppliedLoads(p, q, phi, out);
   }
   template <typename Scalar>
   static void Drawing(const Params<Scalar>& p,

@@ -75,7 +75,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston_1.C, piston_2.C, piston_3.C, piston_4.C, piston_5.C, piston_6.C, piston_7.C, piston_8.C.
  * Linear systems: Phi_phi is block lower triangular with 8 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 242 (adds 80, muls 112, divs 0, calls 50); EvalCoefficients 570 (adds 168, muls 344, divs 8, calls 50); EvalStatics 327 (adds 70, muls 233, divs 8, calls 16); EvalDynamics 756 (adds 193, muls 513, divs 0, calls 50); EvalKinetostatics 1210 (adds 330, muls 822, divs 8, calls 50); EvalExcess 1167 (adds 296, muls 821, divs 0, calls 50); EvalShaking 863 (adds 302, muls 510, divs 1, calls 50); EvalStiffness 128 (adds 15, muls 97, divs 0, calls 16); EvalDetPhiPhi 79 (adds 8, muls 39, divs 0, calls 32); SolvePositions 842 (adds 184, muls 592, divs 16, calls 50) (per Newton iteration for Newton blocks); EvalScene 234 (adds 64, muls 120, divs 0, calls 50); EvalDrawing 162 (adds 32, muls 96, divs 0, calls 34)
+ * Operation counts: EvalPhi 242 (adds 80, muls 112, divs 0, calls 50); EvalCoefficients 570 (adds 168, muls 344, divs 8, calls 50); EvalStatics 327 (adds 70, muls 233, divs 8, calls 16); EvalDynamics 756 (adds 193, muls 513, divs 0, calls 50); EvalKinetostatics 1210 (adds 330, muls 822, divs 8, calls 50); EvalExcess 1167 (adds 296, muls 821, divs 0, calls 50); EvalShaking 863 (adds 302, muls 510, divs 1, calls 50); EvalStiffness 128 (adds 15, muls 97, divs 0, calls 16); EvalDetPhiPhi 79 (adds 8, muls 39, divs 0, calls 32); SolvePositions 842 (adds 184, muls 592, divs 16, calls 50) (per Newton iteration for Newton blocks); EvalScene 234 (adds 64, muls 120, divs 0, calls 50); EvalAppliedLoads 129 (adds 16, muls 97, divs 0, calls 16); EvalDrawing 162 (adds 32, muls 96, divs 0, calls 34)
  */
 #pragma once
 
@@ -4158,6 +4158,132 @@ void EvalScene(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The applied loads and springs at a configuration, as a force diagram draws them
+ * (Model::kAppliedLoadNames, kAppliedLoadKind, kAppliedLoadUnits): column i of *out is
+ * (x, y, x_b, y_b, F_x, F_y, value) in the fixed frame, as EvalStatics() takes them:
+ *   force load (kind 0): (x, y) its point of application, (F_x, F_y) its force (N), value 0;
+ *   torque load (kind 1): (x, y) its link's pivot (first revolute joint, to the ground first;
+ *     else the link's origin), value its torque (N m, counter-clockwise +), F 0;
+ *   linear spring (kind 2): (x, y) and (x_b, y_b) its ends a and b, value its tension
+ *     F0 + k (l - l0) (N, + pulling the ends together), (F_x, F_y) its force on end a;
+ *   torsional spring (kind 3): (x, y) its joint, value its torque on the joint's second link
+ *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0.
+ * (x_b, y_b) = (x, y) but for a linear spring. Loads that read velocities or time are taken at
+ * rest, as in EvalStatics().
+ * \param[in]  p    Parameters.
+ * \param[in]  q    Inputs (dim kNq).
+ * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[out] out  out->col(i) = load or spring i (kAppliedLoadNames); not nullptr (7 x
+ *                  kNumAppliedLoads).
+ */
+template <typename Scalar>
+void EvalAppliedLoads(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 7, 9>* out) {
+  // Total ops: 129 (adds 16, muls 97, divs 0, calls 16); intermediate terms: 33
+  using std::cos;
+  using std::sin;
+  (void)q;
+  const Scalar _tmp0 = sin(p.beta_1);
+  const Scalar _tmp1 = cos(p.beta_1);
+  const Scalar _tmp2 = -_tmp0*p.e + _tmp1*phi(8);
+  const Scalar _tmp3 = _tmp0*phi(8) + _tmp1*p.e;
+  const Scalar _tmp4 = p.bore*p.bore;
+  const Scalar _tmp5 = sin(p.beta_2);
+  const Scalar _tmp6 = cos(p.beta_2);
+  const Scalar _tmp7 = -_tmp5*p.e + _tmp6*phi(9);
+  const Scalar _tmp8 = _tmp5*phi(9) + _tmp6*p.e;
+  const Scalar _tmp9 = sin(p.beta_3);
+  const Scalar _tmp10 = cos(p.beta_3);
+  const Scalar _tmp11 = _tmp10*phi(10) - _tmp9*p.e;
+  const Scalar _tmp12 = _tmp10*p.e + _tmp9*phi(10);
+  const Scalar _tmp13 = sin(p.beta_4);
+  const Scalar _tmp14 = cos(p.beta_4);
+  const Scalar _tmp15 = -_tmp13*p.e + _tmp14*phi(11);
+  const Scalar _tmp16 = _tmp13*phi(11) + _tmp14*p.e;
+  const Scalar _tmp17 = sin(p.beta_5);
+  const Scalar _tmp18 = cos(p.beta_5);
+  const Scalar _tmp19 = -_tmp17*p.e + _tmp18*phi(12);
+  const Scalar _tmp20 = _tmp17*phi(12) + _tmp18*p.e;
+  const Scalar _tmp21 = sin(p.beta_6);
+  const Scalar _tmp22 = cos(p.beta_6);
+  const Scalar _tmp23 = -_tmp21*p.e + _tmp22*phi(13);
+  const Scalar _tmp24 = _tmp21*phi(13) + _tmp22*p.e;
+  const Scalar _tmp25 = sin(p.beta_7);
+  const Scalar _tmp26 = cos(p.beta_7);
+  const Scalar _tmp27 = -_tmp25*p.e + _tmp26*phi(14);
+  const Scalar _tmp28 = _tmp25*phi(14) + _tmp26*p.e;
+  const Scalar _tmp29 = sin(p.beta_8);
+  const Scalar _tmp30 = cos(p.beta_8);
+  const Scalar _tmp31 = -_tmp29*p.e + _tmp30*phi(15);
+  const Scalar _tmp32 = _tmp29*phi(15) + _tmp30*p.e;
+  (*out)(0, 0) = Scalar(0);
+  (*out)(1, 0) = Scalar(0);
+  (*out)(2, 0) = Scalar(0);
+  (*out)(3, 0) = Scalar(0);
+  (*out)(4, 0) = Scalar(0);
+  (*out)(5, 0) = Scalar(0);
+  (*out)(6, 0) = -p.T_load;
+  (*out)(0, 1) = _tmp2;
+  (*out)(1, 1) = _tmp3;
+  (*out)(2, 1) = _tmp2;
+  (*out)(3, 1) = _tmp3;
+  (*out)(4, 1) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp1*_tmp4*p.p_gas_1;
+  (*out)(5, 1) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp0*_tmp4*p.p_gas_1;
+  (*out)(6, 1) = Scalar(0);
+  (*out)(0, 2) = _tmp7;
+  (*out)(1, 2) = _tmp8;
+  (*out)(2, 2) = _tmp7;
+  (*out)(3, 2) = _tmp8;
+  (*out)(4, 2) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp4*_tmp6*p.p_gas_2;
+  (*out)(5, 2) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp4*_tmp5*p.p_gas_2;
+  (*out)(6, 2) = Scalar(0);
+  (*out)(0, 3) = _tmp11;
+  (*out)(1, 3) = _tmp12;
+  (*out)(2, 3) = _tmp11;
+  (*out)(3, 3) = _tmp12;
+  (*out)(4, 3) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp10*_tmp4*p.p_gas_3;
+  (*out)(5, 3) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp4*_tmp9*p.p_gas_3;
+  (*out)(6, 3) = Scalar(0);
+  (*out)(0, 4) = _tmp15;
+  (*out)(1, 4) = _tmp16;
+  (*out)(2, 4) = _tmp15;
+  (*out)(3, 4) = _tmp16;
+  (*out)(4, 4) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp14*_tmp4*p.p_gas_4;
+  (*out)(5, 4) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp13*_tmp4*p.p_gas_4;
+  (*out)(6, 4) = Scalar(0);
+  (*out)(0, 5) = _tmp19;
+  (*out)(1, 5) = _tmp20;
+  (*out)(2, 5) = _tmp19;
+  (*out)(3, 5) = _tmp20;
+  (*out)(4, 5) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp18*_tmp4*p.p_gas_5;
+  (*out)(5, 5) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp17*_tmp4*p.p_gas_5;
+  (*out)(6, 5) = Scalar(0);
+  (*out)(0, 6) = _tmp23;
+  (*out)(1, 6) = _tmp24;
+  (*out)(2, 6) = _tmp23;
+  (*out)(3, 6) = _tmp24;
+  (*out)(4, 6) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp22*_tmp4*p.p_gas_6;
+  (*out)(5, 6) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp21*_tmp4*p.p_gas_6;
+  (*out)(6, 6) = Scalar(0);
+  (*out)(0, 7) = _tmp27;
+  (*out)(1, 7) = _tmp28;
+  (*out)(2, 7) = _tmp27;
+  (*out)(3, 7) = _tmp28;
+  (*out)(4, 7) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp26*_tmp4*p.p_gas_7;
+  (*out)(5, 7) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp25*_tmp4*p.p_gas_7;
+  (*out)(6, 7) = Scalar(0);
+  (*out)(0, 8) = _tmp31;
+  (*out)(1, 8) = _tmp32;
+  (*out)(2, 8) = _tmp31;
+  (*out)(3, 8) = _tmp32;
+  (*out)(4, 8) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp30*_tmp4*p.p_gas_8;
+  (*out)(5, 8) = -Scalar(0.25)*Scalar(3.1415926535897931)*_tmp29*_tmp4*p.p_gas_8;
+  (*out)(6, 8) = Scalar(0);
+}
+
+/**
  * \brief What a drawing needs besides the scene points: every link's frame and the joints'
  * values (Model::kDrawJointValue).
  * \param[in]  p       Parameters.
@@ -4454,6 +4580,13 @@ struct Model : Sizes {
   static constexpr std::array<int, 25> kDrawJointPointA{ 0, 10, 19, 1, 11, 22, 2, 12, 25, 3, 13, 28, 4, 14, 31, 5, 15, 34, 6, 16, 37, 7, 17, 40, 8 };
   static constexpr std::array<int, 25> kDrawJointPointB{ 9, 18, 20, 20, 21, 23, 23, 24, 26, 26, 27, 29, 29, 30, 32, 32, 33, 35, 35, 36, 38, 38, 39, 41, 41 };
   static constexpr std::array<int, 25> kDrawJointValue{ 0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4, 5, 5, 5, 6, 6, 6, 7, 7, 7 };
+  /// The applied loads and springs of EvalAppliedLoads (Model::AppliedLoads), the model's loads
+  /// then its springs: name, kind (0 force load, 1 torque load, 2 linear spring, 3 torsional
+  /// spring) and the unit of its force or torque.
+  static constexpr int kNumAppliedLoads = 9;
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "load", "gas_1", "gas_2", "gas_3", "gas_4", "gas_5", "gas_6", "gas_7", "gas_8" };
+  static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 1, 0, 0, 0, 0, 0, 0, 0, 0 };
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadUnits{ "N m", "N", "N", "N", "N", "N", "N", "N", "N" };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -4689,6 +4822,13 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void AppliedLoads(const Params<Scalar>& p,
+                           const Vec<Scalar, Sizes::kNq>& q,
+                           const Vec<Scalar, Sizes::kNphi>& phi,
+                           Mat<Scalar, 7, 9>* out) {
+    EvalAppliedLoads(p, q, phi, out);
   }
   template <typename Scalar>
   static void Drawing(const Params<Scalar>& p,

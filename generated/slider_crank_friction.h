@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 33 (adds 13, muls 14, divs 2, calls 4); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 33 (adds 13, muls 14, divs 2, calls 4); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4); EvalAppliedLoads 0 (adds 0, muls 0, divs 0, calls 0); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -558,6 +558,41 @@ void EvalScene(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The applied loads and springs at a configuration, as a force diagram draws them
+ * (Model::kAppliedLoadNames, kAppliedLoadKind, kAppliedLoadUnits): column i of *out is
+ * (x, y, x_b, y_b, F_x, F_y, value) in the fixed frame, as EvalStatics() takes them:
+ *   force load (kind 0): (x, y) its point of application, (F_x, F_y) its force (N), value 0;
+ *   torque load (kind 1): (x, y) its link's pivot (first revolute joint, to the ground first;
+ *     else the link's origin), value its torque (N m, counter-clockwise +), F 0;
+ *   linear spring (kind 2): (x, y) and (x_b, y_b) its ends a and b, value its tension
+ *     F0 + k (l - l0) (N, + pulling the ends together), (F_x, F_y) its force on end a;
+ *   torsional spring (kind 3): (x, y) its joint, value its torque on the joint's second link
+ *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0.
+ * (x_b, y_b) = (x, y) but for a linear spring. Loads that read velocities or time are taken at
+ * rest, as in EvalStatics().
+ * \param[in]  p    Parameters.
+ * \param[in]  q    Inputs (dim kNq).
+ * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[out] out  out->col(i) = load or spring i (kAppliedLoadNames); not nullptr (7 x
+ *                  kNumAppliedLoads).
+ */
+template <typename Scalar>
+void EvalAppliedLoads(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 7, 1>* out) {
+  // Total ops: 0 (adds 0, muls 0, divs 0, calls 0); intermediate terms: 0
+  (void)q;
+  (*out)(0, 0) = phi(1);
+  (*out)(1, 0) = Scalar(0);
+  (*out)(2, 0) = phi(1);
+  (*out)(3, 0) = Scalar(0);
+  (*out)(4, 0) = -p.F;
+  (*out)(5, 0) = Scalar(0);
+  (*out)(6, 0) = Scalar(0);
+}
+
+/**
  * \brief What a drawing needs besides the scene points: every link's frame and the joints'
  * values (Model::kDrawJointValue).
  * \param[in]  p       Parameters.
@@ -691,6 +726,13 @@ struct Model : Sizes {
   static constexpr std::array<int, 4> kDrawJointPointA{ 0, 3, 5, 1 };
   static constexpr std::array<int, 4> kDrawJointPointB{ 2, 4, 6, 6 };
   static constexpr std::array<int, 4> kDrawJointValue{ 0, 0, 0, 0 };
+  /// The applied loads and springs of EvalAppliedLoads (Model::AppliedLoads), the model's loads
+  /// then its springs: name, kind (0 force load, 1 torque load, 2 linear spring, 3 torsional
+  /// spring) and the unit of its force or torque.
+  static constexpr int kNumAppliedLoads = 1;
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "piston_force" };
+  static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 0 };
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadUnits{ "N" };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -816,6 +858,13 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void AppliedLoads(const Params<Scalar>& p,
+                           const Vec<Scalar, Sizes::kNq>& q,
+                           const Vec<Scalar, Sizes::kNphi>& phi,
+                           Mat<Scalar, 7, 1>* out) {
+    EvalAppliedLoads(p, q, phi, out);
   }
   template <typename Scalar>
   static void Drawing(const Params<Scalar>& p,

@@ -484,7 +484,9 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("ground_index", m.ground);
   data.Set("scene_point_names", Join(k.scene_names, Quote));
   data.Set("scene_point_links", Join(k.scene_link, [](int l) { return std::to_string(l); }));
-  data.Set("drawing_constants", DrawingConstants(m, k));
+  std::string function_constants;
+  for (const FunctionSpec& f : functions) function_constants += f.model_constants;
+  data.Set("drawing_constants", DrawingConstants(m, k) + function_constants);
   data.Set("assembly_q", numbers(k.assembly_q));
   data.Set("assembly_phi", numbers(k.assembly_phi));
   data.Set("q_min", numbers(k.q_min));

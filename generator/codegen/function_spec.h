@@ -57,6 +57,8 @@ struct FunctionSpec {
   int switches = 0;
   /// EvalDesignChecks: the names of its margins (Sizes::kNumDesignChecks, kDesignCheckNames).
   std::vector<std::string> design_checks;
+  /// Lines of `Model` (constexpr tables that describe its output), after the drawing's.
+  std::string model_constants;
 };
 
 inline Argument Arg(const std::string& type,

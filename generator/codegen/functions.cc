@@ -568,6 +568,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
     if (!switches.name.empty()) out.push_back(switches);
   }
   if (m.outputs.scene && !k.scene.empty()) out.push_back(EvalSceneSpec(k));
+  if (FunctionSpec f = has_statics ? EvalAppliedLoadsSpec(m, k, *statics, printer) : FunctionSpec(); !f.name.empty()) out.push_back(f);
   for (const FunctionSpec& f : DrawingFunctions(m, k, printer)) out.push_back(f);
   const std::vector<FunctionSpec> helpers = PiecewiseHelpers(out);
   out.insert(out.begin(), helpers.begin(), helpers.end());

@@ -53,6 +53,9 @@ FunctionSpec TableSpec(const Model& m, int index);
 
 /// EvalStatics (codegen/statics_functions.cc): Q, drive, V, reactions, friction (as requested).
 FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer);
+/// EvalAppliedLoads (codegen/applied_loads.cc): each load's and spring's point and vector for a
+/// force diagram, with its Model constants; an empty spec (no name) without a scene or loads.
+FunctionSpec EvalAppliedLoadsSpec(const Model& m, const Kinematics& k, const StaticsTable& st, CxxPrinter* printer);
 /// EvalStiffness: d2V/dq2 and -dQ/dq (potential with L).
 FunctionSpec EvalStiffnessSpec(const Model& m, const StaticsTable& st, CxxPrinter* printer);
 /// The statements of EvalStatics' body for a statics table (also EvalKinetostatics').

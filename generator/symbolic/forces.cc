@@ -57,6 +57,7 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
   auto& items = st.items;
   auto& items_expr = st.items_expr;
   auto& conservative = st.conservative;
+  marks.clear();
   auto add_item = [&](const Item& named_item, const Item& expr_item, bool is_conservative) {
     items.push_back(named_item);
     items_expr.push_back(expr_item);
@@ -74,6 +75,25 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
       it.couple = l.torque.subs(refs);
     }
     add_item(it, it, false);
+    // The picture's mark: the item's own point and vector (a couple at its link's pivot).
+    Mark mark;
+    mark.name = l.name;
+    if (l.kind == Load::Kind::kForce) {
+      mark.at = mark.b = it.at;
+      mark.F = it.F;
+    } else {
+      mark.kind = Mark::Kind::kTorque;
+      PointRef pivot;
+      for (int ground_first = 1; ground_first >= 0 && pivot.link < 0; --ground_first)
+        for (const Joint& j : m.joints)
+          if (pivot.link < 0 && j.type() == JointType::kRevolute && j.Joins(l.link) &&
+              (!ground_first || m.links[j.OtherLink(l.link)].ground))
+            pivot = j.End(l.link);
+      const Frame& fr = k.frames[l.link];
+      mark.at = mark.b = pivot.link >= 0 ? st.Position(pivot) : Vec2{fr.x, fr.y};
+      mark.value = it.couple;
+    }
+    marks.push_back(mark);
   }
   V = 0;
   if (m.has_gravity)
@@ -127,6 +147,12 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
       on_a.couple = s.stiffness * delta;
       add_item(on_b, on_b, true);
       add_item(on_a, on_a, true);
+      Mark mark;
+      mark.kind = Mark::Kind::kTorsionalSpring;
+      mark.name = s.name;
+      mark.at = mark.b = st.Position(j.End(j.link_b));
+      mark.value = on_b.couple;
+      marks.push_back(mark);
     } else {
       const Vec2 ra = st.Position(s.a), rb = st.Position(s.b);
       const ex dx = rb[0] - ra[0], dy = rb[1] - ra[1];
@@ -154,6 +180,15 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
       on_b_e.F = {-t_expr * dx, -t_expr * dy};
       add_item(on_a, on_a_e, true);
       add_item(on_b, on_b_e, true);
+      // The picture's mark: the items' expressions (not the locals of this table's program).
+      Mark mark;
+      mark.kind = Mark::Kind::kSpring;
+      mark.name = s.name;
+      mark.at = ra;
+      mark.b = rb;
+      mark.F = on_a_e.F;
+      mark.value = s.preload + s.stiffness * stretch;
+      marks.push_back(mark);
     }
   }
   // Dampers (dynamic modes): a linear one's force c dl/dt pulls its ends together while it

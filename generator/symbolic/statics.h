@@ -109,6 +109,23 @@ class StaticsTable {
   std::vector<std::vector<GiNaC::ex>> K_rel;     ///< per friction joint, nq
   std::vector<std::string> notes;    ///< sentences for the generated header (conventions per joint)
 
+  /// An applied load or a spring as a force diagram draws it (forces.cc, from the items it
+  /// makes; expressions in q, phi and p, at rest in the static modes). `at`: a force load's
+  /// point of application, a torque load's link at its pivot (its first revolute joint, one
+  /// with the ground first; else its frame's origin), a linear spring's end a, a torsional
+  /// spring's joint; `b`: a linear spring's end b (else `at`); `F`: a force load's force, a
+  /// linear spring's force on its end a (towards b under tension), else 0; `value`: a torque
+  /// load's torque or a torsional spring's on the joint's second link (counter-clockwise +),
+  /// a linear spring's tension (+ pulling its ends together), a force load's 0.
+  struct Mark {
+    enum class Kind { kForce, kTorque, kSpring, kTorsionalSpring };
+    Kind kind = Kind::kForce;
+    std::string name;
+    Vec2 at{0, 0}, b{0, 0}, F{0, 0};
+    GiNaC::ex value = 0;
+  };
+  std::vector<Mark> marks;  ///< the model's loads, then its springs, in its order
+
  private:
   // The stages, in order (statics_stage.h): each reads what the ones before derived.
   struct Stage;

@@ -8,7 +8,8 @@
 // the driving forces (without friction and, with friction, forward and backward), the
 // reactions, V, the mechanical advantage and a status per row; optionally the dead zones
 // (self-locking intervals) and the equilibrium positions along the range. Writes a CSV file,
-// a short table and an SVG force diagram (statics/svg.h). `--plots PREFIX` runs gnuplot on
+// a short table and an SVG force diagram (statics/svg.h: the reactions, and the applied loads
+// and springs where the model has Model::AppliedLoads). `--plots PREFIX` runs gnuplot on
 // the CSV: PREFIX_drive.png (runtime/tools/plot_statics.gnuplot: the driving torque, with
 // friction to run in +q and -q, and the reaction magnitudes against the input) and
 // PREFIX_bearings.png (plot_bearings.gnuplot: the polar diagram of each ground bearing's
@@ -158,8 +159,10 @@ int Run(int argc, char** argv) {
                  "[-1e4, 1e4]. Default: the model's range of every input");
   app.add_option("--csv", csv_path, "write every row to this CSV file (plot it with "
                                     "runtime/tools/plot_statics.gnuplot)");
-  app.add_option("--svg", svg_path, "write the mechanism with its reaction vectors at a few "
-                                    "configurations to this SVG file");
+  app.add_option("--svg", svg_path, "write the mechanism at a few configurations to this SVG "
+                                    "file: the reactions (red) and the applied loads and springs "
+                                    "(blue) as arrows, curved arrows and zig-zags with their "
+                                    "magnitudes and a force scale");
   std::string plots_prefix, plot_format = "png";
   app.add_option("--plots", plots_prefix,
                  "draw with gnuplot (on PATH) PREFIX_drive.<format>, the driving forces (and "
@@ -170,7 +173,8 @@ int Run(int argc, char** argv) {
   app.add_option("--plot-format", plot_format, "png or svg (default png)")
       ->check(CLI::IsMember({"png", "svg"}));
   tools::Count(&app, "--snapshots", &snapshots, 1, kMaxSnapshots,
-               "configurations drawn in the SVG");
+               "configurations drawn in the SVG (their labels placed so that none overlap; "
+               "1: one configuration per picture)");
   app.add_flag("--animate", animate, "add the animated copy of the sweep to the SVG");
   bool design = false;
   app.add_flag("--design", design,
