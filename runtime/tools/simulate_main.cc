@@ -396,16 +396,15 @@ void AddMagnitudeColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
 // Coulomb friction of a free run (Sim::kHasCoulomb): friction_<joint> per friction joint and
 // the stuck flag.
 template <class M, class SampleT, bool kHasCoulomb>
-void AddFrictionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
+void AddFrictionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add, bool coulomb) {
   using Row = CsvRow<SampleT>;
+  if (!coulomb) return;
   if constexpr (kHasCoulomb) {
     for (int J = 0; J < mechgen::dynamics::CoulombFeatures<M>::kNumFriction; ++J) {
       const bool prismatic = M::kFrictionPrismatic[J];
       add->Number(std::string("friction_") + M::kFrictionJoints[J], prismatic ? "N" : "N m",
-                  prismatic ? "Coulomb friction force on the slider along the slide's +u (0 with "
-                              "--friction off)"
-                            : "Coulomb friction torque on the joint's second link by its first, CCW + "
-                              "(0 with --friction off)",
+                  prismatic ? "Coulomb friction force on the slider along the slide's +u"
+                            : "Coulomb friction torque on the joint's second link by its first, CCW +",
                   [J](const Row& r) { return r.s->friction(J); });
     }
     add->Number("stuck", "1", "1: held at rest by static friction (q_dot = q_ddot = 0); 0: moving",
@@ -414,16 +413,16 @@ void AddFrictionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
 }
 
 // The CSV of a run with every input free: t, q, q_dot, q_ddot, T, V, E, W_nc, Q, the
-// friction loads and stuck flag (Coulomb friction), the reactions and |F| of each revolute
-// joint.
+// friction loads and stuck flag (when the run simulates Coulomb friction), the reactions and
+// |F| of each revolute joint.
 template <class M, class SampleT, bool kHasCoulomb>
-mechgen::table::Columns<CsvRow<SampleT>> FreeColumns() {
+mechgen::table::Columns<CsvRow<SampleT>> FreeColumns(bool coulomb) {
   using Row = CsvRow<SampleT>;
   mechgen::table::Columns<Row> columns;
   mechgen::table::Builder<Row> add(&columns);
   AddMotionColumns<M, SampleT, false>(&add);
   AddForceColumns<M, SampleT>(&add);
-  AddFrictionColumns<M, SampleT, kHasCoulomb>(&add);
+  AddFrictionColumns<M, SampleT, kHasCoulomb>(&add, coulomb);
   AddReactionColumns<M, SampleT>(&add);
   AddMagnitudeColumns<M, SampleT>(&add);
   return columns;
@@ -558,7 +557,7 @@ int Run(const Args& args) {
     std::fprintf(stderr, "error: %s\n", error.c_str());
     return 1;
   }
-  const auto columns = FreeColumns<M, SampleT, Sim::kHasCoulomb>();
+  const auto columns = FreeColumns<M, SampleT, Sim::kHasCoulomb>(sim.SimulatesCoulomb(q0));
   const auto magnitudes = RevoluteMagnitudes<M>();
   mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions<M>("free motion"));
 

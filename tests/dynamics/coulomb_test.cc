@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "incline_friction.h"
@@ -237,6 +238,54 @@ TEST(Coulomb, PushedBlockSticksAndSlipsWithoutChattering) {
       EXPECT_NEAR(std::abs(s.friction(0)), B, 1e-12);
     }
   }
+}
+
+// The chattering guard: transitions closer than CoulombOptions::min_interval end the run after
+// max_chattering of them (here every transition of the pushed block counts), with a status and
+// a message, never a loop without end; every sample finite.
+TEST(Coulomb, ChatteringGuardEndsTheRun) {
+  mech::incline_friction::Params<double> p;
+  p.alpha = 0;
+  p.F0 = 10;
+  dyn::MinimalOptions o;
+  o.sample_dt = 0.01;
+  o.coulomb.min_interval = 100;
+  o.coulomb.max_chattering = 2;
+  dyn::MinimalDynamics<Incline> sim(p, o);
+  Eigen::Matrix<double, 1, 1> q, qd;
+  q(0) = 0;
+  qd(0) = 0;
+  ASSERT_TRUE(sim.Initialize(q));
+  dyn::MinimalSummary s;
+  int samples = 0;
+  bool finite = true;
+  sim.Simulate(
+      0.0, q, qd, 12.0,
+      [&](const dyn::Sample<Incline>& x) {
+        ++samples;
+        finite = finite && x.q.allFinite() && x.qd.allFinite() && x.friction.allFinite();
+        return true;
+      },
+      &s);
+  EXPECT_EQ(s.status, dyn::Status::kFrictionFailed);
+  EXPECT_EQ(s.chattering, 2);
+  EXPECT_EQ(s.friction_transitions, 3);  // the first has no transition before it
+  EXPECT_NE(std::string(s.message).find("chattering"), std::string::npos) << s.message;
+  EXPECT_TRUE(finite);
+  EXPECT_LT(s.t_end, 12.0);
+}
+
+// Friction near jamming: a pin friction circle so large (mu r m lc = 6 > I_O = 1.01) that the
+// fixed-point iteration of the slip's friction torque on the pin force does not contract: a
+// status (kFrictionFailed) with a message, never a NaN.
+TEST(Coulomb, JammingIsAStatus) {
+  mech::pendulum_friction::Params<double> p;
+  p.mu = 1;
+  p.r = 5;
+  const auto r = Simulate<Pendulum>(p, -kPi / 2, 3.0, 1.0, 0.01);
+  EXPECT_EQ(r.summary.status, dyn::Status::kFrictionFailed) << dyn::FormatSummary(r.summary);
+  EXPECT_NE(std::string(r.summary.message).find("did not converge"), std::string::npos) << r.summary.message;
+  for (const auto& s : r.samples) EXPECT_TRUE(s.q.allFinite() && s.qd.allFinite() && s.friction.allFinite());
 }
 
 // The pendulum with pin friction: the friction torque from the free body of the arm, the

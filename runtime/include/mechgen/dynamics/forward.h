@@ -595,6 +595,21 @@ class MinimalDynamics {
     }
   }
 
+  /// Whether a run from q0 simulates Coulomb friction (MinimalSummary::coulomb): the option on,
+  /// kHasCoulomb, and a friction joint with a coefficient (gain mu r or mu not 0) at the
+  /// parameters. Initialize() first.
+  bool SimulatesCoulomb(const VecQ& q0) {
+    if constexpr (kHasCoulomb) {
+      if (!options_.coulomb.enabled) return false;
+      VecPhi phi;
+      Coefficients c;
+      return Positions(q0, &phi, &c) && Friction::AnyGain(p_, q0, phi, c);
+    } else {
+      (void)q0;
+      return false;
+    }
+  }
+
   /// Makes (q, phi, K) the reference of the warm starts (Simulate does after each step).
   void SetReference(const VecQ& q, const VecPhi& phi, const Eigen::Matrix<double, kNphi, kNq>& K) {
     q_ref_ = q;
@@ -652,9 +667,7 @@ class MinimalDynamics {
           summary->message = kNq > 1 ? "Coulomb friction is not simulated with several inputs"
                                      : "Coulomb friction is not simulated with a caller's load";
         } else {
-          VecPhi phi;
-          Coefficients c;
-          if (Positions(q0, &phi, &c) && Friction::AnyGain(p_, q0, phi, c)) {
+          if (SimulatesCoulomb(q0)) {
             coulomb_active_ = true;
             summary->coulomb = true;
             // The first mode: slip along qd0, or the decision at rest.

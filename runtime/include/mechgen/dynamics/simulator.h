@@ -420,6 +420,14 @@ struct EventLoop {
 
     SampleT s0;
     if (!sim->Evaluate(t0, y0, &s0)) {
+      if constexpr (HasCoulombHooks<P>::value) {
+        if (sim->friction_failed_) {
+          summary->message =
+              "the slip's friction loads did not converge at the initial state "
+              "(CoulombOptions::max_iterations): friction near jamming";
+          return finish(Status::kFrictionFailed, t0);
+        }
+      }
       summary->message = "the initial state does not assemble (or its inertia is singular)";
       return finish(Status::kInvalidInput, t0);
     }
