@@ -829,7 +829,8 @@ int Main(const Args& args) {
   } else {
     if (!args.drives.empty()) {
       if (args.friction == "on")
-        return tools::UsageError(args.tool, "--friction on: Coulomb friction is simulated in the free motion only (not with --drive)");
+        return tools::UsageError(
+            args.tool, "--friction on: Coulomb friction is simulated in the free motion only (not with --drive)");
       return args.method == "dop853" ? DispatchDriven<M, mechgen::dynamics::Dop853>(args)
                                      : DispatchDriven<M, mechgen::dynamics::Dopri5>(args);
     }
