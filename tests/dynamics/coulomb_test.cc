@@ -15,7 +15,9 @@
 //    energy lost equal to the integral of the friction torque times the angular velocity
 //    (a trapezoid over the samples, not the runtime's W), and at rest at an angle where
 //    |m g lc cos theta| <= mu r m g (the pin force at rest is the weight);
-//  - mu = 0: the run is the frictionless pendulum's (pendulum.yaml) to the last bit.
+//  - mu = 0: the run is the frictionless pendulum's (pendulum.yaml) to the last bit;
+//  - two inputs (two_pendulums_friction.yaml): not simulated, said so, the run bit for bit the
+//    one with Coulomb friction switched off.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,6 +30,7 @@
 #include "mechgen/dynamics/forward.h"
 #include "pendulum.h"
 #include "pendulum_friction.h"
+#include "two_pendulums_friction.h"
 
 namespace {
 
@@ -364,6 +367,38 @@ TEST(Coulomb, ZeroMuIsTheFrictionlessRun) {
     EXPECT_EQ(rf.samples[i].t, r0.samples[i].t);
     EXPECT_EQ(rf.samples[i].q(0), r0.samples[i].q(0)) << i;
     EXPECT_EQ(rf.samples[i].qd(0), r0.samples[i].qd(0)) << i;
+  }
+}
+
+// Several inputs: Coulomb friction is not simulated (the summary says so) and the run is the one
+// with it switched off, to the last bit.
+TEST(Coulomb, SeveralInputsAreNotSimulated) {
+  using M2 = mech::two_pendulums_friction::Model;
+  static_assert(!dyn::MinimalDynamics<M2>::kHasCoulomb, "two inputs: no stick and slip");
+  Eigen::Vector2d q(0.0, -0.5), qd(0.0, 1.0);
+  std::vector<dyn::Sample<M2>> runs[2];
+  for (int off = 0; off < 2; ++off) {
+    dyn::MinimalOptions o;
+    o.sample_dt = 0.05;
+    o.coulomb.enabled = off == 0;
+    dyn::MinimalDynamics<M2> sim(mech::two_pendulums_friction::Params<double>(), o);
+    ASSERT_TRUE(sim.Initialize(q));
+    dyn::MinimalSummary s;
+    sim.Simulate(
+        0.0, q, qd, 2.0,
+        [&](const dyn::Sample<M2>& x) {
+          runs[off].push_back(x);
+          return true;
+        },
+        &s);
+    EXPECT_EQ(s.status, dyn::Status::kSuccess);
+    EXPECT_FALSE(s.coulomb);
+    EXPECT_EQ(std::string(s.message), off == 0 ? "Coulomb friction is not simulated with several inputs" : "");
+  }
+  ASSERT_EQ(runs[0].size(), runs[1].size());
+  for (size_t i = 0; i < runs[0].size(); ++i) {
+    EXPECT_EQ(runs[0][i].q, runs[1][i].q) << i;
+    EXPECT_EQ(runs[0][i].qd, runs[1][i].qd) << i;
   }
 }
 
