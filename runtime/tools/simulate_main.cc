@@ -18,7 +18,16 @@
 //   a torque [N m] for an angle input, CCW +, a force [N] for a slide), then, when the model has
 //   reactions, each reaction component of the generated kinetostatics at the simulated motion
 //   (inertia forces included; the force of the joint's first link on its second, fixed frame)
-//   and |F| of each revolute joint (F_<joint>_mag).
+//   and |F| of each revolute joint (F_<joint>_mag); a model with Coulomb friction (its
+//   `friction:` joints with a coefficient, one input) adds friction_<joint>, the friction
+//   torque on the joint's second link by its first [N m, CCW +] or the friction force on the
+//   slider along the slide's +u [N], and stuck (1 while static friction holds the motion at
+//   rest, 0 while it moves); the reactions then include the friction loads.
+// Coulomb friction (mechgen/dynamics/friction.h: slip with the friction loads iterated on the
+// reactions, stick where the applied force stays within the friction bound at rest, each
+// transition located and given a row of its own): on by default for a model with it, off with
+// --friction off (--friction on for a model without friction joints, with several inputs or
+// with --drive is a usage error). The summary lists the stuck intervals.
 // Plot it with runtime/tools/plot_dynamics.gnuplot. Example:
 //   slider_crank_motor_simulate --t-end 10 --dt 0.002 --csv out/motor.csv
 //   gnuplot -e "csv='out/motor.csv'; png='out/motor.png'" runtime/tools/plot_dynamics.gnuplot
@@ -108,6 +117,7 @@ struct Args {
   bool steady = true;
   bool energy_projection = false;
   bool stop_at_speed_zero = false;
+  std::string friction;  // --friction: "on", "off" or "" (the model's friction section)
   bool quiet = false;
   int max_steps = 1000000;
   std::vector<DriveSpec> drives;
@@ -200,6 +210,16 @@ int ParseArgs(int argc, char** argv, const std::string& model, Args* a) {
                "keep T + V - W_nc at its initial value (long conservative runs)");
   app.add_flag("--stop-at-speed-zero", a->stop_at_speed_zero,
                "stop where the first input's speed changes sign");
+  app.add_option("--friction", a->friction,
+                 "Coulomb friction of the model's friction joints in the free motion, with stick "
+                 "and slip: on or off (default: on where the model's `friction:` gives a "
+                 "coefficient)")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            if (text == "on" || text == "off") return {};
+            return "bad value " + tools::Quote(text) + ": expected on or off";
+          },
+          "on|off", ""));
   tools::Count(&app, "--max-steps", &a->max_steps, 1, kMaxIntegratorSteps,
                "integrator steps before giving up");
   std::vector<std::string> drive_text;
@@ -316,8 +336,8 @@ void AddForceColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
   using Row = CsvRow<SampleT>;
   for (int i = 0; i < M::kNq; ++i)
     add->Number(std::string("Q_") + M::kQNames[i], M::kQIsAngle[i] ? "N m" : "N",
-                "generalized applied force (loads, motors, dampers, weights, springs): a torque "
-                "CCW + for an angle input, a force along +q for a slide",
+                "generalized applied force (loads, motors, dampers, weights, springs, joint "
+                "friction): a torque CCW + for an angle input, a force along +q for a slide",
                 [i](const Row& r) { return r.s->Q(i); });
 }
 
@@ -373,15 +393,36 @@ void AddMagnitudeColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
   }
 }
 
+// Coulomb friction of a free run (Sim::kHasCoulomb): friction_<joint> per friction joint and
+// the stuck flag.
+template <class M, class SampleT, bool kHasCoulomb>
+void AddFrictionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add, bool coulomb) {
+  using Row = CsvRow<SampleT>;
+  if (!coulomb) return;
+  if constexpr (kHasCoulomb) {
+    for (int J = 0; J < mechgen::dynamics::CoulombFeatures<M>::kNumFriction; ++J) {
+      const bool prismatic = M::kFrictionPrismatic[J];
+      add->Number(std::string("friction_") + M::kFrictionJoints[J], prismatic ? "N" : "N m",
+                  prismatic ? "Coulomb friction force on the slider along the slide's +u"
+                            : "Coulomb friction torque on the joint's second link by its first, CCW +",
+                  [J](const Row& r) { return r.s->friction(J); });
+    }
+    add->Number("stuck", "1", "1: held at rest by static friction (q_dot = q_ddot = 0); 0: moving",
+                [](const Row& r) { return r.s->stuck ? 1.0 : 0.0; });
+  }
+}
+
 // The CSV of a run with every input free: t, q, q_dot, q_ddot, T, V, E, W_nc, Q, the
-// reactions and |F| of each revolute joint.
-template <class M, class SampleT>
-mechgen::table::Columns<CsvRow<SampleT>> FreeColumns() {
+// friction loads and stuck flag (when the run simulates Coulomb friction), the reactions and
+// |F| of each revolute joint.
+template <class M, class SampleT, bool kHasCoulomb>
+mechgen::table::Columns<CsvRow<SampleT>> FreeColumns(bool coulomb) {
   using Row = CsvRow<SampleT>;
   mechgen::table::Columns<Row> columns;
   mechgen::table::Builder<Row> add(&columns);
   AddMotionColumns<M, SampleT, false>(&add);
   AddForceColumns<M, SampleT>(&add);
+  AddFrictionColumns<M, SampleT, kHasCoulomb>(&add, coulomb);
   AddReactionColumns<M, SampleT>(&add);
   AddMagnitudeColumns<M, SampleT>(&add);
   return columns;
@@ -492,6 +533,14 @@ int Run(const Args& args) {
   options.steady.cycle = kTwoPi;
   options.steady.tolerance = args.steady_tol;
   options.steady.consecutive = 2;
+  // Coulomb friction: the model's friction section unless --friction says otherwise.
+  if (args.friction == "on" && !Sim::kHasCoulomb) {
+    return tools::UsageError(args.tool,
+                             mechgen::dynamics::CoulombFeatures<M>::kHasFriction
+                                 ? "--friction on: Coulomb friction is simulated for one input only"
+                                 : "--friction on: the model has no friction joints (`friction:`)");
+  }
+  options.coulomb.enabled = args.friction != "off";
   Sim sim(params, options);
   if (!sim.Initialize(q0)) {
     std::fprintf(stderr, "error: %s does not assemble at the initial inputs\n", M::kName);
@@ -508,18 +557,28 @@ int Run(const Args& args) {
     std::fprintf(stderr, "error: %s\n", error.c_str());
     return 1;
   }
-  const auto columns = FreeColumns<M, SampleT>();
+  const auto columns = FreeColumns<M, SampleT, Sim::kHasCoulomb>(sim.SimulatesCoulomb(q0));
   const auto magnitudes = RevoluteMagnitudes<M>();
   mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions<M>("free motion"));
 
   double max_reaction = 0;
+  // The stuck intervals (Coulomb friction): [start, end) from the transition rows.
+  std::vector<std::pair<double, double>> stuck;
+  bool was_stuck = false;
 
   auto observer = [&](const SampleT& s) {
+    if (s.stuck && !was_stuck) stuck.emplace_back(s.t, std::numeric_limits<double>::quiet_NaN());
+    if (!s.stuck && was_stuck) stuck.back().second = s.t;
+    was_stuck = s.stuck;
     // The row is written inside the branch that holds the kinetostatics it points into.
     CsvRow<SampleT> row{&s, nullptr};
     if constexpr (kNumReactions > 0) {
       mechgen::dynamics::KinetostaticsRow<M> k;
-      kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+      if constexpr (Sim::kHasCoulomb) {
+        kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
+      } else {
+        kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+      }
       if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) {
         row.R = k.statics.R.data();
         for (const auto& m : magnitudes)
@@ -542,6 +601,20 @@ int Run(const Args& args) {
     if (const std::string changed = tools::ChangedParameters(params); !changed.empty())
       std::printf("parameters set: %s\n", changed.c_str());
     std::printf("%s: %s\n", M::kName, mechgen::dynamics::FormatSummary(summary).c_str());
+    if (summary.coulomb) {
+      std::printf("stuck by static friction:");
+      if (stuck.empty()) std::printf(" never");
+      constexpr size_t kListed = 20;
+      for (size_t i = 0; i < stuck.size() && i < kListed; ++i) {
+        if (std::isnan(stuck[i].second)) {
+          std::printf(" [%.9g s, end)", stuck[i].first);
+        } else {
+          std::printf(" [%.9g s, %.9g s)", stuck[i].first, stuck[i].second);
+        }
+      }
+      if (stuck.size() > kListed) std::printf(" ... (%zu intervals)", stuck.size());
+      std::printf("\n");
+    }
     const auto& steady = summary.steady;
     if (steady.steady) {
       std::printf("steady state at t = %.6g s: revolution time %.6g s (mean speed %.6g rad/s)\n",
@@ -755,6 +828,9 @@ int Main(const Args& args) {
     return 2;
   } else {
     if (!args.drives.empty()) {
+      if (args.friction == "on")
+        return tools::UsageError(
+            args.tool, "--friction on: Coulomb friction is simulated in the free motion only (not with --drive)");
       return args.method == "dop853" ? DispatchDriven<M, mechgen::dynamics::Dop853>(args)
                                      : DispatchDriven<M, mechgen::dynamics::Dopri5>(args);
     }

@@ -55,6 +55,7 @@
 #include "mechgen/core/constants.h"
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
+#include "mechgen/dynamics/friction.h"
 #include "mechgen/dynamics/integrators.h"
 #include "mechgen/dynamics/simulator.h"
 
@@ -100,6 +101,15 @@ struct MinimalOptions {
   /// the cycle-mean speed); off by default. Reported in the summary's `steady`.
   SteadyStateOptions steady;
 
+  /// Coulomb friction at the model's friction joints, with stick and slip (dynamics/friction.h;
+  /// on by default: a model whose friction joints have a coefficient moves with it). While
+  /// stuck, the steps end on the sample grid (sample_dt > 0) and at most stick_step (s) apart:
+  /// the breakaway of a time-dependent load is looked for at each step's end (and located
+  /// between it and the step before), so a load that rises above the friction bound and falls
+  /// back within one such step is not seen.
+  CoulombOptions coulomb;
+  double stick_step = std::numeric_limits<double>::infinity();
+
   bool IsValid(std::string* error) const {
     if (!integrator.IsValid(error)) return false;
     char buffer[160];
@@ -120,6 +130,13 @@ struct MinimalOptions {
     if (max_switch_restarts < 0) return fail("max_switch_restarts", max_switch_restarts, "max_switch_restarts >= 0");
     if (max_solver_iterations < 1)
       return fail("max_solver_iterations", max_solver_iterations, "max_solver_iterations >= 1");
+    if (!coulomb.IsValid()) {
+      if (error != nullptr)
+        *error = "MinimalOptions::coulomb invalid: max_iterations >= 2, 0 < tolerance < 1e-3, "
+                 "min_interval >= 0, max_chattering >= 1, max_transitions >= 1";
+      return false;
+    }
+    if (!(stick_step > 0)) return fail("stick_step", stick_step, "stick_step > 0");
     return true;
   }
 };
@@ -141,6 +158,16 @@ struct MinimalSummary {
   int switch_restarts = 0;
   int switches_through = 0;
   SteadyStateSummary steady;  ///< the steady-state detection (options.steady)
+  /// Coulomb friction (MinimalOptions::coulomb): simulated; transitions between stick and
+  /// slip (each at a located time, with a sample there); the stuck intervals begun, the time
+  /// spent stuck (s) and the start of the last one (NaN: none); transitions that came within
+  /// CoulombOptions::min_interval of the one before (the chattering guard's count).
+  bool coulomb = false;
+  int friction_transitions = 0;
+  int stick_intervals = 0;
+  double time_stuck = 0;
+  double last_stick_start = std::numeric_limits<double>::quiet_NaN();
+  int chattering = 0;
   const char* message = "";
 
   bool IsSolutionUsable() const { return !IsFailure(status); }
@@ -154,7 +181,14 @@ inline std::string FormatSummary(const MinimalSummary& s) {
                 ToString(s.status), ToString(s.event), s.t_end, s.samples, s.integrator.steps,
                 s.integrator.rejected, s.integrator.rhs_evaluations, s.min_rcond_seen,
                 s.max_energy_error, s.message[0] != 0 ? "; " : "", s.message);
-  return buffer + SwitchCounts(s.switch_restarts, s.switches_through);
+  std::string text = buffer + SwitchCounts(s.switch_restarts, s.switches_through);
+  if (s.coulomb) {
+    std::snprintf(buffer, sizeof(buffer),
+                  "; Coulomb friction: %d stick-slip transitions, %d stuck intervals, %.9g s stuck",
+                  s.friction_transitions, s.stick_intervals, s.time_stuck);
+    text += buffer;
+  }
+  return text;
 }
 
 namespace internal {
@@ -307,6 +341,12 @@ struct Sample {
   double P_nc = 0;             ///< their power
   double rcond = 1;            ///< 1/cond_1(Phi_phi) (1 for kNphi = 0)
   double det = 1;              ///< det Phi_phi (its sign: the branch)
+  /// Coulomb friction (MinimalSummary::coulomb): the friction loads f_J of the model's
+  /// kFrictionJoints (dynamics/friction.h: the torque on the joint's second link by its first,
+  /// N m, CCW +; the force on a slider along +u, N), included in Q and P_nc; 0 without.
+  Eigen::Matrix<double, CoulombFeatures<M>::kNumFriction, 1> friction =
+      Eigen::Matrix<double, CoulombFeatures<M>::kNumFriction, 1>::Zero();
+  bool stuck = false;  ///< stuck by static friction (qd = qdd = 0)
 };
 
 /// No load of the caller: the model's own Q only.
@@ -357,6 +397,10 @@ class MinimalDynamics {
   static constexpr int kNumSwitches = internal::NumSwitches<M>::value;
   static constexpr bool kHasSwitches = kNumSwitches > 0;
   using SwitchModes = std::array<int, kNumSwitches>;
+  /// Coulomb friction with stick and slip can be simulated (MinimalOptions::coulomb): friction
+  /// joints, one input, no caller's load (dynamics/friction.h).
+  static constexpr bool kHasCoulomb = CoulombFeatures<M>::kHasFriction && kNq == 1 && !kHasLoad;
+  static constexpr int kNumFriction = CoulombFeatures<M>::kNumFriction;
 
   explicit MinimalDynamics(const Params& params, const MinimalOptions& options = MinimalOptions(),
                            Load load = Load())
@@ -411,6 +455,9 @@ class MinimalDynamics {
     const VecQ q = y.template head<kNq>();
     const VecQ qd = y.template segment<kNq>(kNq);
     last_.valid = false;
+    if constexpr (kHasCoulomb) {
+      if (coulomb_active_) return DerivativeCoulomb(t, y, dy);
+    }
     if constexpr (kStagesByRhs) {
       // One generated pass (M::Rhs): positions by their sin and cos, K, L, I, h, Q.
       last_solve_not_assemblable_ = false;
@@ -496,6 +543,16 @@ class MinimalDynamics {
     s->q = y.template head<kNq>();
     s->qd = y.template segment<kNq>(kNq);
     s->W = y(2 * kNq);
+    if constexpr (kHasCoulomb) {
+      if (coulomb_active_) {
+        Coefficients c;
+        Dyn d;
+        FrictionState<kNumFriction> fs;
+        if (!EvalCoulomb(t, s->q, s->qd, &s->phi, &c, &d, &s->qdd, &fs)) return false;
+        FillSample(d, c, fs, s);
+        return true;
+      }
+    }
     s->phi = phi_ref_ + K_ref_ * (s->q - q_ref_);
     if (!SolveAt(s->q, &s->phi)) return false;
     Coefficients c;
@@ -535,6 +592,21 @@ class MinimalDynamics {
     } else {
       (void)t, (void)y, (void)modes;
       return true;
+    }
+  }
+
+  /// Whether a run from q0 simulates Coulomb friction (MinimalSummary::coulomb): the option on,
+  /// kHasCoulomb, and a friction joint with a coefficient (gain mu r or mu not 0) at the
+  /// parameters. Initialize() first.
+  bool SimulatesCoulomb(const VecQ& q0) {
+    if constexpr (kHasCoulomb) {
+      if (!options_.coulomb.enabled) return false;
+      VecPhi phi;
+      Coefficients c;
+      return Positions(q0, &phi, &c) && Friction::AnyGain(p_, q0, phi, c);
+    } else {
+      (void)q0;
+      return false;
     }
   }
 
@@ -587,6 +659,43 @@ class MinimalDynamics {
     events.restart_at_switches = options_.restart_at_switches && kHasSwitches;
     events.switch_min_interval = options_.switch_min_interval;
     events.max_switch_restarts = options_.max_switch_restarts;
+    coulomb_active_ = false;
+    friction_failed_ = false;
+    if constexpr (CoulombFeatures<M>::kHasFriction) {
+      if (options_.coulomb.enabled) {
+        if constexpr (!kHasCoulomb) {
+          summary->message = kNq > 1 ? "Coulomb friction is not simulated with several inputs"
+                                     : "Coulomb friction is not simulated with a caller's load";
+        } else {
+          if (SimulatesCoulomb(q0)) {
+            coulomb_active_ = true;
+            summary->coulomb = true;
+            // The first mode: slip along qd0, or the decision at rest.
+            stuck_ = false;
+            slip_dir_ = qd0(0) < 0 ? -1.0 : 1.0;
+            if (qd0(0) == 0) {
+              bool stuck = false;
+              double e = 1;
+              if (!DecideAtRest(t0, q0, &stuck, &e)) {
+                summary->message = "the friction at rest did not converge at the initial state";
+                EndRun();
+                summary->status = Status::kFrictionFailed;
+                summary->t_end = t0;
+                summary->integrator = integrator_.summary();
+                return false;
+              }
+              stuck_ = stuck;
+              slip_dir_ = e;
+            }
+            if (stuck_) {
+              summary->stick_intervals = 1;
+              summary->last_stick_start = t0;
+            }
+          }
+        }
+      }
+    }
+    events.stick_step = options_.stick_step;
     return internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);
   }
 
@@ -600,6 +709,116 @@ class MinimalDynamics {
  private:
   friend struct internal::EventLoop;
   static constexpr bool kCanProjectEnergy = true;
+  using Friction = CoulombFriction<M>;
+
+  // ---- Coulomb friction (dynamics/friction.h): the mode (stuck, or slipping along
+  // slip_dir_) is the simulation's, changed by the event loop at located transitions ----
+  /// Positions, coefficients, the dynamics with the friction loads and qdd at (t, q, qd) in
+  /// the current mode; false (friction_failed_ for the friction) when something fails.
+  bool EvalCoulomb(double t, const VecQ& q, const VecQ& qd, VecPhi* phi, Coefficients* c, Dyn* d,
+                   VecQ* qdd, FrictionState<kNumFriction>* fs) {
+    friction_failed_ = false;
+    *phi = phi_ref_ + K_ref_ * (q - q_ref_);
+    if (!SolveAt(q, phi)) return false;
+    EvalCoefficients(q, *phi, c);
+    if (stuck_) {
+      const VecQ zero = VecQ::Zero();
+      EvalDynamics(q, *phi, zero, t, *c, d);
+      FrictionState<kNumFriction> b;
+      if (!Friction::Bound(options_.coulomb, p_, q, *phi, t, *c, d->Q(0), &b)) {
+        friction_failed_ = true;
+        return false;
+      }
+      Friction::Holding(d->Q(0), b, fs);
+      d->Q(0) += fs->Q_friction;
+      d->P_nc = 0;
+      qdd->setZero();
+      return true;
+    }
+    EvalDynamics(q, *phi, qd, t, *c, d);
+    const double I = d->I(0, 0);
+    singular_inertia_ = !(I > 0) || !std::isfinite(I);
+    if (singular_inertia_) return false;
+    if (!Friction::Slip(options_.coulomb, p_, q, *phi, qd, t, *c, I, d->Q(0) - d->h(0), slip_dir_, qdd, fs)) {
+      friction_failed_ = true;
+      return false;
+    }
+    d->Q(0) += fs->Q_friction;
+    d->P_nc += fs->Q_friction * qd(0);
+    return true;
+  }
+
+  bool DerivativeCoulomb(double t, const State& y, State* dy) {
+    const VecQ q = y.template head<kNq>();
+    const VecQ qd = y.template segment<kNq>(kNq);
+    VecPhi phi;
+    Coefficients c;
+    Dyn d;
+    VecQ qdd;
+    FrictionState<kNumFriction> fs;
+    if (!EvalCoulomb(t, q, qd, &phi, &c, &d, &qdd, &fs)) {
+      ++position_failures_;
+      return false;
+    }
+    dy->template head<kNq>() = stuck_ ? VecQ::Zero() : qd;
+    dy->template segment<kNq>(kNq) = qdd;
+    (*dy)(2 * kNq) = d.P_nc;
+    if (caching_) {
+      last_.t = t;
+      last_.y = y;
+      FillSample(d, c, fs, &last_.sample);
+      last_.sample.qdd = qdd;
+      last_.sample.phi = phi;
+      if constexpr (kNphi > 0) last_.Phi_phi = c.Phi_phi;
+      last_.valid = true;
+    }
+    return true;
+  }
+
+  void FillSample(const Dyn& d, const Coefficients& c, const FrictionState<kNumFriction>& fs, SampleT* s) {
+    s->T = d.T;
+    s->V = d.V;
+    s->E = d.T + d.V;
+    s->P_nc = d.P_nc;
+    s->Q = d.Q;
+    s->K = c.K;
+    s->friction = fs.f;
+    s->stuck = stuck_;
+    Conditioning(c, &s->rcond, &s->det);
+  }
+
+  /// At rest at (t, q): *stuck, or the slip's direction *e (dynamics/friction.h: |Q0| <= B
+  /// sticks; else the slip along sign(Q0) if its acceleration points that way). false: the
+  /// positions or the friction failed.
+  bool DecideAtRest(double t, const VecQ& q, bool* stuck, double* e) {
+    VecPhi phi;
+    Coefficients c;
+    if (!Positions(q, &phi, &c)) return false;
+    Dyn d;
+    const VecQ zero = VecQ::Zero();
+    EvalDynamics(q, phi, zero, t, c, &d);
+    const double Q0 = d.Q(0);
+    FrictionState<kNumFriction> b;
+    if (!Friction::Bound(options_.coulomb, p_, q, phi, t, c, Q0, &b)) return false;
+    *stuck = true;
+    *e = Q0 > 0 ? 1.0 : -1.0;
+    if (!(std::abs(Q0) > b.bound)) return true;
+    const double I = d.I(0, 0);
+    if (!(I > 0) || !std::isfinite(I)) return false;
+    VecQ qdd;
+    FrictionState<kNumFriction> s;
+    if (!Friction::Slip(options_.coulomb, p_, q, phi, zero, t, c, I, Q0 - d.h(0), *e, &qdd, &s)) return false;
+    *stuck = !(*e * qdd(0) > 0);
+    return true;
+  }
+  bool CoulombActive() const { return coulomb_active_; }
+  bool Stuck() const { return stuck_; }
+  double SlipDirection() const { return slip_dir_; }
+  void SetFrictionMode(bool stuck, double e) {
+    stuck_ = stuck;
+    slip_dir_ = e;
+    last_.valid = false;
+  }
 
   // ---- the hooks of the event loop (simulator.h) ----
   void EndRun() {
@@ -704,9 +923,10 @@ class MinimalDynamics {
     s->W = y(2 * kNq);
     s->E = s->T + s->V;
     if constexpr (kStagesByTrig) {
-      // The angles from their sin and cos, within pi of the predictor (sample.phi).
+      // The angles from their sin and cos, within pi of the predictor (sample.phi); with
+      // Coulomb friction the stages solved the angles themselves.
       const double two_pi = 6.283185307179586;
-      for (int i = 0; i < kNphi; ++i) {
+      for (int i = 0; i < kNphi && !coulomb_active_; ++i) {
         const double angle = std::atan2(last_.trig.sin_phi(i), last_.trig.cos_phi(i));
         const double turns = std::floor((angle - s->phi(i)) / two_pi + 0.5);
         s->phi(i) = std::isfinite(turns) ? angle - two_pi * turns : angle;
@@ -739,6 +959,8 @@ class MinimalDynamics {
   double ref_det_ = 0;
   int position_failures_ = 0;
   bool initialized_ = false, last_solve_not_assemblable_ = false, singular_inertia_ = false;
+  bool coulomb_active_ = false, stuck_ = false, friction_failed_ = false;
+  double slip_dir_ = 1;
 };
 
 }  // namespace mechgen::dynamics

@@ -119,8 +119,14 @@ class Kinetostatics {
     return Initialize(q0, guess);
   }
 
-  /// The kinetostatics at (t, q, qd, qdd), positions warm-started from the last row.
-  KinetostaticsStatus Evaluate(double t, const VecQ& q, const VecQ& qd, const VecQ& qdd, Row* row) {
+  /// The Coulomb friction loads of the model's friction joints (kFrictionJoints; see
+  /// statics/types.h), a vector of size 0 for a model without.
+  using VecF = Eigen::Matrix<double, statics::StaticsFeatures<M>::kNumFriction, 1>;
+
+  /// The kinetostatics at (t, q, qd, qdd), positions warm-started from the last row; with the
+  /// given Coulomb friction loads (e.g. a free simulation's Sample::friction), else none.
+  KinetostaticsStatus Evaluate(double t, const VecQ& q, const VecQ& qd, const VecQ& qdd, Row* row,
+                               const VecF* friction = nullptr) {
     row->t = t;
     row->q = q;
     row->qd = qd;
@@ -142,7 +148,12 @@ class Kinetostatics {
     q_ = q;
     phi_ = phi;
     row->condition = cond;
-    M::template Kinetostatics<double>(p_, q, phi, qd, qdd, t, c, &row->statics);
+    if constexpr (statics::StaticsFeatures<M>::kHasFriction) {
+      M::template Kinetostatics<double>(p_, q, phi, qd, qdd, t, c, &row->statics, friction);
+    } else {
+      (void)friction;
+      M::template Kinetostatics<double>(p_, q, phi, qd, qdd, t, c, &row->statics);
+    }
     row->reaction_norm = ReactionNorm(row->statics);
     const bool finite = row->statics.drive.allFinite();
     if (!(cond <= options_.max_condition) || !finite) {

@@ -37,6 +37,7 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "mechgen/core/constants.h"
 #include "mechgen/dynamics/integrators.h"
@@ -56,6 +57,9 @@ enum class Status {
   kStoppedByObserver,  ///< the sample observer returned false
   kInvalidInput,       ///< options invalid, the initial state does not assemble, or the
                        ///< sample grid cannot advance
+  kFrictionFailed,     ///< Coulomb friction (dynamics/friction.h): the slip's friction loads
+                       ///< did not converge down to h_min (friction near jamming), or the
+                       ///< stick-slip transitions chattered (CoulombOptions)
   kNotRun,
 };
 
@@ -77,6 +81,8 @@ inline const char* ToString(Status s) {
       return "stopped_by_observer";
     case Status::kInvalidInput:
       return "invalid_input";
+    case Status::kFrictionFailed:
+      return "friction_failed";
     case Status::kNotRun:
       return "not_run";
   }
@@ -279,7 +285,16 @@ struct EventSettings {
   bool restart_at_switches = false;
   double switch_min_interval = 1e-6;
   int max_switch_restarts = 1000;
+  /// Coulomb friction (P::kHasCoulomb): while stuck, steps end at most stick_step apart and
+  /// on the sample grid.
+  double stick_step = std::numeric_limits<double>::infinity();
 };
+
+/// The simulation has Coulomb friction with stick and slip (MinimalDynamics::kHasCoulomb).
+template <class P, class = void>
+struct HasCoulombHooks : std::false_type {};
+template <class P>
+struct HasCoulombHooks<P, std::enable_if_t<P::kHasCoulomb>> : std::true_type {};
 
 /// The sample grid t0 + k sample_dt over [t0, t_end] advances at every t in it and has at
 /// most max_samples points (sample_dt = 0: a sample per accepted step).
@@ -321,6 +336,21 @@ inline bool SampleGridIsUsable(double t0, double t_end, double sample_dt, int ma
  * Chattering guard: a switch within switch_min_interval of the last restart, or after
  * max_switch_restarts restarts, is stepped through (counted; the message says when the cap
  * was reached).
+ *
+ * Coulomb friction (P::kHasCoulomb, active for the run: dynamics/friction.h, forward.h), one
+ * input. Slipping along e, the step's end with e qd <= 0 is a stop: the speed's zero located
+ * on the dense output (Illinois regula falsi on e qd to event_tolerance; the friction load is
+ * smooth there, extended past the zero in the slip's direction) at t_z, where the state is
+ * taken with qd = 0 and the decision at rest (P::DecideAtRest: stick when |Q0| <= the
+ * friction bound B, else slip along sign(Q0)) gives the next mode. Stuck, the step's end
+ * where the decision at rest says slip is a breakaway, located by bisection on that decision
+ * (the state does not move) to event_tolerance. Either way the step's samples before the
+ * transition come from its dense output in the old mode, its events (dead point, speed zero,
+ * the user's) are looked for up to the transition, the integrator restarts there
+ * (Integrator::Restart) in the new mode and the sample there is handed out (off the grid:
+ * every transition has its row). Chattering guard: a transition within
+ * CoulombOptions::min_interval of the one before counts; max_chattering of them, or
+ * max_transitions in all, end the run with Status::kFrictionFailed.
  */
 struct EventLoop {
   template <class P, class Summary, class Observer, class UserEvent>
@@ -331,6 +361,10 @@ struct EventLoop {
     using State = typename P::State;
     auto& integrator = sim->integrator_;
     auto finish = [&](Status s, double t) {
+      if constexpr (HasCoulombHooks<P>::value) {
+        if (sim->CoulombActive() && sim->Stuck() && summary->time_stuck >= 0 && t >= summary->last_stick_start)
+          summary->time_stuck += t - summary->last_stick_start;
+      }
       sim->EndRun();
       summary->status = s;
       summary->t_end = t;
@@ -386,6 +420,14 @@ struct EventLoop {
 
     SampleT s0;
     if (!sim->Evaluate(t0, y0, &s0)) {
+      if constexpr (HasCoulombHooks<P>::value) {
+        if (sim->friction_failed_) {
+          summary->message =
+              "the slip's friction loads did not converge at the initial state "
+              "(CoulombOptions::max_iterations): friction near jamming";
+          return finish(Status::kFrictionFailed, t0);
+        }
+      }
       summary->message = "the initial state does not assemble (or its inertia is singular)";
       return finish(Status::kInvalidInput, t0);
     }
@@ -466,10 +508,20 @@ struct EventLoop {
       }
       return true;
     };
+    double t_last_transition = -std::numeric_limits<double>::infinity();
     while (is == IntegratorStatus::kRunning) {
-      is = integrator.Step(f, switch_pending ? t_switch_a : std::numeric_limits<double>::quiet_NaN());
+      double t_stop = switch_pending ? t_switch_a : std::numeric_limits<double>::quiet_NaN();
+      if constexpr (HasCoulombHooks<P>::value) {
+        if (sim->CoulombActive() && sim->Stuck()) {
+          // Stuck: the breakaway is looked for at each step's end (see EventSettings::stick_step).
+          double limit = std::min(t_end, integrator.t() + o.stick_step);
+          if (o.sample_dt > 0 && next_sample > integrator.t()) limit = std::min(limit, next_sample);
+          if (limit > integrator.t()) t_stop = std::isnan(t_stop) ? limit : std::min(t_stop, limit);
+        }
+      }
+      is = integrator.Step(f, t_stop);
       if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
-      const double t = integrator.t();
+      double t = integrator.t();
       bool restart_here = false;
       if constexpr (P::kHasSwitches) {
         if (switch_pending) {
@@ -537,7 +589,103 @@ struct EventLoop {
           }
         }
       }
-      if (!sim->Accept(t, integrator.y(), &cur)) {
+      // Coulomb friction: a transition between stick and slip in (t_prev, t] ends the step there.
+      bool friction_transition = false, new_stuck = false;
+      double new_direction = 1;
+      State y_transition = integrator.y();
+      if constexpr (HasCoulombHooks<P>::value) {
+        if (sim->CoulombActive()) {
+          constexpr int kQd = P::kNq;  // the index of qd(0) in the state
+          const double t_start = integrator.t_prev();
+          double t_transition = t;
+          if (!sim->Stuck()) {
+            const double e = sim->SlipDirection();
+            const double g_end = e * integrator.y()(kQd);
+            if (g_end <= 0) {
+              // The speed's zero: the first time with e qd <= 0 (Illinois regula falsi).
+              double ta = t_start, tb = t, ga = e * prev.qd(0), gb = g_end;
+              bool dense_ok = true;
+              if (ga > 0) {
+                int side = 0;
+                for (int it = 0; it < 100 && tb - ta > o.event_tolerance; ++it) {
+                  double tm = tb - gb * (tb - ta) / (gb - ga);
+                  if (!(tm > ta && tm < tb)) tm = 0.5 * (ta + tb);
+                  State ym;
+                  if (!integrator.Dense(f, tm, &ym)) {
+                    dense_ok = false;
+                    break;
+                  }
+                  const double gm = e * ym(kQd);
+                  if (gm <= 0) {
+                    tb = tm;
+                    gb = gm;
+                    if (side == -1) ga *= 0.5;
+                    side = -1;
+                  } else {
+                    ta = tm;
+                    ga = gm;
+                    if (side == 1) gb *= 0.5;
+                    side = 1;
+                  }
+                }
+              } else {
+                tb = t_start;  // a slip that did not get going: the chattering guard counts it
+              }
+              t_transition = tb;
+              if (!dense_ok || !integrator.Dense(f, tb, &y_transition)) {
+                summary->message = "the dense output failed where the speed reached zero";
+                return finish(Status::kPositionFailed, tb);
+              }
+              y_transition(kQd) = 0;
+              if (!sim->DecideAtRest(tb, y_transition.template head<P::kNq>(), &new_stuck, &new_direction)) {
+                summary->message = "the friction at rest did not converge where the speed reached zero";
+                return finish(Status::kFrictionFailed, tb);
+              }
+              friction_transition = true;
+            }
+          } else {
+            bool stuck_end = true;
+            double e_end = 1;
+            if (!sim->DecideAtRest(t, integrator.y().template head<P::kNq>(), &stuck_end, &e_end)) {
+              summary->message = "the friction at rest did not converge while stuck";
+              return finish(Status::kFrictionFailed, t);
+            }
+            if (!stuck_end) {
+              // The breakaway: bisection on the decision at rest (the state does not move).
+              double ta = t_start, tb = t;
+              for (int it = 0; it < 200 && tb - ta > o.event_tolerance; ++it) {
+                const double tm = 0.5 * (ta + tb);
+                if (!(tm > ta && tm < tb)) break;
+                bool stuck_m = true;
+                double e_m = 1;
+                if (!sim->DecideAtRest(tm, integrator.y().template head<P::kNq>(), &stuck_m, &e_m)) {
+                  summary->message = "the friction at rest did not converge while stuck";
+                  return finish(Status::kFrictionFailed, tm);
+                }
+                if (stuck_m) {
+                  ta = tm;
+                } else {
+                  tb = tm;
+                  e_end = e_m;
+                }
+              }
+              t_transition = tb;
+              new_stuck = false;
+              new_direction = e_end;
+              friction_transition = true;
+            }
+          }
+          if (friction_transition) {
+            // The step ends at the transition: its configuration there, in the old mode.
+            t = t_transition;
+            if (!dense_sample(t, &cur)) {
+              summary->message = "the positions failed at a stick-slip transition";
+              return finish(Status::kPositionFailed, t);
+            }
+          }
+        }
+      }
+      if (!friction_transition && !sim->Accept(t, integrator.y(), &cur)) {
         summary->message = "the positions failed at an accepted step";
         return finish(Status::kPositionFailed, t);
       }
@@ -620,6 +768,40 @@ struct EventLoop {
         }
         return finish(Status::kStoppedByEvent, t_event);
       }
+      if constexpr (HasCoulombHooks<P>::value) {
+        if (friction_transition) {
+          // Restart in the new mode at the transition; its sample is handed out.
+          ++summary->friction_transitions;
+          if (t - t_last_transition < sim->options_.coulomb.min_interval) ++summary->chattering;
+          t_last_transition = t;
+          if (summary->chattering >= sim->options_.coulomb.max_chattering ||
+              summary->friction_transitions > sim->options_.coulomb.max_transitions) {
+            summary->message =
+                summary->chattering >= sim->options_.coulomb.max_chattering
+                    ? "stick-slip chattering: transitions closer than CoulombOptions::min_interval"
+                    : "CoulombOptions::max_transitions stick-slip transitions reached";
+            summary->integrator = integrator.summary();
+            return finish(Status::kFrictionFailed, t);
+          }
+          if (sim->Stuck() && !new_stuck) summary->time_stuck += t - summary->last_stick_start;
+          if (!sim->Stuck() && new_stuck) {
+            ++summary->stick_intervals;
+            summary->last_stick_start = t;
+          }
+          sim->SetFrictionMode(new_stuck, new_direction);
+          if constexpr (P::kHasSwitches) switch_pending = false;  // found again from here
+          const double h = std::max(integrator.summary().h_last, 16 * o.event_tolerance);
+          if (!integrator.Restart(f, t, y_transition, h) || !sim->Accept(t, y_transition, &cur)) {
+            summary->message = "the dynamics failed where the motion restarted after a stick-slip transition";
+            return finish(sim->friction_failed_ ? Status::kFrictionFailed : Status::kPositionFailed, t);
+          }
+          is = integrator.summary().status;
+          g_user_prev = user_event(t, cur.q, cur.qd, cur.phi);
+          if (!emit(cur)) return stopped(t);
+          prev = cur;
+          continue;
+        }
+      }
       if constexpr (P::kCanProjectEnergy) {
         if (o.energy_projection && sim->ProjectEnergy(f, E0, &cur)) ++summary->projections;
       }
@@ -655,6 +837,14 @@ struct EventLoop {
     if (sim->singular_inertia_) {
       summary->message = "the inertia matrix (of the free coordinates) is not positive definite";
       return finish(Status::kSingularInertia, integrator.t());
+    }
+    if constexpr (HasCoulombHooks<P>::value) {
+      if (is == IntegratorStatus::kRhsFailed && sim->friction_failed_) {
+        summary->message =
+            "the slip's friction loads did not converge (CoulombOptions::max_iterations): friction "
+            "near jamming";
+        return finish(Status::kFrictionFailed, integrator.t());
+      }
     }
     if (is == IntegratorStatus::kRhsFailed) {
       summary->message = "the position solver failed";

@@ -1,0 +1,221 @@
+/**
+ * \file dynamics/friction.h
+ * Coulomb friction in the free simulation (forward.h MinimalDynamics), with stick and slip:
+ * the friction joints of the model's `friction:` section (the friction circle mu r |F| at a
+ * pin, mu |N| at a slide; models/README.md, Statics), their normal forces from the generated
+ * EvalKinetostatics (the reactions with the inertia forces, which depend on qdd).
+ *
+ * Slip (the input moving, or leaving rest, in the direction e = +-1; kNq = 1): each friction
+ * joint J opposes its relative motion,
+ *     f_J = -gain_J normal_J(qdd, f) sign(K_rel_J e),
+ *     I qdd = Q(f = 0) - h + K_rel^T f,
+ * an implicit equation in (qdd, f) since the normal forces depend on both. SlipLoads() solves
+ * it by fixed-point iteration from f = 0: qdd from the f before, then EvalKinetostatics at
+ * (qdd, f) for the normal forces and the next f, until max |f_k - f_(k-1)| <= tolerance
+ * max |f_k| (or all f are 0). The iteration contracts when the friction's share of the
+ * inertia is small (mu r |dF/dqdd| |K_rel| < I: every practical bearing); where it does not
+ * (friction near jamming, Painleve's paradox of rigid bodies) it fails with a status, never
+ * a value. The direction e is the slip mode's, held for the whole slip: the friction load is
+ * smooth along it, extended past the speed's zero, which the event loop locates.
+ *
+ * At rest (qd = 0, the speed's zero reached, or stuck): Q0 = Q(t, q, qd = 0, f = 0) is the
+ * applied generalized force, and the friction bound
+ *     B = sum_J gain_J normal_J |K_rel_J|
+ * is computed from the reactions at rest (EvalKinetostatics at qd = qdd = 0, the friction
+ * loads of an impending slip in e = sign(Q0) iterated on them as the statics does). The
+ * motion sticks when |Q0| <= B; else it slips in e = sign(Q0), provided the slip's own
+ * acceleration points that way (e qdd_slip > 0; a slip that would at once stop again is no
+ * slip: the chattering the event loop would otherwise make of a force at the bound). While
+ * stuck, qd = qdd = 0 and the friction loads hold Q0: f = f_bound |Q0| / B (one joint: exactly
+ * -Q0 / K_rel; several: each at the same fraction of its bound, one choice among the
+ * statically indeterminate ones).
+ *
+ * Units and signs: f_J is the friction torque on the joint's second link by its first (a pin,
+ * N m, counter-clockwise +) or the friction force on the slider along the slide's +u (N), as
+ * the generated statics' friction loads (statics/types.h). Nothing allocates; nothing throws.
+ */
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+#include "mechgen/core/model_traits.h"
+#include "mechgen/statics/traits.h"
+
+namespace mechgen::dynamics {
+
+/// Coulomb friction of the free simulation (MinimalOptions::coulomb).
+struct CoulombOptions {
+  /// Simulate the model's Coulomb friction (its friction joints with a coefficient, at the
+  /// run's parameters). No effect on a model without Coulomb friction (every gain 0), with
+  /// several inputs (not supported: MinimalSummary::message says so) or with a caller's Load
+  /// (whose forces the reactions would miss).
+  bool enabled = true;
+  /// The slip's fixed-point iteration: at most max_iterations kinetostatic evaluations;
+  /// converged when max |f_k - f_(k-1)| <= tolerance max |f_k|.
+  int max_iterations = 60;
+  double tolerance = 1e-14;
+  /// Chattering guard: a stick-slip transition within min_interval (s) of the one before
+  /// counts as chattering; after max_chattering of them, or after max_transitions
+  /// transitions in all, the run ends (Status::kFrictionFailed) with a message.
+  double min_interval = 1e-9;
+  int max_chattering = 20;
+  int max_transitions = 1000000;
+
+  bool IsValid() const {
+    return max_iterations >= 2 && tolerance > 0 && tolerance < 1e-3 && min_interval >= 0 &&
+           std::isfinite(min_interval) && max_chattering >= 1 && max_transitions >= 1;
+  }
+};
+
+/// What the free simulation knows of a model's Coulomb friction.
+template <class M, bool = HasDynamics<M>::value>
+struct CoulombFeatures {
+  static constexpr int kNumFriction = 0;
+  static constexpr bool kHasFriction = false;
+};
+template <class M>
+struct CoulombFeatures<M, true> {
+  static constexpr int kNumFriction = statics::StaticsFeatures<M>::kNumFriction;
+  /// Friction joints and the generated EvalKinetostatics taking their loads.
+  static constexpr bool kHasFriction = kNumFriction > 0;
+};
+
+/// The friction of one evaluation (Sample::friction of a free simulation).
+template <int kNumFriction>
+struct FrictionState {
+  using VecF = Eigen::Matrix<double, kNumFriction, 1>;
+  VecF f = VecF::Zero();  ///< the friction loads (see the file comment for units and signs)
+  double Q_friction = 0;  ///< their generalized force K_rel^T f (kNq = 1)
+  double bound = 0;       ///< at rest: B, the largest |Q_friction| static friction holds
+  int iterations = 0;     ///< kinetostatic evaluations made
+};
+
+/**
+ * CoulombFriction<M>: the slip's friction loads and the decision at rest, at one
+ * configuration (q, phi, c) of a model with kNq = 1 (see the file comment).
+ */
+template <class M>
+class CoulombFriction {
+ public:
+  static constexpr int kNq = M::kNq;
+  static constexpr int kNumFriction = CoulombFeatures<M>::kNumFriction;
+  using Params = typename M::template ParamsT<double>;
+  using Coefficients = typename M::template CoefficientsT<double>;
+  using Statics = typename M::template StaticsT<double>;
+  using VecQ = Eigen::Matrix<double, kNq, 1>;
+  using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
+  using VecF = Eigen::Matrix<double, kNumFriction, 1>;
+  using State = FrictionState<kNumFriction>;
+
+  /// Every gain_J (mu r, mu) at p, from one evaluation at (q, phi): is any Coulomb friction there?
+  static bool AnyGain(const Params& p, const VecQ& q, const VecPhi& phi, const Coefficients& c) {
+    Statics st;
+    const VecQ zero = VecQ::Zero();
+    M::template Kinetostatics<double>(p, q, phi, zero, zero, 0.0, c, &st);
+    for (int J = 0; J < kNumFriction; ++J)
+      if (st.gain(J) != 0) return true;
+    return false;
+  }
+
+  /**
+   * \brief The slip's qdd and friction loads in direction e (+1 or -1) at (t, q, qd):
+   * Q_minus_h = Q(f = 0) - h and I from the generated EvalDynamics there.
+   * \return false when the iteration does not converge or a value is not finite.
+   */
+  static bool Slip(const CoulombOptions& o,
+                   const Params& p,
+                   const VecQ& q,
+                   const VecPhi& phi,
+                   const VecQ& qd,
+                   double t,
+                   const Coefficients& c,
+                   double I,
+                   double Q_minus_h,
+                   double e,
+                   VecQ* qdd,
+                   State* s) {
+    Statics st;
+    VecF f = VecF::Zero();
+    (*qdd)(0) = Q_minus_h / I;
+    s->iterations = 0;
+    for (int k = 0; k < o.max_iterations; ++k) {
+      M::template Kinetostatics<double>(p, q, phi, qd, *qdd, t, c, &st, &f);
+      ++s->iterations;
+      VecF f_next;
+      for (int J = 0; J < kNumFriction; ++J) f_next(J) = -st.gain(J) * st.normal(J) * Sign(st.K_rel(J, 0) * e);
+      if (!f_next.allFinite()) return false;
+      const double change = (f_next - f).cwiseAbs().maxCoeff();
+      const double size = f_next.cwiseAbs().maxCoeff();
+      f = f_next;
+      const double Q_f = (st.K_rel.transpose() * f)(0);
+      (*qdd)(0) = (Q_minus_h + Q_f) / I;
+      if (!std::isfinite((*qdd)(0))) return false;
+      if (change <= o.tolerance * size) {
+        s->f = f;
+        s->Q_friction = Q_f;
+        s->bound = std::numeric_limits<double>::quiet_NaN();
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /**
+   * \brief At rest at (t, q) (qd = 0): the bound B from the reactions at rest, for an
+   * impending slip in e = sign(Q0) (Q0 = Q(t, q, 0, f = 0)); s->f the loads at the bound.
+   * \return false when the iteration does not converge or a value is not finite.
+   */
+  static bool Bound(const CoulombOptions& o,
+                    const Params& p,
+                    const VecQ& q,
+                    const VecPhi& phi,
+                    double t,
+                    const Coefficients& c,
+                    double Q0,
+                    State* s) {
+    Statics st;
+    VecF f = VecF::Zero();
+    const VecQ zero = VecQ::Zero();
+    const double e = Q0 > 0 ? 1.0 : -1.0;  // Q0 = 0: either way (B does not depend on it
+                                           // at one friction joint)
+    s->iterations = 0;
+    for (int k = 0; k < o.max_iterations; ++k) {
+      M::template Kinetostatics<double>(p, q, phi, zero, zero, t, c, &st, &f);
+      ++s->iterations;
+      VecF f_next;
+      double B = 0;
+      for (int J = 0; J < kNumFriction; ++J) {
+        f_next(J) = -st.gain(J) * st.normal(J) * Sign(st.K_rel(J, 0) * e);
+        B += st.gain(J) * st.normal(J) * std::abs(st.K_rel(J, 0));
+      }
+      if (!f_next.allFinite() || !std::isfinite(B)) return false;
+      const double change = (f_next - f).cwiseAbs().maxCoeff();
+      f = f_next;
+      if (change <= o.tolerance * f.cwiseAbs().maxCoeff()) {
+        s->f = f;
+        s->bound = B;
+        s->Q_friction = (st.K_rel.transpose() * f)(0);
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /// The loads that hold Q0 while stuck, from the bound's state b (|Q0| <= b.bound).
+  static void Holding(double Q0, const State& b, State* s) {
+    *s = b;
+    if (b.bound > 0) {
+      s->f = b.f * (std::abs(Q0) / b.bound);
+    } else {
+      s->f.setZero();
+    }
+    s->Q_friction = -Q0;
+  }
+
+  static double Sign(double x) { return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0); }
+};
+
+}  // namespace mechgen::dynamics

@@ -1,0 +1,64 @@
+#!/bin/sh
+# The <model>_simulate command with Coulomb friction (issue 26; runtime/tools/simulate_main.cc,
+# mechgen/dynamics/friction.h) on the test block on an incline (30 deg, mu from --set):
+#  - mu = 0.7 > tan 30 deg: from rest it stays, every row stuck = 1, s_slide unchanged, and the
+#    friction force is m g sin(alpha) up the slope (+u) = 9.81 N, to 1e-9;
+#  - the same with --friction off: it slides down at g sin(alpha), s = -g sin(alpha) t^2 / 2,
+#    and the CSV has no friction columns;
+#  - mu = 0.3, launched up at 3 m/s: the stop's row at t1 = v0 / (g (sin + mu cos)), friction
+#    -mu m g cos(alpha) before it and +mu m g cos(alpha) after (sliding back), stuck = 0 always;
+#  - the header names friction_slide [N] and stuck, the summary lists the stuck intervals;
+#  - --friction maybe, and --friction on with --drive: exit 2, one line, no CSV.
+# Usage: simulate_friction_test.sh <incline_friction_simulate> <out dir>
+set -u
+sim=$1
+out=$2
+rm -rf "$out" && mkdir -p "$out" || exit 1
+fail() { echo "FAIL: $*"; exit 1; }
+
+"$sim" --t-end 2 --dt 0.01 --set mu=0.7 --q0 0.25 --csv "$out/stay.csv" > "$out/stay.txt" 2>&1 \
+  || fail "stuck run exited $? ($(cat "$out/stay.txt"))"
+header=$(awk '!/^#/ { print; exit }' "$out/stay.csv")
+echo "$header" | grep -q '^t,s_slide,s_slide_dot,s_slide_ddot,T,V,E,W_nc,Q_s_slide,friction_slide,stuck,' \
+  || fail "unexpected CSV header: $header"
+grep -q '^# *friction_slide *\[N\]' "$out/stay.csv" || grep -q 'friction_slide.*\[N\]' "$out/stay.csv" \
+  || fail "no unit for friction_slide in the header comments"
+grep -q "stuck by static friction: \[0 s, end)" "$out/stay.txt" || fail "no stuck interval listed: $(cat "$out/stay.txt")"
+awk -F, '/^#/ { next } ++line == 1 { next }
+         { if ($2 != 0.25 || $3 != 0 || $11 != 1) { print "moved at t = " $1; exit 1 }
+           d = $10 - 9.81; if (d < 0) d = -d; if (d > 1e-9) { print "friction " $10 " at t = " $1; exit 1 } }
+         END { if (line != 202) { print line - 1 " rows"; exit 1 } }' "$out/stay.csv" || fail "the block did not stay"
+
+"$sim" --t-end 2 --dt 0.01 --set mu=0.7 --friction off --csv "$out/off.csv" --quiet || fail "--friction off run"
+header=$(awk '!/^#/ { print; exit }' "$out/off.csv")
+echo "$header" | grep -q '^t,s_slide,s_slide_dot,s_slide_ddot,T,V,E,W_nc,Q_s_slide,N_slide,' \
+  || fail "--friction off: unexpected CSV header: $header"
+awk -F, '/^#/ { next } ++line == 1 { next }
+         { s = -0.5 * 9.81 * 0.5 * $1 * $1; d = $2 - s; if (d < 0) d = -d; if (d > 1e-6) {
+             print "t = " $1 ": s = " $2 " expected " s; exit 1 } }' "$out/off.csv" \
+  || fail "--friction off is not the frictionless slide"
+
+"$sim" --t-end 2 --dt 0.01 --set mu=0.3 --qd0 3 --rtol 1e-10 --atol 1e-12 --csv "$out/up.csv" > "$out/up.txt" 2>&1 \
+  || fail "launched run exited $? ($(cat "$out/up.txt"))"
+grep -q "stuck by static friction: never" "$out/up.txt" || fail "a stuck interval: $(cat "$out/up.txt")"
+awk -F, 'BEGIN { a = 9.81 * (0.5 + 0.3 * sqrt(0.75)); t1 = 3 / a; fn = 0.3 * 2 * 9.81 * sqrt(0.75) }
+         /^#/ { next } ++line == 1 { next }
+         { d = $1 - t1; if (d < 0) d = -d; if (d < 1e-9) found = 1
+           if ($11 != 0) { print "stuck at " $1; exit 1 }
+           want = ($1 < t1 - 1e-9) ? -fn : (($1 > t1 + 1e-9) ? fn : $10)
+           e = $10 - want; if (e < 0) e = -e; if (e > 1e-9) { print "friction " $10 " at t = " $1 ", expected " want; exit 1 } }
+         END { if (!found) { print "no row at the stop t1 = " t1; exit 1 } }' "$out/up.csv" \
+  || fail "the launched block's friction or stop"
+
+name=$(basename "$sim")
+for args in "--friction maybe" "--friction on --drive s_slide=speed:1"; do
+  rm -f "$out/usage.csv"
+  # shellcheck disable=SC2086
+  "$sim" $args --t-end 1 --csv "$out/usage.csv" > /dev/null 2> "$out/usage.err"
+  status=$?
+  [ "$status" -eq 2 ] || fail "'$args': exit status $status, expected 2"
+  [ "$(wc -l < "$out/usage.err")" -eq 1 ] || fail "'$args': not one line on stderr: $(cat "$out/usage.err")"
+  grep -q "^$name: error: .*friction" "$out/usage.err" || fail "'$args': message $(cat "$out/usage.err")"
+  [ ! -e "$out/usage.csv" ] || fail "'$args': wrote a CSV"
+done
+echo "simulate friction test passed"
