@@ -20,6 +20,7 @@
 #include <string>
 
 #include "design_fivebar.h"
+#include "design_test_util.h"
 #include "design_stephenson.h"
 #include "fourbar.h"
 #include "kinematics_test_util.h"
@@ -89,25 +90,10 @@ constexpr double kJetTol = 1e-12;
 TYPED_TEST(DesignDerivativesTest, AgreesWithJetsOfTheGeneratedValues) {
   using M = TypeParam;
   constexpr int kNd = M::kNumDesign, kNphi = M::kNphi, kNq = M::kNq;
-  using JetPhi = ceres::Jet<double, kNd + kNphi>;
   using Jet = ceres::Jet<double, kNd>;
   double worst = 0;
   for (const auto& c : this->configs_) {
-    // Phi_p and Phi_phi from Jets of EvalPhi seeded on (p_design, phi).
-    auto pj = this->p_.template Cast<JetPhi>();
-    for (int d = 0; d < kNd; ++d) *pj.Find(M::kDesignNames[d]) = JetPhi(DesignParam<M>(&this->p_, d), d);
-    Eigen::Matrix<JetPhi, kNq, 1> qj = c.q.template cast<JetPhi>();
-    Eigen::Matrix<JetPhi, kNphi, 1> phij;
-    for (int i = 0; i < kNphi; ++i) phij(i) = JetPhi(c.phi(i), kNd + i);
-    Eigen::Matrix<JetPhi, M::kNc, 1> Phij;
-    M::Phi(pj, qj, phij, &Phij);
-    Eigen::Matrix<double, M::kNc, kNd> Phi_p;
-    Eigen::Matrix<double, M::kNc, kNphi> Phi_phi;
-    for (int r = 0; r < M::kNc; ++r) {
-      Phi_p.row(r) = Phij(r).v.template head<kNd>().transpose();
-      Phi_phi.row(r) = Phij(r).v.template tail<kNphi>().transpose();
-    }
-    const Eigen::Matrix<double, kNphi, kNd> dphi_dp = -Phi_phi.fullPivLu().solve(Phi_p);
+    const Eigen::Matrix<double, kNphi, kNd> dphi_dp = designtest::JetDphiDp<M>(this->p_, c.q, c.phi);
 
     const DesignD<M> g = this->Generated(c);
     for (int i = 0; i < kNphi; ++i)
@@ -118,14 +104,9 @@ TYPED_TEST(DesignDerivativesTest, AgreesWithJetsOfTheGeneratedValues) {
       }
 
     // EvalCoefficients in Jets carrying d/dp: p seeded, phi(p) to first order.
-    auto pk = this->p_.template Cast<Jet>();
-    for (int d = 0; d < kNd; ++d) *pk.Find(M::kDesignNames[d]) = Jet(DesignParam<M>(&this->p_, d), d);
-    Eigen::Matrix<Jet, kNq, 1> qk = c.q.template cast<Jet>();
-    Eigen::Matrix<Jet, kNphi, 1> phik;
-    for (int i = 0; i < kNphi; ++i) {
-      phik(i) = Jet(c.phi(i));
-      phik(i).v = dphi_dp.row(i).transpose();
-    }
+    const auto pk = designtest::SeededParams<M, Jet>(this->p_);
+    const Eigen::Matrix<Jet, kNq, 1> qk = c.q.template cast<Jet>();
+    const Eigen::Matrix<Jet, kNphi, 1> phik = designtest::PhiJets<M, Jet>(c.phi, dphi_dp);
     typename M::template CoefficientsT<Jet> cj;
     M::Coeffs(pk, qk, phik, &cj);
     auto compare = [&](double ref, double got, const std::string& what) {

@@ -19,6 +19,7 @@
 
 #include "design_fourbar_loaded.h"
 #include "design_fourbar_massive.h"
+#include "design_test_util.h"
 #include "kinematics_test_util.h"
 
 namespace {
@@ -55,37 +56,17 @@ Generated Evaluate(const ParamsD& p, const Config<M>& x) {
 
 TEST(DesignStatics, AgreesWithJetsOfTheGeneratedStatics) {
   static_assert(M::kHasStaticsDesign && M::kNumReactions > 0);
-  using JetPhi = ceres::Jet<double, kNd + kNphi>;
   using Jet = ceres::Jet<double, kNd>;
   const ParamsD p;
   double worst = 0;
   int compared = 0;
   for (const auto& x : Configs(p)) {
     const Generated g = Evaluate(p, x);
-    // dphi/dp = -Phi_phi^-1 Phi_p from Jets of EvalPhi.
-    auto pj = p.Cast<JetPhi>();
-    for (int d = 0; d < kNd; ++d) *pj.Find(M::kDesignNames[d]) = JetPhi(*const_cast<ParamsD&>(p).Find(M::kDesignNames[d]), d);
-    Eigen::Matrix<JetPhi, kNq, 1> qj = x.q.cast<JetPhi>();
-    Eigen::Matrix<JetPhi, kNphi, 1> phij;
-    for (int i = 0; i < kNphi; ++i) phij(i) = JetPhi(x.phi(i), kNd + i);
-    Eigen::Matrix<JetPhi, M::kNc, 1> Phij;
-    M::Phi(pj, qj, phij, &Phij);
-    Eigen::Matrix<double, M::kNc, kNd> Phi_p;
-    Eigen::Matrix<double, M::kNc, kNphi> Phi_phi;
-    for (int r = 0; r < M::kNc; ++r) {
-      Phi_p.row(r) = Phij(r).v.head<kNd>().transpose();
-      Phi_phi.row(r) = Phij(r).v.tail<kNphi>().transpose();
-    }
-    const Eigen::Matrix<double, kNphi, kNd> dphi_dp = -Phi_phi.fullPivLu().solve(Phi_p);
+    const Eigen::Matrix<double, kNphi, kNd> dphi_dp = designtest::JetDphiDp<M>(p, x.q, x.phi);
     // The values code in Jets carrying d/dp.
-    auto pk = p.Cast<Jet>();
-    for (int d = 0; d < kNd; ++d) *pk.Find(M::kDesignNames[d]) = Jet(*const_cast<ParamsD&>(p).Find(M::kDesignNames[d]), d);
-    Eigen::Matrix<Jet, kNq, 1> qk = x.q.cast<Jet>();
-    Eigen::Matrix<Jet, kNphi, 1> phik;
-    for (int i = 0; i < kNphi; ++i) {
-      phik(i) = Jet(x.phi(i));
-      phik(i).v = dphi_dp.row(i).transpose();
-    }
+    const auto pk = designtest::SeededParams<M, Jet>(p);
+    const Eigen::Matrix<Jet, kNq, 1> qk = x.q.cast<Jet>();
+    const Eigen::Matrix<Jet, kNphi, 1> phik = designtest::PhiJets<M, Jet>(x.phi, dphi_dp);
     M::CoefficientsT<Jet> cj;
     M::Coeffs(pk, qk, phik, &cj);
     M::StaticsT<Jet> sj;
@@ -198,14 +179,9 @@ TEST(DesignDynamics, AgreesWithJetsOfTheGeneratedDynamics) {
     const Config<MD>& x = all[ci];
     MD::DesignDerivativesT<double> dc;
     MD::Design(p, x.q, x.phi, &dc);  // dphi/dp, checked against Jets of EvalPhi in design_derivatives_test
-    auto pk = p.Cast<Jet>();
-    for (int d = 0; d < kN; ++d) *pk.Find(MD::kDesignNames[d]) = Jet(*const_cast<ParamsM&>(p).Find(MD::kDesignNames[d]), d);
-    Eigen::Matrix<Jet, 1, 1> qk = x.q.cast<Jet>();
-    Eigen::Matrix<Jet, MD::kNphi, 1> phik;
-    for (int i = 0; i < MD::kNphi; ++i) {
-      phik(i) = Jet(x.phi(i));
-      phik(i).v = dc.dphi_dp.row(i).transpose();
-    }
+    const auto pk = designtest::SeededParams<MD, Jet>(p);
+    const Eigen::Matrix<Jet, 1, 1> qk = x.q.cast<Jet>();
+    const Eigen::Matrix<Jet, MD::kNphi, 1> phik = designtest::PhiJets<MD, Jet>(x.phi, dc.dphi_dp);
     MD::CoefficientsT<Jet> cj;
     MD::Coeffs(pk, qk, phik, &cj);
     MD::DynamicsT<Jet> yj;
