@@ -1690,6 +1690,36 @@ struct Model : Sizes {
   using CoefficientsT = mech::watt_sixbar::Coefficients<Scalar>;
   template <typename Scalar>
   using TrigT = mech::watt_sixbar::Trig<Scalar>;
+  /// What else this model has: each member of Coefficients, function of Model and constant
+  /// named below exists exactly where its flag is true (the runtime reads these flags).
+  /// Coefficients::Phi and Phi_phi: the residual and Jacobian EvalCoefficients evaluated K and L with.
+  static constexpr bool kHasCoeffsPhi = true;
+  /// Coefficients::K: the velocity coefficients.
+  static constexpr bool kHasK = true;
+  /// Coefficients::L: the centripetal coefficients.
+  static constexpr bool kHasL = true;
+  /// Coefficients::r_P: the points' positions (kPointNames).
+  static constexpr bool kHasPoints = true;
+  /// Coefficients::K_P: the points' velocity coefficients.
+  static constexpr bool kHasPointVelocities = true;
+  /// Coefficients::L_P: the points' centripetal coefficients.
+  static constexpr bool kHasPointAccelerations = true;
+  /// Solve (SolvePositions), kNumBlocks, kDefaultModes, kBlockClosedForm.
+  static constexpr bool kHasSolve = true;
+  /// kNumNamedModes, kModeNames, kNamedModes, ModesByName: the model's named assembly modes.
+  static constexpr bool kHasNamedModes = false;
+  /// TrigT: Solve hands out sin and cos of the angles (its last argument), Coeffs takes them.
+  static constexpr bool kHasTrig = true;
+  /// SolveTrig (SolvePositionsTrig): every block a closed form.
+  static constexpr bool kHasSolveTrig = true;
+  /// TransmissionAngles (EvalTransmissionAngles): kNumTransmissionAngles > 0.
+  static constexpr bool kHasTransmissionAngles = true;
+  /// SwitchModes (EvalSwitchModes), kNumSwitches: switching items of the loads.
+  static constexpr bool kHasSwitchModes = false;
+  /// Drawing (EvalDrawing), kNumDrawJoints, kNumDrawValues, kDrawJoint*: a scene to draw.
+  static constexpr bool kHasDrawing = true;
+  /// CamProfile (EvalCamProfile): cams to draw.
+  static constexpr bool kHasCamProfile = false;
   /// The outputs this model has: each struct, its alias and the functions that fill it exist
   /// exactly where its flag is true (and each optional member where its own flag is).
   /// Statics, StaticsT, EvalStatics (Model::Forces): forces, potential or reactions.

@@ -347,12 +347,13 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("param_names", Join(m.params, [](const Parameter& p) { return Quote(p.name); }));
   data.Set("num_derived_params", static_cast<int>(m.derived.size()));
   data.Set("derived_param_names", Join(m.derived, [](const DerivedParameter& d) { return Quote(d.name); }));
-  const bool has_points = !k.points.empty();
-  data.Set("has_K", table.requested.K);
-  data.Set("has_L", table.requested.L);
-  data.Set("has_points", has_points);
-  data.Set("has_K_P", has_points && table.requested.K);
-  data.Set("has_L_P", has_points && table.requested.L);
+  // Coefficients' optional members: exactly where the model's flags say (ModelFlags).
+  const ModelFlags model_flags = ModelFlagsOf(m, table, functions);
+  data.Set("has_K", model_flags.K.value);
+  data.Set("has_L", model_flags.L.value);
+  data.Set("has_points", model_flags.points.value);
+  data.Set("has_K_P", model_flags.point_velocities.value);
+  data.Set("has_L_P", model_flags.point_accelerations.value);
   data.Set("num_transmission", static_cast<int>(transmission.size()));
   data.Set("transmission_joints", Join(transmission, [](const TransmissionAngle& a) { return Quote(a.joint); }));
 
@@ -459,7 +460,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("num_blocks", static_cast<int>(table.blocks.size()));
   data.Set("default_modes", Join(table.blocks, [](const Block& b) { return std::to_string(b.default_mode); }));
   // Named assembly modes (issue 13), only for a model that has `assembly_modes`.
-  data.Set("has_named_modes", !m.assembly_modes.empty());
+  data.Set("has_named_modes", model_flags.named_modes.value);
   data.Set("num_named_modes", static_cast<int>(m.assembly_modes.size()));
   data.Set("mode_names", Join(m.assembly_modes, [](const NamedMode& n) { return Quote(n.name); }));
   std::vector<size_t> mode_index(m.assembly_modes.size());
@@ -526,15 +527,19 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
                                  "  /// The design checks' margins (EvalDesignChecks), in order.\n"
                                  "  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{ " +
                                  Join(design_checks, Quote) + " };\n");
-  // ---- The output structs, their flags and aliases, from their descriptions ----
+  // ---- The model's flags; the output structs, their flags and aliases, from their descriptions ----
   mus::data outputs{mus::data::type::list}, flags{mus::data::type::list}, aliases{mus::data::type::list};
-  auto flag = [&flags](const OutputFlag& f) {
+  mus::data other_flags{mus::data::type::list};
+  auto flag_to = [](mus::data* list, const OutputFlag& f) {
     mus::data o{mus::data::type::object};
     o.set("flag_name", f.name);
     o.set("flag_doc", f.doc);
     o.set("flag_value", std::string(f.value ? "true" : "false"));
-    flags.push_back(o);
+    list->push_back(o);
   };
+  auto flag = [&flags, &flag_to](const OutputFlag& f) { flag_to(&flags, f); };
+  for (const OutputFlag* f : model_flags.All()) flag_to(&other_flags, *f);
+  data.SetData("model_flags", other_flags, {"flag_name", "flag_doc", "flag_value"});
   for (const OutputSpec& spec : OutputSpecs(m, table, functions)) {
     flag(spec.flag);
     for (const OutputFlag& f : spec.member_flags) flag(f);

@@ -356,7 +356,56 @@ OutputSpec DynamicsDesignOutput(const std::vector<FunctionSpec>& functions) {
   return o;
 }
 
+// The generated function that Model exposes as `member`, or nullptr where it is not generated.
+const FunctionSpec* ModelMember(const std::vector<FunctionSpec>& functions, const std::string& member) {
+  for (const FunctionSpec& f : functions)
+    if (f.model_member == member) return &f;
+  return nullptr;
+}
+
+// Whether function f takes the Trig argument (sin and cos of the angles, handed out or taken).
+bool TakesTrig(const FunctionSpec* f) {
+  if (f == nullptr) return false;
+  for (const Argument& a : f->args)
+    if (a.name == "trig") return true;
+  return false;
+}
+
 }  // namespace
+
+ModelFlags ModelFlagsOf(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions) {
+  const bool K = t.requested.K, L = t.requested.L, points = !t.kinematics().points.empty();
+  const FunctionSpec* solve = ModelMember(functions, "Solve");
+  ModelFlags f;
+  f.coeffs_phi = {"kHasCoeffsPhi",
+                  "Coefficients::Phi and Phi_phi: the residual and Jacobian EvalCoefficients evaluated K and L with.",
+                  true};  // every generated Coefficients has them (templates/mechanism.h.mustache)
+  f.K = {"kHasK", "Coefficients::K: the velocity coefficients.", K};
+  f.L = {"kHasL", "Coefficients::L: the centripetal coefficients.", L};
+  f.points = {"kHasPoints", "Coefficients::r_P: the points' positions (kPointNames).", points};
+  f.point_velocities = {"kHasPointVelocities", "Coefficients::K_P: the points' velocity coefficients.",
+                        points && K};
+  f.point_accelerations = {"kHasPointAccelerations", "Coefficients::L_P: the points' centripetal coefficients.",
+                           points && L};
+  f.solve = {"kHasSolve", "Solve (SolvePositions), kNumBlocks, kDefaultModes, kBlockClosedForm.", solve != nullptr};
+  f.named_modes = {"kHasNamedModes",
+                   "kNumNamedModes, kModeNames, kNamedModes, ModesByName: the model's named assembly modes.",
+                   !m.assembly_modes.empty()};
+  f.trig = {"kHasTrig", "TrigT: Solve hands out sin and cos of the angles (its last argument), Coeffs takes them.",
+            TakesTrig(solve) && TakesTrig(ModelMember(functions, "Coeffs"))};
+  f.solve_trig = {"kHasSolveTrig", "SolveTrig (SolvePositionsTrig): every block a closed form.",
+                  ModelMember(functions, "SolveTrig") != nullptr};
+  f.transmission_angles = {"kHasTransmissionAngles",
+                           "TransmissionAngles (EvalTransmissionAngles): kNumTransmissionAngles > 0.",
+                           ModelMember(functions, "TransmissionAngles") != nullptr};
+  f.switch_modes = {"kHasSwitchModes", "SwitchModes (EvalSwitchModes), kNumSwitches: switching items of the loads.",
+                    ModelMember(functions, "SwitchModes") != nullptr};
+  f.drawing = {"kHasDrawing", "Drawing (EvalDrawing), kNumDrawJoints, kNumDrawValues, kDrawJoint*: a scene to draw.",
+               ModelMember(functions, "Drawing") != nullptr};
+  f.cam_profile = {"kHasCamProfile", "CamProfile (EvalCamProfile): cams to draw.",
+                   ModelMember(functions, "CamProfile") != nullptr};
+  return f;
+}
 
 std::vector<std::string> RenderedDoc(const OutputMember& member) {
   std::vector<std::string> doc = member.doc;

@@ -3,10 +3,13 @@
 // model has it, the Model alias, and when each is present. The template
 // (templates/mechanism.h.mustache) renders the struct, its `kHas*` flag and its `*T` alias
 // from this alone; every model gets every flag (false where the output is absent), so that
-// the runtime reads what a model has instead of detecting it.
+// the runtime reads what a model has instead of detecting it. The same kind of flag says
+// what else the model has (ModelFlags: Coefficients' optional members, Model's optional
+// functions).
 //
 // Adding an output struct is one entry in OutputSpecs() (and the function that fills it,
-// codegen/functions.h).
+// codegen/functions.h); an optional function of Model, one flag in ModelFlags (and the line
+// in core/model_traits.h that reads it).
 #pragma once
 
 #include <string>
@@ -51,6 +54,39 @@ struct OutputSpec {
   std::vector<OutputFlag> member_flags;  ///< one per optional group of members (kHasStaticsR, ...)
   bool present() const { return flag.value; }
 };
+
+/// What a model has besides its output structs, one flag each (every generated header declares
+/// all of them, false where absent, after the output flags' heading; the runtime reads them,
+/// core/model_traits.h): the optional members of Coefficients, and the optional functions of
+/// Model with the constants that go with them. The Coefficients struct of the header has its
+/// optional members exactly where these flags say (emit.cc renders both from this).
+struct ModelFlags {
+  // Members of Coefficients (EvalCoefficients).
+  OutputFlag coeffs_phi;           ///< kHasCoeffsPhi: Phi and Phi_phi
+  OutputFlag K;                    ///< kHasK
+  OutputFlag L;                    ///< kHasL
+  OutputFlag points;               ///< kHasPoints: r_P
+  OutputFlag point_velocities;     ///< kHasPointVelocities: K_P
+  OutputFlag point_accelerations;  ///< kHasPointAccelerations: L_P
+  // Functions of Model (and their constants).
+  OutputFlag solve;                ///< kHasSolve: Solve, kNumBlocks, kDefaultModes, kBlockClosedForm
+  OutputFlag named_modes;          ///< kHasNamedModes: kNamedModes, kModeNames, ModesByName
+  OutputFlag trig;                 ///< kHasTrig: TrigT, the trig arguments of Solve and Coeffs
+  OutputFlag solve_trig;           ///< kHasSolveTrig: SolveTrig
+  OutputFlag transmission_angles;  ///< kHasTransmissionAngles: TransmissionAngles
+  OutputFlag switch_modes;         ///< kHasSwitchModes: SwitchModes, kNumSwitches
+  OutputFlag drawing;              ///< kHasDrawing: Drawing, kNumDrawJoints, kDrawJoint*
+  OutputFlag cam_profile;          ///< kHasCamProfile: CamProfile
+  /// All of them in the header's order.
+  std::vector<const OutputFlag*> All() const {
+    return {&coeffs_phi, &K,    &L,          &points,     &point_velocities,    &point_accelerations, &solve,
+            &named_modes, &trig, &solve_trig, &transmission_angles, &switch_modes, &drawing, &cam_profile};
+  }
+};
+
+/// The model's flags (ModelFlags) from the model, what the table holds and which functions
+/// are generated.
+ModelFlags ModelFlagsOf(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions);
 
 /// A member's documentation as the header prints it: the doc with its unit and sign
 /// substituted, the size after the last line.

@@ -114,11 +114,10 @@ constexpr int kExitRowsFailed = 3;   // the outputs written, but some rows did n
 // kExitUsage = 2 (sweep_args.h): bad arguments, nothing written (one line on stderr,
 // common/numbers.h).
 
-// Models with named assembly modes (assembly_modes:) have Model::kNamedModes and ModesByName.
-template <class M, class = void>
-struct HasNamedModes : std::false_type {};
+// Models with named assembly modes (assembly_modes:) have Model::kNamedModes and ModesByName
+// (their flag kHasNamedModes, core/model_traits.h).
 template <class M>
-struct HasNamedModes<M, std::void_t<decltype(M::kNamedModes)>> : std::true_type {};
+using HasNamedModes = mechgen::HasNamedModes<M>;
 
 // The blocks' modes of the named assembly mode; false with the message when there is none.
 template <class M>

@@ -477,7 +477,7 @@ void EvalScene(const Params<Scalar>& p, const Vec<Scalar, Sizes::kNq>& q,
 
 struct Model : Sizes {
   static constexpr const char* kName = "handwritten_fourbar_dynamics";
-  // Output flags (core/model_traits.h reads them; the same twelve as a generated header):
+  // Output flags (core/model_traits.h reads them; the same as a generated header):
   // Statics with Q, drive, V, dV_dq and reactions (no stiffness, no friction), Dynamics and Excess.
   static constexpr bool kHasStatics = true;
   static constexpr bool kHasStaticsQ = true;
@@ -493,6 +493,21 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   static constexpr bool kHasDesignDerivatives = false;
   static constexpr bool kHasStaticsDesign = false;
+  // What else it has (core/model_traits.h reads these too): Coefficients with Phi, Phi_phi, K, L; Solve with Trig (no SolveTrig); no drawing.
+  static constexpr bool kHasCoeffsPhi = true;
+  static constexpr bool kHasK = true;
+  static constexpr bool kHasL = true;
+  static constexpr bool kHasPoints = false;
+  static constexpr bool kHasPointVelocities = false;
+  static constexpr bool kHasPointAccelerations = false;
+  static constexpr bool kHasSolve = true;
+  static constexpr bool kHasNamedModes = false;
+  static constexpr bool kHasTrig = true;
+  static constexpr bool kHasSolveTrig = false;
+  static constexpr bool kHasTransmissionAngles = false;
+  static constexpr bool kHasSwitchModes = false;
+  static constexpr bool kHasDrawing = false;
+  static constexpr bool kHasCamProfile = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_crank"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"theta_coupler", "theta_rocker"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

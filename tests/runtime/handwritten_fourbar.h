@@ -175,7 +175,7 @@ void EvalScene(const Params<Scalar>& p,
 
 struct Model : Sizes {
   static constexpr const char* kName = "handwritten_fourbar";
-  // Output flags (core/model_traits.h reads them; the same twelve as a generated header):
+  // Output flags (core/model_traits.h reads them; the same as a generated header):
   // positions and coefficients only.
   static constexpr bool kHasStatics = false;
   static constexpr bool kHasStaticsQ = false;
@@ -191,6 +191,21 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   static constexpr bool kHasDesignDerivatives = false;
   static constexpr bool kHasStaticsDesign = false;
+  // What else it has (core/model_traits.h reads these too): Coefficients with K, L, r_P, K_P, L_P; no Solve, no drawing.
+  static constexpr bool kHasCoeffsPhi = false;
+  static constexpr bool kHasK = true;
+  static constexpr bool kHasL = true;
+  static constexpr bool kHasPoints = true;
+  static constexpr bool kHasPointVelocities = true;
+  static constexpr bool kHasPointAccelerations = true;
+  static constexpr bool kHasSolve = false;
+  static constexpr bool kHasNamedModes = false;
+  static constexpr bool kHasTrig = false;
+  static constexpr bool kHasSolveTrig = false;
+  static constexpr bool kHasTransmissionAngles = false;
+  static constexpr bool kHasSwitchModes = false;
+  static constexpr bool kHasDrawing = false;
+  static constexpr bool kHasCamProfile = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_crank"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"theta_coupler", "theta_rocker"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

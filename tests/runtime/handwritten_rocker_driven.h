@@ -110,7 +110,7 @@ void EvalCoefficients(const Params<Scalar>& p,
 
 struct Model : Sizes {
   static constexpr const char* kName = "handwritten_rocker_driven";
-  // Output flags (core/model_traits.h reads them; the same twelve as a generated header):
+  // Output flags (core/model_traits.h reads them; the same as a generated header):
   // positions and coefficients only.
   static constexpr bool kHasStatics = false;
   static constexpr bool kHasStaticsQ = false;
@@ -126,6 +126,21 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   static constexpr bool kHasDesignDerivatives = false;
   static constexpr bool kHasStaticsDesign = false;
+  // What else it has (core/model_traits.h reads these too): Coefficients with K only; no Solve, no drawing.
+  static constexpr bool kHasCoeffsPhi = false;
+  static constexpr bool kHasK = true;
+  static constexpr bool kHasL = false;
+  static constexpr bool kHasPoints = false;
+  static constexpr bool kHasPointVelocities = false;
+  static constexpr bool kHasPointAccelerations = false;
+  static constexpr bool kHasSolve = false;
+  static constexpr bool kHasNamedModes = false;
+  static constexpr bool kHasTrig = false;
+  static constexpr bool kHasSolveTrig = false;
+  static constexpr bool kHasTransmissionAngles = false;
+  static constexpr bool kHasSwitchModes = false;
+  static constexpr bool kHasDrawing = false;
+  static constexpr bool kHasCamProfile = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_rocker"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"theta_crank", "theta_coupler"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

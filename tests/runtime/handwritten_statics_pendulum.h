@@ -88,7 +88,7 @@ struct Statics {
 
 struct Model : Sizes {
   static constexpr const char* kName = "handwritten_statics_pendulum";
-  // Output flags (core/model_traits.h reads them; the same twelve as a generated header):
+  // Output flags (core/model_traits.h reads them; the same as a generated header):
   // Statics with Q, drive, V, dV_dq, d2V_dq2 and stiffness (Model::Stiffness) and reactions.
   static constexpr bool kHasStatics = true;
   static constexpr bool kHasStaticsQ = true;
@@ -104,6 +104,21 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   static constexpr bool kHasDesignDerivatives = false;
   static constexpr bool kHasStaticsDesign = false;
+  // What else it has (core/model_traits.h reads these too): Coefficients with K and L only; no Solve, no drawing.
+  static constexpr bool kHasCoeffsPhi = false;
+  static constexpr bool kHasK = true;
+  static constexpr bool kHasL = true;
+  static constexpr bool kHasPoints = false;
+  static constexpr bool kHasPointVelocities = false;
+  static constexpr bool kHasPointAccelerations = false;
+  static constexpr bool kHasSolve = false;
+  static constexpr bool kHasNamedModes = false;
+  static constexpr bool kHasTrig = false;
+  static constexpr bool kHasSolveTrig = false;
+  static constexpr bool kHasTransmissionAngles = false;
+  static constexpr bool kHasSwitchModes = false;
+  static constexpr bool kHasDrawing = false;
+  static constexpr bool kHasCamProfile = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_pendulum"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"x_P", "y_P"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

@@ -187,7 +187,7 @@ void EvalScene(const Params<Scalar>& p, const Vec<Scalar, 1>& q, const Vec<Scala
 
 struct Model : Sizes {
   static constexpr const char* kName = "handwritten_statics_slider_crank";
-  // Output flags (core/model_traits.h reads them; the same twelve as a generated header):
+  // Output flags (core/model_traits.h reads them; the same as a generated header):
   // Statics with Q, drive, stiffness (Model::Stiffness), reactions and friction.
   static constexpr bool kHasStatics = true;
   static constexpr bool kHasStaticsQ = true;
@@ -203,6 +203,21 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   static constexpr bool kHasDesignDerivatives = false;
   static constexpr bool kHasStaticsDesign = false;
+  // What else it has (core/model_traits.h reads these too): Coefficients with Phi, Phi_phi, K, L, r_P, K_P, L_P; no Solve, no drawing.
+  static constexpr bool kHasCoeffsPhi = true;
+  static constexpr bool kHasK = true;
+  static constexpr bool kHasL = true;
+  static constexpr bool kHasPoints = true;
+  static constexpr bool kHasPointVelocities = true;
+  static constexpr bool kHasPointAccelerations = true;
+  static constexpr bool kHasSolve = false;
+  static constexpr bool kHasNamedModes = false;
+  static constexpr bool kHasTrig = false;
+  static constexpr bool kHasSolveTrig = false;
+  static constexpr bool kHasTransmissionAngles = false;
+  static constexpr bool kHasSwitchModes = false;
+  static constexpr bool kHasDrawing = false;
+  static constexpr bool kHasCamProfile = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_crank"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"theta_rod", "s_slide"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

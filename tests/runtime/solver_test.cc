@@ -222,6 +222,10 @@ TEST(PositionSolver, RockerDrivenPastToggleStopsSingularAtLastValidConfiguration
 // The hand-written four-bar with its coefficients cut down to K: the solver forms L itself
 // (from one evaluation of Phi in dual numbers, position/internal/dual.h).
 struct FourBarKOnly : FourBar {
+  static constexpr bool kHasL = false;  // its flags say so (core/model_traits.h reads them)
+  static constexpr bool kHasPoints = false;
+  static constexpr bool kHasPointVelocities = false;
+  static constexpr bool kHasPointAccelerations = false;
   template <typename Scalar>
   struct CoefficientsT {
     Eigen::Matrix<Scalar, kNphi, kNq> K;

@@ -5,8 +5,8 @@
  * A generated header (templates/mechanism.h.mustache) defines `struct Model : Sizes` with
  * sizes kNq, kNphi, kNc, kNumPoints, kNumScenePoints, the templates ParamsT<S> and
  * CoefficientsT<S>, and static functions Phi(), Coeffs() and, when it has a scene, Scene().
- * Coefficients only has the members the model asked for (K, L, r_P, K_P, L_P); the traits
- * below detect each member, so the runtime never relies on how the generator decided.
+ * Coefficients only has the members the model asked for (K, L, r_P, K_P, L_P); the model's
+ * flags (kHasK, ..., listed below) say which, and the traits below read them.
  * Everything is fixed-size: nothing here allocates. Needs Eigen only.
  */
 #pragma once
@@ -49,138 +49,38 @@ struct ModelTypes {
   using MatScene = Eigen::Matrix<Scalar, 2, kNumScenePoints>;
 };
 
-namespace internal {
-
-template <class C, class = void>
-struct HasK : std::false_type {};
-template <class C>
-struct HasK<C, std::void_t<decltype(std::declval<C&>().K)>> : std::true_type {};
-template <class C, class = void>
-struct HasL : std::false_type {};
-template <class C>
-struct HasL<C, std::void_t<decltype(std::declval<C&>().L)>> : std::true_type {};
-template <class C, class = void>
-struct HasRP : std::false_type {};
-template <class C>
-struct HasRP<C, std::void_t<decltype(std::declval<C&>().r_P)>> : std::true_type {};
-template <class C, class = void>
-struct HasKP : std::false_type {};
-template <class C>
-struct HasKP<C, std::void_t<decltype(std::declval<C&>().K_P)>> : std::true_type {};
-template <class C, class = void>
-struct HasLP : std::false_type {};
-template <class C>
-struct HasLP<C, std::void_t<decltype(std::declval<C&>().L_P)>> : std::true_type {};
-/// Coefficients::Phi and Coefficients::Phi_phi: the residual and Jacobian the generated
-/// EvalCoefficients evaluated K and L with (headers generated since they hand them out).
-template <class C, class = void>
-struct HasPhiPhi : std::false_type {};
-template <class C>
-struct HasPhiPhi<C, std::void_t<decltype(std::declval<C&>().Phi),
-                                decltype(std::declval<C&>().Phi_phi)>> : std::true_type {};
-
-/// M::Solve<Scalar>(p, q, &phi, modes, max_iterations, tolerance): the generated
-/// block-ordered position solver (with M::kNumBlocks, M::kDefaultModes, M::kBlockClosedForm).
-template <class M, class Scalar = double, class = void>
-struct HasSolve : std::false_type {};
-template <class M, class Scalar>
-struct HasSolve<
-    M, Scalar,
-    std::void_t<decltype(M::template Solve<Scalar>(
-                    std::declval<const typename M::template ParamsT<Scalar>&>(),
-                    std::declval<const Eigen::Matrix<Scalar, M::kNq, 1>&>(),
-                    std::declval<Eigen::Matrix<Scalar, M::kNphi, 1>*>(),
-                    std::declval<const std::array<int, M::kNumBlocks>&>(), 0, Scalar(0))),
-                decltype(M::kDefaultModes), decltype(M::kBlockClosedForm)>> : std::true_type {};
-
-/// M::TrigT<Scalar>: sin and cos of the angles that M::Solve hands out (its last argument)
-/// and M::Coeffs takes (its last argument) instead of calling sin and cos again.
-struct NoTrig {};
-template <class M, class Scalar = double, class = void>
-struct TrigOf {
-  using type = NoTrig;
-  static constexpr bool value = false;
-};
-template <class M, class Scalar>
-struct TrigOf<
-    M, Scalar,
-    std::void_t<typename M::template TrigT<Scalar>,
-                decltype(M::template Solve<Scalar>(
-                    std::declval<const typename M::template ParamsT<Scalar>&>(),
-                    std::declval<const Eigen::Matrix<Scalar, M::kNq, 1>&>(),
-                    std::declval<Eigen::Matrix<Scalar, M::kNphi, 1>*>(),
-                    std::declval<const std::array<int, M::kNumBlocks>&>(), 0, Scalar(0),
-                    std::declval<typename M::template TrigT<Scalar>*>())),
-                decltype(M::template Coeffs<Scalar>(
-                    std::declval<const typename M::template ParamsT<Scalar>&>(),
-                    std::declval<const Eigen::Matrix<Scalar, M::kNq, 1>&>(),
-                    std::declval<const Eigen::Matrix<Scalar, M::kNphi, 1>&>(),
-                    std::declval<typename M::template CoefficientsT<Scalar>*>(),
-                    std::declval<const typename M::template TrigT<Scalar>*>()))>> {
-  using type = typename M::template TrigT<Scalar>;
-  static constexpr bool value = true;
-};
-
-/// Number of transmission angles of a model (its four-bar loops on the ground, when the
-/// header has EvalTransmissionAngles); 0 for a model without them.
-template <class M, class = void>
-struct TransmissionAngleCount : std::integral_constant<int, 0> {};
-template <class M>
-struct TransmissionAngleCount<M, std::void_t<decltype(&M::template TransmissionAngles<double>)>>
-    : std::integral_constant<int, M::kNumTransmissionAngles> {};
-
-/// M::kNumBlocks when M has Solve, else 1.
-template <class M, bool = HasSolve<M>::value>
-struct BlockCount {
-  static constexpr int value = 1;
-};
-template <class M>
-struct BlockCount<M, true> {
-  static constexpr int value = M::kNumBlocks;
-};
-
-}  // namespace internal
-
-/// What model M provides in the scalar type Scalar, decided at compile time.
-template <class M, class Scalar = double>
-struct ModelFeatures {
-  using Coefficients = typename ModelTypes<M, Scalar>::Coefficients;
-  static constexpr bool kHasK = internal::HasK<Coefficients>::value;
-  static constexpr bool kHasL = internal::HasL<Coefficients>::value;
-  static constexpr bool kHasPoints = M::kNumPoints > 0 && internal::HasRP<Coefficients>::value;
-  static constexpr bool kHasPointVelocities = kHasPoints && internal::HasKP<Coefficients>::value;
-  static constexpr bool kHasPointAccelerations =
-      kHasPoints && internal::HasLP<Coefficients>::value;
-  static constexpr bool kHasScene = M::kNumScenePoints > 0;
-  /// Model::Coeffs also gives Phi and Phi_phi (Coefficients::Phi, Phi_phi): a continuation
-  /// step checks closure and conditioning on them, without a separate Model::Phi call.
-  static constexpr bool kCoeffsHavePhi = internal::HasPhiPhi<Coefficients>::value;
-  /// The generated block-ordered solver Model::Solve (closed-form dyads, Newton blocks).
-  static constexpr bool kHasSolve = internal::HasSolve<M, Scalar>::value;
-  /// Model::Solve hands sin and cos of the angles to Model::Coeffs (Model::TrigT): a
-  /// continuation step then calls no sin or cos for the angles a closed form solved.
-  static constexpr bool kHasTrig = kHasSolve && internal::TrigOf<M, Scalar>::value;
-  /// Model::TransmissionAngles (EvalTransmissionAngles) gives this many angles; 0 without it.
-  static constexpr int kNumTransmissionAngles = internal::TransmissionAngleCount<M>::value;
-  /// No constraint equations (kNc = 0: no closed loop, every coordinate an input: a
-  /// pendulum, a lever): q alone is the configuration; Phi, Phi_phi and K are empty.
-  static constexpr bool kLoopFree = M::kNc == 0;
-};
-
-// ---- What a generated model has, output by output: the one place the runtime asks. ----
-// Every generated header declares fourteen `static constexpr bool kHas*` flags, one per output
-// and one per optional member of Statics (generator/codegen/output_spec.cc renders them from
-// the output descriptions; tests/kinematics/output_flags_test.cc checks them against the
-// structs). The runtime reads those flags here and nowhere else; it does not detect members.
-// A hand-written model declares the same fourteen flags with the values that describe it. A
-// type without a flag that the runtime reads stops the build with one static_assert naming
-// the flag (the detector below only serves that message; its answer is never used as the
-// flag's value).
+// ---- What a generated model has: the one place the runtime asks. ----
+// Every generated header declares 29 `static constexpr bool kHas*` flags, rendered by
+// generator/codegen/output_spec.cc from its descriptions: one per output struct and one per
+// optional member of Statics (OutputSpec), and one per optional member of Coefficients and
+// optional function of Model (ModelFlags). tests/kinematics/output_flags_test.cc checks them
+// against what the headers hold. The runtime reads those flags here and nowhere else; it does
+// not detect members or functions. A hand-written model declares the same flags with the
+// values that describe it. A type without a flag that the runtime reads stops the build with
+// one static_assert naming the flag (the detector below only serves that message; its answer
+// is never used as the flag's value).
+//
+//   kHasCoeffsPhi           Coefficients::Phi, Phi_phi
+//   kHasK, kHasL            Coefficients::K, L
+//   kHasPoints              Coefficients::r_P (and kNumPoints > 0)
+//   kHasPointVelocities     Coefficients::K_P
+//   kHasPointAccelerations  Coefficients::L_P
+//   kHasSolve               Solve(p, q, &phi, modes, max_iterations, tolerance), kNumBlocks,
+//                           kDefaultModes, kBlockClosedForm
+//   kHasNamedModes          kNumNamedModes, kModeNames, kNamedModes, ModesByName
+//   kHasTrig                TrigT; Solve's and Coeffs' last argument (Trig)
+//   kHasSolveTrig           SolveTrig(p, q, modes, &trig)
+//   kHasTransmissionAngles  TransmissionAngles, kNumTransmissionAngles, kTransmissionJoints
+//   kHasSwitchModes         SwitchModes, kNumSwitches
+//   kHasDrawing             Drawing, kNumDrawJoints, kNumDrawValues, kDrawJoint*
+//   kHasCamProfile          CamProfile
+//   kHasStatics ... kHasRhsConstants, kHasDesignDerivatives, kHasStaticsDesign, kHasDynamicsDesign:
+//                           the output structs and Statics' members (below).
 
 namespace internal {
 // Declares<Flag>_<M>: whether M declares `Flag` at all. ReadFlag_<Flag><M>(): M::Flag, after a
 // static_assert that names the flag when M lacks it (and then false, so no second error).
-#define MECHGEN_OUTPUT_FLAG_READER(Flag)                                                     \
+#define MECHGEN_MODEL_FLAG_READER(Flag)                                                      \
   template <class M, class = void>                                                           \
   struct Declares_##Flag : std::false_type {};                                               \
   template <class M>                                                                         \
@@ -190,39 +90,81 @@ namespace internal {
     static_assert(Declares_##Flag<M>::value,                                                 \
                   "the model type does not declare `static constexpr bool " #Flag            \
                   "`: every generated header has it; a hand-written model must declare it "  \
-                  "(true only if it provides that output)");                                 \
+                  "(true only if it provides what the flag names)");                         \
     if constexpr (Declares_##Flag<M>::value) {                                               \
       return static_cast<bool>(M::Flag);                                                     \
     } else {                                                                                 \
       return false;                                                                          \
     }                                                                                        \
   }
-MECHGEN_OUTPUT_FLAG_READER(kHasStatics)
-MECHGEN_OUTPUT_FLAG_READER(kHasStaticsQ)
-MECHGEN_OUTPUT_FLAG_READER(kHasStaticsStiffness)
-MECHGEN_OUTPUT_FLAG_READER(kHasStaticsV)
-MECHGEN_OUTPUT_FLAG_READER(kHasStaticsD2V)
-MECHGEN_OUTPUT_FLAG_READER(kHasStaticsR)
-MECHGEN_OUTPUT_FLAG_READER(kHasStaticsFriction)
-MECHGEN_OUTPUT_FLAG_READER(kHasDynamics)
-MECHGEN_OUTPUT_FLAG_READER(kHasExcess)
-MECHGEN_OUTPUT_FLAG_READER(kHasShaking)
-MECHGEN_OUTPUT_FLAG_READER(kHasRhs)
-MECHGEN_OUTPUT_FLAG_READER(kHasRhsConstants)
-MECHGEN_OUTPUT_FLAG_READER(kHasDesignDerivatives)
-MECHGEN_OUTPUT_FLAG_READER(kHasStaticsDesign)
-#undef MECHGEN_OUTPUT_FLAG_READER
+MECHGEN_MODEL_FLAG_READER(kHasCoeffsPhi)
+MECHGEN_MODEL_FLAG_READER(kHasK)
+MECHGEN_MODEL_FLAG_READER(kHasL)
+MECHGEN_MODEL_FLAG_READER(kHasPoints)
+MECHGEN_MODEL_FLAG_READER(kHasPointVelocities)
+MECHGEN_MODEL_FLAG_READER(kHasPointAccelerations)
+MECHGEN_MODEL_FLAG_READER(kHasSolve)
+MECHGEN_MODEL_FLAG_READER(kHasNamedModes)
+MECHGEN_MODEL_FLAG_READER(kHasTrig)
+MECHGEN_MODEL_FLAG_READER(kHasSolveTrig)
+MECHGEN_MODEL_FLAG_READER(kHasTransmissionAngles)
+MECHGEN_MODEL_FLAG_READER(kHasSwitchModes)
+MECHGEN_MODEL_FLAG_READER(kHasDrawing)
+MECHGEN_MODEL_FLAG_READER(kHasCamProfile)
+MECHGEN_MODEL_FLAG_READER(kHasStatics)
+MECHGEN_MODEL_FLAG_READER(kHasStaticsQ)
+MECHGEN_MODEL_FLAG_READER(kHasStaticsStiffness)
+MECHGEN_MODEL_FLAG_READER(kHasStaticsV)
+MECHGEN_MODEL_FLAG_READER(kHasStaticsD2V)
+MECHGEN_MODEL_FLAG_READER(kHasStaticsR)
+MECHGEN_MODEL_FLAG_READER(kHasStaticsFriction)
+MECHGEN_MODEL_FLAG_READER(kHasDynamics)
+MECHGEN_MODEL_FLAG_READER(kHasExcess)
+MECHGEN_MODEL_FLAG_READER(kHasShaking)
+MECHGEN_MODEL_FLAG_READER(kHasRhs)
+MECHGEN_MODEL_FLAG_READER(kHasRhsConstants)
+MECHGEN_MODEL_FLAG_READER(kHasDesignDerivatives)
+MECHGEN_MODEL_FLAG_READER(kHasStaticsDesign)
+#undef MECHGEN_MODEL_FLAG_READER
 
-/// SolveTrig has no flag (it is not an output struct): whether M::SolveTrig exists, detected.
-template <class M, class = void>
-struct DetectSolveTrig : std::false_type {};
+/// M::TrigT<Scalar> (M::kHasSolve and M::kHasTrig): sin and cos of the angles that M::Solve
+/// hands out (its last argument) and M::Coeffs takes (its last argument) instead of calling
+/// sin and cos again; an empty placeholder otherwise.
+struct NoTrig {};
+template <class M, class Scalar = double, bool = ReadFlag_kHasSolve<M>() && ReadFlag_kHasTrig<M>()>
+struct TrigOf {
+  using type = NoTrig;
+  static constexpr bool value = false;
+};
+template <class M, class Scalar>
+struct TrigOf<M, Scalar, true> {
+  using type = typename M::template TrigT<Scalar>;
+  static constexpr bool value = true;
+};
+
+/// M::kNumBlocks when M has Solve, else 1.
+template <class M, bool = ReadFlag_kHasSolve<M>()>
+struct BlockCount {
+  static constexpr int value = 1;
+};
 template <class M>
-struct DetectSolveTrig<M, std::void_t<decltype(M::template SolveTrig<double>(
-                              std::declval<const typename M::template ParamsT<double>&>(),
-                              std::declval<const Eigen::Matrix<double, M::kNq, 1>&>(),
-                              std::declval<const std::array<int, M::kNumBlocks>&>(),
-                              std::declval<typename M::template TrigT<double>*>()))>>
-    : std::true_type {};
+struct BlockCount<M, true> {
+  static constexpr int value = M::kNumBlocks;
+};
+
+/// Number of transmission angles of a model (M::kNumTransmissionAngles where it has
+/// M::TransmissionAngles); 0 for a model without them.
+template <class M, bool = ReadFlag_kHasTransmissionAngles<M>()>
+struct TransmissionAngleCount : std::integral_constant<int, 0> {};
+template <class M>
+struct TransmissionAngleCount<M, true> : std::integral_constant<int, M::kNumTransmissionAngles> {};
+
+/// Number of switching items of the model's loads (M::kNumSwitches where it has
+/// M::SwitchModes); 0 for a model without them.
+template <class M, bool = ReadFlag_kHasSwitchModes<M>()>
+struct SwitchCount : std::integral_constant<int, 0> {};
+template <class M>
+struct SwitchCount<M, true> : std::integral_constant<int, M::kNumSwitches> {};
 
 /// Its constants (M::RhsConstantsT, when M::kHasRhsConstants), or an empty placeholder.
 struct NoRhsConstants {};
@@ -258,6 +200,35 @@ struct StaticsDesignOf<M, true> {
 };
 }  // namespace internal
 
+/// What model M provides in the scalar type Scalar, decided at compile time.
+template <class M, class Scalar = double>
+struct ModelFeatures {
+  using Coefficients = typename ModelTypes<M, Scalar>::Coefficients;
+  static constexpr bool kHasK = internal::ReadFlag_kHasK<M>();
+  static constexpr bool kHasL = internal::ReadFlag_kHasL<M>();
+  static constexpr bool kHasPoints = M::kNumPoints > 0 && internal::ReadFlag_kHasPoints<M>();
+  static constexpr bool kHasPointVelocities =
+      kHasPoints && internal::ReadFlag_kHasPointVelocities<M>();
+  static constexpr bool kHasPointAccelerations =
+      kHasPoints && internal::ReadFlag_kHasPointAccelerations<M>();
+  static constexpr bool kHasScene = M::kNumScenePoints > 0;
+  /// Model::Coeffs also gives Phi and Phi_phi (Coefficients::Phi, Phi_phi): a continuation
+  /// step checks closure and conditioning on them, without a separate Model::Phi call.
+  static constexpr bool kCoeffsHavePhi = internal::ReadFlag_kHasCoeffsPhi<M>();
+  /// The generated block-ordered solver Model::Solve (closed-form dyads, Newton blocks).
+  static constexpr bool kHasSolve = internal::ReadFlag_kHasSolve<M>();
+  /// Model::Solve hands sin and cos of the angles to Model::Coeffs (Model::TrigT): a
+  /// continuation step then calls no sin or cos for the angles a closed form solved.
+  static constexpr bool kHasTrig = internal::TrigOf<M, Scalar>::value;
+  /// Model::TransmissionAngles (EvalTransmissionAngles) gives this many angles; 0 without it.
+  static constexpr int kNumTransmissionAngles = internal::TransmissionAngleCount<M>::value;
+  /// Model::SwitchModes gives the modes of this many switching items of the loads; 0 without.
+  static constexpr int kNumSwitches = internal::SwitchCount<M>::value;
+  /// No constraint equations (kNc = 0: no closed loop, every coordinate an input: a
+  /// pendulum, a lever): q alone is the configuration; Phi, Phi_phi and K are empty.
+  static constexpr bool kLoopFree = M::kNc == 0;
+};
+
 /// M::kHasStatics: EvalStatics (M::StaticsT, M::Forces; the `forces` or `potential`
 /// quantity). What the statics hold (Q, potential, reactions, friction) are the member flags
 /// below; statics::StaticsFeatures combines them.
@@ -275,7 +246,8 @@ struct HasStaticsV : std::bool_constant<internal::ReadFlag_kHasStaticsV<M>()> {}
 /// M::kHasStaticsD2V: Statics::d2V_dq2, set by M::Stiffness (EvalStiffness).
 template <class M>
 struct HasStaticsD2V : std::bool_constant<internal::ReadFlag_kHasStaticsD2V<M>()> {};
-/// M::kHasStaticsR: Statics::R, the reactions (M::kNumReactions, M::kReactionNames).
+/// M::kHasStaticsR: Statics::R, the reactions (M::kNumReactions, M::kReactionNames; with a
+/// drawing, kHasDrawing, also M::kReactionJoint: statics/columns.h HasJointLinks).
 template <class M>
 struct HasStaticsR : std::bool_constant<internal::ReadFlag_kHasStaticsR<M>()> {};
 /// M::kHasStaticsFriction: Statics::normal, gain, K_rel and the friction loads M::Forces
@@ -309,9 +281,20 @@ struct HasDesignDerivatives : std::bool_constant<internal::ReadFlag_kHasDesignDe
 /// drive, V and the reactions; a design section and statics).
 template <class M>
 struct HasStaticsDesign : std::bool_constant<internal::ReadFlag_kHasStaticsDesign<M>()> {};
-/// SolveTrig (every block a closed form handing out its angles' sin and cos). Not an output
-/// struct, so no flag: detected.
+/// M::kHasSolveTrig: SolveTrig (every block a closed form handing out its angles' sin and cos).
 template <class M>
-struct HasSolveTrig : internal::DetectSolveTrig<M> {};
+struct HasSolveTrig : std::bool_constant<internal::ReadFlag_kHasSolveTrig<M>()> {};
+/// M::kHasNamedModes: the model's named assembly modes (kNamedModes, kModeNames, ModesByName).
+template <class M>
+struct HasNamedModes : std::bool_constant<internal::ReadFlag_kHasNamedModes<M>()> {};
+/// M::kHasSwitchModes: SwitchModes and kNumSwitches (switching items of the loads).
+template <class M>
+struct HasSwitchModes : std::bool_constant<internal::ReadFlag_kHasSwitchModes<M>()> {};
+/// M::kHasDrawing: Drawing and the drawing constants (kNumDrawJoints, kDrawJoint*).
+template <class M>
+struct HasDrawing : std::bool_constant<internal::ReadFlag_kHasDrawing<M>()> {};
+/// M::kHasCamProfile: CamProfile (cams to draw).
+template <class M>
+struct HasCamProfile : std::bool_constant<internal::ReadFlag_kHasCamProfile<M>()> {};
 
 }  // namespace mechgen

@@ -202,12 +202,10 @@ using HasRhs = mechgen::HasRhs<M>;
 using mechgen::internal::NoRhsConstants;
 using mechgen::internal::RhsConstantsOf;
 
-/// The number of switching items of the model's loads (Model::kNumSwitches, generated only
-/// where there are some; 0 otherwise).
-template <class M, class = void>
-struct NumSwitches : std::integral_constant<int, 0> {};
+/// The number of switching items of the model's loads (Model::kNumSwitches where its flag
+/// kHasSwitchModes says it has some; 0 otherwise).
 template <class M>
-struct NumSwitches<M, std::void_t<decltype(M::kNumSwitches)>> : std::integral_constant<int, M::kNumSwitches> {};
+using NumSwitches = mechgen::internal::SwitchCount<M>;
 
 template <class M>
 constexpr bool AllBlocksClosedForm() {

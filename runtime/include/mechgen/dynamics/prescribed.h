@@ -648,11 +648,12 @@ class PrescribedDynamics {
   /// NaN in the members of *c that the by-Rhs stage does not compute (all but K, Phi_phi).
   static void MarkNotComputed(Coefficients* c) {
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-    if constexpr (mechgen::internal::HasPhiPhi<Coefficients>::value) c->Phi.setConstant(kNaN);
-    if constexpr (mechgen::internal::HasL<Coefficients>::value) c->L.setConstant(kNaN);
-    if constexpr (mechgen::internal::HasRP<Coefficients>::value) c->r_P.setConstant(kNaN);
-    if constexpr (mechgen::internal::HasKP<Coefficients>::value) c->K_P.setConstant(kNaN);
-    if constexpr (mechgen::internal::HasLP<Coefficients>::value) c->L_P.setConstant(kNaN);
+    using F = ModelFeatures<M>;
+    if constexpr (F::kCoeffsHavePhi) c->Phi.setConstant(kNaN);
+    if constexpr (F::kHasL) c->L.setConstant(kNaN);
+    if constexpr (F::kHasPoints) c->r_P.setConstant(kNaN);
+    if constexpr (F::kHasPointVelocities) c->K_P.setConstant(kNaN);
+    if constexpr (F::kHasPointAccelerations) c->L_P.setConstant(kNaN);
   }
 
   bool Stage(double t, const State& y, bool by_trig, SampleT* s, Coefficients* c) {

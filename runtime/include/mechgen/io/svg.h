@@ -45,17 +45,12 @@ inline const char* ShortName(const char* name) {
   return dot != nullptr ? dot + 1 : name;
 }
 
-/// Whether the model has the generated drawing description (kDrawJoint*, Drawing).
-template <class M, class = void>
-struct HasDrawing : std::false_type {};
+/// Whether the model has the generated drawing description (kDrawJoint*, Drawing) and cams to
+/// draw (Model::CamProfile): its flags kHasDrawing and kHasCamProfile (core/model_traits.h).
 template <class M>
-struct HasDrawing<M, std::void_t<decltype(M::kNumDrawJoints)>> : std::true_type {};
-
-/// Whether the model has cams to draw (Model::CamProfile).
-template <class M, class = void>
-struct HasCamProfile : std::false_type {};
+using HasDrawing = mechgen::HasDrawing<M>;
 template <class M>
-struct HasCamProfile<M, std::void_t<decltype(&M::template CamProfile<double>)>> : std::true_type {};
+using HasCamProfile = mechgen::HasCamProfile<M>;
 
 /// Joint kinds of Model::kDrawJointKind.
 enum DrawJoint { kDrawRevolute = 0, kDrawPrismatic, kDrawRoll, kDrawGear, kDrawRack, kDrawCam, kDrawSlot };

@@ -113,14 +113,12 @@ std::vector<ReactionJoint> ReactionJoints() {
 }
 
 namespace internal {
-/// Whether M names the joint of each reaction and the links of each joint (generated models
-/// with reactions and a drawing: Model::kReactionJoint, kDrawJointLinkA, kDrawJointLinkB).
-template <class M, class = void>
-struct HasJointLinks : std::false_type {};
+/// Whether M names the joint of each reaction and the links of each joint: a model with
+/// reactions (kHasStaticsR: Model::kReactionJoint) and a drawing (kHasDrawing:
+/// Model::kDrawJointLinkA, kDrawJointLinkB), read from its flags.
 template <class M>
-struct HasJointLinks<M, std::void_t<decltype(M::kReactionJoint), decltype(M::kDrawJointLinkA),
-                                    decltype(M::kDrawJointLinkB), decltype(M::kLinkNames)>>
-    : std::true_type {};
+struct HasJointLinks
+    : std::bool_constant<mechgen::HasStaticsR<M>::value && mechgen::HasDrawing<M>::value> {};
 }  // namespace internal
 
 /// A revolute joint with the ground (a bearing): its reaction components and the sign that
