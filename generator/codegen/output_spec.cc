@@ -404,6 +404,9 @@ ModelFlags ModelFlagsOf(const Model& m, const SymbolicTable& t, const std::vecto
                ModelMember(functions, "Drawing") != nullptr};
   f.cam_profile = {"kHasCamProfile", "CamProfile (EvalCamProfile): cams to draw.",
                    ModelMember(functions, "CamProfile") != nullptr};
+  f.applied_loads = {"kHasAppliedLoads",
+                     "AppliedLoads (EvalAppliedLoads), kNumAppliedLoads, kAppliedLoad*: the loads and springs to draw.",
+                     ModelMember(functions, "AppliedLoads") != nullptr};
   return f;
 }
 

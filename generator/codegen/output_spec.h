@@ -77,10 +77,12 @@ struct ModelFlags {
   OutputFlag switch_modes;         ///< kHasSwitchModes: SwitchModes, kNumSwitches
   OutputFlag drawing;              ///< kHasDrawing: Drawing, kNumDrawJoints, kDrawJoint*
   OutputFlag cam_profile;          ///< kHasCamProfile: CamProfile
+  OutputFlag applied_loads;        ///< kHasAppliedLoads: AppliedLoads, kNumAppliedLoads, kAppliedLoad*
   /// All of them in the header's order.
   std::vector<const OutputFlag*> All() const {
     return {&coeffs_phi, &K,    &L,          &points,     &point_velocities,    &point_accelerations, &solve,
-            &named_modes, &trig, &solve_trig, &transmission_angles, &switch_modes, &drawing, &cam_profile};
+            &named_modes, &trig, &solve_trig, &transmission_angles, &switch_modes, &drawing, &cam_profile,
+            &applied_loads};
   }
 };
 

@@ -158,6 +158,16 @@ struct DetectCamProfile : std::false_type {};
 template <class M>
 struct DetectCamProfile<M, std::void_t<decltype(&M::template CamProfile<double>)>> : std::true_type {};
 template <class M, class = void>
+struct DetectAppliedLoads : std::false_type {};
+template <class M>
+struct DetectAppliedLoads<M, std::void_t<decltype(&M::template AppliedLoads<double>), decltype(M::kNumAppliedLoads),
+                                         decltype(M::kAppliedLoadNames)>> : std::true_type {};
+template <class M, class = void>
+struct DetectDesign : std::false_type {};
+template <class M>
+struct DetectDesign<M, std::void_t<decltype(&M::template Design<double>), decltype(M::kNumDesign),
+                                   typename M::template DesignDerivativesT<double>>> : std::true_type {};
+template <class M, class = void>
 struct DetectReactionJoint : std::false_type {};
 template <class M>
 struct DetectReactionJoint<M, std::void_t<decltype(M::kReactionJoint)>> : std::true_type {};
@@ -181,6 +191,8 @@ constexpr bool ModelFlagsMatchHeader() {
   static_assert(M::kHasSwitchModes == DetectSwitchModes<M>::value, "kHasSwitchModes");
   static_assert(M::kHasDrawing == DetectDrawing<M>::value, "kHasDrawing");
   static_assert(M::kHasCamProfile == DetectCamProfile<M>::value, "kHasCamProfile");
+  static_assert(M::kHasAppliedLoads == DetectAppliedLoads<M>::value, "kHasAppliedLoads");
+  static_assert(M::kHasDesignDerivatives == DetectDesign<M>::value, "kHasDesignDerivatives");
   // Reactions with a drawing name their joints (what statics/columns.h reads then).
   static_assert(!(M::kHasStaticsR && M::kHasDrawing) || DetectReactionJoint<M>::value, "kReactionJoint");
   return true;

@@ -119,6 +119,7 @@ struct Model : Sizes {
   static constexpr bool kHasSwitchModes = false;
   static constexpr bool kHasDrawing = false;
   static constexpr bool kHasCamProfile = false;
+  static constexpr bool kHasAppliedLoads = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_pendulum"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"x_P", "y_P"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

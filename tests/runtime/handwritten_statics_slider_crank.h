@@ -218,6 +218,7 @@ struct Model : Sizes {
   static constexpr bool kHasSwitchModes = false;
   static constexpr bool kHasDrawing = false;
   static constexpr bool kHasCamProfile = false;
+  static constexpr bool kHasAppliedLoads = false;
   static constexpr std::array<const char*, kNq> kQNames{"theta_crank"};
   static constexpr std::array<const char*, kNphi> kPhiNames{"theta_rod", "s_slide"};
   static constexpr std::array<bool, kNq> kQIsAngle{true};

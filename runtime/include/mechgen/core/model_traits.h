@@ -50,7 +50,7 @@ struct ModelTypes {
 };
 
 // ---- What a generated model has: the one place the runtime asks. ----
-// Every generated header declares 29 `static constexpr bool kHas*` flags, rendered by
+// Every generated header declares 30 `static constexpr bool kHas*` flags, rendered by
 // generator/codegen/output_spec.cc from its descriptions: one per output struct and one per
 // optional member of Statics (OutputSpec), and one per optional member of Coefficients and
 // optional function of Model (ModelFlags). tests/kinematics/output_flags_test.cc checks them
@@ -74,6 +74,7 @@ struct ModelTypes {
 //   kHasSwitchModes         SwitchModes, kNumSwitches
 //   kHasDrawing             Drawing, kNumDrawJoints, kNumDrawValues, kDrawJoint*
 //   kHasCamProfile          CamProfile
+//   kHasAppliedLoads        AppliedLoads, kNumAppliedLoads, kAppliedLoadNames, Kind, Units
 //   kHasStatics ... kHasRhsConstants, kHasDesignDerivatives, kHasStaticsDesign, kHasDynamicsDesign:
 //                           the output structs and Statics' members (below).
 
@@ -111,6 +112,7 @@ MECHGEN_MODEL_FLAG_READER(kHasTransmissionAngles)
 MECHGEN_MODEL_FLAG_READER(kHasSwitchModes)
 MECHGEN_MODEL_FLAG_READER(kHasDrawing)
 MECHGEN_MODEL_FLAG_READER(kHasCamProfile)
+MECHGEN_MODEL_FLAG_READER(kHasAppliedLoads)
 MECHGEN_MODEL_FLAG_READER(kHasStatics)
 MECHGEN_MODEL_FLAG_READER(kHasStaticsQ)
 MECHGEN_MODEL_FLAG_READER(kHasStaticsStiffness)

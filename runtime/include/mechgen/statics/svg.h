@@ -54,20 +54,9 @@ namespace internal {
 
 /// Model::AppliedLoads<Scalar>(p, q, phi, out) with kNumAppliedLoads, kAppliedLoadNames,
 /// kAppliedLoadKind and kAppliedLoadUnits (EvalAppliedLoads: generated for a model with a
-/// scene, statics and loads or springs). Not an output struct, and a flag in every header
-/// would change the headers of the models without loads: detected, like SolveTrig.
-template <class M, class = void>
-struct HasAppliedLoads : std::false_type {};
+/// scene, statics and loads or springs), as the model's flag kHasAppliedLoads says.
 template <class M>
-struct HasAppliedLoads<
-    M, std::void_t<decltype(M::kNumAppliedLoads), decltype(M::kAppliedLoadNames),
-                   decltype(M::kAppliedLoadKind), decltype(M::kAppliedLoadUnits),
-                   decltype(M::template AppliedLoads<double>(
-                       std::declval<const typename ModelTypes<M>::Params&>(),
-                       std::declval<const typename ModelTypes<M>::VecQ&>(),
-                       std::declval<const typename ModelTypes<M>::VecPhi&>(),
-                       std::declval<Eigen::Matrix<double, 7, M::kNumAppliedLoads>*>()))>>
-    : std::true_type {};
+struct HasAppliedLoads : std::bool_constant<::mechgen::internal::ReadFlag_kHasAppliedLoads<M>()> {};
 
 /// M::kNumAppliedLoads where M has them, else 0.
 template <class M, bool = HasAppliedLoads<M>::value>
