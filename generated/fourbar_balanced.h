@@ -1895,6 +1895,8 @@ struct Model : Sizes {
   static constexpr bool kHasDrawing = true;
   /// CamProfile (EvalCamProfile): cams to draw.
   static constexpr bool kHasCamProfile = false;
+  /// AppliedLoads (EvalAppliedLoads), kNumAppliedLoads, kAppliedLoad*: the loads and springs to draw.
+  static constexpr bool kHasAppliedLoads = false;
   /// The outputs this model has: each struct, its alias and the functions that fill it exist
   /// exactly where its flag is true (and each optional member where its own flag is).
   /// Statics, StaticsT, EvalStatics (Model::Forces): forces, potential or reactions.

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <map>
-#include <set>
 
 #include "symbolic/block_system.h"
 #include "symbolic/motion.h"
@@ -286,14 +285,6 @@ DesignTable::DesignTable(const Model& m, const SymbolicTable& t, const Topology*
 // ---- The statics' design sensitivities ----
 
 namespace mechgen {
-namespace {
-
-void Symbols(const GiNaC::ex& e, std::set<GiNaC::ex, GiNaC::ex_is_less>* out) {
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (GiNaC::is_a<GiNaC::symbol>(*it)) out->insert(*it);
-}
-
-}  // namespace
 
 ProgramDesign DifferentiateProgram(const Kinematics& k, const DesignTable& dt, const Program& program,
                                    const SlotSymbols& reads, const std::vector<GiNaC::ex>& outputs,
@@ -314,14 +305,17 @@ ProgramDesign DifferentiateProgram(const Kinematics& k, const DesignTable& dt, c
       return out;
     }
   out.possible = true;
-  // d/dp_d of each symbol the program reads, as an expression (absent or zero: held).
+  // d/dp_d of each symbol the program reads, as an expression (absent or zero: held), and the
+  // symbols in the order they were made.
   std::map<ex, std::vector<ex>, GiNaC::ex_is_less> derivative;
+  std::vector<ex> order;
   for (int i = 0; i < k.nphi(); ++i) {
     std::vector<ex> v;
     // Structurally zero where no row of Phi depends on p_d (a mass, a load): not read.
     for (int d = 0; d < nd; ++d)
       v.push_back(dt.dphi_dp[i][d].is_zero() ? ex(0) : out.slots(Slot::Kind::kDphiDp, i, d));
     derivative[k.phi[i].symbol] = v;
+    order.push_back(k.phi[i].symbol);
   }
   // An expression of (q, phi, p): its total derivative, phi through dphi/dp.
   auto explicit_total = [&](const ex& e, int d) {
@@ -347,15 +341,17 @@ ProgramDesign DifferentiateProgram(const Kinematics& k, const DesignTable& dt, c
         default: break;  // the arguments (qd, qdd, t) and the given friction loads are held
       }
     derivative[sym] = v;
+    order.push_back(sym);
   }
   // D_d v for every d; each partial that every d shares named once (where it is not one factor).
   int locals = 0;
   auto total = [&](const ex& v) {
     std::vector<ex> D(nd);
     for (int d = 0; d < nd; ++d) D[d] = v.diff(dt.p[d]);
-    std::set<ex, GiNaC::ex_is_less> symbols;
-    Symbols(v, &symbols);
-    for (const ex& x : symbols) {
+    // In the order the variables were made (a set ordered by GiNaC's hashes would differ from
+    // run to run: the generated text must not).
+    for (const ex& x : order) {
+      if (!v.has(x)) continue;
       const auto it = derivative.find(x);
       if (it == derivative.end()) continue;
       bool any = false;
@@ -378,6 +374,7 @@ ProgramDesign DifferentiateProgram(const Kinematics& k, const DesignTable& dt, c
     for (int d = 0; d < nd; ++d)
       if (!D[d].is_zero()) out.program.push_back(Define("d_" + s.target + "_" + dt.names[d], D[d], &named[d]));
     derivative[s.symbol] = named;
+    order.push_back(s.symbol);
   }
   for (const ex& o : outputs) out.d.push_back(total(o));
   return out;
