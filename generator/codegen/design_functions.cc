@@ -82,7 +82,7 @@ FunctionSpec EvalDesignChecksSpec(const DesignTable& dt) {
 FunctionSpec EvalStaticsDesignSpec(const Model& m, const StaticsTable& st, const DesignStatics& ds,
                                    CxxPrinter* printer) {
   using Dir = Argument::Direction;
-  const int nq = static_cast<int>(m.inputs.size()), nd = static_cast<int>(m.design.params.size());
+  const int nd = static_cast<int>(m.design.params.size());
   FunctionSpec f;
   f.name = "EvalStaticsDesign";
   f.fills = OutputStruct::kStaticsDesign;
@@ -114,7 +114,6 @@ FunctionSpec EvalStaticsDesignSpec(const Model& m, const StaticsTable& st, const
   for (int d = 0; d < static_cast<int>(ds.dV.size()); ++d) P.push_back(Store("out->dV_dp(" + N(d) + ")", ds.dV[d]));
   for (size_t i = 0; i < ds.dR.size(); ++i)
     for (int d = 0; d < nd; ++d) P.push_back(Store("out->dR_dp" + Idx(static_cast<int>(i), d), ds.dR[i][d]));
-  (void)nq;
   f.body = {FinishAppliedProgram(P, st, printer)};
   return f;
 }

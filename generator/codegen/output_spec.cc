@@ -255,10 +255,11 @@ OutputSpec RhsConstants(const std::vector<FunctionSpec>& functions) {
   return o;
 }
 
-bool HasTransmission(const std::vector<FunctionSpec>& functions) {
+// The generated function that Model exposes as `member`, or nullptr where it is not generated.
+const FunctionSpec* ModelMember(const std::vector<FunctionSpec>& functions, const std::string& member) {
   for (const FunctionSpec& f : functions)
-    if (f.name == "EvalTransmissionAngles") return true;
-  return false;
+    if (f.model_member == member) return &f;
+  return nullptr;
 }
 
 // DesignDerivatives (EvalDesignDerivatives, with a `design` section): the derivatives of the
@@ -297,10 +298,9 @@ OutputSpec DesignOutput(const Model& m, const SymbolicTable& t, const std::vecto
       Unit(Member("Mat<Scalar, Sizes::kNumTransmissionAngles, Sizes::kNumDesign>", "dmu_dp",
                   {"dmu_dp(i, d) = d mu_i/dp_d of the transmission angles (EvalTransmissionAngles), NaN at a",
                    "toggle ({unit})."},
-                  "kNumTransmissionAngles x kNumDesign", "", m.design.any() && HasTransmission(functions)),
+                  "kNumTransmissionAngles x kNumDesign", "", m.design.any() && ModelMember(functions, "TransmissionAngles") != nullptr),
            "rad per unit of p_d"),
   };
-  (void)m;
   return o;
 }
 
@@ -354,13 +354,6 @@ OutputSpec DynamicsDesignOutput(const std::vector<FunctionSpec>& functions) {
            "J per unit of p_d"),
   };
   return o;
-}
-
-// The generated function that Model exposes as `member`, or nullptr where it is not generated.
-const FunctionSpec* ModelMember(const std::vector<FunctionSpec>& functions, const std::string& member) {
-  for (const FunctionSpec& f : functions)
-    if (f.model_member == member) return &f;
-  return nullptr;
 }
 
 // Whether function f takes the Trig argument (sin and cos of the angles, handed out or taken).
