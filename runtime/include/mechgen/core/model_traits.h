@@ -127,6 +127,7 @@ MECHGEN_MODEL_FLAG_READER(kHasRhs)
 MECHGEN_MODEL_FLAG_READER(kHasRhsConstants)
 MECHGEN_MODEL_FLAG_READER(kHasDesignDerivatives)
 MECHGEN_MODEL_FLAG_READER(kHasStaticsDesign)
+MECHGEN_MODEL_FLAG_READER(kHasDynamicsDesign)
 #undef MECHGEN_MODEL_FLAG_READER
 
 /// M::TrigT<Scalar> (M::kHasSolve and M::kHasTrig): sin and cos of the angles that M::Solve
@@ -283,6 +284,10 @@ struct HasDesignDerivatives : std::bool_constant<internal::ReadFlag_kHasDesignDe
 /// drive, V and the reactions; a design section and statics).
 template <class M>
 struct HasStaticsDesign : std::bool_constant<internal::ReadFlag_kHasStaticsDesign<M>()> {};
+/// M::kHasDynamicsDesign: EvalDynamicsDesign (M::DynamicsDesignT, M::DynamicsDesign: d/dp of I,
+/// I', h, Q, T and V; a design section and dynamics). dynamics/sensitivity.h integrates with it.
+template <class M>
+struct HasDynamicsDesign : std::bool_constant<internal::ReadFlag_kHasDynamicsDesign<M>()> {};
 /// M::kHasSolveTrig: SolveTrig (every block a closed form handing out its angles' sin and cos).
 template <class M>
 struct HasSolveTrig : std::bool_constant<internal::ReadFlag_kHasSolveTrig<M>()> {};
