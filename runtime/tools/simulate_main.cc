@@ -28,6 +28,10 @@
 // transition located and given a row of its own): on by default for a model with it, off with
 // --friction off (--friction on for a model without friction joints, with several inputs or
 // with --drive is a usage error). The summary lists the stuck intervals.
+// With --design (a model with a `design` section) the free motion is integrated with its
+// trajectory sensitivities (mechgen/dynamics/sensitivity.h: the forward sensitivity equations):
+// the CSV has t, the inputs, speeds and accelerations, d<q>/d<p> and d<q>_dot/d<p> for every
+// input q and design parameter p (q's unit, or per second, per unit of p) and rcond.
 // Plot it with runtime/tools/plot_dynamics.gnuplot. Example:
 //   slider_crank_motor_simulate --t-end 10 --dt 0.002 --csv out/motor.csv
 //   gnuplot -e "csv='out/motor.csv'; png='out/motor.png'" runtime/tools/plot_dynamics.gnuplot
@@ -65,6 +69,12 @@
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/dynamics/prescribed.h"
+#if __has_include(<ceres/jet.h>)  // --design: the trajectory sensitivities need ceres::Jet (a header)
+#include "mechgen/dynamics/sensitivity.h"
+#define MECHGEN_SIMULATE_HAS_SENSITIVITY 1
+#else
+#define MECHGEN_SIMULATE_HAS_SENSITIVITY 0
+#endif
 #include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
 #include "mechgen/statics/traits.h"
@@ -119,6 +129,7 @@ struct Args {
   bool stop_at_speed_zero = false;
   std::string friction;  // --friction: "on", "off" or "" (the model's friction section)
   bool quiet = false;
+  bool design = false;  // --design: the trajectory sensitivities (dynamics/sensitivity.h)
   int max_steps = 1000000;
   std::vector<DriveSpec> drives;
   tools::ParameterOptions params;  // --params, --set: applied to the model's Params
@@ -240,6 +251,11 @@ int ParseArgs(int argc, char** argv, const std::string& model, Args* a) {
           "NAME=LAW", ""));
   app.add_option("--csv", a->csv, "write the CSV there (default: " + model + "_simulate.csv)");
   app.add_flag("--quiet", a->quiet, "no summary on stdout");
+  app.add_flag("--design", a->design,
+               "add the trajectory sensitivities d<q>/d<p> and d<q>_dot/d<p> to the model's design "
+               "parameters (its `design` section), integrated with the motion (forward "
+               "sensitivity equations); the free motion only, to --t-end (no steady-state stop, "
+               "Coulomb friction, energy projection or --drive)");
   tools::AddParameterOptions(&app, &a->params);
   if (const int parsed = tools::Parse(&app, argc, argv, a->tool); parsed >= 0) return parsed;
   a->steady = !no_steady;
@@ -805,6 +821,96 @@ int RunDriven(const Args& args) {
   return 0;
 }
 
+#if MECHGEN_SIMULATE_HAS_SENSITIVITY
+// The free motion with its trajectory sensitivities (--design; dynamics/sensitivity.h): the
+// CSV has t, each input, its speed and acceleration, d<q>/d<p> and d<q>_dot/d<p> for every
+// input q and design parameter p (q's unit, or q's unit per second, per unit of p, p in the
+// model file's units) and rcond = 1/cond_1(Phi_phi).
+template <class M, template <int> class Method>
+int RunDesign(const Args& args) {
+  using Sim = mechgen::dynamics::TrajectorySensitivity<M, Method>;
+  using VecQ = typename Sim::VecQ;
+  using SampleT = typename Sim::SampleT;
+  constexpr int kNq = M::kNq, kNp = M::kNumDesign;
+  typename M::template ParamsT<double> params;
+  if (std::string why; !tools::ApplyParameters(args.params, &params, &why)) return tools::UsageError(args.tool, why);
+  VecQ q0, qd0;
+  if (const int status = InitialState<M>(args, &q0, &qd0); status != 0) return status;
+  mechgen::dynamics::SensitivityOptions options;
+  options.integrator.rtol = args.rtol;
+  options.integrator.atol = args.atol;
+  options.integrator.max_steps = args.max_steps;
+  options.sample_dt = args.dt;
+  Sim sim(params, options);
+  if (!sim.Initialize(q0)) {
+    std::fprintf(stderr, "error: %s does not assemble at the initial inputs\n", M::kName);
+    return 1;
+  }
+  const std::string csv_path = args.csv.empty() ? std::string(M::kName) + "_simulate.csv" : args.csv;
+  mechgen::OutputFile csv;
+  std::string error;
+  if (!csv.Open(csv_path, &error)) {
+    std::fprintf(stderr, "error: %s\n", error.c_str());
+    return 1;
+  }
+  mechgen::table::Columns<SampleT> columns;
+  mechgen::table::Builder<SampleT> add(&columns);
+  auto unit = [](int i, const char* per) { return std::string(M::kQIsAngle[i] ? "rad" : "m") + per; };
+  add.Number("t", "s", "time", [](const SampleT& r) { return r.t; });
+  for (int i = 0; i < kNq; ++i)
+    add.Number(M::kQNames[i], unit(i, ""), "input", [i](const SampleT& r) { return r.q(i); });
+  for (int i = 0; i < kNq; ++i)
+    add.Number(std::string(M::kQNames[i]) + "_dot", unit(i, "/s"), "input speed",
+               [i](const SampleT& r) { return r.qd(i); });
+  for (int i = 0; i < kNq; ++i)
+    add.Number(std::string(M::kQNames[i]) + "_ddot", unit(i, "/s^2"), "input acceleration",
+               [i](const SampleT& r) { return r.qdd(i); });
+  for (int i = 0; i < kNq; ++i)
+    for (int d = 0; d < kNp; ++d)
+      add.Number(std::string("d") + M::kQNames[i] + "/d" + M::kDesignNames[d],
+                 unit(i, " per unit of ") + M::kDesignNames[d], "trajectory sensitivity dq/dp",
+                 [i, d](const SampleT& r) { return r.S(i, d); });
+  for (int i = 0; i < kNq; ++i)
+    for (int d = 0; d < kNp; ++d)
+      add.Number(std::string("d") + M::kQNames[i] + "_dot/d" + M::kDesignNames[d],
+                 unit(i, "/s per unit of ") + M::kDesignNames[d], "trajectory sensitivity dqd/dp",
+                 [i, d](const SampleT& r) { return r.Sd(i, d); });
+  add.Number("rcond", "1", "1/cond_1(Phi_phi) (1 without a closed loop)",
+             [](const SampleT& r) { return r.rcond; });
+  mechgen::WriteCsvHeader(columns, csv.stream(),
+                          SimulateCsvOptions<M>("free motion with trajectory sensitivities"));
+  SampleT last;
+  auto observer = [&](const SampleT& s) {
+    mechgen::WriteCsvRow(columns, s, csv.stream());
+    last = s;
+    return true;
+  };
+  mechgen::dynamics::SensitivitySummary summary;
+  sim.Simulate(0.0, q0, qd0, args.t_end, observer, &summary);
+  if (!CommitCsv(&csv)) return 1;
+  const bool failure = mechgen::dynamics::IsFailure(summary.status);
+  if (!args.quiet) {
+    if (const std::string changed = tools::ChangedParameters(params); !changed.empty())
+      std::printf("parameters set: %s\n", changed.c_str());
+    std::printf("%s: %s\n", M::kName, mechgen::dynamics::FormatSummary(summary).c_str());
+    if (summary.samples > 0) {
+      std::printf("end: t = %.6g s, %s = %.9g %s; d%s/dp:", last.t, M::kQNames[0], last.q(0),
+                  M::kQIsAngle[0] ? "rad" : "m", M::kQNames[0]);
+      for (int d = 0; d < kNp; ++d) std::printf(" %s %.6g%s", M::kDesignNames[d], last.S(0, d), d + 1 < kNp ? "," : "");
+      std::printf("\n");
+    }
+    std::printf("wrote %s (%d rows)\n", csv_path.c_str(), summary.samples);
+  }
+  if (!FlushStdout()) return 1;
+  if (failure) {
+    std::fprintf(stderr, "%s: the simulation failed: %s at t = %.9g s: %s\n", M::kName,
+                 mechgen::dynamics::ToString(summary.status), summary.t_end, summary.message);
+    return 1;
+  }
+  return 0;
+}
+#endif
+
 // RunDriven with NP = the number of --drive options (1 ... kNq).
 template <class M, template <int> class Method, int NP = 1>
 int DispatchDriven(const Args& args) {
@@ -827,6 +933,28 @@ int Main(const Args& args) {
                  M::kName);
     return 2;
   } else {
+    if (args.design) {
+#if !MECHGEN_SIMULATE_HAS_SENSITIVITY
+      return tools::UsageError(args.tool, "--design: this build has no ceres/jet.h (Ceres' headers), which the "
+                                          "trajectory sensitivities need");
+#else
+      if constexpr (!mechgen::HasDynamicsDesign<M>::value) {
+        return tools::UsageError(args.tool, "--design: the model has no `design` section (the parameters to "
+                                            "differentiate by); add one, e.g. `design: {parameters: all}`");
+      } else {
+        const char* conflict = !args.drives.empty()          ? "--drive"
+                               : args.friction == "on"        ? "--friction on"
+                               : args.energy_projection       ? "--energy-projection"
+                               : args.stop_at_speed_zero      ? "--stop-at-speed-zero"
+                                                              : nullptr;
+        if (conflict != nullptr)
+          return tools::UsageError(args.tool, std::string("--design: not with ") + conflict +
+                                                  " (the sensitivities of the free motion only)");
+        return args.method == "dop853" ? RunDesign<M, mechgen::dynamics::Dop853>(args)
+                                       : RunDesign<M, mechgen::dynamics::Dopri5>(args);
+      }
+#endif
+    }
     if (!args.drives.empty()) {
       if (args.friction == "on")
         return tools::UsageError(
