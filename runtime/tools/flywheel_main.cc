@@ -38,6 +38,7 @@
 #include "common/gnuplot.h"
 #include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
+#include "mechgen/machines/flywheel/cycle_design.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
 #include "mechgen/table/columns.h"
 
@@ -56,9 +57,11 @@ namespace fw = mechgen::flywheel;
 struct LoopRow {
   fw::CyclePoint point;
   double T_mean = 0;
+  const double* dT_req_dp = nullptr;  // --design: dT_req/dp_d for each design parameter
 };
 
-mechgen::table::Columns<LoopRow> LoopColumns(bool dynamics) {
+// `design`: the design parameters' names (--design), each giving a column dT_req/d<p>.
+mechgen::table::Columns<LoopRow> LoopColumns(bool dynamics, const std::vector<std::string>& design) {
   mechgen::table::Columns<LoopRow> columns;
   mechgen::table::Builder<LoopRow> add(&columns);
   add.Number("theta", "rad", "input angle (CCW +), one cycle from theta0, the end not repeated",
@@ -89,6 +92,10 @@ mechgen::table::Columns<LoopRow> LoopColumns(bool dynamics) {
   }
   add.Number("cond", "1", "cond_1(Phi_phi) of the configuration",
              [](const LoopRow& r) { return r.point.condition; });
+  for (size_t d = 0; d < design.size(); ++d)
+    add.Number("dT_req/d" + design[d], "N m per unit of " + design[d],
+               "design sensitivity of T_req (cycle_design.h)",
+               [d](const LoopRow& r) { return r.dT_req_dp[d]; });
   return columns;
 }
 
@@ -162,6 +169,11 @@ int Run(int argc, char** argv) {
   tools::Number(&app, "--steady-tol", &steady_tol, tools::Between(1e-12, 1e-2),
                 "the check's steady state: the cycle-mean speed changing by less than this, "
                 "relative, two cycles in a row");
+  bool design = false;
+  app.add_flag("--design", design,
+               "also the design sensitivities (the model's `design` section): d/dp of the mean "
+               "torque, dE, the machine's mean inertia and the flywheel, and dT_req/d<p> columns "
+               "in the CSV (machines/flywheel/cycle_design.h; not with Coulomb friction)");
   app.add_option("--csv", csv_path, "write the energy loop (theta, T_req, T_mean, E, ...) to this CSV");
   app.add_option("--png", png_path, "draw the torque and energy loop to this PNG (needs gnuplot)");
   app.add_option("--svg", svg_path, "draw the torque and energy loop to this SVG (needs gnuplot)");
@@ -169,6 +181,9 @@ int Run(int argc, char** argv) {
   tools::AddParameterOptions(&app, &parameter_options);
   if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
   if (check && no_check) return tools::UsageError(tool, "--check and --no-check: choose one");
+  if (design && !mechgen::HasDesignDerivatives<M>::value)
+    return tools::UsageError(tool, "--design: the model has no `design` section (the parameters to "
+                                   "differentiate by); add one, e.g. `design: {parameters: all}`");
   if (check && !mechgen::HasDynamics<M>::value)
     return tools::UsageError(tool, std::string("--check needs a model with `dynamics` (") + M::kName +
                                        " has none: its machine is massless)");
@@ -240,6 +255,30 @@ int Run(int argc, char** argv) {
     std::printf(" (the flywheel; the machine is massless: no `dynamics`)\n");
   }
 
+  // --design: the sensitivities printed, and dT_req/d<p> per sample for the CSV.
+  std::vector<std::string> design_names;
+  std::vector<std::vector<double>> dT_req_dp;
+  if constexpr (mechgen::HasDesignDerivatives<M>::value) {
+    if (design) {
+      const fw::CycleDesign<M> cycle_design = fw::SampleMachineCycleDesign<M>(params, options, machine);
+      if (!cycle_design.IsUsable()) {
+        std::cerr << "error: no design sensitivities for " << M::kName << ": " << cycle_design.message << "\n";
+        return 1;
+      }
+      const auto dsize = fw::SizeFlywheelDesign<M>(machine, cycle_design, cs);
+      std::printf("  design sensitivities of T_mean = %.17g N m, dE = %.17g J, I = %.17g kg m^2, I_fly = %.17g "
+                  "kg m^2 (per unit of each parameter, in the model file's units):\n",
+                  machine.T_mean, loop.delta_E, size.I_required, size.I_flywheel);
+      std::printf("    %-12s %16s %16s %16s %16s\n", "p", "dT_mean/dp", "d(dE)/dp", "dI/dp", "dI_fly/dp");
+      for (int d = 0; d < M::kNumDesign; ++d) {
+        design_names.push_back(M::kDesignNames[d]);
+        std::printf("    %-12s %16.9g %16.9g %16.9g %16.9g\n", M::kDesignNames[d], cycle_design.dT_mean_dp(d),
+                    cycle_design.ddelta_E_dp(d), dsize.dI_required_dp(d), dsize.dI_flywheel_dp(d));
+      }
+      for (const auto& v : cycle_design.dT_req_dp) dT_req_dp.emplace_back(v.data(), v.data() + v.size());
+    }
+  }
+
   int status = 0;
   const bool do_check = machine.has_dynamics && !no_check && size.needed;
   if (do_check) {
@@ -272,8 +311,9 @@ int Run(int argc, char** argv) {
   // The CSV (whole or absent), then the pictures from it.
   std::vector<LoopRow> rows;
   rows.reserve(machine.points.size());
-  for (const fw::CyclePoint& pt : machine.points) rows.push_back({pt, machine.T_mean});
-  const auto columns = LoopColumns(machine.has_dynamics);
+  for (size_t k = 0; k < machine.points.size(); ++k)
+    rows.push_back({machine.points[k], machine.T_mean, dT_req_dp.empty() ? nullptr : dT_req_dp[k].data()});
+  const auto columns = LoopColumns(machine.has_dynamics, design_names);
   const bool picture = !png_path.empty() || !svg_path.empty();
   std::string csv_for_plot = csv_path;
   std::string temporary;

@@ -277,6 +277,55 @@ inline EnergyLoop ExcessEnergy(const double* dT,
   return r;
 }
 
+/// The derivatives of an energy loop's figures with respect to one parameter (design
+/// sensitivities, issue 27): of mean_torque, E_max, E_min and ΔE, in their units per unit of it.
+struct EnergyLoopDerivative {
+  double mean_torque = 0;
+  double E_max = 0;
+  double E_min = 0;
+  double delta_E = 0;
+};
+
+/**
+ * \brief The derivatives of `loop` (ExcessEnergy(dT, ...)) given the derivatives ddT_k of its
+ * samples with respect to a parameter: exact for the computed figures. E is linear in the
+ * samples (the same rule, mean removal and breaks: ExcessEnergy of ddT); each extreme is the
+ * Hermite interpolant's value at its refined angle, a stationary point of it (or a sample), so
+ * that the angle's own change does not enter to first order (the envelope theorem): dE_max is
+ * the interpolant of (dE, dg) at that angle. Valid while the extremes stay on the same
+ * intervals (a tie between two maxima of E makes ΔE kink: its derivative is then one-sided).
+ * \param[in] ddT  n values d(ΔT_k)/dp; options and theta0 as given to ExcessEnergy for `loop`.
+ * \param[out] dE  scratch for n values: dE(θ_k)/dp on return.
+ */
+inline EnergyLoopDerivative ExcessEnergyDerivative(const double* ddT, const EnergyLoop& loop, double theta0,
+                                                   const EnergyLoopOptions& options, double* dE) {
+  EnergyLoopDerivative d;
+  const int n = loop.n;
+  const EnergyLoop dl = ExcessEnergy(ddT, n, loop.cycle, theta0, options, dE);
+  d.mean_torque = dl.mean_torque;
+  const double h = loop.cycle / n;
+  const double shift = options.remove_mean ? dl.mean_torque : 0.0;
+  auto dg = [&](int k) { return ddT[((k % n) + n) % n] - shift; };
+  auto dE_at = [&](int j) {  // the periodic extension, E_n = E_0 + the cycle's work
+    const int jj = ((j % n) + n) % n;
+    return dE[jj] + (j >= n ? dl.cycle_work : 0.0) - (j < 0 ? dl.cycle_work : 0.0);
+  };
+  auto at = [&](double theta) {
+    double u = (theta - theta0) / h;
+    int j = static_cast<int>(std::floor(u));
+    double s = u - j;
+    if (s > 1 - 1e-12) ++j, s = 0;  // on a sample (up to the angle's rounding)
+    if (s < 1e-12) return dE_at(j);
+    const double s2 = s * s, s3 = s2 * s;
+    return (2 * s3 - 3 * s2 + 1) * dE_at(j) + (s3 - 2 * s2 + s) * h * dg(j) + (-2 * s3 + 3 * s2) * dE_at(j + 1) +
+           (s3 - s2) * h * dg(j + 1);
+  };
+  d.E_max = at(loop.theta_max);
+  d.E_min = at(loop.theta_min);
+  d.delta_E = d.E_max - d.E_min;
+  return d;
+}
+
 /// The same from the driving and load torques sampled at the same angles (N m): ΔT_k =
 /// T_d[k] − T_l[k]. `work` is scratch for n values (holds ΔT on return).
 inline EnergyLoop ExcessEnergy(const double* T_d,
