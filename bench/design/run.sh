@@ -4,6 +4,8 @@
 # targets, per model with N design parameters:
 #   (2) values + generated d/dp  <= 0.7 x (3) the Jet<double, N> instantiation of the values
 #   (2)                          <= (1 + 0.5 N) x (1) the values alone
+# and the cost of trajectory sensitivities (one run of the forward sensitivity equations)
+# against the N + 1 simulations of forward differences (reported; the issue sets no target).
 # Usage: bash bench/design/run.sh [build-dir] [repetitions]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -37,4 +39,15 @@ for model, n in N.items():
     r1, r2 = d / j, d / v
     print(f"    (2) / (3) = {r1:5.2f}   target <= 0.7          {'PASS' if r1 <= 0.7 else 'MISS'}")
     print(f"    (2) / (1) = {r2:5.2f}   target <= 1 + 0.5 N = {1 + 0.5 * n:4.1f}   {'PASS' if r2 <= 1 + 0.5 * n else 'MISS'}")
+NT = {"design_fourbar_massive": 6, "design_fivebar_massive": 13}
+if all(f"Trajectory/Values/{m}" in med for m in NT):
+    print("Trajectory sensitivities per run (median CPU time; Dop853, rtol 1e-10, atol 1e-12)")
+    for model, n in NT.items():
+        v, d, s = (med[f"Trajectory/{k}/{model}"] for k in ("Values", "Differences", "Sensitivities"))
+        u = unit[f"Trajectory/Values/{model}"]
+        print(f"  {model} (N = {n})")
+        print(f"    one simulation of the values            {v:10.1f} {u}")
+        print(f"    N + 1 simulations (forward differences) {d:10.1f} {u}")
+        print(f"    forward sensitivity equations, one run  {s:10.1f} {u}")
+        print(f"    sensitivities / (N + 1 simulations) = {s / d:5.2f}; / one simulation = {s / v:5.2f}")
 PY
