@@ -19,8 +19,11 @@ RES=$ROOT/bench/accuracy/results
 mkdir -p "$RES"
 command -v gnuplot >/dev/null || { echo "run.sh: gnuplot is missing (apt-get install gnuplot-nox)"; exit 1; }
 
+# Configured with the benchmarks (scripts/test.sh builds without them).
 if [ ! -f "$BUILD/build.ninja" ] && [ ! -f "$BUILD/Makefile" ]; then
-  cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMECHGEN_BUILD_BENCHMARKS=ON >/dev/null
+else
+  cmake -S . -B "$BUILD" -DMECHGEN_BUILD_BENCHMARKS=ON >/dev/null
 fi
 cmake --build "$BUILD" --parallel 2 --target accuracy_bench mechgen
 BIN=$(find "$BUILD" -name accuracy_bench -type f -perm -u+x | head -n 1)

@@ -12,6 +12,12 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 BUILD=${1:-build}
 REPS=${2:-5}
+# Configured with the benchmarks (scripts/test.sh builds without them).
+if [ ! -f "$BUILD/build.ninja" ] && [ ! -f "$BUILD/Makefile" ]; then
+  cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMECHGEN_BUILD_BENCHMARKS=ON >/dev/null
+else
+  cmake -S . -B "$BUILD" -DMECHGEN_BUILD_BENCHMARKS=ON >/dev/null
+fi
 cmake --build "$BUILD" --parallel 2 --target mechgen chain_bench fourbar_bench >/dev/null
 OUT=bench/chain/results
 mkdir -p "$OUT"

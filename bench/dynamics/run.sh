@@ -19,8 +19,11 @@ BUILD=${1:-build}
 REPS=${2:-5}
 OUT=bench/dynamics/results
 mkdir -p "$OUT"
+# Configured with the benchmarks (scripts/test.sh builds without them).
 if [ ! -f "$BUILD/build.ninja" ] && [ ! -f "$BUILD/Makefile" ]; then
-  cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMECHGEN_BUILD_BENCHMARKS=ON >/dev/null
+else
+  cmake -S . -B "$BUILD" -DMECHGEN_BUILD_BENCHMARKS=ON >/dev/null
 fi
 if [ -n "${SIMBODY_RELEASE_DIR:-}" ]; then
   cmake "$BUILD" -DMECHGEN_SIMBODY_RELEASE_DIR="$SIMBODY_RELEASE_DIR" >/dev/null

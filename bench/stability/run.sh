@@ -9,6 +9,12 @@ cd "$(dirname "$0")/../.."
 build=${1:-build}
 out=bench/stability/results
 mkdir -p "$out"
+# Configured with the benchmarks (scripts/test.sh builds without them).
+if [ ! -f "$build/build.ninja" ] && [ ! -f "$build/Makefile" ]; then
+  cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMECHGEN_BUILD_BENCHMARKS=ON >/dev/null
+else
+  cmake -S . -B "$build" -DMECHGEN_BUILD_BENCHMARKS=ON >/dev/null
+fi
 cmake --build "$build" --target stability_bench
 {
   echo "# mechgen stability study (bench/stability/stability_bench.cc), commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
