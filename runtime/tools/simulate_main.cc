@@ -313,10 +313,9 @@ struct CsvRow {
   const double* R = nullptr;
 };
 
-// The columns every run has: t, each input, its speed and acceleration, then T, V, E, W_nc
-// (and W_act when driven).
-template <class M, class SampleT, bool kDriven>
-void AddMotionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
+// t, each input, its speed and acceleration: the first columns of every run.
+template <class M, class SampleT>
+void AddInputColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
   using Row = CsvRow<SampleT>;
   constexpr int kNq = M::kNq;
   auto unit = [](int i, const char* per) {
@@ -331,6 +330,14 @@ void AddMotionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
   for (int i = 0; i < kNq; ++i)
     add->Number(std::string(M::kQNames[i]) + "_ddot", unit(i, "/s^2"), "input acceleration",
                 [i](const Row& r) { return r.s->qdd(i); });
+}
+
+// The columns every run has: the inputs' (AddInputColumns), then T, V, E, W_nc (and W_act
+// when driven).
+template <class M, class SampleT, bool kDriven>
+void AddMotionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
+  using Row = CsvRow<SampleT>;
+  AddInputColumns<M, SampleT>(add);
   add->Number("T", "J", "kinetic energy", [](const Row& r) { return double(r.s->T); });
   add->Number("V", "J", "potential energy (springs, gravity)",
               [](const Row& r) { return double(r.s->V); });
@@ -853,35 +860,28 @@ int RunDesign(const Args& args) {
     std::fprintf(stderr, "error: %s\n", error.c_str());
     return 1;
   }
-  mechgen::table::Columns<SampleT> columns;
-  mechgen::table::Builder<SampleT> add(&columns);
+  using Row = CsvRow<SampleT>;
+  mechgen::table::Columns<Row> columns;
+  mechgen::table::Builder<Row> add(&columns);
   auto unit = [](int i, const char* per) { return std::string(M::kQIsAngle[i] ? "rad" : "m") + per; };
-  add.Number("t", "s", "time", [](const SampleT& r) { return r.t; });
-  for (int i = 0; i < kNq; ++i)
-    add.Number(M::kQNames[i], unit(i, ""), "input", [i](const SampleT& r) { return r.q(i); });
-  for (int i = 0; i < kNq; ++i)
-    add.Number(std::string(M::kQNames[i]) + "_dot", unit(i, "/s"), "input speed",
-               [i](const SampleT& r) { return r.qd(i); });
-  for (int i = 0; i < kNq; ++i)
-    add.Number(std::string(M::kQNames[i]) + "_ddot", unit(i, "/s^2"), "input acceleration",
-               [i](const SampleT& r) { return r.qdd(i); });
+  AddInputColumns<M, SampleT>(&add);
   for (int i = 0; i < kNq; ++i)
     for (int d = 0; d < kNp; ++d)
       add.Number(std::string("d") + M::kQNames[i] + "/d" + M::kDesignNames[d],
                  unit(i, " per unit of ") + M::kDesignNames[d], "trajectory sensitivity dq/dp",
-                 [i, d](const SampleT& r) { return r.S(i, d); });
+                 [i, d](const Row& r) { return r.s->S(i, d); });
   for (int i = 0; i < kNq; ++i)
     for (int d = 0; d < kNp; ++d)
       add.Number(std::string("d") + M::kQNames[i] + "_dot/d" + M::kDesignNames[d],
                  unit(i, "/s per unit of ") + M::kDesignNames[d], "trajectory sensitivity dqd/dp",
-                 [i, d](const SampleT& r) { return r.Sd(i, d); });
+                 [i, d](const Row& r) { return r.s->Sd(i, d); });
   add.Number("rcond", "1", "1/cond_1(Phi_phi) (1 without a closed loop)",
-             [](const SampleT& r) { return r.rcond; });
+             [](const Row& r) { return r.s->rcond; });
   mechgen::WriteCsvHeader(columns, csv.stream(),
                           SimulateCsvOptions<M>("free motion with trajectory sensitivities"));
   SampleT last;
   auto observer = [&](const SampleT& s) {
-    mechgen::WriteCsvRow(columns, s, csv.stream());
+    mechgen::WriteCsvRow(columns, Row{&s, nullptr}, csv.stream());
     last = s;
     return true;
   };
