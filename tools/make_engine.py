@@ -302,6 +302,10 @@ def build(args, argv):
     for j in range(n):
         k = j + 1
         w(f"  gas_{k}: {{force: [-p_gas_{k}*A_pis*cos(beta_{k}), -p_gas_{k}*A_pis*sin(beta_{k})], at: piston_{k}.C}}")
+    if args.design:
+        # The design sensitivities (issue 27) of the engine's kinematics and masses: the
+        # engine tool's flywheel --design differentiates its energy loop by them.
+        w("design: [r, l, e, m_rod, l_G, J_rod, m_pis]")
     w("outputs:")
     w("  quantities: [K, L, scene, forces, potential, dynamics, shaking]")
     w("  points: [" + ", ".join(f"piston_{j + 1}.C" for j in range(n)) + "]")
@@ -351,6 +355,9 @@ def main(argv):
     p.add_argument("--c-load", dest="c_load", type=numeric("--c-load", 0, MAX_LOAD, unit=" N m s/rad"), default=0.0, help="viscous load (N m s/rad)")
     p.add_argument("--pitch", type=numeric("--pitch", -MAX_LENGTH, MAX_LENGTH, unit=" m"), default=0.095, help="cylinder pitch along the shaft (m)")
     p.add_argument("--z", help="axial positions z_j (m, comma-separated) instead of --pitch")
+    p.add_argument("--design", action="store_true",
+                   help="add a design section (r, l, e, m_rod, l_G, J_rod, m_pis): the design "
+                        "sensitivities of the engine tool's flywheel --design")
 
     def error(message):
         raise UsageError(message)

@@ -345,6 +345,7 @@ struct Args {
   double dt = 0.002;
   double steady_tol = 1e-5;
   int smoothing = 6;
+  bool design = false;  ///< flywheel --design: the design sensitivities (the model's `design`)
   eng::PolytropicWiebeParams wiebe;
   mechgen::tools::ParameterOptions params;  ///< --params, --set: the model's Params
 };
@@ -389,6 +390,11 @@ int ParseArgs(int argc, char** argv, Args* a) {
       ->group(general);
   tools::Count(&app, "--smoothing", &a->smoothing, 1, 64,
                "cycle: power smoothing for 1..max(K, cylinders)")
+      ->group(general);
+  app.add_flag("--design", a->design,
+               "flywheel: also d/dp of the mean torque, dE, I and J_fly for the model's design "
+               "parameters (its `design` section), the pressure a given function of the crank "
+               "angle: needs --table (the parametric law's pressure moves with r, l and bore)")
       ->group(general);
   tools::Number(&app, "--cs", &a->cs, tools::NumberRange{0, 1, true, true},
                 "flywheel: the prescribed C_s = (w_max - w_min)/w_mean")
@@ -480,6 +486,15 @@ int ParseArgs(int argc, char** argv, Args* a) {
     return UsageError(error);
   if (burn_start->count() > 0) w.burn_start = burn_start_deg * kDeg;
   if (burn_duration->count() > 0) w.burn_duration = burn_duration_deg * kDeg;
+  if (a->design && a->command != "flywheel")
+    return UsageError("--design: the flywheel subcommand only (its mean torque, dE, I and J_fly)");
+  if (a->design && !mechgen::HasDesignDerivatives<Model>::value)
+    return UsageError("--design: the model has no `design` section (tools/make_engine.py --design "
+                      "writes one)");
+  if (a->design && a->table.empty())
+    return UsageError("--design needs --table: the derivatives hold the pressure trace p(theta) "
+                      "fixed, which an indicator diagram is and the parametric law (its volume "
+                      "depends on r, l and bore) is not");
   if (a->csv.empty() && a->command != "flywheel") a->csv = model + "_" + a->command + ".csv";
   if (a->loop_csv.empty()) a->loop_csv = model + "_energy_loop.csv";
   if (a->sweep_csv.empty()) a->sweep_csv = model + "_cs_sweep.csv";
@@ -796,6 +811,65 @@ int Cycle(const Args& a, const Params& p, const Engine& e, const Gas& gas) {
   return FlushStdout();
 }
 
+/// flywheel --design: d/dp of the figures of the energy loop of T_total, for the design
+/// parameters of M (the model's `design` section), the pressure trace p_j(theta) held: at each
+/// sample dT_total/dp = -sum_j p_j A dK_slide_j/dp - dh/dp (the generated EvalDesignDerivatives
+/// and EvalDynamicsDesign at the constant speed), then the energy loop differentiated exactly
+/// (energy_loop.h, ExcessEnergyDerivative): dT_mean, d(dE), dI = d(dE)/(C_s w^2), and
+/// dJ_fly = dI - d mean I(theta)/dp (+ 1 for J_fly itself, which the variable part leaves out).
+template <class M>
+int PrintFlywheelDesign(const Args& a, const Params& p, const Engine& e, const Gas& gas,
+                        const mechgen::flywheel::EnergyLoop& loop, const mechgen::flywheel::EnergyLoopOptions& lo_opt,
+                        double omega, double I_req, double J_fly) {
+  if constexpr (!mechgen::HasDynamicsDesign<M>::value) {
+    (void)a, (void)p, (void)e, (void)gas, (void)loop, (void)lo_opt, (void)omega, (void)I_req, (void)J_fly;
+    return Fail("--design: the model has no design derivatives of its dynamics");
+  } else {
+    constexpr int kNp = M::kNumDesign;
+    const int n = loop.n;
+    std::vector<std::array<double, kNp>> dT(static_cast<size_t>(n)), dI(static_cast<size_t>(n));
+    VecPhi phi;
+    for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[i];
+    for (int k = 0; k < n; ++k) {
+      const double theta = e.cycle * k / n;
+      typename M::template CoefficientsT<double> c;
+      if (!Positions(p, theta, &phi, &c)) return Fail("--design: the positions failed");
+      VecQ q, qd;
+      q(0) = theta;
+      qd(0) = omega;
+      typename M::template DesignDerivativesT<double> dc;
+      M::Design(p, q, phi, &dc);
+      typename M::template DynamicsDesignT<double> dd;
+      M::DynamicsDesign(p, q, phi, qd, 0.0, c, dc, &dd);
+      for (int d = 0; d < kNp; ++d) {
+        double v = -dd.dh_dp(0, d);
+        for (int j = 0; j < e.n; ++j) v -= gas.Pressure(j, theta) * e.area * dc.dK_dp(e.slide[j], d);
+        dT[static_cast<size_t>(k)][static_cast<size_t>(d)] = v;
+        dI[static_cast<size_t>(k)][static_cast<size_t>(d)] = dd.dI_dp(0, d);
+      }
+    }
+    std::printf("  design sensitivities (the pressure trace held) of T_mean = %.17g N m, dE = %.17g J, "
+                "I = %.17g kg m^2, J_fly = %.17g kg m^2, per unit of each parameter:\n",
+                loop.mean_torque, loop.delta_E, I_req, J_fly);
+    std::printf("    %-10s %16s %16s %16s %16s\n", "p", "dT_mean/dp", "d(dE)/dp", "dI/dp", "dJ_fly/dp");
+    std::vector<double> column(static_cast<size_t>(n)), dE(static_cast<size_t>(n));
+    for (int d = 0; d < kNp; ++d) {
+      double mean_dI = 0;
+      for (int k = 0; k < n; ++k) {
+        column[static_cast<size_t>(k)] = dT[static_cast<size_t>(k)][static_cast<size_t>(d)];
+        mean_dI += dI[static_cast<size_t>(k)][static_cast<size_t>(d)] / n;
+      }
+      const auto dl = mechgen::flywheel::ExcessEnergyDerivative(column.data(), loop, 0.0, lo_opt, dE.data());
+      const double dI_req = dl.delta_E / (a.cs * omega * omega);
+      const bool is_J_fly = std::string(M::kDesignNames[d]) == "J_fly";
+      const double dJ = dI_req - (mean_dI - (is_J_fly ? 1.0 : 0.0));
+      std::printf("    %-10s %16.9g %16.9g %16.9g %16.9g\n", M::kDesignNames[d], dl.mean_torque, dl.delta_E, dI_req,
+                  dJ);
+    }
+    return 0;
+  }
+}
+
 using Sim = eng::GasDriven<Model, Gas>;
 
 int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
@@ -829,6 +903,9 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   const double J_fly = I_req - I_recip;
   if (!(J_fly > 0))
     return Fail("the reciprocating parts alone give C_s below the prescribed one: no flywheel needed");
+  // --design: the sensitivities of these figures, printed first (they do not depend on the
+  // simulated checks below).
+  if (a.design && PrintFlywheelDesign<Model>(a, p0, e, gas, loop, lo_opt, omega, I_req, J_fly) != 0) return 1;
   // Simulation with that flywheel against c_load = mean / omega.
   auto simulate = [&](double J, eng::SteadyCycle* sc) {
     Params p = p0;
