@@ -542,13 +542,14 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   if (has_shaking) out.push_back(shaking_spec);
   if (has_statics && (!statics->d2V_dq2.empty() || !statics->stiffness_q.empty())) out.push_back(EvalStiffnessSpec(m, *statics, printer));
   if (design != nullptr && design->nd() > 0) {
+    // What the design section's quantities ask for (default: all the outputs have).
     out.push_back(EvalDesignDerivativesSpec(*design, t));
-    if (!design->checks.empty()) out.push_back(EvalDesignChecksSpec(*design));
-    if (has_statics) {
+    if (m.design.checks && !design->checks.empty()) out.push_back(EvalDesignChecksSpec(*design));
+    if (has_statics && m.design.statics) {
       const DesignStatics ds(m, k, *statics, *design);
       if (ds.possible) out.push_back(EvalStaticsDesignSpec(m, *statics, ds, printer));
     }
-    if (has_dynamics) {
+    if (has_dynamics && m.design.dynamics) {
       const DesignDynamics dd(m, k, *dynamics, *design);
       if (dd.possible) out.push_back(EvalDynamicsDesignSpec(m, *dynamics, dd, printer));
     }

@@ -3,6 +3,9 @@
 //   design: [a, b, c]                  # short form
 //   design: {parameters: [a, b, c]}
 //   design: {parameters: all}          # every free parameter, in file order
+//   design: {parameters: [a, b], quantities: [positions, checks]}
+//                                      # only these derivatives (default: every one the
+//                                      # outputs have: positions, checks, statics, dynamics)
 // A derived parameter cannot be one (it follows the free ones it is made of: name those).
 #include <string>
 
@@ -13,7 +16,11 @@ namespace mechgen {
 const KeyTable& DesignKeys() {
   static const KeyTable table{
       "design",
-      {{"parameters", "[name, ...] or all: the free parameters to differentiate with respect to", true}}};
+      {{"parameters", "[name, ...] or all: the free parameters to differentiate with respect to", true},
+       {"quantities",
+        "[positions, checks, statics, dynamics]: the derivatives to emit (default: every one the outputs have; "
+        "positions always)",
+        false}}};
   return table;
 }
 
@@ -23,6 +30,32 @@ std::string FreeParameterList(const Model& m) {
   std::string list;
   for (const Parameter& p : m.params) list += (list.empty() ? "" : ", ") + p.name;
   return list.empty() ? "(none)" : list;
+}
+
+// `quantities: [...]`: which derivatives to emit, each one the outputs have.
+void ReadDesignQuantities(SectionReader& r, const YAML::Node& node) {
+  Model& m = r.model();
+  if (!node.IsSequence() || node.size() == 0)
+    r.Fail(node, "design quantities must be a non-empty list of positions, checks, statics, dynamics");
+  m.design.checks = m.design.statics = m.design.dynamics = false;
+  for (const auto& item : node) {
+    const std::string name = r.Scalar(item, "design quantity");
+    const Outputs& o = m.outputs;
+    if (name == "positions") continue;  // always: the others are built on them
+    if (name == "checks") {
+      m.design.checks = true;
+    } else if (name == "statics") {
+      if (!o.Has(Quantity::kForces) && !o.Has(Quantity::kPotential))
+        r.Fail(item, "design quantity 'statics' needs forces or potential in outputs.quantities");
+      m.design.statics = true;
+    } else if (name == "dynamics") {
+      if (!o.Has(Quantity::kDynamics))
+        r.Fail(item, "design quantity 'dynamics' needs dynamics in outputs.quantities");
+      m.design.dynamics = true;
+    } else {
+      r.Fail(item, "unknown design quantity '" + name + "'; the quantities are positions, checks, statics, dynamics");
+    }
+  }
 }
 
 }  // namespace
@@ -42,8 +75,10 @@ void ReadDesign(SectionReader& r, const YAML::Node& node) {
   list.reset(node);
   if (node.IsMap()) {
     list.reset();
-    for (const auto& [key, value] : r.Entries(node, "design", &DesignKeys()))
+    for (const auto& [key, value] : r.Entries(node, "design", &DesignKeys())) {
       if (key == "parameters") list.reset(value);
+      if (key == "quantities") ReadDesignQuantities(r, value);
+    }
     if (!list) r.Fail(node, "design needs parameters: [name, ...] (or parameters: all)");
   }
   if (list.IsScalar() && r.Scalar(list, "design parameters") == "all") {

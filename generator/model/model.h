@@ -302,6 +302,11 @@ struct Outputs {
 struct Design {
   std::vector<int> params;  ///< indices into Model::params
   SourceMark mark;
+  /// Which derivatives are emitted (`quantities:`; default every one the outputs have): the
+  /// positions' (EvalDesignDerivatives: dphi/dp, the points', and dK/dp, dL/dp as the outputs'
+  /// order has K and L) always; the design checks (EvalDesignChecks), the statics'
+  /// (EvalStaticsDesign) and the dynamics' (EvalDynamicsDesign, with the shaking's) as asked.
+  bool checks = true, statics = true, dynamics = true;
   bool any() const { return !params.empty(); }
 };
 
