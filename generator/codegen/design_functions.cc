@@ -160,3 +160,44 @@ FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, co
 }
 
 }  // namespace mechgen
+
+namespace mechgen {
+
+FunctionSpec EvalShakingDesignSpec(const DynamicsTable& dyn, const DesignShaking& ds, CxxPrinter* printer) {
+  using Dir = Argument::Direction;
+  const int nd = static_cast<int>(ds.dM.size());
+  FunctionSpec f;
+  f.name = "EvalShakingDesign";
+  f.model_member = "ShakingDesign";
+  f.doc = {"\\brief Design sensitivities of the shaking force and moment (EvalShaking, Paul ch. 7) at (q, qd, qdd):",
+           "d/dp of F = -sum m a_G and of M about O for the design parameters kDesignNames, q, qd and qdd held",
+           "(EvalShaking differentiated statement by statement; phi, K and L through EvalDesignDerivatives).",
+           "Generated exactly where the model has both kHasShaking and kHasDynamicsDesign."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities", "dim kNq"));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qdd", Dir::kIn, "Input accelerations", "dim kNq"));
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn, "EvalCoefficients() at this (q, phi)."));
+  f.args.push_back(Arg("const DesignDerivatives<Scalar>&", "dc", Dir::kIn, "EvalDesignDerivatives() at this (q, phi)."));
+  f.args.push_back(Arg("Out<Mat<Scalar, 2, Sizes::kNumDesign>>", "dF_dp", Dir::kOut,
+                       "dF_dp(a, d) = d F(a)/dp_d of Shaking::F, a = 0: x, 1: y (N per unit of p_d)",
+                       "2 x kNumDesign", true));
+  f.args.push_back(Arg("Out<Vec<Scalar, Sizes::kNumDesign>>", "dM_dp", Dir::kOut,
+                       "dM_dp(d) = dM/dp_d of Shaking::M about O (N m per unit of p_d, CCW +)", "dim kNumDesign", true,
+                       "nullptr"));
+  f.notes = {"\\note Near a dead point the derivatives grow like 1/sigma_min(Phi_phi), as K and L do: check the",
+             "conditioning first."};
+  const StaticsTable& st = *dyn.kinetostatics;
+  NameSlots(st.slots, printer);
+  NameSlots(ds.slots, printer);
+  Program P = ds.program;
+  for (int d = 0; d < nd; ++d) {
+    P.push_back(Store("(*dF_dp)" + Idx(0, d), ds.dF[0][d], "dF_dp"));
+    P.push_back(Store("(*dF_dp)" + Idx(1, d), ds.dF[1][d], "dF_dp"));
+    P.push_back(Store("(*dM_dp)(" + N(d) + ")", ds.dM[d], "dM_dp"));
+  }
+  f.body = {FinishAppliedProgram(P, st, printer)};
+  return f;
+}
+
+}  // namespace mechgen

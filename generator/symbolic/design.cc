@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 
 #include "symbolic/block_system.h"
 #include "symbolic/motion.h"
@@ -429,6 +430,51 @@ DesignDynamics::DesignDynamics(const Model& m, const Kinematics& k, const Dynami
   dT = pd.d[at++];
   dV = pd.d[at++];
   (void)m;
+}
+
+}  // namespace mechgen
+
+// ---- The shaking force and moment's design sensitivities ----
+
+namespace mechgen {
+
+namespace {
+
+// The program's kDefine statements that `outputs` read (directly or through other locals);
+// every other kind of statement is kept.
+Program PruneFor(const Program& program, const std::vector<GiNaC::ex>& outputs) {
+  std::set<GiNaC::ex, GiNaC::ex_is_less> used;
+  auto collect = [&used](const GiNaC::ex& e) {
+    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+      if (GiNaC::is_a<GiNaC::symbol>(*it)) used.insert(*it);
+  };
+  for (const GiNaC::ex& o : outputs) collect(o);
+  std::vector<const Statement*> kept;
+  for (auto it = program.rbegin(); it != program.rend(); ++it) {
+    if (it->kind == Statement::Kind::kDefine && !used.count(it->symbol)) continue;
+    if (it->kind == Statement::Kind::kDefine || it->kind == Statement::Kind::kStore) collect(it->value);
+    kept.push_back(&*it);
+  }
+  Program out;
+  for (auto it = kept.rbegin(); it != kept.rend(); ++it) out.push_back(**it);
+  return out;
+}
+
+}  // namespace
+
+DesignShaking::DesignShaking(const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt) {
+  if (dt.nd() == 0 || !dyn.any || !dyn.shaking) return;
+  const std::vector<GiNaC::ex> outputs{dyn.F[0], dyn.F[1], dyn.M_total};
+  const Program pruned = PruneFor(dyn.shaking_program, outputs);
+  ProgramDesign pd = DifferentiateProgram(k, dt, pruned, dyn.kinetostatics->slots, outputs, "dshaking_chain_");
+  possible = pd.possible;
+  why_not = pd.why_not;
+  if (!possible) return;
+  slots = pd.slots;
+  program = pruned;
+  program.insert(program.end(), pd.program.begin(), pd.program.end());
+  dF = {pd.d[0], pd.d[1]};
+  dM = pd.d[2];
 }
 
 }  // namespace mechgen

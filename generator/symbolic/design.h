@@ -128,3 +128,21 @@ struct DesignDynamics {
 };
 
 }  // namespace mechgen
+
+namespace mechgen {
+
+/// The shaking force and moment's design sensitivities (EvalShakingDesign, with `shaking`):
+/// d/dp_d of F = -sum m a_G and M = sum (r_G x F_link - J alpha) about O at (q, qd, qdd), those
+/// held (DifferentiateProgram over the shaking program, its locals pruned first to what F and
+/// M read: the reactions of the kinetostatics are not differentiated).
+struct DesignShaking {
+  DesignShaking(const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt);
+  bool possible = false;
+  std::string why_not;
+  SlotSymbols slots;
+  Program program;  ///< the pruned shaking program followed by its derivative locals
+  std::vector<std::vector<GiNaC::ex>> dF;  ///< 2 x nd (x, y)
+  std::vector<GiNaC::ex> dM;               ///< nd
+};
+
+}  // namespace mechgen

@@ -9,7 +9,8 @@
 //     Newton's method at p +- h, p +- h/2.
 // The dynamics: the massive four-bar (bars of mass rho per length, gravity; design parameters
 // a, b, c, d, rho, g), EvalDynamics' I, dI/dq, h, Q, T and V at a crank speed, against the same
-// two oracles.
+// two oracles; and its shaking force and moment (EvalShakingDesign) at a crank speed and
+// acceleration, the same way.
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
@@ -226,6 +227,110 @@ TEST(DesignDynamics, AgreesWithRichardsonDifferences) {
   }
   RecordProperty("worst_relative_error", mechtest::Sci(worst));
 }
+
+
+// ---- The shaking force and moment (EvalShakingDesign) ----
+// F and M of EvalShaking at a crank speed and acceleration, their d/dp against Jets of the
+// generated EvalCoefficients and EvalShaking and against Richardson differences.
+namespace shake {
+
+constexpr double kQdd = -0.7;
+
+Eigen::Matrix<double, 3, kN> Generated(const ParamsM& p, const Config<MD>& x) {
+  static_assert(MD::kHasShaking && MD::kHasDynamicsDesign);
+  MD::CoefficientsT<double> c;
+  MD::Coeffs(p, x.q, x.phi, &c);
+  MD::DesignDerivativesT<double> dc;
+  MD::Design(p, x.q, x.phi, &dc);
+  Eigen::Matrix<double, 2, kN> dF_dp = Eigen::Matrix<double, 2, kN>::Constant(std::nan(""));
+  Eigen::Matrix<double, kN, 1> dM_dp = Eigen::Matrix<double, kN, 1>::Constant(std::nan(""));
+  const Eigen::Matrix<double, 1, 1> qd(kQd), qdd(kQdd);
+  MD::ShakingDesign(p, x.q, x.phi, qd, qdd, c, dc, &dF_dp, &dM_dp);
+  // Each output alone (the other nullptr) gives the same.
+  Eigen::Matrix<double, 2, kN> dF_alone;
+  Eigen::Matrix<double, kN, 1> dM_alone;
+  MD::ShakingDesign(p, x.q, x.phi, qd, qdd, c, dc, &dF_alone);
+  MD::ShakingDesign<double>(p, x.q, x.phi, qd, qdd, c, dc, nullptr, &dM_alone);
+  EXPECT_EQ(dF_alone, dF_dp);
+  EXPECT_EQ(dM_alone, dM_dp);
+  Eigen::Matrix<double, 3, kN> g;
+  g << dF_dp, dM_dp.transpose();
+  return g;
+}
+
+template <class S>
+Eigen::Matrix<S, 3, 1> Values(const typename MD::template ParamsT<S>& p, const Eigen::Matrix<S, 1, 1>& q,
+                              const Eigen::Matrix<S, MD::kNphi, 1>& phi) {
+  typename MD::template CoefficientsT<S> c;
+  MD::Coeffs(p, q, phi, &c);
+  typename MD::template ShakingT<S> y;
+  MD::Shaking(p, q, phi, Eigen::Matrix<S, 1, 1>(S(kQd)), Eigen::Matrix<S, 1, 1>(S(kQdd)), c, &y);
+  Eigen::Matrix<S, 3, 1> v;
+  v << y.F(0), y.F(1), y.M;
+  return v;
+}
+
+const char* kShakeWhat[3] = {"dF_x", "dF_y", "dM"};
+
+TEST(DesignShaking, AgreesWithJetsOfTheGeneratedShaking) {
+  using Jet = ceres::Jet<double, kN>;
+  const ParamsM p;
+  const auto all = mechtest::SweepConfigs<MD>(p, 72);
+  double worst = 0;
+  int compared = 0;
+  for (size_t ci = 0; ci < all.size(); ci += 4) {
+    const Config<MD>& x = all[ci];
+    MD::DesignDerivativesT<double> dc;
+    MD::Design(p, x.q, x.phi, &dc);
+    const auto pk = designtest::SeededParams<MD, Jet>(p);
+    const Eigen::Matrix<Jet, 1, 1> qk = x.q.cast<Jet>();
+    const Eigen::Matrix<Jet, MD::kNphi, 1> phik =
+        designtest::PhiJets<MD, Jet>(x.phi, designtest::JetDphiDp<MD>(p, x.q, x.phi));
+    const Eigen::Matrix<Jet, 3, 1> ref = Values<Jet>(pk, qk, phik);
+    const Eigen::Matrix<double, 3, kN> g = Generated(p, x);
+    for (int r = 0; r < 3; ++r)
+      for (int d = 0; d < kN; ++d) {
+        const double e = std::abs(g(r, d) - ref(r).v(d)) / Rel(ref(r).v(d));
+        worst = std::max(worst, e);
+        ++compared;
+        EXPECT_LE(e, 1e-12) << kShakeWhat[r] << " /d " << MD::kDesignNames[d] << " at " << x.q(0) << ": " << g(r, d)
+                            << " vs " << ref(r).v(d);
+      }
+  }
+  EXPECT_EQ(compared, 18 * 3 * kN);
+  RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+TEST(DesignShaking, AgreesWithRichardsonDifferences) {
+  const ParamsM p0;
+  const auto all = mechtest::SweepConfigs<MD>(p0, 72);
+  double worst = 0, largest = 0;
+  for (size_t ci = 0; ci < all.size(); ci += 9) {
+    const Config<MD>& x = all[ci];
+    const Eigen::Matrix<double, 3, kN> g = Generated(p0, x);
+    for (int d = 0; d < kN; ++d) {
+      const double v0 = *ParamsM().Find(MD::kDesignNames[d]), h = 1e-4 * Rel(v0);
+      auto at = [&](double delta) {
+        ParamsM q = p0;
+        *q.Find(MD::kDesignNames[d]) = v0 + delta;
+        Config<MD> y = x;
+        EXPECT_TRUE(mechtest::SolvePhi<MD>(q, y.q, &y.phi).converged);
+        return Values<double>(q, y.q, y.phi);
+      };
+      const Eigen::Matrix<double, 3, 1> D = (4 * (at(h / 2) - at(-h / 2)) / h - (at(h) - at(-h)) / (2 * h)) / 3;
+      for (int r = 0; r < 3; ++r) {
+        const double e = std::abs(g(r, d) - D(r)) / Rel(D(r));
+        worst = std::max(worst, e);
+        largest = std::max(largest, std::abs(D(r)));
+        EXPECT_LE(e, 1e-7) << kShakeWhat[r] << " /d " << MD::kDesignNames[d] << ": " << g(r, d) << " vs " << D(r);
+      }
+    }
+  }
+  EXPECT_GT(largest, 1.0);  // the derivatives are not all trivially zero
+  RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+}  // namespace shake
 
 }  // namespace dyn
 
