@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "joints/cam_profile.h"
 #include "symbolic/block_system.h"
 #include "symbolic/motion.h"
 
@@ -279,6 +280,31 @@ DesignTable::DesignTable(const Model& m, const SymbolicTable& t, const Topology*
     }
   for (DesignCheck& c : checks)
     for (int d = 0; d < n_d; ++d) c.d.push_back(c.margin.diff(p[d]));
+  // A cam's law function (CamLaw_<joint>) gives the lift's derivatives up to the third: a
+  // design derivative that needs a higher one cannot be generated (none does where the cam
+  // angle is an input or a dependent angle: K reads the first, L the second, dL/dp the third).
+  std::vector<ex> stored;
+  for (const Statement& s : program)
+    if (s.kind == Statement::Kind::kDefine) stored.push_back(s.value);
+  for (const auto* table : {&dphi_dp, &dK_dp, &dL_dp})
+    for (const std::vector<ex>& row : *table) stored.insert(stored.end(), row.begin(), row.end());
+  for (const auto* table : {&dr_P_dp, &dK_P_dp, &dL_P_dp})
+    for (const auto& point : *table)
+      for (const std::vector<ex>& axis : point) stored.insert(stored.end(), axis.begin(), axis.end());
+  for (const ex& e : stored)
+    if (MaxCamLawOrder(e) > 3)
+      m.Fail(m.design.mark,
+             "design derivatives would need a cam law's fourth derivative; remove design or the parameters that move "
+             "the cam's angle");
+}
+
+int MaxCamLawOrder(const GiNaC::ex& e) {
+  int most = -1;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (GiNaC::is_a<GiNaC::function>(*it) && GiNaC::ex_to<GiNaC::function>(*it).get_serial() == camlaw_SERIAL::serial &&
+        GiNaC::is_a<GiNaC::numeric>(it->op(1)))
+      most = std::max(most, GiNaC::ex_to<GiNaC::numeric>(it->op(1)).to_int());
+  return most;
 }
 
 }  // namespace mechgen

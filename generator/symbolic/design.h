@@ -77,6 +77,9 @@ struct DesignTable {
   std::vector<std::vector<GiNaC::ex>> dmu_dp;
 };
 
+/// The highest derivative order d of a cam law camlaw(i, d, x) in e (-1: none).
+int MaxCamLawOrder(const GiNaC::ex& e);
+
 /// A straight-line program's locals and some expressions of them, differentiated with respect
 /// to the design parameters (forward mode over the program, symbolically): D_d v = dv/dp_d + sum
 /// over what v reads of dv/dx D_d x, x running over phi (dphi/dp read from EvalDesignDerivatives'

@@ -9,9 +9,12 @@
 //   - hand formulas: the four-bar's dtheta_3/dp and dtheta_4/dp from its loop equation
 //     differentiated by hand, and the offset slider-crank's ds/da, ds/db, ds/de from
 //     s = a cos(theta) + sqrt(b^2 - (e - a sin(theta))^2).
-// The models: the shipped ones with a design section (fourbar, slider_crank, watt_sixbar) and
-// two test models (design_stephenson: a four-unknown block, solved by an LU and Newton's
-// method; design_fivebar: two inputs, L with three input pairs).
+// The models: the shipped ones with a design section (fourbar, slider_crank, watt_sixbar), two
+// test models (design_stephenson: a four-unknown block, solved by an LU and Newton's method;
+// design_fivebar: two inputs, L with three input pairs) and four shipped models of other
+// structures with `design: {parameters: all}` appended (tests/design/CMakeLists.txt): a cam with
+// a roller follower (cam_roller: e, rb, rr, phase; its law's lift h is left out), gears
+// (geared_fivebar), a slot (quick_return) and an engine (engine_single).
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
@@ -19,7 +22,11 @@
 #include <cmath>
 #include <string>
 
+#include "design_cam_roller.h"
+#include "design_engine_single.h"
 #include "design_fivebar.h"
+#include "design_geared_fivebar.h"
+#include "design_quick_return.h"
 #include "design_test_util.h"
 #include "design_stephenson.h"
 #include "fourbar.h"
@@ -36,7 +43,9 @@ template <class M>
 using DesignD = typename M::template DesignDerivativesT<double>;
 
 using DesignModels = ::testing::Types<mech::fourbar::Model, mech::slider_crank::Model, mech::watt_sixbar::Model,
-                                      mech::design_stephenson::Model, mech::design_fivebar::Model>;
+                                      mech::design_stephenson::Model, mech::design_fivebar::Model,
+                                      mech::design_cam_roller::Model, mech::design_geared_fivebar::Model,
+                                      mech::design_quick_return::Model, mech::design_engine_single::Model>;
 
 class ModelNames {
  public:

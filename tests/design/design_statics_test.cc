@@ -18,6 +18,7 @@
 #include <cmath>
 #include <string>
 
+#include "design_engine_single.h"
 #include "design_fourbar_loaded.h"
 #include "design_fourbar_massive.h"
 #include "design_test_util.h"
@@ -331,6 +332,78 @@ TEST(DesignShaking, AgreesWithRichardsonDifferences) {
 }
 
 }  // namespace shake
+
+// ---- An engine (engine_single with `design: {parameters: all}`: 18 parameters, the gas law's
+// among them): statics, dynamics and shaking derivatives against Jets of the generated values ----
+namespace engine {
+
+using ME = mech::design_engine_single::Model;
+using ParamsE = ME::ParamsT<double>;
+constexpr int kNe = ME::kNumDesign;
+
+TEST(DesignEngine, StaticsDynamicsAndShakingAgreeWithJets) {
+  static_assert(ME::kHasStaticsDesign && ME::kHasDynamicsDesign && ME::kHasShaking);
+  using Jet = ceres::Jet<double, kNe>;
+  const ParamsE p;
+  const auto all = mechtest::SweepConfigs<ME>(p, 144);
+  double worst = 0;
+  int compared = 0;
+  const Eigen::Matrix<double, 1, 1> qd(31.4), qdd(-5.0);
+  const double t = 0.01;
+  for (size_t ci = 0; ci < all.size(); ci += 6) {
+    const Config<ME>& x = all[ci];
+    ME::CoefficientsT<double> c;
+    ME::Coeffs(p, x.q, x.phi, &c);
+    ME::DesignDerivativesT<double> dc;
+    ME::Design(p, x.q, x.phi, &dc);
+    ME::StaticsDesignT<double> ds;
+    ME::StaticsDesign(p, x.q, x.phi, c, dc, &ds);
+    ME::DynamicsDesignT<double> dd;
+    ME::DynamicsDesign(p, x.q, x.phi, qd, t, c, dc, &dd);
+    Eigen::Matrix<double, 2, kNe> dF_dp;
+    Eigen::Matrix<double, kNe, 1> dM_dp;
+    ME::ShakingDesign(p, x.q, x.phi, qd, qdd, c, dc, &dF_dp, &dM_dp);
+
+    const auto pk = designtest::SeededParams<ME, Jet>(p);
+    const Eigen::Matrix<Jet, 1, 1> qk = x.q.cast<Jet>();
+    const Eigen::Matrix<Jet, ME::kNphi, 1> phik =
+        designtest::PhiJets<ME, Jet>(x.phi, designtest::JetDphiDp<ME>(p, x.q, x.phi));
+    ME::CoefficientsT<Jet> cj;
+    ME::Coeffs(pk, qk, phik, &cj);
+    ME::StaticsT<Jet> sj;
+    ME::Forces(pk, qk, phik, cj, &sj);
+    ME::DynamicsT<Jet> yj;
+    ME::Dynamics(pk, qk, phik, Eigen::Matrix<Jet, 1, 1>(Jet(qd(0))), Jet(t), cj, &yj);
+    ME::ShakingT<Jet> hj;
+    ME::Shaking(pk, qk, phik, Eigen::Matrix<Jet, 1, 1>(Jet(qd(0))), Eigen::Matrix<Jet, 1, 1>(Jet(qdd(0))), cj, &hj);
+    auto compare = [&](const Jet& ref, double got, int d, const std::string& what) {
+      const double e = std::abs(got - ref.v(d)) / Rel(ref.v(d));
+      worst = std::max(worst, e);
+      ++compared;
+      EXPECT_LE(e, 1e-12) << what << " /d " << ME::kDesignNames[d] << " at " << x.q(0) << ": " << got << " vs "
+                          << ref.v(d);
+    };
+    for (int d = 0; d < kNe; ++d) {
+      compare(sj.Q(0), ds.dQ_dp(0, d), d, "statics dQ");
+      compare(sj.V, ds.dV_dp(d), d, "statics dV");
+      for (int i = 0; i < ME::kNumReactions; ++i)
+        compare(sj.R(i), ds.dR_dp(i, d), d, std::string("d") + ME::kReactionNames[i]);
+      compare(yj.I(0, 0), dd.dI_dp(0, d), d, "dI");
+      compare(yj.dI_dq(0, 0), dd.ddI_dq_dp(0, d), d, "dI'");
+      compare(yj.h(0), dd.dh_dp(0, d), d, "dh");
+      compare(yj.Q(0), dd.dQ_dp(0, d), d, "dynamics dQ");
+      compare(yj.T, dd.dT_dp(d), d, "dT");
+      compare(yj.V, dd.dV_dp(d), d, "dynamics dV");
+      compare(hj.F(0), dF_dp(0, d), d, "dF_x");
+      compare(hj.F(1), dF_dp(1, d), d, "dF_y");
+      compare(hj.M, dM_dp(d), d, "dM");
+    }
+  }
+  EXPECT_GT(compared, 5000);
+  RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+}  // namespace engine
 
 }  // namespace dyn
 
