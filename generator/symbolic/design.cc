@@ -3,6 +3,7 @@
 #include "symbolic/design.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -50,6 +51,107 @@ ex EarlierBlocks(const Kinematics& k, const std::vector<Block>& blocks, size_t b
   for (size_t pb = 0; pb < bi; ++pb)
     for (int c : blocks[pb].cols) s += k.Phi_phi(row, c) * X[c][col];
   return s;
+}
+
+// e as A + B cos(q) + C sin(q) with A, B, C free of q (sin^2 = 1 - cos^2 used): false where
+// e is not of that form (q inside another function, a product of cos and sin, ...).
+bool LinearInCosSin(const ex& e, const GiNaC::symbol& q, ex* A, ex* B, ex* C) {
+  const GiNaC::symbol X("X"), Y("Y");
+  ex f = e.subs(GiNaC::lst{GiNaC::cos(q) == X, GiNaC::sin(q) == Y});
+  if (f.has(q)) return false;
+  f = f.expand();
+  for (int i = 0; i < 8 && f.degree(Y) >= 2; ++i)
+    f = f.subs(GiNaC::pow(Y, 2) == 1 - GiNaC::pow(X, 2), GiNaC::subs_options::algebraic).expand();
+  if (f.degree(X) > 1 || f.degree(Y) > 1 || f.ldegree(X) < 0 || f.ldegree(Y) < 0) return false;
+  if (!f.coeff(X, 1).coeff(Y, 1).is_zero()) return false;
+  *A = f.coeff(X, 0).coeff(Y, 0);
+  *B = f.coeff(X, 1).coeff(Y, 0);
+  *C = f.coeff(X, 0).coeff(Y, 1);
+  return !A->has(X) && !A->has(Y) && !B->has(Y) && !C->has(X);
+}
+
+// The closed-form blocks' reach over the input's range, where its extremes are known in
+// closed form: a block whose requirement depends on the configuration only through one input
+// angle q that turns a full turn (its range at least 2 pi), as A + B cos q + C sin q, its
+// extremes A +- sqrt(B^2 + C^2). Which blocks qualify:
+//   - RRR (kRR, R(u) a + R(v) b + w0 = 0, the circles of radii |a|, |b| centres |w0| apart
+//     meet iff (|a| - |b|)^2 <= |w0|^2 <= (|a| + |b|)^2): |a|, |b| free of the configuration and
+//     |w0|^2 linear in cos q, sin q — the dyad hangs from a ground point and a point of the
+//     input link (a four-bar's coupler and rocker driven by its crank). Two margins, in length^2:
+//     (|a| + |b|)^2 - max |w0|^2 and min |w0|^2 - (|a| - |b|)^2, both >= 0 iff the input turns
+//     fully (for a four-bar this is the crank's condition; Grashof's margin says only that some
+//     link turns fully);
+//   - one angle (kAngle, c0 + c1 cos u + c2 sin u = 0, solvable iff |c0| <= rho =
+//     sqrt(c1^2 + c2^2)): rho free of the configuration, c0 linear in cos q, sin q (a
+//     slider-crank's rod: e = a sin q + b sin u). rho >= max |c0| = |A| + sqrt(B^2 + C^2) as two
+//     smooth margins, rho - (A + sqrt(B^2 + C^2)) and rho + (A - sqrt(B^2 + C^2)) (the rod's
+//     length less the crank and the offset to either side).
+// Not: a block fed by an earlier block's unknowns (its extremes follow that block's motion, no
+// closed form: the Watt six-bar's second dyad), by two inputs, or by an input of a partial
+// range; RRP/RPR (kRS: its discriminant is quadratic in cos q, sin q), PRP and linear blocks
+// (no discriminant), Newton blocks.
+void AddReachChecks(const Model& m, const Kinematics& k, const std::vector<Block>& blocks,
+                    std::vector<DesignCheck>* checks) {
+  auto free_of_phi = [&k](const ex& e) {
+    for (const Coordinate& c : k.phi)
+      if (e.has(c.symbol)) return false;
+    return true;
+  };
+  // The one input e depends on (it must turn fully), or -1.
+  auto one_full_input = [&](const ex& e) {
+    int found = -1;
+    for (int j = 0; j < k.nq(); ++j)
+      if (e.has(k.q[j].symbol)) {
+        if (found >= 0) return -1;
+        found = j;
+      }
+    if (found < 0 || !k.q[found].is_angle) return -1;
+    const Input& in = m.inputs[found];
+    return in.max - in.min >= 2 * M_PI - 1e-9 ? found : -1;
+  };
+  auto free_of_q = [&k](const ex& e) {
+    for (const Coordinate& c : k.q)
+      if (e.has(c.symbol)) return false;
+    return true;
+  };
+  for (size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    const std::string tag = "block" + N(static_cast<int>(bi));
+    const std::string what = b.Describe(k);
+    if (b.solve == BlockSolve::kRR) {
+      const ex ra2 = (b.a[0] * b.a[0] + b.a[1] * b.a[1]).expand(), rb2 = (b.b[0] * b.b[0] + b.b[1] * b.b[1]).expand();
+      const ex d2 = b.w0[0] * b.w0[0] + b.w0[1] * b.w0[1];
+      if (!free_of_phi(ra2) || !free_of_phi(rb2) || !free_of_q(ra2) || !free_of_q(rb2) || !free_of_phi(d2)) continue;
+      const int j = one_full_input(d2);
+      ex A, B, C;
+      if (j < 0 || !LinearInCosSin(d2, k.q[j].symbol, &A, &B, &C)) continue;
+      const ex R = GiNaC::sqrt(B * B + C * C), ra = GiNaC::sqrt(ra2), rb = GiNaC::sqrt(rb2);
+      checks->push_back({"reach_far_" + tag,
+                         "(|a| + |b|)^2 - max |w0|^2 over a turn of " + k.q[j].name + " (>= 0: the dyad's links reach "
+                             "its farthest pivot distance) of " + tag + ", " + what,
+                         GiNaC::pow(ra + rb, 2) - (A + R), {}});
+      checks->push_back({"reach_near_" + tag,
+                         "min |w0|^2 - (|a| - |b|)^2 over a turn of " + k.q[j].name + " (>= 0: the dyad closes at "
+                             "its nearest pivot distance) of " + tag + ", " + what,
+                         A - R - GiNaC::pow(ra - rb, 2), {}});
+    } else if (b.solve == BlockSolve::kAngle) {
+      const ex rho2 = (b.c1 * b.c1 + b.c2 * b.c2).expand();
+      if (!free_of_phi(rho2) || !free_of_q(rho2) || !free_of_phi(b.c0)) continue;
+      const int j = one_full_input(b.c0);
+      ex A, B, C;
+      if (j < 0 || !LinearInCosSin(b.c0, k.q[j].symbol, &A, &B, &C)) continue;
+      // rho >= max |c0| as two smooth margins (no |A|: differentiable where A = 0).
+      const ex rho = GiNaC::sqrt(rho2), R = GiNaC::sqrt(B * B + C * C);
+      checks->push_back({"reach_max_" + tag,
+                         "sqrt(c1^2 + c2^2) - max c0 over a turn of " + k.q[j].name +
+                             " (>= 0 with reach_min: c0 + c1 cos u + c2 sin u = 0 solvable all round) of " + tag + ", " +
+                             what,
+                         rho - (A + R), {}});
+      checks->push_back({"reach_min_" + tag,
+                         "sqrt(c1^2 + c2^2) + min c0 over a turn of " + k.q[j].name + " of " + tag + ", " + what,
+                         rho + (A - R), {}});
+    }
+  }
 }
 
 }  // namespace
@@ -278,6 +380,7 @@ DesignTable::DesignTable(const Model& m, const SymbolicTable& t, const Topology*
                             "', l = '" + f.links[order[3]] + "' as at the defaults: >= 0 where a link turns fully",
                         length[order[1]] + length[order[2]] - length[order[0]] - length[order[3]], {}});
     }
+  AddReachChecks(m, k, blocks, &checks);
   for (DesignCheck& c : checks)
     for (int d = 0; d < n_d; ++d) c.d.push_back(c.margin.diff(p[d]));
   // A cam's law function (CamLaw_<joint>) gives the lift's derivatives up to the third: a

@@ -247,8 +247,13 @@ TEST(DesignHandFormulas, FourBarGrashofMargin) {
   Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
   Eigen::Matrix<double, M::kNumDesignChecks, M::kNumDesign> dm;
   M::DesignChecks(p, &margin, &dm);
-  ASSERT_EQ(M::kNumDesignChecks, 5);
+  ASSERT_EQ(M::kNumDesignChecks, 7);
   ASSERT_STREQ(M::kDesignCheckNames[4], "grashof_loop0");
+  // The coupler-rocker dyad's reach over a crank turn: (b + c)^2 - (a + d)^2, (d - a)^2 - (b - c)^2.
+  ASSERT_STREQ(M::kDesignCheckNames[5], "reach_far_block0");
+  ASSERT_STREQ(M::kDesignCheckNames[6], "reach_near_block0");
+  EXPECT_NEAR(margin(5), (p.b + p.c) * (p.b + p.c) - (p.a + p.d) * (p.a + p.d), 1e-14);
+  EXPECT_NEAR(margin(6), (p.d - p.a) * (p.d - p.a) - (p.b - p.c) * (p.b - p.c), 1e-14);
   EXPECT_NEAR(margin(4), (p.b + p.c) - (p.a + p.d), 1e-15);
   const double expected[6] = {-1, 1, 1, -1, 0, 0};  // a, b, c, d, xi, eta
   for (int d = 0; d < 6; ++d) EXPECT_NEAR(dm(4, d), expected[d], 1e-15) << M::kDesignNames[d];
@@ -256,6 +261,34 @@ TEST(DesignHandFormulas, FourBarGrashofMargin) {
   p.b = 2.0;  // (2 + 3) - (1 + 4) = 0: a change point
   M::DesignChecks(p, &margin);
   EXPECT_NEAR(margin(4), 0.0, 1e-15);
+}
+
+// The slider-crank's reach margins (b - a + e, b - a - e: the rod reaches the slide all round
+// iff b >= a + |e|) against the generated solver: with the rod 1e-6 shorter than a + |e| some
+// crank angle of a turn (sampled every 0.25 deg and at +-90 deg, where |e - a sin(theta)| is
+// largest) is not assemblable; 1e-6 longer, every one closes.
+TEST(DesignHandFormulas, SliderCrankReachMarginIsWhereTheSolverStopsClosing) {
+  using M = mech::slider_crank::Model;
+  static_assert(M::kNumDesignChecks == 2);
+  for (const double delta : {-1e-6, 1e-6}) {
+    ParamsD<M> p;
+    p.b = p.a + std::abs(p.e) + delta;
+    Eigen::Matrix<double, 2, 1> margin;
+    M::DesignChecks(p, &margin);
+    EXPECT_NEAR(margin.minCoeff(), delta, 1e-14);
+    bool all_close = true;
+    std::vector<double> angles{M_PI / 2, -M_PI / 2};
+    for (int i = 0; i < 1440; ++i) angles.push_back(2 * M_PI * i / 1440);
+    for (const double theta : angles) {
+      Eigen::Matrix<double, M::kNphi, 1> phi(0.0, 1.0);
+      const auto report = M::Solve(p, Eigen::Matrix<double, 1, 1>(theta), &phi);
+      if (report.status != mech::slider_crank::SolveStatus::kConverged) {
+        all_close = false;
+        EXPECT_EQ(report.status, mech::slider_crank::SolveStatus::kNotAssemblable) << theta;
+      }
+    }
+    EXPECT_EQ(all_close, margin.minCoeff() >= 0) << "b = a + |e| + " << delta;
+  }
 }
 
 // Four-bar a u2 + b u3 - c u4 - d e_x = 0 (u_k = (cos theta_k, sin theta_k)). Differentiated

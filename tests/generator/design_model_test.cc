@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <fstream>
 #include <iterator>
 #include <random>
@@ -139,6 +141,130 @@ TEST(DesignTable, FourBarDphiDpIsTheHandFormula) {
       EXPECT_NEAR(value(dt.dphi_dp[0][d]), dt3, 1e-12 * std::max(1.0, std::abs(dt3))) << d;
       EXPECT_NEAR(value(dt.dphi_dp[1][d]), dt4, 1e-12 * std::max(1.0, std::abs(dt4))) << d;
     }
+  }
+}
+
+// ---- The closed-form blocks' reach as design checks ----
+
+std::string ShippedText(const std::string& name) {
+  std::ifstream in(std::string(MECHGEN_SOURCE_DIR) + "/models/" + name + ".yaml");
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The model text with parameter `name`'s default set to `value` ("  name: {value: ...").
+std::string WithDefault(const std::string& text, const std::string& name, double value) {
+  const std::string key = "\n  " + name + ":";
+  const size_t at = text.find(key);
+  EXPECT_NE(at, std::string::npos) << name;
+  const size_t v = text.find("value:", at) + 6, end = text.find_first_of(",}", v);
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, " %.17g", value);
+  return text.substr(0, v) + buffer + text.substr(end);
+}
+
+// The reach checks of a model (by name) as functions of the parameters: margin and d/dp.
+struct ReachChecks {
+  Model m;
+  std::vector<DesignCheck> checks;
+  double Value(const std::string& name, const GiNaC::exmap& at, int d = -1) const {
+    for (const DesignCheck& c : checks)
+      if (c.name == name)
+        return GiNaC::ex_to<GiNaC::numeric>((d < 0 ? c.margin : c.d[d]).subs(at).evalf()).to_double();
+    ADD_FAILURE() << "no check " << name;
+    return NAN;
+  }
+};
+
+ReachChecks ChecksOf(const std::string& text) {
+  ReachChecks r{LoadModelFromString(text, "r.yaml"), {}};
+  const Analysis a = Validate(r.m);
+  const Kinematics k = DeriveKinematics(r.m, a.topology, &a.coordinates, &a.cams);
+  const SymbolicTable t(r.m, k);
+  r.checks = DesignTable(r.m, t).checks;
+  return r;
+}
+
+// What the generator says of the model at its defaults: "" where every block closes over the
+// input's range, else its model error.
+std::string GeneratorError(const std::string& text) {
+  try {
+    const Model m = LoadModelFromString(text, "r.yaml");
+    const Analysis a = Validate(m);
+    const Kinematics k = DeriveKinematics(m, a.topology, &a.coordinates, &a.cams);
+    const SymbolicTable t(m, k);
+  } catch (const ModelError& e) {
+    return e.message();
+  }
+  return "";
+}
+
+GiNaC::exmap At(const Model& m, const std::map<std::string, double>& values) {
+  GiNaC::exmap at = m.Defaults();
+  for (const Parameter& p : m.params)
+    if (values.count(p.name)) at[p.symbol] = values.at(p.name);
+  return at;
+}
+
+// The offset slider-crank (crank a, rod b, offset e; its rod's block is one angle): the rod
+// reaches the slide all round iff b >= a + |e|, by hand: margins b - a + e and b - a - e, their
+// derivatives (-1, 1, +-1). The generator's own check over the crank's range (sampled, then
+// bisected: independent of the margins) fires exactly where a margin is negative.
+TEST(DesignChecks, SliderCrankReachIsTheHandFormulaAndTheGeneratorsRangeCheck) {
+  const std::string text = ShippedText("slider_crank");
+  const ReachChecks r = ChecksOf(text);
+  ASSERT_EQ(r.checks.size(), 2u);
+  EXPECT_EQ(r.checks[0].name, "reach_max_block0");
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> u(0.2, 3.0), s(-1.0, 1.0);
+  for (int trial = 0; trial < 5; ++trial) {
+    const double a = u(gen), b = u(gen), e = s(gen);
+    const GiNaC::exmap at = At(r.m, {{"a", a}, {"b", b}, {"e", e}});
+    EXPECT_NEAR(r.Value("reach_max_block0", at) + r.Value("reach_min_block0", at), 2 * (b - a), 1e-14);
+    EXPECT_NEAR(std::min(r.Value("reach_max_block0", at), r.Value("reach_min_block0", at)), b - a - std::abs(e), 1e-14);
+    for (const char* name : {"reach_max_block0", "reach_min_block0"}) {
+      EXPECT_NEAR(r.Value(name, at, 0), -1, 1e-15);  // d/da
+      EXPECT_NEAR(r.Value(name, at, 1), 1, 1e-15);   // d/db
+    }
+    EXPECT_NEAR(std::abs(r.Value("reach_max_block0", at, 2)), 1, 1e-15);  // d/de
+    EXPECT_NEAR(r.Value("reach_max_block0", at, 2), -r.Value("reach_min_block0", at, 2), 1e-15);
+  }
+  // b = a + |e| -+ 1e-3 at a = 1, e = 0.4.
+  for (const double b : {1.4 - 1e-3, 1.4 + 1e-3}) {
+    const std::string error = GeneratorError(WithDefault(text, "b", b));
+    const double margin = std::min(r.Value("reach_max_block0", At(r.m, {{"b", b}})),
+                                   r.Value("reach_min_block0", At(r.m, {{"b", b}})));
+    EXPECT_EQ(margin < 0, !error.empty()) << "b = " << b << ": margin " << margin << ", " << error;
+    if (!error.empty()) EXPECT_NE(error.find("stops closing"), std::string::npos) << error;
+  }
+}
+
+// The four-bar's coupler and rocker (an RRR dyad hanging from D and from the crank's B, |DB|
+// from d - a to d + a): margins (b + c)^2 - (a + d)^2 and (d - a)^2 - (b - c)^2 by hand; the
+// generator's range check fires exactly where one is negative (d moved across each zero).
+TEST(DesignChecks, FourBarReachIsTheHandFormulaAndTheGeneratorsRangeCheck) {
+  const std::string text = ShippedText("fourbar");
+  const ReachChecks r = ChecksOf(text);
+  std::mt19937 gen(6);
+  std::uniform_real_distribution<double> u(0.5, 4.0);
+  for (int trial = 0; trial < 5; ++trial) {
+    const double a = u(gen), b = u(gen), c = u(gen), d = u(gen);
+    const GiNaC::exmap at = At(r.m, {{"a", a}, {"b", b}, {"c", c}, {"d", d}});
+    const double far = (b + c) * (b + c) - (a + d) * (a + d), near = (d - a) * (d - a) - (b - c) * (b - c);
+    EXPECT_NEAR(r.Value("reach_far_block0", at), far, 1e-12 * std::max(1.0, std::abs(far)));
+    EXPECT_NEAR(r.Value("reach_near_block0", at), near, 1e-12 * std::max(1.0, std::abs(near)));
+    const double dfar[4] = {-2 * (a + d), 2 * (b + c), 2 * (b + c), -2 * (a + d)};
+    const double dnear[4] = {-2 * (d - a), -2 * (b - c), 2 * (b - c), 2 * (d - a)};
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_NEAR(r.Value("reach_far_block0", at, k), dfar[k], 1e-12 * std::max(1.0, std::abs(dfar[k])));
+      EXPECT_NEAR(r.Value("reach_near_block0", at, k), dnear[k], 1e-12 * std::max(1.0, std::abs(dnear[k])));
+    }
+  }
+  // a = 1, b = 3.5, c = 3: far is 0 at d = 5.5, near at d = 1.5.
+  for (const double d : {5.5 - 1e-3, 5.5 + 1e-3, 1.5 - 1e-3, 1.5 + 1e-3}) {
+    const std::string error = GeneratorError(WithDefault(text, "d", d));
+    const GiNaC::exmap at = At(r.m, {{"d", d}});
+    const double margin = std::min(r.Value("reach_far_block0", at), r.Value("reach_near_block0", at));
+    EXPECT_EQ(margin < 0, !error.empty()) << "d = " << d << ": margin " << margin << ", " << error;
   }
 }
 
