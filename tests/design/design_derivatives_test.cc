@@ -31,6 +31,8 @@
 #include "design_stephenson.h"
 #include "fourbar.h"
 #include "kinematics_test_util.h"
+#include "mechgen/position/design.h"
+#include "mechgen/position/solver.h"
 #include "slider_crank.h"
 #include "watt_sixbar.h"
 
@@ -289,6 +291,69 @@ TEST(DesignHandFormulas, SliderCrankReachMarginIsWhereTheSolverStopsClosing) {
     }
     EXPECT_EQ(all_close, margin.minCoeff() >= 0) << "b = a + |e| + " << delta;
   }
+}
+
+// ---- Near a singular configuration ----
+
+// The four-bar with its ground lengthened to d = 5.6 (its reach_far margin (b + c)^2 -
+// (a + d)^2 < 0: the crank cannot turn fully) stops at a toggle, coupler and rocker aligned
+// (|DB| = b + c), near theta = acos((a^2 + d^2 - (b + c)^2) / (2 a d)) = 152.0 deg. The crank
+// moved toward it by the runtime's PositionSolver in steps of 0.25 deg: the design derivatives
+// take the values' status. At every converged state they are finite, agree with Jets of EvalPhi
+// to 1e-12 cond_1(Phi_phi) and obey |dphi/dp_d| <= |dPhi/dp_d| / sigma_min(Phi_phi) (|dPhi/dp_d|
+// = 1 for a, b, c, d: a unit vector), growing like 1/sigma_min as the toggle nears; where the
+// solver refuses (kSingular next to the toggle) the state is not valid and position::EvalDesign
+// gives NaN, never a huge number.
+TEST(DesignNearToggle, DerivativesTakeTheValuesStatus) {
+  using M = mech::fourbar::Model;
+  ParamsD<M> p;
+  p.d = 5.6;
+  Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
+  M::DesignChecks(p, &margin);
+  ASSERT_LT(margin(5), 0);  // reach_far_block0
+  const double toggle = std::acos((p.a * p.a + p.d * p.d - (p.b + p.c) * (p.b + p.c)) / (2 * p.a * p.d));
+  mechgen::position::PositionSolver<M> solver(mechgen::position::Options(), p);
+  Eigen::Matrix<double, 1, 1> q(M_PI / 2);
+  // At 90 deg: B = (0, 1), the coupler and rocker meet above the line DB.
+  ASSERT_EQ(solver.Assemble(q, Eigen::Vector2d(0.3, 1.6), 0, nullptr), mechgen::position::Status::kConverged);
+  int converged = 0;
+  bool refused = false;
+  double largest = 0, closest = 1;
+  for (int step = 1; step < 400 && !refused; ++step) {
+    q(0) = M_PI / 2 + step * (M_PI / 720);
+    const auto status = solver.MoveTo(q, nullptr);
+    const auto& s = solver.state();
+    mechgen::position::DesignOf<M> g;
+    if (status != mechgen::position::Status::kConverged) {
+      EXPECT_EQ(status, mechgen::position::Status::kSingular) << q(0);
+      EXPECT_LT(std::abs(q(0) - toggle), 0.02) << "refused away from the toggle";
+      mechgen::position::State<M> failed = s;
+      failed.valid = false;  // the row a sweep records for a refused step
+      mechgen::position::EvalDesign<M>(p, failed, &g);
+      EXPECT_TRUE(g.dphi_dp.array().isNaN().all());
+      EXPECT_TRUE(g.dK_dp.array().isNaN().all());
+      refused = true;
+      break;
+    }
+    ++converged;
+    ASSERT_TRUE(s.valid);
+    mechgen::position::EvalDesign<M>(p, s, &g);
+    ASSERT_TRUE(g.dphi_dp.allFinite());
+    const Eigen::Matrix<double, M::kNphi, M::kNumDesign> jet = designtest::JetDphiDp<M>(p, s.q, s.phi);
+    for (int d = 0; d < 4; ++d) {
+      EXPECT_LE(g.dphi_dp.col(d).norm(), (1 + 1e-9) / s.sigma_min) << M::kDesignNames[d] << " at " << q(0);
+      largest = std::max(largest, g.dphi_dp.col(d).norm());
+      for (int i = 0; i < M::kNphi; ++i)
+        EXPECT_NEAR(g.dphi_dp(i, d), jet(i, d), 1e-12 * s.condition * Rel(jet(i, d))) << q(0);
+    }
+    closest = std::min(closest, s.sigma_min / s.sigma_max);
+  }
+  EXPECT_TRUE(refused) << "the crank passed theta = " << toggle;
+  EXPECT_GT(converged, 200);
+  EXPECT_LT(closest, 1e-2);  // it came close to the toggle
+  EXPECT_GT(largest, 30.0);  // and the derivatives grew like 1/sigma_min
+  RecordProperty("closest_sigma_ratio", mechtest::Sci(closest));
+  RecordProperty("largest_dphi_dp", mechtest::Sci(largest));
 }
 
 // Four-bar a u2 + b u3 - c u4 - d e_x = 0 (u_k = (cos theta_k, sin theta_k)). Differentiated
