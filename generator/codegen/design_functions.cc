@@ -69,12 +69,13 @@ FunctionSpec EvalDesignChecksSpec(const DesignTable& dt) {
   f.args.push_back(Arg("Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>>", "dmargin_dp", Dir::kOut,
                        "d margin(i) / dp_d", "kNumDesignChecks x kNumDesign", true, "nullptr"));
   for (const DesignCheck& c : dt.checks) f.design_checks.push_back(c.name);
-  Program P;
+  Program P = dt.checks_program;
   for (size_t i = 0; i < dt.checks.size(); ++i) {
     P.push_back(Store("(*margin)(" + N(static_cast<int>(i)) + ")", dt.checks[i].margin));
     for (int d = 0; d < dt.nd(); ++d)
       P.push_back(Store("(*dmargin_dp)" + Idx(static_cast<int>(i), d), dt.checks[i].d[d], "dmargin_dp"));
   }
+  PruneUnusedDefines(&P);  // a cam's geometry locals the margin does not read
   f.body = {P};
   return f;
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 
@@ -151,6 +152,151 @@ void AddReachChecks(const Model& m, const Kinematics& k, const std::vector<Block
                          "sqrt(c1^2 + c2^2) + min c0 over a turn of " + k.q[j].name + " of " + tag + ", " + what,
                          rho + (A - R), {}});
     }
+  }
+}
+
+// A cam's radius of curvature (rho_pitch of a roller's pitch curve where it is convex, less
+// the roller; rho_profile of a flat face's profile) at cam angle x, at the parameters'
+// defaults: the geometry's locals substituted, the law's values from EvalCamLaw.
+double CamCurvatureAt(const Model& m, const CamLaw& law, const CamGeometry& g, const ex& rho, double x) {
+  GiNaC::exmap at = m.Defaults();
+  at[g.x] = x;
+  struct LawValues : GiNaC::map_function {
+    const Model& m;
+    const CamLaw& law;
+    LawValues(const Model& model, const CamLaw& l) : m(model), law(l) {}
+    ex operator()(const ex& e) override {
+      const ex mapped = e.map(*this);
+      if (GiNaC::is_a<GiNaC::function>(mapped) &&
+          GiNaC::ex_to<GiNaC::function>(mapped).get_serial() == camlaw_SERIAL::serial) {
+        const ex arg = mapped.op(2).evalf();
+        if (GiNaC::is_a<GiNaC::numeric>(arg) && GiNaC::is_a<GiNaC::numeric>(mapped.op(1)))
+          return EvalCamLaw(m, law, GiNaC::ex_to<GiNaC::numeric>(arg).to_double(),
+                            GiNaC::ex_to<GiNaC::numeric>(mapped.op(1)).to_int());
+      }
+      return mapped;
+    }
+  } values(m, law);
+  const ex v = values(rho.subs(at)).evalf();
+  return GiNaC::is_a<GiNaC::numeric>(v) ? GiNaC::ex_to<GiNaC::numeric>(v).to_double() : NAN;
+}
+
+// A cam's curvature margin (undercut), as the generator checks it at the defaults
+// (joints/cam_profile.h, CheckCam): a roller follower's pitch curve, where convex, must curve
+// no tighter than the roller (rho_pitch - r_roller >= 0); a flat face's profile must have a
+// positive radius of curvature. The minimum over the cam angle has no closed form (the law's
+// segments are cycloidal, harmonic, polynomial): the margin is the radius of curvature at the
+// law angle u* where it is smallest at the defaults (sampled as CheckCam does, then refined by
+// golden sections), a function of the parameters with u* held — its value there is the
+// minimum at the defaults and its derivative the minimum's (the envelope theorem: at an
+// interior minimum x* moves only to second order; at a segment joint, fixed in the law's
+// angle, x* does not move), and elsewhere an upper bound of the minimum, exact to second
+// order in the change of the parameters (valid while the minimum stays at that place of the
+// law, like Grashof's margin with the defaults' order). The law angle u* = x* - phase, and the
+// cam's rotation x is set to 0 elsewhere (a radius of curvature does not depend on it), so the
+// margin does not depend on the phase (turning the law turns the cam, not its shape). A
+// knife-edge has no check.
+void AddCamChecks(const Model& m, const Kinematics& k, const std::vector<GiNaC::symbol>& p,
+                  std::vector<DesignCheck>* checks, Program* program) {
+  const int nd = static_cast<int>(p.size());
+  for (size_t c = 0; c < k.cam_laws.size() && c < k.cam_geometry.size(); ++c) {
+    const CamLaw& law = k.cam_laws[c];
+    const CamGeometry& g = k.cam_geometry[c];
+    const Joint& j = m.joints[law.joint];
+    const CamData& cd = j.Data<CamData>();
+    const GiNaC::exmap defaults = m.Defaults();
+    const ex rr_ex = cd.roller.subs(defaults).evalf();
+    const double rr = GiNaC::is_a<GiNaC::numeric>(rr_ex) ? GiNaC::ex_to<GiNaC::numeric>(rr_ex).to_double() : 0;
+    if (!cd.flat_face && !(rr > 0)) continue;
+    GiNaC::exmap locals;
+    for (const Statement& s : g.program)
+      if (s.kind == Statement::Kind::kDefine) locals[s.symbol] = s.value.subs(locals);
+    const ex rho_direct = (cd.flat_face ? g.rho_profile : g.rho_pitch);
+    const ex rho = rho_direct.subs(locals);
+    auto f = [&](double x) {
+      const double r = CamCurvatureAt(m, law, g, rho, x);
+      return cd.flat_face || r > 0 ? r : INFINITY;  // a roller: where the pitch curve is convex
+    };
+    const int n = 720;
+    double best = INFINITY, x_best = 0;
+    for (int i = 0; i < n; ++i) {
+      const double x = 2 * M_PI * (i + 0.5) / n, v = f(x);
+      if (v < best - 1e-9) best = v, x_best = x;
+    }
+    if (!std::isfinite(best)) continue;
+    double lo = x_best - 2 * M_PI / n, hi = x_best + 2 * M_PI / n;
+    const double r = (std::sqrt(5.0) - 1) / 2;
+    double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo), f1 = f(x1), f2 = f(x2);
+    for (int it = 0; it < 60; ++it)
+      if (f1 < f2) {
+        hi = x2, x2 = x1, f2 = f1, x1 = hi - r * (hi - lo), f1 = f(x1);
+      } else {
+        lo = x1, x1 = x2, f1 = f2, x2 = lo + r * (hi - lo), f2 = f(x2);
+      }
+    double x_star = (lo + hi) / 2;
+    if (!(f(x_star) <= best)) x_star = x_best;
+    const ex phase = cd.phase.subs(defaults).evalf();
+    const double u_star = x_star - (GiNaC::is_a<GiNaC::numeric>(phase) ? GiNaC::ex_to<GiNaC::numeric>(phase).to_double() : 0);
+    // Rounded to 1e-9 rad: the header's text must not depend on the last bits of the search.
+    const ex u = GiNaC::numeric(static_cast<long>(std::llround(u_star * 1e9)), 1000000000L);
+    // The geometry's locals as locals of EvalDesignChecks (substituted into one expression,
+    // the emitted text came out different from run to run), at the law angle u* and with the
+    // cam's own rotation x at 0 (a radius of curvature does not depend on it: no phase is
+    // left), each followed by its derivatives (forward mode over the locals, in their order).
+    const GiNaC::symbol U("U");
+    auto at_u = [&](const ex& e) {
+      return e.subs(camlaw(cd.index, GiNaC::wild(0), g.x - cd.phase) == camlaw(cd.index, GiNaC::wild(0), U))
+          .subs(g.x == 0)
+          .subs(U == u);
+    };
+    bool law_at_u = true;
+    auto check_law = [&](const ex& e) {
+      for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+        if (GiNaC::is_a<GiNaC::function>(*it) && GiNaC::ex_to<GiNaC::function>(*it).get_serial() == camlaw_SERIAL::serial)
+          law_at_u &= it->op(2).is_equal(u);
+    };
+    const std::string tag = "cam_" + j.name + "_";
+    Program local;
+    std::vector<ex> order;                       // the locals, in order
+    std::map<ex, std::vector<ex>, GiNaC::ex_is_less> dlocal;  // their derivatives (named)
+    GiNaC::exmap renamed;
+    auto total = [&](const ex& v) {
+      std::vector<ex> D(nd);
+      for (int d = 0; d < nd; ++d) D[d] = v.diff(p[d]);
+      for (const ex& x : order) {
+        if (!v.has(x)) continue;
+        const ex gx = v.diff(GiNaC::ex_to<GiNaC::symbol>(x));
+        for (int d = 0; d < nd; ++d)
+          if (!dlocal[x][d].is_zero()) D[d] += gx * dlocal[x][d];
+      }
+      return D;
+    };
+    for (const Statement& st : g.program) {
+      if (st.kind != Statement::Kind::kDefine) continue;
+      const ex value = at_u(st.value).subs(renamed);
+      check_law(value);
+      ex named;
+      local.push_back(Define(tag + st.target, value, &named));
+      renamed[st.symbol] = named;
+      const std::vector<ex> D = total(value);
+      order.push_back(named);
+      std::vector<ex> dn(nd, 0);
+      for (int d = 0; d < nd; ++d)
+        if (!D[d].is_zero()) local.push_back(Define("d_" + tag + st.target + "_" + N(d), D[d], &dn[d]));
+      dlocal[named] = dn;
+    }
+    const ex margin = at_u(rho_direct).subs(renamed) - (cd.flat_face ? ex(0) : cd.roller);
+    check_law(margin);
+    if (!law_at_u) continue;
+    program->insert(program->end(), local.begin(), local.end());
+    const std::vector<ex> dmargin = total(margin);
+    char at[32];
+    std::snprintf(at, sizeof at, "%.6f", u_star);
+    checks->push_back(
+        {"curvature_" + j.name,
+         std::string(cd.flat_face ? "the profile's radius of curvature" : "the pitch curve's radius of curvature less the roller") +
+             " of cam '" + j.name + "' at law angle " + at + " rad, where it is smallest at the defaults (>= 0: no undercut)",
+         margin, dmargin});
   }
 }
 
@@ -381,8 +527,10 @@ DesignTable::DesignTable(const Model& m, const SymbolicTable& t, const Topology*
                         length[order[1]] + length[order[2]] - length[order[0]] - length[order[3]], {}});
     }
   AddReachChecks(m, k, blocks, &checks);
+  AddCamChecks(m, k, p, &checks, &checks_program);
   for (DesignCheck& c : checks)
-    for (int d = 0; d < n_d; ++d) c.d.push_back(c.margin.diff(p[d]));
+    if (c.d.empty())  // (a cam's margin comes with its derivatives, through its locals)
+      for (int d = 0; d < n_d; ++d) c.d.push_back(c.margin.diff(p[d]));
   // A cam's law function (CamLaw_<joint>) gives the lift's derivatives up to the third: a
   // design derivative that needs a higher one cannot be generated (none does where the cam
   // angle is an input or a dependent angle: K reads the first, L the second, dL/dp the third).

@@ -54,6 +54,8 @@ struct DesignTable {
   /// for a Grashof loop (a link turns fully), with s, l, p, q taken as the parameters' defaults
   /// order them (valid while that order holds).
   std::vector<DesignCheck> checks;
+  /// Locals the checks' margins read (a cam's law values at a fixed angle), before them.
+  Program checks_program;
 
   int nd() const { return static_cast<int>(p.size()); }
   bool has_K = false, has_L = false;

@@ -17,6 +17,7 @@
 #include "analysis/kinematics.h"
 #include "analysis/validate.h"
 #include "codegen/functions.h"
+#include "joints/cam_profile.h"
 #include "model/model.h"
 #include "symbolic/design.h"
 #include "symbolic/table.h"
@@ -154,7 +155,7 @@ std::string ShippedText(const std::string& name) {
 // The model text with parameter `name`'s default set to `value` ("  name: {value: ...").
 std::string WithDefault(const std::string& text, const std::string& name, double value) {
   const std::string key = "\n  " + name + ":";
-  const size_t at = text.find(key);
+  const size_t at = text.find(key, text.find("\nparameters:"));
   EXPECT_NE(at, std::string::npos) << name;
   const size_t v = text.find("value:", at) + 6, end = text.find_first_of(",}", v);
   char buffer[64];
@@ -266,6 +267,85 @@ TEST(DesignChecks, FourBarReachIsTheHandFormulaAndTheGeneratorsRangeCheck) {
     const double margin = std::min(r.Value("reach_far_block0", at), r.Value("reach_near_block0", at));
     EXPECT_EQ(margin < 0, !error.empty()) << "d = " << d << ": margin " << margin << ", " << error;
   }
+}
+
+// ---- A cam's curvature margin ----
+
+// cam_roller (design: all = e, rb, rr, phase): its margin curvature_contact, the pitch curve's
+// radius of curvature less the roller where it is smallest at the defaults, evaluated here with
+// the law's values (EvalCamLaw) at other parameters. Oracles: the generator's own sampled
+// minimum at the defaults and with the base circle moved (the cam's summary line, CheckCam),
+// central differences of the margin; the phase does not move it.
+TEST(DesignChecks, CamCurvatureMarginIsTheGeneratorsSampledMinimum) {
+  const std::string text = ShippedText("cam_roller") + "\ndesign: all\n";
+  const Model m = LoadModelFromString(text, "c.yaml");
+  const Analysis a = Validate(m);
+  const Kinematics k = DeriveKinematics(m, a.topology, &a.coordinates, &a.cams);
+  const SymbolicTable t(m, k);
+  const DesignTable dt(m, t);
+  ASSERT_EQ(dt.checks.size(), 1u);
+  ASSERT_EQ(dt.checks[0].name, "curvature_contact");
+  const CamLaw& law = k.cam_laws.at(0);
+  struct LawValues : GiNaC::map_function {
+    const Model& m;
+    const CamLaw& law;
+    LawValues(const Model& model, const CamLaw& l) : m(model), law(l) {}
+    GiNaC::ex operator()(const GiNaC::ex& e) override {
+      const GiNaC::ex mapped = e.map(*this);
+      if (GiNaC::is_a<GiNaC::function>(mapped) && GiNaC::ex_to<GiNaC::function>(mapped).get_name() == "camlaw")
+        return EvalCamLaw(m, law, GiNaC::ex_to<GiNaC::numeric>(mapped.op(2).evalf()).to_double(),
+                          GiNaC::ex_to<GiNaC::numeric>(mapped.op(1)).to_int());
+      return mapped;
+    }
+  } values(m, law);
+  // The checks' locals (the cam's geometry at the law angle) substituted in order.
+  GiNaC::exmap locals;
+  for (const Statement& st : dt.checks_program)
+    if (st.kind == Statement::Kind::kDefine) locals[st.symbol] = st.value.subs(locals);
+  auto margin = [&](const std::map<std::string, double>& set, int d = -1) {
+    GiNaC::exmap at = m.Defaults();
+    for (const Parameter& p : m.params)
+      if (set.count(p.name)) at[p.symbol] = set.at(p.name);
+    const GiNaC::ex e = (d < 0 ? dt.checks[0].margin : dt.checks[0].d[d]).subs(locals).subs(at);
+    return GiNaC::ex_to<GiNaC::numeric>(values(e).evalf()).to_double();
+  };
+  // The summary's "min radius of curvature of the pitch curve where convex X at ..." (sampled
+  // every 0.5 deg: at most ~1e-4 above the refined minimum).
+  const std::string& summary = k.cam_summary.at(0);
+  const size_t at = summary.find("where convex ");
+  ASSERT_NE(at, std::string::npos) << summary;
+  const double sampled = std::stod(summary.substr(at + 13));
+  const double m0 = margin({});
+  EXPECT_LE(m0, sampled - 0.25 + 1e-12);
+  EXPECT_GT(m0, sampled - 0.25 - 1e-4);
+  EXPECT_GT(m0, 0);
+  // The derivatives against central differences of the margin (e, rb, rr, phase; phase 0:
+  // turning the law turns the cam, not its shape).
+  const char* names[4] = {"e", "rb", "rr", "phase"};
+  const double defaults[4] = {0.3, 1.0, 0.25, 0.1};
+  for (int d = 0; d < 4; ++d) {
+    const double h = 1e-6;
+    const double diff = (margin({{names[d], defaults[d] + h}}) - margin({{names[d], defaults[d] - h}})) / (2 * h);
+    EXPECT_NEAR(margin({}, d), diff, 1e-7) << names[d];
+  }
+  EXPECT_EQ(margin({}, 3), 0.0);
+  // The zero in the base circle rb (smaller: tighter), bracketed and bisected.
+  // Away from the defaults the margin holds the law angle u*: against the generator's own
+  // sampled minimum of the model with the base circle moved (an upper bound of the minimum,
+  // exact to second order in the change).
+  for (const double rb : {0.9, 1.1}) {
+    const Model moved = LoadModelFromString(WithDefault(text, "rb", rb), "c.yaml");
+    const Analysis b = Validate(moved);
+    const Kinematics km = DeriveKinematics(moved, b.topology, &b.coordinates, &b.cams);
+    const std::string& line = km.cam_summary.at(0);
+    const double sampled_there = std::stod(line.substr(line.find("where convex ") + 13));
+    EXPECT_NEAR(margin({{"rb", rb}}), sampled_there - 0.25, 1e-3) << "rb = " << rb;
+  }
+  // With only these parameters the margin does not reach 0 (rb + rr > e bounds rb below; the
+  // pitch curve grows with the roller): at the smallest base circle it is still positive, as
+  // the generator, which accepts that cam.
+  EXPECT_GT(margin({{"rb", 0.06}}), 0);
+  EXPECT_EQ(GeneratorError(WithDefault(text, "rb", 0.06)), "");
 }
 
 TEST(DesignTable, NoDesignSectionNoFunction) {
