@@ -27,7 +27,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 185 (adds 54, muls 122, divs 2, calls 7); EvalStiffness 4686 (adds 982, muls 3693, divs 3, calls 8); EvalDesignDerivatives 500 (adds 153, muls 338, divs 2, calls 7); EvalDesignChecks 23 (adds 3, muls 8, divs 4, calls 8); EvalStaticsDesign 657 (adds 206, muls 438, divs 5, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalAppliedLoads 123 (adds 35, muls 81, divs 1, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 185 (adds 54, muls 122, divs 2, calls 7); EvalStiffness 4686 (adds 982, muls 3693, divs 3, calls 8); EvalDesignDerivatives 500 (adds 153, muls 338, divs 2, calls 7); EvalDesignChecks 71 (adds 21, muls 35, divs 5, calls 10); EvalStaticsDesign 657 (adds 206, muls 438, divs 5, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalAppliedLoads 123 (adds 35, muls 81, divs 1, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -56,7 +56,7 @@ struct Sizes {
   static constexpr int kNumReactions = 8;  ///< reaction components (kReactionNames)
   static constexpr int kNumFriction = 0;   ///< joints with Coulomb friction (kFrictionJoints)
   static constexpr int kNumDesign = 8;  ///< design parameters (kDesignNames)
-  static constexpr int kNumDesignChecks = 5;  ///< design checks (kDesignCheckNames, EvalDesignChecks)
+  static constexpr int kNumDesignChecks = 7;  ///< design checks (kDesignCheckNames, EvalDesignChecks)
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -1307,6 +1307,8 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
  *   margin(2) length_coupler_loop0: the length of link 'coupler' between its joints in four-bar loop0 (> 0)
  *   margin(3) length_crank_loop0: the length of link 'crank' between its joints in four-bar loop0 (> 0)
  *   margin(4) grashof_loop0: Grashof's margin (p + q) - (s + l) of four-bar loop0, s = 'crank', l = 'ground' as at the defaults: >= 0 where a link turns fully
+ *   margin(5) reach_far_block0: (|a| + |b|)^2 - max |w0|^2 over a turn of theta_crank (>= 0: the dyad's links reach its farthest pivot distance) of block0, rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
+ *   margin(6) reach_near_block0: min |w0|^2 - (|a| - |b|)^2 over a turn of theta_crank (>= 0: the dyad closes at its nearest pivot distance) of block0, rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
  * \param[in]  p           Parameters.
  * \param[out] margin      the margins; not nullptr (dim kNumDesignChecks).
  * \param[out] dmargin_dp  d margin(i) / dp_d (kNumDesignChecks x kNumDesign). May be nullptr.
@@ -1315,25 +1317,34 @@ template <typename Scalar>
 void EvalDesignChecks(const Params<Scalar>& p,
                       Vec<Scalar, Sizes::kNumDesignChecks>* margin,
                       Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>> dmargin_dp = nullptr) {
-  // Total ops: 23 (adds 3, muls 8, divs 4, calls 8); intermediate terms: 12
+  // Total ops: 71 (adds 21, muls 35, divs 5, calls 10); intermediate terms: 19
   using std::sqrt;
   const Scalar _tmp0 = p.d*p.d;
   const Scalar _tmp1 = sqrt(_tmp0);
   const Scalar _tmp2 = (Scalar(1)/sqrt(_tmp0))*p.d;
   const Scalar _tmp3 = p.c*p.c;
   const Scalar _tmp4 = sqrt(_tmp3);
-  const Scalar _tmp5 = (Scalar(1)/sqrt(_tmp3))*p.c;
+  const Scalar _tmp5 = Scalar(1)/sqrt(_tmp3);
   const Scalar _tmp6 = p.b*p.b;
   const Scalar _tmp7 = sqrt(_tmp6);
-  const Scalar _tmp8 = (Scalar(1)/sqrt(_tmp6))*p.b;
+  const Scalar _tmp8 = Scalar(1)/sqrt(_tmp6);
   const Scalar _tmp9 = p.a*p.a;
   const Scalar _tmp10 = sqrt(_tmp9);
   const Scalar _tmp11 = (Scalar(1)/sqrt(_tmp9))*p.a;
+  const Scalar _tmp12 = -Scalar(2)*(sqrt(_tmp0*_tmp9));
+  const Scalar _tmp13 = Scalar(2)*_tmp4*_tmp7;
+  const Scalar _tmp14 = Scalar(1)/sqrt(_tmp0*_tmp9);
+  const Scalar _tmp15 = -Scalar(2)*_tmp0*_tmp14*p.a;
+  const Scalar _tmp16 = Scalar(2)*_tmp4*_tmp8*p.b;
+  const Scalar _tmp17 = Scalar(2)*_tmp5*_tmp7*p.c;
+  const Scalar _tmp18 = -Scalar(2)*_tmp14*_tmp9*p.d;
   (*margin)(0) = _tmp1;
   (*margin)(1) = _tmp4;
   (*margin)(2) = _tmp7;
   (*margin)(3) = _tmp10;
   (*margin)(4) = -_tmp1 - _tmp10 + _tmp4 + _tmp7;
+  (*margin)(5) = -_tmp0 + _tmp12 + _tmp13 + _tmp3 + _tmp6 - _tmp9;
+  (*margin)(6) = _tmp0 + _tmp12 + _tmp13 - _tmp3 - _tmp6 + _tmp9;
   if (dmargin_dp != nullptr) {
     (*dmargin_dp)(0, 0) = Scalar(0);
     (*dmargin_dp)(0, 1) = Scalar(0);
@@ -1345,14 +1356,14 @@ void EvalDesignChecks(const Params<Scalar>& p,
     (*dmargin_dp)(0, 7) = Scalar(0);
     (*dmargin_dp)(1, 0) = Scalar(0);
     (*dmargin_dp)(1, 1) = Scalar(0);
-    (*dmargin_dp)(1, 2) = _tmp5;
+    (*dmargin_dp)(1, 2) = _tmp5*p.c;
     (*dmargin_dp)(1, 3) = Scalar(0);
     (*dmargin_dp)(1, 4) = Scalar(0);
     (*dmargin_dp)(1, 5) = Scalar(0);
     (*dmargin_dp)(1, 6) = Scalar(0);
     (*dmargin_dp)(1, 7) = Scalar(0);
     (*dmargin_dp)(2, 0) = Scalar(0);
-    (*dmargin_dp)(2, 1) = _tmp8;
+    (*dmargin_dp)(2, 1) = _tmp8*p.b;
     (*dmargin_dp)(2, 2) = Scalar(0);
     (*dmargin_dp)(2, 3) = Scalar(0);
     (*dmargin_dp)(2, 4) = Scalar(0);
@@ -1368,13 +1379,29 @@ void EvalDesignChecks(const Params<Scalar>& p,
     (*dmargin_dp)(3, 6) = Scalar(0);
     (*dmargin_dp)(3, 7) = Scalar(0);
     (*dmargin_dp)(4, 0) = -_tmp11;
-    (*dmargin_dp)(4, 1) = _tmp8;
-    (*dmargin_dp)(4, 2) = _tmp5;
+    (*dmargin_dp)(4, 1) = _tmp8*p.b;
+    (*dmargin_dp)(4, 2) = _tmp5*p.c;
     (*dmargin_dp)(4, 3) = -_tmp2;
     (*dmargin_dp)(4, 4) = Scalar(0);
     (*dmargin_dp)(4, 5) = Scalar(0);
     (*dmargin_dp)(4, 6) = Scalar(0);
     (*dmargin_dp)(4, 7) = Scalar(0);
+    (*dmargin_dp)(5, 0) = -Scalar(2)*p.a + _tmp15;
+    (*dmargin_dp)(5, 1) = Scalar(2)*p.b + _tmp16;
+    (*dmargin_dp)(5, 2) = Scalar(2)*p.c + _tmp17;
+    (*dmargin_dp)(5, 3) = -Scalar(2)*p.d + _tmp18;
+    (*dmargin_dp)(5, 4) = Scalar(0);
+    (*dmargin_dp)(5, 5) = Scalar(0);
+    (*dmargin_dp)(5, 6) = Scalar(0);
+    (*dmargin_dp)(5, 7) = Scalar(0);
+    (*dmargin_dp)(6, 0) = Scalar(2)*p.a + _tmp15;
+    (*dmargin_dp)(6, 1) = -Scalar(2)*p.b + _tmp16;
+    (*dmargin_dp)(6, 2) = -Scalar(2)*p.c + _tmp17;
+    (*dmargin_dp)(6, 3) = Scalar(2)*p.d + _tmp18;
+    (*dmargin_dp)(6, 4) = Scalar(0);
+    (*dmargin_dp)(6, 5) = Scalar(0);
+    (*dmargin_dp)(6, 6) = Scalar(0);
+    (*dmargin_dp)(6, 7) = Scalar(0);
   }
 }
 
@@ -2335,7 +2362,7 @@ struct Model : Sizes {
   /// these Params members, in this order.
   static constexpr std::array<const char*, kNumDesign> kDesignNames{ "a", "b", "c", "d", "xi", "eta", "k", "F0" };
   /// The design checks' margins (EvalDesignChecks), in order.
-  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{ "length_ground_loop0", "length_rocker_loop0", "length_coupler_loop0", "length_crank_loop0", "grashof_loop0" };
+  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{ "length_ground_loop0", "length_rocker_loop0", "length_coupler_loop0", "length_crank_loop0", "grashof_loop0", "reach_far_block0", "reach_near_block0" };
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

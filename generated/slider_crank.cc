@@ -24,6 +24,9 @@ template void EvalDesignDerivatives<double>(const Params<double>&,
                                             const Vec<double, Sizes::kNq>&,
                                             const Vec<double, Sizes::kNphi>&,
                                             DesignDerivatives<double>*);
+template void EvalDesignChecks<double>(const Params<double>&,
+                                       Vec<double, Sizes::kNumDesignChecks>*,
+                                       Out<Mat<double, Sizes::kNumDesignChecks, Sizes::kNumDesign>>);
 template void EvalDetPhiPhi<double>(const Params<double>&,
                                     const Vec<double, Sizes::kNq>&,
                                     const Vec<double, Sizes::kNphi>&,
@@ -54,6 +57,9 @@ template void EvalDesignDerivatives<float>(const Params<float>&,
                                            const Vec<float, Sizes::kNq>&,
                                            const Vec<float, Sizes::kNphi>&,
                                            DesignDerivatives<float>*);
+template void EvalDesignChecks<float>(const Params<float>&,
+                                      Vec<float, Sizes::kNumDesignChecks>*,
+                                      Out<Mat<float, Sizes::kNumDesignChecks, Sizes::kNumDesign>>);
 template void EvalDetPhiPhi<float>(const Params<float>&,
                                    const Vec<float, Sizes::kNq>&,
                                    const Vec<float, Sizes::kNphi>&,

@@ -28,7 +28,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), slider.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); EvalCoefficients 36 (adds 8, muls 22, divs 2, calls 4); EvalDesignDerivatives 112 (adds 27, muls 79, divs 2, calls 4); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 12 (adds 4, muls 4, divs 0, calls 4); EvalCoefficients 36 (adds 8, muls 22, divs 2, calls 4); EvalDesignDerivatives 112 (adds 27, muls 79, divs 2, calls 4); EvalDesignChecks 14 (adds 4, muls 4, divs 2, calls 4); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 11 (adds 2, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -55,7 +55,7 @@ struct Sizes {
   static constexpr int kNumBlocks = 2;   ///< blocks of the solve order (see the file comment)
   static constexpr int kNumTransmissionAngles = 0;  ///< four-bar loops with a ground link
   static constexpr int kNumDesign = 3;  ///< design parameters (kDesignNames)
-  static constexpr int kNumDesignChecks = 0;  ///< design checks (kDesignCheckNames, EvalDesignChecks)
+  static constexpr int kNumDesignChecks = 2;  ///< design checks (kDesignCheckNames, EvalDesignChecks)
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -428,6 +428,40 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The design checks as signed margins of the parameters (>= 0 where the design is
+ * acceptable) and their derivatives with respect to the design parameters: constraints for
+ * synthesis. The generator checks the same at the parameters' defaults.
+ *   margin(0) reach_max_block0: sqrt(c1^2 + c2^2) - max c0 over a turn of theta_crank (>= 0 with reach_min: c0 + c1 cos u + c2 sin u = 0 solvable all round) of block0, rows 1 -> theta_rod: closed form, one angle (acos), mode -1
+ *   margin(1) reach_min_block0: sqrt(c1^2 + c2^2) + min c0 over a turn of theta_crank of block0, rows 1 -> theta_rod: closed form, one angle (acos), mode -1
+ * \param[in]  p           Parameters.
+ * \param[out] margin      the margins; not nullptr (dim kNumDesignChecks).
+ * \param[out] dmargin_dp  d margin(i) / dp_d (kNumDesignChecks x kNumDesign). May be nullptr.
+ */
+template <typename Scalar>
+void EvalDesignChecks(const Params<Scalar>& p,
+                      Vec<Scalar, Sizes::kNumDesignChecks>* margin,
+                      Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>> dmargin_dp = nullptr) {
+  // Total ops: 14 (adds 4, muls 4, divs 2, calls 4); intermediate terms: 6
+  using std::sqrt;
+  const Scalar _tmp0 = p.a*p.a;
+  const Scalar _tmp1 = -(sqrt(_tmp0));
+  const Scalar _tmp2 = p.b*p.b;
+  const Scalar _tmp3 = sqrt(_tmp2);
+  const Scalar _tmp4 = -(Scalar(1)/sqrt(_tmp0))*p.a;
+  const Scalar _tmp5 = (Scalar(1)/sqrt(_tmp2))*p.b;
+  (*margin)(0) = _tmp1 + _tmp3 + p.e;
+  (*margin)(1) = _tmp1 + _tmp3 - p.e;
+  if (dmargin_dp != nullptr) {
+    (*dmargin_dp)(0, 0) = _tmp4;
+    (*dmargin_dp)(0, 1) = _tmp5;
+    (*dmargin_dp)(0, 2) = Scalar(1);
+    (*dmargin_dp)(1, 0) = _tmp4;
+    (*dmargin_dp)(1, 1) = _tmp5;
+    (*dmargin_dp)(1, 2) = Scalar(-1);
+  }
+}
+
+/**
  * \brief det Phi_phi: zero where the mechanism is singular (a dead point, a change point),
  * as the product of the blocks' determinants. Its sign is the assembly branch of a loop.
  * \param[in]  p            Parameters.
@@ -610,6 +644,9 @@ extern template void EvalDesignDerivatives<double>(const Params<double>&,
                                                    const Vec<double, Sizes::kNq>&,
                                                    const Vec<double, Sizes::kNphi>&,
                                                    DesignDerivatives<double>*);
+extern template void EvalDesignChecks<double>(const Params<double>&,
+                                              Vec<double, Sizes::kNumDesignChecks>*,
+                                              Out<Mat<double, Sizes::kNumDesignChecks, Sizes::kNumDesign>>);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                            const Vec<double, Sizes::kNq>&,
                                            const Vec<double, Sizes::kNphi>&,
@@ -640,6 +677,9 @@ extern template void EvalDesignDerivatives<float>(const Params<float>&,
                                                   const Vec<float, Sizes::kNq>&,
                                                   const Vec<float, Sizes::kNphi>&,
                                                   DesignDerivatives<float>*);
+extern template void EvalDesignChecks<float>(const Params<float>&,
+                                             Vec<float, Sizes::kNumDesignChecks>*,
+                                             Out<Mat<float, Sizes::kNumDesignChecks, Sizes::kNumDesign>>);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -776,7 +816,7 @@ struct Model : Sizes {
   /// these Params members, in this order.
   static constexpr std::array<const char*, kNumDesign> kDesignNames{ "a", "b", "e" };
   /// The design checks' margins (EvalDesignChecks), in order.
-  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{  };
+  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{ "reach_max_block0", "reach_min_block0" };
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
@@ -801,6 +841,12 @@ struct Model : Sizes {
                      const Vec<Scalar, Sizes::kNphi>& phi,
                      DesignDerivatives<Scalar>* out) {
     EvalDesignDerivatives(p, q, phi, out);
+  }
+  template <typename Scalar>
+  static void DesignChecks(const Params<Scalar>& p,
+                           Vec<Scalar, Sizes::kNumDesignChecks>* margin,
+                           Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>> dmargin_dp = nullptr) {
+    EvalDesignChecks(p, margin, dmargin_dp);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,

@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDesignDerivatives 1600 (adds 494, muls 1088, divs 4, calls 14); EvalDesignChecks 71 (adds 14, muls 31, divs 8, calls 18); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 96 (adds 22, muls 60, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDesignDerivatives 1600 (adds 494, muls 1088, divs 4, calls 14); EvalDesignChecks 119 (adds 32, muls 58, divs 9, calls 20); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 96 (adds 22, muls 60, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -62,7 +62,7 @@ struct Sizes {
   static constexpr int kNumBlocks = 2;   ///< blocks of the solve order (see the file comment)
   static constexpr int kNumTransmissionAngles = 2;  ///< four-bar loops with a ground link
   static constexpr int kNumDesign = 10;  ///< design parameters (kDesignNames)
-  static constexpr int kNumDesignChecks = 10;  ///< design checks (kDesignCheckNames, EvalDesignChecks)
+  static constexpr int kNumDesignChecks = 12;  ///< design checks (kDesignCheckNames, EvalDesignChecks)
 };
 
 /// Model parameters with the model's defaults; change them at run time.
@@ -976,6 +976,8 @@ void EvalDesignDerivatives(const Params<Scalar>& p,
  *   margin(7) length_link5_loop1: the length of link 'link5' between its joints in four-bar loop1 (> 0)
  *   margin(8) length_rocker_loop1: the length of link 'rocker' between its joints in four-bar loop1 (> 0)
  *   margin(9) grashof_loop1: Grashof's margin (p + q) - (s + l) of four-bar loop1, s = 'rocker', l = 'ground' as at the defaults: >= 0 where a link turns fully
+ *   margin(10) reach_far_block0: (|a| + |b|)^2 - max |w0|^2 over a turn of theta_crank (>= 0: the dyad's links reach its farthest pivot distance) of block0, rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
+ *   margin(11) reach_near_block0: min |w0|^2 - (|a| - |b|)^2 over a turn of theta_crank (>= 0: the dyad closes at its nearest pivot distance) of block0, rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
  * \param[in]  p           Parameters.
  * \param[out] margin      the margins; not nullptr (dim kNumDesignChecks).
  * \param[out] dmargin_dp  d margin(i) / dp_d (kNumDesignChecks x kNumDesign). May be nullptr.
@@ -984,7 +986,7 @@ template <typename Scalar>
 void EvalDesignChecks(const Params<Scalar>& p,
                       Vec<Scalar, Sizes::kNumDesignChecks>* margin,
                       Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>> dmargin_dp = nullptr) {
-  // Total ops: 71 (adds 14, muls 31, divs 8, calls 18); intermediate terms: 33
+  // Total ops: 119 (adds 32, muls 58, divs 9, calls 20); intermediate terms: 40
   using std::cos;
   using std::sin;
   using std::sqrt;
@@ -993,10 +995,10 @@ void EvalDesignChecks(const Params<Scalar>& p,
   const Scalar _tmp2 = (Scalar(1)/sqrt(_tmp0))*p.g;
   const Scalar _tmp3 = p.c*p.c;
   const Scalar _tmp4 = sqrt(_tmp3);
-  const Scalar _tmp5 = (Scalar(1)/sqrt(_tmp3))*p.c;
+  const Scalar _tmp5 = Scalar(1)/sqrt(_tmp3);
   const Scalar _tmp6 = p.b*p.b;
   const Scalar _tmp7 = sqrt(_tmp6);
-  const Scalar _tmp8 = (Scalar(1)/sqrt(_tmp6))*p.b;
+  const Scalar _tmp8 = Scalar(1)/sqrt(_tmp6);
   const Scalar _tmp9 = p.a*p.a;
   const Scalar _tmp10 = sqrt(_tmp9);
   const Scalar _tmp11 = (Scalar(1)/sqrt(_tmp9))*p.a;
@@ -1021,6 +1023,13 @@ void EvalDesignChecks(const Params<Scalar>& p,
   const Scalar _tmp30 = Scalar(1)/sqrt(_tmp28);
   const Scalar _tmp31 = _tmp24*_tmp30*p.e;
   const Scalar _tmp32 = _tmp27*_tmp30*p.e;
+  const Scalar _tmp33 = -Scalar(2)*(sqrt(_tmp0*_tmp9));
+  const Scalar _tmp34 = Scalar(2)*_tmp4*_tmp7;
+  const Scalar _tmp35 = Scalar(1)/sqrt(_tmp0*_tmp9);
+  const Scalar _tmp36 = -Scalar(2)*_tmp0*_tmp35*p.a;
+  const Scalar _tmp37 = Scalar(2)*_tmp4*_tmp8*p.b;
+  const Scalar _tmp38 = Scalar(2)*_tmp5*_tmp7*p.c;
+  const Scalar _tmp39 = -Scalar(2)*_tmp35*_tmp9*p.g;
   (*margin)(0) = _tmp1;
   (*margin)(1) = _tmp4;
   (*margin)(2) = _tmp7;
@@ -1031,6 +1040,8 @@ void EvalDesignChecks(const Params<Scalar>& p,
   (*margin)(7) = _tmp21;
   (*margin)(8) = _tmp29;
   (*margin)(9) = -_tmp13 + _tmp18 + _tmp21 - _tmp29;
+  (*margin)(10) = -_tmp0 + _tmp3 + _tmp33 + _tmp34 + _tmp6 - _tmp9;
+  (*margin)(11) = _tmp0 - _tmp3 + _tmp33 + _tmp34 - _tmp6 + _tmp9;
   if (dmargin_dp != nullptr) {
     (*dmargin_dp)(0, 0) = Scalar(0);
     (*dmargin_dp)(0, 1) = Scalar(0);
@@ -1044,7 +1055,7 @@ void EvalDesignChecks(const Params<Scalar>& p,
     (*dmargin_dp)(0, 9) = Scalar(0);
     (*dmargin_dp)(1, 0) = Scalar(0);
     (*dmargin_dp)(1, 1) = Scalar(0);
-    (*dmargin_dp)(1, 2) = _tmp5;
+    (*dmargin_dp)(1, 2) = _tmp5*p.c;
     (*dmargin_dp)(1, 3) = Scalar(0);
     (*dmargin_dp)(1, 4) = Scalar(0);
     (*dmargin_dp)(1, 5) = Scalar(0);
@@ -1053,7 +1064,7 @@ void EvalDesignChecks(const Params<Scalar>& p,
     (*dmargin_dp)(1, 8) = Scalar(0);
     (*dmargin_dp)(1, 9) = Scalar(0);
     (*dmargin_dp)(2, 0) = Scalar(0);
-    (*dmargin_dp)(2, 1) = _tmp8;
+    (*dmargin_dp)(2, 1) = _tmp8*p.b;
     (*dmargin_dp)(2, 2) = Scalar(0);
     (*dmargin_dp)(2, 3) = Scalar(0);
     (*dmargin_dp)(2, 4) = Scalar(0);
@@ -1073,8 +1084,8 @@ void EvalDesignChecks(const Params<Scalar>& p,
     (*dmargin_dp)(3, 8) = Scalar(0);
     (*dmargin_dp)(3, 9) = Scalar(0);
     (*dmargin_dp)(4, 0) = -_tmp11;
-    (*dmargin_dp)(4, 1) = -_tmp8;
-    (*dmargin_dp)(4, 2) = _tmp5;
+    (*dmargin_dp)(4, 1) = -_tmp8*p.b;
+    (*dmargin_dp)(4, 2) = _tmp5*p.c;
     (*dmargin_dp)(4, 3) = _tmp2;
     (*dmargin_dp)(4, 4) = Scalar(0);
     (*dmargin_dp)(4, 5) = Scalar(0);
@@ -1132,6 +1143,26 @@ void EvalDesignChecks(const Params<Scalar>& p,
     (*dmargin_dp)(9, 7) = _tmp19;
     (*dmargin_dp)(9, 8) = _tmp15;
     (*dmargin_dp)(9, 9) = -_tmp14*p.y6;
+    (*dmargin_dp)(10, 0) = -Scalar(2)*p.a + _tmp36;
+    (*dmargin_dp)(10, 1) = Scalar(2)*p.b + _tmp37;
+    (*dmargin_dp)(10, 2) = Scalar(2)*p.c + _tmp38;
+    (*dmargin_dp)(10, 3) = -Scalar(2)*p.g + _tmp39;
+    (*dmargin_dp)(10, 4) = Scalar(0);
+    (*dmargin_dp)(10, 5) = Scalar(0);
+    (*dmargin_dp)(10, 6) = Scalar(0);
+    (*dmargin_dp)(10, 7) = Scalar(0);
+    (*dmargin_dp)(10, 8) = Scalar(0);
+    (*dmargin_dp)(10, 9) = Scalar(0);
+    (*dmargin_dp)(11, 0) = Scalar(2)*p.a + _tmp36;
+    (*dmargin_dp)(11, 1) = -Scalar(2)*p.b + _tmp37;
+    (*dmargin_dp)(11, 2) = -Scalar(2)*p.c + _tmp38;
+    (*dmargin_dp)(11, 3) = Scalar(2)*p.g + _tmp39;
+    (*dmargin_dp)(11, 4) = Scalar(0);
+    (*dmargin_dp)(11, 5) = Scalar(0);
+    (*dmargin_dp)(11, 6) = Scalar(0);
+    (*dmargin_dp)(11, 7) = Scalar(0);
+    (*dmargin_dp)(11, 8) = Scalar(0);
+    (*dmargin_dp)(11, 9) = Scalar(0);
   }
 }
 
@@ -1760,7 +1791,7 @@ struct Model : Sizes {
   /// these Params members, in this order.
   static constexpr std::array<const char*, kNumDesign> kDesignNames{ "a", "b", "c", "g", "e", "beta", "f", "o", "x6", "y6" };
   /// The design checks' margins (EvalDesignChecks), in order.
-  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{ "length_ground_loop0", "length_rocker_loop0", "length_coupler_loop0", "length_crank_loop0", "grashof_loop0", "length_ground_loop1", "length_output_loop1", "length_link5_loop1", "length_rocker_loop1", "grashof_loop1" };
+  static constexpr std::array<const char*, kNumDesignChecks> kDesignCheckNames{ "length_ground_loop0", "length_rocker_loop0", "length_coupler_loop0", "length_crank_loop0", "grashof_loop0", "length_ground_loop1", "length_output_loop1", "length_link5_loop1", "length_rocker_loop1", "grashof_loop1", "reach_far_block0", "reach_near_block0" };
 
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,

@@ -69,12 +69,13 @@ FunctionSpec EvalDesignChecksSpec(const DesignTable& dt) {
   f.args.push_back(Arg("Out<Mat<Scalar, Sizes::kNumDesignChecks, Sizes::kNumDesign>>", "dmargin_dp", Dir::kOut,
                        "d margin(i) / dp_d", "kNumDesignChecks x kNumDesign", true, "nullptr"));
   for (const DesignCheck& c : dt.checks) f.design_checks.push_back(c.name);
-  Program P;
+  Program P = dt.checks_program;
   for (size_t i = 0; i < dt.checks.size(); ++i) {
     P.push_back(Store("(*margin)(" + N(static_cast<int>(i)) + ")", dt.checks[i].margin));
     for (int d = 0; d < dt.nd(); ++d)
       P.push_back(Store("(*dmargin_dp)" + Idx(static_cast<int>(i), d), dt.checks[i].d[d], "dmargin_dp"));
   }
+  PruneUnusedDefines(&P);  // a cam's geometry locals the margin does not read
   f.body = {P};
   return f;
 }
@@ -156,6 +157,47 @@ FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, co
     P.push_back(Store("out->dV_dp(" + N(d) + ")", dd.dV[d]));
   }
   f.body = {FinishAppliedProgram(P, a, printer)};
+  return f;
+}
+
+}  // namespace mechgen
+
+namespace mechgen {
+
+FunctionSpec EvalShakingDesignSpec(const DynamicsTable& dyn, const DesignShaking& ds, CxxPrinter* printer) {
+  using Dir = Argument::Direction;
+  const int nd = static_cast<int>(ds.dM.size());
+  FunctionSpec f;
+  f.name = "EvalShakingDesign";
+  f.model_member = "ShakingDesign";
+  f.doc = {"\\brief Design sensitivities of the shaking force and moment (EvalShaking, Paul ch. 7) at (q, qd, qdd):",
+           "d/dp of F = -sum m a_G and of M about O for the design parameters kDesignNames, q, qd and qdd held",
+           "(EvalShaking differentiated statement by statement; phi, K and L through EvalDesignDerivatives).",
+           "Generated exactly where the model has both kHasShaking and kHasDynamicsDesign."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities", "dim kNq"));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qdd", Dir::kIn, "Input accelerations", "dim kNq"));
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn, "EvalCoefficients() at this (q, phi)."));
+  f.args.push_back(Arg("const DesignDerivatives<Scalar>&", "dc", Dir::kIn, "EvalDesignDerivatives() at this (q, phi)."));
+  f.args.push_back(Arg("Out<Mat<Scalar, 2, Sizes::kNumDesign>>", "dF_dp", Dir::kOut,
+                       "dF_dp(a, d) = d F(a)/dp_d of Shaking::F, a = 0: x, 1: y (N per unit of p_d)",
+                       "2 x kNumDesign", true));
+  f.args.push_back(Arg("Out<Vec<Scalar, Sizes::kNumDesign>>", "dM_dp", Dir::kOut,
+                       "dM_dp(d) = dM/dp_d of Shaking::M about O (N m per unit of p_d, CCW +)", "dim kNumDesign", true,
+                       "nullptr"));
+  f.notes = {"\\note Near a dead point the derivatives grow like 1/sigma_min(Phi_phi), as K and L do: check the",
+             "conditioning first."};
+  const StaticsTable& st = *dyn.kinetostatics;
+  NameSlots(st.slots, printer);
+  NameSlots(ds.slots, printer);
+  Program P = ds.program;
+  for (int d = 0; d < nd; ++d) {
+    P.push_back(Store("(*dF_dp)" + Idx(0, d), ds.dF[0][d], "dF_dp"));
+    P.push_back(Store("(*dF_dp)" + Idx(1, d), ds.dF[1][d], "dF_dp"));
+    P.push_back(Store("(*dM_dp)(" + N(d) + ")", ds.dM[d], "dM_dp"));
+  }
+  f.body = {FinishAppliedProgram(P, st, printer)};
   return f;
 }
 

@@ -551,7 +551,12 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
     }
     if (has_dynamics && m.design.dynamics) {
       const DesignDynamics dd(m, k, *dynamics, *design);
-      if (dd.possible) out.push_back(EvalDynamicsDesignSpec(m, *dynamics, dd, printer));
+      // The shaking derivatives: generated exactly with the dynamics' (kHasShaking && kHasDynamicsDesign).
+      const DesignShaking dsh(k, *dynamics, *design);
+      if (dd.possible && (!has_shaking || dsh.possible)) {
+        out.push_back(EvalDynamicsDesignSpec(m, *dynamics, dd, printer));
+        if (has_shaking) out.push_back(EvalShakingDesignSpec(*dynamics, dsh, printer));
+      }
     }
   }
   out.push_back(EvalDetPhiPhiSpec(t));

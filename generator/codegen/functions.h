@@ -89,6 +89,9 @@ FunctionSpec EvalStaticsDesignSpec(const Model& m, const StaticsTable& st, const
 /// (the DynamicsDesign struct), reading EvalDesignDerivatives' output.
 FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, const DesignDynamics& dd,
                                     CxxPrinter* printer);
+/// EvalShakingDesign (codegen/design_functions.cc, with `shaking`): d/dp of the shaking force
+/// and moment at (q, qd, qdd) (nullable outputs dF_dp, dM_dp).
+FunctionSpec EvalShakingDesignSpec(const DynamicsTable& dyn, const DesignShaking& ds, CxxPrinter* printer);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);
 /// A body over a statics table's program, finished as EvalStatics' is (codegen/statics_functions.cc):

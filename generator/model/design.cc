@@ -6,8 +6,11 @@
 //   design: {parameters: [a, b], quantities: [positions, checks]}
 //                                      # only these derivatives (default: every one the
 //                                      # outputs have: positions, checks, statics, dynamics)
-// A derived parameter cannot be one (it follows the free ones it is made of: name those).
+// A derived parameter cannot be one (it follows the free ones it is made of: name those), nor a
+// parameter inside a cam's law (see ReadDesign).
+#include <map>
 #include <string>
+#include <vector>
 
 #include "model/reader.h"
 
@@ -30,6 +33,25 @@ std::string FreeParameterList(const Model& m) {
   std::string list;
   for (const Parameter& p : m.params) list += (list.empty() ? "" : ", ") + p.name;
   return list.empty() ? "(none)" : list;
+}
+
+// The free parameters (index -> the cam joint's name) inside a cam's law (a segment's lift or
+// duration) or its contour's period.
+std::map<int, std::string> HiddenInCams(const Model& m) {
+  std::map<int, std::string> hidden;
+  for (const Joint& j : m.joints) {
+    if (j.type() != JointType::kCam) continue;
+    const CamData& c = j.Data<CamData>();
+    std::vector<GiNaC::ex> inside{c.contour == CamData::Contour::kExpressions ? c.contour_period : GiNaC::ex(0)};
+    for (const CamSegment& s : c.law) {
+      inside.push_back(s.duration);
+      inside.push_back(s.lift);
+    }
+    for (size_t i = 0; i < m.params.size(); ++i)
+      for (const GiNaC::ex& e : inside)
+        if (e.has(m.params[i].symbol)) hidden.emplace(static_cast<int>(i), j.name);
+  }
+  return hidden;
 }
 
 // `quantities: [...]`: which derivatives to emit, each one the outputs have.
@@ -64,12 +86,14 @@ void ReadDesign(SectionReader& r, const YAML::Node& node) {
   Model& m = r.model();
   if (!node) return;
   m.design.mark = MarkOf(node);
-  // A cam's law or contour is a function the generated code calls: its parameters are inside
-  // it, out of reach of the symbolic derivative.
-  for (const Joint& j : m.joints)
-    if (j.type() == JointType::kCam)
-      r.Fail(node, "design derivatives are not available for a model with a cam (joint '" + j.name +
-                       "': its law or contour hides its parameters from the derivation); remove design");
+  // A cam's law is a function the generated code calls (CamLaw_<joint>, its segments picked by
+  // the angle): a parameter inside a segment's lift or duration is out of reach of the symbolic
+  // derivative. Everything else of a cam is in Phi as written and is differentiated like any
+  // other length: its start (base circle, roller and offset through it), phase, roller radius,
+  // face angle, the follower's guide, and a contour given by expressions in u (a spline's points
+  // are numbers). The contour's period is refused too: the contour must close over it, so it is
+  // not free of the expressions.
+  const auto hidden = HiddenInCams(m);
   // (yaml-cpp's Node::operator= writes through to the node it refers to: rebind with reset.)
   YAML::Node list;
   list.reset(node);
@@ -82,9 +106,13 @@ void ReadDesign(SectionReader& r, const YAML::Node& node) {
     if (!list) r.Fail(node, "design needs parameters: [name, ...] (or parameters: all)");
   }
   if (list.IsScalar() && r.Scalar(list, "design parameters") == "all") {
-    for (size_t i = 0; i < m.params.size(); ++i) m.design.params.push_back(static_cast<int>(i));
+    // Every free parameter the derivation reaches: those inside a cam's law are left out.
+    for (size_t i = 0; i < m.params.size(); ++i)
+      if (!hidden.count(static_cast<int>(i))) m.design.params.push_back(static_cast<int>(i));
     if (m.design.params.empty())
-      r.Fail(list, "design: all names no parameter: the model has no free parameters; add parameters or remove design");
+      r.Fail(list, m.params.empty()
+                       ? "design: all names no parameter: the model has no free parameters; add parameters or remove design"
+                       : "design: all names no parameter: every free parameter is inside a cam's law; remove design");
     return;
   }
   if (!list.IsSequence())
@@ -103,6 +131,11 @@ void ReadDesign(SectionReader& r, const YAML::Node& node) {
                            FreeParameterList(m));
       r.Fail(item, "design: unknown parameter '" + name + "'; the free parameters are " + FreeParameterList(m));
     }
+    if (const auto it = hidden.find(index); it != hidden.end())
+      r.Fail(item, "design parameter '" + name + "' is inside the law of cam '" + it->second +
+                       "' (a segment's lift or duration, or the contour's period: the generated law function hides "
+                       "it from the derivation); the cam's start, phase, roller, offset and links can be design "
+                       "parameters");
     for (int other : m.design.params)
       if (other == index) r.Fail(item, "design parameter '" + name + "' is listed twice");
     m.design.params.push_back(index);

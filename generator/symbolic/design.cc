@@ -3,8 +3,12 @@
 #include "symbolic/design.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <map>
+#include <set>
 
+#include "joints/cam_profile.h"
 #include "symbolic/block_system.h"
 #include "symbolic/motion.h"
 
@@ -48,6 +52,252 @@ ex EarlierBlocks(const Kinematics& k, const std::vector<Block>& blocks, size_t b
   for (size_t pb = 0; pb < bi; ++pb)
     for (int c : blocks[pb].cols) s += k.Phi_phi(row, c) * X[c][col];
   return s;
+}
+
+// e as A + B cos(q) + C sin(q) with A, B, C free of q (sin^2 = 1 - cos^2 used): false where
+// e is not of that form (q inside another function, a product of cos and sin, ...).
+bool LinearInCosSin(const ex& e, const GiNaC::symbol& q, ex* A, ex* B, ex* C) {
+  const GiNaC::symbol X("X"), Y("Y");
+  ex f = e.subs(GiNaC::lst{GiNaC::cos(q) == X, GiNaC::sin(q) == Y});
+  if (f.has(q)) return false;
+  f = f.expand();
+  for (int i = 0; i < 8 && f.degree(Y) >= 2; ++i)
+    f = f.subs(GiNaC::pow(Y, 2) == 1 - GiNaC::pow(X, 2), GiNaC::subs_options::algebraic).expand();
+  if (f.degree(X) > 1 || f.degree(Y) > 1 || f.ldegree(X) < 0 || f.ldegree(Y) < 0) return false;
+  if (!f.coeff(X, 1).coeff(Y, 1).is_zero()) return false;
+  *A = f.coeff(X, 0).coeff(Y, 0);
+  *B = f.coeff(X, 1).coeff(Y, 0);
+  *C = f.coeff(X, 0).coeff(Y, 1);
+  return !A->has(X) && !A->has(Y) && !B->has(Y) && !C->has(X);
+}
+
+// The closed-form blocks' reach over the input's range, where its extremes are known in
+// closed form: a block whose requirement depends on the configuration only through one input
+// angle q that turns a full turn (its range at least 2 pi), as A + B cos q + C sin q, its
+// extremes A +- sqrt(B^2 + C^2). Which blocks qualify:
+//   - RRR (kRR, R(u) a + R(v) b + w0 = 0, the circles of radii |a|, |b| centres |w0| apart
+//     meet iff (|a| - |b|)^2 <= |w0|^2 <= (|a| + |b|)^2): |a|, |b| free of the configuration and
+//     |w0|^2 linear in cos q, sin q — the dyad hangs from a ground point and a point of the
+//     input link (a four-bar's coupler and rocker driven by its crank). Two margins, in length^2:
+//     (|a| + |b|)^2 - max |w0|^2 and min |w0|^2 - (|a| - |b|)^2, both >= 0 iff the input turns
+//     fully (for a four-bar this is the crank's condition; Grashof's margin says only that some
+//     link turns fully);
+//   - one angle (kAngle, c0 + c1 cos u + c2 sin u = 0, solvable iff |c0| <= rho =
+//     sqrt(c1^2 + c2^2)): rho free of the configuration, c0 linear in cos q, sin q (a
+//     slider-crank's rod: e = a sin q + b sin u). rho >= max |c0| = |A| + sqrt(B^2 + C^2) as two
+//     smooth margins, rho - (A + sqrt(B^2 + C^2)) and rho + (A - sqrt(B^2 + C^2)) (the rod's
+//     length less the crank and the offset to either side).
+// Not: a block fed by an earlier block's unknowns (its extremes follow that block's motion, no
+// closed form: the Watt six-bar's second dyad), by two inputs, or by an input of a partial
+// range; RRP/RPR (kRS: its discriminant is quadratic in cos q, sin q), PRP and linear blocks
+// (no discriminant), Newton blocks.
+void AddReachChecks(const Model& m, const Kinematics& k, const std::vector<Block>& blocks,
+                    std::vector<DesignCheck>* checks) {
+  auto free_of_phi = [&k](const ex& e) {
+    for (const Coordinate& c : k.phi)
+      if (e.has(c.symbol)) return false;
+    return true;
+  };
+  // The one input e depends on (it must turn fully), or -1.
+  auto one_full_input = [&](const ex& e) {
+    int found = -1;
+    for (int j = 0; j < k.nq(); ++j)
+      if (e.has(k.q[j].symbol)) {
+        if (found >= 0) return -1;
+        found = j;
+      }
+    if (found < 0 || !k.q[found].is_angle) return -1;
+    const Input& in = m.inputs[found];
+    return in.max - in.min >= 2 * M_PI - 1e-9 ? found : -1;
+  };
+  auto free_of_q = [&k](const ex& e) {
+    for (const Coordinate& c : k.q)
+      if (e.has(c.symbol)) return false;
+    return true;
+  };
+  for (size_t bi = 0; bi < blocks.size(); ++bi) {
+    const Block& b = blocks[bi];
+    const std::string tag = "block" + N(static_cast<int>(bi));
+    const std::string what = b.Describe(k);
+    if (b.solve == BlockSolve::kRR) {
+      const ex ra2 = (b.a[0] * b.a[0] + b.a[1] * b.a[1]).expand(), rb2 = (b.b[0] * b.b[0] + b.b[1] * b.b[1]).expand();
+      const ex d2 = b.w0[0] * b.w0[0] + b.w0[1] * b.w0[1];
+      if (!free_of_phi(ra2) || !free_of_phi(rb2) || !free_of_q(ra2) || !free_of_q(rb2) || !free_of_phi(d2)) continue;
+      const int j = one_full_input(d2);
+      ex A, B, C;
+      if (j < 0 || !LinearInCosSin(d2, k.q[j].symbol, &A, &B, &C)) continue;
+      const ex R = GiNaC::sqrt(B * B + C * C), ra = GiNaC::sqrt(ra2), rb = GiNaC::sqrt(rb2);
+      checks->push_back({"reach_far_" + tag,
+                         "(|a| + |b|)^2 - max |w0|^2 over a turn of " + k.q[j].name + " (>= 0: the dyad's links reach "
+                             "its farthest pivot distance) of " + tag + ", " + what,
+                         GiNaC::pow(ra + rb, 2) - (A + R), {}});
+      checks->push_back({"reach_near_" + tag,
+                         "min |w0|^2 - (|a| - |b|)^2 over a turn of " + k.q[j].name + " (>= 0: the dyad closes at "
+                             "its nearest pivot distance) of " + tag + ", " + what,
+                         A - R - GiNaC::pow(ra - rb, 2), {}});
+    } else if (b.solve == BlockSolve::kAngle) {
+      const ex rho2 = (b.c1 * b.c1 + b.c2 * b.c2).expand();
+      if (!free_of_phi(rho2) || !free_of_q(rho2) || !free_of_phi(b.c0)) continue;
+      const int j = one_full_input(b.c0);
+      ex A, B, C;
+      if (j < 0 || !LinearInCosSin(b.c0, k.q[j].symbol, &A, &B, &C)) continue;
+      // rho >= max |c0| as two smooth margins (no |A|: differentiable where A = 0).
+      const ex rho = GiNaC::sqrt(rho2), R = GiNaC::sqrt(B * B + C * C);
+      checks->push_back({"reach_max_" + tag,
+                         "sqrt(c1^2 + c2^2) - max c0 over a turn of " + k.q[j].name +
+                             " (>= 0 with reach_min: c0 + c1 cos u + c2 sin u = 0 solvable all round) of " + tag + ", " +
+                             what,
+                         rho - (A + R), {}});
+      checks->push_back({"reach_min_" + tag,
+                         "sqrt(c1^2 + c2^2) + min c0 over a turn of " + k.q[j].name + " of " + tag + ", " + what,
+                         rho + (A - R), {}});
+    }
+  }
+}
+
+// A cam's radius of curvature (rho_pitch of a roller's pitch curve where it is convex, less
+// the roller; rho_profile of a flat face's profile) at cam angle x, at the parameters'
+// defaults: the geometry's locals substituted, the law's values from EvalCamLaw.
+double CamCurvatureAt(const Model& m, const CamLaw& law, const CamGeometry& g, const ex& rho, double x) {
+  GiNaC::exmap at = m.Defaults();
+  at[g.x] = x;
+  struct LawValues : GiNaC::map_function {
+    const Model& m;
+    const CamLaw& law;
+    LawValues(const Model& model, const CamLaw& l) : m(model), law(l) {}
+    ex operator()(const ex& e) override {
+      const ex mapped = e.map(*this);
+      if (GiNaC::is_a<GiNaC::function>(mapped) &&
+          GiNaC::ex_to<GiNaC::function>(mapped).get_serial() == camlaw_SERIAL::serial) {
+        const ex arg = mapped.op(2).evalf();
+        if (GiNaC::is_a<GiNaC::numeric>(arg) && GiNaC::is_a<GiNaC::numeric>(mapped.op(1)))
+          return EvalCamLaw(m, law, GiNaC::ex_to<GiNaC::numeric>(arg).to_double(),
+                            GiNaC::ex_to<GiNaC::numeric>(mapped.op(1)).to_int());
+      }
+      return mapped;
+    }
+  } values(m, law);
+  const ex v = values(rho.subs(at)).evalf();
+  return GiNaC::is_a<GiNaC::numeric>(v) ? GiNaC::ex_to<GiNaC::numeric>(v).to_double() : NAN;
+}
+
+// A cam's curvature margin (undercut), as the generator checks it at the defaults
+// (joints/cam_profile.h, CheckCam): a roller follower's pitch curve, where convex, must curve
+// no tighter than the roller (rho_pitch - r_roller >= 0); a flat face's profile must have a
+// positive radius of curvature. The minimum over the cam angle has no closed form (the law's
+// segments are cycloidal, harmonic, polynomial): the margin is the radius of curvature at the
+// law angle u* where it is smallest at the defaults (sampled as CheckCam does, then refined by
+// golden sections), a function of the parameters with u* held — its value there is the
+// minimum at the defaults and its derivative the minimum's (the envelope theorem: at an
+// interior minimum x* moves only to second order; at a segment joint, fixed in the law's
+// angle, x* does not move), and elsewhere an upper bound of the minimum, exact to second
+// order in the change of the parameters (valid while the minimum stays at that place of the
+// law, like Grashof's margin with the defaults' order). The law angle u* = x* - phase, and the
+// cam's rotation x is set to 0 elsewhere (a radius of curvature does not depend on it), so the
+// margin does not depend on the phase (turning the law turns the cam, not its shape). A
+// knife-edge has no check.
+void AddCamChecks(const Model& m, const Kinematics& k, const std::vector<GiNaC::symbol>& p,
+                  std::vector<DesignCheck>* checks, Program* program) {
+  const int nd = static_cast<int>(p.size());
+  for (size_t c = 0; c < k.cam_laws.size() && c < k.cam_geometry.size(); ++c) {
+    const CamLaw& law = k.cam_laws[c];
+    const CamGeometry& g = k.cam_geometry[c];
+    const Joint& j = m.joints[law.joint];
+    const CamData& cd = j.Data<CamData>();
+    const GiNaC::exmap defaults = m.Defaults();
+    const ex rr_ex = cd.roller.subs(defaults).evalf();
+    const double rr = GiNaC::is_a<GiNaC::numeric>(rr_ex) ? GiNaC::ex_to<GiNaC::numeric>(rr_ex).to_double() : 0;
+    if (!cd.flat_face && !(rr > 0)) continue;
+    GiNaC::exmap locals;
+    for (const Statement& s : g.program)
+      if (s.kind == Statement::Kind::kDefine) locals[s.symbol] = s.value.subs(locals);
+    const ex rho_direct = (cd.flat_face ? g.rho_profile : g.rho_pitch);
+    const ex rho = rho_direct.subs(locals);
+    auto f = [&](double x) {
+      const double r = CamCurvatureAt(m, law, g, rho, x);
+      return cd.flat_face || r > 0 ? r : INFINITY;  // a roller: where the pitch curve is convex
+    };
+    const int n = 720;
+    double best = INFINITY, x_best = 0;
+    for (int i = 0; i < n; ++i) {
+      const double x = 2 * M_PI * (i + 0.5) / n, v = f(x);
+      if (v < best - 1e-9) best = v, x_best = x;
+    }
+    if (!std::isfinite(best)) continue;
+    double lo = x_best - 2 * M_PI / n, hi = x_best + 2 * M_PI / n;
+    const double r = (std::sqrt(5.0) - 1) / 2;
+    double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo), f1 = f(x1), f2 = f(x2);
+    for (int it = 0; it < 60; ++it)
+      if (f1 < f2) {
+        hi = x2, x2 = x1, f2 = f1, x1 = hi - r * (hi - lo), f1 = f(x1);
+      } else {
+        lo = x1, x1 = x2, f1 = f2, x2 = lo + r * (hi - lo), f2 = f(x2);
+      }
+    double x_star = (lo + hi) / 2;
+    if (!(f(x_star) <= best)) x_star = x_best;
+    const ex phase = cd.phase.subs(defaults).evalf();
+    const double u_star = x_star - (GiNaC::is_a<GiNaC::numeric>(phase) ? GiNaC::ex_to<GiNaC::numeric>(phase).to_double() : 0);
+    // Rounded to 1e-9 rad: the header's text must not depend on the last bits of the search.
+    const ex u = GiNaC::numeric(static_cast<long>(std::llround(u_star * 1e9)), 1000000000L);
+    // The geometry's locals as locals of EvalDesignChecks (substituted into one expression,
+    // the emitted text came out different from run to run), at the law angle u* and with the
+    // cam's own rotation x at 0 (a radius of curvature does not depend on it: no phase is
+    // left), each followed by its derivatives (forward mode over the locals, in their order).
+    const GiNaC::symbol U("U");
+    auto at_u = [&](const ex& e) {
+      return e.subs(camlaw(cd.index, GiNaC::wild(0), g.x - cd.phase) == camlaw(cd.index, GiNaC::wild(0), U))
+          .subs(g.x == 0)
+          .subs(U == u);
+    };
+    bool law_at_u = true;
+    auto check_law = [&](const ex& e) {
+      for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+        if (GiNaC::is_a<GiNaC::function>(*it) && GiNaC::ex_to<GiNaC::function>(*it).get_serial() == camlaw_SERIAL::serial)
+          law_at_u &= it->op(2).is_equal(u);
+    };
+    const std::string tag = "cam_" + j.name + "_";
+    Program local;
+    std::vector<ex> order;                       // the locals, in order
+    std::map<ex, std::vector<ex>, GiNaC::ex_is_less> dlocal;  // their derivatives (named)
+    GiNaC::exmap renamed;
+    auto total = [&](const ex& v) {
+      std::vector<ex> D(nd);
+      for (int d = 0; d < nd; ++d) D[d] = v.diff(p[d]);
+      for (const ex& x : order) {
+        if (!v.has(x)) continue;
+        const ex gx = v.diff(GiNaC::ex_to<GiNaC::symbol>(x));
+        for (int d = 0; d < nd; ++d)
+          if (!dlocal[x][d].is_zero()) D[d] += gx * dlocal[x][d];
+      }
+      return D;
+    };
+    for (const Statement& st : g.program) {
+      if (st.kind != Statement::Kind::kDefine) continue;
+      const ex value = at_u(st.value).subs(renamed);
+      check_law(value);
+      ex named;
+      local.push_back(Define(tag + st.target, value, &named));
+      renamed[st.symbol] = named;
+      const std::vector<ex> D = total(value);
+      order.push_back(named);
+      std::vector<ex> dn(nd, 0);
+      for (int d = 0; d < nd; ++d)
+        if (!D[d].is_zero()) local.push_back(Define("d_" + tag + st.target + "_" + N(d), D[d], &dn[d]));
+      dlocal[named] = dn;
+    }
+    const ex margin = at_u(rho_direct).subs(renamed) - (cd.flat_face ? ex(0) : cd.roller);
+    check_law(margin);
+    if (!law_at_u) continue;
+    program->insert(program->end(), local.begin(), local.end());
+    const std::vector<ex> dmargin = total(margin);
+    char at[32];
+    std::snprintf(at, sizeof at, "%.6f", u_star);
+    checks->push_back(
+        {"curvature_" + j.name,
+         std::string(cd.flat_face ? "the profile's radius of curvature" : "the pitch curve's radius of curvature less the roller") +
+             " of cam '" + j.name + "' at law angle " + at + " rad, where it is smallest at the defaults (>= 0: no undercut)",
+         margin, dmargin});
+  }
 }
 
 }  // namespace
@@ -276,8 +526,36 @@ DesignTable::DesignTable(const Model& m, const SymbolicTable& t, const Topology*
                             "', l = '" + f.links[order[3]] + "' as at the defaults: >= 0 where a link turns fully",
                         length[order[1]] + length[order[2]] - length[order[0]] - length[order[3]], {}});
     }
+  AddReachChecks(m, k, blocks, &checks);
+  AddCamChecks(m, k, p, &checks, &checks_program);
   for (DesignCheck& c : checks)
-    for (int d = 0; d < n_d; ++d) c.d.push_back(c.margin.diff(p[d]));
+    if (c.d.empty())  // (a cam's margin comes with its derivatives, through its locals)
+      for (int d = 0; d < n_d; ++d) c.d.push_back(c.margin.diff(p[d]));
+  // A cam's law function (CamLaw_<joint>) gives the lift's derivatives up to the third: a
+  // design derivative that needs a higher one cannot be generated (none does where the cam
+  // angle is an input or a dependent angle: K reads the first, L the second, dL/dp the third).
+  std::vector<ex> stored;
+  for (const Statement& s : program)
+    if (s.kind == Statement::Kind::kDefine) stored.push_back(s.value);
+  for (const auto* table : {&dphi_dp, &dK_dp, &dL_dp})
+    for (const std::vector<ex>& row : *table) stored.insert(stored.end(), row.begin(), row.end());
+  for (const auto* table : {&dr_P_dp, &dK_P_dp, &dL_P_dp})
+    for (const auto& point : *table)
+      for (const std::vector<ex>& axis : point) stored.insert(stored.end(), axis.begin(), axis.end());
+  for (const ex& e : stored)
+    if (MaxCamLawOrder(e) > 3)
+      m.Fail(m.design.mark,
+             "design derivatives would need a cam law's fourth derivative; remove design or the parameters that move "
+             "the cam's angle");
+}
+
+int MaxCamLawOrder(const GiNaC::ex& e) {
+  int most = -1;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (GiNaC::is_a<GiNaC::function>(*it) && GiNaC::ex_to<GiNaC::function>(*it).get_serial() == camlaw_SERIAL::serial &&
+        GiNaC::is_a<GiNaC::numeric>(it->op(1)))
+      most = std::max(most, GiNaC::ex_to<GiNaC::numeric>(it->op(1)).to_int());
+  return most;
 }
 
 }  // namespace mechgen
@@ -429,6 +707,51 @@ DesignDynamics::DesignDynamics(const Model& m, const Kinematics& k, const Dynami
   dT = pd.d[at++];
   dV = pd.d[at++];
   (void)m;
+}
+
+}  // namespace mechgen
+
+// ---- The shaking force and moment's design sensitivities ----
+
+namespace mechgen {
+
+namespace {
+
+// The program's kDefine statements that `outputs` read (directly or through other locals);
+// every other kind of statement is kept.
+Program PruneFor(const Program& program, const std::vector<GiNaC::ex>& outputs) {
+  std::set<GiNaC::ex, GiNaC::ex_is_less> used;
+  auto collect = [&used](const GiNaC::ex& e) {
+    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+      if (GiNaC::is_a<GiNaC::symbol>(*it)) used.insert(*it);
+  };
+  for (const GiNaC::ex& o : outputs) collect(o);
+  std::vector<const Statement*> kept;
+  for (auto it = program.rbegin(); it != program.rend(); ++it) {
+    if (it->kind == Statement::Kind::kDefine && !used.count(it->symbol)) continue;
+    if (it->kind == Statement::Kind::kDefine || it->kind == Statement::Kind::kStore) collect(it->value);
+    kept.push_back(&*it);
+  }
+  Program out;
+  for (auto it = kept.rbegin(); it != kept.rend(); ++it) out.push_back(**it);
+  return out;
+}
+
+}  // namespace
+
+DesignShaking::DesignShaking(const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt) {
+  if (dt.nd() == 0 || !dyn.any || !dyn.shaking) return;
+  const std::vector<GiNaC::ex> outputs{dyn.F[0], dyn.F[1], dyn.M_total};
+  const Program pruned = PruneFor(dyn.shaking_program, outputs);
+  ProgramDesign pd = DifferentiateProgram(k, dt, pruned, dyn.kinetostatics->slots, outputs, "dshaking_chain_");
+  possible = pd.possible;
+  why_not = pd.why_not;
+  if (!possible) return;
+  slots = pd.slots;
+  program = pruned;
+  program.insert(program.end(), pd.program.begin(), pd.program.end());
+  dF = {pd.d[0], pd.d[1]};
+  dM = pd.d[2];
 }
 
 }  // namespace mechgen

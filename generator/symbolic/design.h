@@ -54,6 +54,8 @@ struct DesignTable {
   /// for a Grashof loop (a link turns fully), with s, l, p, q taken as the parameters' defaults
   /// order them (valid while that order holds).
   std::vector<DesignCheck> checks;
+  /// Locals the checks' margins read (a cam's law values at a fixed angle), before them.
+  Program checks_program;
 
   int nd() const { return static_cast<int>(p.size()); }
   bool has_K = false, has_L = false;
@@ -76,6 +78,9 @@ struct DesignTable {
   /// sign(cross) (dot dcross - cross ddot) / (cross^2 + dot^2) (undefined at a toggle, cross = 0).
   std::vector<std::vector<GiNaC::ex>> dmu_dp;
 };
+
+/// The highest derivative order d of a cam law camlaw(i, d, x) in e (-1: none).
+int MaxCamLawOrder(const GiNaC::ex& e);
 
 /// A straight-line program's locals and some expressions of them, differentiated with respect
 /// to the design parameters (forward mode over the program, symbolically): D_d v = dv/dp_d + sum
@@ -125,6 +130,24 @@ struct DesignDynamics {
   std::vector<std::vector<GiNaC::ex>> ddI_dq;  ///< dI_dq[j + nq (k + nq l)] x nd
   std::vector<std::vector<GiNaC::ex>> dh, dQ;  ///< nq x nd
   std::vector<GiNaC::ex> dT, dV;               ///< nd
+};
+
+}  // namespace mechgen
+
+namespace mechgen {
+
+/// The shaking force and moment's design sensitivities (EvalShakingDesign, with `shaking`):
+/// d/dp_d of F = -sum m a_G and M = sum (r_G x F_link - J alpha) about O at (q, qd, qdd), those
+/// held (DifferentiateProgram over the shaking program, its locals pruned first to what F and
+/// M read: the reactions of the kinetostatics are not differentiated).
+struct DesignShaking {
+  DesignShaking(const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt);
+  bool possible = false;
+  std::string why_not;
+  SlotSymbols slots;
+  Program program;  ///< the pruned shaking program followed by its derivative locals
+  std::vector<std::vector<GiNaC::ex>> dF;  ///< 2 x nd (x, y)
+  std::vector<GiNaC::ex> dM;               ///< nd
 };
 
 }  // namespace mechgen

@@ -9,9 +9,12 @@
 //   - hand formulas: the four-bar's dtheta_3/dp and dtheta_4/dp from its loop equation
 //     differentiated by hand, and the offset slider-crank's ds/da, ds/db, ds/de from
 //     s = a cos(theta) + sqrt(b^2 - (e - a sin(theta))^2).
-// The models: the shipped ones with a design section (fourbar, slider_crank, watt_sixbar) and
-// two test models (design_stephenson: a four-unknown block, solved by an LU and Newton's
-// method; design_fivebar: two inputs, L with three input pairs).
+// The models: the shipped ones with a design section (fourbar, slider_crank, watt_sixbar), two
+// test models (design_stephenson: a four-unknown block, solved by an LU and Newton's method;
+// design_fivebar: two inputs, L with three input pairs) and four shipped models of other
+// structures with `design: {parameters: all}` appended (tests/design/CMakeLists.txt): a cam with
+// a roller follower (cam_roller: e, rb, rr, phase; its law's lift h is left out), gears
+// (geared_fivebar), a slot (quick_return) and an engine (engine_single).
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
@@ -19,11 +22,17 @@
 #include <cmath>
 #include <string>
 
+#include "design_cam_roller.h"
+#include "design_engine_single.h"
 #include "design_fivebar.h"
+#include "design_geared_fivebar.h"
+#include "design_quick_return.h"
 #include "design_test_util.h"
 #include "design_stephenson.h"
 #include "fourbar.h"
 #include "kinematics_test_util.h"
+#include "mechgen/position/design.h"
+#include "mechgen/position/solver.h"
 #include "slider_crank.h"
 #include "watt_sixbar.h"
 
@@ -36,7 +45,9 @@ template <class M>
 using DesignD = typename M::template DesignDerivativesT<double>;
 
 using DesignModels = ::testing::Types<mech::fourbar::Model, mech::slider_crank::Model, mech::watt_sixbar::Model,
-                                      mech::design_stephenson::Model, mech::design_fivebar::Model>;
+                                      mech::design_stephenson::Model, mech::design_fivebar::Model,
+                                      mech::design_cam_roller::Model, mech::design_geared_fivebar::Model,
+                                      mech::design_quick_return::Model, mech::design_engine_single::Model>;
 
 class ModelNames {
  public:
@@ -238,8 +249,13 @@ TEST(DesignHandFormulas, FourBarGrashofMargin) {
   Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
   Eigen::Matrix<double, M::kNumDesignChecks, M::kNumDesign> dm;
   M::DesignChecks(p, &margin, &dm);
-  ASSERT_EQ(M::kNumDesignChecks, 5);
+  ASSERT_EQ(M::kNumDesignChecks, 7);
   ASSERT_STREQ(M::kDesignCheckNames[4], "grashof_loop0");
+  // The coupler-rocker dyad's reach over a crank turn: (b + c)^2 - (a + d)^2, (d - a)^2 - (b - c)^2.
+  ASSERT_STREQ(M::kDesignCheckNames[5], "reach_far_block0");
+  ASSERT_STREQ(M::kDesignCheckNames[6], "reach_near_block0");
+  EXPECT_NEAR(margin(5), (p.b + p.c) * (p.b + p.c) - (p.a + p.d) * (p.a + p.d), 1e-14);
+  EXPECT_NEAR(margin(6), (p.d - p.a) * (p.d - p.a) - (p.b - p.c) * (p.b - p.c), 1e-14);
   EXPECT_NEAR(margin(4), (p.b + p.c) - (p.a + p.d), 1e-15);
   const double expected[6] = {-1, 1, 1, -1, 0, 0};  // a, b, c, d, xi, eta
   for (int d = 0; d < 6; ++d) EXPECT_NEAR(dm(4, d), expected[d], 1e-15) << M::kDesignNames[d];
@@ -247,6 +263,97 @@ TEST(DesignHandFormulas, FourBarGrashofMargin) {
   p.b = 2.0;  // (2 + 3) - (1 + 4) = 0: a change point
   M::DesignChecks(p, &margin);
   EXPECT_NEAR(margin(4), 0.0, 1e-15);
+}
+
+// The slider-crank's reach margins (b - a + e, b - a - e: the rod reaches the slide all round
+// iff b >= a + |e|) against the generated solver: with the rod 1e-6 shorter than a + |e| some
+// crank angle of a turn (sampled every 0.25 deg and at +-90 deg, where |e - a sin(theta)| is
+// largest) is not assemblable; 1e-6 longer, every one closes.
+TEST(DesignHandFormulas, SliderCrankReachMarginIsWhereTheSolverStopsClosing) {
+  using M = mech::slider_crank::Model;
+  static_assert(M::kNumDesignChecks == 2);
+  for (const double delta : {-1e-6, 1e-6}) {
+    ParamsD<M> p;
+    p.b = p.a + std::abs(p.e) + delta;
+    Eigen::Matrix<double, 2, 1> margin;
+    M::DesignChecks(p, &margin);
+    EXPECT_NEAR(margin.minCoeff(), delta, 1e-14);
+    bool all_close = true;
+    std::vector<double> angles{M_PI / 2, -M_PI / 2};
+    for (int i = 0; i < 1440; ++i) angles.push_back(2 * M_PI * i / 1440);
+    for (const double theta : angles) {
+      Eigen::Matrix<double, M::kNphi, 1> phi(0.0, 1.0);
+      const auto report = M::Solve(p, Eigen::Matrix<double, 1, 1>(theta), &phi);
+      if (report.status != mech::slider_crank::SolveStatus::kConverged) {
+        all_close = false;
+        EXPECT_EQ(report.status, mech::slider_crank::SolveStatus::kNotAssemblable) << theta;
+      }
+    }
+    EXPECT_EQ(all_close, margin.minCoeff() >= 0) << "b = a + |e| + " << delta;
+  }
+}
+
+// ---- Near a singular configuration ----
+
+// The four-bar with its ground lengthened to d = 5.6 (its reach_far margin (b + c)^2 -
+// (a + d)^2 < 0: the crank cannot turn fully) stops at a toggle, coupler and rocker aligned
+// (|DB| = b + c), near theta = acos((a^2 + d^2 - (b + c)^2) / (2 a d)) = 152.0 deg. The crank
+// moved toward it by the runtime's PositionSolver in steps of 0.25 deg: the design derivatives
+// take the values' status. At every converged state they are finite, agree with Jets of EvalPhi
+// to 1e-12 cond_1(Phi_phi) and obey |dphi/dp_d| <= |dPhi/dp_d| / sigma_min(Phi_phi) (|dPhi/dp_d|
+// = 1 for a, b, c, d: a unit vector), growing like 1/sigma_min as the toggle nears; where the
+// solver refuses (kSingular next to the toggle) the state is not valid and position::EvalDesign
+// gives NaN, never a huge number.
+TEST(DesignNearToggle, DerivativesTakeTheValuesStatus) {
+  using M = mech::fourbar::Model;
+  ParamsD<M> p;
+  p.d = 5.6;
+  Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
+  M::DesignChecks(p, &margin);
+  ASSERT_LT(margin(5), 0);  // reach_far_block0
+  const double toggle = std::acos((p.a * p.a + p.d * p.d - (p.b + p.c) * (p.b + p.c)) / (2 * p.a * p.d));
+  mechgen::position::PositionSolver<M> solver(mechgen::position::Options(), p);
+  Eigen::Matrix<double, 1, 1> q(M_PI / 2);
+  // At 90 deg: B = (0, 1), the coupler and rocker meet above the line DB.
+  ASSERT_EQ(solver.Assemble(q, Eigen::Vector2d(0.3, 1.6), 0, nullptr), mechgen::position::Status::kConverged);
+  int converged = 0;
+  bool refused = false;
+  double largest = 0, closest = 1;
+  for (int step = 1; step < 400 && !refused; ++step) {
+    q(0) = M_PI / 2 + step * (M_PI / 720);
+    const auto status = solver.MoveTo(q, nullptr);
+    const auto& s = solver.state();
+    mechgen::position::DesignOf<M> g;
+    if (status != mechgen::position::Status::kConverged) {
+      EXPECT_EQ(status, mechgen::position::Status::kSingular) << q(0);
+      EXPECT_LT(std::abs(q(0) - toggle), 0.02) << "refused away from the toggle";
+      mechgen::position::State<M> failed = s;
+      failed.valid = false;  // the row a sweep records for a refused step
+      mechgen::position::EvalDesign<M>(p, failed, &g);
+      EXPECT_TRUE(g.dphi_dp.array().isNaN().all());
+      EXPECT_TRUE(g.dK_dp.array().isNaN().all());
+      refused = true;
+      break;
+    }
+    ++converged;
+    ASSERT_TRUE(s.valid);
+    mechgen::position::EvalDesign<M>(p, s, &g);
+    ASSERT_TRUE(g.dphi_dp.allFinite());
+    const Eigen::Matrix<double, M::kNphi, M::kNumDesign> jet = designtest::JetDphiDp<M>(p, s.q, s.phi);
+    for (int d = 0; d < 4; ++d) {
+      EXPECT_LE(g.dphi_dp.col(d).norm(), (1 + 1e-9) / s.sigma_min) << M::kDesignNames[d] << " at " << q(0);
+      largest = std::max(largest, g.dphi_dp.col(d).norm());
+      for (int i = 0; i < M::kNphi; ++i)
+        EXPECT_NEAR(g.dphi_dp(i, d), jet(i, d), 1e-12 * s.condition * Rel(jet(i, d))) << q(0);
+    }
+    closest = std::min(closest, s.sigma_min / s.sigma_max);
+  }
+  EXPECT_TRUE(refused) << "the crank passed theta = " << toggle;
+  EXPECT_GT(converged, 200);
+  EXPECT_LT(closest, 1e-2);  // it came close to the toggle
+  EXPECT_GT(largest, 30.0);  // and the derivatives grew like 1/sigma_min
+  RecordProperty("closest_sigma_ratio", mechtest::Sci(closest));
+  RecordProperty("largest_dphi_dp", mechtest::Sci(largest));
 }
 
 // Four-bar a u2 + b u3 - c u4 - d e_x = 0 (u_k = (cos theta_k, sin theta_k)). Differentiated

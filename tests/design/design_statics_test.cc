@@ -9,7 +9,8 @@
 //     Newton's method at p +- h, p +- h/2.
 // The dynamics: the massive four-bar (bars of mass rho per length, gravity; design parameters
 // a, b, c, d, rho, g), EvalDynamics' I, dI/dq, h, Q, T and V at a crank speed, against the same
-// two oracles.
+// two oracles; and its shaking force and moment (EvalShakingDesign) at a crank speed and
+// acceleration, the same way.
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <string>
 
+#include "design_engine_single.h"
 #include "design_fourbar_loaded.h"
 #include "design_fourbar_massive.h"
 #include "design_test_util.h"
@@ -226,6 +228,182 @@ TEST(DesignDynamics, AgreesWithRichardsonDifferences) {
   }
   RecordProperty("worst_relative_error", mechtest::Sci(worst));
 }
+
+
+// ---- The shaking force and moment (EvalShakingDesign) ----
+// F and M of EvalShaking at a crank speed and acceleration, their d/dp against Jets of the
+// generated EvalCoefficients and EvalShaking and against Richardson differences.
+namespace shake {
+
+constexpr double kQdd = -0.7;
+
+Eigen::Matrix<double, 3, kN> Generated(const ParamsM& p, const Config<MD>& x) {
+  static_assert(MD::kHasShaking && MD::kHasDynamicsDesign);
+  MD::CoefficientsT<double> c;
+  MD::Coeffs(p, x.q, x.phi, &c);
+  MD::DesignDerivativesT<double> dc;
+  MD::Design(p, x.q, x.phi, &dc);
+  Eigen::Matrix<double, 2, kN> dF_dp = Eigen::Matrix<double, 2, kN>::Constant(std::nan(""));
+  Eigen::Matrix<double, kN, 1> dM_dp = Eigen::Matrix<double, kN, 1>::Constant(std::nan(""));
+  const Eigen::Matrix<double, 1, 1> qd(kQd), qdd(kQdd);
+  MD::ShakingDesign(p, x.q, x.phi, qd, qdd, c, dc, &dF_dp, &dM_dp);
+  // Each output alone (the other nullptr) gives the same.
+  Eigen::Matrix<double, 2, kN> dF_alone;
+  Eigen::Matrix<double, kN, 1> dM_alone;
+  MD::ShakingDesign(p, x.q, x.phi, qd, qdd, c, dc, &dF_alone);
+  MD::ShakingDesign<double>(p, x.q, x.phi, qd, qdd, c, dc, nullptr, &dM_alone);
+  EXPECT_EQ(dF_alone, dF_dp);
+  EXPECT_EQ(dM_alone, dM_dp);
+  Eigen::Matrix<double, 3, kN> g;
+  g << dF_dp, dM_dp.transpose();
+  return g;
+}
+
+template <class S>
+Eigen::Matrix<S, 3, 1> Values(const typename MD::template ParamsT<S>& p, const Eigen::Matrix<S, 1, 1>& q,
+                              const Eigen::Matrix<S, MD::kNphi, 1>& phi) {
+  typename MD::template CoefficientsT<S> c;
+  MD::Coeffs(p, q, phi, &c);
+  typename MD::template ShakingT<S> y;
+  MD::Shaking(p, q, phi, Eigen::Matrix<S, 1, 1>(S(kQd)), Eigen::Matrix<S, 1, 1>(S(kQdd)), c, &y);
+  Eigen::Matrix<S, 3, 1> v;
+  v << y.F(0), y.F(1), y.M;
+  return v;
+}
+
+const char* kShakeWhat[3] = {"dF_x", "dF_y", "dM"};
+
+TEST(DesignShaking, AgreesWithJetsOfTheGeneratedShaking) {
+  using Jet = ceres::Jet<double, kN>;
+  const ParamsM p;
+  const auto all = mechtest::SweepConfigs<MD>(p, 72);
+  double worst = 0;
+  int compared = 0;
+  for (size_t ci = 0; ci < all.size(); ci += 4) {
+    const Config<MD>& x = all[ci];
+    MD::DesignDerivativesT<double> dc;
+    MD::Design(p, x.q, x.phi, &dc);
+    const auto pk = designtest::SeededParams<MD, Jet>(p);
+    const Eigen::Matrix<Jet, 1, 1> qk = x.q.cast<Jet>();
+    const Eigen::Matrix<Jet, MD::kNphi, 1> phik =
+        designtest::PhiJets<MD, Jet>(x.phi, designtest::JetDphiDp<MD>(p, x.q, x.phi));
+    const Eigen::Matrix<Jet, 3, 1> ref = Values<Jet>(pk, qk, phik);
+    const Eigen::Matrix<double, 3, kN> g = Generated(p, x);
+    for (int r = 0; r < 3; ++r)
+      for (int d = 0; d < kN; ++d) {
+        const double e = std::abs(g(r, d) - ref(r).v(d)) / Rel(ref(r).v(d));
+        worst = std::max(worst, e);
+        ++compared;
+        EXPECT_LE(e, 1e-12) << kShakeWhat[r] << " /d " << MD::kDesignNames[d] << " at " << x.q(0) << ": " << g(r, d)
+                            << " vs " << ref(r).v(d);
+      }
+  }
+  EXPECT_EQ(compared, 18 * 3 * kN);
+  RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+TEST(DesignShaking, AgreesWithRichardsonDifferences) {
+  const ParamsM p0;
+  const auto all = mechtest::SweepConfigs<MD>(p0, 72);
+  double worst = 0, largest = 0;
+  for (size_t ci = 0; ci < all.size(); ci += 9) {
+    const Config<MD>& x = all[ci];
+    const Eigen::Matrix<double, 3, kN> g = Generated(p0, x);
+    for (int d = 0; d < kN; ++d) {
+      const double v0 = *ParamsM().Find(MD::kDesignNames[d]), h = 1e-4 * Rel(v0);
+      auto at = [&](double delta) {
+        ParamsM q = p0;
+        *q.Find(MD::kDesignNames[d]) = v0 + delta;
+        Config<MD> y = x;
+        EXPECT_TRUE(mechtest::SolvePhi<MD>(q, y.q, &y.phi).converged);
+        return Values<double>(q, y.q, y.phi);
+      };
+      const Eigen::Matrix<double, 3, 1> D = (4 * (at(h / 2) - at(-h / 2)) / h - (at(h) - at(-h)) / (2 * h)) / 3;
+      for (int r = 0; r < 3; ++r) {
+        const double e = std::abs(g(r, d) - D(r)) / Rel(D(r));
+        worst = std::max(worst, e);
+        largest = std::max(largest, std::abs(D(r)));
+        EXPECT_LE(e, 1e-7) << kShakeWhat[r] << " /d " << MD::kDesignNames[d] << ": " << g(r, d) << " vs " << D(r);
+      }
+    }
+  }
+  EXPECT_GT(largest, 1.0);  // the derivatives are not all trivially zero
+  RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+}  // namespace shake
+
+// ---- An engine (engine_single with `design: {parameters: all}`: 18 parameters, the gas law's
+// among them): statics, dynamics and shaking derivatives against Jets of the generated values ----
+namespace engine {
+
+using ME = mech::design_engine_single::Model;
+using ParamsE = ME::ParamsT<double>;
+constexpr int kNe = ME::kNumDesign;
+
+TEST(DesignEngine, StaticsDynamicsAndShakingAgreeWithJets) {
+  static_assert(ME::kHasStaticsDesign && ME::kHasDynamicsDesign && ME::kHasShaking);
+  using Jet = ceres::Jet<double, kNe>;
+  const ParamsE p;
+  const auto all = mechtest::SweepConfigs<ME>(p, 144);
+  double worst = 0;
+  int compared = 0;
+  const Eigen::Matrix<double, 1, 1> qd(31.4), qdd(-5.0);
+  const double t = 0.01;
+  for (size_t ci = 0; ci < all.size(); ci += 6) {
+    const Config<ME>& x = all[ci];
+    ME::CoefficientsT<double> c;
+    ME::Coeffs(p, x.q, x.phi, &c);
+    ME::DesignDerivativesT<double> dc;
+    ME::Design(p, x.q, x.phi, &dc);
+    ME::StaticsDesignT<double> ds;
+    ME::StaticsDesign(p, x.q, x.phi, c, dc, &ds);
+    ME::DynamicsDesignT<double> dd;
+    ME::DynamicsDesign(p, x.q, x.phi, qd, t, c, dc, &dd);
+    Eigen::Matrix<double, 2, kNe> dF_dp;
+    Eigen::Matrix<double, kNe, 1> dM_dp;
+    ME::ShakingDesign(p, x.q, x.phi, qd, qdd, c, dc, &dF_dp, &dM_dp);
+
+    const auto pk = designtest::SeededParams<ME, Jet>(p);
+    const Eigen::Matrix<Jet, 1, 1> qk = x.q.cast<Jet>();
+    const Eigen::Matrix<Jet, ME::kNphi, 1> phik =
+        designtest::PhiJets<ME, Jet>(x.phi, designtest::JetDphiDp<ME>(p, x.q, x.phi));
+    ME::CoefficientsT<Jet> cj;
+    ME::Coeffs(pk, qk, phik, &cj);
+    ME::StaticsT<Jet> sj;
+    ME::Forces(pk, qk, phik, cj, &sj);
+    ME::DynamicsT<Jet> yj;
+    ME::Dynamics(pk, qk, phik, Eigen::Matrix<Jet, 1, 1>(Jet(qd(0))), Jet(t), cj, &yj);
+    ME::ShakingT<Jet> hj;
+    ME::Shaking(pk, qk, phik, Eigen::Matrix<Jet, 1, 1>(Jet(qd(0))), Eigen::Matrix<Jet, 1, 1>(Jet(qdd(0))), cj, &hj);
+    auto compare = [&](const Jet& ref, double got, int d, const std::string& what) {
+      const double e = std::abs(got - ref.v(d)) / Rel(ref.v(d));
+      worst = std::max(worst, e);
+      ++compared;
+      EXPECT_LE(e, 1e-12) << what << " /d " << ME::kDesignNames[d] << " at " << x.q(0) << ": " << got << " vs "
+                          << ref.v(d);
+    };
+    for (int d = 0; d < kNe; ++d) {
+      compare(sj.Q(0), ds.dQ_dp(0, d), d, "statics dQ");
+      compare(sj.V, ds.dV_dp(d), d, "statics dV");
+      for (int i = 0; i < ME::kNumReactions; ++i)
+        compare(sj.R(i), ds.dR_dp(i, d), d, std::string("d") + ME::kReactionNames[i]);
+      compare(yj.I(0, 0), dd.dI_dp(0, d), d, "dI");
+      compare(yj.dI_dq(0, 0), dd.ddI_dq_dp(0, d), d, "dI'");
+      compare(yj.h(0), dd.dh_dp(0, d), d, "dh");
+      compare(yj.Q(0), dd.dQ_dp(0, d), d, "dynamics dQ");
+      compare(yj.T, dd.dT_dp(d), d, "dT");
+      compare(yj.V, dd.dV_dp(d), d, "dynamics dV");
+      compare(hj.F(0), dF_dp(0, d), d, "dF_x");
+      compare(hj.F(1), dF_dp(1, d), d, "dF_y");
+      compare(hj.M, dM_dp(d), d, "dM");
+    }
+  }
+  EXPECT_GT(compared, 5000);
+  RecordProperty("worst_relative_error", mechtest::Sci(worst));
+}
+
+}  // namespace engine
 
 }  // namespace dyn
 
