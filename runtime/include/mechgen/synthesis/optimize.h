@@ -1,0 +1,258 @@
+/**
+ * \file synthesis/optimize.h
+ * The two stages of path synthesis (issue 28):
+ *  - global: differential evolution (DE/rand/1/bin, F dithered in [0.5, 1) per generation,
+ *    CR 0.9, Deb's feasibility rule for selection) over the task's variables within their
+ *    bounds; Search::restarts independent runs, each with its own splitmix64 stream seeded
+ *    from (seed, restart) and an equal share of Search::evaluations;
+ *  - local: from each run's best, Levenberg–Marquardt (Ceres) on the residuals
+ *    r_P(q_i; p) - T_i over the variables and the timing (each q_i for free timing, the
+ *    offset if free), within the variables' bounds. Its Jacobian is the generated one:
+ *    d r_P/d p = Design::dr_P_dp (EvalDesignDerivatives), d r_P/d q = Coefficients::K_P,
+ *    no automatic or numerical differentiation. The refined candidate is checked again and
+ *    kept only if it is feasible and better.
+ * The runs go to `threads` std::threads (an atomic counter hands out run indices); each run's
+ * result depends only on (seed, run), and the best is chosen by Deb's rule with ties to the
+ * lower index: the same seed gives the same bytes for any number of threads.
+ * Counting: one evaluation = one candidate's objective (prescribed timing: n position
+ * solves and the motion's check; free timing: also the curve's samples), one residual
+ * evaluation of the local stage = 1, one Jacobian = 1 + its number of parameters.
+ */
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include <ceres/ceres.h>
+
+#include "mechgen/position/design.h"
+#include "mechgen/synthesis/path.h"
+#include "mechgen/synthesis/random.h"
+
+namespace mechgen::synthesis {
+
+/// One run's (or the whole search's) outcome.
+struct RunResult {
+  Candidate global;   ///< the global stage's best
+  Candidate best;     ///< after the local stage (or the global one if that was not better)
+  long long evaluations = 0;
+  long long solves = 0;
+  int local_iterations = 0;
+  bool local_improved = false;
+  int run = 0;
+};
+
+/// The residuals r_P(q_i) - T_i of a bound task, and their generated Jacobian.
+template <class M>
+class PathResiduals : public ceres::CostFunction {
+ public:
+  PathResiduals(PathEvaluator<M>* eval, int num_timing) : eval_(eval), num_timing_(num_timing) {
+    const BoundPath<M>& b = eval->bound();
+    set_num_residuals(2 * b.n);
+    mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(b.task.variables.size()));
+    if (num_timing > 0) mutable_parameter_block_sizes()->push_back(num_timing);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const BoundPath<M>& b = eval_->bound();
+    const int nv = static_cast<int>(b.task.variables.size());
+    std::vector<double> x(parameters[0], parameters[0] + nv);
+    eval_->evaluations += jacobians != nullptr ? 1 + nv + num_timing_ : 1;
+    const auto p = eval_->ParamsOf(x);
+    typename PathEvaluator<M>::VecPhi phi;
+    typename PathEvaluator<M>::Coeffs co;
+    position::DesignOf<M> design;
+    for (int i = 0; i < b.n; ++i) {
+      double q;
+      if (b.task.timing.free) {
+        q = parameters[1][i];
+      } else {
+        std::vector<double> xg = x;
+        if (b.offset_var >= 0) xg.push_back(parameters[1][0]);
+        q = eval_->PrescribedQ(xg, i);
+      }
+      if (!eval_->PointAt(p, q, &phi, &co)) return false;
+      const int m = b.point;
+      residuals[2 * i] = co.r_P(0, m) - b.task.tx[static_cast<size_t>(i)];
+      residuals[2 * i + 1] = co.r_P(1, m) - b.task.ty[static_cast<size_t>(i)];
+      if (jacobians == nullptr) continue;
+      Eigen::Matrix<double, M::kNq, 1> qv;
+      qv(0) = q;
+      M::Design(p, qv, phi, &design);
+      for (int a = 0; a < 2; ++a) {
+        const double kp = co.K_P(2 * m + a, 0);
+        if (jacobians[0] != nullptr) {
+          double* row = jacobians[0] + (2 * i + a) * nv;
+          for (int j = 0; j < nv; ++j) {
+            row[j] = design.dr_P_dp(2 * m + a, b.column[static_cast<size_t>(j)]);
+            if (j == b.relative_to) row[j] += kp;  // q_i moves with the frame's angle
+          }
+        }
+        if (num_timing_ > 0 && jacobians[1] != nullptr) {
+          double* row = jacobians[1] + (2 * i + a) * num_timing_;
+          for (int k = 0; k < num_timing_; ++k) row[k] = b.task.timing.free ? (k == i ? kp : 0.0) : kp;
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  PathEvaluator<M>* eval_;
+  int num_timing_;
+};
+
+/// The local stage from `start`: LM over the variables and the timing. Returns the refined
+/// candidate (checked), or `start` when the refinement is not feasible or not better.
+template <class M>
+Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, int* iterations) {
+  const BoundPath<M>& b = eval->bound();
+  const int nv = static_cast<int>(b.task.variables.size());
+  std::vector<double> x(start.x.begin(), start.x.begin() + nv);
+  std::vector<double> timing;
+  if (b.task.timing.free) timing = start.q;
+  if (b.offset_var >= 0) timing.push_back(start.x[static_cast<size_t>(b.offset_var)]);
+  const int num_timing = static_cast<int>(timing.size());
+  ceres::Problem::Options problem_options;
+  ceres::Problem problem(problem_options);
+  auto* cost = new PathResiduals<M>(eval, num_timing);
+  if (num_timing > 0) {
+    problem.AddResidualBlock(cost, nullptr, x.data(), timing.data());
+  } else {
+    problem.AddResidualBlock(cost, nullptr, x.data());
+  }
+  for (int j = 0; j < nv; ++j) {
+    problem.SetParameterLowerBound(x.data(), j, b.task.variables[static_cast<size_t>(j)].lo);
+    problem.SetParameterUpperBound(x.data(), j, b.task.variables[static_cast<size_t>(j)].hi);
+  }
+  ceres::Solver::Options options;
+  options.minimizer_type = ceres::TRUST_REGION;
+  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = 200;
+  options.function_tolerance = 1e-16;
+  options.gradient_tolerance = 1e-20;
+  options.parameter_tolerance = 1e-16;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  options.minimizer_progress_to_stdout = false;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  *iterations = static_cast<int>(summary.iterations.size());
+  Candidate refined;
+  refined.x = x;
+  if (b.offset_var >= 0) refined.x.push_back(timing.back());
+  if (b.task.timing.free) {
+    refined.q = timing;
+  } else {
+    refined.q.resize(static_cast<size_t>(b.n));
+    for (int i = 0; i < b.n; ++i) refined.q[static_cast<size_t>(i)] = eval->PrescribedQ(refined.x, i);
+  }
+  eval->Check(eval->ParamsOf(refined.x), &refined);
+  return Better(refined, start) ? refined : start;
+}
+
+/// One run: DE from its own stream, then the local stage.
+template <class M>
+RunResult Run(const BoundPath<M>& b, uint64_t seed, int run, long long budget) {
+  PathEvaluator<M> eval(b);
+  SplitMix64 rng(seed, static_cast<uint64_t>(run));
+  const int dim = b.num_global;
+  std::vector<double> lo(static_cast<size_t>(dim)), hi(static_cast<size_t>(dim));
+  for (int j = 0; j < static_cast<int>(b.task.variables.size()); ++j) {
+    lo[static_cast<size_t>(j)] = b.task.variables[static_cast<size_t>(j)].lo;
+    hi[static_cast<size_t>(j)] = b.task.variables[static_cast<size_t>(j)].hi;
+  }
+  if (b.offset_var >= 0) lo[static_cast<size_t>(b.offset_var)] = 0, hi[static_cast<size_t>(b.offset_var)] = kTwoPi;
+  int np = b.task.search.population > 0 ? b.task.search.population : std::max(20, 10 * dim);
+  np = static_cast<int>(std::max<long long>(4, std::min<long long>(np, budget)));
+  std::vector<Candidate> pop;
+  pop.reserve(static_cast<size_t>(np));
+  std::vector<double> x(static_cast<size_t>(dim));
+  for (int k = 0; k < np; ++k) {
+    for (int j = 0; j < dim; ++j)
+      x[static_cast<size_t>(j)] = lo[static_cast<size_t>(j)] + rng.Uniform() * (hi[static_cast<size_t>(j)] - lo[static_cast<size_t>(j)]);
+    pop.push_back(eval.Evaluate(x));
+  }
+  while (eval.evaluations + np <= budget) {
+    const double F = 0.5 + 0.5 * rng.Uniform();
+    for (int k = 0; k < np; ++k) {
+      int r1, r2, r3;
+      do r1 = rng.Below(np); while (r1 == k);
+      do r2 = rng.Below(np); while (r2 == k || r2 == r1);
+      do r3 = rng.Below(np); while (r3 == k || r3 == r1 || r3 == r2);
+      const int jrand = rng.Below(dim);
+      for (int j = 0; j < dim; ++j) {
+        const size_t u = static_cast<size_t>(j);
+        double v = pop[static_cast<size_t>(k)].x[u];
+        if (j == jrand || rng.Uniform() < 0.9) {
+          v = pop[static_cast<size_t>(r1)].x[u] + F * (pop[static_cast<size_t>(r2)].x[u] - pop[static_cast<size_t>(r3)].x[u]);
+          // Out of bounds: halfway between the parent and the bound it crossed.
+          if (v < lo[u]) v = 0.5 * (lo[u] + pop[static_cast<size_t>(k)].x[u]);
+          if (v > hi[u]) v = 0.5 * (hi[u] + pop[static_cast<size_t>(k)].x[u]);
+        }
+        x[u] = v;
+      }
+      Candidate trial = eval.Evaluate(x);
+      if (!Better(pop[static_cast<size_t>(k)], trial)) pop[static_cast<size_t>(k)] = std::move(trial);
+    }
+  }
+  RunResult r;
+  r.run = run;
+  size_t best = 0;
+  for (size_t k = 1; k < pop.size(); ++k)
+    if (Better(pop[k], pop[best])) best = k;
+  r.global = pop[best];
+  const long long before_local = eval.evaluations;
+  r.best = LocalStage(&eval, r.global, &r.local_iterations);
+  r.local_improved = r.best.error != r.global.error || r.best.violation != r.global.violation;
+  (void)before_local;
+  r.evaluations = eval.evaluations;
+  r.solves = eval.solves;
+  return r;
+}
+
+/// What the whole search did.
+struct SearchResult {
+  RunResult best;                ///< the best run (Deb's rule, ties: the lower run index)
+  std::vector<RunResult> runs;   ///< every run, by index
+  long long evaluations = 0;     ///< over all runs
+  long long solves = 0;
+};
+
+/// The search: task.search.restarts runs on `threads` threads. `progress` (may be empty) is
+/// called from the worker threads as runs finish (for a progress line; not for results).
+template <class M>
+SearchResult Synthesize(const BoundPath<M>& b, uint64_t seed, int threads,
+                        const std::function<void(int done, int total)>& progress = {}) {
+  const int runs = b.task.search.restarts;
+  const long long budget = std::max<long long>(1, b.task.search.evaluations / runs);
+  SearchResult s;
+  s.runs.resize(static_cast<size_t>(runs));
+  std::atomic<int> next{0}, done{0};
+  auto work = [&]() {
+    for (int r; (r = next.fetch_add(1)) < runs;) {
+      s.runs[static_cast<size_t>(r)] = Run(b, seed, r, budget);
+      const int d = ++done;
+      if (progress) progress(d, runs);
+    }
+  };
+  const int n = std::max(1, std::min(threads, runs));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < n; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  size_t best = 0;
+  for (size_t r = 0; r < s.runs.size(); ++r) {
+    s.evaluations += s.runs[r].evaluations;
+    s.solves += s.runs[r].solves;
+    if (r > 0 && Better(s.runs[r].best, s.runs[best].best)) best = r;
+  }
+  s.best = s.runs[best];
+  return s;
+}
+
+}  // namespace mechgen::synthesis
