@@ -26,7 +26,9 @@
 #include <thread>
 #include <vector>
 
-#include <ceres/ceres.h>
+#include <ceres/cost_function.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
 
 #include "mechgen/position/design.h"
 #include "mechgen/synthesis/path.h"
