@@ -5,7 +5,8 @@
  *    CR 0.9, Deb's feasibility rule for selection) over the task's variables within their
  *    bounds; Search::restarts independent runs, each with its own splitmix64 stream seeded
  *    from (seed, restart) and an equal share of Search::evaluations;
- *  - local: from each run's best, Levenberg–Marquardt (Ceres) on the residuals
+ *  - local: from each run's best Search::local_starts candidates (Deb's rule), sharing the
+ *    last Search::local_share of the run's budget, Levenberg–Marquardt (Ceres) on the residuals
  *    r_P(q_i; p) - T_i over the variables and the timing (each q_i for free timing, the
  *    offset if free), within the variables' bounds. Its Jacobian is the generated one:
  *    d r_P/d p = Design::dr_P_dp (EvalDesignDerivatives), d r_P/d q = Coefficients::K_P,
@@ -14,6 +15,8 @@
  * The runs go to `threads` std::threads (an atomic counter hands out run indices); each run's
  * result depends only on (seed, run), and the best is chosen by Deb's rule with ties to the
  * lower index: the same seed gives the same bytes for any number of threads.
+ * The budget Search::evaluations covers both stages (the local stage's iterations are capped
+ * by what is left; an iteration may overrun it by one Jacobian).
  * Counting: one evaluation = one candidate's objective (prescribed timing: n position
  * solves and the motion's check; free timing: also the curve's samples), one residual
  * evaluation of the local stage = 1, one Jacobian = 1 + its number of parameters.
@@ -110,7 +113,7 @@ class PathResiduals : public ceres::CostFunction {
 /// The local stage from `start`: LM over the variables and the timing. Returns the refined
 /// candidate (checked), or `start` when the refinement is not feasible or not better.
 template <class M>
-Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, int* iterations) {
+Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, long long max_evaluations, int* iterations) {
   const BoundPath<M>& b = eval->bound();
   const int nv = static_cast<int>(b.task.variables.size());
   std::vector<double> x(start.x.begin(), start.x.begin() + nv);
@@ -134,7 +137,9 @@ Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, int* iterat
   options.minimizer_type = ceres::TRUST_REGION;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = 200;
+  // An iteration evaluates the residuals and, after a successful step, the Jacobian.
+  const long long per_iteration = 2 + nv + num_timing;
+  options.max_num_iterations = static_cast<int>(std::max<long long>(1, std::min<long long>(200, max_evaluations / per_iteration)));
   options.function_tolerance = 1e-16;
   options.gradient_tolerance = 1e-20;
   options.parameter_tolerance = 1e-16;
@@ -179,7 +184,8 @@ RunResult Run(const BoundPath<M>& b, uint64_t seed, int run, long long budget) {
       x[static_cast<size_t>(j)] = lo[static_cast<size_t>(j)] + rng.Uniform() * (hi[static_cast<size_t>(j)] - lo[static_cast<size_t>(j)]);
     pop.push_back(eval.Evaluate(x));
   }
-  while (eval.evaluations + np <= budget) {
+  const long long global_budget = budget - static_cast<long long>(b.task.search.local_share * static_cast<double>(budget));
+  while (eval.evaluations + np <= global_budget) {
     const double F = 0.5 + 0.5 * rng.Uniform();
     for (int k = 0; k < np; ++k) {
       int r1, r2, r3;
@@ -204,14 +210,23 @@ RunResult Run(const BoundPath<M>& b, uint64_t seed, int run, long long budget) {
   }
   RunResult r;
   r.run = run;
-  size_t best = 0;
-  for (size_t k = 1; k < pop.size(); ++k)
-    if (Better(pop[k], pop[best])) best = k;
-  r.global = pop[best];
-  const long long before_local = eval.evaluations;
-  r.best = LocalStage(&eval, r.global, &r.local_iterations);
+  // The population by Deb's rule (ties: the lower index), its best the global stage's result.
+  std::vector<size_t> order(pop.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](size_t u, size_t v) { return Better(pop[u], pop[v]); });
+  r.global = pop[order[0]];
+  r.best = r.global;
+  // The local stage from the best few, sharing what is left of the budget.
+  const int starts = std::max(1, std::min<int>(b.task.search.local_starts, np));
+  for (int k = 0; k < starts; ++k) {
+    const long long left = budget - eval.evaluations;
+    if (left <= 0) break;
+    int iterations = 0;
+    const Candidate refined = LocalStage(&eval, pop[order[static_cast<size_t>(k)]], left / (starts - k), &iterations);
+    r.local_iterations += iterations;
+    if (Better(refined, r.best)) r.best = refined;
+  }
   r.local_improved = r.best.error != r.global.error || r.best.violation != r.global.violation;
-  (void)before_local;
   r.evaluations = eval.evaluations;
   r.solves = eval.solves;
   return r;

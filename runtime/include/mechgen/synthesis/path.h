@@ -298,6 +298,8 @@ class PathEvaluator {
     std::vector<double> dq(static_cast<size_t>(n), 0.0);
     if (t.timing.free) {
       for (int i = 0; i < n; ++i) dq[static_cast<size_t>(i)] = Wrap(cand->q[static_cast<size_t>(i)] - cand->q[0]);
+      // The last target where the first is (a closed curve's end): reached after a full turn.
+      if (n > 2 && dq[static_cast<size_t>(n - 1)] < 1e-6) dq[static_cast<size_t>(n - 1)] += kTwoPi;
       if (c.order) {
         double back = 0;
         for (int i = 1; i < n; ++i) back += std::max(0.0, dq[static_cast<size_t>(i - 1)] - dq[static_cast<size_t>(i)]);

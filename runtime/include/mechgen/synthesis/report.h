@@ -29,8 +29,10 @@ std::string ContinuationCheck(PathEvaluator<M>* eval, const Candidate& c) {
   typename PathEvaluator<M>::Coeffs co;
   // The order of the motion: input order from the first target (free timing), else as given.
   std::vector<double> q = c.q;
-  if (b.task.timing.free)
+  if (b.task.timing.free) {
     for (double& qi : q) qi = c.q[0] + Wrap(qi - c.q[0]);
+    if (b.n > 2 && q[static_cast<size_t>(b.n - 1)] - c.q[0] < 1e-6) q[static_cast<size_t>(b.n - 1)] += kTwoPi;  // as Check()
+  }
   std::vector<int> order(static_cast<size_t>(b.n));
   for (int i = 0; i < b.n; ++i) order[static_cast<size_t>(i)] = i;
   if (b.task.timing.free)

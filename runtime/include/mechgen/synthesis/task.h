@@ -55,6 +55,8 @@ struct Search {
   int restarts = 8;               ///< independent seeded runs (on the threads)
   int population = 0;             ///< per restart; 0: 10 x the number of variables (at least 20)
   int curve_samples = 360;        ///< free timing: the curve sampled at this many input angles
+  int local_starts = 3;           ///< the local stage from this many of each run's best candidates
+  double local_share = 0.3;       ///< the share of each run's budget kept for the local stage
 };
 
 /// Path generation (function and motion generation: later kinds of the same file).
@@ -258,7 +260,13 @@ inline bool ParseTask(const std::string& path, PathTask* task, std::string* erro
     }
     if (const YAML::Node s = root["search"]) {
       if (!s.IsMap()) throw Error{Where(path, s.Mark()) + "search: expected a mapping"};
-      Known(path, s, {"evaluations", "restarts", "population", "curve_samples"}, "search");
+      Known(path, s, {"evaluations", "restarts", "population", "curve_samples", "local_starts", "local_share"}, "search");
+      if (s["local_starts"]) task->search.local_starts = static_cast<int>(Count(path, s["local_starts"], "local_starts", 1, 1000));
+      if (s["local_share"]) {
+        task->search.local_share = Number(path, s["local_share"], "local_share");
+        if (!(task->search.local_share >= 0 && task->search.local_share <= 0.9))
+          throw Error{Where(path, s["local_share"].Mark()) + "local_share: expected a number in [0, 0.9]"};
+      }
       if (s["evaluations"]) task->search.evaluations = Count(path, s["evaluations"], "evaluations", 100, 1000000000LL);
       if (s["restarts"]) task->search.restarts = static_cast<int>(Count(path, s["restarts"], "restarts", 1, 10000));
       if (s["population"]) task->search.population = static_cast<int>(Count(path, s["population"], "population", 0, 100000));
