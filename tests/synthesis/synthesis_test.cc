@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "fourbar.h"
+#include "mechgen/synthesis/freudenstein.h"
 #include "mechgen/synthesis/optimize.h"
 #include "mechgen/synthesis/output.h"
 #include "mechgen/synthesis/task.h"
@@ -167,6 +168,88 @@ TEST(PathSynthesis, TaskErrorsSayWhereAndWhat) {
   EXPECT_EQ(error.substr(error.find("bad_task.yaml")),
             "bad_task.yaml:6:3: variable 'zeta' is not one of the model's design parameters (a, b, c, d, xi, eta); add "
             "it to the model's `design:` list");
+}
+
+// ---- Freudenstein's equation (function generation, exact) --------------------------------
+
+// The shipped four-bar's output angle (theta_rocker) at theta_crank, by the generated solve on
+// the given assembly mode; NaN if it does not assemble.
+double Rocker(const mech::fourbar::Params<double>& p, double theta2, int mode) {
+  Eigen::Matrix<double, 1, 1> q;
+  q(0) = theta2;
+  Eigen::Vector2d phi(0.5, 1.9);
+  const auto report = mech::fourbar::Model::Solve(p, q, &phi, {mode});
+  return report.status == mech::fourbar::SolveStatus::kConverged ? phi(1) : std::nan("");
+}
+
+TEST(Freudenstein, ThreePairsOfTheShippedFourBarGiveItBack) {
+  const mech::fourbar::Params<double> p;  // a 1, b 3.5, c 3, d 4
+  const std::vector<double> t2 = {40 * M_PI / 180, 100 * M_PI / 180, 200 * M_PI / 180};
+  std::vector<double> t4;
+  for (double t : t2) t4.push_back(Rocker(p, t, 1));
+  const FreudensteinResult r = Freudenstein(t2, t4, 4.0);
+  ASSERT_TRUE(r.ok) << r.why;
+  EXPECT_NEAR(r.a, 1.0, 1e-12);
+  EXPECT_NEAR(r.b, 3.5, 1e-12);
+  EXPECT_NEAR(r.c, 3.0, 1e-12);
+  for (double res : r.residual) EXPECT_LE(std::abs(res), 1e-12);
+}
+
+TEST(Freudenstein, ThreePrescribedPairsAreMetByTheSynthesizedFourBar) {
+  // A function generator: the output at 100, 110, 125 deg while the input turns 30, 60, 90 deg.
+  const std::vector<double> t2 = {30 * M_PI / 180, 60 * M_PI / 180, 90 * M_PI / 180};
+  const std::vector<double> t4 = {100 * M_PI / 180, 110 * M_PI / 180, 125 * M_PI / 180};
+  const FreudensteinResult r = Freudenstein(t2, t4, 4.0);
+  ASSERT_TRUE(r.ok) << r.why;
+  for (double res : r.residual) EXPECT_LE(std::abs(res), 1e-12);
+  // The oracle: the generated model with these lengths, solved at the three inputs, gives the
+  // three outputs to 1e-12 on one assembly mode for all three (no branch change between them).
+  mech::fourbar::Params<double> p;
+  p.a = r.a, p.b = r.b, p.c = r.c, p.d = r.d;
+  int modes_meeting_all = 0;
+  for (int mode : {1, -1}) {
+    bool all = true;
+    for (size_t i = 0; i < t2.size(); ++i)
+      all = all && std::abs(std::remainder(Rocker(p, t2[i], mode) - t4[i], 2 * M_PI)) <= 1e-12;
+    modes_meeting_all += all;
+  }
+  EXPECT_EQ(modes_meeting_all, 1) << "a = " << r.a << ", b = " << r.b << ", c = " << r.c;
+}
+
+TEST(Freudenstein, LeastSquaresForMorePairs) {
+  const mech::fourbar::Params<double> p;
+  std::vector<double> t2, t4;
+  for (int k = 0; k < 7; ++k) {
+    t2.push_back((15 + 50 * k) * M_PI / 180);
+    t4.push_back(Rocker(p, t2.back(), 1));
+  }
+  const FreudensteinResult exact = Freudenstein(t2, t4, 4.0);
+  ASSERT_TRUE(exact.ok) << exact.why;
+  EXPECT_NEAR(exact.a, 1.0, 1e-12);
+  EXPECT_NEAR(exact.b, 3.5, 1e-12);
+  EXPECT_NEAR(exact.c, 3.0, 1e-12);
+  // Perturbed outputs: no exact solution; the least-squares K makes the residual orthogonal
+  // to the columns d(residual)/dK = (cos t4, -cos t2, 1) (the normal equations).
+  for (size_t i = 0; i < t4.size(); ++i) t4[i] += 0.01 * std::sin(3.0 * static_cast<double>(i));
+  const FreudensteinResult ls = Freudenstein(t2, t4, 4.0);
+  double g0 = 0, g1 = 0, g2 = 0, rr = 0;
+  for (size_t i = 0; i < t2.size(); ++i) {
+    const double res = ls.residual[i];
+    g0 += res * std::cos(t4[i]), g1 -= res * std::cos(t2[i]), g2 += res, rr += res * res;
+  }
+  EXPECT_GT(rr, 1e-8);  // not exact
+  EXPECT_LE(std::abs(g0) + std::abs(g1) + std::abs(g2), 1e-14);
+}
+
+TEST(Freudenstein, RefusesPairsNoFourBarMeets) {
+  // (90, 90), (0, 90), (90, 0) deg: K3 = 1, K2 = 1, K1 = -1 by hand: no crank length d/K1 > 0.
+  const std::vector<double> t2 = {M_PI / 2, 0, M_PI / 2}, t4 = {M_PI / 2, M_PI / 2, 0};
+  const FreudensteinResult r = Freudenstein(t2, t4, 1.0);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NEAR(r.K(0), -1, 1e-15);
+  EXPECT_NEAR(r.K(1), 1, 1e-15);
+  EXPECT_NEAR(r.K(2), 1, 1e-15);
+  EXPECT_FALSE(Freudenstein({0, 1}, {0, 1}, 1.0).ok);  // two pairs
 }
 
 }  // namespace
