@@ -15,8 +15,8 @@
  * The runs go to `threads` std::threads (an atomic counter hands out run indices); each run's
  * result depends only on (seed, run), and the best is chosen by Deb's rule with ties to the
  * lower index: the same seed gives the same bytes for any number of threads.
- * The budget Search::evaluations covers both stages (the local stage's iterations are capped
- * by what is left; an iteration may overrun it by one Jacobian).
+ * The budget Search::evaluations covers both stages: the local stage's iterations are capped
+ * by what is left, and an evaluation that would pass it is refused (Ceres then stops).
  * Counting: one evaluation = one candidate's objective (prescribed timing: n position
  * solves and the motion's check; free timing: also the curve's samples), one residual
  * evaluation of the local stage = 1, one Jacobian = 1 + its number of parameters.
@@ -25,6 +25,7 @@
 
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -54,7 +55,10 @@ struct RunResult {
 template <class M>
 class PathResiduals : public ceres::CostFunction {
  public:
-  PathResiduals(PathEvaluator<M>* eval, int num_timing) : eval_(eval), num_timing_(num_timing) {
+  /// `limit`: the evaluator's count this cost may not pass (an evaluation that would is
+  /// refused; LocalStage stops Ceres before that, see there).
+  PathResiduals(PathEvaluator<M>* eval, int num_timing, long long limit = std::numeric_limits<long long>::max())
+      : eval_(eval), num_timing_(num_timing), limit_(limit) {
     const BoundPath<M>& b = eval->bound();
     set_num_residuals(2 * b.n);
     mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(b.task.variables.size()));
@@ -64,8 +68,43 @@ class PathResiduals : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const BoundPath<M>& b = eval_->bound();
     const int nv = static_cast<int>(b.task.variables.size());
+    // Ceres asks again at a point it has just had (the candidate, then its Jacobian): the
+    // last evaluation is kept and handed out again, neither computed nor counted twice.
+    const int nr = 2 * b.n;
+    const bool want_j = jacobians != nullptr;
+    std::vector<double>& at = scratch_;
+    at.assign(parameters[0], parameters[0] + nv);
+    if (num_timing_ > 0) at.insert(at.end(), parameters[1], parameters[1] + num_timing_);
+    if (have_ && at == last_at_ && (!want_j || last_has_j_)) {
+      std::copy(last_r_.begin(), last_r_.end(), residuals);
+      if (want_j && jacobians[0] != nullptr) std::copy(last_jx_.begin(), last_jx_.end(), jacobians[0]);
+      if (want_j && num_timing_ > 0 && jacobians[1] != nullptr) std::copy(last_jt_.begin(), last_jt_.end(), jacobians[1]);
+      return true;
+    }
+    const long long cost = want_j ? 1 + nv + num_timing_ : 1;
+    if (eval_->evaluations + cost > limit_) return false;
+    eval_->evaluations += cost;
+    // Always with the Jacobian into the cache when Ceres wants one; residuals alone otherwise.
+    last_jx_.assign(static_cast<size_t>(nr * nv), 0.0);
+    last_jt_.assign(static_cast<size_t>(nr * std::max(num_timing_, 1)), 0.0);
+    double* cache_j[2] = {last_jx_.data(), last_jt_.data()};
+    last_r_.assign(static_cast<size_t>(nr), 0.0);
+    have_ = false;
+    if (!Compute(parameters, last_r_.data(), want_j ? cache_j : nullptr)) return false;
+    have_ = true;
+    last_at_ = at;
+    last_has_j_ = want_j;
+    std::copy(last_r_.begin(), last_r_.end(), residuals);
+    if (want_j && jacobians[0] != nullptr) std::copy(last_jx_.begin(), last_jx_.end(), jacobians[0]);
+    if (want_j && num_timing_ > 0 && jacobians[1] != nullptr) std::copy(last_jt_.begin(), last_jt_.end(), jacobians[1]);
+    return true;
+  }
+
+ private:
+  bool Compute(double const* const* parameters, double* residuals, double** jacobians) const {
+    const BoundPath<M>& b = eval_->bound();
+    const int nv = static_cast<int>(b.task.variables.size());
     std::vector<double> x(parameters[0], parameters[0] + nv);
-    eval_->evaluations += jacobians != nullptr ? 1 + nv + num_timing_ : 1;
     const auto p = eval_->ParamsOf(x);
     typename PathEvaluator<M>::VecPhi phi;
     typename PathEvaluator<M>::Coeffs co;
@@ -108,6 +147,9 @@ class PathResiduals : public ceres::CostFunction {
  private:
   PathEvaluator<M>* eval_;
   int num_timing_;
+  long long limit_;
+  mutable std::vector<double> scratch_, last_at_, last_r_, last_jx_, last_jt_;
+  mutable bool have_ = false, last_has_j_ = false;
 };
 
 /// The local stage from `start`: LM over the variables and the timing. Returns the refined
@@ -123,7 +165,8 @@ Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, long long m
   const int num_timing = static_cast<int>(timing.size());
   ceres::Problem::Options problem_options;
   ceres::Problem problem(problem_options);
-  auto* cost = new PathResiduals<M>(eval, num_timing);
+  const long long cost_limit = eval->evaluations + max_evaluations;
+  auto* cost = new PathResiduals<M>(eval, num_timing, cost_limit);
   if (num_timing > 0) {
     problem.AddResidualBlock(cost, nullptr, x.data(), timing.data());
   } else {
@@ -137,9 +180,22 @@ Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, long long m
   options.minimizer_type = ceres::TRUST_REGION;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   options.linear_solver_type = ceres::DENSE_QR;
-  // An iteration evaluates the residuals and, after a successful step, the Jacobian.
+  // The budget: stop (keeping the best point so far) when less than two iterations' worth
+  // is left (an iteration evaluates the residuals, the Jacobian after a successful step, and
+  // Ceres evaluates once more at the end); a refused evaluation would end the solve with
+  // FAILURE and throw its progress away, so the limit above is only a backstop.
   const long long per_iteration = 2 + nv + num_timing;
-  options.max_num_iterations = static_cast<int>(std::max<long long>(1, std::min<long long>(200, max_evaluations / per_iteration)));
+  struct Budget : ceres::IterationCallback {
+    const PathEvaluator<M>* eval;
+    long long stop_at;
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+      return eval->evaluations >= stop_at ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+    }
+  } budget;
+  budget.eval = eval;
+  budget.stop_at = cost_limit - 2 * per_iteration - 1;
+  options.callbacks.push_back(&budget);
+  options.max_num_iterations = 200;
   options.function_tolerance = 1e-16;
   options.gradient_tolerance = 1e-20;
   options.parameter_tolerance = 1e-16;
