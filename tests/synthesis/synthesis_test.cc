@@ -17,6 +17,7 @@
 #include "mechgen/synthesis/freudenstein.h"
 #include "mechgen/synthesis/optimize.h"
 #include "mechgen/synthesis/output.h"
+#include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
 #include "synth_fourbar.h"
 
@@ -250,6 +251,49 @@ TEST(Freudenstein, RefusesPairsNoFourBarMeets) {
   EXPECT_NEAR(r.K(1), 1, 1e-15);
   EXPECT_NEAR(r.K(2), 1, 1e-15);
   EXPECT_FALSE(Freudenstein({0, 1}, {0, 1}, 1.0).ok);  // two pairs
+}
+
+// A constructed defect: a non-Grashof four-bar (a 3, b 2, c 2.5, d 4: s + l = 6 > p + q =
+// 5.5; by hand |BD|^2 = 25 - 24 cos(theta) <= (b + c)^2 limits the crank to |theta| <= 78.6
+// deg) reaches both targets on its assembly mode, at 10 and 350 deg, but the prescribed
+// motion from the first to the second turns the crank through 180 deg, where the loop does
+// not close: refused by the candidate's check and by the runtime's continuation. The same
+// targets at 10 and -10 deg (the crank turning back through 0) are accepted.
+TEST(PathSynthesis, DeadPointBetweenTargetsIsADefect) {
+  using M = mech::fourbar::Model;
+  M::ParamsT<double> p;
+  p.a = 3, p.b = 2, p.c = 2.5;
+  for (const char* angles : {"[10deg, 350deg]", "[10deg, -10deg]"}) {
+    const std::string path = ::testing::TempDir() + "/dead_point.yaml";
+    // The targets: the coupler point at 10 and -10 deg (350 deg is the same configuration).
+    PathTask probe;
+    std::string error;
+    std::ofstream(path) << "synthesis: path\npoint: coupler.P\ntargets: [[0, 0], [1, 1]]\n"
+                        << "timing: {angles: " << angles << "}\nvariables: {a: [2.9, 3.1], b: [1.9, 2.1]}\n";
+    ASSERT_TRUE(ParseTask(path, &probe, &error)) << error;
+    BoundPath<M> b;
+    ASSERT_TRUE(BindPathTask<M>(probe, p, &b, &error)) << error;
+    PathEvaluator<M> eval(b);
+    Eigen::Vector2d phi;
+    M::CoefficientsT<double> co;
+    for (int i = 0; i < 2; ++i) {
+      ASSERT_TRUE(eval.PointAt(p, (i == 0 ? 10 : -10) * M_PI / 180, &phi, &co));
+      b.task.tx[static_cast<size_t>(i)] = co.r_P(0, 0);
+      b.task.ty[static_cast<size_t>(i)] = co.r_P(1, 0);
+    }
+    EXPECT_FALSE(eval.PointAt(p, M_PI, &phi, &co));  // the hand bound: no loop at 180 deg
+    const Candidate c = eval.Evaluate({3.0, 2.0});
+    EXPECT_LT(c.error, 1e-24);  // both targets reached exactly
+    const bool through_180 = std::string(angles) == "[10deg, 350deg]";
+    if (through_180) {
+      EXPECT_FALSE(c.feasible());
+      EXPECT_NE(c.defect.find("leaves its assembly branch"), std::string::npos) << c.defect;
+      EXPECT_NE(ContinuationCheck(&eval, c), "");
+    } else {
+      EXPECT_TRUE(c.feasible()) << c.defect;
+      EXPECT_EQ(ContinuationCheck(&eval, c), "");
+    }
+  }
 }
 
 }  // namespace
