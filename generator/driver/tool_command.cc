@@ -63,7 +63,7 @@ struct ToolSpec {
   bool separate_args = false;      // its CLI11 part (sweep_args.cc) compiled once for all models
   std::string quantity;            // what the model's outputs must have; "" nothing
   std::string summary;             // what the analysis gives (mechgen --help)
-  std::vector<std::string> libs;   // what its program links beyond the C++ library
+  std::vector<std::string> libs = {};  // what its program links beyond the C++ library
 };
 
 const std::vector<ToolSpec>& Specs() {
