@@ -1,0 +1,331 @@
+/**
+ * \file synthesis/optimize.h
+ * The two stages of path synthesis (issue 28):
+ *  - global: differential evolution (DE/rand/1/bin, F dithered in [0.5, 1) per generation,
+ *    CR 0.9, Deb's feasibility rule for selection) over the task's variables within their
+ *    bounds; Search::restarts independent runs, each with its own splitmix64 stream seeded
+ *    from (seed, restart) and an equal share of Search::evaluations;
+ *  - local: from each run's best Search::local_starts candidates (Deb's rule), sharing the
+ *    last Search::local_share of the run's budget, Levenberg–Marquardt (Ceres) on the residuals
+ *    r_P(q_i; p) - T_i over the variables and the timing (each q_i for free timing, the
+ *    offset if free), within the variables' bounds. Its Jacobian is the generated one:
+ *    d r_P/d p = Design::dr_P_dp (EvalDesignDerivatives), d r_P/d q = Coefficients::K_P,
+ *    no automatic or numerical differentiation. The refined candidate is checked again and
+ *    kept only if it is feasible and better.
+ * The runs go to `threads` std::threads (an atomic counter hands out run indices); each run's
+ * result depends only on (seed, run), and the best is chosen by Deb's rule with ties to the
+ * lower index: the same seed gives the same bytes for any number of threads.
+ * The budget Search::evaluations covers both stages: the local stage's iterations are capped
+ * by what is left, and an evaluation that would pass it is refused (Ceres then stops).
+ * Counting: one evaluation = one candidate's objective (prescribed timing: n position
+ * solves and the motion's check; free timing: also the curve's samples), one residual
+ * evaluation of the local stage = 1, one Jacobian = 1 + its number of parameters.
+ */
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include <ceres/cost_function.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+
+#include "mechgen/position/design.h"
+#include "mechgen/synthesis/path.h"
+#include "mechgen/synthesis/random.h"
+
+namespace mechgen::synthesis {
+
+/// One run's (or the whole search's) outcome.
+struct RunResult {
+  Candidate global;   ///< the global stage's best
+  Candidate best;     ///< after the local stage (or the global one if that was not better)
+  long long evaluations = 0;
+  long long solves = 0;
+  int local_iterations = 0;
+  bool local_improved = false;
+  int run = 0;
+};
+
+/// The residuals r_P(q_i) - T_i of a bound task, and their generated Jacobian.
+template <class M>
+class PathResiduals : public ceres::CostFunction {
+ public:
+  /// `limit`: the evaluator's count this cost may not pass (an evaluation that would is
+  /// refused; LocalStage stops Ceres before that, see there).
+  PathResiduals(PathEvaluator<M>* eval, int num_timing, long long limit = std::numeric_limits<long long>::max())
+      : eval_(eval), num_timing_(num_timing), limit_(limit) {
+    const BoundPath<M>& b = eval->bound();
+    set_num_residuals(2 * b.n);
+    mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(b.task.variables.size()));
+    if (num_timing > 0) mutable_parameter_block_sizes()->push_back(num_timing);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const BoundPath<M>& b = eval_->bound();
+    const int nv = static_cast<int>(b.task.variables.size());
+    // Ceres asks again at a point it has just had (the candidate, then its Jacobian): the
+    // last evaluation is kept and handed out again, neither computed nor counted twice.
+    const int nr = 2 * b.n;
+    const bool want_j = jacobians != nullptr;
+    std::vector<double>& at = scratch_;
+    at.assign(parameters[0], parameters[0] + nv);
+    if (num_timing_ > 0) at.insert(at.end(), parameters[1], parameters[1] + num_timing_);
+    if (have_ && at == last_at_ && (!want_j || last_has_j_)) {
+      std::copy(last_r_.begin(), last_r_.end(), residuals);
+      if (want_j && jacobians[0] != nullptr) std::copy(last_jx_.begin(), last_jx_.end(), jacobians[0]);
+      if (want_j && num_timing_ > 0 && jacobians[1] != nullptr) std::copy(last_jt_.begin(), last_jt_.end(), jacobians[1]);
+      return true;
+    }
+    const long long cost = want_j ? 1 + nv + num_timing_ : 1;
+    if (eval_->evaluations + cost > limit_) return false;
+    eval_->evaluations += cost;
+    // Always with the Jacobian into the cache when Ceres wants one; residuals alone otherwise.
+    last_jx_.assign(static_cast<size_t>(nr * nv), 0.0);
+    last_jt_.assign(static_cast<size_t>(nr * std::max(num_timing_, 1)), 0.0);
+    double* cache_j[2] = {last_jx_.data(), last_jt_.data()};
+    last_r_.assign(static_cast<size_t>(nr), 0.0);
+    have_ = false;
+    if (!Compute(parameters, last_r_.data(), want_j ? cache_j : nullptr)) return false;
+    have_ = true;
+    last_at_ = at;
+    last_has_j_ = want_j;
+    std::copy(last_r_.begin(), last_r_.end(), residuals);
+    if (want_j && jacobians[0] != nullptr) std::copy(last_jx_.begin(), last_jx_.end(), jacobians[0]);
+    if (want_j && num_timing_ > 0 && jacobians[1] != nullptr) std::copy(last_jt_.begin(), last_jt_.end(), jacobians[1]);
+    return true;
+  }
+
+ private:
+  bool Compute(double const* const* parameters, double* residuals, double** jacobians) const {
+    const BoundPath<M>& b = eval_->bound();
+    const int nv = static_cast<int>(b.task.variables.size());
+    std::vector<double> x(parameters[0], parameters[0] + nv);
+    const auto p = eval_->ParamsOf(x);
+    typename PathEvaluator<M>::VecPhi phi;
+    typename PathEvaluator<M>::Coeffs co;
+    position::DesignOf<M> design;
+    for (int i = 0; i < b.n; ++i) {
+      double q;
+      if (b.task.timing.free) {
+        q = parameters[1][i];
+      } else {
+        std::vector<double> xg = x;
+        if (b.offset_var >= 0) xg.push_back(parameters[1][0]);
+        q = eval_->PrescribedQ(xg, i);
+      }
+      if (!eval_->PointAt(p, q, &phi, &co)) return false;
+      const int m = b.point;
+      residuals[2 * i] = co.r_P(0, m) - b.task.tx[static_cast<size_t>(i)];
+      residuals[2 * i + 1] = co.r_P(1, m) - b.task.ty[static_cast<size_t>(i)];
+      if (jacobians == nullptr) continue;
+      Eigen::Matrix<double, M::kNq, 1> qv;
+      qv(0) = q;
+      M::Design(p, qv, phi, &design);
+      for (int a = 0; a < 2; ++a) {
+        const double kp = co.K_P(2 * m + a, 0);
+        if (jacobians[0] != nullptr) {
+          double* row = jacobians[0] + (2 * i + a) * nv;
+          for (int j = 0; j < nv; ++j) {
+            row[j] = design.dr_P_dp(2 * m + a, b.column[static_cast<size_t>(j)]);
+            if (j == b.relative_to) row[j] += kp;  // q_i moves with the frame's angle
+          }
+        }
+        if (num_timing_ > 0 && jacobians[1] != nullptr) {
+          double* row = jacobians[1] + (2 * i + a) * num_timing_;
+          for (int k = 0; k < num_timing_; ++k) row[k] = b.task.timing.free ? (k == i ? kp : 0.0) : kp;
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  PathEvaluator<M>* eval_;
+  int num_timing_;
+  long long limit_;
+  mutable std::vector<double> scratch_, last_at_, last_r_, last_jx_, last_jt_;
+  mutable bool have_ = false, last_has_j_ = false;
+};
+
+/// The local stage from `start`: LM over the variables and the timing. Returns the refined
+/// candidate (checked), or `start` when the refinement is not feasible or not better.
+template <class M>
+Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, long long max_evaluations, int* iterations) {
+  const BoundPath<M>& b = eval->bound();
+  const int nv = static_cast<int>(b.task.variables.size());
+  std::vector<double> x(start.x.begin(), start.x.begin() + nv);
+  std::vector<double> timing;
+  if (b.task.timing.free) timing = start.q;
+  if (b.offset_var >= 0) timing.push_back(start.x[static_cast<size_t>(b.offset_var)]);
+  const int num_timing = static_cast<int>(timing.size());
+  ceres::Problem::Options problem_options;
+  ceres::Problem problem(problem_options);
+  const long long cost_limit = eval->evaluations + max_evaluations;
+  auto* cost = new PathResiduals<M>(eval, num_timing, cost_limit);
+  if (num_timing > 0) {
+    problem.AddResidualBlock(cost, nullptr, x.data(), timing.data());
+  } else {
+    problem.AddResidualBlock(cost, nullptr, x.data());
+  }
+  for (int j = 0; j < nv; ++j) {
+    problem.SetParameterLowerBound(x.data(), j, b.task.variables[static_cast<size_t>(j)].lo);
+    problem.SetParameterUpperBound(x.data(), j, b.task.variables[static_cast<size_t>(j)].hi);
+  }
+  ceres::Solver::Options options;
+  options.minimizer_type = ceres::TRUST_REGION;
+  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.linear_solver_type = ceres::DENSE_QR;
+  // The budget: stop (keeping the best point so far) when less than two iterations' worth
+  // is left (an iteration evaluates the residuals, the Jacobian after a successful step, and
+  // Ceres evaluates once more at the end); a refused evaluation would end the solve with
+  // FAILURE and throw its progress away, so the limit above is only a backstop.
+  const long long per_iteration = 2 + nv + num_timing;
+  struct Budget : ceres::IterationCallback {
+    const PathEvaluator<M>* eval;
+    long long stop_at;
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+      return eval->evaluations >= stop_at ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+    }
+  } budget;
+  budget.eval = eval;
+  budget.stop_at = cost_limit - 2 * per_iteration - 1;
+  options.callbacks.push_back(&budget);
+  options.max_num_iterations = 200;
+  options.function_tolerance = 1e-16;
+  options.gradient_tolerance = 1e-20;
+  options.parameter_tolerance = 1e-16;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  options.minimizer_progress_to_stdout = false;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  *iterations = static_cast<int>(summary.iterations.size());
+  Candidate refined;
+  refined.x = x;
+  if (b.offset_var >= 0) refined.x.push_back(timing.back());
+  if (b.task.timing.free) {
+    refined.q = timing;
+  } else {
+    refined.q.resize(static_cast<size_t>(b.n));
+    for (int i = 0; i < b.n; ++i) refined.q[static_cast<size_t>(i)] = eval->PrescribedQ(refined.x, i);
+  }
+  eval->Check(eval->ParamsOf(refined.x), &refined);
+  return Better(refined, start) ? refined : start;
+}
+
+/// One run: DE from its own stream, then the local stage.
+template <class M>
+RunResult Run(const BoundPath<M>& b, uint64_t seed, int run, long long budget) {
+  PathEvaluator<M> eval(b);
+  SplitMix64 rng(seed, static_cast<uint64_t>(run));
+  const int dim = b.num_global;
+  std::vector<double> lo(static_cast<size_t>(dim)), hi(static_cast<size_t>(dim));
+  for (int j = 0; j < static_cast<int>(b.task.variables.size()); ++j) {
+    lo[static_cast<size_t>(j)] = b.task.variables[static_cast<size_t>(j)].lo;
+    hi[static_cast<size_t>(j)] = b.task.variables[static_cast<size_t>(j)].hi;
+  }
+  if (b.offset_var >= 0) lo[static_cast<size_t>(b.offset_var)] = 0, hi[static_cast<size_t>(b.offset_var)] = kTwoPi;
+  int np = b.task.search.population > 0 ? b.task.search.population : std::max(20, 10 * dim);
+  np = static_cast<int>(std::max<long long>(4, std::min<long long>(np, budget)));
+  std::vector<Candidate> pop;
+  pop.reserve(static_cast<size_t>(np));
+  std::vector<double> x(static_cast<size_t>(dim));
+  for (int k = 0; k < np; ++k) {
+    for (int j = 0; j < dim; ++j)
+      x[static_cast<size_t>(j)] = lo[static_cast<size_t>(j)] + rng.Uniform() * (hi[static_cast<size_t>(j)] - lo[static_cast<size_t>(j)]);
+    pop.push_back(eval.Evaluate(x));
+  }
+  const long long global_budget = budget - static_cast<long long>(b.task.search.local_share * static_cast<double>(budget));
+  while (eval.evaluations + np <= global_budget) {
+    const double F = 0.5 + 0.5 * rng.Uniform();
+    for (int k = 0; k < np; ++k) {
+      int r1, r2, r3;
+      do r1 = rng.Below(np); while (r1 == k);
+      do r2 = rng.Below(np); while (r2 == k || r2 == r1);
+      do r3 = rng.Below(np); while (r3 == k || r3 == r1 || r3 == r2);
+      const int jrand = rng.Below(dim);
+      for (int j = 0; j < dim; ++j) {
+        const size_t u = static_cast<size_t>(j);
+        double v = pop[static_cast<size_t>(k)].x[u];
+        if (j == jrand || rng.Uniform() < 0.9) {
+          v = pop[static_cast<size_t>(r1)].x[u] + F * (pop[static_cast<size_t>(r2)].x[u] - pop[static_cast<size_t>(r3)].x[u]);
+          // Out of bounds: halfway between the parent and the bound it crossed.
+          if (v < lo[u]) v = 0.5 * (lo[u] + pop[static_cast<size_t>(k)].x[u]);
+          if (v > hi[u]) v = 0.5 * (hi[u] + pop[static_cast<size_t>(k)].x[u]);
+        }
+        x[u] = v;
+      }
+      Candidate trial = eval.Evaluate(x);
+      if (!Better(pop[static_cast<size_t>(k)], trial)) pop[static_cast<size_t>(k)] = std::move(trial);
+    }
+  }
+  RunResult r;
+  r.run = run;
+  // The population by Deb's rule (ties: the lower index), its best the global stage's result.
+  std::vector<size_t> order(pop.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](size_t u, size_t v) { return Better(pop[u], pop[v]); });
+  r.global = pop[order[0]];
+  r.best = r.global;
+  // The local stage from the best few, sharing what is left of the budget.
+  const int starts = std::max(1, std::min<int>(b.task.search.local_starts, np));
+  for (int k = 0; k < starts; ++k) {
+    const long long left = budget - eval.evaluations;
+    if (left <= 0) break;
+    int iterations = 0;
+    const Candidate refined = LocalStage(&eval, pop[order[static_cast<size_t>(k)]], left / (starts - k), &iterations);
+    r.local_iterations += iterations;
+    if (Better(refined, r.best)) r.best = refined;
+  }
+  r.local_improved = r.best.error != r.global.error || r.best.violation != r.global.violation;
+  r.evaluations = eval.evaluations;
+  r.solves = eval.solves;
+  return r;
+}
+
+/// What the whole search did.
+struct SearchResult {
+  RunResult best;                ///< the best run (Deb's rule, ties: the lower run index)
+  std::vector<RunResult> runs;   ///< every run, by index
+  long long evaluations = 0;     ///< over all runs
+  long long solves = 0;
+};
+
+/// The search: task.search.restarts runs on `threads` threads. `progress` (may be empty) is
+/// called from the worker threads as runs finish (for a progress line; not for results).
+template <class M>
+SearchResult Synthesize(const BoundPath<M>& b, uint64_t seed, int threads,
+                        const std::function<void(int done, int total)>& progress = {}) {
+  const int runs = b.task.search.restarts;
+  const long long budget = std::max<long long>(1, b.task.search.evaluations / runs);
+  SearchResult s;
+  s.runs.resize(static_cast<size_t>(runs));
+  std::atomic<int> next{0}, done{0};
+  auto work = [&]() {
+    for (int r; (r = next.fetch_add(1)) < runs;) {
+      s.runs[static_cast<size_t>(r)] = Run(b, seed, r, budget);
+      const int d = ++done;
+      if (progress) progress(d, runs);
+    }
+  };
+  const int n = std::max(1, std::min(threads, runs));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < n; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  size_t best = 0;
+  for (size_t r = 0; r < s.runs.size(); ++r) {
+    s.evaluations += s.runs[r].evaluations;
+    s.solves += s.runs[r].solves;
+    if (r > 0 && Better(s.runs[r].best, s.runs[best].best)) best = r;
+  }
+  s.best = s.runs[best];
+  return s;
+}
+
+}  // namespace mechgen::synthesis

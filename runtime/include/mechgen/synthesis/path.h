@@ -1,0 +1,412 @@
+/**
+ * \file synthesis/path.h
+ * Path generation (issue 28) on a generated model with a `design` section: the task
+ * (synthesis/task.h) bound to the model, the evaluation of a candidate with its defect
+ * checks, and the evaluator the global and local stages (synthesis/optimize.h) share.
+ *
+ * A candidate is the task's variables (model design parameters) and the input angle q_i at
+ * each target: prescribed (q_i = offset + angle_i [+ p[relative_to]]) or, with free timing,
+ * each q_i found by projecting the target onto the coupler curve (the curve sampled at
+ * Search::curve_samples input angles, then Gauss–Newton on |r_P(q) - T|^2 with K_P).
+ * Error: E = sum_i |r_P(q_i) - T_i|^2 (the published benchmarks' measure).
+ *
+ * Defects (each adds to the candidate's violation; 0: none): every target reached on the
+ * model's assembly mode (kDefaultModes, M::Solve's closed forms / Newton blocks) and, along
+ * the motion from target to target (sampled at the curve's step), the mechanism assembles on
+ * that mode with a nonzero branch measure: it does not have to pass a dead point (branch
+ * change) between targets; targets in increasing input angle within one turn (`order`);
+ * Grashof class and the crank's full rotation (the link lengths from the generated
+ * EvalDesignChecks); link-length bounds; transmission angle bounds over the motion (the full
+ * turn when the crank must turn fully, else from the first target to the last).
+ */
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "mechgen/core/model_traits.h"
+#include "mechgen/synthesis/task.h"
+
+namespace mechgen::synthesis {
+
+constexpr double kTwoPi = 6.283185307179586;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// The angle in [0, 2 pi).
+inline double Wrap(double a) {
+  double w = std::fmod(a, kTwoPi);
+  if (w < 0) w += kTwoPi;
+  return w >= kTwoPi ? 0.0 : w;
+}
+
+/// A task bound to the model M: indices instead of names.
+template <class M>
+struct BoundPath {
+  using Params = typename M::template ParamsT<double>;
+  PathTask task;
+  Params base;                 ///< the model's parameters (with --set applied); the fixed ones stay
+  int n = 0;                   ///< targets
+  int point = -1;              ///< index in M::kPointNames
+  std::vector<int> column;     ///< each variable's column in M::kDesignNames
+  int relative_to = -1;        ///< timing.relative_to: its variable index, -1 if fixed or none
+  double relative_fixed = 0;   ///< its value when it is not a variable
+  int offset_var = -1;         ///< index of the free offset in the global vector, -1 if none
+  int num_global = 0;          ///< variables of the global stage (design + free offset)
+  // Design checks (EvalDesignChecks) of the four-bar loop: the link lengths, -1 if absent.
+  int check_crank = -1, check_ground = -1;
+  std::vector<int> check_lengths;
+};
+
+/// Binds `task` to M: the point, the variables (the model's design parameters), the crank
+/// link and what the constraints need must exist. false and *error (FILE:LINE:COLUMN) if not.
+template <class M>
+bool BindPathTask(const PathTask& task, const typename M::template ParamsT<double>& base, BoundPath<M>* out,
+                  std::string* error) {
+  auto where = [&](int line, int column) {
+    return task.file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+  };
+  auto list = [](const auto& names) {
+    std::string text;
+    for (const char* n : names) text += (text.empty() ? "" : ", ") + std::string(n);
+    return text.empty() ? std::string("(none)") : text;
+  };
+  using Params = typename M::template ParamsT<double>;
+  BoundPath<M> b;
+  b.task = task;
+  b.base = base;
+  b.n = static_cast<int>(task.tx.size());
+  if constexpr (!HasDesignDerivatives<M>::value) {
+    *error = task.file + ": the model '" + std::string(M::kName) +
+             "' has no `design` section; add `design: [parameters to vary]` to it (models/README.md)";
+    return false;
+  } else {
+    if constexpr (M::kNq != 1) {
+      *error = task.file + ": path generation needs a one-input model ('" + std::string(M::kName) + "' has " +
+               std::to_string(M::kNq) + " inputs)";
+      return false;
+    }
+    for (int m = 0; m < M::kNumPoints; ++m)
+      if (task.point == M::kPointNames[m]) b.point = m;
+    if (b.point < 0) {
+      *error = where(task.point_line, task.point_column) + "point '" + task.point + "' is not among the model's output points (" +
+               list(M::kPointNames) + "); add it to the model's outputs.points or name one of those";
+      return false;
+    }
+    for (const Variable& v : task.variables) {
+      int col = -1;
+      for (int d = 0; d < M::kNumDesign; ++d)
+        if (v.name == M::kDesignNames[d]) col = d;
+      if (col < 0) {
+        *error = where(v.line, v.column) + "variable '" + v.name + "' is not one of the model's design parameters (" +
+                 list(M::kDesignNames) + "); add it to the model's `design:` list";
+        return false;
+      }
+      b.column.push_back(col);
+    }
+    if (!task.timing.free && !task.timing.relative_to.empty()) {
+      const std::string& r = task.timing.relative_to;
+      for (size_t j = 0; j < task.variables.size(); ++j)
+        if (task.variables[j].name == r) b.relative_to = static_cast<int>(j);
+      if (b.relative_to < 0) {
+        Params p = base;
+        const double* value = p.Find(r.c_str());
+        if (value == nullptr) {
+          *error = where(task.timing.line, task.timing.column) + "timing.relative_to: no parameter '" + r +
+                   "' in the model (parameters: " + list(Params::kNames) + ")";
+          return false;
+        }
+        b.relative_fixed = *value;
+      }
+    }
+    b.num_global = static_cast<int>(task.variables.size());
+    if (!task.timing.free && task.timing.offset_free) b.offset_var = b.num_global++;
+    const Constraints& c = task.constraints;
+    const bool need_lengths = c.grashof || c.crank_rotates || c.crank_shortest || c.has_lengths;
+    if (need_lengths) {
+      for (int k = 0; k < M::kNumDesignChecks; ++k) {
+        const std::string name = M::kDesignCheckNames[k];
+        if (name.rfind("length_", 0) == 0 && name.size() > 13 && name.compare(name.size() - 6, 6, "_loop0") == 0) {
+          b.check_lengths.push_back(k);
+          const std::string link = name.substr(7, name.size() - 13);
+          if (link == task.crank_link) b.check_crank = k;
+          if (link == M::kLinkNames[M::kGroundLink]) b.check_ground = k;
+        }
+      }
+      if (b.check_lengths.size() != 4) {
+        *error = task.file + ": the constraints grashof/crank_*/link_lengths need a four-bar loop with a ground link "
+                 "(the model's design checks have no link lengths of one)";
+        return false;
+      }
+      if ((c.crank_rotates || c.crank_shortest) && b.check_crank < 0) {
+        *error = where(task.crank_line, task.crank_column) + "crank: '" + task.crank_link +
+                 "' is not a moving link of the model's four-bar loop (links: " + list(M::kLinkNames) + ")";
+        return false;
+      }
+    }
+    *out = b;
+    return true;
+  }
+}
+
+/// A candidate and what its checks found.
+struct Candidate {
+  std::vector<double> x;       ///< the global vector: design variables (+ the free offset)
+  std::vector<double> q;       ///< the input angle at each target
+  double error = kInf;         ///< sum of squared distances to the targets
+  double violation = kInf;     ///< 0: no defect
+  std::string defect;          ///< the first defect found, "" if none
+  double mu_min = kInf, mu_max = -kInf;  ///< transmission angles over the checked motion (rad)
+  std::vector<double> distance;  ///< |r_P(q_i) - T_i| per target
+  bool feasible() const { return violation == 0; }
+};
+
+/// Deb's rule: a feasible candidate beats an infeasible one, two feasible ones compare their
+/// error, two infeasible ones their violation.
+inline bool Better(const Candidate& a, const Candidate& b) {
+  if (a.feasible() != b.feasible()) return a.feasible();
+  if (a.feasible()) return a.error < b.error;
+  return a.violation < b.violation;
+}
+
+/// Evaluates candidates of a bound task. One per thread (it counts what it did).
+template <class M>
+class PathEvaluator {
+ public:
+  using Params = typename M::template ParamsT<double>;
+  using VecQ = Eigen::Matrix<double, M::kNq, 1>;
+  using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
+  using Coeffs = typename M::template CoefficientsT<double>;
+
+  explicit PathEvaluator(const BoundPath<M>& b) : b_(b) {}
+
+  const BoundPath<M>& bound() const { return b_; }
+  long long evaluations = 0;  ///< candidate evaluations (global stage) and residual evaluations
+  long long solves = 0;       ///< position solves
+
+  /// The model's parameters with the design variables x (the first task.variables.size()).
+  Params ParamsOf(const std::vector<double>& x) const {
+    Params p = b_.base;
+    for (size_t j = 0; j < b_.task.variables.size(); ++j) *p.Find(b_.task.variables[j].name.c_str()) = x[j];
+    return p;
+  }
+
+  /// The prescribed timing's q_i (for free timing: not used).
+  double PrescribedQ(const std::vector<double>& x, int i) const {
+    const Timing& t = b_.task.timing;
+    const double offset = b_.offset_var >= 0 ? x[static_cast<size_t>(b_.offset_var)] : t.offset;
+    const double rel = b_.relative_to >= 0 ? x[static_cast<size_t>(b_.relative_to)] : b_.relative_fixed;
+    return offset + t.angles[static_cast<size_t>(i)] + rel;
+  }
+
+  /// The point at q on the model's assembly mode; false if it does not assemble there (or
+  /// is at a branch point). Fills the coefficients (r_P, K_P) and phi.
+  bool PointAt(const Params& p, double q, VecPhi* phi, Coeffs* c, double* branch_measure = nullptr) {
+    ++solves;
+    VecQ qv;
+    qv(0) = q;
+    VecPhi ph;
+    for (int i = 0; i < M::kNphi; ++i) ph(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
+    const auto report = M::Solve(p, qv, &ph, M::kDefaultModes);
+    using Status = decltype(report.status);
+    if (report.status != Status::kConverged || !(report.branch_measure > 1e-12)) return false;
+    if (!ph.allFinite()) return false;
+    M::Coeffs(p, qv, ph, c);
+    if (!c->r_P.allFinite()) return false;
+    *phi = ph;
+    if (branch_measure != nullptr) *branch_measure = report.branch_measure;
+    return true;
+  }
+
+  /// The global stage's evaluation of x: the timing prescribed or projected, then Check().
+  Candidate Evaluate(const std::vector<double>& x) {
+    ++evaluations;
+    Candidate cand;
+    cand.x = x;
+    const Params p = ParamsOf(x);
+    const int n = b_.n;
+    cand.q.assign(static_cast<size_t>(n), 0.0);
+    if (!b_.task.timing.free) {
+      for (int i = 0; i < n; ++i) cand.q[static_cast<size_t>(i)] = PrescribedQ(x, i);
+    } else if (!Project(p, &cand.q)) {
+      cand.violation = 1e6;
+      cand.defect = "the mechanism does not assemble at any sampled input angle";
+      return cand;
+    }
+    Check(p, &cand);
+    return cand;
+  }
+
+  /// The checks and the error of cand (x and q given).
+  void Check(const Params& p, Candidate* cand) {
+    const PathTask& t = b_.task;
+    const Constraints& c = t.constraints;
+    const int n = b_.n;
+    double violation = 0;
+    std::string defect;
+    auto flag = [&](double amount, const std::string& what) {
+      if (!(amount > 0)) return;
+      violation += amount;
+      if (defect.empty()) defect = what;
+    };
+    cand->error = 0;
+    cand->distance.assign(static_cast<size_t>(n), kInf);
+    VecPhi phi;
+    Coeffs co;
+    for (int i = 0; i < n; ++i) {
+      const double q = cand->q[static_cast<size_t>(i)];
+      if (!std::isfinite(q) || !PointAt(p, q, &phi, &co)) {
+        flag(1.0, "target " + std::to_string(i + 1) + ": the mechanism does not assemble on its mode at its input angle");
+        continue;
+      }
+      const double dx = co.r_P(0, b_.point) - t.tx[static_cast<size_t>(i)];
+      const double dy = co.r_P(1, b_.point) - t.ty[static_cast<size_t>(i)];
+      cand->distance[static_cast<size_t>(i)] = std::hypot(dx, dy);
+      cand->error += dx * dx + dy * dy;
+    }
+    // Link lengths, Grashof, the crank.
+    bool full_turn = false;
+    if constexpr (M::kNumDesignChecks > 0) {
+      if (!b_.check_lengths.empty()) {
+        Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
+        M::DesignChecks(p, &margin);
+        std::array<double, 4> len;
+        for (int k = 0; k < 4; ++k) len[static_cast<size_t>(k)] = margin(b_.check_lengths[static_cast<size_t>(k)]);
+        std::array<double, 4> sorted = len;
+        std::sort(sorted.begin(), sorted.end());
+        const double grashof = sorted[1] + sorted[2] - sorted[0] - sorted[3];  // p + q - s - l
+        if (c.grashof) flag(-grashof, "not Grashof (s + l > p + q)");
+        if (c.has_lengths) {
+          for (double l : len) flag(std::max(c.length_lo - l, l - c.length_hi), "a link length outside link_lengths");
+        }
+        if (c.crank_rotates || c.crank_shortest) {
+          const double crank = margin(b_.check_crank);
+          const double ground = b_.check_ground >= 0 ? margin(b_.check_ground) : kInf;
+          double shortest_gap = crank - sorted[0];  // 0 when the crank is the shortest
+          if (c.crank_rotates) shortest_gap = std::min(shortest_gap, ground - sorted[0]);
+          flag(-grashof, "the crank cannot turn fully: not Grashof");
+          flag(shortest_gap, c.crank_shortest ? "the crank is not the shortest link"
+                                              : "the crank cannot turn fully: neither it nor the ground is the shortest link");
+          full_turn = true;
+        }
+      }
+    }
+    // Order of the targets along the motion (free timing).
+    std::vector<double> dq(static_cast<size_t>(n), 0.0);
+    if (t.timing.free) {
+      for (int i = 0; i < n; ++i) dq[static_cast<size_t>(i)] = Wrap(cand->q[static_cast<size_t>(i)] - cand->q[0]);
+      // The last target where the first is (a closed curve's end): reached after a full turn.
+      if (n > 2 && dq[static_cast<size_t>(n - 1)] < 1e-6) dq[static_cast<size_t>(n - 1)] += kTwoPi;
+      if (c.order) {
+        double back = 0;
+        for (int i = 1; i < n; ++i) back += std::max(0.0, dq[static_cast<size_t>(i - 1)] - dq[static_cast<size_t>(i)]);
+        flag(back, "the targets are not reached in input order");
+      }
+    }
+    // The motion: from target to target (or the full turn), on the same mode, no dead point.
+    const double step = kTwoPi / t.search.curve_samples;
+    double mu_min = kInf, mu_max = -kInf;
+    auto walk = [&](double q0, double q1, int from) {
+      const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(q1 - q0) / step)));
+      for (int s = 0; s <= steps; ++s) {
+        const double q = q0 + (q1 - q0) * s / steps;
+        if (!PointAt(p, q, &phi, &co)) {
+          flag(1.0 / (steps + 1), from < 0 ? "the crank does not turn fully on the assembly mode"
+                                           : "between targets " + std::to_string(from + 1) + " and " +
+                                                 std::to_string(from + 2) +
+                                                 " the mechanism leaves its assembly branch (a dead point)");
+          continue;
+        }
+        if constexpr (M::kNumTransmissionAngles > 0) {
+          VecQ qv;
+          qv(0) = q;
+          Eigen::Matrix<double, M::kNumTransmissionAngles, 1> mu;
+          M::TransmissionAngles(p, qv, phi, &mu);
+          for (int k = 0; k < M::kNumTransmissionAngles; ++k) {
+            mu_min = std::min(mu_min, mu(k));
+            mu_max = std::max(mu_max, mu(k));
+          }
+        }
+      }
+    };
+    if (violation == 0 || full_turn) {
+      if (full_turn) {
+        walk(cand->q[0], cand->q[0] + kTwoPi, -1);
+      } else if (t.timing.free) {
+        // Increasing input from the first target through the others (by their angle from it).
+        std::vector<double> sorted(dq);
+        std::sort(sorted.begin(), sorted.end());
+        for (int i = 0; i + 1 < n; ++i)
+          walk(cand->q[0] + sorted[static_cast<size_t>(i)], cand->q[0] + sorted[static_cast<size_t>(i + 1)], i);
+      } else {
+        for (int i = 0; i + 1 < n; ++i) walk(cand->q[static_cast<size_t>(i)], cand->q[static_cast<size_t>(i + 1)], i);
+      }
+    }
+    cand->mu_min = mu_min;
+    cand->mu_max = mu_max;
+    if (c.has_mu && std::isfinite(mu_min)) {
+      flag(c.mu_lo - mu_min, "the transmission angle falls below its bound");
+      flag(mu_max - c.mu_hi, "the transmission angle rises above its bound");
+    }
+    if (!std::isfinite(cand->error)) flag(1.0, "the error is not finite");
+    cand->violation = violation;
+    cand->defect = defect;
+  }
+
+  /// Free timing: each target's input angle on the coupler curve (nearest sample, then
+  /// Gauss–Newton in q). false if the curve has no assemblable sample.
+  bool Project(const Params& p, std::vector<double>* q) {
+    const PathTask& t = b_.task;
+    const int samples = t.search.curve_samples;
+    samples_x_.assign(static_cast<size_t>(samples), kInf);
+    samples_y_.assign(static_cast<size_t>(samples), kInf);
+    VecPhi phi;
+    Coeffs co;
+    bool any = false;
+    for (int k = 0; k < samples; ++k) {
+      if (!PointAt(p, kTwoPi * k / samples, &phi, &co)) continue;
+      samples_x_[static_cast<size_t>(k)] = co.r_P(0, b_.point);
+      samples_y_[static_cast<size_t>(k)] = co.r_P(1, b_.point);
+      any = true;
+    }
+    if (!any) return false;
+    for (int i = 0; i < b_.n; ++i) {
+      const double tx = t.tx[static_cast<size_t>(i)], ty = t.ty[static_cast<size_t>(i)];
+      int best = -1;
+      double best_d = kInf;
+      for (int k = 0; k < samples; ++k) {
+        const double d = std::pow(samples_x_[static_cast<size_t>(k)] - tx, 2) + std::pow(samples_y_[static_cast<size_t>(k)] - ty, 2);
+        if (d < best_d) best_d = d, best = k;
+      }
+      double qi = kTwoPi * best / samples;
+      for (int it = 0; it < 4; ++it) {
+        if (!PointAt(p, qi, &phi, &co)) break;
+        const double ex = co.r_P(0, b_.point) - tx, ey = co.r_P(1, b_.point) - ty;
+        const double kx = co.K_P(2 * b_.point, 0), ky = co.K_P(2 * b_.point + 1, 0);
+        const double kk = kx * kx + ky * ky;
+        if (!(kk > 0)) break;
+        double dq = -(ex * kx + ey * ky) / kk;
+        dq = std::max(-step_limit_, std::min(step_limit_, dq));
+        double trial = qi + dq;
+        VecPhi phi2;
+        Coeffs co2;
+        if (!PointAt(p, trial, &phi2, &co2)) break;
+        const double e2 = std::pow(co2.r_P(0, b_.point) - tx, 2) + std::pow(co2.r_P(1, b_.point) - ty, 2);
+        if (!(e2 < ex * ex + ey * ey)) break;
+        qi = trial;
+      }
+      (*q)[static_cast<size_t>(i)] = qi;
+    }
+    return true;
+  }
+
+ private:
+  const BoundPath<M>& b_;
+  std::vector<double> samples_x_, samples_y_;
+  double step_limit_ = 0.2;
+};
+
+}  // namespace mechgen::synthesis

@@ -1,0 +1,114 @@
+/**
+ * \file synthesis/report.h
+ * The synthesized mechanism checked a second way and described (issue 28): the runtime's
+ * continuation (PositionSolver: assembled at the first target, then moved along the motion
+ * in steps of at most 10 deg, staying on its branch) must arrive at every target on the
+ * configuration the synthesis used (M::Solve on the model's assembly mode); then the text
+ * report: error per target, the defect checks, the transmission-angle range, the search.
+ */
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "mechgen/position/solver.h"
+#include "mechgen/synthesis/optimize.h"
+#include "mechgen/synthesis/output.h"
+
+namespace mechgen::synthesis {
+
+/// Follows the motion through the targets with PositionSolver; "" if every target is reached
+/// on the branch the synthesis used (phi within 1e-8), else what went wrong.
+template <class M>
+std::string ContinuationCheck(PathEvaluator<M>* eval, const Candidate& c) {
+  const BoundPath<M>& b = eval->bound();
+  const auto p = eval->ParamsOf(c.x);
+  typename PathEvaluator<M>::VecPhi phi;
+  typename PathEvaluator<M>::Coeffs co;
+  // The order of the motion: input order from the first target (free timing), else as given.
+  std::vector<double> q = c.q;
+  if (b.task.timing.free) {
+    for (double& qi : q) qi = c.q[0] + Wrap(qi - c.q[0]);
+    if (b.n > 2 && q[static_cast<size_t>(b.n - 1)] - c.q[0] < 1e-6) q[static_cast<size_t>(b.n - 1)] += kTwoPi;  // as Check()
+  }
+  std::vector<int> order(static_cast<size_t>(b.n));
+  for (int i = 0; i < b.n; ++i) order[static_cast<size_t>(i)] = i;
+  if (b.task.timing.free)
+    std::stable_sort(order.begin(), order.end(), [&](int u, int v) { return q[static_cast<size_t>(u)] < q[static_cast<size_t>(v)]; });
+  position::PositionSolver<M> solver(position::Options(), p);
+  typename position::PositionSolver<M>::VecQ qv;
+  if (!eval->PointAt(p, q[static_cast<size_t>(order[0])], &phi, &co)) return "the first target does not assemble";
+  qv(0) = q[static_cast<size_t>(order[0])];
+  if (solver.Assemble(qv, phi, 0, nullptr) != position::Status::kConverged) return "the runtime cannot assemble at the first target";
+  for (int k = 0; k < b.n; ++k) {
+    const int i = order[static_cast<size_t>(k)];
+    const double target = q[static_cast<size_t>(i)];
+    const double from = solver.state().q(0);
+    const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(target - from) / (10 * M_PI / 180))));
+    for (int s = 1; s <= steps; ++s) {
+      qv(0) = from + (target - from) * s / steps;
+      if (solver.MoveTo(qv, nullptr) != position::Status::kConverged)
+        return "the continuation stops before target " + std::to_string(i + 1) + " (a dead point on the way)";
+    }
+    if (!eval->PointAt(p, target, &phi, &co)) return "target " + std::to_string(i + 1) + " does not assemble";
+    for (int j = 0; j < M::kNphi; ++j) {
+      double d = solver.state().phi(j) - phi(j);
+      if (M::kPhiIsAngle[static_cast<size_t>(j)]) d = std::remainder(d, kTwoPi);
+      if (!(std::abs(d) <= 1e-8))
+        return "target " + std::to_string(i + 1) + " is reached on another branch by continuation (" +
+               std::string(M::kPhiNames[static_cast<size_t>(j)]) + " differs by " + Short(d) + ")";
+    }
+  }
+  return "";
+}
+
+/// The text report of a search.
+template <class M>
+std::string Report(PathEvaluator<M>* eval, const SearchResult& s, const std::string& continuation, uint64_t seed,
+                   int threads, double wall_seconds, double cpu_seconds, const std::string& model_path) {
+  const BoundPath<M>& b = eval->bound();
+  const PathTask& t = b.task;
+  const Candidate& c = s.best.best;
+  std::string r = "mechgen synthesize: path generation\n";
+  r += "model: " + model_path + " (" + std::string(M::kName) + "), task: " + t.file + ", point " + t.point + "\n";
+  r += "targets: " + std::to_string(b.n) + ", timing: " +
+       (t.timing.free ? std::string("free") : std::string("prescribed") + (t.timing.offset_free ? " (offset free)" : "")) + "\n";
+  r += "search: seed " + std::to_string(seed) + ", threads " + std::to_string(threads) + ", " +
+       std::to_string(t.search.restarts) + " runs of differential evolution + Levenberg-Marquardt (Ceres, generated Jacobian)\n";
+  r += "evaluations: " + std::to_string(s.evaluations) + " (a Jacobian counts 1 + its parameters), position solves " +
+       std::to_string(s.solves) + ", wall " + Short(wall_seconds, 4) + " s, cpu " + Short(cpu_seconds, 4) + " s\n";
+  std::vector<double> errors;
+  for (const RunResult& run : s.runs)
+    if (run.best.feasible()) errors.push_back(run.best.error);
+  std::sort(errors.begin(), errors.end());
+  if (!errors.empty())
+    r += "runs: " + std::to_string(errors.size()) + " of " + std::to_string(s.runs.size()) + " feasible; error best " +
+         Short(errors.front(), 6) + ", median " + Short(errors[errors.size() / 2], 6) + ", worst " + Short(errors.back(), 6) + "\n";
+  r += "\nerror (sum of squared distances): " + Short(c.error, 10) + " (global stage " + Short(s.best.global.error, 10) + ")\n";
+  r += "target        x                y           distance      input angle [deg]\n";
+  for (int i = 0; i < b.n; ++i) {
+    char line[200];
+    std::snprintf(line, sizeof line, "%4d  %15.9g  %15.9g  %12.4g  %12.6f\n", i + 1, t.tx[static_cast<size_t>(i)],
+                  t.ty[static_cast<size_t>(i)], c.distance[static_cast<size_t>(i)], c.q[static_cast<size_t>(i)] * 180 / M_PI);
+    r += line;
+  }
+  r += "\ndefect checks:\n";
+  r += std::string("  constraints and assembly (every target on the model's mode, the motion between them without a dead point): ") +
+       (c.feasible() ? "ok" : "FAILED: " + c.defect) + "\n";
+  r += "  continuation through the targets (PositionSolver, the branch kept): " +
+       (continuation.empty() ? std::string("ok") : "FAILED: " + continuation) + "\n";
+  if (t.constraints.order) r += std::string("  targets in input order: ") + (c.feasible() ? "ok" : "see above") + "\n";
+  if (std::isfinite(c.mu_min))
+    r += "  transmission angle over the motion: [" + Short(c.mu_min * 180 / M_PI, 5) + ", " + Short(c.mu_max * 180 / M_PI, 5) +
+         "] deg" + (t.constraints.has_mu ? " (bounds [" + Short(t.constraints.mu_lo * 180 / M_PI, 5) + ", " +
+                                               Short(t.constraints.mu_hi * 180 / M_PI, 5) + "])"
+                                         : std::string()) + "\n";
+  r += "\nparameters:\n";
+  for (size_t j = 0; j < t.variables.size(); ++j)
+    r += "  " + t.variables[j].name + " = " + Num(c.x[j]) + "\n";
+  return r;
+}
+
+}  // namespace mechgen::synthesis

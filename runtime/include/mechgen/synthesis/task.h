@@ -1,0 +1,286 @@
+/**
+ * \file synthesis/task.h
+ * A dimensional-synthesis task (issue 28) as written in its YAML file beside the model (the
+ * format: docs/synthesis.md). Model-independent: ParseTask() reads and checks the file's
+ * own structure (kinds, numbers, sizes); BindPathTask() (synthesis/path.h) then checks the
+ * names against the generated model. Every error says FILE:LINE:COLUMN and what to change.
+ * Needs yaml-cpp (link yaml-cpp).
+ */
+#pragma once
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+namespace mechgen::synthesis {
+
+/// A bounded design variable: a model parameter (one of the model's `design` names).
+struct Variable {
+  std::string name;
+  double lo = 0, hi = 0;
+  int line = 0, column = 0;  ///< where it is in the task file (1-based), for later errors
+};
+
+/// The timing of path generation: the input angle at each precision point.
+struct Timing {
+  bool free = true;                ///< every point's input angle is a variable of its own
+  std::vector<double> angles;      ///< prescribed: q_i = offset + angles[i] (+ p[relative_to])
+  bool offset_free = false;        ///< the offset is a variable (in [0, 2 pi))
+  double offset = 0;               ///< else this value (rad)
+  std::string relative_to;         ///< a parameter (the frame's angle) added to every q_i; "" none
+  int line = 0, column = 0;
+};
+
+/// Constraints; each checked on every candidate (a violation is a defect, see path.h).
+struct Constraints {
+  bool grashof = false;         ///< s + l <= p + q of the four-bar loop
+  bool crank_rotates = false;   ///< the input link turns fully: Grashof, input or ground the shortest
+  bool crank_shortest = false;  ///< Grashof with the input link the shortest (crank-rocker)
+  bool order = false;           ///< free timing: targets reached in increasing input angle within one turn
+  bool has_mu = false;          ///< transmission angle bounds over the motion
+  double mu_lo = 0, mu_hi = M_PI;
+  bool has_lengths = false;     ///< every link length of the four-bar loop in [lo, hi]
+  double length_lo = 0, length_hi = std::numeric_limits<double>::infinity();
+};
+
+/// The search's budget.
+struct Search {
+  long long evaluations = 20000;  ///< global stage, all restarts together
+  int restarts = 8;               ///< independent seeded runs (on the threads)
+  int population = 0;             ///< per restart; 0: 10 x the number of variables (at least 20)
+  int curve_samples = 360;        ///< free timing: the curve sampled at this many input angles
+  int local_starts = 3;           ///< the local stage from this many of each run's best candidates
+  double local_share = 0.3;       ///< the share of each run's budget kept for the local stage
+};
+
+/// Path generation (function and motion generation: later kinds of the same file).
+struct PathTask {
+  std::string file;          ///< the task file's path, for messages
+  std::string model;         ///< `model:` (relative to the task file), "" if not given
+  std::string point;         ///< one of the model's points ("coupler.P")
+  std::string crank_link;    ///< the input link (for the crank constraints), "" if none asked
+  std::vector<double> tx, ty;  ///< the precision points
+  Timing timing;
+  std::vector<Variable> variables;
+  Constraints constraints;
+  Search search;
+  int point_line = 0, point_column = 0, crank_line = 0, crank_column = 0;
+};
+
+namespace task_internal {
+
+inline std::string Where(const std::string& file, const YAML::Mark& m) {
+  return file + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1) + ": ";
+}
+
+struct Error {
+  std::string message;
+};
+
+// A finite number, an angle may end in "deg" (degrees, converted to radians).
+inline double Number(const std::string& file, const YAML::Node& n, const std::string& what, bool angle = false) {
+  if (!n.IsScalar())
+    throw Error{Where(file, n.Mark()) + what + ": expected a number" + (angle ? " (an angle may end in deg)" : "")};
+  std::string text = n.Scalar();
+  double scale = 1;
+  if (angle && text.size() > 3 && text.compare(text.size() - 3, 3, "deg") == 0) {
+    text = text.substr(0, text.size() - 3);
+    scale = M_PI / 180;
+  }
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  const double v = std::strtod(begin, &end);
+  if (text.empty() || end == begin || *end != '\0' || !std::isfinite(v))
+    throw Error{Where(file, n.Mark()) + what + ": bad number '" + n.Scalar() + "'" +
+                (angle ? " (expected e.g. 30deg or 0.5236)" : " (expected a finite number)")};
+  return v * scale;
+}
+
+inline bool Bool(const std::string& file, const YAML::Node& n, const std::string& what) {
+  if (n.IsScalar() && (n.Scalar() == "true" || n.Scalar() == "false")) return n.Scalar() == "true";
+  throw Error{Where(file, n.Mark()) + what + ": expected true or false"};
+}
+
+inline long long Count(const std::string& file, const YAML::Node& n, const std::string& what, long long lo,
+                       long long hi) {
+  const double v = Number(file, n, what);
+  if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
+    throw Error{Where(file, n.Mark()) + what + ": expected an integer in [" + std::to_string(lo) + ", " +
+                std::to_string(hi) + "], got " + n.Scalar()};
+  return static_cast<long long>(v);
+}
+
+inline void Pair(const std::string& file, const YAML::Node& n, const std::string& what, bool angle, double* lo,
+                 double* hi, bool ordered = true) {
+  if (!n.IsSequence() || n.size() != 2)
+    throw Error{Where(file, n.Mark()) + what + ": expected [min, max]"};
+  *lo = Number(file, n[0], what, angle);
+  *hi = Number(file, n[1], what, angle);
+  if (ordered && !(*lo < *hi))
+    throw Error{Where(file, n.Mark()) + what + ": min must be below max"};
+}
+
+inline void Known(const std::string& file, const YAML::Node& map, const std::vector<std::string>& keys,
+                  const std::string& what) {
+  for (auto it = map.begin(); it != map.end(); ++it) {
+    const std::string key = it->first.Scalar();
+    bool ok = false;
+    std::string list;
+    for (const std::string& k : keys) {
+      ok = ok || key == k;
+      list += (list.empty() ? "" : ", ") + k;
+    }
+    if (!ok) throw Error{Where(file, it->first.Mark()) + "unknown key '" + key + "' in " + what + " (expected: " + list + ")"};
+  }
+}
+
+inline YAML::Node Required(const std::string& file, const YAML::Node& map, const std::string& key,
+                           const std::string& hint) {
+  const YAML::Node n = map[key];
+  if (!n) throw Error{Where(file, map.Mark()) + "missing '" + key + "': " + hint};
+  return n;
+}
+
+}  // namespace task_internal
+
+/// Reads the task file; false and *error (one message: FILE:LINE:COLUMN: what to change) on
+/// the first problem. Nothing else is done with a task that fails here.
+inline bool ParseTask(const std::string& path, PathTask* task, std::string* error) {
+  using namespace task_internal;
+  *task = PathTask();
+  task->file = path;
+  std::ifstream in(path);
+  if (!in) return *error = path + ": cannot read the task file", false;
+  try {
+    YAML::Node root;
+    try {
+      root = YAML::Load(in);
+    } catch (const YAML::Exception& e) {
+      return *error = Where(path, e.mark) + "not valid YAML: " + e.msg, false;
+    }
+    if (!root.IsMap()) throw Error{path + ":1:1: expected a mapping with `synthesis: path`, `point`, `targets`, `variables`"};
+    Known(path, root, {"synthesis", "model", "point", "crank", "targets", "timing", "variables", "constraints", "search"},
+          "the task");
+    const YAML::Node kind = Required(path, root, "synthesis", "the kind of task (path; function and motion are planned)");
+    if (!kind.IsScalar() || kind.Scalar() != "path")
+      throw Error{Where(path, kind.Mark()) + "synthesis: '" + (kind.IsScalar() ? kind.Scalar() : std::string("?")) +
+                  "' is not supported; this version does `path` (function and motion generation are planned)"};
+    if (const YAML::Node m = root["model"]) {
+      if (!m.IsScalar()) throw Error{Where(path, m.Mark()) + "model: expected a file name"};
+      task->model = m.Scalar();
+    }
+    const YAML::Node point = Required(path, root, "point", "the model's output point that traces the path, e.g. coupler.P");
+    if (!point.IsScalar()) throw Error{Where(path, point.Mark()) + "point: expected a point name such as coupler.P"};
+    task->point = point.Scalar();
+    task->point_line = point.Mark().line + 1;
+    task->point_column = point.Mark().column + 1;
+    if (const YAML::Node c = root["crank"]) {
+      if (!c.IsScalar()) throw Error{Where(path, c.Mark()) + "crank: expected the input link's name"};
+      task->crank_link = c.Scalar();
+      task->crank_line = c.Mark().line + 1;
+      task->crank_column = c.Mark().column + 1;
+    }
+    const YAML::Node targets = Required(path, root, "targets", "the precision points, [[x, y], ...]");
+    if (!targets.IsSequence() || targets.size() < 2)
+      throw Error{Where(path, targets.Mark()) + "targets: expected at least two points [[x, y], ...]"};
+    for (const YAML::Node& t : targets) {
+      if (!t.IsSequence() || t.size() != 2) throw Error{Where(path, t.Mark()) + "a target: expected [x, y]"};
+      task->tx.push_back(Number(path, t[0], "target x"));
+      task->ty.push_back(Number(path, t[1], "target y"));
+    }
+    const int n = static_cast<int>(task->tx.size());
+    if (const YAML::Node timing = root["timing"]) {
+      task->timing.line = timing.Mark().line + 1;
+      task->timing.column = timing.Mark().column + 1;
+      if (timing.IsScalar() && timing.Scalar() == "free") {
+        task->timing.free = true;
+      } else if (timing.IsMap()) {
+        Known(path, timing, {"angles", "offset", "relative_to"}, "timing");
+        task->timing.free = false;
+        const YAML::Node angles = Required(path, timing, "angles", "the input angle at each target, e.g. [30deg, 45deg]");
+        if (!angles.IsSequence() || static_cast<int>(angles.size()) != n)
+          throw Error{Where(path, angles.Mark()) + "timing.angles: expected " + std::to_string(n) +
+                      " angles (one per target)"};
+        for (const YAML::Node& a : angles) task->timing.angles.push_back(Number(path, a, "timing angle", true));
+        if (const YAML::Node off = timing["offset"]) {
+          if (off.IsScalar() && off.Scalar() == "free") {
+            task->timing.offset_free = true;
+          } else {
+            task->timing.offset = Number(path, off, "timing.offset (a number or free)", true);
+          }
+        }
+        if (const YAML::Node rel = timing["relative_to"]) {
+          if (!rel.IsScalar()) throw Error{Where(path, rel.Mark()) + "timing.relative_to: expected a parameter name"};
+          task->timing.relative_to = rel.Scalar();
+        }
+      } else {
+        throw Error{Where(path, timing.Mark()) + "timing: expected `free` or {angles: [...], offset: 0|free}"};
+      }
+    }
+    const YAML::Node vars = Required(path, root, "variables", "the design parameters to vary with bounds, {a: [0, 60], ...}");
+    if (!vars.IsMap() || vars.size() == 0)
+      throw Error{Where(path, vars.Mark()) + "variables: expected {name: [min, max], ...} of the model's design parameters"};
+    for (auto it = vars.begin(); it != vars.end(); ++it) {
+      Variable v;
+      v.name = it->first.Scalar();
+      v.line = it->first.Mark().line + 1;
+      v.column = it->first.Mark().column + 1;
+      Pair(path, it->second, "variable " + v.name, /*angle=*/true, &v.lo, &v.hi);
+      for (const Variable& w : task->variables)
+        if (w.name == v.name) throw Error{Where(path, it->first.Mark()) + "variable " + v.name + " given twice"};
+      task->variables.push_back(v);
+    }
+    if (const YAML::Node cons = root["constraints"]) {
+      if (!cons.IsMap()) throw Error{Where(path, cons.Mark()) + "constraints: expected a mapping"};
+      Known(path, cons, {"grashof", "crank_rotates", "crank_shortest", "order", "transmission_angle", "link_lengths"},
+            "constraints");
+      Constraints& c = task->constraints;
+      if (cons["grashof"]) c.grashof = Bool(path, cons["grashof"], "grashof");
+      if (cons["crank_rotates"]) c.crank_rotates = Bool(path, cons["crank_rotates"], "crank_rotates");
+      if (cons["crank_shortest"]) c.crank_shortest = Bool(path, cons["crank_shortest"], "crank_shortest");
+      if (cons["order"]) c.order = Bool(path, cons["order"], "order");
+      if (const YAML::Node mu = cons["transmission_angle"]) {
+        c.has_mu = true;
+        Pair(path, mu, "transmission_angle", true, &c.mu_lo, &c.mu_hi);
+      }
+      if (const YAML::Node len = cons["link_lengths"]) {
+        c.has_lengths = true;
+        Pair(path, len, "link_lengths", false, &c.length_lo, &c.length_hi);
+      }
+      if ((c.crank_rotates || c.crank_shortest) && task->crank_link.empty())
+        throw Error{Where(path, cons.Mark()) + "crank_rotates/crank_shortest need `crank: <input link>` in the task"};
+      if (c.order && !task->timing.free)
+        throw Error{Where(path, cons["order"].Mark()) + "order: only for free timing (prescribed angles fix the order)"};
+    }
+    if (const YAML::Node s = root["search"]) {
+      if (!s.IsMap()) throw Error{Where(path, s.Mark()) + "search: expected a mapping"};
+      Known(path, s, {"evaluations", "restarts", "population", "curve_samples", "local_starts", "local_share"}, "search");
+      if (s["local_starts"]) task->search.local_starts = static_cast<int>(Count(path, s["local_starts"], "local_starts", 1, 1000));
+      if (s["local_share"]) {
+        task->search.local_share = Number(path, s["local_share"], "local_share");
+        if (!(task->search.local_share >= 0 && task->search.local_share <= 0.9))
+          throw Error{Where(path, s["local_share"].Mark()) + "local_share: expected a number in [0, 0.9]"};
+      }
+      if (s["evaluations"]) task->search.evaluations = Count(path, s["evaluations"], "evaluations", 100, 1000000000LL);
+      if (s["restarts"]) task->search.restarts = static_cast<int>(Count(path, s["restarts"], "restarts", 1, 10000));
+      if (s["population"]) task->search.population = static_cast<int>(Count(path, s["population"], "population", 0, 100000));
+      if (s["curve_samples"])
+        task->search.curve_samples = static_cast<int>(Count(path, s["curve_samples"], "curve_samples", 8, 100000));
+    }
+  } catch (const Error& e) {
+    *error = e.message;
+    return false;
+  } catch (const YAML::Exception& e) {
+    *error = Where(path, e.mark) + e.msg;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace mechgen::synthesis

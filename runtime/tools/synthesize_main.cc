@@ -1,0 +1,166 @@
+// `mechgen synthesize MODEL --task TASK.yaml [--seed N] [--threads N] [--out DIR]`: dimensional
+// synthesis of a generated model (issue 28; this version: path generation). The model gives
+// the topology, the design parameters (its `design:` section: their derivatives are the local
+// stage's Jacobian) and the point; the task file (docs/synthesis.md) the targets, the timing,
+// the variables' bounds, the constraints and the search's budget.
+//
+// `mechgen synthesize` (generator/driver/tool_command.cc) compiles this file against the
+// model (with Ceres and yaml-cpp) and runs it with argv[0] = "mechgen synthesize MODEL": the
+// model file is read from there (its text is what was compiled: the cache is keyed by it) to
+// write the synthesized model. What it does: synthesis/optimize.h (seeded differential
+// evolution restarts on --threads threads, then Levenberg–Marquardt with the generated
+// Jacobian), every candidate's defect checks (synthesis/path.h), the result followed by the
+// runtime's continuation (synthesis/report.h). Writes into --out (created if needed):
+//   <model file name>  the input model with the synthesized parameter values (every analysis
+//                      of the project works on it: `mechgen sweep DIR/<model>.yaml`);
+//   path.svg           the coupler curve against the targets;
+//   report.txt         error per target, defect checks, transmission-angle range, the search.
+// All three are written only when a feasible mechanism was found (written whole, then renamed).
+// The same --seed gives the same bytes of the model file for any --threads.
+// Exit status: 0 done; 1 a bad task file (FILE:LINE:COLUMN: what to change) or the model
+// cannot take it (no design section, no such point or parameter), or an output cannot be
+// written; 2 a usage error (one line); 3 no mechanism satisfies the constraints (the best
+// candidate's report on stderr, nothing written).
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "common/cli.h"
+#include "mechgen/synthesis/report.h"
+#include "mechgen/synthesis/task.h"
+#include MECHGEN_MODEL_INCLUDE
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace mechgen::synthesis;
+
+bool WriteWhole(const fs::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << bytes;
+  out.close();
+  return static_cast<bool>(out);
+}
+
+template <class M>
+int Main(int argc, char** argv) {
+  const std::string tool = mechgen::tools::ToolName(argv[0]);
+  CLI::App app{"Dimensional synthesis (path generation) of the model " + std::string(M::kName) +
+               ": seeded differential evolution, then Levenberg-Marquardt on the generated design derivatives. "
+               "Exit 0 done, 1 bad task file or output, 2 usage error, 3 no feasible mechanism."};
+  std::string task_path, out_dir = "synthesis_out", model_path;
+  unsigned long long seed = 1;
+  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  long long evaluations = 0;
+  mechgen::tools::ParameterOptions parameter_options;
+  app.add_option("--task", task_path, "the synthesis task file (YAML, docs/synthesis.md)")->required();
+  app.add_option("--seed", seed, "the random seed: the same seed, the same result for any --threads")->capture_default_str();
+  mechgen::tools::Count(&app, "--threads", &threads, 1, 1024, "threads for the restarts (default: all cores)");
+  mechgen::tools::Count(&app, "--evaluations", &evaluations, 0, 1000000000LL,
+                        "the global stage's budget, overriding the task's search.evaluations (0: the task's)");
+  app.add_option("--out", out_dir, "the directory to write the model file, path.svg and report.txt into")->capture_default_str();
+  app.add_option("--model", model_path, "the model file this program was compiled from (default: from `mechgen synthesize MODEL`)");
+  mechgen::tools::AddParameterOptions(&app, &parameter_options);
+  if (const int status = mechgen::tools::Parse(&app, argc, argv, tool); status >= 0) return status;
+  const std::string prefix = "mechgen synthesize ";
+  const std::string argv0 = argv[0];
+  if (model_path.empty() && argv0.rfind(prefix, 0) == 0) model_path = argv0.substr(prefix.size());
+  if (model_path.empty()) return mechgen::tools::UsageError(tool, "--model: the model file is needed (run as `mechgen synthesize MODEL ...`)");
+
+  using Params = typename M::template ParamsT<double>;
+  Params base;
+  std::string error;
+  if (!mechgen::tools::ApplyParameters(parameter_options, &base, &error)) return mechgen::tools::UsageError(tool, error);
+  PathTask task;
+  if (!ParseTask(task_path, &task, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  if (evaluations > 0) task.search.evaluations = evaluations;
+  BoundPath<M> bound;
+  if (!BindPathTask<M>(task, base, &bound, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  std::string model_text;
+  {
+    std::ifstream in(model_path, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (!in) {
+      std::cerr << tool << ": error: cannot read the model file " << model_path << "\n";
+      return 1;
+    }
+    model_text = text.str();
+  }
+  if constexpr (mechgen::HasDesignDerivatives<M>::value) {
+    const auto wall0 = std::chrono::steady_clock::now();
+    const std::clock_t cpu0 = std::clock();
+    std::cerr << tool << ": " << task.search.restarts << " runs, " << task.search.evaluations << " evaluations, "
+              << threads << " thread(s)\n";
+    const SearchResult s = Synthesize(bound, seed, threads, [&](int done, int total) {
+      std::fprintf(stderr, "%s: run %d of %d done\n", tool.c_str(), done, total);
+    });
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    const double cpu = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+    PathEvaluator<M> eval(bound);
+    const Candidate& c = s.best.best;
+    const std::string continuation = c.feasible() ? ContinuationCheck(&eval, c) : std::string("not run");
+    const std::string report = Report(&eval, s, continuation, seed, threads, wall, cpu, model_path);
+    if (!c.feasible() || !continuation.empty()) {
+      std::cerr << report << "\n" << tool << ": no mechanism satisfies the task's constraints; nothing written\n";
+      return 3;
+    }
+    // The outputs: built whole in memory, written to temporary names, then renamed.
+    std::vector<std::string> names;
+    std::vector<double> values;
+    for (size_t j = 0; j < task.variables.size(); ++j) {
+      names.push_back(task.variables[j].name);
+      values.push_back(c.x[j]);
+    }
+    std::string synthesized;
+    if (!RewriteParameters(model_text, names, values, &synthesized, &error)) {
+      std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
+      return 1;
+    }
+    const std::string svg = CurveSvg(&eval, c);
+    std::error_code ec;
+    fs::create_directories(out_dir, ec);
+    const std::vector<std::pair<fs::path, const std::string*>> files = {
+        {fs::path(out_dir) / fs::path(model_path).filename(), &synthesized},
+        {fs::path(out_dir) / "path.svg", &svg},
+        {fs::path(out_dir) / "report.txt", &report}};
+    bool ok = !ec;
+    for (const auto& f : files) ok = ok && WriteWhole(f.first.string() + ".part", *f.second);
+    for (const auto& f : files) {
+      if (ok) {
+        fs::rename(f.first.string() + ".part", f.first, ec);
+        ok = !ec;
+      }
+    }
+    if (!ok) {
+      for (const auto& f : files) fs::remove(f.first.string() + ".part", ec);
+      std::cerr << tool << ": error: cannot write into " << out_dir << "\n";
+      return 1;
+    }
+    std::cout << report;
+    std::cout << "\nwrote " << files[0].first.string() << ", " << files[1].first.string() << ", "
+              << files[2].first.string() << "\n";
+    return 0;
+  } else {
+    std::cerr << tool << ": error: the model '" << M::kName
+              << "' has no `design` section; add `design: [parameters to vary]` (models/README.md)\n";
+    return 1;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return Main<MECHGEN_MODEL_NAMESPACE::Model>(argc, argv); }

@@ -1,0 +1,98 @@
+#!/usr/bin/env bash
+# `mechgen synthesize MODEL --task TASK.yaml` (runtime/tools/synthesize_main.cc), end to end,
+# in a temporary directory with a private cache (one compile of the tool, for fourbar):
+#   - a task file with an error: exit 1, FILE:LINE:COLUMN on stderr, nothing written;
+#   - a bad option: exit 2, one line, nothing written;
+#   - a task nothing satisfies (links longer than the variables' bounds allow): exit 3,
+#     nothing written;
+#   - the shipped four-bar's own coupler points (tasks/fourbar_refind.yaml): exit 0; the model
+#     file, path.svg and report.txt written; the model file is the input with only the
+#     parameter values changed, `mechgen generate` accepts it, and its coupler curve, computed
+#     here by hand formulas (circle-circle intersection, Python) from the values read back
+#     from the file, passes through every target to 1e-9;
+#   - the same seed with --threads 1 and --threads 2: the model files and the reports' error
+#     lines byte-identical.
+# usage: synthesize_command_test.sh <mechgen> <source dir> <python3>
+set -uo pipefail
+mechgen=$(realpath "$1") source_dir=$(realpath "$2") python=$3
+root=$(mktemp -d)
+trap 'rm -rf "$root"' EXIT
+cd "$root" || exit 1
+export MECHGEN_CACHE_DIR=$root/cache
+cp "$source_dir/models/fourbar.yaml" fourbar.yaml
+task=$source_dir/tests/synthesis/tasks/fourbar_refind.yaml
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+ok() { echo "ok $*"; }
+
+# A bad task file: where and what, nothing written (the tool compiles here, once).
+printf 'synthesis: path\npoint: coupler.P\ntargets: [[0, 0], [1, 1]]\nvariables: {a: [2, 1]}\n' > bad.yaml
+"$mechgen" synthesize fourbar.yaml --task bad.yaml --out out_bad > bad.out 2> bad.err
+status=$?
+[ "$status" = 1 ] || fail "bad task: exit $status, expected 1"
+grep -q '^bad.yaml:4:16: variable a: min must be below max$' bad.err || fail "bad task: $(tail -1 bad.err)"
+[ ! -e out_bad ] || fail "bad task: out_bad written"
+ok "bad task file"
+
+"$mechgen" synthesize fourbar.yaml --task "$task" --threads 0 --out out_opt > opt.out 2> opt.err
+status=$?
+[ "$status" = 2 ] || fail "bad option: exit $status, expected 2"
+[ "$(wc -l < opt.err)" = 1 ] || fail "bad option: $(cat opt.err)"
+[ ! -e out_opt ] || fail "bad option: out_opt written"
+ok "bad option"
+
+# Nothing feasible: every link at least 10, the variables at most 6.
+sed 's/^  transmission_angle: .*/  link_lengths: [10, 20]/; s/evaluations: 20000/evaluations: 400/' "$task" > none.yaml
+"$mechgen" synthesize fourbar.yaml --task none.yaml --out out_none > none.out 2> none.err
+status=$?
+[ "$status" = 3 ] || fail "infeasible task: exit $status, expected 3"
+grep -q 'no mechanism satisfies' none.err || fail "infeasible task: $(tail -1 none.err)"
+[ ! -e out_none ] || fail "infeasible task: out_none written"
+ok "infeasible task"
+
+# The four-bar's own coupler points.
+"$mechgen" synthesize fourbar.yaml --task "$task" --seed 5 --threads 1 --out out1 > run1.out 2> run1.err
+status=$?
+[ "$status" = 0 ] || { fail "refind: exit $status"; cat run1.err; }
+for f in fourbar.yaml path.svg report.txt; do [ -s "out1/$f" ] || fail "refind: out1/$f missing"; done
+"$mechgen" generate out1/fourbar.yaml -o "$root" > gen.out 2>&1 || fail "mechgen generate refuses the synthesized model: $(cat gen.out)"
+# Only parameter values differ from the input model.
+diff fourbar.yaml out1/fourbar.yaml | grep '^[<>]' | grep -v '{value: ' && fail "lines other than parameter values changed"
+"$python" - "$task" out1/fourbar.yaml <<'PY' || fail "the synthesized coupler curve misses a target"
+import math, re, sys
+task, model = sys.argv[1], sys.argv[2]
+values = dict(re.findall(r'^  (\w+):\s*\{value: ([^,]+),', open(model).read(), re.M))
+a, b, c, d, xi, eta = (float(values[k]) for k in ('a', 'b', 'c', 'd', 'xi', 'eta'))
+targets = [tuple(map(float, m)) for m in re.findall(r'^  - \[([^,]+), ([^\]]+)\]', open(task).read(), re.M)]
+def P(t):  # the open assembly: C to the left of B -> D
+    Bx, By = a * math.cos(t), a * math.sin(t)
+    ex, ey = d - Bx, -By
+    L = math.hypot(ex, ey)
+    s = (b * b - c * c + L * L) / (2 * L)
+    h = math.sqrt(max(b * b - s * s, 0.0))
+    Cx, Cy = Bx + s * ex / L - h * ey / L, By + s * ey / L + h * ex / L
+    ux, uy = (Cx - Bx) / b, (Cy - By) / b
+    return Bx + xi * ux - eta * uy, By + xi * uy + eta * ux
+worst = 0.0
+for tx, ty in targets:
+    dist = lambda t: math.hypot(P(t)[0] - tx, P(t)[1] - ty)
+    t = min((2 * math.pi * k / 3600 for k in range(3600)), key=dist)
+    lo, hi = t - 2 * math.pi / 3600, t + 2 * math.pi / 3600
+    for _ in range(200):  # golden section on the distance
+        m1, m2 = lo + 0.382 * (hi - lo), hi - 0.382 * (hi - lo)
+        lo, hi = (lo, m2) if dist(m1) < dist(m2) else (m1, hi)
+    worst = max(worst, dist(0.5 * (lo + hi)))
+print("largest distance to a target: %.3g" % worst)
+sys.exit(0 if worst < 1e-9 else 1)
+PY
+ok "refind: model file, generate, the curve through the targets"
+
+# The same seed, two threads: the same bytes.
+"$mechgen" synthesize fourbar.yaml --task "$task" --seed 5 --threads 2 --out out2 > run2.out 2> run2.err || fail "refind, 2 threads"
+cmp -s out1/fourbar.yaml out2/fourbar.yaml || fail "the model files differ between 1 and 2 threads"
+cmp -s <(grep -v -e '^search:' -e '^evaluations:' out1/report.txt) <(grep -v -e '^search:' -e '^evaluations:' out2/report.txt) ||
+  fail "the reports differ between 1 and 2 threads"
+ok "same bytes with 1 and 2 threads"
+
+[ "$failures" = 0 ] && echo "all passed" || echo "$failures failure(s)"
+exit $((failures > 0))
