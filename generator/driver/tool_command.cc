@@ -63,6 +63,7 @@ struct ToolSpec {
   bool separate_args = false;      // its CLI11 part (sweep_args.cc) compiled once for all models
   std::string quantity;            // what the model's outputs must have; "" nothing
   std::string summary;             // what the analysis gives (mechgen --help)
+  std::vector<std::string> libs = {};  // linked after the objects (study: yaml-cpp, threads)
 };
 
 const std::vector<ToolSpec>& Specs() {
@@ -84,6 +85,10 @@ const std::vector<ToolSpec>& Specs() {
        "flywheel sizing of a one-input machine: the driving torque at constant speed over a cycle, its "
        "energy loop, the flywheel for a coefficient of speed fluctuation and, with `dynamics`, its "
        "simulated check under a motor law (needs the output `forces`)"},
+      {"study", "study_main.cc", {"-pthread"}, false, "",
+       "a design study from --study FILE (docs/studies.md): grid, list, Latin hypercube or Monte-Carlo samples "
+       "on every core, metrics per sample in a CSV, first-order tolerances beside the Monte-Carlo",
+       {"-lyaml-cpp", "-pthread"}},
   };
   return specs;
 }
@@ -704,6 +709,7 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
   link[0].argv.insert(link[0].argv.end(), {(dir / "main.o").string(), (dir / (name + ".o")).string()});
   if (spec.separate_args) link[0].argv.push_back(have_args ? args_object.string() : (dir / "args.o").string());
   link[0].argv.insert(link[0].argv.end(), {"-o", program.string()});
+  link[0].argv.insert(link[0].argv.end(), spec.libs.begin(), spec.libs.end());
   link[0].log = dir / "link.log";
   if (!RunJobs(&link, "linking " + what, c.verbose)) return 1;
   // The program's record, in the entry; the CLI11 object's for later models, then the object
