@@ -212,6 +212,9 @@ int main(int argc, char** argv) {
           if (s.design_index()[p] < 0) missing += (missing.empty() ? "" : ", ") + spec.parameters[p].name;
         verdict = "no first-order figure: " + (!why.empty() ? why : "not a design parameter of the model: " + missing);
       }
+      if (ok < count)
+        verdict += " (" + std::to_string(count - ok) + " of " + std::to_string(count) +
+                   " samples failed and are not in the Monte-Carlo: a change the first order cannot see)";
       char interval[64];
       std::snprintf(interval, sizeof(interval), "[%.5g, %.5g]", m.sigma_low, m.sigma_high);
       std::printf("%-24s %12.6g %12.5g %12.5g %12.5g %12.6g %12.5g %25s  %s\n", spec.metrics[k].name.c_str(),

@@ -150,7 +150,7 @@ class Study {
           return fail(m.place, "the statics has no drive column");
       }
       if (m.kind == MetricKind::kPeakBearing) {
-        if constexpr (kHasStatics) {
+        if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
           for (const statics::ReactionJoint& j : statics::ReactionJoints<M>()) r.joints.push_back(j);
         }
         if (r.joints.empty()) return fail(m.place, std::string("the model ") + M::kName + " has no reactions (outputs: reactions:)");
@@ -331,11 +331,11 @@ class Study {
         }
         break;
       case MetricKind::kPeakBearing:
-        if constexpr (kHasStatics) {
+        if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
           for (int i = 0; i < n; ++i) {
             if (rows.statics[i].frictionless.summary.status != statics::Status::kConverged) continue;
             for (const statics::ReactionJoint& j : r.joints)
-              consider(statics::ReactionMagnitude(j, rows.statics[i].frictionless.R), i, 1, true);
+              consider(statics::ReactionMagnitude(j, rows.statics[i].frictionless.statics.R), i, 1, true);
           }
         }
         break;
