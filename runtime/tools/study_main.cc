@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
                "Monte-Carlo (docs/studies.md)."};
   app.footer("Exit status: 0 done, 3 done but some samples failed (status column), 2 bad arguments or a bad "
              "study file, 1 the study does not fit the model or an output cannot be written.");
-  std::string study_path, csv_path, tolerance_path;
+  std::string study_path, csv_path, tolerance_path, envelope_path;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   bool quiet = false;
   app.add_option("--study", study_path, "the study file (YAML; docs/studies.md)")->required();
@@ -104,6 +104,9 @@ int main(int argc, char** argv) {
   app.add_option("--csv", csv_path, "write one row per sample to this CSV file");
   app.add_option("--tolerance-csv", tolerance_path,
                  "write the tolerance analysis (first order beside Monte-Carlo) to this CSV file");
+  app.add_option("--envelope-csv", envelope_path,
+                 "write the envelope of the study's point (envelope: {point: P}) to this CSV file: per row its "
+                 "nominal place and the first-order and Monte-Carlo sigma of x and y");
   app.add_flag("--quiet", quiet, "no progress line on stderr");
   if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
 
@@ -120,9 +123,12 @@ int main(int argc, char** argv) {
   }
   if (!tolerance_path.empty() && !spec.tolerance)
     return tools::UsageError(tool, "--tolerance-csv: the study does not ask for it (tolerance: true)");
-  mechgen::OutputFile csv, tolerance_csv;
+  if (!envelope_path.empty() && spec.envelope.empty())
+    return tools::UsageError(tool, "--envelope-csv: the study names no point (envelope: {point: P})");
+  mechgen::OutputFile csv, tolerance_csv, envelope_csv;
   if ((!csv_path.empty() && !csv.Open(csv_path, &error)) ||
-      (!tolerance_path.empty() && !tolerance_csv.Open(tolerance_path, &error))) {
+      (!tolerance_path.empty() && !tolerance_csv.Open(tolerance_path, &error)) ||
+      (!envelope_path.empty() && !envelope_csv.Open(envelope_path, &error))) {
     std::cerr << "error: " << error << "\n";
     return 1;
   }
@@ -175,16 +181,16 @@ int main(int argc, char** argv) {
   }
 
   // Tolerance analysis: first order at the nominal beside the Monte-Carlo of the ok samples.
+  const size_t n = spec.parameters.size();
+  std::vector<double> sigma(n), tol(n), clearance(n, 0.0);
+  for (size_t p = 0; p < n; ++p) {
+    sigma[p] = spec.parameters[p].sigma();
+    tol[p] = spec.parameters[p].tolerance;
+    for (const study::ClearanceSpec& c : spec.clearances)
+      if (c.parameter == spec.parameters[p].name) clearance[p] += c.radial;
+  }
   std::string tolerance_text;
   if (spec.tolerance) {
-    const size_t n = spec.parameters.size();
-    std::vector<double> sigma(n), tol(n), clearance(n, 0.0);
-    for (size_t p = 0; p < n; ++p) {
-      sigma[p] = spec.parameters[p].sigma();
-      tol[p] = spec.parameters[p].tolerance;
-      for (const study::ClearanceSpec& c : spec.clearances)
-        if (c.parameter == spec.parameters[p].name) clearance[p] += c.radial;
-    }
     std::printf("\ntolerance analysis: first order at the nominal (generated design derivatives) beside the "
                 "Monte-Carlo of the %llu ok samples (95 %% intervals)\n",
                 static_cast<unsigned long long>(ok));
@@ -218,7 +224,7 @@ int main(int argc, char** argv) {
       char interval[64];
       std::snprintf(interval, sizeof(interval), "[%.5g, %.5g]", m.sigma_low, m.sigma_high);
       std::printf("%-24s %12.6g %12.5g %12.5g %12.5g %12.6g %12.5g %25s  %s\n", spec.metrics[k].name.c_str(),
-                  s.Value(k, s.nominal_rows()).value, f.rss, f.worst, f.clearance, m.mean, m.sigma, interval,
+                  s.Value(k, s.nominal_rows()).value, f.rss, f.worst, f.complete ? f.clearance : NAN, m.mean, m.sigma, interval,
                   verdict.c_str());
       tolerance_text += spec.metrics[k].name + "," + s.Unit(k) + "," + G17(s.Value(k, s.nominal_rows()).value) + "," +
                         G17(f.rss) + "," + G17(f.worst) + "," + G17(f.complete ? f.clearance : NAN) + "," +
@@ -228,10 +234,61 @@ int main(int argc, char** argv) {
     }
   }
 
+  // The envelope: per row, the point's nominal place, first-order sigma (and worst case) of x
+  // and y from dr_P/dp, and the Monte-Carlo's sigma with its interval, over the ok samples.
+  std::string envelope_text;
+  if (!spec.envelope.empty()) {
+    const int rows = spec.steps + 1;
+    const bool random = spec.method == study::Method::kMonteCarlo;
+    envelope_text = "# mechgen study envelope of " + spec.envelope + ", model " + Model::kName + ": " + spec.path +
+                    "\n# per row of the motion: the input " + Model::kQNames[0] +
+                    " (rad or model length), the point's nominal x and y (model length), the first-order sigma "
+                    "and worst case of x and y from the generated dr_P/dp (as tolerance.csv), the Monte-Carlo's "
+                    "sigma of x and y over the ok samples with 95 % intervals\n"
+                    "row," + std::string(Model::kQNames[0]) + ",x_nominal,y_nominal,fo_sigma_x,fo_sigma_y,fo_worst_x,"
+                    "fo_worst_y,mc_n,mc_sigma_x,mc_sigma_x_low,mc_sigma_x_high,mc_sigma_y,mc_sigma_y_low,"
+                    "mc_sigma_y_high\n";
+    const std::vector<double> nominal_path = s.Path(s.nominal_rows());
+    int compared = 0, inside = 0, worst_row = -1;
+    double worst_ratio = 1;
+    for (int i = 0; i < rows; ++i) {
+      std::string line = std::to_string(i) + "," + G17(s.nominal_rows().kinematics[i].q(0)) + "," +
+                         G17(nominal_path[2 * i]) + "," + G17(nominal_path[2 * i + 1]);
+      study::FirstOrder f[2];
+      study::Moments m[2];
+      for (int axis = 0; axis < 2; ++axis) {
+        f[axis] = study::FirstOrderOf(s.PathGradient(i, axis), sigma, tol, clearance);
+        std::vector<double> v;
+        v.reserve(results.size());
+        for (const study::SampleResult& r : results)
+          if (std::string(r.status) == "ok") v.push_back(r.path[2 * i + axis]);
+        m[axis] = study::MomentsOf(v);
+        if (random && f[axis].complete && m[axis].n >= 2 && m[axis].sigma > 0) {
+          ++compared;
+          inside += f[axis].rss >= m[axis].sigma_low && f[axis].rss <= m[axis].sigma_high;
+          const double ratio = std::max(f[axis].rss / m[axis].sigma, m[axis].sigma / f[axis].rss);
+          if (ratio > worst_ratio) worst_ratio = ratio, worst_row = i;
+        }
+      }
+      line += "," + G17(f[0].rss) + "," + G17(f[1].rss) + "," + G17(f[0].worst) + "," + G17(f[1].worst) + "," +
+              std::to_string(m[0].n) + "," + G17(m[0].sigma) + "," + G17(m[0].sigma_low) + "," + G17(m[0].sigma_high) +
+              "," + G17(m[1].sigma) + "," + G17(m[1].sigma_low) + "," + G17(m[1].sigma_high) + "\n";
+      envelope_text += line;
+    }
+    if (compared > 0)
+      std::printf("\nenvelope of %s: the first-order sigma of x and y is inside the Monte-Carlo's 95 %% interval at %d "
+                  "of %d (row, axis); the largest ratio between the two, %.4g, at row %d (%s = %.6g)\n",
+                  spec.envelope.c_str(), inside, compared, worst_ratio, worst_row, Model::kQNames[0],
+                  worst_row >= 0 ? s.nominal_rows().kinematics[worst_row].q(0) : NAN);
+  }
+
   if (!csv_path.empty()) WriteCsv(s, values, results, csv.stream());
+  if (!envelope_path.empty()) envelope_csv.stream() << envelope_text;
   if (!tolerance_path.empty()) tolerance_csv.stream() << tolerance_text;
   if ((!csv_path.empty() && !csv.Close(&error)) || (!tolerance_path.empty() && !tolerance_csv.Close(&error)) ||
-      (!csv_path.empty() && !csv.Commit(&error)) || (!tolerance_path.empty() && !tolerance_csv.Commit(&error))) {
+      (!envelope_path.empty() && !envelope_csv.Close(&error)) || (!csv_path.empty() && !csv.Commit(&error)) ||
+      (!tolerance_path.empty() && !tolerance_csv.Commit(&error)) ||
+      (!envelope_path.empty() && !envelope_csv.Commit(&error))) {
     std::cerr << "error: " << error << "\n";
     return 1;
   }
@@ -239,6 +296,7 @@ int main(int argc, char** argv) {
     std::printf("\nwrote %s (%llu rows x %zu columns)\n", csv_path.c_str(), static_cast<unsigned long long>(count),
                 spec.parameters.size() + spec.metrics.size() + 2);
   if (!tolerance_path.empty()) std::printf("wrote %s\n", tolerance_path.c_str());
+  if (!envelope_path.empty()) std::printf("wrote %s\n", envelope_path.c_str());
   if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
     std::cerr << "error: cannot write the standard output\n";
     return 1;

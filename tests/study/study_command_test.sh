@@ -4,7 +4,8 @@
 # units, then sample, the parameters, the metrics, status) and one row per sample; the
 # tolerance CSV; a study file with an error: exit 2, one line FILE:LINE:COLUMN, no CSV; a study
 # that does not fit the model: exit 1, no CSV; a bad option: exit 2, one line; the histogram
-# script draws a PNG from the CSV (when gnuplot is installed).
+# and scatter scripts draw PNGs from the CSV and the envelope script from the envelope CSV
+# (when gnuplot is installed).
 # usage: study_command_test.sh <mechgen> <source dir>
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2")
@@ -18,7 +19,8 @@ failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 ok() { echo "ok $*"; }
 
-"$mechgen" study fourbar.yaml --study study.yaml --threads 1 --csv one.csv --tolerance-csv tol.csv > one.out 2> one.err
+"$mechgen" study fourbar.yaml --study study.yaml --threads 1 --csv one.csv --tolerance-csv tol.csv \
+  --envelope-csv env.csv > one.out 2> one.err
 status=$?
 [ "$status" -eq 0 ] || fail "1 thread: exit status $status: $(cat one.err)"
 "$mechgen" study fourbar.yaml --study study.yaml --threads 2 --csv two.csv --quiet > two.out 2> two.err
@@ -39,6 +41,10 @@ awk -F, '!/^#/ && ++n > 1 { for (i = 2; i <= 5; ++i) { s = $i; sub(/e.*/, "", s)
   fail "parameters not written with %.17g: $(grep -v '^#' one.csv | sed -n 2p)"
 grep -q '^metric,unit,nominal,fo_sigma,fo_worst,clearance,mc_n' tol.csv || fail "tolerance CSV header: $(grep -v '^#' tol.csv | head -1)"
 grep -q 'agrees' one.out || fail "no agreeing metric in the tolerance analysis: $(cat one.out)"
+steps=$(awk '/^steps:/ { print $2 }' study.yaml)
+[ "$(grep -v '^#' env.csv | tail -n +2 | wc -l)" -eq $((steps + 1)) ] || fail "envelope: not one line per row"
+grep -q '^row,theta_crank,x_nominal,y_nominal,fo_sigma_x' env.csv || fail "envelope header: $(grep -v '^#' env.csv | head -1)"
+grep -q '^envelope of coupler.P: ' one.out || fail "no envelope summary: $(cat one.out)"
 
 # A study file with an error: one line file:line:column, exit 2, no CSV.
 sed 's/^method: monte_carlo/method: montecarlo/' study.yaml > bad.yaml
@@ -68,6 +74,14 @@ if command -v gnuplot > /dev/null; then
   gnuplot -e "csv='one.csv'; metric='nope'; png='nope.png'" "$source_dir/runtime/tools/plot_study_histogram.gnuplot" \
     2> nope.err && fail "histogram of no such column: exit 0"
   grep -q "no column 'nope'" nope.err || fail "histogram of no such column: $(cat nope.err)"
+  gnuplot -e "csv='one.csv'; metric='min_transmission_angle'; parameter='c'; png='scatter.png'" \
+    "$source_dir/runtime/tools/plot_study_scatter.gnuplot" 2> scatter.err || fail "scatter: $(cat scatter.err)"
+  [ -s scatter.png ] || fail "scatter: no PNG"
+  gnuplot -e "csv='env.csv'; png='env.png'" "$source_dir/runtime/tools/plot_study_envelope.gnuplot" 2> env.err ||
+    fail "envelope plot: $(cat env.err)"
+  [ -s env.png ] || fail "envelope plot: no PNG"
+  gnuplot -e "csv='one.csv'; png='notenv.png'" "$source_dir/runtime/tools/plot_study_envelope.gnuplot" 2> notenv.err &&
+    fail "envelope plot of the samples' CSV: exit 0"
 fi
 
 [ "$failures" -eq 0 ] && echo "all ok" || echo "$failures failure(s)"

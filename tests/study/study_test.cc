@@ -266,7 +266,7 @@ TEST(StudyFirstOrder, FourbarGradientsAgainstCentralDifferences) {
                                      "  - {kind: at, column: theta_rocker, step: 70}\n"
                                      "  - {kind: max, column: coupler.P.y}\n  - {kind: min, column: coupler.P.x}\n"
                                      "  - {kind: rms, column: theta_coupler}\n  - {kind: min_transmission_angle}\n"
-                                     "  - {kind: max, column: K_theta_rocker_theta_crank}\n"
+                                     "  - {kind: max, column: K_theta_rocker_theta_crank}\n  - {kind: rms, column: theta_rocker_dot}\n"
                                      "  - {kind: design_margin}\n");
   // h = 1e-6: truncation ~ h^2 f''' and rounding ~ eps / h, both below 1e-7 here.
   CheckGradients<mech::fourbar::Model>(spec, 1e-6, 1e-6);
@@ -360,6 +360,54 @@ TEST(StudyFirstOrder, AgreesAwayFromAChangePointAndSaysWhereItDoesNot) {
   EXPECT_GT(failed, 300);
   EXPECT_GT(f.rss, 2 * near.sigma_high);
   EXPECT_EQ(study::Verdict(f, near).rfind("DISAGREES: first-order sigma", 0), 0u) << study::Verdict(f, near);
+}
+
+// The coupler point's path at every row, first order against a Monte-Carlo at small
+// tolerances: each sample's displacement of P from its nominal place against g . dp (g the
+// generated dr_P/dp at the row), to second order in the tolerance; and each row's Monte-Carlo
+// sigma of x and y against the first-order sigma within 5 standard errors of a sample sigma.
+TEST(StudyFirstOrder, FourbarCouplerPathAtEveryRowAgreesWithMonteCarlo) {
+  const double t = 1e-4;
+  const std::string tol = std::to_string(t);
+  const study::StudySpec spec = Read("env.yaml",
+                                     "method: monte_carlo\ncount: 2000\nseed: 9\nsteps: 36\nparameters:\n"
+                                     "  a: {tolerance: " + tol + "}\n  b: {tolerance: " + tol + "}\n"
+                                     "  c: {tolerance: " + tol + "}\n  d: {distribution: uniform, tolerance: " + tol + "}\n"
+                                     "  xi: {tolerance: " + tol + "}\n  eta: {tolerance: " + tol + "}\n"
+                                     "metrics: [{kind: failures}]\nenvelope: {point: coupler.P}\ntolerance: true\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+  std::vector<study::SampleResult> results;
+  s.Run(v, 2, &results);
+  const std::vector<double> nominal = s.Path(s.nominal_rows());
+  const size_t n = spec.parameters.size();
+  std::vector<double> sigma(n), tolerance(n, t), none(n, 0.0);
+  for (size_t p = 0; p < n; ++p) sigma[p] = spec.parameters[p].sigma();
+  double worst_residual = 0, worst_linear = 0;
+  for (int i = 0; i <= spec.steps; ++i) {
+    for (int axis = 0; axis < 2; ++axis) {
+      const std::vector<double> g = s.PathGradient(i, axis);
+      std::vector<double> x;
+      for (size_t k = 0; k < results.size(); ++k) {
+        ASSERT_STREQ(results[k].status, "ok");
+        double linear = 0;
+        for (size_t p = 0; p < n; ++p) linear += g[p] * (v[k * n + p] - s.nominal()[p]);
+        const double moved = results[k].path[2 * i + axis] - nominal[2 * i + axis];
+        ASSERT_TRUE(std::isfinite(moved)) << "row " << i;
+        worst_residual = std::max(worst_residual, std::abs(moved - linear));
+        worst_linear = std::max(worst_linear, std::abs(linear));
+        x.push_back(results[k].path[2 * i + axis]);
+      }
+      const study::FirstOrder f = study::FirstOrderOf(g, sigma, tolerance, none);
+      const study::Moments m = study::MomentsOf(x);
+      EXPECT_NEAR(m.sigma / f.rss, 1.0, 5 / std::sqrt(2.0 * results.size())) << "row " << i << " axis " << axis;
+    }
+  }
+  // Second order: |dp| <= ~4 t, so ~ (4 t)^2 times a curvature of order 1 (measured 7.1e-9).
+  EXPECT_LT(worst_residual, 1e-7);
+  EXPECT_GT(worst_linear, 1e-4);  // the first-order term itself is not negligible
 }
 
 // ---- threads --------------------------------------------------------------------------------

@@ -45,6 +45,8 @@ struct SampleResult {
   /// inputs: every metric NaN but failures).
   const char* status = "not_run";
   std::vector<double> metrics;
+  /// With an envelope: the point's x, y at every row (x0, y0, x1, ...), NaN where a row failed.
+  std::vector<double> path;
 };
 
 namespace run_internal {
@@ -182,6 +184,17 @@ class Study {
         }
       }
     }
+    envelope_point_ = -1;
+    if (!spec.envelope.empty()) {
+      for (int i = 0; i < M::kNumPoints; ++i)
+        if (spec.envelope == M::kPointNames[i]) envelope_point_ = i;
+      if (envelope_point_ < 0) {
+        std::string list;
+        for (int i = 0; i < M::kNumPoints; ++i) list += (i ? ", " : "") + std::string(M::kPointNames[i]);
+        return fail(spec.envelope_place, "envelope: no point '" + spec.envelope + "' among the model's output points (" +
+                                             (list.empty() ? "none" : list) + ")");
+      }
+    }
     // The nominal design's rows: the reference of path_deviation and of the first-order analysis.
     nominal_rows_ = Rows();
     Analyze(nominal_.data(), /*design=*/true, &nominal_rows_);
@@ -260,6 +273,7 @@ class Study {
     Analyze(values, /*design=*/false, rows);
     SampleResult result;
     result.metrics.assign(spec_.metrics.size(), kNaN);
+    if (envelope_point_ >= 0) result.path = Path(*rows);
     if (!rows->assembled) {
       result.status = "not_assembled";
       for (size_t k = 0; k < spec_.metrics.size(); ++k)
@@ -271,6 +285,32 @@ class Study {
     result.status = failed ? "rows_failed" : "ok";
     for (size_t k = 0; k < spec_.metrics.size(); ++k) result.metrics[k] = Value(k, *rows).value;
     return result;
+  }
+
+  /// The envelope's point (M::kPointNames index), -1: none.
+  int envelope_point() const { return envelope_point_; }
+  /// The envelope point's x, y at every row (NaN where the row failed).
+  std::vector<double> Path(const Rows& rows) const {
+    std::vector<double> path(2 * static_cast<size_t>(spec_.steps + 1), kNaN);
+    if constexpr (M::kNumPoints > 0) {
+      for (int i = 0; i < static_cast<int>(rows.kinematics.size()) && i <= spec_.steps; ++i) {
+        if (rows.kinematics[i].summary.status != position::Status::kConverged) continue;
+        path[2 * i] = rows.kinematics[i].state.r_P(0, envelope_point_);
+        path[2 * i + 1] = rows.kinematics[i].state.r_P(1, envelope_point_);
+      }
+    }
+    return path;
+  }
+  /// d(x or y of the envelope point at row i)/dp for each study parameter at the nominal (the
+  /// generated dr_P/dp); NaN for a parameter that is not a design parameter.
+  std::vector<double> PathGradient(int i, int axis) const {
+    std::vector<double> g(spec_.parameters.size(), kNaN);
+    if constexpr (HasDesignDerivatives<M>::value && M::kNumPoints > 0) {
+      if (i < static_cast<int>(nominal_rows_.kinematics.size()))
+        for (size_t p = 0; p < g.size(); ++p)
+          if (index_[p] >= 0) g[p] = nominal_rows_.kinematics[i].design.dr_P_dp(2 * envelope_point_ + axis, index_[p]);
+    }
+    return g;
   }
 
   /// Metric k of `rows` and where it was taken (the row and the sign of the quantity there).
@@ -411,6 +451,12 @@ class Study {
           column = "dmu_" + std::string(M::kTransmissionJoints[t.check]) + "/d" + name;
       } else {
         column = "d" + ColumnName(r) + "/d" + name;
+        // One input moving at qd = 1, qdd = 0 (the study's sweep): phi_i_dot = K_i0, so its
+        // derivative is dK's column.
+        if constexpr (M::kNq == 1 && M::kOrder >= 1)
+          for (int i = 0; i < M::kNphi; ++i)
+            if (r.table == 0 && ColumnName(r) == std::string(M::kPhiNames[i]) + "_dot")
+              column = "dK_" + std::string(M::kPhiNames[i]) + "_" + M::kQNames[0] + "/d" + name;
       }
       if (!FindColumn(column, &d.table, &d.column)) {
         *why = "no design column " + column;
@@ -521,6 +567,7 @@ class Study {
   }
 
   StudySpec spec_;
+  int envelope_point_ = -1;
   std::vector<double> nominal_;
   std::vector<int> index_;
   std::vector<Ref> refs_;

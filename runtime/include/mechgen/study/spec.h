@@ -88,6 +88,10 @@ struct StudySpec {
   std::vector<MetricSpec> metrics;
   std::vector<ClearanceSpec> clearances;
   bool tolerance = false;  ///< the first-order vs Monte-Carlo report
+  /// A point whose path every sample keeps (the envelope: first-order and Monte-Carlo sigma of
+  /// its x and y at every row); empty: none.
+  std::string envelope;
+  Place envelope_place;
   Place analysis_place;
 };
 
@@ -295,7 +299,7 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
   try {
     if (!root.IsMap()) Fail(root, "a study file is a map (method:, parameters:, metrics:, ...; docs/studies.md)");
     OnlyKeys(root, {"model", "method", "count", "seed", "analysis", "steps", "range", "parameters", "metrics",
-                    "clearance", "tolerance"},
+                    "clearance", "tolerance", "envelope"},
              "the study");
     const std::string method = root["method"] ? Text(root["method"], "method") : "";
     if (method == "grid") spec->method = Method::kGrid;
@@ -365,6 +369,12 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
         if (!(k.radial > 0)) Fail(kv.second["radial"], what + ": radial must be > 0");
         spec->clearances.push_back(k);
       }
+    }
+    if (const YAML::Node e = root["envelope"]) {
+      if (!e.IsMap() || !e["point"]) Fail(e, "envelope: expected {point: POINT}, e.g. {point: coupler.P}");
+      OnlyKeys(e, {"point"}, "envelope");
+      spec->envelope = Text(e["point"], "envelope point");
+      spec->envelope_place = PlaceOf(e);
     }
     if (const YAML::Node t = root["tolerance"]) {
       if (!t.IsScalar() || (t.Scalar() != "true" && t.Scalar() != "false")) Fail(t, "tolerance: expected true or false");
