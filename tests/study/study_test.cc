@@ -276,7 +276,7 @@ TEST(StudyFirstOrder, LoadedFourbarStaticsGradientsAgainstCentralDifferences) {
   const study::StudySpec spec = Read("fds.yaml",
                                      "method: monte_carlo\ncount: 10\nsteps: 90\nanalysis: statics\nparameters:\n"
                                      "  a: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  k: {tolerance: 1}\n"
-                                     "metrics:\n  - {kind: peak_drive}\n"
+                                     "metrics:\n  - {kind: peak_drive}\n  - {kind: peak_bearing}\n"
                                      "  - {kind: at, column: F_B_x, step: 40}\n  - {kind: rms, column: drive_theta_crank}\n");
   CheckGradients<mech::fourbar_loaded::Model>(spec, 1e-6, 1e-6);
 }

@@ -374,8 +374,11 @@ class Study {
         if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
           for (int i = 0; i < n; ++i) {
             if (rows.statics[i].frictionless.summary.status != statics::Status::kConverged) continue;
-            for (const statics::ReactionJoint& j : r.joints)
-              consider(statics::ReactionMagnitude(j, rows.statics[i].frictionless.statics.R), i, 1, true);
+            for (size_t j = 0; j < r.joints.size(); ++j) {
+              const double before = t.value;
+              consider(statics::ReactionMagnitude(r.joints[j], rows.statics[i].frictionless.statics.R), i, 1, true);
+              if (t.step == i && !(t.value == before)) t.check = static_cast<int>(j);
+            }
           }
         }
         break;
@@ -419,7 +422,8 @@ class Study {
    *        row held, exact where the peak does not jump between rows), summed over the rows
    *        for an RMS, the design checks' own derivatives for a margin. NaN for a parameter
    *        that is not a design parameter of M, and for a metric with no derivative here
-   *        (*why says which: failures, peak_bearing, path_deviation).
+   *        (*why says which: failures, path_deviation). peak_bearing: d|F| = F . dF / |F| at
+   *        the peak's row and joint.
    */
   std::vector<double> Gradient(size_t k, std::string* why) const {
     const MetricSpec& m = spec_.metrics[k];
@@ -429,12 +433,34 @@ class Study {
     std::vector<double> g(spec_.parameters.size(), kNaN);
     why->clear();
     if (m.kind == MetricKind::kFailures) { *why = "a count"; return g; }
-    if (m.kind == MetricKind::kPeakBearing) { *why = "no derivative of |F| taken here"; return g; }
     if (m.kind == MetricKind::kPathDeviation) { *why = "a distance, 0 at the nominal: not differentiable there"; return g; }
     if (!std::isfinite(t.value)) { *why = "no value at the nominal"; return g; }
     for (size_t p = 0; p < spec_.parameters.size(); ++p) {
       if (index_[p] < 0) continue;
       const std::string& name = spec_.parameters[p].name;
+      if (m.kind == MetricKind::kPeakBearing) {
+        // |F| = hypot of the joint's components (or |F| of a scalar): d|F| = sum F_c dF_c / |F|
+        // from the reactions' design columns dF_c/dp at the peak's row.
+        if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
+          const statics::ReactionJoint& j = r.joints[t.check];
+          const auto& R = rows.statics[t.step].frictionless.statics.R;
+          double sum = 0;
+          bool found = true;
+          for (int c : {j.x, j.y, j.n, j.t, j.scalar}) {
+            if (c < 0) continue;
+            Ref d;
+            const std::string column = "d" + std::string(M::kReactionNames[c]) + "/d" + name;
+            if (!FindColumn(column, &d.table, &d.column)) {
+              *why = "no design column " + column;
+              found = false;
+              break;
+            }
+            sum += R(c) * Cell(d, rows, t.step);
+          }
+          if (found) g[p] = sum / t.value;
+        }
+        continue;
+      }
       if (m.kind == MetricKind::kDesignMargin) {
         if constexpr (HasDesignDerivatives<M>::value && M::kNumDesignChecks > 0) {
           Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
