@@ -47,18 +47,24 @@ std::string G17(double x) {
 
 const char* MethodName(study::Method m) {
   switch (m) {
-    case study::Method::kGrid: return "grid";
-    case study::Method::kList: return "list";
-    case study::Method::kLatinHypercube: return "lhs";
-    case study::Method::kMonteCarlo: return "monte_carlo";
+    case study::Method::kGrid:
+      return "grid";
+    case study::Method::kList:
+      return "list";
+    case study::Method::kLatinHypercube:
+      return "lhs";
+    case study::Method::kMonteCarlo:
+      return "monte_carlo";
   }
   return "";
 }
 
 // The CSV: '#' lines (what wrote it, then each column's unit and meaning), the header, a row
 // per sample.
-void WriteCsv(const study::Study<Model>& s, const std::vector<double>& values,
-              const std::vector<study::SampleResult>& results, std::ostream& out) {
+void WriteCsv(const study::Study<Model>& s,
+              const std::vector<double>& values,
+              const std::vector<study::SampleResult>& results,
+              std::ostream& out) {
   const study::StudySpec& spec = s.spec();
   const size_t n = spec.parameters.size();
   out << "# mechgen study, model " << Model::kName << ": " << spec.path << ", method " << MethodName(spec.method)
@@ -94,8 +100,9 @@ int main(int argc, char** argv) {
                "': parameters varied on a grid, a list, a Latin hypercube or by Monte-Carlo, an analysis per "
                "sample, metrics per sample in a CSV, and the first-order tolerance analysis beside the "
                "Monte-Carlo (docs/studies.md)."};
-  app.footer("Exit status: 0 done, 3 done but some samples failed (status column), 2 bad arguments or a bad "
-             "study file, 1 the study does not fit the model or an output cannot be written.");
+  app.footer(
+      "Exit status: 0 done, 3 done but some samples failed (status column), 2 bad arguments or a bad "
+      "study file, 1 the study does not fit the model or an output cannot be written.");
   std::string study_path, csv_path, tolerance_path, envelope_path;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   bool quiet = false;
@@ -161,10 +168,11 @@ int main(int argc, char** argv) {
     rows_failed += st == "rows_failed";
     not_assembled += st == "not_assembled";
   }
-  std::printf("%llu ok, %llu with failed rows, %llu not assembled; %.3g s (%.3g samples/s, %.3g ms per sample per thread)\n\n",
-              static_cast<unsigned long long>(ok), static_cast<unsigned long long>(rows_failed),
-              static_cast<unsigned long long>(not_assembled), seconds, count / seconds,
-              1e3 * seconds * threads / std::max<uint64_t>(count, 1));
+  std::printf(
+      "%llu ok, %llu with failed rows, %llu not assembled; %.3g s (%.3g samples/s, %.3g ms per sample per thread)\n\n",
+      static_cast<unsigned long long>(ok), static_cast<unsigned long long>(rows_failed),
+      static_cast<unsigned long long>(not_assembled), seconds, count / seconds,
+      1e3 * seconds * threads / std::max<uint64_t>(count, 1));
   std::vector<std::vector<double>> per_metric(spec.metrics.size());
   for (size_t k = 0; k < spec.metrics.size(); ++k) {
     per_metric[k].reserve(results.size());
@@ -191,9 +199,10 @@ int main(int argc, char** argv) {
   }
   std::string tolerance_text;
   if (spec.tolerance) {
-    std::printf("\ntolerance analysis: first order at the nominal (generated design derivatives) beside the "
-                "Monte-Carlo of the %llu ok samples (95 %% intervals)\n",
-                static_cast<unsigned long long>(ok));
+    std::printf(
+        "\ntolerance analysis: first order at the nominal (generated design derivatives) beside the "
+        "Monte-Carlo of the %llu ok samples (95 %% intervals)\n",
+        static_cast<unsigned long long>(ok));
     std::printf("%-24s %12s %12s %12s %12s %12s %12s %25s  %s\n", "metric", "nominal", "fo_sigma", "fo_worst",
                 "clearance", "mc_mean", "mc_sigma", "mc_sigma_95", "verdict");
     tolerance_text =
@@ -224,13 +233,12 @@ int main(int argc, char** argv) {
       char interval[64];
       std::snprintf(interval, sizeof(interval), "[%.5g, %.5g]", m.sigma_low, m.sigma_high);
       std::printf("%-24s %12.6g %12.5g %12.5g %12.5g %12.6g %12.5g %25s  %s\n", spec.metrics[k].name.c_str(),
-                  s.Value(k, s.nominal_rows()).value, f.rss, f.worst, f.complete ? f.clearance : NAN, m.mean, m.sigma, interval,
-                  verdict.c_str());
+                  s.Value(k, s.nominal_rows()).value, f.rss, f.worst, f.complete ? f.clearance : NAN, m.mean, m.sigma,
+                  interval, verdict.c_str());
       tolerance_text += spec.metrics[k].name + "," + s.Unit(k) + "," + G17(s.Value(k, s.nominal_rows()).value) + "," +
                         G17(f.rss) + "," + G17(f.worst) + "," + G17(f.complete ? f.clearance : NAN) + "," +
-                        std::to_string(m.n) + "," + G17(m.mean) + "," + G17(m.mean_low) + "," + G17(m.mean_high) +
-                        "," + G17(m.sigma) + "," + G17(m.sigma_low) + "," + G17(m.sigma_high) + ",\"" + verdict +
-                        "\"\n";
+                        std::to_string(m.n) + "," + G17(m.mean) + "," + G17(m.mean_low) + "," + G17(m.mean_high) + "," +
+                        G17(m.sigma) + "," + G17(m.sigma_low) + "," + G17(m.sigma_high) + ",\"" + verdict + "\"\n";
     }
   }
 
@@ -245,7 +253,9 @@ int main(int argc, char** argv) {
                     " (rad or model length), the point's nominal x and y (model length), the first-order sigma "
                     "and worst case of x and y from the generated dr_P/dp (as tolerance.csv), the Monte-Carlo's "
                     "sigma of x and y over the ok samples with 95 % intervals\n"
-                    "row," + std::string(Model::kQNames[0]) + ",x_nominal,y_nominal,fo_sigma_x,fo_sigma_y,fo_worst_x,"
+                    "row," +
+                    std::string(Model::kQNames[0]) +
+                    ",x_nominal,y_nominal,fo_sigma_x,fo_sigma_y,fo_worst_x,"
                     "fo_worst_y,mc_n,mc_sigma_x,mc_sigma_x_low,mc_sigma_x_high,mc_sigma_y,mc_sigma_y_low,"
                     "mc_sigma_y_high\n";
     const std::vector<double> nominal_path = s.Path(s.nominal_rows());
@@ -276,10 +286,11 @@ int main(int argc, char** argv) {
       envelope_text += line;
     }
     if (compared > 0)
-      std::printf("\nenvelope of %s: the first-order sigma of x and y is inside the Monte-Carlo's 95 %% interval at %d "
-                  "of %d (row, axis); the largest ratio between the two, %.4g, at row %d (%s = %.6g)\n",
-                  spec.envelope.c_str(), inside, compared, worst_ratio, worst_row, Model::kQNames[0],
-                  worst_row >= 0 ? s.nominal_rows().kinematics[worst_row].q(0) : NAN);
+      std::printf(
+          "\nenvelope of %s: the first-order sigma of x and y is inside the Monte-Carlo's 95 %% interval at %d "
+          "of %d (row, axis); the largest ratio between the two, %.4g, at row %d (%s = %.6g)\n",
+          spec.envelope.c_str(), inside, compared, worst_ratio, worst_row, Model::kQNames[0],
+          worst_row >= 0 ? s.nominal_rows().kinematics[worst_row].q(0) : NAN);
   }
 
   if (!csv_path.empty()) WriteCsv(s, values, results, csv.stream());

@@ -186,7 +186,8 @@ TEST(StudySpec, ModelErrorsNameTheirPlace) {
   study::Study<mech::fourbar::Model> s;
   std::string error;
   EXPECT_FALSE(s.Prepare(spec, &error));
-  EXPECT_NE(error.find("m1.yaml:5:3: error: no parameter 'z' in the model fourbar (parameters: a, b"), std::string::npos)
+  EXPECT_NE(error.find("m1.yaml:5:3: error: no parameter 'z' in the model fourbar (parameters: a, b"),
+            std::string::npos)
       << error;
   const study::StudySpec spec2 = Read("m2.yaml",
                                       "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.1}\n"
@@ -202,11 +203,12 @@ TEST(StudySpec, ModelErrorsNameTheirPlace) {
 // beta), sin(alpha + beta)), alpha the direction of BD, cos beta = (b^2 + |BD|^2 - c^2) /
 // (2 b |BD|); P = B + xi u + eta u_perp, u = (C - B) / b).
 TEST(StudyGrid, FourbarCouplerPointAgainstClosedForm) {
-  const study::StudySpec spec = Read("grid4.yaml",
-                                     "method: grid\nsteps: 36\nparameters:\n  a: {values: [0.8, 1.0, 1.2]}\n"
-                                     "  c: {range: [2.8, 3.2], count: 3}\nmetrics:\n"
-                                     "  - {kind: at, column: coupler.P.x, step: 7}\n  - {kind: at, column: coupler.P.y, step: 7}\n"
-                                     "  - {kind: at, column: coupler.P.x, step: 29}\n  - {kind: at, column: coupler.P.y, step: 29}\n");
+  const study::StudySpec spec =
+      Read("grid4.yaml",
+           "method: grid\nsteps: 36\nparameters:\n  a: {values: [0.8, 1.0, 1.2]}\n"
+           "  c: {range: [2.8, 3.2], count: 3}\nmetrics:\n"
+           "  - {kind: at, column: coupler.P.x, step: 7}\n  - {kind: at, column: coupler.P.y, step: 7}\n"
+           "  - {kind: at, column: coupler.P.x, step: 29}\n  - {kind: at, column: coupler.P.y, step: 29}\n");
   study::Study<mech::fourbar::Model> s;
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
@@ -258,26 +260,28 @@ void CheckGradients(const study::StudySpec& spec, double h, double tolerance) {
 }
 
 TEST(StudyFirstOrder, FourbarGradientsAgainstCentralDifferences) {
-  const study::StudySpec spec = Read("fd.yaml",
-                                     "method: monte_carlo\ncount: 10\nsteps: 90\nparameters:\n"
-                                     "  a: {tolerance: 0.01}\n  b: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n"
-                                     "  d: {tolerance: 0.01}\n  xi: {tolerance: 0.01}\n  eta: {tolerance: 0.01}\n"
-                                     "metrics:\n  - {kind: at, column: coupler.P.x, step: 30}\n"
-                                     "  - {kind: at, column: theta_rocker, step: 70}\n"
-                                     "  - {kind: max, column: coupler.P.y}\n  - {kind: min, column: coupler.P.x}\n"
-                                     "  - {kind: rms, column: theta_coupler}\n  - {kind: min_transmission_angle}\n"
-                                     "  - {kind: max, column: K_theta_rocker_theta_crank}\n  - {kind: rms, column: theta_rocker_dot}\n"
-                                     "  - {kind: design_margin}\n");
+  const study::StudySpec spec =
+      Read("fd.yaml",
+           "method: monte_carlo\ncount: 10\nsteps: 90\nparameters:\n"
+           "  a: {tolerance: 0.01}\n  b: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n"
+           "  d: {tolerance: 0.01}\n  xi: {tolerance: 0.01}\n  eta: {tolerance: 0.01}\n"
+           "metrics:\n  - {kind: at, column: coupler.P.x, step: 30}\n"
+           "  - {kind: at, column: theta_rocker, step: 70}\n"
+           "  - {kind: max, column: coupler.P.y}\n  - {kind: min, column: coupler.P.x}\n"
+           "  - {kind: rms, column: theta_coupler}\n  - {kind: min_transmission_angle}\n"
+           "  - {kind: max, column: K_theta_rocker_theta_crank}\n  - {kind: rms, column: theta_rocker_dot}\n"
+           "  - {kind: design_margin}\n");
   // h = 1e-6: truncation ~ h^2 f''' and rounding ~ eps / h, both below 1e-7 here.
   CheckGradients<mech::fourbar::Model>(spec, 1e-6, 1e-6);
 }
 
 TEST(StudyFirstOrder, LoadedFourbarStaticsGradientsAgainstCentralDifferences) {
-  const study::StudySpec spec = Read("fds.yaml",
-                                     "method: monte_carlo\ncount: 10\nsteps: 90\nanalysis: statics\nparameters:\n"
-                                     "  a: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  k: {tolerance: 1}\n"
-                                     "metrics:\n  - {kind: peak_drive}\n  - {kind: peak_bearing}\n"
-                                     "  - {kind: at, column: F_B_x, step: 40}\n  - {kind: rms, column: drive_theta_crank}\n");
+  const study::StudySpec spec =
+      Read("fds.yaml",
+           "method: monte_carlo\ncount: 10\nsteps: 90\nanalysis: statics\nparameters:\n"
+           "  a: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  k: {tolerance: 1}\n"
+           "metrics:\n  - {kind: peak_drive}\n  - {kind: peak_bearing}\n"
+           "  - {kind: at, column: F_B_x, step: 40}\n  - {kind: rms, column: drive_theta_crank}\n");
   CheckGradients<mech::fourbar_loaded::Model>(spec, 1e-6, 1e-6);
 }
 
@@ -332,8 +336,10 @@ TEST(StudyFirstOrder, SliderCrankPistonSigma) {
 study::Moments RunMinTransmission(double c, study::FirstOrder* f, int* failed) {
   const study::StudySpec spec = Read("toggle.yaml",
                                      "method: monte_carlo\ncount: 3000\nsteps: 360\nparameters:\n"
-                                     "  c: {distribution: normal, nominal: " + std::to_string(c) + ", tolerance: 0.03}\n"
-                                     "metrics:\n  - {kind: min_transmission_angle}\ntolerance: true\n");
+                                     "  c: {distribution: normal, nominal: " +
+                                         std::to_string(c) +
+                                         ", tolerance: 0.03}\n"
+                                         "metrics:\n  - {kind: min_transmission_angle}\ntolerance: true\n");
   study::Study<mech::fourbar::Model> s;
   std::string error;
   EXPECT_TRUE(s.Prepare(spec, &error)) << error;
@@ -369,12 +375,19 @@ TEST(StudyFirstOrder, AgreesAwayFromAChangePointAndSaysWhereItDoesNot) {
 TEST(StudyFirstOrder, FourbarCouplerPathAtEveryRowAgreesWithMonteCarlo) {
   const double t = 1e-4;
   const std::string tol = std::to_string(t);
-  const study::StudySpec spec = Read("env.yaml",
-                                     "method: monte_carlo\ncount: 2000\nseed: 9\nsteps: 36\nparameters:\n"
-                                     "  a: {tolerance: " + tol + "}\n  b: {tolerance: " + tol + "}\n"
-                                     "  c: {tolerance: " + tol + "}\n  d: {distribution: uniform, tolerance: " + tol + "}\n"
-                                     "  xi: {tolerance: " + tol + "}\n  eta: {tolerance: " + tol + "}\n"
-                                     "metrics: [{kind: failures}]\nenvelope: {point: coupler.P}\ntolerance: true\n");
+  const study::StudySpec spec =
+      Read("env.yaml",
+           "method: monte_carlo\ncount: 2000\nseed: 9\nsteps: 36\nparameters:\n"
+           "  a: {tolerance: " +
+               tol + "}\n  b: {tolerance: " + tol +
+               "}\n"
+               "  c: {tolerance: " +
+               tol + "}\n  d: {distribution: uniform, tolerance: " + tol +
+               "}\n"
+               "  xi: {tolerance: " +
+               tol + "}\n  eta: {tolerance: " + tol +
+               "}\n"
+               "metrics: [{kind: failures}]\nenvelope: {point: coupler.P}\ntolerance: true\n");
   study::Study<mech::fourbar::Model> s;
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
@@ -414,11 +427,12 @@ TEST(StudyFirstOrder, FourbarCouplerPathAtEveryRowAgreesWithMonteCarlo) {
 
 // 1 and 2 threads: every metric of every sample the same double, and the statuses.
 TEST(StudyThreads, SameResultsForOneAndTwoThreads) {
-  const study::StudySpec spec = Read("threads.yaml",
-                                     "method: lhs\ncount: 300\nseed: 5\nsteps: 36\nparameters:\n"
-                                     "  a: {distribution: uniform, tolerance: 0.3}\n  c: {distribution: uniform, tolerance: 1.8}\n"
-                                     "metrics:\n  - {kind: max, column: coupler.P.y}\n  - {kind: path_deviation, point: coupler.P}\n"
-                                     "  - {kind: failures}\n");
+  const study::StudySpec spec =
+      Read("threads.yaml",
+           "method: lhs\ncount: 300\nseed: 5\nsteps: 36\nparameters:\n"
+           "  a: {distribution: uniform, tolerance: 0.3}\n  c: {distribution: uniform, tolerance: 1.8}\n"
+           "metrics:\n  - {kind: max, column: coupler.P.y}\n  - {kind: path_deviation, point: coupler.P}\n"
+           "  - {kind: failures}\n");
   study::Study<mech::fourbar::Model> s;
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;

@@ -32,26 +32,22 @@ inline uint64_t Bits(uint64_t seed, uint64_t stream, uint64_t index) {
 }
 
 /// A uniform number in the open interval (0, 1) from 64 bits: (k + 0.5) / 2^53, k the top 53 bits.
-inline double Uniform01(uint64_t bits) {
-  return (static_cast<double>(bits >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-}
+inline double Uniform01(uint64_t bits) { return (static_cast<double>(bits >> 11) + 0.5) * (1.0 / 9007199254740992.0); }
 
 /// The uniform of sample `index`, dimension `stream`.
-inline double Uniform(uint64_t seed, uint64_t stream, uint64_t index) {
-  return Uniform01(Bits(seed, stream, index));
-}
+inline double Uniform(uint64_t seed, uint64_t stream, uint64_t index) { return Uniform01(Bits(seed, stream, index)); }
 
 /// The standard normal's quantile Phi^-1(u), u in (0, 1): Acklam's approximation refined by
 /// one Halley step (|error| ~ 1e-15 relative). u <= 0 or >= 1 give -inf / +inf.
 inline double NormalQuantile(double u) {
   if (!(u > 0)) return -INFINITY;
   if (!(u < 1)) return INFINITY;
-  static constexpr double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
-                                 1.383577518672690e+02, -3.066479806614716e+01, 2.506628277459239e+00};
+  static constexpr double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,  -2.759285104469687e+02,
+                                 1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
   static constexpr double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
                                  6.680131188771972e+01, -1.328068155288572e+01};
   static constexpr double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                                 -2.549732539343734e+00, 4.374664141464968e+00, 2.938163982698783e+00};
+                                 -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
   static constexpr double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
                                  3.754408661907416e+00};
   constexpr double low = 0.02425;

@@ -95,8 +95,11 @@ class Study {
       double* target = probe.Find(p.name.c_str());
       bool derived = false;
       for (const char* d : Params::kDerivedNames) derived = derived || p.name == d;
-      if (derived) return fail(p.place, "'" + p.name + "' is a derived parameter of the model; vary the parameters it is defined by");
-      if (target == nullptr) return fail(p.place, "no parameter '" + p.name + "' in the model " + M::kName + " (parameters: " + names + ")");
+      if (derived)
+        return fail(p.place,
+                    "'" + p.name + "' is a derived parameter of the model; vary the parameters it is defined by");
+      if (target == nullptr)
+        return fail(p.place, "no parameter '" + p.name + "' in the model " + M::kName + " (parameters: " + names + ")");
       nominal_.push_back(p.has_nominal ? p.nominal : *target);
       int design = -1;
       if constexpr (HasDesignDerivatives<M>::value)
@@ -107,12 +110,14 @@ class Study {
     for (const ClearanceSpec& c : spec.clearances) {
       bool found = false;
       for (const ParameterSpec& p : spec.parameters) found = found || p.name == c.parameter;
-      if (!found) return fail(c.place, "the clearance of joint '" + c.joint + "' changes '" + c.parameter +
-                                           "', which is not among the study's parameters; add it there (its tolerance)");
+      if (!found)
+        return fail(c.place, "the clearance of joint '" + c.joint + "' changes '" + c.parameter +
+                                 "', which is not among the study's parameters; add it there (its tolerance)");
     }
     if (spec.analysis == Analysis::kStatics && !kHasStatics)
-      return fail(spec.analysis_place, std::string("analysis: statics needs a model with `forces` among its outputs' quantities; ") +
-                                           M::kName + " has none (use analysis: sweep, or add forces)");
+      return fail(spec.analysis_place,
+                  std::string("analysis: statics needs a model with `forces` among its outputs' quantities; ") +
+                      M::kName + " has none (use analysis: sweep, or add forces)");
     // The first input's motion.
     q_begin_ = Eigen::Map<const typename ModelTypes<M>::VecQ>(M::kQMin.data());
     q_end_ = Eigen::Map<const typename ModelTypes<M>::VecQ>(M::kQMax.data());
@@ -121,7 +126,8 @@ class Study {
       q_end_(0) = spec.q_end;
     }
     if (!(std::abs(q_end_(0) - q_begin_(0)) / spec.steps <= position::Options().max_input_step))
-      return fail(spec.analysis_place, "the motion moves " + std::to_string(std::abs(q_end_(0) - q_begin_(0)) / spec.steps) +
+      return fail(spec.analysis_place, "the motion moves " +
+                                           std::to_string(std::abs(q_end_(0) - q_begin_(0)) / spec.steps) +
                                            " per step, more than the solver's limit; use more steps:");
     sweep_columns_ = SweepColumns<M>();
     AppendDesignColumns<M>(&sweep_columns_);
@@ -155,10 +161,12 @@ class Study {
         if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
           for (const statics::ReactionJoint& j : statics::ReactionJoints<M>()) r.joints.push_back(j);
         }
-        if (r.joints.empty()) return fail(m.place, std::string("the model ") + M::kName + " has no reactions (outputs: reactions:)");
+        if (r.joints.empty())
+          return fail(m.place, std::string("the model ") + M::kName + " has no reactions (outputs: reactions:)");
       }
       if (m.kind == MetricKind::kMinTransmissionAngle && ModelFeatures<M>::kNumTransmissionAngles == 0)
-        return fail(m.place, std::string("the model ") + M::kName + " has no four-bar loop on the ground (no transmission angle)");
+        return fail(m.place, std::string("the model ") + M::kName +
+                                 " has no four-bar loop on the ground (no transmission angle)");
       if (m.kind == MetricKind::kPathDeviation) {
         r.point = -1;
         for (int i = 0; i < M::kNumPoints; ++i)
@@ -166,7 +174,8 @@ class Study {
         if (r.point < 0) {
           std::string list;
           for (int i = 0; i < M::kNumPoints; ++i) list += (i ? ", " : "") + std::string(M::kPointNames[i]);
-          return fail(m.place, "no point '" + m.point + "' among the model's output points (" + (list.empty() ? "none" : list) + ")");
+          return fail(m.place, "no point '" + m.point + "' among the model's output points (" +
+                                   (list.empty() ? "none" : list) + ")");
         }
       }
       if (m.kind == MetricKind::kDesignMargin) {
@@ -176,7 +185,8 @@ class Study {
             if (m.check == M::kDesignCheckNames[i]) r.check = i;
           if (!m.check.empty() && r.check < 0) {
             std::string list;
-            for (int i = 0; i < M::kNumDesignChecks; ++i) list += (i ? ", " : "") + std::string(M::kDesignCheckNames[i]);
+            for (int i = 0; i < M::kNumDesignChecks; ++i)
+              list += (i ? ", " : "") + std::string(M::kDesignCheckNames[i]);
             return fail(m.place, "no design check '" + m.check + "' (checks: " + list + ")");
           }
         } else {
@@ -191,15 +201,17 @@ class Study {
       if (envelope_point_ < 0) {
         std::string list;
         for (int i = 0; i < M::kNumPoints; ++i) list += (i ? ", " : "") + std::string(M::kPointNames[i]);
-        return fail(spec.envelope_place, "envelope: no point '" + spec.envelope + "' among the model's output points (" +
-                                             (list.empty() ? "none" : list) + ")");
+        return fail(spec.envelope_place, "envelope: no point '" + spec.envelope +
+                                             "' among the model's output points (" + (list.empty() ? "none" : list) +
+                                             ")");
       }
     }
     // The nominal design's rows: the reference of path_deviation and of the first-order analysis.
     nominal_rows_ = Rows();
     Analyze(nominal_.data(), /*design=*/true, &nominal_rows_);
     if (!nominal_rows_.assembled)
-      return fail(spec.analysis_place, std::string("the model ") + M::kName + " does not assemble at the nominal design");
+      return fail(spec.analysis_place,
+                  std::string("the model ") + M::kName + " does not assemble at the nominal design");
     return true;
   }
 
@@ -209,28 +221,45 @@ class Study {
     const MetricSpec& m = spec_.metrics[k];
     const Ref& r = refs_[k];
     switch (m.kind) {
-      case MetricKind::kMinTransmissionAngle: return "rad";
-      case MetricKind::kPeakBearing: return "N";
-      case MetricKind::kPathDeviation: return "model length";
-      case MetricKind::kFailures: return "1";
-      case MetricKind::kDesignMargin: return "model length";
-      default: return r.table == 0 ? sweep_columns_[r.column].unit : statics_columns_[r.column].unit;
+      case MetricKind::kMinTransmissionAngle:
+        return "rad";
+      case MetricKind::kPeakBearing:
+        return "N";
+      case MetricKind::kPathDeviation:
+        return "model length";
+      case MetricKind::kFailures:
+        return "1";
+      case MetricKind::kDesignMargin:
+        return "model length";
+      default:
+        return r.table == 0 ? sweep_columns_[r.column].unit : statics_columns_[r.column].unit;
     }
   }
   std::string Description(size_t k) const {
     const MetricSpec& m = spec_.metrics[k];
     const std::string rows = " over the motion's rows that converged";
     switch (m.kind) {
-      case MetricKind::kMax: return "largest " + m.column + rows;
-      case MetricKind::kMin: return "smallest " + m.column + rows;
-      case MetricKind::kRms: return "root mean square of " + m.column + rows;
-      case MetricKind::kAt: return m.column + " at row " + std::to_string(m.step) + " (nan if that row failed)";
-      case MetricKind::kMinTransmissionAngle: return "smallest min(mu, pi - mu) of the transmission angles mu" + rows;
-      case MetricKind::kPeakDrive: return "largest |drive_" + std::string(M::kQNames[0]) + "| without friction" + rows;
-      case MetricKind::kPeakBearing: return "largest magnitude of a joint's reaction force without friction" + rows;
-      case MetricKind::kPathDeviation: return "largest distance of " + m.point + " from its place at the same row of the nominal design";
-      case MetricKind::kFailures: return "rows of the motion that did not converge (all of them when not assembled)";
-      case MetricKind::kDesignMargin: return m.check.empty() ? "smallest margin of the model's design checks (>= 0: acceptable)" : "margin of the design check " + m.check;
+      case MetricKind::kMax:
+        return "largest " + m.column + rows;
+      case MetricKind::kMin:
+        return "smallest " + m.column + rows;
+      case MetricKind::kRms:
+        return "root mean square of " + m.column + rows;
+      case MetricKind::kAt:
+        return m.column + " at row " + std::to_string(m.step) + " (nan if that row failed)";
+      case MetricKind::kMinTransmissionAngle:
+        return "smallest min(mu, pi - mu) of the transmission angles mu" + rows;
+      case MetricKind::kPeakDrive:
+        return "largest |drive_" + std::string(M::kQNames[0]) + "| without friction" + rows;
+      case MetricKind::kPeakBearing:
+        return "largest magnitude of a joint's reaction force without friction" + rows;
+      case MetricKind::kPathDeviation:
+        return "largest distance of " + m.point + " from its place at the same row of the nominal design";
+      case MetricKind::kFailures:
+        return "rows of the motion that did not converge (all of them when not assembled)";
+      case MetricKind::kDesignMargin:
+        return m.check.empty() ? "smallest margin of the model's design checks (>= 0: acceptable)"
+                               : "margin of the design check " + m.check;
     }
     return "";
   }
@@ -244,7 +273,8 @@ class Study {
   /// The analysis of the design `values` (one per spec parameter) into *rows.
   void Analyze(const double* values, bool design, Rows* out) const {
     out->params = Params();
-    for (size_t k = 0; k < spec_.parameters.size(); ++k) *out->params.Find(spec_.parameters[k].name.c_str()) = values[k];
+    for (size_t k = 0; k < spec_.parameters.size(); ++k)
+      *out->params.Find(spec_.parameters[k].name.c_str()) = values[k];
     position::PositionSolver<M> solver(position::Options(), out->params);
     position::Summary summary;
     out->assembled = solver.AssembleDefault(&summary) == position::Status::kConverged;
@@ -316,9 +346,9 @@ class Study {
   /// Metric k of `rows` and where it was taken (the row and the sign of the quantity there).
   struct Taken {
     double value = kNaN;
-    int step = -1;     ///< the row (max, min, at, peaks); -1: none or every row (rms)
-    double sign = 1;   ///< the metric is sign * the column there
-    int check = -1;    ///< design_margin: the check
+    int step = -1;    ///< the row (max, min, at, peaks); -1: none or every row (rms)
+    double sign = 1;  ///< the metric is sign * the column there
+    int check = -1;   ///< design_margin: the check
   };
   Taken Value(size_t k, const Rows& rows) const {
     const MetricSpec& m = spec_.metrics[k];
@@ -432,9 +462,18 @@ class Study {
     const Taken t = Value(k, rows);
     std::vector<double> g(spec_.parameters.size(), kNaN);
     why->clear();
-    if (m.kind == MetricKind::kFailures) { *why = "a count"; return g; }
-    if (m.kind == MetricKind::kPathDeviation) { *why = "a distance, 0 at the nominal: not differentiable there"; return g; }
-    if (!std::isfinite(t.value)) { *why = "no value at the nominal"; return g; }
+    if (m.kind == MetricKind::kFailures) {
+      *why = "a count";
+      return g;
+    }
+    if (m.kind == MetricKind::kPathDeviation) {
+      *why = "a distance, 0 at the nominal: not differentiable there";
+      return g;
+    }
+    if (!std::isfinite(t.value)) {
+      *why = "no value at the nominal";
+      return g;
+    }
     for (size_t p = 0; p < spec_.parameters.size(); ++p) {
       if (index_[p] < 0) continue;
       const std::string& name = spec_.parameters[p].name;
@@ -505,7 +544,9 @@ class Study {
 
   /// Evaluates every sample (values: DrawSamples()) on `threads` threads into *results (in
   /// sample order); `progress(done)` is called from the calling thread about once a second.
-  void Run(const std::vector<double>& values, int threads, std::vector<SampleResult>* results,
+  void Run(const std::vector<double>& values,
+           int threads,
+           std::vector<SampleResult>* results,
            const std::function<void(uint64_t done)>& progress = nullptr) const {
     const size_t n = spec_.parameters.size();
     const uint64_t count = n == 0 ? 0 : values.size() / n;
@@ -538,15 +579,18 @@ class Study {
 
  private:
   struct Ref {
-    int table = 0;   // 0: sweep columns, 1: statics columns
+    int table = 0;  // 0: sweep columns, 1: statics columns
     int column = -1;
     int point = -1;
     int check = -1;
     std::vector<statics::ReactionJoint> joints;
   };
 
-  static void Wait(std::mutex* mutex, std::condition_variable* finished, std::atomic<uint64_t>* done,
-                   uint64_t count, const std::function<void(uint64_t)>& progress) {
+  static void Wait(std::mutex* mutex,
+                   std::condition_variable* finished,
+                   std::atomic<uint64_t>* done,
+                   uint64_t count,
+                   const std::function<void(uint64_t)>& progress) {
     std::unique_lock<std::mutex> lock(*mutex);
     while (done->load() < count) {
       finished->wait_for(lock, std::chrono::seconds(1));

@@ -30,13 +30,16 @@ enum class Method { kGrid, kList, kLatinHypercube, kMonteCarlo };
 enum class Distribution { kNone, kUniform, kNormal };
 enum class Analysis { kSweep, kStatics };
 enum class MetricKind {
-  kMax, kMin, kRms, kAt,            // of an output column over the motion / at one step
-  kMinTransmissionAngle,            // min over steps and loops of min(mu, pi - mu)
-  kPeakDrive,                       // max |drive| of the first input (statics)
-  kPeakBearing,                     // max |reaction force| over the joints (statics)
-  kPathDeviation,                   // max |r_P - r_P,nominal| over the steps
-  kFailures,                        // rows that did not converge
-  kDesignMargin,                    // the smallest design-check margin (or one check's)
+  kMax,
+  kMin,
+  kRms,
+  kAt,                    // of an output column over the motion / at one step
+  kMinTransmissionAngle,  // min over steps and loops of min(mu, pi - mu)
+  kPeakDrive,             // max |drive| of the first input (statics)
+  kPeakBearing,           // max |reaction force| over the joints (statics)
+  kPathDeviation,         // max |r_P - r_P,nominal| over the steps
+  kFailures,              // rows that did not converge
+  kDesignMargin,          // the smallest design-check margin (or one check's)
 };
 
 /// A parameter that varies.
@@ -45,13 +48,11 @@ struct ParameterSpec {
   Place place;
   std::vector<double> values;  ///< grid or list: the values it takes
   Distribution distribution = Distribution::kNone;
-  bool has_nominal = false;    ///< else the model's default
+  bool has_nominal = false;  ///< else the model's default
   double nominal = 0;
   /// uniform: the half-width (nominal +- tolerance); normal: 3 sigma.
   double tolerance = 0;
-  double sigma() const {
-    return distribution == Distribution::kNormal ? tolerance / 3 : tolerance / std::sqrt(3.0);
-  }
+  double sigma() const { return distribution == Distribution::kNormal ? tolerance / 3 : tolerance / std::sqrt(3.0); }
 };
 
 /// A metric kept per sample.
@@ -107,9 +108,7 @@ struct Failure {
   std::string message;
 };
 
-[[noreturn]] inline void Fail(const YAML::Node& n, const std::string& message) {
-  throw Failure{PlaceOf(n), message};
-}
+[[noreturn]] inline void Fail(const YAML::Node& n, const std::string& message) { throw Failure{PlaceOf(n), message}; }
 
 // A number: a YAML scalar, optionally ending in "deg" (an angle in degrees, in radians here).
 inline double Number(const YAML::Node& n, const std::string& what) {
@@ -133,8 +132,8 @@ inline long long Integer(const YAML::Node& n, const std::string& what, long long
   char* end = nullptr;
   const long long x = std::strtoll(n.Scalar().c_str(), &end, 10);
   if (n.Scalar().empty() || *end != '\0' || x < lo || x > hi)
-    Fail(n, what + ": '" + n.Scalar() + "' is not an integer in [" + std::to_string(lo) + ", " +
-                std::to_string(hi) + "]");
+    Fail(n,
+         what + ": '" + n.Scalar() + "' is not an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
   return x;
 }
 
@@ -161,11 +160,13 @@ inline ParameterSpec Parameter(const YAML::Node& key, const YAML::Node& n, Metho
   p.name = key.as<std::string>();
   p.place = PlaceOf(key);
   const std::string what = "parameter '" + p.name + "'";
-  if (!n.IsMap()) Fail(n, what + ": expected a map such as {values: [1, 2]} or {distribution: normal, tolerance: 0.01}");
+  if (!n.IsMap())
+    Fail(n, what + ": expected a map such as {values: [1, 2]} or {distribution: normal, tolerance: 0.01}");
   OnlyKeys(n, {"values", "range", "count", "distribution", "nominal", "tolerance", "sigma"}, what);
   if (method == Method::kGrid || method == Method::kList) {
     if (n["values"]) {
-      if (!n["values"].IsSequence() || n["values"].size() == 0) Fail(n["values"], what + ": values: expected a list of numbers");
+      if (!n["values"].IsSequence() || n["values"].size() == 0)
+        Fail(n["values"], what + ": values: expected a list of numbers");
       for (const auto& v : n["values"]) p.values.push_back(Number(v, what + " values"));
     } else if (n["range"] && method == Method::kGrid) {
       const YAML::Node r = n["range"];
@@ -175,14 +176,16 @@ inline ParameterSpec Parameter(const YAML::Node& key, const YAML::Node& n, Metho
       const long long count = Integer(n["count"], what + " count", 2, 1000000);
       for (long long k = 0; k < count; ++k) p.values.push_back(lo + (hi - lo) * double(k) / double(count - 1));
     } else {
-      Fail(n, what + ": a " + std::string(method == Method::kGrid ? "grid" : "list") +
-                  " study needs values: [...]" + (method == Method::kGrid ? " or range: [low, high] with count:" : ""));
+      Fail(n, what + ": a " + std::string(method == Method::kGrid ? "grid" : "list") + " study needs values: [...]" +
+                  (method == Method::kGrid ? " or range: [low, high] with count:" : ""));
     }
     for (const char* k : {"distribution", "nominal", "tolerance", "sigma"})
       if (n[k]) Fail(n[k], what + ": " + k + " belongs to a lhs or monte_carlo study, not to a grid or list");
     return p;
   }
-  if (n["values"] || n["count"]) Fail(n["values"] ? n["values"] : n["count"], what + ": values and count belong to a grid or list study; give distribution: and tolerance:");
+  if (n["values"] || n["count"])
+    Fail(n["values"] ? n["values"] : n["count"],
+         what + ": values and count belong to a grid or list study; give distribution: and tolerance:");
   const std::string dist = n["distribution"] ? Text(n["distribution"], what + " distribution") : "normal";
   if (dist == "normal") {
     p.distribution = Distribution::kNormal;
@@ -193,11 +196,15 @@ inline ParameterSpec Parameter(const YAML::Node& key, const YAML::Node& n, Metho
   }
   if (n["range"]) {
     const YAML::Node r = n["range"];
-    if (p.distribution != Distribution::kUniform) Fail(r, what + ": range: [low, high] is for distribution: uniform; a normal takes nominal: and tolerance: (3 sigma) or sigma:");
+    if (p.distribution != Distribution::kUniform)
+      Fail(r, what +
+                  ": range: [low, high] is for distribution: uniform; a normal takes nominal: and tolerance: (3 sigma) "
+                  "or sigma:");
     if (!r.IsSequence() || r.size() != 2) Fail(r, what + ": range: expected [low, high]");
     const double lo = Number(r[0], what + " range"), hi = Number(r[1], what + " range");
     if (!(hi > lo)) Fail(r, what + ": range: expected low < high");
-    if (n["nominal"] || n["tolerance"] || n["sigma"]) Fail(r, what + ": give range: or nominal: with tolerance:, not both");
+    if (n["nominal"] || n["tolerance"] || n["sigma"])
+      Fail(r, what + ": give range: or nominal: with tolerance:, not both");
     p.has_nominal = true;
     p.nominal = (lo + hi) / 2;
     p.tolerance = (hi - lo) / 2;
@@ -209,7 +216,8 @@ inline ParameterSpec Parameter(const YAML::Node& key, const YAML::Node& n, Metho
   }
   if (n["tolerance"] && n["sigma"]) Fail(n["sigma"], what + ": give tolerance: or sigma:, not both");
   if (n["sigma"]) {
-    if (p.distribution != Distribution::kNormal) Fail(n["sigma"], what + ": sigma: is for a normal; a uniform takes tolerance: (its half-width)");
+    if (p.distribution != Distribution::kNormal)
+      Fail(n["sigma"], what + ": sigma: is for a normal; a uniform takes tolerance: (its half-width)");
     p.tolerance = 3 * Number(n["sigma"], what + " sigma");
   } else if (n["tolerance"]) {
     p.tolerance = Number(n["tolerance"], what + " tolerance");
@@ -226,9 +234,15 @@ inline MetricSpec Metric(const YAML::Node& n, int steps) {
   if (!n.IsMap() || !n["kind"]) Fail(n, "a metric: expected a map with kind:, e.g. {kind: max, column: coupler.P.y}");
   OnlyKeys(n, {"name", "kind", "column", "step", "point", "check"}, "a metric");
   const std::string kind = Text(n["kind"], "metric kind");
-  struct K { const char* name; MetricKind kind; const char* needs; };
-  static const K kinds[] = {{"max", MetricKind::kMax, "column"}, {"min", MetricKind::kMin, "column"},
-                            {"rms", MetricKind::kRms, "column"}, {"at", MetricKind::kAt, "column"},
+  struct K {
+    const char* name;
+    MetricKind kind;
+    const char* needs;
+  };
+  static const K kinds[] = {{"max", MetricKind::kMax, "column"},
+                            {"min", MetricKind::kMin, "column"},
+                            {"rms", MetricKind::kRms, "column"},
+                            {"at", MetricKind::kAt, "column"},
                             {"min_transmission_angle", MetricKind::kMinTransmissionAngle, ""},
                             {"peak_drive", MetricKind::kPeakDrive, ""},
                             {"peak_bearing", MetricKind::kPeakBearing, ""},
@@ -265,11 +279,22 @@ inline MetricSpec Metric(const YAML::Node& n, int steps) {
     m.name = Text(n["name"], "metric name");
   } else {
     switch (m.kind) {
-      case MetricKind::kAt: m.name = m.column + "_at_" + std::to_string(m.step); break;
-      case MetricKind::kMax: case MetricKind::kMin: case MetricKind::kRms: m.name = kind + "_" + m.column; break;
-      case MetricKind::kPathDeviation: m.name = "path_deviation_" + m.point; break;
-      case MetricKind::kDesignMargin: m.name = m.check.empty() ? "design_margin" : "margin_" + m.check; break;
-      default: m.name = kind;
+      case MetricKind::kAt:
+        m.name = m.column + "_at_" + std::to_string(m.step);
+        break;
+      case MetricKind::kMax:
+      case MetricKind::kMin:
+      case MetricKind::kRms:
+        m.name = kind + "_" + m.column;
+        break;
+      case MetricKind::kPathDeviation:
+        m.name = "path_deviation_" + m.point;
+        break;
+      case MetricKind::kDesignMargin:
+        m.name = m.check.empty() ? "design_margin" : "margin_" + m.check;
+        break;
+      default:
+        m.name = kind;
     }
   }
   return m;
@@ -298,39 +323,51 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
   }
   try {
     if (!root.IsMap()) Fail(root, "a study file is a map (method:, parameters:, metrics:, ...; docs/studies.md)");
-    OnlyKeys(root, {"model", "method", "count", "seed", "analysis", "steps", "range", "parameters", "metrics",
-                    "clearance", "tolerance", "envelope"},
+    OnlyKeys(root,
+             {"model", "method", "count", "seed", "analysis", "steps", "range", "parameters", "metrics", "clearance",
+              "tolerance", "envelope"},
              "the study");
     const std::string method = root["method"] ? Text(root["method"], "method") : "";
-    if (method == "grid") spec->method = Method::kGrid;
-    else if (method == "list") spec->method = Method::kList;
-    else if (method == "lhs") spec->method = Method::kLatinHypercube;
-    else if (method == "monte_carlo") spec->method = Method::kMonteCarlo;
-    else Fail(root["method"] ? root["method"] : root, "method: expected grid, list, lhs or monte_carlo");
+    if (method == "grid")
+      spec->method = Method::kGrid;
+    else if (method == "list")
+      spec->method = Method::kList;
+    else if (method == "lhs")
+      spec->method = Method::kLatinHypercube;
+    else if (method == "monte_carlo")
+      spec->method = Method::kMonteCarlo;
+    else
+      Fail(root["method"] ? root["method"] : root, "method: expected grid, list, lhs or monte_carlo");
     const bool random = spec->method == Method::kLatinHypercube || spec->method == Method::kMonteCarlo;
     if (random) {
       if (!root["count"]) Fail(root, "a " + method + " study needs count: (the number of samples)");
       spec->count = static_cast<uint64_t>(Integer(root["count"], "count", 2, 100000000));
     } else if (root["count"]) {
-      Fail(root["count"], "count: is for lhs and monte_carlo; a " + method + " study has as many samples as its values give");
+      Fail(root["count"],
+           "count: is for lhs and monte_carlo; a " + method + " study has as many samples as its values give");
     }
     if (root["seed"]) spec->seed = static_cast<uint64_t>(Integer(root["seed"], "seed", 0, (1LL << 62)));
     spec->analysis_place = PlaceOf(root["analysis"] ? root["analysis"] : root);
     const std::string analysis = root["analysis"] ? Text(root["analysis"], "analysis") : "sweep";
-    if (analysis == "sweep") spec->analysis = Analysis::kSweep;
-    else if (analysis == "statics") spec->analysis = Analysis::kStatics;
-    else Fail(root["analysis"], "analysis: '" + analysis + "': expected sweep or statics");
+    if (analysis == "sweep")
+      spec->analysis = Analysis::kSweep;
+    else if (analysis == "statics")
+      spec->analysis = Analysis::kStatics;
+    else
+      Fail(root["analysis"], "analysis: '" + analysis + "': expected sweep or statics");
     if (root["steps"]) spec->steps = static_cast<int>(Integer(root["steps"], "steps", 1, 1000000));
     if (root["range"]) {
       const YAML::Node r = root["range"];
-      if (!r.IsSequence() || r.size() != 2) Fail(r, "range: expected [begin, end] of the first input (an angle may end in deg)");
+      if (!r.IsSequence() || r.size() != 2)
+        Fail(r, "range: expected [begin, end] of the first input (an angle may end in deg)");
       spec->has_range = true;
       spec->q_begin = Number(r[0], "range");
       spec->q_end = Number(r[1], "range");
     }
     const YAML::Node params = root["parameters"];
     if (!params || !params.IsMap() || params.size() == 0)
-      Fail(params ? params : root, "parameters: expected a map of the parameters that vary, e.g. {a: {distribution: normal, tolerance: 0.01}}");
+      Fail(params ? params : root,
+           "parameters: expected a map of the parameters that vary, e.g. {a: {distribution: normal, tolerance: 0.01}}");
     for (const auto& kv : params) spec->parameters.push_back(Parameter(kv.first, kv.second, spec->method));
     for (size_t i = 0; i < spec->parameters.size(); ++i)
       for (size_t j = 0; j < i; ++j)
@@ -340,11 +377,12 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       for (const ParameterSpec& p : spec->parameters)
         if (p.values.size() != spec->parameters[0].values.size())
           throw Failure{p.place, "a list study takes the i-th value of every parameter: '" + p.name + "' has " +
-                                     std::to_string(p.values.size()) + " values, '" + spec->parameters[0].name +
-                                     "' " + std::to_string(spec->parameters[0].values.size())};
+                                     std::to_string(p.values.size()) + " values, '" + spec->parameters[0].name + "' " +
+                                     std::to_string(spec->parameters[0].values.size())};
     const YAML::Node metrics = root["metrics"];
     if (!metrics || !metrics.IsSequence() || metrics.size() == 0)
-      Fail(metrics ? metrics : root, "metrics: expected a list, e.g. [{kind: max, column: coupler.P.y}, {kind: failures}]");
+      Fail(metrics ? metrics : root,
+           "metrics: expected a list, e.g. [{kind: max, column: coupler.P.y}, {kind: failures}]");
     for (const auto& m : metrics) spec->metrics.push_back(Metric(m, spec->steps));
     for (size_t i = 0; i < spec->metrics.size(); ++i) {
       for (size_t j = 0; j < i; ++j)
@@ -352,7 +390,8 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
           throw Failure{spec->metrics[i].place, "two metrics named '" + spec->metrics[i].name + "'; give one a name:"};
       for (const ParameterSpec& p : spec->parameters)
         if (spec->metrics[i].name == p.name || spec->metrics[i].name == "status" || spec->metrics[i].name == "sample")
-          throw Failure{spec->metrics[i].place, "a metric named '" + spec->metrics[i].name + "' collides with a column; give it another name:"};
+          throw Failure{spec->metrics[i].place,
+                        "a metric named '" + spec->metrics[i].name + "' collides with a column; give it another name:"};
     }
     if (const YAML::Node c = root["clearance"]) {
       if (!c.IsMap()) Fail(c, "clearance: expected a map {JOINT: {parameter: LENGTH, radial: C}}");
@@ -377,7 +416,8 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       spec->envelope_place = PlaceOf(e);
     }
     if (const YAML::Node t = root["tolerance"]) {
-      if (!t.IsScalar() || (t.Scalar() != "true" && t.Scalar() != "false")) Fail(t, "tolerance: expected true or false");
+      if (!t.IsScalar() || (t.Scalar() != "true" && t.Scalar() != "false"))
+        Fail(t, "tolerance: expected true or false");
       spec->tolerance = t.Scalar() == "true";
       if (spec->tolerance && spec->method != Method::kMonteCarlo)
         Fail(t, "tolerance: true compares the first-order analysis with a Monte-Carlo: it needs method: monte_carlo");

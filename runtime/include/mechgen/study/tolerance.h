@@ -48,16 +48,18 @@ inline Moments MomentsOf(const std::vector<double>& x) {
 
 /// The first-order figures of one metric.
 struct FirstOrder {
-  double rss = NAN;         ///< sqrt(sum (g_p sigma_p)^2)
-  double worst = NAN;       ///< sum |g_p| t_p
-  double clearance = 0;     ///< sum over clearances |g_p| c (worst direction)
-  bool complete = false;    ///< every parameter had a derivative
+  double rss = NAN;       ///< sqrt(sum (g_p sigma_p)^2)
+  double worst = NAN;     ///< sum |g_p| t_p
+  double clearance = 0;   ///< sum over clearances |g_p| c (worst direction)
+  bool complete = false;  ///< every parameter had a derivative
 };
 
 /// g: dm/dp per parameter (NaN: none); sigma, tolerance: per parameter; clearance_of[p]: the
 /// summed radial clearances acting on parameter p.
-inline FirstOrder FirstOrderOf(const std::vector<double>& g, const std::vector<double>& sigma,
-                               const std::vector<double>& tolerance, const std::vector<double>& clearance_of) {
+inline FirstOrder FirstOrderOf(const std::vector<double>& g,
+                               const std::vector<double>& sigma,
+                               const std::vector<double>& tolerance,
+                               const std::vector<double>& clearance_of) {
   FirstOrder f;
   double rss = 0, worst = 0, clear = 0;
   f.complete = !g.empty();
