@@ -5,6 +5,7 @@
 // the same results for 1 and 2 threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -439,7 +440,11 @@ TEST(StudyThreads, SameResultsForOneAndTwoThreads) {
   const std::vector<double> v = study::DrawSamples(spec, s.nominal());
   std::vector<study::SampleResult> one, two;
   s.Run(v, 1, &one);
-  s.Run(v, 2, &two, [](uint64_t) {});
+  std::vector<uint64_t> reported;  // the progress callback: on the calling thread, ends at the count
+  s.Run(v, 2, &two, [&reported](uint64_t done) { reported.push_back(done); });
+  ASSERT_FALSE(reported.empty());
+  EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end()));
+  EXPECT_EQ(reported.back(), v.size() / spec.parameters.size());
   ASSERT_EQ(one.size(), two.size());
   int not_ok = 0;
   for (size_t i = 0; i < one.size(); ++i) {
