@@ -63,7 +63,7 @@ struct ToolSpec {
   bool separate_args = false;      // its CLI11 part (sweep_args.cc) compiled once for all models
   std::string quantity;            // what the model's outputs must have; "" nothing
   std::string summary;             // what the analysis gives (mechgen --help)
-  std::vector<std::string> libs = {};  // what its program links beyond the C++ library
+  std::vector<std::string> libs = {};  // linked after the objects, beyond the C++ library
 };
 
 const std::vector<ToolSpec>& Specs() {
@@ -90,6 +90,10 @@ const std::vector<ToolSpec>& Specs() {
        "Levenberg-Marquardt on the generated design derivatives; the synthesized model file, an SVG and a "
        "report (needs a `design` section; Ceres, yaml-cpp)",
        {"-lceres", "-lglog", "-lgflags", "-lyaml-cpp", "-pthread"}},
+      {"study", "study_main.cc", {"-pthread"}, false, "",
+       "a design study from --study FILE (docs/studies.md): grid, list, Latin hypercube or Monte-Carlo samples "
+       "on every core, metrics per sample in a CSV, first-order tolerances beside the Monte-Carlo",
+       {"-lyaml-cpp", "-pthread"}},
   };
   return specs;
 }

@@ -1,0 +1,651 @@
+/**
+ * \file study/run.h
+ * Runs a design study (study/spec.h) on a generated model M: for each sample, the model's
+ * parameters set to the sample's values, the mechanism assembled at its assembly
+ * configuration, the analysis over the motion (a kinematic sweep, or statics at every row),
+ * then the sample's metrics from the rows. The metrics read the same column tables as the
+ * sweep's and the statics' CSVs (sweep/columns.h, statics/columns.h), by their CSV names, and
+ * their first-order sensitivities (at the nominal design) read the design columns of those
+ * tables: d<column>/d<p> (the generated EvalDesignDerivatives, EvalStaticsDesign).
+ *
+ * Parallel: Run() evaluates the samples on `threads` std::threads; each sample is evaluated
+ * by one thread with its own solver and rows (nothing is shared but the read-only tables), and
+ * its result stored at its index: the results, and so the CSV, are the same bytes for any
+ * number of threads.
+ */
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <functional>
+#include <limits>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "mechgen/position/solver.h"
+#include "mechgen/statics/columns.h"
+#include "mechgen/statics/sweep.h"
+#include "mechgen/study/spec.h"
+#include "mechgen/sweep/columns.h"
+#include "mechgen/sweep/sweep.h"
+
+namespace mechgen::study {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// What became of one sample.
+struct SampleResult {
+  /// "ok"; "rows_failed" (some rows of the motion did not converge: the metrics are over the
+  /// others, `failures` counts them); "not_assembled" (no configuration at the assembly
+  /// inputs: every metric NaN but failures).
+  const char* status = "not_run";
+  std::vector<double> metrics;
+  /// With an envelope: the point's x, y at every row (x0, y0, x1, ...), NaN where a row failed.
+  std::vector<double> path;
+};
+
+namespace run_internal {
+template <class M, bool kStatics = statics::StaticsFeatures<M>::kHasStatics>
+struct StaticsRowOf {
+  struct type {};
+};
+template <class M>
+struct StaticsRowOf<M, true> {
+  using type = statics::StaticsRecord<M>;
+};
+}  // namespace run_internal
+
+/// A study of model M: the spec checked against the model, the tables, the nominal rows.
+template <class M>
+class Study {
+ public:
+  using Params = typename ModelTypes<M>::Params;
+  using Kinematics = SweepRecord<M>;
+  using StaticsRow = typename run_internal::StaticsRowOf<M>::type;
+  static constexpr bool kHasStatics = statics::StaticsFeatures<M>::kHasStatics;
+
+  /// The rows of one sample's motion.
+  struct Rows {
+    std::vector<Kinematics> kinematics;
+    std::vector<StaticsRow> statics;  ///< statics analysis only
+    Params params;
+    bool assembled = false;
+  };
+
+  /// Checks the names of `spec` against M and builds the tables; false and *error
+  /// ("file:line:column: error: ...") when the study does not fit the model.
+  bool Prepare(const StudySpec& spec, std::string* error) {
+    spec_ = spec;
+    auto fail = [&](Place p, const std::string& message) {
+      *error = spec.path + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: " + message;
+      return false;
+    };
+    const Params defaults;
+    std::string names;
+    for (const char* n : Params::kNames) names += (names.empty() ? "" : ", ") + std::string(n);
+    nominal_.clear();
+    index_.clear();
+    for (const ParameterSpec& p : spec.parameters) {
+      Params probe;
+      double* target = probe.Find(p.name.c_str());
+      bool derived = false;
+      for (const char* d : Params::kDerivedNames) derived = derived || p.name == d;
+      if (derived)
+        return fail(p.place,
+                    "'" + p.name + "' is a derived parameter of the model; vary the parameters it is defined by");
+      if (target == nullptr)
+        return fail(p.place, "no parameter '" + p.name + "' in the model " + M::kName + " (parameters: " + names + ")");
+      nominal_.push_back(p.has_nominal ? p.nominal : *target);
+      int design = -1;
+      if constexpr (HasDesignDerivatives<M>::value)
+        for (int d = 0; d < M::kNumDesign; ++d)
+          if (p.name == M::kDesignNames[d]) design = d;
+      index_.push_back(design);
+    }
+    for (const ClearanceSpec& c : spec.clearances) {
+      bool found = false;
+      for (const ParameterSpec& p : spec.parameters) found = found || p.name == c.parameter;
+      if (!found)
+        return fail(c.place, "the clearance of joint '" + c.joint + "' changes '" + c.parameter +
+                                 "', which is not among the study's parameters; add it there (its tolerance)");
+    }
+    if (spec.analysis == Analysis::kStatics && !kHasStatics)
+      return fail(spec.analysis_place,
+                  std::string("analysis: statics needs a model with `forces` among its outputs' quantities; ") +
+                      M::kName + " has none (use analysis: sweep, or add forces)");
+    // The first input's motion.
+    q_begin_ = Eigen::Map<const typename ModelTypes<M>::VecQ>(M::kQMin.data());
+    q_end_ = Eigen::Map<const typename ModelTypes<M>::VecQ>(M::kQMax.data());
+    if (spec.has_range) {
+      q_begin_(0) = spec.q_begin;
+      q_end_(0) = spec.q_end;
+    }
+    if (!(std::abs(q_end_(0) - q_begin_(0)) / spec.steps <= position::Options().max_input_step))
+      return fail(spec.analysis_place, "the motion moves " +
+                                           std::to_string(std::abs(q_end_(0) - q_begin_(0)) / spec.steps) +
+                                           " per step, more than the solver's limit; use more steps:");
+    sweep_columns_ = SweepColumns<M>();
+    AppendDesignColumns<M>(&sweep_columns_);
+    if constexpr (kHasStatics) statics_columns_ = statics::StaticsColumns<M>(HasStaticsDesign<M>::value);
+    refs_.assign(spec.metrics.size(), Ref());
+    for (size_t k = 0; k < spec.metrics.size(); ++k) {
+      const MetricSpec& m = spec.metrics[k];
+      Ref& r = refs_[k];
+      const bool needs_statics = m.kind == MetricKind::kPeakDrive || m.kind == MetricKind::kPeakBearing;
+      if (needs_statics && spec.analysis != Analysis::kStatics)
+        return fail(m.place, "a metric of this kind needs analysis: statics");
+      if (!m.column.empty()) {
+        if (!FindColumn(m.column, &r.table, &r.column)) {
+          std::string list;
+          for (const auto& c : sweep_columns_)
+            if (c.value && c.name.find('/') == std::string::npos) list += (list.empty() ? "" : ", ") + c.name;
+          if constexpr (kHasStatics)
+            if (spec.analysis == Analysis::kStatics)
+              for (const auto& c : statics_columns_)
+                if (c.value && c.name.find('/') == std::string::npos) list += ", " + c.name;
+          return fail(m.place, "no numeric column '" + m.column + "' in the " +
+                                   (spec.analysis == Analysis::kStatics ? "sweep or statics" : "sweep") +
+                                   " output of " + M::kName + " (columns: " + list + ")");
+        }
+      }
+      if (m.kind == MetricKind::kPeakDrive) {
+        if (!FindColumn("drive_" + std::string(M::kQNames[0]), &r.table, &r.column))
+          return fail(m.place, "the statics has no drive column");
+      }
+      if (m.kind == MetricKind::kPeakBearing) {
+        if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
+          for (const statics::ReactionJoint& j : statics::ReactionJoints<M>()) r.joints.push_back(j);
+        }
+        if (r.joints.empty())
+          return fail(m.place, std::string("the model ") + M::kName + " has no reactions (outputs: reactions:)");
+      }
+      if (m.kind == MetricKind::kMinTransmissionAngle && ModelFeatures<M>::kNumTransmissionAngles == 0)
+        return fail(m.place, std::string("the model ") + M::kName +
+                                 " has no four-bar loop on the ground (no transmission angle)");
+      if (m.kind == MetricKind::kPathDeviation) {
+        r.point = -1;
+        for (int i = 0; i < M::kNumPoints; ++i)
+          if (m.point == M::kPointNames[i]) r.point = i;
+        if (r.point < 0) {
+          std::string list;
+          for (int i = 0; i < M::kNumPoints; ++i) list += (i ? ", " : "") + std::string(M::kPointNames[i]);
+          return fail(m.place, "no point '" + m.point + "' among the model's output points (" +
+                                   (list.empty() ? "none" : list) + ")");
+        }
+      }
+      if (m.kind == MetricKind::kDesignMargin) {
+        if constexpr (HasDesignDerivatives<M>::value && M::kNumDesignChecks > 0) {
+          r.check = -1;
+          for (int i = 0; i < M::kNumDesignChecks; ++i)
+            if (m.check == M::kDesignCheckNames[i]) r.check = i;
+          if (!m.check.empty() && r.check < 0) {
+            std::string list;
+            for (int i = 0; i < M::kNumDesignChecks; ++i)
+              list += (i ? ", " : "") + std::string(M::kDesignCheckNames[i]);
+            return fail(m.place, "no design check '" + m.check + "' (checks: " + list + ")");
+          }
+        } else {
+          return fail(m.place, std::string("the model ") + M::kName + " has no design checks (add a design: section)");
+        }
+      }
+    }
+    envelope_point_ = -1;
+    if (!spec.envelope.empty()) {
+      for (int i = 0; i < M::kNumPoints; ++i)
+        if (spec.envelope == M::kPointNames[i]) envelope_point_ = i;
+      if (envelope_point_ < 0) {
+        std::string list;
+        for (int i = 0; i < M::kNumPoints; ++i) list += (i ? ", " : "") + std::string(M::kPointNames[i]);
+        return fail(spec.envelope_place, "envelope: no point '" + spec.envelope +
+                                             "' among the model's output points (" + (list.empty() ? "none" : list) +
+                                             ")");
+      }
+    }
+    // The nominal design's rows: the reference of path_deviation and of the first-order analysis.
+    nominal_rows_ = Rows();
+    Analyze(nominal_.data(), /*design=*/true, &nominal_rows_);
+    if (!nominal_rows_.assembled)
+      return fail(spec.analysis_place,
+                  std::string("the model ") + M::kName + " does not assemble at the nominal design");
+    return true;
+  }
+
+  const StudySpec& spec() const { return spec_; }
+  /// The unit of metric k (its column's, or the kind's) and what it is.
+  std::string Unit(size_t k) const {
+    const MetricSpec& m = spec_.metrics[k];
+    const Ref& r = refs_[k];
+    switch (m.kind) {
+      case MetricKind::kMinTransmissionAngle:
+        return "rad";
+      case MetricKind::kPeakBearing:
+        return "N";
+      case MetricKind::kPathDeviation:
+        return "model length";
+      case MetricKind::kFailures:
+        return "1";
+      case MetricKind::kDesignMargin:
+        return "model length";
+      default:
+        return r.table == 0 ? sweep_columns_[r.column].unit : statics_columns_[r.column].unit;
+    }
+  }
+  std::string Description(size_t k) const {
+    const MetricSpec& m = spec_.metrics[k];
+    const std::string rows = " over the motion's rows that converged";
+    switch (m.kind) {
+      case MetricKind::kMax:
+        return "largest " + m.column + rows;
+      case MetricKind::kMin:
+        return "smallest " + m.column + rows;
+      case MetricKind::kRms:
+        return "root mean square of " + m.column + rows;
+      case MetricKind::kAt:
+        return m.column + " at row " + std::to_string(m.step) + " (nan if that row failed)";
+      case MetricKind::kMinTransmissionAngle:
+        return "smallest min(mu, pi - mu) of the transmission angles mu" + rows;
+      case MetricKind::kPeakDrive:
+        return "largest |drive_" + std::string(M::kQNames[0]) + "| without friction" + rows;
+      case MetricKind::kPeakBearing:
+        return "largest magnitude of a joint's reaction force without friction" + rows;
+      case MetricKind::kPathDeviation:
+        return "largest distance of " + m.point + " from its place at the same row of the nominal design";
+      case MetricKind::kFailures:
+        return "rows of the motion that did not converge (all of them when not assembled)";
+      case MetricKind::kDesignMargin:
+        return m.check.empty() ? "smallest margin of the model's design checks (>= 0: acceptable)"
+                               : "margin of the design check " + m.check;
+    }
+    return "";
+  }
+  /// Each parameter's nominal (the study's, else the model's default), in the spec's order.
+  const std::vector<double>& nominal() const { return nominal_; }
+  const Rows& nominal_rows() const { return nominal_rows_; }
+  /// The design-parameter index (M::kDesignNames) of each of the study's parameters; -1: none.
+  const std::vector<int>& design_index() const { return index_; }
+  int rows() const { return spec_.steps + 1; }
+
+  /// The analysis of the design `values` (one per spec parameter) into *rows.
+  void Analyze(const double* values, bool design, Rows* out) const {
+    out->params = Params();
+    for (size_t k = 0; k < spec_.parameters.size(); ++k)
+      *out->params.Find(spec_.parameters[k].name.c_str()) = values[k];
+    position::PositionSolver<M> solver(position::Options(), out->params);
+    position::Summary summary;
+    out->assembled = solver.AssembleDefault(&summary) == position::Status::kConverged;
+    out->kinematics.clear();
+    if constexpr (kHasStatics) out->statics.clear();
+    if (!out->assembled) return;
+    SweepOptions options;
+    options.design = design && HasDesignDerivatives<M>::value;
+    using VecQ = typename ModelTypes<M>::VecQ;
+    Sweep(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(), VecQ::Zero(), &out->kinematics, options);
+    if constexpr (kHasStatics) {
+      if (spec_.analysis == Analysis::kStatics) {
+        statics::Options so;
+        so.design = design && HasStaticsDesign<M>::value;
+        out->statics.assign(out->kinematics.size(), StaticsRow());
+        for (size_t i = 0; i < out->kinematics.size(); ++i) {
+          out->statics[i].kinematics = out->kinematics[i];
+          statics::EvaluateRecord<M>(so, out->params, &out->statics[i]);
+        }
+      }
+    }
+  }
+
+  /// One sample: its analysis and metrics (rows: the caller's, reused between samples).
+  SampleResult Evaluate(const double* values, Rows* rows) const {
+    Analyze(values, /*design=*/false, rows);
+    SampleResult result;
+    result.metrics.assign(spec_.metrics.size(), kNaN);
+    if (envelope_point_ >= 0) result.path = Path(*rows);
+    if (!rows->assembled) {
+      result.status = "not_assembled";
+      for (size_t k = 0; k < spec_.metrics.size(); ++k)
+        if (spec_.metrics[k].kind == MetricKind::kFailures) result.metrics[k] = spec_.steps + 1;
+      return result;
+    }
+    bool failed = false;
+    for (int i = 0; i <= spec_.steps; ++i) failed = failed || !RowOk(*rows, i);
+    result.status = failed ? "rows_failed" : "ok";
+    for (size_t k = 0; k < spec_.metrics.size(); ++k) result.metrics[k] = Value(k, *rows).value;
+    return result;
+  }
+
+  /// The envelope's point (M::kPointNames index), -1: none.
+  int envelope_point() const { return envelope_point_; }
+  /// The envelope point's x, y at every row (NaN where the row failed).
+  std::vector<double> Path(const Rows& rows) const {
+    std::vector<double> path(2 * static_cast<size_t>(spec_.steps + 1), kNaN);
+    if constexpr (M::kNumPoints > 0) {
+      for (int i = 0; i < static_cast<int>(rows.kinematics.size()) && i <= spec_.steps; ++i) {
+        if (rows.kinematics[i].summary.status != position::Status::kConverged) continue;
+        path[2 * i] = rows.kinematics[i].state.r_P(0, envelope_point_);
+        path[2 * i + 1] = rows.kinematics[i].state.r_P(1, envelope_point_);
+      }
+    }
+    return path;
+  }
+  /// d(x or y of the envelope point at row i)/dp for each study parameter at the nominal (the
+  /// generated dr_P/dp); NaN for a parameter that is not a design parameter.
+  std::vector<double> PathGradient(int i, int axis) const {
+    std::vector<double> g(spec_.parameters.size(), kNaN);
+    if constexpr (HasDesignDerivatives<M>::value && M::kNumPoints > 0) {
+      if (i < static_cast<int>(nominal_rows_.kinematics.size()))
+        for (size_t p = 0; p < g.size(); ++p)
+          if (index_[p] >= 0) g[p] = nominal_rows_.kinematics[i].design.dr_P_dp(2 * envelope_point_ + axis, index_[p]);
+    }
+    return g;
+  }
+
+  /// Metric k of `rows` and where it was taken (the row and the sign of the quantity there).
+  struct Taken {
+    double value = kNaN;
+    int step = -1;    ///< the row (max, min, at, peaks); -1: none or every row (rms)
+    double sign = 1;  ///< the metric is sign * the column there
+    int check = -1;   ///< design_margin: the check
+  };
+  Taken Value(size_t k, const Rows& rows) const {
+    const MetricSpec& m = spec_.metrics[k];
+    const Ref& r = refs_[k];
+    Taken t;
+    const int n = static_cast<int>(rows.kinematics.size());
+    auto consider = [&t](double v, int i, double sign, bool larger) {
+      if (!std::isfinite(v)) return;
+      if (t.step < 0 || (larger ? v > t.value : v < t.value)) {
+        t.value = v;
+        t.step = i;
+        t.sign = sign;
+      }
+    };
+    switch (m.kind) {
+      case MetricKind::kMax:
+      case MetricKind::kMin:
+        for (int i = 0; i < n; ++i) consider(Cell(r, rows, i), i, 1, m.kind == MetricKind::kMax);
+        break;
+      case MetricKind::kAt:
+        t.value = m.step < n ? Cell(r, rows, m.step) : kNaN;
+        t.step = m.step;
+        break;
+      case MetricKind::kRms: {
+        double sum = 0;
+        int count = 0;
+        for (int i = 0; i < n; ++i) {
+          const double v = Cell(r, rows, i);
+          if (std::isfinite(v)) sum += v * v, ++count;
+        }
+        if (count > 0) t.value = std::sqrt(sum / count);
+        break;
+      }
+      case MetricKind::kMinTransmissionAngle:
+        if constexpr (ModelFeatures<M>::kNumTransmissionAngles > 0) {
+          for (int i = 0; i < n; ++i) {
+            for (int l = 0; l < ModelFeatures<M>::kNumTransmissionAngles; ++l) {
+              const double mu = rows.kinematics[i].mu(l);
+              const double pi = 3.14159265358979323846;
+              if (rows.kinematics[i].summary.status == position::Status::kConverged)
+                consider(std::min(mu, pi - mu), i * 64 + l, mu <= pi / 2 ? 1 : -1, false);
+            }
+          }
+        }
+        break;
+      case MetricKind::kPeakDrive:
+        for (int i = 0; i < n; ++i) {
+          const double v = Cell(r, rows, i);
+          consider(std::abs(v), i, v >= 0 ? 1 : -1, true);
+        }
+        break;
+      case MetricKind::kPeakBearing:
+        if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
+          for (int i = 0; i < n; ++i) {
+            if (rows.statics[i].frictionless.summary.status != statics::Status::kConverged) continue;
+            for (size_t j = 0; j < r.joints.size(); ++j) {
+              const double before = t.value;
+              consider(statics::ReactionMagnitude(r.joints[j], rows.statics[i].frictionless.statics.R), i, 1, true);
+              if (t.step == i && !(t.value == before)) t.check = static_cast<int>(j);
+            }
+          }
+        }
+        break;
+      case MetricKind::kPathDeviation:
+        if constexpr (M::kNumPoints > 0) {
+          for (int i = 0; i < n && i < static_cast<int>(nominal_rows_.kinematics.size()); ++i) {
+            const auto& a = rows.kinematics[i].state.r_P;
+            const auto& b = nominal_rows_.kinematics[i].state.r_P;
+            consider(std::hypot(a(0, r.point) - b(0, r.point), a(1, r.point) - b(1, r.point)), i, 1, true);
+          }
+        }
+        break;
+      case MetricKind::kFailures: {
+        int failures = 0;
+        for (int i = 0; i < n; ++i) failures += !RowOk(rows, i);
+        t.value = failures;
+        break;
+      }
+      case MetricKind::kDesignMargin:
+        if constexpr (HasDesignDerivatives<M>::value && M::kNumDesignChecks > 0) {
+          Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
+          M::DesignChecks(rows.params, &margin);
+          for (int c = 0; c < M::kNumDesignChecks; ++c)
+            if (r.check < 0 || r.check == c) {
+              if (t.check < 0 || margin(c) < t.value) t.value = margin(c), t.check = c;
+            }
+        }
+        break;
+    }
+    if (m.kind == MetricKind::kMinTransmissionAngle && t.step >= 0) {
+      t.check = t.step % 64;
+      t.step /= 64;
+    }
+    return t;
+  }
+
+  /**
+   * \brief d metric_k / d p for each of the study's parameters at the nominal design, from the
+   *        generated design derivatives (the design columns of the nominal rows): at the row
+   *        where a max, min or peak is taken (the derivative of the value there: the peak's
+   *        row held, exact where the peak does not jump between rows), summed over the rows
+   *        for an RMS, the design checks' own derivatives for a margin. NaN for a parameter
+   *        that is not a design parameter of M, and for a metric with no derivative here
+   *        (*why says which: failures, path_deviation). peak_bearing: d|F| = F . dF / |F| at
+   *        the peak's row and joint.
+   */
+  std::vector<double> Gradient(size_t k, std::string* why) const {
+    const MetricSpec& m = spec_.metrics[k];
+    const Ref& r = refs_[k];
+    const Rows& rows = nominal_rows_;
+    const Taken t = Value(k, rows);
+    std::vector<double> g(spec_.parameters.size(), kNaN);
+    why->clear();
+    if (m.kind == MetricKind::kFailures) {
+      *why = "a count";
+      return g;
+    }
+    if (m.kind == MetricKind::kPathDeviation) {
+      *why = "a distance, 0 at the nominal: not differentiable there";
+      return g;
+    }
+    if (!std::isfinite(t.value)) {
+      *why = "no value at the nominal";
+      return g;
+    }
+    for (size_t p = 0; p < spec_.parameters.size(); ++p) {
+      if (index_[p] < 0) continue;
+      const std::string& name = spec_.parameters[p].name;
+      if (m.kind == MetricKind::kPeakBearing) {
+        // |F| = hypot of the joint's components (or |F| of a scalar): d|F| = sum F_c dF_c / |F|
+        // from the reactions' design columns dF_c/dp at the peak's row.
+        if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
+          const statics::ReactionJoint& j = r.joints[t.check];
+          const auto& R = rows.statics[t.step].frictionless.statics.R;
+          double sum = 0;
+          bool found = true;
+          for (int c : {j.x, j.y, j.n, j.t, j.scalar}) {
+            if (c < 0) continue;
+            Ref d;
+            const std::string column = "d" + std::string(M::kReactionNames[c]) + "/d" + name;
+            if (!FindColumn(column, &d.table, &d.column)) {
+              *why = "no design column " + column;
+              found = false;
+              break;
+            }
+            sum += R(c) * Cell(d, rows, t.step);
+          }
+          if (found) g[p] = sum / t.value;
+        }
+        continue;
+      }
+      if (m.kind == MetricKind::kDesignMargin) {
+        if constexpr (HasDesignDerivatives<M>::value && M::kNumDesignChecks > 0) {
+          Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
+          Eigen::Matrix<double, M::kNumDesignChecks, M::kNumDesign> dmargin;
+          M::DesignChecks(rows.params, &margin, &dmargin);
+          g[p] = dmargin(t.check, index_[p]);
+        }
+        continue;
+      }
+      Ref d;
+      std::string column;
+      if (m.kind == MetricKind::kMinTransmissionAngle) {
+        if constexpr (ModelFeatures<M>::kNumTransmissionAngles > 0)
+          column = "dmu_" + std::string(M::kTransmissionJoints[t.check]) + "/d" + name;
+      } else {
+        column = "d" + ColumnName(r) + "/d" + name;
+        // One input moving at qd = 1, qdd = 0 (the study's sweep): phi_i_dot = K_i0, so its
+        // derivative is dK's column.
+        if constexpr (M::kNq == 1 && M::kOrder >= 1)
+          for (int i = 0; i < M::kNphi; ++i)
+            if (r.table == 0 && ColumnName(r) == std::string(M::kPhiNames[i]) + "_dot")
+              column = "dK_" + std::string(M::kPhiNames[i]) + "_" + M::kQNames[0] + "/d" + name;
+      }
+      if (!FindColumn(column, &d.table, &d.column)) {
+        *why = "no design column " + column;
+        continue;
+      }
+      if (m.kind == MetricKind::kRms) {
+        double sum = 0;
+        int count = 0;
+        for (int i = 0; i < static_cast<int>(rows.kinematics.size()); ++i) {
+          const double v = Cell(r, rows, i);
+          if (std::isfinite(v)) sum += v * Cell(d, rows, i), ++count;
+        }
+        g[p] = sum / count / t.value;
+      } else {
+        g[p] = t.sign * Cell(d, rows, t.step);
+      }
+    }
+    return g;
+  }
+
+  /// Evaluates every sample (values: DrawSamples()) on `threads` threads into *results (in
+  /// sample order); `progress(done)` is called from the calling thread about once a second.
+  void Run(const std::vector<double>& values,
+           int threads,
+           std::vector<SampleResult>* results,
+           const std::function<void(uint64_t done)>& progress = nullptr) const {
+    const size_t n = spec_.parameters.size();
+    const uint64_t count = n == 0 ? 0 : values.size() / n;
+    results->assign(count, SampleResult());
+    std::atomic<uint64_t> next{0}, done{0};
+    std::mutex mutex;
+    std::condition_variable finished;
+    auto work = [&]() {
+      Rows rows;
+      for (uint64_t i; (i = next.fetch_add(1)) < count;) {
+        (*results)[i] = Evaluate(&values[i * n], &rows);
+        if (done.fetch_add(1) + 1 == count) {
+          std::lock_guard<std::mutex> lock(mutex);
+          finished.notify_all();
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < std::max(threads, 1); ++t) pool.emplace_back(work);
+    if (progress) {
+      // The calling thread reports while `threads` others work.
+      std::thread worker(work);
+      Wait(&mutex, &finished, &done, count, progress);
+      worker.join();
+    } else {
+      work();
+    }
+    for (std::thread& t : pool) t.join();
+  }
+
+ private:
+  struct Ref {
+    int table = 0;  // 0: sweep columns, 1: statics columns
+    int column = -1;
+    int point = -1;
+    int check = -1;
+    std::vector<statics::ReactionJoint> joints;
+  };
+
+  static void Wait(std::mutex* mutex,
+                   std::condition_variable* finished,
+                   std::atomic<uint64_t>* done,
+                   uint64_t count,
+                   const std::function<void(uint64_t)>& progress) {
+    std::unique_lock<std::mutex> lock(*mutex);
+    while (done->load() < count) {
+      finished->wait_for(lock, std::chrono::seconds(1));
+      progress(done->load());
+    }
+  }
+
+  bool FindColumn(const std::string& name, int* table, int* column) const {
+    for (size_t c = 0; c < sweep_columns_.size(); ++c)
+      if (sweep_columns_[c].name == name && sweep_columns_[c].value) {
+        *table = 0, *column = static_cast<int>(c);
+        return true;
+      }
+    if (spec_.analysis == Analysis::kStatics)
+      for (size_t c = 0; c < statics_columns_.size(); ++c)
+        if (statics_columns_[c].name == name && statics_columns_[c].value) {
+          *table = 1, *column = static_cast<int>(c);
+          return true;
+        }
+    return false;
+  }
+  std::string ColumnName(const Ref& r) const {
+    return r.table == 0 ? sweep_columns_[r.column].name : statics_columns_[r.column].name;
+  }
+  double Cell(const Ref& r, const Rows& rows, int i) const {
+    if (r.table == 0) {
+      const Kinematics& k = rows.kinematics[i];
+      if (k.summary.status != position::Status::kConverged) return kNaN;
+      return sweep_columns_[r.column].value(k);
+    }
+    if constexpr (kHasStatics) {
+      const StaticsRow& s = rows.statics[i];
+      if (s.status != statics::Status::kConverged) return kNaN;
+      return statics_columns_[r.column].value(s);
+    }
+    return kNaN;
+  }
+  bool RowOk(const Rows& rows, int i) const {
+    if (i >= static_cast<int>(rows.kinematics.size())) return false;
+    if (rows.kinematics[i].summary.status != position::Status::kConverged) return false;
+    if constexpr (kHasStatics)
+      if (spec_.analysis == Analysis::kStatics && rows.statics[i].status != statics::Status::kConverged) return false;
+    return true;
+  }
+
+  StudySpec spec_;
+  int envelope_point_ = -1;
+  std::vector<double> nominal_;
+  std::vector<int> index_;
+  std::vector<Ref> refs_;
+  typename ModelTypes<M>::VecQ q_begin_, q_end_;
+  std::vector<SweepColumn<M>> sweep_columns_;
+  using StaticsColumnTable = std::vector<table::Column<StaticsRow>>;
+  StaticsColumnTable statics_columns_;
+  Rows nominal_rows_;
+};
+
+}  // namespace mechgen::study

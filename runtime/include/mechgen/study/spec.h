@@ -1,0 +1,446 @@
+/**
+ * \file study/spec.h
+ * A design study as written in its file (docs/studies.md): the parameters that vary and how
+ * (grid, list, Latin hypercube, Monte-Carlo from normal or uniform distributions given as
+ * nominal +- tolerance, seeded), the analysis run per sample (a kinematic sweep or statics
+ * over a motion), the metrics kept per sample, joint clearances and whether to compare the
+ * first-order tolerance analysis with the Monte-Carlo. Read with yaml-cpp; every error is
+ * "FILE:LINE:COLUMN: error: what is wrong; what to write instead". Model-independent: the
+ * names (parameters, columns, points, checks) are checked against the model by the study's
+ * runner (study/run.h), which reports them at the places kept here.
+ */
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace mechgen::study {
+
+/// Where a node of the study file is, for messages ("file:line:column").
+struct Place {
+  int line = 0, column = 0;  ///< 1-based; 0: unknown
+};
+
+enum class Method { kGrid, kList, kLatinHypercube, kMonteCarlo };
+enum class Distribution { kNone, kUniform, kNormal };
+enum class Analysis { kSweep, kStatics };
+enum class MetricKind {
+  kMax,
+  kMin,
+  kRms,
+  kAt,                    // of an output column over the motion / at one step
+  kMinTransmissionAngle,  // min over steps and loops of min(mu, pi - mu)
+  kPeakDrive,             // max |drive| of the first input (statics)
+  kPeakBearing,           // max |reaction force| over the joints (statics)
+  kPathDeviation,         // max |r_P - r_P,nominal| over the steps
+  kFailures,              // rows that did not converge
+  kDesignMargin,          // the smallest design-check margin (or one check's)
+};
+
+/// A parameter that varies.
+struct ParameterSpec {
+  std::string name;
+  Place place;
+  std::vector<double> values;  ///< grid or list: the values it takes
+  Distribution distribution = Distribution::kNone;
+  bool has_nominal = false;  ///< else the model's default
+  double nominal = 0;
+  /// uniform: the half-width (nominal +- tolerance); normal: 3 sigma.
+  double tolerance = 0;
+  double sigma() const { return distribution == Distribution::kNormal ? tolerance / 3 : tolerance / std::sqrt(3.0); }
+};
+
+/// A metric kept per sample.
+struct MetricSpec {
+  std::string name;  ///< its CSV column
+  MetricKind kind = MetricKind::kMax;
+  std::string column;  ///< kMax, kMin, kRms, kAt: the output column (sweep or statics CSV name)
+  int step = -1;       ///< kAt: the row 0..steps
+  std::string point;   ///< kPathDeviation: the point (as in the sweep's columns, e.g. coupler.P)
+  std::string check;   ///< kDesignMargin: one check's name; empty: the smallest margin
+  Place place;
+};
+
+/// A joint clearance: a radial clearance of the joint taken as an effective change of the
+/// length `parameter` by +-radial, in whichever direction is worst for each metric.
+struct ClearanceSpec {
+  std::string joint;
+  std::string parameter;
+  double radial = 0;
+  Place place;
+};
+
+/// The whole study.
+struct StudySpec {
+  std::string path;
+  Method method = Method::kMonteCarlo;
+  uint64_t count = 0;  ///< samples (lhs, monte_carlo); grid and list: derived
+  uint64_t seed = 1;
+  Analysis analysis = Analysis::kSweep;
+  int steps = 360;
+  bool has_range = false;  ///< else the model's range of the first input
+  double q_begin = 0, q_end = 0;
+  std::vector<ParameterSpec> parameters;
+  std::vector<MetricSpec> metrics;
+  std::vector<ClearanceSpec> clearances;
+  bool tolerance = false;  ///< the first-order vs Monte-Carlo report
+  /// A point whose path every sample keeps (the envelope: first-order and Monte-Carlo sigma of
+  /// its x and y at every row); empty: none.
+  std::string envelope;
+  Place envelope_place;
+  Place analysis_place;
+};
+
+namespace spec_internal {
+
+inline Place PlaceOf(const YAML::Node& n) {
+  const YAML::Mark m = n.Mark();
+  return m.is_null() ? Place() : Place{m.line + 1, m.column + 1};
+}
+
+struct Failure {
+  Place place;
+  std::string message;
+};
+
+[[noreturn]] inline void Fail(const YAML::Node& n, const std::string& message) { throw Failure{PlaceOf(n), message}; }
+
+// A number: a YAML scalar, optionally ending in "deg" (an angle in degrees, in radians here).
+inline double Number(const YAML::Node& n, const std::string& what) {
+  if (!n.IsScalar()) Fail(n, what + ": expected a number");
+  std::string text = n.Scalar();
+  double scale = 1;
+  if (text.size() > 3 && text.compare(text.size() - 3, 3, "deg") == 0) {
+    text.resize(text.size() - 3);
+    while (!text.empty() && (text.back() == ' ' || text.back() == '*')) text.pop_back();
+    scale = 0.017453292519943295;
+  }
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(x))
+    Fail(n, what + ": '" + n.Scalar() + "' is not a finite number (an angle may end in deg)");
+  return x * scale;
+}
+
+inline long long Integer(const YAML::Node& n, const std::string& what, long long lo, long long hi) {
+  if (!n.IsScalar()) Fail(n, what + ": expected an integer");
+  char* end = nullptr;
+  const long long x = std::strtoll(n.Scalar().c_str(), &end, 10);
+  if (n.Scalar().empty() || *end != '\0' || x < lo || x > hi)
+    Fail(n,
+         what + ": '" + n.Scalar() + "' is not an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return x;
+}
+
+inline std::string Text(const YAML::Node& n, const std::string& what) {
+  if (!n.IsScalar() || n.Scalar().empty()) Fail(n, what + ": expected a name");
+  return n.Scalar();
+}
+
+inline void OnlyKeys(const YAML::Node& map, const std::vector<std::string>& allowed, const std::string& what) {
+  for (const auto& kv : map) {
+    const std::string key = kv.first.as<std::string>();
+    bool ok = false;
+    for (const std::string& a : allowed) ok = ok || key == a;
+    if (!ok) {
+      std::string list;
+      for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      Fail(kv.first, "unknown key '" + key + "' in " + what + " (allowed: " + list + ")");
+    }
+  }
+}
+
+inline ParameterSpec Parameter(const YAML::Node& key, const YAML::Node& n, Method method) {
+  ParameterSpec p;
+  p.name = key.as<std::string>();
+  p.place = PlaceOf(key);
+  const std::string what = "parameter '" + p.name + "'";
+  if (!n.IsMap())
+    Fail(n, what + ": expected a map such as {values: [1, 2]} or {distribution: normal, tolerance: 0.01}");
+  OnlyKeys(n, {"values", "range", "count", "distribution", "nominal", "tolerance", "sigma"}, what);
+  if (method == Method::kGrid || method == Method::kList) {
+    if (n["values"]) {
+      if (!n["values"].IsSequence() || n["values"].size() == 0)
+        Fail(n["values"], what + ": values: expected a list of numbers");
+      for (const auto& v : n["values"]) p.values.push_back(Number(v, what + " values"));
+    } else if (n["range"] && method == Method::kGrid) {
+      const YAML::Node r = n["range"];
+      if (!r.IsSequence() || r.size() != 2) Fail(r, what + ": range: expected [low, high]");
+      if (!n["count"]) Fail(n, what + ": a range needs count: (the number of values, >= 2)");
+      const double lo = Number(r[0], what + " range"), hi = Number(r[1], what + " range");
+      const long long count = Integer(n["count"], what + " count", 2, 1000000);
+      for (long long k = 0; k < count; ++k) p.values.push_back(lo + (hi - lo) * double(k) / double(count - 1));
+    } else {
+      Fail(n, what + ": a " + std::string(method == Method::kGrid ? "grid" : "list") + " study needs values: [...]" +
+                  (method == Method::kGrid ? " or range: [low, high] with count:" : ""));
+    }
+    for (const char* k : {"distribution", "nominal", "tolerance", "sigma"})
+      if (n[k]) Fail(n[k], what + ": " + k + " belongs to a lhs or monte_carlo study, not to a grid or list");
+    return p;
+  }
+  if (n["values"] || n["count"])
+    Fail(n["values"] ? n["values"] : n["count"],
+         what + ": values and count belong to a grid or list study; give distribution: and tolerance:");
+  const std::string dist = n["distribution"] ? Text(n["distribution"], what + " distribution") : "normal";
+  if (dist == "normal") {
+    p.distribution = Distribution::kNormal;
+  } else if (dist == "uniform") {
+    p.distribution = Distribution::kUniform;
+  } else {
+    Fail(n["distribution"], what + ": distribution '" + dist + "': expected normal or uniform");
+  }
+  if (n["range"]) {
+    const YAML::Node r = n["range"];
+    if (p.distribution != Distribution::kUniform)
+      Fail(r, what +
+                  ": range: [low, high] is for distribution: uniform; a normal takes nominal: and tolerance: (3 sigma) "
+                  "or sigma:");
+    if (!r.IsSequence() || r.size() != 2) Fail(r, what + ": range: expected [low, high]");
+    const double lo = Number(r[0], what + " range"), hi = Number(r[1], what + " range");
+    if (!(hi > lo)) Fail(r, what + ": range: expected low < high");
+    if (n["nominal"] || n["tolerance"] || n["sigma"])
+      Fail(r, what + ": give range: or nominal: with tolerance:, not both");
+    p.has_nominal = true;
+    p.nominal = (lo + hi) / 2;
+    p.tolerance = (hi - lo) / 2;
+    return p;
+  }
+  if (n["nominal"]) {
+    p.has_nominal = true;
+    p.nominal = Number(n["nominal"], what + " nominal");
+  }
+  if (n["tolerance"] && n["sigma"]) Fail(n["sigma"], what + ": give tolerance: or sigma:, not both");
+  if (n["sigma"]) {
+    if (p.distribution != Distribution::kNormal)
+      Fail(n["sigma"], what + ": sigma: is for a normal; a uniform takes tolerance: (its half-width)");
+    p.tolerance = 3 * Number(n["sigma"], what + " sigma");
+  } else if (n["tolerance"]) {
+    p.tolerance = Number(n["tolerance"], what + " tolerance");
+  } else {
+    Fail(n, what + ": needs tolerance: (normal: 3 sigma; uniform: the half-width) or sigma:");
+  }
+  if (!(p.tolerance > 0)) Fail(n["tolerance"] ? n["tolerance"] : n["sigma"], what + ": the tolerance must be > 0");
+  return p;
+}
+
+inline MetricSpec Metric(const YAML::Node& n, int steps) {
+  MetricSpec m;
+  m.place = PlaceOf(n);
+  if (!n.IsMap() || !n["kind"]) Fail(n, "a metric: expected a map with kind:, e.g. {kind: max, column: coupler.P.y}");
+  OnlyKeys(n, {"name", "kind", "column", "step", "point", "check"}, "a metric");
+  const std::string kind = Text(n["kind"], "metric kind");
+  struct K {
+    const char* name;
+    MetricKind kind;
+    const char* needs;
+  };
+  static const K kinds[] = {{"max", MetricKind::kMax, "column"},
+                            {"min", MetricKind::kMin, "column"},
+                            {"rms", MetricKind::kRms, "column"},
+                            {"at", MetricKind::kAt, "column"},
+                            {"min_transmission_angle", MetricKind::kMinTransmissionAngle, ""},
+                            {"peak_drive", MetricKind::kPeakDrive, ""},
+                            {"peak_bearing", MetricKind::kPeakBearing, ""},
+                            {"path_deviation", MetricKind::kPathDeviation, "point"},
+                            {"failures", MetricKind::kFailures, ""},
+                            {"design_margin", MetricKind::kDesignMargin, ""}};
+  const K* found = nullptr;
+  for (const K& k : kinds)
+    if (kind == k.name) found = &k;
+  if (found == nullptr) {
+    std::string list;
+    for (const K& k : kinds) list += (list.empty() ? "" : ", ") + std::string(k.name);
+    Fail(n["kind"], "unknown metric kind '" + kind + "' (kinds: " + list + ")");
+  }
+  m.kind = found->kind;
+  const std::string needs = found->needs;
+  for (const char* key : {"column", "point"}) {
+    if (n[key] && needs != key) Fail(n[key], "a metric of kind " + kind + " takes no " + key + ":");
+    if (!n[key] && needs == key) Fail(n, "a metric of kind " + kind + " needs " + key + ":");
+  }
+  if (n["column"]) m.column = Text(n["column"], "metric column");
+  if (n["point"]) m.point = Text(n["point"], "metric point");
+  if (m.kind == MetricKind::kAt) {
+    if (!n["step"]) Fail(n, "a metric of kind at needs step: (a row, 0.." + std::to_string(steps) + ")");
+    m.step = static_cast<int>(Integer(n["step"], "metric step", 0, steps));
+  } else if (n["step"]) {
+    Fail(n["step"], "only a metric of kind at takes step:");
+  }
+  if (n["check"]) {
+    if (m.kind != MetricKind::kDesignMargin) Fail(n["check"], "only a metric of kind design_margin takes check:");
+    m.check = Text(n["check"], "metric check");
+  }
+  if (n["name"]) {
+    m.name = Text(n["name"], "metric name");
+  } else {
+    switch (m.kind) {
+      case MetricKind::kAt:
+        m.name = m.column + "_at_" + std::to_string(m.step);
+        break;
+      case MetricKind::kMax:
+      case MetricKind::kMin:
+      case MetricKind::kRms:
+        m.name = kind + "_" + m.column;
+        break;
+      case MetricKind::kPathDeviation:
+        m.name = "path_deviation_" + m.point;
+        break;
+      case MetricKind::kDesignMargin:
+        m.name = m.check.empty() ? "design_margin" : "margin_" + m.check;
+        break;
+      default:
+        m.name = kind;
+    }
+  }
+  return m;
+}
+
+}  // namespace spec_internal
+
+/// Reads the study file `path` into *spec; false and *error ("path:line:column: error: ...",
+/// one line) on the first problem.
+inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* error) {
+  using namespace spec_internal;
+  *spec = StudySpec();
+  spec->path = path;
+  auto at = [&path](Place p) {
+    return path + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: ";
+  };
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    *error = path + ": error: cannot read the study file";
+    return false;
+  } catch (const YAML::Exception& e) {
+    *error = at(Place{e.mark.line + 1, e.mark.column + 1}) + e.msg;
+    return false;
+  }
+  try {
+    if (!root.IsMap()) Fail(root, "a study file is a map (method:, parameters:, metrics:, ...; docs/studies.md)");
+    OnlyKeys(root,
+             {"model", "method", "count", "seed", "analysis", "steps", "range", "parameters", "metrics", "clearance",
+              "tolerance", "envelope"},
+             "the study");
+    const std::string method = root["method"] ? Text(root["method"], "method") : "";
+    if (method == "grid")
+      spec->method = Method::kGrid;
+    else if (method == "list")
+      spec->method = Method::kList;
+    else if (method == "lhs")
+      spec->method = Method::kLatinHypercube;
+    else if (method == "monte_carlo")
+      spec->method = Method::kMonteCarlo;
+    else
+      Fail(root["method"] ? root["method"] : root, "method: expected grid, list, lhs or monte_carlo");
+    const bool random = spec->method == Method::kLatinHypercube || spec->method == Method::kMonteCarlo;
+    if (random) {
+      if (!root["count"]) Fail(root, "a " + method + " study needs count: (the number of samples)");
+      spec->count = static_cast<uint64_t>(Integer(root["count"], "count", 2, 100000000));
+    } else if (root["count"]) {
+      Fail(root["count"],
+           "count: is for lhs and monte_carlo; a " + method + " study has as many samples as its values give");
+    }
+    if (root["seed"]) spec->seed = static_cast<uint64_t>(Integer(root["seed"], "seed", 0, (1LL << 62)));
+    spec->analysis_place = PlaceOf(root["analysis"] ? root["analysis"] : root);
+    const std::string analysis = root["analysis"] ? Text(root["analysis"], "analysis") : "sweep";
+    if (analysis == "sweep")
+      spec->analysis = Analysis::kSweep;
+    else if (analysis == "statics")
+      spec->analysis = Analysis::kStatics;
+    else
+      Fail(root["analysis"], "analysis: '" + analysis + "': expected sweep or statics");
+    if (root["steps"]) spec->steps = static_cast<int>(Integer(root["steps"], "steps", 1, 1000000));
+    if (root["range"]) {
+      const YAML::Node r = root["range"];
+      if (!r.IsSequence() || r.size() != 2)
+        Fail(r, "range: expected [begin, end] of the first input (an angle may end in deg)");
+      spec->has_range = true;
+      spec->q_begin = Number(r[0], "range");
+      spec->q_end = Number(r[1], "range");
+    }
+    const YAML::Node params = root["parameters"];
+    if (!params || !params.IsMap() || params.size() == 0)
+      Fail(params ? params : root,
+           "parameters: expected a map of the parameters that vary, e.g. {a: {distribution: normal, tolerance: 0.01}}");
+    for (const auto& kv : params) spec->parameters.push_back(Parameter(kv.first, kv.second, spec->method));
+    for (size_t i = 0; i < spec->parameters.size(); ++i)
+      for (size_t j = 0; j < i; ++j)
+        if (spec->parameters[i].name == spec->parameters[j].name)
+          throw Failure{spec->parameters[i].place, "parameter '" + spec->parameters[i].name + "' twice"};
+    if (spec->method == Method::kList)
+      for (const ParameterSpec& p : spec->parameters)
+        if (p.values.size() != spec->parameters[0].values.size())
+          throw Failure{p.place, "a list study takes the i-th value of every parameter: '" + p.name + "' has " +
+                                     std::to_string(p.values.size()) + " values, '" + spec->parameters[0].name + "' " +
+                                     std::to_string(spec->parameters[0].values.size())};
+    const YAML::Node metrics = root["metrics"];
+    if (!metrics || !metrics.IsSequence() || metrics.size() == 0)
+      Fail(metrics ? metrics : root,
+           "metrics: expected a list, e.g. [{kind: max, column: coupler.P.y}, {kind: failures}]");
+    for (const auto& m : metrics) spec->metrics.push_back(Metric(m, spec->steps));
+    for (size_t i = 0; i < spec->metrics.size(); ++i) {
+      for (size_t j = 0; j < i; ++j)
+        if (spec->metrics[i].name == spec->metrics[j].name)
+          throw Failure{spec->metrics[i].place, "two metrics named '" + spec->metrics[i].name + "'; give one a name:"};
+      for (const ParameterSpec& p : spec->parameters)
+        if (spec->metrics[i].name == p.name || spec->metrics[i].name == "status" || spec->metrics[i].name == "sample")
+          throw Failure{spec->metrics[i].place,
+                        "a metric named '" + spec->metrics[i].name + "' collides with a column; give it another name:"};
+    }
+    if (const YAML::Node c = root["clearance"]) {
+      if (!c.IsMap()) Fail(c, "clearance: expected a map {JOINT: {parameter: LENGTH, radial: C}}");
+      for (const auto& kv : c) {
+        ClearanceSpec k;
+        k.joint = kv.first.as<std::string>();
+        k.place = PlaceOf(kv.first);
+        const std::string what = "clearance of joint '" + k.joint + "'";
+        if (!kv.second.IsMap() || !kv.second["parameter"] || !kv.second["radial"])
+          Fail(kv.second, what + ": expected {parameter: LENGTH, radial: C}");
+        OnlyKeys(kv.second, {"parameter", "radial"}, what);
+        k.parameter = Text(kv.second["parameter"], what + " parameter");
+        k.radial = Number(kv.second["radial"], what + " radial");
+        if (!(k.radial > 0)) Fail(kv.second["radial"], what + ": radial must be > 0");
+        spec->clearances.push_back(k);
+      }
+    }
+    if (const YAML::Node e = root["envelope"]) {
+      if (!e.IsMap() || !e["point"]) Fail(e, "envelope: expected {point: POINT}, e.g. {point: coupler.P}");
+      OnlyKeys(e, {"point"}, "envelope");
+      spec->envelope = Text(e["point"], "envelope point");
+      spec->envelope_place = PlaceOf(e);
+    }
+    if (const YAML::Node t = root["tolerance"]) {
+      if (!t.IsScalar() || (t.Scalar() != "true" && t.Scalar() != "false"))
+        Fail(t, "tolerance: expected true or false");
+      spec->tolerance = t.Scalar() == "true";
+      if (spec->tolerance && spec->method != Method::kMonteCarlo)
+        Fail(t, "tolerance: true compares the first-order analysis with a Monte-Carlo: it needs method: monte_carlo");
+    }
+  } catch (const Failure& f) {
+    *error = at(f.place) + f.message;
+    return false;
+  } catch (const YAML::Exception& e) {
+    *error = at(Place{e.mark.line + 1, e.mark.column + 1}) + e.msg;
+    return false;
+  }
+  return true;
+}
+
+/// The number of samples the study has (grid: the product of the value counts).
+inline uint64_t SampleCount(const StudySpec& s) {
+  if (s.method == Method::kList) return s.parameters.empty() ? 0 : s.parameters[0].values.size();
+  if (s.method == Method::kGrid) {
+    uint64_t n = 1;
+    for (const ParameterSpec& p : s.parameters) n *= p.values.size();
+    return n;
+  }
+  return s.count;
+}
+
+}  // namespace mechgen::study

@@ -1,0 +1,464 @@
+// Design studies (issue 29): the sampler's own random numbers against their exact moments, the
+// Latin hypercube's strata, the study file's errors, the first-order gradients of the metrics
+// (from the generated design derivatives) against central differences of the analysis itself,
+// the first-order sigma against the slider-crank's closed form and against a Monte-Carlo, and
+// the same results for 1 and 2 threads.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "fourbar.h"
+#include "fourbar_loaded.h"
+#include "mechgen/study/random.h"
+#include "mechgen/study/run.h"
+#include "mechgen/study/samples.h"
+#include "mechgen/study/spec.h"
+#include "mechgen/study/tolerance.h"
+#include "slider_crank.h"
+
+namespace {
+
+namespace study = mechgen::study;
+
+// A study file in the test's temporary directory.
+std::string WriteStudy(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+study::StudySpec Read(const std::string& name, const std::string& text) {
+  study::StudySpec spec;
+  std::string error;
+  EXPECT_TRUE(study::ReadStudy(WriteStudy(name, text), &spec, &error)) << error;
+  return spec;
+}
+
+std::string ErrorOf(const std::string& name, const std::string& text) {
+  study::StudySpec spec;
+  std::string error;
+  EXPECT_FALSE(study::ReadStudy(WriteStudy(name, text), &spec, &error));
+  return error;
+}
+
+// ---- the random numbers -------------------------------------------------------------------
+
+// Uniform(0, 1): mean 1/2, variance 1/12, every value inside (0, 1); 10^6 draws, bounds at 5
+// standard errors of each estimate (var of the mean 1/12/n, of the sample variance 1/180/n).
+TEST(StudyRandom, UniformMoments) {
+  const int n = 1000000;
+  double sum = 0, squares = 0;
+  for (int i = 0; i < n; ++i) {
+    const double u = study::Uniform(42, 3, i);
+    ASSERT_GT(u, 0.0);
+    ASSERT_LT(u, 1.0);
+    sum += u;
+    squares += (u - 0.5) * (u - 0.5);
+  }
+  EXPECT_NEAR(sum / n, 0.5, 5 * std::sqrt(1.0 / 12 / n));
+  EXPECT_NEAR(squares / n, 1.0 / 12, 5 * std::sqrt(1.0 / 180 / n));
+}
+
+// The quantile inverts the normal CDF (erfc) to rounding, over the whole range.
+TEST(StudyRandom, NormalQuantileInvertsTheCdf) {
+  for (double u : {1e-300, 1e-12, 1e-6, 0.001, 0.02425, 0.1, 0.3, 0.5, 0.7, 0.97575, 0.999, 1 - 1e-9}) {
+    const double x = study::NormalQuantile(u);
+    const double back = 0.5 * std::erfc(-x / std::sqrt(2.0));
+    EXPECT_NEAR(back / u, 1.0, u < 1e-100 ? 1e-10 : 1e-13) << "u = " << u;
+  }
+  EXPECT_EQ(study::NormalQuantile(0.5), 0.0);
+  EXPECT_NEAR(study::NormalQuantile(0.975), 1.959963984540054, 1e-14);
+}
+
+// Normal draws: mean 0, variance 1, skewness 0, kurtosis 3 (standard errors 1, sqrt 2,
+// sqrt 6, sqrt 96 over sqrt n); 10^6 draws, bounds at 5 standard errors.
+TEST(StudyRandom, NormalMoments) {
+  const int n = 1000000;
+  double m1 = 0, m2 = 0, m3 = 0, m4 = 0;
+  for (int i = 0; i < n; ++i) {
+    const double x = study::NormalQuantile(study::Uniform(7, 0, i));
+    m1 += x, m2 += x * x, m3 += x * x * x, m4 += x * x * x * x;
+  }
+  m1 /= n, m2 /= n, m3 /= n, m4 /= n;
+  const double se = 1 / std::sqrt(double(n));
+  EXPECT_NEAR(m1, 0, 5 * se);
+  EXPECT_NEAR(m2, 1, 5 * std::sqrt(2.0) * se);
+  EXPECT_NEAR(m3, 0, 5 * std::sqrt(15.0) * se);  // var(x^3) = 15
+  EXPECT_NEAR(m4, 3, 5 * std::sqrt(96.0) * se);
+}
+
+// Different samples and streams give different numbers; the same counter the same.
+TEST(StudyRandom, CounterBased) {
+  EXPECT_EQ(study::Bits(1, 2, 3), study::Bits(1, 2, 3));
+  EXPECT_NE(study::Bits(1, 2, 3), study::Bits(1, 2, 4));
+  EXPECT_NE(study::Bits(1, 2, 3), study::Bits(1, 3, 3));
+  EXPECT_NE(study::Bits(1, 2, 3), study::Bits(2, 2, 3));
+}
+
+// ---- sampling -------------------------------------------------------------------------------
+
+// A Latin hypercube: in each dimension, every one of the N equal-probability strata holds
+// exactly one sample (uniform: equal widths; normal: equal probabilities under its CDF).
+TEST(StudySamples, LatinHypercubeStratification) {
+  const int n = 500;
+  const study::StudySpec spec = Read("lhs.yaml",
+                                     "method: lhs\ncount: 500\nseed: 3\nparameters:\n"
+                                     "  a: {distribution: uniform, nominal: 1.0, tolerance: 0.1}\n"
+                                     "  b: {distribution: normal, nominal: 3.5, tolerance: 0.03}\n"
+                                     "metrics: [{kind: failures}]\n");
+  const std::vector<double> v = study::DrawSamples(spec, {1.0, 3.5});
+  ASSERT_EQ(v.size(), 2u * n);
+  std::vector<int> a_hits(n, 0), b_hits(n, 0);
+  for (int i = 0; i < n; ++i) {
+    const double ua = (v[2 * i] - 0.9) / 0.2;
+    const double ub = 0.5 * std::erfc(-((v[2 * i + 1] - 3.5) / 0.01) / std::sqrt(2.0));
+    ++a_hits[std::min(n - 1, static_cast<int>(std::floor(ua * n)))];
+    ++b_hits[std::min(n - 1, static_cast<int>(std::floor(ub * n)))];
+  }
+  for (int s = 0; s < n; ++s) {
+    EXPECT_EQ(a_hits[s], 1) << "stratum " << s << " of a";
+    EXPECT_EQ(b_hits[s], 1) << "stratum " << s << " of b";
+  }
+}
+
+// Monte-Carlo of a uniform nominal +- t: every value inside, the variance t^2 / 3.
+TEST(StudySamples, MonteCarloUniform) {
+  const study::StudySpec spec = Read("mcu.yaml",
+                                     "method: monte_carlo\ncount: 200000\nparameters:\n"
+                                     "  d: {distribution: uniform, tolerance: 0.5}\nmetrics: [{kind: failures}]\n");
+  const std::vector<double> v = study::DrawSamples(spec, {4.0});
+  const study::Moments m = study::MomentsOf(v);
+  for (double x : v) ASSERT_TRUE(x > 3.5 && x < 4.5);
+  EXPECT_NEAR(m.mean, 4.0, 5 * 0.5 / std::sqrt(3.0 * 200000));
+  EXPECT_NEAR(m.sigma, 0.5 / std::sqrt(3.0), 5 * 0.5 / std::sqrt(3.0) * std::sqrt(0.8 / 4 / 200000));
+}
+
+// A grid: the product of the values, the first parameter slowest; a range with count.
+TEST(StudySamples, GridAndList) {
+  const study::StudySpec grid = Read("grid.yaml",
+                                     "method: grid\nparameters:\n  a: {values: [1, 2]}\n"
+                                     "  b: {range: [10, 20], count: 3}\nmetrics: [{kind: failures}]\n");
+  const std::vector<double> g = study::DrawSamples(grid, {0, 0});
+  const std::vector<double> want = {1, 10, 1, 15, 1, 20, 2, 10, 2, 15, 2, 20};
+  EXPECT_EQ(g, want);
+  const study::StudySpec list = Read("list.yaml",
+                                     "method: list\nparameters:\n  a: {values: [1, 2, 3]}\n"
+                                     "  b: {values: [4, 5, 6]}\nmetrics: [{kind: failures}]\n");
+  EXPECT_EQ(study::DrawSamples(list, {0, 0}), (std::vector<double>{1, 4, 2, 5, 3, 6}));
+}
+
+// ---- the study file -------------------------------------------------------------------------
+
+TEST(StudySpec, ErrorsNameTheirPlace) {
+  EXPECT_EQ(ErrorOf("e1.yaml", "method: montecarlo\n").substr(0, 8 + ::testing::TempDir().size()),
+            ::testing::TempDir() + "/e1.yaml");
+  const std::string e1 = ErrorOf("e1.yaml", "method: montecarlo\ncount: 10\n");
+  EXPECT_NE(e1.find("e1.yaml:1:9: error: method: expected grid, list, lhs or monte_carlo"), std::string::npos) << e1;
+  const std::string e2 = ErrorOf("e2.yaml",
+                                 "method: monte_carlo\ncount: 10\nparameters:\n  a: {distribution: normal}\n"
+                                 "metrics: [{kind: failures}]\n");
+  EXPECT_NE(e2.find("e2.yaml:4:6: error: parameter 'a': needs tolerance:"), std::string::npos) << e2;
+  const std::string e3 = ErrorOf("e3.yaml",
+                                 "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.1}\n"
+                                 "metrics:\n  - {kind: maximum, column: x}\n");
+  EXPECT_NE(e3.find("e3.yaml:6:12: error: unknown metric kind 'maximum'"), std::string::npos) << e3;
+  const std::string e4 = ErrorOf("e4.yaml", "method: grid\nparameters:\n  a: {values: [1, 2}\n");
+  EXPECT_NE(e4.find("e4.yaml:3:"), std::string::npos) << e4;  // yaml-cpp's own parse error
+  const std::string e5 = ErrorOf("e5.yaml",
+                                 "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.1}\n"
+                                 "metrics: [{kind: failures}]\nseeds: 3\n");
+  EXPECT_NE(e5.find("e5.yaml:6:1: error: unknown key 'seeds' in the study"), std::string::npos) << e5;
+  const std::string e6 = ErrorOf("e6.yaml",
+                                 "method: list\nparameters:\n  a: {values: [1, 2]}\n  b: {values: [1]}\n"
+                                 "metrics: [{kind: failures}]\n");
+  EXPECT_NE(e6.find("e6.yaml:4:3: error: a list study"), std::string::npos) << e6;
+}
+
+TEST(StudySpec, ModelErrorsNameTheirPlace) {
+  const study::StudySpec spec = Read("m1.yaml",
+                                     "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.1}\n"
+                                     "  z: {tolerance: 0.1}\nmetrics: [{kind: failures}]\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  EXPECT_FALSE(s.Prepare(spec, &error));
+  EXPECT_NE(error.find("m1.yaml:5:3: error: no parameter 'z' in the model fourbar (parameters: a, b"),
+            std::string::npos)
+      << error;
+  const study::StudySpec spec2 = Read("m2.yaml",
+                                      "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.1}\n"
+                                      "metrics:\n  - {kind: max, column: coupler.P.z}\n  - {kind: peak_drive}\n");
+  EXPECT_FALSE(s.Prepare(spec2, &error));
+  EXPECT_NE(error.find("m2.yaml:6:5: error: no numeric column 'coupler.P.z'"), std::string::npos) << error;
+}
+
+// ---- a grid against the closed form -------------------------------------------------------
+
+// A grid of crank and rocker lengths: the coupler point at two rows of each sample against the
+// four-bar's closed form (C on the circles about B and D, open assembly: C = B + b (cos(alpha +
+// beta), sin(alpha + beta)), alpha the direction of BD, cos beta = (b^2 + |BD|^2 - c^2) /
+// (2 b |BD|); P = B + xi u + eta u_perp, u = (C - B) / b).
+TEST(StudyGrid, FourbarCouplerPointAgainstClosedForm) {
+  const study::StudySpec spec =
+      Read("grid4.yaml",
+           "method: grid\nsteps: 36\nparameters:\n  a: {values: [0.8, 1.0, 1.2]}\n"
+           "  c: {range: [2.8, 3.2], count: 3}\nmetrics:\n"
+           "  - {kind: at, column: coupler.P.x, step: 7}\n  - {kind: at, column: coupler.P.y, step: 7}\n"
+           "  - {kind: at, column: coupler.P.x, step: 29}\n  - {kind: at, column: coupler.P.y, step: 29}\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+  std::vector<study::SampleResult> results;
+  s.Run(v, 2, &results);
+  ASSERT_EQ(results.size(), 9u);
+  const double b = 3.5, d = 4, xi = 1.5, eta = 1;
+  for (size_t i = 0; i < results.size(); ++i) {
+    const double a = v[2 * i], c = v[2 * i + 1];
+    ASSERT_STREQ(results[i].status, "ok");
+    for (int k = 0; k < 2; ++k) {
+      const double th = (k == 0 ? 7 : 29) * 2 * M_PI / 36;
+      const double bx = a * std::cos(th), by = a * std::sin(th);
+      const double L = std::hypot(d - bx, -by), alpha = std::atan2(-by, d - bx);
+      const double beta = std::acos((b * b + L * L - c * c) / (2 * b * L));
+      const double ux = std::cos(alpha + beta), uy = std::sin(alpha + beta);
+      EXPECT_NEAR(results[i].metrics[2 * k], bx + xi * ux - eta * uy, 1e-12) << "a " << a << " c " << c;
+      EXPECT_NEAR(results[i].metrics[2 * k + 1], by + xi * uy + eta * ux, 1e-12) << "a " << a << " c " << c;
+    }
+  }
+}
+
+// ---- first order against central differences ------------------------------------------------
+
+// The gradient of each differentiable metric at the nominal (generated design derivatives at
+// the row where it is taken) against central differences of the metric itself, each
+// parameter moved by +-h and the whole analysis run again.
+template <class M>
+void CheckGradients(const study::StudySpec& spec, double h, double tolerance) {
+  study::Study<M> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  typename study::Study<M>::Rows plus, minus;
+  for (size_t k = 0; k < spec.metrics.size(); ++k) {
+    std::string why;
+    const std::vector<double> g = s.Gradient(k, &why);
+    for (size_t p = 0; p < spec.parameters.size(); ++p) {
+      std::vector<double> up = s.nominal(), down = s.nominal();
+      up[p] += h;
+      down[p] -= h;
+      s.Analyze(up.data(), false, &plus);
+      s.Analyze(down.data(), false, &minus);
+      const double fd = (s.Value(k, plus).value - s.Value(k, minus).value) / (2 * h);
+      EXPECT_NEAR(g[p], fd, tolerance * (1 + std::abs(fd)))
+          << spec.metrics[k].name << " d/d" << spec.parameters[p].name << " " << why;
+    }
+  }
+}
+
+TEST(StudyFirstOrder, FourbarGradientsAgainstCentralDifferences) {
+  const study::StudySpec spec =
+      Read("fd.yaml",
+           "method: monte_carlo\ncount: 10\nsteps: 90\nparameters:\n"
+           "  a: {tolerance: 0.01}\n  b: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n"
+           "  d: {tolerance: 0.01}\n  xi: {tolerance: 0.01}\n  eta: {tolerance: 0.01}\n"
+           "metrics:\n  - {kind: at, column: coupler.P.x, step: 30}\n"
+           "  - {kind: at, column: theta_rocker, step: 70}\n"
+           "  - {kind: max, column: coupler.P.y}\n  - {kind: min, column: coupler.P.x}\n"
+           "  - {kind: rms, column: theta_coupler}\n  - {kind: min_transmission_angle}\n"
+           "  - {kind: max, column: K_theta_rocker_theta_crank}\n  - {kind: rms, column: theta_rocker_dot}\n"
+           "  - {kind: design_margin}\n");
+  // h = 1e-6: truncation ~ h^2 f''' and rounding ~ eps / h, both below 1e-7 here.
+  CheckGradients<mech::fourbar::Model>(spec, 1e-6, 1e-6);
+}
+
+TEST(StudyFirstOrder, LoadedFourbarStaticsGradientsAgainstCentralDifferences) {
+  const study::StudySpec spec =
+      Read("fds.yaml",
+           "method: monte_carlo\ncount: 10\nsteps: 90\nanalysis: statics\nparameters:\n"
+           "  a: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  k: {tolerance: 1}\n"
+           "metrics:\n  - {kind: peak_drive}\n  - {kind: peak_bearing}\n"
+           "  - {kind: at, column: F_B_x, step: 40}\n  - {kind: rms, column: drive_theta_crank}\n");
+  CheckGradients<mech::fourbar_loaded::Model>(spec, 1e-6, 1e-6);
+}
+
+// ---- first order against a closed form and a Monte-Carlo --------------------------------------
+
+// The offset slider-crank (a crank, b rod, e offset): x_C = a cos(theta) + sqrt(b^2 - (e - a sin
+// theta)^2), so dx/da = cos theta + (e - a sin theta) sin theta / w, dx/db = b / w, w the root.
+// The study's first-order sigma of x_C at theta = 60 deg from sigma_a, sigma_b against that
+// closed form, and the Monte-Carlo's sigma of 10^5 samples against its confidence interval.
+TEST(StudyFirstOrder, SliderCrankPistonSigma) {
+  const study::StudySpec spec = Read("sc.yaml",
+                                     "method: monte_carlo\ncount: 100000\nseed: 11\nsteps: 1\n"
+                                     "range: [60deg, 60deg]\nparameters:\n"
+                                     "  a: {distribution: normal, sigma: 0.002}\n"
+                                     "  b: {distribution: normal, sigma: 0.003}\n"
+                                     "metrics:\n  - {kind: at, column: slider.C.x, step: 0}\ntolerance: true\n");
+  using M = mech::slider_crank::Model;
+  study::Study<M> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  const double a = 1.0, b = 3.2, e = 0.4, th = M_PI / 3;
+  const double w = std::sqrt(b * b - (e - a * std::sin(th)) * (e - a * std::sin(th)));
+  const double dxa = std::cos(th) + (e - a * std::sin(th)) * std::sin(th) / w, dxb = b / w;
+  std::string why;
+  const std::vector<double> g = s.Gradient(0, &why);
+  EXPECT_NEAR(g[0], dxa, 1e-12);
+  EXPECT_NEAR(g[1], dxb, 1e-12);
+  EXPECT_NEAR(s.Value(0, s.nominal_rows()).value, a * std::cos(th) + w, 1e-12);
+  const double closed = std::hypot(dxa * 0.002, dxb * 0.003);
+  const study::FirstOrder f = study::FirstOrderOf(g, {0.002, 0.003}, {0.006, 0.009}, {0, 0});
+  EXPECT_NEAR(f.rss, closed, 1e-14);
+  EXPECT_NEAR(f.worst, std::abs(dxa) * 0.006 + std::abs(dxb) * 0.009, 1e-14);
+  std::vector<study::SampleResult> results;
+  s.Run(study::DrawSamples(spec, s.nominal()), 2, &results);
+  std::vector<double> x;
+  for (const auto& r : results) {
+    ASSERT_STREQ(r.status, "ok");
+    x.push_back(r.metrics[0]);
+  }
+  const study::Moments m = study::MomentsOf(x);
+  EXPECT_GE(closed, m.sigma_low);
+  EXPECT_LE(closed, m.sigma_high);
+  EXPECT_EQ(study::Verdict(f, m), "agrees");
+}
+
+// Near a change point the first order fails: the four-bar with the rocker so short that the
+// linkage is barely Grashof (c = 1.502: (b + c) - (a + d) = 0.002) and a tolerance of 0.03 on
+// it: about 4 in 10 samples do not turn fully (their rows fail at a dead point) and the min
+// transmission angle of the rest spreads three times less than the first order says (the angle
+// is a square-root function of the margin there). The same model with c = 1.56 (margin 0.06,
+// away from the change point) agrees with the Monte-Carlo. The verdict says which, with figures.
+study::Moments RunMinTransmission(double c, study::FirstOrder* f, int* failed) {
+  const study::StudySpec spec = Read("toggle.yaml",
+                                     "method: monte_carlo\ncount: 3000\nsteps: 360\nparameters:\n"
+                                     "  c: {distribution: normal, nominal: " +
+                                         std::to_string(c) +
+                                         ", tolerance: 0.03}\n"
+                                         "metrics:\n  - {kind: min_transmission_angle}\ntolerance: true\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  EXPECT_TRUE(s.Prepare(spec, &error)) << error;
+  std::vector<study::SampleResult> results;
+  s.Run(study::DrawSamples(spec, s.nominal()), 2, &results);
+  std::vector<double> mu;
+  *failed = 0;
+  for (const auto& r : results) {
+    if (std::string(r.status) == "ok") mu.push_back(r.metrics[0]);
+    *failed += std::string(r.status) != "ok";
+  }
+  std::string why;
+  *f = study::FirstOrderOf(s.Gradient(0, &why), {spec.parameters[0].sigma()}, {0.03}, {0});
+  return study::MomentsOf(mu);
+}
+
+TEST(StudyFirstOrder, AgreesAwayFromAChangePointAndSaysWhereItDoesNot) {
+  study::FirstOrder f;
+  int failed = 0;
+  const study::Moments away = RunMinTransmission(1.56, &f, &failed);
+  EXPECT_EQ(failed, 0);
+  EXPECT_EQ(study::Verdict(f, away), "agrees") << f.rss << " vs " << away.sigma;
+  const study::Moments near = RunMinTransmission(1.502, &f, &failed);
+  EXPECT_GT(failed, 300);
+  EXPECT_GT(f.rss, 2 * near.sigma_high);
+  EXPECT_EQ(study::Verdict(f, near).rfind("DISAGREES: first-order sigma", 0), 0u) << study::Verdict(f, near);
+}
+
+// The coupler point's path at every row, first order against a Monte-Carlo at small
+// tolerances: each sample's displacement of P from its nominal place against g . dp (g the
+// generated dr_P/dp at the row), to second order in the tolerance; and each row's Monte-Carlo
+// sigma of x and y against the first-order sigma within 5 standard errors of a sample sigma.
+TEST(StudyFirstOrder, FourbarCouplerPathAtEveryRowAgreesWithMonteCarlo) {
+  const double t = 1e-4;
+  const std::string tol = std::to_string(t);
+  const study::StudySpec spec =
+      Read("env.yaml",
+           "method: monte_carlo\ncount: 2000\nseed: 9\nsteps: 36\nparameters:\n"
+           "  a: {tolerance: " +
+               tol + "}\n  b: {tolerance: " + tol +
+               "}\n"
+               "  c: {tolerance: " +
+               tol + "}\n  d: {distribution: uniform, tolerance: " + tol +
+               "}\n"
+               "  xi: {tolerance: " +
+               tol + "}\n  eta: {tolerance: " + tol +
+               "}\n"
+               "metrics: [{kind: failures}]\nenvelope: {point: coupler.P}\ntolerance: true\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+  std::vector<study::SampleResult> results;
+  s.Run(v, 2, &results);
+  const std::vector<double> nominal = s.Path(s.nominal_rows());
+  const size_t n = spec.parameters.size();
+  std::vector<double> sigma(n), tolerance(n, t), none(n, 0.0);
+  for (size_t p = 0; p < n; ++p) sigma[p] = spec.parameters[p].sigma();
+  double worst_residual = 0, worst_linear = 0;
+  for (int i = 0; i <= spec.steps; ++i) {
+    for (int axis = 0; axis < 2; ++axis) {
+      const std::vector<double> g = s.PathGradient(i, axis);
+      std::vector<double> x;
+      for (size_t k = 0; k < results.size(); ++k) {
+        ASSERT_STREQ(results[k].status, "ok");
+        double linear = 0;
+        for (size_t p = 0; p < n; ++p) linear += g[p] * (v[k * n + p] - s.nominal()[p]);
+        const double moved = results[k].path[2 * i + axis] - nominal[2 * i + axis];
+        ASSERT_TRUE(std::isfinite(moved)) << "row " << i;
+        worst_residual = std::max(worst_residual, std::abs(moved - linear));
+        worst_linear = std::max(worst_linear, std::abs(linear));
+        x.push_back(results[k].path[2 * i + axis]);
+      }
+      const study::FirstOrder f = study::FirstOrderOf(g, sigma, tolerance, none);
+      const study::Moments m = study::MomentsOf(x);
+      EXPECT_NEAR(m.sigma / f.rss, 1.0, 5 / std::sqrt(2.0 * results.size())) << "row " << i << " axis " << axis;
+    }
+  }
+  // Second order: |dp| <= ~4 t, so ~ (4 t)^2 times a curvature of order 1 (measured 7.1e-9).
+  EXPECT_LT(worst_residual, 1e-7);
+  EXPECT_GT(worst_linear, 1e-4);  // the first-order term itself is not negligible
+}
+
+// ---- threads --------------------------------------------------------------------------------
+
+// 1 and 2 threads: every metric of every sample the same double, and the statuses.
+TEST(StudyThreads, SameResultsForOneAndTwoThreads) {
+  const study::StudySpec spec =
+      Read("threads.yaml",
+           "method: lhs\ncount: 300\nseed: 5\nsteps: 36\nparameters:\n"
+           "  a: {distribution: uniform, tolerance: 0.3}\n  c: {distribution: uniform, tolerance: 1.8}\n"
+           "metrics:\n  - {kind: max, column: coupler.P.y}\n  - {kind: path_deviation, point: coupler.P}\n"
+           "  - {kind: failures}\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+  std::vector<study::SampleResult> one, two;
+  s.Run(v, 1, &one);
+  std::vector<uint64_t> reported;  // the progress callback: on the calling thread, ends at the count
+  s.Run(v, 2, &two, [&reported](uint64_t done) { reported.push_back(done); });
+  ASSERT_FALSE(reported.empty());
+  EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end()));
+  EXPECT_EQ(reported.back(), v.size() / spec.parameters.size());
+  ASSERT_EQ(one.size(), two.size());
+  int not_ok = 0;
+  for (size_t i = 0; i < one.size(); ++i) {
+    EXPECT_STREQ(one[i].status, two[i].status);
+    not_ok += std::string(one[i].status) != "ok";
+    for (size_t k = 0; k < one[i].metrics.size(); ++k) {
+      const double x = one[i].metrics[k], y = two[i].metrics[k];
+      EXPECT_TRUE(std::memcmp(&x, &y, sizeof x) == 0) << i << " " << k;
+    }
+  }
+  // c below ~1.5 + (a - 1) is not Grashof: those samples' rows fail at a dead point; both kinds
+  // are compared.
+  EXPECT_GT(not_ok, 0);
+  EXPECT_LT(not_ok, 300);
+}
+
+}  // namespace
