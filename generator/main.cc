@@ -163,9 +163,11 @@ int main(int argc, char** argv) {
                "Machinery, and writes standalone C++ for it: positions, velocity and centripetal "
                "coefficients (Phi, Phi_phi, K, L), points, statics (driving forces, reactions, "
                "friction), dynamics (generalized inertia, equations of motion, bearing loads) and "
-               "shaking, as the model's outputs ask. `generate` writes the code; `sweep`, `statics`, "
-               "`simulate`, `engine` and `flywheel` compile (once, cached) and run the analysis of a "
-               "model directly."};
+               "shaking, and their derivatives with respect to design parameters, as the model's outputs "
+               "and design section ask. `generate` writes the code; `sweep`, `statics`, `simulate`, "
+               "`engine` and `flywheel` compile (once, cached) and run the analysis of a model "
+               "directly, `synthesize` fits its dimensions to a task and `study` runs a design study "
+               "(parameter sweeps, tolerances) on it."};
   app.require_subcommand(1);
   std::string model_path, out_dir = ".", name, templates = DefaultTemplates();
   bool latex = false, standalone = false, quiet = false, print_quantities = false;
@@ -202,17 +204,20 @@ int main(int argc, char** argv) {
       ->needs(latex_flag);
   rep->add_option("--templates", templates, "directory of the .mustache templates")->capture_default_str();
 
-  // One subcommand per analysis (generator/driver/tool_command.h); each takes the options
-  // of the <model>_<tool> that mechgen_add_model() builds, after the model.
+  // One subcommand per analysis (generator/driver/tool_command.h); each takes its driver's
+  // options after the model (those of the <model>_<tool> that mechgen_add_model() builds, for
+  // the tools it builds).
   mechgen::ToolCommand tool_command;
   std::vector<CLI::App*> tool_apps;
   for (const std::string& tool : tool_names) {
     CLI::App* sub = app.add_subcommand(
         tool, "generate, compile (once: cached) and run the " + tool + " command of a model: " +
-                  mechgen::ToolSummary(tool) + ". `mechgen " + tool +
-                  " MODEL [OPTIONS]` takes the options of the <model>_" + tool +
-                  " that mechgen_add_model() builds (`mechgen " + tool +
-                  " MODEL --help` lists them); mechgen's own options come before MODEL.");
+                  mechgen::ToolSummary(tool) + ". The options after MODEL are the analysis's own (`mechgen " +
+                  tool + " MODEL --help` lists them" +
+                  (tool == "synthesize" || tool == "study"
+                       ? std::string("")
+                       : "; the same as the <model>_" + tool + " that mechgen_add_model() builds") +
+                  "); mechgen's own options come before MODEL.");
     sub->add_option("model", tool_command.model_path, "model file (.yaml)")->required();
     sub->add_option("--templates", templates, "directory of the .mustache templates")->capture_default_str();
     sub->add_option("--cache-dir", tool_command.cache_dir,

@@ -1,9 +1,10 @@
-// `mechgen sweep|statics|simulate|engine|flywheel <model.yaml> [tool options...]`: the commands of any
-// model file, with no CMake project. Generates the model's code, compiles the tool's driver
-// (runtime/tools/<tool>_main.cc, Ceres-free: the runtime's Newton assembler) against it with
-// the system's C++ compiler, keeps the program in a cache keyed by everything it was built
-// from, and runs it with the options that follow the model: the same options, tables, CSV
-// and pictures as the <model>_<tool> of mechgen_add_model(). A model without what the tool
+// `mechgen sweep|statics|simulate|engine|flywheel|synthesize|study <model.yaml> [tool options...]`:
+// the commands of any model file, with no CMake project. Generates the model's code, compiles
+// the tool's driver (runtime/tools/<tool>_main.cc; Ceres-free, the runtime's Newton assembler,
+// except synthesize's Levenberg–Marquardt) against it with the system's C++ compiler, keeps the
+// program in a cache keyed by everything it was built from, and runs it with the options that
+// follow the model: the same options, tables, CSV and pictures as the <model>_<tool> of
+// mechgen_add_model() for the tools it builds. A model without what the tool
 // needs (statics, flywheel: `forces`; simulate, engine: `dynamics`) is said so before anything is
 // compiled.
 //
@@ -26,7 +27,8 @@
 
 namespace mechgen {
 
-/// The commands `mechgen <tool> MODEL` runs: "sweep", "statics", "simulate", "engine", "flywheel".
+/// The commands `mechgen <tool> MODEL` runs: "sweep", "statics", "simulate", "engine", "flywheel",
+/// "synthesize", "study".
 const std::vector<std::string>& ToolNames();
 
 /// What the analysis of `tool` gives, for `mechgen --help` ("" for no such tool).
