@@ -33,7 +33,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston_1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 32 (adds 10, muls 14, divs 0, calls 8); EvalCoefficients 73 (adds 21, muls 43, divs 1, calls 8); EvalStatics 40 (adds 7, muls 30, divs 1, calls 2); EvalDynamics 105 (adds 25, muls 72, divs 0, calls 8); EvalKinetostatics 160 (adds 43, muls 108, divs 1, calls 8); EvalExcess 152 (adds 37, muls 107, divs 0, calls 8); EvalShaking 126 (adds 43, muls 74, divs 1, calls 8); EvalStiffness 16 (adds 1, muls 13, divs 0, calls 2); EvalDesignDerivatives 186 (adds 53, muls 124, divs 1, calls 8); EvalStaticsDesign 109 (adds 21, muls 82, divs 2, calls 4); EvalDynamicsDesign 299 (adds 88, muls 203, divs 0, calls 8); EvalDetPhiPhi 9 (adds 1, muls 4, divs 0, calls 4); SolvePositions 107 (adds 23, muls 74, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 31 (adds 8, muls 15, divs 0, calls 8); EvalAppliedLoads 17 (adds 2, muls 13, divs 0, calls 2); EvalDrawing 22 (adds 4, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 32 (adds 10, muls 14, divs 0, calls 8); EvalCoefficients 73 (adds 21, muls 43, divs 1, calls 8); EvalStatics 40 (adds 7, muls 30, divs 1, calls 2); EvalDynamics 105 (adds 25, muls 72, divs 0, calls 8); EvalKinetostatics 160 (adds 43, muls 108, divs 1, calls 8); EvalExcess 152 (adds 37, muls 107, divs 0, calls 8); EvalShaking 126 (adds 43, muls 74, divs 1, calls 8); EvalStiffness 16 (adds 1, muls 13, divs 0, calls 2); EvalDesignDerivatives 186 (adds 53, muls 124, divs 1, calls 8); EvalStaticsDesign 109 (adds 21, muls 82, divs 2, calls 4); EvalDynamicsDesign 299 (adds 88, muls 203, divs 0, calls 8); EvalShakingDesign 325 (adds 109, muls 208, divs 0, calls 8); EvalDetPhiPhi 9 (adds 1, muls 4, divs 0, calls 4); SolvePositions 107 (adds 23, muls 74, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 31 (adds 8, muls 15, divs 0, calls 8); EvalAppliedLoads 17 (adds 2, muls 13, divs 0, calls 2); EvalDrawing 22 (adds 4, muls 12, divs 0, calls 6)
  */
 #pragma once
 
@@ -1576,6 +1576,201 @@ void EvalDynamicsDesign(const Params<Scalar>& p,
 }
 
 /**
+ * \brief Design sensitivities of the shaking force and moment (EvalShaking, Paul ch. 7) at (q, qd, qdd):
+ * d/dp of F = -sum m a_G and of M about O for the design parameters kDesignNames, q, qd and qdd held
+ * (EvalShaking differentiated statement by statement; phi, K and L through EvalDesignDerivatives).
+ * Generated exactly where the model has both kHasShaking and kHasDynamicsDesign.
+ * \param[in]  p      Parameters.
+ * \param[in]  q      Inputs (dim kNq).
+ * \param[in]  phi    Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[in]  qd     Input velocities (dim kNq).
+ * \param[in]  qdd    Input accelerations (dim kNq).
+ * \param[in]  c      EvalCoefficients() at this (q, phi).
+ * \param[in]  dc     EvalDesignDerivatives() at this (q, phi).
+ * \param[out] dF_dp  dF_dp(a, d) = d F(a)/dp_d of Shaking::F, a = 0: x, 1: y (N per unit of p_d) (2
+ *                    x kNumDesign). May be nullptr.
+ * \param[out] dM_dp  dM_dp(d) = dM/dp_d of Shaking::M about O (N m per unit of p_d, CCW +) (dim
+ *                    kNumDesign). May be nullptr.
+ * \note Near a dead point the derivatives grow like 1/sigma_min(Phi_phi), as K and L do: check the
+ * conditioning first.
+ */
+template <typename Scalar>
+void EvalShakingDesign(const Params<Scalar>& p,
+                       const Vec<Scalar, Sizes::kNq>& q,
+                       const Vec<Scalar, Sizes::kNphi>& phi,
+                       const Vec<Scalar, Sizes::kNq>& qd,
+                       const Vec<Scalar, Sizes::kNq>& qdd,
+                       const Coefficients<Scalar>& c,
+                       const DesignDerivatives<Scalar>& dc,
+                       Out<Mat<Scalar, 2, Sizes::kNumDesign>> dF_dp,
+                       Out<Vec<Scalar, Sizes::kNumDesign>> dM_dp = nullptr) {
+  // Total ops: 325 (adds 109, muls 208, divs 0, calls 8); intermediate terms: 24
+  using std::cos;
+  using std::sin;
+  const Scalar _tmp0 = sin(phi(0));
+  const Scalar _tmp1 = _tmp0*c.K(0, 0)*p.l_G;
+  const Scalar _tmp2 = cos(p.gamma_1);
+  const Scalar _tmp3 = sin(q(0));
+  const Scalar _tmp4 = _tmp2*_tmp3*p.r;
+  const Scalar _tmp5 = cos(q(0));
+  const Scalar _tmp6 = sin(p.gamma_1);
+  const Scalar _tmp7 = _tmp5*_tmp6*p.r;
+  const Scalar KG2_x_0 = -_tmp1 - _tmp4 - _tmp7;
+  const Scalar _tmp8 = _tmp3*_tmp6*p.r;
+  const Scalar _tmp9 = cos(phi(0));
+  const Scalar _tmp10 = _tmp9*c.K(0, 0)*p.l_G;
+  const Scalar _tmp11 = _tmp2*_tmp5*p.r;
+  const Scalar KG2_y_0 = _tmp10 + _tmp11 - _tmp8;
+  const Scalar _tmp12 = c.K(0, 0)*c.K(0, 0);
+  const Scalar _tmp13 = -_tmp12*_tmp9*p.l_G;
+  const Scalar _tmp14 = -_tmp0*c.L(0, 0)*p.l_G;
+  const Scalar LG2_x_0_0 = -_tmp11 + _tmp13 + _tmp14 + _tmp8;
+  const Scalar _tmp15 = _tmp0*_tmp12*p.l_G;
+  const Scalar _tmp16 = _tmp9*c.L(0, 0)*p.l_G;
+  const Scalar LG2_y_0_0 = -_tmp15 + _tmp16 - _tmp4 - _tmp7;
+  const Scalar _tmp17 = cos(p.beta_1);
+  const Scalar KG3_x_0 = _tmp17*c.K(1, 0);
+  const Scalar _tmp18 = sin(p.beta_1);
+  const Scalar KG3_y_0 = _tmp18*c.K(1, 0);
+  const Scalar LG3_x_0_0 = _tmp17*c.L(1, 0);
+  const Scalar LG3_y_0_0 = _tmp18*c.L(1, 0);
+  const Scalar _tmp19 = qd(0)*qd(0);
+  const Scalar aG2_x = KG2_x_0*qdd(0) + LG2_x_0_0*_tmp19;
+  const Scalar aG2_y = KG2_y_0*qdd(0) + LG2_y_0_0*_tmp19;
+  const Scalar alpha2 = _tmp19*c.L(0, 0) + c.K(0, 0)*qdd(0);
+  const Scalar aG3_x = KG3_x_0*qdd(0) + LG3_x_0_0*_tmp19;
+  const Scalar aG3_y = KG3_y_0*qdd(0) + LG3_y_0_0*_tmp19;
+  const Scalar rG2_x = _tmp11 - _tmp8 + _tmp9*p.l_G;
+  const Scalar rG2_y = _tmp0*p.l_G + _tmp4 + _tmp7;
+  const Scalar rG3_x = _tmp17*phi(1) - _tmp18*p.e;
+  const Scalar rG3_y = _tmp17*p.e + _tmp18*phi(1);
+  const Scalar dshaking_chain_0 = -_tmp10;
+  const Scalar _tmp20 = -_tmp0*p.l_G;
+  const Scalar dshaking_chain_1 = _tmp20;
+  const Scalar _tmp21 = -_tmp2*_tmp3;
+  const Scalar _tmp22 = -_tmp5*_tmp6;
+  const Scalar d_KG2_x_0_r = _tmp21 + _tmp22 + dc.dK_dp(0, 0)*dshaking_chain_1 + dc.dphi_dp(0, 0)*dshaking_chain_0;
+  const Scalar d_KG2_x_0_l = dc.dK_dp(0, 1)*dshaking_chain_1 + dc.dphi_dp(0, 1)*dshaking_chain_0;
+  const Scalar d_KG2_x_0_e = dc.dK_dp(0, 2)*dshaking_chain_1 + dc.dphi_dp(0, 2)*dshaking_chain_0;
+  const Scalar d_KG2_x_0_l_G = -_tmp0*c.K(0, 0);
+  const Scalar dshaking_chain_2 = -_tmp1;
+  const Scalar dshaking_chain_3 = _tmp9*p.l_G;
+  const Scalar _tmp23 = -_tmp3*_tmp6;
+  const Scalar d_KG2_y_0_r = _tmp2*_tmp5 + _tmp23 + dc.dK_dp(0, 0)*dshaking_chain_3 + dc.dphi_dp(0, 0)*dshaking_chain_2;
+  const Scalar d_KG2_y_0_l = dc.dK_dp(0, 1)*dshaking_chain_3 + dc.dphi_dp(0, 1)*dshaking_chain_2;
+  const Scalar d_KG2_y_0_e = dc.dK_dp(0, 2)*dshaking_chain_3 + dc.dphi_dp(0, 2)*dshaking_chain_2;
+  const Scalar d_KG2_y_0_l_G = _tmp9*c.K(0, 0);
+  const Scalar dshaking_chain_4 = _tmp15 - _tmp16;
+  const Scalar dshaking_chain_5 = -Scalar(2)*_tmp10;
+  const Scalar dshaking_chain_6 = _tmp20;
+  const Scalar d_LG2_x_0_0_r = -_tmp2*_tmp5 + _tmp3*_tmp6 + dc.dK_dp(0, 0)*dshaking_chain_5 + dc.dL_dp(0, 0)*dshaking_chain_6 + dc.dphi_dp(0, 0)*dshaking_chain_4;
+  const Scalar d_LG2_x_0_0_l = dc.dK_dp(0, 1)*dshaking_chain_5 + dc.dL_dp(0, 1)*dshaking_chain_6 + dc.dphi_dp(0, 1)*dshaking_chain_4;
+  const Scalar d_LG2_x_0_0_e = dc.dK_dp(0, 2)*dshaking_chain_5 + dc.dL_dp(0, 2)*dshaking_chain_6 + dc.dphi_dp(0, 2)*dshaking_chain_4;
+  const Scalar d_LG2_x_0_0_l_G = -_tmp0*c.L(0, 0) - _tmp12*_tmp9;
+  const Scalar dshaking_chain_7 = _tmp13 + _tmp14;
+  const Scalar dshaking_chain_8 = -Scalar(2)*_tmp1;
+  const Scalar dshaking_chain_9 = _tmp9*p.l_G;
+  const Scalar d_LG2_y_0_0_r = _tmp21 + _tmp22 + dc.dK_dp(0, 0)*dshaking_chain_8 + dc.dL_dp(0, 0)*dshaking_chain_9 + dc.dphi_dp(0, 0)*dshaking_chain_7;
+  const Scalar d_LG2_y_0_0_l = dc.dK_dp(0, 1)*dshaking_chain_8 + dc.dL_dp(0, 1)*dshaking_chain_9 + dc.dphi_dp(0, 1)*dshaking_chain_7;
+  const Scalar d_LG2_y_0_0_e = dc.dK_dp(0, 2)*dshaking_chain_8 + dc.dL_dp(0, 2)*dshaking_chain_9 + dc.dphi_dp(0, 2)*dshaking_chain_7;
+  const Scalar d_LG2_y_0_0_l_G = -_tmp0*_tmp12 + _tmp9*c.L(0, 0);
+  const Scalar dshaking_chain_10 = _tmp17;
+  const Scalar d_KG3_x_0_r = dc.dK_dp(1, 0)*dshaking_chain_10;
+  const Scalar d_KG3_x_0_l = dc.dK_dp(1, 1)*dshaking_chain_10;
+  const Scalar d_KG3_x_0_e = dc.dK_dp(1, 2)*dshaking_chain_10;
+  const Scalar dshaking_chain_11 = _tmp18;
+  const Scalar d_KG3_y_0_r = dc.dK_dp(1, 0)*dshaking_chain_11;
+  const Scalar d_KG3_y_0_l = dc.dK_dp(1, 1)*dshaking_chain_11;
+  const Scalar d_KG3_y_0_e = dc.dK_dp(1, 2)*dshaking_chain_11;
+  const Scalar dshaking_chain_12 = _tmp17;
+  const Scalar d_LG3_x_0_0_r = dc.dL_dp(1, 0)*dshaking_chain_12;
+  const Scalar d_LG3_x_0_0_l = dc.dL_dp(1, 1)*dshaking_chain_12;
+  const Scalar d_LG3_x_0_0_e = dc.dL_dp(1, 2)*dshaking_chain_12;
+  const Scalar dshaking_chain_13 = _tmp18;
+  const Scalar d_LG3_y_0_0_r = dc.dL_dp(1, 0)*dshaking_chain_13;
+  const Scalar d_LG3_y_0_0_l = dc.dL_dp(1, 1)*dshaking_chain_13;
+  const Scalar d_LG3_y_0_0_e = dc.dL_dp(1, 2)*dshaking_chain_13;
+  const Scalar dshaking_chain_14 = _tmp19;
+  const Scalar d_aG2_x_r = d_KG2_x_0_r*qdd(0) + d_LG2_x_0_0_r*dshaking_chain_14;
+  const Scalar d_aG2_x_l = d_KG2_x_0_l*qdd(0) + d_LG2_x_0_0_l*dshaking_chain_14;
+  const Scalar d_aG2_x_e = d_KG2_x_0_e*qdd(0) + d_LG2_x_0_0_e*dshaking_chain_14;
+  const Scalar d_aG2_x_l_G = d_KG2_x_0_l_G*qdd(0) + d_LG2_x_0_0_l_G*dshaking_chain_14;
+  const Scalar dshaking_chain_15 = _tmp19;
+  const Scalar d_aG2_y_r = d_KG2_y_0_r*qdd(0) + d_LG2_y_0_0_r*dshaking_chain_15;
+  const Scalar d_aG2_y_l = d_KG2_y_0_l*qdd(0) + d_LG2_y_0_0_l*dshaking_chain_15;
+  const Scalar d_aG2_y_e = d_KG2_y_0_e*qdd(0) + d_LG2_y_0_0_e*dshaking_chain_15;
+  const Scalar d_aG2_y_l_G = d_KG2_y_0_l_G*qdd(0) + d_LG2_y_0_0_l_G*dshaking_chain_15;
+  const Scalar dshaking_chain_16 = _tmp19;
+  const Scalar d_alpha2_r = dc.dK_dp(0, 0)*qdd(0) + dc.dL_dp(0, 0)*dshaking_chain_16;
+  const Scalar d_alpha2_l = dc.dK_dp(0, 1)*qdd(0) + dc.dL_dp(0, 1)*dshaking_chain_16;
+  const Scalar d_alpha2_e = dc.dK_dp(0, 2)*qdd(0) + dc.dL_dp(0, 2)*dshaking_chain_16;
+  const Scalar dshaking_chain_17 = _tmp19;
+  const Scalar d_aG3_x_r = d_KG3_x_0_r*qdd(0) + d_LG3_x_0_0_r*dshaking_chain_17;
+  const Scalar d_aG3_x_l = d_KG3_x_0_l*qdd(0) + d_LG3_x_0_0_l*dshaking_chain_17;
+  const Scalar d_aG3_x_e = d_KG3_x_0_e*qdd(0) + d_LG3_x_0_0_e*dshaking_chain_17;
+  const Scalar dshaking_chain_18 = _tmp19;
+  const Scalar d_aG3_y_r = d_KG3_y_0_r*qdd(0) + d_LG3_y_0_0_r*dshaking_chain_18;
+  const Scalar d_aG3_y_l = d_KG3_y_0_l*qdd(0) + d_LG3_y_0_0_l*dshaking_chain_18;
+  const Scalar d_aG3_y_e = d_KG3_y_0_e*qdd(0) + d_LG3_y_0_0_e*dshaking_chain_18;
+  const Scalar dshaking_chain_19 = _tmp20;
+  const Scalar d_rG2_x_r = _tmp2*_tmp5 + _tmp23 + dc.dphi_dp(0, 0)*dshaking_chain_19;
+  const Scalar d_rG2_x_l = dc.dphi_dp(0, 1)*dshaking_chain_19;
+  const Scalar d_rG2_x_e = dc.dphi_dp(0, 2)*dshaking_chain_19;
+  const Scalar d_rG2_x_l_G = _tmp9;
+  const Scalar dshaking_chain_20 = _tmp9*p.l_G;
+  const Scalar d_rG2_y_r = _tmp2*_tmp3 + _tmp5*_tmp6 + dc.dphi_dp(0, 0)*dshaking_chain_20;
+  const Scalar d_rG2_y_l = dc.dphi_dp(0, 1)*dshaking_chain_20;
+  const Scalar d_rG2_y_e = dc.dphi_dp(0, 2)*dshaking_chain_20;
+  const Scalar d_rG2_y_l_G = _tmp0;
+  const Scalar dshaking_chain_21 = _tmp17;
+  const Scalar d_rG3_x_r = dc.dphi_dp(1, 0)*dshaking_chain_21;
+  const Scalar d_rG3_x_l = dc.dphi_dp(1, 1)*dshaking_chain_21;
+  const Scalar d_rG3_x_e = -_tmp18 + dc.dphi_dp(1, 2)*dshaking_chain_21;
+  const Scalar dshaking_chain_22 = _tmp18;
+  const Scalar d_rG3_y_r = dc.dphi_dp(1, 0)*dshaking_chain_22;
+  const Scalar d_rG3_y_l = dc.dphi_dp(1, 1)*dshaking_chain_22;
+  const Scalar d_rG3_y_e = _tmp17 + dc.dphi_dp(1, 2)*dshaking_chain_22;
+  const Scalar dshaking_chain_23 = -p.m_rod;
+  const Scalar dshaking_chain_24 = -p.m_pis;
+  const Scalar dshaking_chain_25 = -p.m_rod;
+  const Scalar dshaking_chain_26 = -p.m_pis;
+  const Scalar dshaking_chain_27 = p.m_rod*rG2_y;
+  const Scalar dshaking_chain_28 = -p.m_rod*rG2_x;
+  const Scalar dshaking_chain_29 = -p.J_rod;
+  const Scalar dshaking_chain_30 = p.m_pis*rG3_y;
+  const Scalar dshaking_chain_31 = -p.m_pis*rG3_x;
+  const Scalar dshaking_chain_32 = -aG2_y*p.m_rod;
+  const Scalar dshaking_chain_33 = aG2_x*p.m_rod;
+  const Scalar dshaking_chain_34 = -aG3_y*p.m_pis;
+  const Scalar dshaking_chain_35 = aG3_x*p.m_pis;
+  if (dF_dp != nullptr) {
+    (*dF_dp)(0, 0) = d_aG2_x_r*dshaking_chain_23 + d_aG3_x_r*dshaking_chain_24;
+    (*dF_dp)(1, 0) = d_aG2_y_r*dshaking_chain_25 + d_aG3_y_r*dshaking_chain_26;
+    (*dF_dp)(0, 1) = d_aG2_x_l*dshaking_chain_23 + d_aG3_x_l*dshaking_chain_24;
+    (*dF_dp)(1, 1) = d_aG2_y_l*dshaking_chain_25 + d_aG3_y_l*dshaking_chain_26;
+    (*dF_dp)(0, 2) = d_aG2_x_e*dshaking_chain_23 + d_aG3_x_e*dshaking_chain_24;
+    (*dF_dp)(1, 2) = d_aG2_y_e*dshaking_chain_25 + d_aG3_y_e*dshaking_chain_26;
+    (*dF_dp)(0, 3) = -aG2_x;
+    (*dF_dp)(1, 3) = -aG2_y;
+    (*dF_dp)(0, 4) = d_aG2_x_l_G*dshaking_chain_23;
+    (*dF_dp)(1, 4) = d_aG2_y_l_G*dshaking_chain_25;
+    (*dF_dp)(0, 5) = Scalar(0);
+    (*dF_dp)(1, 5) = Scalar(0);
+    (*dF_dp)(0, 6) = -aG3_x;
+    (*dF_dp)(1, 6) = -aG3_y;
+  }
+  if (dM_dp != nullptr) {
+    (*dM_dp)(0) = d_aG2_x_r*dshaking_chain_27 + d_aG2_y_r*dshaking_chain_28 + d_aG3_x_r*dshaking_chain_30 + d_aG3_y_r*dshaking_chain_31 + d_alpha2_r*dshaking_chain_29 + d_rG2_x_r*dshaking_chain_32 + d_rG2_y_r*dshaking_chain_33 + d_rG3_x_r*dshaking_chain_34 + d_rG3_y_r*dshaking_chain_35;
+    (*dM_dp)(1) = d_aG2_x_l*dshaking_chain_27 + d_aG2_y_l*dshaking_chain_28 + d_aG3_x_l*dshaking_chain_30 + d_aG3_y_l*dshaking_chain_31 + d_alpha2_l*dshaking_chain_29 + d_rG2_x_l*dshaking_chain_32 + d_rG2_y_l*dshaking_chain_33 + d_rG3_x_l*dshaking_chain_34 + d_rG3_y_l*dshaking_chain_35;
+    (*dM_dp)(2) = d_aG2_x_e*dshaking_chain_27 + d_aG2_y_e*dshaking_chain_28 + d_aG3_x_e*dshaking_chain_30 + d_aG3_y_e*dshaking_chain_31 + d_alpha2_e*dshaking_chain_29 + d_rG2_x_e*dshaking_chain_32 + d_rG2_y_e*dshaking_chain_33 + d_rG3_x_e*dshaking_chain_34 + d_rG3_y_e*dshaking_chain_35;
+    (*dM_dp)(3) = aG2_x*rG2_y - aG2_y*rG2_x;
+    (*dM_dp)(4) = d_aG2_x_l_G*dshaking_chain_27 + d_aG2_y_l_G*dshaking_chain_28 + d_rG2_x_l_G*dshaking_chain_32 + d_rG2_y_l_G*dshaking_chain_33;
+    (*dM_dp)(5) = -alpha2;
+    (*dM_dp)(6) = aG3_x*rG3_y - aG3_y*rG3_x;
+  }
+}
+
+/**
  * \brief det Phi_phi: zero where the mechanism is singular (a dead point, a change point),
  * as the product of the blocks' determinants. Its sign is the assembly branch of a loop.
  * \param[in]  p            Parameters.
@@ -1911,6 +2106,15 @@ extern template void EvalDynamicsDesign<double>(const Params<double>&,
                                                 const DesignDerivatives<double>&,
                                                 DynamicsDesign<double>*,
                                                 const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*);
+extern template void EvalShakingDesign<double>(const Params<double>&,
+                                               const Vec<double, Sizes::kNq>&,
+                                               const Vec<double, Sizes::kNphi>&,
+                                               const Vec<double, Sizes::kNq>&,
+                                               const Vec<double, Sizes::kNq>&,
+                                               const Coefficients<double>&,
+                                               const DesignDerivatives<double>&,
+                                               Out<Mat<double, 2, Sizes::kNumDesign>>,
+                                               Out<Vec<double, Sizes::kNumDesign>>);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                            const Vec<double, Sizes::kNq>&,
                                            const Vec<double, Sizes::kNphi>&,
@@ -2003,6 +2207,15 @@ extern template void EvalDynamicsDesign<float>(const Params<float>&,
                                                const DesignDerivatives<float>&,
                                                DynamicsDesign<float>*,
                                                const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*);
+extern template void EvalShakingDesign<float>(const Params<float>&,
+                                              const Vec<float, Sizes::kNq>&,
+                                              const Vec<float, Sizes::kNphi>&,
+                                              const Vec<float, Sizes::kNq>&,
+                                              const Vec<float, Sizes::kNq>&,
+                                              const Coefficients<float>&,
+                                              const DesignDerivatives<float>&,
+                                              Out<Mat<float, 2, Sizes::kNumDesign>>,
+                                              Out<Vec<float, Sizes::kNumDesign>>);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -2289,6 +2502,18 @@ struct Model : Sizes {
                              DynamicsDesign<Scalar>* out,
                              const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
     EvalDynamicsDesign(p, q, phi, qd, t, c, dc, out, friction);
+  }
+  template <typename Scalar>
+  static void ShakingDesign(const Params<Scalar>& p,
+                            const Vec<Scalar, Sizes::kNq>& q,
+                            const Vec<Scalar, Sizes::kNphi>& phi,
+                            const Vec<Scalar, Sizes::kNq>& qd,
+                            const Vec<Scalar, Sizes::kNq>& qdd,
+                            const Coefficients<Scalar>& c,
+                            const DesignDerivatives<Scalar>& dc,
+                            Out<Mat<Scalar, 2, Sizes::kNumDesign>> dF_dp,
+                            Out<Vec<Scalar, Sizes::kNumDesign>> dM_dp = nullptr) {
+    EvalShakingDesign(p, q, phi, qd, qdd, c, dc, dF_dp, dM_dp);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,
