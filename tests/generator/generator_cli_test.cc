@@ -408,4 +408,43 @@ TEST(BadModelMore, MissingFileIsReported) {
   EXPECT_NE(r.output.find("/nonexistent/model.yaml: error: cannot open"), std::string::npos) << r.output;
 }
 
+
+// `design: {quantities: [...]}` emits only the derivatives it names (positions always): the
+// loaded four-bar with statics, with and without `statics` and `checks` in the list; the
+// default is every one the outputs have.
+TEST(DesignQuantities, OnlyTheNamedDerivativesAreEmitted) {
+  TempDir dir;
+  std::string text = Slurp(kSource / "models" / "fourbar_loaded.yaml");
+  const size_t at = text.find("\ndesign:");
+  ASSERT_NE(at, std::string::npos);
+  const std::string before = text.substr(0, at + 1), after = text.substr(text.find('\n', at + 1));
+  auto generate = [&](const std::string& design, const std::string& name) {
+    const fs::path model = dir.path() / (name + ".yaml");
+    std::ofstream(model) << before << design << after;
+    const Result r = RunMechgen("generate " + model.string() + " -o " + dir.path().string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return Slurp(dir.path() / (std::string("fourbar_loaded") + ".h"));
+  };
+  const std::string all = generate("design: [a, b, c, d]", "all");
+  EXPECT_NE(all.find("void EvalDesignDerivatives("), std::string::npos);
+  EXPECT_NE(all.find("void EvalDesignChecks("), std::string::npos);
+  EXPECT_NE(all.find("void EvalStaticsDesign("), std::string::npos);
+  const std::string positions = generate("design: {parameters: [a, b, c, d], quantities: [positions]}", "positions");
+  EXPECT_NE(positions.find("void EvalDesignDerivatives("), std::string::npos);
+  EXPECT_EQ(positions.find("void EvalDesignChecks("), std::string::npos);
+  EXPECT_EQ(positions.find("void EvalStaticsDesign("), std::string::npos);
+  EXPECT_NE(positions.find("static constexpr bool kHasStaticsDesign = false;"), std::string::npos);
+  const std::string statics = generate("design: {parameters: [a, b, c, d], quantities: [statics]}", "statics");
+  EXPECT_NE(statics.find("void EvalStaticsDesign("), std::string::npos);
+  EXPECT_EQ(statics.find("void EvalDesignChecks("), std::string::npos);
+  // A quantity the outputs do not have, or no such quantity: an error at it.
+  const fs::path bad = dir.path() / "bad.yaml";
+  std::ofstream(bad) << before << "design: {parameters: [a], quantities: [dynamics]}" << after;
+  Result r = RunMechgen("generate " + bad.string() + " -o " + (dir.path() / "out").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("design quantity 'dynamics' needs dynamics in outputs.quantities"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir.path() / "out" / "fourbar_loaded.h"));
+}
+
 }  // namespace
