@@ -16,15 +16,11 @@
 #include <utility>
 #include <vector>
 
+#include "mechgen/core/random.h"
+
 namespace mechgen::study {
 
-/// SplitMix64's finaliser: a bijective mix of 64 bits.
-inline uint64_t Mix64(uint64_t z) {
-  z += 0x9e3779b97f4a7c15ULL;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
+using mechgen::Mix64;  // core/random.h
 
 /// 64 random bits for (seed, stream, index): a hash of the three (counter-based).
 inline uint64_t Bits(uint64_t seed, uint64_t stream, uint64_t index) {

@@ -1,6 +1,6 @@
 /**
  * \file synthesis/random.h
- * The synthesis' random numbers: splitmix64 (Steele, Lea, Flood 2014), written out so that a
+ * The synthesis' random numbers: splitmix64 (Steele, Lea, Flood 2014; its mix in core/random.h), so that a
  * seed gives the same numbers with every standard library (no std:: distributions). One
  * stream per restart, seeded from (seed, restart): the restarts' results do not depend on
  * which thread ran them.
@@ -8,6 +8,8 @@
 #pragma once
 
 #include <cstdint>
+
+#include "mechgen/core/random.h"
 
 namespace mechgen::synthesis {
 
@@ -20,10 +22,9 @@ class SplitMix64 {
     Next();
   }
   uint64_t Next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
+    const uint64_t z = state_;
+    state_ += 0x9E3779B97F4A7C15ULL;
+    return Mix64(z);  // core/random.h: the same increment, then the finaliser
   }
   /// Uniform in [0, 1): the top 53 bits.
   double Uniform() { return static_cast<double>(Next() >> 11) * 0x1.0p-53; }
