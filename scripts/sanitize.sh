@@ -11,7 +11,10 @@
 # every shipped model; Report.SameBytesFromSeparateProcesses): this stage's build already runs
 # the sanitized generator on every shipped model, and GeneratedFiles.MatchWhatTheGenerator-
 # ProducesNow runs it once more here; repeating the same runs adds no sanitizer coverage and
-# took 300 of this stage's 985 test seconds.
+# took 300 of this stage's 985 test seconds. Likewise synthesis.command and study.command: they
+# compile the synthesize and study drivers with the system compiler, uninstrumented (about 60 s
+# each), and run them; the sanitized generator run inside them is every other test's too, and
+# the drivers' code is sanitized here by synthesis_test and study_test, which link it.
 # Optimization: -O1 with line tables (-g1), the level the sanitizers' manuals advise, for the
 # generator and the model libraries; the test programs at -Og (MECHGEN_TEST_OPTIMIZATION in
 # the top-level CMakeLists.txt: half the compile time of -O1, the same checks). At
@@ -38,5 +41,5 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 cmake --build "$build" --parallel 2 -- --quiet
 echo "sanitize: build took $(( $(date +%s) - start )) s"
 ctest --test-dir "$build" --output-on-failure --parallel 2 \
-  -E '^(GeneratedFiles\.SameBytesOnEveryRun|Report\.SameBytesFromSeparateProcesses)$' "$@"
+  -E '^(GeneratedFiles\.SameBytesOnEveryRun|Report\.SameBytesFromSeparateProcesses|synthesis\.command|study\.command)$' "$@"
 echo "sanitize: build and tests took $(( $(date +%s) - start )) s"
