@@ -493,6 +493,7 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   static constexpr bool kHasDesignDerivatives = false;
   static constexpr bool kHasStaticsDesign = false;
+  static constexpr bool kHasDynamicsDesign = false;
   // What else it has (core/model_traits.h reads these too): Coefficients with Phi, Phi_phi, K, L; Solve with Trig (no SolveTrig); no drawing.
   static constexpr bool kHasCoeffsPhi = true;
   static constexpr bool kHasK = true;

@@ -126,6 +126,7 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   static constexpr bool kHasDesignDerivatives = false;
   static constexpr bool kHasStaticsDesign = false;
+  static constexpr bool kHasDynamicsDesign = false;
   // What else it has (core/model_traits.h reads these too): Coefficients with K only; no Solve, no drawing.
   static constexpr bool kHasCoeffsPhi = false;
   static constexpr bool kHasK = true;

@@ -203,6 +203,7 @@ struct Model : Sizes {
   static constexpr bool kHasRhsConstants = false;
   static constexpr bool kHasDesignDerivatives = false;
   static constexpr bool kHasStaticsDesign = false;
+  static constexpr bool kHasDynamicsDesign = false;
   // What else it has (core/model_traits.h reads these too): Coefficients with Phi, Phi_phi, K, L, r_P, K_P, L_P; no Solve, no drawing.
   static constexpr bool kHasCoeffsPhi = true;
   static constexpr bool kHasK = true;
