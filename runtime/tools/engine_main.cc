@@ -842,9 +842,8 @@ int PrintFlywheelDesign(const Args& a, const Params& p, const Engine& e, const G
       typename M::template DynamicsDesignT<double> dd;
       M::DynamicsDesign(p, q, phi, qd, 0.0, c, dc, &dd);
       for (int d = 0; d < kNp; ++d) {
-        double v = -dd.dh_dp(0, d);
-        for (int j = 0; j < e.n; ++j) v -= gas.Pressure(j, theta) * e.area * dc.dK_dp(e.slide[j], d);
-        dT[static_cast<size_t>(k)][static_cast<size_t>(d)] = v;
+        // The gas torque is linear in K: its derivative is the same sum over dK/dp_d.
+        dT[static_cast<size_t>(k)][static_cast<size_t>(d)] = gas.Torque(theta, dc.dK_dp.middleCols(d, 1)) - dd.dh_dp(0, d);
         dI[static_cast<size_t>(k)][static_cast<size_t>(d)] = dd.dI_dp(0, d);
       }
     }
