@@ -51,6 +51,9 @@
 # NO_SWEEP everywhere); without Ceres (no target mechgen::runtime_ceres) there are no
 # <name>_sweep and <name>_statics, the Eigen-only tools remain.
 #
+# Every tool defined is appended to the global property MECHGEN_MODEL_TOOLS (mechgen's own
+# build leaves the untested ones out of `all` in its test command: top-level CMakeLists.txt).
+#
 # The variable MECHGEN_TOOL_COMPILE_OPTIONS (default empty: the project's flags) is added to
 # every tool's compile options; mechgen's own build sets it to -O2 for Release (see the
 # top-level CMakeLists.txt for what that saves).
@@ -107,6 +110,7 @@ function(_mechgen_add_tool name tool main need lacks quantity)
     MECHGEN_TOOL_NEEDS=${need} MECHGEN_TOOL_LACKS="${lacks}" MECHGEN_TOOL_QUANTITY="${quantity}")
   target_link_libraries(${name}_${tool} PRIVATE mechgen_model_${name} ${ARGN})
   target_compile_options(${name}_${tool} PRIVATE ${MECHGEN_TOOL_COMPILE_OPTIONS})
+  set_property(GLOBAL APPEND PROPERTY MECHGEN_MODEL_TOOLS ${name}_${tool})
   # CLI11 (header-only): where the build tree found it (runtime/CMakeLists.txt), else on the
   # default include path.
   if(MECHGEN_CLI11_INCLUDE_DIR)
@@ -196,6 +200,7 @@ function(mechgen_add_model name model)
       MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name})
     target_link_libraries(${name}_sweep PRIVATE mechgen_model_${name} mechgen::runtime_ceres)
     target_compile_options(${name}_sweep PRIVATE ${MECHGEN_TOOL_COMPILE_OPTIONS})
+    set_property(GLOBAL APPEND PROPERTY MECHGEN_MODEL_TOOLS ${name}_sweep)
     _mechgen_wants(statics ARG_STATICS ARG_NO_STATICS forces)
     if(statics AND EXISTS "${MECHGEN_TOOLS_DIR}/statics_main.cc")
       _mechgen_add_tool(${name} statics statics_main.cc MECHGEN_MODEL_HAS_FORCES statics forces

@@ -2,13 +2,15 @@
 # Installs what is missing, configures ./build (Release, Ninja) and builds the given
 # targets (all when none). Used by the README's two commands. MECHGEN_BUILD_BENCHMARKS=OFF
 # leaves the benchmark programs out (scripts/test.sh: no test runs them; each bench/*/run.sh
-# configures them back in).
+# configures them back in); MECHGEN_ALL_MODEL_TOOLS=OFF builds only the shipped models' tools
+# that a test runs (scripts/test.sh; see the top-level CMakeLists.txt).
 #   bash scripts/build.sh [target ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release \
-  -DMECHGEN_BUILD_BENCHMARKS="${MECHGEN_BUILD_BENCHMARKS:-ON}" >/dev/null
+  -DMECHGEN_BUILD_BENCHMARKS="${MECHGEN_BUILD_BENCHMARKS:-ON}" \
+  -DMECHGEN_ALL_MODEL_TOOLS="${MECHGEN_ALL_MODEL_TOOLS:-ON}" >/dev/null
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done
 echo "mechgen: building ${*:-everything} in ./build (first time: several minutes on 2 cores)"
