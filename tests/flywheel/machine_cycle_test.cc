@@ -13,14 +13,20 @@
 //  - The jaw crusher of models/crusher.yaml (a massless six-bar): its driving torque by
 //    virtual work, its jaw's bearing loads by a free body, and its energy loop, all from its
 //    geometry by circle intersections.
+//  - Where the flywheel (and statics) commands find their plot scripts (runtime/tools/common/
+//    gnuplot.h) when installed: <prefix>/bin/<tool> -> <prefix>/share/mechgen/tools.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <vector>
 
+#include "common/gnuplot.h"
 #include "crusher.h"
 #include "fourbar_loaded.h"
 #include "fourbar_massive.h"
@@ -635,6 +641,49 @@ TEST(FlywheelEnergyLoop, BreaksKeepAKinkedTorqueFourthOrder) {
   o.breaks = outside;
   o.num_breaks = 1;
   EXPECT_EQ(fw::ExcessEnergy(dT.data(), 96, 2 * kPi, 0.0, o).status, fw::LoopStatus::kTooFewSamples);
+}
+
+}  // namespace
+
+namespace {
+
+// The plot scripts' lookup (runtime/tools/common/gnuplot.h): a tool installed in <prefix>/bin
+// finds <prefix>/share/mechgen/tools (where CMakeLists.txt installs runtime/tools/), with
+// $MECHGEN_TOOLS_DIR before it and a directory that lacks one of the scripts passed over. In a
+// temporary prefix, with a script that only it holds (the source tree's runtime/tools, also a
+// candidate, does not).
+TEST(FlywheelPlotScripts, FoundBesideTheInstalledProgram) {
+  namespace fs = std::filesystem;
+  namespace tools = mechgen::tools;
+  const fs::path root = fs::temp_directory_path() / ("mechgen_plot_scripts_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  const fs::path prefix = root / "prefix", share = prefix / "share" / "mechgen" / "tools", other = root / "other";
+  for (const fs::path& d : {prefix / "bin", share, other}) ASSERT_TRUE(fs::create_directories(d)) << d;
+  const char* script = "plot_only_in_this_test.gnuplot";
+  for (const fs::path& d : {share, other}) std::ofstream(d / script) << "# a test's script\n";
+  const fs::path program = prefix / "bin" / "crusher_flywheel";
+  const std::vector<fs::path> installed = tools::PlotScriptDirs(nullptr, program);
+  EXPECT_EQ(tools::FindPlotScriptsIn(installed, {script}), share);
+  EXPECT_EQ(tools::FindPlotScriptsIn(tools::PlotScriptDirs("", program), {script}), share);  // empty: unset
+  EXPECT_EQ(tools::FindPlotScriptsIn(tools::PlotScriptDirs(other.c_str(), program), {script}), other);
+  // Every script must be there: one missing, no directory has both.
+  EXPECT_TRUE(tools::FindPlotScriptsIn(installed, {script, "plot_missing_everywhere.gnuplot"}).empty());
+  // Not installed (no share/mechgen/tools beside the program): not found.
+  EXPECT_TRUE(tools::FindPlotScriptsIn(tools::PlotScriptDirs(nullptr, root / "elsewhere" / "bin" / "t"), {script})
+                  .empty());
+  // The header's own directory, the last resort, only as an absolute path (ccache's base_dir
+  // makes __FILE__ relative to the compiler's directory, unknown at run time).
+  for (const fs::path& d : installed) EXPECT_TRUE(d.is_absolute()) << d;
+  // A file named like the directory is not a directory of scripts.
+  fs::remove_all(share);
+  std::ofstream(share.string()) << "not a directory\n";
+  EXPECT_TRUE(tools::FindPlotScriptsIn(installed, {script}).empty());
+  // The command's own lookup reads $MECHGEN_TOOLS_DIR.
+  ASSERT_EQ(::setenv("MECHGEN_TOOLS_DIR", other.c_str(), 1), 0);
+  EXPECT_EQ(tools::FindPlotScripts({script}), other);
+  ::unsetenv("MECHGEN_TOOLS_DIR");
+  EXPECT_TRUE(tools::FindPlotScripts({script}).empty());
+  fs::remove_all(root);
 }
 
 }  // namespace
