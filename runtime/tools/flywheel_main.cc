@@ -150,10 +150,14 @@ int Run(int argc, char** argv) {
   app.add_option("--cycle", cycle_text,
                  "the cycle (rad, or 'deg'); default the model's range when whole turns, else 360deg");
   app.add_option("--break", break_texts,
-                 "an angle (rad, or 'deg') where a switched load makes T_req kink, on a sample: the "
-                 "energy loop does not integrate across it (fourth order instead of second); "
-                 "repeatable")
+                 "an angle (rad, or 'deg') where a switched load makes T_req kink or jump, on a "
+                 "sample or between two: the energy loop does not integrate across it (fourth order "
+                 "instead of second or first); repeatable. The switches of a model with `dynamics` "
+                 "(its EvalSwitchModes) are found and made breaks without it")
       ->allow_extra_args(false);
+  bool no_switch_breaks = false;
+  app.add_flag("--no-switch-breaks", no_switch_breaks,
+               "do not make the located switches of the loads breaks of the energy loop");
   app.add_option("--motor", motor, "the simulated check's motor: constant (T = T_mean) or shunt "
                                    "(T = T_stall (1 - w/w_0) through w_m, T_mean)")
       ->check(CLI::IsMember({"constant", "shunt"}))
@@ -193,6 +197,7 @@ int Run(int argc, char** argv) {
   fw::MachineCycleOptions options;
   options.omega = fw::RpmToRadPerSecond(rpm);
   options.samples = samples;
+  options.switch_breaks = !no_switch_breaks;
   auto angle = [&](const std::string& option, const std::string& text, bool positive,
                    double* value) {
     if (!tools::ParseNumber(text, value, /*allow_degrees=*/true) ||
@@ -246,6 +251,17 @@ int Run(int argc, char** argv) {
   std::printf("  energy loop: E_max = %.9g J at %.6g deg, E_min = %.9g J at %.6g deg; dE = %.9g J\n",
               loop.E_max, loop.theta_max * kRadToDeg, loop.E_min, loop.theta_min * kRadToDeg,
               loop.delta_E);
+  if (!machine.breaks.empty() || !machine.switches.empty()) {
+    std::string list;
+    for (double b : machine.breaks) list += (list.empty() ? "" : ", ") + tools::FormatNumber(b * kRadToDeg);
+    std::printf("  breaks of the loop (deg): %s; %zu switches of the loads located%s\n",
+                list.empty() ? "none" : list.c_str(), machine.switches.size(),
+                machine.switches_unused > 0
+                    ? (", " + std::to_string(machine.switches_unused) +
+                       " too close to another break (second order there: use more samples)")
+                          .c_str()
+                    : "");
+  }
   std::printf("  C_s = %.6g: I = dE/(C_s w_m^2) = %.9g kg m^2", cs, size.I_required);
   if (machine.has_dynamics) {
     std::printf("; the machine's own mean I = %.6g kg m^2; flywheel I_fly = %.9g kg m^2%s\n",

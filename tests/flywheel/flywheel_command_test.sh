@@ -20,19 +20,31 @@ grep -q '^# punch_press_flywheel, model punch_press: energy loop' "$work/tool.cs
 grep -q 'dE = [0-9.]* J' "$work/tool.out" || fail "summary dE"
 grep -q 'flywheel I_fly = [0-9.]* kg m^2' "$work/tool.out" || fail "summary I_fly"
 grep -q 'simulated C_s = ' "$work/tool.out" || fail "summary simulated C_s"
-# Energy per stroke: F0 (delta - w/2) = 110 J (the trapezoid's error at the punch's kinks is
-# below 1e-3 J at 3600 samples: tests/flywheel/machine_cycle_test.cc).
-awk '/work per cycle/ { w = $4; exit } END { if (w < 109.999 || w > 110.001) exit 1 }' "$work/tool.out" ||
+# The punch's switches located (machine_cycle_test.cc checks their angles): 6, breaks at 0 and 180 deg.
+grep -q 'breaks of the loop (deg): 0, .*180, .*; 6 switches of the loads located$' "$work/tool.out" ||
+  fail "breaks line: $(grep breaks "$work/tool.out")"
+# Energy per stroke: F0 (delta - w/2) = 110 J (fourth order with the switches' breaks: < 1e-6 J
+# at 3600 samples, tests/flywheel/machine_cycle_test.cc; 1e-3 J without).
+awk '/work per cycle/ { w = $4; exit } END { if (w < 109.999999 || w > 110.000001) exit 1 }' "$work/tool.out" ||
   fail "work per cycle: $(grep 'work per cycle' "$work/tool.out")"
+"$tool" --rpm 300 --cs 0.02 --samples 3600 --no-switch-breaks --no-check > "$work/plain.out" 2>&1 ||
+  fail "--no-switch-breaks exited $?"
+grep -q 'breaks of the loop' "$work/plain.out" && fail "--no-switch-breaks still has breaks"
+awk '/work per cycle/ { w = $4; exit } END { if (w < 109.999 || w > 110.001) exit 1 }' "$work/plain.out" ||
+  fail "work per cycle without breaks: $(grep 'work per cycle' "$work/plain.out")"
 
 # A bad option: exit 2, one line.
 "$tool" --cs 2 > "$work/bad.out" 2> "$work/bad.err"; status=$?
 [ $status = 2 ] || fail "--cs 2 exited $status"
 [ "$(wc -l < "$work/bad.err")" = 1 ] || fail "--cs 2: not one line: $(cat "$work/bad.err")"
 "$tool" --motor diesel 2> "$work/bad.err"; [ $? = 2 ] || fail "--motor diesel"
-"$tool" --break 7.5deg --samples 360 --rpm 60 2> "$work/bad.err" > /dev/null; status=$?
-[ $status = 2 ] || fail "--break off the samples exited $status"
-grep -q 'not on a sample' "$work/bad.err" || fail "--break message: $(cat "$work/bad.err")"
+"$tool" --break 7.5deg --break 8deg --samples 360 --rpm 60 2> "$work/bad.err" > /dev/null; status=$?
+[ $status = 2 ] || fail "--break too close exited $status"
+grep -q 'closer than 3 sample intervals' "$work/bad.err" || fail "--break message: $(cat "$work/bad.err")"
+[ "$(wc -l < "$work/bad.err")" = 1 ] || fail "--break: not one line: $(cat "$work/bad.err")"
+# A break between samples is taken (7.25 deg at 360 samples: between 7 and 8 deg).
+"$tool" --break 7.25deg --samples 360 --rpm 60 --no-check > "$work/break.out" 2>&1 || fail "--break 7.25deg exited $?"
+grep -q 'breaks of the loop (deg): 0, 7.25, ' "$work/break.out" || fail "--break 7.25deg: $(grep breaks "$work/break.out")"
 # A machine that cannot be sized: the punch reversed (it drives the ram: no net load).
 "$tool" --set F0=-20000 --no-check > /dev/null 2> "$work/noload.err"; status=$?
 [ $status = 1 ] || fail "F0 < 0 exited $status"

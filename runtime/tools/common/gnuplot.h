@@ -36,29 +36,47 @@ inline std::filesystem::path FindOnPath(const std::string& program) {
   return fs::path();
 }
 
-/// The directory that holds every one of `scripts`, or empty. Looked up in $MECHGEN_TOOLS_DIR,
-/// then in the tools directory the command was compiled from (-DMECHGEN_TOOLS_DIR=..., set by
-/// mechgen_add_model() and by the mechgen driver), then beside the program as installed
-/// (<prefix>/bin -> <prefix>/share/mechgen/tools), then the directory this header lies under
-/// (runtime/tools in the source tree, share/mechgen/tools when installed).
-inline std::filesystem::path FindPlotScripts(std::initializer_list<const char*> scripts) {
+/// The directories the plot scripts are looked up in, in order: `env_dir` ($MECHGEN_TOOLS_DIR,
+/// when set and not empty), then the tools directory the command was compiled from
+/// (-DMECHGEN_TOOLS_DIR=..., set by mechgen_add_model() and by the mechgen driver), then beside
+/// `program` as installed (<prefix>/bin/<tool> -> <prefix>/share/mechgen/tools; none when
+/// `program` is empty), then the directory this header lies under (runtime/tools in the source
+/// tree, share/mechgen/tools when installed; only when the compiler saw its absolute path).
+inline std::vector<std::filesystem::path> PlotScriptDirs(const char* env_dir, const std::filesystem::path& program) {
   namespace fs = std::filesystem;
   std::vector<fs::path> candidates;
-  if (const char* env = std::getenv("MECHGEN_TOOLS_DIR"); env != nullptr && *env != 0)
-    candidates.push_back(env);
+  if (env_dir != nullptr && *env_dir != 0) candidates.push_back(env_dir);
 #ifdef MECHGEN_TOOLS_DIR
   candidates.push_back(MECHGEN_TOOLS_DIR);
 #endif
+  if (!program.empty()) candidates.push_back(program.parent_path().parent_path() / "share" / "mechgen" / "tools");
+  // __FILE__ is relative where the compiler was given a relative path (ccache's base_dir):
+  // relative to a directory unknown at run time, so not a candidate then.
+  if (const fs::path header(__FILE__); header.is_absolute()) candidates.push_back(header.parent_path().parent_path());
+  return candidates;
+}
+
+/// The first of `dirs` that holds every one of `scripts` (regular files), or empty.
+inline std::filesystem::path FindPlotScriptsIn(const std::vector<std::filesystem::path>& dirs,
+                                               std::initializer_list<const char*> scripts) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) candidates.push_back(self.parent_path().parent_path() / "share" / "mechgen" / "tools");
-  candidates.push_back(fs::path(__FILE__).parent_path().parent_path());
-  for (const fs::path& dir : candidates) {
+  for (const fs::path& dir : dirs) {
     bool all = true;
     for (const char* script : scripts) all = all && fs::is_regular_file(dir / script, ec);
     if (all) return dir;
   }
   return fs::path();
+}
+
+/// The directory that holds every one of `scripts`, or empty: PlotScriptDirs of
+/// $MECHGEN_TOOLS_DIR and this program (/proc/self/exe).
+inline std::filesystem::path FindPlotScripts(std::initializer_list<const char*> scripts) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) self.clear();
+  return FindPlotScriptsIn(PlotScriptDirs(std::getenv("MECHGEN_TOOLS_DIR"), self), scripts);
 }
 
 /// Runs `gnuplot -e "csv='<csv>'; <format>='<tmp>'" <script>` (no shell; format png or svg,

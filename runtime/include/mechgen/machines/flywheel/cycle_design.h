@@ -15,6 +15,9 @@
  * interpolant, so its derivatives are exact for the computed figures (energy_loop.h,
  * ExcessEnergyDerivative): dT_mean/dp, dE_max/dp, dE_min/dp, dΔE/dp; then
  * dI_required/dp = (dΔE/dp)/(C_s ω_m²) and dI_flywheel/dp = dI_required/dp − d mean I/dp.
+ * The loop's breaks (the cycle's: given and the located switches of the loads) are held at
+ * their angles: where T_req jumps at a switch whose angle moves with p, the term
+ * (T_req⁻ − T_req⁺) dθ_b/dp is not in the derivatives (it is 0 at a kink).
  *
  * Not differentiated (a status): Coulomb friction (the friction iteration's derivative is not
  * generated: EvalStaticsDesign holds the friction loads fixed). A sample where the positions
@@ -142,13 +145,10 @@ CycleDesign<M> SampleMachineCycleDesign(const typename M::template ParamsT<doubl
     // The loop of -T_req (mean removed), as SampleMachineCycle integrates it, differentiated.
     EnergyLoopOptions loop_options;
     loop_options.remove_mean = true;
-    std::vector<int> break_samples;
-    for (double b : o.breaks) {
-      const long long k = std::llround((b - cycle.theta0) / h_theta);
-      break_samples.push_back(static_cast<int>(((k % n) + n) % n));
-    }
-    loop_options.breaks = break_samples.data();
-    loop_options.num_breaks = static_cast<int>(break_samples.size());
+    loop_options.breaks = cycle.break_samples.data();
+    loop_options.break_fractions = cycle.break_fractions.data();
+    loop_options.break_sides = cycle.break_sides.data();
+    loop_options.num_breaks = static_cast<int>(cycle.break_samples.size());
     std::vector<double> minus_dT(static_cast<size_t>(n)), dE(static_cast<size_t>(n));
     for (int d = 0; d < kNp; ++d) {
       double I_sum = 0;

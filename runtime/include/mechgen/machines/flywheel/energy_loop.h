@@ -26,7 +26,9 @@
  * periodic trapezoid rule h Σ ΔT_k, which is spectrally accurate: E(θ_0 + Θ) = Θ·mean exactly).
  * At a kink of ΔT (a switched load) both are only second order, unless the kink is a sample
  * named in EnergyLoopOptions::breaks: the stencils then do not reach across it (one-sided
- * 4-point formulas), and E and the closure stay fourth order.
+ * 4-point formulas), and E and the closure stay fourth order. A break between samples
+ * (EnergyLoopOptions::break_fractions) splits its interval, each side integrated with the
+ * cubic of its own samples: fourth order at a kink or a jump there.
  * The extremes are refined between samples with the cubic Hermite interpolant of E (values
  * E_k and slopes ΔT_k) on the two intervals next to the extreme sample, so ΔE and the angles
  * of E_max and E_min do not depend on where the samples fall to within O(h⁴).
@@ -64,7 +66,7 @@ namespace mechgen::flywheel {
 enum class LoopStatus {
   kOk = 0,
   kTooFewSamples,  ///< fewer than 4 samples (the 4-point formula), or no areas, or a break
-                   ///< not a sample or fewer than 3 intervals from another
+                   ///< out of range or fewer than 3 intervals from another
   kBadCycle,       ///< Θ not finite or <= 0
   kNonFinite,      ///< a sample, area or the start angle is NaN or infinite
   /// |mean(ΔT)| > mean_tolerance · max|ΔT| (or |Σ areas| > tolerance · Σ|areas|): the cycle is
@@ -106,6 +108,21 @@ struct EnergyLoopOptions {
   /// accept first order. Not owned; nullptr / 0: none.
   const int* breaks = nullptr;
   int num_breaks = 0;
+  /// Breaks between samples: break i lies at θ_0 + (breaks[i] + break_fractions[i]) h, the
+  /// fraction in [0, 1) (0: on the sample, as above). A break inside an interval (a switch of
+  /// the loads located between two samples, e.g. by MachineCycleOptions::switch_breaks) is
+  /// integrated on each side with the cubic through the 4 samples of that side, extrapolated
+  /// to the break (∫ over the interval = ∫_{θ_k}^{θ_b} p_left + ∫_{θ_b}^{θ_k+1} p_right), and
+  /// the intervals next to it take the one-sided formulas as at a break on a sample: E stays
+  /// fourth order at a kink and also at a jump of ΔT there. Needs N >= 8, and at least 3
+  /// intervals between the last sample before one break and the first after the next (two
+  /// breaks in one interval are refused). Not owned; nullptr: every break on its sample.
+  const double* break_fractions = nullptr;
+  /// A break on a sample (fraction 0) where ΔT jumps: whose value the sample's is. 0: both
+  /// sides' (a kink: the one-sided formulas share it); −1: the left side's (the jump just after
+  /// it: the interval after it is integrated with the right side's cubic alone); +1: the
+  /// right side's (the interval before it with the left side's cubic). Not owned; nullptr: 0.
+  const int* break_sides = nullptr;
 };
 
 /// The result of ExcessEnergy(): the swing of the excess energy over one cycle.
@@ -160,6 +177,109 @@ void HermiteCandidates(double p0, double p1, double g0, double g1, double h, Vis
     if (s > 0 && s < 1) visit(s, value(s));
 }
 
+// The cubic Hermite's value at s (same conventions as HermiteCandidates).
+inline double HermiteValue(double p0, double p1, double g0, double g1, double h, double s) {
+  const double s2 = s * s, s3 = s2 * s;
+  return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * h * g0 + (-2 * s3 + 3 * s2) * p1 + (s3 - s2) * h * g1;
+}
+
+// The cubic through (x_j, f_j), j = 0..3, as c_0 + c_1 s + c_2 s^2 + c_3 s^3 (Lagrange's form
+// expanded); its integral over [a, b] and its value at s.
+struct Cubic {
+  double c[4] = {0, 0, 0, 0};
+  Cubic(const double x[4], const double f[4]) {
+    for (int j = 0; j < 4; ++j) {
+      double p[4] = {1, 0, 0, 0}, denominator = 1;
+      int degree = 0;
+      for (int m = 0; m < 4; ++m) {
+        if (m == j) continue;
+        for (int d = degree + 1; d >= 1; --d) p[d] = p[d - 1] - x[m] * p[d];
+        p[0] = -x[m] * p[0];
+        ++degree;
+        denominator *= x[j] - x[m];
+      }
+      for (int d = 0; d < 4; ++d) c[d] += f[j] * p[d] / denominator;
+    }
+  }
+  double Value(double s) const { return ((c[3] * s + c[2]) * s + c[1]) * s + c[0]; }
+  double Integral(double a, double b) const {
+    double sum = 0, pa = a, pb = b;
+    for (int d = 0; d < 4; ++d, pa *= a, pb *= b) sum += c[d] * (pb - pa) / (d + 1);
+    return sum;
+  }
+};
+
+// The breaks of EnergyLoopOptions on n samples. Break i is either shared (on its sample b_i,
+// whose value both sides use: its walls, the last sample on its left and the first on its
+// right, are both b_i) or splits an interval j_i at the fraction σ_i in [0, 1] (walls j_i and
+// j_i + 1): one between samples (σ_i in (0, 1), j_i = b_i), or one on a sample whose value is
+// the left side's (side -1: j_i = b_i, σ_i = 0) or the right side's (side +1: j_i = b_i − 1,
+// σ_i = 1).
+struct Breaks {
+  const EnergyLoopOptions& o;
+  int n;
+  static int Wrap(int k, int n) { return ((k % n) + n) % n; }
+  double Fraction(int i) const { return o.break_fractions != nullptr ? o.break_fractions[i] : 0.0; }
+  int Side(int i) const { return o.break_sides != nullptr && Fraction(i) == 0 ? o.break_sides[i] : 0; }
+  bool Split(int i) const { return Fraction(i) > 0 || Side(i) != 0; }
+  int Interval(int i) const { return Wrap(o.breaks[i] - (Side(i) > 0 ? 1 : 0), n); }
+  double Sigma(int i) const { return Side(i) > 0 ? 1.0 : (Side(i) < 0 ? 0.0 : Fraction(i)); }
+  int LeftWall(int i) const { return Interval(i); }
+  int RightWall(int i) const { return Split(i) ? Wrap(Interval(i) + 1, n) : o.breaks[i]; }
+  // On samples or in an interval, N >= 8 for a split one, and apart (see the options).
+  bool Valid() const {
+    for (int i = 0; i < o.num_breaks; ++i) {
+      const double s = Fraction(i);
+      if (o.breaks[i] < 0 || o.breaks[i] >= n || !(s >= 0 && s < 1)) return false;
+      if (o.break_sides != nullptr && (o.break_sides[i] < -1 || o.break_sides[i] > 1)) return false;
+      if (Split(i) && n < 8) return false;
+    }
+    for (int i = 0; i < o.num_breaks; ++i) {
+      for (int j = 0; j < o.num_breaks; ++j) {
+        if (i == j) continue;
+        if (!Split(i) && !Split(j) && o.breaks[i] == o.breaks[j]) continue;  // the same shared break
+        if (Split(i) && Split(j) && Interval(i) == Interval(j) && Sigma(i) == Sigma(j)) continue;  // the same
+        const int d = Wrap(LeftWall(j) - RightWall(i), n);
+        if (d == 1 || d == 2) return false;
+        if (d == 0 && (Split(i) || Split(j))) return false;
+        if (Split(i) && Split(j) && Interval(i) == Interval(j)) return false;  // two in one interval
+      }
+    }
+    return true;
+  }
+  // The interval [k, k+1] is split at *sigma in [0, 1].
+  bool SplitAt(int k, double* sigma) const {
+    const int kk = Wrap(k, n);
+    for (int i = 0; i < o.num_breaks; ++i)
+      if (Split(i) && Interval(i) == kk) return *sigma = Sigma(i), true;
+    return false;
+  }
+  bool IsLeftWall(int k) const {  // the last sample before a break
+    const int kk = Wrap(k, n);
+    for (int i = 0; i < o.num_breaks; ++i)
+      if (LeftWall(i) == kk) return true;
+    return false;
+  }
+  bool IsRightWall(int k) const {  // the first sample after a break
+    const int kk = Wrap(k, n);
+    for (int i = 0; i < o.num_breaks; ++i)
+      if (RightWall(i) == kk) return true;
+    return false;
+  }
+  // The two sides' cubics of the interval [k, k+1] (in s = (θ − θ_k)/h) through the samples
+  // g(k-3..k) and g(k+1..k+4).
+  template <class G>
+  static Cubic Left(int k, G g) {
+    const double x[4] = {-3, -2, -1, 0}, f[4] = {g(k - 3), g(k - 2), g(k - 1), g(k)};
+    return Cubic(x, f);
+  }
+  template <class G>
+  static Cubic Right(int k, G g) {
+    const double x[4] = {1, 2, 3, 4}, f[4] = {g(k + 1), g(k + 2), g(k + 3), g(k + 4)};
+    return Cubic(x, f);
+  }
+};
+
 }  // namespace internal
 
 /**
@@ -185,14 +305,10 @@ inline EnergyLoop ExcessEnergy(const double* dT,
     r.status = LoopStatus::kBadCycle;
     return r;
   }
-  // Breaks: on samples, and at least 3 intervals apart (the one-sided stencils).
-  for (int i = 0; i < options.num_breaks; ++i) {
-    if (options.breaks[i] < 0 || options.breaks[i] >= n) return r;
-    for (int j = 0; j < options.num_breaks; ++j) {
-      const int d = ((options.breaks[j] - options.breaks[i]) % n + n) % n;
-      if (d == 1 || d == 2) return r;
-    }
-  }
+  // Breaks: on samples or inside intervals, and at least 3 intervals apart (the one-sided
+  // stencils).
+  const internal::Breaks breaks{options, n};
+  if (!breaks.Valid()) return r;
   double sum = 0, peak = 0;
   for (int k = 0; k < n; ++k) {
     if (!std::isfinite(dT[k]) || !std::isfinite(theta0)) {
@@ -206,16 +322,15 @@ inline EnergyLoop ExcessEnergy(const double* dT,
   double shift = 0;
   const double h = cycle / n;
   auto g = [&](int k) { return dT[((k % n) + n) % n] - shift; };
-  auto is_break = [&](int k) {
-    const int kk = ((k % n) + n) % n;
-    for (int i = 0; i < options.num_breaks; ++i)
-      if (options.breaks[i] == kk) return true;
-    return false;
-  };
-  // The integral over [θ_k, θ_k+1]: the centred 4-point rule, one-sided next to a break.
+  // The integral over [θ_k, θ_k+1]: the centred 4-point rule, one-sided next to a break,
+  // each side's cubic on an interval with a break inside.
   auto interval = [&](int k) {
-    const bool left = options.num_breaks > 0 && is_break(k);
-    const bool right = options.num_breaks > 0 && is_break(k + 1);
+    double sigma = 0;
+    if (options.num_breaks > 0 && breaks.SplitAt(k, &sigma))
+      return h * (internal::Breaks::Left(k, g).Integral(0, sigma) +
+                  internal::Breaks::Right(k, g).Integral(sigma, 1));
+    const bool left = options.num_breaks > 0 && breaks.IsRightWall(k);
+    const bool right = options.num_breaks > 0 && breaks.IsLeftWall(k + 1);
     if (left && right) return h / 2 * (g(k) + g(k + 1));
     if (left) return h / 24 * (9 * g(k) + 19 * g(k + 1) - 5 * g(k + 2) + g(k + 3));
     if (right) return h / 24 * (9 * g(k + 1) + 19 * g(k) - 5 * g(k - 1) + g(k - 2));
@@ -255,13 +370,24 @@ inline EnergyLoop ExcessEnergy(const double* dT,
   auto refine = [&](int k, double sign, double* value, double* theta) {
     // Candidates on [k-1, k] and [k, k+1]; keep the largest sign·E.
     double best = sign * E_at(k), best_theta = theta0 + k * h;
-    const double Ek = E_at(k), Em = E_at(k - 1), Ep = E_at(k + 1);
-    internal::HermiteCandidates(Em, Ek, g(k - 1), g(k), h, [&](double s, double v) {
-      if (sign * v > best) best = sign * v, best_theta = theta0 + (k - 1 + s) * h;
-    });
-    internal::HermiteCandidates(Ek, Ep, g(k), g(k + 1), h, [&](double s, double v) {
-      if (sign * v > best) best = sign * v, best_theta = theta0 + (k + s) * h;
-    });
+    auto keep = [&](double u, double v) {  // u: the angle in steps from θ_0
+      if (sign * v > best) best = sign * v, best_theta = theta0 + u * h;
+    };
+    for (int j : {k - 1, k}) {
+      const double Ej = E_at(j), Ej1 = E_at(j + 1);
+      double sigma = 0;
+      if (options.num_breaks > 0 && breaks.SplitAt(j, &sigma)) {
+        // On each side of the break the Hermite of that side's cubic (E at the break from it).
+        const internal::Cubic left = internal::Breaks::Left(j, g), right = internal::Breaks::Right(j, g);
+        const double Eb = Ej + h * left.Integral(0, sigma);
+        internal::HermiteCandidates(Ej, Eb, g(j), left.Value(sigma), sigma * h,
+                                    [&](double s, double v) { keep(j + s * sigma, v); });
+        internal::HermiteCandidates(Eb, Ej1, right.Value(sigma), g(j + 1), (1 - sigma) * h,
+                                    [&](double s, double v) { keep(j + sigma + s * (1 - sigma), v); });
+      } else {
+        internal::HermiteCandidates(Ej, Ej1, g(j), g(j + 1), h, [&](double s, double v) { keep(j + s, v); });
+      }
+    }
     // Angles into [θ_0, θ_0 + Θ); a steady E is periodic, so the value needs no shift.
     if (best_theta < theta0) best_theta += cycle;
     if (best_theta >= theta0 + cycle) best_theta -= cycle;
@@ -306,6 +432,7 @@ inline EnergyLoopDerivative ExcessEnergyDerivative(const double* ddT, const Ener
   const double h = loop.cycle / n;
   const double shift = options.remove_mean ? dl.mean_torque : 0.0;
   auto dg = [&](int k) { return ddT[((k % n) + n) % n] - shift; };
+  const internal::Breaks breaks{options, n};
   auto dE_at = [&](int j) {  // the periodic extension, E_n = E_0 + the cycle's work
     const int jj = ((j % n) + n) % n;
     return dE[jj] + (j >= n ? dl.cycle_work : 0.0) - (j < 0 ? dl.cycle_work : 0.0);
@@ -316,9 +443,15 @@ inline EnergyLoopDerivative ExcessEnergyDerivative(const double* ddT, const Ener
     double s = u - j;
     if (s > 1 - 1e-12) ++j, s = 0;  // on a sample (up to the angle's rounding)
     if (s < 1e-12) return dE_at(j);
-    const double s2 = s * s, s3 = s2 * s;
-    return (2 * s3 - 3 * s2 + 1) * dE_at(j) + (s3 - 2 * s2 + s) * h * dg(j) + (-2 * s3 + 3 * s2) * dE_at(j + 1) +
-           (s3 - s2) * h * dg(j + 1);
+    double sigma = 0;
+    if (options.num_breaks > 0 && breaks.SplitAt(j, &sigma)) {  // as ExcessEnergy refines there
+      const internal::Cubic left = internal::Breaks::Left(j, dg), right = internal::Breaks::Right(j, dg);
+      const double dEb = dE_at(j) + h * left.Integral(0, sigma);
+      if (s <= sigma) return internal::HermiteValue(dE_at(j), dEb, dg(j), left.Value(sigma), sigma * h, s / sigma);
+      return internal::HermiteValue(dEb, dE_at(j + 1), right.Value(sigma), dg(j + 1), (1 - sigma) * h,
+                                    (s - sigma) / (1 - sigma));
+    }
+    return internal::HermiteValue(dE_at(j), dE_at(j + 1), dg(j), dg(j + 1), h, s);
   };
   d.E_max = at(loop.theta_max);
   d.E_min = at(loop.theta_min);

@@ -38,9 +38,11 @@
  *    kink (a force switched on where its point does not move, e.g. the shaper's cut at the
  *    ram's dead points) or jump (a force switched on while its point moves); E is then second
  *    order at a kink (error h²/12 × the slope jump: the trapezoid's end terms) and first order
- *    at a jump between samples (error up to h × the torque jump / 2). A kink on a sample named
- *    in MachineCycleOptions::breaks keeps E fourth order (energy_loop.h's one-sided stencils):
- *    the shaper's switches at its ram's dead points, with θ_0 on one and N a multiple of 3. The
+ *    at a jump between samples (error up to h × the torque jump / 2). A break (an angle in
+ *    MachineCycleOptions::breaks, or a switch of the loads located from the generated switch
+ *    modes: switch_breaks) keeps E fourth order (energy_loop.h's one-sided stencils, and each
+ *    side's cubic in an interval with a break inside): at a kink or a jump, between samples
+ *    or on one (whose value is then given to the side whose extrapolation it matches). The
  *    loop's closure, Θ × mean(T_req), is the periodic trapezoid rule (or with breaks the
  *    break-aware rule): exact to rounding for a smooth periodic T_req, second order at a kink
  *    that is not a break.
@@ -136,10 +138,18 @@ struct MachineCycleOptions {
   double theta0 = kNaN;   ///< θ_0 (rad); NaN: the model's kQMin
   double cycle = kNaN;    ///< Θ (rad); NaN: DefaultCycle()
   int samples = 720;      ///< N >= 4
-  /// Angles (rad) where the load switches so that T_req kinks (energy_loop.h's breaks: E stays
-  /// fourth order); each must fall on a sample (θ_0 + k Θ/N up to 1e-9 of a step) and be at
-  /// least 3 samples from another.
+  /// Angles (rad) where the load switches so that T_req kinks or jumps (energy_loop.h's
+  /// breaks: E stays fourth order); on a sample (θ_0 + k Θ/N up to 1e-9 of a step) or between
+  /// two, taken modulo Θ; at least 3 sample intervals from one another (else kBadOptions).
   std::vector<double> breaks;
+  /// Find the breaks from the model's switching items (a model with M::SwitchModes, i.e. the
+  /// quantity `dynamics` and a step(), clamp(), mod(), ... in its loads): where the modes of
+  /// two neighbouring samples differ, the switch is located between them by bisection on the
+  /// input (to rounding) and made a break, so that a load switched on over part of the cycle
+  /// (a cutting force, a punch) keeps the loop fourth order without --break. A switch closer
+  /// than 3 intervals to a break already kept is not made one (counted in
+  /// MachineCycle::switches_unused: the loop is second order there).
+  bool switch_breaks = true;
   statics::Options statics;
 
   bool IsValid() const {
@@ -176,6 +186,18 @@ struct MachineCycle {
   double T_max = kNaN, T_min = kNaN;  ///< extremes of T_req over the samples (N m)
   double theta_T_max = kNaN, theta_T_min = kNaN;
   double I_mean = 0;          ///< mean I(θ) (kg m²; 0 without `dynamics`)
+  /// The switches of the loads located inside the cycle (rad, increasing; switch_breaks).
+  std::vector<double> switches;
+  int switches_unused = 0;    ///< of them, too close to another break to be one
+  /// The breaks the energy loop used (rad, in [θ_0, θ_0 + Θ), increasing: the options' and the
+  /// switches'), and where they fall: sample and fraction of the next interval (energy_loop.h).
+  std::vector<double> breaks;
+  std::vector<int> break_samples;
+  std::vector<double> break_fractions;
+  /// A break on a sample: whose value T_req there is (energy_loop.h's break_sides): 0 both
+  /// sides' (a kink), −1 the left's, +1 the right's (a jump: the side whose cubic, extrapolated
+  /// from the four samples beyond, comes nearer to it).
+  std::vector<int> break_sides;
   bool IsUsable() const { return status == CycleStatus::kOk; }
 };
 
@@ -202,6 +224,20 @@ inline std::string Degrees(double theta) {
   char buffer[64];
   std::snprintf(buffer, sizeof(buffer), "theta = %.6g deg", theta * 180 / kPi);
   return buffer;
+}
+
+// A break at θ_0 + u h (u reduced modulo n into [0, n)): its sample and fraction, on the
+// sample when within 1e-9 of a step of it.
+inline void BreakPosition(double u, int n, int* k, double* sigma) {
+  u = std::fmod(u, static_cast<double>(n));
+  if (u < 0) u += n;
+  double f = std::floor(u);
+  double s = u - f;
+  const double tolerance = 1e-9 * std::max(1.0, std::abs(u));
+  if (s <= tolerance) s = 0;
+  if (1 - s <= tolerance) s = 0, f += 1;
+  *k = static_cast<int>(f) % n;
+  *sigma = s;
 }
 }  // namespace internal
 
@@ -257,11 +293,36 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
     qdd(0) = 0;
     const VecQ forward = VecQ::Ones();
     bool failed = false;
+    // The switching items' modes and the positions at each sample and at the cycle's end.
+    constexpr int kNumSwitches = ModelFeatures<M>::kNumSwitches;
+    using Modes = std::array<int, static_cast<size_t>(kNumSwitches)>;
+    using VecPhi = typename ModelTypes<M>::VecPhi;
+    const bool find_switches = kNumSwitches > 0 && o.switch_breaks;
+    std::vector<Modes> modes(find_switches ? static_cast<size_t>(n) + 1 : 0);
+    std::vector<VecPhi> phis(find_switches ? static_cast<size_t>(n) + 1 : 0);
+    auto modes_at = [&](const VecQ& q, const VecPhi& phi, Modes* out_modes) {
+      if constexpr (kNumSwitches > 0) {
+        typename ModelTypes<M>::Coefficients c;
+        M::template Coeffs<double>(p, q, phi, &c);
+        M::template SwitchModes<double>(p, q, phi, qd, 0.0, c, out_modes);
+      } else {
+        (void)q, (void)phi, (void)out_modes;
+      }
+    };
     SweepRows(&solver, q_begin, q_end, n, qd, qdd, SweepOptions(),
               [&](int k, const SweepRecord<M>& r) {
-                if (failed || k >= n) return;
+                if (failed || k > n) return;
                 const double theta = out.theta0 + k * h_theta;
                 const position::Status ps = r.summary.status;
+                if (k == n) {  // the cycle's end: only its modes (for a switch in the last interval)
+                  if (find_switches && ps == position::Status::kConverged && r.state.valid) {
+                    phis[static_cast<size_t>(n)] = r.state.phi;
+                    modes_at(r.state.q, r.state.phi, &modes[static_cast<size_t>(n)]);
+                  } else if (find_switches) {
+                    modes[static_cast<size_t>(n)] = modes[static_cast<size_t>(n) - 1];
+                  }
+                  return;
+                }
                 if (ps == position::Status::kSingular) {
                   failed = true;
                   fail(CycleStatus::kDeadPoint, theta, position::FormatSummary(r.summary));
@@ -283,6 +344,10 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
                                                         : CycleStatus::kStaticsFailed,
                        theta, statics::FormatSummary(run.summary));
                   return;
+                }
+                if (find_switches) {
+                  phis[static_cast<size_t>(k)] = r.state.phi;
+                  modes_at(r.state.q, r.state.phi, &modes[static_cast<size_t>(k)]);
                 }
                 CyclePoint& pt = out.points[static_cast<size_t>(k)];
                 pt.theta = theta;
@@ -326,24 +391,122 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
       if (pt.T_req < out.T_min) out.T_min = pt.T_req, out.theta_T_min = pt.theta;
     }
     out.I_mean = I_sum / n;
-    EnergyLoopOptions loop_options;
-    loop_options.remove_mean = true;
-    std::vector<int> break_samples;
+    // The breaks: the options' (each must be finite), then the switches of the loads.
+    struct Break {
+      double u;  // θ_0 + u h, u in [0, n)
+      int k;
+      double sigma;
+      bool given;
+    };
+    std::vector<Break> breaks;
+    auto add_break = [&](double u, bool given) {
+      Break b{0, 0, 0, given};
+      internal::BreakPosition(u, n, &b.k, &b.sigma);
+      b.u = b.k + b.sigma;
+      breaks.push_back(b);
+    };
     for (double b : o.breaks) {
-      const double u = (b - out.theta0) / h_theta;
-      const double k = std::round(u);
-      if (!(std::abs(u - k) <= 1e-9 * std::max(1.0, std::abs(u)))) {
+      if (!std::isfinite(b)) {
         out.status = CycleStatus::kBadOptions;
-        out.failed_theta = b;
-        out.message = "the break at " + internal::Degrees(b) +
-                      " is not on a sample: choose the samples (or the start) so that it is";
+        out.message = "a break angle is not finite";
         out.points.clear();
         return out;
       }
-      break_samples.push_back(static_cast<int>(((static_cast<long long>(k) % n) + n) % n));
+      add_break((b - out.theta0) / h_theta, true);
     }
-    loop_options.breaks = break_samples.data();
-    loop_options.num_breaks = static_cast<int>(break_samples.size());
+    if constexpr (kNumSwitches > 0) {
+      if (find_switches) {
+        using MatCPhi = Eigen::Matrix<double, M::kNc, M::kNphi>;
+        for (int k = 0; k < n; ++k) {
+          const Modes& m0 = modes[static_cast<size_t>(k)];
+          if (m0 == modes[static_cast<size_t>(k) + 1]) continue;
+          // Bisection on [θ_k, θ_k+1]: the positions from the interpolated ones by Newton.
+          double lo = 0, hi = 1;  // fractions of the interval
+          bool located = true;
+          for (int it = 0; it < 64 && hi - lo > 1e-15; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            VecQ q;
+            q(0) = out.theta0 + (k + mid) * h_theta;
+            VecPhi phi = (1 - mid) * phis[static_cast<size_t>(k)] + mid * phis[static_cast<size_t>(k) + 1];
+            if constexpr (M::kNc > 0) {
+              MatCPhi Phi_phi;
+              if (solver.Newton(q, &phi, &Phi_phi).status != position::Status::kConverged) {
+                located = false;
+                break;
+              }
+            }
+            Modes mm;
+            modes_at(q, phi, &mm);
+            (mm == m0 ? lo : hi) = mid;
+          }
+          if (!located) continue;  // not a break: the loop is second order there
+          out.switches.push_back(out.theta0 + (k + 0.5 * (lo + hi)) * h_theta);
+          add_break(k + 0.5 * (lo + hi), false);
+        }
+      }
+    }
+    // The given breaks first, then the switches in cycle order; the same break once; a switch
+    // too close to a kept break left out.
+    std::stable_sort(breaks.begin(), breaks.end(),
+                     [](const Break& a, const Break& b) { return a.given != b.given ? a.given : a.u < b.u; });
+    std::vector<Break> kept;
+    auto apart = [&](const Break& a, const Break& b) {  // energy_loop.h's rule for two breaks
+      const int k2[2] = {a.k, b.k};
+      const double s2[2] = {a.sigma, b.sigma};
+      EnergyLoopOptions two;
+      two.breaks = k2;
+      two.break_fractions = s2;
+      two.num_breaks = 2;
+      return internal::Breaks{two, n}.Valid();
+    };
+    for (const Break& b : breaks) {
+      bool same = false, fits = true;
+      for (const Break& c : kept) {
+        if (c.k == b.k && std::abs(c.sigma - b.sigma) <= 1e-9) same = true;
+        else if (!apart(b, c)) fits = false;
+      }
+      if (same) continue;
+      if (!fits && !b.given) {
+        ++out.switches_unused;
+        continue;
+      }
+      kept.push_back(b);  // a given break too close to another: ExcessEnergy refuses them
+    }
+    std::stable_sort(kept.begin(), kept.end(), [](const Break& a, const Break& b) { return a.u < b.u; });
+    double peak = 0;
+    for (double t : minus_T) peak = std::max(peak, std::abs(t));
+    for (const Break& b : kept) {
+      out.breaks.push_back(out.theta0 + b.u * h_theta);
+      out.break_samples.push_back(b.k);
+      out.break_fractions.push_back(b.sigma);
+      int side = 0;
+      if (b.sigma == 0 && n >= 8) {
+        // Which side's value the sample holds: each side's cubic through its next four
+        // samples, extrapolated to it. A kink: both agree with it (to O(h^4)): shared.
+        auto T = [&](int j) { return minus_T[static_cast<size_t>(((j % n) + n) % n)]; };
+        const double xl[4] = {-4, -3, -2, -1}, fl[4] = {T(b.k - 4), T(b.k - 3), T(b.k - 2), T(b.k - 1)};
+        const double xr[4] = {1, 2, 3, 4}, fr[4] = {T(b.k + 1), T(b.k + 2), T(b.k + 3), T(b.k + 4)};
+        const double d_left = std::abs(T(b.k) - internal::Cubic(xl, fl).Value(0));
+        const double d_right = std::abs(T(b.k) - internal::Cubic(xr, fr).Value(0));
+        if (std::max(d_left, d_right) > 1e-6 * peak && std::min(d_left, d_right) < 0.1 * std::max(d_left, d_right))
+          side = d_left < d_right ? -1 : +1;
+      }
+      out.break_sides.push_back(side);
+    }
+    {  // a sided break needs one more interval of room: where that is not there, shared
+      EnergyLoopOptions sided;
+      sided.breaks = out.break_samples.data();
+      sided.break_fractions = out.break_fractions.data();
+      sided.break_sides = out.break_sides.data();
+      sided.num_breaks = static_cast<int>(out.break_samples.size());
+      if (!internal::Breaks{sided, n}.Valid()) std::fill(out.break_sides.begin(), out.break_sides.end(), 0);
+    }
+    EnergyLoopOptions loop_options;
+    loop_options.remove_mean = true;
+    loop_options.breaks = out.break_samples.data();
+    loop_options.break_fractions = out.break_fractions.data();
+    loop_options.break_sides = out.break_sides.data();
+    loop_options.num_breaks = static_cast<int>(out.break_samples.size());
     out.loop = ExcessEnergy(minus_T.data(), n, out.cycle, out.theta0, loop_options, E.data());
     out.T_mean = -out.loop.mean_torque;
     out.work = out.T_mean * out.cycle;
@@ -352,6 +515,9 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
       out.status = out.loop.status == LoopStatus::kTooFewSamples ? CycleStatus::kBadOptions
                                                                  : CycleStatus::kNotFinite;
       out.message = std::string("energy loop: ") + ToString(out.loop.status);
+      if (out.loop.status == LoopStatus::kTooFewSamples && !out.breaks.empty())
+        out.message = "the breaks are closer than 3 sample intervals to one another (or fewer than 8 "
+                      "samples with a break between two): use more samples";
       return out;
     }
     if (!(out.T_mean > 0)) {
