@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <condition_variable>
 #include <functional>
@@ -30,6 +31,7 @@
 #include "mechgen/position/solver.h"
 #include "mechgen/statics/columns.h"
 #include "mechgen/statics/sweep.h"
+#include "mechgen/study/shards.h"
 #include "mechgen/study/spec.h"
 #include "mechgen/sweep/columns.h"
 #include "mechgen/sweep/sweep.h"
@@ -551,14 +553,44 @@ class Study {
     const size_t n = spec_.parameters.size();
     const uint64_t count = n == 0 ? 0 : values.size() / n;
     results->assign(count, SampleResult());
+    RunChunks(values, Chunks{count, std::max<uint64_t>(count, 1)}, {0}, threads, results, nullptr, progress);
+  }
+
+  /**
+   * \brief Evaluates the samples of the chunks `list` (of `chunks`; values: DrawSamples()) on
+   *        `threads` threads into their places of *results (sized to every sample; the others
+   *        are left alone). Each thread takes the next sample of the list from a shared
+   *        counter; when the last sample of a chunk is done, `chunk_done(c)` is called from
+   *        the thread that did it (its results are then all in place: a shard can be written).
+   *        `progress(done)` (samples of the list done) is called from the calling thread about
+   *        once a second.
+   */
+  void RunChunks(const std::vector<double>& values,
+                 const Chunks& chunks,
+                 const std::vector<uint64_t>& list,
+                 int threads,
+                 std::vector<SampleResult>* results,
+                 const std::function<void(uint64_t chunk)>& chunk_done,
+                 const std::function<void(uint64_t done)>& progress = nullptr) const {
+    const size_t n = spec_.parameters.size();
+    // The list's samples, one after the other: start[j] is the first of list[j].
+    std::vector<uint64_t> start(list.size() + 1, 0);
+    for (size_t j = 0; j < list.size(); ++j) start[j + 1] = start[j] + chunks.end(list[j]) - chunks.begin(list[j]);
+    const uint64_t total = start.back();
+    std::vector<std::atomic<uint64_t>> left(list.size());
+    for (size_t j = 0; j < list.size(); ++j) left[j] = start[j + 1] - start[j];
     std::atomic<uint64_t> next{0}, done{0};
     std::mutex mutex;
     std::condition_variable finished;
     auto work = [&]() {
       Rows rows;
-      for (uint64_t i; (i = next.fetch_add(1)) < count;) {
+      size_t j = 0;
+      for (uint64_t k; (k = next.fetch_add(1)) < total;) {
+        while (start[j + 1] <= k) ++j;  // k only grows in each thread
+        const uint64_t i = chunks.begin(list[j]) + (k - start[j]);
         (*results)[i] = Evaluate(&values[i * n], &rows);
-        if (done.fetch_add(1) + 1 == count) {
+        if (left[j].fetch_sub(1) == 1 && chunk_done) chunk_done(list[j]);
+        if (done.fetch_add(1) + 1 == total) {
           std::lock_guard<std::mutex> lock(mutex);
           finished.notify_all();
         }
@@ -569,12 +601,47 @@ class Study {
     if (progress) {
       // The calling thread reports while `threads` others work.
       std::thread worker(work);
-      Wait(&mutex, &finished, &done, count, progress);
+      Wait(&mutex, &finished, &done, total, progress);
       worker.join();
     } else {
       work();
     }
     for (std::thread& t : pool) t.join();
+  }
+
+  /// Doubles per sample in a shard or a gather between ranks: the status code, the metrics,
+  /// the envelope's path (x, y per row) if the study has one.
+  uint64_t Width() const {
+    return 1 + spec_.metrics.size() + (envelope_point_ >= 0 ? 2 * static_cast<uint64_t>(spec_.steps + 1) : 0);
+  }
+  /// Sample result r as Width() doubles at out.
+  void Pack(const SampleResult& r, double* out) const {
+    out[0] = StatusCode(r.status);
+    std::copy(r.metrics.begin(), r.metrics.end(), out + 1);
+    std::copy(r.path.begin(), r.path.end(), out + 1 + spec_.metrics.size());
+  }
+  SampleResult Unpack(const double* in) const {
+    SampleResult r;
+    r.status = StatusOfCode(in[0]);
+    r.metrics.assign(in + 1, in + 1 + spec_.metrics.size());
+    if (envelope_point_ >= 0) r.path.assign(in + 1 + spec_.metrics.size(), in + Width());
+    return r;
+  }
+  /**
+   * \brief The study's identity for its shards: the study file's bytes, the model (its name
+   *        and the nominal design's metrics, bit for bit), the chunk size and every sample's
+   *        values. A change of any of them makes old shards another study's.
+   */
+  uint64_t Key(const std::string& study_bytes, const std::vector<double>& values, uint64_t chunk) const {
+    KeyHash h;
+    h.Add(study_bytes);
+    h.Add(std::string(M::kName));
+    for (size_t k = 0; k < spec_.metrics.size(); ++k) h.Add(Value(k, nominal_rows_).value);
+    h.Add(chunk);
+    h.Add(Width());
+    h.Add(static_cast<uint64_t>(values.size()));
+    for (double v : values) h.Add(v);
+    return h.value();
   }
 
  private:
