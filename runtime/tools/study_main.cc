@@ -70,6 +70,10 @@ const char* MethodName(study::Method m) {
   return "";
 }
 
+const char* AnalysisName(study::Analysis a) {
+  return a == study::Analysis::kStatics ? "statics" : a == study::Analysis::kFlywheel ? "flywheel" : "sweep";
+}
+
 // The CSV: '#' lines (what wrote it, then each column's unit and meaning), the header, a row
 // per sample.
 void WriteCsv(const study::Study<Model>& s,
@@ -80,13 +84,13 @@ void WriteCsv(const study::Study<Model>& s,
   const size_t n = spec.parameters.size();
   out << "# mechgen study, model " << Model::kName << ": " << spec.path << ", method " << MethodName(spec.method)
       << ", " << results.size() << " samples, seed " << spec.seed << ", analysis "
-      << (spec.analysis == study::Analysis::kStatics ? "statics" : "sweep") << " in " << spec.steps << " steps\n";
+      << AnalysisName(spec.analysis) << " in " << spec.steps << " steps\n";
   out << "# sample [1]: the sample's index, 0-based, in the study's order\n";
   for (const study::ParameterSpec& p : spec.parameters)
     out << "# " << p.name << " [model units]: the model's parameter " << p.name << "\n";
   for (size_t k = 0; k < spec.metrics.size(); ++k)
     out << "# " << spec.metrics[k].name << " [" << s.Unit(k) << "]: " << s.Description(k) << "\n";
-  out << "# status [text]: ok, rows_failed (some rows did not converge), not_assembled\n";
+  out << "# status [text]: ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel)\n";
   out << "sample";
   for (const study::ParameterSpec& p : spec.parameters) out << "," << p.name;
   for (const study::MetricSpec& m : spec.metrics) out << "," << m.name;
@@ -325,7 +329,8 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   for (uint64_t c : mine) my_samples += chunks.end(c) - chunks.begin(c);
   std::printf("mechgen study of '%s': %s, %s, %llu samples of %zu parameters, %s over %d steps, %d threads",
               Model::kName, spec.path.c_str(), MethodName(spec.method), static_cast<unsigned long long>(count),
-              spec.parameters.size(), spec.analysis == study::Analysis::kStatics ? "statics" : "kinematic sweep",
+              spec.parameters.size(),
+              spec.analysis == study::Analysis::kSweep ? "kinematic sweep" : AnalysisName(spec.analysis),
               spec.steps, threads);
   if (ranks.size() > 1) std::printf(" on each of %d ranks", ranks.size());
   std::printf("\n");
@@ -398,10 +403,10 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     const std::string st = r.status;
     ok += st == "ok";
     rows_failed += st == "rows_failed";
-    not_assembled += st == "not_assembled";
+    not_assembled += st == "not_assembled" || st == "cycle_failed";
   }
   std::printf(
-      "%llu ok, %llu with failed rows, %llu not assembled; %.3g s (%.3g samples/s, %.3g ms per sample per thread)\n\n",
+      "%llu ok, %llu with failed rows, %llu not assembled (or their cycle failed); %.3g s (%.3g samples/s, %.3g ms per sample per thread)\n\n",
       static_cast<unsigned long long>(ok), static_cast<unsigned long long>(rows_failed),
       static_cast<unsigned long long>(not_assembled), seconds, run_samples / seconds,
       1e3 * seconds * threads * ranks.size() / std::max<uint64_t>(run_samples, 1));

@@ -25,6 +25,10 @@
 #include "mechgen/study/spec.h"
 #include "mechgen/study/tolerance.h"
 #include "slider_crank.h"
+#ifdef MECHGEN_STUDY_TEST_SHAPER
+#include "mechgen/machines/flywheel/machine_cycle.h"
+#include "shaper.h"
+#endif
 
 namespace {
 
@@ -556,6 +560,99 @@ TEST(StudyShards, ChunkedRunsResumeToTheSameResults) {
   EXPECT_NE(s.Key("chunks", v, 64), s.Key("chunks ", v, 64));
   shards.Remove();
 }
+
+// ---- the flywheel analysis per sample ----------------------------------------------------------
+
+#ifdef MECHGEN_STUDY_TEST_SHAPER
+// The quick-return shaper of tests/statics (crank r about O2 = (0, d), the slotted rocker about
+// O4 = (0, 0), rocker L, link l, the ram on y = h): a cutting force F on the forward stroke only
+// (crank -30 to 210 deg, where sin theta = -r/d puts the rocker at its extremes), the probe
+// torque off (P = 0). The ram's place by hand, for the work per turn F * stroke.
+double ShaperRamX(double theta, double L, double l) {
+  const double r = 0.75, d = 1.5, h = 4.2;
+  const double ax = r * std::cos(theta), ay = d + r * std::sin(theta);
+  const double beta = std::atan2(ay, ax);
+  const double bx = L * std::cos(beta), by = L * std::sin(beta);
+  return bx + std::sqrt(l * l - (h - by) * (h - by));
+}
+
+// A grid of F, L and l: per sample the mean torque against F * stroke / 2 pi from the hand
+// geometry (to the trapezoid's kink error of the cycle's 720 samples, h^2/12 times the slope
+// jumps of T_req = F |x'| at the stroke's ends, as tests/flywheel bounds it); the flywheel
+// inertia, the energy fluctuation and the peak torque proportional to F (T_req is F times the
+// geometry; massless: no inertia to subtract), and each sample the same bits as the machine
+// cycle run alone at its parameters.
+TEST(StudyFlywheel, ShaperGridAgainstTheHandWorkAndLinearInTheForce) {
+  const study::StudySpec spec = Read("fly.yaml",
+                                     "method: grid\nanalysis: flywheel\nomega: 6.283185307179586\nsteps: 720\n"
+                                     "parameters:\n  F: {values: [500, 1500]}\n  L: {values: [3.9, 4.0]}\n"
+                                     "  l: {values: [1.5, 1.6]}\n  P: {values: [0]}\n"
+                                     "metrics:\n  - {kind: mean_torque}\n  - {kind: flywheel_inertia, C_s: 0.05}\n"
+                                     "  - {kind: energy_fluctuation}\n  - {kind: peak_torque}\n  - {kind: failures}\n");
+  using M = mech::shaper::Model;
+  study::Study<M> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  EXPECT_EQ(s.Unit(1), "kg m^2");
+  const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+  std::vector<study::SampleResult> results;
+  s.Run(v, 2, &results);
+  ASSERT_EQ(results.size(), 8u);
+  const double pi = 3.14159265358979323846, theta0 = -pi / 6, theta_end = 7 * pi / 6, h = 2 * pi / 720;
+  for (size_t i = 0; i < 8; ++i) {
+    ASSERT_STREQ(results[i].status, "ok") << i;
+    const double F = v[4 * i], L = v[4 * i + 1], l = v[4 * i + 2];
+    auto x = [&](double t) { return ShaperRamX(t, L, l); };
+    auto x2 = [&](double t) { return (x(t + 1e-4) - 2 * x(t) + x(t - 1e-4)) / 1e-8; };
+    const double stroke = x(theta0) - x(theta_end);
+    const double jumps = F * (std::abs(x2(theta0)) + std::abs(x2(theta_end)));
+    EXPECT_NEAR(results[i].metrics[0], F * stroke / (2 * pi), 1.02 * h * h / 12 * jumps / (2 * pi)) << i;
+    EXPECT_EQ(results[i].metrics[4], 0);
+    // The same design with F three times larger (the grid's first parameter varies slowest).
+    if (F == 500) {
+      const study::SampleResult& big = results[i + 4];
+      for (int k = 0; k < 4; ++k) EXPECT_NEAR(big.metrics[k] / results[i].metrics[k], 3, 1e-12) << i << " " << k;
+    }
+    // The study's figure is the machine cycle's at that design, bit for bit.
+    M::ParamsT<double> p;
+    p.F = F, p.L = L, p.l = l, p.P = 0;
+    mechgen::flywheel::MachineCycleOptions o;
+    o.omega = 2 * pi;
+    o.samples = 720;
+    const mechgen::flywheel::MachineCycle c = mechgen::flywheel::SampleMachineCycle<M>(p, o);
+    ASSERT_TRUE(c.IsUsable()) << c.message;
+    EXPECT_EQ(results[i].metrics[1], mechgen::flywheel::SizeFlywheel(c, 0.05).I_flywheel);
+    EXPECT_EQ(results[i].metrics[1], c.loop.delta_E / (0.05 * 4 * pi * pi));  // massless
+  }
+  std::string why;
+  EXPECT_TRUE(std::isnan(s.Gradient(1, &why)[0]));
+  EXPECT_NE(why.find("no first order"), std::string::npos) << why;
+}
+
+// The flywheel analysis' errors: its metrics need it, it needs omega and the model's forces.
+TEST(StudyFlywheel, ErrorsNameTheirPlace) {
+  const std::string e1 = ErrorOf("f1.yaml",
+                                 "method: grid\nanalysis: flywheel\nparameters:\n  F: {values: [1]}\n"
+                                 "metrics: [{kind: mean_torque}]\n");
+  EXPECT_NE(e1.find("f1.yaml:2:11: error: analysis: flywheel needs omega:"), std::string::npos) << e1;
+  const std::string e2 = ErrorOf("f2.yaml",
+                                 "method: grid\nparameters:\n  F: {values: [1]}\n"
+                                 "metrics:\n  - {kind: flywheel_inertia, C_s: 0.02}\n");
+  EXPECT_NE(e2.find("f2.yaml:5:5: error: a metric of this kind needs analysis: flywheel"), std::string::npos) << e2;
+  const std::string e3 = ErrorOf("f3.yaml",
+                                 "method: grid\nanalysis: flywheel\nomega: 1\nparameters:\n  F: {values: [1]}\n"
+                                 "metrics:\n  - {kind: flywheel_inertia}\n");
+  EXPECT_NE(e3.find("f3.yaml:7:5: error: a metric of kind flywheel_inertia needs C_s:"), std::string::npos) << e3;
+  const study::StudySpec spec = Read("f4.yaml",
+                                     "method: grid\nanalysis: flywheel\nomega: 1\nparameters:\n  a: {values: [1]}\n"
+                                     "metrics:\n  - {kind: mean_torque}\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  EXPECT_FALSE(s.Prepare(spec, &error));
+  EXPECT_NE(error.find("f4.yaml:2:11: error: analysis: flywheel needs a one-input machine"), std::string::npos)
+      << error;
+}
+#endif
 
 // ---- threads --------------------------------------------------------------------------------
 
