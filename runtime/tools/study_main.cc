@@ -365,6 +365,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   };
   s.RunChunks(values, chunks, mine, threads, &results, chunk_done, progress);
   // Rank 0 gathers the others' samples, rank by rank, in the order of their chunks.
+  const auto gather_start = std::chrono::steady_clock::now();
   if (ranks.size() > 1) {
     if (ranks.rank() > 0) {
       std::vector<double> data(my_samples * width);
@@ -385,6 +386,12 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
       }
     }
   }
+  if (ranks.size() > 1)
+    std::printf("rank 0 ran %llu samples in %.3g s, then waited for and gathered %llu from %d ranks in %.3g s\n",
+                static_cast<unsigned long long>(my_samples),
+                std::chrono::duration<double>(gather_start - start).count(),
+                static_cast<unsigned long long>(run_samples - my_samples), ranks.size() - 1,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - gather_start).count());
   if (!shard_error.empty()) std::cerr << "warning: " << shard_error << " (the study goes on; it cannot resume from it)\n";
   if (stopped) {
     std::printf("stopped by --stop-after: %llu of %llu samples are in the shards in %s; run the same command again "
