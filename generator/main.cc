@@ -19,6 +19,8 @@
 #include <sstream>
 #include <memory>
 
+#include <yaml-cpp/yaml.h>
+
 #include "analysis/grashof.h"
 #include "analysis/kinematics.h"
 #include "analysis/topology.h"
@@ -144,6 +146,32 @@ bool WriteManifest(const std::string& path, const mechgen::Model& m, std::string
   return true;
 }
 
+// `mechgen study STUDY.yaml`: whether `file` is a study (a YAML map with `method:`) rather
+// than a model. 1: it is, and *model is the model it names (`model:`, relative to the study
+// file); 0: it is not (the generator reads it as a model); -1: a study that names no model
+// (*error says so, one line).
+int StudyFileModel(const std::string& file, std::string* model, std::string* error) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file);
+  } catch (const YAML::Exception&) {
+    return 0;  // not readable as YAML: the generator says why
+  }
+  if (!root.IsMap() || !root["method"]) return 0;
+  const YAML::Node m = root["model"];
+  if (!m || !m.IsScalar() || m.Scalar().empty()) {
+    const YAML::Mark mark = m ? m.Mark() : root.Mark();
+    *error = file + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1) +
+             ": error: a study run as `mechgen study STUDY.yaml` names its model (model: fourbar.yaml, relative "
+             "to the study file); or run `mechgen study MODEL --study STUDY.yaml`";
+    return -1;
+  }
+  std::filesystem::path path(m.Scalar());
+  if (path.is_relative()) path = std::filesystem::path(file).parent_path() / path;
+  *model = path.lexically_normal().string();
+  return 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -156,6 +184,27 @@ int main(int argc, char** argv) {
     int model_end = argc;
     mechgen::SplitToolArguments(argc, argv, 2, tool_options_with_value, &model_end, &driver_args);
     argc = model_end;
+  }
+  // `mechgen study STUDY.yaml [driver options]`: the study names its model; the driver gets
+  // --study STUDY.yaml.
+  std::string study_model;
+  if (argc > 2 && std::string(argv[1]) == "study" && argv[argc - 1][0] != '-') {
+    const std::string file = argv[argc - 1];
+    std::string error;
+    const int form = StudyFileModel(file, &study_model, &error);
+    if (form < 0) {
+      std::cerr << error << "\n";
+      return 2;
+    }
+    if (form == 1) {
+      if (std::find(driver_args.begin(), driver_args.end(), "--study") != driver_args.end()) {
+        std::cerr << "mechgen study: error: " << file
+                  << " is a study (it names its model); give --study only after a model file\n";
+        return 2;
+      }
+      driver_args.insert(driver_args.begin(), {"--study", file});
+      argv[argc - 1] = &study_model[0];
+    }
   }
 
   CLI::App app{"mechgen: derives the equations of a planar mechanism described in a model file "

@@ -9,6 +9,7 @@ MECHGEN_PACKAGES=(
   gnuplot-nox python3
   libsimbody-dev  # bench/dynamics: the Simbody comparison (Debian's build; see its README part)
   librsvg2-bin  # rsvg-convert: the test that renders every shipped model's SVG drawing to PNG
+  libopenmpi-dev openmpi-bin  # MPI for `mechgen study` across ranks (docs/studies.md)
   texlive-latex-base  # pdflatex for the test that compiles `mechgen report --latex --standalone` (39 MB download)
 )
 missing=()

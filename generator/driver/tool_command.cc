@@ -37,6 +37,9 @@
 #ifndef MECHGEN_CLI11_INCLUDE_DIR
 #define MECHGEN_CLI11_INCLUDE_DIR ""
 #endif
+#ifndef MECHGEN_MPI_CXX_COMPILER
+#define MECHGEN_MPI_CXX_COMPILER ""
+#endif
 #ifndef MECHGEN_INSTALL_INCLUDEDIR
 #define MECHGEN_INSTALL_INCLUDEDIR "include"
 #endif
@@ -64,6 +67,7 @@ struct ToolSpec {
   std::string quantity;            // what the model's outputs must have; "" nothing
   std::string summary;             // what the analysis gives (mechgen --help)
   std::vector<std::string> libs = {};  // linked after the objects, beyond the C++ library
+  bool mpi = false;  // compiled and linked with an MPI C++ compiler when one is found (-DMECHGEN_STUDY_MPI)
 };
 
 const std::vector<ToolSpec>& Specs() {
@@ -93,7 +97,8 @@ const std::vector<ToolSpec>& Specs() {
       {"study", "study_main.cc", {"-pthread"}, false, "",
        "a design study from --study FILE (docs/studies.md): grid, list, Latin hypercube or Monte-Carlo samples "
        "on every core, metrics per sample in a CSV, first-order tolerances beside the Monte-Carlo",
-       {"-lyaml-cpp", "-pthread"}},
+       {"-lyaml-cpp", "-pthread"},
+       true},
   };
   return specs;
 }
@@ -161,7 +166,20 @@ struct Toolchain {
   fs::path tools;                     // holds the drivers (<tool>_main.cc, sweep_args.*, common/)
   std::string eigen_include;          // holds Eigen/Core
   std::string cli11_include;          // holds CLI/CLI.hpp; empty: a default search directory
+  std::vector<std::string> mpi_compiler;  // a ToolSpec::mpi driver's compiler (mpicxx); empty: none
+  std::string mpi_identity;               // its resolved path, size, modification time
 };
+
+// "path size mtime" of a program, or its name if it cannot be resolved.
+std::string Identity(const fs::path& program) {
+  std::error_code ec;
+  const fs::path resolved = fs::canonical(program, ec);
+  struct stat st {};
+  if (!ec && stat(resolved.c_str(), &st) == 0)
+    return resolved.string() + " " + std::to_string(st.st_size) + " " +
+           std::to_string(static_cast<long long>(st.st_mtime));
+  return program.string();
+}
 
 // The installation prefix of this program: <prefix>/bin/mechgen (or the build tree's
 // generator/ directory's parent, where nothing is found and the source tree is used).
@@ -250,13 +268,27 @@ bool FindToolchain(const ToolSpec& spec, Toolchain* t) {
     return Fail("no C++ compiler: cannot find '" + t->compiler[0] + "'" +
                 (cxx != nullptr && *cxx != '\0' ? " (from CXX)" : " on PATH") +
                 "; install g++ (or clang++), or set CXX to a C++17 compiler"), false;
-  const fs::path resolved = fs::canonical(program, ec);
-  struct stat st {};
-  if (!ec && stat(resolved.c_str(), &st) == 0) {
-    t->compiler_identity = resolved.string() + " " + std::to_string(st.st_size) + " " +
-                           std::to_string(static_cast<long long>(st.st_mtime));
-  } else {
-    t->compiler_identity = program.string();
+  t->compiler_identity = Identity(program);
+  // MPI (the study): $MECHGEN_MPICXX ("" or "none": without MPI), else the MPI C++ compiler
+  // the build found, else mpicxx on PATH; none found: the driver is built without MPI.
+  if (spec.mpi) {
+    const char* env = std::getenv("MECHGEN_MPICXX");
+    std::vector<std::string> candidates;
+    if (env != nullptr) {
+      if (*env != '\0' && std::string(env) != "none") candidates.push_back(env);
+    } else {
+      candidates = {MECHGEN_MPI_CXX_COMPILER, "mpicxx"};
+    }
+    for (const std::string& c : candidates) {
+      const fs::path found = c.empty() ? fs::path() : FindProgram(c);
+      if (found.empty()) continue;
+      t->mpi_compiler = {found.string()};
+      t->mpi_identity = Identity(found);
+      break;
+    }
+    if (env != nullptr && t->mpi_compiler.empty() && !candidates.empty())
+      return Fail("MECHGEN_MPICXX=" + std::string(env) + ": no such program (set it to an MPI C++ compiler such "
+                  "as mpicxx, or to none for a study driver without MPI)"), false;
   }
   return true;
 }
@@ -310,6 +342,7 @@ std::string EntryKey(const ToolSpec& spec, const std::string& model_bytes, const
   AddPart(&material, "eigen", t.eigen_include + "\n" +
                                   ReadOrEmpty(fs::path(t.eigen_include) / "Eigen/src/Core/util/Macros.h"));
   AddPart(&material, "cli11", t.cli11_include);
+  AddPart(&material, "mpi", Join(t.mpi_compiler) + "\n" + t.mpi_identity);
   return Sha256Hex(material).substr(0, 32);
 }
 
@@ -638,8 +671,9 @@ bool RunJobs(std::vector<Job>* jobs, const std::string& what, bool verbose) {
   return true;
 }
 
-std::vector<std::string> Command(const Toolchain& t, std::vector<std::string> args) {
-  std::vector<std::string> command = t.compiler;
+std::vector<std::string> Command(const Toolchain& t, std::vector<std::string> args,
+                                 const std::vector<std::string>& compiler = {}) {
+  std::vector<std::string> command = compiler.empty() ? t.compiler : compiler;
   command.insert(command.end(), kFlags.begin(), kFlags.end());
   command.insert(command.end(), args.begin(), args.end());
   return command;
@@ -675,7 +709,8 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
     return Fail(c.model_path + " changed while it was being compiled; run again");
   const double generate_seconds = Seconds(start);
   const std::string& name = *model_name;
-  const std::string what = "the " + spec.name + " command of '" + name + "'";
+  const std::string what = "the " + spec.name + " command of '" + name + "'" +
+                           (t.mpi_compiler.empty() ? "" : " with MPI (" + Join(t.mpi_compiler) + ")");
   std::cerr << "mechgen: compiling " << what << " (" << c.model_path << "; once, then cached)...\n";
   const auto compile_start = std::chrono::steady_clock::now();
   std::error_code ec;
@@ -694,10 +729,11 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
   if (!spec.separate_args && !t.cli11_include.empty())
     main_args.insert(main_args.end(), {"-isystem", t.cli11_include});
   main_args.push_back("-DMECHGEN_TOOLS_DIR=\"" + t.tools.string() + "\"");  // statics --plots' scripts
+  if (!t.mpi_compiler.empty()) main_args.push_back("-DMECHGEN_STUDY_MPI");
   main_args.insert(main_args.end(),
                    {"-c", (t.tools / spec.main).string(), "-o", (dir / "main.o").string()});
   std::vector<Job> jobs;
-  jobs.push_back({Command(t, main_args), dir / "main.log"});
+  jobs.push_back({Command(t, main_args, t.mpi_compiler), dir / "main.log"});
   jobs.push_back({Command(t, {"-isystem", t.eigen_include, "-c", (dir / (name + ".cc")).string(), "-o",
                               (dir / (name + ".o")).string()}),
                   dir / "model.log"});
@@ -710,7 +746,7 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
   if (!RunJobs(&jobs, "compiling " + what, c.verbose)) return 1;
   const fs::path program = dir / spec.name;
   std::vector<Job> link(1);
-  link[0].argv = t.compiler;
+  link[0].argv = t.mpi_compiler.empty() ? t.compiler : t.mpi_compiler;
   link[0].argv.insert(link[0].argv.end(), {(dir / "main.o").string(), (dir / (name + ".o")).string()});
   if (spec.separate_args) link[0].argv.push_back(have_args ? args_object.string() : (dir / "args.o").string());
   link[0].argv.insert(link[0].argv.end(), {"-o", program.string()});

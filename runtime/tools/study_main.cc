@@ -15,7 +15,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <iostream>
+#include <mutex>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -25,7 +29,14 @@
 #include "mechgen/io/output_file.h"
 #include "mechgen/study/run.h"
 #include "mechgen/study/samples.h"
+#include "mechgen/study/shards.h"
 #include "mechgen/study/tolerance.h"
+
+#ifdef MECHGEN_STUDY_MPI
+#define OMPI_SKIP_MPICXX 1  // the C interface only (no C++ bindings to compile or link)
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+#endif
 
 #ifndef MECHGEN_MODEL_INCLUDE
 #error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
@@ -59,6 +70,10 @@ const char* MethodName(study::Method m) {
   return "";
 }
 
+const char* AnalysisName(study::Analysis a) {
+  return a == study::Analysis::kStatics ? "statics" : a == study::Analysis::kFlywheel ? "flywheel" : "sweep";
+}
+
 // The CSV: '#' lines (what wrote it, then each column's unit and meaning), the header, a row
 // per sample.
 void WriteCsv(const study::Study<Model>& s,
@@ -69,13 +84,13 @@ void WriteCsv(const study::Study<Model>& s,
   const size_t n = spec.parameters.size();
   out << "# mechgen study, model " << Model::kName << ": " << spec.path << ", method " << MethodName(spec.method)
       << ", " << results.size() << " samples, seed " << spec.seed << ", analysis "
-      << (spec.analysis == study::Analysis::kStatics ? "statics" : "sweep") << " in " << spec.steps << " steps\n";
+      << AnalysisName(spec.analysis) << " in " << spec.steps << " steps\n";
   out << "# sample [1]: the sample's index, 0-based, in the study's order\n";
   for (const study::ParameterSpec& p : spec.parameters)
     out << "# " << p.name << " [model units]: the model's parameter " << p.name << "\n";
   for (size_t k = 0; k < spec.metrics.size(); ++k)
     out << "# " << spec.metrics[k].name << " [" << s.Unit(k) << "]: " << s.Description(k) << "\n";
-  out << "# status [text]: ok, rows_failed (some rows did not converge), not_assembled\n";
+  out << "# status [text]: ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel)\n";
   out << "sample";
   for (const study::ParameterSpec& p : spec.parameters) out << "," << p.name;
   for (const study::MetricSpec& m : spec.metrics) out << "," << m.name;
@@ -92,9 +107,108 @@ void WriteCsv(const study::Study<Model>& s,
   }
 }
 
+// The ranks of an MPI run (docs/studies.md, "Across machines"). Compiled with
+// -DMECHGEN_STUDY_MPI (`mechgen study` does when it finds an MPI C++ compiler), MPI is started
+// only when a launcher (mpirun, mpiexec, srun) started this process: a plain run is serial and
+// never touches MPI. Rank 0 decides (the chunks to run, whether to go on) and every rank
+// follows its decision; the other ranks send their samples to rank 0 and print nothing.
+class Ranks {
+ public:
+  // Whether a launcher started this process, and as how many ranks (0: unknown).
+  static bool Launched(long* size) {
+    *size = 0;
+    for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "MPI_LOCALNRANKS"})
+      if (const char* v = std::getenv(name)) {
+        *size = std::strtol(v, nullptr, 10);
+        return true;
+      }
+    return std::getenv("PMIX_RANK") != nullptr;
+  }
+  Ranks(int* argc, char*** argv) {
+    long launched_size = 0;
+    const bool launched = Launched(&launched_size);
+#ifdef MECHGEN_STUDY_MPI
+    if (launched) {
+      MPI_Init(argc, argv);
+      started_ = true;
+      MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+      MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    }
+#else
+    (void)argc, (void)argv;
+    serial_under_launcher_ = launched && launched_size > 1;
+#endif
+    if (rank_ > 0) {  // only rank 0 speaks
+      if (std::freopen("/dev/null", "w", stdout) == nullptr) std::fclose(stdout);
+      if (std::freopen("/dev/null", "w", stderr) == nullptr) std::fclose(stderr);
+    }
+  }
+  ~Ranks() {
+#ifdef MECHGEN_STUDY_MPI
+    if (started_) MPI_Finalize();
+#endif
+  }
+  Ranks(const Ranks&) = delete;
+  Ranks& operator=(const Ranks&) = delete;
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  // Several ranks were launched, but this program has no MPI: each would run the whole study.
+  bool serial_under_launcher() const { return serial_under_launcher_; }
+
+  // Rank 0's value on every rank.
+  int Agree(int value) const {
+#ifdef MECHGEN_STUDY_MPI
+    if (size_ > 1) MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD);
+#endif
+    return value;
+  }
+  void Agree(std::vector<uint64_t>* values) const {
+#ifdef MECHGEN_STUDY_MPI
+    if (size_ <= 1) return;
+    uint64_t n = values->size();
+    MPI_Bcast(&n, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+    values->resize(n);
+    if (n > 0) MPI_Bcast(values->data(), static_cast<int>(n), MPI_UINT64_T, 0, MPI_COMM_WORLD);
+#else
+    (void)values;
+#endif
+  }
+  // Rank r > 0 sends `data`; rank 0 receives rank r's into *data (its size set by the caller).
+  void Send(const std::vector<double>& data) const { Transfer(const_cast<double*>(data.data()), data.size(), 0, true); }
+  void Receive(int from, std::vector<double>* data) const { Transfer(data->data(), data->size(), from, false); }
+
+ private:
+  void Transfer(double* data, uint64_t n, int peer, bool send) const {
+#ifdef MECHGEN_STUDY_MPI
+    // In pieces of at most 2^26 doubles (an MPI count is an int).
+    constexpr uint64_t kPiece = uint64_t(1) << 26;
+    for (uint64_t at = 0; at < n; at += kPiece) {
+      const int m = static_cast<int>(std::min(kPiece, n - at));
+      if (send)
+        MPI_Send(data + at, m, MPI_DOUBLE, peer, 7, MPI_COMM_WORLD);
+      else
+        MPI_Recv(data + at, m, MPI_DOUBLE, peer, 7, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    }
+#else
+    (void)data, (void)n, (void)peer, (void)send;
+#endif
+  }
+  int rank_ = 0, size_ = 1;
+  bool started_ = false;
+  bool serial_under_launcher_ = false;
+};
+
+// The chunks of `list` that rank r of `ranks` runs: a contiguous part of it.
+std::vector<uint64_t> PartOf(const std::vector<uint64_t>& list, int r, int ranks) {
+  const uint64_t n = list.size();
+  return std::vector<uint64_t>(list.begin() + n * r / ranks, list.begin() + n * (r + 1) / ranks);
+}
+
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int RunStudy(const Ranks& ranks, int argc, char** argv) {
   const std::string tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
   CLI::App app{std::string("A design study of the mechgen model '") + Model::kName +
                "': parameters varied on a grid, a list, a Latin hypercube or by Monte-Carlo, an analysis per "
@@ -102,7 +216,9 @@ int main(int argc, char** argv) {
                "Monte-Carlo (docs/studies.md)."};
   app.footer(
       "Exit status: 0 done, 3 done but some samples failed (status column), 2 bad arguments or a bad "
-      "study file, 1 the study does not fit the model or an output cannot be written.");
+      "study file, 1 the study does not fit the model or an output cannot be written, 4 stopped by "
+      "--stop-after (run again to resume). Under mpirun (a driver compiled with MPI) the samples are split "
+      "across the ranks, each using --threads threads; rank 0 writes the outputs, the same bytes.");
   std::string study_path, csv_path, tolerance_path, envelope_path;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   bool quiet = false;
@@ -115,7 +231,25 @@ int main(int argc, char** argv) {
                  "write the envelope of the study's point (envelope: {point: P}) to this CSV file: per row its "
                  "nominal place and the first-order and Monte-Carlo sigma of x and y");
   app.add_flag("--quiet", quiet, "no progress line on stderr");
+  std::string shards_path;
+  bool no_shards = false;
+  long long chunk_size = 0, stop_after = 0;
+  app.add_option("--shards", shards_path,
+                 "keep each chunk's results in this directory as it is done, and resume from it when run again "
+                 "(default with --csv F: F.shards; removed when the study is done)");
+  app.add_flag("--no-shards", no_shards, "keep no shards (a study that is stopped starts again from nothing)");
+  tools::Count(&app, "--chunk", &chunk_size, 1, 1LL << 40,
+               "samples per chunk (default: about 1/256 of the study, 64 to 65536); a resumed study needs the same");
+  tools::Count(&app, "--stop-after", &stop_after, 1, 1LL << 62,
+               "evaluate at most this many more samples (whole chunks), keep their shards and stop (exit 4): "
+               "running again resumes");
   if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
+  if (ranks.serial_under_launcher())
+    return tools::UsageError(tool,
+                             "started by an MPI launcher as one of several ranks, but this study driver was compiled "
+                             "without MPI (each rank would run the whole study): install libopenmpi-dev and run "
+                             "`mechgen study --rebuild ...` once, or run it without mpirun");
+  if (no_shards && !shards_path.empty()) return tools::UsageError(tool, "--shards and --no-shards: give one");
 
   study::StudySpec spec;
   std::string error;
@@ -133,30 +267,140 @@ int main(int argc, char** argv) {
   if (!envelope_path.empty() && spec.envelope.empty())
     return tools::UsageError(tool, "--envelope-csv: the study names no point (envelope: {point: P})");
   mechgen::OutputFile csv, tolerance_csv, envelope_csv;
-  if ((!csv_path.empty() && !csv.Open(csv_path, &error)) ||
-      (!tolerance_path.empty() && !tolerance_csv.Open(tolerance_path, &error)) ||
-      (!envelope_path.empty() && !envelope_csv.Open(envelope_path, &error))) {
+  if (ranks.Agree(ranks.rank() == 0 && ((!csv_path.empty() && !csv.Open(csv_path, &error)) ||
+                                        (!tolerance_path.empty() && !tolerance_csv.Open(tolerance_path, &error)) ||
+                                        (!envelope_path.empty() && !envelope_csv.Open(envelope_path, &error))))) {
     std::cerr << "error: " << error << "\n";
     return 1;
   }
   const std::vector<double> values = study::DrawSamples(spec, s.nominal());
   const uint64_t count = study::SampleCount(spec);
-  std::printf("mechgen study of '%s': %s, %s, %llu samples of %zu parameters, %s over %d steps, %d threads\n",
+  const study::Chunks chunks{count, chunk_size > 0 ? static_cast<uint64_t>(chunk_size) : study::DefaultChunkSize(count)};
+  const uint64_t width = s.Width();
+  // The shards: rank 0 opens (or checks) the directory first, then the others (on a shared
+  // file system they find its study.key; on their own disks they make one).
+  if (shards_path.empty() && !no_shards && !csv_path.empty()) shards_path = csv_path + ".shards";
+  std::string study_bytes;
+  {
+    std::ifstream in(spec.path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    study_bytes = text.str();
+  }
+  const study::ShardDirectory shards(shards_path, s.Key(study_bytes, values, chunks.size), chunks, width);
+  if (!shards_path.empty()) {
+    if (ranks.Agree(ranks.rank() == 0 && !shards.Open(&error))) {
+      std::cerr << "error: " << error << "\n";
+      return 1;
+    }
+    if (ranks.rank() > 0 && !shards.Open(&error)) shards_path.clear();  // keeps none of its own
+  }
+  // Rank 0 reads the shards there are; the chunks without one are run, split across the ranks.
+  std::vector<study::SampleResult> results(count);
+  std::vector<uint64_t> todo;
+  uint64_t resumed = 0;
+  if (ranks.rank() == 0) {
+    std::vector<double> part;
+    for (uint64_t c = 0; c < chunks.number(); ++c) {
+      const uint64_t n = chunks.end(c) - chunks.begin(c);
+      part.resize(n * width);
+      if (!shards_path.empty() && shards.Read(c, part.data())) {
+        for (uint64_t i = 0; i < n; ++i) results[chunks.begin(c) + i] = s.Unpack(&part[i * width]);
+        resumed += n;
+      } else {
+        todo.push_back(c);
+      }
+    }
+  }
+  ranks.Agree(&todo);
+  const size_t chunks_left = todo.size();
+  bool stopped = false;
+  if (stop_after > 0) {
+    uint64_t take = 0, samples = 0;
+    while (take < todo.size() && samples < static_cast<uint64_t>(stop_after))
+      samples += chunks.end(todo[take]) - chunks.begin(todo[take]), ++take;
+    stopped = take < todo.size();
+    todo.resize(take);
+  }
+  uint64_t run_samples = 0;  // by every rank
+  for (uint64_t c : todo) run_samples += chunks.end(c) - chunks.begin(c);
+  const std::vector<uint64_t> mine = PartOf(todo, ranks.rank(), ranks.size());
+  uint64_t my_samples = 0;
+  for (uint64_t c : mine) my_samples += chunks.end(c) - chunks.begin(c);
+  std::printf("mechgen study of '%s': %s, %s, %llu samples of %zu parameters, %s over %d steps, %d threads",
               Model::kName, spec.path.c_str(), MethodName(spec.method), static_cast<unsigned long long>(count),
-              spec.parameters.size(), spec.analysis == study::Analysis::kStatics ? "statics" : "kinematic sweep",
+              spec.parameters.size(),
+              spec.analysis == study::Analysis::kSweep ? "kinematic sweep" : AnalysisName(spec.analysis),
               spec.steps, threads);
-  std::vector<study::SampleResult> results;
+  if (ranks.size() > 1) std::printf(" on each of %d ranks", ranks.size());
+  std::printf("\n");
+  if (resumed > 0)
+    std::printf("resumed: %llu samples from the shards in %s; %zu of %llu chunks left\n",
+                static_cast<unsigned long long>(resumed), shards_path.c_str(), chunks_left,
+                static_cast<unsigned long long>(chunks.number()));
   const auto start = std::chrono::steady_clock::now();
   bool printed = false;
   auto progress = [&](uint64_t done) {
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (quiet || t < 2 || done == 0) return;
     const double rate = done / t;
-    std::fprintf(stderr, "\rstudy: %llu/%llu samples, %.0f/s, %.0f s left   ", static_cast<unsigned long long>(done),
-                 static_cast<unsigned long long>(count), rate, (count - done) / rate);
+    std::fprintf(stderr, "\rstudy: %llu/%llu samples%s, %.0f/s, %.0f s left   ",
+                 static_cast<unsigned long long>(done), static_cast<unsigned long long>(my_samples),
+                 ranks.size() > 1 ? " of rank 0" : "", rate, (my_samples - done) / rate);
     printed = true;
   };
-  s.Run(values, threads, &results, progress);
+  // Each chunk's shard as soon as it is done (from the thread that finished it).
+  std::mutex shard_mutex;
+  std::string shard_error;
+  auto chunk_done = [&](uint64_t c) {
+    if (shards_path.empty()) return;
+    const uint64_t n = chunks.end(c) - chunks.begin(c);
+    std::vector<double> part(n * width);
+    for (uint64_t i = 0; i < n; ++i) s.Pack(results[chunks.begin(c) + i], &part[i * width]);
+    std::string why;
+    if (!shards.Write(c, part.data(), &why)) {
+      std::lock_guard<std::mutex> lock(shard_mutex);
+      if (shard_error.empty()) shard_error = why;
+    }
+  };
+  s.RunChunks(values, chunks, mine, threads, &results, chunk_done, progress);
+  // Rank 0 gathers the others' samples, rank by rank, in the order of their chunks.
+  const auto gather_start = std::chrono::steady_clock::now();
+  if (ranks.size() > 1) {
+    if (ranks.rank() > 0) {
+      std::vector<double> data(my_samples * width);
+      uint64_t at = 0;
+      for (uint64_t c : mine)
+        for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) s.Pack(results[i], &data[at]);
+      ranks.Send(data);
+    } else {
+      for (int r = 1; r < ranks.size(); ++r) {
+        const std::vector<uint64_t> theirs = PartOf(todo, r, ranks.size());
+        uint64_t n = 0;
+        for (uint64_t c : theirs) n += chunks.end(c) - chunks.begin(c);
+        std::vector<double> data(n * width);
+        ranks.Receive(r, &data);
+        uint64_t at = 0;
+        for (uint64_t c : theirs)
+          for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) results[i] = s.Unpack(&data[at]);
+      }
+    }
+  }
+  if (ranks.size() > 1)
+    std::printf("rank 0 ran %llu samples in %.3g s, then waited for and gathered %llu from %d ranks in %.3g s\n",
+                static_cast<unsigned long long>(my_samples),
+                std::chrono::duration<double>(gather_start - start).count(),
+                static_cast<unsigned long long>(run_samples - my_samples), ranks.size() - 1,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - gather_start).count());
+  if (!shard_error.empty()) std::cerr << "warning: " << shard_error << " (the study goes on; it cannot resume from it)\n";
+  if (stopped) {
+    std::printf("stopped by --stop-after: %llu of %llu samples are in the shards in %s; run the same command again "
+                "to resume\n",
+                static_cast<unsigned long long>(resumed + run_samples),
+                static_cast<unsigned long long>(count), shards_path.empty() ? "(none: --no-shards)" : shards_path.c_str());
+    return 4;
+  }
+  if (ranks.rank() > 0) return 0;  // rank 0 writes the outputs and says the exit status
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (printed) std::fprintf(stderr, "\n");
 
@@ -166,13 +410,13 @@ int main(int argc, char** argv) {
     const std::string st = r.status;
     ok += st == "ok";
     rows_failed += st == "rows_failed";
-    not_assembled += st == "not_assembled";
+    not_assembled += st == "not_assembled" || st == "cycle_failed";
   }
   std::printf(
-      "%llu ok, %llu with failed rows, %llu not assembled; %.3g s (%.3g samples/s, %.3g ms per sample per thread)\n\n",
+      "%llu ok, %llu with failed rows, %llu not assembled (or their cycle failed); %.3g s (%.3g samples/s, %.3g ms per sample per thread)\n\n",
       static_cast<unsigned long long>(ok), static_cast<unsigned long long>(rows_failed),
-      static_cast<unsigned long long>(not_assembled), seconds, count / seconds,
-      1e3 * seconds * threads / std::max<uint64_t>(count, 1));
+      static_cast<unsigned long long>(not_assembled), seconds, run_samples / seconds,
+      1e3 * seconds * threads * ranks.size() / std::max<uint64_t>(run_samples, 1));
   std::vector<std::vector<double>> per_metric(spec.metrics.size());
   for (size_t k = 0; k < spec.metrics.size(); ++k) {
     per_metric[k].reserve(results.size());
@@ -303,6 +547,7 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << error << "\n";
     return 1;
   }
+  if (!shards_path.empty()) shards.Remove();
   if (!csv_path.empty())
     std::printf("\nwrote %s (%llu rows x %zu columns)\n", csv_path.c_str(), static_cast<unsigned long long>(count),
                 spec.parameters.size() + spec.metrics.size() + 2);
@@ -313,4 +558,12 @@ int main(int argc, char** argv) {
     return 1;
   }
   return ok == count ? 0 : 3;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Ranks ranks(&argc, &argv);
+  const int status = RunStudy(ranks, argc, argv);
+  return ranks.Agree(status);  // every rank ends as rank 0 does
 }

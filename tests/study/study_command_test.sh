@@ -5,10 +5,14 @@
 # tolerance CSV; a study file with an error: exit 2, one line FILE:LINE:COLUMN, no CSV; a study
 # that does not fit the model: exit 1, no CSV; a bad option: exit 2, one line; the histogram
 # and scatter scripts draw PNGs from the CSV and the envelope script from the envelope CSV
-# (when gnuplot is installed).
-# usage: study_command_test.sh <mechgen> <source dir>
+# (when gnuplot is installed). The form `mechgen study STUDY.yaml` (the study names its model) gives
+# the same bytes; so do 4 threads; a study stopped part way (--stop-after) or killed (SIGKILL) and
+# run again resumes from its shards and gives the same bytes; under `mpirun --oversubscribe -np 2`
+# (and -np 1; a driver compiled with MPI) the same bytes, also when resumed from the shards of a
+# two-rank run (skipped, saying so, only when CMake found no MPI).
+# usage: study_command_test.sh <mechgen> <source dir> [<mpiexec> (empty: no MPI)]
 set -uo pipefail
-mechgen=$(realpath "$1") source_dir=$(realpath "$2")
+mechgen=$(realpath "$1") source_dir=$(realpath "$2") mpiexec=${3:-}
 root=$(mktemp -d)
 trap 'rm -rf "$root"' EXIT
 cd "$root" || exit 1
@@ -45,6 +49,90 @@ steps=$(awk '/^steps:/ { print $2 }' study.yaml)
 [ "$(grep -v '^#' env.csv | tail -n +2 | wc -l)" -eq $((steps + 1)) ] || fail "envelope: not one line per row"
 grep -q '^row,theta_crank,x_nominal,y_nominal,fo_sigma_x' env.csv || fail "envelope header: $(grep -v '^#' env.csv | head -1)"
 grep -q '^envelope of coupler.P: ' one.out || fail "no envelope summary: $(cat one.out)"
+
+grep -q "compiling .* with MPI" one.err && compiled_mpi=1 || compiled_mpi=0
+
+# `mechgen study STUDY.yaml`: the study names its model, relative to itself.
+mkdir -p sub
+sed 's|^method: monte_carlo|model: ../fourbar.yaml\nmethod: monte_carlo|' study.yaml > sub/named.yaml
+"$mechgen" study sub/named.yaml --threads 4 --csv named.csv --quiet > named.out 2> named.err
+status=$?
+[ "$status" -eq 0 ] || fail "study-file form: exit status $status: $(cat named.err)"
+grep -q "compiling" named.err && fail "the study-file form compiled again"
+# The same bytes but the first line, which names the study file.
+if cmp -s <(tail -n +2 one.csv) <(tail -n +2 named.csv); then ok "mechgen study STUDY.yaml, 4 threads: the same bytes"
+else fail "the study-file form or 4 threads differ"; fi
+head -1 named.csv | grep -q "^# mechgen study, model fourbar: sub/named.yaml, " || fail "named: $(head -1 named.csv)"
+sed 's|^method: monte_carlo|method: monte_carlo|' study.yaml > sub/unnamed.yaml
+"$mechgen" study sub/unnamed.yaml --csv unnamed.csv > unnamed.out 2> unnamed.err
+status=$?
+[ "$status" -eq 2 ] || fail "a study without model: run alone: exit status $status"
+grep -Eq "^sub/unnamed.yaml:[0-9]+:1: error: a study run as .mechgen study STUDY.yaml. names its model" unnamed.err ||
+  fail "a study without model: $(cat unnamed.err)"
+
+# Resuming: stopped after 500 samples (whole chunks: 512), no CSV yet, the shards kept; run
+# again (1 thread): the same bytes, the shards removed.
+"$mechgen" study fourbar.yaml --study study.yaml --threads 2 --csv resumed.csv --stop-after 500 --quiet > stop.out 2> stop.err
+status=$?
+[ "$status" -eq 4 ] || fail "--stop-after: exit status $status: $(cat stop.err)"
+[ -e resumed.csv ] && fail "--stop-after: a CSV was written"
+[ "$(ls resumed.csv.shards | grep -c '^chunk-')" -eq 8 ] || fail "--stop-after 500: not 8 shards of 64: $(ls resumed.csv.shards)"
+"$mechgen" study fourbar.yaml --study study.yaml --threads 1 --csv resumed.csv --quiet > resume.out 2> resume.err
+status=$?
+[ "$status" -eq 0 ] || fail "resume: exit status $status: $(cat resume.err)"
+grep -q "^resumed: 512 samples from the shards in resumed.csv.shards; 24 of 32 chunks left" resume.out ||
+  fail "resume: $(cat resume.out)"
+if cmp -s one.csv resumed.csv; then ok "stopped and resumed: the same bytes"; else fail "stopped and resumed: differ"; fi
+[ -e resumed.csv.shards ] && fail "the shards were not removed after the study"
+# Shards of another study are left alone: exit 1.
+mkdir -p other.csv.shards && echo "mechgen study shards 1" > other.csv.shards/study.key
+"$mechgen" study fourbar.yaml --study study.yaml --csv other.csv > other.out 2> other.err
+status=$?
+[ "$status" -eq 1 ] || fail "another study's shards: exit status $status"
+grep -q "holds the shards of another study" other.err || fail "another study's shards: $(cat other.err)"
+# Killed (SIGKILL) once a few shards are written, run again: the same bytes as a run that was not.
+sed 's/^count: 2000/count: 12000/' study.yaml > big.yaml
+"$mechgen" study fourbar.yaml --study big.yaml --threads 2 --csv big_whole.csv --quiet > /dev/null 2>&1 ||
+  fail "the larger study: exit status $?"
+"$mechgen" study fourbar.yaml --study big.yaml --threads 1 --csv big.csv --quiet > /dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 400); do
+  [ "$(ls big.csv.shards 2> /dev/null | grep -c '^chunk-')" -ge 3 ] && break
+  sleep 0.02
+done
+kill -KILL "$pid" 2> /dev/null
+wait "$pid" 2> /dev/null
+killed=$(ls big.csv.shards 2> /dev/null | grep -c '^chunk-')
+[ -e big.csv ] && fail "killed: a CSV was written (the study ended before the kill)"
+"$mechgen" study fourbar.yaml --study big.yaml --threads 2 --csv big.csv --quiet > big.out 2> big.err ||
+  fail "killed and resumed: exit status $?: $(cat big.err)"
+grep -q "^resumed: " big.out || fail "killed ($killed shards): nothing resumed: $(head -3 big.out)"
+if cmp -s big_whole.csv big.csv; then ok "killed after $killed shards and resumed: the same bytes"; else fail "killed and resumed: differ"; fi
+
+# MPI: two ranks (one thread each) and one rank give the bytes of the serial run; a two-rank run
+# stopped part way resumes serially to the same bytes.
+if [ -z "$mpiexec" ]; then
+  echo "SKIP: MPI: CMake found no MPI C++ compiler (install libopenmpi-dev openmpi-bin: scripts/deps.sh)"
+elif [ "$compiled_mpi" -ne 1 ]; then
+  fail "MPI: CMake found MPI but mechgen compiled the study without it: $(cat one.err)"
+else
+  [ "$(id -u)" -eq 0 ] && export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+  for np in 2 1; do
+    "$mpiexec" --oversubscribe -np $np "$mechgen" study fourbar.yaml --study study.yaml --threads 1 --csv mpi$np.csv \
+      --quiet > mpi$np.out 2> mpi$np.err
+    status=$?
+    [ "$status" -eq 0 ] || fail "mpirun -np $np: exit status $status: $(tail -5 mpi$np.err)"
+    if cmp -s one.csv mpi$np.csv; then ok "mpirun -np $np: the same bytes"; else fail "mpirun -np $np: differ"; fi
+  done
+  grep -q "on each of 2 ranks" mpi2.out || fail "mpirun -np 2: not two ranks: $(head -1 mpi2.out)"
+  "$mpiexec" --oversubscribe -np 2 "$mechgen" study fourbar.yaml --study study.yaml --threads 1 --csv mpir.csv \
+    --stop-after 700 --quiet > mpir.out 2> mpir.err
+  status=$?
+  [ "$status" -eq 4 ] || fail "mpirun -np 2 --stop-after: exit status $status: $(tail -5 mpir.err)"
+  "$mechgen" study fourbar.yaml --study study.yaml --threads 2 --csv mpir.csv --quiet > mpir2.out 2> mpir2.err
+  grep -q "^resumed: 704 samples" mpir2.out || fail "resumed after two ranks: $(head -3 mpir2.out)"
+  if cmp -s one.csv mpir.csv; then ok "two ranks stopped, resumed serially: the same bytes"; else fail "two ranks stopped and resumed: differ"; fi
+fi
 
 # A study file with an error: one line file:line:column, exit 2, no CSV.
 sed 's/^method: monte_carlo/method: montecarlo/' study.yaml > bad.yaml

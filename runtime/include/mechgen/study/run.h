@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <condition_variable>
 #include <functional>
@@ -25,11 +26,14 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
+#include "mechgen/machines/flywheel/machine_cycle.h"
 #include "mechgen/position/solver.h"
 #include "mechgen/statics/columns.h"
 #include "mechgen/statics/sweep.h"
+#include "mechgen/study/shards.h"
 #include "mechgen/study/spec.h"
 #include "mechgen/sweep/columns.h"
 #include "mechgen/sweep/sweep.h"
@@ -42,7 +46,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 struct SampleResult {
   /// "ok"; "rows_failed" (some rows of the motion did not converge: the metrics are over the
   /// others, `failures` counts them); "not_assembled" (no configuration at the assembly
-  /// inputs: every metric NaN but failures).
+  /// inputs: every metric NaN but failures); "cycle_failed" (analysis: flywheel: the cycle is
+  /// not usable, machines/flywheel/machine_cycle.h's status: every metric NaN but failures = 1).
   const char* status = "not_run";
   std::vector<double> metrics;
   /// With an envelope: the point's x, y at every row (x0, y0, x1, ...), NaN where a row failed.
@@ -58,6 +63,11 @@ template <class M>
 struct StaticsRowOf<M, true> {
   using type = statics::StaticsRecord<M>;
 };
+// M::kNumDesignChecks, or 0 for a model without a design section.
+template <class M, bool = HasDesignDerivatives<M>::value>
+struct NumDesignChecks : std::integral_constant<int, 0> {};
+template <class M>
+struct NumDesignChecks<M, true> : std::integral_constant<int, M::kNumDesignChecks> {};
 }  // namespace run_internal
 
 /// A study of model M: the spec checked against the model, the tables, the nominal rows.
@@ -73,8 +83,9 @@ class Study {
   struct Rows {
     std::vector<Kinematics> kinematics;
     std::vector<StaticsRow> statics;  ///< statics analysis only
+    flywheel::MachineCycle cycle;     ///< flywheel analysis only
     Params params;
-    bool assembled = false;
+    bool assembled = false;  ///< flywheel: the cycle is usable
   };
 
   /// Checks the names of `spec` against M and builds the tables; false and *error
@@ -118,6 +129,10 @@ class Study {
       return fail(spec.analysis_place,
                   std::string("analysis: statics needs a model with `forces` among its outputs' quantities; ") +
                       M::kName + " has none (use analysis: sweep, or add forces)");
+    if (spec.analysis == Analysis::kFlywheel && (!kHasStatics || M::kNq != 1 || !M::kQIsAngle[0]))
+      return fail(spec.analysis_place, std::string("analysis: flywheel needs a one-input machine turned by a crank "
+                                                   "with `forces` among its outputs' quantities; ") +
+                                           M::kName + " is not one");
     // The first input's motion.
     q_begin_ = Eigen::Map<const typename ModelTypes<M>::VecQ>(M::kQMin.data());
     q_end_ = Eigen::Map<const typename ModelTypes<M>::VecQ>(M::kQMax.data());
@@ -179,7 +194,7 @@ class Study {
         }
       }
       if (m.kind == MetricKind::kDesignMargin) {
-        if constexpr (HasDesignDerivatives<M>::value && M::kNumDesignChecks > 0) {
+        if constexpr (run_internal::NumDesignChecks<M>::value > 0) {
           r.check = -1;
           for (int i = 0; i < M::kNumDesignChecks; ++i)
             if (m.check == M::kDesignCheckNames[i]) r.check = i;
@@ -211,7 +226,9 @@ class Study {
     Analyze(nominal_.data(), /*design=*/true, &nominal_rows_);
     if (!nominal_rows_.assembled)
       return fail(spec.analysis_place,
-                  std::string("the model ") + M::kName + " does not assemble at the nominal design");
+                  spec.analysis == Analysis::kFlywheel
+                      ? "the nominal design's cycle: " + nominal_rows_.cycle.message
+                      : std::string("the model ") + M::kName + " does not assemble at the nominal design");
     return true;
   }
 
@@ -231,6 +248,13 @@ class Study {
         return "1";
       case MetricKind::kDesignMargin:
         return "model length";
+      case MetricKind::kFlywheelInertia:
+        return "kg m^2";
+      case MetricKind::kMeanTorque:
+      case MetricKind::kPeakTorque:
+        return "N m";
+      case MetricKind::kEnergyFluctuation:
+        return "J";
       default:
         return r.table == 0 ? sweep_columns_[r.column].unit : statics_columns_[r.column].unit;
     }
@@ -260,6 +284,15 @@ class Study {
       case MetricKind::kDesignMargin:
         return m.check.empty() ? "smallest margin of the model's design checks (>= 0: acceptable)"
                                : "margin of the design check " + m.check;
+      case MetricKind::kFlywheelInertia:
+        return "the flywheel inertia to add for C_s = " + std::to_string(m.C_s) +
+               ": Delta E / (C_s omega^2) - the machine's mean inertia (machines/flywheel)";
+      case MetricKind::kMeanTorque:
+        return "mean required driving torque over the cycle at omega (the steady motor torque)";
+      case MetricKind::kPeakTorque:
+        return "largest |required driving torque| over the cycle's samples at omega";
+      case MetricKind::kEnergyFluctuation:
+        return "Delta E = E_max - E_min of the cycle's energy loop";
     }
     return "";
   }
@@ -280,6 +313,16 @@ class Study {
     out->assembled = solver.AssembleDefault(&summary) == position::Status::kConverged;
     out->kinematics.clear();
     if constexpr (kHasStatics) out->statics.clear();
+    if (spec_.analysis == Analysis::kFlywheel) {
+      // The machine's cycle at omega (machines/flywheel/machine_cycle.h): its own assembly
+      // and continuation over `steps` samples.
+      flywheel::MachineCycleOptions o;
+      o.omega = spec_.omega;
+      o.samples = spec_.steps;
+      out->cycle = flywheel::SampleMachineCycle<M>(out->params, o);
+      out->assembled = out->cycle.IsUsable();
+      return;
+    }
     if (!out->assembled) return;
     SweepOptions options;
     options.design = design && HasDesignDerivatives<M>::value;
@@ -304,6 +347,11 @@ class Study {
     SampleResult result;
     result.metrics.assign(spec_.metrics.size(), kNaN);
     if (envelope_point_ >= 0) result.path = Path(*rows);
+    if (spec_.analysis == Analysis::kFlywheel) {
+      result.status = rows->assembled ? "ok" : "cycle_failed";
+      for (size_t k = 0; k < spec_.metrics.size(); ++k) result.metrics[k] = Value(k, *rows).value;
+      return result;
+    }
     if (!rows->assembled) {
       result.status = "not_assembled";
       for (size_t k = 0; k < spec_.metrics.size(); ++k)
@@ -363,7 +411,21 @@ class Study {
         t.sign = sign;
       }
     };
+    const bool cycle = spec_.analysis == Analysis::kFlywheel;
+    if (cycle && !rows.assembled && m.kind != MetricKind::kFailures && m.kind != MetricKind::kDesignMargin) return t;
     switch (m.kind) {
+      case MetricKind::kFlywheelInertia:
+        t.value = flywheel::SizeFlywheel(rows.cycle, m.C_s).I_flywheel;
+        break;
+      case MetricKind::kMeanTorque:
+        t.value = rows.cycle.T_mean;
+        break;
+      case MetricKind::kPeakTorque:
+        t.value = std::max(std::abs(rows.cycle.T_max), std::abs(rows.cycle.T_min));
+        break;
+      case MetricKind::kEnergyFluctuation:
+        t.value = rows.cycle.loop.delta_E;
+        break;
       case MetricKind::kMax:
       case MetricKind::kMin:
         for (int i = 0; i < n; ++i) consider(Cell(r, rows, i), i, 1, m.kind == MetricKind::kMax);
@@ -423,12 +485,16 @@ class Study {
         break;
       case MetricKind::kFailures: {
         int failures = 0;
-        for (int i = 0; i < n; ++i) failures += !RowOk(rows, i);
+        if (cycle) {
+          failures = !rows.assembled;
+        } else {
+          for (int i = 0; i < n; ++i) failures += !RowOk(rows, i);
+        }
         t.value = failures;
         break;
       }
       case MetricKind::kDesignMargin:
-        if constexpr (HasDesignDerivatives<M>::value && M::kNumDesignChecks > 0) {
+        if constexpr (run_internal::NumDesignChecks<M>::value > 0) {
           Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
           M::DesignChecks(rows.params, &margin);
           for (int c = 0; c < M::kNumDesignChecks; ++c)
@@ -470,6 +536,10 @@ class Study {
       *why = "a distance, 0 at the nominal: not differentiable there";
       return g;
     }
+    if (IsFlywheelMetric(m.kind)) {
+      *why = "the cycle's metrics have no first order in the study yet (machines/flywheel/cycle_design.h has them)";
+      return g;
+    }
     if (!std::isfinite(t.value)) {
       *why = "no value at the nominal";
       return g;
@@ -501,7 +571,7 @@ class Study {
         continue;
       }
       if (m.kind == MetricKind::kDesignMargin) {
-        if constexpr (HasDesignDerivatives<M>::value && M::kNumDesignChecks > 0) {
+        if constexpr (run_internal::NumDesignChecks<M>::value > 0) {
           Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
           Eigen::Matrix<double, M::kNumDesignChecks, M::kNumDesign> dmargin;
           M::DesignChecks(rows.params, &margin, &dmargin);
@@ -551,14 +621,44 @@ class Study {
     const size_t n = spec_.parameters.size();
     const uint64_t count = n == 0 ? 0 : values.size() / n;
     results->assign(count, SampleResult());
+    RunChunks(values, Chunks{count, std::max<uint64_t>(count, 1)}, {0}, threads, results, nullptr, progress);
+  }
+
+  /**
+   * \brief Evaluates the samples of the chunks `list` (of `chunks`; values: DrawSamples()) on
+   *        `threads` threads into their places of *results (sized to every sample; the others
+   *        are left alone). Each thread takes the next sample of the list from a shared
+   *        counter; when the last sample of a chunk is done, `chunk_done(c)` is called from
+   *        the thread that did it (its results are then all in place: a shard can be written).
+   *        `progress(done)` (samples of the list done) is called from the calling thread about
+   *        once a second.
+   */
+  void RunChunks(const std::vector<double>& values,
+                 const Chunks& chunks,
+                 const std::vector<uint64_t>& list,
+                 int threads,
+                 std::vector<SampleResult>* results,
+                 const std::function<void(uint64_t chunk)>& chunk_done,
+                 const std::function<void(uint64_t done)>& progress = nullptr) const {
+    const size_t n = spec_.parameters.size();
+    // The list's samples, one after the other: start[j] is the first of list[j].
+    std::vector<uint64_t> start(list.size() + 1, 0);
+    for (size_t j = 0; j < list.size(); ++j) start[j + 1] = start[j] + chunks.end(list[j]) - chunks.begin(list[j]);
+    const uint64_t total = start.back();
+    std::vector<std::atomic<uint64_t>> left(list.size());
+    for (size_t j = 0; j < list.size(); ++j) left[j] = start[j + 1] - start[j];
     std::atomic<uint64_t> next{0}, done{0};
     std::mutex mutex;
     std::condition_variable finished;
     auto work = [&]() {
       Rows rows;
-      for (uint64_t i; (i = next.fetch_add(1)) < count;) {
+      size_t j = 0;
+      for (uint64_t k; (k = next.fetch_add(1)) < total;) {
+        while (start[j + 1] <= k) ++j;  // k only grows in each thread
+        const uint64_t i = chunks.begin(list[j]) + (k - start[j]);
         (*results)[i] = Evaluate(&values[i * n], &rows);
-        if (done.fetch_add(1) + 1 == count) {
+        if (left[j].fetch_sub(1) == 1 && chunk_done) chunk_done(list[j]);
+        if (done.fetch_add(1) + 1 == total) {
           std::lock_guard<std::mutex> lock(mutex);
           finished.notify_all();
         }
@@ -569,12 +669,47 @@ class Study {
     if (progress) {
       // The calling thread reports while `threads` others work.
       std::thread worker(work);
-      Wait(&mutex, &finished, &done, count, progress);
+      Wait(&mutex, &finished, &done, total, progress);
       worker.join();
     } else {
       work();
     }
     for (std::thread& t : pool) t.join();
+  }
+
+  /// Doubles per sample in a shard or a gather between ranks: the status code, the metrics,
+  /// the envelope's path (x, y per row) if the study has one.
+  uint64_t Width() const {
+    return 1 + spec_.metrics.size() + (envelope_point_ >= 0 ? 2 * static_cast<uint64_t>(spec_.steps + 1) : 0);
+  }
+  /// Sample result r as Width() doubles at out.
+  void Pack(const SampleResult& r, double* out) const {
+    out[0] = StatusCode(r.status);
+    std::copy(r.metrics.begin(), r.metrics.end(), out + 1);
+    std::copy(r.path.begin(), r.path.end(), out + 1 + spec_.metrics.size());
+  }
+  SampleResult Unpack(const double* in) const {
+    SampleResult r;
+    r.status = StatusOfCode(in[0]);
+    r.metrics.assign(in + 1, in + 1 + spec_.metrics.size());
+    if (envelope_point_ >= 0) r.path.assign(in + 1 + spec_.metrics.size(), in + Width());
+    return r;
+  }
+  /**
+   * \brief The study's identity for its shards: the study file's bytes, the model (its name
+   *        and the nominal design's metrics, bit for bit), the chunk size and every sample's
+   *        values. A change of any of them makes old shards another study's.
+   */
+  uint64_t Key(const std::string& study_bytes, const std::vector<double>& values, uint64_t chunk) const {
+    KeyHash h;
+    h.Add(study_bytes);
+    h.Add(std::string(M::kName));
+    for (size_t k = 0; k < spec_.metrics.size(); ++k) h.Add(Value(k, nominal_rows_).value);
+    h.Add(chunk);
+    h.Add(Width());
+    h.Add(static_cast<uint64_t>(values.size()));
+    for (double v : values) h.Add(v);
+    return h.value();
   }
 
  private:

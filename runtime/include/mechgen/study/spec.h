@@ -28,7 +28,7 @@ struct Place {
 
 enum class Method { kGrid, kList, kLatinHypercube, kMonteCarlo };
 enum class Distribution { kNone, kUniform, kNormal };
-enum class Analysis { kSweep, kStatics };
+enum class Analysis { kSweep, kStatics, kFlywheel };
 enum class MetricKind {
   kMax,
   kMin,
@@ -40,7 +40,17 @@ enum class MetricKind {
   kPathDeviation,         // max |r_P - r_P,nominal| over the steps
   kFailures,              // rows that did not converge
   kDesignMargin,          // the smallest design-check margin (or one check's)
+  kFlywheelInertia,       // flywheel: the inertia to add for a C_s (machines/flywheel)
+  kMeanTorque,            // flywheel: the mean required driving torque over the cycle
+  kPeakTorque,            // flywheel: the largest |required driving torque| over the cycle
+  kEnergyFluctuation,     // flywheel: the energy loop's Delta E
 };
+
+/// Whether a metric of kind k reads the flywheel analysis' cycle.
+inline bool IsFlywheelMetric(MetricKind k) {
+  return k == MetricKind::kFlywheelInertia || k == MetricKind::kMeanTorque || k == MetricKind::kPeakTorque ||
+         k == MetricKind::kEnergyFluctuation;
+}
 
 /// A parameter that varies.
 struct ParameterSpec {
@@ -63,6 +73,7 @@ struct MetricSpec {
   int step = -1;       ///< kAt: the row 0..steps
   std::string point;   ///< kPathDeviation: the point (as in the sweep's columns, e.g. coupler.P)
   std::string check;   ///< kDesignMargin: one check's name; empty: the smallest margin
+  double C_s = 0;      ///< kFlywheelInertia: the coefficient of speed fluctuation
   Place place;
 };
 
@@ -83,6 +94,7 @@ struct StudySpec {
   uint64_t seed = 1;
   Analysis analysis = Analysis::kSweep;
   int steps = 360;
+  double omega = 0;  ///< flywheel: the mean speed (rad/s)
   bool has_range = false;  ///< else the model's range of the first input
   double q_begin = 0, q_end = 0;
   std::vector<ParameterSpec> parameters;
@@ -232,7 +244,7 @@ inline MetricSpec Metric(const YAML::Node& n, int steps) {
   MetricSpec m;
   m.place = PlaceOf(n);
   if (!n.IsMap() || !n["kind"]) Fail(n, "a metric: expected a map with kind:, e.g. {kind: max, column: coupler.P.y}");
-  OnlyKeys(n, {"name", "kind", "column", "step", "point", "check"}, "a metric");
+  OnlyKeys(n, {"name", "kind", "column", "step", "point", "check", "C_s"}, "a metric");
   const std::string kind = Text(n["kind"], "metric kind");
   struct K {
     const char* name;
@@ -248,7 +260,11 @@ inline MetricSpec Metric(const YAML::Node& n, int steps) {
                             {"peak_bearing", MetricKind::kPeakBearing, ""},
                             {"path_deviation", MetricKind::kPathDeviation, "point"},
                             {"failures", MetricKind::kFailures, ""},
-                            {"design_margin", MetricKind::kDesignMargin, ""}};
+                            {"design_margin", MetricKind::kDesignMargin, ""},
+                            {"flywheel_inertia", MetricKind::kFlywheelInertia, ""},
+                            {"mean_torque", MetricKind::kMeanTorque, ""},
+                            {"peak_torque", MetricKind::kPeakTorque, ""},
+                            {"energy_fluctuation", MetricKind::kEnergyFluctuation, ""}};
   const K* found = nullptr;
   for (const K& k : kinds)
     if (kind == k.name) found = &k;
@@ -274,6 +290,13 @@ inline MetricSpec Metric(const YAML::Node& n, int steps) {
   if (n["check"]) {
     if (m.kind != MetricKind::kDesignMargin) Fail(n["check"], "only a metric of kind design_margin takes check:");
     m.check = Text(n["check"], "metric check");
+  }
+  if (m.kind == MetricKind::kFlywheelInertia) {
+    if (!n["C_s"]) Fail(n, "a metric of kind flywheel_inertia needs C_s: (the coefficient of speed fluctuation, e.g. 0.02)");
+    m.C_s = Number(n["C_s"], "metric C_s");
+    if (!(m.C_s > 0 && m.C_s < 1)) Fail(n["C_s"], "C_s: expected a coefficient of speed fluctuation in (0, 1)");
+  } else if (n["C_s"]) {
+    Fail(n["C_s"], "only a metric of kind flywheel_inertia takes C_s:");
   }
   if (n["name"]) {
     m.name = Text(n["name"], "metric name");
@@ -324,8 +347,8 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
   try {
     if (!root.IsMap()) Fail(root, "a study file is a map (method:, parameters:, metrics:, ...; docs/studies.md)");
     OnlyKeys(root,
-             {"model", "method", "count", "seed", "analysis", "steps", "range", "parameters", "metrics", "clearance",
-              "tolerance", "envelope"},
+             {"model", "method", "count", "seed", "analysis", "steps", "range", "omega", "parameters", "metrics",
+              "clearance", "tolerance", "envelope"},
              "the study");
     const std::string method = root["method"] ? Text(root["method"], "method") : "";
     if (method == "grid")
@@ -353,8 +376,18 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       spec->analysis = Analysis::kSweep;
     else if (analysis == "statics")
       spec->analysis = Analysis::kStatics;
+    else if (analysis == "flywheel")
+      spec->analysis = Analysis::kFlywheel;
     else
-      Fail(root["analysis"], "analysis: '" + analysis + "': expected sweep or statics");
+      Fail(root["analysis"], "analysis: '" + analysis + "': expected sweep, statics or flywheel");
+    if (spec->analysis == Analysis::kFlywheel) {
+      if (!root["omega"]) Fail(root["analysis"], "analysis: flywheel needs omega: (the mean speed, rad/s)");
+      spec->omega = Number(root["omega"], "omega");
+      if (!(spec->omega > 0)) Fail(root["omega"], "omega: the mean speed must be > 0 (rad/s)");
+      if (root["range"]) Fail(root["range"], "range: the flywheel analysis runs the model's cycle (no range:)");
+    } else if (root["omega"]) {
+      Fail(root["omega"], "omega: is for analysis: flywheel");
+    }
     if (root["steps"]) spec->steps = static_cast<int>(Integer(root["steps"], "steps", 1, 1000000));
     if (root["range"]) {
       const YAML::Node r = root["range"];
@@ -384,6 +417,20 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       Fail(metrics ? metrics : root,
            "metrics: expected a list, e.g. [{kind: max, column: coupler.P.y}, {kind: failures}]");
     for (const auto& m : metrics) spec->metrics.push_back(Metric(m, spec->steps));
+    for (const MetricSpec& m : spec->metrics) {
+      const bool cycle = IsFlywheelMetric(m.kind);
+      if (cycle && spec->analysis != Analysis::kFlywheel)
+        throw Failure{m.place, "a metric of this kind needs analysis: flywheel"};
+      if (!cycle && spec->analysis == Analysis::kFlywheel && m.kind != MetricKind::kDesignMargin &&
+          m.kind != MetricKind::kFailures)
+        throw Failure{m.place,
+                      "with analysis: flywheel the metrics are flywheel_inertia, mean_torque, peak_torque, "
+                      "energy_fluctuation, failures and design_margin"};
+    }
+    if (spec->analysis == Analysis::kFlywheel && root["envelope"])
+      Fail(root["envelope"], "envelope: needs a motion (analysis: sweep or statics)");
+    if (spec->analysis == Analysis::kFlywheel && spec->steps < 4)
+      Fail(root["steps"], "steps: the flywheel's cycle needs at least 4 samples");
     for (size_t i = 0; i < spec->metrics.size(); ++i) {
       for (size_t j = 0; j < i; ++j)
         if (spec->metrics[i].name == spec->metrics[j].name)
