@@ -29,6 +29,9 @@
 #include "mechgen/machines/flywheel/machine_cycle.h"
 #include "shaper.h"
 #endif
+#ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
+#include "design_press.h"
+#endif
 
 namespace {
 
@@ -636,10 +639,59 @@ TEST(StudyFlywheel, ShaperGridAgainstTheHandWorkAndLinearInTheForce) {
     EXPECT_EQ(results[i].metrics[1], mechgen::flywheel::SizeFlywheel(c, 0.05).I_flywheel);
     EXPECT_EQ(results[i].metrics[1], c.loop.delta_E / (0.05 * 4 * pi * pi));  // massless
   }
+  // No design section: no first order, and the reason.
   std::string why;
   EXPECT_TRUE(std::isnan(s.Gradient(1, &why)[0]));
-  EXPECT_NE(why.find("no first order"), std::string::npos) << why;
+  EXPECT_NE(why.find("no design section"), std::string::npos) << why;
 }
+
+#ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
+// The first order of the flywheel metrics (from machines/flywheel/cycle_design.h through
+// Study::Gradient) against Richardson central differences of the study's own metrics,
+// evaluated sample by sample at p +- h (the whole analysis again: an independent route). The
+// damped press of tests/design: smooth loads, so the breaks do not move.
+TEST(StudyFlywheel, FirstOrderOfTheCycleMetricsAgainstDifferencesOfTheStudy) {
+  const study::StudySpec spec = Read("press.yaml",
+                                     "method: grid\nanalysis: flywheel\nomega: 12.566370614359172\nsteps: 360\n"
+                                     "parameters:\n  a: {values: [0.1]}\n  b: {values: [0.35]}\n  m3: {values: [8]}\n"
+                                     "  c: {values: [400]}\n"
+                                     "metrics:\n  - {kind: mean_torque}\n  - {kind: flywheel_inertia, C_s: 0.05}\n"
+                                     "  - {kind: energy_fluctuation}\n  - {kind: peak_torque}\n");
+  using M = mech::design_press::Model;
+  study::Study<M> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  const std::vector<double> nominal = s.nominal();
+  study::Study<M>::Rows rows;
+  auto at = [&](size_t p, double delta) {
+    std::vector<double> v = nominal;
+    v[p] += delta;
+    const study::SampleResult r = s.Evaluate(v.data(), &rows);
+    EXPECT_STREQ(r.status, "ok");
+    return r.metrics;
+  };
+  double worst = 0;
+  for (size_t k = 0; k < spec.metrics.size(); ++k) {
+    std::string why;
+    const std::vector<double> g = s.Gradient(k, &why);
+    ASSERT_TRUE(why.empty()) << why;
+    for (size_t p = 0; p < nominal.size(); ++p) {
+      const double h = 1e-4 * std::abs(nominal[p]);
+      const double D1 = (at(p, h)[k] - at(p, -h)[k]) / (2 * h);
+      const double D2 = (at(p, h / 2)[k] - at(p, -h / 2)[k]) / h;
+      const double R = (4 * D2 - D1) / 3;
+      const double e = std::abs(g[p] - R) / std::max(1.0, std::abs(R));
+      worst = std::max(worst, e);
+      EXPECT_LT(e, 1e-7) << "metric " << k << " parameter " << spec.parameters[p].name << ": " << g[p]
+                         << " against " << R;
+      EXPECT_NE(g[p], 0) << k << " " << p;  // every one of them moves every metric here
+    }
+  }
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3g", worst);
+  RecordProperty("worst_relative_error", text);
+}
+#endif
 
 // The flywheel analysis' errors: its metrics need it, it needs omega and the model's forces.
 TEST(StudyFlywheel, ErrorsNameTheirPlace) {

@@ -29,6 +29,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "mechgen/machines/flywheel/cycle_design.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
 #include "mechgen/position/solver.h"
 #include "mechgen/statics/columns.h"
@@ -84,6 +85,7 @@ class Study {
     std::vector<Kinematics> kinematics;
     std::vector<StaticsRow> statics;  ///< statics analysis only
     flywheel::MachineCycle cycle;     ///< flywheel analysis only
+    flywheel::CycleDesign<M> cycle_design;  ///< flywheel analysis, the nominal's (first order) only
     Params params;
     bool assembled = false;  ///< flywheel: the cycle is usable
   };
@@ -321,6 +323,9 @@ class Study {
       o.samples = spec_.steps;
       out->cycle = flywheel::SampleMachineCycle<M>(out->params, o);
       out->assembled = out->cycle.IsUsable();
+      // The nominal's derivatives of the cycle (machines/flywheel/cycle_design.h): the first
+      // order of the flywheel metrics (Gradient()).
+      if (design && out->assembled) out->cycle_design = flywheel::SampleMachineCycleDesign<M>(out->params, o, out->cycle);
       return;
     }
     if (!out->assembled) return;
@@ -536,12 +541,41 @@ class Study {
       *why = "a distance, 0 at the nominal: not differentiable there";
       return g;
     }
-    if (IsFlywheelMetric(m.kind)) {
-      *why = "the cycle's metrics have no first order in the study yet (machines/flywheel/cycle_design.h has them)";
-      return g;
-    }
     if (!std::isfinite(t.value)) {
       *why = "no value at the nominal";
+      return g;
+    }
+    if (IsFlywheelMetric(m.kind)) {
+      // The cycle's design derivatives (machines/flywheel/cycle_design.h: exact for the computed
+      // figures; the breaks held at their angles). peak_torque: dT_req/dp at the sample where
+      // |T_req| peaks (that sample held, as for the other peaks).
+      const flywheel::CycleDesign<M>& cd = rows.cycle_design;
+      if (!cd.IsUsable()) {
+        *why = cd.message.empty() ? "no design derivatives of the cycle" : cd.message;
+        return g;
+      }
+      int peak = -1;
+      double sign = 1;
+      for (size_t i = 0; i < rows.cycle.points.size(); ++i) {
+        const double T = rows.cycle.points[i].T_req;
+        if (peak < 0 || std::abs(T) > std::abs(rows.cycle.points[static_cast<size_t>(peak)].T_req))
+          peak = static_cast<int>(i), sign = T >= 0 ? 1 : -1;
+      }
+      for (size_t p = 0; p < spec_.parameters.size(); ++p) {
+        const int d = index_[p];
+        if (d < 0) continue;
+        switch (m.kind) {
+          case MetricKind::kMeanTorque: g[p] = cd.dT_mean_dp(d); break;
+          case MetricKind::kEnergyFluctuation: g[p] = cd.ddelta_E_dp(d); break;
+          case MetricKind::kFlywheelInertia:
+            g[p] = flywheel::SizeFlywheelDesign<M>(rows.cycle, cd, m.C_s).dI_flywheel_dp(d);
+            break;
+          case MetricKind::kPeakTorque:
+            if (peak >= 0) g[p] = sign * cd.dT_req_dp[static_cast<size_t>(peak)](d);
+            break;
+          default: break;
+        }
+      }
       return g;
     }
     for (size_t p = 0; p < spec_.parameters.size(); ++p) {
