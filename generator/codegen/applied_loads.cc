@@ -48,7 +48,8 @@ FunctionSpec EvalAppliedLoadsSpec(const Model& m, const Kinematics& k, const Sta
   f.args = AtConfiguration();
   f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
   f.args.push_back(Arg("Mat<Scalar, 7, " + N(n) + ">*", "out", Dir::kOut,
-                       "out->col(i) = load, spring or weight i (kAppliedLoadNames); not nullptr.", "7 x kNumAppliedLoads"));
+                       "out->col(i) = load, spring or weight i (kAppliedLoadNames); not nullptr.",
+                       "7 x kNumAppliedLoads"));
   Program P;
   for (int i = 0; i < n; ++i) {
     const StaticsTable::Mark& mark = st.marks[i];

@@ -202,15 +202,22 @@ TEST(AppliedLoads, FourbarLoadedQIsTheWorkOfAllDrawnLoads) {
     for (int l = 0; l < FL::kNumAppliedLoads; ++l) {
       const double force_work = A(4, l) * d(0, l) + A(5, l) * d(1, l);
       switch (FL::kAppliedLoadKind[l]) {
-        case 0: loads += force_work; break;
-        case 4: weights += force_work; break;
-        case 1: loads += A(6, l) * (phi_plus(i_rocker) - phi_minus(i_rocker)) / (2 * kH); break;
-        case 2: {
+        case 0:  // the coupler force
+          loads += force_work;
+          break;
+        case 4:  // a weight
+          weights += force_work;
+          break;
+        case 1:  // the rocker torque
+          loads += A(6, l) * (phi_plus(i_rocker) - phi_minus(i_rocker)) / (2 * kH);
+          break;
+        case 2: {  // the spring
           auto length = [l](const Applied<FL>& X) { return std::hypot(X(2, l) - X(0, l), X(3, l) - X(1, l)); };
           loads += -A(6, l) * (length(Ap) - length(Am)) / (2 * kH);
           break;
         }
-        default: ADD_FAILURE() << "kind " << FL::kAppliedLoadKind[l];
+        default:
+          ADD_FAILURE() << "kind " << FL::kAppliedLoadKind[l];
       }
     }
     const double Q = GeneratedQ<FL>(p, q, phi);
