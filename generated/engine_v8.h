@@ -4158,7 +4158,7 @@ void EvalScene(const Params<Scalar>& p,
 }
 
 /**
- * \brief The applied loads and springs at a configuration, as a force diagram draws them
+ * \brief The applied loads, springs and weights at a configuration, as a force diagram draws them
  * (Model::kAppliedLoadNames, kAppliedLoadKind, kAppliedLoadUnits): column i of *out is
  * (x, y, x_b, y_b, F_x, F_y, value) in the fixed frame, as EvalStatics() takes them:
  *   force load (kind 0): (x, y) its point of application, (F_x, F_y) its force (N), value 0;
@@ -4167,13 +4167,15 @@ void EvalScene(const Params<Scalar>& p,
  *   linear spring (kind 2): (x, y) and (x_b, y_b) its ends a and b, value its tension
  *     F0 + k (l - l0) (N, + pulling the ends together), (F_x, F_y) its force on end a;
  *   torsional spring (kind 3): (x, y) its joint, value its torque on the joint's second link
- *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0.
+ *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0;
+ *   weight (kind 4, "W_<link>"): (x, y) the link's centre of mass (its point masses
+ *     included), (F_x, F_y) its weight m g (N), value |m g|.
  * (x_b, y_b) = (x, y) but for a linear spring. Loads that read velocities or time are taken at
  * rest, as in EvalStatics().
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
- * \param[out] out  out->col(i) = load or spring i (kAppliedLoadNames); not nullptr (7 x
+ * \param[out] out  out->col(i) = load, spring or weight i (kAppliedLoadNames); not nullptr (7 x
  *                  kNumAppliedLoads).
  */
 template <typename Scalar>
@@ -4580,9 +4582,10 @@ struct Model : Sizes {
   static constexpr std::array<int, 25> kDrawJointPointA{ 0, 10, 19, 1, 11, 22, 2, 12, 25, 3, 13, 28, 4, 14, 31, 5, 15, 34, 6, 16, 37, 7, 17, 40, 8 };
   static constexpr std::array<int, 25> kDrawJointPointB{ 9, 18, 20, 20, 21, 23, 23, 24, 26, 26, 27, 29, 29, 30, 32, 32, 33, 35, 35, 36, 38, 38, 39, 41, 41 };
   static constexpr std::array<int, 25> kDrawJointValue{ 0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4, 5, 5, 5, 6, 6, 6, 7, 7, 7 };
-  /// The applied loads and springs of EvalAppliedLoads (Model::AppliedLoads), the model's loads
-  /// then its springs: name, kind (0 force load, 1 torque load, 2 linear spring, 3 torsional
-  /// spring) and the unit of its force or torque.
+  /// The applied loads, springs and weights of EvalAppliedLoads (Model::AppliedLoads), the
+  /// model's loads, then its springs, then its links' weights: name, kind (0 force load, 1
+  /// torque load, 2 linear spring, 3 torsional spring, 4 weight) and the unit of its force or
+  /// torque.
   static constexpr int kNumAppliedLoads = 9;
   static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "load", "gas_1", "gas_2", "gas_3", "gas_4", "gas_5", "gas_6", "gas_7", "gas_8" };
   static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 1, 0, 0, 0, 0, 0, 0, 0, 0 };

@@ -34,7 +34,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), dist1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalStatics 144 (adds 26, muls 109, divs 1, calls 8); EvalDynamics 572 (adds 122, muls 441, divs 1, calls 8); EvalKinetostatics 588 (adds 114, muls 465, divs 1, calls 8); EvalExcess 495 (adds 99, muls 387, divs 1, calls 8); EvalStiffness 138 (adds 20, muls 112, divs 0, calls 6); EvalDetPhiPhi 10 (adds 1, muls 5, divs 0, calls 4); SolvePositions 48 (adds 11, muls 29, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); PrepareRhs 138 (adds 27, muls 107, divs 4, calls 0); EvalRhs 396 (adds 98, muls 291, divs 2, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalStatics 144 (adds 26, muls 109, divs 1, calls 8); EvalDynamics 572 (adds 122, muls 441, divs 1, calls 8); EvalKinetostatics 588 (adds 114, muls 465, divs 1, calls 8); EvalExcess 495 (adds 99, muls 387, divs 1, calls 8); EvalStiffness 138 (adds 20, muls 112, divs 0, calls 6); EvalDetPhiPhi 10 (adds 1, muls 5, divs 0, calls 4); SolvePositions 48 (adds 11, muls 29, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); PrepareRhs 138 (adds 27, muls 107, divs 4, calls 0); EvalRhs 396 (adds 98, muls 291, divs 2, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalAppliedLoads 63 (adds 11, muls 42, divs 1, calls 9); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -1529,6 +1529,85 @@ void EvalScene(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The applied loads, springs and weights at a configuration, as a force diagram draws them
+ * (Model::kAppliedLoadNames, kAppliedLoadKind, kAppliedLoadUnits): column i of *out is
+ * (x, y, x_b, y_b, F_x, F_y, value) in the fixed frame, as EvalStatics() takes them:
+ *   force load (kind 0): (x, y) its point of application, (F_x, F_y) its force (N), value 0;
+ *   torque load (kind 1): (x, y) its link's pivot (first revolute joint, to the ground first;
+ *     else the link's origin), value its torque (N m, counter-clockwise +), F 0;
+ *   linear spring (kind 2): (x, y) and (x_b, y_b) its ends a and b, value its tension
+ *     F0 + k (l - l0) (N, + pulling the ends together), (F_x, F_y) its force on end a;
+ *   torsional spring (kind 3): (x, y) its joint, value its torque on the joint's second link
+ *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0;
+ *   weight (kind 4, "W_<link>"): (x, y) the link's centre of mass (its point masses
+ *     included), (F_x, F_y) its weight m g (N), value |m g|.
+ * (x_b, y_b) = (x, y) but for a linear spring. Loads that read velocities or time are taken at
+ * rest, as in EvalStatics().
+ * \param[in]  p    Parameters.
+ * \param[in]  q    Inputs (dim kNq).
+ * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[out] out  out->col(i) = load, spring or weight i (kAppliedLoadNames); not nullptr (7 x
+ *                  kNumAppliedLoads).
+ */
+template <typename Scalar>
+void EvalAppliedLoads(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 7, 4>* out) {
+  // Total ops: 63 (adds 11, muls 42, divs 1, calls 9); intermediate terms: 18
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const Scalar _tmp0 = cos(q(0))*p.a;
+  const Scalar _tmp1 = p.a*sin(q(0));
+  const Scalar _tmp2 = -p.a*p.g*p.rho;
+  const Scalar _tmp3 = sqrt(p.g*p.g);
+  const Scalar _tmp4 = _tmp3*p.a*p.rho;
+  const Scalar sum_f35427ca = p.b*p.rho + p.mp;
+  const Scalar _tmp5 = Scalar(1)/sum_f35427ca;
+  const Scalar _tmp6 = cos(phi(0));
+  const Scalar _tmp7 = p.b*p.b;
+  const Scalar _tmp8 = Scalar(0.5)*_tmp5*_tmp6*_tmp7*p.rho + _tmp0 + _tmp5*_tmp6*p.b*p.mp;
+  const Scalar _tmp9 = sin(phi(0));
+  const Scalar _tmp10 = Scalar(0.5)*_tmp5*_tmp7*_tmp9*p.rho + _tmp1 + _tmp5*_tmp9*p.b*p.mp;
+  const Scalar _tmp11 = -p.b*p.g*p.rho;
+  const Scalar _tmp12 = _tmp3*p.b*p.rho;
+  const Scalar _tmp13 = cos(q(1))*p.a;
+  const Scalar _tmp14 = Scalar(0.5)*cos(phi(1))*p.b + _tmp13 + p.f;
+  const Scalar _tmp15 = p.a*sin(q(1));
+  const Scalar _tmp16 = Scalar(0.5)*p.b*sin(phi(1)) + _tmp15;
+  const Scalar _tmp17 = Scalar(0.5)*_tmp13 + p.f;
+  (*out)(0, 0) = Scalar(0.5)*_tmp0;
+  (*out)(1, 0) = Scalar(0.5)*_tmp1;
+  (*out)(2, 0) = Scalar(0.5)*_tmp0;
+  (*out)(3, 0) = Scalar(0.5)*_tmp1;
+  (*out)(4, 0) = Scalar(0);
+  (*out)(5, 0) = _tmp2;
+  (*out)(6, 0) = _tmp4;
+  (*out)(0, 1) = _tmp8;
+  (*out)(1, 1) = _tmp10;
+  (*out)(2, 1) = _tmp8;
+  (*out)(3, 1) = _tmp10;
+  (*out)(4, 1) = Scalar(0);
+  (*out)(5, 1) = _tmp11 - p.g*p.mp;
+  (*out)(6, 1) = _tmp12 + _tmp3*p.mp;
+  (*out)(0, 2) = _tmp14;
+  (*out)(1, 2) = _tmp16;
+  (*out)(2, 2) = _tmp14;
+  (*out)(3, 2) = _tmp16;
+  (*out)(4, 2) = Scalar(0);
+  (*out)(5, 2) = _tmp11;
+  (*out)(6, 2) = _tmp12;
+  (*out)(0, 3) = _tmp17;
+  (*out)(1, 3) = Scalar(0.5)*_tmp15;
+  (*out)(2, 3) = _tmp17;
+  (*out)(3, 3) = Scalar(0.5)*_tmp15;
+  (*out)(4, 3) = Scalar(0);
+  (*out)(5, 3) = _tmp2;
+  (*out)(6, 3) = _tmp4;
+}
+
+/**
  * \brief What a drawing needs besides the scene points: every link's frame and the joints'
  * values (Model::kDrawJointValue).
  * \param[in]  p       Parameters.
@@ -1741,6 +1820,14 @@ struct Model : Sizes {
   static constexpr std::array<int, 5> kDrawJointPointA{ 0, 3, 5, 6, 8 };
   static constexpr std::array<int, 5> kDrawJointPointB{ 2, 4, 7, 9, 1 };
   static constexpr std::array<int, 5> kDrawJointValue{ 0, 0, 0, 0, 0 };
+  /// The applied loads, springs and weights of EvalAppliedLoads (Model::AppliedLoads), the
+  /// model's loads, then its springs, then its links' weights: name, kind (0 force load, 1
+  /// torque load, 2 linear spring, 3 torsional spring, 4 weight) and the unit of its force or
+  /// torque.
+  static constexpr int kNumAppliedLoads = 4;
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "W_prox1", "W_dist1", "W_dist2", "W_prox2" };
+  static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 4, 4, 4, 4 };
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadUnits{ "N", "N", "N", "N" };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -1792,7 +1879,7 @@ struct Model : Sizes {
   /// CamProfile (EvalCamProfile): cams to draw.
   static constexpr bool kHasCamProfile = false;
   /// AppliedLoads (EvalAppliedLoads), kNumAppliedLoads, kAppliedLoad*: the loads and springs to draw.
-  static constexpr bool kHasAppliedLoads = false;
+  static constexpr bool kHasAppliedLoads = true;
   /// The outputs this model has: each struct, its alias and the functions that fill it exist
   /// exactly where its flag is true (and each optional member where its own flag is).
   /// Statics, StaticsT, EvalStatics (Model::Forces): forces, potential or reactions.
@@ -1965,6 +2052,13 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void AppliedLoads(const Params<Scalar>& p,
+                           const Vec<Scalar, Sizes::kNq>& q,
+                           const Vec<Scalar, Sizes::kNphi>& phi,
+                           Mat<Scalar, 7, 4>* out) {
+    EvalAppliedLoads(p, q, phi, out);
   }
   template <typename Scalar>
   static void Drawing(const Params<Scalar>& p,

@@ -27,7 +27,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 185 (adds 54, muls 122, divs 2, calls 7); EvalStiffness 4686 (adds 982, muls 3693, divs 3, calls 8); EvalDesignDerivatives 500 (adds 153, muls 338, divs 2, calls 7); EvalDesignChecks 71 (adds 21, muls 35, divs 5, calls 10); EvalStaticsDesign 657 (adds 206, muls 438, divs 5, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalAppliedLoads 123 (adds 35, muls 81, divs 1, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 185 (adds 54, muls 122, divs 2, calls 7); EvalStiffness 4686 (adds 982, muls 3693, divs 3, calls 8); EvalDesignDerivatives 500 (adds 153, muls 338, divs 2, calls 7); EvalDesignChecks 71 (adds 21, muls 35, divs 5, calls 10); EvalStaticsDesign 657 (adds 206, muls 438, divs 5, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalAppliedLoads 150 (adds 38, muls 102, divs 1, calls 9); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -1995,7 +1995,7 @@ void EvalScene(const Params<Scalar>& p,
 }
 
 /**
- * \brief The applied loads and springs at a configuration, as a force diagram draws them
+ * \brief The applied loads, springs and weights at a configuration, as a force diagram draws them
  * (Model::kAppliedLoadNames, kAppliedLoadKind, kAppliedLoadUnits): column i of *out is
  * (x, y, x_b, y_b, F_x, F_y, value) in the fixed frame, as EvalStatics() takes them:
  *   force load (kind 0): (x, y) its point of application, (F_x, F_y) its force (N), value 0;
@@ -2004,21 +2004,23 @@ void EvalScene(const Params<Scalar>& p,
  *   linear spring (kind 2): (x, y) and (x_b, y_b) its ends a and b, value its tension
  *     F0 + k (l - l0) (N, + pulling the ends together), (F_x, F_y) its force on end a;
  *   torsional spring (kind 3): (x, y) its joint, value its torque on the joint's second link
- *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0.
+ *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0;
+ *   weight (kind 4, "W_<link>"): (x, y) the link's centre of mass (its point masses
+ *     included), (F_x, F_y) its weight m g (N), value |m g|.
  * (x_b, y_b) = (x, y) but for a linear spring. Loads that read velocities or time are taken at
  * rest, as in EvalStatics().
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
- * \param[out] out  out->col(i) = load or spring i (kAppliedLoadNames); not nullptr (7 x
+ * \param[out] out  out->col(i) = load, spring or weight i (kAppliedLoadNames); not nullptr (7 x
  *                  kNumAppliedLoads).
  */
 template <typename Scalar>
 void EvalAppliedLoads(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Mat<Scalar, 7, 3>* out) {
-  // Total ops: 123 (adds 35, muls 81, divs 1, calls 6); intermediate terms: 9
+                      Mat<Scalar, 7, 6>* out) {
+  // Total ops: 150 (adds 38, muls 102, divs 1, calls 9); intermediate terms: 16
   using std::cos;
   using std::sin;
   using std::sqrt;
@@ -2033,6 +2035,13 @@ void EvalAppliedLoads(const Params<Scalar>& p,
   const Scalar sum_9de67962 = _tmp1 + _tmp2*p.xi + _tmp3*p.a - p.xE;
   const Scalar _tmp7 = sum_7f82a357*sum_7f82a357 + sum_9de67962*sum_9de67962;
   const Scalar _tmp8 = Scalar(1)/sqrt(_tmp7);
+  const Scalar _tmp9 = Scalar(0.5)*_tmp3*p.a;
+  const Scalar _tmp10 = Scalar(0.5)*_tmp5*p.a;
+  const Scalar _tmp11 = sqrt(p.g*p.g);
+  const Scalar _tmp12 = Scalar(0.5)*_tmp2*p.b + _tmp3*p.a;
+  const Scalar _tmp13 = Scalar(0.5)*_tmp0*p.b + _tmp5*p.a;
+  const Scalar _tmp14 = Scalar(0.5)*cos(phi(1))*p.c + p.d;
+  const Scalar _tmp15 = Scalar(0.5)*p.c*sin(phi(1));
   (*out)(0, 0) = _tmp4;
   (*out)(1, 0) = _tmp6;
   (*out)(2, 0) = _tmp4;
@@ -2054,6 +2063,27 @@ void EvalAppliedLoads(const Params<Scalar>& p,
   (*out)(4, 2) = -_tmp0*_tmp8*p.F0*p.eta + _tmp0*_tmp8*p.L0*p.eta*p.k - _tmp0*p.eta*p.k + _tmp2*_tmp8*p.F0*p.xi - _tmp2*_tmp8*p.L0*p.k*p.xi + _tmp2*p.k*p.xi + _tmp3*_tmp8*p.F0*p.a - _tmp3*_tmp8*p.L0*p.a*p.k + _tmp3*p.a*p.k - _tmp8*p.F0*p.xE + _tmp8*p.L0*p.k*p.xE - p.k*p.xE;
   (*out)(5, 2) = _tmp0*_tmp8*p.F0*p.xi - _tmp0*_tmp8*p.L0*p.k*p.xi + _tmp0*p.k*p.xi + _tmp2*_tmp8*p.F0*p.eta - _tmp2*_tmp8*p.L0*p.eta*p.k + _tmp2*p.eta*p.k + _tmp5*_tmp8*p.F0*p.a - _tmp5*_tmp8*p.L0*p.a*p.k + _tmp5*p.a*p.k - _tmp8*p.F0*p.yE + _tmp8*p.L0*p.k*p.yE - p.k*p.yE;
   (*out)(6, 2) = (sqrt(_tmp7))*p.k + p.F0 - p.L0*p.k;
+  (*out)(0, 3) = _tmp9;
+  (*out)(1, 3) = _tmp10;
+  (*out)(2, 3) = _tmp9;
+  (*out)(3, 3) = _tmp10;
+  (*out)(4, 3) = Scalar(0);
+  (*out)(5, 3) = -p.g*p.m1;
+  (*out)(6, 3) = _tmp11*p.m1;
+  (*out)(0, 4) = _tmp12;
+  (*out)(1, 4) = _tmp13;
+  (*out)(2, 4) = _tmp12;
+  (*out)(3, 4) = _tmp13;
+  (*out)(4, 4) = Scalar(0);
+  (*out)(5, 4) = -p.g*p.m2;
+  (*out)(6, 4) = _tmp11*p.m2;
+  (*out)(0, 5) = _tmp14;
+  (*out)(1, 5) = _tmp15;
+  (*out)(2, 5) = _tmp14;
+  (*out)(3, 5) = _tmp15;
+  (*out)(4, 5) = Scalar(0);
+  (*out)(5, 5) = -p.g*p.m3;
+  (*out)(6, 5) = _tmp11*p.m3;
 }
 
 /**
@@ -2242,13 +2272,14 @@ struct Model : Sizes {
   static constexpr std::array<int, 4> kDrawJointPointA{ 0, 4, 6, 8 };
   static constexpr std::array<int, 4> kDrawJointPointB{ 3, 5, 9, 1 };
   static constexpr std::array<int, 4> kDrawJointValue{ 0, 0, 0, 0 };
-  /// The applied loads and springs of EvalAppliedLoads (Model::AppliedLoads), the model's loads
-  /// then its springs: name, kind (0 force load, 1 torque load, 2 linear spring, 3 torsional
-  /// spring) and the unit of its force or torque.
-  static constexpr int kNumAppliedLoads = 3;
-  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "coupler_force", "rocker_torque", "spring" };
-  static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 0, 1, 2 };
-  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadUnits{ "N", "N m", "N" };
+  /// The applied loads, springs and weights of EvalAppliedLoads (Model::AppliedLoads), the
+  /// model's loads, then its springs, then its links' weights: name, kind (0 force load, 1
+  /// torque load, 2 linear spring, 3 torsional spring, 4 weight) and the unit of its force or
+  /// torque.
+  static constexpr int kNumAppliedLoads = 6;
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "coupler_force", "rocker_torque", "spring", "W_crank", "W_coupler", "W_rocker" };
+  static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 0, 1, 2, 4, 4, 4 };
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadUnits{ "N", "N m", "N", "N", "N", "N" };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{ "C" };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -2463,7 +2494,7 @@ struct Model : Sizes {
   static void AppliedLoads(const Params<Scalar>& p,
                            const Vec<Scalar, Sizes::kNq>& q,
                            const Vec<Scalar, Sizes::kNphi>& phi,
-                           Mat<Scalar, 7, 3>* out) {
+                           Mat<Scalar, 7, 6>* out) {
     EvalAppliedLoads(p, q, phi, out);
   }
   template <typename Scalar>

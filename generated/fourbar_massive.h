@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 163 (adds 29, muls 128, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalShaking 174 (adds 43, muls 124, divs 1, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); PrepareRhs 47 (adds 4, muls 41, divs 2, calls 0); EvalRhs 134 (adds 32, muls 97, divs 2, calls 3); EvalScene 15 (adds 3, muls 6, divs 0, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 163 (adds 29, muls 128, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalShaking 174 (adds 43, muls 124, divs 1, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); PrepareRhs 47 (adds 4, muls 41, divs 2, calls 0); EvalRhs 134 (adds 32, muls 97, divs 2, calls 3); EvalScene 15 (adds 3, muls 6, divs 0, calls 6); EvalAppliedLoads 37 (adds 3, muls 27, divs 0, calls 7); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -1450,6 +1450,66 @@ void EvalScene(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The applied loads, springs and weights at a configuration, as a force diagram draws them
+ * (Model::kAppliedLoadNames, kAppliedLoadKind, kAppliedLoadUnits): column i of *out is
+ * (x, y, x_b, y_b, F_x, F_y, value) in the fixed frame, as EvalStatics() takes them:
+ *   force load (kind 0): (x, y) its point of application, (F_x, F_y) its force (N), value 0;
+ *   torque load (kind 1): (x, y) its link's pivot (first revolute joint, to the ground first;
+ *     else the link's origin), value its torque (N m, counter-clockwise +), F 0;
+ *   linear spring (kind 2): (x, y) and (x_b, y_b) its ends a and b, value its tension
+ *     F0 + k (l - l0) (N, + pulling the ends together), (F_x, F_y) its force on end a;
+ *   torsional spring (kind 3): (x, y) its joint, value its torque on the joint's second link
+ *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0;
+ *   weight (kind 4, "W_<link>"): (x, y) the link's centre of mass (its point masses
+ *     included), (F_x, F_y) its weight m g (N), value |m g|.
+ * (x_b, y_b) = (x, y) but for a linear spring. Loads that read velocities or time are taken at
+ * rest, as in EvalStatics().
+ * \param[in]  p    Parameters.
+ * \param[in]  q    Inputs (dim kNq).
+ * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[out] out  out->col(i) = load, spring or weight i (kAppliedLoadNames); not nullptr (7 x
+ *                  kNumAppliedLoads).
+ */
+template <typename Scalar>
+void EvalAppliedLoads(const Params<Scalar>& p,
+                      const Vec<Scalar, Sizes::kNq>& q,
+                      const Vec<Scalar, Sizes::kNphi>& phi,
+                      Mat<Scalar, 7, 3>* out) {
+  // Total ops: 37 (adds 3, muls 27, divs 0, calls 7); intermediate terms: 7
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const Scalar _tmp0 = cos(q(0))*p.a;
+  const Scalar _tmp1 = p.a*sin(q(0));
+  const Scalar _tmp2 = sqrt(p.g*p.g);
+  const Scalar _tmp3 = Scalar(0.5)*cos(phi(0))*p.b + _tmp0;
+  const Scalar _tmp4 = Scalar(0.5)*p.b*sin(phi(0)) + _tmp1;
+  const Scalar _tmp5 = Scalar(0.5)*cos(phi(1))*p.c + p.d;
+  const Scalar _tmp6 = Scalar(0.5)*p.c*sin(phi(1));
+  (*out)(0, 0) = Scalar(0.5)*_tmp0;
+  (*out)(1, 0) = Scalar(0.5)*_tmp1;
+  (*out)(2, 0) = Scalar(0.5)*_tmp0;
+  (*out)(3, 0) = Scalar(0.5)*_tmp1;
+  (*out)(4, 0) = Scalar(0);
+  (*out)(5, 0) = -p.a*p.g*p.rho;
+  (*out)(6, 0) = _tmp2*p.a*p.rho;
+  (*out)(0, 1) = _tmp3;
+  (*out)(1, 1) = _tmp4;
+  (*out)(2, 1) = _tmp3;
+  (*out)(3, 1) = _tmp4;
+  (*out)(4, 1) = Scalar(0);
+  (*out)(5, 1) = -p.b*p.g*p.rho;
+  (*out)(6, 1) = _tmp2*p.b*p.rho;
+  (*out)(0, 2) = _tmp5;
+  (*out)(1, 2) = _tmp6;
+  (*out)(2, 2) = _tmp5;
+  (*out)(3, 2) = _tmp6;
+  (*out)(4, 2) = Scalar(0);
+  (*out)(5, 2) = -p.c*p.g*p.rho;
+  (*out)(6, 2) = _tmp2*p.c*p.rho;
+}
+
+/**
  * \brief What a drawing needs besides the scene points: every link's frame and the joints'
  * values (Model::kDrawJointValue).
  * \param[in]  p       Parameters.
@@ -1683,6 +1743,14 @@ struct Model : Sizes {
   static constexpr std::array<int, 4> kDrawJointPointA{ 0, 3, 5, 6 };
   static constexpr std::array<int, 4> kDrawJointPointB{ 2, 4, 7, 1 };
   static constexpr std::array<int, 4> kDrawJointValue{ 0, 0, 0, 0 };
+  /// The applied loads, springs and weights of EvalAppliedLoads (Model::AppliedLoads), the
+  /// model's loads, then its springs, then its links' weights: name, kind (0 force load, 1
+  /// torque load, 2 linear spring, 3 torsional spring, 4 weight) and the unit of its force or
+  /// torque.
+  static constexpr int kNumAppliedLoads = 3;
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "W_crank", "W_coupler", "W_rocker" };
+  static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 4, 4, 4 };
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadUnits{ "N", "N", "N" };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{ "C" };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -1734,7 +1802,7 @@ struct Model : Sizes {
   /// CamProfile (EvalCamProfile): cams to draw.
   static constexpr bool kHasCamProfile = false;
   /// AppliedLoads (EvalAppliedLoads), kNumAppliedLoads, kAppliedLoad*: the loads and springs to draw.
-  static constexpr bool kHasAppliedLoads = false;
+  static constexpr bool kHasAppliedLoads = true;
   /// The outputs this model has: each struct, its alias and the functions that fill it exist
   /// exactly where its flag is true (and each optional member where its own flag is).
   /// Statics, StaticsT, EvalStatics (Model::Forces): forces, potential or reactions.
@@ -1935,6 +2003,13 @@ struct Model : Sizes {
                     const Vec<Scalar, Sizes::kNphi>& phi,
                     Mat<Scalar, 2, Sizes::kNumScenePoints>* r) {
     EvalScene(p, q, phi, r);
+  }
+  template <typename Scalar>
+  static void AppliedLoads(const Params<Scalar>& p,
+                           const Vec<Scalar, Sizes::kNq>& q,
+                           const Vec<Scalar, Sizes::kNphi>& phi,
+                           Mat<Scalar, 7, 3>* out) {
+    EvalAppliedLoads(p, q, phi, out);
   }
   template <typename Scalar>
   static void Drawing(const Params<Scalar>& p,

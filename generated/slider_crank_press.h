@@ -30,7 +30,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), ram.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 61 (adds 16, muls 38, divs 3, calls 4); EvalStiffness 40 (adds 11, muls 24, divs 2, calls 3); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4); EvalAppliedLoads 5 (adds 3, muls 1, divs 1, calls 0); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 61 (adds 16, muls 38, divs 3, calls 4); EvalStiffness 40 (adds 11, muls 24, divs 2, calls 3); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4); EvalAppliedLoads 29 (adds 5, muls 18, divs 1, calls 5); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -587,7 +587,7 @@ void EvalScene(const Params<Scalar>& p,
 }
 
 /**
- * \brief The applied loads and springs at a configuration, as a force diagram draws them
+ * \brief The applied loads, springs and weights at a configuration, as a force diagram draws them
  * (Model::kAppliedLoadNames, kAppliedLoadKind, kAppliedLoadUnits): column i of *out is
  * (x, y, x_b, y_b, F_x, F_y, value) in the fixed frame, as EvalStatics() takes them:
  *   force load (kind 0): (x, y) its point of application, (F_x, F_y) its force (N), value 0;
@@ -596,23 +596,32 @@ void EvalScene(const Params<Scalar>& p,
  *   linear spring (kind 2): (x, y) and (x_b, y_b) its ends a and b, value its tension
  *     F0 + k (l - l0) (N, + pulling the ends together), (F_x, F_y) its force on end a;
  *   torsional spring (kind 3): (x, y) its joint, value its torque on the joint's second link
- *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0.
+ *     -k (theta_b - theta_a - free angle) (N m, counter-clockwise +), F 0;
+ *   weight (kind 4, "W_<link>"): (x, y) the link's centre of mass (its point masses
+ *     included), (F_x, F_y) its weight m g (N), value |m g|.
  * (x_b, y_b) = (x, y) but for a linear spring. Loads that read velocities or time are taken at
  * rest, as in EvalStatics().
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
  * \param[in]  phi  Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
- * \param[out] out  out->col(i) = load or spring i (kAppliedLoadNames); not nullptr (7 x
+ * \param[out] out  out->col(i) = load, spring or weight i (kAppliedLoadNames); not nullptr (7 x
  *                  kNumAppliedLoads).
  */
 template <typename Scalar>
 void EvalAppliedLoads(const Params<Scalar>& p,
                       const Vec<Scalar, Sizes::kNq>& q,
                       const Vec<Scalar, Sizes::kNphi>& phi,
-                      Mat<Scalar, 7, 1>* out) {
-  // Total ops: 5 (adds 3, muls 1, divs 1, calls 0); intermediate terms: 0
-  (void)q;
+                      Mat<Scalar, 7, 4>* out) {
+  // Total ops: 29 (adds 5, muls 18, divs 1, calls 5); intermediate terms: 5
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
   const Scalar sum_28ce42ce = p.a + p.b + p.h - phi(1);
+  const Scalar _tmp0 = cos(q(0))*p.a;
+  const Scalar _tmp1 = p.a*sin(q(0));
+  const Scalar _tmp2 = sqrt(p.g*p.g);
+  const Scalar _tmp3 = Scalar(0.5)*cos(phi(0))*p.b + _tmp0;
+  const Scalar _tmp4 = Scalar(0.5)*p.b*sin(phi(0)) + _tmp1;
   (*out)(0, 0) = phi(1);
   (*out)(1, 0) = Scalar(0);
   (*out)(2, 0) = phi(1);
@@ -620,6 +629,27 @@ void EvalAppliedLoads(const Params<Scalar>& p,
   (*out)(4, 0) = -p.P0*p.h/sum_28ce42ce;
   (*out)(5, 0) = Scalar(0);
   (*out)(6, 0) = Scalar(0);
+  (*out)(0, 1) = Scalar(0.5)*_tmp0;
+  (*out)(1, 1) = Scalar(0.5)*_tmp1;
+  (*out)(2, 1) = Scalar(0.5)*_tmp0;
+  (*out)(3, 1) = Scalar(0.5)*_tmp1;
+  (*out)(4, 1) = Scalar(0);
+  (*out)(5, 1) = -p.g*p.m1;
+  (*out)(6, 1) = _tmp2*p.m1;
+  (*out)(0, 2) = _tmp3;
+  (*out)(1, 2) = _tmp4;
+  (*out)(2, 2) = _tmp3;
+  (*out)(3, 2) = _tmp4;
+  (*out)(4, 2) = Scalar(0);
+  (*out)(5, 2) = -p.g*p.m2;
+  (*out)(6, 2) = _tmp2*p.m2;
+  (*out)(0, 3) = phi(1);
+  (*out)(1, 3) = Scalar(0);
+  (*out)(2, 3) = phi(1);
+  (*out)(3, 3) = Scalar(0);
+  (*out)(4, 3) = Scalar(0);
+  (*out)(5, 3) = -p.g*p.m3;
+  (*out)(6, 3) = _tmp2*p.m3;
 }
 
 /**
@@ -766,13 +796,14 @@ struct Model : Sizes {
   static constexpr std::array<int, 4> kDrawJointPointA{ 0, 3, 5, 1 };
   static constexpr std::array<int, 4> kDrawJointPointB{ 2, 4, 6, 6 };
   static constexpr std::array<int, 4> kDrawJointValue{ 0, 0, 0, 0 };
-  /// The applied loads and springs of EvalAppliedLoads (Model::AppliedLoads), the model's loads
-  /// then its springs: name, kind (0 force load, 1 torque load, 2 linear spring, 3 torsional
-  /// spring) and the unit of its force or torque.
-  static constexpr int kNumAppliedLoads = 1;
-  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "press" };
-  static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 0 };
-  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadUnits{ "N" };
+  /// The applied loads, springs and weights of EvalAppliedLoads (Model::AppliedLoads), the
+  /// model's loads, then its springs, then its links' weights: name, kind (0 force load, 1
+  /// torque load, 2 linear spring, 3 torsional spring, 4 weight) and the unit of its force or
+  /// torque.
+  static constexpr int kNumAppliedLoads = 4;
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadNames{ "press", "W_crank", "W_rod", "W_ram" };
+  static constexpr std::array<int, kNumAppliedLoads> kAppliedLoadKind{ 0, 4, 4, 4 };
+  static constexpr std::array<const char*, kNumAppliedLoads> kAppliedLoadUnits{ "N", "N", "N", "N" };
   /// The joint where each transmission angle is measured (EvalTransmissionAngles).
   static constexpr std::array<const char*, kNumTransmissionAngles> kTransmissionJoints{  };
   /// The model's assembly configuration: inputs and a rough guess of phi that selects the
@@ -943,7 +974,7 @@ struct Model : Sizes {
   static void AppliedLoads(const Params<Scalar>& p,
                            const Vec<Scalar, Sizes::kNq>& q,
                            const Vec<Scalar, Sizes::kNphi>& phi,
-                           Mat<Scalar, 7, 1>* out) {
+                           Mat<Scalar, 7, 4>* out) {
     EvalAppliedLoads(p, q, phi, out);
   }
   template <typename Scalar>

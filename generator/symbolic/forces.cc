@@ -96,6 +96,9 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
     marks.push_back(mark);
   }
   V = 0;
+  // The weights' marks come after the springs' (the loads' and springs' columns keep their
+  // places): "W_<link>" at G, m g, |m g|.
+  std::vector<Mark> weight_marks;
   if (m.has_gravity)
     for (const MassiveLink& b : t.bodies) {
       V += -b.mass * (m.gravity_x * b.r_G[0] + m.gravity_y * b.r_G[1]);
@@ -104,6 +107,13 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
       it.F = {b.mass * m.gravity_x, b.mass * m.gravity_y};
       it.at = b.r_G;
       add_item(it, it, true);
+      Mark mark;
+      mark.kind = Mark::Kind::kWeight;
+      mark.name = "W_" + m.links[b.link].name;
+      mark.at = mark.b = it.at;
+      mark.F = it.F;
+      mark.value = b.mass * GiNaC::sqrt(m.gravity_x * m.gravity_x + m.gravity_y * m.gravity_y);
+      weight_marks.push_back(mark);
     }
   // Kinetostatics: d'Alembert's inertia forces, -m a_G at G and -J alpha, with
   // a_G = sum_j K_G,j qdd_j + sum_jk L_G,jk qd_j qd_k (the same for the angle).
@@ -191,6 +201,7 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
       marks.push_back(mark);
     }
   }
+  marks.insert(marks.end(), weight_marks.begin(), weight_marks.end());
   // Dampers (dynamic modes): a linear one's force c dl/dt pulls its ends together while it
   // extends; a torsional one's torque -c (omega_b - omega_a) acts on the joint's second link.
   if (options.dynamic)

@@ -116,15 +116,17 @@ class StaticsTable {
   /// spring's joint; `b`: a linear spring's end b (else `at`); `F`: a force load's force, a
   /// linear spring's force on its end a (towards b under tension), else 0; `value`: a torque
   /// load's torque or a torsional spring's on the joint's second link (counter-clockwise +),
-  /// a linear spring's tension (+ pulling its ends together), a force load's 0.
+  /// a linear spring's tension (+ pulling its ends together), a force load's 0. A weight (a
+  /// moving link with mass under the model's gravity, its point masses included): `at` = `b`
+  /// its centre of mass, `F` its weight m g, `value` |m g|.
   struct Mark {
-    enum class Kind { kForce, kTorque, kSpring, kTorsionalSpring };
+    enum class Kind { kForce, kTorque, kSpring, kTorsionalSpring, kWeight };
     Kind kind = Kind::kForce;
     std::string name;
     Vec2 at{0, 0}, b{0, 0}, F{0, 0};
     GiNaC::ex value = 0;
   };
-  std::vector<Mark> marks;  ///< the model's loads, then its springs, in its order
+  std::vector<Mark> marks;  ///< the model's loads, then its springs, then its weights, in its order
 
  private:
   // The stages, in order (statics_stage.h): each reads what the ones before derived.

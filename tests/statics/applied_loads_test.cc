@@ -5,13 +5,15 @@
 //     (a coupler force at P, a rocker torque, a preloaded spring E-P) and the test model
 //     models/sprung_slider_crank.yaml (a force in the rod's frame, a torque growing with the
 //     crank angle drawn at the rod's first pin, a slider force, a torsional and a linear
-//     spring); a spring's tension F0 + k (|r_b - r_a| - l0);
-//   - virtual work: the generated Q equals the work of the drawn loads and springs per unit
-//     of crank angle, their points and angles differenced over a small motion (the spring by
-//     -tension dl/dq, the torsional spring by its torque times the crank's rotation);
+//     spring); a spring's tension F0 + k (|r_b - r_a| - l0); fourbar_loaded's weights (gravity
+//     [0, -g]): m g down at each link's hand centre of mass;
+//   - virtual work: the generated Q equals the work of the drawn loads, springs and weights
+//     per unit of crank angle, their points and angles differenced over a small motion (the
+//     spring by -tension dl/dq, the torsional spring by its torque times the crank's
+//     rotation): the drawn set is complete;
 //   - the SVG written by WriteStaticsSvg, parsed: at every snapshot (its q read from its
-//     group) each load's arrow starts at its hand point (the picture's own pixel mapping) and
-//     is its force long at the picture's force scale, the spring's zig-zag runs from E to P,
+//     group) each load's and weight's arrow starts at its hand point (the picture's own pixel
+//     mapping) and is its force long at the picture's force scale, the spring's zig-zag runs from E to P,
 //     the torque's arc starts below D (the test model: the torsional spring's dashed arc turns
 //     with its torque's sign); every label carries its magnitude and unit, and no two
 //     labels of any snapshots overlap (boxes at 0.62 em a character, the placer's estimate).
@@ -87,11 +89,12 @@ FourbarHand Hand(const FL::ParamsT<double>& p, double q, const Eigen::Matrix<dou
 }
 
 TEST(AppliedLoads, FourbarLoadedNamesKindsUnits) {
-  ASSERT_EQ(FL::kNumAppliedLoads, 3);
-  const char* names[] = {"coupler_force", "rocker_torque", "spring"};
-  const int kinds[] = {0, 1, 2};
-  const char* units[] = {"N", "N m", "N"};
-  for (int i = 0; i < 3; ++i) {
+  // The loads, the spring, then the weights of the three moving links (gravity [0, -g]).
+  ASSERT_EQ(FL::kNumAppliedLoads, 6);
+  const char* names[] = {"coupler_force", "rocker_torque", "spring", "W_crank", "W_coupler", "W_rocker"};
+  const int kinds[] = {0, 1, 2, 4, 4, 4};
+  const char* units[] = {"N", "N m", "N", "N", "N", "N"};
+  for (int i = 0; i < 6; ++i) {
     EXPECT_STREQ(FL::kAppliedLoadNames[i], names[i]);
     EXPECT_EQ(FL::kAppliedLoadKind[i], kinds[i]);
     EXPECT_STREQ(FL::kAppliedLoadUnits[i], units[i]);
@@ -134,6 +137,94 @@ TEST(AppliedLoads, FourbarLoadedAgainstHandValues) {
     ++checked;
   }
   EXPECT_EQ(checked, 24);
+}
+
+// The centres of mass of fourbar_loaded by hand (each at mid-length of its bar, models/
+// fourbar_loaded.yaml): the crank's, the coupler's from B along BC, the rocker's from D along DC.
+struct FourbarCentres {
+  V2 G[3];
+  double m[3];
+};
+FourbarCentres Centres(const FL::ParamsT<double>& p, double q, const Eigen::Matrix<double, FL::kNphi, 1>& phi) {
+  const double tc = phi(IndexOf(FL::kPhiNames, "theta_coupler")), tr = phi(IndexOf(FL::kPhiNames, "theta_rocker"));
+  const V2 B{p.a * std::cos(q), p.a * std::sin(q)}, D{p.d, 0};
+  return {{(0.5 * p.a) * V2{std::cos(q), std::sin(q)}, B + (0.5 * p.b) * V2{std::cos(tc), std::sin(tc)},
+           D + (0.5 * p.c) * V2{std::cos(tr), std::sin(tr)}},
+          {p.m1, p.m2, p.m3}};
+}
+
+// Each weight: at its link's hand centre of mass, the force (0, -m g), the value m g.
+TEST(AppliedLoads, FourbarLoadedWeightsAgainstHandValues) {
+  FL::ParamsT<double> p;
+  int checked = 0;
+  for (double deg = 0; deg < 360; deg += 15) {
+    const double q = deg * kDeg;
+    Eigen::Matrix<double, FL::kNphi, 1> phi;
+    Applied<FL> A;
+    ASSERT_TRUE(At<FL>(p, q, &phi, &A)) << deg;
+    const FourbarCentres c = Centres(p, q, phi);
+    for (int b = 0; b < 3; ++b) {
+      const int l = 3 + b;
+      const double W = c.m[b] * p.g;
+      const std::string at = std::string(" ") + FL::kAppliedLoadNames[l] + " at " + std::to_string(deg) + " deg";
+      EXPECT_TRUE(Near(A(0, l), c.G[b].x, kTol, 10, "G x" + at));
+      EXPECT_TRUE(Near(A(1, l), c.G[b].y, kTol, 10, "G y" + at));
+      EXPECT_EQ(A(2, l), A(0, l)) << at;
+      EXPECT_EQ(A(3, l), A(1, l)) << at;
+      EXPECT_TRUE(Near(A(4, l), 0, kTol, W, "F_x" + at));
+      EXPECT_TRUE(Near(A(5, l), -W, kTol, W, "F_y" + at));
+      EXPECT_TRUE(Near(A(6, l), W, kTol, W, "|m g|" + at));
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 24);
+}
+
+// Q is the virtual work of everything the picture draws: the coupler force and the three
+// weights (force times their drawn points' velocity coefficients), the rocker torque (times
+// d theta_rocker/dq) and the spring (-tension dl/dq), all differenced from the drawn columns.
+// An independent oracle that the drawn set is complete: without the weights the sum misses
+// Q by their work.
+TEST(AppliedLoads, FourbarLoadedQIsTheWorkOfAllDrawnLoads) {
+  FL::ParamsT<double> p;
+  const int i_rocker = IndexOf(FL::kPhiNames, "theta_rocker");
+  ASSERT_GE(i_rocker, 0);
+  int weights_matter = 0;
+  for (double deg = 10; deg < 360; deg += 25) {
+    const double q = deg * kDeg;
+    Eigen::Matrix<double, FL::kNphi, 1> phi, phi_plus, phi_minus;
+    Applied<FL> A, Ap, Am;
+    ASSERT_TRUE(At<FL>(p, q, &phi, &A));
+    ASSERT_TRUE(At<FL>(p, q + kH, &phi_plus, &Ap));
+    ASSERT_TRUE(At<FL>(p, q - kH, &phi_minus, &Am));
+    auto d = [&](int row, int col) { return (Ap(row, col) - Am(row, col)) / (2 * kH); };
+    double loads = 0, weights = 0;
+    for (int l = 0; l < FL::kNumAppliedLoads; ++l) {
+      const double force_work = A(4, l) * d(0, l) + A(5, l) * d(1, l);
+      switch (FL::kAppliedLoadKind[l]) {
+        case 0:  // the coupler force
+          loads += force_work;
+          break;
+        case 4:  // a weight
+          weights += force_work;
+          break;
+        case 1:  // the rocker torque
+          loads += A(6, l) * (phi_plus(i_rocker) - phi_minus(i_rocker)) / (2 * kH);
+          break;
+        case 2: {  // the spring
+          auto length = [l](const Applied<FL>& X) { return std::hypot(X(2, l) - X(0, l), X(3, l) - X(1, l)); };
+          loads += -A(6, l) * (length(Ap) - length(Am)) / (2 * kH);
+          break;
+        }
+        default:
+          ADD_FAILURE() << "kind " << FL::kAppliedLoadKind[l];
+      }
+    }
+    const double Q = GeneratedQ<FL>(p, q, phi);
+    EXPECT_TRUE(Near(Q, loads + weights, kFdTol, std::abs(Q) + 100, "Q at " + std::to_string(deg) + " deg"));
+    if (std::abs(weights) > 1e-3 * (std::abs(Q) + 100)) ++weights_matter;
+  }
+  EXPECT_GE(weights_matter, 10);  // of 15 angles: the weights' work is not negligible
 }
 
 // ---- tests/statics/models/sprung_slider_crank.yaml ----
@@ -262,8 +353,10 @@ TEST(AppliedLoads, FourbarLoadedForceDiagram) {
   EXPECT_NE(text.find("applied loads and springs: forces as arrows at the force scale"), std::string::npos);
   EXPECT_NE(text.find("labels of all snapshots moved apart so that none overlap"), std::string::npos);
   const double px = 0.006;  // the 0.01 px rounding of the written coordinates
+  EXPECT_NE(text.find("weights (W_ and the link's name): m g as arrows from the centres of mass"), std::string::npos);
   const std::regex group_re("<g class=\"snapshot\" data-q=\"([^\"]+)\">\n([\\s\\S]*?)\n</g>");
   int groups = 0;
+  int weight_labels[3] = {0, 0, 0};  // snapshots whose weight label found room
   for (auto g = std::sregex_iterator(text.begin(), text.end(), group_re); g != std::sregex_iterator(); ++g) {
     ++groups;
     const double q = std::stod((*g)[1]);
@@ -297,6 +390,26 @@ TEST(AppliedLoads, FourbarLoadedForceDiagram) {
     const double tension = p.F0 + p.k * (Norm(h.P - h.E) - p.L0);
     char spring[64];
     std::snprintf(spring, sizeof(spring), "spring %.4g N (tension)", tension);
+    // The weights: from each link's hand centre of mass, m g straight down at the force scale.
+    {
+      const FourbarCentres c = Centres(p, q, phi);
+      const std::regex weight_re("<line class=\"weight\"[^>]*>");
+      std::vector<std::string> weights;
+      for (auto w = std::sregex_iterator(body.begin(), body.end(), weight_re); w != std::sregex_iterator(); ++w)
+        weights.push_back((*w)[0]);
+      ASSERT_EQ(weights.size(), 3u) << body;
+      for (int b = 0; b < 3; ++b) {
+        EXPECT_NEAR(Attr(weights[b], "x1"), X(c.G[b].x), px);
+        EXPECT_NEAR(Attr(weights[b], "y1"), Y(c.G[b].y), px);
+        EXPECT_NEAR(Attr(weights[b], "x2"), Attr(weights[b], "x1"), px);
+        EXPECT_NEAR(Attr(weights[b], "y2") - Attr(weights[b], "y1"), per_newton * c.m[b] * p.g, 2 * px);
+        EXPECT_NEAR(Attr(weights[b], "data-value"), c.m[b] * p.g, 1e-12 * c.m[b] * p.g);
+        char weight[64];
+        std::snprintf(weight, sizeof(weight), "W_%s %.4g N", b == 0 ? "crank" : b == 1 ? "coupler" : "rocker",
+                      c.m[b] * p.g);
+        if (body.find(std::string(">") + weight + "<") != std::string::npos) ++weight_labels[b];
+      }
+    }
     // The rocker torque: an arc starting below D (16 px), counter-clockwise as drawn.
     ASSERT_TRUE(std::regex_search(body, e, std::regex("<path class=\"torque\"[^>]* d=\"M([^,]+),([^ ]+) A16,16 0 1 0 ")));
     EXPECT_NEAR(std::stod(e[1]), X(h.D.x), px);
@@ -310,6 +423,7 @@ TEST(AppliedLoads, FourbarLoadedForceDiagram) {
     }
   }
   EXPECT_EQ(groups, 6);
+  for (int b = 0; b < 3; ++b) EXPECT_GE(weight_labels[b], 1) << "weight " << b << " never labelled";
   // No two labels overlap: their boxes at 0.62 em a character.
   struct Box {
     double x0, y0, x1, y1;

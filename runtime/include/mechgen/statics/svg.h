@@ -2,8 +2,8 @@
  * \file statics/svg.h
  * An SVG force diagram of a statics sweep: the drawing of io/svg.h (the mechanism at a few
  * configurations, the point paths, the ground pivots) with, at those snapshot configurations
- * (SvgOptions::overlay), the reaction vectors at the pins (red) and the applied loads and
- * springs (blue).
+ * (SvgOptions::overlay), the reaction vectors at the pins (red) and the applied loads,
+ * springs and link weights (blue).
  *
  * Each red arrow is the frictionless reaction F_J = (F_J_x, F_J_y) of a revolute joint J, the
  * force of the joint's first link on its second (the contract's convention), drawn from the
@@ -12,7 +12,7 @@
  * does not know) are not drawn. Each arrow has its magnitude written at its tip ("F_B 1000 N")
  * and says who acts on whom in its tooltip ("F_B = (..) N: force of crank on rod").
  *
- * A model generated with a scene, statics and loads or springs has Model::AppliedLoads
+ * A model generated with a scene, statics and loads, springs or weights has Model::AppliedLoads
  * (EvalAppliedLoads: each load's and spring's points and force or torque, Model::
  * kAppliedLoadNames, kAppliedLoadKind, kAppliedLoadUnits). Its loads are drawn in blue: a
  * force load as an arrow from its point of application (class "load"), at the same force
@@ -22,7 +22,10 @@
  * (+ pulling the ends together); a torsional spring as a dashed curved arrow at its joint
  * (class "torsion", the torque on the joint's second link). Each has its name and magnitude
  * with its unit as a label and its values in its tooltip, and data-at (its point, model
- * units; a spring data-b its other end) and data-value (N or N m).
+ * units; a spring data-b its other end) and data-value (N or N m). Under gravity the weight
+ * m g of each moving link with mass (its point masses included; kind 4, named "W_<link>") is
+ * drawn as a force load is, from the link's centre of mass (class "weight", labelled
+ * "W_crank 19.6 N"), at the same force scale.
  *
  * Each snapshot's arrows are one group <g class="snapshot" data-q="..."> (the inputs, model
  * units) with a label of its inputs ("theta_crank = 90 deg") at the last point of a moving
@@ -174,7 +177,7 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
         }
         for (int l = 0; l < kNumApplied; ++l)
           if constexpr (kApplied) {
-            if (M::kAppliedLoadKind[l] == 0)
+            if (M::kAppliedLoadKind[l] == 0 || M::kAppliedLoadKind[l] == 4)
               largest = std::max(largest, std::hypot(applied[i](4, l), applied[i](5, l)));
           }
       }
@@ -220,7 +223,8 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
       if (kApplied) {
         legend_line("#06c", "applied loads and springs: forces as arrows at the force scale,");
         legend_line("#06c", "torques as curved arrows (counter-clockwise +, not to scale),");
-        legend_line("#06c", "springs as zig-zags with their tension (+ pulling), torsional springs dashed");
+        legend_line("#06c", "springs as zig-zags with their tension (+ pulling), torsional springs dashed;");
+        legend_line("#06c", "weights (W_ and the link's name): m g as arrows from the centres of mass");
       }
       if (several) {
         legend_line("#333", "labels of all snapshots moved apart so that none overlap; one with no room");
@@ -284,16 +288,16 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
             const double x = A(0, l), y = A(1, l), value = A(6, l);
             const std::string at = ::mechgen::internal::FormatNumber(x, "%.17g") + " " +
                                    ::mechgen::internal::FormatNumber(y, "%.17g");
-            if (kind == 0) {  // a force load: an arrow from its point of application
+            if (kind == 0 || kind == 4) {  // a force load or a weight: an arrow from its point
               const double fx = A(4, l), fy = A(5, l), magnitude = std::hypot(fx, fy);
               if (!scaled || !(magnitude > 1e-3 * largest)) continue;
-              svg << "<line class=\"load\" data-at=\"" << at << "\" data-value=\""
+              svg << "<line class=\"" << (kind == 0 ? "load" : "weight") << "\" data-at=\"" << at << "\" data-value=\""
                   << ::mechgen::internal::FormatNumber(magnitude, "%.17g") << "\" x1=\"" << px(X(x)) << "\" y1=\""
                   << px(Y(y)) << "\" x2=\"" << px(X(x + per_unit * fx)) << "\" y2=\"" << px(Y(y + per_unit * fy))
                   << "\" stroke=\"#06c\" stroke-width=\"2\" marker-end=\"url(#load_head)\"><title>" << name << " = ("
                   << number(fx) << ", " << number(fy) << ") " << unit << " at (" << number(x) << ", " << number(y)
-                  << ")</title></line>\n";
-              label("load_magnitude", X(x + per_unit * fx) + 4, Y(y + per_unit * fy) - 4,
+                  << ")" << (kind == 4 ? " (weight m g at the centre of mass)" : "") << "</title></line>\n";
+              label(kind == 0 ? "load_magnitude" : "weight_magnitude", X(x + per_unit * fx) + 4, Y(y + per_unit * fy) - 4,
                     name + " " + number(magnitude) + " " + unit, "#06c", 10);
             } else if (kind == 2) {  // a linear spring: a zig-zag between its ends
               const double x0 = X(x), y0 = Y(y), x1 = X(A(2, l)), y1 = Y(A(3, l));
