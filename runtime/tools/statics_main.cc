@@ -160,8 +160,8 @@ int Run(int argc, char** argv) {
   app.add_option("--csv", csv_path, "write every row to this CSV file (plot it with "
                                     "runtime/tools/plot_statics.gnuplot)");
   app.add_option("--svg", svg_path, "write the mechanism at a few configurations to this SVG "
-                                    "file: the reactions (red) and the applied loads and springs "
-                                    "(blue) as arrows, curved arrows and zig-zags with their "
+                                    "file: the reactions (red) and the applied loads, springs and "
+                                    "weights (blue) as arrows, curved arrows and zig-zags with their "
                                     "magnitudes and a force scale");
   std::string plots_prefix, plot_format = "png";
   app.add_option("--plots", plots_prefix,

@@ -350,7 +350,7 @@ TEST(AppliedLoads, FourbarLoadedForceDiagram) {
   ASSERT_TRUE(std::regex_search(text, m, std::regex("<g id=\"reactions\" data-force-scale=\"([^\"]+)\">")));
   const double per_newton = std::stod(m[1]);  // pixels
   ASSERT_GT(per_newton, 0);
-  EXPECT_NE(text.find("applied loads and springs: forces as arrows at the force scale"), std::string::npos);
+  EXPECT_NE(text.find("applied loads, springs and weights: forces as arrows at the force scale"), std::string::npos);
   EXPECT_NE(text.find("labels of all snapshots moved apart so that none overlap"), std::string::npos);
   const double px = 0.006;  // the 0.01 px rounding of the written coordinates
   EXPECT_NE(text.find("weights (W_ and the link's name): m g as arrows from the centres of mass"), std::string::npos);

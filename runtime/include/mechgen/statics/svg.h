@@ -111,7 +111,7 @@ class LabelPlacer {
 
 /**
  * \brief Writes the SVG of io/svg.h for the sweep's configurations with the reaction arrows
- *        and the applied loads and springs of the snapshots (options.snapshots of them).
+ *        and the applied loads, springs and weights of the snapshots (options.snapshots of them).
  * \param[in] params   Parameters the sweep ran with.
  * \param[in] records  The statics sweep.
  */
@@ -221,7 +221,7 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
         legend_y += 18;
       }
       if (kApplied) {
-        legend_line("#06c", "applied loads and springs: forces as arrows at the force scale,");
+        legend_line("#06c", "applied loads, springs and weights: forces as arrows at the force scale,");
         legend_line("#06c", "torques as curved arrows (counter-clockwise +, not to scale),");
         legend_line("#06c", "springs as zig-zags with their tension (+ pulling), torsional springs dashed;");
         legend_line("#06c", "weights (W_ and the link's name): m g as arrows from the centres of mass");
