@@ -15,6 +15,7 @@
 
 #include "fourbar.h"
 #include "mechgen/synthesis/freudenstein.h"
+#include "mechgen/synthesis/function.h"
 #include "mechgen/synthesis/optimize.h"
 #include "mechgen/synthesis/output.h"
 #include "mechgen/synthesis/report.h"
@@ -294,6 +295,152 @@ TEST(PathSynthesis, DeadPointBetweenTargetsIsADefect) {
       EXPECT_EQ(ContinuationCheck(&eval, c), "");
     }
   }
+}
+
+// ---- Function generation (synthesis/function.h) ----
+
+// The shipped four-bar's rocker angle at the crank angle t2, by hand (not the generated
+// solve): C is where the circles |C - B| = b and |C - D| = c meet, on the open assembly's
+// side: theta4 = beta - gamma, beta the direction of D->B, gamma at D by the cosine law.
+double HandTheta4(double a, double b, double c, double d, double t2) {
+  const double bx = a * std::cos(t2) - d, by = a * std::sin(t2);
+  const double e2 = bx * bx + by * by;
+  const double gamma = std::acos((c * c + e2 - b * b) / (2 * c * std::sqrt(e2)));
+  return std::atan2(by, bx) - gamma;
+}
+
+std::string Deg(double rad) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.17gdeg", rad * 180 / M_PI);
+  return buffer;
+}
+
+// A function task on fourbar with the pairs (t2, HandTheta4(t2) + shift_i) written into a file.
+BoundFunction<mech::fourbar::Model> FunctionTaskOf(const std::vector<double>& t2, const std::vector<double>& shift,
+                                                   bool freudenstein, int restarts,
+                                                   const mech::fourbar::Model::ParamsT<double>& base = {}) {
+  std::string yaml = "synthesis: function\nmodel: fourbar.yaml\noutput: theta_rocker\npairs:\n";
+  for (size_t i = 0; i < t2.size(); ++i)
+    yaml += "  - [" + Deg(t2[i]) + ", " + Deg(HandTheta4(1.0, 3.5, 3.0, 4.0, t2[i]) + (shift.empty() ? 0.0 : shift[i])) + "]\n";
+  if (freudenstein) yaml += "freudenstein: {crank: a, coupler: b, rocker: c, ground: d}\n";
+  yaml += "variables: {a: [0.5, 6], b: [0.5, 6], c: [0.5, 6]}\nsearch: {restarts: " + std::to_string(restarts) + "}\n";
+  const std::string path = ::testing::TempDir() + "/function_task.yaml";
+  std::ofstream(path) << yaml;
+  FunctionTask task;
+  std::string error;
+  EXPECT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  BoundFunction<mech::fourbar::Model> b;
+  EXPECT_TRUE(BindFunctionTask<mech::fourbar::Model>(task, base, &b, &error)) << error;
+  return b;
+}
+
+constexpr double kDeg = M_PI / 180;
+
+TEST(FunctionSynthesis, ThreeHandSolvedPairsExactlyByFreudenstein) {
+  const auto b = FunctionTaskOf({40 * kDeg, 90 * kDeg, 140 * kDeg}, {}, /*freudenstein=*/true, /*restarts=*/0);
+  const FunctionResult r = SynthesizeFunction(b, 1);
+  ASSERT_TRUE(r.exact.ok) << r.exact.why;
+  for (double e : r.exact.residual) EXPECT_LT(std::abs(e), 1e-12);
+  EXPECT_NEAR(r.exact.a, 1.0, 1e-12);
+  EXPECT_NEAR(r.exact.b, 3.5, 1e-12);
+  EXPECT_NEAR(r.exact.c, 3.0, 1e-12);
+  // The exact answer through the generated solve: the rocker at the hand-solved angles.
+  FunctionEvaluator<mech::fourbar::Model> eval(b);
+  const FunctionCandidate exact = eval.Check({r.exact.a, r.exact.b, r.exact.c});
+  ASSERT_TRUE(exact.feasible()) << exact.defect;
+  for (double e : exact.residual) EXPECT_LT(std::abs(e), 1e-12);
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  for (double e : r.best.residual) EXPECT_LT(std::abs(e), 1e-12);
+}
+
+TEST(FunctionSynthesis, JacobianAgainstCentralDifferences) {
+  auto b = FunctionTaskOf({30 * kDeg, 60 * kDeg, 90 * kDeg, 120 * kDeg, 150 * kDeg}, {}, false, 0);
+  FunctionEvaluator<mech::fourbar::Model> eval(b);
+  FunctionResiduals<mech::fourbar::Model> cost(&eval);
+  std::vector<double> x = {1.2, 3.3, 3.1}, r(5), rp(5), rm(5), jac(15);
+  const double* params[1] = {x.data()};
+  double* jacs[1] = {jac.data()};
+  ASSERT_TRUE(cost.Evaluate(params, r.data(), jacs));
+  const double h = 1e-6;
+  for (int j = 0; j < 3; ++j) {
+    std::vector<double> xp = x, xm = x;
+    xp[static_cast<size_t>(j)] += h, xm[static_cast<size_t>(j)] -= h;
+    const double* pp[1] = {xp.data()};
+    const double* pm[1] = {xm.data()};
+    ASSERT_TRUE(cost.Evaluate(pp, rp.data(), nullptr));
+    ASSERT_TRUE(cost.Evaluate(pm, rm.data(), nullptr));
+    for (int i = 0; i < 5; ++i) {
+      const double fd = (rp[static_cast<size_t>(i)] - rm[static_cast<size_t>(i)]) / (2 * h);
+      EXPECT_NEAR(jac[static_cast<size_t>(i * 3 + j)], fd, 1e-7 * std::max(1.0, std::abs(fd))) << "pair " << i << " var " << j;
+    }
+  }
+}
+
+TEST(FunctionSynthesis, FedBackPairsOfAKnownFourBarFoundByTheOptimiser) {
+  // Seven pairs of the shipped four-bar (hand formula); no exact stage; the model's values
+  // moved away: LM from the model's values and from random starts finds it again.
+  std::vector<double> t2;
+  for (int k = 0; k < 7; ++k) t2.push_back((30 + 20 * k) * kDeg);
+  mech::fourbar::Model::ParamsT<double> base;
+  base.a = 1.4, base.b = 3.0, base.c = 3.6;
+  const auto b = FunctionTaskOf(t2, {}, /*freudenstein=*/false, /*restarts=*/4, base);
+  const FunctionResult r = SynthesizeFunction(b, 3);
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  EXPECT_LT(r.best.error, 1e-20);
+  EXPECT_NEAR(r.best.x[0], 1.0, 1e-9);
+  EXPECT_NEAR(r.best.x[1], 3.5, 1e-9);
+  EXPECT_NEAR(r.best.x[2], 3.0, 1e-9);
+  EXPECT_GT(r.evaluations, 0);
+  // With the exact stage: least squares of Freudenstein's equation on consistent pairs is exact.
+  const FunctionResult e = SynthesizeFunction(FunctionTaskOf(t2, {}, true, 0, base), 3);
+  ASSERT_TRUE(e.exact.ok) << e.exact.why;
+  EXPECT_NEAR(e.exact.a, 1.0, 1e-12);
+  EXPECT_NEAR(e.exact.b, 3.5, 1e-12);
+  EXPECT_NEAR(e.exact.c, 3.0, 1e-12);
+}
+
+TEST(FunctionSynthesis, LeastSquaresOfTheAnglesBeatsThatOfTheEquationAndIsStationary) {
+  // Pairs no four-bar meets (the rocker's angles shifted by +-0.4 deg alternately): the exact
+  // stage's least squares (of Freudenstein's equation) is not the least squares of the
+  // angles; LM on the angles ends lower, at a point where the error's gradient (central
+  // differences of E, not the Jacobian LM used) vanishes.
+  std::vector<double> t2, shift;
+  for (int k = 0; k < 6; ++k) {
+    t2.push_back((40 + 18 * k) * kDeg);
+    shift.push_back((k % 2 == 0 ? 0.4 : -0.4) * kDeg);
+  }
+  const auto b = FunctionTaskOf(t2, shift, true, 2);
+  const FunctionResult r = SynthesizeFunction(b, 5);
+  ASSERT_TRUE(r.exact.ok) << r.exact.why;
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  FunctionEvaluator<mech::fourbar::Model> eval(b);
+  const FunctionCandidate exact = eval.Check({r.exact.a, r.exact.b, r.exact.c});
+  ASSERT_TRUE(exact.feasible());
+  EXPECT_LT(r.best.error, exact.error * (1 - 1e-6));
+  const double h = 1e-5;
+  for (int j = 0; j < 3; ++j) {
+    std::vector<double> xp = r.best.x, xm = r.best.x;
+    xp[static_cast<size_t>(j)] += h, xm[static_cast<size_t>(j)] -= h;
+    const double g = (eval.Check(xp).error - eval.Check(xm).error) / (2 * h);
+    EXPECT_LT(std::abs(g), 1e-9) << "dE/d" << b.task.variables[static_cast<size_t>(j)].name;
+  }
+}
+
+TEST(FunctionSynthesis, TaskErrorsSayWhereAndWhat) {
+  const std::string path = ::testing::TempDir() + "/bad_function.yaml";
+  std::ofstream(path) << "synthesis: function\noutput: theta_rockr\npairs: [[0, 1], [1, 2], [2, 3]]\nvariables: {a: [0, 1]}\n";
+  FunctionTask task;
+  std::string error;
+  ASSERT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  BoundFunction<mech::fourbar::Model> b;
+  EXPECT_FALSE(BindFunctionTask<mech::fourbar::Model>(task, {}, &b, &error));
+  EXPECT_EQ(error, path + ":2:9: output 'theta_rockr' is not one of the model's dependent variables (theta_coupler, theta_rocker)");
+  std::ofstream(path) << "synthesis: function\noutput: theta_rocker\npairs: [[0, 1], [1, 2], [2, 3]]\n"
+                         "freudenstein: {crank: a, coupler: b, rocker: c, ground: d}\nvariables: {a: [0, 1]}\n";
+  EXPECT_FALSE(ParseFunctionTask(path, &task, &error));
+  EXPECT_EQ(error, path + ":4:15: freudenstein: 'b' must be one of the variables (the exact method sets it)");
+  std::string kind_error;
+  EXPECT_EQ(TaskKind(path, &kind_error), "function");
 }
 
 }  // namespace
