@@ -16,7 +16,8 @@
  *     generated dphi/dp (EvalDesignDerivatives: no automatic or numerical differentiation),
  *     from the exact start (if any), from the model's values and from Search::restarts
  *     uniform starts in the bounds (one splitmix64 stream per start: the result depends only on
- *     the seed). This is the general case (any model; more pairs than the exact method fits).
+ *     the seed; a start where the model does not assemble at every pair is only checked). This
+ *     is the general case (any model; more pairs than the exact method fits).
  *  3. Every candidate checked: the model assembles on its mode at every pair, and from pair to
  *     pair (in the task's order, the input moving directly from q_i to q_i+1, sampled at
  *     Search::curve_samples per turn) it stays on that mode with a nonzero branch measure: no
@@ -449,11 +450,17 @@ FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed) {
     // The start itself (the exact method's answer is kept as it is when it is best), then LM.
     FunctionCandidate at = eval.Check(s.second);
     at.start = s.first;
-    int iterations = 0;
-    FunctionCandidate refined = eval.Check(FunctionLocalStage(&eval, s.second, &iterations));
-    refined.start = s.first + " + LM";
-    r.iterations += iterations;
-    const FunctionCandidate& kept = Better(refined, at) ? refined : at;
+    // LM only from a start that assembles at every pair (its first evaluation needs them all).
+    bool assembles = true;
+    for (double e : at.residual) assembles = assembles && std::isfinite(e);
+    FunctionCandidate refined;
+    if (assembles) {
+      int iterations = 0;
+      refined = eval.Check(FunctionLocalStage(&eval, s.second, &iterations));
+      refined.start = s.first + " + LM";
+      r.iterations += iterations;
+    }
+    const FunctionCandidate& kept = assembles && Better(refined, at) ? refined : at;
     r.starts.push_back(kept);
     if (r.starts.size() == 1 || Better(kept, r.best)) r.best = kept;
   }
