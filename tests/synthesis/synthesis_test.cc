@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "fourbar.h"
+#include "mechgen/synthesis/burmester.h"
 #include "mechgen/synthesis/freudenstein.h"
 #include "mechgen/synthesis/function.h"
 #include "mechgen/synthesis/optimize.h"
@@ -441,6 +442,118 @@ TEST(FunctionSynthesis, TaskErrorsSayWhereAndWhat) {
   EXPECT_EQ(error, path + ":4:15: freudenstein: 'b' must be one of the variables (the exact method sets it)");
   std::string kind_error;
   EXPECT_EQ(TaskKind(path, &kind_error), "function");
+}
+
+// ---- Motion generation (synthesis/burmester.h) ----
+
+// A placed four-bar (pivot A, ground at theta0) by hand: B on the crank, C where the circles
+// about B (b) and D (c) meet on the open assembly's side (left of B -> D), the coupler's angle
+// that of BC, its point P at (xi, eta) in the frame at B along BC. The pose is (P, angle).
+struct HandFourBar {
+  double a = 1, b = 3.5, c = 3, d = 4, xi = 1.5, eta = 1, x0 = 0.3, y0 = -0.2, theta0 = 0.25;
+  Eigen::Vector2d A() const { return {x0, y0}; }
+  Eigen::Vector2d D() const { return A() + d * Eigen::Vector2d(std::cos(theta0), std::sin(theta0)); }
+  Eigen::Vector2d B(double q) const { return A() + a * Eigen::Vector2d(std::cos(q), std::sin(q)); }
+  Eigen::Vector2d C(double q) const {
+    const Eigen::Vector2d e = D() - B(q);
+    const double L = e.norm(), s = (b * b - c * c + L * L) / (2 * L), h = std::sqrt(b * b - s * s);
+    return B(q) + s * e / L + h * Eigen::Vector2d(-e.y(), e.x()) / L;
+  }
+  Pose PoseAt(double q) const {
+    const Eigen::Vector2d u = (C(q) - B(q)) / b, n(-u.y(), u.x());
+    const Eigen::Vector2d P = B(q) + xi * u + eta * n;
+    return {P.x(), P.y(), std::atan2(u.y(), u.x())};
+  }
+  // The dyads in the body frame of pose q0.
+  Eigen::Vector2d BodyPoint(double q0, const Eigen::Vector2d& world) const {
+    const Pose p = PoseAt(q0);
+    const Eigen::Vector2d r = world - Eigen::Vector2d(p.x, p.y);
+    return {std::cos(p.angle) * r.x() + std::sin(p.angle) * r.y(), -std::sin(p.angle) * r.x() + std::cos(p.angle) * r.y()};
+  }
+};
+
+std::vector<Pose> PosesOf(const HandFourBar& f, const std::vector<double>& q) {
+  std::vector<Pose> poses;
+  for (double qi : q) poses.push_back(f.PoseAt(qi));
+  return poses;
+}
+
+TEST(MotionSynthesis, ThreePosesEveryCirclePointHasItsCentre) {
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 75 * kDeg, 140 * kDeg};
+  const auto poses = PosesOf(f, q);
+  Dyad d;
+  // The original crank's circle point gives back the crank pivot A.
+  ASSERT_TRUE(CentreOfCirclePoint(poses, f.BodyPoint(q[0], f.B(q[0])), &d));
+  EXPECT_LT((d.M - f.A()).norm(), 1e-12);
+  EXPECT_NEAR(d.radius, f.a, 1e-12);
+  // Any circle point: its three positions on a circle about its centre (the distance form).
+  for (const Eigen::Vector2d& k : {Eigen::Vector2d(0.7, -2.1), Eigen::Vector2d(-3.0, 0.4), Eigen::Vector2d(5.0, 5.0)}) {
+    ASSERT_TRUE(CentreOfCirclePoint(poses, k, &d));
+    EXPECT_LT(d.residual, 1e-12 * std::max(1.0, d.radius));
+  }
+}
+
+TEST(MotionSynthesis, FourPoseCurvesPassThroughTheOriginalDyads) {
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 60 * kDeg, 110 * kDeg, 170 * kDeg};
+  const auto poses = PosesOf(f, q);
+  const Eigen::Vector2d base(0.4321, -0.1234);
+  const auto curve = FourPoseCurve(poses, base, 720);
+  ASSERT_GT(curve.size(), 100u);
+  for (const CurvePoint& cp : curve) EXPECT_LT(cp.dyad.residual, 1e-12 * std::max(1.0, cp.dyad.radius)) << "ray " << cp.ray;
+  // The curve through the original circle points, with their centres A and D: traced from a
+  // base 1.7 to the left of each, its ray 0 (along +x) meets it at s = 1.7.
+  for (const auto& [world, pivot] : {std::pair{f.B(q[0]), f.A()}, std::pair{f.C(q[0]), f.D()}}) {
+    const Eigen::Vector2d k = f.BodyPoint(q[0], world);
+    double best = kInf;
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (const CurvePoint& cp : FourPoseCurve(poses, k - Eigen::Vector2d(1.7, 0), 8)) {
+      if (cp.ray != 0) continue;
+      const double gap = (cp.dyad.k - k).norm();
+      if (gap < best) best = gap, centre = cp.dyad.M;
+    }
+    EXPECT_LT(best, 1e-10) << "the original circle point is not on the circle-point curve";
+    EXPECT_LT((centre - pivot).norm(), 1e-10) << "its centre is not the original pivot";
+  }
+}
+
+TEST(MotionSynthesis, FivePosesBurmesterPointsContainTheOriginalDyads) {
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 60 * kDeg, 100 * kDeg, 150 * kDeg, 200 * kDeg};
+  const auto poses = PosesOf(f, q);
+  const std::vector<Dyad> points = BurmesterPoints(poses);
+  ASSERT_GE(points.size(), 2u);
+  EXPECT_LE(points.size(), 4u);
+  for (const Dyad& d : points) EXPECT_LT(d.residual, 1e-12 * std::max(1.0, d.radius));
+  const Dyad* crank = nullptr;
+  const Dyad* rocker = nullptr;
+  for (const Dyad& d : points) {
+    if ((d.M - f.A()).norm() < 1e-9 && (d.k - f.BodyPoint(q[0], f.B(q[0]))).norm() < 1e-9) crank = &d;
+    if ((d.M - f.D()).norm() < 1e-9 && (d.k - f.BodyPoint(q[0], f.C(q[0]))).norm() < 1e-9) rocker = &d;
+  }
+  ASSERT_NE(crank, nullptr) << "the crank's dyad (A, B) is not among the Burmester points";
+  ASSERT_NE(rocker, nullptr) << "the rocker's dyad (D, C) is not among the Burmester points";
+  // The pair as a four-bar, run by the generated synth_fourbar: at each pose's crank angle its
+  // coupler point is the pose's point and its coupler turned by the pose's angle.
+  const FourBarFromDyads fb = FourBarOfDyads(poses, *crank, *rocker);
+  mech::synth_fourbar::Model::ParamsT<double> p;
+  p.a = fb.a, p.b = fb.b, p.c = fb.c, p.d = fb.d, p.xi = fb.xi, p.eta = fb.eta, p.x0 = fb.x0, p.y0 = fb.y0,
+  p.theta0 = fb.theta0;
+  using M = mech::synth_fourbar::Model;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    Eigen::Matrix<double, M::kNq, 1> qv;
+    qv(0) = fb.crank_angle[j];
+    Eigen::Matrix<double, M::kNphi, 1> phi;
+    for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
+    const auto report = M::Solve(p, qv, &phi, M::kDefaultModes);
+    ASSERT_EQ(report.status, decltype(report.status)::kConverged);
+    M::CoefficientsT<double> co;
+    M::Coeffs(p, qv, phi, &co);
+    EXPECT_NEAR(co.r_P(0, 0), poses[j].x, 1e-9) << "pose " << j;
+    EXPECT_NEAR(co.r_P(1, 0), poses[j].y, 1e-9) << "pose " << j;
+    EXPECT_NEAR(WrapPi(phi(0) - poses[j].angle), 0.0, 1e-9) << "pose " << j;  // theta_coupler
+  }
 }
 
 }  // namespace
