@@ -1,5 +1,7 @@
 // `mechgen synthesize MODEL --task TASK.yaml [--seed N] [--threads N] [--out DIR]`: dimensional
-// synthesis of a generated model (issue 28): path generation, and function generation
+// synthesis of a generated model (issue 28): path generation, motion generation (`synthesis:
+// motion`: synthesis/motion.h; Burmester: report.txt with the model file or curves.csv), and
+// function generation
 // (`synthesis: function`: synthesis/function.h; it writes function.svg for path.svg and takes
 // no --evaluations or --threads: its local starts are few and run in turn). The model gives
 // the topology, the design parameters (its `design:` section: their derivatives are the local
@@ -36,6 +38,7 @@
 
 #include "common/cli.h"
 #include "mechgen/synthesis/function.h"
+#include "mechgen/synthesis/motion.h"
 #include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
 #include MECHGEN_MODEL_INCLUDE
@@ -130,10 +133,64 @@ int FunctionMain(const std::string& tool, const std::string& task_path, const st
   return 0;
 }
 
+// Motion generation (synthesis/motion.h): five poses, the model file of the first Burmester pair
+// that the generated model runs through the poses and report.txt; four poses, curves.csv.
+template <class M>
+int MotionMain(const std::string& tool, const std::string& task_path, const std::string& model_path,
+               const std::string& out_dir, const typename M::template ParamsT<double>& base) {
+  std::string error;
+  MotionTask task;
+  if (!ParseMotionTask(task_path, &task, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  MotionResult r;
+  if (!SynthesizeMotion<M>(task, base, &r, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  const std::string report = MotionReport(task, r);
+  std::vector<std::pair<fs::path, const std::string*>> files;
+  std::string second;
+  if (task.poses.size() == 4) {
+    second = "# the four-pose Burmester curves: circle point k in the body frame of pose 1 (origin its point, x "
+             "at its angle), centre point M in the frame of the poses; one row per point found on a ray\n"
+             "ray,k_x,k_y,M_x,M_y,radius\n";
+    for (const CurvePoint& cp : r.curve)
+      second += std::to_string(cp.ray) + "," + Num(cp.dyad.k.x()) + "," + Num(cp.dyad.k.y()) + "," + Num(cp.dyad.M.x()) +
+                "," + Num(cp.dyad.M.y()) + "," + Num(cp.dyad.radius) + "\n";
+    files = {{fs::path(out_dir) / "curves.csv", &second}, {fs::path(out_dir) / "report.txt", &report}};
+  } else {
+    if (r.chosen < 0) {
+      std::cerr << report << "\n" << tool << ": no pair of Burmester points guides the model's coupler through the poses; nothing written\n";
+      return 3;
+    }
+    bool read = false;
+    const std::string model_text = ReadText(model_path, &read);
+    if (!read) {
+      std::cerr << tool << ": error: cannot read the model file " << model_path << "\n";
+      return 1;
+    }
+    const FourBarFromDyads& f = r.candidates[static_cast<size_t>(r.chosen)].fourbar;
+    if (!RewriteParameters(model_text, task.parameters, {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0}, &second,
+                           &error)) {
+      std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
+      return 1;
+    }
+    files = {{fs::path(out_dir) / fs::path(model_path).filename(), &second}, {fs::path(out_dir) / "report.txt", &report}};
+  }
+  if (!WriteAll(files, out_dir)) {
+    std::cerr << tool << ": error: cannot write into " << out_dir << "\n";
+    return 1;
+  }
+  std::cout << report << "\nwrote " << files[0].first.string() << ", " << files[1].first.string() << "\n";
+  return 0;
+}
+
 template <class M>
 int Main(int argc, char** argv) {
   const std::string tool = mechgen::tools::ToolName(argv[0]);
-  CLI::App app{"Dimensional synthesis (path or function generation: the task file's `synthesis:`) of the model " +
+  CLI::App app{"Dimensional synthesis (path, function or motion generation: the task file's `synthesis:`) of the model " +
                std::string(M::kName) +
                ": seeded differential evolution (path) or Freudenstein's equation (function), then "
                "Levenberg-Marquardt on the generated design derivatives. "
@@ -165,6 +222,14 @@ int Main(int argc, char** argv) {
   if (!error.empty()) {
     std::cerr << error << "\n";
     return 1;
+  }
+  if (kind == "motion") {
+    if constexpr (M::kNumPoints > 0) {
+      return MotionMain<M>(tool, task_path, model_path, out_dir, base);
+    } else {
+      std::cerr << task_path << ": the model '" << M::kName << "' has no output points (the pose's point)\n";
+      return 1;
+    }
   }
   if (kind == "function") {
     if constexpr (mechgen::HasDesignDerivatives<M>::value) {

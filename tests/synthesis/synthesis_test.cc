@@ -17,6 +17,7 @@
 #include "mechgen/synthesis/burmester.h"
 #include "mechgen/synthesis/freudenstein.h"
 #include "mechgen/synthesis/function.h"
+#include "mechgen/synthesis/motion.h"
 #include "mechgen/synthesis/optimize.h"
 #include "mechgen/synthesis/output.h"
 #include "mechgen/synthesis/report.h"
@@ -553,6 +554,36 @@ TEST(MotionSynthesis, FivePosesBurmesterPointsContainTheOriginalDyads) {
     EXPECT_NEAR(co.r_P(0, 0), poses[j].x, 1e-9) << "pose " << j;
     EXPECT_NEAR(co.r_P(1, 0), poses[j].y, 1e-9) << "pose " << j;
     EXPECT_NEAR(WrapPi(phi(0) - poses[j].angle), 0.0, 1e-9) << "pose " << j;  // theta_coupler
+  }
+}
+
+TEST(MotionSynthesis, FivePoseTaskGivesAFourBarTheModelRunsThroughThePoses) {
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 60 * kDeg, 100 * kDeg, 150 * kDeg, 200 * kDeg};
+  std::string yaml = "synthesis: motion\npoint: coupler.P\ncoupler_angle: theta_coupler\nposes:\n";
+  for (const Pose& p : PosesOf(f, q)) yaml += "  - [" + Num(p.x) + ", " + Num(p.y) + ", " + Num(p.angle) + "]\n";
+  yaml += "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n";
+  const std::string path = ::testing::TempDir() + "/motion_task.yaml";
+  std::ofstream(path) << yaml;
+  MotionTask task;
+  std::string error;
+  ASSERT_TRUE(ParseMotionTask(path, &task, &error)) << error;
+  MotionResult r;
+  ASSERT_TRUE(SynthesizeMotion<mech::synth_fourbar::Model>(task, {}, &r, &error)) << error;
+  ASSERT_GE(r.chosen, 0) << MotionReport(task, r);
+  const MotionCandidate& c = r.candidates[static_cast<size_t>(r.chosen)];
+  EXPECT_LT(c.worst_point, 1e-9);
+  EXPECT_LT(c.worst_angle, 1e-9);
+  // The original four-bar (crank at A, rocker at D) is among the pairs and passes.
+  bool original = false;
+  for (const MotionCandidate& m : r.candidates)
+    original = original || (m.ok && std::abs(m.fourbar.a - f.a) < 1e-9 && std::abs(m.fourbar.b - f.b) < 1e-9 &&
+                            std::abs(m.fourbar.c - f.c) < 1e-9 && std::abs(m.fourbar.d - f.d) < 1e-9 &&
+                            std::abs(m.fourbar.xi - f.xi) < 1e-9 && std::abs(m.fourbar.eta - f.eta) < 1e-9);
+  EXPECT_TRUE(original) << MotionReport(task, r);
+  // The one written is the passing pair with the smallest link ratio.
+  for (const MotionCandidate& m : r.candidates) {
+    if (m.ok) EXPECT_GE(m.ratio, c.ratio);
   }
 }
 
