@@ -588,4 +588,29 @@ TEST(MotionSynthesis, FivePoseTaskGivesAFourBarTheModelRunsThroughThePoses) {
   }
 }
 
+TEST(PathSynthesis, LinkRatioConstraint) {
+  // The shipped four-bar (links 1, 3.5, 3, 4: the longest over the shortest is 4) on its own
+  // coupler points: a defect under link_ratio 3.9, none under 4.1.
+  std::ifstream in(Tasks("fourbar_refind.yaml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  for (const double ratio : {3.9, 4.1}) {
+    std::string yaml = text.str();
+    yaml.replace(yaml.find("constraints:\n"), 13, "constraints:\n  link_ratio: " + Num(ratio) + "\n");
+    const std::string path = ::testing::TempDir() + "/ratio_task.yaml";
+    std::ofstream(path) << yaml;
+    const auto b = Bind<mech::fourbar::Model>(path);
+    ASSERT_TRUE(b.task.constraints.has_ratio);
+    PathEvaluator<mech::fourbar::Model> eval(b);
+    const Candidate c = eval.Evaluate({1.0, 3.5, 3.0, 1.5, 1.0});
+    if (ratio < 4) {
+      EXPECT_FALSE(c.feasible());
+      EXPECT_EQ(c.defect, "the longest link over the shortest above link_ratio");
+      EXPECT_NEAR(c.violation, 4.0 - 3.9, 1e-12);
+    } else {
+      EXPECT_TRUE(c.feasible()) << c.defect;
+    }
+  }
+}
+
 }  // namespace
