@@ -394,6 +394,14 @@ TEST(FunctionSynthesis, FedBackPairsOfAKnownFourBarFoundByTheOptimiser) {
   EXPECT_NEAR(r.best.x[2], 3.0, 1e-9);
   EXPECT_GT(r.evaluations, 0);
   // With the exact stage: least squares of Freudenstein's equation on consistent pairs is exact.
+  // Starts outside the bounds are moved inside: the model's values far out, no random starts.
+  mech::fourbar::Model::ParamsT<double> far = base;
+  far.a = 50, far.b = 0.01, far.c = 9;
+  const FunctionResult clamped = SynthesizeFunction(FunctionTaskOf(t2, {}, false, 0, far), 3);
+  for (size_t j = 0; j < 3; ++j) {
+    EXPECT_GE(clamped.best.x[j], 0.5);
+    EXPECT_LE(clamped.best.x[j], 6.0);
+  }
   const FunctionResult e = SynthesizeFunction(FunctionTaskOf(t2, {}, true, 0, base), 3);
   ASSERT_TRUE(e.exact.ok) << e.exact.why;
   EXPECT_NEAR(e.exact.a, 1.0, 1e-12);

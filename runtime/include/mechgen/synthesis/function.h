@@ -446,6 +446,11 @@ FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed) {
     }
     starts.push_back({"random " + std::to_string(k + 1), x});
   }
+  for (auto& s : starts) {  // every start inside the bounds (the answer must be)
+    for (int j = 0; j < nv; ++j)
+      s.second[static_cast<size_t>(j)] = std::clamp(s.second[static_cast<size_t>(j)], t.variables[static_cast<size_t>(j)].lo,
+                                                    t.variables[static_cast<size_t>(j)].hi);
+  }
   for (const auto& s : starts) {
     // The start itself (the exact method's answer is kept as it is when it is best), then LM.
     FunctionCandidate at = eval.Check(s.second);
