@@ -267,7 +267,10 @@ int main(int argc, char** argv) {
                        ? std::string("")
                        : "; the same as the <model>_" + tool + " that mechgen_add_model() builds") +
                   "); mechgen's own options come before MODEL.");
-    sub->add_option("model", tool_command.model_path, "model file (.yaml)")->required();
+    sub->add_option("model", tool_command.model_path,
+                    tool == "synthesize" ? "model file (.yaml), or a task file that names its model (`model:`)"
+                                         : "model file (.yaml)")
+        ->required();
     sub->add_option("--templates", templates, "directory of the .mustache templates")->capture_default_str();
     sub->add_option("--cache-dir", tool_command.cache_dir,
                     "the cache (default: $MECHGEN_CACHE_DIR, else $XDG_CACHE_HOME/mechgen, else "
@@ -287,6 +290,33 @@ int main(int argc, char** argv) {
     tool_command.tool = sub->get_name();
     tool_command.templates = templates;
     tool_command.driver_args = driver_args;
+    if (tool_command.tool == "synthesize") {
+      // `mechgen synthesize TASK`: a task file (a mapping with `synthesis:`) names its model,
+      // relative to the task file; the driver then gets `--task TASK` (docs/synthesis.md).
+      YAML::Node root;
+      try {
+        root = YAML::LoadFile(tool_command.model_path);
+      } catch (const YAML::Exception&) {
+        root = YAML::Node();  // not YAML: the generator says why, as for any model
+      }
+      if (root.IsMap() && root["synthesis"]) {
+        const std::string task = tool_command.model_path;
+        if (std::find(driver_args.begin(), driver_args.end(), "--task") != driver_args.end()) {
+          std::cerr << "mechgen synthesize: error: " << task
+                    << " is a task file; give either `synthesize TASK` or `synthesize MODEL --task TASK`\n";
+          return 2;
+        }
+        const YAML::Node model = root["model"];
+        if (!model || !model.IsScalar() || model.Scalar().empty()) {
+          std::cerr << task << ": the task names no `model:` (the model file, relative to the task file); add it "
+                    << "or run `mechgen synthesize MODEL --task " << task << "`\n";
+          return 1;
+        }
+        tool_command.model_path =
+            (std::filesystem::path(task).parent_path() / model.Scalar()).lexically_normal().string();
+        tool_command.driver_args.insert(tool_command.driver_args.begin(), {"--task", task});
+      }
+    }
     const std::string tool_templates = templates;
     return mechgen::RunTool(tool_command, [&tool_templates](const std::string& path, const std::string& dir,
                                                             mechgen::GeneratedModel* model) {

@@ -1,5 +1,9 @@
 // `mechgen synthesize MODEL --task TASK.yaml [--seed N] [--threads N] [--out DIR]`: dimensional
-// synthesis of a generated model (issue 28; this version: path generation). The model gives
+// synthesis of a generated model (issue 28): path generation, motion generation (`synthesis:
+// motion`: synthesis/motion.h; Burmester: report.txt with the model file or curves.csv), and
+// function generation
+// (`synthesis: function`: synthesis/function.h; it writes function.svg for path.svg and takes
+// no --evaluations or --threads: its local starts are few and run in turn). The model gives
 // the topology, the design parameters (its `design:` section: their derivatives are the local
 // stage's Jacobian) and the point; the task file (docs/synthesis.md) the targets, the timing,
 // the variables' bounds, the constraints and the search's budget.
@@ -33,6 +37,8 @@
 #include <vector>
 
 #include "common/cli.h"
+#include "mechgen/synthesis/function.h"
+#include "mechgen/synthesis/motion.h"
 #include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
 #include MECHGEN_MODEL_INCLUDE
@@ -49,11 +55,145 @@ bool WriteWhole(const fs::path& path, const std::string& bytes) {
   return static_cast<bool>(out);
 }
 
+std::string ReadText(const std::string& path, bool* ok) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  *ok = static_cast<bool>(in);
+  return text.str();
+}
+
+// Writes (path, bytes) whole: each to a temporary name, then renamed; nothing left on failure.
+bool WriteAll(const std::vector<std::pair<fs::path, const std::string*>>& files, const std::string& out_dir) {
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  bool ok = !ec;
+  for (const auto& f : files) ok = ok && WriteWhole(f.first.string() + ".part", *f.second);
+  for (const auto& f : files) {
+    if (ok) {
+      fs::rename(f.first.string() + ".part", f.first, ec);
+      ok = !ec;
+    }
+  }
+  if (!ok)
+    for (const auto& f : files) fs::remove(f.first.string() + ".part", ec);
+  return ok;
+}
+
+// Function generation (synthesis/function.h): writes the model file, function.svg, report.txt.
+template <class M>
+int FunctionMain(const std::string& tool, const std::string& task_path, const std::string& model_path,
+                 const std::string& out_dir, unsigned long long seed, const typename M::template ParamsT<double>& base) {
+  std::string error;
+  FunctionTask task;
+  if (!ParseFunctionTask(task_path, &task, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  BoundFunction<M> bound;
+  if (!BindFunctionTask<M>(task, base, &bound, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  bool read = false;
+  const std::string model_text = ReadText(model_path, &read);
+  if (!read) {
+    std::cerr << tool << ": error: cannot read the model file " << model_path << "\n";
+    return 1;
+  }
+  const FunctionResult r = SynthesizeFunction(bound, seed);
+  const std::string report = FunctionReport(bound, r, seed);
+  if (!r.best.feasible()) {
+    std::cerr << report << "\n" << tool << ": no mechanism meets the pairs on its assembly mode; nothing written\n";
+    return 3;
+  }
+  std::vector<std::string> names;
+  std::vector<double> values;
+  for (size_t j = 0; j < task.variables.size(); ++j) {
+    names.push_back(task.variables[j].name);
+    values.push_back(r.best.x[j]);
+  }
+  std::string synthesized;
+  if (!RewriteParameters(model_text, names, values, &synthesized, &error)) {
+    std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
+    return 1;
+  }
+  FunctionEvaluator<M> eval(bound);
+  const std::string svg = FunctionSvg(&eval, r.best);
+  const std::vector<std::pair<fs::path, const std::string*>> files = {
+      {fs::path(out_dir) / fs::path(model_path).filename(), &synthesized},
+      {fs::path(out_dir) / "function.svg", &svg},
+      {fs::path(out_dir) / "report.txt", &report}};
+  if (!WriteAll(files, out_dir)) {
+    std::cerr << tool << ": error: cannot write into " << out_dir << "\n";
+    return 1;
+  }
+  std::cout << report << "\nwrote " << files[0].first.string() << ", " << files[1].first.string() << ", "
+            << files[2].first.string() << "\n";
+  return 0;
+}
+
+// Motion generation (synthesis/motion.h): five poses, the model file of the first Burmester pair
+// that the generated model runs through the poses and report.txt; four poses, curves.csv.
+template <class M>
+int MotionMain(const std::string& tool, const std::string& task_path, const std::string& model_path,
+               const std::string& out_dir, const typename M::template ParamsT<double>& base) {
+  std::string error;
+  MotionTask task;
+  if (!ParseMotionTask(task_path, &task, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  MotionResult r;
+  if (!SynthesizeMotion<M>(task, base, &r, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  const std::string report = MotionReport(task, r);
+  std::vector<std::pair<fs::path, const std::string*>> files;
+  std::string second;
+  if (task.poses.size() == 4) {
+    second = "# the four-pose Burmester curves: circle point k in the body frame of pose 1 (origin its point, x "
+             "at its angle), centre point M in the frame of the poses; one row per point found on a ray\n"
+             "ray,k_x,k_y,M_x,M_y,radius\n";
+    for (const CurvePoint& cp : r.curve)
+      second += std::to_string(cp.ray) + "," + Num(cp.dyad.k.x()) + "," + Num(cp.dyad.k.y()) + "," + Num(cp.dyad.M.x()) +
+                "," + Num(cp.dyad.M.y()) + "," + Num(cp.dyad.radius) + "\n";
+    files = {{fs::path(out_dir) / "curves.csv", &second}, {fs::path(out_dir) / "report.txt", &report}};
+  } else {
+    if (r.chosen < 0) {
+      std::cerr << report << "\n" << tool << ": no pair of Burmester points guides the model's coupler through the poses; nothing written\n";
+      return 3;
+    }
+    bool read = false;
+    const std::string model_text = ReadText(model_path, &read);
+    if (!read) {
+      std::cerr << tool << ": error: cannot read the model file " << model_path << "\n";
+      return 1;
+    }
+    const FourBarFromDyads& f = r.candidates[static_cast<size_t>(r.chosen)].fourbar;
+    if (!RewriteParameters(model_text, task.parameters, {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0}, &second,
+                           &error)) {
+      std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
+      return 1;
+    }
+    files = {{fs::path(out_dir) / fs::path(model_path).filename(), &second}, {fs::path(out_dir) / "report.txt", &report}};
+  }
+  if (!WriteAll(files, out_dir)) {
+    std::cerr << tool << ": error: cannot write into " << out_dir << "\n";
+    return 1;
+  }
+  std::cout << report << "\nwrote " << files[0].first.string() << ", " << files[1].first.string() << "\n";
+  return 0;
+}
+
 template <class M>
 int Main(int argc, char** argv) {
   const std::string tool = mechgen::tools::ToolName(argv[0]);
-  CLI::App app{"Dimensional synthesis (path generation) of the model " + std::string(M::kName) +
-               ": seeded differential evolution, then Levenberg-Marquardt on the generated design derivatives. "
+  CLI::App app{"Dimensional synthesis (path, function or motion generation: the task file's `synthesis:`) of the model " +
+               std::string(M::kName) +
+               ": seeded differential evolution (path) or Freudenstein's equation (function), then "
+               "Levenberg-Marquardt on the generated design derivatives. "
                "Exit 0 done, 1 bad task file or output, 2 usage error, 3 no feasible mechanism."};
   std::string task_path, out_dir = "synthesis_out", model_path;
   unsigned long long seed = 1;
@@ -78,6 +218,28 @@ int Main(int argc, char** argv) {
   Params base;
   std::string error;
   if (!mechgen::tools::ApplyParameters(parameter_options, &base, &error)) return mechgen::tools::UsageError(tool, error);
+  const std::string kind = TaskKind(task_path, &error);
+  if (!error.empty()) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  if (kind == "motion") {
+    if constexpr (M::kNumPoints > 0) {
+      return MotionMain<M>(tool, task_path, model_path, out_dir, base);
+    } else {
+      std::cerr << task_path << ": the model '" << M::kName << "' has no output points (the pose's point)\n";
+      return 1;
+    }
+  }
+  if (kind == "function") {
+    if constexpr (mechgen::HasDesignDerivatives<M>::value) {
+      return FunctionMain<M>(tool, task_path, model_path, out_dir, seed, base);
+    } else {
+      std::cerr << task_path << ": the model '" << M::kName
+                << "' has no `design` section; add `design: [parameters to vary]` (models/README.md)\n";
+      return 1;
+    }
+  }
   PathTask task;
   if (!ParseTask(task_path, &task, &error)) {
     std::cerr << error << "\n";

@@ -14,7 +14,10 @@
 #include <sstream>
 
 #include "fourbar.h"
+#include "mechgen/synthesis/burmester.h"
 #include "mechgen/synthesis/freudenstein.h"
+#include "mechgen/synthesis/function.h"
+#include "mechgen/synthesis/motion.h"
 #include "mechgen/synthesis/optimize.h"
 #include "mechgen/synthesis/output.h"
 #include "mechgen/synthesis/report.h"
@@ -292,6 +295,328 @@ TEST(PathSynthesis, DeadPointBetweenTargetsIsADefect) {
     } else {
       EXPECT_TRUE(c.feasible()) << c.defect;
       EXPECT_EQ(ContinuationCheck(&eval, c), "");
+    }
+  }
+}
+
+// ---- Function generation (synthesis/function.h) ----
+
+// The shipped four-bar's rocker angle at the crank angle t2, by hand (not the generated
+// solve): C is where the circles |C - B| = b and |C - D| = c meet, on the open assembly's
+// side: theta4 = beta - gamma, beta the direction of D->B, gamma at D by the cosine law.
+double HandTheta4(double a, double b, double c, double d, double t2) {
+  const double bx = a * std::cos(t2) - d, by = a * std::sin(t2);
+  const double e2 = bx * bx + by * by;
+  const double gamma = std::acos((c * c + e2 - b * b) / (2 * c * std::sqrt(e2)));
+  return std::atan2(by, bx) - gamma;
+}
+
+std::string Deg(double rad) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.17gdeg", rad * 180 / M_PI);
+  return buffer;
+}
+
+// A function task on fourbar with the pairs (t2, HandTheta4(t2) + shift_i) written into a file.
+BoundFunction<mech::fourbar::Model> FunctionTaskOf(const std::vector<double>& t2, const std::vector<double>& shift,
+                                                   bool freudenstein, int restarts,
+                                                   const mech::fourbar::Model::ParamsT<double>& base = {}) {
+  std::string yaml = "synthesis: function\nmodel: fourbar.yaml\noutput: theta_rocker\npairs:\n";
+  for (size_t i = 0; i < t2.size(); ++i)
+    yaml += "  - [" + Deg(t2[i]) + ", " + Deg(HandTheta4(1.0, 3.5, 3.0, 4.0, t2[i]) + (shift.empty() ? 0.0 : shift[i])) + "]\n";
+  if (freudenstein) yaml += "freudenstein: {crank: a, coupler: b, rocker: c, ground: d}\n";
+  yaml += "variables: {a: [0.5, 6], b: [0.5, 6], c: [0.5, 6]}\nsearch: {restarts: " + std::to_string(restarts) + "}\n";
+  const std::string path = ::testing::TempDir() + "/function_task.yaml";
+  std::ofstream(path) << yaml;
+  FunctionTask task;
+  std::string error;
+  EXPECT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  BoundFunction<mech::fourbar::Model> b;
+  EXPECT_TRUE(BindFunctionTask<mech::fourbar::Model>(task, base, &b, &error)) << error;
+  return b;
+}
+
+constexpr double kDeg = M_PI / 180;
+
+TEST(FunctionSynthesis, ThreeHandSolvedPairsExactlyByFreudenstein) {
+  const auto b = FunctionTaskOf({40 * kDeg, 90 * kDeg, 140 * kDeg}, {}, /*freudenstein=*/true, /*restarts=*/0);
+  const FunctionResult r = SynthesizeFunction(b, 1);
+  ASSERT_TRUE(r.exact.ok) << r.exact.why;
+  for (double e : r.exact.residual) EXPECT_LT(std::abs(e), 1e-12);
+  EXPECT_NEAR(r.exact.a, 1.0, 1e-12);
+  EXPECT_NEAR(r.exact.b, 3.5, 1e-12);
+  EXPECT_NEAR(r.exact.c, 3.0, 1e-12);
+  // The exact answer through the generated solve: the rocker at the hand-solved angles.
+  FunctionEvaluator<mech::fourbar::Model> eval(b);
+  const FunctionCandidate exact = eval.Check({r.exact.a, r.exact.b, r.exact.c});
+  ASSERT_TRUE(exact.feasible()) << exact.defect;
+  for (double e : exact.residual) EXPECT_LT(std::abs(e), 1e-12);
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  for (double e : r.best.residual) EXPECT_LT(std::abs(e), 1e-12);
+}
+
+TEST(FunctionSynthesis, JacobianAgainstCentralDifferences) {
+  auto b = FunctionTaskOf({30 * kDeg, 60 * kDeg, 90 * kDeg, 120 * kDeg, 150 * kDeg}, {}, false, 0);
+  FunctionEvaluator<mech::fourbar::Model> eval(b);
+  FunctionResiduals<mech::fourbar::Model> cost(&eval);
+  std::vector<double> x = {1.2, 3.3, 3.1}, r(5), rp(5), rm(5), jac(15);
+  const double* params[1] = {x.data()};
+  double* jacs[1] = {jac.data()};
+  ASSERT_TRUE(cost.Evaluate(params, r.data(), jacs));
+  const double h = 1e-6;
+  for (int j = 0; j < 3; ++j) {
+    std::vector<double> xp = x, xm = x;
+    xp[static_cast<size_t>(j)] += h, xm[static_cast<size_t>(j)] -= h;
+    const double* pp[1] = {xp.data()};
+    const double* pm[1] = {xm.data()};
+    ASSERT_TRUE(cost.Evaluate(pp, rp.data(), nullptr));
+    ASSERT_TRUE(cost.Evaluate(pm, rm.data(), nullptr));
+    for (int i = 0; i < 5; ++i) {
+      const double fd = (rp[static_cast<size_t>(i)] - rm[static_cast<size_t>(i)]) / (2 * h);
+      EXPECT_NEAR(jac[static_cast<size_t>(i * 3 + j)], fd, 1e-7 * std::max(1.0, std::abs(fd))) << "pair " << i << " var " << j;
+    }
+  }
+}
+
+TEST(FunctionSynthesis, FedBackPairsOfAKnownFourBarFoundByTheOptimiser) {
+  // Seven pairs of the shipped four-bar (hand formula); no exact stage; the model's values
+  // moved away: LM from the model's values and from random starts finds it again.
+  std::vector<double> t2;
+  for (int k = 0; k < 7; ++k) t2.push_back((30 + 20 * k) * kDeg);
+  mech::fourbar::Model::ParamsT<double> base;
+  base.a = 1.4, base.b = 3.0, base.c = 3.6;
+  const auto b = FunctionTaskOf(t2, {}, /*freudenstein=*/false, /*restarts=*/4, base);
+  const FunctionResult r = SynthesizeFunction(b, 3);
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  EXPECT_LT(r.best.error, 1e-20);
+  EXPECT_NEAR(r.best.x[0], 1.0, 1e-9);
+  EXPECT_NEAR(r.best.x[1], 3.5, 1e-9);
+  EXPECT_NEAR(r.best.x[2], 3.0, 1e-9);
+  EXPECT_GT(r.evaluations, 0);
+  // With the exact stage: least squares of Freudenstein's equation on consistent pairs is exact.
+  // Starts outside the bounds are moved inside: the model's values far out, no random starts.
+  mech::fourbar::Model::ParamsT<double> far = base;
+  far.a = 50, far.b = 0.01, far.c = 9;
+  const FunctionResult clamped = SynthesizeFunction(FunctionTaskOf(t2, {}, false, 0, far), 3);
+  for (size_t j = 0; j < 3; ++j) {
+    EXPECT_GE(clamped.best.x[j], 0.5);
+    EXPECT_LE(clamped.best.x[j], 6.0);
+  }
+  const FunctionResult e = SynthesizeFunction(FunctionTaskOf(t2, {}, true, 0, base), 3);
+  ASSERT_TRUE(e.exact.ok) << e.exact.why;
+  EXPECT_NEAR(e.exact.a, 1.0, 1e-12);
+  EXPECT_NEAR(e.exact.b, 3.5, 1e-12);
+  EXPECT_NEAR(e.exact.c, 3.0, 1e-12);
+}
+
+TEST(FunctionSynthesis, LeastSquaresOfTheAnglesBeatsThatOfTheEquationAndIsStationary) {
+  // Pairs no four-bar meets (the rocker's angles shifted by +-0.4 deg alternately): the exact
+  // stage's least squares (of Freudenstein's equation) is not the least squares of the
+  // angles; LM on the angles ends lower, at a point where the error's gradient (central
+  // differences of E, not the Jacobian LM used) vanishes.
+  std::vector<double> t2, shift;
+  for (int k = 0; k < 6; ++k) {
+    t2.push_back((40 + 18 * k) * kDeg);
+    shift.push_back((k % 2 == 0 ? 0.4 : -0.4) * kDeg);
+  }
+  const auto b = FunctionTaskOf(t2, shift, true, 2);
+  const FunctionResult r = SynthesizeFunction(b, 5);
+  ASSERT_TRUE(r.exact.ok) << r.exact.why;
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  FunctionEvaluator<mech::fourbar::Model> eval(b);
+  const FunctionCandidate exact = eval.Check({r.exact.a, r.exact.b, r.exact.c});
+  ASSERT_TRUE(exact.feasible());
+  EXPECT_LT(r.best.error, exact.error * (1 - 1e-6));
+  const double h = 1e-5;
+  for (int j = 0; j < 3; ++j) {
+    std::vector<double> xp = r.best.x, xm = r.best.x;
+    xp[static_cast<size_t>(j)] += h, xm[static_cast<size_t>(j)] -= h;
+    const double g = (eval.Check(xp).error - eval.Check(xm).error) / (2 * h);
+    EXPECT_LT(std::abs(g), 1e-9) << "dE/d" << b.task.variables[static_cast<size_t>(j)].name;
+  }
+}
+
+TEST(FunctionSynthesis, TaskErrorsSayWhereAndWhat) {
+  const std::string path = ::testing::TempDir() + "/bad_function.yaml";
+  std::ofstream(path) << "synthesis: function\noutput: theta_rockr\npairs: [[0, 1], [1, 2], [2, 3]]\nvariables: {a: [0, 1]}\n";
+  FunctionTask task;
+  std::string error;
+  ASSERT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  BoundFunction<mech::fourbar::Model> b;
+  EXPECT_FALSE(BindFunctionTask<mech::fourbar::Model>(task, {}, &b, &error));
+  EXPECT_EQ(error, path + ":2:9: output 'theta_rockr' is not one of the model's dependent variables (theta_coupler, theta_rocker)");
+  std::ofstream(path) << "synthesis: function\noutput: theta_rocker\npairs: [[0, 1], [1, 2], [2, 3]]\n"
+                         "freudenstein: {crank: a, coupler: b, rocker: c, ground: d}\nvariables: {a: [0, 1]}\n";
+  EXPECT_FALSE(ParseFunctionTask(path, &task, &error));
+  EXPECT_EQ(error, path + ":4:15: freudenstein: 'b' must be one of the variables (the exact method sets it)");
+  std::string kind_error;
+  EXPECT_EQ(TaskKind(path, &kind_error), "function");
+}
+
+// ---- Motion generation (synthesis/burmester.h) ----
+
+// A placed four-bar (pivot A, ground at theta0) by hand: B on the crank, C where the circles
+// about B (b) and D (c) meet on the open assembly's side (left of B -> D), the coupler's angle
+// that of BC, its point P at (xi, eta) in the frame at B along BC. The pose is (P, angle).
+struct HandFourBar {
+  double a = 1, b = 3.5, c = 3, d = 4, xi = 1.5, eta = 1, x0 = 0.3, y0 = -0.2, theta0 = 0.25;
+  Eigen::Vector2d A() const { return {x0, y0}; }
+  Eigen::Vector2d D() const { return A() + d * Eigen::Vector2d(std::cos(theta0), std::sin(theta0)); }
+  Eigen::Vector2d B(double q) const { return A() + a * Eigen::Vector2d(std::cos(q), std::sin(q)); }
+  Eigen::Vector2d C(double q) const {
+    const Eigen::Vector2d e = D() - B(q);
+    const double L = e.norm(), s = (b * b - c * c + L * L) / (2 * L), h = std::sqrt(b * b - s * s);
+    return B(q) + s * e / L + h * Eigen::Vector2d(-e.y(), e.x()) / L;
+  }
+  Pose PoseAt(double q) const {
+    const Eigen::Vector2d u = (C(q) - B(q)) / b, n(-u.y(), u.x());
+    const Eigen::Vector2d P = B(q) + xi * u + eta * n;
+    return {P.x(), P.y(), std::atan2(u.y(), u.x())};
+  }
+  // The dyads in the body frame of pose q0.
+  Eigen::Vector2d BodyPoint(double q0, const Eigen::Vector2d& world) const {
+    const Pose p = PoseAt(q0);
+    const Eigen::Vector2d r = world - Eigen::Vector2d(p.x, p.y);
+    return {std::cos(p.angle) * r.x() + std::sin(p.angle) * r.y(), -std::sin(p.angle) * r.x() + std::cos(p.angle) * r.y()};
+  }
+};
+
+std::vector<Pose> PosesOf(const HandFourBar& f, const std::vector<double>& q) {
+  std::vector<Pose> poses;
+  for (double qi : q) poses.push_back(f.PoseAt(qi));
+  return poses;
+}
+
+TEST(MotionSynthesis, ThreePosesEveryCirclePointHasItsCentre) {
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 75 * kDeg, 140 * kDeg};
+  const auto poses = PosesOf(f, q);
+  Dyad d;
+  // The original crank's circle point gives back the crank pivot A.
+  ASSERT_TRUE(CentreOfCirclePoint(poses, f.BodyPoint(q[0], f.B(q[0])), &d));
+  EXPECT_LT((d.M - f.A()).norm(), 1e-12);
+  EXPECT_NEAR(d.radius, f.a, 1e-12);
+  // Any circle point: its three positions on a circle about its centre (the distance form).
+  for (const Eigen::Vector2d& k : {Eigen::Vector2d(0.7, -2.1), Eigen::Vector2d(-3.0, 0.4), Eigen::Vector2d(5.0, 5.0)}) {
+    ASSERT_TRUE(CentreOfCirclePoint(poses, k, &d));
+    EXPECT_LT(d.residual, 1e-12 * std::max(1.0, d.radius));
+  }
+}
+
+TEST(MotionSynthesis, FourPoseCurvesPassThroughTheOriginalDyads) {
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 60 * kDeg, 110 * kDeg, 170 * kDeg};
+  const auto poses = PosesOf(f, q);
+  const Eigen::Vector2d base(0.4321, -0.1234);
+  const auto curve = FourPoseCurve(poses, base, 720);
+  ASSERT_GT(curve.size(), 100u);
+  for (const CurvePoint& cp : curve) EXPECT_LT(cp.dyad.residual, 1e-12 * std::max(1.0, cp.dyad.radius)) << "ray " << cp.ray;
+  // The curve through the original circle points, with their centres A and D: traced from a
+  // base 1.7 to the left of each, its ray 0 (along +x) meets it at s = 1.7.
+  for (const auto& [world, pivot] : {std::pair{f.B(q[0]), f.A()}, std::pair{f.C(q[0]), f.D()}}) {
+    const Eigen::Vector2d k = f.BodyPoint(q[0], world);
+    double best = kInf;
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (const CurvePoint& cp : FourPoseCurve(poses, k - Eigen::Vector2d(1.7, 0), 8)) {
+      if (cp.ray != 0) continue;
+      const double gap = (cp.dyad.k - k).norm();
+      if (gap < best) best = gap, centre = cp.dyad.M;
+    }
+    EXPECT_LT(best, 1e-10) << "the original circle point is not on the circle-point curve";
+    EXPECT_LT((centre - pivot).norm(), 1e-10) << "its centre is not the original pivot";
+  }
+}
+
+TEST(MotionSynthesis, FivePosesBurmesterPointsContainTheOriginalDyads) {
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 60 * kDeg, 100 * kDeg, 150 * kDeg, 200 * kDeg};
+  const auto poses = PosesOf(f, q);
+  const std::vector<Dyad> points = BurmesterPoints(poses);
+  ASSERT_GE(points.size(), 2u);
+  EXPECT_LE(points.size(), 4u);
+  for (const Dyad& d : points) EXPECT_LT(d.residual, 1e-12 * std::max(1.0, d.radius));
+  const Dyad* crank = nullptr;
+  const Dyad* rocker = nullptr;
+  for (const Dyad& d : points) {
+    if ((d.M - f.A()).norm() < 1e-9 && (d.k - f.BodyPoint(q[0], f.B(q[0]))).norm() < 1e-9) crank = &d;
+    if ((d.M - f.D()).norm() < 1e-9 && (d.k - f.BodyPoint(q[0], f.C(q[0]))).norm() < 1e-9) rocker = &d;
+  }
+  ASSERT_NE(crank, nullptr) << "the crank's dyad (A, B) is not among the Burmester points";
+  ASSERT_NE(rocker, nullptr) << "the rocker's dyad (D, C) is not among the Burmester points";
+  // The pair as a four-bar, run by the generated synth_fourbar: at each pose's crank angle its
+  // coupler point is the pose's point and its coupler turned by the pose's angle.
+  const FourBarFromDyads fb = FourBarOfDyads(poses, *crank, *rocker);
+  mech::synth_fourbar::Model::ParamsT<double> p;
+  p.a = fb.a, p.b = fb.b, p.c = fb.c, p.d = fb.d, p.xi = fb.xi, p.eta = fb.eta, p.x0 = fb.x0, p.y0 = fb.y0,
+  p.theta0 = fb.theta0;
+  using M = mech::synth_fourbar::Model;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    Eigen::Matrix<double, M::kNq, 1> qv;
+    qv(0) = fb.crank_angle[j];
+    Eigen::Matrix<double, M::kNphi, 1> phi;
+    for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
+    const auto report = M::Solve(p, qv, &phi, M::kDefaultModes);
+    ASSERT_EQ(report.status, decltype(report.status)::kConverged);
+    M::CoefficientsT<double> co;
+    M::Coeffs(p, qv, phi, &co);
+    EXPECT_NEAR(co.r_P(0, 0), poses[j].x, 1e-9) << "pose " << j;
+    EXPECT_NEAR(co.r_P(1, 0), poses[j].y, 1e-9) << "pose " << j;
+    EXPECT_NEAR(WrapPi(phi(0) - poses[j].angle), 0.0, 1e-9) << "pose " << j;  // theta_coupler
+  }
+}
+
+TEST(MotionSynthesis, FivePoseTaskGivesAFourBarTheModelRunsThroughThePoses) {
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 60 * kDeg, 100 * kDeg, 150 * kDeg, 200 * kDeg};
+  std::string yaml = "synthesis: motion\npoint: coupler.P\ncoupler_angle: theta_coupler\nposes:\n";
+  for (const Pose& p : PosesOf(f, q)) yaml += "  - [" + Num(p.x) + ", " + Num(p.y) + ", " + Num(p.angle) + "]\n";
+  yaml += "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n";
+  const std::string path = ::testing::TempDir() + "/motion_task.yaml";
+  std::ofstream(path) << yaml;
+  MotionTask task;
+  std::string error;
+  ASSERT_TRUE(ParseMotionTask(path, &task, &error)) << error;
+  MotionResult r;
+  ASSERT_TRUE(SynthesizeMotion<mech::synth_fourbar::Model>(task, {}, &r, &error)) << error;
+  ASSERT_GE(r.chosen, 0) << MotionReport(task, r);
+  const MotionCandidate& c = r.candidates[static_cast<size_t>(r.chosen)];
+  EXPECT_LT(c.worst_point, 1e-9);
+  EXPECT_LT(c.worst_angle, 1e-9);
+  // The original four-bar (crank at A, rocker at D) is among the pairs and passes.
+  bool original = false;
+  for (const MotionCandidate& m : r.candidates)
+    original = original || (m.ok && std::abs(m.fourbar.a - f.a) < 1e-9 && std::abs(m.fourbar.b - f.b) < 1e-9 &&
+                            std::abs(m.fourbar.c - f.c) < 1e-9 && std::abs(m.fourbar.d - f.d) < 1e-9 &&
+                            std::abs(m.fourbar.xi - f.xi) < 1e-9 && std::abs(m.fourbar.eta - f.eta) < 1e-9);
+  EXPECT_TRUE(original) << MotionReport(task, r);
+  // The one written is the passing pair with the smallest link ratio.
+  for (const MotionCandidate& m : r.candidates) {
+    if (!m.ok) continue;
+    EXPECT_GE(m.ratio, c.ratio);
+  }
+}
+
+TEST(PathSynthesis, LinkRatioConstraint) {
+  // The shipped four-bar (links 1, 3.5, 3, 4: the longest over the shortest is 4) on its own
+  // coupler points: a defect under link_ratio 3.9, none under 4.1.
+  std::ifstream in(Tasks("fourbar_refind.yaml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  for (const double ratio : {3.9, 4.1}) {
+    std::string yaml = text.str();
+    yaml.replace(yaml.find("constraints:\n"), 13, "constraints:\n  link_ratio: " + Num(ratio) + "\n");
+    const std::string path = ::testing::TempDir() + "/ratio_task.yaml";
+    std::ofstream(path) << yaml;
+    const auto b = Bind<mech::fourbar::Model>(path);
+    ASSERT_TRUE(b.task.constraints.has_ratio);
+    PathEvaluator<mech::fourbar::Model> eval(b);
+    const Candidate c = eval.Evaluate({1.0, 3.5, 3.0, 1.5, 1.0});
+    if (ratio < 4) {
+      EXPECT_FALSE(c.feasible());
+      EXPECT_EQ(c.defect, "the longest link over the shortest above link_ratio");
+      EXPECT_NEAR(c.violation, 4.0 - 3.9, 1e-12);
+    } else {
+      EXPECT_TRUE(c.feasible()) << c.defect;
     }
   }
 }

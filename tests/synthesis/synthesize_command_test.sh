@@ -11,7 +11,10 @@
 #     here by hand formulas (circle-circle intersection, Python) from the values read back
 #     from the file, passes through every target to 1e-9;
 #   - the same seed with --threads 1 and --threads 2: the model files and the reports' error
-#     lines byte-identical.
+#     lines byte-identical;
+#   - function generation as `mechgen synthesize TASK` (the task names its model): three pairs
+#     computed here by hand formulas, the model file's values meet them to 1e-12; the command
+#     form's errors (no `model:` in the task: exit 1; `--task` as well: exit 2).
 # usage: synthesize_command_test.sh <mechgen> <source dir> <python3>
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2") python=$3
@@ -93,6 +96,58 @@ cmp -s out1/fourbar.yaml out2/fourbar.yaml || fail "the model files differ betwe
 cmp -s <(grep -v -e '^search:' -e '^evaluations:' out1/report.txt) <(grep -v -e '^search:' -e '^evaluations:' out2/report.txt) ||
   fail "the reports differ between 1 and 2 threads"
 ok "same bytes with 1 and 2 threads"
+
+# Function generation in the command form `mechgen synthesize TASK` (the task names its model,
+# relative to the task file): three pairs of the four-bar computed here by hand (circle
+# intersection), Freudenstein's exact answer; the model file's a, b, c read back put the rocker
+# at the pairs' angles (hand formula again) to 1e-12.
+"$python" - > function.yaml <<'PY'
+import math
+a, b, c, d = 1.0, 3.5, 3.0, 4.0
+def t4(t2):
+    bx, by = a * math.cos(t2) - d, a * math.sin(t2)
+    e2 = bx * bx + by * by
+    return math.atan2(by, bx) - math.acos((c * c + e2 - b * b) / (2 * c * math.sqrt(e2)))
+print("synthesis: function\nmodel: fourbar.yaml\noutput: theta_rocker\npairs:")
+for deg in (35, 80, 125):
+    t = math.radians(deg)
+    print("  - [%.17g, %.17g]" % (t, t4(t)))
+print("freudenstein: {crank: a, coupler: b, rocker: c, ground: d}")
+print("variables: {a: [0.5, 6], b: [0.5, 6], c: [0.5, 6]}\nsearch: {restarts: 2}")
+PY
+"$mechgen" synthesize function.yaml --out out_fn > fn.out 2> fn.err
+status=$?
+[ "$status" = 0 ] || { fail "function task: exit $status"; cat fn.err; }
+for f in fourbar.yaml function.svg report.txt; do [ -s "out_fn/$f" ] || fail "function task: out_fn/$f missing"; done
+"$python" - function.yaml out_fn/fourbar.yaml <<'PY' || fail "the synthesized rocker misses a pair"
+import math, re, sys
+task, model = sys.argv[1], sys.argv[2]
+values = dict(re.findall(r'^  (\w+):\s*\{value: ([^,]+),', open(model).read(), re.M))
+a, b, c, d = (float(values[k]) for k in ('a', 'b', 'c', 'd'))
+worst = 0.0
+for t2, psi in re.findall(r'^  - \[([^,]+), ([^\]]+)\]', open(task).read(), re.M):
+    t2, psi = float(t2), float(psi)
+    bx, by = a * math.cos(t2) - d, a * math.sin(t2)
+    e2 = bx * bx + by * by
+    t4 = math.atan2(by, bx) - math.acos((c * c + e2 - b * b) / (2 * c * math.sqrt(e2)))
+    worst = max(worst, abs(t4 - psi))
+print("largest rocker angle error: %.3g rad" % worst)
+sys.exit(0 if worst < 1e-12 else 1)
+PY
+ok "function task (mechgen synthesize TASK): exact three pairs, the model file meets them"
+
+# The command form's errors: a task naming no model (exit 1), a task with --task as well (exit 2).
+grep -v '^model:' function.yaml > nomodel.yaml
+"$mechgen" synthesize nomodel.yaml --out out_nm > nm.out 2> nm.err
+status=$?
+[ "$status" = 1 ] || fail "task without model: exit $status, expected 1"
+grep -q "^nomodel.yaml: the task names no \`model:\`" nm.err || fail "task without model: $(cat nm.err)"
+"$mechgen" synthesize function.yaml --task function.yaml --out out_tt > tt.out 2> tt.err
+status=$?
+[ "$status" = 2 ] || fail "task with --task: exit $status, expected 2"
+[ "$(wc -l < tt.err)" = 1 ] || fail "task with --task: $(cat tt.err)"
+[ ! -e out_nm ] && [ ! -e out_tt ] || fail "an error wrote output"
+ok "the command form's errors"
 
 [ "$failures" = 0 ] && echo "all passed" || echo "$failures failure(s)"
 exit $((failures > 0))

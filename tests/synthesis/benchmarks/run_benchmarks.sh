@@ -2,9 +2,9 @@
 # The five path-synthesis benchmark tasks over seeds 1..N: best, median and worst error (sum of
 # squared distances) of the N runs (each the task's own budget, all restarts included), the
 # evaluations per run and the CPU time. Not a ctest (minutes); the figures are in
-# docs/synthesis.md. usage: run_benchmarks.sh <mechgen> [N=50] [threads=1]
+# docs/synthesis.md. usage: run_benchmarks.sh <mechgen> [N=50] [threads=1] [case names, e.g. "case2 case3"]
 set -uo pipefail
-mechgen=$(realpath "$1") n=${2:-50} threads=${3:-1}
+mechgen=$(realpath "$1") n=${2:-50} threads=${3:-1} cases=${4:-}
 here=$(cd "$(dirname "$0")" && pwd)
 model=$here/../models/synth_fourbar.yaml
 out=$(mktemp -d)
@@ -12,6 +12,7 @@ trap 'rm -rf "$out"' EXIT
 printf '%-16s %6s %12s %12s %12s %12s %10s %9s\n' case runs best median worst evaluations cpu_s feasible
 for task in "$here"/case*.yaml; do
   name=$(basename "$task" .yaml)
+  if [ -n "$cases" ] && ! [[ " $cases " == *" ${name%%_*} "* ]]; then continue; fi
   : > "$out/errors"
   evals=0 cpu=0 feasible=0
   for seed in $(seq 1 "$n"); do

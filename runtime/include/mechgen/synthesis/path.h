@@ -16,7 +16,8 @@
  * that mode with a nonzero branch measure: it does not have to pass a dead point (branch
  * change) between targets; targets in increasing input angle within one turn (`order`);
  * Grashof class and the crank's full rotation (the link lengths from the generated
- * EvalDesignChecks); link-length bounds; transmission angle bounds over the motion (the full
+ * EvalDesignChecks); link-length bounds and the longest over the shortest link (`link_ratio`);
+ * transmission angle bounds over the motion (the full
  * turn when the crank must turn fully, else from the first target to the last).
  */
 #pragma once
@@ -125,7 +126,7 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
     b.num_global = static_cast<int>(task.variables.size());
     if (!task.timing.free && task.timing.offset_free) b.offset_var = b.num_global++;
     const Constraints& c = task.constraints;
-    const bool need_lengths = c.grashof || c.crank_rotates || c.crank_shortest || c.has_lengths;
+    const bool need_lengths = c.grashof || c.crank_rotates || c.crank_shortest || c.has_lengths || c.has_ratio;
     if (need_lengths) {
       for (int k = 0; k < M::kNumDesignChecks; ++k) {
         const std::string name = M::kDesignCheckNames[k];
@@ -279,6 +280,7 @@ class PathEvaluator {
         std::sort(sorted.begin(), sorted.end());
         const double grashof = sorted[1] + sorted[2] - sorted[0] - sorted[3];  // p + q - s - l
         if (c.grashof) flag(-grashof, "not Grashof (s + l > p + q)");
+        if (c.has_ratio) flag(sorted[3] - c.ratio_max * sorted[0], "the longest link over the shortest above link_ratio");
         if (c.has_lengths) {
           for (double l : len) flag(std::max(c.length_lo - l, l - c.length_hi), "a link length outside link_lengths");
         }

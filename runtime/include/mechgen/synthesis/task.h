@@ -47,6 +47,8 @@ struct Constraints {
   double mu_lo = 0, mu_hi = M_PI;
   bool has_lengths = false;     ///< every link length of the four-bar loop in [lo, hi]
   double length_lo = 0, length_hi = std::numeric_limits<double>::infinity();
+  bool has_ratio = false;       ///< longest / shortest link of the four-bar loop at most ratio_max
+  double ratio_max = std::numeric_limits<double>::infinity();
 };
 
 /// The search's budget.
@@ -238,7 +240,8 @@ inline bool ParseTask(const std::string& path, PathTask* task, std::string* erro
     }
     if (const YAML::Node cons = root["constraints"]) {
       if (!cons.IsMap()) throw Error{Where(path, cons.Mark()) + "constraints: expected a mapping"};
-      Known(path, cons, {"grashof", "crank_rotates", "crank_shortest", "order", "transmission_angle", "link_lengths"},
+      Known(path, cons,
+            {"grashof", "crank_rotates", "crank_shortest", "order", "transmission_angle", "link_lengths", "link_ratio"},
             "constraints");
       Constraints& c = task->constraints;
       if (cons["grashof"]) c.grashof = Bool(path, cons["grashof"], "grashof");
@@ -252,6 +255,11 @@ inline bool ParseTask(const std::string& path, PathTask* task, std::string* erro
       if (const YAML::Node len = cons["link_lengths"]) {
         c.has_lengths = true;
         Pair(path, len, "link_lengths", false, &c.length_lo, &c.length_hi);
+      }
+      if (const YAML::Node ratio = cons["link_ratio"]) {
+        c.has_ratio = true;
+        c.ratio_max = Number(path, ratio, "link_ratio (the longest link over the shortest, at most)");
+        if (!(c.ratio_max >= 1)) throw Error{Where(path, ratio.Mark()) + "link_ratio: expected a number >= 1"};
       }
       if ((c.crank_rotates || c.crank_shortest) && task->crank_link.empty())
         throw Error{Where(path, cons.Mark()) + "crank_rotates/crank_shortest need `crank: <input link>` in the task"};
