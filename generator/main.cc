@@ -146,30 +146,56 @@ bool WriteManifest(const std::string& path, const mechgen::Model& m, std::string
   return true;
 }
 
-// `mechgen study STUDY.yaml`: whether `file` is a study (a YAML map with `method:`) rather
-// than a model. 1: it is, and *model is the model it names (`model:`, relative to the study
-// file); 0: it is not (the generator reads it as a model); -1: a study that names no model
-// (*error says so, one line).
-int StudyFileModel(const std::string& file, std::string* model, std::string* error) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file);
-  } catch (const YAML::Exception&) {
-    return 0;  // not readable as YAML: the generator says why
+// `mechgen study STUDY.yaml` and `mechgen synthesize TASK.yaml`: a study or task file (a YAML
+// mapping with its key) names its model (`model:`, relative to the file); the analysis then
+// runs on that model with `--study FILE` or `--task FILE` before its other options.
+struct FileThatNamesItsModel {
+  const char* tool;  ///< the subcommand
+  const char* key;   ///< the key that tells the file from a model
+  const char* flag;  ///< the driver's option that takes the file
+  const char* what;  ///< the file's kind, in messages
+  int bad_file;      ///< the exit status of the tool for an error in such a file (docs/studies.md, synthesis.md)
+};
+constexpr FileThatNamesItsModel kFilesThatNameTheirModel[] = {{"study", "method", "--study", "study", 2},
+                                                              {"synthesize", "synthesis", "--task", "task", 1}};
+
+// Turns `<tool> FILE [options]` into `<tool> MODEL <flag> FILE [options]` where FILE is such a
+// file. Returns 0 (done, or nothing to do: a model, or a file the generator reads and judges
+// as one) or an exit status after one line on stderr: the tool's status for a bad file when
+// it names no model (its line and column), 2 for the flag given as well.
+int ResolveFileThatNamesItsModel(mechgen::ToolCommand* c) {
+  for (const FileThatNamesItsModel& form : kFilesThatNameTheirModel) {
+    if (c->tool != form.tool) continue;
+    YAML::Node root;
+    try {
+      root = YAML::LoadFile(c->model_path);
+    } catch (const YAML::Exception&) {
+      return 0;  // not YAML: the generator says why, as for any model
+    }
+    if (!root.IsMap() || !root[form.key]) return 0;
+    const std::string file = c->model_path;
+    const std::string usage = std::string("mechgen ") + form.tool + " MODEL " + form.flag + " " + file;
+    if (std::find(c->driver_args.begin(), c->driver_args.end(), form.flag) != c->driver_args.end()) {
+      std::cerr << "mechgen " << form.tool << ": error: " << file << " is a " << form.what
+                << " file that names its model; give either `mechgen " << form.tool << " " << file << "` or `"
+                << usage << "`\n";
+      return 2;
+    }
+    const YAML::Node model = root["model"];
+    if (!model || !model.IsScalar() || model.Scalar().empty()) {
+      const YAML::Mark mark = model ? model.Mark() : root.Mark();
+      std::cerr << file << ":" << mark.line + 1 << ":" << mark.column + 1 << ": error: a " << form.what
+                << " run as `mechgen " << form.tool << " " << file
+                << "` names its model (model: fourbar.yaml, relative to the " << form.what << " file); add it or run `"
+                << usage << "`\n";
+      return form.bad_file;
+    }
+    std::filesystem::path path(model.Scalar());
+    if (path.is_relative()) path = std::filesystem::path(file).parent_path() / path;
+    c->model_path = path.lexically_normal().string();
+    c->driver_args.insert(c->driver_args.begin(), {form.flag, file});
   }
-  if (!root.IsMap() || !root["method"]) return 0;
-  const YAML::Node m = root["model"];
-  if (!m || !m.IsScalar() || m.Scalar().empty()) {
-    const YAML::Mark mark = m ? m.Mark() : root.Mark();
-    *error = file + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1) +
-             ": error: a study run as `mechgen study STUDY.yaml` names its model (model: fourbar.yaml, relative "
-             "to the study file); or run `mechgen study MODEL --study STUDY.yaml`";
-    return -1;
-  }
-  std::filesystem::path path(m.Scalar());
-  if (path.is_relative()) path = std::filesystem::path(file).parent_path() / path;
-  *model = path.lexically_normal().string();
-  return 1;
+  return 0;
 }
 
 }  // namespace
@@ -185,28 +211,6 @@ int main(int argc, char** argv) {
     mechgen::SplitToolArguments(argc, argv, 2, tool_options_with_value, &model_end, &driver_args);
     argc = model_end;
   }
-  // `mechgen study STUDY.yaml [driver options]`: the study names its model; the driver gets
-  // --study STUDY.yaml.
-  std::string study_model;
-  if (argc > 2 && std::string(argv[1]) == "study" && argv[argc - 1][0] != '-') {
-    const std::string file = argv[argc - 1];
-    std::string error;
-    const int form = StudyFileModel(file, &study_model, &error);
-    if (form < 0) {
-      std::cerr << error << "\n";
-      return 2;
-    }
-    if (form == 1) {
-      if (std::find(driver_args.begin(), driver_args.end(), "--study") != driver_args.end()) {
-        std::cerr << "mechgen study: error: " << file
-                  << " is a study (it names its model); give --study only after a model file\n";
-        return 2;
-      }
-      driver_args.insert(driver_args.begin(), {"--study", file});
-      argv[argc - 1] = &study_model[0];
-    }
-  }
-
   CLI::App app{"mechgen: derives the equations of a planar mechanism described in a model file "
                "(models/README.md) symbolically, after Paul's Kinematics and Dynamics of Planar "
                "Machinery, and writes standalone C++ for it: positions, velocity and centripetal "
@@ -267,10 +271,11 @@ int main(int argc, char** argv) {
                        ? std::string("")
                        : "; the same as the <model>_" + tool + " that mechgen_add_model() builds") +
                   "); mechgen's own options come before MODEL.");
-    sub->add_option("model", tool_command.model_path,
-                    tool == "synthesize" ? "model file (.yaml), or a task file that names its model (`model:`)"
-                                         : "model file (.yaml)")
-        ->required();
+    std::string model_help = "model file (.yaml)";
+    for (const FileThatNamesItsModel& form : kFilesThatNameTheirModel)
+      if (tool == form.tool)
+        model_help += std::string(", or a ") + form.what + " file that names its model (`model:`, relative to it)";
+    sub->add_option("model", tool_command.model_path, model_help)->required();
     sub->add_option("--templates", templates, "directory of the .mustache templates")->capture_default_str();
     sub->add_option("--cache-dir", tool_command.cache_dir,
                     "the cache (default: $MECHGEN_CACHE_DIR, else $XDG_CACHE_HOME/mechgen, else "
@@ -290,33 +295,7 @@ int main(int argc, char** argv) {
     tool_command.tool = sub->get_name();
     tool_command.templates = templates;
     tool_command.driver_args = driver_args;
-    if (tool_command.tool == "synthesize") {
-      // `mechgen synthesize TASK`: a task file (a mapping with `synthesis:`) names its model,
-      // relative to the task file; the driver then gets `--task TASK` (docs/synthesis.md).
-      YAML::Node root;
-      try {
-        root = YAML::LoadFile(tool_command.model_path);
-      } catch (const YAML::Exception&) {
-        root = YAML::Node();  // not YAML: the generator says why, as for any model
-      }
-      if (root.IsMap() && root["synthesis"]) {
-        const std::string task = tool_command.model_path;
-        if (std::find(driver_args.begin(), driver_args.end(), "--task") != driver_args.end()) {
-          std::cerr << "mechgen synthesize: error: " << task
-                    << " is a task file; give either `synthesize TASK` or `synthesize MODEL --task TASK`\n";
-          return 2;
-        }
-        const YAML::Node model = root["model"];
-        if (!model || !model.IsScalar() || model.Scalar().empty()) {
-          std::cerr << task << ": the task names no `model:` (the model file, relative to the task file); add it "
-                    << "or run `mechgen synthesize MODEL --task " << task << "`\n";
-          return 1;
-        }
-        tool_command.model_path =
-            (std::filesystem::path(task).parent_path() / model.Scalar()).lexically_normal().string();
-        tool_command.driver_args.insert(tool_command.driver_args.begin(), {"--task", task});
-      }
-    }
+    if (const int status = ResolveFileThatNamesItsModel(&tool_command); status != 0) return status;
     const std::string tool_templates = templates;
     return mechgen::RunTool(tool_command, [&tool_templates](const std::string& path, const std::string& dir,
                                                             mechgen::GeneratedModel* model) {

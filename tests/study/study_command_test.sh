@@ -67,7 +67,7 @@ sed 's|^method: monte_carlo|method: monte_carlo|' study.yaml > sub/unnamed.yaml
 "$mechgen" study sub/unnamed.yaml --csv unnamed.csv > unnamed.out 2> unnamed.err
 status=$?
 [ "$status" -eq 2 ] || fail "a study without model: run alone: exit status $status"
-grep -Eq "^sub/unnamed.yaml:[0-9]+:1: error: a study run as .mechgen study STUDY.yaml. names its model" unnamed.err ||
+grep -Eq "^sub/unnamed.yaml:[0-9]+:1: error: a study run as .mechgen study sub/unnamed.yaml. names its model" unnamed.err ||
   fail "a study without model: $(cat unnamed.err)"
 
 # Resuming: stopped after 500 samples (whole chunks: 512), no CSV yet, the shards kept; run

@@ -141,7 +141,9 @@ grep -v '^model:' function.yaml > nomodel.yaml
 "$mechgen" synthesize nomodel.yaml --out out_nm > nm.out 2> nm.err
 status=$?
 [ "$status" = 1 ] || fail "task without model: exit $status, expected 1"
-grep -q "^nomodel.yaml: the task names no \`model:\`" nm.err || fail "task without model: $(cat nm.err)"
+grep -Eq "^nomodel.yaml:[0-9]+:1: error: a task run as .mechgen synthesize nomodel.yaml. names its model" nm.err ||
+  fail "task without model: $(cat nm.err)"
+[ "$(wc -l < nm.err)" = 1 ] || fail "task without model: $(cat nm.err)"
 "$mechgen" synthesize function.yaml --task function.yaml --out out_tt > tt.out 2> tt.err
 status=$?
 [ "$status" = 2 ] || fail "task with --task: exit $status, expected 2"
