@@ -82,16 +82,9 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
   using namespace task_internal;
   *task = FunctionTask();
   task->file = path;
-  std::ifstream in(path);
-  if (!in) return *error = path + ": cannot read the task file", false;
+  YAML::Node root;
+  if (!LoadTaskRoot(path, "`synthesis: function`, `output`, `pairs`, `variables`", &root, error)) return false;
   try {
-    YAML::Node root;
-    try {
-      root = YAML::Load(in);
-    } catch (const YAML::Exception& e) {
-      return *error = Where(path, e.mark) + "not valid YAML: " + e.msg, false;
-    }
-    if (!root.IsMap()) throw Error{path + ":1:1: expected a mapping with `synthesis: function`, `output`, `pairs`, `variables`"};
     Known(path, root, {"synthesis", "model", "output", "pairs", "freudenstein", "variables", "search"}, "a function task");
     const YAML::Node kind = Required(path, root, "synthesis", "the kind of task");
     if (!kind.IsScalar() || kind.Scalar() != "function") throw Error{Where(path, kind.Mark()) + "expected synthesis: function"};
@@ -253,12 +246,6 @@ struct FunctionCandidate {
   std::string start;              ///< where the local stage started (freudenstein, model, random k)
   bool feasible() const { return violation == 0; }
 };
-
-inline bool Better(const FunctionCandidate& a, const FunctionCandidate& b) {
-  if (a.feasible() != b.feasible()) return a.feasible();
-  if (a.feasible()) return a.error < b.error;
-  return a.violation < b.violation;
-}
 
 /// Evaluates and checks function candidates (counts what it did).
 template <class M>

@@ -47,16 +47,9 @@ inline bool ParseMotionTask(const std::string& path, MotionTask* task, std::stri
   using namespace task_internal;
   *task = MotionTask();
   task->file = path;
-  std::ifstream in(path);
-  if (!in) return *error = path + ": cannot read the task file", false;
+  YAML::Node root;
+  if (!LoadTaskRoot(path, "`synthesis: motion`, `poses`, `point`, `parameters`", &root, error)) return false;
   try {
-    YAML::Node root;
-    try {
-      root = YAML::Load(in);
-    } catch (const YAML::Exception& e) {
-      return *error = Where(path, e.mark) + "not valid YAML: " + e.msg, false;
-    }
-    if (!root.IsMap()) throw Error{path + ":1:1: expected a mapping with `synthesis: motion`, `poses`, `point`, `parameters`"};
     Known(path, root, {"synthesis", "model", "poses", "point", "coupler_angle", "parameters", "search"}, "a motion task");
     if (const YAML::Node m = root["model"]) {
       if (!m.IsScalar()) throw Error{Where(path, m.Mark()) + "model: expected a file name"};

@@ -166,8 +166,10 @@ struct Candidate {
 };
 
 /// Deb's rule: a feasible candidate beats an infeasible one, two feasible ones compare their
-/// error, two infeasible ones their violation.
-inline bool Better(const Candidate& a, const Candidate& b) {
+/// error, two infeasible ones their violation. For every kind of candidate (path, function:
+/// feasible(), error, violation).
+template <class C>
+bool Better(const C& a, const C& b) {
   if (a.feasible() != b.feasible()) return a.feasible();
   if (a.feasible()) return a.error < b.error;
   return a.violation < b.violation;

@@ -149,6 +149,20 @@ inline YAML::Node Required(const std::string& file, const YAML::Node& map, const
   return n;
 }
 
+/// A task file's root, the one reading every kind of task shares: false and *error when the file
+/// cannot be read, is not YAML (FILE:LINE:COLUMN) or is not a mapping (`expected`: its keys).
+inline bool LoadTaskRoot(const std::string& path, const std::string& expected, YAML::Node* root, std::string* error) {
+  std::ifstream in(path);
+  if (!in) return *error = path + ": cannot read the task file", false;
+  try {
+    *root = YAML::Load(in);
+  } catch (const YAML::Exception& e) {
+    return *error = Where(path, e.mark) + "not valid YAML: " + e.msg, false;
+  }
+  if (!root->IsMap()) return *error = path + ":1:1: expected a mapping with " + expected, false;
+  return true;
+}
+
 }  // namespace task_internal
 
 /// Reads the task file; false and *error (one message: FILE:LINE:COLUMN: what to change) on
@@ -157,16 +171,9 @@ inline bool ParseTask(const std::string& path, PathTask* task, std::string* erro
   using namespace task_internal;
   *task = PathTask();
   task->file = path;
-  std::ifstream in(path);
-  if (!in) return *error = path + ": cannot read the task file", false;
+  YAML::Node root;
+  if (!LoadTaskRoot(path, "`synthesis: path`, `point`, `targets`, `variables`", &root, error)) return false;
   try {
-    YAML::Node root;
-    try {
-      root = YAML::Load(in);
-    } catch (const YAML::Exception& e) {
-      return *error = Where(path, e.mark) + "not valid YAML: " + e.msg, false;
-    }
-    if (!root.IsMap()) throw Error{path + ":1:1: expected a mapping with `synthesis: path`, `point`, `targets`, `variables`"};
     Known(path, root, {"synthesis", "model", "point", "crank", "targets", "timing", "variables", "constraints", "search"},
           "the task");
     const YAML::Node kind = Required(path, root, "synthesis", "the kind of task (path; function and motion are planned)");
