@@ -121,19 +121,7 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
       if (task->input.size() < 3)
         throw Error{Where(path, f.Mark()) + "freudenstein: needs at least three pairs"};
     }
-    const YAML::Node vars = Required(path, root, "variables", "the design parameters to vary with bounds, {a: [0.1, 10], ...}");
-    if (!vars.IsMap() || vars.size() == 0)
-      throw Error{Where(path, vars.Mark()) + "variables: expected {name: [min, max], ...} of the model's design parameters"};
-    for (auto it = vars.begin(); it != vars.end(); ++it) {
-      Variable v;
-      v.name = it->first.Scalar();
-      v.line = it->first.Mark().line + 1;
-      v.column = it->first.Mark().column + 1;
-      Pair(path, it->second, "variable " + v.name, /*angle=*/true, &v.lo, &v.hi);
-      for (const Variable& w : task->variables)
-        if (w.name == v.name) throw Error{Where(path, it->first.Mark()) + "variable " + v.name + " given twice"};
-      task->variables.push_back(v);
-    }
+    ReadVariables(path, root, "{a: [0.1, 10], ...}", &task->variables);
     if (task->freudenstein) {
       for (const std::string* link : {&task->crank, &task->coupler, &task->rocker}) {
         bool found = false;
@@ -182,14 +170,8 @@ struct BoundFunction {
 template <class M>
 bool BindFunctionTask(const FunctionTask& task, const typename M::template ParamsT<double>& base, BoundFunction<M>* out,
                       std::string* error) {
-  auto where = [&](int line, int column) {
-    return task.file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
-  };
-  auto list = [](const auto& names) {
-    std::string text;
-    for (const char* n : names) text += (text.empty() ? "" : ", ") + std::string(n);
-    return text.empty() ? std::string("(none)") : text;
-  };
+  auto where = [&](int line, int column) { return bind_internal::Where(task.file, line, column); };
+  auto list = [](const auto& names) { return bind_internal::List(names); };
   BoundFunction<M> b;
   b.task = task;
   b.base = base;
@@ -211,17 +193,7 @@ bool BindFunctionTask(const FunctionTask& task, const typename M::template Param
                "' is not one of the model's dependent variables (" + list(M::kPhiNames) + ")";
       return false;
     }
-    for (const Variable& v : task.variables) {
-      int col = -1;
-      for (int d = 0; d < M::kNumDesign; ++d)
-        if (v.name == M::kDesignNames[static_cast<size_t>(d)]) col = d;
-      if (col < 0) {
-        *error = where(v.line, v.column) + "variable '" + v.name + "' is not one of the model's design parameters (" +
-                 list(M::kDesignNames) + "); add it to the model's `design:` list";
-        return false;
-      }
-      b.column.push_back(col);
-    }
+    if (!bind_internal::BindVariables<M>(task.file, task.variables, &b.column, error)) return false;
     if (task.freudenstein) {
       typename M::template ParamsT<double> p = base;
       for (const std::string& name : {task.crank, task.coupler, task.rocker, task.ground})

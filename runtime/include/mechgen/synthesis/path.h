@@ -62,19 +62,45 @@ struct BoundPath {
   std::vector<int> check_lengths;
 };
 
+namespace bind_internal {
+/// "FILE:LINE:COLUMN: " of a place in a task file.
+inline std::string Where(const std::string& file, int line, int column) {
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+}
+/// The names of a model's list (M::kDesignNames, ...) for a message: "a, b, c" or "(none)".
+template <class Names>
+std::string List(const Names& names) {
+  std::string text;
+  for (const char* n : names) text += (text.empty() ? "" : ", ") + std::string(n);
+  return text.empty() ? std::string("(none)") : text;
+}
+/// Each variable's column in M::kDesignNames into *column; false and *error (its place) for a
+/// variable that is not a design parameter of M. Every kind of task binds its variables here.
+template <class M>
+bool BindVariables(const std::string& file, const std::vector<Variable>& variables, std::vector<int>* column,
+                   std::string* error) {
+  for (const Variable& v : variables) {
+    int col = -1;
+    for (int d = 0; d < M::kNumDesign; ++d)
+      if (v.name == M::kDesignNames[static_cast<size_t>(d)]) col = d;
+    if (col < 0) {
+      *error = Where(file, v.line, v.column) + "variable '" + v.name + "' is not one of the model's design parameters (" +
+               List(M::kDesignNames) + "); add it to the model's `design:` list";
+      return false;
+    }
+    column->push_back(col);
+  }
+  return true;
+}
+}  // namespace bind_internal
+
 /// Binds `task` to M: the point, the variables (the model's design parameters), the crank
 /// link and what the constraints need must exist. false and *error (FILE:LINE:COLUMN) if not.
 template <class M>
 bool BindPathTask(const PathTask& task, const typename M::template ParamsT<double>& base, BoundPath<M>* out,
                   std::string* error) {
-  auto where = [&](int line, int column) {
-    return task.file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
-  };
-  auto list = [](const auto& names) {
-    std::string text;
-    for (const char* n : names) text += (text.empty() ? "" : ", ") + std::string(n);
-    return text.empty() ? std::string("(none)") : text;
-  };
+  auto where = [&](int line, int column) { return bind_internal::Where(task.file, line, column); };
+  auto list = [](const auto& names) { return bind_internal::List(names); };
   using Params = typename M::template ParamsT<double>;
   BoundPath<M> b;
   b.task = task;
@@ -97,17 +123,7 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
                list(M::kPointNames) + "); add it to the model's outputs.points or name one of those";
       return false;
     }
-    for (const Variable& v : task.variables) {
-      int col = -1;
-      for (int d = 0; d < M::kNumDesign; ++d)
-        if (v.name == M::kDesignNames[d]) col = d;
-      if (col < 0) {
-        *error = where(v.line, v.column) + "variable '" + v.name + "' is not one of the model's design parameters (" +
-                 list(M::kDesignNames) + "); add it to the model's `design:` list";
-        return false;
-      }
-      b.column.push_back(col);
-    }
+    if (!bind_internal::BindVariables<M>(task.file, task.variables, &b.column, error)) return false;
     if (!task.timing.free && !task.timing.relative_to.empty()) {
       const std::string& r = task.timing.relative_to;
       for (size_t j = 0; j < task.variables.size(); ++j)

@@ -149,6 +149,26 @@ inline YAML::Node Required(const std::string& file, const YAML::Node& map, const
   return n;
 }
 
+/// The task's `variables:` ({name: [min, max], ...}: the model's design parameters to vary, in
+/// the file's order) into *variables; throws Error at the place of a bad one. `example`: the
+/// bounds the message shows. Every kind of task reads its variables here.
+inline void ReadVariables(const std::string& path, const YAML::Node& root, const std::string& example,
+                          std::vector<Variable>* variables) {
+  const YAML::Node vars = Required(path, root, "variables", "the design parameters to vary with bounds, " + example);
+  if (!vars.IsMap() || vars.size() == 0)
+    throw Error{Where(path, vars.Mark()) + "variables: expected {name: [min, max], ...} of the model's design parameters"};
+  for (auto it = vars.begin(); it != vars.end(); ++it) {
+    Variable v;
+    v.name = it->first.Scalar();
+    v.line = it->first.Mark().line + 1;
+    v.column = it->first.Mark().column + 1;
+    Pair(path, it->second, "variable " + v.name, /*angle=*/true, &v.lo, &v.hi);
+    for (const Variable& w : *variables)
+      if (w.name == v.name) throw Error{Where(path, it->first.Mark()) + "variable " + v.name + " given twice"};
+    variables->push_back(v);
+  }
+}
+
 /// A task file's root, the one reading every kind of task shares: false and *error when the file
 /// cannot be read, is not YAML (FILE:LINE:COLUMN) or is not a mapping (`expected`: its keys).
 inline bool LoadTaskRoot(const std::string& path, const std::string& expected, YAML::Node* root, std::string* error) {
@@ -232,19 +252,7 @@ inline bool ParseTask(const std::string& path, PathTask* task, std::string* erro
         throw Error{Where(path, timing.Mark()) + "timing: expected `free` or {angles: [...], offset: 0|free}"};
       }
     }
-    const YAML::Node vars = Required(path, root, "variables", "the design parameters to vary with bounds, {a: [0, 60], ...}");
-    if (!vars.IsMap() || vars.size() == 0)
-      throw Error{Where(path, vars.Mark()) + "variables: expected {name: [min, max], ...} of the model's design parameters"};
-    for (auto it = vars.begin(); it != vars.end(); ++it) {
-      Variable v;
-      v.name = it->first.Scalar();
-      v.line = it->first.Mark().line + 1;
-      v.column = it->first.Mark().column + 1;
-      Pair(path, it->second, "variable " + v.name, /*angle=*/true, &v.lo, &v.hi);
-      for (const Variable& w : task->variables)
-        if (w.name == v.name) throw Error{Where(path, it->first.Mark()) + "variable " + v.name + " given twice"};
-      task->variables.push_back(v);
-    }
+    ReadVariables(path, root, "{a: [0, 60], ...}", &task->variables);
     if (const YAML::Node cons = root["constraints"]) {
       if (!cons.IsMap()) throw Error{Where(path, cons.Mark()) + "constraints: expected a mapping"};
       Known(path, cons,
