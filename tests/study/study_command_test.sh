@@ -154,6 +154,16 @@ grep -Eq "^misfit\.yaml:[0-9]+:3: error: no parameter 'bb' in the model fourbar"
 status=$?
 [ "$status" -eq 2 ] || fail "--threads 0: exit status $status"
 [ "$(grep -c '' opt.err)" -eq 1 ] || fail "--threads 0: not one line: $(cat opt.err)"
+# The resume options refuse what cannot mean anything: exit 2, one line, nothing written.
+for bad in "--stop-after 0" "--stop-after -3" "--stop-after nan" "--stop-after 1e300" "--chunk 0" "--chunk -1" \
+           "--chunk inf"; do
+  # shellcheck disable=SC2086
+  "$mechgen" study fourbar.yaml --study study.yaml --csv badopt.csv --quiet $bad > opt.out 2> opt.err
+  status=$?
+  [ "$status" -eq 2 ] || fail "$bad: exit status $status"
+  [ "$(grep -c '' opt.err)" -eq 1 ] || fail "$bad: not one line: $(cat opt.err)"
+  [ -e badopt.csv ] && fail "$bad: a CSV was written"
+done
 
 if command -v gnuplot > /dev/null; then
   gnuplot -e "csv='one.csv'; metric='min_transmission_angle'; png='hist.png'" \
