@@ -111,6 +111,8 @@ function(_mechgen_add_tool name tool main need lacks quantity)
   target_link_libraries(${name}_${tool} PRIVATE mechgen_model_${name} ${ARGN})
   target_compile_options(${name}_${tool} PRIVATE ${MECHGEN_TOOL_COMPILE_OPTIONS})
   set_property(GLOBAL APPEND PROPERTY MECHGEN_MODEL_TOOLS ${name}_${tool})
+  # The manifest's macro that makes it the real tool (read by tests/generator's tool test).
+  set_property(TARGET ${name}_${tool} PROPERTY MECHGEN_TOOL_NEEDS ${need})
   # CLI11 (header-only): where the build tree found it (runtime/CMakeLists.txt), else on the
   # default include path.
   if(MECHGEN_CLI11_INCLUDE_DIR)

@@ -2,7 +2,7 @@
 # Issue 24: every shipped model gets every tool its quantities allow, and what a model has is
 # what the generator says (cmake/MechgenAddModel.cmake reads no YAML).
 # usage: model_tools_test.sh <mechgen> <source dir> <models binary dir> <models,...> \
-#                            <model>:<tool>:<program> ...
+#                            <model>:<tool>:<program>:<left out 0|1>:<manifest macro> ...
 # For each shipped model: its quantities from `mechgen generate --print-quantities`; the tool
 # <model>_<tool> runs as the real tool (`--help` exits 0 and prints its usage) exactly when
 # the quantities allow it (sweep: always; statics: forces; simulate: dynamics; engine: the
@@ -12,14 +12,18 @@
 # printed quantities hold forces, and EvalDynamics exactly when they hold dynamics; the
 # models of the issue (fivebar_robot, fourbar_balanced: dynamics and shaking imply forces)
 # must have a real statics tool; the printed list implies what the reader documents
-# (dynamics brings K, L, forces, potential; shaking brings dynamics).
+# (dynamics brings K, L, forces, potential; shaking brings dynamics). A tool left out of the
+# build (the test command builds only the tools some test runs) is not run: the macro of the
+# model's manifest (<models binary dir>/mechgen_<model>/<model>_manifest.h) that its `#if`
+# reads must be 1 exactly when the quantities allow the tool (the sweep has no stub and is
+# always built here).
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2") models_dir=$(realpath "$3") models=$4
 shift 4
-declare -A program
+declare -A program left_out need
 for spec in "$@"; do
-  IFS=: read -r model tool path <<< "$spec"
-  program[$model:$tool]=$path
+  IFS=: read -r model tool path out macro <<< "$spec"
+  program[$model:$tool]=$path left_out[$model:$tool]=$out need[$model:$tool]=$macro
 done
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
@@ -27,7 +31,7 @@ has() { [[ " $1 " == *" $2 "* ]]; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-real_tools=0 stubs=0
+real_tools=0 stubs=0 manifests=0
 IFS=, read -r -a shipped <<< "$models"
 for model in "${shipped[@]}"; do
   quantities=$("$mechgen" generate "$source_dir/models/$model.yaml" --print-quantities 2> "$work/err")
@@ -69,6 +73,20 @@ for model in "${shipped[@]}"; do
       fail "$model: no ${model}_$tool tool (quantities: $quantities)"
       continue
     fi
+    if [ "${left_out[$model:$tool]}" = 1 ]; then
+      manifest="$models_dir/mechgen_$model/${model}_manifest.h"
+      macro=${need[$model:$tool]}
+      if [ "$tool" = sweep ] || [ -z "$macro" ]; then
+        fail "${model}_$tool is left out of the build and has no manifest macro to check"
+      elif ! value=$(grep -oP "^#define $macro \K[01]$" "$manifest"); then
+        fail "${model}_$tool: no '#define $macro 0|1' in $manifest"
+      elif [ "$value" -ne "$allowed" ]; then
+        fail "${model}_$tool: $macro is $value in the manifest, the quantities say $allowed ($quantities)"
+      else
+        manifests=$((manifests + 1))
+      fi
+      continue
+    fi
     "$path" --help > "$work/out" 2> "$work/err" < /dev/null
     status=$?
     if [ "$allowed" -eq 1 ]; then
@@ -93,6 +111,9 @@ for model in fivebar_robot fourbar_balanced; do
   path=${program[$model:statics]:-}
   if [ -z "$path" ]; then
     fail "$model has no statics tool"
+  elif [ "${left_out[$model:statics]}" = 1 ]; then
+    grep -q "^#define MECHGEN_MODEL_HAS_FORCES 1$" "$models_dir/mechgen_$model/${model}_manifest.h" ||
+      fail "${model}_statics (left out of the build): its manifest says no forces"
   else
     "$path" --help > "$work/out" 2>&1 || fail "${model}_statics --help: exit $?: $(head -c 300 "$work/out")"
   fi
@@ -110,5 +131,6 @@ status=$?
 { [ "$status" -eq 1 ] && [ ! -s "$work/out" ] && grep -q "^$work/bad.yaml:[0-9]*:[0-9]*: error: " "$work/err"; } ||
   fail "a bad model: exit $status, $(cat "$work/err")"
 
-echo "$real_tools real tools and $stubs stubs, as the quantities say; $failures failure(s)"
+echo "$real_tools real tools and $stubs stubs run, $manifests left out of the build checked by their manifest," \
+  "as the quantities say; $failures failure(s)"
 exit $((failures > 0))
