@@ -6,6 +6,9 @@
 //   cut joint:   law: y_follower - start - law(th_cam - th_carrier - phase) = 0, one row;
 //                contour: the roller's centre on the contour's offset (x, y), or the
 //                contact point on the face and the face tangent to the contour (two rows)
+//   reaction:    the contact force of the cam on the follower, F_x, F_y, and N along the
+//                profile's outward normal (a flat face: along the face's normal), from the
+//                rows' multipliers (Contact below)
 // The law's and the contour's maths (segments, pressure angle, curvature, spline) are in
 // generator/cam.{h,cc}.
 #include "joints/cam_profile.h"
@@ -13,6 +16,7 @@
 #include <sstream>
 
 #include "joints/joint_kind.h"
+#include "model/expression_functions.h"
 
 #include <algorithm>
 #include <cmath>
@@ -319,8 +323,88 @@ class Cam : public JointKind {
   }
 
   std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
-    (void)m;
-    return {{"F_" + j.name, "contact force along the common normal (the pressure angle's direction)"}};
+    const CamData& c = j.Data<CamData>();
+    const std::string on = "contact force of '" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name + "'";
+    const std::string where = c.flat_face ? " (its line through the contact point)" : " (its line through " + m.PointName(c.point) + ")";
+    return {{"F_" + j.name + "_x", on + where + ", x"},
+            {"F_" + j.name + "_y", on + ", y"},
+            {"N_" + j.name, on + " along the profile's outward normal (> 0: the cam pushes the follower)"}};
+  }
+
+  // The contact force F on the follower at a point P of it (a couple M on it where the force's
+  // line misses P) does the virtual work of the rows' multipliers over every motion of the cam
+  // and the follower (Paul §5). Contour: the rows are a point of the cam (the roller's centre
+  // on the offset contour, or the contact point) against the follower's, so F = -lambda.
+  // Law, y the follower's coordinate (slide or angle relative to the carrier), psi the cam's
+  // angle relative to the carrier, L' = dlaw/dpsi, v = dP/dy, d = P - cam axis:
+  //   F.v + [y is an angle] M = lambda,   d x F + M = lambda L'
+  // with M = 0 (roller, knife edge: F along the pitch curve's normal w = L' (k x v) + d, so
+  // F = lambda w / (w.v)) or F = f n_face (flat face).
+  bool Contact(const Model& m, const Joint& j, const ContactInput& in, JointReaction* r,
+               std::string* why) const override {
+    const CamData& c = j.Data<CamData>();
+    const int joint = static_cast<int>(&j - m.joints.data());
+    const Frame& fa = in.frames[j.link_a];
+    const Frame& fb = in.frames[j.link_b];
+    const GiNaC::ex face = fb.theta + c.face_angle;
+    const Vec2 n_face{-sin(face), cos(face)};
+    auto dot = [](const Vec2& a, const Vec2& b) { return a[0] * b[0] + a[1] * b[1]; };
+    auto cross = [](const Vec2& a, const Vec2& b) { return a[0] * b[1] - a[1] * b[0]; };
+    const Vec2 P = PointPosition(m, c.point, fb);
+    if (c.contour != CamData::Contour::kNone) {
+      const GiNaC::ex& u = in.var[joint];
+      const Vec2 X = ContourPoint(j, u, 0), T = ContourPoint(j, u, 1);
+      if (!c.flat_face) {  // rows: the offset contour's point - P
+        const GiNaC::ex inv = pow(T[0] * T[0] + T[1] * T[1], GiNaC::numeric(-1, 2));
+        const Vec2 n = Rotate(fa.theta, T[1] * inv, -T[0] * inv);
+        r->F = {-in.multipliers.at(0), -in.multipliers.at(1)};
+        r->at = P;
+        r->components = {r->F[0], r->F[1], dot(r->F, n)};
+      } else {  // first row: n_face . (contact point - P); the second (tangency) carries no force
+        const Vec2 x = Rotate(fa.theta, X[0], X[1]);
+        r->F = {-in.multipliers.at(0) * n_face[0], -in.multipliers.at(0) * n_face[1]};
+        r->at = {fa.x + x[0], fa.y + x[1]};
+        r->components = {r->F[0], r->F[1], -in.multipliers.at(0) * msign(dot(x, n_face))};
+      }
+      r->M = 0;
+      return true;
+    }
+    for (int k : {c.pivot, c.follower_joint})
+      if (!in.in_tree[k]) {
+        *why = "joint '" + m.joints[k].name + "' (the cam's pivot or the follower's joint) closes a loop, so the "
+               "law's row's multiplier is not the contact force alone; mechgen derives a law cam's force where both "
+               "place their links in the spanning tree";
+        return false;
+      }
+    const GiNaC::ex lambda = in.multipliers.at(0);
+    const Vec2 O = PointPosition(m, m.joints[c.pivot].End(j.link_a), fa);
+    const Vec2 d{P[0] - O[0], P[1] - O[1]};
+    const GiNaC::ex L1 = camlaw(c.index, 1, fa.theta - in.frames[c.carrier].theta - c.phase);
+    const Joint& o = m.joints[c.follower_joint];
+    Vec2 v;
+    int turns = 0;  // 1: the follower turns with y
+    if (o.type() == JointType::kPrismatic) {
+      v = LineDirection(o.Data<PrismaticData>(), in.frames[o.link_a].theta);
+    } else {
+      const Vec2 pivot = PointPosition(m, o.End(j.link_b), fb);
+      v = {-(P[1] - pivot[1]), P[0] - pivot[0]};
+      turns = 1;
+    }
+    if (!c.flat_face) {
+      const Vec2 w{-L1 * v[1] + d[0], L1 * v[0] + d[1]};
+      const GiNaC::ex k = lambda / dot(w, v);
+      r->F = {k * w[0], k * w[1]};
+      r->M = 0;
+      r->components = {r->F[0], r->F[1], k * sqrt(dot(w, w))};
+    } else {
+      const GiNaC::ex f = lambda * (1 - turns * L1) / (dot(n_face, v) - turns * cross(d, n_face));
+      r->F = {f * n_face[0], f * n_face[1]};
+      r->M = lambda * L1 - cross(d, r->F);
+      // The cam lies on the side of the face its axis is on: the outward normal is -+ n_face.
+      r->components = {r->F[0], r->F[1], f * msign(dot(d, n_face))};
+    }
+    r->at = P;
+    return true;
   }
 };
 

@@ -3,6 +3,9 @@
 //   model file:  G: {gear: {gears: [g1, g2], radii: [r1, r2], carrier: arm, internal: false, phase: 0}}
 //   coordinate:  none
 //   cut joint:   r1 (th1 - thc) +- r2 (th2 - thc) = phase, one row (+ external, - internal)
+//   reaction:    the tooth force of gear 1 on gear 2 at the pitch point, along the line of
+//                action (pressure angle, default 20 deg): F_x, F_y, N (along the line of
+//                action) and T (tangential, transmitted), from the row's multiplier
 #include "joints/joint_kind.h"
 
 #include <algorithm>
@@ -23,7 +26,8 @@ class Gear : public JointKind {
                                  {"radii", "[r1, r2]: their pitch radii (positive)", true},
                                  {"carrier", "the link holding both axes (default: the ground)", false},
                                  {"internal", "true: the second gear is an internal (ring) gear (default false)", false},
-                                 {"phase", "the constant of the mesh relation (default 0)", false}}};
+                                 {"phase", "the constant of the mesh relation (default 0)", false},
+                                 {"pressure_angle", "the teeth's pressure angle (default 20*deg; statics)", false}}};
     return table;
   }
 
@@ -51,6 +55,10 @@ class Gear : public JointKind {
       if (key == "carrier") d.carrier = r.LinkIndex(value, jn);
       if (key == "internal") d.internal = r.Bool(value, "internal");
       if (key == "phase") d.phase = r.Expression(value, "phase of '" + name + "'");
+      if (key == "pressure_angle") {
+        d.pressure_angle = r.Expression(value, "pressure_angle of '" + name + "'");
+        d.pressure_mark = MarkOf(value);
+      }
     }
     if (!has_gears || !has_radii)
       r.Fail(body, "gear pair '" + name + "' needs gears: [link1, link2] and radii: [r1, r2]");
@@ -61,6 +69,7 @@ class Gear : public JointKind {
 
   void Check(const Model& m, const Joint& j) const override {
     const GearData& d = j.Data<GearData>();
+    CheckPressureAngle(m, j, d.pressure_angle, d.pressure_mark);
     double r[2];
     for (int i = 0; i < 2; ++i) {
       r[i] = ValueAtDefaults(m, d.radius[i], d.radius_mark[i], "pitch radius");
@@ -123,12 +132,87 @@ class Gear : public JointKind {
   }
 
   std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
-    (void)m;
-    return {{"F_" + j.name, "tooth contact force along the line of action"}};
+    return MeshComponents(m, j, "the centre of '" + m.links[j.link_a].name + "'");
+  }
+
+  // The row's gradient is minus the relative motion along t of gear 2's tooth at the pitch
+  // point (both axes on the carrier): r1 d(th1 - thc) +- r2 d(th2 - thc) (Paul §5).
+  bool Contact(const Model& m, const Joint& j, const ContactInput& in, JointReaction* r,
+               std::string* why) const override {
+    const GearData& d = j.Data<GearData>();
+    Vec2 centre[2];
+    for (int i = 0; i < 2; ++i) {
+      const int gear = i == 0 ? j.link_a : j.link_b;
+      const int axis = AxisJoint(m, gear, d.carrier);
+      if (axis < 0) {
+        *why = "gear '" + m.links[gear].name + "' of gear pair '" + j.name + "' has no revolute joint to the carrier '" +
+               m.links[d.carrier].name + "' (its axis, where the tooth force's direction starts)";
+        return false;
+      }
+      if (!in.in_tree[axis]) {
+        *why = "the axis of gear '" + m.links[gear].name + "' (joint '" + m.joints[axis].name +
+               "') closes a loop, so the mesh row's multiplier is not the tooth force alone; mechgen derives gear "
+               "forces where both gears' axes place their links in the spanning tree";
+        return false;
+      }
+      const PointRef at = m.joints[axis].End(gear);
+      centre[i] = PointPosition(m, at, in.frames[gear]);
+    }
+    // The pitch point on gear 1's pitch circle, on the line of centres (beyond gear 1's centre
+    // from the ring's for an internal pair).
+    const GiNaC::ex dx = centre[1][0] - centre[0][0], dy = centre[1][1] - centre[0][1];
+    const GiNaC::ex inv = (d.internal ? -1 : 1) * pow(dx * dx + dy * dy, GiNaC::numeric(-1, 2));
+    const Vec2 e{dx * inv, dy * inv};
+    MeshForce(e, {centre[0][0] + d.radius[0] * e[0], centre[0][1] + d.radius[0] * e[1]}, d.pressure_angle,
+              in.multipliers.at(0), r);
+    return true;
   }
 };
 
 }  // namespace
+
+void MeshForce(const Vec2& e, const Vec2& pitch, const GiNaC::ex& pressure, const GiNaC::ex& lambda, JointReaction* r) {
+  const Vec2 t{-e[1], e[0]};
+  const GiNaC::ex separating = abs(lambda) * tan(pressure);
+  r->F = {-lambda * t[0] + separating * e[0], -lambda * t[1] + separating * e[1]};
+  r->at = pitch;
+  r->M = 0;
+  r->components = {r->F[0], r->F[1], abs(lambda) / cos(pressure), -lambda};
+}
+
+std::vector<ReactionComponent> MeshComponents(const Model& m, const Joint& j, const std::string& centre) {
+  const std::string on = "tooth force of '" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name + "'";
+  return {{"F_" + j.name + "_x", on + " at the pitch point, x"},
+          {"F_" + j.name + "_y", on + " at the pitch point, y"},
+          {"N_" + j.name, on + " along the line of action (>= 0; |T| / cos of the pressure angle)"},
+          {"T_" + j.name, on + " along t: e turned +90 deg, e from " + centre +
+                              " to the pitch point (the transmitted part; the separating part |T| tan of the "
+                              "pressure angle acts along e)"}};
+}
+
+void CheckPressureAngle(const Model& m, const Joint& j, const GiNaC::ex& angle, const SourceMark& mark) {
+  const double a = ValueAtDefaults(m, angle, mark.line ? mark : j.mark, "pressure_angle");
+  if (!(a >= 0 && a < M_PI / 2))
+    m.Fail(mark.line ? mark : j.mark, "joint '" + j.name + "': the pressure angle must be at least 0 and below 90 deg "
+                                      "(20*deg is usual)");
+}
+
+int AxisJoint(const Model& m, int gear, int carrier) {
+  auto pin = [&](int k, int a, int b) {
+    const Joint& o = m.joints[k];
+    return o.type() == JointType::kRevolute && o.Joins(a) && o.Joins(b) && a != b;
+  };
+  for (size_t k = 0; k < m.joints.size(); ++k)
+    if (pin(static_cast<int>(k), gear, carrier)) return static_cast<int>(k);
+  for (size_t k = 0; k < m.joints.size(); ++k) {
+    const Joint& o = m.joints[k];
+    if (o.type() != JointType::kRevolute || !o.Joins(gear)) continue;
+    const int other = o.OtherLink(gear);
+    for (size_t c = 0; c < m.joints.size(); ++c)
+      if (pin(static_cast<int>(c), other, carrier)) return static_cast<int>(k);
+  }
+  return -1;
+}
 
 const JointKind& GearKind() {
   static const Gear kind;

@@ -48,11 +48,21 @@ void JointKind::Check(const Model&, const Joint&) const {}
 
 std::optional<JointCoordinate> JointKind::Coordinate(const Model&, const Joint&) const { return std::nullopt; }
 
-std::vector<GiNaC::ex> JointKind::Reaction(const Model&, const Joint&, const std::vector<Frame>&,
-                                           const JointReaction& r, std::string* why) const {
-  // A higher pair: the multiplier of its row (its contact force, in the row's scale).
-  if (r.multipliers.size() != 1) return *why = "a contour cam's contact is not derived yet", std::vector<GiNaC::ex>{};
-  return {r.multipliers[0]};
+Vec2 JointKind::ReactionPoint(const Model& m, const Joint& j, const std::vector<Frame>& frames,
+                              const GiNaC::ex&) const {
+  const PointRef p = j.End(j.link_b);
+  return PointPosition(m, p, frames[p.link]);
+}
+
+bool JointKind::Contact(const Model&, const Joint& j, const ContactInput&, JointReaction*, std::string*) const {
+  throw std::logic_error("mechgen bug: joint '" + j.name + "' is not a higher pair");
+}
+
+std::vector<GiNaC::ex> JointKind::Reaction(const Model&, const Joint& j, const std::vector<Frame>&,
+                                           const JointReaction& r, std::string*) const {
+  // A higher pair: the components its Contact() made.
+  if (r.components.empty()) throw std::logic_error("mechgen bug: joint '" + j.name + "' has no contact components");
+  return r.components;
 }
 
 GiNaC::ex JointKind::RelativeMotion(const Model&, const Joint& j, const std::vector<Frame>&, const GiNaC::ex&) const {

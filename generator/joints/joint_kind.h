@@ -82,18 +82,31 @@ struct ReactionComponent {
 /// How a joint transmits its reaction (statics, issue 14; symbolic/reactions.cc derives the
 /// unknowns, the kind makes its components of them).
 enum class ReactionForm {
-  kForce,           ///< a force at the joint's point (revolute)
+  kForce,           ///< a force at the joint's point (revolute, slot: the pin; roll: the contact point)
   kForceAndMoment,  ///< a force at the joint's point and a moment about it (prismatic: no relative rotation)
-  kContact,         ///< a contact force along its row's direction, the row's multiplier (higher pairs, rolling)
+  kContact,         ///< a higher pair (gear, rack, cam): its contact force made from its rows' multipliers
+                    ///< (JointKind::Contact); it is always a cut joint
 };
 
 /// The unknowns of the force analysis at one joint, from which its kind makes its reaction
 /// components (JointKind::Reaction).
 struct JointReaction {
-  Vec2 F{0, 0};         ///< force of link_a on link_b at the joint's point (kForce, kForceAndMoment)
-  GiNaC::ex M = 0;      ///< moment of link_a on link_b about that point (kForceAndMoment)
+  Vec2 F{0, 0};         ///< force of link_a on link_b at `at` (every form)
+  Vec2 at{0, 0};        ///< where F acts (JointKind::ReactionPoint; a contact's own point)
+  GiNaC::ex M = 0;      ///< moment of link_a on link_b about `at` (kForceAndMoment; a flat-faced law cam's couple)
   GiNaC::ex along = 0;  ///< forces along the joint's line that act apart from F (a tree slider's friction and actuator)
   std::vector<GiNaC::ex> multipliers;  ///< the multipliers of the joint's Phi rows, in row order
+  std::vector<GiNaC::ex> components;   ///< kContact: the values of ReactionComponents() (JointKind::Contact)
+};
+
+/// What a higher pair's contact force is made from (JointKind::Contact): every link's frame,
+/// every joint's coordinate (0 if none), the multipliers of its rows and which joints place
+/// a link in the spanning tree.
+struct ContactInput {
+  const std::vector<Frame>& frames;
+  const std::vector<GiNaC::ex>& var;
+  std::vector<GiNaC::ex> multipliers;
+  std::vector<bool> in_tree;  ///< per joint
 };
 
 /// Coulomb friction at a joint: the friction load is gain normal, against `relative`.
@@ -143,11 +156,22 @@ class JointKind {
   /// kind, acting against the relative motion of the joint's coordinate) will be a key of
   /// the kind and a term in these components. Not used by the kinematics.
   virtual std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const = 0;
-  /// How the joint transmits its reaction (default: a contact force, its row's multiplier).
+  /// How the joint transmits its reaction (default: a higher pair's contact force).
   virtual ReactionForm Reacts() const { return ReactionForm::kContact; }
+  /// Where the force of a kForce or kForceAndMoment joint acts (default: the joint's point on
+  /// link_b; roll: the contact point); `s` is the joint's coordinate (0 if none).
+  virtual Vec2 ReactionPoint(const Model& m, const Joint& j, const std::vector<Frame>& frames,
+                             const GiNaC::ex& s) const;
+  /// A higher pair (kContact): its contact force on link_b by link_a as a vector, r->F at
+  /// r->at (plus a couple r->M where the force is taken at a point off its line), and
+  /// r->components, from the multipliers of its rows (Paul §5: their virtual work equals the
+  /// contact force's over every virtual motion of the links). False, with *why set, where
+  /// the multipliers are not the contact force (a cam's or gear's axis a cut joint).
+  virtual bool Contact(const Model& m, const Joint& j, const ContactInput& in, JointReaction* r,
+                       std::string* why) const;
   /// The values of ReactionComponents(), in their order, from the unknowns `r` at the joint;
   /// \param frames every link's frame. Empty, with *why set, where the kind cannot give them
-  /// (the default: the multiplier of the joint's one row, not a contact of two rows).
+  /// (the default: a contact's r.components).
   virtual std::vector<GiNaC::ex> Reaction(const Model& m, const Joint& j, const std::vector<Frame>& frames,
                                           const JointReaction& r, std::string* why) const;
   /// The relative motion Coulomb friction opposes (revolute: theta_b - theta_a; prismatic:
@@ -188,6 +212,26 @@ Vec2 SlotDirection(const Model& m, const SlotData& d, const GiNaC::ex& theta);
 /// The unit vector u along a prismatic joint's line (its angle in the guide's frame plus
 /// the guide's absolute angle `guide_theta`; prismatic.cc).
 Vec2 LineDirection(const PrismaticData& d, const GiNaC::ex& guide_theta);
+
+/// The force of a meshing pair of teeth on the second member (gear pair, rack and pinion),
+/// acting at the pitch point `pitch` on the first member's pitch circle, e the unit vector from
+/// that circle's centre to the pitch point, with pressure angle `pressure`, from the
+/// multiplier `lambda` of the mesh row (whose gradient is minus the relative motion of the
+/// second member along t there): F.t = -lambda along t = e turned +90 deg, and the
+/// separating part |lambda| tan(pressure) along e; components F_x, F_y, N (along the line of
+/// action, |lambda| / cos(pressure)) and T (= F.t) (gear.cc).
+void MeshForce(const Vec2& e, const Vec2& pitch, const GiNaC::ex& pressure, const GiNaC::ex& lambda, JointReaction* r);
+
+/// The components of MeshForce for joint `j`, `centre` naming where e starts (gear.cc).
+std::vector<ReactionComponent> MeshComponents(const Model& m, const Joint& j, const std::string& centre);
+
+/// A pressure angle must lie in [0, 90 deg) at the parameters' defaults (gear.cc).
+void CheckPressureAngle(const Model& m, const Joint& j, const GiNaC::ex& angle, const SourceMark& mark);
+
+/// The revolute joint link `gear` turns on relative to `carrier`: the one joining them, else
+/// its revolute joint to a link that turns on the carrier by a revolute joint (the sun of a
+/// planetary train, pinned to the ground under the carrier arm); -1 if none (gear.cc).
+int AxisJoint(const Model& m, int gear, int carrier);
 
 /// The contact point of rolling joint `j` in the fixed frame: on the line or circle of the
 /// base link (frame `base`) at contact parameter `v` (roll.cc).

@@ -5,6 +5,8 @@
 //   coordinate:  s_<joint> (the contact point from `on` along the line) or psi_<joint>
 //                (the contact point's angle about `on`, in the base's frame)
 //   rows:        contact (x, y; only as a cut joint) + no slip (always)
+//   reaction:    the force of the base on the wheel at the contact point: F_x, F_y, N along
+//                the common normal n (into the wheel), T along t (n = t turned +90 deg)
 #include "joints/joint_kind.h"
 
 #include <sstream>
@@ -155,9 +157,37 @@ class Roll : public JointKind {
   }
 
   std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
-    (void)m;
-    return {{"N_" + j.name, "contact force along the common normal"},
-            {"T_" + j.name, "friction force along the common tangent (no slip)"}};
+    const std::string on =
+        "force of '" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name + "' at the contact point";
+    return {{"F_" + j.name + "_x", on + ", x"},
+            {"F_" + j.name + "_y", on + ", y"},
+            {"N_" + j.name, on + " along the common normal n, from the base into the wheel"},
+            {"T_" + j.name, on + " along the common tangent t, n = t turned +90 deg (the no-slip friction)"}};
+  }
+
+  // A force at the contact point (as a cut joint: its contact rows' multipliers, the force at
+  // the wheel's centre, which with the no-slip row's couple r T is the same force at the
+  // contact; as a tree joint: the balance of the links it carries).
+  ReactionForm Reacts() const override { return ReactionForm::kForce; }
+
+  Vec2 ReactionPoint(const Model& m, const Joint& j, const std::vector<Frame>& frames,
+                     const GiNaC::ex& s) const override {
+    return ContactPosition(m, j, frames[j.link_a], s);
+  }
+
+  std::vector<GiNaC::ex> Reaction(const Model& m, const Joint& j, const std::vector<Frame>& frames,
+                                  const JointReaction& r, std::string*) const override {
+    const RollData& d = j.Data<RollData>();
+    Vec2 n;
+    if (d.on_line) {
+      const GiNaC::ex a = frames[j.link_a].theta + d.line_angle;
+      n = {-sin(a), cos(a)};
+    } else {  // along the radius through the contact point, outwards (inwards inside the circle)
+      const Vec2 o = PointPosition(m, d.on, frames[j.link_a]);
+      const GiNaC::ex k = (d.inside ? -1 : 1) / d.on_radius;
+      n = {(r.at[0] - o[0]) * k, (r.at[1] - o[1]) * k};
+    }
+    return {r.F[0], r.F[1], r.F[0] * n[0] + r.F[1] * n[1], r.F[0] * n[1] - r.F[1] * n[0]};
   }
 };
 

@@ -6,6 +6,8 @@
 //   model file:  J: {slot: {slot: link1.G, pin: link2.P, angle: a}}   (or through: link1.H)
 //   coordinate:  s_<joint>, the pin's distance from G along the line
 //   cut joint:   r_G + s u - r_P = 0, two rows (x, y); u = R(theta_slotted) u_local
+//   reaction:    F_x, F_y, the force of the slotted link on the pin (fixed frame), N along
+//                n = u turned +90 deg (across the slot), T along u (0 without friction)
 // Unlike a prismatic joint, the two links keep their own angles (the block link and the
 // two joints of the old workaround, in one).
 #include "joints/joint_kind.h"
@@ -117,8 +119,20 @@ class Slot : public JointKind {
   }
 
   std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
-    return {{"N_" + j.name, "normal force of '" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name +
-                                "' at the pin, across the slot"}};
+    const std::string on = "force of '" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name + "' at the pin";
+    return {{"F_" + j.name + "_x", on + ", x"},
+            {"F_" + j.name + "_y", on + ", y"},
+            {"N_" + j.name, on + " across the slot, along n = u turned +90 deg (u along the slot)"},
+            {"T_" + j.name, on + " along the slot u (0: the slot has no friction)"}};
+  }
+
+  // A force at the pin, which turns freely in the slot; as a cut joint its rows' multipliers.
+  ReactionForm Reacts() const override { return ReactionForm::kForce; }
+
+  std::vector<GiNaC::ex> Reaction(const Model& m, const Joint& j, const std::vector<Frame>& frames,
+                                  const JointReaction& r, std::string*) const override {
+    const Vec2 u = SlotDirection(m, j.Data<SlotData>(), frames[j.link_a].theta);
+    return {r.F[0], r.F[1], -r.F[0] * u[1] + r.F[1] * u[0], r.F[0] * u[0] + r.F[1] * u[1]};
   }
 };
 

@@ -159,7 +159,9 @@ struct GearData {
   int carrier = -1;  ///< the link holding both axes (default: ground)
   bool internal = false;
   GiNaC::ex phase = 0;
+  GiNaC::ex pressure_angle = 20 * GiNaC::Pi / 180;  ///< of the teeth (the contact force's direction; statics)
   SourceMark radius_mark[2];
+  SourceMark pressure_mark;
 };
 
 /// Rack and pinion: pinion link_a (pitch radius `radius`); the rack (link_b) is the slider
@@ -169,6 +171,8 @@ struct RackData {
   int slide = -1;
   int carrier = -1;
   GiNaC::ex phase = 0;
+  GiNaC::ex pressure_angle = 20 * GiNaC::Pi / 180;  ///< of the teeth (the contact force's direction; statics)
+  SourceMark pressure_mark;
   std::string slide_name;  ///< as written (resolved once every joint is read)
   SourceMark slide_mark;
 };

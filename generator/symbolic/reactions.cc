@@ -1,8 +1,9 @@
 // The joints' reactions (a stage of StaticsTable, statics_stage.h): what every joint kind
 // shares. The multipliers Phi_phi^T lambda = -g_phi block by block; the unknowns at each
 // joint (JointReaction, joints/joint_kind.h): a cut joint's force from its rows'
-// multipliers, a tree joint's from the balance of the subtree it carries, a moment from the
-// links the joint keeps from turning; the table of components, each value as the joint's
+// multipliers (a higher pair's contact force as its kind makes it from them,
+// JointKind::Contact), a tree joint's from the balance of the subtree it carries, a moment
+// from the links the joint keeps from turning; the table of components, each value as the joint's
 // kind makes it (JointKind::Reaction, joints/<kind>.cc); the friction joints' normal forces
 // (JointKind::CoulombFriction) and relative velocities.
 #include <functional>
@@ -95,17 +96,18 @@ void StaticsTable::DeriveReactions(Stage& st) {
   std::vector<std::vector<int>> rows_of(m.joints.size());
   for (int i = 0; i < nc; ++i) rows_of[k.Phi_rows[i].joint].push_back(i);
 
-  // Each joint's force on link_b (by link_a) and the point it acts at; prismatic moments.
+  // Each joint's force on link_b (by link_a) and the point it acts at; prismatic moments; a
+  // contact's couple (with its force taken off its line) and components.
   std::vector<Vec2> F(m.joints.size(), Vec2{0, 0}), F_at(m.joints.size(), Vec2{0, 0});
   std::vector<bool> have_F(m.joints.size(), false), have_M(m.joints.size(), false);
-  std::vector<ex> M(m.joints.size(), 0);
+  std::vector<ex> M(m.joints.size(), 0), couple(m.joints.size(), 0);
+  std::vector<std::vector<ex>> components(m.joints.size());
+  std::vector<ex> var(m.joints.size(), 0);  // every joint's coordinate
+  for (size_t jn = 0; jn < m.joints.size(); ++jn)
+    if (const Coordinate* s = CoordinateOfJoint(m, k, static_cast<int>(jn))) var[jn] = s->symbol;
   auto fail = [&](int joint, const std::string& why) {
     const SourceMark mark = m.outputs.reactions_mark.line ? m.outputs.reactions_mark : m.friction.front().mark;
     m.Fail(mark, "the reaction at joint '" + m.joints[joint].name + "' cannot be derived: " + why);
-  };
-  auto joint_point = [&](int jn) -> Vec2 {
-    const Joint& j = m.joints[jn];
-    return st.Position(j.End(j.link_b));
   };
   // A tree joint's force needs only the cut joints' (multipliers), so this recursion is
   // one level deep.
@@ -127,13 +129,9 @@ void StaticsTable::DeriveReactions(Stage& st) {
       const Joint& j = m.joints[jn];
       if (static_cast<int>(jn) == skip || S.count(j.link_a) == S.count(j.link_b)) continue;
       const ReactionForm form = KindOf(j).Reacts();
-      if (form == ReactionForm::kContact)
-        fail(skip, std::string("it needs the contact force of ") + KindOf(j).Keys().section + " joint '" + j.name +
-                       "' as a vector, which mechgen derives only as the joint's multiplier; ask for reactions at "
-                       "revolute and prismatic joints whose links do not carry a gear, rack, cam or rolling contact");
       force_of(static_cast<int>(jn));
       const double sign = S.count(j.link_b) ? 1 : -1;
-      add({sign * F[jn][0], sign * F[jn][1]}, F_at[jn], 0);
+      add({sign * F[jn][0], sign * F[jn][1]}, F_at[jn], sign * couple[jn]);
       if (about && form == ReactionForm::kForceAndMoment) {
         if (!have_M[jn]) {
           if (tree_of_joint[jn] >= 0)
@@ -159,11 +157,33 @@ void StaticsTable::DeriveReactions(Stage& st) {
   force_of = [&](int jn) {
     if (have_F[jn]) return;
     const Joint& j = m.joints[jn];
-    F_at[jn] = joint_point(jn);
     const ReactionForm form = KindOf(j).Reacts();
     const std::string base = (form == ReactionForm::kForceAndMoment ? "R_" : "F_") + j.name;
+    if (form == ReactionForm::kContact) {  // a higher pair (always cut): its kind's force from its rows' multipliers
+      if (tree_of_joint[jn] >= 0) throw std::logic_error("mechgen bug: higher pair '" + j.name + "' in the tree");
+      ContactInput in{k.frames, var, {}, std::vector<bool>(m.joints.size(), false)};
+      for (int row : rows_of[jn]) in.multipliers.push_back(lam[row]);
+      for (size_t o = 0; o < m.joints.size(); ++o) in.in_tree[o] = tree_of_joint[o] >= 0;
+      JointReaction r;
+      std::string why;
+      if (!KindOf(j).Contact(m, j, in, &r, &why))
+        fail(jn, "it needs the contact force of " + std::string(KindOf(j).Keys().section) + " joint '" + j.name +
+                     "': " + why);
+      program.push_back(Define(base + "_x", r.F[0], &F[jn][0]));
+      program.push_back(Define(base + "_y", r.F[1], &F[jn][1]));
+      F_at[jn] = r.at;
+      if (!r.M.is_zero()) program.push_back(Define("M_" + j.name, r.M, &couple[jn]));
+      // The components read the named force.
+      components[jn] = r.components;
+      for (ex& c : components[jn]) {
+        if (c.is_equal(r.F[0])) c = F[jn][0];
+        else if (c.is_equal(r.F[1])) c = F[jn][1];
+      }
+      have_F[jn] = true;
+      return;
+    }
+    F_at[jn] = KindOf(j).ReactionPoint(m, j, k.frames, var[jn]);
     if (tree_of_joint[jn] < 0) {  // a cut joint: its rows' multipliers
-      if (form == ReactionForm::kContact) return;
       int rx = -1, ry = -1;
       for (int r : rows_of[jn]) {
         if (k.Phi_rows[r].component == RowComponent::kX) rx = r;
@@ -217,17 +237,17 @@ void StaticsTable::DeriveReactions(Stage& st) {
   };
   for (int jn : needed) {
     const ReactionForm form = KindOf(m.joints[jn]).Reacts();
-    if (form == ReactionForm::kForce) force_of(jn);
-    else if (form == ReactionForm::kForceAndMoment) moment_of(jn);
-    else if (tree_of_joint[jn] >= 0)
-      fail(jn, "a rolling joint in the spanning tree: its contact force is not derived yet");
+    if (form == ReactionForm::kForceAndMoment) moment_of(jn);
+    else force_of(jn);
   }
   // The unknowns at a joint, from which its kind makes its components and its friction.
   auto unknowns = [&](int jn) {
     JointReaction r;
     r.F = F[jn];
-    r.M = M[jn];
+    r.at = F_at[jn];
+    r.M = KindOf(m.joints[jn]).Reacts() == ReactionForm::kContact ? couple[jn] : M[jn];
     for (int row : rows_of[jn]) r.multipliers.push_back(lam[row]);
+    r.components = components[jn];
     return r;
   };
   for (size_t i = 0; i < m.outputs.reactions.size(); ++i) {
