@@ -20,7 +20,9 @@
 // first link (Joint::link_a) on its second (link_b), in the fixed frame; a prismatic joint's
 // N (along n = (-sin a, cos a)), T (along u = (cos a, sin a)), a = the line's absolute
 // angle, at the slider point, and M (moment about the slider point), all of the guide on
-// the slider; torques counter-clockwise positive.
+// the slider; torques counter-clockwise positive. A slot's and a rolling joint's force at the
+// pin or the contact point; a higher pair's contact force as a vector from its rows'
+// multipliers (JointKind::Contact; models/README.md, Reactions).
 #pragma once
 
 #include <string>
@@ -74,7 +76,8 @@ struct StaticsOptions {
 class StaticsTable {
  public:
   /// Derives what m.outputs asks (forces, potential, reactions); throws ModelError where a
-  /// reaction cannot be derived (a higher pair's contact force needed as a vector).
+  /// reaction cannot be derived (a higher pair whose multiplier is not its contact force
+  /// alone: a gear's or law cam's axis a cut joint; JointKind::Contact says why).
   StaticsTable(const Model& m, const Kinematics& k, const SymbolicTable& t, const StaticsOptions& options = {});
 
   StaticsOptions options;

@@ -171,7 +171,7 @@ TEST(JointKinds, DescriptionsCoordinatesAndReactionComponents) {
 // Each kind's reaction equations (JointKind::Reaction, CoulombFriction, RelativeMotion), at
 // numbers, against the hand formulas of Paul §5: a pin passes its force on; a slider on a
 // line at absolute angle a has N = F.(-sin a, cos a), T = F.(cos a, sin a) plus the forces
-// along the line that act apart from F, and its moment; a higher pair its row's multiplier.
+// along the line that act apart from F, and its moment; a meshing pair of teeth its force from its row's multiplier (MeshForce).
 TEST(JointKinds, ReactionComponentsFromTheUnknownsByHand) {
   const Model m = LoadModelFromString(SliderCrank("{guide: g.S, slider: s.C, angle: 0.3}"), "sc.yaml");
   const Joint& pin = m.joints[0];
@@ -213,17 +213,31 @@ TEST(JointKinds, ReactionComponentsFromTheUnknownsByHand) {
   EXPECT_EQ(value(at_slide_f.gain), 0.2);
   EXPECT_EQ(value(KindOf(slide).RelativeMotion(m, slide, frames, 0.375)), 0.375);
 
-  // A higher pair: its one row's multiplier; a contact of two rows is refused with a reason.
-  const JointKind& gear = KindOf(JointType::kGear);
-  JointReaction contact;
-  contact.multipliers = {GiNaC::ex(7)};
-  ASSERT_EQ(gear.Reacts(), ReactionForm::kContact);
-  const std::vector<GiNaC::ex> at_gear = gear.Reaction(m, pin, frames, contact, &why);
-  ASSERT_EQ(at_gear.size(), 1u);
-  EXPECT_EQ(value(at_gear[0]), 7);
-  contact.multipliers.push_back(8);
-  EXPECT_TRUE(gear.Reaction(m, pin, frames, contact, &why).empty());
-  EXPECT_FALSE(why.empty());
+  // A meshing pair of teeth (gear, rack): from the mesh row's multiplier lambda, the force on
+  // the second member at the pitch point is -lambda along t (e turned +90 deg) plus the
+  // separating part |lambda| tan(pressure angle) along e; N = |F|, T = F.t = -lambda.
+  EXPECT_EQ(KindOf(JointType::kGear).Reacts(), ReactionForm::kContact);
+  EXPECT_EQ(KindOf(JointType::kRack).Reacts(), ReactionForm::kContact);
+  EXPECT_EQ(KindOf(JointType::kCam).Reacts(), ReactionForm::kContact);
+  EXPECT_EQ(KindOf(JointType::kSlot).Reacts(), ReactionForm::kForce);
+  EXPECT_EQ(KindOf(JointType::kRoll).Reacts(), ReactionForm::kForce);
+  for (const double lambda : {7.0, -7.0}) {
+    const double e_angle = 0.3, pressure = 20 * M_PI / 180;
+    JointReaction mesh;
+    MeshForce({GiNaC::ex(std::cos(e_angle)), GiNaC::ex(std::sin(e_angle))}, {GiNaC::ex(1.5), GiNaC::ex(2.5)},
+              GiNaC::ex(pressure), GiNaC::ex(lambda), &mesh);
+    const double tx = -std::sin(e_angle), ty = std::cos(e_angle), sep = std::abs(lambda) * std::tan(pressure);
+    const double Fx = -lambda * tx + sep * std::cos(e_angle), Fy = -lambda * ty + sep * std::sin(e_angle);
+    ASSERT_EQ(mesh.components.size(), 4u);
+    EXPECT_NEAR(value(mesh.F[0]), Fx, 1e-14);
+    EXPECT_NEAR(value(mesh.F[1]), Fy, 1e-14);
+    EXPECT_EQ(value(mesh.at[0]), 1.5);
+    EXPECT_EQ(value(mesh.at[1]), 2.5);
+    EXPECT_NEAR(value(mesh.components[2]), std::hypot(Fx, Fy), 1e-14);  // N: along the line of action
+    EXPECT_NEAR(value(mesh.components[3]), -lambda, 1e-14);             // T
+    EXPECT_NEAR(std::atan2(std::abs(Fx * std::cos(e_angle) + Fy * std::sin(e_angle)), std::abs(Fx * tx + Fy * ty)),
+                pressure, 1e-14);
+  }
 }
 
 TEST(Provenance, EveryPhiRowNamesItsJointLoopAndComponent) {

@@ -70,8 +70,8 @@ namespace mechgen::statics {
 struct ReactionJoint {
   std::string joint;
   int x = -1, y = -1;  ///< F_J_x, F_J_y (revolute)
-  int n = -1, t = -1;  ///< N_J, T_J (prismatic)
-  int scalar = -1;     ///< F_J (gear, rack, cam contact force)
+  int n = -1, t = -1;  ///< N_J, T_J (prismatic, slot, roll, gear, rack; cam: N_J)
+  int scalar = -1;     ///< F_J (a scalar force component; the higher pairs now give F_J_x, F_J_y)
 };
 
 /// Groups the reaction names of M by joint: "F_<J>_x"/"F_<J>_y", "N_<J>"/"T_<J>", "F_<J>";
