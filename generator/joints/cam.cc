@@ -11,15 +11,13 @@
 //                rows' multipliers (Contact below)
 // The law's and the contour's maths (segments, pressure angle, curvature, spline) are in
 // generator/cam.{h,cc}.
-#include "joints/cam_profile.h"
-
-#include <sstream>
-
-#include "joints/joint_kind.h"
-#include "model/expression_functions.h"
-
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+
+#include "joints/cam_profile.h"
+#include "joints/joint_kind.h"
+#include "model/expression_functions.h"
 
 namespace mechgen {
 
@@ -325,7 +323,8 @@ class Cam : public JointKind {
   std::vector<ReactionComponent> ReactionComponents(const Model& m, const Joint& j) const override {
     const CamData& c = j.Data<CamData>();
     const std::string on = "contact force of '" + m.links[j.link_a].name + "' on '" + m.links[j.link_b].name + "'";
-    const std::string where = c.flat_face ? " (its line through the contact point)" : " (its line through " + m.PointName(c.point) + ")";
+    const std::string where =
+        c.flat_face ? " (its line through the contact point)" : " (its line through " + m.PointName(c.point) + ")";
     return {{"F_" + j.name + "_x", on + where + ", x"},
             {"F_" + j.name + "_y", on + ", y"},
             {"N_" + j.name, on + " along the profile's outward normal (> 0: the cam pushes the follower)"}};
@@ -340,8 +339,8 @@ class Cam : public JointKind {
   //   F.v + [y is an angle] M = lambda,   d x F + M = lambda L'
   // with M = 0 (roller, knife edge: F along the pitch curve's normal w = L' (k x v) + d, so
   // F = lambda w / (w.v)) or F = f n_face (flat face).
-  bool Contact(const Model& m, const Joint& j, const ContactInput& in, JointReaction* r,
-               std::string* why) const override {
+  bool Contact(
+      const Model& m, const Joint& j, const ContactInput& in, JointReaction* r, std::string* why) const override {
     const CamData& c = j.Data<CamData>();
     const int joint = static_cast<int>(&j - m.joints.data());
     const Frame& fa = in.frames[j.link_a];
@@ -371,7 +370,8 @@ class Cam : public JointKind {
     }
     for (int k : {c.pivot, c.follower_joint})
       if (!in.in_tree[k]) {
-        *why = "joint '" + m.joints[k].name + "' (the cam's pivot or the follower's joint) closes a loop, so the "
+        *why = "joint '" + m.joints[k].name +
+               "' (the cam's pivot or the follower's joint) closes a loop, so the "
                "law's row's multiplier is not the contact force alone; mechgen derives a law cam's force where both "
                "place their links in the spanning tree";
         return false;

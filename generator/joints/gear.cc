@@ -21,13 +21,14 @@ class Gear : public JointKind {
   JointType type() const override { return JointType::kGear; }
 
   const KeyTable& Keys() const override {
-    static const KeyTable table{"gear",
-                                {{"gears", "[link1, link2]: the two gear links", true},
-                                 {"radii", "[r1, r2]: their pitch radii (positive)", true},
-                                 {"carrier", "the link holding both axes (default: the ground)", false},
-                                 {"internal", "true: the second gear is an internal (ring) gear (default false)", false},
-                                 {"phase", "the constant of the mesh relation (default 0)", false},
-                                 {"pressure_angle", "the teeth's pressure angle (default 20*deg; statics)", false}}};
+    static const KeyTable table{
+        "gear",
+        {{"gears", "[link1, link2]: the two gear links", true},
+         {"radii", "[r1, r2]: their pitch radii (positive)", true},
+         {"carrier", "the link holding both axes (default: the ground)", false},
+         {"internal", "true: the second gear is an internal (ring) gear (default false)", false},
+         {"phase", "the constant of the mesh relation (default 0)", false},
+         {"pressure_angle", "the teeth's pressure angle (default 20*deg; statics)", false}}};
     return table;
   }
 
@@ -137,16 +138,17 @@ class Gear : public JointKind {
 
   // The row's gradient is minus the relative motion along t of gear 2's tooth at the pitch
   // point (both axes on the carrier): r1 d(th1 - thc) +- r2 d(th2 - thc) (Paul §5).
-  bool Contact(const Model& m, const Joint& j, const ContactInput& in, JointReaction* r,
-               std::string* why) const override {
+  bool Contact(
+      const Model& m, const Joint& j, const ContactInput& in, JointReaction* r, std::string* why) const override {
     const GearData& d = j.Data<GearData>();
     Vec2 centre[2];
     for (int i = 0; i < 2; ++i) {
       const int gear = i == 0 ? j.link_a : j.link_b;
       const int axis = AxisJoint(m, gear, d.carrier);
       if (axis < 0) {
-        *why = "gear '" + m.links[gear].name + "' of gear pair '" + j.name + "' has no revolute joint to the carrier '" +
-               m.links[d.carrier].name + "' (its axis, where the tooth force's direction starts)";
+        *why = "gear '" + m.links[gear].name + "' of gear pair '" + j.name +
+               "' has no revolute joint to the carrier '" + m.links[d.carrier].name +
+               "' (its axis, where the tooth force's direction starts)";
         return false;
       }
       if (!in.in_tree[axis]) {
@@ -193,8 +195,9 @@ std::vector<ReactionComponent> MeshComponents(const Model& m, const Joint& j, co
 void CheckPressureAngle(const Model& m, const Joint& j, const GiNaC::ex& angle, const SourceMark& mark) {
   const double a = ValueAtDefaults(m, angle, mark.line ? mark : j.mark, "pressure_angle");
   if (!(a >= 0 && a < M_PI / 2))
-    m.Fail(mark.line ? mark : j.mark, "joint '" + j.name + "': the pressure angle must be at least 0 and below 90 deg "
-                                      "(20*deg is usual)");
+    m.Fail(mark.line ? mark : j.mark, "joint '" + j.name +
+                                          "': the pressure angle must be at least 0 and below 90 deg "
+                                          "(20*deg is usual)");
 }
 
 int AxisJoint(const Model& m, int gear, int carrier) {

@@ -48,7 +48,9 @@ void JointKind::Check(const Model&, const Joint&) const {}
 
 std::optional<JointCoordinate> JointKind::Coordinate(const Model&, const Joint&) const { return std::nullopt; }
 
-Vec2 JointKind::ReactionPoint(const Model& m, const Joint& j, const std::vector<Frame>& frames,
+Vec2 JointKind::ReactionPoint(const Model& m,
+                              const Joint& j,
+                              const std::vector<Frame>& frames,
                               const GiNaC::ex&) const {
   const PointRef p = j.End(j.link_b);
   return PointPosition(m, p, frames[p.link]);
@@ -58,8 +60,8 @@ bool JointKind::Contact(const Model&, const Joint& j, const ContactInput&, Joint
   throw std::logic_error("mechgen bug: joint '" + j.name + "' is not a higher pair");
 }
 
-std::vector<GiNaC::ex> JointKind::Reaction(const Model&, const Joint& j, const std::vector<Frame>&,
-                                           const JointReaction& r, std::string*) const {
+std::vector<GiNaC::ex> JointKind::Reaction(
+    const Model&, const Joint& j, const std::vector<Frame>&, const JointReaction& r, std::string*) const {
   // A higher pair: the components its Contact() made.
   if (r.components.empty()) throw std::logic_error("mechgen bug: joint '" + j.name + "' has no contact components");
   return r.components;

@@ -160,15 +160,17 @@ class JointKind {
   virtual ReactionForm Reacts() const { return ReactionForm::kContact; }
   /// Where the force of a kForce or kForceAndMoment joint acts (default: the joint's point on
   /// link_b; roll: the contact point); `s` is the joint's coordinate (0 if none).
-  virtual Vec2 ReactionPoint(const Model& m, const Joint& j, const std::vector<Frame>& frames,
+  virtual Vec2 ReactionPoint(const Model& m,
+                             const Joint& j,
+                             const std::vector<Frame>& frames,
                              const GiNaC::ex& s) const;
   /// A higher pair (kContact): its contact force on link_b by link_a as a vector, r->F at
   /// r->at (plus a couple r->M where the force is taken at a point off its line), and
   /// r->components, from the multipliers of its rows (Paul §5: their virtual work equals the
   /// contact force's over every virtual motion of the links). False, with *why set, where
   /// the multipliers are not the contact force (a cam's or gear's axis a cut joint).
-  virtual bool Contact(const Model& m, const Joint& j, const ContactInput& in, JointReaction* r,
-                       std::string* why) const;
+  virtual bool Contact(
+      const Model& m, const Joint& j, const ContactInput& in, JointReaction* r, std::string* why) const;
   /// The values of ReactionComponents(), in their order, from the unknowns `r` at the joint;
   /// \param frames every link's frame. Empty, with *why set, where the kind cannot give them
   /// (the default: a contact's r.components).

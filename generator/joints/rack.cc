@@ -90,8 +90,8 @@ class Rack : public JointKind {
   // The row's gradient, ds + r d(th_pinion - th_guide), is the rack's motion along u relative
   // to the pinion's tooth at the pitch point P = axis + r n (n = u turned +90 deg), = minus
   // that motion along t = n turned +90 deg = -u: MeshForce with e = n.
-  bool Contact(const Model& m, const Joint& j, const ContactInput& in, JointReaction* r,
-               std::string* why) const override {
+  bool Contact(
+      const Model& m, const Joint& j, const ContactInput& in, JointReaction* r, std::string* why) const override {
     const RackData& d = j.Data<RackData>();
     const int axis = AxisJoint(m, j.link_a, d.carrier);
     if (axis < 0) {
@@ -101,7 +101,8 @@ class Rack : public JointKind {
     }
     for (int k : {axis, d.slide})
       if (!in.in_tree[k]) {
-        *why = "joint '" + m.joints[k].name + "' (the pinion's axis or the rack's slide) closes a loop, so the mesh "
+        *why = "joint '" + m.joints[k].name +
+               "' (the pinion's axis or the rack's slide) closes a loop, so the mesh "
                "row's multiplier is not the tooth force alone; mechgen derives rack forces where both place their "
                "links in the spanning tree";
         return false;

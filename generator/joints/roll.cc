@@ -170,13 +170,18 @@ class Roll : public JointKind {
   // contact; as a tree joint: the balance of the links it carries).
   ReactionForm Reacts() const override { return ReactionForm::kForce; }
 
-  Vec2 ReactionPoint(const Model& m, const Joint& j, const std::vector<Frame>& frames,
+  Vec2 ReactionPoint(const Model& m,
+                     const Joint& j,
+                     const std::vector<Frame>& frames,
                      const GiNaC::ex& s) const override {
     return ContactPosition(m, j, frames[j.link_a], s);
   }
 
-  std::vector<GiNaC::ex> Reaction(const Model& m, const Joint& j, const std::vector<Frame>& frames,
-                                  const JointReaction& r, std::string*) const override {
+  std::vector<GiNaC::ex> Reaction(const Model& m,
+                                  const Joint& j,
+                                  const std::vector<Frame>& frames,
+                                  const JointReaction& r,
+                                  std::string*) const override {
     const RollData& d = j.Data<RollData>();
     Vec2 n;
     if (d.on_line) {

@@ -129,8 +129,11 @@ class Slot : public JointKind {
   // A force at the pin, which turns freely in the slot; as a cut joint its rows' multipliers.
   ReactionForm Reacts() const override { return ReactionForm::kForce; }
 
-  std::vector<GiNaC::ex> Reaction(const Model& m, const Joint& j, const std::vector<Frame>& frames,
-                                  const JointReaction& r, std::string*) const override {
+  std::vector<GiNaC::ex> Reaction(const Model& m,
+                                  const Joint& j,
+                                  const std::vector<Frame>& frames,
+                                  const JointReaction& r,
+                                  std::string*) const override {
     const Vec2 u = SlotDirection(m, j.Data<SlotData>(), frames[j.link_a].theta);
     return {r.F[0], r.F[1], -r.F[0] * u[1] + r.F[1] * u[0], r.F[0] * u[0] + r.F[1] * u[1]};
   }

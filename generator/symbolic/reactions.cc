@@ -176,8 +176,10 @@ void StaticsTable::DeriveReactions(Stage& st) {
       // The components read the named force.
       components[jn] = r.components;
       for (ex& c : components[jn]) {
-        if (c.is_equal(r.F[0])) c = F[jn][0];
-        else if (c.is_equal(r.F[1])) c = F[jn][1];
+        if (c.is_equal(r.F[0]))
+          c = F[jn][0];
+        else if (c.is_equal(r.F[1]))
+          c = F[jn][1];
       }
       have_F[jn] = true;
       return;
@@ -237,8 +239,10 @@ void StaticsTable::DeriveReactions(Stage& st) {
   };
   for (int jn : needed) {
     const ReactionForm form = KindOf(m.joints[jn]).Reacts();
-    if (form == ReactionForm::kForceAndMoment) moment_of(jn);
-    else force_of(jn);
+    if (form == ReactionForm::kForceAndMoment)
+      moment_of(jn);
+    else
+      force_of(jn);
   }
   // The unknowns at a joint, from which its kind makes its components and its friction.
   auto unknowns = [&](int jn) {

@@ -171,7 +171,8 @@ TEST(JointKinds, DescriptionsCoordinatesAndReactionComponents) {
 // Each kind's reaction equations (JointKind::Reaction, CoulombFriction, RelativeMotion), at
 // numbers, against the hand formulas of Paul §5: a pin passes its force on; a slider on a
 // line at absolute angle a has N = F.(-sin a, cos a), T = F.(cos a, sin a) plus the forces
-// along the line that act apart from F, and its moment; a meshing pair of teeth its force from its row's multiplier (MeshForce).
+// along the line that act apart from F, and its moment; a meshing pair of teeth its force from its row's multiplier
+// (MeshForce).
 TEST(JointKinds, ReactionComponentsFromTheUnknownsByHand) {
   const Model m = LoadModelFromString(SliderCrank("{guide: g.S, slider: s.C, angle: 0.3}"), "sc.yaml");
   const Joint& pin = m.joints[0];

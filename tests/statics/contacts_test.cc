@@ -1,8 +1,9 @@
 // Reactions at higher pairs and at a slot (issue 26): the generated statics of
 // tests/statics/models/contacts.yaml (a gear train with an external and an internal mesh, a
 // disk cam with a translating roller follower, one with an oscillating flat-faced follower,
-// and the quick-return shaper with the crank's pin in a slot of the rocker) over a turn of
-// every input, against oracles that do not use the generator's statics:
+// the quick-return shaper with the crank's pin in a slot of the rocker, a rack and pinion, a
+// wheel rolling on a line, a cam given by its contour) over a turn of every input, against
+// oracles that do not use the generator's statics:
 //   - the free-body equilibrium (forces and moments) of every moving link with the generated
 //     reactions, the drives and the loads, the points placed by this file's own geometry;
 //   - hand solutions: the gear train's tooth forces from the ring's and the idler's moment
@@ -12,13 +13,14 @@
 //     face's contact point where the relative velocity lies along the face), by central
 //     differences of the generated position solver, and the shaper's bearing O2 from the
 //     ram's, the two-force link's and the rocker's balances (Paul §5).
+#include "contacts.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
-#include "contacts.h"
 #include "statics_test_util.h"
 
 namespace {
@@ -90,7 +92,8 @@ class ContactReactions : public ::testing::Test {
   // The inputs at step i of a turn (each input its own phase; the crank over its range).
   static Qv Inputs(int i) {
     Qv q;
-    q << (3 + i) * kDeg, (7 + i) * kDeg, (1 + i) * kDeg, (-29.5 + i) * kDeg;
+    q << (3 + i) * kDeg, (7 + i) * kDeg, (1 + i) * kDeg, (-29.5 + i) * kDeg, (2 + i) * kDeg, (4 + i) * kDeg,
+        (6 + i) * kDeg;
     return q;
   }
 };
@@ -116,8 +119,8 @@ TEST_F(ContactReactions, GearTrainEveryGearInEquilibriumAndTheToothForcesByHand)
     EXPECT_TRUE(Near((FG1 - F12 + W1).norm(), 0, kTol, scale, "gear1 forces" + at));
     EXPECT_TRUE(Near(drive + Cross(P12 - G1, -F12) + Cross(M1 - G1, W1), 0, kTol, scale, "gear1 moment" + at));
     EXPECT_TRUE(Near((FG2 + F12 - F23 + W2).norm(), 0, kTol, scale, "gear2 forces" + at));
-    EXPECT_TRUE(Near(Cross(P12 - G2, F12) + Cross(P23 - G2, -F23) + Cross(M2 - G2, W2), 0, kTol, scale,
-                     "gear2 moment" + at));
+    EXPECT_TRUE(
+        Near(Cross(P12 - G2, F12) + Cross(P23 - G2, -F23) + Cross(M2 - G2, W2), 0, kTol, scale, "gear2 moment" + at));
     EXPECT_TRUE(Near((FG3 + F23).norm(), 0, kTol, scale, "ring3 forces" + at));
     EXPECT_TRUE(Near(p.T3 + Cross(P23 - G3, F23), 0, kTol, scale, "ring3 moment" + at));
     // By hand: the ring's moment gives m23's tangential force, the idler's gives m12's, and
@@ -128,7 +131,8 @@ TEST_F(ContactReactions, GearTrainEveryGearInEquilibriumAndTheToothForcesByHand)
     EXPECT_TRUE(Near(R("T_m12"), T12, kTol, scale, "T_m12" + at));
     EXPECT_TRUE(Near(R("N_m12"), std::abs(T12) / std::cos(pa12), kTol, scale, "N_m12" + at));
     EXPECT_TRUE(Near(drive, p.r1 * T12 - Cross(M1 - G1, W1), kTol, scale, "drive = r1 T_m12 - load moment" + at));
-    for (const auto& [Fm, e, pa, name] : {std::make_tuple(F12, e12, pa12, "m12"), std::make_tuple(F23, e23, pa23, "m23")}) {
+    for (const auto& [Fm, e, pa, name] :
+         {std::make_tuple(F12, e12, pa12, "m12"), std::make_tuple(F23, e23, pa23, "m23")}) {
       EXPECT_TRUE(Near(Fm.dot(Perp(e)), R(std::string("T_") + name), kTol, scale, std::string(name) + " T = F.t" + at));
       EXPECT_TRUE(Near(Fm.dot(e), Fm.norm() * std::sin(pa), kTol, scale,
                        std::string(name) + " separating part |F| sin(pressure angle)" + at));
@@ -200,8 +204,7 @@ TEST_F(ContactReactions, ShaperWithASlotBearingO2ByHandAndEveryLinkInEquilibrium
   for (int s = 0; s < 360; s += 5) {
     const Qv q = Inputs(s);
     ASSERT_TRUE(Eval(q)) << s;
-    const V A = O2 + p.r * Dir(q(3)), u = Dir(phi(ir)), n = Perp(u), B = p.L * u, e = Dir(phi(il)),
-            C = B + p.l * e;
+    const V A = O2 + p.r * Dir(q(3)), u = Dir(phi(ir)), n = Perp(u), B = p.L * u, e = Dir(phi(il)), C = B + p.l * e;
     const std::string at = " at step " + std::to_string(s);
     ASSERT_TRUE(Near((A - phi(isA) * u).norm(), 0, 1e-12, 1, "the pin on the slot" + at));
     const V FO2 = F("O2"), FA = F("A"), FO4 = F("O4"), FB = F("B"), FC = F("C");
@@ -225,6 +228,70 @@ TEST_F(ContactReactions, ShaperWithASlotBearingO2ByHandAndEveryLinkInEquilibrium
     EXPECT_TRUE(Near(Cross(C - B, -FC), 0, kTol, scale, "link moment" + at));
     EXPECT_TRUE(Near((FC + Ns * uy + Ts * ux + cut).norm(), 0, kTol, scale, "ram forces" + at));
     EXPECT_TRUE(Near(Ms, 0, kTol, scale, "ram moment (every force at C)" + at));
+  }
+}
+
+TEST_F(ContactReactions, RackAndPinionInEquilibriumWithTheToothForceByHand) {
+  const V K(30, 0), u(1, 0), n(0, 1), WK(-50, 8), pitch(30, p.rk), Tlocal(0.5, 0.1);
+  const int is = I("s_rslide");
+  const double pa = 20 * kDeg;
+  for (int s = 0; s < 360; s += 5) {
+    const Qv q = Inputs(s);
+    ASSERT_TRUE(Eval(q)) << s;
+    const V S = V(30, p.rk) + phi(is) * u, T = S + Tlocal;
+    const V FK = F("K"), Fm = F("mesh");
+    const double Ns = R("N_rslide"), Ts = R("T_rslide"), Ms = R("M_rslide"), drive = st.drive(4);
+    const double scale = std::max({Fm.norm(), std::abs(drive), 50.0});
+    const std::string at = " at step " + std::to_string(s);
+    // The rack slides with s = -rk theta (the mesh row), so the pitch point lies on the pinion's
+    // circle at rk n; the rack's balance along u gives F.u = 50 N, the separating part F.n = 50 tan 20 deg.
+    EXPECT_TRUE(Near((Fm - V(50, 50 * std::tan(pa))).norm(), 0, kTol, scale, "tooth force, hand" + at));
+    EXPECT_TRUE(Near(R("T_mesh"), -50, kTol, scale, "T along t = -u" + at));
+    EXPECT_TRUE(Near(R("N_mesh"), 50 / std::cos(pa), kTol, scale, "N = T / cos(pressure angle)" + at));
+    EXPECT_TRUE(Near((FK - Fm).norm(), 0, kTol, scale, "pinion forces" + at));
+    EXPECT_TRUE(Near(drive + Cross(pitch - K, -Fm), 0, kTol, scale, "pinion moment" + at));
+    EXPECT_TRUE(Near((Fm + Ns * n + Ts * u + WK).norm(), 0, kTol, scale, "rack forces" + at));
+    EXPECT_TRUE(Near(Ms + Cross(pitch - S, Fm) + Cross(T - S, WK), 0, kTol, scale, "rack moment" + at));
+  }
+}
+
+TEST_F(ContactReactions, WheelRollingAsATreeJointInEquilibriumAtItsContactPoint) {
+  const V WW(3, -10);
+  const int is = I("s_roll");
+  for (int s = 0; s < 360; s += 5) {
+    const Qv q = Inputs(s);
+    ASSERT_TRUE(Eval(q)) << s;
+    const V Qc(40 + phi(is), 0), C = Qc + V(0, p.rw), P = C + p.rw * Perp(Perp(Perp(Dir(q(5)))));  // (0, -rw) turned
+    const V Fr = F("roll");
+    const double drive = st.drive(5), scale = std::max(std::abs(drive), 10.0);
+    const std::string at = " at step " + std::to_string(s);
+    EXPECT_TRUE(Near(phi(is), -p.rw * q(5), kTol, 1, "no slip" + at));
+    EXPECT_TRUE(Near((Fr + WW).norm(), 0, kTol, scale, "wheel forces" + at));
+    EXPECT_TRUE(Near(drive + Cross(P - Qc, WW), 0, kTol, scale, "wheel moment about the contact point" + at));
+    EXPECT_TRUE(Near(R("N_roll"), 10, kTol, scale, "N along the normal (0, 1)" + at));
+    EXPECT_TRUE(Near(R("T_roll"), -3, kTol, scale, "T along the line (1, 0)" + at));
+  }
+}
+
+TEST_F(ContactReactions, ContourCamInEquilibriumWithTheForceThroughTheCircleCentre) {
+  const V EC(50, 0), u(0, 1), n(-1, 0), WC(1, -20);
+  const int is = I("s_slideC");
+  for (int s = 0; s < 360; s += 5) {
+    const Qv q = Inputs(s);
+    ASSERT_TRUE(Eval(q)) << s;
+    const V C = EC + phi(is) * u, T = C + u, Z = EC + p.ec * Perp(Dir(q(6)));  // the circle's centre
+    const V Fc = F("contactC"), FO = F("OC");
+    const double Ns = R("N_slideC"), Ts = R("T_slideC"), Ms = R("M_slideC"), drive = st.drive(6);
+    const double scale = std::max({Fc.norm(), std::abs(drive), 20.0});
+    const std::string at = " at step " + std::to_string(s);
+    // Frictionless on a circle: along the radius through the roller's centre, F.u = 20 N.
+    const V hand = 20 / (C - Z).dot(u) * (C - Z);
+    EXPECT_TRUE(Near((Fc - hand).norm(), 0, kTol, scale, "contact force, hand" + at));
+    EXPECT_TRUE(Near(R("N_contactC"), Fc.norm(), kTol, scale, "N = |F|, pushing" + at));
+    EXPECT_TRUE(Near((FO - Fc).norm(), 0, kTol, scale, "cam forces" + at));
+    EXPECT_TRUE(Near(drive + Cross(C - EC, -Fc), 0, kTol, scale, "cam moment" + at));
+    EXPECT_TRUE(Near((Fc + Ns * n + Ts * u + WC).norm(), 0, kTol, scale, "follower forces" + at));
+    EXPECT_TRUE(Near(Ms + Cross(T - C, WC), 0, kTol, scale, "follower moment" + at));
   }
 }
 
