@@ -109,6 +109,7 @@ void StaticsTable::DeriveReactions(Stage& st) {
     const SourceMark mark = m.outputs.reactions_mark.line ? m.outputs.reactions_mark : m.friction.front().mark;
     m.Fail(mark, "the reaction at joint '" + m.joints[joint].name + "' cannot be derived: " + why);
   };
+  int asking = -1;  // the joint whose reaction is being derived (for the errors)
   // A tree joint's force needs only the cut joints' (multipliers), so this recursion is
   // one level deep.
   std::function<void(int)> force_of;
@@ -166,9 +167,11 @@ void StaticsTable::DeriveReactions(Stage& st) {
       for (size_t o = 0; o < m.joints.size(); ++o) in.in_tree[o] = tree_of_joint[o] >= 0;
       JointReaction r;
       std::string why;
-      if (!KindOf(j).Contact(m, j, in, &r, &why))
-        fail(jn, "it needs the contact force of " + std::string(KindOf(j).Keys().section) + " joint '" + j.name +
-                     "': " + why);
+      if (!KindOf(j).Contact(m, j, in, &r, &why)) {
+        if (asking == jn) fail(jn, why);
+        fail(asking, "it needs the contact force of " + std::string(KindOf(j).Keys().section) + " joint '" + j.name +
+                         "', and " + why);
+      }
       program.push_back(Define(base + "_x", r.F[0], &F[jn][0]));
       program.push_back(Define(base + "_y", r.F[1], &F[jn][1]));
       F_at[jn] = r.at;
@@ -238,6 +241,7 @@ void StaticsTable::DeriveReactions(Stage& st) {
     have_M[jn] = true;
   };
   for (int jn : needed) {
+    asking = jn;
     const ReactionForm form = KindOf(m.joints[jn]).Reacts();
     if (form == ReactionForm::kForceAndMoment)
       moment_of(jn);
