@@ -382,7 +382,7 @@ TEST(FunctionSynthesis, JacobianAgainstCentralDifferences) {
 
 TEST(FunctionSynthesis, FedBackPairsOfAKnownFourBarFoundByTheOptimiser) {
   // Seven pairs of the shipped four-bar (hand formula); no exact stage; the model's values
-  // moved away: LM from the model's values and from random starts finds it again.
+  // moved away: LM from the model's values and the global stage (four DE runs) find it again.
   std::vector<double> t2;
   for (int k = 0; k < 7; ++k) t2.push_back((30 + 20 * k) * kDeg);
   mech::fourbar::Model::ParamsT<double> base;

@@ -3,27 +3,35 @@
  * Function generation (issue 28) on a generated one-input model with a `design` section: the
  * output angle phi_out (one of the model's dependent variables, e.g. theta_rocker) is to be
  * psi_i when the input is q_i, for the task's pairs (q_i, psi_i), both absolute angles in the
- * model's frame.
+ * model's frame, or for a function y = f(x) over a range (`function:`): its accuracy points
+ * (Chebyshev spacing by default) mapped linearly onto the input's and the output's spans, the
+ * structural error over the whole range reported. With `free_start`, the input's and the
+ * output's start angles are variables too (the spans stay).
  *
  * The stages:
  *  1. Exact where it exists: when the task names the four-bar's links (`freudenstein:
  *     {crank, coupler, rocker, ground}`, the model's ground line along +x as in
  *     models/fourbar.yaml), Freudenstein's equation (synthesis/freudenstein.h) gives the crank,
  *     coupler and rocker for the ground's current length: three pairs exactly, more in the
- *     least-squares sense of the equation (not of the angles).
+ *     least-squares sense of the equation (not of the angles); with free start angles also at
+ *     a 12 x 12 grid of start angles (the best Search::local_starts of them are seeds).
  *  2. Levenberg–Marquardt (Ceres) on the angle residuals r_i = phi_out(q_i; p) - psi_i
- *     (wrapped into (-pi, pi]) over the task's variables within their bounds, its Jacobian the
- *     generated dphi/dp (EvalDesignDerivatives: no automatic or numerical differentiation),
- *     from the exact start (if any), from the model's values and from Search::restarts
- *     uniform starts in the bounds (one splitmix64 stream per start: the result depends only on
- *     the seed; a start where the model does not assemble at every pair is only checked). This
- *     is the general case (any model; more pairs than the exact method fits).
- *  3. Every candidate checked: the model assembles on its mode at every pair, and from pair to
- *     pair (in the task's order, the input moving directly from q_i to q_i+1, sampled at
- *     Search::curve_samples per turn) it stays on that mode with a nonzero branch measure: no
- *     dead point, no branch change between the pairs. The best is chosen by Deb's rule
- *     (feasible first, then the error E = sum r_i^2, rad^2; ties to the earlier start).
- * Counting: one residual evaluation = 1 evaluation, one Jacobian = 1 + the number of variables.
+ *     (wrapped into (-pi, pi]) over the variables within their bounds, its Jacobian the
+ *     generated dphi/dp (EvalDesignDerivatives) and, for the free input start, dphi/dq (the
+ *     coefficient K): no automatic or numerical differentiation. From the exact start(s) and
+ *     the model's values.
+ *  3. The global stage: Search::restarts runs of differential evolution (synthesis/optimize.h's
+ *     DifferentialEvolution, Deb's rule), each its own splitmix64 stream from (seed, run) and an
+ *     equal share of Search::evaluations, on `threads` threads (the result depends only on the
+ *     seed), each run's best Search::local_starts refined by LM within its budget.
+ *  Every candidate checked: the model assembles on its mode at every pair, and from pair to
+ *  pair (the input moving directly from q_i to q_i+1, sampled at Search::curve_samples per
+ *  turn) it stays on that mode with a nonzero branch measure (no dead point, no branch change);
+ *  the path tasks' constraints (synthesis/path.h CheckParameterConstraints; the transmission
+ *  angle over that motion, or the full turn when the crank must turn fully). The best by Deb's
+ *  rule (feasible first, then the error E = sum r_i^2, rad^2; ties to the earlier start).
+ * Counting: one candidate checked = 1 evaluation, one residual evaluation = 1, one Jacobian =
+ * 1 + the number of variables.
  */
 #pragma once
 

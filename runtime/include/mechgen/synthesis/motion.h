@@ -78,17 +78,22 @@ inline bool ParseMotionTask(const std::string& path, MotionTask* task, std::stri
     const YAML::Node angle = Required(path, root, "coupler_angle", "the coupler's angle among the model's dependent variables, e.g. theta_coupler");
     if (!angle.IsScalar()) throw Error{Where(path, angle.Mark()) + "coupler_angle: expected a dependent variable's name"};
     task->coupler_angle = angle.Scalar();
-    const YAML::Node params = Required(path, root, "parameters",
-                                       "the model's parameters {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}");
-    if (!params.IsMap()) throw Error{Where(path, params.Mark()) + "parameters: expected a mapping"};
-    Known(path, params, MotionParameterKeys(), "parameters");
-    for (const std::string& key : MotionParameterKeys()) {
-      const YAML::Node v = Required(path, params, key, "the model's parameter for it");
-      if (!v.IsScalar()) throw Error{Where(path, v.Mark()) + "parameters." + key + ": expected a parameter name"};
-      task->parameters.push_back(v.Scalar());
+    // The four-bar's parameters: needed to write one (five poses or more), not for the curves.
+    if (task->poses.size() >= 5)
+      Required(path, root, "parameters",
+               "the model's parameters {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, "
+               "theta0: theta0}");
+    if (const YAML::Node params = root["parameters"]) {
+      if (!params.IsMap()) throw Error{Where(path, params.Mark()) + "parameters: expected a mapping"};
+      Known(path, params, MotionParameterKeys(), "parameters");
+      for (const std::string& key : MotionParameterKeys()) {
+        const YAML::Node v = Required(path, params, key, "the model's parameter for it");
+        if (!v.IsScalar()) throw Error{Where(path, v.Mark()) + "parameters." + key + ": expected a parameter name"};
+        task->parameters.push_back(v.Scalar());
+      }
+      task->line = params.Mark().line + 1;
+      task->column = params.Mark().column + 1;
     }
-    task->line = params.Mark().line + 1;
-    task->column = params.Mark().column + 1;
     const int n = static_cast<int>(task->poses.size());
     if (const YAML::Node sp = root["seed_poses"]) {
       if (n <= 5) throw Error{Where(path, sp.Mark()) + "seed_poses: only for more than five poses"};
