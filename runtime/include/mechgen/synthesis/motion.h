@@ -294,10 +294,14 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
               const Eigen::Vector2d C = CirclePointAt(poses[0], r.points[static_cast<size_t>(j)].k);
               x[9] = WrapPi(poses[0].angle - std::atan2(C.y() - B.y(), C.x() - B.x()));
             }
+            auto* cost = new motion_internal::PoseResiduals<M>(poses, base, task.parameters, column, point, angle, L,
+                                                               &r.evaluations);
             ceres::Problem problem;
-            problem.AddResidualBlock(new motion_internal::PoseResiduals<M>(poses, base, task.parameters, column, point, angle,
-                                                                           L, &r.evaluations),
-                                     nullptr, x.data(), q.data());
+            problem.AddResidualBlock(cost, nullptr, x.data(), q.data());
+            // The start must assemble at every pose (else Ceres refuses it, and says so on stderr).
+            std::vector<double> start_residuals(static_cast<size_t>(3 * n));
+            const double* start_blocks[2] = {x.data(), q.data()};
+            const bool starts = cost->Evaluate(start_blocks, start_residuals.data(), nullptr);
             for (int k = 0; k < 4; ++k) problem.SetParameterLowerBound(x.data(), k, 1e-9 * L);
             ceres::Solver::Options options;
             options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -309,9 +313,9 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
             options.num_threads = 1;
             options.logging_type = ceres::SILENT;
             ceres::Solver::Summary summary;
-            ceres::Solve(options, &problem, &summary);
+            if (starts) ceres::Solve(options, &problem, &summary);
             c.iterations = static_cast<int>(summary.iterations.size());
-            if (summary.IsSolutionUsable()) {
+            if (starts && summary.IsSolutionUsable()) {
               f.a = x[0], f.b = x[1], f.c = x[2], f.d = x[3], f.xi = x[4], f.eta = x[5], f.x0 = x[6], f.y0 = x[7];
               f.theta0 = x[8];
               f.crank_angle = q;
