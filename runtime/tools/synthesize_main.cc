@@ -1,9 +1,9 @@
 // `mechgen synthesize MODEL --task TASK.yaml [--seed N] [--threads N] [--out DIR]`: dimensional
 // synthesis of a generated model (issue 28): path generation, motion generation (`synthesis:
-// motion`: synthesis/motion.h; Burmester: report.txt with the model file or curves.csv), and
-// function generation
-// (`synthesis: function`: synthesis/function.h; it writes function.svg for path.svg; its
-// global stage's runs go to --threads like path tasks'). The model gives
+// motion`: synthesis/motion.h; Burmester and, beyond five poses, least squares: report.txt
+// with the model file, or for four poses curves.csv and curves.svg), and function generation
+// (`synthesis: function`: synthesis/function.h; pairs or a function over a range; it writes
+// function.svg for path.svg; its global stage's runs go to --threads like path tasks'). The model gives
 // the topology, the design parameters (its `design:` section: their derivatives are the local
 // stage's Jacobian) and the point; the task file (docs/synthesis.md) the targets, the timing,
 // the variables' bounds, the constraints and the search's budget.
@@ -201,8 +201,8 @@ int Main(int argc, char** argv) {
   const std::string tool = mechgen::tools::ToolName(argv[0]);
   CLI::App app{"Dimensional synthesis (path, function or motion generation: the task file's `synthesis:`) of the model " +
                std::string(M::kName) +
-               ": seeded differential evolution (path) or Freudenstein's equation (function), then "
-               "Levenberg-Marquardt on the generated design derivatives. "
+               ": seeded differential evolution (path and function tasks; Freudenstein's equation for function "
+               "tasks, Burmester's points for motion), then Levenberg-Marquardt on the generated design derivatives. "
                "Exit 0 done, 1 bad task file or output, 2 usage error, 3 no feasible mechanism."};
   std::string task_path, out_dir = "synthesis_out", model_path;
   unsigned long long seed = 1;
