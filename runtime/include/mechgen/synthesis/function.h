@@ -83,6 +83,11 @@ struct FunctionTask {
   std::vector<double> x;                 ///< the accuracy points
   bool chebyshev = true;
   int samples = 200;                     ///< the structural error's check: samples + 1 points over the range
+  /// `fit: range`: the residuals are the structural error at the samples + 1 points (input and
+  /// psi hold those; the accuracy points stay in x, exact_input, exact_psi for Freudenstein's
+  /// seeds); `fit: points` (the default): at the accuracy points.
+  bool fit_range = false;
+  std::vector<double> exact_input, exact_psi;  ///< the accuracy points' pairs (= input, psi unless fit_range)
   // Free start angles: in_start and out_start are variables within these bounds (the spans stay).
   bool free_start = false;
   double in_lo = 0, in_hi = 0, out_lo = 0, out_hi = 0;
@@ -134,7 +139,7 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
     if (const YAML::Node fn = root["function"]) {
       if (!fn.IsMap())
         throw Error{Where(path, fn.Mark()) + "function: expected {expression: \"log10(x)\", x: [1, 2], input: [a, b], output: [c, d], points: 3}"};
-      Known(path, fn, {"expression", "x", "input", "output", "points", "spacing", "samples"}, "function");
+      Known(path, fn, {"expression", "x", "input", "output", "points", "spacing", "samples", "fit"}, "function");
       task->range = true;
       const YAML::Node ex = Required(path, fn, "expression", "y as a function of x, e.g. \"log10(x)\"");
       if (!ex.IsScalar()) throw Error{Where(path, ex.Mark()) + "function.expression: expected an expression in x"};
@@ -166,6 +171,12 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
         task->chebyshev = sp.Scalar() == "chebyshev";
       }
       if (fn["samples"]) task->samples = static_cast<int>(Count(path, fn["samples"], "function.samples", 2, 1000000));
+      if (const YAML::Node fit = fn["fit"]) {
+        if (!fit.IsScalar() || (fit.Scalar() != "points" && fit.Scalar() != "range"))
+          throw Error{Where(path, fit.Mark()) + "function.fit: expected points (the accuracy points) or range (the "
+                                                "structural error at every sample)"};
+        task->fit_range = fit.Scalar() == "range";
+      }
       task->y0 = task->f(task->x0);
       task->y1 = task->f(task->x1);
       if (!std::isfinite(task->y0) || !std::isfinite(task->y1) || task->y0 == task->y1)
@@ -182,10 +193,18 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
         task->input.push_back(task->in_start + task->in_span * (xj - task->x0) / (task->x1 - task->x0));
         task->psi.push_back(task->out_start + task->out_span * (yj - task->y0) / (task->y1 - task->y0));
       }
+      task->exact_input = task->input;
+      task->exact_psi = task->psi;
+      if (task->fit_range) task->input.clear(), task->psi.clear();
       for (int k = 0; k <= task->samples; ++k) {
         const double xk = task->x0 + (task->x1 - task->x0) * k / task->samples;
-        if (!std::isfinite(task->f(xk)))
+        const double yk = task->f(xk);
+        if (!std::isfinite(yk))
           throw Error{Where(path, ex.Mark()) + "function.expression: f(" + std::to_string(xk) + ") is not finite on the range"};
+        if (task->fit_range) {
+          task->input.push_back(task->in_start + task->in_span * (xk - task->x0) / (task->x1 - task->x0));
+          task->psi.push_back(task->out_start + task->out_span * (yk - task->y0) / (task->y1 - task->y0));
+        }
       }
     } else {
       const YAML::Node pairs = Required(path, root, "pairs", "the (input, output) angle pairs, [[30deg, 95deg], ...] (or function:)");
@@ -196,6 +215,8 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
         task->input.push_back(Number(path, pr[0], "input angle", true));
         task->psi.push_back(Number(path, pr[1], "output angle", true));
       }
+      task->exact_input = task->input;
+      task->exact_psi = task->psi;
     }
     if (const YAML::Node fs = root["free_start"]) {
       if (!task->range)
@@ -227,8 +248,8 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
         if (!v.IsScalar()) throw Error{Where(path, v.Mark()) + "freudenstein." + keys[k] + ": expected a parameter name"};
         *slots[k] = v.Scalar();
       }
-      if (task->input.size() < 3)
-        throw Error{Where(path, f.Mark()) + "freudenstein: needs at least three pairs"};
+      if (task->exact_input.size() < 3)
+        throw Error{Where(path, f.Mark()) + "freudenstein: needs at least three pairs (accuracy points)"};
     }
     ReadVariables(path, root, "{a: [0.1, 10], ...}", &task->variables);
     if (task->freudenstein) {
@@ -640,9 +661,9 @@ FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed, int 
   // The exact method at start angles (in0, out0): its four-bar as a candidate.
   auto exact_at = [&](double in0, double out0, FreudensteinResult* fr) {
     std::vector<double> t2, t4;
-    for (int i = 0; i < b.n; ++i) {
-      t2.push_back(t.input[static_cast<size_t>(i)] - t.in_start + in0);
-      t4.push_back(t.psi[static_cast<size_t>(i)] - t.out_start + out0);
+    for (size_t i = 0; i < t.exact_input.size(); ++i) {
+      t2.push_back(t.exact_input[i] - t.in_start + in0);
+      t4.push_back(t.exact_psi[i] - t.out_start + out0);
     }
     auto p = b.base;
     *fr = Freudenstein(t2, t4, *p.Find(t.ground.c_str()));
@@ -775,7 +796,8 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
       s += "Freudenstein's least squares at " + std::to_string(r.exact_grid) + " start-angle pairs (the seeds of the free start angles)\n";
   }
   const FunctionCandidate& c = r.best;
-  s += "best: from " + c.start + ", error (sum of squared angle residuals at the points) " + Short(c.error, 9) + " rad^2\n";
+  s += "best: from " + c.start + ", error (sum of squared angle residuals at the " +
+       std::string(t.fit_range ? "samples" : "points") + ") " + Short(c.error, 9) + " rad^2\n";
   s += "defect checks: " + (c.feasible() ? std::string("none (every pair on the model's assembly mode, no dead point between pairs, "
                                                        "the constraints met)")
                                          : c.defect) + "\n";
@@ -784,10 +806,17 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
   if (t.free_start)
     s += "start angles: input " + Num(c.x[static_cast<size_t>(b.nv)] * 180 / M_PI) + " deg, output " +
          Num(c.x[static_cast<size_t>(b.nv + 1)] * 180 / M_PI) + " deg\n";
-  s += std::string(t.range ? "point  x  " : "pair  ") + "input(deg)  target(deg)  residual(rad)\n";
   const double in_shift = t.free_start ? c.x[static_cast<size_t>(b.nv)] - t.in_start : 0;
   const double out_shift = t.free_start ? c.x[static_cast<size_t>(b.nv + 1)] - t.out_start : 0;
-  for (int i = 0; i < b.n; ++i)
+  if (t.fit_range) {
+    double worst = 0;
+    for (double e : c.residual) worst = std::max(worst, std::abs(e));
+    s += "fitted: the structural error at " + std::to_string(b.n) + " samples over the range (largest residual " +
+         Short(worst, 6) + " rad)\n";
+  } else {
+    s += std::string(t.range ? "point  x  " : "pair  ") + "input(deg)  target(deg)  residual(rad)\n";
+  }
+  for (int i = 0; i < (t.fit_range ? 0 : b.n); ++i)
     s += std::to_string(i + 1) + "  " + (t.range ? Short(t.x[static_cast<size_t>(i)], 10) + "  " : std::string()) +
          Short((t.input[static_cast<size_t>(i)] + in_shift) * 180 / M_PI, 10) + "  " +
          Short((t.psi[static_cast<size_t>(i)] + out_shift) * 180 / M_PI, 10) + "  " +
@@ -813,8 +842,10 @@ std::string FunctionSvg(FunctionEvaluator<M>* eval, const FunctionCandidate& c, 
   const BoundFunction<M>& b = eval->bound();
   const FunctionTask& t = b.task;
   const auto p = eval->ParamsOf(c.x);
+  // The circles: the pairs or accuracy points (not the samples of `fit: range`).
   std::vector<double> qs, ts;
-  for (int i = 0; i < b.n; ++i) qs.push_back(eval->Q(c.x, i)), ts.push_back(eval->Target(c.x, i));
+  for (size_t i = 0; i < t.exact_input.size(); ++i)
+    qs.push_back(t.exact_input[i] - t.in_start + eval->InStart(c.x)), ts.push_back(t.exact_psi[i] - t.out_start + eval->OutStart(c.x));
   double q0 = *std::min_element(qs.begin(), qs.end()), q1 = *std::max_element(qs.begin(), qs.end());
   std::vector<std::array<double, 2>> wanted;
   if (t.range) {
@@ -863,8 +894,8 @@ std::string FunctionSvg(FunctionEvaluator<M>* eval, const FunctionCandidate& c, 
     for (const auto& pt : piece) svg += X(pt[0]) + "," + Y(pt[1]) + " ";
     svg += "\"/>\n";
   }
-  for (int i = 0; i < b.n; ++i)
-    svg += "<circle cx=\"" + X(qs[static_cast<size_t>(i)]) + "\" cy=\"" + Y(ts[static_cast<size_t>(i)]) +
+  for (size_t i = 0; i < qs.size(); ++i)
+    svg += "<circle cx=\"" + X(qs[i]) + "\" cy=\"" + Y(ts[i]) +
            "\" r=\"5\" fill=\"none\" stroke=\"#c0392b\" stroke-width=\"1.5\"/>\n";
   svg += "</svg>\n";
   return svg;
