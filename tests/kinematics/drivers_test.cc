@@ -1,0 +1,261 @@
+// Drivers that are not joint coordinates (issue 26), on the test model
+// tests/kinematics/models/tool_point_drivers.yaml: a five-bar robot driven by its tool point's
+// x and y (the motor angles become dependent coordinates through the driving constraints
+// r_C(phi) - q = 0), and an oscillating block driven by its pin's slide in the slot.
+// Oracles, independent of the generator:
+//  - the five-bar's closed-form inverse kinematics (each leg: the circle of its proximal link
+//    about its motor meets the circle of its distal link about the tool), along a straight
+//    line of the tool; K against central differences of it, L against central differences
+//    of the generated K; the tool's K_P the identity;
+//  - the force along x and y the tool needs to hold the bars' weights: the derivatives of
+//    their potential energy, computed from the closed form, by central differences;
+//  - the workspace boundary (a leg stretched, |AC| = a + b): the generated solve's branch
+//    measure and det Phi_phi vanish there, beyond it no assembly; a sweep of the runtime along
+//    a line that leaves the workspace stops there with kSingular;
+//  - the slot driven by its slide s = |HP|: the crank angle from the triangle K P H (law of
+//    cosines), the rocker's from the pin's position; K against central differences.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "mechgen/position/solver.h"
+#include "mechgen/sweep/sweep.h"
+#include "tool_point_drivers.h"
+
+namespace {
+
+using M = mech::tool_point_drivers::Model;
+using Status = mech::tool_point_drivers::SolveStatus;
+using VecQ = Eigen::Matrix<double, 3, 1>;
+using VecPhi = Eigen::Matrix<double, 6, 1>;
+constexpr double kPi = 3.14159265358979323846;
+
+double Wrap(double a) { return std::remainder(a, 2 * kPi); }
+
+// The five-bar's phi (theta_prox1, theta_dist1, theta_dist2, theta_prox2) with its tool at
+// (x, y): B left of A -> C, D right of E -> C (the model's working mode).
+std::array<double, 4> FiveBarInverse(const M::ParamsT<double>& p, double x, double y) {
+  const double a = p.a, b = p.b, f = p.f;
+  const double d1 = std::hypot(x, y);
+  const double prox1 = std::atan2(y, x) + std::acos((a * a + d1 * d1 - b * b) / (2 * a * d1));
+  const double bx = a * std::cos(prox1), by = a * std::sin(prox1);
+  const double d2 = std::hypot(x - f, y);
+  const double prox2 = std::atan2(y, x - f) - std::acos((a * a + d2 * d2 - b * b) / (2 * a * d2));
+  const double dx = f + a * std::cos(prox2), dy = a * std::sin(prox2);
+  return {prox1, std::atan2(y - by, x - bx), std::atan2(y - dy, x - dx), prox2};
+}
+
+// The oscillating block's (theta_crank, theta_rocker) at slide s = |HP|: crank pivot K = (1, 0),
+// rocker pivot H = (1 + h, 0), P above the ground line.
+std::array<double, 2> SlotInverse(const M::ParamsT<double>& p, double s) {
+  const double r = p.r, h = p.h;
+  const double crank = std::acos((r * r + h * h - s * s) / (2 * r * h));
+  const double px = 1 + r * std::cos(crank), py = r * std::sin(crank);
+  return {crank, std::atan2(py, px - (1 + h))};
+}
+
+// The bars' potential energy in gravity g along -y (uniform bars, centres mid-length).
+double Potential(const M::ParamsT<double>& p, double x, double y) {
+  const std::array<double, 4> t = FiveBarInverse(p, x, y);
+  const double a = p.a, b = p.b;
+  const double y_prox1 = a / 2 * std::sin(t[0]), y_prox2 = a / 2 * std::sin(t[3]);
+  const double y_dist1 = a * std::sin(t[0]) + b / 2 * std::sin(t[1]);
+  const double y_dist2 = a * std::sin(t[3]) + b / 2 * std::sin(t[2]);
+  return p.g * p.rho * (a * (y_prox1 + y_prox2) + b * (y_dist1 + y_dist2));
+}
+
+VecPhi Exact(const M::ParamsT<double>& p, const VecQ& q) {
+  const std::array<double, 4> t = FiveBarInverse(p, q(0), q(1));
+  const std::array<double, 2> s = SlotInverse(p, q(2));
+  VecPhi phi;
+  phi << t[0], t[1], t[2], t[3], s[0], s[1];
+  return phi;
+}
+
+// Solves at q from the guess; fails the test unless the solve converges.
+VecPhi Solved(const M::ParamsT<double>& p, const VecQ& q, VecPhi guess) {
+  const auto report = M::Solve(p, q, &guess);
+  EXPECT_EQ(report.status, Status::kConverged) << q.transpose();
+  return guess;
+}
+
+TEST(Drivers, FiveBarToolAlongALineIsTheClosedFormInverseKinematics) {
+  const M::ParamsT<double> p;
+  ASSERT_STREQ(M::kQNames[0], "x_dist1_C");
+  ASSERT_STREQ(M::kQNames[1], "y_dist1_C");
+  ASSERT_STREQ(M::kQNames[2], "s_slot");
+  ASSERT_STREQ(M::kPhiNames[0], "theta_prox1");
+  ASSERT_STREQ(M::kPhiNames[3], "theta_prox2");
+  ASSERT_STREQ(M::kPointNames[0], "dist1.C");
+  ASSERT_STREQ(M::kPointNames[1], "dist2.C");
+  const int kSamples = 200;
+  VecPhi phi;
+  for (int i = 0; i < 6; ++i) phi(i) = M::kAssemblyPhi[i];
+  for (int k = 0; k <= kSamples; ++k) {
+    // The default range: the straight line of the tool from (-0.1, 0.25) to (0.3, 0.35), the
+    // slide from 0.17 to 0.33 at the same time.
+    VecQ q;
+    for (int j = 0; j < 3; ++j) q(j) = M::kQMin[j] + (M::kQMax[j] - M::kQMin[j]) * k / kSamples;
+    phi = Solved(p, q, phi);
+    const VecPhi exact = Exact(p, q);
+    for (int i = 0; i < 6; ++i) EXPECT_NEAR(Wrap(phi(i) - exact(i)), 0, 1e-12) << i << " at " << q.transpose();
+
+    M::CoefficientsT<double> c;
+    M::Coeffs(p, q, phi, &c);
+    // The tool is where it is driven, on both legs; its K_P the identity in (x, y).
+    for (int point = 0; point < 2; ++point) {
+      EXPECT_NEAR(c.r_P(0, point), q(0), 1e-12);
+      EXPECT_NEAR(c.r_P(1, point), q(1), 1e-12);
+      for (int a = 0; a < 2; ++a)
+        for (int j = 0; j < 3; ++j) EXPECT_NEAR(c.K_P(2 * point + a, j), a == j ? 1.0 : 0.0, 1e-12);
+    }
+    // K against central differences of the closed form (error ~ h^2 |phi'''| + eps/h).
+    const double h = 1e-5;
+    for (int j = 0; j < 3; ++j) {
+      VecQ plus = q, minus = q;
+      plus(j) += h;
+      minus(j) -= h;
+      const VecPhi dp = Exact(p, plus), dm = Exact(p, minus);
+      for (int i = 0; i < 6; ++i) {
+        const double fd = Wrap(dp(i) - dm(i)) / (2 * h);
+        EXPECT_NEAR(c.K(i, j), fd, 1e-7 * (1 + std::abs(fd))) << "K(" << i << ", " << j << ") at " << q.transpose();
+      }
+      // L(i, l + 3 j) = d K(i, l) / d q_j against central differences of the generated K.
+      M::CoefficientsT<double> cp, cm;
+      M::Coeffs(p, plus, Solved(p, plus, phi), &cp);
+      M::Coeffs(p, minus, Solved(p, minus, phi), &cm);
+      for (int i = 0; i < 6; ++i)
+        for (int l = 0; l < 3; ++l) {
+          const double fd = (cp.K(i, l) - cm.K(i, l)) / (2 * h);
+          EXPECT_NEAR(c.L(i, l + 3 * j), fd, 1e-6 * (1 + std::abs(fd))) << "L(" << i << ", " << l << ", " << j << ")";
+        }
+    }
+  }
+}
+
+TEST(Drivers, ForceAtTheToolIsTheDerivativeOfThePotential) {
+  const M::ParamsT<double> p;
+  VecPhi phi;
+  for (int i = 0; i < 6; ++i) phi(i) = M::kAssemblyPhi[i];
+  for (int k = 0; k <= 20; ++k) {
+    VecQ q;
+    for (int j = 0; j < 3; ++j) q(j) = M::kQMin[j] + (M::kQMax[j] - M::kQMin[j]) * k / 20;
+    phi = Solved(p, q, phi);
+    M::CoefficientsT<double> c;
+    M::Coeffs(p, q, phi, &c);
+    M::StaticsT<double> s;
+    M::Forces(p, q, phi, c, &s);
+    // The force along x (along y) that holds the bars: dV/dx (dV/dy); nothing along the
+    // massless block's slot.
+    const double h = 1e-5;
+    const double fx = (Potential(p, q(0) + h, q(1)) - Potential(p, q(0) - h, q(1))) / (2 * h);
+    const double fy = (Potential(p, q(0), q(1) + h) - Potential(p, q(0), q(1) - h)) / (2 * h);
+    EXPECT_NEAR(s.drive(0), fx, 1e-7 * (1 + std::abs(fx))) << q.transpose();
+    EXPECT_NEAR(s.drive(1), fy, 1e-7 * (1 + std::abs(fy))) << q.transpose();
+    EXPECT_NEAR(s.drive(2), 0, 1e-12);
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(s.drive(j), -s.Q(j));
+    // The weights pull the tool down: it must be held up.
+    EXPECT_GT(s.drive(1), 0.5 * p.g * p.rho * (p.a + p.b));
+  }
+}
+
+TEST(Drivers, FiveBarWorkspaceBoundaryIsSingular) {
+  const M::ParamsT<double> p;
+  const double reach = p.a + p.b;  // the left leg stretched: B on A -> C
+  const double dir = 70 * kPi / 180;
+  VecPhi phi;
+  for (int i = 0; i < 6; ++i) phi(i) = M::kAssemblyPhi[i];
+  phi = Solved(p, VecQ(-0.1, 0.25, 0.25), phi);
+  auto at = [&](double radius) { return VecQ(radius * std::cos(dir), radius * std::sin(dir), 0.25); };
+  // Inside: regular, and det Phi_phi is the product of the three dyads' (|a x b|), of which the
+  // left leg's a b sin(theta_dist1 - theta_prox1) goes to 0 as the leg stretches.
+  double det_inside = 0;
+  VecPhi inside = phi;
+  for (double radius : {0.45, 0.54, 0.549}) {
+    inside = Solved(p, at(radius), inside);
+    M::DetPhiPhi(p, at(radius), inside, &det_inside);
+    const double leg = p.a * p.b * std::sin(inside(1) - inside(0));
+    EXPECT_GT(std::abs(leg), 1e-3) << radius;
+  }
+  // On the boundary: the two modes of the left leg meet (branch measure 0), det Phi_phi 0.
+  VecPhi edge = inside;
+  const auto report = M::Solve(p, at(reach), &edge);
+  ASSERT_EQ(report.status, Status::kConverged);
+  EXPECT_EQ(report.branch_block, 0);
+  EXPECT_LT(report.branch_measure, 1e-12);
+  double det_edge = 1;
+  M::DetPhiPhi(p, at(reach), edge, &det_edge);
+  EXPECT_LT(std::abs(det_edge), 1e-6 * std::abs(det_inside));
+  EXPECT_NEAR(Wrap(edge(0) - dir), 0, 1e-6);  // prox1 and dist1 along A -> C
+  EXPECT_NEAR(Wrap(edge(1) - dir), 0, 1e-6);
+  // Beyond: the left leg's dyad has no real solution.
+  VecPhi beyond = inside;
+  const auto out = M::Solve(p, at(reach + 1e-3), &beyond);
+  EXPECT_EQ(out.status, Status::kNotAssemblable);
+  EXPECT_EQ(out.block, 0);
+}
+
+TEST(Drivers, SweepAlongALineStopsSingularAtTheWorkspaceBoundary) {
+  mechgen::position::PositionSolver<M> solver;
+  mechgen::position::Summary summary;
+  ASSERT_EQ(solver.AssembleDefault(&summary), mechgen::position::Status::kConverged);
+  const M::ParamsT<double> p;
+  // y = 0.3: the left leg reaches x = sqrt((a + b)^2 - 0.09).
+  const double x_edge = std::sqrt(std::pow(p.a + p.b, 2) - 0.09);
+  std::vector<mechgen::SweepRecord<M>> records;
+  const int steps = 100;
+  mechgen::Sweep(&solver, VecQ(0.1, 0.3, 0.25), VecQ(0.6, 0.3, 0.25), steps, VecQ(1, 0, 0), VecQ(0, 0, 0), &records);
+  ASSERT_EQ(static_cast<int>(records.size()), steps + 1);
+  int stop = -1;
+  for (int i = 0; i <= steps && stop < 0; ++i) {
+    const auto& r = records[i];
+    if (r.summary.status == mechgen::position::Status::kSingular) {
+      stop = i;
+      break;
+    }
+    ASSERT_EQ(r.summary.status, mechgen::position::Status::kConverged) << i;
+    EXPECT_LT(r.q(0), x_edge);
+    const VecPhi exact = Exact(p, r.q);
+    for (int c = 0; c < 6; ++c) EXPECT_NEAR(Wrap(r.state.phi(c) - exact(c)), 0, 1e-9) << i;
+  }
+  // The row whose input is the first beyond the edge stops there, at its last valid
+  // configuration just before the edge; the rest are not run.
+  const int first_beyond = static_cast<int>(std::ceil((x_edge - 0.1) / 0.5 * steps));
+  ASSERT_EQ(stop, first_beyond);
+  EXPECT_TRUE(records[stop].state.valid);
+  EXPECT_LT(records[stop].state.q(0), x_edge);
+  EXPECT_GT(records[stop].state.q(0), x_edge - 1e-3);
+  for (int i = stop + 1; i <= steps; ++i) EXPECT_EQ(records[i].summary.status, mechgen::position::Status::kNotRun);
+}
+
+TEST(Drivers, SlotDrivenByItsSlideIsTheTriangle) {
+  const M::ParamsT<double> p;
+  VecPhi phi;
+  for (int i = 0; i < 6; ++i) phi(i) = M::kAssemblyPhi[i];
+  const VecQ base(0.1, 0.3, 0);
+  for (int k = 0; k <= 160; ++k) {
+    VecQ q = base;
+    q(2) = 0.17 + 0.16 * k / 160;
+    phi = Solved(p, q, phi);
+    const std::array<double, 2> exact = SlotInverse(p, q(2));
+    EXPECT_NEAR(Wrap(phi(4) - exact[0]), 0, 1e-12) << q(2);
+    EXPECT_NEAR(Wrap(phi(5) - exact[1]), 0, 1e-12) << q(2);
+    M::CoefficientsT<double> c;
+    M::Coeffs(p, q, phi, &c);
+    // The pin P (point 2) is s from the rocker's pivot H along the rocker.
+    const double px = c.r_P(0, 2), py = c.r_P(1, 2);
+    EXPECT_NEAR(std::hypot(px - (1 + p.h), py), q(2), 1e-12);
+    EXPECT_NEAR(std::hypot(px - 1, py), p.r, 1e-12);
+    const double h = 1e-6;
+    const std::array<double, 2> plus = SlotInverse(p, q(2) + h), minus = SlotInverse(p, q(2) - h);
+    for (int i = 0; i < 2; ++i) {
+      const double fd = Wrap(plus[i] - minus[i]) / (2 * h);
+      EXPECT_NEAR(c.K(4 + i, 2), fd, 1e-7 * (1 + std::abs(fd))) << q(2);
+      EXPECT_EQ(c.K(4 + i, 0), 0.0);
+      EXPECT_EQ(c.K(4 + i, 1), 0.0);
+    }
+  }
+}
+
+}  // namespace
