@@ -141,7 +141,9 @@ void CheckTopology(const Model& m, const Topology& t) {
     std::string detail = "Grübler–Kutzbach " + t.grubler_text + ", loop criterion " + t.loop_text;
     m.Fail(m.inputs_mark, std::to_string(declared) + " input(s) declared but the mechanism has " +
                               std::to_string(t.loop_mobility) + " degree(s) of freedom (" + detail +
-                              "); declare exactly " + std::to_string(t.loop_mobility) + " driven joint(s)");
+                              "); declare exactly " + std::to_string(t.loop_mobility) +
+                              " input(s): driven joints, link angles (angle: <link>) or point coordinates (point: "
+                              "<link.point>, coordinate: x|y)");
   }
   // Each input must drive its own variable.
   std::vector<int> driven_group(t.num_groups(), -1);  // index into m.inputs
