@@ -29,13 +29,12 @@ void StaticsTable::DeriveReactions(Stage& st) {
   std::set<int> needed(m.outputs.reactions.begin(), m.outputs.reactions.end());
   needed.insert(layout.friction.begin(), layout.friction.end());
   if (needed.empty() || !options.reactions) return;
+  // A point input's driving constraint has a multiplier of its own (the actuator's force, also
+  // an item on the point's link for the tree joints' balances), so the joints' are as without it.
   for (const Input& in : m.inputs)
-    if (in.IsPoint()) {
-      const SourceMark mark = m.outputs.reactions_mark.line ? m.outputs.reactions_mark : m.friction.front().mark;
-      m.Fail(mark, "joint reactions and friction are not derived yet for a model driven by a point's coordinate "
-                   "(input " + PointInputName(m, in) + "); drive joints, or ask for the driving forces only "
-                   "(quantities: [forces]) without reactions and friction");
-    }
+    if (in.IsPoint() && !layout.friction.empty())
+      m.Fail(m.friction.front().mark, "friction is not derived yet for a model driven by a point's coordinate "
+                                      "(input " + PointInputName(m, in) + "); drive joints, or leave friction out");
 
   // Multipliers: Phi_phi^T lambda = -g_phi, block by block in reverse order (Phi_phi is
   // block lower triangular, so its transpose is block upper triangular).

@@ -8,7 +8,9 @@
 //    line of the tool; K against central differences of it, L against central differences
 //    of the generated K; the tool's K_P the identity;
 //  - the force along x and y the tool needs to hold the bars' weights: the derivatives of
-//    their potential energy, computed from the closed form, by central differences;
+//    their potential energy, computed from the closed form, by central differences; the
+//    pins' reactions: every bar's free body balances (forces and moments) with them, its
+//    weight and, on dist1 at C, that force;
 //  - the workspace boundary (a leg stretched, |AC| = a + b): the generated solve's branch
 //    measure and det Phi_phi vanish there, beyond it no assembly; a sweep of the runtime along
 //    a line that leaves the workspace stops there with kSingular;
@@ -157,6 +159,54 @@ TEST(Drivers, ForceAtTheToolIsTheDerivativeOfThePotential) {
     for (int j = 0; j < 3; ++j) EXPECT_EQ(s.drive(j), -s.Q(j));
     // The weights pull the tool down: it must be held up.
     EXPECT_GT(s.drive(1), 0.5 * p.g * p.rho * (p.a + p.b));
+  }
+}
+
+double Cross(const Eigen::Vector2d& r, const Eigen::Vector2d& f) { return r(0) * f(1) - r(1) * f(0); }
+
+TEST(Drivers, ReactionsBalanceEveryLinkWithTheForceAtTheTool) {
+  // Free bodies of the four bars: the weights at their centres, the pins' forces (F_J: of
+  // J's first link on its second), and on dist1 at C the actuator's force (drive(0), drive(1)).
+  ASSERT_EQ(M::kNumReactions, 10);
+  const char* names[] = {"F_A_x", "F_A_y", "F_B_x", "F_B_y", "F_C_x", "F_C_y", "F_D_x", "F_D_y", "F_E_x", "F_E_y"};
+  for (int i = 0; i < 10; ++i) ASSERT_STREQ(M::kReactionNames[i], names[i]);
+  const M::ParamsT<double> p;
+  VecPhi phi;
+  for (int i = 0; i < 6; ++i) phi(i) = M::kAssemblyPhi[i];
+  for (int k = 0; k <= 20; ++k) {
+    VecQ q;
+    for (int j = 0; j < 3; ++j) q(j) = M::kQMin[j] + (M::kQMax[j] - M::kQMin[j]) * k / 20;
+    phi = Solved(p, q, phi);
+    M::CoefficientsT<double> c;
+    M::Coeffs(p, q, phi, &c);
+    M::StaticsT<double> s;
+    M::Forces(p, q, phi, c, &s);
+    const std::array<double, 4> t = FiveBarInverse(p, q(0), q(1));
+    const Eigen::Vector2d A(0, 0), E(p.f, 0), C(q(0), q(1));
+    const Eigen::Vector2d B(p.a * std::cos(t[0]), p.a * std::sin(t[0]));
+    const Eigen::Vector2d D = E + Eigen::Vector2d(p.a * std::cos(t[3]), p.a * std::sin(t[3]));
+    const Eigen::Vector2d w_prox(0, -p.rho * p.a * p.g), w_dist(0, -p.rho * p.b * p.g);
+    const Eigen::Vector2d F_A(s.R(0), s.R(1)), F_B(s.R(2), s.R(3)), F_C(s.R(4), s.R(5)), F_D(s.R(6), s.R(7)),
+        F_E(s.R(8), s.R(9)), drive(s.drive(0), s.drive(1));
+    struct Body {
+      const char* link;
+      Eigen::Vector2d force;
+      double moment;  // about the origin
+    };
+    const Body bodies[] = {
+        {"prox1", F_A - F_B + w_prox, Cross(A, F_A) - Cross(B, F_B) + Cross((A + B) / 2, w_prox)},
+        {"dist1", F_B - F_C + w_dist + drive,
+         Cross(B, F_B) - Cross(C, F_C) + Cross((B + C) / 2, w_dist) + Cross(C, drive)},
+        {"dist2", F_C - F_D + w_dist, Cross(C, F_C) - Cross(D, F_D) + Cross((D + C) / 2, w_dist)},
+        {"prox2", F_D - F_E + w_prox, Cross(D, F_D) - Cross(E, F_E) + Cross((E + D) / 2, w_prox)},
+    };
+    for (const Body& b : bodies) {
+      EXPECT_NEAR(b.force(0), 0, 1e-10) << b.link << " at " << q.transpose();
+      EXPECT_NEAR(b.force(1), 0, 1e-10) << b.link << " at " << q.transpose();
+      EXPECT_NEAR(b.moment, 0, 1e-10) << b.link << " at " << q.transpose();
+    }
+    // Not all zero: the ground carries the weights less what the tool's actuator holds.
+    EXPECT_NEAR(F_A(1) - F_E(1) + drive(1), 2 * p.rho * p.g * (p.a + p.b), 1e-10);
   }
 }
 
