@@ -1,7 +1,8 @@
 // Drivers that are not joint coordinates (issue 26), on the test model
 // tests/kinematics/models/tool_point_drivers.yaml: a five-bar robot driven by its tool point's
 // x and y (the motor angles become dependent coordinates through the driving constraints
-// r_C(phi) - q = 0), and an oscillating block driven by its pin's slide in the slot.
+// r_C(phi) - q = 0), an oscillating block driven by its pin's slide in the slot, and a
+// crank-rocker four-bar driven by its coupler's absolute angle.
 // Oracles, independent of the generator:
 //  - the five-bar's closed-form inverse kinematics (each leg: the circle of its proximal link
 //    about its motor meets the circle of its distal link about the tool), along a straight
@@ -15,7 +16,10 @@
 //    measure and det Phi_phi vanish there, beyond it no assembly; a sweep of the runtime along
 //    a line that leaves the workspace stops there with kSingular;
 //  - the slot driven by its slide s = |HP|: the crank angle from the triangle K P H (law of
-//    cosines), the rocker's from the pin's position; K against central differences.
+//    cosines), the rocker's from the pin's position; K against central differences;
+//  - the four-bar driven by its coupler's angle: the crank's from |C - N| = c (a circle about
+//    the pivot M meets a circle about N shifted by the coupler), K against differences, the
+//    couple on the coupler against the derivative of its potential, its bars' free bodies.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -29,8 +33,9 @@ namespace {
 
 using M = mech::tool_point_drivers::Model;
 using Status = mech::tool_point_drivers::SolveStatus;
-using VecQ = Eigen::Matrix<double, 3, 1>;
-using VecPhi = Eigen::Matrix<double, 6, 1>;
+constexpr int kNq = 4, kNphi = 8;
+using VecQ = Eigen::Matrix<double, kNq, 1>;
+using VecPhi = Eigen::Matrix<double, kNphi, 1>;
 constexpr double kPi = 3.14159265358979323846;
 
 double Wrap(double a) { return std::remainder(a, 2 * kPi); }
@@ -57,6 +62,17 @@ std::array<double, 2> SlotInverse(const M::ParamsT<double>& p, double s) {
   return {crank, std::atan2(py, px - (1 + h))};
 }
 
+// The four-bar's (theta_crank4, theta_rocker4) with its coupler at angle t3: pivots M = (3, 0),
+// N = (3.4, 0), crank 0.1, coupler 0.35, rocker 0.3; the crank on the side of the model's
+// assembly (the root + acos).
+std::array<double, 2> CouplerInverse(double t3) {
+  const double a = 0.1, b = 0.35, c = 0.3, d = 0.4;
+  const double wx = d - b * std::cos(t3), wy = -b * std::sin(t3), w = std::hypot(wx, wy);
+  const double crank = std::atan2(wy, wx) + std::acos((a * a + w * w - c * c) / (2 * a * w));
+  const double cx = 3 + a * std::cos(crank) + b * std::cos(t3), cy = a * std::sin(crank) + b * std::sin(t3);
+  return {crank, std::atan2(cy, cx - 3.4)};
+}
+
 // The bars' potential energy in gravity g along -y (uniform bars, centres mid-length).
 double Potential(const M::ParamsT<double>& p, double x, double y) {
   const std::array<double, 4> t = FiveBarInverse(p, x, y);
@@ -70,9 +86,30 @@ double Potential(const M::ParamsT<double>& p, double x, double y) {
 VecPhi Exact(const M::ParamsT<double>& p, const VecQ& q) {
   const std::array<double, 4> t = FiveBarInverse(p, q(0), q(1));
   const std::array<double, 2> s = SlotInverse(p, q(2));
+  const std::array<double, 2> c = CouplerInverse(q(3));
   VecPhi phi;
-  phi << t[0], t[1], t[2], t[3], s[0], s[1];
+  phi << t[0], t[1], t[2], t[3], s[0], s[1], c[0], c[1];
   return phi;
+}
+
+VecPhi AssemblyPhi() {
+  VecPhi phi;
+  for (int i = 0; i < kNphi; ++i) phi(i) = M::kAssemblyPhi[i];
+  return phi;
+}
+
+// The inputs at fraction k / n of the default range (the tool on a straight line).
+VecQ Along(int k, int n) {
+  VecQ q;
+  for (int j = 0; j < kNq; ++j) q(j) = M::kQMin[j] + (M::kQMax[j] - M::kQMin[j]) * k / n;
+  return q;
+}
+
+// The tool at (x, y), the slide at 0.25, the coupler at 45 deg (or as given).
+VecQ Q(double x, double y, double s = 0.25, double coupler = 45 * kPi / 180) {
+  VecQ q;
+  q << x, y, s, coupler;
+  return q;
 }
 
 // Solves at q from the guess; fails the test unless the solve converges.
@@ -87,21 +124,21 @@ TEST(Drivers, FiveBarToolAlongALineIsTheClosedFormInverseKinematics) {
   ASSERT_STREQ(M::kQNames[0], "x_dist1_C");
   ASSERT_STREQ(M::kQNames[1], "y_dist1_C");
   ASSERT_STREQ(M::kQNames[2], "s_slot");
+  ASSERT_STREQ(M::kQNames[3], "theta_coupler4");
+  ASSERT_STREQ(M::kPhiNames[6], "theta_crank4");
   ASSERT_STREQ(M::kPhiNames[0], "theta_prox1");
   ASSERT_STREQ(M::kPhiNames[3], "theta_prox2");
   ASSERT_STREQ(M::kPointNames[0], "dist1.C");
   ASSERT_STREQ(M::kPointNames[1], "dist2.C");
   const int kSamples = 200;
-  VecPhi phi;
-  for (int i = 0; i < 6; ++i) phi(i) = M::kAssemblyPhi[i];
+  VecPhi phi = AssemblyPhi();
   for (int k = 0; k <= kSamples; ++k) {
     // The default range: the straight line of the tool from (-0.1, 0.25) to (0.3, 0.35), the
-    // slide from 0.17 to 0.33 at the same time.
-    VecQ q;
-    for (int j = 0; j < 3; ++j) q(j) = M::kQMin[j] + (M::kQMax[j] - M::kQMin[j]) * k / kSamples;
+    // slide from 0.17 to 0.33 and the coupler from 40 to 55 deg at the same time.
+    const VecQ q = Along(k, kSamples);
     phi = Solved(p, q, phi);
     const VecPhi exact = Exact(p, q);
-    for (int i = 0; i < 6; ++i) EXPECT_NEAR(Wrap(phi(i) - exact(i)), 0, 1e-12) << i << " at " << q.transpose();
+    for (int i = 0; i < kNphi; ++i) EXPECT_NEAR(Wrap(phi(i) - exact(i)), 0, 1e-12) << i << " at " << q.transpose();
 
     M::CoefficientsT<double> c;
     M::Coeffs(p, q, phi, &c);
@@ -110,27 +147,27 @@ TEST(Drivers, FiveBarToolAlongALineIsTheClosedFormInverseKinematics) {
       EXPECT_NEAR(c.r_P(0, point), q(0), 1e-12);
       EXPECT_NEAR(c.r_P(1, point), q(1), 1e-12);
       for (int a = 0; a < 2; ++a)
-        for (int j = 0; j < 3; ++j) EXPECT_NEAR(c.K_P(2 * point + a, j), a == j ? 1.0 : 0.0, 1e-12);
+        for (int j = 0; j < kNq; ++j) EXPECT_NEAR(c.K_P(2 * point + a, j), a == j ? 1.0 : 0.0, 1e-12);
     }
     // K against central differences of the closed form (error ~ h^2 |phi'''| + eps/h).
     const double h = 1e-5;
-    for (int j = 0; j < 3; ++j) {
+    for (int j = 0; j < kNq; ++j) {
       VecQ plus = q, minus = q;
       plus(j) += h;
       minus(j) -= h;
       const VecPhi dp = Exact(p, plus), dm = Exact(p, minus);
-      for (int i = 0; i < 6; ++i) {
+      for (int i = 0; i < kNphi; ++i) {
         const double fd = Wrap(dp(i) - dm(i)) / (2 * h);
         EXPECT_NEAR(c.K(i, j), fd, 1e-7 * (1 + std::abs(fd))) << "K(" << i << ", " << j << ") at " << q.transpose();
       }
-      // L(i, l + 3 j) = d K(i, l) / d q_j against central differences of the generated K.
+      // L(i, l + kNq j) = d K(i, l) / d q_j against central differences of the generated K.
       M::CoefficientsT<double> cp, cm;
       M::Coeffs(p, plus, Solved(p, plus, phi), &cp);
       M::Coeffs(p, minus, Solved(p, minus, phi), &cm);
-      for (int i = 0; i < 6; ++i)
-        for (int l = 0; l < 3; ++l) {
+      for (int i = 0; i < kNphi; ++i)
+        for (int l = 0; l < kNq; ++l) {
           const double fd = (cp.K(i, l) - cm.K(i, l)) / (2 * h);
-          EXPECT_NEAR(c.L(i, l + 3 * j), fd, 1e-6 * (1 + std::abs(fd))) << "L(" << i << ", " << l << ", " << j << ")";
+          EXPECT_NEAR(c.L(i, l + kNq * j), fd, 1e-6 * (1 + std::abs(fd))) << "L(" << i << ", " << l << ", " << j << ")";
         }
     }
   }
@@ -138,11 +175,9 @@ TEST(Drivers, FiveBarToolAlongALineIsTheClosedFormInverseKinematics) {
 
 TEST(Drivers, ForceAtTheToolIsTheDerivativeOfThePotential) {
   const M::ParamsT<double> p;
-  VecPhi phi;
-  for (int i = 0; i < 6; ++i) phi(i) = M::kAssemblyPhi[i];
+  VecPhi phi = AssemblyPhi();
   for (int k = 0; k <= 20; ++k) {
-    VecQ q;
-    for (int j = 0; j < 3; ++j) q(j) = M::kQMin[j] + (M::kQMax[j] - M::kQMin[j]) * k / 20;
+    const VecQ q = Along(k, 20);
     phi = Solved(p, q, phi);
     M::CoefficientsT<double> c;
     M::Coeffs(p, q, phi, &c);
@@ -156,7 +191,13 @@ TEST(Drivers, ForceAtTheToolIsTheDerivativeOfThePotential) {
     EXPECT_NEAR(s.drive(0), fx, 1e-7 * (1 + std::abs(fx))) << q.transpose();
     EXPECT_NEAR(s.drive(1), fy, 1e-7 * (1 + std::abs(fy))) << q.transpose();
     EXPECT_NEAR(s.drive(2), 0, 1e-12);
-    for (int j = 0; j < 3; ++j) EXPECT_EQ(s.drive(j), -s.Q(j));
+    // The couple on the four-bar's coupler that holds its weight: dV/dtheta_coupler4, V = m4 g
+    // y_G, y_G = 0.1 sin(theta_crank4) + 0.175 sin(theta_coupler4).
+    auto v4 = [&](double t3) { return p.m4 * p.g * (0.1 * std::sin(CouplerInverse(t3)[0]) + 0.175 * std::sin(t3)); };
+    const double couple = (v4(q(3) + h) - v4(q(3) - h)) / (2 * h);
+    EXPECT_NEAR(s.drive(3), couple, 1e-7 * (1 + std::abs(couple))) << q.transpose();
+    EXPECT_GT(std::abs(couple), 0.01);
+    for (int j = 0; j < kNq; ++j) EXPECT_EQ(s.drive(j), -s.Q(j));
     // The weights pull the tool down: it must be held up.
     EXPECT_GT(s.drive(1), 0.5 * p.g * p.rho * (p.a + p.b));
   }
@@ -167,15 +208,15 @@ double Cross(const Eigen::Vector2d& r, const Eigen::Vector2d& f) { return r(0) *
 TEST(Drivers, ReactionsBalanceEveryLinkWithTheForceAtTheTool) {
   // Free bodies of the four bars: the weights at their centres, the pins' forces (F_J: of
   // J's first link on its second), and on dist1 at C the actuator's force (drive(0), drive(1)).
-  ASSERT_EQ(M::kNumReactions, 10);
-  const char* names[] = {"F_A_x", "F_A_y", "F_B_x", "F_B_y", "F_C_x", "F_C_y", "F_D_x", "F_D_y", "F_E_x", "F_E_y"};
-  for (int i = 0; i < 10; ++i) ASSERT_STREQ(M::kReactionNames[i], names[i]);
+  // The same for the four-bar, with the couple drive(3) on its coupler.
+  ASSERT_EQ(M::kNumReactions, 18);
+  const char* names[] = {"F_A_x", "F_A_y", "F_B_x", "F_B_y", "F_C_x", "F_C_y", "F_D_x", "F_D_y", "F_E_x", "F_E_y",
+                         "F_M_x", "F_M_y", "F_B4_x", "F_B4_y", "F_C4_x", "F_C4_y", "F_N_x", "F_N_y"};
+  for (int i = 0; i < 18; ++i) ASSERT_STREQ(M::kReactionNames[i], names[i]);
   const M::ParamsT<double> p;
-  VecPhi phi;
-  for (int i = 0; i < 6; ++i) phi(i) = M::kAssemblyPhi[i];
+  VecPhi phi = AssemblyPhi();
   for (int k = 0; k <= 20; ++k) {
-    VecQ q;
-    for (int j = 0; j < 3; ++j) q(j) = M::kQMin[j] + (M::kQMax[j] - M::kQMin[j]) * k / 20;
+    const VecQ q = Along(k, 20);
     phi = Solved(p, q, phi);
     M::CoefficientsT<double> c;
     M::Coeffs(p, q, phi, &c);
@@ -193,7 +234,15 @@ TEST(Drivers, ReactionsBalanceEveryLinkWithTheForceAtTheTool) {
       Eigen::Vector2d force;
       double moment;  // about the origin
     };
+    const std::array<double, 2> t4 = CouplerInverse(q(3));
+    const Eigen::Vector2d Mp(3, 0), Np(3.4, 0), B4 = Mp + 0.1 * Eigen::Vector2d(std::cos(t4[0]), std::sin(t4[0]));
+    const Eigen::Vector2d C4 = B4 + 0.35 * Eigen::Vector2d(std::cos(q(3)), std::sin(q(3)));
+    const Eigen::Vector2d w4(0, -p.m4 * p.g), F_M(s.R(10), s.R(11)), F_B4(s.R(12), s.R(13)), F_C4(s.R(14), s.R(15)),
+        F_N(s.R(16), s.R(17));
     const Body bodies[] = {
+        {"crank4", F_M - F_B4, Cross(Mp, F_M) - Cross(B4, F_B4)},
+        {"coupler4", F_B4 - F_C4 + w4, Cross(B4, F_B4) - Cross(C4, F_C4) + Cross((B4 + C4) / 2, w4) + s.drive(3)},
+        {"rocker4", F_C4 - F_N, Cross(C4, F_C4) - Cross(Np, F_N)},
         {"prox1", F_A - F_B + w_prox, Cross(A, F_A) - Cross(B, F_B) + Cross((A + B) / 2, w_prox)},
         {"dist1", F_B - F_C + w_dist + drive,
          Cross(B, F_B) - Cross(C, F_C) + Cross((B + C) / 2, w_dist) + Cross(C, drive)},
@@ -207,6 +256,7 @@ TEST(Drivers, ReactionsBalanceEveryLinkWithTheForceAtTheTool) {
     }
     // Not all zero: the ground carries the weights less what the tool's actuator holds.
     EXPECT_NEAR(F_A(1) - F_E(1) + drive(1), 2 * p.rho * p.g * (p.a + p.b), 1e-10);
+    EXPECT_NEAR(F_M(1) - F_N(1), p.m4 * p.g, 1e-10);
   }
 }
 
@@ -214,10 +264,9 @@ TEST(Drivers, FiveBarWorkspaceBoundaryIsSingular) {
   const M::ParamsT<double> p;
   const double reach = p.a + p.b;  // the left leg stretched: B on A -> C
   const double dir = 70 * kPi / 180;
-  VecPhi phi;
-  for (int i = 0; i < 6; ++i) phi(i) = M::kAssemblyPhi[i];
-  phi = Solved(p, VecQ(-0.1, 0.25, 0.25), phi);
-  auto at = [&](double radius) { return VecQ(radius * std::cos(dir), radius * std::sin(dir), 0.25); };
+  VecPhi phi = AssemblyPhi();
+  phi = Solved(p, Q(-0.1, 0.25), phi);
+  auto at = [&](double radius) { return Q(radius * std::cos(dir), radius * std::sin(dir)); };
   // Inside: regular, and det Phi_phi is the product of the three dyads' (|a x b|), of which the
   // left leg's a b sin(theta_dist1 - theta_prox1) goes to 0 as the leg stretches.
   double det_inside = 0;
@@ -255,7 +304,7 @@ TEST(Drivers, SweepAlongALineStopsSingularAtTheWorkspaceBoundary) {
   const double x_edge = std::sqrt(std::pow(p.a + p.b, 2) - 0.09);
   std::vector<mechgen::SweepRecord<M>> records;
   const int steps = 100;
-  mechgen::Sweep(&solver, VecQ(0.1, 0.3, 0.25), VecQ(0.6, 0.3, 0.25), steps, VecQ(1, 0, 0), VecQ(0, 0, 0), &records);
+  mechgen::Sweep(&solver, Q(0.1, 0.3), Q(0.6, 0.3), steps, Q(1, 0, 0, 0), Q(0, 0, 0, 0), &records);
   ASSERT_EQ(static_cast<int>(records.size()), steps + 1);
   int stop = -1;
   for (int i = 0; i <= steps && stop < 0; ++i) {
@@ -267,7 +316,7 @@ TEST(Drivers, SweepAlongALineStopsSingularAtTheWorkspaceBoundary) {
     ASSERT_EQ(r.summary.status, mechgen::position::Status::kConverged) << i;
     EXPECT_LT(r.q(0), x_edge);
     const VecPhi exact = Exact(p, r.q);
-    for (int c = 0; c < 6; ++c) EXPECT_NEAR(Wrap(r.state.phi(c) - exact(c)), 0, 1e-9) << i;
+    for (int c = 0; c < kNphi; ++c) EXPECT_NEAR(Wrap(r.state.phi(c) - exact(c)), 0, 1e-9) << i;
   }
   // The row whose input is the first beyond the edge stops there, at its last valid
   // configuration just before the edge; the rest are not run.
@@ -281,9 +330,8 @@ TEST(Drivers, SweepAlongALineStopsSingularAtTheWorkspaceBoundary) {
 
 TEST(Drivers, SlotDrivenByItsSlideIsTheTriangle) {
   const M::ParamsT<double> p;
-  VecPhi phi;
-  for (int i = 0; i < 6; ++i) phi(i) = M::kAssemblyPhi[i];
-  const VecQ base(0.1, 0.3, 0);
+  VecPhi phi = AssemblyPhi();
+  const VecQ base = Q(0.1, 0.3);
   for (int k = 0; k <= 160; ++k) {
     VecQ q = base;
     q(2) = 0.17 + 0.16 * k / 160;
@@ -304,6 +352,7 @@ TEST(Drivers, SlotDrivenByItsSlideIsTheTriangle) {
       EXPECT_NEAR(c.K(4 + i, 2), fd, 1e-7 * (1 + std::abs(fd))) << q(2);
       EXPECT_EQ(c.K(4 + i, 0), 0.0);
       EXPECT_EQ(c.K(4 + i, 1), 0.0);
+      EXPECT_EQ(c.K(4 + i, 3), 0.0);
     }
   }
 }
