@@ -2,10 +2,11 @@
 # Second stage of the test command: builds the test suite with AddressSanitizer and
 # UndefinedBehaviorSanitizer in ./build-asan (MECHGEN_ASAN_BUILD overrides) and runs ctest
 # there. Called by scripts/test.sh (and so by .ci/run) after the Release suite. Neither the
-# benchmarks nor the per-model commands (<model>_sweep, _statics, _simulate, _engine:
-# MECHGEN_BUILD_SWEEPS=OFF) are built: one executable per model, most of this stage's build
-# time once; the few tests that run those commands are run by the Release suite only. Every
-# other test runs; extra ctest arguments are passed on (e.g. -R runtime to restrict it,
+# benchmarks nor the per-model sweeps (<model>_sweep: MECHGEN_BUILD_SWEEPS=OFF; the tests that
+# run them run in the Release suite only) are built, and of the other per-model tools
+# (_statics, _simulate, _engine, _flywheel) only those a test runs (MECHGEN_ALL_MODEL_TOOLS=OFF,
+# the top-level CMakeLists.txt): one executable per model, most of this stage's build time
+# once. Every other test runs; extra ctest arguments are passed on (e.g. -R runtime to restrict it,
 # -LE slow to skip the slow ones). Two tests that repeat identical generator runs to compare
 # their bytes are left to the Release suite (GeneratedFiles.SameBytesOnEveryRun: six runs of
 # every shipped model; Report.SameBytesFromSeparateProcesses): this stage's build already runs
@@ -34,7 +35,8 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 start=$(date +%s)
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
-  -DMECHGEN_BUILD_BENCHMARKS=OFF -DMECHGEN_BUILD_SWEEPS=OFF -DMECHGEN_TEST_OPTIMIZATION=-Og \
+  -DMECHGEN_BUILD_BENCHMARKS=OFF -DMECHGEN_BUILD_SWEEPS=OFF -DMECHGEN_ALL_MODEL_TOOLS=OFF \
+  -DMECHGEN_TEST_OPTIMIZATION=-Og \
   -DCMAKE_CXX_FLAGS="$sanitize" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null

@@ -131,6 +131,7 @@ std::vector<FourBarLoop> ClassifyFourBars(const Model& m, const Topology& t) {
       continue;
     }
     for (const Input& in : m.inputs) {
+      if (in.kind != Input::Kind::kJoint) continue;  // a link's angle or a point's coordinate: not a crank's range
       const Joint& ij = m.joints[in.joint];
       if (ij.type() != JointType::kRevolute) continue;
       const int pos_in_loop = static_cast<int>(std::find(loop.joints.begin(), loop.joints.end(), in.joint) - loop.joints.begin());

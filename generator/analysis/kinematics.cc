@@ -8,8 +8,33 @@
 namespace mechgen {
 
 std::string RowSource::Text(const Model& m) const {
+  if (joint < 0) {
+    const Input& in = m.inputs[input];
+    return "input " + PointInputName(m, in) + ", drive of " + m.PointName(in.point) + ", " + ComponentText(component);
+  }
   return (loop >= 0 ? "loop " + std::to_string(loop + 1) + ", " : std::string()) + "joint " + m.joints[joint].name +
          ", " + ComponentText(component);
+}
+
+int InputCoordinate(const Model& m, const Topology& t, const CoordinateTable& table, const Input& in) {
+  switch (in.kind) {
+    case Input::Kind::kAngle:
+      return table.of_group[t.group[in.link]];
+    case Input::Kind::kPointX:
+    case Input::Kind::kPointY:
+      return -1;
+    case Input::Kind::kJoint:
+      break;
+  }
+  const Joint& j = m.joints[in.joint];
+  if (j.type() == JointType::kPrismatic || j.type() == JointType::kSlot) return table.of_joint[in.joint];
+  const int moving = j.link_a == m.ground ? j.link_b : j.link_a;
+  return table.of_group[t.group[moving]];
+}
+
+std::string PointInputName(const Model& m, const Input& in) {
+  const std::string& point = m.links[in.point.link].points[in.point.point].name;
+  return std::string(in.kind == Input::Kind::kPointX ? "x_" : "y_") + m.links[in.point.link].name + "_" + point;
 }
 
 CoordinateTable BuildCoordinates(const Model& m, const Topology& t) {
@@ -59,17 +84,21 @@ Kinematics DeriveKinematics(const Model& m, const Topology& t, const CoordinateT
   // Inputs become q (in declaration order), the rest phi.
   std::vector<bool> driven(all.size(), false);
   for (const Input& in : m.inputs) {
-    const Joint& j = m.joints[in.joint];
-    int c;
-    if (j.type() == JointType::kPrismatic) {
-      c = table.of_joint[in.joint];
+    const int c = InputCoordinate(m, t, table, in);
+    if (c < 0) {
+      // A point's x or y: a new coordinate, tied to the linkage by its driving constraint below.
+      const std::string name = PointInputName(m, in), xy = in.kind == Input::Kind::kPointX ? "x" : "y";
+      const std::string& link = m.links[in.point.link].name;
+      const std::string& point = m.links[in.point.link].points[in.point.point].name;
+      k.q.push_back({name, xy + " of point '" + m.PointName(in.point) + "' in the fixed frame (driven)", false,
+                     GiNaC::symbol(name, xy + "_{\\mathrm{" + link + "." + point + "}}")});
     } else {
-      const int moving = j.link_a == m.ground ? j.link_b : j.link_a;
-      c = table.of_group[t.group[moving]];
-      all[c].what += " (driven at joint '" + j.name + "')";
+      if (in.kind == Input::Kind::kAngle) all[c].what += " (driven)";
+      else if (m.joints[in.joint].type() != JointType::kPrismatic && m.joints[in.joint].type() != JointType::kSlot)
+        all[c].what += " (driven at joint '" + m.joints[in.joint].name + "')";
+      driven[c] = true;
+      k.q.push_back(all[c]);
     }
-    driven[c] = true;
-    k.q.push_back(all[c]);
     k.q_min.push_back(in.min);
     k.q_max.push_back(in.max);
   }
@@ -105,6 +134,26 @@ Kinematics DeriveKinematics(const Model& m, const Topology& t, const CoordinateT
   };
   for (size_t li = 0; li < t.loops.size(); ++li) add_rows(t.loops[li].cut_joint, true, static_cast<int>(li));
   for (int j : t.tree_joints) add_rows(j, false, -1);
+  // The driving constraints of point inputs (Paul: a coordinate that is no joint's is
+  // generalized by one more equation): x_P(phi) - q = 0; a point's x and y are one pair.
+  for (int i = 0; i < k.nq(); ++i) {
+    const Input& in = m.inputs[i];
+    if (!in.IsPoint()) continue;
+    const Vec2 r = PointPosition(m, in.point, k.frames[in.point.link]);
+    const int xy = in.kind == Input::Kind::kPointX ? 0 : 1;
+    int group = static_cast<int>(k.Phi.size());
+    for (int i2 = 0; i2 < i; ++i2)
+      if (m.inputs[i2].IsPoint() && m.inputs[i2].point == in.point)
+        for (size_t row = 0; row < k.Phi_rows.size(); ++row)
+          if (k.Phi_rows[row].input == i2) group = k.Phi_group[row];
+    k.Phi_group.push_back(group);
+    k.Phi.push_back((r[xy] - k.q[i].symbol).expand());
+    RowSource source;
+    source.component = xy == 0 ? RowComponent::kX : RowComponent::kY;
+    source.input = i;
+    k.Phi_rows.push_back(source);
+    k.Phi_source.push_back(source.Text(m));
+  }
   k.Phi_phi = GiNaC::matrix(k.nc(), k.nphi());
   k.Phi_q = GiNaC::matrix(k.nc(), k.nq());
   for (int i = 0; i < k.nc(); ++i) {

@@ -24,10 +24,12 @@ struct Coordinate {
 /// Where a row of Phi comes from: its joint, the loop that joint closes (-1: a tree
 /// joint's row, e.g. rolling's no slip) and which of the joint's equations it is.
 struct RowSource {
-  int joint = -1;
+  int joint = -1;  ///< -1 for a driving constraint (then `input` is set)
   int loop = -1;
   RowComponent component = RowComponent::kX;
-  /// "loop 1, joint C, x" / "joint R, no slip": the text headers and the report print.
+  int input = -1;  ///< a driving constraint x_P(phi) - q = 0: its input (index into q)
+  /// "loop 1, joint C, x" / "joint R, no slip" / "input x_dist1_C, drive of dist1.C, x":
+  /// the text headers and the report print.
   std::string Text(const Model& m) const;
 };
 
@@ -56,6 +58,15 @@ struct CoordinateTable {
   std::vector<int> of_joint;  ///< per joint: index into all, -1 if it has none
 };
 
+/// The coordinate (index into table.all) that input `in` makes a generalized coordinate:
+/// a ground pivot's or rolling link's group angle, a slide, a link's group angle; -1 for a
+/// point's x or y, which is no coordinate of the linkage (DeriveKinematics adds it to q with
+/// its driving constraint).
+int InputCoordinate(const Model& m, const Topology& t, const CoordinateTable& table, const Input& in);
+
+/// A point input's coordinate name: x_<link>_<point> or y_<link>_<point>.
+std::string PointInputName(const Model& m, const Input& in);
+
 /// Creates the coordinates' symbols. GiNaC orders terms by the symbols' serial numbers, so
 /// the generated text depends on the order in which symbols are created: build this
 /// table once per model, before the cams (as DeriveKinematics always did).
@@ -65,7 +76,8 @@ struct Kinematics {
   std::vector<Coordinate> q, phi;
   std::vector<Frame> frames;            ///< per link
   std::vector<Placement> placements;    ///< per tree joint, in the order the frames are built
-  std::vector<GiNaC::ex> Phi;           ///< closure equations: the cut joints' rows, loop by loop, then rolling tree joints' no slip
+  std::vector<GiNaC::ex> Phi;           ///< closure equations: the cut joints' rows, loop by loop, then rolling tree joints' no
+                                        ///< slip, then the driving constraints x_P(phi) - q of point inputs
   std::vector<RowSource> Phi_rows;      ///< per row: where it comes from (structured)
   std::vector<std::string> Phi_source;  ///< per row: Phi_rows[i].Text(m) (kept for the emitters and the report)
   std::vector<int> Phi_group;           ///< rows with equal group: x and y of one vector closure

@@ -141,22 +141,39 @@ void CheckTopology(const Model& m, const Topology& t) {
     std::string detail = "Grübler–Kutzbach " + t.grubler_text + ", loop criterion " + t.loop_text;
     m.Fail(m.inputs_mark, std::to_string(declared) + " input(s) declared but the mechanism has " +
                               std::to_string(t.loop_mobility) + " degree(s) of freedom (" + detail +
-                              "); declare exactly " + std::to_string(t.loop_mobility) + " driven joint(s)");
+                              "); declare exactly " + std::to_string(t.loop_mobility) +
+                              " input(s): driven joints, link angles (angle: <link>) or point coordinates (point: "
+                              "<link.point>, coordinate: x|y)");
   }
   // Each input must drive its own variable.
-  std::vector<int> driven_group(t.num_groups(), -1);
-  for (const Input& in : m.inputs) {
-    const Joint& j = m.joints[in.joint];
-    if (j.type() != JointType::kRevolute && j.type() != JointType::kRoll) continue;
-    const int moving = j.link_a == m.ground ? j.link_b : j.link_a;
+  std::vector<int> driven_group(t.num_groups(), -1);  // index into m.inputs
+  auto input_name = [&](int i) {
+    const Input& in = m.inputs[i];
+    return in.kind == Input::Kind::kAngle ? "angle " + m.links[in.link].name : m.joints[in.joint].name;
+  };
+  for (size_t i = 0; i < m.inputs.size(); ++i) {
+    const Input& in = m.inputs[i];
+    int moving;
+    if (in.kind == Input::Kind::kAngle) {
+      moving = in.link;
+      if (t.group[moving] == t.ground_group)
+        m.Fail(in.mark, "input angle of '" + m.links[moving].name + "' cannot change: the link slides on the ground "
+                        "and keeps its angle; drive a slide or another link's angle");
+    } else if (in.kind == Input::Kind::kJoint) {
+      const Joint& j = m.joints[in.joint];
+      if (j.type() != JointType::kRevolute && j.type() != JointType::kRoll) continue;
+      moving = j.link_a == m.ground ? j.link_b : j.link_a;
+      if (t.group[moving] == t.ground_group)
+        m.Fail(in.mark, "input joint '" + j.name + "' cannot turn: link '" + m.links[moving].name +
+                            "' also slides on the ground and keeps its angle");
+    } else {
+      continue;
+    }
     const int g = t.group[moving];
-    if (g == t.ground_group)
-      m.Fail(in.mark, "input joint '" + j.name + "' cannot turn: link '" + m.links[moving].name +
-                          "' also slides on the ground and keeps its angle");
     if (driven_group[g] >= 0)
-      m.Fail(in.mark, "inputs '" + m.joints[driven_group[g]].name + "' and '" + j.name +
-                          "' drive the same angle; drive independent joints");
-    driven_group[g] = in.joint;
+      m.Fail(in.mark, "inputs '" + input_name(driven_group[g]) + "' and '" + input_name(static_cast<int>(i)) +
+                          "' drive the same angle; drive independent coordinates");
+    driven_group[g] = static_cast<int>(i);
   }
 }
 
@@ -168,14 +185,16 @@ void CheckCsvColumnNames(const Model& m, const Topology& t, const CoordinateTabl
   // would make a CSV reader silently pick one.
   const size_t n = table.all.size();
   std::vector<bool> driven(n, false);
-  std::vector<size_t> q;
+  std::vector<std::string> q;  // the inputs' names (a point's x or y is none of table.all)
   for (const Input& in : m.inputs) {
-    const Joint& j = m.joints[in.joint];
-    const int moving = j.link_a == m.ground ? j.link_b : j.link_a;
-    const int c = j.type() == JointType::kPrismatic ? table.of_joint[in.joint] : table.of_group[t.group[moving]];
-    if (c < 0 || driven[c]) continue;
+    const int c = InputCoordinate(m, t, table, in);
+    if (c < 0) {
+      q.push_back(PointInputName(m, in));
+      continue;
+    }
+    if (driven[c]) continue;
     driven[c] = true;
-    q.push_back(static_cast<size_t>(c));
+    q.push_back(table.all[c].name);
   }
   // Where a coordinate comes from: the link its angle is named after, or its joint.
   auto owner = [&](size_t c, SourceMark* mark) {
@@ -205,11 +224,10 @@ void CheckCsvColumnNames(const Model& m, const Topology& t, const CoordinateTabl
     if (driven[c]) continue;
     columns.push_back({"singular_" + name, "the singular direction's " + name, c});
     for (size_t a = 0; a < q.size(); ++a) {
-      const std::string& qa = table.all[q[a]].name;
+      const std::string& qa = q[a];
       columns.push_back({"K_" + name + "_" + qa, "K of " + name + " by " + qa, c});
       for (size_t b = a; b < q.size(); ++b)
-        columns.push_back({"L_" + name + "_" + qa + "_" + table.all[q[b]].name,
-                           "L of " + name + " by " + qa + ", " + table.all[q[b]].name, c});
+        columns.push_back({"L_" + name + "_" + qa + "_" + q[b], "L of " + name + " by " + qa + ", " + q[b], c});
     }
   }
   std::vector<size_t> order(columns.size());
@@ -245,10 +263,14 @@ Analysis Validate(const Model& m) {
   a.cams = AnalyzeCams(m);
   auto check_guess = [&](const GuessValue& g, const std::string& where) {
     bool known = false;
-    for (const Coordinate& c : a.coordinates.all) known |= c.name == g.coordinate;
+    std::vector<std::string> names;
+    for (const Coordinate& c : a.coordinates.all) names.push_back(c.name);
+    for (const Input& in : m.inputs)
+      if (in.IsPoint()) names.push_back(PointInputName(m, in));
+    for (const std::string& name : names) known |= name == g.coordinate;
     if (!known) {
       std::string list;
-      for (const Coordinate& c : a.coordinates.all) list += (list.empty() ? "" : ", ") + c.name;
+      for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
       m.Fail(g.mark, where + ": unknown coordinate '" + g.coordinate + "'; the coordinates are: " + list);
     }
   };

@@ -73,6 +73,18 @@ OutputSpec Statics(const Model& m, const SymbolicTable& t, const std::vector<Fun
        any && !layout.friction.empty()},
   };
   const auto& f = o.member_flags;
+  // Inputs that are no joint's (issue 26) say what their actuator is; other models' text stays.
+  std::vector<std::string> drive_doc = {
+      "drive(j) = -Q(j): what input j's actuator applies for static equilibrium: the torque on the",
+      "input's moving link ({sign}, reacting on the ground) or the force on its slider", "along the line."};
+  for (const Input& in : m.inputs)
+    if (in.kind != Input::Kind::kJoint || m.joints[in.joint].type() == JointType::kSlot) {
+      drive_doc = {"drive(j) = -Q(j): what input j's actuator applies for static equilibrium: the torque on the",
+                   "input's moving link or the driven link ({sign}, reacting on the ground), the force on its",
+                   "slider along the line or on a slot's pin along the slot, or for a driven point's x (y) the",
+                   "force along +x (+y) on that point (reacting on the ground)."};
+      break;
+    }
   o.members = {
       Unit(Member(kVecNq, "Q",
                   {"Q(j): generalized force of the loads, springs, weights and given friction loads on q_j",
@@ -80,10 +92,7 @@ OutputSpec Statics(const Model& m, const SymbolicTable& t, const std::vector<Fun
                   "kNq", f[0].name, f[0].value),
            "N m or N"),
       Unit(
-          Member(kVecNq, "drive",
-                 {"drive(j) = -Q(j): what input j's actuator applies for static equilibrium: the torque on the",
-                  "input's moving link ({sign}, reacting on the ground) or the force on its slider", "along the line."},
-                 "kNq", f[0].name, f[0].value),
+          Member(kVecNq, "drive", drive_doc, "kNq", f[0].name, f[0].value),
           "N m or N", "counter-clockwise +"),
       Unit(Member(kMatNqNq, "stiffness",
                   {"stiffness(j, k) = -dQ_j/dq_k along the motion, friction excluded (d2V/dq2 for a conservative",

@@ -7,7 +7,7 @@
 //   coordinate:  s_<joint>, the pin's distance from G along the line
 //   cut joint:   r_G + s u - r_P = 0, two rows (x, y); u = R(theta_slotted) u_local
 //   reaction:    F_x, F_y, the force of the slotted link on the pin (fixed frame), N along
-//                n = u turned +90 deg (across the slot), T along u (0 without friction)
+//                n = u turned +90 deg (across the slot), T along u (the driving force if an input)
 // Unlike a prismatic joint, the two links keep their own angles (the block link and the
 // two joints of the old workaround, in one).
 #include "joints/joint_kind.h"
@@ -123,7 +123,7 @@ class Slot : public JointKind {
     return {{"F_" + j.name + "_x", on + ", x"},
             {"F_" + j.name + "_y", on + ", y"},
             {"N_" + j.name, on + " across the slot, along n = u turned +90 deg (u along the slot)"},
-            {"T_" + j.name, on + " along the slot u (0: the slot has no friction)"}};
+            {"T_" + j.name, on + " along the slot u (the driving force if the slot is an input; no friction)"}};
   }
 
   // A force at the pin, which turns freely in the slot; as a cut joint its rows' multipliers.
@@ -134,8 +134,10 @@ class Slot : public JointKind {
                                   const std::vector<Frame>& frames,
                                   const JointReaction& r,
                                   std::string*) const override {
+    // F and the force along the slot that acts apart from it (a tree slot's actuator).
     const Vec2 u = SlotDirection(m, j.Data<SlotData>(), frames[j.link_a].theta);
-    return {r.F[0], r.F[1], -r.F[0] * u[1] + r.F[1] * u[0], r.F[0] * u[0] + r.F[1] * u[1]};
+    return {r.F[0] + r.along * u[0], r.F[1] + r.along * u[1], -r.F[0] * u[1] + r.F[1] * u[0],
+            r.F[0] * u[0] + r.F[1] * u[1] + r.along};
   }
 };
 

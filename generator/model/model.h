@@ -260,9 +260,19 @@ struct Joint {
   PointRef End(int link) const;
 };
 
-/// A driven joint: its variable is one of the generalized coordinates q.
+/// An input: one of the generalized coordinates q (Paul: any independent set of coordinates
+/// can be generalized). A driven joint's own variable (a ground pivot's or a rolling link's
+/// absolute angle, a slide, a pin's slide in its slot), a link's absolute angle (`angle:`),
+/// or a point's x or y in the fixed frame (`point:`, `coordinate:`): the latter is no
+/// coordinate of the linkage, so it adds the driving constraint x_P(phi) - q = 0 to Phi
+/// (kinematics.cc) and every joint's variable becomes a dependent coordinate.
 struct Input {
-  int joint = -1;
+  enum class Kind { kJoint, kAngle, kPointX, kPointY };
+  Kind kind = Kind::kJoint;
+  int joint = -1;   ///< kJoint: the driven joint (-1 otherwise)
+  int link = -1;    ///< kAngle: the link whose absolute angle is q
+  PointRef point;   ///< kPointX, kPointY: the driven point
+  bool IsPoint() const { return kind == Kind::kPointX || kind == Kind::kPointY; }
   double min = 0, max = 0;  ///< default sweep range
   SourceMark mark;
   SourceMark range_mark;  ///< its range: [min, max] (line 0 when the range is the default)

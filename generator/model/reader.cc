@@ -290,7 +290,7 @@ const KeyTable& ModelKeys() {
                                {"parameters", "named numbers: the generated Params struct", false},
                                {"links", "the links and their points; one is the ground", true},
                                {"joints", "the joints between the links", true},
-                               {"inputs", "the driven joints, in the order of q", true},
+                               {"inputs", "the generalized coordinates q, in order: driven joints, link angles, point coordinates", true},
                                {"gravity", "[gx, gy]: gravity in the fixed frame (statics, dynamics)", false},
                                {"loads", "forces at link points and torques on links", false},
                                {"springs", "linear springs between link points, torsional at revolute joints", false},

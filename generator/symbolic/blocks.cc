@@ -810,7 +810,15 @@ std::vector<Block> OrderBlocks(const Model& m, const Kinematics& k, Strategy str
       }
       return false;
     };
-    if (!augment(r))
+    const bool matched = augment(r);
+    if (!matched && k.Phi_rows[r].joint < 0) {
+      const Input& in = m.inputs[k.Phi_rows[r].input];
+      m.Fail(in.mark, "input " + k.q[k.Phi_rows[r].input].name + " cannot drive the linkage: " + m.PointName(in.point) +
+                          "'s coordinate moves with no dependent coordinate the other inputs leave free (its driving "
+                          "constraint '" + k.Phi_source[r] + "' is structurally singular); drive a point that the "
+                          "other inputs do not already place, or another coordinate");
+    }
+    if (!matched)
       m.Fail(m.inputs_mark, "the loop equations cannot be solved for the unknowns (Phi_phi is structurally "
                             "singular at equation '" + k.Phi_source[r] + "'); check the inputs and joints");
   }

@@ -302,7 +302,49 @@ void StaticsTable::DeriveDrive(Stage& st) {
   }
   // The actuators: a couple on the input's moving link (revolute) or a force pair along the line.
   for (int j = 0; j < nq; ++j) {
-    const Joint& in = m.joints[m.inputs[j].joint];
+    const Input& input = m.inputs[j];
+    if (input.IsPoint()) {
+      // A force along x (or y) at the driven point, its reaction on the ground.
+      const Vec2 at = st.Position(input.point);
+      const int xy = input.kind == Input::Kind::kPointX ? 0 : 1;
+      Item on_p, on_g;
+      on_p.link = input.point.link;
+      on_p.F = {xy == 0 ? -Qs[j] : ex(0), xy == 1 ? -Qs[j] : ex(0)};
+      on_p.at = at;
+      on_g.link = m.ground;
+      on_g.F = {xy == 0 ? Qs[j] : ex(0), xy == 1 ? Qs[j] : ex(0)};
+      on_g.at = at;
+      items.push_back(on_p);
+      items.push_back(on_g);
+      continue;
+    }
+    if (input.kind == Input::Kind::kAngle) {  // a couple on the link, against the ground
+      Item on_l, on_g;
+      on_l.link = input.link;
+      on_l.couple = -Qs[j];
+      on_g.link = m.ground;
+      on_g.couple = Qs[j];
+      items.push_back(on_l);
+      items.push_back(on_g);
+      continue;
+    }
+    const Joint& in = m.joints[input.joint];
+    if (in.type() == JointType::kSlot) {  // a force along the slot on the pin, its reaction on the slotted link
+      const SlotData& d = in.Data<SlotData>();
+      const Vec2 u = SlotDirection(m, d, k.frames[in.link_a].theta);
+      const Vec2 at = st.Position(d.pin);
+      Item on_b, on_a;
+      on_b.link = in.link_b;
+      on_b.F = {-Qs[j] * u[0], -Qs[j] * u[1]};
+      on_b.at = at;
+      on_a.link = in.link_a;
+      on_a.F = {Qs[j] * u[0], Qs[j] * u[1]};
+      on_a.at = at;
+      on_b.along_joint = on_a.along_joint = input.joint;
+      items.push_back(on_b);
+      items.push_back(on_a);
+      continue;
+    }
     if (in.type() == JointType::kPrismatic) {
       Vec2 u, n;
       PrismaticLine(k, in, &u, &n);

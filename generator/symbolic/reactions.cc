@@ -30,6 +30,12 @@ void StaticsTable::DeriveReactions(Stage& st) {
   std::set<int> needed(m.outputs.reactions.begin(), m.outputs.reactions.end());
   needed.insert(layout.friction.begin(), layout.friction.end());
   if (needed.empty() || !options.reactions) return;
+  // A point input's driving constraint has a multiplier of its own (the actuator's force, also
+  // an item on the point's link for the tree joints' balances), so the joints' are as without it.
+  for (const Input& in : m.inputs)
+    if (in.IsPoint() && !layout.friction.empty())
+      m.Fail(m.friction.front().mark, "friction is not derived yet for a model driven by a point's coordinate "
+                                      "(input " + PointInputName(m, in) + "); drive joints, or leave friction out");
 
   // Multipliers: Phi_phi^T lambda = -g_phi, block by block in reverse order (Phi_phi is
   // block lower triangular, so its transpose is block upper triangular).
@@ -94,7 +100,8 @@ void StaticsTable::DeriveReactions(Stage& st) {
     children[k.placements[i].parent].push_back(k.placements[i].child);
   }
   std::vector<std::vector<int>> rows_of(m.joints.size());
-  for (int i = 0; i < nc; ++i) rows_of[k.Phi_rows[i].joint].push_back(i);
+  for (int i = 0; i < nc; ++i)
+    if (k.Phi_rows[i].joint >= 0) rows_of[k.Phi_rows[i].joint].push_back(i);
 
   // Each joint's force on link_b (by link_a) and the point it acts at; prismatic moments; a
   // contact's couple (with its force taken off its line) and components.

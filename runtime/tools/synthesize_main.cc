@@ -1,9 +1,9 @@
 // `mechgen synthesize MODEL --task TASK.yaml [--seed N] [--threads N] [--out DIR]`: dimensional
 // synthesis of a generated model (issue 28): path generation, motion generation (`synthesis:
-// motion`: synthesis/motion.h; Burmester: report.txt with the model file or curves.csv), and
-// function generation
-// (`synthesis: function`: synthesis/function.h; it writes function.svg for path.svg and takes
-// no --evaluations or --threads: its local starts are few and run in turn). The model gives
+// motion`: synthesis/motion.h; Burmester and, beyond five poses, least squares: report.txt
+// with the model file, or for four poses curves.csv and curves.svg), and function generation
+// (`synthesis: function`: synthesis/function.h; pairs or a function over a range; it writes
+// function.svg for path.svg; its global stage's runs go to --threads like path tasks'). The model gives
 // the topology, the design parameters (its `design:` section: their derivatives are the local
 // stage's Jacobian) and the point; the task file (docs/synthesis.md) the targets, the timing,
 // the variables' bounds, the constraints and the search's budget.
@@ -83,13 +83,15 @@ bool WriteAll(const std::vector<std::pair<fs::path, const std::string*>>& files,
 // Function generation (synthesis/function.h): writes the model file, function.svg, report.txt.
 template <class M>
 int FunctionMain(const std::string& tool, const std::string& task_path, const std::string& model_path,
-                 const std::string& out_dir, unsigned long long seed, const typename M::template ParamsT<double>& base) {
+                 const std::string& out_dir, unsigned long long seed, int threads, long long evaluations,
+                 const typename M::template ParamsT<double>& base) {
   std::string error;
   FunctionTask task;
   if (!ParseFunctionTask(task_path, &task, &error)) {
     std::cerr << error << "\n";
     return 1;
   }
+  if (evaluations > 0) task.search.evaluations = evaluations;
   BoundFunction<M> bound;
   if (!BindFunctionTask<M>(task, base, &bound, &error)) {
     std::cerr << error << "\n";
@@ -101,8 +103,10 @@ int FunctionMain(const std::string& tool, const std::string& task_path, const st
     std::cerr << tool << ": error: cannot read the model file " << model_path << "\n";
     return 1;
   }
-  const FunctionResult r = SynthesizeFunction(bound, seed);
-  const std::string report = FunctionReport(bound, r, seed);
+  std::cerr << tool << ": function task: " << task.search.restarts << " global runs, " << task.search.evaluations
+            << " evaluations, " << threads << " thread(s)\n";
+  const FunctionResult r = SynthesizeFunction(bound, seed, threads);
+  const std::string report = FunctionReport(bound, r, seed, threads);
   if (!r.best.feasible()) {
     std::cerr << report << "\n" << tool << ": no mechanism meets the pairs on its assembly mode; nothing written\n";
     return 3;
@@ -133,8 +137,9 @@ int FunctionMain(const std::string& tool, const std::string& task_path, const st
   return 0;
 }
 
-// Motion generation (synthesis/motion.h): five poses, the model file of the first Burmester pair
-// that the generated model runs through the poses and report.txt; four poses, curves.csv.
+// Motion generation (synthesis/motion.h): five or more poses, the model file of the chosen
+// Burmester pair (more than five: after least squares) and report.txt; four poses, curves.csv
+// and curves.svg.
 template <class M>
 int MotionMain(const std::string& tool, const std::string& task_path, const std::string& model_path,
                const std::string& out_dir, const typename M::template ParamsT<double>& base) {
@@ -151,7 +156,7 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
   }
   const std::string report = MotionReport(task, r);
   std::vector<std::pair<fs::path, const std::string*>> files;
-  std::string second;
+  std::string second, third;
   if (task.poses.size() == 4) {
     second = "# the four-pose Burmester curves: circle point k in the body frame of pose 1 (origin its point, x "
              "at its angle), centre point M in the frame of the poses; one row per point found on a ray\n"
@@ -159,7 +164,9 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
     for (const CurvePoint& cp : r.curve)
       second += std::to_string(cp.ray) + "," + Num(cp.dyad.k.x()) + "," + Num(cp.dyad.k.y()) + "," + Num(cp.dyad.M.x()) +
                 "," + Num(cp.dyad.M.y()) + "," + Num(cp.dyad.radius) + "\n";
-    files = {{fs::path(out_dir) / "curves.csv", &second}, {fs::path(out_dir) / "report.txt", &report}};
+    third = CurvesSvg(task, r);
+    files = {{fs::path(out_dir) / "curves.csv", &second}, {fs::path(out_dir) / "curves.svg", &third},
+             {fs::path(out_dir) / "report.txt", &report}};
   } else {
     if (r.chosen < 0) {
       std::cerr << report << "\n" << tool << ": no pair of Burmester points guides the model's coupler through the poses; nothing written\n";
@@ -183,7 +190,9 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
     std::cerr << tool << ": error: cannot write into " << out_dir << "\n";
     return 1;
   }
-  std::cout << report << "\nwrote " << files[0].first.string() << ", " << files[1].first.string() << "\n";
+  std::cout << report << "\nwrote";
+  for (size_t k = 0; k < files.size(); ++k) std::cout << (k ? ", " : " ") << files[k].first.string();
+  std::cout << "\n";
   return 0;
 }
 
@@ -192,8 +201,8 @@ int Main(int argc, char** argv) {
   const std::string tool = mechgen::tools::ToolName(argv[0]);
   CLI::App app{"Dimensional synthesis (path, function or motion generation: the task file's `synthesis:`) of the model " +
                std::string(M::kName) +
-               ": seeded differential evolution (path) or Freudenstein's equation (function), then "
-               "Levenberg-Marquardt on the generated design derivatives. "
+               ": seeded differential evolution (path and function tasks; Freudenstein's equation for function "
+               "tasks, Burmester's points for motion), then Levenberg-Marquardt on the generated design derivatives. "
                "Exit 0 done, 1 bad task file or output, 2 usage error, 3 no feasible mechanism."};
   std::string task_path, out_dir = "synthesis_out", model_path;
   unsigned long long seed = 1;
@@ -233,7 +242,7 @@ int Main(int argc, char** argv) {
   }
   if (kind == "function") {
     if constexpr (mechgen::HasDesignDerivatives<M>::value) {
-      return FunctionMain<M>(tool, task_path, model_path, out_dir, seed, base);
+      return FunctionMain<M>(tool, task_path, model_path, out_dir, seed, threads, evaluations, base);
     } else {
       std::cerr << task_path << ": the model '" << M::kName
                 << "' has no `design` section; add `design: [parameters to vary]` (models/README.md)\n";

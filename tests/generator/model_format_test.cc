@@ -361,7 +361,6 @@ TEST(SlotJointReading, CoordinatesMobilityAndErrors) {
       {"{slot: rocker.D, pin: crank.B, through: rocker.D}", "A", "rocker.D}}", 0, "the slot point itself"},
       {"{slot: rocker.D, pin: crank.B, through: rocker.H}", "A", "rocker.H}", 0, "give no direction"},
       {"{slot: rocker.D, pin: crank.B, width: 1}", "A", "width", 0, "unknown key 'width'"},
-      {"{slot: rocker.D, pin: crank.B}", "slot", "slot}", 0, "is a slot joint and cannot be driven"},
   };
   for (const Case& c : cases) {
     const std::string text = SlotModel(c.slot, c.input);
@@ -369,6 +368,111 @@ TEST(SlotJointReading, CoordinatesMobilityAndErrors) {
     EXPECT_EQ(e.rfind(At(text, c.at, c.skip), 0), 0u) << c.slot << ": " << e;
     EXPECT_NE(e.find(c.message), std::string::npos) << c.slot << ": " << e;
   }
+}
+
+TEST(SlotJointReading, ASlotIsDrivenByItsSlide) {
+  // Issue 26: the pin's slide is q, the crank's and the rocker's angles are phi (the
+  // kinematics: tests/kinematics/drivers_test.cc).
+  const Model m = LoadModelFromString(SlotModel("{slot: rocker.D, pin: crank.B}", "slot"), "s.yaml");
+  const Analysis a = Validate(m);
+  const Kinematics k = DeriveKinematics(m, a.topology, &a.coordinates, &a.cams);
+  ASSERT_EQ(k.nq(), 1);
+  EXPECT_EQ(k.q[0].name, "s_slot");
+  EXPECT_FALSE(k.q[0].is_angle);
+  EXPECT_EQ(m.inputs[0].max, 1.0);  // a slide's default range [0, 1]
+  ASSERT_EQ(k.nphi(), 2);
+  EXPECT_EQ(k.phi[0].name, "theta_crank");
+  EXPECT_EQ(k.phi[1].name, "theta_rocker");
+}
+
+// ---- inputs that are no joint's coordinate (issue 26; their kinematics:
+// tests/kinematics/drivers_test.cc) ----
+
+// The error of loading, validating and ordering `text` into blocks, as ErrorOf.
+std::string BlocksErrorOf(const std::string& text) {
+  try {
+    const Model m = LoadModelFromString(text, "t.yaml");
+    const Analysis a = Validate(m);
+    const Kinematics k = DeriveKinematics(m, a.topology, &a.coordinates, &a.cams);
+    OrderBlocks(m, k);
+  } catch (const ModelError& e) {
+    return std::to_string(e.mark().line) + ":" + std::to_string(e.mark().column) + ": " + e.message();
+  }
+  return "";
+}
+
+TEST(DriverReading, APointsCoordinateAddsItsDrivingConstraint) {
+  // The four-bar driven by x of its coupler point C: q = x_coupler_C, every angle is phi, and
+  // Phi gets the row b cos(theta_coupler) + a cos(theta_crank) - x_coupler_C.
+  const std::string text = Replaced(kFourbar, "  - {joint: A}", "  - {point: coupler.C, coordinate: x, "
+                                                                "range: [3.5, 4.5]}") + "assembly: {theta_crank: 90*deg, theta_coupler: 30*deg, "
+                                              "theta_rocker: 110*deg, x_coupler_C: 4}\n";
+  const Model m = LoadModelFromString(text, "t.yaml");
+  const Analysis a = Validate(m);
+  const Kinematics k = DeriveKinematics(m, a.topology, &a.coordinates, &a.cams);
+  ASSERT_EQ(k.nq(), 1);
+  EXPECT_EQ(k.q[0].name, "x_coupler_C");
+  EXPECT_FALSE(k.q[0].is_angle);
+  EXPECT_EQ(k.assembly_q[0], 4.0);
+  ASSERT_EQ(k.nphi(), 3);
+  ASSERT_EQ(k.nc(), 3);
+  EXPECT_EQ(k.Phi_source[2], "input x_coupler_C, drive of coupler.C, x");
+  GiNaC::exmap at = m.Defaults();
+  at[k.q[0].symbol] = 4.0;
+  for (int i = 0; i < 3; ++i) at[k.phi[i].symbol] = 0.1 * (i + 1);
+  // theta_crank = 0.1, theta_coupler = 0.2 (phi in the coordinates' order).
+  EXPECT_NEAR(Value(k.Phi[2].subs(at), m), 1.0 * std::cos(0.1) + 3.5 * std::cos(0.2) - 4.0, 1e-15);
+  EXPECT_TRUE((k.Phi_q(2, 0) + 1).is_zero());
+  const std::vector<Block> blocks = OrderBlocks(m, k);
+  EXPECT_FALSE(blocks.empty());
+  // A coupler's angle drives it as well (q = theta_coupler, the crank's angle is phi).
+  const Model ma = LoadModelFromString(Replaced(kFourbar, "  - {joint: A}", "  - {angle: coupler}"), "t.yaml");
+  const Analysis aa = Validate(ma);
+  const Kinematics ka = DeriveKinematics(ma, aa.topology, &aa.coordinates, &aa.cams);
+  ASSERT_EQ(ka.nq(), 1);
+  EXPECT_EQ(ka.q[0].name, "theta_coupler");
+  EXPECT_TRUE(ka.q[0].is_angle);
+  EXPECT_EQ(ka.nc(), 2);
+  EXPECT_EQ(ka.phi[0].name, "theta_crank");
+}
+
+TEST(DriverReading, BadDriversAreErrorsAtTheInput) {
+  struct Case {
+    std::string inputs, at;
+    size_t skip;
+    std::string message;
+  };
+  const Case cases[] = {
+      {"{point: coupler.Q, coordinate: x, range: [0, 1]}", "coupler.Q", 0, "link 'coupler' has no point 'Q'"},
+      {"{point: rotor.C, coordinate: x, range: [0, 1]}", "rotor.C", 0, "unknown link 'rotor'"},
+      {"{point: coupler.C, range: [0, 1]}", "{point:", 0, "needs coordinate: x or coordinate: y"},
+      {"{point: coupler.C, coordinate: z, range: [0, 1]}", "z, range", 0, "coordinate must be x or y"},
+      {"{point: coupler.C, coordinate: x}", "{point:", 0, "needs range: [min, max]"},
+      {"{joint: A, point: coupler.C}", "coupler.C}", 0, "has both 'joint' and 'point'"},
+      {"{angle: ground}", "ground}", 0, "is the ground, whose angle is fixed"},
+      {"{angle: rotor}", "rotor}", 0, "rotor"},
+      {"{point: ground.D, coordinate: y, range: [0, 1]}", "ground.D, coordinate", 0, "is a point of the ground"},
+      {"{joint: A, coordinate: x}", "x}", 0, "coordinate is a point input's"},
+      {"{joint: B}", "B}", 0, "connects two moving links; drive a revolute joint attached to the ground, a prismatic "
+                              "joint, or the absolute angle of one of its links (angle: coupler)"},
+      {"{point: coupler.C, coordinate: x, range: [0, 1]}\n  - {point: coupler.C, coordinate: x, range: [0, 2]}",
+       "coupler.C, coordinate: x, range: [0, 2]", 0, "input point 'coupler.C' is driven twice"},
+      {"{angle: crank}\n  - {angle: crank}", "crank}\n", 19, "input angle 'crank' is driven twice"},
+      {"{joint: A}\n  - {point: coupler.C, coordinate: x, range: [3.5, 4.5]}", "- {joint: A}", 0,
+       "2 input(s) declared but the mechanism has 1 degree(s) of freedom"},
+  };
+  for (const Case& c : cases) {
+    const std::string text = Replaced(kFourbar, "{joint: A}", c.inputs);
+    const std::string e = ErrorOf(text);
+    EXPECT_EQ(e.rfind(At(text, c.at, c.skip), 0), 0u) << c.inputs << ": " << e;
+    EXPECT_NE(e.find(c.message), std::string::npos) << c.inputs << ": " << e;
+  }
+  // A point the linkage does not move with its dependent coordinates (the crank's pivot):
+  // its driving constraint holds no unknown; the error is at that input.
+  const std::string pivot = Replaced(kFourbar, "{joint: A}", "{point: crank.A, coordinate: x, range: [0, 1]}");
+  const std::string e = BlocksErrorOf(pivot);
+  EXPECT_EQ(e.rfind(At(pivot, "{point:"), 0), 0u) << e;
+  EXPECT_NE(e.find("input x_crank_A cannot drive the linkage"), std::string::npos) << e;
 }
 
 // ---- named assembly modes (their generated code: tests/kinematics/named_modes_test.cc) ----

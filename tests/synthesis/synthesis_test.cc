@@ -9,6 +9,8 @@
 //   - the task file's errors: FILE:LINE:COLUMN.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -380,7 +382,7 @@ TEST(FunctionSynthesis, JacobianAgainstCentralDifferences) {
 
 TEST(FunctionSynthesis, FedBackPairsOfAKnownFourBarFoundByTheOptimiser) {
   // Seven pairs of the shipped four-bar (hand formula); no exact stage; the model's values
-  // moved away: LM from the model's values and from random starts finds it again.
+  // moved away: LM from the model's values and the global stage (four DE runs) find it again.
   std::vector<double> t2;
   for (int k = 0; k < 7; ++k) t2.push_back((30 + 20 * k) * kDeg);
   mech::fourbar::Model::ParamsT<double> base;
@@ -451,6 +453,272 @@ TEST(FunctionSynthesis, TaskErrorsSayWhereAndWhat) {
   EXPECT_EQ(error, path + ":4:15: freudenstein: 'b' must be one of the variables (the exact method sets it)");
   std::string kind_error;
   EXPECT_EQ(TaskKind(path, &kind_error), "function");
+}
+
+// ---- Function generation over a range (issue 28, second part) ----
+
+// The classic: y = log10(x) on [1, 2], the crank over 60 deg from 90 deg, the rocker over 60
+// deg from 20 deg (models/fourbar.yaml's frame: ground d = 4 along +x).
+std::string Log10Task(int points, const std::string& extra, const std::string& search = "{restarts: 0}",
+                      const std::string& variables = "{a: [0.5, 20], b: [0.5, 20], c: [0.5, 20]}") {
+  return "synthesis: function\nmodel: fourbar.yaml\noutput: theta_rocker\n"
+         "function: {expression: \"log10(x)\", x: [1, 2], input: [90deg, 150deg], output: [20deg, 80deg], points: " +
+         std::to_string(points) + "}\nfreudenstein: {crank: a, coupler: b, rocker: c, ground: d}\nvariables: " + variables +
+         "\n" + extra + "search: " + search + "\n";
+}
+
+BoundFunction<mech::fourbar::Model> BindFunctionYaml(const std::string& yaml, const std::string& name = "log10_task.yaml") {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << yaml;
+  FunctionTask task;
+  std::string error;
+  EXPECT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  BoundFunction<mech::fourbar::Model> b;
+  EXPECT_TRUE(BindFunctionTask<mech::fourbar::Model>(task, {}, &b, &error)) << error;
+  return b;
+}
+
+// y of the four-bar (a, b, c, d = 4) at x: its rocker by hand (HandTheta4) mapped back through
+// the task's linear scales (start angles in0, out0).
+double HandY(double a, double b, double c, double x, double in0 = 90 * M_PI / 180, double out0 = 20 * M_PI / 180) {
+  const double span = 60 * M_PI / 180;
+  const double t4 = HandTheta4(a, b, c, 4.0, in0 + span * (x - 1));
+  return std::log10(2.0) * (t4 - out0) / span;
+}
+
+TEST(FunctionSynthesis, Log10ThreeChebyshevPointsExactAndStructuralErrorByHand) {
+  const auto b = BindFunctionYaml(Log10Task(3, ""));
+  ASSERT_EQ(b.n, 3);
+  for (int j = 1; j <= 3; ++j)  // Chebyshev spacing: 1.5 - 0.5 cos((2j - 1) pi / 6)
+    EXPECT_NEAR(b.task.x[static_cast<size_t>(j - 1)], 1.5 - 0.5 * std::cos((2 * j - 1) * M_PI / 6), 1e-15);
+  const FunctionResult r = SynthesizeFunction(b, 1);
+  ASSERT_TRUE(r.exact.ok) << r.exact.why;
+  for (double e : r.exact.residual) EXPECT_LT(std::abs(e), 1e-12);
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  const double a = r.exact.a, bb = r.exact.b, c = r.exact.c;
+  // y at the accuracy points, by hand from the synthesized lengths: log10(x_i) to 1e-12.
+  for (double x : b.task.x) EXPECT_NEAR(HandY(a, bb, c, x), std::log10(x), 1e-12) << "x = " << x;
+  // The structural error elsewhere: the library's (generated solve) against the hand formula
+  // at every sample, and its largest.
+  FunctionEvaluator<mech::fourbar::Model> eval(b);
+  const StructuralError e = eval.Structural({a, bb, c});
+  ASSERT_TRUE(e.assembles);
+  ASSERT_EQ(e.samples, 201);
+  double worst = 0;
+  for (size_t k = 0; k < e.xs.size(); ++k) {
+    const double hand = HandY(a, bb, c, e.xs[k]) - std::log10(e.xs[k]);
+    EXPECT_NEAR(e.dy[k], hand, 1e-12) << "x = " << e.xs[k];
+    worst = std::max(worst, std::abs(hand));
+  }
+  EXPECT_NEAR(e.max_y, worst, 1e-12);
+  EXPECT_GT(worst, 1e-5);  // three points: not exact between them
+  // The best (LM from the exact start cannot do better than zero at the points) is it.
+  for (double res : r.best.residual) EXPECT_LT(std::abs(res), 1e-12);
+  EXPECT_NEAR(r.structural.max_y, worst, 1e-9);
+}
+
+TEST(FunctionSynthesis, JacobianWithFreeStartAnglesAgainstCentralDifferences) {
+  const auto b = BindFunctionYaml(Log10Task(5, "free_start: {input: [60deg, 120deg], output: [0deg, 40deg]}\n"));
+  ASSERT_EQ(b.nx, 5);
+  FunctionEvaluator<mech::fourbar::Model> eval(b);
+  FunctionResiduals<mech::fourbar::Model> cost(&eval);
+  std::vector<double> x = {3.5, 8.0, 4.0, 88 * kDeg, 21 * kDeg}, r(5), rp(5), rm(5), jac(25);
+  const double* params[1] = {x.data()};
+  double* jacs[1] = {jac.data()};
+  ASSERT_TRUE(cost.Evaluate(params, r.data(), jacs));
+  const double h = 1e-6;
+  for (int j = 0; j < 5; ++j) {
+    std::vector<double> xp = x, xm = x;
+    xp[static_cast<size_t>(j)] += h, xm[static_cast<size_t>(j)] -= h;
+    const double* pp[1] = {xp.data()};
+    const double* pm[1] = {xm.data()};
+    ASSERT_TRUE(cost.Evaluate(pp, rp.data(), nullptr));
+    ASSERT_TRUE(cost.Evaluate(pm, rm.data(), nullptr));
+    for (int i = 0; i < 5; ++i) {
+      const double fd = (rp[static_cast<size_t>(i)] - rm[static_cast<size_t>(i)]) / (2 * h);
+      EXPECT_NEAR(jac[static_cast<size_t>(i * 5 + j)], fd, 1e-7 * std::max(1.0, std::abs(fd))) << "point " << i << " var " << j;
+    }
+  }
+}
+
+TEST(FunctionSynthesis, FreeStartAnglesReduceTheError) {
+  // Five Chebyshev points: with the start angles fixed no four-bar meets them (three lengths,
+  // five equations); with both start angles free (five unknowns, seeded by Freudenstein's
+  // least squares on a grid of start angles) the error at the points and the structural error
+  // over the range (both by hand from the lengths and start angles found) end lower, at a
+  // point where the error's gradient (central differences) vanishes.
+  const auto fixed = BindFunctionYaml(Log10Task(5, ""), "fixed.yaml");
+  const auto free =
+      BindFunctionYaml(Log10Task(5, "free_start: {input: [30deg, 150deg], output: [-60deg, 60deg]}\n"), "free.yaml");
+  const FunctionResult rf = SynthesizeFunction(fixed, 1);
+  const FunctionResult rs = SynthesizeFunction(free, 1);
+  ASSERT_TRUE(rf.best.feasible()) << rf.best.defect;
+  ASSERT_TRUE(rs.best.feasible()) << rs.best.defect;
+  EXPECT_EQ(rs.exact_grid, 144);
+  EXPECT_GT(rf.best.error, 1e-9);
+  EXPECT_LT(rs.best.error, 0.5 * rf.best.error);
+  auto worst = [](const std::vector<double>& x, double in0, double out0) {
+    double w = 0;
+    for (int k = 0; k <= 200; ++k) {
+      const double xk = 1 + k / 200.0;
+      w = std::max(w, std::abs(HandY(x[0], x[1], x[2], xk, in0, out0) - std::log10(xk)));
+    }
+    return w;
+  };
+  const double wf = worst(rf.best.x, 90 * kDeg, 20 * kDeg);
+  const double ws = worst(rs.best.x, rs.best.x[3], rs.best.x[4]);
+  EXPECT_NEAR(rf.structural.max_y, wf, 1e-9);
+  EXPECT_NEAR(rs.structural.max_y, ws, 1e-9);
+  EXPECT_LT(ws, wf);
+  // The error at the points by hand: the sum of squared angle errors.
+  double e = 0;
+  for (size_t i = 0; i < free.task.x.size(); ++i) {
+    const double dy = HandY(rs.best.x[0], rs.best.x[1], rs.best.x[2], free.task.x[i], rs.best.x[3], rs.best.x[4]) -
+                      std::log10(free.task.x[i]);
+    e += std::pow(dy * 60 * kDeg / std::log10(2.0), 2);
+  }
+  EXPECT_NEAR(rs.best.error, e, 1e-12);
+  FunctionEvaluator<mech::fourbar::Model> eval(free);
+  for (int j = 0; j < 5; ++j) {
+    const double h = j < 3 ? 1e-5 : 1e-6;
+    std::vector<double> xp = rs.best.x, xm = rs.best.x;
+    xp[static_cast<size_t>(j)] += h, xm[static_cast<size_t>(j)] -= h;
+    const double g = (eval.Check(xp).error - eval.Check(xm).error) / (2 * h);
+    EXPECT_LT(std::abs(g), 1e-9) << "dE/dx" << j;
+  }
+}
+
+TEST(FunctionSynthesis, FitOverTheRangeLowersTheStructuralErrorsRms) {
+  // The same log10 task with free start angles, fitted at its five Chebyshev points or over
+  // the range (`fit: range`: the structural error at 101 samples): the range fit's mean square
+  // structural error over those samples (by hand from the lengths and start angles found) is
+  // lower, its error is that sum (by hand), and it is stationary (central differences).
+  const std::string free_start = "free_start: {input: [30deg, 150deg], output: [-60deg, 60deg]}\n";
+  const auto points = BindFunctionYaml(Log10Task(5, free_start), "fit_points.yaml");
+  std::string yaml = Log10Task(5, free_start);
+  yaml.replace(yaml.find("points: 5}"), 10, "points: 5, samples: 100, fit: range}");
+  const auto range = BindFunctionYaml(yaml, "fit_range.yaml");
+  ASSERT_TRUE(range.task.fit_range);
+  ASSERT_EQ(range.n, 101);
+  ASSERT_EQ(range.task.exact_input.size(), 5u);
+  const FunctionResult rp = SynthesizeFunction(points, 1);
+  const FunctionResult rr = SynthesizeFunction(range, 1);
+  ASSERT_TRUE(rp.best.feasible()) << rp.best.defect;
+  ASSERT_TRUE(rr.best.feasible()) << rr.best.defect;
+  auto squares = [](const std::vector<double>& x) {  // sum of squared output-angle errors, 101 samples
+    double e = 0;
+    for (int k = 0; k <= 100; ++k) {
+      const double xk = 1 + k / 100.0;
+      const double dy = HandY(x[0], x[1], x[2], xk, x[3], x[4]) - std::log10(xk);
+      e += std::pow(dy * 60 * kDeg / std::log10(2.0), 2);
+    }
+    return e;
+  };
+  EXPECT_NEAR(rr.best.error, squares(rr.best.x), 1e-12);
+  EXPECT_LT(squares(rr.best.x), squares(rp.best.x));
+  FunctionEvaluator<mech::fourbar::Model> eval(range);
+  for (int j = 0; j < 5; ++j) {
+    const double h = j < 3 ? 1e-5 : 1e-6;
+    std::vector<double> xp = rr.best.x, xm = rr.best.x;
+    xp[static_cast<size_t>(j)] += h, xm[static_cast<size_t>(j)] -= h;
+    const double g = (eval.Check(xp).error - eval.Check(xm).error) / (2 * h);
+    EXPECT_LT(std::abs(g), 1e-8) << "dE/dx" << j;
+  }
+}
+
+TEST(FunctionSynthesis, GlobalStageCountsEvaluationsAndIsTheSameForAnyThreadCount) {
+  // No exact stage and the model's values far from an answer: the global stage (four seeded
+  // DE runs and their LM) finds the three-point answer; 1 and 2 threads give the same bits.
+  const std::string yaml =
+      "synthesis: function\nmodel: fourbar.yaml\noutput: theta_rocker\n"
+      "function: {expression: \"log10(x)\", x: [1, 2], input: [90deg, 150deg], output: [20deg, 80deg], points: 3}\n"
+      "variables: {a: [0.5, 20], b: [0.5, 20], c: [0.5, 20]}\nsearch: {restarts: 4, evaluations: 6000}\n";
+  const auto b = BindFunctionYaml(yaml, "global.yaml");
+  const FunctionResult one = SynthesizeFunction(b, 7, 1);
+  const FunctionResult two = SynthesizeFunction(b, 7, 2);
+  ASSERT_TRUE(one.best.feasible()) << one.best.defect;
+  EXPECT_EQ(one.best.x, two.best.x);
+  EXPECT_EQ(one.evaluations, two.evaluations);
+  EXPECT_EQ(one.best.start, two.best.start);
+  EXPECT_GT(one.global_evaluations, 0);
+  EXPECT_LE(one.global_evaluations, 6000);
+  EXPECT_EQ(one.runs, 4);
+  EXPECT_LT(one.best.error, 1e-20);
+  for (double x : b.task.x) EXPECT_NEAR(HandY(one.best.x[0], one.best.x[1], one.best.x[2], x), std::log10(x), 1e-9);
+}
+
+// The transmission angle (between BC and DC) of fourbar at the crank angle t2, by hand.
+double HandMu(double a, double b, double c, double d, double t2) {
+  const double e2 = a * a + d * d - 2 * a * d * std::cos(t2);
+  return std::acos((b * b + c * c - e2) / (2 * b * c));
+}
+
+TEST(FunctionSynthesis, PathConstraintsAppliedToFunctionTasks) {
+  // The three-point log10 answer (links about 3.57, 8.10, 4.04, 4) is not Grashof: under
+  // crank_rotates it is a defect of size s + l - p - q (by hand); its transmission angle over
+  // the motion from the first point to the last, against the hand formula.
+  const auto plain = BindFunctionYaml(Log10Task(3, ""), "plain.yaml");
+  const FunctionResult r = SynthesizeFunction(plain, 1);
+  ASSERT_TRUE(r.exact.ok);
+  const double a = r.exact.a, bb = r.exact.b, c = r.exact.c, d = 4;
+  std::array<double, 4> len = {a, bb, c, d};
+  std::sort(len.begin(), len.end());
+  const double excess = len[0] + len[3] - len[1] - len[2];
+  ASSERT_GT(excess, 0);
+  const auto rot = BindFunctionYaml(Log10Task(3, "crank: crank\nconstraints: {crank_rotates: true}\n"), "rot.yaml");
+  FunctionEvaluator<mech::fourbar::Model> er(rot);
+  const FunctionCandidate cr = er.Check({a, bb, c});
+  EXPECT_FALSE(cr.feasible());
+  EXPECT_EQ(cr.defect, "the crank cannot turn fully: not Grashof");
+  EXPECT_GE(cr.violation, excess - 1e-12);
+  // Transmission angle: over the accuracy points' input range (hand: fine sampling).
+  double lo = 10, hi = -10;
+  for (int k = 0; k <= 6000; ++k) {
+    const double t2 = rot.task.input[0] + (rot.task.input[2] - rot.task.input[0]) * k / 6000;
+    lo = std::min(lo, HandMu(a, bb, c, d, t2)), hi = std::max(hi, HandMu(a, bb, c, d, t2));
+  }
+  const auto mu = BindFunctionYaml(Log10Task(3, "constraints: {transmission_angle: [" + Deg(lo + 0.05) + ", 170deg]}\n"), "mu.yaml");
+  FunctionEvaluator<mech::fourbar::Model> em(mu);
+  const FunctionCandidate cm = em.Check({a, bb, c});
+  EXPECT_NEAR(cm.mu_min, lo, 2e-3);
+  EXPECT_NEAR(cm.mu_max, hi, 2e-3);
+  EXPECT_FALSE(cm.feasible());
+  EXPECT_EQ(cm.defect, "the transmission angle falls below its bound");
+  EXPECT_NEAR(cm.violation, lo + 0.05 - cm.mu_min, 1e-12);
+  // Searched under Grashof with the crank turning fully: a feasible answer, checked by hand.
+  const auto g = BindFunctionYaml(
+      Log10Task(3, "crank: crank\nconstraints: {crank_rotates: true}\n", "{restarts: 4, evaluations: 8000}"), "grashof.yaml");
+  const FunctionResult rg = SynthesizeFunction(g, 3);
+  ASSERT_TRUE(rg.best.feasible()) << rg.best.defect;
+  std::array<double, 4> lg = {rg.best.x[0], rg.best.x[1], rg.best.x[2], d};
+  std::sort(lg.begin(), lg.end());
+  EXPECT_LE(lg[0] + lg[3], lg[1] + lg[2]);
+  EXPECT_TRUE(lg[0] == rg.best.x[0] || lg[0] == d);
+}
+
+TEST(FunctionSynthesis, RangeTaskErrorsSayWhereAndWhat) {
+  const std::string path = ::testing::TempDir() + "/bad_range.yaml";
+  FunctionTask task;
+  std::string error;
+  std::ofstream(path) << "synthesis: function\noutput: theta_rocker\n"
+                         "function: {expression: \"log10(x) +* 2\", x: [1, 2], input: [0, 1], output: [0, 1], points: 3}\n"
+                         "variables: {a: [0, 1]}\n";
+  EXPECT_FALSE(ParseFunctionTask(path, &task, &error));
+  EXPECT_EQ(error, path + ":3:35: function.expression: unexpected '*'");
+  std::ofstream(path) << "synthesis: function\noutput: theta_rocker\npairs: [[0, 1], [1, 2], [2, 3]]\n"
+                         "free_start: {input: [0, 1], output: [0, 1]}\nvariables: {a: [0, 1]}\n";
+  EXPECT_FALSE(ParseFunctionTask(path, &task, &error));
+  EXPECT_EQ(error, path + ":4:13: free_start: only with function: (the pairs' angles are absolute)");
+  std::ofstream(path) << "synthesis: function\noutput: theta_rocker\n"
+                         "function: {expression: \"log10(x)\", x: [-1, 2], input: [0, 1], output: [0, 1], points: 3}\n"
+                         "variables: {a: [0, 1]}\n";
+  EXPECT_FALSE(ParseFunctionTask(path, &task, &error));
+  EXPECT_EQ(error.substr(0, path.size() + 6), path + ":3:24:");
+  std::ofstream(path) << "synthesis: function\noutput: theta_rocker\n"
+                         "function: {expression: \"log10(x)\", x: [1, 2], input: [0, 1], output: [0, 1], points: 3}\n"
+                         "variables: {a: [0, 1]}\nconstraints: {order: true}\n";
+  EXPECT_FALSE(ParseFunctionTask(path, &task, &error));
+  EXPECT_EQ(error, path + ":5:22: order: only for path tasks with free timing (prescribed angles fix the order)");
 }
 
 // ---- Motion generation (synthesis/burmester.h) ----
@@ -594,6 +862,125 @@ TEST(MotionSynthesis, FivePoseTaskGivesAFourBarTheModelRunsThroughThePoses) {
     if (!m.ok) continue;
     EXPECT_GE(m.ratio, c.ratio);
   }
+}
+
+TEST(MotionSynthesis, SixPosesByLeastSquaresReproducedByHand) {
+  // Six poses of the placed four-bar: the Burmester points of five of them seed the least
+  // squares over all six; the four-bar written reproduces all six poses (hand formulas, not
+  // the generated solve) to 1e-9.
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 55 * kDeg, 95 * kDeg, 140 * kDeg, 185 * kDeg, 230 * kDeg};
+  std::string yaml = "synthesis: motion\npoint: coupler.P\ncoupler_angle: theta_coupler\nposes:\n";
+  const std::vector<Pose> poses = PosesOf(f, q);
+  for (const Pose& p : poses) yaml += "  - [" + Num(p.x) + ", " + Num(p.y) + ", " + Num(p.angle) + "]\n";
+  yaml += "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n"
+          "seed_poses: [1, 2, 4, 5, 6]\n";
+  const std::string path = ::testing::TempDir() + "/motion6_task.yaml";
+  std::ofstream(path) << yaml;
+  MotionTask task;
+  std::string error;
+  ASSERT_TRUE(ParseMotionTask(path, &task, &error)) << error;
+  EXPECT_EQ(task.seed_poses, (std::vector<int>{0, 1, 3, 4, 5}));
+  MotionResult r;
+  ASSERT_TRUE(SynthesizeMotion<mech::synth_fourbar::Model>(task, {}, &r, &error)) << error;
+  ASSERT_GE(r.chosen, 0) << MotionReport(task, r);
+  EXPECT_GT(r.evaluations, 0);
+  const MotionCandidate& c = r.candidates[static_cast<size_t>(r.chosen)];
+  EXPECT_LT(c.error, 1e-18);
+  const FourBarFromDyads& fb = c.fourbar;
+  HandFourBar g;
+  g.a = fb.a, g.b = fb.b, g.c = fb.c, g.d = fb.d, g.xi = fb.xi, g.eta = fb.eta, g.x0 = fb.x0, g.y0 = fb.y0, g.theta0 = fb.theta0;
+  const double offset = g.PoseAt(fb.crank_angle[0]).angle - poses[0].angle;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    const Pose h = g.PoseAt(fb.crank_angle[j]);
+    EXPECT_NEAR(h.x, poses[j].x, 1e-9) << "pose " << j + 1;
+    EXPECT_NEAR(h.y, poses[j].y, 1e-9) << "pose " << j + 1;
+    EXPECT_NEAR(WrapPi(h.angle - offset - poses[j].angle), 0.0, 1e-9) << "pose " << j + 1;
+  }
+  // The default seed poses: the first, the last and three between.
+  yaml.erase(yaml.find("seed_poses"));
+  std::ofstream(path) << yaml;
+  ASSERT_TRUE(ParseMotionTask(path, &task, &error)) << error;
+  EXPECT_EQ(task.seed_poses, (std::vector<int>{0, 1, 3, 4, 5}));  // round(k * 5 / 4): 0, 1, 3 (2.5 up), 4, 5
+  // Six poses one of which no four-bar meets (pose 4 moved by 1e-3): the least squares' error
+  // is positive and no larger than the Burmester seed's own (LM does not make it worse).
+  std::string moved = "synthesis: motion\npoint: coupler.P\ncoupler_angle: theta_coupler\nposes:\n";
+  for (size_t j = 0; j < poses.size(); ++j)
+    moved += "  - [" + Num(poses[j].x + (j == 3 ? 1e-3 : 0.0)) + ", " + Num(poses[j].y) + ", " + Num(poses[j].angle) + "]\n";
+  moved += "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n"
+           "seed_poses: [1, 2, 3, 5, 6]\n";
+  std::ofstream(path) << moved;
+  ASSERT_TRUE(ParseMotionTask(path, &task, &error)) << error;
+  ASSERT_TRUE(SynthesizeMotion<mech::synth_fourbar::Model>(task, {}, &r, &error)) << error;
+  ASSERT_GE(r.chosen, 0) << MotionReport(task, r);
+  const MotionCandidate& m = r.candidates[static_cast<size_t>(r.chosen)];
+  EXPECT_GT(m.error, 0);
+  EXPECT_LT(m.error, 1e-6);           // the seed (exact at five poses) misses pose 4 by 1e-3: 1e-6
+  EXPECT_LT(m.worst_point, 1e-3);
+}
+
+// The refind task with the ground length d free and a ground region in its constraints.
+BoundPath<mech::fourbar::Model> RegionTask(const std::string& region, const std::string& name) {
+  std::ifstream in(Tasks("fourbar_refind.yaml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  yaml.replace(yaml.find("variables:\n"), 11, "variables:\n  d: [2, 6]\n");
+  yaml.replace(yaml.find("constraints:\n"), 13, "constraints:\n  ground_region: " + region + "\n");
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << yaml;
+  return Bind<mech::fourbar::Model>(path);
+}
+
+TEST(PathSynthesis, GroundPivotsInARegion) {
+  using M = mech::fourbar::Model;
+  // The pivots are A = (0, 0) and D = (d, 0) (models/fourbar.yaml); the unconstrained optimum
+  // is the shipped four-bar, d = 4.
+  {
+    const auto b = RegionTask("{pivots: [ground.D], rectangle: [[-1, -1], [3.5, 1]]}", "region_rect.yaml");
+    ASSERT_TRUE(b.task.constraints.has_region);
+    PathEvaluator<M> eval(b);
+    // d = 4 (the unconstrained answer): D is 0.5 right of the rectangle, the violation by hand.
+    const Candidate c = eval.Evaluate({4.0, 1.0, 3.5, 3.0, 1.5, 1.0});
+    EXPECT_FALSE(c.feasible());
+    EXPECT_EQ(c.defect, "ground point ground.D outside ground_region");
+    EXPECT_NEAR(c.violation, 0.5, 1e-12);
+    const SearchResult s = Synthesize(b, 1, 2);
+    ASSERT_TRUE(s.best.best.feasible()) << s.best.best.defect;
+    const double d = s.best.best.x[0];
+    EXPECT_LE(d, 3.5);
+    EXPECT_NEAR(d, 3.5, 1e-9) << "the constrained optimum is on the boundary";
+    EXPECT_GT(s.best.best.error, 1e-6);  // the targets are the d = 4 four-bar's
+  }
+  {
+    // A circle about (2, 0) of radius 1.9 holds A (0, 0)? No: |A - (2, 0)| = 2 > 1.9; every
+    // ground point (no pivots named: A and D) must be inside: a defect of 0.1 for A at d = 4
+    // (|D - (2, 0)| = 2: another 0.1).
+    const auto b = RegionTask("{circle: {centre: [2, 0], radius: 1.9}}", "region_circle.yaml");
+    PathEvaluator<M> eval(b);
+    const Candidate c = eval.Evaluate({4.0, 1.0, 3.5, 3.0, 1.5, 1.0});
+    EXPECT_NEAR(c.violation, 0.2, 1e-12);
+    // A circle holding both at d = 4: the shipped four-bar found again, the pivots inside.
+    const auto in = RegionTask("{circle: {centre: [2, 0], radius: 2.5}}", "region_in.yaml");
+    const SearchResult s = Synthesize(in, 1, 2);
+    ASSERT_TRUE(s.best.best.feasible()) << s.best.best.defect;
+    EXPECT_LT(s.best.best.error, 1e-16);
+    EXPECT_LE(std::abs(s.best.best.x[0] - 2), 2.5);
+  }
+  // Errors: a pivot that is not a ground point, both shapes.
+  std::string error;
+  PathTask task;
+  const std::string path = ::testing::TempDir() + "/region_bad.yaml";
+  std::ofstream(path) << "synthesis: path\npoint: coupler.P\ntargets: [[0, 0], [1, 1]]\nvariables: {a: [0, 1]}\n"
+                         "constraints:\n  ground_region: {pivots: [crank.B], rectangle: [[0, 0], [1, 1]]}\n";
+  ASSERT_TRUE(ParseTask(path, &task, &error)) << error;
+  BoundPath<M> b;
+  EXPECT_FALSE(BindPathTask<M>(task, {}, &b, &error));
+  EXPECT_EQ(error, path + ":6:18: ground_region: 'crank.B' is not a point of the model's ground link (ground.A, ground.D)");
+  std::ofstream(path) << "synthesis: path\npoint: coupler.P\ntargets: [[0, 0], [1, 1]]\nvariables: {a: [0, 1]}\n"
+                         "constraints:\n  ground_region: {rectangle: [[0, 0], [1, 1]], circle: {centre: [0, 0], radius: 1}}\n";
+  EXPECT_FALSE(ParseTask(path, &task, &error));
+  EXPECT_EQ(error, path + ":6:18: ground_region: give either rectangle: [[xmin, ymin], [xmax, ymax]] or circle: {centre: [x, y], radius: r}");
 }
 
 TEST(PathSynthesis, LinkRatioConstraint) {

@@ -14,7 +14,11 @@
 #     lines byte-identical;
 #   - function generation as `mechgen synthesize TASK` (the task names its model): three pairs
 #     computed here by hand formulas, the model file's values meet them to 1e-12; the command
-#     form's errors (no `model:` in the task: exit 1; `--task` as well: exit 2).
+#     form's errors (no `model:` in the task: exit 1; `--task` as well: exit 2);
+#   - a function over a range (log10 on [1, 2], five Chebyshev points, free start angles):
+#     the report's structural error over the range against the hand formula, the same model
+#     file with 1 and 2 threads; a bad expression: exit 1 with FILE:LINE:COLUMN;
+#   - four poses of the shipped four-bar's coupler (hand formulas): curves.csv and curves.svg.
 # usage: synthesize_command_test.sh <mechgen> <source dir> <python3>
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2") python=$3
@@ -150,6 +154,81 @@ status=$?
 [ "$(wc -l < tt.err)" = 1 ] || fail "task with --task: $(cat tt.err)"
 [ ! -e out_nm ] && [ ! -e out_tt ] || fail "an error wrote output"
 ok "the command form's errors"
+
+# A function over a range (`function:`, Chebyshev points) with free start angles, as `mechgen
+# synthesize TASK`: the structural error the report gives over the range against the hand
+# formula (the rocker by circle intersection) for the lengths read back from the model file
+# and the start angles from the report; the same model file with 1 and 2 threads.
+cat > log10.yaml <<'YAML'
+synthesis: function
+model: fourbar.yaml
+output: theta_rocker
+function: {expression: "log10(x)", x: [1, 2], input: [90deg, 150deg], output: [20deg, 80deg], points: 5}
+free_start: {input: [30deg, 150deg], output: [-60deg, 60deg]}
+freudenstein: {crank: a, coupler: b, rocker: c, ground: d}
+variables: {a: [0.5, 20], b: [0.5, 20], c: [0.5, 20]}
+search: {restarts: 2, evaluations: 4000}
+YAML
+"$mechgen" synthesize log10.yaml --seed 3 --threads 1 --out out_log1 > log1.out 2> log1.err
+status=$?
+[ "$status" = 0 ] || { fail "log10 task: exit $status"; cat log1.err; }
+"$mechgen" synthesize log10.yaml --seed 3 --threads 2 --out out_log2 > log2.out 2> log2.err || fail "log10 task, 2 threads"
+cmp -s out_log1/fourbar.yaml out_log2/fourbar.yaml || fail "log10 task: the model files differ between 1 and 2 threads"
+grep -q 'stroke-dasharray' out_log1/function.svg || fail "log10 task: function.svg has no function curve"
+"$python" - out_log1/fourbar.yaml out_log1/report.txt <<'PY' || fail "log10 task: the structural error does not match the hand formula"
+import math, re, sys
+model, report = open(sys.argv[1]).read(), open(sys.argv[2]).read()
+values = dict(re.findall(r'^  (\w+):\s*\{value: ([^,]+),', model, re.M))
+a, b, c, d = (float(values[k]) for k in ('a', 'b', 'c', 'd'))
+in0, out0 = (math.radians(float(v)) for v in re.search(r'^start angles: input (\S+) deg, output (\S+) deg', report, re.M).groups())
+largest = float(re.search(r'^structural error over the range \(201 samples\): largest (\S+) in y', report, re.M).group(1))
+span = math.radians(60)
+worst = 0.0
+for k in range(201):
+    x = 1 + k / 200.0
+    t2 = in0 + span * (x - 1)
+    bx, by = a * math.cos(t2) - d, a * math.sin(t2)
+    e2 = bx * bx + by * by
+    t4 = math.atan2(by, bx) - math.acos((c * c + e2 - b * b) / (2 * c * math.sqrt(e2)))
+    worst = max(worst, abs(math.log10(2) * (t4 - out0) / span - math.log10(x)))
+print("structural error: report %.6g, hand %.6g" % (largest, worst))
+sys.exit(0 if abs(largest - worst) <= 1e-5 * worst else 1)
+PY
+ok "function over a range with free start angles: structural error by hand, same bytes with 1 and 2 threads"
+
+# A bad expression: where and what, exit 1, nothing written.
+sed 's/"log10(x)"/"log10(x) +* 2"/' log10.yaml > badexpr.yaml
+"$mechgen" synthesize badexpr.yaml --out out_be > be.out 2> be.err
+status=$?
+[ "$status" = 1 ] || fail "bad expression: exit $status, expected 1"
+grep -q "^badexpr.yaml:4:35: function.expression: unexpected '\*'$" be.err || fail "bad expression: $(cat be.err)"
+[ ! -e out_be ] || fail "bad expression: out_be written"
+ok "bad expression"
+
+# Four poses of the shipped four-bar's coupler (hand formulas): curves.csv and curves.svg.
+"$python" - > poses4.yaml <<'PY'
+import math
+a, b, c, d, xi, eta = 1.0, 3.5, 3.0, 4.0, 1.5, 1.0
+print("synthesis: motion\nmodel: fourbar.yaml\npoint: coupler.P\ncoupler_angle: theta_coupler\nsearch: {curve_rays: 720}\nposes:")
+for deg in (20, 60, 110, 170):
+    t = math.radians(deg)
+    Bx, By = a * math.cos(t), a * math.sin(t)
+    ex, ey = d - Bx, -By
+    L = math.hypot(ex, ey)
+    s = (b * b - c * c + L * L) / (2 * L)
+    h = math.sqrt(b * b - s * s)
+    Cx, Cy = Bx + s * ex / L - h * ey / L, By + s * ey / L + h * ex / L
+    ux, uy = (Cx - Bx) / b, (Cy - By) / b
+    print("  - [%.17g, %.17g, %.17g]" % (Bx + xi * ux - eta * uy, By + xi * uy + eta * ux, math.atan2(uy, ux)))
+PY
+"$mechgen" synthesize poses4.yaml --out out_m4 > m4.out 2> m4.err
+status=$?
+[ "$status" = 0 ] || { fail "four poses: exit $status"; cat m4.err; }
+for f in curves.csv curves.svg report.txt; do [ -s "out_m4/$f" ] || fail "four poses: out_m4/$f missing"; done
+[ "$(grep -c 'fill="#1f5fa8"' out_m4/curves.svg)" -gt 100 ] || fail "four poses: curves.svg has few circle points"
+[ "$(grep -c 'fill="#c0392b"' out_m4/curves.svg)" -gt 100 ] || fail "four poses: curves.svg has few centre points"
+[ "$(grep -c '<line' out_m4/curves.svg)" = 4 ] || fail "four poses: curves.svg does not draw the four poses"
+ok "four poses: curves.csv and curves.svg"
 
 [ "$failures" = 0 ] && echo "all passed" || echo "$failures failure(s)"
 exit $((failures > 0))

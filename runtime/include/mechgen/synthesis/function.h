@@ -3,27 +3,35 @@
  * Function generation (issue 28) on a generated one-input model with a `design` section: the
  * output angle phi_out (one of the model's dependent variables, e.g. theta_rocker) is to be
  * psi_i when the input is q_i, for the task's pairs (q_i, psi_i), both absolute angles in the
- * model's frame.
+ * model's frame, or for a function y = f(x) over a range (`function:`): its accuracy points
+ * (Chebyshev spacing by default) mapped linearly onto the input's and the output's spans, the
+ * structural error over the whole range reported. With `free_start`, the input's and the
+ * output's start angles are variables too (the spans stay).
  *
  * The stages:
  *  1. Exact where it exists: when the task names the four-bar's links (`freudenstein:
  *     {crank, coupler, rocker, ground}`, the model's ground line along +x as in
  *     models/fourbar.yaml), Freudenstein's equation (synthesis/freudenstein.h) gives the crank,
  *     coupler and rocker for the ground's current length: three pairs exactly, more in the
- *     least-squares sense of the equation (not of the angles).
+ *     least-squares sense of the equation (not of the angles); with free start angles also at
+ *     a 12 x 12 grid of start angles (the best Search::local_starts of them are seeds).
  *  2. Levenberg–Marquardt (Ceres) on the angle residuals r_i = phi_out(q_i; p) - psi_i
- *     (wrapped into (-pi, pi]) over the task's variables within their bounds, its Jacobian the
- *     generated dphi/dp (EvalDesignDerivatives: no automatic or numerical differentiation),
- *     from the exact start (if any), from the model's values and from Search::restarts
- *     uniform starts in the bounds (one splitmix64 stream per start: the result depends only on
- *     the seed; a start where the model does not assemble at every pair is only checked). This
- *     is the general case (any model; more pairs than the exact method fits).
- *  3. Every candidate checked: the model assembles on its mode at every pair, and from pair to
- *     pair (in the task's order, the input moving directly from q_i to q_i+1, sampled at
- *     Search::curve_samples per turn) it stays on that mode with a nonzero branch measure: no
- *     dead point, no branch change between the pairs. The best is chosen by Deb's rule
- *     (feasible first, then the error E = sum r_i^2, rad^2; ties to the earlier start).
- * Counting: one residual evaluation = 1 evaluation, one Jacobian = 1 + the number of variables.
+ *     (wrapped into (-pi, pi]) over the variables within their bounds, its Jacobian the
+ *     generated dphi/dp (EvalDesignDerivatives) and, for the free input start, dphi/dq (the
+ *     coefficient K): no automatic or numerical differentiation. From the exact start(s) and
+ *     the model's values.
+ *  3. The global stage: Search::restarts runs of differential evolution (synthesis/optimize.h's
+ *     DifferentialEvolution, Deb's rule), each its own splitmix64 stream from (seed, run) and an
+ *     equal share of Search::evaluations, on `threads` threads (the result depends only on the
+ *     seed), each run's best Search::local_starts refined by LM within its budget.
+ *  Every candidate checked: the model assembles on its mode at every pair, and from pair to
+ *  pair (the input moving directly from q_i to q_i+1, sampled at Search::curve_samples per
+ *  turn) it stays on that mode with a nonzero branch measure (no dead point, no branch change);
+ *  the path tasks' constraints (synthesis/path.h CheckParameterConstraints; the transmission
+ *  angle over that motion, or the full turn when the crank must turn fully). The best by Deb's
+ *  rule (feasible first, then the error E = sum r_i^2, rad^2; ties to the earlier start).
+ * Counting: one candidate checked = 1 evaluation, one residual evaluation = 1, one Jacobian =
+ * 1 + the number of variables.
  */
 #pragma once
 
@@ -42,7 +50,9 @@
 
 #include "mechgen/core/model_traits.h"
 #include "mechgen/position/design.h"
+#include "mechgen/synthesis/expression.h"
 #include "mechgen/synthesis/freudenstein.h"
+#include "mechgen/synthesis/optimize.h"
 #include "mechgen/synthesis/output.h"
 #include "mechgen/synthesis/path.h"
 #include "mechgen/synthesis/random.h"
@@ -55,12 +65,36 @@ struct FunctionTask {
   std::string file;
   std::string model;                     ///< `model:` relative to the task file, "" if not given
   std::string output;                    ///< the output angle: one of the model's phi names
-  std::vector<double> input, psi;        ///< the pairs (q_i, psi_i), rad
+  std::vector<double> input, psi;        ///< the pairs (q_i, psi_i), rad, at the given start angles
   bool freudenstein = false;             ///< the exact start is asked for
   std::string crank, coupler, rocker, ground;  ///< its links' length parameters
   std::vector<Variable> variables;
   Search search;
   int output_line = 0, output_column = 0, freudenstein_line = 0, freudenstein_column = 0;
+  // A function over a range (`function:`): y = f(x) on [x0, x1], the input angle
+  // in_start + in_span (x - x0) / (x1 - x0), the output angle out_start + out_span (y - y0) /
+  // (y1 - y0), y0 = f(x0), y1 = f(x1); the accuracy points x_i (Chebyshev or uniform) give the
+  // pairs above.
+  bool range = false;
+  std::string expression;
+  Expression f;
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+  double in_start = 0, in_span = 0, out_start = 0, out_span = 0;
+  std::vector<double> x;                 ///< the accuracy points
+  bool chebyshev = true;
+  int samples = 200;                     ///< the structural error's check: samples + 1 points over the range
+  /// `fit: range`: the residuals are the structural error at the samples + 1 points (input and
+  /// psi hold those; the accuracy points stay in x, exact_input, exact_psi for Freudenstein's
+  /// seeds); `fit: points` (the default): at the accuracy points.
+  bool fit_range = false;
+  std::vector<double> exact_input, exact_psi;  ///< the accuracy points' pairs (= input, psi unless fit_range)
+  // Free start angles: in_start and out_start are variables within these bounds (the spans stay).
+  bool free_start = false;
+  double in_lo = 0, in_hi = 0, out_lo = 0, out_hi = 0;
+  // Constraints (as path tasks; `order` excepted) and the input link they name.
+  std::string crank_link;
+  int crank_line = 0, crank_column = 0;
+  Constraints constraints;
 };
 
 /// The `synthesis:` kind of a task file ("path", "function", ...), "" and *error if unreadable.
@@ -85,7 +119,10 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
   YAML::Node root;
   if (!LoadTaskRoot(path, "`synthesis: function`, `output`, `pairs`, `variables`", &root, error)) return false;
   try {
-    Known(path, root, {"synthesis", "model", "output", "pairs", "freudenstein", "variables", "search"}, "a function task");
+    Known(path, root,
+          {"synthesis", "model", "output", "pairs", "function", "free_start", "freudenstein", "crank", "variables",
+           "constraints", "search"},
+          "a function task");
     const YAML::Node kind = Required(path, root, "synthesis", "the kind of task");
     if (!kind.IsScalar() || kind.Scalar() != "function") throw Error{Where(path, kind.Mark()) + "expected synthesis: function"};
     if (const YAML::Node m = root["model"]) {
@@ -97,13 +134,106 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
     task->output = out.Scalar();
     task->output_line = out.Mark().line + 1;
     task->output_column = out.Mark().column + 1;
-    const YAML::Node pairs = Required(path, root, "pairs", "the (input, output) angle pairs, [[30deg, 95deg], ...]");
-    if (!pairs.IsSequence() || pairs.size() < 2)
-      throw Error{Where(path, pairs.Mark()) + "pairs: expected at least two [input, output] angle pairs"};
-    for (const YAML::Node& pr : pairs) {
-      if (!pr.IsSequence() || pr.size() != 2) throw Error{Where(path, pr.Mark()) + "a pair: expected [input angle, output angle]"};
-      task->input.push_back(Number(path, pr[0], "input angle", true));
-      task->psi.push_back(Number(path, pr[1], "output angle", true));
+    if (root["pairs"] && root["function"])
+      throw Error{Where(path, root["function"].Mark()) + "give either pairs: or function:, not both"};
+    if (const YAML::Node fn = root["function"]) {
+      if (!fn.IsMap())
+        throw Error{Where(path, fn.Mark()) + "function: expected {expression: \"log10(x)\", x: [1, 2], input: [a, b], output: [c, d], points: 3}"};
+      Known(path, fn, {"expression", "x", "input", "output", "points", "spacing", "samples", "fit"}, "function");
+      task->range = true;
+      const YAML::Node ex = Required(path, fn, "expression", "y as a function of x, e.g. \"log10(x)\"");
+      if (!ex.IsScalar()) throw Error{Where(path, ex.Mark()) + "function.expression: expected an expression in x"};
+      task->expression = ex.Scalar();
+      int column = 0;
+      std::string what;
+      if (!task->f.Parse(task->expression, &column, &what)) {
+        // The column within the file: the scalar's own column (+1 past an opening quote).
+        const bool quoted = ex.Tag() == "!" ;
+        YAML::Mark m = ex.Mark();
+        m.column += column - 1 + (quoted ? 1 : 0);
+        throw Error{Where(path, m) + "function.expression: " + what};
+      }
+      Pair(path, Required(path, fn, "x", "the range of x, [x0, x1]"), "function.x", false, &task->x0, &task->x1);
+      double a = 0, b = 0;
+      Pair(path, Required(path, fn, "input", "the input angle at x0 and at x1, e.g. [90deg, 150deg]"), "function.input", true,
+           &a, &b, false);
+      task->in_start = a, task->in_span = b - a;
+      Pair(path, Required(path, fn, "output", "the output angle at f(x0) and at f(x1), e.g. [20deg, 80deg]"), "function.output",
+           true, &a, &b, false);
+      task->out_start = a, task->out_span = b - a;
+      if (task->in_span == 0) throw Error{Where(path, fn["input"].Mark()) + "function.input: the two angles must differ"};
+      if (task->out_span == 0) throw Error{Where(path, fn["output"].Mark()) + "function.output: the two angles must differ"};
+      const int n = static_cast<int>(Count(path, Required(path, fn, "points", "the number of accuracy points, e.g. 3"),
+                                           "function.points", 2, 1000));
+      if (const YAML::Node sp = fn["spacing"]) {
+        if (!sp.IsScalar() || (sp.Scalar() != "chebyshev" && sp.Scalar() != "uniform"))
+          throw Error{Where(path, sp.Mark()) + "function.spacing: expected chebyshev or uniform"};
+        task->chebyshev = sp.Scalar() == "chebyshev";
+      }
+      if (fn["samples"]) task->samples = static_cast<int>(Count(path, fn["samples"], "function.samples", 2, 1000000));
+      if (const YAML::Node fit = fn["fit"]) {
+        if (!fit.IsScalar() || (fit.Scalar() != "points" && fit.Scalar() != "range"))
+          throw Error{Where(path, fit.Mark()) + "function.fit: expected points (the accuracy points) or range (the "
+                                                "structural error at every sample)"};
+        task->fit_range = fit.Scalar() == "range";
+      }
+      task->y0 = task->f(task->x0);
+      task->y1 = task->f(task->x1);
+      if (!std::isfinite(task->y0) || !std::isfinite(task->y1) || task->y0 == task->y1)
+        throw Error{Where(path, ex.Mark()) + "function.expression: f(x0) and f(x1) must be finite and differ (they set the "
+                                             "output's scale)"};
+      for (int j = 1; j <= n; ++j) {
+        const double xj = task->chebyshev
+                              ? 0.5 * (task->x0 + task->x1) - 0.5 * (task->x1 - task->x0) * std::cos((2 * j - 1) * M_PI / (2 * n))
+                              : task->x0 + (task->x1 - task->x0) * (j - 1) / (n - 1);
+        const double yj = task->f(xj);
+        if (!std::isfinite(yj))
+          throw Error{Where(path, ex.Mark()) + "function.expression: f(" + std::to_string(xj) + ") is not finite"};
+        task->x.push_back(xj);
+        task->input.push_back(task->in_start + task->in_span * (xj - task->x0) / (task->x1 - task->x0));
+        task->psi.push_back(task->out_start + task->out_span * (yj - task->y0) / (task->y1 - task->y0));
+      }
+      task->exact_input = task->input;
+      task->exact_psi = task->psi;
+      if (task->fit_range) task->input.clear(), task->psi.clear();
+      for (int k = 0; k <= task->samples; ++k) {
+        const double xk = task->x0 + (task->x1 - task->x0) * k / task->samples;
+        const double yk = task->f(xk);
+        if (!std::isfinite(yk))
+          throw Error{Where(path, ex.Mark()) + "function.expression: f(" + std::to_string(xk) + ") is not finite on the range"};
+        if (task->fit_range) {
+          task->input.push_back(task->in_start + task->in_span * (xk - task->x0) / (task->x1 - task->x0));
+          task->psi.push_back(task->out_start + task->out_span * (yk - task->y0) / (task->y1 - task->y0));
+        }
+      }
+    } else {
+      const YAML::Node pairs = Required(path, root, "pairs", "the (input, output) angle pairs, [[30deg, 95deg], ...] (or function:)");
+      if (!pairs.IsSequence() || pairs.size() < 2)
+        throw Error{Where(path, pairs.Mark()) + "pairs: expected at least two [input, output] angle pairs"};
+      for (const YAML::Node& pr : pairs) {
+        if (!pr.IsSequence() || pr.size() != 2) throw Error{Where(path, pr.Mark()) + "a pair: expected [input angle, output angle]"};
+        task->input.push_back(Number(path, pr[0], "input angle", true));
+        task->psi.push_back(Number(path, pr[1], "output angle", true));
+      }
+      task->exact_input = task->input;
+      task->exact_psi = task->psi;
+    }
+    if (const YAML::Node fs = root["free_start"]) {
+      if (!task->range)
+        throw Error{Where(path, fs.Mark()) + "free_start: only with function: (the pairs' angles are absolute)"};
+      if (!fs.IsMap()) throw Error{Where(path, fs.Mark()) + "free_start: expected {input: [min, max], output: [min, max]}"};
+      Known(path, fs, {"input", "output"}, "free_start");
+      Pair(path, Required(path, fs, "input", "the start angle of the input's bounds, [min, max]"), "free_start.input", true,
+           &task->in_lo, &task->in_hi);
+      Pair(path, Required(path, fs, "output", "the start angle of the output's bounds, [min, max]"), "free_start.output", true,
+           &task->out_lo, &task->out_hi);
+      task->free_start = true;
+    }
+    if (const YAML::Node c = root["crank"]) {
+      if (!c.IsScalar()) throw Error{Where(path, c.Mark()) + "crank: expected the input link's name"};
+      task->crank_link = c.Scalar();
+      task->crank_line = c.Mark().line + 1;
+      task->crank_column = c.Mark().column + 1;
     }
     if (const YAML::Node f = root["freudenstein"]) {
       if (!f.IsMap()) throw Error{Where(path, f.Mark()) + "freudenstein: expected {crank: a, coupler: b, rocker: c, ground: d}"};
@@ -118,8 +248,8 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
         if (!v.IsScalar()) throw Error{Where(path, v.Mark()) + "freudenstein." + keys[k] + ": expected a parameter name"};
         *slots[k] = v.Scalar();
       }
-      if (task->input.size() < 3)
-        throw Error{Where(path, f.Mark()) + "freudenstein: needs at least three pairs"};
+      if (task->exact_input.size() < 3)
+        throw Error{Where(path, f.Mark()) + "freudenstein: needs at least three pairs (accuracy points)"};
     }
     ReadVariables(path, root, "{a: [0.1, 10], ...}", &task->variables);
     if (task->freudenstein) {
@@ -131,15 +261,10 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
                       "' must be one of the variables (the exact method sets it)"};
       }
     }
+    if (const YAML::Node cons = root["constraints"])
+      ReadConstraints(path, cons, !task->crank_link.empty(), /*free_timing=*/false, &task->constraints);
     task->search.restarts = 8;
-    if (const YAML::Node s = root["search"]) {
-      if (!s.IsMap()) throw Error{Where(path, s.Mark()) + "search: expected a mapping"};
-      Known(path, s, {"restarts", "curve_samples", "evaluations"}, "search (function task)");
-      if (s["restarts"]) task->search.restarts = static_cast<int>(Count(path, s["restarts"], "restarts", 0, 10000));
-      if (s["curve_samples"])
-        task->search.curve_samples = static_cast<int>(Count(path, s["curve_samples"], "curve_samples", 8, 100000));
-      if (s["evaluations"]) task->search.evaluations = Count(path, s["evaluations"], "evaluations", 100, 1000000000LL);
-    }
+    if (const YAML::Node s = root["search"]) ReadSearch(path, s, /*function_task=*/true, &task->search);
   } catch (const Error& e) {
     *error = e.message;
     return false;
@@ -165,6 +290,11 @@ struct BoundFunction {
   int n = 0;
   int output = -1;            ///< index in M::kPhiNames
   std::vector<int> column;    ///< each variable's column in M::kDesignNames
+  int nv = 0;                 ///< design variables
+  int nx = 0;                 ///< the vector searched: the design variables (+ the two start angles)
+  ConstraintIndices checks;
+  /// The bounds of the vector searched.
+  std::vector<double> lo, hi;
 };
 
 template <class M>
@@ -203,6 +333,16 @@ bool BindFunctionTask(const FunctionTask& task, const typename M::template Param
           return false;
         }
     }
+    if (!BindConstraints<M>(task.file, task.constraints, task.crank_link, task.crank_line, task.crank_column, &b.checks,
+                            error))
+      return false;
+    b.nv = static_cast<int>(task.variables.size());
+    b.nx = b.nv + (task.free_start ? 2 : 0);
+    for (const Variable& v : task.variables) b.lo.push_back(v.lo), b.hi.push_back(v.hi);
+    if (task.free_start) {
+      b.lo.push_back(task.in_lo), b.hi.push_back(task.in_hi);
+      b.lo.push_back(task.out_lo), b.hi.push_back(task.out_hi);
+    }
     *out = b;
     return true;
   }
@@ -210,13 +350,25 @@ bool BindFunctionTask(const FunctionTask& task, const typename M::template Param
 
 /// A function-generation candidate.
 struct FunctionCandidate {
-  std::vector<double> x;          ///< the variables
+  std::vector<double> x;          ///< the variables (+ the input's and the output's start angle)
   std::vector<double> residual;   ///< phi_out(q_i) - psi_i, wrapped (rad); NaN where it does not assemble
   double error = kInf;            ///< sum of squared residuals (rad^2)
   double violation = kInf;        ///< 0: no defect
   std::string defect;
-  std::string start;              ///< where the local stage started (freudenstein, model, random k)
+  std::string start;              ///< where it came from (freudenstein, model, run k; + LM)
+  double mu_min = kInf, mu_max = -kInf;  ///< transmission angles over the checked motion (rad)
   bool feasible() const { return violation == 0; }
+};
+
+/// The structural error over a function task's range: the synthesized output against the
+/// function's at samples + 1 evenly spaced x (function: tasks only).
+struct StructuralError {
+  double max_angle = kInf;   ///< max |phi_out - psi(x)| (rad)
+  double max_y = kInf;       ///< the same in the function's units: max |y_mechanism(x) - f(x)|
+  double at_x = 0;           ///< where the largest is
+  int samples = 0;
+  bool assembles = false;    ///< the mechanism assembles on its mode at every sample
+  std::vector<double> xs, dy;  ///< every sample's x and y_mechanism - f(x)
 };
 
 /// Evaluates and checks function candidates (counts what it did).
@@ -237,6 +389,20 @@ class FunctionEvaluator {
     for (size_t j = 0; j < b_.task.variables.size(); ++j) *p.Find(b_.task.variables[j].name.c_str()) = x[j];
     return p;
   }
+  /// The start angles of x (the task's when they are not free).
+  double InStart(const std::vector<double>& x) const {
+    return b_.task.free_start ? x[static_cast<size_t>(b_.nv)] : b_.task.in_start;
+  }
+  double OutStart(const std::vector<double>& x) const {
+    return b_.task.free_start ? x[static_cast<size_t>(b_.nv + 1)] : b_.task.out_start;
+  }
+  /// The input angle of pair i and its target output angle, for the start angles of x.
+  double Q(const std::vector<double>& x, int i) const {
+    return b_.task.input[static_cast<size_t>(i)] - b_.task.in_start + InStart(x);
+  }
+  double Target(const std::vector<double>& x, int i) const {
+    return b_.task.psi[static_cast<size_t>(i)] - b_.task.out_start + OutStart(x);
+  }
 
   /// phi at q on the model's mode; false where it does not assemble (or at a branch point).
   bool PhiAt(const Params& p, double q, VecPhi* phi) {
@@ -252,14 +418,16 @@ class FunctionEvaluator {
     return true;
   }
 
-  /// The residuals and the checks of x.
+  /// The residuals and the checks of x (one evaluation).
   FunctionCandidate Check(const std::vector<double>& x) {
+    ++evaluations;
     FunctionCandidate c;
     c.x = x;
     const Params p = ParamsOf(x);
     const FunctionTask& t = b_.task;
     double violation = 0;
     auto flag = [&](double amount, const std::string& what) {
+      if (!(amount > 0)) return;
       violation += amount;
       if (c.defect.empty()) c.defect = what;
     };
@@ -267,84 +435,165 @@ class FunctionEvaluator {
     c.residual.assign(static_cast<size_t>(b_.n), std::numeric_limits<double>::quiet_NaN());
     VecPhi phi;
     for (int i = 0; i < b_.n; ++i) {
-      if (!PhiAt(p, t.input[static_cast<size_t>(i)], &phi)) {
+      if (!PhiAt(p, Q(x, i), &phi)) {
         flag(1.0, "pair " + std::to_string(i + 1) + ": the mechanism does not assemble on its mode at its input angle");
         continue;
       }
-      const double r = WrapPi(phi(b_.output) - t.psi[static_cast<size_t>(i)]);
+      const double r = WrapPi(phi(b_.output) - Target(x, i));
       c.residual[static_cast<size_t>(i)] = r;
       c.error += r * r;
     }
+    const bool full_turn = CheckParameterConstraints<M>(p, t.constraints, b_.checks, flag);
+    // The motion: from pair to pair in the task's order (the input moving directly between
+    // them), or the full turn when the crank must turn fully; transmission angles along it.
     const double step = kTwoPi / t.search.curve_samples;
-    for (int i = 0; i + 1 < b_.n; ++i) {
-      const double q0 = t.input[static_cast<size_t>(i)], q1 = t.input[static_cast<size_t>(i + 1)];
+    double mu_min = kInf, mu_max = -kInf;
+    auto walk = [&](double q0, double q1, int from) {
       const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(q1 - q0) / step)));
-      for (int s = 1; s < steps; ++s) {
-        if (!PhiAt(p, q0 + (q1 - q0) * s / steps, &phi)) {
-          flag(1.0 / steps, "between pairs " + std::to_string(i + 1) + " and " + std::to_string(i + 2) +
-                                ": the mechanism leaves its assembly mode (a dead point or no closure)");
+      for (int s = 0; s <= steps; ++s) {
+        const double q = q0 + (q1 - q0) * s / steps;
+        if (!PhiAt(p, q, &phi)) {
+          if (s > 0 && s < steps)
+            flag(1.0 / steps, from < 0 ? "the crank does not turn fully on the assembly mode"
+                                       : "between pairs " + std::to_string(from + 1) + " and " + std::to_string(from + 2) +
+                                             ": the mechanism leaves its assembly mode (a dead point or no closure)");
+          continue;
+        }
+        if constexpr (M::kNumTransmissionAngles > 0) {
+          if (t.constraints.has_mu) {
+            VecQ qv;
+            qv(0) = q;
+            Eigen::Matrix<double, M::kNumTransmissionAngles, 1> mu;
+            M::TransmissionAngles(p, qv, phi, &mu);
+            for (int k = 0; k < M::kNumTransmissionAngles; ++k) mu_min = std::min(mu_min, mu(k)), mu_max = std::max(mu_max, mu(k));
+          }
         }
       }
+    };
+    if (full_turn) {
+      walk(Q(x, 0), Q(x, 0) + kTwoPi, -1);
+    } else {
+      for (int i = 0; i + 1 < b_.n; ++i) walk(Q(x, i), Q(x, i + 1), i);
     }
+    c.mu_min = mu_min, c.mu_max = mu_max;
+    if (t.constraints.has_mu && std::isfinite(mu_min)) {
+      flag(t.constraints.mu_lo - mu_min, "the transmission angle falls below its bound");
+      flag(mu_max - t.constraints.mu_hi, "the transmission angle rises above its bound");
+    }
+    if (!std::isfinite(c.error) && violation == 0) flag(1.0, "the error is not finite");
     c.violation = violation;
     return c;
+  }
+
+  /// The structural error of x over the task's range (function: tasks; else assembles false).
+  StructuralError Structural(const std::vector<double>& x) {
+    StructuralError e;
+    const FunctionTask& t = b_.task;
+    if (!t.range) return e;
+    const Params p = ParamsOf(x);
+    const double in0 = InStart(x), out0 = OutStart(x);
+    e.max_angle = e.max_y = 0;
+    e.assembles = true;
+    e.samples = t.samples + 1;
+    VecPhi phi;
+    for (int k = 0; k <= t.samples; ++k) {
+      const double xk = t.x0 + (t.x1 - t.x0) * k / t.samples;
+      const double u = (xk - t.x0) / (t.x1 - t.x0);
+      const double psi = out0 + t.out_span * (t.f(xk) - t.y0) / (t.y1 - t.y0);
+      if (!PhiAt(p, in0 + t.in_span * u, &phi)) {
+        e.assembles = false;
+        e.max_angle = e.max_y = kInf;
+        return e;
+      }
+      const double da = WrapPi(phi(b_.output) - psi);
+      const double dy = da * (t.y1 - t.y0) / t.out_span;
+      e.xs.push_back(xk);
+      e.dy.push_back(dy);
+      if (std::abs(da) > e.max_angle) e.max_angle = std::abs(da), e.max_y = std::abs(dy), e.at_x = xk;
+    }
+    return e;
   }
 
  private:
   const BoundFunction<M>& b_;
 };
 
-/// The angle residuals and their generated Jacobian (dphi_out/dp of the design section).
+/// The angle residuals and their generated Jacobian: dphi_out/dp of the design section and,
+/// for free start angles, dphi_out/dq (the coefficient K) for the input's start, -1 for the
+/// output's. `limit`: the count it may not pass (an evaluation that would is refused).
 template <class M>
 class FunctionResiduals : public ceres::CostFunction {
  public:
-  explicit FunctionResiduals(FunctionEvaluator<M>* eval) : eval_(eval) {
+  explicit FunctionResiduals(FunctionEvaluator<M>* eval, long long limit = std::numeric_limits<long long>::max())
+      : eval_(eval), limit_(limit) {
     set_num_residuals(eval->bound().n);
-    mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(eval->bound().task.variables.size()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(eval->bound().nx));
   }
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const BoundFunction<M>& b = eval_->bound();
-    const int nv = static_cast<int>(b.task.variables.size());
-    eval_->evaluations += (jacobians != nullptr && jacobians[0] != nullptr) ? 1 + nv : 1;
-    const std::vector<double> x(parameters[0], parameters[0] + nv);
+    const int nx = b.nx;
+    const long long cost = (jacobians != nullptr && jacobians[0] != nullptr) ? 1 + nx : 1;
+    if (eval_->evaluations + cost > limit_) return false;
+    eval_->evaluations += cost;
+    const std::vector<double> x(parameters[0], parameters[0] + nx);
     const auto p = eval_->ParamsOf(x);
     typename FunctionEvaluator<M>::VecPhi phi;
     position::DesignOf<M> design;
+    typename M::template CoefficientsT<double> co;
     for (int i = 0; i < b.n; ++i) {
-      const double q = b.task.input[static_cast<size_t>(i)];
+      const double q = eval_->Q(x, i);
       if (!eval_->PhiAt(p, q, &phi)) return false;
-      residuals[i] = WrapPi(phi(b.output) - b.task.psi[static_cast<size_t>(i)]);
+      residuals[i] = WrapPi(phi(b.output) - eval_->Target(x, i));
       if (jacobians == nullptr || jacobians[0] == nullptr) continue;
       Eigen::Matrix<double, M::kNq, 1> qv;
       qv(0) = q;
       M::Design(p, qv, phi, &design);
-      for (int j = 0; j < nv; ++j) jacobians[0][i * nv + j] = design.dphi_dp(b.output, b.column[static_cast<size_t>(j)]);
+      for (int j = 0; j < b.nv; ++j) jacobians[0][i * nx + j] = design.dphi_dp(b.output, b.column[static_cast<size_t>(j)]);
+      if (b.task.free_start) {
+        M::Coeffs(p, qv, phi, &co);
+        jacobians[0][i * nx + b.nv] = co.K(b.output, 0);
+        jacobians[0][i * nx + b.nv + 1] = -1.0;
+      }
     }
     return true;
   }
 
  private:
   FunctionEvaluator<M>* eval_;
+  long long limit_;
 };
 
-/// Levenberg–Marquardt from x within the variables' bounds; the refined point (unchecked).
+/// Levenberg–Marquardt from x within the bounds, at most max_evaluations (counted as above);
+/// the refined point (unchecked).
 template <class M>
-std::vector<double> FunctionLocalStage(FunctionEvaluator<M>* eval, std::vector<double> x, int* iterations) {
+std::vector<double> FunctionLocalStage(FunctionEvaluator<M>* eval, std::vector<double> x, int* iterations,
+                                       long long max_evaluations = std::numeric_limits<long long>::max() / 4) {
   const BoundFunction<M>& b = eval->bound();
-  const int nv = static_cast<int>(x.size());
-  for (int j = 0; j < nv; ++j)
-    x[static_cast<size_t>(j)] = std::clamp(x[static_cast<size_t>(j)], b.task.variables[static_cast<size_t>(j)].lo,
-                                           b.task.variables[static_cast<size_t>(j)].hi);
+  const int nx = b.nx;
+  for (int j = 0; j < nx; ++j)
+    x[static_cast<size_t>(j)] = std::clamp(x[static_cast<size_t>(j)], b.lo[static_cast<size_t>(j)], b.hi[static_cast<size_t>(j)]);
+  const long long limit = eval->evaluations + max_evaluations;
   ceres::Problem problem;
-  problem.AddResidualBlock(new FunctionResiduals<M>(eval), nullptr, x.data());
-  for (int j = 0; j < nv; ++j) {
-    problem.SetParameterLowerBound(x.data(), j, b.task.variables[static_cast<size_t>(j)].lo);
-    problem.SetParameterUpperBound(x.data(), j, b.task.variables[static_cast<size_t>(j)].hi);
+  problem.AddResidualBlock(new FunctionResiduals<M>(eval, limit), nullptr, x.data());
+  for (int j = 0; j < nx; ++j) {
+    problem.SetParameterLowerBound(x.data(), j, b.lo[static_cast<size_t>(j)]);
+    problem.SetParameterUpperBound(x.data(), j, b.hi[static_cast<size_t>(j)]);
   }
   ceres::Solver::Options options;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   options.linear_solver_type = ceres::DENSE_QR;
+  // Stop (keeping the best point so far) when less than two iterations' worth is left.
+  struct Budget : ceres::IterationCallback {
+    const FunctionEvaluator<M>* eval;
+    long long stop_at;
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+      return eval->evaluations >= stop_at ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+    }
+  } budget;
+  budget.eval = eval;
+  budget.stop_at = limit - 2 * (2 + nx) - 1;
+  options.callbacks.push_back(&budget);
   options.max_num_iterations = 200;
   options.function_tolerance = 1e-16;
   options.gradient_tolerance = 1e-20;
@@ -360,88 +609,178 @@ std::vector<double> FunctionLocalStage(FunctionEvaluator<M>* eval, std::vector<d
 /// What function synthesis did.
 struct FunctionResult {
   FunctionCandidate best;
-  std::vector<FunctionCandidate> starts;   ///< every local stage's result, in start order
+  std::vector<FunctionCandidate> starts;   ///< the seeds' and the runs' results, in order
   FreudensteinResult exact;                ///< the exact stage (ok false when not asked or refused)
   bool exact_asked = false;
+  int exact_grid = 0;                      ///< free start angles: start-angle pairs Freudenstein was run at
   long long evaluations = 0, solves = 0;
+  long long global_evaluations = 0;        ///< of the global stage's runs (in `evaluations`)
+  int runs = 0;
   int iterations = 0;
+  StructuralError structural;              ///< of the best (function: tasks)
 };
 
-/// The stages above; `seed` sets the random starts.
+namespace function_internal {
+/// LM from `start` when it assembles at every pair; the better of the two by Deb's rule.
 template <class M>
-FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed) {
+FunctionCandidate Refine(FunctionEvaluator<M>* eval, const FunctionCandidate& at, long long max_evaluations,
+                         int* iterations) {
+  bool assembles = true;
+  for (double e : at.residual) assembles = assembles && std::isfinite(e);
+  if (!assembles || max_evaluations <= 0) return at;
+  int it = 0;
+  FunctionCandidate refined = eval->Check(FunctionLocalStage(eval, at.x, &it, max_evaluations));
+  *iterations += it;
+  refined.start = at.start + " + LM";
+  return Better(refined, at) ? refined : at;
+}
+}  // namespace function_internal
+
+/// The stages (file comment): the exact start(s) and the model's values, then
+/// Search::restarts runs of differential evolution (each its own splitmix64 stream from
+/// (seed, run) and an equal share of Search::evaluations; on `threads` threads, the result
+/// independent of their number), each run's best Search::local_starts refined by LM.
+template <class M>
+FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed, int threads = 1) {
+  using function_internal::Refine;
   FunctionEvaluator<M> eval(b);
   FunctionResult r;
   const FunctionTask& t = b.task;
-  const int nv = static_cast<int>(t.variables.size());
-  std::vector<std::pair<std::string, std::vector<double>>> starts;
-  std::vector<double> x0(static_cast<size_t>(nv));
+  const int nv = b.nv, nx = b.nx;
+  std::vector<double> x0(static_cast<size_t>(nx));
   {
     auto p = b.base;
     for (int j = 0; j < nv; ++j) x0[static_cast<size_t>(j)] = *p.Find(t.variables[static_cast<size_t>(j)].name.c_str());
+    if (t.free_start) x0[static_cast<size_t>(nv)] = t.in_start, x0[static_cast<size_t>(nv + 1)] = t.out_start;
   }
+  auto clamp = [&](std::vector<double> x) {
+    for (int j = 0; j < nx; ++j)
+      x[static_cast<size_t>(j)] = std::clamp(x[static_cast<size_t>(j)], b.lo[static_cast<size_t>(j)], b.hi[static_cast<size_t>(j)]);
+    return x;
+  };
+  // The exact method at start angles (in0, out0): its four-bar as a candidate.
+  auto exact_at = [&](double in0, double out0, FreudensteinResult* fr) {
+    std::vector<double> t2, t4;
+    for (size_t i = 0; i < t.exact_input.size(); ++i) {
+      t2.push_back(t.exact_input[i] - t.in_start + in0);
+      t4.push_back(t.exact_psi[i] - t.out_start + out0);
+    }
+    auto p = b.base;
+    *fr = Freudenstein(t2, t4, *p.Find(t.ground.c_str()));
+    std::vector<double> x = x0;
+    for (int j = 0; j < nv; ++j) {
+      const std::string& name = t.variables[static_cast<size_t>(j)].name;
+      if (name == t.crank) x[static_cast<size_t>(j)] = fr->a;
+      if (name == t.coupler) x[static_cast<size_t>(j)] = fr->b;
+      if (name == t.rocker) x[static_cast<size_t>(j)] = fr->c;
+    }
+    if (t.free_start) x[static_cast<size_t>(nv)] = in0, x[static_cast<size_t>(nv + 1)] = out0;
+    return x;
+  };
+  // Seeds: the exact start (free start angles: Freudenstein's least squares on a 12 x 12 grid
+  // of start angles, its best few by Deb's rule), the model's values.
+  std::vector<FunctionCandidate> seeds;
   if (t.freudenstein) {
     r.exact_asked = true;
-    auto p = b.base;
-    r.exact = Freudenstein(t.input, t.psi, *p.Find(t.ground.c_str()));
+    std::vector<double> xe = exact_at(t.in_start, t.out_start, &r.exact);
     if (r.exact.ok) {
-      std::vector<double> x = x0;
-      for (int j = 0; j < nv; ++j) {
-        const std::string& name = t.variables[static_cast<size_t>(j)].name;
-        if (name == t.crank) x[static_cast<size_t>(j)] = r.exact.a;
-        if (name == t.coupler) x[static_cast<size_t>(j)] = r.exact.b;
-        if (name == t.rocker) x[static_cast<size_t>(j)] = r.exact.c;
+      seeds.push_back(eval.Check(clamp(xe)));
+      seeds.back().start = "freudenstein";
+    }
+    if (t.free_start) {
+      std::vector<FunctionCandidate> grid;
+      const int G = 12;
+      for (int u = 0; u < G; ++u) {
+        for (int v = 0; v < G; ++v) {
+          const double in0 = t.in_lo + (t.in_hi - t.in_lo) * (u + 0.5) / G;
+          const double out0 = t.out_lo + (t.out_hi - t.out_lo) * (v + 0.5) / G;
+          FreudensteinResult fr;
+          const std::vector<double> x = exact_at(in0, out0, &fr);
+          ++r.exact_grid;
+          if (!fr.ok) continue;
+          grid.push_back(eval.Check(clamp(x)));
+          grid.back().start = "freudenstein at start angles " + Short(in0 * 180 / M_PI, 5) + "deg, " +
+                              Short(out0 * 180 / M_PI, 5) + "deg";
+        }
       }
-      starts.push_back({"freudenstein", x});
+      std::stable_sort(grid.begin(), grid.end(), [](const FunctionCandidate& u, const FunctionCandidate& v) { return Better(u, v); });
+      for (int k = 0; k < std::min<int>(t.search.local_starts, static_cast<int>(grid.size())); ++k)
+        seeds.push_back(grid[static_cast<size_t>(k)]);
     }
   }
-  starts.push_back({"model", x0});
-  for (int k = 0; k < t.search.restarts; ++k) {
-    SplitMix64 rng(seed, static_cast<uint64_t>(k));
-    std::vector<double> x(static_cast<size_t>(nv));
-    for (int j = 0; j < nv; ++j) {
-      const Variable& v = t.variables[static_cast<size_t>(j)];
-      x[static_cast<size_t>(j)] = v.lo + rng.Uniform() * (v.hi - v.lo);
-    }
-    starts.push_back({"random " + std::to_string(k + 1), x});
-  }
-  for (auto& s : starts) {  // every start inside the bounds (the answer must be)
-    for (int j = 0; j < nv; ++j)
-      s.second[static_cast<size_t>(j)] = std::clamp(s.second[static_cast<size_t>(j)], t.variables[static_cast<size_t>(j)].lo,
-                                                    t.variables[static_cast<size_t>(j)].hi);
-  }
-  for (const auto& s : starts) {
-    // The start itself (the exact method's answer is kept as it is when it is best), then LM.
-    FunctionCandidate at = eval.Check(s.second);
-    at.start = s.first;
-    // LM only from a start that assembles at every pair (its first evaluation needs them all).
-    bool assembles = true;
-    for (double e : at.residual) assembles = assembles && std::isfinite(e);
-    FunctionCandidate refined;
-    if (assembles) {
-      int iterations = 0;
-      refined = eval.Check(FunctionLocalStage(&eval, s.second, &iterations));
-      refined.start = s.first + " + LM";
-      r.iterations += iterations;
-    }
-    const FunctionCandidate& kept = assembles && Better(refined, at) ? refined : at;
+  seeds.push_back(eval.Check(clamp(x0)));
+  seeds.back().start = "model";
+  for (const FunctionCandidate& s : seeds) {
+    const FunctionCandidate kept = Refine(&eval, s, std::numeric_limits<long long>::max() / 4, &r.iterations);
     r.starts.push_back(kept);
     if (r.starts.size() == 1 || Better(kept, r.best)) r.best = kept;
   }
-  r.evaluations = eval.evaluations;
+  // The global stage: DE runs, each refined by LM from its best few.
+  const int runs = t.search.restarts;
+  r.runs = runs;
+  if (runs > 0) {
+    struct RunOut {
+      FunctionCandidate best;
+      long long evaluations = 0, solves = 0;
+      int iterations = 0;
+    };
+    std::vector<RunOut> out(static_cast<size_t>(runs));
+    const long long budget = std::max<long long>(1, t.search.evaluations / runs);
+    RunParallel(runs, threads, [&](int run) {
+      FunctionEvaluator<M> ev(b);
+      SplitMix64 rng(seed, static_cast<uint64_t>(run));
+      int np = t.search.population > 0 ? t.search.population : std::max(20, 10 * nx);
+      np = static_cast<int>(std::max<long long>(4, std::min<long long>(np, budget)));
+      const long long global_budget = budget - static_cast<long long>(t.search.local_share * static_cast<double>(budget));
+      std::vector<FunctionCandidate> pop = DifferentialEvolution<FunctionCandidate>(
+          b.lo, b.hi, np, &rng, [&](const std::vector<double>& x) { return ev.Check(x); },
+          [&]() { return ev.evaluations + np <= global_budget; });
+      std::vector<size_t> order(pop.size());
+      for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+      std::stable_sort(order.begin(), order.end(), [&](size_t u, size_t v) { return Better(pop[u], pop[v]); });
+      RunOut& o = out[static_cast<size_t>(run)];
+      o.best = pop[order[0]];
+      o.best.start = "run " + std::to_string(run + 1);
+      const int starts = std::max(1, std::min<int>(t.search.local_starts, np));
+      for (int k = 0; k < starts; ++k) {
+        const long long left = budget - ev.evaluations;
+        if (left <= 0) break;
+        FunctionCandidate c = pop[order[static_cast<size_t>(k)]];
+        c.start = "run " + std::to_string(run + 1);
+        const FunctionCandidate refined = Refine(&ev, c, left / (starts - k), &o.iterations);
+        if (Better(refined, o.best)) o.best = refined;
+      }
+      o.evaluations = ev.evaluations;
+      o.solves = ev.solves;
+    });
+    for (const RunOut& o : out) {
+      r.starts.push_back(o.best);
+      if (Better(o.best, r.best)) r.best = o.best;
+      r.global_evaluations += o.evaluations;
+      eval.solves += o.solves;
+      r.iterations += o.iterations;
+    }
+  }
+  r.evaluations = eval.evaluations + r.global_evaluations;
+  r.structural = eval.Structural(r.best.x);
   r.solves = eval.solves;
   return r;
 }
 
-/// The report: the stages, the residual per pair, the checks, the parameters.
+/// The report: the stages, the residual per pair, the structural error, the checks, the parameters.
 template <class M>
-std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, uint64_t seed) {
+std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, uint64_t seed, int threads = 1) {
   const FunctionTask& t = b.task;
   std::string s = "# function generation: " + std::string(M::kName) + ", output " + t.output + ", " +
-                  std::to_string(b.n) + " pairs (task " + t.file + ")\n";
-  s += "seed " + std::to_string(seed) + ", local starts " + std::to_string(r.starts.size()) + ", evaluations " +
-       std::to_string(r.evaluations) + ", position solves " + std::to_string(r.solves) + ", LM iterations " +
-       std::to_string(r.iterations) + "\n";
+                  std::to_string(b.n) + (t.range ? " accuracy points" : " pairs") + " (task " + t.file + ")\n";
+  if (t.range)
+    s += "function: y = " + t.expression + " on x in [" + Short(t.x0, 9) + ", " + Short(t.x1, 9) + "], " +
+         (t.chebyshev ? "Chebyshev" : "uniform") + " spacing; input " + Short(t.in_span * 180 / M_PI, 9) +
+         " deg and output " + Short(t.out_span * 180 / M_PI, 9) + " deg over the range" +
+         (t.free_start ? ", start angles free" : "") + "\n";
+  s += "seed " + std::to_string(seed) + ", threads " + std::to_string(threads) + ", global runs " + std::to_string(r.runs) +
+       ", evaluations " + std::to_string(r.evaluations) + " (global stage and its LM " + std::to_string(r.global_evaluations) +
+       "), position solves " + std::to_string(r.solves) + ", LM iterations " + std::to_string(r.iterations) + "\n";
   if (r.exact_asked) {
     if (r.exact.ok) {
       double worst = 0;
@@ -453,34 +792,76 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
     } else {
       s += "Freudenstein: refused: " + r.exact.why + "\n";
     }
+    if (r.exact_grid > 0)
+      s += "Freudenstein's least squares at " + std::to_string(r.exact_grid) + " start-angle pairs (the seeds of the free start angles)\n";
   }
   const FunctionCandidate& c = r.best;
-  s += "best: from " + c.start + ", error (sum of squared angle residuals) " + Short(c.error, 9) + " rad^2\n";
-  s += "defect checks: " + (c.feasible() ? std::string("none (every pair on the model's assembly mode, no dead point between pairs)")
+  s += "best: from " + c.start + ", error (sum of squared angle residuals at the " +
+       std::string(t.fit_range ? "samples" : "points") + ") " + Short(c.error, 9) + " rad^2\n";
+  s += "defect checks: " + (c.feasible() ? std::string("none (every pair on the model's assembly mode, no dead point between pairs, "
+                                                       "the constraints met)")
                                          : c.defect) + "\n";
-  s += "pair  input(deg)  target(deg)  residual(rad)\n";
-  for (int i = 0; i < b.n; ++i)
-    s += std::to_string(i + 1) + "  " + Short(t.input[static_cast<size_t>(i)] * 180 / M_PI, 10) + "  " +
-         Short(t.psi[static_cast<size_t>(i)] * 180 / M_PI, 10) + "  " + Short(c.residual[static_cast<size_t>(i)], 6) + "\n";
+  if (std::isfinite(c.mu_min))
+    s += "transmission angle over the motion: " + Short(c.mu_min * 180 / M_PI, 5) + " to " + Short(c.mu_max * 180 / M_PI, 5) + " deg\n";
+  if (t.free_start)
+    s += "start angles: input " + Num(c.x[static_cast<size_t>(b.nv)] * 180 / M_PI) + " deg, output " +
+         Num(c.x[static_cast<size_t>(b.nv + 1)] * 180 / M_PI) + " deg\n";
+  const double in_shift = t.free_start ? c.x[static_cast<size_t>(b.nv)] - t.in_start : 0;
+  const double out_shift = t.free_start ? c.x[static_cast<size_t>(b.nv + 1)] - t.out_start : 0;
+  if (t.fit_range) {
+    double worst = 0;
+    for (double e : c.residual) worst = std::max(worst, std::abs(e));
+    s += "fitted: the structural error at " + std::to_string(b.n) + " samples over the range (largest residual " +
+         Short(worst, 6) + " rad)\n";
+  } else {
+    s += std::string(t.range ? "point  x  " : "pair  ") + "input(deg)  target(deg)  residual(rad)\n";
+  }
+  for (int i = 0; i < (t.fit_range ? 0 : b.n); ++i)
+    s += std::to_string(i + 1) + "  " + (t.range ? Short(t.x[static_cast<size_t>(i)], 10) + "  " : std::string()) +
+         Short((t.input[static_cast<size_t>(i)] + in_shift) * 180 / M_PI, 10) + "  " +
+         Short((t.psi[static_cast<size_t>(i)] + out_shift) * 180 / M_PI, 10) + "  " +
+         Short(c.residual[static_cast<size_t>(i)], 6) + "\n";
+  if (t.range) {
+    const StructuralError& e = r.structural;
+    if (e.assembles)
+      s += "structural error over the range (" + std::to_string(e.samples) + " samples): largest " + Short(e.max_y, 6) +
+           " in y (" + Short(e.max_angle * 180 / M_PI, 6) + " deg of output) at x = " + Short(e.at_x, 9) + "\n";
+    else
+      s += "structural error over the range: the mechanism does not assemble on its mode over the whole range\n";
+  }
   s += "parameters:";
   for (size_t j = 0; j < t.variables.size(); ++j) s += " " + t.variables[j].name + " = " + Num(c.x[j]);
   s += "\n";
   return s;
 }
 
-/// The output angle over the pairs' input range (a margin each side) against the pairs.
+/// The output angle against the input (a margin each side of the points) and the targets:
+/// the pairs (circles) and, for a function over a range, the function's own angle (dashed).
 template <class M>
 std::string FunctionSvg(FunctionEvaluator<M>* eval, const FunctionCandidate& c, int samples = 400) {
   const BoundFunction<M>& b = eval->bound();
   const FunctionTask& t = b.task;
   const auto p = eval->ParamsOf(c.x);
-  double q0 = *std::min_element(t.input.begin(), t.input.end()), q1 = *std::max_element(t.input.begin(), t.input.end());
+  // The circles: the pairs or accuracy points (not the samples of `fit: range`).
+  std::vector<double> qs, ts;
+  for (size_t i = 0; i < t.exact_input.size(); ++i)
+    qs.push_back(t.exact_input[i] - t.in_start + eval->InStart(c.x)), ts.push_back(t.exact_psi[i] - t.out_start + eval->OutStart(c.x));
+  double q0 = *std::min_element(qs.begin(), qs.end()), q1 = *std::max_element(qs.begin(), qs.end());
+  std::vector<std::array<double, 2>> wanted;
+  if (t.range) {
+    const double in0 = eval->InStart(c.x), out0 = eval->OutStart(c.x);
+    q0 = std::min(in0, in0 + t.in_span), q1 = std::max(in0, in0 + t.in_span);
+    for (int k = 0; k <= samples; ++k) {
+      const double xk = t.x0 + (t.x1 - t.x0) * k / samples;
+      wanted.push_back({in0 + t.in_span * (xk - t.x0) / (t.x1 - t.x0), out0 + t.out_span * (t.f(xk) - t.y0) / (t.y1 - t.y0)});
+    }
+  }
   const double pad = 0.1 * std::max(q1 - q0, 1e-3);
   q0 -= pad, q1 += pad;
   std::vector<std::vector<std::array<double, 2>>> pieces(1);
   double ymin = kInf, ymax = -kInf;
   typename FunctionEvaluator<M>::VecPhi phi;
-  const double ref = t.psi[0];
+  const double ref = ts[0];
   for (int k = 0; k <= samples; ++k) {
     const double q = q0 + (q1 - q0) * k / samples;
     if (!eval->PhiAt(p, q, &phi)) {
@@ -491,23 +872,30 @@ std::string FunctionSvg(FunctionEvaluator<M>* eval, const FunctionCandidate& c, 
     pieces.back().push_back({q, y});
     ymin = std::min(ymin, y), ymax = std::max(ymax, y);
   }
-  for (double y : t.psi) ymin = std::min(ymin, y), ymax = std::max(ymax, y);
+  for (double y : ts) ymin = std::min(ymin, y), ymax = std::max(ymax, y);
+  for (const auto& w : wanted) ymin = std::min(ymin, w[1]), ymax = std::max(ymax, w[1]);
   const double w = 600, h = 400, m = 20;
   const double yspan = std::max(ymax - ymin, 1e-9);
   auto X = [&](double q) { return Short(m + (q - q0) / (q1 - q0) * w, 7); };
   auto Y = [&](double y) { return Short(m + (ymax - y) / yspan * h, 7); };
   std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + Short(w + 2 * m) + "\" height=\"" +
                     Short(h + 2 * m) + "\">\n<title>" + std::string(M::kName) + ": " + t.output +
-                    " against the input (curve), the task's pairs (circles)</title>\n";
+                    " against the input (curve), the task's " + (t.range ? "function (dashed) and accuracy points" : "pairs") +
+                    " (circles)</title>\n";
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  if (!wanted.empty()) {
+    svg += "<polyline fill=\"none\" stroke=\"#c0392b\" stroke-width=\"1\" stroke-dasharray=\"6 4\" points=\"";
+    for (const auto& pt : wanted) svg += X(pt[0]) + "," + Y(pt[1]) + " ";
+    svg += "\"/>\n";
+  }
   for (const auto& piece : pieces) {
     if (piece.size() < 2) continue;
     svg += "<polyline fill=\"none\" stroke=\"#1f5fa8\" stroke-width=\"1.5\" points=\"";
     for (const auto& pt : piece) svg += X(pt[0]) + "," + Y(pt[1]) + " ";
     svg += "\"/>\n";
   }
-  for (int i = 0; i < b.n; ++i)
-    svg += "<circle cx=\"" + X(t.input[static_cast<size_t>(i)]) + "\" cy=\"" + Y(t.psi[static_cast<size_t>(i)]) +
+  for (size_t i = 0; i < qs.size(); ++i)
+    svg += "<circle cx=\"" + X(qs[i]) + "\" cy=\"" + Y(ts[i]) +
            "\" r=\"5\" fill=\"none\" stroke=\"#c0392b\" stroke-width=\"1.5\"/>\n";
   svg += "</svg>\n";
   return svg;

@@ -9,7 +9,12 @@
  * the pose's angle (up to the constant between the body's x axis and BC) to 1e-9 of the
  * poses' size, and from pose to pose (the crank turning the way the poses go) the model must
  * stay on its mode. Of the pairs that pass, the one with the smallest ratio of its longest to
- * its shortest link is the answer (the first of equals). Four poses: the circle- and centre-point curves (written as a CSV by the command).
+ * its shortest link is the answer (the first of equals). Four poses: the circle- and centre-point curves
+ * (written as a CSV and an SVG by the command). More than five poses: the Burmester points of
+ * five chosen poses (`seed_poses`), every pair's four-bar refined by Levenberg–Marquardt on the
+ * pose errors of all poses (the nine parameters, the body's angle on the coupler and every
+ * pose's crank angle; the generated Jacobian), checked on the model's mode as above but without
+ * the 1e-9 requirement; the passing pair with the smallest error is the answer.
  * Needs yaml-cpp.
  */
 #pragma once
@@ -24,6 +29,7 @@
 
 #include "mechgen/synthesis/burmester.h"
 #include "mechgen/synthesis/function.h"
+#include "mechgen/synthesis/output.h"
 
 namespace mechgen::synthesis {
 
@@ -36,6 +42,8 @@ struct MotionTask {
   std::vector<std::string> parameters;
   int curve_rays = 3600;
   int line = 1, column = 1;
+  /// More than five poses: the five (0-based) whose Burmester points seed the least squares.
+  std::vector<int> seed_poses;
 };
 
 inline const std::vector<std::string>& MotionParameterKeys() {
@@ -50,14 +58,16 @@ inline bool ParseMotionTask(const std::string& path, MotionTask* task, std::stri
   YAML::Node root;
   if (!LoadTaskRoot(path, "`synthesis: motion`, `poses`, `point`, `parameters`", &root, error)) return false;
   try {
-    Known(path, root, {"synthesis", "model", "poses", "point", "coupler_angle", "parameters", "search"}, "a motion task");
+    Known(path, root, {"synthesis", "model", "poses", "point", "coupler_angle", "parameters", "seed_poses", "search"},
+          "a motion task");
     if (const YAML::Node m = root["model"]) {
       if (!m.IsScalar()) throw Error{Where(path, m.Mark()) + "model: expected a file name"};
       task->model = m.Scalar();
     }
     const YAML::Node poses = Required(path, root, "poses", "the body's poses, [[x, y, angle], ...]");
-    if (!poses.IsSequence() || poses.size() < 4 || poses.size() > 5)
-      throw Error{Where(path, poses.Mark()) + "poses: expected four (the Burmester curves) or five (the Burmester points) [x, y, angle]"};
+    if (!poses.IsSequence() || poses.size() < 4)
+      throw Error{Where(path, poses.Mark()) + "poses: expected four (the Burmester curves), five (the Burmester points) or "
+                                               "more (least squares) [x, y, angle]"};
     for (const YAML::Node& p : poses) {
       if (!p.IsSequence() || p.size() != 3) throw Error{Where(path, p.Mark()) + "a pose: expected [x, y, angle]"};
       task->poses.push_back({Number(path, p[0], "pose x"), Number(path, p[1], "pose y"), Number(path, p[2], "pose angle", true)});
@@ -68,17 +78,38 @@ inline bool ParseMotionTask(const std::string& path, MotionTask* task, std::stri
     const YAML::Node angle = Required(path, root, "coupler_angle", "the coupler's angle among the model's dependent variables, e.g. theta_coupler");
     if (!angle.IsScalar()) throw Error{Where(path, angle.Mark()) + "coupler_angle: expected a dependent variable's name"};
     task->coupler_angle = angle.Scalar();
-    const YAML::Node params = Required(path, root, "parameters",
-                                       "the model's parameters {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}");
-    if (!params.IsMap()) throw Error{Where(path, params.Mark()) + "parameters: expected a mapping"};
-    Known(path, params, MotionParameterKeys(), "parameters");
-    for (const std::string& key : MotionParameterKeys()) {
-      const YAML::Node v = Required(path, params, key, "the model's parameter for it");
-      if (!v.IsScalar()) throw Error{Where(path, v.Mark()) + "parameters." + key + ": expected a parameter name"};
-      task->parameters.push_back(v.Scalar());
+    // The four-bar's parameters: needed to write one (five poses or more), not for the curves.
+    if (task->poses.size() >= 5)
+      Required(path, root, "parameters",
+               "the model's parameters {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, "
+               "theta0: theta0}");
+    if (const YAML::Node params = root["parameters"]) {
+      if (!params.IsMap()) throw Error{Where(path, params.Mark()) + "parameters: expected a mapping"};
+      Known(path, params, MotionParameterKeys(), "parameters");
+      for (const std::string& key : MotionParameterKeys()) {
+        const YAML::Node v = Required(path, params, key, "the model's parameter for it");
+        if (!v.IsScalar()) throw Error{Where(path, v.Mark()) + "parameters." + key + ": expected a parameter name"};
+        task->parameters.push_back(v.Scalar());
+      }
+      task->line = params.Mark().line + 1;
+      task->column = params.Mark().column + 1;
     }
-    task->line = params.Mark().line + 1;
-    task->column = params.Mark().column + 1;
+    const int n = static_cast<int>(task->poses.size());
+    if (const YAML::Node sp = root["seed_poses"]) {
+      if (n <= 5) throw Error{Where(path, sp.Mark()) + "seed_poses: only for more than five poses"};
+      if (!sp.IsSequence() || sp.size() != 5)
+        throw Error{Where(path, sp.Mark()) + "seed_poses: expected five pose numbers (1-based), e.g. [1, 2, 4, 5, 7]"};
+      for (const YAML::Node& k : sp) {
+        const int j = static_cast<int>(Count(path, k, "seed pose", 1, n)) - 1;
+        for (int seen : task->seed_poses)
+          if (seen == j) throw Error{Where(path, k.Mark()) + "seed_poses: pose " + std::to_string(j + 1) + " given twice"};
+        task->seed_poses.push_back(j);
+      }
+      std::sort(task->seed_poses.begin(), task->seed_poses.end());
+    } else if (n > 5) {
+      // The first, the last and three evenly between.
+      for (int k = 0; k < 5; ++k) task->seed_poses.push_back(static_cast<int>(std::lround(k * (n - 1) / 4.0)));
+    }
     if (const YAML::Node s = root["search"]) {
       if (!s.IsMap()) throw Error{Where(path, s.Mark()) + "search: expected a mapping"};
       Known(path, s, {"curve_rays"}, "search (motion task)");
@@ -102,6 +133,10 @@ struct MotionCandidate {
   bool ok = false;
   std::string why;                 ///< when not ok
   double ratio = kInf;             ///< longest link / shortest link
+  /// More than five poses: the least squares' error (sum over the poses of the squared point
+  /// distance and (L x the angle error)^2, L the poses' size) and LM's iterations.
+  double error = kInf;
+  int iterations = 0;
 };
 
 struct MotionResult {
@@ -109,7 +144,77 @@ struct MotionResult {
   std::vector<MotionCandidate> candidates;
   int chosen = -1;                 ///< index into candidates, -1 none
   std::vector<CurvePoint> curve;   ///< four poses
+  long long evaluations = 0;       ///< more than five poses: the least squares' residual evaluations
 };
+
+namespace motion_internal {
+/// The pose errors of a placed four-bar (the task's nine parameters, then gamma: the body's
+/// angle minus the coupler's) over the crank angles q_j, with the generated Jacobian:
+/// dr_P/dp and dphi/dp (EvalDesignDerivatives), K_P and K (EvalCoefficients).
+/// Residuals per pose: r_P - P_j (two) and L * wrap(phi_coupler + gamma - alpha_j).
+template <class M>
+class PoseResiduals : public ceres::CostFunction {
+ public:
+  PoseResiduals(const std::vector<Pose>& poses, const typename M::template ParamsT<double>& base,
+                const std::vector<std::string>& names, const std::vector<int>& column, int point, int angle, double L,
+                long long* evaluations)
+      : poses_(poses), base_(base), names_(names), column_(column), point_(point), angle_(angle), L_(L),
+        evaluations_(evaluations) {
+    set_num_residuals(3 * static_cast<int>(poses.size()));
+    mutable_parameter_block_sizes()->push_back(10);
+    mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(poses.size()));
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const int n = static_cast<int>(poses_.size());
+    *evaluations_ += (jacobians != nullptr) ? 1 + 10 + n : 1;
+    typename M::template ParamsT<double> p = base_;
+    for (size_t k = 0; k < 9; ++k) *p.Find(names_[k].c_str()) = parameters[0][k];
+    const double gamma = parameters[0][9];
+    Eigen::Matrix<double, M::kNphi, 1> phi;
+    typename M::template CoefficientsT<double> co;
+    position::DesignOf<M> design;
+    for (int j = 0; j < n; ++j) {
+      Eigen::Matrix<double, M::kNq, 1> qv;
+      qv(0) = parameters[1][j];
+      for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
+      const auto report = M::Solve(p, qv, &phi, M::kDefaultModes);
+      using Status = decltype(report.status);
+      if (report.status != Status::kConverged || !(report.branch_measure > 1e-12) || !phi.allFinite()) return false;
+      M::Coeffs(p, qv, phi, &co);
+      const Pose& pose = poses_[static_cast<size_t>(j)];
+      residuals[3 * j] = co.r_P(0, point_) - pose.x;
+      residuals[3 * j + 1] = co.r_P(1, point_) - pose.y;
+      residuals[3 * j + 2] = L_ * WrapPi(phi(angle_) + gamma - pose.angle);
+      if (jacobians == nullptr) continue;
+      M::Design(p, qv, phi, &design);
+      for (int a = 0; a < 3; ++a) {
+        const int row = 3 * j + a;
+        if (jacobians[0] != nullptr) {
+          for (int k = 0; k < 9; ++k) {
+            const int col = column_[static_cast<size_t>(k)];
+            jacobians[0][row * 10 + k] = a < 2 ? design.dr_P_dp(2 * point_ + a, col) : L_ * design.dphi_dp(angle_, col);
+          }
+          jacobians[0][row * 10 + 9] = a < 2 ? 0.0 : L_;
+        }
+        if (jacobians[1] != nullptr) {
+          for (int k = 0; k < n; ++k)
+            jacobians[1][row * n + k] = k != j ? 0.0 : (a < 2 ? co.K_P(2 * point_ + a, 0) : L_ * co.K(angle_, 0));
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  const std::vector<Pose>& poses_;
+  typename M::template ParamsT<double> base_;
+  const std::vector<std::string>& names_;
+  const std::vector<int>& column_;
+  int point_, angle_;
+  double L_;
+  long long* evaluations_;
+};
+}  // namespace motion_internal
 
 /// Five poses: the Burmester points and their four-bars on M; four poses: the curves.
 template <class M>
@@ -146,7 +251,29 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
       *out = r;
       return true;
     }
-    r.points = BurmesterPoints(poses, task.curve_rays);
+    const bool lsq = poses.size() > 5;
+    std::vector<Pose> seed_poses = poses;
+    std::vector<int> column(9, -1);
+    if (lsq) {
+      seed_poses.clear();
+      for (int j : task.seed_poses) seed_poses.push_back(poses[static_cast<size_t>(j)]);
+      if constexpr (!HasDesignDerivatives<M>::value) {
+        return *error = task.file + ": more than five poses need the model's `design:` section (the least squares' "
+                                    "Jacobian)",
+               false;
+      } else {
+        for (size_t k = 0; k < 9; ++k) {
+          for (int d = 0; d < M::kNumDesign; ++d)
+            if (task.parameters[k] == M::kDesignNames[static_cast<size_t>(d)]) column[k] = d;
+          if (column[k] < 0)
+            return *error = task.file + ":" + std::to_string(task.line) + ":" + std::to_string(task.column) +
+                            ": parameters: '" + task.parameters[k] +
+                            "' is not in the model's design: list (more than five poses: all nine must be)",
+                   false;
+        }
+      }
+    }
+    r.points = BurmesterPoints(seed_poses, task.curve_rays);
     const int n = static_cast<int>(poses.size());
     for (int i = 0; i < static_cast<int>(r.points.size()); ++i) {
       for (int j = 0; j < static_cast<int>(r.points.size()); ++j) {
@@ -154,7 +281,51 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
         MotionCandidate c;
         c.crank = i, c.rocker = j;
         c.fourbar = FourBarOfDyads(poses, r.points[static_cast<size_t>(i)], r.points[static_cast<size_t>(j)]);
-        const FourBarFromDyads& f = c.fourbar;
+        FourBarFromDyads& f = c.fourbar;
+        double gamma_fit = 0;
+        if constexpr (HasDesignDerivatives<M>::value) {
+          if (lsq) {
+            // Least squares of the pose errors over all poses from this pair's four-bar.
+            std::vector<double> x = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0, 0.0};
+            std::vector<double> q = f.crank_angle;
+            {
+              // gamma: the body's angle minus the coupler's at the first pose (the coupler along BC).
+              const Eigen::Vector2d B = CirclePointAt(poses[0], r.points[static_cast<size_t>(i)].k);
+              const Eigen::Vector2d C = CirclePointAt(poses[0], r.points[static_cast<size_t>(j)].k);
+              x[9] = WrapPi(poses[0].angle - std::atan2(C.y() - B.y(), C.x() - B.x()));
+            }
+            auto* cost = new motion_internal::PoseResiduals<M>(poses, base, task.parameters, column, point, angle, L,
+                                                               &r.evaluations);
+            ceres::Problem problem;
+            problem.AddResidualBlock(cost, nullptr, x.data(), q.data());
+            // The start must assemble at every pose (else Ceres refuses it, and says so on stderr).
+            std::vector<double> start_residuals(static_cast<size_t>(3 * n));
+            const double* start_blocks[2] = {x.data(), q.data()};
+            const bool starts = cost->Evaluate(start_blocks, start_residuals.data(), nullptr);
+            for (int k = 0; k < 4; ++k) problem.SetParameterLowerBound(x.data(), k, 1e-9 * L);
+            ceres::Solver::Options options;
+            options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+            options.linear_solver_type = ceres::DENSE_QR;
+            options.max_num_iterations = 200;
+            options.function_tolerance = 1e-16;
+            options.gradient_tolerance = 1e-20;
+            options.parameter_tolerance = 1e-16;
+            options.num_threads = 1;
+            options.logging_type = ceres::SILENT;
+            ceres::Solver::Summary summary;
+            if (starts) ceres::Solve(options, &problem, &summary);
+            c.iterations = static_cast<int>(summary.iterations.size());
+            if (starts && summary.IsSolutionUsable()) {
+              f.a = x[0], f.b = x[1], f.c = x[2], f.d = x[3], f.xi = x[4], f.eta = x[5], f.x0 = x[6], f.y0 = x[7];
+              f.theta0 = x[8];
+              f.crank_angle = q;
+              gamma_fit = x[9];
+              c.error = 2 * summary.final_cost;
+            } else {
+              c.why = "the least squares could not start from this pair (the model does not assemble at every pose)";
+            }
+          }
+        }
         Params p = base;
         const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
         for (size_t k = 0; k < 9; ++k) *p.Find(task.parameters[k].c_str()) = values[k];
@@ -169,7 +340,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
         Eigen::Matrix<double, M::kNphi, 1> phi;
         typename M::template CoefficientsT<double> co;
         c.worst_point = c.worst_angle = 0;
-        double offset = 0;
+        double offset = -gamma_fit;
         for (int k = 0; k < n && c.why.empty(); ++k) {
           const double q = f.crank_angle[static_cast<size_t>(k)];
           if (!solve(q, &phi)) {
@@ -180,11 +351,11 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
           qv(0) = q;
           M::Coeffs(p, qv, phi, &co);
           const double dp = std::hypot(co.r_P(0, point) - poses[static_cast<size_t>(k)].x, co.r_P(1, point) - poses[static_cast<size_t>(k)].y);
-          if (k == 0) offset = phi(angle) - poses[0].angle;
+          if (k == 0 && !lsq) offset = phi(angle) - poses[0].angle;
           const double da = std::abs(WrapPi(phi(angle) - poses[static_cast<size_t>(k)].angle - offset));
           c.worst_point = std::max(c.worst_point, dp);
           c.worst_angle = std::max(c.worst_angle, da);
-          if (!(dp <= 1e-9 * std::max(1.0, L)) || !(da <= 1e-9))
+          if (!lsq && (!(dp <= 1e-9 * std::max(1.0, L)) || !(da <= 1e-9)))
             c.why = "pose " + std::to_string(k + 1) + ": the model's coupler is not there on its assembly mode (the other mode's four-bar)";
         }
         // From pose to pose, the crank turning the way the poses go.
@@ -202,8 +373,17 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
         }
         c.ok = c.why.empty();
         c.ratio = std::max({f.a, f.b, f.c, f.d}) / std::min({f.a, f.b, f.c, f.d});
-        if (c.ok && (r.chosen < 0 || c.ratio < r.candidates[static_cast<size_t>(r.chosen)].ratio))
-          r.chosen = static_cast<int>(r.candidates.size());
+        // Five poses: the smallest link ratio; more: the smallest error (ties within 1e-12 L^2
+        // of it: the smaller link ratio).
+        if (c.ok) {
+          const MotionCandidate* best = r.chosen < 0 ? nullptr : &r.candidates[static_cast<size_t>(r.chosen)];
+          const bool better =
+              best == nullptr ||
+              (lsq ? (c.error < best->error - 1e-12 * L * L ||
+                      (std::abs(c.error - best->error) <= 1e-12 * L * L && c.ratio < best->ratio))
+                   : c.ratio < best->ratio);
+          if (better) r.chosen = static_cast<int>(r.candidates.size());
+        }
         r.candidates.push_back(c);
       }
     }
@@ -212,11 +392,54 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
   }
 }
 
+/// Four poses: the circle-point curve (blue; in the fixed frame at pose 1: K_1 = P_1 + R(alpha_1) k)
+/// and the centre-point curve (red) as dots, the poses (black: the point and a tick along the
+/// body's x axis), in an SVG of width 640; the view is the poses' neighbourhood (four times
+/// their size about their centroid: far branches of the curves are cut at its edge).
+inline std::string CurvesSvg(const MotionTask& task, const MotionResult& r) {
+  const std::vector<Pose>& poses = task.poses;
+  const double L = burmester_internal::Scale(poses);
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const Pose& p : poses) centroid += Eigen::Vector2d(p.x, p.y);
+  centroid /= static_cast<double>(poses.size());
+  const double half = 4 * L, size = 600, margin = 20, scale = size / (2 * half);
+  const double xmin = centroid.x() - half, ymax = centroid.y() + half;
+  auto inside = [&](const Eigen::Vector2d& v) { return std::abs(v.x() - centroid.x()) <= half && std::abs(v.y() - centroid.y()) <= half; };
+  auto X = [&](double x) { return Short(margin + (x - xmin) * scale, 7); };
+  auto Y = [&](double y) { return Short(margin + (ymax - y) * scale, 7); };
+  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + Short(size + 2 * margin) + "\" height=\"" +
+                    Short(size + 2 * margin) +
+                    "\">\n<title>Burmester curves of four poses: circle points (blue, at pose 1), centre points (red), "
+                    "the poses (black)</title>\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  for (const CurvePoint& cp : r.curve) {
+    const Eigen::Vector2d K = CirclePointAt(poses[0], cp.dyad.k);
+    if (inside(K)) svg += "<circle cx=\"" + X(K.x()) + "\" cy=\"" + Y(K.y()) + "\" r=\"1\" fill=\"#1f5fa8\"/>\n";
+    if (inside(cp.dyad.M))
+      svg += "<circle cx=\"" + X(cp.dyad.M.x()) + "\" cy=\"" + Y(cp.dyad.M.y()) + "\" r=\"1\" fill=\"#c0392b\"/>\n";
+  }
+  for (size_t j = 0; j < poses.size(); ++j) {
+    const Pose& p = poses[j];
+    const double tx = p.x + 0.3 * L * std::cos(p.angle), ty = p.y + 0.3 * L * std::sin(p.angle);
+    svg += "<circle cx=\"" + X(p.x) + "\" cy=\"" + Y(p.y) + "\" r=\"4\" fill=\"none\" stroke=\"black\"/>\n";
+    svg += "<line x1=\"" + X(p.x) + "\" y1=\"" + Y(p.y) + "\" x2=\"" + X(tx) + "\" y2=\"" + Y(ty) + "\" stroke=\"black\"/>\n";
+    svg += "<text x=\"" + X(p.x) + "\" y=\"" + Y(p.y) + "\" dx=\"6\" dy=\"-6\" font-size=\"12\" font-family=\"sans-serif\">" +
+           std::to_string(j + 1) + "</text>\n";
+  }
+  svg += "</svg>\n";
+  return svg;
+}
+
 inline std::string MotionReport(const MotionTask& task, const MotionResult& r) {
   std::string s = "# motion generation: " + std::to_string(task.poses.size()) + " poses (task " + task.file + ")\n";
   if (task.poses.size() == 4) {
-    s += "the circle- and centre-point curves: " + std::to_string(r.curve.size()) + " points (curves.csv)\n";
+    s += "the circle- and centre-point curves: " + std::to_string(r.curve.size()) + " points (curves.csv, curves.svg)\n";
     return s;
+  }
+  if (task.poses.size() > 5) {
+    s += "least squares of the pose errors over all " + std::to_string(task.poses.size()) +
+         " poses, seeded from the Burmester points of poses";
+    for (int j : task.seed_poses) s += " " + std::to_string(j + 1);
+    s += " (" + std::to_string(r.evaluations) + " residual evaluations)\n";
   }
   s += "Burmester points (real): " + std::to_string(r.points.size()) + "\n";
   for (size_t i = 0; i < r.points.size(); ++i) {
@@ -230,7 +453,11 @@ inline std::string MotionReport(const MotionTask& task, const MotionResult& r) {
     s += "  " + std::to_string(c.crank + 1) + "," + std::to_string(c.rocker + 1) + ": a " + Short(c.fourbar.a) + " b " +
          Short(c.fourbar.b) + " c " + Short(c.fourbar.c) + " d " + Short(c.fourbar.d) + ": " +
          (c.ok ? "passes (largest point error " + Short(c.worst_point, 3) + ", angle " + Short(c.worst_angle, 3) +
-                      " rad; link ratio " + Short(c.ratio, 4) + ")"
+                      " rad; link ratio " + Short(c.ratio, 4) +
+                      (task.poses.size() > 5 ? "; least-squares error " + Short(c.error, 4) + ", LM iterations " +
+                                                   std::to_string(c.iterations)
+                                             : std::string()) +
+                      ")"
                : c.why) +
          (static_cast<int>(i) == r.chosen ? "  <- written" : "") + "\n";
   }

@@ -23,6 +23,7 @@
  */
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <limits>
@@ -152,10 +153,9 @@ class PathResiduals : public ceres::CostFunction {
   mutable bool have_ = false, last_has_j_ = false;
 };
 
-/// The local stage from `start`: LM over the variables and the timing. Returns the refined
-/// candidate (checked), or `start` when the refinement is not feasible or not better.
+/// LM over the variables and the timing from `start`: the refined candidate (checked).
 template <class M>
-Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, long long max_evaluations, int* iterations) {
+Candidate LocalRefine(PathEvaluator<M>* eval, const Candidate& start, long long max_evaluations, int* iterations) {
   const BoundPath<M>& b = eval->bound();
   const int nv = static_cast<int>(b.task.variables.size());
   std::vector<double> x(start.x.begin(), start.x.begin() + nv);
@@ -215,7 +215,124 @@ Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, long long m
     for (int i = 0; i < b.n; ++i) refined.q[static_cast<size_t>(i)] = eval->PrescribedQ(refined.x, i);
   }
   eval->Check(eval->ParamsOf(refined.x), &refined);
-  return Better(refined, start) ? refined : start;
+  return refined;
+}
+
+/// The last feasible candidate on the segment from `inside` (feasible) to `outside` (not):
+/// bisection in the segment's parameter (40 halvings, one evaluation each).
+template <class M>
+Candidate BoundaryOnSegment(PathEvaluator<M>* eval, const Candidate& inside, const Candidate& outside) {
+  const BoundPath<M>& b = eval->bound();
+  Candidate best = inside;
+  double lo = 0, hi = 1;
+  for (int k = 0; k < 40; ++k) {
+    const double t = 0.5 * (lo + hi);
+    Candidate c;
+    c.x.resize(inside.x.size());
+    for (size_t j = 0; j < c.x.size(); ++j) c.x[j] = inside.x[j] + t * (outside.x[j] - inside.x[j]);
+    c.q.resize(inside.q.size());
+    for (size_t i = 0; i < c.q.size(); ++i)
+      c.q[i] = b.task.timing.free ? inside.q[i] + t * (outside.q[i] - inside.q[i]) : eval->PrescribedQ(c.x, static_cast<int>(i));
+    ++eval->evaluations;
+    eval->Check(eval->ParamsOf(c.x), &c);
+    if (c.feasible()) {
+      lo = t;
+      best = c;
+    } else {
+      hi = t;
+    }
+  }
+  return best;
+}
+
+/// The local stage from `start`: LM (LocalRefine); the refined candidate if it is better by
+/// Deb's rule, else `start`. With a ground region (a constraint LM does not see): when LM
+/// leaves the region from a feasible start, the last feasible point on the way
+/// (BoundaryOnSegment) is taken if better and LM runs again from it (at most four rounds), so
+/// that an optimum outside the region ends on its boundary.
+template <class M>
+Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, long long max_evaluations, int* iterations) {
+  const bool region = eval->bound().task.constraints.has_region;
+  const long long stop = eval->evaluations + max_evaluations;
+  Candidate current = start;
+  for (int round = 0; round < (region ? 4 : 1); ++round) {
+    const long long left = stop - eval->evaluations;
+    if (left <= 0) break;
+    int it = 0;
+    const Candidate refined = LocalRefine(eval, current, left, &it);
+    *iterations += it;
+    if (Better(refined, current)) {
+      current = refined;
+      break;
+    }
+    if (!region || !current.feasible() || refined.feasible() || stop - eval->evaluations < 40) break;
+    const Candidate edge = BoundaryOnSegment(eval, current, refined);
+    if (!Better(edge, current)) break;
+    current = edge;
+  }
+  return current;
+}
+
+/// Differential evolution (DE/rand/1/bin, F dithered in [0.5, 1) per generation, CR 0.9,
+/// Deb's rule for selection; a coordinate leaving [lo, hi] is put halfway between the parent
+/// and the bound it crossed) from np uniform points, generations while more() says so. The
+/// final population. `evaluate(x)` gives a candidate (with feasible(), error, violation);
+/// every kind of task's global stage runs here.
+template <class C, class Evaluate, class More>
+std::vector<C> DifferentialEvolution(const std::vector<double>& lo, const std::vector<double>& hi, int np, SplitMix64* rng,
+                                     Evaluate&& evaluate, More&& more) {
+  const int dim = static_cast<int>(lo.size());
+  std::vector<C> pop;
+  pop.reserve(static_cast<size_t>(np));
+  std::vector<double> x(static_cast<size_t>(dim));
+  for (int k = 0; k < np; ++k) {
+    for (int j = 0; j < dim; ++j)
+      x[static_cast<size_t>(j)] = lo[static_cast<size_t>(j)] + rng->Uniform() * (hi[static_cast<size_t>(j)] - lo[static_cast<size_t>(j)]);
+    pop.push_back(evaluate(x));
+  }
+  while (more()) {
+    const double F = 0.5 + 0.5 * rng->Uniform();
+    for (int k = 0; k < np; ++k) {
+      int r1, r2, r3;
+      do r1 = rng->Below(np); while (r1 == k);
+      do r2 = rng->Below(np); while (r2 == k || r2 == r1);
+      do r3 = rng->Below(np); while (r3 == k || r3 == r1 || r3 == r2);
+      const int jrand = rng->Below(dim);
+      for (int j = 0; j < dim; ++j) {
+        const size_t u = static_cast<size_t>(j);
+        double v = pop[static_cast<size_t>(k)].x[u];
+        if (j == jrand || rng->Uniform() < 0.9) {
+          v = pop[static_cast<size_t>(r1)].x[u] + F * (pop[static_cast<size_t>(r2)].x[u] - pop[static_cast<size_t>(r3)].x[u]);
+          // Out of bounds: halfway between the parent and the bound it crossed.
+          if (v < lo[u]) v = 0.5 * (lo[u] + pop[static_cast<size_t>(k)].x[u]);
+          if (v > hi[u]) v = 0.5 * (hi[u] + pop[static_cast<size_t>(k)].x[u]);
+        }
+        x[u] = v;
+      }
+      C trial = evaluate(x);
+      if (!Better(pop[static_cast<size_t>(k)], trial)) pop[static_cast<size_t>(k)] = std::move(trial);
+    }
+  }
+  return pop;
+}
+
+/// Runs work(r) for r = 0..runs-1 on `threads` std::threads (an atomic counter hands out the
+/// indices; work must write only its own slot). progress (may be empty) as runs finish.
+inline void RunParallel(int runs, int threads, const std::function<void(int)>& work,
+                        const std::function<void(int done, int total)>& progress = {}) {
+  std::atomic<int> next{0}, done{0};
+  auto loop = [&]() {
+    for (int r; (r = next.fetch_add(1)) < runs;) {
+      work(r);
+      const int d = ++done;
+      if (progress) progress(d, runs);
+    }
+  };
+  const int n = std::max(1, std::min(threads, runs));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < n; ++t) pool.emplace_back(loop);
+  loop();
+  for (std::thread& t : pool) t.join();
 }
 
 /// One run: DE from its own stream, then the local stage.
@@ -232,38 +349,10 @@ RunResult Run(const BoundPath<M>& b, uint64_t seed, int run, long long budget) {
   if (b.offset_var >= 0) lo[static_cast<size_t>(b.offset_var)] = 0, hi[static_cast<size_t>(b.offset_var)] = kTwoPi;
   int np = b.task.search.population > 0 ? b.task.search.population : std::max(20, 10 * dim);
   np = static_cast<int>(std::max<long long>(4, std::min<long long>(np, budget)));
-  std::vector<Candidate> pop;
-  pop.reserve(static_cast<size_t>(np));
-  std::vector<double> x(static_cast<size_t>(dim));
-  for (int k = 0; k < np; ++k) {
-    for (int j = 0; j < dim; ++j)
-      x[static_cast<size_t>(j)] = lo[static_cast<size_t>(j)] + rng.Uniform() * (hi[static_cast<size_t>(j)] - lo[static_cast<size_t>(j)]);
-    pop.push_back(eval.Evaluate(x));
-  }
   const long long global_budget = budget - static_cast<long long>(b.task.search.local_share * static_cast<double>(budget));
-  while (eval.evaluations + np <= global_budget) {
-    const double F = 0.5 + 0.5 * rng.Uniform();
-    for (int k = 0; k < np; ++k) {
-      int r1, r2, r3;
-      do r1 = rng.Below(np); while (r1 == k);
-      do r2 = rng.Below(np); while (r2 == k || r2 == r1);
-      do r3 = rng.Below(np); while (r3 == k || r3 == r1 || r3 == r2);
-      const int jrand = rng.Below(dim);
-      for (int j = 0; j < dim; ++j) {
-        const size_t u = static_cast<size_t>(j);
-        double v = pop[static_cast<size_t>(k)].x[u];
-        if (j == jrand || rng.Uniform() < 0.9) {
-          v = pop[static_cast<size_t>(r1)].x[u] + F * (pop[static_cast<size_t>(r2)].x[u] - pop[static_cast<size_t>(r3)].x[u]);
-          // Out of bounds: halfway between the parent and the bound it crossed.
-          if (v < lo[u]) v = 0.5 * (lo[u] + pop[static_cast<size_t>(k)].x[u]);
-          if (v > hi[u]) v = 0.5 * (hi[u] + pop[static_cast<size_t>(k)].x[u]);
-        }
-        x[u] = v;
-      }
-      Candidate trial = eval.Evaluate(x);
-      if (!Better(pop[static_cast<size_t>(k)], trial)) pop[static_cast<size_t>(k)] = std::move(trial);
-    }
-  }
+  std::vector<Candidate> pop = DifferentialEvolution<Candidate>(
+      lo, hi, np, &rng, [&](const std::vector<double>& x) { return eval.Evaluate(x); },
+      [&]() { return eval.evaluations + np <= global_budget; });
   RunResult r;
   r.run = run;
   // The population by Deb's rule (ties: the lower index), its best the global stage's result.
@@ -305,19 +394,7 @@ SearchResult Synthesize(const BoundPath<M>& b, uint64_t seed, int threads,
   const long long budget = std::max<long long>(1, b.task.search.evaluations / runs);
   SearchResult s;
   s.runs.resize(static_cast<size_t>(runs));
-  std::atomic<int> next{0}, done{0};
-  auto work = [&]() {
-    for (int r; (r = next.fetch_add(1)) < runs;) {
-      s.runs[static_cast<size_t>(r)] = Run(b, seed, r, budget);
-      const int d = ++done;
-      if (progress) progress(d, runs);
-    }
-  };
-  const int n = std::max(1, std::min(threads, runs));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < n; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
+  RunParallel(runs, threads, [&](int r) { s.runs[static_cast<size_t>(r)] = Run(b, seed, r, budget); }, progress);
   size_t best = 0;
   for (size_t r = 0; r < s.runs.size(); ++r) {
     s.evaluations += s.runs[r].evaluations;

@@ -44,6 +44,15 @@ inline double Wrap(double a) {
   return w >= kTwoPi ? 0.0 : w;
 }
 
+/// What the constraints (Constraints, path and function tasks) read from the generated model:
+/// the four-bar loop's link lengths among the design checks (EvalDesignChecks; -1 if absent)
+/// and the ground points of `ground_region` among the scene points (EvalScene).
+struct ConstraintIndices {
+  int check_crank = -1, check_ground = -1;
+  std::vector<int> check_lengths;
+  std::vector<int> region_points;
+};
+
 /// A task bound to the model M: indices instead of names.
 template <class M>
 struct BoundPath {
@@ -57,9 +66,7 @@ struct BoundPath {
   double relative_fixed = 0;   ///< its value when it is not a variable
   int offset_var = -1;         ///< index of the free offset in the global vector, -1 if none
   int num_global = 0;          ///< variables of the global stage (design + free offset)
-  // Design checks (EvalDesignChecks) of the four-bar loop: the link lengths, -1 if absent.
-  int check_crank = -1, check_ground = -1;
-  std::vector<int> check_lengths;
+  ConstraintIndices checks;    ///< what the constraints read from the generated model
 };
 
 namespace bind_internal {
@@ -93,6 +100,126 @@ bool BindVariables(const std::string& file, const std::vector<Variable>& variabl
   return true;
 }
 }  // namespace bind_internal
+
+/// The constraints' places in M (ConstraintIndices); false and *error (FILE:LINE:COLUMN) when
+/// the model cannot take them. `crank_link`: the task's input link ("" none).
+template <class M>
+bool BindConstraints(const std::string& file, const Constraints& c, const std::string& crank_link, int crank_line,
+                     int crank_column, ConstraintIndices* out, std::string* error) {
+  ConstraintIndices ix;
+  const bool need_lengths = c.grashof || c.crank_rotates || c.crank_shortest || c.has_lengths || c.has_ratio;
+  if (need_lengths) {
+    for (int k = 0; k < M::kNumDesignChecks; ++k) {
+      const std::string name = M::kDesignCheckNames[static_cast<size_t>(k)];
+      if (name.rfind("length_", 0) == 0 && name.size() > 13 && name.compare(name.size() - 6, 6, "_loop0") == 0) {
+        ix.check_lengths.push_back(k);
+        const std::string link = name.substr(7, name.size() - 13);
+        if (link == crank_link) ix.check_crank = k;
+        if (link == M::kLinkNames[M::kGroundLink]) ix.check_ground = k;
+      }
+    }
+    if (ix.check_lengths.size() != 4) {
+      *error = file + ": the constraints grashof/crank_*/link_lengths need a four-bar loop with a ground link "
+               "(the model's design checks have no link lengths of one)";
+      return false;
+    }
+    if ((c.crank_rotates || c.crank_shortest) && ix.check_crank < 0) {
+      *error = bind_internal::Where(file, crank_line, crank_column) + "crank: '" + crank_link +
+               "' is not a moving link of the model's four-bar loop (links: " + bind_internal::List(M::kLinkNames) + ")";
+      return false;
+    }
+  }
+  if (c.has_region) {
+    if constexpr (M::kNumScenePoints == 0) {
+      *error = bind_internal::Where(file, c.region_line, c.region_column) + "ground_region: the model has no scene points";
+      return false;
+    } else {
+    std::string ground_points;
+    for (int k = 0; k < M::kNumScenePoints; ++k) {
+      if (M::kScenePointLink[static_cast<size_t>(k)] != M::kGroundLink) continue;
+      ground_points += (ground_points.empty() ? "" : ", ") + std::string(M::kScenePointNames[static_cast<size_t>(k)]);
+      if (c.region_pivots.empty()) ix.region_points.push_back(k);
+    }
+    for (const std::string& name : c.region_pivots) {
+      int found = -1;
+      for (int k = 0; k < M::kNumScenePoints; ++k)
+        if (M::kScenePointLink[static_cast<size_t>(k)] == M::kGroundLink && name == M::kScenePointNames[static_cast<size_t>(k)])
+          found = k;
+      if (found < 0) {
+        *error = bind_internal::Where(file, c.region_line, c.region_column) + "ground_region: '" + name +
+                 "' is not a point of the model's ground link (" + (ground_points.empty() ? "none" : ground_points) + ")";
+        return false;
+      }
+      ix.region_points.push_back(found);
+    }
+    if (ix.region_points.empty()) {
+      *error = bind_internal::Where(file, c.region_line, c.region_column) +
+               "ground_region: the model's ground link has no named points";
+      return false;
+    }
+    }
+  }
+  *out = ix;
+  return true;
+}
+
+/// The parameter-only constraints of p (link lengths, Grashof, the crank, link_ratio, the
+/// ground region): each violation through flag(amount, what). True when the crank must turn
+/// fully (its motion is then checked over the whole turn).
+template <class M, class Flag>
+bool CheckParameterConstraints(const typename M::template ParamsT<double>& p, const Constraints& c,
+                               const ConstraintIndices& ix, Flag&& flag) {
+  bool full_turn = false;
+  if constexpr (M::kNumDesignChecks > 0) {
+    if (!ix.check_lengths.empty()) {
+      Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
+      M::DesignChecks(p, &margin);
+      std::array<double, 4> len;
+      for (int k = 0; k < 4; ++k) len[static_cast<size_t>(k)] = margin(ix.check_lengths[static_cast<size_t>(k)]);
+      std::array<double, 4> sorted = len;
+      std::sort(sorted.begin(), sorted.end());
+      const double grashof = sorted[1] + sorted[2] - sorted[0] - sorted[3];  // p + q - s - l
+      if (c.grashof) flag(-grashof, "not Grashof (s + l > p + q)");
+      if (c.has_ratio) flag(sorted[3] - c.ratio_max * sorted[0], "the longest link over the shortest above link_ratio");
+      if (c.has_lengths) {
+        for (double l : len) flag(std::max(c.length_lo - l, l - c.length_hi), "a link length outside link_lengths");
+      }
+      if (c.crank_rotates || c.crank_shortest) {
+        const double crank = margin(ix.check_crank);
+        const double ground = ix.check_ground >= 0 ? margin(ix.check_ground) : kInf;
+        double shortest_gap = crank - sorted[0];  // 0 when the crank is the shortest
+        if (c.crank_rotates) shortest_gap = std::min(shortest_gap, ground - sorted[0]);
+        flag(-grashof, "the crank cannot turn fully: not Grashof");
+        flag(shortest_gap, c.crank_shortest ? "the crank is not the shortest link"
+                                            : "the crank cannot turn fully: neither it nor the ground is the shortest link");
+        full_turn = true;
+      }
+    }
+  }
+  if constexpr (M::kNumScenePoints > 0) {
+    if (!ix.region_points.empty()) {
+      // Ground points do not move: the scene at any input (q = 0, phi at the assembly guess).
+      Eigen::Matrix<double, M::kNq, 1> q = Eigen::Matrix<double, M::kNq, 1>::Zero();
+      Eigen::Matrix<double, M::kNphi, 1> phi;
+      for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
+      Eigen::Matrix<double, 2, M::kNumScenePoints> r;
+      M::Scene(p, q, phi, &r);
+      for (int k : ix.region_points) {
+        const double x = r(0, k), y = r(1, k);
+        const std::string what = std::string("ground point ") + M::kScenePointNames[static_cast<size_t>(k)] +
+                                 " outside ground_region";
+        if (c.region_rectangle) {
+          flag(std::max(0.0, c.region_lo[0] - x) + std::max(0.0, x - c.region_hi[0]) + std::max(0.0, c.region_lo[1] - y) +
+                   std::max(0.0, y - c.region_hi[1]),
+               what);
+        } else {
+          flag(std::hypot(x - c.region_lo[0], y - c.region_lo[1]) - c.region_radius, what);
+        }
+      }
+    }
+  }
+  return full_turn;
+}
 
 /// Binds `task` to M: the point, the variables (the model's design parameters), the crank
 /// link and what the constraints need must exist. false and *error (FILE:LINE:COLUMN) if not.
@@ -141,29 +268,9 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
     }
     b.num_global = static_cast<int>(task.variables.size());
     if (!task.timing.free && task.timing.offset_free) b.offset_var = b.num_global++;
-    const Constraints& c = task.constraints;
-    const bool need_lengths = c.grashof || c.crank_rotates || c.crank_shortest || c.has_lengths || c.has_ratio;
-    if (need_lengths) {
-      for (int k = 0; k < M::kNumDesignChecks; ++k) {
-        const std::string name = M::kDesignCheckNames[k];
-        if (name.rfind("length_", 0) == 0 && name.size() > 13 && name.compare(name.size() - 6, 6, "_loop0") == 0) {
-          b.check_lengths.push_back(k);
-          const std::string link = name.substr(7, name.size() - 13);
-          if (link == task.crank_link) b.check_crank = k;
-          if (link == M::kLinkNames[M::kGroundLink]) b.check_ground = k;
-        }
-      }
-      if (b.check_lengths.size() != 4) {
-        *error = task.file + ": the constraints grashof/crank_*/link_lengths need a four-bar loop with a ground link "
-                 "(the model's design checks have no link lengths of one)";
-        return false;
-      }
-      if ((c.crank_rotates || c.crank_shortest) && b.check_crank < 0) {
-        *error = where(task.crank_line, task.crank_column) + "crank: '" + task.crank_link +
-                 "' is not a moving link of the model's four-bar loop (links: " + list(M::kLinkNames) + ")";
-        return false;
-      }
-    }
+    if (!BindConstraints<M>(task.file, task.constraints, task.crank_link, task.crank_line, task.crank_column, &b.checks,
+                            error))
+      return false;
     *out = b;
     return true;
   }
@@ -286,34 +393,8 @@ class PathEvaluator {
       cand->distance[static_cast<size_t>(i)] = std::hypot(dx, dy);
       cand->error += dx * dx + dy * dy;
     }
-    // Link lengths, Grashof, the crank.
-    bool full_turn = false;
-    if constexpr (M::kNumDesignChecks > 0) {
-      if (!b_.check_lengths.empty()) {
-        Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
-        M::DesignChecks(p, &margin);
-        std::array<double, 4> len;
-        for (int k = 0; k < 4; ++k) len[static_cast<size_t>(k)] = margin(b_.check_lengths[static_cast<size_t>(k)]);
-        std::array<double, 4> sorted = len;
-        std::sort(sorted.begin(), sorted.end());
-        const double grashof = sorted[1] + sorted[2] - sorted[0] - sorted[3];  // p + q - s - l
-        if (c.grashof) flag(-grashof, "not Grashof (s + l > p + q)");
-        if (c.has_ratio) flag(sorted[3] - c.ratio_max * sorted[0], "the longest link over the shortest above link_ratio");
-        if (c.has_lengths) {
-          for (double l : len) flag(std::max(c.length_lo - l, l - c.length_hi), "a link length outside link_lengths");
-        }
-        if (c.crank_rotates || c.crank_shortest) {
-          const double crank = margin(b_.check_crank);
-          const double ground = b_.check_ground >= 0 ? margin(b_.check_ground) : kInf;
-          double shortest_gap = crank - sorted[0];  // 0 when the crank is the shortest
-          if (c.crank_rotates) shortest_gap = std::min(shortest_gap, ground - sorted[0]);
-          flag(-grashof, "the crank cannot turn fully: not Grashof");
-          flag(shortest_gap, c.crank_shortest ? "the crank is not the shortest link"
-                                              : "the crank cannot turn fully: neither it nor the ground is the shortest link");
-          full_turn = true;
-        }
-      }
-    }
+    // Link lengths, Grashof, the crank, the ground region.
+    const bool full_turn = CheckParameterConstraints<M>(p, c, b_.checks, flag);
     // Order of the targets along the motion (free timing).
     std::vector<double> dq(static_cast<size_t>(n), 0.0);
     if (t.timing.free) {

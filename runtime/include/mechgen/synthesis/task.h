@@ -49,6 +49,12 @@ struct Constraints {
   double length_lo = 0, length_hi = std::numeric_limits<double>::infinity();
   bool has_ratio = false;       ///< longest / shortest link of the four-bar loop at most ratio_max
   double ratio_max = std::numeric_limits<double>::infinity();
+  /// Ground pivots in a region: each named point of the ground link (the model's scene points;
+  /// none named: all of the ground's) inside the rectangle [lo, hi] or the circle about lo.
+  bool has_region = false, region_rectangle = false;
+  std::vector<std::string> region_pivots;
+  double region_lo[2] = {0, 0}, region_hi[2] = {0, 0}, region_radius = 0;
+  int region_line = 0, region_column = 0;
 };
 
 /// The search's budget.
@@ -183,6 +189,102 @@ inline bool LoadTaskRoot(const std::string& path, const std::string& expected, Y
   return true;
 }
 
+
+/// A task's `constraints:` (path and function tasks; docs/synthesis.md) into *c. `has_crank`:
+/// the task names its input link; `free_timing`: `order` is allowed (path tasks, free timing).
+inline void ReadConstraints(const std::string& path, const YAML::Node& cons, bool has_crank, bool free_timing,
+                            Constraints* c) {
+  if (!cons.IsMap()) throw Error{Where(path, cons.Mark()) + "constraints: expected a mapping"};
+  Known(path, cons,
+        {"grashof", "crank_rotates", "crank_shortest", "order", "transmission_angle", "link_lengths", "link_ratio",
+         "ground_region"},
+        "constraints");
+  if (cons["grashof"]) c->grashof = Bool(path, cons["grashof"], "grashof");
+  if (cons["crank_rotates"]) c->crank_rotates = Bool(path, cons["crank_rotates"], "crank_rotates");
+  if (cons["crank_shortest"]) c->crank_shortest = Bool(path, cons["crank_shortest"], "crank_shortest");
+  if (cons["order"]) c->order = Bool(path, cons["order"], "order");
+  if (const YAML::Node mu = cons["transmission_angle"]) {
+    c->has_mu = true;
+    Pair(path, mu, "transmission_angle", true, &c->mu_lo, &c->mu_hi);
+  }
+  if (const YAML::Node len = cons["link_lengths"]) {
+    c->has_lengths = true;
+    Pair(path, len, "link_lengths", false, &c->length_lo, &c->length_hi);
+  }
+  if (const YAML::Node ratio = cons["link_ratio"]) {
+    c->has_ratio = true;
+    c->ratio_max = Number(path, ratio, "link_ratio (the longest link over the shortest, at most)");
+    if (!(c->ratio_max >= 1)) throw Error{Where(path, ratio.Mark()) + "link_ratio: expected a number >= 1"};
+  }
+  if (const YAML::Node g = cons["ground_region"]) {
+    // {pivots: [ground.A, ground.D], rectangle: [[xmin, ymin], [xmax, ymax]]} or
+    // {pivots: [...], circle: {centre: [x, y], radius: r}}: each named point of the model's
+    // ground link (its scene points; without pivots: every point of the ground link) inside.
+    if (!g.IsMap()) throw Error{Where(path, g.Mark()) + "ground_region: expected {pivots: [ground.A, ...], rectangle: [[xmin, ymin], [xmax, ymax]]} or {circle: {centre: [x, y], radius: r}}"};
+    Known(path, g, {"pivots", "rectangle", "circle"}, "ground_region");
+    c->has_region = true;
+    c->region_line = g.Mark().line + 1;
+    c->region_column = g.Mark().column + 1;
+    if (const YAML::Node pv = g["pivots"]) {
+      if (!pv.IsSequence() || pv.size() == 0)
+        throw Error{Where(path, pv.Mark()) + "ground_region.pivots: expected the ground's points, e.g. [ground.A, ground.D]"};
+      for (const YAML::Node& one : pv) {
+        if (!one.IsScalar()) throw Error{Where(path, one.Mark()) + "a pivot: expected a point of the ground link, e.g. ground.A"};
+        c->region_pivots.push_back(one.Scalar());
+      }
+    }
+    const YAML::Node rect = g["rectangle"], circle = g["circle"];
+    if (static_cast<bool>(rect) == static_cast<bool>(circle))
+      throw Error{Where(path, g.Mark()) + "ground_region: give either rectangle: [[xmin, ymin], [xmax, ymax]] or circle: {centre: [x, y], radius: r}"};
+    if (rect) {
+      if (!rect.IsSequence() || rect.size() != 2 || !rect[0].IsSequence() || rect[0].size() != 2 || !rect[1].IsSequence() ||
+          rect[1].size() != 2)
+        throw Error{Where(path, rect.Mark()) + "ground_region.rectangle: expected [[xmin, ymin], [xmax, ymax]]"};
+      c->region_rectangle = true;
+      c->region_lo[0] = Number(path, rect[0][0], "xmin");
+      c->region_lo[1] = Number(path, rect[0][1], "ymin");
+      c->region_hi[0] = Number(path, rect[1][0], "xmax");
+      c->region_hi[1] = Number(path, rect[1][1], "ymax");
+      if (!(c->region_lo[0] < c->region_hi[0] && c->region_lo[1] < c->region_hi[1]))
+        throw Error{Where(path, rect.Mark()) + "ground_region.rectangle: min must be below max in x and in y"};
+    } else {
+      if (!circle.IsMap()) throw Error{Where(path, circle.Mark()) + "ground_region.circle: expected {centre: [x, y], radius: r}"};
+      Known(path, circle, {"centre", "radius"}, "ground_region.circle");
+      const YAML::Node centre = Required(path, circle, "centre", "the circle's centre [x, y]");
+      if (!centre.IsSequence() || centre.size() != 2)
+        throw Error{Where(path, centre.Mark()) + "ground_region.circle.centre: expected [x, y]"};
+      c->region_lo[0] = Number(path, centre[0], "centre x");
+      c->region_lo[1] = Number(path, centre[1], "centre y");
+      c->region_radius = Number(path, Required(path, circle, "radius", "the circle's radius"), "radius");
+      if (!(c->region_radius > 0)) throw Error{Where(path, circle["radius"].Mark()) + "ground_region.circle.radius: expected a number > 0"};
+    }
+  }
+  if ((c->crank_rotates || c->crank_shortest) && !has_crank)
+    throw Error{Where(path, cons.Mark()) + "crank_rotates/crank_shortest need `crank: <input link>` in the task"};
+  if (c->order && !free_timing)
+    throw Error{Where(path, cons["order"].Mark()) +
+                "order: only for path tasks with free timing (prescribed angles fix the order)"};
+}
+
+/// A task's `search:` into *s. Function tasks take the same keys.
+inline void ReadSearch(const std::string& path, const YAML::Node& s, bool function_task, Search* search) {
+  if (!s.IsMap()) throw Error{Where(path, s.Mark()) + "search: expected a mapping"};
+  Known(path, s, {"evaluations", "restarts", "population", "curve_samples", "local_starts", "local_share"},
+        function_task ? "search (function task)" : "search");
+  if (s["local_starts"]) search->local_starts = static_cast<int>(Count(path, s["local_starts"], "local_starts", 1, 1000));
+  if (s["local_share"]) {
+    search->local_share = Number(path, s["local_share"], "local_share");
+    if (!(search->local_share >= 0 && search->local_share <= 0.9))
+      throw Error{Where(path, s["local_share"].Mark()) + "local_share: expected a number in [0, 0.9]"};
+  }
+  if (s["evaluations"]) search->evaluations = Count(path, s["evaluations"], "evaluations", 100, 1000000000LL);
+  // A function task may have no global stage (restarts: 0: its exact and model starts only).
+  if (s["restarts"]) search->restarts = static_cast<int>(Count(path, s["restarts"], "restarts", function_task ? 0 : 1, 10000));
+  if (s["population"]) search->population = static_cast<int>(Count(path, s["population"], "population", 0, 100000));
+  if (s["curve_samples"])
+    search->curve_samples = static_cast<int>(Count(path, s["curve_samples"], "curve_samples", 8, 100000));
+}
+
 }  // namespace task_internal
 
 /// Reads the task file; false and *error (one message: FILE:LINE:COLUMN: what to change) on
@@ -254,48 +356,9 @@ inline bool ParseTask(const std::string& path, PathTask* task, std::string* erro
     }
     ReadVariables(path, root, "{a: [0, 60], ...}", &task->variables);
     if (const YAML::Node cons = root["constraints"]) {
-      if (!cons.IsMap()) throw Error{Where(path, cons.Mark()) + "constraints: expected a mapping"};
-      Known(path, cons,
-            {"grashof", "crank_rotates", "crank_shortest", "order", "transmission_angle", "link_lengths", "link_ratio"},
-            "constraints");
-      Constraints& c = task->constraints;
-      if (cons["grashof"]) c.grashof = Bool(path, cons["grashof"], "grashof");
-      if (cons["crank_rotates"]) c.crank_rotates = Bool(path, cons["crank_rotates"], "crank_rotates");
-      if (cons["crank_shortest"]) c.crank_shortest = Bool(path, cons["crank_shortest"], "crank_shortest");
-      if (cons["order"]) c.order = Bool(path, cons["order"], "order");
-      if (const YAML::Node mu = cons["transmission_angle"]) {
-        c.has_mu = true;
-        Pair(path, mu, "transmission_angle", true, &c.mu_lo, &c.mu_hi);
-      }
-      if (const YAML::Node len = cons["link_lengths"]) {
-        c.has_lengths = true;
-        Pair(path, len, "link_lengths", false, &c.length_lo, &c.length_hi);
-      }
-      if (const YAML::Node ratio = cons["link_ratio"]) {
-        c.has_ratio = true;
-        c.ratio_max = Number(path, ratio, "link_ratio (the longest link over the shortest, at most)");
-        if (!(c.ratio_max >= 1)) throw Error{Where(path, ratio.Mark()) + "link_ratio: expected a number >= 1"};
-      }
-      if ((c.crank_rotates || c.crank_shortest) && task->crank_link.empty())
-        throw Error{Where(path, cons.Mark()) + "crank_rotates/crank_shortest need `crank: <input link>` in the task"};
-      if (c.order && !task->timing.free)
-        throw Error{Where(path, cons["order"].Mark()) + "order: only for free timing (prescribed angles fix the order)"};
+      ReadConstraints(path, cons, !task->crank_link.empty(), task->timing.free, &task->constraints);
     }
-    if (const YAML::Node s = root["search"]) {
-      if (!s.IsMap()) throw Error{Where(path, s.Mark()) + "search: expected a mapping"};
-      Known(path, s, {"evaluations", "restarts", "population", "curve_samples", "local_starts", "local_share"}, "search");
-      if (s["local_starts"]) task->search.local_starts = static_cast<int>(Count(path, s["local_starts"], "local_starts", 1, 1000));
-      if (s["local_share"]) {
-        task->search.local_share = Number(path, s["local_share"], "local_share");
-        if (!(task->search.local_share >= 0 && task->search.local_share <= 0.9))
-          throw Error{Where(path, s["local_share"].Mark()) + "local_share: expected a number in [0, 0.9]"};
-      }
-      if (s["evaluations"]) task->search.evaluations = Count(path, s["evaluations"], "evaluations", 100, 1000000000LL);
-      if (s["restarts"]) task->search.restarts = static_cast<int>(Count(path, s["restarts"], "restarts", 1, 10000));
-      if (s["population"]) task->search.population = static_cast<int>(Count(path, s["population"], "population", 0, 100000));
-      if (s["curve_samples"])
-        task->search.curve_samples = static_cast<int>(Count(path, s["curve_samples"], "curve_samples", 8, 100000));
-    }
+    if (const YAML::Node s = root["search"]) ReadSearch(path, s, /*function_task=*/false, &task->search);
   } catch (const Error& e) {
     *error = e.message;
     return false;
