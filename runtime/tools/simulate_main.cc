@@ -66,6 +66,7 @@
 #include <vector>
 
 #include "common/cli.h"
+#include "mechgen/dynamics/columns.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/dynamics/prescribed.h"
@@ -303,179 +304,12 @@ bool ReadTable(const std::string& path, std::vector<double>* t, std::vector<doub
   return true;
 }
 
-// ---- output: the CSV's column table (table/columns.h), written by io/csv.h -----------------
-
-// One CSV row: a sample and the reactions of the generated kinetostatics at it (nullptr when
-// withheld: the row's reaction cells are then empty).
-template <class SampleT>
-struct CsvRow {
-  const SampleT* s = nullptr;
-  const double* R = nullptr;
-};
-
-// t, each input, its speed and acceleration: the first columns of every run.
-template <class M, class SampleT>
-void AddInputColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
-  using Row = CsvRow<SampleT>;
-  constexpr int kNq = M::kNq;
-  auto unit = [](int i, const char* per) {
-    return std::string(M::kQIsAngle[i] ? "rad" : "m") + per;
-  };
-  add->Number("t", "s", "time", [](const Row& r) { return double(r.s->t); });
-  for (int i = 0; i < kNq; ++i)
-    add->Number(M::kQNames[i], unit(i, ""), "input", [i](const Row& r) { return r.s->q(i); });
-  for (int i = 0; i < kNq; ++i)
-    add->Number(std::string(M::kQNames[i]) + "_dot", unit(i, "/s"), "input speed",
-                [i](const Row& r) { return r.s->qd(i); });
-  for (int i = 0; i < kNq; ++i)
-    add->Number(std::string(M::kQNames[i]) + "_ddot", unit(i, "/s^2"), "input acceleration",
-                [i](const Row& r) { return r.s->qdd(i); });
-}
-
-// The columns every run has: the inputs' (AddInputColumns), then T, V, E, W_nc (and W_act
-// when driven).
-template <class M, class SampleT, bool kDriven>
-void AddMotionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
-  using Row = CsvRow<SampleT>;
-  AddInputColumns<M, SampleT>(add);
-  add->Number("T", "J", "kinetic energy", [](const Row& r) { return double(r.s->T); });
-  add->Number("V", "J", "potential energy (springs, gravity)",
-              [](const Row& r) { return double(r.s->V); });
-  add->Number("E", "J", "T + V", [](const Row& r) { return double(r.s->E); });
-  if constexpr (!kDriven) {
-    add->Number("W_nc", "J", "work of the non-conservative forces since t = 0",
-                [](const Row& r) { return double(r.s->W); });
-  } else {
-    add->Number("W_nc", "J", "work of the non-conservative forces since t = 0",
-                [](const Row& r) { return double(r.s->W_nc); });
-    add->Number("W_act", "J", "work of the actuators since t = 0",
-                [](const Row& r) { return double(r.s->W_act); });
-  }
-}
-
-// Q_<input>: the generalized applied force.
-template <class M, class SampleT>
-void AddForceColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
-  using Row = CsvRow<SampleT>;
-  for (int i = 0; i < M::kNq; ++i)
-    add->Number(std::string("Q_") + M::kQNames[i], M::kQIsAngle[i] ? "N m" : "N",
-                "generalized applied force (loads, motors, dampers, weights, springs, joint "
-                "friction): a torque CCW + for an angle input, a force along +q for a slide",
-                [i](const Row& r) { return r.s->Q(i); });
-}
-
-// Each reaction component of the generated kinetostatics at the simulated motion (empty cells
-// where withheld).
-template <class M, class SampleT>
-void AddReactionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
-  using Row = CsvRow<SampleT>;
-  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
-  if constexpr (kNumReactions > 0) {
-    for (int k = 0; k < kNumReactions; ++k)
-      add->Number(M::kReactionNames[k], M::kReactionNames[k][0] == 'M' ? "N m" : "N",
-                  "reaction with the inertia forces: the force of the joint's first link on its "
-                  "second, fixed frame",
-                  [k](const Row& r) {
-                    return r.R != nullptr ? r.R[k] : std::numeric_limits<double>::quiet_NaN();
-                  })
-          .missing = "";
-  }
-}
-
-// The revolute joints among the reactions, F_<joint>_x followed by F_<joint>_y: (index of the
-// x component, joint).
-template <class M>
-std::vector<std::pair<int, std::string>> RevoluteMagnitudes() {
-  std::vector<std::pair<int, std::string>> magnitudes;
-  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
-  if constexpr (kNumReactions > 0) {
-    for (int r = 0; r + 1 < kNumReactions; ++r) {
-      const std::string a = M::kReactionNames[r], b = M::kReactionNames[r + 1];
-      if (a.size() > 4 && a.compare(0, 2, "F_") == 0 && a.compare(a.size() - 2, 2, "_x") == 0 &&
-          b == a.substr(0, a.size() - 2) + "_y") {
-        magnitudes.emplace_back(r, a.substr(2, a.size() - 4));
-      }
-    }
-  }
-  return magnitudes;
-}
-
-// |F| of each revolute joint among the reactions (F_<joint>_mag, N; empty where withheld): the
-// bearing loads of every run, free or driven.
-template <class M, class SampleT>
-void AddMagnitudeColumns(mechgen::table::Builder<CsvRow<SampleT>>* add) {
-  using Row = CsvRow<SampleT>;
-  for (const auto& m : RevoluteMagnitudes<M>()) {
-    const int x = m.first;
-    add->Number("F_" + m.second + "_mag", "N", "|force| at the revolute joint (inertia forces included)",
-                [x](const Row& r) {
-                  return r.R != nullptr ? std::hypot(r.R[x], r.R[x + 1])
-                                        : std::numeric_limits<double>::quiet_NaN();
-                })
-        .missing = "";
-  }
-}
-
-// Coulomb friction of a free run (Sim::kHasCoulomb): friction_<joint> per friction joint and
-// the stuck flag.
-template <class M, class SampleT, bool kHasCoulomb>
-void AddFrictionColumns(mechgen::table::Builder<CsvRow<SampleT>>* add, bool coulomb) {
-  using Row = CsvRow<SampleT>;
-  if (!coulomb) return;
-  if constexpr (kHasCoulomb) {
-    for (int J = 0; J < mechgen::dynamics::CoulombFeatures<M>::kNumFriction; ++J) {
-      const bool prismatic = M::kFrictionPrismatic[J];
-      add->Number(std::string("friction_") + M::kFrictionJoints[J], prismatic ? "N" : "N m",
-                  prismatic ? "Coulomb friction force on the slider along the slide's +u"
-                            : "Coulomb friction torque on the joint's second link by its first, CCW +",
-                  [J](const Row& r) { return r.s->friction(J); });
-    }
-    add->Number("stuck", "1", "1: held at rest by static friction (q_dot = q_ddot = 0); 0: moving",
-                [](const Row& r) { return r.s->stuck ? 1.0 : 0.0; });
-  }
-}
-
-// The CSV of a run with every input free: t, q, q_dot, q_ddot, T, V, E, W_nc, Q, the
-// friction loads and stuck flag (when the run simulates Coulomb friction), the reactions and
-// |F| of each revolute joint.
-template <class M, class SampleT, bool kHasCoulomb>
-mechgen::table::Columns<CsvRow<SampleT>> FreeColumns(bool coulomb) {
-  using Row = CsvRow<SampleT>;
-  mechgen::table::Columns<Row> columns;
-  mechgen::table::Builder<Row> add(&columns);
-  AddMotionColumns<M, SampleT, false>(&add);
-  AddForceColumns<M, SampleT>(&add);
-  AddFrictionColumns<M, SampleT, kHasCoulomb>(&add, coulomb);
-  AddReactionColumns<M, SampleT>(&add);
-  AddMagnitudeColumns<M, SampleT>(&add);
-  return columns;
-}
-
-// The CSV of a run with NP inputs driven: t, q, q_dot, q_ddot, T, V, E, W_nc, W_act, Q,
-// lambda per driven input, balance, rcond, the reactions and |F| of each revolute joint.
-template <class M, class SampleT, int NP>
-mechgen::table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>& prescribed) {
-  using Row = CsvRow<SampleT>;
-  mechgen::table::Columns<Row> columns;
-  mechgen::table::Builder<Row> add(&columns);
-  AddMotionColumns<M, SampleT, true>(&add);
-  AddForceColumns<M, SampleT>(&add);
-  for (int i = 0; i < NP; ++i) {
-    const int k = prescribed[i];
-    add.Number(std::string("lambda_") + M::kQNames[k], M::kQIsAngle[k] ? "N m" : "N",
-               "actuator force that keeps the input on its law: a torque on the input link CCW +, "
-               "or a force along the slide; empty: withheld at a singular configuration",
-               [i](const Row& r) { return r.s->lambda(i); })
-        .missing = "";
-  }
-  add.Number("balance", "J", "E - W_nc - W_act (constant along an exact motion)",
-             [](const Row& r) { return double(r.s->Balance()); });
-  add.Number("rcond", "1", "1/cond_1(Phi_phi) (the run stops below 1e-6)",
-             [](const Row& r) { return double(r.s->rcond); });
-  AddReactionColumns<M, SampleT>(&add);
-  AddMagnitudeColumns<M, SampleT>(&add);
-  return columns;
-}
+// ---- output: the CSV's column table (dynamics/columns.h), written by io/csv.h -------------
+using mechgen::dynamics::AddInputColumns;
+using mechgen::dynamics::CsvRow;
+using mechgen::dynamics::DrivenColumns;
+using mechgen::dynamics::FreeColumns;
+using mechgen::dynamics::RevoluteMagnitudes;
 
 // The CSV's comment lines (io/csv.h): the tool, the model, the run and the signs, then every
 // column's unit and meaning.
