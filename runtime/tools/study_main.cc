@@ -71,7 +71,10 @@ const char* MethodName(study::Method m) {
 }
 
 const char* AnalysisName(study::Analysis a) {
-  return a == study::Analysis::kStatics ? "statics" : a == study::Analysis::kFlywheel ? "flywheel" : "sweep";
+  return a == study::Analysis::kStatics    ? "statics"
+         : a == study::Analysis::kFlywheel ? "flywheel"
+         : a == study::Analysis::kSimulate ? "simulate"
+                                           : "sweep";
 }
 
 // The CSV: '#' lines (what wrote it, then each column's unit and meaning), the header, a row
@@ -84,13 +87,16 @@ void WriteCsv(const study::Study<Model>& s,
   const size_t n = spec.parameters.size();
   out << "# mechgen study, model " << Model::kName << ": " << spec.path << ", method " << MethodName(spec.method)
       << ", " << results.size() << " samples, seed " << spec.seed << ", analysis "
-      << AnalysisName(spec.analysis) << " in " << spec.steps << " steps\n";
+      << AnalysisName(spec.analysis) << " in " << spec.steps << " steps";
+  if (spec.analysis == study::Analysis::kSimulate) out << " to t_end " << G17(spec.t_end) << " s";
+  out << "\n";
   out << "# sample [1]: the sample's index, 0-based, in the study's order\n";
   for (const study::ParameterSpec& p : spec.parameters)
     out << "# " << p.name << " [model units]: the model's parameter " << p.name << "\n";
   for (size_t k = 0; k < spec.metrics.size(); ++k)
     out << "# " << spec.metrics[k].name << " [" << s.Unit(k) << "]: " << s.Description(k) << "\n";
-  out << "# status [text]: ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel)\n";
+  out << "# status [text]: ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel), "
+         "simulation_failed (simulate: the run ended before t_end)\n";
   out << "sample";
   for (const study::ParameterSpec& p : spec.parameters) out << "," << p.name;
   for (const study::MetricSpec& m : spec.metrics) out << "," << m.name;

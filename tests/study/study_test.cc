@@ -32,6 +32,9 @@
 #ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
 #include "design_press.h"
 #endif
+#ifdef MECHGEN_STUDY_TEST_PENDULUM
+#include "pendulum_spring.h"
+#endif
 
 namespace {
 
@@ -715,6 +718,130 @@ TEST(StudyFlywheel, ErrorsNameTheirPlace) {
   EXPECT_FALSE(s.Prepare(spec, &error));
   EXPECT_NE(error.find("f4.yaml:2:11: error: analysis: flywheel needs a one-input machine"), std::string::npos)
       << error;
+}
+#endif
+
+#ifdef MECHGEN_STUDY_TEST_PENDULUM
+// ---- the simulation per sample ----------------------------------------------------------------
+
+// The pendulum of tests/runtime (bar OA = l on a pin at O, mass m at c, inertia Jc, gravity g,
+// torsional spring k with free angle theta0, a constant force Fy along y at A) released at rest
+// from theta = 0. The work of all its loads from 0 to theta is -(U(theta) - U(0)) with
+//   U(theta) = m g c sin(theta) + k (theta - theta0)^2 / 2 - Fy l sin(theta),
+// so the swing's far turning point solves U(theta_t) = U(0), the kinetic energy peaks at
+// U(0) - U(theta_e) where U'(theta_e) = 0, and at the release (qd = 0) Newton on the bar gives
+// alpha = -U'(0) / I_O and the pin's force on the bar (0, m c alpha + m g - Fy). Each sample of
+// a grid over k and Fy against these, and 1 and 3 threads bit for bit.
+TEST(StudySimulate, PendulumTurningPointPeakEnergyAndReleaseReactionAgainstHandFormulas) {
+  const double t_end = 1.6;
+  const int steps = 3200;
+  const study::StudySpec spec = Read(
+      "sim.yaml",
+      "method: grid\nanalysis: simulate\nt_end: 1.6\nsteps: 3200\nq0: [0]\n"
+      "parameters:\n  k: {values: [0, 3]}\n  Fy: {values: [0, 4]}\n"
+      "metrics:\n  - {kind: min, column: theta_bar, name: far}\n  - {kind: max, column: T, name: T_peak}\n"
+      "  - {kind: at, column: F_O_x, step: 0, name: Fx0}\n  - {kind: at, column: F_O_y, step: 0, name: Fy0}\n"
+      "  - {kind: failures}\n");
+  using M = mech::pendulum_spring::Model;
+  study::Study<M> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  EXPECT_EQ(s.Unit(1), "J");
+  EXPECT_EQ(s.Unit(3), "N");
+  const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+  std::vector<study::SampleResult> one, three;
+  s.Run(v, 1, &one);
+  s.Run(v, 3, &three);
+  ASSERT_EQ(one.size(), 4u);
+  const M::ParamsT<double> p0;
+  const double l = p0.l, c = p0.c, m = p0.m, g = p0.g, theta0 = p0.theta0, I_O = p0.Jc + p0.m * p0.c * p0.c;
+  const double dt = t_end / steps;
+  for (size_t i = 0; i < one.size(); ++i) {
+    const double k = v[2 * i], Fy = v[2 * i + 1];
+    ASSERT_STREQ(one[i].status, "ok") << i;
+    auto U = [&](double th) { return m * g * c * std::sin(th) + 0.5 * k * (th - theta0) * (th - theta0) - Fy * l * std::sin(th); };
+    auto dU = [&](double th) { return m * g * c * std::cos(th) + k * (th - theta0) - Fy * l * std::cos(th); };
+    auto ddU = [&](double th) { return -m * g * c * std::sin(th) + k + Fy * l * std::sin(th); };
+    // theta_e: U' = 0 between -pi and 0 (U' > 0 at 0, < 0 at -pi/2 - 0.5 here), by bisection.
+    auto bisect = [](auto f, double a, double b) {
+      for (int n = 0; n < 200; ++n) {
+        const double mid = 0.5 * (a + b);
+        ((f(a) < 0) == (f(mid) < 0) ? a : b) = mid;
+      }
+      return 0.5 * (a + b);
+    };
+    ASSERT_GT(dU(0), 0) << i;
+    const double theta_e = bisect(dU, -2.5, 0.0);
+    const double theta_t = bisect([&](double th) { return U(th) - U(0); }, -4.0, theta_e);
+    const double T_peak = U(0) - U(theta_e);
+    // Sampling: the study sees the motion every dt; near an extreme a quantity differs from its
+    // extreme by at most |second time derivative| (dt/2)^2 / 2; the integrator (rtol 1e-8 per
+    // step, ~10^3 steps) adds up to 1e-6 relative.
+    const double alpha_t = std::abs(dU(theta_t)) / I_O;  // |theta_ddot| at the turning point
+    const double T_ddot = std::abs(ddU(theta_e)) * 2 * T_peak / I_O;
+    EXPECT_NEAR(one[i].metrics[0], theta_t, 1.1 * alpha_t * dt * dt / 8 + 1e-6 * std::abs(theta_t)) << i;
+    EXPECT_GE(one[i].metrics[0], theta_t - 1e-6 * std::abs(theta_t)) << i;  // no sample beyond it
+    EXPECT_NEAR(one[i].metrics[1], T_peak, 1.1 * T_ddot * dt * dt / 8 + 1e-6 * T_peak) << i;
+    EXPECT_LE(one[i].metrics[1], T_peak * (1 + 1e-6)) << i;
+    const double alpha0 = -dU(0) / I_O;
+    EXPECT_NEAR(one[i].metrics[2], 0, 1e-9) << i;
+    EXPECT_NEAR(one[i].metrics[3], m * c * alpha0 + m * g - Fy, 1e-9 * (m * g)) << i;
+    EXPECT_EQ(one[i].metrics[4], 0) << i;
+    for (size_t q = 0; q < one[i].metrics.size(); ++q) {
+      const double x = one[i].metrics[q], y = three[i].metrics[q];
+      EXPECT_TRUE(std::memcmp(&x, &y, sizeof x) == 0) << i << " " << q;
+    }
+  }
+  // No first order of a simulation, and why.
+  std::string why;
+  EXPECT_TRUE(std::isnan(s.Gradient(0, &why)[0]));
+  EXPECT_NE(why.find("simulation"), std::string::npos) << why;
+}
+
+// The simulation's errors: t_end, q0's size, the metrics it has, a model without dynamics, a
+// column the simulation's CSV does not have (the list of those it has).
+TEST(StudySimulate, ErrorsNameTheirPlace) {
+  const std::string e1 = ErrorOf("s1.yaml", "method: grid\nanalysis: simulate\nparameters:\n  k: {values: [1]}\n"
+                                            "metrics: [{kind: failures}]\n");
+  EXPECT_NE(e1.find("s1.yaml:2:11: error: analysis: simulate needs t_end:"), std::string::npos) << e1;
+  const std::string e2 = ErrorOf("s2.yaml", "method: grid\nanalysis: simulate\nt_end: 1\nparameters:\n  k: {values: [1]}\n"
+                                            "metrics:\n  - {kind: path_deviation, point: bar.A}\n");
+  EXPECT_NE(e2.find("s2.yaml:7:5: error: with analysis: simulate the metrics are max, min"), std::string::npos) << e2;
+  const std::string e3 = ErrorOf("s3.yaml", "method: grid\nt_end: 1\nparameters:\n  k: {values: [1]}\n"
+                                            "metrics: [{kind: failures}]\n");
+  EXPECT_NE(e3.find("s3.yaml:2:8: error: t_end: is for analysis: simulate"), std::string::npos) << e3;
+  const std::string e4 = ErrorOf("s4.yaml", "method: grid\nanalysis: simulate\nt_end: 0\nparameters:\n  k: {values: [1]}\n"
+                                            "metrics: [{kind: failures}]\n");
+  EXPECT_NE(e4.find("s4.yaml:3:8: error: t_end: expected a time > 0"), std::string::npos) << e4;
+  {
+    const study::StudySpec spec = Read("s5.yaml", "method: grid\nanalysis: simulate\nt_end: 1\nq0: [0, 1]\n"
+                                                  "parameters:\n  k: {values: [1]}\nmetrics: [{kind: failures}]\n");
+    study::Study<mech::pendulum_spring::Model> s;
+    std::string error;
+    EXPECT_FALSE(s.Prepare(spec, &error));
+    EXPECT_NE(error.find("s5.yaml:4:5: error: q0: expected 1 value(s), one per input"), std::string::npos) << error;
+  }
+  {
+    const study::StudySpec spec = Read("s6.yaml", "method: grid\nanalysis: simulate\nt_end: 1\n"
+                                                  "parameters:\n  k: {values: [1]}\n"
+                                                  "metrics:\n  - {kind: max, column: drive_theta_bar}\n");
+    study::Study<mech::pendulum_spring::Model> s;
+    std::string error;
+    EXPECT_FALSE(s.Prepare(spec, &error));
+    EXPECT_NE(error.find("s6.yaml:7:5: error: no numeric column 'drive_theta_bar' in the simulation's output"),
+              std::string::npos)
+        << error;
+    EXPECT_NE(error.find("theta_bar_dot, theta_bar_ddot, T, V, E, W_nc"), std::string::npos) << error;
+  }
+  {
+    const study::StudySpec spec = Read("s7.yaml", "method: grid\nanalysis: simulate\nt_end: 1\n"
+                                                  "parameters:\n  a: {values: [1]}\nmetrics: [{kind: failures}]\n");
+    study::Study<mech::fourbar::Model> s;
+    std::string error;
+    EXPECT_FALSE(s.Prepare(spec, &error));
+    EXPECT_NE(error.find("s7.yaml:2:11: error: analysis: simulate needs a model with `dynamics`"), std::string::npos)
+        << error;
+  }
 }
 #endif
 

@@ -2,9 +2,11 @@
  * \file study/run.h
  * Runs a design study (study/spec.h) on a generated model M: for each sample, the model's
  * parameters set to the sample's values, the mechanism assembled at its assembly
- * configuration, the analysis over the motion (a kinematic sweep, or statics at every row),
- * then the sample's metrics from the rows. The metrics read the same column tables as the
- * sweep's and the statics' CSVs (sweep/columns.h, statics/columns.h), by their CSV names, and
+ * configuration, the analysis over the motion (a kinematic sweep, or statics at every row; the
+ * machine's cycle at a mean speed; or a simulation of the free motion), then the sample's
+ * metrics from the rows. The metrics read the same column tables as the sweep's, the statics'
+ * and the simulation's CSVs (sweep/columns.h, statics/columns.h, dynamics/columns.h), by their
+ * CSV names, and
  * their first-order sensitivities (at the nominal design) read the design columns of those
  * tables: d<column>/d<p> (the generated EvalDesignDerivatives, EvalStaticsDesign).
  *
@@ -29,6 +31,9 @@
 #include <type_traits>
 #include <vector>
 
+#include "mechgen/dynamics/columns.h"
+#include "mechgen/dynamics/forward.h"
+#include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/machines/flywheel/cycle_design.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
 #include "mechgen/position/solver.h"
@@ -48,7 +53,9 @@ struct SampleResult {
   /// "ok"; "rows_failed" (some rows of the motion did not converge: the metrics are over the
   /// others, `failures` counts them); "not_assembled" (no configuration at the assembly
   /// inputs: every metric NaN but failures); "cycle_failed" (analysis: flywheel: the cycle is
-  /// not usable, machines/flywheel/machine_cycle.h's status: every metric NaN but failures = 1).
+  /// not usable, machines/flywheel/machine_cycle.h's status: every metric NaN but failures = 1);
+  /// "simulation_failed" (analysis: simulate: the run ended before t_end, dynamics/simulator.h's
+  /// status: the metrics are over the samples reached, failures = 1).
   const char* status = "not_run";
   std::vector<double> metrics;
   /// With an envelope: the point's x, y at every row (x0, y0, x1, ...), NaN where a row failed.
@@ -69,6 +76,28 @@ template <class M, bool = HasDesignDerivatives<M>::value>
 struct NumDesignChecks : std::integral_constant<int, 0> {};
 template <class M>
 struct NumDesignChecks<M, true> : std::integral_constant<int, M::kNumDesignChecks> {};
+// analysis: simulate: the free motion of a model with `dynamics` and M::Solve
+// (dynamics/forward.h), a sample and the reactions of the generated kinetostatics there.
+template <class M, bool = HasDynamics<M>::value && ModelFeatures<M>::kHasSolve>
+struct SimulationOf {
+  static constexpr bool kOk = false;
+  struct Row {};
+  using Columns = std::vector<int>;
+};
+template <class M>
+struct SimulationOf<M, true> {
+  static constexpr bool kOk = true;
+  using Sim = dynamics::MinimalDynamics<M>;
+  using SampleT = typename Sim::SampleT;
+  static constexpr int kNumReactions = statics::StaticsFeatures<M>::kNumReactions;
+  struct Row {
+    SampleT s;
+    using VecR = Eigen::Matrix<double, (kNumReactions > 0 ? kNumReactions : 1), 1>;
+    VecR R = VecR::Zero();
+    bool has_R = false;
+  };
+  using Columns = table::Columns<dynamics::CsvRow<SampleT>>;
+};
 }  // namespace run_internal
 
 /// A study of model M: the spec checked against the model, the tables, the nominal rows.
@@ -86,6 +115,10 @@ class Study {
     std::vector<StaticsRow> statics;  ///< statics analysis only
     flywheel::MachineCycle cycle;     ///< flywheel analysis only
     flywheel::CycleDesign<M> cycle_design;  ///< flywheel analysis, the nominal's (first order) only
+    /// simulate analysis: the samples (every t_end / steps, and where friction sticks or slips)
+    /// and how the run ended.
+    std::vector<typename run_internal::SimulationOf<M>::Row> simulation;
+    dynamics::Status simulation_status = dynamics::Status::kNotRun;
     Params params;
     bool assembled = false;  ///< flywheel: the cycle is usable
   };
@@ -131,6 +164,16 @@ class Study {
       return fail(spec.analysis_place,
                   std::string("analysis: statics needs a model with `forces` among its outputs' quantities; ") +
                       M::kName + " has none (use analysis: sweep, or add forces)");
+    if (spec.analysis == Analysis::kSimulate) {
+      if (!run_internal::SimulationOf<M>::kOk)
+        return fail(spec.analysis_place, std::string("analysis: simulate needs a model with `dynamics` among its "
+                                                     "outputs' quantities; ") +
+                                             M::kName + " has none");
+      if (!spec.q0.empty() && static_cast<int>(spec.q0.size()) != M::kNq)
+        return fail(spec.q0_place, "q0: expected " + std::to_string(M::kNq) + " value(s), one per input");
+      if (!spec.qd0.empty() && static_cast<int>(spec.qd0.size()) != M::kNq)
+        return fail(spec.qd0_place, "qd0: expected " + std::to_string(M::kNq) + " value(s), one per input");
+    }
     if (spec.analysis == Analysis::kFlywheel && (!kHasStatics || M::kNq != 1 || !M::kQIsAngle[0]))
       return fail(spec.analysis_place, std::string("analysis: flywheel needs a one-input machine turned by a crank "
                                                    "with `forces` among its outputs' quantities; ") +
@@ -142,13 +185,25 @@ class Study {
       q_begin_(0) = spec.q_begin;
       q_end_(0) = spec.q_end;
     }
-    if (!(std::abs(q_end_(0) - q_begin_(0)) / spec.steps <= position::Options().max_input_step))
+    if (spec.analysis != Analysis::kSimulate &&
+        !(std::abs(q_end_(0) - q_begin_(0)) / spec.steps <= position::Options().max_input_step))
       return fail(spec.analysis_place, "the motion moves " +
                                            std::to_string(std::abs(q_end_(0) - q_begin_(0)) / spec.steps) +
                                            " per step, more than the solver's limit; use more steps:");
     sweep_columns_ = SweepColumns<M>();
     AppendDesignColumns<M>(&sweep_columns_);
     if constexpr (kHasStatics) statics_columns_ = statics::StaticsColumns<M>(HasStaticsDesign<M>::value);
+    if constexpr (run_internal::SimulationOf<M>::kOk) {
+      using Sim = typename run_internal::SimulationOf<M>::Sim;
+      using SampleT = typename run_internal::SimulationOf<M>::SampleT;
+      simulation_columns_ = dynamics::FreeColumns<M, SampleT, Sim::kHasCoulomb>(Sim::kHasCoulomb);
+      // The columns after the motion's, the forces' and the friction's are the reactions' and
+      // their magnitudes: a metric that reads one needs the kinetostatics at every sample.
+      first_reaction_column_ = static_cast<int>(simulation_columns_.size()) -
+                               run_internal::SimulationOf<M>::kNumReactions -
+                               static_cast<int>(dynamics::RevoluteMagnitudes<M>().size());
+    }
+    needs_reactions_ = false;
     refs_.assign(spec.metrics.size(), Ref());
     for (size_t k = 0; k < spec.metrics.size(); ++k) {
       const MetricSpec& m = spec.metrics[k];
@@ -165,10 +220,18 @@ class Study {
             if (spec.analysis == Analysis::kStatics)
               for (const auto& c : statics_columns_)
                 if (c.value && c.name.find('/') == std::string::npos) list += ", " + c.name;
+          if (spec.analysis == Analysis::kSimulate) {
+            list.clear();
+            if constexpr (run_internal::SimulationOf<M>::kOk)
+              for (const auto& c : simulation_columns_) list += (list.empty() ? "" : ", ") + c.name;
+          }
           return fail(m.place, "no numeric column '" + m.column + "' in the " +
-                                   (spec.analysis == Analysis::kStatics ? "sweep or statics" : "sweep") +
+                                   (spec.analysis == Analysis::kStatics    ? "sweep or statics"
+                                    : spec.analysis == Analysis::kSimulate ? "simulation's"
+                                                                           : "sweep") +
                                    " output of " + M::kName + " (columns: " + list + ")");
         }
+        if (r.table == 2 && r.column >= first_reaction_column_) needs_reactions_ = true;
       }
       if (m.kind == MetricKind::kPeakDrive) {
         if (!FindColumn("drive_" + std::string(M::kQNames[0]), &r.table, &r.column))
@@ -230,7 +293,8 @@ class Study {
       return fail(spec.analysis_place,
                   spec.analysis == Analysis::kFlywheel
                       ? "the nominal design's cycle: " + nominal_rows_.cycle.message
-                      : std::string("the model ") + M::kName + " does not assemble at the nominal design");
+                      : std::string("the model ") + M::kName + " does not assemble at the nominal design" +
+                            (spec.analysis == Analysis::kSimulate ? " (at q0)" : ""));
     return true;
   }
 
@@ -258,12 +322,15 @@ class Study {
       case MetricKind::kEnergyFluctuation:
         return "J";
       default:
+        if constexpr (run_internal::SimulationOf<M>::kOk)
+          if (r.table == 2) return simulation_columns_[r.column].unit;
         return r.table == 0 ? sweep_columns_[r.column].unit : statics_columns_[r.column].unit;
     }
   }
   std::string Description(size_t k) const {
     const MetricSpec& m = spec_.metrics[k];
-    const std::string rows = " over the motion's rows that converged";
+    const std::string rows =
+        spec_.analysis == Analysis::kSimulate ? " over the simulation's samples" : " over the motion's rows that converged";
     switch (m.kind) {
       case MetricKind::kMax:
         return "largest " + m.column + rows;
@@ -272,6 +339,8 @@ class Study {
       case MetricKind::kRms:
         return "root mean square of " + m.column + rows;
       case MetricKind::kAt:
+        if (spec_.analysis == Analysis::kSimulate)
+          return m.column + " at t = " + std::to_string(m.step) + " t_end / steps (nan if not reached)";
         return m.column + " at row " + std::to_string(m.step) + " (nan if that row failed)";
       case MetricKind::kMinTransmissionAngle:
         return "smallest min(mu, pi - mu) of the transmission angles mu" + rows;
@@ -282,7 +351,9 @@ class Study {
       case MetricKind::kPathDeviation:
         return "largest distance of " + m.point + " from its place at the same row of the nominal design";
       case MetricKind::kFailures:
-        return "rows of the motion that did not converge (all of them when not assembled)";
+        return spec_.analysis == Analysis::kSimulate
+                   ? "1 when the simulation ended before t_end (or did not assemble), else 0"
+                   : "rows of the motion that did not converge (all of them when not assembled)";
       case MetricKind::kDesignMargin:
         return m.check.empty() ? "smallest margin of the model's design checks (>= 0: acceptable)"
                                : "margin of the design check " + m.check;
@@ -328,6 +399,12 @@ class Study {
       if (design && out->assembled) out->cycle_design = flywheel::SampleMachineCycleDesign<M>(out->params, o, out->cycle);
       return;
     }
+    if (spec_.analysis == Analysis::kSimulate) {
+      out->simulation.clear();
+      out->simulation_status = dynamics::Status::kNotRun;
+      if constexpr (run_internal::SimulationOf<M>::kOk) Simulate(out);
+      return;
+    }
     if (!out->assembled) return;
     SweepOptions options;
     options.design = design && HasDesignDerivatives<M>::value;
@@ -360,7 +437,13 @@ class Study {
     if (!rows->assembled) {
       result.status = "not_assembled";
       for (size_t k = 0; k < spec_.metrics.size(); ++k)
-        if (spec_.metrics[k].kind == MetricKind::kFailures) result.metrics[k] = spec_.steps + 1;
+        if (spec_.metrics[k].kind == MetricKind::kFailures)
+          result.metrics[k] = spec_.analysis == Analysis::kSimulate ? 1 : spec_.steps + 1;
+      return result;
+    }
+    if (spec_.analysis == Analysis::kSimulate) {
+      result.status = dynamics::IsFailure(rows->simulation_status) ? "simulation_failed" : "ok";
+      for (size_t k = 0; k < spec_.metrics.size(); ++k) result.metrics[k] = Value(k, *rows).value;
       return result;
     }
     bool failed = false;
@@ -407,7 +490,8 @@ class Study {
     const MetricSpec& m = spec_.metrics[k];
     const Ref& r = refs_[k];
     Taken t;
-    const int n = static_cast<int>(rows.kinematics.size());
+    const bool simulation = spec_.analysis == Analysis::kSimulate;
+    const int n = static_cast<int>(simulation ? rows.simulation.size() : rows.kinematics.size());
     auto consider = [&t](double v, int i, double sign, bool larger) {
       if (!std::isfinite(v)) return;
       if (t.step < 0 || (larger ? v > t.value : v < t.value)) {
@@ -436,8 +520,8 @@ class Study {
         for (int i = 0; i < n; ++i) consider(Cell(r, rows, i), i, 1, m.kind == MetricKind::kMax);
         break;
       case MetricKind::kAt:
-        t.value = m.step < n ? Cell(r, rows, m.step) : kNaN;
-        t.step = m.step;
+        t.step = simulation ? SampleAt(rows, m.step) : m.step;
+        t.value = t.step >= 0 && t.step < n ? Cell(r, rows, t.step) : kNaN;
         break;
       case MetricKind::kRms: {
         double sum = 0;
@@ -492,6 +576,8 @@ class Study {
         int failures = 0;
         if (cycle) {
           failures = !rows.assembled;
+        } else if (simulation) {
+          failures = !rows.assembled || dynamics::IsFailure(rows.simulation_status);
         } else {
           for (int i = 0; i < n; ++i) failures += !RowOk(rows, i);
         }
@@ -539,6 +625,10 @@ class Study {
     }
     if (m.kind == MetricKind::kPathDeviation) {
       *why = "a distance, 0 at the nominal: not differentiable there";
+      return g;
+    }
+    if (spec_.analysis == Analysis::kSimulate && m.kind != MetricKind::kDesignMargin) {
+      *why = "no design derivatives of a simulation (trajectory sensitivities: dynamics/sensitivity.h, not read here)";
       return g;
     }
     if (!std::isfinite(t.value)) {
@@ -748,7 +838,7 @@ class Study {
 
  private:
   struct Ref {
-    int table = 0;  // 0: sweep columns, 1: statics columns
+    int table = 0;  // 0: sweep columns, 1: statics columns, 2: simulation columns
     int column = -1;
     int point = -1;
     int check = -1;
@@ -768,6 +858,15 @@ class Study {
   }
 
   bool FindColumn(const std::string& name, int* table, int* column) const {
+    if (spec_.analysis == Analysis::kSimulate) {
+      if constexpr (run_internal::SimulationOf<M>::kOk)
+        for (size_t c = 0; c < simulation_columns_.size(); ++c)
+          if (simulation_columns_[c].name == name && simulation_columns_[c].value) {
+            *table = 2, *column = static_cast<int>(c);
+            return true;
+          }
+      return false;
+    }
     for (size_t c = 0; c < sweep_columns_.size(); ++c)
       if (sweep_columns_[c].name == name && sweep_columns_[c].value) {
         *table = 0, *column = static_cast<int>(c);
@@ -782,9 +881,70 @@ class Study {
     return false;
   }
   std::string ColumnName(const Ref& r) const {
+    if constexpr (run_internal::SimulationOf<M>::kOk)
+      if (r.table == 2) return simulation_columns_[r.column].name;
     return r.table == 0 ? sweep_columns_[r.column].name : statics_columns_[r.column].name;
   }
+  // The simulation's sample at t = step t_end / steps (the sample grid's; -1: not reached).
+  int SampleAt(const Rows& rows, int step) const {
+    const double t = step * (spec_.t_end / spec_.steps);
+    for (size_t i = 0; i < rows.simulation.size(); ++i)
+      if constexpr (run_internal::SimulationOf<M>::kOk)
+        if (std::abs(rows.simulation[i].s.t - t) <= 1e-9 * spec_.t_end) return static_cast<int>(i);
+    return -1;
+  }
+  // analysis: simulate: the free motion from q0, qd0 to t_end (dynamics/forward.h), a sample
+  // every t_end / steps, with the kinetostatics' reactions where a metric reads them.
+  void Simulate(Rows* out) const {
+    if constexpr (run_internal::SimulationOf<M>::kOk) {
+      using Sim = typename run_internal::SimulationOf<M>::Sim;
+      using SampleT = typename run_internal::SimulationOf<M>::SampleT;
+      using VecQ = typename Sim::VecQ;
+      VecQ q0, qd0 = VecQ::Zero();
+      for (int i = 0; i < M::kNq; ++i) q0(i) = spec_.q0.empty() ? M::kAssemblyQ[i] : spec_.q0[i];
+      for (int i = 0; i < M::kNq && !spec_.qd0.empty(); ++i) qd0(i) = spec_.qd0[i];
+      dynamics::MinimalOptions options;
+      options.sample_dt = spec_.t_end / spec_.steps;
+      Sim sim(out->params, options);
+      out->assembled = sim.Initialize(q0);
+      if (!out->assembled) return;
+      dynamics::Kinetostatics<M> kineto(out->params);
+      if (needs_reactions_) kineto.Initialize(q0);
+      auto observer = [&](const SampleT& s) {
+        typename run_internal::SimulationOf<M>::Row row;
+        row.s = s;
+        if constexpr (run_internal::SimulationOf<M>::kNumReactions > 0) {
+          if (needs_reactions_) {
+            dynamics::KinetostaticsRow<M> k;
+            if constexpr (Sim::kHasCoulomb) {
+              kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
+            } else {
+              kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+            }
+            if (k.status == dynamics::KinetostaticsStatus::kOk) {
+              row.R = k.statics.R;
+              row.has_R = true;
+            }
+          }
+        }
+        out->simulation.push_back(row);
+        return true;
+      };
+      dynamics::MinimalSummary summary;
+      sim.Simulate(0.0, q0, qd0, spec_.t_end, observer, &summary);
+      out->simulation_status = summary.status;
+    } else {
+      (void)out;
+    }
+  }
   double Cell(const Ref& r, const Rows& rows, int i) const {
+    if constexpr (run_internal::SimulationOf<M>::kOk) {
+      if (r.table == 2) {
+        const auto& row = rows.simulation[i];
+        return simulation_columns_[r.column].value(
+            dynamics::CsvRow<typename run_internal::SimulationOf<M>::SampleT>{&row.s, row.has_R ? row.R.data() : nullptr});
+      }
+    }
     if (r.table == 0) {
       const Kinematics& k = rows.kinematics[i];
       if (k.summary.status != position::Status::kConverged) return kNaN;
@@ -814,6 +974,9 @@ class Study {
   std::vector<SweepColumn<M>> sweep_columns_;
   using StaticsColumnTable = std::vector<table::Column<StaticsRow>>;
   StaticsColumnTable statics_columns_;
+  typename run_internal::SimulationOf<M>::Columns simulation_columns_;
+  int first_reaction_column_ = 0;  ///< simulation_columns_: the first reaction's
+  bool needs_reactions_ = false;   ///< a metric reads a reaction column of the simulation
   Rows nominal_rows_;
 };
 

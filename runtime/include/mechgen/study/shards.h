@@ -56,13 +56,19 @@ inline uint64_t DefaultChunkSize(uint64_t count) {
 /// The status of a sample as a code in a shard (and a gather): the strings of SampleResult.
 inline double StatusCode(const char* status) {
   const std::string s = status;
-  return s == "ok" ? 0 : s == "rows_failed" ? 1 : s == "not_assembled" ? 2 : s == "cycle_failed" ? 4 : 3;
+  return s == "ok"                  ? 0
+         : s == "rows_failed"       ? 1
+         : s == "not_assembled"     ? 2
+         : s == "cycle_failed"      ? 4
+         : s == "simulation_failed" ? 5
+                                    : 3;
 }
 inline const char* StatusOfCode(double code) {
   return code == 0   ? "ok"
          : code == 1 ? "rows_failed"
          : code == 2 ? "not_assembled"
          : code == 4 ? "cycle_failed"
+         : code == 5 ? "simulation_failed"
                      : "not_run";
 }
 

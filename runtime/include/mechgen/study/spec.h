@@ -3,7 +3,8 @@
  * A design study as written in its file (docs/studies.md): the parameters that vary and how
  * (grid, list, Latin hypercube, Monte-Carlo from normal or uniform distributions given as
  * nominal +- tolerance, seeded), the analysis run per sample (a kinematic sweep or statics
- * over a motion), the metrics kept per sample, joint clearances and whether to compare the
+ * over a motion, the machine's cycle and flywheel, or a simulation of the free motion), the
+ * metrics kept per sample, joint clearances and whether to compare the
  * first-order tolerance analysis with the Monte-Carlo. Read with yaml-cpp; every error is
  * "FILE:LINE:COLUMN: error: what is wrong; what to write instead". Model-independent: the
  * names (parameters, columns, points, checks) are checked against the model by the study's
@@ -28,7 +29,7 @@ struct Place {
 
 enum class Method { kGrid, kList, kLatinHypercube, kMonteCarlo };
 enum class Distribution { kNone, kUniform, kNormal };
-enum class Analysis { kSweep, kStatics, kFlywheel };
+enum class Analysis { kSweep, kStatics, kFlywheel, kSimulate };
 enum class MetricKind {
   kMax,
   kMin,
@@ -38,7 +39,7 @@ enum class MetricKind {
   kPeakDrive,             // max |drive| of the first input (statics)
   kPeakBearing,           // max |reaction force| over the joints (statics)
   kPathDeviation,         // max |r_P - r_P,nominal| over the steps
-  kFailures,              // rows that did not converge
+  kFailures,              // rows that did not converge (simulate: samples not reached)
   kDesignMargin,          // the smallest design-check margin (or one check's)
   kFlywheelInertia,       // flywheel: the inertia to add for a C_s (machines/flywheel)
   kMeanTorque,            // flywheel: the mean required driving torque over the cycle
@@ -69,7 +70,7 @@ struct ParameterSpec {
 struct MetricSpec {
   std::string name;  ///< its CSV column
   MetricKind kind = MetricKind::kMax;
-  std::string column;  ///< kMax, kMin, kRms, kAt: the output column (sweep or statics CSV name)
+  std::string column;  ///< kMax, kMin, kRms, kAt: the output column (sweep, statics or simulate CSV name)
   int step = -1;       ///< kAt: the row 0..steps
   std::string point;   ///< kPathDeviation: the point (as in the sweep's columns, e.g. coupler.P)
   std::string check;   ///< kDesignMargin: one check's name; empty: the smallest margin
@@ -95,6 +96,11 @@ struct StudySpec {
   Analysis analysis = Analysis::kSweep;
   int steps = 360;
   double omega = 0;  ///< flywheel: the mean speed (rad/s)
+  /// simulate: the free motion from t = 0 to t_end (s), sampled every t_end / steps, from the
+  /// inputs q0 and speeds qd0 (empty: the model's assembly inputs, at rest).
+  double t_end = 0;
+  std::vector<double> q0, qd0;
+  Place q0_place, qd0_place;
   bool has_range = false;  ///< else the model's range of the first input
   double q_begin = 0, q_end = 0;
   std::vector<ParameterSpec> parameters;
@@ -347,8 +353,8 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
   try {
     if (!root.IsMap()) Fail(root, "a study file is a map (method:, parameters:, metrics:, ...; docs/studies.md)");
     OnlyKeys(root,
-             {"model", "method", "count", "seed", "analysis", "steps", "range", "omega", "parameters", "metrics",
-              "clearance", "tolerance", "envelope"},
+             {"model", "method", "count", "seed", "analysis", "steps", "range", "omega", "t_end", "q0", "qd0",
+              "parameters", "metrics", "clearance", "tolerance", "envelope"},
              "the study");
     const std::string method = root["method"] ? Text(root["method"], "method") : "";
     if (method == "grid")
@@ -378,8 +384,10 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       spec->analysis = Analysis::kStatics;
     else if (analysis == "flywheel")
       spec->analysis = Analysis::kFlywheel;
+    else if (analysis == "simulate")
+      spec->analysis = Analysis::kSimulate;
     else
-      Fail(root["analysis"], "analysis: '" + analysis + "': expected sweep, statics or flywheel");
+      Fail(root["analysis"], "analysis: '" + analysis + "': expected sweep, statics, flywheel or simulate");
     if (spec->analysis == Analysis::kFlywheel) {
       if (!root["omega"]) Fail(root["analysis"], "analysis: flywheel needs omega: (the mean speed, rad/s)");
       spec->omega = Number(root["omega"], "omega");
@@ -387,6 +395,26 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       if (root["range"]) Fail(root["range"], "range: the flywheel analysis runs the model's cycle (no range:)");
     } else if (root["omega"]) {
       Fail(root["omega"], "omega: is for analysis: flywheel");
+    }
+    if (spec->analysis == Analysis::kSimulate) {
+      if (!root["t_end"]) Fail(root["analysis"], "analysis: simulate needs t_end: (the simulated time, s)");
+      spec->t_end = Number(root["t_end"], "t_end");
+      if (!(spec->t_end > 0 && spec->t_end <= 1e6)) Fail(root["t_end"], "t_end: expected a time > 0 and <= 1e6 s");
+      if (root["range"]) Fail(root["range"], "range: a simulation starts at q0: (no range:)");
+      for (const char* key : {"q0", "qd0"}) {
+        const YAML::Node n = root[key];
+        if (!n) continue;
+        if (!n.IsSequence() || n.size() == 0) Fail(n, std::string(key) + ": expected a list, one value per input");
+        std::vector<double>& v = std::string(key) == "q0" ? spec->q0 : spec->qd0;
+        for (const auto& x : n) {
+          v.push_back(Number(x, key));
+          if (!(std::abs(v.back()) <= 1e6)) Fail(x, std::string(key) + ": expected a finite value, |value| <= 1e6");
+        }
+        (std::string(key) == "q0" ? spec->q0_place : spec->qd0_place) = PlaceOf(n);
+      }
+    } else {
+      for (const char* key : {"t_end", "q0", "qd0"})
+        if (root[key]) Fail(root[key], std::string(key) + ": is for analysis: simulate");
     }
     if (root["steps"]) spec->steps = static_cast<int>(Integer(root["steps"], "steps", 1, 1000000));
     if (root["range"]) {
@@ -418,6 +446,12 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
            "metrics: expected a list, e.g. [{kind: max, column: coupler.P.y}, {kind: failures}]");
     for (const auto& m : metrics) spec->metrics.push_back(Metric(m, spec->steps));
     for (const MetricSpec& m : spec->metrics) {
+      if (spec->analysis == Analysis::kSimulate && m.kind != MetricKind::kMax && m.kind != MetricKind::kMin &&
+          m.kind != MetricKind::kRms && m.kind != MetricKind::kAt && m.kind != MetricKind::kFailures &&
+          m.kind != MetricKind::kDesignMargin)
+        throw Failure{m.place,
+                      "with analysis: simulate the metrics are max, min, rms and at of a column of the "
+                      "simulation's CSV, failures and design_margin"};
       const bool cycle = IsFlywheelMetric(m.kind);
       if (cycle && spec->analysis != Analysis::kFlywheel)
         throw Failure{m.place, "a metric of this kind needs analysis: flywheel"};
@@ -427,8 +461,8 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
                       "with analysis: flywheel the metrics are flywheel_inertia, mean_torque, peak_torque, "
                       "energy_fluctuation, failures and design_margin"};
     }
-    if (spec->analysis == Analysis::kFlywheel && root["envelope"])
-      Fail(root["envelope"], "envelope: needs a motion (analysis: sweep or statics)");
+    if ((spec->analysis == Analysis::kFlywheel || spec->analysis == Analysis::kSimulate) && root["envelope"])
+      Fail(root["envelope"], "envelope: needs a motion of the input (analysis: sweep or statics)");
     if (spec->analysis == Analysis::kFlywheel && spec->steps < 4)
       Fail(root["steps"], "steps: the flywheel's cycle needs at least 4 samples");
     for (size_t i = 0; i < spec->metrics.size(); ++i) {
