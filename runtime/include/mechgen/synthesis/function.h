@@ -580,26 +580,12 @@ std::vector<double> FunctionLocalStage(FunctionEvaluator<M>* eval, std::vector<d
     problem.SetParameterLowerBound(x.data(), j, b.lo[static_cast<size_t>(j)]);
     problem.SetParameterUpperBound(x.data(), j, b.hi[static_cast<size_t>(j)]);
   }
-  ceres::Solver::Options options;
-  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  options.linear_solver_type = ceres::DENSE_QR;
+  ceres::Solver::Options options = LocalSolverOptions();
   // Stop (keeping the best point so far) when less than two iterations' worth is left.
-  struct Budget : ceres::IterationCallback {
-    const FunctionEvaluator<M>* eval;
-    long long stop_at;
-    ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
-      return eval->evaluations >= stop_at ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
-    }
-  } budget;
-  budget.eval = eval;
+  EvaluationBudget<FunctionEvaluator<M>> budget;
+  budget.evaluator = eval;
   budget.stop_at = limit - 2 * (2 + nx) - 1;
   options.callbacks.push_back(&budget);
-  options.max_num_iterations = 200;
-  options.function_tolerance = 1e-16;
-  options.gradient_tolerance = 1e-20;
-  options.parameter_tolerance = 1e-16;
-  options.num_threads = 1;
-  options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   *iterations = static_cast<int>(summary.iterations.size());

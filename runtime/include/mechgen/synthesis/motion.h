@@ -303,15 +303,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
             const double* start_blocks[2] = {x.data(), q.data()};
             const bool starts = cost->Evaluate(start_blocks, start_residuals.data(), nullptr);
             for (int k = 0; k < 4; ++k) problem.SetParameterLowerBound(x.data(), k, 1e-9 * L);
-            ceres::Solver::Options options;
-            options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-            options.linear_solver_type = ceres::DENSE_QR;
-            options.max_num_iterations = 200;
-            options.function_tolerance = 1e-16;
-            options.gradient_tolerance = 1e-20;
-            options.parameter_tolerance = 1e-16;
-            options.num_threads = 1;
-            options.logging_type = ceres::SILENT;
+            const ceres::Solver::Options options = LocalSolverOptions();
             ceres::Solver::Summary summary;
             if (starts) ceres::Solve(options, &problem, &summary);
             c.iterations = static_cast<int>(summary.iterations.size());

@@ -52,6 +52,35 @@ struct RunResult {
   int run = 0;
 };
 
+/// The options of every local stage (path, function and motion tasks): Levenberg-Marquardt
+/// with a dense QR, up to 200 iterations, tolerances at the double's limit (the budget or the
+/// iteration count ends a solve), one thread (the runs are the parallel unit), silent.
+inline ceres::Solver::Options LocalSolverOptions() {
+  ceres::Solver::Options options;
+  options.minimizer_type = ceres::TRUST_REGION;
+  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = 200;
+  options.function_tolerance = 1e-16;
+  options.gradient_tolerance = 1e-20;
+  options.parameter_tolerance = 1e-16;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  options.minimizer_progress_to_stdout = false;
+  return options;
+}
+
+/// Stops a local stage (keeping the best point so far) once `evaluator->evaluations` reaches
+/// stop_at: a refused evaluation would end the solve with FAILURE and throw its progress away.
+template <class Evaluator>
+struct EvaluationBudget : ceres::IterationCallback {
+  const Evaluator* evaluator = nullptr;
+  long long stop_at = 0;
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    return evaluator->evaluations >= stop_at ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+  }
+};
+
 /// The residuals r_P(q_i) - T_i of a bound task, and their generated Jacobian.
 template <class M>
 class PathResiduals : public ceres::CostFunction {
@@ -176,32 +205,15 @@ Candidate LocalRefine(PathEvaluator<M>* eval, const Candidate& start, long long 
     problem.SetParameterLowerBound(x.data(), j, b.task.variables[static_cast<size_t>(j)].lo);
     problem.SetParameterUpperBound(x.data(), j, b.task.variables[static_cast<size_t>(j)].hi);
   }
-  ceres::Solver::Options options;
-  options.minimizer_type = ceres::TRUST_REGION;
-  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  options.linear_solver_type = ceres::DENSE_QR;
-  // The budget: stop (keeping the best point so far) when less than two iterations' worth
-  // is left (an iteration evaluates the residuals, the Jacobian after a successful step, and
-  // Ceres evaluates once more at the end); a refused evaluation would end the solve with
-  // FAILURE and throw its progress away, so the limit above is only a backstop.
+  ceres::Solver::Options options = LocalSolverOptions();
+  // The budget: stop when less than two iterations' worth is left (an iteration evaluates the
+  // residuals, the Jacobian after a successful step, and Ceres evaluates once more at the
+  // end), so the limit above is only a backstop.
   const long long per_iteration = 2 + nv + num_timing;
-  struct Budget : ceres::IterationCallback {
-    const PathEvaluator<M>* eval;
-    long long stop_at;
-    ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
-      return eval->evaluations >= stop_at ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
-    }
-  } budget;
-  budget.eval = eval;
+  EvaluationBudget<PathEvaluator<M>> budget;
+  budget.evaluator = eval;
   budget.stop_at = cost_limit - 2 * per_iteration - 1;
   options.callbacks.push_back(&budget);
-  options.max_num_iterations = 200;
-  options.function_tolerance = 1e-16;
-  options.gradient_tolerance = 1e-20;
-  options.parameter_tolerance = 1e-16;
-  options.num_threads = 1;
-  options.logging_type = ceres::SILENT;
-  options.minimizer_progress_to_stdout = false;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   *iterations = static_cast<int>(summary.iterations.size());
