@@ -329,26 +329,17 @@ void StaticsTable::DeriveDrive(Stage& st) {
       continue;
     }
     const Joint& in = m.joints[input.joint];
-    if (in.type() == JointType::kSlot) {  // a force along the slot on the pin, its reaction on the slotted link
-      const SlotData& d = in.Data<SlotData>();
-      const Vec2 u = SlotDirection(m, d, k.frames[in.link_a].theta);
-      const Vec2 at = st.Position(d.pin);
-      Item on_b, on_a;
-      on_b.link = in.link_b;
-      on_b.F = {-Qs[j] * u[0], -Qs[j] * u[1]};
-      on_b.at = at;
-      on_a.link = in.link_a;
-      on_a.F = {Qs[j] * u[0], Qs[j] * u[1]};
-      on_a.at = at;
-      on_b.along_joint = on_a.along_joint = input.joint;
-      items.push_back(on_b);
-      items.push_back(on_a);
-      continue;
-    }
-    if (in.type() == JointType::kPrismatic) {
-      Vec2 u, n;
-      PrismaticLine(k, in, &u, &n);
-      const Vec2 at = st.Position(in.End(in.link_b));
+    if (in.type() == JointType::kSlot || in.type() == JointType::kPrismatic) {
+      // A force along the slide on link_b (the pin, the slider), its reaction on link_a.
+      Vec2 u, n, at;
+      if (in.type() == JointType::kSlot) {
+        const SlotData& d = in.Data<SlotData>();
+        u = SlotDirection(m, d, k.frames[in.link_a].theta);
+        at = st.Position(d.pin);
+      } else {
+        PrismaticLine(k, in, &u, &n);
+        at = st.Position(in.End(in.link_b));
+      }
       Item on_b, on_a;
       on_b.link = in.link_b;
       on_b.F = {-Qs[j] * u[0], -Qs[j] * u[1]};
