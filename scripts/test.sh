@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 start=$(date +%s)
 # The benchmark programs are not tests (no test runs them) and were a sixth of this build's
 # compile time: left out here; bench/*/run.sh configure them back in when run. Likewise the
-# models' tools that no test runs (78 programs of 20 to 50 s of compile each):
+# models' tools that no test runs (about 55 programs of 20 to 50 s of compile each):
 # `bash scripts/build.sh` (the default) builds them all; see MECHGEN_ALL_MODEL_TOOLS in the
 # top-level CMakeLists.txt.
 MECHGEN_BUILD_BENCHMARKS=OFF MECHGEN_ALL_MODEL_TOOLS=OFF bash scripts/build.sh
