@@ -119,6 +119,15 @@ VecPhi Solved(const M::ParamsT<double>& p, const VecQ& q, VecPhi guess) {
   return guess;
 }
 
+// The generated statics (the driving forces, the reactions) at a solved configuration.
+M::StaticsT<double> StaticsAt(const M::ParamsT<double>& p, const VecQ& q, const VecPhi& phi) {
+  M::CoefficientsT<double> c;
+  M::Coeffs(p, q, phi, &c);
+  M::StaticsT<double> s;
+  M::Forces(p, q, phi, c, &s);
+  return s;
+}
+
 TEST(Drivers, FiveBarToolAlongALineIsTheClosedFormInverseKinematics) {
   const M::ParamsT<double> p;
   ASSERT_STREQ(M::kQNames[0], "x_dist1_C");
@@ -179,10 +188,7 @@ TEST(Drivers, ForceAtTheToolIsTheDerivativeOfThePotential) {
   for (int k = 0; k <= 20; ++k) {
     const VecQ q = Along(k, 20);
     phi = Solved(p, q, phi);
-    M::CoefficientsT<double> c;
-    M::Coeffs(p, q, phi, &c);
-    M::StaticsT<double> s;
-    M::Forces(p, q, phi, c, &s);
+    const M::StaticsT<double> s = StaticsAt(p, q, phi);
     // The force along x (along y) that holds the bars: dV/dx (dV/dy); nothing along the
     // massless block's slot.
     const double h = 1e-5;
@@ -218,10 +224,7 @@ TEST(Drivers, ReactionsBalanceEveryLinkWithTheForceAtTheTool) {
   for (int k = 0; k <= 20; ++k) {
     const VecQ q = Along(k, 20);
     phi = Solved(p, q, phi);
-    M::CoefficientsT<double> c;
-    M::Coeffs(p, q, phi, &c);
-    M::StaticsT<double> s;
-    M::Forces(p, q, phi, c, &s);
+    const M::StaticsT<double> s = StaticsAt(p, q, phi);
     const std::array<double, 4> t = FiveBarInverse(p, q(0), q(1));
     const Eigen::Vector2d A(0, 0), E(p.f, 0), C(q(0), q(1));
     const Eigen::Vector2d B(p.a * std::cos(t[0]), p.a * std::sin(t[0]));
