@@ -16,8 +16,13 @@
 //    (a trapezoid over the samples, not the runtime's W), and at rest at an angle where
 //    |m g lc cos theta| <= mu r m g (the pin force at rest is the weight);
 //  - mu = 0: the run is the frictionless pendulum's (pendulum.yaml) to the last bit;
-//  - two inputs (two_pendulums_friction.yaml): not simulated, said so, the run bit for bit the
-//    one with Coulomb friction switched off.
+//  - two inputs (two_pendulums_friction.yaml, friction at both pins): the coupled run equals
+//    two single-pendulum runs, one pendulum stuck while the other swings; all mu = 0: the
+//    frictionless run to the last bit;
+//  - driven runs (prescribed.h): the motor torque of a pendulum at constant speed and through a
+//    rest-to-rest move by the free body of the arm with the friction torque mu r |F_O| and by
+//    the energy balance (motor work = dE + friction work), the block's actuator force on the
+//    incline in closed form, mu = 0 bit for bit the frictionless run.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,6 +33,7 @@
 
 #include "incline_friction.h"
 #include "mechgen/dynamics/forward.h"
+#include "mechgen/dynamics/prescribed.h"
 #include "pendulum.h"
 #include "pendulum_friction.h"
 #include "two_pendulums_friction.h"
@@ -370,18 +376,116 @@ TEST(Coulomb, ZeroMuIsTheFrictionlessRun) {
   }
 }
 
-// Several inputs: Coulomb friction is not simulated (the summary says so) and the run is the one
-// with it switched off, to the last bit.
-TEST(Coulomb, SeveralInputsAreNotSimulated) {
+// Several inputs (two_pendulums_friction.yaml: two uncoupled pendulums, pin friction at both):
+// each joint slips and sticks on its own, so the coupled run must be two single-pendulum runs
+// (pendulum_friction.yaml with the same arm), themselves checked above against the free body
+// and the energy balance. Pendulum 1 has a large friction circle and comes to rest within a
+// few swings while pendulum 2 keeps swinging (mixed stick and slip: its input held while the
+// other moves); both start at rest at the horizontal (the joint decision at t0 releases both).
+TEST(Coulomb, SeveralInputsAreTwoSinglePendulums) {
   using M2 = mech::two_pendulums_friction::Model;
-  static_assert(!dyn::MinimalDynamics<M2>::kHasCoulomb, "two inputs: no stick and slip");
+  static_assert(dyn::MinimalDynamics<M2>::kHasCoulomb, "two inputs: each joint its own mode");
+  mech::two_pendulums_friction::Params<double> p2;
+  p2.r = 0.2;    // mu r = 0.04 m at O1: at rest where |cos theta| <= 0.1
+  p2.r2 = 0.01;  // mu2 r2 = 0.002 m at O2: swings on
+  const double t_end = 12, dt = 0.01;
+  mech::pendulum_friction::Params<double> p1;
+  p1.lc = p2.lc;
+  p1.m = p2.m;
+  p1.J = p2.J;
+  p1.g = p2.g;
+  p1.mu = p2.mu;
+  p1.r = p2.r;
+  const double q10 = 0.0, q20 = 0.0;
+  const auto single1 = Simulate<Pendulum>(p1, q10, 0.0, t_end, dt);
+  p1.mu = p2.mu2;
+  p1.r = p2.r2;
+  const auto single2 = Simulate<Pendulum>(p1, q20, 0.0, t_end, dt);
+  ASSERT_EQ(single1.summary.status, dyn::Status::kSuccess);
+  ASSERT_EQ(single2.summary.status, dyn::Status::kSuccess);
+
+  dyn::MinimalOptions o;
+  o.integrator.rtol = 1e-11;
+  o.integrator.atol = 1e-13;
+  o.sample_dt = dt;
+  dyn::MinimalDynamics<M2> sim(p2, o);
+  Eigen::Vector2d q(q10, q20), qd(0.0, 0.0);
+  ASSERT_TRUE(sim.Initialize(q));
+  std::vector<dyn::Sample<M2>> coupled;
+  dyn::MinimalSummary s;
+  sim.Simulate(
+      0.0, q, qd, t_end,
+      [&](const dyn::Sample<M2>& x) {
+        coupled.push_back(x);
+        return true;
+      },
+      &s);
+  ASSERT_EQ(s.status, dyn::Status::kSuccess) << dyn::FormatSummary(s);
+  EXPECT_TRUE(s.coulomb);
+  std::printf("two pendulums: %s\n", dyn::FormatSummary(s).c_str());
+  // The samples on the grid (the transitions' rows lie between) against the single runs'.
+  auto on_grid = [&](const auto& samples) {
+    std::vector<std::pair<double, std::array<double, 3>>> rows;
+    for (const auto& x : samples) {
+      const double k = std::round(x.t / dt);
+      if (std::abs(x.t - k * dt) < 1e-12) rows.push_back({x.t, {x.q(0), x.qd(0), x.friction(0)}});
+    }
+    return rows;
+  };
+  const auto a = on_grid(single1.samples), b = on_grid(single2.samples);
+  std::vector<std::pair<double, std::array<double, 3>>> c1, c2;
+  for (const auto& x : coupled) {
+    const double k = std::round(x.t / dt);
+    if (std::abs(x.t - k * dt) >= 1e-12) continue;
+    c1.push_back({x.t, {x.q(0), x.qd(0), x.friction(0)}});
+    c2.push_back({x.t, {x.q(1), x.qd(1), x.friction(1)}});
+  }
+  ASSERT_EQ(c1.size(), a.size());
+  ASSERT_EQ(c2.size(), b.size());
+  double worst = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(c1[i].first, a[i].first);
+    for (int k = 0; k < 3; ++k) {
+      const double tol = k == 2 ? 1e-6 : 1e-7;
+      // A row within the event tolerance of a transition may sit on either side of it.
+      EXPECT_NEAR(c1[i].second[k], a[i].second[k], tol) << "pendulum 1, t = " << a[i].first << ", " << k;
+      EXPECT_NEAR(c2[i].second[k], b[i].second[k], tol) << "pendulum 2, t = " << b[i].first << ", " << k;
+      if (k < 2)
+        worst = std::max({worst, std::abs(c1[i].second[k] - a[i].second[k]), std::abs(c2[i].second[k] - b[i].second[k])});
+    }
+  }
+  std::printf("two pendulums vs two single runs: max |q, qd difference| = %.3g\n", worst);
+  // Pendulum 1 at rest (stuck) at the end, pendulum 2 still swinging; the rest angle holds.
+  const auto& last = coupled.back();
+  EXPECT_TRUE(last.joint_stuck[0]);
+  EXPECT_FALSE(last.joint_stuck[1]);
+  EXPECT_TRUE(single1.samples.back().stuck);
+  EXPECT_NEAR(last.q(0), single1.samples.back().q(0), 1e-8);
+  EXPECT_LE(std::abs(std::cos(last.q(0))), p2.mu * p2.r / p2.lc * (1 + 1e-12));
+  // Its stick start, from the single run's summary.
+  EXPECT_EQ(s.stick_intervals, single1.summary.stick_intervals + single2.summary.stick_intervals);
+  EXPECT_NEAR(s.time_stuck, single1.summary.time_stuck + single2.summary.time_stuck, 1e-8);
+  // While stuck, the held input does not move by a bit.
+  for (size_t i = 1; i < coupled.size(); ++i)
+    if (coupled[i].joint_stuck[0] && coupled[i - 1].joint_stuck[0]) {
+      EXPECT_EQ(coupled[i].q(0), coupled[i - 1].q(0));
+      EXPECT_EQ(coupled[i].qd(0), 0.0);
+    }
+}
+
+// Several inputs with every coefficient 0: the run is the frictionless one to the last bit.
+TEST(Coulomb, SeveralInputsZeroMuIsTheFrictionlessRun) {
+  using M2 = mech::two_pendulums_friction::Model;
   Eigen::Vector2d q(0.0, -0.5), qd(0.0, 1.0);
   std::vector<dyn::Sample<M2>> runs[2];
   for (int off = 0; off < 2; ++off) {
     dyn::MinimalOptions o;
     o.sample_dt = 0.05;
     o.coulomb.enabled = off == 0;
-    dyn::MinimalDynamics<M2> sim(mech::two_pendulums_friction::Params<double>(), o);
+    mech::two_pendulums_friction::Params<double> p;
+    p.mu = 0;
+    p.mu2 = 0;
+    dyn::MinimalDynamics<M2> sim(p, o);
     ASSERT_TRUE(sim.Initialize(q));
     dyn::MinimalSummary s;
     sim.Simulate(
@@ -393,13 +497,134 @@ TEST(Coulomb, SeveralInputsAreNotSimulated) {
         &s);
     EXPECT_EQ(s.status, dyn::Status::kSuccess);
     EXPECT_FALSE(s.coulomb);
-    EXPECT_EQ(std::string(s.message), off == 0 ? "Coulomb friction is not simulated with several inputs" : "");
   }
   ASSERT_EQ(runs[0].size(), runs[1].size());
   for (size_t i = 0; i < runs[0].size(); ++i) {
     EXPECT_EQ(runs[0][i].q, runs[1][i].q) << i;
     EXPECT_EQ(runs[0][i].qd, runs[1][i].qd) << i;
   }
+}
+
+// ---- driven runs (prescribed.h): the actuator force includes the joints' Coulomb friction ----
+template <class M, class Law>
+std::vector<dyn::PrescribedSample<M, 1>> Driven(const typename M::template ParamsT<double>& p, const Law& law,
+                                                double t_end, double dt, dyn::PrescribedSummary* summary) {
+  using Drive = dyn::Drive<Law>;
+  dyn::PrescribedOptions o;
+  o.integrator.rtol = 1e-11;
+  o.integrator.atol = 1e-13;
+  o.sample_dt = dt;
+  dyn::PrescribedDynamics<M, 1, Drive> sim(p, {0}, Drive(law), dyn::NoForce(), o);
+  std::vector<dyn::PrescribedSample<M, 1>> samples;
+  EXPECT_TRUE(sim.Initialize(0.0, Eigen::Matrix<double, 0, 1>()));
+  sim.Simulate(
+      0.0, Eigen::Matrix<double, 0, 1>(), Eigen::Matrix<double, 0, 1>(), t_end,
+      [&](const dyn::PrescribedSample<M, 1>& s) {
+        samples.push_back(s);
+        return true;
+      },
+      summary);
+  return samples;
+}
+
+// The pendulum driven at a constant speed, then by a rest-to-rest move: the motor torque from
+// the free body of the arm, lambda = I_O alpha + m g lc cos theta + sign(w) mu r |F_O| with
+// F_O = m (a_G - g) (zero friction at rest: the documented choice, the motor holds the whole
+// load), and the energy balance integral lambda w dt = dT + dV + integral |f| |w| dt
+// (trapezoids over the samples, not the runtime's works).
+TEST(Coulomb, DrivenPendulumMotorTorqueIncludesPinFriction) {
+  mech::pendulum_friction::Params<double> p;
+  p.r = 0.1;
+  const double I_O = p.J + p.m * p.lc * p.lc;
+  auto check = [&](const auto& samples, const char* what) {
+    int checked = 0;
+    double work = 0, dissipated = 0;
+    for (size_t i = 0; i < samples.size(); ++i) {
+      const auto& s = samples[i];
+      const double th = s.q(0), w = s.qd(0), al = s.qdd(0);
+      const double ax = p.lc * (-al * std::sin(th) - w * w * std::cos(th));
+      const double ay = p.lc * (al * std::cos(th) - w * w * std::sin(th));
+      const double F = p.m * std::hypot(ax, ay + p.g);
+      const double sgn = w > 0 ? 1.0 : (w < 0 ? -1.0 : 0.0);
+      const double lambda = I_O * al + p.m * p.g * p.lc * std::cos(th) + sgn * p.mu * p.r * F;
+      EXPECT_NEAR(s.lambda(0), lambda, 1e-11 * (1 + std::abs(lambda))) << what << " t = " << s.t;
+      EXPECT_NEAR(s.friction(0), -sgn * p.mu * p.r * F, 1e-12 * (1 + F)) << what << " t = " << s.t;
+      ++checked;
+      if (i > 0) {
+        const auto& a = samples[i - 1];
+        work += 0.5 * (a.lambda(0) * a.qd(0) + s.lambda(0) * s.qd(0)) * (s.t - a.t);
+        dissipated += 0.5 * (std::abs(a.friction(0) * a.qd(0)) + std::abs(s.friction(0) * s.qd(0))) * (s.t - a.t);
+      }
+    }
+    const double dE = samples.back().E - samples.front().E;
+    std::printf("driven pendulum (%s): work %.12g J = dE %.12g J + friction %.12g J (residual %.3g)\n", what, work,
+                dE, dissipated, work - dE - dissipated);
+    EXPECT_GT(dissipated, 0.1);
+    EXPECT_NEAR(work, dE + dissipated, 1e-5 * dissipated);
+    // The runtime's balance: E - W_nc - W_act constant (W_nc holds the friction's work).
+    EXPECT_NEAR(samples.back().W_nc, -dissipated, 1e-5 * dissipated);
+    // (to the integration's tolerance, rtol 1e-11 per step: 1e-9 of the energies moved)
+    EXPECT_NEAR(samples.back().Balance(), samples.front().Balance(), 1e-9 * (std::abs(work) + dissipated));
+    EXPECT_GT(checked, 100);
+  };
+  dyn::PrescribedSummary summary;
+  const auto spun = Driven<Pendulum>(p, dyn::ConstantSpeedLaw{-1.0, 3.0, 0.0}, 4.0, 1e-3, &summary);
+  ASSERT_EQ(summary.status, dyn::Status::kSuccess) << dyn::FormatSummary(summary);
+  EXPECT_TRUE(summary.coulomb);
+  check(spun, "3 rad/s");
+  dyn::RestToRestLaw move{-kPi / 2, kPi / 3, 0.2, 1.2, dyn::RestToRestLaw::Profile::kPoly345};
+  const auto moved = Driven<Pendulum>(p, move, 1.5, 1e-3, &summary);
+  ASSERT_EQ(summary.status, dyn::Status::kSuccess) << dyn::FormatSummary(summary);
+  check(moved, "rest to rest");
+  // At rest after the move: no friction, the motor holds the weight's moment exactly.
+  const auto& end = moved.back();
+  EXPECT_EQ(end.qd(0), 0.0);
+  EXPECT_EQ(end.friction(0), 0.0);
+  EXPECT_NEAR(end.lambda(0), p.m * p.g * p.lc * std::cos(kPi / 3), 1e-12);
+}
+
+// The block on the incline pushed up and down the slope at constant speeds by its actuator:
+// lambda = m g sin alpha + sign(v) mu m g cos alpha (the slide's normal force is the weight's
+// component, the friction opposes the motion).
+TEST(Coulomb, DrivenBlockActuatorForce) {
+  mech::incline_friction::Params<double> p;
+  for (double v : {1.5, -0.5}) {
+    dyn::PrescribedSummary summary;
+    const auto samples = Driven<Incline>(p, dyn::ConstantSpeedLaw{0.0, v, 0.0}, 1.0, 0.01, &summary);
+    ASSERT_EQ(summary.status, dyn::Status::kSuccess) << dyn::FormatSummary(summary);
+    const double lambda = p.m * p.g * (std::sin(p.alpha) + (v > 0 ? 1 : -1) * p.mu * std::cos(p.alpha));
+    for (const auto& s : samples) EXPECT_NEAR(s.lambda(0), lambda, 1e-12) << v << " t = " << s.t;
+  }
+}
+
+// Every coefficient 0: the driven run is the frictionless pendulum's to the last bit; and a
+// driven run with free inputs leaves the friction out and says so.
+TEST(Coulomb, DrivenZeroMuAndFreeInputs) {
+  mech::pendulum_friction::Params<double> pf;
+  pf.mu = 0;
+  mech::pendulum::Params<double> p0;
+  dyn::PrescribedSummary sf, s0;
+  const dyn::ConstantSpeedLaw law{0.3, 2.0, 0.0};
+  const auto rf = Driven<Pendulum>(pf, law, 2.0, 0.01, &sf);
+  const auto r0 = Driven<mech::pendulum::Model>(p0, law, 2.0, 0.01, &s0);
+  EXPECT_FALSE(sf.coulomb);
+  ASSERT_EQ(rf.size(), r0.size());
+  for (size_t i = 0; i < rf.size(); ++i) {
+    EXPECT_EQ(rf[i].t, r0[i].t);
+    EXPECT_EQ(rf[i].lambda(0), r0[i].lambda(0)) << i;
+    EXPECT_EQ(rf[i].W_act, r0[i].W_act) << i;
+  }
+  using M2 = mech::two_pendulums_friction::Model;
+  using Drive = dyn::Drive<dyn::ConstantSpeedLaw>;
+  static_assert(!dyn::PrescribedDynamics<M2, 1, Drive>::kHasDrivenFriction, "a free input");
+  dyn::PrescribedDynamics<M2, 1, Drive> sim(mech::two_pendulums_friction::Params<double>(), {0}, Drive(law));
+  Eigen::Matrix<double, 1, 1> qf(-0.5), qdf(0.0);
+  ASSERT_TRUE(sim.Initialize(0.0, qf));
+  dyn::PrescribedSummary s;
+  sim.Simulate(0.0, qf, qdf, 0.5, [](const auto&) { return true; }, &s);
+  EXPECT_EQ(s.status, dyn::Status::kSuccess);
+  EXPECT_FALSE(s.coulomb);
+  EXPECT_EQ(std::string(s.message), "Coulomb friction is not simulated in a driven run with free inputs");
 }
 
 // Coulomb friction switched off: the friction joints' coefficient is ignored (viscous and

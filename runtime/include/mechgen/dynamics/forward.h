@@ -168,6 +168,8 @@ struct MinimalSummary {
   double time_stuck = 0;
   double last_stick_start = std::numeric_limits<double>::quiet_NaN();
   int chattering = 0;
+  /// Several inputs: the friction joint a kFrictionFailed names (M::kFrictionJoints), or "".
+  const char* friction_joint = "";
   const char* message = "";
 
   bool IsSolutionUsable() const { return !IsFailure(status); }
@@ -182,6 +184,7 @@ inline std::string FormatSummary(const MinimalSummary& s) {
                 s.integrator.rejected, s.integrator.rhs_evaluations, s.min_rcond_seen,
                 s.max_energy_error, s.message[0] != 0 ? "; " : "", s.message);
   std::string text = buffer + SwitchCounts(s.switch_restarts, s.switches_through);
+  if (s.friction_joint[0] != 0) text += std::string(" (joint '") + s.friction_joint + "')";
   if (s.coulomb) {
     std::snprintf(buffer, sizeof(buffer),
                   "; Coulomb friction: %d stick-slip transitions, %d stuck intervals, %.9g s stuck",
@@ -344,7 +347,9 @@ struct Sample {
   /// N m, CCW +; the force on a slider along +u, N), included in Q and P_nc; 0 without.
   Eigen::Matrix<double, CoulombFeatures<M>::kNumFriction, 1> friction =
       Eigen::Matrix<double, CoulombFeatures<M>::kNumFriction, 1>::Zero();
-  bool stuck = false;  ///< stuck by static friction (qd = qdd = 0)
+  bool stuck = false;  ///< stuck by static friction (qd = qdd = 0); several inputs: any joint stuck
+  /// Several inputs: joint J stuck (holding its input at rest); one input: every entry = stuck.
+  std::array<bool, CoulombFeatures<M>::kNumFriction> joint_stuck{};
 };
 
 /// No load of the caller: the model's own Q only.
@@ -396,8 +401,9 @@ class MinimalDynamics {
   static constexpr bool kHasSwitches = kNumSwitches > 0;
   using SwitchModes = std::array<int, kNumSwitches>;
   /// Coulomb friction with stick and slip can be simulated (MinimalOptions::coulomb): friction
-  /// joints, one input, no caller's load (dynamics/friction.h).
-  static constexpr bool kHasCoulomb = CoulombFeatures<M>::kHasFriction && kNq == 1 && !kHasLoad;
+  /// joints, no caller's load (dynamics/friction.h; several inputs: each joint its own mode).
+  static constexpr bool kHasCoulomb = CoulombFeatures<M>::kHasFriction && !kHasLoad;
+  static constexpr bool kReportsFriction = kHasCoulomb;
   static constexpr int kNumFriction = CoulombFeatures<M>::kNumFriction;
 
   explicit MinimalDynamics(const Params& params, const MinimalOptions& options = MinimalOptions(),
@@ -662,10 +668,22 @@ class MinimalDynamics {
     if constexpr (CoulombFeatures<M>::kHasFriction) {
       if (options_.coulomb.enabled) {
         if constexpr (!kHasCoulomb) {
-          summary->message = kNq > 1 ? "Coulomb friction is not simulated with several inputs"
-                                     : "Coulomb friction is not simulated with a caller's load";
+          summary->message = "Coulomb friction is not simulated with a caller's load";
         } else {
-          if (SimulatesCoulomb(q0)) {
+          if (SimulatesCoulomb(q0) && kNq > 1) {
+            coulomb_active_ = true;
+            summary->coulomb = true;
+            if constexpr (kNq > 1) {
+              // Each joint slips along its relative velocity; those at relative rest decided.
+              if (!StartJoints(t0, &y0, summary)) {
+                EndRun();
+                summary->status = Status::kFrictionFailed;
+                summary->t_end = t0;
+                summary->integrator = integrator_.summary();
+                return false;
+              }
+            }
+          } else if (SimulatesCoulomb(q0)) {
             coulomb_active_ = true;
             summary->coulomb = true;
             // The first mode: slip along qd0, or the decision at rest.
@@ -719,6 +737,9 @@ class MinimalDynamics {
     *phi = phi_ref_ + K_ref_ * (q - q_ref_);
     if (!SolveAt(q, phi)) return false;
     EvalCoefficients(q, *phi, c);
+    if constexpr (kNq > 1) {
+      return EvalJoints(t, q, qd, *phi, *c, d, qdd, fs, nullptr, nullptr);
+    }
     if (stuck_) {
       const VecQ zero = VecQ::Zero();
       EvalDynamics(q, *phi, zero, t, *c, d);
@@ -781,7 +802,13 @@ class MinimalDynamics {
     s->Q = d.Q;
     s->K = c.K;
     s->friction = fs.f;
-    s->stuck = stuck_;
+    if constexpr (kNq > 1) {
+      s->joint_stuck = joints_.stuck;
+      s->stuck = joints_.AnyStuck();
+    } else {
+      s->stuck = stuck_;
+      s->joint_stuck.fill(stuck_);
+    }
     Conditioning(c, &s->rcond, &s->det);
   }
 
@@ -809,8 +836,241 @@ class MinimalDynamics {
     *stuck = !(*e * qdd(0) > 0);
     return true;
   }
+  // ---- several inputs (kNq > 1): each friction joint its own mode (JointModes) ----
+  /// The dynamics in the joints' modes at (t, q, qd) (positions solved): EvalDynamics, then
+  /// CoulombFriction::Mixed; *bound and *K_rel of every joint if not nullptr.
+  bool EvalJoints(double t, const VecQ& q, const VecQ& qd, const VecPhi& phi, const Coefficients& c, Dyn* d,
+                  VecQ* qdd, FrictionState<kNumFriction>* fs, Eigen::Matrix<double, kNumFriction, 1>* bound,
+                  Eigen::Matrix<double, kNumFriction, kNq>* K_rel) {
+    EvalDynamics(q, phi, qd, t, c, d);
+    Eigen::Matrix<double, kNumFriction, 1> B;
+    Eigen::Matrix<double, kNumFriction, kNq> K;
+    if (!Friction::Mixed(options_.coulomb, p_, q, phi, qd, t, c, d->I, VecQ(d->Q - d->h), joints_, qdd, &fs->f, &B, &K,
+                         &fs->iterations)) {
+      friction_failed_ = true;
+      return false;
+    }
+    // The friction's generalized force (the stuck joints' holding loads included) and power.
+    const VecQ Q_f = K.transpose() * fs->f;
+    d->Q += Q_f;
+    d->P_nc += Q_f.dot(qd);
+    fs->Q_friction = 0;
+    fs->bound = std::numeric_limits<double>::quiet_NaN();
+    if (bound != nullptr) *bound = B;
+    if (K_rel != nullptr) *K_rel = K;
+    return true;
+  }
+
+  /// The margin of the joints' modes at (t, y): min over the joints of dir_J K_rel_J qd
+  /// (slipping) and bound_J - |f_J| (stuck); *joint the joint of the minimum. false: the
+  /// positions or the friction failed.
+  bool FrictionMargin(double t, const State& y, double* g, int* joint) {
+    const VecQ q = y.template head<kNq>();
+    const VecQ qd = y.template segment<kNq>(kNq);
+    VecPhi phi;
+    Coefficients c;
+    if (!Positions(q, &phi, &c)) return false;
+    Dyn d;
+    VecQ qdd;
+    FrictionState<kNumFriction> fs;
+    Eigen::Matrix<double, kNumFriction, 1> B;
+    Eigen::Matrix<double, kNumFriction, kNq> K;
+    if (!EvalJoints(t, q, qd, phi, c, &d, &qdd, &fs, &B, &K)) return false;
+    *g = std::numeric_limits<double>::infinity();
+    *joint = -1;
+    for (int J = 0; J < kNumFriction; ++J) {
+      if (B(J) == 0 && !joints_.stuck[J]) continue;  // no friction there: no mode to change
+      const double gJ = joints_.stuck[J] ? B(J) - std::abs(fs.f(J)) : joints_.dir[J] * K.row(J).dot(qd);
+      if (gJ < *g) {
+        *g = gJ;
+        *joint = J;
+      }
+    }
+    return true;
+  }
+
+  /// Decides the modes of the joints in `at_rest` (each at zero relative velocity, or stuck)
+  /// at (t, *y): each must hold one input (CoulombFriction::InputJoint; else a failure naming
+  /// it in *failed_joint), whose speed is set 0 in *y; all stuck first, then the one whose
+  /// holding load exceeds its bound the most released at a time (slipping against its holding
+  /// load) until every stuck one holds, a released one whose slip would at once stop again
+  /// (dir_J K_rel_J qdd <= 0) stuck for good. false: the friction failed (*failed_joint -1) or
+  /// no consistent mode.
+  bool DecideJoints(double t, State* y, const std::array<bool, kNumFriction>& at_rest, int* failed_joint) {
+    *failed_joint = -1;
+    const VecQ q = y->template head<kNq>();
+    VecPhi phi;
+    Coefficients c;
+    if (!Positions(q, &phi, &c)) return false;
+    Dyn d;
+    VecQ qdd;
+    FrictionState<kNumFriction> fs;
+    Eigen::Matrix<double, kNumFriction, 1> B;
+    Eigen::Matrix<double, kNumFriction, kNq> K;
+    // K_rel from one evaluation (it does not depend on the modes).
+    {
+      typename M::template StaticsT<double> st;
+      const VecQ zero = VecQ::Zero();
+      M::template Kinetostatics<double>(p_, q, phi, zero, zero, t, c, &st);
+      K = st.K_rel;
+    }
+    std::array<bool, kNumFriction> final_stuck{};
+    for (int J = 0; J < kNumFriction; ++J) {
+      if (!at_rest[J]) continue;
+      int i = -1;
+      double k = 0;
+      if (!Friction::InputJoint(K, J, &i, &k)) {
+        *failed_joint = J;
+        return false;
+      }
+      joints_.stuck[J] = true;
+      joints_.held[J] = i;
+      joints_.k[J] = k;
+      (*y)(kNq + i) = 0;
+    }
+    for (int J = 0; J < kNumFriction; ++J)
+      for (int L = J + 1; L < kNumFriction; ++L)
+        if (joints_.stuck[J] && joints_.stuck[L] && joints_.held[J] == joints_.held[L]) {
+          *failed_joint = L;  // two joints holding one input: indeterminate
+          return false;
+        }
+    const VecQ qd = y->template segment<kNq>(kNq);
+    for (int pass = 0; pass < 2 * kNumFriction + 2; ++pass) {
+      if (!EvalJoints(t, q, qd, phi, c, &d, &qdd, &fs, &B, &K)) return false;
+      int worst = -1;
+      double excess = 1;
+      for (int J = 0; J < kNumFriction; ++J) {
+        if (!at_rest[J] || !joints_.stuck[J] || final_stuck[J]) continue;
+        const double a = std::abs(fs.f(J));
+        const double ratio = B(J) > 0 ? a / B(J) : (a > 0 ? std::numeric_limits<double>::infinity() : 0);
+        if (ratio > excess) {
+          excess = ratio;
+          worst = J;
+        }
+      }
+      if (worst >= 0) {
+        joints_.stuck[worst] = false;
+        joints_.dir[worst] = fs.f(worst) > 0 ? -1.0 : 1.0;
+        continue;
+      }
+      int inconsistent = -1;
+      for (int J = 0; J < kNumFriction && inconsistent < 0; ++J)
+        if (at_rest[J] && !joints_.stuck[J] && !(joints_.dir[J] * K.row(J).dot(qdd) > 0)) inconsistent = J;
+      if (inconsistent < 0) return true;
+      joints_.stuck[inconsistent] = true;
+      final_stuck[inconsistent] = true;
+    }
+    return false;
+  }
+
+  /// The first modes of a run from y0 (several inputs): joints moving slip along their
+  /// relative velocity, those at relative rest decided (DecideJoints). false: a status.
+  bool StartJoints(double t0, State* y0, MinimalSummary* summary) {
+    const VecQ q = y0->template head<kNq>();
+    const VecQ qd = y0->template segment<kNq>(kNq);
+    VecPhi phi;
+    Coefficients c;
+    if (!Positions(q, &phi, &c)) {
+      summary->message = "the initial state does not assemble";
+      return false;
+    }
+    typename M::template StaticsT<double> st;
+    const VecQ zero = VecQ::Zero();
+    M::template Kinetostatics<double>(p_, q, phi, zero, zero, t0, c, &st);
+    std::array<bool, kNumFriction> at_rest{};
+    bool any = false;
+    joints_ = JointModes<kNumFriction>();
+    for (int J = 0; J < kNumFriction; ++J) {
+      const double v = st.K_rel.row(J).dot(qd);
+      joints_.dir[J] = v < 0 ? -1.0 : 1.0;
+      joints_.held[J] = -1;
+      at_rest[J] = v == 0 && st.gain(J) != 0;
+      any = any || at_rest[J];
+    }
+    stuck_since_.fill(t0);
+    if (!any) return true;
+    int failed = -1;
+    if (!DecideJoints(t0, y0, at_rest, &failed)) {
+      NameFailure(failed, "at the initial state", summary);
+      return false;
+    }
+    for (int J = 0; J < kNumFriction; ++J)
+      if (joints_.stuck[J]) {
+        ++summary->stick_intervals;
+        summary->last_stick_start = t0;
+      }
+    return true;
+  }
+
+  /// A transition at (t, *y) (several inputs): the joints at or past their margin's zero
+  /// decided again; the summary's stuck bookkeeping. false: a status (the message set).
+  bool ResolveJoints(double t, State* y, MinimalSummary* summary) {
+    const JointModes<kNumFriction> before = joints_;
+    std::array<bool, kNumFriction> at_rest{};
+    // Every joint whose margin is not positive here (slipping: at relative rest; stuck: at
+    // its bound), and every stuck one (their holding loads change with the others' modes).
+    {
+      const VecQ q = y->template head<kNq>();
+      const VecQ qd = y->template segment<kNq>(kNq);
+      VecPhi phi;
+      Coefficients c;
+      Dyn d;
+      VecQ qdd;
+      FrictionState<kNumFriction> fs;
+      Eigen::Matrix<double, kNumFriction, 1> B;
+      Eigen::Matrix<double, kNumFriction, kNq> K;
+      if (!Positions(q, &phi, &c) || !EvalJoints(t, q, qd, phi, c, &d, &qdd, &fs, &B, &K)) {
+        summary->message = "the friction loads did not converge at a stick-slip transition";
+        return false;
+      }
+      for (int J = 0; J < kNumFriction; ++J) {
+        if (joints_.stuck[J]) {
+          at_rest[J] = true;
+        } else if (B(J) != 0) {
+          at_rest[J] = !(joints_.dir[J] * K.row(J).dot(qd) > 0);
+        }
+      }
+    }
+    int failed = -1;
+    if (!DecideJoints(t, y, at_rest, &failed)) {
+      NameFailure(failed, "at a stick-slip transition", summary);
+      return false;
+    }
+    for (int J = 0; J < kNumFriction; ++J) {
+      if (before.stuck[J] && !joints_.stuck[J]) summary->time_stuck += t - stuck_since_[J];
+      if (!before.stuck[J] && joints_.stuck[J]) {
+        ++summary->stick_intervals;
+        summary->last_stick_start = t;
+        stuck_since_[J] = t;
+      }
+    }
+    last_.valid = false;
+    return true;
+  }
+
+  /// The time the joints stuck at the run's end t have been stuck (added to the summary).
+  void CloseStuck(double t, MinimalSummary* summary) const {
+    for (int J = 0; J < kNumFriction; ++J)
+      if (joints_.stuck[J] && t >= stuck_since_[J]) summary->time_stuck += t - stuck_since_[J];
+  }
+
+  void NameFailure(int joint, const char* where, MinimalSummary* summary) {
+    (void)where;
+    if (joint >= 0) {
+      summary->friction_joint = M::kFrictionJoints[joint];
+      summary->message =
+          "a friction joint came to relative rest whose relative motion is not one input's alone (or "
+          "shares its input with another stuck joint): its stick is not simulated with several inputs";
+    } else {
+      summary->message = "the friction at rest did not converge, or no stick-slip mode is consistent";
+    }
+  }
+
   bool CoulombActive() const { return coulomb_active_; }
-  bool Stuck() const { return stuck_; }
+  bool Stuck() const {
+    if constexpr (kNq > 1) return joints_.AnyStuck();
+    return stuck_;
+  }
   double SlipDirection() const { return slip_dir_; }
   void SetFrictionMode(bool stuck, double e) {
     stuck_ = stuck;
@@ -959,6 +1219,8 @@ class MinimalDynamics {
   bool initialized_ = false, last_solve_not_assemblable_ = false, singular_inertia_ = false;
   bool coulomb_active_ = false, stuck_ = false, friction_failed_ = false;
   double slip_dir_ = 1;
+  JointModes<kNumFriction> joints_;                  ///< several inputs: each joint's mode
+  std::array<double, kNumFriction> stuck_since_{};  ///< ... and when it stuck
 };
 
 }  // namespace mechgen::dynamics

@@ -36,7 +36,9 @@
  */
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -94,8 +96,28 @@ struct FrictionState {
 };
 
 /**
+ * The modes of the friction joints of a model with several inputs (kNq > 1, see the file
+ * comment): joint J slips with its relative velocity's sign dir[J] (+1 or -1, held while it
+ * slips), or it is stuck, holding input held[J] at rest (a joint whose relative velocity is
+ * k[J] times that input's speed alone, K_rel row J = k[J] e_held).
+ */
+template <int kNumFriction>
+struct JointModes {
+  std::array<bool, kNumFriction> stuck{};
+  std::array<double, kNumFriction> dir{};
+  std::array<int, kNumFriction> held{};
+  std::array<double, kNumFriction> k{};
+  bool AnyStuck() const {
+    for (bool b : stuck)
+      if (b) return true;
+    return false;
+  }
+};
+
+/**
  * CoulombFriction<M>: the slip's friction loads and the decision at rest, at one
- * configuration (q, phi, c) of a model with kNq = 1 (see the file comment).
+ * configuration (q, phi, c) of a model with kNq = 1 (see the file comment); Prescribed() for
+ * a driven motion and Mixed() for several inputs, any kNq.
  */
 template <class M>
 class CoulombFriction {
@@ -213,6 +235,137 @@ class CoulombFriction {
       s->f.setZero();
     }
     s->Q_friction = -Q0;
+  }
+
+  /**
+   * \brief A prescribed motion (q, qd, qdd all given: every input driven): the friction loads
+   * f_J = -gain_J normal_J(f) sign(K_rel_J qd) iterated on the kinetostatics at (q, qd, qdd, f)
+   * from f = 0 until max |f_k - f_(k-1)| <= tolerance max |f_k| (the statics' iteration;
+   * qdd does not change). At zero relative velocity (K_rel_J qd = 0 exactly, e.g. a drive at
+   * rest) the joint's friction is statically indeterminate in [-gain_J N_J, gain_J N_J]: it
+   * is taken 0 there (the actuator holds the whole load). *Q_f = K_rel^T f, the friction's
+   * generalized force; *st the kinetostatics with the converged loads.
+   * \return false when the iteration does not converge or a value is not finite.
+   */
+  static bool Prescribed(const CoulombOptions& o,
+                         const Params& p,
+                         const VecQ& q,
+                         const VecPhi& phi,
+                         const VecQ& qd,
+                         const VecQ& qdd,
+                         double t,
+                         const Coefficients& c,
+                         VecF* f,
+                         VecQ* Q_f,
+                         int* iterations) {
+    Statics st;
+    f->setZero();
+    *iterations = 0;
+    for (int k = 0; k < o.max_iterations; ++k) {
+      M::template Kinetostatics<double>(p, q, phi, qd, qdd, t, c, &st, f);
+      ++*iterations;
+      VecF f_next;
+      for (int J = 0; J < kNumFriction; ++J)
+        f_next(J) = -st.gain(J) * st.normal(J) * Sign(st.K_rel.row(J).dot(qd));
+      if (!f_next.allFinite()) return false;
+      const double change = (f_next - *f).cwiseAbs().maxCoeff();
+      *f = f_next;
+      if (change <= o.tolerance * f->cwiseAbs().maxCoeff()) {
+        *Q_f = st.K_rel.transpose() * *f;
+        return Q_f->allFinite();
+      }
+    }
+    return false;
+  }
+
+  /**
+   * \brief Several inputs (kNq > 1) in the modes m at (t, q, qd): the stuck joints' inputs
+   * held (qd and qdd 0 there), every other input free; I qdd = Q - h + K_rel^T f with
+   * f_J = -gain_J normal_J dir[J] at a slipping joint and the holding load at a stuck one
+   * (f_J = (I_i. qdd - b_i) / k[J], i = held[J], b = Q - h + the slipping joints' K_rel^T f),
+   * iterated on the kinetostatics at (q, qd, qdd, f) as Slip() does. *bound: gain_J normal_J
+   * of every joint (a stuck joint holds while |f_J| <= bound_J). *K_rel: the joints' rows.
+   * \return false when the iteration does not converge, the free inputs' inertia is not
+   * positive definite or a value is not finite.
+   */
+  template <class MatI, class MatKrel>
+  static bool Mixed(const CoulombOptions& o,
+                    const Params& p,
+                    const VecQ& q,
+                    const VecPhi& phi,
+                    const VecQ& qd,
+                    double t,
+                    const Coefficients& c,
+                    const MatI& I,
+                    const VecQ& Q_minus_h,
+                    const JointModes<kNumFriction>& m,
+                    VecQ* qdd,
+                    VecF* f,
+                    VecF* bound,
+                    MatKrel* K_rel,
+                    int* iterations) {
+    // The reduced inertia: a held input's row and column replaced by the identity's.
+    Eigen::Matrix<double, kNq, kNq> A = I;
+    std::array<bool, kNq> held{};
+    for (int J = 0; J < kNumFriction; ++J)
+      if (m.stuck[J]) held[m.held[J]] = true;
+    for (int i = 0; i < kNq; ++i) {
+      if (!held[i]) continue;
+      A.row(i).setZero();
+      A.col(i).setZero();
+      A(i, i) = 1;
+    }
+    const Eigen::LDLT<Eigen::Matrix<double, kNq, kNq>> ldlt(A);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0)) return false;
+    Statics st;
+    f->setZero();
+    *iterations = 0;
+    bool have_K = false;
+    for (int k = 0; k < o.max_iterations; ++k) {
+      VecQ b = Q_minus_h;
+      if (have_K)
+        for (int J = 0; J < kNumFriction; ++J)
+          if (!m.stuck[J]) b += st.K_rel.row(J).transpose() * (*f)(J);
+      VecQ rhs = b;
+      for (int i = 0; i < kNq; ++i)
+        if (held[i]) rhs(i) = 0;
+      *qdd = ldlt.solve(rhs);
+      for (int i = 0; i < kNq; ++i)
+        if (held[i]) (*qdd)(i) = 0;
+      VecF f_now = *f;
+      for (int J = 0; J < kNumFriction; ++J)
+        if (m.stuck[J]) f_now(J) = (I.row(m.held[J]).dot(*qdd) - b(m.held[J])) / m.k[J];
+      M::template Kinetostatics<double>(p, q, phi, qd, *qdd, t, c, &st, &f_now);
+      ++*iterations;
+      have_K = true;
+      VecF f_next = f_now;
+      for (int J = 0; J < kNumFriction; ++J) {
+        (*bound)(J) = st.gain(J) * st.normal(J);
+        if (!m.stuck[J]) f_next(J) = -(*bound)(J) * m.dir[J];
+      }
+      if (!f_next.allFinite() || !qdd->allFinite()) return false;
+      const double change = (f_next - *f).cwiseAbs().maxCoeff();
+      *f = f_next;
+      if (k > 0 && change <= o.tolerance * f->cwiseAbs().maxCoeff()) {
+        *K_rel = st.K_rel;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /// Joint J's row of K_rel is k e_i (one input's speed alone, any other entry exactly 0):
+  /// *input = i, *k = that entry; false otherwise.
+  template <class MatKrel>
+  static bool InputJoint(const MatKrel& K_rel, int J, int* input, double* k) {
+    *input = -1;
+    for (int i = 0; i < kNq; ++i) {
+      if (K_rel(J, i) == 0) continue;
+      if (*input >= 0) return false;
+      *input = i;
+      *k = K_rel(J, i);
+    }
+    return *input >= 0 && std::isfinite(*k);
   }
 
   static double Sign(double x) { return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0); }

@@ -63,6 +63,7 @@
 #include <limits>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -74,6 +75,7 @@
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/forward.h"
+#include "mechgen/dynamics/friction.h"
 #include "mechgen/dynamics/integrators.h"
 #include "mechgen/dynamics/simulator.h"
 
@@ -324,8 +326,19 @@ struct PrescribedOptions {
   /// the cycle-mean speed); off by default. Reported in the summary's `steady`.
   SteadyStateOptions steady;
 
+  /// Coulomb friction of the model's friction joints in a motion with every input driven
+  /// (PrescribedDynamics::kHasDrivenFriction): each joint's load opposes its relative velocity,
+  /// iterated on the reactions (CoulombFriction::Prescribed; max_iterations and tolerance
+  /// used), and the actuators' lambda include it. On by default.
+  CoulombOptions coulomb;
+
   bool IsValid(std::string* error) const {
     if (!integrator.IsValid(error)) return false;
+    if (!coulomb.IsValid()) {
+      if (error != nullptr)
+        *error = "PrescribedOptions::coulomb invalid: max_iterations >= 2, 0 < tolerance < 1e-3";
+      return false;
+    }
     char buffer[160];
     auto fail = [&](const char* field, double value, const char* rule) {
       std::snprintf(buffer, sizeof(buffer), "PrescribedOptions::%s = %g. Violated constraint: %s",
@@ -365,6 +378,10 @@ struct PrescribedSummary {
   int switch_restarts = 0;    ///< switching points of the loads restarted at (forward.h)
   int switches_through = 0;   ///< ... and stepped through (the chattering guard)
   SteadyStateSummary steady;  ///< the steady-state detection (options.steady)
+  /// The model's Coulomb friction was in the run (PrescribedDynamics::kHasDrivenFriction, a
+  /// friction joint with a coefficient); its dissipated work -integral of sum f_J K_rel_J qd
+  /// dt is in W_nc.
+  bool coulomb = false;
   const char* message = "";
 
   bool IsSolutionUsable() const { return !IsFailure(status); }
@@ -378,7 +395,8 @@ inline std::string FormatSummary(const PrescribedSummary& s) {
                 ToString(s.status), ToString(s.event), s.t_end, s.samples, s.integrator.steps,
                 s.integrator.rejected, s.integrator.rhs_evaluations, s.min_rcond_seen,
                 s.max_energy_error, s.max_abs_lambda, s.message[0] != 0 ? "; " : "", s.message);
-  return buffer + SwitchCounts(s.switch_restarts, s.switches_through);
+  return buffer + SwitchCounts(s.switch_restarts, s.switches_through) +
+         (s.coulomb ? "; Coulomb friction in the actuator forces" : "");
 }
 
 /// One evaluated configuration with drivers.
@@ -398,6 +416,11 @@ struct PrescribedSample {
   double P_nc = 0, P_act = 0, P_F = 0;  ///< their powers
   double rcond = 1;                     ///< 1/cond_1(Phi_phi) (1 for kNphi = 0)
   double det = 1;                       ///< det Phi_phi (its sign: the branch)
+  /// Coulomb friction (PrescribedSummary::coulomb): the friction loads f_J of the model's
+  /// kFrictionJoints (as Sample::friction: N m on the joint's second link by its first, CCW
+  /// +; N on the slider along +u), in lambda and P_nc; 0 without.
+  Eigen::Matrix<double, CoulombFeatures<M>::kNumFriction, 1> friction =
+      Eigen::Matrix<double, CoulombFeatures<M>::kNumFriction, 1>::Zero();
   /// T + V - (W_nc + W_act + W_F): constant along an exact motion.
   double Balance() const { return E - W_nc - W_act - W_F; }
 };
@@ -444,6 +467,14 @@ class PrescribedDynamics {
   static constexpr int kNumSwitches = internal::NumSwitches<M>::value;
   static constexpr bool kHasSwitches = kNumSwitches > 0;
   using SwitchModes = std::array<int, kNumSwitches>;
+  /// Coulomb friction in the actuator forces (PrescribedOptions::coulomb): friction joints,
+  /// every input driven (kNf = 0: the motion, and so every joint's relative velocity, is
+  /// given) and no caller's forces (which the reactions would miss). A run with free inputs
+  /// leaves it out and says so (PrescribedSummary::message).
+  static constexpr bool kHasDrivenFriction =
+      CoulombFeatures<M>::kHasFriction && kNf == 0 && std::is_same_v<Force, NoForce>;
+  static constexpr bool kReportsFriction = kHasDrivenFriction;
+  static constexpr int kNumFriction = CoulombFeatures<M>::kNumFriction;
 
   /// prescribed: the indices into q of the prescribed coordinates, distinct, each in
   /// [0, kNq), in the order of the motion's components (checked by Initialize()).
@@ -624,6 +655,27 @@ class PrescribedDynamics {
     events.restart_at_switches = options_.restart_at_switches && kHasSwitches;
     events.switch_min_interval = options_.switch_min_interval;
     events.max_switch_restarts = options_.max_switch_restarts;
+    coulomb_active_ = false;
+    friction_failed_ = false;
+    if constexpr (CoulombFeatures<M>::kHasFriction) {
+      if (options_.coulomb.enabled) {
+        if constexpr (kHasDrivenFriction) {
+          VecQ q, qd;
+          VecP qddp;
+          Assemble(t0, qf0, qdf0, &q, &qd, &qddp);
+          VecPhi phi = phi_ref_;
+          Coefficients c;
+          if (SolveAt(q, &phi)) {
+            EvalCoefficients(q, phi, &c);
+            coulomb_active_ = CoulombFriction<M>::AnyGain(p_, q, phi, c);
+          }
+          summary->coulomb = coulomb_active_;
+        } else {
+          summary->message = kNf > 0 ? "Coulomb friction is not simulated in a driven run with free inputs"
+                                     : "Coulomb friction is not simulated with a caller's forces";
+        }
+      }
+    }
     return internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);
   }
 
@@ -666,6 +718,7 @@ class PrescribedDynamics {
     bool solved = false;
     Dyn d;
     bool evaluated = false;
+    if (coulomb_active_) by_trig = false;  // the kinetostatics need every coefficient
     if constexpr (kStagesByRhs) {
       if (by_trig) {
         // One generated pass: the positions' sin and cos, K, L, I, h, Q (and Phi_phi for the
@@ -720,6 +773,23 @@ class PrescribedDynamics {
     VecQ qdd;
     VecP lambda;
     if (!Accelerations(d, F, qddp, &qdd, &lambda)) return false;
+    s->friction.setZero();
+    if constexpr (kHasDrivenFriction) {
+      if (coulomb_active_) {
+        // Every input driven: the friction loads at the given motion, lambda = I qdd + h - Q - K_rel^T f.
+        VecQ Q_f;
+        int iterations = 0;
+        friction_failed_ = false;
+        if (!CoulombFriction<M>::Prescribed(options_.coulomb, p_, q, phi, qd, qdd, t, *c, &s->friction, &Q_f,
+                                            &iterations)) {
+          friction_failed_ = true;
+          return false;
+        }
+        for (int i = 0; i < kNp; ++i) lambda(i) -= Q_f(prescribed_[i]);
+        d.Q += Q_f;
+        d.P_nc += Q_f.dot(qd);
+      }
+    }
     s->t = t;
     s->q = q;
     s->qd = qd;
@@ -897,6 +967,7 @@ class PrescribedDynamics {
   int position_failures_ = 0;
   bool indices_valid_ = false, initialized_ = false;
   bool last_solve_not_assemblable_ = false, singular_inertia_ = false;
+  bool coulomb_active_ = false, friction_failed_ = false;
 };
 
 }  // namespace mechgen::dynamics

@@ -296,6 +296,13 @@ struct HasCoulombHooks : std::false_type {};
 template <class P>
 struct HasCoulombHooks<P, std::enable_if_t<P::kHasCoulomb>> : std::true_type {};
 
+/// The simulation reports a failure of its Coulomb friction (friction_failed_): the free one
+/// with stick and slip, the driven one with the actuators' friction (prescribed.h).
+template <class P, class = void>
+struct ReportsFriction : std::false_type {};
+template <class P>
+struct ReportsFriction<P, std::enable_if_t<P::kReportsFriction>> : std::true_type {};
+
 /// The sample grid t0 + k sample_dt over [t0, t_end] advances at every t in it and has at
 /// most max_samples points (sample_dt = 0: a sample per accepted step).
 inline bool SampleGridIsUsable(double t0, double t_end, double sample_dt, int max_samples) {
@@ -362,8 +369,12 @@ struct EventLoop {
     auto& integrator = sim->integrator_;
     auto finish = [&](Status s, double t) {
       if constexpr (HasCoulombHooks<P>::value) {
-        if (sim->CoulombActive() && sim->Stuck() && summary->time_stuck >= 0 && t >= summary->last_stick_start)
+        if constexpr (P::kNq > 1) {
+          if (sim->CoulombActive()) sim->CloseStuck(t, summary);
+        } else if (sim->CoulombActive() && sim->Stuck() && summary->time_stuck >= 0 &&
+                   t >= summary->last_stick_start) {
           summary->time_stuck += t - summary->last_stick_start;
+        }
       }
       sim->EndRun();
       summary->status = s;
@@ -420,7 +431,7 @@ struct EventLoop {
 
     SampleT s0;
     if (!sim->Evaluate(t0, y0, &s0)) {
-      if constexpr (HasCoulombHooks<P>::value) {
+      if constexpr (ReportsFriction<P>::value) {
         if (sim->friction_failed_) {
           summary->message =
               "the slip's friction loads did not converge at the initial state "
@@ -594,7 +605,43 @@ struct EventLoop {
       double new_direction = 1;
       State y_transition = integrator.y();
       if constexpr (HasCoulombHooks<P>::value) {
-        if (sim->CoulombActive()) {
+        if constexpr (P::kNq > 1) {
+          // Several inputs: the first time in (t_prev, t] where a joint's margin (a slipping
+          // joint's dir K_rel qd, a stuck one's bound - |f|) is not positive, by bisection.
+          if (sim->CoulombActive()) {
+            const double t_start = integrator.t_prev();
+            double g_end = 0;
+            int joint = -1;
+            if (!sim->FrictionMargin(t, integrator.y(), &g_end, &joint)) {
+              summary->message = "the friction loads did not converge at a step's end";
+              return finish(Status::kFrictionFailed, t);
+            }
+            if (g_end <= 0) {
+              double ta = t_start, tb = t;
+              for (int it = 0; it < 200 && tb - ta > o.event_tolerance; ++it) {
+                const double tm = 0.5 * (ta + tb);
+                if (!(tm > ta && tm < tb)) break;
+                State ym;
+                double gm = 0;
+                if (!integrator.Dense(f, tm, &ym) || !sim->FrictionMargin(tm, ym, &gm, &joint)) {
+                  summary->message = "the friction loads did not converge where a joint's mode changes";
+                  return finish(Status::kFrictionFailed, tm);
+                }
+                (gm <= 0 ? tb : ta) = tm;
+              }
+              if (!integrator.Dense(f, tb, &y_transition)) {
+                summary->message = "the dense output failed at a stick-slip transition";
+                return finish(Status::kPositionFailed, tb);
+              }
+              t = tb;
+              if (!dense_sample(t, &cur)) {
+                summary->message = "the positions failed at a stick-slip transition";
+                return finish(Status::kPositionFailed, t);
+              }
+              friction_transition = true;
+            }
+          }
+        } else if (sim->CoulombActive()) {
           constexpr int kQd = P::kNq;  // the index of qd(0) in the state
           const double t_start = integrator.t_prev();
           double t_transition = t;
@@ -783,12 +830,20 @@ struct EventLoop {
             summary->integrator = integrator.summary();
             return finish(Status::kFrictionFailed, t);
           }
-          if (sim->Stuck() && !new_stuck) summary->time_stuck += t - summary->last_stick_start;
-          if (!sim->Stuck() && new_stuck) {
-            ++summary->stick_intervals;
-            summary->last_stick_start = t;
+          if constexpr (P::kNq > 1) {
+            (void)new_stuck, (void)new_direction;
+            if (!sim->ResolveJoints(t, &y_transition, summary)) {
+              summary->integrator = integrator.summary();
+              return finish(Status::kFrictionFailed, t);
+            }
+          } else {
+            if (sim->Stuck() && !new_stuck) summary->time_stuck += t - summary->last_stick_start;
+            if (!sim->Stuck() && new_stuck) {
+              ++summary->stick_intervals;
+              summary->last_stick_start = t;
+            }
+            sim->SetFrictionMode(new_stuck, new_direction);
           }
-          sim->SetFrictionMode(new_stuck, new_direction);
           if constexpr (P::kHasSwitches) switch_pending = false;  // found again from here
           const double h = std::max(integrator.summary().h_last, 16 * o.event_tolerance);
           if (!integrator.Restart(f, t, y_transition, h) || !sim->Accept(t, y_transition, &cur)) {
@@ -838,7 +893,7 @@ struct EventLoop {
       summary->message = "the inertia matrix (of the free coordinates) is not positive definite";
       return finish(Status::kSingularInertia, integrator.t());
     }
-    if constexpr (HasCoulombHooks<P>::value) {
+    if constexpr (ReportsFriction<P>::value) {
       if (is == IntegratorStatus::kRhsFailed && sim->friction_failed_) {
         summary->message =
             "the slip's friction loads did not converge (CoulombOptions::max_iterations): friction "
