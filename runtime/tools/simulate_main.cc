@@ -19,15 +19,19 @@
 //   reactions, each reaction component of the generated kinetostatics at the simulated motion
 //   (inertia forces included; the force of the joint's first link on its second, fixed frame)
 //   and |F| of each revolute joint (F_<joint>_mag); a model with Coulomb friction (its
-//   `friction:` joints with a coefficient, one input) adds friction_<joint>, the friction
+//   `friction:` joints with a coefficient) adds friction_<joint>, the friction
 //   torque on the joint's second link by its first [N m, CCW +] or the friction force on the
 //   slider along the slide's +u [N], and stuck (1 while static friction holds the motion at
-//   rest, 0 while it moves); the reactions then include the friction loads.
+//   rest, 0 while it moves; with several inputs stuck_<joint> per joint: 1 while that joint
+//   holds its input at rest); the reactions then include the friction loads.
 // Coulomb friction (mechgen/dynamics/friction.h: slip with the friction loads iterated on the
 // reactions, stick where the applied force stays within the friction bound at rest, each
-// transition located and given a row of its own): on by default for a model with it, off with
-// --friction off (--friction on for a model without friction joints, with several inputs or
-// with --drive is a usage error). The summary lists the stuck intervals.
+// transition located and given a row of its own; several inputs: each joint on its own): on by
+// default for a model with it, off with --friction off (--friction on for a model without
+// friction joints, or with --drive leaving an input free, is a usage error). The summary lists
+// the stuck intervals (per joint with several inputs). With every input driven the actuator
+// forces lambda include the joints' friction (friction_<joint> columns after rcond; 0 at a
+// joint's relative rest, where it is indeterminate: the actuator then holds the whole load).
 // With --design (a model with a `design` section) the free motion is integrated with its
 // trajectory sensitivities (mechgen/dynamics/sensitivity.h: the forward sensitivity equations):
 // the CSV has t, the inputs, speeds and accelerations, d<q>/d<p> and d<q>_dot/d<p> for every
@@ -392,10 +396,7 @@ int Run(const Args& args) {
   options.steady.consecutive = 2;
   // Coulomb friction: the model's friction section unless --friction says otherwise.
   if (args.friction == "on" && !Sim::kHasCoulomb) {
-    return tools::UsageError(args.tool,
-                             mechgen::dynamics::CoulombFeatures<M>::kHasFriction
-                                 ? "--friction on: Coulomb friction is simulated for one input only"
-                                 : "--friction on: the model has no friction joints (`friction:`)");
+    return tools::UsageError(args.tool, "--friction on: the model has no friction joints (`friction:`)");
   }
   options.coulomb.enabled = args.friction != "off";
   Sim sim(params, options);
@@ -423,10 +424,20 @@ int Run(const Args& args) {
   std::vector<std::pair<double, double>> stuck;
   bool was_stuck = false;
 
+  // Several inputs: each friction joint's stuck intervals.
+  constexpr int kNumFriction = mechgen::dynamics::CoulombFeatures<M>::kNumFriction;
+  std::array<std::vector<std::pair<double, double>>, kNumFriction> joint_stuck;
+  std::array<bool, kNumFriction> joint_was_stuck{};
   auto observer = [&](const SampleT& s) {
     if (s.stuck && !was_stuck) stuck.emplace_back(s.t, std::numeric_limits<double>::quiet_NaN());
     if (!s.stuck && was_stuck) stuck.back().second = s.t;
     was_stuck = s.stuck;
+    for (int J = 0; J < kNumFriction; ++J) {
+      if (s.joint_stuck[J] && !joint_was_stuck[J])
+        joint_stuck[J].emplace_back(s.t, std::numeric_limits<double>::quiet_NaN());
+      if (!s.joint_stuck[J] && joint_was_stuck[J]) joint_stuck[J].back().second = s.t;
+      joint_was_stuck[J] = s.joint_stuck[J];
+    }
     // The row is written inside the branch that holds the kinetostatics it points into.
     CsvRow<SampleT> row{&s, nullptr};
     if constexpr (kNumReactions > 0) {
@@ -459,18 +470,26 @@ int Run(const Args& args) {
       std::printf("parameters set: %s\n", changed.c_str());
     std::printf("%s: %s\n", M::kName, mechgen::dynamics::FormatSummary(summary).c_str());
     if (summary.coulomb) {
-      std::printf("stuck by static friction:");
-      if (stuck.empty()) std::printf(" never");
-      constexpr size_t kListed = 20;
-      for (size_t i = 0; i < stuck.size() && i < kListed; ++i) {
-        if (std::isnan(stuck[i].second)) {
-          std::printf(" [%.9g s, end)", stuck[i].first);
-        } else {
-          std::printf(" [%.9g s, %.9g s)", stuck[i].first, stuck[i].second);
+      auto list = [](const char* what, const std::vector<std::pair<double, double>>& intervals) {
+        std::printf("%s:", what);
+        if (intervals.empty()) std::printf(" never");
+        constexpr size_t kListed = 20;
+        for (size_t i = 0; i < intervals.size() && i < kListed; ++i) {
+          if (std::isnan(intervals[i].second)) {
+            std::printf(" [%.9g s, end)", intervals[i].first);
+          } else {
+            std::printf(" [%.9g s, %.9g s)", intervals[i].first, intervals[i].second);
+          }
         }
+        if (intervals.size() > kListed) std::printf(" ... (%zu intervals)", intervals.size());
+        std::printf("\n");
+      };
+      if constexpr (M::kNq == 1) {
+        list("stuck by static friction", stuck);
+      } else {
+        for (int J = 0; J < kNumFriction; ++J)
+          list((std::string("joint ") + M::kFrictionJoints[J] + " stuck by static friction").c_str(), joint_stuck[J]);
       }
-      if (stuck.size() > kListed) std::printf(" ... (%zu intervals)", stuck.size());
-      std::printf("\n");
     }
     const auto& steady = summary.steady;
     if (steady.steady) {
@@ -568,6 +587,16 @@ int RunDriven(const Args& args) {
   options.integrator.atol = args.atol;
   options.integrator.max_steps = args.max_steps;
   options.sample_dt = args.dt;
+  // Coulomb friction in the actuator forces: every input driven (else --friction on is a usage
+  // error, and the run without it says so).
+  if (args.friction == "on" && !Sim::kHasDrivenFriction) {
+    return tools::UsageError(args.tool,
+                             mechgen::dynamics::CoulombFeatures<M>::kHasFriction
+                                 ? "--friction on: Coulomb friction is simulated in a driven run only when every "
+                                   "input is driven (--drive each)"
+                                 : "--friction on: the model has no friction joints (`friction:`)");
+  }
+  options.coulomb.enabled = args.friction != "off";
   Sim sim(params, prescribed, Drive(laws), dyn::NoForce(), options);
   VecF qf0, qdf0;
   for (int i = 0; i < kNf; ++i) {
@@ -590,7 +619,14 @@ int RunDriven(const Args& args) {
     std::fprintf(stderr, "error: %s\n", error.c_str());
     return 1;
   }
-  const auto columns = DrivenColumns<M, SampleT, NP>(prescribed);
+  bool coulomb = false;  // the run has the friction (a joint with a coefficient at q0)
+  if constexpr (Sim::kHasDrivenFriction) {
+    if (options.coulomb.enabled) {
+      mechgen::dynamics::MinimalDynamics<M, Method> probe(params);
+      coulomb = probe.Initialize(q0) && probe.SimulatesCoulomb(q0);
+    }
+  }
+  const auto columns = DrivenColumns<M, SampleT, NP>(prescribed, coulomb);
   mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions<M>("driven motion"));
   // The summary's extremes: each lambda's range and the largest bearing load (|F| at a
   // revolute joint) over the written rows.
@@ -610,7 +646,11 @@ int RunDriven(const Args& args) {
     CsvRow<SampleT> row{&s, nullptr};
     if constexpr (kNumReactions > 0) {
       mechgen::dynamics::KinetostaticsRow<M> k;
-      kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+      if constexpr (Sim::kHasDrivenFriction) {
+        kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
+      } else {
+        kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+      }
       if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) {
         row.R = k.statics.R.data();
         for (const auto& m : magnitudes) {
@@ -790,9 +830,6 @@ int Main(const Args& args) {
 #endif
     }
     if (!args.drives.empty()) {
-      if (args.friction == "on")
-        return tools::UsageError(
-            args.tool, "--friction on: Coulomb friction is simulated in the free motion only (not with --drive)");
       return args.method == "dop853" ? DispatchDriven<M, mechgen::dynamics::Dop853>(args)
                                      : DispatchDriven<M, mechgen::dynamics::Dopri5>(args);
     }

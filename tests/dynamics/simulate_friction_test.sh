@@ -8,7 +8,9 @@
 #  - mu = 0.3, launched up at 3 m/s: the stop's row at t1 = v0 / (g (sin + mu cos)), friction
 #    -mu m g cos(alpha) before it and +mu m g cos(alpha) after (sliding back), stuck = 0 always;
 #  - the header names friction_slide [N] and stuck, the summary lists the stuck intervals;
-#  - --friction maybe, and --friction on with --drive: exit 2, one line, no CSV.
+#  - driven up the slope at 1 m/s: lambda_s_slide = m g (sin + mu cos), friction_slide =
+#    -mu m g cos(alpha), to 1e-9 (its column after rcond);
+#  - --friction maybe: exit 2, one line, no CSV.
 # Usage: simulate_friction_test.sh <incline_friction_simulate> <out dir>
 set -u
 sim=$1
@@ -50,8 +52,21 @@ awk -F, 'BEGIN { a = 9.81 * (0.5 + 0.3 * sqrt(0.75)); t1 = 3 / a; fn = 0.3 * 2 *
          END { if (!found) { print "no row at the stop t1 = " t1; exit 1 } }' "$out/up.csv" \
   || fail "the launched block's friction or stop"
 
+# Driven up the slope at 1 m/s: lambda = m g (sin alpha + mu cos alpha), the friction force
+# -mu m g cos(alpha) (down the slope) in its column; the balance constant.
+"$sim" --t-end 1 --dt 0.01 --set mu=0.3 --drive s_slide=speed:1 --csv "$out/driven.csv" > "$out/driven.txt" 2>&1 \
+  || fail "driven run exited $? ($(cat "$out/driven.txt"))"
+grep -q "Coulomb friction in the actuator forces" "$out/driven.txt" || fail "driven summary: $(cat "$out/driven.txt")"
+header=$(awk '!/^#/ { print; exit }' "$out/driven.csv")
+echo "$header" | grep -q ',lambda_s_slide,balance,rcond,friction_slide,' || fail "driven header: $header"
+awk -F, 'BEGIN { l = 2 * 9.81 * (0.5 + 0.3 * sqrt(0.75)); fn = -0.3 * 2 * 9.81 * sqrt(0.75) }
+         /^#/ { next } ++line == 1 { for (i = 1; i <= NF; ++i) c[$i] = i; next }
+         { e = $c["lambda_s_slide"] - l; if (e < 0) e = -e; if (e > 1e-9) { print "lambda " $c["lambda_s_slide"] " at t = " $1 ", expected " l; exit 1 }
+           e = $c["friction_slide"] - fn; if (e < 0) e = -e; if (e > 1e-9) { print "friction " $c["friction_slide"] " at t = " $1; exit 1 } }
+         END { if (line != 102) { print line - 1 " rows"; exit 1 } }' "$out/driven.csv" || fail "the driven block's actuator force"
+
 name=$(basename "$sim")
-for args in "--friction maybe" "--friction on --drive s_slide=speed:1"; do
+for args in "--friction maybe"; do
   rm -f "$out/usage.csv"
   # shellcheck disable=SC2086
   "$sim" $args --t-end 1 --csv "$out/usage.csv" > /dev/null 2> "$out/usage.err"

@@ -13,8 +13,9 @@
  * s^2); T, V, E = T + V, W_nc (J); Q_<q> (N m or N); with Coulomb friction friction_<joint>
  * and stuck; the reactions with the inertia forces (kinetostatics: the force and moment of
  * each joint's first link on its second, fixed frame) and F_<joint>_mag at each revolute
- * joint. A driven run has W_act, lambda_<q> per driven input, balance and rcond in place of
- * the friction columns.
+ * joint (several inputs: stuck_<joint> per friction joint in place of stuck). A driven run has
+ * W_act, lambda_<q> per driven input, balance and rcond, then with Coulomb friction (every
+ * input driven) friction_<joint>, before the reactions.
  */
 #pragma once
 
@@ -156,8 +157,32 @@ void AddFrictionColumns(table::Builder<CsvRow<SampleT>>* add, bool coulomb) {
                             : "Coulomb friction torque on the joint's second link by its first, CCW +",
                   [J](const Row& r) { return r.s->friction(J); });
     }
-    add->Number("stuck", "1", "1: held at rest by static friction (q_dot = q_ddot = 0); 0: moving",
-                [](const Row& r) { return r.s->stuck ? 1.0 : 0.0; });
+    if constexpr (M::kNq == 1) {
+      add->Number("stuck", "1", "1: held at rest by static friction (q_dot = q_ddot = 0); 0: moving",
+                  [](const Row& r) { return r.s->stuck ? 1.0 : 0.0; });
+    } else {
+      // Several inputs: each joint's own flag (a stuck joint holds its input at rest).
+      for (int J = 0; J < CoulombFeatures<M>::kNumFriction; ++J)
+        add->Number(std::string("stuck_") + M::kFrictionJoints[J], "1",
+                    "1: the joint held at relative rest by static friction (its input's speed 0); 0: slipping",
+                    [J](const Row& r) { return r.s->joint_stuck[J] ? 1.0 : 0.0; });
+    }
+  }
+}
+
+// Coulomb friction of a driven run (PrescribedDynamics::kHasDrivenFriction): friction_<joint>
+// per friction joint, included in lambda.
+template <class M, class SampleT>
+void AddDrivenFrictionColumns(table::Builder<CsvRow<SampleT>>* add) {
+  using Row = CsvRow<SampleT>;
+  for (int J = 0; J < CoulombFeatures<M>::kNumFriction; ++J) {
+    const bool prismatic = M::kFrictionPrismatic[J];
+    add->Number(std::string("friction_") + M::kFrictionJoints[J], prismatic ? "N" : "N m",
+                prismatic ? "Coulomb friction force on the slider along the slide's +u, opposing the driven "
+                            "relative motion (0 at relative rest); in lambda"
+                          : "Coulomb friction torque on the joint's second link by its first, CCW +, opposing "
+                            "the driven relative motion (0 at relative rest); in lambda",
+                [J](const Row& r) { return r.s->friction(J); });
   }
 }
 
@@ -180,7 +205,7 @@ table::Columns<CsvRow<SampleT>> FreeColumns(bool coulomb) {
 // The CSV of a run with NP inputs driven: t, q, q_dot, q_ddot, T, V, E, W_nc, W_act, Q,
 // lambda per driven input, balance, rcond, the reactions and |F| of each revolute joint.
 template <class M, class SampleT, int NP>
-table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>& prescribed) {
+table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>& prescribed, bool coulomb = false) {
   using Row = CsvRow<SampleT>;
   table::Columns<Row> columns;
   table::Builder<Row> add(&columns);
@@ -198,6 +223,7 @@ table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>& prescri
              [](const Row& r) { return double(r.s->Balance()); });
   add.Number("rcond", "1", "1/cond_1(Phi_phi) (the run stops below 1e-6)",
              [](const Row& r) { return double(r.s->rcond); });
+  if (coulomb) AddDrivenFrictionColumns<M, SampleT>(&add);
   AddReactionColumns<M, SampleT>(&add);
   AddMagnitudeColumns<M, SampleT>(&add);
   return columns;
