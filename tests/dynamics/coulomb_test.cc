@@ -249,6 +249,55 @@ TEST(Coulomb, PushedBlockSticksAndSlipsWithoutChattering) {
   }
 }
 
+// A breakaway shorter than a stuck step: the block on a level track stuck from rest while the
+// push F0 sin(w t) stays below the bound B = mu m g, every step's end sampled (sample_dt = 0)
+// and no stick_step, so the stuck steps grow tenfold each (nothing moves) and one of them
+// spans the whole window where |F| > B; its stages see the breakaway, which is located at
+// t_b = asin(B / F0) / w (closed form) although the step's end is stuck again.
+TEST(Coulomb, BriefBreakawayWithinAStuckStep) {
+  mech::incline_friction::Params<double> p;
+  p.alpha = 0;
+  p.mu = 0.3;
+  p.F0 = 6.5;
+  p.w = 2;
+  const double B = p.mu * p.m * p.g;
+  const double t_b = std::asin(B / p.F0) / p.w;
+  dyn::MinimalOptions o;
+  o.integrator.rtol = 1e-11;
+  o.integrator.atol = 1e-13;
+  o.sample_dt = 0;
+  dyn::MinimalDynamics<Incline> sim(p, o);
+  Eigen::Matrix<double, 1, 1> q, qd;
+  q(0) = 0;
+  qd(0) = 0;
+  ASSERT_TRUE(sim.Initialize(q));
+  std::vector<dyn::Sample<Incline>> samples;
+  dyn::MinimalSummary s;
+  sim.Simulate(
+      0.0, q, qd, 1.2,
+      [&](const dyn::Sample<Incline>& x) {
+        samples.push_back(x);
+        return true;
+      },
+      &s);
+  ASSERT_EQ(s.status, dyn::Status::kSuccess) << dyn::FormatSummary(s);
+  // The stuck steps from rest: 1e-6, then tenfold, so the one from 0.111 s ends at 1.111 s,
+  // past the window (t_b, (pi - asin(B / F0)) / w = 1.004 s) and stuck again there: only its
+  // stages (at 0.2, 0.3, 0.8, 0.89 of it) see |F| > B. The transition's row follows that step's
+  // start directly.
+  ::Run<Incline> r;
+  r.samples = samples;
+  const auto t = Transitions(r);
+  ASSERT_GE(t.size(), 1u) << "the breakaway was missed";
+  EXPECT_NEAR(t[0], t_b, 1e-9);
+  size_t i_b = 0;
+  while (samples[i_b].t < t[0]) ++i_b;
+  const double t_step = samples[i_b - 1].t;
+  std::printf("brief breakaway: at %.12g s (closed form %.12g s), in the stuck step from %.9g s\n", t[0], t_b, t_step);
+  EXPECT_LT(t_step, 0.12);
+  EXPECT_GT(t_step + 10 * (t_step - samples[i_b - 2].t), (kPi - std::asin(B / p.F0)) / p.w);
+}
+
 // The chattering guard: transitions closer than CoulombOptions::min_interval end the run after
 // max_chattering of them (here every transition of the pushed block counts), with a status and
 // a message, never a loop without end; every sample finite.

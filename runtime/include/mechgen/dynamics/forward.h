@@ -748,6 +748,7 @@ class MinimalDynamics {
         friction_failed_ = true;
         return false;
       }
+      if (std::abs(d->Q(0)) > b.bound) breakaway_seen_ = std::min(breakaway_seen_, t);
       Friction::Holding(d->Q(0), b, fs);
       d->Q(0) += fs->Q_friction;
       d->P_nc = 0;
@@ -854,6 +855,11 @@ class MinimalDynamics {
     const VecQ Q_f = K.transpose() * fs->f;
     d->Q += Q_f;
     d->P_nc += Q_f.dot(qd);
+    for (int J = 0; J < kNumFriction; ++J) {
+      const bool past = joints_.stuck[J] ? std::abs(fs->f(J)) > B(J)
+                                         : B(J) != 0 && !(joints_.dir[J] * K.row(J).dot(qd) > 0);
+      if (past) breakaway_seen_ = std::min(breakaway_seen_, t);
+    }
     fs->Q_friction = 0;
     fs->bound = std::numeric_limits<double>::quiet_NaN();
     if (bound != nullptr) *bound = B;
@@ -1066,6 +1072,11 @@ class MinimalDynamics {
     }
   }
 
+  /// The earliest time an evaluation of this step saw a mode's margin crossed (one input,
+  /// stuck: |Q0| > B; several: a joint's margin <= 0), +inf if none: the event loop checks it
+  /// where the step's end does not show a transition.
+  void BeginFrictionStep() { breakaway_seen_ = std::numeric_limits<double>::infinity(); }
+  double BreakawaySeen() const { return breakaway_seen_; }
   bool CoulombActive() const { return coulomb_active_; }
   bool Stuck() const {
     if constexpr (kNq > 1) return joints_.AnyStuck();
@@ -1219,6 +1230,7 @@ class MinimalDynamics {
   bool initialized_ = false, last_solve_not_assemblable_ = false, singular_inertia_ = false;
   bool coulomb_active_ = false, stuck_ = false, friction_failed_ = false;
   double slip_dir_ = 1;
+  double breakaway_seen_ = std::numeric_limits<double>::infinity();
   JointModes<kNumFriction> joints_;                  ///< several inputs: each joint's mode
   std::array<double, kNumFriction> stuck_since_{};  ///< ... and when it stuck
 };

@@ -530,6 +530,7 @@ struct EventLoop {
           if (limit > integrator.t()) t_stop = std::isnan(t_stop) ? limit : std::min(t_stop, limit);
         }
       }
+      if constexpr (HasCoulombHooks<P>::value) sim->BeginFrictionStep();
       is = integrator.Step(f, t_stop);
       if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
       double t = integrator.t();
@@ -612,12 +613,29 @@ struct EventLoop {
             const double t_start = integrator.t_prev();
             double g_end = 0;
             int joint = -1;
+            const double t_seen = sim->BreakawaySeen();  // a stage's margin <= 0, before the end's check
             if (!sim->FrictionMargin(t, integrator.y(), &g_end, &joint)) {
               summary->message = "the friction loads did not converge at a step's end";
               return finish(Status::kFrictionFailed, t);
             }
+            double t_high = t;
+            if (g_end > 0 && t_seen > t_start && t_seen < t) {
+              // A stage saw a joint's margin fall to 0 that the step's end does not show (a
+              // brief breakaway, or a relative velocity through zero and back): checked on
+              // the dense output there.
+              State ys;
+              double gs = 0;
+              if (!integrator.Dense(f, t_seen, &ys) || !sim->FrictionMargin(t_seen, ys, &gs, &joint)) {
+                summary->message = "the friction loads did not converge where a joint's mode changes";
+                return finish(Status::kFrictionFailed, t_seen);
+              }
+              if (gs <= 0) {
+                g_end = gs;
+                t_high = t_seen;
+              }
+            }
             if (g_end <= 0) {
-              double ta = t_start, tb = t;
+              double ta = t_start, tb = t_high;
               for (int it = 0; it < 200 && tb - ta > o.event_tolerance; ++it) {
                 const double tm = 0.5 * (ta + tb);
                 if (!(tm > ta && tm < tb)) break;
@@ -697,9 +715,27 @@ struct EventLoop {
               summary->message = "the friction at rest did not converge while stuck";
               return finish(Status::kFrictionFailed, t);
             }
+            // A breakaway that a stage of the step saw (the stages evaluate the holding load
+            // and the bound at their times) but the step's end does not: the load rose above
+            // the bound and fell back within the step. Looked for up to that stage.
+            double t_high = t;
+            const double t_seen = sim->BreakawaySeen();
+            if (stuck_end && t_seen > t_start && t_seen < t) {
+              bool stuck_seen = true;
+              double e_seen = 1;
+              if (!sim->DecideAtRest(t_seen, integrator.y().template head<P::kNq>(), &stuck_seen, &e_seen)) {
+                summary->message = "the friction at rest did not converge while stuck";
+                return finish(Status::kFrictionFailed, t_seen);
+              }
+              if (!stuck_seen) {
+                stuck_end = false;
+                e_end = e_seen;
+                t_high = t_seen;
+              }
+            }
             if (!stuck_end) {
               // The breakaway: bisection on the decision at rest (the state does not move).
-              double ta = t_start, tb = t;
+              double ta = t_start, tb = t_high;
               for (int it = 0; it < 200 && tb - ta > o.event_tolerance; ++it) {
                 const double tm = 0.5 * (ta + tb);
                 if (!(tm > ta && tm < tb)) break;
