@@ -36,6 +36,7 @@
 #include "mechgen/dynamics/prescribed.h"
 #include "pendulum.h"
 #include "pendulum_friction.h"
+#include "slider_crank_coulomb.h"
 #include "two_pendulums_friction.h"
 
 namespace {
@@ -643,6 +644,95 @@ TEST(Coulomb, DrivenBlockActuatorForce) {
     ASSERT_EQ(summary.status, dyn::Status::kSuccess) << dyn::FormatSummary(summary);
     const double lambda = p.m * p.g * (std::sin(p.alpha) + (v > 0 ? 1 : -1) * p.mu * std::cos(p.alpha));
     for (const auto& s : samples) EXPECT_NEAR(s.lambda(0), lambda, 1e-12) << v << " t = " << s.t;
+  }
+}
+
+// A closed loop: the slider-crank with friction at O, B, C (mu r on the pin forces) and the
+// slide (mu_s |N|), gravity and a gas force P on the slider, its crank driven at a constant
+// speed w (both ways). The oracle: the Newton-Euler balance of the crank, the rod and the
+// slider by hand (slider-crank kinematics in closed form; unknowns F_O, F_B, F_C, N, the
+// slide's moment and the motor torque: a 9 x 9 solve, iterated on the friction loads, which
+// depend on the pin forces), and the energy balance: motor work = dE + the friction's work
+// sum |f_J| |w_rel,J| (trapezoids over the samples).
+TEST(Coulomb, DrivenSliderCrankAgainstFreeBodies) {
+  using SC = mech::slider_crank_coulomb::Model;
+  mech::slider_crank_coulomb::Params<double> p;
+  p.P = 200;
+  for (double w : {12.0, -7.0}) {
+    dyn::PrescribedSummary summary;
+    const double th0 = 30 * kPi / 180;
+    const auto samples = Driven<SC>(p, dyn::ConstantSpeedLaw{th0, w, 0.0}, 2 * kPi / std::abs(w), 1e-3, &summary);
+    ASSERT_EQ(summary.status, dyn::Status::kSuccess) << dyn::FormatSummary(summary);
+    EXPECT_TRUE(summary.coulomb);
+    double work = 0, dissipated = 0, prev_power = 0, prev_loss = 0, worst = 0;
+    for (size_t i = 0; i < samples.size(); ++i) {
+      const auto& s = samples[i];
+      // Kinematics by hand: a sin th + b sin be = e; x = a cos th + b cos be.
+      const double th = s.q(0), c = std::cos(th), sn = std::sin(th);
+      const double be = std::asin((p.e - p.a * sn) / p.b), cb = std::cos(be), sb = std::sin(be);
+      const double bd = -p.a * c * w / (p.b * cb);
+      const double bdd = (p.a * sn * w * w + p.b * sb * bd * bd) / (p.b * cb);
+      const double xd = -p.a * sn * w - p.b * sb * bd;
+      const double xdd = -p.a * c * w * w - p.b * cb * bd * bd - p.b * sb * bdd;
+      const Eigen::Vector2d rO(0, 0), rB(p.a * c, p.a * sn), rC(p.a * c + p.b * cb, p.e);
+      const Eigen::Vector2d G1 = 0.5 * rB, G2 = 0.5 * (rB + rC);
+      const Eigen::Vector2d aG1 = -0.5 * p.a * w * w * Eigen::Vector2d(c, sn);
+      const Eigen::Vector2d aG2 = -p.a * w * w * Eigen::Vector2d(c, sn) +
+                                  0.5 * p.b * (bdd * Eigen::Vector2d(-sb, cb) - bd * bd * Eigen::Vector2d(cb, sb));
+      auto cross = [](const Eigen::Vector2d& r, int col_x, Eigen::Matrix<double, 9, 9>* A, int row, double sign) {
+        (*A)(row, col_x) += -sign * r.y();
+        (*A)(row, col_x + 1) += sign * r.x();
+      };
+      // Relative angular velocities (second link minus first): O crank, B rod - crank, C -rod.
+      const double wO = w, wB = bd - w, wC = -bd;
+      auto sgn = [](double v) { return v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0); };
+      double fO = 0, fB = 0, fC = 0, fs = 0;
+      Eigen::Matrix<double, 9, 1> x = Eigen::Matrix<double, 9, 1>::Zero();
+      for (int it = 0; it < 60; ++it) {
+        // x = [F_Ox, F_Oy, F_Bx, F_By, F_Cx, F_Cy, N, M_s, lambda]
+        Eigen::Matrix<double, 9, 9> A = Eigen::Matrix<double, 9, 9>::Zero();
+        Eigen::Matrix<double, 9, 1> rhs;
+        A(0, 0) = 1, A(0, 2) = -1, rhs(0) = p.m1 * aG1.x();
+        A(1, 1) = 1, A(1, 3) = -1, rhs(1) = p.m1 * aG1.y() + p.m1 * p.g;
+        cross(rO - G1, 0, &A, 2, 1), cross(rB - G1, 2, &A, 2, -1), A(2, 8) = 1, rhs(2) = -fO + fB;
+        A(3, 2) = 1, A(3, 4) = -1, rhs(3) = p.m2 * aG2.x();
+        A(4, 3) = 1, A(4, 5) = -1, rhs(4) = p.m2 * aG2.y() + p.m2 * p.g;
+        cross(rB - G2, 2, &A, 5, 1), cross(rC - G2, 4, &A, 5, -1), rhs(5) = p.J2 * bdd - fB + fC;
+        A(6, 4) = 1, rhs(6) = p.m3 * xdd - fs + p.P;
+        A(7, 5) = 1, A(7, 6) = 1, rhs(7) = p.m3 * p.g;
+        A(8, 7) = 1, rhs(8) = -fC;
+        x = A.fullPivLu().solve(rhs);
+        fO = -p.mu * p.r * std::hypot(x(0), x(1)) * sgn(wO);
+        fB = -p.mu * p.r * std::hypot(x(2), x(3)) * sgn(wB);
+        fC = -p.mu * p.r * std::hypot(x(4), x(5)) * sgn(wC);
+        fs = -p.mu_s * std::abs(x(6)) * sgn(xd);
+      }
+      const double lambda = x(8);
+      EXPECT_NEAR(s.lambda(0), lambda, 1e-9 * (1 + std::abs(lambda))) << "w " << w << " t = " << s.t;
+      EXPECT_NEAR(s.friction(0), fO, 1e-10) << s.t;
+      EXPECT_NEAR(s.friction(1), fB, 1e-10) << s.t;
+      EXPECT_NEAR(s.friction(2), fC, 1e-10) << s.t;
+      EXPECT_NEAR(s.friction(3), fs, 1e-9) << s.t;
+      worst = std::max(worst, std::abs(s.lambda(0) - lambda));
+      const double power = s.lambda(0) * w - p.P * -xd;  // the motor's and the gas force's (P along -x)
+      const double loss = std::abs(fO * wO) + std::abs(fB * wB) + std::abs(fC * wC) + std::abs(fs * xd);
+      if (i > 0) {
+        const double dt = s.t - samples[i - 1].t;
+        work += 0.5 * (power + prev_power) * dt;
+        dissipated += 0.5 * (loss + prev_loss) * dt;
+      }
+      prev_power = power;
+      prev_loss = loss;
+    }
+    const double dE = samples.back().E - samples.front().E;
+    std::printf("driven slider-crank, w = %g rad/s: max |lambda - free bodies| = %.3g N m; a turn: work %.9g J = "
+                "dE %.3g J + friction %.9g J (residual %.3g J)\n",
+                w, worst, work, dE, dissipated, work - dE - dissipated);
+    EXPECT_GT(dissipated, 1.0);
+    // The trapezoids' error over 1 ms steps (the friction loads jump where a relative velocity
+    // changes sign: one step's worth of error each) is ~1e-5 of the work.
+    EXPECT_NEAR(work, dE + dissipated, 1e-4 * dissipated);
+    EXPECT_NEAR(samples.back().Balance(), samples.front().Balance(), 1e-9 * (std::abs(work) + dissipated));
   }
 }
 
