@@ -30,6 +30,23 @@
  * -Q0 / K_rel; several: each at the same fraction of its bound, one choice among the
  * statically indeterminate ones).
  *
+ * Several inputs (kNq > 1, Mixed()): each joint has its own mode (JointModes): slipping with
+ * the sign dir_J of its relative velocity K_rel_J qd (held while it slips: f_J = -gain_J
+ * normal_J dir_J), or stuck, holding the one input its relative motion is (K_rel_J = k e_i):
+ * q_i held (qd_i = qdd_i = 0), the other inputs free, I_ff qdd_f = b_f with b = Q - h + the
+ * slipping joints' K_rel^T f, and the holding load f_J = (I_i. qdd - b_i) / k, within the
+ * bound gain_J normal_J. The loads, the holding ones included, are iterated on the
+ * kinetostatics as Slip() does. The decision where a joint reaches relative rest (forward.h,
+ * DecideJoints) is made for it and every stuck joint together: all stuck, then released one
+ * at a time (the largest |f_J| / bound_J > 1 first, slipping against its holding load) until
+ * all hold, a released one whose slip would at once stop (dir_J K_rel_J qdd <= 0) stuck for
+ * good. Not simulated: the stick of a joint whose relative velocity combines several inputs
+ * (a status naming the joint).
+ *
+ * Driven (Prescribed(), every input driven: q, qd, qdd given): f_J = -gain_J normal_J
+ * sign(K_rel_J qd) iterated on the kinetostatics at the motion; 0 at a joint's relative rest,
+ * where it is indeterminate within +-gain_J normal_J (the actuator holds the whole load).
+ *
  * Units and signs: f_J is the friction torque on the joint's second link by its first (a pin,
  * N m, counter-clockwise +) or the friction force on the slider along the slide's +u (N), as
  * the generated statics' friction loads (statics/types.h). Nothing allocates; nothing throws.
@@ -51,9 +68,9 @@ namespace mechgen::dynamics {
 /// Coulomb friction of the free simulation (MinimalOptions::coulomb).
 struct CoulombOptions {
   /// Simulate the model's Coulomb friction (its friction joints with a coefficient, at the
-  /// run's parameters). No effect on a model without Coulomb friction (every gain 0), with
-  /// several inputs (not supported: MinimalSummary::message says so) or with a caller's Load
-  /// (whose forces the reactions would miss).
+  /// run's parameters). No effect on a model without Coulomb friction (every gain 0) or with
+  /// a caller's Load (whose forces the reactions would miss: MinimalSummary::message says so).
+  /// PrescribedOptions::coulomb: the same for a driven run (max_iterations, tolerance).
   bool enabled = true;
   /// The slip's fixed-point iteration: at most max_iterations kinetostatic evaluations;
   /// converged when max |f_k - f_(k-1)| <= tolerance max |f_k|.

@@ -357,7 +357,15 @@ inline bool SampleGridIsUsable(double t0, double t_end, double sample_dt, int ma
  * (Integrator::Restart) in the new mode and the sample there is handed out (off the grid:
  * every transition has its row). Chattering guard: a transition within
  * CoulombOptions::min_interval of the one before counts; max_chattering of them, or
- * max_transitions in all, end the run with Status::kFrictionFailed.
+ * max_transitions in all, end the run with Status::kFrictionFailed. A stuck step whose end
+ * stays stuck but one of whose stages saw the load above the bound (P::BreakawaySeen) has the
+ * breakaway looked for up to that stage.
+ *
+ * Several inputs (kNq > 1): each joint's margin (slipping: dir_J K_rel_J qd; stuck: its bound
+ * minus |f_J|), their minimum checked at the step's end (and at a stage that saw it <= 0); the
+ * first time it is <= 0 bisected on the dense output to event_tolerance; there the joints at
+ * relative rest and the stuck ones are decided together (P::ResolveJoints, forward.h), the
+ * held inputs' speeds set 0, and the integrator restarts as above.
  */
 struct EventLoop {
   template <class P, class Summary, class Observer, class UserEvent>
