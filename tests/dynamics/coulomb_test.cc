@@ -736,6 +736,61 @@ TEST(Coulomb, DrivenSliderCrankAgainstFreeBodies) {
   }
 }
 
+// The engine's gas load with friction: the gas pressure written in the model over the 720 deg
+// cycle (a table at mod(theta_crank, 4 pi), as tests/engine's engine_gas_expression), so that
+// the reactions, and the friction on them, carry it (engine::GasLoad, a caller's load, cannot
+// be simulated with friction). Free motion from rest just after firing TDC against a load
+// torque; the oracle is the energy balance with the test's own pressure interpolation and
+// slider-crank kinematics: dE = integral (M w - (P + A p(a)) x_dot - sum |f_J| |w_rel,J|) dt.
+TEST(Coulomb, GasLoadWithFrictionEnergyBalance) {
+  using SC = mech::slider_crank_coulomb::Model;
+  mech::slider_crank_coulomb::Params<double> p;
+  p.A = 4e-4;  // 1400 N at firing TDC, 2000 N at its peak
+  p.M = -1.0;
+  p.J1 = 0.1;  // a flywheel, to carry the crank through the other three strokes
+  const double kDeg = kPi / 180;
+  const std::vector<double> xa = {0, 15, 40, 90, 180, 190, 360, 540, 560, 630, 690, 720};
+  const std::vector<double> ya = {3.5e6, 5.0e6, 3.0e6, 1.2e6, 3.0e5, 5.0e4, 1.0e4, -2.0e4, 0, 1.5e5, 8.0e5, 3.5e6};
+  auto pressure = [&](double th) {
+    double a = std::fmod(th, 4 * kPi);
+    if (a < 0) a += 4 * kPi;
+    for (size_t i = 0; i + 1 < xa.size(); ++i)
+      if (a <= xa[i + 1] * kDeg) return ya[i] + (ya[i + 1] - ya[i]) * (a - xa[i] * kDeg) / ((xa[i + 1] - xa[i]) * kDeg);
+    return ya.back();
+  };
+  const double dt = 1e-4;
+  const auto r = Simulate<SC>(p, 10 * kDeg, 0.0, 1.0, dt);
+  ASSERT_EQ(r.summary.status, dyn::Status::kSuccess) << dyn::FormatSummary(r.summary);
+  EXPECT_TRUE(r.summary.coulomb);
+  double work = 0, dissipated = 0, prev_power = 0, prev_loss = 0;
+  for (size_t i = 0; i < r.samples.size(); ++i) {
+    const auto& s = r.samples[i];
+    const double th = s.q(0), w = s.qd(0), c = std::cos(th), sn = std::sin(th);
+    const double be = std::asin((p.e - p.a * sn) / p.b);
+    const double bd = -p.a * c * w / (p.b * std::cos(be));
+    const double xd = -p.a * sn * w - p.b * std::sin(be) * bd;
+    const double power = p.M * w - (p.P + p.A * pressure(th)) * xd;
+    const double loss = std::abs(s.friction(0) * w) + std::abs(s.friction(1) * (bd - w)) +
+                        std::abs(s.friction(2) * bd) + std::abs(s.friction(3) * xd);
+    if (i > 0) {
+      const double h = s.t - r.samples[i - 1].t;
+      work += 0.5 * (power + prev_power) * h;
+      dissipated += 0.5 * (loss + prev_loss) * h;
+    }
+    prev_power = power;
+    prev_loss = loss;
+  }
+  const double dE = r.samples.back().E - r.samples.front().E;
+  std::printf("gas load with friction: crank at %.6g rad after 1 s; dE %.9g J = work %.9g J - friction %.9g J "
+              "(residual %.3g J); %s\n",
+              r.samples.back().q(0), dE, work, dissipated, dE - work + dissipated, dyn::FormatSummary(r.summary).c_str());
+  EXPECT_GT(dissipated, 0.5);
+  EXPECT_GT(r.samples.back().q(0), 4 * kPi);  // it ran a cycle at least
+  EXPECT_NEAR(dE, work - dissipated, 1e-4 * (std::abs(work) + dissipated));
+  // The runtime's W (the integral of P_nc: the torque's, the gas force's and the friction's).
+  EXPECT_NEAR(r.samples.back().W, work - dissipated, 1e-4 * (std::abs(work) + dissipated));
+}
+
 // Every coefficient 0: the driven run is the frictionless pendulum's to the last bit; and a
 // driven run with free inputs leaves the friction out and says so.
 TEST(Coulomb, DrivenZeroMuAndFreeInputs) {
