@@ -18,7 +18,12 @@
 //  - mu = 0: the run is the frictionless pendulum's (pendulum.yaml) to the last bit;
 //  - two inputs (two_pendulums_friction.yaml, friction at both pins): the coupled run equals
 //    two single-pendulum runs, one pendulum stuck while the other swings; all mu = 0: the
-//    frictionless run to the last bit;
+//    frictionless run to the last bit; a joint whose relative motion combines both inputs (a
+//    wrapper of the kinetostatics) ends the run at its relative rest with a status naming it;
+//  - a brief breakaway inside one stuck step, seen by its stages, at the closed-form time;
+//  - the slider-crank with friction at every joint (slider_crank_coulomb.yaml) driven both
+//    ways against the Newton-Euler balance of its links, and running free on a 720 deg gas
+//    load written in the model, against the energy balance;
 //  - driven runs (prescribed.h): the motor torque of a pendulum at constant speed and through a
 //    rest-to-rest move by the free body of the arm with the friction torque mu r |F_O| and by
 //    the energy balance (motor work = dE + friction work), the block's actuator force on the
@@ -29,6 +34,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "incline_friction.h"
@@ -521,6 +527,63 @@ TEST(Coulomb, SeveralInputsAreTwoSinglePendulums) {
       EXPECT_EQ(coupled[i].q(0), coupled[i - 1].q(0));
       EXPECT_EQ(coupled[i].qd(0), 0.0);
     }
+}
+
+// A joint whose relative motion combines two inputs: the two pendulums with the friction joint
+// O1 made to see w1 + w2 (its K_rel row (1, 1), a wrapper of the generated kinetostatics: a
+// pin between the arms' rotations, loaded by O1's pin force). It slips as any joint, but where
+// its relative velocity reaches zero its stick is not simulated: the run ends with
+// kFrictionFailed naming the joint, every sample before finite.
+struct TwoPendulumsCoupledJoint : mech::two_pendulums_friction::Model {
+  template <typename Scalar, class... Rest>
+  static void Kinetostatics(const mech::two_pendulums_friction::Params<Scalar>& p,
+                            const Eigen::Matrix<Scalar, 2, 1>& q, const Eigen::Matrix<Scalar, 0, 1>& phi,
+                            const Eigen::Matrix<Scalar, 2, 1>& qd, const Eigen::Matrix<Scalar, 2, 1>& qdd,
+                            const Scalar& t, const mech::two_pendulums_friction::Coefficients<Scalar>& c,
+                            mech::two_pendulums_friction::Statics<Scalar>* out, Rest... rest) {
+    // The friction loads' generalized forces through the wrapped K_rel: K_rel^T f on both.
+    Eigen::Matrix<Scalar, 2, 1> f = Eigen::Matrix<Scalar, 2, 1>::Zero();
+    if constexpr (sizeof...(Rest) > 0) {
+      const auto* given = std::get<0>(std::make_tuple(rest...));
+      if (given != nullptr) f = *given;
+    }
+    Eigen::Matrix<Scalar, 2, 1> f_own = f;
+    mech::two_pendulums_friction::Model::Kinetostatics<Scalar>(p, q, phi, qd, qdd, t, c, out, &f_own);
+    out->Q(1) += f(0);  // O1's load acts on the second input too
+    out->drive(1) = -out->Q(1);
+    out->K_rel(0, 1) = Scalar(1);
+  }
+};
+
+TEST(Coulomb, SeveralInputsRefuseTheStickOfACombinedJoint) {
+  using M2 = TwoPendulumsCoupledJoint;
+  mech::two_pendulums_friction::Params<double> p;
+  p.mu2 = 0;
+  dyn::MinimalOptions o;
+  o.sample_dt = 0.01;
+  dyn::MinimalDynamics<M2> sim(p, o);
+  Eigen::Vector2d q(0.0, -1.0), qd(2.0, 0.0);  // w1 + w2 = 2 at first
+  ASSERT_TRUE(sim.Initialize(q));
+  dyn::MinimalSummary s;
+  bool finite = true;
+  int samples = 0;
+  sim.Simulate(
+      0.0, q, qd, 5.0,
+      [&](const dyn::Sample<M2>& x) {
+        ++samples;
+        finite = finite && x.q.allFinite() && x.qd.allFinite() && x.friction.allFinite();
+        return true;
+      },
+      &s);
+  EXPECT_EQ(s.status, dyn::Status::kFrictionFailed) << dyn::FormatSummary(s);
+  EXPECT_EQ(std::string(s.friction_joint), "O1");
+  EXPECT_NE(dyn::FormatSummary(s).find("(joint 'O1')"), std::string::npos) << dyn::FormatSummary(s);
+  EXPECT_NE(std::string(s.message).find("not one input's alone"), std::string::npos) << s.message;
+  std::printf("combined joint: %s\n", dyn::FormatSummary(s).c_str());
+  EXPECT_GT(s.t_end, 0.0);
+  EXPECT_LT(s.t_end, 5.0);
+  EXPECT_GT(samples, 2);
+  EXPECT_TRUE(finite);
 }
 
 // Several inputs with every coefficient 0: the run is the frictionless one to the last bit.
