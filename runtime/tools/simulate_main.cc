@@ -227,9 +227,9 @@ int ParseArgs(int argc, char** argv, const std::string& model, Args* a) {
   app.add_flag("--stop-at-speed-zero", a->stop_at_speed_zero,
                "stop where the first input's speed changes sign");
   app.add_option("--friction", a->friction,
-                 "Coulomb friction of the model's friction joints in the free motion, with stick "
-                 "and slip: on or off (default: on where the model's `friction:` gives a "
-                 "coefficient)")
+                 "Coulomb friction of the model's friction joints: in the free motion with stick "
+                 "and slip, in a driven run (every input driven) in the actuator forces; on or off "
+                 "(default: on where the model's `friction:` gives a coefficient)")
       ->check(CLI::Validator(
           [](std::string& text) -> std::string {
             if (text == "on" || text == "off") return {};

@@ -44,6 +44,12 @@
  * 1/cond below approach_rcond and falling end the run there the same way.
  * Nothing allocates after construction; nothing throws.
  *
+ * Coulomb friction (PrescribedOptions::coulomb, kHasDrivenFriction: every input driven, no
+ * caller's forces): the friction loads at the driven motion (CoulombFriction::Prescribed,
+ * dynamics/friction.h: each opposing its joint's relative velocity, 0 at relative rest where
+ * it is indeterminate) are added to Q, their power to P_nc, and lambda includes them; the
+ * sample's `friction` holds them. With free inputs the run leaves them out and says so.
+ *
  * Motion laws (each a callable MotionState(double t)): ConstantSpeedLaw, RestToRestLaw
  * (3-4-5 polynomial or cycloidal), SplineLaw<N> (a cubic spline through a table; TableLaw when
  * the table's size is known at run time only); Drive<Laws...>
