@@ -95,6 +95,21 @@ start=$(date +%s.%N)
 end=$(date +%s.%N)
 cmp -s "$work/tool.csv" "$work/second.csv" || fail "cached CSV differs"
 awk -v a="$start" -v b="$end" 'BEGIN { exit !(b - a < 5) }' || fail "the cached run took $(echo "$end - $start" | bc) s"
+# The cached program was compiled with the source tree's runtime/tools as its tools directory
+# (-DMECHGEN_TOOLS_DIR): a copy of it in the installed layout above still runs the prefix's
+# (marked) script, which comes first.
+if command -v gnuplot > /dev/null; then
+  cached=$(find "$MECHGEN_CACHE_DIR/flywheel" -mindepth 2 -maxdepth 2 -type f -name flywheel | head -n 1)
+  [ -n "$cached" ] || fail "no cached flywheel program in $MECHGEN_CACHE_DIR/flywheel"
+  cp "$cached" "$prefix/bin/press_flywheel"
+  rm -f "$work/installed.csv.installed"
+  env -u MECHGEN_TOOLS_DIR "$prefix/bin/press_flywheel" --samples 360 --rpm 60 --no-check \
+    --csv "$work/installed.csv" --svg "$work/installed.svg" > "$work/installed.out" 2>&1 ||
+    fail "the installed copy of the cached program exited $?: $(cat "$work/installed.out")"
+  [ -f "$work/installed.csv.installed" ] ||
+    fail "the installed copy of the cached program ran the script of the tree it was built from"
+  grep -q '<svg' "$work/installed.svg" || fail "installed.svg is not an SVG"
+fi
 # --no-cache: built in a temporary directory, run, deleted; the cache untouched.
 entries_before=$(find "$MECHGEN_CACHE_DIR/flywheel" -mindepth 1 -maxdepth 1 | wc -l)
 "$mechgen" flywheel --no-cache "$work/models/press.yaml" --rpm 300 --cs 0.02 --samples 3600 \
