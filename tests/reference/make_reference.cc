@@ -174,6 +174,7 @@ class Reference {
               df_[i][static_cast<size_t>(a)].diff(GiNaC::ex_to<GiNaC::symbol>(x_[b]));
       }
     }
+    length_scale_ = LengthScale();
   }
 
   const mechgen::Model& model() const { return model_; }
@@ -354,9 +355,13 @@ class Reference {
                 int* crossings = nullptr) const {
     const numeric one(1);
     numeric t(0), h(1);
+    // Sub-steps of at most 1 deg in an angle, and in a length (a slide) its arc at the
+    // mechanism's size: 1 deg times the longest link.
     double max_dq = 0;
-    for (int j = 0; j < nq_; ++j)
-      max_dq = std::max(max_dq, std::fabs((q1[static_cast<size_t>(j)] - q0[static_cast<size_t>(j)]).to_double()));
+    for (int j = 0; j < nq_; ++j) {
+      const double dq = std::fabs((q1[static_cast<size_t>(j)] - q0[static_cast<size_t>(j)]).to_double());
+      max_dq = std::max(max_dq, kin_.q[static_cast<size_t>(j)].is_angle ? dq : dq / length_scale_);
+    }
     const double max_step = M_PI / 180;  // 1 deg
     if (max_dq > max_step) h = numeric(1) / numeric(static_cast<long>(std::ceil(max_dq / max_step)));
     Vector q = q0;
@@ -413,6 +418,7 @@ class Reference {
   mechgen::Model model_;
   mechgen::Kinematics kin_;
   int nq_ = 0, nphi_ = 0, nc_ = 0, np_ = 0;
+  double length_scale_ = 1;  // LengthScale(), once
   GiNaC::exmap params_;
   std::vector<ex> x_;                   // (q, phi) symbols
   std::vector<ex> f_;                   // Phi rows, then point coordinates
