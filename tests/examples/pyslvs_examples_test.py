@@ -401,6 +401,7 @@ def main():
                         px, py = position(row, link, x), position(row, link, y)
                         d = math.hypot(px[0] - py[0], px[1] - py[1])
                         d0 = math.hypot(drawn[x][0] - drawn[y][0], drawn[x][1] - drawn[y][1])
+                        worst = max(worst, abs(d - d0))
                         check(abs(d - d0) <= tol, f'{link}: |J{x}J{y}| = {d:.12g}, drawn {d0:.12g} at {where}')
         for j, (b, d) in enumerate(inputs):
             if b == d:  # a driven slot: q is the pin's travel along it
