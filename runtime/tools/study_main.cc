@@ -73,8 +73,9 @@ const char* MethodName(study::Method m) {
 const char* AnalysisName(study::Analysis a) {
   return a == study::Analysis::kStatics    ? "statics"
          : a == study::Analysis::kFlywheel ? "flywheel"
-         : a == study::Analysis::kSimulate ? "simulate"
-                                           : "sweep";
+         : a == study::Analysis::kSimulate  ? "simulate"
+         : a == study::Analysis::kPositions ? "positions"
+                                            : "sweep";
 }
 
 // The CSV: '#' lines (what wrote it, then each column's unit and meaning), the header, a row
@@ -89,6 +90,11 @@ void WriteCsv(const study::Study<Model>& s,
       << ", " << results.size() << " samples, seed " << spec.seed << ", analysis "
       << AnalysisName(spec.analysis) << " in " << spec.steps << " steps";
   if (spec.analysis == study::Analysis::kSimulate) out << " to t_end " << G17(spec.t_end) << " s";
+  if (!spec.drive.input.empty()) {
+    out << ", " << spec.drive.input << " driven (" << spec.drive.law;
+    for (double v : spec.drive.values) out << " " << G17(v);
+    out << ")";
+  }
   out << "\n";
   out << "# sample [1]: the sample's index, 0-based, in the study's order\n";
   for (const study::ParameterSpec& p : spec.parameters)
