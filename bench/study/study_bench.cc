@@ -157,6 +157,42 @@ void StudyPositionsMonteCarlo(benchmark::State& state) {
 }
 BENCHMARK(StudyPositionsMonteCarlo)->Arg(1000000)->Unit(benchmark::kMillisecond);
 
+// Its two parts apart: the draw of the 10^6 x 6 values (t_draw of the scaling model), and
+// Study::Run alone on values drawn once (the results' storage reused between iterations).
+void StudyDrawSixNormals(benchmark::State& state) {
+  const study::StudySpec spec = Spec(
+      "method: monte_carlo\ncount: 1000000\nanalysis: positions\nat: [60deg]\nparameters:\n  a: {tolerance: 0.01}\n"
+      "  b: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  d: {tolerance: 0.01}\n  xi: {tolerance: 0.01}\n"
+      "  eta: {tolerance: 0.01}\nmetrics:\n  - {kind: at, column: coupler.P.x, step: 0}\n");
+  const std::vector<double> nominal{1, 3.5, 3, 4, 0.5, 0.5};
+  for (auto _ : state) {
+    const std::vector<double> v = study::DrawSamples(spec, nominal);
+    benchmark::DoNotOptimize(v.data());
+  }
+}
+BENCHMARK(StudyDrawSixNormals)->Unit(benchmark::kMillisecond);
+
+void StudyPositionsRunOnly(benchmark::State& state) {
+  const study::StudySpec spec = Spec(
+      "method: monte_carlo\ncount: 1000000\nanalysis: positions\nat: [60deg]\nparameters:\n  a: {tolerance: 0.01}\n"
+      "  b: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  d: {tolerance: 0.01}\n  xi: {tolerance: 0.01}\n"
+      "  eta: {tolerance: 0.01}\nmetrics:\n  - {kind: at, column: coupler.P.x, step: 0}\n"
+      "  - {kind: at, column: coupler.P.y, step: 0}\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  if (!s.Prepare(spec, &error)) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+  std::vector<study::SampleResult> results;
+  for (auto _ : state) {
+    s.Run(v, 1, &results);
+    benchmark::DoNotOptimize(results.data());
+  }
+}
+BENCHMARK(StudyPositionsRunOnly)->Unit(benchmark::kMillisecond);
+
 // One sample of analysis: positions at 360 inputs (the cheap counterpart of StudySampleSweep).
 void StudySamplePositions(benchmark::State& state) {
   Sample<mech::fourbar::Model>(state,

@@ -185,6 +185,12 @@ class Ranks {
     (void)values;
 #endif
   }
+  // Returns when every rank has called it (times the gather apart from the wait for the slowest rank).
+  void Barrier() const {
+#ifdef MECHGEN_STUDY_MPI
+    if (size_ > 1) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+  }
   // Rank r > 0 sends `data`; rank 0 receives rank r's into *data (its size set by the caller).
   void Send(const std::vector<double>& data) const { Transfer(const_cast<double*>(data.data()), data.size(), 0, true); }
   void Receive(int from, std::vector<double>* data) const { Transfer(data->data(), data->size(), from, false); }
@@ -378,6 +384,10 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   s.RunChunks(values, chunks, mine, threads, &results, chunk_done, progress);
   // Rank 0 gathers the others' samples, rank by rank, in the order of their chunks.
   const auto gather_start = std::chrono::steady_clock::now();
+  // Every rank done with its part first: the gather's own cost (pack, transfer, unpack) is then
+  // timed apart from the wait for the slowest rank.
+  ranks.Barrier();
+  const auto transfer_start = std::chrono::steady_clock::now();
   if (ranks.size() > 1) {
     if (ranks.rank() > 0) {
       std::vector<double> data(my_samples * width);
@@ -399,11 +409,13 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     }
   }
   if (ranks.size() > 1)
-    std::printf("rank 0 ran %llu samples in %.3g s, then waited for and gathered %llu from %d ranks in %.3g s\n",
+    std::printf("rank 0 ran %llu samples in %.3g s, waited %.3g s for the other ranks, then gathered %llu from %d "
+                "ranks in %.3g s\n",
                 static_cast<unsigned long long>(my_samples),
                 std::chrono::duration<double>(gather_start - start).count(),
+                std::chrono::duration<double>(transfer_start - gather_start).count(),
                 static_cast<unsigned long long>(run_samples - my_samples), ranks.size() - 1,
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - gather_start).count());
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - transfer_start).count());
   if (!shard_error.empty()) std::cerr << "warning: " << shard_error << " (the study goes on; it cannot resume from it)\n";
   if (stopped) {
     std::printf("stopped by --stop-after: %llu of %llu samples are in the shards in %s; run the same command again "
