@@ -16,6 +16,9 @@
 
 #include "fourbar.h"
 #include "fourbar_loaded.h"
+#ifdef MECHGEN_STUDY_BENCH_MASSIVE
+#include "fourbar_massive.h"
+#endif
 #include "mechgen/study/random.h"
 #include "mechgen/study/run.h"
 #include "mechgen/study/samples.h"
@@ -126,6 +129,102 @@ void StudySampleFlywheel(benchmark::State& state) {
                               "  - {kind: peak_torque}\n");
 }
 BENCHMARK(StudySampleFlywheel)->Unit(benchmark::kMicrosecond);
+
+// analysis: positions through the study itself: a Monte-Carlo of 10^6 four-bar coupler points
+// (a, b, c, d, xi, eta normal, sigma 0.01/3) at theta = 60 deg: the draw of every sample's six
+// values (study/samples.h) and Study::Run on one thread (each sample: Params, the generated
+// closed form, the coupler point, a SampleResult), i.e. `mechgen study` without its CSV.
+void StudyPositionsMonteCarlo(benchmark::State& state) {
+  const study::StudySpec spec = Spec(
+      "method: monte_carlo\ncount: " + std::to_string(state.range(0)) +
+      "\nanalysis: positions\nat: [60deg]\nparameters:\n  a: {tolerance: 0.01}\n  b: {tolerance: 0.01}\n"
+      "  c: {tolerance: 0.01}\n  d: {tolerance: 0.01}\n  xi: {tolerance: 0.01}\n  eta: {tolerance: 0.01}\n"
+      "metrics:\n  - {kind: at, column: coupler.P.x, step: 0}\n  - {kind: at, column: coupler.P.y, step: 0}\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  if (!s.Prepare(spec, &error)) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  std::vector<study::SampleResult> results;
+  for (auto _ : state) {
+    const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+    s.Run(v, 1, &results);
+    benchmark::DoNotOptimize(results.data());
+  }
+  state.counters["samples_per_s"] = benchmark::Counter(static_cast<double>(state.range(0)) * state.iterations(),
+                                                       benchmark::Counter::kIsRate);
+}
+BENCHMARK(StudyPositionsMonteCarlo)->Arg(1000000)->Unit(benchmark::kMillisecond);
+
+// Its two parts apart: the draw of the 10^6 x 6 values (t_draw of the scaling model), and
+// Study::Run alone on values drawn once (the results' storage reused between iterations).
+void StudyDrawSixNormals(benchmark::State& state) {
+  const study::StudySpec spec = Spec(
+      "method: monte_carlo\ncount: 1000000\nanalysis: positions\nat: [60deg]\nparameters:\n  a: {tolerance: 0.01}\n"
+      "  b: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  d: {tolerance: 0.01}\n  xi: {tolerance: 0.01}\n"
+      "  eta: {tolerance: 0.01}\nmetrics:\n  - {kind: at, column: coupler.P.x, step: 0}\n");
+  const std::vector<double> nominal{1, 3.5, 3, 4, 0.5, 0.5};
+  for (auto _ : state) {
+    const std::vector<double> v = study::DrawSamples(spec, nominal);
+    benchmark::DoNotOptimize(v.data());
+  }
+}
+BENCHMARK(StudyDrawSixNormals)->Unit(benchmark::kMillisecond);
+
+void StudyPositionsRunOnly(benchmark::State& state) {
+  const study::StudySpec spec = Spec(
+      "method: monte_carlo\ncount: 1000000\nanalysis: positions\nat: [60deg]\nparameters:\n  a: {tolerance: 0.01}\n"
+      "  b: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  d: {tolerance: 0.01}\n  xi: {tolerance: 0.01}\n"
+      "  eta: {tolerance: 0.01}\nmetrics:\n  - {kind: at, column: coupler.P.x, step: 0}\n"
+      "  - {kind: at, column: coupler.P.y, step: 0}\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  if (!s.Prepare(spec, &error)) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+  std::vector<study::SampleResult> results;
+  for (auto _ : state) {
+    s.Run(v, 1, &results);
+    benchmark::DoNotOptimize(results.data());
+  }
+}
+BENCHMARK(StudyPositionsRunOnly)->Unit(benchmark::kMillisecond);
+
+// One sample of analysis: positions at 360 inputs (the cheap counterpart of StudySampleSweep).
+void StudySamplePositions(benchmark::State& state) {
+  Sample<mech::fourbar::Model>(state,
+                               "method: monte_carlo\ncount: 64\nanalysis: positions\nsteps: 359\n"
+                               "range: [0, 359deg]\nparameters:\n  a: {tolerance: 0.01}\n  b: {tolerance: 0.01}\n"
+                               "  c: {tolerance: 0.01}\n  d: {tolerance: 0.01}\nmetrics:\n"
+                               "  - {kind: max, column: coupler.P.y}\n  - {kind: min_transmission_angle}\n"
+                               "  - {kind: path_deviation, point: coupler.P}\n");
+}
+BENCHMARK(StudySamplePositions)->Unit(benchmark::kMicrosecond);
+
+#ifdef MECHGEN_STUDY_BENCH_MASSIVE
+// A 3 s simulation per sample, the massive four-bar (models/fourbar_massive.yaml): the free
+// swing under gravity from 90 deg, and the crank driven at 2 pi rad/s (its motor torque lambda
+// and the bearing loads from the kinetostatics at every sample), 300 samples each.
+void StudySampleSimulateFree(benchmark::State& state) {
+  Sample<mech::fourbar_massive::Model>(state,
+                                       "method: monte_carlo\ncount: 64\nanalysis: simulate\nt_end: 3\nsteps: 300\n"
+                                       "parameters:\n  a: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n"
+                                       "metrics:\n  - {kind: max, column: T}\n  - {kind: min, column: theta_crank}\n");
+}
+BENCHMARK(StudySampleSimulateFree)->Unit(benchmark::kMicrosecond);
+
+void StudySampleSimulateDriven(benchmark::State& state) {
+  Sample<mech::fourbar_massive::Model>(state,
+                                       "method: monte_carlo\ncount: 64\nanalysis: simulate\nt_end: 3\nsteps: 300\n"
+                                       "drive: {theta_crank: {speed: 6.283}}\n"
+                                       "parameters:\n  a: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n"
+                                       "metrics:\n  - {kind: peak_drive}\n  - {kind: peak_bearing}\n");
+}
+BENCHMARK(StudySampleSimulateDriven)->Unit(benchmark::kMicrosecond);
+#endif
 
 // The whole tolerance study of models/fourbar.study.yaml's shape (2000 samples, 72 steps) on
 // n threads: parallel efficiency = t(1) / (n t(n)).

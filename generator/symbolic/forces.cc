@@ -97,8 +97,22 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
   }
   V = 0;
   // The weights' marks come after the springs' (the loads' and springs' columns keep their
-  // places): "W_<link>" at G, m g, |m g|.
+  // places): "W_<link>" at G, m g, |m g|. The weight acts on the link as one item at its
+  // combined centre; the picture draws where its masses are: a link with point masses
+  // (links.cc combined them) gets "W_<link>" for its own mass at its own centre, when it has
+  // one, and "W_<link>_<point mass>" at each point mass. The same forces: their virtual work
+  // is the combined weight's.
   std::vector<Mark> weight_marks;
+  const ex g_norm = GiNaC::sqrt(m.gravity_x * m.gravity_x + m.gravity_y * m.gravity_y);
+  auto weight_mark = [&](const std::string& name, const ex& mass, const Vec2& at) {
+    Mark mark;
+    mark.kind = Mark::Kind::kWeight;
+    mark.name = name;
+    mark.at = mark.b = at;
+    mark.F = {mass * m.gravity_x, mass * m.gravity_y};
+    mark.value = mass * g_norm;
+    weight_marks.push_back(mark);
+  };
   if (m.has_gravity)
     for (const MassiveLink& b : t.bodies) {
       V += -b.mass * (m.gravity_x * b.r_G[0] + m.gravity_y * b.r_G[1]);
@@ -107,13 +121,30 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
       it.F = {b.mass * m.gravity_x, b.mass * m.gravity_y};
       it.at = b.r_G;
       add_item(it, it, true);
-      Mark mark;
-      mark.kind = Mark::Kind::kWeight;
-      mark.name = "W_" + m.links[b.link].name;
-      mark.at = mark.b = it.at;
-      mark.F = it.F;
-      mark.value = b.mass * GiNaC::sqrt(m.gravity_x * m.gravity_x + m.gravity_y * m.gravity_y);
-      weight_marks.push_back(mark);
+      const Link& link = m.links[b.link];
+      if (link.point_masses.empty()) {
+        weight_mark("W_" + link.name, b.mass, it.at);
+        continue;
+      }
+      // The link's own mass and centre: the combined body less its point masses (exact: the
+      // combined mass is their sum, its centre their first moment over it).
+      const MassProperties& all = link.mass;
+      ex own = all.mass, own_x = all.mass * all.center_x, own_y = all.mass * all.center_y;
+      for (const PointMass& pm : link.point_masses) {
+        own -= pm.mass;
+        own_x -= pm.mass * pm.x;
+        own_y -= pm.mass * pm.y;
+      }
+      own = GiNaC::normal(own);
+      const Frame& fr = k.frames[b.link];
+      auto fixed = [&](const ex& x, const ex& y) {
+        const Vec2 r = Rotate(fr.theta, x, y);
+        return Vec2{fr.x + r[0], fr.y + r[1]};
+      };
+      if (!own.is_zero())
+        weight_mark("W_" + link.name, own, fixed(GiNaC::normal(own_x / own), GiNaC::normal(own_y / own)));
+      for (const PointMass& pm : link.point_masses)
+        weight_mark("W_" + link.name + "_" + pm.name, pm.mass, fixed(pm.x, pm.y));
     }
   // Kinetostatics: d'Alembert's inertia forces, -m a_G at G and -J alpha, with
   // a_G = sum_j K_G,j qdd_j + sum_jk L_G,jk qd_j qd_k (the same for the angle).

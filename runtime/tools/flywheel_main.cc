@@ -16,15 +16,19 @@
 // to a periodic steady state, and prints the simulated C_s against the asked one.
 // Writes the energy loop as CSV (--csv; its columns described in its '#' header lines, every
 // number so that it reads back to the same double) and draws it with gnuplot (--png, --svg:
-// runtime/tools/plot_energy_loop.gnuplot, when gnuplot is on the PATH). Example:
+// runtime/tools/plot_energy_loop.gnuplot, found as common/gnuplot.h says: $MECHGEN_TOOLS_DIR
+// alone when set, else share/mechgen/tools beside the installed program, else the source
+// tree's). Example:
 //   shaper_flywheel --rpm 60 --cs 0.05 --csv out/shaper_loop.csv --png out/shaper_loop.png
 // Signs: the input turns counter-clockwise (theta increasing) at w > 0; torques on the input
 // link, CCW +; T_req > 0 where the motor drives, < 0 where the machine gives energy back.
 // Exit status: 0 done; 1 the machine cannot be sized (not one-DOF, a slide input, a dead point
 // or a failed position inside the cycle: the angle is printed; no net load) or the simulated
-// check failed or an output cannot be written; 2 a usage error (one line "<tool>: error: ...");
-// 3 the model does not assemble. A model generated without `forces` builds into a stub that
-// says so (exit status 2). Eigen, CLI11 only (the runtime's Newton assembler).
+// check failed or an output cannot be written, or a picture is asked for and gnuplot or its
+// script is not found (one line, before anything is computed or written); 2 a usage error
+// (one line "<tool>: error: ..."); 3 the model does not assemble. A model generated without
+// `forces` builds into a stub that says so (exit status 2). Eigen, CLI11 only (the runtime's
+// Newton assembler).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -99,28 +103,24 @@ mechgen::table::Columns<LoopRow> LoopColumns(bool dynamics, const std::vector<st
   return columns;
 }
 
-// gnuplot (common/gnuplot.h) on the CSV at csv_path, writing `picture` (png or svg) with
-// plot_energy_loop.gnuplot. One line on failure.
-bool Plot(const std::string& csv_path, const std::string& kind, const std::string& picture,
-          std::string* error) {
-  for (const std::string* s : {&csv_path, &picture}) {
-    if (s->find_first_of("'\"\\$`\n") != std::string::npos) {
-      *error = "cannot pass the path " + tools::Quote(*s) + " to gnuplot (quotes, $, ` or \\ in it)";
-      return false;
-    }
-  }
-  const std::filesystem::path gnuplot = tools::FindOnPath("gnuplot");
-  if (gnuplot.empty()) {
-    *error = "gnuplot is not on the PATH: no --" + kind + " picture (the CSV has the data)";
+// What the pictures need, found before anything is computed or written: gnuplot on the PATH
+// and plot_energy_loop.gnuplot (common/gnuplot.h). One line on failure.
+struct Plotter {
+  std::filesystem::path gnuplot, script;
+};
+bool FindPlotter(const std::string& kind, Plotter* plotter, std::string* error) {
+  plotter->gnuplot = tools::FindOnPath("gnuplot");
+  if (plotter->gnuplot.empty()) {
+    *error = "gnuplot is not on the PATH: no --" + kind + " picture (install gnuplot, or leave out --" + kind + ")";
     return false;
   }
   const std::filesystem::path scripts = tools::FindPlotScripts({"plot_energy_loop.gnuplot"});
   if (scripts.empty()) {
-    *error = "cannot find plot_energy_loop.gnuplot (set MECHGEN_TOOLS_DIR to mechgen's runtime/tools or "
-             "share/mechgen/tools)";
+    *error = tools::PlotScriptsNotFound({"plot_energy_loop.gnuplot"});
     return false;
   }
-  return tools::RunGnuplot(gnuplot, scripts / "plot_energy_loop.gnuplot", csv_path, kind, picture, error);
+  plotter->script = scripts / "plot_energy_loop.gnuplot";
+  return true;
 }
 
 template <class M>
@@ -222,6 +222,25 @@ int Run(int argc, char** argv) {
                                                    "at least " + tools::FormatNumber(std::ceil(
                                                        cycle / mechgen::position::Options().max_input_step)) +
                                                        " for this cycle (the position solver's step limit)"));
+
+  // The pictures' gnuplot and script, and the CSV path gnuplot reads, before anything is
+  // computed or written.
+  std::vector<std::pair<std::string, std::string>> pictures;  // kind, path
+  if (!png_path.empty()) pictures.push_back({"png", png_path});
+  if (!svg_path.empty()) pictures.push_back({"svg", svg_path});
+  Plotter plotter;
+  for (const auto& [kind, path] : pictures) {
+    const std::string* paths[] = {&path, &csv_path};
+    for (const std::string* p : paths) {
+      if (p->find_first_of("'\"\\$`\n") != std::string::npos)
+        return tools::UsageError(tool, tools::BadValue(p == &path ? "--" + kind : std::string("--csv"), *p,
+                                                       "a path without quotes, $, ` or \\ (gnuplot reads it)"));
+    }
+    if (std::string error; !FindPlotter(kind, &plotter, &error)) {
+      std::cerr << "error: " << error << "\n";
+      return 1;
+    }
+  }
 
   const fw::MachineCycle machine = fw::SampleMachineCycle<M>(params, options);
   if (machine.status == fw::CycleStatus::kNotAssembled) {
@@ -330,7 +349,7 @@ int Run(int argc, char** argv) {
   for (size_t k = 0; k < machine.points.size(); ++k)
     rows.push_back({machine.points[k], machine.T_mean, dT_req_dp.empty() ? nullptr : dT_req_dp[k].data()});
   const auto columns = LoopColumns(machine.has_dynamics, design_names);
-  const bool picture = !png_path.empty() || !svg_path.empty();
+  const bool picture = !pictures.empty();
   std::string csv_for_plot = csv_path;
   std::string temporary;
   if (csv_path.empty() && picture) {
@@ -367,11 +386,9 @@ int Run(int argc, char** argv) {
     if (!csv_path.empty())
       std::printf("wrote %s (%zu rows x %zu columns)\n", csv_path.c_str(), rows.size(), columns.size());
   }
-  for (const auto& [kind, path] : {std::pair<std::string, std::string>{"png", png_path},
-                                   std::pair<std::string, std::string>{"svg", svg_path}}) {
-    if (path.empty()) continue;
+  for (const auto& [kind, path] : pictures) {
     std::string error;
-    if (Plot(csv_for_plot, kind, path, &error)) {
+    if (tools::RunGnuplot(plotter.gnuplot, plotter.script, csv_for_plot, kind, path, &error)) {
       std::printf("wrote %s\n", path.c_str());
     } else {
       std::cerr << "error: " << error << "\n";

@@ -254,8 +254,7 @@ int Run(int argc, char** argv) {
     }
     scripts = tools::FindPlotScripts({kPlotScripts[0], kPlotScripts[1]});
     if (scripts.empty()) {
-      std::cerr << "error: --plots: cannot find plot_statics.gnuplot and plot_bearings.gnuplot "
-                   "(set MECHGEN_TOOLS_DIR to mechgen's runtime/tools or share/mechgen/tools)\n";
+      std::cerr << "error: --plots: " << tools::PlotScriptsNotFound({kPlotScripts[0], kPlotScripts[1]}) << "\n";
       return 1;
     }
   }

@@ -73,8 +73,9 @@ const char* MethodName(study::Method m) {
 const char* AnalysisName(study::Analysis a) {
   return a == study::Analysis::kStatics    ? "statics"
          : a == study::Analysis::kFlywheel ? "flywheel"
-         : a == study::Analysis::kSimulate ? "simulate"
-                                           : "sweep";
+         : a == study::Analysis::kSimulate  ? "simulate"
+         : a == study::Analysis::kPositions ? "positions"
+                                            : "sweep";
 }
 
 // The CSV: '#' lines (what wrote it, then each column's unit and meaning), the header, a row
@@ -89,6 +90,11 @@ void WriteCsv(const study::Study<Model>& s,
       << ", " << results.size() << " samples, seed " << spec.seed << ", analysis "
       << AnalysisName(spec.analysis) << " in " << spec.steps << " steps";
   if (spec.analysis == study::Analysis::kSimulate) out << " to t_end " << G17(spec.t_end) << " s";
+  if (!spec.drive.input.empty()) {
+    out << ", " << spec.drive.input << " driven (" << spec.drive.law;
+    for (double v : spec.drive.values) out << " " << G17(v);
+    out << ")";
+  }
   out << "\n";
   out << "# sample [1]: the sample's index, 0-based, in the study's order\n";
   for (const study::ParameterSpec& p : spec.parameters)
@@ -177,6 +183,12 @@ class Ranks {
     if (n > 0) MPI_Bcast(values->data(), static_cast<int>(n), MPI_UINT64_T, 0, MPI_COMM_WORLD);
 #else
     (void)values;
+#endif
+  }
+  // Returns when every rank has called it (times the gather apart from the wait for the slowest rank).
+  void Barrier() const {
+#ifdef MECHGEN_STUDY_MPI
+    if (size_ > 1) MPI_Barrier(MPI_COMM_WORLD);
 #endif
   }
   // Rank r > 0 sends `data`; rank 0 receives rank r's into *data (its size set by the caller).
@@ -372,6 +384,10 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   s.RunChunks(values, chunks, mine, threads, &results, chunk_done, progress);
   // Rank 0 gathers the others' samples, rank by rank, in the order of their chunks.
   const auto gather_start = std::chrono::steady_clock::now();
+  // Every rank done with its part first: the gather's own cost (pack, transfer, unpack) is then
+  // timed apart from the wait for the slowest rank.
+  ranks.Barrier();
+  const auto transfer_start = std::chrono::steady_clock::now();
   if (ranks.size() > 1) {
     if (ranks.rank() > 0) {
       std::vector<double> data(my_samples * width);
@@ -393,11 +409,13 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     }
   }
   if (ranks.size() > 1)
-    std::printf("rank 0 ran %llu samples in %.3g s, then waited for and gathered %llu from %d ranks in %.3g s\n",
+    std::printf("rank 0 ran %llu samples in %.3g s, waited %.3g s for the other ranks, then gathered %llu from %d "
+                "ranks in %.3g s\n",
                 static_cast<unsigned long long>(my_samples),
                 std::chrono::duration<double>(gather_start - start).count(),
+                std::chrono::duration<double>(transfer_start - gather_start).count(),
                 static_cast<unsigned long long>(run_samples - my_samples), ranks.size() - 1,
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - gather_start).count());
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - transfer_start).count());
   if (!shard_error.empty()) std::cerr << "warning: " << shard_error << " (the study goes on; it cannot resume from it)\n";
   if (stopped) {
     std::printf("stopped by --stop-after: %llu of %llu samples are in the shards in %s; run the same command again "

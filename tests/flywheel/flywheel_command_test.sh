@@ -2,7 +2,9 @@
 # The flywheel command (issue 25): the per-model tool <model>_flywheel and `mechgen flywheel
 # MODEL` on a model file outside the source tree, with an empty cache, cached, and --no-cache
 # (the same CSV bytes as the per-model tool each time), --help, a bad option (exit 2, one line), a model without `forces` (one
-# line, exit 1, nothing compiled), a machine that cannot be sized (exit 1, the angle said).
+# line, exit 1, nothing compiled), a machine that cannot be sized (exit 1, the angle said), a
+# copy of the tool in an installed layout (its plot script from <prefix>/share/mechgen/tools)
+# and a missing plot script (one line, exit 1, nothing written).
 # usage: flywheel_command_test.sh <mechgen> <source dir> <punch_press_flywheel>
 set -u
 mechgen=$1 src=$2 tool=$3
@@ -50,6 +52,35 @@ grep -q 'breaks of the loop (deg): 0, 7.25, ' "$work/break.out" || fail "--break
 [ $status = 1 ] || fail "F0 < 0 exited $status"
 grep -q 'mean required torque is not positive' "$work/noload.err" || fail "no-load message"
 
+# The plot script as installed (runtime/tools/common/gnuplot.h): a copy of the tool in
+# <prefix>/bin runs <prefix>/share/mechgen/tools/plot_energy_loop.gnuplot, not the one of the
+# tree it was built from; that copy of the script marks that it ran (a file beside the CSV).
+# $MECHGEN_TOOLS_DIR, when set, is the only place looked in: one that lacks the script is one
+# line naming it, exit 1, nothing computed or written (the CSV and the picture absent).
+if command -v gnuplot > /dev/null; then
+  prefix="$work/prefix"
+  mkdir -p "$prefix/bin" "$prefix/share/mechgen/tools" "$work/empty"
+  cp "$tool" "$prefix/bin/punch_press_flywheel"
+  { echo "set print csv.'.installed'; print 'installed'; set print"
+    cat "$src/runtime/tools/plot_energy_loop.gnuplot"; } > "$prefix/share/mechgen/tools/plot_energy_loop.gnuplot"
+  env -u MECHGEN_TOOLS_DIR "$prefix/bin/punch_press_flywheel" --samples 360 --rpm 60 --no-check \
+    --csv "$work/installed.csv" --png "$work/installed.png" > "$work/installed.out" 2>&1 ||
+    fail "the installed copy exited $?: $(cat "$work/installed.out")"
+  [ -f "$work/installed.csv.installed" ] || fail "the installed copy did not run share/mechgen/tools' script"
+  head -c 8 "$work/installed.png" | od -An -c | grep -q "P   N   G" || fail "installed.png is not a PNG"
+  grep -q "^wrote $work/installed.png\$" "$work/installed.out" || fail "no 'wrote installed.png' line"
+  for runner in "$tool" "$prefix/bin/punch_press_flywheel"; do
+    MECHGEN_TOOLS_DIR="$work/empty" "$runner" --samples 360 --rpm 60 --no-check --csv "$work/missing.csv" \
+      --png "$work/missing.png" > "$work/missing.out" 2> "$work/missing.err"; status=$?
+    [ $status = 1 ] || fail "$runner with no script exited $status"
+    [ "$(wc -l < "$work/missing.err")" = 1 ] || fail "no script: not one line: $(cat "$work/missing.err")"
+    grep -qxF "error: cannot find plot_energy_loop.gnuplot in \$MECHGEN_TOOLS_DIR = $work/empty (point it at mechgen's runtime/tools or share/mechgen/tools, or unset it)" \
+      "$work/missing.err" || fail "no script: $(cat "$work/missing.err")"
+    [ ! -e "$work/missing.csv" ] && [ ! -e "$work/missing.png" ] && [ ! -s "$work/missing.out" ] ||
+      fail "no script: something was written"
+  done
+fi
+
 # mechgen flywheel on a copy of the model outside the tree, uncached (compiles) then cached.
 mkdir -p "$work/models" "$work/cache"
 cp "$src/tests/flywheel/models/punch_press.yaml" "$work/models/press.yaml"
@@ -64,6 +95,21 @@ start=$(date +%s.%N)
 end=$(date +%s.%N)
 cmp -s "$work/tool.csv" "$work/second.csv" || fail "cached CSV differs"
 awk -v a="$start" -v b="$end" 'BEGIN { exit !(b - a < 5) }' || fail "the cached run took $(echo "$end - $start" | bc) s"
+# The cached program was compiled with the source tree's runtime/tools as its tools directory
+# (-DMECHGEN_TOOLS_DIR): a copy of it in the installed layout above still runs the prefix's
+# (marked) script, which comes first.
+if command -v gnuplot > /dev/null; then
+  cached=$(find "$MECHGEN_CACHE_DIR/flywheel" -mindepth 2 -maxdepth 2 -type f -name flywheel | head -n 1)
+  [ -n "$cached" ] || fail "no cached flywheel program in $MECHGEN_CACHE_DIR/flywheel"
+  cp "$cached" "$prefix/bin/press_flywheel"
+  rm -f "$work/installed.csv.installed"
+  env -u MECHGEN_TOOLS_DIR "$prefix/bin/press_flywheel" --samples 360 --rpm 60 --no-check \
+    --csv "$work/installed.csv" --svg "$work/installed.svg" > "$work/installed.out" 2>&1 ||
+    fail "the installed copy of the cached program exited $?: $(cat "$work/installed.out")"
+  [ -f "$work/installed.csv.installed" ] ||
+    fail "the installed copy of the cached program ran the script of the tree it was built from"
+  grep -q '<svg' "$work/installed.svg" || fail "installed.svg is not an SVG"
+fi
 # --no-cache: built in a temporary directory, run, deleted; the cache untouched.
 entries_before=$(find "$MECHGEN_CACHE_DIR/flywheel" -mindepth 1 -maxdepth 1 | wc -l)
 "$mechgen" flywheel --no-cache "$work/models/press.yaml" --rpm 300 --cs 0.02 --samples 3600 \

@@ -395,6 +395,28 @@ TEST(FlywheelPunchPress, SwitchesOfTheLoadsAreTheBreaks) {
       EXPECT_GT(previous / worst, 10) << "not fourth order";
     }
     previous = worst;
+    // The same switches given by hand (--break: the test's own angles, the switch modes off)
+    // give the same loop: the located breaks are the hand ones to 1e-12 rad, so E agrees to
+    // rounding (measured: the same E and work at 720 and 1440 samples, dE 1.4e-14 J apart),
+    // far inside its 9.4e-6 J from the hand loop.
+    fw::MachineCycleOptions by_hand = o;
+    by_hand.switch_breaks = false;
+    by_hand.breaks = expected;
+    const fw::MachineCycle hand = fw::SampleMachineCycle<M>(p, by_hand);
+    ASSERT_TRUE(hand.IsUsable()) << hand.message;
+    EXPECT_TRUE(hand.switches.empty());
+    ASSERT_EQ(hand.breaks.size(), c.breaks.size());
+    for (size_t i = 0; i < c.breaks.size(); ++i) {
+      EXPECT_NEAR(hand.breaks[i], c.breaks[i], 1e-12) << i;
+      EXPECT_EQ(hand.break_samples[i], c.break_samples[i]) << i;
+      EXPECT_EQ(hand.break_sides[i], c.break_sides[i]) << i;
+    }
+    ASSERT_EQ(hand.points.size(), c.points.size());
+    double apart = 0;
+    for (size_t k = 0; k < c.points.size(); ++k) apart = std::max(apart, std::abs(hand.points[k].E - c.points[k].E));
+    EXPECT_LT(apart, 1e-9 * W_hand) << n;
+    EXPECT_NEAR(hand.work, c.work, 1e-9 * W_hand) << n;
+    EXPECT_NEAR(hand.loop.delta_E, c.loop.delta_E, 1e-9 * W_hand) << n;
     // Without the switches' breaks: second order at the punch's kinks.
     o.switch_breaks = false;
     const fw::MachineCycle plain = fw::SampleMachineCycle<M>(p, o);
@@ -463,6 +485,20 @@ struct Crusher {
     return std::atan2(c.y(), c.x());
   }
   double djaw(double t) const { return (jaw(t + 1e-6) - jaw(t - 1e-6)) / 2e-6; }
+  // d theta_jaw / d theta by velocity analysis (not a difference): each link keeps its
+  // length, (B - A).(B' - A') = 0 and (B - O4).B' = 0, then (C - B).(C' - B') = 0 and
+  // (C - O6).C' = 0; theta_jaw' = (C - O6) x C' / |C - O6|^2.
+  double jaw_rate(double t) const {
+    const Eigen::Vector2d A(r * std::cos(t), r * std::sin(t)), dA(-r * std::sin(t), r * std::cos(t));
+    const Eigen::Vector2d b = B(t), c = C(t), O4(xO4, yO4);
+    Eigen::Matrix2d m;
+    m << (b - A).transpose(), (b - O4).transpose();
+    const Eigen::Vector2d dB = m.lu().solve(Eigen::Vector2d((b - A).dot(dA), 0));
+    m << (c - b).transpose(), (c - O6()).transpose();
+    const Eigen::Vector2d dC = m.lu().solve(Eigen::Vector2d((c - b).dot(dB), 0));
+    const Eigen::Vector2d arm = c - O6();
+    return (arm.x() * dC.y() - arm.y() * dC.x()) / arm.squaredNorm();
+  }
   double M(double t) const { return std::sin(t - 60 * kDeg) > 0 ? M0 : 0.0; }  // on the jaw, CCW +
 };
 
@@ -563,6 +599,85 @@ TEST(FlywheelCrusher, EnergyLoopAgainstTheHandLoop) {
   }
 }
 
+// The integral of f over [a, b] by composite 5-point Gauss-Legendre on `panels` panels.
+double GaussLegendre(const std::function<double(double)>& f, double a, double b, int panels) {
+  static const double x[5] = {0, -0.5384693101056831, 0.5384693101056831, -0.9061798459386640, 0.9061798459386640};
+  static const double w[5] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665, 0.2369268850561891,
+                              0.2369268850561891};
+  const double h = (b - a) / panels;
+  double sum = 0;
+  for (int i = 0; i < panels; ++i)
+    for (int j = 0; j < 5; ++j) sum += w[j] * f(a + h * (i + 0.5 + 0.5 * x[j]));
+  return sum * h / 2;
+}
+
+// The crusher's flywheel from a second, independent derivation: the work of the crushing
+// moment W = integral of M0 dtheta_jaw over the crushing half turn by Gauss-Legendre
+// quadrature of M0 theta_jaw'(theta) (theta_jaw' by velocity analysis, not from the angles'
+// difference), and dE = E_max - E_min of E(theta) = T_mean theta - integral of T_hand from 0,
+// T_hand = -M(theta) theta_jaw'(theta), by the same quadrature. E rises on [0, 60 deg] (no
+// load), falls while the crushing torque exceeds T_mean and rises again after it: its
+// extremes are at 0, 60 deg, 240 deg, 360 deg and where T_hand = T_mean inside the crushing
+// stroke (bisection on a 0.1 deg scan). The sizing at C_s = 0.1 and 20 rpm: I = dE/(C_s w^2),
+// all of it a flywheel (massless machine). The switches are the breaks (given: no switch
+// modes without dynamics).
+TEST(FlywheelCrusher, FlywheelAgainstAQuadratureOfTheHandTorque) {
+  using M = mech::crusher::Model;
+  M::ParamsT<double> p;
+  const Crusher h;
+  const double a = 60 * kDeg, b = 240 * kDeg;
+  // The velocity analysis against the angles' central difference (measured within 3.9e-10).
+  for (double t : {0.3, 1.7, 3.0, 4.4, 6.0}) EXPECT_NEAR(h.jaw_rate(t), h.djaw(t), 1e-8) << t;
+  auto T_hand = [&](double t) { return -h.M(t) * h.jaw_rate(t); };
+  const double W = GaussLegendre([&](double t) { return h.M0 * -h.jaw_rate(t); }, a, b, 400);
+  EXPECT_NEAR(W, h.M0 * (h.jaw(a) - h.jaw(b)), 1e-10 * W);  // the closed form, for the record
+  const double T_mean = W / (2 * kPi);
+  auto E = [&](double t) {  // E(t) = T_mean t - integral of T_hand from 0 to t
+    double crushed = 0;
+    if (t > a) crushed = GaussLegendre(T_hand, a, std::min(t, b), 400);
+    return T_mean * t - crushed;
+  };
+  std::vector<double> candidates = {0, a, b, 2 * kPi};
+  auto excess = [&](double t) { return T_mean - T_hand(t); };
+  const int scan = 1800;  // 0.1 deg steps, strictly inside (a, b) where M = M0
+  for (int i = 0; i < scan; ++i) {
+    double lo = a + 1e-9 + (b - a - 2e-9) * i / scan, hi = a + 1e-9 + (b - a - 2e-9) * (i + 1) / scan;
+    if ((excess(lo) < 0) == (excess(hi) < 0)) continue;
+    for (int i = 0; i < 100; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      ((excess(mid) < 0) == (excess(lo) < 0) ? lo : hi) = mid;
+    }
+    candidates.push_back(0.5 * (lo + hi));
+  }
+  ASSERT_EQ(candidates.size(), 6u);  // T_hand crosses T_mean twice: E's max and min inside
+  double E_max = -1e300, E_min = 1e300, theta_max = 0, theta_min = 0;
+  for (double t : candidates) {
+    const double e = E(t);
+    if (e > E_max) E_max = e, theta_max = t;
+    if (e < E_min) E_min = e, theta_min = t;
+  }
+  const double dE = E_max - E_min;
+  ASSERT_GT(dE, 0.5 * W);  // the crushing stroke takes most of the cycle's energy
+  const double omega = 2 * kPi * 20 / 60, C_s = 0.1;
+  fw::MachineCycleOptions o;
+  o.omega = omega;
+  o.samples = 720;
+  o.breaks = {a, b};
+  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  ASSERT_TRUE(c.IsUsable()) << c.message;
+  EXPECT_NEAR(c.work, W, 1e-9 * W);
+  EXPECT_NEAR(c.T_mean, T_mean, 1e-9 * T_mean);
+  // Measured at 720 samples: the work 2.6e-10 of W low, dE 8.3e-8 J (1.5e-11 of W), the
+  // extremes' angles (74.33 and 224.54 deg, inside the stroke, refined on the loop's cubics)
+  // within 7e-9 rad.
+  EXPECT_NEAR(c.loop.delta_E, dE, 1e-9 * W);
+  EXPECT_NEAR(c.loop.theta_max, theta_max, 1e-7);
+  EXPECT_NEAR(c.loop.theta_min, theta_min, 1e-7);
+  const fw::FlywheelSize f = fw::SizeFlywheel(c, C_s);
+  EXPECT_NEAR(f.I_required, dE / (C_s * omega * omega), 1e-9 * W / (C_s * omega * omega));
+  EXPECT_DOUBLE_EQ(f.I_flywheel, f.I_required);  // massless: all of it is the flywheel
+}
+
 // WithFlywheel<M> adds the flywheel on both of the simulator's paths: the one-pass M::Rhs (the
 // four-bar's stages) and M::Dynamics (its samples). Against qdd = (Q - h)/(I + I_fly) from the
 // bare model's generated dynamics.
@@ -648,10 +763,11 @@ TEST(FlywheelEnergyLoop, BreaksKeepAKinkedTorqueFourthOrder) {
 namespace {
 
 // The plot scripts' lookup (runtime/tools/common/gnuplot.h): a tool installed in <prefix>/bin
-// finds <prefix>/share/mechgen/tools (where CMakeLists.txt installs runtime/tools/), with
-// $MECHGEN_TOOLS_DIR before it and a directory that lacks one of the scripts passed over. In a
-// temporary prefix, with a script that only it holds (the source tree's runtime/tools, also a
-// candidate, does not).
+// finds <prefix>/share/mechgen/tools (where CMakeLists.txt installs runtime/tools/) first, a
+// directory that lacks one of the scripts passed over; $MECHGEN_TOOLS_DIR, when set, is the only
+// place looked in. In a temporary prefix, with a script that only it holds (the source tree's
+// runtime/tools, also a candidate, does not). flywheel_command_test.sh runs a copy of a built
+// tool in such a prefix.
 TEST(FlywheelPlotScripts, FoundBesideTheInstalledProgram) {
   namespace fs = std::filesystem;
   namespace tools = mechgen::tools;
@@ -663,9 +779,16 @@ TEST(FlywheelPlotScripts, FoundBesideTheInstalledProgram) {
   for (const fs::path& d : {share, other}) std::ofstream(d / script) << "# a test's script\n";
   const fs::path program = prefix / "bin" / "crusher_flywheel";
   const std::vector<fs::path> installed = tools::PlotScriptDirs(nullptr, program);
+  ASSERT_FALSE(installed.empty());
+  EXPECT_EQ(installed.front(), share);  // before the tree the tool was compiled from
   EXPECT_EQ(tools::FindPlotScriptsIn(installed, {script}), share);
   EXPECT_EQ(tools::FindPlotScriptsIn(tools::PlotScriptDirs("", program), {script}), share);  // empty: unset
   EXPECT_EQ(tools::FindPlotScriptsIn(tools::PlotScriptDirs(other.c_str(), program), {script}), other);
+  // $MECHGEN_TOOLS_DIR alone: one that lacks the script is not passed over to the installed one.
+  const fs::path empty = root / "empty";
+  ASSERT_TRUE(fs::create_directories(empty));
+  EXPECT_EQ(tools::PlotScriptDirs(empty.c_str(), program), std::vector<fs::path>{empty});
+  EXPECT_TRUE(tools::FindPlotScriptsIn(tools::PlotScriptDirs(empty.c_str(), program), {script}).empty());
   // Every script must be there: one missing, no directory has both.
   EXPECT_TRUE(tools::FindPlotScriptsIn(installed, {script, "plot_missing_everywhere.gnuplot"}).empty());
   // Not installed (no share/mechgen/tools beside the program): not found.
@@ -681,8 +804,20 @@ TEST(FlywheelPlotScripts, FoundBesideTheInstalledProgram) {
   // The command's own lookup reads $MECHGEN_TOOLS_DIR.
   ASSERT_EQ(::setenv("MECHGEN_TOOLS_DIR", other.c_str(), 1), 0);
   EXPECT_EQ(tools::FindPlotScripts({script}), other);
+  ASSERT_EQ(::setenv("MECHGEN_TOOLS_DIR", empty.c_str(), 1), 0);
+  EXPECT_TRUE(tools::FindPlotScripts({script}).empty());
+  // The command's one line: the script and the directory it was looked for in.
+  const std::string said = tools::PlotScriptsNotFound({script});
+  EXPECT_EQ(said, std::string("cannot find ") + script + " in $MECHGEN_TOOLS_DIR = " + empty.string() +
+                      " (point it at mechgen's runtime/tools or share/mechgen/tools, or unset it)");
   ::unsetenv("MECHGEN_TOOLS_DIR");
   EXPECT_TRUE(tools::FindPlotScripts({script}).empty());
+  // Unset: every directory looked in is named (this test program's would-be share first).
+  const std::string listed = tools::PlotScriptsNotFound({script, "plot_other.gnuplot"});
+  EXPECT_EQ(listed.rfind(std::string("cannot find ") + script + " and plot_other.gnuplot in ", 0), 0u) << listed;
+  EXPECT_NE(listed.find(tools::PlotScriptDirs(nullptr, tools::ThisProgram()).front().string()), std::string::npos)
+      << listed;
+  EXPECT_EQ(listed.find('\n'), std::string::npos);
   fs::remove_all(root);
 }
 

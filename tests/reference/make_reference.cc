@@ -19,11 +19,14 @@
 // (converted to rationals), so the reference is the exact answer to the double-precision
 // problem, not to its decimal spelling.
 //
-// Usage: make_reference MODEL.yaml OUT.csv [--steps N] [--cluster DEG]
+// Usage: make_reference MODEL.yaml OUT.csv [--steps N] [--cluster DEG] [--follow-change-points yes]
 //   one input:  N + 1 equally spaced values over the model's input range (N for a full
 //               turn, whose last value would repeat the first); --cluster DEG adds
 //               DEG -+ 10^(-k/4) rad, k = 8..40, sorted in (to resolve a near-singular spot);
 //   two inputs: an (N + 1) x (N + 1) grid, row by row in a serpentine (continuation) order.
+//   --follow-change-points yes: the continuation passes a change point (det Phi_phi changing
+//               sign on one smooth curve: a parallelogram folded flat) on the curve it is on,
+//               instead of failing there; the number of crossings is printed on stderr.
 #include <ginac/ginac.h>
 
 #include <algorithm>
@@ -171,6 +174,7 @@ class Reference {
               df_[i][static_cast<size_t>(a)].diff(GiNaC::ex_to<GiNaC::symbol>(x_[b]));
       }
     }
+    length_scale_ = LengthScale();
   }
 
   const mechgen::Model& model() const { return model_; }
@@ -263,6 +267,19 @@ class Reference {
     numeric cond, det;
   };
 
+  // K alone (Phi_phi K = -Phi_q), for the continuation's predictor: the Hessians and points of
+  // Coefficients are not needed there and cost most of its time.
+  bool Tangent(const Vector& q, const Vector& phi, Matrix* K) const {
+    const GiNaC::exmap m = Point(q, phi);
+    Matrix Phi_phi(nc_, nphi_), Phi_q(nc_, nq_);
+    for (int i = 0; i < nc_; ++i) {
+      for (int k = 0; k < nphi_; ++k)
+        Phi_phi(i, k) = ToFloat(df_[static_cast<size_t>(i)][static_cast<size_t>(nq_ + k)].subs(m));
+      for (int j = 0; j < nq_; ++j) Phi_q(i, j) = -ToFloat(df_[static_cast<size_t>(i)][static_cast<size_t>(j)].subs(m));
+    }
+    return Solve(Phi_phi, Phi_q, K);
+  }
+
   // Everything at a closed configuration.
   bool Coefficients(const Vector& q, const Vector& phi, Result* r) const {
     const GiNaC::exmap m = Point(q, phi);
@@ -329,13 +346,22 @@ class Reference {
     return true;
   }
 
-  // Continuation from (q0, *phi) to q1 on the branch `branch`; adaptive sub-steps.
-  bool Continue(const Vector& q0, const Vector& q1, int branch, Vector* phi) const {
+  // Continuation from (q0, *phi) to q1 on the branch `*branch`; adaptive sub-steps. With
+  // `follow`, a sub-step whose converged point is on the predictor's tangent (Newton's
+  // correction below a tenth of the step in q: O(h^2) on the same smooth curve, O(h) on the
+  // other curve of a change point) may change the sign of det Phi_phi: the motion passes a
+  // change point on its smooth branch, which becomes *branch; *crossings counts them.
+  bool Continue(const Vector& q0, const Vector& q1, int* branch, Vector* phi, bool follow = false,
+                int* crossings = nullptr) const {
     const numeric one(1);
     numeric t(0), h(1);
+    // Sub-steps of at most 1 deg in an angle, and in a length (a slide) its arc at the
+    // mechanism's size: 1 deg times the longest link.
     double max_dq = 0;
-    for (int j = 0; j < nq_; ++j)
-      max_dq = std::max(max_dq, std::fabs((q1[static_cast<size_t>(j)] - q0[static_cast<size_t>(j)]).to_double()));
+    for (int j = 0; j < nq_; ++j) {
+      const double dq = std::fabs((q1[static_cast<size_t>(j)] - q0[static_cast<size_t>(j)]).to_double());
+      max_dq = std::max(max_dq, kin_.q[static_cast<size_t>(j)].is_angle ? dq : dq / length_scale_);
+    }
     const double max_step = M_PI / 180;  // 1 deg
     if (max_dq > max_step) h = numeric(1) / numeric(static_cast<long>(std::ceil(max_dq / max_step)));
     Vector q = q0;
@@ -348,25 +374,39 @@ class Reference {
         qn[s] = q0[s] + (t + h) * (q1[s] - q0[s]);
         if (t + h == one) qn[s] = q1[s];
       }
-      Result r;
-      if (!Coefficients(q, *phi, &r)) return false;
+      Matrix K;
+      if (!Tangent(q, *phi, &K)) return false;
       Vector guess = *phi;
       for (int i = 0; i < nphi_; ++i)
         for (int j = 0; j < nq_; ++j)
           guess[static_cast<size_t>(i)] =
-              guess[static_cast<size_t>(i)] + r.K(i, j) * (qn[static_cast<size_t>(j)] - q[static_cast<size_t>(j)]);
+              guess[static_cast<size_t>(i)] + K(i, j) * (qn[static_cast<size_t>(j)] - q[static_cast<size_t>(j)]);
+      const Vector predictor = guess;
       bool ok = Newton(qn, &guess, false);
+      int sign = *branch;
       if (ok) {
         Vector Phi;
         Matrix A;
         EvalPhi(qn, guess, &Phi, &A);
-        ok = Sign(Determinant(A)) == branch;
+        sign = Sign(Determinant(A));
+        if (sign != *branch && follow) {
+          numeric correction(0), dq(0);
+          for (int i = 0; i < nphi_; ++i)
+            correction = std::max(correction, Abs(guess[static_cast<size_t>(i)] - predictor[static_cast<size_t>(i)]));
+          for (int j = 0; j < nq_; ++j)
+            dq = std::max(dq, Abs(qn[static_cast<size_t>(j)] - q[static_cast<size_t>(j)]));
+          ok = sign != 0 && correction < dq / 10;
+        } else {
+          ok = sign == *branch;
+        }
       }
       if (!ok) {
         if (++failures > 40) return false;
         h = h / 2;
         continue;
       }
+      if (sign != *branch && crossings != nullptr) ++*crossings;
+      *branch = sign;
       *phi = guess;
       q = qn;
       t = t + h;
@@ -378,6 +418,7 @@ class Reference {
   mechgen::Model model_;
   mechgen::Kinematics kin_;
   int nq_ = 0, nphi_ = 0, nc_ = 0, np_ = 0;
+  double length_scale_ = 1;  // LengthScale(), once
   GiNaC::exmap params_;
   std::vector<ex> x_;                   // (q, phi) symbols
   std::vector<ex> f_;                   // Phi rows, then point coordinates
@@ -408,9 +449,12 @@ int main(int argc, char** argv) {
   const std::string model_path = argv[1], out_path = argv[2];
   int steps = -1;
   double cluster = std::nan("");
+  bool follow = false;
+  int crossings = 0;
   for (int i = 3; i + 1 < argc; i += 2) {
     if (std::string(argv[i]) == "--steps") steps = std::atoi(argv[i + 1]);
     if (std::string(argv[i]) == "--cluster") cluster = std::atof(argv[i + 1]) * M_PI / 180;
+    if (std::string(argv[i]) == "--follow-change-points") follow = std::string(argv[i + 1]) == "yes";
   }
   GiNaC::Digits = 50;
   try {
@@ -454,7 +498,7 @@ int main(int argc, char** argv) {
     Vector Phi;
     Matrix A;
     ref.EvalPhi(q, phi, &Phi, &A);
-    const int branch = Sign(Determinant(A));
+    int branch = Sign(Determinant(A));
     if (!ref.Newton(q, &phi, true)) throw std::runtime_error("make_reference: assembly failed");
     ref.EvalPhi(q, phi, &Phi, &A);
     if (Sign(Determinant(A)) != branch)
@@ -505,7 +549,7 @@ int main(int argc, char** argv) {
     for (const std::vector<double>& qd : qs) {
       Vector q1(static_cast<size_t>(nq));
       for (int j = 0; j < nq; ++j) q1[static_cast<size_t>(j)] = ExactRational(qd[static_cast<size_t>(j)]);
-      if (!ref.Continue(q, q1, branch, &phi))
+      if (!ref.Continue(q, q1, &branch, &phi, follow, &crossings))
         throw std::runtime_error("make_reference: continuation failed at q = " + FormatDouble(qd[0]));
       q = q1;
       Reference::Result r;
@@ -528,7 +572,9 @@ int main(int argc, char** argv) {
       out << "\n";
     }
     std::cerr << "make_reference: " << m.name << ": " << qs.size() << " configurations -> "
-              << out_path << "\n";
+              << out_path;
+    if (follow) std::cerr << " (" << crossings << " change point(s) passed)";
+    std::cerr << "\n";
   } catch (const mechgen::ModelError& e) {
     std::cerr << e.file() << ":" << e.mark().line << ":" << e.mark().column
               << ": error: " << e.message() << "\n";

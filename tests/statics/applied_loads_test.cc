@@ -6,7 +6,9 @@
 //     models/sprung_slider_crank.yaml (a force in the rod's frame, a torque growing with the
 //     crank angle drawn at the rod's first pin, a slider force, a torsional and a linear
 //     spring); a spring's tension F0 + k (|r_b - r_a| - l0); fourbar_loaded's weights (gravity
-//     [0, -g]): m g down at each link's hand centre of mass;
+//     [0, -g]): m g down at each link's hand centre of mass; the test model's weights where
+//     its masses are (a link with point masses drawn mass by mass: the rod's own mass at its
+//     middle and a lamp at C, a block alone on the massless slider);
 //   - virtual work: the generated Q equals the work of the drawn loads, springs and weights
 //     per unit of crank angle, their points and angles differenced over a small motion (the
 //     spring by -tension dl/dq, the torsional spring by its torque times the crank's
@@ -232,11 +234,13 @@ namespace ssc = mech::sprung_slider_crank;
 using SC = ssc::Model;
 
 TEST(AppliedLoads, SprungSliderCrankAgainstHandValues) {
-  ASSERT_EQ(SC::kNumAppliedLoads, 5);
-  const char* names[] = {"rod_force", "rod_torque", "push", "twist", "pull"};
-  const int kinds[] = {0, 1, 0, 3, 2};
-  const char* units[] = {"N", "N m", "N", "N m", "N"};
-  for (int i = 0; i < 5; ++i) {
+  // The loads, the springs, then the weights: the rod's own and its lamp's apart (a link with
+  // point masses is drawn mass by mass), the massless slider's block alone.
+  ASSERT_EQ(SC::kNumAppliedLoads, 8);
+  const char* names[] = {"rod_force", "rod_torque", "push", "twist", "pull", "W_rod", "W_rod_lamp", "W_slider_block"};
+  const int kinds[] = {0, 1, 0, 3, 2, 4, 4, 4};
+  const char* units[] = {"N", "N m", "N", "N m", "N", "N", "N", "N"};
+  for (int i = 0; i < 8; ++i) {
     EXPECT_STREQ(SC::kAppliedLoadNames[i], names[i]);
     EXPECT_EQ(SC::kAppliedLoadKind[i], kinds[i]);
     EXPECT_STREQ(SC::kAppliedLoadUnits[i], units[i]);
@@ -284,6 +288,19 @@ TEST(AppliedLoads, SprungSliderCrankAgainstHandValues) {
     EXPECT_TRUE(Near(A(6, 4), tension, kTol, tension, "pull tension" + at));
     EXPECT_TRUE(Near(A(4, 4), on_E.x, kTol, tension, "pull force on E, x" + at));
     EXPECT_TRUE(Near(A(5, 4), on_E.y, kTol, tension, "pull force on E, y" + at));
+    // The weights, m g down: the rod's own at its middle, the lamp at C, the block at B.
+    const V2 mid = pA + (p.b / 2) * V2{std::cos(tr), std::sin(tr)};
+    const V2 where[] = {mid, pC, pB};
+    const double mass[] = {p.m_rod, p.m_lamp, p.m_block};
+    for (int w = 0; w < 3; ++w) {
+      const int col = 5 + w;
+      const std::string name = std::string(SC::kAppliedLoadNames[col]) + at;
+      EXPECT_TRUE(Near(A(0, col), where[w].x, kTol, 1, name + " x"));
+      EXPECT_TRUE(Near(A(1, col), where[w].y, kTol, 1, name + " y"));
+      EXPECT_EQ(A(4, col), 0.0) << name;
+      EXPECT_TRUE(Near(A(5, col), -mass[w] * p.g, kTol, mass[w] * p.g, name + " F_y"));
+      EXPECT_TRUE(Near(A(6, col), mass[w] * p.g, kTol, mass[w] * p.g, name + " |m g|"));
+    }
     ++checked;
   }
   EXPECT_EQ(checked, 18);
@@ -294,6 +311,7 @@ TEST(AppliedLoads, SprungSliderCrankAgainstHandValues) {
 // the crank's, q), the spring's tension times -dl/dq, all differenced from the drawn points.
 TEST(AppliedLoads, SprungSliderCrankQIsTheWorkOfTheDrawnLoads) {
   SC::ParamsT<double> p;
+  int weighty = 0;  // angles where the weights' work is not negligible
   const int i_rod = IndexOf(SC::kPhiNames, "theta_rod");
   for (double deg = 10; deg < 360; deg += 25) {
     const double q = deg * kDeg;
@@ -309,9 +327,16 @@ TEST(AppliedLoads, SprungSliderCrankQIsTheWorkOfTheDrawnLoads) {
     work += A(6, 3) * 1.0;                                              // the twist on the crank
     auto length = [](const Applied<SC>& X) { return std::hypot(X(2, 4) - X(0, 4), X(3, 4) - X(1, 4)); };
     work += -A(6, 4) * (length(Ap) - length(Am)) / (2 * kH);  // the spring pulls its ends together
+    // The weights, each at its own point: the rod's and its lamp's drawn apart, the one
+    // weight of the combined rod in Q.
+    double weights = 0;
+    for (int l = 5; l < 8; ++l) weights += A(4, l) * d(0, l) + A(5, l) * d(1, l);
+    work += weights;
     const double Q = GeneratedQ<SC>(p, q, phi);
     EXPECT_TRUE(Near(Q, work, kFdTol, std::abs(Q) + 10, "Q at " + std::to_string(deg) + " deg"));
+    if (std::abs(weights) > 0.1) ++weighty;
   }
+  EXPECT_GE(weighty, 10);  // of 15 angles
 }
 
 // ---- the picture ----
@@ -519,6 +544,22 @@ TEST(AppliedLoads, SprungSliderCrankForceDiagram) {
     // The spring from E to B.
     ASSERT_TRUE(std::regex_search(body, e, std::regex("<polyline class=\"spring\"[^>]* data-value=\"([^\"]+)\"")));
     EXPECT_NEAR(std::stod(e[1]), p.F0 + p.k * (Norm(pB - pE) - p.L0), 1e-9);
+    // The weights where their masses are: the rod's own at its middle, the lamp at C, the
+    // block at B; m g down at the force scale.
+    const V2 where[] = {pA + (p.b / 2) * V2{std::cos(tr), std::sin(tr)}, pC, pB};
+    const double mass[] = {p.m_rod, p.m_lamp, p.m_block};
+    const std::regex weight_re("<line class=\"weight\"[^>]*>");
+    std::vector<std::string> weights;
+    for (auto w = std::sregex_iterator(body.begin(), body.end(), weight_re); w != std::sregex_iterator(); ++w)
+      weights.push_back((*w)[0]);
+    ASSERT_EQ(weights.size(), 3u) << body;
+    for (int w = 0; w < 3; ++w) {
+      EXPECT_NEAR(Attr(weights[w], "x1"), X(where[w].x), px) << w;
+      EXPECT_NEAR(Attr(weights[w], "y1"), Y(where[w].y), px) << w;
+      EXPECT_NEAR(Attr(weights[w], "x2"), Attr(weights[w], "x1"), px) << w;
+      EXPECT_NEAR(Attr(weights[w], "y2") - Attr(weights[w], "y1"), per_newton * mass[w] * p.g, 2 * px) << w;
+      EXPECT_NEAR(Attr(weights[w], "data-value"), mass[w] * p.g, 1e-12 * mass[w] * p.g) << w;
+    }
   }
   EXPECT_EQ(groups, 4);
   EXPECT_GE(torques, 3);

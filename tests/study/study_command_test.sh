@@ -52,6 +52,31 @@ grep -q '^envelope of coupler.P: ' one.out || fail "no envelope summary: $(cat o
 
 grep -q "compiling .* with MPI" one.err && compiled_mpi=1 || compiled_mpi=0
 
+# analysis: positions (the coupler point at listed inputs, no velocities: the cheapest analysis):
+# 1 and 2 threads the same bytes, one row per sample, the analysis named in the first line.
+cat > pos.yaml << 'EOF'
+method: monte_carlo
+count: 20000
+seed: 7
+analysis: positions
+at: [0, 60deg, 120deg]
+parameters:
+  a: {tolerance: 0.01}
+  b: {tolerance: 0.01}
+  xi: {tolerance: 0.01}
+metrics:
+  - {kind: at, column: coupler.P.x, step: 1}
+  - {kind: max, column: coupler.P.y}
+  - {kind: path_deviation, point: coupler.P}
+EOF
+for t in 1 2; do
+  "$mechgen" study fourbar.yaml --study pos.yaml --threads $t --csv pos$t.csv --quiet > pos$t.out 2> pos$t.err ||
+    fail "positions, $t thread(s): exit status $?: $(cat pos$t.err)"
+done
+if cmp -s pos1.csv pos2.csv; then ok "positions: 1 and 2 threads the same bytes"; else fail "positions: 1 and 2 threads differ"; fi
+[ "$(grep -v '^#' pos1.csv | tail -n +2 | wc -l)" -eq 20000 ] || fail "positions: not 20000 rows"
+head -1 pos1.csv | grep -q "analysis positions in 2 steps" || fail "positions: $(head -1 pos1.csv)"
+
 # `mechgen study STUDY.yaml`: the study names its model, relative to itself.
 mkdir -p sub
 sed 's|^method: monte_carlo|model: ../fourbar.yaml\nmethod: monte_carlo|' study.yaml > sub/named.yaml

@@ -36,20 +36,24 @@ inline std::filesystem::path FindOnPath(const std::string& program) {
   return fs::path();
 }
 
-/// The directories the plot scripts are looked up in, in order: `env_dir` ($MECHGEN_TOOLS_DIR,
-/// when set and not empty), then the tools directory the command was compiled from
-/// (-DMECHGEN_TOOLS_DIR=..., set by mechgen_add_model() and by the mechgen driver), then beside
+/// The directories the plot scripts are looked up in, in order. `env_dir` ($MECHGEN_TOOLS_DIR),
+/// when set and not empty, is the only one: the user said where the scripts are, and a
+/// directory that lacks one is an error, not a reason to take another tree's. Otherwise: beside
 /// `program` as installed (<prefix>/bin/<tool> -> <prefix>/share/mechgen/tools; none when
-/// `program` is empty), then the directory this header lies under (runtime/tools in the source
+/// `program` is empty), so that an installed or copied tool uses the scripts installed with it
+/// rather than those of the tree it was built from; then the tools directory the command was
+/// compiled from (-DMECHGEN_TOOLS_DIR=..., set by mechgen_add_model() for the statics tools and
+/// by the mechgen driver: the source tree's runtime/tools, or share/mechgen/tools of an
+/// installed mechgen); then the directory this header lies under (runtime/tools in the source
 /// tree, share/mechgen/tools when installed; only when the compiler saw its absolute path).
 inline std::vector<std::filesystem::path> PlotScriptDirs(const char* env_dir, const std::filesystem::path& program) {
   namespace fs = std::filesystem;
+  if (env_dir != nullptr && *env_dir != 0) return {fs::path(env_dir)};
   std::vector<fs::path> candidates;
-  if (env_dir != nullptr && *env_dir != 0) candidates.push_back(env_dir);
+  if (!program.empty()) candidates.push_back(program.parent_path().parent_path() / "share" / "mechgen" / "tools");
 #ifdef MECHGEN_TOOLS_DIR
   candidates.push_back(MECHGEN_TOOLS_DIR);
 #endif
-  if (!program.empty()) candidates.push_back(program.parent_path().parent_path() / "share" / "mechgen" / "tools");
   // __FILE__ is relative where the compiler was given a relative path (ccache's base_dir):
   // relative to a directory unknown at run time, so not a candidate then.
   if (const fs::path header(__FILE__); header.is_absolute()) candidates.push_back(header.parent_path().parent_path());
@@ -69,14 +73,36 @@ inline std::filesystem::path FindPlotScriptsIn(const std::vector<std::filesystem
   return fs::path();
 }
 
-/// The directory that holds every one of `scripts`, or empty: PlotScriptDirs of
-/// $MECHGEN_TOOLS_DIR and this program (/proc/self/exe).
-inline std::filesystem::path FindPlotScripts(std::initializer_list<const char*> scripts) {
-  namespace fs = std::filesystem;
+/// This program's path (/proc/self/exe), or empty.
+inline std::filesystem::path ThisProgram() {
   std::error_code ec;
-  fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec) self.clear();
-  return FindPlotScriptsIn(PlotScriptDirs(std::getenv("MECHGEN_TOOLS_DIR"), self), scripts);
+  return self;
+}
+
+/// The directory that holds every one of `scripts`, or empty: PlotScriptDirs of
+/// $MECHGEN_TOOLS_DIR and this program.
+inline std::filesystem::path FindPlotScripts(std::initializer_list<const char*> scripts) {
+  return FindPlotScriptsIn(PlotScriptDirs(std::getenv("MECHGEN_TOOLS_DIR"), ThisProgram()), scripts);
+}
+
+/// The one line a command prints when FindPlotScripts found no directory with every one of
+/// `scripts`: the scripts and where they were looked for.
+inline std::string PlotScriptsNotFound(std::initializer_list<const char*> scripts) {
+  std::string names, where;
+  for (const char* script : scripts) names += (names.empty() ? "" : " and ") + std::string(script);
+  const char* env_dir = std::getenv("MECHGEN_TOOLS_DIR");
+  if (env_dir != nullptr && *env_dir != 0) {
+    where = "in $MECHGEN_TOOLS_DIR = " + std::string(env_dir) +
+            " (point it at mechgen's runtime/tools or share/mechgen/tools, or unset it)";
+  } else {
+    for (const std::filesystem::path& dir : PlotScriptDirs(nullptr, ThisProgram()))
+      where += (where.empty() ? "in " : ", ") + dir.string();
+    where += std::string(where.empty() ? "" : " ") +
+             "(set MECHGEN_TOOLS_DIR to mechgen's runtime/tools or share/mechgen/tools)";
+  }
+  return "cannot find " + names + " " + where;
 }
 
 /// Runs `gnuplot -e "csv='<csv>'; <format>='<tmp>'" <script>` (no shell; format png or svg,

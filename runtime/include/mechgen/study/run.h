@@ -34,6 +34,7 @@
 #include "mechgen/dynamics/columns.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
+#include "mechgen/dynamics/prescribed.h"
 #include "mechgen/machines/flywheel/cycle_design.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
 #include "mechgen/position/solver.h"
@@ -98,6 +99,29 @@ struct SimulationOf<M, true> {
   };
   using Columns = table::Columns<dynamics::CsvRow<SampleT>>;
 };
+// analysis: simulate with drive: one input on a law of time, the others free
+// (dynamics/prescribed.h's PrescribedDynamics, as `<model>_simulate --drive`), a sample with the
+// actuator force lambda and the reactions of the generated kinetostatics there.
+template <class M, bool = HasDynamics<M>::value && ModelFeatures<M>::kHasSolve>
+struct DrivenOf {
+  static constexpr bool kOk = false;
+  struct Row {};
+  using Columns = std::vector<int>;
+};
+template <class M>
+struct DrivenOf<M, true> {
+  static constexpr bool kOk = true;
+  using Sim = dynamics::PrescribedDynamics<M, 1, dynamics::AnyDrive<1>>;
+  using SampleT = typename Sim::SampleT;
+  static constexpr int kNumReactions = statics::StaticsFeatures<M>::kNumReactions;
+  struct Row {
+    SampleT s;
+    using VecR = Eigen::Matrix<double, (kNumReactions > 0 ? kNumReactions : 1), 1>;
+    VecR R = VecR::Zero();
+    bool has_R = false;
+  };
+  using Columns = table::Columns<dynamics::CsvRow<SampleT>>;
+};
 }  // namespace run_internal
 
 /// A study of model M: the spec checked against the model, the tables, the nominal rows.
@@ -118,6 +142,8 @@ class Study {
     /// simulate analysis: the samples (every t_end / steps, and where friction sticks or slips)
     /// and how the run ended.
     std::vector<typename run_internal::SimulationOf<M>::Row> simulation;
+    /// simulate with drive: the samples of the driven run (its actuator force lambda).
+    std::vector<typename run_internal::DrivenOf<M>::Row> driven;
     dynamics::Status simulation_status = dynamics::Status::kNotRun;
     Params params;
     bool assembled = false;  ///< flywheel: the cycle is usable
@@ -127,6 +153,7 @@ class Study {
   /// ("file:line:column: error: ...") when the study does not fit the model.
   bool Prepare(const StudySpec& spec, std::string* error) {
     spec_ = spec;
+    driven_input_ = -1;
     auto fail = [&](Place p, const std::string& message) {
       *error = spec.path + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: " + message;
       return false;
@@ -173,7 +200,19 @@ class Study {
         return fail(spec.q0_place, "q0: expected " + std::to_string(M::kNq) + " value(s), one per input");
       if (!spec.qd0.empty() && static_cast<int>(spec.qd0.size()) != M::kNq)
         return fail(spec.qd0_place, "qd0: expected " + std::to_string(M::kNq) + " value(s), one per input");
+      driven_input_ = -1;
+      if (!spec.drive.input.empty()) {
+        std::string inputs;
+        for (int j = 0; j < M::kNq; ++j) {
+          inputs += (j ? ", " : "") + std::string(M::kQNames[j]);
+          if (spec.drive.input == M::kQNames[j]) driven_input_ = j;
+        }
+        if (driven_input_ < 0)
+          return fail(spec.drive.place, "drive: the model " + std::string(M::kName) + " has no input '" +
+                                            spec.drive.input + "' (its inputs: " + inputs + ")");
+      }
     }
+
     if (spec.analysis == Analysis::kFlywheel && (!kHasStatics || M::kNq != 1 || !M::kQIsAngle[0]))
       return fail(spec.analysis_place, std::string("analysis: flywheel needs a one-input machine turned by a crank "
                                                    "with `forces` among its outputs' quantities; ") +
@@ -185,7 +224,7 @@ class Study {
       q_begin_(0) = spec.q_begin;
       q_end_(0) = spec.q_end;
     }
-    if (spec.analysis != Analysis::kSimulate &&
+    if (spec.analysis != Analysis::kSimulate && spec.analysis != Analysis::kPositions &&
         !(std::abs(q_end_(0) - q_begin_(0)) / spec.steps <= position::Options().max_input_step))
       return fail(spec.analysis_place, "the motion moves " +
                                            std::to_string(std::abs(q_end_(0) - q_begin_(0)) / spec.steps) +
@@ -203,14 +242,24 @@ class Study {
                                run_internal::SimulationOf<M>::kNumReactions -
                                static_cast<int>(dynamics::RevoluteMagnitudes<M>().size());
     }
+    if constexpr (run_internal::DrivenOf<M>::kOk) {
+      if (driven_input_ >= 0) {
+        using SampleT = typename run_internal::DrivenOf<M>::SampleT;
+        driven_columns_ = dynamics::DrivenColumns<M, SampleT, 1>(std::array<int, 1>{driven_input_});
+        // The driven table ends, like the free one, with the reactions and their magnitudes.
+        first_driven_reaction_column_ = static_cast<int>(driven_columns_.size()) -
+                                        run_internal::DrivenOf<M>::kNumReactions -
+                                        static_cast<int>(dynamics::RevoluteMagnitudes<M>().size());
+      }
+    }
     needs_reactions_ = false;
     refs_.assign(spec.metrics.size(), Ref());
     for (size_t k = 0; k < spec.metrics.size(); ++k) {
       const MetricSpec& m = spec.metrics[k];
       Ref& r = refs_[k];
       const bool needs_statics = m.kind == MetricKind::kPeakDrive || m.kind == MetricKind::kPeakBearing;
-      if (needs_statics && spec.analysis != Analysis::kStatics)
-        return fail(m.place, "a metric of this kind needs analysis: statics");
+      if (needs_statics && spec.analysis != Analysis::kStatics && spec.analysis != Analysis::kSimulate)
+        return fail(m.place, "a metric of this kind needs analysis: statics (or simulate)");
       if (!m.column.empty()) {
         if (!FindColumn(m.column, &r.table, &r.column)) {
           std::string list;
@@ -224,6 +273,15 @@ class Study {
             list.clear();
             if constexpr (run_internal::SimulationOf<M>::kOk)
               for (const auto& c : simulation_columns_) list += (list.empty() ? "" : ", ") + c.name;
+            if constexpr (run_internal::DrivenOf<M>::kOk)
+              if (driven_input_ >= 0) {
+                list.clear();
+                for (const auto& c : driven_columns_) list += (list.empty() ? "" : ", ") + c.name;
+              }
+          }
+          if (spec.analysis == Analysis::kPositions) {
+            list.clear();
+            for (const std::string& c : PositionColumns()) list += (list.empty() ? "" : ", ") + c;
           }
           return fail(m.place, "no numeric column '" + m.column + "' in the " +
                                    (spec.analysis == Analysis::kStatics    ? "sweep or statics"
@@ -232,12 +290,27 @@ class Study {
                                    " output of " + M::kName + " (columns: " + list + ")");
         }
         if (r.table == 2 && r.column >= first_reaction_column_) needs_reactions_ = true;
+        if (r.table == 3 && r.column >= first_driven_reaction_column_) needs_reactions_ = true;
       }
-      if (m.kind == MetricKind::kPeakDrive) {
+      if (m.kind == MetricKind::kPeakDrive && spec.analysis == Analysis::kSimulate) {
+        // The driven input's actuator force lambda (a torque on the input link, or a force).
+        if (!FindColumn("lambda_" + spec.drive.input, &r.table, &r.column))
+          return fail(m.place, "the driven run has no column lambda_" + spec.drive.input);
+      } else if (m.kind == MetricKind::kPeakBearing && spec.analysis == Analysis::kSimulate) {
+        // |F| of each revolute joint among the reactions (F_<joint>_mag, inertia forces included).
+        for (const auto& j : dynamics::RevoluteMagnitudes<M>()) {
+          Ref c;
+          if (FindColumn("F_" + j.second + "_mag", &c.table, &c.column)) r.magnitudes.push_back(c.column), r.table = c.table;
+        }
+        if (r.magnitudes.empty())
+          return fail(m.place, std::string("the model ") + M::kName +
+                                   " has no reactions at revolute joints (outputs: reactions:)");
+        needs_reactions_ = true;
+      } else if (m.kind == MetricKind::kPeakDrive) {
         if (!FindColumn("drive_" + std::string(M::kQNames[0]), &r.table, &r.column))
           return fail(m.place, "the statics has no drive column");
       }
-      if (m.kind == MetricKind::kPeakBearing) {
+      if (m.kind == MetricKind::kPeakBearing && spec.analysis != Analysis::kSimulate) {
         if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
           for (const statics::ReactionJoint& j : statics::ReactionJoints<M>()) r.joints.push_back(j);
         }
@@ -322,6 +395,8 @@ class Study {
       case MetricKind::kEnergyFluctuation:
         return "J";
       default:
+        if constexpr (run_internal::DrivenOf<M>::kOk)
+          if (r.table == 3) return driven_columns_[r.column].unit;
         if constexpr (run_internal::SimulationOf<M>::kOk)
           if (r.table == 2) return simulation_columns_[r.column].unit;
         return r.table == 0 ? sweep_columns_[r.column].unit : statics_columns_[r.column].unit;
@@ -345,8 +420,12 @@ class Study {
       case MetricKind::kMinTransmissionAngle:
         return "smallest min(mu, pi - mu) of the transmission angles mu" + rows;
       case MetricKind::kPeakDrive:
+        if (spec_.analysis == Analysis::kSimulate)
+          return "largest |lambda_" + spec_.drive.input + "| (the actuator force of the drive)" + rows;
         return "largest |drive_" + std::string(M::kQNames[0]) + "| without friction" + rows;
       case MetricKind::kPeakBearing:
+        if (spec_.analysis == Analysis::kSimulate)
+          return "largest |F| of a revolute joint (inertia forces included)" + rows;
         return "largest magnitude of a joint's reaction force without friction" + rows;
       case MetricKind::kPathDeviation:
         return "largest distance of " + m.point + " from its place at the same row of the nominal design";
@@ -379,8 +458,11 @@ class Study {
   /// The analysis of the design `values` (one per spec parameter) into *rows.
   void Analyze(const double* values, bool design, Rows* out) const {
     out->params = Params();
-    for (size_t k = 0; k < spec_.parameters.size(); ++k)
-      *out->params.Find(spec_.parameters[k].name.c_str()) = values[k];
+    for (size_t k = 0; k < spec_.parameters.size(); ++k) *(out->params.Find(spec_.parameters[k].name.c_str())) = values[k];
+    if (spec_.analysis == Analysis::kPositions) {
+      Positions(design, out);
+      return;
+    }
     position::PositionSolver<M> solver(position::Options(), out->params);
     position::Summary summary;
     out->assembled = solver.AssembleDefault(&summary) == position::Status::kConverged;
@@ -401,8 +483,13 @@ class Study {
     }
     if (spec_.analysis == Analysis::kSimulate) {
       out->simulation.clear();
+      out->driven.clear();
       out->simulation_status = dynamics::Status::kNotRun;
-      if constexpr (run_internal::SimulationOf<M>::kOk) Simulate(out);
+      if (driven_input_ >= 0) {
+        SimulateDriven(out);
+      } else if constexpr (run_internal::SimulationOf<M>::kOk) {
+        Simulate(out);
+      }
       return;
     }
     if (!out->assembled) return;
@@ -491,7 +578,8 @@ class Study {
     const Ref& r = refs_[k];
     Taken t;
     const bool simulation = spec_.analysis == Analysis::kSimulate;
-    const int n = static_cast<int>(simulation ? rows.simulation.size() : rows.kinematics.size());
+    const int n = static_cast<int>(simulation ? (driven_input_ >= 0 ? rows.driven.size() : rows.simulation.size())
+                                              : rows.kinematics.size());
     auto consider = [&t](double v, int i, double sign, bool larger) {
       if (!std::isfinite(v)) return;
       if (t.step < 0 || (larger ? v > t.value : v < t.value)) {
@@ -552,6 +640,16 @@ class Study {
         }
         break;
       case MetricKind::kPeakBearing:
+        if (simulation) {
+          // The largest |F| of a revolute joint over the simulation's samples.
+          for (int i = 0; i < n; ++i)
+            for (size_t j = 0; j < r.magnitudes.size(); ++j) {
+              Ref c = r;
+              c.column = r.magnitudes[j];
+              consider(Cell(c, rows, i), i, 1, true);
+            }
+          break;
+        }
         if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
           for (int i = 0; i < n; ++i) {
             if (rows.statics[i].frictionless.summary.status != statics::Status::kConverged) continue;
@@ -843,6 +941,7 @@ class Study {
     int point = -1;
     int check = -1;
     std::vector<statics::ReactionJoint> joints;
+    std::vector<int> magnitudes;  ///< simulate's peak_bearing: the F_<joint>_mag columns
   };
 
   static void Wait(std::mutex* mutex,
@@ -858,6 +957,20 @@ class Study {
   }
 
   bool FindColumn(const std::string& name, int* table, int* column) const {
+    if (spec_.analysis == Analysis::kSimulate && driven_input_ >= 0) {
+      if constexpr (run_internal::DrivenOf<M>::kOk)
+        for (size_t c = 0; c < driven_columns_.size(); ++c)
+          if (driven_columns_[c].name == name && driven_columns_[c].value) {
+            *table = 3, *column = static_cast<int>(c);
+            return true;
+          }
+      return false;
+    }
+    if (spec_.analysis == Analysis::kPositions) {
+      bool position = name.find('/') != std::string::npos;  // a design column, d<column>/d<p>
+      for (const std::string& c : PositionColumns()) position = position || c == name;
+      if (!position) return false;
+    }
     if (spec_.analysis == Analysis::kSimulate) {
       if constexpr (run_internal::SimulationOf<M>::kOk)
         for (size_t c = 0; c < simulation_columns_.size(); ++c)
@@ -880,7 +993,22 @@ class Study {
         }
     return false;
   }
+  // The sweep's columns that a positions-only analysis fills: the inputs, the dependent
+  // coordinates, the points' x and y and the transmission angles.
+  static std::vector<std::string> PositionColumns() {
+    std::vector<std::string> names;
+    for (int j = 0; j < M::kNq; ++j) names.push_back(M::kQNames[j]);
+    for (int i = 0; i < M::kNphi; ++i) names.push_back(M::kPhiNames[i]);
+    for (int i = 0; i < M::kNumPoints; ++i)
+      for (const char* axis : {".x", ".y"}) names.push_back(std::string(M::kPointNames[i]) + axis);
+    if constexpr (ModelFeatures<M>::kNumTransmissionAngles > 0)
+      for (int t = 0; t < ModelFeatures<M>::kNumTransmissionAngles; ++t)
+        names.push_back(std::string("mu_") + M::kTransmissionJoints[t]);
+    return names;
+  }
   std::string ColumnName(const Ref& r) const {
+    if constexpr (run_internal::DrivenOf<M>::kOk)
+      if (r.table == 3) return driven_columns_[r.column].name;
     if constexpr (run_internal::SimulationOf<M>::kOk)
       if (r.table == 2) return simulation_columns_[r.column].name;
     return r.table == 0 ? sweep_columns_[r.column].name : statics_columns_[r.column].name;
@@ -891,7 +1019,153 @@ class Study {
     for (size_t i = 0; i < rows.simulation.size(); ++i)
       if constexpr (run_internal::SimulationOf<M>::kOk)
         if (std::abs(rows.simulation[i].s.t - t) <= 1e-9 * spec_.t_end) return static_cast<int>(i);
+    for (size_t i = 0; i < rows.driven.size(); ++i)
+      if constexpr (run_internal::DrivenOf<M>::kOk)
+        if (std::abs(rows.driven[i].s.t - t) <= 1e-9 * spec_.t_end) return static_cast<int>(i);
     return -1;
+  }
+  // analysis: simulate with drive: the input driven_input_ on its law from q0 (the others free
+  // from q0, qd0) to t_end (dynamics/prescribed.h, as `<model>_simulate --drive`), a sample
+  // every t_end / steps, with the kinetostatics' reactions where a metric reads them.
+  void SimulateDriven(Rows* out) const {
+    if constexpr (run_internal::DrivenOf<M>::kOk) {
+      using Sim = typename run_internal::DrivenOf<M>::Sim;
+      using SampleT = typename run_internal::DrivenOf<M>::SampleT;
+      using VecQ = typename Sim::VecQ;
+      using VecF = typename Sim::VecF;
+      VecQ q0, qd0 = VecQ::Zero();
+      for (int i = 0; i < M::kNq; ++i) q0(i) = spec_.q0.empty() ? M::kAssemblyQ[i] : spec_.q0[i];
+      for (int i = 0; i < M::kNq && !spec_.qd0.empty(); ++i) qd0(i) = spec_.qd0[i];
+      const int k = driven_input_;
+      const DriveSpec& d = spec_.drive;
+      std::array<dynamics::AnyLaw, 1> laws;
+      if (d.law == "speed") {
+        laws[0] = dynamics::ConstantSpeedLaw{q0(k), d.values[0], 0.0};
+      } else {
+        laws[0] = dynamics::RestToRestLaw{q0(k), d.values[0], d.values[1], d.values[2],
+                                          d.law == "move" ? dynamics::RestToRestLaw::Profile::kPoly345
+                                                          : dynamics::RestToRestLaw::Profile::kCycloidal};
+      }
+      dynamics::PrescribedOptions options;
+      options.sample_dt = spec_.t_end / spec_.steps;
+      Sim sim(out->params, std::array<int, 1>{k}, dynamics::AnyDrive<1>(laws), dynamics::NoForce(), options);
+      VecF qf0, qdf0;
+      for (int i = 0; i < Sim::kNf; ++i) {
+        qf0(i) = q0(sim.free()[i]);
+        qdf0(i) = qd0(sim.free()[i]);
+      }
+      out->assembled = sim.Initialize(0.0, qf0);
+      if (!out->assembled) return;
+      dynamics::Kinetostatics<M> kineto(out->params);
+      if (needs_reactions_) kineto.Initialize(q0);
+      auto observer = [&](const SampleT& s) {
+        typename run_internal::DrivenOf<M>::Row row;
+        row.s = s;
+        if constexpr (run_internal::DrivenOf<M>::kNumReactions > 0) {
+          if (needs_reactions_) {
+            dynamics::KinetostaticsRow<M> kr;
+            kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &kr);
+            if (kr.status == dynamics::KinetostaticsStatus::kOk) {
+              row.R = kr.statics.R;
+              row.has_R = true;
+            }
+          }
+        }
+        out->driven.push_back(row);
+        return true;
+      };
+      dynamics::PrescribedSummary summary;
+      sim.Simulate(0.0, qf0, qdf0, spec_.t_end, observer, &summary);
+      out->simulation_status = summary.status;
+    } else {
+      (void)out;
+    }
+  }
+  // analysis: positions: each row's configuration alone (no velocities): q of row i, the
+  // dependent coordinates, the points and the transmission angles. A model whose every block
+  // is a closed form solves each row by M::Solve on the assembly's branch (kDefaultModes; the
+  // cheapest analysis, no continuation); otherwise, and for the nominal's design derivatives,
+  // the continuation of PositionSolver from the model's assembly through the rows in order.
+  typename ModelTypes<M>::VecQ RowInput(int i) const {
+    using VecQ = typename ModelTypes<M>::VecQ;
+    if (!spec_.at.empty()) {
+      VecQ q = Eigen::Map<const VecQ>(M::kAssemblyQ.data());
+      q(0) = spec_.at[static_cast<size_t>(i)];
+      return q;
+    }
+    if (i == spec_.steps) return q_end_;
+    return VecQ(q_begin_ + (double(i) / spec_.steps) * (q_end_ - q_begin_));
+  }
+  static constexpr bool AllClosedForm() {
+    if constexpr (ModelFeatures<M>::kHasSolve) {
+      for (bool b : M::kBlockClosedForm)
+        if (!b) return false;
+      return true;
+    } else {
+      return false;
+    }
+  }
+  void Positions(bool design, Rows* out) const {
+    using VecQ = typename ModelTypes<M>::VecQ;
+    using VecPhi = typename ModelTypes<M>::VecPhi;
+    const size_t n = static_cast<size_t>(spec_.steps) + 1;
+    if (out->kinematics.size() != n) out->kinematics.assign(n, Kinematics());
+    int converged = 0;
+    if constexpr (AllClosedForm()) {
+      if (!design) {
+        VecPhi phi = Eigen::Map<const VecPhi>(M::kAssemblyPhi.data());
+        for (size_t i = 0; i < n; ++i) {
+          Kinematics& k = out->kinematics[i];
+          const VecQ q = RowInput(static_cast<int>(i));
+          k.q = q;
+          k.state.q = q;
+          typename mechgen::internal::TrigOf<M>::type trig;
+          typename M::template CoefficientsT<double> c;
+          VecPhi ph = phi;
+          bool ok;
+          if constexpr (ModelFeatures<M>::kHasTrig) {
+            const auto report = M::Solve(out->params, q, &ph, M::kDefaultModes, 20, 0.0, &trig);
+            using Status = decltype(report.status);
+            ok = report.status == Status::kConverged && ph.allFinite();
+            if (ok) M::Coeffs(out->params, q, ph, &c, &trig);
+          } else {
+            const auto report = M::Solve(out->params, q, &ph, M::kDefaultModes);
+            using Status = decltype(report.status);
+            ok = report.status == Status::kConverged && ph.allFinite();
+            if (ok) M::Coeffs(out->params, q, ph, &c);
+          }
+          if constexpr (M::kNumPoints > 0) ok = ok && c.r_P.allFinite();
+          k.summary.status = ok ? position::Status::kConverged : position::Status::kNotRun;
+          k.state.phi = ok ? ph : VecPhi::Constant(kNaN);
+          if constexpr (M::kNumPoints > 0) k.state.r_P = ok ? c.r_P : decltype(c.r_P)::Constant(kNaN);
+          if constexpr (SweepRecord<M>::kNumMu > 0) {
+            k.mu.setConstant(kNaN);
+            if (ok) M::TransmissionAngles(out->params, q, ph, &k.mu);
+          }
+          if (ok) phi = ph, ++converged;
+        }
+        out->assembled = converged > 0;
+        return;
+      }
+    }
+    position::PositionSolver<M> solver(position::Options(), out->params);
+    position::Summary summary;
+    out->assembled = solver.AssembleDefault(&summary) == position::Status::kConverged;
+    if (!out->assembled) return;
+    for (size_t i = 0; i < n; ++i) {
+      Kinematics& k = out->kinematics[i];
+      k = Kinematics();
+      k.q = RowInput(static_cast<int>(i));
+      const position::Status status = solver.MoveTo(k.q, &k.summary);
+      if (status != position::Status::kConverged) {
+        k.summary.status = position::Status::kNotRun;
+        k.state.q = k.q;
+        continue;
+      }
+      k.state = solver.state();
+      if constexpr (SweepRecord<M>::kNumMu > 0) M::TransmissionAngles(out->params, k.state.q, k.state.phi, &k.mu);
+      if (design && HasDesignDerivatives<M>::value) position::EvalDesign<M>(out->params, k.state, &k.design);
+    }
   }
   // analysis: simulate: the free motion from q0, qd0 to t_end (dynamics/forward.h), a sample
   // every t_end / steps, with the kinetostatics' reactions where a metric reads them.
@@ -938,6 +1212,13 @@ class Study {
     }
   }
   double Cell(const Ref& r, const Rows& rows, int i) const {
+    if constexpr (run_internal::DrivenOf<M>::kOk) {
+      if (r.table == 3) {
+        const auto& row = rows.driven[i];
+        return driven_columns_[r.column].value(
+            dynamics::CsvRow<typename run_internal::DrivenOf<M>::SampleT>{&row.s, row.has_R ? row.R.data() : nullptr});
+      }
+    }
     if constexpr (run_internal::SimulationOf<M>::kOk) {
       if (r.table == 2) {
         const auto& row = rows.simulation[i];
@@ -976,6 +1257,9 @@ class Study {
   StaticsColumnTable statics_columns_;
   typename run_internal::SimulationOf<M>::Columns simulation_columns_;
   int first_reaction_column_ = 0;  ///< simulation_columns_: the first reaction's
+  int driven_input_ = -1;          ///< simulate with drive: the driven input (M::kQNames)
+  typename run_internal::DrivenOf<M>::Columns driven_columns_;
+  int first_driven_reaction_column_ = 0;  ///< driven_columns_: the first reaction's
   bool needs_reactions_ = false;   ///< a metric reads a reaction column of the simulation
   Rows nominal_rows_;
 };

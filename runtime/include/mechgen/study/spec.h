@@ -29,7 +29,7 @@ struct Place {
 
 enum class Method { kGrid, kList, kLatinHypercube, kMonteCarlo };
 enum class Distribution { kNone, kUniform, kNormal };
-enum class Analysis { kSweep, kStatics, kFlywheel, kSimulate };
+enum class Analysis { kSweep, kStatics, kFlywheel, kSimulate, kPositions };
 enum class MetricKind {
   kMax,
   kMin,
@@ -87,6 +87,16 @@ struct ClearanceSpec {
   Place place;
 };
 
+/// analysis: simulate with drive: one input moved by a law of time (dynamics/prescribed.h, as
+/// `<model>_simulate --drive NAME=LAW`): speed (q = q0 + W t), move or cycloidal (rest to rest
+/// from q0 to Q1 over [T0, T1]).
+struct DriveSpec {
+  std::string input;   ///< empty: no drive (a free run)
+  std::string law;     ///< speed, move, cycloidal
+  std::vector<double> values;  ///< speed: {W}; move, cycloidal: {Q1, T0, T1}
+  Place place;
+};
+
 /// The whole study.
 struct StudySpec {
   std::string path;
@@ -101,6 +111,9 @@ struct StudySpec {
   double t_end = 0;
   std::vector<double> q0, qd0;
   Place q0_place, qd0_place;
+  DriveSpec drive;  ///< simulate: the driven input and its law (none: the free motion)
+  /// positions: the first input's values, one row each (empty: range and steps, as a sweep).
+  std::vector<double> at;
   bool has_range = false;  ///< else the model's range of the first input
   double q_begin = 0, q_end = 0;
   std::vector<ParameterSpec> parameters;
@@ -354,7 +367,7 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
     if (!root.IsMap()) Fail(root, "a study file is a map (method:, parameters:, metrics:, ...; docs/studies.md)");
     OnlyKeys(root,
              {"model", "method", "count", "seed", "analysis", "steps", "range", "omega", "t_end", "q0", "qd0",
-              "parameters", "metrics", "clearance", "tolerance", "envelope"},
+              "drive", "at", "parameters", "metrics", "clearance", "tolerance", "envelope"},
              "the study");
     const std::string method = root["method"] ? Text(root["method"], "method") : "";
     if (method == "grid")
@@ -386,8 +399,11 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       spec->analysis = Analysis::kFlywheel;
     else if (analysis == "simulate")
       spec->analysis = Analysis::kSimulate;
+    else if (analysis == "positions")
+      spec->analysis = Analysis::kPositions;
     else
-      Fail(root["analysis"], "analysis: '" + analysis + "': expected sweep, statics, flywheel or simulate");
+      Fail(root["analysis"],
+           "analysis: '" + analysis + "': expected sweep, statics, flywheel, simulate or positions");
     if (spec->analysis == Analysis::kFlywheel) {
       if (!root["omega"]) Fail(root["analysis"], "analysis: flywheel needs omega: (the mean speed, rad/s)");
       spec->omega = Number(root["omega"], "omega");
@@ -412,11 +428,45 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
         }
         (std::string(key) == "q0" ? spec->q0_place : spec->qd0_place) = PlaceOf(n);
       }
+      if (const YAML::Node d = root["drive"]) {
+        const char* form = "drive: expected {INPUT: {speed: W}}, {INPUT: {move: [Q1, T0, T1]}} or "
+                           "{INPUT: {cycloidal: [Q1, T0, T1]}} (one driven input)";
+        if (!d.IsMap() || d.size() != 1) Fail(d, form);
+        const auto kv = *d.begin();
+        spec->drive.input = Text(kv.first, "drive input");
+        spec->drive.place = PlaceOf(kv.first);
+        const YAML::Node law = kv.second;
+        if (!law.IsMap() || law.size() != 1) Fail(law, form);
+        OnlyKeys(law, {"speed", "move", "cycloidal"}, "a drive's law");
+        const auto lv = *law.begin();
+        spec->drive.law = lv.first.as<std::string>();
+        if (spec->drive.law == "speed") {
+          spec->drive.values.push_back(Number(lv.second, "drive speed"));
+          if (!(std::abs(spec->drive.values[0]) <= 1e5)) Fail(lv.second, "drive speed: expected |W| <= 1e5");
+        } else {
+          if (!lv.second.IsSequence() || lv.second.size() != 3)
+            Fail(lv.second, "drive " + spec->drive.law + ": expected [Q1, T0, T1] (the end value, 0 <= T0 < T1)");
+          for (const auto& x : lv.second) spec->drive.values.push_back(Number(x, "drive " + spec->drive.law));
+          if (!(std::abs(spec->drive.values[0]) <= 1e6 && spec->drive.values[1] >= 0 &&
+                spec->drive.values[2] > spec->drive.values[1]))
+            Fail(lv.second, "drive " + spec->drive.law + ": expected |Q1| <= 1e6 and 0 <= T0 < T1");
+        }
+      }
     } else {
+      if (root["drive"]) Fail(root["drive"], "drive: is for analysis: simulate");
       for (const char* key : {"t_end", "q0", "qd0"})
         if (root[key]) Fail(root[key], std::string(key) + ": is for analysis: simulate");
     }
     if (root["steps"]) spec->steps = static_cast<int>(Integer(root["steps"], "steps", 1, 1000000));
+    if (const YAML::Node a = root["at"]) {
+      if (spec->analysis != Analysis::kPositions) Fail(a, "at: is for analysis: positions");
+      if (!a.IsSequence() || a.size() == 0 || a.size() > 1000001)
+        Fail(a, "at: expected a list of the first input's values, e.g. [0, 30deg, 60deg]");
+      if (root["steps"] || root["range"])
+        Fail(a, "at: lists the input's values; give at: or range: with steps:, not both");
+      for (const auto& x : a) spec->at.push_back(Number(x, "at"));
+      spec->steps = static_cast<int>(spec->at.size()) - 1;  // the rows: 0 .. steps
+    }
     if (root["range"]) {
       const YAML::Node r = root["range"];
       if (!r.IsSequence() || r.size() != 2)
@@ -448,10 +498,18 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
     for (const MetricSpec& m : spec->metrics) {
       if (spec->analysis == Analysis::kSimulate && m.kind != MetricKind::kMax && m.kind != MetricKind::kMin &&
           m.kind != MetricKind::kRms && m.kind != MetricKind::kAt && m.kind != MetricKind::kFailures &&
-          m.kind != MetricKind::kDesignMargin)
+          m.kind != MetricKind::kDesignMargin && m.kind != MetricKind::kPeakBearing &&
+          m.kind != MetricKind::kPeakDrive)
         throw Failure{m.place,
                       "with analysis: simulate the metrics are max, min, rms and at of a column of the "
-                      "simulation's CSV, failures and design_margin"};
+                      "simulation's CSV, peak_bearing, peak_drive (with drive:), failures and design_margin"};
+      if (spec->analysis == Analysis::kSimulate && m.kind == MetricKind::kPeakDrive && spec->drive.input.empty())
+        throw Failure{m.place,
+                      "peak_drive of a simulation is the largest |lambda| of a driven input: give drive: "
+                      "(e.g. {theta: {speed: 10}})"};
+      if (spec->analysis == Analysis::kPositions &&
+          (m.kind == MetricKind::kPeakDrive || m.kind == MetricKind::kPeakBearing))
+        throw Failure{m.place, "analysis: positions has no forces (use analysis: statics or simulate)"};
       const bool cycle = IsFlywheelMetric(m.kind);
       if (cycle && spec->analysis != Analysis::kFlywheel)
         throw Failure{m.place, "a metric of this kind needs analysis: flywheel"};
