@@ -1064,7 +1064,11 @@ class Study {
         if constexpr (run_internal::DrivenOf<M>::kNumReactions > 0) {
           if (needs_reactions_) {
             dynamics::KinetostaticsRow<M> kr;
-            kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &kr);
+            if constexpr (Sim::kHasDrivenFriction) {
+              kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &kr, &s.friction);  // the friction loads included
+            } else {
+              kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &kr);
+            }
             if (kr.status == dynamics::KinetostaticsStatus::kOk) {
               row.R = kr.statics.R;
               row.has_R = true;
