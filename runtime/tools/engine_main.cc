@@ -88,6 +88,7 @@
 #include "common/cli.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/machines/engine/couples.h"
+#include "mechgen/machines/engine/cycle.h"
 #include "mechgen/machines/engine/crank_dynamics.h"
 #include "mechgen/machines/engine/gas.h"
 #include "mechgen/machines/engine/harmonics.h"
@@ -111,209 +112,22 @@ using VecQ = Eigen::Matrix<double, Model::kNq, 1>;
 using VecPhi = Eigen::Matrix<double, Model::kNphi, 1>;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180;
-constexpr int kMaxCyl = 16;
 
-/// One pressure law for all cylinders: the parametric cycle or a table.
-struct Law {
-  const eng::PolytropicWiebeCycle* wiebe = nullptr;
-  const eng::PressureTable* table = nullptr;
-  double Pressure(double a) const { return wiebe != nullptr ? wiebe->Pressure(a) : table->Pressure(a); }
-};
-using Gas = eng::GasTorque<Law, kMaxCyl>;
+// The engine, its gas and its cycle at constant speed: mechgen/machines/engine/cycle.h (the
+// same code as `mechgen study` with `analysis: engine`).
+using eng::Engine;
+using Law = eng::PressureLaw;
+using Gas = eng::CycleGas;
+using Point = eng::CrankPoint<Model>;
 
-/// The engine as the model's names describe it.
-struct Engine {
-  int n = 0;
-  double bore = 0, area = 0, r = 0, l = 0, cycle = 4 * kPi, J_fly = 0;
-  int strokes = 4;
-  std::array<int, kMaxCyl> slide{}, rod{}, R_B{}, R_C{}, R_N{};
-  std::array<double, kMaxCyl> gamma{}, beta{};
-  std::array<double*, kMaxCyl> p_gas{};
-  int R_O = -1;
-  double m_rod = 0, l_G = 0, J_rod = 0, m_pis = 0;
-};
-
-int PhiIndex(const std::string& name) {
-  for (int i = 0; i < Model::kNphi; ++i)
-    if (name == Model::kPhiNames[i]) return i;
-  return -1;
-}
-int ReactionIndex(const std::string& name) {
-  for (int i = 0; i < Model::kNumReactions; ++i)
-    if (name == Model::kReactionNames[i]) return i;
-  return -1;
-}
-
-bool ReadEngine(Params* p, Engine* e, std::string* error) {
-  auto get = [&](const std::string& name, double* v) {
-    double* x = p->Find(name.c_str());
-    if (x == nullptr) {
-      *error = "the model has no parameter '" + name + "': not an engine model of tools/make_engine.py";
-      return false;
-    }
-    *v = *x;
-    return true;
-  };
-  double strokes = 0;
-  if (!get("bore", &e->bore) || !get("r", &e->r) || !get("l", &e->l) || !get("strokes", &strokes) ||
-      !get("J_fly", &e->J_fly) || !get("m_rod", &e->m_rod) || !get("l_G", &e->l_G) ||
-      !get("J_rod", &e->J_rod) || !get("m_pis", &e->m_pis))
-    return false;
-  if (strokes != 2 && strokes != 4) {
-    *error = "the model's parameter strokes must be 2 or 4";
-    return false;
-  }
-  e->strokes = static_cast<int>(strokes);
-  e->cycle = e->strokes == 4 ? 4 * kPi : 2 * kPi;
-  e->area = kPi * e->bore * e->bore / 4;
-  e->R_O = ReactionIndex("F_O_x");
-  for (int j = 0; j < kMaxCyl; ++j) {
-    const std::string k = std::to_string(j + 1);
-    const int s = PhiIndex("s_slide_" + k);
-    if (s < 0) break;
-    e->slide[j] = s;
-    e->rod[j] = PhiIndex("theta_rod_" + k);
-    e->R_B[j] = ReactionIndex("F_B_" + k + "_x");
-    e->R_C[j] = ReactionIndex("F_C_" + k + "_x");
-    e->R_N[j] = ReactionIndex("N_slide_" + k);
-    e->p_gas[j] = p->Find(("p_gas_" + k).c_str());
-    if (e->rod[j] < 0 || e->R_B[j] < 0 || e->R_C[j] < 0 || e->R_N[j] < 0 || e->p_gas[j] == nullptr ||
-        e->R_O < 0) {
-      *error = "cylinder " + k + " lacks theta_rod_" + k + ", p_gas_" + k +
-               " or the reactions F_O, F_B_" + k + ", F_C_" + k + ", N_slide_" + k;
-      return false;
-    }
-    if (!get("gamma_" + k, &e->gamma[j]) || !get("beta_" + k, &e->beta[j])) return false;
-    e->n = j + 1;
-  }
-  if (e->n == 0) {
-    *error = "the model has no cylinder (no coordinate s_slide_1)";
-    return false;
-  }
-  return true;
-}
-
-Gas MakeGas(Params* p, const Engine& e, const Law* law) {
-  Gas g;
-  g.law = law;
-  g.cycle = e.cycle;
-  g.count = e.n;
-  for (int j = 0; j < e.n; ++j) {
-    g.cylinders[j].slide = e.slide[j];
-    g.cylinders[j].area = e.area;
-    g.cylinders[j].phase = *p->Find(("phase_" + std::to_string(j + 1)).c_str());
-  }
-  return g;
-}
-
-/// One crank angle at constant speed.
-struct Point {
-  double theta = 0, T_gas = 0, T_inertia = 0, T_total = 0, I = 0, drive = 0;
-  double T1 = 0;   ///< cylinder 1 alone: its gas torque + its own inertia torque
-  double I1 = 0;   ///< cylinder 1's share of I(theta)
-  std::array<double, kMaxCyl> p{}, thrust{};
-  std::array<double, Model::kNumReactions> R{};
-  double shake_x = 0, shake_y = 0, shake_M = 0;  ///< generated shaking force and moment about O
-  double rock_x = 0, rock_y = 0;  ///< rocking couple about the cylinders' middle (couples.h)
-};
-
-/// The positions at theta from *phi (warm start), K and L there.
+bool ReadEngine(Params* p, Engine* e, std::string* error) { return eng::ReadEngine<Model>(p, e, error); }
+Gas MakeGas(Params* p, const Engine& e, const Law* law) { return eng::MakeGas(p, e, law); }
 bool Positions(const Params& p, double theta, VecPhi* phi, typename Model::CoefficientsT<double>* c) {
-  VecQ q;
-  q(0) = theta;
-  const auto report = Model::Solve(p, q, phi);
-  if (report.status != decltype(report.status)::kConverged) return false;
-  Model::Coeffs(p, q, *phi, c);
-  return true;
+  return eng::CrankPositions<Model>(p, theta, phi, c);
 }
-
-/// Cylinder j's generalized inertia and its derivative, from the generated phi, K, L (the rod
-/// by its centre of mass and K_theta, the piston along its slide).
-void CylinderInertia(const Engine& e, int j, double theta, const VecPhi& phi,
-                     const typename Model::CoefficientsT<double>& c, double* I, double* dI) {
-  const double a = theta + e.gamma[j];
-  const double f = phi(e.rod[j]), Kf = c.K(e.rod[j], 0), Lf = c.L(e.rod[j], 0);
-  const double Ks = c.K(e.slide[j], 0), Ls = c.L(e.slide[j], 0);
-  const double KGx = -e.r * std::sin(a) - e.l_G * Kf * std::sin(f);
-  const double KGy = e.r * std::cos(a) + e.l_G * Kf * std::cos(f);
-  const double LGx = -e.r * std::cos(a) - e.l_G * (Lf * std::sin(f) + Kf * Kf * std::cos(f));
-  const double LGy = -e.r * std::sin(a) + e.l_G * (Lf * std::cos(f) - Kf * Kf * std::sin(f));
-  *I = e.m_pis * Ks * Ks + e.m_rod * (KGx * KGx + KGy * KGy) + e.J_rod * Kf * Kf;
-  *dI = 2 * (e.m_pis * Ks * Ls + e.m_rod * (KGx * LGx + KGy * LGy) + e.J_rod * Kf * Lf);
-}
-
-/// The generated shaking force and moment into *pt, and the rocking couple about the middle of
-/// the cylinders from the links' axial positions (a model without `shaking`: zeros).
-template <class MM>
-void FillShaking(const Params& p, const VecQ& q, const VecPhi& phi, const VecQ& qd, const VecQ& qdd,
-                 const typename MM::template CoefficientsT<double>& c,
-                 const mechgen::engine::LinkAxial<MM::kNumLinks>& axial, Point* pt) {
-  if constexpr (MM::kHasShaking) {
-    typename MM::template ShakingT<double> sh;
-    MM::Shaking(p, q, phi, qd, qdd, c, &sh);
-    pt->shake_x = sh.F(0);
-    pt->shake_y = sh.F(1);
-    pt->shake_M = sh.M;
-    const Eigen::Vector2d rock = mechgen::engine::RockingCouple(sh, axial);
-    pt->rock_x = rock(0);
-    pt->rock_y = rock(1);
-  } else {
-    (void)p, (void)q, (void)phi, (void)qd, (void)qdd, (void)c, (void)axial, (void)pt;
-  }
-}
-
-/// The cycle at constant speed omega, n samples from theta = 0.
 bool RunCycle(const Params& p0, const Engine& e, const Gas& gas, double omega, int samples,
               std::vector<Point>* out, std::string* error) {
-  Params p = p0;
-  *p.Find("T_load") = 0;
-  *p.Find("c_load") = 0;
-  // The links' axial positions for the rocking couple (rod_j, piston_j at z_j; the crank at the
-  // mean, the reference point).
-  const auto axial = mechgen::engine::LinkAxialPositions<Model>(p);
-  if (Model::kHasShaking && !axial.ok()) {
-    *error = std::string("rocking couple: ") + mechgen::engine::ToString(axial.status);
-    return false;
-  }
-  VecPhi phi;
-  for (int i = 0; i < Model::kNphi; ++i) phi(i) = Model::kAssemblyPhi[i];
-  out->assign(samples, Point());
-  for (int i = 0; i < samples; ++i) {
-    Point& pt = (*out)[i];
-    pt.theta = e.cycle * i / samples;
-    typename Model::CoefficientsT<double> c;
-    if (!Positions(p, pt.theta, &phi, &c)) {
-      char buf[160];
-      std::snprintf(buf, sizeof(buf), "the positions failed at theta = %.3f deg", pt.theta / kDeg);
-      *error = buf;
-      return false;
-    }
-    VecQ q, qd, qdd;
-    q(0) = pt.theta;
-    qd(0) = omega;
-    qdd(0) = 0;
-    typename Model::template DynamicsT<double> d;
-    Model::Dynamics(p, q, phi, qd, 0.0, c, &d);
-    pt.I = d.I(0, 0);
-    pt.T_inertia = -d.h(0);
-    pt.T_gas = gas.Torque(pt.theta, c.K);
-    pt.T_total = pt.T_gas + pt.T_inertia;
-    for (int j = 0; j < e.n; ++j) {
-      pt.p[j] = gas.Pressure(j, pt.theta);
-      *p.Find(("p_gas_" + std::to_string(j + 1)).c_str()) = pt.p[j];
-    }
-    Model::StaticsT<double> st;
-    Model::Kinetostatics(p, q, phi, qd, qdd, 0.0, c, &st);
-    pt.drive = st.drive(0);
-    for (int k = 0; k < Model::kNumReactions; ++k) pt.R[k] = st.R(k);
-    for (int j = 0; j < e.n; ++j) pt.thrust[j] = -st.R(e.R_N[j]);
-    FillShaking<Model>(p, q, phi, qd, qdd, c, axial, &pt);
-    double I1, dI1;
-    CylinderInertia(e, 0, pt.theta, phi, c, &I1, &dI1);
-    pt.I1 = I1;
-    pt.T1 = -pt.p[0] * e.area * c.K(e.slide[0], 0) - 0.5 * dI1 * omega * omega;
-  }
-  return true;
+  return eng::RunCycle<Model>(p0, e, gas, omega, samples, out, error);
 }
 
 /// Periodic linear interpolation of samples y over [0, cycle).
@@ -503,34 +317,8 @@ int ParseArgs(int argc, char** argv, Args* a) {
 }
 
 bool ReadTable(const std::string& path, double cycle, eng::PressureTable* t, std::string* error) {
-  std::ifstream in(path);
-  if (!in) {
-    *error = "cannot read the pressure table " + path;
-    return false;
-  }
-  std::vector<double> a, p;
-  std::string line;
-  int row = 0;
-  while (std::getline(in, line)) {
-    ++row;
-    if (line.empty() || line[0] == '#') continue;
-    const size_t comma = line.find(',');
-    double x = 0, y = 0;
-    if (comma == std::string::npos || !tools::ParseField(line.substr(0, comma), &x) ||
-        !tools::ParseField(line.substr(comma + 1), &y)) {
-      if (a.empty() && row == 1) continue;  // a header
-      *error = path + ":" + std::to_string(row) + ": expected 'angle_deg,p_gauge_Pa'";
-      return false;
-    }
-    a.push_back(x * kDeg);
-    p.push_back(y);
-  }
-  std::string why;
-  if (!t->Set(a, p, cycle, &why)) {
-    *error = path + ": " + why;
-    return false;
-  }
-  return true;
+  return eng::ReadPressureTable(path, cycle, t, error,
+                                [](const std::string& s, double* x) { return tools::ParseField(s, x); });
 }
 
 /// Opened output files, committed together at the end (each whole or absent:
@@ -878,27 +666,18 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   if (!RunCycle(p0, e, gas, omega, a.samples, &pts, &error)) return Fail(error);
   const int n = static_cast<int>(pts.size());
   const double dth = e.cycle / n;
-  // Energy loop about the mean (mechgen/machines/flywheel/energy_loop.h: the mean torque line is the
-  // load; E at the samples, the extremes refined between them).
-  double mean_I = 0;
-  std::vector<double> T(n), Tg(n), E(n), Eg(n);
-  for (int i = 0; i < n; ++i) {
-    T[i] = pts[i].T_total;
-    Tg[i] = pts[i].T_gas;
-    mean_I += pts[i].I / n;
-  }
+  // Energy loop about the mean (mechgen/machines/engine/cycle.h, flywheel/energy_loop.h: the
+  // mean torque line is the load; E at the samples, the extremes refined between them).
+  const eng::EngineEnergy energy = eng::EngineEnergyLoop(pts, e);
+  if (!energy.ok()) return Fail(energy.message);
+  const auto& loop = energy.loop;
+  const std::vector<double>& E = energy.E;
   mechgen::flywheel::EnergyLoopOptions lo_opt;
   lo_opt.remove_mean = true;
-  const auto loop = mechgen::flywheel::ExcessEnergy(T.data(), n, e.cycle, 0.0, lo_opt, E.data());
-  const auto loop_gas = mechgen::flywheel::ExcessEnergy(Tg.data(), n, e.cycle, 0.0, lo_opt, Eg.data());
-  if (!loop.IsUsable()) return Fail(std::string("energy loop: ") + mechgen::flywheel::ToString(loop.status));
-  if (!loop_gas.IsUsable())
-    return Fail(std::string("energy loop (gas): ") + mechgen::flywheel::ToString(loop_gas.status));
   const double mean = loop.mean_torque;
-  if (!(mean > 0)) return Fail("the mean torque is not positive: no load to size a flywheel against");
-  const double dE = loop.delta_E, dEg = loop_gas.delta_E;
+  const double dE = loop.delta_E, dEg = energy.loop_gas.delta_E;
   const double I_req = dE / (a.cs * omega * omega);
-  const double I_recip = mean_I - e.J_fly;  // the mean of the variable part
+  const double I_recip = energy.I_recip;  // the mean of the variable part
   const double J_fly = I_req - I_recip;
   if (!(J_fly > 0))
     return Fail("the reciprocating parts alone give C_s below the prescribed one: no flywheel needed");
@@ -1063,17 +842,9 @@ int main(int argc, char** argv) {
   eng::PolytropicWiebeCycle wiebe;
   eng::PressureTable table;
   Law law;
-  if (!a.table.empty()) {
-    if (!ReadTable(a.table, e.cycle, &table, &error)) return tools::UsageError(a.tool, error);
-    law.table = &table;
-  } else {
-    a.wiebe.strokes = e.strokes;
-    a.wiebe.bore = e.bore;
-    a.wiebe.stroke = 2 * e.r;
-    a.wiebe.rod_length = e.l;
-    if (!wiebe.Init(a.wiebe, &error)) return tools::UsageError(a.tool, error);
-    law.wiebe = &wiebe;
-  }
+  if (!a.table.empty() && !ReadTable(a.table, e.cycle, &table, &error)) return tools::UsageError(a.tool, error);
+  if (!eng::InitPressureLaw(e, a.wiebe, a.table.empty() ? nullptr : &table, &wiebe, &law, &error))
+    return tools::UsageError(a.tool, error);
   const Gas gas = MakeGas(&p, e, &law);
   if (a.command == "cycle") return Cycle(a, p, e, gas);
   if (a.command == "flywheel") return Flywheel(a, p, e, gas);
