@@ -75,6 +75,7 @@ const char* AnalysisName(study::Analysis a) {
          : a == study::Analysis::kFlywheel ? "flywheel"
          : a == study::Analysis::kSimulate  ? "simulate"
          : a == study::Analysis::kPositions ? "positions"
+         : a == study::Analysis::kEngine    ? "engine"
                                             : "sweep";
 }
 
@@ -90,6 +91,18 @@ void WriteCsv(const study::Study<Model>& s,
       << ", " << results.size() << " samples, seed " << spec.seed << ", analysis "
       << AnalysisName(spec.analysis) << " in " << spec.steps << " steps";
   if (spec.analysis == study::Analysis::kSimulate) out << " to t_end " << G17(spec.t_end) << " s";
+  if (spec.analysis == study::Analysis::kEngine) {
+    out << " at " << G17(spec.rpm) << " rpm, gas ";
+    if (spec.gas.table.empty()) {
+      const auto& w = spec.gas.wiebe;
+      out << "polytropic-Wiebe (cr " << G17(w.compression_ratio) << ", p_intake " << G17(w.p_intake) << " Pa, p_ambient "
+          << G17(w.p_ambient) << " Pa, n " << G17(w.n) << ", burn_start " << G17(w.burn_start) << " rad, burn_duration "
+          << G17(w.burn_duration) << " rad, wiebe_a " << G17(w.wiebe_a) << ", wiebe_m " << G17(w.wiebe_m) << ", heat "
+          << G17(w.heat) << " J)";
+    } else {
+      out << "table " << spec.gas.table;
+    }
+  }
   if (!spec.drive.input.empty()) {
     out << ", " << spec.drive.input << " driven (" << spec.drive.law;
     for (double v : spec.drive.values) out << " " << G17(v);
@@ -101,7 +114,7 @@ void WriteCsv(const study::Study<Model>& s,
     out << "# " << p.name << " [model units]: the model's parameter " << p.name << "\n";
   for (size_t k = 0; k < spec.metrics.size(); ++k)
     out << "# " << spec.metrics[k].name << " [" << s.Unit(k) << "]: " << s.Description(k) << "\n";
-  out << "# status [text]: ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel), "
+  out << "# status [text]: ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel, engine), "
          "simulation_failed (simulate: the run ended before t_end)\n";
   out << "sample";
   for (const study::ParameterSpec& p : spec.parameters) out << "," << p.name;

@@ -3,7 +3,8 @@
  * Runs a design study (study/spec.h) on a generated model M: for each sample, the model's
  * parameters set to the sample's values, the mechanism assembled at its assembly
  * configuration, the analysis over the motion (a kinematic sweep, or statics at every row; the
- * machine's cycle at a mean speed; or a simulation of the free motion), then the sample's
+ * machine's cycle at a mean speed; an engine's cycle at a crank speed under its gas law,
+ * machines/engine/cycle.h; or a simulation of the free motion), then the sample's
  * metrics from the rows. The metrics read the same column tables as the sweep's, the statics'
  * and the simulation's CSVs (sweep/columns.h, statics/columns.h, dynamics/columns.h), by their
  * CSV names, and
@@ -35,6 +36,7 @@
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/dynamics/prescribed.h"
+#include "mechgen/machines/engine/cycle.h"
 #include "mechgen/machines/flywheel/cycle_design.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
 #include "mechgen/position/solver.h"
@@ -54,7 +56,9 @@ struct SampleResult {
   /// "ok"; "rows_failed" (some rows of the motion did not converge: the metrics are over the
   /// others, `failures` counts them); "not_assembled" (no configuration at the assembly
   /// inputs: every metric NaN but failures); "cycle_failed" (analysis: flywheel: the cycle is
-  /// not usable, machines/flywheel/machine_cycle.h's status: every metric NaN but failures = 1);
+  /// not usable, machines/flywheel/machine_cycle.h's status; analysis: engine: the positions
+  /// failed at a crank angle, the energy loop is not usable or the mean torque not positive,
+  /// machines/engine/cycle.h: every metric NaN but failures = 1);
   /// "simulation_failed" (analysis: simulate: the run ended before t_end, dynamics/simulator.h's
   /// status: the metrics are over the samples reached, failures = 1).
   const char* status = "not_run";
@@ -145,6 +149,10 @@ class Study {
     /// simulate with drive: the samples of the driven run (its actuator force lambda).
     std::vector<typename run_internal::DrivenOf<M>::Row> driven;
     dynamics::Status simulation_status = dynamics::Status::kNotRun;
+    /// engine analysis: the energy loop of the engine's cycle (machines/engine/cycle.h), the
+    /// model's own flywheel J_fly, and why the cycle failed (engine.message).
+    engine::EngineEnergy engine;
+    double engine_J_fly = 0;
     Params params;
     bool assembled = false;  ///< flywheel: the cycle is usable
   };
@@ -213,6 +221,34 @@ class Study {
       }
     }
 
+    if (spec.analysis == Analysis::kEngine) {
+      if constexpr (!engine::CanRunEngineCycle<M>()) {
+        return fail(spec.analysis_place,
+                    std::string("analysis: engine needs an engine model of tools/make_engine.py (one crank input, "
+                                "`dynamics` and `forces` among its outputs' quantities, no Coulomb friction); ") +
+                        M::kName + " is not one");
+      } else {
+        // The engine's names (ReadEngine), and the indicator diagram over its cycle.
+        Params nominal;
+        for (size_t k = 0; k < spec.parameters.size(); ++k)
+          *(nominal.Find(spec.parameters[k].name.c_str())) = nominal_[k];
+        engine::Engine e;
+        std::string why;
+        if (!engine::ReadEngine<M>(&nominal, &e, &why))
+          return fail(spec.analysis_place, std::string("analysis: engine: the model ") + M::kName + ": " + why);
+        has_table_ = !spec.gas.table.empty();
+        if (has_table_) {
+          auto parse = [](const std::string& text, double* x) {
+            char* end = nullptr;
+            *x = std::strtod(text.c_str(), &end);
+            while (end != nullptr && (*end == ' ' || *end == '\r')) ++end;
+            return !text.empty() && end != nullptr && *end == '\0' && std::isfinite(*x);
+          };
+          if (!engine::ReadPressureTable(spec.gas.table, e.cycle, &table_, &why, parse))
+            return fail(spec.gas.place, "gas: table: " + why);
+        }
+      }
+    }
     if (spec.analysis == Analysis::kFlywheel && (!kHasStatics || M::kNq != 1 || !M::kQIsAngle[0]))
       return fail(spec.analysis_place, std::string("analysis: flywheel needs a one-input machine turned by a crank "
                                                    "with `forces` among its outputs' quantities; ") +
@@ -225,7 +261,7 @@ class Study {
       q_end_(0) = spec.q_end;
     }
     if (spec.analysis != Analysis::kSimulate && spec.analysis != Analysis::kPositions &&
-        !(std::abs(q_end_(0) - q_begin_(0)) / spec.steps <= position::Options().max_input_step))
+        spec.analysis != Analysis::kEngine && !(std::abs(q_end_(0) - q_begin_(0)) / spec.steps <= position::Options().max_input_step))
       return fail(spec.analysis_place, "the motion moves " +
                                            std::to_string(std::abs(q_end_(0) - q_begin_(0)) / spec.steps) +
                                            " per step, more than the solver's limit; use more steps:");
@@ -363,9 +399,10 @@ class Study {
     nominal_rows_ = Rows();
     Analyze(nominal_.data(), /*design=*/true, &nominal_rows_);
     if (!nominal_rows_.assembled)
-      return fail(spec.analysis_place,
-                  spec.analysis == Analysis::kFlywheel
-                      ? "the nominal design's cycle: " + nominal_rows_.cycle.message
+      return fail(spec.analysis == Analysis::kEngine ? spec.gas.place : spec.analysis_place,
+                  spec.analysis == Analysis::kFlywheel ? "the nominal design's cycle: " + nominal_rows_.cycle.message
+                  : spec.analysis == Analysis::kEngine
+                      ? "the nominal design's engine cycle: " + nominal_rows_.engine.message
                       : std::string("the model ") + M::kName + " does not assemble at the nominal design" +
                             (spec.analysis == Analysis::kSimulate ? " (at q0)" : ""));
     return true;
@@ -394,6 +431,8 @@ class Study {
         return "N m";
       case MetricKind::kEnergyFluctuation:
         return "J";
+      case MetricKind::kSpeedFluctuation:
+        return "1";
       default:
         if constexpr (run_internal::DrivenOf<M>::kOk)
           if (r.table == 3) return driven_columns_[r.column].unit;
@@ -437,14 +476,25 @@ class Study {
         return m.check.empty() ? "smallest margin of the model's design checks (>= 0: acceptable)"
                                : "margin of the design check " + m.check;
       case MetricKind::kFlywheelInertia:
+        if (spec_.analysis == Analysis::kEngine)
+          return "the flywheel J_fly for C_s = " + std::to_string(m.C_s) +
+                 ": Delta E / (C_s omega^2) - the mean of I(theta) - J_fly (the reciprocating parts' mean; "
+                 "<engine>_engine flywheel)";
         return "the flywheel inertia to add for C_s = " + std::to_string(m.C_s) +
                ": Delta E / (C_s omega^2) - the machine's mean inertia (machines/flywheel)";
       case MetricKind::kMeanTorque:
+        if (spec_.analysis == Analysis::kEngine)
+          return "mean crank torque T_total = T_gas + T_inertia over the cycle at rpm, CCW + (the load it drives)";
         return "mean required driving torque over the cycle at omega (the steady motor torque)";
       case MetricKind::kPeakTorque:
+        if (spec_.analysis == Analysis::kEngine) return "largest |T_total| over the cycle's samples at rpm";
         return "largest |required driving torque| over the cycle's samples at omega";
       case MetricKind::kEnergyFluctuation:
+        if (spec_.analysis == Analysis::kEngine)
+          return "Delta E = E_max - E_min of the energy loop of T_total about its mean";
         return "Delta E = E_max - E_min of the cycle's energy loop";
+      case MetricKind::kSpeedFluctuation:
+        return "C_s = Delta E / ((J_fly + the reciprocating parts' mean inertia) omega^2) with the model's J_fly";
     }
     return "";
   }
@@ -461,6 +511,10 @@ class Study {
     for (size_t k = 0; k < spec_.parameters.size(); ++k) *(out->params.Find(spec_.parameters[k].name.c_str())) = values[k];
     if (spec_.analysis == Analysis::kPositions) {
       Positions(design, out);
+      return;
+    }
+    if (spec_.analysis == Analysis::kEngine) {
+      EngineCycle(out);  // its own positions from theta = 0 (machines/engine/cycle.h)
       return;
     }
     position::PositionSolver<M> solver(position::Options(), out->params);
@@ -516,7 +570,7 @@ class Study {
     SampleResult result;
     result.metrics.assign(spec_.metrics.size(), kNaN);
     if (envelope_point_ >= 0) result.path = Path(*rows);
-    if (spec_.analysis == Analysis::kFlywheel) {
+    if (spec_.analysis == Analysis::kFlywheel || spec_.analysis == Analysis::kEngine) {
       result.status = rows->assembled ? "ok" : "cycle_failed";
       for (size_t k = 0; k < spec_.metrics.size(); ++k) result.metrics[k] = Value(k, *rows).value;
       return result;
@@ -588,8 +642,28 @@ class Study {
         t.sign = sign;
       }
     };
-    const bool cycle = spec_.analysis == Analysis::kFlywheel;
+    const bool cycle = spec_.analysis == Analysis::kFlywheel || spec_.analysis == Analysis::kEngine;
     if (cycle && !rows.assembled && m.kind != MetricKind::kFailures && m.kind != MetricKind::kDesignMargin) return t;
+    if (spec_.analysis == Analysis::kEngine && IsFlywheelMetric(m.kind)) {
+      // As `<engine>_engine flywheel` computes them (machines/engine/cycle.h's energy loop).
+      const engine::EngineEnergy& en = rows.engine;
+      const double omega = EngineOmega();
+      switch (m.kind) {
+        case MetricKind::kMeanTorque: t.value = en.loop.mean_torque; break;
+        case MetricKind::kPeakTorque: t.value = std::max(std::abs(en.T_max), std::abs(en.T_min)); break;
+        case MetricKind::kEnergyFluctuation: t.value = en.loop.delta_E; break;
+        case MetricKind::kFlywheelInertia: {
+          const double I_req = en.loop.delta_E / (m.C_s * omega * omega);
+          t.value = I_req - en.I_recip;
+          break;
+        }
+        case MetricKind::kSpeedFluctuation:
+          t.value = en.loop.delta_E / ((rows.engine_J_fly + en.I_recip) * omega * omega);
+          break;
+        default: break;
+      }
+      return t;
+    }
     switch (m.kind) {
       case MetricKind::kFlywheelInertia:
         t.value = flywheel::SizeFlywheel(rows.cycle, m.C_s).I_flywheel;
@@ -602,6 +676,8 @@ class Study {
         break;
       case MetricKind::kEnergyFluctuation:
         t.value = rows.cycle.loop.delta_E;
+        break;
+      case MetricKind::kSpeedFluctuation:
         break;
       case MetricKind::kMax:
       case MetricKind::kMin:
@@ -723,6 +799,11 @@ class Study {
     }
     if (m.kind == MetricKind::kPathDeviation) {
       *why = "a distance, 0 at the nominal: not differentiable there";
+      return g;
+    }
+    if (spec_.analysis == Analysis::kEngine && m.kind != MetricKind::kDesignMargin) {
+      *why = "no first-order figure of the engine cycle in a study (the engine tool's flywheel --design gives "
+             "one with the pressure trace held)";
       return g;
     }
     if (spec_.analysis == Analysis::kSimulate && m.kind != MetricKind::kDesignMargin) {
@@ -1090,6 +1171,38 @@ class Study {
   // is a closed form solves each row by M::Solve on the assembly's branch (kDefaultModes; the
   // cheapest analysis, no continuation); otherwise, and for the nominal's design derivatives,
   // the continuation of PositionSolver from the model's assembly through the rows in order.
+  // analysis: engine: the crank speed (rad/s), as the engine tool has it from --rpm.
+  double EngineOmega() const { return spec_.rpm * 2 * 3.14159265358979323846 / 60; }
+  // analysis: engine: the engine's cycle at rpm under the study's gas law and its energy loop,
+  // the same code as `<engine>_engine flywheel` (machines/engine/cycle.h): the engine read from
+  // the sample's parameters, the parametric law's volume from its bore, r and l.
+  void EngineCycle(Rows* out) const {
+    out->assembled = false;
+    out->engine = engine::EngineEnergy();
+    if constexpr (engine::CanRunEngineCycle<M>()) {
+      Params p = out->params;
+      engine::Engine e;
+      std::string error;
+      engine::PolytropicWiebeCycle wiebe;
+      engine::PressureLaw law;
+      std::vector<engine::CrankPoint<M>> pts;
+      if (!engine::ReadEngine<M>(&p, &e, &error) ||
+          !engine::InitPressureLaw(e, spec_.gas.wiebe, has_table_ ? &table_ : nullptr, &wiebe, &law, &error)) {
+        out->engine.message = error;
+        return;
+      }
+      const engine::CycleGas gas = engine::MakeGas(&p, e, &law);
+      if (!engine::RunCycle<M>(p, e, gas, EngineOmega(), spec_.steps, &pts, &error)) {
+        out->engine.message = error;
+        return;
+      }
+      out->engine = engine::EngineEnergyLoop(pts, e);
+      out->engine_J_fly = e.J_fly;
+      out->assembled = out->engine.ok();
+    } else {
+      out->engine.message = "not an engine model";
+    }
+  }
   typename ModelTypes<M>::VecQ RowInput(int i) const {
     using VecQ = typename ModelTypes<M>::VecQ;
     if (!spec_.at.empty()) {
@@ -1265,6 +1378,8 @@ class Study {
   typename run_internal::DrivenOf<M>::Columns driven_columns_;
   int first_driven_reaction_column_ = 0;  ///< driven_columns_: the first reaction's
   bool needs_reactions_ = false;   ///< a metric reads a reaction column of the simulation
+  engine::PressureTable table_;    ///< engine analysis: the indicator diagram (gas: table:)
+  bool has_table_ = false;
   Rows nominal_rows_;
 };
 

@@ -3,7 +3,8 @@
  * A design study as written in its file (docs/studies.md): the parameters that vary and how
  * (grid, list, Latin hypercube, Monte-Carlo from normal or uniform distributions given as
  * nominal +- tolerance, seeded), the analysis run per sample (a kinematic sweep or statics
- * over a motion, the machine's cycle and flywheel, or a simulation of the free motion), the
+ * over a motion, the machine's cycle and flywheel, an engine's cycle and flywheel, or a
+ * simulation of the free motion), the
  * metrics kept per sample, joint clearances and whether to compare the
  * first-order tolerance analysis with the Monte-Carlo. Read with yaml-cpp; every error is
  * "FILE:LINE:COLUMN: error: what is wrong; what to write instead". Model-independent: the
@@ -20,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "mechgen/machines/engine/gas.h"
+
 namespace mechgen::study {
 
 /// Where a node of the study file is, for messages ("file:line:column").
@@ -29,7 +32,7 @@ struct Place {
 
 enum class Method { kGrid, kList, kLatinHypercube, kMonteCarlo };
 enum class Distribution { kNone, kUniform, kNormal };
-enum class Analysis { kSweep, kStatics, kFlywheel, kSimulate, kPositions };
+enum class Analysis { kSweep, kStatics, kFlywheel, kSimulate, kPositions, kEngine };
 enum class MetricKind {
   kMax,
   kMin,
@@ -45,12 +48,13 @@ enum class MetricKind {
   kMeanTorque,            // flywheel: the mean required driving torque over the cycle
   kPeakTorque,            // flywheel: the largest |required driving torque| over the cycle
   kEnergyFluctuation,     // flywheel: the energy loop's Delta E
+  kSpeedFluctuation,      // engine: C_s with the model's own flywheel J_fly
 };
 
-/// Whether a metric of kind k reads the flywheel analysis' cycle.
+/// Whether a metric of kind k reads the cycle of the flywheel or the engine analysis.
 inline bool IsFlywheelMetric(MetricKind k) {
   return k == MetricKind::kFlywheelInertia || k == MetricKind::kMeanTorque || k == MetricKind::kPeakTorque ||
-         k == MetricKind::kEnergyFluctuation;
+         k == MetricKind::kEnergyFluctuation || k == MetricKind::kSpeedFluctuation;
 }
 
 /// A parameter that varies.
@@ -97,6 +101,15 @@ struct DriveSpec {
   Place place;
 };
 
+/// analysis: engine: the pressure law of every cylinder, as `<engine>_engine` takes it (--table,
+/// or the polytropic cycle with a Wiebe heat release whose bore, stroke and rod come from each
+/// sample's design: machines/engine/cycle.h).
+struct GasSpec {
+  std::string table;  ///< an indicator diagram (CSV 'angle_deg,p_gauge_Pa'), resolved; empty: the law
+  engine::PolytropicWiebeParams wiebe;  ///< the law's parameters (the tool's defaults)
+  Place place;
+};
+
 /// The whole study.
 struct StudySpec {
   std::string path;
@@ -106,6 +119,8 @@ struct StudySpec {
   Analysis analysis = Analysis::kSweep;
   int steps = 360;
   double omega = 0;  ///< flywheel: the mean speed (rad/s)
+  double rpm = 0;    ///< engine: the crank speed (1/min)
+  GasSpec gas;       ///< engine: the pressure law
   /// simulate: the free motion from t = 0 to t_end (s), sampled every t_end / steps, from the
   /// inputs q0 and speeds qd0 (empty: the model's assembly inputs, at rest).
   double t_end = 0;
@@ -283,7 +298,8 @@ inline MetricSpec Metric(const YAML::Node& n, int steps) {
                             {"flywheel_inertia", MetricKind::kFlywheelInertia, ""},
                             {"mean_torque", MetricKind::kMeanTorque, ""},
                             {"peak_torque", MetricKind::kPeakTorque, ""},
-                            {"energy_fluctuation", MetricKind::kEnergyFluctuation, ""}};
+                            {"energy_fluctuation", MetricKind::kEnergyFluctuation, ""},
+                            {"speed_fluctuation", MetricKind::kSpeedFluctuation, ""}};
   const K* found = nullptr;
   for (const K& k : kinds)
     if (kind == k.name) found = &k;
@@ -366,8 +382,8 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
   try {
     if (!root.IsMap()) Fail(root, "a study file is a map (method:, parameters:, metrics:, ...; docs/studies.md)");
     OnlyKeys(root,
-             {"model", "method", "count", "seed", "analysis", "steps", "range", "omega", "t_end", "q0", "qd0",
-              "drive", "at", "parameters", "metrics", "clearance", "tolerance", "envelope"},
+             {"model", "method", "count", "seed", "analysis", "steps", "range", "omega", "rpm", "gas", "t_end", "q0",
+              "qd0", "drive", "at", "parameters", "metrics", "clearance", "tolerance", "envelope"},
              "the study");
     const std::string method = root["method"] ? Text(root["method"], "method") : "";
     if (method == "grid")
@@ -401,9 +417,65 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       spec->analysis = Analysis::kSimulate;
     else if (analysis == "positions")
       spec->analysis = Analysis::kPositions;
+    else if (analysis == "engine")
+      spec->analysis = Analysis::kEngine;
     else
       Fail(root["analysis"],
-           "analysis: '" + analysis + "': expected sweep, statics, flywheel, simulate or positions");
+           "analysis: '" + analysis + "': expected sweep, statics, flywheel, simulate, positions or engine");
+    if (spec->analysis == Analysis::kEngine) {
+      if (!root["rpm"]) Fail(root["analysis"], "analysis: engine needs rpm: (the crank speed, 1/min)");
+      spec->rpm = Number(root["rpm"], "rpm");
+      if (!(spec->rpm > 0 && spec->rpm <= 1e5)) Fail(root["rpm"], "rpm: expected a crank speed > 0 and <= 1e5 (1/min)");
+      if (root["range"]) Fail(root["range"], "range: the engine analysis runs the engine's cycle (no range:)");
+      spec->gas.place = PlaceOf(root["gas"] ? root["gas"] : root["analysis"]);
+      if (const YAML::Node g = root["gas"]) {
+        if (!g.IsMap())
+          Fail(g, "gas: expected a map, {table: FILE} or the law's parameters, e.g. {heat: 800, burn_start: -15deg}");
+        OnlyKeys(g,
+                 {"table", "cr", "p_intake", "p_ambient", "n", "burn_start", "burn_duration", "wiebe_a", "wiebe_m",
+                  "heat"},
+                 "gas");
+        engine::PolytropicWiebeParams& w = spec->gas.wiebe;
+        struct Key {
+          const char* name;
+          double* value;
+          double lo, hi;
+          bool lo_open;
+          const char* unit;
+        };
+        const double deg = 0.017453292519943295;
+        const Key keys[] = {{"cr", &w.compression_ratio, 0, 1000, true, ""},
+                            {"p_intake", &w.p_intake, 0, 1e9, true, " Pa"},
+                            {"p_ambient", &w.p_ambient, 0, 1e9, true, " Pa"},
+                            {"n", &w.n, 0, 10, true, ""},
+                            {"burn_start", &w.burn_start, -720 * deg, 720 * deg, false, " rad (e.g. -15deg)"},
+                            {"burn_duration", &w.burn_duration, 0, 720 * deg, true, " rad (e.g. 60deg)"},
+                            {"wiebe_a", &w.wiebe_a, 0, 100, true, ""},
+                            {"wiebe_m", &w.wiebe_m, 0, 100, false, ""},
+                            {"heat", &w.heat, 0, 1e9, false, " J per cylinder and cycle"}};
+        for (const Key& k : keys) {
+          if (!g[k.name]) continue;
+          if (g["table"]) Fail(g[k.name], std::string("gas: ") + k.name + ": give table: or the law's parameters, not both");
+          const double x = Number(g[k.name], std::string("gas ") + k.name);
+          if (!((k.lo_open ? x > k.lo : x >= k.lo) && x <= k.hi))
+            Fail(g[k.name], std::string("gas: ") + k.name + ": expected a value in " + (k.lo_open ? "(" : "[") +
+                                std::to_string(k.lo) + ", " + std::to_string(k.hi) + "]" + k.unit);
+          *k.value = x;
+        }
+        if (g["table"]) {
+          spec->gas.table = Text(g["table"], "gas table");
+          spec->gas.place = PlaceOf(g["table"]);
+          // Relative to the study file's directory.
+          if (spec->gas.table[0] != '/') {
+            const size_t slash = path.find_last_of('/');
+            if (slash != std::string::npos) spec->gas.table = path.substr(0, slash + 1) + spec->gas.table;
+          }
+        }
+      }
+    } else {
+      for (const char* key : {"rpm", "gas"})
+        if (root[key]) Fail(root[key], std::string(key) + ": is for analysis: engine");
+    }
     if (spec->analysis == Analysis::kFlywheel) {
       if (!root["omega"]) Fail(root["analysis"], "analysis: flywheel needs omega: (the mean speed, rad/s)");
       spec->omega = Number(root["omega"], "omega");
@@ -511,18 +583,29 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
           (m.kind == MetricKind::kPeakDrive || m.kind == MetricKind::kPeakBearing))
         throw Failure{m.place, "analysis: positions has no forces (use analysis: statics or simulate)"};
       const bool cycle = IsFlywheelMetric(m.kind);
-      if (cycle && spec->analysis != Analysis::kFlywheel)
-        throw Failure{m.place, "a metric of this kind needs analysis: flywheel"};
+      if (m.kind == MetricKind::kSpeedFluctuation && spec->analysis != Analysis::kEngine)
+        throw Failure{m.place, "a metric of kind speed_fluctuation needs analysis: engine"};
+      if (cycle && spec->analysis != Analysis::kFlywheel && spec->analysis != Analysis::kEngine)
+        throw Failure{m.place, "a metric of this kind needs analysis: flywheel or engine"};
       if (!cycle && spec->analysis == Analysis::kFlywheel && m.kind != MetricKind::kDesignMargin &&
           m.kind != MetricKind::kFailures)
         throw Failure{m.place,
                       "with analysis: flywheel the metrics are flywheel_inertia, mean_torque, peak_torque, "
                       "energy_fluctuation, failures and design_margin"};
+      if (!cycle && spec->analysis == Analysis::kEngine && m.kind != MetricKind::kDesignMargin &&
+          m.kind != MetricKind::kFailures)
+        throw Failure{m.place,
+                      "with analysis: engine the metrics are mean_torque, peak_torque, energy_fluctuation, "
+                      "flywheel_inertia, speed_fluctuation, failures and design_margin"};
     }
-    if ((spec->analysis == Analysis::kFlywheel || spec->analysis == Analysis::kSimulate) && root["envelope"])
+    if ((spec->analysis == Analysis::kFlywheel || spec->analysis == Analysis::kSimulate ||
+         spec->analysis == Analysis::kEngine) &&
+        root["envelope"])
       Fail(root["envelope"], "envelope: needs a motion of the input (analysis: sweep or statics)");
     if (spec->analysis == Analysis::kFlywheel && spec->steps < 4)
       Fail(root["steps"], "steps: the flywheel's cycle needs at least 4 samples");
+    if (spec->analysis == Analysis::kEngine && spec->steps < 16)
+      Fail(root["steps"], "steps: the engine's cycle needs at least 16 samples (as the engine tool's --samples)");
     for (size_t i = 0; i < spec->metrics.size(); ++i) {
       for (size_t j = 0; j < i; ++j)
         if (spec->metrics[i].name == spec->metrics[j].name)

@@ -45,12 +45,12 @@ namespace mechgen::engine {
 
 constexpr int kMaxCylinders = 16;
 
-/// Whether RunCycle can be compiled for M: dynamics, statics without Coulomb friction (the
-/// kinetostatics), a position Solve, one input (the crank). Whether M is an engine is read at
+/// Whether RunCycle can be compiled for M: dynamics, statics with reactions and without Coulomb
+/// friction (the kinetostatics), a position Solve, one input (the crank). Whether M is an engine is read at
 /// run time (ReadEngine).
 template <class M>
 constexpr bool CanRunEngineCycle() {
-  if constexpr (HasDynamics<M>::value && statics::StaticsFeatures<M>::kHasStatics &&
+  if constexpr (HasDynamics<M>::value && statics::StaticsFeatures<M>::kHasStatics && HasStaticsR<M>::value &&
                 ModelFeatures<M>::kHasSolve) {
     return M::kNq == 1 && !statics::StaticsFeatures<M>::kHasFriction;
   } else {
