@@ -469,6 +469,8 @@ class Study {
       case MetricKind::kPathDeviation:
         return "largest distance of " + m.point + " from its place at the same row of the nominal design";
       case MetricKind::kFailures:
+        if (spec_.analysis == Analysis::kFlywheel || spec_.analysis == Analysis::kEngine)
+          return "1 when the cycle failed (status cycle_failed), else 0";
         return spec_.analysis == Analysis::kSimulate
                    ? "1 when the simulation ended before t_end (or did not assemble), else 0"
                    : "rows of the motion that did not converge (all of them when not assembled)";
