@@ -804,8 +804,8 @@ class Study {
       return g;
     }
     if (spec_.analysis == Analysis::kEngine && m.kind != MetricKind::kDesignMargin) {
-      *why = "no first-order figure of the engine cycle in a study (the engine tool's flywheel --design gives "
-             "one with the pressure trace held)";
+      *why = "no design derivatives of the engine cycle in a study (the engine tool's flywheel --design gives "
+             "them with the pressure trace held)";
       return g;
     }
     if (spec_.analysis == Analysis::kSimulate && m.kind != MetricKind::kDesignMargin) {
