@@ -126,6 +126,22 @@ struct DrivenOf<M, true> {
   };
   using Columns = table::Columns<dynamics::CsvRow<SampleT>>;
 };
+// The reactions of the generated kinetostatics at a simulation's sample into row->R (has_R
+// when they were found), with the sample's friction loads when the run has them
+// (kWithFriction: a free run with Coulomb friction, or a driven run with it in lambda).
+template <bool kWithFriction, class M, class SampleT, class Row>
+void SampleReactions(dynamics::Kinetostatics<M>& kineto, const SampleT& s, Row* row) {
+  dynamics::KinetostaticsRow<M> k;
+  if constexpr (kWithFriction) {
+    kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);
+  } else {
+    kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+  }
+  if (k.status == dynamics::KinetostaticsStatus::kOk) {
+    row->R = k.statics.R;
+    row->has_R = true;
+  }
+}
 }  // namespace run_internal
 
 /// A study of model M: the spec checked against the model, the tables, the nominal rows.
@@ -1146,16 +1162,7 @@ class Study {
         row.s = s;
         if constexpr (run_internal::DrivenOf<M>::kNumReactions > 0) {
           if (needs_reactions_) {
-            dynamics::KinetostaticsRow<M> kr;
-            if constexpr (Sim::kHasDrivenFriction) {
-              kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &kr, &s.friction);  // the friction loads included
-            } else {
-              kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &kr);
-            }
-            if (kr.status == dynamics::KinetostaticsStatus::kOk) {
-              row.R = kr.statics.R;
-              row.has_R = true;
-            }
+            run_internal::SampleReactions<Sim::kHasDrivenFriction>(kineto, s, &row);
           }
         }
         out->driven.push_back(row);
@@ -1307,18 +1314,7 @@ class Study {
         typename run_internal::SimulationOf<M>::Row row;
         row.s = s;
         if constexpr (run_internal::SimulationOf<M>::kNumReactions > 0) {
-          if (needs_reactions_) {
-            dynamics::KinetostaticsRow<M> k;
-            if constexpr (Sim::kHasCoulomb) {
-              kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
-            } else {
-              kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
-            }
-            if (k.status == dynamics::KinetostaticsStatus::kOk) {
-              row.R = k.statics.R;
-              row.has_R = true;
-            }
-          }
+          if (needs_reactions_) run_internal::SampleReactions<Sim::kHasCoulomb>(kineto, s, &row);
         }
         out->simulation.push_back(row);
         return true;
