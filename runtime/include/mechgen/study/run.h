@@ -81,6 +81,15 @@ template <class M, bool = HasDesignDerivatives<M>::value>
 struct NumDesignChecks : std::integral_constant<int, 0> {};
 template <class M>
 struct NumDesignChecks<M, true> : std::integral_constant<int, M::kNumDesignChecks> {};
+// A simulation's sample with the reactions of the generated kinetostatics there (has_R when
+// they were found): a row of analysis: simulate, free or driven.
+template <class SampleT, int kNumReactions>
+struct SimulatedRow {
+  SampleT s;
+  using VecR = Eigen::Matrix<double, (kNumReactions > 0 ? kNumReactions : 1), 1>;
+  VecR R = VecR::Zero();
+  bool has_R = false;
+};
 // analysis: simulate: the free motion of a model with `dynamics` and M::Solve
 // (dynamics/forward.h), a sample and the reactions of the generated kinetostatics there.
 template <class M, bool = HasDynamics<M>::value && ModelFeatures<M>::kHasSolve>
@@ -95,12 +104,7 @@ struct SimulationOf<M, true> {
   using Sim = dynamics::MinimalDynamics<M>;
   using SampleT = typename Sim::SampleT;
   static constexpr int kNumReactions = statics::StaticsFeatures<M>::kNumReactions;
-  struct Row {
-    SampleT s;
-    using VecR = Eigen::Matrix<double, (kNumReactions > 0 ? kNumReactions : 1), 1>;
-    VecR R = VecR::Zero();
-    bool has_R = false;
-  };
+  using Row = SimulatedRow<SampleT, kNumReactions>;
   using Columns = table::Columns<dynamics::CsvRow<SampleT>>;
 };
 // analysis: simulate with drive: one input on a law of time, the others free
@@ -118,12 +122,7 @@ struct DrivenOf<M, true> {
   using Sim = dynamics::PrescribedDynamics<M, 1, dynamics::AnyDrive<1>>;
   using SampleT = typename Sim::SampleT;
   static constexpr int kNumReactions = statics::StaticsFeatures<M>::kNumReactions;
-  struct Row {
-    SampleT s;
-    using VecR = Eigen::Matrix<double, (kNumReactions > 0 ? kNumReactions : 1), 1>;
-    VecR R = VecR::Zero();
-    bool has_R = false;
-  };
+  using Row = SimulatedRow<SampleT, kNumReactions>;
   using Columns = table::Columns<dynamics::CsvRow<SampleT>>;
 };
 // The reactions of the generated kinetostatics at a simulation's sample into row->R (has_R
