@@ -31,6 +31,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -210,7 +211,8 @@ int Main(int argc, char** argv) {
   long long evaluations = 0;
   mechgen::tools::ParameterOptions parameter_options;
   app.add_option("--task", task_path, "the synthesis task file (YAML, docs/synthesis.md)")->required();
-  app.add_option("--seed", seed, "the random seed: the same seed, the same result for any --threads")->capture_default_str();
+  mechgen::tools::Count(&app, "--seed", &seed, 0, std::numeric_limits<long long>::max(),
+                        "the random seed: the same seed, the same result for any --threads");
   mechgen::tools::Count(&app, "--threads", &threads, 1, 1024, "threads for the restarts (default: all cores)");
   mechgen::tools::Count(&app, "--evaluations", &evaluations, 0, 1000000000LL,
                         "the global stage's budget, overriding the task's search.evaluations (0: the task's)");

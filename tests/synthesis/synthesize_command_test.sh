@@ -2,7 +2,7 @@
 # `mechgen synthesize MODEL --task TASK.yaml` (runtime/tools/synthesize_main.cc), end to end,
 # in a temporary directory with a private cache (one compile of the tool, for fourbar):
 #   - a task file with an error: exit 1, FILE:LINE:COLUMN on stderr, nothing written;
-#   - a bad option: exit 2, one line, nothing written;
+#   - a bad option (--threads 0, --seed -1): exit 2, one line, nothing written;
 #   - a task nothing satisfies (links longer than the variables' bounds allow): exit 3,
 #     nothing written;
 #   - the shipped four-bar's own coupler points (tasks/fourbar_refind.yaml): exit 0; the model
@@ -47,6 +47,13 @@ status=$?
 [ "$(wc -l < opt.err)" = 1 ] || fail "bad option: $(cat opt.err)"
 [ ! -e out_opt ] || fail "bad option: out_opt written"
 ok "bad option"
+# A negative seed is not a seed (it once wrapped round to 2^64 - 1 and ran).
+"$mechgen" synthesize fourbar.yaml --task "$task" --seed -1 --out out_seed > seed.out 2> seed.err
+status=$?
+[ "$status" = 2 ] || fail "--seed -1: exit $status, expected 2"
+[ "$(wc -l < seed.err)" = 1 ] || fail "--seed -1: $(cat seed.err)"
+[ ! -e out_seed ] || fail "--seed -1: out_seed written"
+ok "negative seed"
 
 # Nothing feasible: every link at least 10, the variables at most 6.
 sed 's/^  transmission_angle: .*/  link_lengths: [10, 20]/; s/evaluations: 20000/evaluations: 400/' "$task" > none.yaml

@@ -185,17 +185,23 @@ inline bool CheckCount(const std::string& option, const std::string& text, long 
           ? 0
           : std::strtoll(text.c_str(), &end, 10);
   bool ok = false;
+  long long result = 0;
   if (end != nullptr && end != text.c_str() && *end == '\0' && errno != ERANGE) {
     ok = as_integer >= lo && as_integer <= hi;
-    v = static_cast<double>(as_integer);
+    result = as_integer;  // exact, also beyond 2^53
   } else if (ParseNumber(text, &v) && v == std::floor(v)) {
-    ok = v >= static_cast<double>(lo) && v <= static_cast<double>(hi);
+    // [-2^63, 2^63): the doubles a long long holds; then the bounds, compared exactly.
+    ok = v >= -9223372036854775808.0 && v < 9223372036854775808.0;
+    if (ok) {
+      result = static_cast<long long>(v);
+      ok = result >= lo && result <= hi;
+    }
   }
   if (!ok) {
     *error = BadValue(option, text, DescribeCount(lo, hi));
     return false;
   }
-  *value = static_cast<long long>(v);
+  *value = result;
   return true;
 }
 
