@@ -13,6 +13,7 @@
 #include <array>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "fourbar.h"
@@ -24,6 +25,7 @@
 #include "mechgen/synthesis/output.h"
 #include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
+#include "function_fourbar.h"
 #include "synth_fourbar.h"
 
 namespace {
@@ -686,6 +688,152 @@ TEST(FunctionSynthesis, PathConstraintsAppliedToFunctionTasks) {
   std::sort(lg.begin(), lg.end());
   EXPECT_LE(lg[0] + lg[3], lg[1] + lg[2]);
   EXPECT_TRUE(lg[0] == rg.best.x[0] || lg[0] == d);
+}
+
+// The extrema of g over [1, 2], by hand: 20000 even steps split into runs of one sign, in each
+// the largest |g| refined by ternary search between its neighbours (the values; *at: where).
+std::vector<double> HandExtrema(const std::function<double(double)>& g, std::vector<double>* at = nullptr) {
+  const int N = 20000;
+  std::vector<double> v(N + 1), out;
+  for (int k = 0; k <= N; ++k) v[static_cast<size_t>(k)] = g(1 + 1.0 * k / N);
+  for (int k = 0; k <= N;) {
+    int end = k, best = k;
+    while (end <= N && (v[static_cast<size_t>(end)] >= 0) == (v[static_cast<size_t>(k)] >= 0)) {
+      if (std::abs(v[static_cast<size_t>(end)]) > std::abs(v[static_cast<size_t>(best)])) best = end;
+      ++end;
+    }
+    double lo = 1 + 1.0 * std::max(best - 1, 0) / N, hi = 1 + 1.0 * std::min(best + 1, N) / N;
+    for (int it = 0; it < 100; ++it) {
+      const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+      if (std::abs(g(m1)) < std::abs(g(m2))) lo = m1;
+      else hi = m2;
+    }
+    double x = 0.5 * (lo + hi), e = g(x);
+    if (std::abs(v[static_cast<size_t>(best)]) >= std::abs(e)) x = 1 + 1.0 * best / N, e = v[static_cast<size_t>(best)];
+    out.push_back(e);
+    if (at != nullptr) at->push_back(x);
+    k = end;
+  }
+  return out;
+}
+
+// Equal ripple by hand: n alternating extrema (runs of one sign alternate by construction),
+// their magnitudes within `rel` of the largest; returns the largest.
+double ExpectEqualRipple(const std::vector<double>& ext, size_t n, double rel) {
+  EXPECT_EQ(ext.size(), n);
+  double lo = 1e300, hi = 0;
+  for (double e : ext) lo = std::min(lo, std::abs(e)), hi = std::max(hi, std::abs(e));
+  EXPECT_LE(hi - lo, rel * hi) << "extrema from " << lo << " to " << hi;
+  return hi;
+}
+
+TEST(FunctionSynthesis, MinimaxEqualisesTheStructuralErrorsExtrema) {
+  // log10 on [1, 2], the start angles fixed (a, b, c vary: four alternating extrema of the
+  // error at the optimum). The Remez exchange from the Chebyshev-spacing answer: the error of
+  // the four-bar it gives, evaluated by hand (circle intersection) on 20001 points and its
+  // extrema located by ternary search, has four extrema of alternating sign and equal
+  // magnitude (to 1e-7), the largest below the Chebyshev-spacing answer's largest (by hand
+  // too), and equal to what the library reports (1e-12).
+  const auto pts = BindFunctionYaml(Log10Task(3, ""), "mm_points.yaml");
+  std::string yaml = Log10Task(3, "");
+  yaml.replace(yaml.find("points: 3}"), 10, "points: 3, fit: minimax}");
+  const auto mm = BindFunctionYaml(yaml, "mm_minimax.yaml");
+  ASSERT_TRUE(mm.task.fit_minimax);
+  const FunctionResult rp = SynthesizeFunction(pts, 1);
+  const FunctionResult rm = SynthesizeFunction(mm, 1);
+  ASSERT_TRUE(rp.best.feasible()) << rp.best.defect;
+  ASSERT_TRUE(rm.best.feasible()) << rm.best.defect;
+  ASSERT_TRUE(rm.minimax.converged) << rm.minimax.why;
+  ASSERT_TRUE(rm.minimax.used) << rm.minimax.why;
+  const std::vector<double>& xp = rp.best.x;
+  const std::vector<double>& xm = rm.best.x;
+  const auto ep = HandExtrema([&](double x) { return HandY(xp[0], xp[1], xp[2], x) - std::log10(x); });
+  std::vector<double> at;
+  const auto em = HandExtrema([&](double x) { return HandY(xm[0], xm[1], xm[2], x) - std::log10(x); }, &at);
+  const double worst_m = ExpectEqualRipple(em, 4, 1e-7);
+  double worst_p = 0;
+  for (double e : ep) worst_p = std::max(worst_p, std::abs(e));
+  EXPECT_LT(worst_m, worst_p);
+  const double to_y = std::log10(2.0) / (60 * kDeg);
+  EXPECT_NEAR(rm.minimax.max_angle * to_y, worst_m, 1e-12);
+  EXPECT_NEAR(rm.minimax.start_max * to_y, worst_p, 1e-12);
+  // The library's extrema are the hand ones; its accuracy points (three zeros) are zeros by hand.
+  ASSERT_EQ(rm.minimax.ref_e.size(), 4u);
+  for (size_t k = 0; k < 4; ++k) {
+    EXPECT_NEAR(rm.minimax.ref_e[k] * to_y, em[k], 1e-12);
+    EXPECT_NEAR(rm.minimax.ref_x[k], at[k], 1e-5);
+  }
+  ASSERT_EQ(rm.minimax.zeros.size(), 3u);
+  for (double z : rm.minimax.zeros) EXPECT_LT(std::abs(HandY(xm[0], xm[1], xm[2], z) - std::log10(z)), 1e-12);
+  std::printf("log10 on [1, 2], a b c: largest |error| in y: Chebyshev spacing %.6g, minimax %.6g (%d exchanges)\n",
+              worst_p, worst_m, rm.minimax.exchanges);
+}
+
+TEST(FunctionSynthesis, StartAnglesWrittenIntoTheModelMeetTheTasksPairs) {
+  // log10 with four Chebyshev points and free start angles (five unknowns: met exactly) on function_fourbar, whose input
+  // and output angles read alpha and beta less than the lines AB and DC: the start angles
+  // found are written into alpha and beta, and the model file alone (its values read back
+  // from the written text) meets the task's pairs as written (the input and output angles the
+  // task file gives, not the start angles found): by the generated model's own solve and by
+  // hand (circle intersection at AB = q + alpha, less beta), to 1e-9.
+  using FM = mech::function_fourbar::Model;
+  const std::string path = ::testing::TempDir() + "/offsets.yaml";
+  std::ofstream(path) << "synthesis: function\nmodel: function_fourbar.yaml\noutput: theta_rocker\n"
+                         "function: {expression: \"log10(x)\", x: [1, 2], input: [90deg, 150deg], output: [20deg, 80deg], "
+                         "points: 4}\nfree_start: {input: [30deg, 150deg], output: [-60deg, 60deg], parameters: [alpha, beta]}\n"
+                         "freudenstein: {crank: a, coupler: b, rocker: c, ground: d}\n"
+                         "variables: {a: [0.5, 20], b: [0.5, 20], c: [0.5, 20]}\nsearch: {restarts: 0}\n";
+  FunctionTask task;
+  std::string error;
+  ASSERT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  BoundFunction<FM> b;
+  ASSERT_TRUE(BindFunctionTask<FM>(task, {}, &b, &error)) << error;
+  const FunctionResult r = SynthesizeFunction(b, 1);
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  std::vector<std::string> names;
+  std::vector<double> values;
+  FunctionModelParameters(b, r.best, &names, &values);
+  ASSERT_EQ(names, (std::vector<std::string>{"a", "b", "c", "alpha", "beta"}));
+  EXPECT_GT(std::abs(r.best.x[3] - 90 * kDeg), 1e-3);  // the start angles did move
+  std::ifstream in(std::string(MECHGEN_SYNTHESIS_TASKS) + "/../models/function_fourbar.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string written;
+  ASSERT_TRUE(RewriteParameters(text.str(), names, values, &written, &error)) << error;
+  const YAML::Node params = YAML::Load(written)["parameters"];
+  FM::ParamsT<double> p;
+  for (const char* name : {"a", "b", "c", "d", "alpha", "beta"}) *p.Find(name) = params[name]["value"].as<double>();
+  double largest = 0;
+  for (size_t i = 0; i < task.input.size(); ++i) {
+    const double q = task.input[i], psi = task.psi[i];  // as the task file gives them
+    Eigen::Matrix<double, 1, 1> qv;
+    qv(0) = q;
+    Eigen::Matrix<double, FM::kNphi, 1> phi;
+    for (int j = 0; j < FM::kNphi; ++j) phi(j) = FM::kAssemblyPhi[static_cast<size_t>(j)];
+    const auto report = FM::Solve(p, qv, &phi, FM::kDefaultModes);
+    ASSERT_EQ(report.status, decltype(report.status)::kConverged);
+    const double generated = WrapPi(phi(b.output) - psi);
+    const double hand = WrapPi(HandTheta4(p.a, p.b, p.c, p.d, q + p.alpha) - p.beta - psi);
+    EXPECT_LT(std::abs(generated), 1e-9) << "pair " << i + 1;
+    EXPECT_LT(std::abs(hand), 1e-9) << "pair " << i + 1;
+    largest = std::max(largest, std::abs(hand));
+  }
+  std::printf("four points, start angles in the model (alpha %.6g deg, beta %.6g deg): largest pair error %.3g rad\n",
+              p.alpha / kDeg, p.beta / kDeg, largest);
+  // A parameter the model does not have, or one of the variables: FILE:LINE:COLUMN.
+  std::ofstream(path) << "synthesis: function\noutput: theta_rocker\n"
+                         "function: {expression: \"log10(x)\", x: [1, 2], input: [0, 1], output: [0, 1], points: 3}\n"
+                         "free_start: {input: [0, 1], output: [0, 1], parameters: [alpha, gamma]}\nvariables: {a: [1, 2]}\n";
+  ASSERT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  EXPECT_FALSE(BindFunctionTask<FM>(task, {}, &b, &error));
+  EXPECT_EQ(error, path + ":4:57: free_start.parameters: no parameter 'gamma' in the model (parameters: a, b, c, d, alpha, beta)");
+  std::ofstream(path) << "synthesis: function\noutput: theta_rocker\n"
+                         "function: {expression: \"log10(x)\", x: [1, 2], input: [0, 1], output: [0, 1], points: 3}\n"
+                         "free_start: {input: [0, 1], output: [0, 1], parameters: [a, beta]}\nvariables: {a: [1, 2]}\n";
+  ASSERT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  EXPECT_FALSE(BindFunctionTask<FM>(task, {}, &b, &error));
+  EXPECT_EQ(error, path + ":4:57: free_start.parameters: 'a' is one of the variables; the start angles set it (remove "
+                          "it from variables:)");
 }
 
 TEST(FunctionSynthesis, RangeTaskErrorsSayWhereAndWhat) {
