@@ -659,7 +659,8 @@ struct MinimaxResult {
   bool used = false;           ///< its mechanism is the answer (no defect, a smaller largest error)
   std::string why;             ///< when not used or not converged
   int exchanges = 0;           ///< exchange steps (each a levelled solve and a new reference)
-  int iterations = 0;          ///< LM iterations of the levelled solves
+  int lawson = 0;              ///< Lawson's steps before the exchange (a seed with too few sign changes)
+  int iterations = 0;          ///< LM iterations of the levelled (and Lawson's) solves
   double level = 0;            ///< |E| of the last levelled solve
   double start_max = kInf;     ///< the seed's largest |error| over the range (extrema located)
   double max_angle = kInf;     ///< the answer's largest |error| over the range (extrema located)
@@ -727,37 +728,56 @@ bool RangeExtrema(FunctionEvaluator<M>* eval, const std::vector<double>& x, std:
   return true;
 }
 
-/// The error at the reference points x_k levelled: e(x_k; x) - sigma_k E = 0 for the nx + 1
-/// points (sigma_k alternating), over the variables and E; the Jacobian the generated one.
+/// The range error at points x_k: levelled (sigma given), e(x_k; x) - sigma_k E over the
+/// variables and E (the Remez step: nx + 1 points, sigma_k alternating); or weighted (sigma
+/// empty), w_k e(x_k; x) over the variables (Lawson's step). The Jacobian the generated one.
 template <class M>
-class LevelledResiduals : public ceres::CostFunction {
+class RangeResiduals : public ceres::CostFunction {
  public:
-  LevelledResiduals(FunctionEvaluator<M>* eval, std::vector<double> ref, std::vector<double> sigma)
-      : eval_(eval), ref_(std::move(ref)), sigma_(std::move(sigma)) {
-    set_num_residuals(static_cast<int>(ref_.size()));
-    mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(eval->bound().nx + 1));
+  RangeResiduals(FunctionEvaluator<M>* eval, std::vector<double> at, std::vector<double> weight, std::vector<double> sigma)
+      : eval_(eval), at_(std::move(at)), weight_(std::move(weight)), sigma_(std::move(sigma)) {
+    set_num_residuals(static_cast<int>(at_.size()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(eval->bound().nx + (sigma_.empty() ? 0 : 1)));
   }
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const int nx = eval_->bound().nx;
+    const int nx = eval_->bound().nx, nz = nx + (sigma_.empty() ? 0 : 1);
     const bool jac = jacobians != nullptr && jacobians[0] != nullptr;
-    eval_->evaluations += jac ? 2 + nx : 1;
+    eval_->evaluations += jac ? 1 + nz : 1;
     const std::vector<double> x(parameters[0], parameters[0] + nx);
-    const double level = parameters[0][nx];
     const auto p = eval_->ParamsOf(x);
-    for (size_t k = 0; k < ref_.size(); ++k) {
+    for (size_t k = 0; k < at_.size(); ++k) {
       double e = 0;
-      double* row = jac ? jacobians[0] + k * static_cast<size_t>(nx + 1) : nullptr;
-      if (!eval_->RangeError(p, x, ref_[k], &e, row)) return false;
-      residuals[k] = e - sigma_[k] * level;
-      if (jac) row[nx] = -sigma_[k];
+      double* row = jac ? jacobians[0] + k * static_cast<size_t>(nz) : nullptr;
+      if (!eval_->RangeError(p, x, at_[k], &e, row)) return false;
+      residuals[k] = weight_[k] * e - (sigma_.empty() ? 0.0 : sigma_[k] * parameters[0][nx]);
+      if (!jac) continue;
+      for (int j = 0; j < nx; ++j) row[j] *= weight_[k];
+      if (!sigma_.empty()) row[nx] = -sigma_[k];
     }
     return true;
   }
 
  private:
   FunctionEvaluator<M>* eval_;
-  std::vector<double> ref_, sigma_;
+  std::vector<double> at_, weight_, sigma_;
 };
+
+/// LM within the bounds on RangeResiduals from z (nx variables, + E when levelled); the final
+/// cost, the iterations added to *iterations.
+template <class M>
+double SolveRange(FunctionEvaluator<M>* eval, RangeResiduals<M>* cost, std::vector<double>* z, int* iterations) {
+  const BoundFunction<M>& b = eval->bound();
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, z->data());
+  for (int j = 0; j < b.nx; ++j) {
+    problem.SetParameterLowerBound(z->data(), j, b.lo[static_cast<size_t>(j)]);
+    problem.SetParameterUpperBound(z->data(), j, b.hi[static_cast<size_t>(j)]);
+  }
+  ceres::Solver::Summary summary;
+  ceres::Solve(LocalSolverOptions(), &problem, &summary);
+  *iterations += static_cast<int>(summary.iterations.size());
+  return summary.final_cost;
+}
 
 /// Keeps nx + 1 alternating extrema of more: drops the smallest at an end, or the smallest
 /// inside with its smaller neighbour (the rest still alternate), until nx + 1 are left.
@@ -805,33 +825,57 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
     return w;
   };
   m.start_max = m.max_angle = largest(ee);
-  std::vector<double> best = *x, best_ex = ex, best_ee = ee;
-  if (static_cast<int>(ex.size()) < nx + 1) {  // too few sign changes: the Chebyshev-Lobatto reference
-    const double s = ee[0] >= 0 ? 1 : -1;
-    ex.clear(), ee.clear();
-    for (int k = 0; k <= nx; ++k) {
-      const FunctionTask& t = b.task;
-      ex.push_back(0.5 * (t.x0 + t.x1) - 0.5 * (t.x1 - t.x0) * std::cos(k * M_PI / nx));
-      ee.push_back((k % 2 == 0 ? s : -s) * m.start_max);
+  std::vector<double> best = *x;
+  auto finish = [&]() {
+    *x = best;
+    std::vector<double> zx, ze;
+    if (RangeExtrema(eval, best, &zx, &ze, &m.zeros)) m.ref_x = zx, m.ref_e = ze;
+    return m;
+  };
+  std::vector<double> z = *x;
+  if (static_cast<int>(ex.size()) < nx + 1) {
+    // Too few sign changes for a reference: Lawson's iteration first, weighted least squares
+    // of the error at the samples + 1 points, w_k <- w_k |e_k| / sum w |e| (30 steps, each
+    // LM from the last), which tends to the minimax; the smallest largest error it meets.
+    const FunctionTask& t = b.task;
+    const int N = t.samples;
+    std::vector<double> at, w(static_cast<size_t>(N + 1), 1.0 / (N + 1)), e(static_cast<size_t>(N + 1));
+    for (int k = 0; k <= N; ++k) at.push_back(t.x0 + (t.x1 - t.x0) * k / N);
+    for (int step = 0; step < 30; ++step) {
+      std::vector<double> sw;
+      for (double wk : w) sw.push_back(std::sqrt(wk));
+      function_internal::SolveRange(eval, new function_internal::RangeResiduals<M>(eval, at, sw, {}), &z, &m.iterations);
+      ++m.lawson;
+      const auto p = eval->ParamsOf(z);
+      double sum = 0;
+      bool ok = true;
+      for (int k = 0; k <= N && ok; ++k) ok = eval->RangeError(p, z, at[static_cast<size_t>(k)], &e[static_cast<size_t>(k)]);
+      std::vector<double> lx, le;
+      ++eval->evaluations;
+      if (!ok || !RangeExtrema(eval, z, &lx, &le)) break;
+      const double worst = largest(le);
+      if (worst < m.max_angle) m.max_angle = worst, best = z, ex = lx, ee = le;
+      for (int k = 0; k <= N; ++k) sum += w[static_cast<size_t>(k)] * std::abs(e[static_cast<size_t>(k)]);
+      if (!(sum > 0)) break;
+      for (int k = 0; k <= N; ++k) w[static_cast<size_t>(k)] *= std::abs(e[static_cast<size_t>(k)]) / sum;
     }
+    if (static_cast<int>(ex.size()) < nx + 1) {
+      m.why = "the error has fewer than " + std::to_string(nx + 1) + " alternating extrema after Lawson's iteration (a "
+              "bound active, or the variables not independent): no Remez reference";
+      return finish();
+    }
+    z = best;
   }
   function_internal::Reduce(nx + 1, &ex, &ee);
-  std::vector<double> z = *x;
   for (int step = 0; step < 40; ++step) {
     std::vector<double> sigma;
     double level = 0;
     for (double e : ee) sigma.push_back(e >= 0 ? 1.0 : -1.0), level += std::abs(e) / static_cast<double>(ee.size());
     z.resize(static_cast<size_t>(nx));
     z.push_back(level);
-    ceres::Problem problem;
-    problem.AddResidualBlock(new function_internal::LevelledResiduals<M>(eval, ex, sigma), nullptr, z.data());
-    for (int j = 0; j < nx; ++j) {
-      problem.SetParameterLowerBound(z.data(), j, b.lo[static_cast<size_t>(j)]);
-      problem.SetParameterUpperBound(z.data(), j, b.hi[static_cast<size_t>(j)]);
-    }
-    ceres::Solver::Summary summary;
-    ceres::Solve(LocalSolverOptions(), &problem, &summary);
-    m.iterations += static_cast<int>(summary.iterations.size());
+    const double cost = function_internal::SolveRange(
+        eval, new function_internal::RangeResiduals<M>(eval, ex, std::vector<double>(ex.size(), 1.0), sigma), &z,
+        &m.iterations);
     ++m.exchanges;
     m.level = std::abs(z[static_cast<size_t>(nx)]);
     const std::vector<double> xz(z.begin(), z.begin() + nx);
@@ -842,7 +886,11 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
       break;
     }
     const double worst = largest(nee);
-    if (worst < m.max_angle) m.max_angle = worst, best = xz, best_ex = nex, best_ee = nee;
+    if (worst < m.max_angle) m.max_angle = worst, best = xz;
+    if (cost > 1e-6 * m.level * m.level) {
+      m.why = "a levelled solve found no equal-ripple point near the reference (a bound active?)";
+      break;
+    }
     if (static_cast<int>(nex.size()) < nx + 1) {
       m.why = "the levelled error has fewer than " + std::to_string(nx + 1) + " alternating extrema";
       break;
@@ -857,10 +905,7 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
     }
   }
   if (!m.converged && m.why.empty()) m.why = "40 exchange steps without equal extrema";
-  *x = best;
-  std::vector<double> zx, ze;
-  if (RangeExtrema(eval, best, &zx, &ze, &m.zeros)) m.ref_x = zx, m.ref_e = ze;
-  return m;
+  return finish();
 }
 
 /// What function synthesis did.
@@ -1138,7 +1183,9 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
   if (r.minimax.asked) {
     const MinimaxResult& m = r.minimax;
     const double to_y = (t.y1 - t.y0) / t.out_span;
-    s += "minimax (Remez exchange of the accuracy points): " + std::to_string(m.exchanges) + " exchange steps, " +
+    s += "minimax (Remez exchange of the accuracy points): " +
+         (m.lawson > 0 ? std::to_string(m.lawson) + " Lawson steps (the seed has too few sign changes), " : std::string()) +
+         std::to_string(m.exchanges) + " exchange steps, " +
          std::to_string(m.iterations) + " LM iterations, " + (m.converged ? "converged" : "not converged: " + m.why) +
          (m.used ? "" : "; not used" + (m.converged ? ": " + m.why : std::string())) + "\n";
     if (std::isfinite(m.max_angle)) {
