@@ -825,6 +825,33 @@ TEST(FunctionSynthesis, MinimaxForXSquaredAndWithFreeStartAngles) {
   }
 }
 
+TEST(FunctionSynthesis, FreeStartAnglesWithPairs) {
+  // Seven pairs of the shipped four-bar (hand formula) at 40, 60, ..., 160 deg, all inputs
+  // written 10 deg higher and all outputs 7 deg lower: no four-bar with its ground along +x
+  // meets them as written; with the start angles free (the first pair's) the search finds the
+  // four-bar and the start angles that undo the shifts: a, b, c = 1, 3.5, 3 and the first
+  // pair at (40 deg, its rocker angle by hand), to 1e-9.
+  std::string yaml = "synthesis: function\nmodel: fourbar.yaml\noutput: theta_rocker\npairs:\n";
+  for (int k = 0; k < 7; ++k) {
+    const double t2 = (40 + 20 * k) * kDeg;
+    yaml += "  - [" + Deg(t2 + 10 * kDeg) + ", " + Deg(HandTheta4(1.0, 3.5, 3.0, 4.0, t2) - 7 * kDeg) + "]\n";
+  }
+  yaml += "free_start: {input: [20deg, 60deg], output: [80deg, 140deg]}\n"
+          "freudenstein: {crank: a, coupler: b, rocker: c, ground: d}\n"
+          "variables: {a: [0.5, 6], b: [0.5, 6], c: [0.5, 6]}\nsearch: {restarts: 0}\n";
+  const auto fixed = BindFunctionYaml(std::string(yaml).erase(yaml.find("free_start"), yaml.find("freudenstein") - yaml.find("free_start")), "pairs_fixed.yaml");
+  const auto b = BindFunctionYaml(yaml, "pairs_free.yaml");
+  ASSERT_EQ(b.nx, 5);
+  EXPECT_NEAR(b.task.in_start, 50 * kDeg, 1e-15);
+  const FunctionResult rf = SynthesizeFunction(fixed, 1);
+  const FunctionResult r = SynthesizeFunction(b, 1);
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  EXPECT_GT(rf.best.error, 1e-6);  // as written: not met
+  EXPECT_LT(r.best.error, 1e-18);
+  const std::vector<double> expected = {1.0, 3.5, 3.0, 40 * kDeg, HandTheta4(1.0, 3.5, 3.0, 4.0, 40 * kDeg)};
+  for (size_t j = 0; j < 5; ++j) EXPECT_NEAR(r.best.x[j], expected[j], 1e-9) << j;
+}
+
 TEST(FunctionSynthesis, StartAnglesWrittenIntoTheModelMeetTheTasksPairs) {
   // log10 with four Chebyshev points and free start angles (five unknowns: met exactly) on function_fourbar, whose input
   // and output angles read alpha and beta less than the lines AB and DC: the start angles
@@ -902,9 +929,9 @@ TEST(FunctionSynthesis, RangeTaskErrorsSayWhereAndWhat) {
   EXPECT_FALSE(ParseFunctionTask(path, &task, &error));
   EXPECT_EQ(error, path + ":3:35: function.expression: unexpected '*'");
   std::ofstream(path) << "synthesis: function\noutput: theta_rocker\npairs: [[0, 1], [1, 2], [2, 3]]\n"
-                         "free_start: {input: [0, 1], output: [0, 1]}\nvariables: {a: [0, 1]}\n";
+                         "free_start: {input: [0, 1], output: [2, 1]}\nvariables: {a: [0, 1]}\n";
   EXPECT_FALSE(ParseFunctionTask(path, &task, &error));
-  EXPECT_EQ(error, path + ":4:13: free_start: only with function: (the pairs' angles are absolute)");
+  EXPECT_EQ(error, path + ":4:37: free_start.output: min must be below max");
   std::ofstream(path) << "synthesis: function\noutput: theta_rocker\n"
                          "function: {expression: \"log10(x)\", x: [-1, 2], input: [0, 1], output: [0, 1], points: 3}\n"
                          "variables: {a: [0, 1]}\n";

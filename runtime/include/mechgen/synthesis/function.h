@@ -230,8 +230,9 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
       task->exact_psi = task->psi;
     }
     if (const YAML::Node fs = root["free_start"]) {
-      if (!task->range)
-        throw Error{Where(path, fs.Mark()) + "free_start: only with function: (the pairs' angles are absolute)"};
+      // With pairs: the start angles are the first pair's; every pair keeps its angles'
+      // differences from it (in_start, out_start the first pair's as written).
+      if (!task->range) task->in_start = task->input[0], task->out_start = task->psi[0];
       if (!fs.IsMap()) throw Error{Where(path, fs.Mark()) + "free_start: expected {input: [min, max], output: [min, max]}"};
       Known(path, fs, {"input", "output", "parameters"}, "free_start");
       Pair(path, Required(path, fs, "input", "the start angle of the input's bounds, [min, max]"), "free_start.input", true,
