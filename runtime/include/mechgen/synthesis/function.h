@@ -6,7 +6,10 @@
  * model's frame, or for a function y = f(x) over a range (`function:`): its accuracy points
  * (Chebyshev spacing by default) mapped linearly onto the input's and the output's spans, the
  * structural error over the whole range reported. With `free_start`, the input's and the
- * output's start angles are variables too (the spans stay).
+ * output's start angles are variables too (the spans stay; with pairs, the first pair's
+ * angles), and with `free_start.parameters` they are written into the model's offset
+ * parameters (FunctionModelParameters). `fit: minimax`: after the stages below, the Remez
+ * exchange (MinimaxStage) equalises the structural error's extrema over the range.
  *
  * The stages:
  *  1. Exact where it exists: when the task names the four-bar's links (`freudenstein:
@@ -1083,6 +1086,8 @@ FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed, int 
       } else {
         r.minimax.why = "its mechanism has a defect (" + c.defect + "); the accuracy points' answer is kept";
       }
+    } else if (r.minimax.why.empty()) {
+      r.minimax.why = "no smaller largest error than the accuracy points' answer";
     }
   }
   r.evaluations = eval.evaluations + r.global_evaluations;
