@@ -114,10 +114,7 @@ int FunctionMain(const std::string& tool, const std::string& task_path, const st
   }
   std::vector<std::string> names;
   std::vector<double> values;
-  for (size_t j = 0; j < task.variables.size(); ++j) {
-    names.push_back(task.variables[j].name);
-    values.push_back(r.best.x[j]);
-  }
+  FunctionModelParameters(bound, r.best, &names, &values);  // the variables (and the start angles' offsets)
   std::string synthesized;
   if (!RewriteParameters(model_text, names, values, &synthesized, &error)) {
     std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "fourbar.h"
@@ -24,6 +25,7 @@
 #include "mechgen/synthesis/output.h"
 #include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
+#include "function_fourbar.h"
 #include "synth_fourbar.h"
 
 namespace {
@@ -688,6 +690,235 @@ TEST(FunctionSynthesis, PathConstraintsAppliedToFunctionTasks) {
   EXPECT_TRUE(lg[0] == rg.best.x[0] || lg[0] == d);
 }
 
+// The extrema of g over [1, 2], by hand: 20000 even steps split into runs of one sign, in each
+// the largest |g| refined by ternary search between its neighbours (the values; *at: where).
+std::vector<double> HandExtrema(const std::function<double(double)>& g, std::vector<double>* at = nullptr) {
+  const int N = 20000;
+  std::vector<double> v(N + 1), out;
+  for (int k = 0; k <= N; ++k) v[static_cast<size_t>(k)] = g(1 + 1.0 * k / N);
+  for (int k = 0; k <= N;) {
+    int end = k, best = k;
+    while (end <= N && (v[static_cast<size_t>(end)] >= 0) == (v[static_cast<size_t>(k)] >= 0)) {
+      if (std::abs(v[static_cast<size_t>(end)]) > std::abs(v[static_cast<size_t>(best)])) best = end;
+      ++end;
+    }
+    double lo = 1 + 1.0 * std::max(best - 1, 0) / N, hi = 1 + 1.0 * std::min(best + 1, N) / N;
+    for (int it = 0; it < 100; ++it) {
+      const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+      if (std::abs(g(m1)) < std::abs(g(m2))) lo = m1;
+      else hi = m2;
+    }
+    double x = 0.5 * (lo + hi), e = g(x);
+    if (std::abs(v[static_cast<size_t>(best)]) >= std::abs(e)) x = 1 + 1.0 * best / N, e = v[static_cast<size_t>(best)];
+    out.push_back(e);
+    if (at != nullptr) at->push_back(x);
+    k = end;
+  }
+  return out;
+}
+
+// Equal ripple by hand: n alternating extrema (runs of one sign alternate by construction),
+// their magnitudes within `rel` of the largest; returns the largest.
+double ExpectEqualRipple(const std::vector<double>& ext, size_t n, double rel) {
+  EXPECT_EQ(ext.size(), n);
+  double lo = 1e300, hi = 0;
+  for (double e : ext) lo = std::min(lo, std::abs(e)), hi = std::max(hi, std::abs(e));
+  EXPECT_LE(hi - lo, rel * hi) << "extrema from " << lo << " to " << hi;
+  return hi;
+}
+
+TEST(FunctionSynthesis, MinimaxEqualisesTheStructuralErrorsExtrema) {
+  // log10 on [1, 2], the start angles fixed (a, b, c vary: four alternating extrema of the
+  // error at the optimum). The Remez exchange from the Chebyshev-spacing answer: the error of
+  // the four-bar it gives, evaluated by hand (circle intersection) on 20001 points and its
+  // extrema located by ternary search, has four extrema of alternating sign and equal
+  // magnitude (to 1e-7), the largest below the Chebyshev-spacing answer's largest (by hand
+  // too), and equal to what the library reports (1e-12).
+  const auto pts = BindFunctionYaml(Log10Task(3, ""), "mm_points.yaml");
+  std::string yaml = Log10Task(3, "");
+  yaml.replace(yaml.find("points: 3}"), 10, "points: 3, fit: minimax}");
+  const auto mm = BindFunctionYaml(yaml, "mm_minimax.yaml");
+  ASSERT_TRUE(mm.task.fit_minimax);
+  const FunctionResult rp = SynthesizeFunction(pts, 1);
+  const FunctionResult rm = SynthesizeFunction(mm, 1);
+  ASSERT_TRUE(rp.best.feasible()) << rp.best.defect;
+  ASSERT_TRUE(rm.best.feasible()) << rm.best.defect;
+  ASSERT_TRUE(rm.minimax.converged) << rm.minimax.why;
+  ASSERT_TRUE(rm.minimax.used) << rm.minimax.why;
+  const std::vector<double>& xp = rp.best.x;
+  const std::vector<double>& xm = rm.best.x;
+  const auto ep = HandExtrema([&](double x) { return HandY(xp[0], xp[1], xp[2], x) - std::log10(x); });
+  std::vector<double> at;
+  const auto em = HandExtrema([&](double x) { return HandY(xm[0], xm[1], xm[2], x) - std::log10(x); }, &at);
+  const double worst_m = ExpectEqualRipple(em, 4, 1e-7);
+  double worst_p = 0;
+  for (double e : ep) worst_p = std::max(worst_p, std::abs(e));
+  EXPECT_LT(worst_m, worst_p);
+  const double to_y = std::log10(2.0) / (60 * kDeg);
+  EXPECT_NEAR(rm.minimax.max_angle * to_y, worst_m, 1e-12);
+  EXPECT_NEAR(rm.minimax.start_max * to_y, worst_p, 1e-12);
+  // The library's extrema are the hand ones; its accuracy points (three zeros) are zeros by hand.
+  ASSERT_EQ(rm.minimax.ref_e.size(), 4u);
+  for (size_t k = 0; k < 4; ++k) {
+    EXPECT_NEAR(rm.minimax.ref_e[k] * to_y, em[k], 1e-12);
+    EXPECT_NEAR(rm.minimax.ref_x[k], at[k], 1e-5);
+  }
+  ASSERT_EQ(rm.minimax.zeros.size(), 3u);
+  for (double z : rm.minimax.zeros) EXPECT_LT(std::abs(HandY(xm[0], xm[1], xm[2], z) - std::log10(z)), 1e-12);
+  std::printf("log10 on [1, 2], a b c: largest |error| in y: Chebyshev spacing %.6g, minimax %.6g (%d exchanges)\n",
+              worst_p, worst_m, rm.minimax.exchanges);
+}
+
+TEST(FunctionSynthesis, MinimaxForXSquaredAndWithFreeStartAngles) {
+  // y = x^2 on [1, 2] (input 270 -> 330 deg, output 240 -> 300 deg; a, b, c vary): four
+  // alternating extrema of equal magnitude by hand (1e-7), the largest below the Chebyshev
+  // spacing's (by hand). log10 with five unknowns (a, b, c and both start angles): the largest
+  // error by hand below the five Chebyshev points' answer's (Lawson's iteration, below). The
+  // report gives the largest error as found by hand.
+  const std::string free_start = "free_start: {input: [30deg, 150deg], output: [-60deg, 60deg]}\n";
+  for (const std::string& fn : {std::string("x^2"), std::string("log10(x)")}) {
+    const bool log10 = fn == "log10(x)";
+    std::string yaml = Log10Task(log10 ? 5 : 3, log10 ? free_start : "");
+    yaml.replace(yaml.find("log10(x)"), 8, fn);
+    if (!log10) yaml.replace(yaml.find("input: [90deg, 150deg], output: [20deg, 80deg]"), 46, "input: [270deg, 330deg], output: [240deg, 300deg]");
+    const auto pts = BindFunctionYaml(yaml, "mm2_points.yaml");
+    yaml.replace(yaml.find("points: "), 9, yaml.substr(yaml.find("points: "), 9) + ", fit: minimax");
+    const auto mm = BindFunctionYaml(yaml, "mm2_minimax.yaml");
+    ASSERT_TRUE(mm.task.fit_minimax);
+    const FunctionResult rp = SynthesizeFunction(pts, 1);
+    const FunctionResult rm = SynthesizeFunction(mm, 1);
+    ASSERT_TRUE(rp.best.feasible()) << rp.best.defect;
+    ASSERT_TRUE(rm.best.feasible()) << rm.best.defect;
+    // log10 with free start angles: its least squares at five points has four sign changes, not
+    // five; Lawson's iteration then ends with five near-equal extrema (the sixth does not
+    // appear: a direction of the five variables the error hardly sees), so no Remez reference.
+    if (log10) {
+      EXPECT_GT(rm.minimax.lawson, 0);
+    } else {
+      ASSERT_TRUE(rm.minimax.converged) << fn << ": " << rm.minimax.why;
+    }
+    ASSERT_TRUE(rm.minimax.used) << rm.minimax.why;
+    const double y0 = log10 ? 0.0 : 1.0, dy = log10 ? std::log10(2.0) : 3.0;
+    auto f = [&](double x) { return log10 ? std::log10(x) : x * x; };
+    auto error = [&](const std::vector<double>& v, double x) {  // by hand, in y
+      const double in0 = v.size() > 3 ? v[3] : (log10 ? 90 : 270) * kDeg, out0 = v.size() > 3 ? v[4] : (log10 ? 20 : 240) * kDeg;
+      const double t4 = HandTheta4(v[0], v[1], v[2], 4.0, in0 + 60 * kDeg * (x - 1));
+      return WrapPi(t4 - out0 - 60 * kDeg * (f(x) - y0) / dy) * dy / (60 * kDeg);
+    };
+    const std::vector<double>& xp = rp.best.x;
+    const std::vector<double>& xm = rm.best.x;
+    const auto ep = HandExtrema([&](double x) { return error(xp, x); });
+    const auto em = HandExtrema([&](double x) { return error(xm, x); });
+    double worst_m = 0;
+    for (double e : em) worst_m = std::max(worst_m, std::abs(e));
+    if (!log10) ExpectEqualRipple(em, static_cast<size_t>(mm.nx + 1), 1e-7);
+    double worst_p = 0;
+    for (double e : ep) worst_p = std::max(worst_p, std::abs(e));
+    EXPECT_LT(worst_m, worst_p) << fn;
+    EXPECT_NEAR(rm.minimax.max_angle * dy / (60 * kDeg), worst_m, 1e-12) << fn;
+    const std::string report = FunctionReport(mm, rm, 1);
+    EXPECT_NE(report.find("minimax (Remez exchange of the accuracy points): "), std::string::npos) << report;
+    EXPECT_NE(report.find("largest |structural error| over the range (extrema located): " + Short(worst_m, 6) + " in y"),
+              std::string::npos) << report;
+    std::printf("%s on [1, 2], %d unknowns: largest |error| in y: Chebyshev spacing %.6g, minimax %.6g (%d exchanges)\n",
+                fn.c_str(), mm.nx, worst_p, worst_m, rm.minimax.exchanges);
+  }
+}
+
+TEST(FunctionSynthesis, FreeStartAnglesWithPairs) {
+  // Seven pairs of the shipped four-bar (hand formula) at 40, 60, ..., 160 deg, all inputs
+  // written 10 deg higher and all outputs 7 deg lower: no four-bar with its ground along +x
+  // meets them as written; with the start angles free (the first pair's) the search finds the
+  // four-bar and the start angles that undo the shifts: a, b, c = 1, 3.5, 3 and the first
+  // pair at (40 deg, its rocker angle by hand), to 1e-9.
+  std::string yaml = "synthesis: function\nmodel: fourbar.yaml\noutput: theta_rocker\npairs:\n";
+  for (int k = 0; k < 7; ++k) {
+    const double t2 = (40 + 20 * k) * kDeg;
+    yaml += "  - [" + Deg(t2 + 10 * kDeg) + ", " + Deg(HandTheta4(1.0, 3.5, 3.0, 4.0, t2) - 7 * kDeg) + "]\n";
+  }
+  yaml += "free_start: {input: [20deg, 60deg], output: [80deg, 140deg]}\n"
+          "freudenstein: {crank: a, coupler: b, rocker: c, ground: d}\n"
+          "variables: {a: [0.5, 6], b: [0.5, 6], c: [0.5, 6]}\nsearch: {restarts: 0}\n";
+  const auto fixed = BindFunctionYaml(std::string(yaml).erase(yaml.find("free_start"), yaml.find("freudenstein") - yaml.find("free_start")), "pairs_fixed.yaml");
+  const auto b = BindFunctionYaml(yaml, "pairs_free.yaml");
+  ASSERT_EQ(b.nx, 5);
+  EXPECT_NEAR(b.task.in_start, 50 * kDeg, 1e-15);
+  const FunctionResult rf = SynthesizeFunction(fixed, 1);
+  const FunctionResult r = SynthesizeFunction(b, 1);
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  EXPECT_GT(rf.best.error, 1e-6);  // as written: not met
+  EXPECT_LT(r.best.error, 1e-18);
+  const std::vector<double> expected = {1.0, 3.5, 3.0, 40 * kDeg, HandTheta4(1.0, 3.5, 3.0, 4.0, 40 * kDeg)};
+  for (size_t j = 0; j < 5; ++j) EXPECT_NEAR(r.best.x[j], expected[j], 1e-9) << j;
+}
+
+TEST(FunctionSynthesis, StartAnglesWrittenIntoTheModelMeetTheTasksPairs) {
+  // log10 with four Chebyshev points and free start angles (five unknowns: met exactly) on function_fourbar, whose input
+  // and output angles read alpha and beta less than the lines AB and DC: the start angles
+  // found are written into alpha and beta, and the model file alone (its values read back
+  // from the written text) meets the task's pairs as written (the input and output angles the
+  // task file gives, not the start angles found): by the generated model's own solve and by
+  // hand (circle intersection at AB = q + alpha, less beta), to 1e-9.
+  using FM = mech::function_fourbar::Model;
+  const std::string path = ::testing::TempDir() + "/offsets.yaml";
+  std::ofstream(path) << "synthesis: function\nmodel: function_fourbar.yaml\noutput: theta_rocker\n"
+                         "function: {expression: \"log10(x)\", x: [1, 2], input: [90deg, 150deg], output: [20deg, 80deg], "
+                         "points: 4}\nfree_start: {input: [30deg, 150deg], output: [-60deg, 60deg], parameters: [alpha, beta]}\n"
+                         "freudenstein: {crank: a, coupler: b, rocker: c, ground: d}\n"
+                         "variables: {a: [0.5, 20], b: [0.5, 20], c: [0.5, 20]}\nsearch: {restarts: 0}\n";
+  FunctionTask task;
+  std::string error;
+  ASSERT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  BoundFunction<FM> b;
+  ASSERT_TRUE(BindFunctionTask<FM>(task, {}, &b, &error)) << error;
+  const FunctionResult r = SynthesizeFunction(b, 1);
+  ASSERT_TRUE(r.best.feasible()) << r.best.defect;
+  std::vector<std::string> names;
+  std::vector<double> values;
+  FunctionModelParameters(b, r.best, &names, &values);
+  ASSERT_EQ(names, (std::vector<std::string>{"a", "b", "c", "alpha", "beta"}));
+  EXPECT_GT(std::abs(r.best.x[3] - 90 * kDeg), 1e-3);  // the start angles did move
+  std::ifstream in(std::string(MECHGEN_SYNTHESIS_TASKS) + "/../models/function_fourbar.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string written;
+  ASSERT_TRUE(RewriteParameters(text.str(), names, values, &written, &error)) << error;
+  const YAML::Node params = YAML::Load(written)["parameters"];
+  FM::ParamsT<double> p;
+  for (const char* name : {"a", "b", "c", "d", "alpha", "beta"}) *p.Find(name) = params[name]["value"].as<double>();
+  double largest = 0;
+  for (size_t i = 0; i < task.input.size(); ++i) {
+    const double q = task.input[i], psi = task.psi[i];  // as the task file gives them
+    Eigen::Matrix<double, 1, 1> qv;
+    qv(0) = q;
+    Eigen::Matrix<double, FM::kNphi, 1> phi;
+    for (int j = 0; j < FM::kNphi; ++j) phi(j) = FM::kAssemblyPhi[static_cast<size_t>(j)];
+    const auto report = FM::Solve(p, qv, &phi, FM::kDefaultModes);
+    ASSERT_EQ(report.status, decltype(report.status)::kConverged);
+    const double generated = WrapPi(phi(b.output) - psi);
+    const double hand = WrapPi(HandTheta4(p.a, p.b, p.c, p.d, q + p.alpha) - p.beta - psi);
+    EXPECT_LT(std::abs(generated), 1e-9) << "pair " << i + 1;
+    EXPECT_LT(std::abs(hand), 1e-9) << "pair " << i + 1;
+    largest = std::max(largest, std::abs(hand));
+  }
+  std::printf("four points, start angles in the model (alpha %.6g deg, beta %.6g deg): largest pair error %.3g rad\n",
+              p.alpha / kDeg, p.beta / kDeg, largest);
+  // A parameter the model does not have, or one of the variables: FILE:LINE:COLUMN.
+  std::ofstream(path) << "synthesis: function\noutput: theta_rocker\n"
+                         "function: {expression: \"log10(x)\", x: [1, 2], input: [0, 1], output: [0, 1], points: 3}\n"
+                         "free_start: {input: [0, 1], output: [0, 1], parameters: [alpha, gamma]}\nvariables: {a: [1, 2]}\n";
+  ASSERT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  EXPECT_FALSE(BindFunctionTask<FM>(task, {}, &b, &error));
+  EXPECT_EQ(error, path + ":4:57: free_start.parameters: no parameter 'gamma' in the model (parameters: a, b, c, d, alpha, beta)");
+  std::ofstream(path) << "synthesis: function\noutput: theta_rocker\n"
+                         "function: {expression: \"log10(x)\", x: [1, 2], input: [0, 1], output: [0, 1], points: 3}\n"
+                         "free_start: {input: [0, 1], output: [0, 1], parameters: [a, beta]}\nvariables: {a: [1, 2]}\n";
+  ASSERT_TRUE(ParseFunctionTask(path, &task, &error)) << error;
+  EXPECT_FALSE(BindFunctionTask<FM>(task, {}, &b, &error));
+  EXPECT_EQ(error, path + ":4:57: free_start.parameters: 'a' is one of the variables; the start angles set it (remove "
+                          "it from variables:)");
+}
+
 TEST(FunctionSynthesis, RangeTaskErrorsSayWhereAndWhat) {
   const std::string path = ::testing::TempDir() + "/bad_range.yaml";
   FunctionTask task;
@@ -698,9 +929,9 @@ TEST(FunctionSynthesis, RangeTaskErrorsSayWhereAndWhat) {
   EXPECT_FALSE(ParseFunctionTask(path, &task, &error));
   EXPECT_EQ(error, path + ":3:35: function.expression: unexpected '*'");
   std::ofstream(path) << "synthesis: function\noutput: theta_rocker\npairs: [[0, 1], [1, 2], [2, 3]]\n"
-                         "free_start: {input: [0, 1], output: [0, 1]}\nvariables: {a: [0, 1]}\n";
+                         "free_start: {input: [0, 1], output: [2, 1]}\nvariables: {a: [0, 1]}\n";
   EXPECT_FALSE(ParseFunctionTask(path, &task, &error));
-  EXPECT_EQ(error, path + ":4:13: free_start: only with function: (the pairs' angles are absolute)");
+  EXPECT_EQ(error, path + ":4:37: free_start.output: min must be below max");
   std::ofstream(path) << "synthesis: function\noutput: theta_rocker\n"
                          "function: {expression: \"log10(x)\", x: [-1, 2], input: [0, 1], output: [0, 1], points: 3}\n"
                          "variables: {a: [0, 1]}\n";

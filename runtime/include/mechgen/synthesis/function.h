@@ -6,7 +6,10 @@
  * model's frame, or for a function y = f(x) over a range (`function:`): its accuracy points
  * (Chebyshev spacing by default) mapped linearly onto the input's and the output's spans, the
  * structural error over the whole range reported. With `free_start`, the input's and the
- * output's start angles are variables too (the spans stay).
+ * output's start angles are variables too (the spans stay; with pairs, the first pair's
+ * angles), and with `free_start.parameters` they are written into the model's offset
+ * parameters (FunctionModelParameters). `fit: minimax`: after the stages below, the Remez
+ * exchange (MinimaxStage) equalises the structural error's extrema over the range.
  *
  * The stages:
  *  1. Exact where it exists: when the task names the four-bar's links (`freudenstein:
@@ -87,10 +90,19 @@ struct FunctionTask {
   /// psi hold those; the accuracy points stay in x, exact_input, exact_psi for Freudenstein's
   /// seeds); `fit: points` (the default): at the accuracy points.
   bool fit_range = false;
+  /// `fit: minimax`: fitted at the accuracy points (as `points`), then the Remez exchange
+  /// (MinimaxStage) equalises the structural error's extrema over the range.
+  bool fit_minimax = false;
   std::vector<double> exact_input, exact_psi;  ///< the accuracy points' pairs (= input, psi unless fit_range)
   // Free start angles: in_start and out_start are variables within these bounds (the spans stay).
   bool free_start = false;
   double in_lo = 0, in_hi = 0, out_lo = 0, out_hi = 0;
+  /// `free_start: {..., parameters: [alpha, beta]}`: the model's parameters that turn the
+  /// crank's and the output link's points against their frames (the model's input and output
+  /// angles read alpha and beta less than the links' lines); the start angles found are
+  /// written into them, so that the model file alone meets the task's pairs.
+  std::string in_offset, out_offset;
+  int offset_line = 0, offset_column = 0;
   // Constraints (as path tasks; `order` excepted) and the input link they name.
   std::string crank_link;
   int crank_line = 0, crank_column = 0;
@@ -172,10 +184,12 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
       }
       if (fn["samples"]) task->samples = static_cast<int>(Count(path, fn["samples"], "function.samples", 2, 1000000));
       if (const YAML::Node fit = fn["fit"]) {
-        if (!fit.IsScalar() || (fit.Scalar() != "points" && fit.Scalar() != "range"))
-          throw Error{Where(path, fit.Mark()) + "function.fit: expected points (the accuracy points) or range (the "
-                                                "structural error at every sample)"};
+        if (!fit.IsScalar() || (fit.Scalar() != "points" && fit.Scalar() != "range" && fit.Scalar() != "minimax"))
+          throw Error{Where(path, fit.Mark()) + "function.fit: expected points (the accuracy points), range (the "
+                                                "structural error at every sample, least squares) or minimax (its "
+                                                "largest over the range)"};
         task->fit_range = fit.Scalar() == "range";
+        task->fit_minimax = fit.Scalar() == "minimax";
       }
       task->y0 = task->f(task->x0);
       task->y1 = task->f(task->x1);
@@ -219,15 +233,25 @@ inline bool ParseFunctionTask(const std::string& path, FunctionTask* task, std::
       task->exact_psi = task->psi;
     }
     if (const YAML::Node fs = root["free_start"]) {
-      if (!task->range)
-        throw Error{Where(path, fs.Mark()) + "free_start: only with function: (the pairs' angles are absolute)"};
+      // With pairs: the start angles are the first pair's; every pair keeps its angles'
+      // differences from it (in_start, out_start the first pair's as written).
+      if (!task->range) task->in_start = task->input[0], task->out_start = task->psi[0];
       if (!fs.IsMap()) throw Error{Where(path, fs.Mark()) + "free_start: expected {input: [min, max], output: [min, max]}"};
-      Known(path, fs, {"input", "output"}, "free_start");
+      Known(path, fs, {"input", "output", "parameters"}, "free_start");
       Pair(path, Required(path, fs, "input", "the start angle of the input's bounds, [min, max]"), "free_start.input", true,
            &task->in_lo, &task->in_hi);
       Pair(path, Required(path, fs, "output", "the start angle of the output's bounds, [min, max]"), "free_start.output", true,
            &task->out_lo, &task->out_hi);
       task->free_start = true;
+      if (const YAML::Node pm = fs["parameters"]) {
+        if (!pm.IsSequence() || pm.size() != 2 || !pm[0].IsScalar() || !pm[1].IsScalar())
+          throw Error{Where(path, pm.Mark()) + "free_start.parameters: expected [input offset, output offset], two of "
+                                               "the model's parameters (e.g. [alpha, beta])"};
+        task->in_offset = pm[0].Scalar();
+        task->out_offset = pm[1].Scalar();
+        task->offset_line = pm.Mark().line + 1;
+        task->offset_column = pm.Mark().column + 1;
+      }
     }
     if (const YAML::Node c = root["crank"]) {
       if (!c.IsScalar()) throw Error{Where(path, c.Mark()) + "crank: expected the input link's name"};
@@ -336,6 +360,27 @@ bool BindFunctionTask(const FunctionTask& task, const typename M::template Param
     if (!BindConstraints<M>(task.file, task.constraints, task.crank_link, task.crank_line, task.crank_column, &b.checks,
                             error))
       return false;
+    if (!task.in_offset.empty()) {
+      typename M::template ParamsT<double> p = base;
+      for (const std::string& name : {task.in_offset, task.out_offset}) {
+        if (p.Find(name.c_str()) == nullptr) {
+          *error = where(task.offset_line, task.offset_column) + "free_start.parameters: no parameter '" + name +
+                   "' in the model (parameters: " + list(M::template ParamsT<double>::kNames) + ")";
+          return false;
+        }
+        for (const Variable& v : task.variables)
+          if (v.name == name) {
+            *error = where(task.offset_line, task.offset_column) + "free_start.parameters: '" + name +
+                     "' is one of the variables; the start angles set it (remove it from variables:)";
+            return false;
+          }
+      }
+      if (task.in_offset == task.out_offset) {
+        *error = where(task.offset_line, task.offset_column) + "free_start.parameters: the input's and the output's "
+                 "offsets must be two different parameters";
+        return false;
+      }
+    }
     b.nv = static_cast<int>(task.variables.size());
     b.nx = b.nv + (task.free_start ? 2 : 0);
     for (const Variable& v : task.variables) b.lo.push_back(v.lo), b.hi.push_back(v.hi);
@@ -415,6 +460,35 @@ class FunctionEvaluator {
     using Status = decltype(report.status);
     if (report.status != Status::kConverged || !(report.branch_measure > 1e-12) || !ph.allFinite()) return false;
     *phi = ph;
+    return true;
+  }
+
+  /// d phi_out / d x at (q, phi) into row[0..nx): the generated dphi/dp of the design
+  /// variables and, for free start angles, K (the input's start moves q) and -1 (the output's).
+  void JacobianRow(const Params& p, double q, const VecPhi& phi, double* row) const {
+    VecQ qv;
+    qv(0) = q;
+    position::DesignOf<M> design;
+    M::Design(p, qv, phi, &design);
+    for (int j = 0; j < b_.nv; ++j) row[j] = design.dphi_dp(b_.output, b_.column[static_cast<size_t>(j)]);
+    if (b_.task.free_start) {
+      typename M::template CoefficientsT<double> co;
+      M::Coeffs(p, qv, phi, &co);
+      row[b_.nv] = co.K(b_.output, 0);
+      row[b_.nv + 1] = -1.0;
+    }
+  }
+
+  /// The output-angle error at xi of a function task's range, phi_out(in0 + in_span u) -
+  /// (out0 + out_span v), u and v xi and f(xi) scaled to [0, 1] (rad); with `row` (nx
+  /// entries) also its derivative in x. false where the mechanism does not assemble.
+  bool RangeError(const Params& p, const std::vector<double>& x, double xi, double* e, double* row = nullptr) {
+    const FunctionTask& t = b_.task;
+    const double q = InStart(x) + t.in_span * (xi - t.x0) / (t.x1 - t.x0);
+    VecPhi phi;
+    if (!PhiAt(p, q, &phi)) return false;
+    *e = WrapPi(phi(b_.output) - (OutStart(x) + t.out_span * (t.f(xi) - t.y0) / (t.y1 - t.y0)));
+    if (row != nullptr) JacobianRow(p, q, phi, row);
     return true;
   }
 
@@ -539,22 +613,11 @@ class FunctionResiduals : public ceres::CostFunction {
     const std::vector<double> x(parameters[0], parameters[0] + nx);
     const auto p = eval_->ParamsOf(x);
     typename FunctionEvaluator<M>::VecPhi phi;
-    position::DesignOf<M> design;
-    typename M::template CoefficientsT<double> co;
     for (int i = 0; i < b.n; ++i) {
       const double q = eval_->Q(x, i);
       if (!eval_->PhiAt(p, q, &phi)) return false;
       residuals[i] = WrapPi(phi(b.output) - eval_->Target(x, i));
-      if (jacobians == nullptr || jacobians[0] == nullptr) continue;
-      Eigen::Matrix<double, M::kNq, 1> qv;
-      qv(0) = q;
-      M::Design(p, qv, phi, &design);
-      for (int j = 0; j < b.nv; ++j) jacobians[0][i * nx + j] = design.dphi_dp(b.output, b.column[static_cast<size_t>(j)]);
-      if (b.task.free_start) {
-        M::Coeffs(p, qv, phi, &co);
-        jacobians[0][i * nx + b.nv] = co.K(b.output, 0);
-        jacobians[0][i * nx + b.nv + 1] = -1.0;
-      }
+      if (jacobians != nullptr && jacobians[0] != nullptr) eval_->JacobianRow(p, q, phi, jacobians[0] + i * nx);
     }
     return true;
   }
@@ -592,6 +655,263 @@ std::vector<double> FunctionLocalStage(FunctionEvaluator<M>* eval, std::vector<d
   return x;
 }
 
+/// The minimax stage's result (`fit: minimax`): the Remez exchange from the accuracy points'
+/// answer. Angles in rad of output; x in the function's variable.
+struct MinimaxResult {
+  bool asked = false;
+  bool converged = false;      ///< the reference's |error| equal to 1e-9 relative
+  bool used = false;           ///< its mechanism is the answer (no defect, a smaller largest error)
+  std::string why;             ///< when not used or not converged
+  int exchanges = 0;           ///< exchange steps (each a levelled solve and a new reference)
+  int lawson = 0;              ///< Lawson's steps before the exchange (a seed with too few sign changes)
+  int iterations = 0;          ///< LM iterations of the levelled (and Lawson's) solves
+  double level = 0;            ///< |E| of the last levelled solve
+  double start_max = kInf;     ///< the seed's largest |error| over the range (extrema located)
+  double max_angle = kInf;     ///< the answer's largest |error| over the range (extrema located)
+  std::vector<double> ref_x, ref_e;  ///< the answer's alternating extrema: x_k and error_k (rad)
+  std::vector<double> zeros;   ///< where the answer's error crosses zero (its accuracy points)
+};
+
+namespace function_internal {
+
+/// The extrema of the range error of x: the samples + 1 even x split into runs of one sign, in
+/// each the largest |error|, located by golden section between its neighbours (60 steps); false
+/// where the mechanism does not assemble. *zeros: where the error changes sign (bisection).
+template <class M>
+bool RangeExtrema(FunctionEvaluator<M>* eval, const std::vector<double>& x, std::vector<double>* ex,
+                  std::vector<double>* ee, std::vector<double>* zeros = nullptr) {
+  const FunctionTask& t = eval->bound().task;
+  const auto p = eval->ParamsOf(x);
+  const int N = t.samples;
+  auto xi = [&](int k) { return t.x0 + (t.x1 - t.x0) * k / N; };
+  std::vector<double> e(static_cast<size_t>(N + 1));
+  for (int k = 0; k <= N; ++k)
+    if (!eval->RangeError(p, x, xi(k), &e[static_cast<size_t>(k)])) return false;
+  ex->clear(), ee->clear();
+  if (zeros != nullptr) zeros->clear();
+  auto error_at = [&](double at, double* v) { return eval->RangeError(p, x, at, v); };
+  int k = 0;
+  while (k <= N) {
+    const bool positive = e[static_cast<size_t>(k)] >= 0;
+    int best = k, end = k;
+    while (end <= N && (e[static_cast<size_t>(end)] >= 0) == positive) {
+      if (std::abs(e[static_cast<size_t>(end)]) > std::abs(e[static_cast<size_t>(best)])) best = end;
+      ++end;
+    }
+    // Golden section on |error| over [x_{best-1}, x_{best+1}] (within the range).
+    double lo = xi(std::max(best - 1, 0)), hi = xi(std::min(best + 1, N));
+    double at = xi(best), val = e[static_cast<size_t>(best)];
+    const double g = 0.5 * (std::sqrt(5.0) - 1);
+    double u = hi - g * (hi - lo), w = lo + g * (hi - lo), fu = 0, fw = 0;
+    if (!error_at(u, &fu) || !error_at(w, &fw)) return false;
+    for (int it = 0; it < 60; ++it) {
+      if (std::abs(fu) > std::abs(fw)) {
+        hi = w, w = u, fw = fu, u = hi - g * (hi - lo);
+        if (!error_at(u, &fu)) return false;
+      } else {
+        lo = u, u = w, fu = fw, w = lo + g * (hi - lo);
+        if (!error_at(w, &fw)) return false;
+      }
+    }
+    for (const auto& [cx, cv] : {std::pair<double, double>{u, fu}, {w, fw}})
+      if (std::abs(cv) > std::abs(val) && (cv >= 0) == positive) at = cx, val = cv;
+    ex->push_back(at), ee->push_back(val);
+    if (zeros != nullptr && end <= N) {  // the sign change between x_{end-1} and x_end
+      double a = xi(end - 1), c = xi(end), fa = e[static_cast<size_t>(end - 1)];
+      for (int it = 0; it < 60; ++it) {
+        const double m = 0.5 * (a + c);
+        double fm = 0;
+        if (!error_at(m, &fm)) return false;
+        if ((fm >= 0) == (fa >= 0)) a = m, fa = fm;
+        else c = m;
+      }
+      zeros->push_back(0.5 * (a + c));
+    }
+    k = end;
+  }
+  return true;
+}
+
+/// The range error at points x_k: levelled (sigma given), e(x_k; x) - sigma_k E over the
+/// variables and E (the Remez step: nx + 1 points, sigma_k alternating); or weighted (sigma
+/// empty), w_k e(x_k; x) over the variables (Lawson's step). The Jacobian the generated one.
+template <class M>
+class RangeResiduals : public ceres::CostFunction {
+ public:
+  RangeResiduals(FunctionEvaluator<M>* eval, std::vector<double> at, std::vector<double> weight, std::vector<double> sigma)
+      : eval_(eval), at_(std::move(at)), weight_(std::move(weight)), sigma_(std::move(sigma)) {
+    set_num_residuals(static_cast<int>(at_.size()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(eval->bound().nx + (sigma_.empty() ? 0 : 1)));
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const int nx = eval_->bound().nx, nz = nx + (sigma_.empty() ? 0 : 1);
+    const bool jac = jacobians != nullptr && jacobians[0] != nullptr;
+    eval_->evaluations += jac ? 1 + nz : 1;
+    const std::vector<double> x(parameters[0], parameters[0] + nx);
+    const auto p = eval_->ParamsOf(x);
+    for (size_t k = 0; k < at_.size(); ++k) {
+      double e = 0;
+      double* row = jac ? jacobians[0] + k * static_cast<size_t>(nz) : nullptr;
+      if (!eval_->RangeError(p, x, at_[k], &e, row)) return false;
+      residuals[k] = weight_[k] * e - (sigma_.empty() ? 0.0 : sigma_[k] * parameters[0][nx]);
+      if (!jac) continue;
+      for (int j = 0; j < nx; ++j) row[j] *= weight_[k];
+      if (!sigma_.empty()) row[nx] = -sigma_[k];
+    }
+    return true;
+  }
+
+ private:
+  FunctionEvaluator<M>* eval_;
+  std::vector<double> at_, weight_, sigma_;
+};
+
+/// LM within the bounds on RangeResiduals from z (nx variables, + E when levelled); the final
+/// cost, the iterations added to *iterations.
+template <class M>
+double SolveRange(FunctionEvaluator<M>* eval, RangeResiduals<M>* cost, std::vector<double>* z, int* iterations) {
+  const BoundFunction<M>& b = eval->bound();
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, z->data());
+  for (int j = 0; j < b.nx; ++j) {
+    problem.SetParameterLowerBound(z->data(), j, b.lo[static_cast<size_t>(j)]);
+    problem.SetParameterUpperBound(z->data(), j, b.hi[static_cast<size_t>(j)]);
+  }
+  ceres::Solver::Summary summary;
+  ceres::Solve(LocalSolverOptions(), &problem, &summary);
+  *iterations += static_cast<int>(summary.iterations.size());
+  return summary.final_cost;
+}
+
+/// Keeps nx + 1 alternating extrema of more: drops the smallest at an end, or the smallest
+/// inside with its smaller neighbour (the rest still alternate), until nx + 1 are left.
+inline void Reduce(int keep, std::vector<double>* ex, std::vector<double>* ee) {
+  auto drop = [&](size_t i) { ex->erase(ex->begin() + static_cast<long>(i)), ee->erase(ee->begin() + static_cast<long>(i)); };
+  while (static_cast<int>(ex->size()) > keep) {
+    const size_t n = ex->size();
+    if (static_cast<int>(n) == keep + 1) {
+      drop(std::abs((*ee)[0]) < std::abs((*ee)[n - 1]) ? 0 : n - 1);
+      continue;
+    }
+    size_t i = 0;
+    for (size_t j = 1; j < n; ++j)
+      if (std::abs((*ee)[j]) < std::abs((*ee)[i])) i = j;
+    if (i == 0 || i == n - 1) {
+      drop(i);
+    } else {
+      const size_t other = std::abs((*ee)[i - 1]) < std::abs((*ee)[i + 1]) ? i - 1 : i + 1;
+      drop(std::max(i, other)), drop(std::min(i, other));
+    }
+  }
+}
+
+}  // namespace function_internal
+
+/// The Remez exchange (`fit: minimax`) from x: the reference, nx + 1 alternating extrema of
+/// the error over the range (the seed's own, or the Chebyshev-Lobatto points when it has
+/// fewer sign changes), is levelled by Levenberg–Marquardt (e(x_k) = sigma_k E, the generated
+/// Jacobian, the variables within their bounds), then exchanged for the new error's extrema;
+/// until their magnitudes agree to 1e-9 relative (at most 40 steps). *x: the variables with
+/// the smallest largest error found (the seed's if none is smaller).
+template <class M>
+MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
+  using function_internal::RangeExtrema;
+  const BoundFunction<M>& b = eval->bound();
+  const int nx = b.nx;
+  MinimaxResult m;
+  m.asked = true;
+  std::vector<double> ex, ee;
+  ++eval->evaluations;
+  if (!RangeExtrema(eval, *x, &ex, &ee)) return m.why = "the seed does not assemble over the range", m;
+  auto largest = [](const std::vector<double>& v) {
+    double w = 0;
+    for (double e : v) w = std::max(w, std::abs(e));
+    return w;
+  };
+  m.start_max = m.max_angle = largest(ee);
+  std::vector<double> best = *x;
+  auto finish = [&]() {
+    *x = best;
+    std::vector<double> zx, ze;
+    if (RangeExtrema(eval, best, &zx, &ze, &m.zeros)) m.ref_x = zx, m.ref_e = ze;
+    return m;
+  };
+  std::vector<double> z = *x;
+  if (static_cast<int>(ex.size()) < nx + 1) {
+    // Too few sign changes for a reference: Lawson's iteration first, weighted least squares
+    // of the error at the samples + 1 points, w_k <- w_k |e_k| / sum w |e| (30 steps, each
+    // LM from the last), which tends to the minimax; the smallest largest error it meets.
+    const FunctionTask& t = b.task;
+    const int N = t.samples;
+    std::vector<double> at, w(static_cast<size_t>(N + 1), 1.0 / (N + 1)), e(static_cast<size_t>(N + 1));
+    for (int k = 0; k <= N; ++k) at.push_back(t.x0 + (t.x1 - t.x0) * k / N);
+    for (int step = 0; step < 30; ++step) {
+      std::vector<double> sw;
+      for (double wk : w) sw.push_back(std::sqrt(wk));
+      function_internal::SolveRange(eval, new function_internal::RangeResiduals<M>(eval, at, sw, {}), &z, &m.iterations);
+      ++m.lawson;
+      const auto p = eval->ParamsOf(z);
+      double sum = 0;
+      bool ok = true;
+      for (int k = 0; k <= N && ok; ++k) ok = eval->RangeError(p, z, at[static_cast<size_t>(k)], &e[static_cast<size_t>(k)]);
+      std::vector<double> lx, le;
+      ++eval->evaluations;
+      if (!ok || !RangeExtrema(eval, z, &lx, &le)) break;
+      const double worst = largest(le);
+      if (worst < m.max_angle) m.max_angle = worst, best = z, ex = lx, ee = le;
+      for (int k = 0; k <= N; ++k) sum += w[static_cast<size_t>(k)] * std::abs(e[static_cast<size_t>(k)]);
+      if (!(sum > 0)) break;
+      for (int k = 0; k <= N; ++k) w[static_cast<size_t>(k)] *= std::abs(e[static_cast<size_t>(k)]) / sum;
+    }
+    if (static_cast<int>(ex.size()) < nx + 1) {
+      m.why = "the error has fewer than " + std::to_string(nx + 1) + " alternating extrema after Lawson's iteration (a "
+              "bound active, or the variables not independent): no Remez reference";
+      return finish();
+    }
+    z = best;
+  }
+  function_internal::Reduce(nx + 1, &ex, &ee);
+  for (int step = 0; step < 40; ++step) {
+    std::vector<double> sigma;
+    double level = 0;
+    for (double e : ee) sigma.push_back(e >= 0 ? 1.0 : -1.0), level += std::abs(e) / static_cast<double>(ee.size());
+    z.resize(static_cast<size_t>(nx));
+    z.push_back(level);
+    const double cost = function_internal::SolveRange(
+        eval, new function_internal::RangeResiduals<M>(eval, ex, std::vector<double>(ex.size(), 1.0), sigma), &z,
+        &m.iterations);
+    ++m.exchanges;
+    m.level = std::abs(z[static_cast<size_t>(nx)]);
+    const std::vector<double> xz(z.begin(), z.begin() + nx);
+    std::vector<double> nex, nee;
+    ++eval->evaluations;
+    if (!RangeExtrema(eval, xz, &nex, &nee)) {
+      m.why = "a levelled solve left the range where the mechanism assembles";
+      break;
+    }
+    const double worst = largest(nee);
+    if (worst < m.max_angle) m.max_angle = worst, best = xz;
+    if (cost > 1e-6 * m.level * m.level) {
+      m.why = "a levelled solve found no equal-ripple point near the reference (a bound active?)";
+      break;
+    }
+    if (static_cast<int>(nex.size()) < nx + 1) {
+      m.why = "the levelled error has fewer than " + std::to_string(nx + 1) + " alternating extrema";
+      break;
+    }
+    function_internal::Reduce(nx + 1, &nex, &nee);
+    ex = nex, ee = nee;
+    double lo = kInf;
+    for (double e : ee) lo = std::min(lo, std::abs(e));
+    if (worst - lo <= 1e-9 * worst) {
+      m.converged = true;
+      break;
+    }
+  }
+  if (!m.converged && m.why.empty()) m.why = "40 exchange steps without equal extrema";
+  return finish();
+}
+
 /// What function synthesis did.
 struct FunctionResult {
   FunctionCandidate best;
@@ -604,6 +924,7 @@ struct FunctionResult {
   int runs = 0;
   int iterations = 0;
   StructuralError structural;              ///< of the best (function: tasks)
+  MinimaxResult minimax;                   ///< `fit: minimax`: the Remez exchange from the best
 };
 
 namespace function_internal {
@@ -646,12 +967,16 @@ FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed, int 
   };
   // The exact method at start angles (in0, out0): its four-bar as a candidate.
   auto exact_at = [&](double in0, double out0, FreudensteinResult* fr) {
+    // The links' absolute angles: the model's input and output angles plus the offsets the
+    // model turns the crank's and the output link's points by (free_start.parameters).
+    auto p = b.base;
+    const double alpha = t.in_offset.empty() ? 0.0 : *p.Find(t.in_offset.c_str());
+    const double beta = t.out_offset.empty() ? 0.0 : *p.Find(t.out_offset.c_str());
     std::vector<double> t2, t4;
     for (size_t i = 0; i < t.exact_input.size(); ++i) {
-      t2.push_back(t.exact_input[i] - t.in_start + in0);
-      t4.push_back(t.exact_psi[i] - t.out_start + out0);
+      t2.push_back(t.exact_input[i] - t.in_start + in0 + alpha);
+      t4.push_back(t.exact_psi[i] - t.out_start + out0 + beta);
     }
-    auto p = b.base;
     *fr = Freudenstein(t2, t4, *p.Find(t.ground.c_str()));
     std::vector<double> x = x0;
     for (int j = 0; j < nv; ++j) {
@@ -747,10 +1072,48 @@ FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed, int 
       r.iterations += o.iterations;
     }
   }
+  // fit: minimax: the Remez exchange from the best; its mechanism is the answer when it has no
+  // defect (or the best has one) and a smaller largest error over the range.
+  if (t.fit_minimax) {
+    std::vector<double> xm = r.best.x;
+    r.minimax = MinimaxStage(&eval, &xm);
+    if (xm != r.best.x) {
+      FunctionCandidate c = eval.Check(xm);
+      c.start = r.best.start + " + minimax";
+      if (c.feasible() || !r.best.feasible()) {
+        r.best = c;
+        r.minimax.used = true;
+      } else {
+        r.minimax.why = "its mechanism has a defect (" + c.defect + "); the accuracy points' answer is kept";
+      }
+    } else if (r.minimax.why.empty()) {
+      r.minimax.why = "no smaller largest error than the accuracy points' answer";
+    }
+  }
   r.evaluations = eval.evaluations + r.global_evaluations;
   r.structural = eval.Structural(r.best.x);
   r.solves = eval.solves;
   return r;
+}
+
+/// The parameters the model file gets: the variables' values and, with free_start.parameters,
+/// the offsets alpha + (in0 - in_start) and beta + (out0 - out_start) (alpha, beta the model's
+/// values): the model's input angle is the crank line's less alpha, its output angle the output
+/// link's line less beta, so that with these the model's own angles meet the task's pairs as
+/// written (the start angles the task file gives) while its links stand where the search put them.
+template <class M>
+void FunctionModelParameters(const BoundFunction<M>& b, const FunctionCandidate& c, std::vector<std::string>* names,
+                             std::vector<double>* values) {
+  const FunctionTask& t = b.task;
+  names->clear(), values->clear();
+  for (size_t j = 0; j < t.variables.size(); ++j) names->push_back(t.variables[j].name), values->push_back(c.x[j]);
+  if (t.free_start && !t.in_offset.empty()) {
+    auto p = b.base;
+    names->push_back(t.in_offset);
+    values->push_back(*p.Find(t.in_offset.c_str()) + c.x[static_cast<size_t>(b.nv)] - t.in_start);
+    names->push_back(t.out_offset);
+    values->push_back(*p.Find(t.out_offset.c_str()) + c.x[static_cast<size_t>(b.nv + 1)] - t.out_start);
+  }
 }
 
 /// The report: the stages, the residual per pair, the structural error, the checks, the parameters.
@@ -789,9 +1152,17 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
                                          : c.defect) + "\n";
   if (std::isfinite(c.mu_min))
     s += "transmission angle over the motion: " + Short(c.mu_min * 180 / M_PI, 5) + " to " + Short(c.mu_max * 180 / M_PI, 5) + " deg\n";
-  if (t.free_start)
+  if (t.free_start) {
     s += "start angles: input " + Num(c.x[static_cast<size_t>(b.nv)] * 180 / M_PI) + " deg, output " +
          Num(c.x[static_cast<size_t>(b.nv + 1)] * 180 / M_PI) + " deg\n";
+    if (!t.in_offset.empty()) {
+      std::vector<std::string> names;
+      std::vector<double> values;
+      FunctionModelParameters(b, c, &names, &values);
+      s += "in the model file: " + t.in_offset + " = " + Num(values[values.size() - 2]) + ", " + t.out_offset + " = " +
+           Num(values.back()) + " (rad; the model's input and output angles then meet the task's pairs as written)\n";
+    }
+  }
   const double in_shift = t.free_start ? c.x[static_cast<size_t>(b.nv)] - t.in_start : 0;
   const double out_shift = t.free_start ? c.x[static_cast<size_t>(b.nv + 1)] - t.out_start : 0;
   if (t.fit_range) {
@@ -814,6 +1185,26 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
            " in y (" + Short(e.max_angle * 180 / M_PI, 6) + " deg of output) at x = " + Short(e.at_x, 9) + "\n";
     else
       s += "structural error over the range: the mechanism does not assemble on its mode over the whole range\n";
+  }
+  if (r.minimax.asked) {
+    const MinimaxResult& m = r.minimax;
+    const double to_y = (t.y1 - t.y0) / t.out_span;
+    s += "minimax (Remez exchange of the accuracy points): " +
+         (m.lawson > 0 ? std::to_string(m.lawson) + " Lawson steps (the seed has too few sign changes), " : std::string()) +
+         std::to_string(m.exchanges) + " exchange steps, " +
+         std::to_string(m.iterations) + " LM iterations, " + (m.converged ? "converged" : "not converged: " + m.why) +
+         (m.used ? "" : "; not used" + (m.converged ? ": " + m.why : std::string())) + "\n";
+    if (std::isfinite(m.max_angle)) {
+      s += "largest |structural error| over the range (extrema located): " + Short(m.max_angle * std::abs(to_y), 6) +
+           " in y (" + Short(m.max_angle * 180 / M_PI, 6) + " deg of output); the accuracy points' answer: " +
+           Short(m.start_max * std::abs(to_y), 6) + " in y (" + Short(m.start_max * 180 / M_PI, 6) + " deg)\n";
+      s += "equioscillation: the error's extrema (x, error in y, error in deg)\n";
+      for (size_t k = 0; k < m.ref_x.size(); ++k)
+        s += "  " + Short(m.ref_x[k], 10) + "  " + Short(m.ref_e[k] * to_y, 6) + "  " + Short(m.ref_e[k] * 180 / M_PI, 6) + "\n";
+      s += "accuracy points (the error's zeros): x =";
+      for (double zx : m.zeros) s += " " + Short(zx, 10);
+      s += "\n";
+    }
   }
   s += "parameters:";
   for (size_t j = 0; j < t.variables.size(); ++j) s += " " + t.variables[j].name + " = " + Num(c.x[j]);
