@@ -34,7 +34,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), dist1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalStatics 144 (adds 26, muls 109, divs 1, calls 8); EvalDynamics 572 (adds 122, muls 441, divs 1, calls 8); EvalKinetostatics 588 (adds 114, muls 465, divs 1, calls 8); EvalExcess 495 (adds 99, muls 387, divs 1, calls 8); EvalStiffness 138 (adds 20, muls 112, divs 0, calls 6); EvalDetPhiPhi 10 (adds 1, muls 5, divs 0, calls 4); SolvePositions 48 (adds 11, muls 29, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); PrepareRhs 138 (adds 27, muls 107, divs 4, calls 0); EvalRhs 396 (adds 98, muls 291, divs 2, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalAppliedLoads 63 (adds 11, muls 42, divs 1, calls 9); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalStatics 144 (adds 26, muls 109, divs 1, calls 8); EvalDynamics 572 (adds 122, muls 441, divs 1, calls 8); EvalKinetostatics 588 (adds 114, muls 465, divs 1, calls 8); EvalExcess 495 (adds 99, muls 387, divs 1, calls 8); EvalStiffness 138 (adds 20, muls 112, divs 0, calls 6); EvalDetPhiPhi 10 (adds 1, muls 5, divs 0, calls 4); SolvePositions 48 (adds 11, muls 29, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); PrepareRhs 138 (adds 27, muls 107, divs 4, calls 0); EvalRhs 306 (adds 82, muls 217, divs 2, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalAppliedLoads 63 (adds 11, muls 42, divs 1, calls 9); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -1348,16 +1348,16 @@ void PrepareRhs(const Params<Scalar>& p,
  *                       none (dim kNumFriction). May be nullptr.
  */
 template <typename Scalar>
-SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
-                            const RhsConstants<Scalar>& rc,
-                            const Vec<Scalar, Sizes::kNq>& q,
-                            const Vec<Scalar, Sizes::kNq>& qd,
-                            const Scalar& t,
-                            const std::array<int, Sizes::kNumBlocks>& modes,
-                            Trig<Scalar>* trig,
-                            Rhs<Scalar>* out,
-                            const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
-  // Total ops: 396 (adds 98, muls 291, divs 2, calls 5); intermediate terms: 9
+inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
+                                   const RhsConstants<Scalar>& rc,
+                                   const Vec<Scalar, Sizes::kNq>& q,
+                                   const Vec<Scalar, Sizes::kNq>& qd,
+                                   const Scalar& t,
+                                   const std::array<int, Sizes::kNumBlocks>& modes,
+                                   Trig<Scalar>* trig,
+                                   Rhs<Scalar>* out,
+                                   const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+  // Total ops: 306 (adds 82, muls 217, divs 2, calls 5); intermediate terms: 9
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1408,6 +1408,10 @@ SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
     sin_phi1 = cross_v_b0 * inv_rb2_b0;
     if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
   }
+  const Scalar cos_phi0_minus_q0 = cos_phi0*cos_q0 + sin_phi0*sin_q0;
+  const Scalar sin_phi0_minus_q0 = -cos_phi0*sin_q0 + cos_q0*sin_phi0;
+  const Scalar cos_phi1_minus_q1 = cos_phi1*cos_q1 + sin_phi1*sin_q1;
+  const Scalar sin_phi1_minus_q1 = -cos_phi1*sin_q1 + cos_q1*sin_phi1;
   const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
   const Scalar Phi_phi_0_1 = p.b*sin_phi1;
   const Scalar Phi_phi_1_0 = cos_phi0*p.b;
@@ -1438,21 +1442,21 @@ SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
   const Scalar L_1_0_1 = -L_rhs_0_0_1*Phi_phi_inv_1_0 - L_rhs_1_0_1*Phi_phi_inv_1_1;
   const Scalar L_1_1_1 = -L_rhs_0_1_1*Phi_phi_inv_1_0 - L_rhs_1_1_1*Phi_phi_inv_1_1;
-  const Scalar I_eom_0_0 = K_0_0*cos_phi0*cos_q0*rc.c[4] + K_0_0*rc.c[4]*sin_phi0*sin_q0 + _tmp0*rc.c[14] + _tmp1*rc.c[3] + rc.c[0];
-  const Scalar _tmp4 = K_0_0*K_0_1*rc.c[3] + K_0_1*cos_phi0*cos_q0*rc.c[5] + K_0_1*rc.c[5]*sin_phi0*sin_q0 + K_1_0*K_1_1*rc.c[14] + K_1_0*cos_phi1*cos_q1*rc.c[17] + K_1_0*rc.c[17]*sin_phi1*sin_q1;
+  const Scalar I_eom_0_0 = K_0_0*cos_phi0_minus_q0*rc.c[4] + _tmp0*rc.c[14] + _tmp1*rc.c[3] + rc.c[0];
+  const Scalar _tmp4 = K_0_0*K_0_1*rc.c[3] + K_0_1*cos_phi0_minus_q0*rc.c[5] + K_1_0*K_1_1*rc.c[14] + K_1_0*cos_phi1_minus_q1*rc.c[17];
   const Scalar I_eom_0_1 = _tmp4;
   const Scalar I_eom_1_0 = _tmp4;
-  const Scalar I_eom_1_1 = K_1_1*cos_phi1*cos_q1*rc.c[2] + K_1_1*rc.c[2]*sin_phi1*sin_q1 + _tmp2*rc.c[14] + _tmp3*rc.c[3] + rc.c[1];
-  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[3] + K_0_0*cos_phi0*rc.c[7]*sin_q0 + K_0_0*cos_q0*rc.c[5]*sin_phi0 + K_1_0*L_1_0_0*rc.c[14] + L_0_0_0*cos_phi0*cos_q0*rc.c[5] + L_0_0_0*rc.c[5]*sin_phi0*sin_q0 + _tmp1*cos_phi0*rc.c[5]*sin_q0 + _tmp1*cos_q0*rc.c[7]*sin_phi0;
-  const Scalar _tmp5 = K_0_0*K_0_1*cos_phi0*rc.c[5]*sin_q0 + K_0_0*K_0_1*cos_q0*rc.c[7]*sin_phi0 + K_0_0*L_0_0_1*rc.c[3] + K_1_0*L_1_0_1*rc.c[14] + L_0_0_1*cos_phi0*cos_q0*rc.c[5] + L_0_0_1*rc.c[5]*sin_phi0*sin_q0;
+  const Scalar I_eom_1_1 = K_1_1*cos_phi1_minus_q1*rc.c[2] + _tmp2*rc.c[14] + _tmp3*rc.c[3] + rc.c[1];
+  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[3] + K_0_0*rc.c[5]*sin_phi0_minus_q0 + K_1_0*L_1_0_0*rc.c[14] + L_0_0_0*cos_phi0_minus_q0*rc.c[5] + _tmp1*rc.c[7]*sin_phi0_minus_q0;
+  const Scalar _tmp5 = K_0_0*K_0_1*rc.c[7]*sin_phi0_minus_q0 + K_0_0*L_0_0_1*rc.c[3] + K_1_0*L_1_0_1*rc.c[14] + L_0_0_1*cos_phi0_minus_q0*rc.c[5];
   const Scalar C_eom_0_1_0 = _tmp5;
   const Scalar C_eom_0_0_1 = _tmp5;
-  const Scalar C_eom_0_1_1 = K_0_0*L_0_1_1*rc.c[3] + K_1_0*L_1_1_1*rc.c[14] + K_1_0*cos_phi1*rc.c[10]*sin_q1 + K_1_0*cos_q1*rc.c[17]*sin_phi1 + L_0_1_1*cos_phi0*cos_q0*rc.c[5] + L_0_1_1*rc.c[5]*sin_phi0*sin_q0 + _tmp3*cos_phi0*rc.c[5]*sin_q0 + _tmp3*cos_q0*rc.c[7]*sin_phi0;
-  const Scalar C_eom_1_0_0 = K_0_1*L_0_0_0*rc.c[3] + K_0_1*cos_phi0*rc.c[7]*sin_q0 + K_0_1*cos_q0*rc.c[5]*sin_phi0 + K_1_1*L_1_0_0*rc.c[14] + L_1_0_0*cos_phi1*cos_q1*rc.c[17] + L_1_0_0*rc.c[17]*sin_phi1*sin_q1 + _tmp0*cos_phi1*rc.c[17]*sin_q1 + _tmp0*cos_q1*rc.c[10]*sin_phi1;
-  const Scalar _tmp6 = K_0_1*L_0_0_1*rc.c[3] + K_1_0*K_1_1*cos_phi1*rc.c[17]*sin_q1 + K_1_0*K_1_1*cos_q1*rc.c[10]*sin_phi1 + K_1_1*L_1_0_1*rc.c[14] + L_1_0_1*cos_phi1*cos_q1*rc.c[17] + L_1_0_1*rc.c[17]*sin_phi1*sin_q1;
+  const Scalar C_eom_0_1_1 = K_0_0*L_0_1_1*rc.c[3] + K_1_0*L_1_1_1*rc.c[14] + K_1_0*rc.c[17]*sin_phi1_minus_q1 + L_0_1_1*cos_phi0_minus_q0*rc.c[5] + _tmp3*rc.c[7]*sin_phi0_minus_q0;
+  const Scalar C_eom_1_0_0 = K_0_1*L_0_0_0*rc.c[3] + K_0_1*rc.c[5]*sin_phi0_minus_q0 + K_1_1*L_1_0_0*rc.c[14] + L_1_0_0*cos_phi1_minus_q1*rc.c[17] + _tmp0*rc.c[10]*sin_phi1_minus_q1;
+  const Scalar _tmp6 = K_0_1*L_0_0_1*rc.c[3] + K_1_0*K_1_1*rc.c[10]*sin_phi1_minus_q1 + K_1_1*L_1_0_1*rc.c[14] + L_1_0_1*cos_phi1_minus_q1*rc.c[17];
   const Scalar C_eom_1_1_0 = _tmp6;
   const Scalar C_eom_1_0_1 = _tmp6;
-  const Scalar C_eom_1_1_1 = K_0_1*L_0_1_1*rc.c[3] + K_1_1*L_1_1_1*rc.c[14] + K_1_1*cos_phi1*rc.c[10]*sin_q1 + K_1_1*cos_q1*rc.c[17]*sin_phi1 + L_1_1_1*cos_phi1*cos_q1*rc.c[17] + L_1_1_1*rc.c[17]*sin_phi1*sin_q1 + _tmp2*cos_phi1*rc.c[17]*sin_q1 + _tmp2*cos_q1*rc.c[10]*sin_phi1;
+  const Scalar C_eom_1_1_1 = K_0_1*L_0_1_1*rc.c[3] + K_1_1*L_1_1_1*rc.c[14] + K_1_1*rc.c[17]*sin_phi1_minus_q1 + L_1_1_1*cos_phi1_minus_q1*rc.c[17] + _tmp2*rc.c[10]*sin_phi1_minus_q1;
   const Scalar _tmp7 = qd(0)*qd(0);
   const Scalar _tmp8 = qd(1)*qd(1);
   out->K(0, 0) = K_0_0;

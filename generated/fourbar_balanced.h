@@ -52,7 +52,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.G3.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 0 (adds 0, muls 0, divs 0, calls 0); EvalDynamics 467 (adds 88, muls 365, divs 8, calls 6); EvalKinetostatics 655 (adds 118, muls 522, divs 9, calls 6); EvalExcess 630 (adds 118, muls 498, divs 8, calls 6); EvalShaking 571 (adds 120, muls 436, divs 9, calls 6); EvalStiffness 0 (adds 0, muls 0, divs 0, calls 0); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); PrepareRhs 473 (adds 71, muls 393, divs 9, calls 0); EvalRhs 154 (adds 36, muls 113, divs 2, calls 3); EvalScene 137 (adds 24, muls 95, divs 4, calls 14); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 0 (adds 0, muls 0, divs 0, calls 0); EvalDynamics 467 (adds 88, muls 365, divs 8, calls 6); EvalKinetostatics 655 (adds 118, muls 522, divs 9, calls 6); EvalExcess 630 (adds 118, muls 498, divs 8, calls 6); EvalShaking 571 (adds 120, muls 436, divs 9, calls 6); EvalStiffness 0 (adds 0, muls 0, divs 0, calls 0); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); PrepareRhs 472 (adds 71, muls 392, divs 9, calls 0); EvalRhs 120 (adds 30, muls 85, divs 2, calls 3); EvalScene 137 (adds 24, muls 95, divs 4, calls 14); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -314,7 +314,7 @@ struct Rhs {
 /// lengths, inverse squared lengths, ...): PrepareRhs() fills it once per parameter set.
 template <typename Scalar = double>
 struct RhsConstants {
-  std::array<Scalar, 18> c;
+  std::array<Scalar, 17> c;
 };
 
 /// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
@@ -1380,7 +1380,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
 template <typename Scalar>
 void PrepareRhs(const Params<Scalar>& p,
                 RhsConstants<Scalar>* rc) {
-  // Total ops: 473 (adds 71, muls 393, divs 9, calls 0); intermediate terms: 25
+  // Total ops: 472 (adds 71, muls 392, divs 9, calls 0); intermediate terms: 25
   const Scalar _tmp0 = p.x3*p.x3;
   const Scalar _tmp1 = p.y3*p.y3;
   const Scalar _tmp2 = p.balance*p.mc2 + p.m2b;
@@ -1417,13 +1417,12 @@ void PrepareRhs(const Params<Scalar>& p,
   rc->c[8] = _tmp6;
   rc->c[9] = _tmp24;
   rc->c[10] = Scalar(2)*_tmp22;
-  rc->c[11] = Scalar(2)*_tmp21;
-  rc->c[12] = _tmp22;
-  rc->c[13] = _tmp21;
-  rc->c[14] = _tmp23;
-  rc->c[15] = _tmp2;
-  rc->c[16] = _tmp16;
-  rc->c[17] = _tmp15;
+  rc->c[11] = _tmp22;
+  rc->c[12] = _tmp21;
+  rc->c[13] = _tmp23;
+  rc->c[14] = _tmp2;
+  rc->c[15] = _tmp16;
+  rc->c[16] = _tmp15;
 }
 
 /**
@@ -1446,16 +1445,16 @@ void PrepareRhs(const Params<Scalar>& p,
  *                       none (dim kNumFriction). May be nullptr.
  */
 template <typename Scalar>
-SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
-                            const RhsConstants<Scalar>& rc,
-                            const Vec<Scalar, Sizes::kNq>& q,
-                            const Vec<Scalar, Sizes::kNq>& qd,
-                            const Scalar& t,
-                            const std::array<int, Sizes::kNumBlocks>& modes,
-                            Trig<Scalar>* trig,
-                            Rhs<Scalar>* out,
-                            const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
-  // Total ops: 154 (adds 36, muls 113, divs 2, calls 3); intermediate terms: 3
+inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
+                                   const RhsConstants<Scalar>& rc,
+                                   const Vec<Scalar, Sizes::kNq>& q,
+                                   const Vec<Scalar, Sizes::kNq>& qd,
+                                   const Scalar& t,
+                                   const std::array<int, Sizes::kNumBlocks>& modes,
+                                   Trig<Scalar>* trig,
+                                   Rhs<Scalar>* out,
+                                   const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+  // Total ops: 120 (adds 30, muls 85, divs 2, calls 3); intermediate terms: 3
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1473,8 +1472,8 @@ SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
     const Scalar bx_b0 = -p.c;
     const Scalar wx_b0 = -cos_q0*p.a + p.d;
     const Scalar wy_b0 = -p.a*sin_q0;
-    const Scalar ra2_b0 = rc.c[14];
-    const Scalar rb2_b0 = rc.c[17];
+    const Scalar ra2_b0 = rc.c[13];
+    const Scalar rb2_b0 = rc.c[16];
     if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
     if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
@@ -1504,6 +1503,8 @@ SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
     sin_phi1 = cross_v_b0 * inv_rb2_b0;
     if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
   }
+  const Scalar cos_phi0_minus_q0 = cos_phi0*cos_q0 + sin_phi0*sin_q0;
+  const Scalar sin_phi0_minus_q0 = -cos_phi0*sin_q0 + cos_q0*sin_phi0;
   const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
   const Scalar Phi_phi_0_1 = p.c*sin_phi1;
   const Scalar Phi_phi_1_0 = cos_phi0*p.b;
@@ -1522,8 +1523,8 @@ SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar L_rhs_1_0_0 = _tmp0*p.c*sin_phi1 - _tmp1*p.b*sin_phi0 - p.a*sin_q0;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
-  const Scalar I_eom_0_0 = K_0_0*cos_phi0*cos_q0*rc.c[10] + K_0_0*cos_phi0*rc.c[11]*sin_q0 + K_0_0*cos_q0*rc.c[3]*sin_phi0 + K_0_0*rc.c[10]*sin_phi0*sin_q0 + _tmp0*rc.c[2] + _tmp1*rc.c[0] + rc.c[1];
-  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[0] + K_0_0*cos_phi0*cos_q0*rc.c[13] + K_0_0*cos_phi0*rc.c[4]*sin_q0 + K_0_0*cos_q0*rc.c[12]*sin_phi0 + K_0_0*rc.c[13]*sin_phi0*sin_q0 + K_1_0*L_1_0_0*rc.c[2] + L_0_0_0*cos_phi0*cos_q0*rc.c[12] + L_0_0_0*cos_phi0*rc.c[13]*sin_q0 + L_0_0_0*cos_q0*rc.c[5]*sin_phi0 + L_0_0_0*rc.c[12]*sin_phi0*sin_q0 + _tmp1*cos_phi0*cos_q0*rc.c[5] + _tmp1*cos_phi0*rc.c[12]*sin_q0 + _tmp1*cos_q0*rc.c[4]*sin_phi0 + _tmp1*rc.c[5]*sin_phi0*sin_q0;
+  const Scalar I_eom_0_0 = K_0_0*cos_phi0_minus_q0*rc.c[10] + K_0_0*rc.c[3]*sin_phi0_minus_q0 + _tmp0*rc.c[2] + _tmp1*rc.c[0] + rc.c[1];
+  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[0] + K_0_0*cos_phi0_minus_q0*rc.c[12] + K_0_0*rc.c[11]*sin_phi0_minus_q0 + K_1_0*L_1_0_0*rc.c[2] + L_0_0_0*cos_phi0_minus_q0*rc.c[11] + L_0_0_0*rc.c[5]*sin_phi0_minus_q0 + _tmp1*cos_phi0_minus_q0*rc.c[5] + _tmp1*rc.c[4]*sin_phi0_minus_q0;
   const Scalar _tmp2 = qd(0)*qd(0);
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;

@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 163 (adds 29, muls 128, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalShaking 174 (adds 43, muls 124, divs 1, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); PrepareRhs 47 (adds 4, muls 41, divs 2, calls 0); EvalRhs 134 (adds 32, muls 97, divs 2, calls 3); EvalScene 15 (adds 3, muls 6, divs 0, calls 6); EvalAppliedLoads 37 (adds 3, muls 27, divs 0, calls 7); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 163 (adds 29, muls 128, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalShaking 174 (adds 43, muls 124, divs 1, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); PrepareRhs 47 (adds 4, muls 41, divs 2, calls 0); EvalRhs 120 (adds 30, muls 85, divs 2, calls 3); EvalScene 15 (adds 3, muls 6, divs 0, calls 6); EvalAppliedLoads 37 (adds 3, muls 27, divs 0, calls 7); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -1313,16 +1313,16 @@ void PrepareRhs(const Params<Scalar>& p,
  *                       none (dim kNumFriction). May be nullptr.
  */
 template <typename Scalar>
-SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
-                            const RhsConstants<Scalar>& rc,
-                            const Vec<Scalar, Sizes::kNq>& q,
-                            const Vec<Scalar, Sizes::kNq>& qd,
-                            const Scalar& t,
-                            const std::array<int, Sizes::kNumBlocks>& modes,
-                            Trig<Scalar>* trig,
-                            Rhs<Scalar>* out,
-                            const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
-  // Total ops: 134 (adds 32, muls 97, divs 2, calls 3); intermediate terms: 3
+inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
+                                   const RhsConstants<Scalar>& rc,
+                                   const Vec<Scalar, Sizes::kNq>& q,
+                                   const Vec<Scalar, Sizes::kNq>& qd,
+                                   const Scalar& t,
+                                   const std::array<int, Sizes::kNumBlocks>& modes,
+                                   Trig<Scalar>* trig,
+                                   Rhs<Scalar>* out,
+                                   const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+  // Total ops: 120 (adds 30, muls 85, divs 2, calls 3); intermediate terms: 3
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1371,6 +1371,8 @@ SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
     sin_phi1 = cross_v_b0 * inv_rb2_b0;
     if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
   }
+  const Scalar cos_phi0_minus_q0 = cos_phi0*cos_q0 + sin_phi0*sin_q0;
+  const Scalar sin_phi0_minus_q0 = -cos_phi0*sin_q0 + cos_q0*sin_phi0;
   const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
   const Scalar Phi_phi_0_1 = p.c*sin_phi1;
   const Scalar Phi_phi_1_0 = cos_phi0*p.b;
@@ -1389,8 +1391,8 @@ SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar L_rhs_1_0_0 = _tmp0*p.c*sin_phi1 - _tmp1*p.b*sin_phi0 - p.a*sin_q0;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
-  const Scalar I_eom_0_0 = K_0_0*cos_phi0*cos_q0*rc.c[1] + K_0_0*rc.c[1]*sin_phi0*sin_q0 + _tmp0*rc.c[7] + _tmp1*rc.c[6] + rc.c[0];
-  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[6] + K_0_0*cos_phi0*rc.c[3]*sin_q0 + K_0_0*cos_q0*rc.c[10]*sin_phi0 + K_1_0*L_1_0_0*rc.c[7] + L_0_0_0*cos_phi0*cos_q0*rc.c[10] + L_0_0_0*rc.c[10]*sin_phi0*sin_q0 + _tmp1*cos_phi0*rc.c[10]*sin_q0 + _tmp1*cos_q0*rc.c[3]*sin_phi0;
+  const Scalar I_eom_0_0 = K_0_0*cos_phi0_minus_q0*rc.c[1] + _tmp0*rc.c[7] + _tmp1*rc.c[6] + rc.c[0];
+  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[6] + K_0_0*rc.c[10]*sin_phi0_minus_q0 + K_1_0*L_1_0_0*rc.c[7] + L_0_0_0*cos_phi0_minus_q0*rc.c[10] + _tmp1*rc.c[3]*sin_phi0_minus_q0;
   const Scalar _tmp2 = qd(0)*qd(0);
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;

@@ -370,8 +370,9 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
     mus::data o{mus::data::type::object};
     o.set("name", f.name);
     o.set("template_scalar", f.scalar);
+    o.set("inline", Bool(f.inline_hint));
     o.set("returns", f.returns);
-    o.set("indent", Spaces(f.returns.size() + f.name.size() + 2));
+    o.set("indent", Spaces((f.inline_hint ? 7 : 0) + f.returns.size() + f.name.size() + 2));
     o.set("doc", Lines(doc));
     o.set("args", ArgList(f, "", true, false));
     o.set("body", bodies[i]);
@@ -409,7 +410,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
     inst.set("instantiated", list);
     instances.push_back(inst);
   }
-  const std::set<std::string> fn_keys = {"name", "template_scalar", "returns", "indent", "doc", "line", "args", "arg_type", "arg_name",
+  const std::set<std::string> fn_keys = {"name", "template_scalar", "inline", "returns", "indent", "doc", "line", "args", "arg_type", "arg_name",
                                          "has_default", "arg_default", "first", "body"};
   data.SetData("functions", fns, fn_keys);
   data.SetData("members", members, {"member_name", "returns_value", "call"});

@@ -51,6 +51,9 @@ struct FunctionSpec {
   bool reindent = false;     ///< indent the body by its braces (nested control flow)
   std::string model_member;  ///< name of the static member of `Model` that calls it ("": none)
   bool instantiate = true;   ///< compiled for double and float in <model>.cc
+  /// declared `inline`: a hint to the compiler to inline it at its call sites (EvalRhs, in an
+  /// integrator's stage loop; a large function called from several places is not otherwise).
+  bool inline_hint = false;
   /// PrepareRhs: how many parameter-only constants it fills (RhsConstants::c, codegen/output_spec.h).
   int constants = 0;
   /// EvalSwitchModes: how many switching items it gives a mode of (Sizes::kNumSwitches).

@@ -114,6 +114,69 @@ static ex ReducePolynomial(const ex& e,
   return x.subs(from);
 }
 
+namespace {
+
+std::vector<ex> Terms(const ex& e) {
+  std::vector<ex> t;
+  if (is_a<GiNaC::add>(e))
+    for (size_t i = 0; i < e.nops(); ++i) t.push_back(e.op(i));
+  else if (!e.is_zero())
+    t.push_back(e);
+  return t;
+}
+
+// The sum of the terms of `a` that occur in `b` times `sign` (each term of b matched once).
+ex Shared(const ex& a, const ex& b, int sign) {
+  const std::vector<ex> tb = Terms(b.expand());
+  std::vector<bool> taken(tb.size(), false);
+  ex g = 0;
+  for (const ex& t : Terms(a.expand()))
+    for (size_t i = 0; i < tb.size(); ++i)
+      if (!taken[i] && (t - sign * tb[i]).expand().is_zero()) {
+        taken[i] = true;
+        g += t;
+        break;
+      }
+  return g;
+}
+
+}  // namespace
+
+ex UseAngleDifferences(const ex& e, const ExSet& params, std::vector<AngleDifference>* diffs) {
+  ex x = e.expand();
+  bool changed = false;
+  for (AngleDifference& d : *diffs) {
+    if (!(x.has(d.sin_x) || x.has(d.cos_x)) || !(x.has(d.sin_y) || x.has(d.cos_y))) continue;
+    GiNaC::symbol sx("diff_sin_x"), cx("diff_cos_x"), sy("diff_sin_y"), cy("diff_cos_y");
+    GiNaC::exmap to, from;
+    to[d.sin_x] = sx;
+    to[d.cos_x] = cx;
+    to[d.sin_y] = sy;
+    to[d.cos_y] = cy;
+    for (const auto& [a, b] : to) from[b] = a;
+    ex p = x.subs(to).expand();
+    if (!p.is_polynomial(GiNaC::lst{sx, cx, sy, cy})) continue;
+    // A common term of the two coefficients is free of all four (each coefficient is free
+    // of the two it was taken on): subtracting it times the pair removes exactly those terms.
+    const ex gc = Shared(p.coeff(cx, 1).coeff(cy, 1), p.coeff(sx, 1).coeff(sy, 1), 1);
+    const ex gs = Shared(p.coeff(sx, 1).coeff(cy, 1), p.coeff(cx, 1).coeff(sy, 1), -1);
+    if (gc.is_zero() && gs.is_zero()) continue;
+    p = (p - gc * (cx * cy + sx * sy) + gc * d.cos_d - gs * (sx * cy - cx * sy) + gs * d.sin_d).expand();
+    d.cos_used |= !gc.is_zero();
+    d.sin_used |= !gs.is_zero();
+    x = p.subs(from);
+    changed = true;
+  }
+  if (!changed) return e;
+  // Collected as ReduceTrig leaves it: one parameter coefficient per monomial of the state.
+  ExSet all;
+  Symbols(x, &all);
+  GiNaC::lst vars;
+  for (const ex& s : all)
+    if (!params.count(s)) vars.append(s);
+  return vars.nops() > 0 ? GiNaC::collect(x, vars, true) : x;
+}
+
 std::vector<ex> HoistParameters(const ExSet& params,
                                 const std::string& access,
                                 CxxPrinter* printer,

@@ -299,8 +299,11 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
   f.model_member = "Rhs";
   f.returns = "SolveReport<Scalar>";
   f.reindent = true;
-  // Inlined where it is called (an integrator's inner loop): not compiled into <model>.cc.
+  // Inlined where it is called (an integrator's inner loop): not compiled into <model>.cc,
+  // and declared inline (GCC does not inline a function of its size called from several
+  // places otherwise: a call, the outputs through memory, ~10% of a four-bar's right-hand side).
   f.instantiate = false;
+  f.inline_hint = true;
   f.doc = {"\\brief The right-hand side of the equation of motion at a state (t, q, qd), in one pass:",
            "SolvePositionsTrig() (the closed forms' direction cosines, no angle), K and L, then I, h, Q",
            "(Paul §6.4, §6.6.1: qdd = I^-1 (Q - h)), with what a simulation samples (K, T, V, P_nc, Phi_phi).",
@@ -344,15 +347,38 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
   ExSet params;
   for (const Parameter& prm : m.params) params.insert(prm.symbol);
   std::vector<std::pair<ex, ex>> sin_cos;
-  for (const Coordinate& c : k.q)
-    if (c.is_angle) sin_cos.emplace_back(GiNaC::sin(c.symbol), GiNaC::cos(c.symbol));
-  for (const Coordinate& c : k.phi)
-    if (c.is_angle) sin_cos.emplace_back(GiNaC::sin(c.symbol), GiNaC::cos(c.symbol));
+  std::vector<std::string> angle_names;  // q<j>, phi<i>: as the generated sin_q0, cos_phi1
+  for (int j = 0; j < nq; ++j)
+    if (k.q[j].is_angle) {
+      sin_cos.emplace_back(GiNaC::sin(k.q[j].symbol), GiNaC::cos(k.q[j].symbol));
+      angle_names.push_back("q" + N(j));
+    }
+  for (int i = 0; i < nphi; ++i)
+    if (k.phi[i].is_angle) {
+      sin_cos.emplace_back(GiNaC::sin(k.phi[i].symbol), GiNaC::cos(k.phi[i].symbol));
+      angle_names.push_back("phi" + N(i));
+    }
+  // cos(x - y) and sin(x - y) of each pair of angles (x after y), defined where an output
+  // reads them (hoist.h: UseAngleDifferences), before everything else of the dynamics.
+  std::vector<AngleDifference> diffs;
+  std::vector<Statement> diff_defines;
+  for (size_t y = 0; y < sin_cos.size(); ++y)
+    for (size_t x = y + 1; x < sin_cos.size(); ++x) {
+      AngleDifference d;
+      d.sin_x = sin_cos[x].first;
+      d.cos_x = sin_cos[x].second;
+      d.sin_y = sin_cos[y].first;
+      d.cos_y = sin_cos[y].second;
+      const std::string name = angle_names[x] + "_minus_" + angle_names[y];
+      diff_defines.push_back(Define("cos_" + name, d.cos_x * d.cos_y + d.sin_x * d.sin_y, &d.cos_d));
+      diff_defines.push_back(Define("sin_" + name, d.sin_x * d.cos_y - d.cos_x * d.sin_y, &d.sin_d));
+      diffs.push_back(d);
+    }
   auto output = [&](const ex& value) {
     const ex v = value.subs(from_c);
     size_t terms = 0;
     const ex reduced = ReduceTrig(v.subs(inlined), sin_cos, params, &terms);
-    return terms <= 48 ? reduced : v;
+    return terms <= 48 ? UseAngleDifferences(reduced, params, &diffs) : v;
   };
   // I and C as locals; h = C (qd (x) qd) and T = 1/2 qd^T I qd from them.
   auto local = [&](const std::string& name, const ex& value) -> ex {
@@ -389,6 +415,12 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
   P.push_back(Store("out->P_nc", output(dt.P_nc)));
   for (int i = 0; i < nc; ++i)
     for (int j = 0; j < nphi; ++j) P.push_back(Store("out->Phi_phi" + Idx(i, j), t.Phi_phi_named(i, j)));
+  Program used_diffs;
+  for (size_t i = 0; i < diffs.size(); ++i) {
+    if (diffs[i].cos_used) used_diffs.push_back(diff_defines[2 * i]);
+    if (diffs[i].sin_used) used_diffs.push_back(diff_defines[2 * i + 1]);
+  }
+  P.insert(P.begin(), used_diffs.begin(), used_diffs.end());
   f.body = {Finish(P, a, printer)};
   return f;
 }
