@@ -225,8 +225,10 @@ inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, doubl
  *        determinant, cond_1, and solves with it and its transpose. No allocation.
  *
  * Up to 4 x 4 the closed-form inverse (cofactors; several times faster than PartialPivLU for
- * these sizes) and the exact cond_1 = ||A||_1 ||A^{-1}||_1; above, Eigen's PartialPivLU
- * with its 1/rcond() estimate of cond_1. ok() is false when A is singular or not finite.
+ * these sizes), up to 8 x 8 the inverse by Gauss-Jordan with partial pivoting, both with the
+ * exact cond_1 = ||A||_1 ||A^{-1}||_1 and solves as products with the inverse; above, Eigen's
+ * PartialPivLU with its 1/rcond() estimate of cond_1 (a lower bound). ok() is false when A is
+ * singular or not finite.
  */
 template <int n>
 class SquareFactorization {
@@ -317,9 +319,9 @@ class SquareFactorization {
   }
   bool ok() const { return ok_; }
   double determinant() const { return det_; }
-  /// cond_1(A) (exact for n <= 4, else Eigen's estimate); +inf when singular.
+  /// cond_1(A) (exact for n <= 8, else Eigen's estimate); +inf when singular.
   double condition() const { return cond_; }
-  /// ||A||_1, and ||A^{-1}||_1 (exact for n <= 4: ||A||_inf / |det| for n = 2; else
+  /// ||A||_1, and ||A^{-1}||_1 (exact for n <= 8: ||A||_inf / |det| for n = 2; else
   /// cond_1 / ||A||_1 from Eigen's estimate; +inf when singular), the two factors of
   /// condition(), without dividing one by the other.
   double norm1() const { return norm1_; }
