@@ -146,6 +146,74 @@ TEST(DistanceToSingularity, ClosedForm2x2MatchesJacobiSvd) {
   EXPECT_TRUE(std::isnan(smin) && std::isnan(smax) && v.hasNaN() && u.hasNaN());
 }
 
+// SquareFactorization<n> (the one factorization of Phi_phi a continuation step has) against
+// independent oracles: det from Eigen's FullPivLU, A^{-1} b from FullPivLU's solve, cond_1 from
+// the FullPivLU inverse's norms; random and nearly singular (sigma_min / sigma_max down to
+// 1e-10) matrices, a row swap needed at the first pivot, an exactly singular and a NaN matrix
+// (ok() false, cond +inf). For 5 <= n <= 16 cond_1 is exact (Gauss-Jordan inverse), so it
+// must match the oracle's to the rounding that cond amplifies; above 16, Eigen's estimate, a
+// lower bound within a factor n of it (Higham).
+template <int n>
+void ExpectFactorizationMatchesFullPivLu() {
+  using Matrix = Eigen::Matrix<double, n, n>;
+  using Vector = Eigen::Matrix<double, n, 1>;
+  std::srand(11 + n);
+  std::vector<Matrix> cases;
+  for (int i = 0; i < 200; ++i) cases.push_back(Matrix::Random());
+  for (double t : {1e-3, 1e-6, 1e-10}) {
+    for (int i = 0; i < 20; ++i) {
+      Matrix A = Matrix::Random();
+      A.col(n - 1) = A.leftCols(n - 1) * Eigen::Matrix<double, n - 1, 1>::Random() +
+                     t * Vector::Random();
+      cases.push_back(A);
+    }
+  }
+  Matrix swap = Matrix::Random();
+  swap(0, 0) = 0;  // the first pivot must come from another row
+  cases.push_back(swap);
+  for (const Matrix& A : cases) {
+    const SquareFactorization<n> f(A);
+    const Eigen::FullPivLU<Matrix> ref(A);
+    const Matrix inverse = ref.inverse();
+    const double cond = A.cwiseAbs().colwise().sum().maxCoeff() *
+                        inverse.cwiseAbs().colwise().sum().maxCoeff();
+    ASSERT_TRUE(f.ok()) << A;
+    EXPECT_NEAR(f.determinant(), ref.determinant(), 1e-14 * cond * std::abs(ref.determinant()))
+        << A;
+    if (n <= 16) {
+      EXPECT_NEAR(f.condition(), cond, 1e-14 * cond * cond) << A;
+    } else {
+      EXPECT_LE(f.condition(), cond * (1 + 1e-14 * cond)) << A;
+      EXPECT_GE(f.condition(), cond / n) << A;
+    }
+    EXPECT_NEAR(f.norm1() * f.inverse_norm1(), f.condition(), 1e-14 * f.condition()) << A;
+    const Vector b = Vector::Random();
+    const double tolerance = 1e-14 * cond * (1 + inverse.cwiseAbs().maxCoeff());
+    EXPECT_LT((f.Solve(b) - ref.solve(b)).template lpNorm<Eigen::Infinity>(), tolerance) << A;
+    EXPECT_LT((f.SolveTransposed(b) - inverse.transpose() * b).template lpNorm<Eigen::Infinity>(),
+              tolerance)
+        << A;
+  }
+  Matrix singular = Matrix::Random();
+  singular.col(n - 1).setZero();  // exactly singular: a pivot is exactly 0
+  const SquareFactorization<n> fs(singular);
+  EXPECT_FALSE(fs.ok());
+  EXPECT_EQ(fs.condition(), std::numeric_limits<double>::infinity());
+  Matrix bad = Matrix::Identity();
+  bad(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  const SquareFactorization<n> fb(bad);
+  EXPECT_FALSE(fb.ok());
+  EXPECT_EQ(fb.condition(), std::numeric_limits<double>::infinity());
+}
+
+TEST(DistanceToSingularity, SquareFactorizationMatchesFullPivLu) {
+  ExpectFactorizationMatchesFullPivLu<3>();
+  ExpectFactorizationMatchesFullPivLu<5>();
+  ExpectFactorizationMatchesFullPivLu<8>();
+  ExpectFactorizationMatchesFullPivLu<16>();
+  ExpectFactorizationMatchesFullPivLu<20>();
+}
+
 TEST(DistanceToSingularity, DecreasesTowardsChangePointAndIsInCsv) {
   // Along the smooth curve the change point is a transversal zero of det Phi_phi, so
   // sigma_min ~ |q|: halving the distance halves sigma_min (to 10 %).

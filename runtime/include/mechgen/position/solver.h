@@ -31,8 +31,11 @@
  *
  * Distance to singularity (State::sigma_min, sigma_max, singular_direction), every
  * configuration, from the one factorization of Phi_phi a step has (closed-form inverse up
- * to 4 x 4, PartialPivLU above), which also gives det (branch) and cond_1:
- *  - kNphi <= 2: exact, in closed form (SingularValues2x2; about 20 ns of a four-bar step in a perf profile).
+ * to 4 x 4, Gauss-Jordan up to 16 x 16, PartialPivLU above), which also gives det (branch)
+ * and cond_1 (exact up to 16 x 16):
+ *  - kNphi <= 2: exact, in closed form (SingularValues2x2; about 20 ns of a four-bar step in a
+ *    perf profile, half of it waiting on the singular vectors' square root and division,
+ *    which are now off the path of sigma_min that the step's checks wait on).
  *  - kNphi > 2, continuation steps: one inverse iteration on Phi_phi^T Phi_phi from the
  *    previous configuration's singular direction and one power iteration from its largest
  *    direction; sigma_min = ||Phi_phi v|| (an upper bound), sigma_max = ||Phi_phi u|| (a
@@ -69,7 +72,7 @@
  * Phi are taken as bounded by ||Phi_phi||_1 (link lengths: a revolute chain's Phi sums terms
  * l (cos, sin), each derivative of which is bounded by l); a model with much larger
  * constant terms (far-away ground pivots) has a larger rounding than rho assumes. For
- * kNphi > 4, kappa is Eigen's estimate. Checked against a quad-precision closed form next to
+ * kNphi > 16, kappa is Eigen's estimate. Checked against a quad-precision closed form next to
  * two change points (tests/runtime/near_singular_test.cc): the bounds hold up to cond 1e6,
  * where L is off in its first digit; far from singular configurations they are ~1e-13
  * (phi), ~1e-10 (K), ~1e-7 (L) or smaller.
