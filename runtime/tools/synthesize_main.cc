@@ -14,7 +14,7 @@
 // write the synthesized model. What it does: synthesis/optimize.h (seeded differential
 // evolution restarts on --threads threads, then Levenberg–Marquardt with the generated
 // Jacobian), every candidate's defect checks (synthesis/path.h), the result followed by the
-// runtime's continuation (synthesis/report.h). Writes into --out (created if needed):
+// runtime's continuation (ContinuationCheck, synthesis/optimize.h; the report: synthesis/report.h). Writes into --out (created if needed):
 //   <model file name>  the input model with the synthesized parameter values (every analysis
 //                      of the project works on it: `mechgen sweep DIR/<model>.yaml`);
 //   path.svg           the coupler curve against the targets;

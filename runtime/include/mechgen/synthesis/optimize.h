@@ -1,30 +1,39 @@
 /**
  * \file synthesis/optimize.h
  * The two stages of path synthesis (issue 28):
- *  - global: differential evolution (DE/rand/1/bin, F dithered in [0.5, 1) per generation,
- *    CR 0.9, Deb's feasibility rule for selection) over the task's variables within their
- *    bounds; Search::restarts independent runs, each with its own splitmix64 stream seeded
- *    from (seed, restart) and an equal share of Search::evaluations;
- *  - local: from each run's best Search::local_starts candidates (Deb's rule), sharing the
- *    last Search::local_share of the run's budget, Levenberg–Marquardt (Ceres) on the residuals
+ *  - global: JADE's adaptive differential evolution (AdaptiveDifferentialEvolution:
+ *    DE/current-to-pbest/1/bin with an archive, F and CR adapted from the successful trials,
+ *    Deb's feasibility rule; the constraints that need no position solve kept by redrawing)
+ *    over the task's variables within their bounds; Search::restarts independent runs, each
+ *    with its own splitmix64 stream seeded from (seed, restart) and an equal share of
+ *    Search::evaluations; with a task's `placement`, the frame's x, y and angle of every
+ *    candidate are fitted to the targets in closed form (PathEvaluator::Place);
+ *  - local: from up to Search::local_starts distinct basins of each run's final population
+ *    (Deb's order, 0.05 of the box apart, each passing the continuation), sharing the last
+ *    Search::local_share of the run's budget, Levenberg–Marquardt (Ceres) on the residuals
  *    r_P(q_i; p) - T_i over the variables and the timing (each q_i for free timing, the
  *    offset if free), within the variables' bounds. Its Jacobian is the generated one:
  *    d r_P/d p = Design::dr_P_dp (EvalDesignDerivatives), d r_P/d q = Coefficients::K_P,
- *    no automatic or numerical differentiation. The refined candidate is checked again and
- *    kept only if it is feasible and better.
+ *    no automatic or numerical differentiation. The refined candidate is checked again (with
+ *    the continuation, CheckByContinuation) and kept only if it is feasible and better; when
+ *    LM leaves the feasible set, the last feasible point on its way is taken (LocalStage).
  * The runs go to `threads` std::threads (an atomic counter hands out run indices); each run's
  * result depends only on (seed, run), and the best is chosen by Deb's rule with ties to the
  * lower index: the same seed gives the same bytes for any number of threads.
  * The budget Search::evaluations covers both stages: the local stage's iterations are capped
  * by what is left, and an evaluation that would pass it is refused (Ceres then stops).
  * Counting: one evaluation = one candidate's objective (prescribed timing: n position
- * solves and the motion's check; free timing: also the curve's samples), one residual
- * evaluation of the local stage = 1, one Jacobian = 1 + its number of parameters.
+ * solves, with a placement n more, and the motion's check; free timing: also the curve's
+ * samples), one residual evaluation of the local stage = 1, one Jacobian = 1 + its number of
+ * parameters, one continuation check of a start = 1 (a checked candidate of the local stage
+ * includes its continuation). The parameter-only constraints of a drawn point (no position
+ * solve) are not counted.
  */
 #pragma once
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -36,6 +45,8 @@
 #include <ceres/solver.h>
 
 #include "mechgen/position/design.h"
+#include "mechgen/position/solver.h"
+#include "mechgen/synthesis/output.h"
 #include "mechgen/synthesis/path.h"
 #include "mechgen/synthesis/random.h"
 
@@ -80,6 +91,71 @@ struct EvaluationBudget : ceres::IterationCallback {
     return evaluator->evaluations >= stop_at ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
   }
 };
+
+/// The second way of checking a candidate (the runtime's continuation: PositionSolver
+/// assembled at the first target, then moved along the motion in steps of at most 10 deg,
+/// staying on its branch, must arrive at every target on the configuration the synthesis
+/// used, M::Solve on the model's assembly mode). Follows the motion through the targets with PositionSolver; "" if every target is reached
+/// on the branch the synthesis used (phi within 1e-8), else what went wrong.
+template <class M>
+std::string ContinuationCheck(PathEvaluator<M>* eval, const Candidate& c) {
+  const BoundPath<M>& b = eval->bound();
+  const auto p = eval->ParamsOf(c.x);
+  typename PathEvaluator<M>::VecPhi phi;
+  typename PathEvaluator<M>::Coeffs co;
+  // The order of the motion: input order from the first target (free timing), else as given.
+  std::vector<double> q = c.q;
+  if (b.task.timing.free) {
+    for (double& qi : q) qi = c.q[0] + Wrap(qi - c.q[0]);
+    if (b.n > 2 && q[static_cast<size_t>(b.n - 1)] - c.q[0] < 1e-6) q[static_cast<size_t>(b.n - 1)] += kTwoPi;  // as Check()
+  }
+  std::vector<int> order(static_cast<size_t>(b.n));
+  for (int i = 0; i < b.n; ++i) order[static_cast<size_t>(i)] = i;
+  if (b.task.timing.free)
+    std::stable_sort(order.begin(), order.end(), [&](int u, int v) { return q[static_cast<size_t>(u)] < q[static_cast<size_t>(v)]; });
+  position::PositionSolver<M> solver(position::Options(), p);
+  typename position::PositionSolver<M>::VecQ qv;
+  if (!eval->PointAt(p, q[static_cast<size_t>(order[0])], &phi, &co)) return "the first target does not assemble";
+  qv(0) = q[static_cast<size_t>(order[0])];
+  if (solver.Assemble(qv, phi, 0, nullptr) != position::Status::kConverged) return "the runtime cannot assemble at the first target";
+  for (int k = 0; k < b.n; ++k) {
+    const int i = order[static_cast<size_t>(k)];
+    const double target = q[static_cast<size_t>(i)];
+    const double from = solver.state().q(0);
+    const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(target - from) / (10 * M_PI / 180))));
+    for (int s = 1; s <= steps; ++s) {
+      qv(0) = from + (target - from) * s / steps;
+      if (solver.MoveTo(qv, nullptr) != position::Status::kConverged)
+        return "the continuation stops before target " + std::to_string(i + 1) + " (a dead point on the way)";
+    }
+    if (!eval->PointAt(p, target, &phi, &co)) return "target " + std::to_string(i + 1) + " does not assemble";
+    for (int j = 0; j < M::kNphi; ++j) {
+      double d = solver.state().phi(j) - phi(j);
+      if (M::kPhiIsAngle[static_cast<size_t>(j)]) d = std::remainder(d, kTwoPi);
+      if (!(std::abs(d) <= 1e-8))
+        return "target " + std::to_string(i + 1) + " is reached on another branch by continuation (" +
+               std::string(M::kPhiNames[static_cast<size_t>(j)]) + " differs by " + Short(d) + ")";
+    }
+  }
+  return "";
+}
+
+/// The violation given to a candidate whose checks pass but whose continuation does not.
+constexpr double kContinuationDefect = 1e-9;
+
+/// The continuation as a defect of a feasible candidate: when ContinuationCheck fails, the
+/// candidate becomes infeasible (violation kContinuationDefect, the reason as its defect), so
+/// that neither the local stage nor the choice of the answer keeps a mechanism the runtime
+/// cannot follow through its targets (e.g. a change-point four-bar on the Grashof boundary,
+/// where a crank-shortest optimum of prescribed timing tends to end).
+template <class M>
+void CheckByContinuation(PathEvaluator<M>* eval, Candidate* c) {
+  if (!c->feasible()) return;
+  const std::string why = ContinuationCheck(eval, *c);
+  if (why.empty()) return;
+  c->violation = kContinuationDefect;
+  c->defect = "the continuation fails: " + why;
+}
 
 /// The residuals r_P(q_i) - T_i of a bound task, and their generated Jacobian.
 template <class M>
@@ -227,6 +303,7 @@ Candidate LocalRefine(PathEvaluator<M>* eval, const Candidate& start, long long 
     for (int i = 0; i < b.n; ++i) refined.q[static_cast<size_t>(i)] = eval->PrescribedQ(refined.x, i);
   }
   eval->Check(eval->ParamsOf(refined.x), &refined);
+  CheckByContinuation(eval, &refined);
   return refined;
 }
 
@@ -247,6 +324,7 @@ Candidate BoundaryOnSegment(PathEvaluator<M>* eval, const Candidate& inside, con
       c.q[i] = b.task.timing.free ? inside.q[i] + t * (outside.q[i] - inside.q[i]) : eval->PrescribedQ(c.x, static_cast<int>(i));
     ++eval->evaluations;
     eval->Check(eval->ParamsOf(c.x), &c);
+    CheckByContinuation(eval, &c);
     if (c.feasible()) {
       lo = t;
       best = c;
@@ -258,16 +336,15 @@ Candidate BoundaryOnSegment(PathEvaluator<M>* eval, const Candidate& inside, con
 }
 
 /// The local stage from `start`: LM (LocalRefine); the refined candidate if it is better by
-/// Deb's rule, else `start`. With a ground region (a constraint LM does not see): when LM
-/// leaves the region from a feasible start, the last feasible point on the way
-/// (BoundaryOnSegment) is taken if better and LM runs again from it (at most four rounds), so
-/// that an optimum outside the region ends on its boundary.
+/// Deb's rule, else `start`. LM does not see the constraints (the ground region, Grashof, the
+/// crank shortest, the continuation's): when it leaves the feasible set from a feasible
+/// start, the last feasible point on the way (BoundaryOnSegment) is taken if better and LM
+/// runs again from it (at most four rounds), so that an optimum outside ends on its boundary.
 template <class M>
 Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, long long max_evaluations, int* iterations) {
-  const bool region = eval->bound().task.constraints.has_region;
   const long long stop = eval->evaluations + max_evaluations;
   Candidate current = start;
-  for (int round = 0; round < (region ? 4 : 1); ++round) {
+  for (int round = 0; round < 4; ++round) {
     const long long left = stop - eval->evaluations;
     if (left <= 0) break;
     int it = 0;
@@ -277,7 +354,7 @@ Candidate LocalStage(PathEvaluator<M>* eval, const Candidate& start, long long m
       current = refined;
       break;
     }
-    if (!region || !current.feasible() || refined.feasible() || stop - eval->evaluations < 40) break;
+    if (!current.feasible() || refined.feasible() || stop - eval->evaluations < 40) break;
     const Candidate edge = BoundaryOnSegment(eval, current, refined);
     if (!Better(edge, current)) break;
     current = edge;
@@ -328,6 +405,108 @@ std::vector<C> DifferentialEvolution(const std::vector<double>& lo, const std::v
   return pop;
 }
 
+/// JADE's adaptive differential evolution (Zhang & Sanderson 2009, IEEE TEC 13(5)) with
+/// Deb's rule, the path tasks' global stage: DE/current-to-pbest/1/bin (the mutant
+/// x_k + F (x_pbest - x_k) + F (x_r1 - x_r2), x_pbest one of the best max(2, 0.1 np) by Deb's
+/// rule, r2 from the population and the archive of replaced parents), F_k Cauchy(mu_F, 0.1)
+/// (drawn again while <= 0, cut at 1), CR_k normal(mu_CR, 0.1) cut to [0, 1]; after each
+/// generation mu_CR moves 0.1 of the way to the mean of the successful CR and mu_F to the
+/// Lehmer mean of the successful F (both start at 0.5). A coordinate leaving [lo, hi] is put
+/// halfway between the parent and the bound it crossed.
+/// Constraints that need no position solve (`parameter_violation(x)`: link lengths, Grashof,
+/// the crank, the ground region; 0 when met) are kept by construction where possible: each
+/// initial point is drawn again (up to 50 times) until it meets them, and a trial that misses
+/// them against a parent that meets them (which Deb's rule would reject anyway) is drawn again
+/// (new r1, r2, F; up to 8 times) and, if still missing them, not evaluated (the parent stays).
+/// Those draws cost no evaluation (no position solve; the design checks' closed form only).
+/// The final population. evaluate(x) gives a candidate (feasible(), error, violation).
+template <class C, class Evaluate, class ParameterViolation, class More>
+std::vector<C> AdaptiveDifferentialEvolution(const std::vector<double>& lo, const std::vector<double>& hi, int np,
+                                             SplitMix64* rng, Evaluate&& evaluate,
+                                             ParameterViolation&& parameter_violation, More&& more) {
+  const int dim = static_cast<int>(lo.size());
+  auto normal = [&]() {  // Box-Muller, one of the pair
+    const double u1 = 1.0 - rng->Uniform(), u2 = rng->Uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(kTwoPi * u2);
+  };
+  std::vector<C> pop;
+  pop.reserve(static_cast<size_t>(np));
+  std::vector<double> x(static_cast<size_t>(dim));
+  for (int k = 0; k < np; ++k) {
+    for (int attempt = 0; attempt < 50; ++attempt) {
+      for (int j = 0; j < dim; ++j)
+        x[static_cast<size_t>(j)] = lo[static_cast<size_t>(j)] + rng->Uniform() * (hi[static_cast<size_t>(j)] - lo[static_cast<size_t>(j)]);
+      if (!(parameter_violation(x) > 0)) break;
+    }
+    pop.push_back(evaluate(x));
+  }
+  std::vector<std::vector<double>> archive;
+  double mu_cr = 0.5, mu_f = 0.5;
+  const int top = std::max(2, static_cast<int>(0.1 * np));
+  std::vector<int> order(static_cast<size_t>(np));
+  std::vector<C> next;
+  while (more()) {
+    for (int k = 0; k < np; ++k) order[static_cast<size_t>(k)] = k;
+    std::stable_sort(order.begin(), order.end(), [&](int u, int v) { return Better(pop[static_cast<size_t>(u)], pop[static_cast<size_t>(v)]); });
+    next = pop;
+    std::vector<double> good_cr, good_f;
+    const int pool = np + static_cast<int>(archive.size());
+    for (int k = 0; k < np; ++k) {
+      const C& parent = pop[static_cast<size_t>(k)];
+      const bool parent_meets = !(parameter_violation(parent.x) > 0);
+      double cr = std::min(1.0, std::max(0.0, mu_cr + 0.1 * normal()));
+      double f = 0;
+      bool ok = false;
+      for (int attempt = 0; attempt < 9 && !ok; ++attempt) {
+        do f = mu_f + 0.1 * std::tan(M_PI * (rng->Uniform() - 0.5)); while (!(f > 0));
+        f = std::min(f, 1.0);
+        const int best = order[static_cast<size_t>(rng->Below(top))];
+        int r1, r2;
+        do r1 = rng->Below(np); while (r1 == k);
+        do r2 = rng->Below(pool); while (r2 == k || r2 == r1);
+        const std::vector<double>& x2 = r2 < np ? pop[static_cast<size_t>(r2)].x : archive[static_cast<size_t>(r2 - np)];
+        const int jrand = rng->Below(dim);
+        for (int j = 0; j < dim; ++j) {
+          const size_t u = static_cast<size_t>(j);
+          double v = parent.x[u];
+          if (j == jrand || rng->Uniform() < cr) {
+            v = parent.x[u] + f * (pop[static_cast<size_t>(best)].x[u] - parent.x[u]) +
+                f * (pop[static_cast<size_t>(r1)].x[u] - x2[u]);
+            if (v < lo[u]) v = 0.5 * (lo[u] + parent.x[u]);
+            if (v > hi[u]) v = 0.5 * (hi[u] + parent.x[u]);
+          }
+          x[u] = v;
+        }
+        ok = !parent_meets || !(parameter_violation(x) > 0);
+      }
+      if (!ok) continue;  // Deb's rule would keep the parent: not evaluated
+      C trial = evaluate(x);
+      if (Better(trial, parent)) {
+        good_cr.push_back(cr);
+        good_f.push_back(f);
+        archive.push_back(parent.x);
+        next[static_cast<size_t>(k)] = std::move(trial);
+      } else if (!Better(parent, trial)) {
+        next[static_cast<size_t>(k)] = std::move(trial);  // a tie moves on (as DE's <=)
+      }
+    }
+    // The archive: at most np, the surplus removed at random.
+    while (static_cast<int>(archive.size()) > np) {
+      const size_t r = static_cast<size_t>(rng->Below(static_cast<int>(archive.size())));
+      archive[r] = std::move(archive.back());
+      archive.pop_back();
+    }
+    if (!good_cr.empty()) {
+      double sum_cr = 0, sum_f = 0, sum_f2 = 0;
+      for (size_t s = 0; s < good_cr.size(); ++s) sum_cr += good_cr[s], sum_f += good_f[s], sum_f2 += good_f[s] * good_f[s];
+      mu_cr = 0.9 * mu_cr + 0.1 * sum_cr / static_cast<double>(good_cr.size());
+      mu_f = 0.9 * mu_f + 0.1 * sum_f2 / sum_f;
+    }
+    pop.swap(next);
+  }
+  return pop;
+}
+
 /// Runs work(r) for r = 0..runs-1 on `threads` std::threads (an atomic counter hands out the
 /// indices; work must write only its own slot). progress (may be empty) as runs finish.
 inline void RunParallel(int runs, int threads, const std::function<void(int)>& work,
@@ -347,7 +526,11 @@ inline void RunParallel(int runs, int threads, const std::function<void(int)>& w
   for (std::thread& t : pool) t.join();
 }
 
-/// One run: DE from its own stream, then the local stage.
+/// One run: adaptive DE (AdaptiveDifferentialEvolution) from its own stream, then the local
+/// stage from up to Search::local_starts distinct basins of the final population: its
+/// candidates in Deb's order, each taken only if it is at least 0.05 of the box's diagonal
+/// (in bound-scaled coordinates) from every start taken before, and only if it passes the
+/// continuation (CheckByContinuation; a start that does not is marked and skipped).
 template <class M>
 RunResult Run(const BoundPath<M>& b, uint64_t seed, int run, long long budget) {
   PathEvaluator<M> eval(b);
@@ -362,24 +545,50 @@ RunResult Run(const BoundPath<M>& b, uint64_t seed, int run, long long budget) {
   int np = b.task.search.population > 0 ? b.task.search.population : std::max(20, 10 * dim);
   np = static_cast<int>(std::max<long long>(4, std::min<long long>(np, budget)));
   const long long global_budget = budget - static_cast<long long>(b.task.search.local_share * static_cast<double>(budget));
-  std::vector<Candidate> pop = DifferentialEvolution<Candidate>(
+  std::vector<Candidate> pop = AdaptiveDifferentialEvolution<Candidate>(
       lo, hi, np, &rng, [&](const std::vector<double>& x) { return eval.Evaluate(x); },
+      [&](const std::vector<double>& x) { return eval.ParameterViolation(x); },
       [&]() { return eval.evaluations + np <= global_budget; });
   RunResult r;
   r.run = run;
-  // The population by Deb's rule (ties: the lower index), its best the global stage's result.
+  // The population by Deb's rule (ties: the lower index).
   std::vector<size_t> order(pop.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](size_t u, size_t v) { return Better(pop[u], pop[v]); });
-  r.global = pop[order[0]];
+  // The starts: distinct basins that pass the continuation.
+  const int wanted = std::max(1, std::min<int>(b.task.search.local_starts, np));
+  std::vector<size_t> starts;
+  auto distance = [&](const Candidate& u, const Candidate& v) {
+    double s = 0;
+    for (int j = 0; j < dim; ++j) {
+      const size_t i = static_cast<size_t>(j);
+      const double w = hi[i] > lo[i] ? (u.x[i] - v.x[i]) / (hi[i] - lo[i]) : 0.0;
+      s += w * w;
+    }
+    return std::sqrt(s / dim);
+  };
+  for (size_t k = 0; k < order.size() && static_cast<int>(starts.size()) < wanted; ++k) {
+    Candidate& c = pop[order[k]];
+    bool distinct = true;
+    for (size_t s : starts) distinct = distinct && distance(c, pop[s]) >= 0.05;
+    if (!distinct) continue;
+    if (c.feasible()) {
+      ++eval.evaluations;  // the continuation: one evaluation
+      CheckByContinuation(&eval, &c);
+      if (!c.feasible()) continue;
+    }
+    starts.push_back(order[k]);
+  }
+  if (starts.empty()) starts.push_back(order[0]);  // none feasible: the least violation
+  r.global = pop[starts[0]];  // the global stage's best that passed the continuation
   r.best = r.global;
-  // The local stage from the best few, sharing what is left of the budget.
-  const int starts = std::max(1, std::min<int>(b.task.search.local_starts, np));
-  for (int k = 0; k < starts; ++k) {
+  // The local stage from each start, sharing what is left of the budget.
+  const int n_starts = static_cast<int>(starts.size());
+  for (int k = 0; k < n_starts; ++k) {
     const long long left = budget - eval.evaluations;
     if (left <= 0) break;
     int iterations = 0;
-    const Candidate refined = LocalStage(&eval, pop[order[static_cast<size_t>(k)]], left / (starts - k), &iterations);
+    const Candidate refined = LocalStage(&eval, pop[starts[static_cast<size_t>(k)]], left / (n_starts - k), &iterations);
     r.local_iterations += iterations;
     if (Better(refined, r.best)) r.best = refined;
   }

@@ -67,6 +67,7 @@ struct BoundPath {
   int offset_var = -1;         ///< index of the free offset in the global vector, -1 if none
   int num_global = 0;          ///< variables of the global stage (design + free offset)
   ConstraintIndices checks;    ///< what the constraints read from the generated model
+  int place_x = -1, place_y = -1, place_angle = -1;  ///< the placement's variables, -1: none
 };
 
 namespace bind_internal {
@@ -271,6 +272,50 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
     if (!BindConstraints<M>(task.file, task.constraints, task.crank_link, task.crank_line, task.crank_column, &b.checks,
                             error))
       return false;
+    if (!task.placement.x.empty()) {
+      for (size_t j = 0; j < task.variables.size(); ++j) {
+        if (task.variables[j].name == task.placement.x) b.place_x = static_cast<int>(j);
+        if (task.variables[j].name == task.placement.y) b.place_y = static_cast<int>(j);
+        if (task.variables[j].name == task.placement.angle) b.place_angle = static_cast<int>(j);
+      }
+      // The placement must move the model rigidly: the point at the model's values placed at
+      // (0, 0, 0) and at (0.3, -0.2, 0.4) (the input measured from the angle), at the first
+      // of a few input angles where it assembles, to 1e-9 of the point's size.
+      Params p0 = base, p1 = base;
+      *p0.Find(task.placement.x.c_str()) = 0, *p0.Find(task.placement.y.c_str()) = 0, *p0.Find(task.placement.angle.c_str()) = 0;
+      *p1.Find(task.placement.x.c_str()) = 0.3, *p1.Find(task.placement.y.c_str()) = -0.2;
+      *p1.Find(task.placement.angle.c_str()) = 0.4;
+      bool rigid = false;
+      for (int k = 0; k < 12 && !rigid; ++k) {
+        const double q = kTwoPi * k / 12;
+        Eigen::Matrix<double, M::kNq, 1> q0, q1;
+        q0(0) = q, q1(0) = q + 0.4;
+        Eigen::Matrix<double, M::kNphi, 1> f0, f1;
+        for (int i = 0; i < M::kNphi; ++i) f0(i) = f1(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
+        const auto s0 = M::Solve(p0, q0, &f0, M::kDefaultModes);
+        const auto s1 = M::Solve(p1, q1, &f1, M::kDefaultModes);
+        using Status = decltype(s0.status);
+        if (s0.status != Status::kConverged || s1.status != Status::kConverged) continue;
+        typename M::template CoefficientsT<double> c0, c1;
+        M::Coeffs(p0, q0, f0, &c0);
+        M::Coeffs(p1, q1, f1, &c1);
+        const double x0 = c0.r_P(0, b.point), y0 = c0.r_P(1, b.point);
+        const double xr = 0.3 + std::cos(0.4) * x0 - std::sin(0.4) * y0, yr = -0.2 + std::sin(0.4) * x0 + std::cos(0.4) * y0;
+        const double size = 1 + std::hypot(x0, y0);
+        if (!(std::hypot(c1.r_P(0, b.point) - xr, c1.r_P(1, b.point) - yr) <= 1e-9 * size)) {
+          *error = where(task.placement.line, task.placement.column) +
+                   "placement: these parameters do not place the model rigidly (the point moves otherwise when they change); "
+                   "remove `placement:` or name the frame's x, y and angle";
+          return false;
+        }
+        rigid = true;
+      }
+      if (!rigid) {
+        *error = where(task.placement.line, task.placement.column) +
+                 "placement: the model does not assemble at the model's values to check it";
+        return false;
+      }
+    }
     *out = b;
     return true;
   }
@@ -347,10 +392,69 @@ class PathEvaluator {
     return true;
   }
 
-  /// The global stage's evaluation of x: the timing prescribed or projected, then Check().
-  Candidate Evaluate(const std::vector<double>& x) {
+  /// The violation of the constraints that need no position solve (CheckParameterConstraints:
+  /// link lengths, Grashof, the crank, link_ratio, the ground region) at x; 0: met. Not an
+  /// evaluation (the design checks' closed form and the ground points only).
+  double ParameterViolation(const std::vector<double>& x) const {
+    double violation = 0;
+    CheckParameterConstraints<M>(ParamsOf(x), b_.task.constraints, b_.checks, [&](double amount, const std::string&) {
+      if (amount > 0) violation += amount;
+    });
+    return violation;
+  }
+
+  /// The placement fitted to the targets (task.placement, prescribed timing): the points of x
+  /// with the frame at (0, 0, 0), then the rigid motion that brings them nearest the targets
+  /// in least squares (Procrustes in the plane: the angle atan2(sum p x t, sum p . t) of the
+  /// centred points, the translation between the centroids), each clamped into its bounds
+  /// (the angle wrapped first). *x changed in place; false (x unchanged) if a target's point
+  /// does not assemble.
+  bool Place(std::vector<double>* x) {
+    std::vector<double> local = *x;
+    local[static_cast<size_t>(b_.place_x)] = 0, local[static_cast<size_t>(b_.place_y)] = 0;
+    local[static_cast<size_t>(b_.place_angle)] = 0;
+    const Params p = ParamsOf(local);
+    const int n = b_.n;
+    std::vector<double> px(static_cast<size_t>(n)), py(static_cast<size_t>(n));
+    VecPhi phi;
+    Coeffs co;
+    double pcx = 0, pcy = 0, tcx = 0, tcy = 0;
+    for (int i = 0; i < n; ++i) {
+      if (!PointAt(p, PrescribedQ(local, i), &phi, &co)) return false;
+      px[static_cast<size_t>(i)] = co.r_P(0, b_.point), py[static_cast<size_t>(i)] = co.r_P(1, b_.point);
+      pcx += px[static_cast<size_t>(i)] / n, pcy += py[static_cast<size_t>(i)] / n;
+      tcx += b_.task.tx[static_cast<size_t>(i)] / n, tcy += b_.task.ty[static_cast<size_t>(i)] / n;
+    }
+    double s_dot = 0, s_cross = 0;
+    for (int i = 0; i < n; ++i) {
+      const double ax = px[static_cast<size_t>(i)] - pcx, ay = py[static_cast<size_t>(i)] - pcy;
+      const double bx = b_.task.tx[static_cast<size_t>(i)] - tcx, by = b_.task.ty[static_cast<size_t>(i)] - tcy;
+      s_dot += ax * bx + ay * by;
+      s_cross += ax * by - ay * bx;
+    }
+    const std::vector<Variable>& v = b_.task.variables;
+    auto clamp = [&](int j, double value) {
+      return std::min(v[static_cast<size_t>(j)].hi, std::max(v[static_cast<size_t>(j)].lo, value));
+    };
+    double angle = std::atan2(s_cross, s_dot);
+    const Variable& va = v[static_cast<size_t>(b_.place_angle)];
+    while (angle < va.lo && angle + kTwoPi <= va.hi) angle += kTwoPi;
+    while (angle > va.hi && angle - kTwoPi >= va.lo) angle -= kTwoPi;
+    angle = clamp(b_.place_angle, angle);
+    const double c = std::cos(angle), s = std::sin(angle);
+    (*x)[static_cast<size_t>(b_.place_angle)] = angle;
+    (*x)[static_cast<size_t>(b_.place_x)] = clamp(b_.place_x, tcx - (c * pcx - s * pcy));
+    (*x)[static_cast<size_t>(b_.place_y)] = clamp(b_.place_y, tcy - (s * pcx + c * pcy));
+    return true;
+  }
+
+  /// The global stage's evaluation of x: the placement fitted (task.placement), the timing
+  /// prescribed or projected, then Check().
+  Candidate Evaluate(const std::vector<double>& x_in) {
     ++evaluations;
     Candidate cand;
+    std::vector<double> x = x_in;
+    if (b_.place_x >= 0) Place(&x);
     cand.x = x;
     const Params p = ParamsOf(x);
     const int n = b_.n;

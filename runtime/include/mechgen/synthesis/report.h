@@ -1,10 +1,8 @@
 /**
  * \file synthesis/report.h
- * The synthesized mechanism checked a second way and described (issue 28): the runtime's
- * continuation (PositionSolver: assembled at the first target, then moved along the motion
- * in steps of at most 10 deg, staying on its branch) must arrive at every target on the
- * configuration the synthesis used (M::Solve on the model's assembly mode); then the text
- * report: error per target, the defect checks, the transmission-angle range, the search.
+ * The synthesized mechanism described (issue 28): the text report (error per target, the
+ * defect checks with the runtime's continuation, ContinuationCheck in synthesis/optimize.h,
+ * the transmission-angle range, the search).
  */
 #pragma once
 
@@ -13,56 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "mechgen/position/solver.h"
 #include "mechgen/synthesis/optimize.h"
 #include "mechgen/synthesis/output.h"
 
 namespace mechgen::synthesis {
-
-/// Follows the motion through the targets with PositionSolver; "" if every target is reached
-/// on the branch the synthesis used (phi within 1e-8), else what went wrong.
-template <class M>
-std::string ContinuationCheck(PathEvaluator<M>* eval, const Candidate& c) {
-  const BoundPath<M>& b = eval->bound();
-  const auto p = eval->ParamsOf(c.x);
-  typename PathEvaluator<M>::VecPhi phi;
-  typename PathEvaluator<M>::Coeffs co;
-  // The order of the motion: input order from the first target (free timing), else as given.
-  std::vector<double> q = c.q;
-  if (b.task.timing.free) {
-    for (double& qi : q) qi = c.q[0] + Wrap(qi - c.q[0]);
-    if (b.n > 2 && q[static_cast<size_t>(b.n - 1)] - c.q[0] < 1e-6) q[static_cast<size_t>(b.n - 1)] += kTwoPi;  // as Check()
-  }
-  std::vector<int> order(static_cast<size_t>(b.n));
-  for (int i = 0; i < b.n; ++i) order[static_cast<size_t>(i)] = i;
-  if (b.task.timing.free)
-    std::stable_sort(order.begin(), order.end(), [&](int u, int v) { return q[static_cast<size_t>(u)] < q[static_cast<size_t>(v)]; });
-  position::PositionSolver<M> solver(position::Options(), p);
-  typename position::PositionSolver<M>::VecQ qv;
-  if (!eval->PointAt(p, q[static_cast<size_t>(order[0])], &phi, &co)) return "the first target does not assemble";
-  qv(0) = q[static_cast<size_t>(order[0])];
-  if (solver.Assemble(qv, phi, 0, nullptr) != position::Status::kConverged) return "the runtime cannot assemble at the first target";
-  for (int k = 0; k < b.n; ++k) {
-    const int i = order[static_cast<size_t>(k)];
-    const double target = q[static_cast<size_t>(i)];
-    const double from = solver.state().q(0);
-    const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(target - from) / (10 * M_PI / 180))));
-    for (int s = 1; s <= steps; ++s) {
-      qv(0) = from + (target - from) * s / steps;
-      if (solver.MoveTo(qv, nullptr) != position::Status::kConverged)
-        return "the continuation stops before target " + std::to_string(i + 1) + " (a dead point on the way)";
-    }
-    if (!eval->PointAt(p, target, &phi, &co)) return "target " + std::to_string(i + 1) + " does not assemble";
-    for (int j = 0; j < M::kNphi; ++j) {
-      double d = solver.state().phi(j) - phi(j);
-      if (M::kPhiIsAngle[static_cast<size_t>(j)]) d = std::remainder(d, kTwoPi);
-      if (!(std::abs(d) <= 1e-8))
-        return "target " + std::to_string(i + 1) + " is reached on another branch by continuation (" +
-               std::string(M::kPhiNames[static_cast<size_t>(j)]) + " differs by " + Short(d) + ")";
-    }
-  }
-  return "";
-}
 
 /// The text report of a search.
 template <class M>

@@ -67,6 +67,15 @@ struct Search {
   double local_share = 0.3;       ///< the share of each run's budget kept for the local stage
 };
 
+/// The frame's placement (path tasks with prescribed timing): three variables x, y, angle that
+/// place the whole model rigidly (every point r = (x, y) + R(angle) r_local) and the timing
+/// measured from the angle (timing.relative_to = angle). The global stage then fits them to
+/// the targets in closed form (path.h, PathEvaluator::Place) instead of searching them.
+struct Placement {
+  std::string x, y, angle;   ///< "" when no placement is given
+  int line = 0, column = 0;
+};
+
 /// Path generation (function and motion generation: later kinds of the same file).
 struct PathTask {
   std::string file;          ///< the task file's path, for messages
@@ -78,6 +87,7 @@ struct PathTask {
   std::vector<Variable> variables;
   Constraints constraints;
   Search search;
+  Placement placement;
   int point_line = 0, point_column = 0, crank_line = 0, crank_column = 0;
 };
 
@@ -296,7 +306,8 @@ inline bool ParseTask(const std::string& path, PathTask* task, std::string* erro
   YAML::Node root;
   if (!LoadTaskRoot(path, "`synthesis: path`, `point`, `targets`, `variables`", &root, error)) return false;
   try {
-    Known(path, root, {"synthesis", "model", "point", "crank", "targets", "timing", "variables", "constraints", "search"},
+    Known(path, root, {"synthesis", "model", "point", "crank", "targets", "timing", "variables", "constraints", "search",
+               "placement"},
           "the task");
     const YAML::Node kind = Required(path, root, "synthesis", "the kind of task (path; function and motion are planned)");
     if (!kind.IsScalar() || kind.Scalar() != "path")
@@ -359,6 +370,25 @@ inline bool ParseTask(const std::string& path, PathTask* task, std::string* erro
       ReadConstraints(path, cons, !task->crank_link.empty(), task->timing.free, &task->constraints);
     }
     if (const YAML::Node s = root["search"]) ReadSearch(path, s, /*function_task=*/false, &task->search);
+    if (const YAML::Node pl = root["placement"]) {
+      if (!pl.IsMap()) throw Error{Where(path, pl.Mark()) + "placement: expected {x: x0, y: y0, angle: theta0}"};
+      Known(path, pl, {"x", "y", "angle"}, "placement");
+      Placement& p = task->placement;
+      p.line = pl.Mark().line + 1;
+      p.column = pl.Mark().column + 1;
+      for (const char* key : {"x", "y", "angle"}) {
+        const YAML::Node v = Required(path, pl, key, "the variable that places the frame");
+        if (!v.IsScalar()) throw Error{Where(path, v.Mark()) + "placement." + key + ": expected a variable's name"};
+        bool found = false;
+        for (const Variable& var : task->variables) found = found || var.name == v.Scalar();
+        if (!found)
+          throw Error{Where(path, v.Mark()) + "placement." + key + ": '" + v.Scalar() + "' is not one of the task's variables"};
+        (key[0] == 'x' ? p.x : key[0] == 'y' ? p.y : p.angle) = v.Scalar();
+      }
+      if (task->timing.free || task->timing.relative_to != p.angle)
+        throw Error{Where(path, pl.Mark()) + "placement: needs prescribed timing measured from its angle (timing: {angles: "
+                    "[...], relative_to: " + p.angle + "})"};
+    }
   } catch (const Error& e) {
     *error = e.message;
     return false;
