@@ -59,6 +59,17 @@ static ex ReducePolynomial(const ex& e,
                            const ExSet& params,
                            size_t* terms);
 
+// The symbols of `x` that are not parameters (the state: sin and cos of the angles, speeds),
+// in the order of ExSet, as GiNaC's collect and is_polynomial take them.
+static GiNaC::lst StateSymbols(const ex& x, const ExSet& params) {
+  ExSet all;
+  Symbols(x, &all);
+  GiNaC::lst state;
+  for (const ex& s : all)
+    if (!params.count(s)) state.append(s);
+  return state;
+}
+
 ex ReduceTrig(const ex& e, const std::vector<std::pair<ex, ex>>& sin_cos, const ExSet& params, size_t* terms) {
   // Not a polynomial in them (a square root, a non-integer power): left as it is.
   try {
@@ -84,16 +95,9 @@ static ex ReducePolynomial(const ex& e,
     sc.emplace_back(ss, cs);
   }
   ex x = e.subs(to).expand();
-  {
-    // Only a polynomial in the state (a rational function, a damper's 1/length, is left as
-    // it is: GiNaC's collect is defined for polynomials only).
-    ExSet all;
-    Symbols(x, &all);
-    GiNaC::lst state;
-    for (const ex& s : all)
-      if (!params.count(s)) state.append(s);
-    if (!x.is_polynomial(state)) throw std::domain_error("not a polynomial in the state");
-  }
+  // Only a polynomial in the state (a rational function, a damper's 1/length, is left as
+  // it is: GiNaC's collect is defined for polynomials only).
+  if (!x.is_polynomial(StateSymbols(x, params))) throw std::domain_error("not a polynomial in the state");
   // sin^n = sin^(n-2) (1 - cos^2) until no sin is squared.
   for (int pass = 0; pass < 16; ++pass) {
     bool changed = false;
@@ -104,11 +108,7 @@ static ex ReducePolynomial(const ex& e,
     }
     if (!changed) break;
   }
-  ExSet all;
-  Symbols(x, &all);
-  GiNaC::lst vars;
-  for (const ex& s : all)
-    if (!params.count(s)) vars.append(s);
+  const GiNaC::lst vars = StateSymbols(x, params);
   if (vars.nops() > 0) x = GiNaC::collect(x, vars, true);
   *terms = is_a<GiNaC::add>(x) ? x.nops() : 1;
   return x.subs(from);
@@ -169,11 +169,7 @@ ex UseAngleDifferences(const ex& e, const ExSet& params, std::vector<AngleDiffer
   }
   if (!changed) return e;
   // Collected as ReduceTrig leaves it: one parameter coefficient per monomial of the state.
-  ExSet all;
-  Symbols(x, &all);
-  GiNaC::lst vars;
-  for (const ex& s : all)
-    if (!params.count(s)) vars.append(s);
+  const GiNaC::lst vars = StateSymbols(x, params);
   return vars.nops() > 0 ? GiNaC::collect(x, vars, true) : x;
 }
 

@@ -38,11 +38,6 @@ GiNaC::ex ReduceTrig(const GiNaC::ex& e,
                      const ExSet& params,
                      size_t* terms);
 
-/// Replaces the parameter-only subexpressions of the kDefine and kStore values of `body`
-/// by constants named `<access>[i]` (e.g. rc.c[3]); a kDefine whose value becomes one
-/// keeps its name (raw lines may read it). `params`: the parameters' symbols. Returns the
-/// constants' values in terms of the parameters, in the order of their indices (sorted by
-/// their printed text, so the same model gives the same order).
 /// cos(x - y) and sin(x - y) of two angles x, y (their sin and cos: sin_x, cos_x, ...), as
 /// symbols UseAngleDifferences() writes; *_used tells whether it wrote them (define them then).
 struct AngleDifference {
@@ -58,6 +53,11 @@ struct AngleDifference {
 /// terms, or not a polynomial in them: `e` as it is.
 GiNaC::ex UseAngleDifferences(const GiNaC::ex& e, const ExSet& params, std::vector<AngleDifference>* diffs);
 
+/// Replaces the parameter-only subexpressions of the kDefine and kStore values of `body`
+/// by constants named `<access>[i]` (e.g. rc.c[3]); a kDefine whose value becomes one
+/// keeps its name (raw lines may read it). `params`: the parameters' symbols. Returns the
+/// constants' values in terms of the parameters, in the order of their indices (sorted by
+/// their printed text, so the same model gives the same order).
 std::vector<GiNaC::ex> HoistParameters(const ExSet& params,
                                        const std::string& access,
                                        CxxPrinter* printer,

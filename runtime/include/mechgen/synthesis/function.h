@@ -484,7 +484,7 @@ class FunctionEvaluator {
   /// entries) also its derivative in x. false where the mechanism does not assemble.
   bool RangeError(const Params& p, const std::vector<double>& x, double xi, double* e, double* row = nullptr) {
     const FunctionTask& t = b_.task;
-    const double q = InStart(x) + t.in_span * (xi - t.x0) / (t.x1 - t.x0);
+    const double q = InStart(x) + t.in_span * ((xi - t.x0) / (t.x1 - t.x0));
     VecPhi phi;
     if (!PhiAt(p, q, &phi)) return false;
     *e = WrapPi(phi(b_.output) - (OutStart(x) + t.out_span * (t.f(xi) - t.y0) / (t.y1 - t.y0)));
@@ -565,21 +565,17 @@ class FunctionEvaluator {
     const FunctionTask& t = b_.task;
     if (!t.range) return e;
     const Params p = ParamsOf(x);
-    const double in0 = InStart(x), out0 = OutStart(x);
     e.max_angle = e.max_y = 0;
     e.assembles = true;
     e.samples = t.samples + 1;
-    VecPhi phi;
     for (int k = 0; k <= t.samples; ++k) {
       const double xk = t.x0 + (t.x1 - t.x0) * k / t.samples;
-      const double u = (xk - t.x0) / (t.x1 - t.x0);
-      const double psi = out0 + t.out_span * (t.f(xk) - t.y0) / (t.y1 - t.y0);
-      if (!PhiAt(p, in0 + t.in_span * u, &phi)) {
+      double da = 0;
+      if (!RangeError(p, x, xk, &da)) {
         e.assembles = false;
         e.max_angle = e.max_y = kInf;
         return e;
       }
-      const double da = WrapPi(phi(b_.output) - psi);
       const double dy = da * (t.y1 - t.y0) / t.out_span;
       e.xs.push_back(xk);
       e.dy.push_back(dy);

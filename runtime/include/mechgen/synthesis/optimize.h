@@ -92,11 +92,11 @@ struct EvaluationBudget : ceres::IterationCallback {
   }
 };
 
-/// The second way of checking a candidate (the runtime's continuation: PositionSolver
+/// The second way of checking a candidate: the runtime's continuation (PositionSolver,
 /// assembled at the first target, then moved along the motion in steps of at most 10 deg,
-/// staying on its branch, must arrive at every target on the configuration the synthesis
-/// used, M::Solve on the model's assembly mode). Follows the motion through the targets with PositionSolver; "" if every target is reached
-/// on the branch the synthesis used (phi within 1e-8), else what went wrong.
+/// staying on its branch) must arrive at every target on the configuration the synthesis used
+/// (M::Solve on the model's assembly mode). "" if it does (phi within 1e-8), else what went
+/// wrong.
 template <class M>
 std::string ContinuationCheck(PathEvaluator<M>* eval, const Candidate& c) {
   const BoundPath<M>& b = eval->bound();
