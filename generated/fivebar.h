@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); SolvePositions 48 (adds 11, muls 29, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); SolvePositions 48 (adds 11, muls 29, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); EvalKinematics 144 (adds 32, muls 103, divs 4, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -142,6 +142,18 @@ struct Trig {
   Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
 };
 
+/// What EvalKinematics() fills at inputs q: the velocity (and centripetal) coefficients with
+/// Phi_phi, the same definitions and units as Coefficients' (no residual, no points).
+template <typename Scalar = double>
+struct Kinematics {
+  /// K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd).  (kNphi x kNq)
+  Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
+  /// L(i, j + kNq*k) = d K(i, j) / d q_k: the centripetal coefficients
+  /// (phidd = K qdd + L (qd (x) qd); with kHasL).  (kNphi x kNq^2)
+  Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq> L;
+  /// dPhi/dphi at the solution: its conditioning tells a dead point.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
+};
 
 /// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
 enum class SolveStatus {
@@ -562,6 +574,133 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The kinematics at inputs q in one pass: SolvePositionsTrig() (the closed forms' direction
+ * cosines, no angle), then K (and L with kHasL) and Phi_phi from them (Paul ch. 4). Nothing else
+ * of EvalCoefficients() (no residual, no points) is computed. The same statuses and branch_measure as
+ * SolvePositionsTrig(); *trig and *out hold finite values when the report says kConverged.
+ * \param[in]  p      Parameters.
+ * \param[in]  q      Inputs (dim kNq).
+ * \param[in]  modes  Assembly mode of each block (Model::kDefaultModes: the model's assembly) (dim
+ *                    kNumBlocks).
+ * \param[out] trig   sin and cos of q and phi at the solution; not nullptr.
+ * \param[out] out    Kinematics; not nullptr.
+ * \note Check Phi_phi's conditioning before using K and L (the runtime does): near a dead point
+ * they grow without bound.
+ */
+template <typename Scalar>
+inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
+                                          const Vec<Scalar, Sizes::kNq>& q,
+                                          const std::array<int, Sizes::kNumBlocks>& modes,
+                                          Trig<Scalar>* trig,
+                                          Kinematics<Scalar>* out) {
+  // Total ops: 144 (adds 32, muls 103, divs 4, calls 5); intermediate terms: 4
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  int iterations = 0;
+  const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
+  Scalar branch_measure = Scalar(1);
+  int branch_block = -1;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
+  const Scalar sin_q1 = sin(q(1));
+  const Scalar cos_q1 = cos(q(1));
+  Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
+  {  // block 0: rows 0 1 -> theta_link1, theta_link2: closed form, two angles (RRR dyad, circle-circle), mode 1
+    const Scalar bx_b0 = -p.a3;
+    const Scalar wx_b0 = -cos_q0*p.a1 + cos_q1*p.a4 + p.f;
+    const Scalar wy_b0 = -p.a1*sin_q0 + p.a4*sin_q1;
+    const Scalar ra2_b0 = p.a2*p.a2;
+    const Scalar rb2_b0 = bx_b0*bx_b0;
+    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
+    if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
+    const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
+    const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
+    if (!(h2_b0 >= Scalar(0)) && !(h2_b0 >= -(Scalar(64)*(((ra2_b0 + rb2_b0)*inv_d2_b0 + Scalar(1))*abs(k_b0) + inv_d2_b0*ra2_b0)*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
+    const Scalar h2c_b0 = h2_b0 > Scalar(0) ? h2_b0 : Scalar(0);
+    const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
+    const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
+    const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
+    const Scalar cross_u_b0 = my_b0*p.a2;
+    const Scalar dot_u_b0 = mx_b0*p.a2;
+    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
+    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
+    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    if (branch_b0 < branch_measure) {
+      branch_measure = branch_b0;
+      branch_block = 0;
+    }
+    cos_phi0 = dot_u_b0 * inv_ra2_b0;
+    sin_phi0 = cross_u_b0 * inv_ra2_b0;
+    cos_phi1 = dot_v_b0 * inv_rb2_b0;
+    sin_phi1 = cross_v_b0 * inv_rb2_b0;
+    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+  }
+  const Scalar Phi_phi_0_0 = -p.a2*sin_phi0;
+  const Scalar Phi_phi_0_1 = p.a3*sin_phi1;
+  const Scalar Phi_phi_1_0 = cos_phi0*p.a2;
+  const Scalar Phi_phi_1_1 = -cos_phi1*p.a3;
+  const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
+  const Scalar inv_det_block0 = Scalar(1)/det_block0;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*p.a1*sin_q0 - Phi_phi_inv_0_1*cos_q0*p.a1;
+  const Scalar K_0_1 = -Phi_phi_inv_0_0*p.a4*sin_q1 + Phi_phi_inv_0_1*cos_q1*p.a4;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*p.a1*sin_q0 - Phi_phi_inv_1_1*cos_q0*p.a1;
+  const Scalar K_1_1 = -Phi_phi_inv_1_0*p.a4*sin_q1 + Phi_phi_inv_1_1*cos_q1*p.a4;
+  const Scalar _tmp0 = K_1_0*K_1_0;
+  const Scalar _tmp1 = K_0_0*K_0_0;
+  const Scalar L_rhs_0_0_0 = _tmp0*cos_phi1*p.a3 - _tmp1*cos_phi0*p.a2 - cos_q0*p.a1;
+  const Scalar L_rhs_0_0_1 = -K_0_0*K_0_1*cos_phi0*p.a2 + K_1_0*K_1_1*cos_phi1*p.a3;
+  const Scalar _tmp2 = K_1_1*K_1_1;
+  const Scalar _tmp3 = K_0_1*K_0_1;
+  const Scalar L_rhs_0_1_1 = _tmp2*cos_phi1*p.a3 - _tmp3*cos_phi0*p.a2 + cos_q1*p.a4;
+  const Scalar L_rhs_1_0_0 = _tmp0*p.a3*sin_phi1 - _tmp1*p.a2*sin_phi0 - p.a1*sin_q0;
+  const Scalar L_rhs_1_0_1 = -K_0_0*K_0_1*p.a2*sin_phi0 + K_1_0*K_1_1*p.a3*sin_phi1;
+  const Scalar L_rhs_1_1_1 = _tmp2*p.a3*sin_phi1 - _tmp3*p.a2*sin_phi0 + p.a4*sin_q1;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_0_0_1 = -L_rhs_0_0_1*Phi_phi_inv_0_0 - L_rhs_1_0_1*Phi_phi_inv_0_1;
+  const Scalar L_0_1_1 = -L_rhs_0_1_1*Phi_phi_inv_0_0 - L_rhs_1_1_1*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
+  const Scalar L_1_0_1 = -L_rhs_0_0_1*Phi_phi_inv_1_0 - L_rhs_1_0_1*Phi_phi_inv_1_1;
+  const Scalar L_1_1_1 = -L_rhs_0_1_1*Phi_phi_inv_1_0 - L_rhs_1_1_1*Phi_phi_inv_1_1;
+  out->K(0, 0) = K_0_0;
+  out->K(0, 1) = K_0_1;
+  out->K(1, 0) = K_1_0;
+  out->K(1, 1) = K_1_1;
+  out->L(0, 0) = L_0_0_0;
+  out->L(0, 2) = L_0_0_1;
+  out->L(0, 1) = L_0_0_1;
+  out->L(0, 3) = L_0_1_1;
+  out->L(1, 0) = L_1_0_0;
+  out->L(1, 2) = L_1_0_1;
+  out->L(1, 1) = L_1_0_1;
+  out->L(1, 3) = L_1_1_1;
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
+  trig->sin_phi(0) = sin_phi0;
+  trig->cos_phi(0) = cos_phi0;
+  trig->sin_phi(1) = sin_phi1;
+  trig->cos_phi(1) = cos_phi1;
+  trig->sin_q(0) = sin_q0;
+  trig->cos_q(0) = cos_q0;
+  trig->sin_q(1) = sin_q1;
+  trig->cos_q(1) = cos_q1;
+
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
+}
+
+/**
  * \brief Positions of every named point of every link, for drawing (kScenePointNames).
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
@@ -808,6 +947,8 @@ struct Model : Sizes {
   static constexpr bool kHasExcess = false;
   /// Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.
   static constexpr bool kHasShaking = false;
+  /// Kinematics, KinematicsT, EvalKinematics (Model::Kinematics: SolveTrig, K, L in one pass).
+  static constexpr bool kHasKinematics = true;
   /// Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).
   static constexpr bool kHasRhs = false;
   /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
@@ -818,6 +959,8 @@ struct Model : Sizes {
   static constexpr bool kHasStaticsDesign = false;
   /// DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.
   static constexpr bool kHasDynamicsDesign = false;
+  template <typename Scalar>
+  using KinematicsT = mech::fivebar::Kinematics<Scalar>;
   template <typename Scalar>
   static void Phi(const Params<Scalar>& p,
                   const Vec<Scalar, Sizes::kNq>& q,
@@ -858,6 +1001,14 @@ struct Model : Sizes {
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
     return SolvePositionsTrig(p, q, modes, trig);
+  }
+  template <typename Scalar>
+  static SolveReport<Scalar> Kinematics(const Params<Scalar>& p,
+                                        const Vec<Scalar, Sizes::kNq>& q,
+                                        const std::array<int, Sizes::kNumBlocks>& modes,
+                                        Trig<Scalar>* trig,
+                                        Kinematics<Scalar>* out) {
+    return EvalKinematics(p, q, modes, trig, out);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 163 (adds 29, muls 128, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalShaking 174 (adds 43, muls 124, divs 1, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); PrepareRhs 47 (adds 4, muls 41, divs 2, calls 0); EvalRhs 120 (adds 30, muls 85, divs 2, calls 3); EvalScene 15 (adds 3, muls 6, divs 0, calls 6); EvalAppliedLoads 37 (adds 3, muls 27, divs 0, calls 7); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 81 (adds 22, muls 52, divs 1, calls 6); EvalStatics 87 (adds 16, muls 64, divs 1, calls 6); EvalDynamics 163 (adds 29, muls 128, divs 0, calls 6); EvalKinetostatics 242 (adds 51, muls 184, divs 1, calls 6); EvalExcess 244 (adds 41, muls 197, divs 0, calls 6); EvalShaking 174 (adds 43, muls 124, divs 1, calls 6); EvalStiffness 43 (adds 5, muls 33, divs 0, calls 5); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalKinematics 86 (adds 18, muls 61, divs 4, calls 3); PrepareRhs 47 (adds 4, muls 41, divs 2, calls 0); EvalRhs 120 (adds 30, muls 85, divs 2, calls 3); EvalScene 15 (adds 3, muls 6, divs 0, calls 6); EvalAppliedLoads 37 (adds 3, muls 27, divs 0, calls 7); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -246,6 +246,19 @@ struct Shaking {
   /// The moving links' total mass (kg) and their common centre of mass r_C (m): F = -mass d2r_C/dt2.
   Scalar mass;
   Vec<Scalar, 2> r_C;
+};
+
+/// What EvalKinematics() fills at inputs q: the velocity (and centripetal) coefficients with
+/// Phi_phi, the same definitions and units as Coefficients' (no residual, no points).
+template <typename Scalar = double>
+struct Kinematics {
+  /// K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd).  (kNphi x kNq)
+  Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
+  /// L(i, j + kNq*k) = d K(i, j) / d q_k: the centripetal coefficients
+  /// (phidd = K qdd + L (qd (x) qd); with kHasL).  (kNphi x kNq^2)
+  Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq> L;
+  /// dPhi/dphi at the solution: its conditioning tells a dead point.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
 };
 
 /// What EvalRhs() fills: the equation of motion I(q) qdd + h(q, qd) = Q(t, q, qd) at a state, with
@@ -1254,6 +1267,109 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The kinematics at inputs q in one pass: SolvePositionsTrig() (the closed forms' direction
+ * cosines, no angle), then K (and L with kHasL) and Phi_phi from them (Paul ch. 4). Nothing else
+ * of EvalCoefficients() (no residual, no points) is computed. The same statuses and branch_measure as
+ * SolvePositionsTrig(); *trig and *out hold finite values when the report says kConverged.
+ * \param[in]  p      Parameters.
+ * \param[in]  q      Inputs (dim kNq).
+ * \param[in]  modes  Assembly mode of each block (Model::kDefaultModes: the model's assembly) (dim
+ *                    kNumBlocks).
+ * \param[out] trig   sin and cos of q and phi at the solution; not nullptr.
+ * \param[out] out    Kinematics; not nullptr.
+ * \note Check Phi_phi's conditioning before using K and L (the runtime does): near a dead point
+ * they grow without bound.
+ */
+template <typename Scalar>
+inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
+                                          const Vec<Scalar, Sizes::kNq>& q,
+                                          const std::array<int, Sizes::kNumBlocks>& modes,
+                                          Trig<Scalar>* trig,
+                                          Kinematics<Scalar>* out) {
+  // Total ops: 86 (adds 18, muls 61, divs 4, calls 3); intermediate terms: 2
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  int iterations = 0;
+  const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
+  Scalar branch_measure = Scalar(1);
+  int branch_block = -1;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
+  Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
+  {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
+    const Scalar bx_b0 = -p.c;
+    const Scalar wx_b0 = -cos_q0*p.a + p.d;
+    const Scalar wy_b0 = -p.a*sin_q0;
+    const Scalar ra2_b0 = p.b*p.b;
+    const Scalar rb2_b0 = bx_b0*bx_b0;
+    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
+    if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
+    const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
+    const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
+    if (!(h2_b0 >= Scalar(0)) && !(h2_b0 >= -(Scalar(64)*(((ra2_b0 + rb2_b0)*inv_d2_b0 + Scalar(1))*abs(k_b0) + inv_d2_b0*ra2_b0)*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
+    const Scalar h2c_b0 = h2_b0 > Scalar(0) ? h2_b0 : Scalar(0);
+    const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
+    const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
+    const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
+    const Scalar cross_u_b0 = my_b0*p.b;
+    const Scalar dot_u_b0 = mx_b0*p.b;
+    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
+    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
+    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    if (branch_b0 < branch_measure) {
+      branch_measure = branch_b0;
+      branch_block = 0;
+    }
+    cos_phi0 = dot_u_b0 * inv_ra2_b0;
+    sin_phi0 = cross_u_b0 * inv_ra2_b0;
+    cos_phi1 = dot_v_b0 * inv_rb2_b0;
+    sin_phi1 = cross_v_b0 * inv_rb2_b0;
+    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+  }
+  const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
+  const Scalar Phi_phi_0_1 = p.c*sin_phi1;
+  const Scalar Phi_phi_1_0 = cos_phi0*p.b;
+  const Scalar Phi_phi_1_1 = -cos_phi1*p.c;
+  const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
+  const Scalar inv_det_block0 = Scalar(1)/det_block0;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*p.a*sin_q0 - Phi_phi_inv_0_1*cos_q0*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*p.a*sin_q0 - Phi_phi_inv_1_1*cos_q0*p.a;
+  const Scalar _tmp0 = K_1_0*K_1_0;
+  const Scalar _tmp1 = K_0_0*K_0_0;
+  const Scalar L_rhs_0_0_0 = _tmp0*cos_phi1*p.c - _tmp1*cos_phi0*p.b - cos_q0*p.a;
+  const Scalar L_rhs_1_0_0 = _tmp0*p.c*sin_phi1 - _tmp1*p.b*sin_phi0 - p.a*sin_q0;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
+  out->K(0, 0) = K_0_0;
+  out->K(1, 0) = K_1_0;
+  out->L(0, 0) = L_0_0_0;
+  out->L(1, 0) = L_1_0_0;
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
+  trig->sin_phi(0) = sin_phi0;
+  trig->cos_phi(0) = cos_phi0;
+  trig->sin_phi(1) = sin_phi1;
+  trig->cos_phi(1) = cos_phi1;
+  trig->sin_q(0) = sin_q0;
+  trig->cos_q(0) = cos_q0;
+
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
+}
+
+/**
  * \brief The constants EvalRhs() reads: what depends on the parameters only, computed once
  * (call it again after changing a parameter).
  * \param[in]  p   Parameters.
@@ -1394,14 +1510,14 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar I_eom_0_0 = K_0_0*cos_phi0_minus_q0*rc.c[1] + _tmp0*rc.c[7] + _tmp1*rc.c[6] + rc.c[0];
   const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[6] + K_0_0*rc.c[10]*sin_phi0_minus_q0 + K_1_0*L_1_0_0*rc.c[7] + L_0_0_0*cos_phi0_minus_q0*rc.c[10] + _tmp1*rc.c[3]*sin_phi0_minus_q0;
   const Scalar _tmp2 = qd(0)*qd(0);
-  out->K(0, 0) = K_0_0;
-  out->K(1, 0) = K_1_0;
   out->I(0, 0) = I_eom_0_0;
   out->h(0) = C_eom_0_0_0*_tmp2;
   out->Q(0) = K_0_0*cos_phi0*rc.c[4] + K_1_0*cos_phi1*rc.c[5] + cos_q0*rc.c[2];
   out->T = Scalar(0.5)*I_eom_0_0*_tmp2;
   out->V = rc.c[11]*sin_phi0 + rc.c[12]*sin_phi1 + rc.c[8]*sin_q0;
   out->P_nc = Scalar(0);
+  out->K(0, 0) = K_0_0;
+  out->K(1, 0) = K_1_0;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;
@@ -1827,6 +1943,8 @@ struct Model : Sizes {
   static constexpr bool kHasExcess = true;
   /// Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.
   static constexpr bool kHasShaking = true;
+  /// Kinematics, KinematicsT, EvalKinematics (Model::Kinematics: SolveTrig, K, L in one pass).
+  static constexpr bool kHasKinematics = true;
   /// Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).
   static constexpr bool kHasRhs = true;
   /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
@@ -1845,6 +1963,8 @@ struct Model : Sizes {
   using ExcessT = mech::fourbar_massive::Excess<Scalar>;
   template <typename Scalar>
   using ShakingT = mech::fourbar_massive::Shaking<Scalar>;
+  template <typename Scalar>
+  using KinematicsT = mech::fourbar_massive::Kinematics<Scalar>;
   template <typename Scalar>
   using RhsT = mech::fourbar_massive::Rhs<Scalar>;
   template <typename Scalar>
@@ -1981,6 +2101,14 @@ struct Model : Sizes {
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
     return SolvePositionsTrig(p, q, modes, trig);
+  }
+  template <typename Scalar>
+  static SolveReport<Scalar> Kinematics(const Params<Scalar>& p,
+                                        const Vec<Scalar, Sizes::kNq>& q,
+                                        const std::array<int, Sizes::kNumBlocks>& modes,
+                                        Trig<Scalar>* trig,
+                                        Kinematics<Scalar>* out) {
+    return EvalKinematics(p, q, modes, trig, out);
   }
   template <typename Scalar>
   static void Prepare(const Params<Scalar>& p,

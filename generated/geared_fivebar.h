@@ -718,6 +718,8 @@ struct Model : Sizes {
   static constexpr bool kHasExcess = false;
   /// Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.
   static constexpr bool kHasShaking = false;
+  /// Kinematics, KinematicsT, EvalKinematics (Model::Kinematics: SolveTrig, K, L in one pass).
+  static constexpr bool kHasKinematics = false;
   /// Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).
   static constexpr bool kHasRhs = false;
   /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.

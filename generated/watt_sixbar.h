@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDesignDerivatives 1600 (adds 494, muls 1088, divs 4, calls 14); EvalDesignChecks 119 (adds 32, muls 58, divs 9, calls 20); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 96 (adds 22, muls 60, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDesignDerivatives 1600 (adds 494, muls 1088, divs 4, calls 14); EvalDesignChecks 119 (adds 32, muls 58, divs 9, calls 20); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 96 (adds 22, muls 60, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalKinematics 232 (adds 50, muls 166, divs 8, calls 8); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -163,6 +163,19 @@ template <typename Scalar = double>
 struct Trig {
   Vec<Scalar, Sizes::kNq> sin_q, cos_q;
   Vec<Scalar, Sizes::kNphi> sin_phi, cos_phi;
+};
+
+/// What EvalKinematics() fills at inputs q: the velocity (and centripetal) coefficients with
+/// Phi_phi, the same definitions and units as Coefficients' (no residual, no points).
+template <typename Scalar = double>
+struct Kinematics {
+  /// K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd).  (kNphi x kNq)
+  Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
+  /// L(i, j + kNq*k) = d K(i, j) / d q_k: the centripetal coefficients
+  /// (phidd = K qdd + L (qd (x) qd); with kHasL).  (kNphi x kNq^2)
+  Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq> L;
+  /// dPhi/dphi at the solution: its conditioning tells a dead point.  (kNc x kNphi)
+  Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
 };
 
 /// What EvalDesignDerivatives() fills: the derivatives of the positions, K, L and the points
@@ -1485,6 +1498,189 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The kinematics at inputs q in one pass: SolvePositionsTrig() (the closed forms' direction
+ * cosines, no angle), then K (and L with kHasL) and Phi_phi from them (Paul ch. 4). Nothing else
+ * of EvalCoefficients() (no residual, no points) is computed. The same statuses and branch_measure as
+ * SolvePositionsTrig(); *trig and *out hold finite values when the report says kConverged.
+ * \param[in]  p      Parameters.
+ * \param[in]  q      Inputs (dim kNq).
+ * \param[in]  modes  Assembly mode of each block (Model::kDefaultModes: the model's assembly) (dim
+ *                    kNumBlocks).
+ * \param[out] trig   sin and cos of q and phi at the solution; not nullptr.
+ * \param[out] out    Kinematics; not nullptr.
+ * \note Check Phi_phi's conditioning before using K and L (the runtime does): near a dead point
+ * they grow without bound.
+ */
+template <typename Scalar>
+inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
+                                          const Vec<Scalar, Sizes::kNq>& q,
+                                          const std::array<int, Sizes::kNumBlocks>& modes,
+                                          Trig<Scalar>* trig,
+                                          Kinematics<Scalar>* out) {
+  // Total ops: 232 (adds 50, muls 166, divs 8, calls 8); intermediate terms: 8
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  int iterations = 0;
+  const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
+  Scalar branch_measure = Scalar(1);
+  int branch_block = -1;
+  const Scalar sin_q0 = sin(q(0));
+  const Scalar cos_q0 = cos(q(0));
+  Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
+  {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
+    const Scalar bx_b0 = -p.c;
+    const Scalar wx_b0 = -cos_q0*p.a + p.g;
+    const Scalar wy_b0 = -p.a*sin_q0;
+    const Scalar ra2_b0 = p.b*p.b;
+    const Scalar rb2_b0 = bx_b0*bx_b0;
+    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
+    if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
+    const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
+    const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
+    if (!(h2_b0 >= Scalar(0)) && !(h2_b0 >= -(Scalar(64)*(((ra2_b0 + rb2_b0)*inv_d2_b0 + Scalar(1))*abs(k_b0) + inv_d2_b0*ra2_b0)*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
+    const Scalar h2c_b0 = h2_b0 > Scalar(0) ? h2_b0 : Scalar(0);
+    const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
+    const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
+    const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
+    const Scalar cross_u_b0 = my_b0*p.b;
+    const Scalar dot_u_b0 = mx_b0*p.b;
+    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
+    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
+    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
+    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    if (branch_b0 < branch_measure) {
+      branch_measure = branch_b0;
+      branch_block = 0;
+    }
+    cos_phi0 = dot_u_b0 * inv_ra2_b0;
+    sin_phi0 = cross_u_b0 * inv_ra2_b0;
+    cos_phi1 = dot_v_b0 * inv_rb2_b0;
+    sin_phi1 = cross_v_b0 * inv_rb2_b0;
+    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+  }
+  Scalar cos_phi2, sin_phi2, cos_phi3, sin_phi3;
+  {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
+    const Scalar bx_b1 = -p.o;
+    const Scalar _tmp0 = cos(p.beta);
+    const Scalar _tmp1 = sin(p.beta);
+    const Scalar wx_b1 = -_tmp0*cos_phi1*p.e + _tmp1*p.e*sin_phi1 - p.g + p.x6;
+    const Scalar wy_b1 = -_tmp0*p.e*sin_phi1 - _tmp1*cos_phi1*p.e + p.y6;
+    const Scalar ra2_b1 = p.f*p.f;
+    const Scalar rb2_b1 = bx_b1*bx_b1;
+    if (!(ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    const Scalar d2_b1 = wx_b1*wx_b1 + wy_b1*wy_b1;
+    if (!(-(epsilon*epsilon)*(ra2_b1 + rb2_b1) + d2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
+    const Scalar inv_d2_b1 = Scalar(1)/d2_b1;
+    const Scalar k_b1 = Scalar(0.5) + Scalar(0.5)*inv_d2_b1*ra2_b1 - Scalar(0.5)*inv_d2_b1*rb2_b1;
+    const Scalar h2_b1 = inv_d2_b1*ra2_b1 - k_b1*k_b1;
+    if (!(h2_b1 >= Scalar(0)) && !(h2_b1 >= -(Scalar(64)*(((ra2_b1 + rb2_b1)*inv_d2_b1 + Scalar(1))*abs(k_b1) + inv_d2_b1*ra2_b1)*epsilon))) return {SolveStatus::kNotAssemblable, 1, iterations, h2_b1};
+    const Scalar h2c_b1 = h2_b1 > Scalar(0) ? h2_b1 : Scalar(0);
+    const Scalar h_b1 = (sqrt(h2c_b1))*Scalar(modes[1]);
+    const Scalar mx_b1 = -h_b1*wy_b1 + k_b1*wx_b1;
+    const Scalar my_b1 = h_b1*wx_b1 + k_b1*wy_b1;
+    const Scalar cross_u_b1 = my_b1*p.f;
+    const Scalar dot_u_b1 = mx_b1*p.f;
+    const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
+    const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
+    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
+    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
+    if (branch_b1 < branch_measure) {
+      branch_measure = branch_b1;
+      branch_block = 1;
+    }
+    cos_phi2 = dot_u_b1 * inv_ra2_b1;
+    sin_phi2 = cross_u_b1 * inv_ra2_b1;
+    cos_phi3 = dot_v_b1 * inv_rb2_b1;
+    sin_phi3 = cross_v_b1 * inv_rb2_b1;
+    if (!((cos_phi2 - cos_phi2) + (sin_phi2 - sin_phi2) + (cos_phi3 - cos_phi3) + (sin_phi3 - sin_phi3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, !(cos_phi2 - cos_phi2 == Scalar(0)) ? cos_phi2 : !(sin_phi2 - sin_phi2 == Scalar(0)) ? sin_phi2 : !(cos_phi3 - cos_phi3 == Scalar(0)) ? cos_phi3 : sin_phi3};
+  }
+  const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
+  const Scalar Phi_phi_0_1 = p.c*sin_phi1;
+  const Scalar Phi_phi_1_0 = cos_phi0*p.b;
+  const Scalar Phi_phi_1_1 = -cos_phi1*p.c;
+  const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
+  const Scalar inv_det_block0 = Scalar(1)/det_block0;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar K_0_0 = Phi_phi_inv_0_0*p.a*sin_q0 - Phi_phi_inv_0_1*cos_q0*p.a;
+  const Scalar K_1_0 = Phi_phi_inv_1_0*p.a*sin_q0 - Phi_phi_inv_1_1*cos_q0*p.a;
+  const Scalar Phi_phi_2_2 = -p.f*sin_phi2;
+  const Scalar Phi_phi_2_3 = p.o*sin_phi3;
+  const Scalar Phi_phi_3_2 = cos_phi2*p.f;
+  const Scalar Phi_phi_3_3 = -cos_phi3*p.o;
+  const Scalar det_block1 = Phi_phi_2_2*Phi_phi_3_3 - Phi_phi_2_3*Phi_phi_3_2;
+  const Scalar inv_det_block1 = Scalar(1)/det_block1;
+  const Scalar Phi_phi_inv_2_2 = Phi_phi_3_3*inv_det_block1;
+  const Scalar Phi_phi_inv_2_3 = -Phi_phi_2_3*inv_det_block1;
+  const Scalar Phi_phi_inv_3_2 = -Phi_phi_3_2*inv_det_block1;
+  const Scalar Phi_phi_inv_3_3 = Phi_phi_2_2*inv_det_block1;
+  const Scalar _tmp0 = cos(p.beta);
+  const Scalar _tmp1 = sin(p.beta);
+  const Scalar K_rhs_2_0 = -K_1_0*_tmp0*p.e*sin_phi1 - K_1_0*_tmp1*cos_phi1*p.e;
+  const Scalar K_rhs_3_0 = K_1_0*_tmp0*cos_phi1*p.e - K_1_0*_tmp1*p.e*sin_phi1;
+  const Scalar K_2_0 = -K_rhs_2_0*Phi_phi_inv_2_2 - K_rhs_3_0*Phi_phi_inv_2_3;
+  const Scalar K_3_0 = -K_rhs_2_0*Phi_phi_inv_3_2 - K_rhs_3_0*Phi_phi_inv_3_3;
+  const Scalar _tmp2 = K_1_0*K_1_0;
+  const Scalar _tmp3 = K_0_0*K_0_0;
+  const Scalar L_rhs_0_0_0 = _tmp2*cos_phi1*p.c - _tmp3*cos_phi0*p.b - cos_q0*p.a;
+  const Scalar L_rhs_1_0_0 = _tmp2*p.c*sin_phi1 - _tmp3*p.b*sin_phi0 - p.a*sin_q0;
+  const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
+  const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
+  const Scalar _tmp4 = K_3_0*K_3_0;
+  const Scalar _tmp5 = K_2_0*K_2_0;
+  const Scalar L_rhs_2_0_0 = -L_1_0_0*_tmp0*p.e*sin_phi1 - L_1_0_0*_tmp1*cos_phi1*p.e - _tmp0*_tmp2*cos_phi1*p.e + _tmp1*_tmp2*p.e*sin_phi1 + _tmp4*cos_phi3*p.o - _tmp5*cos_phi2*p.f;
+  const Scalar L_rhs_3_0_0 = L_1_0_0*_tmp0*cos_phi1*p.e - L_1_0_0*_tmp1*p.e*sin_phi1 - _tmp0*_tmp2*p.e*sin_phi1 - _tmp1*_tmp2*cos_phi1*p.e + _tmp4*p.o*sin_phi3 - _tmp5*p.f*sin_phi2;
+  const Scalar L_2_0_0 = -L_rhs_2_0_0*Phi_phi_inv_2_2 - L_rhs_3_0_0*Phi_phi_inv_2_3;
+  const Scalar L_3_0_0 = -L_rhs_2_0_0*Phi_phi_inv_3_2 - L_rhs_3_0_0*Phi_phi_inv_3_3;
+  out->K(0, 0) = K_0_0;
+  out->K(1, 0) = K_1_0;
+  out->K(2, 0) = K_2_0;
+  out->K(3, 0) = K_3_0;
+  out->L(0, 0) = L_0_0_0;
+  out->L(1, 0) = L_1_0_0;
+  out->L(2, 0) = L_2_0_0;
+  out->L(3, 0) = L_3_0_0;
+  out->Phi_phi(0, 0) = Phi_phi_0_0;
+  out->Phi_phi(0, 1) = Phi_phi_0_1;
+  out->Phi_phi(0, 2) = Scalar(0);
+  out->Phi_phi(0, 3) = Scalar(0);
+  out->Phi_phi(1, 0) = Phi_phi_1_0;
+  out->Phi_phi(1, 1) = Phi_phi_1_1;
+  out->Phi_phi(1, 2) = Scalar(0);
+  out->Phi_phi(1, 3) = Scalar(0);
+  out->Phi_phi(2, 0) = Scalar(0);
+  out->Phi_phi(2, 1) = -_tmp0*p.e*sin_phi1 - _tmp1*cos_phi1*p.e;
+  out->Phi_phi(2, 2) = Phi_phi_2_2;
+  out->Phi_phi(2, 3) = Phi_phi_2_3;
+  out->Phi_phi(3, 0) = Scalar(0);
+  out->Phi_phi(3, 1) = _tmp0*cos_phi1*p.e - _tmp1*p.e*sin_phi1;
+  out->Phi_phi(3, 2) = Phi_phi_3_2;
+  out->Phi_phi(3, 3) = Phi_phi_3_3;
+  trig->sin_phi(0) = sin_phi0;
+  trig->cos_phi(0) = cos_phi0;
+  trig->sin_phi(1) = sin_phi1;
+  trig->cos_phi(1) = cos_phi1;
+  trig->sin_phi(2) = sin_phi2;
+  trig->cos_phi(2) = cos_phi2;
+  trig->sin_phi(3) = sin_phi3;
+  trig->cos_phi(3) = cos_phi3;
+  trig->sin_q(0) = sin_q0;
+  trig->cos_q(0) = cos_q0;
+
+  return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, branch_block};
+}
+
+/**
  * \brief Positions of every named point of every link, for drawing (kScenePointNames).
  * \param[in]  p    Parameters.
  * \param[in]  q    Inputs (dim kNq).
@@ -1775,6 +1971,8 @@ struct Model : Sizes {
   static constexpr bool kHasExcess = false;
   /// Shaking, ShakingT, EvalShaking (Model::Shaking; Paul ch. 7): `shaking`.
   static constexpr bool kHasShaking = false;
+  /// Kinematics, KinematicsT, EvalKinematics (Model::Kinematics: SolveTrig, K, L in one pass).
+  static constexpr bool kHasKinematics = true;
   /// Rhs, RhsT, EvalRhs (Model::Rhs: SolveTrig, K, L, I, h, Q in one pass).
   static constexpr bool kHasRhs = false;
   /// RhsConstants, RhsConstantsT, PrepareRhs (Model::Prepare): EvalRhs' constants.
@@ -1785,6 +1983,8 @@ struct Model : Sizes {
   static constexpr bool kHasStaticsDesign = false;
   /// DynamicsDesign, DynamicsDesignT, EvalDynamicsDesign (Model::DynamicsDesign): `design` and dynamics.
   static constexpr bool kHasDynamicsDesign = false;
+  template <typename Scalar>
+  using KinematicsT = mech::watt_sixbar::Kinematics<Scalar>;
   template <typename Scalar>
   using DesignDerivativesT = mech::watt_sixbar::DesignDerivatives<Scalar>;
   /// The design parameters (`design`): EvalDesignDerivatives differentiates with respect to
@@ -1853,6 +2053,14 @@ struct Model : Sizes {
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
     return SolvePositionsTrig(p, q, modes, trig);
+  }
+  template <typename Scalar>
+  static SolveReport<Scalar> Kinematics(const Params<Scalar>& p,
+                                        const Vec<Scalar, Sizes::kNq>& q,
+                                        const std::array<int, Sizes::kNumBlocks>& modes,
+                                        Trig<Scalar>* trig,
+                                        Kinematics<Scalar>* out) {
+    return EvalKinematics(p, q, modes, trig, out);
   }
   template <typename Scalar>
   static void Scene(const Params<Scalar>& p,

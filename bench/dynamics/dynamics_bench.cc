@@ -12,7 +12,11 @@
 //                          with the warm-started position solve and qdd
 //   Kinematics/Handwritten positions + K + L by hand
 //   Kinematics/Generated   Solve + Coeffs of mech::fourbar_massive (with the angles)
-//   Kinematics/GeneratedTrig  SolveTrig + Coeffs (sin and cos of the angles only)
+//   Kinematics/GeneratedTrig  SolveTrig + Coeffs (sin and cos of the angles only): two calls,
+//                          and Coeffs forms Phi and the coupler point's r_P, K_P, L_P too
+//   Kinematics/GeneratedOnePass  Model::Kinematics (EvalKinematics: SolveTrig's closed-form
+//                          direction cosines, K, L, Phi_phi in one generated pass; issue 24's
+//                          kinematics target, bench/dynamics/run.sh)
 // (b) Simulate/<method>/<tolerance>: 3 s from rest at theta = 90 deg, integrator tolerance
 //   rtol = atol = 1e-4 .. 1e-10 (Simbody: Integrator::setAccuracy, and 1e-11, 1e-12 so that
 //   its curve reaches the errors of the others); counters: error =
@@ -175,6 +179,24 @@ void KinematicsGeneratedTrig(benchmark::State& state) {
   }
 }
 BENCHMARK(KinematicsGeneratedTrig)->Name("Kinematics/GeneratedTrig");
+
+// The same kinematics in one generated pass (Model::Kinematics = EvalKinematics: SolveTrig, K, L
+// and Phi_phi; no residual, no points).
+void KinematicsGeneratedOnePass(benchmark::State& state) {
+  Model::ParamsT<double> p;
+  RuntimeValues(&p);
+  Model::KinematicsT<double> kin;
+  Model::TrigT<double> trig;
+  long k = 0;
+  for (auto _ : state) {
+    const Eigen::Matrix<double, 1, 1> q = Eigen::Matrix<double, 1, 1>::Constant((k++ % 720) * kStep);
+    const auto report = Model::Kinematics(p, q, Model::kDefaultModes, &trig, &kin);
+    benchmark::DoNotOptimize(report);
+    benchmark::DoNotOptimize(trig);
+    benchmark::DoNotOptimize(kin);
+  }
+}
+BENCHMARK(KinematicsGeneratedOnePass)->Name("Kinematics/GeneratedOnePass");
 
 // The generated one-pass right-hand side (Model::Rhs = EvalRhs: SolveTrig, K, L, I, h, Q).
 void RhsGenerated(benchmark::State& state) {

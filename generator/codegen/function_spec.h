@@ -30,7 +30,7 @@ struct Argument {
 };
 
 /// An output struct of the generated header (codegen/output_spec.h).
-enum class OutputStruct { kNone, kStatics, kDynamics, kExcess, kShaking, kRhs, kRhsConstants, kDesign, kStaticsDesign, kDynamicsDesign };
+enum class OutputStruct { kNone, kStatics, kDynamics, kExcess, kShaking, kKinematics, kRhs, kRhsConstants, kDesign, kStaticsDesign, kDynamicsDesign };
 
 struct FunctionSpec {
   std::string name;                ///< EvalPhi, CamLaw_<joint>, ...

@@ -220,6 +220,59 @@ FunctionSpec EvalCoefficientsSpec(const SymbolicTable& t) {
   return f;
 }
 
+Program VelocityPrograms(const SymbolicTable& t) {
+  Program P = t.k_program;
+  P.insert(P.end(), t.l_program.begin(), t.l_program.end());
+  return P;
+}
+
+Program KinematicsStores(const SymbolicTable& t, bool with_L) {
+  const Kinematics& k = t.kinematics();
+  const int nq = k.nq(), nphi = k.nphi(), nc = k.nc();
+  Program P;
+  for (int i = 0; i < nphi; ++i)
+    for (int j = 0; j < nq; ++j) P.push_back(Store("out->K" + Idx(i, j), t.K[i][j]));
+  if (with_L)
+    for (int i = 0; i < nphi; ++i)
+      for (int j = 0; j < nq; ++j)
+        for (int kk = 0; kk < nq; ++kk) P.push_back(Store("out->L" + Idx(i, j + nq * kk), t.L(i, j, kk)));
+  for (int i = 0; i < nc; ++i)
+    for (int j = 0; j < nphi; ++j) P.push_back(Store("out->Phi_phi" + Idx(i, j), t.Phi_phi_named(i, j)));
+  return P;
+}
+
+FunctionSpec EvalKinematicsSpec(const SymbolicTable& t) {
+  FunctionSpec f;
+  if (!t.requested.K) return f;
+  f.name = "EvalKinematics";
+  f.fills = OutputStruct::kKinematics;
+  f.model_member = "Kinematics";
+  f.returns = "SolveReport<Scalar>";
+  f.reindent = true;
+  // As EvalRhs: inlined where it is called (a loop over configurations), not compiled into
+  // <model>.cc (no compile time in the models that never call it).
+  f.instantiate = false;
+  f.inline_hint = true;
+  f.doc = {"\\brief The kinematics at inputs q in one pass: SolvePositionsTrig() (the closed forms' direction",
+           "cosines, no angle), then K (and L with kHasL) and Phi_phi from them (Paul ch. 4). Nothing else",
+           "of EvalCoefficients() (no residual, no points) is computed. The same statuses and branch_measure as",
+           "SolvePositionsTrig(); *trig and *out hold finite values when the report says kConverged."};
+  f.args.push_back(Arg("const Params<Scalar>&", "p", Dir::kIn, "Parameters."));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "q", Dir::kIn, "Inputs", "dim kNq"));
+  f.args.push_back(Arg("const std::array<int, Sizes::kNumBlocks>&", "modes", Dir::kIn,
+                       "Assembly mode of each block (Model::kDefaultModes: the model's assembly)", "dim kNumBlocks"));
+  f.args.push_back(Arg("Trig<Scalar>*", "trig", Dir::kOut, "sin and cos of q and phi at the solution; not nullptr."));
+  f.args.push_back(Arg("Kinematics<Scalar>*", "out", Dir::kOut, "Kinematics; not nullptr."));
+  f.notes = {"\\note Check Phi_phi's conditioning before using K and L (the runtime does): near a dead point",
+             "they grow without bound."};
+  Program P = VelocityPrograms(t);
+  const Program stores = KinematicsStores(t, t.requested.L);
+  P.insert(P.end(), stores.begin(), stores.end());
+  PruneUnusedDefines(&P);
+  f.body = {P};
+  return f;
+}
+
 FunctionSpec EvalDetPhiPhiSpec(const SymbolicTable& t) {
   FunctionSpec f;
   f.name = "EvalDetPhiPhi";
@@ -286,7 +339,7 @@ void ShareTrig(const Kinematics& k,
                const std::vector<FunctionSpec*>& takers,
                FunctionSpec* solve_trig,
                bool* solve_trig_possible,
-               FunctionSpec* rhs) {
+               const std::vector<FunctionSpec*>& fused) {
   std::vector<TrigName> names;
   for (int i = 0; i < k.nq(); ++i) names.push_back(NameTrig(true, i, printer));
   for (int i = 0; i < k.nphi(); ++i) names.push_back(NameTrig(false, i, printer));
@@ -417,8 +470,8 @@ void ShareTrig(const Kinematics& k,
     defined.insert(names[nq + i].cos);
   }
   body.insert(body.end(), blocks.begin(), blocks.end());
-  // The stores to *trig, at the end (SolveTrig: after the last block; EvalRhs: after the
-  // dynamics, so that no store through trig comes between the parameters' loads and their uses).
+  // The stores to *trig, at the end (SolveTrig: after the last block; EvalKinematics, EvalRhs: after their
+  // body, so that no store through trig comes between the parameters' loads and their uses).
   Program end;
   for (int i = 0; i < k.nphi(); ++i) {
     if (!solved[i]) continue;
@@ -427,52 +480,54 @@ void ShareTrig(const Kinematics& k,
     end.push_back(Raw(t.cos_ref + " = " + t.cos + ";"));
   }
   const Program& epilogue = solve_trig->body.back();
-  if (rhs != nullptr && !rhs->body.empty()) {
-    // EvalRhs: SolveTrig without its return and its stores, the inputs' sin and cos the
-    // blocks did not name, then K, L and the dynamics, then SolveTrig's stores and return.
-    // Not generated if its body reads an angle other than through its sin and cos.
-    Program motion = rhs->body.front();
+  // The one-pass functions (EvalKinematics, EvalRhs): SolveTrig without its return and its
+  // stores, the inputs' sin and cos the blocks did not name, then the function's own body (K,
+  // L, the dynamics), then SolveTrig's stores and return. One is not generated (its body
+  // cleared) if its body reads an angle other than through its sin and cos.
+  for (FunctionSpec* spec : fused) {
+    if (spec == nullptr || spec->body.empty()) continue;
+    Program motion = spec->body.front();
     const auto u = SubstituteTrig(k, names, &motion, true);
     if (reads_phi(motion, false)) {
-      rhs->body.clear();
-    } else {
-      std::vector<Program> fused = body;
-      std::set<std::string> named = defined;
-      Program inputs, stores = end, ret;
-      for (int j = 0; j < nq; ++j) {
-        if (!k.q[j].is_angle) continue;
-        const TrigName& t = names[j];
-        // A sin or cos of an input the blocks did not use: called once here when the
-        // dynamics reads it too (then stored from the local), else called in the store.
-        for (int is_cos = 0; is_cos < 2; ++is_cos) {
-          const bool in_blocks = is_cos ? used[j].second : used[j].first;
-          const bool in_motion = is_cos ? u[j].second : u[j].first;
-          const std::string& local = is_cos ? t.cos : t.sin;
-          const std::string& ref = is_cos ? t.cos_ref : t.sin_ref;
-          const std::string call = (is_cos ? "cos(" : "sin(") + t.arg + ")";
-          if (!in_blocks && in_motion) {
-            inputs.push_back(Raw("const Scalar " + local + " = " + call + ";"));
-            named.insert(local);
-          }
-          stores.push_back(Raw(ref + " = " + (named.count(local) ? local : call) + ";"));
-          if (!in_blocks) ++rhs->extra_calls;
-        }
-      }
-      for (const Statement& s : epilogue)
-        (s.kind == Statement::Kind::kRaw && s.target.rfind("return", 0) == 0 ? ret : stores).push_back(s);
-      for (size_t i = 0; i < names.size(); ++i) {
-        const TrigName& t = names[i];
-        // Every angle of phi is solved by a block (SolveTrig exists); the inputs are above.
-        if ((u[i].first && !named.count(t.sin)) || (u[i].second && !named.count(t.cos)))
-          throw std::logic_error("EvalRhs reads " + t.sin + " or " + t.cos + ", which SolveTrig does not name");
-      }
-      if (!inputs.empty()) fused.push_back(inputs);
-      fused.push_back(motion);
-      fused.push_back(stores);
-      fused.push_back(ret);
-      rhs->body = fused;
-      rhs->extra_calls += solve_trig->extra_calls;
+      spec->body.clear();
+      continue;
     }
+    std::vector<Program> one_pass = body;
+    std::set<std::string> named = defined;
+    Program inputs, stores = end, ret;
+    for (int j = 0; j < nq; ++j) {
+      if (!k.q[j].is_angle) continue;
+      const TrigName& t = names[j];
+      // A sin or cos of an input the blocks did not use: called once here when the
+      // body reads it too (then stored from the local), else called in the store.
+      for (int is_cos = 0; is_cos < 2; ++is_cos) {
+        const bool in_blocks = is_cos ? used[j].second : used[j].first;
+        const bool in_motion = is_cos ? u[j].second : u[j].first;
+        const std::string& local = is_cos ? t.cos : t.sin;
+        const std::string& ref = is_cos ? t.cos_ref : t.sin_ref;
+        const std::string call = (is_cos ? "cos(" : "sin(") + t.arg + ")";
+        if (!in_blocks && in_motion) {
+          inputs.push_back(Raw("const Scalar " + local + " = " + call + ";"));
+          named.insert(local);
+        }
+        stores.push_back(Raw(ref + " = " + (named.count(local) ? local : call) + ";"));
+        if (!in_blocks) ++spec->extra_calls;
+      }
+    }
+    for (const Statement& s : epilogue)
+      (s.kind == Statement::Kind::kRaw && s.target.rfind("return", 0) == 0 ? ret : stores).push_back(s);
+    for (size_t i = 0; i < names.size(); ++i) {
+      const TrigName& t = names[i];
+      // Every angle of phi is solved by a block (SolveTrig exists); the inputs are above.
+      if ((u[i].first && !named.count(t.sin)) || (u[i].second && !named.count(t.cos)))
+        throw std::logic_error(spec->name + " reads " + t.sin + " or " + t.cos + ", which SolveTrig does not name");
+    }
+    if (!inputs.empty()) one_pass.push_back(inputs);
+    one_pass.push_back(motion);
+    one_pass.push_back(stores);
+    one_pass.push_back(ret);
+    spec->body = one_pass;
+    spec->extra_calls += solve_trig->extra_calls;
   }
   for (int j = 0; j < nq; ++j) {
     if (!k.q[j].is_angle) continue;
@@ -530,8 +585,9 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   }
   bool solve_trig_possible = false;
   FunctionSpec solve_trig = SolveTrigSpec(t, printer, &solve_trig_possible);
+  FunctionSpec kinematics_spec = EvalKinematicsSpec(t);
   ShareTrig(k, trig_done, printer, &coefficients, &positions, takers, &solve_trig, &solve_trig_possible,
-            has_dynamics ? &rhs_spec : nullptr);
+            {&kinematics_spec, has_dynamics ? &rhs_spec : nullptr});
   out.push_back(coefficients);
   if (has_statics) out.push_back(statics_spec);
   if (has_dynamics) {
@@ -563,6 +619,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
   if (!transmission.empty()) out.push_back(EvalTransmissionAnglesSpec(transmission));
   out.push_back(positions);
   if (solve_trig_possible) out.push_back(solve_trig);
+  if (solve_trig_possible && !kinematics_spec.body.empty()) out.push_back(kinematics_spec);
   if (has_dynamics && solve_trig_possible && !rhs_spec.body.empty()) {
     FunctionSpec prepare;
     HoistRhsConstants(m, printer, &rhs_spec, &prepare);

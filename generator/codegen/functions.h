@@ -42,6 +42,15 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
 /// that gives each of its angles' direction cosines and every phi is an angle; ShareTrig
 /// then checks that nothing else reads an angle (else BuildFunctions drops it).
 FunctionSpec SolveTrigSpec(const SymbolicTable& t, CxxPrinter* printer, bool* possible);
+/// EvalKinematics (Model::Kinematics): K, L (where the model asks for L) and Phi_phi, its body
+/// here; ShareTrig puts SolvePositionsTrig's blocks before it, and BuildFunctions keeps it only
+/// where SolvePositionsTrig exists. An empty spec (no name) where the model asks for no K.
+FunctionSpec EvalKinematicsSpec(const SymbolicTable& t);
+/// K's and L's programs (L's empty where the model asks for no L): what the one-pass functions
+/// fused with SolvePositionsTrig (EvalKinematics, EvalRhs) start from.
+Program VelocityPrograms(const SymbolicTable& t);
+/// The stores of out->K, out->L (with `with_L`) and out->Phi_phi: EvalKinematics' and EvalRhs'.
+Program KinematicsStores(const SymbolicTable& t, bool with_L);
 /// EvalScene: every named point of every link.
 FunctionSpec EvalSceneSpec(const Kinematics& k);
 /// CamLaw_<joint>, EvalCam_<joint> and Contour_<joint> (codegen/cam_functions.cc).
@@ -108,8 +117,9 @@ FunctionSpec EvalSwitchModesSpec(const Model& m, const DynamicsTable& dt, CxxPri
 
 /// sin and cos shared between SolvePositions and EvalCoefficients (the Trig<Scalar>
 /// argument): rewrites both specs' programs, and those of `takers` (EvalStatics, EvalDynamics, ...)
-/// that take a Trig argument too. With `rhs` (EvalRhsSpec), SolveTrig's blocks are put before
-/// its body, which then reads the angles' sin and cos from them.
+/// that take a Trig argument too. Each of `fused` (EvalKinematicsSpec, EvalRhsSpec; nullptr:
+/// none) gets SolveTrig's blocks put before its body, which then reads the angles' sin and cos
+/// from them (its body is cleared where it reads an angle otherwise).
 void ShareTrig(const Kinematics& k,
                const std::vector<bool>& trig_done,
                CxxPrinter* printer,
@@ -118,7 +128,7 @@ void ShareTrig(const Kinematics& k,
                const std::vector<FunctionSpec*>& takers = {},
                FunctionSpec* solve_trig = nullptr,
                bool* solve_trig_possible = nullptr,
-               FunctionSpec* rhs = nullptr);
+               const std::vector<FunctionSpec*>& fused = {});
 
 /// Every generated function of the model, in the order of the header.
 std::vector<FunctionSpec> BuildFunctions(const Model& m,

@@ -230,6 +230,28 @@ OutputSpec Shaking(const std::vector<FunctionSpec>& functions) {
   return o;
 }
 
+// Kinematics (EvalKinematics): SolvePositionsTrig's direction cosines with K, L and Phi_phi in one pass.
+OutputSpec KinematicsOutput(const SymbolicTable& t, const std::vector<FunctionSpec>& functions) {
+  OutputSpec o = Output("Kinematics", Generated(functions, OutputStruct::kKinematics),
+                        "Kinematics, KinematicsT, EvalKinematics (Model::Kinematics: SolveTrig, K, L in one pass).",
+                        {"What EvalKinematics() fills at inputs q: the velocity (and centripetal) coefficients with",
+                         "Phi_phi, the same definitions and units as Coefficients' (no residual, no points)."});
+  o.members = {
+      Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq>", "K",
+                  {"K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd)."}, "kNphi x kNq"),
+           "1, m or 1/m"),
+      Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq>", "L",
+                  {"L(i, j + kNq*k) = d K(i, j) / d q_k: the centripetal coefficients",
+                   "(phidd = K qdd + L (qd (x) qd); with kHasL)."},
+                  "kNphi x kNq^2", "kHasL", t.requested.L),
+           "K's unit per unit of q_k"),
+      Unit(Member("Mat<Scalar, Sizes::kNc, Sizes::kNphi>", "Phi_phi",
+                  {"dPhi/dphi at the solution: its conditioning tells a dead point."}, "kNc x kNphi"),
+           "m or 1"),
+  };
+  return o;
+}
+
 OutputSpec Rhs(const std::vector<FunctionSpec>& functions) {
   OutputSpec o =
       Output("Rhs", Generated(functions, OutputStruct::kRhs),
@@ -427,7 +449,7 @@ std::vector<OutputSpec> OutputSpecs(const Model& m,
                                     const SymbolicTable& t,
                                     const std::vector<FunctionSpec>& functions) {
   return {Statics(m, t, functions), Dynamics(functions), Excess(functions),
-          Shaking(functions),       Rhs(functions),      RhsConstants(functions),
+          Shaking(functions),       KinematicsOutput(t, functions), Rhs(functions),      RhsConstants(functions),
           DesignOutput(m, t, functions), StaticsDesignOutput(m, functions), DynamicsDesignOutput(functions)};
 }
 

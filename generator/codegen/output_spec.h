@@ -95,7 +95,7 @@ ModelFlags ModelFlagsOf(const Model& m, const SymbolicTable& t, const std::vecto
 std::vector<std::string> RenderedDoc(const OutputMember& member);
 
 /// Every output struct of the model's header in the header's order (Statics, Dynamics,
-/// Excess, Shaking, Rhs, RhsConstants), present or not; `functions` are the generated
+/// Excess, Shaking, Kinematics, Rhs, RhsConstants), present or not; `functions` are the generated
 /// functions (an output is present where the function that fills it is generated).
 std::vector<OutputSpec> OutputSpecs(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions);
 

@@ -290,7 +290,7 @@ FunctionSpec EvalDynamicsSpec(const Model& m, const DynamicsTable& dt, CxxPrinte
 
 FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsTable& dt, CxxPrinter* printer) {
   const Kinematics& k = t.kinematics();
-  const int nq = k.nq(), nphi = k.nphi(), nc = k.nc();
+  const int nq = k.nq(), nphi = k.nphi();
   const StaticsTable& a = *dt.applied;
   NameSlots(a.slots, printer);
   FunctionSpec f;
@@ -334,8 +334,7 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
     else if (slot.kind == Slot::Kind::kPhiPhi)
       from_c[sym] = t.Phi_phi_named(slot.i, slot.j);
   }
-  Program P = t.k_program;
-  P.insert(P.end(), t.l_program.begin(), t.l_program.end());
+  Program P = VelocityPrograms(t);
   GiNaC::exmap inlined;  // the dynamics' locals in terms of K, L, the angles and the parameters
   for (Statement s : dt.program) {
     if (s.kind == Statement::Kind::kDefine || s.kind == Statement::Kind::kStore) s.value = s.value.subs(from_c);
@@ -395,8 +394,6 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
   for (int j = 0; j < nq; ++j)
     for (int kl = 0; kl < nq * nq; ++kl)
       C[j + nq * kl] = local("C_eom_" + N(j) + "_" + N(kl % nq) + "_" + N(kl / nq), dt.C[j + nq * kl]);
-  for (int i = 0; i < nphi; ++i)
-    for (int j = 0; j < nq; ++j) P.push_back(Store("out->K" + Idx(i, j), t.K[i][j]));
   ex T = 0;
   for (int j = 0; j < nq; ++j)
     for (int kk = 0; kk < nq; ++kk) {
@@ -413,8 +410,8 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
   P.push_back(Store("out->T", T));
   P.push_back(Store("out->V", output(dt.V)));
   P.push_back(Store("out->P_nc", output(dt.P_nc)));
-  for (int i = 0; i < nc; ++i)
-    for (int j = 0; j < nphi; ++j) P.push_back(Store("out->Phi_phi" + Idx(i, j), t.Phi_phi_named(i, j)));
+  const Program kinematics = KinematicsStores(t, false);  // K and Phi_phi, as EvalKinematics stores them
+  P.insert(P.end(), kinematics.begin(), kinematics.end());
   Program used_diffs;
   for (size_t i = 0; i < diffs.size(); ++i) {
     if (diffs[i].cos_used) used_diffs.push_back(diff_defines[2 * i]);

@@ -172,6 +172,68 @@ TYPED_TEST(FiniteDifferenceTest, PointOfInterestEqualsItsScenePoint) {
   }
 }
 
+// The one-pass kinematics (Model::Kinematics = EvalKinematics: SolveTrig's direction cosines,
+// K, L and Phi_phi together), where the model has it: K against the central differences of the
+// test-local Newton positions (as above), L against the central differences of its own K at
+// q -+ h along the branch (kLFromKTol, as above), Phi_phi against the central differences of
+// the generated residual Phi in each angle (h = 1e-5: Phi is O(1) and accurate to ~1e-15, so
+// rounding ~1e-10 and truncation ~1e-11; kKTol), and its direction cosines against std::sin /
+// std::cos of the Newton angles (1e-11, as tests/kinematics/solve_trig_test.cc).
+TYPED_TEST(FiniteDifferenceTest, OnePassKinematicsMatchCentralDifferences) {
+  using M = TypeParam;
+  if constexpr (!M::kHasKinematics) {
+    GTEST_SKIP() << "no EvalKinematics (no SolveTrig, or no K asked for)";
+  } else {
+    using KinematicsD = typename M::template KinematicsT<double>;
+    using TrigD = typename M::template TrigT<double>;
+    Worst worst_K, worst_L, worst_Phi_phi;
+    for (const auto& c : this->sweep_) {
+      KinematicsD kin;
+      TrigD trig;
+      const auto report = M::Kinematics(this->p_, c.q, M::kDefaultModes, &trig, &kin);
+      ASSERT_EQ(static_cast<int>(report.status), 0) << "q = " << c.q.transpose();
+      for (int i = 0; i < M::kNphi; ++i) {
+        EXPECT_NEAR(trig.sin_phi(i), std::sin(c.phi(i)), 1e-11) << M::kPhiNames[i] << " q = " << c.q.transpose();
+        EXPECT_NEAR(trig.cos_phi(i), std::cos(c.phi(i)), 1e-11) << M::kPhiNames[i] << " q = " << c.q.transpose();
+      }
+      bool ok = true;
+      const auto fd = mechtest::FirstDifferences<M>(this->p_, c, kHFirst, &ok);
+      ASSERT_TRUE(ok) << "Newton failed near q = " << c.q.transpose();
+      worst_K.Update<M>(kin.K, fd.template topRows<M::kNphi>(), c, "K");
+      Eigen::Matrix<double, M::kNc, M::kNphi> Phi_phi_fd;
+      for (int j = 0; j < M::kNphi; ++j) {
+        mechtest::VecPhi<M> phi_p = c.phi, phi_m = c.phi;
+        phi_p(j) += kHFirst;
+        phi_m(j) -= kHFirst;
+        Eigen::Matrix<double, M::kNc, 1> res_p, res_m;
+        M::Phi(this->p_, c.q, phi_p, &res_p);
+        M::Phi(this->p_, c.q, phi_m, &res_m);
+        Phi_phi_fd.col(j) = (res_p - res_m) / (2 * kHFirst);
+      }
+      worst_Phi_phi.Update<M>(kin.Phi_phi, Phi_phi_fd, c, "Phi_phi");
+      if constexpr (M::kHasL) {
+        Eigen::Matrix<double, M::kNphi, M::kNq * M::kNq> L_fd;
+        for (int k = 0; k < M::kNq; ++k) {
+          mechtest::VecQ<M> qp = c.q, qm = c.q;
+          qp(k) += kHFirst;
+          qm(k) -= kHFirst;
+          KinematicsD kp, km;
+          TrigD tp, tm;
+          ASSERT_EQ(static_cast<int>(M::Kinematics(this->p_, qp, M::kDefaultModes, &tp, &kp).status), 0);
+          ASSERT_EQ(static_cast<int>(M::Kinematics(this->p_, qm, M::kDefaultModes, &tm, &km).status), 0);
+          for (int j = 0; j < M::kNq; ++j) L_fd.col(j + M::kNq * k) = (kp.K.col(j) - km.K.col(j)) / (2 * kHFirst);
+        }
+        worst_L.Update<M>(kin.L, L_fd, c, "L");
+      }
+    }
+    this->RecordProperty("max_rel_error_K", mechtest::Sci(worst_K.err));
+    this->RecordProperty("max_rel_error_L", mechtest::Sci(worst_L.err));
+    EXPECT_LT(worst_K.err, kKTol) << "worst: " << worst_K.where;
+    EXPECT_LT(worst_L.err, kLFromKTol) << "worst: " << worst_L.where;
+    EXPECT_LT(worst_Phi_phi.err, kKTol) << "worst: " << worst_Phi_phi.where;
+  }
+}
+
 // The finite differences are sharp enough to see a small error: perturbing the generated K
 // by 1e-6 (100 x kKTol) must fail the comparison (guards against a vacuous oracle).
 TYPED_TEST(FiniteDifferenceTest, FiniteDifferenceOracleDetectsAPerturbation) {

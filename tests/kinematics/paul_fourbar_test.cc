@@ -259,6 +259,77 @@ TYPED_TEST(PaulFourbarTest, CentripetalCoefficientsMatchPaulEq1_1_9_10) {
   }
 }
 
+// The one-pass kinematics (Model::Kinematics = EvalKinematics: the closed form's direction
+// cosines, K, L and Phi_phi, no angle) against the circle intersection's angles, eqs. (1.1-8)
+// and (1.1-9, -10), and Phi_phi of the loop written out by hand,
+//   Phi = (a cos q + b cos th_c - c cos th_r - d, a sin q + b sin th_c - c sin th_r),
+//   Phi_phi = [-b sin th_c, c sin th_r; b cos th_c, -c cos th_r],
+// over the full turn in this mode (the model's default assembly mode).
+TYPED_TEST(PaulFourbarTest, OnePassKinematicsMatchPaulOverFullTurn) {
+  using M = typename TestFixture::M;
+  static_assert(M::kHasKinematics, "the four-bar's closed form gives EvalKinematics");
+  for (int k = 0; k < kNumSamples; ++k) {
+    const PaulFourbar r = this->At(k);
+    typename M::template KinematicsT<double> kin;
+    typename M::template TrigT<double> trig;
+    const auto report = M::Kinematics(this->p, this->Q(r), M::kDefaultModes, &trig, &kin);
+    ASSERT_EQ(static_cast<int>(report.status), 0) << "q = " << r.q;
+    EXPECT_NEAR(trig.cos_phi(0), std::cos(r.th_c), kPosTol) << "q = " << r.q;
+    EXPECT_NEAR(trig.sin_phi(0), std::sin(r.th_c), kPosTol) << "q = " << r.q;
+    EXPECT_NEAR(trig.cos_phi(1), std::cos(r.th_r), kPosTol) << "q = " << r.q;
+    EXPECT_NEAR(trig.sin_phi(1), std::sin(r.th_r), kPosTol) << "q = " << r.q;
+    EXPECT_NEAR(kin.K(0, 0), r.K_c, kCoeffTol * Rel(r.K_c)) << "theta_coupler, q = " << r.q;
+    EXPECT_NEAR(kin.K(1, 0), r.K_r, kCoeffTol * Rel(r.K_r)) << "theta_rocker, q = " << r.q;
+    EXPECT_NEAR(kin.L(0, 0), r.L_c, kCoeffTol * Rel(r.L_c)) << "theta_coupler, q = " << r.q;
+    EXPECT_NEAR(kin.L(1, 0), r.L_r, kCoeffTol * Rel(r.L_r)) << "theta_rocker, q = " << r.q;
+    const double b = this->p.b, c = this->p.c;
+    EXPECT_NEAR(kin.Phi_phi(0, 0), -b * std::sin(r.th_c), kCoeffTol * Rel(b)) << "q = " << r.q;
+    EXPECT_NEAR(kin.Phi_phi(0, 1), c * std::sin(r.th_r), kCoeffTol * Rel(c)) << "q = " << r.q;
+    EXPECT_NEAR(kin.Phi_phi(1, 0), b * std::cos(r.th_c), kCoeffTol * Rel(b)) << "q = " << r.q;
+    EXPECT_NEAR(kin.Phi_phi(1, 1), -c * std::cos(r.th_r), kCoeffTol * Rel(c)) << "q = " << r.q;
+  }
+}
+
+// Where the linkage cannot assemble, the one pass reports what SolveTrig reports: b = 1.5 makes
+// the four-bar non-Grashof (a + d = 5 > b + c = 4.5), and C exists only while the circles of
+// radius b about B and c about D meet, |b - c| <= |BD| <= b + c with |BD| = |D - B| (the oracle).
+// Where they meet, K and L are Paul's again.
+TYPED_TEST(PaulFourbarTest, OnePassKinematicsReportsWhereTheLinkageCannotAssemble) {
+  using M = typename TestFixture::M;
+  typename M::template ParamsT<double> p = this->p;
+  p.b = 1.5;
+  int refused = 0, solved = 0;
+  for (int k = 0; k < kNumSamples; ++k) {
+    const double q = kTwoPi * k / kNumSamples;
+    const double BD = std::hypot(p.d - p.a * std::cos(q), p.a * std::sin(q));
+    const double margin = std::min(BD - std::abs(p.b - p.c), p.b + p.c - BD);
+    if (std::abs(margin) < 1e-9) continue;  // at a change point either answer is right
+    typename M::template KinematicsT<double> kin;
+    typename M::template TrigT<double> trig, trig_solve;
+    const Eigen::Matrix<double, 1, 1> qv(q);
+    const auto report = M::Kinematics(p, qv, M::kDefaultModes, &trig, &kin);
+    const auto solve = M::SolveTrig(p, qv, M::kDefaultModes, &trig_solve);
+    EXPECT_EQ(static_cast<int>(report.status), static_cast<int>(solve.status)) << "q = " << q;
+    EXPECT_EQ(report.block, solve.block) << "q = " << q;
+    if (margin < 0) {
+      EXPECT_EQ(report.status, decltype(report.status)::kNotAssemblable) << "q = " << q;
+      EXPECT_NEAR(report.measure, solve.measure, 1e-13 * std::max(1.0, std::abs(solve.measure))) << "q = " << q;
+      ++refused;
+      continue;
+    }
+    ASSERT_EQ(static_cast<int>(report.status), 0) << "q = " << q;
+    ++solved;
+    EXPECT_NEAR(report.branch_measure, solve.branch_measure, 1e-13) << "q = " << q;
+    const PaulFourbar r = ClosedForm(p.a, p.b, p.c, p.d, p.xi, p.eta, q, TypeParam::sigma);
+    EXPECT_NEAR(kin.K(0, 0), r.K_c, kCoeffTol * Rel(r.K_c)) << "theta_coupler, q = " << q;
+    EXPECT_NEAR(kin.K(1, 0), r.K_r, kCoeffTol * Rel(r.K_r)) << "theta_rocker, q = " << q;
+    EXPECT_NEAR(kin.L(0, 0), r.L_c, 1e-9 * Rel(r.L_c)) << "theta_coupler, q = " << q;
+    EXPECT_NEAR(kin.L(1, 0), r.L_r, 1e-9 * Rel(r.L_r)) << "theta_rocker, q = " << q;
+  }
+  EXPECT_GT(refused, 10);
+  EXPECT_GT(solved, 10);
+}
+
 // Generated coupler point r_P, K_P, L_P against (1.1.1-2..4).
 TYPED_TEST(PaulFourbarTest, CouplerPointMatchesPaulEq1_1_1_2to4) {
   using M = typename TestFixture::M;

@@ -148,4 +148,76 @@ TYPED_TEST(SolveTrigTest, SameStatusesAsSolvePositionsOnEveryMode) {
   }
 }
 
+// The one-pass kinematics (Model::Kinematics = EvalKinematics), where the model has it: on
+// every mode combination and over twice the input range, the same report as SolveTrig (status,
+// block, measure, branch_measure, branch_block); where it converges, the same direction cosines
+// as SolveTrig's, and K, L, Phi_phi as EvalCoefficients gives them from those cosines (with a
+// phi of NaNs: the one pass reads no angle either). The oracles of its values are elsewhere
+// (finite_difference_test.cc, paul_fourbar_test.cc); this is its contract with SolveTrig.
+TYPED_TEST(SolveTrigTest, OnePassKinematicsReportsAsSolveTrigOnEveryMode) {
+  using M = TypeParam;
+  if constexpr (!M::kHasKinematics) {
+    GTEST_SKIP() << "no EvalKinematics";
+  } else {
+    static_assert(HasSolveTrig<M>::value, "EvalKinematics exists only where SolveTrig does");
+    const mechtest::ParamsD<M> p;
+    constexpr int kBlocks = M::kNumBlocks;
+    int converged = 0, failed = 0;
+    // The same closed forms, compiled inline here and out of line in the model's library: equal
+    // up to the compiler's contraction of products and sums (a few ulps).
+    constexpr double kSame = 1e-13;
+    for (int combo = 0; combo < (1 << kBlocks); ++combo) {
+      std::array<int, kBlocks> modes;
+      for (int b = 0; b < kBlocks; ++b) modes[b] = (combo >> b) & 1 ? -1 : 1;
+      const int n = M::kNq == 1 ? 200 : 30;
+      for (int k = 0; k < n; ++k) {
+        mechtest::VecQ<M> q;
+        for (int j = 0; j < M::kNq; ++j) {
+          const double lo = M::kQMin[j], hi = M::kQMax[j], span = hi - lo;
+          const double u = M::kNq == 1 ? double(k) / (n - 1) : std::fmod(0.6180339887498949 * (k + 1) * (j + 1), 1.0);
+          q(j) = lo - 0.5 * span + 2 * span * u;
+        }
+        typename M::template TrigT<double> trig, trig_solve;
+        typename M::template KinematicsT<double> kin;
+        Poison(&trig);
+        const auto expected = M::SolveTrig(p, q, modes, &trig_solve);
+        const auto report = M::Kinematics(p, q, modes, &trig, &kin);
+        ASSERT_EQ(static_cast<int>(report.status), static_cast<int>(expected.status)) << "q = " << q.transpose();
+        EXPECT_EQ(report.block, expected.block);
+        EXPECT_EQ(report.iterations, expected.iterations);
+        if (expected.status != decltype(expected.status)::kConverged) {
+          EXPECT_NEAR(report.measure, expected.measure, kSame * std::max(1.0, std::abs(expected.measure))) << "q = " << q.transpose();
+          ++failed;
+          continue;
+        }
+        ++converged;
+        EXPECT_NEAR(report.branch_measure, expected.branch_measure, kSame);
+        EXPECT_EQ(report.branch_block, expected.branch_block);
+        for (int i = 0; i < M::kNphi; ++i) {
+          EXPECT_NEAR(trig.sin_phi(i), trig_solve.sin_phi(i), kSame) << M::kPhiNames[i] << " q = " << q.transpose();
+          EXPECT_NEAR(trig.cos_phi(i), trig_solve.cos_phi(i), kSame) << M::kPhiNames[i] << " q = " << q.transpose();
+        }
+        for (int j = 0; j < M::kNq; ++j) {
+          if (!M::kQIsAngle[j]) continue;
+          EXPECT_NEAR(trig.sin_q(j), trig_solve.sin_q(j), kSame);
+          EXPECT_NEAR(trig.cos_q(j), trig_solve.cos_q(j), kSame);
+        }
+        mechtest::VecPhi<M> nan_phi;
+        nan_phi.setConstant(NAN);
+        mechtest::CoeffsD<M> c;
+        M::Coeffs(p, q, nan_phi, &c, &trig_solve);
+        constexpr double kTol = 1e-12;
+        EXPECT_LT(WorstRelative(kin.Phi_phi, c.Phi_phi), kTol) << "q = " << q.transpose();
+        EXPECT_LT(WorstRelative(kin.K, c.K), kTol) << "q = " << q.transpose();
+        if constexpr (M::kHasL) {
+          EXPECT_LT(WorstRelative(kin.L, c.L), kTol) << "q = " << q.transpose();
+        }
+      }
+    }
+    EXPECT_GT(converged, 0);
+    this->RecordProperty("converged", converged);
+    this->RecordProperty("failed", failed);
+  }
+}
+
 }  // namespace

@@ -75,7 +75,8 @@ struct ModelTypes {
 //   kHasDrawing             Drawing, kNumDrawJoints, kNumDrawValues, kDrawJoint*
 //   kHasCamProfile          CamProfile
 //   kHasAppliedLoads        AppliedLoads, kNumAppliedLoads, kAppliedLoadNames, Kind, Units
-//   kHasStatics ... kHasRhsConstants, kHasDesignDerivatives, kHasStaticsDesign, kHasDynamicsDesign:
+//   kHasStatics ... kHasKinematics, kHasRhs, kHasRhsConstants, kHasDesignDerivatives,
+//   kHasStaticsDesign, kHasDynamicsDesign:
 //                           the output structs and Statics' members (below).
 
 namespace internal {
@@ -123,6 +124,7 @@ MECHGEN_MODEL_FLAG_READER(kHasStaticsFriction)
 MECHGEN_MODEL_FLAG_READER(kHasDynamics)
 MECHGEN_MODEL_FLAG_READER(kHasExcess)
 MECHGEN_MODEL_FLAG_READER(kHasShaking)
+MECHGEN_MODEL_FLAG_READER(kHasKinematics)
 MECHGEN_MODEL_FLAG_READER(kHasRhs)
 MECHGEN_MODEL_FLAG_READER(kHasRhsConstants)
 MECHGEN_MODEL_FLAG_READER(kHasDesignDerivatives)
@@ -269,6 +271,10 @@ struct HasExcess : std::bool_constant<internal::ReadFlag_kHasExcess<M>()> {};
 /// ch. 7).
 template <class M>
 struct HasShaking : std::bool_constant<internal::ReadFlag_kHasShaking<M>()> {};
+/// M::kHasKinematics: EvalKinematics (M::KinematicsT, M::Kinematics: SolveTrig, K, L and Phi_phi
+/// in one pass; every model with SolveTrig that asks for K).
+template <class M>
+struct HasKinematics : std::bool_constant<internal::ReadFlag_kHasKinematics<M>()> {};
 /// M::kHasRhs: EvalRhs (M::RhsT, M::Rhs, M::Prepare: SolveTrig, K, L and the equation of
 /// motion in one pass).
 template <class M>
