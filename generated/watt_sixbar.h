@@ -169,12 +169,12 @@ struct Trig {
 /// Phi_phi, the same definitions and units as Coefficients' (no residual, no points).
 template <typename Scalar = double>
 struct Kinematics {
-  /// K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd).  (kNphi x kNq)
+  /// K(i, j) = dphi_i/dq_j (1, m or 1/m): the velocity coefficients (phid = K qd).  (kNphi x kNq)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq> K;
-  /// L(i, j + kNq*k) = d K(i, j) / d q_k: the centripetal coefficients
+  /// L(i, j + kNq*k) = d K(i, j) / d q_k (K's unit per unit of q_k): the centripetal coefficients
   /// (phidd = K qdd + L (qd (x) qd); with kHasL).  (kNphi x kNq^2)
   Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq> L;
-  /// dPhi/dphi at the solution: its conditioning tells a dead point.  (kNc x kNphi)
+  /// dPhi/dphi at the solution (m or 1): its conditioning tells a dead point.  (kNc x kNphi)
   Mat<Scalar, Sizes::kNc, Sizes::kNphi> Phi_phi;
 };
 

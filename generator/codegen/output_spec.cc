@@ -238,15 +238,15 @@ OutputSpec KinematicsOutput(const SymbolicTable& t, const std::vector<FunctionSp
                          "Phi_phi, the same definitions and units as Coefficients' (no residual, no points)."});
   o.members = {
       Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq>", "K",
-                  {"K(i, j) = dphi_i/dq_j: the velocity coefficients (phid = K qd)."}, "kNphi x kNq"),
+                  {"K(i, j) = dphi_i/dq_j ({unit}): the velocity coefficients (phid = K qd)."}, "kNphi x kNq"),
            "1, m or 1/m"),
       Unit(Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq>", "L",
-                  {"L(i, j + kNq*k) = d K(i, j) / d q_k: the centripetal coefficients",
+                  {"L(i, j + kNq*k) = d K(i, j) / d q_k ({unit}): the centripetal coefficients",
                    "(phidd = K qdd + L (qd (x) qd); with kHasL)."},
                   "kNphi x kNq^2", "kHasL", t.requested.L),
            "K's unit per unit of q_k"),
       Unit(Member("Mat<Scalar, Sizes::kNc, Sizes::kNphi>", "Phi_phi",
-                  {"dPhi/dphi at the solution: its conditioning tells a dead point."}, "kNc x kNphi"),
+                  {"dPhi/dphi at the solution ({unit}): its conditioning tells a dead point."}, "kNc x kNphi"),
            "m or 1"),
   };
   return o;

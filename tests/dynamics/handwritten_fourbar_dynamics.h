@@ -489,6 +489,7 @@ struct Model : Sizes {
   static constexpr bool kHasDynamics = true;
   static constexpr bool kHasExcess = true;
   static constexpr bool kHasShaking = false;
+  static constexpr bool kHasKinematics = false;
   static constexpr bool kHasRhs = false;
   static constexpr bool kHasRhsConstants = false;
   static constexpr bool kHasDesignDerivatives = false;

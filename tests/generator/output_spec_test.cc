@@ -32,6 +32,7 @@ std::string Read(const std::string& path) {
 std::vector<FunctionSpec> AllFilling() {
   std::vector<FunctionSpec> functions;
   for (OutputStruct o : {OutputStruct::kStatics, OutputStruct::kDynamics, OutputStruct::kExcess, OutputStruct::kShaking,
+                         OutputStruct::kKinematics,
                          OutputStruct::kRhs, OutputStruct::kRhsConstants, OutputStruct::kDesign,
                          OutputStruct::kStaticsDesign, OutputStruct::kDynamicsDesign}) {
     FunctionSpec f;

@@ -48,6 +48,11 @@ struct HasShakingT : std::false_type {};
 template <class M>
 struct HasShakingT<M, std::void_t<typename M::template ShakingT<double>>> : std::true_type {};
 template <class M, class = void>
+struct HasKinematicsT : std::false_type {};
+template <class M>
+struct HasKinematicsT<M, std::void_t<typename M::template KinematicsT<double>,
+                                     decltype(&M::template Kinematics<double>)>> : std::true_type {};
+template <class M, class = void>
 struct HasRhsT : std::false_type {};
 template <class M>
 struct HasRhsT<M, std::void_t<typename M::template RhsT<double>>> : std::true_type {};
@@ -212,6 +217,8 @@ constexpr bool FlagsMatchHeader() {
   static_assert(M::kHasDynamics == HasDynamicsT<M>::value, "kHasDynamics");
   static_assert(M::kHasExcess == HasExcessT<M>::value, "kHasExcess");
   static_assert(M::kHasShaking == HasShakingT<M>::value, "kHasShaking");
+  static_assert(M::kHasKinematics == HasKinematicsT<M>::value, "kHasKinematics");
+  static_assert(!M::kHasKinematics || (M::kHasSolveTrig && M::kHasK), "kHasKinematics: SolveTrig and K");
   static_assert(M::kHasRhs == HasRhsT<M>::value, "kHasRhs");
   static_assert(M::kHasRhsConstants == HasRhsConstantsT<M>::value, "kHasRhsConstants");
   return true;

@@ -187,6 +187,7 @@ struct Model : Sizes {
   static constexpr bool kHasDynamics = false;
   static constexpr bool kHasExcess = false;
   static constexpr bool kHasShaking = false;
+  static constexpr bool kHasKinematics = false;
   static constexpr bool kHasRhs = false;
   static constexpr bool kHasRhsConstants = false;
   static constexpr bool kHasDesignDerivatives = false;
