@@ -103,7 +103,7 @@ print(f"Simbody libraries: {', '.join(context['simbody_library'])}")
 print()
 print("(a) one right-hand side (positions + I + I' + Q + qdd), per configuration")
 for k, v in rhs.items():
-    print(f"  {k:<26} {v:8.1f} ns")
+    print(f"  {k:<28} {v:8.1f} ns")
 def ratio(a, b):
     return rhs[a] / rhs[b] if a in rhs and b in rhs else float("nan")
 def target(label, a, b, limit):
