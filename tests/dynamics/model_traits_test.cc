@@ -80,6 +80,7 @@ TEST(ModelTraits, TypesInLongDoubleSolveAsInDouble) {
 TEST(ModelTraits, NamedTraitsAgreeWithTheGeneratedHeaders) {
   using mechgen::HasDynamics;
   using mechgen::HasExcess;
+  using mechgen::HasKinematics;
   using mechgen::HasRhs;
   using mechgen::HasShaking;
   using mechgen::HasSolveTrig;
@@ -107,6 +108,10 @@ TEST(ModelTraits, NamedTraitsAgreeWithTheGeneratedHeaders) {
   static_assert(HasStatics<Robot>::value && HasRhs<Robot>::value && HasSolveTrig<Robot>::value);
   static_assert(HasStatics<Engine>::value && HasExcess<Engine>::value);
   static_assert(!HasRhs<Engine>::value && !HasSolveTrig<Engine>::value);
+  // The one-pass kinematics: wherever SolveTrig exists and the model asks for K (the kinematic
+  // four-bar too, which has no Rhs).
+  static_assert(HasKinematics<Fourbar>::value && HasKinematics<Massive>::value && HasKinematics<Robot>::value);
+  static_assert(!HasKinematics<Engine>::value && HasKinematics<Engine>::value == Engine::kHasKinematics);
   SUCCEED();
 }
 
