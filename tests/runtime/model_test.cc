@@ -251,6 +251,60 @@ TEST(GeneratedFourBar, ContinuationStepEvaluatesTheModelOnce) {
   EXPECT_EQ(M::coeffs_calls_with_trig, 720);
   EXPECT_EQ(M::phi_calls, 0);
 }
+
+TEST(GeneratedFourBar, ReportedDistanceToSingularityMatchesJacobiSvdEveryStep) {
+  // MoveTo() computes the distance to singularity of a kNphi <= 2 step last, after the
+  // checks (PositionSolver::Deferred); what it reports must still be that of the new
+  // configuration. Oracle: Eigen's JacobiSVD and FullPivLU of Model::Phi's Phi_phi at the
+  // reported (q, phi), every 0.5 deg step of a turn and on sub-divided 40 deg steps.
+  using M = mech::fourbar::Model;
+  CeresPositionSolver<M> solver;
+  ASSERT_EQ(solver.AssembleDefault(nullptr), Status::kConverged);
+  const auto check = [](const CeresPositionSolver<M>& at, const Summary& summary, double q) {
+    const State<M>& s = at.state();
+    Eigen::Matrix2d Phi_phi;
+    M::Phi<double>(at.params(), s.q, s.phi, nullptr, &Phi_phi, nullptr);
+    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(Phi_phi, Eigen::ComputeFullV);
+    const double smax = svd.singularValues()(0), smin = svd.singularValues()(1);
+    EXPECT_TRUE(s.sigma_exact) << q;
+    EXPECT_NEAR(s.sigma_max, smax, 1e-13 * smax) << q;
+    EXPECT_NEAR(s.sigma_min, smin, 1e-13 * smax) << q;
+    EXPECT_EQ(summary.sigma_min, s.sigma_min) << q;  // reported after it was computed
+    // Right singular vectors up to sign, fixed so that the largest-magnitude entry is positive.
+    for (int k = 0; k < 2; ++k) {
+      Eigen::Vector2d v = svd.matrixV().col(1 - k);
+      if (v.cwiseAbs()(1) > v.cwiseAbs()(0) ? v(1) < 0 : v(0) < 0) v = -v;
+      const Eigen::Vector2d& got = k == 0 ? s.singular_direction : s.largest_direction;
+      EXPECT_LT((got - v).norm(), 1e-12 * smax / (smax - smin)) << q << " vector " << k;
+    }
+    const Eigen::FullPivLU<Eigen::Matrix2d> lu(Phi_phi);
+    const double norm1 = Phi_phi.cwiseAbs().colwise().sum().maxCoeff();
+    const double inverse_norm1 = lu.inverse().cwiseAbs().colwise().sum().maxCoeff();
+    EXPECT_NEAR(s.inverse_norm, inverse_norm1, 1e-12 * inverse_norm1) << q;
+    EXPECT_NEAR(s.condition, norm1 * inverse_norm1, 1e-12 * norm1 * inverse_norm1) << q;
+    EXPECT_EQ(s.branch, lu.determinant() > 0 ? 1 : -1) << q;
+    EXPECT_GT(s.phi_error, 0) << q;
+    EXPECT_EQ(summary.phi_error, s.phi_error) << q;
+  };
+  Summary summary;
+  for (int k = 0; k <= 720; ++k) {
+    const double q = k * kPi / 360;
+    ASSERT_EQ(solver.MoveTo(Q(q), &summary), Status::kConverged) << q;
+    check(solver, summary, q);
+  }
+  Options options;
+  options.max_predicted_angle = 0.2;  // 40 deg steps are split (Subdivide())
+  CeresPositionSolver<M> coarse(options);
+  ASSERT_EQ(coarse.AssembleDefault(nullptr), Status::kConverged);
+  int split = 0;
+  for (int k = 0; k <= 18; ++k) {
+    const double q = k * 40 * kPi / 180;
+    ASSERT_EQ(coarse.MoveTo(Q(q), &summary), Status::kConverged) << q;
+    split += summary.substeps > 1;
+    check(coarse, summary, q);
+  }
+  EXPECT_GT(split, 0);
+}
 #endif
 
 #ifdef MECHGEN_HAVE_fourbar_crossed

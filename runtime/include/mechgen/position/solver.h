@@ -32,10 +32,15 @@
  * Distance to singularity (State::sigma_min, sigma_max, singular_direction), every
  * configuration, from the one factorization of Phi_phi a step has (closed-form inverse up
  * to 4 x 4, Gauss-Jordan up to 16 x 16, PartialPivLU above), which also gives det (branch)
- * and cond_1 (exact up to 16 x 16):
+ * and cond_1 (exact up to 16 x 16). No check of a continuation step reads it unless the step
+ * starts next to a singular configuration (Leaving()), so it is computed after the checks:
+ * last in Accept(), and for kNphi <= 2 on MoveTo()'s one-sub-step path last in MoveTo(),
+ * before Summary reports it (PendingDistance): the same values, but its chain of square
+ * roots and divisions no longer holds up the step (measured: a few percent of a four-bar
+ * step). A step that starts next to a singular configuration computes it before its checks.
  *  - kNphi <= 2: exact, in closed form (SingularValues2x2; about 20 ns of a four-bar step in a
  *    perf profile, half of it waiting on the singular vectors' square root and division,
- *    which are now off the path of sigma_min that the step's checks wait on).
+ *    which are off the path of sigma_min).
  *  - kNphi > 2, continuation steps: one inverse iteration on Phi_phi^T Phi_phi from the
  *    previous configuration's singular direction and one power iteration from its largest
  *    direction; sigma_min = ||Phi_phi v|| (an upper bound), sigma_max = ||Phi_phi u|| (a
@@ -89,6 +94,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -246,12 +252,24 @@ class PositionSolver {
 
   // cond, sign(det) and the distance to singularity of Phi_phi (factored as f) into *s;
   // false when singular (1/cond < min_rcond). warm: the neighbouring configuration whose
-  // singular vectors start the estimate (kNphi > 2); nullptr: exact.
+  // singular vectors start the estimate (kNphi > 2); nullptr: exact. distance false: without
+  // the distance (the caller calls Distance() itself later; the test does not read it).
   bool Classify(const MatCPhi& Phi_phi, const Factorization& f, const State<M>* warm,
-                State<M>* s) const;
+                State<M>* s, bool distance = true) const;
   // sigma_min, sigma_max and their right singular vectors into *s (see the file comment).
   void Distance(const MatCPhi& Phi_phi, const Factorization& f, const State<M>* warm,
                 State<M>* s) const;
+  // Distance() for kNphi <= 2 (exact, closed form; needs no factorization). known_finite:
+  // every entry of A is finite (its factorization succeeded).
+  void SmallDistance(const MatCPhi& A, bool known_finite, State<M>* s) const;
+  // The distance to singularity of a kNphi <= 2 configuration that Accept() left to its
+  // caller, MoveTo(), to compute last (SmallDistance() on Phi_phi there, the same values):
+  // its square roots and divisions then overlap the start of the next step instead of
+  // holding up the end of this one. pending: not computed yet. (Empty above 2 x 2.)
+  struct PendingDistance {
+    std::conditional_t<(M::kNphi <= 2), MatCPhi, std::array<double, 0>> Phi_phi;
+    bool pending = false;
+  };
   // The exact distance (a full SVD above 2 x 2) at s's configuration, if s has an estimate.
   void MakeDistanceExact(State<M>* s) const;
   // K, L and the points at (s->q, s->phi); false if any is not finite. Phi_q: dPhi/dq
@@ -313,9 +331,12 @@ class PositionSolver {
   // predicted, last_term: Predict() at q.
   // trig: sin and cos of the angles from the M::Solve that gave phi (Features::kHasTrig), or
   // nullptr.
+  // later: when not nullptr, a kNphi <= 2 distance to singularity that no check needs is
+  // left to the caller (PendingDistance).
   bool Accept(const State<M>& from, const VecQ& q, const VecPhi& predicted, double last_term,
               const VecPhi& phi, const MatCPhi* Phi_phi, const MatCQ* Phi_q, double residual,
-              State<M>* to, const typename internal::TrigOf<M>::type* trig = nullptr) const;
+              State<M>* to, const typename internal::TrigOf<M>::type* trig = nullptr,
+              PendingDistance* later = nullptr) const;
   // The predictor phi0 + K dq (+ 1/2 L(dq, dq) for the second-order one) at q; *last_term:
   // the max-norm of the last Taylor term it used, the scale of CorrectionAcceptable().
   VecPhi Predict(const State<M>& from, const VecQ& q, double* last_term) const;
@@ -377,7 +398,7 @@ class PositionSolver {
   // the whole system (NewtonCorrector()); no allocation. Adds the iterations to
   // s->iterations; *used_newton is set when the accepted result did not come from M::Solve.
   bool Step(const State<M>& from, const VecQ& q, State<M>* to, Summary* s,
-            bool* used_newton) const;
+            bool* used_newton, PendingDistance* later = nullptr) const;
   // Step()'s corrector by Newton on the whole system from `predicted` (for a model without
   // M::Solve the common case, else the rare one; not inlined into Step(), which stays lean).
   MECHGEN_NOINLINE bool NewtonCorrector(const State<M>& from, const VecQ& q,

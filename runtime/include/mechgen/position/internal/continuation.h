@@ -33,7 +33,8 @@ template <class M, class Assembler>
 bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, const VecPhi& predicted,
                                double last_term, const VecPhi& phi, const MatCPhi* Phi_phi,
                                const MatCQ* Phi_q, double residual, State<M>* to,
-                               const typename internal::TrigOf<M>::type* trig) const {
+                               const typename internal::TrigOf<M>::type* trig,
+                               PendingDistance* later) const {
   // (CorrectionAcceptable() fails on a phi that is not finite.) Next to a singular
   // configuration from's L (error ~ eps cond^3) may spoil the predictor: a step that leaves
   // it is judged about its end instead (CorrectionAcceptableBackwards(), below, once that
@@ -82,7 +83,12 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
   to->phi = phi;
   to->residual_norm = residual;
   const Factorization f(*Phi_phi);
-  if (!Classify(*Phi_phi, f, &from, to) || to->branch != from.branch) return false;
+  // The distance to singularity (State::sigma_min, sigma_max and their directions) is read by
+  // no check below unless `from` is next to a singular configuration (Leaving()); otherwise
+  // it is computed last, after every check, or by MoveTo() (PendingDistance): the same
+  // values, but its chain of square roots and divisions no longer holds up the step.
+  const bool distance_first = from_near_singular;
+  if (!Classify(*Phi_phi, f, &from, to, distance_first) || to->branch != from.branch) return false;
   const PhiDerivatives* d = have_derivatives ? &derivatives : nullptr;
   if (have_coefficients ? !CopyCoefficients(c, f, Phi_q, to, d) : !FillCoefficients(f, Phi_q, to, d)) {
     return false;
@@ -93,13 +99,26 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
     if (!ok) return false;
   }
   if (!VelocityConsistent(from, *to)) return false;
+  if (!distance_first) {
+    if constexpr (M::kNphi <= 2) {
+      if (later != nullptr) {
+        later->Phi_phi = *Phi_phi;  // finite: its factorization succeeded
+        later->pending = true;
+      } else {
+        Distance(*Phi_phi, f, &from, to);
+      }
+    } else {
+      (void)later;
+      Distance(*Phi_phi, f, &from, to);
+    }
+  }
   to->valid = true;
   return true;
 }
 
 template <class M, class Assembler>
 bool PositionSolver<M, Assembler>::Step(const State<M>& from, const VecQ& q, State<M>* to, Summary* s,
-                                bool* used_newton) const {
+                                bool* used_newton, PendingDistance* later) const {
   double last_term = 0;
   const VecPhi predicted = Predict(from, q, &last_term);
   if (MovesTooFar(from.phi, predicted)) return false;  // split before running a corrector
@@ -126,7 +145,7 @@ bool PositionSolver<M, Assembler>::Step(const State<M>& from, const VecQ& q, Sta
       // (A phi that is not finite fails Accept()'s first check.)
       if (report.status == SolveStatus::kConverged &&
           Accept(from, q, predicted, last_term, phi, nullptr, nullptr, 0.0, to,
-                 Features::kHasTrig ? &trig : nullptr)) {
+                 Features::kHasTrig ? &trig : nullptr, later)) {
         return true;
       }
     }
@@ -172,10 +191,15 @@ Status PositionSolver<M, Assembler>::MoveTo(const VecQ& q_target, Summary* summa
     // The common case (every step of a sweep with small steps): one sub-step straight to
     // q_target, written into the other state and adopted by flipping current_.
     bool used_newton = false;
-    if (Step(from, q_target, &states_[1 - current_], s, &used_newton)) {
+    PendingDistance later;
+    if (Step(from, q_target, &states_[1 - current_], s, &used_newton, &later)) {
       current_ = 1 - current_;
       if (used_newton) FindModes(state_ref());
       s->substeps = 1;
+      // The distance to singularity last (PendingDistance), before Finish() reports it.
+      if constexpr (M::kNphi <= 2) {
+        if (later.pending) SmallDistance(later.Phi_phi, true, &state_ref());
+      }
       return Finish(Status::kConverged, &state_ref(), s);
     }
     ++s->rejected_substeps;

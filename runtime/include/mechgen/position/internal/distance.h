@@ -12,11 +12,11 @@ namespace mechgen::position {
 
 template <class M, class Assembler>
 bool PositionSolver<M, Assembler>::Classify(const MatCPhi& Phi_phi, const Factorization& f,
-                                 const State<M>* warm, State<M>* s) const {
+                                 const State<M>* warm, State<M>* s, bool distance) const {
   s->condition = f.condition();
   s->inverse_norm = f.inverse_norm1();  // ||Phi_phi^{-1}||_1, no division by ||Phi_phi||_1
   s->branch = Sign(f.determinant());
-  Distance(Phi_phi, f, warm, s);
+  if (distance) Distance(Phi_phi, f, warm, s);
   // f.ok(): det finite and nonzero (so branch != 0), cond_1 finite.
   return f.ok() && s->condition * options_.min_rcond <= 1.0;
 }
@@ -26,17 +26,9 @@ void PositionSolver<M, Assembler>::Distance(const MatCPhi& A, const Factorizatio
                                  const State<M>* warm, State<M>* s) const {
   constexpr int n = M::kNphi;
   s->sigma_exact = true;
-  if constexpr (n == 1) {
-    s->sigma_min = s->sigma_max = std::abs(A(0, 0));
-    s->singular_direction.setOnes();
-    s->largest_direction.setOnes();
-    if (!A.allFinite()) {
-      s->sigma_min = s->sigma_max = std::numeric_limits<double>::quiet_NaN();
-    }
-  } else if constexpr (n == 2) {
+  if constexpr (n <= 2) {
     // f.ok(): det and cond_1 finite, so every entry of A is.
-    internal::SingularValues2x2(A, &s->sigma_min, &s->sigma_max, &s->singular_direction,
-                                &s->largest_direction, f.ok());
+    SmallDistance(A, f.ok(), s);
   } else {
     // One step of inverse iteration on Phi_phi^T Phi_phi from the neighbour's singular
     // direction (two solves with the factorization the step has anyway) and one step of
@@ -81,6 +73,27 @@ void PositionSolver<M, Assembler>::Distance(const MatCPhi& A, const Factorizatio
     s->largest_direction = svd.matrixV().col(0);
     internal::FixSign(&s->singular_direction);
     internal::FixSign(&s->largest_direction);
+  }
+}
+
+template <class M, class Assembler>
+void PositionSolver<M, Assembler>::SmallDistance(const MatCPhi& A, bool known_finite,
+                                                 State<M>* s) const {
+  constexpr int n = M::kNphi;
+  s->sigma_exact = true;
+  if constexpr (n == 1) {
+    (void)known_finite;
+    s->sigma_min = s->sigma_max = std::abs(A(0, 0));
+    s->singular_direction.setOnes();
+    s->largest_direction.setOnes();
+    if (!A.allFinite()) {
+      s->sigma_min = s->sigma_max = std::numeric_limits<double>::quiet_NaN();
+    }
+  } else if constexpr (n == 2) {
+    internal::SingularValues2x2(A, &s->sigma_min, &s->sigma_max, &s->singular_direction,
+                                &s->largest_direction, known_finite);
+  } else {
+    (void)A, (void)known_finite, (void)s;
   }
 }
 
