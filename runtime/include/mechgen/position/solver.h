@@ -300,9 +300,11 @@ class PositionSolver {
   static constexpr bool kDualL = !Features::kHasL && kDualN <= 12;
   // Phi, Phi_phi and Phi_q at (q, phi), equal bit for bit to Model::Phi<double> there, and the
   // derivatives of Phi_phi and Phi_q in each of the kDualN directions (q first, then phi), from
-  // one evaluation of Model::Phi in internal::Dual<kDualN>.
+  // one evaluation of Model::Phi in internal::Dual<kDualN>; or with trig, the sin and cos from
+  // Model::Solve, from Model::Coeffs (PhiDerivatives::kFromTrig; d then keeps trig for L).
   void EvalPhiWithDerivatives(const VecQ& q, const VecPhi& phi, VecC* Phi, MatCPhi* Phi_phi,
-                              MatCQ* Phi_q, PhiDerivatives* d) const;
+                              MatCQ* Phi_q, PhiDerivatives* d,
+                              const typename internal::TrigOf<M>::type* trig = nullptr) const;
   // Newton–Raphson on the whole system with a polishing step (Newton() with Phi_q).
   NewtonResult FullNewton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_phi, MatCQ* Phi_q) const;
   // The assembly modes of every closed-form block of M::Solve that reproduce s.phi at s.q
