@@ -178,36 +178,6 @@ TYPED_TEST(ModelTest, NaNInputIsRejectedAndNextCallWorks) {
   EXPECT_EQ(solver.MoveTo(testing::QMin<M>(), &summary), Status::kConverged);
 }
 
-// M with its coefficients cut down to Phi and Phi_phi (what `outputs: order: 0` without
-// points generates): the solver forms K and L itself. With Model::TrigT it evaluates
-// Model::Coeffs in dual numbers seeded with the sin and cos of M::Solve
-// (position/internal/coefficients.h, PhiDerivatives::kFromTrig); trig_calls counts those.
-template <class M>
-struct PositionsOnly : M {
-  static constexpr bool kHasK = false;
-  static constexpr bool kHasL = false;
-  static constexpr bool kHasPoints = false;
-  static constexpr bool kHasPointVelocities = false;
-  static constexpr bool kHasPointAccelerations = false;
-  static inline int trig_calls = 0;
-  template <typename Scalar>
-  struct CoefficientsT {
-    Eigen::Matrix<Scalar, M::kNc, 1> Phi;
-    Eigen::Matrix<Scalar, M::kNc, M::kNphi> Phi_phi;
-  };
-  template <typename Scalar>
-  static void Coeffs(const typename M::template ParamsT<Scalar>& p,
-                     const Eigen::Matrix<Scalar, M::kNq, 1>& q,
-                     const Eigen::Matrix<Scalar, M::kNphi, 1>& phi, CoefficientsT<Scalar>* out,
-                     const typename M::template TrigT<Scalar>* trig = nullptr) {
-    if (trig != nullptr) ++trig_calls;
-    typename M::template CoefficientsT<Scalar> c;
-    M::template Coeffs<Scalar>(p, q, phi, &c, trig);
-    out->Phi = c.Phi;
-    out->Phi_phi = c.Phi_phi;
-  }
-};
-
 TYPED_TEST(ModelTest, PositionsOnlyModelFormsTheGeneratedKAndL) {
   // Over the model's range, K and L the solver forms for PositionsOnly<M> (Phi_q and the
   // second derivatives of Phi along the motion from Model::Coeffs in Dual and HyperDual
@@ -217,7 +187,7 @@ TYPED_TEST(ModelTest, PositionsOnlyModelFormsTheGeneratedKAndL) {
   if constexpr (!ModelFeatures<M>::kHasTrig) {
     GTEST_SKIP() << "no Model::TrigT";
   } else {
-    using P = PositionsOnly<M>;
+    using P = testing::PositionsOnly<M>;
     static_assert(!ModelFeatures<P>::kHasK && !ModelFeatures<P>::kHasL &&
                   ModelFeatures<P>::kHasTrig && ModelFeatures<P>::kCoeffsHavePhi);
     using VecQ = typename ModelTypes<M>::VecQ;

@@ -261,9 +261,14 @@ class PositionSolver {
   struct PhiDerivatives;
   bool FillCoefficients(const Factorization& f, const MatCQ* Phi_q, State<M>* s,
                         const PhiDerivatives* d = nullptr) const {
-    typename T::Coefficients c;
-    if constexpr (kCallCoeffs) M::template Coeffs<double>(params_, s->q, s->phi, &c);
-    return CopyCoefficients(c, f, Phi_q, s, d);
+    if constexpr (kCallCoeffs) {
+      typename T::Coefficients c;
+      M::template Coeffs<double>(params_, s->q, s->phi, &c);
+      return CopyCoefficients(c, f, Phi_q, s, d);
+    } else {  // nothing in Coeffs for the state: CopyCoefficients does not read c
+      static const typename T::Coefficients kNone{};
+      return CopyCoefficients(kNone, f, Phi_q, s, d);
+    }
   }
   // The same from c = Model::Coeffs at (s->q, s->phi), already evaluated (unused when the
   // model's coefficients have neither K, L nor points).
