@@ -54,8 +54,10 @@
  * same factorization. Those derivatives come, for a model of at most 12 coordinates, from
  * the step's one evaluation of Model::Phi, done in dual numbers (position/internal/dual.h:
  * exact to rounding, and Phi, Phi_phi, Phi_q bit for bit those of Model::Phi<double>); for a
- * larger one, by central differences (two more evaluations). L is kept because the default
- * second-order predictor and the K-consistency guard need it.
+ * larger one, by central differences (two more evaluations). After a closed-form M::Solve
+ * that hands out sin and cos (Model::TrigT), from Model::Coeffs in dual numbers seeded with
+ * them instead, calling no sin or cos (position/internal/coefficients.h, PhiDerivatives).
+ * L is kept because the default second-order predictor and the K-consistency guard need it.
  * L is stored as the generated code does: L(i, j + kNq*k) = dK(i, j)/dq_k.
  *
  * Accuracy (State::phi_error, K_error, L_error, copied into Summary and the sweep's CSV):

@@ -26,16 +26,18 @@ struct PositionSolver<M, Assembler>::PhiDerivatives {
   // input q_k), and NumericalL() the second derivatives Phi''(v_j, v_k) along the motion
   // v_k = (e_k, K e_k) from Model::Coeffs in HyperDual<kNq>: two evaluations of a few
   // dozen operations instead of Model::Phi in Dual<kNq + kNphi> with its sin and cos. For a
-  // model whose coefficients have Phi (so Coeffs reads the angles through sin and cos only)
-  // and neither K nor L, with at most 4 inputs (HyperDual's kNq^2 second derivatives).
+  // model whose coefficients have Phi and neither K nor L, with at most 4 inputs (HyperDual's
+  // kNq^2 second derivatives). (Coeffs reads each angle's sin and cos from trig, and the
+  // coordinates themselves where they enter otherwise: both carry their derivatives.)
   using Trig = typename internal::TrigOf<M>::type;
   static constexpr bool kFromTrig = kDualL && Features::kHasTrig && Features::kCoeffsHavePhi &&
                                     !Features::kHasK && M::kNq <= 4;
   const Trig* trig = nullptr;
   // The sin and cos of trig in Scalar (Dual or HyperDual): angle input q_k moving along w_q
   // (column k: direction k) and angle phi_j along w_phi, on straight lines:
-  // sin(x0 + w t) = s + c w t - s (w t)^2 / 2 + ..., cos likewise. Entries of displacement
-  // coordinates are left 0 (Scalar's default; Model::Solve does not write them, Model::Coeffs does not read them).
+  // sin(x0 + w t) = s + c w t - s (w t)^2 / 2 + ..., cos likewise; set() writes the
+  // derivatives. Entries of displacement coordinates are left 0 (Scalar's default):
+  // Model::Solve does not write them, Model::Coeffs does not read them.
   template <class Scalar, class SetSlope>
   static typename internal::TrigOf<M, Scalar>::type Seed(const Trig& t, SetSlope set) {
     typename internal::TrigOf<M, Scalar>::type r;

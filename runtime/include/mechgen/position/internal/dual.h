@@ -254,9 +254,12 @@ struct HyperDual {
     const double e = std::exp(a.v);
     return Chain(e, e, e, a);
   }
-  friend HyperDual log(const HyperDual& a) { return Chain(std::log(a.v), 1 / a.v, -1 / (a.v * a.v), a); }
+  friend HyperDual log(const HyperDual& a) {
+    return Chain(std::log(a.v), 1 / a.v, -1 / (a.v * a.v), a);
+  }
   friend HyperDual pow(const HyperDual& a, double b) {
-    return Chain(std::pow(a.v, b), b * std::pow(a.v, b - 1), b * (b - 1) * std::pow(a.v, b - 2), a);
+    return Chain(std::pow(a.v, b), b * std::pow(a.v, b - 1), b * (b - 1) * std::pow(a.v, b - 2),
+                 a);
   }
   friend HyperDual pow(const HyperDual& a, int b) { return pow(a, static_cast<double>(b)); }
   friend HyperDual pow(const HyperDual& a, const HyperDual& b) {
