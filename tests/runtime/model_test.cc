@@ -10,6 +10,8 @@
 // arithmetic up to rounding); K and L equal central differences of solved positions.
 // Model-specific tests compare with closed forms written here.
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 #include <ceres/jet.h>
@@ -174,6 +176,55 @@ TYPED_TEST(ModelTest, NaNInputIsRejectedAndNextCallWorks) {
   EXPECT_EQ(solver.MoveTo(VecQ::Constant(NAN), &summary), Status::kInvalidInput);
   EXPECT_EQ(solver.state().phi, phi);
   EXPECT_EQ(solver.MoveTo(testing::QMin<M>(), &summary), Status::kConverged);
+}
+
+TYPED_TEST(ModelTest, PositionsOnlyModelFormsTheGeneratedKAndL) {
+  // Over the model's range, K and L the solver forms for PositionsOnly<M> (Phi_q and the
+  // second derivatives of Phi along the motion from Model::Coeffs in Dual and HyperDual
+  // numbers, seeded with Solve's sin and cos) equal the generated symbolic K and L of M to
+  // rounding, and the positions agree.
+  using M = TypeParam;
+  if constexpr (!ModelFeatures<M>::kHasTrig) {
+    GTEST_SKIP() << "no Model::TrigT";
+  } else {
+    using P = testing::PositionsOnly<M>;
+    static_assert(!ModelFeatures<P>::kHasK && !ModelFeatures<P>::kHasL &&
+                  ModelFeatures<P>::kHasTrig && ModelFeatures<P>::kCoeffsHavePhi);
+    using VecQ = typename ModelTypes<M>::VecQ;
+    CeresPositionSolver<M> exact;
+    CeresPositionSolver<P> formed;
+    ASSERT_EQ(exact.AssembleDefault(nullptr), Status::kConverged);
+    ASSERT_EQ(formed.AssembleDefault(nullptr), Status::kConverged);
+    P::trig_calls = 0;
+    const VecQ q_min = testing::QMin<M>(), q_max = testing::QMax<M>();
+    double worst_K = 0, worst_L = 0;
+    constexpr int kSteps = 720;
+    for (int k = 0; k <= kSteps; ++k) {
+      const VecQ q = q_min + (q_max - q_min) * (double(k) / kSteps);
+      Summary exact_summary, formed_summary;
+      ASSERT_EQ(exact.MoveTo(q, &exact_summary), Status::kConverged) << q.transpose();
+      ASSERT_EQ(formed.MoveTo(q, &formed_summary), Status::kConverged) << q.transpose();
+      // The same path: no step of PositionsOnly<M> refused (its checks on the formed K and L
+      // pass where M's pass on the generated ones) or finished by Newton.
+      EXPECT_EQ(formed_summary.rejected_substeps, exact_summary.rejected_substeps)
+          << q.transpose();
+      EXPECT_EQ(formed_summary.iterations, exact_summary.iterations) << q.transpose();
+      const State<M>& e = exact.state();
+      const State<P>& f = formed.state();
+      ASSERT_LE((f.phi - e.phi).cwiseAbs().maxCoeff(), 1e-13) << q.transpose();
+      const double K_error =
+          (f.K - e.K).cwiseAbs().maxCoeff() / (1 + e.K.cwiseAbs().maxCoeff());
+      const double L_error =
+          (f.L - e.L).cwiseAbs().maxCoeff() / (1 + e.L.cwiseAbs().maxCoeff());
+      worst_K = std::max(worst_K, K_error);
+      worst_L = std::max(worst_L, L_error);
+      EXPECT_LE(K_error, 1e-13) << q.transpose();
+      EXPECT_LE(L_error, 1e-13) << q.transpose();
+    }
+    EXPECT_GE(P::trig_calls, 2 * kSteps);  // Dual and HyperDual at (nearly) every step
+    EXPECT_GT(worst_L, 0.0);  // two computations, not one copied
+    std::printf("%s: worst relative K %.2e, L %.2e\n", M::kName, worst_K, worst_L);
+  }
 }
 
 #ifdef MECHGEN_HAVE_fourbar

@@ -29,6 +29,7 @@
 #include "mechgen/position/ceres_adapter.h"
 #include "mechgen/position/solver.h"
 #include "mechgen/sweep/sweep.h"
+#include "test_util.h"
 #include "watt2_locked.h"
 
 namespace mechgen::position {
@@ -152,7 +153,9 @@ Reference FourBarReference(const CP::ParamsT<double>& p, double q_double, int m)
 }
 
 // The reference on the curve a configuration lies on: the closed-form mode nearest to it.
-Reference Nearest(const CP::ParamsT<double>& p, const State<CP>& s, int* mode = nullptr) {
+// (M: CP, or testing::PositionsOnly<CP>.)
+template <class M>
+Reference Nearest(const CP::ParamsT<double>& p, const State<M>& s, int* mode = nullptr) {
   Reference best{};
   double best_distance = std::numeric_limits<double>::infinity();
   for (int m : {+1, -1}) {
@@ -170,7 +173,8 @@ Reference Nearest(const CP::ParamsT<double>& p, const State<CP>& s, int* mode = 
 struct Errors {
   double phi, K, L;
 };
-Errors ActualErrors(const Reference& r, const State<CP>& s) {
+template <class M>
+Errors ActualErrors(const Reference& r, const State<M>& s) {
   Errors e{0, 0, 0};
   for (int i = 0; i < 2; ++i) {
     e.phi = std::max(e.phi, AngleDistance(s.phi(i), r.phi[i]));
@@ -190,8 +194,9 @@ CP::ParamsT<double> Parallelogram() {
 }
 
 // Assembled on the closed-form mode +1 at q0.
-PositionSolver<CP> AssembledAt(const CP::ParamsT<double>& p, double q0) {
-  PositionSolver<CP> solver(Options(), p);
+template <class M = CP>
+PositionSolver<M> AssembledAt(const CP::ParamsT<double>& p, double q0) {
+  PositionSolver<M> solver(Options(), p);
   const Reference r = FourBarReference(p, q0, +1);
   Summary summary;
   EXPECT_EQ(solver.Assemble(Q(q0), Eigen::Vector2d(r.phi[0], r.phi[1]), 0, &summary),
@@ -201,7 +206,8 @@ PositionSolver<CP> AssembledAt(const CP::ParamsT<double>& p, double q0) {
 }
 
 // Checks the three bounds of s against the reference; returns the actual errors.
-Errors ExpectBoundsHold(const CP::ParamsT<double>& p, const State<CP>& s, const char* where) {
+template <class M>
+Errors ExpectBoundsHold(const CP::ParamsT<double>& p, const State<M>& s, const char* where) {
   const Errors e = ActualErrors(Nearest(p, s), s);
   EXPECT_TRUE(std::isfinite(s.phi_error) && std::isfinite(s.K_error) && std::isfinite(s.L_error))
       << where;
@@ -253,6 +259,40 @@ TEST(AccuracyBounds, HoldAgainstQuadPrecisionApproachingAChangePoint) {
     // The approach got close: cond beyond 1e5, where L is off by more than 1e-6.
     EXPECT_GT(largest_condition, 1e5);
     EXPECT_GT(largest_L_error, 1e-6);
+  }
+}
+
+TEST(AccuracyBounds, HoldForTheKAndLOfAPositionsOnlyModel) {
+  // The same approach with the coefficients cut down to Phi and Phi_phi: the solver forms K
+  // and L itself (from Model::Coeffs in dual numbers seeded with Solve's sin and cos). Its
+  // bounds hold against the quad-precision closed form too, and it stops where the model
+  // with the generated K and L stops, with the same status.
+  using P = testing::PositionsOnly<CP>;
+  for (const ChangePointCase& test : ChangePointCases()) {
+    SCOPED_TRACE(test.name);
+    PositionSolver<CP> full = AssembledAt(test.params, test.q_star - kPi / 2);
+    PositionSolver<P> formed = AssembledAt<P>(test.params, test.q_star - kPi / 2);
+    P::trig_calls = 0;
+    double largest_condition = 0;
+    for (int k = 0; k <= 14; ++k) {
+      const double distance = 0.5 * std::pow(10.0, -0.5 * k);
+      Summary summary;
+      const Status status = formed.MoveTo(Q(test.q_star - distance), &summary);
+      ASSERT_EQ(status, full.MoveTo(Q(test.q_star - distance), nullptr)) << FormatSummary(summary);
+      ASSERT_TRUE(status == Status::kConverged || status == Status::kSingular)
+          << FormatSummary(summary);
+      const State<P>& s = formed.state();
+      EXPECT_EQ(s.q, full.state().q);
+      ExpectBoundsHold(test.params, s, "positions only");
+      largest_condition = std::max(largest_condition, s.condition);
+      if (s.condition < 100) {
+        EXPECT_LT(s.K_error, 1e-9);
+        EXPECT_LT(s.L_error, 1e-6);
+      }
+      if (status == Status::kSingular) break;
+    }
+    EXPECT_GT(largest_condition, 1e5);
+    EXPECT_GT(P::trig_calls, 0);  // the seeded evaluation ran
   }
 }
 

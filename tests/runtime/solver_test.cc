@@ -264,6 +264,103 @@ TEST(PositionSolver, LOfModelWithoutItEqualsPaulsClosedForm) {
   EXPECT_GT(worst, 0.0);  // two computations, not one copied
 }
 
+// HyperDual<2> (position/internal/dual.h) at (x, y) = (0.3, 0.7), x along t_0 and y along
+// t_1: each function of a = x y + x (a_x = y + 1, a_y = x, a_xy = 1, a_xx = a_yy = 0) against
+// its first and second derivatives written out here, f(a)_ij = f'(a) a_ij + f''(a) a_i a_j;
+// the two-argument ones against their partial derivatives; a composite expression against
+// central differences (h = 1e-4: truncation ~ h^2, rounding ~ eps / h^2, both < 1e-7).
+TEST(HyperDual, SecondDerivativesMatchClosedForms) {
+  using H = internal::HyperDual<2>;
+  const double x0 = 0.3, y0 = 0.7;
+  H x(x0), y(y0);
+  x.d[0] = 1;
+  y.d[1] = 1;
+  const H a = x * y + x;
+  const double av = x0 * y0 + x0, ad[2] = {y0 + 1, x0}, add[2][2] = {{0, 1}, {1, 0}};
+  ASSERT_EQ(a.v, av);
+  // r's derivatives: value, gradient [2] and Hessian [2][2] (row-major).
+  const auto expect = [](const H& r, double v, const double (&g)[2], const double (&hess)[2][2],
+                         const char* what) {
+    EXPECT_NEAR(r.v, v, 1e-15 * (1 + std::abs(v))) << what;
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_NEAR(r.d[i], g[i], 1e-14 * (1 + std::abs(g[i]))) << what << " d" << i;
+      for (int j = 0; j < 2; ++j) {
+        EXPECT_NEAR(r.dd[i][j], hess[i][j], 1e-13 * (1 + std::abs(hess[i][j])))
+            << what << " dd" << i << j;
+      }
+    }
+  };
+  const auto chain = [&](const H& r, double f, double f1, double f2, const char* what) {
+    const double g[2] = {f1 * ad[0], f1 * ad[1]};
+    double hess[2][2];
+    for (int i = 0; i < 2; ++i) {
+      for (int j = 0; j < 2; ++j) hess[i][j] = f1 * add[i][j] + f2 * ad[i] * ad[j];
+    }
+    expect(r, f, g, hess, what);
+  };
+  chain(sin(a), std::sin(av), std::cos(av), -std::sin(av), "sin");
+  chain(cos(a), std::cos(av), -std::sin(av), -std::cos(av), "cos");
+  const double c = std::cos(av);
+  chain(tan(a), std::tan(av), 1 / (c * c), 2 * std::sin(av) / (c * c * c), "tan");
+  chain(sqrt(a), std::sqrt(av), 0.5 / std::sqrt(av), -0.25 / (av * std::sqrt(av)), "sqrt");
+  chain(exp(a), std::exp(av), std::exp(av), std::exp(av), "exp");
+  chain(log(a), std::log(av), 1 / av, -1 / (av * av), "log");
+  chain(pow(a, 3.5), std::pow(av, 3.5), 3.5 * std::pow(av, 2.5), 8.75 * std::pow(av, 1.5), "pow");
+  chain(pow(a, 2), av * av, 2 * av, 2, "pow int");
+  const double w = 1 - av * av;
+  chain(asin(a), std::asin(av), 1 / std::sqrt(w), av / (w * std::sqrt(w)), "asin");
+  chain(acos(a), std::acos(av), -1 / std::sqrt(w), -av / (w * std::sqrt(w)), "acos");
+  chain(atan(a), std::atan(av), 1 / (1 + av * av), -2 * av / ((1 + av * av) * (1 + av * av)),
+        "atan");
+  chain(abs(-a), av, 1, 0, "abs");  // -a < 0: |-a| = a
+  chain(2.0 / a, 2 / av, -2 / (av * av), 4 / (av * av * av), "2 / a");
+  chain(a * 3.0 - 1.0, 3 * av - 1, 3, 0, "3 a - 1");
+  {  // x / y
+    const double g[2] = {1 / y0, -x0 / (y0 * y0)};
+    const double hess[2][2] = {{0, -1 / (y0 * y0)}, {-1 / (y0 * y0), 2 * x0 / (y0 * y0 * y0)}};
+    expect(x / y, x0 / y0, g, hess, "x / y");
+  }
+  {  // atan2(y, x), r2 = x^2 + y^2
+    const double r2 = x0 * x0 + y0 * y0, r4 = r2 * r2;
+    const double g[2] = {-y0 / r2, x0 / r2};
+    const double hess[2][2] = {{2 * x0 * y0 / r4, (y0 * y0 - x0 * x0) / r4},
+                               {(y0 * y0 - x0 * x0) / r4, -2 * x0 * y0 / r4}};
+    expect(atan2(y, x), std::atan2(y0, x0), g, hess, "atan2");
+  }
+  {  // hypot(x, y) = h
+    const double h = std::hypot(x0, y0), h3 = h * h * h;
+    const double g[2] = {x0 / h, y0 / h};
+    const double hess[2][2] = {{y0 * y0 / h3, -x0 * y0 / h3}, {-x0 * y0 / h3, x0 * x0 / h3}};
+    expect(hypot(x, y), h, g, hess, "hypot");
+  }
+  {  // x^y
+    const double p = std::pow(x0, y0), l = std::log(x0);
+    const double g[2] = {y0 * p / x0, p * l};
+    const double mixed = p / x0 * (1 + y0 * l);
+    const double hess[2][2] = {{y0 * (y0 - 1) * p / (x0 * x0), mixed}, {mixed, p * l * l}};
+    expect(pow(x, y), p, g, hess, "pow(x, y)");
+  }
+  // A composite: every operator on the way, against central differences.
+  const auto g = [](auto u, auto v) {
+    using std::atan2;
+    using std::cos;
+    using std::sqrt;
+    return (cos(u) * v - 2.0) / (u + v * v) + 3.0 * sqrt(u) - u / 4.0 - atan2(v, 1.0 + u) * u;
+  };
+  const H r = g(x, y);
+  const double h = 1e-4;
+  const auto f = [&](double u, double v) { return g(u, v); };
+  EXPECT_NEAR(r.v, f(x0, y0), 1e-15);
+  EXPECT_NEAR(r.d[0], (f(x0 + h, y0) - f(x0 - h, y0)) / (2 * h), 1e-7);
+  EXPECT_NEAR(r.d[1], (f(x0, y0 + h) - f(x0, y0 - h)) / (2 * h), 1e-7);
+  EXPECT_NEAR(r.dd[0][0], (f(x0 + h, y0) - 2 * f(x0, y0) + f(x0 - h, y0)) / (h * h), 1e-6);
+  EXPECT_NEAR(r.dd[1][1], (f(x0, y0 + h) - 2 * f(x0, y0) + f(x0, y0 - h)) / (h * h), 1e-6);
+  const double mixed = (f(x0 + h, y0 + h) - f(x0 + h, y0 - h) - f(x0 - h, y0 + h) +
+                        f(x0 - h, y0 - h)) / (4 * h * h);
+  EXPECT_NEAR(r.dd[0][1], mixed, 1e-6);
+  EXPECT_NEAR(r.dd[0][1], r.dd[1][0], 1e-15);  // symmetric to rounding
+}
+
 TEST(PositionSolver, NumericalCentripetalCoefficientsOfOrderOneModel) {
   // Rocker has K only; the solver forms L (dual numbers, exact to rounding). Compare
   // with differences of K between solved positions at h = 1e-5 (error ~ h^2 |K''| + 1e-10/h).

@@ -76,4 +76,34 @@ double MaxTaylorDefect(const std::vector<SweepRecord<M>>& records) {
   return worst;
 }
 
+// M with its coefficients cut down to Phi and Phi_phi (what `outputs: order: 0` without
+// points generates): the solver forms K and L itself. With Model::TrigT it evaluates
+// Model::Coeffs in dual numbers seeded with the sin and cos of M::Solve
+// (position/internal/coefficients.h, PhiDerivatives::kFromTrig); trig_calls counts those.
+template <class M>
+struct PositionsOnly : M {
+  static constexpr bool kHasK = false;
+  static constexpr bool kHasL = false;
+  static constexpr bool kHasPoints = false;
+  static constexpr bool kHasPointVelocities = false;
+  static constexpr bool kHasPointAccelerations = false;
+  static inline int trig_calls = 0;
+  template <typename Scalar>
+  struct CoefficientsT {
+    Eigen::Matrix<Scalar, M::kNc, 1> Phi;
+    Eigen::Matrix<Scalar, M::kNc, M::kNphi> Phi_phi;
+  };
+  template <typename Scalar>
+  static void Coeffs(const typename M::template ParamsT<Scalar>& p,
+                     const Eigen::Matrix<Scalar, M::kNq, 1>& q,
+                     const Eigen::Matrix<Scalar, M::kNphi, 1>& phi, CoefficientsT<Scalar>* out,
+                     const typename M::template TrigT<Scalar>* trig = nullptr) {
+    if (trig != nullptr) ++trig_calls;
+    typename M::template CoefficientsT<Scalar> c;
+    M::template Coeffs<Scalar>(p, q, phi, &c, trig);
+    out->Phi = c.Phi;
+    out->Phi_phi = c.Phi_phi;
+  }
+};
+
 }  // namespace mechgen::position::testing

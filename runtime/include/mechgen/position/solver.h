@@ -59,8 +59,10 @@
  * same factorization. Those derivatives come, for a model of at most 12 coordinates, from
  * the step's one evaluation of Model::Phi, done in dual numbers (position/internal/dual.h:
  * exact to rounding, and Phi, Phi_phi, Phi_q bit for bit those of Model::Phi<double>); for a
- * larger one, by central differences (two more evaluations). L is kept because the default
- * second-order predictor and the K-consistency guard need it.
+ * larger one, by central differences (two more evaluations). After a closed-form M::Solve
+ * that hands out sin and cos (Model::TrigT), from Model::Coeffs in dual numbers seeded with
+ * them instead, calling no sin or cos (position/internal/coefficients.h, PhiDerivatives).
+ * L is kept because the default second-order predictor and the K-consistency guard need it.
  * L is stored as the generated code does: L(i, j + kNq*k) = dK(i, j)/dq_k.
  *
  * Accuracy (State::phi_error, K_error, L_error, copied into Summary and the sweep's CSV):
@@ -279,9 +281,14 @@ class PositionSolver {
   struct PhiDerivatives;
   bool FillCoefficients(const Factorization& f, const MatCQ* Phi_q, State<M>* s,
                         const PhiDerivatives* d = nullptr) const {
-    typename T::Coefficients c;
-    if constexpr (kCallCoeffs) M::template Coeffs<double>(params_, s->q, s->phi, &c);
-    return CopyCoefficients(c, f, Phi_q, s, d);
+    if constexpr (kCallCoeffs) {
+      typename T::Coefficients c;
+      M::template Coeffs<double>(params_, s->q, s->phi, &c);
+      return CopyCoefficients(c, f, Phi_q, s, d);
+    } else {  // nothing in Coeffs for the state: CopyCoefficients does not read c
+      static const typename T::Coefficients kNone{};
+      return CopyCoefficients(kNone, f, Phi_q, s, d);
+    }
   }
   // The same from c = Model::Coeffs at (s->q, s->phi), already evaluated (unused when the
   // model's coefficients have neither K, L nor points).
@@ -318,9 +325,11 @@ class PositionSolver {
   static constexpr bool kDualL = !Features::kHasL && kDualN <= 12;
   // Phi, Phi_phi and Phi_q at (q, phi), equal bit for bit to Model::Phi<double> there, and the
   // derivatives of Phi_phi and Phi_q in each of the kDualN directions (q first, then phi), from
-  // one evaluation of Model::Phi in internal::Dual<kDualN>.
+  // one evaluation of Model::Phi in internal::Dual<kDualN>; or with trig, the sin and cos from
+  // Model::Solve, from Model::Coeffs (PhiDerivatives::kFromTrig; d then keeps trig for L).
   void EvalPhiWithDerivatives(const VecQ& q, const VecPhi& phi, VecC* Phi, MatCPhi* Phi_phi,
-                              MatCQ* Phi_q, PhiDerivatives* d) const;
+                              MatCQ* Phi_q, PhiDerivatives* d,
+                              const typename internal::TrigOf<M>::type* trig = nullptr) const;
   // Newton–Raphson on the whole system with a polishing step (Newton() with Phi_q).
   NewtonResult FullNewton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_phi, MatCQ* Phi_q) const;
   // The assembly modes of every closed-form block of M::Solve that reproduce s.phi at s.q

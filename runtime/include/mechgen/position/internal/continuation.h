@@ -67,8 +67,9 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
     } else {
       VecC Phi;
       if constexpr (kDualL) {
-        // The same Phi, Phi_phi and Phi_q, with their derivatives for L: one evaluation.
-        EvalPhiWithDerivatives(q, phi, &Phi, &A, &B, &derivatives);
+        // The same Phi, Phi_phi and Phi_q, with their derivatives for L: one evaluation
+        // (from Model::Coeffs with trig when there is one).
+        EvalPhiWithDerivatives(q, phi, &Phi, &A, &B, &derivatives, trig);
         have_derivatives = true;
       } else {
         M::template Phi<double>(params_, q, phi, &Phi, &A, kNeedPhiQ ? &B : nullptr);

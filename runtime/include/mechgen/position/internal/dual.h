@@ -10,6 +10,11 @@
  * so the values equal that evaluation bit for bit. Fixed size, no allocation. Covers what
  * generated constraint functions call: + - * /, comparisons, sin, cos, tan, sqrt, abs, fabs,
  * pow, exp, log, asin, acos, atan, atan2, hypot, floor, ceil.
+ *
+ * HyperDual<N>: the same with the second derivatives too (value, gradient d[N] and the
+ * symmetric matrix dd[N][N] of second derivatives), for the second derivatives of Phi along
+ * the motion (L of a model whose coefficients lack it, from Model::Coeffs with the sin and
+ * cos of a closed-form Solve: position/internal/coefficients.h). Covers the same functions.
  */
 #pragma once
 
@@ -140,6 +145,175 @@ struct Dual {
   friend Dual ceil(const Dual& a) { return Dual(std::ceil(a.v)); }
 };
 
+/// Second-order forward mode: x = v + sum_i d_i t_i + 1/2 sum_ij dd_ij t_i t_j (+ O(t^3)), the
+/// value, first and second derivatives of a function along N directions t_i. An input moving
+/// along a straight line x0 + sum_i w_i t_i has d = w and dd = 0; every operation applies the
+/// chain rule f(a)_ij = f'(a) a_ij + f''(a) a_i a_j.
+template <int N>
+struct HyperDual {
+  double v = 0;
+  double d[N] = {};
+  double dd[N][N] = {};
+
+  HyperDual() = default;
+  HyperDual(double value) : v(value) {}  // NOLINT(runtime/explicit): Scalar(0.5), int and double
+  /// f(a) from f(a.v) = value, f'(a.v) = slope, f''(a.v) = curvature.
+  static HyperDual Chain(double value, double slope, double curvature, const HyperDual& a) {
+    HyperDual r(value);
+    for (int i = 0; i < N; ++i) r.d[i] = slope * a.d[i];
+    for (int i = 0; i < N; ++i) {
+      for (int j = 0; j < N; ++j) r.dd[i][j] = slope * a.dd[i][j] + curvature * a.d[i] * a.d[j];
+    }
+    return r;
+  }
+
+  HyperDual& operator+=(const HyperDual& b) {
+    v += b.v;
+    for (int i = 0; i < N; ++i) d[i] += b.d[i];
+    for (int i = 0; i < N; ++i) {
+      for (int j = 0; j < N; ++j) dd[i][j] += b.dd[i][j];
+    }
+    return *this;
+  }
+  HyperDual& operator-=(const HyperDual& b) {
+    v -= b.v;
+    for (int i = 0; i < N; ++i) d[i] -= b.d[i];
+    for (int i = 0; i < N; ++i) {
+      for (int j = 0; j < N; ++j) dd[i][j] -= b.dd[i][j];
+    }
+    return *this;
+  }
+  HyperDual& operator*=(const HyperDual& b) { return *this = *this * b; }
+  HyperDual& operator/=(const HyperDual& b) { return *this = *this / b; }
+
+  friend HyperDual operator+(const HyperDual& a) { return a; }
+  friend HyperDual operator-(const HyperDual& a) { return Chain(-a.v, -1, 0, a); }
+  friend HyperDual operator+(HyperDual a, const HyperDual& b) { return a += b; }
+  friend HyperDual operator-(HyperDual a, const HyperDual& b) { return a -= b; }
+  // (ab)_ij = a_ij b + a_i b_j + a_j b_i + a b_ij
+  friend HyperDual operator*(const HyperDual& a, const HyperDual& b) {
+    HyperDual r(a.v * b.v);
+    for (int i = 0; i < N; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
+    for (int i = 0; i < N; ++i) {
+      for (int j = 0; j < N; ++j) {
+        r.dd[i][j] = a.dd[i][j] * b.v + a.d[i] * b.d[j] + a.d[j] * b.d[i] + a.v * b.dd[i][j];
+      }
+    }
+    return r;
+  }
+  // r = a / b from a = r b: r_i = (a_i - r b_i) / b, r_ij = (a_ij - r_i b_j - r_j b_i - r b_ij) / b
+  friend HyperDual operator/(const HyperDual& a, const HyperDual& b) {
+    HyperDual r(a.v / b.v);
+    const double inv = 1.0 / b.v;
+    for (int i = 0; i < N; ++i) r.d[i] = (a.d[i] - r.v * b.d[i]) * inv;
+    for (int i = 0; i < N; ++i) {
+      for (int j = 0; j < N; ++j) {
+        r.dd[i][j] =
+            (a.dd[i][j] - r.d[i] * b.d[j] - r.d[j] * b.d[i] - r.v * b.dd[i][j]) * inv;
+      }
+    }
+    return r;
+  }
+  friend HyperDual operator+(HyperDual a, double b) { return a += HyperDual(b); }
+  friend HyperDual operator+(double a, HyperDual b) { return HyperDual(a) + b; }
+  friend HyperDual operator-(HyperDual a, double b) { return a -= HyperDual(b); }
+  friend HyperDual operator-(double a, const HyperDual& b) { return HyperDual(a) - b; }
+  friend HyperDual operator*(const HyperDual& a, double b) { return Chain(a.v * b, b, 0, a); }
+  friend HyperDual operator*(double a, const HyperDual& b) { return Chain(a * b.v, a, 0, b); }
+  friend HyperDual operator/(const HyperDual& a, double b) { return Chain(a.v / b, 1 / b, 0, a); }
+  friend HyperDual operator/(double a, const HyperDual& b) { return HyperDual(a) / b; }
+
+  friend bool operator<(const HyperDual& a, const HyperDual& b) { return a.v < b.v; }
+  friend bool operator>(const HyperDual& a, const HyperDual& b) { return a.v > b.v; }
+  friend bool operator<=(const HyperDual& a, const HyperDual& b) { return a.v <= b.v; }
+  friend bool operator>=(const HyperDual& a, const HyperDual& b) { return a.v >= b.v; }
+  friend bool operator==(const HyperDual& a, const HyperDual& b) { return a.v == b.v; }
+  friend bool operator!=(const HyperDual& a, const HyperDual& b) { return a.v != b.v; }
+
+  friend HyperDual sin(const HyperDual& a) {
+    const double s = std::sin(a.v), c = std::cos(a.v);
+    return Chain(s, c, -s, a);
+  }
+  friend HyperDual cos(const HyperDual& a) {
+    const double s = std::sin(a.v), c = std::cos(a.v);
+    return Chain(c, -s, -c, a);
+  }
+  friend HyperDual tan(const HyperDual& a) {
+    const double t = std::tan(a.v);
+    return Chain(t, 1 + t * t, 2 * t * (1 + t * t), a);
+  }
+  friend HyperDual sqrt(const HyperDual& a) {
+    const double s = std::sqrt(a.v);
+    return Chain(s, 0.5 / s, -0.25 / (s * a.v), a);
+  }
+  friend HyperDual abs(const HyperDual& a) {
+    return Chain(std::abs(a.v), a.v < 0 ? -1.0 : 1.0, 0, a);
+  }
+  friend HyperDual fabs(const HyperDual& a) { return abs(a); }
+  friend HyperDual exp(const HyperDual& a) {
+    const double e = std::exp(a.v);
+    return Chain(e, e, e, a);
+  }
+  friend HyperDual log(const HyperDual& a) {
+    return Chain(std::log(a.v), 1 / a.v, -1 / (a.v * a.v), a);
+  }
+  friend HyperDual pow(const HyperDual& a, double b) {
+    return Chain(std::pow(a.v, b), b * std::pow(a.v, b - 1), b * (b - 1) * std::pow(a.v, b - 2),
+                 a);
+  }
+  friend HyperDual pow(const HyperDual& a, int b) { return pow(a, static_cast<double>(b)); }
+  friend HyperDual pow(const HyperDual& a, const HyperDual& b) {
+    // a^b = exp(b log a), its value std::pow's
+    HyperDual r = exp(b * log(a));
+    r.v = std::pow(a.v, b.v);
+    return r;
+  }
+  friend HyperDual asin(const HyperDual& a) {
+    const double w = 1 / (1 - a.v * a.v);  // f' = sqrt(w), f'' = a w^(3/2)
+    return Chain(std::asin(a.v), std::sqrt(w), a.v * w * std::sqrt(w), a);
+  }
+  friend HyperDual acos(const HyperDual& a) {
+    const double w = 1 / (1 - a.v * a.v);
+    return Chain(std::acos(a.v), -std::sqrt(w), -a.v * w * std::sqrt(w), a);
+  }
+  friend HyperDual atan(const HyperDual& a) {
+    const double w = 1 / (1 + a.v * a.v);
+    return Chain(std::atan(a.v), w, -2 * a.v * w * w, a);
+  }
+  // theta_i = (x y_i - y x_i) / r2, r2 = x^2 + y^2;
+  // theta_ij = (x_j y_i + x y_ij - y_j x_i - y x_ij - 2 theta_i (x x_j + y y_j)) / r2
+  friend HyperDual atan2(const HyperDual& y, const HyperDual& x) {
+    HyperDual r(std::atan2(y.v, x.v));
+    const double inv = 1 / (x.v * x.v + y.v * y.v);
+    for (int i = 0; i < N; ++i) r.d[i] = (x.v * y.d[i] - y.v * x.d[i]) * inv;
+    for (int i = 0; i < N; ++i) {
+      for (int j = 0; j < N; ++j) {
+        r.dd[i][j] = (x.d[j] * y.d[i] + x.v * y.dd[i][j] - y.d[j] * x.d[i] - y.v * x.dd[i][j] -
+                      2 * r.d[i] * (x.v * x.d[j] + y.v * y.d[j])) *
+                     inv;
+      }
+    }
+    return r;
+  }
+  // h_i = (x x_i + y y_i) / h, h_ij = (x_i x_j + x x_ij + y_i y_j + y y_ij - h_i h_j) / h
+  friend HyperDual hypot(const HyperDual& x, const HyperDual& y) {
+    HyperDual r(std::hypot(x.v, y.v));
+    if (!(r.v > 0)) return r;
+    const double inv = 1 / r.v;
+    for (int i = 0; i < N; ++i) r.d[i] = (x.v * x.d[i] + y.v * y.d[i]) * inv;
+    for (int i = 0; i < N; ++i) {
+      for (int j = 0; j < N; ++j) {
+        r.dd[i][j] = (x.d[i] * x.d[j] + x.v * x.dd[i][j] + y.d[i] * y.d[j] + y.v * y.dd[i][j] -
+                      r.d[i] * r.d[j]) *
+                     inv;
+      }
+    }
+    return r;
+  }
+  friend HyperDual floor(const HyperDual& a) { return HyperDual(std::floor(a.v)); }
+  friend HyperDual ceil(const HyperDual& a) { return HyperDual(std::ceil(a.v)); }
+};
+
 }  // namespace mechgen::internal
 
 namespace Eigen {
@@ -157,6 +331,22 @@ struct NumTraits<mechgen::internal::Dual<N>> : NumTraits<double> {
     ReadCost = 1 + N,
     AddCost = 1 + N,
     MulCost = 1 + 2 * N
+  };
+};
+template <int N>
+struct NumTraits<mechgen::internal::HyperDual<N>> : NumTraits<double> {
+  using Real = mechgen::internal::HyperDual<N>;
+  using NonInteger = Real;
+  using Nested = Real;
+  using Literal = Real;
+  enum {
+    IsComplex = 0,
+    IsInteger = 0,
+    IsSigned = 1,
+    RequireInitialization = 1,
+    ReadCost = 1 + N + N * N,
+    AddCost = 1 + N + N * N,
+    MulCost = 1 + 2 * N + 4 * N * N
   };
 };
 }  // namespace Eigen
