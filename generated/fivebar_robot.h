@@ -1599,6 +1599,10 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar C_eom_1_1_1 = K_0_1*L_0_1_1*rc.c[3] + K_1_1*L_1_1_1*rc.c[14] + K_1_1*rc.c[17]*sin_phi1_minus_q1 + L_1_1_1*cos_phi1_minus_q1*rc.c[17] + _tmp2*rc.c[10]*sin_phi1_minus_q1;
   const Scalar _tmp7 = qd(0)*qd(0);
   const Scalar _tmp8 = qd(1)*qd(1);
+  out->K(0, 0) = K_0_0;
+  out->K(0, 1) = K_0_1;
+  out->K(1, 0) = K_1_0;
+  out->K(1, 1) = K_1_1;
   out->I(0, 0) = I_eom_0_0;
   out->I(0, 1) = I_eom_0_1;
   out->I(1, 0) = I_eom_1_0;
@@ -1610,10 +1614,6 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   out->T = Scalar(0.5)*I_eom_0_0*_tmp7 + Scalar(0.5)*I_eom_0_1*qd(0)*qd(1) + Scalar(0.5)*I_eom_1_0*qd(0)*qd(1) + Scalar(0.5)*I_eom_1_1*_tmp8;
   out->V = rc.c[15]*sin_q1 + rc.c[16]*sin_q0 + rc.c[18]*sin_phi1 + rc.c[6]*sin_phi0;
   out->P_nc = Scalar(0);
-  out->K(0, 0) = K_0_0;
-  out->K(0, 1) = K_0_1;
-  out->K(1, 0) = K_1_0;
-  out->K(1, 1) = K_1_1;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;

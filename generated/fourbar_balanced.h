@@ -1642,14 +1642,14 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar I_eom_0_0 = K_0_0*cos_phi0_minus_q0*rc.c[10] + K_0_0*rc.c[3]*sin_phi0_minus_q0 + _tmp0*rc.c[2] + _tmp1*rc.c[0] + rc.c[1];
   const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[0] + K_0_0*cos_phi0_minus_q0*rc.c[12] + K_0_0*rc.c[11]*sin_phi0_minus_q0 + K_1_0*L_1_0_0*rc.c[2] + L_0_0_0*cos_phi0_minus_q0*rc.c[11] + L_0_0_0*rc.c[5]*sin_phi0_minus_q0 + _tmp1*cos_phi0_minus_q0*rc.c[5] + _tmp1*rc.c[4]*sin_phi0_minus_q0;
   const Scalar _tmp2 = qd(0)*qd(0);
+  out->K(0, 0) = K_0_0;
+  out->K(1, 0) = K_1_0;
   out->I(0, 0) = I_eom_0_0;
   out->h(0) = C_eom_0_0_0*_tmp2;
   out->Q(0) = Scalar(0);
   out->T = Scalar(0.5)*I_eom_0_0*_tmp2;
   out->V = Scalar(0);
   out->P_nc = Scalar(0);
-  out->K(0, 0) = K_0_0;
-  out->K(1, 0) = K_1_0;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;

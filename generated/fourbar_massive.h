@@ -1510,14 +1510,14 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar I_eom_0_0 = K_0_0*cos_phi0_minus_q0*rc.c[1] + _tmp0*rc.c[7] + _tmp1*rc.c[6] + rc.c[0];
   const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[6] + K_0_0*rc.c[10]*sin_phi0_minus_q0 + K_1_0*L_1_0_0*rc.c[7] + L_0_0_0*cos_phi0_minus_q0*rc.c[10] + _tmp1*rc.c[3]*sin_phi0_minus_q0;
   const Scalar _tmp2 = qd(0)*qd(0);
+  out->K(0, 0) = K_0_0;
+  out->K(1, 0) = K_1_0;
   out->I(0, 0) = I_eom_0_0;
   out->h(0) = C_eom_0_0_0*_tmp2;
   out->Q(0) = K_0_0*cos_phi0*rc.c[4] + K_1_0*cos_phi1*rc.c[5] + cos_q0*rc.c[2];
   out->T = Scalar(0.5)*I_eom_0_0*_tmp2;
   out->V = rc.c[11]*sin_phi0 + rc.c[12]*sin_phi1 + rc.c[8]*sin_q0;
   out->P_nc = Scalar(0);
-  out->K(0, 0) = K_0_0;
-  out->K(1, 0) = K_1_0;
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;
   out->Phi_phi(1, 0) = Phi_phi_1_0;

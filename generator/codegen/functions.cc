@@ -226,9 +226,9 @@ Program VelocityPrograms(const SymbolicTable& t) {
   return P;
 }
 
-Program KinematicsStores(const SymbolicTable& t, bool with_L) {
+Program CoefficientStores(const SymbolicTable& t, bool with_L) {
   const Kinematics& k = t.kinematics();
-  const int nq = k.nq(), nphi = k.nphi(), nc = k.nc();
+  const int nq = k.nq(), nphi = k.nphi();
   Program P;
   for (int i = 0; i < nphi; ++i)
     for (int j = 0; j < nq; ++j) P.push_back(Store("out->K" + Idx(i, j), t.K[i][j]));
@@ -236,8 +236,14 @@ Program KinematicsStores(const SymbolicTable& t, bool with_L) {
     for (int i = 0; i < nphi; ++i)
       for (int j = 0; j < nq; ++j)
         for (int kk = 0; kk < nq; ++kk) P.push_back(Store("out->L" + Idx(i, j + nq * kk), t.L(i, j, kk)));
-  for (int i = 0; i < nc; ++i)
-    for (int j = 0; j < nphi; ++j) P.push_back(Store("out->Phi_phi" + Idx(i, j), t.Phi_phi_named(i, j)));
+  return P;
+}
+
+Program PhiPhiStores(const SymbolicTable& t) {
+  const Kinematics& k = t.kinematics();
+  Program P;
+  for (int i = 0; i < k.nc(); ++i)
+    for (int j = 0; j < k.nphi(); ++j) P.push_back(Store("out->Phi_phi" + Idx(i, j), t.Phi_phi_named(i, j)));
   return P;
 }
 
@@ -266,8 +272,8 @@ FunctionSpec EvalKinematicsSpec(const SymbolicTable& t) {
   f.notes = {"\\note Check Phi_phi's conditioning before using K and L (the runtime does): near a dead point",
              "they grow without bound."};
   Program P = VelocityPrograms(t);
-  const Program stores = KinematicsStores(t, t.requested.L);
-  P.insert(P.end(), stores.begin(), stores.end());
+  for (const Program& stores : {CoefficientStores(t, t.requested.L), PhiPhiStores(t)})
+    P.insert(P.end(), stores.begin(), stores.end());
   PruneUnusedDefines(&P);
   f.body = {P};
   return f;

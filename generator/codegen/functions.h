@@ -49,8 +49,10 @@ FunctionSpec EvalKinematicsSpec(const SymbolicTable& t);
 /// K's and L's programs (L's empty where the model asks for no L): what the one-pass functions
 /// fused with SolvePositionsTrig (EvalKinematics, EvalRhs) start from.
 Program VelocityPrograms(const SymbolicTable& t);
-/// The stores of out->K, out->L (with `with_L`) and out->Phi_phi: EvalKinematics' and EvalRhs'.
-Program KinematicsStores(const SymbolicTable& t, bool with_L);
+/// The stores of out->K and out->L (with `with_L`): EvalKinematics' and EvalRhs'.
+Program CoefficientStores(const SymbolicTable& t, bool with_L);
+/// The stores of out->Phi_phi: EvalKinematics' and EvalRhs'.
+Program PhiPhiStores(const SymbolicTable& t);
 /// EvalScene: every named point of every link.
 FunctionSpec EvalSceneSpec(const Kinematics& k);
 /// CamLaw_<joint>, EvalCam_<joint> and Contour_<joint> (codegen/cam_functions.cc).
