@@ -43,6 +43,19 @@ void Poison(Trig* trig) {
   trig->cos_phi.setConstant(NAN);
 }
 
+// Input k of n over twice the range, centred on it (beyond the range the loop may not close):
+// evenly spaced for one input, a golden-ratio sequence per input for several.
+template <class M>
+mechtest::VecQ<M> InputOverTwiceTheRange(int k, int n) {
+  mechtest::VecQ<M> q;
+  for (int j = 0; j < M::kNq; ++j) {
+    const double lo = M::kQMin[j], hi = M::kQMax[j], span = hi - lo;
+    const double u = M::kNq == 1 ? double(k) / (n - 1) : std::fmod(0.6180339887498949 * (k + 1) * (j + 1), 1.0);
+    q(j) = lo - 0.5 * span + 2 * span * u;
+  }
+  return q;
+}
+
 // |a - b| / max(1, |b|), the worst entry.
 template <class A, class B>
 double WorstRelative(const A& a, const B& b) {
@@ -108,15 +121,9 @@ TYPED_TEST(SolveTrigTest, SameStatusesAsSolvePositionsOnEveryMode) {
     for (int combo = 0; combo < (1 << kBlocks); ++combo) {
       std::array<int, kBlocks> modes;
       for (int b = 0; b < kBlocks; ++b) modes[b] = (combo >> b) & 1 ? -1 : 1;
-      // Inputs over twice the range, centred on it: beyond it the loop may not close.
       const int n = M::kNq == 1 ? 400 : 40;
       for (int k = 0; k < n; ++k) {
-        mechtest::VecQ<M> q;
-        for (int j = 0; j < M::kNq; ++j) {
-          const double lo = M::kQMin[j], hi = M::kQMax[j], span = hi - lo;
-          const double u = M::kNq == 1 ? double(k) / (n - 1) : std::fmod(0.6180339887498949 * (k + 1) * (j + 1), 1.0);
-          q(j) = lo - 0.5 * span + 2 * span * u;
-        }
+        const mechtest::VecQ<M> q = InputOverTwiceTheRange<M>(k, n);
         mechtest::VecPhi<M> phi;
         for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[i];
         typename M::template TrigT<double> trig, trig_positions;
@@ -171,12 +178,7 @@ TYPED_TEST(SolveTrigTest, OnePassKinematicsReportsAsSolveTrigOnEveryMode) {
       for (int b = 0; b < kBlocks; ++b) modes[b] = (combo >> b) & 1 ? -1 : 1;
       const int n = M::kNq == 1 ? 200 : 30;
       for (int k = 0; k < n; ++k) {
-        mechtest::VecQ<M> q;
-        for (int j = 0; j < M::kNq; ++j) {
-          const double lo = M::kQMin[j], hi = M::kQMax[j], span = hi - lo;
-          const double u = M::kNq == 1 ? double(k) / (n - 1) : std::fmod(0.6180339887498949 * (k + 1) * (j + 1), 1.0);
-          q(j) = lo - 0.5 * span + 2 * span * u;
-        }
+        const mechtest::VecQ<M> q = InputOverTwiceTheRange<M>(k, n);
         typename M::template TrigT<double> trig, trig_solve;
         typename M::template KinematicsT<double> kin;
         Poison(&trig);
