@@ -11,6 +11,9 @@
 //   Rhs/MinimalDynamics    the runtime's right-hand side (mechgen/dynamics/forward.h): the same
 //                          with the warm-started position solve and qdd
 //   Kinematics/Handwritten positions + K + L by hand
+//   Kinematics/HandwrittenChecked  the same with the generated one-pass function's promise
+//                          (refusals, branch measure, non-finite check, Phi_phi output): the
+//                          price of the promise apart from that of the formulas
 //   Kinematics/Generated   Solve + Coeffs of mech::fourbar_massive (with the angles)
 //   Kinematics/GeneratedTrig  SolveTrig + Coeffs (sin and cos of the angles only): two calls,
 //                          and Coeffs forms Phi and the coupler point's r_P, K_P, L_P too
@@ -137,6 +140,40 @@ void KinematicsHandwritten(benchmark::State& state) {
   }
 }
 BENCHMARK(KinematicsHandwritten)->Name("Kinematics/Handwritten");
+
+// The hand-written kinematics with the generated one-pass function's promise (its refusals,
+// branch measure, non-finite check and Phi_phi output; KinematicsChecked). Before timing, it
+// must agree with Kinematics() at every configuration of the loop, and its branch measure with
+// sin^2 of the coupler-rocker angle, else the row is an error.
+void KinematicsHandwrittenChecked(benchmark::State& state) {
+  FourbarParams<double> p;
+  RuntimeValues(&p);
+  FourbarKinematics<double> kin, plain;
+  double Phi_phi[4];
+  for (long i = 0; i < 720; ++i) {
+    const auto report = KinematicsChecked(p, i * kStep, &kin, Phi_phi);
+    const bool ok = Kinematics(p, i * kStep, &plain);
+    const double d[] = {kin.c2 - plain.c2, kin.s2 - plain.s2, kin.c3 - plain.c3, kin.s3 - plain.s3,
+                        kin.K2 - plain.K2, kin.K3 - plain.K3, kin.L2 - plain.L2, kin.L3 - plain.L3};
+    bool same = ok == (report.status == CheckedStatus::kConverged);
+    for (double x : d) same = same && std::abs(x) <= 1e-12;
+    // |h| f^2 = |(C - B) x (D - B)| = b c |sin(th2 - th3)|: the measure is sin^2 (at most 1).
+    const double s23 = plain.s2 * plain.c3 - plain.c2 * plain.s3;
+    same = same && std::abs(report.branch_measure - std::min(1.0, s23 * s23)) <= 1e-12;
+    if (!same) {
+      state.SkipWithError("KinematicsChecked disagrees with Kinematics");
+      return;
+    }
+  }
+  long k = 0;
+  for (auto _ : state) {
+    const auto report = KinematicsChecked(p, (k++ % 720) * kStep, &kin, Phi_phi);
+    benchmark::DoNotOptimize(report);
+    benchmark::DoNotOptimize(kin);
+    benchmark::DoNotOptimize(Phi_phi);
+  }
+}
+BENCHMARK(KinematicsHandwrittenChecked)->Name("Kinematics/HandwrittenChecked");
 #endif
 
 #ifdef MECHGEN_BENCH_HAVE_FOURBAR_MASSIVE

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 namespace bench_dynamics {
 
@@ -74,6 +75,75 @@ inline bool Kinematics(const FourbarParams<S>& p, S q, FourbarKinematics<S>* k) 
   k->L2 = -(k->c3 * R1 + k->s3 * R2) * inv_b * inv_s23;
   k->L3 = -(k->c2 * R1 + k->s2 * R2) * inv_c * inv_s23;
   return true;
+}
+
+/// What KinematicsChecked() reports: the generated EvalKinematics()'s report, by hand.
+enum class CheckedStatus { kConverged, kSingular, kNotAssemblable };
+template <typename S>
+struct CheckedReport {
+  CheckedStatus status = CheckedStatus::kConverged;
+  S measure = S(0);         // the failing value (a length, the discriminant, a direction cosine)
+  S branch_measure = S(1);  // |h|^2 f^4 / (b^2 c^2) = sin^2 of the coupler-rocker angle times f^2/(b c)
+};
+
+/// The kinematics of Kinematics() with what the generated EvalKinematics() promises on top
+/// (so that the benchmark can set the price of the promise apart from that of the formulas):
+///  - the same refusals: a link of zero length or coincident centres (kSingular), circles that
+///    do not meet beyond the rounding of their terms (kNotAssemblable), within it the touching
+///    configuration (h^2 clamped to 0);
+///  - the same branch measure in the report (the distance to the dyad's toggle);
+///  - no non-finite direction cosine reported as converged (kSingular);
+///  - Phi_phi as an output, for the caller's conditioning check.
+/// Same numbering and formulas as Kinematics(); k and Phi_phi hold finite values when the
+/// status is kConverged.
+template <typename S>
+inline CheckedReport<S> KinematicsChecked(const FourbarParams<S>& p, S q, FourbarKinematics<S>* k,
+                                          S Phi_phi[4]) {
+  using std::abs;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const S eps = std::numeric_limits<S>::epsilon();
+  const S c1 = cos(q), s1 = sin(q);
+  const S ex = p.d - p.a * c1, ey = -p.a * s1;
+  const S bb = p.b * p.b, cc = p.c * p.c;
+  if (!(bb > S(0))) return {CheckedStatus::kSingular, bb};
+  if (!(cc > S(0))) return {CheckedStatus::kSingular, cc};
+  const S f2 = ex * ex + ey * ey;
+  if (!(f2 - eps * eps * (bb + cc) > S(0))) return {CheckedStatus::kSingular, f2};
+  const S inv_f2 = S(1) / f2;
+  const S x = S(0.5) * (bb - cc) * inv_f2 + S(0.5);
+  const S h2 = bb * inv_f2 - x * x;
+  if (!(h2 >= S(0)) && !(h2 >= -S(64) * eps * (bb * inv_f2 + abs(x) * (S(1) + (bb + cc) * inv_f2))))
+    return {CheckedStatus::kNotAssemblable, h2};
+  const S h2c = h2 > S(0) ? h2 : S(0);
+  const S h = sqrt(h2c);
+  const S bcx = x * ex - h * ey, bcy = x * ey + h * ex;  // C - B
+  const S inv_b = S(1) / p.b, inv_c = S(1) / p.c;
+  const S c2 = bcx * inv_b, s2 = bcy * inv_b, c3 = (bcx - ex) * inv_c, s3 = (bcy - ey) * inv_c;
+  if (!((c2 - c2) + (s2 - s2) + (c3 - c3) + (s3 - s3) == S(0)))
+    return {CheckedStatus::kSingular, !(c2 - c2 == S(0)) ? c2 : !(s2 - s2 == S(0)) ? s2 : !(c3 - c3 == S(0)) ? c3 : s3};
+  const S branch = f2 * f2 * h2c * (inv_b * inv_b) * (inv_c * inv_c);
+  k->c1 = c1;
+  k->s1 = s1;
+  k->c2 = c2;
+  k->s2 = s2;
+  k->c3 = c3;
+  k->s3 = s3;
+  const S s23 = s2 * c3 - c2 * s3, s31 = s3 * c1 - c3 * s1, s21 = s2 * c1 - c2 * s1;
+  const S inv_s23 = S(1) / s23;
+  k->K2 = p.a * s31 * inv_b * inv_s23;
+  k->K3 = p.a * s21 * inv_c * inv_s23;
+  const S bK2 = p.b * k->K2 * k->K2, cK3 = p.c * k->K3 * k->K3;
+  const S R1 = p.a * c1 + bK2 * c2 - cK3 * c3, R2 = p.a * s1 + bK2 * s2 - cK3 * s3;
+  k->L2 = -(c3 * R1 + s3 * R2) * inv_b * inv_s23;
+  k->L3 = -(c2 * R1 + s2 * R2) * inv_c * inv_s23;
+  // Phi = a e1 + b e2 - c e3 - d e_x (models/fourbar.yaml), columns th2, th3.
+  Phi_phi[0] = -p.b * s2;
+  Phi_phi[1] = p.c * s3;
+  Phi_phi[2] = p.b * c2;
+  Phi_phi[3] = -p.c * c3;
+  return {CheckedStatus::kConverged, S(0), branch < S(1) ? branch : S(1)};
 }
 
 /// What one right-hand side evaluation produces.
