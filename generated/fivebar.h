@@ -29,7 +29,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); SolvePositions 48 (adds 11, muls 29, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); EvalKinematics 144 (adds 32, muls 103, divs 4, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); SolvePositions 50 (adds 11, muls 31, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 25, divs 3, calls 5); EvalKinematics 138 (adds 30, muls 99, divs 4, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -424,7 +424,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 48 (adds 11, muls 29, divs 3, calls 5); intermediate terms: 0
+  // Total ops: 50 (adds 11, muls 31, divs 3, calls 5); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -437,6 +437,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   const Scalar sin_q1 = sin(q(1));
@@ -447,10 +449,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a1*sin_q0 + p.a4*sin_q1;
     const Scalar ra2_b0 = p.a2*p.a2;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -467,18 +472,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.a2;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
     if (trig != nullptr) {
-      trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
-      trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
-      trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
-      trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+      trig->cos_phi(0) = mx_b0 * inv_ax_b0;
+      trig->sin_phi(0) = my_b0 * inv_ax_b0;
+      trig->cos_phi(1) = (-mx_b0 + wx_b0) * inv_bx_b0;
+      trig->sin_phi(1) = (-my_b0 + wy_b0) * inv_bx_b0;
     }
   }
   if (trig != nullptr) {
@@ -512,7 +517,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
                                        const Vec<Scalar, Sizes::kNq>& q,
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
-  // Total ops: 48 (adds 11, muls 29, divs 3, calls 5); intermediate terms: 0
+  // Total ops: 42 (adds 9, muls 25, divs 3, calls 5); intermediate terms: 0
   using std::abs;
   using std::cos;
   using std::sin;
@@ -521,6 +526,8 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   const Scalar sin_q1 = sin(q(1));
@@ -532,10 +539,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a1*sin_q0 + p.a4*sin_q1;
     const Scalar ra2_b0 = p.a2*p.a2;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -544,22 +554,17 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.a2;
-    const Scalar dot_u_b0 = mx_b0*p.a2;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.a2;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   trig->sin_phi(0) = sin_phi0;
   trig->cos_phi(0) = cos_phi0;
@@ -593,7 +598,7 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
                                           const std::array<int, Sizes::kNumBlocks>& modes,
                                           Trig<Scalar>* trig,
                                           Kinematics<Scalar>* out) {
-  // Total ops: 144 (adds 32, muls 103, divs 4, calls 5); intermediate terms: 4
+  // Total ops: 138 (adds 30, muls 99, divs 4, calls 5); intermediate terms: 4
   using std::abs;
   using std::cos;
   using std::sin;
@@ -602,6 +607,8 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   const Scalar sin_q1 = sin(q(1));
@@ -613,10 +620,13 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a1*sin_q0 + p.a4*sin_q1;
     const Scalar ra2_b0 = p.a2*p.a2;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -625,22 +635,17 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.a2;
-    const Scalar dot_u_b0 = mx_b0*p.a2;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.a2;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   const Scalar Phi_phi_0_0 = -p.a2*sin_phi0;
   const Scalar Phi_phi_0_1 = p.a3*sin_phi1;

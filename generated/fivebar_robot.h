@@ -34,7 +34,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), dist1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalStatics 144 (adds 26, muls 109, divs 1, calls 8); EvalDynamics 572 (adds 122, muls 441, divs 1, calls 8); EvalKinetostatics 588 (adds 114, muls 465, divs 1, calls 8); EvalExcess 495 (adds 99, muls 387, divs 1, calls 8); EvalStiffness 138 (adds 20, muls 112, divs 0, calls 6); EvalDetPhiPhi 10 (adds 1, muls 5, divs 0, calls 4); SolvePositions 48 (adds 11, muls 29, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 48 (adds 11, muls 29, divs 3, calls 5); EvalKinematics 144 (adds 32, muls 103, divs 4, calls 5); PrepareRhs 138 (adds 27, muls 107, divs 4, calls 0); EvalRhs 306 (adds 82, muls 217, divs 2, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalAppliedLoads 63 (adds 11, muls 42, divs 1, calls 9); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 23 (adds 7, muls 8, divs 0, calls 8); EvalCoefficients 155 (adds 40, muls 106, divs 1, calls 8); EvalStatics 144 (adds 26, muls 109, divs 1, calls 8); EvalDynamics 572 (adds 122, muls 441, divs 1, calls 8); EvalKinetostatics 588 (adds 114, muls 465, divs 1, calls 8); EvalExcess 495 (adds 99, muls 387, divs 1, calls 8); EvalStiffness 138 (adds 20, muls 112, divs 0, calls 6); EvalDetPhiPhi 10 (adds 1, muls 5, divs 0, calls 4); SolvePositions 50 (adds 11, muls 31, divs 3, calls 5) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 25, divs 3, calls 5); EvalKinematics 138 (adds 30, muls 99, divs 4, calls 5); PrepareRhs 137 (adds 27, muls 106, divs 4, calls 0); EvalRhs 298 (adds 80, muls 211, divs 2, calls 5); EvalScene 22 (adds 6, muls 8, divs 0, calls 8); EvalAppliedLoads 63 (adds 11, muls 42, divs 1, calls 9); EvalDrawing 9 (adds 1, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -258,7 +258,7 @@ struct Rhs {
 /// lengths, inverse squared lengths, ...): PrepareRhs() fills it once per parameter set.
 template <typename Scalar = double>
 struct RhsConstants {
-  std::array<Scalar, 23> c;
+  std::array<Scalar, 24> c;
 };
 
 /// Why SolvePositions() stopped. On any status but kConverged, phi is left as it was.
@@ -1137,7 +1137,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 48 (adds 11, muls 29, divs 3, calls 5); intermediate terms: 0
+  // Total ops: 50 (adds 11, muls 31, divs 3, calls 5); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -1150,6 +1150,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   const Scalar sin_q1 = sin(q(1));
@@ -1160,10 +1162,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0 + p.a*sin_q1;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -1180,18 +1185,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
     if (trig != nullptr) {
-      trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
-      trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
-      trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
-      trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+      trig->cos_phi(0) = mx_b0 * inv_ax_b0;
+      trig->sin_phi(0) = my_b0 * inv_ax_b0;
+      trig->cos_phi(1) = (-mx_b0 + wx_b0) * inv_bx_b0;
+      trig->sin_phi(1) = (-my_b0 + wy_b0) * inv_bx_b0;
     }
   }
   if (trig != nullptr) {
@@ -1225,7 +1230,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
                                        const Vec<Scalar, Sizes::kNq>& q,
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
-  // Total ops: 48 (adds 11, muls 29, divs 3, calls 5); intermediate terms: 0
+  // Total ops: 42 (adds 9, muls 25, divs 3, calls 5); intermediate terms: 0
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1234,6 +1239,8 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   const Scalar sin_q1 = sin(q(1));
@@ -1245,10 +1252,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0 + p.a*sin_q1;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -1257,22 +1267,17 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   trig->sin_phi(0) = sin_phi0;
   trig->cos_phi(0) = cos_phi0;
@@ -1306,7 +1311,7 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
                                           const std::array<int, Sizes::kNumBlocks>& modes,
                                           Trig<Scalar>* trig,
                                           Kinematics<Scalar>* out) {
-  // Total ops: 144 (adds 32, muls 103, divs 4, calls 5); intermediate terms: 4
+  // Total ops: 138 (adds 30, muls 99, divs 4, calls 5); intermediate terms: 4
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1315,6 +1320,8 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   const Scalar sin_q1 = sin(q(1));
@@ -1326,10 +1333,13 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0 + p.a*sin_q1;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -1338,22 +1348,17 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
   const Scalar Phi_phi_0_1 = p.b*sin_phi1;
@@ -1422,7 +1427,7 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
 template <typename Scalar>
 void PrepareRhs(const Params<Scalar>& p,
                 RhsConstants<Scalar>* rc) {
-  // Total ops: 138 (adds 27, muls 107, divs 4, calls 0); intermediate terms: 20
+  // Total ops: 137 (adds 27, muls 106, divs 4, calls 0); intermediate terms: 21
   const Scalar _tmp0 = p.a*p.a;
   const Scalar _tmp1 = _tmp0*p.b*p.rho;
   const Scalar _tmp2 = Scalar(0.33333333333333331)*(p.a*p.a*p.a)*p.rho;
@@ -1443,6 +1448,7 @@ void PrepareRhs(const Params<Scalar>& p,
   const Scalar _tmp17 = p.a*p.b*p.g*p.rho;
   const Scalar _tmp18 = p.a*p.g*p.mp;
   const Scalar _tmp19 = _tmp3*p.g*p.rho;
+  const Scalar _tmp20 = Scalar(1)/p.b;
   rc->c[0] = _tmp0*p.mp + _tmp1 + _tmp2;
   rc->c[1] = _tmp1 + _tmp2;
   rc->c[2] = _tmp4;
@@ -1456,16 +1462,17 @@ void PrepareRhs(const Params<Scalar>& p,
   rc->c[10] = -Scalar(0.5)*_tmp4;
   rc->c[11] = -Scalar(0.5)*_tmp19;
   rc->c[12] = -Scalar(0.5)*_tmp19 - p.b*p.g*p.mp;
-  rc->c[13] = Scalar(0);
-  rc->c[14] = _tmp11;
-  rc->c[15] = Scalar(0.5)*_tmp16 + _tmp17;
-  rc->c[16] = Scalar(0.5)*_tmp16 + _tmp17 + _tmp18;
-  rc->c[17] = Scalar(0.5)*_tmp4;
-  rc->c[18] = Scalar(0.5)*_tmp19;
-  rc->c[19] = Scalar(1)/(p.b*p.b);
+  rc->c[13] = -_tmp20;
+  rc->c[14] = Scalar(0);
+  rc->c[15] = _tmp11;
+  rc->c[16] = Scalar(0.5)*_tmp16 + _tmp17;
+  rc->c[17] = Scalar(0.5)*_tmp16 + _tmp17 + _tmp18;
+  rc->c[18] = Scalar(0.5)*_tmp4;
+  rc->c[19] = Scalar(0.5)*_tmp19;
   rc->c[20] = Scalar(1)/(p.b*p.b*p.b*p.b);
-  rc->c[21] = _tmp3;
-  rc->c[22] = _tmp5;
+  rc->c[21] = _tmp20;
+  rc->c[22] = _tmp3;
+  rc->c[23] = _tmp5;
 }
 
 /**
@@ -1497,7 +1504,7 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
                                    Trig<Scalar>* trig,
                                    Rhs<Scalar>* out,
                                    const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
-  // Total ops: 306 (adds 82, muls 217, divs 2, calls 5); intermediate terms: 9
+  // Total ops: 298 (adds 80, muls 211, divs 2, calls 5); intermediate terms: 9
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1508,45 +1515,44 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   const Scalar sin_q1 = sin(q(1));
   const Scalar cos_q1 = cos(q(1));
   Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
   {  // block 0: rows 0 1 -> theta_dist1, theta_dist2: closed form, two angles (RRR dyad, circle-circle), mode 1
-    const Scalar bx_b0 = -p.b;
     const Scalar wx_b0 = -cos_q0*p.a + cos_q1*p.a + p.f;
     const Scalar wy_b0 = -p.a*sin_q0 + p.a*sin_q1;
-    const Scalar ra2_b0 = rc.c[21];
-    const Scalar rb2_b0 = rc.c[21];
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    const Scalar ra2_b0 = rc.c[22];
+    const Scalar rb2_b0 = rc.c[22];
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
-    const Scalar k_b0 = Scalar(0.5) + inv_d2_b0*rc.c[13];
+    const Scalar k_b0 = Scalar(0.5) + inv_d2_b0*rc.c[14];
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
     if (!(h2_b0 >= Scalar(0)) && !(h2_b0 >= -(Scalar(64)*(((ra2_b0 + rb2_b0)*inv_d2_b0 + Scalar(1))*abs(k_b0) + inv_d2_b0*ra2_b0)*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
     const Scalar h2c_b0 = h2_b0 > Scalar(0) ? h2_b0 : Scalar(0);
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = rc.c[19];
-    const Scalar inv_rb2_b0 = rc.c[19];
+    const Scalar inv_ax_b0 = rc.c[21];
+    const Scalar inv_bx_b0 = rc.c[13];
     const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*rc.c[20];
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   const Scalar cos_phi0_minus_q0 = cos_phi0*cos_q0 + sin_phi0*sin_q0;
   const Scalar sin_phi0_minus_q0 = -cos_phi0*sin_q0 + cos_q0*sin_phi0;
@@ -1582,21 +1588,21 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
   const Scalar L_1_0_1 = -L_rhs_0_0_1*Phi_phi_inv_1_0 - L_rhs_1_0_1*Phi_phi_inv_1_1;
   const Scalar L_1_1_1 = -L_rhs_0_1_1*Phi_phi_inv_1_0 - L_rhs_1_1_1*Phi_phi_inv_1_1;
-  const Scalar I_eom_0_0 = K_0_0*cos_phi0_minus_q0*rc.c[4] + _tmp0*rc.c[14] + _tmp1*rc.c[3] + rc.c[0];
-  const Scalar _tmp4 = K_0_0*K_0_1*rc.c[3] + K_0_1*cos_phi0_minus_q0*rc.c[5] + K_1_0*K_1_1*rc.c[14] + K_1_0*cos_phi1_minus_q1*rc.c[17];
+  const Scalar I_eom_0_0 = K_0_0*cos_phi0_minus_q0*rc.c[4] + _tmp0*rc.c[15] + _tmp1*rc.c[3] + rc.c[0];
+  const Scalar _tmp4 = K_0_0*K_0_1*rc.c[3] + K_0_1*cos_phi0_minus_q0*rc.c[5] + K_1_0*K_1_1*rc.c[15] + K_1_0*cos_phi1_minus_q1*rc.c[18];
   const Scalar I_eom_0_1 = _tmp4;
   const Scalar I_eom_1_0 = _tmp4;
-  const Scalar I_eom_1_1 = K_1_1*cos_phi1_minus_q1*rc.c[2] + _tmp2*rc.c[14] + _tmp3*rc.c[3] + rc.c[1];
-  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[3] + K_0_0*rc.c[5]*sin_phi0_minus_q0 + K_1_0*L_1_0_0*rc.c[14] + L_0_0_0*cos_phi0_minus_q0*rc.c[5] + _tmp1*rc.c[7]*sin_phi0_minus_q0;
-  const Scalar _tmp5 = K_0_0*K_0_1*rc.c[7]*sin_phi0_minus_q0 + K_0_0*L_0_0_1*rc.c[3] + K_1_0*L_1_0_1*rc.c[14] + L_0_0_1*cos_phi0_minus_q0*rc.c[5];
+  const Scalar I_eom_1_1 = K_1_1*cos_phi1_minus_q1*rc.c[2] + _tmp2*rc.c[15] + _tmp3*rc.c[3] + rc.c[1];
+  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[3] + K_0_0*rc.c[5]*sin_phi0_minus_q0 + K_1_0*L_1_0_0*rc.c[15] + L_0_0_0*cos_phi0_minus_q0*rc.c[5] + _tmp1*rc.c[7]*sin_phi0_minus_q0;
+  const Scalar _tmp5 = K_0_0*K_0_1*rc.c[7]*sin_phi0_minus_q0 + K_0_0*L_0_0_1*rc.c[3] + K_1_0*L_1_0_1*rc.c[15] + L_0_0_1*cos_phi0_minus_q0*rc.c[5];
   const Scalar C_eom_0_1_0 = _tmp5;
   const Scalar C_eom_0_0_1 = _tmp5;
-  const Scalar C_eom_0_1_1 = K_0_0*L_0_1_1*rc.c[3] + K_1_0*L_1_1_1*rc.c[14] + K_1_0*rc.c[17]*sin_phi1_minus_q1 + L_0_1_1*cos_phi0_minus_q0*rc.c[5] + _tmp3*rc.c[7]*sin_phi0_minus_q0;
-  const Scalar C_eom_1_0_0 = K_0_1*L_0_0_0*rc.c[3] + K_0_1*rc.c[5]*sin_phi0_minus_q0 + K_1_1*L_1_0_0*rc.c[14] + L_1_0_0*cos_phi1_minus_q1*rc.c[17] + _tmp0*rc.c[10]*sin_phi1_minus_q1;
-  const Scalar _tmp6 = K_0_1*L_0_0_1*rc.c[3] + K_1_0*K_1_1*rc.c[10]*sin_phi1_minus_q1 + K_1_1*L_1_0_1*rc.c[14] + L_1_0_1*cos_phi1_minus_q1*rc.c[17];
+  const Scalar C_eom_0_1_1 = K_0_0*L_0_1_1*rc.c[3] + K_1_0*L_1_1_1*rc.c[15] + K_1_0*rc.c[18]*sin_phi1_minus_q1 + L_0_1_1*cos_phi0_minus_q0*rc.c[5] + _tmp3*rc.c[7]*sin_phi0_minus_q0;
+  const Scalar C_eom_1_0_0 = K_0_1*L_0_0_0*rc.c[3] + K_0_1*rc.c[5]*sin_phi0_minus_q0 + K_1_1*L_1_0_0*rc.c[15] + L_1_0_0*cos_phi1_minus_q1*rc.c[18] + _tmp0*rc.c[10]*sin_phi1_minus_q1;
+  const Scalar _tmp6 = K_0_1*L_0_0_1*rc.c[3] + K_1_0*K_1_1*rc.c[10]*sin_phi1_minus_q1 + K_1_1*L_1_0_1*rc.c[15] + L_1_0_1*cos_phi1_minus_q1*rc.c[18];
   const Scalar C_eom_1_1_0 = _tmp6;
   const Scalar C_eom_1_0_1 = _tmp6;
-  const Scalar C_eom_1_1_1 = K_0_1*L_0_1_1*rc.c[3] + K_1_1*L_1_1_1*rc.c[14] + K_1_1*rc.c[17]*sin_phi1_minus_q1 + L_1_1_1*cos_phi1_minus_q1*rc.c[17] + _tmp2*rc.c[10]*sin_phi1_minus_q1;
+  const Scalar C_eom_1_1_1 = K_0_1*L_0_1_1*rc.c[3] + K_1_1*L_1_1_1*rc.c[15] + K_1_1*rc.c[18]*sin_phi1_minus_q1 + L_1_1_1*cos_phi1_minus_q1*rc.c[18] + _tmp2*rc.c[10]*sin_phi1_minus_q1;
   const Scalar _tmp7 = qd(0)*qd(0);
   const Scalar _tmp8 = qd(1)*qd(1);
   out->K(0, 0) = K_0_0;
@@ -1612,7 +1618,7 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   out->Q(0) = K_0_0*cos_phi0*rc.c[12] + K_1_0*cos_phi1*rc.c[11] + cos_q0*rc.c[9];
   out->Q(1) = K_0_1*cos_phi0*rc.c[12] + K_1_1*cos_phi1*rc.c[11] + cos_q1*rc.c[8];
   out->T = Scalar(0.5)*I_eom_0_0*_tmp7 + Scalar(0.5)*I_eom_0_1*qd(0)*qd(1) + Scalar(0.5)*I_eom_1_0*qd(0)*qd(1) + Scalar(0.5)*I_eom_1_1*_tmp8;
-  out->V = rc.c[15]*sin_q1 + rc.c[16]*sin_q0 + rc.c[18]*sin_phi1 + rc.c[6]*sin_phi0;
+  out->V = rc.c[16]*sin_q1 + rc.c[17]*sin_q0 + rc.c[19]*sin_phi1 + rc.c[6]*sin_phi0;
   out->P_nc = Scalar(0);
   out->Phi_phi(0, 0) = Phi_phi_0_0;
   out->Phi_phi(0, 1) = Phi_phi_0_1;

@@ -27,7 +27,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalDesignDerivatives 500 (adds 153, muls 338, divs 2, calls 7); EvalDesignChecks 71 (adds 21, muls 35, divs 5, calls 10); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalKinematics 86 (adds 18, muls 61, divs 4, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalDesignDerivatives 500 (adds 153, muls 338, divs 2, calls 7); EvalDesignChecks 71 (adds 21, muls 35, divs 5, calls 10); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 44 (adds 9, muls 29, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 36 (adds 7, muls 23, divs 3, calls 3); EvalKinematics 80 (adds 16, muls 57, divs 4, calls 3); EvalScene 23 (adds 7, muls 10, divs 0, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -751,7 +751,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 42 (adds 9, muls 27, divs 3, calls 3); intermediate terms: 0
+  // Total ops: 44 (adds 9, muls 29, divs 3, calls 3); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -764,6 +764,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -772,10 +774,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -792,18 +797,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
     if (trig != nullptr) {
-      trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
-      trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
-      trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
-      trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+      trig->cos_phi(0) = mx_b0 * inv_ax_b0;
+      trig->sin_phi(0) = my_b0 * inv_ax_b0;
+      trig->cos_phi(1) = (-mx_b0 + wx_b0) * inv_bx_b0;
+      trig->sin_phi(1) = (-my_b0 + wy_b0) * inv_bx_b0;
     }
   }
   if (trig != nullptr) {
@@ -835,7 +840,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
                                        const Vec<Scalar, Sizes::kNq>& q,
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
-  // Total ops: 42 (adds 9, muls 27, divs 3, calls 3); intermediate terms: 0
+  // Total ops: 36 (adds 7, muls 23, divs 3, calls 3); intermediate terms: 0
   using std::abs;
   using std::cos;
   using std::sin;
@@ -844,6 +849,8 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
@@ -853,10 +860,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -865,22 +875,17 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   trig->sin_phi(0) = sin_phi0;
   trig->cos_phi(0) = cos_phi0;
@@ -912,7 +917,7 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
                                           const std::array<int, Sizes::kNumBlocks>& modes,
                                           Trig<Scalar>* trig,
                                           Kinematics<Scalar>* out) {
-  // Total ops: 86 (adds 18, muls 61, divs 4, calls 3); intermediate terms: 2
+  // Total ops: 80 (adds 16, muls 57, divs 4, calls 3); intermediate terms: 2
   using std::abs;
   using std::cos;
   using std::sin;
@@ -921,6 +926,8 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
@@ -930,10 +937,13 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -942,22 +952,17 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
   const Scalar Phi_phi_0_1 = p.c*sin_phi1;

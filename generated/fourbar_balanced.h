@@ -52,7 +52,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), coupler.G3.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 0 (adds 0, muls 0, divs 0, calls 0); EvalDynamics 467 (adds 88, muls 365, divs 8, calls 6); EvalKinetostatics 655 (adds 118, muls 522, divs 9, calls 6); EvalExcess 630 (adds 118, muls 498, divs 8, calls 6); EvalShaking 571 (adds 120, muls 436, divs 9, calls 6); EvalStiffness 0 (adds 0, muls 0, divs 0, calls 0); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 42 (adds 9, muls 27, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 42 (adds 9, muls 27, divs 3, calls 3); EvalKinematics 86 (adds 18, muls 61, divs 4, calls 3); PrepareRhs 472 (adds 71, muls 392, divs 9, calls 0); EvalRhs 120 (adds 30, muls 85, divs 2, calls 3); EvalScene 137 (adds 24, muls 95, divs 4, calls 14); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 17 (adds 5, muls 6, divs 0, calls 6); EvalCoefficients 107 (adds 30, muls 70, divs 1, calls 6); EvalStatics 0 (adds 0, muls 0, divs 0, calls 0); EvalDynamics 467 (adds 88, muls 365, divs 8, calls 6); EvalKinetostatics 655 (adds 118, muls 522, divs 9, calls 6); EvalExcess 630 (adds 118, muls 498, divs 8, calls 6); EvalShaking 571 (adds 120, muls 436, divs 9, calls 6); EvalStiffness 0 (adds 0, muls 0, divs 0, calls 0); EvalDetPhiPhi 11 (adds 1, muls 6, divs 0, calls 4); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 44 (adds 9, muls 29, divs 3, calls 3) (per Newton iteration for Newton blocks); SolvePositionsTrig 36 (adds 7, muls 23, divs 3, calls 3); EvalKinematics 80 (adds 16, muls 57, divs 4, calls 3); PrepareRhs 472 (adds 71, muls 391, divs 10, calls 0); EvalRhs 112 (adds 28, muls 79, divs 2, calls 3); EvalScene 137 (adds 24, muls 95, divs 4, calls 14); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -1243,7 +1243,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 42 (adds 9, muls 27, divs 3, calls 3); intermediate terms: 0
+  // Total ops: 44 (adds 9, muls 29, divs 3, calls 3); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -1256,6 +1256,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -1264,10 +1266,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -1284,18 +1289,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
     if (trig != nullptr) {
-      trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
-      trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
-      trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
-      trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+      trig->cos_phi(0) = mx_b0 * inv_ax_b0;
+      trig->sin_phi(0) = my_b0 * inv_ax_b0;
+      trig->cos_phi(1) = (-mx_b0 + wx_b0) * inv_bx_b0;
+      trig->sin_phi(1) = (-my_b0 + wy_b0) * inv_bx_b0;
     }
   }
   if (trig != nullptr) {
@@ -1327,7 +1332,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
                                        const Vec<Scalar, Sizes::kNq>& q,
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
-  // Total ops: 42 (adds 9, muls 27, divs 3, calls 3); intermediate terms: 0
+  // Total ops: 36 (adds 7, muls 23, divs 3, calls 3); intermediate terms: 0
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1336,6 +1341,8 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
@@ -1345,10 +1352,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -1357,22 +1367,17 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   trig->sin_phi(0) = sin_phi0;
   trig->cos_phi(0) = cos_phi0;
@@ -1404,7 +1409,7 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
                                           const std::array<int, Sizes::kNumBlocks>& modes,
                                           Trig<Scalar>* trig,
                                           Kinematics<Scalar>* out) {
-  // Total ops: 86 (adds 18, muls 61, divs 4, calls 3); intermediate terms: 2
+  // Total ops: 80 (adds 16, muls 57, divs 4, calls 3); intermediate terms: 2
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1413,6 +1418,8 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
@@ -1422,10 +1429,13 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -1434,22 +1444,17 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
   const Scalar Phi_phi_0_1 = p.c*sin_phi1;
@@ -1496,7 +1501,7 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
 template <typename Scalar>
 void PrepareRhs(const Params<Scalar>& p,
                 RhsConstants<Scalar>* rc) {
-  // Total ops: 472 (adds 71, muls 392, divs 9, calls 0); intermediate terms: 25
+  // Total ops: 472 (adds 71, muls 391, divs 10, calls 0); intermediate terms: 24
   const Scalar _tmp0 = p.x3*p.x3;
   const Scalar _tmp1 = p.y3*p.y3;
   const Scalar _tmp2 = p.balance*p.mc2 + p.m2b;
@@ -1521,17 +1526,16 @@ void PrepareRhs(const Params<Scalar>& p,
   const Scalar _tmp21 = p.a*p.m3*p.y3;
   const Scalar _tmp22 = p.a*p.m3*p.x3;
   const Scalar _tmp23 = p.b*p.b;
-  const Scalar _tmp24 = Scalar(1)/(p.c*p.c);
   rc->c[0] = _tmp0*p.m3 + _tmp1*p.m3 + p.J3;
   rc->c[1] = Scalar(0.25)*_tmp4*_tmp5*_tmp7*p.balance + Scalar(0.33333333333333331)*_tmp4*p.m2b + Scalar(0.5)*_tmp10*_tmp11*_tmp4*_tmp9 - Scalar(0.5)*_tmp10*_tmp3*_tmp4*_tmp5 + Scalar(0.5)*_tmp11*_tmp4*_tmp9 + Scalar(0.5)*_tmp13*_tmp4*_tmp5*_tmp9*p.mc2 - Scalar(0.5)*_tmp3*_tmp4*_tmp5 + Scalar(0.5)*_tmp4*_tmp5*_tmp9*p.balance*p.mc2 - Scalar(2)*_tmp0*_tmp10*_tmp3*_tmp4*_tmp6*_tmp8 + Scalar(2)*_tmp0*_tmp10*_tmp4*_tmp6*_tmp8*_tmp9*p.m2b + Scalar(2)*_tmp0*_tmp13*_tmp4*_tmp6*_tmp8*_tmp9*p.mc2 - Scalar(2)*_tmp1*_tmp10*_tmp3*_tmp4*_tmp6*_tmp8 + Scalar(2)*_tmp1*_tmp10*_tmp4*_tmp6*_tmp8*_tmp9*p.m2b + Scalar(2)*_tmp1*_tmp13*_tmp4*_tmp6*_tmp8*_tmp9*p.mc2 + Scalar(2)*_tmp10*_tmp12*_tmp3*_tmp4*p.m2b*p.m3*p.x3 - Scalar(2)*_tmp10*_tmp12*_tmp4*_tmp5*_tmp9*p.m3*p.x3 + Scalar(2)*_tmp10*_tmp12*_tmp4*_tmp9*p.m2b*p.m3*p.mc2*p.x3 - Scalar(2)*_tmp10*_tmp3*_tmp4*_tmp8 - Scalar(2)*_tmp10*_tmp3*_tmp4*p.m2b*p.m3 + Scalar(2)*_tmp10*_tmp4*_tmp5*_tmp9*p.m3 + Scalar(2)*_tmp10*_tmp4*_tmp8*_tmp9*p.m2b - Scalar(2)*_tmp10*_tmp4*_tmp9*p.m2b*p.m3*p.mc2 - Scalar(2)*_tmp12*_tmp13*_tmp4*_tmp9*p.m2b*p.m3*p.mc2*p.x3 - Scalar(2)*_tmp12*_tmp3*_tmp4*p.balance*p.m2b*p.m3*p.x3 + Scalar(2)*_tmp12*_tmp4*_tmp5*_tmp9*p.balance*p.m3*p.x3 - Scalar(2)*_tmp12*_tmp4*_tmp7*_tmp8*p.balance*p.x3 + Scalar(2)*_tmp13*_tmp4*_tmp8*_tmp9*p.mc2 + Scalar(2)*_tmp13*_tmp4*_tmp9*p.m2b*p.m3*p.mc2 + Scalar(2)*_tmp3*_tmp4*p.balance*p.m2b*p.m3 - Scalar(2)*_tmp4*_tmp5*_tmp9*p.balance*p.m3 + Scalar(4)*_tmp10*_tmp12*_tmp3*_tmp4*_tmp8*p.x3 - Scalar(4)*_tmp10*_tmp12*_tmp4*_tmp8*_tmp9*p.m2b*p.x3 - Scalar(4)*_tmp12*_tmp13*_tmp4*_tmp8*_tmp9*p.mc2*p.x3 + _tmp0*_tmp4*_tmp6*_tmp7*_tmp8*p.balance + _tmp1*_tmp4*_tmp6*_tmp7*_tmp8*p.balance - _tmp10*_tmp4*_tmp5*_tmp9*p.mc2 - _tmp11*_tmp4*_tmp9*p.balance - _tmp12*_tmp4*_tmp7*p.balance*p.m2b*p.m3*p.x3 + _tmp3*_tmp4*_tmp5*p.balance + _tmp4*_tmp7*_tmp8*p.balance + _tmp4*_tmp7*p.balance*p.m2b*p.m3 + _tmp4*p.m3;
   rc->c[2] = Scalar(0.25)*_tmp14*_tmp15*_tmp18*p.balance + Scalar(0.33333333333333331)*_tmp15*p.m4b - Scalar(0.5)*_tmp10*_tmp15*_tmp17*_tmp18 + Scalar(0.5)*_tmp10*_tmp15*_tmp19*_tmp20 + Scalar(0.5)*_tmp13*_tmp15*_tmp18*_tmp19*p.mc4 - Scalar(0.5)*_tmp15*_tmp17*_tmp18 + Scalar(0.5)*_tmp15*_tmp18*_tmp19*p.balance*p.mc4 + Scalar(0.5)*_tmp15*_tmp19*_tmp20 - Scalar(2)*_tmp0*_tmp10*_tmp15*_tmp17*_tmp6*_tmp8 + Scalar(2)*_tmp0*_tmp10*_tmp15*_tmp19*_tmp6*_tmp8*p.m4b + Scalar(2)*_tmp0*_tmp13*_tmp15*_tmp19*_tmp6*_tmp8*p.mc4 - Scalar(2)*_tmp1*_tmp10*_tmp15*_tmp17*_tmp6*_tmp8 + Scalar(2)*_tmp1*_tmp10*_tmp15*_tmp19*_tmp6*_tmp8*p.m4b + Scalar(2)*_tmp1*_tmp13*_tmp15*_tmp19*_tmp6*_tmp8*p.mc4 - Scalar(2)*_tmp10*_tmp12*_tmp15*_tmp17*p.m3*p.m4b*p.x3 + Scalar(2)*_tmp10*_tmp12*_tmp15*_tmp18*_tmp19*p.m3*p.x3 - Scalar(2)*_tmp10*_tmp12*_tmp15*_tmp19*p.m3*p.m4b*p.mc4*p.x3 + Scalar(2)*_tmp12*_tmp13*_tmp15*_tmp19*p.m3*p.m4b*p.mc4*p.x3 + Scalar(2)*_tmp12*_tmp15*_tmp17*p.balance*p.m3*p.m4b*p.x3 - Scalar(2)*_tmp12*_tmp15*_tmp18*_tmp19*p.balance*p.m3*p.x3 + _tmp0*_tmp14*_tmp15*_tmp6*_tmp8*p.balance + _tmp1*_tmp14*_tmp15*_tmp6*_tmp8*p.balance - _tmp10*_tmp15*_tmp18*_tmp19*p.mc4 + _tmp12*_tmp14*_tmp15*p.balance*p.m3*p.m4b*p.x3 + _tmp15*_tmp17*_tmp18*p.balance - _tmp15*_tmp19*_tmp20*p.balance;
-  rc->c[3] = -Scalar(2)*_tmp21;
-  rc->c[4] = -_tmp22;
-  rc->c[5] = -_tmp21;
-  rc->c[6] = -Scalar(0.5)*_tmp15 + Scalar(0.5)*_tmp23;
-  rc->c[7] = _tmp24*_tmp6;
-  rc->c[8] = _tmp6;
-  rc->c[9] = _tmp24;
+  rc->c[3] = -Scalar(1)/p.c;
+  rc->c[4] = -Scalar(2)*_tmp21;
+  rc->c[5] = -_tmp22;
+  rc->c[6] = -_tmp21;
+  rc->c[7] = -Scalar(0.5)*_tmp15 + Scalar(0.5)*_tmp23;
+  rc->c[8] = _tmp6/(p.c*p.c);
+  rc->c[9] = _tmp12;
   rc->c[10] = Scalar(2)*_tmp22;
   rc->c[11] = _tmp22;
   rc->c[12] = _tmp21;
@@ -1570,7 +1574,7 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
                                    Trig<Scalar>* trig,
                                    Rhs<Scalar>* out,
                                    const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
-  // Total ops: 120 (adds 30, muls 85, divs 2, calls 3); intermediate terms: 3
+  // Total ops: 112 (adds 28, muls 79, divs 2, calls 3); intermediate terms: 3
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1581,43 +1585,42 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
-    const Scalar bx_b0 = -p.c;
     const Scalar wx_b0 = -cos_q0*p.a + p.d;
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = rc.c[13];
     const Scalar rb2_b0 = rc.c[16];
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
-    const Scalar k_b0 = Scalar(0.5) + inv_d2_b0*rc.c[6];
+    const Scalar k_b0 = Scalar(0.5) + inv_d2_b0*rc.c[7];
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
     if (!(h2_b0 >= Scalar(0)) && !(h2_b0 >= -(Scalar(64)*(((ra2_b0 + rb2_b0)*inv_d2_b0 + Scalar(1))*abs(k_b0) + inv_d2_b0*ra2_b0)*epsilon))) return {SolveStatus::kNotAssemblable, 0, iterations, h2_b0};
     const Scalar h2c_b0 = h2_b0 > Scalar(0) ? h2_b0 : Scalar(0);
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = rc.c[8];
-    const Scalar inv_rb2_b0 = rc.c[9];
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*rc.c[7];
+    const Scalar inv_ax_b0 = rc.c[9];
+    const Scalar inv_bx_b0 = rc.c[3];
+    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*rc.c[8];
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   const Scalar cos_phi0_minus_q0 = cos_phi0*cos_q0 + sin_phi0*sin_q0;
   const Scalar sin_phi0_minus_q0 = -cos_phi0*sin_q0 + cos_q0*sin_phi0;
@@ -1639,8 +1642,8 @@ inline SolveReport<Scalar> EvalRhs(const Params<Scalar>& p,
   const Scalar L_rhs_1_0_0 = _tmp0*p.c*sin_phi1 - _tmp1*p.b*sin_phi0 - p.a*sin_q0;
   const Scalar L_0_0_0 = -L_rhs_0_0_0*Phi_phi_inv_0_0 - L_rhs_1_0_0*Phi_phi_inv_0_1;
   const Scalar L_1_0_0 = -L_rhs_0_0_0*Phi_phi_inv_1_0 - L_rhs_1_0_0*Phi_phi_inv_1_1;
-  const Scalar I_eom_0_0 = K_0_0*cos_phi0_minus_q0*rc.c[10] + K_0_0*rc.c[3]*sin_phi0_minus_q0 + _tmp0*rc.c[2] + _tmp1*rc.c[0] + rc.c[1];
-  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[0] + K_0_0*cos_phi0_minus_q0*rc.c[12] + K_0_0*rc.c[11]*sin_phi0_minus_q0 + K_1_0*L_1_0_0*rc.c[2] + L_0_0_0*cos_phi0_minus_q0*rc.c[11] + L_0_0_0*rc.c[5]*sin_phi0_minus_q0 + _tmp1*cos_phi0_minus_q0*rc.c[5] + _tmp1*rc.c[4]*sin_phi0_minus_q0;
+  const Scalar I_eom_0_0 = K_0_0*cos_phi0_minus_q0*rc.c[10] + K_0_0*rc.c[4]*sin_phi0_minus_q0 + _tmp0*rc.c[2] + _tmp1*rc.c[0] + rc.c[1];
+  const Scalar C_eom_0_0_0 = K_0_0*L_0_0_0*rc.c[0] + K_0_0*cos_phi0_minus_q0*rc.c[12] + K_0_0*rc.c[11]*sin_phi0_minus_q0 + K_1_0*L_1_0_0*rc.c[2] + L_0_0_0*cos_phi0_minus_q0*rc.c[11] + L_0_0_0*rc.c[6]*sin_phi0_minus_q0 + _tmp1*cos_phi0_minus_q0*rc.c[6] + _tmp1*rc.c[5]*sin_phi0_minus_q0;
   const Scalar _tmp2 = qd(0)*qd(0);
   out->K(0, 0) = K_0_0;
   out->K(1, 0) = K_1_0;

@@ -32,7 +32,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), link1.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); EvalCoefficients 110 (adds 32, muls 68, divs 2, calls 8); EvalDetPhiPhi 12 (adds 1, muls 7, divs 0, calls 4); SolvePositions 51 (adds 12, muls 30, divs 4, calls 5) (per Newton iteration for Newton blocks); EvalScene 25 (adds 9, muls 8, divs 0, calls 8); EvalDrawing 11 (adds 3, muls 4, divs 0, calls 4)
+ * Operation counts: EvalPhi 27 (adds 9, muls 10, divs 0, calls 8); EvalCoefficients 110 (adds 32, muls 68, divs 2, calls 8); EvalDetPhiPhi 12 (adds 1, muls 7, divs 0, calls 4); SolvePositions 53 (adds 12, muls 32, divs 4, calls 5) (per Newton iteration for Newton blocks); EvalScene 25 (adds 9, muls 8, divs 0, calls 8); EvalDrawing 11 (adds 3, muls 4, divs 0, calls 4)
  */
 #pragma once
 
@@ -405,7 +405,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 51 (adds 12, muls 30, divs 4, calls 5); intermediate terms: 0
+  // Total ops: 53 (adds 12, muls 32, divs 4, calls 5); intermediate terms: 0
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -418,6 +418,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 2 -> theta_crank2: closed form, linear
@@ -432,10 +434,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wy_b1 = -p.a1*sin_q0 + p.a4*sin(phi(2));
     const Scalar ra2_b1 = p.a2*p.a2;
     const Scalar rb2_b1 = bx_b1*bx_b1;
-    if (!(ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
-    if (!(rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(-norm2_min + ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(norm2_max - ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(-norm2_min + rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(norm2_max - rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
     const Scalar d2_b1 = wx_b1*wx_b1 + wy_b1*wy_b1;
     if (!(-(epsilon*epsilon)*(ra2_b1 + rb2_b1) + d2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
+    if (!(-d2_b1 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
     const Scalar inv_d2_b1 = Scalar(1)/d2_b1;
     const Scalar k_b1 = Scalar(0.5) + Scalar(0.5)*inv_d2_b1*ra2_b1 - Scalar(0.5)*inv_d2_b1*rb2_b1;
     const Scalar h2_b1 = inv_d2_b1*ra2_b1 - k_b1*k_b1;
@@ -452,18 +457,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
-    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
-    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
-    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
+    const Scalar inv_ax_b1 = Scalar(1)/p.a2;
+    const Scalar inv_bx_b1 = Scalar(1)/bx_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*(inv_ax_b1*inv_ax_b1)*(inv_bx_b1*inv_bx_b1)*h2c_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
     if (trig != nullptr) {
-      trig->cos_phi(0) = dot_u_b1 * inv_ra2_b1;
-      trig->sin_phi(0) = cross_u_b1 * inv_ra2_b1;
-      trig->cos_phi(1) = dot_v_b1 * inv_rb2_b1;
-      trig->sin_phi(1) = cross_v_b1 * inv_rb2_b1;
+      trig->cos_phi(0) = mx_b1 * inv_ax_b1;
+      trig->sin_phi(0) = my_b1 * inv_ax_b1;
+      trig->cos_phi(1) = (-mx_b1 + wx_b1) * inv_bx_b1;
+      trig->sin_phi(1) = (-my_b1 + wy_b1) * inv_bx_b1;
     }
   }
   if (trig != nullptr) {

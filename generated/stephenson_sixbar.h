@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.E, coupler.P.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 93 (adds 23, muls 58, divs 6, calls 6) (per Newton iteration for Newton blocks); SolvePositionsTrig 91 (adds 23, muls 58, divs 6, calls 4); EvalKinematics 216 (adds 55, muls 149, divs 8, calls 4); EvalScene 37 (adds 13, muls 14, divs 0, calls 10); EvalDrawing 16 (adds 4, muls 6, divs 0, calls 6)
+ * Operation counts: EvalPhi 46 (adds 17, muls 19, divs 0, calls 10); EvalCoefficients 194 (adds 63, muls 119, divs 2, calls 10); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 20 (adds 2, muls 12, divs 0, calls 6); SolvePositions 97 (adds 23, muls 62, divs 6, calls 6) (per Newton iteration for Newton blocks); SolvePositionsTrig 79 (adds 19, muls 50, divs 6, calls 4); EvalKinematics 204 (adds 51, muls 141, divs 8, calls 4); EvalScene 37 (adds 13, muls 14, divs 0, calls 10); EvalDrawing 16 (adds 4, muls 6, divs 0, calls 6)
  */
 #pragma once
 
@@ -512,7 +512,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 93 (adds 23, muls 58, divs 6, calls 6); intermediate terms: 2
+  // Total ops: 97 (adds 23, muls 62, divs 6, calls 6); intermediate terms: 2
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -525,6 +525,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -533,10 +535,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -553,18 +558,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
     if (trig != nullptr) {
-      trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
-      trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
-      trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
-      trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+      trig->cos_phi(0) = mx_b0 * inv_ax_b0;
+      trig->sin_phi(0) = my_b0 * inv_ax_b0;
+      trig->cos_phi(1) = (-mx_b0 + wx_b0) * inv_bx_b0;
+      trig->sin_phi(1) = (-my_b0 + wy_b0) * inv_bx_b0;
     }
   }
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -575,10 +580,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wy_b1 = -_tmp0*p.eta - _tmp1*p.xi - p.a*sin_q0 + p.y6;
     const Scalar ra2_b1 = p.f*p.f;
     const Scalar rb2_b1 = bx_b1*bx_b1;
-    if (!(ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
-    if (!(rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(-norm2_min + ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(norm2_max - ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(-norm2_min + rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(norm2_max - rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
     const Scalar d2_b1 = wx_b1*wx_b1 + wy_b1*wy_b1;
     if (!(-(epsilon*epsilon)*(ra2_b1 + rb2_b1) + d2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
+    if (!(-d2_b1 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
     const Scalar inv_d2_b1 = Scalar(1)/d2_b1;
     const Scalar k_b1 = Scalar(0.5) + Scalar(0.5)*inv_d2_b1*ra2_b1 - Scalar(0.5)*inv_d2_b1*rb2_b1;
     const Scalar h2_b1 = inv_d2_b1*ra2_b1 - k_b1*k_b1;
@@ -595,18 +603,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(3) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(3));
     if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(2)};
     if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(3)};
-    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
-    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
-    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
+    const Scalar inv_ax_b1 = Scalar(1)/p.f;
+    const Scalar inv_bx_b1 = Scalar(1)/bx_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*(inv_ax_b1*inv_ax_b1)*(inv_bx_b1*inv_bx_b1)*h2c_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
     if (trig != nullptr) {
-      trig->cos_phi(2) = dot_u_b1 * inv_ra2_b1;
-      trig->sin_phi(2) = cross_u_b1 * inv_ra2_b1;
-      trig->cos_phi(3) = dot_v_b1 * inv_rb2_b1;
-      trig->sin_phi(3) = cross_v_b1 * inv_rb2_b1;
+      trig->cos_phi(2) = mx_b1 * inv_ax_b1;
+      trig->sin_phi(2) = my_b1 * inv_ax_b1;
+      trig->cos_phi(3) = (-mx_b1 + wx_b1) * inv_bx_b1;
+      trig->sin_phi(3) = (-my_b1 + wy_b1) * inv_bx_b1;
     }
   }
   if (trig != nullptr) {
@@ -638,7 +646,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
                                        const Vec<Scalar, Sizes::kNq>& q,
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
-  // Total ops: 91 (adds 23, muls 58, divs 6, calls 4); intermediate terms: 0
+  // Total ops: 79 (adds 19, muls 50, divs 6, calls 4); intermediate terms: 0
   using std::abs;
   using std::cos;
   using std::sin;
@@ -647,6 +655,8 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
@@ -656,10 +666,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -668,22 +681,17 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   Scalar cos_phi2, sin_phi2, cos_phi3, sin_phi3;
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -692,10 +700,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar wy_b1 = -cos_phi0*p.eta - p.a*sin_q0 - p.xi*sin_phi0 + p.y6;
     const Scalar ra2_b1 = p.f*p.f;
     const Scalar rb2_b1 = bx_b1*bx_b1;
-    if (!(ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
-    if (!(rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(-norm2_min + ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(norm2_max - ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(-norm2_min + rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(norm2_max - rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
     const Scalar d2_b1 = wx_b1*wx_b1 + wy_b1*wy_b1;
     if (!(-(epsilon*epsilon)*(ra2_b1 + rb2_b1) + d2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
+    if (!(-d2_b1 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
     const Scalar inv_d2_b1 = Scalar(1)/d2_b1;
     const Scalar k_b1 = Scalar(0.5) + Scalar(0.5)*inv_d2_b1*ra2_b1 - Scalar(0.5)*inv_d2_b1*rb2_b1;
     const Scalar h2_b1 = inv_d2_b1*ra2_b1 - k_b1*k_b1;
@@ -704,22 +715,17 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar h_b1 = (sqrt(h2c_b1))*Scalar(modes[1]);
     const Scalar mx_b1 = -h_b1*wy_b1 + k_b1*wx_b1;
     const Scalar my_b1 = h_b1*wx_b1 + k_b1*wy_b1;
-    const Scalar cross_u_b1 = my_b1*p.f;
-    const Scalar dot_u_b1 = mx_b1*p.f;
-    const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
-    const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
-    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
-    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
-    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
+    const Scalar inv_ax_b1 = Scalar(1)/p.f;
+    const Scalar inv_bx_b1 = Scalar(1)/bx_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*(inv_ax_b1*inv_ax_b1)*(inv_bx_b1*inv_bx_b1)*h2c_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
-    cos_phi2 = dot_u_b1 * inv_ra2_b1;
-    sin_phi2 = cross_u_b1 * inv_ra2_b1;
-    cos_phi3 = dot_v_b1 * inv_rb2_b1;
-    sin_phi3 = cross_v_b1 * inv_rb2_b1;
-    if (!((cos_phi2 - cos_phi2) + (sin_phi2 - sin_phi2) + (cos_phi3 - cos_phi3) + (sin_phi3 - sin_phi3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, !(cos_phi2 - cos_phi2 == Scalar(0)) ? cos_phi2 : !(sin_phi2 - sin_phi2 == Scalar(0)) ? sin_phi2 : !(cos_phi3 - cos_phi3 == Scalar(0)) ? cos_phi3 : sin_phi3};
+    cos_phi2 = mx_b1 * inv_ax_b1;
+    sin_phi2 = my_b1 * inv_ax_b1;
+    cos_phi3 = (-mx_b1 + wx_b1) * inv_bx_b1;
+    sin_phi3 = (-my_b1 + wy_b1) * inv_bx_b1;
   }
   trig->sin_phi(0) = sin_phi0;
   trig->cos_phi(0) = cos_phi0;
@@ -755,7 +761,7 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
                                           const std::array<int, Sizes::kNumBlocks>& modes,
                                           Trig<Scalar>* trig,
                                           Kinematics<Scalar>* out) {
-  // Total ops: 216 (adds 55, muls 149, divs 8, calls 4); intermediate terms: 6
+  // Total ops: 204 (adds 51, muls 141, divs 8, calls 4); intermediate terms: 6
   using std::abs;
   using std::cos;
   using std::sin;
@@ -764,6 +770,8 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
@@ -773,10 +781,13 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -785,22 +796,17 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   Scalar cos_phi2, sin_phi2, cos_phi3, sin_phi3;
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -809,10 +815,13 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar wy_b1 = -cos_phi0*p.eta - p.a*sin_q0 - p.xi*sin_phi0 + p.y6;
     const Scalar ra2_b1 = p.f*p.f;
     const Scalar rb2_b1 = bx_b1*bx_b1;
-    if (!(ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
-    if (!(rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(-norm2_min + ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(norm2_max - ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(-norm2_min + rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(norm2_max - rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
     const Scalar d2_b1 = wx_b1*wx_b1 + wy_b1*wy_b1;
     if (!(-(epsilon*epsilon)*(ra2_b1 + rb2_b1) + d2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
+    if (!(-d2_b1 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
     const Scalar inv_d2_b1 = Scalar(1)/d2_b1;
     const Scalar k_b1 = Scalar(0.5) + Scalar(0.5)*inv_d2_b1*ra2_b1 - Scalar(0.5)*inv_d2_b1*rb2_b1;
     const Scalar h2_b1 = inv_d2_b1*ra2_b1 - k_b1*k_b1;
@@ -821,22 +830,17 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar h_b1 = (sqrt(h2c_b1))*Scalar(modes[1]);
     const Scalar mx_b1 = -h_b1*wy_b1 + k_b1*wx_b1;
     const Scalar my_b1 = h_b1*wx_b1 + k_b1*wy_b1;
-    const Scalar cross_u_b1 = my_b1*p.f;
-    const Scalar dot_u_b1 = mx_b1*p.f;
-    const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
-    const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
-    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
-    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
-    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
+    const Scalar inv_ax_b1 = Scalar(1)/p.f;
+    const Scalar inv_bx_b1 = Scalar(1)/bx_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*(inv_ax_b1*inv_ax_b1)*(inv_bx_b1*inv_bx_b1)*h2c_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
-    cos_phi2 = dot_u_b1 * inv_ra2_b1;
-    sin_phi2 = cross_u_b1 * inv_ra2_b1;
-    cos_phi3 = dot_v_b1 * inv_rb2_b1;
-    sin_phi3 = cross_v_b1 * inv_rb2_b1;
-    if (!((cos_phi2 - cos_phi2) + (sin_phi2 - sin_phi2) + (cos_phi3 - cos_phi3) + (sin_phi3 - sin_phi3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, !(cos_phi2 - cos_phi2 == Scalar(0)) ? cos_phi2 : !(sin_phi2 - sin_phi2 == Scalar(0)) ? sin_phi2 : !(cos_phi3 - cos_phi3 == Scalar(0)) ? cos_phi3 : sin_phi3};
+    cos_phi2 = mx_b1 * inv_ax_b1;
+    sin_phi2 = my_b1 * inv_ax_b1;
+    cos_phi3 = (-mx_b1 + wx_b1) * inv_bx_b1;
+    sin_phi3 = (-my_b1 + wy_b1) * inv_bx_b1;
   }
   const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
   const Scalar Phi_phi_0_1 = p.c*sin_phi1;

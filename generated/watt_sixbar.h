@@ -35,7 +35,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), output.F.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDesignDerivatives 1600 (adds 494, muls 1088, divs 4, calls 14); EvalDesignChecks 119 (adds 32, muls 58, divs 9, calls 20); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 96 (adds 22, muls 60, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 94 (adds 22, muls 60, divs 6, calls 6); EvalKinematics 232 (adds 50, muls 166, divs 8, calls 8); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
+ * Operation counts: EvalPhi 47 (adds 16, muls 19, divs 0, calls 12); EvalCoefficients 184 (adds 46, muls 124, divs 2, calls 12); EvalDesignDerivatives 1600 (adds 494, muls 1088, divs 4, calls 14); EvalDesignChecks 119 (adds 32, muls 58, divs 9, calls 20); EvalDetPhiPhi 23 (adds 2, muls 13, divs 0, calls 8); EvalTransmissionAngles 40 (adds 4, muls 24, divs 0, calls 12); SolvePositions 100 (adds 22, muls 64, divs 6, calls 8) (per Newton iteration for Newton blocks); SolvePositionsTrig 82 (adds 18, muls 52, divs 6, calls 6); EvalKinematics 220 (adds 46, muls 158, divs 8, calls 8); EvalScene 43 (adds 13, muls 18, divs 0, calls 12); EvalDrawing 19 (adds 3, muls 10, divs 0, calls 6)
  */
 #pragma once
 
@@ -1270,7 +1270,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
                                    int max_iterations = 20,
                                    const Scalar& tolerance = Scalar(0),
                                    Out<Trig<Scalar>> trig = nullptr) {
-  // Total ops: 96 (adds 22, muls 60, divs 6, calls 8); intermediate terms: 4
+  // Total ops: 100 (adds 22, muls 64, divs 6, calls 8); intermediate terms: 4
   using std::abs;
   using std::atan2;
   using std::cos;
@@ -1283,6 +1283,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -1291,10 +1293,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -1311,18 +1316,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
     if (trig != nullptr) {
-      trig->cos_phi(0) = dot_u_b0 * inv_ra2_b0;
-      trig->sin_phi(0) = cross_u_b0 * inv_ra2_b0;
-      trig->cos_phi(1) = dot_v_b0 * inv_rb2_b0;
-      trig->sin_phi(1) = cross_v_b0 * inv_rb2_b0;
+      trig->cos_phi(0) = mx_b0 * inv_ax_b0;
+      trig->sin_phi(0) = my_b0 * inv_ax_b0;
+      trig->cos_phi(1) = (-mx_b0 + wx_b0) * inv_bx_b0;
+      trig->sin_phi(1) = (-my_b0 + wy_b0) * inv_bx_b0;
     }
   }
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -1335,10 +1340,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar wy_b1 = -_tmp0*_tmp3*p.e - _tmp1*_tmp2*p.e + p.y6;
     const Scalar ra2_b1 = p.f*p.f;
     const Scalar rb2_b1 = bx_b1*bx_b1;
-    if (!(ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
-    if (!(rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(-norm2_min + ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(norm2_max - ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(-norm2_min + rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(norm2_max - rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
     const Scalar d2_b1 = wx_b1*wx_b1 + wy_b1*wy_b1;
     if (!(-(epsilon*epsilon)*(ra2_b1 + rb2_b1) + d2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
+    if (!(-d2_b1 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
     const Scalar inv_d2_b1 = Scalar(1)/d2_b1;
     const Scalar k_b1 = Scalar(0.5) + Scalar(0.5)*inv_d2_b1*ra2_b1 - Scalar(0.5)*inv_d2_b1*rb2_b1;
     const Scalar h2_b1 = inv_d2_b1*ra2_b1 - k_b1*k_b1;
@@ -1355,18 +1363,18 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(3) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(3));
     if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(2)};
     if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(3)};
-    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
-    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
-    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
+    const Scalar inv_ax_b1 = Scalar(1)/p.f;
+    const Scalar inv_bx_b1 = Scalar(1)/bx_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*(inv_ax_b1*inv_ax_b1)*(inv_bx_b1*inv_bx_b1)*h2c_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
     if (trig != nullptr) {
-      trig->cos_phi(2) = dot_u_b1 * inv_ra2_b1;
-      trig->sin_phi(2) = cross_u_b1 * inv_ra2_b1;
-      trig->cos_phi(3) = dot_v_b1 * inv_rb2_b1;
-      trig->sin_phi(3) = cross_v_b1 * inv_rb2_b1;
+      trig->cos_phi(2) = mx_b1 * inv_ax_b1;
+      trig->sin_phi(2) = my_b1 * inv_ax_b1;
+      trig->cos_phi(3) = (-mx_b1 + wx_b1) * inv_bx_b1;
+      trig->sin_phi(3) = (-my_b1 + wy_b1) * inv_bx_b1;
     }
   }
   if (trig != nullptr) {
@@ -1398,7 +1406,7 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
                                        const Vec<Scalar, Sizes::kNq>& q,
                                        const std::array<int, Sizes::kNumBlocks>& modes,
                                        Trig<Scalar>* trig) {
-  // Total ops: 94 (adds 22, muls 60, divs 6, calls 6); intermediate terms: 2
+  // Total ops: 82 (adds 18, muls 52, divs 6, calls 6); intermediate terms: 2
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1407,6 +1415,8 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
@@ -1416,10 +1426,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -1428,22 +1441,17 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   Scalar cos_phi2, sin_phi2, cos_phi3, sin_phi3;
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -1454,10 +1462,13 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar wy_b1 = -_tmp0*p.e*sin_phi1 - _tmp1*cos_phi1*p.e + p.y6;
     const Scalar ra2_b1 = p.f*p.f;
     const Scalar rb2_b1 = bx_b1*bx_b1;
-    if (!(ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
-    if (!(rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(-norm2_min + ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(norm2_max - ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(-norm2_min + rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(norm2_max - rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
     const Scalar d2_b1 = wx_b1*wx_b1 + wy_b1*wy_b1;
     if (!(-(epsilon*epsilon)*(ra2_b1 + rb2_b1) + d2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
+    if (!(-d2_b1 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
     const Scalar inv_d2_b1 = Scalar(1)/d2_b1;
     const Scalar k_b1 = Scalar(0.5) + Scalar(0.5)*inv_d2_b1*ra2_b1 - Scalar(0.5)*inv_d2_b1*rb2_b1;
     const Scalar h2_b1 = inv_d2_b1*ra2_b1 - k_b1*k_b1;
@@ -1466,22 +1477,17 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
     const Scalar h_b1 = (sqrt(h2c_b1))*Scalar(modes[1]);
     const Scalar mx_b1 = -h_b1*wy_b1 + k_b1*wx_b1;
     const Scalar my_b1 = h_b1*wx_b1 + k_b1*wy_b1;
-    const Scalar cross_u_b1 = my_b1*p.f;
-    const Scalar dot_u_b1 = mx_b1*p.f;
-    const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
-    const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
-    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
-    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
-    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
+    const Scalar inv_ax_b1 = Scalar(1)/p.f;
+    const Scalar inv_bx_b1 = Scalar(1)/bx_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*(inv_ax_b1*inv_ax_b1)*(inv_bx_b1*inv_bx_b1)*h2c_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
-    cos_phi2 = dot_u_b1 * inv_ra2_b1;
-    sin_phi2 = cross_u_b1 * inv_ra2_b1;
-    cos_phi3 = dot_v_b1 * inv_rb2_b1;
-    sin_phi3 = cross_v_b1 * inv_rb2_b1;
-    if (!((cos_phi2 - cos_phi2) + (sin_phi2 - sin_phi2) + (cos_phi3 - cos_phi3) + (sin_phi3 - sin_phi3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, !(cos_phi2 - cos_phi2 == Scalar(0)) ? cos_phi2 : !(sin_phi2 - sin_phi2 == Scalar(0)) ? sin_phi2 : !(cos_phi3 - cos_phi3 == Scalar(0)) ? cos_phi3 : sin_phi3};
+    cos_phi2 = mx_b1 * inv_ax_b1;
+    sin_phi2 = my_b1 * inv_ax_b1;
+    cos_phi3 = (-mx_b1 + wx_b1) * inv_bx_b1;
+    sin_phi3 = (-my_b1 + wy_b1) * inv_bx_b1;
   }
   trig->sin_phi(0) = sin_phi0;
   trig->cos_phi(0) = cos_phi0;
@@ -1517,7 +1523,7 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
                                           const std::array<int, Sizes::kNumBlocks>& modes,
                                           Trig<Scalar>* trig,
                                           Kinematics<Scalar>* out) {
-  // Total ops: 232 (adds 50, muls 166, divs 8, calls 8); intermediate terms: 8
+  // Total ops: 220 (adds 46, muls 158, divs 8, calls 8); intermediate terms: 8
   using std::abs;
   using std::cos;
   using std::sin;
@@ -1526,6 +1532,8 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
   const Scalar epsilon = Scalar(sizeof(Scalar) <= 4 ? 1.1920928955078125e-07 : 2.220446049250313e-16);
   Scalar branch_measure = Scalar(1);
   int branch_block = -1;
+  const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);
+  const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
   Scalar cos_phi0, sin_phi0, cos_phi1, sin_phi1;
@@ -1535,10 +1543,13 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar wy_b0 = -p.a*sin_q0;
     const Scalar ra2_b0 = p.b*p.b;
     const Scalar rb2_b0 = bx_b0*bx_b0;
-    if (!(ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
-    if (!(rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(-norm2_min + ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(norm2_max - ra2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, ra2_b0};
+    if (!(-norm2_min + rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
+    if (!(norm2_max - rb2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, rb2_b0};
     const Scalar d2_b0 = wx_b0*wx_b0 + wy_b0*wy_b0;
     if (!(-(epsilon*epsilon)*(ra2_b0 + rb2_b0) + d2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
+    if (!(-d2_b0 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, d2_b0};
     const Scalar inv_d2_b0 = Scalar(1)/d2_b0;
     const Scalar k_b0 = Scalar(0.5) + Scalar(0.5)*inv_d2_b0*ra2_b0 - Scalar(0.5)*inv_d2_b0*rb2_b0;
     const Scalar h2_b0 = inv_d2_b0*ra2_b0 - k_b0*k_b0;
@@ -1547,22 +1558,17 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar h_b0 = (sqrt(h2c_b0))*Scalar(modes[0]);
     const Scalar mx_b0 = -h_b0*wy_b0 + k_b0*wx_b0;
     const Scalar my_b0 = h_b0*wx_b0 + k_b0*wy_b0;
-    const Scalar cross_u_b0 = my_b0*p.b;
-    const Scalar dot_u_b0 = mx_b0*p.b;
-    const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
-    const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    const Scalar inv_ra2_b0 = Scalar(1)/ra2_b0;
-    const Scalar inv_rb2_b0 = Scalar(1)/rb2_b0;
-    const Scalar branch_b0 = (d2_b0*d2_b0)*h2c_b0*inv_ra2_b0*inv_rb2_b0;
+    const Scalar inv_ax_b0 = Scalar(1)/p.b;
+    const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
+    const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
-    cos_phi0 = dot_u_b0 * inv_ra2_b0;
-    sin_phi0 = cross_u_b0 * inv_ra2_b0;
-    cos_phi1 = dot_v_b0 * inv_rb2_b0;
-    sin_phi1 = cross_v_b0 * inv_rb2_b0;
-    if (!((cos_phi0 - cos_phi0) + (sin_phi0 - sin_phi0) + (cos_phi1 - cos_phi1) + (sin_phi1 - sin_phi1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, !(cos_phi0 - cos_phi0 == Scalar(0)) ? cos_phi0 : !(sin_phi0 - sin_phi0 == Scalar(0)) ? sin_phi0 : !(cos_phi1 - cos_phi1 == Scalar(0)) ? cos_phi1 : sin_phi1};
+    cos_phi0 = mx_b0 * inv_ax_b0;
+    sin_phi0 = my_b0 * inv_ax_b0;
+    cos_phi1 = (-mx_b0 + wx_b0) * inv_bx_b0;
+    sin_phi1 = (-my_b0 + wy_b0) * inv_bx_b0;
   }
   Scalar cos_phi2, sin_phi2, cos_phi3, sin_phi3;
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
@@ -1573,10 +1579,13 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar wy_b1 = -_tmp0*p.e*sin_phi1 - _tmp1*cos_phi1*p.e + p.y6;
     const Scalar ra2_b1 = p.f*p.f;
     const Scalar rb2_b1 = bx_b1*bx_b1;
-    if (!(ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
-    if (!(rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(-norm2_min + ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(norm2_max - ra2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, ra2_b1};
+    if (!(-norm2_min + rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
+    if (!(norm2_max - rb2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, rb2_b1};
     const Scalar d2_b1 = wx_b1*wx_b1 + wy_b1*wy_b1;
     if (!(-(epsilon*epsilon)*(ra2_b1 + rb2_b1) + d2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
+    if (!(-d2_b1 + norm2_max > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, d2_b1};
     const Scalar inv_d2_b1 = Scalar(1)/d2_b1;
     const Scalar k_b1 = Scalar(0.5) + Scalar(0.5)*inv_d2_b1*ra2_b1 - Scalar(0.5)*inv_d2_b1*rb2_b1;
     const Scalar h2_b1 = inv_d2_b1*ra2_b1 - k_b1*k_b1;
@@ -1585,22 +1594,17 @@ inline SolveReport<Scalar> EvalKinematics(const Params<Scalar>& p,
     const Scalar h_b1 = (sqrt(h2c_b1))*Scalar(modes[1]);
     const Scalar mx_b1 = -h_b1*wy_b1 + k_b1*wx_b1;
     const Scalar my_b1 = h_b1*wx_b1 + k_b1*wy_b1;
-    const Scalar cross_u_b1 = my_b1*p.f;
-    const Scalar dot_u_b1 = mx_b1*p.f;
-    const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
-    const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
-    const Scalar inv_ra2_b1 = Scalar(1)/ra2_b1;
-    const Scalar inv_rb2_b1 = Scalar(1)/rb2_b1;
-    const Scalar branch_b1 = (d2_b1*d2_b1)*h2c_b1*inv_ra2_b1*inv_rb2_b1;
+    const Scalar inv_ax_b1 = Scalar(1)/p.f;
+    const Scalar inv_bx_b1 = Scalar(1)/bx_b1;
+    const Scalar branch_b1 = (d2_b1*d2_b1)*(inv_ax_b1*inv_ax_b1)*(inv_bx_b1*inv_bx_b1)*h2c_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
-    cos_phi2 = dot_u_b1 * inv_ra2_b1;
-    sin_phi2 = cross_u_b1 * inv_ra2_b1;
-    cos_phi3 = dot_v_b1 * inv_rb2_b1;
-    sin_phi3 = cross_v_b1 * inv_rb2_b1;
-    if (!((cos_phi2 - cos_phi2) + (sin_phi2 - sin_phi2) + (cos_phi3 - cos_phi3) + (sin_phi3 - sin_phi3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, !(cos_phi2 - cos_phi2 == Scalar(0)) ? cos_phi2 : !(sin_phi2 - sin_phi2 == Scalar(0)) ? sin_phi2 : !(cos_phi3 - cos_phi3 == Scalar(0)) ? cos_phi3 : sin_phi3};
+    cos_phi2 = mx_b1 * inv_ax_b1;
+    sin_phi2 = my_b1 * inv_ax_b1;
+    cos_phi3 = (-mx_b1 + wx_b1) * inv_bx_b1;
+    sin_phi3 = (-my_b1 + wy_b1) * inv_bx_b1;
   }
   const Scalar Phi_phi_0_0 = -p.b*sin_phi0;
   const Scalar Phi_phi_0_1 = p.c*sin_phi1;

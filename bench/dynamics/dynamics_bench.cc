@@ -12,7 +12,7 @@
 //                          with the warm-started position solve and qdd
 //   Kinematics/Handwritten positions + K + L by hand
 //   Kinematics/HandwrittenChecked  the same with the generated one-pass function's promise
-//                          (refusals, branch measure, non-finite check, Phi_phi output): the
+//                          (refusals, range checks, branch measure, Phi_phi output): the
 //                          price of the promise apart from that of the formulas
 //   Kinematics/Generated   Solve + Coeffs of mech::fourbar_massive (with the angles)
 //   Kinematics/GeneratedTrig  SolveTrig + Coeffs (sin and cos of the angles only): two calls,
@@ -142,7 +142,7 @@ void KinematicsHandwritten(benchmark::State& state) {
 BENCHMARK(KinematicsHandwritten)->Name("Kinematics/Handwritten");
 
 // The hand-written kinematics with the generated one-pass function's promise (its refusals,
-// branch measure, non-finite check and Phi_phi output; KinematicsChecked). Before timing, it
+// range checks, branch measure and Phi_phi output; KinematicsChecked). Before timing, it
 // must agree with Kinematics() at every configuration of the loop, and its branch measure with
 // sin^2 of the coupler-rocker angle, else the row is an error.
 void KinematicsHandwrittenChecked(benchmark::State& state) {

@@ -92,7 +92,9 @@ struct CheckedReport {
 ///    do not meet beyond the rounding of their terms (kNotAssemblable), within it the touching
 ///    configuration (h^2 clamped to 0);
 ///  - the same branch measure in the report (the distance to the dyad's toggle);
-///  - no non-finite direction cosine reported as converged (kSingular);
+///  - no non-finite direction cosine reported as converged: the same range checks as the
+///    generated RRR dyad (squared lengths within [1e-138, 1e138], kSingular beyond), which
+///    bound every value after them (generator/symbolic/dyads.cc);
 ///  - Phi_phi as an output, for the caller's conditioning check.
 /// Same numbering and formulas as Kinematics(); k and Phi_phi hold finite values when the
 /// status is kConverged.
@@ -107,10 +109,12 @@ inline CheckedReport<S> KinematicsChecked(const FourbarParams<S>& p, S q, Fourba
   const S c1 = cos(q), s1 = sin(q);
   const S ex = p.d - p.a * c1, ey = -p.a * s1;
   const S bb = p.b * p.b, cc = p.c * p.c;
-  if (!(bb > S(0))) return {CheckedStatus::kSingular, bb};
-  if (!(cc > S(0))) return {CheckedStatus::kSingular, cc};
+  const S norm2_max = S(1e138), norm2_min = S(1e-138);
+  if (!(bb - norm2_min > S(0)) || !(norm2_max - bb > S(0))) return {CheckedStatus::kSingular, bb};
+  if (!(cc - norm2_min > S(0)) || !(norm2_max - cc > S(0))) return {CheckedStatus::kSingular, cc};
   const S f2 = ex * ex + ey * ey;
   if (!(f2 - eps * eps * (bb + cc) > S(0))) return {CheckedStatus::kSingular, f2};
+  if (!(norm2_max - f2 > S(0))) return {CheckedStatus::kSingular, f2};
   const S inv_f2 = S(1) / f2;
   const S x = S(0.5) * (bb - cc) * inv_f2 + S(0.5);
   const S h2 = bb * inv_f2 - x * x;
@@ -121,8 +125,6 @@ inline CheckedReport<S> KinematicsChecked(const FourbarParams<S>& p, S q, Fourba
   const S bcx = x * ex - h * ey, bcy = x * ey + h * ex;  // C - B
   const S inv_b = S(1) / p.b, inv_c = S(1) / p.c;
   const S c2 = bcx * inv_b, s2 = bcy * inv_b, c3 = (bcx - ex) * inv_c, s3 = (bcy - ey) * inv_c;
-  if (!((c2 - c2) + (s2 - s2) + (c3 - c3) + (s3 - s3) == S(0)))
-    return {CheckedStatus::kSingular, !(c2 - c2 == S(0)) ? c2 : !(s2 - s2 == S(0)) ? s2 : !(c3 - c3 == S(0)) ? c3 : s3};
   const S branch = f2 * f2 * h2c * (inv_b * inv_b) * (inv_c * inv_c);
   k->c1 = c1;
   k->s1 = s1;

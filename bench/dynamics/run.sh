@@ -115,7 +115,7 @@ if "Rhs/Generated" in rhs:
     target("generated rhs / hand-written rhs", "Rhs/Generated", "Rhs/Handwritten", 1.10)
     target("generated kinematics / hand-written", "Kinematics/GeneratedOnePass", "Kinematics/Handwritten", 1.20)
     print("  for reference")
-    print(f"  generated kinematics / hand-written with its checks = {ratio('Kinematics/GeneratedOnePass', 'Kinematics/HandwrittenChecked'):5.2f}   (the same refusals, branch measure, non-finite check, Phi_phi)")
+    print(f"  generated kinematics / hand-written with its checks = {ratio('Kinematics/GeneratedOnePass', 'Kinematics/HandwrittenChecked'):5.2f}   (the same refusals, range checks, branch measure, Phi_phi)")
     print(f"  hand-written with the checks / hand-written = {ratio('Kinematics/HandwrittenChecked', 'Kinematics/Handwritten'):5.2f}   (the price of the checks alone)")
     print(f"  SolveTrig + Coeffs / hand-written kinematics = {ratio('Kinematics/GeneratedTrig', 'Kinematics/Handwritten'):5.2f}   (two calls)")
     print(f"  generated / generated kinematics     = {ratio('Rhs/Generated', 'Kinematics/Generated'):5.2f}   (Solve + Coeffs)")

@@ -12,6 +12,27 @@ using Dir = Argument::Direction;
 
 std::string N(int i) { return std::to_string(i); }
 
+// Whether a step of the form reads the symbol (norm2_max, norm2_min: defined only where read,
+// an unused local being a warning in the generated code).
+bool Reads(const ClosedForm& f, const GiNaC::symbol& x) {
+  for (const DyadStep& s : f.steps)
+    for (const ex& e : {s.value, s.slack, s.x, s.y})
+      if (e.has(x)) return true;
+  return false;
+}
+
+// The definitions of the range of a dyad's squared lengths (ScalarNorm2Max, dyads.h) that the
+// forms read.
+void DefineNorm2Bounds(const std::vector<ClosedForm>& forms, Program* P) {
+  bool max = false, min = false;
+  for (const ClosedForm& f : forms) {
+    max |= Reads(f, ScalarNorm2Max());
+    min |= Reads(f, ScalarNorm2Min());
+  }
+  if (max) P->push_back(Raw(kNorm2MaxDefinition));
+  if (min) P->push_back(Raw(kNorm2MinDefinition));
+}
+
 // The statements of one closed-form block (see dyads.h for the forms). *trig_done[i] is
 // set for each angle phi(i) whose sin and cos the block writes to *trig from its own
 // solution (no trigonometric call). trig_only (SolveTrig): no angle is computed, the
@@ -25,6 +46,8 @@ void ClosedFormPositions(const ClosedForm& f,
                          bool trig_only = false) {
   printer->Name(f.mode, "Scalar(modes[" + N(bi) + "])");
   printer->Name(ScalarEpsilon(), "epsilon");
+  printer->Name(ScalarNorm2Max(), "norm2_max");
+  printer->Name(ScalarNorm2Min(), "norm2_min");
   auto text = [&](const ex& e) { return printer->Print(e); };
   auto phi_ref = [&](int i) { return "phi(" + N(i) + ")"; };
   bool pending_store = false;
@@ -36,6 +59,7 @@ void ClosedFormPositions(const ClosedForm& f,
     switch (s.kind) {
       case DyadStep::Kind::kLocal:
         if (!GiNaC::is_a<GiNaC::symbol>(s.symbol) || s.symbol.is_equal(s.value)) break;  // a number or symbol already
+        if (trig_only && s.angle_only) break;  // no angle is computed
         {
           Statement d;
           d.kind = Statement::Kind::kDefine;
@@ -118,10 +142,15 @@ void ClosedFormPositions(const ClosedForm& f,
   if (shared_inverses)
     for (const DyadTrig& t : f.trig) {
       ex inv;
-      P->push_back(Define(t.inv_name + f.suffix, 1 / t.norm2, &inv));
+      P->push_back(Define(t.inv_name + f.suffix, 1 / t.denom, &inv));
       printer->Name(inv, t.inv_name + f.suffix);
-      inverse_norms *= inv;
+      inverse_norms *= t.on_axis() ? inv * inv : inv;  // 1/norm2 = (1/a_x)^2 on an axis
     }
+  // dot * inverse, dot in parentheses when it is a sum.
+  auto scaled = [&](const ex& dot, const std::string& inv) {
+    const std::string d = text(dot);
+    return (GiNaC::is_a<GiNaC::add>(dot) ? "(" + d + ")" : d) + " * " + inv;
+  };
   if (f.has_branch) {
     // The branch-point signal: the smallest relative discriminant over the blocks.
     const std::string name = "branch" + f.suffix;
@@ -154,13 +183,15 @@ void ClosedFormPositions(const ClosedForm& f,
     std::vector<std::string> values;
     for (const DyadTrig& t : f.trig) {
       const std::string c = "cos_phi" + N(t.col), s = "sin_phi" + N(t.col);
-      P->push_back(Raw(c + " = " + text(t.dot) + " * " + t.inv_name + f.suffix + ";"));
-      P->push_back(Raw(s + " = " + text(t.cross) + " * " + t.inv_name + f.suffix + ";"));
+      P->push_back(Raw(c + " = " + scaled(t.dot, t.inv_name + f.suffix) + ";"));
+      P->push_back(Raw(s + " = " + scaled(t.cross, t.inv_name + f.suffix) + ";"));
       values.push_back(c);
       values.push_back(s);
       (*trig_done)[t.col] = true;
     }
     // As SolvePositions' check of its angles: nothing non-finite comes out as converged.
+    // A form whose checks bound what they let through (finite_by_checks) needs no test here.
+    if (f.finite_by_checks) return;
     // One test on the sum of the x - x (0 exactly when every x is finite, else NaN); the
     // measure reported is the first non-finite value, as one test per value gave.
     std::string sum, first;
@@ -175,13 +206,13 @@ void ClosedFormPositions(const ClosedForm& f,
   P->push_back(Raw("if (trig != nullptr) {"));
   if (!shared_inverses)
     for (const DyadTrig& t : f.trig) {
-      const std::string norm2 = text(t.norm2);
+      const std::string denom = text(t.denom);
       P->push_back(Raw("  const Scalar " + t.inv_name + f.suffix + " = Scalar(1) / " +
-                       (GiNaC::is_a<GiNaC::symbol>(t.norm2) ? norm2 : "(" + norm2 + ")") + ";"));
+                       (GiNaC::is_a<GiNaC::symbol>(t.denom) ? denom : "(" + denom + ")") + ";"));
     }
   for (const DyadTrig& t : f.trig) {
-    P->push_back(Raw("  trig->cos_phi(" + N(t.col) + ") = " + text(t.dot) + " * " + t.inv_name + f.suffix + ";"));
-    P->push_back(Raw("  trig->sin_phi(" + N(t.col) + ") = " + text(t.cross) + " * " + t.inv_name + f.suffix + ";"));
+    P->push_back(Raw("  trig->cos_phi(" + N(t.col) + ") = " + scaled(t.dot, t.inv_name + f.suffix) + ";"));
+    P->push_back(Raw("  trig->sin_phi(" + N(t.col) + ") = " + scaled(t.cross, t.inv_name + f.suffix) + ";"));
     (*trig_done)[t.col] = true;
   }
   P->push_back(Raw("}"));
@@ -267,6 +298,7 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
   f.body.push_back(prologue);
   trig_done->assign(k.phi.size(), false);
   bool branch = false;
+  std::vector<ClosedForm> forms;
   for (size_t bi = 0; bi < t.blocks.size(); ++bi) {
     const Block& b = t.blocks[bi];
     // Each block is its own program: its values depend on the phi the blocks before it
@@ -278,6 +310,7 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
     } else {
       const ClosedForm form = FormulateClosedForm(k, b, static_cast<int>(bi));
       branch |= form.has_branch;
+      forms.push_back(form);
       ClosedFormPositions(form, static_cast<int>(bi), &P, printer, trig_done);
     }
     P.push_back(Raw("}"));
@@ -291,6 +324,7 @@ FunctionSpec SolvePositionsSpec(const SymbolicTable& t, CxxPrinter* printer, std
     f.body.front().push_back(Raw("Scalar branch_measure = Scalar(1);"));
     f.body.front().push_back(Raw("int branch_block = -1;"));
   }
+  DefineNorm2Bounds(forms, &f.body.front());  // the range of a dyad's squared lengths
   f.body.push_back({Raw(""), Raw(t.blocks.empty() ? "" : "*phi_io = phi;"),
                     Raw(branch ? "return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, "
                                  "branch_block};"
@@ -361,6 +395,7 @@ FunctionSpec SolveTrigSpec(const SymbolicTable& t, CxxPrinter* printer, bool* po
     f.body.front().push_back(Raw("Scalar branch_measure = Scalar(1);"));
     f.body.front().push_back(Raw("int branch_block = -1;"));
   }
+  DefineNorm2Bounds(forms, &f.body.front());
   f.body.push_back({Raw(""), Raw(branch ? "return {SolveStatus::kConverged, -1, iterations, Scalar(0), branch_measure, "
                                           "branch_block};"
                                         : "return {SolveStatus::kConverged, -1, iterations, Scalar(0)};")});

@@ -261,7 +261,7 @@ void ChooseMode(const Model& m, const Kinematics& k, Block* b, int index, GiNaC:
         if (s.kind == DyadStep::Kind::kLocal && locals.count(s.local) && GiNaC::is_a<GiNaC::symbol>(s.symbol))
           at[s.symbol] = locals.at(s.local);
       const double measure = Eval(failed->value, at);
-      if (b->solve == BlockSolve::kRR && std::isfinite(measure)) {
+      if (b->solve == BlockSolve::kRR && !failed->singular && std::isfinite(measure)) {
         // The links a (angle u) and b (angle v) hang from two points d apart: they meet
         // when |ra - rb| <= d <= ra + rb.
         const double ra = std::sqrt(locals[DyadLocal::kRa2]), rb = std::sqrt(locals[DyadLocal::kRb2]);
@@ -440,6 +440,8 @@ class ReachModel {
     for (const Coordinate& c : k.q) q_slots_.push_back(slot(c.symbol));
     for (const Coordinate& c : k.phi) phi_slots_.push_back(slot(c.symbol));
     values_[slot(ScalarEpsilon())] = std::numeric_limits<double>::epsilon();
+    values_[slot(ScalarNorm2Max())] = kNorm2MaxDouble;
+    values_[slot(ScalarNorm2Min())] = kNorm2MinDouble;
     std::vector<bool> known(k.phi.size(), false);
     for (size_t bi = 0; bi < blocks.size(); ++bi) {
       const Block& b = blocks[bi];

@@ -86,6 +86,8 @@ const char* DyadLocalName(DyadLocal l) {
     case DyadLocal::kW0y: return "w0y";
     case DyadLocal::kDet: return "det";
     case DyadLocal::kInvDet: return "inv_det";
+    case DyadLocal::kInvAx: return "inv_ax";
+    case DyadLocal::kInvBx: return "inv_bx";
   }
   return "";
 }
@@ -158,7 +160,23 @@ class Builder {
     f_.steps.push_back(s);
   }
   void Trig(int col, DyadLocal inv, const ex& norm2, const ex& dot, const ex& cross) {
-    f_.trig.push_back({col, DyadLocalName(inv), norm2, dot, cross});
+    f_.trig.push_back({col, DyadLocalName(inv), norm2, dot, cross, norm2});
+  }
+  // A link along its own x axis: cos = dot / a_x, sin = cross / a_x (denom^2 = norm2).
+  void TrigOnAxis(int col, DyadLocal inv, const ex& norm2, const ex& dot, const ex& cross, const ex& denom) {
+    f_.trig.push_back({col, DyadLocalName(inv), norm2, dot, cross, denom});
+  }
+  // The local is read by the atan2 of the angles only.
+  void AngleOnly(DyadLocal local) {
+    for (DyadStep& s : f_.steps)
+      if (s.kind == DyadStep::Kind::kLocal && s.local == local) s.angle_only = true;
+  }
+  // A squared length of the dyad within [norm2_min, norm2_max] (unless it is a number there).
+  void RequireNorm2InRange(const ex& value, const std::string& too_small, const std::string& too_large) {
+    double v;
+    if (Number(value, &v) && v >= kNorm2MinDouble && v <= kNorm2MaxDouble) return;
+    Require(DyadStep::Require::kPositive, value - ScalarNorm2Min(), value, true, too_small);
+    Require(DyadStep::Require::kPositive, ScalarNorm2Max() - value, value, true, too_large);
   }
 
  private:
@@ -170,6 +188,16 @@ class Builder {
 const GiNaC::symbol& ScalarEpsilon() {
   static const GiNaC::symbol eps("scalar_epsilon");
   return eps;
+}
+
+const GiNaC::symbol& ScalarNorm2Max() {
+  static const GiNaC::symbol s("scalar_norm2_max");
+  return s;
+}
+
+const GiNaC::symbol& ScalarNorm2Min() {
+  static const GiNaC::symbol s("scalar_norm2_min");
+  return s;
 }
 
 ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
@@ -187,13 +215,28 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
       const ex bx = s.Local(DyadLocal::kBx, b.b[0]), by = s.Local(DyadLocal::kBy, b.b[1]);
       const ex wx = s.Local(DyadLocal::kWx, -b.w0[0]), wy = s.Local(DyadLocal::kWy, -b.w0[1]);
       const ex ra2 = s.Local(DyadLocal::kRa2, ax * ax + ay * ay), rb2 = s.Local(DyadLocal::kRb2, bx * bx + by * by);
-      // A link of zero length: its angle is not determined.
-      s.RequirePositive(ra2, "a link of the dyad has zero length");
-      s.RequirePositive(rb2, "a link of the dyad has zero length");
+      // A link of zero length: its angle is not determined. A link beyond Scalar's range
+      // (below): nothing the form computes from it could be trusted to be finite.
+      s.RequireNorm2InRange(ra2, "a link of the dyad has zero length", kLinkBeyondRange);
+      s.RequireNorm2InRange(rb2, "a link of the dyad has zero length", kLinkBeyondRange);
       const ex d2 = s.Local(DyadLocal::kD2, wx * wx + wy * wy);
       // Coincident centres (to rounding): the dyad may turn about them, nothing fixes it.
       s.Require(DyadStep::Require::kPositive, d2 - eps * eps * (ra2 + rb2), d2, true,
                 kCentresCoincide);
+      s.Require(DyadStep::Require::kPositive, ScalarNorm2Max() - d2, d2, true, kLinkBeyondRange);
+      // Why the checks above make every value below finite (finite_by_checks: the direction
+      // cosines need no test of their own). Let F be Scalar's largest value and M = norm2_max,
+      // chosen with 6 M^2 <= eps^2 F (double: M = 1e138, float: 1e11). Past the checks (a NaN
+      // fails each of them) |a|^2, |b|^2 lie in [1/M, M] and |w|^2 in (eps^2 (|a|^2 + |b|^2), M],
+      // so every coordinate of a, b, w is at most sqrt(M) and
+      //   1/|w|^2 < M / (2 eps^2)                     (finite),
+      //   |a|^2/|w|^2, |b|^2/|w|^2 < 1/eps^2,  |k| <= 1/eps^2,  h^2 finite,
+      //   past the h^2 test 0 <= h2c <= |a|^2/|w|^2:  |h| < 1/eps,
+      //   |m_x|, |m_y| <= (|k| + |h|) sqrt(M) <= 2 sqrt(M) / eps^2,
+      //   dot and cross products with a, or with b of w - m, <= 6 M / eps^2,
+      //   cosines: those times 1/|a|^2 or 1/|b|^2 <= M: at most 6 M^2 / eps^2 <= F,
+      // and on an axis (m_x / a_x) smaller still. The bounds are loose (once h^2 has passed its
+      // test, |k| <= 65/eps + 1): rounding cannot take them past F.
       const ex inv_d2 = s.Local(DyadLocal::kInvD2, 1 / d2);
       const ex kk = s.Local(DyadLocal::kK, GiNaC::numeric(1, 2) + (ra2 - rb2) * inv_d2 / 2);
       const ex h2 = s.Local(DyadLocal::kH2, ra2 * inv_d2 - kk * kk);
@@ -214,9 +257,23 @@ ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index) {
       const ex dv = s.Local(DyadLocal::kDotV, bx * (wx - mx) + by * (wy - my));
       s.Angle(u, cu, du);
       s.Angle(v, cv, dv);
-      // m = R(u) a and w - m = R(v) b: a.m = |a|^2 cos u, a x m = |a|^2 sin u, and so for v.
-      s.Trig(u, DyadLocal::kInvRa2, ra2, du, cu);
-      s.Trig(v, DyadLocal::kInvRb2, rb2, dv, cv);
+      // m = R(u) a and w - m = R(v) b: a.m = |a|^2 cos u, a x m = |a|^2 sin u, and so for v;
+      // a link along its x axis: m = a_x (cos u, sin u) (one product and 1/a_x^2 less).
+      if (ay.is_zero()) {
+        s.TrigOnAxis(u, DyadLocal::kInvAx, ra2, mx, my, ax);
+        s.AngleOnly(DyadLocal::kCrossU);
+        s.AngleOnly(DyadLocal::kDotU);
+      } else {
+        s.Trig(u, DyadLocal::kInvRa2, ra2, du, cu);
+      }
+      if (by.is_zero()) {
+        s.TrigOnAxis(v, DyadLocal::kInvBx, rb2, wx - mx, wy - my, bx);
+        s.AngleOnly(DyadLocal::kCrossV);
+        s.AngleOnly(DyadLocal::kDotV);
+      } else {
+        s.Trig(v, DyadLocal::kInvRb2, rb2, dv, cv);
+      }
+      f.finite_by_checks = true;
       break;
     }
     case BlockSolve::kAngle: {
@@ -307,6 +364,8 @@ bool EvaluateClosedForm(const ClosedForm& f,
   GiNaC::exmap v = values;
   v[f.mode] = mode;
   v[ScalarEpsilon()] = std::numeric_limits<double>::epsilon();
+  v[ScalarNorm2Max()] = kNorm2MaxDouble;
+  v[ScalarNorm2Min()] = kNorm2MinDouble;
   auto eval = [&](const ex& e) {
     double d;
     return Number(e.subs(v), &d) ? d : std::nan("");

@@ -20,6 +20,9 @@
 //
 //   RRR  R(u) a + R(v) b = w:   tip m = R(u) a on the circles |m| = |a|, |w - m| = |b|:
 //        k = 1/2 + (|a|^2 - |b|^2) / 2|w|^2, h = mode sqrt(|a|^2/|w|^2 - k^2), m = k w + h w^perp
+//        Its checks bound |a|^2, |b|^2 and |w|^2 within [norm2_min, norm2_max] (ScalarNorm2Max:
+//        what Scalar can carry through the form without overflow), so that every value they
+//        let through is finite (ClosedForm::finite_by_checks; the proof is in dyads.cc).
 //   RRP  R(u) a(s) = w(s):      |a(s)|^2 = |w(s)|^2, quadratic in s, the root of the mode's sign
 //        without cancellation (mode +1 is (-B + sqrt(disc)) / 2A)
 //   PRP  w0 + s0 e0 + s1 e1 = 0: Cramer's rule
@@ -41,6 +44,10 @@ namespace mechgen {
 /// What an RRR dyad's requirement says when its two circle centres coincide (the reach
 /// check tells this isolated case, a change point, from the end of a reach).
 inline constexpr const char* kCentresCoincide = "the two circle centres coincide";
+/// ... when a squared length of the dyad (a link, or the distance of its centres) exceeds
+/// norm2_max (ScalarNorm2Max).
+inline constexpr const char* kLinkBeyondRange =
+    "a length of the dyad is beyond what its closed form carries (|a|^2, |b|^2, |w|^2 <= 1e138)";
 
 /// stable_half(B, sq) = -(B + sign(B) sq) / 2 (sign(0) = +1): the larger-magnitude
 /// q of a quadratic's roots q / A and C / q.
@@ -60,7 +67,7 @@ enum class DyadLocal {
   kAx, kAy, kBx, kBy, kWx, kWy, kRa2, kRb2, kD2, kInvD2, kK, kH2, kH2c, kH, kMx, kMy, kCrossU,
   kDotU, kCrossV, kDotV, kInvRa2, kInvRb2, kC0, kC1, kC2, kRho, kCosArg, kCosArgc, kQuadA, kQuadB,
   kQuadC, kS, kDisc, kDiscc, kDiscScale, kSq, kQq, kA2, kInvA2, kE0x, kE0y, kE1x, kE1y, kW0x, kW0y,
-  kDet, kInvDet,
+  kDet, kInvDet, kInvAx, kInvBx,
 };
 
 /// The name of a closed form's local in the generated code, without the block's suffix.
@@ -93,14 +100,22 @@ struct DyadStep {
   DyadLocal clamped_local = DyadLocal::kH2c;  ///< has_clamped: which local the clamped value is
   std::string what;  ///< kRequire: what a failure means, for the generator's messages
   int col = -1;       ///< kAngle, kValue: index into phi
+  /// kLocal: read only by the kAngle steps' atan2 (a SolvePositionsTrig, which computes no
+  /// angle, leaves it out).
+  bool angle_only = false;
 };
 
 /// sin and cos of an angle the closed form solved, from its own dot and cross products:
-/// cos = dot / norm2, sin = cross / norm2.
+/// cos = dot / denom, sin = cross / denom. denom is the link's squared length norm2 (dot and
+/// cross of the link with the direction it is turned into), or, for a link along its own x
+/// axis (a = (a_x, 0)), a_x itself (dot and cross are then the direction's coordinates: one
+/// product less, and 1 / a_x in place of 1 / a_x^2).
 struct DyadTrig {
   int col = -1;
-  std::string inv_name;  ///< name of the local 1 / norm2 (without suffix): DyadLocalName() of it
+  std::string inv_name;  ///< name of the local 1 / denom (without suffix): DyadLocalName() of it
   GiNaC::ex norm2, dot, cross;
+  GiNaC::ex denom;       ///< norm2, or a_x with denom^2 = norm2
+  bool on_axis() const { return !denom.is_equal(norm2); }
 };
 
 struct ClosedForm {
@@ -115,6 +130,9 @@ struct ClosedForm {
   GiNaC::ex branch_num = 0, branch_den = 1;
   bool has_branch = false;
   bool branch_den_positive = false;  ///< the steps have required branch_den > 0 already
+  /// The steps' checks bound every value they let through, so that the direction cosines
+  /// (trig) come out finite without a test of their own (RRR; see dyads.cc).
+  bool finite_by_checks = false;
   std::vector<DyadStep> steps;
   std::vector<DyadTrig> trig;
 };
@@ -122,6 +140,17 @@ struct ClosedForm {
 /// The machine epsilon of the generated code's Scalar in the slack expressions (printed as
 /// the type's epsilon, evaluated as double's by EvaluateClosedForm).
 const GiNaC::symbol& ScalarEpsilon();
+/// The largest and the smallest squared length an RRR dyad accepts (printed as the locals
+/// norm2_max and norm2_min, per Scalar: 1e138 and 1e-138 for double, 1e11 and 1e-11 for float;
+/// evaluated as double's by EvaluateClosedForm). See dyads.cc for why these.
+const GiNaC::symbol& ScalarNorm2Max();
+const GiNaC::symbol& ScalarNorm2Min();
+/// Their printed definitions, for the functions whose closed forms read them.
+inline constexpr const char* kNorm2MaxDefinition =
+    "const Scalar norm2_max = Scalar(sizeof(Scalar) <= 4 ? 1e11 : 1e138);";
+inline constexpr const char* kNorm2MinDefinition =
+    "const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);";
+inline constexpr double kNorm2MaxDouble = 1e138, kNorm2MinDouble = 1e-138;
 
 /// The closed form of block `b` (index `index` in the solve order); b.solve must not be kNewton.
 ClosedForm FormulateClosedForm(const Kinematics& k, const Block& b, int index);

@@ -6,7 +6,11 @@
 //  - on every mode combination and over inputs beyond the range (where the loop may not
 //    close): SolvePositions' status, and std::sin / std::cos of its angles where it converges;
 //  - EvalCoefficients given SolveTrig's trig and a phi of NaNs equals EvalCoefficients
-//    without trig at the solved phi (the generator's promise that nothing reads phi then).
+//    without trig at the solved phi (the generator's promise that nothing reads phi then);
+//  - hostile parameters and inputs (non-finite, zero, tiny, huge, subnormal; one at a time and
+//    all scaled together): what SolveTrig and EvalKinematics report as converged is finite
+//    (their direction cosines carry no test of their own where the RRR dyad's range checks
+//    prove them finite, symbolic/dyads.cc), and every length inside the range still converges.
 // Models without SolveTrig (Newton blocks, displacement unknowns, one-angle forms, an angle
 // read downstream other than through sin and cos) skip.
 #include <gtest/gtest.h>
@@ -14,6 +18,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <string>
 #include <type_traits>
 #include <utility>
 
@@ -219,6 +225,102 @@ TYPED_TEST(SolveTrigTest, OnePassKinematicsReportsAsSolveTrigOnEveryMode) {
     EXPECT_GT(converged, 0);
     this->RecordProperty("converged", converged);
     this->RecordProperty("failed", failed);
+  }
+}
+
+// What the one-pass functions promise: finite values whenever they say kConverged, for any
+// parameters and inputs. Each parameter in turn, then every parameter at once, is set to
+// hostile values, at an input inside the range and at hostile inputs; then every parameter is
+// scaled by factors inside and beyond the RRR dyad's range of lengths.
+TYPED_TEST(SolveTrigTest, HostileParametersAndInputsNeverConvergeToNonFiniteValues) {
+  using M = TypeParam;
+  if constexpr (!HasSolveTrig<M>::value) {
+    GTEST_SKIP() << "no SolveTrig";
+  } else {
+    using Params = mechtest::ParamsD<M>;
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const double bad[] = {NAN, kInf, -kInf, 0.0, -1.0, 1e300, -1e300, 1e150, 1e70, 1e-70, 1e-150, 1e-300,
+                          std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::max()};
+    int converged = 0, calls = 0;
+    auto check = [&](const Params& p, const mechtest::VecQ<M>& q, const std::string& what) {
+      typename M::template TrigT<double> trig;
+      Poison(&trig);
+      const auto report = M::SolveTrig(p, q, M::kDefaultModes, &trig);
+      ++calls;
+      if (report.status == decltype(report.status)::kConverged) {
+        ++converged;
+        EXPECT_TRUE(trig.sin_phi.allFinite() && trig.cos_phi.allFinite()) << what << ": SolveTrig converged with "
+                                                                          << trig.cos_phi.transpose();
+        EXPECT_TRUE(report.branch_measure >= 0 && report.branch_measure <= 1) << what;
+      }
+      if constexpr (M::kHasKinematics) {
+        typename M::template KinematicsT<double> kin;
+        Poison(&trig);
+        const auto k = M::Kinematics(p, q, M::kDefaultModes, &trig, &kin);
+        EXPECT_EQ(static_cast<int>(k.status), static_cast<int>(report.status)) << what;
+        if (k.status == decltype(k.status)::kConverged) {
+          EXPECT_TRUE(trig.sin_phi.allFinite() && trig.cos_phi.allFinite() && kin.Phi_phi.allFinite())
+              << what << ": Kinematics converged with " << trig.cos_phi.transpose();
+        }
+      }
+    };
+    const mechtest::VecQ<M> q0 = InputOverTwiceTheRange<M>(1, 4);
+    for (const char* name : Params::kNames) {
+      for (const double x : bad) {
+        Params p;
+        *p.Find(name) = x;
+        const std::string what = std::string(name) + " = " + std::to_string(x);
+        check(p, q0, what);
+        for (int j = 0; j < M::kNq; ++j) {
+          mechtest::VecQ<M> q = q0;
+          q(j) = x;
+          check(p, q, what + ", q(" + std::to_string(j) + ") = " + std::to_string(x));
+        }
+      }
+    }
+    for (const double x : bad) {
+      Params p;
+      for (const char* name : Params::kNames) *p.Find(name) = x;
+      check(p, q0, std::string("every parameter = ") + std::to_string(x));
+    }
+    for (const double scale : {1e-80, 1e-69, 1e-68, 1e-60, 1e60, 1e68, 1e69, 1e80}) {
+      Params p, defaults;
+      for (const char* name : Params::kNames) *p.Find(name) = *defaults.Find(name) * scale;
+      check(p, q0, "every parameter x " + std::to_string(scale));
+    }
+    this->RecordProperty("converged", converged);
+    this->RecordProperty("calls", calls);
+  }
+}
+
+// The RRR dyad's range of lengths (1e-69 .. 1e69 for double: squared lengths within
+// [norm2_min, norm2_max]): Paul's four-bar in other units is the same mechanism inside it (the
+// same direction cosines, K and L, which are ratios of lengths: scaled by nothing), and is
+// refused as singular, with the offending squared length, beyond it.
+TEST(SolveTrigRange, FourBarInOtherUnitsIsTheSameInsideTheRangeAndRefusedBeyondIt) {
+  using M = mech::fourbar::Model;
+  const mechtest::ParamsD<M> unit;
+  const mechtest::VecQ<M> q = mechtest::VecQ<M>::Constant(0.7);
+  M::TrigT<double> trig0, trig;
+  M::KinematicsT<double> kin0, kin;
+  ASSERT_EQ(static_cast<int>(M::Kinematics(unit, q, M::kDefaultModes, &trig0, &kin0).status), 0);
+  for (const double scale : {1e-66, 1e-60, 1e-30, 1e30, 1e60, 1e66}) {
+    mechtest::ParamsD<M> p;
+    for (double* x : {&p.a, &p.b, &p.c, &p.d, &p.xi, &p.eta}) *x *= scale;
+    const auto report = M::Kinematics(p, q, M::kDefaultModes, &trig, &kin);
+    ASSERT_EQ(static_cast<int>(report.status), 0) << "lengths x " << scale;
+    EXPECT_NEAR(report.branch_measure, M::Kinematics(unit, q, M::kDefaultModes, &trig0, &kin0).branch_measure, 1e-12);
+    EXPECT_LT(WorstRelative(trig.cos_phi, trig0.cos_phi), 1e-13) << scale;
+    EXPECT_LT(WorstRelative(trig.sin_phi, trig0.sin_phi), 1e-13) << scale;
+    EXPECT_LT(WorstRelative(kin.K, kin0.K), 1e-13) << scale;               // dimensionless
+    EXPECT_LT(WorstRelative(kin.L, kin0.L), 1e-13) << scale;               // L of angles: too
+  }
+  for (const double scale : {1e-72, 1e72}) {
+    mechtest::ParamsD<M> p;
+    for (double* x : {&p.a, &p.b, &p.c, &p.d, &p.xi, &p.eta}) *x *= scale;
+    const auto report = M::SolveTrig(p, q, M::kDefaultModes, &trig);
+    EXPECT_EQ(report.status, mech::fourbar::SolveStatus::kSingular) << "lengths x " << scale;
+    EXPECT_TRUE(report.measure == p.b * p.b || report.measure == p.c * p.c) << report.measure;
   }
 }
 
