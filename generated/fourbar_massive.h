@@ -1275,7 +1275,9 @@ SolveReport<Scalar> SolvePositionsTrig(const Params<Scalar>& p,
  * \brief The kinematics at inputs q in one pass: SolvePositionsTrig() (the closed forms' direction
  * cosines, no angle), then K (and L with kHasL) and Phi_phi from them (Paul ch. 4). Nothing else
  * of EvalCoefficients() (no residual, no points) is computed. The same statuses and branch_measure as
- * SolvePositionsTrig(); *trig and *out hold finite values when the report says kConverged.
+ * SolvePositionsTrig(); *trig holds finite values when the report says kConverged, and so does *out
+ * except at a dead point (Phi_phi singular to rounding: its determinant 0, branch_measure 0 for a dyad),
+ * where K and L do not exist: check Phi_phi's conditioning first (the runtime does).
  * \param[in]  p      Parameters.
  * \param[in]  q      Inputs (dim kNq).
  * \param[in]  modes  Assembly mode of each block (Model::kDefaultModes: the model's assembly) (dim
@@ -1418,7 +1420,9 @@ void PrepareRhs(const Params<Scalar>& p,
  * (Paul §6.4, §6.6.1: qdd = I^-1 (Q - h)), with what a simulation samples (K, T, V, P_nc, Phi_phi).
  * Nothing else of EvalCoefficients() (no residual, no points) and of EvalDynamics() (no C, dI_dq)
  * is computed: the fast path of an integrator's stages. The same statuses and branch_measure as
- * SolvePositionsTrig(); *trig and *out hold finite values when the report says kConverged.
+ * SolvePositionsTrig(); *trig holds finite values when the report says kConverged, and so does *out
+ * except at a dead point (Phi_phi singular to rounding: its determinant 0, branch_measure 0 for a dyad),
+ * where K and L do not exist: check Phi_phi's conditioning first (the runtime does).
  * \param[in]  p         Parameters.
  * \param[in]  rc        What depends on the parameters only: PrepareRhs(p) (again after p changes).
  * \param[in]  q         Inputs (dim kNq).

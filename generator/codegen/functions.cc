@@ -262,7 +262,9 @@ FunctionSpec EvalKinematicsSpec(const SymbolicTable& t) {
   f.doc = {"\\brief The kinematics at inputs q in one pass: SolvePositionsTrig() (the closed forms' direction",
            "cosines, no angle), then K (and L with kHasL) and Phi_phi from them (Paul ch. 4). Nothing else",
            "of EvalCoefficients() (no residual, no points) is computed. The same statuses and branch_measure as",
-           "SolvePositionsTrig(); *trig and *out hold finite values when the report says kConverged."};
+           "SolvePositionsTrig(); *trig holds finite values when the report says kConverged, and so does *out",
+           "except at a dead point (Phi_phi singular to rounding: its determinant 0, branch_measure 0 for a dyad),",
+           "where K and L do not exist: check Phi_phi's conditioning first (the runtime does)."};
   f.args.push_back(Arg("const Params<Scalar>&", "p", Dir::kIn, "Parameters."));
   f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "q", Dir::kIn, "Inputs", "dim kNq"));
   f.args.push_back(Arg("const std::array<int, Sizes::kNumBlocks>&", "modes", Dir::kIn,

@@ -309,7 +309,9 @@ FunctionSpec EvalRhsSpec(const Model& m, const SymbolicTable& t, const DynamicsT
            "(Paul §6.4, §6.6.1: qdd = I^-1 (Q - h)), with what a simulation samples (K, T, V, P_nc, Phi_phi).",
            "Nothing else of EvalCoefficients() (no residual, no points) and of EvalDynamics() (no C, dI_dq)",
            "is computed: the fast path of an integrator's stages. The same statuses and branch_measure as",
-           "SolvePositionsTrig(); *trig and *out hold finite values when the report says kConverged."};
+           "SolvePositionsTrig(); *trig holds finite values when the report says kConverged, and so does *out",
+           "except at a dead point (Phi_phi singular to rounding: its determinant 0, branch_measure 0 for a dyad),",
+           "where K and L do not exist: check Phi_phi's conditioning first (the runtime does)."};
   f.args.push_back(Arg("const Params<Scalar>&", "p", Dir::kIn, "Parameters."));
   f.args.push_back(Arg("const RhsConstants<Scalar>&", "rc", Dir::kIn,
                        "What depends on the parameters only: PrepareRhs(p) (again after p changes)."));
