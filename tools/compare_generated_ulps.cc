@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <type_traits>
 
 #include MODELS_INCLUDE
 
@@ -28,8 +27,8 @@ template <class M, class O> void Compare(const char* name) {
   typename M::template ParamsT<double> p;
   typename O::template ParamsT<double> po;
   typename M::template ParamsT<long double> pl;
-  double e_new[4] = {0, 0, 0, 0}, e_old[4] = {0, 0, 0, 0};  // trig, K, L, Solve's trig
-  double diff[3] = {0, 0, 0};
+  double e_new[3] = {0, 0, 0}, e_old[3] = {0, 0, 0};  // cosines, K, L against long double
+  double diff[3] = {0, 0, 0};                         // cosines, K, L: new against old
   int n = 0;
   for (int k = 0; k < 2000; ++k) {
     Eigen::Matrix<double, M::kNq, 1> q;

@@ -82,8 +82,8 @@ enum class CheckedStatus { kConverged, kSingular, kNotAssemblable };
 template <typename S>
 struct CheckedReport {
   CheckedStatus status = CheckedStatus::kConverged;
-  S measure = S(0);         // the failing value (a length, the discriminant, a direction cosine)
-  S branch_measure = S(1);  // |h|^2 f^4 / (b^2 c^2) = sin^2 of the coupler-rocker angle times f^2/(b c)
+  S measure = S(0);         // the failing value (a squared length, |D - B|^2, the discriminant)
+  S branch_measure = S(1);  // h^2 f^4 / (b^2 c^2) = sin^2 of the coupler-rocker angle, at most 1
 };
 
 /// The kinematics of Kinematics() with what the generated EvalKinematics() promises on top
@@ -96,8 +96,9 @@ struct CheckedReport {
 ///    generated RRR dyad (squared lengths within [1e-138, 1e138], kSingular beyond), which
 ///    bound every value after them (generator/symbolic/dyads.cc);
 ///  - Phi_phi as an output, for the caller's conditioning check.
-/// Same numbering and formulas as Kinematics(); k and Phi_phi hold finite values when the
-/// status is kConverged.
+/// Same numbering and formulas as Kinematics(). When the status is kConverged the direction
+/// cosines and Phi_phi are finite, and so are K and L except at a dead point (s23 = 0), where
+/// they do not exist: as EvalKinematics().
 template <typename S>
 inline CheckedReport<S> KinematicsChecked(const FourbarParams<S>& p, S q, FourbarKinematics<S>* k,
                                           S Phi_phi[4]) {

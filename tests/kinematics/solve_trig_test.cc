@@ -10,7 +10,8 @@
 //  - hostile parameters and inputs (non-finite, zero, tiny, huge, subnormal; one at a time and
 //    all scaled together): what SolveTrig and EvalKinematics report as converged is finite
 //    (their direction cosines carry no test of their own where the RRR dyad's range checks
-//    prove them finite, symbolic/dyads.cc), and every length inside the range still converges.
+//    prove them finite, symbolic/dyads.cc); Paul's four-bar in other units gives the same
+//    cosines, K and L inside that range and is refused as singular beyond it.
 // Models without SolveTrig (Newton blocks, displacement unknowns, one-angle forms, an angle
 // read downstream other than through sin and cos) skip.
 #include <gtest/gtest.h>
