@@ -391,6 +391,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar tol = tolerance > Scalar(0) ? tolerance : Scalar(sizeof(Scalar) <= 4 ? 1e-5 : 1e-12);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+  }
   {  // block 0: rows 0 -> u_contact: Newton-Raphson on the 1x1 block
     Vec<Scalar, 1> r_b0;
     Mat<Scalar, 1, 1> J_b0 = Mat<Scalar, 1, 1>::Zero();
@@ -418,10 +422,6 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     phi(0) = _tmp0*_tmp3*p.R*p.rr*sin_q0 + _tmp0*p.R*sin_q0 + _tmp2*_tmp3*cos_q0*p.R*p.rr + _tmp2*cos_q0*p.R + cos_q0*p.e;
 
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(0)};
-  }
-  if (trig != nullptr) {
-    trig->sin_q(0) = sin_q0;
-    trig->cos_q(0) = cos_q0;
   }
 
   *phi_io = phi;

@@ -431,14 +431,14 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)tolerance;
   Vec<Scalar, Sizes::kNphi> phi = *phi_io;
   int iterations = 0;
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin(q(0));
+    trig->cos_q(0) = cos(q(0));
+  }
   {  // block 0: rows 0 -> s_slide: closed form, linear
     phi(0) = CamLaw_contact(p, -p.phase + q(0), 0) + sqrt(Scalar(2)*p.rb*p.rr - p.e*p.e + p.rb*p.rb + p.rr*p.rr);
 
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
-  }
-  if (trig != nullptr) {
-    trig->sin_q(0) = sin(q(0));
-    trig->cos_q(0) = cos(q(0));
   }
 
   *phi_io = phi;

@@ -334,6 +334,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)tolerance;
   Vec<Scalar, Sizes::kNphi> phi = *phi_io;
   int iterations = 0;
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin(q(0));
+    trig->cos_q(0) = cos(q(0));
+  }
   {  // block 0: rows 0 -> psi_roll: closed form, linear
     const Scalar c1_b0 = p.R - p.r;
     if (c1_b0 == Scalar(0)) return {SolveStatus::kSingular, 0, iterations, c1_b0};
@@ -342,8 +346,6 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
   }
   if (trig != nullptr) {
-    trig->sin_q(0) = sin(q(0));
-    trig->cos_q(0) = cos(q(0));
     trig->sin_phi(0) = sin(phi(0));
     trig->cos_phi(0) = cos(phi(0));
   }

@@ -2033,6 +2033,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+  }
   {  // block 0: rows 0 1 -> theta_rod_1, s_slide_1: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_1);
     const Scalar _tmp1 = sin(p.gamma_1);
@@ -2067,9 +2071,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, a2_b0};
     const Scalar cross_u_b0 = p.l*wy_b0;
     const Scalar dot_u_b0 = p.l*wx_b0;
-    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
     if (!(phi(4) - phi(4) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(4)};
-    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     const Scalar branch_b0 = (disc_scale_b0) > Scalar(0) ? (discc_b0) / (disc_scale_b0) : Scalar(0);
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
@@ -2080,6 +2082,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(0) = dot_u_b0 * inv_a2_b0;
       trig->sin_phi(0) = cross_u_b0 * inv_a2_b0;
     }
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
   }
   {  // block 1: rows 2 3 -> theta_rod_2, s_slide_2: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_2);
@@ -2115,9 +2119,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, a2_b1};
     const Scalar cross_u_b1 = p.l*wy_b1;
     const Scalar dot_u_b1 = p.l*wx_b1;
-    phi(1) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(1));
     if (!(phi(5) - phi(5) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(5)};
-    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
     const Scalar branch_b1 = (disc_scale_b1) > Scalar(0) ? (discc_b1) / (disc_scale_b1) : Scalar(0);
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
@@ -2128,6 +2130,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(1) = dot_u_b1 * inv_a2_b1;
       trig->sin_phi(1) = cross_u_b1 * inv_a2_b1;
     }
+    phi(1) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(1));
+    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
   }
   {  // block 2: rows 4 5 -> theta_rod_3, s_slide_3: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_3);
@@ -2163,9 +2167,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b2 > Scalar(0))) return {SolveStatus::kSingular, 2, iterations, a2_b2};
     const Scalar cross_u_b2 = p.l*wy_b2;
     const Scalar dot_u_b2 = p.l*wx_b2;
-    phi(2) = AngleNear(atan2(cross_u_b2, dot_u_b2), phi(2));
     if (!(phi(6) - phi(6) == Scalar(0))) return {SolveStatus::kSingular, 2, iterations, phi(6)};
-    if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 2, iterations, phi(2)};
     const Scalar branch_b2 = (disc_scale_b2) > Scalar(0) ? (discc_b2) / (disc_scale_b2) : Scalar(0);
     if (branch_b2 < branch_measure) {
       branch_measure = branch_b2;
@@ -2176,6 +2178,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(2) = dot_u_b2 * inv_a2_b2;
       trig->sin_phi(2) = cross_u_b2 * inv_a2_b2;
     }
+    phi(2) = AngleNear(atan2(cross_u_b2, dot_u_b2), phi(2));
+    if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 2, iterations, phi(2)};
   }
   {  // block 3: rows 6 7 -> theta_rod_4, s_slide_4: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_4);
@@ -2211,9 +2215,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b3 > Scalar(0))) return {SolveStatus::kSingular, 3, iterations, a2_b3};
     const Scalar cross_u_b3 = p.l*wy_b3;
     const Scalar dot_u_b3 = p.l*wx_b3;
-    phi(3) = AngleNear(atan2(cross_u_b3, dot_u_b3), phi(3));
     if (!(phi(7) - phi(7) == Scalar(0))) return {SolveStatus::kSingular, 3, iterations, phi(7)};
-    if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 3, iterations, phi(3)};
     const Scalar branch_b3 = (disc_scale_b3) > Scalar(0) ? (discc_b3) / (disc_scale_b3) : Scalar(0);
     if (branch_b3 < branch_measure) {
       branch_measure = branch_b3;
@@ -2224,10 +2226,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(3) = dot_u_b3 * inv_a2_b3;
       trig->sin_phi(3) = cross_u_b3 * inv_a2_b3;
     }
-  }
-  if (trig != nullptr) {
-    trig->sin_q(0) = sin_q0;
-    trig->cos_q(0) = cos_q0;
+    phi(3) = AngleNear(atan2(cross_u_b3, dot_u_b3), phi(3));
+    if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 3, iterations, phi(3)};
   }
 
   *phi_io = phi;

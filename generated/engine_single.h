@@ -1836,6 +1836,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+  }
   {  // block 0: rows 0 1 -> theta_rod_1, s_slide_1: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_1);
     const Scalar _tmp1 = sin(p.gamma_1);
@@ -1870,9 +1874,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, a2_b0};
     const Scalar cross_u_b0 = p.l*wy_b0;
     const Scalar dot_u_b0 = p.l*wx_b0;
-    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
-    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     const Scalar branch_b0 = (disc_scale_b0) > Scalar(0) ? (discc_b0) / (disc_scale_b0) : Scalar(0);
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
@@ -1883,10 +1885,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(0) = dot_u_b0 * inv_a2_b0;
       trig->sin_phi(0) = cross_u_b0 * inv_a2_b0;
     }
-  }
-  if (trig != nullptr) {
-    trig->sin_q(0) = sin_q0;
-    trig->cos_q(0) = cos_q0;
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
   }
 
   *phi_io = phi;

@@ -3573,6 +3573,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+  }
   {  // block 0: rows 0 1 -> theta_rod_1, s_slide_1: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_1);
     const Scalar _tmp1 = sin(p.gamma_1);
@@ -3607,9 +3611,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, a2_b0};
     const Scalar cross_u_b0 = p.l*wy_b0;
     const Scalar dot_u_b0 = p.l*wx_b0;
-    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
     if (!(phi(8) - phi(8) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(8)};
-    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     const Scalar branch_b0 = (disc_scale_b0) > Scalar(0) ? (discc_b0) / (disc_scale_b0) : Scalar(0);
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
@@ -3620,6 +3622,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(0) = dot_u_b0 * inv_a2_b0;
       trig->sin_phi(0) = cross_u_b0 * inv_a2_b0;
     }
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
   }
   {  // block 1: rows 2 3 -> theta_rod_2, s_slide_2: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_2);
@@ -3655,9 +3659,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b1 > Scalar(0))) return {SolveStatus::kSingular, 1, iterations, a2_b1};
     const Scalar cross_u_b1 = p.l*wy_b1;
     const Scalar dot_u_b1 = p.l*wx_b1;
-    phi(1) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(1));
     if (!(phi(9) - phi(9) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(9)};
-    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
     const Scalar branch_b1 = (disc_scale_b1) > Scalar(0) ? (discc_b1) / (disc_scale_b1) : Scalar(0);
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
@@ -3668,6 +3670,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(1) = dot_u_b1 * inv_a2_b1;
       trig->sin_phi(1) = cross_u_b1 * inv_a2_b1;
     }
+    phi(1) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(1));
+    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
   }
   {  // block 2: rows 4 5 -> theta_rod_3, s_slide_3: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_3);
@@ -3703,9 +3707,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b2 > Scalar(0))) return {SolveStatus::kSingular, 2, iterations, a2_b2};
     const Scalar cross_u_b2 = p.l*wy_b2;
     const Scalar dot_u_b2 = p.l*wx_b2;
-    phi(2) = AngleNear(atan2(cross_u_b2, dot_u_b2), phi(2));
     if (!(phi(10) - phi(10) == Scalar(0))) return {SolveStatus::kSingular, 2, iterations, phi(10)};
-    if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 2, iterations, phi(2)};
     const Scalar branch_b2 = (disc_scale_b2) > Scalar(0) ? (discc_b2) / (disc_scale_b2) : Scalar(0);
     if (branch_b2 < branch_measure) {
       branch_measure = branch_b2;
@@ -3716,6 +3718,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(2) = dot_u_b2 * inv_a2_b2;
       trig->sin_phi(2) = cross_u_b2 * inv_a2_b2;
     }
+    phi(2) = AngleNear(atan2(cross_u_b2, dot_u_b2), phi(2));
+    if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 2, iterations, phi(2)};
   }
   {  // block 3: rows 6 7 -> theta_rod_4, s_slide_4: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_4);
@@ -3751,9 +3755,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b3 > Scalar(0))) return {SolveStatus::kSingular, 3, iterations, a2_b3};
     const Scalar cross_u_b3 = p.l*wy_b3;
     const Scalar dot_u_b3 = p.l*wx_b3;
-    phi(3) = AngleNear(atan2(cross_u_b3, dot_u_b3), phi(3));
     if (!(phi(11) - phi(11) == Scalar(0))) return {SolveStatus::kSingular, 3, iterations, phi(11)};
-    if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 3, iterations, phi(3)};
     const Scalar branch_b3 = (disc_scale_b3) > Scalar(0) ? (discc_b3) / (disc_scale_b3) : Scalar(0);
     if (branch_b3 < branch_measure) {
       branch_measure = branch_b3;
@@ -3764,6 +3766,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(3) = dot_u_b3 * inv_a2_b3;
       trig->sin_phi(3) = cross_u_b3 * inv_a2_b3;
     }
+    phi(3) = AngleNear(atan2(cross_u_b3, dot_u_b3), phi(3));
+    if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 3, iterations, phi(3)};
   }
   {  // block 4: rows 8 9 -> theta_rod_5, s_slide_5: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_5);
@@ -3799,9 +3803,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b4 > Scalar(0))) return {SolveStatus::kSingular, 4, iterations, a2_b4};
     const Scalar cross_u_b4 = p.l*wy_b4;
     const Scalar dot_u_b4 = p.l*wx_b4;
-    phi(4) = AngleNear(atan2(cross_u_b4, dot_u_b4), phi(4));
     if (!(phi(12) - phi(12) == Scalar(0))) return {SolveStatus::kSingular, 4, iterations, phi(12)};
-    if (!(phi(4) - phi(4) == Scalar(0))) return {SolveStatus::kSingular, 4, iterations, phi(4)};
     const Scalar branch_b4 = (disc_scale_b4) > Scalar(0) ? (discc_b4) / (disc_scale_b4) : Scalar(0);
     if (branch_b4 < branch_measure) {
       branch_measure = branch_b4;
@@ -3812,6 +3814,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(4) = dot_u_b4 * inv_a2_b4;
       trig->sin_phi(4) = cross_u_b4 * inv_a2_b4;
     }
+    phi(4) = AngleNear(atan2(cross_u_b4, dot_u_b4), phi(4));
+    if (!(phi(4) - phi(4) == Scalar(0))) return {SolveStatus::kSingular, 4, iterations, phi(4)};
   }
   {  // block 5: rows 10 11 -> theta_rod_6, s_slide_6: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_6);
@@ -3847,9 +3851,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b5 > Scalar(0))) return {SolveStatus::kSingular, 5, iterations, a2_b5};
     const Scalar cross_u_b5 = p.l*wy_b5;
     const Scalar dot_u_b5 = p.l*wx_b5;
-    phi(5) = AngleNear(atan2(cross_u_b5, dot_u_b5), phi(5));
     if (!(phi(13) - phi(13) == Scalar(0))) return {SolveStatus::kSingular, 5, iterations, phi(13)};
-    if (!(phi(5) - phi(5) == Scalar(0))) return {SolveStatus::kSingular, 5, iterations, phi(5)};
     const Scalar branch_b5 = (disc_scale_b5) > Scalar(0) ? (discc_b5) / (disc_scale_b5) : Scalar(0);
     if (branch_b5 < branch_measure) {
       branch_measure = branch_b5;
@@ -3860,6 +3862,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(5) = dot_u_b5 * inv_a2_b5;
       trig->sin_phi(5) = cross_u_b5 * inv_a2_b5;
     }
+    phi(5) = AngleNear(atan2(cross_u_b5, dot_u_b5), phi(5));
+    if (!(phi(5) - phi(5) == Scalar(0))) return {SolveStatus::kSingular, 5, iterations, phi(5)};
   }
   {  // block 6: rows 12 13 -> theta_rod_7, s_slide_7: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_7);
@@ -3895,9 +3899,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b6 > Scalar(0))) return {SolveStatus::kSingular, 6, iterations, a2_b6};
     const Scalar cross_u_b6 = p.l*wy_b6;
     const Scalar dot_u_b6 = p.l*wx_b6;
-    phi(6) = AngleNear(atan2(cross_u_b6, dot_u_b6), phi(6));
     if (!(phi(14) - phi(14) == Scalar(0))) return {SolveStatus::kSingular, 6, iterations, phi(14)};
-    if (!(phi(6) - phi(6) == Scalar(0))) return {SolveStatus::kSingular, 6, iterations, phi(6)};
     const Scalar branch_b6 = (disc_scale_b6) > Scalar(0) ? (discc_b6) / (disc_scale_b6) : Scalar(0);
     if (branch_b6 < branch_measure) {
       branch_measure = branch_b6;
@@ -3908,6 +3910,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(6) = dot_u_b6 * inv_a2_b6;
       trig->sin_phi(6) = cross_u_b6 * inv_a2_b6;
     }
+    phi(6) = AngleNear(atan2(cross_u_b6, dot_u_b6), phi(6));
+    if (!(phi(6) - phi(6) == Scalar(0))) return {SolveStatus::kSingular, 6, iterations, phi(6)};
   }
   {  // block 7: rows 14 15 -> theta_rod_8, s_slide_8: closed form, angle and slide (RRP/RPR dyad, circle-line), mode -1
     const Scalar _tmp0 = cos(p.beta_8);
@@ -3943,9 +3947,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b7 > Scalar(0))) return {SolveStatus::kSingular, 7, iterations, a2_b7};
     const Scalar cross_u_b7 = p.l*wy_b7;
     const Scalar dot_u_b7 = p.l*wx_b7;
-    phi(7) = AngleNear(atan2(cross_u_b7, dot_u_b7), phi(7));
     if (!(phi(15) - phi(15) == Scalar(0))) return {SolveStatus::kSingular, 7, iterations, phi(15)};
-    if (!(phi(7) - phi(7) == Scalar(0))) return {SolveStatus::kSingular, 7, iterations, phi(7)};
     const Scalar branch_b7 = (disc_scale_b7) > Scalar(0) ? (discc_b7) / (disc_scale_b7) : Scalar(0);
     if (branch_b7 < branch_measure) {
       branch_measure = branch_b7;
@@ -3956,10 +3958,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(7) = dot_u_b7 * inv_a2_b7;
       trig->sin_phi(7) = cross_u_b7 * inv_a2_b7;
     }
-  }
-  if (trig != nullptr) {
-    trig->sin_q(0) = sin_q0;
-    trig->cos_q(0) = cos_q0;
+    phi(7) = AngleNear(atan2(cross_u_b7, dot_u_b7), phi(7));
+    if (!(phi(7) - phi(7) == Scalar(0))) return {SolveStatus::kSingular, 7, iterations, phi(7)};
   }
 
   *phi_io = phi;

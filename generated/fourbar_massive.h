@@ -1142,6 +1142,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+  }
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b0 = -p.c;
     const Scalar wx_b0 = -cos_q0*p.a + p.d;
@@ -1167,10 +1171,6 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_u_b0 = mx_b0*p.b;
     const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
-    phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
-    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
-    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
     const Scalar inv_ax_b0 = Scalar(1)/p.b;
     const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
     const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
@@ -1184,10 +1184,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(1) = (-mx_b0 + wx_b0) * inv_bx_b0;
       trig->sin_phi(1) = (-my_b0 + wy_b0) * inv_bx_b0;
     }
-  }
-  if (trig != nullptr) {
-    trig->sin_q(0) = sin_q0;
-    trig->cos_q(0) = cos_q0;
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
+    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
   }
 
   *phi_io = phi;

@@ -422,6 +422,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+  }
   {  // block 0: rows 2 -> theta_crank2: closed form, linear
     if (p.r2 == Scalar(0)) return {SolveStatus::kSingular, 0, iterations, p.r2};
     phi(2) = -p.r1*q(0)/p.r2;
@@ -453,10 +457,6 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_u_b1 = mx_b1*p.a2;
     const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
     const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
-    phi(0) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(0));
-    phi(1) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(1));
-    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(0)};
-    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
     const Scalar inv_ax_b1 = Scalar(1)/p.a2;
     const Scalar inv_bx_b1 = Scalar(1)/bx_b1;
     const Scalar branch_b1 = (d2_b1*d2_b1)*(inv_ax_b1*inv_ax_b1)*(inv_bx_b1*inv_bx_b1)*h2c_b1;
@@ -470,10 +470,12 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(1) = (-mx_b1 + wx_b1) * inv_bx_b1;
       trig->sin_phi(1) = (-my_b1 + wy_b1) * inv_bx_b1;
     }
+    phi(0) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(0));
+    phi(1) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(1));
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(0)};
+    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
   }
   if (trig != nullptr) {
-    trig->sin_q(0) = sin_q0;
-    trig->cos_q(0) = cos_q0;
     trig->sin_phi(2) = sin(phi(2));
     trig->cos_phi(2) = cos(phi(2));
   }

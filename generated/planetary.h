@@ -348,6 +348,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   (void)tolerance;
   Vec<Scalar, Sizes::kNphi> phi = *phi_io;
   int iterations = 0;
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin(q(0));
+    trig->cos_q(0) = cos(q(0));
+  }
   {  // block 0: rows 0 1 -> theta_arm, theta_planet: closed form, linear 2x2 (Cramer)
     const Scalar e0x_b0 = -p.rp - p.rs;
     const Scalar e0y_b0 = -p.rp + p.rr;
@@ -362,8 +366,6 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
   }
   if (trig != nullptr) {
-    trig->sin_q(0) = sin(q(0));
-    trig->cos_q(0) = cos(q(0));
     trig->sin_phi(0) = sin(phi(0));
     trig->cos_phi(0) = cos(phi(0));
     trig->sin_phi(1) = sin(phi(1));

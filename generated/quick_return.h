@@ -424,6 +424,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+  }
   {  // block 0: rows 0 1 -> theta_rocker, s_slot: closed form, angle and slide (RRP/RPR dyad, circle-line), mode 1
     const Scalar _tmp0 = p.r*p.r;
     const Scalar C_b0 = -(cos_q0*cos_q0)*_tmp0 - (sin_q0*sin_q0)*_tmp0 - Scalar(2)*p.d*p.r*sin_q0 - p.d*p.d;
@@ -442,9 +446,7 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(a2_b0 > Scalar(0))) return {SolveStatus::kSingular, 0, iterations, a2_b0};
     const Scalar cross_u_b0 = s_b0*wy_b0;
     const Scalar dot_u_b0 = s_b0*wx_b0;
-    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
     if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(2)};
-    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     const Scalar branch_b0 = (disc_scale_b0) > Scalar(0) ? (discc_b0) / (disc_scale_b0) : Scalar(0);
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
@@ -455,6 +457,8 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(0) = dot_u_b0 * inv_a2_b0;
       trig->sin_phi(0) = cross_u_b0 * inv_a2_b0;
     }
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
   }
   {  // block 1: rows 3 -> theta_link: closed form, one angle (acos), mode -1
     const Scalar c0_b1 = p.L*sin(phi(0)) - p.h;
@@ -463,13 +467,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar cos_arg_b1 = -c0_b1/rho_b1;
     if (!(abs(cos_arg_b1) <= Scalar(1)) && !(abs(cos_arg_b1) <= Scalar(1) + Scalar(64)*epsilon)) return {SolveStatus::kNotAssemblable, 1, iterations, Scalar(1) - abs(cos_arg_b1)};
     const Scalar cos_argc_b1 = cos_arg_b1 > Scalar(1) ? Scalar(1) : (cos_arg_b1 < Scalar(-1) ? Scalar(-1) : cos_arg_b1);
-    phi(1) = AngleNear(atan2(p.l, Scalar(0)) + Scalar(modes[1])*acos(cos_argc_b1), phi(1));
-    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
     const Scalar branch_b1 = Scalar(1) - cos_argc_b1*cos_argc_b1;
     if (branch_b1 < branch_measure) {
       branch_measure = branch_b1;
       branch_block = 1;
     }
+    phi(1) = AngleNear(atan2(p.l, Scalar(0)) + Scalar(modes[1])*acos(cos_argc_b1), phi(1));
+    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
   }
   {  // block 2: rows 2 -> s_stroke: closed form, linear
     phi(3) = cos(phi(0))*p.L + cos(phi(1))*p.l;
@@ -477,8 +481,6 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 2, iterations, phi(3)};
   }
   if (trig != nullptr) {
-    trig->sin_q(0) = sin_q0;
-    trig->cos_q(0) = cos_q0;
     trig->sin_phi(1) = sin(phi(1));
     trig->cos_phi(1) = cos(phi(1));
   }

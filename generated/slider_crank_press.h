@@ -522,6 +522,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   int branch_block = -1;
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+  }
   {  // block 0: rows 1 -> theta_rod: closed form, one angle (acos), mode -1
     const Scalar c0_b0 = p.a*sin_q0;
     const Scalar rho_b0 = sqrt(p.b*p.b);
@@ -529,13 +533,13 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar cos_arg_b0 = -c0_b0/rho_b0;
     if (!(abs(cos_arg_b0) <= Scalar(1)) && !(abs(cos_arg_b0) <= Scalar(1) + Scalar(64)*epsilon)) return {SolveStatus::kNotAssemblable, 0, iterations, Scalar(1) - abs(cos_arg_b0)};
     const Scalar cos_argc_b0 = cos_arg_b0 > Scalar(1) ? Scalar(1) : (cos_arg_b0 < Scalar(-1) ? Scalar(-1) : cos_arg_b0);
-    phi(0) = AngleNear(atan2(p.b, Scalar(0)) + Scalar(modes[0])*acos(cos_argc_b0), phi(0));
-    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
     const Scalar branch_b0 = Scalar(1) - cos_argc_b0*cos_argc_b0;
     if (branch_b0 < branch_measure) {
       branch_measure = branch_b0;
       branch_block = 0;
     }
+    phi(0) = AngleNear(atan2(p.b, Scalar(0)) + Scalar(modes[0])*acos(cos_argc_b0), phi(0));
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
   }
   {  // block 1: rows 0 -> s_slide: closed form, linear
     phi(1) = cos(phi(0))*p.b + cos_q0*p.a;
@@ -543,8 +547,6 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(1)};
   }
   if (trig != nullptr) {
-    trig->sin_q(0) = sin_q0;
-    trig->cos_q(0) = cos_q0;
     trig->sin_phi(0) = sin(phi(0));
     trig->cos_phi(0) = cos(phi(0));
   }

@@ -463,6 +463,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar tol = tolerance > Scalar(0) ? tolerance : Scalar(sizeof(Scalar) <= 4 ? 1e-5 : 1e-12);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+  }
   {  // block 0: rows 0 1 2 3 -> theta_T2, theta_a, theta_b, theta_T1: Newton-Raphson on the 4x4 block
     Vec<Scalar, 4> r_b0;
     Mat<Scalar, 4, 4> J_b0 = Mat<Scalar, 4, 4>::Zero();
@@ -504,8 +508,6 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     }
   }
   if (trig != nullptr) {
-    trig->sin_q(0) = sin_q0;
-    trig->cos_q(0) = cos_q0;
     trig->sin_phi(0) = sin(phi(0));
     trig->cos_phi(0) = cos(phi(0));
     trig->sin_phi(1) = sin(phi(1));

@@ -529,6 +529,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
   const Scalar norm2_min = Scalar(sizeof(Scalar) <= 4 ? 1e-11 : 1e-138);
   const Scalar sin_q0 = sin(q(0));
   const Scalar cos_q0 = cos(q(0));
+  if (trig != nullptr) {
+    trig->sin_q(0) = sin_q0;
+    trig->cos_q(0) = cos_q0;
+  }
   {  // block 0: rows 0 1 -> theta_coupler, theta_rocker: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b0 = -p.c;
     const Scalar wx_b0 = -cos_q0*p.a + p.g;
@@ -554,10 +558,6 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_u_b0 = mx_b0*p.b;
     const Scalar cross_v_b0 = -bx_b0*my_b0 + bx_b0*wy_b0;
     const Scalar dot_v_b0 = -bx_b0*mx_b0 + bx_b0*wx_b0;
-    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
-    phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
-    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
-    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
     const Scalar inv_ax_b0 = Scalar(1)/p.b;
     const Scalar inv_bx_b0 = Scalar(1)/bx_b0;
     const Scalar branch_b0 = (d2_b0*d2_b0)*(inv_ax_b0*inv_ax_b0)*(inv_bx_b0*inv_bx_b0)*h2c_b0;
@@ -571,6 +571,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(1) = (-mx_b0 + wx_b0) * inv_bx_b0;
       trig->sin_phi(1) = (-my_b0 + wy_b0) * inv_bx_b0;
     }
+    phi(0) = AngleNear(atan2(cross_u_b0, dot_u_b0), phi(0));
+    phi(1) = AngleNear(atan2(cross_v_b0, dot_v_b0), phi(1));
+    if (!(phi(0) - phi(0) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(0)};
+    if (!(phi(1) - phi(1) == Scalar(0))) return {SolveStatus::kSingular, 0, iterations, phi(1)};
   }
   {  // block 1: rows 2 3 -> theta_link5, theta_output: closed form, two angles (RRR dyad, circle-circle), mode 1
     const Scalar bx_b1 = -p.o;
@@ -599,10 +603,6 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
     const Scalar dot_u_b1 = mx_b1*p.f;
     const Scalar cross_v_b1 = -bx_b1*my_b1 + bx_b1*wy_b1;
     const Scalar dot_v_b1 = -bx_b1*mx_b1 + bx_b1*wx_b1;
-    phi(2) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(2));
-    phi(3) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(3));
-    if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(2)};
-    if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(3)};
     const Scalar inv_ax_b1 = Scalar(1)/p.f;
     const Scalar inv_bx_b1 = Scalar(1)/bx_b1;
     const Scalar branch_b1 = (d2_b1*d2_b1)*(inv_ax_b1*inv_ax_b1)*(inv_bx_b1*inv_bx_b1)*h2c_b1;
@@ -616,10 +616,10 @@ SolveReport<Scalar> SolvePositions(const Params<Scalar>& p,
       trig->cos_phi(3) = (-mx_b1 + wx_b1) * inv_bx_b1;
       trig->sin_phi(3) = (-my_b1 + wy_b1) * inv_bx_b1;
     }
-  }
-  if (trig != nullptr) {
-    trig->sin_q(0) = sin_q0;
-    trig->cos_q(0) = cos_q0;
+    phi(2) = AngleNear(atan2(cross_u_b1, dot_u_b1), phi(2));
+    phi(3) = AngleNear(atan2(cross_v_b1, dot_v_b1), phi(3));
+    if (!(phi(2) - phi(2) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(2)};
+    if (!(phi(3) - phi(3) == Scalar(0))) return {SolveStatus::kSingular, 1, iterations, phi(3)};
   }
 
   *phi_io = phi;

@@ -396,18 +396,20 @@ void ShareTrig(const Kinematics& k,
     }
   }
   Program& head = positions->body.front();
-  Program tail;
   for (int j = 0; j < nq; ++j) {
     if (q_used[j].first) head.push_back(Raw("const Scalar " + names[j].sin + " = sin(" + names[j].arg + ");"));
     if (q_used[j].second) head.push_back(Raw("const Scalar " + names[j].cos + " = cos(" + names[j].arg + ");"));
     positions->extra_calls += q_used[j].first + q_used[j].second;
   }
-  tail.push_back(Raw("if (trig != nullptr) {"));
+  // The inputs' sin and cos to *trig at once, before the blocks read a parameter (a store
+  // through trig may alias them): kept until the end they were held (spilled) across every
+  // call of the blocks (atan2). The angles' that no block gave are written at the end.
+  Program q_stores, tail;
   for (int j = 0; j < nq; ++j) {
     if (!k.q[j].is_angle) continue;
     const TrigName& t = names[j];
-    tail.push_back(Raw("  " + t.sin_ref + " = " + (q_used[j].first ? t.sin : "sin(" + t.arg + ")") + ";"));
-    tail.push_back(Raw("  " + t.cos_ref + " = " + (q_used[j].second ? t.cos : "cos(" + t.arg + ")") + ";"));
+    q_stores.push_back(Raw("  " + t.sin_ref + " = " + (q_used[j].first ? t.sin : "sin(" + t.arg + ")") + ";"));
+    q_stores.push_back(Raw("  " + t.cos_ref + " = " + (q_used[j].second ? t.cos : "cos(" + t.arg + ")") + ";"));
   }
   for (int i = 0; i < k.nphi(); ++i) {
     if (!k.phi[i].is_angle || trig_done[i]) continue;
@@ -415,8 +417,13 @@ void ShareTrig(const Kinematics& k,
     tail.push_back(Raw("  " + t.sin_ref + " = sin(" + t.arg + ");"));
     tail.push_back(Raw("  " + t.cos_ref + " = cos(" + t.arg + ");"));
   }
-  tail.push_back(Raw("}"));
-  positions->body.insert(positions->body.end() - 1, tail);
+  for (Program* stores : {&q_stores, &tail}) {
+    if (stores->empty()) continue;
+    stores->insert(stores->begin(), Raw("if (trig != nullptr) {"));
+    stores->push_back(Raw("}"));
+  }
+  head.insert(head.end(), q_stores.begin(), q_stores.end());
+  if (!tail.empty()) positions->body.insert(positions->body.end() - 1, tail);
 
   if (solve_trig == nullptr || solve_trig_possible == nullptr || !*solve_trig_possible) return;
   // SolveTrig: sin and cos of the inputs once before the blocks; a later block reads an

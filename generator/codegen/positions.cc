@@ -50,8 +50,27 @@ void ClosedFormPositions(const ClosedForm& f,
   printer->Name(ScalarNorm2Min(), "norm2_min");
   auto text = [&](const ex& e) { return printer->Print(e); };
   auto phi_ref = [&](int i) { return "phi(" + N(i) + ")"; };
+  // The angles that end the form (every form's last steps: nothing after them reads phi) are
+  // printed last, after the branch measure and the direction cosines: those read the locals
+  // only, so the atan2 calls come after every other use of the locals, which then need not be
+  // kept (spilled) across the calls (with the inputs' sin and cos stored first, ShareTrig():
+  // the four-bar's SolvePositions has 37 stack loads and stores where it had 94).
+  size_t angles_from = f.steps.size();
+  while (angles_from > 0 && f.steps[angles_from - 1].kind == DyadStep::Kind::kAngle) --angles_from;
+  auto angle = [&](const DyadStep& s) {
+    P->push_back(Raw(phi_ref(s.col) + " = AngleNear(atan2(" + text(s.y) + ", " + text(s.x) + ")" +
+                     (s.value.is_zero() ? "" : " + " + text(s.value)) + ", " + phi_ref(s.col) + ");"));
+  };
+  // Nothing the checks let through may come out NaN or inf (a non-finite input or parameter,
+  // an overflow): x - x is 0 exactly for finite x only.
+  auto check_finite = [&](const DyadStep& s) {
+    const std::string x = phi_ref(s.col);
+    P->push_back(Raw("if (!(" + x + " - " + x + " == Scalar(0))) return {SolveStatus::kSingular, " + N(bi) +
+                     ", iterations, " + x + "};"));
+  };
   bool pending_store = false;
-  for (const DyadStep& s : f.steps) {
+  for (size_t i = 0; i < angles_from; ++i) {
+    const DyadStep& s = f.steps[i];
     if (pending_store && s.kind != DyadStep::Kind::kValue) {
       P->push_back(Raw(""));  // flush the stores before the next statements read phi
       pending_store = false;
@@ -106,9 +125,7 @@ void ClosedFormPositions(const ClosedForm& f,
         break;
       }
       case DyadStep::Kind::kAngle:
-        if (trig_only) break;
-        P->push_back(Raw(phi_ref(s.col) + " = AngleNear(atan2(" + text(s.y) + ", " + text(s.x) + ")" +
-                         (s.value.is_zero() ? "" : " + " + text(s.value)) + ", " + phi_ref(s.col) + ");"));
+        if (!trig_only) angle(s);
         break;
       case DyadStep::Kind::kValue:
         P->push_back(Store(phi_ref(s.col), s.value));
@@ -117,15 +134,15 @@ void ClosedFormPositions(const ClosedForm& f,
     }
   }
   if (pending_store) P->push_back(Raw(""));
-  // Nothing the checks above let through may come out NaN or inf (a non-finite input or
-  // parameter, an overflow): x - x is 0 exactly for finite x only.
-  for (const DyadStep& s : f.steps) {
-    if (trig_only) break;
-    if (s.kind != DyadStep::Kind::kAngle && s.kind != DyadStep::Kind::kValue) continue;
-    const std::string x = phi_ref(s.col);
-    P->push_back(Raw("if (!(" + x + " - " + x + " == Scalar(0))) return {SolveStatus::kSingular, " + N(bi) +
-                     ", iterations, " + x + "};"));
-  }
+  for (size_t i = 0; i < angles_from && !trig_only; ++i)
+    if (f.steps[i].kind == DyadStep::Kind::kAngle || f.steps[i].kind == DyadStep::Kind::kValue)
+      check_finite(f.steps[i]);
+  // The form's last angles and their checks, after everything else the block prints.
+  auto last_angles = [&] {
+    if (trig_only) return;
+    for (size_t i = angles_from; i < f.steps.size(); ++i) angle(f.steps[i]);
+    for (size_t i = angles_from; i < f.steps.size(); ++i) check_finite(f.steps[i]);
+  };
   // 1 / norm2 of each direction (a parameter only for a dyad's link lengths: EvalRhs
   // computes it once per parameter set), for the direction cosines and for the branch
   // measure below when its denominator is the directions' norms: then the branch measure
@@ -174,7 +191,10 @@ void ClosedFormPositions(const ClosedForm& f,
     P->push_back(Raw("  branch_block = " + N(bi) + ";"));
     P->push_back(Raw("}"));
   }
-  if (f.trig.empty()) return;
+  if (f.trig.empty()) {
+    last_angles();
+    return;
+  }
   if (trig_only) {
     // Into the function's locals cos_phi<i>, sin_phi<i> (declared by SolveTrigSpec before
     // the block), not through *trig: a store through the pointer may alias the parameters,
@@ -216,6 +236,7 @@ void ClosedFormPositions(const ClosedForm& f,
     (*trig_done)[t.col] = true;
   }
   P->push_back(Raw("}"));
+  last_angles();
 }
 
 // Newton–Raphson on one block: residual and Jacobian of its rows over its unknowns.
