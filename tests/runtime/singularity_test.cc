@@ -112,6 +112,11 @@ TEST(DistanceToSingularity, ClosedForm2x2MatchesJacobiSvd) {
   cases.push_back((Eigen::Matrix2d() << 1e-3, 0, 0, 3).finished());
   cases.push_back((Eigen::Matrix2d() << 0, -3, 2, 0).finished());
   cases.push_back((Eigen::Matrix2d() << 2, 0, 0, -2).finished());  // equal singular values
+  // Singular vectors with entries of equal magnitude (the sign conventions' ties).
+  cases.push_back((Eigen::Matrix2d() << 1, 1, 1, 1).finished());
+  cases.push_back((Eigen::Matrix2d() << 1, -1, 1, -1).finished());
+  cases.push_back((Eigen::Matrix2d() << 2, 1, 1, 2).finished());
+  cases.push_back((Eigen::Matrix2d() << 2, -1, -1, 2).finished());
   cases.push_back(Eigen::Matrix2d::Zero());
   for (const Eigen::Matrix2d& A : cases) {
     double smin = 0, smax = 0, ref_min = 0, ref_max = 0;
@@ -131,6 +136,8 @@ TEST(DistanceToSingularity, ClosedForm2x2MatchesJacobiSvd) {
     Eigen::Index largest = 0;
     v.cwiseAbs().maxCoeff(&largest);
     EXPECT_GT(v(largest), 0) << A;
+    // u too (State::largest_direction): its larger entry positive, the first on a tie.
+    EXPECT_GT(std::abs(u(1)) > std::abs(u(0)) ? u(1) : u(0), 0) << A;
     if (ref_max - ref_min > 1e-6 * ref_max) {
       EXPECT_LT((v - ref_v).norm(), 1e-9) << A;
     }
@@ -144,6 +151,30 @@ TEST(DistanceToSingularity, ClosedForm2x2MatchesJacobiSvd) {
   bad << 1, std::numeric_limits<double>::infinity(), 0, 1;
   SingularValues2x2(bad, &smin, &smax, &v, &u);
   EXPECT_TRUE(std::isnan(smin) && std::isnan(smax) && v.hasNaN() && u.hasNaN());
+}
+
+TEST(LinearAlgebra, AllFiniteAndMaxAbsDiffSeeEveryNonFiniteEntry) {
+  // The continuation step's tests of finiteness and max-norms (internal::AllFinite,
+  // internal::MaxAbsDiff) against std::isfinite and a loop over the entries: every position
+  // of a 2 x 3 matrix in turn NaN, +inf or -inf.
+  using mechgen::internal::AllFinite;
+  using mechgen::internal::MaxAbsDiff;
+  const Eigen::Matrix<double, 2, 3> base = (Eigen::Matrix<double, 2, 3>() << 1, -2, 3e300, -4e-300, 0, -0.0).finished();
+  const Eigen::Matrix<double, 2, 3> other = Eigen::Matrix<double, 2, 3>::Constant(0.5);
+  EXPECT_TRUE(AllFinite(base));
+  EXPECT_EQ(MaxAbsDiff(base), 3e300);
+  EXPECT_EQ(MaxAbsDiff(base, &other), 3e300);
+  EXPECT_TRUE(AllFinite(Eigen::Matrix<double, 0, 1>()));
+  for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                     -std::numeric_limits<double>::infinity()}) {
+    for (int i = 0; i < 6; ++i) {
+      Eigen::Matrix<double, 2, 3> m = base;
+      m.data()[i] = bad;
+      EXPECT_FALSE(AllFinite(m)) << i << " " << bad;
+      const double norm = MaxAbsDiff(m);
+      EXPECT_TRUE(std::isnan(bad) ? std::isnan(norm) : norm == std::abs(bad)) << i << " " << bad;
+    }
+  }
 }
 
 // SquareFactorization<n> (the one factorization of Phi_phi a continuation step has) against

@@ -17,6 +17,16 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+// Inline a small function the compiler would otherwise call (its heuristics give up inside
+// the continuation step's larger functions): MECHGEN_ALWAYS_INLINE. Measured with callgrind on
+// the four-bar's continuation step (bench/fourbar_bench.cc, MechgenContinuation): each such
+// call saved its arguments, the caller's live registers and a frame (position/solver.h).
+#if defined(__GNUC__) || defined(__clang__)
+#define MECHGEN_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define MECHGEN_ALWAYS_INLINE inline
+#endif
+
 namespace mechgen {
 
 namespace internal {
@@ -27,7 +37,7 @@ namespace internal {
 /// Branch-free: which entry is largest is often rounding noise (the residual), and a
 /// branch on it mispredicts about every other step (measured: 0.8 per four-bar step).
 template <class A>
-double MaxAbsDiff(const A& a, const A* b = nullptr) {
+MECHGEN_ALWAYS_INLINE double MaxAbsDiff(const A& a, const A* b = nullptr) {
   double m = 0;
   bool nan = false;
   for (int i = 0; i < A::SizeAtCompileTime; ++i) {
@@ -36,6 +46,17 @@ double MaxAbsDiff(const A& a, const A* b = nullptr) {
     nan = nan | (d != d);
   }
   return nan ? std::numeric_limits<double>::quiet_NaN() : m;
+}
+
+/// Every entry of a fixed-size matrix is finite: x - x is 0 exactly for finite x, NaN for inf
+/// and NaN, so their sum is 0 exactly when all are. Branch-free; Eigen's allFinite() goes
+/// through an unrolled evaluator that the compiler stops inlining in the continuation step's
+/// functions (a call per test).
+template <class A>
+MECHGEN_ALWAYS_INLINE bool AllFinite(const A& a) {
+  double zero = 0;
+  for (int i = 0; i < A::SizeAtCompileTime; ++i) zero += a.data()[i] - a.data()[i];
+  return zero == 0;
 }
 
 /// ||A||_1: the largest column sum of |a_ij|.
@@ -190,10 +211,6 @@ inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, doubl
   // entry is largest).
   const double smin = smax > 0 ? std::abs(det) / smax : 0.0;
   const double norm_sq = w0 * w0 + w1 * w1;
-  if (!(norm_sq > 0)) {  // A^T A = sigma^2 I (every vector is singular) or A = 0
-    w0 = 1;
-    w1 = 0;
-  }
   if (!known_finite && !A.allFinite()) {
     *sigma_min = *sigma_max = std::numeric_limits<double>::quiet_NaN();
     v->setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -202,15 +219,26 @@ inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, doubl
   }
   *sigma_min = smin;
   *sigma_max = smax;
-  internal::FixSign2(&w0, &w1);
-  const double inv = norm_sq > 0 ? 1.0 / std::sqrt(norm_sq) : 1.0;
+  double inv = 1.0;
+  if (norm_sq > 0) {
+    inv = 1.0 / std::sqrt(norm_sq);
+  } else {  // A^T A = sigma^2 I (every vector is singular) or A = 0
+    w0 = 1;
+    w1 = 0;
+  }
+  // FixSign2(&w0, &w1), and u = (-w1, w0) with its sign fixed the same way, which follows
+  // from w's: its larger entry is w's other one (the first decides on a tie).
+  const double m0 = std::abs(w0), m1 = std::abs(w1);
+  if (m1 > m0 ? w1 < 0 : w0 < 0) {
+    w0 = -w0;
+    w1 = -w1;
+  }
   (*v)(0) = w0 * inv;
   (*v)(1) = w1 * inv;
   if (u != nullptr) {
-    double u0 = -w1, u1 = w0;
-    internal::FixSign2(&u0, &u1);
-    (*u)(0) = u0 * inv;
-    (*u)(1) = u1 * inv;
+    const bool keep = m0 > m1 || !(w1 > 0);
+    (*u)(0) = (keep ? -w1 : w1) * inv;
+    (*u)(1) = (keep ? w0 : -w0) * inv;
   }
 }
 }  // namespace internal
@@ -236,9 +264,10 @@ class SquareFactorization {
   using Matrix = Eigen::Matrix<double, n, n>;
   using Vector = Eigen::Matrix<double, n, 1>;
 
-  explicit SquareFactorization(const Matrix& A) {
-    constexpr double kInf = std::numeric_limits<double>::infinity();
+  // 2 x 2 inline (a continuation step of a four-bar factors one), larger ones in Factor().
+  MECHGEN_ALWAYS_INLINE explicit SquareFactorization(const Matrix& A) {
     if constexpr (n == 2) {
+      constexpr double kInf = std::numeric_limits<double>::infinity();
       // Closed form: A^{-1} = adj(A) / det, and ||adj(A)||_1 = ||A||_inf, so
       // cond_1 = ||A||_1 ||A||_inf / |det| without forming the inverse's norms.
       // One division (1/det) serves the inverse and cond_1.
@@ -251,7 +280,48 @@ class SquareFactorization {
       const double norm_inf = std::max(std::abs(a) + std::abs(b), std::abs(c) + std::abs(d));
       inverse_norm1_ = norm_inf * std::abs(inv);
       cond_ = ok_ ? norm1_ * norm_inf * std::abs(inv) : kInf;
-    } else if constexpr (n <= 4) {
+      if (!std::isfinite(cond_)) {
+        cond_ = kInf;
+        ok_ = false;
+      }
+      if (!ok_) inverse_norm1_ = kInf;  // as cond_1 / ||A||_1 was
+    } else {
+      Factor(A);
+    }
+  }
+  bool ok() const { return ok_; }
+  double determinant() const { return det_; }
+  /// cond_1(A) (exact for n <= 16, else Eigen's estimate); +inf when singular.
+  double condition() const { return cond_; }
+  /// ||A||_1, and ||A^{-1}||_1 (exact for n <= 16: ||A||_inf / |det| for n = 2; else
+  /// cond_1 / ||A||_1 from Eigen's estimate; +inf when singular), the two factors of
+  /// condition(), without dividing one by the other.
+  double norm1() const { return norm1_; }
+  double inverse_norm1() const { return inverse_norm1_; }
+  /// A^{-1} B for any number of columns.
+  template <class Rhs>
+  auto Solve(const Eigen::MatrixBase<Rhs>& B) const {
+    using Result = Eigen::Matrix<double, n, Rhs::ColsAtCompileTime>;
+    if constexpr (kHasInverse) {
+      return Result(inverse_ * B);
+    } else {
+      return Result(lu_.solve(B));
+    }
+  }
+  /// A^{-T} b.
+  Vector SolveTransposed(const Vector& b) const {
+    if constexpr (kHasInverse) {
+      return inverse_.transpose() * b;
+    } else {
+      return lu_.transpose().solve(b);
+    }
+  }
+
+ private:
+  // The factorization of a matrix larger than 2 x 2 (see the class comment).
+  void Factor(const Matrix& A) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    if constexpr (n <= 4) {
       bool invertible = false;
       A.computeInverseAndDetWithCheck(inverse_, det_, invertible, 0.0);
       ok_ = invertible && inverse_.allFinite() && std::isfinite(det_);
@@ -318,35 +388,6 @@ class SquareFactorization {
     }
     if (!ok_) inverse_norm1_ = kInf;  // as cond_1 / ||A||_1 was
   }
-  bool ok() const { return ok_; }
-  double determinant() const { return det_; }
-  /// cond_1(A) (exact for n <= 16, else Eigen's estimate); +inf when singular.
-  double condition() const { return cond_; }
-  /// ||A||_1, and ||A^{-1}||_1 (exact for n <= 16: ||A||_inf / |det| for n = 2; else
-  /// cond_1 / ||A||_1 from Eigen's estimate; +inf when singular), the two factors of
-  /// condition(), without dividing one by the other.
-  double norm1() const { return norm1_; }
-  double inverse_norm1() const { return inverse_norm1_; }
-  /// A^{-1} B for any number of columns.
-  template <class Rhs>
-  auto Solve(const Eigen::MatrixBase<Rhs>& B) const {
-    using Result = Eigen::Matrix<double, n, Rhs::ColsAtCompileTime>;
-    if constexpr (kHasInverse) {
-      return Result(inverse_ * B);
-    } else {
-      return Result(lu_.solve(B));
-    }
-  }
-  /// A^{-T} b.
-  Vector SolveTransposed(const Vector& b) const {
-    if constexpr (kHasInverse) {
-      return inverse_.transpose() * b;
-    } else {
-      return lu_.transpose().solve(b);
-    }
-  }
-
- private:
   struct None {};
   bool ok_ = false;
   double det_ = 0;

@@ -242,7 +242,7 @@ class PositionSolver {
   // True when phi moves an angle coordinate by more than Options::max_predicted_angle from
   // phi0, or is not finite.
   bool MovesTooFar(const VecPhi& phi0, const VecPhi& phi, bool known_finite = false) const {
-    if (!known_finite && !phi.allFinite()) return true;
+    if (!known_finite && !internal::AllFinite(phi)) return true;
     for (int i = 0; i < M::kNphi; ++i) {
       if (M::kPhiIsAngle[i] && !(std::abs(phi(i) - phi0(i)) <= options_.max_predicted_angle))
         return true;
@@ -348,7 +348,7 @@ class PositionSolver {
               PendingDistance* later = nullptr) const;
   // The predictor phi0 + K dq (+ 1/2 L(dq, dq) for the second-order one) at q; *last_term:
   // the max-norm of the last Taylor term it used, the scale of CorrectionAcceptable().
-  VecPhi Predict(const State<M>& from, const VecQ& q, double* last_term) const;
+  MECHGEN_ALWAYS_INLINE VecPhi Predict(const State<M>& from, const VecQ& q, double* last_term) const;
   // Branch guard: the corrector may move phi by less than max_correction_ratio times the
   // last Taylor term the predictor used (1/2 L(dq, dq), or K dq for a first-order
   // predictor) plus max_correction_abs. On one smooth curve the correction is the next,
@@ -363,7 +363,7 @@ class PositionSolver {
   // last term. Catches a sub-step that lands on (or next to) a change point, where Newton
   // converges only linearly to a point whose phi passes the guard above but whose K is
   // O(1) off (it belongs to no solution curve), and the jump onto another curve after it.
-  bool VelocityConsistent(const State<M>& from, const State<M>& to) const {
+  MECHGEN_ALWAYS_INLINE bool VelocityConsistent(const State<M>& from, const State<M>& to) const {
     if (Leaving(from, to)) return VelocityConsistentBackwards(from, to);
     const VecQ dq = to.q - from.q;
     typename T::MatK change = T::MatK::Zero();  // L(i, j + kNq k) dq_k summed over k
@@ -406,8 +406,8 @@ class PositionSolver {
   // the branch's modes (has_modes_), and when that fails or the model has none, Newton on
   // the whole system (NewtonCorrector()); no allocation. Adds the iterations to
   // s->iterations; *used_newton is set when the accepted result did not come from M::Solve.
-  bool Step(const State<M>& from, const VecQ& q, State<M>* to, Summary* s,
-            bool* used_newton, PendingDistance* later = nullptr) const;
+  MECHGEN_ALWAYS_INLINE bool Step(const State<M>& from, const VecQ& q, State<M>* to, Summary* s,
+                                  bool* used_newton, PendingDistance* later = nullptr) const;
   // Step()'s corrector by Newton on the whole system from `predicted` (for a model without
   // M::Solve the common case, else the rare one; not inlined into Step(), which stays lean).
   MECHGEN_NOINLINE bool NewtonCorrector(const State<M>& from, const VecQ& q,

@@ -42,7 +42,7 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
   const bool from_near_singular =
       from.sigma_min < options_.near_singular_ratio * from.sigma_max;
   if (!from_near_singular && !CorrectionAcceptable(last_term, predicted, phi)) return false;
-  if (!phi.allFinite() || MovesTooFar(from.phi, phi, true)) return false;
+  if (!internal::AllFinite(phi) || MovesTooFar(from.phi, phi, true)) return false;
   MatCPhi A;
   MatCQ B;
   typename T::Coefficients c;
@@ -174,11 +174,14 @@ bool PositionSolver<M, Assembler>::NewtonCorrector(const State<M>& from, const V
 
 template <class M, class Assembler>
 Status PositionSolver<M, Assembler>::MoveTo(const VecQ& q_target, Summary* summary) {
-  Summary local;
-  Summary* s = summary != nullptr ? summary : &local;
+  if (summary == nullptr) {  // (a local Summary only then: not set up on every step)
+    Summary local;
+    return MoveTo(q_target, &local);
+  }
+  Summary* s = summary;
   *s = Summary();
   const State<M>& from = state_ref();
-  if (!options_valid_ || !from.valid || !q_target.allFinite() ||
+  if (!options_valid_ || !from.valid || !internal::AllFinite(q_target) ||
       !((q_target - from.q).cwiseAbs().maxCoeff() <= options_.max_input_step)) {
     s->reason = !options_valid_      ? "invalid Options"
                 : !from.valid         ? "nothing assembled to continue from"
