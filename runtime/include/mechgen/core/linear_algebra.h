@@ -1,9 +1,10 @@
 /**
  * \file core/linear_algebra.h
  * The small dense linear algebra of the position solver, fixed-size and allocation-free:
- * max-norms that see NaN (MaxAbsDiff), cond_1 and det (ConditionAndDeterminant), the
- * smallest singular value and its vector (SmallestSingular, and SingularValues2x2 in closed
- * form), and SquareFactorization, the one factorization of Phi_phi a continuation step has.
+ * max-norms that see NaN (MaxAbsDiff), finiteness (AllFinite), cond_1 and det
+ * (ConditionAndDeterminant), the smallest singular value and its vector (SmallestSingular, and
+ * SingularValues2x2 in closed form), and SquareFactorization, the one factorization of Phi_phi
+ * a continuation step has.
  * Needs Eigen only.
  */
 #pragma once
