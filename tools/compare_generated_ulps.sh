@@ -24,7 +24,7 @@ for m in $MODELS; do
   echo "#include \"$TMP/old_$m.h\"" >> "$TMP/models.h"
   LIST="$LIST C($m)"
 done
-g++ -O2 -std=c++17 -I/usr/include/eigen3 "${DEFS[@]}" -DMODELS_INCLUDE="\"$TMP/models.h\"" -DMODELS_LIST="$LIST" \
+g++ -O2 -std=c++17 -I/usr/include/eigen3 -Iruntime/include "${DEFS[@]}" -DMODELS_INCLUDE="\"$TMP/models.h\"" -DMODELS_LIST="$LIST" \
   tools/compare_generated_ulps.cc -o "$TMP/compare"
 echo "this tree against $REV ($(git rev-parse --short "$REV"))"
 "$TMP/compare"

@@ -401,9 +401,10 @@ void ShareTrig(const Kinematics& k,
     if (q_used[j].second) head.push_back(Raw("const Scalar " + names[j].cos + " = cos(" + names[j].arg + ");"));
     positions->extra_calls += q_used[j].first + q_used[j].second;
   }
-  // The inputs' sin and cos to *trig at once, before the blocks read a parameter (a store
-  // through trig may alias them): kept until the end they were held (spilled) across every
-  // call of the blocks (atan2). The angles' that no block gave are written at the end.
+  // The inputs' sin and cos go to *trig at once, before the blocks read a parameter (a store
+  // through trig may alias the parameters): stored at the end, they were held (spilled) across
+  // every call the blocks make (atan2). The sin and cos of the angles no block gave are
+  // written at the end.
   Program q_stores, tail;
   for (int j = 0; j < nq; ++j) {
     if (!k.q[j].is_angle) continue;

@@ -155,11 +155,12 @@ TEST(DistanceToSingularity, ClosedForm2x2MatchesJacobiSvd) {
 
 TEST(LinearAlgebra, AllFiniteAndMaxAbsDiffSeeEveryNonFiniteEntry) {
   // The continuation step's tests of finiteness and max-norms (internal::AllFinite,
-  // internal::MaxAbsDiff) against std::isfinite and a loop over the entries: every position
-  // of a 2 x 3 matrix in turn NaN, +inf or -inf.
+  // internal::MaxAbsDiff) against std::isnan and std::abs of the entry put in: every position
+  // of a 2 x 3 matrix in turn NaN, +inf or -inf, and a finite matrix and an empty one.
   using mechgen::internal::AllFinite;
   using mechgen::internal::MaxAbsDiff;
-  const Eigen::Matrix<double, 2, 3> base = (Eigen::Matrix<double, 2, 3>() << 1, -2, 3e300, -4e-300, 0, -0.0).finished();
+  const Eigen::Matrix<double, 2, 3> base =
+      (Eigen::Matrix<double, 2, 3>() << 1, -2, 3e300, -4e-300, 0, -0.0).finished();
   const Eigen::Matrix<double, 2, 3> other = Eigen::Matrix<double, 2, 3>::Constant(0.5);
   EXPECT_TRUE(AllFinite(base));
   EXPECT_EQ(MaxAbsDiff(base), 3e300);

@@ -18,15 +18,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
-// Inline a small function the compiler would otherwise call (its heuristics give up inside
-// the continuation step's larger functions): MECHGEN_ALWAYS_INLINE. Measured with callgrind on
-// the four-bar's continuation step (bench/fourbar_bench.cc, MechgenContinuation): each such
-// call saved its arguments, the caller's live registers and a frame (position/solver.h).
-#if defined(__GNUC__) || defined(__clang__)
-#define MECHGEN_ALWAYS_INLINE inline __attribute__((always_inline))
-#else
-#define MECHGEN_ALWAYS_INLINE inline
-#endif
+#include "mechgen/core/inline.h"
 
 namespace mechgen {
 
@@ -281,11 +273,7 @@ class SquareFactorization {
       const double norm_inf = std::max(std::abs(a) + std::abs(b), std::abs(c) + std::abs(d));
       inverse_norm1_ = norm_inf * std::abs(inv);
       cond_ = ok_ ? norm1_ * norm_inf * std::abs(inv) : kInf;
-      if (!std::isfinite(cond_)) {
-        cond_ = kInf;
-        ok_ = false;
-      }
-      if (!ok_) inverse_norm1_ = kInf;  // as cond_1 / ||A||_1 was
+      RefuseNonFinite();
     } else {
       Factor(A);
     }
@@ -383,11 +371,16 @@ class SquareFactorization {
       norm1_ = internal::Norm1(A);
       inverse_norm1_ = cond_ / norm1_;
     }
+    RefuseNonFinite();
+  }
+  // Every size's last step: a cond_1 that is not finite makes the factorization singular, and a
+  // singular one has ||A^{-1}||_1 = inf (as cond_1 / ||A||_1 was).
+  void RefuseNonFinite() {
     if (!std::isfinite(cond_)) {
-      cond_ = kInf;
+      cond_ = std::numeric_limits<double>::infinity();
       ok_ = false;
     }
-    if (!ok_) inverse_norm1_ = kInf;  // as cond_1 / ||A||_1 was
+    if (!ok_) inverse_norm1_ = std::numeric_limits<double>::infinity();
   }
   struct None {};
   bool ok_ = false;

@@ -102,22 +102,13 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+#include "mechgen/core/inline.h"
 #include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/position/assembler.h"
 #include "mechgen/position/internal/dual.h"
 #include "mechgen/position/state.h"
 #include "mechgen/position/types.h"
-
-// Keep a rare branch out of the hot function that calls it (its frame and register saves):
-// MECHGEN_NOINLINE a function only, MECHGEN_COLD_PATH also laid out apart as unlikely.
-#if defined(__GNUC__) || defined(__clang__)
-#define MECHGEN_NOINLINE __attribute__((noinline))
-#define MECHGEN_COLD_PATH __attribute__((noinline, cold))
-#else
-#define MECHGEN_NOINLINE
-#define MECHGEN_COLD_PATH
-#endif
 
 namespace mechgen::position {
 
