@@ -3,12 +3,15 @@
 # targets (all when none). Used by the README's two commands. MECHGEN_BUILD_BENCHMARKS=OFF
 # leaves the benchmark programs out (scripts/test.sh: no test runs them; each bench/*/run.sh
 # configures them back in); MECHGEN_ALL_MODEL_TOOLS=OFF builds only the shipped models' tools
-# that a test runs (scripts/test.sh; see the top-level CMakeLists.txt).
+# that a test runs (scripts/test.sh; see the top-level CMakeLists.txt). MECHGEN_DEPS=main
+# installs only the main job's packages (scripts/deps.sh), MECHGEN_BUILD_TESTS=OFF configures
+# without the test suite (scripts/quickstart.sh: it needs neither GoogleTest nor the tests').
 #   bash scripts/build.sh [target ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/deps.sh
+bash scripts/deps.sh "${MECHGEN_DEPS:-all}"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  -DMECHGEN_BUILD_TESTS="${MECHGEN_BUILD_TESTS:-ON}" \
   -DMECHGEN_BUILD_BENCHMARKS="${MECHGEN_BUILD_BENCHMARKS:-ON}" \
   -DMECHGEN_ALL_MODEL_TOOLS="${MECHGEN_ALL_MODEL_TOOLS:-ON}" >/dev/null
 targets=()

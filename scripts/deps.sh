@@ -1,17 +1,33 @@
 #!/usr/bin/env bash
-# Installs the Debian packages mechgen needs, only those that are missing.
-# Sourced by scripts/quickstart.sh and scripts/test.sh; safe to run again.
+# Installs the Debian packages mechgen needs, only those that are missing; safe to run again.
+#   bash scripts/deps.sh [main|all]
+# main: what the README's first command (scripts/quickstart.sh) needs to build the generator and
+#   the shipped models' tools and run the main job: the compiler and CMake, Eigen, GiNaC, CLN,
+#   Ceres, yaml-cpp, mustache, CLI11, and gnuplot for its plots.
+# all (the default; scripts/build.sh, scripts/test.sh): main, plus what the test suite and the
+#   benchmarks need: GoogleTest, Google Benchmark, Python (test scripts), Simbody (the bench peer),
+#   rsvg-convert, OpenMPI (studies across ranks) and pdflatex (the LaTeX report test).
 set -euo pipefail
+set_name=${1:-all}
 MECHGEN_PACKAGES=(
   cmake ninja-build g++ pkg-config
-  libeigen3-dev libginac-dev libcln-dev libceres-dev libgtest-dev libbenchmark-dev
+  libeigen3-dev libginac-dev libcln-dev libceres-dev
   libyaml-cpp-dev libkainjow-mustache-dev libcli11-dev
-  gnuplot-nox python3
-  libsimbody-dev  # bench/dynamics: the Simbody comparison (Debian's build; see its README part)
-  librsvg2-bin  # rsvg-convert: the test that renders every shipped model's SVG drawing to PNG
-  libopenmpi-dev openmpi-bin  # MPI for `mechgen study` across ranks (docs/studies.md)
-  texlive-latex-base  # pdflatex for the test that compiles `mechgen report --latex --standalone` (39 MB download)
+  gnuplot-nox
 )
+case "$set_name" in
+  main) ;;
+  all)
+    MECHGEN_PACKAGES+=(
+      libgtest-dev libbenchmark-dev
+      python3
+      libsimbody-dev  # bench/dynamics: the Simbody comparison (Debian's build; see its README part)
+      librsvg2-bin  # rsvg-convert: the test that renders every shipped model's SVG drawing to PNG
+      libopenmpi-dev openmpi-bin  # MPI for `mechgen study` across ranks (docs/studies.md)
+      texlive-latex-base  # pdflatex for the test that compiles `mechgen report --latex --standalone` (39 MB download)
+    ) ;;
+  *) echo "scripts/deps.sh: error: unknown set '$set_name' (main or all)" >&2; exit 2 ;;
+esac
 missing=()
 for p in "${MECHGEN_PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

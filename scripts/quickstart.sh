@@ -12,7 +12,10 @@
 # simulating its steady cycle (out/engine_single_*.csv).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh fourbar_sweep slider_crank_friction_statics slider_crank_motor_simulate \
+# Only the main job's packages and targets: no test suite, no benchmarks, no MPI, Simbody or
+# LaTeX (scripts/test.sh installs and builds those).
+MECHGEN_DEPS=main MECHGEN_BUILD_TESTS=OFF MECHGEN_BUILD_BENCHMARKS=OFF \
+  bash scripts/build.sh fourbar_sweep slider_crank_friction_statics slider_crank_motor_simulate \
   engine_single_engine
 mkdir -p out
 ./build/models/fourbar_sweep --steps 360 --csv out/fourbar.csv --svg out/fourbar.svg --table 8
