@@ -21,6 +21,7 @@ case "$set_name" in
     MECHGEN_PACKAGES+=(
       libgtest-dev libbenchmark-dev
       python3
+      ccache  # scripts/build.sh and sanitize.sh use it when present: rebuilds compile what changed
       libsimbody-dev  # bench/dynamics: the Simbody comparison (Debian's build; see its README part)
       librsvg2-bin  # rsvg-convert: the test that renders every shipped model's SVG drawing to PNG
       libopenmpi-dev openmpi-bin  # MPI for `mechgen study` across ranks (docs/studies.md)
