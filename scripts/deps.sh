@@ -25,6 +25,7 @@ case "$set_name" in
       libsimbody-dev  # bench/dynamics: the Simbody comparison (Debian's build; see its README part)
       librsvg2-bin  # rsvg-convert: the test that renders every shipped model's SVG drawing to PNG
       libopenmpi-dev openmpi-bin  # MPI for `mechgen study` across ranks (docs/studies.md)
+      phcpack  # phc: the independent solver the exact synthesis' root counts are checked against
       texlive-latex-base  # pdflatex for the test that compiles `mechgen report --latex --standalone` (39 MB download)
     ) ;;
   *) echo "scripts/deps.sh: error: unknown set '$set_name' (main or all)" >&2; exit 2 ;;
