@@ -123,8 +123,8 @@ std::vector<std::string> ModelTools(const mechgen::Model& m) {
 
 // The build's manifest of a model (--manifest): its resolved quantities and which tools it has
 // as C macros, from which mechgen_add_model() compiles each tool of the model as the tool
-// itself or as a stub that says what the model lacks (cmake/MechgenAddModel.cmake). Written only when its bytes
-// change, so that the tools are not rebuilt for nothing.
+// itself or as a stub that says what the model lacks (cmake/MechgenAddModel.cmake). Written
+// only when its bytes change, so that the tools are not rebuilt for nothing.
 bool WriteManifest(const std::string& path, const mechgen::Model& m, std::string* error) {
   using mechgen::Quantity;
   std::string text = "// " + m.name + ": what mechgen generated for it (mechgen generate --manifest), for the tools\n"
@@ -261,7 +261,7 @@ int main(int argc, char** argv) {
       "--print-quantities", print_quantities,
       "print the model's quantities as the generator resolves them (with what they imply: dynamics brings K, "
       "L, forces and potential, shaking brings dynamics), on one line separated by blanks, e.g. `K L scene "
-      "forces`, and write nothing; the build's tools follow from it (cmake/MechgenAddModel.cmake)");
+      "forces`, and write nothing; the tools follow from them (--print-tools)");
   CLI::Option* tools_flag = gen->add_flag(
       "--print-tools", print_tools,
       "print the commands whose needs the model's quantities meet (sweep always, statics and flywheel with "
