@@ -26,17 +26,20 @@
 #                          only. Opt-in, so that the shipped models' build does not grow; any
 #                          model file has it as `mechgen flywheel MODEL`.
 #
-# What a model has is what the generator says, never a reading of the YAML here: its
-# quantities as the generator's model reader resolves them, with what they imply (`dynamics`
-# brings K, L, forces and potential; `shaking` brings dynamics), as
-# `mechgen generate <model.yaml> --print-quantities` prints them. Two cases:
+# What a model has is what the generator says, never a reading of the YAML here, and which
+# tool needs which quantity is the generator's table too (generator/driver/tool_command.cc,
+# the one `mechgen <tool> MODEL` checks): its quantities as the generator's model reader
+# resolves them, with what they imply (`dynamics` brings K, L, forces and potential;
+# `shaking` brings dynamics), and the tools they allow, as
+# `mechgen generate <model.yaml> --print-tools` prints them. Two cases:
 #  - mechgen is installed (find_package(mechgen)): it is asked at configure time (again when
 #    the model file changes), and only the tools the model has are defined;
 #  - mechgen is built by this project (its target `mechgen` exists): it cannot run at
 #    configure time, so every tool is defined, and the generation also writes a manifest
-#    (<name>_manifest.h: MECHGEN_MODEL_HAS_FORCES 0|1, ...; `mechgen generate --manifest`)
-#    from which each tool compiles as the tool itself or, for a model without what it needs,
-#    as a stub (a few lines, no runtime) that says so and exits with status 2.
+#    (<name>_manifest.h: MECHGEN_MODEL_TOOL_STATICS 0|1 and the quantity it needs, ...;
+#    `mechgen generate --manifest`) from which each tool compiles as the tool itself or, for a
+#    model without what it needs, as a stub (a few lines, no runtime) that says so and exits
+#    with status 2.
 # Either way a tool that runs is the real tool exactly when the model's quantities allow it.
 #
 # Options:
@@ -71,9 +74,10 @@ option(MECHGEN_BUILD_SWEEPS "Build the <model>_sweep tool of each mechgen_add_mo
 set(_MECHGEN_TOOL_SOURCE "${CMAKE_BINARY_DIR}/CMakeFiles/mechgen/tool_main.cc")
 set(_mechgen_tool_text [=[
 // A tool of a model, defined by mechgen_add_model() (cmake/MechgenAddModel.cmake): the tool's
-// own main (MECHGEN_TOOL_MAIN) when the model has what the tool needs (MECHGEN_TOOL_NEEDS, a
-// macro of the model's manifest, written by `mechgen generate --manifest`), else a stub that
-// says what the model lacks and exits with status 2.
+// own main (MECHGEN_TOOL_MAIN) when the model has what the tool needs (MECHGEN_TOOL_NEEDS, the
+// manifest's MECHGEN_MODEL_TOOL_<TOOL>, written by `mechgen generate --manifest`), else a stub
+// that says what the model lacks (MECHGEN_TOOL_QUANTITY: the manifest's
+// MECHGEN_MODEL_TOOL_<TOOL>_QUANTITY) and exits with status 2.
 #include MECHGEN_MODEL_MANIFEST
 #if MECHGEN_TOOL_NEEDS
 #include MECHGEN_TOOL_MAIN
@@ -81,9 +85,10 @@ set(_mechgen_tool_text [=[
 #include <cstdio>
 int main() {
   std::fprintf(stderr,
-               "error: the model '%s' was generated without %s (its quantities: %s); add `%s` to its "
-               "outputs' quantities\n",
-               MECHGEN_MODEL_NAME, MECHGEN_TOOL_LACKS, MECHGEN_MODEL_QUANTITIES, MECHGEN_TOOL_QUANTITY);
+               "error: the model '%s' was generated without `%s` (its quantities: %s), which its %s tool "
+               "needs; add `%s` to its outputs' quantities\n",
+               MECHGEN_MODEL_NAME, MECHGEN_TOOL_QUANTITY, MECHGEN_MODEL_QUANTITIES, MECHGEN_TOOL_NAME,
+               MECHGEN_TOOL_QUANTITY);
   return 2;
 }
 #endif
@@ -99,15 +104,17 @@ endif()
 unset(_mechgen_tool_old)
 unset(_mechgen_tool_text)
 
-# <name>_<tool> from runtime/tools/<main>: real when the manifest's macro `need` is 1, else
-# the stub that names `lacks` and the quantity `quantity` to add.
-function(_mechgen_add_tool name tool main need lacks quantity)
+# <name>_<tool> from runtime/tools/<tool>_main.cc: real when the manifest's macro
+# MECHGEN_MODEL_TOOL_<TOOL> is 1, else the stub that names the quantity to add (the
+# manifest's MECHGEN_MODEL_TOOL_<TOOL>_QUANTITY).
+function(_mechgen_add_tool name tool)
   set(out_dir "${CMAKE_CURRENT_BINARY_DIR}/mechgen_${name}")
+  string(TOUPPER "MECHGEN_MODEL_TOOL_${tool}" need)
   add_executable(${name}_${tool} "${_MECHGEN_TOOL_SOURCE}" "${out_dir}/${name}_manifest.h")
   target_compile_definitions(${name}_${tool} PRIVATE
     MECHGEN_MODEL_INCLUDE="${name}.h" MECHGEN_MODEL_NAMESPACE=mech::${name}
-    MECHGEN_MODEL_MANIFEST="${name}_manifest.h" MECHGEN_TOOL_MAIN="${MECHGEN_TOOLS_DIR}/${main}"
-    MECHGEN_TOOL_NEEDS=${need} MECHGEN_TOOL_LACKS="${lacks}" MECHGEN_TOOL_QUANTITY="${quantity}")
+    MECHGEN_MODEL_MANIFEST="${name}_manifest.h" MECHGEN_TOOL_MAIN="${MECHGEN_TOOLS_DIR}/${tool}_main.cc"
+    MECHGEN_TOOL_NEEDS=${need} MECHGEN_TOOL_QUANTITY=${need}_QUANTITY MECHGEN_TOOL_NAME="${tool}")
   target_link_libraries(${name}_${tool} PRIVATE mechgen_model_${name} ${ARGN})
   target_compile_options(${name}_${tool} PRIVATE ${MECHGEN_TOOL_COMPILE_OPTIONS})
   set_property(GLOBAL APPEND PROPERTY MECHGEN_MODEL_TOOLS ${name}_${tool})
@@ -120,13 +127,13 @@ function(_mechgen_add_tool name tool main need lacks quantity)
   endif()
 endfunction()
 
-# In mechgen_add_model: whether to define a tool (sets `var`): asked for (`force`), or not
-# refused (`refuse`) and the quantities unknown or `quantity` among them.
-macro(_mechgen_wants var force refuse quantity)
+# In mechgen_add_model: whether to define the tool `var` (sets it): asked for (`force`), or
+# not refused (`refuse`) and the model's tools unknown or `var` among them.
+macro(_mechgen_wants var force refuse)
   set(${var} FALSE)
   if(${force})
     set(${var} TRUE)
-  elseif(NOT ${refuse} AND (NOT quantities_known OR "${quantity}" IN_LIST quantities))
+  elseif(NOT ${refuse} AND (NOT tools_known OR "${var}" IN_LIST tools))
     set(${var} TRUE)
   endif()
 endmacro()
@@ -178,22 +185,22 @@ function(mechgen_add_model name model)
     return()
   endif()
 
-  # The model's quantities, from the installed generator at configure time; in the build
-  # tree (no mechgen to run yet) unknown here: every tool is defined and the manifest decides.
-  set(quantities_known FALSE)
-  set(quantities)
+  # The model's tools, from the installed generator at configure time; in the build tree (no
+  # mechgen to run yet) unknown here: every tool is defined and the manifest decides.
+  set(tools_known FALSE)
+  set(tools)
   if(NOT TARGET mechgen AND TARGET mechgen::mechgen)
     get_target_property(mechgen_now mechgen::mechgen LOCATION)
     execute_process(
-      COMMAND "${mechgen_now}" generate "${model_abs}" --name "${name}" --print-quantities
+      COMMAND "${mechgen_now}" generate "${model_abs}" --name "${name}" --print-tools
       RESULT_VARIABLE status OUTPUT_VARIABLE printed ERROR_VARIABLE error
       OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_STRIP_TRAILING_WHITESPACE)
     if(NOT status EQUAL 0)
       message(FATAL_ERROR "mechgen_add_model(${name}): ${error}")
     endif()
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${model_abs}" "${mechgen_now}")
-    separate_arguments(quantities UNIX_COMMAND "${printed}")
-    set(quantities_known TRUE)
+    separate_arguments(tools UNIX_COMMAND "${printed}")
+    set(tools_known TRUE)
   endif()
 
   if(TARGET mechgen::runtime_ceres AND EXISTS "${MECHGEN_TOOLS_DIR}/sweep_main.cc")
@@ -203,25 +210,21 @@ function(mechgen_add_model name model)
     target_link_libraries(${name}_sweep PRIVATE mechgen_model_${name} mechgen::runtime_ceres)
     target_compile_options(${name}_sweep PRIVATE ${MECHGEN_TOOL_COMPILE_OPTIONS})
     set_property(GLOBAL APPEND PROPERTY MECHGEN_MODEL_TOOLS ${name}_sweep)
-    _mechgen_wants(statics ARG_STATICS ARG_NO_STATICS forces)
+    _mechgen_wants(statics ARG_STATICS ARG_NO_STATICS)
     if(statics AND EXISTS "${MECHGEN_TOOLS_DIR}/statics_main.cc")
-      _mechgen_add_tool(${name} statics statics_main.cc MECHGEN_MODEL_HAS_FORCES statics forces
-                        mechgen::runtime_ceres)
+      _mechgen_add_tool(${name} statics mechgen::runtime_ceres)
       # Where `--plots` finds plot_statics.gnuplot and plot_bearings.gnuplot.
       target_compile_definitions(${name}_statics PRIVATE MECHGEN_TOOLS_DIR="${MECHGEN_TOOLS_DIR}")
     endif()
   endif()
-  _mechgen_wants(simulate ARG_SIMULATE ARG_NO_SIMULATE dynamics)
+  _mechgen_wants(simulate ARG_SIMULATE ARG_NO_SIMULATE)
   if(simulate AND EXISTS "${MECHGEN_TOOLS_DIR}/simulate_main.cc")
-    _mechgen_add_tool(${name} simulate simulate_main.cc MECHGEN_MODEL_HAS_DYNAMICS dynamics dynamics
-                      mechgen::runtime)
+    _mechgen_add_tool(${name} simulate mechgen::runtime)
   endif()
   if(ARG_ENGINE AND EXISTS "${MECHGEN_TOOLS_DIR}/engine_main.cc")
-    _mechgen_add_tool(${name} engine engine_main.cc MECHGEN_MODEL_HAS_DYNAMICS dynamics dynamics
-                      mechgen::runtime)
+    _mechgen_add_tool(${name} engine mechgen::runtime)
   endif()
   if(ARG_FLYWHEEL AND EXISTS "${MECHGEN_TOOLS_DIR}/flywheel_main.cc")
-    _mechgen_add_tool(${name} flywheel flywheel_main.cc MECHGEN_MODEL_HAS_FORCES statics forces
-                      mechgen::runtime)
+    _mechgen_add_tool(${name} flywheel mechgen::runtime)
   endif()
 endfunction()

@@ -2,9 +2,10 @@
 //
 //   mechgen generate models/fourbar.yaml --out-dir generated
 //   mechgen generate models/fourbar.yaml --print-quantities   (K L scene: what the model has)
+//   mechgen generate models/fourbar.yaml --print-tools        (sweep synthesize study: its commands)
 //   mechgen report models/fourbar.yaml [--latex [--standalone]]
 //   mechgen sweep models/fourbar.yaml --steps 360 --csv out.csv   (generator/driver/)
-//   mechgen statics|simulate|engine MODEL [options]                (the same, each tool)
+//   mechgen statics|simulate|engine|flywheel|synthesize|study MODEL [options]   (each tool)
 //
 // A bad model prints `file:line:column: error: message`, exits 1 and writes nothing.
 #include <CLI/CLI.hpp>
@@ -112,10 +113,18 @@ void Run(Pipeline* p, const std::string& path, const std::string& name, const st
                              &p->printer, templates);
 }
 
-// The build's manifest of a model (--manifest): its resolved quantities as C macros, from
-// which mechgen_add_model() compiles each tool of the model as the tool itself or as a stub
-// that says what the model lacks (cmake/MechgenAddModel.cmake). Written only when its bytes
-// change, so that the tools are not rebuilt for nothing.
+// The tools whose quantity the model has (`mechgen generate --print-tools`).
+std::vector<std::string> ModelTools(const mechgen::Model& m) {
+  std::vector<std::string> quantities;
+  std::istringstream words(mechgen::QuantityList(m.outputs.quantities));
+  for (std::string q; words >> q;) quantities.push_back(q);
+  return mechgen::ToolsFor(quantities);
+}
+
+// The build's manifest of a model (--manifest): its resolved quantities and which tools it has
+// as C macros, from which mechgen_add_model() compiles each tool of the model as the tool
+// itself or as a stub that says what the model lacks (cmake/MechgenAddModel.cmake). Written
+// only when its bytes change, so that the tools are not rebuilt for nothing.
 bool WriteManifest(const std::string& path, const mechgen::Model& m, std::string* error) {
   using mechgen::Quantity;
   std::string text = "// " + m.name + ": what mechgen generated for it (mechgen generate --manifest), for the tools\n"
@@ -128,6 +137,16 @@ bool WriteManifest(const std::string& path, const mechgen::Model& m, std::string
     std::string macro = mechgen::QuantityName(q);
     for (char& c : macro) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     text += "#define MECHGEN_MODEL_HAS_" + macro + " " + (m.outputs.Has(q) ? "1" : "0") + "\n";
+  }
+  // Each tool: whether the model has what it needs, and what that is (the driver's table,
+  // generator/driver/tool_command.cc, as `mechgen generate --print-tools` prints it).
+  const std::vector<std::string> tools = ModelTools(m);
+  for (const std::string& tool : mechgen::ToolNames()) {
+    std::string macro = "MECHGEN_MODEL_TOOL_" + tool;
+    for (char& c : macro) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    const bool has = std::find(tools.begin(), tools.end(), tool) != tools.end();
+    text += "#define " + macro + " " + (has ? "1" : "0") + "\n";
+    text += "#define " + macro + "_QUANTITY \"" + mechgen::ToolQuantity(tool) + "\"\n";
   }
   std::ifstream in(path, std::ios::binary);
   std::ostringstream old;
@@ -223,7 +242,7 @@ int main(int argc, char** argv) {
                "(parameter sweeps, tolerances) on it."};
   app.require_subcommand(1);
   std::string model_path, out_dir = ".", name, templates = DefaultTemplates();
-  bool latex = false, standalone = false, quiet = false, print_quantities = false;
+  bool latex = false, standalone = false, quiet = false, print_quantities = false, print_tools = false;
   std::string manifest;
   std::string strategy = "blocks";
 
@@ -242,11 +261,20 @@ int main(int argc, char** argv) {
       "--print-quantities", print_quantities,
       "print the model's quantities as the generator resolves them (with what they imply: dynamics brings K, "
       "L, forces and potential, shaking brings dynamics), on one line separated by blanks, e.g. `K L scene "
-      "forces`, and write nothing; the build's tools follow from it (cmake/MechgenAddModel.cmake)");
+      "forces`, and write nothing; the tools follow from them (--print-tools)");
+  CLI::Option* tools_flag = gen->add_flag(
+      "--print-tools", print_tools,
+      "print the commands whose needs the model's quantities meet (sweep always, statics and flywheel with "
+      "forces, simulate and engine with dynamics; synthesize and study check their own files), on one line "
+      "separated by blanks, e.g. `sweep statics flywheel synthesize study`, and write nothing; "
+      "mechgen_add_model() defines a model's tools from it (cmake/MechgenAddModel.cmake)");
+  tools_flag->excludes(print_flag);
   gen->add_option("--manifest", manifest,
-                  "also write this file: the quantities as a C header (MECHGEN_MODEL_HAS_FORCES 0|1, ...) "
-                  "from which mechgen_add_model() builds each tool of the model or a stub")
-      ->excludes(print_flag);
+                  "also write this file: the quantities and the tools as a C header (MECHGEN_MODEL_HAS_FORCES "
+                  "0|1, MECHGEN_MODEL_TOOL_STATICS 0|1, ...) from which mechgen_add_model() builds each tool of "
+                  "the model or a stub")
+      ->excludes(print_flag)
+      ->excludes(tools_flag);
 
   CLI::App* rep = app.add_subcommand(
       "report", "print loops, mobility, Phi, Phi_phi, Phi_q, K and L block by block, the points' K_P and L_P");
@@ -288,7 +316,20 @@ int main(int argc, char** argv) {
     tool_apps.push_back(sub);
   }
 
-  CLI11_PARSE(app, argc, argv);
+  // --help: the help on stdout, 0; a usage error: one line "mechgen: error: ..." on stderr, 2
+  // (the contract of every tool, not CLI11's own exit codes).
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << OneLine(std::string("mechgen: error: ") + e.what()) << "\n";
+    return 2;
+  }
 
   for (CLI::App* sub : tool_apps) {
     if (!sub->parsed()) continue;
@@ -332,11 +373,18 @@ int main(int argc, char** argv) {
     }
   }
 
-  // --print-quantities: the model reader alone (it applies what each quantity implies).
-  if (gen->parsed() && print_quantities) {
+  // --print-quantities, --print-tools: the model reader alone (it applies what each quantity
+  // implies).
+  if (gen->parsed() && (print_quantities || print_tools)) {
     try {
       const mechgen::Model m = mechgen::LoadModel(model_path, name);
-      std::cout << mechgen::QuantityList(m.outputs.quantities) << "\n";
+      if (print_quantities) {
+        std::cout << mechgen::QuantityList(m.outputs.quantities) << "\n";
+      } else {
+        std::string line;
+        for (const std::string& tool : ModelTools(m)) line += (line.empty() ? "" : " ") + tool;
+        std::cout << line << "\n";
+      }
     } catch (const mechgen::ModelError& e) {
       std::cerr << OneLine(e.what()) << "\n";
       return 1;

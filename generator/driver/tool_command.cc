@@ -4,6 +4,9 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -20,6 +23,7 @@
 #include <sstream>
 
 #include "codegen/sha256.h"
+#include "driver/tool_args.h"
 
 // Set by generator/CMakeLists.txt: where the build found things, and the install layout.
 #ifndef MECHGEN_VERSION
@@ -233,7 +237,8 @@ bool FindToolchain(const ToolSpec& spec, Toolchain* t) {
                      : " and " + std::string(MECHGEN_SOURCE_RUNTIME_INCLUDE)) +
                 "); is mechgen installed whole?"), false;
   std::vector<std::string> needed = {spec.main, "common/numbers.h", "common/cli.h"};
-  if (spec.separate_args) needed.insert(needed.end(), {"sweep_args.h", "sweep_args.cc"});
+  if (spec.separate_args || HasToolParser(spec.name))
+    needed.insert(needed.end(), {spec.name + "_args.h", spec.name + "_args.cc"});
   for (const std::string& file : needed) {
     if (!fs::exists(t->tools / file, ec))
       return Fail("cannot find the " + spec.name + " driver " + (t->tools / file).string() +
@@ -483,16 +488,56 @@ void RemoveStaleTemporaries(const fs::path& tmp) {
 
 // ---- processes ---------------------------------------------------------------------------
 
-// A signal during a build is passed on to the compilers; the build then removes its
-// temporary directory and ends by the same signal.
+// A signal during a build (SIGINT, SIGTERM, SIGHUP) is passed on to the compilers; the build
+// then removes its temporary directory and ends by the same signal (status 128 + signal).
+// Each compiler runs in a process group of its own (Start), and the signal goes to the whole
+// group: the compiler driver (c++) and what it started (cc1plus, as, ld; ccache's compiler),
+// which a signal to the driver's pid alone would leave running to the end of the compile.
+// Once the compiler drivers have ended, their groups are killed (SIGKILL) and waited for: the
+// build is the subreaper of its descendants (SignalGuard, Linux), so a cc1plus whose c++
+// ended first is reaped here rather than left to init, and nothing of the build outlives it.
+// No group of ours ever receives the terminal's signals: the compilers read /dev/null and
+// write to their logs, so they need no terminal.
 volatile sig_atomic_t g_signal = 0;
 constexpr int kMaxChildren = 4;
+// > 0: a compiler's pid, also its process group; < 0: minus the pid of a child in our own
+// group (the driver run with --no-cache), signalled alone.
 volatile pid_t g_children[kMaxChildren] = {0, 0, 0, 0};
 
+// The signals forwarded, blocked while a child is started and registered.
+constexpr int kForwarded[3] = {SIGINT, SIGTERM, SIGHUP};
+
+extern "C" void OnSignal(int sig);
+
+// In a child before exec: the forwarded signals' dispositions as when mechgen started (the
+// handler reset; an ignored signal stays ignored), then the mask as before.
+void RestoreSignalsInChild(const sigset_t& old_mask) {
+  for (int sig : kForwarded) {
+    struct sigaction current {};
+    if (sigaction(sig, nullptr, &current) == 0 && current.sa_handler == OnSignal) signal(sig, SIG_DFL);
+  }
+  sigprocmask(SIG_SETMASK, &old_mask, nullptr);
+}
+
+sigset_t ForwardedSet() {
+  sigset_t set;
+  sigemptyset(&set);
+  for (int sig : kForwarded) sigaddset(&set, sig);
+  return set;
+}
+
 extern "C" void OnSignal(int sig) {
+  const int saved = errno;
   g_signal = sig;
-  for (int i = 0; i < kMaxChildren; ++i)
-    if (g_children[i] > 0) kill(g_children[i], sig);
+  for (int i = 0; i < kMaxChildren; ++i) {
+    const pid_t child = g_children[i];
+    if (child > 0) {
+      if (kill(-child, sig) != 0) kill(child, sig);  // its group; the pid if it has none yet
+    } else if (child < 0) {
+      kill(-child, sig);
+    }
+  }
+  errno = saved;
 }
 
 class SignalGuard {
@@ -501,10 +546,20 @@ class SignalGuard {
     struct sigaction action {};
     action.sa_handler = OnSignal;
     sigemptyset(&action.sa_mask);
-    for (int i = 0; i < 3; ++i) sigaction(kSignals[i], &action, &old_[i]);
+    // A signal ignored when mechgen started (nohup, a background job) stays ignored.
+    for (int i = 0; i < 3; ++i) {
+      sigaction(kForwarded[i], &action, &old_[i]);
+      if (old_[i].sa_handler == SIG_IGN) sigaction(kForwarded[i], &old_[i], nullptr);
+    }
+#ifdef PR_SET_CHILD_SUBREAPER
+    prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0);
+#endif
   }
   ~SignalGuard() {
-    for (int i = 0; i < 3; ++i) sigaction(kSignals[i], &old_[i], nullptr);
+#ifdef PR_SET_CHILD_SUBREAPER
+    prctl(PR_SET_CHILD_SUBREAPER, 0, 0, 0, 0);
+#endif
+    for (int i = 0; i < 3; ++i) sigaction(kForwarded[i], &old_[i], nullptr);
   }
   SignalGuard(const SignalGuard&) = delete;
   SignalGuard& operator=(const SignalGuard&) = delete;
@@ -517,7 +572,6 @@ class SignalGuard {
   }
 
  private:
-  static constexpr int kSignals[3] = {SIGINT, SIGTERM, SIGHUP};
   struct sigaction old_[3];
 };
 
@@ -548,9 +602,11 @@ bool MakeTempDir(const fs::path& dir, const std::string& prefix, fs::path* made)
   return true;
 }
 
-// Starts argv (stdin from /dev/null, stdout and stderr to `log`); -1 with *error if it
-// cannot (an exec failure comes back through a close-on-exec pipe).
-pid_t Start(const std::vector<std::string>& argv, const fs::path& log, std::string* error) {
+// Starts argv (stdin from /dev/null, stdout and stderr to `log`) in a process group of its
+// own, registered in g_children[slot] before a forwarded signal can be handled; -1 with
+// *error if it cannot (an exec failure comes back through a close-on-exec pipe), or if a
+// signal came before it started (*error then empty).
+pid_t Start(const std::vector<std::string>& argv, const fs::path& log, int slot, std::string* error) {
   int pipe_fds[2];
   if (pipe2(pipe_fds, O_CLOEXEC) != 0) {
     *error = std::string("pipe: ") + std::strerror(errno);
@@ -559,14 +615,27 @@ pid_t Start(const std::vector<std::string>& argv, const fs::path& log, std::stri
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  const sigset_t forwarded = ForwardedSet();
+  sigset_t old_mask;
+  sigprocmask(SIG_BLOCK, &forwarded, &old_mask);
+  if (g_signal != 0) {  // interrupted: start nothing more
+    sigprocmask(SIG_SETMASK, &old_mask, nullptr);
+    close(pipe_fds[0]);
+    close(pipe_fds[1]);
+    error->clear();
+    return -1;
+  }
   const pid_t pid = fork();
   if (pid < 0) {
     *error = std::string("fork: ") + std::strerror(errno);
+    sigprocmask(SIG_SETMASK, &old_mask, nullptr);
     close(pipe_fds[0]);
     close(pipe_fds[1]);
     return -1;
   }
   if (pid == 0) {
+    setpgid(0, 0);
+    RestoreSignalsInChild(old_mask);
     close(pipe_fds[0]);
     const int in = open("/dev/null", O_RDONLY);
     const int out = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -581,6 +650,9 @@ pid_t Start(const std::vector<std::string>& argv, const fs::path& log, std::stri
     (void)ignored;
     _exit(127);
   }
+  setpgid(pid, pid);  // as the child does: whichever runs first (EACCES once it has exec'd)
+  if (slot >= 0 && slot < kMaxChildren) g_children[slot] = pid;
+  sigprocmask(SIG_SETMASK, &old_mask, nullptr);
   close(pipe_fds[1]);
   int exec_errno = 0;
   ssize_t n;
@@ -592,6 +664,7 @@ pid_t Start(const std::vector<std::string>& argv, const fs::path& log, std::stri
     int status = 0;
     while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
     }
+    if (slot >= 0 && slot < kMaxChildren) g_children[slot] = 0;
     *error = "cannot run '" + argv[0] + "': " + std::strerror(exec_errno);
     return -1;
   }
@@ -609,6 +682,22 @@ int Wait(pid_t pid) {
   return 1;
 }
 
+// After an interruption, with the compiler drivers (the groups' leaders) waited for: every
+// group killed, and waited for until none of its processes is left (those reparented to this
+// process reaped as they end), at most 10 s.
+void KillGroups(const std::vector<pid_t>& groups) {
+  for (pid_t g : groups) kill(-g, SIGKILL);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  for (;;) {
+    while (waitpid(-1, nullptr, WNOHANG) > 0) {
+    }
+    bool left = false;
+    for (pid_t g : groups) left = left || kill(-g, 0) == 0;
+    if (!left || std::chrono::steady_clock::now() > deadline) return;
+    usleep(10000);
+  }
+}
+
 struct Job {
   std::vector<std::string> argv;
   fs::path log;
@@ -620,20 +709,26 @@ struct Job {
 bool RunJobs(std::vector<Job>* jobs, const std::string& what, bool verbose) {
   std::string error;
   bool started = true;
-  for (size_t i = 0; i < jobs->size(); ++i) {
+  for (size_t i = 0; i < jobs->size() && started; ++i) {
     Job& job = (*jobs)[i];
     if (verbose) std::cerr << "mechgen: " << Join(job.argv) << "\n";
-    job.pid = started ? Start(job.argv, job.log, &error) : -1;
+    job.pid = Start(job.argv, job.log, static_cast<int>(i), &error);
     if (job.pid < 0) started = false;
-    if (i < static_cast<size_t>(kMaxChildren)) g_children[i] = job.pid;
   }
+  std::vector<pid_t> groups;
+  for (const Job& job : *jobs)
+    if (job.pid > 0) groups.push_back(job.pid);
   for (size_t i = 0; i < jobs->size(); ++i) {
     Job& job = (*jobs)[i];
-    if (job.pid > 0) job.status = Wait(job.pid);
+    if (job.pid <= 0) continue;
+    job.status = Wait(job.pid);
     if (i < static_cast<size_t>(kMaxChildren)) g_children[i] = 0;
   }
+  if (g_signal != 0) {  // interrupted: whatever of the groups outlived their compiler drivers goes too
+    KillGroups(groups);
+    return false;
+  }
   if (!started) return Fail(error + "; install g++ (or clang++), or set CXX to a C++17 compiler"), false;
-  if (g_signal != 0) return false;
   for (const Job& job : *jobs) {
     if (job.status == 0) continue;
     std::cerr << "mechgen: error: " << what << " failed (exit status " << job.status << "): "
@@ -831,10 +926,31 @@ std::string ToolSummary(const std::string& tool) {
   return spec != nullptr ? spec->summary : std::string();
 }
 
+std::string ToolQuantity(const std::string& tool) {
+  const ToolSpec* spec = FindSpec(tool);
+  return spec != nullptr ? spec->quantity : std::string();
+}
+
+std::vector<std::string> ToolsFor(const std::vector<std::string>& quantities) {
+  std::vector<std::string> tools;
+  for (const ToolSpec& spec : Specs())
+    if (spec.quantity.empty() || std::find(quantities.begin(), quantities.end(), spec.quantity) != quantities.end())
+      tools.push_back(spec.name);
+  return tools;
+}
+
 int RunTool(const ToolCommand& c, const GenerateFn& generate) {
   const ToolSpec* found = FindSpec(c.tool);
   if (found == nullptr) return Fail("no command '" + c.tool + "'");
   const ToolSpec& spec = *found;
+  // The options first (tool_args.h): --help and a usage error answered with nothing generated,
+  // compiled or cached, no compiler needed. The help names the model by its file's stem.
+  const int parsed = ParseToolOptions(spec.name, DriverArgv(c)[0], fs::path(c.model_path).stem().string(),
+                                      c.driver_args);
+  if (parsed >= 0) {
+    std::cout.flush();
+    return std::cout ? parsed : Fail("cannot write the standard output");
+  }
   g_signal = 0;
   Toolchain t;
   if (!FindToolchain(spec, &t)) return 1;
@@ -861,15 +977,22 @@ int RunTool(const ToolCommand& c, const GenerateFn& generate) {
         args.push_back(nullptr);
         std::cout.flush();
         std::cerr.flush();
+        // Registered before a forwarded signal can be handled; the driver keeps our process
+        // group (and the terminal), with its own dispositions.
+        const sigset_t forwarded = ForwardedSet();
+        sigset_t old_mask;
+        sigprocmask(SIG_BLOCK, &forwarded, &old_mask);
         const pid_t pid = fork();
         if (pid == 0) {
+          RestoreSignalsInChild(old_mask);
           execv((dir / spec.name).c_str(), args.data());
           _exit(127);
         }
+        if (pid > 0) g_children[0] = -pid;  // in our group: signalled alone
+        sigprocmask(SIG_SETMASK, &old_mask, nullptr);
         if (pid < 0) {
           status = Fail(std::string("fork: ") + std::strerror(errno));
         } else {
-          g_children[0] = pid;
           status = Wait(pid);
           g_children[0] = 0;
         }

@@ -34,6 +34,16 @@ const std::vector<std::string>& ToolNames();
 /// What the analysis of `tool` gives, for `mechgen --help` ("" for no such tool).
 std::string ToolSummary(const std::string& tool);
 
+/// The quantity `tool` needs among the model's (`mechgen generate --print-quantities`): "forces"
+/// for statics and flywheel, "dynamics" for simulate and engine, "" for a tool that needs none
+/// or no such tool. The one table of it: the driver checks it before compiling, `mechgen generate
+/// --print-tools` and the manifest (--manifest) give it to mechgen_add_model()
+/// (cmake/MechgenAddModel.cmake).
+std::string ToolQuantity(const std::string& tool);
+
+/// The tools (of ToolNames(), in that order) whose quantity is among `quantities`.
+std::vector<std::string> ToolsFor(const std::vector<std::string>& quantities);
+
 /// What `mechgen <tool>` was asked.
 struct ToolCommand {
   std::string tool;  ///< one of ToolNames()
@@ -59,12 +69,17 @@ struct GeneratedModel {
 using GenerateFn = std::function<int(const std::string& model_path, const std::string& out_dir,
                                      GeneratedModel* model)>;
 
-/// Runs the command: on success this process becomes the driver (exec), so its exit status
-/// is the driver's (see each tool's --help: 0 done, 2 bad arguments, ...); returns only on an
+/// Runs the command. First the driver's options are parsed by the tool's own parser where
+/// mechgen holds it (tool_args.h): --help returns 0 (the help on stdout), a usage error 2 (one
+/// line "mechgen <tool>: error: ..."), with nothing generated or compiled and the cache
+/// untouched. Then, on success, this process becomes the driver (exec), so its exit status is
+/// the driver's (see each tool's --help: 0 done, 2 bad arguments, ...); returns only on an
 /// error of its own (printed as "mechgen: error: ..."), with the exit status: that of
 /// `generate` for a model error, 1 otherwise (the model lacks what the tool needs, no
 /// compiler, a failed compile, no cache directory). With no_cache it runs the driver as a
-/// child and returns its status.
+/// child and returns its status. A SIGINT, SIGTERM or SIGHUP while it builds is passed on to
+/// the compilers' process groups; their temporary directory is removed and the process ends
+/// by that signal (exit status 128 + signal), with no cache entry made.
 int RunTool(const ToolCommand& command, const GenerateFn& generate);
 
 /// Splits `mechgen <tool> ...` (argv[first] is the first argument after the tool) into

@@ -38,6 +38,10 @@ struct Arguments {
 /// Exit status of a usage error (bad arguments: nothing written).
 constexpr int kExitUsage = 2;
 
+/// The bound on --steps: 10^7 steps make a CSV of a few GB; the sweep itself streams (holds
+/// one row, plus the table's rows and a bounded number for the drawing).
+constexpr long long kMaxSteps = 10000000;
+
 /**
  * \brief Parses the sweep command's options.
  * \param[in]  model_name  The model's name, for --help.

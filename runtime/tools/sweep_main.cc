@@ -95,9 +95,9 @@ bool ParseRange(const std::string& text, int* index, double* min, double* max,
   return true;
 }
 
-// The bound on --steps: 10^7 steps make a CSV of a few GB; the sweep itself streams (holds
-// one row, plus the table's rows and at most kMaxSvgRows for the drawing).
-constexpr long long kMaxSteps = 10000000;
+// The bound on --steps (sweep_args.h: `mechgen sweep` checks it before compiling); the
+// drawing holds at most kMaxSvgRows.
+constexpr long long kMaxSteps = mechgen::sweep_tool::kMaxSteps;
 constexpr size_t kMaxSvgRows = 3601;
 
 // An input's value for the messages: "%g", in degrees for an angle; never "-0".

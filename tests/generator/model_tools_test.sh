@@ -3,7 +3,9 @@
 # what the generator says (cmake/MechgenAddModel.cmake reads no YAML).
 # usage: model_tools_test.sh <mechgen> <source dir> <models binary dir> <models,...> \
 #                            <model>:<tool>:<program>:<left out 0|1>:<manifest macro> ...
-# For each shipped model: its quantities from `mechgen generate --print-quantities`; the tool
+# For each shipped model: `mechgen generate --print-tools` lists the tools its quantities
+# allow (sweep, synthesize, study always; statics and flywheel with forces; simulate and
+# engine with dynamics); its quantities from `mechgen generate --print-quantities`; the tool
 # <model>_<tool> runs as the real tool (`--help` exits 0 and prints its usage) exactly when
 # the quantities allow it (sweep: always; statics: forces; simulate: dynamics; engine: the
 # engine models, with dynamics), else it is the stub (exit 2, "generated without", naming the
@@ -46,6 +48,16 @@ for model in "${shipped[@]}"; do
   if has "$quantities" dynamics; then
     for q in K L forces potential; do has "$quantities" "$q" || fail "$model: dynamics without $q: $quantities"; done
   fi
+  # --print-tools (what mechgen_add_model() defines a model's tools from, the driver's one
+  # table) gives the tools the quantities allow, by this test's own rule, in the driver's order.
+  expected="sweep"
+  has "$quantities" forces && expected+=" statics"
+  has "$quantities" dynamics && expected+=" simulate engine"
+  has "$quantities" forces && expected+=" flywheel"
+  expected+=" synthesize study"
+  printed=$("$mechgen" generate "$source_dir/models/$model.yaml" --print-tools 2> "$work/err")
+  [ $? -eq 0 ] && [ ! -s "$work/err" ] && [ "$printed" = "$expected" ] ||
+    fail "$model: --print-tools '$printed', expected '$expected' (quantities: $quantities): $(cat "$work/err")"
   # The generated code agrees (a second witness of what the model has).
   header="$models_dir/mechgen_$model/$model.h"
   if [ -f "$header" ]; then

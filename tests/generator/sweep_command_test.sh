@@ -5,7 +5,9 @@
 #   a model with an error: its file:line:column line, exit 1, no cache entry, nothing left in
 #   the cache's tmp/; no compiler (CXX names none): exit 1, one line naming it; a compile
 #   that fails (CXX adds -include of a missing file): exit 1, the compiler's message, no
-#   cache entry; no model: a usage error.
+#   cache entry; no model: a usage error (exit 2, one line); --help and a bad option of sweep and simulate with
+#   no compiler on the PATH: answered (0, 2) before anything is generated, no cache; killed by
+#   SIGTERM while compiling: no compiler process left, exit status 143, no cache entry.
 # usage: sweep_command_test.sh full <mechgen> <source dir> <fourbar_sweep> <fourbar_crossed_sweep>
 #   the first run compiles (says so on stderr) and its CSV and SVG are byte-identical to those
 #   of build's fourbar_sweep (the Ceres-assembled <model>_sweep) with the same options, the
@@ -68,11 +70,94 @@ if [ "$mode" = errors ]; then
   [ -z "$(tmp_left)" ] || fail "failed compile: left $(tmp_left)"
   [ "$failures" -ne "$before" ] || ok "failed compile"
 
+  # Options are answered by the tool's own parser (runtime/tools/<tool>_args.cc, linked into
+  # mechgen) before anything is generated or compiled: with no compiler on the PATH (PATH holds
+  # an empty directory, CXX unset) --help exits 0 with the tool's help on stdout and a bad
+  # option exits 2 with the tool's one line, and no cache is made. A check that needs the
+  # model (a --drive of an input the model may lack) is the tool's: it goes on to the compile,
+  # which then finds no compiler.
+  before=$failures
+  mkdir -p empty_bin
+  cp "$source_dir/models/slider_crank_motor.yaml" motor.yaml
+  bare() { env -u CXX PATH="$root/empty_bin" MECHGEN_CACHE_DIR="$root/cache_options" "$mechgen" "$@"; }
+  bare sweep fourbar.yaml --help > help.out 2> help.err
+  status=$?
+  [ "$status" -eq 0 ] || fail "sweep --help without a compiler: exit status $status: $(cat help.err)"
+  grep -q "^Usage: mechgen sweep fourbar.yaml \[OPTIONS\]" help.out && grep -q -- "--no-animation" help.out &&
+    grep -q "the mechgen model 'fourbar'" help.out || fail "sweep --help: not the sweep's help: $(head -5 help.out)"
+  [ ! -s help.err ] || fail "sweep --help: stderr $(cat help.err)"
+  bare simulate motor.yaml --help > shelp.out 2> shelp.err
+  status=$?
+  { [ "$status" -eq 0 ] && grep -q -- "--drive" shelp.out && grep -q "the mechgen model 'motor'" shelp.out &&
+    [ ! -s shelp.err ]; } || fail "simulate --help without a compiler: exit status $status: $(cat shelp.err)"
+  bare simulate motor.yaml --t-end 1 --bad-option > opt.out 2> opt.err
+  status=$?
+  [ "$status" -eq 2 ] || fail "simulate --bad-option: exit status $status, expected 2"
+  [ "$(cat opt.err)" = "mechgen simulate: error: The following argument was not expected: --bad-option" ] ||
+    fail "simulate --bad-option: stderr $(cat opt.err)"
+  [ ! -s opt.out ] || fail "simulate --bad-option: stdout $(cat opt.out)"
+  bare simulate motor.yaml --dt 0 > dt.out 2> dt.err
+  status=$?
+  { [ "$status" -eq 2 ] && [ "$(cat dt.err)" = "mechgen simulate: error: --dt: bad value '0': expected a number in (0, 1e+06]" ]; } ||
+    fail "simulate --dt 0: exit status $status, stderr $(cat dt.err)"
+  bare sweep fourbar.yaml --steps 0 > st.out 2> st.err
+  status=$?
+  { [ "$status" -eq 2 ] &&
+    [ "$(cat st.err)" = "mechgen sweep: error: --steps: bad value '0': expected an integer from 1 to 10000000" ]; } ||
+    fail "sweep --steps 0: exit status $status, stderr $(cat st.err)"
+  [ ! -e "$root/cache_options" ] || fail "the options made a cache: $(find "$root/cache_options" | head -3)"
+  bare simulate motor.yaml --drive no_such_input=speed:1 > drive.out 2> drive.err
+  status=$?
+  { [ "$status" -eq 1 ] && grep -q "^mechgen: error: no C++ compiler" drive.err; } ||
+    fail "a --drive the parser cannot judge: exit status $status, stderr $(cat drive.err)"
+  [ "$failures" -ne "$before" ] || ok "--help and a bad option answered with no compiler and no cache"
+
+  # Killed while it compiles (issue 45): SIGTERM after a second of the compile ends every
+  # compiler process (each runs in a process group of its own, which mechgen kills and waits
+  # for), removes the temporary build directory and ends by the signal (status 143), with no
+  # cache entry. mechgen runs in a session of its own (setsid) so that every process it
+  # started, and what they started, is found by its session id in /proc.
+  before=$failures
+  session() {  # "<pid> <name>" of each process of session $1
+    local f line rest
+    for f in /proc/[0-9]*/stat; do
+      line=$(cat "$f" 2> /dev/null) || continue
+      rest=${line##*) }
+      read -r _ _ _ sid _ <<< "$rest"
+      [ "$sid" = "$1" ] || continue
+      name=${line#*(}
+      echo "${f//[^0-9]/} ${name%%)*}"
+    done
+  }
+  export MECHGEN_CACHE_DIR=$root/cache_killed
+  setsid "$mechgen" sweep fourbar.yaml --steps 4 > killed.out 2> killed.err &
+  pid=$!
+  for _ in $(seq 1 600); do
+    grep -q "^mechgen: compiling" killed.err && break
+    sleep 0.1
+  done
+  sleep 1
+  line=$(cat "/proc/$pid/stat" 2> /dev/null)
+  read -r _ _ _ sid _ <<< "${line##*) }"
+  [ "${sid:-}" = "$pid" ] || fail "SIGTERM: mechgen ($pid) is not the leader of its own session (session ${sid:-none})"
+  compilers=$(session "$pid" | grep -c "cc1plus")
+  [ "$compilers" -ge 1 ] || fail "SIGTERM: no compiler running after a second of the compile: $(session "$pid") $(cat killed.err)"
+  kill -TERM "$pid"
+  wait "$pid"
+  status=$?
+  [ "$status" -eq 143 ] || fail "SIGTERM: exit status $status, expected 143 (128 + SIGTERM): $(cat killed.err)"
+  sleep 2
+  [ -z "$(session "$pid")" ] || fail "SIGTERM: 2 s later still running: $(session "$pid" | tr '\n' ' ')"
+  [ "$(entries)" -eq 0 ] || fail "SIGTERM: a cache entry was made"
+  [ -z "$(tmp_left)" ] || fail "SIGTERM: left $(tmp_left)"
+  [ -z "$(find "$MECHGEN_CACHE_DIR/sweep" -name 'args-*' 2> /dev/null)" ] || fail "SIGTERM: an args object was cached"
+  [ "$failures" -ne "$before" ] || ok "SIGTERM while compiling: $compilers compiler(s) ended, exit status 143, no cache entry"
+
   before=$failures
   "$mechgen" sweep > nomodel.out 2> nomodel.err
   status=$?
-  [ "$status" -ne 0 ] || fail "no model: exit status 0"
-  grep -q "model is required" nomodel.err || fail "no model: stderr $(cat nomodel.err)"
+  [ "$status" -eq 2 ] || fail "no model: exit status $status, expected 2"
+  [ "$(cat nomodel.err)" = "mechgen: error: model is required" ] || fail "no model: stderr $(cat nomodel.err)"
   [ "$failures" -ne "$before" ] || ok "no model: exit status $status"
   exit $((failures > 0))
 fi

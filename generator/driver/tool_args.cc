@@ -1,0 +1,67 @@
+// The table of the tools' option parsers (tool_args.h). Adding a tool whose
+// runtime/tools/<tool>_args.h declares
+//   namespace mechgen::<tool>_tool {
+//   int ParseArguments(int argc, char** argv, const std::string& model_name, Arguments*);
+//   }
+// takes its #include below, one line in kParsers ({"<tool>", Parse<<tool>_tool::Arguments,
+// <tool>_tool::ParseArguments>}) and its <tool>_args.cc in MECHGEN_TOOL_ARGS_SOURCES
+// (generator/CMakeLists.txt). A parser with more model-independent arguments (the sweep's
+// --steps bound) gets a small function of its own, as the sweep's below.
+#include "driver/tool_args.h"
+
+#include <string>
+#include <vector>
+
+#include "simulate_args.h"
+#include "sweep_args.h"
+
+namespace mechgen {
+namespace {
+
+using ParseFn = int (*)(int argc, char** argv, const std::string& model_name);
+
+// A parser of the usual form, its Arguments thrown away: only the verdict matters here.
+template <class Arguments, int (*ParseArguments)(int, char**, const std::string&, Arguments*)>
+int Parse(int argc, char** argv, const std::string& model_name) {
+  Arguments arguments;
+  return ParseArguments(argc, argv, model_name, &arguments);
+}
+
+int ParseSweep(int argc, char** argv, const std::string& model_name) {
+  sweep_tool::Arguments arguments;
+  return sweep_tool::ParseArguments(argc, argv, model_name, sweep_tool::kMaxSteps, &arguments);
+}
+
+struct ToolParser {
+  const char* tool;
+  ParseFn parse;
+};
+
+constexpr ToolParser kParsers[] = {
+    {"sweep", ParseSweep},
+    {"simulate", Parse<simulate_tool::Arguments, simulate_tool::ParseArguments>},
+};
+
+ParseFn Find(const std::string& tool) {
+  for (const ToolParser& p : kParsers)
+    if (tool == p.tool) return p.parse;
+  return nullptr;
+}
+
+}  // namespace
+
+bool HasToolParser(const std::string& tool) { return Find(tool) != nullptr; }
+
+int ParseToolOptions(const std::string& tool, const std::string& argv0, const std::string& model_name,
+                     const std::vector<std::string>& args) {
+  const ParseFn parse = Find(tool);
+  if (parse == nullptr) return -1;
+  std::vector<std::string> words = {argv0};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& w : words) argv.push_back(&w[0]);
+  argv.push_back(nullptr);
+  return parse(static_cast<int>(words.size()), argv.data(), model_name);
+}
+
+}  // namespace mechgen
