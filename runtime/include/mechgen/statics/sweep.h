@@ -218,9 +218,10 @@ std::string SpeedNote(const typename ModelTypes<M>::VecQ* velocities) {
     what += std::string(i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + "the " + items[i];
   if (velocities == nullptr) {
     if (items.empty()) return "";
-    return "at rest: " + what + (items.size() == 1 ? " reads" : " read") +
-           " a velocity and is taken at qd = 0, t = 0 (the value in a slow motion), not at the "
-           "machine's speed; --speed gives the statics at a constant input speed";
+    return "at rest: " + what +
+           (items.size() == 1 ? " reads a velocity and is" : " read a velocity and are") +
+           " taken at qd = 0, t = 0 (the value in a slow motion), not at the machine's speed; "
+           "--speed gives the statics at a constant input speed";
   }
   std::string at;
   for (int j = 0; j < M::kNq; ++j) {
