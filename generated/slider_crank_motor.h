@@ -480,9 +480,9 @@ void EvalCoefficients(const Params<Scalar>& p,
  * \note Everything is linear in the friction loads; the runtime iterates them on the normal
  * forces (mechgen/statics). Near a dead point (Phi_phi singular) the multipliers, and so the
  * reactions and the drive of a non-input load path, grow without bound: check the conditioning.
- * \note Velocities: the torque of load 'motor' (theta_crank_dot) is taken at `velocities` (at rest without them).
- * \note Velocities: the damper 'pump' is taken at `velocities` (at rest without them).
- * \note Velocities: the viscous friction at joint O is taken at `velocities` (at rest without them).
+ * \note At rest: the torque of load 'motor' is taken with theta_crank_dot = 0 (its value in a slow motion), at `velocities` where they are given.
+ * \note Velocities: the damper 'pump' acts at `velocities` (not at rest).
+ * \note Velocities: the viscous friction at joint O acts at `velocities` (not at rest).
  */
 template <typename Scalar>
 void EvalStatics(const Params<Scalar>& p,

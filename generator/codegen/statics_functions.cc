@@ -177,12 +177,16 @@ FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter*
                        "the dampers and the viscous joint friction (kStaticsAtSpeed) are taken, t = 0; nullptr: "
                        "at rest (qd = 0).",
                        "dim kNq", true, "nullptr"));
-  for (const std::string& item : st.speed_items)
-    f.notes.push_back("\\note Velocities: the " + item + " is taken at `velocities` (at rest without them).");
   for (const auto& [load, reads] : m.at_rest_loads)
-    if (reads.find("_dot") == std::string::npos)
-      f.notes.push_back("\\note At rest: the " + load + " is taken with " + reads +
-                        (reads.find(',') == std::string::npos ? " = 0" : " all 0") + " (its value in a slow motion).");
+    f.notes.push_back("\\note At rest: the " + load + " is taken with " + reads +
+                      (reads.find(',') == std::string::npos ? " = 0" : " all 0") + " (its value in a slow motion)" +
+                      (reads.find("_dot") == std::string::npos ? "." : ", at `velocities` where they are given."));
+  for (const Damper& d : m.dampers)
+    f.notes.push_back("\\note Velocities: the damper '" + d.name + "' acts at `velocities` (not at rest).");
+  for (const Friction& fr : m.friction)
+    if (!fr.viscous.is_zero())
+      f.notes.push_back("\\note Velocities: the viscous friction at joint " + m.joints[fr.joint].name +
+                        " acts at `velocities` (not at rest).");
   NameSlots(st.slots, printer);  // the table at rest's, which EvalStiffness and the others read
   Program P = StaticsBody(m, *st.at_speed, printer);
   // The velocities the body reads as qd(j): the argument's, or 0 (at rest).
