@@ -6,7 +6,8 @@
 //    left out, two ways: the kinetostatics of the machine with every mass (and so every moment
 //    of inertia) 0, and the kinetostatics of the machine as it is minus that of its inertia
 //    forces alone (the same machine with no loads and no gravity: everything in it is linear
-//    in the forces on the links); with Coulomb friction, at the friction loads the runtime
+//    in the forces on the links); its generalized force is EvalDynamics' Q at qd (what the
+//    flywheel command reads); with Coulomb friction, at the friction loads the runtime
 //    converged to, and those loads its fixed point;
 //  - at rest the cutting force is 0 (cutting(0) = 0): a statics sweep at rest drives nothing
 //    against it, one at the speed finds the peak that the cutting stroke needs, against the
@@ -127,6 +128,11 @@ TEST(StaticsSpeed, IsTheKinetostaticsWithoutTheInertiaForces) {
     ExpectClose(s.statics.Q, difference.Q, scale, "with masses, Q, " + at);
     ExpectClose(s.statics.drive, difference.drive, scale, "with masses, drive, " + at);
     ExpectClose(s.statics.R, difference.R, scale, "with masses, R, " + at);
+    // The generalized force is EvalDynamics' Q at (q, qd), the applied forces the flywheel
+    // command reads (machines/flywheel/machine_cycle.h: Q_static - Q(theta, omega)).
+    M::DynamicsT<double> dynamics;
+    M::Dynamics<double>(p, x.q, x.phi, qd, 0.0, x.c, &dynamics);
+    ExpectClose(s.statics.Q, dynamics.Q, scale, "EvalDynamics' Q, " + at);
     // The inertia forces are there to leave out, and the speed changes the statics.
     EXPECT_GT(inertia.R.cwiseAbs().maxCoeff(), 1.0) << at;
     statics::Solution<M> rest;
