@@ -24,7 +24,7 @@ ok() { echo "ok $*"; }
 peak() { sed -n 's/^  max |drive_theta_crank| = \([^ ]*\) N m.*/\1/p' "$1"; }
 
 rest_note="note: at rest: the x of load 'cut' (s_stroke_dot), the damper 'ram' and the viscous friction at joint O4 read a velocity and are taken at qd = 0, t = 0"
-speed_note="note: at theta_crank_dot = 6.28318531 rad/s: the x of load 'cut' (s_stroke_dot), the damper 'ram' and the viscous friction at joint O4 taken at these velocities"
+speed_note="note: at theta_crank_dot = 6.28318531 rad/s: the x of load 'cut' (s_stroke_dot), the damper 'ram' and the viscous friction at joint O4 are taken at these velocities"
 for run in first cached; do
   "$mechgen" statics shaper_speed.yaml --csv rest.csv --table 0 > rest.out 2> rest.err
   status=$?

@@ -232,10 +232,10 @@ std::string SpeedNote(const typename ModelTypes<M>::VecQ* velocities) {
   }
   if (items.empty())
     return "at " + at + ": nothing in the statics reads a velocity (the same at any speed)";
-  return "at " + at + ": " + what + " taken at these velocities (the dependent ones K qd, t = 0), "
-         "without the inertia forces (the kinetostatics at qdd = 0 without them); Coulomb "
-         "friction for the input running in +q and -q alike; no stiffness (that of the loads at "
-         "rest)";
+  return "at " + at + ": " + what + (items.size() == 1 ? " is" : " are") +
+         " taken at these velocities (the dependent ones K qd, t = 0), without the inertia "
+         "forces (the kinetostatics at qdd = 0 without them); Coulomb friction for the input "
+         "running in +q and -q alike; no stiffness (that of the loads at rest)";
 }
 
 }  // namespace mechgen::statics
