@@ -214,6 +214,13 @@ int Run(int argc, char** argv) {
                                      "second along the range; give a smaller speed");
   }
   const typename Types::VecQ* velocities = at_speed ? &qd : nullptr;
+  // What reads a velocity is taken at --speed; the design derivatives (EvalStaticsDesign) and
+  // the force diagram's loads (EvalAppliedLoads) only at rest.
+  const bool reads_speed = at_speed && statics::StaticsFeatures<M>::kReadsSpeed;
+  if (reads_speed && args.design)
+    return tools::UsageError(tool, "--design with --speed: the design derivatives are those of "
+                                   "the statics at rest, and the model's loads read a velocity; "
+                                   "leave out one of them");
   // A scan too coarse for its range (statics::ScanOptions::kMaxAngleStep) would report what
   // its few samples happen to show as converged: refused before anything is computed.
   statics::ScanOptions scan;
@@ -409,6 +416,8 @@ int Run(int argc, char** argv) {
     svg_options.animate = args.animate;
     svg_options.snapshots = static_cast<int>(args.snapshots);
     svg_options.title = std::string("mechgen statics: ") + M::kName;
+    if (reads_speed)
+      svg_options.title += " at --speed (the reactions at that speed; the loads drawn at rest)";
     statics::WriteStaticsSvg(solver.params(), records, svg_options, svg.stream());
   }
   if ((!csv_path.empty() && !csv.Close(&error)) || (!svg_path.empty() && !svg.Close(&error)) ||

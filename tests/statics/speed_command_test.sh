@@ -8,7 +8,8 @@
 #     what the weights need at rest to the cutting stroke's hundreds of N m, the CSV's peak the
 #     printed one), and --speed 6.283185307179585 (rad/s: 60 rpm converted as the flywheel's --rpm,
 #     rpm 2 pi / 60, which rounds one ulp below 2 pi) writes the same CSV byte for byte;
-#   - --speed with the scans: they are said to be at rest; a bad --speed: exit 2, one line.
+#   - --speed with the scans: they are said to be at rest; a bad --speed, and --design with
+#     --speed (its derivatives are of the statics at rest): exit 2, one line.
 # usage: speed_command_test.sh <mechgen> <source dir>
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2")
@@ -68,7 +69,12 @@ for bad in abc 1e6 2e6rpm nan rpm; do
   [ "$(wc -l < bad.err)" -eq 1 ] && grep -q "error: --speed: bad value" bad.err ||
     fail "--speed $bad: $(cat bad.err)"
 done
-[ "$failures" -ne "$before" ] || ok "the scans at rest, bad speeds refused"
+# The design derivatives are those of the statics at rest: not with a speed the loads read.
+"$mechgen" statics shaper_speed.yaml --speed 1 --design > design.out 2> design.err
+status=$?
+[ "$status" -eq 2 ] && [ "$(wc -l < design.err)" -eq 1 ] && grep -q "error: --design with --speed" design.err ||
+  fail "--speed with --design: exit status $status: $(cat design.err)"
+[ "$failures" -ne "$before" ] || ok "the scans at rest, bad speeds and --design with --speed refused"
 
 [ "$failures" -eq 0 ] || { echo "$failures failure(s)"; exit 1; }
 echo "all ok"

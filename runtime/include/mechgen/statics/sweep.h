@@ -71,7 +71,8 @@ struct StaticsRecord {
   /// Generated statics evaluations of the row.
   int evaluations = 0;
   /// With Options::design (a model with EvalStaticsDesign): d/dp of Q, the drive, V and the
-  /// reactions without friction; NaN where the frictionless solution is withheld.
+  /// reactions without friction; NaN where the frictionless solution is withheld, and at
+  /// velocities that the statics read (the derivatives are of the statics at rest).
   typename ::mechgen::internal::StaticsDesignOf<M>::type design = NanStaticsDesign<M>();
 };
 
@@ -150,7 +151,10 @@ Status EvaluateRecord(const Options& options, const typename ModelTypes<M>::Para
     if (status == Status::kConverged) status = drive;
   }
   if constexpr (HasStaticsDesign<M>::value) {
-    if (options.design && r->frictionless.summary.status == Status::kConverged) {
+    // The design derivatives are those of the statics at rest (EvalStaticsDesign takes no
+    // velocities): none at a speed that the loads read.
+    const bool at_speed = StaticsFeatures<M>::kReadsSpeed && velocities != nullptr;
+    if (options.design && !at_speed && r->frictionless.summary.status == Status::kConverged) {
       position::EvalDesign<M>(p, state, &r->kinematics.design);
       M::StaticsDesign(p, state.q, state.phi, c, r->kinematics.design, &r->design);
     }
