@@ -197,7 +197,8 @@ int Run(int argc, char** argv) {
   const bool at_speed = !std::isnan(args.speed);
   if (at_speed) {
     int swept = 0;
-    while (swept + 1 < M::kNq && q_end(swept) == q_begin(swept)) ++swept;
+    for (int j = M::kNq - 1; j >= 0; --j)
+      if (q_end(j) != q_begin(j)) swept = j;
     if (args.speed_rpm && !M::kQIsAngle[swept])
       return tools::UsageError(tool, std::string("--speed: rpm is for an angle input; the swept "
                                                  "input ") + M::kQNames[swept] +
