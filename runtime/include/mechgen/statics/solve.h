@@ -114,8 +114,11 @@ void Evaluate(const typename ModelTypes<M>::Params& p, const typename ModelTypes
               const typename ModelTypes<M>::Coefficients& c,
               const typename StaticsTypes<M>::VecF* f, typename StaticsTypes<M>::Statics* out,
               const typename ModelTypes<M>::VecQ* qd = nullptr) {
-  if constexpr (StaticsFeatures<M>::kReadsSpeed) {
+  if constexpr (StaticsFeatures<M>::kReadsSpeed && StaticsFeatures<M>::kHasFriction) {
     M::template Forces<double>(p, q, phi, c, out, f, nullptr, qd);
+  } else if constexpr (StaticsFeatures<M>::kReadsSpeed) {
+    (void)f;
+    M::template Forces<double>(p, q, phi, c, out, nullptr, nullptr, qd);
   } else if constexpr (StaticsFeatures<M>::kHasFriction) {
     (void)qd;
     M::template Forces<double>(p, q, phi, c, out, f);
