@@ -51,7 +51,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston_1.C, piston_2.C, piston_3.C, piston_4.C.
  * Linear systems: Phi_phi is block lower triangular with 4 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 122 (adds 40, muls 56, divs 0, calls 26); EvalCoefficients 286 (adds 84, muls 172, divs 4, calls 26); EvalStatics 163 (adds 34, muls 117, divs 4, calls 8); EvalDynamics 384 (adds 97, muls 261, divs 0, calls 26); EvalKinetostatics 610 (adds 166, muls 414, divs 4, calls 26); EvalExcess 587 (adds 148, muls 413, divs 0, calls 26); EvalShaking 443 (adds 154, muls 262, divs 1, calls 26); EvalStiffness 64 (adds 7, muls 49, divs 0, calls 8); EvalDetPhiPhi 39 (adds 4, muls 19, divs 0, calls 16); SolvePositions 422 (adds 92, muls 296, divs 8, calls 26) (per Newton iteration for Newton blocks); EvalScene 118 (adds 32, muls 60, divs 0, calls 26); EvalAppliedLoads 65 (adds 8, muls 49, divs 0, calls 8); EvalDrawing 82 (adds 16, muls 48, divs 0, calls 18)
+ * Operation counts: EvalPhi 122 (adds 40, muls 56, divs 0, calls 26); EvalCoefficients 286 (adds 84, muls 172, divs 4, calls 26); EvalStatics 165 (adds 35, muls 118, divs 4, calls 8); EvalDynamics 384 (adds 97, muls 261, divs 0, calls 26); EvalKinetostatics 610 (adds 166, muls 414, divs 4, calls 26); EvalExcess 587 (adds 148, muls 413, divs 0, calls 26); EvalShaking 443 (adds 154, muls 262, divs 1, calls 26); EvalStiffness 64 (adds 7, muls 49, divs 0, calls 8); EvalDetPhiPhi 39 (adds 4, muls 19, divs 0, calls 16); SolvePositions 422 (adds 92, muls 296, divs 8, calls 26) (per Newton iteration for Newton blocks); EvalScene 118 (adds 32, muls 60, divs 0, calls 26); EvalAppliedLoads 65 (adds 8, muls 49, divs 0, calls 8); EvalDrawing 82 (adds 16, muls 48, divs 0, calls 18)
  */
 #pragma once
 
@@ -737,21 +737,25 @@ void EvalCoefficients(const Params<Scalar>& p,
  * Q (generalized forces of the loads, springs, weights and the given friction loads),
  * drive = -Q (what each input's actuator applies for equilibrium), V and its derivatives,
  * the joint reactions (kReactionNames) and the friction joints' normal forces.
- * \param[in]  p         Parameters.
- * \param[in]  q         Inputs (dim kNq).
- * \param[in]  phi       Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
- * \param[in]  c         EvalCoefficients() at this (q, phi): K, L and Phi_phi are read from it.
- * \param[out] out       Statics; not nullptr.
- * \param[in]  friction  friction loads f (kFrictionJoints): the friction torque of link_a on link_b
- *                       at a revolute joint (counter-clockwise +), the friction force on the slider
- *                       along +u at a prismatic one; nullptr: none (dim kNumFriction). May be
- *                       nullptr.
- * \param[in]  trig      sin and cos of q and phi from SolvePositions() at this (q, phi), or
- *                       nullptr: they are computed here.
+ * \param[in]  p           Parameters.
+ * \param[in]  q           Inputs (dim kNq).
+ * \param[in]  phi         Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[in]  c           EvalCoefficients() at this (q, phi): K, L and Phi_phi are read from it.
+ * \param[out] out         Statics; not nullptr.
+ * \param[in]  friction    friction loads f (kFrictionJoints): the friction torque of link_a on
+ *                         link_b at a revolute joint (counter-clockwise +), the friction force on
+ *                         the slider along +u at a prismatic one; nullptr: none (dim kNumFriction).
+ *                         May be nullptr.
+ * \param[in]  trig        sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                         nullptr: they are computed here.
+ * \param[in]  velocities  input velocities qd (the dependent ones K qd) at which the loads that
+ *                         read a velocity, the dampers and the viscous joint friction
+ *                         (kStaticsAtSpeed) are taken, t = 0; nullptr: at rest (qd = 0) (dim kNq).
+ *                         May be nullptr.
  * \note Everything is linear in the friction loads; the runtime iterates them on the normal
  * forces (mechgen/statics). Near a dead point (Phi_phi singular) the multipliers, and so the
  * reactions and the drive of a non-input load path, grow without bound: check the conditioning.
- * \note At rest: the torque of load 'load' is taken with theta_crank_dot = 0 (its value in a slow motion).
+ * \note At rest: the torque of load 'load' is taken with theta_crank_dot = 0 (its value in a slow motion), at `velocities` where they are given.
  */
 template <typename Scalar>
 void EvalStatics(const Params<Scalar>& p,
@@ -760,15 +764,18 @@ void EvalStatics(const Params<Scalar>& p,
                  const Coefficients<Scalar>& c,
                  Statics<Scalar>* out,
                  const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
-                 const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 163 (adds 34, muls 117, divs 4, calls 8); intermediate terms: 9
+                 const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr,
+                 const typename NonDeduced<Vec<Scalar, Sizes::kNq>>::type* velocities = nullptr) {
+  // Total ops: 165 (adds 35, muls 118, divs 4, calls 8); intermediate terms: 9
   using std::cos;
   using std::sin;
   (void)q;
   (void)phi;
   (void)friction;
   (void)trig;
-  const Scalar g_0 = -p.T_load;
+  Vec<Scalar, Sizes::kNq> qd;
+  if (velocities != nullptr) qd = *velocities; else qd.setZero();
+  const Scalar g_0 = -p.T_load - p.c_load*qd(0);
   const Scalar _tmp0 = cos(p.beta_1);
   const Scalar _tmp1 = p.bore*p.bore;
   const Scalar _tmp2 = sin(p.beta_1);
@@ -2518,7 +2525,8 @@ extern template void EvalStatics<double>(const Params<double>&,
                                          const Coefficients<double>&,
                                          Statics<double>*,
                                          const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*,
-                                         const typename NonDeduced<Trig<double>>::type*);
+                                         const typename NonDeduced<Trig<double>>::type*,
+                                         const typename NonDeduced<Vec<double, Sizes::kNq>>::type*);
 extern template void EvalDynamics<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -2591,7 +2599,8 @@ extern template void EvalStatics<float>(const Params<float>&,
                                         const Coefficients<float>&,
                                         Statics<float>*,
                                         const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*,
-                                        const typename NonDeduced<Trig<float>>::type*);
+                                        const typename NonDeduced<Trig<float>>::type*,
+                                        const typename NonDeduced<Vec<float, Sizes::kNq>>::type*);
 extern template void EvalDynamics<float>(const Params<float>&,
                                          const Vec<float, Sizes::kNq>&,
                                          const Vec<float, Sizes::kNphi>&,
@@ -2678,6 +2687,11 @@ struct Model : Sizes {
   static constexpr std::array<int, 13> kDrawJointPointA{ 0, 6, 11, 1, 7, 14, 2, 8, 17, 3, 9, 20, 4 };
   static constexpr std::array<int, 13> kDrawJointPointB{ 5, 10, 12, 12, 13, 15, 15, 16, 18, 18, 19, 21, 21 };
   static constexpr std::array<int, 13> kDrawJointValue{ 0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3 };
+  /// What EvalStatics (Model::Forces) takes at its argument `velocities`, and at rest without it:
+  /// the loads that read a velocity (with the velocities they read), the dampers and the viscous
+  /// joint friction.
+  static constexpr int kNumStaticsAtSpeed = 1;
+  static constexpr std::array<const char*, kNumStaticsAtSpeed> kStaticsAtSpeed{ "torque of load 'load' (theta_crank_dot)" };
   /// The applied loads, springs and weights of EvalAppliedLoads (Model::AppliedLoads), the
   /// model's loads, then its springs, then its links' weights: name, kind (0 force load, 1
   /// torque load, 2 linear spring, 3 torsional spring, 4 weight) and the unit of its force or
@@ -2846,8 +2860,9 @@ struct Model : Sizes {
                      const Coefficients<Scalar>& c,
                      Statics<Scalar>* out,
                      const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
-                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-    EvalStatics(p, q, phi, c, out, friction, trig);
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr,
+                     const typename NonDeduced<Vec<Scalar, Sizes::kNq>>::type* velocities = nullptr) {
+    EvalStatics(p, q, phi, c, out, friction, trig, velocities);
   }
   template <typename Scalar>
   static void Dynamics(const Params<Scalar>& p,

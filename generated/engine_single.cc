@@ -26,7 +26,8 @@ template void EvalStatics<double>(const Params<double>&,
                                   const Coefficients<double>&,
                                   Statics<double>*,
                                   const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*,
-                                  const typename NonDeduced<Trig<double>>::type*);
+                                  const typename NonDeduced<Trig<double>>::type*,
+                                  const typename NonDeduced<Vec<double, Sizes::kNq>>::type*);
 template void EvalDynamics<double>(const Params<double>&,
                                    const Vec<double, Sizes::kNq>&,
                                    const Vec<double, Sizes::kNphi>&,
@@ -127,7 +128,8 @@ template void EvalStatics<float>(const Params<float>&,
                                  const Coefficients<float>&,
                                  Statics<float>*,
                                  const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*,
-                                 const typename NonDeduced<Trig<float>>::type*);
+                                 const typename NonDeduced<Trig<float>>::type*,
+                                 const typename NonDeduced<Vec<float, Sizes::kNq>>::type*);
 template void EvalDynamics<float>(const Params<float>&,
                                   const Vec<float, Sizes::kNq>&,
                                   const Vec<float, Sizes::kNphi>&,

@@ -33,7 +33,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston_1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 32 (adds 10, muls 14, divs 0, calls 8); EvalCoefficients 73 (adds 21, muls 43, divs 1, calls 8); EvalStatics 40 (adds 7, muls 30, divs 1, calls 2); EvalDynamics 105 (adds 25, muls 72, divs 0, calls 8); EvalKinetostatics 160 (adds 43, muls 108, divs 1, calls 8); EvalExcess 152 (adds 37, muls 107, divs 0, calls 8); EvalShaking 126 (adds 43, muls 74, divs 1, calls 8); EvalStiffness 16 (adds 1, muls 13, divs 0, calls 2); EvalDesignDerivatives 186 (adds 53, muls 124, divs 1, calls 8); EvalStaticsDesign 109 (adds 21, muls 82, divs 2, calls 4); EvalDynamicsDesign 299 (adds 88, muls 203, divs 0, calls 8); EvalShakingDesign 325 (adds 109, muls 208, divs 0, calls 8); EvalDetPhiPhi 9 (adds 1, muls 4, divs 0, calls 4); SolvePositions 107 (adds 23, muls 74, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 31 (adds 8, muls 15, divs 0, calls 8); EvalAppliedLoads 17 (adds 2, muls 13, divs 0, calls 2); EvalDrawing 22 (adds 4, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 32 (adds 10, muls 14, divs 0, calls 8); EvalCoefficients 73 (adds 21, muls 43, divs 1, calls 8); EvalStatics 42 (adds 8, muls 31, divs 1, calls 2); EvalDynamics 105 (adds 25, muls 72, divs 0, calls 8); EvalKinetostatics 160 (adds 43, muls 108, divs 1, calls 8); EvalExcess 152 (adds 37, muls 107, divs 0, calls 8); EvalShaking 126 (adds 43, muls 74, divs 1, calls 8); EvalStiffness 16 (adds 1, muls 13, divs 0, calls 2); EvalDesignDerivatives 186 (adds 53, muls 124, divs 1, calls 8); EvalStaticsDesign 109 (adds 21, muls 82, divs 2, calls 4); EvalDynamicsDesign 299 (adds 88, muls 203, divs 0, calls 8); EvalShakingDesign 325 (adds 109, muls 208, divs 0, calls 8); EvalDetPhiPhi 9 (adds 1, muls 4, divs 0, calls 4); SolvePositions 107 (adds 23, muls 74, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 31 (adds 8, muls 15, divs 0, calls 8); EvalAppliedLoads 17 (adds 2, muls 13, divs 0, calls 2); EvalDrawing 22 (adds 4, muls 12, divs 0, calls 6)
  */
 #pragma once
 
@@ -523,21 +523,25 @@ void EvalCoefficients(const Params<Scalar>& p,
  * Q (generalized forces of the loads, springs, weights and the given friction loads),
  * drive = -Q (what each input's actuator applies for equilibrium), V and its derivatives,
  * the joint reactions (kReactionNames) and the friction joints' normal forces.
- * \param[in]  p         Parameters.
- * \param[in]  q         Inputs (dim kNq).
- * \param[in]  phi       Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
- * \param[in]  c         EvalCoefficients() at this (q, phi): K, L and Phi_phi are read from it.
- * \param[out] out       Statics; not nullptr.
- * \param[in]  friction  friction loads f (kFrictionJoints): the friction torque of link_a on link_b
- *                       at a revolute joint (counter-clockwise +), the friction force on the slider
- *                       along +u at a prismatic one; nullptr: none (dim kNumFriction). May be
- *                       nullptr.
- * \param[in]  trig      sin and cos of q and phi from SolvePositions() at this (q, phi), or
- *                       nullptr: they are computed here.
+ * \param[in]  p           Parameters.
+ * \param[in]  q           Inputs (dim kNq).
+ * \param[in]  phi         Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[in]  c           EvalCoefficients() at this (q, phi): K, L and Phi_phi are read from it.
+ * \param[out] out         Statics; not nullptr.
+ * \param[in]  friction    friction loads f (kFrictionJoints): the friction torque of link_a on
+ *                         link_b at a revolute joint (counter-clockwise +), the friction force on
+ *                         the slider along +u at a prismatic one; nullptr: none (dim kNumFriction).
+ *                         May be nullptr.
+ * \param[in]  trig        sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                         nullptr: they are computed here.
+ * \param[in]  velocities  input velocities qd (the dependent ones K qd) at which the loads that
+ *                         read a velocity, the dampers and the viscous joint friction
+ *                         (kStaticsAtSpeed) are taken, t = 0; nullptr: at rest (qd = 0) (dim kNq).
+ *                         May be nullptr.
  * \note Everything is linear in the friction loads; the runtime iterates them on the normal
  * forces (mechgen/statics). Near a dead point (Phi_phi singular) the multipliers, and so the
  * reactions and the drive of a non-input load path, grow without bound: check the conditioning.
- * \note At rest: the torque of load 'load' is taken with theta_crank_dot = 0 (its value in a slow motion).
+ * \note At rest: the torque of load 'load' is taken with theta_crank_dot = 0 (its value in a slow motion), at `velocities` where they are given.
  */
 template <typename Scalar>
 void EvalStatics(const Params<Scalar>& p,
@@ -546,15 +550,18 @@ void EvalStatics(const Params<Scalar>& p,
                  const Coefficients<Scalar>& c,
                  Statics<Scalar>* out,
                  const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
-                 const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 40 (adds 7, muls 30, divs 1, calls 2); intermediate terms: 3
+                 const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr,
+                 const typename NonDeduced<Vec<Scalar, Sizes::kNq>>::type* velocities = nullptr) {
+  // Total ops: 42 (adds 8, muls 31, divs 1, calls 2); intermediate terms: 3
   using std::cos;
   using std::sin;
   (void)q;
   (void)phi;
   (void)friction;
   (void)trig;
-  const Scalar g_0 = -p.T_load;
+  Vec<Scalar, Sizes::kNq> qd;
+  if (velocities != nullptr) qd = *velocities; else qd.setZero();
+  const Scalar g_0 = -p.T_load - p.c_load*qd(0);
   const Scalar _tmp0 = cos(p.beta_1);
   const Scalar _tmp1 = p.bore*p.bore;
   const Scalar _tmp2 = sin(p.beta_1);
@@ -2048,7 +2055,8 @@ extern template void EvalStatics<double>(const Params<double>&,
                                          const Coefficients<double>&,
                                          Statics<double>*,
                                          const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*,
-                                         const typename NonDeduced<Trig<double>>::type*);
+                                         const typename NonDeduced<Trig<double>>::type*,
+                                         const typename NonDeduced<Vec<double, Sizes::kNq>>::type*);
 extern template void EvalDynamics<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -2149,7 +2157,8 @@ extern template void EvalStatics<float>(const Params<float>&,
                                         const Coefficients<float>&,
                                         Statics<float>*,
                                         const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*,
-                                        const typename NonDeduced<Trig<float>>::type*);
+                                        const typename NonDeduced<Trig<float>>::type*,
+                                        const typename NonDeduced<Vec<float, Sizes::kNq>>::type*);
 extern template void EvalDynamics<float>(const Params<float>&,
                                          const Vec<float, Sizes::kNq>&,
                                          const Vec<float, Sizes::kNphi>&,
@@ -2264,6 +2273,11 @@ struct Model : Sizes {
   static constexpr std::array<int, 4> kDrawJointPointA{ 0, 3, 5, 1 };
   static constexpr std::array<int, 4> kDrawJointPointB{ 2, 4, 6, 6 };
   static constexpr std::array<int, 4> kDrawJointValue{ 0, 0, 0, 0 };
+  /// What EvalStatics (Model::Forces) takes at its argument `velocities`, and at rest without it:
+  /// the loads that read a velocity (with the velocities they read), the dampers and the viscous
+  /// joint friction.
+  static constexpr int kNumStaticsAtSpeed = 1;
+  static constexpr std::array<const char*, kNumStaticsAtSpeed> kStaticsAtSpeed{ "torque of load 'load' (theta_crank_dot)" };
   /// The applied loads, springs and weights of EvalAppliedLoads (Model::AppliedLoads), the
   /// model's loads, then its springs, then its links' weights: name, kind (0 force load, 1
   /// torque load, 2 linear spring, 3 torsional spring, 4 weight) and the unit of its force or
@@ -2422,8 +2436,9 @@ struct Model : Sizes {
                      const Coefficients<Scalar>& c,
                      Statics<Scalar>* out,
                      const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
-                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-    EvalStatics(p, q, phi, c, out, friction, trig);
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr,
+                     const typename NonDeduced<Vec<Scalar, Sizes::kNq>>::type* velocities = nullptr) {
+    EvalStatics(p, q, phi, c, out, friction, trig, velocities);
   }
   template <typename Scalar>
   static void Dynamics(const Params<Scalar>& p,

@@ -75,7 +75,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston_1.C, piston_2.C, piston_3.C, piston_4.C, piston_5.C, piston_6.C, piston_7.C, piston_8.C.
  * Linear systems: Phi_phi is block lower triangular with 8 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 242 (adds 80, muls 112, divs 0, calls 50); EvalCoefficients 570 (adds 168, muls 344, divs 8, calls 50); EvalStatics 327 (adds 70, muls 233, divs 8, calls 16); EvalDynamics 756 (adds 193, muls 513, divs 0, calls 50); EvalKinetostatics 1210 (adds 330, muls 822, divs 8, calls 50); EvalExcess 1167 (adds 296, muls 821, divs 0, calls 50); EvalShaking 863 (adds 302, muls 510, divs 1, calls 50); EvalStiffness 128 (adds 15, muls 97, divs 0, calls 16); EvalDetPhiPhi 79 (adds 8, muls 39, divs 0, calls 32); SolvePositions 842 (adds 184, muls 592, divs 16, calls 50) (per Newton iteration for Newton blocks); EvalScene 234 (adds 64, muls 120, divs 0, calls 50); EvalAppliedLoads 129 (adds 16, muls 97, divs 0, calls 16); EvalDrawing 162 (adds 32, muls 96, divs 0, calls 34)
+ * Operation counts: EvalPhi 242 (adds 80, muls 112, divs 0, calls 50); EvalCoefficients 570 (adds 168, muls 344, divs 8, calls 50); EvalStatics 329 (adds 71, muls 234, divs 8, calls 16); EvalDynamics 756 (adds 193, muls 513, divs 0, calls 50); EvalKinetostatics 1210 (adds 330, muls 822, divs 8, calls 50); EvalExcess 1167 (adds 296, muls 821, divs 0, calls 50); EvalShaking 863 (adds 302, muls 510, divs 1, calls 50); EvalStiffness 128 (adds 15, muls 97, divs 0, calls 16); EvalDetPhiPhi 79 (adds 8, muls 39, divs 0, calls 32); SolvePositions 842 (adds 184, muls 592, divs 16, calls 50) (per Newton iteration for Newton blocks); EvalScene 234 (adds 64, muls 120, divs 0, calls 50); EvalAppliedLoads 129 (adds 16, muls 97, divs 0, calls 16); EvalDrawing 162 (adds 32, muls 96, divs 0, calls 34)
  */
 #pragma once
 
@@ -1089,21 +1089,25 @@ void EvalCoefficients(const Params<Scalar>& p,
  * Q (generalized forces of the loads, springs, weights and the given friction loads),
  * drive = -Q (what each input's actuator applies for equilibrium), V and its derivatives,
  * the joint reactions (kReactionNames) and the friction joints' normal forces.
- * \param[in]  p         Parameters.
- * \param[in]  q         Inputs (dim kNq).
- * \param[in]  phi       Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
- * \param[in]  c         EvalCoefficients() at this (q, phi): K, L and Phi_phi are read from it.
- * \param[out] out       Statics; not nullptr.
- * \param[in]  friction  friction loads f (kFrictionJoints): the friction torque of link_a on link_b
- *                       at a revolute joint (counter-clockwise +), the friction force on the slider
- *                       along +u at a prismatic one; nullptr: none (dim kNumFriction). May be
- *                       nullptr.
- * \param[in]  trig      sin and cos of q and phi from SolvePositions() at this (q, phi), or
- *                       nullptr: they are computed here.
+ * \param[in]  p           Parameters.
+ * \param[in]  q           Inputs (dim kNq).
+ * \param[in]  phi         Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[in]  c           EvalCoefficients() at this (q, phi): K, L and Phi_phi are read from it.
+ * \param[out] out         Statics; not nullptr.
+ * \param[in]  friction    friction loads f (kFrictionJoints): the friction torque of link_a on
+ *                         link_b at a revolute joint (counter-clockwise +), the friction force on
+ *                         the slider along +u at a prismatic one; nullptr: none (dim kNumFriction).
+ *                         May be nullptr.
+ * \param[in]  trig        sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                         nullptr: they are computed here.
+ * \param[in]  velocities  input velocities qd (the dependent ones K qd) at which the loads that
+ *                         read a velocity, the dampers and the viscous joint friction
+ *                         (kStaticsAtSpeed) are taken, t = 0; nullptr: at rest (qd = 0) (dim kNq).
+ *                         May be nullptr.
  * \note Everything is linear in the friction loads; the runtime iterates them on the normal
  * forces (mechgen/statics). Near a dead point (Phi_phi singular) the multipliers, and so the
  * reactions and the drive of a non-input load path, grow without bound: check the conditioning.
- * \note At rest: the torque of load 'load' is taken with theta_crank_dot = 0 (its value in a slow motion).
+ * \note At rest: the torque of load 'load' is taken with theta_crank_dot = 0 (its value in a slow motion), at `velocities` where they are given.
  */
 template <typename Scalar>
 void EvalStatics(const Params<Scalar>& p,
@@ -1112,15 +1116,18 @@ void EvalStatics(const Params<Scalar>& p,
                  const Coefficients<Scalar>& c,
                  Statics<Scalar>* out,
                  const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
-                 const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 327 (adds 70, muls 233, divs 8, calls 16); intermediate terms: 17
+                 const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr,
+                 const typename NonDeduced<Vec<Scalar, Sizes::kNq>>::type* velocities = nullptr) {
+  // Total ops: 329 (adds 71, muls 234, divs 8, calls 16); intermediate terms: 17
   using std::cos;
   using std::sin;
   (void)q;
   (void)phi;
   (void)friction;
   (void)trig;
-  const Scalar g_0 = -p.T_load;
+  Vec<Scalar, Sizes::kNq> qd;
+  if (velocities != nullptr) qd = *velocities; else qd.setZero();
+  const Scalar g_0 = -p.T_load - p.c_load*qd(0);
   const Scalar _tmp0 = cos(p.beta_1);
   const Scalar _tmp1 = p.bore*p.bore;
   const Scalar _tmp2 = sin(p.beta_1);
@@ -4422,7 +4429,8 @@ extern template void EvalStatics<double>(const Params<double>&,
                                          const Coefficients<double>&,
                                          Statics<double>*,
                                          const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*,
-                                         const typename NonDeduced<Trig<double>>::type*);
+                                         const typename NonDeduced<Trig<double>>::type*,
+                                         const typename NonDeduced<Vec<double, Sizes::kNq>>::type*);
 extern template void EvalDynamics<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -4495,7 +4503,8 @@ extern template void EvalStatics<float>(const Params<float>&,
                                         const Coefficients<float>&,
                                         Statics<float>*,
                                         const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*,
-                                        const typename NonDeduced<Trig<float>>::type*);
+                                        const typename NonDeduced<Trig<float>>::type*,
+                                        const typename NonDeduced<Vec<float, Sizes::kNq>>::type*);
 extern template void EvalDynamics<float>(const Params<float>&,
                                          const Vec<float, Sizes::kNq>&,
                                          const Vec<float, Sizes::kNphi>&,
@@ -4582,6 +4591,11 @@ struct Model : Sizes {
   static constexpr std::array<int, 25> kDrawJointPointA{ 0, 10, 19, 1, 11, 22, 2, 12, 25, 3, 13, 28, 4, 14, 31, 5, 15, 34, 6, 16, 37, 7, 17, 40, 8 };
   static constexpr std::array<int, 25> kDrawJointPointB{ 9, 18, 20, 20, 21, 23, 23, 24, 26, 26, 27, 29, 29, 30, 32, 32, 33, 35, 35, 36, 38, 38, 39, 41, 41 };
   static constexpr std::array<int, 25> kDrawJointValue{ 0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4, 5, 5, 5, 6, 6, 6, 7, 7, 7 };
+  /// What EvalStatics (Model::Forces) takes at its argument `velocities`, and at rest without it:
+  /// the loads that read a velocity (with the velocities they read), the dampers and the viscous
+  /// joint friction.
+  static constexpr int kNumStaticsAtSpeed = 1;
+  static constexpr std::array<const char*, kNumStaticsAtSpeed> kStaticsAtSpeed{ "torque of load 'load' (theta_crank_dot)" };
   /// The applied loads, springs and weights of EvalAppliedLoads (Model::AppliedLoads), the
   /// model's loads, then its springs, then its links' weights: name, kind (0 force load, 1
   /// torque load, 2 linear spring, 3 torsional spring, 4 weight) and the unit of its force or
@@ -4778,8 +4792,9 @@ struct Model : Sizes {
                      const Coefficients<Scalar>& c,
                      Statics<Scalar>* out,
                      const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
-                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-    EvalStatics(p, q, phi, c, out, friction, trig);
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr,
+                     const typename NonDeduced<Vec<Scalar, Sizes::kNq>>::type* velocities = nullptr) {
+    EvalStatics(p, q, phi, c, out, friction, trig, velocities);
   }
   template <typename Scalar>
   static void Dynamics(const Params<Scalar>& p,

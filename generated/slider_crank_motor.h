@@ -33,7 +33,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston.C.
  * Linear systems: Phi_phi is block lower triangular with 2 block(s) of at most 1 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 56 (adds 16, muls 31, divs 3, calls 6); EvalDynamics 114 (adds 28, muls 78, divs 2, calls 6); EvalKinetostatics 159 (adds 47, muls 101, divs 4, calls 7); EvalExcess 138 (adds 32, muls 98, divs 2, calls 6); EvalShaking 115 (adds 36, muls 74, divs 1, calls 4); EvalStiffness 34 (adds 9, muls 20, divs 2, calls 3); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4); EvalAppliedLoads 26 (adds 5, muls 14, divs 1, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
+ * Operation counts: EvalPhi 11 (adds 3, muls 4, divs 0, calls 4); EvalCoefficients 35 (adds 7, muls 22, divs 2, calls 4); EvalStatics 74 (adds 22, muls 41, divs 4, calls 7); EvalDynamics 114 (adds 28, muls 78, divs 2, calls 6); EvalKinetostatics 159 (adds 47, muls 101, divs 4, calls 7); EvalExcess 138 (adds 32, muls 98, divs 2, calls 6); EvalShaking 115 (adds 36, muls 74, divs 1, calls 4); EvalStiffness 34 (adds 9, muls 20, divs 2, calls 3); EvalDetPhiPhi 3 (adds 0, muls 2, divs 0, calls 1); SolvePositions 10 (adds 1, muls 4, divs 1, calls 4) (per Newton iteration for Newton blocks); EvalScene 10 (adds 2, muls 4, divs 0, calls 4); EvalAppliedLoads 26 (adds 5, muls 14, divs 1, calls 6); EvalDrawing 4 (adds 0, muls 2, divs 0, calls 2)
  */
 #pragma once
 
@@ -462,21 +462,27 @@ void EvalCoefficients(const Params<Scalar>& p,
  * Q (generalized forces of the loads, springs, weights and the given friction loads),
  * drive = -Q (what each input's actuator applies for equilibrium), V and its derivatives,
  * the joint reactions (kReactionNames) and the friction joints' normal forces.
- * \param[in]  p         Parameters.
- * \param[in]  q         Inputs (dim kNq).
- * \param[in]  phi       Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
- * \param[in]  c         EvalCoefficients() at this (q, phi): K, L and Phi_phi are read from it.
- * \param[out] out       Statics; not nullptr.
- * \param[in]  friction  friction loads f (kFrictionJoints): the friction torque of link_a on link_b
- *                       at a revolute joint (counter-clockwise +), the friction force on the slider
- *                       along +u at a prismatic one; nullptr: none (dim kNumFriction). May be
- *                       nullptr.
- * \param[in]  trig      sin and cos of q and phi from SolvePositions() at this (q, phi), or
- *                       nullptr: they are computed here.
+ * \param[in]  p           Parameters.
+ * \param[in]  q           Inputs (dim kNq).
+ * \param[in]  phi         Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[in]  c           EvalCoefficients() at this (q, phi): K, L and Phi_phi are read from it.
+ * \param[out] out         Statics; not nullptr.
+ * \param[in]  friction    friction loads f (kFrictionJoints): the friction torque of link_a on
+ *                         link_b at a revolute joint (counter-clockwise +), the friction force on
+ *                         the slider along +u at a prismatic one; nullptr: none (dim kNumFriction).
+ *                         May be nullptr.
+ * \param[in]  trig        sin and cos of q and phi from SolvePositions() at this (q, phi), or
+ *                         nullptr: they are computed here.
+ * \param[in]  velocities  input velocities qd (the dependent ones K qd) at which the loads that
+ *                         read a velocity, the dampers and the viscous joint friction
+ *                         (kStaticsAtSpeed) are taken, t = 0; nullptr: at rest (qd = 0) (dim kNq).
+ *                         May be nullptr.
  * \note Everything is linear in the friction loads; the runtime iterates them on the normal
  * forces (mechgen/statics). Near a dead point (Phi_phi singular) the multipliers, and so the
  * reactions and the drive of a non-input load path, grow without bound: check the conditioning.
- * \note At rest: the torque of load 'motor' is taken with theta_crank_dot = 0 (its value in a slow motion).
+ * \note At rest: the torque of load 'motor' is taken with theta_crank_dot = 0 (its value in a slow motion), at `velocities` where they are given.
+ * \note Velocities: the damper 'pump' acts at `velocities` (not at rest).
+ * \note Velocities: the viscous friction at joint O acts at `velocities` (not at rest).
  */
 template <typename Scalar>
 void EvalStatics(const Params<Scalar>& p,
@@ -485,8 +491,9 @@ void EvalStatics(const Params<Scalar>& p,
                  const Coefficients<Scalar>& c,
                  Statics<Scalar>* out,
                  const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
-                 const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-  // Total ops: 56 (adds 16, muls 31, divs 3, calls 6); intermediate terms: 2
+                 const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr,
+                 const typename NonDeduced<Vec<Scalar, Sizes::kNq>>::type* velocities = nullptr) {
+  // Total ops: 74 (adds 22, muls 41, divs 4, calls 7); intermediate terms: 2
   using std::cos;
   using std::sin;
   using std::sqrt;
@@ -505,13 +512,20 @@ void EvalStatics(const Params<Scalar>& p,
     sin_phi0 = sin(phi(0));
     cos_phi0 = cos(phi(0));
   }
+  Vec<Scalar, Sizes::kNq> qd;
+  if (velocities != nullptr) qd = *velocities; else qd.setZero();
   const Scalar friction_0 = friction != nullptr ? (*friction)(0) : Scalar(0);
+  const Scalar damper_pump_dx = -p.xH + phi(1);
+  const Scalar damper_pump_dy = Scalar(0);
+  const Scalar damper_pump_length = sqrt(damper_pump_dx*damper_pump_dx + damper_pump_dy*damper_pump_dy);
+  const Scalar damper_pump_t = c.K(1, 0)*damper_pump_dx*p.c*qd(0)/(damper_pump_length*damper_pump_length);
+  const Scalar friction_viscous_0 = friction_0 - p.cO*qd(0);
   const Scalar _tmp0 = cos_q0*p.a*p.g*p.m2;
-  const Scalar g_0 = Table_motor_curve(Scalar(0), 0) - _tmp0 + friction_0;
+  const Scalar g_0 = Table_motor_curve(qd(0), 0) - _tmp0 + friction_viscous_0;
   const Scalar g_1 = -Scalar(0.5)*cos_phi0*p.b*p.g*p.m2;
   const Scalar sum_28ce42ce = p.a + p.b + p.h - phi(1);
   const Scalar _tmp1 = p.P0*p.h/sum_28ce42ce;
-  const Scalar g_2 = -_tmp1;
+  const Scalar g_2 = -_tmp1 - damper_pump_dx*damper_pump_t;
   const Scalar Q_0 = c.K(0, 0)*g_1 + c.K(1, 0)*g_2 + g_0;
   const Scalar detT_block1 = c.Phi_phi(0, 1);
   const Scalar inv_detT_block1 = Scalar(1)/detT_block1;
@@ -526,8 +540,8 @@ void EvalStatics(const Params<Scalar>& p,
   const Scalar F_O_y = F_C_y + p.g*p.m1 + p.g*p.m2;
   const Scalar F_B_x = F_C_x;
   const Scalar F_B_y = F_C_y + p.g*p.m2;
-  const Scalar R_slide_x = -F_C_x + _tmp1;
-  const Scalar R_slide_y = -F_C_y + p.g*p.m3;
+  const Scalar R_slide_x = -F_C_x + _tmp1 + damper_pump_dx*damper_pump_t;
+  const Scalar R_slide_y = -F_C_y + damper_pump_dy*damper_pump_t + p.g*p.m3;
   const Scalar M_slide = Scalar(0);
   out->Q(0) = Q_0;
   out->drive(0) = -Q_0;
@@ -1274,7 +1288,8 @@ extern template void EvalStatics<double>(const Params<double>&,
                                          const Coefficients<double>&,
                                          Statics<double>*,
                                          const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*,
-                                         const typename NonDeduced<Trig<double>>::type*);
+                                         const typename NonDeduced<Trig<double>>::type*,
+                                         const typename NonDeduced<Vec<double, Sizes::kNq>>::type*);
 extern template void EvalDynamics<double>(const Params<double>&,
                                           const Vec<double, Sizes::kNq>&,
                                           const Vec<double, Sizes::kNphi>&,
@@ -1347,7 +1362,8 @@ extern template void EvalStatics<float>(const Params<float>&,
                                         const Coefficients<float>&,
                                         Statics<float>*,
                                         const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*,
-                                        const typename NonDeduced<Trig<float>>::type*);
+                                        const typename NonDeduced<Trig<float>>::type*,
+                                        const typename NonDeduced<Vec<float, Sizes::kNq>>::type*);
 extern template void EvalDynamics<float>(const Params<float>&,
                                          const Vec<float, Sizes::kNq>&,
                                          const Vec<float, Sizes::kNphi>&,
@@ -1434,6 +1450,11 @@ struct Model : Sizes {
   static constexpr std::array<int, 4> kDrawJointPointA{ 0, 4, 6, 1 };
   static constexpr std::array<int, 4> kDrawJointPointB{ 3, 5, 7, 7 };
   static constexpr std::array<int, 4> kDrawJointValue{ 0, 0, 0, 0 };
+  /// What EvalStatics (Model::Forces) takes at its argument `velocities`, and at rest without it:
+  /// the loads that read a velocity (with the velocities they read), the dampers and the viscous
+  /// joint friction.
+  static constexpr int kNumStaticsAtSpeed = 3;
+  static constexpr std::array<const char*, kNumStaticsAtSpeed> kStaticsAtSpeed{ "torque of load 'motor' (theta_crank_dot)", "damper 'pump'", "viscous friction at joint O" };
   /// The applied loads, springs and weights of EvalAppliedLoads (Model::AppliedLoads), the
   /// model's loads, then its springs, then its links' weights: name, kind (0 force load, 1
   /// torque load, 2 linear spring, 3 torsional spring, 4 weight) and the unit of its force or
@@ -1581,8 +1602,9 @@ struct Model : Sizes {
                      const Coefficients<Scalar>& c,
                      Statics<Scalar>* out,
                      const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr,
-                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr) {
-    EvalStatics(p, q, phi, c, out, friction, trig);
+                     const typename NonDeduced<Trig<Scalar>>::type* trig = nullptr,
+                     const typename NonDeduced<Vec<Scalar, Sizes::kNq>>::type* velocities = nullptr) {
+    EvalStatics(p, q, phi, c, out, friction, trig, velocities);
   }
   template <typename Scalar>
   static void Dynamics(const Params<Scalar>& p,

@@ -162,11 +162,46 @@ FunctionSpec EvalStaticsSpec(const Model& m, const StaticsTable& st, CxxPrinter*
   f.notes = {"\\note Everything is linear in the friction loads; the runtime iterates them on the normal",
              "forces (mechgen/statics). Near a dead point (Phi_phi singular) the multipliers, and so the",
              "reactions and the drive of a non-input load path, grow without bound: check the conditioning."};
-  // The loads that read velocities or time: taken at rest here (their slow-motion value).
+  if (st.at_speed == nullptr) {
+    // The loads that read time (no velocity): taken at t = 0 here.
+    for (const auto& [load, reads] : m.at_rest_loads)
+      f.notes.push_back("\\note At rest: the " + load + " is taken with " + reads +
+                        (reads.find(',') == std::string::npos ? " = 0" : " all 0") + " (its value in a slow motion).");
+    f.body = {StaticsBody(m, st, printer)};
+    return f;
+  }
+  // What reads a velocity: taken at the velocities given (the statics along a motion at that
+  // speed: the kinetostatics without the inertia forces), at rest without them.
+  f.args.push_back(Arg("const typename NonDeduced<Vec<Scalar, Sizes::kNq>>::type*", "velocities", Dir::kIn,
+                       "input velocities qd (the dependent ones K qd) at which the loads that read a velocity, "
+                       "the dampers and the viscous joint friction (kStaticsAtSpeed) are taken, t = 0; nullptr: "
+                       "at rest (qd = 0).",
+                       "dim kNq", true, "nullptr"));
   for (const auto& [load, reads] : m.at_rest_loads)
     f.notes.push_back("\\note At rest: the " + load + " is taken with " + reads +
-                      (reads.find(',') == std::string::npos ? " = 0" : " all 0") + " (its value in a slow motion).");
-  f.body = {StaticsBody(m, st, printer)};
+                      (reads.find(',') == std::string::npos ? " = 0" : " all 0") + " (its value in a slow motion)" +
+                      (reads.find("_dot") == std::string::npos ? "." : ", at `velocities` where they are given."));
+  for (const Damper& d : m.dampers)
+    f.notes.push_back("\\note Velocities: the damper '" + d.name + "' acts at `velocities` (not at rest).");
+  for (const Friction& fr : m.friction)
+    if (!fr.viscous.is_zero())
+      f.notes.push_back("\\note Velocities: the viscous friction at joint " + m.joints[fr.joint].name +
+                        " acts at `velocities` (not at rest).");
+  NameSlots(st.slots, printer);  // the table at rest's, which EvalStiffness and the others read
+  Program P = StaticsBody(m, *st.at_speed, printer);
+  // The velocities the body reads as qd(j): the argument's, or 0 (at rest).
+  P.insert(P.begin(), {Raw("Vec<Scalar, Sizes::kNq> qd;"),
+                       Raw("if (velocities != nullptr) qd = *velocities; else qd.setZero();")});
+  f.body = {P};
+  const std::string n = N(static_cast<int>(st.speed_items.size()));
+  std::string items;
+  for (const std::string& item : st.speed_items) items += std::string(items.empty() ? "" : ", ") + "\"" + item + "\"";
+  f.model_constants =
+      "  /// What EvalStatics (Model::Forces) takes at its argument `velocities`, and at rest without it:\n"
+      "  /// the loads that read a velocity (with the velocities they read), the dampers and the viscous\n"
+      "  /// joint friction.\n"
+      "  static constexpr int kNumStaticsAtSpeed = " + n + ";\n"
+      "  static constexpr std::array<const char*, kNumStaticsAtSpeed> kStaticsAtSpeed{ " + items + " };\n";
   return f;
 }
 

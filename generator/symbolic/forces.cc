@@ -36,7 +36,8 @@ void StaticsTable::DeriveAppliedForces(Stage& st) {
     // The reader offers only the model's own coordinates (model/statics.cc).
     if (!found) throw std::logic_error("mechgen bug: load coordinate '" + name + "' is not a coordinate");
   }
-  // Time and the velocities: the arguments in the dynamic modes, 0 in the statics.
+  // Time and the velocities: the arguments in the dynamic modes, 0 in the statics (the statics
+  // at given velocities: t = 0, `time`).
   for (const auto& [name, sym] : m.velocity_refs) {
     if (!options.dynamic) {
       refs[sym] = 0;
@@ -426,7 +427,7 @@ void StaticsTable::DerivePotential(Stage& st) {
   // Each mode derives what its function reads: dV/dq the statics and the kinetostatics (the
   // `potential` quantity), Q_nc the applied forces' table (EvalDynamics' P_nc), d2V/dq2 the
   // statics; the excess formulation none of them (it reads g and V).
-  const bool applied_forces = options.dynamic && !options.inertia && !options.excess;
+  const bool applied_forces = options.dynamic && !options.inertia && !options.excess && !options.at_speed;
   if (potential && !applied_forces && !options.excess) {
     dV_dq.resize(nq);
     for (int j = 0; j < nq; ++j) dV_dq[j] = -along_motion(st.items, st.conservative, j);

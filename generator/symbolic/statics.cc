@@ -76,7 +76,7 @@ StaticsLayout StaticsLayout::Of(const Model& m) {
 
 StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTable& t, const StaticsOptions& opt)
     : options(opt) {
-  if (options.inertia) options.dynamic = true;
+  if (options.inertia || options.at_speed) options.dynamic = true;
   layout = StaticsLayout::Of(m);
   if (!layout.any) return;
   forces = m.outputs.Has(Quantity::kForces);
@@ -90,6 +90,18 @@ StaticsTable::StaticsTable(const Model& m, const Kinematics& k, const SymbolicTa
   if (!options.excess) DeriveDrive(st);
   DerivePotential(st);
   DeriveReactions(st);
+  // The plain statics of a model whose loads read a velocity: the same at given velocities
+  // (EvalStatics' `velocities`; without them the machine at rest, as this table).
+  if (options.dynamic || !forces) return;
+  for (const auto& [load, reads] : m.at_rest_loads)
+    if (reads.find("_dot") != std::string::npos) speed_items.push_back(load + " (" + reads + ")");
+  for (const Damper& d : m.dampers) speed_items.push_back("damper '" + d.name + "'");
+  for (const Friction& f : m.friction)
+    if (!f.viscous.is_zero()) speed_items.push_back("viscous friction at joint " + m.joints[f.joint].name);
+  if (speed_items.empty()) return;
+  StaticsOptions at_speed_options;
+  at_speed_options.at_speed = true;
+  at_speed = std::make_shared<const StaticsTable>(m, k, t, at_speed_options);
 }
 
 void StaticsTable::DeriveArguments(Stage& st) {
@@ -110,7 +122,7 @@ void StaticsTable::DeriveArguments(Stage& st) {
     for (int j = 0; j < nq; ++j) qd.push_back(slots(Kind::kQd, j));
     if (options.inertia)
       for (int j = 0; j < nq; ++j) qdd.push_back(slots(Kind::kQdd, j));
-    time = slots(Kind::kTime);
+    time = options.at_speed ? ex(0) : slots(Kind::kTime);
     if (options.excess)
       for (int i = 0; i < nphi; ++i) phid.push_back(slots(Kind::kPhid, i));
     for (int a = 0; a < nx; ++a) {
@@ -130,7 +142,7 @@ void StaticsTable::DeriveArguments(Stage& st) {
       const StaticsTable& b = *options.bodies;
       masses = b.masses;
       program.assign(b.program.begin(), b.program.begin() + b.body_statements);
-    } else if (!options.excess) {
+    } else if (!options.excess && !options.at_speed) {
       masses = BodyCoefficients(t.bodies, st.motion, &program);
     }
     body_statements = program.size();

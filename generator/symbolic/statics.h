@@ -25,6 +25,7 @@
 // multipliers (JointKind::Contact; models/README.md, Reactions).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -71,6 +72,11 @@ struct StaticsOptions {
   /// A dynamic table whose slots and bodies' coefficients (masses and their locals) this one
   /// reads instead of deriving them again (the kinetostatics reads the applied forces' table).
   const StaticsTable* bodies = nullptr;
+  /// The statics at given velocities (EvalStatics' `velocities`): as `dynamic` (the loads'
+  /// <coordinate>_dot are qd(j), the dependent ones through c.K; dampers and viscous joint
+  /// friction act) but at t = 0, without the bodies' coefficients and with the statics' own
+  /// outputs (Q, drive, V, dV/dq, the reactions, the friction joints' values). Implies `dynamic`.
+  bool at_speed = false;
 };
 
 class StaticsTable {
@@ -111,6 +117,15 @@ class StaticsTable {
   std::vector<GiNaC::ex> normal, gain;           ///< per friction joint
   std::vector<std::vector<GiNaC::ex>> K_rel;     ///< per friction joint, nq
   std::vector<std::string> notes;    ///< sentences for the generated header (conventions per joint)
+  /// The plain statics of a model whose loads read a velocity (a load of <coordinate>_dot, a
+  /// damper, viscous joint friction): the same statics at given velocities (StaticsOptions::
+  /// at_speed), the body of EvalStatics, whose `velocities` nullptr is the machine at rest.
+  /// Null otherwise (EvalStatics is this table's, at rest).
+  std::shared_ptr<const StaticsTable> at_speed;
+  /// With at_speed: what reads a velocity, for the header and the runtime's note
+  /// (Model::kStaticsAtSpeed): "force of load 'cut' (s_stroke_dot)", "damper 'pump'",
+  /// "viscous friction at joint O".
+  std::vector<std::string> speed_items;
 
   /// An applied load or a spring as a force diagram draws it (forces.cc, from the items it
   /// makes; expressions in q, phi and p, at rest in the static modes). `at`: a force load's

@@ -16,12 +16,20 @@
 // load); gnuplot missing or the scripts not found: one line, exit 1, before anything is
 // computed. Example:
 //   slider_crank_friction_statics --steps 720 --csv out/scf.csv --svg out/scf.svg --plots out/scf
-// Options are read by the command-line layer of every tool (runtime/tools/common/):
-// `--opt=value` or `--opt value`, every number finite and in the range --help lists; --steps
-// up to 10^6 (every row is held in memory); --samples from 36 (statics::ScanOptions::
-// kMinSamples) and at most 10 deg apart along an angle input, so that a scan cannot report
-// what a few samples happen to show as converged. Exit status: 0 done, 2 a usage error (one
-// line "<tool>: error: ..."), 3 the model does not assemble, 4 an output cannot be written.
+// Speed (issue 45): where the model's loads read a velocity (a load of <coordinate>_dot, a
+// damper, viscous joint friction; statics::SpeedItems), every run says so on its output and in
+// its CSV's first comment line (statics::SpeedNote): at rest they are taken at qd = 0. With
+// --speed SPEED the statics are taken along the motion at that constant speed of the swept
+// input (the first input that moves; rad/s, m/s, or rev/min with 'rpm' as the flywheel's
+// --rpm): the loads at qd and the dependent velocities K qd, t = 0, without the inertia
+// forces (the kinetostatics without inertia); the dead-zone and equilibrium scans stay at rest.
+// Options are read by statics_args.cc (model-independent, CLI11; the command-line layer of
+// every tool, runtime/tools/common/): `--opt=value` or `--opt value`, every number finite and
+// in the range --help lists; --steps up to 10^6 (every row is held in memory); --samples from
+// 36 (statics::ScanOptions::kMinSamples) and at most 10 deg apart along an angle input, so
+// that a scan cannot report what a few samples happen to show as converged. Exit status: 0
+// done, 2 a usage error (one line "<tool>: error: ..."), 3 the model does not assemble, 4 an
+// output cannot be written.
 // A model generated without `forces` builds into a stub that says so (exit status 2).
 // Compiled with -DMECHGEN_TOOL_NO_CERES it needs Eigen and CLI11 only: it assembles with the
 // Ceres-free PositionSolver (NewtonAssembler, position/assembler.h), as `mechgen statics
@@ -37,8 +45,13 @@
 #include <string>
 #include <vector>
 
-#include "common/cli.h"
+#include "statics_args.h"
+#ifndef MECHGEN_STATICS_ARGS_SEPARATE
+#include "statics_args.cc"
+#endif
+
 #include "common/gnuplot.h"
+#include "common/numbers.h"
 #include "mechgen/io/output_file.h"
 #ifdef MECHGEN_TOOL_NO_CERES
 #include "mechgen/position/solver.h"
@@ -67,11 +80,10 @@ bool ParseValue(const std::string& text, double* value) {
   return tools::ParseNumber(text, value, /*allow_degrees=*/true);
 }
 
-// The bounds of the counts: every row is held in memory (the table, the CSV and the SVG are
-// written after the sweep), so --steps stops at 10^6 rows; the scans at 10^6 samples.
-constexpr long long kMaxSteps = 1000000;
-constexpr long long kMaxSamples = 1000000;
-constexpr long long kMaxSnapshots = 1000;
+// The argument parser's copies of the runtime's limits (statics_args.h: it does not include
+// the runtime).
+static_assert(mechgen::statics_tool::kMinSamples == mechgen::statics::ScanOptions::kMinSamples);
+static_assert(mechgen::statics_tool::kDefaultMaxCondition == mechgen::kMaxCondition);
 
 // "i:min:max" with i an input index or name -> (index, min, max).
 template <class M>
@@ -140,62 +152,21 @@ template <class M>
 int Run(int argc, char** argv) {
   namespace statics = mechgen::statics;
   using Types = mechgen::ModelTypes<M>;
-  CLI::App app{std::string("Statics of the mechgen model '") + M::kName +
-               "' along a motion: driving forces (with friction forward and backward), "
-               "reactions, V, mechanical advantage, dead zones, equilibria; CSV, table, SVG."};
-  const std::string tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
-  app.footer("Exit status: 0 done, 2 a usage error (one line on stderr), 3 the model does not "
-             "assemble, 4 an output cannot be written.");
-  int steps = 360;
-  std::vector<std::string> ranges;
-  std::string csv_path, svg_path;
-  int table_rows = 8, snapshots = 4, samples = 360;
-  bool animate = false, dead_zones = false, equilibria = false;
-  double max_condition = statics::Options().max_condition;
-  tools::Count(&app, "--steps", &steps, 1, kMaxSteps, "number of steps (rows = steps + 1)");
-  app.add_option("--range", ranges,
-                 "input:min:max, input by name or index; values in model units (radians), "
-                 "or with a 'deg' suffix (e.g. theta_crank:0:180deg), min and max in "
-                 "[-1e4, 1e4]. Default: the model's range of every input");
-  app.add_option("--csv", csv_path, "write every row to this CSV file (plot it with "
-                                    "runtime/tools/plot_statics.gnuplot)");
-  app.add_option("--svg", svg_path, "write the mechanism at a few configurations to this SVG "
-                                    "file: the reactions (red) and the applied loads, springs and "
-                                    "weights (blue) as arrows, curved arrows and zig-zags with their "
-                                    "magnitudes and a force scale");
-  std::string plots_prefix, plot_format = "png";
-  app.add_option("--plots", plots_prefix,
-                 "draw with gnuplot (on PATH) PREFIX_drive.<format>, the driving forces (and "
-                 "with friction to run in +q and -q) and the reaction magnitudes against the "
-                 "input (plot_statics.gnuplot), and PREFIX_bearings.<format>, the polar diagram "
-                 "of each ground bearing's load: the force of the ground on the moving link, "
-                 "fixed frame (plot_bearings.gnuplot); from the --csv file, else PREFIX.csv");
-  app.add_option("--plot-format", plot_format, "png or svg (default png)")
-      ->check(CLI::IsMember({"png", "svg"}));
-  tools::Count(&app, "--snapshots", &snapshots, 1, kMaxSnapshots,
-               "configurations drawn in the SVG (their labels placed so that none overlap; "
-               "1: one configuration per picture)");
-  app.add_flag("--animate", animate, "add the animated copy of the sweep to the SVG");
-  bool design = false;
-  app.add_flag("--design", design,
-               "add the CSV columns ddrive_<q>/d<p>, dR/d<p>, dV/d<p>: the derivatives without friction "
-               "with respect to the model's design parameters (its `design` section)");
-  tools::Count(&app, "--table", &table_rows, 0, kMaxSteps + 1,
-               "print this many rows to stdout (0: none)");
-  app.add_flag("--dead-zones", dead_zones,
-               "scan each input's range for self-locking intervals (T_back T0 <= 0)");
-  app.add_flag("--equilibria", equilibria,
-               "find the configurations where Q = 0 along the range, with their stability");
-  tools::Count(&app, "--samples", &samples, statics::ScanOptions::kMinSamples, kMaxSamples,
-               "samples of the dead-zone and equilibrium scans; at least 36, and at most 10 "
-               "deg apart along an angle input");
-  tools::Number(&app, "--max-condition", &max_condition, tools::Between(1, 1e16),
-                "forces are withheld (status singular) where cond_1(Phi_phi) exceeds this");
-  tools::ParameterOptions parameter_options;
-  tools::AddParameterOptions(&app, &parameter_options);
-  if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
+  mechgen::statics_tool::Arguments args;
+  if (const int parsed = mechgen::statics_tool::ParseArguments(argc, argv, M::kName, &args);
+      parsed >= 0)
+    return parsed;
+  const std::string& tool = args.tool;
+  const int steps = static_cast<int>(args.steps), samples = static_cast<int>(args.samples);
+  const int table_rows = static_cast<int>(args.table);
+  const bool dead_zones = args.dead_zones, equilibria = args.equilibria, design = args.design;
+  std::string csv_path = args.csv_path;
+  const std::string& svg_path = args.svg_path;
+  const std::string& plots_prefix = args.plots_prefix;
+  const std::string& plot_format = args.plot_format;
+  const std::vector<std::string>& ranges = args.ranges;
   typename M::template ParamsT<double> params;
-  if (std::string why; !tools::ApplyParameters(parameter_options, &params, &why))
+  if (std::string why; !tools::ApplyParameters(args.params, &params, &why))
     return tools::UsageError(tool, why);
 
   typename Types::VecQ q_begin = Eigen::Map<const typename Types::VecQ>(M::kQMin.data());
@@ -220,6 +191,37 @@ int Run(int argc, char** argv) {
                     tools::FormatNumber(max_step) + "; use more --steps or a shorter range");
     }
   }
+  // --speed: the swept input (the first that moves; the first input when none does) at that
+  // speed, the others with it along the line: qd = speed (q_end - q_begin) / its range.
+  typename Types::VecQ qd = Types::VecQ::Zero();
+  const bool at_speed = !std::isnan(args.speed);
+  if (at_speed) {
+    int swept = 0;
+    for (int j = M::kNq - 1; j >= 0; --j)
+      if (q_end(j) != q_begin(j)) swept = j;
+    if (args.speed_rpm && !M::kQIsAngle[swept])
+      return tools::UsageError(tool, std::string("--speed: rpm is for an angle input; the swept "
+                                                 "input ") + M::kQNames[swept] +
+                                         " is a slide (give its speed in model length/s)");
+    const double range = q_end(swept) - q_begin(swept);
+    if (range == 0) {
+      qd(swept) = args.speed;
+    } else {
+      qd = (args.speed / range) * (q_end - q_begin);
+      qd(swept) = args.speed;
+    }
+    if (!qd.allFinite() || !(qd.cwiseAbs().maxCoeff() <= tools::kMaxSpeed))
+      return tools::UsageError(tool, "--speed: the other inputs would move faster than 1e5 per "
+                                     "second along the range; give a smaller speed");
+  }
+  const typename Types::VecQ* velocities = at_speed ? &qd : nullptr;
+  // What reads a velocity is taken at --speed; the design derivatives (EvalStaticsDesign) and
+  // the force diagram's loads (EvalAppliedLoads) only at rest.
+  const bool reads_speed = at_speed && statics::StaticsFeatures<M>::kReadsSpeed;
+  if (reads_speed && args.design)
+    return tools::UsageError(tool, "--design with --speed: the design derivatives are those of "
+                                   "the statics at rest, and the model's loads read a velocity; "
+                                   "leave out one of them");
   // A scan too coarse for its range (statics::ScanOptions::kMaxAngleStep) would report what
   // its few samples happen to show as converged: refused before anything is computed.
   statics::ScanOptions scan;
@@ -263,7 +265,7 @@ int Run(int argc, char** argv) {
                                        " has no design section; add design: [parameter, ...] to it and "
                                        "generate it again");
   statics::Options options;
-  options.max_condition = max_condition;
+  options.max_condition = args.max_condition;
   options.design = design;
   std::string error;
   if (!options.IsValid(&error)) return tools::UsageError(tool, error);
@@ -294,11 +296,17 @@ int Run(int argc, char** argv) {
               statics::StaticsFeatures<M>::kNumReactions);
   if (const std::string changed = tools::ChangedParameters(params); !changed.empty())
     std::printf("parameters set: %s\n", changed.c_str());
+  // Every run says where the statics take what reads a velocity (at rest, or at --speed).
+  const std::string speed_note = statics::SpeedNote<M>(velocities);
+  if (!speed_note.empty()) std::printf("note: %s\n", speed_note.c_str());
+  if (at_speed && (dead_zones || equilibria))
+    std::printf("note: the dead-zone and equilibrium scans are at rest (qd = 0)\n");
   std::printf("\n");
 
   std::vector<statics::StaticsRecord<M>> records;
   const auto start = std::chrono::steady_clock::now();
-  const int failures = statics::StaticsSweep(options, &solver, q_begin, q_end, steps, &records);
+  const int failures = statics::StaticsSweep(options, &solver, q_begin, q_end, steps, &records,
+                                             mechgen::SweepOptions(), velocities);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (table_rows > 0) {
@@ -397,16 +405,20 @@ int Run(int argc, char** argv) {
     if (!csv.Open(csv_path, &error)) return failed();
     statics::WriteStaticsCsv(records, csv.stream(),
                              mechgen::Described(mechgen::CsvAbout(
-                                 std::string(M::kName) + "_statics", M::kName, "statics sweep",
+                                 std::string(M::kName) + "_statics", M::kName,
+                                 speed_note.empty() ? std::string("statics sweep")
+                                                    : "statics sweep (" + speed_note + ")",
                                  statics::kStaticsSigns)),
                              design);
   }
   if (!svg_path.empty()) {
     if (!svg.Open(svg_path, &error)) return failed();
     mechgen::SvgOptions svg_options;
-    svg_options.animate = animate;
-    svg_options.snapshots = snapshots;
+    svg_options.animate = args.animate;
+    svg_options.snapshots = static_cast<int>(args.snapshots);
     svg_options.title = std::string("mechgen statics: ") + M::kName;
+    if (reads_speed)
+      svg_options.title += " at --speed (the reactions at that speed; the loads drawn at rest)";
     statics::WriteStaticsSvg(solver.params(), records, svg_options, svg.stream());
   }
   if ((!csv_path.empty() && !csv.Close(&error)) || (!svg_path.empty() && !svg.Close(&error)) ||

@@ -26,6 +26,16 @@
  * Several inputs are fully supported: e is a vector over all inputs, so any combination of
  * input motions defines the relative motion of every joint; AnalyzeDrive() moves one input
  * at a time (e = +-e_j) for the forward / backward figures of that input.
+ *
+ * Speed. A model whose loads read a velocity (StaticsFeatures<M>::kReadsSpeed: a load of
+ * <coordinate>_dot, a damper, viscous joint friction) is taken at rest (qd = 0, t = 0) unless
+ * the input velocities qd are given (`velocities`): then every load is taken at qd (the
+ * dependent velocities K qd), the statics along a motion at that speed without the inertia
+ * forces (the generated EvalKinetostatics at qdd = 0 with the masses left out). The Coulomb
+ * friction iteration is the same (the direction e is independent of qd: the forward and
+ * backward figures of an input are both taken at the loads of qd). The stiffness (Model::
+ * Stiffness, -dQ/dq of the loads at rest) is not evaluated then: it is left NaN (no value).
+ * Velocities of a model whose statics read none change nothing.
  */
 #pragma once
 
@@ -96,16 +106,24 @@ bool AllFinite(const typename StaticsTypes<M>::Statics& s) {
   return finite;
 }
 
-/// One generated evaluation, with the friction loads f when the model has friction.
+/// One generated evaluation, with the friction loads f when the model has friction and the
+/// input velocities qd (nullptr: at rest) when its statics read them.
 template <class M>
 void Evaluate(const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
               const typename ModelTypes<M>::VecPhi& phi,
               const typename ModelTypes<M>::Coefficients& c,
-              const typename StaticsTypes<M>::VecF* f, typename StaticsTypes<M>::Statics* out) {
-  if constexpr (StaticsFeatures<M>::kHasFriction) {
+              const typename StaticsTypes<M>::VecF* f, typename StaticsTypes<M>::Statics* out,
+              const typename ModelTypes<M>::VecQ* qd = nullptr) {
+  if constexpr (StaticsFeatures<M>::kReadsSpeed && StaticsFeatures<M>::kHasFriction) {
+    M::template Forces<double>(p, q, phi, c, out, f, nullptr, qd);
+  } else if constexpr (StaticsFeatures<M>::kReadsSpeed) {
+    (void)f;
+    M::template Forces<double>(p, q, phi, c, out, nullptr, nullptr, qd);
+  } else if constexpr (StaticsFeatures<M>::kHasFriction) {
+    (void)qd;
     M::template Forces<double>(p, q, phi, c, out, f);
   } else {
-    (void)f;
+    (void)f, (void)qd;
     M::template Forces<double>(p, q, phi, c, out);
   }
 }
@@ -166,6 +184,8 @@ Solution<M>::Solution() {
  *                        friction: one frictionless evaluation.
  * \param[out] out        Not nullptr. out->statics NaN unless kConverged (kDidNotConverge:
  *                        the last iterate).
+ * \param[in]  velocities The input velocities qd (dim kNq) the loads are taken at (see
+ *                        "Speed" in the file comment); nullptr: at rest.
  * \return kConverged, kSingular (cond_1(Phi_phi) > Options::max_condition or a value not
  *         finite; out->summary.condition and reaction_norm say how bad), kDidNotConverge,
  *         kInvalidInput.
@@ -174,7 +194,8 @@ template <class M>
 Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
              const typename ModelTypes<M>::VecQ& q, const typename ModelTypes<M>::VecPhi& phi,
              const typename ModelTypes<M>::Coefficients& c,
-             const typename ModelTypes<M>::VecQ& direction, Solution<M>* out) {
+             const typename ModelTypes<M>::VecQ& direction, Solution<M>* out,
+             const typename ModelTypes<M>::VecQ* velocities = nullptr) {
   static_assert(StaticsFeatures<M>::kHasStatics,
                 "the model has no statics: ask for `forces` in its outputs");
   using Types = StaticsTypes<M>;
@@ -184,24 +205,27 @@ Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
   out->direction = direction;
   out->friction.setZero();
   internal::SetNaN<M>(&out->statics);  // nothing stale from an earlier call
+  // The stiffness is that of the loads at rest: none at a speed that the loads read.
+  const bool at_speed = StaticsFeatures<M>::kReadsSpeed && velocities != nullptr;
   auto finish = [&](Status status, const char* reason, bool withhold) {
     s.status = status;
     s.reason = reason;
     if (withhold) internal::SetNaN<M>(&out->statics);
-    if (status == Status::kConverged && options.stiffness) {
+    if (status == Status::kConverged && options.stiffness && !at_speed) {
       internal::EvaluateStiffness<M>(p, q, phi, c, &out->statics);
     }
     return status;
   };
   if (!options.IsValid(nullptr)) return finish(Status::kInvalidInput, "invalid Options", true);
-  if (!q.allFinite() || !phi.allFinite() || !direction.allFinite()) {
-    return finish(Status::kInvalidInput, "q, phi or the direction not finite", true);
+  if (!q.allFinite() || !phi.allFinite() || !direction.allFinite() ||
+      (velocities != nullptr && !velocities->allFinite())) {
+    return finish(Status::kInvalidInput, "q, phi, the direction or the velocities not finite", true);
   }
   s.condition = internal::Condition<M>(p, q, phi, c);
 
   // The frictionless evaluation: the answer without friction, the start of the iteration
   // with it, and the figure |R| that a singular configuration reports.
-  internal::Evaluate<M>(p, q, phi, c, nullptr, &out->statics);
+  internal::Evaluate<M>(p, q, phi, c, nullptr, &out->statics, velocities);
   s.iterations = 1;
   if constexpr (F::kHasReactions) s.reaction_norm = out->statics.R.cwiseAbs().maxCoeff();
   if (!(s.condition <= options.max_condition)) {
@@ -223,7 +247,7 @@ Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
     typename Types::VecQ drive_prev = out->statics.drive;
     for (int k = 1; k < options.max_friction_iterations; ++k) {
       const VecF f = -(out->statics.gain.cwiseProduct(out->statics.normal)).cwiseProduct(sign);
-      internal::Evaluate<M>(p, q, phi, c, &f, &out->statics);
+      internal::Evaluate<M>(p, q, phi, c, &f, &out->statics, velocities);
       ++s.iterations;
       out->friction = f;
       if (!internal::AllFinite<M>(out->statics) || !f.allFinite()) {
@@ -253,7 +277,7 @@ Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
 template <class M>
 Status SolveAt(const Options& options, const typename ModelTypes<M>::Params& p,
                const position::State<M>& state, const typename ModelTypes<M>::VecQ& direction,
-               Solution<M>* out) {
+               Solution<M>* out, const typename ModelTypes<M>::VecQ* velocities = nullptr) {
   if (!state.valid) {
     out->summary = Summary();
     out->summary.status = Status::kInvalidInput;
@@ -263,7 +287,7 @@ Status SolveAt(const Options& options, const typename ModelTypes<M>::Params& p,
   }
   typename ModelTypes<M>::Coefficients c;
   M::template Coeffs<double>(p, state.q, state.phi, &c);
-  return Solve<M>(options, p, state.q, state.phi, c, direction, out);
+  return Solve<M>(options, p, state.q, state.phi, c, direction, out, velocities);
 }
 
 /// The driving force of one input with friction, forward and backward, and self-locking
@@ -308,51 +332,57 @@ struct DriveAnalysis {
 };
 
 /**
- * \brief T0, T_fwd, T_back, the efficiencies and self-locking of input j at (q, phi).
- *        Three Solve() calls (one without friction). No allocation.
+ * \brief T0, T_fwd, T_back, the efficiencies and self-locking of input j at (q, phi) from the
+ *        frictionless solution there, already solved (Solve() with direction 0 and the same
+ *        velocities): two more Solve() calls with friction, none without. No allocation.
+ * \param[in]  frictionless  Solve() at (q, phi) with no motion; its status is the analysis'
+ *                           when not kConverged.
  * \param[in]  input         j in [0, kNq).
  * \param[out] out           Not nullptr; NaN values unless out->status is kConverged.
- * \param[out] frictionless  Solve() with no motion (may be nullptr); forward, backward: with
- *                           motion along +-sign(T0) e_j (may be nullptr).
+ * \param[out] forward, backward  With motion along +-sign(T0) e_j (may be nullptr); copies of
+ *                           `frictionless` (with those directions) for a model without friction.
+ * \param[in]  velocities    The input velocities the loads are taken at (nullptr: at rest).
  */
 template <class M>
-Status AnalyzeDrive(const Options& options, const typename ModelTypes<M>::Params& p,
-                    const typename ModelTypes<M>::VecQ& q,
-                    const typename ModelTypes<M>::VecPhi& phi,
-                    const typename ModelTypes<M>::Coefficients& c, int input,
-                    DriveAnalysis* out, Solution<M>* frictionless = nullptr,
-                    Solution<M>* forward = nullptr, Solution<M>* backward = nullptr) {
+Status AnalyzeDriveFrom(const Options& options, const typename ModelTypes<M>::Params& p,
+                        const typename ModelTypes<M>::VecQ& q,
+                        const typename ModelTypes<M>::VecPhi& phi,
+                        const typename ModelTypes<M>::Coefficients& c, int input,
+                        const Solution<M>& frictionless, DriveAnalysis* out,
+                        Solution<M>* forward = nullptr, Solution<M>* backward = nullptr,
+                        const typename ModelTypes<M>::VecQ* velocities = nullptr) {
   using VecQ = typename ModelTypes<M>::VecQ;
   *out = DriveAnalysis();
   out->input = input;
-  Solution<M> local[3];
-  Solution<M>* s0 = frictionless != nullptr ? frictionless : &local[0];
-  Solution<M>* s1 = forward != nullptr ? forward : &local[1];
-  Solution<M>* s2 = backward != nullptr ? backward : &local[2];
+  Solution<M> local[2];
+  Solution<M>* s1 = forward != nullptr ? forward : &local[0];
+  Solution<M>* s2 = backward != nullptr ? backward : &local[1];
   if (input < 0 || input >= M::kNq) {
-    for (Solution<M>* s : {s0, s1, s2}) {
+    for (Solution<M>* s : {s1, s2}) {
       s->summary = Summary();
       s->summary.status = Status::kInvalidInput;
       s->summary.reason = "input index out of range";
     }
     return out->status = Status::kInvalidInput;
   }
-  Status status = Solve<M>(options, p, q, phi, c, VecQ::Zero(), s0);
+  const Solution<M>& s0 = frictionless;
+  Status status = s0.summary.status;
   if (status != Status::kConverged) {
-    *s1 = *s0;
-    *s2 = *s0;
+    *s1 = s0;
+    *s2 = s0;
     return out->status = status;
   }
-  const double T0 = s0->statics.drive(input);
+  const double T0 = s0.statics.drive(input);
   const double sign = T0 < 0 ? -1.0 : 1.0;
   const VecQ e = VecQ::Unit(input);
   if constexpr (StaticsFeatures<M>::kHasFriction) {
-    const Status fwd = Solve<M>(options, p, q, phi, c, VecQ(sign * e), s1);
-    const Status back = Solve<M>(options, p, q, phi, c, VecQ(-sign * e), s2);
+    const Status fwd = Solve<M>(options, p, q, phi, c, VecQ(sign * e), s1, velocities);
+    const Status back = Solve<M>(options, p, q, phi, c, VecQ(-sign * e), s2, velocities);
     status = fwd != Status::kConverged ? fwd : back;
   } else {
-    *s1 = *s0;
-    *s2 = *s0;
+    (void)options, (void)p, (void)q, (void)phi, (void)c, (void)velocities;
+    *s1 = s0;
+    *s2 = s0;
     s1->direction = sign * e;
     s2->direction = -sign * e;
   }
@@ -370,6 +400,37 @@ Status AnalyzeDrive(const Options& options, const typename ModelTypes<M>::Params
                                  : std::numeric_limits<double>::quiet_NaN();
   out->self_locking = out->drive_backward * T0 <= 0;
   return out->status = Status::kConverged;
+}
+
+/**
+ * \brief T0, T_fwd, T_back, the efficiencies and self-locking of input j at (q, phi).
+ *        Three Solve() calls (one without friction, then AnalyzeDriveFrom()). No allocation.
+ * \param[in]  input         j in [0, kNq).
+ * \param[out] out           Not nullptr; NaN values unless out->status is kConverged.
+ * \param[out] frictionless  Solve() with no motion (may be nullptr); forward, backward: with
+ *                           motion along +-sign(T0) e_j (may be nullptr).
+ * \param[in]  velocities    The input velocities the loads are taken at (nullptr: at rest).
+ */
+template <class M>
+Status AnalyzeDrive(const Options& options, const typename ModelTypes<M>::Params& p,
+                    const typename ModelTypes<M>::VecQ& q,
+                    const typename ModelTypes<M>::VecPhi& phi,
+                    const typename ModelTypes<M>::Coefficients& c, int input,
+                    DriveAnalysis* out, Solution<M>* frictionless = nullptr,
+                    Solution<M>* forward = nullptr, Solution<M>* backward = nullptr,
+                    const typename ModelTypes<M>::VecQ* velocities = nullptr) {
+  using VecQ = typename ModelTypes<M>::VecQ;
+  Solution<M> local;
+  Solution<M>* s0 = frictionless != nullptr ? frictionless : &local;
+  if (input < 0 || input >= M::kNq) {
+    s0->summary = Summary();
+    s0->summary.status = Status::kInvalidInput;
+    s0->summary.reason = "input index out of range";
+  } else {
+    Solve<M>(options, p, q, phi, c, VecQ::Zero(), s0, velocities);
+  }
+  return AnalyzeDriveFrom<M>(options, p, q, phi, c, input, *s0, out, forward, backward,
+                             velocities);
 }
 
 /// AnalyzeDrive() at a configuration of the position solver (evaluates Model::Coeffs).

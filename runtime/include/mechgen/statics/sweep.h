@@ -17,7 +17,9 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "mechgen/position/solver.h"
@@ -69,7 +71,8 @@ struct StaticsRecord {
   /// Generated statics evaluations of the row.
   int evaluations = 0;
   /// With Options::design (a model with EvalStaticsDesign): d/dp of Q, the drive, V and the
-  /// reactions without friction; NaN where the frictionless solution is withheld.
+  /// reactions without friction; NaN where the frictionless solution is withheld, and at
+  /// velocities that the statics read (the derivatives are of the statics at rest).
   typename ::mechgen::internal::StaticsDesignOf<M>::type design = NanStaticsDesign<M>();
 };
 
@@ -93,10 +96,15 @@ const char* RowStatus(const StaticsRecord<M>& r) {
 /**
  * \brief The statics of one valid configuration into *r (r->kinematics filled): every
  *        solution, the drive analyses and the mechanical advantage. No allocation.
+ *        Model::Coeffs once, the frictionless statics once (with the stiffness; every input's
+ *        drive analysis reads it), and per input with friction the forward and backward ones.
+ * \param[in] velocities  The input velocities the loads are taken at (statics/solve.h,
+ *                        "Speed"); nullptr: at rest.
  */
 template <class M>
 Status EvaluateRecord(const Options& options, const typename ModelTypes<M>::Params& p,
-                      StaticsRecord<M>* r) {
+                      StaticsRecord<M>* r,
+                      const typename ModelTypes<M>::VecQ* velocities = nullptr) {
   using VecQ = typename ModelTypes<M>::VecQ;
   const position::State<M>& state = r->kinematics.state;
   r->evaluations = 0;
@@ -118,12 +126,13 @@ Status EvaluateRecord(const Options& options, const typename ModelTypes<M>::Para
   typename ModelTypes<M>::Coefficients c;
   M::template Coeffs<double>(p, state.q, state.phi, &c);
   r->design = NanStaticsDesign<M>();
-  // The stiffness once per row, without friction (it excludes friction anyway).
+  // The frictionless statics once per row, with the stiffness (it excludes friction anyway);
+  // every input's drive analysis reads it.
   Options with_stiffness = options, without_stiffness = options;
   with_stiffness.stiffness = true;
   without_stiffness.stiffness = false;
-  Status status =
-      Solve<M>(with_stiffness, p, state.q, state.phi, c, VecQ::Zero(), &r->frictionless);
+  Status status = Solve<M>(with_stiffness, p, state.q, state.phi, c, VecQ::Zero(),
+                           &r->frictionless, velocities);
   r->evaluations += r->frictionless.summary.iterations;
   for (int j = 0; j < M::kNq; ++j) {
     if (r->frictionless.summary.status != Status::kConverged) {
@@ -133,17 +142,19 @@ Status EvaluateRecord(const Options& options, const typename ModelTypes<M>::Para
       r->drives[j].status = r->frictionless.summary.status;
       continue;
     }
-    Solution<M> unused;
     const Status drive =
-        AnalyzeDrive<M>(without_stiffness, p, state.q, state.phi, c, j, &r->drives[j], &unused,
-                        &r->forward[j], &r->backward[j]);
+        AnalyzeDriveFrom<M>(without_stiffness, p, state.q, state.phi, c, j, r->frictionless,
+                            &r->drives[j], &r->forward[j], &r->backward[j], velocities);
     if constexpr (StaticsFeatures<M>::kHasFriction) {
       r->evaluations += r->forward[j].summary.iterations + r->backward[j].summary.iterations;
     }
     if (status == Status::kConverged) status = drive;
   }
   if constexpr (HasStaticsDesign<M>::value) {
-    if (options.design && r->frictionless.summary.status == Status::kConverged) {
+    // The design derivatives are those of the statics at rest (EvalStaticsDesign takes no
+    // velocities): none at a speed that the loads read.
+    const bool at_speed = StaticsFeatures<M>::kReadsSpeed && velocities != nullptr;
+    if (options.design && !at_speed && r->frictionless.summary.status == Status::kConverged) {
       position::EvalDesign<M>(p, state, &r->kinematics.design);
       M::StaticsDesign(p, state.q, state.phi, c, r->kinematics.design, &r->design);
     }
@@ -170,6 +181,9 @@ Status EvaluateRecord(const Options& options, const typename ModelTypes<M>::Para
  * \param[in]     steps          Number of steps, >= 1.
  * \param[out]    records        steps + 1 rows.
  * \param[in]     sweep_options  What the position sweep does at a dead point (default: stop).
+ * \param[in]     velocities     The input velocities the loads are taken at in every row
+ *                               (statics/solve.h, "Speed"; the constant speed of the motion);
+ *                               nullptr: at rest.
  * \return the number of rows whose status is not kConverged.
  */
 template <class M, class A>
@@ -177,7 +191,8 @@ int StaticsSweep(const Options& options, position::PositionSolver<M, A>* solver,
                  const typename ModelTypes<M>::VecQ& q_begin,
                  const typename ModelTypes<M>::VecQ& q_end, int steps,
                  std::vector<StaticsRecord<M>>* records,
-                 const SweepOptions& sweep_options = SweepOptions()) {
+                 const SweepOptions& sweep_options = SweepOptions(),
+                 const typename ModelTypes<M>::VecQ* velocities = nullptr) {
   using VecQ = typename ModelTypes<M>::VecQ;
   std::vector<SweepRecord<M>> kinematics;
   Sweep(solver, q_begin, q_end, steps, VecQ::Ones(), VecQ::Zero(), &kinematics, sweep_options);
@@ -186,9 +201,45 @@ int StaticsSweep(const Options& options, position::PositionSolver<M, A>* solver,
   for (size_t i = 0; i < kinematics.size(); ++i) {
     StaticsRecord<M>& r = (*records)[i];
     r.kinematics = kinematics[i];
-    if (EvaluateRecord<M>(options, solver->params(), &r) != Status::kConverged) ++failures;
+    if (EvaluateRecord<M>(options, solver->params(), &r, velocities) != Status::kConverged)
+      ++failures;
   }
   return failures;
+}
+
+/**
+ * \brief What a statics sweep of model M says about speed, for its printed output and its
+ *        CSV's first comment line (the same text in both): empty when nothing in the statics
+ *        reads a velocity and none is given. At rest (velocities nullptr), which loads read a
+ *        velocity and that they are taken at qd = 0; at the velocities qd, that they are taken
+ *        there, without the inertia forces. One line, no trailing period.
+ */
+template <class M>
+std::string SpeedNote(const typename ModelTypes<M>::VecQ* velocities) {
+  const std::vector<std::string> items = SpeedItems<M>();
+  std::string what;
+  for (size_t i = 0; i < items.size(); ++i)
+    what += std::string(i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + "the " + items[i];
+  if (velocities == nullptr) {
+    if (items.empty()) return "";
+    return "at rest: " + what +
+           (items.size() == 1 ? " reads a velocity and is" : " read a velocity and are") +
+           " taken at qd = 0, t = 0 (the value in a slow motion), not at the machine's speed; "
+           "--speed gives the statics at a constant input speed";
+  }
+  std::string at;
+  for (int j = 0; j < M::kNq; ++j) {
+    char value[64];
+    std::snprintf(value, sizeof(value), "%.9g", (*velocities)(j) + 0.0);  // no -0
+    at += std::string(j == 0 ? "" : ", ") + M::kQNames[j] + "_dot = " + value +
+          (M::kQIsAngle[j] ? " rad/s" : " model length/s");
+  }
+  if (items.empty())
+    return "at " + at + ": nothing in the statics reads a velocity (the same at any speed)";
+  return "at " + at + ": " + what + (items.size() == 1 ? " is" : " are") +
+         " taken at these velocities (the dependent ones K qd, t = 0), without the inertia "
+         "forces (the kinetostatics at qdd = 0 without them); Coulomb friction for the input "
+         "running in +q and -q alike; no stiffness (that of the loads at rest)";
 }
 
 }  // namespace mechgen::statics

@@ -15,10 +15,19 @@
  * potential or friction) still compile against the runtime, StaticsFeatures<M>::kHasStatics
  * is false for them and the statics functions are not instantiated. Needs Eigen only;
  * nothing allocates.
+ *
+ * A model whose loads read a velocity (a load of <coordinate>_dot, a damper, viscous joint
+ * friction: `dynamics` models) has Model::Forces(p, q, phi, c, out, friction, trig,
+ * velocities) and the list Model::kStaticsAtSpeed of what reads them (the generator emits
+ * both together, and only then): without velocities (nullptr) its statics hold the machine
+ * at rest, with them they are the statics along a motion at those input velocities (the
+ * kinetostatics without the inertia forces). StaticsFeatures<M>::kReadsSpeed says which.
  */
 #pragma once
 
+#include <string>
 #include <type_traits>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -49,6 +58,12 @@ struct NumFrictionOf : std::integral_constant<int, 0> {};
 template <class M>
 struct NumFrictionOf<M, true> : std::integral_constant<int, M::kNumFriction> {};
 
+/// Whether M declares kStaticsAtSpeed (and so Model::Forces takes the velocities).
+template <class M, class = void>
+struct DeclaresStaticsAtSpeed : std::false_type {};
+template <class M>
+struct DeclaresStaticsAtSpeed<M, std::void_t<decltype(M::kStaticsAtSpeed)>> : std::true_type {};
+
 }  // namespace internal
 
 /// What the statics of model M provide: its flags, combined.
@@ -75,7 +90,21 @@ struct StaticsFeatures {
   /// (kStiffnessApart, always so by the flag's definition).
   static constexpr bool kHasStiffness = kHasStatics && HasStaticsStiffness<M>::value;
   static constexpr bool kStiffnessApart = kHasStiffness;
+  /// Model::Forces takes the input velocities: something in the statics reads a velocity
+  /// (Model::kStaticsAtSpeed, SpeedItems()); without them it is taken at rest.
+  static constexpr bool kReadsSpeed = kHasStatics && internal::DeclaresStaticsAtSpeed<M>::value;
 };
+
+/// What model M's statics take at the input velocities and at rest without them: "torque of
+/// load 'motor' (theta_crank_dot)", "damper 'pump'", "viscous friction at joint O"; empty
+/// when nothing reads a velocity (the statics are the same at any speed).
+template <class M>
+std::vector<std::string> SpeedItems() {
+  std::vector<std::string> items;
+  if constexpr (StaticsFeatures<M>::kReadsSpeed)
+    for (const char* item : M::kStaticsAtSpeed) items.push_back(item);
+  return items;
+}
 
 /// Fixed-size types of the statics of model M (double).
 template <class M>
