@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "simulate_args.h"
+#include "statics_args.h"
 #include "sweep_args.h"
 
 namespace mechgen {
@@ -40,6 +41,7 @@ struct ToolParser {
 constexpr ToolParser kParsers[] = {
     {"sweep", ParseSweep},
     {"simulate", Parse<simulate_tool::Arguments, simulate_tool::ParseArguments>},
+    {"statics", Parse<statics_tool::Arguments, statics_tool::ParseArguments>},
 };
 
 ParseFn Find(const std::string& tool) {

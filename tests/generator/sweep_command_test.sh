@@ -100,6 +100,16 @@ if [ "$mode" = errors ]; then
   status=$?
   { [ "$status" -eq 2 ] && [ "$(cat dt.err)" = "mechgen simulate: error: --dt: bad value '0': expected a number in (0, 1e+06]" ]; } ||
     fail "simulate --dt 0: exit status $status, stderr $(cat dt.err)"
+  cp "$source_dir/models/slider_crank_friction.yaml" friction.yaml
+  bare statics friction.yaml --help > sthelp.out 2> sthelp.err
+  status=$?
+  { [ "$status" -eq 0 ] && grep -q -- "--dead-zones" sthelp.out && grep -q "the mechgen model 'friction'" sthelp.out &&
+    [ ! -s sthelp.err ]; } || fail "statics --help without a compiler: exit status $status: $(cat sthelp.err)"
+  bare statics friction.yaml --speed abc > sp.out 2> sp.err
+  status=$?
+  { [ "$status" -eq 2 ] && grep -q "^mechgen statics: error: --speed: bad value 'abc'" sp.err &&
+    [ "$(wc -l < sp.err)" -eq 1 ] && [ ! -s sp.out ]; } ||
+    fail "statics --speed abc: exit status $status, stderr $(cat sp.err)"
   bare sweep fourbar.yaml --steps 0 > st.out 2> st.err
   status=$?
   { [ "$status" -eq 2 ] &&
