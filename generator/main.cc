@@ -371,7 +371,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     if (!quiet)
-      std::cout << "mechgen: " << model_path << " -> " << out_dir << "/" << p.model.name << ".{h,cc} ("
+      std::cout << "mechgen: " << model_path << " -> " << out_dir << "/" << p.model.name << ".{h,cc}, " << p.model.name << "_view.cc ("
                 << p.topology.loops.size() << " loop(s), mobility " << p.topology.loop_mobility
                 << ", EvalCoefficients " << p.emitted.Ops("EvalCoefficients").Total() << " ops) in "
                 << static_cast<int>(ms + 0.5) << " ms\n";
