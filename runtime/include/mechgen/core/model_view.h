@@ -343,3 +343,10 @@ inline void DefaultParameters(const ModelView& view, double* p) {
 }
 
 }  // namespace mechgen
+
+/// Declares mech::<name>::View(), defined in the generated <name>_view.cc (the generated header
+/// does not declare it, so that a product that does not compile the view is unchanged).
+#define MECHGEN_DECLARE_MODEL_VIEW(name) \
+  namespace mech::name {                 \
+  const ::mechgen::ModelView& View();    \
+  }
