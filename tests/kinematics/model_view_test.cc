@@ -33,10 +33,10 @@ const ModelView& ViewOfModel() {
 }
 
 // Whether M has the constant or function `Name` (from the header itself).
-#define DETECT(Name)                                                               \
-  template <class M, class = void>                                                 \
-  struct Has_##Name : std::false_type {};                                          \
-  template <class M>                                                               \
+#define DETECT(Name)                      \
+  template <class M, class = void>        \
+  struct Has_##Name : std::false_type {}; \
+  template <class M>                      \
   struct Has_##Name<M, std::void_t<decltype(M::Name)>> : std::true_type {};
 DETECT(kReactionNames)
 DETECT(kNumSwitches)
@@ -46,10 +46,10 @@ DETECT(kNumAppliedLoads)
 DETECT(kNumNamedModes)
 DETECT(kNumChangePoints)
 #undef DETECT
-#define DETECT_FUNCTION(Name)                                                              \
-  template <class M, class = void>                                                         \
-  struct HasFn_##Name : std::false_type {};                                                \
-  template <class M>                                                                       \
+#define DETECT_FUNCTION(Name)               \
+  template <class M, class = void>          \
+  struct HasFn_##Name : std::false_type {}; \
+  template <class M>                        \
   struct HasFn_##Name<M, std::void_t<decltype(&M::template Name<double>)>> : std::true_type {};
 DETECT_FUNCTION(Phi)
 DETECT_FUNCTION(Coeffs)
@@ -96,7 +96,9 @@ void ExpectArray(const T* view, const std::array<T, N>& model, const char* what)
 // The buffer `flat` of a view struct against the fixed-size struct's member `value`: the member
 // found by name, its shape, every entry bit for bit.
 template <int R, int C, int O, int MR, int MC>
-void ExpectMember(const ViewLayout& layout, const std::vector<double>& flat, const char* name,
+void ExpectMember(const ViewLayout& layout,
+                  const std::vector<double>& flat,
+                  const char* name,
                   const Eigen::Matrix<double, R, C, O, MR, MC>& value) {
   const mechgen::ViewMember* m = mechgen::FindMember(layout, name);
   ASSERT_NE(m, nullptr) << layout.name << " has no member " << name;
@@ -114,7 +116,9 @@ void ExpectMember(const ViewLayout& layout, const std::vector<double>& flat, con
   ExpectMember(layout, flat, name, m);
 }
 template <size_t N>
-void ExpectMember(const ViewLayout& layout, const std::vector<double>& flat, const char* name,
+void ExpectMember(const ViewLayout& layout,
+                  const std::vector<double>& flat,
+                  const char* name,
                   const std::array<double, N>& value) {
   const Eigen::Matrix<double, static_cast<int>(N), 1> m =
       Eigen::Map<const Eigen::Matrix<double, static_cast<int>(N), 1>>(value.data());
@@ -249,23 +253,25 @@ TYPED_TEST(ModelViewTest, SizesNamesConstantsAndFlagsAreTheModels) {
     EXPECT_EQ(v.num_change_points, 0);
   }
   // Every flag, under its own name.
-#define FLAG(F) EXPECT_EQ(v.flags.F, M::F) << #F;
-  FLAG(kHasCoeffsPhi) FLAG(kHasK) FLAG(kHasL) FLAG(kHasPoints) FLAG(kHasPointVelocities)
-  FLAG(kHasPointAccelerations) FLAG(kHasSolve) FLAG(kHasNamedModes) FLAG(kHasTrig) FLAG(kHasSolveTrig)
-  FLAG(kHasTransmissionAngles) FLAG(kHasSwitchModes) FLAG(kHasDrawing) FLAG(kHasCamProfile)
-  FLAG(kHasAppliedLoads) FLAG(kHasStatics) FLAG(kHasStaticsQ) FLAG(kHasStaticsStiffness) FLAG(kHasStaticsV)
-  FLAG(kHasStaticsD2V) FLAG(kHasStaticsR) FLAG(kHasStaticsFriction) FLAG(kHasDynamics) FLAG(kHasExcess)
-  FLAG(kHasShaking) FLAG(kHasKinematics) FLAG(kHasRhs) FLAG(kHasRhsConstants) FLAG(kHasDesignDerivatives)
-  FLAG(kHasStaticsDesign) FLAG(kHasDynamicsDesign)
+  // clang-format off
+#define FLAG(F) EXPECT_EQ(v.flags.F, M::F) << #F
+  FLAG(kHasCoeffsPhi); FLAG(kHasK); FLAG(kHasL); FLAG(kHasPoints); FLAG(kHasPointVelocities);
+  FLAG(kHasPointAccelerations); FLAG(kHasSolve); FLAG(kHasNamedModes); FLAG(kHasTrig); FLAG(kHasSolveTrig);
+  FLAG(kHasTransmissionAngles); FLAG(kHasSwitchModes); FLAG(kHasDrawing); FLAG(kHasCamProfile);
+  FLAG(kHasAppliedLoads); FLAG(kHasStatics); FLAG(kHasStaticsQ); FLAG(kHasStaticsStiffness); FLAG(kHasStaticsV);
+  FLAG(kHasStaticsD2V); FLAG(kHasStaticsR); FLAG(kHasStaticsFriction); FLAG(kHasDynamics); FLAG(kHasExcess);
+  FLAG(kHasShaking); FLAG(kHasKinematics); FLAG(kHasRhs); FLAG(kHasRhsConstants); FLAG(kHasDesignDerivatives);
+  FLAG(kHasStaticsDesign); FLAG(kHasDynamicsDesign);
 #undef FLAG
   // A function exactly where Model has it.
-#define FUNCTION(F) EXPECT_EQ(v.F != nullptr, HasFn_##F<M>::value) << #F;
-  FUNCTION(Phi) FUNCTION(Coeffs) FUNCTION(DetPhiPhi) FUNCTION(Solve) FUNCTION(SolveTrig) FUNCTION(Kinematics)
-  FUNCTION(TransmissionAngles) FUNCTION(Scene) FUNCTION(Drawing) FUNCTION(CamProfile) FUNCTION(AppliedLoads)
-  FUNCTION(Forces) FUNCTION(Stiffness) FUNCTION(Dynamics) FUNCTION(Kinetostatics) FUNCTION(ExcessDynamics)
-  FUNCTION(Shaking) FUNCTION(SwitchModes) FUNCTION(Prepare) FUNCTION(Rhs) FUNCTION(Design) FUNCTION(DesignChecks)
-  FUNCTION(StaticsDesign) FUNCTION(DynamicsDesign) FUNCTION(ShakingDesign)
+#define FUNCTION(F) EXPECT_EQ(v.F != nullptr, HasFn_##F<M>::value) << #F
+  FUNCTION(Phi); FUNCTION(Coeffs); FUNCTION(DetPhiPhi); FUNCTION(Solve); FUNCTION(SolveTrig); FUNCTION(Kinematics);
+  FUNCTION(TransmissionAngles); FUNCTION(Scene); FUNCTION(Drawing); FUNCTION(CamProfile); FUNCTION(AppliedLoads);
+  FUNCTION(Forces); FUNCTION(Stiffness); FUNCTION(Dynamics); FUNCTION(Kinetostatics); FUNCTION(ExcessDynamics);
+  FUNCTION(Shaking); FUNCTION(SwitchModes); FUNCTION(Prepare); FUNCTION(Rhs); FUNCTION(Design); FUNCTION(DesignChecks);
+  FUNCTION(StaticsDesign); FUNCTION(DynamicsDesign); FUNCTION(ShakingDesign);
 #undef FUNCTION
+  // clang-format on
   // And the flags that name a function say so too.
   EXPECT_EQ(v.Solve != nullptr, M::kHasSolve);
   EXPECT_EQ(v.SolveTrig != nullptr, M::kHasSolveTrig);
@@ -297,10 +303,11 @@ TYPED_TEST(ModelViewTest, SizesNamesConstantsAndFlagsAreTheModels) {
 TYPED_TEST(ModelViewTest, StructLayoutsArePackedAndPresentWhereTheFlagsSay) {
   using M = TypeParam;
   const ModelView& v = ViewOfModel<M>();
-  const bool present[] = {true,           true,          M::kHasStatics,       M::kHasDynamics,
-                          M::kHasExcess,  M::kHasShaking, M::kHasKinematics,   M::kHasRhs,
-                          M::kHasRhsConstants, M::kHasDesignDerivatives, M::kHasStaticsDesign,
-                          M::kHasDynamicsDesign};
+  // clang-format off
+  const bool present[] = {true, true, M::kHasStatics, M::kHasDynamics, M::kHasExcess, M::kHasShaking,
+                          M::kHasKinematics, M::kHasRhs, M::kHasRhsConstants, M::kHasDesignDerivatives,
+                          M::kHasStaticsDesign, M::kHasDynamicsDesign};
+  // clang-format on
   static_assert(sizeof(present) / sizeof(present[0]) == static_cast<size_t>(ViewStruct::kCount));
   for (int s = 0; s < static_cast<int>(ViewStruct::kCount); ++s) {
     const ViewLayout& l = v.structs[s];
@@ -435,7 +442,9 @@ std::vector<double> Vector(const Eigen::Matrix<double, Eigen::Dynamic, 1>& x) {
 
 // Every function of the view against the fixed-size function, bit for bit, every output.
 template <class M>
-void CompareAt(const ModelView& v, const std::vector<double>& p, const mechtest::ParamsD<M>& params,
+void CompareAt(const ModelView& v,
+               const std::vector<double>& p,
+               const mechtest::ParamsD<M>& params,
                const typename mechtest::Config<M>& config) {
   using Coefficients = typename M::template CoefficientsT<double>;
   using VecQ = mechtest::VecQ<M>;
@@ -477,8 +486,8 @@ void CompareAt(const ModelView& v, const std::vector<double>& p, const mechtest:
     VecPhi solved = guess;
     const auto report = M::Solve(params, q, &solved, M::kDefaultModes, 20, 0.0, &trig);
     std::vector<double> solved_view(guess.data(), guess.data() + M::kNphi);
-    const mechgen::ViewSolveReport r = v.Solve(p.data(), qf.data(), solved_view.data(), M::kDefaultModes.data(), 20,
-                                               0.0, trig_view.data());
+    const mechgen::ViewSolveReport r =
+        v.Solve(p.data(), qf.data(), solved_view.data(), M::kDefaultModes.data(), 20, 0.0, trig_view.data());
     ExpectSameReport(r, report, "Solve");
     ExpectFlat(solved_view, solved, "Solve: phi");
     const ViewLayout& tl = v.Layout(ViewStruct::kTrig);
@@ -533,7 +542,8 @@ void CompareAt(const ModelView& v, const std::vector<double>& p, const mechtest:
     using K = typename M::template KinematicsT<double>;
     Trig st = Filled<M, Trig>();
     K out = Filled<M, K>();
-    std::vector<double> st_view = Buffer(v, ViewStruct::kTrig, kFill), out_view = Buffer(v, ViewStruct::kKinematics, kFill);
+    std::vector<double> st_view = Buffer(v, ViewStruct::kTrig, kFill),
+                        out_view = Buffer(v, ViewStruct::kKinematics, kFill);
     const auto report = M::Kinematics(params, q, M::kDefaultModes, &st, &out);
     const mechgen::ViewSolveReport r =
         v.Kinematics(p.data(), qf.data(), M::kDefaultModes.data(), st_view.data(), out_view.data());
