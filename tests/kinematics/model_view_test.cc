@@ -290,12 +290,18 @@ TYPED_TEST(ModelViewTest, SizesNamesConstantsAndFlagsAreTheModels) {
   EXPECT_EQ(v.Drawing != nullptr, M::kHasDrawing);
   EXPECT_EQ(v.CamProfile != nullptr, M::kHasCamProfile);
   EXPECT_EQ(v.AppliedLoads != nullptr, M::kHasAppliedLoads);
-  // The maxima hold the model (the generated static_assert says so at compile time).
-  EXPECT_LE(M::kNq, ModelView::kMaxQ);
-  EXPECT_LE(M::kNphi, ModelView::kMaxPhi);
-  EXPECT_LE(v.num_params, ModelView::kMaxParams);
+  // The maxima of a runtime compiled once hold every shipped model, and the view says so.
+  bool fits = M::kNq <= ModelView::kMaxQ && M::kNphi <= ModelView::kMaxPhi && M::kNumPoints <= ModelView::kMaxPoints &&
+              M::kNumLinks <= ModelView::kMaxLinks && v.num_joints <= ModelView::kMaxJoints &&
+              M::kNumScenePoints <= ModelView::kMaxScenePoints && M::kNumBlocks <= ModelView::kMaxBlocks &&
+              v.num_params <= ModelView::kMaxParams && v.num_reactions <= ModelView::kMaxReactions &&
+              v.num_friction <= ModelView::kMaxFriction && v.num_design <= ModelView::kMaxDesign &&
+              v.num_design_checks <= ModelView::kMaxDesignChecks &&
+              M::kNumTransmissionAngles <= ModelView::kMaxTransmissionAngles;
   for (int s = 0; s < static_cast<int>(ViewStruct::kCount); ++s)
-    EXPECT_LE(v.structs[s].size, ModelView::kMaxStructSize[s]) << s;
+    fits = fits && v.structs[s].size <= ModelView::kMaxStructSize[s];
+  EXPECT_TRUE(fits);
+  EXPECT_TRUE(v.fits_maxima);
 }
 
 // Each struct's layout: members one after the other from 0, each rows x cols, the size the sum;
