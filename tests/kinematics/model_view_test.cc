@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <set>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -93,6 +94,13 @@ void ExpectArray(const T* view, const std::array<T, N>& model, const char* what)
   for (size_t i = 0; i < N; ++i) EXPECT_EQ(view[i], model[i]) << what << "[" << i << "]";
 }
 
+// The struct members compared (struct, member), so that a test can require every member of
+// every struct a model has to have been compared.
+std::set<std::pair<std::string, std::string>>& Compared() {
+  static std::set<std::pair<std::string, std::string>> compared;
+  return compared;
+}
+
 // The buffer `flat` of a view struct against the fixed-size struct's member `value`: the member
 // found by name, its shape, every entry bit for bit.
 template <int R, int C, int O, int MR, int MC>
@@ -102,6 +110,7 @@ void ExpectMember(const ViewLayout& layout,
                   const Eigen::Matrix<double, R, C, O, MR, MC>& value) {
   const mechgen::ViewMember* m = mechgen::FindMember(layout, name);
   ASSERT_NE(m, nullptr) << layout.name << " has no member " << name;
+  Compared().insert({layout.name, name});
   ASSERT_EQ(m->rows, R) << layout.name << "::" << name;
   ASSERT_EQ(m->cols, C) << layout.name << "::" << name;
   ASSERT_LE(m->offset + R * C, layout.size);
@@ -855,6 +864,7 @@ void CompareAt(const ModelView& v,
 TYPED_TEST(ModelViewTest, EveryFunctionGivesTheFixedSizeFunctionsOutputsToTheBit) {
   using M = TypeParam;
   const ModelView& v = ViewOfModel<M>();
+  Compared().clear();
   for (double perturb : {0.0, 1e-5}) {
     SCOPED_TRACE("parameters scaled by " + std::to_string(perturb) + " per index");
     std::vector<double> p;
@@ -876,6 +886,11 @@ TYPED_TEST(ModelViewTest, EveryFunctionGivesTheFixedSizeFunctionsOutputsToTheBit
       CompareAt<M>(v, p, params, configs[i]);
     }
   }
+  // Every member of every struct the model has was compared.
+  for (const ViewLayout& l : v.structs)
+    for (int i = 0; i < l.num_members; ++i)
+      EXPECT_EQ(Compared().count({l.name, l.members[i].name}), 1u)
+          << l.name << "::" << l.members[i].name << " was not compared";
 }
 
 }  // namespace
