@@ -17,8 +17,10 @@
  *    (Coefficients, Trig, Statics, ...) as one buffer whose members ViewLayout describes (name,
  *    rows, cols, offset), so that a reader finds a member by its name (FindMember), never by its
  *    C++ spelling. Each function behaves as the generated one does on the structs its buffers
- *    hold: what it does not write keeps the buffer's value; a pointer the generated function
- *    accepts as nullptr may be nullptr here.
+ *    hold: an output buffer is read in before the call, so what the function does not write
+ *    keeps the buffer's value (Stiffness after Forces in one Statics buffer), and a buffer is to
+ *    be initialized once before its first use; a pointer the generated function accepts as
+ *    nullptr may be nullptr here.
  *
  * The generated functions stay as they are (fixed-size Eigen, templates on the scalar); the view
  * maps its arrays onto them, calls them for double and copies the results out (the same
