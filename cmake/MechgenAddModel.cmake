@@ -5,7 +5,8 @@
 # templates or the mechgen program change) and defines:
 #   mechgen_model_<name>   a static library (alias mechgen::model_<name>) whose include
 #                          directory holds <name>.h; link a product against it. It needs
-#                          Eigen only.
+#                          Eigen only (and mechgen/core/model_view.h for its model view,
+#                          mech::<name>::View(), compiled from <name>_view.cc).
 # and the model's command-line tools (runtime/tools/*_main.cc compiled against <name>.h):
 #   <name>_sweep           the sweep command (positions, K, L, points over the inputs' range;
 #                          table, CSV, SVG). Needs mechgen::runtime_ceres (Ceres).
@@ -169,17 +170,20 @@ function(mechgen_add_model name model)
     list(APPEND gen_deps mechgen)
   endif()
   add_custom_command(
-    OUTPUT "${out_dir}/${name}.h" "${out_dir}/${name}.cc" "${manifest}"
+    OUTPUT "${out_dir}/${name}.h" "${out_dir}/${name}.cc" "${out_dir}/${name}_view.cc" "${manifest}"
     COMMAND "${MECHGEN_EXECUTABLE}" generate "${model_abs}" --name "${name}"
             --out-dir "${out_dir}" --templates "${MECHGEN_TEMPLATES_DIR}" ${strategy_args}
             --manifest "${manifest}"
     DEPENDS ${gen_deps}
     COMMENT "mechgen: generating ${name} from ${model}"
     VERBATIM)
-  add_library(mechgen_model_${name} STATIC "${out_dir}/${name}.cc" "${out_dir}/${name}.h")
+  # <name>_view.cc: the model view, mech::<name>::View() (mechgen/core/model_view.h, from
+  # mechgen::runtime's include directory: standard library only).
+  add_library(mechgen_model_${name} STATIC "${out_dir}/${name}.cc" "${out_dir}/${name}.h"
+                                           "${out_dir}/${name}_view.cc")
   add_library(mechgen::model_${name} ALIAS mechgen_model_${name})
   target_include_directories(mechgen_model_${name} PUBLIC "${out_dir}")
-  target_link_libraries(mechgen_model_${name} PUBLIC Eigen3::Eigen)
+  target_link_libraries(mechgen_model_${name} PUBLIC Eigen3::Eigen mechgen::runtime)
   target_compile_features(mechgen_model_${name} PUBLIC cxx_std_17)
   if(ARG_NO_SWEEP OR NOT MECHGEN_BUILD_SWEEPS)
     return()

@@ -10,10 +10,12 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "codegen/drawing.h"
 #include "codegen/output_spec.h"
 #include "codegen/sha256.h"
+#include "model/reader.h"
 #include "symbolic/statics.h"
 
 #ifndef MECHGEN_VERSION
@@ -242,6 +244,126 @@ mus::data ArgList(const FunctionSpec& f, const std::string& scalar, bool default
 }
 
 std::string Spaces(size_t n) { return std::string(n, ' '); }
+
+bool StartsWith(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// How the model view (templates/mechanism_view.cc.mustache) passes one argument of a Model
+// function: its type in the view's signature (core/model_view.h), the lines before the call
+// (the array copied into the fixed-size type), what the call gets, the lines after it (the
+// result copied back). Every pointer may be nullptr (it stays nullptr); an output's buffer is
+// read before the call, so that what the function does not write keeps its value, as in the
+// struct the buffer stands for.
+struct FlatArgument {
+  std::string type;
+  std::vector<std::string> before, after;
+  std::string pass;
+};
+
+FlatArgument Flatten(const Argument& a, const std::string& scalar) {
+  const std::string type = WithScalar(a.type, scalar, "double");
+  const std::string& n = a.name;
+  const std::string local = n + "_";
+  auto array = [](const std::string& core, bool in) {
+    return std::string(in ? "const " : "") + (StartsWith(core, "std::array<int,") ? "int*" : "double*");
+  };
+  if (type == "const Params<double>&")
+    return {"const double*", {"const Params<double> " + local + " = GetParams(" + n + ");"}, {}, local};
+  if (type == "int") return {"int", {}, {}, n};
+  if (type == "const double&") return {"double", {}, {}, n};
+  if (StartsWith(type, "const typename NonDeduced<") && EndsWith(type, ">::type*")) {  // an input, or nullptr
+    const std::string core = type.substr(26, type.size() - 26 - 8);
+    return {array(core, true),
+            {core + " " + local + ";", "if (" + n + " != nullptr) Get(" + n + ", &" + local + ");"},
+            {},
+            n + " != nullptr ? &" + local + " : nullptr"};
+  }
+  if (StartsWith(type, "const ") && EndsWith(type, "&")) {  // an input
+    const std::string core = type.substr(6, type.size() - 7);
+    return {array(core, true), {core + " " + local + ";", "Get(" + n + ", &" + local + ");"}, {}, local};
+  }
+  std::string core;  // an output (or input and output)
+  if (StartsWith(type, "Out<") && EndsWith(type, ">"))
+    core = type.substr(4, type.size() - 5);
+  else if (EndsWith(type, "*") && !StartsWith(type, "const "))
+    core = type.substr(0, type.size() - 1);
+  else
+    throw std::runtime_error("the model view cannot pass argument '" + n + "' of type " + a.type +
+                             " (codegen/emit.cc: Flatten)");
+  return {array(core, false),
+          {core + " " + local + ";", "if (" + n + " != nullptr) Get(" + n + ", &" + local + ");"},
+          {"if (" + n + " != nullptr) Put(" + local + ", " + n + ");"},
+          n + " != nullptr ? &" + local + " : nullptr"};
+}
+
+// The model view's adapter of one Model function: Flat<member>(flat arrays), which calls
+// Model::<member> on the fixed-size types.
+mus::data ViewFunction(const FunctionSpec& f) {
+  std::string returns;
+  if (f.returns == "void")
+    returns = "void";
+  else if (f.returns == "SolveReport<" + f.scalar + ">")
+    returns = "mechgen::ViewSolveReport";
+  else
+    throw std::runtime_error("the model view cannot return " + f.returns + " (" + f.name + ", codegen/emit.cc)");
+  mus::data args{mus::data::type::list}, lines{mus::data::type::list};
+  std::vector<std::string> before, after, pass;
+  for (size_t i = 0; i < f.args.size(); ++i) {
+    const FlatArgument flat = Flatten(f.args[i], f.scalar);
+    mus::data o{mus::data::type::object};
+    o.set("arg_type", flat.type);
+    o.set("arg_name", f.args[i].name);
+    o.set("first", Bool(i == 0));
+    args.push_back(o);
+    before.insert(before.end(), flat.before.begin(), flat.before.end());
+    after.insert(after.end(), flat.after.begin(), flat.after.end());
+    pass.push_back(flat.pass);
+  }
+  // The call on one line, or one argument a line under the first where that is over 100 columns.
+  auto call = [&f, &pass](const std::string& head) {
+    const std::string open = head + "Model::" + f.model_member + "(";
+    std::string line = open;
+    for (size_t i = 0; i < pass.size(); ++i) line += (i ? ", " : "") + pass[i];
+    if (2 + line.size() + 2 <= 100) return line + ");";
+    line = open;
+    for (size_t i = 0; i < pass.size(); ++i) line += (i ? ",\n" + Spaces(2 + open.size()) : "") + pass[i];
+    return line + ");";
+  };
+  std::vector<std::string> body = before;
+  if (returns == "void") {
+    body.push_back(call(""));
+    body.insert(body.end(), after.begin(), after.end());
+  } else {
+    body.push_back(call("const SolveReport<double> report = "));
+    body.insert(body.end(), after.begin(), after.end());
+    body.push_back("return Report(report);");
+  }
+  for (const std::string& l : body) {
+    mus::data o{mus::data::type::object};
+    o.set("line", l);
+    lines.push_back(o);
+  }
+  mus::data o{mus::data::type::object};
+  o.set("member", f.model_member);
+  o.set("returns", returns);
+  o.set("indent", Spaces(returns.size() + 6 + f.model_member.size()));
+  o.set("args", args);
+  o.set("lines", lines);
+  return o;
+}
+
+// The names of a struct member description ("T, V, P_nc": three members).
+std::vector<std::string> MemberNames(const std::string& names) {
+  std::vector<std::string> out;
+  std::istringstream in(names);
+  for (std::string n; std::getline(in, n, ',');) {
+    n.erase(0, n.find_first_not_of(' '));
+    out.push_back(n);
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -539,11 +661,13 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
     list->push_back(o);
   };
   auto flag = [&flags, &flag_to](const OutputFlag& f) { flag_to(&flags, f); };
-  for (const OutputFlag* f : model_flags.All()) flag_to(&other_flags, *f);
+  mus::data flags_all{mus::data::type::list};  // every flag in the header's order (the model view's)
+  for (const OutputFlag* f : model_flags.All()) flag_to(&other_flags, *f), flag_to(&flags_all, *f);
   data.SetData("model_flags", other_flags, {"flag_name", "flag_doc", "flag_value"});
   for (const OutputSpec& spec : OutputSpecs(m, table, functions)) {
     flag(spec.flag);
-    for (const OutputFlag& f : spec.member_flags) flag(f);
+    flag_to(&flags_all, spec.flag);
+    for (const OutputFlag& f : spec.member_flags) flag(f), flag_to(&flags_all, f);
     if (!spec.present()) continue;
     mus::data o{mus::data::type::object}, members{mus::data::type::list};
     o.set("struct_name", spec.name);
@@ -595,8 +719,71 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   if (!statics.any) constants.clear();
   data.Set("statics_constants", constants);
 
+  // ---- The model view (core/model_view.h): its structs, parameters and functions ----
+  mus::data view_structs{mus::data::type::list}, view_functions{mus::data::type::list};
+  for (const OutputSpec& spec : ViewStructSpecs(m, table, functions)) {
+    if (!spec.present()) continue;
+    mus::data o{mus::data::type::object}, members{mus::data::type::list};
+    int index = 0;
+    for (const OutputMember& mem : spec.members) {
+      if (!mem.present) continue;
+      for (const std::string& n : MemberNames(mem.names)) {
+        mus::data mo{mus::data::type::object};
+        mo.set("member_name", n);
+        mo.set("index", std::to_string(index++));
+        members.push_back(mo);
+      }
+    }
+    o.set("struct_name", spec.name);
+    o.set("num_members", std::to_string(index));
+    o.set("struct_members", members);
+    view_structs.push_back(o);
+  }
+  data.SetData("view_structs", view_structs, {"struct_name", "num_members", "struct_members", "member_name", "index"});
+  for (const FunctionSpec& f : functions)
+    if (!f.model_member.empty()) view_functions.push_back(ViewFunction(f));
+  data.SetData("view_functions", view_functions,
+               {"member", "returns", "indent", "args", "arg_type", "arg_name", "first", "lines", "line"});
+  std::vector<std::map<std::string, std::string>> view_params, view_derived;
+  CxxPrinter flat;  // the parameters as the view's flat array p[i]
+  for (size_t i = 0; i < m.params.size(); ++i) {
+    view_params.push_back({{"name", m.params[i].name}, {"index", std::to_string(i)}});
+    flat.Name(m.params[i].symbol, "p[" + std::to_string(i) + "]");
+  }
+  FunctionSpec fill;
+  fill.args = {Arg("double*", "p", Argument::Direction::kInOut, "")};
+  fill.count_ops = false;
+  fill.body.emplace_back();
+  for (size_t i = 0; i < m.derived.size(); ++i) {
+    const DerivedParameter& d = m.derived[i];
+    view_derived.push_back(
+        {{"name", d.name},
+         {"value", Number(ValueAtDefaults(m, d.value, d.mark, "derived parameter '" + d.name + "'"))}});
+    fill.body[0].push_back(Store("p[" + std::to_string(m.params.size() + i) + "]", d.value));
+  }
+  data.SetList("view_params", view_params, {"name", "index"});
+  data.SetList("view_derived", view_derived, {"name", "value"});
+  data.Set("num_view_params", static_cast<int>(m.params.size() + m.derived.size()));
+  data.Set("num_free_params", static_cast<int>(m.params.size()));
+  const std::string fill_body = RenderBody(fill, &flat, nullptr);
+  data.Set("fill_derived_body", (Mentions(StripComments(fill_body), "Scalar")
+                                     ? "  using Scalar = double;  // the printer's literals: Scalar(2)\n"
+                                     : "") +
+                                    fill_body);
+  data.Set("num_joints", static_cast<int>(m.joints.size()));
+  data.Set("view_joint_names", Join(m.joints, [](const Joint& j) { return Quote(j.name); }));
+  data.Set("num_loads", static_cast<int>(m.loads.size()));
+  data.Set("view_load_names", Join(m.loads, [](const Load& l) { return Quote(l.name); }));
+  data.Set("has_statics", statics.any);
+  data.Set("has_switches", num_switches > 0);
+  data.Set("has_design", m.design.any());
+  data.Set("has_drawing", !DrawingConstants(m, k).empty());
+  data.Set("has_applied_loads", model_flags.applied_loads.value);
+  data.SetData("view_flags", flags_all, {"flag_name"});
+
   out.header = data.Render(templates_dir + "/mechanism.h.mustache");
   out.source = data.Render(templates_dir + "/mechanism.cc.mustache");
+  out.view = data.Render(templates_dir + "/mechanism_view.cc.mustache");
   return out;
 }
 
@@ -609,8 +796,8 @@ bool WriteFiles(const std::string& dir, const std::string& name, const EmittedMo
     *error = "cannot create directory " + dir + ": " + ec.message();
     return false;
   }
-  const std::pair<std::string, const std::string*> files[] = {{name + ".h", &e.header},
-                                                              {name + ".cc", &e.source}};
+  const std::pair<std::string, const std::string*> files[] = {
+      {name + ".h", &e.header}, {name + ".cc", &e.source}, {name + "_view.cc", &e.view}};
   // Files that already hold these bytes are left alone (their time stamps too): the build's
   // restat then skips recompiling every model when only mechgen itself changed.
   bool unchanged = true;

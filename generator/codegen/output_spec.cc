@@ -453,4 +453,27 @@ std::vector<OutputSpec> OutputSpecs(const Model& m,
           DesignOutput(m, t, functions), StaticsDesignOutput(m, functions), DynamicsDesignOutput(functions)};
 }
 
+std::vector<OutputSpec> ViewStructSpecs(const Model& m,
+                                        const SymbolicTable& t,
+                                        const std::vector<FunctionSpec>& functions) {
+  const ModelFlags f = ModelFlagsOf(m, t, functions);
+  OutputSpec coefficients = Output("Coefficients", true, "", {});
+  coefficients.members = {
+      Member("Vec<Scalar, Sizes::kNc>", "Phi", {}),
+      Member("Mat<Scalar, Sizes::kNc, Sizes::kNphi>", "Phi_phi", {}),
+      Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq>", "K", {}, "", f.K.name, f.K.value),
+      Member("Mat<Scalar, Sizes::kNphi, Sizes::kNq * Sizes::kNq>", "L", {}, "", f.L.name, f.L.value),
+      Member("Mat<Scalar, 2, Sizes::kNumPoints>", "r_P", {}, "", f.points.name, f.points.value),
+      Member("Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq>", "K_P", {}, "", f.point_velocities.name,
+             f.point_velocities.value),
+      Member("Mat<Scalar, 2 * Sizes::kNumPoints, Sizes::kNq * Sizes::kNq>", "L_P", {}, "", f.point_accelerations.name,
+             f.point_accelerations.value),
+  };
+  OutputSpec trig = Output("Trig", true, "", {});
+  trig.members = {Member(kVecNq, "sin_q, cos_q", {}), Member("Vec<Scalar, Sizes::kNphi>", "sin_phi, cos_phi", {})};
+  std::vector<OutputSpec> specs = {coefficients, trig};
+  for (OutputSpec& o : OutputSpecs(m, t, functions)) specs.push_back(std::move(o));
+  return specs;
+}
+
 }  // namespace mechgen

@@ -99,4 +99,12 @@ std::vector<std::string> RenderedDoc(const OutputMember& member);
 /// functions (an output is present where the function that fills it is generated).
 std::vector<OutputSpec> OutputSpecs(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions);
 
+/// The structs of the model view (runtime/include/mechgen/core/model_view.h: ViewStruct, in its
+/// order, each named as its enumerator without the k): Coefficients and Trig (whose text the
+/// header template holds; members and presence only), then OutputSpecs. The view lays out each
+/// present member of each present struct in one buffer.
+std::vector<OutputSpec> ViewStructSpecs(const Model& m,
+                                        const SymbolicTable& t,
+                                        const std::vector<FunctionSpec>& functions);
+
 }  // namespace mechgen

@@ -77,7 +77,7 @@ TEST(GeneratedFiles, MatchWhatTheGeneratorProducesNow) {
     const Result r = RunMechgen("generate " + (kSource / "models" / (model + ".yaml")).string() +
                          " --quiet --out-dir " + out.path().string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    for (const char* ext : {".h", ".cc"}) {
+    for (const char* ext : {".h", ".cc", "_view.cc"}) {
       const fs::path committed = kSource / "generated" / (model + ext);
       ASSERT_TRUE(fs::exists(committed)) << committed << " is missing: run the regenerate target";
       EXPECT_EQ(Slurp(out.path() / (model + ext)), Slurp(committed))
@@ -96,7 +96,8 @@ TEST(GeneratedFiles, SameBytesOnEveryRun) {
       const Result r = RunMechgen("generate " + (kSource / "models" / (model + ".yaml")).string() +
                            " --quiet --out-dir " + out.path().string());
       ASSERT_EQ(r.exit_code, 0) << r.output;
-      const std::string text = Slurp(out.path() / (model + ".h")) + Slurp(out.path() / (model + ".cc"));
+      const std::string text = Slurp(out.path() / (model + ".h")) + Slurp(out.path() / (model + ".cc")) +
+                               Slurp(out.path() / (model + "_view.cc"));
       if (run == 0)
         first = text;
       else
