@@ -262,7 +262,8 @@ void FlatForces(const double* p,
                 const double* c,
                 double* out,
                 const double* friction,
-                const double* trig) {
+                const double* trig,
+                const double* /*velocities*/) {
   const Params<double> p_ = GetParams(p);
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);

@@ -371,7 +371,8 @@ void FlatForces(const double* p,
                 const double* c,
                 double* out,
                 const double* friction,
-                const double* trig) {
+                const double* trig,
+                const double* velocities) {
   const Params<double> p_ = GetParams(p);
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
@@ -385,13 +386,16 @@ void FlatForces(const double* p,
   if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig, &trig_);
+  Vec<double, Sizes::kNq> velocities_;
+  if (velocities != nullptr) Get(velocities, &velocities_);
   Model::Forces(p_,
                 q_,
                 phi_,
                 c_,
                 out != nullptr ? &out_ : nullptr,
                 friction != nullptr ? &friction_ : nullptr,
-                trig != nullptr ? &trig_ : nullptr);
+                trig != nullptr ? &trig_ : nullptr,
+                velocities != nullptr ? &velocities_ : nullptr);
   if (out != nullptr) Put(out_, out);
 }
 
@@ -757,6 +761,8 @@ constexpr mechgen::ModelView MakeView() {
   v.reaction_joints = Model::kReactionJoint.data();
   v.friction_joints = Model::kFrictionJoints.data();
   v.friction_prismatic = Model::kFrictionPrismatic.data();
+  v.num_statics_at_speed = Model::kNumStaticsAtSpeed;
+  v.statics_at_speed = Model::kStaticsAtSpeed.data();
   v.num_switches = Model::kNumSwitches;
   v.num_draw_joints = Model::kNumDrawJoints;
   v.num_draw_values = Model::kNumDrawValues;

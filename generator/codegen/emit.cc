@@ -310,6 +310,7 @@ mus::data ViewFunction(const FunctionSpec& f) {
     throw std::runtime_error("the model view cannot return " + f.returns + " (" + f.name + ", codegen/emit.cc)");
   mus::data args{mus::data::type::list}, lines{mus::data::type::list};
   std::vector<std::string> before, after, pass;
+  bool has_velocities = false;
   for (size_t i = 0; i < f.args.size(); ++i) {
     const FlatArgument flat = Flatten(f.args[i], f.scalar);
     mus::data o{mus::data::type::object};
@@ -320,6 +321,16 @@ mus::data ViewFunction(const FunctionSpec& f) {
     before.insert(before.end(), flat.before.begin(), flat.before.end());
     after.insert(after.end(), flat.after.begin(), flat.after.end());
     pass.push_back(flat.pass);
+    has_velocities = has_velocities || f.args[i].name == "velocities";
+  }
+  // One signature for every model (ModelView::Forces): a model whose loads read no velocity
+  // takes the statics' `velocities` and has nothing to read from it.
+  if (f.model_member == "Forces" && !has_velocities) {
+    mus::data o{mus::data::type::object};
+    o.set("arg_type", std::string("const double*"));
+    o.set("arg_name", std::string("/*velocities*/"));
+    o.set("first", Bool(false));
+    args.push_back(o);
   }
   // The call on one line, or one argument a line under the first where that is over 100 columns.
   auto call = [&f, &pass](const std::string& head) {
@@ -774,6 +785,12 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.Set("view_joint_names", Join(m.joints, [](const Joint& j) { return Quote(j.name); }));
   data.Set("num_loads", static_cast<int>(m.loads.size()));
   data.Set("view_load_names", Join(m.loads, [](const Load& l) { return Quote(l.name); }));
+  // Model::kStaticsAtSpeed: the statics' Forces takes `velocities` (codegen/statics_functions.cc).
+  bool statics_at_speed = false;
+  for (const FunctionSpec& f : functions)
+    if (f.model_member == "Forces")
+      for (const Argument& a : f.args) statics_at_speed = statics_at_speed || a.name == "velocities";
+  data.Set("has_statics_at_speed", statics_at_speed);
   data.Set("has_statics", statics.any);
   data.Set("has_switches", num_switches > 0);
   data.Set("has_design", m.design.any());

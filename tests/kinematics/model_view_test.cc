@@ -46,6 +46,7 @@ DETECT(kNumDrawJoints)
 DETECT(kNumAppliedLoads)
 DETECT(kNumNamedModes)
 DETECT(kNumChangePoints)
+DETECT(kStaticsAtSpeed)
 #undef DETECT
 #define DETECT_FUNCTION(Name)               \
   template <class M, class = void>          \
@@ -648,16 +649,26 @@ void CompareAt(const ModelView& v,
     };
     S s = Filled<M, S>();
     std::vector<double> s_view = Buffer(v, ViewStruct::kStatics, kFill);
-    if constexpr (M::kHasTrig) {
+    // A model whose statics read a velocity (kStaticsAtSpeed) takes them at qd, and its view
+    // too; the others' views ignore the velocities.
+    if constexpr (Has_kStaticsAtSpeed<M>::value) {
+      M::Forces(params, q, phi, coeffs, &s, with_friction ? &friction : nullptr, M::kHasTrig ? &trig : nullptr, &qd);
+    } else if constexpr (M::kHasTrig) {
       M::Forces(params, q, phi, coeffs, &s, with_friction ? &friction : nullptr, &trig);
     } else {
       M::Forces(params, q, phi, coeffs, &s, with_friction ? &friction : nullptr);
     }
     v.Forces(p.data(), qf.data(), phif.data(), coeffs_view.data(), s_view.data(),
-             with_friction ? friction_view.data() : nullptr, M::kHasTrig ? trig_view.data() : nullptr);
+             with_friction ? friction_view.data() : nullptr, M::kHasTrig ? trig_view.data() : nullptr, qdf.data());
     {
       SCOPED_TRACE("Forces");
       compare(s_view, s);
+    }
+    if constexpr (Has_kStaticsAtSpeed<M>::value) {
+      EXPECT_EQ(v.num_statics_at_speed, M::kNumStaticsAtSpeed);
+      for (int i = 0; i < M::kNumStaticsAtSpeed; ++i) EXPECT_STREQ(v.statics_at_speed[i], M::kStaticsAtSpeed[static_cast<size_t>(i)]);
+    } else {
+      EXPECT_EQ(v.num_statics_at_speed, 0);
     }
     if constexpr (HasFn_Stiffness<M>::value) {
       M::Stiffness(params, q, phi, coeffs, &s);

@@ -43,7 +43,7 @@ namespace mechgen {
 
 /// Changes whenever ModelView's layout does: a view compiled against another layout is refused
 /// (ModelView::layout, ModelView::size).
-inline constexpr int kModelViewLayout = 1;
+inline constexpr int kModelViewLayout = 2;
 
 /// The C entry point of a model compiled with MECHGEN_VIEW_ENTRY (one fixed name: one model per
 /// shared object; statically linked models are reached through mech::<name>::View()).
@@ -225,6 +225,7 @@ struct ModelView {
   int num_transmission_angles = 0;
   int num_reactions = 0;     ///< kNumReactions (with statics)
   int num_friction = 0;      ///< kNumFriction (with statics)
+  int num_statics_at_speed = 0;  ///< kNumStaticsAtSpeed: what in the statics reads a velocity
   int num_loads = 0;         ///< the model's loads
   int num_switches = 0;      ///< kNumSwitches (with SwitchModes)
   int num_design = 0;        ///< kNumDesign (with a design section)
@@ -262,6 +263,9 @@ struct ModelView {
   const int* reaction_joints = nullptr;          ///< kReactionJoint (index into joint_names)
   const char* const* friction_joints = nullptr;  ///< kFrictionJoints
   const bool* friction_prismatic = nullptr;      ///< kFrictionPrismatic
+  /// kStaticsAtSpeed (num_statics_at_speed): the loads that read a velocity, the dampers and the
+  /// viscous friction, which Forces takes at `velocities` ("damper 'pump'", ...).
+  const char* const* statics_at_speed = nullptr;
   const char* const* load_names = nullptr;       ///< kLoadNames (num_loads)
   const char* const* design_names = nullptr;     ///< kDesignNames (num_design)
   const char* const* design_check_names = nullptr;  ///< kDesignCheckNames
@@ -309,8 +313,10 @@ struct ModelView {
   void (*Drawing)(const double* p, const double* q, const double* phi, double* frames, double* values) = nullptr;
   void (*CamProfile)(const double* p, int joint, double t, double* r) = nullptr;
   void (*AppliedLoads)(const double* p, const double* q, const double* phi, double* out) = nullptr;
+  /// velocities (nq; nullptr: at rest): the input speeds at which the loads that read a
+  /// velocity (statics_at_speed) are taken; a model with none ignores it.
   void (*Forces)(const double* p, const double* q, const double* phi, const double* c, double* out,
-                 const double* friction, const double* trig) = nullptr;
+                 const double* friction, const double* trig, const double* velocities) = nullptr;
   void (*Stiffness)(const double* p, const double* q, const double* phi, const double* c, double* out) = nullptr;
   void (*Dynamics)(const double* p, const double* q, const double* phi, const double* qd, double t, const double* c,
                    double* out, const double* friction, const double* trig) = nullptr;
