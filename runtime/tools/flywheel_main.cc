@@ -133,14 +133,15 @@ int Run(int argc, char** argv) {
              "stderr; nothing written), the simulated check failed (the loop's CSV and pictures "
              "are still written: they do not depend on it) or an output cannot be written, 2 a "
              "usage error (one line on stderr), 3 the model does not assemble.");
-  double rpm = 60, cs = 0.02, slip = 0.05, steady_tol = 1e-7;
+  double rpm = 60, cs = 0.02, slip = 0.05, steady_fraction = fw::CheckOptions().steady_fraction;
+  double steady_tol = fw::CheckOptions::kNaN;  // given: instead of steady_fraction C_s
   std::string theta0_text, cycle_text, motor = "constant", csv_path, png_path, svg_path;
   std::vector<std::string> break_texts;
   int samples = 720, check_samples = 720, max_cycles = 400;
   bool no_check = false, check = false;
   tools::Number(&app, "--rpm", &rpm, tools::Between(1e-3, 1e6),
                 "the mean speed of the input (rev/min)");
-  tools::Number(&app, "--cs", &cs, tools::NumberRange{0, 0.5, true, false},
+  tools::Number(&app, "--cs", &cs, tools::NumberRange{fw::kMinSpeedFluctuation, 0.5, false, true},
                 "the coefficient of speed fluctuation C_s = (w_max - w_min)/w_mean to size for");
   tools::Count(&app, "--samples", &samples, 8, 10000000,
                "samples of the cycle (equal angle steps; the energy loop's accuracy: see --help "
@@ -169,10 +170,18 @@ int Run(int argc, char** argv) {
   tools::Count(&app, "--check-samples", &check_samples, 16, 1000000,
                "the check's speed samples per cycle (equal time steps)");
   tools::Count(&app, "--max-cycles", &max_cycles, 3, 100000,
-               "the check gives up without a steady cycle after this many cycles");
-  tools::Number(&app, "--steady-tol", &steady_tol, tools::Between(1e-12, 1e-2),
-                "the check's steady state: the cycle-mean speed changing by less than this, "
-                "relative, two cycles in a row");
+               "the check gives up without a steady cycle after this many cycles, or after 10 "
+               "settling times (the machine's inertia with the flywheel over the slope of the mean "
+               "load and motor torque against the speed) when that is longer (at most 100000)");
+  CLI::Option* steady_fraction_option = tools::Number(&app, "--steady-fraction", &steady_fraction, tools::Between(1e-6, 0.1),
+                "the check's steady state: the cycle-mean speed changing per cycle, relative, by "
+                "less than this fraction of the C_s the flywheel is expected to give, two cycles in "
+                "a row (the drift inside the measured cycle is then that fraction of its "
+                "w_max - w_min)");
+  app.add_option("--steady-tol", steady_tol,
+                 "instead of --steady-fraction: this relative change of the cycle-mean speed per "
+                 "cycle, two cycles in a row")
+      ->check(tools::NumberValidator(tools::Between(1e-12, 1e-2)));
   bool design = false;
   app.add_flag("--design", design,
                "also the design sensitivities (the model's `design` section): d/dp of the mean "
@@ -185,6 +194,12 @@ int Run(int argc, char** argv) {
   tools::AddParameterOptions(&app, &parameter_options);
   if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
   if (check && no_check) return tools::UsageError(tool, "--check and --no-check: choose one");
+  if (!std::isnan(steady_tol) && steady_fraction_option->count() > 0)
+    return tools::UsageError(tool, "--steady-tol and --steady-fraction: choose one");
+  if (static_cast<double>(check_samples) * max_cycles > mechgen::dynamics::MinimalOptions().max_samples)
+    return tools::UsageError(tool, "--check-samples x --max-cycles: at most " +
+                                       tools::FormatNumber(mechgen::dynamics::MinimalOptions().max_samples) +
+                                       " speed samples in the check (the simulator's limit)");
   if (design && !mechgen::HasDesignDerivatives<M>::value)
     return tools::UsageError(tool, "--design: the model has no `design` section (the parameters to "
                                    "differentiate by); add one, e.g. `design: {parameters: all}`");
@@ -262,10 +277,14 @@ int Run(int argc, char** argv) {
               machine.has_dynamics ? "; statics + inertia torque (dynamics)" : "; statics only (massless)");
   if (const std::string changed = tools::ChangedParameters(params); !changed.empty())
     std::printf("parameters set: %s\n", changed.c_str());
-  std::printf("  required torque T_req: mean %.9g N m (the constant motor torque), max %.6g N m at "
+  std::printf("  required torque T_req: mean %.9g N m (the constant motor torque%s), max %.6g N m at "
               "%.6g deg, min %.6g N m at %.6g deg\n",
-              machine.T_mean, machine.T_max, machine.theta_T_max * kRadToDeg, machine.T_min,
-              machine.theta_T_min * kRadToDeg);
+              machine.T_mean,
+              machine.zero_mean ? (": zero to rounding, |mean| <= " + tools::FormatNumber(machine.T_mean_rounding) +
+                                   " N m; the loads do no net work")
+                                      .c_str()
+                                : "",
+              machine.T_max, machine.theta_T_max * kRadToDeg, machine.T_min, machine.theta_T_min * kRadToDeg);
   std::printf("  work per cycle %.9g J; mean power %.6g W\n", machine.work, machine.T_mean * machine.omega);
   std::printf("  energy loop: E_max = %.9g J at %.6g deg, E_min = %.9g J at %.6g deg; dE = %.9g J\n",
               loop.E_max, loop.theta_max * kRadToDeg, loop.E_min, loop.theta_min * kRadToDeg,
@@ -280,6 +299,12 @@ int Run(int argc, char** argv) {
                        " too close to another break (second order there: use more samples)")
                           .c_str()
                     : "");
+  }
+  if (!std::isfinite(size.I_required) || !std::isfinite(size.I_flywheel)) {
+    std::cerr << "error: the flywheel for C_s = " << tools::FormatNumber(cs) << " is beyond the range of numbers: dE = "
+              << tools::FormatNumber(loop.delta_E) << " J over C_s w_m^2 = " << tools::FormatNumber(cs * machine.omega * machine.omega)
+              << " (change --cs or --rpm)\n";
+    return 1;
   }
   std::printf("  C_s = %.6g: I = dE/(C_s w_m^2) = %.9g kg m^2", cs, size.I_required);
   if (machine.has_dynamics) {
@@ -322,6 +347,7 @@ int Run(int argc, char** argv) {
     co.slip = slip;
     co.samples_per_cycle = check_samples;
     co.max_cycles = max_cycles;
+    co.steady_fraction = steady_fraction;
     co.steady_tolerance = steady_tol;
     const fw::SimulatedCheck sim = fw::CheckBySimulation<M>(params, machine, size.I_flywheel, co);
     if (!sim.ok) {
@@ -335,6 +361,28 @@ int Run(int argc, char** argv) {
                   sim.cycles, sim.period, sim.trace.omega_min, sim.trace.omega_max,
                   sim.theta_at_max * kRadToDeg, sim.theta_at_min * kRadToDeg, sim.trace.omega_mid,
                   sim.trace.omega_mean);
+      // The settling time of the cycle-mean speed: I over the slope of the mean load and motor
+      // torque against the speed; beyond the run, or none, the mean speed only creeps.
+      std::string settling = "none (the slope of the mean load and motor torque against the speed is " +
+                             tools::FormatNumber(sim.slope) + " N m s/rad: a neutral cycle, its mean speed only creeps)";
+      if (std::isfinite(sim.settling_time)) {
+        settling = tools::FormatNumber(sim.settling_time) + " s (I over the slope " + tools::FormatNumber(sim.slope) +
+                   " N m s/rad of the mean load and motor torque against the speed)";
+        if (sim.settling_time > sim.cycles_limit * sim.period)
+          settling += ", far beyond the run: a near-neutral cycle, its mean speed only creeps";
+      }
+      std::printf("  steady: the cycle-mean speed changed by %.3g relative over the last cycle (tolerance %.3g "
+                  "%s); settling time %s\n",
+                  sim.last_change, sim.steady_tolerance,
+                  std::isnan(steady_tol)
+                      ? ("= " + tools::FormatNumber(steady_fraction) + " x the expected C_s " +
+                         tools::FormatNumber(sim.C_s_expected) +
+                         (sim.steady_tolerance < steady_fraction * sim.C_s_expected
+                              ? " / the settling time in cycles " + tools::FormatNumber(sim.settling_time / sim.period)
+                              : std::string()))
+                            .c_str()
+                      : "(--steady-tol)",
+                  settling.c_str());
       std::printf("  simulated C_s = %.6g against the asked %.6g (%+.3f %%; the energy loop is exact "
                   "to O(C_s) relative)\n",
                   sim.trace.C_s, cs, 100 * (sim.trace.C_s / cs - 1));

@@ -257,10 +257,47 @@ TEST(FlywheelFourbar, ALimitPositionInsideTheCycleIsAStatusWithItsAngle) {
   EXPECT_TRUE(c.points.empty());
   EXPECT_NEAR(c.failed_theta, limit, 1.5 * kDeg) << c.message;
   EXPECT_NE(c.message.find("theta = 1"), std::string::npos) << c.message;
-  // The same machine with its own crank turns: sized.
+  // The same machine with its own crank turns: sized (its loads do no net work: a zero mean).
   M::ParamsT<double> ok;
-  EXPECT_TRUE(fw::SampleMachineCycle<M>(ok, o).status == fw::CycleStatus::kOk ||
-              fw::SampleMachineCycle<M>(ok, o).status == fw::CycleStatus::kNoLoad);
+  EXPECT_EQ(fw::SampleMachineCycle<M>(ok, o).status, fw::CycleStatus::kOk);
+}
+
+// A conservative machine (issue 45 item 12): the loaded four-bar's loads are constant forces,
+// a constant torque on the rocker (which swings back), a spring and weights, and the massive
+// four-bar has weights and its inertia torque: none does net work over a turn, so the mean
+// required torque is zero but for rounding, of either sign by the sample count. Both signs
+// make the same decision: zero (|mean| within 8 eps N max|T|), sized with T_mean = 0 exactly.
+TEST(FlywheelConservative, AZeroMeanTorqueIsZeroWhicheverWayTheRoundingFalls) {
+  auto run = [](auto model, int* positive, int* negative) {
+    using M = decltype(model);
+    typename M::template ParamsT<double> p;
+    double delta_E = -1;
+    for (int n = 360; n < 400; ++n) {
+      fw::MachineCycleOptions o;
+      o.omega = 10;
+      o.samples = n;
+      const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+      ASSERT_TRUE(c.IsUsable()) << M::kName << " n = " << n << ": " << c.message;
+      EXPECT_TRUE(c.zero_mean) << M::kName << " n = " << n;
+      EXPECT_EQ(c.T_mean, 0.0);
+      EXPECT_EQ(c.work, 0.0);
+      EXPECT_LE(std::abs(c.loop.mean_torque), c.T_mean_rounding) << M::kName << " n = " << n;
+      EXPECT_GT(c.T_mean_rounding, 0);
+      EXPECT_LT(c.T_mean_rounding, 1e-9 * std::max(std::abs(c.T_max), std::abs(c.T_min)));
+      (c.loop.mean_torque > 0 ? *positive : *negative) += 1;
+      // The loop (its mean removed) and the flywheel do not depend on the rounding's sign.
+      if (delta_E < 0) delta_E = c.loop.delta_E;
+      EXPECT_NEAR(c.loop.delta_E, delta_E, 1e-6 * delta_E) << M::kName << " n = " << n;
+      EXPECT_GT(fw::SizeFlywheel(c, 0.05).I_required, 0);
+    }
+  };
+  int positive = 0, negative = 0;
+  run(mech::fourbar_loaded::Model(), &positive, &negative);
+  run(mech::fourbar_massive::Model(), &positive, &negative);
+  EXPECT_GT(positive, 0);  // both signs of rounding were met
+  EXPECT_GT(negative, 0);
+  // A mean negative beyond rounding (the shaper's cut reversed) stays refused:
+  // FlywheelShaper.StatusesNotNumbers.
 }
 
 // ---- the punch press by hand: s(theta) = a cos theta + sqrt(b^2 - a^2 sin^2 theta). ----
@@ -448,8 +485,9 @@ TEST(FlywheelPunchPress, SimulatedCheckAgreesToOrderCs) {
     ASSERT_TRUE(sim.ok) << sim.message;
     EXPECT_LT(std::abs(sim.last_change), 1e-5);  // the neutral cycle's creep per cycle
     // The energy loop assumes a constant inertia and the inertia torque at w_m: the simulated
-    // C_s agrees to O(C_s) relative (measured +0.0011 at C_s = 0.02 and +0.0028 at 0.05: about
-    // 0.056 C_s, linear in C_s).
+    // C_s agrees to O(C_s) relative (measured +0.0010 at C_s = 0.02 and +0.0032 at 0.05, the
+    // speed's extremes refined between the trace's samples: about 0.05-0.06 C_s; with 7200
+    // samples a cycle +0.0011 and +0.0033, the extremes' remaining error at the punch's kink).
     EXPECT_NEAR(sim.trace.C_s / C_s, 1, 0.1 * C_s) << "simulated " << sim.trace.C_s;
     EXPECT_GT(std::abs(sim.trace.C_s / C_s - 1), 0.02 * C_s);  // not exact: what the loop neglects
     // The speed is lowest right after the punch and highest before it.
@@ -491,6 +529,21 @@ TEST(FlywheelShaperCutting, TheCheckOfAHeavyFlywheelFindsItsSteadyCycle) {
   const fw::FlywheelSize f = fw::SizeFlywheel(c, C_s);
   ASSERT_TRUE(f.needed);
   EXPECT_GT(f.I_flywheel, 100 * c.I_mean);  // a heavy flywheel
+  // How the mean load grows with the speed: only through the table's band near the dead
+  // points, which narrows as the ram moves faster (a central difference of the mean torque of
+  // two cycles sampled at w_m (1 -+ 1e-3), their switches located anew: about 3e-5 N m s/rad).
+  // The sampled slope holds the switches where they are, so it sees the band only through the
+  // samples that fall in it; either way it is tiny against the shunt motor's.
+  {
+    fw::MachineCycleOptions lo = o, hi = o;
+    lo.omega *= 1 - 1e-3;
+    hi.omega *= 1 + 1e-3;
+    const double slope =
+        (fw::SampleMachineCycle<M>(p, hi).T_mean - fw::SampleMachineCycle<M>(p, lo).T_mean) / (2e-3 * o.omega);
+    EXPECT_GT(slope, 0);  // faster: a longer cut
+    EXPECT_LT(slope, 1e-3);
+    EXPECT_LT(std::abs(c.dT_mean_domega), 1e-3);
+  }
   for (fw::MotorLaw law : {fw::MotorLaw::kConstant, fw::MotorLaw::kShunt}) {
     fw::CheckOptions co;
     co.law = law;
@@ -499,16 +552,30 @@ TEST(FlywheelShaperCutting, TheCheckOfAHeavyFlywheelFindsItsSteadyCycle) {
     // Steady by what C_s needs: the cycle-mean speed changing per cycle by a small fraction
     // of the fluctuation asked for (so the drift within the measured cycle is that fraction
     // of its omega_max - omega_min), the tolerance stated in the result.
-    EXPECT_LT(sim.last_change, 1e-3 * C_s);
+    EXPECT_DOUBLE_EQ(sim.C_s_expected, C_s);
+    // (the shunt's settling time, about a cycle, divides it: what is left to go is about the
+    // change times the settling time in cycles; the constant motor's is beyond any run)
+    const double tau_cycles = law == fw::MotorLaw::kShunt ? sim.settling_time / (2 * kPi / o.omega) : 1.0;
+    EXPECT_NEAR(sim.steady_tolerance, co.steady_fraction * C_s / std::max(1.0, tau_cycles), 1e-15);
+    EXPECT_LT(sim.last_change, sim.steady_tolerance);
     // The measured cycle turns at the sized speed: its mean within C_s of w_m.
     EXPECT_NEAR(sim.trace.omega_mid, o.omega, C_s * o.omega) << fw::ToString(law);
+    // The energy loop's C_s to O(C_s) relative (constant inertia, the speed-dependent cut and
+    // the inertia torque taken at w_m; measured +0.19 % with the constant-torque motor). The
+    // shunt motor's damping b = T_stall/w_0 lowers each harmonic of the fluctuation but turns
+    // their phases: here the peak-to-peak grows (+0.38 %: the cut's jumps make many harmonics).
+    EXPECT_NEAR(sim.trace.C_s / C_s, 1, 0.5 * C_s) << fw::ToString(law) << ": simulated " << sim.trace.C_s;
+    // The settling time from the slopes: the cut's mean hardly changes with the speed (only the
+    // table's band at the dead points moves), the shunt motor's line is steep.
     if (law == fw::MotorLaw::kConstant) {
-      // The energy loop's C_s to O(C_s) relative (constant inertia, the speed-dependent cut
-      // and the inertia torque taken at w_m).
-      EXPECT_NEAR(sim.trace.C_s / C_s, 1, 0.1) << "simulated " << sim.trace.C_s;
+      EXPECT_GT(sim.settling_time, 1000 * sim.period);
+      EXPECT_LE(sim.cycles, 5);  // started on the sized cycle: steady at once
     } else {
-      EXPECT_LT(sim.trace.C_s, C_s);  // the shunt motor absorbs part of the fluctuation
-      EXPECT_GT(sim.trace.C_s, 0.2 * C_s);
+      // The shunt motor's line T_stall (1 - w/w_0) through (w_m, T_mean): I/(T_stall/w_0).
+      const double slip = co.slip, T_stall = c.T_mean / slip, omega_0 = o.omega / (1 - slip);
+      EXPECT_NEAR(sim.settling_time, (f.I_flywheel + c.I_mean) / (T_stall / omega_0), 1e-5 * sim.settling_time);
+      EXPECT_LT(sim.settling_time, 2 * sim.period);
+      EXPECT_LE(sim.cycles, 12);
     }
   }
 }
