@@ -54,7 +54,7 @@
 // Options (CLI11; `<model>_engine --help` lists them with their defaults) may come before or
 // after the subcommand; one that only another subcommand uses is accepted and ignored. Common:
 // --rpm (default 3000), --samples per cycle (16..1e6, default 1440); cycle: --csv,
-// --smoothing (1..64, default 6); flywheel: --cs (in (0, 1), default 0.02), --loop, --sweep,
+// --smoothing (1..64, default 6); flywheel: --cs (in [1e-6, 1), default 0.02), --loop, --sweep,
 // --wittenbauer; runup: --csv, --idle-rpm, --t-end (60 s), --dt (0.002 s), --steady-tol
 // (1e-5); CSVs default to <model>_<subcommand>.csv, <model>_energy_loop.csv,
 // <model>_cs_sweep.csv, <model>_wittenbauer.csv. Pressure law: --table, or --cr (10),
@@ -65,7 +65,7 @@
 // PolytropicWiebeCycle::Init.
 // Options are read by the command-line layer of every tool (runtime/tools/common/):
 // `--opt=value` or `--opt value`, each number finite and in the range --help lists (e.g. --rpm
-// in (0, 1e5], --t-end in (0, 1e6] s, --dt at least --t-end / 1e8 so that the run-up's time
+// in [1e-3, 1e5], --t-end in (0, 1e6] s, --dt at least --t-end / 1e8 so that the run-up's time
 // advances).
 // Exit status: 0 done, 1 a computation failed (the reason on stderr), 2 a usage error (an
 // unknown or missing subcommand, an unknown option, a bad value, a bad pressure table or law;
@@ -143,6 +143,7 @@ double Interp(const std::vector<double>& y, double cycle, double x) {
 // ---- command line -------------------------------------------------------------------------
 
 // The limits of the options (--help lists them).
+constexpr double kMinRpm = 1e-3;  // below it w^2 (and so dE/(C_s w^2)) runs off the numbers
 constexpr double kMaxRpm = 1e5;
 constexpr double kMaxTime = 1e6;       // s
 constexpr double kMaxPressure = 1e9;   // Pa
@@ -195,7 +196,7 @@ int ParseArgs(int argc, char** argv, Args* a) {
   for (CLI::App* sub : {cycle, flywheel, runup}) sub->fallthrough();
 
   const std::string general = "Options";
-  tools::Number(&app, "--rpm", &a->rpm, Positive(kMaxRpm),
+  tools::Number(&app, "--rpm", &a->rpm, Between(kMinRpm, kMaxRpm),
                 "crank speed (cycle, flywheel) or the target speed (runup)")
       ->group(general);
   tools::Count(&app, "--samples", &a->samples, 16, 1000000, "samples per cycle")->group(general);
@@ -210,7 +211,7 @@ int ParseArgs(int argc, char** argv, Args* a) {
                "parameters (its `design` section), the pressure a given function of the crank "
                "angle: needs --table (the parametric law's pressure moves with r, l and bore)")
       ->group(general);
-  tools::Number(&app, "--cs", &a->cs, tools::NumberRange{0, 1, true, true},
+  tools::Number(&app, "--cs", &a->cs, tools::NumberRange{mechgen::flywheel::kMinSpeedFluctuation, 1, false, true},
                 "flywheel: the prescribed C_s = (w_max - w_min)/w_mean")
       ->group(general);
   app.add_option("--loop", a->loop_csv, "flywheel: the energy loop CSV (default " + model +
@@ -223,7 +224,7 @@ int ParseArgs(int argc, char** argv, Args* a) {
                  "flywheel: the steady cycle CSV (default " + model + "_wittenbauer.csv)")
       ->group(general);
   app.add_option("--idle-rpm", a->idle_rpm, "runup: the starting speed (default rpm/4)")
-      ->check(tools::NumberValidator(Positive(kMaxRpm)))->group(general);
+      ->check(tools::NumberValidator(Between(kMinRpm, kMaxRpm)))->group(general);
   tools::Number(&app, "--t-end", &a->t_end, Positive(kMaxTime), "runup: end time (s)")
       ->group(general);
   tools::Number(&app, "--dt", &a->dt, Positive(kMaxTime),
@@ -676,9 +677,12 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   lo_opt.remove_mean = true;
   const double mean = loop.mean_torque;
   const double dE = loop.delta_E, dEg = energy.loop_gas.delta_E;
-  const double I_req = dE / (a.cs * omega * omega);
+  const double I_req = mechgen::flywheel::RequiredInertia(dE, a.cs, omega);
   const double I_recip = energy.I_recip;  // the mean of the variable part
   const double J_fly = I_req - I_recip;
+  if (!std::isfinite(J_fly))
+    return Fail("the flywheel dE/(C_s w^2) for dE = " + tools::FormatNumber(dE) + " J, C_s = " +
+                tools::FormatNumber(a.cs) + " at " + tools::FormatNumber(a.rpm) + " rpm is beyond the range of numbers");
   if (!(J_fly > 0))
     return Fail("the reciprocating parts alone give C_s below the prescribed one: no flywheel needed");
   // --design: the sensitivities of these figures, printed first (they do not depend on the
