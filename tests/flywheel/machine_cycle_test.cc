@@ -834,6 +834,64 @@ TEST(FlywheelWrapper, AddsTheInertiaOnBothPaths) {
   }
 }
 
+// Issue 43: WithFlywheel<M> shadows every generated function that yields I or T, so a path
+// through another generated function does not silently lack the flywheel. The kinetostatics
+// (d'Alembert's inertia forces link by link, then virtual work) of the massive four-bar with a
+// flywheel against the equation of motion of the same machine (Lagrange: the drive that makes
+// q move so is (I + I_fly) qdd + h - Q): the drive gains exactly I_fly qdd, the reactions do
+// not change (a couple on the crank that the drive carries); through the runtime's
+// dynamics::Kinetostatics too. The excess formulation: its mass matrix projected on the motion,
+// [1 K^T] M_x [1; K], is the generalized inertia with the flywheel, and its T the same.
+TEST(FlywheelWrapper, KinetostaticsAndTheExcessFormulationCarryTheFlywheel) {
+  using M = mech::fourbar_massive::Model;
+  using W = fw::WithFlywheel<M>;
+  static_assert(mechgen::HasShaking<M>::value && !mechgen::HasShaking<W>::value,
+                "the shaking table is refused with a flywheel (see WithFlywheel)");
+  const double I_fly = 0.7;
+  W::ParamsT<double> pf;
+  pf.I_flywheel = I_fly;
+  const M::ParamsT<double>& p = pf;
+  mechgen::dynamics::Kinetostatics<W> runtime_kin(pf);
+  using VecQ = Eigen::Matrix<double, 1, 1>;
+  using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
+  for (double theta : {0.4, 2.0, 4.5}) {
+    VecQ q, qd, qdd;
+    q(0) = theta;
+    qd(0) = 3.0;
+    qdd(0) = -40.0;
+    typename mechgen::dynamics::Kinetostatics<W>::Row row;
+    ASSERT_TRUE(runtime_kin.Initialize(q));
+    ASSERT_EQ(runtime_kin.Evaluate(0, q, qd, qdd, &row), mechgen::dynamics::KinetostaticsStatus::kOk);
+    const VecPhi phi = row.phi;
+    M::CoefficientsT<double> c;
+    M::Coeffs<double>(p, q, phi, &c);
+    M::StaticsT<double> bare, with;
+    M::Kinetostatics<double>(p, q, phi, qd, qdd, 0.0, c, &bare);
+    W::Kinetostatics<double>(pf, q, phi, qd, qdd, 0.0, c, &with);
+    M::DynamicsT<double> d;
+    W::Dynamics<double>(pf, q, phi, qd, 0.0, c, &d);
+    const double lagrange = d.I(0, 0) * qdd(0) + d.h(0) - d.Q(0);
+    const double scale = 1 + std::abs(lagrange);
+    EXPECT_NEAR(with.drive(0), lagrange, 1e-11 * scale) << "theta " << theta;
+    EXPECT_NEAR(with.drive(0) - bare.drive(0), I_fly * qdd(0), 1e-12 * scale);
+    EXPECT_NEAR(with.Q(0), -with.drive(0), 1e-12 * scale);
+    EXPECT_EQ(with.R, bare.R);
+    EXPECT_EQ(row.statics.drive(0), with.drive(0));  // the runtime's path is the shadowed one
+    // The excess formulation.
+    VecPhi phid = c.K * qd;
+    M::ExcessT<double> e, e_bare;
+    W::ExcessDynamics<double>(pf, q, phi, qd, phid, 0.0, &e);
+    M::ExcessDynamics<double>(p, q, phi, qd, phid, 0.0, &e_bare);
+    Eigen::Matrix<double, 1 + M::kNphi, 1> Kx;
+    Kx << 1, c.K;
+    EXPECT_NEAR(Kx.dot(e.M * Kx), d.I(0, 0), 1e-12 * d.I(0, 0));
+    EXPECT_NEAR(e.T, d.T, 1e-12 * d.T);
+    EXPECT_NEAR(e.M(0, 0) - e_bare.M(0, 0), I_fly, 1e-15);
+    EXPECT_EQ(e.g, e_bare.g);
+    EXPECT_EQ(e.h, e_bare.h);
+  }
+}
+
 // energy_loop.h's breaks on a kinked excess torque with a closed-form integral:
 // dT = |sin t| - 2/pi on [0, 2 pi), kinks at 0 and pi, E(t) = 1 - cos t - 2t/pi on [0, pi] and
 // 3 + cos t - 2t/pi on [pi, 2 pi]. Without breaks E is second order, with them fourth.

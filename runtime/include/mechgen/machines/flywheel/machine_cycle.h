@@ -646,14 +646,35 @@ struct MotorLoad {
   }
 };
 
+namespace internal {
+template <class T>
+inline constexpr bool kAlwaysFalse = false;
+}  // namespace internal
+
 /**
- * WithFlywheel<M>: model M with a constant inertia I_flywheel added to its one input (a
- * flywheel keyed to the crank): the generated dynamics (M::Dynamics and, where the model has
- * it, the one-pass M::Rhs) with I(0, 0) + I_flywheel and T + ½ I_flywheel θ̇². Everything
- * else is M's; its parameters are M's with the member I_flywheel (kg m²) added.
+ * WithFlywheel<M>: model M (one input) with a constant inertia I_flywheel added to its input:
+ * a balanced rotor keyed to the input's shaft, turning with q̇ about an axis fixed in the frame
+ * (a flywheel on the crank). Its parameters are M's with the member I_flywheel (kg m²) added.
+ * Every generated function that yields the inertia, the kinetic energy or what is built from
+ * them is shadowed, so that no path through the runtime silently lacks the flywheel:
+ *  - Dynamics and the one-pass Rhs: I(0, 0) + I_fly, T + ½ I_fly q̇² (I' = dI_dq, C, h, Q, V
+ *    and P_nc unchanged: the added inertia is constant and the rotor does no work of its own);
+ *  - Kinetostatics: the rotor's inertia couple −I_fly q̈ on the input's link, carried by the
+ *    drive: Q(0) − I_fly q̈, drive(0) + I_fly q̈; the reactions R unchanged (a pure couple on the
+ *    link the drive acts on moves no joint force), the rest unchanged;
+ *  - ExcessDynamics (x = (q, φ)): M_x(0, 0) + I_fly, T + ½ I_fly q̇² (h, g, Φ_x, γ unchanged).
+ * Left to M, correct as they are: the kinematics (Solve, Coeffs, Kinematics, Prepare: no
+ * inertia), the statics (Forces, Stiffness, StaticsDesign: no inertia) and DynamicsDesign (d/dp
+ * of I, I', h, Q, T, V: the flywheel's share is constant, its derivatives 0; I_flywheel is no
+ * design parameter).
+ * Refused at compile time (kHasShaking false, and Shaking, ShakingDesign a static_assert): the
+ * shaking moment gains −I_fly q̈ on the frame, but M's Shaking splits M by link (M_link) and the
+ * rotor is no link of M's; a caller that needs it adds −I_fly q̈ to M's shaking moment itself.
  */
 template <class M>
 struct WithFlywheel : M {
+  static_assert(M::kNq == 1, "WithFlywheel: a flywheel on the one input of a one-DOF model");
+  static constexpr bool kHasShaking = false;
   template <class S>
   struct ParamsT : M::template ParamsT<S> {
     S I_flywheel = S(0);
@@ -672,6 +693,30 @@ struct WithFlywheel : M {
     out->I(0, 0) += p.I_flywheel;
     out->T += S(0.5) * p.I_flywheel * qd(0) * qd(0);
     return report;
+  }
+  template <class S, class VQ, class VPhi, class VQd, class VQdd, class C, class Out, class... Rest>
+  static void Kinetostatics(const ParamsT<S>& p, const VQ& q, const VPhi& phi, const VQd& qd, const VQdd& qdd,
+                            const S& t, const C& c, Out* out, Rest... rest) {
+    M::template Kinetostatics<S>(p, q, phi, qd, qdd, t, c, out, rest...);
+    out->Q(0) -= p.I_flywheel * qdd(0);
+    out->drive(0) += p.I_flywheel * qdd(0);
+  }
+  template <class S, class VQ, class VPhi, class VQd, class VPhid, class Out, class... Rest>
+  static void ExcessDynamics(const ParamsT<S>& p, const VQ& q, const VPhi& phi, const VQd& qd, const VPhid& phid,
+                             const S& t, Out* out, Rest... rest) {
+    M::template ExcessDynamics<S>(p, q, phi, qd, phid, t, out, rest...);
+    out->M(0, 0) += p.I_flywheel;
+    out->T += S(0.5) * p.I_flywheel * qd(0) * qd(0);
+  }
+  template <class S = double, class... A>
+  static void Shaking(const A&...) {
+    static_assert(internal::kAlwaysFalse<S>,
+                  "WithFlywheel<M>::Shaking: not provided (the rotor is no link of M's shaking "
+                  "table); add -I_flywheel qdd to M's shaking moment M");
+  }
+  template <class S = double, class... A>
+  static void ShakingDesign(const A&...) {
+    static_assert(internal::kAlwaysFalse<S>, "WithFlywheel<M>::ShakingDesign: not provided (see Shaking)");
   }
 };
 
