@@ -46,7 +46,9 @@ int ParseArguments(int argc, char** argv, const std::string& model_name, double 
                                      "(T = T_stall (1 - w/w_0) through w_m, T_mean)")
       ->check(CLI::IsMember({"constant", "shunt"}))
       ->capture_default_str();
-  tools::Number(&app, "--slip", &a.slip, tools::NumberRange{0, 1, true, true},
+  // A slip below 1e-4 is a synchronous motor: a torque line so steep that the check's settling
+  // time I w_0 s / T_mean leaves the explicit integrator steps of a hair (1e-300: no end).
+  tools::Number(&app, "--slip", &a.slip, tools::NumberRange{1e-4, 1, false, true},
                 "shunt motor: the slip 1 - w_m/w_0 at the mean speed");
   app.add_flag("--check", a.check, "simulate the machine with the flywheel (default with `dynamics`)");
   app.add_flag("--no-check", a.no_check, "no simulated check");

@@ -46,7 +46,7 @@ awk '/work per cycle/ { w = $4; exit } END { if (w < 109.999 || w > 110.001) exi
 # A C_s that cannot mean anything (issue 45: 1e-300 printed an infinite flywheel): exit 2, one
 # line, nothing on stdout; the steadiness given two ways.
 for bad in "--cs 1e-300" "--cs 5e-7" "--cs 0" "--steady-tol 1e-6 --steady-fraction 1e-2" \
-           "--check-samples 1000000 --max-cycles 100000"; do
+           "--check-samples 1000000 --max-cycles 100000" "--motor shunt --slip 1e-300"; do
   # shellcheck disable=SC2086
   "$tool" $bad > "$work/bad.out" 2> "$work/bad.err"; status=$?
   [ $status = 2 ] || fail "$bad exited $status"
