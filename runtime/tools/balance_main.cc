@@ -260,8 +260,11 @@ int RunRotor(const RotorArgs& a) {
     return Fail(a.csv + ": unbalance " + std::to_string(b.index + 1) + ": " + bal::ToString(b.status));
   if (b.status == bal::RotorStatus::kZeroRadius)
     return Usage(std::string(bal::ToString(b.status)) + " (--radius, or --left-radius and --right-radius)");
+  if (b.status == bal::RotorStatus::kNotFinite) return Fail(a.csv + ": " + bal::ToString(b.status));
   if (b.status != bal::RotorStatus::kOk) return Fail(bal::ToString(b.status));
   const bal::UnbalanceSums residual = bal::Residual(u.data(), static_cast<int>(u.size()), b, two_planes);
+  if (!(std::isfinite(std::abs(residual.U)) && std::isfinite(std::abs(residual.M))))
+    return Fail(a.csv + ": " + bal::ToString(bal::RotorStatus::kNotFinite));
   std::ostringstream out;
   out << "rotor: " << u.size() << " unbalances from " << a.csv << "\n";
   out << "  static unbalance U = sum m r e^(i angle): " << Format("%.6g", std::abs(b.before.U)) << " kg m at "
@@ -348,6 +351,9 @@ int RunFlywheel(const FlywheelArgs& a) {
     if (loop.status == fw::LoopStatus::kNotSteady)
       return Usage("--areas: the loop does not close (sum of the areas = " + Format("%.6g", loop.closure) +
                   ", must be 0: not a steady cycle)");
+    if (loop.status == fw::LoopStatus::kNonFinite)
+      return Usage("--areas: their running sums are beyond the range of numbers (give the areas in a larger unit "
+                   "and scale them with --scale)");
     if (loop.status != fw::LoopStatus::kOk) return Usage(std::string("--areas: ") + fw::ToString(loop.status));
     out << "energy loop from " << areas.size() << " areas; energy after each:";
     double s = 0;
@@ -356,6 +362,9 @@ int RunFlywheel(const FlywheelArgs& a) {
     out << "\n  largest after area " << loop.after_max << " (" << Format("%.6g", loop.max) << "), smallest after area "
         << loop.after_min << " (" << Format("%.6g", loop.min) << ")\n";
     delta_E = loop.delta * scale;
+    if (!std::isfinite(delta_E))
+      return Usage("--areas with the diagram's scale: dE = " + Format("%.6g", loop.delta) + " area units x " +
+                   Format("%.6g", scale) + " J per unit is beyond the range of numbers");
     out << "  dE = " << Format("%.6g", loop.delta) << " area units x " << Format("%.6g", scale)
         << " J per unit = " << Format("%.6g", delta_E) << " J\n";
   } else {
@@ -411,13 +420,31 @@ int RunFlywheel(const FlywheelArgs& a) {
   }
   const double omega = fw::RpmToRadPerSecond(a.rpm);
   out << "mean speed " << Format("%g", a.rpm) << " rpm = " << Format("%.6g", omega) << " rad/s\n";
+  // What the figures below come from: only options (--areas), or a file too (--torque-csv):
+  // a result that cannot mean anything is a usage error, or a failure located at the file.
+  auto refuse = [&](const std::string& why) {
+    return a.areas.empty() ? Fail(a.torque_csv + ": " + why) : Usage(why);
+  };
   if (by_inertia) {
     const double I = Given(a.inertia) ? a.inertia : a.mass * a.gyration * a.gyration;
+    if (!(I > 0 && std::isfinite(I)))
+      return Usage("--mass x --gyration^2 = " + Format("%.6g", I) + " kg m^2: not a positive inertia (it underflows)");
     const double cs = fw::SpeedFluctuation(delta_E, I, omega);
+    // A C_s of 2 or more puts w_min = w (1 - C_s/2) at or below 0: the machine stops, and the
+    // linear estimate C_s = dE/(I w^2) no longer holds.
+    if (!(cs < 2))
+      return refuse("the flywheel I = " + Format("%.6g", I) + " kg m^2 is too small for dE = " + Format("%.6g", delta_E) +
+                    " J at " + Format("%g", a.rpm) + " rpm: dE/(I w^2) " +
+                    (std::isfinite(cs) ? "= " + Format("%.6g", cs) + " >= 2"
+                                       : std::string("is beyond the range of numbers")) +
+                    ", the speed would fall to zero");
     out << "flywheel I = " << Format("%.6g", I) << " kg m^2: C_s = dE/(I w^2) = " << Format("%.6g", cs) << " (speed "
         << Format("%.6g", a.rpm * (1 - cs / 2)) << " to " << Format("%.6g", a.rpm * (1 + cs / 2)) << " rpm)\n";
   } else {
     const double I = fw::RequiredInertia(delta_E, a.cs, omega);
+    if (!std::isfinite(I))
+      return refuse("the inertia dE/(C_s w^2) for dE = " + Format("%.6g", delta_E) + " J, C_s = " + Format("%.6g", a.cs) +
+                    " at " + Format("%g", a.rpm) + " rpm is beyond the range of numbers");
     out << "C_s = " << Format("%.6g", a.cs) << ": required I = dE/(C_s w^2) = " << Format("%.6g", I) << " kg m^2\n";
   }
   if (!a.energy_csv.empty()) {
@@ -474,6 +501,9 @@ int RunWittenbauer(const WittenbauerArgs& a) {
       return Fail(a.csv + ": the machine's inertia I_m (column 2) must be >= 0");
     if (d.status != fw::WittenbauerStatus::kOk && d.status != fw::WittenbauerStatus::kNoFlywheelNeeded)
       return Fail(a.csv + ": bad samples or speeds");
+    if (!(std::isfinite(d.I_flywheel) && std::isfinite(d.T0)))
+      return Fail(a.csv + ": the flywheel I_f or T0 is beyond the range of numbers for these samples at " +
+                  Format("%g", a.rpm) + " rpm");
     double E_max = T[0], E_min = T[0], I_mean = 0;
     for (int k = 0; k < n; ++k) {
       E_max = std::max(E_max, T[k]);
@@ -494,15 +524,22 @@ int RunWittenbauer(const WittenbauerArgs& a) {
           << Format("%.6g", angle[0]) << " deg T0 = " << Format("%.6g", d.T0) << " J\n";
     }
     const double I_loop = fw::RequiredInertia(E_max - E_min, a.cs, omega) - I_mean;
+    if (!std::isfinite(I_loop) || !std::isfinite(I_mean))
+      return Fail(a.csv + ": the energy loop's flywheel (E_max - E_min)/(C_s w^2) - mean I_m is beyond the range of "
+                          "numbers");
     out << "  energy loop (I_m taken as its mean " << Format("%.6g", I_mean)
         << " kg m^2): I_f = " << Format("%.6g", I_loop) << " kg m^2 ("
-        << Format("%+.3g", 100 * (I_loop - d.I_flywheel) / std::abs(d.I_flywheel)) << "% against Wittenbauer)\n";
+        << (d.I_flywheel != 0 ? Format("%+.3g", 100 * (I_loop - d.I_flywheel) / std::abs(d.I_flywheel)) + "%"
+                              : Format("%+.3g", I_loop - d.I_flywheel) + " kg m^2")
+        << " against Wittenbauer)\n";
     for (int k = 0; k < n; ++k) I[k] += d.I_flywheel, T[k] += d.T0;
   } else {
     const fw::WittenbauerSpeeds w = fw::Wittenbauer(I.data(), T.data(), n);
     if (w.status == fw::WittenbauerStatus::kNonPositive)
       return Fail(a.csv + ": the inertia I (column 2) and kinetic energy T (column 3) must be > 0");
     if (w.status != fw::WittenbauerStatus::kOk) return Fail(a.csv + ": bad samples");
+    if (!(std::isfinite(w.omega_max) && std::isfinite(w.omega_min) && w.omega_max + w.omega_min > 0))
+      return Fail(a.csv + ": the speeds sqrt(2 T/I) are beyond the range of numbers");
     const double mid = 0.5 * (w.omega_max + w.omega_min);
     out << "Wittenbauer diagram of " << n << " samples of (I, T) in " << a.csv << "\n";
     out << "  w_max = " << Format("%.6g", w.omega_max) << " rad/s (" << Format("%.6g", w.omega_max * to_rpm)
@@ -532,13 +569,15 @@ int RunWittenbauer(const WittenbauerArgs& a) {
 
 // The limits of the options (--help lists them): SI units; a C_s = (w_max - w_min) / w_mean
 // is below 2 for any motion that keeps turning.
+constexpr double kMinRpm = 1e-3;       // below it w^2 (and so dE/(C_s w^2)) runs off the numbers
 constexpr double kMaxRpm = 1e6;
 constexpr double kMaxLength = 1e6;      // m
 constexpr double kMaxMass = 1e9;        // kg
 constexpr double kMaxInertia = 1e12;    // kg m^2
 constexpr double kMaxScale = 1e12;      // J per unit area, N m per unit
 constexpr double kMaxCycleDeg = 1e5;    // deg
-const mechgen::tools::NumberRange kCsRange{0, 2, true, true};
+// C_s from the smallest the flywheel tools size for (energy_loop.h: kMinSpeedFluctuation) to 2.
+const mechgen::tools::NumberRange kCsRange{fw::kMinSpeedFluctuation, 2, false, true};
 
 int main(int argc, char** argv) {
   namespace tools = mechgen::tools;
@@ -606,7 +645,7 @@ int main(int argc, char** argv) {
                      "take the load as the mean torque (subtract the mean of the excess torque)");
   flywheel->add_option("--rpm", fly.rpm, "mean speed [rev/min]")
       ->required()
-      ->check(tools::NumberValidator(tools::Positive(kMaxRpm)));
+      ->check(tools::NumberValidator(tools::Between(kMinRpm, kMaxRpm)));
   flywheel->add_option("--inertia", fly.inertia, "flywheel inertia [kg m^2] -> C_s")
       ->check(tools::NumberValidator(tools::Positive(kMaxInertia)));
   flywheel->add_option("--mass", fly.mass, "rotating mass [kg] (with --gyration) -> C_s")
@@ -627,7 +666,7 @@ int main(int argc, char** argv) {
       ->required();
   wittenbauer->add_flag("--design", wit.design, "find the flywheel and T0 for --rpm and --cs");
   wittenbauer->add_option("--rpm", wit.rpm, "mean speed [rev/min] (--design)")
-      ->check(tools::NumberValidator(tools::Positive(kMaxRpm)));
+      ->check(tools::NumberValidator(tools::Between(kMinRpm, kMaxRpm)));
   wittenbauer->add_option("--cs", wit.cs, "coefficient of fluctuation of speed (--design)")
       ->check(mechgen::tools::NumberValidator(kCsRange));
   wittenbauer->add_option("--diagram-csv", wit.diagram_csv,

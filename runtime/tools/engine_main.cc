@@ -54,7 +54,7 @@
 // Options (CLI11; `<model>_engine --help` lists them with their defaults) may come before or
 // after the subcommand; one that only another subcommand uses is accepted and ignored. Common:
 // --rpm (default 3000), --samples per cycle (16..1e6, default 1440); cycle: --csv,
-// --smoothing (1..64, default 6); flywheel: --cs (in (0, 1), default 0.02), --loop, --sweep,
+// --smoothing (1..64, default 6); flywheel: --cs (in [1e-6, 1), default 0.02), --loop, --sweep,
 // --wittenbauer; runup: --csv, --idle-rpm, --t-end (60 s), --dt (0.002 s), --steady-tol
 // (1e-5); CSVs default to <model>_<subcommand>.csv, <model>_energy_loop.csv,
 // <model>_cs_sweep.csv, <model>_wittenbauer.csv. Pressure law: --table, or --cr (10),
@@ -63,9 +63,11 @@
 // cycle). Numbers must be finite; speeds, times and the law's parameters > 0 (--burn-start
 // any, --wiebe-m and --heat >= 0); the law's parameters are checked together by
 // PolytropicWiebeCycle::Init.
-// Options are read by the command-line layer of every tool (runtime/tools/common/):
+// Options are parsed by engine_args.cc (CLI11, independent of the model: included here, or
+// compiled apart with -DMECHGEN_ENGINE_ARGS_SEPARATE) with the command-line layer of every
+// tool (runtime/tools/common/):
 // `--opt=value` or `--opt value`, each number finite and in the range --help lists (e.g. --rpm
-// in (0, 1e5], --t-end in (0, 1e6] s, --dt at least --t-end / 1e8 so that the run-up's time
+// in [1e-3, 1e5], --t-end in (0, 1e6] s, --dt at least --t-end / 1e8 so that the run-up's time
 // advances).
 // Exit status: 0 done, 1 a computation failed (the reason on stderr), 2 a usage error (an
 // unknown or missing subcommand, an unknown option, a bad value, a bad pressure table or law;
@@ -85,7 +87,12 @@
 #include <string>
 #include <vector>
 
-#include "common/cli.h"
+#include "common/numbers.h"
+#include "common/params.h"
+#include "engine_args.h"
+#ifndef MECHGEN_ENGINE_ARGS_SEPARATE
+#include "engine_args.cc"
+#endif
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/machines/engine/couples.h"
 #include "mechgen/machines/engine/cycle.h"
@@ -140,181 +147,10 @@ double Interp(const std::vector<double>& y, double cycle, double x) {
   return y[k] * (1 - f) + y[(k + 1) % n] * f;
 }
 
-// ---- command line -------------------------------------------------------------------------
+// ---- command line: engine_args.{h,cc} ------------------------------------------------------
 
-// The limits of the options (--help lists them).
-constexpr double kMaxRpm = 1e5;
-constexpr double kMaxTime = 1e6;       // s
-constexpr double kMaxPressure = 1e9;   // Pa
-
-struct Args {
-  std::string tool = "engine";  ///< for messages (argv[0])
-  std::string command;
-  double rpm = 3000;
-  int samples = 1440;
-  std::string csv, loop_csv, sweep_csv, witt_csv, table;
-  double cs = 0.02;
-  double idle_rpm = -1;  ///< <= 0: rpm / 4
-  double t_end = 60;
-  double dt = 0.002;
-  double steady_tol = 1e-5;
-  int smoothing = 6;
-  bool design = false;  ///< flywheel --design: the design sensitivities (the model's `design`)
-  eng::PolytropicWiebeParams wiebe;
-  mechgen::tools::ParameterOptions params;  ///< --params, --set: the model's Params
-};
-
+using Args = mechgen::engine_tool::Arguments;
 namespace tools = mechgen::tools;
-
-/// Parses the command line into *a (CLI11). Returns -1 to go on, otherwise the exit status:
-/// 0 after --help, 2 after a usage error (the message on stderr).
-int ParseArgs(int argc, char** argv, Args* a) {
-  a->tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
-  auto UsageError = [a](const std::string& message) { return tools::UsageError(a->tool, message); };
-  using tools::Between;
-  using tools::Positive;
-
-  CLI::App app{std::string("Crank torque, bearing loads, flywheel sizing and run-up of the engine "
-                           "model '") +
-               Model::kName + "' (Paul 6.8-6.9). Options may come before or after the subcommand."};
-  app.footer(
-      "Exit status: 0 done, 1 a computation failed, 2 a usage error; no output file is written "
-      "unless the whole computation succeeded.");
-  app.require_subcommand(1);
-  CLI::App* cycle = app.add_subcommand(
-      "cycle", "torque, pressures, side thrusts, bearing loads (and shaking) over one cycle at "
-               "constant --rpm; harmonics and power smoothing");
-  CLI::App* flywheel = app.add_subcommand(
-      "flywheel", "energy loop at constant --rpm, J_fly for --cs, checked by simulating the "
-                  "periodic steady state; C_s against J_fly");
-  CLI::App* runup = app.add_subcommand(
-      "runup", "from --idle-rpm against the load that balances the engine at --rpm, until the "
-               "cycle mean speed settles or --t-end");
-  // Every option is the parent's, so that it may follow the subcommand (fallthrough); an
-  // option another subcommand uses is accepted and ignored.
-  for (CLI::App* sub : {cycle, flywheel, runup}) sub->fallthrough();
-
-  const std::string general = "Options";
-  tools::Number(&app, "--rpm", &a->rpm, Positive(kMaxRpm),
-                "crank speed (cycle, flywheel) or the target speed (runup)")
-      ->group(general);
-  tools::Count(&app, "--samples", &a->samples, 16, 1000000, "samples per cycle")->group(general);
-  const std::string model = Model::kName;
-  app.add_option("--csv", a->csv, "cycle, runup: the CSV (default " + model + "_<subcommand>.csv)")
-      ->group(general);
-  tools::Count(&app, "--smoothing", &a->smoothing, 1, 64,
-               "cycle: power smoothing for 1..max(K, cylinders)")
-      ->group(general);
-  app.add_flag("--design", a->design,
-               "flywheel: also d/dp of the mean torque, dE, I and J_fly for the model's design "
-               "parameters (its `design` section), the pressure a given function of the crank "
-               "angle: needs --table (the parametric law's pressure moves with r, l and bore)")
-      ->group(general);
-  tools::Number(&app, "--cs", &a->cs, tools::NumberRange{0, 1, true, true},
-                "flywheel: the prescribed C_s = (w_max - w_min)/w_mean")
-      ->group(general);
-  app.add_option("--loop", a->loop_csv, "flywheel: the energy loop CSV (default " + model +
-                                            "_energy_loop.csv)")
-      ->group(general);
-  app.add_option("--sweep", a->sweep_csv,
-                 "flywheel: C_s against J_fly CSV (default " + model + "_cs_sweep.csv)")
-      ->group(general);
-  app.add_option("--wittenbauer", a->witt_csv,
-                 "flywheel: the steady cycle CSV (default " + model + "_wittenbauer.csv)")
-      ->group(general);
-  app.add_option("--idle-rpm", a->idle_rpm, "runup: the starting speed (default rpm/4)")
-      ->check(tools::NumberValidator(Positive(kMaxRpm)))->group(general);
-  tools::Number(&app, "--t-end", &a->t_end, Positive(kMaxTime), "runup: end time (s)")
-      ->group(general);
-  tools::Number(&app, "--dt", &a->dt, Positive(kMaxTime),
-                "runup: CSV row spacing (s); at least --t-end / 1e8")
-      ->group(general);
-  tools::Number(&app, "--steady-tol", &a->steady_tol, Between(1e-12, 0.5),
-                "runup: stop when the cycle mean speed changes by less than this (relative)")
-      ->group(general);
-
-  // The pressure law, one for every cylinder at its own cycle angle from firing TDC.
-  const std::string law =
-      "Pressure law (--table, or the polytropic cycle with a Wiebe heat release; bore, stroke "
-      "and rod from the model)";
-  eng::PolytropicWiebeParams& w = a->wiebe;
-  tools::AddParameterOptions(&app, &a->params);
-  app.add_option("--table", a->table,
-                 "indicator diagram: rows 'angle_deg,p_gauge_Pa' over the cycle (a header line "
-                 "is skipped)")
-      ->group(law);
-  tools::Number(&app, "--cr", &w.compression_ratio, Positive(1000), "compression ratio")
-      ->group(law);
-  tools::Number(&app, "--p-intake", &w.p_intake, Positive(kMaxPressure),
-                "absolute intake pressure (Pa)")
-      ->group(law);
-  tools::Number(&app, "--p-ambient", &w.p_ambient, Positive(kMaxPressure),
-                "absolute ambient pressure (Pa; gauge 0)")
-      ->group(law);
-  tools::Number(&app, "--n", &w.n, Positive(10), "polytropic exponent")->group(law);
-  double burn_start_deg = -15, burn_duration_deg = 60;
-  CLI::Option* burn_start =
-      tools::Number(&app, "--burn-start", &burn_start_deg, tools::Magnitude(720),
-                    "start of the burn (deg from firing TDC)")
-          ->group(law);
-  CLI::Option* burn_duration =
-      tools::Number(&app, "--burn-duration", &burn_duration_deg, Positive(720),
-                    "duration of the burn (deg)")
-          ->group(law);
-  tools::Number(&app, "--wiebe-a", &w.wiebe_a, Positive(100), "Wiebe efficiency parameter a")
-      ->group(law);
-  tools::Number(&app, "--wiebe-m", &w.wiebe_m, tools::NonNegative(100), "Wiebe form factor m")
-      ->group(law);
-  tools::Number(&app, "--heat", &w.heat, tools::NonNegative(1e9),
-                "heat released per cylinder and cycle (J)")
-      ->group(law);
-
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    // The whole help (every option is the parent's), also after a subcommand.
-    std::cout << app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::Normal);
-    return 0;
-  } catch (const CLI::CallForAllHelp&) {
-    std::cout << app.get_formatter()->make_help(&app, app.get_name(), CLI::AppFormatMode::All);
-    return 0;
-  } catch (const CLI::ParseError& e) {
-    std::string extra;  // what CLI11 could not place, in command-line order
-    for (const std::string& word : app.remaining(true)) extra += " " + word;
-    if (app.get_subcommands().empty()) {
-      // CLI11 reports a stray word before the subcommand check: name the subcommands.
-      for (const std::string& word : app.remaining())
-        if (!word.empty() && word[0] != '-')
-          return UsageError("unknown subcommand '" + word + "': cycle, flywheel or runup");
-      return UsageError("a subcommand is required: cycle, flywheel or runup");
-    }
-    if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr)
-      return UsageError("unknown option or stray argument:" + extra);
-    return UsageError(e.what());
-  }
-  a->command = app.get_subcommands().front()->get_name();
-  // The run-up's time stepping must advance (t + dt > t) and its rows stay bounded.
-  std::string error;
-  if (a->command == "runup" &&
-      !tools::CheckTimeStep("--dt", tools::FormatNumber(a->dt), a->dt, a->t_end, 1e8, &error))
-    return UsageError(error);
-  if (burn_start->count() > 0) w.burn_start = burn_start_deg * kDeg;
-  if (burn_duration->count() > 0) w.burn_duration = burn_duration_deg * kDeg;
-  if (a->design && a->command != "flywheel")
-    return UsageError("--design: the flywheel subcommand only (its mean torque, dE, I and J_fly)");
-  if (a->design && !mechgen::HasDesignDerivatives<Model>::value)
-    return UsageError("--design: the model has no `design` section (tools/make_engine.py --design "
-                      "writes one)");
-  if (a->design && a->table.empty())
-    return UsageError("--design needs --table: the derivatives hold the pressure trace p(theta) "
-                      "fixed, which an indicator diagram is and the parametric law (its volume "
-                      "depends on r, l and bore) is not");
-  if (a->csv.empty() && a->command != "flywheel") a->csv = model + "_" + a->command + ".csv";
-  if (a->loop_csv.empty()) a->loop_csv = model + "_energy_loop.csv";
-  if (a->sweep_csv.empty()) a->sweep_csv = model + "_cs_sweep.csv";
-  if (a->witt_csv.empty()) a->witt_csv = model + "_wittenbauer.csv";
-  return -1;
-}
 
 bool ReadTable(const std::string& path, double cycle, eng::PressureTable* t, std::string* error) {
   return eng::ReadPressureTable(path, cycle, t, error,
@@ -676,9 +512,12 @@ int Flywheel(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
   lo_opt.remove_mean = true;
   const double mean = loop.mean_torque;
   const double dE = loop.delta_E, dEg = energy.loop_gas.delta_E;
-  const double I_req = dE / (a.cs * omega * omega);
+  const double I_req = mechgen::flywheel::RequiredInertia(dE, a.cs, omega);
   const double I_recip = energy.I_recip;  // the mean of the variable part
   const double J_fly = I_req - I_recip;
+  if (!std::isfinite(J_fly))
+    return Fail("the flywheel dE/(C_s w^2) for dE = " + tools::FormatNumber(dE) + " J, C_s = " +
+                tools::FormatNumber(a.cs) + " at " + tools::FormatNumber(a.rpm) + " rpm is beyond the range of numbers");
   if (!(J_fly > 0))
     return Fail("the reciprocating parts alone give C_s below the prescribed one: no flywheel needed");
   // --design: the sensitivities of these figures, printed first (they do not depend on the
@@ -830,7 +669,8 @@ int Runup(const Args& a, const Params& p0, const Engine& e, const Gas& gas) {
 
 int main(int argc, char** argv) {
   Args a;
-  const int rc = ParseArgs(argc, argv, &a);
+  const int rc = mechgen::engine_tool::ParseArguments(argc, argv, Model::kName,
+                                                      mechgen::HasDesignDerivatives<Model>::value, &a);
   if (rc != -1) return rc;
   Params p;
   Engine e;

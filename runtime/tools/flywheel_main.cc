@@ -27,7 +27,9 @@
 // check failed or an output cannot be written, or a picture is asked for and gnuplot or its
 // script is not found (one line, before anything is computed or written); 2 a usage error
 // (one line "<tool>: error: ..."); 3 the model does not assemble. A model generated without
-// `forces` builds into a stub that says so (exit status 2). Eigen, CLI11 only (the runtime's
+// `forces` builds into a stub that says so (exit status 2). The options are parsed by
+// flywheel_args.cc (CLI11, independent of the model: included here, or compiled apart with
+// -DMECHGEN_FLYWHEEL_ARGS_SEPARATE). Eigen, CLI11 only (the runtime's
 // Newton assembler).
 #include <algorithm>
 #include <cmath>
@@ -38,8 +40,13 @@
 #include <unistd.h>
 #include <vector>
 
-#include "common/cli.h"
 #include "common/gnuplot.h"
+#include "common/numbers.h"
+#include "common/params.h"
+#include "flywheel_args.h"
+#ifndef MECHGEN_FLYWHEEL_ARGS_SEPARATE
+#include "flywheel_args.cc"
+#endif
 #include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
 #include "mechgen/machines/flywheel/cycle_design.h"
@@ -125,66 +132,18 @@ bool FindPlotter(const std::string& kind, Plotter* plotter, std::string* error) 
 
 template <class M>
 int Run(int argc, char** argv) {
-  const std::string tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
-  CLI::App app{std::string("Flywheel sizing of the mechgen model '") + M::kName +
-               "': the driving torque at constant speed over a cycle, its energy loop, the "
-               "flywheel for a coefficient of speed fluctuation, and a simulated check."};
-  app.footer("Exit status: 0 done, 1 the machine cannot be sized (the reason and angle on "
-             "stderr; nothing written), the simulated check failed (the loop's CSV and pictures "
-             "are still written: they do not depend on it) or an output cannot be written, 2 a "
-             "usage error (one line on stderr), 3 the model does not assemble.");
-  double rpm = 60, cs = 0.02, slip = 0.05, steady_tol = 1e-7;
-  std::string theta0_text, cycle_text, motor = "constant", csv_path, png_path, svg_path;
-  std::vector<std::string> break_texts;
-  int samples = 720, check_samples = 720, max_cycles = 400;
-  bool no_check = false, check = false;
-  tools::Number(&app, "--rpm", &rpm, tools::Between(1e-3, 1e6),
-                "the mean speed of the input (rev/min)");
-  tools::Number(&app, "--cs", &cs, tools::NumberRange{0, 0.5, true, false},
-                "the coefficient of speed fluctuation C_s = (w_max - w_min)/w_mean to size for");
-  tools::Count(&app, "--samples", &samples, 8, 10000000,
-               "samples of the cycle (equal angle steps; the energy loop's accuracy: see --help "
-               "of the README, fourth order where T_req is smooth)");
-  app.add_option("--theta0", theta0_text,
-                 "the cycle's start (rad, or with a 'deg' suffix); default the model's range start");
-  app.add_option("--cycle", cycle_text,
-                 "the cycle (rad, or 'deg'); default the model's range when whole turns, else 360deg");
-  app.add_option("--break", break_texts,
-                 "an angle (rad, or 'deg') where a switched load makes T_req kink or jump, on a "
-                 "sample or between two: the energy loop does not integrate across it (fourth order "
-                 "instead of second or first); repeatable. The switches of a model with `dynamics` "
-                 "(its EvalSwitchModes) are found and made breaks without it")
-      ->allow_extra_args(false);
-  bool no_switch_breaks = false;
-  app.add_flag("--no-switch-breaks", no_switch_breaks,
-               "do not make the located switches of the loads breaks of the energy loop");
-  app.add_option("--motor", motor, "the simulated check's motor: constant (T = T_mean) or shunt "
-                                   "(T = T_stall (1 - w/w_0) through w_m, T_mean)")
-      ->check(CLI::IsMember({"constant", "shunt"}))
-      ->capture_default_str();
-  tools::Number(&app, "--slip", &slip, tools::NumberRange{0, 1, true, true},
-                "shunt motor: the slip 1 - w_m/w_0 at the mean speed");
-  app.add_flag("--check", check, "simulate the machine with the flywheel (default with `dynamics`)");
-  app.add_flag("--no-check", no_check, "no simulated check");
-  tools::Count(&app, "--check-samples", &check_samples, 16, 1000000,
-               "the check's speed samples per cycle (equal time steps)");
-  tools::Count(&app, "--max-cycles", &max_cycles, 3, 100000,
-               "the check gives up without a steady cycle after this many cycles");
-  tools::Number(&app, "--steady-tol", &steady_tol, tools::Between(1e-12, 1e-2),
-                "the check's steady state: the cycle-mean speed changing by less than this, "
-                "relative, two cycles in a row");
-  bool design = false;
-  app.add_flag("--design", design,
-               "also the design sensitivities (the model's `design` section): d/dp of the mean "
-               "torque, dE, the machine's mean inertia and the flywheel, and dT_req/d<p> columns "
-               "in the CSV (machines/flywheel/cycle_design.h; not with Coulomb friction)");
-  app.add_option("--csv", csv_path, "write the energy loop (theta, T_req, T_mean, E, ...) to this CSV");
-  app.add_option("--png", png_path, "draw the torque and energy loop to this PNG (needs gnuplot)");
-  app.add_option("--svg", svg_path, "draw the torque and energy loop to this SVG (needs gnuplot)");
-  tools::ParameterOptions parameter_options;
-  tools::AddParameterOptions(&app, &parameter_options);
-  if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
-  if (check && no_check) return tools::UsageError(tool, "--check and --no-check: choose one");
+  static_assert(mechgen::flywheel_tool::kDefaultSteadyFraction == fw::CheckOptions{}.steady_fraction,
+                "--steady-fraction's default is CheckOptions::steady_fraction");
+  mechgen::flywheel_tool::Arguments a;
+  if (const int parsed = mechgen::flywheel_tool::ParseArguments(argc, argv, M::kName,
+                                                                mechgen::dynamics::MinimalOptions().max_samples, &a);
+      parsed >= 0)
+    return parsed;
+  const std::string& tool = a.tool;
+  const double rpm = a.rpm, cs = a.cs, slip = a.slip, steady_fraction = a.steady_fraction, steady_tol = a.steady_tol;
+  const int samples = a.samples, check_samples = a.check_samples, max_cycles = a.max_cycles;
+  const bool check = a.check, no_check = a.no_check, design = a.design;
+  const std::string &motor = a.motor, &csv_path = a.csv_path, &png_path = a.png_path, &svg_path = a.svg_path;
   if (design && !mechgen::HasDesignDerivatives<M>::value)
     return tools::UsageError(tool, "--design: the model has no `design` section (the parameters to "
                                    "differentiate by); add one, e.g. `design: {parameters: all}`");
@@ -192,30 +151,15 @@ int Run(int argc, char** argv) {
     return tools::UsageError(tool, std::string("--check needs a model with `dynamics` (") + M::kName +
                                        " has none: its machine is massless)");
   typename M::template ParamsT<double> params;
-  if (std::string why; !tools::ApplyParameters(parameter_options, &params, &why))
+  if (std::string why; !tools::ApplyParameters(a.params, &params, &why))
     return tools::UsageError(tool, why);
   fw::MachineCycleOptions options;
   options.omega = fw::RpmToRadPerSecond(rpm);
   options.samples = samples;
-  options.switch_breaks = !no_switch_breaks;
-  auto angle = [&](const std::string& option, const std::string& text, bool positive,
-                   double* value) {
-    if (!tools::ParseNumber(text, value, /*allow_degrees=*/true) ||
-        !(std::abs(*value) <= tools::kMaxPosition) || (positive && !(*value > 0)))
-      return tools::UsageError(tool, tools::BadValue(option, text,
-                                                     std::string(positive ? "an angle > 0" : "an angle") +
-                                                         " in rad (or with a 'deg' suffix), at most 1e4"));
-    return -1;
-  };
-  if (!theta0_text.empty())
-    if (const int e = angle("--theta0", theta0_text, false, &options.theta0); e >= 0) return e;
-  if (!cycle_text.empty())
-    if (const int e = angle("--cycle", cycle_text, true, &options.cycle); e >= 0) return e;
-  for (const std::string& text : break_texts) {
-    double b = 0;
-    if (const int e = angle("--break", text, false, &b); e >= 0) return e;
-    options.breaks.push_back(b);
-  }
+  options.switch_breaks = !a.no_switch_breaks;
+  options.theta0 = a.theta0;
+  options.cycle = a.cycle;
+  options.breaks = a.breaks;
   const double cycle = std::isnan(options.cycle) ? fw::DefaultCycle<M>() : options.cycle;
   if (!(cycle / samples <= mechgen::position::Options().max_input_step))
     return tools::UsageError(tool, tools::BadValue("--samples", std::to_string(samples),
@@ -223,20 +167,14 @@ int Run(int argc, char** argv) {
                                                        cycle / mechgen::position::Options().max_input_step)) +
                                                        " for this cycle (the position solver's step limit)"));
 
-  // The pictures' gnuplot and script, and the CSV path gnuplot reads, before anything is
-  // computed or written.
+  // The pictures' gnuplot and script (their paths checked by flywheel_args.cc), before
+  // anything is computed or written.
   std::vector<std::pair<std::string, std::string>> pictures;  // kind, path
   if (!png_path.empty()) pictures.push_back({"png", png_path});
   if (!svg_path.empty()) pictures.push_back({"svg", svg_path});
   Plotter plotter;
-  for (const auto& [kind, path] : pictures) {
-    const std::string* paths[] = {&path, &csv_path};
-    for (const std::string* p : paths) {
-      if (p->find_first_of("'\"\\$`\n") != std::string::npos)
-        return tools::UsageError(tool, tools::BadValue(p == &path ? "--" + kind : std::string("--csv"), *p,
-                                                       "a path without quotes, $, ` or \\ (gnuplot reads it)"));
-    }
-    if (std::string error; !FindPlotter(kind, &plotter, &error)) {
+  for (const auto& pic : pictures) {
+    if (std::string error; !FindPlotter(pic.first, &plotter, &error)) {
       std::cerr << "error: " << error << "\n";
       return 1;
     }
@@ -262,10 +200,14 @@ int Run(int argc, char** argv) {
               machine.has_dynamics ? "; statics + inertia torque (dynamics)" : "; statics only (massless)");
   if (const std::string changed = tools::ChangedParameters(params); !changed.empty())
     std::printf("parameters set: %s\n", changed.c_str());
-  std::printf("  required torque T_req: mean %.9g N m (the constant motor torque), max %.6g N m at "
+  std::printf("  required torque T_req: mean %.9g N m (the constant motor torque%s), max %.6g N m at "
               "%.6g deg, min %.6g N m at %.6g deg\n",
-              machine.T_mean, machine.T_max, machine.theta_T_max * kRadToDeg, machine.T_min,
-              machine.theta_T_min * kRadToDeg);
+              machine.T_mean,
+              machine.zero_mean ? (": zero to rounding, |mean| <= " + tools::FormatNumber(machine.T_mean_rounding) +
+                                   " N m; the loads do no net work")
+                                      .c_str()
+                                : "",
+              machine.T_max, machine.theta_T_max * kRadToDeg, machine.T_min, machine.theta_T_min * kRadToDeg);
   std::printf("  work per cycle %.9g J; mean power %.6g W\n", machine.work, machine.T_mean * machine.omega);
   std::printf("  energy loop: E_max = %.9g J at %.6g deg, E_min = %.9g J at %.6g deg; dE = %.9g J\n",
               loop.E_max, loop.theta_max * kRadToDeg, loop.E_min, loop.theta_min * kRadToDeg,
@@ -280,6 +222,12 @@ int Run(int argc, char** argv) {
                        " too close to another break (second order there: use more samples)")
                           .c_str()
                     : "");
+  }
+  if (!std::isfinite(size.I_required) || !std::isfinite(size.I_flywheel)) {
+    std::cerr << "error: the flywheel for C_s = " << tools::FormatNumber(cs) << " is beyond the range of numbers: dE = "
+              << tools::FormatNumber(loop.delta_E) << " J over C_s w_m^2 = " << tools::FormatNumber(cs * machine.omega * machine.omega)
+              << " (change --cs or --rpm)\n";
+    return 1;
   }
   std::printf("  C_s = %.6g: I = dE/(C_s w_m^2) = %.9g kg m^2", cs, size.I_required);
   if (machine.has_dynamics) {
@@ -322,6 +270,7 @@ int Run(int argc, char** argv) {
     co.slip = slip;
     co.samples_per_cycle = check_samples;
     co.max_cycles = max_cycles;
+    co.steady_fraction = steady_fraction;
     co.steady_tolerance = steady_tol;
     const fw::SimulatedCheck sim = fw::CheckBySimulation<M>(params, machine, size.I_flywheel, co);
     if (!sim.ok) {
@@ -335,6 +284,28 @@ int Run(int argc, char** argv) {
                   sim.cycles, sim.period, sim.trace.omega_min, sim.trace.omega_max,
                   sim.theta_at_max * kRadToDeg, sim.theta_at_min * kRadToDeg, sim.trace.omega_mid,
                   sim.trace.omega_mean);
+      // The settling time of the cycle-mean speed: I over the slope of the mean load and motor
+      // torque against the speed; beyond the run, or none, the mean speed only creeps.
+      std::string settling = "none (the slope of the mean load and motor torque against the speed is " +
+                             tools::FormatNumber(sim.slope) + " N m s/rad: a neutral cycle, its mean speed only creeps)";
+      if (std::isfinite(sim.settling_time)) {
+        settling = tools::FormatNumber(sim.settling_time) + " s (I over the slope " + tools::FormatNumber(sim.slope) +
+                   " N m s/rad of the mean load and motor torque against the speed)";
+        if (sim.settling_time > sim.cycles_limit * sim.period)
+          settling += ", far beyond the run: a near-neutral cycle, its mean speed only creeps";
+      }
+      std::printf("  steady: the cycle-mean speed changed by %.3g relative over the last cycle (tolerance %.3g "
+                  "%s); settling time %s\n",
+                  sim.last_change, sim.steady_tolerance,
+                  std::isnan(steady_tol)
+                      ? ("= " + tools::FormatNumber(steady_fraction) + " x the expected C_s " +
+                         tools::FormatNumber(sim.C_s_expected) +
+                         (sim.steady_tolerance < steady_fraction * sim.C_s_expected
+                              ? " / the settling time in cycles " + tools::FormatNumber(sim.settling_time / sim.period)
+                              : std::string()))
+                            .c_str()
+                      : "(--steady-tol)",
+                  settling.c_str());
       std::printf("  simulated C_s = %.6g against the asked %.6g (%+.3f %%; the energy loop is exact "
                   "to O(C_s) relative)\n",
                   sim.trace.C_s, cs, 100 * (sim.trace.C_s / cs - 1));

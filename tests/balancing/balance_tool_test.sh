@@ -152,11 +152,31 @@ expect_error 2 "rpm" flywheel --areas "1,-1" --scale 1 --cs 0.01
 # Values that cannot mean anything: nan is not "not given", inf and 1e300 are not numbers
 # of a flywheel; --opt=value as --opt value.
 expect_error 2 "--inertia: bad value 'inf': expected a number in (0, 1e+12]" flywheel --areas "1,-1" --scale 1 --rpm 600 --inertia inf
-expect_error 2 "--cs: bad value 'nan': expected a number in (0, 2)" flywheel --areas "1,-1" --scale 1 --rpm 600 --cs nan
+expect_error 2 "--cs: bad value 'nan': expected a number in \[1e-06, 2)" flywheel --areas "1,-1" --scale 1 --rpm 600 --cs nan
 expect_error 2 "--cs: bad value 'nan'" flywheel --areas "1,-1" --scale 1 --rpm 600 --inertia 2 --cs=nan
 expect_error 2 "--rpm: bad value '1e300'" flywheel --areas "1,-1" --scale 1 --rpm=1e300 --cs 0.01
 expect_error 2 "--rotating-ratio: bad value '-inf'" table --rotating-ratio=-inf
 expect_error 2 "--areas: 'inf' is not a number" flywheel --areas "1,inf,-1" --scale 1 --rpm 600 --cs 0.01
+# Finite values whose figures cannot mean anything (issue 45; each printed inf or nan, exit 0):
+# overflowing sums, a C_s or a speed so small that the flywheel runs off the numbers, a
+# flywheel so small that the speed would reach zero, an inertia that underflows, correction
+# masses beyond the numbers. Options: exit 2; with a file: exit 1, the file named.
+expect_error 2 "--areas: their running sums are beyond the range of numbers" flywheel --areas 1e308,1e308,-1e308,-1e308 --scale 1 --rpm 60 --cs 0.02
+expect_error 2 "dE = 1e+300 area units x 1e+12 J per unit is beyond the range of numbers" flywheel --areas 1e300,-1e300 --scale 1e12 --rpm 60 --cs 0.02
+expect_error 2 "--cs: bad value '1e-300': expected a number in \[1e-06, 2)" flywheel --areas 1,-1 --scale 1 --rpm 60 --cs 1e-300
+expect_error 2 "--rpm: bad value '1e-300': expected a number in \[0.001, 1e+06\]" flywheel --areas 1,-1 --scale 1 --rpm 1e-300 --cs 0.02
+expect_error 2 "--rpm: bad value '1e-300'" wittenbauer --csv "$out/machine.csv" --design --rpm 1e-300 --cs 0.02
+expect_error 2 "dE/(I w^2) = 2.53303e+298 >= 2, the speed would fall to zero" flywheel --areas 1,-1 --scale 1 --rpm 60 --inertia 1e-300
+expect_error 2 "dE/(I w^2) = 2.53303 >= 2" flywheel --areas 1,-1 --scale 1 --rpm 60 --inertia 0.01
+expect_error 2 "--mass x --gyration^2 = 0 kg m^2: not a positive inertia" flywheel --areas 1,-1 --scale 1 --rpm 60 --mass 1e9 --gyration 1e-200
+printf '0,1e308\n90,1e308\n180,-1e308\n270,-1e308\n' > "$out/huge.csv"
+expect_error 1 "huge.csv: a sample or area, or a sum of them, is not finite" flywheel --torque-csv "$out/huge.csv" --rpm 60 --cs 0.02
+printf '0,1e300\n90,-1e300\n180,1e300\n270,-1e300\n' > "$out/large.csv"
+expect_error 1 "large.csv: the flywheel I = 1e-300 kg m^2 is too small" flywheel --torque-csv "$out/large.csv" --rpm 60 --inertia 1e-300
+"$tool" flywheel --torque-csv "$out/large.csv" --rpm 60 --cs 0.02 > "$out/large.txt" || fail "large torques: exit status"
+grep -qi 'inf\|nan' "$out/large.txt" && fail "large torques: a non-finite figure: $(cat "$out/large.txt")"
+printf '1e300,1,0,0\n' > "$out/heavy.csv"
+expect_error 1 "heavy.csv: the unbalance sums or the correction masses are beyond the range of numbers" rotor --csv "$out/heavy.csv" --radius 1e-300
 "$tool" flywheel --areas=295,-685,40,-340,960,-270 --scale=1 --rpm=1800 --mass=36 --gyration=0.15 > "$out/eq.txt" \
   || fail "--opt=value: exit status"
 "$tool" flywheel --areas 295,-685,40,-340,960,-270 --scale 1 --rpm 1800 --mass 36 --gyration 0.15 > "$out/sp.txt" \

@@ -156,6 +156,22 @@ TEST(EnergyLoop, ReportsAnUnsteadyCycleAndBadInput) {
   EXPECT_DOUBLE_EQ(fw::DeltaEFromAreas(open, 3).closure, 1.0);
   EXPECT_TRUE(std::isnan(fw::RequiredInertia(10, 0, 100)));
   EXPECT_TRUE(std::isnan(fw::SpeedFluctuation(10, -1, 100)));
+  // Finite samples whose sums overflow (issue 45): a status, never an infinite figure.
+  const double huge_areas[4] = {1e308, 1e308, -1e308, -1e308};
+  EXPECT_EQ(fw::DeltaEFromAreas(huge_areas, 4).status, fw::LoopStatus::kNonFinite);
+  std::vector<double> huge(8, 1e308);
+  EXPECT_EQ(fw::ExcessEnergy(huge.data(), 8, 2 * kPi, 0.0).status, fw::LoopStatus::kNonFinite);  // the mean's sum
+  for (int k = 0; k < 8; ++k) huge[k] = k < 4 ? 1.5e308 : -1.5e308;  // mean 0, E = h * sum overflows
+  o.remove_mean = true;
+  EXPECT_EQ(fw::ExcessEnergy(huge.data(), 8, 2 * kPi, 0.0, o).status, fw::LoopStatus::kNonFinite);
+  for (int k = 0; k < 8; ++k) huge[k] = k < 4 ? 1e300 : -1e300;  // large but within the numbers: computed
+  const fw::EnergyLoop large = fw::ExcessEnergy(huge.data(), 8, 2 * kPi, 0.0, o);
+  EXPECT_EQ(large.status, fw::LoopStatus::kOk);
+  EXPECT_TRUE(std::isfinite(large.delta_E));
+  // The flywheel formulas: NaN where the result overflows (C_s = 1e-300), the figure otherwise.
+  EXPECT_TRUE(std::isnan(fw::RequiredInertia(1e300, 1e-300, 1)));
+  EXPECT_TRUE(std::isnan(fw::SpeedFluctuation(1e300, 1e-300, 1)));
+  EXPECT_DOUBLE_EQ(fw::RequiredInertia(1e300, 1e-6, 1e3), 1e300);
 }
 
 // Wittenbauer's diagram on synthetic data: a machine with I_m(θ) = 0.2 + 0.05 cos 2θ + 0.02 sin θ

@@ -105,6 +105,16 @@ TEST(Rotor, BadInputNamesTheProblem) {
   b = bal::BalanceStatic(u, 3, 0.1);
   EXPECT_EQ(b.status, bal::RotorStatus::kBadUnbalance);
   EXPECT_EQ(b.index, 2);
+  // Finite data whose correction mass overflows (issue 45): m r = 1e300 kg m at r = 1e-300 m.
+  const bal::Unbalance heavy[1] = {{1e300, 1, 0, 0}};
+  EXPECT_EQ(bal::BalanceStatic(heavy, 1, 1e-300).status, bal::RotorStatus::kNotFinite);
+  EXPECT_EQ(bal::BalanceTwoPlanes(heavy, 1, -1, 1, 1e-300, 1).status, bal::RotorStatus::kNotFinite);
+  const bal::RotorBalance fine = bal::BalanceStatic(heavy, 1, 1.0);  // the same rotor, a usable radius
+  EXPECT_EQ(fine.status, bal::RotorStatus::kOk);
+  EXPECT_DOUBLE_EQ(fine.left.mass, 1e300);
+  // Sums that overflow: two unbalances of 1e308 kg m in the same direction.
+  const bal::Unbalance two[2] = {{1e308, 1, 0, 0}, {1e308, 1, 0, 0}};
+  EXPECT_EQ(bal::BalanceStatic(two, 2, 1.0).status, bal::RotorStatus::kNotFinite);
 }
 
 }  // namespace

@@ -19,6 +19,12 @@ grep -q 'rocking couple about the cylinders.* primary .* secondary ' "$tmp/cycle
   --wittenbauer "$tmp/witt.csv" > "$tmp/fly.txt"
 for f in loop sweep witt; do [ -s "$tmp/$f.csv" ] || fail "flywheel $f.csv"; done
 grep -q 'simulated steady cycle' "$tmp/fly.txt" || fail "flywheel summary"
+# Issue 45: the smallest C_s accepted (1e-6) and the slowest speed (1e-3 rpm) give finite figures.
+"$tool" flywheel --rpm 2000 --cs 1e-6 --loop "$tmp/loop.csv" --sweep "$tmp/sweep.csv" \
+  --wittenbauer "$tmp/witt.csv" > "$tmp/fly_small.txt" || fail "flywheel --cs 1e-6 exited $?"
+grep -qi 'inf\|nan' "$tmp/fly_small.txt" && fail "flywheel --cs 1e-6: a non-finite figure: $(cat "$tmp/fly_small.txt")"
+"$tool" cycle --rpm 1e-3 --csv "$tmp/slow.csv" > "$tmp/slow.txt" || fail "cycle --rpm 1e-3 exited $?"
+grep -qi 'inf\|nan' "$tmp/slow.txt" && fail "cycle --rpm 1e-3: a non-finite figure: $(cat "$tmp/slow.txt")"
 
 "$tool" runup --rpm 2000 --idle-rpm 1500 --steady-tol 1e-4 --csv "$tmp/runup.csv" > "$tmp/runup.txt"
 grep -q '^  steady at' "$tmp/runup.txt" || fail "runup did not reach a steady state"
@@ -26,7 +32,9 @@ grep -q '^  steady at' "$tmp/runup.txt" || fail "runup did not reach a steady st
 # usage errors: exit 2, nothing written
 for args in "bogus" "cycle --rpm -1" "cycle --nosuch 1" "flywheel --cs 2" "cycle --samples 3" \
             "cycle --rpm inf" "cycle --rpm=nan" "cycle --samples 2e9" "runup --dt 1e-300" \
-            "runup --t-end=1e300"; do
+            "runup --t-end=1e300" \
+            "flywheel --cs 1e-300" "flywheel --cs 5e-7" "flywheel --rpm 1e-300" "cycle --rpm 1e-300" \
+            "runup --idle-rpm 1e-300"; do
   set +e
   # shellcheck disable=SC2086
   "$tool" $args --csv "$tmp/bad.csv" > /dev/null 2> "$tmp/err.txt"

@@ -34,6 +34,7 @@
 #include "mechgen/machines/flywheel/machine_cycle.h"
 #include "punch_press.h"
 #include "shaper.h"
+#include "shaper_cutting.h"
 
 namespace {
 
@@ -256,10 +257,47 @@ TEST(FlywheelFourbar, ALimitPositionInsideTheCycleIsAStatusWithItsAngle) {
   EXPECT_TRUE(c.points.empty());
   EXPECT_NEAR(c.failed_theta, limit, 1.5 * kDeg) << c.message;
   EXPECT_NE(c.message.find("theta = 1"), std::string::npos) << c.message;
-  // The same machine with its own crank turns: sized.
+  // The same machine with its own crank turns: sized (its loads do no net work: a zero mean).
   M::ParamsT<double> ok;
-  EXPECT_TRUE(fw::SampleMachineCycle<M>(ok, o).status == fw::CycleStatus::kOk ||
-              fw::SampleMachineCycle<M>(ok, o).status == fw::CycleStatus::kNoLoad);
+  EXPECT_EQ(fw::SampleMachineCycle<M>(ok, o).status, fw::CycleStatus::kOk);
+}
+
+// A conservative machine (issue 45 item 12): the loaded four-bar's loads are constant forces,
+// a constant torque on the rocker (which swings back), a spring and weights, and the massive
+// four-bar has weights and its inertia torque: none does net work over a turn, so the mean
+// required torque is zero but for rounding, of either sign by the sample count. Both signs
+// make the same decision: zero (|mean| within 8 eps N max|T|), sized with T_mean = 0 exactly.
+TEST(FlywheelConservative, AZeroMeanTorqueIsZeroWhicheverWayTheRoundingFalls) {
+  auto run = [](auto model, int* positive, int* negative) {
+    using M = decltype(model);
+    typename M::template ParamsT<double> p;
+    double delta_E = -1;
+    for (int n = 360; n < 400; ++n) {
+      fw::MachineCycleOptions o;
+      o.omega = 10;
+      o.samples = n;
+      const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+      ASSERT_TRUE(c.IsUsable()) << M::kName << " n = " << n << ": " << c.message;
+      EXPECT_TRUE(c.zero_mean) << M::kName << " n = " << n;
+      EXPECT_EQ(c.T_mean, 0.0);
+      EXPECT_EQ(c.work, 0.0);
+      EXPECT_LE(std::abs(c.loop.mean_torque), c.T_mean_rounding) << M::kName << " n = " << n;
+      EXPECT_GT(c.T_mean_rounding, 0);
+      EXPECT_LT(c.T_mean_rounding, 1e-9 * std::max(std::abs(c.T_max), std::abs(c.T_min)));
+      (c.loop.mean_torque > 0 ? *positive : *negative) += 1;
+      // The loop (its mean removed) and the flywheel do not depend on the rounding's sign.
+      if (delta_E < 0) delta_E = c.loop.delta_E;
+      EXPECT_NEAR(c.loop.delta_E, delta_E, 1e-6 * delta_E) << M::kName << " n = " << n;
+      EXPECT_GT(fw::SizeFlywheel(c, 0.05).I_required, 0);
+    }
+  };
+  int positive = 0, negative = 0;
+  run(mech::fourbar_loaded::Model(), &positive, &negative);
+  run(mech::fourbar_massive::Model(), &positive, &negative);
+  EXPECT_GT(positive, 0);  // both signs of rounding were met
+  EXPECT_GT(negative, 0);
+  // A mean negative beyond rounding (the shaper's cut reversed) stays refused:
+  // FlywheelShaper.StatusesNotNumbers.
 }
 
 // ---- the punch press by hand: s(theta) = a cos theta + sqrt(b^2 - a^2 sin^2 theta). ----
@@ -447,8 +485,9 @@ TEST(FlywheelPunchPress, SimulatedCheckAgreesToOrderCs) {
     ASSERT_TRUE(sim.ok) << sim.message;
     EXPECT_LT(std::abs(sim.last_change), 1e-5);  // the neutral cycle's creep per cycle
     // The energy loop assumes a constant inertia and the inertia torque at w_m: the simulated
-    // C_s agrees to O(C_s) relative (measured +0.0011 at C_s = 0.02 and +0.0028 at 0.05: about
-    // 0.056 C_s, linear in C_s).
+    // C_s agrees to O(C_s) relative (measured +0.0010 at C_s = 0.02 and +0.0032 at 0.05, the
+    // speed's extremes refined between the trace's samples: about 0.05-0.06 C_s; with 7200
+    // samples a cycle +0.0011 and +0.0033, the extremes' remaining error at the punch's kink).
     EXPECT_NEAR(sim.trace.C_s / C_s, 1, 0.1 * C_s) << "simulated " << sim.trace.C_s;
     EXPECT_GT(std::abs(sim.trace.C_s / C_s - 1), 0.02 * C_s);  // not exact: what the loop neglects
     // The speed is lowest right after the punch and highest before it.
@@ -460,6 +499,84 @@ TEST(FlywheelPunchPress, SimulatedCheckAgreesToOrderCs) {
     ASSERT_TRUE(shunt.ok) << shunt.message;
     EXPECT_LT(shunt.trace.C_s, sim.trace.C_s);
     EXPECT_GT(shunt.trace.C_s, 0.3 * C_s);
+  }
+}
+
+// The shaper of models/shaper_cutting.yaml (issue 45): masses, and a cutting force that is a
+// table of the ram's speed, so the statics (at rest) holds no cut and the required torque has
+// it only as the speed part T_speed. At 60 rpm and C_s = 0.02 the flywheel is heavy (about
+// 440 times the machine's own mean inertia) and the machine settles slowly: the check must
+// still find its steady cycle and measure C_s on it.
+//   Oracle of the sizing: the cut's work per turn is Fc times the stroke (the ram's dead
+// points, at theta = -30 and 210 deg where the crank is perpendicular to the rocker, from the
+// hand geometry of Shaper scaled by 0.12), less what the band |s_stroke_dot| < 0.02 m/s of the
+// table leaves out near the dead points (about v0^2/(2 a) per dead point, a ~ 20 m/s^2 the
+// ram's acceleration there: a few 1e-5 m of travel, well under 0.1 J).
+TEST(FlywheelShaperCutting, TheCheckOfAHeavyFlywheelFindsItsSteadyCycle) {
+  using M = mech::shaper_cutting::Model;
+  M::ParamsT<double> p;
+  Shaper hand;
+  hand.r = p.r, hand.d = p.d, hand.L = p.L, hand.l = p.l, hand.h = p.h;
+  const double stroke = hand.x(-30 * kDeg) - hand.x(210 * kDeg);
+  EXPECT_NEAR(stroke, 0.48, 1e-3);  // the rocker's swing +-30 deg: 2 L sin 30 deg, nearly
+  fw::MachineCycleOptions o;
+  o.omega = 60 * 2 * kPi / 60;
+  const fw::MachineCycle c = fw::SampleMachineCycle<M>(p, o);
+  ASSERT_TRUE(c.IsUsable()) << c.message;
+  EXPECT_NEAR(c.work, p.Fc * stroke, 0.1) << "the cut's work per turn";
+  EXPECT_LE(c.work, p.Fc * stroke);
+  const double C_s = 0.02;
+  const fw::FlywheelSize f = fw::SizeFlywheel(c, C_s);
+  ASSERT_TRUE(f.needed);
+  EXPECT_GT(f.I_flywheel, 100 * c.I_mean);  // a heavy flywheel
+  // How the mean load grows with the speed: only through the table's band near the dead
+  // points, which narrows as the ram moves faster (a central difference of the mean torque of
+  // two cycles sampled at w_m (1 -+ 1e-3), their switches located anew: about 3e-5 N m s/rad).
+  // The sampled slope holds the switches where they are, so it sees the band only through the
+  // samples that fall in it; either way it is tiny against the shunt motor's.
+  {
+    fw::MachineCycleOptions lo = o, hi = o;
+    lo.omega *= 1 - 1e-3;
+    hi.omega *= 1 + 1e-3;
+    const double slope =
+        (fw::SampleMachineCycle<M>(p, hi).T_mean - fw::SampleMachineCycle<M>(p, lo).T_mean) / (2e-3 * o.omega);
+    EXPECT_GT(slope, 0);  // faster: a longer cut
+    EXPECT_LT(slope, 1e-3);
+    EXPECT_LT(std::abs(c.dT_mean_domega), 1e-3);
+  }
+  for (fw::MotorLaw law : {fw::MotorLaw::kConstant, fw::MotorLaw::kShunt}) {
+    fw::CheckOptions co;
+    co.law = law;
+    const fw::SimulatedCheck sim = fw::CheckBySimulation<M>(p, c, f.I_flywheel, co);
+    ASSERT_TRUE(sim.ok) << fw::ToString(law) << ": " << sim.message;
+    // Steady by what C_s needs: the cycle-mean speed changing per cycle by a small fraction
+    // of the fluctuation asked for (so the drift within the measured cycle is that fraction
+    // of its omega_max - omega_min), the tolerance stated in the result.
+    EXPECT_DOUBLE_EQ(sim.C_s_expected, C_s);
+    // (the shunt's settling time, about a cycle, divides it: what is left to go is about the
+    // change times the settling time in cycles; the constant motor's is beyond any run)
+    const double tau_cycles = law == fw::MotorLaw::kShunt ? sim.settling_time / (2 * kPi / o.omega) : 1.0;
+    EXPECT_NEAR(sim.steady_tolerance, co.steady_fraction * C_s / std::max(1.0, tau_cycles), 1e-15);
+    EXPECT_LT(sim.last_change, sim.steady_tolerance);
+    // The measured cycle turns at the sized speed: its mean within C_s of w_m.
+    EXPECT_NEAR(sim.trace.omega_mid, o.omega, C_s * o.omega) << fw::ToString(law);
+    // The energy loop's C_s to O(C_s) relative (constant inertia, the speed-dependent cut and
+    // the inertia torque taken at w_m; measured +0.19 % with the constant-torque motor). The
+    // shunt motor's damping b = T_stall/w_0 lowers each harmonic of the fluctuation but turns
+    // their phases: here the peak-to-peak grows (+0.38 %: the cut's jumps make many harmonics).
+    EXPECT_NEAR(sim.trace.C_s / C_s, 1, 0.5 * C_s) << fw::ToString(law) << ": simulated " << sim.trace.C_s;
+    // The settling time from the slopes: the cut's mean hardly changes with the speed (only the
+    // table's band at the dead points moves), the shunt motor's line is steep.
+    if (law == fw::MotorLaw::kConstant) {
+      EXPECT_GT(sim.settling_time, 1000 * sim.period);
+      EXPECT_LE(sim.cycles, 5);  // started on the sized cycle: steady at once
+    } else {
+      // The shunt motor's line T_stall (1 - w/w_0) through (w_m, T_mean): I/(T_stall/w_0).
+      const double slip = co.slip, T_stall = c.T_mean / slip, omega_0 = o.omega / (1 - slip);
+      EXPECT_NEAR(sim.settling_time, (f.I_flywheel + c.I_mean) / (T_stall / omega_0), 1e-5 * sim.settling_time);
+      EXPECT_LT(sim.settling_time, 2 * sim.period);
+      EXPECT_LE(sim.cycles, 12);
+    }
   }
 }
 
@@ -714,6 +831,64 @@ TEST(FlywheelWrapper, AddsTheInertiaOnBothPaths) {
     EXPECT_NEAR(dy(1), qdd, 1e-12 * (1 + std::abs(qdd))) << "qd = " << qd;
     EXPECT_NEAR(sample.qdd(0), qdd, 1e-12 * (1 + std::abs(qdd))) << "qd = " << qd;
     EXPECT_NEAR(sample.T, 0.5 * (d.I(0, 0) + 0.7) * qd * qd, 1e-12 * (1 + sample.T));
+  }
+}
+
+// Issue 43: WithFlywheel<M> shadows every generated function that yields I or T, so a path
+// through another generated function does not silently lack the flywheel. The kinetostatics
+// (d'Alembert's inertia forces link by link, then virtual work) of the massive four-bar with a
+// flywheel against the equation of motion of the same machine (Lagrange: the drive that makes
+// q move so is (I + I_fly) qdd + h - Q): the drive gains exactly I_fly qdd, the reactions do
+// not change (a couple on the crank that the drive carries); through the runtime's
+// dynamics::Kinetostatics too. The excess formulation: its mass matrix projected on the motion,
+// [1 K^T] M_x [1; K], is the generalized inertia with the flywheel, and its T the same.
+TEST(FlywheelWrapper, KinetostaticsAndTheExcessFormulationCarryTheFlywheel) {
+  using M = mech::fourbar_massive::Model;
+  using W = fw::WithFlywheel<M>;
+  static_assert(mechgen::HasShaking<M>::value && !mechgen::HasShaking<W>::value,
+                "the shaking table is refused with a flywheel (see WithFlywheel)");
+  const double I_fly = 0.7;
+  W::ParamsT<double> pf;
+  pf.I_flywheel = I_fly;
+  const M::ParamsT<double>& p = pf;
+  mechgen::dynamics::Kinetostatics<W> runtime_kin(pf);
+  using VecQ = Eigen::Matrix<double, 1, 1>;
+  using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
+  for (double theta : {0.4, 2.0, 4.5}) {
+    VecQ q, qd, qdd;
+    q(0) = theta;
+    qd(0) = 3.0;
+    qdd(0) = -40.0;
+    typename mechgen::dynamics::Kinetostatics<W>::Row row;
+    ASSERT_TRUE(runtime_kin.Initialize(q));
+    ASSERT_EQ(runtime_kin.Evaluate(0, q, qd, qdd, &row), mechgen::dynamics::KinetostaticsStatus::kOk);
+    const VecPhi phi = row.phi;
+    M::CoefficientsT<double> c;
+    M::Coeffs<double>(p, q, phi, &c);
+    M::StaticsT<double> bare, with;
+    M::Kinetostatics<double>(p, q, phi, qd, qdd, 0.0, c, &bare);
+    W::Kinetostatics<double>(pf, q, phi, qd, qdd, 0.0, c, &with);
+    M::DynamicsT<double> d;
+    W::Dynamics<double>(pf, q, phi, qd, 0.0, c, &d);
+    const double lagrange = d.I(0, 0) * qdd(0) + d.h(0) - d.Q(0);
+    const double scale = 1 + std::abs(lagrange);
+    EXPECT_NEAR(with.drive(0), lagrange, 1e-11 * scale) << "theta " << theta;
+    EXPECT_NEAR(with.drive(0) - bare.drive(0), I_fly * qdd(0), 1e-12 * scale);
+    EXPECT_NEAR(with.Q(0), -with.drive(0), 1e-12 * scale);
+    EXPECT_EQ(with.R, bare.R);
+    EXPECT_EQ(row.statics.drive(0), with.drive(0));  // the runtime's path is the shadowed one
+    // The excess formulation.
+    VecPhi phid = c.K * qd;
+    M::ExcessT<double> e, e_bare;
+    W::ExcessDynamics<double>(pf, q, phi, qd, phid, 0.0, &e);
+    M::ExcessDynamics<double>(p, q, phi, qd, phid, 0.0, &e_bare);
+    Eigen::Matrix<double, 1 + M::kNphi, 1> Kx;
+    Kx << 1, c.K;
+    EXPECT_NEAR(Kx.dot(e.M * Kx), d.I(0, 0), 1e-12 * d.I(0, 0));
+    EXPECT_NEAR(e.T, d.T, 1e-12 * d.T);
+    EXPECT_NEAR(e.M(0, 0) - e_bare.M(0, 0), I_fly, 1e-15);
+    EXPECT_EQ(e.g, e_bare.g);
+    EXPECT_EQ(e.h, e_bare.h);
   }
 }
 

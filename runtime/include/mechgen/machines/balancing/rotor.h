@@ -51,6 +51,7 @@ enum class RotorStatus {
   kBadUnbalance,      ///< unbalance `index`: m < 0, r < 0, or a value not finite
   kZeroRadius,        ///< a correction radius <= 0 or not finite
   kCoincidentPlanes,  ///< |z_R − z_L| <= 1e-12 · (|z_L| + |z_R| + span of the z_i), or not finite
+  kNotFinite,         ///< finite data whose sums U, M or correction masses m = |C|/r overflow
 };
 
 inline const char* ToString(RotorStatus s) {
@@ -63,6 +64,9 @@ inline const char* ToString(RotorStatus s) {
       return "the correction radius must be finite and > 0";
     case RotorStatus::kCoincidentPlanes:
       return "the two correction planes coincide (z_L = z_R)";
+    case RotorStatus::kNotFinite:
+      return "the unbalance sums or the correction masses are beyond the range of numbers (give the "
+             "unbalances in other units, or a larger correction radius)";
   }
   return "unknown";
 }
@@ -103,6 +107,8 @@ inline Correction MakeCorrection(std::complex<double> c, double radius, double z
   k.angle = k.mr > 0 ? std::arg(c) : 0.0;
   return k;
 }
+inline bool IsFinite(std::complex<double> c) { return std::isfinite(std::abs(c)); }
+inline bool IsFinite(const Correction& k) { return std::isfinite(k.mr) && std::isfinite(k.mass); }
 }  // namespace internal
 
 /// The result of BalanceStatic() / BalanceTwoPlanes().
@@ -133,6 +139,8 @@ inline RotorBalance BalanceStatic(const Unbalance* u, int n, double radius, doub
   }
   r.before = Sums(u, n);
   r.left = internal::MakeCorrection(-r.before.U, radius, z);
+  if (!(internal::IsFinite(r.before.U) && internal::IsFinite(r.before.M) && internal::IsFinite(r.left)))
+    r.status = RotorStatus::kNotFinite;
   return r;
 }
 
@@ -170,6 +178,9 @@ inline RotorBalance BalanceTwoPlanes(
   const std::complex<double> C_R = (z_left * r.before.U - r.before.M) / span;
   r.left = internal::MakeCorrection(C_L, r_left, z_left);
   r.right = internal::MakeCorrection(C_R, r_right, z_right);
+  if (!(internal::IsFinite(r.before.U) && internal::IsFinite(r.before.M) && internal::IsFinite(r.left) &&
+        internal::IsFinite(r.right)))
+    r.status = RotorStatus::kNotFinite;
   return r;
 }
 

@@ -68,7 +68,8 @@ enum class LoopStatus {
   kTooFewSamples,  ///< fewer than 4 samples (the 4-point formula), or no areas, or a break
                    ///< out of range or fewer than 3 intervals from another
   kBadCycle,       ///< Θ not finite or <= 0
-  kNonFinite,      ///< a sample, area or the start angle is NaN or infinite
+  kNonFinite,      ///< a sample, area or the start angle is NaN or infinite, or a sum of them
+                   ///< (the mean, E, a running sum of the areas) overflows
   /// |mean(ΔT)| > mean_tolerance · max|ΔT| (or |Σ areas| > tolerance · Σ|areas|): the cycle is
   /// not steady, E(θ_0 + Θ) = Θ·mean ≠ 0; E and ΔE are still filled (with the drift in them).
   kNotSteady,
@@ -83,7 +84,7 @@ inline const char* ToString(LoopStatus s) {
     case LoopStatus::kBadCycle:
       return "the cycle must be a finite positive angle";
     case LoopStatus::kNonFinite:
-      return "a sample or area is not finite";
+      return "a sample or area, or a sum of them, is not finite (beyond the range of numbers)";
     case LoopStatus::kNotSteady:
       return "not a steady cycle: the mean excess torque is not zero (the loop does not close)";
   }
@@ -319,6 +320,10 @@ inline EnergyLoop ExcessEnergy(const double* dT,
     peak = std::max(peak, std::abs(dT[k]));
   }
   r.mean_torque = sum / n;
+  if (!std::isfinite(r.mean_torque)) {  // finite samples whose sum overflows
+    r.status = LoopStatus::kNonFinite;
+    return r;
+  }
   double shift = 0;
   const double h = cycle / n;
   auto g = [&](int k) { return dT[((k % n) + n) % n] - shift; };
@@ -341,6 +346,10 @@ inline EnergyLoop ExcessEnergy(const double* dT,
     double W = 0;
     for (int k = 0; k < n; ++k) W += interval(k);
     r.mean_torque = W / cycle;
+    if (!std::isfinite(r.mean_torque)) {
+      r.status = LoopStatus::kNonFinite;
+      return r;
+    }
   }
   shift = options.remove_mean ? r.mean_torque : 0.0;
   const bool steady = options.remove_mean || std::abs(r.mean_torque) <= options.mean_tolerance * peak;
@@ -399,6 +408,11 @@ inline EnergyLoop ExcessEnergy(const double* dT,
   refine(k_hi, +1, &r.E_max, &r.theta_max);
   refine(k_lo, -1, &r.E_min, &r.theta_min);
   r.delta_E = r.E_max - r.E_min;
+  // E is a sum of h ΔT: finite samples over a finite cycle can still overflow it.
+  if (!(std::isfinite(r.cycle_work) && std::isfinite(r.delta_E))) {
+    r.status = LoopStatus::kNonFinite;
+    return r;
+  }
   r.status = steady ? LoopStatus::kOk : LoopStatus::kNotSteady;
   return r;
 }
@@ -507,24 +521,37 @@ inline AreaLoop DeltaEFromAreas(const double* areas, int n, double closure_toler
   }
   r.closure = s;
   r.delta = r.max - r.min;
+  if (!(std::isfinite(total) && std::isfinite(r.delta))) {  // the running sums overflow
+    r.status = LoopStatus::kNonFinite;
+    return r;
+  }
   r.status = std::abs(s) <= closure_tolerance * total ? LoopStatus::kOk : LoopStatus::kNotSteady;
   return r;
 }
 
+/// The smallest C_s the tools size for: a fluctuation of a millionth of the speed. Below it a
+/// C_s cannot mean anything a flywheel does (the speed of a real drive wanders by more), the
+/// simulated checks cannot resolve it (their integrators keep the speed to about 1e-10
+/// relative, and a cycle's mean speed is timed to about as much), and ΔE/(C_s ω_m²) runs off
+/// to the end of the numbers (C_s = 1e-300 overflows).
+constexpr double kMinSpeedFluctuation = 1e-6;
+
 /// I = ΔE / (C_s ω_m²) (kg m²): the constant inertia that keeps the speed within C_s of the mean
-/// speed ω_m (rad/s). NaN unless ΔE >= 0, C_s > 0, ω_m > 0.
+/// speed ω_m (rad/s). NaN unless ΔE >= 0, C_s > 0, ω_m > 0 and I is finite.
 inline double RequiredInertia(double delta_E, double C_s, double omega_mean) {
   if (!(delta_E >= 0 && C_s > 0 && omega_mean > 0 && std::isfinite(delta_E * C_s * omega_mean)))
     return std::numeric_limits<double>::quiet_NaN();
-  return delta_E / (C_s * omega_mean * omega_mean);
+  const double I = delta_E / (C_s * omega_mean * omega_mean);
+  return std::isfinite(I) ? I : std::numeric_limits<double>::quiet_NaN();
 }
 
 /// C_s = ΔE / (I ω_m²): the coefficient of fluctuation of speed with a constant inertia I.
-/// NaN unless ΔE >= 0, I > 0, ω_m > 0.
+/// NaN unless ΔE >= 0, I > 0, ω_m > 0 and C_s is finite.
 inline double SpeedFluctuation(double delta_E, double inertia, double omega_mean) {
   if (!(delta_E >= 0 && inertia > 0 && omega_mean > 0 && std::isfinite(delta_E * inertia * omega_mean)))
     return std::numeric_limits<double>::quiet_NaN();
-  return delta_E / (inertia * omega_mean * omega_mean);
+  const double C_s = delta_E / (inertia * omega_mean * omega_mean);
+  return std::isfinite(C_s) ? C_s : std::numeric_limits<double>::quiet_NaN();
 }
 
 /// rev/min -> rad/s.

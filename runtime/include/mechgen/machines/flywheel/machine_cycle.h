@@ -33,6 +33,12 @@
  *    (E(θ_0) = 0), ΔE = E_max − E_min, and the constant inertia I_req = ΔE/(C_s ω_m²) that keeps
  *    the speed within ±C_s/2 of ω_m. With `dynamics` the machine already has I(θ): the flywheel
  *    to add is I_fly = I_req − mean I(θ) (as the engine tool does); without, I_fly = I_req.
+ *    A machine whose loads do no net work (weights, springs, constant forces, the inertia
+ *    torque: a conservative one) has T_mean = 0 but for rounding, of either sign by where the
+ *    samples fall: |T_mean| <= 8 ε N max_k max(|T_req|, |T_static|, |T_inertia|, |T_speed|)
+ *    is zero (MachineCycle::zero_mean; T_mean and the work set to exactly 0), and the machine
+ *    is sized alike for both signs: the flywheel evens out the energy its inertia, weights and
+ *    springs exchange. A mean negative beyond that is kNoLoad (the loads drive the machine).
  *    Accuracy: E is the 4-point rule of energy_loop.h, fourth order in the sample step h = Θ/N
  *    where T_req is smooth. A switched load (step(), clamp(), mod() in the model) makes T_req
  *    kink (a force switched on where its point does not move, e.g. the shaper's cut at the
@@ -50,18 +56,35 @@
  *    the input (WithFlywheel<M>: I(θ) + I_fly in the generated dynamics) driven by a motor
  *    law (MotorLoad): kConstant, T = T_m; or kShunt, the linear torque–speed line of a
  *    shunt (or induction, near synchronism) motor T = T_stall (1 − ω/ω_0) through (ω_m, T_m)
- *    with the slip s = 1 − ω_m/ω_0 (T_stall = T_m/s). From θ_0 at the speed the energy loop
- *    predicts there, the one-DOF simulator (dynamics/forward.h, Dopri5) integrates to a
- *    periodic steady state (dynamics/simulator.h: the cycle-mean speed settled; with the
- *    constant-torque motor and loads of the position only, a neutral cycle, the second full
- *    cycle, the creep of its mean speed reported); the last cycle's
- *    speed trace, sampled at equal times, gives C_s = (ω_max − ω_min)/ω_mid
- *    (AnalyzeSpeedTrace). The energy loop assumes a constant inertia and a constant motor
- *    torque, and ω_max − ω_min from ½ I (ω_max² − ω_min²) = ΔE: with the constant-torque motor the
- *    simulated C_s agrees with the asked one to O(C_s) relative (the variation of I(θ) and of
- *    the speed-dependent loads over the cycle; the inertia torque ½ I' ω² taken at ω_m instead
- *    of ω(θ)); a shunt motor also absorbs part of the fluctuation (its torque rises as the
- *    machine slows), so its C_s is smaller, the more so the smaller the slip.
+ *    with the slip s = 1 − ω_m/ω_0 (T_stall = T_m/s). The run starts on the sized cycle: at θ_0
+ *    with the speed the energy loop predicts there (½ I ω² = ½ I ω_m² + E − ½(E_max + E_min)),
+ *    so it is near the periodic orbit from the first cycle. The one-DOF simulator
+ *    (dynamics/forward.h, Dopri5) integrates until the cycle is steady by what C_s needs: the
+ *    cycle-mean speed changing per cycle, relative, by less than steady_fraction (1e-3) times
+ *    the C_s expected for this flywheel, ΔE/((I_fly + mean I) ω_m²), two cycles in a row
+ *    (dynamics/simulator.h's detection), so the drift inside the measured cycle is that
+ *    fraction of its ω_max − ω_min. What is left of the start's offset decays with the settling
+ *    time τ = (I_fly + mean I)/b, b the slope of the mean load less the motor's torque against
+ *    the speed (mean ∂T_req/∂ω by the loop's rule, plus T_stall/ω_0 for the shunt motor): a
+ *    change c per cycle leaves about c τ/P to go, so the tolerance is divided by τ/P when that
+ *    is above 1, and the run is allowed max_cycles, or 10 τ when that is longer (both when 10 τ
+ *    is within kMaxSettlingCycles). A heavy flywheel with loads whose mean hardly depends on the speed
+ *    (b near 0: the constant-torque motor with loads of the position only, a neutral cycle, or
+ *    a cutting force switched by a table of the ram's speed) settles over thousands of
+ *    cycles, but its mean speed only creeps, by (the error of Θ T_mean)/(I ω²) per cycle, far
+ *    below that tolerance: steady from the first cycles, the creep reported (last_change).
+ *    The slope is an estimate for loads smooth in the speed: a steep table's band near a
+ *    switch enters it only through the samples that fall in it (the run's length, not the
+ *    verdict, depends on it). The last cycle's speed trace, sampled at equal times, gives
+ *    C_s = (ω_max − ω_min)/ω_mid (AnalyzeSpeedTrace), its extremes refined between samples by
+ *    the cubic Hermite of ω and dω/dt. The energy loop assumes a constant inertia and a
+ *    constant motor torque, and ω_max − ω_min from ½ I (ω_max² − ω_min²) = ΔE: with the
+ *    constant-torque motor the simulated C_s agrees with the asked one to O(C_s) relative (the
+ *    variation of I(θ) and of the speed-dependent loads over the cycle; the inertia torque
+ *    ½ I' ω² taken at ω_m instead of ω(θ)). A shunt motor damps the fluctuation (its torque
+ *    rises as the machine slows): each harmonic of the speed shrinks by |ikΩI|/|ikΩI + b|, the
+ *    more so the smaller the slip, but their phases turn, so the peak-to-peak C_s is usually
+ *    smaller and not always (the shaper of tests/flywheel, whose cut jumps: +0.2 %).
  *
  * Units: the model's (SI: rad, rad/s, N m, J, kg m²); angles CCW +. Allocates (the samples'
  * vectors, outside any solver's loop); nothing throws; every result has a status.
@@ -101,7 +124,7 @@ enum class CycleStatus {
   kDeadPoint,       ///< a dead point inside the cycle: cond_1(Phi_phi) too large at a sample
   kStaticsFailed,   ///< the statics (friction iteration) did not converge at a sample
   kNotFinite,       ///< a torque or an inertia at a sample is not finite
-  kNoLoad,          ///< mean(T_req) <= 0: the load does no net work; no motor to size
+  kNoLoad,          ///< mean(T_req) < 0 beyond its rounding: the machine drives the motor
 };
 
 inline const char* ToString(CycleStatus s) {
@@ -127,7 +150,7 @@ inline const char* ToString(CycleStatus s) {
     case CycleStatus::kNotFinite:
       return "a torque or inertia inside the cycle is not finite";
     case CycleStatus::kNoLoad:
-      return "the mean required torque is not positive: the loads do no net work per cycle";
+      return "the mean required torque is negative: the loads drive the machine (no motor to size)";
   }
   return "unknown";
 }
@@ -167,6 +190,9 @@ struct CyclePoint {
   double T_inertia = 0;  ///< h = ½ I'(θ) ω_m² (N m; 0 without `dynamics`)
   double T_speed = 0;    ///< what the speed-dependent loads need: Q_static − Q(θ, ω_m) (N m)
   double I = 0;          ///< the machine's generalized inertia I(θ) (kg m²; 0 without `dynamics`)
+  /// ∂T_req/∂ω at ω_m (N m s/rad; 0 without `dynamics`): I'(θ) ω_m (the inertia torque's)
+  /// less ∂Q/∂θ̇ (the speed-dependent loads', a central difference of the generated Q).
+  double dT_domega = 0;
   double E = 0;          ///< the excess energy E(θ_k) (J), E(θ_0) = 0
   double condition = 0;  ///< cond_1(Phi_phi)
 };
@@ -186,6 +212,18 @@ struct MachineCycle {
   double T_max = kNaN, T_min = kNaN;  ///< extremes of T_req over the samples (N m)
   double theta_T_max = kNaN, theta_T_min = kNaN;
   double I_mean = 0;          ///< mean I(θ) (kg m²; 0 without `dynamics`)
+  /// mean ∂T_req/∂ω (N m s/rad): how the mean load torque grows with the speed (the inertia
+  /// torque's part averages out: ∮ I' dθ = 0). With the motor's own slope it sets how fast a
+  /// steady cycle settles (CheckBySimulation: the time constant (I_fly + I_mean)/slope).
+  double dT_mean_domega = 0;
+  /// What "T_mean = 0" means: |T_mean| at most this (N m) is zero to rounding, the loads doing
+  /// no net work (a conservative machine): 8 ε N max_k max(|T_req|, |T_static|, |T_inertia|,
+  /// |T_speed|) (each sample's parts may cancel to a T_req far below them; N of them summed).
+  double T_mean_rounding = 0;
+  /// |T_mean| <= T_mean_rounding: T_mean and work are set to exactly 0, whatever the sign of
+  /// the rounding, and the machine is sized (the flywheel only evens out the exchange of
+  /// energy between the inertia, weights and springs); the constant motor supplies no torque.
+  bool zero_mean = false;
   /// The switches of the loads located inside the cycle (rad, increasing; switch_breaks).
   std::vector<double> switches;
   int switches_unused = 0;    ///< of them, too close to another break to be one
@@ -367,9 +405,19 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
                   pt.T_inertia = d.h(0);
                   pt.T_speed = Q_static - d.Q(0);
                   pt.I = d.I(0, 0);
+                  // ∂T_req/∂ω: ∂h/∂ω = I' ω_m = 2h/ω_m, and −∂Q/∂θ̇ by a central difference
+                  // (step 1e-6 ω_m: truncation O(1e-12) relative, rounding ε |Q|/1e-6).
+                  const double dw = 1e-6 * o.omega;
+                  VecQ qd_hi = qd, qd_lo = qd;
+                  qd_hi(0) += dw;
+                  qd_lo(0) -= dw;
+                  typename M::template DynamicsT<double> d_hi, d_lo;
+                  M::template Dynamics<double>(p, r.state.q, r.state.phi, qd_hi, 0.0, c, &d_hi);
+                  M::template Dynamics<double>(p, r.state.q, r.state.phi, qd_lo, 0.0, c, &d_lo);
+                  pt.dT_domega = 2 * d.h(0) / o.omega - (d_hi.Q(0) - d_lo.Q(0)) / (2 * dw);
                 }
                 pt.T_req = pt.T_static + pt.T_inertia + pt.T_speed;
-                if (!std::isfinite(pt.T_req) || !std::isfinite(pt.I)) {
+                if (!std::isfinite(pt.T_req) || !std::isfinite(pt.I) || !std::isfinite(pt.dT_domega)) {
                   failed = true;
                   fail(CycleStatus::kNotFinite, theta, "");
                 }
@@ -382,15 +430,20 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
     std::vector<double> minus_T(static_cast<size_t>(n)), E(static_cast<size_t>(n));
     out.T_max = -std::numeric_limits<double>::infinity();
     out.T_min = std::numeric_limits<double>::infinity();
-    double I_sum = 0;
+    double I_sum = 0, slope_sum = 0, parts = 0;
     for (int k = 0; k < n; ++k) {
       const CyclePoint& pt = out.points[static_cast<size_t>(k)];
       minus_T[static_cast<size_t>(k)] = -pt.T_req;
       I_sum += pt.I;
+      slope_sum += pt.dT_domega;
+      parts = std::max({parts, std::abs(pt.T_req), std::abs(pt.T_static), std::abs(pt.T_inertia),
+                        std::abs(pt.T_speed)});
       if (pt.T_req > out.T_max) out.T_max = pt.T_req, out.theta_T_max = pt.theta;
       if (pt.T_req < out.T_min) out.T_min = pt.T_req, out.theta_T_min = pt.theta;
     }
     out.I_mean = I_sum / n;
+    out.dT_mean_domega = slope_sum / n;
+    out.T_mean_rounding = 8 * std::numeric_limits<double>::epsilon() * n * parts;
     // The breaks: the options' (each must be finite), then the switches of the loads.
     struct Break {
       double u;  // θ_0 + u h, u in [0, n)
@@ -510,6 +563,17 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
     out.loop = ExcessEnergy(minus_T.data(), n, out.cycle, out.theta0, loop_options, E.data());
     out.T_mean = -out.loop.mean_torque;
     out.work = out.T_mean * out.cycle;
+    {
+      // The mean of ∂T_req/∂ω by the same break-aware rule: a load switched by a speed table
+      // has its slope in a narrow band near a switch, which the sample mean would weigh by
+      // where the samples fall.
+      std::vector<double> slope(static_cast<size_t>(n));
+      for (int k = 0; k < n; ++k) slope[static_cast<size_t>(k)] = out.points[static_cast<size_t>(k)].dT_domega;
+      const EnergyLoop s = ExcessEnergy(slope.data(), n, out.cycle, out.theta0, loop_options);
+      if (s.status == LoopStatus::kOk) out.dT_mean_domega = s.mean_torque;
+      // Zero to the central difference's rounding (ε |Q| / 1e-6 per sample, as a torque at ω_m).
+      if (std::abs(out.dT_mean_domega) * o.omega <= 1e-8 * parts) out.dT_mean_domega = 0;
+    }
     for (int k = 0; k < n; ++k) out.points[static_cast<size_t>(k)].E = E[static_cast<size_t>(k)];
     if (!out.loop.IsUsable()) {
       out.status = out.loop.status == LoopStatus::kTooFewSamples ? CycleStatus::kBadOptions
@@ -520,10 +584,18 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
                       "samples with a break between two): use more samples";
       return out;
     }
-    if (!(out.T_mean > 0)) {
+    // Zero to rounding, either sign: the same machine (a conservative one) is sized the same
+    // whichever way the rounding of its samples fell.
+    if (std::abs(out.T_mean) <= out.T_mean_rounding) {
+      out.zero_mean = true;
+      out.T_mean = 0;
+      out.work = 0;
+    }
+    if (!(out.T_mean >= 0)) {
       out.status = CycleStatus::kNoLoad;
-      char buffer[160];
-      std::snprintf(buffer, sizeof(buffer), "%s (mean %.6g N m)", ToString(out.status), out.T_mean);
+      char buffer[200];
+      std::snprintf(buffer, sizeof(buffer), "%s (mean %.6g N m, beyond its rounding %.3g N m)",
+                    ToString(out.status), out.T_mean, out.T_mean_rounding);
       out.message = buffer;
       return out;
     }
@@ -574,14 +646,35 @@ struct MotorLoad {
   }
 };
 
+namespace internal {
+template <class T>
+inline constexpr bool kAlwaysFalse = false;
+}  // namespace internal
+
 /**
- * WithFlywheel<M>: model M with a constant inertia I_flywheel added to its one input (a
- * flywheel keyed to the crank): the generated dynamics (M::Dynamics and, where the model has
- * it, the one-pass M::Rhs) with I(0, 0) + I_flywheel and T + ½ I_flywheel θ̇². Everything
- * else is M's; its parameters are M's with the member I_flywheel (kg m²) added.
+ * WithFlywheel<M>: model M (one input) with a constant inertia I_flywheel added to its input:
+ * a balanced rotor keyed to the input's shaft, turning with q̇ about an axis fixed in the frame
+ * (a flywheel on the crank). Its parameters are M's with the member I_flywheel (kg m²) added.
+ * Every generated function that yields the inertia, the kinetic energy or what is built from
+ * them is shadowed, so that no path through the runtime silently lacks the flywheel:
+ *  - Dynamics and the one-pass Rhs: I(0, 0) + I_fly, T + ½ I_fly q̇² (I' = dI_dq, C, h, Q, V
+ *    and P_nc unchanged: the added inertia is constant and the rotor does no work of its own);
+ *  - Kinetostatics: the rotor's inertia couple −I_fly q̈ on the input's link, carried by the
+ *    drive: Q(0) − I_fly q̈, drive(0) + I_fly q̈; the reactions R unchanged (a pure couple on the
+ *    link the drive acts on moves no joint force), the rest unchanged;
+ *  - ExcessDynamics (x = (q, φ)): M_x(0, 0) + I_fly, T + ½ I_fly q̇² (h, g, Φ_x, γ unchanged).
+ * Left to M, correct as they are: the kinematics (Solve, Coeffs, Kinematics, Prepare: no
+ * inertia), the statics (Forces, Stiffness, StaticsDesign: no inertia) and DynamicsDesign (d/dp
+ * of I, I', h, Q, T, V: the flywheel's share is constant, its derivatives 0; I_flywheel is no
+ * design parameter).
+ * Refused at compile time (kHasShaking false, and Shaking, ShakingDesign a static_assert): the
+ * shaking moment gains −I_fly q̈ on the frame, but M's Shaking splits M by link (M_link) and the
+ * rotor is no link of M's; a caller that needs it adds −I_fly q̈ to M's shaking moment itself.
  */
 template <class M>
 struct WithFlywheel : M {
+  static_assert(M::kNq == 1, "WithFlywheel: a flywheel on the one input of a one-DOF model");
+  static constexpr bool kHasShaking = false;
   template <class S>
   struct ParamsT : M::template ParamsT<S> {
     S I_flywheel = S(0);
@@ -601,14 +694,51 @@ struct WithFlywheel : M {
     out->T += S(0.5) * p.I_flywheel * qd(0) * qd(0);
     return report;
   }
+  template <class S, class VQ, class VPhi, class VQd, class VQdd, class C, class Out, class... Rest>
+  static void Kinetostatics(const ParamsT<S>& p, const VQ& q, const VPhi& phi, const VQd& qd, const VQdd& qdd,
+                            const S& t, const C& c, Out* out, Rest... rest) {
+    M::template Kinetostatics<S>(p, q, phi, qd, qdd, t, c, out, rest...);
+    out->Q(0) -= p.I_flywheel * qdd(0);
+    out->drive(0) += p.I_flywheel * qdd(0);
+  }
+  template <class S, class VQ, class VPhi, class VQd, class VPhid, class Out, class... Rest>
+  static void ExcessDynamics(const ParamsT<S>& p, const VQ& q, const VPhi& phi, const VQd& qd, const VPhid& phid,
+                             const S& t, Out* out, Rest... rest) {
+    M::template ExcessDynamics<S>(p, q, phi, qd, phid, t, out, rest...);
+    out->M(0, 0) += p.I_flywheel;
+    out->T += S(0.5) * p.I_flywheel * qd(0) * qd(0);
+  }
+  template <class S = double, class... A>
+  static void Shaking(const A&...) {
+    static_assert(internal::kAlwaysFalse<S>,
+                  "WithFlywheel<M>::Shaking: not provided (the rotor is no link of M's shaking "
+                  "table); add -I_flywheel qdd to M's shaking moment M");
+  }
+  template <class S = double, class... A>
+  static void ShakingDesign(const A&...) {
+    static_assert(internal::kAlwaysFalse<S>, "WithFlywheel<M>::ShakingDesign: not provided (see Shaking)");
+  }
 };
 
 struct CheckOptions {
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  /// The longest run the settling time may ask for (cycles at ω_m).
+  static constexpr int kMaxSettlingCycles = 20000;
   MotorLaw law = MotorLaw::kConstant;
   double slip = 0.05;           ///< kShunt: s = 1 − ω_m/ω_0, in (0, 1)
   int samples_per_cycle = 720;  ///< the speed trace's equal-time samples per cycle
-  double steady_tolerance = 1e-7;  ///< relative change of the cycle-mean speed
-  int max_cycles = 400;         ///< give up after this many cycles (at ω_m)
+  /// Steady: the cycle-mean speed changing per cycle, relative, by less than steady_fraction
+  /// times the fluctuation expected, C_s = ΔE/((I_fly + mean I) ω_m²), two cycles in a row:
+  /// the drift inside the measured cycle is then that fraction of its ω_max − ω_min, and the
+  /// measured C_s carries no more of it. Divided by the settling time in cycles τ/P when that
+  /// is above 1 and the run can wait 10 τ: the change c per cycle leaves about c τ/P to go.
+  /// In (0, 0.1].
+  double steady_fraction = 1e-3;
+  /// When finite (in (0, 0.5]): this relative change per cycle instead.
+  double steady_tolerance = kNaN;
+  /// Give up after this many cycles, or after 10 settling times (I_fly + mean I)/slope plus 3
+  /// cycles when that is longer (at most kMaxSettlingCycles; SimulatedCheck::cycles_limit).
+  int max_cycles = 400;
   double rtol = 1e-10, atol = 1e-10;
 };
 
@@ -619,6 +749,13 @@ struct SimulatedCheck {
   double I_flywheel = kNaN;     ///< the flywheel simulated (kg m²)
   double omega_start = kNaN;    ///< the speed at θ_0 the run started with (rad/s)
   int cycles = 0;               ///< cycles until the steady state
+  int cycles_limit = 0;         ///< the run's limit (CheckOptions::max_cycles)
+  double C_s_expected = kNaN;   ///< ΔE/((I_fly + mean I) ω_m²): the energy loop's C_s
+  double steady_tolerance = kNaN;  ///< the relative change per cycle taken as steady
+  /// The slope b of the mean load less the motor's torque against the speed (N m s/rad:
+  /// mean ∂T_req/∂ω + the shunt motor's T_stall/ω_0) and the settling time (I_fly + mean I)/b
+  /// of the cycle-mean speed (s; infinite when b <= 0: nothing pulls the mean speed back).
+  double slope = kNaN, settling_time = kNaN;
   double period = kNaN;         ///< the steady cycle's duration (s)
   double last_change = kNaN;    ///< relative change of the cycle-mean speed at the end
   SpeedTrace trace;             ///< the last cycle's ω_max, ω_min, ω_mid, time mean, C_s
@@ -658,6 +795,25 @@ SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
     static_cast<typename M::template ParamsT<double>&>(pf) = p;
     pf.I_flywheel = I_flywheel;
     const double w = cycle.omega;
+    const double I_total = I_flywheel + cycle.I_mean;
+    out.C_s_expected = cycle.loop.delta_E / (I_total * w * w);
+    if (!(out.C_s_expected > 0 && std::isfinite(out.C_s_expected))) {
+      std::snprintf(buffer, sizeof(buffer),
+                    "the energy loop expects no fluctuation to check (dE = %.3g J, I_fly + mean I = %.3g kg m^2)",
+                    cycle.loop.delta_E, I_total);
+      out.message = buffer;
+      return out;
+    }
+    out.steady_tolerance = std::isfinite(o.steady_tolerance) ? o.steady_tolerance : o.steady_fraction * out.C_s_expected;
+    if (!(out.steady_tolerance > 0 && out.steady_tolerance <= 0.5) ||
+        !(std::isnan(o.steady_tolerance) || o.steady_tolerance > 0) ||
+        !(o.steady_fraction > 0 && o.steady_fraction <= 0.1)) {
+      std::snprintf(buffer, sizeof(buffer),
+                    "bad steadiness tolerance (%.3g relative per cycle; the expected C_s is %.3g)",
+                    out.steady_tolerance, out.C_s_expected);
+      out.message = buffer;
+      return out;
+    }
     // The speed at θ_0 on the cycle whose extremes the energy loop puts at ω_m ± C_s ω_m / 2:
     // ½ I ω² = ½ I ω_m² + E(θ) − ½ (E_max + E_min), E(θ_0) = 0.
     const double I0 = I_flywheel + cycle.points[0].I;
@@ -675,26 +831,37 @@ SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
     mo.steady.enabled = true;
     mo.steady.coordinate = 0;
     mo.steady.cycle = cycle.cycle;
-    // Loads that depend on the speed (T_speed not 0 somewhere) fix the mean speed themselves.
-    double largest = 0, speed_part = 0;
-    for (const CyclePoint& pt : cycle.points) {
-      largest = std::max(largest, std::abs(pt.T_req));
-      speed_part = std::max(speed_part, std::abs(pt.T_speed));
+    // Steady by what C_s needs (CheckOptions::steady_fraction). The run starts on the sized
+    // cycle's speed profile (ω at θ_0 above), so the periodic orbit is near from the start;
+    // what is left settles with the time constant (I_fly + mean I)/b, b the slope of the mean
+    // load less the motor against the speed: a change c per cycle leaves about c τ/P to go, so
+    // the tolerance per cycle is steady_fraction C_s over max(1, τ/P). With b near 0 (a
+    // constant-torque motor and loads of the position only, or loads whose mean hardly changes
+    // with the speed: 10 τ beyond kMaxSettlingCycles) nothing pulls the mean speed back: it
+    // creeps by (the error of Θ T_mean)/(I ω²) per cycle, far below steady_fraction C_s, and
+    // the first cycles are steady; the run then waits max_cycles at most.
+    out.slope = cycle.dT_mean_domega;
+    const MotorLoad motor = MotorLoad::Make(o.law, cycle.T_mean, w, o.slip);
+    if (o.law == MotorLaw::kShunt) out.slope += motor.T_stall / motor.omega_0;
+    out.settling_time = out.slope > 0 ? I_total / out.slope : std::numeric_limits<double>::infinity();
+    const double settle = std::ceil(10 * out.settling_time / period_guess) + 3;
+    const bool settles = settle <= CheckOptions::kMaxSettlingCycles;
+    if (settles && std::isnan(o.steady_tolerance))
+      out.steady_tolerance /= std::max(1.0, out.settling_time / period_guess);
+    mo.steady.tolerance = out.steady_tolerance;
+    mo.steady.consecutive = 2;
+    // The run: max_cycles, or 10 settling times when that is longer and within
+    // kMaxSettlingCycles, and the speed trace's samples within the simulator's max_samples.
+    double limit = o.max_cycles;
+    if (settles) limit = std::max(limit, settle);
+    limit = std::min(limit, std::floor(mo.max_samples / (o.samples_per_cycle + 1.0)));
+    out.cycles_limit = static_cast<int>(limit);
+    if (out.cycles_limit < 3) {
+      out.message = "bad check options: the samples per cycle leave fewer than 3 cycles within the simulator's "
+                    "max_samples";
+      return out;
     }
-    const bool neutral = o.law == MotorLaw::kConstant && !(speed_part > 1e-12 * largest);
-    if (neutral) {
-      // Neutral: with loads of the position only every mean speed is periodic under a constant
-      // torque, and the sampled T_mean's own error makes the mean speed creep by
-      // (error of Θ T_mean)/(I ω²) per cycle without ever settling. The cycles from the
-      // predicted start are steady from the first: the second timed cycle is taken (its
-      // change of the cycle-mean speed reported in last_change).
-      mo.steady.tolerance = 0.5;
-      mo.steady.consecutive = 1;
-    } else {
-      mo.steady.tolerance = o.steady_tolerance;
-      mo.steady.consecutive = 2;
-    }
-    Sim sim(pf, mo, MotorLoad::Make(o.law, cycle.T_mean, w, o.slip));
+    Sim sim(pf, mo, motor);
     VecQ q0, qd0;
     q0(0) = cycle.theta0;
     qd0(0) = out.omega_start;
@@ -703,16 +870,16 @@ SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
       return out;
     }
     struct Point {
-      double t, theta, omega;
+      double t, theta, omega, alpha;  // alpha = dω/dt, for the extremes between samples
     };
     std::vector<Point> trace;
     trace.reserve(static_cast<size_t>(o.samples_per_cycle) * 8);
     dynamics::MinimalSummary summary;
-    const double t_end = o.max_cycles * period_guess;
+    const double t_end = out.cycles_limit * period_guess;
     sim.Simulate(
         0.0, q0, qd0, t_end,
         [&](const typename Sim::SampleT& s) {
-          trace.push_back({s.t, s.q(0), s.qd(0)});
+          trace.push_back({s.t, s.q(0), s.qd(0), s.qdd(0)});
           // Keep the last few cycles only (the steady cycle is the last one).
           if (trace.size() > static_cast<size_t>(o.samples_per_cycle) * 16) {
             trace.erase(trace.begin(), trace.begin() + static_cast<long>(trace.size() / 2));
@@ -733,8 +900,11 @@ SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
       if (summary.status == dynamics::Status::kSuccess) {
         std::snprintf(buffer, sizeof(buffer),
                       "no steady cycle within %d cycles (the cycle-mean speed still changing by "
-                      "%.3g relative; asked %.3g)",
-                      o.max_cycles, summary.steady.last_change, o.steady_tolerance);
+                      "%.3g relative per cycle; asked %.3g%s; settling time %.3g s%s)",
+                      out.cycles_limit, summary.steady.last_change, out.steady_tolerance,
+                      std::isfinite(o.steady_tolerance) ? "" : " from steady_fraction x the expected C_s",
+                      out.settling_time,
+                      out.slope < 0 ? ": the mean load falls as the speed rises, no stable mean speed" : "");
         out.message = buffer;
       }
       return out;
@@ -742,11 +912,11 @@ SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
     // The last cycle: [t_crossing − period, t_crossing).
     const double t1 = summary.steady.t_crossing, t0 = t1 - summary.steady.period;
     std::vector<double> omega;
-    std::vector<double> theta;
-    for (const Point& pt : trace) {
-      if (pt.t >= t0 && pt.t < t1) {
-        omega.push_back(pt.omega);
-        theta.push_back(pt.theta);
+    size_t first = trace.size();
+    for (size_t i = 0; i < trace.size(); ++i) {
+      if (trace[i].t >= t0 && trace[i].t < t1) {
+        if (first == trace.size()) first = i;
+        omega.push_back(trace[i].omega);
       }
     }
     out.trace = AnalyzeSpeedTrace(omega.data(), static_cast<int>(omega.size()), TraceSampling::kTime);
@@ -754,13 +924,37 @@ SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
       out.message = "the steady cycle's speed trace is unusable (too few samples or a speed <= 0)";
       return out;
     }
+    // The extremes between samples: on the two intervals next to the extreme sample, the cubic
+    // Hermite of ω with the slopes dω/dt (as ExcessEnergy refines E), so the measured C_s does
+    // not depend on where the samples fall (to O(dt⁴) where ω is smooth, instead of O(dt²) of
+    // the samples alone; O(dt) at a kink of ω, a jump of the torque, either way).
+    auto refine = [&](int k, double sign, double* value, double* theta) {
+      const size_t i = first + static_cast<size_t>(k);
+      double best = sign * trace[i].omega, at = trace[i].theta;
+      for (size_t a : {i - 1, i}) {
+        if (i == 0 && a == i - 1) continue;
+        if (a + 1 >= trace.size()) continue;
+        const Point &pa = trace[a], &pb = trace[a + 1];
+        internal::HermiteCandidates(pa.omega, pb.omega, pa.alpha, pb.alpha, pb.t - pa.t, [&](double u, double v) {
+          if (sign * v > best) best = sign * v, at = pa.theta + u * (pb.theta - pa.theta);
+        });
+      }
+      *value = sign * best;
+      *theta = at;
+    };
+    double theta_max = 0, theta_min = 0;
+    refine(out.trace.k_max, +1, &out.trace.omega_max, &theta_max);
+    refine(out.trace.k_min, -1, &out.trace.omega_min, &theta_min);
+    out.trace.omega_mid = 0.5 * (out.trace.omega_max + out.trace.omega_min);
+    out.trace.C_s = (out.trace.omega_max - out.trace.omega_min) / out.trace.omega_mid;
+    out.trace.C_s_time_mean = (out.trace.omega_max - out.trace.omega_min) / out.trace.omega_mean;
     auto wrap = [&](double th) {
       double a = std::fmod(th - cycle.theta0, cycle.cycle);
       if (a < 0) a += cycle.cycle;
       return cycle.theta0 + a;
     };
-    out.theta_at_max = wrap(theta[static_cast<size_t>(out.trace.k_max)]);
-    out.theta_at_min = wrap(theta[static_cast<size_t>(out.trace.k_min)]);
+    out.theta_at_max = wrap(theta_max);
+    out.theta_at_min = wrap(theta_min);
     out.ok = true;
     return out;
   }

@@ -1,0 +1,55 @@
+// The command line of the engine command (engine_main.cc), apart from the model: parsed with
+// CLI11 in engine_args.cc, which does not depend on the model. engine_main.cc includes
+// engine_args.cc (one translation unit, as mechgen_add_model() compiles it) unless it is
+// compiled with -DMECHGEN_ENGINE_ARGS_SEPARATE: then engine_args.cc is compiled once on its own
+// and linked in (as sweep_args.cc for the sweep command). The checks are the command-line layer
+// of every tool (common/cli.h on CLI11, common/numbers.h without it); the pressure table's file
+// and the law's parameters together are checked by engine_main.cc (machines/engine/gas.h).
+#pragma once
+
+#include <string>
+
+#include "common/params.h"
+#include "mechgen/machines/engine/gas.h"
+
+namespace mechgen::engine_tool {
+
+// The limits of the options (--help lists them).
+constexpr double kMinRpm = 1e-3;      // below it w^2 (and so dE/(C_s w^2)) runs off the numbers
+constexpr double kMaxRpm = 1e5;
+constexpr double kMaxTime = 1e6;      // s
+constexpr double kMaxPressure = 1e9;  // Pa
+
+/// The options: numbers checked against their ranges, the subcommand, the CSVs' default names.
+struct Arguments {
+  std::string tool = "engine";  ///< for messages (argv[0])
+  std::string command;          ///< cycle, flywheel or runup
+  double rpm = 3000;
+  int samples = 1440;
+  std::string csv, loop_csv, sweep_csv, witt_csv, table;
+  double cs = 0.02;
+  double idle_rpm = -1;  ///< <= 0: rpm / 4
+  double t_end = 60;
+  double dt = 0.002;
+  double steady_tol = 1e-5;
+  int smoothing = 6;
+  bool design = false;  ///< flywheel --design: the design sensitivities (the model's `design`)
+  engine::PolytropicWiebeParams wiebe;
+  tools::ParameterOptions params;  ///< --params, --set: the model's Params
+};
+
+/// Exit status of a usage error (bad arguments: nothing written).
+constexpr int kExitUsage = 2;
+
+/**
+ * \brief Parses the engine command's options (they may come before or after the subcommand).
+ * \param[in]  model_name        The model's name, for --help and the CSVs' default names.
+ * \param[in]  model_has_design  Whether the model has a `design` section (--design needs it).
+ * \param[out] a                 The options.
+ * \return -1 to go on, else the exit status to end with: 0 after --help (printed on stdout),
+ *         kExitUsage after a usage error (one line "<tool>: error: ..." on stderr).
+ */
+int ParseArguments(int argc, char** argv, const std::string& model_name, bool model_has_design,
+                   Arguments* a);
+
+}  // namespace mechgen::engine_tool

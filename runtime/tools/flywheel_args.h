@@ -1,0 +1,61 @@
+// The command line of the flywheel command (flywheel_main.cc), apart from the model: parsed
+// with CLI11 in flywheel_args.cc, which does not depend on the model. flywheel_main.cc
+// includes flywheel_args.cc (one translation unit, as mechgen_add_model() compiles it) unless
+// it is compiled with -DMECHGEN_FLYWHEEL_ARGS_SEPARATE: then flywheel_args.cc is compiled once
+// on its own and linked in (as sweep_args.cc for the sweep command: a model's first run need
+// not compile CLI11 again). The checks are the command-line layer of every tool (common/cli.h
+// on CLI11, common/numbers.h without it); what needs the model (--design without a `design`
+// section, --check without `dynamics`, --samples against the model's cycle, the parameters)
+// is checked by flywheel_main.cc.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "common/params.h"
+
+namespace mechgen::flywheel_tool {
+
+/// The default of --steady-fraction: machines/flywheel/machine_cycle.h's
+/// CheckOptions::steady_fraction (flywheel_main.cc asserts they agree).
+constexpr double kDefaultSteadyFraction = 1e-3;
+
+/// The options, each number checked against its range and the angles read (rad).
+struct Arguments {
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::string tool = "flywheel";  ///< the tool's name for messages (argv[0])
+  double rpm = 60;                ///< the input's mean speed (rev/min)
+  double cs = 0.02;               ///< the C_s to size for
+  int samples = 720;              ///< samples of the cycle
+  double theta0 = kNaN;           ///< --theta0 (rad); NaN: the model's range start
+  double cycle = kNaN;            ///< --cycle (rad); NaN: the model's default cycle
+  std::vector<double> breaks;     ///< --break (rad), in the order given
+  bool no_switch_breaks = false;
+  std::string motor = "constant";  ///< the check's motor: constant or shunt
+  double slip = 0.05;
+  bool check = false, no_check = false;
+  int check_samples = 720, max_cycles = 400;
+  double steady_fraction = kDefaultSteadyFraction;
+  double steady_tol = kNaN;  ///< given: the relative change per cycle instead of steady_fraction C_s
+  bool design = false;
+  std::string csv_path, png_path, svg_path;
+  tools::ParameterOptions params;  ///< --params, --set: applied to the model's Params
+};
+
+/// Exit status of a usage error (bad arguments: nothing written).
+constexpr int kExitUsage = 2;
+
+/**
+ * \brief Parses the flywheel command's options.
+ * \param[in]  model_name         The model's name, for --help.
+ * \param[in]  max_check_samples  The most speed samples the check may take (--check-samples x
+ *                                --max-cycles): the simulator's max_samples.
+ * \param[out] arguments          The options.
+ * \return -1 to go on, else the exit status to end with: 0 after --help (printed on stdout),
+ *         kExitUsage after a usage error (one line "<tool>: error: ..." on stderr).
+ */
+int ParseArguments(int argc, char** argv, const std::string& model_name, double max_check_samples,
+                   Arguments* arguments);
+
+}  // namespace mechgen::flywheel_tool
