@@ -480,46 +480,90 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   }
   std::string tolerance_text;
   if (spec.tolerance) {
+    // Every metric's figures first: the verdicts are decided together (their number corrects
+    // each one's level, study/tolerance.h).
+    const size_t metrics = spec.metrics.size();
+    std::vector<study::Moments> moments(metrics);
+    std::vector<study::FirstOrder> first(metrics);
+    std::vector<std::string> why(metrics);
+    study::VerdictOptions options;
+    options.family = 0;
+    for (size_t k = 0; k < metrics; ++k) {
+      std::vector<double> ok_values;
+      for (const study::SampleResult& r : results)
+        if (std::string(r.status) == "ok") ok_values.push_back(r.metrics[k]);
+      moments[k] = study::MomentsOf(ok_values);
+      first[k] = study::FirstOrderOf(s.Gradient(k, &why[k]), sigma, tol, clearance);
+      options.family += first[k].complete && moments[k].n >= 2;
+    }
+    double level = NAN, z = NAN;
+    study::CorrectedLevel(options, &level, &z);
     std::printf(
-        "\ntolerance analysis: first order at the nominal (generated design derivatives) beside the "
-        "Monte-Carlo of the %llu ok samples (95 %% intervals)\n",
-        static_cast<unsigned long long>(ok));
-    std::printf("%-24s %12s %12s %12s %12s %12s %12s %25s  %s\n", "metric", "nominal", "fo_sigma", "fo_worst",
-                "clearance", "mc_mean", "mc_sigma", "mc_sigma_95", "verdict");
+        "\ntolerance analysis: first order at the nominal (generated design derivatives) beside the Monte-Carlo of "
+        "the %llu ok samples (mc_sigma_se: the standard error of its sigma, from the sample kurtosis; 95 %% "
+        "intervals)\nverdict: the ratio R = fo_sigma / mc_sigma with its interval at %.4g %% each (Sidak: %g %% for "
+        "the %d verdicts together); agrees: the interval inside [%g, %g]; DISAGREES: R outside it and the interval "
+        "excludes 1; else inconclusive\n",
+        static_cast<unsigned long long>(ok), 100 * level, 100 * (1 - options.alpha), options.family,
+        1 - options.delta, 1 + options.delta);
+    std::printf("%-24s %12s %12s %12s %12s %12s %12s %10s %25s  %s\n", "metric", "nominal", "fo_sigma", "fo_worst",
+                "clearance", "mc_mean", "mc_sigma", "mc_sigma_se", "mc_sigma_95", "verdict");
+    char band[64];
+    std::snprintf(band, sizeof(band), "[%g, %g]", 1 - options.delta, 1 + options.delta);
+    char level_text[160];
+    std::snprintf(level_text, sizeof(level_text),
+                  "# ratio: fo_sigma / mc_sigma, ratio_low/high its interval at %.6g %% (Sidak: %g %% for the %d "
+                  "verdicts together)",
+                  100 * level, 100 * (1 - options.alpha), options.family);
     tolerance_text =
         "# mechgen study tolerance analysis, model " + std::string(Model::kName) + ": " + spec.path +
         "\n# fo_sigma: first-order root-sum-square sqrt(sum (dm/dp sigma_p)^2); fo_worst: sum |dm/dp| t_p (t: the "
         "tolerance); clearance: sum |dm/dp| c over the joint clearances (worst direction); mc_*: the Monte-Carlo "
-        "of the ok samples, with 95 % intervals; units: the metric's\n"
+        "of the ok samples, with 95 % intervals; mc_sigma_se: the standard error of mc_sigma from the sample "
+        "kurtosis mc_kurtosis; units: the metric's\n" +
+        std::string(level_text) +
+        "; quadratic_share: the share of the metric's variance over the samples that its quadratic terms in the "
+        "standardized parameters explain beyond the linear ones; linear_fit_sigma: the sigma of a linear fit to the "
+        "samples; decision: agrees (the interval inside " +
+        band + "), DISAGREES (the ratio outside it and the interval excluding 1), inconclusive, none (no figure)\n"
         "metric,unit,nominal,fo_sigma,fo_worst,clearance,mc_n,mc_mean,mc_mean_low,mc_mean_high,mc_sigma,mc_sigma_low,"
-        "mc_sigma_high,verdict\n";
-    for (size_t k = 0; k < spec.metrics.size(); ++k) {
-      std::vector<double> ok_values;
-      for (const study::SampleResult& r : results)
-        if (std::string(r.status) == "ok") ok_values.push_back(r.metrics[k]);
-      const study::Moments m = study::MomentsOf(ok_values);
-      std::string why;
-      const std::vector<double> g = s.Gradient(k, &why);
-      const study::FirstOrder f = study::FirstOrderOf(g, sigma, tol, clearance);
-      std::string verdict = study::Verdict(f, m);
+        "mc_sigma_high,mc_sigma_se,mc_kurtosis,ratio,ratio_low,ratio_high,quadratic_share,linear_fit_sigma,decision,"
+        "verdict\n";
+    for (size_t k = 0; k < metrics; ++k) {
+      const study::Moments& m = moments[k];
+      const study::FirstOrder& f = first[k];
+      // The curvature over the ok samples (the others NaN: left out), only where it is read.
+      study::Curvature curvature;
+      if (f.complete && m.n >= 2) {
+        std::vector<double> y(results.size());
+        for (size_t i = 0; i < results.size(); ++i)
+          y[i] = std::string(results[i].status) == "ok" ? results[i].metrics[k] : NAN;
+        curvature = study::CurvatureOf(y, values, s.nominal(), sigma);
+      }
+      const study::Decision decision = study::Decide(f, m, curvature, options);
+      std::string verdict = decision.text;
       if (!f.complete) {
         std::string missing;
         for (size_t p = 0; p < n; ++p)
           if (s.design_index()[p] < 0) missing += (missing.empty() ? "" : ", ") + spec.parameters[p].name;
-        verdict = "no first-order figure: " + (!why.empty() ? why : "not a design parameter of the model: " + missing);
+        verdict =
+            "no first-order figure: " + (!why[k].empty() ? why[k] : "not a design parameter of the model: " + missing);
       }
       if (ok < count)
         verdict += " (" + std::to_string(count - ok) + " of " + std::to_string(count) +
                    " samples failed and are not in the Monte-Carlo: a change the first order cannot see)";
       char interval[64];
       std::snprintf(interval, sizeof(interval), "[%.5g, %.5g]", m.sigma_low, m.sigma_high);
-      std::printf("%-24s %12.6g %12.5g %12.5g %12.5g %12.6g %12.5g %25s  %s\n", spec.metrics[k].name.c_str(),
+      std::printf("%-24s %12.6g %12.5g %12.5g %12.5g %12.6g %12.5g %10.2g %25s  %s\n", spec.metrics[k].name.c_str(),
                   s.Value(k, s.nominal_rows()).value, f.rss, f.worst, f.complete ? f.clearance : NAN, m.mean, m.sigma,
-                  interval, verdict.c_str());
+                  m.sigma_se, interval, verdict.c_str());
       tolerance_text += spec.metrics[k].name + "," + s.Unit(k) + "," + G17(s.Value(k, s.nominal_rows()).value) + "," +
                         G17(f.rss) + "," + G17(f.worst) + "," + G17(f.complete ? f.clearance : NAN) + "," +
                         std::to_string(m.n) + "," + G17(m.mean) + "," + G17(m.mean_low) + "," + G17(m.mean_high) + "," +
-                        G17(m.sigma) + "," + G17(m.sigma_low) + "," + G17(m.sigma_high) + ",\"" + verdict + "\"\n";
+                        G17(m.sigma) + "," + G17(m.sigma_low) + "," + G17(m.sigma_high) + "," + G17(m.sigma_se) + "," +
+                        G17(m.kurtosis) + "," + G17(decision.ratio) + "," + G17(decision.ratio_low) + "," +
+                        G17(decision.ratio_high) + "," + G17(curvature.share) + "," + G17(curvature.linear_sigma) +
+                        "," + study::OutcomeName(decision.outcome) + ",\"" + verdict + "\"\n";
     }
   }
 
@@ -540,38 +584,56 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
                     "fo_worst_y,mc_n,mc_sigma_x,mc_sigma_x_low,mc_sigma_x_high,mc_sigma_y,mc_sigma_y_low,"
                     "mc_sigma_y_high\n";
     const std::vector<double> nominal_path = s.Path(s.nominal_rows());
-    int compared = 0, inside = 0, worst_row = -1;
-    double worst_ratio = 1;
-    for (int i = 0; i < rows; ++i) {
-      std::string line = std::to_string(i) + "," + G17(s.nominal_rows().kinematics[i].q(0)) + "," +
-                         G17(nominal_path[2 * i]) + "," + G17(nominal_path[2 * i + 1]);
-      study::FirstOrder f[2];
-      study::Moments m[2];
+    // First every (row, axis)'s figures, then their verdicts decided together (as the metrics').
+    std::vector<study::FirstOrder> f(2 * rows);
+    std::vector<study::Moments> m(2 * rows);
+    study::VerdictOptions options;
+    options.family = 0;
+    for (int i = 0; i < rows; ++i)
       for (int axis = 0; axis < 2; ++axis) {
-        f[axis] = study::FirstOrderOf(s.PathGradient(i, axis), sigma, tol, clearance);
+        f[2 * i + axis] = study::FirstOrderOf(s.PathGradient(i, axis), sigma, tol, clearance);
         std::vector<double> v;
         v.reserve(results.size());
         for (const study::SampleResult& r : results)
           if (std::string(r.status) == "ok") v.push_back(r.path[2 * i + axis]);
-        m[axis] = study::MomentsOf(v);
-        if (random && f[axis].complete && m[axis].n >= 2 && m[axis].sigma > 0) {
+        m[2 * i + axis] = study::MomentsOf(v);
+        options.family += random && f[2 * i + axis].complete && m[2 * i + axis].n >= 2 && m[2 * i + axis].sigma > 0;
+      }
+    int compared = 0, agrees = 0, inconclusive = 0, disagrees = 0, worst_row = -1;
+    double worst_ratio = 1;
+    for (int i = 0; i < rows; ++i) {
+      std::string line = std::to_string(i) + "," + G17(s.nominal_rows().kinematics[i].q(0)) + "," +
+                         G17(nominal_path[2 * i]) + "," + G17(nominal_path[2 * i + 1]);
+      for (int axis = 0; axis < 2; ++axis) {
+        const study::FirstOrder& fa = f[2 * i + axis];
+        const study::Moments& ma = m[2 * i + axis];
+        if (random && fa.complete && ma.n >= 2 && ma.sigma > 0) {
           ++compared;
-          inside += f[axis].rss >= m[axis].sigma_low && f[axis].rss <= m[axis].sigma_high;
-          const double ratio = std::max(f[axis].rss / m[axis].sigma, m[axis].sigma / f[axis].rss);
+          const study::Outcome o = study::Decide(fa, ma, study::Curvature(), options).outcome;
+          agrees += o == study::Outcome::kAgrees;
+          inconclusive += o == study::Outcome::kInconclusive;
+          disagrees += o == study::Outcome::kDisagrees;
+          const double ratio = std::max(fa.rss / ma.sigma, ma.sigma / fa.rss);
           if (ratio > worst_ratio) worst_ratio = ratio, worst_row = i;
         }
       }
-      line += "," + G17(f[0].rss) + "," + G17(f[1].rss) + "," + G17(f[0].worst) + "," + G17(f[1].worst) + "," +
-              std::to_string(m[0].n) + "," + G17(m[0].sigma) + "," + G17(m[0].sigma_low) + "," + G17(m[0].sigma_high) +
-              "," + G17(m[1].sigma) + "," + G17(m[1].sigma_low) + "," + G17(m[1].sigma_high) + "\n";
+      line += "," + G17(f[2 * i].rss) + "," + G17(f[2 * i + 1].rss) + "," + G17(f[2 * i].worst) + "," +
+              G17(f[2 * i + 1].worst) + "," + std::to_string(m[2 * i].n) + "," + G17(m[2 * i].sigma) + "," +
+              G17(m[2 * i].sigma_low) + "," + G17(m[2 * i].sigma_high) + "," + G17(m[2 * i + 1].sigma) + "," +
+              G17(m[2 * i + 1].sigma_low) + "," + G17(m[2 * i + 1].sigma_high) + "\n";
       envelope_text += line;
     }
-    if (compared > 0)
+    if (compared > 0) {
+      double level = NAN, z = NAN;
+      study::CorrectedLevel(options, &level, &z);
       std::printf(
-          "\nenvelope of %s: the first-order sigma of x and y is inside the Monte-Carlo's 95 %% interval at %d "
-          "of %d (row, axis); the largest ratio between the two, %.4g, at row %d (%s = %.6g)\n",
-          spec.envelope.c_str(), inside, compared, worst_ratio, worst_row, Model::kQNames[0],
+          "\nenvelope of %s: the first-order sigma of x and y against the Monte-Carlo's at %d (row, axis), each at "
+          "%.4g %% (Sidak: %g %% for all together): agrees within %g %% at %d, inconclusive at %d, DISAGREES at %d; "
+          "the largest ratio between the two, %.4g, at row %d (%s = %.6g)\n",
+          spec.envelope.c_str(), compared, 100 * level, 100 * (1 - options.alpha), 100 * options.delta, agrees,
+          inconclusive, disagrees, worst_ratio, worst_row, Model::kQNames[0],
           worst_row >= 0 ? s.nominal_rows().kinematics[worst_row].q(0) : NAN);
+    }
   }
 
   if (!csv_path.empty()) WriteCsv(s, values, results, csv.stream());
