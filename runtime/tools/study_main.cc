@@ -24,8 +24,12 @@
 #include <thread>
 #include <vector>
 
-#include "common/cli.h"
 #include "common/numbers.h"
+#include "common/params.h"
+#include "study_args.h"
+#ifndef MECHGEN_STUDY_ARGS_SEPARATE
+#include "study_args.cc"
+#endif
 #include "mechgen/io/output_file.h"
 #include "mechgen/study/run.h"
 #include "mechgen/study/samples.h"
@@ -48,6 +52,7 @@ namespace {
 using Model = MECHGEN_MODEL_NAMESPACE::Model;
 namespace study = mechgen::study;
 namespace tools = mechgen::tools;
+namespace study_tool = mechgen::study_tool;
 
 std::string G17(double x) {
   if (std::isnan(x)) return "nan";
@@ -108,6 +113,8 @@ void WriteCsv(const study::Study<Model>& s,
     for (double v : spec.drive.values) out << " " << G17(v);
     out << ")";
   }
+  const std::string changed = tools::ChangedParameters(s.base());
+  if (!changed.empty()) out << "; the model's parameters set by --params/--set: " << changed;
   out << "\n";
   out << "# sample [1]: the sample's index, 0-based, in the study's order\n";
   for (const study::ParameterSpec& p : spec.parameters)
@@ -240,47 +247,24 @@ std::vector<uint64_t> PartOf(const std::vector<uint64_t>& list, int r, int ranks
 namespace {
 
 int RunStudy(const Ranks& ranks, int argc, char** argv) {
-  const std::string tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
-  CLI::App app{std::string("A design study of the mechgen model '") + Model::kName +
-               "': parameters varied on a grid, a list, a Latin hypercube or by Monte-Carlo, an analysis per "
-               "sample, metrics per sample in a CSV, and the first-order tolerance analysis beside the "
-               "Monte-Carlo (docs/studies.md)."};
-  app.footer(
-      "Exit status: 0 done, 3 done but some samples failed (status column), 2 bad arguments or a bad "
-      "study file, 1 the study does not fit the model or an output cannot be written, 4 stopped by "
-      "--stop-after (run again to resume). Under mpirun (a driver compiled with MPI) the samples are split "
-      "across the ranks, each using --threads threads; rank 0 writes the outputs, the same bytes.");
-  std::string study_path, csv_path, tolerance_path, envelope_path;
-  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  bool quiet = false;
-  app.add_option("--study", study_path, "the study file (YAML; docs/studies.md)")->required();
-  tools::Count(&app, "--threads", &threads, 1, 1024, "threads over the samples (default: the cores)");
-  app.add_option("--csv", csv_path, "write one row per sample to this CSV file");
-  app.add_option("--tolerance-csv", tolerance_path,
-                 "write the tolerance analysis (first order beside Monte-Carlo) to this CSV file");
-  app.add_option("--envelope-csv", envelope_path,
-                 "write the envelope of the study's point (envelope: {point: P}) to this CSV file: per row its "
-                 "nominal place and the first-order and Monte-Carlo sigma of x and y");
-  app.add_flag("--quiet", quiet, "no progress line on stderr");
-  std::string shards_path;
-  bool no_shards = false;
-  long long chunk_size = 0, stop_after = 0;
-  app.add_option("--shards", shards_path,
-                 "keep each chunk's results in this directory as it is done, and resume from it when run again "
-                 "(default with --csv F: F.shards; removed when the study is done)");
-  app.add_flag("--no-shards", no_shards, "keep no shards (a study that is stopped starts again from nothing)");
-  tools::Count(&app, "--chunk", &chunk_size, 1, 1LL << 40,
-               "samples per chunk (default: about 1/256 of the study, 64 to 65536); a resumed study needs the same");
-  tools::Count(&app, "--stop-after", &stop_after, 1, 1LL << 62,
-               "evaluate at most this many more samples (whole chunks), keep their shards and stop (exit 4): "
-               "running again resumes");
-  if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
+  study_tool::Arguments arguments;
+  if (const int parsed = study_tool::ParseArguments(argc, argv, Model::kName, &arguments); parsed >= 0) return parsed;
+  const std::string& tool = arguments.tool;
+  const std::string &study_path = arguments.study_path, &csv_path = arguments.csv_path,
+                    &tolerance_path = arguments.tolerance_path, &envelope_path = arguments.envelope_path;
+  std::string shards_path = arguments.shards_path;
+  const int threads = arguments.threads;
+  const bool quiet = arguments.quiet, no_shards = arguments.no_shards;
+  const long long chunk_size = arguments.chunk_size, stop_after = arguments.stop_after;
   if (ranks.serial_under_launcher())
     return tools::UsageError(tool,
                              "started by an MPI launcher as one of several ranks, but this study driver was compiled "
                              "without MPI (each rank would run the whole study): install libopenmpi-dev and run "
                              "`mechgen study --rebuild ...` once, or run it without mpirun");
-  if (no_shards && !shards_path.empty()) return tools::UsageError(tool, "--shards and --no-shards: give one");
+  // The model's parameters before the study's (--params, then --set), checked before the study.
+  study::Study<Model>::Params base;
+  std::string params_error;
+  if (!tools::ApplyParameters(arguments.params, &base, &params_error)) return tools::UsageError(tool, params_error);
 
   study::StudySpec spec;
   std::string error;
@@ -289,6 +273,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     return tools::kExitUsage;
   }
   study::Study<Model> s;
+  s.SetBase(base);
   if (!s.Prepare(spec, &error)) {
     std::cerr << error << "\n";
     return 1;
@@ -311,14 +296,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   // The shards: rank 0 opens (or checks) the directory first, then the others (on a shared
   // file system they find its study.key; on their own disks they make one).
   if (shards_path.empty() && !no_shards && !csv_path.empty()) shards_path = csv_path + ".shards";
-  std::string study_bytes;
-  {
-    std::ifstream in(spec.path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    study_bytes = text.str();
-  }
-  const study::ShardDirectory shards(shards_path, s.Key(study_bytes, values, chunks.size), chunks, width);
+  const study::ShardDirectory shards(shards_path, s.Key(spec.text, values, chunks.size), chunks, width);
   if (!shards_path.empty()) {
     if (ranks.Agree(ranks.rank() == 0 && !shards.Open(&error))) {
       std::cerr << "error: " << error << "\n";
@@ -365,6 +343,8 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
               spec.steps, threads);
   if (ranks.size() > 1) std::printf(" on each of %d ranks", ranks.size());
   std::printf("\n");
+  if (const std::string changed = tools::ChangedParameters(base); !changed.empty())
+    std::printf("the model's parameters set by --params/--set: %s\n", changed.c_str());
   if (resumed > 0)
     std::printf("resumed: %llu samples from the shards in %s; %zu of %llu chunks left\n",
                 static_cast<unsigned long long>(resumed), shards_path.c_str(), chunks_left,

@@ -18,6 +18,7 @@
 
 #include "fourbar.h"
 #include "fourbar_loaded.h"
+#include "mechgen/io/yaml_strict.h"
 #include "mechgen/study/random.h"
 #include "mechgen/study/run.h"
 #include "mechgen/study/samples.h"
@@ -1504,6 +1505,160 @@ TEST(StudyEngine, ErrorsNameTheirPlace) {
 #endif
 }
 #endif
+
+// ---- hostile study files (issue 45) ---------------------------------------------------------
+
+// #1: a grid's samples are the product of its value counts, bounded by the most a study takes
+// (10^8) with checked multiplication: 65536^4 = 2^64 (0 in uint64_t), 1000^3 and 10^63 are
+// refused at the parameter that crosses it; 10^4 x 10^4 = 10^8 is taken.
+TEST(StudyHostile, GridSampleCountIsBounded) {
+  const std::string head = "method: grid\nparameters:\n";
+  const std::string tail = "metrics: [{kind: failures}]\n";
+  std::string four;
+  for (const char* p : {"a", "b", "c", "d"}) four += "  " + std::string(p) + ": {range: [1, 2], count: 65536}\n";
+  const std::string e1 = ErrorOf("g1.yaml", head + four + tail);
+  EXPECT_NE(e1.find("g1.yaml:4:3: error: a grid of 65536 x 65536 x ... values is more than 100000000 samples, the "
+                    "most a study takes"),
+            std::string::npos)
+      << e1;
+  std::string cube;
+  for (const char* p : {"a", "b", "c"}) cube += "  " + std::string(p) + ": {range: [1, 2], count: 1000}\n";
+  const std::string e2 = ErrorOf("g2.yaml", head + cube + tail);
+  EXPECT_NE(e2.find("g2.yaml:5:3: error: a grid of 1000 x 1000 x 1000 values is more than 100000000"), std::string::npos)
+      << e2;
+  std::string many;
+  for (int p = 0; p < 21; ++p) many += "  p" + std::to_string(p) + ": {range: [1, 2], count: 1000}\n";
+  const std::string e3 = ErrorOf("g3.yaml", head + many + tail);
+  EXPECT_NE(e3.find("g3.yaml:5:3: error: a grid of 1000 x 1000 x 1000 x ... values"), std::string::npos) << e3;
+  const study::StudySpec ok = Read("g4.yaml", head + "  a: {range: [1, 2], count: 10000}\n  b: {range: [1, 2], count: 10000}\n" + tail);
+  EXPECT_EQ(study::SampleCount(ok), 100000000u);
+}
+
+// #4: a directory, a missing file: an error naming the path, no exception.
+TEST(StudyHostile, DirectoryOrMissingFile) {
+  const std::string dir = ::testing::TempDir() + "/a_directory.yaml";
+  std::filesystem::create_directories(dir);
+  study::StudySpec spec;
+  std::string error;
+  EXPECT_FALSE(study::ReadStudy(dir, &spec, &error));
+  EXPECT_EQ(error, dir + ": error: is a directory, not a study file; give the path of a .yaml file");
+  EXPECT_FALSE(study::ReadStudy(dir + "/none.yaml", &spec, &error));
+  EXPECT_NE(error.find("none.yaml: error: cannot read the study file"), std::string::npos) << error;
+}
+
+// #7: a metric's name is a CSV column: a comma, a quote, a line break or a control character
+// is refused at the name (the header is not quoted), as is a space at either end.
+TEST(StudyHostile, MetricNamesTheCsvCannotCarry) {
+  const std::string head = "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.1}\nmetrics:\n";
+  const std::string e1 = ErrorOf("n1.yaml", head + "  - {kind: failures, name: 'a,b'}\n");
+  EXPECT_NE(e1.find("n1.yaml:6:28: error: metric name 'a,b': a CSV column name cannot hold a comma"), std::string::npos)
+      << e1;
+  const std::string e2 = ErrorOf("n2.yaml", head + "  - {kind: failures, name: 'say \"hi\"'}\n");
+  EXPECT_NE(e2.find("n2.yaml:6:28: error: metric name 'say \"hi\"'"), std::string::npos) << e2;
+  const std::string e3 = ErrorOf("n3.yaml", head + "  - {kind: failures, name: \"two\\nlines\"}\n");
+  EXPECT_NE(e3.find("n3.yaml:6:28: error: metric name 'two\\x0alines'"), std::string::npos) << e3;
+  EXPECT_EQ(e3.find('\n'), std::string::npos) << e3;  // one line
+  const std::string e4 = ErrorOf("n4.yaml", head + "  - {kind: failures, name: ' padded'}\n");
+  EXPECT_NE(e4.find("no space at either end"), std::string::npos) << e4;
+  EXPECT_EQ(Read("n5.yaml", head + "  - {kind: failures, name: fails_per-sample.1}\n").metrics[0].name,
+            "fails_per-sample.1");
+}
+
+// #8: a key given twice in a mapping (the study's, a parameter's, a metric's) and a second
+// document are refused at the second one; io/yaml_strict.h's check alone, on nested trees.
+TEST(StudyHostile, DuplicateKeysAndSecondDocuments) {
+  const std::string body = "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.1}\n"
+                           "metrics: [{kind: failures}]\n";
+  const std::string e1 = ErrorOf("d1.yaml", body + "count: 20\n");
+  EXPECT_NE(e1.find("d1.yaml:6:1: error: key 'count' given twice in this mapping (first at 2:1); give it once"),
+            std::string::npos)
+      << e1;
+  const std::string e2 = ErrorOf("d2.yaml", "method: grid\nmethod: monte_carlo\ncount: 10\nparameters:\n"
+                                            "  a: {tolerance: 0.1}\nmetrics: [{kind: failures}]\n");
+  EXPECT_NE(e2.find("d2.yaml:2:1: error: key 'method' given twice"), std::string::npos) << e2;
+  const std::string e3 = ErrorOf("d3.yaml", "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.1}\n"
+                                            "metrics:\n  - {kind: failures, kind: max, column: x}\n");
+  EXPECT_NE(e3.find("d3.yaml:6:22: error: key 'kind' given twice"), std::string::npos) << e3;
+  const std::string e4 = ErrorOf("d4.yaml", "method: monte_carlo\ncount: 10\nparameters:\n"
+                                            "  a: {tolerance: 0.1, tolerance: 0.2}\nmetrics: [{kind: failures}]\n");
+  EXPECT_NE(e4.find("d4.yaml:4:23: error: key 'tolerance' given twice"), std::string::npos) << e4;
+  const std::string e5 = ErrorOf("d5.yaml", body + "---\nmethod: grid\n");
+  EXPECT_NE(e5.find("d5.yaml:6:1: error: a second YAML document"), std::string::npos) << e5;
+  // The check itself, on a tree: the same key in two different mappings is fine.
+  EXPECT_NO_THROW(mechgen::io::LoadStrict("a: {x: 1}\nb: {x: 2}\nc: [{x: 1}, {x: 2}]\n"));
+  try {
+    mechgen::io::LoadStrict("c: [{x: 1}, {y: 2, x: 3, y: 4}]\n");
+    ADD_FAILURE() << "no exception";
+  } catch (const YAML::Exception& e) {
+    EXPECT_EQ(e.mark.line, 0);
+    EXPECT_EQ(e.mark.column, 25);
+    EXPECT_EQ(e.msg, "key 'y' given twice in this mapping (first at 1:14); give it once");
+  }
+}
+
+// #9: finite inputs whose spread overflows: every sample would be inf or nan.
+TEST(StudyHostile, SpreadsThatOverflow) {
+  const std::string head = "method: monte_carlo\ncount: 10\nparameters:\n";
+  const std::string tail = "metrics: [{kind: failures}]\n";
+  const std::string e1 = ErrorOf("s1.yaml", head + "  a: {sigma: 1e308}\n" + tail);
+  EXPECT_NE(e1.find("s1.yaml:4:14: error: parameter 'a': nominal +- 9 sigma (the reach of the samples) overflows"),
+            std::string::npos)
+      << e1;
+  const std::string e2 = ErrorOf("s2.yaml", head + "  a: {distribution: uniform, range: [-1e308, 1e308]}\n" + tail);
+  EXPECT_NE(e2.find("s2.yaml:4:37: error: parameter 'a': range: the width high - low overflows"), std::string::npos)
+      << e2;
+  const std::string e3 = ErrorOf("s3.yaml", head + "  a: {nominal: 1.7e308, tolerance: 1e307}\n" + tail);
+  EXPECT_NE(e3.find("s3.yaml:4:36: error: parameter 'a': nominal +- 9 sigma"), std::string::npos) << e3;
+  const std::string e4 = ErrorOf("s4.yaml", "method: grid\nparameters:\n  a: {range: [-1e308, 1e308], count: 3}\n" + tail);
+  EXPECT_NE(e4.find("s4.yaml:3:14: error: parameter 'a': range: the width high - low overflows"), std::string::npos)
+      << e4;
+  // A uniform range near the largest double: its nominal without overflow, every sample finite.
+  const study::StudySpec big = Read("s5.yaml", head + "  a: {distribution: uniform, range: [1.6e308, 1.7e308]}\n" + tail);
+  EXPECT_NEAR(big.parameters[0].nominal / 1.65e308, 1.0, 1e-15);
+  for (double v : study::DrawSamples(big, {big.parameters[0].nominal})) EXPECT_TRUE(std::isfinite(v));
+}
+
+// #14: a motion step beyond the solver's limit: %g figures, at range: (or steps:).
+TEST(StudyHostile, MotionStepErrorAtTheRange) {
+  const study::StudySpec spec = Read("r1.yaml",
+                                     "method: monte_carlo\ncount: 10\nsteps: 2\nrange: [0, 1e299]\nparameters:\n"
+                                     "  a: {tolerance: 0.01}\nmetrics: [{kind: failures}]\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  EXPECT_FALSE(s.Prepare(spec, &error));
+  EXPECT_NE(error.find("r1.yaml:4:8: error: the motion of theta_crank from 0 to 1e+299 in 2 steps moves 5e+298 per "
+                       "step, more than the solver's limit"),
+            std::string::npos)
+      << error;
+  EXPECT_LT(error.size(), 300u) << error;
+  const study::StudySpec wide = Read("r2.yaml",
+                                     "method: monte_carlo\ncount: 10\nrange: [-1e308, 1e308]\nparameters:\n"
+                                     "  a: {tolerance: 0.01}\nmetrics: [{kind: failures}]\n");
+  EXPECT_FALSE(s.Prepare(wide, &error));
+  EXPECT_NE(error.find("r2.yaml:3:8: error: the motion of theta_crank from -1e+308 to 1e+308 overflows a double"),
+            std::string::npos)
+      << error;
+}
+
+// #10: the model's parameters before the study's (mechgen study --set): the nominal of a
+// parameter without nominal: is the base's, the others keep the base's value.
+TEST(StudyHostile, BaseParametersFromTheCommandLine) {
+  const study::StudySpec spec = Read("b1.yaml",
+                                     "method: monte_carlo\ncount: 10\nsteps: 1\nrange: [0, 0]\nparameters:\n"
+                                     "  a: {tolerance: 0.01}\nmetrics:\n  - {kind: at, column: coupler.P.x, step: 0}\n");
+  study::Study<mech::fourbar::Model> s;
+  study::Study<mech::fourbar::Model>::Params base;
+  base.a = 1.2;
+  base.d = 4.5;
+  s.SetBase(base);
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  EXPECT_EQ(s.nominal()[0], 1.2);
+  // theta = 0: B = (a, 0), C on the circles about B (b) and D (d, c): P by hand.
+  const double a = 1.2, b = 3.5, c = 3, d = 4.5, xi = 1.5, eta = 1, L = d - a;
+  const double beta = std::acos((b * b + L * L - c * c) / (2 * b * L));
+  EXPECT_NEAR(s.Value(0, s.nominal_rows()).value, a + xi * std::cos(beta) - eta * std::sin(beta), 1e-12);
+}
 
 TEST(StudyThreads, SameResultsForOneTwoAndFourThreads) {
   const study::StudySpec spec =

@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <cmath>
 #include <condition_variable>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -172,6 +173,11 @@ class Study {
     bool assembled = false;  ///< flywheel: the cycle is usable
   };
 
+  /// The model's parameters that the study's do not vary (and the nominal of those without
+  /// nominal:): the generated defaults unless set here before Prepare (`--params`, `--set`).
+  void SetBase(const Params& base) { base_ = base; }
+  const Params& base() const { return base_; }
+
   /// Checks the names of `spec` against M and builds the tables; false and *error
   /// ("file:line:column: error: ...") when the study does not fit the model.
   bool Prepare(const StudySpec& spec, std::string* error) {
@@ -181,13 +187,12 @@ class Study {
       *error = spec.path + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: " + message;
       return false;
     };
-    const Params defaults;
     std::string names;
     for (const char* n : Params::kNames) names += (names.empty() ? "" : ", ") + std::string(n);
     nominal_.clear();
     index_.clear();
     for (const ParameterSpec& p : spec.parameters) {
-      Params probe;
+      Params probe = base_;
       double* target = probe.Find(p.name.c_str());
       bool derived = false;
       for (const char* d : Params::kDerivedNames) derived = derived || p.name == d;
@@ -197,6 +202,11 @@ class Study {
       if (target == nullptr)
         return fail(p.place, "no parameter '" + p.name + "' in the model " + M::kName + " (parameters: " + names + ")");
       nominal_.push_back(p.has_nominal ? p.nominal : *target);
+      if (spec.method != Method::kGrid && spec.method != Method::kList && !SpreadFits(p, nominal_.back())) {
+        char value[32];
+        std::snprintf(value, sizeof(value), "%g", nominal_.back());
+        return fail(p.place, "parameter '" + p.name + "' about the model's value " + value + ": " + SpreadProblem(p));
+      }
       int design = -1;
       if constexpr (HasDesignDerivatives<M>::value)
         for (int d = 0; d < M::kNumDesign; ++d)
@@ -244,7 +254,7 @@ class Study {
                         M::kName + " is not one");
       } else {
         // The engine's names (ReadEngine), and the indicator diagram over its cycle.
-        Params nominal;
+        Params nominal = base_;
         for (size_t k = 0; k < spec.parameters.size(); ++k)
           *(nominal.Find(spec.parameters[k].name.c_str())) = nominal_[k];
         engine::Engine e;
@@ -276,10 +286,20 @@ class Study {
       q_end_(0) = spec.q_end;
     }
     if (spec.analysis != Analysis::kSimulate && spec.analysis != Analysis::kPositions &&
-        spec.analysis != Analysis::kEngine && !(std::abs(q_end_(0) - q_begin_(0)) / spec.steps <= position::Options().max_input_step))
-      return fail(spec.analysis_place, "the motion moves " +
-                                           std::to_string(std::abs(q_end_(0) - q_begin_(0)) / spec.steps) +
-                                           " per step, more than the solver's limit; use more steps:");
+        spec.analysis != Analysis::kEngine) {
+      // At range: (or steps:, or analysis: when the model's range is used), with %g figures.
+      const double step = std::abs(q_end_(0) - q_begin_(0)) / spec.steps, limit = position::Options().max_input_step;
+      char text[320];
+      if (!std::isfinite(step))
+        std::snprintf(text, sizeof(text), "the motion of %s from %g to %g overflows a double; give a narrower range:",
+                      M::kQNames[0], q_begin_(0), q_end_(0));
+      else
+        std::snprintf(text, sizeof(text),
+                      "the motion of %s from %g to %g in %d steps moves %g per step, more than the solver's limit %g; "
+                      "use more steps: (at least %.6g) or a shorter range:",
+                      M::kQNames[0], q_begin_(0), q_end_(0), spec.steps, step, limit, std::ceil(spec.steps * step / limit));
+      if (!(step <= limit)) return fail(spec.range_place, text);
+    }
     sweep_columns_ = SweepColumns<M>();
     AppendDesignColumns<M>(&sweep_columns_);
     if constexpr (kHasStatics) statics_columns_ = statics::StaticsColumns<M>(HasStaticsDesign<M>::value);
@@ -524,7 +544,7 @@ class Study {
 
   /// The analysis of the design `values` (one per spec parameter) into *rows.
   void Analyze(const double* values, bool design, Rows* out) const {
-    out->params = Params();
+    out->params = base_;
     for (size_t k = 0; k < spec_.parameters.size(); ++k) *(out->params.Find(spec_.parameters[k].name.c_str())) = values[k];
     if (spec_.analysis == Analysis::kPositions) {
       Positions(design, out);
@@ -1024,6 +1044,8 @@ class Study {
     KeyHash h;
     h.Add(study_bytes);
     h.Add(std::string(M::kName));
+    Params base = base_;
+    for (const char* name : Params::kNames) h.Add(*base.Find(name));
     for (size_t k = 0; k < spec_.metrics.size(); ++k) h.Add(Value(k, nominal_rows_).value);
     h.Add(chunk);
     h.Add(Width());
@@ -1362,6 +1384,7 @@ class Study {
 
   StudySpec spec_;
   int envelope_point_ = -1;
+  Params base_;  // SetBase()
   std::vector<double> nominal_;
   std::vector<int> index_;
   std::vector<Ref> refs_;
