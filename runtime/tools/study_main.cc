@@ -482,10 +482,10 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
         "\ntolerance analysis: first order at the nominal (generated design derivatives) beside the Monte-Carlo of "
         "the %llu ok samples (mc_sigma_se: the standard error of its sigma, from the sample kurtosis; 95 %% "
         "intervals)\nverdict: the ratio R = fo_sigma / mc_sigma with its interval at %.4g %% each (Sidak: %g %% for "
-        "the %d verdicts together); agrees: the interval inside [%g, %g]; DISAGREES: R outside it and the interval "
+        "the %d verdict%s together); agrees: the interval inside [%g, %g]; DISAGREES: R outside it and the interval "
         "excludes 1; else inconclusive\n",
         static_cast<unsigned long long>(ok), 100 * level, 100 * (1 - options.alpha), options.family,
-        1 - options.delta, 1 + options.delta);
+        options.family == 1 ? "" : "s", 1 - options.delta, 1 + options.delta);
     std::printf("%-24s %12s %12s %12s %12s %12s %12s %10s %25s  %s\n", "metric", "nominal", "fo_sigma", "fo_worst",
                 "clearance", "mc_mean", "mc_sigma", "mc_sigma_se", "mc_sigma_95", "verdict");
     char band[64];
@@ -493,8 +493,8 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     char level_text[160];
     std::snprintf(level_text, sizeof(level_text),
                   "# ratio: fo_sigma / mc_sigma, ratio_low/high its interval at %.6g %% (Sidak: %g %% for the %d "
-                  "verdicts together)",
-                  100 * level, 100 * (1 - options.alpha), options.family);
+                  "verdict%s together)",
+                  100 * level, 100 * (1 - options.alpha), options.family, options.family == 1 ? "" : "s");
     tolerance_text =
         "# mechgen study tolerance analysis, model " + std::string(Model::kName) + ": " + spec.path +
         "\n# fo_sigma: first-order root-sum-square sqrt(sum (dm/dp sigma_p)^2); fo_worst: sum |dm/dp| t_p (t: the "
