@@ -289,14 +289,16 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     std::cerr << "error: " << error << "\n";
     return 1;
   }
-  const std::vector<double> values = study::DrawSamples(spec, s.nominal());
-  const uint64_t count = study::SampleCount(spec);
+  // The samples are drawn as their chunks are run (end to end in chunks: a study of 10^8
+  // samples stopped after one chunk holds that chunk alone).
+  const study::SampleSource source(spec, s.nominal());
+  const uint64_t count = source.count();
   const study::Chunks chunks{count, chunk_size > 0 ? static_cast<uint64_t>(chunk_size) : study::DefaultChunkSize(count)};
   const uint64_t width = s.Width();
   // The shards: rank 0 opens (or checks) the directory first, then the others (on a shared
   // file system they find its study.key; on their own disks they make one).
   if (shards_path.empty() && !no_shards && !csv_path.empty()) shards_path = csv_path + ".shards";
-  const study::ShardDirectory shards(shards_path, s.Key(spec.text, values, chunks.size), chunks, width);
+  const study::ShardDirectory shards(shards_path, s.Key(spec.text, source, chunks.size), chunks, width);
   if (!shards_path.empty()) {
     if (ranks.Agree(ranks.rank() == 0 && !shards.Open(&error))) {
       std::cerr << "error: " << error << "\n";
@@ -304,17 +306,20 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     }
     if (ranks.rank() > 0 && !shards.Open(&error)) shards_path.clear();  // keeps none of its own
   }
-  // Rank 0 reads the shards there are; the chunks without one are run, split across the ranks.
-  std::vector<study::SampleResult> results(count);
-  std::vector<uint64_t> todo;
+  // The results of each chunk, held only for the chunks read or run here.
+  std::vector<std::vector<study::SampleResult>> by_chunk(chunks.number());
+  auto hold = [&](uint64_t c) { by_chunk[c].resize(chunks.end(c) - chunks.begin(c)); };
+  auto slot = [&](uint64_t i) { return &by_chunk[i / chunks.size][i % chunks.size]; };
+  // Rank 0 checks the shards there are; the chunks without one are run, split across the ranks.
+  std::vector<uint64_t> todo, kept;
   uint64_t resumed = 0;
+  std::vector<double> part;
   if (ranks.rank() == 0) {
-    std::vector<double> part;
     for (uint64_t c = 0; c < chunks.number(); ++c) {
       const uint64_t n = chunks.end(c) - chunks.begin(c);
       part.resize(n * width);
       if (!shards_path.empty() && shards.Read(c, part.data())) {
-        for (uint64_t i = 0; i < n; ++i) results[chunks.begin(c) + i] = s.Unpack(&part[i * width]);
+        kept.push_back(c);
         resumed += n;
       } else {
         todo.push_back(c);
@@ -331,6 +336,19 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     stopped = take < todo.size();
     todo.resize(take);
   }
+  // The shards' contents, read when this run ends the study (a stopped run needs none).
+  if (ranks.rank() == 0 && !stopped)
+    for (uint64_t c : kept) {
+      const uint64_t n = chunks.end(c) - chunks.begin(c);
+      part.resize(n * width);
+      if (!shards.Read(c, part.data())) {
+        std::cerr << "error: the shard of chunk " << c << " in " << shards_path << " changed while the study ran\n";
+        return 1;
+      }
+      hold(c);
+      for (uint64_t i = 0; i < n; ++i) by_chunk[c][i] = s.Unpack(&part[i * width]);
+    }
+  std::vector<double>().swap(part);
   uint64_t run_samples = 0;  // by every rank
   for (uint64_t c : todo) run_samples += chunks.end(c) - chunks.begin(c);
   const std::vector<uint64_t> mine = PartOf(todo, ranks.rank(), ranks.size());
@@ -367,14 +385,16 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     if (shards_path.empty()) return;
     const uint64_t n = chunks.end(c) - chunks.begin(c);
     std::vector<double> part(n * width);
-    for (uint64_t i = 0; i < n; ++i) s.Pack(results[chunks.begin(c) + i], &part[i * width]);
+    for (uint64_t i = 0; i < n; ++i) s.Pack(by_chunk[c][i], &part[i * width]);
     std::string why;
     if (!shards.Write(c, part.data(), &why)) {
       std::lock_guard<std::mutex> lock(shard_mutex);
       if (shard_error.empty()) shard_error = why;
     }
   };
-  s.RunChunks(values, chunks, mine, threads, &results, chunk_done, progress);
+  for (uint64_t c : mine) hold(c);
+  s.RunChunks([&source](uint64_t i, double* out) { source.Draw(i, out); }, chunks, mine, threads, slot, chunk_done,
+              progress);
   // Rank 0 gathers the others' samples, rank by rank, in the order of their chunks.
   const auto gather_start = std::chrono::steady_clock::now();
   // Every rank done with its part first: the gather's own cost (pack, transfer, unpack) is then
@@ -386,7 +406,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
       std::vector<double> data(my_samples * width);
       uint64_t at = 0;
       for (uint64_t c : mine)
-        for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) s.Pack(results[i], &data[at]);
+        for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) s.Pack(*slot(i), &data[at]);
       ranks.Send(data);
     } else {
       for (int r = 1; r < ranks.size(); ++r) {
@@ -396,8 +416,10 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
         std::vector<double> data(n * width);
         ranks.Receive(r, &data);
         uint64_t at = 0;
-        for (uint64_t c : theirs)
-          for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) results[i] = s.Unpack(&data[at]);
+        for (uint64_t c : theirs) {
+          hold(c);
+          for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) *slot(i) = s.Unpack(&data[at]);
+        }
       }
     }
   }
@@ -419,6 +441,16 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   }
   if (ranks.rank() > 0) return 0;  // rank 0 writes the outputs and says the exit status
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The whole study, in sample order, for the outputs.
+  std::vector<study::SampleResult> results;
+  results.reserve(count);
+  for (std::vector<study::SampleResult>& chunk : by_chunk) {
+    for (study::SampleResult& r : chunk) results.push_back(std::move(r));
+    std::vector<study::SampleResult>().swap(chunk);
+  }
+  const size_t parameters = spec.parameters.size();
+  std::vector<double> values(count * parameters);
+  for (uint64_t i = 0; i < count; ++i) source.Draw(i, &values[i * parameters]);
   if (printed) std::fprintf(stderr, "\n");
 
   // Summary: per status, per metric.

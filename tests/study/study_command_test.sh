@@ -12,7 +12,7 @@
 # two-rank run (skipped, saying so, only when CMake found no MPI). Hostile study files (a
 # directory, a grid beyond 10^8 samples, a metric name with a comma, a key twice) and bad
 # --set/--params: exit 2, one line, nothing written; --params and --set move the base of the
-# samples.
+# samples; a study of 10^8 samples stopped after one chunk holds that chunk alone.
 # usage: study_command_test.sh <mechgen> <source dir> [<mpiexec> (empty: no MPI)]
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2") mpiexec=${3:-}
@@ -232,6 +232,33 @@ head -1 set.csv | grep -q "set by --params/--set: a = 1.05 (default 1), b = 3.55
   fail "--set: CSV header $(head -1 set.csv)"
 grep -v '^#' set.csv | awk -F, 'NR > 1 { s += $2; n++ } END { m = s / n; exit !(m > 1.049 && m < 1.051) }' ||
   fail "--set a=1.05: the samples of a are not about 1.05"
+
+# A study of 10^8 samples (the most) stopped after one chunk (issue 45, #5): run end to end in
+# chunks, it holds that chunk alone (under a 2 GB address-space limit; drawing every sample and
+# result first took ~6 GB and aborted with bad_alloc), exit 4, one shard; resumed, the next.
+cat > huge.yaml << 'EOF'
+method: monte_carlo
+count: 100000000
+seed: 3
+analysis: positions
+at: [0, 60deg]
+parameters:
+  a: {tolerance: 0.01}
+  b: {tolerance: 0.01}
+  c: {tolerance: 0.01}
+metrics:
+  - {kind: at, column: coupler.P.x, step: 1}
+EOF
+for run in 1 2; do
+  (ulimit -v 2000000; "$mechgen" study fourbar.yaml --study huge.yaml --threads 2 --quiet --stop-after 64 \
+    --shards huge.shards > huge.out 2> huge.err)
+  status=$?
+  [ "$status" -eq 4 ] || fail "10^8 samples, --stop-after 64 (run $run): exit status $status: $(tail -3 huge.err)"
+  [ "$(ls huge.shards 2> /dev/null | grep -c '^chunk-')" -eq "$run" ] ||
+    fail "10^8 samples (run $run): not $run shard(s): $(ls huge.shards)"
+done
+grep -q "^resumed: 65536 samples from the shards in huge.shards; 1525 of 1526 chunks left" huge.out ||
+  fail "10^8 samples, resumed: $(cat huge.out)"
 
 if command -v gnuplot > /dev/null; then
   gnuplot -e "csv='one.csv'; metric='min_transmission_angle'; png='hist.png'" \

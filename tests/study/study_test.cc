@@ -788,7 +788,8 @@ TEST(StudyShards, ChunkedRunsResumeToTheSameResults) {
   EXPECT_EQ(width, 1u + 3u + 2u * 37u);
   const std::string dir = ::testing::TempDir() + "/shards_run";
   std::filesystem::remove_all(dir);
-  const study::ShardDirectory shards(dir, s.Key("chunks", v, chunks.size), chunks, width);
+  const study::ShardDirectory shards(dir, s.Key("chunks", study::SampleSource(spec, s.nominal()), chunks.size), chunks,
+                                     width);
   ASSERT_TRUE(shards.Open(&error)) << error;
   // "Rank 1" runs chunks 3 and 1 on 2 threads, writing their shards as they are done.
   std::vector<study::SampleResult> first(300);
@@ -833,11 +834,19 @@ TEST(StudyShards, ChunkedRunsResumeToTheSameResults) {
         << i;
   }
   EXPECT_GT(not_ok, 0);  // failed samples (NaN metrics) go through the shards too
-  EXPECT_NE(s.Key("chunks", v, 64), s.Key("chunks", v, 65));
-  std::vector<double> moved = v;
-  moved[17] = std::nextafter(moved[17], 10.0);
-  EXPECT_NE(s.Key("chunks", v, 64), s.Key("chunks", moved, 64));
-  EXPECT_NE(s.Key("chunks", v, 64), s.Key("chunks ", v, 64));
+  const study::SampleSource source(spec, s.nominal());
+  EXPECT_EQ(s.Key("chunks", source, 64), s.Key("chunks", study::SampleSource(spec, s.nominal()), 64));
+  EXPECT_NE(s.Key("chunks", source, 64), s.Key("chunks", source, 65));
+  std::vector<double> moved = s.nominal();
+  moved[1] = std::nextafter(moved[1], 10.0);
+  EXPECT_NE(s.Key("chunks", source, 64), s.Key("chunks", study::SampleSource(spec, moved), 64));
+  EXPECT_NE(s.Key("chunks", source, 64), s.Key("chunks ", source, 64));
+  // The source draws DrawSamples' values, sample by sample.
+  std::vector<double> one(2);
+  for (uint64_t i = 0; i < 300; ++i) {
+    source.Draw(i, one.data());
+    EXPECT_EQ(std::memcmp(one.data(), &v[2 * i], 2 * sizeof(double)), 0) << i;
+  }
   shards.Remove();
 }
 

@@ -43,6 +43,7 @@
 #include "mechgen/position/solver.h"
 #include "mechgen/statics/columns.h"
 #include "mechgen/statics/sweep.h"
+#include "mechgen/study/samples.h"
 #include "mechgen/study/shards.h"
 #include "mechgen/study/spec.h"
 #include "mechgen/sweep/columns.h"
@@ -981,6 +982,24 @@ class Study {
                  const std::function<void(uint64_t chunk)>& chunk_done,
                  const std::function<void(uint64_t done)>& progress = nullptr) const {
     const size_t n = spec_.parameters.size();
+    RunChunks([&values, n](uint64_t i, double* out) { std::copy(&values[i * n], &values[i * n] + n, out); }, chunks,
+              list, threads, [results](uint64_t i) { return &(*results)[i]; }, chunk_done, progress);
+  }
+
+  /**
+   * \brief The same, end to end in chunks: sample i's values from `draw(i, out)` (a
+   *        SampleSource's Draw) when a thread takes it, its result into *slot(i) (the caller's
+   *        storage of the chunks of `list`, alive and sized before the call): nothing is held
+   *        for the samples outside the list.
+   */
+  void RunChunks(const std::function<void(uint64_t i, double* out)>& draw,
+                 const Chunks& chunks,
+                 const std::vector<uint64_t>& list,
+                 int threads,
+                 const std::function<SampleResult*(uint64_t i)>& slot,
+                 const std::function<void(uint64_t chunk)>& chunk_done,
+                 const std::function<void(uint64_t done)>& progress = nullptr) const {
+    const size_t n = spec_.parameters.size();
     // The list's samples, one after the other: start[j] is the first of list[j].
     std::vector<uint64_t> start(list.size() + 1, 0);
     for (size_t j = 0; j < list.size(); ++j) start[j + 1] = start[j] + chunks.end(list[j]) - chunks.begin(list[j]);
@@ -992,11 +1011,13 @@ class Study {
     std::condition_variable finished;
     auto work = [&]() {
       Rows rows;
+      std::vector<double> values(std::max<size_t>(n, 1));
       size_t j = 0;
       for (uint64_t k; (k = next.fetch_add(1)) < total;) {
         while (start[j + 1] <= k) ++j;  // k only grows in each thread
         const uint64_t i = chunks.begin(list[j]) + (k - start[j]);
-        (*results)[i] = Evaluate(&values[i * n], &rows);
+        draw(i, values.data());
+        *slot(i) = Evaluate(values.data(), &rows);
         if (left[j].fetch_sub(1) == 1 && chunk_done) chunk_done(list[j]);
         if (done.fetch_add(1) + 1 == total) {
           std::lock_guard<std::mutex> lock(mutex);
@@ -1036,11 +1057,14 @@ class Study {
     return r;
   }
   /**
-   * \brief The study's identity for its shards: the study file's bytes, the model (its name
-   *        and the nominal design's metrics, bit for bit), the chunk size and every sample's
-   *        values. A change of any of them makes old shards another study's.
+   * \brief The study's identity for its shards: the study file's bytes, the model (its name,
+   *        the parameters it starts from (SetBase) and the nominal design's metrics, bit for
+   *        bit), the chunk size, the samples' count and nominals and the values of the first
+   *        64 samples and the last (what the spec and the nominals determine, drawn: a change
+   *        of the sampler changes them). A change of any of them makes old shards another
+   *        study's.
    */
-  uint64_t Key(const std::string& study_bytes, const std::vector<double>& values, uint64_t chunk) const {
+  uint64_t Key(const std::string& study_bytes, const SampleSource& source, uint64_t chunk) const {
     KeyHash h;
     h.Add(study_bytes);
     h.Add(std::string(M::kName));
@@ -1049,8 +1073,16 @@ class Study {
     for (size_t k = 0; k < spec_.metrics.size(); ++k) h.Add(Value(k, nominal_rows_).value);
     h.Add(chunk);
     h.Add(Width());
-    h.Add(static_cast<uint64_t>(values.size()));
-    for (double v : values) h.Add(v);
+    h.Add(source.count());
+    for (double v : source.nominal()) h.Add(v);
+    std::vector<double> values(source.parameters());
+    auto add = [&](uint64_t i) {
+      source.Draw(i, values.data());
+      for (double v : values) h.Add(v);
+    };
+    const uint64_t first = std::min<uint64_t>(source.count(), 64);
+    for (uint64_t i = 0; i < first; ++i) add(i);
+    if (source.count() > first) add(source.count() - 1);
     return h.value();
   }
 
