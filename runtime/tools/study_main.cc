@@ -625,7 +625,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
           agrees += o == study::Outcome::kAgrees;
           inconclusive += o == study::Outcome::kInconclusive;
           disagrees += o == study::Outcome::kDisagrees;
-          const double ratio = std::max(fa.rss / ma.sigma, ma.sigma / fa.rss);
+          const double ratio = fa.rss > 0 ? std::max(fa.rss / ma.sigma, ma.sigma / fa.rss) : 0;  // 0: none
           if (ratio > worst_ratio) worst_ratio = ratio, worst_row = i;
         }
       }

@@ -547,15 +547,36 @@ Rocker RockerAt(double a, double b, double c, double theta) {
   const double cx = bx + b * std::cos(alpha + beta), cy = by + b * std::sin(alpha + beta);
   return {alpha + beta, std::atan2(cy, cx - d)};
 }
-// The nodes and weights of n-point Gauss-Hermite quadrature for the standard normal
-// (Golub-Welsch: the eigenvalues of the Jacobi matrix of the probabilists' Hermite polynomials,
-// off-diagonal sqrt(k); the weights the squared first components).
+// The nodes and weights of n-point Gauss-Hermite quadrature for the standard normal: Newton's
+// method on the orthonormal Hermite polynomials for the weight exp(-t^2) (Numerical Recipes'
+// gauher), then z = sqrt(2) t and w / sqrt(pi).
 void GaussHermite(int n, std::vector<double>* x, std::vector<double>* w) {
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n, n);
-  for (int k = 1; k < n; ++k) J(k - 1, k) = J(k, k - 1) = std::sqrt(double(k));
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> e(J);
+  const double pi_m4 = 0.7511255444649425;  // pi^(-1/4)
+  std::vector<double> t(n), v(n);
+  double z = 0, pp = 0;
+  for (int i = 0; i < (n + 1) / 2; ++i) {
+    if (i == 0) z = std::sqrt(2.0 * n + 1) - 1.85575 * std::pow(2.0 * n + 1, -0.16667);
+    else if (i == 1) z -= 1.14 * std::pow(double(n), 0.426) / z;
+    else if (i == 2) z = 1.86 * z - 0.86 * t[0];
+    else if (i == 3) z = 1.91 * z - 0.91 * t[1];
+    else z = 2 * z - t[i - 2];
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      double p1 = pi_m4, p2 = 0;
+      for (int j = 0; j < n; ++j) {
+        const double p3 = p2;
+        p2 = p1;
+        p1 = z * std::sqrt(2.0 / (j + 1)) * p2 - std::sqrt(double(j) / (j + 1)) * p3;
+      }
+      pp = std::sqrt(2.0 * n) * p2;
+      const double previous = z;
+      z -= p1 / pp;
+      if (std::abs(z - previous) <= 1e-15 * (1 + std::abs(z))) break;
+    }
+    t[i] = z, t[n - 1 - i] = -z;
+    v[i] = v[n - 1 - i] = 2 / (pp * pp);
+  }
   x->resize(n), w->resize(n);
-  for (int i = 0; i < n; ++i) (*x)[i] = e.eigenvalues()(i), (*w)[i] = e.eigenvectors()(0, i) * e.eigenvectors()(0, i);
+  for (int i = 0; i < n; ++i) (*x)[i] = std::sqrt(2.0) * t[i], (*w)[i] = v[i] / std::sqrt(M_PI);
 }
 double ExactRockerSigma(int nodes, double theta, const double sigma[3]) {
   std::vector<double> x, w;
@@ -618,6 +639,15 @@ TEST(StudyVerdict, FourbarRockerAngleAgreesWithTheExactSigma) {
   EXPECT_NEAR(g[2], (RockerAt(1, 3.5, 3 + h, theta).phi4 - RockerAt(1, 3.5, 3 - h, theta).phi4) / (2 * h), 1e-8);
   const double first_order = std::sqrt(std::pow(g[0] * sigma[0], 2) + std::pow(g[1] * sigma[1], 2) +
                                        std::pow(g[2] * sigma[2], 2));
+  std::vector<double> z, w;  // the rule's moments of the standard normal: 1, 0, 1, 0, 3
+  GaussHermite(24, &z, &w);
+  double m[5] = {0, 0, 0, 0, 0};
+  for (int i = 0; i < 24; ++i)
+    for (int k = 0; k < 5; ++k) m[k] += w[i] * std::pow(z[i], k);
+  EXPECT_NEAR(m[0], 1, 1e-14);
+  EXPECT_NEAR(m[1], 0, 1e-14);
+  EXPECT_NEAR(m[2], 1, 1e-14);
+  EXPECT_NEAR(m[4], 3, 1e-13);
   const double exact = ExactRockerSigma(24, theta, sigma);
   EXPECT_NEAR(ExactRockerSigma(16, theta, sigma), exact, 1e-13);  // the quadrature has converged
   // The angle is nearly linear over these tolerances: the first order within 0.1 % of exact.

@@ -15,6 +15,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -451,13 +452,20 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       return false;
     }
     std::ifstream in(path, std::ios::binary);
-    std::string text(kMaxStudyBytes + 1, '\0');
+    // At most one byte more than the limit: a file that grows while read is bounded too.
+    const uint64_t size = fs::file_size(path, ec);
+    std::string text(static_cast<size_t>(std::min<uint64_t>(ec ? kMaxStudyBytes : size, kMaxStudyBytes) + 1), '\0');
     if (in) in.read(&text[0], static_cast<std::streamsize>(text.size()));
     if (!in && !in.eof()) {
       *error = path + ": error: cannot read the study file (permission denied?); check the path";
       return false;
     }
+    const size_t room = text.size();
     text.resize(static_cast<size_t>(in.gcount()));
+    if (text.size() == room && room <= kMaxStudyBytes) {
+      *error = path + ": error: the study file grew while it was read; run again when it is written";
+      return false;
+    }
     if (text.size() > kMaxStudyBytes) {
       *error = path + ": error: is larger than " + std::to_string(kMaxStudyBytes >> 20) +
                " MiB, the limit for a study file";

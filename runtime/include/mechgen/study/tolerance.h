@@ -29,8 +29,6 @@
  */
 #pragma once
 
-#include <Eigen/Dense>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -198,36 +196,62 @@ inline Curvature CurvatureOf(const std::vector<double>& y, const std::vector<dou
            c;
   mean /= static_cast<double>(c.n);
   // The regressors of sample i: 1, z_p, then z_p z_q (q >= p) or z_p^2.
-  Eigen::VectorXd f(k);
+  std::vector<double> f(k);
   auto features = [&](size_t i) {
-    f(0) = 1;
-    for (size_t p = 0; p < P; ++p) f(1 + p) = (x[i * P + p] - nominal[p]) / sigma[p];
+    f[0] = 1;
+    for (size_t p = 0; p < P; ++p) f[1 + p] = (x[i * P + p] - nominal[p]) / sigma[p];
     int at = linear;
     for (size_t p = 0; p < P; ++p)
-      for (size_t q = p; q < (c.cross_terms ? P : p + 1); ++q) f(at++) = f(1 + p) * f(1 + q);
+      for (size_t q = p; q < (c.cross_terms ? P : p + 1); ++q) f[at++] = f[1 + p] * f[1 + q];
   };
-  Eigen::MatrixXd XtX = Eigen::MatrixXd::Zero(k, k);
-  Eigen::VectorXd Xty = Eigen::VectorXd::Zero(k);
+  // The normal equations (the lower triangle of X'X, and X'y), then their Cholesky factor L:
+  // its leading (1 + P) block is the factor of the linear fit's equations, so one
+  // factorization solves both fits.
+  std::vector<double> L(static_cast<size_t>(k) * k, 0.0), Xty(k, 0.0);
   double tss = 0;
   for (size_t i = 0; i < y.size(); ++i) {
     if (!std::isfinite(y[i])) continue;
     features(i);
     const double yi = y[i] - mean;
-    XtX.selfadjointView<Eigen::Lower>().rankUpdate(f);
-    Xty += yi * f;
+    for (int a = 0; a < k; ++a) {
+      for (int b = 0; b <= a; ++b) L[a * k + b] += f[a] * f[b];
+      Xty[a] += f[a] * yi;
+    }
     tss += yi * yi;
   }
   if (!(tss > 0)) return c.why = "the metric does not vary", c;
-  XtX.triangularView<Eigen::StrictlyUpper>() = XtX.transpose();
-  const Eigen::VectorXd b_quad = XtX.ldlt().solve(Xty);
-  const Eigen::VectorXd b_lin = XtX.topLeftCorner(linear, linear).ldlt().solve(Xty.head(linear));
+  for (int j = 0; j < k; ++j) {
+    const double diagonal = L[j * k + j];
+    for (int m = 0; m < j; ++m) L[j * k + j] -= L[j * k + m] * L[j * k + m];
+    if (!(L[j * k + j] > 1e-12 * diagonal)) return c.why = "the quadratic fit failed (dependent regressors)", c;
+    L[j * k + j] = std::sqrt(L[j * k + j]);
+    for (int a = j + 1; a < k; ++a) {
+      for (int m = 0; m < j; ++m) L[a * k + j] -= L[a * k + m] * L[j * k + m];
+      L[a * k + j] /= L[j * k + j];
+    }
+  }
+  // L L' b = X'y over the leading `terms` regressors.
+  auto solve = [&](int terms) {
+    std::vector<double> b(Xty.begin(), Xty.begin() + terms);
+    for (int a = 0; a < terms; ++a) {
+      for (int m = 0; m < a; ++m) b[a] -= L[a * k + m] * b[m];
+      b[a] /= L[a * k + a];
+    }
+    for (int a = terms; a-- > 0;) {
+      for (int m = a + 1; m < terms; ++m) b[a] -= L[m * k + a] * b[m];
+      b[a] /= L[a * k + a];
+    }
+    return b;
+  };
+  const std::vector<double> b_quad = solve(k), b_lin = solve(linear);
   // The residuals themselves (a second pass: no cancellation in y'y - b'X'y).
   double rss_quad = 0, rss_lin = 0;
   for (size_t i = 0; i < y.size(); ++i) {
     if (!std::isfinite(y[i])) continue;
     features(i);
-    const double yi = y[i] - mean;
-    const double eq = yi - f.dot(b_quad), el = yi - f.head(linear).dot(b_lin);
+    double eq = y[i] - mean, el = eq;
+    for (int a = 0; a < k; ++a) eq -= f[a] * b_quad[a];
+    for (int a = 0; a < linear; ++a) el -= f[a] * b_lin[a];
     rss_quad += eq * eq, rss_lin += el * el;
   }
   if (!std::isfinite(rss_quad) || !std::isfinite(rss_lin)) return c.why = "the quadratic fit failed", c;
