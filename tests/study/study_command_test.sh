@@ -235,7 +235,7 @@ grep -v '^#' set.csv | awk -F, 'NR > 1 { s += $2; n++ } END { m = s / n; exit !(
 
 # A study of 10^8 samples (the most) stopped after one chunk (issue 45, #5): run end to end in
 # chunks, it holds that chunk alone (under a 2 GB address-space limit; drawing every sample and
-# result first took ~6 GB and aborted with bad_alloc), exit 4, one shard; resumed, the next.
+# result first took ~8 GB and aborted with bad_alloc), exit 4, one shard; resumed, the next.
 cat > huge.yaml << 'EOF'
 method: monte_carlo
 count: 100000000
