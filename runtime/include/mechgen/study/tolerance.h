@@ -24,8 +24,11 @@
  * A DISAGREES names curvature as the cause only when the samples show it: the metric regressed
  * on the standardized parameters z_p = (x_p - nominal_p) / sigma_p, linear (1, z) and quadratic
  * (1, z, z_p z_q), the quadratic terms explain a share of the variance that is both significant
- * (their F test at the same corrected level) and at least kCurvatureShare; else the cause is
- * said to be unidentified (a kink, a failure region, a heavy tail).
+ * (their F test at the same corrected level) and at least kCurvatureShare; the metric's slope
+ * over the samples is named when a linear fit to them gives a sigma outside [1 - delta,
+ * 1 + delta] of the first order (the slope at the nominal is not the slope over the
+ * tolerances: near a toggle, a square root of a margin); else the cause is said to be
+ * unidentified (a kink, a failure region, a heavy tail), with those figures.
  */
 #pragma once
 
