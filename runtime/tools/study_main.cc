@@ -24,8 +24,12 @@
 #include <thread>
 #include <vector>
 
-#include "common/cli.h"
 #include "common/numbers.h"
+#include "common/params.h"
+#include "study_args.h"
+#ifndef MECHGEN_STUDY_ARGS_SEPARATE
+#include "study_args.cc"
+#endif
 #include "mechgen/io/output_file.h"
 #include "mechgen/study/run.h"
 #include "mechgen/study/samples.h"
@@ -48,6 +52,7 @@ namespace {
 using Model = MECHGEN_MODEL_NAMESPACE::Model;
 namespace study = mechgen::study;
 namespace tools = mechgen::tools;
+namespace study_tool = mechgen::study_tool;
 
 std::string G17(double x) {
   if (std::isnan(x)) return "nan";
@@ -108,6 +113,8 @@ void WriteCsv(const study::Study<Model>& s,
     for (double v : spec.drive.values) out << " " << G17(v);
     out << ")";
   }
+  const std::string changed = tools::ChangedParameters(s.base());
+  if (!changed.empty()) out << "; the model's parameters set by --params/--set: " << changed;
   out << "\n";
   out << "# sample [1]: the sample's index, 0-based, in the study's order\n";
   for (const study::ParameterSpec& p : spec.parameters)
@@ -240,47 +247,24 @@ std::vector<uint64_t> PartOf(const std::vector<uint64_t>& list, int r, int ranks
 namespace {
 
 int RunStudy(const Ranks& ranks, int argc, char** argv) {
-  const std::string tool = tools::ToolName(argc > 0 ? argv[0] : nullptr);
-  CLI::App app{std::string("A design study of the mechgen model '") + Model::kName +
-               "': parameters varied on a grid, a list, a Latin hypercube or by Monte-Carlo, an analysis per "
-               "sample, metrics per sample in a CSV, and the first-order tolerance analysis beside the "
-               "Monte-Carlo (docs/studies.md)."};
-  app.footer(
-      "Exit status: 0 done, 3 done but some samples failed (status column), 2 bad arguments or a bad "
-      "study file, 1 the study does not fit the model or an output cannot be written, 4 stopped by "
-      "--stop-after (run again to resume). Under mpirun (a driver compiled with MPI) the samples are split "
-      "across the ranks, each using --threads threads; rank 0 writes the outputs, the same bytes.");
-  std::string study_path, csv_path, tolerance_path, envelope_path;
-  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  bool quiet = false;
-  app.add_option("--study", study_path, "the study file (YAML; docs/studies.md)")->required();
-  tools::Count(&app, "--threads", &threads, 1, 1024, "threads over the samples (default: the cores)");
-  app.add_option("--csv", csv_path, "write one row per sample to this CSV file");
-  app.add_option("--tolerance-csv", tolerance_path,
-                 "write the tolerance analysis (first order beside Monte-Carlo) to this CSV file");
-  app.add_option("--envelope-csv", envelope_path,
-                 "write the envelope of the study's point (envelope: {point: P}) to this CSV file: per row its "
-                 "nominal place and the first-order and Monte-Carlo sigma of x and y");
-  app.add_flag("--quiet", quiet, "no progress line on stderr");
-  std::string shards_path;
-  bool no_shards = false;
-  long long chunk_size = 0, stop_after = 0;
-  app.add_option("--shards", shards_path,
-                 "keep each chunk's results in this directory as it is done, and resume from it when run again "
-                 "(default with --csv F: F.shards; removed when the study is done)");
-  app.add_flag("--no-shards", no_shards, "keep no shards (a study that is stopped starts again from nothing)");
-  tools::Count(&app, "--chunk", &chunk_size, 1, 1LL << 40,
-               "samples per chunk (default: about 1/256 of the study, 64 to 65536); a resumed study needs the same");
-  tools::Count(&app, "--stop-after", &stop_after, 1, 1LL << 62,
-               "evaluate at most this many more samples (whole chunks), keep their shards and stop (exit 4): "
-               "running again resumes");
-  if (const int parsed = tools::Parse(&app, argc, argv, tool); parsed >= 0) return parsed;
+  study_tool::Arguments arguments;
+  if (const int parsed = study_tool::ParseArguments(argc, argv, Model::kName, &arguments); parsed >= 0) return parsed;
+  const std::string& tool = arguments.tool;
+  const std::string &study_path = arguments.study_path, &csv_path = arguments.csv_path,
+                    &tolerance_path = arguments.tolerance_path, &envelope_path = arguments.envelope_path;
+  std::string shards_path = arguments.shards_path;
+  const int threads = arguments.threads;
+  const bool quiet = arguments.quiet, no_shards = arguments.no_shards;
+  const long long chunk_size = arguments.chunk_size, stop_after = arguments.stop_after;
   if (ranks.serial_under_launcher())
     return tools::UsageError(tool,
                              "started by an MPI launcher as one of several ranks, but this study driver was compiled "
                              "without MPI (each rank would run the whole study): install libopenmpi-dev and run "
                              "`mechgen study --rebuild ...` once, or run it without mpirun");
-  if (no_shards && !shards_path.empty()) return tools::UsageError(tool, "--shards and --no-shards: give one");
+  // The model's parameters before the study's (--params, then --set), checked before the study.
+  study::Study<Model>::Params base;
+  std::string params_error;
+  if (!tools::ApplyParameters(arguments.params, &base, &params_error)) return tools::UsageError(tool, params_error);
 
   study::StudySpec spec;
   std::string error;
@@ -289,6 +273,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     return tools::kExitUsage;
   }
   study::Study<Model> s;
+  s.SetBase(base);
   if (!s.Prepare(spec, &error)) {
     std::cerr << error << "\n";
     return 1;
@@ -304,21 +289,16 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     std::cerr << "error: " << error << "\n";
     return 1;
   }
-  const std::vector<double> values = study::DrawSamples(spec, s.nominal());
-  const uint64_t count = study::SampleCount(spec);
+  // The samples are drawn as their chunks are run (end to end in chunks: a study of 10^8
+  // samples stopped after one chunk holds that chunk alone).
+  const study::SampleSource source(spec, s.nominal());
+  const uint64_t count = source.count();
   const study::Chunks chunks{count, chunk_size > 0 ? static_cast<uint64_t>(chunk_size) : study::DefaultChunkSize(count)};
   const uint64_t width = s.Width();
   // The shards: rank 0 opens (or checks) the directory first, then the others (on a shared
   // file system they find its study.key; on their own disks they make one).
   if (shards_path.empty() && !no_shards && !csv_path.empty()) shards_path = csv_path + ".shards";
-  std::string study_bytes;
-  {
-    std::ifstream in(spec.path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    study_bytes = text.str();
-  }
-  const study::ShardDirectory shards(shards_path, s.Key(study_bytes, values, chunks.size), chunks, width);
+  const study::ShardDirectory shards(shards_path, s.Key(spec.text, source, chunks.size), chunks, width);
   if (!shards_path.empty()) {
     if (ranks.Agree(ranks.rank() == 0 && !shards.Open(&error))) {
       std::cerr << "error: " << error << "\n";
@@ -326,17 +306,20 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     }
     if (ranks.rank() > 0 && !shards.Open(&error)) shards_path.clear();  // keeps none of its own
   }
-  // Rank 0 reads the shards there are; the chunks without one are run, split across the ranks.
-  std::vector<study::SampleResult> results(count);
-  std::vector<uint64_t> todo;
+  // The results of each chunk, held only for the chunks read or run here.
+  std::vector<std::vector<study::SampleResult>> by_chunk(chunks.number());
+  auto hold = [&](uint64_t c) { by_chunk[c].resize(chunks.end(c) - chunks.begin(c)); };
+  auto slot = [&](uint64_t i) { return &by_chunk[i / chunks.size][i % chunks.size]; };
+  // Rank 0 checks the shards there are; the chunks without one are run, split across the ranks.
+  std::vector<uint64_t> todo, kept;
   uint64_t resumed = 0;
+  std::vector<double> part;
   if (ranks.rank() == 0) {
-    std::vector<double> part;
     for (uint64_t c = 0; c < chunks.number(); ++c) {
       const uint64_t n = chunks.end(c) - chunks.begin(c);
       part.resize(n * width);
       if (!shards_path.empty() && shards.Read(c, part.data())) {
-        for (uint64_t i = 0; i < n; ++i) results[chunks.begin(c) + i] = s.Unpack(&part[i * width]);
+        kept.push_back(c);
         resumed += n;
       } else {
         todo.push_back(c);
@@ -353,6 +336,19 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     stopped = take < todo.size();
     todo.resize(take);
   }
+  // The shards' contents, read when this run ends the study (a stopped run needs none).
+  if (ranks.rank() == 0 && !stopped)
+    for (uint64_t c : kept) {
+      const uint64_t n = chunks.end(c) - chunks.begin(c);
+      part.resize(n * width);
+      if (!shards.Read(c, part.data())) {
+        std::cerr << "error: the shard of chunk " << c << " in " << shards_path << " changed while the study ran\n";
+        return 1;
+      }
+      hold(c);
+      for (uint64_t i = 0; i < n; ++i) by_chunk[c][i] = s.Unpack(&part[i * width]);
+    }
+  std::vector<double>().swap(part);
   uint64_t run_samples = 0;  // by every rank
   for (uint64_t c : todo) run_samples += chunks.end(c) - chunks.begin(c);
   const std::vector<uint64_t> mine = PartOf(todo, ranks.rank(), ranks.size());
@@ -365,6 +361,8 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
               spec.steps, threads);
   if (ranks.size() > 1) std::printf(" on each of %d ranks", ranks.size());
   std::printf("\n");
+  if (const std::string changed = tools::ChangedParameters(base); !changed.empty())
+    std::printf("the model's parameters set by --params/--set: %s\n", changed.c_str());
   if (resumed > 0)
     std::printf("resumed: %llu samples from the shards in %s; %zu of %llu chunks left\n",
                 static_cast<unsigned long long>(resumed), shards_path.c_str(), chunks_left,
@@ -387,14 +385,16 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     if (shards_path.empty()) return;
     const uint64_t n = chunks.end(c) - chunks.begin(c);
     std::vector<double> part(n * width);
-    for (uint64_t i = 0; i < n; ++i) s.Pack(results[chunks.begin(c) + i], &part[i * width]);
+    for (uint64_t i = 0; i < n; ++i) s.Pack(by_chunk[c][i], &part[i * width]);
     std::string why;
     if (!shards.Write(c, part.data(), &why)) {
       std::lock_guard<std::mutex> lock(shard_mutex);
       if (shard_error.empty()) shard_error = why;
     }
   };
-  s.RunChunks(values, chunks, mine, threads, &results, chunk_done, progress);
+  for (uint64_t c : mine) hold(c);
+  s.RunChunks([&source](uint64_t i, double* out) { source.Draw(i, out); }, chunks, mine, threads, slot, chunk_done,
+              progress);
   // Rank 0 gathers the others' samples, rank by rank, in the order of their chunks.
   const auto gather_start = std::chrono::steady_clock::now();
   // Every rank done with its part first: the gather's own cost (pack, transfer, unpack) is then
@@ -406,7 +406,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
       std::vector<double> data(my_samples * width);
       uint64_t at = 0;
       for (uint64_t c : mine)
-        for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) s.Pack(results[i], &data[at]);
+        for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) s.Pack(*slot(i), &data[at]);
       ranks.Send(data);
     } else {
       for (int r = 1; r < ranks.size(); ++r) {
@@ -416,8 +416,10 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
         std::vector<double> data(n * width);
         ranks.Receive(r, &data);
         uint64_t at = 0;
-        for (uint64_t c : theirs)
-          for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) results[i] = s.Unpack(&data[at]);
+        for (uint64_t c : theirs) {
+          hold(c);
+          for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) *slot(i) = s.Unpack(&data[at]);
+        }
       }
     }
   }
@@ -439,6 +441,16 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   }
   if (ranks.rank() > 0) return 0;  // rank 0 writes the outputs and says the exit status
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The whole study, in sample order, for the outputs.
+  std::vector<study::SampleResult> results;
+  results.reserve(count);
+  for (std::vector<study::SampleResult>& chunk : by_chunk) {
+    for (study::SampleResult& r : chunk) results.push_back(std::move(r));
+    std::vector<study::SampleResult>().swap(chunk);
+  }
+  const size_t parameters = spec.parameters.size();
+  std::vector<double> values(count * parameters);
+  for (uint64_t i = 0; i < count; ++i) source.Draw(i, &values[i * parameters]);
   if (printed) std::fprintf(stderr, "\n");
 
   // Summary: per status, per metric.
@@ -480,46 +492,90 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   }
   std::string tolerance_text;
   if (spec.tolerance) {
+    // Every metric's figures first: the verdicts are decided together (their number corrects
+    // each one's level, study/tolerance.h).
+    const size_t metrics = spec.metrics.size();
+    std::vector<study::Moments> moments(metrics);
+    std::vector<study::FirstOrder> first(metrics);
+    std::vector<std::string> why(metrics);
+    study::VerdictOptions options;
+    options.family = 0;
+    for (size_t k = 0; k < metrics; ++k) {
+      std::vector<double> ok_values;
+      for (const study::SampleResult& r : results)
+        if (std::string(r.status) == "ok") ok_values.push_back(r.metrics[k]);
+      moments[k] = study::MomentsOf(ok_values);
+      first[k] = study::FirstOrderOf(s.Gradient(k, &why[k]), sigma, tol, clearance);
+      options.family += first[k].complete && moments[k].n >= 2;
+    }
+    double level = NAN, z = NAN;
+    study::CorrectedLevel(options, &level, &z);
     std::printf(
-        "\ntolerance analysis: first order at the nominal (generated design derivatives) beside the "
-        "Monte-Carlo of the %llu ok samples (95 %% intervals)\n",
-        static_cast<unsigned long long>(ok));
-    std::printf("%-24s %12s %12s %12s %12s %12s %12s %25s  %s\n", "metric", "nominal", "fo_sigma", "fo_worst",
-                "clearance", "mc_mean", "mc_sigma", "mc_sigma_95", "verdict");
+        "\ntolerance analysis: first order at the nominal (generated design derivatives) beside the Monte-Carlo of "
+        "the %llu ok samples (mc_sigma_se: the standard error of its sigma, from the sample kurtosis; 95 %% "
+        "intervals)\nverdict: the ratio R = fo_sigma / mc_sigma with its interval at %.4g %% each (Sidak: %g %% for "
+        "the %d verdict%s together); agrees: the interval inside [%g, %g]; DISAGREES: R outside it and the interval "
+        "excludes 1; else inconclusive\n",
+        static_cast<unsigned long long>(ok), 100 * level, 100 * (1 - options.alpha), options.family,
+        options.family == 1 ? "" : "s", 1 - options.delta, 1 + options.delta);
+    std::printf("%-24s %12s %12s %12s %12s %12s %12s %10s %25s  %s\n", "metric", "nominal", "fo_sigma", "fo_worst",
+                "clearance", "mc_mean", "mc_sigma", "mc_sigma_se", "mc_sigma_95", "verdict");
+    char band[64];
+    std::snprintf(band, sizeof(band), "[%g, %g]", 1 - options.delta, 1 + options.delta);
+    char level_text[160];
+    std::snprintf(level_text, sizeof(level_text),
+                  "# ratio: fo_sigma / mc_sigma, ratio_low/high its interval at %.6g %% (Sidak: %g %% for the %d "
+                  "verdict%s together)",
+                  100 * level, 100 * (1 - options.alpha), options.family, options.family == 1 ? "" : "s");
     tolerance_text =
         "# mechgen study tolerance analysis, model " + std::string(Model::kName) + ": " + spec.path +
         "\n# fo_sigma: first-order root-sum-square sqrt(sum (dm/dp sigma_p)^2); fo_worst: sum |dm/dp| t_p (t: the "
         "tolerance); clearance: sum |dm/dp| c over the joint clearances (worst direction); mc_*: the Monte-Carlo "
-        "of the ok samples, with 95 % intervals; units: the metric's\n"
+        "of the ok samples, with 95 % intervals; mc_sigma_se: the standard error of mc_sigma from the sample "
+        "kurtosis mc_kurtosis; units: the metric's\n" +
+        std::string(level_text) +
+        "; quadratic_share: the share of the metric's variance over the samples that its quadratic terms in the "
+        "standardized parameters explain beyond the linear ones; linear_fit_sigma: the sigma of a linear fit to the "
+        "samples; decision: agrees (the interval inside " +
+        band + "), DISAGREES (the ratio outside it and the interval excluding 1), inconclusive, none (no figure)\n"
         "metric,unit,nominal,fo_sigma,fo_worst,clearance,mc_n,mc_mean,mc_mean_low,mc_mean_high,mc_sigma,mc_sigma_low,"
-        "mc_sigma_high,verdict\n";
-    for (size_t k = 0; k < spec.metrics.size(); ++k) {
-      std::vector<double> ok_values;
-      for (const study::SampleResult& r : results)
-        if (std::string(r.status) == "ok") ok_values.push_back(r.metrics[k]);
-      const study::Moments m = study::MomentsOf(ok_values);
-      std::string why;
-      const std::vector<double> g = s.Gradient(k, &why);
-      const study::FirstOrder f = study::FirstOrderOf(g, sigma, tol, clearance);
-      std::string verdict = study::Verdict(f, m);
+        "mc_sigma_high,mc_sigma_se,mc_kurtosis,ratio,ratio_low,ratio_high,quadratic_share,linear_fit_sigma,decision,"
+        "verdict\n";
+    for (size_t k = 0; k < metrics; ++k) {
+      const study::Moments& m = moments[k];
+      const study::FirstOrder& f = first[k];
+      // The curvature over the ok samples (the others NaN: left out), only where it is read.
+      study::Curvature curvature;
+      if (f.complete && m.n >= 2) {
+        std::vector<double> y(results.size());
+        for (size_t i = 0; i < results.size(); ++i)
+          y[i] = std::string(results[i].status) == "ok" ? results[i].metrics[k] : NAN;
+        curvature = study::CurvatureOf(y, values, s.nominal(), sigma);
+      }
+      const study::Decision decision = study::Decide(f, m, curvature, options);
+      std::string verdict = decision.text;
       if (!f.complete) {
         std::string missing;
         for (size_t p = 0; p < n; ++p)
           if (s.design_index()[p] < 0) missing += (missing.empty() ? "" : ", ") + spec.parameters[p].name;
-        verdict = "no first-order figure: " + (!why.empty() ? why : "not a design parameter of the model: " + missing);
+        verdict =
+            "no first-order figure: " + (!why[k].empty() ? why[k] : "not a design parameter of the model: " + missing);
       }
       if (ok < count)
         verdict += " (" + std::to_string(count - ok) + " of " + std::to_string(count) +
                    " samples failed and are not in the Monte-Carlo: a change the first order cannot see)";
       char interval[64];
       std::snprintf(interval, sizeof(interval), "[%.5g, %.5g]", m.sigma_low, m.sigma_high);
-      std::printf("%-24s %12.6g %12.5g %12.5g %12.5g %12.6g %12.5g %25s  %s\n", spec.metrics[k].name.c_str(),
+      std::printf("%-24s %12.6g %12.5g %12.5g %12.5g %12.6g %12.5g %10.2g %25s  %s\n", spec.metrics[k].name.c_str(),
                   s.Value(k, s.nominal_rows()).value, f.rss, f.worst, f.complete ? f.clearance : NAN, m.mean, m.sigma,
-                  interval, verdict.c_str());
+                  m.sigma_se, interval, verdict.c_str());
       tolerance_text += spec.metrics[k].name + "," + s.Unit(k) + "," + G17(s.Value(k, s.nominal_rows()).value) + "," +
                         G17(f.rss) + "," + G17(f.worst) + "," + G17(f.complete ? f.clearance : NAN) + "," +
                         std::to_string(m.n) + "," + G17(m.mean) + "," + G17(m.mean_low) + "," + G17(m.mean_high) + "," +
-                        G17(m.sigma) + "," + G17(m.sigma_low) + "," + G17(m.sigma_high) + ",\"" + verdict + "\"\n";
+                        G17(m.sigma) + "," + G17(m.sigma_low) + "," + G17(m.sigma_high) + "," + G17(m.sigma_se) + "," +
+                        G17(m.kurtosis) + "," + G17(decision.ratio) + "," + G17(decision.ratio_low) + "," +
+                        G17(decision.ratio_high) + "," + G17(curvature.share) + "," + G17(curvature.linear_sigma) +
+                        "," + study::OutcomeName(decision.outcome) + ",\"" + verdict + "\"\n";
     }
   }
 
@@ -540,38 +596,56 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
                     "fo_worst_y,mc_n,mc_sigma_x,mc_sigma_x_low,mc_sigma_x_high,mc_sigma_y,mc_sigma_y_low,"
                     "mc_sigma_y_high\n";
     const std::vector<double> nominal_path = s.Path(s.nominal_rows());
-    int compared = 0, inside = 0, worst_row = -1;
-    double worst_ratio = 1;
-    for (int i = 0; i < rows; ++i) {
-      std::string line = std::to_string(i) + "," + G17(s.nominal_rows().kinematics[i].q(0)) + "," +
-                         G17(nominal_path[2 * i]) + "," + G17(nominal_path[2 * i + 1]);
-      study::FirstOrder f[2];
-      study::Moments m[2];
+    // First every (row, axis)'s figures, then their verdicts decided together (as the metrics').
+    std::vector<study::FirstOrder> f(2 * rows);
+    std::vector<study::Moments> m(2 * rows);
+    study::VerdictOptions options;
+    options.family = 0;
+    for (int i = 0; i < rows; ++i)
       for (int axis = 0; axis < 2; ++axis) {
-        f[axis] = study::FirstOrderOf(s.PathGradient(i, axis), sigma, tol, clearance);
+        f[2 * i + axis] = study::FirstOrderOf(s.PathGradient(i, axis), sigma, tol, clearance);
         std::vector<double> v;
         v.reserve(results.size());
         for (const study::SampleResult& r : results)
           if (std::string(r.status) == "ok") v.push_back(r.path[2 * i + axis]);
-        m[axis] = study::MomentsOf(v);
-        if (random && f[axis].complete && m[axis].n >= 2 && m[axis].sigma > 0) {
+        m[2 * i + axis] = study::MomentsOf(v);
+        options.family += random && f[2 * i + axis].complete && m[2 * i + axis].n >= 2 && m[2 * i + axis].sigma > 0;
+      }
+    int compared = 0, agrees = 0, inconclusive = 0, disagrees = 0, worst_row = -1;
+    double worst_ratio = 1;
+    for (int i = 0; i < rows; ++i) {
+      std::string line = std::to_string(i) + "," + G17(s.nominal_rows().kinematics[i].q(0)) + "," +
+                         G17(nominal_path[2 * i]) + "," + G17(nominal_path[2 * i + 1]);
+      for (int axis = 0; axis < 2; ++axis) {
+        const study::FirstOrder& fa = f[2 * i + axis];
+        const study::Moments& ma = m[2 * i + axis];
+        if (random && fa.complete && ma.n >= 2 && ma.sigma > 0) {
           ++compared;
-          inside += f[axis].rss >= m[axis].sigma_low && f[axis].rss <= m[axis].sigma_high;
-          const double ratio = std::max(f[axis].rss / m[axis].sigma, m[axis].sigma / f[axis].rss);
+          const study::Outcome o = study::Decide(fa, ma, study::Curvature(), options).outcome;
+          agrees += o == study::Outcome::kAgrees;
+          inconclusive += o == study::Outcome::kInconclusive;
+          disagrees += o == study::Outcome::kDisagrees;
+          const double ratio = fa.rss > 0 ? std::max(fa.rss / ma.sigma, ma.sigma / fa.rss) : 0;  // 0: none
           if (ratio > worst_ratio) worst_ratio = ratio, worst_row = i;
         }
       }
-      line += "," + G17(f[0].rss) + "," + G17(f[1].rss) + "," + G17(f[0].worst) + "," + G17(f[1].worst) + "," +
-              std::to_string(m[0].n) + "," + G17(m[0].sigma) + "," + G17(m[0].sigma_low) + "," + G17(m[0].sigma_high) +
-              "," + G17(m[1].sigma) + "," + G17(m[1].sigma_low) + "," + G17(m[1].sigma_high) + "\n";
+      line += "," + G17(f[2 * i].rss) + "," + G17(f[2 * i + 1].rss) + "," + G17(f[2 * i].worst) + "," +
+              G17(f[2 * i + 1].worst) + "," + std::to_string(m[2 * i].n) + "," + G17(m[2 * i].sigma) + "," +
+              G17(m[2 * i].sigma_low) + "," + G17(m[2 * i].sigma_high) + "," + G17(m[2 * i + 1].sigma) + "," +
+              G17(m[2 * i + 1].sigma_low) + "," + G17(m[2 * i + 1].sigma_high) + "\n";
       envelope_text += line;
     }
-    if (compared > 0)
+    if (compared > 0) {
+      double level = NAN, z = NAN;
+      study::CorrectedLevel(options, &level, &z);
       std::printf(
-          "\nenvelope of %s: the first-order sigma of x and y is inside the Monte-Carlo's 95 %% interval at %d "
-          "of %d (row, axis); the largest ratio between the two, %.4g, at row %d (%s = %.6g)\n",
-          spec.envelope.c_str(), inside, compared, worst_ratio, worst_row, Model::kQNames[0],
+          "\nenvelope of %s: the first-order sigma of x and y against the Monte-Carlo's at %d (row, axis), each at "
+          "%.4g %% (Sidak: %g %% for all together): agrees within %g %% at %d, inconclusive at %d, DISAGREES at %d; "
+          "the largest ratio between the two, %.4g, at row %d (%s = %.6g)\n",
+          spec.envelope.c_str(), compared, 100 * level, 100 * (1 - options.alpha), 100 * options.delta, agrees,
+          inconclusive, disagrees, worst_ratio, worst_row, Model::kQNames[0],
           worst_row >= 0 ? s.nominal_rows().kinematics[worst_row].q(0) : NAN);
+    }
   }
 
   if (!csv_path.empty()) WriteCsv(s, values, results, csv.stream());

@@ -9,7 +9,10 @@
 # the same bytes; so do 4 threads; a study stopped part way (--stop-after) or killed (SIGKILL) and
 # run again resumes from its shards and gives the same bytes; under `mpirun --oversubscribe -np 2`
 # (and -np 1; a driver compiled with MPI) the same bytes, also when resumed from the shards of a
-# two-rank run (skipped, saying so, only when CMake found no MPI).
+# two-rank run (skipped, saying so, only when CMake found no MPI). Hostile study files (a
+# directory, a grid beyond 10^8 samples, a metric name with a comma, a key twice) and bad
+# --set/--params: exit 2, one line, nothing written; --params and --set move the base of the
+# samples; a study of 10^8 samples stopped after one chunk holds that chunk alone.
 # usage: study_command_test.sh <mechgen> <source dir> [<mpiexec> (empty: no MPI)]
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2") mpiexec=${3:-}
@@ -189,6 +192,73 @@ for bad in "--stop-after 0" "--stop-after -3" "--stop-after nan" "--stop-after 1
   [ "$(grep -c '' opt.err)" -eq 1 ] || fail "$bad: not one line: $(cat opt.err)"
   [ -e badopt.csv ] && fail "$bad: a CSV was written"
 done
+
+# Hostile study files and options (issue 45): exit 2, one line, nothing written.
+mkdir -p dir.yaml
+cat > grid.yaml << 'EOF'
+method: grid
+parameters:
+  a: {range: [0.9, 1.1], count: 65536}
+  b: {range: [3.4, 3.6], count: 65536}
+  c: {range: [2.9, 3.1], count: 65536}
+  d: {range: [3.9, 4.1], count: 65536}
+metrics: [{kind: failures}]
+EOF
+sed 's/^  - {kind: failures}$/  - {kind: failures, name: "a,b"}/' study.yaml > comma.yaml
+printf 'count: 20\n' | cat study.yaml - > twice.yaml
+for bad in "--study dir.yaml" "--study grid.yaml" "--study comma.yaml" "--study twice.yaml" \
+           "--study study.yaml --set zz=1" "--study study.yaml --set a=nan" "--study study.yaml --params none.txt"; do
+  # shellcheck disable=SC2086
+  "$mechgen" study fourbar.yaml $bad --csv hostile.csv --quiet > hostile.out 2> hostile.err
+  status=$?
+  [ "$status" -eq 2 ] || fail "$bad: exit status $status: $(cat hostile.err)"
+  [ "$(grep -c '' hostile.err)" -eq 1 ] || fail "$bad: not one line: $(cat hostile.err)"
+  [ -e hostile.csv ] && fail "$bad: a CSV was written"
+done
+"$mechgen" study fourbar.yaml --study grid.yaml > hostile.out 2> hostile.err
+grep -q "^grid.yaml:4:3: error: a grid of 65536 x 65536 x ... values is more than 100000000 samples" hostile.err ||
+  fail "grid: $(cat hostile.err)"
+"$mechgen" study fourbar.yaml --study dir.yaml > hostile.out 2> hostile.err
+grep -q "^dir.yaml: error: is a directory" hostile.err || fail "directory: $(cat hostile.err)"
+# --params then --set, before the study: a parameter without nominal: is drawn about the value
+# set (the CSV's mean of a over 2000 samples, sigma 0.01/3: within 0.001 of 1.05), the header
+# says what was set.
+printf 'a = 1.02\nb = 3.55\n' > base.txt
+"$mechgen" study fourbar.yaml --study study.yaml --params base.txt --set a=1.05 --csv set.csv --quiet > set.out 2> set.err ||
+  fail "--set: exit status $?: $(cat set.err)"
+grep -q "^the model's parameters set by --params/--set: a = 1.05 (default 1), b = 3.55 (default 3.5)" set.out ||
+  fail "--set: $(head -3 set.out)"
+head -1 set.csv | grep -q "set by --params/--set: a = 1.05 (default 1), b = 3.55 (default 3.5)" ||
+  fail "--set: CSV header $(head -1 set.csv)"
+grep -v '^#' set.csv | awk -F, 'NR > 1 { s += $2; n++ } END { m = s / n; exit !(m > 1.049 && m < 1.051) }' ||
+  fail "--set a=1.05: the samples of a are not about 1.05"
+
+# A study of 10^8 samples (the most) stopped after one chunk (issue 45, #5): run end to end in
+# chunks, it holds that chunk alone (under a 2 GB address-space limit; drawing every sample and
+# result first took ~8 GB and aborted with bad_alloc), exit 4, one shard; resumed, the next.
+cat > huge.yaml << 'EOF'
+method: monte_carlo
+count: 100000000
+seed: 3
+analysis: positions
+at: [0, 60deg]
+parameters:
+  a: {tolerance: 0.01}
+  b: {tolerance: 0.01}
+  c: {tolerance: 0.01}
+metrics:
+  - {kind: at, column: coupler.P.x, step: 1}
+EOF
+for run in 1 2; do
+  (ulimit -v 2000000; "$mechgen" study fourbar.yaml --study huge.yaml --threads 2 --quiet --stop-after 64 \
+    --shards huge.shards > huge.out 2> huge.err)
+  status=$?
+  [ "$status" -eq 4 ] || fail "10^8 samples, --stop-after 64 (run $run): exit status $status: $(tail -3 huge.err)"
+  [ "$(ls huge.shards 2> /dev/null | grep -c '^chunk-')" -eq "$run" ] ||
+    fail "10^8 samples (run $run): not $run shard(s): $(ls huge.shards)"
+done
+grep -q "^resumed: 65536 samples from the shards in huge.shards; 1525 of 1526 chunks left" huge.out ||
+  fail "10^8 samples, resumed: $(cat huge.out)"
 
 if command -v gnuplot > /dev/null; then
   gnuplot -e "csv='one.csv'; metric='min_transmission_angle'; png='hist.png'" \

@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <cmath>
 #include <condition_variable>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -42,6 +43,7 @@
 #include "mechgen/position/solver.h"
 #include "mechgen/statics/columns.h"
 #include "mechgen/statics/sweep.h"
+#include "mechgen/study/samples.h"
 #include "mechgen/study/shards.h"
 #include "mechgen/study/spec.h"
 #include "mechgen/sweep/columns.h"
@@ -172,6 +174,11 @@ class Study {
     bool assembled = false;  ///< flywheel: the cycle is usable
   };
 
+  /// The model's parameters that the study's do not vary (and the nominal of those without
+  /// nominal:): the generated defaults unless set here before Prepare (`--params`, `--set`).
+  void SetBase(const Params& base) { base_ = base; }
+  const Params& base() const { return base_; }
+
   /// Checks the names of `spec` against M and builds the tables; false and *error
   /// ("file:line:column: error: ...") when the study does not fit the model.
   bool Prepare(const StudySpec& spec, std::string* error) {
@@ -181,13 +188,12 @@ class Study {
       *error = spec.path + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: " + message;
       return false;
     };
-    const Params defaults;
     std::string names;
     for (const char* n : Params::kNames) names += (names.empty() ? "" : ", ") + std::string(n);
     nominal_.clear();
     index_.clear();
     for (const ParameterSpec& p : spec.parameters) {
-      Params probe;
+      Params probe = base_;
       double* target = probe.Find(p.name.c_str());
       bool derived = false;
       for (const char* d : Params::kDerivedNames) derived = derived || p.name == d;
@@ -197,6 +203,11 @@ class Study {
       if (target == nullptr)
         return fail(p.place, "no parameter '" + p.name + "' in the model " + M::kName + " (parameters: " + names + ")");
       nominal_.push_back(p.has_nominal ? p.nominal : *target);
+      if (spec.method != Method::kGrid && spec.method != Method::kList && !SpreadFits(p, nominal_.back())) {
+        char value[32];
+        std::snprintf(value, sizeof(value), "%g", nominal_.back());
+        return fail(p.place, "parameter '" + p.name + "' about the model's value " + value + ": " + SpreadProblem(p));
+      }
       int design = -1;
       if constexpr (HasDesignDerivatives<M>::value)
         for (int d = 0; d < M::kNumDesign; ++d)
@@ -244,7 +255,7 @@ class Study {
                         M::kName + " is not one");
       } else {
         // The engine's names (ReadEngine), and the indicator diagram over its cycle.
-        Params nominal;
+        Params nominal = base_;
         for (size_t k = 0; k < spec.parameters.size(); ++k)
           *(nominal.Find(spec.parameters[k].name.c_str())) = nominal_[k];
         engine::Engine e;
@@ -276,10 +287,20 @@ class Study {
       q_end_(0) = spec.q_end;
     }
     if (spec.analysis != Analysis::kSimulate && spec.analysis != Analysis::kPositions &&
-        spec.analysis != Analysis::kEngine && !(std::abs(q_end_(0) - q_begin_(0)) / spec.steps <= position::Options().max_input_step))
-      return fail(spec.analysis_place, "the motion moves " +
-                                           std::to_string(std::abs(q_end_(0) - q_begin_(0)) / spec.steps) +
-                                           " per step, more than the solver's limit; use more steps:");
+        spec.analysis != Analysis::kEngine) {
+      // At range: (or steps:, or analysis: when the model's range is used), with %g figures.
+      const double step = std::abs(q_end_(0) - q_begin_(0)) / spec.steps, limit = position::Options().max_input_step;
+      char text[320];
+      if (!std::isfinite(step))
+        std::snprintf(text, sizeof(text), "the motion of %s from %g to %g overflows a double; give a narrower range:",
+                      M::kQNames[0], q_begin_(0), q_end_(0));
+      else
+        std::snprintf(text, sizeof(text),
+                      "the motion of %s from %g to %g in %d steps moves %g per step, more than the solver's limit %g; "
+                      "use more steps: (at least %.6g) or a shorter range:",
+                      M::kQNames[0], q_begin_(0), q_end_(0), spec.steps, step, limit, std::ceil(spec.steps * step / limit));
+      if (!(step <= limit)) return fail(spec.range_place, text);
+    }
     sweep_columns_ = SweepColumns<M>();
     AppendDesignColumns<M>(&sweep_columns_);
     if constexpr (kHasStatics) statics_columns_ = statics::StaticsColumns<M>(HasStaticsDesign<M>::value);
@@ -524,7 +545,7 @@ class Study {
 
   /// The analysis of the design `values` (one per spec parameter) into *rows.
   void Analyze(const double* values, bool design, Rows* out) const {
-    out->params = Params();
+    out->params = base_;
     for (size_t k = 0; k < spec_.parameters.size(); ++k) *(out->params.Find(spec_.parameters[k].name.c_str())) = values[k];
     if (spec_.analysis == Analysis::kPositions) {
       Positions(design, out);
@@ -961,6 +982,24 @@ class Study {
                  const std::function<void(uint64_t chunk)>& chunk_done,
                  const std::function<void(uint64_t done)>& progress = nullptr) const {
     const size_t n = spec_.parameters.size();
+    RunChunks([&values, n](uint64_t i, double* out) { std::copy(&values[i * n], &values[i * n] + n, out); }, chunks,
+              list, threads, [results](uint64_t i) { return &(*results)[i]; }, chunk_done, progress);
+  }
+
+  /**
+   * \brief The same, end to end in chunks: sample i's values from `draw(i, out)` (a
+   *        SampleSource's Draw) when a thread takes it, its result into *slot(i) (the caller's
+   *        storage of the chunks of `list`, alive and sized before the call): nothing is held
+   *        for the samples outside the list.
+   */
+  void RunChunks(const std::function<void(uint64_t i, double* out)>& draw,
+                 const Chunks& chunks,
+                 const std::vector<uint64_t>& list,
+                 int threads,
+                 const std::function<SampleResult*(uint64_t i)>& slot,
+                 const std::function<void(uint64_t chunk)>& chunk_done,
+                 const std::function<void(uint64_t done)>& progress = nullptr) const {
+    const size_t n = spec_.parameters.size();
     // The list's samples, one after the other: start[j] is the first of list[j].
     std::vector<uint64_t> start(list.size() + 1, 0);
     for (size_t j = 0; j < list.size(); ++j) start[j + 1] = start[j] + chunks.end(list[j]) - chunks.begin(list[j]);
@@ -972,11 +1011,13 @@ class Study {
     std::condition_variable finished;
     auto work = [&]() {
       Rows rows;
+      std::vector<double> values(std::max<size_t>(n, 1));
       size_t j = 0;
       for (uint64_t k; (k = next.fetch_add(1)) < total;) {
         while (start[j + 1] <= k) ++j;  // k only grows in each thread
         const uint64_t i = chunks.begin(list[j]) + (k - start[j]);
-        (*results)[i] = Evaluate(&values[i * n], &rows);
+        draw(i, values.data());
+        *slot(i) = Evaluate(values.data(), &rows);
         if (left[j].fetch_sub(1) == 1 && chunk_done) chunk_done(list[j]);
         if (done.fetch_add(1) + 1 == total) {
           std::lock_guard<std::mutex> lock(mutex);
@@ -1016,19 +1057,32 @@ class Study {
     return r;
   }
   /**
-   * \brief The study's identity for its shards: the study file's bytes, the model (its name
-   *        and the nominal design's metrics, bit for bit), the chunk size and every sample's
-   *        values. A change of any of them makes old shards another study's.
+   * \brief The study's identity for its shards: the study file's bytes, the model (its name,
+   *        the parameters it starts from (SetBase) and the nominal design's metrics, bit for
+   *        bit), the chunk size, the samples' count and nominals and the values of the first
+   *        64 samples and the last (what the spec and the nominals determine, drawn: a change
+   *        of the sampler changes them). A change of any of them makes old shards another
+   *        study's.
    */
-  uint64_t Key(const std::string& study_bytes, const std::vector<double>& values, uint64_t chunk) const {
+  uint64_t Key(const std::string& study_bytes, const SampleSource& source, uint64_t chunk) const {
     KeyHash h;
     h.Add(study_bytes);
     h.Add(std::string(M::kName));
+    Params base = base_;
+    for (const char* name : Params::kNames) h.Add(*base.Find(name));
     for (size_t k = 0; k < spec_.metrics.size(); ++k) h.Add(Value(k, nominal_rows_).value);
     h.Add(chunk);
     h.Add(Width());
-    h.Add(static_cast<uint64_t>(values.size()));
-    for (double v : values) h.Add(v);
+    h.Add(source.count());
+    for (double v : source.nominal()) h.Add(v);
+    std::vector<double> values(source.parameters());
+    auto add = [&](uint64_t i) {
+      source.Draw(i, values.data());
+      for (double v : values) h.Add(v);
+    };
+    const uint64_t first = std::min<uint64_t>(source.count(), 64);
+    for (uint64_t i = 0; i < first; ++i) add(i);
+    if (source.count() > first) add(source.count() - 1);
     return h.value();
   }
 
@@ -1362,6 +1416,7 @@ class Study {
 
   StudySpec spec_;
   int envelope_point_ = -1;
+  Params base_;  // SetBase()
   std::vector<double> nominal_;
   std::vector<int> index_;
   std::vector<Ref> refs_;

@@ -6,8 +6,8 @@
  * and its results are written, as soon as the chunk is done, to a shard file in the shard
  * directory: <dir>/chunk-<index>.bin, written whole to a temporary and renamed. A study that is
  * interrupted or killed and run again reads the shards that match it (the directory's
- * study.key: a hash of the study file, the model's nominal figures, the chunk size and every
- * sample's values) and evaluates only the chunks that have none; the results, and so every
+ * study.key: a hash of the study file, the model's parameters and nominal figures, the chunk
+ * size, the samples' nominals and the values of the first 64 samples and the last: Study::Key) and evaluates only the chunks that have none; the results, and so every
  * output, are the same bytes as an uninterrupted run, whatever the threads and ranks of each.
  *
  * A shard holds its samples exactly (the doubles' bits): per sample the status code, the

@@ -15,15 +15,26 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "mechgen/io/yaml_strict.h"
 #include "mechgen/machines/engine/gas.h"
 
 namespace mechgen::study {
+
+/// The most samples a study takes (count: of lhs and monte_carlo; a grid's product of value
+/// counts, a list's length).
+constexpr uint64_t kMaxSamples = 100000000;
+/// The largest study file read (a list of 10^6 values is ~20 MB).
+constexpr uint64_t kMaxStudyBytes = uint64_t(64) << 20;
 
 /// Where a node of the study file is, for messages ("file:line:column").
 struct Place {
@@ -113,6 +124,7 @@ struct GasSpec {
 /// The whole study.
 struct StudySpec {
   std::string path;
+  std::string text;  ///< the study file's bytes (the shards' key)
   Method method = Method::kMonteCarlo;
   uint64_t count = 0;  ///< samples (lhs, monte_carlo); grid and list: derived
   uint64_t seed = 1;
@@ -131,6 +143,7 @@ struct StudySpec {
   std::vector<double> at;
   bool has_range = false;  ///< else the model's range of the first input
   double q_begin = 0, q_end = 0;
+  Place range_place;  ///< range: (else steps:, else analysis:)
   std::vector<ParameterSpec> parameters;
   std::vector<MetricSpec> metrics;
   std::vector<ClearanceSpec> clearances;
@@ -183,6 +196,22 @@ inline long long Integer(const YAML::Node& n, const std::string& what, long long
   return x;
 }
 
+// The text with its control characters as \xNN (for a message on one line).
+inline std::string Printable(const std::string& text) {
+  std::string out;
+  for (const char ch : text) {
+    const unsigned char u = static_cast<unsigned char>(ch);
+    if (u < 0x20 || u == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof(hex), "\\x%02x", u);
+      out += hex;
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
 inline std::string Text(const YAML::Node& n, const std::string& what) {
   if (!n.IsScalar() || n.Scalar().empty()) Fail(n, what + ": expected a name");
   return n.Scalar();
@@ -200,6 +229,25 @@ inline void OnlyKeys(const YAML::Node& map, const std::vector<std::string>& allo
     }
   }
 }
+
+}  // namespace spec_internal
+
+/// Whether every value a parameter of distribution p can take about `nominal` is a finite
+/// double: the uniform's nominal +- tolerance, the normal's nominal +- 9 sigma (= 3 tolerance;
+/// the largest quantile of study/random.h's uniforms, (0.5 / 2^53), is 8.3 sigma).
+inline bool SpreadFits(const ParameterSpec& p, double nominal) {
+  const double reach = p.distribution == Distribution::kNormal ? 3 * p.tolerance : p.tolerance;
+  return std::isfinite(reach) && std::isfinite(std::abs(nominal) + reach);
+}
+/// What SpreadFits refuses, in words.
+inline std::string SpreadProblem(const ParameterSpec& p) {
+  return std::string(p.distribution == Distribution::kNormal
+                         ? "nominal +- 9 sigma (the reach of the samples)"
+                         : "nominal +- tolerance") +
+         " overflows a double: the samples would be inf or nan; give a smaller tolerance or nominal";
+}
+
+namespace spec_internal {
 
 inline ParameterSpec Parameter(const YAML::Node& key, const YAML::Node& n, Method method) {
   ParameterSpec p;
@@ -219,6 +267,8 @@ inline ParameterSpec Parameter(const YAML::Node& key, const YAML::Node& n, Metho
       if (!r.IsSequence() || r.size() != 2) Fail(r, what + ": range: expected [low, high]");
       if (!n["count"]) Fail(n, what + ": a range needs count: (the number of values, >= 2)");
       const double lo = Number(r[0], what + " range"), hi = Number(r[1], what + " range");
+      if (!std::isfinite(hi - lo))
+        Fail(r, what + ": range: the width high - low overflows a double; give a narrower range");
       const long long count = Integer(n["count"], what + " count", 2, 1000000);
       for (long long k = 0; k < count; ++k) p.values.push_back(lo + (hi - lo) * double(k) / double(count - 1));
     } else {
@@ -249,11 +299,14 @@ inline ParameterSpec Parameter(const YAML::Node& key, const YAML::Node& n, Metho
     if (!r.IsSequence() || r.size() != 2) Fail(r, what + ": range: expected [low, high]");
     const double lo = Number(r[0], what + " range"), hi = Number(r[1], what + " range");
     if (!(hi > lo)) Fail(r, what + ": range: expected low < high");
+    if (!std::isfinite(hi - lo))
+      Fail(r, what + ": range: the width high - low overflows a double; give a narrower range");
     if (n["nominal"] || n["tolerance"] || n["sigma"])
       Fail(r, what + ": give range: or nominal: with tolerance:, not both");
     p.has_nominal = true;
-    p.nominal = (lo + hi) / 2;
+    p.nominal = lo / 2 + hi / 2;  // (lo + hi) / 2 without overflow
     p.tolerance = (hi - lo) / 2;
+    if (!SpreadFits(p, p.nominal)) Fail(r, what + ": " + SpreadProblem(p));
     return p;
   }
   if (n["nominal"]) {
@@ -270,7 +323,9 @@ inline ParameterSpec Parameter(const YAML::Node& key, const YAML::Node& n, Metho
   } else {
     Fail(n, what + ": needs tolerance: (normal: 3 sigma; uniform: the half-width) or sigma:");
   }
-  if (!(p.tolerance > 0)) Fail(n["tolerance"] ? n["tolerance"] : n["sigma"], what + ": the tolerance must be > 0");
+  const YAML::Node spread = n["tolerance"] ? n["tolerance"] : n["sigma"];
+  if (!(p.tolerance > 0)) Fail(spread, what + ": the tolerance must be > 0");
+  if (!SpreadFits(p, p.nominal)) Fail(spread, what + ": " + SpreadProblem(p));
   return p;
 }
 
@@ -335,6 +390,15 @@ inline MetricSpec Metric(const YAML::Node& n, int steps) {
   }
   if (n["name"]) {
     m.name = Text(n["name"], "metric name");
+    // The name is a CSV column (and a '#' line's first word): no separator, quote, line break or
+    // other control character, no space at either end (the header is not quoted).
+    for (const char ch : m.name)
+      if (ch == ',' || ch == '"' || static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f)
+        Fail(n["name"], "metric name '" + Printable(m.name) +
+                            "': a CSV column name cannot hold a comma, a double quote, a line break or a control "
+                            "character; use letters, digits and _ . - for instance");
+    if (m.name.front() == ' ' || m.name.back() == ' ' || m.name.front() == '#')
+      Fail(n["name"], "metric name '" + Printable(m.name) + "': no space at either end and no '#' first");
   } else {
     switch (m.kind) {
       case MetricKind::kAt:
@@ -369,12 +433,49 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
   auto at = [&path](Place p) {
     return path + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: ";
   };
+  // The file's bytes, read once (the shards' key reads them too): a regular file, bounded.
+  {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (ec || !fs::exists(st)) {
+      *error = path + ": error: cannot read the study file (" + (ec ? ec.message() : "no such file") +
+               "); check the path";
+      return false;
+    }
+    if (fs::is_directory(st)) {
+      *error = path + ": error: is a directory, not a study file; give the path of a .yaml file";
+      return false;
+    }
+    if (!fs::is_regular_file(st)) {
+      *error = path + ": error: is not a regular file (a device, a pipe or a socket); give the path of a .yaml file";
+      return false;
+    }
+    std::ifstream in(path, std::ios::binary);
+    // At most one byte more than the limit: a file that grows while read is bounded too.
+    const uint64_t size = fs::file_size(path, ec);
+    std::string text(static_cast<size_t>(std::min<uint64_t>(ec ? kMaxStudyBytes : size, kMaxStudyBytes) + 1), '\0');
+    if (in) in.read(&text[0], static_cast<std::streamsize>(text.size()));
+    if (!in && !in.eof()) {
+      *error = path + ": error: cannot read the study file (permission denied?); check the path";
+      return false;
+    }
+    const size_t room = text.size();
+    text.resize(static_cast<size_t>(in.gcount()));
+    if (text.size() == room && room <= kMaxStudyBytes) {
+      *error = path + ": error: the study file grew while it was read; run again when it is written";
+      return false;
+    }
+    if (text.size() > kMaxStudyBytes) {
+      *error = path + ": error: is larger than " + std::to_string(kMaxStudyBytes >> 20) +
+               " MiB, the limit for a study file";
+      return false;
+    }
+    spec->text = std::move(text);
+  }
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    *error = path + ": error: cannot read the study file";
-    return false;
+    root = io::LoadStrict(spec->text);  // one document, no key twice in a mapping
   } catch (const YAML::Exception& e) {
     *error = at(Place{e.mark.line + 1, e.mark.column + 1}) + e.msg;
     return false;
@@ -399,7 +500,7 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
     const bool random = spec->method == Method::kLatinHypercube || spec->method == Method::kMonteCarlo;
     if (random) {
       if (!root["count"]) Fail(root, "a " + method + " study needs count: (the number of samples)");
-      spec->count = static_cast<uint64_t>(Integer(root["count"], "count", 2, 100000000));
+      spec->count = static_cast<uint64_t>(Integer(root["count"], "count", 2, static_cast<long long>(kMaxSamples)));
     } else if (root["count"]) {
       Fail(root["count"],
            "count: is for lhs and monte_carlo; a " + method + " study has as many samples as its values give");
@@ -530,6 +631,7 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
         if (root[key]) Fail(root[key], std::string(key) + ": is for analysis: simulate");
     }
     if (root["steps"]) spec->steps = static_cast<int>(Integer(root["steps"], "steps", 1, 1000000));
+    spec->range_place = PlaceOf(root["steps"] ? root["steps"] : root["analysis"] ? root["analysis"] : root);
     if (const YAML::Node a = root["at"]) {
       if (spec->analysis != Analysis::kPositions) Fail(a, "at: is for analysis: positions");
       if (!a.IsSequence() || a.size() == 0 || a.size() > 1000001)
@@ -544,6 +646,7 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       if (!r.IsSequence() || r.size() != 2)
         Fail(r, "range: expected [begin, end] of the first input (an angle may end in deg)");
       spec->has_range = true;
+      spec->range_place = PlaceOf(r);
       spec->q_begin = Number(r[0], "range");
       spec->q_end = Number(r[1], "range");
     }
@@ -552,6 +655,26 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       Fail(params ? params : root,
            "parameters: expected a map of the parameters that vary, e.g. {a: {distribution: normal, tolerance: 0.01}}");
     for (const auto& kv : params) spec->parameters.push_back(Parameter(kv.first, kv.second, spec->method));
+    // A grid's samples: the product of the value counts, checked as it grows (four parameters of
+    // 65536 values are 2^64 samples: 0 in uint64_t arithmetic).
+    if (spec->method == Method::kGrid) {
+      uint64_t product = 1;
+      std::string factors;
+      for (const ParameterSpec& p : spec->parameters) {
+        const uint64_t m = p.values.size();
+        factors += (factors.empty() ? "" : " x ") + std::to_string(m);
+        if (product > kMaxSamples / m)
+          throw Failure{p.place, "a grid of " + factors + (&p == &spec->parameters.back() ? "" : " x ...") +
+                                     " values is more than " + std::to_string(kMaxSamples) +
+                                     " samples, the most a study takes; give fewer values (or a monte_carlo or lhs "
+                                     "study with count:)"};
+        product *= m;
+      }
+    }
+    if (spec->method == Method::kList && !spec->parameters.empty() &&
+        spec->parameters[0].values.size() > kMaxSamples)
+      throw Failure{spec->parameters[0].place, "a list of more than " + std::to_string(kMaxSamples) +
+                                                   " samples, the most a study takes"};
     for (size_t i = 0; i < spec->parameters.size(); ++i)
       for (size_t j = 0; j < i; ++j)
         if (spec->parameters[i].name == spec->parameters[j].name)

@@ -18,6 +18,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "mechgen/io/yaml_strict.h"
+
 namespace mechgen::synthesis {
 
 /// A bounded design variable: a model parameter (one of the model's `design` names).
@@ -191,7 +193,7 @@ inline bool LoadTaskRoot(const std::string& path, const std::string& expected, Y
   std::ifstream in(path);
   if (!in) return *error = path + ": cannot read the task file", false;
   try {
-    *root = YAML::Load(in);
+    *root = mechgen::io::LoadStrict(in);  // one document, no key twice in a mapping
   } catch (const YAML::Exception& e) {
     return *error = Where(path, e.mark) + "not valid YAML: " + e.msg, false;
   }
