@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
 # `mechgen synthesize MODEL --task TASK.yaml` (runtime/tools/synthesize_main.cc), end to end,
 # in a temporary directory with a private cache (one compile of the tool, for fourbar):
-#   - a task file with an error: exit 1, FILE:LINE:COLUMN on stderr, nothing written;
+#   - a task file with an error: exit 1, FILE:LINE:COLUMN: error: on stderr, nothing written;
+#     a directory as the task: exit 1, FILE: error: ...;
 #   - a bad option (--threads 0, --seed -1): exit 2, one line, nothing written;
 #   - a task nothing satisfies (links longer than the variables' bounds allow): exit 3,
 #     nothing written;
 #   - the shipped four-bar's own coupler points (tasks/fourbar_refind.yaml): exit 0; the model
 #     file, path.svg and report.txt written; the model file is the input with only the
-#     parameter values changed, `mechgen generate` accepts it, and its coupler curve, computed
-#     here by hand formulas (circle-circle intersection, Python) from the values read back
-#     from the file, passes through every target to 1e-9;
+#     parameter values and the assembly's values (the first target's configuration) changed,
+#     `mechgen generate` accepts it, and its coupler curve, computed here by hand formulas
+#     (circle-circle intersection, Python) from the values read back from the file, passes
+#     through every target to 1e-9;
 #   - the same seed with --threads 1 and --threads 2: the model files and the reports' error
 #     lines byte-identical;
 #   - function generation as `mechgen synthesize TASK` (the task names its model): three pairs
@@ -37,9 +39,19 @@ printf 'synthesis: path\npoint: coupler.P\ntargets: [[0, 0], [1, 1]]\nvariables:
 "$mechgen" synthesize fourbar.yaml --task bad.yaml --out out_bad > bad.out 2> bad.err
 status=$?
 [ "$status" = 1 ] || fail "bad task: exit $status, expected 1"
-grep -q '^bad.yaml:4:16: variable a: min must be below max$' bad.err || fail "bad task: $(tail -1 bad.err)"
+grep -q '^bad.yaml:4:16: error: variable a: min must be below max$' bad.err || fail "bad task: $(tail -1 bad.err)"
 [ ! -e out_bad ] || fail "bad task: out_bad written"
 ok "bad task file"
+
+# A directory as the task (once an uncaught std::ios_base::failure): one located line, exit 1.
+mkdir -p taskdir
+"$mechgen" synthesize fourbar.yaml --task taskdir --out out_dir > dir.out 2> dir.err
+status=$?
+[ "$status" = 1 ] || fail "directory as task: exit $status, expected 1"
+[ "$(cat dir.err)" = "taskdir: error: the path is a directory, not a task file; give the path of a .yaml file" ] ||
+  fail "directory as task: $(cat dir.err)"
+[ ! -e out_dir ] || fail "directory as task: out_dir written"
+ok "directory as task"
 
 "$mechgen" synthesize fourbar.yaml --task "$task" --threads 0 --out out_opt > opt.out 2> opt.err
 status=$?
@@ -70,8 +82,12 @@ status=$?
 [ "$status" = 0 ] || { fail "refind: exit $status"; cat run1.err; }
 for f in fourbar.yaml path.svg report.txt; do [ -s "out1/$f" ] || fail "refind: out1/$f missing"; done
 "$mechgen" generate out1/fourbar.yaml -o "$root" > gen.out 2>&1 || fail "mechgen generate refuses the synthesized model: $(cat gen.out)"
-# Only parameter values differ from the input model.
-diff fourbar.yaml out1/fourbar.yaml | grep '^[<>]' | grep -v '{value: ' && fail "lines other than parameter values changed"
+# Only parameter values and the assembly's values (the configuration at the first target)
+# differ from the input model.
+diff fourbar.yaml out1/fourbar.yaml | grep '^[<>]' | grep -v -e '{value: ' -e '^[<>]   theta_\(crank\|coupler\|rocker\): ' &&
+  fail "lines other than parameter and assembly values changed"
+grep -q '^  theta_crank: 90\*deg$' out1/fourbar.yaml && fail "the assembly's input not written"
+grep -q '^  assembly: theta_crank = ' out1/report.txt || fail "the report does not say what the model file's assembly is"
 "$python" - "$task" out1/fourbar.yaml <<'PY' || fail "the synthesized coupler curve misses a target"
 import math, re, sys
 task, model = sys.argv[1], sys.argv[2]
@@ -208,7 +224,7 @@ sed 's/"log10(x)"/"log10(x) +* 2"/' log10.yaml > badexpr.yaml
 "$mechgen" synthesize badexpr.yaml --out out_be > be.out 2> be.err
 status=$?
 [ "$status" = 1 ] || fail "bad expression: exit $status, expected 1"
-grep -q "^badexpr.yaml:4:35: function.expression: unexpected '\*'$" be.err || fail "bad expression: $(cat be.err)"
+grep -q "^badexpr.yaml:4:35: error: function.expression: unexpected '\*'$" be.err || fail "bad expression: $(cat be.err)"
 [ ! -e out_be ] || fail "bad expression: out_be written"
 ok "bad expression"
 

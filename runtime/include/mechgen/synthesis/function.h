@@ -109,12 +109,14 @@ struct FunctionTask {
   Constraints constraints;
 };
 
-/// The `synthesis:` kind of a task file ("path", "function", ...), "" and *error if unreadable.
+/// The `synthesis:` kind of a task file ("path", "function", ...), "" and *error if unreadable
+/// (task_internal::ReadTaskText: no such file, a directory, not a regular file, too large) or
+/// not YAML; "" without an error when the kind is missing (ParseTask says what is).
 inline std::string TaskKind(const std::string& path, std::string* error) {
-  std::ifstream in(path);
-  if (!in) return *error = path + ": cannot read the task file", "";
+  std::string text;
+  if (!task_internal::ReadTaskText(path, &text, error)) return "";
   try {
-    const YAML::Node root = YAML::Load(in);
+    const YAML::Node root = YAML::Load(text);
     if (root.IsMap() && root["synthesis"] && root["synthesis"].IsScalar()) return root["synthesis"].Scalar();
     return "";  // ParseTask says what is missing
   } catch (const YAML::Exception& e) {
@@ -331,12 +333,12 @@ bool BindFunctionTask(const FunctionTask& task, const typename M::template Param
   b.base = base;
   b.n = static_cast<int>(task.input.size());
   if constexpr (!HasDesignDerivatives<M>::value) {
-    *error = task.file + ": the model '" + std::string(M::kName) +
+    *error = task.file + ": error: the model '" + std::string(M::kName) +
              "' has no `design` section; add `design: [parameters to vary]` to it (models/README.md)";
     return false;
   } else {
     if constexpr (M::kNq != 1) {
-      *error = task.file + ": function generation needs a one-input model ('" + std::string(M::kName) + "' has " +
+      *error = task.file + ": error: function generation needs a one-input model ('" + std::string(M::kName) + "' has " +
                std::to_string(M::kNq) + " inputs)";
       return false;
     }

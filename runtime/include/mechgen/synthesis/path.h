@@ -71,9 +71,9 @@ struct BoundPath {
 };
 
 namespace bind_internal {
-/// "FILE:LINE:COLUMN: " of a place in a task file.
+/// "FILE:LINE:COLUMN: error: " of a place in a task file (task_internal::Where's form).
 inline std::string Where(const std::string& file, int line, int column) {
-  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": error: ";
 }
 /// The names of a model's list (M::kDesignNames, ...) for a message: "a, b, c" or "(none)".
 template <class Names>
@@ -120,7 +120,7 @@ bool BindConstraints(const std::string& file, const Constraints& c, const std::s
       }
     }
     if (ix.check_lengths.size() != 4) {
-      *error = file + ": the constraints grashof/crank_*/link_lengths need a four-bar loop with a ground link "
+      *error = file + ": error: the constraints grashof/crank_*/link_lengths need a four-bar loop with a ground link "
                "(the model's design checks have no link lengths of one)";
       return false;
     }
@@ -235,12 +235,12 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
   b.base = base;
   b.n = static_cast<int>(task.tx.size());
   if constexpr (!HasDesignDerivatives<M>::value) {
-    *error = task.file + ": the model '" + std::string(M::kName) +
+    *error = task.file + ": error: the model '" + std::string(M::kName) +
              "' has no `design` section; add `design: [parameters to vary]` to it (models/README.md)";
     return false;
   } else {
     if constexpr (M::kNq != 1) {
-      *error = task.file + ": path generation needs a one-input model ('" + std::string(M::kName) + "' has " +
+      *error = task.file + ": error: path generation needs a one-input model ('" + std::string(M::kName) + "' has " +
                std::to_string(M::kNq) + " inputs)";
       return false;
     }
