@@ -451,18 +451,10 @@ class FunctionEvaluator {
     return b_.task.psi[static_cast<size_t>(i)] - b_.task.out_start + OutStart(x);
   }
 
-  /// phi at q on the model's mode; false where it does not assemble (or at a branch point).
+  /// phi at q on the model's mode; false where it does not assemble or is singular (SolveOnMode).
   bool PhiAt(const Params& p, double q, VecPhi* phi) {
     ++solves;
-    VecQ qv;
-    qv(0) = q;
-    VecPhi ph;
-    for (int i = 0; i < M::kNphi; ++i) ph(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-    const auto report = M::Solve(p, qv, &ph, M::kDefaultModes);
-    using Status = decltype(report.status);
-    if (report.status != Status::kConverged || !(report.branch_measure > 1e-12) || !ph.allFinite()) return false;
-    *phi = ph;
-    return true;
+    return SolveOnMode<M>(p, q, phi);
   }
 
   /// d phi_out / d x at (q, phi) into row[0..nx): the generated dphi/dp of the design

@@ -179,10 +179,7 @@ class PoseResiduals : public ceres::CostFunction {
     for (int j = 0; j < n; ++j) {
       Eigen::Matrix<double, M::kNq, 1> qv;
       qv(0) = parameters[1][j];
-      for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-      const auto report = M::Solve(p, qv, &phi, M::kDefaultModes);
-      using Status = decltype(report.status);
-      if (report.status != Status::kConverged || !(report.branch_measure > 1e-12) || !phi.allFinite()) return false;
+      if (!SolveOnMode<M>(p, qv(0), &phi)) return false;
       M::Coeffs(p, qv, phi, &co);
       const Pose& pose = poses_[static_cast<size_t>(j)];
       residuals[3 * j] = co.r_P(0, point_) - pose.x;
@@ -329,14 +326,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
         Params p = base;
         const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
         for (size_t k = 0; k < 9; ++k) *p.Find(task.parameters[k].c_str()) = values[k];
-        auto solve = [&](double q, Eigen::Matrix<double, M::kNphi, 1>* phi) {
-          Eigen::Matrix<double, M::kNq, 1> qv;
-          qv(0) = q;
-          for (int i2 = 0; i2 < M::kNphi; ++i2) (*phi)(i2) = M::kAssemblyPhi[static_cast<size_t>(i2)];
-          const auto report = M::Solve(p, qv, phi, M::kDefaultModes);
-          using Status = decltype(report.status);
-          return report.status == Status::kConverged && report.branch_measure > 1e-12 && phi->allFinite();
-        };
+        auto solve = [&](double q, Eigen::Matrix<double, M::kNphi, 1>* phi) { return SolveOnMode<M>(p, q, phi); };
         Eigen::Matrix<double, M::kNphi, 1> phi;
         typename M::template CoefficientsT<double> co;
         c.worst_point = c.worst_angle = 0;

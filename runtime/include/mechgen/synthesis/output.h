@@ -225,10 +225,7 @@ bool WriteSynthesizedModel(const std::string& model_text, const typename M::temp
   VecQ q;
   q(0) = q0;
   VecPhi phi;
-  for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-  const auto report = M::Solve(p, q, &phi, M::kDefaultModes);
-  using Status = decltype(report.status);
-  if (report.status != Status::kConverged || !phi.allFinite())
+  if (!SolveOnMode<M>(p, q0, &phi))
     return *error = "the synthesized mechanism does not assemble on its mode at its first target", false;
   for (int i = 0; i < M::kNphi; ++i)
     if (M::kPhiIsAngle[static_cast<size_t>(i)]) phi(i) = std::remainder(phi(i), kTwoPi);
