@@ -1477,7 +1477,8 @@ TEST(PathSynthesis, WrittenModelAssemblesOnTheSynthesizedBranch) {
 // 3, b = 2, c = 3.5, d = 4; at 120 deg |BD| = 6.08 > b + c): the model's range [0, 360 deg],
 // which the generator refuses for it and the sweep cannot pass, is narrowed to the motion
 // through the targets (60, 75, 90 deg measured from the frame's angle 0.3); a model file
-// without an `assembly:` section gets one; the assembly and the points as above.
+// without an `assembly:` section gets one; an input without `range:` gets one, a flow-style
+// `assembly:` its missing coordinates; the assembly and the points as above.
 TEST(PathSynthesis, WrittenModelOfACrankThatDoesNotTurnFully) {
   using M = mech::synth_fourbar::Model;
   std::string model = ReadFile(Tasks("../models/synth_fourbar.yaml"));
@@ -1505,6 +1506,19 @@ TEST(PathSynthesis, WrittenModelOfACrankThatDoesNotTurnFully) {
   EXPECT_EQ(w.hi, motion.back());
   EXPECT_EQ(w.q(0), motion.front());
   ExpectSweepable<M>(text, motion, 0, points);
+  // The same written into other spellings of the sections: an input without `range:` (block
+  // style), an `assembly:` in flow style naming one coordinate, quoted.
+  std::string other = model;
+  other.replace(other.find("  - {joint: A, range: [0, 360*deg]}"), 35, "  - joint: A");
+  other += "assembly: {theta_coupler: '30*deg'}\n";
+  std::string text2;
+  WrittenAssembly written2;
+  ASSERT_TRUE(WriteSynthesizedModel<M>(other, p, {"a", "b", "c", "d", "theta0"}, motion, &text2, &written2, &error)) << error;
+  EXPECT_NE(text2.find("  - range: ["), std::string::npos) << text2;
+  EXPECT_NE(text2.find("assembly: {theta_crank: "), std::string::npos) << text2;
+  EXPECT_EQ(WrittenModel<M>(text2).phi, w.phi);
+  EXPECT_EQ(WrittenModel<M>(text2).lo, w.lo);
+  ExpectSweepable<M>(text2, motion, 0, points);
   // The model's own range is not swept on that branch: the reason the range was narrowed.
   mechgen::position::PositionSolver<M> solver(mechgen::position::Options(), p);
   ASSERT_EQ(solver.Assemble(w.q, w.phi, 0, nullptr), mechgen::position::Status::kConverged);
