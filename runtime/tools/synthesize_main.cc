@@ -124,18 +124,10 @@ int FunctionMain(const std::string& tool, const std::string& task_path, const st
   std::vector<std::string> names;
   std::vector<double> values;
   FunctionModelParameters(bound, r.best, &names, &values);  // the variables (and the start angles' offsets)
-  // The written model's parameters, and its input at the pairs: the search's Q less the change
-  // of the input's offset (the model's input is the crank line's angle less that offset).
+  // The written model's parameters and its input at the pairs (FunctionWrittenInputs).
   auto written_params = base;
   for (size_t k = 0; k < names.size(); ++k) *written_params.Find(names[k].c_str()) = values[k];
-  double shift = 0;
-  if (task.free_start && !task.in_offset.empty())
-    shift = *written_params.Find(task.in_offset.c_str()) - *typename M::template ParamsT<double>(base).Find(task.in_offset.c_str());
-  std::vector<double> motion;
-  {
-    FunctionEvaluator<M> eval(bound);
-    for (int i = 0; i < bound.n; ++i) motion.push_back(eval.Q(r.best.x, i) - shift);
-  }
+  const std::vector<double> motion = FunctionWrittenInputs(bound, r.best);
   std::string synthesized;
   WrittenAssembly written;
   if (!WriteSynthesizedModel<M>(model_text, written_params, names, motion, &synthesized, &written, &error)) {
@@ -203,16 +195,9 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
     const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
     auto written_params = base;
     for (size_t k = 0; k < 9; ++k) *written_params.Find(task.parameters[k].c_str()) = values[k];
-    // The crank's angle at each pose, unwrapped the way the crank turns through them (as
-    // SynthesizeMotion checks the motion).
-    const std::vector<double>& angle = f.crank_angle;
-    double sum = 0;
-    for (size_t k = 0; k + 1 < angle.size(); ++k) sum += WrapPi(angle[k + 1] - angle[k]);
-    const double dir = sum >= 0 ? 1.0 : -1.0;
-    std::vector<double> motion = {angle[0]};
-    for (size_t k = 0; k + 1 < angle.size(); ++k) motion.push_back(motion.back() + dir * Wrap(dir * (angle[k + 1] - angle[k])));
     WrittenAssembly written;
-    if (!WriteSynthesizedModel<M>(model_text, written_params, task.parameters, motion, &second, &written, &error)) {
+    if (!WriteSynthesizedModel<M>(model_text, written_params, task.parameters, MotionInputs(f), &second, &written,
+                                  &error)) {
       std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
       return 1;
     }

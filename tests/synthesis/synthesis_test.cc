@@ -179,6 +179,108 @@ TEST(PathSynthesis, TaskErrorsSayWhereAndWhat) {
             "it to the model's `design:` list");
 }
 
+// ---- The written model file read back, assembled as the sweep does (issues 44 and 45) -----
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A number of the model file: a plain number, or one times deg (the model's `360*deg`).
+double ModelNumber(const YAML::Node& n) {
+  std::string s = n.Scalar();
+  double scale = 1;
+  if (s.size() > 4 && s.compare(s.size() - 4, 4, "*deg") == 0) s.resize(s.size() - 4), scale = M_PI / 180;
+  return std::stod(s) * scale;
+}
+
+// The written model file read back as the generator and the sweep see it: its parameters, its
+// assembly (the input and every dependent coordinate, by name) and the input's range.
+template <class M>
+struct WrittenModel {
+  typename M::template ParamsT<double> p;
+  Eigen::Matrix<double, M::kNq, 1> q;
+  Eigen::Matrix<double, M::kNphi, 1> phi;
+  double lo = 0, hi = 0;
+  explicit WrittenModel(const std::string& text) {
+    const YAML::Node root = YAML::Load(text);
+    for (const char* n : M::template ParamsT<double>::kNames) {
+      const YAML::Node e = root["parameters"][n];
+      *p.Find(n) = ModelNumber(e.IsMap() ? e["value"] : e);
+    }
+    q(0) = ModelNumber(root["assembly"][M::kQNames[0]]);
+    for (int i = 0; i < M::kNphi; ++i) phi(i) = ModelNumber(root["assembly"][M::kPhiNames[static_cast<size_t>(i)]]);
+    lo = ModelNumber(root["inputs"][0]["range"][0]);
+    hi = ModelNumber(root["inputs"][0]["range"][1]);
+  }
+};
+
+// The written model assembled as the sweep assembles a model (PositionSolver::AssembleDefault:
+// at its assembly input and values, on the branch sign det Phi_phi has there): converged, on
+// the synthesis' mode (M::kDefaultModes, the modes PositionSolver finds back), and from there
+// by continuation (steps of at most 10 deg) through the motion `motion` (the targets' inputs
+// in the written model's terms), at_target(k, state) at each; then the sweep's way over the
+// written range (to its start, then 1 deg steps to its end), every step converged.
+template <class M>
+void ExpectSweepable(const std::string& text, const std::vector<double>& motion,
+                     const std::function<void(size_t, const mechgen::position::State<M>&)>& at_target) {
+  const WrittenModel<M> w(text);
+  double det = 0;
+  M::DetPhiPhi(w.p, w.q, w.phi, &det);
+  ASSERT_NE(det, 0);
+  mechgen::position::PositionSolver<M> solver(mechgen::position::Options(), w.p);
+  mechgen::position::Summary summary;
+  ASSERT_EQ(solver.Assemble(w.q, w.phi, det > 0 ? 1 : -1, &summary), mechgen::position::Status::kConverged)
+      << mechgen::position::FormatSummary(summary);
+  std::array<int, M::kNumBlocks> modes{};
+  ASSERT_TRUE(solver.modes(&modes));
+  EXPECT_EQ(modes, M::kDefaultModes);
+  // The generator's rule (the root nearest the assembly values, block by block): they are the
+  // root of the synthesis' modes, the other mode's root lies far.
+  Eigen::Matrix<double, M::kNphi, 1> phi = w.phi, other = w.phi;
+  ASSERT_EQ(M::Solve(w.p, w.q, &phi, M::kDefaultModes).status, decltype(M::Solve(w.p, w.q, &phi, M::kDefaultModes).status)::kConverged);
+  EXPECT_LT((phi - w.phi).norm(), 1e-12);
+  std::array<int, M::kNumBlocks> flipped = M::kDefaultModes;
+  flipped[0] = -flipped[0];
+  M::Solve(w.p, w.q, &other, flipped);
+  EXPECT_GT((other - w.phi).norm(), 1e-3);
+  // The motion through the targets.
+  const double shift = w.q(0) - motion[0];
+  for (size_t k = 0; k < motion.size(); ++k) {
+    const double from = solver.state().q(0), to = motion[k] + shift;
+    const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / (10 * M_PI / 180))));
+    for (int s = 1; s <= steps; ++s) {
+      Eigen::Matrix<double, M::kNq, 1> qs;
+      qs(0) = from + (to - from) * s / steps;
+      ASSERT_EQ(solver.MoveTo(qs, &summary), mechgen::position::Status::kConverged) << "target " << k + 1;
+    }
+    at_target(k, solver.state());
+  }
+  // The sweep over the written range.
+  mechgen::position::PositionSolver<M> sweep(mechgen::position::Options(), w.p);
+  ASSERT_EQ(sweep.Assemble(w.q, w.phi, det > 0 ? 1 : -1, nullptr), mechgen::position::Status::kConverged);
+  Eigen::Matrix<double, M::kNq, 1> qs;
+  qs(0) = w.lo;
+  ASSERT_EQ(sweep.MoveTo(qs, nullptr), mechgen::position::Status::kConverged);
+  const int steps = static_cast<int>(std::ceil((w.hi - w.lo) / (M_PI / 180)));
+  for (int s = 1; s <= steps; ++s) {
+    qs(0) = w.lo + (w.hi - w.lo) * s / steps;
+    ASSERT_EQ(sweep.MoveTo(qs, nullptr), mechgen::position::Status::kConverged) << "sweep at " << qs(0);
+  }
+}
+
+// ExpectSweepable with the point `point` at each target within 1e-9 of `expected` (the
+// synthesis' own points).
+template <class M>
+void ExpectSweepable(const std::string& text, const std::vector<double>& motion, int point,
+                     const std::vector<Eigen::Vector2d>& expected) {
+  ExpectSweepable<M>(text, motion, [&](size_t k, const mechgen::position::State<M>& state) {
+    EXPECT_LT((Eigen::Vector2d(state.r_P(0, point), state.r_P(1, point)) - expected[k]).norm(), 1e-9) << "target " << k + 1;
+  });
+}
+
 // ---- Freudenstein's equation (function generation, exact) --------------------------------
 
 // The shipped four-bar's output angle (theta_rocker) at theta_crank, by the generated solve on
@@ -882,8 +984,19 @@ TEST(FunctionSynthesis, StartAnglesWrittenIntoTheModelMeetTheTasksPairs) {
   std::ifstream in(std::string(MECHGEN_SYNTHESIS_TASKS) + "/../models/function_fourbar.yaml");
   std::stringstream text;
   text << in.rdbuf();
+  FM::ParamsT<double> wp;
+  for (size_t k = 0; k < names.size(); ++k) *wp.Find(names[k].c_str()) = values[k];
   std::string written;
-  ASSERT_TRUE(RewriteParameters(text.str(), names, values, &written, &error)) << error;
+  WrittenAssembly assembly;
+  ASSERT_TRUE(WriteSynthesizedModel<FM>(text.str(), wp, names, FunctionWrittenInputs(b, r.best), &written, &assembly, &error))
+      << error;
+  // With the offsets written the model's inputs at the pairs are the task's own; the model file
+  // assembles as the sweep does and its output meets every pair by continuation.
+  const std::vector<double> inputs = FunctionWrittenInputs(b, r.best);
+  for (size_t i = 0; i < inputs.size(); ++i) EXPECT_NEAR(inputs[i], task.input[i], 1e-12) << "pair " << i + 1;
+  ExpectSweepable<FM>(written, inputs, [&](size_t k, const mechgen::position::State<FM>& state) {
+    EXPECT_LT(std::abs(WrapPi(state.phi(b.output) - task.psi[k])), 1e-9) << "pair " << k + 1;
+  });
   const YAML::Node params = YAML::Load(written)["parameters"];
   FM::ParamsT<double> p;
   for (const char* name : {"a", "b", "c", "d", "alpha", "beta"}) *p.Find(name) = params[name]["value"].as<double>();
@@ -1086,6 +1199,21 @@ TEST(MotionSynthesis, FivePoseTaskGivesAFourBarTheModelRunsThroughThePoses) {
     if (!m.ok) continue;
     EXPECT_GE(m.ratio, c.ratio);
   }
+  // Its model file assembles as the sweep does on the synthesis' branch and runs through the
+  // poses' points (issue 44: every command's output runs in every other command).
+  using M = mech::synth_fourbar::Model;
+  M::ParamsT<double> p;
+  const FourBarFromDyads& fb = c.fourbar;
+  const double values[9] = {fb.a, fb.b, fb.c, fb.d, fb.xi, fb.eta, fb.x0, fb.y0, fb.theta0};
+  for (size_t k = 0; k < 9; ++k) *p.Find(task.parameters[k].c_str()) = values[k];
+  std::string text;
+  WrittenAssembly written;
+  ASSERT_TRUE(WriteSynthesizedModel<M>(ReadFile(Tasks("../models/synth_fourbar.yaml")), p, task.parameters,
+                                       MotionInputs(fb), &text, &written, &error))
+      << error;
+  std::vector<Eigen::Vector2d> points;
+  for (const Pose& pose : PosesOf(f, q)) points.emplace_back(pose.x, pose.y);
+  ExpectSweepable<M>(text, MotionInputs(fb), 0, points);
 }
 
 TEST(MotionSynthesis, SixPosesByLeastSquaresReproducedByHand) {
@@ -1336,98 +1464,6 @@ TEST(PathSynthesis, PlacementFittedInClosedForm) {
 }
 
 // ---- The written model file runs in every command (issues 44 and 45) ----------------------
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// A number of the model file: a plain number, or one times deg (the model's `360*deg`).
-double ModelNumber(const YAML::Node& n) {
-  std::string s = n.Scalar();
-  double scale = 1;
-  if (s.size() > 4 && s.compare(s.size() - 4, 4, "*deg") == 0) s.resize(s.size() - 4), scale = M_PI / 180;
-  return std::stod(s) * scale;
-}
-
-// The written model file read back as the generator and the sweep see it: its parameters, its
-// assembly (the input and every dependent coordinate, by name) and the input's range.
-template <class M>
-struct WrittenModel {
-  typename M::template ParamsT<double> p;
-  Eigen::Matrix<double, M::kNq, 1> q;
-  Eigen::Matrix<double, M::kNphi, 1> phi;
-  double lo = 0, hi = 0;
-  explicit WrittenModel(const std::string& text) {
-    const YAML::Node root = YAML::Load(text);
-    for (const char* n : M::template ParamsT<double>::kNames) {
-      const YAML::Node e = root["parameters"][n];
-      *p.Find(n) = ModelNumber(e.IsMap() ? e["value"] : e);
-    }
-    q(0) = ModelNumber(root["assembly"][M::kQNames[0]]);
-    for (int i = 0; i < M::kNphi; ++i) phi(i) = ModelNumber(root["assembly"][M::kPhiNames[static_cast<size_t>(i)]]);
-    lo = ModelNumber(root["inputs"][0]["range"][0]);
-    hi = ModelNumber(root["inputs"][0]["range"][1]);
-  }
-};
-
-// The written model assembled as the sweep assembles a model (PositionSolver::AssembleDefault:
-// at its assembly input and values, on the branch sign det Phi_phi has there): converged, on
-// the synthesis' mode (M::kDefaultModes, the modes PositionSolver finds back), and from there
-// by continuation (steps of at most 10 deg) through the motion `motion` (the targets' inputs
-// in the written model's terms), the point `point` at each within 1e-9 of `expected` (the
-// synthesis' own points); then the sweep's way over the written range (to its start, then
-// 1 deg steps to its end), every step converged.
-template <class M>
-void ExpectSweepable(const std::string& text, const std::vector<double>& motion, int point,
-                     const std::vector<Eigen::Vector2d>& expected) {
-  const WrittenModel<M> w(text);
-  double det = 0;
-  M::DetPhiPhi(w.p, w.q, w.phi, &det);
-  ASSERT_NE(det, 0);
-  mechgen::position::PositionSolver<M> solver(mechgen::position::Options(), w.p);
-  mechgen::position::Summary summary;
-  ASSERT_EQ(solver.Assemble(w.q, w.phi, det > 0 ? 1 : -1, &summary), mechgen::position::Status::kConverged)
-      << mechgen::position::FormatSummary(summary);
-  std::array<int, M::kNumBlocks> modes{};
-  ASSERT_TRUE(solver.modes(&modes));
-  EXPECT_EQ(modes, M::kDefaultModes);
-  // The generator's rule (the root nearest the assembly values, block by block): they are the
-  // root of the synthesis' modes, the other mode's root lies far.
-  Eigen::Matrix<double, M::kNphi, 1> phi = w.phi, other = w.phi;
-  ASSERT_EQ(M::Solve(w.p, w.q, &phi, M::kDefaultModes).status, decltype(M::Solve(w.p, w.q, &phi, M::kDefaultModes).status)::kConverged);
-  EXPECT_LT((phi - w.phi).norm(), 1e-12);
-  std::array<int, M::kNumBlocks> flipped = M::kDefaultModes;
-  flipped[0] = -flipped[0];
-  M::Solve(w.p, w.q, &other, flipped);
-  EXPECT_GT((other - w.phi).norm(), 1e-3);
-  // The motion through the targets.
-  const double shift = w.q(0) - motion[0];
-  for (size_t k = 0; k < motion.size(); ++k) {
-    const double from = solver.state().q(0), to = motion[k] + shift;
-    const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / (10 * M_PI / 180))));
-    for (int s = 1; s <= steps; ++s) {
-      Eigen::Matrix<double, M::kNq, 1> qs;
-      qs(0) = from + (to - from) * s / steps;
-      ASSERT_EQ(solver.MoveTo(qs, &summary), mechgen::position::Status::kConverged) << "target " << k + 1;
-    }
-    EXPECT_LT((Eigen::Vector2d(solver.state().r_P(0, point), solver.state().r_P(1, point)) - expected[k]).norm(), 1e-9)
-        << "target " << k + 1;
-  }
-  // The sweep over the written range.
-  mechgen::position::PositionSolver<M> sweep(mechgen::position::Options(), w.p);
-  ASSERT_EQ(sweep.Assemble(w.q, w.phi, det > 0 ? 1 : -1, nullptr), mechgen::position::Status::kConverged);
-  Eigen::Matrix<double, M::kNq, 1> qs;
-  qs(0) = w.lo;
-  ASSERT_EQ(sweep.MoveTo(qs, nullptr), mechgen::position::Status::kConverged);
-  const int steps = static_cast<int>(std::ceil((w.hi - w.lo) / (M_PI / 180)));
-  for (int s = 1; s <= steps; ++s) {
-    qs(0) = w.lo + (w.hi - w.lo) * s / steps;
-    ASSERT_EQ(sweep.MoveTo(qs, nullptr), mechgen::position::Status::kConverged) << "sweep at " << qs(0);
-  }
-}
 
 // Benchmark case 4's answer for seed 1 (`mechgen synthesize` before issue 44's fix): with the
 // model's original assembly hints (theta_crank 90 deg, theta_coupler 30 deg, theta_rocker

@@ -1106,6 +1106,27 @@ void FunctionModelParameters(const BoundFunction<M>& b, const FunctionCandidate&
   }
 }
 
+/// The written model's input at each pair, in the pairs' order (the motion from pair to pair
+/// that Check walks): the search's input angle, less the change FunctionModelParameters makes
+/// to the input's offset parameter (the model's input is the crank line's angle less it), so
+/// that with the offsets written these are the task's own input angles.
+template <class M>
+std::vector<double> FunctionWrittenInputs(const BoundFunction<M>& b, const FunctionCandidate& c) {
+  std::vector<std::string> names;
+  std::vector<double> values;
+  FunctionModelParameters(b, c, &names, &values);
+  double shift = 0;
+  for (size_t k = 0; k < names.size(); ++k) {
+    if (b.task.in_offset.empty() || names[k] != b.task.in_offset) continue;
+    auto p = b.base;
+    shift = values[k] - *p.Find(names[k].c_str());
+  }
+  FunctionEvaluator<M> eval(b);
+  std::vector<double> motion;
+  for (int i = 0; i < b.n; ++i) motion.push_back(eval.Q(c.x, i) - shift);
+  return motion;
+}
+
 /// The report: the stages, the residual per pair, the structural error, the checks, the parameters.
 template <class M>
 std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, uint64_t seed, int threads = 1) {

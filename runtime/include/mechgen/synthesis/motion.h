@@ -382,6 +382,22 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
   }
 }
 
+/// The crank's angle at each pose of a four-bar from dyads, unwrapped the way the crank turns
+/// through them (the direction of the summed steps, each step within one turn), as
+/// SynthesizeMotion checks the motion: the written model's assembly and range are made of it
+/// (WriteSynthesizedModel).
+inline std::vector<double> MotionInputs(const FourBarFromDyads& f) {
+  const std::vector<double>& angle = f.crank_angle;
+  double sum = 0;
+  for (size_t k = 0; k + 1 < angle.size(); ++k) sum += WrapPi(angle[k + 1] - angle[k]);
+  const double dir = sum >= 0 ? 1.0 : -1.0;
+  std::vector<double> motion;
+  if (angle.empty()) return motion;
+  motion.push_back(angle[0]);
+  for (size_t k = 0; k + 1 < angle.size(); ++k) motion.push_back(motion.back() + dir * Wrap(dir * (angle[k + 1] - angle[k])));
+  return motion;
+}
+
 /// Four poses: the circle-point curve (blue; in the fixed frame at pose 1: K_1 = P_1 + R(alpha_1) k)
 /// and the centre-point curve (red) as dots, the poses (black: the point and a tick along the
 /// body's x axis), in an SVG of width 640; the view is the poses' neighbourhood (four times
