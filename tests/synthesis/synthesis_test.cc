@@ -1582,7 +1582,7 @@ TEST(PathSynthesis, ParametersSetOnTheCommandLineAreWrittenIntoTheModel) {
   const std::string path = ::testing::TempDir() + "/refind_moved.yaml";
   std::ofstream(path) << "synthesis: path\npoint: coupler.P\ncrank: crank\ntargets: [" + targets +
                              "]\ntiming: free\nvariables: {a: [0.2, 2], b: [1, 6], c: [1, 6], xi: [-4, 4], eta: [-4, 4]}\n"
-                             "constraints: {crank_shortest: true, order: true}\nsearch: {evaluations: 20000, restarts: 4}\n";
+                             "constraints: {crank_shortest: true, order: true}\nsearch: {evaluations: 6000, restarts: 2}\n";
   PathTask task;
   ASSERT_TRUE(ParseTask(path, &task, &error)) << error;
   M::ParamsT<double> base;
