@@ -19,7 +19,8 @@
 #     form's errors (no `model:` in the task: exit 1; `--task` as well: exit 2);
 #   - a function over a range (log10 on [1, 2], five Chebyshev points, free start angles):
 #     the report's structural error over the range against the hand formula, the same model
-#     file with 1 and 2 threads; a bad expression: exit 1 with FILE:LINE:COLUMN;
+#     file with 1 and 2 threads, its range narrowed (a triple rocker) and `mechgen generate`
+#     accepting it; a bad expression: exit 1 with FILE:LINE:COLUMN;
 #   - four poses of the shipped four-bar's coupler (hand formulas): curves.csv and curves.svg.
 # usage: synthesize_command_test.sh <mechgen> <source dir> <python3>
 set -uo pipefail
@@ -198,6 +199,12 @@ status=$?
 "$mechgen" synthesize log10.yaml --seed 3 --threads 2 --out out_log2 > log2.out 2> log2.err || fail "log10 task, 2 threads"
 cmp -s out_log1/fourbar.yaml out_log2/fourbar.yaml || fail "log10 task: the model files differ between 1 and 2 threads"
 grep -q 'stroke-dasharray' out_log1/function.svg || fail "log10 task: function.svg has no function curve"
+# Its four-bar is a non-Grashof triple rocker: the model file's range is narrowed to the motion
+# through the pairs (the generator refused the model's [0, 360 deg] before), and the generator
+# accepts the file.
+grep -q '^  - {joint: A, range: \[0, 360\*deg\]}$' out_log1/fourbar.yaml && fail "log10 task: the range not narrowed"
+"$mechgen" generate out_log1/fourbar.yaml -o "$root" > gen_log.out 2>&1 ||
+  fail "mechgen generate refuses the function task's model file: $(cat gen_log.out)"
 "$python" - out_log1/fourbar.yaml out_log1/report.txt <<'PY' || fail "log10 task: the structural error does not match the hand formula"
 import math, re, sys
 model, report = open(sys.argv[1]).read(), open(sys.argv[2]).read()
