@@ -81,6 +81,13 @@ bool WriteAll(const std::vector<std::pair<fs::path, const std::string*>>& files,
   return ok;
 }
 
+// The report's line on the parameters set by --set or --params ("" when none is).
+template <class M>
+std::string SetLine(const typename M::template ParamsT<double>& base, const std::vector<std::string>& variables) {
+  const std::string set = SetParametersText<M>(base, variables);
+  return set.empty() ? std::string() : "\nparameters set by --set/--params (the search used them; the model file is written with them): " + set + "\n";
+}
+
 // Function generation (synthesis/function.h): writes the model file, function.svg, report.txt.
 template <class M>
 int FunctionMain(const std::string& tool, const std::string& task_path, const std::string& model_path,
@@ -107,7 +114,9 @@ int FunctionMain(const std::string& tool, const std::string& task_path, const st
   std::cerr << tool << ": function task: " << task.search.restarts << " global runs, " << task.search.evaluations
             << " evaluations, " << threads << " thread(s)\n";
   const FunctionResult r = SynthesizeFunction(bound, seed, threads);
-  const std::string report = FunctionReport(bound, r, seed, threads);
+  std::vector<std::string> variables;
+  for (const Variable& v : task.variables) variables.push_back(v.name);
+  std::string report = FunctionReport(bound, r, seed, threads) + SetLine<M>(base, variables);
   if (!r.best.feasible()) {
     std::cerr << report << "\n" << tool << ": no mechanism meets the pairs on its assembly mode; nothing written\n";
     return 3;
@@ -115,11 +124,17 @@ int FunctionMain(const std::string& tool, const std::string& task_path, const st
   std::vector<std::string> names;
   std::vector<double> values;
   FunctionModelParameters(bound, r.best, &names, &values);  // the variables (and the start angles' offsets)
+  // The written model's parameters and its input at the pairs (FunctionWrittenInputs).
+  auto written_params = base;
+  for (size_t k = 0; k < names.size(); ++k) *written_params.Find(names[k].c_str()) = values[k];
+  const std::vector<double> motion = FunctionWrittenInputs(bound, r.best);
   std::string synthesized;
-  if (!RewriteParameters(model_text, names, values, &synthesized, &error)) {
+  WrittenAssembly written;
+  if (!WriteSynthesizedModel<M>(model_text, written_params, names, motion, &synthesized, &written, &error)) {
     std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
     return 1;
   }
+  report += WrittenModelText<M>(written, written_params);
   FunctionEvaluator<M> eval(bound);
   const std::string svg = FunctionSvg(&eval, r.best);
   const std::vector<std::pair<fs::path, const std::string*>> files = {
@@ -152,7 +167,7 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
     std::cerr << error << "\n";
     return 1;
   }
-  const std::string report = MotionReport(task, r);
+  std::string report = MotionReport(task, r);
   std::vector<std::pair<fs::path, const std::string*>> files;
   std::string second, third;
   if (task.poses.size() == 4) {
@@ -177,11 +192,16 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
       return 1;
     }
     const FourBarFromDyads& f = r.candidates[static_cast<size_t>(r.chosen)].fourbar;
-    if (!RewriteParameters(model_text, task.parameters, {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0}, &second,
-                           &error)) {
+    const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
+    auto written_params = base;
+    for (size_t k = 0; k < 9; ++k) *written_params.Find(task.parameters[k].c_str()) = values[k];
+    WrittenAssembly written;
+    if (!WriteSynthesizedModel<M>(model_text, written_params, task.parameters, MotionInputs(f), &second, &written,
+                                  &error)) {
       std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
       return 1;
     }
+    report += SetLine<M>(base, task.parameters) + WrittenModelText<M>(written, written_params);
     files = {{fs::path(out_dir) / fs::path(model_path).filename(), &second}, {fs::path(out_dir) / "report.txt", &report}};
   }
   if (!WriteAll(files, out_dir)) {
@@ -235,7 +255,7 @@ int Main(int argc, char** argv) {
     if constexpr (M::kNumPoints > 0) {
       return MotionMain<M>(tool, task_path, model_path, out_dir, base);
     } else {
-      std::cerr << task_path << ": the model '" << M::kName << "' has no output points (the pose's point)\n";
+      std::cerr << task_path << ": error: the model '" << M::kName << "' has no output points (the pose's point)\n";
       return 1;
     }
   }
@@ -243,7 +263,7 @@ int Main(int argc, char** argv) {
     if constexpr (mechgen::HasDesignDerivatives<M>::value) {
       return FunctionMain<M>(tool, task_path, model_path, out_dir, seed, threads, evaluations, base);
     } else {
-      std::cerr << task_path << ": the model '" << M::kName
+      std::cerr << task_path << ": error: the model '" << M::kName
                 << "' has no `design` section; add `design: [parameters to vary]` (models/README.md)\n";
       return 1;
     }
@@ -283,23 +303,22 @@ int Main(int argc, char** argv) {
     PathEvaluator<M> eval(bound);
     const Candidate& c = s.best.best;
     const std::string continuation = c.feasible() ? ContinuationCheck(&eval, c) : std::string("not run");
-    const std::string report = Report(&eval, s, continuation, seed, threads, wall, cpu, model_path);
+    std::vector<std::string> names;
+    for (const Variable& v : task.variables) names.push_back(v.name);
+    std::string report = Report(&eval, s, continuation, seed, threads, wall, cpu, model_path) + SetLine<M>(base, names);
     if (!c.feasible() || !continuation.empty()) {
       std::cerr << report << "\n" << tool << ": no mechanism satisfies the task's constraints; nothing written\n";
       return 3;
     }
     // The outputs: built whole in memory, written to temporary names, then renamed.
-    std::vector<std::string> names;
-    std::vector<double> values;
-    for (size_t j = 0; j < task.variables.size(); ++j) {
-      names.push_back(task.variables[j].name);
-      values.push_back(c.x[j]);
-    }
     std::string synthesized;
-    if (!RewriteParameters(model_text, names, values, &synthesized, &error)) {
+    WrittenAssembly written;
+    if (!WriteSynthesizedModel<M>(model_text, eval.ParamsOf(c.x), names, MotionInputs(bound, c), &synthesized, &written,
+                                  &error)) {
       std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
       return 1;
     }
+    report += WrittenModelText<M>(written, eval.ParamsOf(c.x));
     const std::string svg = CurveSvg(&eval, c);
     std::error_code ec;
     fs::create_directories(out_dir, ec);

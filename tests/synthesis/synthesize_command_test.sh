@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
 # `mechgen synthesize MODEL --task TASK.yaml` (runtime/tools/synthesize_main.cc), end to end,
 # in a temporary directory with a private cache (one compile of the tool, for fourbar):
-#   - a task file with an error: exit 1, FILE:LINE:COLUMN on stderr, nothing written;
+#   - a task file with an error: exit 1, FILE:LINE:COLUMN: error: on stderr, nothing written;
+#     a directory as the task: exit 1, FILE: error: ...;
 #   - a bad option (--threads 0, --seed -1): exit 2, one line, nothing written;
 #   - a task nothing satisfies (links longer than the variables' bounds allow): exit 3,
 #     nothing written;
 #   - the shipped four-bar's own coupler points (tasks/fourbar_refind.yaml): exit 0; the model
 #     file, path.svg and report.txt written; the model file is the input with only the
-#     parameter values changed, `mechgen generate` accepts it, and its coupler curve, computed
-#     here by hand formulas (circle-circle intersection, Python) from the values read back
-#     from the file, passes through every target to 1e-9;
+#     parameter values and the assembly's values (the first target's configuration) changed,
+#     `mechgen generate` accepts it, and its coupler curve, computed here by hand formulas
+#     (circle-circle intersection, Python) from the values read back from the file, passes
+#     through every target to 1e-9;
 #   - the same seed with --threads 1 and --threads 2: the model files and the reports' error
 #     lines byte-identical;
 #   - function generation as `mechgen synthesize TASK` (the task names its model): three pairs
@@ -17,7 +19,8 @@
 #     form's errors (no `model:` in the task: exit 1; `--task` as well: exit 2);
 #   - a function over a range (log10 on [1, 2], five Chebyshev points, free start angles):
 #     the report's structural error over the range against the hand formula, the same model
-#     file with 1 and 2 threads; a bad expression: exit 1 with FILE:LINE:COLUMN;
+#     file with 1 and 2 threads, its range narrowed (a triple rocker) and `mechgen generate`
+#     accepting it; a bad expression: exit 1 with FILE:LINE:COLUMN;
 #   - four poses of the shipped four-bar's coupler (hand formulas): curves.csv and curves.svg.
 # usage: synthesize_command_test.sh <mechgen> <source dir> <python3>
 set -uo pipefail
@@ -37,9 +40,19 @@ printf 'synthesis: path\npoint: coupler.P\ntargets: [[0, 0], [1, 1]]\nvariables:
 "$mechgen" synthesize fourbar.yaml --task bad.yaml --out out_bad > bad.out 2> bad.err
 status=$?
 [ "$status" = 1 ] || fail "bad task: exit $status, expected 1"
-grep -q '^bad.yaml:4:16: variable a: min must be below max$' bad.err || fail "bad task: $(tail -1 bad.err)"
+grep -q '^bad.yaml:4:16: error: variable a: min must be below max$' bad.err || fail "bad task: $(tail -1 bad.err)"
 [ ! -e out_bad ] || fail "bad task: out_bad written"
 ok "bad task file"
+
+# A directory as the task (once an uncaught std::ios_base::failure): one located line, exit 1.
+mkdir -p taskdir
+"$mechgen" synthesize fourbar.yaml --task taskdir --out out_dir > dir.out 2> dir.err
+status=$?
+[ "$status" = 1 ] || fail "directory as task: exit $status, expected 1"
+[ "$(cat dir.err)" = "taskdir: error: the path is a directory, not a task file; give the path of a .yaml file" ] ||
+  fail "directory as task: $(cat dir.err)"
+[ ! -e out_dir ] || fail "directory as task: out_dir written"
+ok "directory as task"
 
 "$mechgen" synthesize fourbar.yaml --task "$task" --threads 0 --out out_opt > opt.out 2> opt.err
 status=$?
@@ -70,8 +83,12 @@ status=$?
 [ "$status" = 0 ] || { fail "refind: exit $status"; cat run1.err; }
 for f in fourbar.yaml path.svg report.txt; do [ -s "out1/$f" ] || fail "refind: out1/$f missing"; done
 "$mechgen" generate out1/fourbar.yaml -o "$root" > gen.out 2>&1 || fail "mechgen generate refuses the synthesized model: $(cat gen.out)"
-# Only parameter values differ from the input model.
-diff fourbar.yaml out1/fourbar.yaml | grep '^[<>]' | grep -v '{value: ' && fail "lines other than parameter values changed"
+# Only parameter values and the assembly's values (the configuration at the first target)
+# differ from the input model.
+diff fourbar.yaml out1/fourbar.yaml | grep '^[<>]' | grep -v -e '{value: ' -e '^[<>]   theta_\(crank\|coupler\|rocker\): ' &&
+  fail "lines other than parameter and assembly values changed"
+grep -q '^  theta_crank: 90\*deg$' out1/fourbar.yaml && fail "the assembly's input not written"
+grep -q '^  assembly: theta_crank = ' out1/report.txt || fail "the report does not say what the model file's assembly is"
 "$python" - "$task" out1/fourbar.yaml <<'PY' || fail "the synthesized coupler curve misses a target"
 import math, re, sys
 task, model = sys.argv[1], sys.argv[2]
@@ -182,6 +199,12 @@ status=$?
 "$mechgen" synthesize log10.yaml --seed 3 --threads 2 --out out_log2 > log2.out 2> log2.err || fail "log10 task, 2 threads"
 cmp -s out_log1/fourbar.yaml out_log2/fourbar.yaml || fail "log10 task: the model files differ between 1 and 2 threads"
 grep -q 'stroke-dasharray' out_log1/function.svg || fail "log10 task: function.svg has no function curve"
+# Its four-bar is a non-Grashof triple rocker: the model file's range is narrowed to the motion
+# through the pairs (the generator refused the model's [0, 360 deg] before), and the generator
+# accepts the file.
+grep -q '^  - {joint: A, range: \[0, 360\*deg\]}$' out_log1/fourbar.yaml && fail "log10 task: the range not narrowed"
+"$mechgen" generate out_log1/fourbar.yaml -o "$root" > gen_log.out 2>&1 ||
+  fail "mechgen generate refuses the function task's model file: $(cat gen_log.out)"
 "$python" - out_log1/fourbar.yaml out_log1/report.txt <<'PY' || fail "log10 task: the structural error does not match the hand formula"
 import math, re, sys
 model, report = open(sys.argv[1]).read(), open(sys.argv[2]).read()
@@ -208,7 +231,7 @@ sed 's/"log10(x)"/"log10(x) +* 2"/' log10.yaml > badexpr.yaml
 "$mechgen" synthesize badexpr.yaml --out out_be > be.out 2> be.err
 status=$?
 [ "$status" = 1 ] || fail "bad expression: exit $status, expected 1"
-grep -q "^badexpr.yaml:4:35: function.expression: unexpected '\*'$" be.err || fail "bad expression: $(cat be.err)"
+grep -q "^badexpr.yaml:4:35: error: function.expression: unexpected '\*'$" be.err || fail "bad expression: $(cat be.err)"
 [ ! -e out_be ] || fail "bad expression: out_be written"
 ok "bad expression"
 

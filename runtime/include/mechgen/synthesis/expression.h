@@ -5,7 +5,9 @@
  * associative; unary minus binds looser than ^: -x^2 = -(x^2)), parentheses and the functions
  * sin cos tan asin acos atan exp log (natural) log10 sqrt abs sinh cosh tanh. Parsed once into
  * a small postfix program (no allocation when evaluated). A bad expression: the column (1-based,
- * within the expression's text) and what is wrong.
+ * within the expression's text) and what is wrong. The parser is recursive: parentheses,
+ * function calls, signs and powers nest at most kMaxNesting levels (the model reader's bound,
+ * generator/model/reader.h kMaxExpressionNesting), so that no text can overflow the stack.
  */
 #pragma once
 
@@ -19,12 +21,16 @@ namespace mechgen::synthesis {
 
 class Expression {
  public:
+  /// The deepest nesting of parentheses, function calls, signs and powers.
+  static constexpr int kMaxNesting = 64;
+
   /// Parses `text`; false, *column (1-based in text) and *error on a bad expression.
   bool Parse(const std::string& text, int* column, std::string* error) {
     text_ = text;
     pos_ = 0;
     code_.clear();
     error_.clear();
+    depth_ = 0;
     if (!Sum() || (Skip(), pos_ != text_.size() && Fail("unexpected '" + std::string(1, text_[pos_]) + "'"))) {
       *column = static_cast<int>(error_pos_) + 1;
       *error = error_;
@@ -95,6 +101,12 @@ class Expression {
     while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
   }
   bool Depth() { return code_.size() < 60 || Fail("the expression is too long (at most 60 operations)"); }
+  // One level deeper (a '(', a function's argument, a sign, an exponent): false past kMaxNesting.
+  bool Enter() {
+    return ++depth_ <= kMaxNesting ||
+           Fail("parentheses, function calls, signs or powers nested deeper than " + std::to_string(kMaxNesting) +
+                " levels");
+  }
   // sum := product (('+'|'-') product)*
   bool Sum() {
     if (!Product()) return false;
@@ -122,7 +134,8 @@ class Expression {
     Skip();
     if (pos_ < text_.size() && (text_[pos_] == '-' || text_[pos_] == '+')) {
       const bool neg = text_[pos_++] == '-';
-      if (!Unary()) return false;
+      if (!Enter() || !Unary()) return false;
+      --depth_;
       if (neg) code_.push_back({kNeg});
       return Depth();
     }
@@ -134,7 +147,8 @@ class Expression {
     Skip();
     if (pos_ < text_.size() && text_[pos_] == '^') {
       ++pos_;
-      if (!Unary()) return false;
+      if (!Enter() || !Unary()) return false;
+      --depth_;
       code_.push_back({kPow});
     }
     return Depth();
@@ -144,11 +158,13 @@ class Expression {
     if (pos_ >= text_.size()) return Fail("expected a number, x, a function or '(' at the end");
     const char c = text_[pos_];
     if (c == '(') {
+      if (!Enter()) return false;
       ++pos_;
       if (!Sum()) return false;
       Skip();
       if (pos_ >= text_.size() || text_[pos_] != ')') return Fail("expected ')'");
       ++pos_;
+      --depth_;
       return true;
     }
     if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {
@@ -171,11 +187,13 @@ class Expression {
         if (name != Functions()[f]) continue;
         Skip();
         if (pos_ >= text_.size() || text_[pos_] != '(') return Fail("expected '(' after " + name);
+        if (!Enter()) return false;
         ++pos_;
         if (!Sum()) return false;
         Skip();
         if (pos_ >= text_.size() || text_[pos_] != ')') return Fail("expected ')'");
         ++pos_;
+        --depth_;
         code_.push_back({kCall, 0, f});
         return Depth();
       }
@@ -188,6 +206,7 @@ class Expression {
 
   std::string text_, error_;
   size_t pos_ = 0, error_pos_ = 0;
+  int depth_ = 0;
   std::vector<Op> code_;
 };
 

@@ -109,12 +109,14 @@ struct FunctionTask {
   Constraints constraints;
 };
 
-/// The `synthesis:` kind of a task file ("path", "function", ...), "" and *error if unreadable.
+/// The `synthesis:` kind of a task file ("path", "function", ...), "" and *error if unreadable
+/// (task_internal::ReadTaskText: no such file, a directory, not a regular file, too large) or
+/// not YAML; "" without an error when the kind is missing (ParseTask says what is).
 inline std::string TaskKind(const std::string& path, std::string* error) {
-  std::ifstream in(path);
-  if (!in) return *error = path + ": cannot read the task file", "";
+  std::string text;
+  if (!task_internal::ReadTaskText(path, &text, error)) return "";
   try {
-    const YAML::Node root = YAML::Load(in);
+    const YAML::Node root = YAML::Load(text);
     if (root.IsMap() && root["synthesis"] && root["synthesis"].IsScalar()) return root["synthesis"].Scalar();
     return "";  // ParseTask says what is missing
   } catch (const YAML::Exception& e) {
@@ -331,12 +333,12 @@ bool BindFunctionTask(const FunctionTask& task, const typename M::template Param
   b.base = base;
   b.n = static_cast<int>(task.input.size());
   if constexpr (!HasDesignDerivatives<M>::value) {
-    *error = task.file + ": the model '" + std::string(M::kName) +
+    *error = task.file + ": error: the model '" + std::string(M::kName) +
              "' has no `design` section; add `design: [parameters to vary]` to it (models/README.md)";
     return false;
   } else {
     if constexpr (M::kNq != 1) {
-      *error = task.file + ": function generation needs a one-input model ('" + std::string(M::kName) + "' has " +
+      *error = task.file + ": error: function generation needs a one-input model ('" + std::string(M::kName) + "' has " +
                std::to_string(M::kNq) + " inputs)";
       return false;
     }
@@ -449,18 +451,10 @@ class FunctionEvaluator {
     return b_.task.psi[static_cast<size_t>(i)] - b_.task.out_start + OutStart(x);
   }
 
-  /// phi at q on the model's mode; false where it does not assemble (or at a branch point).
+  /// phi at q on the model's mode; false where it does not assemble or is singular (SolveOnMode).
   bool PhiAt(const Params& p, double q, VecPhi* phi) {
     ++solves;
-    VecQ qv;
-    qv(0) = q;
-    VecPhi ph;
-    for (int i = 0; i < M::kNphi; ++i) ph(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-    const auto report = M::Solve(p, qv, &ph, M::kDefaultModes);
-    using Status = decltype(report.status);
-    if (report.status != Status::kConverged || !(report.branch_measure > 1e-12) || !ph.allFinite()) return false;
-    *phi = ph;
-    return true;
+    return SolveOnMode<M>(p, q, phi);
   }
 
   /// d phi_out / d x at (q, phi) into row[0..nx): the generated dphi/dp of the design
@@ -1110,6 +1104,27 @@ void FunctionModelParameters(const BoundFunction<M>& b, const FunctionCandidate&
     names->push_back(t.out_offset);
     values->push_back(*p.Find(t.out_offset.c_str()) + c.x[static_cast<size_t>(b.nv + 1)] - t.out_start);
   }
+}
+
+/// The written model's input at each pair, in the pairs' order (the motion from pair to pair
+/// that Check walks): the search's input angle, less the change FunctionModelParameters makes
+/// to the input's offset parameter (the model's input is the crank line's angle less it), so
+/// that with the offsets written these are the task's own input angles.
+template <class M>
+std::vector<double> FunctionWrittenInputs(const BoundFunction<M>& b, const FunctionCandidate& c) {
+  std::vector<std::string> names;
+  std::vector<double> values;
+  FunctionModelParameters(b, c, &names, &values);
+  double shift = 0;
+  for (size_t k = 0; k < names.size(); ++k) {
+    if (b.task.in_offset.empty() || names[k] != b.task.in_offset) continue;
+    auto p = b.base;
+    shift = values[k] - *p.Find(names[k].c_str());
+  }
+  FunctionEvaluator<M> eval(b);
+  std::vector<double> motion;
+  for (int i = 0; i < b.n; ++i) motion.push_back(eval.Q(c.x, i) - shift);
+  return motion;
 }
 
 /// The report: the stages, the residual per pair, the structural error, the checks, the parameters.

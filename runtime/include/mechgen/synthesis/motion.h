@@ -41,7 +41,8 @@ struct MotionTask {
   /// The model's parameters for a, b, c, d, xi, eta, x0, y0, theta0 (in this order).
   std::vector<std::string> parameters;
   int curve_rays = 3600;
-  int line = 1, column = 1;
+  int line = 1, column = 1;  ///< where `parameters:` is
+  int point_line = 1, point_column = 1, angle_line = 1, angle_column = 1;
   /// More than five poses: the five (0-based) whose Burmester points seed the least squares.
   std::vector<int> seed_poses;
 };
@@ -75,9 +76,11 @@ inline bool ParseMotionTask(const std::string& path, MotionTask* task, std::stri
     const YAML::Node point = Required(path, root, "point", "the model's coupler point that is the pose's point, e.g. coupler.P");
     if (!point.IsScalar()) throw Error{Where(path, point.Mark()) + "point: expected a point name"};
     task->point = point.Scalar();
+    task->point_line = point.Mark().line + 1, task->point_column = point.Mark().column + 1;
     const YAML::Node angle = Required(path, root, "coupler_angle", "the coupler's angle among the model's dependent variables, e.g. theta_coupler");
     if (!angle.IsScalar()) throw Error{Where(path, angle.Mark()) + "coupler_angle: expected a dependent variable's name"};
     task->coupler_angle = angle.Scalar();
+    task->angle_line = angle.Mark().line + 1, task->angle_column = angle.Mark().column + 1;
     // The four-bar's parameters: needed to write one (five poses or more), not for the curves.
     if (task->poses.size() >= 5)
       Required(path, root, "parameters",
@@ -176,10 +179,7 @@ class PoseResiduals : public ceres::CostFunction {
     for (int j = 0; j < n; ++j) {
       Eigen::Matrix<double, M::kNq, 1> qv;
       qv(0) = parameters[1][j];
-      for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-      const auto report = M::Solve(p, qv, &phi, M::kDefaultModes);
-      using Status = decltype(report.status);
-      if (report.status != Status::kConverged || !(report.branch_measure > 1e-12) || !phi.allFinite()) return false;
+      if (!SolveOnMode<M>(p, qv(0), &phi)) return false;
       M::Coeffs(p, qv, phi, &co);
       const Pose& pose = poses_[static_cast<size_t>(j)];
       residuals[3 * j] = co.r_P(0, point_) - pose.x;
@@ -226,19 +226,24 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
     if (task.point == M::kPointNames[static_cast<size_t>(m)]) point = m;
   for (int i = 0; i < M::kNphi; ++i)
     if (task.coupler_angle == M::kPhiNames[static_cast<size_t>(i)]) angle = i;
-  if (point < 0) return *error = task.file + ": point '" + task.point + "' is not among the model's output points", false;
+  if (point < 0)
+    return *error = bind_internal::Where(task.file, task.point_line, task.point_column) + "point '" + task.point +
+                    "' is not among the model's output points (" + bind_internal::List(M::kPointNames) + ")",
+           false;
   if (angle < 0)
-    return *error = task.file + ": coupler_angle '" + task.coupler_angle + "' is not one of the model's dependent variables",
+    return *error = bind_internal::Where(task.file, task.angle_line, task.angle_column) + "coupler_angle '" +
+                    task.coupler_angle + "' is not one of the model's dependent variables (" +
+                    bind_internal::List(M::kPhiNames) + ")",
            false;
   if constexpr (M::kNq != 1) {
-    return *error = task.file + ": motion generation needs a one-input four-bar model", false;
+    return *error = task.file + ": error: motion generation needs a one-input four-bar model", false;
   } else {
     {
       Params p = base;
       for (const std::string& name : task.parameters)
         if (p.Find(name.c_str()) == nullptr)
           return *error = task.file + ":" + std::to_string(task.line) + ":" + std::to_string(task.column) +
-                          ": parameters: no parameter '" + name + "' in the model",
+                          ": error: parameters: no parameter '" + name + "' in the model",
                  false;
     }
     MotionResult r;
@@ -258,7 +263,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
       seed_poses.clear();
       for (int j : task.seed_poses) seed_poses.push_back(poses[static_cast<size_t>(j)]);
       if constexpr (!HasDesignDerivatives<M>::value) {
-        return *error = task.file + ": more than five poses need the model's `design:` section (the least squares' "
+        return *error = task.file + ": error: more than five poses need the model's `design:` section (the least squares' "
                                     "Jacobian)",
                false;
       } else {
@@ -267,7 +272,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
             if (task.parameters[k] == M::kDesignNames[static_cast<size_t>(d)]) column[k] = d;
           if (column[k] < 0)
             return *error = task.file + ":" + std::to_string(task.line) + ":" + std::to_string(task.column) +
-                            ": parameters: '" + task.parameters[k] +
+                            ": error: parameters: '" + task.parameters[k] +
                             "' is not in the model's design: list (more than five poses: all nine must be)",
                    false;
         }
@@ -321,14 +326,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
         Params p = base;
         const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
         for (size_t k = 0; k < 9; ++k) *p.Find(task.parameters[k].c_str()) = values[k];
-        auto solve = [&](double q, Eigen::Matrix<double, M::kNphi, 1>* phi) {
-          Eigen::Matrix<double, M::kNq, 1> qv;
-          qv(0) = q;
-          for (int i2 = 0; i2 < M::kNphi; ++i2) (*phi)(i2) = M::kAssemblyPhi[static_cast<size_t>(i2)];
-          const auto report = M::Solve(p, qv, phi, M::kDefaultModes);
-          using Status = decltype(report.status);
-          return report.status == Status::kConverged && report.branch_measure > 1e-12 && phi->allFinite();
-        };
+        auto solve = [&](double q, Eigen::Matrix<double, M::kNphi, 1>* phi) { return SolveOnMode<M>(p, q, phi); };
         Eigen::Matrix<double, M::kNphi, 1> phi;
         typename M::template CoefficientsT<double> co;
         c.worst_point = c.worst_angle = 0;
@@ -382,6 +380,22 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
     *out = r;
     return true;
   }
+}
+
+/// The crank's angle at each pose of a four-bar from dyads, unwrapped the way the crank turns
+/// through them (the direction of the summed steps, each step within one turn), as
+/// SynthesizeMotion checks the motion: the written model's assembly and range are made of it
+/// (WriteSynthesizedModel).
+inline std::vector<double> MotionInputs(const FourBarFromDyads& f) {
+  const std::vector<double>& angle = f.crank_angle;
+  double sum = 0;
+  for (size_t k = 0; k + 1 < angle.size(); ++k) sum += WrapPi(angle[k + 1] - angle[k]);
+  const double dir = sum >= 0 ? 1.0 : -1.0;
+  std::vector<double> motion;
+  if (angle.empty()) return motion;
+  motion.push_back(angle[0]);
+  for (size_t k = 0; k + 1 < angle.size(); ++k) motion.push_back(motion.back() + dir * Wrap(dir * (angle[k + 1] - angle[k])));
+  return motion;
 }
 
 /// Four poses: the circle-point curve (blue; in the fixed frame at pose 1: K_1 = P_1 + R(alpha_1) k)

@@ -92,6 +92,36 @@ struct EvaluationBudget : ceres::IterationCallback {
   }
 };
 
+/// The order in which the motion passes the targets: input order from the first target (free
+/// timing: each q_i as first q + its angle from it in [0, 2 pi), the last target of a closed
+/// curve after a full turn, as PathEvaluator::Check walks them), else as given. *q the inputs
+/// by target so unwrapped, *order the targets' indices in the motion's order.
+template <class M>
+void MotionOrder(const BoundPath<M>& b, const Candidate& c, std::vector<double>* q, std::vector<int>* order) {
+  *q = c.q;
+  if (b.task.timing.free) {
+    for (double& qi : *q) qi = c.q[0] + Wrap(qi - c.q[0]);
+    if (b.n > 2 && (*q)[static_cast<size_t>(b.n - 1)] - c.q[0] < 1e-6) (*q)[static_cast<size_t>(b.n - 1)] += kTwoPi;  // as Check()
+  }
+  order->resize(static_cast<size_t>(b.n));
+  for (int i = 0; i < b.n; ++i) (*order)[static_cast<size_t>(i)] = i;
+  if (b.task.timing.free)
+    std::stable_sort(order->begin(), order->end(),
+                     [&](int u, int v) { return (*q)[static_cast<size_t>(u)] < (*q)[static_cast<size_t>(v)]; });
+}
+
+/// The input at each target in the order of the motion (MotionOrder), each reached directly
+/// from the one before: what the written model's assembly and range are made of
+/// (WriteSynthesizedModel).
+template <class M>
+std::vector<double> MotionInputs(const BoundPath<M>& b, const Candidate& c) {
+  std::vector<double> q, motion;
+  std::vector<int> order;
+  MotionOrder(b, c, &q, &order);
+  for (int i : order) motion.push_back(q[static_cast<size_t>(i)]);
+  return motion;
+}
+
 /// The second way of checking a candidate: the runtime's continuation (PositionSolver,
 /// assembled at the first target, then moved along the motion in steps of at most 10 deg,
 /// staying on its branch) must arrive at every target on the configuration the synthesis used
@@ -103,16 +133,9 @@ std::string ContinuationCheck(PathEvaluator<M>* eval, const Candidate& c) {
   const auto p = eval->ParamsOf(c.x);
   typename PathEvaluator<M>::VecPhi phi;
   typename PathEvaluator<M>::Coeffs co;
-  // The order of the motion: input order from the first target (free timing), else as given.
-  std::vector<double> q = c.q;
-  if (b.task.timing.free) {
-    for (double& qi : q) qi = c.q[0] + Wrap(qi - c.q[0]);
-    if (b.n > 2 && q[static_cast<size_t>(b.n - 1)] - c.q[0] < 1e-6) q[static_cast<size_t>(b.n - 1)] += kTwoPi;  // as Check()
-  }
-  std::vector<int> order(static_cast<size_t>(b.n));
-  for (int i = 0; i < b.n; ++i) order[static_cast<size_t>(i)] = i;
-  if (b.task.timing.free)
-    std::stable_sort(order.begin(), order.end(), [&](int u, int v) { return q[static_cast<size_t>(u)] < q[static_cast<size_t>(v)]; });
+  std::vector<double> q;
+  std::vector<int> order;
+  MotionOrder(b, c, &q, &order);
   position::PositionSolver<M> solver(position::Options(), p);
   typename position::PositionSolver<M>::VecQ qv;
   if (!eval->PointAt(p, q[static_cast<size_t>(order[0])], &phi, &co)) return "the first target does not assemble";

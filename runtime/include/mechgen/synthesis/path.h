@@ -13,8 +13,8 @@
  * Defects (each adds to the candidate's violation; 0: none): every target reached on the
  * model's assembly mode (kDefaultModes, M::Solve's closed forms / Newton blocks) and, along
  * the motion from target to target (sampled at the curve's step), the mechanism assembles on
- * that mode with a nonzero branch measure: it does not have to pass a dead point (branch
- * change) between targets; targets in increasing input angle within one turn (`order`);
+ * that mode, regular by the project's singular-configuration threshold (SolveOnMode): it does
+ * not have to pass a dead point (branch change) between targets; targets in increasing input angle within one turn (`order`);
  * Grashof class and the crank's full rotation (the link lengths from the generated
  * EvalDesignChecks); link-length bounds and the longest over the shortest link (`link_ratio`);
  * transmission angle bounds over the motion (the full
@@ -29,6 +29,8 @@
 #include <string>
 #include <vector>
 
+#include "mechgen/core/constants.h"
+#include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/synthesis/task.h"
 
@@ -71,9 +73,9 @@ struct BoundPath {
 };
 
 namespace bind_internal {
-/// "FILE:LINE:COLUMN: " of a place in a task file.
+/// "FILE:LINE:COLUMN: error: " of a place in a task file (task_internal::Where's form).
 inline std::string Where(const std::string& file, int line, int column) {
-  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": error: ";
 }
 /// The names of a model's list (M::kDesignNames, ...) for a message: "a, b, c" or "(none)".
 template <class Names>
@@ -120,7 +122,7 @@ bool BindConstraints(const std::string& file, const Constraints& c, const std::s
       }
     }
     if (ix.check_lengths.size() != 4) {
-      *error = file + ": the constraints grashof/crank_*/link_lengths need a four-bar loop with a ground link "
+      *error = file + ": error: the constraints grashof/crank_*/link_lengths need a four-bar loop with a ground link "
                "(the model's design checks have no link lengths of one)";
       return false;
     }
@@ -235,12 +237,12 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
   b.base = base;
   b.n = static_cast<int>(task.tx.size());
   if constexpr (!HasDesignDerivatives<M>::value) {
-    *error = task.file + ": the model '" + std::string(M::kName) +
+    *error = task.file + ": error: the model '" + std::string(M::kName) +
              "' has no `design` section; add `design: [parameters to vary]` to it (models/README.md)";
     return false;
   } else {
     if constexpr (M::kNq != 1) {
-      *error = task.file + ": path generation needs a one-input model ('" + std::string(M::kName) + "' has " +
+      *error = task.file + ": error: path generation needs a one-input model ('" + std::string(M::kName) + "' has " +
                std::to_string(M::kNq) + " inputs)";
       return false;
     }
@@ -321,6 +323,42 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
   }
 }
 
+/// Whether Phi_phi is regular by the project's one singular-configuration threshold
+/// (core/constants.h: 1/cond_1(Phi_phi) >= kMinRcond, the position solver's
+/// Options::min_rcond, the same test as its Classify): false at a dead point or a change
+/// point, or so near one that K has lost six digits, where the runtime's continuation and the
+/// sweep refuse the configuration.
+template <class Matrix>
+bool Regular(const Matrix& Phi_phi) {
+  double cond = kInf, det = 0;
+  ConditionAndDeterminant(Phi_phi, &cond, &det);
+  return det != 0 && std::isfinite(det) && cond * kMinRcond <= 1.0;
+}
+
+/// The configuration at input q on the model's assembly mode (M::Solve from the assembly values
+/// on M::kDefaultModes) into *phi; false where it does not assemble. With `judge`, also false
+/// where it is not Regular(). Every solve of a candidate (path, function and motion tasks: the
+/// path evaluator judges the Phi_phi its coefficients carry) and the written model's assembly
+/// (WriteSynthesizedModel) go through here.
+template <class M>
+bool SolveOnMode(const typename M::template ParamsT<double>& p, double q, Eigen::Matrix<double, M::kNphi, 1>* phi,
+                 bool judge = true) {
+  Eigen::Matrix<double, M::kNq, 1> qv;
+  qv(0) = q;
+  Eigen::Matrix<double, M::kNphi, 1> ph;
+  for (int i = 0; i < M::kNphi; ++i) ph(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
+  const auto report = M::Solve(p, qv, &ph, M::kDefaultModes);
+  using Status = decltype(report.status);
+  if (report.status != Status::kConverged || !ph.allFinite()) return false;
+  if (judge) {
+    Eigen::Matrix<double, M::kNc, M::kNphi> Phi_phi;
+    M::template Phi<double>(p, qv, ph, nullptr, &Phi_phi, nullptr);
+    if (!Regular(Phi_phi)) return false;
+  }
+  *phi = ph;
+  return true;
+}
+
 /// A candidate and what its checks found.
 struct Candidate {
   std::vector<double> x;       ///< the global vector: design variables (+ the free offset)
@@ -373,22 +411,22 @@ class PathEvaluator {
     return offset + t.angles[static_cast<size_t>(i)] + rel;
   }
 
-  /// The point at q on the model's assembly mode; false if it does not assemble there (or
-  /// is at a branch point). Fills the coefficients (r_P, K_P) and phi.
-  bool PointAt(const Params& p, double q, VecPhi* phi, Coeffs* c, double* branch_measure = nullptr) {
+  /// The point at q on the model's assembly mode; false if it does not assemble there or is
+  /// singular by the project's threshold (SolveOnMode). Fills the coefficients (r_P, K_P) and
+  /// phi.
+  bool PointAt(const Params& p, double q, VecPhi* phi, Coeffs* c) {
     ++solves;
+    VecPhi ph;
+    constexpr bool kJudgeCoefficients = ModelFeatures<M>::kCoeffsHavePhi;
+    if (!SolveOnMode<M>(p, q, &ph, /*judge=*/!kJudgeCoefficients)) return false;
     VecQ qv;
     qv(0) = q;
-    VecPhi ph;
-    for (int i = 0; i < M::kNphi; ++i) ph(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-    const auto report = M::Solve(p, qv, &ph, M::kDefaultModes);
-    using Status = decltype(report.status);
-    if (report.status != Status::kConverged || !(report.branch_measure > 1e-12)) return false;
-    if (!ph.allFinite()) return false;
     M::Coeffs(p, qv, ph, c);
+    if constexpr (kJudgeCoefficients) {
+      if (!Regular(c->Phi_phi)) return false;
+    }
     if (!c->r_P.allFinite()) return false;
     *phi = ph;
-    if (branch_measure != nullptr) *branch_measure = report.branch_measure;
     return true;
   }
 

@@ -3,13 +3,14 @@
  * A dimensional-synthesis task (issue 28) as written in its YAML file beside the model (the
  * format: docs/synthesis.md). Model-independent: ParseTask() reads and checks the file's
  * own structure (kinds, numbers, sizes); BindPathTask() (synthesis/path.h) then checks the
- * names against the generated model. Every error says FILE:LINE:COLUMN and what to change.
+ * names against the generated model. Every error says FILE:LINE:COLUMN: error: and what to change.
  * Needs yaml-cpp (link yaml-cpp).
  */
 #pragma once
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -95,8 +96,11 @@ struct PathTask {
 
 namespace task_internal {
 
+/// "FILE:LINE:COLUMN: error: " of a place in a task file (the model and study files' form);
+/// "FILE: error: " when yaml-cpp gives no place (a null mark).
 inline std::string Where(const std::string& file, const YAML::Mark& m) {
-  return file + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1) + ": ";
+  if (m.line < 0 || m.column < 0) return file + ": error: ";
+  return file + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1) + ": error: ";
 }
 
 struct Error {
@@ -187,20 +191,53 @@ inline void ReadVariables(const std::string& path, const YAML::Node& root, const
   }
 }
 
-/// A task file's root, the one reading every kind of task shares: false and *error when the file
-/// cannot be read, is not YAML (FILE:LINE:COLUMN) or is not a mapping (`expected`: its keys).
-inline bool LoadTaskRoot(const std::string& path, const std::string& expected, YAML::Node* root, std::string* error) {
-  std::ifstream in(path);
-  if (!in) return *error = path + ": cannot read the task file", false;
-  try {
-    *root = mechgen::io::LoadStrict(in);  // one document, no key twice in a mapping
-  } catch (const YAML::Exception& e) {
-    return *error = Where(path, e.mark) + "not valid YAML: " + e.msg, false;
-  }
-  if (!root->IsMap()) return *error = path + ":1:1: expected a mapping with " + expected, false;
+/// The largest task file read (the model reader's limit too): a task is a short text.
+constexpr size_t kMaxTaskBytes = size_t{1} << 20;
+
+/// The task file's text: false and *error ("FILE: error: ...") for a path that does not exist,
+/// a directory, anything that is not a regular file (a device, a pipe: never read), a file
+/// that cannot be read or is larger than kMaxTaskBytes (at most one byte more is read).
+inline bool ReadTaskText(const std::string& path, std::string* text, std::string* error) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (st.type() == fs::file_type::not_found)
+    return *error = path + ": error: cannot open the task file (no such file); check the path", false;
+  if (ec) return *error = path + ": error: cannot open the task file (" + ec.message() + "); check the path", false;
+  if (fs::is_directory(st))
+    return *error = path + ": error: the path is a directory, not a task file; give the path of a .yaml file", false;
+  if (!fs::is_regular_file(st))
+    return *error = path + ": error: the path is not a regular file (a device, a pipe or a socket); give the path of a "
+                           ".yaml file",
+           false;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return *error = path + ": error: cannot open the task file (permission denied?); check the path", false;
+  std::string bytes(kMaxTaskBytes + 1, '\0');
+  in.read(&bytes[0], static_cast<std::streamsize>(bytes.size()));
+  if (in.bad()) return *error = path + ": error: cannot read the task file", false;
+  bytes.resize(static_cast<size_t>(in.gcount()));
+  if (bytes.size() > kMaxTaskBytes)
+    return *error = path + ": error: is larger than " + std::to_string(kMaxTaskBytes >> 20) +
+                    " MiB, the limit for a task file; a task is a short text",
+           false;
+  *text = std::move(bytes);
   return true;
 }
 
+/// A task file's root, the one reading every kind of task shares (ReadTaskText, then YAML):
+/// false and *error when the file cannot be read, is not YAML (FILE:LINE:COLUMN) or is not a
+/// mapping (`expected`: its keys).
+inline bool LoadTaskRoot(const std::string& path, const std::string& expected, YAML::Node* root, std::string* error) {
+  std::string text;
+  if (!ReadTaskText(path, &text, error)) return false;
+  try {
+    *root = mechgen::io::LoadStrict(text);  // one document, no key twice in a mapping
+  } catch (const YAML::Exception& e) {
+    return *error = Where(path, e.mark) + "not valid YAML: " + e.msg, false;
+  }
+  if (!root->IsMap()) return *error = path + ":1:1: error: expected a mapping with " + expected, false;
+  return true;
+}
 
 /// A task's `constraints:` (path and function tasks; docs/synthesis.md) into *c. `has_crank`:
 /// the task names its input link; `free_timing`: `order` is allowed (path tasks, free timing).
