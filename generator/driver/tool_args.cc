@@ -12,8 +12,11 @@
 #include <string>
 #include <vector>
 
+#include "engine_args.h"
+#include "flywheel_args.h"
 #include "simulate_args.h"
 #include "statics_args.h"
+#include "study_args.h"
 #include "sweep_args.h"
 
 namespace mechgen {
@@ -33,6 +36,19 @@ int ParseSweep(int argc, char** argv, const std::string& model_name) {
   return sweep_tool::ParseArguments(argc, argv, model_name, sweep_tool::kMaxSteps, &arguments);
 }
 
+// The flywheel's bound on its check's samples is the simulator's (flywheel_args.h).
+int ParseFlywheel(int argc, char** argv, const std::string& model_name) {
+  flywheel_tool::Arguments arguments;
+  return flywheel_tool::ParseArguments(argc, argv, model_name, flywheel_tool::kMaxCheckSamples, &arguments);
+}
+
+// Whether the model has a design section is the engine tool's check (after the compile):
+// here --design is let through.
+int ParseEngine(int argc, char** argv, const std::string& model_name) {
+  engine_tool::Arguments arguments;
+  return engine_tool::ParseArguments(argc, argv, model_name, /*model_has_design=*/true, &arguments);
+}
+
 struct ToolParser {
   const char* tool;
   ParseFn parse;
@@ -42,6 +58,9 @@ constexpr ToolParser kParsers[] = {
     {"sweep", ParseSweep},
     {"simulate", Parse<simulate_tool::Arguments, simulate_tool::ParseArguments>},
     {"statics", Parse<statics_tool::Arguments, statics_tool::ParseArguments>},
+    {"flywheel", ParseFlywheel},
+    {"engine", ParseEngine},
+    {"study", Parse<study_tool::Arguments, study_tool::ParseArguments>},
 };
 
 ParseFn Find(const std::string& tool) {

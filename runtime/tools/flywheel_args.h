@@ -46,6 +46,11 @@ struct Arguments {
 /// Exit status of a usage error (bad arguments: nothing written).
 constexpr int kExitUsage = 2;
 
+/// The most speed samples the check may take: the simulator's MinimalOptions::max_samples
+/// (flywheel_main.cc asserts that they agree), for the `mechgen` driver, which parses the options
+/// before any compile and without the runtime.
+constexpr double kMaxCheckSamples = 100000000;
+
 /**
  * \brief Parses the flywheel command's options.
  * \param[in]  model_name         The model's name, for --help.

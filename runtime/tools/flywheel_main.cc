@@ -134,9 +134,11 @@ template <class M>
 int Run(int argc, char** argv) {
   static_assert(mechgen::flywheel_tool::kDefaultSteadyFraction == fw::CheckOptions{}.steady_fraction,
                 "--steady-fraction's default is CheckOptions::steady_fraction");
+  static_assert(mechgen::flywheel_tool::kMaxCheckSamples == mechgen::dynamics::MinimalOptions{}.max_samples,
+                "kMaxCheckSamples is the simulator's max_samples");
   mechgen::flywheel_tool::Arguments a;
   if (const int parsed = mechgen::flywheel_tool::ParseArguments(argc, argv, M::kName,
-                                                                mechgen::dynamics::MinimalOptions().max_samples, &a);
+                                                                mechgen::flywheel_tool::kMaxCheckSamples, &a);
       parsed >= 0)
     return parsed;
   const std::string& tool = a.tool;

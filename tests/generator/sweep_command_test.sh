@@ -110,6 +110,22 @@ if [ "$mode" = errors ]; then
   { [ "$status" -eq 2 ] && grep -q "^mechgen statics: error: --speed: bad value 'abc'" sp.err &&
     [ "$(wc -l < sp.err)" -eq 1 ] && [ ! -s sp.out ]; } ||
     fail "statics --speed abc: exit status $status, stderr $(cat sp.err)"
+  cp "$source_dir/models/engine_single.yaml" engine.yaml
+  for cmd in "engine engine.yaml" "flywheel friction.yaml" "study fourbar.yaml"; do
+    tool=${cmd%% *}
+    bare $cmd --help > th.out 2> th.err
+    status=$?
+    { [ "$status" -eq 0 ] && grep -q "^Usage: mechgen $cmd \[OPTIONS\]" th.out && [ ! -s th.err ]; } ||
+      fail "$tool --help without a compiler: exit status $status: $(head -2 th.out) $(cat th.err)"
+  done
+  for cmd in "engine engine.yaml flywheel" "flywheel friction.yaml"; do
+    tool=${cmd%% *}
+    bare $cmd --cs 1e-300 > cs.out 2> cs.err
+    status=$?
+    { [ "$status" -eq 2 ] && grep -q "^mechgen $tool: error: --cs: bad value '1e-300'" cs.err &&
+      [ "$(wc -l < cs.err)" -eq 1 ] && [ ! -s cs.out ]; } ||
+      fail "$tool --cs 1e-300 without a compiler: exit status $status, stderr $(cat cs.err)"
+  done
   bare sweep fourbar.yaml --steps 0 > st.out 2> st.err
   status=$?
   { [ "$status" -eq 2 ] &&
