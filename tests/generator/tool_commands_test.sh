@@ -151,5 +151,10 @@ usage "--set 'a': expected name=value" "$statics_tool" --steps 4 --set a
 printf 'a = 0.12\nmu_s\n' > bad.params
 usage "bad.params:2: expected \`name = value\`, got 'mu_s'" "$statics_tool" --steps 4 --params bad.params
 usage "--params: cannot read 'missing.params'" "$statics_tool" --steps 4 --params missing.params
+# A NUL byte inside a value or a name (issue 45): the whole text is read, never its part before it.
+printf 'a = 1\0005\n' > nul.params
+usage "nul.params:1: bad value '1\\x005' for 'a'" "$statics_tool" --steps 4 --params nul.params
+printf 'a\000b = 0.12\n' > nulname.params
+usage "nulname.params:1: no parameter 'a\\x00b' in the model" "$statics_tool" --steps 4 --params nulname.params
 [ "$failures" -ne "$before" ] || ok "--set and --params: bad names, values and files are usage errors"
 exit $((failures > 0))

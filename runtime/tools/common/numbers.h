@@ -140,7 +140,8 @@ inline bool ParseNumber(const std::string& text, double* value, bool allow_degre
   if (number.empty() || std::isspace(static_cast<unsigned char>(number[0]))) return false;
   char* end = nullptr;
   const double v = std::strtod(number.c_str(), &end);
-  if (end == nullptr || *end != '\0' || !std::isfinite(v)) return false;
+  // The whole text: strtod stops at a NUL byte inside it ("1\0005" is not 1).
+  if (end != number.c_str() + number.size() || !std::isfinite(v)) return false;
   *value = v * factor;
   return std::isfinite(*value);
 }

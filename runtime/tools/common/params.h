@@ -53,9 +53,10 @@ bool Set(const std::string& name, const std::string& value_text, P* params, std:
       return false;
     }
   }
-  double* target = params->Find(name.c_str());
+  // A NUL byte would end the name early for Find ("a\0b" is not "a").
+  double* target = name.find('\0') == std::string::npos ? params->Find(name.c_str()) : nullptr;
   if (target == nullptr) {
-    *error = "no parameter '" + name + "' in the model (parameters: " + NameList<P>() + ")";
+    *error = "no parameter " + Quote(name) + " in the model (parameters: " + NameList<P>() + ")";
     return false;
   }
   double value = 0;
