@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <system_error>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -185,11 +186,16 @@ constexpr FileThatNamesItsModel kFilesThatNameTheirModel[] = {{"study", "method"
 int ResolveFileThatNamesItsModel(mechgen::ToolCommand* c) {
   for (const FileThatNamesItsModel& form : kFilesThatNameTheirModel) {
     if (c->tool != form.tool) continue;
+    // Only a regular file can be a task or study file; anything else (a directory, a device,
+    // a missing path) is left to the model reader, which says what it is (yaml-cpp's LoadFile
+    // let std::ios_base::failure out on a directory).
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(c->model_path, ec)) return 0;
     YAML::Node root;
     try {
       root = YAML::LoadFile(c->model_path);
-    } catch (const YAML::Exception&) {
-      return 0;  // not YAML: the generator says why, as for any model
+    } catch (const std::exception&) {
+      return 0;  // not YAML or not readable: the generator says why, as for any model
     }
     if (!root.IsMap() || !root[form.key]) return 0;
     const std::string file = c->model_path;
