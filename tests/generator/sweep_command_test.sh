@@ -126,6 +126,15 @@ if [ "$mode" = errors ]; then
       [ "$(wc -l < cs.err)" -eq 1 ] && [ ! -s cs.out ]; } ||
       fail "$tool --cs 1e-300 without a compiler: exit status $status, stderr $(cat cs.err)"
   done
+  # A directory where the model (or the task or study file that names it) goes: one line, no
+  # cache made (checked below).
+  mkdir -p a_dir
+  for cmd in "synthesize a_dir" "study a_dir --study a_dir" "sweep a_dir"; do
+    MECHGEN_CACHE_DIR="$root/cache_options" "$mechgen" $cmd > d.out 2> d.err
+    status=$?
+    { [ "$status" -eq 1 ] && [ "$(cat d.err)" = "a_dir: error: the path is a directory, not a model file; give the path of a .yaml file" ]; } ||
+      fail "mechgen $cmd: exit status $status, stderr $(cat d.err)"
+  done
   bare sweep fourbar.yaml --steps 0 > st.out 2> st.err
   status=$?
   { [ "$status" -eq 2 ] &&
