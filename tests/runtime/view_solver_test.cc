@@ -1,0 +1,192 @@
+// The position solver instantiated once for the model view (issue 43: PositionSolver<ViewModel>,
+// core/view_model.h) against the same source instantiated for each generated model's type:
+// assembly and a sweep of the inputs over the model's default range (kQMin..kQMax) through
+// both, every status, branch, mode and number compared to the bit. The oracle is the
+// fixed-size instantiation, which tests/runtime/model_test.cc holds against closed forms and
+// finite differences; the view's functions call the same generated code, and the runtime's
+// arithmetic on the bounded dynamic types is the fixed-size code of each size, so nothing may
+// differ, not even in the last bit. Part of model_test (no executable of its own).
+#include <cstring>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "mechgen/core/view_runtime.h"  // PositionSolver<ViewModel>: mechgen_runtime_view
+#include "mechgen/position/solver.h"
+
+#ifdef MECHGEN_HAVE_fourbar
+#include "fourbar.h"
+namespace mech::fourbar { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_slider_crank
+#include "slider_crank.h"
+namespace mech::slider_crank { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_watt_sixbar
+#include "watt_sixbar.h"
+namespace mech::watt_sixbar { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_stephenson_sixbar
+#include "stephenson_sixbar.h"
+namespace mech::stephenson_sixbar { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_fivebar
+#include "fivebar.h"
+namespace mech::fivebar { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_cam_roller
+#include "cam_roller.h"
+namespace mech::cam_roller { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_quick_return
+#include "quick_return.h"
+namespace mech::quick_return { const mechgen::ModelView& View(); }
+#endif
+
+namespace mechgen::position {
+namespace {
+
+// Same shape and the same bits in every entry (NaN included).
+template <class A, class B>
+::testing::AssertionResult SameBits(const char* what, const A& a, const B& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) {
+    return ::testing::AssertionFailure() << what << ": " << a.rows() << " x " << a.cols() << " vs " << b.rows()
+                                         << " x " << b.cols();
+  }
+  for (Eigen::Index j = 0; j < a.cols(); ++j) {
+    for (Eigen::Index i = 0; i < a.rows(); ++i) {
+      const double x = a(i, j), y = b(i, j);
+      if (std::memcmp(&x, &y, sizeof(double)) != 0) {
+        return ::testing::AssertionFailure() << what << "(" << i << ", " << j << "): " << x << " vs " << y
+                                             << " (difference " << (x - y) << ")";
+      }
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+::testing::AssertionResult SameBits(const char* what, double x, double y) {
+  if (std::memcmp(&x, &y, sizeof(double)) == 0) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << what << ": " << x << " vs " << y;
+}
+
+template <class M>
+void ExpectSameState(const State<M>& a, const State<ViewModel>& b, const std::string& where) {
+  SCOPED_TRACE(where);
+  EXPECT_EQ(a.valid, b.valid);
+  EXPECT_EQ(a.branch, b.branch);
+  EXPECT_EQ(a.sigma_exact, b.sigma_exact);
+  EXPECT_TRUE(SameBits("q", a.q, b.q));
+  EXPECT_TRUE(SameBits("phi", a.phi, b.phi));
+  EXPECT_TRUE(SameBits("K", a.K, b.K));
+  EXPECT_TRUE(SameBits("L", a.L, b.L));
+  EXPECT_TRUE(SameBits("r_P", a.r_P, b.r_P));
+  EXPECT_TRUE(SameBits("K_P", a.K_P, b.K_P));
+  EXPECT_TRUE(SameBits("L_P", a.L_P, b.L_P));
+  EXPECT_TRUE(SameBits("singular_direction", a.singular_direction, b.singular_direction));
+  EXPECT_TRUE(SameBits("largest_direction", a.largest_direction, b.largest_direction));
+  EXPECT_TRUE(SameBits("residual_norm", a.residual_norm, b.residual_norm));
+  EXPECT_TRUE(SameBits("condition", a.condition, b.condition));
+  EXPECT_TRUE(SameBits("sigma_min", a.sigma_min, b.sigma_min));
+  EXPECT_TRUE(SameBits("sigma_max", a.sigma_max, b.sigma_max));
+  EXPECT_TRUE(SameBits("phi_error", a.phi_error, b.phi_error));
+  EXPECT_TRUE(SameBits("K_error", a.K_error, b.K_error));
+  EXPECT_TRUE(SameBits("L_error", a.L_error, b.L_error));
+  EXPECT_TRUE(SameBits("inverse_norm", a.inverse_norm, b.inverse_norm));
+}
+
+void ExpectSameSummary(const Summary& a, const Summary& b, const std::string& where) {
+  SCOPED_TRACE(where);
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.substeps, b.substeps);
+  EXPECT_EQ(a.rejected_substeps, b.rejected_substeps);
+  EXPECT_EQ(a.branch, b.branch);
+  EXPECT_EQ(a.used_assembler, b.used_assembler);
+  EXPECT_STREQ(a.reason, b.reason);
+  EXPECT_TRUE(SameBits("residual_norm", a.residual_norm, b.residual_norm));
+  EXPECT_TRUE(SameBits("condition", a.condition, b.condition));
+  EXPECT_TRUE(SameBits("sigma_min", a.sigma_min, b.sigma_min));
+}
+
+// Assembly at the model's default, then 720 steps over kQMin..kQMax (every input at once) and
+// back to the middle, through PositionSolver<M> and PositionSolver<ViewModel>.
+template <class M>
+void ExpectViewSolverSame(const ModelView& view) {
+  ASSERT_TRUE(ViewCompatible(view));
+  ASSERT_EQ(view.nq, M::kNq);
+  ASSERT_EQ(view.nphi, M::kNphi);
+  PositionSolver<M> fixed;
+  PositionSolver<ViewModel> dynamic{ViewModel(view)};
+  Summary a, b;
+  EXPECT_EQ(fixed.AssembleDefault(&a), Status::kConverged);
+  EXPECT_EQ(dynamic.AssembleDefault(&b), Status::kConverged);
+  ExpectSameSummary(a, b, "assembly");
+  ExpectSameState(fixed.state(), dynamic.state(), "assembly");
+  typename PositionSolver<M>::Modes modes_a{};
+  typename PositionSolver<ViewModel>::Modes modes_b{};
+  ASSERT_EQ(fixed.modes(&modes_a), dynamic.modes(&modes_b));
+  for (int i = 0; i < static_cast<int>(modes_a.size()); ++i) EXPECT_EQ(modes_a[i], modes_b[i]) << "block " << i;
+
+  constexpr int kSteps = 720;
+  int converged = 0;
+  for (int i = 0; i <= kSteps + kSteps / 2; ++i) {
+    const double t = i <= kSteps ? double(i) / kSteps : 1.0 - double(i - kSteps) / kSteps;
+    typename ModelTypes<M>::VecQ q;
+    ModelTypes<ViewModel>::VecQ qv(view.nq);
+    for (int k = 0; k < M::kNq; ++k) {
+      q(k) = M::kQMin[k] + t * (M::kQMax[k] - M::kQMin[k]);
+      qv(k) = q(k);
+    }
+    const Status sa = fixed.MoveTo(q, &a);
+    const Status sb = dynamic.MoveTo(qv, &b);
+    EXPECT_EQ(sa, sb);
+    converged += sa == Status::kConverged;
+    const std::string where = "step " + std::to_string(i);
+    ExpectSameSummary(a, b, where);
+    ExpectSameState(fixed.state(), dynamic.state(), where);
+    if (::testing::Test::HasFailure()) return;  // the first difference says it all
+  }
+  EXPECT_GT(converged, kSteps / 2);  // a sweep, not a row of refusals
+
+  // Steps long enough to be split (Subdivide(): halves, Newton on the whole system, FindModes()
+  // again): from the middle to each end of the range and back.
+  for (int i = 0; i < 4; ++i) {
+    const double t = (i % 2 == 0) ? (i == 0 ? 0.0 : 1.0) : 0.5;
+    typename ModelTypes<M>::VecQ q;
+    ModelTypes<ViewModel>::VecQ qv(view.nq);
+    for (int k = 0; k < M::kNq; ++k) qv(k) = q(k) = M::kQMin[k] + t * (M::kQMax[k] - M::kQMin[k]);
+    EXPECT_EQ(fixed.MoveTo(q, &a), dynamic.MoveTo(qv, &b));
+    const std::string where = "jump " + std::to_string(i);
+    ExpectSameSummary(a, b, where);
+    ExpectSameState(fixed.state(), dynamic.state(), where);
+  }
+}
+
+#define MECHGEN_VIEW_SOLVER_TEST(name)                                  \
+  TEST(ViewPositionSolver, SameAsFixedSize_##name) {                    \
+    ExpectViewSolverSame<mech::name::Model>(mech::name::View());         \
+  }
+#ifdef MECHGEN_HAVE_fourbar
+MECHGEN_VIEW_SOLVER_TEST(fourbar)
+#endif
+#ifdef MECHGEN_HAVE_slider_crank
+MECHGEN_VIEW_SOLVER_TEST(slider_crank)
+#endif
+#ifdef MECHGEN_HAVE_watt_sixbar
+MECHGEN_VIEW_SOLVER_TEST(watt_sixbar)
+#endif
+#ifdef MECHGEN_HAVE_stephenson_sixbar
+MECHGEN_VIEW_SOLVER_TEST(stephenson_sixbar)
+#endif
+#ifdef MECHGEN_HAVE_fivebar
+MECHGEN_VIEW_SOLVER_TEST(fivebar)
+#endif
+#ifdef MECHGEN_HAVE_cam_roller
+MECHGEN_VIEW_SOLVER_TEST(cam_roller)
+#endif
+#ifdef MECHGEN_HAVE_quick_return
+MECHGEN_VIEW_SOLVER_TEST(quick_return)
+#endif
+
+}  // namespace
+}  // namespace mechgen::position
