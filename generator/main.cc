@@ -227,7 +227,8 @@ int main(int argc, char** argv) {
   std::string manifest;
   std::string strategy = "blocks";
 
-  CLI::App* gen = app.add_subcommand("generate", "write <name>.h and <name>.cc for a model");
+  CLI::App* gen =
+      app.add_subcommand("generate", "write <name>.h, <name>.cc and <name>_view.cc (its model view) for a model");
   gen->add_option("model", model_path, "model file (.yaml)")->required();
   gen->add_option("-o,--out-dir", out_dir, "output directory")->capture_default_str();
   gen->add_option("--name", name, "override the model's name (the C++ namespace mech::<name>)");
@@ -371,8 +372,8 @@ int main(int argc, char** argv) {
       return 2;
     }
     if (!quiet)
-      std::cout << "mechgen: " << model_path << " -> " << out_dir << "/" << p.model.name << ".{h,cc}, " << p.model.name << "_view.cc ("
-                << p.topology.loops.size() << " loop(s), mobility " << p.topology.loop_mobility
+      std::cout << "mechgen: " << model_path << " -> " << out_dir << "/" << p.model.name << ".{h,cc}, " << p.model.name
+                << "_view.cc (" << p.topology.loops.size() << " loop(s), mobility " << p.topology.loop_mobility
                 << ", EvalCoefficients " << p.emitted.Ops("EvalCoefficients").Total() << " ops) in "
                 << static_cast<int>(ms + 0.5) << " ms\n";
     if (!quiet)

@@ -269,7 +269,8 @@ FlatArgument Flatten(const Argument& a, const std::string& scalar) {
   auto array = [](const std::string& core, bool in) {
     return std::string(in ? "const " : "") + (StartsWith(core, "std::array<int,") ? "int*" : "double*");
   };
-  if (type == "const Params<double>&") return {"const double*", {"const Params<double> " + local + " = GetParams(" + n + ");"}, {}, local};
+  if (type == "const Params<double>&")
+    return {"const double*", {"const Params<double> " + local + " = GetParams(" + n + ");"}, {}, local};
   if (type == "int") return {"int", {}, {}, n};
   if (type == "const double&") return {"double", {}, {}, n};
   if (StartsWith(type, "const typename NonDeduced<") && EndsWith(type, ">::type*")) {  // an input, or nullptr
@@ -741,8 +742,8 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.SetData("view_structs", view_structs, {"struct_name", "num_members", "struct_members", "member_name", "index"});
   for (const FunctionSpec& f : functions)
     if (!f.model_member.empty()) view_functions.push_back(ViewFunction(f));
-  data.SetData("view_functions", view_functions, {"member", "returns", "indent", "args", "arg_type", "arg_name",
-                                                  "first", "lines", "line"});
+  data.SetData("view_functions", view_functions,
+               {"member", "returns", "indent", "args", "arg_type", "arg_name", "first", "lines", "line"});
   std::vector<std::map<std::string, std::string>> view_params, view_derived;
   CxxPrinter flat;  // the parameters as the view's flat array p[i]
   for (size_t i = 0; i < m.params.size(); ++i) {
@@ -755,8 +756,9 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   fill.body.emplace_back();
   for (size_t i = 0; i < m.derived.size(); ++i) {
     const DerivedParameter& d = m.derived[i];
-    view_derived.push_back({{"name", d.name},
-                            {"value", Number(ValueAtDefaults(m, d.value, d.mark, "derived parameter '" + d.name + "'"))}});
+    view_derived.push_back(
+        {{"name", d.name},
+         {"value", Number(ValueAtDefaults(m, d.value, d.mark, "derived parameter '" + d.name + "'"))}});
     fill.body[0].push_back(Store("p[" + std::to_string(m.params.size() + i) + "]", d.value));
   }
   data.SetList("view_params", view_params, {"name", "index"});

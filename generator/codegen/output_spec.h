@@ -103,6 +103,8 @@ std::vector<OutputSpec> OutputSpecs(const Model& m, const SymbolicTable& t, cons
 /// order, each named as its enumerator without the k): Coefficients and Trig (whose text the
 /// header template holds; members and presence only), then OutputSpecs. The view lays out each
 /// present member of each present struct in one buffer.
-std::vector<OutputSpec> ViewStructSpecs(const Model& m, const SymbolicTable& t, const std::vector<FunctionSpec>& functions);
+std::vector<OutputSpec> ViewStructSpecs(const Model& m,
+                                        const SymbolicTable& t,
+                                        const std::vector<FunctionSpec>& functions);
 
 }  // namespace mechgen

@@ -161,7 +161,7 @@ struct ModelView {
   static constexpr int kMaxJoints = 64;            ///< joints (25)
   static constexpr int kMaxScenePoints = 96;       ///< scene points (42)
   static constexpr int kMaxBlocks = 32;            ///< blocks of the solve order (8)
-  static constexpr int kMaxParams = 160;           ///< parameters, free and derived (53 + 16)
+  static constexpr int kMaxParams = 160;           ///< parameters, free and derived (54)
   static constexpr int kMaxReactions = 128;        ///< reaction components (58)
   static constexpr int kMaxFriction = 16;          ///< joints with Coulomb friction (4)
   static constexpr int kMaxSwitches = 16;          ///< switching items of the loads (1)
@@ -170,11 +170,12 @@ struct ModelView {
   static constexpr int kMaxTransmissionAngles = 8; ///< transmission angles (2)
   static constexpr int kMaxDrawValues = 32;        ///< EvalDrawing's values (8)
   static constexpr int kMaxAppliedLoads = 32;      ///< applied loads, springs and weights (9)
-  static constexpr int kMaxLoads = 32;             ///< the model's loads (8)
+  static constexpr int kMaxLoads = 32;             ///< the model's loads (9)
   static constexpr int kMaxNamedModes = 16;        ///< named assembly modes (0; 2 in the tests)
   static constexpr int kMaxChangePoints = 16;      ///< change points in the inputs' ranges (0)
-  /// Doubles in each struct's buffer (ViewStruct order), every member of it at the maxima above
-  /// but the design derivatives', bounded by 4 times the largest shipped buffer (in the comment).
+  /// Doubles in each struct's buffer (ViewStruct order): every member at the maxima above, but
+  /// for RhsConstants and the design derivatives (whose product of maxima would be 260 kB of
+  /// DesignDerivatives), about ten times the largest shipped buffer (in the comment).
   static constexpr int kMaxStructSize[static_cast<int>(ViewStruct::kCount)] = {
       // Coefficients: Phi, Phi_phi, K, L, r_P, K_P, L_P
       kMaxPhi + kMaxPhi * kMaxPhi + kMaxPhi * kMaxQ * (1 + kMaxQ) + 2 * kMaxPoints * (1 + kMaxQ + kMaxQ * kMaxQ),
@@ -191,10 +192,10 @@ struct ModelView {
       kMaxPhi * kMaxQ * (1 + kMaxQ) + kMaxPhi * kMaxPhi,
       // Rhs: K, I, h, Q, T, V, P_nc, Phi_phi
       kMaxPhi * kMaxQ + kMaxQ * kMaxQ + 2 * kMaxQ + 3 + kMaxPhi * kMaxPhi,
-      1024,   // RhsConstants: c (24)
-      16384,  // DesignDerivatives (3,000: watt_sixbar)
-      2048,   // StaticsDesign (410: engine_single)
-      1024,   // DynamicsDesign (24: engine_single)
+      256,   // RhsConstants: c (24: fivebar_robot)
+      2048,  // DesignDerivatives (200: watt_sixbar)
+      1024,  // StaticsDesign (88: fourbar_loaded)
+      512,   // DynamicsDesign (42: engine_single)
   };
 
   // ---- Identity ----
@@ -343,3 +344,10 @@ inline void DefaultParameters(const ModelView& view, double* p) {
 }
 
 }  // namespace mechgen
+
+/// Declares mech::<name>::View(), defined in the generated <name>_view.cc (the generated header
+/// does not declare it, so that a product that does not compile the view is unchanged).
+#define MECHGEN_DECLARE_MODEL_VIEW(name) \
+  namespace mech::name {                 \
+  const ::mechgen::ModelView& View();    \
+  }
