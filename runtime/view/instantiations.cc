@@ -9,6 +9,16 @@
 
 #include "mechgen/core/view_runtime.h"
 
-namespace mechgen::position {
+namespace mechgen {
+namespace position {
 template class PositionSolver<ViewModel, NewtonAssembler>;
-}  // namespace mechgen::position
+template void ComputeMotion<ViewModel>(const State<ViewModel>&, const ModelTypes<ViewModel>::VecQ&,
+                                       const ModelTypes<ViewModel>::VecQ&, Motion<ViewModel>*);
+}  // namespace position
+
+template int SweepRows<ViewModel, position::NewtonAssembler, ViewRowFn&>(
+    ViewPositionSolver*, const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecQ&, int,
+    const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecQ&, const SweepOptions&, ViewRowFn&);
+template std::vector<SweepColumn<ViewModel>> SweepColumns<ViewModel>(const ViewModel&);
+template class MotionSummaryBuilder<ViewModel>;
+}  // namespace mechgen

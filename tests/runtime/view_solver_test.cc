@@ -6,13 +6,19 @@
 // finite differences; the view's functions call the same generated code, and the runtime's
 // arithmetic on the bounded dynamic types is the fixed-size code of each size, so nothing may
 // differ, not even in the last bit. Part of model_test (no executable of its own).
+#include <algorithm>
 #include <cstring>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "mechgen/core/view_runtime.h"  // PositionSolver<ViewModel>: mechgen_runtime_view
 #include "mechgen/position/solver.h"
+#include "mechgen/sweep/columns.h"
+#include "mechgen/sweep/motion_summary.h"
+#include "mechgen/sweep/sweep.h"
 
 #ifdef MECHGEN_HAVE_fourbar
 #include "fourbar.h"
@@ -162,9 +168,69 @@ void ExpectViewSolverSame(const ModelView& view) {
   }
 }
 
+// The sweep (SweepRows, its columns, the CSV writer, the motion summary) of the model's default
+// range in 360 steps at qd = 1, qdd = 0.5 through both instantiations: the same CSV bytes and
+// the same motion summary.
+template <class M>
+void ExpectViewSweepSame(const ModelView& view) {
+  using TM = ModelTypes<M>;
+  using TV = ModelTypes<ViewModel>;
+  const ViewModel model(view);
+  PositionSolver<M> fixed;
+  ViewPositionSolver dynamic(model);
+  ASSERT_EQ(fixed.AssembleDefault(nullptr), Status::kConverged);
+  ASSERT_EQ(dynamic.AssembleDefault(nullptr), Status::kConverged);
+  const typename TM::VecQ q0 = Eigen::Map<const typename TM::VecQ>(M::kQMin.data());
+  const typename TM::VecQ q1 = Eigen::Map<const typename TM::VecQ>(M::kQMax.data());
+  const typename TV::VecQ v0 = Eigen::Map<const TV::VecQ>(view.q_min, view.nq);
+  const typename TV::VecQ v1 = Eigen::Map<const TV::VecQ>(view.q_max, view.nq);
+  constexpr int kSteps = 360;
+  const auto fixed_columns = SweepColumns<M>();
+  const auto view_columns = SweepColumns<ViewModel>(model);
+  ASSERT_EQ(table::ColumnNames(fixed_columns), table::ColumnNames(view_columns));
+  std::ostringstream fixed_csv, view_csv;
+  const CsvOptions about = Described(CsvAbout(std::string(M::kName) + "_sweep", M::kName, "kinematic sweep", kSweepSigns));
+  WriteCsvHeader(fixed_columns, fixed_csv, about);
+  WriteCsvHeader(view_columns, view_csv, about);
+  MotionSummaryBuilder<M> fixed_summary(q0(0), q1(0));
+  MotionSummaryBuilder<ViewModel> view_summary(v0(0), v1(0), model);
+  const int fixed_failures = SweepRows(&fixed, q0, q1, kSteps, TM::VecQ::Constant(1.0), TM::VecQ::Constant(0.5),
+                                       SweepOptions(), [&](int, const SweepRecord<M>& r) {
+                                         WriteCsvRow(fixed_columns, r, fixed_csv);
+                                         fixed_summary.Add(r);
+                                       });
+  ViewRowFn row = [&](int, const SweepRecord<ViewModel>& r) {
+    WriteCsvRow(view_columns, r, view_csv);
+    view_summary.Add(r);
+  };
+  const int view_failures = SweepRows(&dynamic, v0, v1, kSteps, TV::VecQ::Constant(view.nq, 1.0),
+                                      TV::VecQ::Constant(view.nq, 0.5), SweepOptions(), row);
+  EXPECT_EQ(fixed_failures, view_failures);
+  const std::string a = fixed_csv.str(), b = view_csv.str();
+  EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), std::count(b.begin(), b.end(), '\n'));
+  EXPECT_GT(std::count(a.begin(), a.end(), '\n'), kSteps);
+  if (a != b) {  // the first line that differs
+    std::istringstream sa(a), sb(b);
+    std::string la, lb;
+    while (std::getline(sa, la) && std::getline(sb, lb) && la == lb) {
+    }
+    ADD_FAILURE() << "the CSVs differ:\n" << la << "\n" << lb;
+  }
+  std::ostringstream fixed_text, view_text;
+  PrintMotionSummary(fixed_summary.Finish(), fixed_text);
+  PrintMotionSummary(view_summary.Finish(), view_text);
+  EXPECT_EQ(fixed_text.str(), view_text.str());
+  if (M::kNq == 1) {
+    EXPECT_NE(fixed_text.str().find("motion summary"), std::string::npos);
+  }
+}
+
 #define MECHGEN_VIEW_SOLVER_TEST(name)                                  \
   TEST(ViewPositionSolver, SameAsFixedSize_##name) {                    \
     ExpectViewSolverSame<mech::name::Model>(mech::name::View());         \
+  }                                                                     \
+  TEST(ViewSweep, SameCsvAsFixedSize_##name) {                          \
+    ExpectViewSweepSame<mech::name::Model>(mech::name::View());          \
   }
 #ifdef MECHGEN_HAVE_fourbar
 MECHGEN_VIEW_SOLVER_TEST(fourbar)

@@ -95,6 +95,16 @@ struct ModelCalls {
     }
   }
   static typename T::Params DefaultParams(const M&) { return typename T::Params(); }
+  static constexpr const char* Name(const M&) { return M::kName; }
+  static const char* QName(const M&, int j) { return M::kQNames[static_cast<size_t>(j)]; }
+  static const char* PhiName(const M&, int i) { return M::kPhiNames[static_cast<size_t>(i)]; }
+  static const char* PointName(const M&, int p) { return M::kPointNames[static_cast<size_t>(p)]; }
+  static constexpr int NumTransmissionAngles(const M&) { return F::kNumTransmissionAngles; }
+  static const char* TransmissionJoint(const M&, int t) {
+    if constexpr (F::kNumTransmissionAngles > 0) return M::kTransmissionJoints[static_cast<size_t>(t)];
+    (void)t;
+    return "";
+  }
 
   // What M has (ModelFeatures<M>, constant here).
   static constexpr bool HasK(const M&) { return F::kHasK; }
@@ -124,6 +134,16 @@ struct ModelCalls {
     } else {
       (void)trig;
       M::template Coeffs<double>(p, q, phi, c);
+    }
+  }
+  /// Model::TransmissionAngles (nothing for a model without them).
+  template <class Mu>
+  static void TransmissionAngles(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                                 const typename T::VecPhi& phi, Mu* mu) {
+    if constexpr (F::kNumTransmissionAngles > 0) {
+      M::TransmissionAngles(p, q, phi, mu);
+    } else {
+      (void)p, (void)q, (void)phi, (void)mu;
     }
   }
   /// Model::Solve on modes; hands out trig where M has it (trig may be nullptr otherwise).

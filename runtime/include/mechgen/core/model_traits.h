@@ -34,6 +34,7 @@ struct ModelTypes {
   /// The bounds of the sizes (ModelTypes<ViewModel>: the view's maxima; here the sizes).
   static constexpr int kMaxQ = kNq;
   static constexpr int kMaxPhi = kNphi;
+  static constexpr int kMaxPoints = kNumPoints;
 
   using ScalarType = Scalar;
   using Params = typename M::template ParamsT<Scalar>;

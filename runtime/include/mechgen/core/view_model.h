@@ -163,6 +163,12 @@ template <>
 struct BlockCount<ViewModel, true> {
   static constexpr int value = ModelView::kMaxBlocks;
 };
+/// The view's design derivatives are not reached by the runtime instantiated for it yet (the
+/// sweep's --design): none.
+template <>
+struct DesignDerivativesOf<ViewModel, true> {
+  using type = NoDesignDerivatives;
+};
 }  // namespace internal
 
 template <>
@@ -194,6 +200,17 @@ struct ModelCalls<ViewModel> {
     DefaultParameters(*m.view, p.data());
     return p;
   }
+
+  static const char* Name(const M& m) { return m.view->name; }
+  static const char* QName(const M& m, int j) { return m.view->q_names[j]; }
+  static const char* PhiName(const M& m, int i) { return m.view->phi_names[i]; }
+  static const char* PointName(const M& m, int p) { return m.view->point_names[p]; }
+  static int NumTransmissionAngles(const M& m) {
+    return m.view->flags.kHasTransmissionAngles && m.view->TransmissionAngles != nullptr
+               ? m.view->num_transmission_angles
+               : 0;
+  }
+  static const char* TransmissionJoint(const M& m, int t) { return m.view->transmission_joints[t]; }
 
   static bool HasK(const M& m) { return m.view->flags.kHasK; }
   static bool HasL(const M& m) { return m.view->flags.kHasL; }
@@ -240,6 +257,12 @@ struct ModelCalls<ViewModel> {
     get(l.r_P, &c->r_P, 2, np);
     get(l.K_P, &c->K_P, 2 * np, nq);
     get(l.L_P, &c->L_P, 2 * np, nq * nq);
+  }
+  template <class Mu>
+  static void TransmissionAngles(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, Mu* mu) {
+    const int n = NumTransmissionAngles(m);
+    mu->resize(n);
+    if (n > 0) m.view->TransmissionAngles(p.data(), q.data(), phi.data(), mu->data());
   }
   static ViewSolveReport Solve(const M& m, const ViewParams& p, const T::VecQ& q, T::VecPhi* phi,
                                const Modes& modes, int max_iterations, double tolerance, Trig* trig = nullptr) {
