@@ -7,14 +7,19 @@
 // arithmetic on the bounded dynamic types is the fixed-size code of each size, so nothing may
 // differ, not even in the last bit. Part of model_test (no executable of its own).
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "mechgen/core/view_runtime.h"  // PositionSolver<ViewModel>: mechgen_runtime_view
+#include "mechgen/core/view_runtime.h"
+#include "sweep_run.h"  // runtime/tools: RunSweep, the sweep command's model-dependent part  // PositionSolver<ViewModel>: mechgen_runtime_view
 #include "mechgen/position/solver.h"
 #include "mechgen/sweep/columns.h"
 #include "mechgen/sweep/motion_summary.h"
@@ -224,6 +229,68 @@ void ExpectViewSweepSame(const ModelView& view) {
     EXPECT_NE(fixed_text.str().find("motion summary"), std::string::npos);
   }
 }
+
+// The whole sweep command through the view (sweep_run.h's RunSweep<ViewModel>, the runtime in
+// mechgen_runtime_view) against the per-model tool build/models/<name>_sweep
+// (RunSweep<Model, CeresAssembler>): the same CSV file, byte for byte, for the default sweep and
+// for a range with input speed and acceleration.
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+void ExpectViewToolSame(const ModelView& view, const std::string& tool, const std::vector<std::string>& options) {
+  const std::string dir = ::testing::TempDir();
+  const std::string fixed_csv = dir + "view_tool_" + view.name + "_fixed.csv";
+  const std::string view_csv = dir + "view_tool_" + view.name + "_view.csv";
+  std::remove(fixed_csv.c_str());
+  std::remove(view_csv.c_str());
+  std::string command = "'" + tool + "' --table 0 --csv '" + fixed_csv + "'";
+  sweep_tool::Arguments arguments;
+  arguments.tool = std::string(view.name) + "_sweep_view";
+  arguments.table = 0;
+  arguments.csv_path = view_csv;
+  for (size_t i = 0; i < options.size(); i += 2) {
+    command += " " + options[i] + " " + options[i + 1];
+    if (options[i] == "--steps") arguments.steps = std::stoll(options[i + 1]);
+    if (options[i] == "--range") arguments.ranges.push_back(options[i + 1]);
+    if (options[i] == "--qd") arguments.qd_text.push_back(options[i + 1]);
+    if (options[i] == "--qdd") arguments.qdd_text.push_back(options[i + 1]);
+  }
+  command += " > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  ASSERT_EQ(sweep_tool::RunSweep(ViewModel(view), arguments), sweep_tool::kExitConverged);
+  const std::string a = ReadFile(fixed_csv), b = ReadFile(view_csv);
+  EXPECT_GT(a.size(), 1000u);
+  EXPECT_TRUE(a == b) << fixed_csv << " and " << view_csv << " differ";
+}
+// What the view does not do yet is refused before anything is written (exit 2).
+TEST(ViewSweepTool, RefusesWhatTheViewLacks) {
+#ifdef MECHGEN_HAVE_fourbar
+  const std::string csv = ::testing::TempDir() + "view_tool_refused.csv";
+  std::remove(csv.c_str());
+  sweep_tool::Arguments arguments;
+  arguments.csv_path = csv;
+  arguments.svg_path = ::testing::TempDir() + "view_tool_refused.svg";
+  EXPECT_EQ(sweep_tool::RunSweep(ViewModel(mech::fourbar::View()), arguments), sweep_tool::kExitUsage);
+  arguments.svg_path.clear();
+  arguments.params.sets.push_back("a=1");
+  EXPECT_EQ(sweep_tool::RunSweep(ViewModel(mech::fourbar::View()), arguments), sweep_tool::kExitUsage);
+  EXPECT_FALSE(std::ifstream(csv).good());
+#endif
+}
+#if defined(MECHGEN_HAVE_fourbar) && defined(MECHGEN_FOURBAR_SWEEP)
+TEST(ViewSweepTool, SameCsvAsTheToolFourbar) {
+  ExpectViewToolSame(mech::fourbar::View(), MECHGEN_FOURBAR_SWEEP, {});
+  ExpectViewToolSame(mech::fourbar::View(), MECHGEN_FOURBAR_SWEEP,
+                     {"--steps", "100", "--range", "theta_crank:10deg:200deg", "--qd", "3", "--qdd", "-2"});
+}
+#endif
+#if defined(MECHGEN_HAVE_slider_crank) && defined(MECHGEN_SLIDER_CRANK_SWEEP)
+TEST(ViewSweepTool, SameCsvAsTheToolSliderCrank) {
+  ExpectViewToolSame(mech::slider_crank::View(), MECHGEN_SLIDER_CRANK_SWEEP, {});
+  ExpectViewToolSame(mech::slider_crank::View(), MECHGEN_SLIDER_CRANK_SWEEP, {"--steps", "77", "--qd", "2"});
+}
+#endif
 
 #define MECHGEN_VIEW_SOLVER_TEST(name)                                  \
   TEST(ViewPositionSolver, SameAsFixedSize_##name) {                    \

@@ -81,6 +81,8 @@ struct ModelCalls {
   static constexpr bool QIsAngle(const M&, int i) { return M::kQIsAngle[static_cast<size_t>(i)]; }
   static constexpr bool PhiIsAngle(const M&, int i) { return M::kPhiIsAngle[static_cast<size_t>(i)]; }
   static const double* AssemblyQ(const M&) { return M::kAssemblyQ.data(); }
+  static const double* QMin(const M&) { return M::kQMin.data(); }
+  static const double* QMax(const M&) { return M::kQMax.data(); }
   static const double* AssemblyPhi(const M&) { return M::kAssemblyPhi.data(); }
   static constexpr bool BlockClosedForm(const M&, int b) {
     if constexpr (F::kHasSolve) return M::kBlockClosedForm[static_cast<size_t>(b)];

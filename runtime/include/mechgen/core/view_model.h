@@ -187,6 +187,8 @@ struct ModelCalls<ViewModel> {
   static bool QIsAngle(const M& m, int i) { return m.view->q_is_angle[i]; }
   static bool PhiIsAngle(const M& m, int i) { return m.view->phi_is_angle[i]; }
   static const double* AssemblyQ(const M& m) { return m.view->assembly_q; }
+  static const double* QMin(const M& m) { return m.view->q_min; }
+  static const double* QMax(const M& m) { return m.view->q_max; }
   static const double* AssemblyPhi(const M& m) { return m.view->assembly_phi; }
   static bool BlockClosedForm(const M& m, int b) { return HasSolve(m) && m.view->block_closed_form[b]; }
   static Modes DefaultModes(const M& m) {
