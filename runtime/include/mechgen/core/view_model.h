@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <new>
 
 #include <Eigen/Core>
 
@@ -116,16 +117,17 @@ struct ModelTypes<ViewModel, Scalar> {
   using MatKP = Eigen::Matrix<double, D, D, 0, 2 * kMaxPoints, kMaxQ>;
   using MatLP = Eigen::Matrix<double, D, D, 0, 2 * kMaxPoints, kMaxQ * kMaxQ>;
   using MatScene = Eigen::Matrix<double, 2, D, 0, 2, kMaxScenePoints>;
-  /// The generated Coefficients, member for member, at the view's sizes (a member the model
-  /// lacks stays empty).
+  /// The generated Coefficients: the view's buffer, and each member a map of it at the view's
+  /// sizes (set by ModelCalls<ViewModel>::Coeffs; empty where the model lacks the member). Not
+  /// copyable: the maps point into the object's own buffer.
   struct Coefficients {
-    VecC Phi;
-    MatCPhi Phi_phi;
-    MatK K;
-    MatL L;
-    MatRP r_P;
-    MatKP K_P;
-    MatLP L_P;
+    using Map = Eigen::Map<const Eigen::MatrixXd>;
+    Coefficients() = default;
+    Coefficients(const Coefficients&) = delete;
+    Coefficients& operator=(const Coefficients&) = delete;
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kCoefficients)]> buffer;
+    Map Phi{nullptr, 0, 1}, Phi_phi{nullptr, 0, 0}, K{nullptr, 0, 0}, L{nullptr, 0, 0}, r_P{nullptr, 2, 0},
+        K_P{nullptr, 0, 0}, L_P{nullptr, 0, 0};
   };
 };
 
@@ -243,14 +245,13 @@ struct ModelCalls<ViewModel> {
                      T::Coefficients* c, const Trig* trig = nullptr) {
     const ModelView& v = *m.view;
     const ViewModel::CoefficientsLayout& l = m.coefficients;
-    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kCoefficients)]> buffer;
-    std::fill_n(buffer.data(), l.size, 0.0);
-    v.Coeffs(p.data(), q.data(), phi.data(), buffer.data(),
-             trig != nullptr && HasTrig(m) ? trig->buffer.data() : nullptr);
+    double* const buffer = c->buffer.data();
+    std::fill_n(buffer, l.size, 0.0);  // (the view's function reads what it does not write)
+    v.Coeffs(p.data(), q.data(), phi.data(), buffer, trig != nullptr && HasTrig(m) ? trig->buffer.data() : nullptr);
     const int nq = v.nq, nphi = v.nphi, np = v.num_points;
-    auto get = [&buffer](int offset, auto* x, int rows, int cols) {
-      if (offset < 0) return;
-      *x = Eigen::Map<const Eigen::MatrixXd>(buffer.data() + offset, rows, cols);
+    using Map = T::Coefficients::Map;
+    auto get = [buffer](int offset, Map* x, int rows, int cols) {
+      if (offset >= 0) new (x) Map(buffer + offset, rows, cols);  // (a Map is trivially destructible)
     };
     get(l.Phi, &c->Phi, v.nc, 1);
     get(l.Phi_phi, &c->Phi_phi, v.nc, nphi);

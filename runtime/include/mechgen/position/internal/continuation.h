@@ -61,7 +61,12 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
         Calls::Coeffs(model_, params_, q, phi, &c, trig);
         residual = internal::MaxAbsDiff(c.Phi);
         if (!(residual <= options_.tolerance)) return false;
-        Phi_phi = &c.Phi_phi;
+        if constexpr (Calls::kView) {  // (a map of the view's buffer)
+          A = c.Phi_phi;
+          Phi_phi = &A;
+        } else {
+          Phi_phi = &c.Phi_phi;
+        }
         have_coefficients = true;
         from_coeffs = true;
       }
