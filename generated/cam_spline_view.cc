@@ -58,8 +58,8 @@ template <int R, int C, int O, int MR, int MC>
 void Put(const Eigen::Matrix<double, R, C, O, MR, MC>& m, double* b) {
   for (int i = 0; i < R * C; ++i) b[i] = m.data()[i];
 }
-void Get(const double* b, double* x) { *x = *b; }
-void Put(const double& x, double* b) { *b = x; }
+[[maybe_unused]] void Get(const double* b, double* x) { *x = *b; }
+[[maybe_unused]] void Put(const double& x, double* b) { *b = x; }
 template <class T, std::size_t N>
 void Get(const T* b, std::array<T, N>* a) {
   for (std::size_t i = 0; i < N; ++i) (*a)[i] = b[i];
@@ -76,7 +76,7 @@ constexpr std::array<T, N * M> Flat(const std::array<std::array<T, M>, N>& a) {
   return flat;
 }
 
-mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
+[[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
   out.status = static_cast<mechgen::ViewSolveStatus>(static_cast<int>(r.status));
   out.block = r.block;
@@ -105,9 +105,7 @@ constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers = Packed<7>({ 
     Member<decltype(Coefficients<double>::L_P)>("L_P"),
 } });
 constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
-static_assert(kCoefficientsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kCoefficients)],
-              "Coefficients exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Coefficients<double>* s) {
+[[maybe_unused]] void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[0].offset, &s->Phi);
   Get(b + kCoefficientsMembers[1].offset, &s->Phi_phi);
   Get(b + kCoefficientsMembers[2].offset, &s->K);
@@ -116,7 +114,7 @@ void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[5].offset, &s->K_P);
   Get(b + kCoefficientsMembers[6].offset, &s->L_P);
 }
-void Put(const Coefficients<double>& s, double* b) {
+[[maybe_unused]] void Put(const Coefficients<double>& s, double* b) {
   Put(s.Phi, b + kCoefficientsMembers[0].offset);
   Put(s.Phi_phi, b + kCoefficientsMembers[1].offset);
   Put(s.K, b + kCoefficientsMembers[2].offset);
@@ -133,15 +131,13 @@ constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
     Member<decltype(Trig<double>::cos_phi)>("cos_phi"),
 } });
 constexpr int kTrigSize = PackedSize(kTrigMembers);
-static_assert(kTrigSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kTrig)],
-              "Trig exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Trig<double>* s) {
+[[maybe_unused]] void Get(const double* b, Trig<double>* s) {
   Get(b + kTrigMembers[0].offset, &s->sin_q);
   Get(b + kTrigMembers[1].offset, &s->cos_q);
   Get(b + kTrigMembers[2].offset, &s->sin_phi);
   Get(b + kTrigMembers[3].offset, &s->cos_phi);
 }
-void Put(const Trig<double>& s, double* b) {
+[[maybe_unused]] void Put(const Trig<double>& s, double* b) {
   Put(s.sin_q, b + kTrigMembers[0].offset);
   Put(s.cos_q, b + kTrigMembers[1].offset);
   Put(s.sin_phi, b + kTrigMembers[2].offset);
@@ -149,7 +145,7 @@ void Put(const Trig<double>& s, double* b) {
 }
 
 // ---- Parameters: the free ones (Params members), then the derived ones ----
-Params<double> GetParams(const double* v) {
+[[maybe_unused]] Params<double> GetParams(const double* v) {
   Params<double> p;
   p.rr = v[0];
   (void)v;
@@ -166,7 +162,8 @@ constexpr std::array<mechgen::ViewParameter, 1> kParameters{ {
     {"rr", kDefaults.rr, false},
 } };
 
-// ---- Model's functions on flat arrays ----
+// ---- Model's functions on flat arrays (templates: compiled only for a model within the maxima) ----
+template <int = 0>
 void FlatPhi(const double* p,
              const double* q,
              const double* phi,
@@ -195,6 +192,7 @@ void FlatPhi(const double* p,
   if (Phi_q != nullptr) Put(Phi_q_, Phi_q);
 }
 
+template <int = 0>
 void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
@@ -213,6 +211,7 @@ void FlatCoeffs(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
@@ -228,6 +227,7 @@ void FlatDetPhiPhi(const double* p,
   if (det_Phi_phi != nullptr) Put(det_Phi_phi_, det_Phi_phi);
 }
 
+template <int = 0>
 mechgen::ViewSolveReport FlatSolve(const double* p,
                                    const double* q,
                                    double* phi_io,
@@ -256,6 +256,7 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   return Report(report);
 }
 
+template <int = 0>
 void FlatScene(const double* p,
                const double* q,
                const double* phi,
@@ -271,6 +272,7 @@ void FlatScene(const double* p,
   if (r != nullptr) Put(r_, r);
 }
 
+template <int = 0>
 void FlatDrawing(const double* p,
                  const double* q,
                  const double* phi,
@@ -294,6 +296,7 @@ void FlatDrawing(const double* p,
   if (values != nullptr) Put(values_, values);
 }
 
+template <int = 0>
 void FlatCamProfile(const double* p,
                     int joint,
                     double t,
@@ -309,26 +312,31 @@ void FlatCamProfile(const double* p,
 constexpr std::array<const char*, 3> kViewJointNames{ "O", "slide", "contact" };
 constexpr std::array<const char*, 0> kViewLoadNames{  };
 
-// ---- The model's fit into the maxima of a runtime compiled once ----
-static_assert(Model::kNq <= mechgen::ModelView::kMaxQ && Model::kNphi <= mechgen::ModelView::kMaxPhi &&
-                  Model::kNc <= mechgen::ModelView::kMaxPhi && Model::kNumPoints <= mechgen::ModelView::kMaxPoints &&
-                  Model::kNumLinks <= mechgen::ModelView::kMaxLinks &&
-                  3 <= mechgen::ModelView::kMaxJoints &&
-                  Model::kNumScenePoints <= mechgen::ModelView::kMaxScenePoints &&
-                  Model::kNumBlocks <= mechgen::ModelView::kMaxBlocks &&
-                  Model::kNumTransmissionAngles <= mechgen::ModelView::kMaxTransmissionAngles &&
-                  1 <= mechgen::ModelView::kMaxParams &&
-                  0 <= mechgen::ModelView::kMaxLoads,
-              "cam_spline exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
-static_assert(Model::kNumDrawValues <= mechgen::ModelView::kMaxDrawValues &&
-                  Model::kNumDrawJoints <= mechgen::ModelView::kMaxJoints,
-              "cam_spline exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
+// ---- The model's fit into the maxima of a runtime compiled once (ModelView::fits_maxima) ----
+constexpr bool kFitsMaxima =
+    Model::kNq <= mechgen::ModelView::kMaxQ && Model::kNphi <= mechgen::ModelView::kMaxPhi &&
+    Model::kNc <= mechgen::ModelView::kMaxPhi && Model::kNumPoints <= mechgen::ModelView::kMaxPoints &&
+    Model::kNumLinks <= mechgen::ModelView::kMaxLinks && 3 <= mechgen::ModelView::kMaxJoints &&
+    Model::kNumScenePoints <= mechgen::ModelView::kMaxScenePoints && Model::kNumBlocks <= mechgen::ModelView::kMaxBlocks &&
+    Model::kNumTransmissionAngles <= mechgen::ModelView::kMaxTransmissionAngles &&
+    1 <= mechgen::ModelView::kMaxParams && 0 <= mechgen::ModelView::kMaxLoads &&
+    Model::kNumDrawValues <= mechgen::ModelView::kMaxDrawValues && Model::kNumDrawJoints <= mechgen::ModelView::kMaxJoints &&
+    kCoefficientsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kCoefficients)] &&
+    kTrigSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kTrig)];
+// A model larger than the maxima keeps its view (and its fixed-size functions): only the runtime
+// compiled once, which loads a model through the entry point, refuses it, here at its compile.
+#ifdef MECHGEN_VIEW_ENTRY
+static_assert(kFitsMaxima, "cam_spline exceeds the maxima of mechgen::ModelView (mechgen/core/model_view.h)");
+#endif
+
+template <bool kFits>
 constexpr mechgen::ModelView MakeView() {
   mechgen::ModelView v{};
   v.layout = mechgen::kModelViewLayout;
   v.size = static_cast<int>(sizeof(mechgen::ModelView));
   v.name = Model::kName;
   v.version = "0.1.0";
+  v.fits_maxima = kFitsMaxima;
   v.nq = Model::kNq;
   v.nphi = Model::kNphi;
   v.nc = Model::kNc;
@@ -407,17 +415,21 @@ constexpr mechgen::ModelView MakeView() {
       {"Coefficients", kCoefficientsSize, 7, kCoefficientsMembers.data()};
   v.structs[static_cast<int>(mechgen::ViewStruct::kTrig)] =
       {"Trig", kTrigSize, 4, kTrigMembers.data()};
-  v.Phi = &FlatPhi;
-  v.Coeffs = &FlatCoeffs;
-  v.DetPhiPhi = &FlatDetPhiPhi;
-  v.Solve = &FlatSolve;
-  v.Scene = &FlatScene;
-  v.Drawing = &FlatDrawing;
-  v.CamProfile = &FlatCamProfile;
+  // The functions where the model fits the maxima (a larger model's fixed-size types, copied
+  // onto the stack here, could exceed Eigen's limit of a fixed-size object).
+  if constexpr (kFits) {
+    v.Phi = &FlatPhi<>;
+    v.Coeffs = &FlatCoeffs<>;
+    v.DetPhiPhi = &FlatDetPhiPhi<>;
+    v.Solve = &FlatSolve<>;
+    v.Scene = &FlatScene<>;
+    v.Drawing = &FlatDrawing<>;
+    v.CamProfile = &FlatCamProfile<>;
+  }
   return v;
 }
 
-constexpr mechgen::ModelView kView = MakeView();
+constexpr mechgen::ModelView kView = MakeView<kFitsMaxima>();
 
 }  // namespace
 

@@ -58,8 +58,8 @@ template <int R, int C, int O, int MR, int MC>
 void Put(const Eigen::Matrix<double, R, C, O, MR, MC>& m, double* b) {
   for (int i = 0; i < R * C; ++i) b[i] = m.data()[i];
 }
-void Get(const double* b, double* x) { *x = *b; }
-void Put(const double& x, double* b) { *b = x; }
+[[maybe_unused]] void Get(const double* b, double* x) { *x = *b; }
+[[maybe_unused]] void Put(const double& x, double* b) { *b = x; }
 template <class T, std::size_t N>
 void Get(const T* b, std::array<T, N>* a) {
   for (std::size_t i = 0; i < N; ++i) (*a)[i] = b[i];
@@ -76,7 +76,7 @@ constexpr std::array<T, N * M> Flat(const std::array<std::array<T, M>, N>& a) {
   return flat;
 }
 
-mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
+[[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
   out.status = static_cast<mechgen::ViewSolveStatus>(static_cast<int>(r.status));
   out.block = r.block;
@@ -105,9 +105,7 @@ constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers = Packed<7>({ 
     Member<decltype(Coefficients<double>::L_P)>("L_P"),
 } });
 constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
-static_assert(kCoefficientsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kCoefficients)],
-              "Coefficients exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Coefficients<double>* s) {
+[[maybe_unused]] void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[0].offset, &s->Phi);
   Get(b + kCoefficientsMembers[1].offset, &s->Phi_phi);
   Get(b + kCoefficientsMembers[2].offset, &s->K);
@@ -116,7 +114,7 @@ void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[5].offset, &s->K_P);
   Get(b + kCoefficientsMembers[6].offset, &s->L_P);
 }
-void Put(const Coefficients<double>& s, double* b) {
+[[maybe_unused]] void Put(const Coefficients<double>& s, double* b) {
   Put(s.Phi, b + kCoefficientsMembers[0].offset);
   Put(s.Phi_phi, b + kCoefficientsMembers[1].offset);
   Put(s.K, b + kCoefficientsMembers[2].offset);
@@ -133,15 +131,13 @@ constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
     Member<decltype(Trig<double>::cos_phi)>("cos_phi"),
 } });
 constexpr int kTrigSize = PackedSize(kTrigMembers);
-static_assert(kTrigSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kTrig)],
-              "Trig exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Trig<double>* s) {
+[[maybe_unused]] void Get(const double* b, Trig<double>* s) {
   Get(b + kTrigMembers[0].offset, &s->sin_q);
   Get(b + kTrigMembers[1].offset, &s->cos_q);
   Get(b + kTrigMembers[2].offset, &s->sin_phi);
   Get(b + kTrigMembers[3].offset, &s->cos_phi);
 }
-void Put(const Trig<double>& s, double* b) {
+[[maybe_unused]] void Put(const Trig<double>& s, double* b) {
   Put(s.sin_q, b + kTrigMembers[0].offset);
   Put(s.cos_q, b + kTrigMembers[1].offset);
   Put(s.sin_phi, b + kTrigMembers[2].offset);
@@ -154,21 +150,19 @@ constexpr std::array<mechgen::ViewMember, 3> kKinematicsMembers = Packed<3>({ {
     Member<decltype(Kinematics<double>::Phi_phi)>("Phi_phi"),
 } });
 constexpr int kKinematicsSize = PackedSize(kKinematicsMembers);
-static_assert(kKinematicsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kKinematics)],
-              "Kinematics exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Kinematics<double>* s) {
+[[maybe_unused]] void Get(const double* b, Kinematics<double>* s) {
   Get(b + kKinematicsMembers[0].offset, &s->K);
   Get(b + kKinematicsMembers[1].offset, &s->L);
   Get(b + kKinematicsMembers[2].offset, &s->Phi_phi);
 }
-void Put(const Kinematics<double>& s, double* b) {
+[[maybe_unused]] void Put(const Kinematics<double>& s, double* b) {
   Put(s.K, b + kKinematicsMembers[0].offset);
   Put(s.L, b + kKinematicsMembers[1].offset);
   Put(s.Phi_phi, b + kKinematicsMembers[2].offset);
 }
 
 // ---- Parameters: the free ones (Params members), then the derived ones ----
-Params<double> GetParams(const double* v) {
+[[maybe_unused]] Params<double> GetParams(const double* v) {
   Params<double> p;
   p.f = v[0];
   p.a1 = v[1];
@@ -193,7 +187,8 @@ constexpr std::array<mechgen::ViewParameter, 5> kParameters{ {
     {"a4", kDefaults.a4, false},
 } };
 
-// ---- Model's functions on flat arrays ----
+// ---- Model's functions on flat arrays (templates: compiled only for a model within the maxima) ----
+template <int = 0>
 void FlatPhi(const double* p,
              const double* q,
              const double* phi,
@@ -222,6 +217,7 @@ void FlatPhi(const double* p,
   if (Phi_q != nullptr) Put(Phi_q_, Phi_q);
 }
 
+template <int = 0>
 void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
@@ -240,6 +236,7 @@ void FlatCoeffs(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
@@ -255,6 +252,7 @@ void FlatDetPhiPhi(const double* p,
   if (det_Phi_phi != nullptr) Put(det_Phi_phi_, det_Phi_phi);
 }
 
+template <int = 0>
 mechgen::ViewSolveReport FlatSolve(const double* p,
                                    const double* q,
                                    double* phi_io,
@@ -283,6 +281,7 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   return Report(report);
 }
 
+template <int = 0>
 mechgen::ViewSolveReport FlatSolveTrig(const double* p,
                                        const double* q,
                                        const int* modes,
@@ -302,6 +301,7 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
   return Report(report);
 }
 
+template <int = 0>
 mechgen::ViewSolveReport FlatKinematics(const double* p,
                                         const double* q,
                                         const int* modes,
@@ -326,6 +326,7 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
   return Report(report);
 }
 
+template <int = 0>
 void FlatScene(const double* p,
                const double* q,
                const double* phi,
@@ -341,6 +342,7 @@ void FlatScene(const double* p,
   if (r != nullptr) Put(r_, r);
 }
 
+template <int = 0>
 void FlatDrawing(const double* p,
                  const double* q,
                  const double* phi,
@@ -368,26 +370,32 @@ void FlatDrawing(const double* p,
 constexpr std::array<const char*, 5> kViewJointNames{ "A", "B", "C", "D", "E" };
 constexpr std::array<const char*, 0> kViewLoadNames{  };
 
-// ---- The model's fit into the maxima of a runtime compiled once ----
-static_assert(Model::kNq <= mechgen::ModelView::kMaxQ && Model::kNphi <= mechgen::ModelView::kMaxPhi &&
-                  Model::kNc <= mechgen::ModelView::kMaxPhi && Model::kNumPoints <= mechgen::ModelView::kMaxPoints &&
-                  Model::kNumLinks <= mechgen::ModelView::kMaxLinks &&
-                  5 <= mechgen::ModelView::kMaxJoints &&
-                  Model::kNumScenePoints <= mechgen::ModelView::kMaxScenePoints &&
-                  Model::kNumBlocks <= mechgen::ModelView::kMaxBlocks &&
-                  Model::kNumTransmissionAngles <= mechgen::ModelView::kMaxTransmissionAngles &&
-                  5 <= mechgen::ModelView::kMaxParams &&
-                  0 <= mechgen::ModelView::kMaxLoads,
-              "fivebar exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
-static_assert(Model::kNumDrawValues <= mechgen::ModelView::kMaxDrawValues &&
-                  Model::kNumDrawJoints <= mechgen::ModelView::kMaxJoints,
-              "fivebar exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
+// ---- The model's fit into the maxima of a runtime compiled once (ModelView::fits_maxima) ----
+constexpr bool kFitsMaxima =
+    Model::kNq <= mechgen::ModelView::kMaxQ && Model::kNphi <= mechgen::ModelView::kMaxPhi &&
+    Model::kNc <= mechgen::ModelView::kMaxPhi && Model::kNumPoints <= mechgen::ModelView::kMaxPoints &&
+    Model::kNumLinks <= mechgen::ModelView::kMaxLinks && 5 <= mechgen::ModelView::kMaxJoints &&
+    Model::kNumScenePoints <= mechgen::ModelView::kMaxScenePoints && Model::kNumBlocks <= mechgen::ModelView::kMaxBlocks &&
+    Model::kNumTransmissionAngles <= mechgen::ModelView::kMaxTransmissionAngles &&
+    5 <= mechgen::ModelView::kMaxParams && 0 <= mechgen::ModelView::kMaxLoads &&
+    Model::kNumDrawValues <= mechgen::ModelView::kMaxDrawValues && Model::kNumDrawJoints <= mechgen::ModelView::kMaxJoints &&
+    kCoefficientsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kCoefficients)] &&
+    kTrigSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kTrig)] &&
+    kKinematicsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kKinematics)];
+// A model larger than the maxima keeps its view (and its fixed-size functions): only the runtime
+// compiled once, which loads a model through the entry point, refuses it, here at its compile.
+#ifdef MECHGEN_VIEW_ENTRY
+static_assert(kFitsMaxima, "fivebar exceeds the maxima of mechgen::ModelView (mechgen/core/model_view.h)");
+#endif
+
+template <bool kFits>
 constexpr mechgen::ModelView MakeView() {
   mechgen::ModelView v{};
   v.layout = mechgen::kModelViewLayout;
   v.size = static_cast<int>(sizeof(mechgen::ModelView));
   v.name = Model::kName;
   v.version = "0.1.0";
+  v.fits_maxima = kFitsMaxima;
   v.nq = Model::kNq;
   v.nphi = Model::kNphi;
   v.nc = Model::kNc;
@@ -468,18 +476,22 @@ constexpr mechgen::ModelView MakeView() {
       {"Trig", kTrigSize, 4, kTrigMembers.data()};
   v.structs[static_cast<int>(mechgen::ViewStruct::kKinematics)] =
       {"Kinematics", kKinematicsSize, 3, kKinematicsMembers.data()};
-  v.Phi = &FlatPhi;
-  v.Coeffs = &FlatCoeffs;
-  v.DetPhiPhi = &FlatDetPhiPhi;
-  v.Solve = &FlatSolve;
-  v.SolveTrig = &FlatSolveTrig;
-  v.Kinematics = &FlatKinematics;
-  v.Scene = &FlatScene;
-  v.Drawing = &FlatDrawing;
+  // The functions where the model fits the maxima (a larger model's fixed-size types, copied
+  // onto the stack here, could exceed Eigen's limit of a fixed-size object).
+  if constexpr (kFits) {
+    v.Phi = &FlatPhi<>;
+    v.Coeffs = &FlatCoeffs<>;
+    v.DetPhiPhi = &FlatDetPhiPhi<>;
+    v.Solve = &FlatSolve<>;
+    v.SolveTrig = &FlatSolveTrig<>;
+    v.Kinematics = &FlatKinematics<>;
+    v.Scene = &FlatScene<>;
+    v.Drawing = &FlatDrawing<>;
+  }
   return v;
 }
 
-constexpr mechgen::ModelView kView = MakeView();
+constexpr mechgen::ModelView kView = MakeView<kFitsMaxima>();
 
 }  // namespace
 

@@ -58,8 +58,8 @@ template <int R, int C, int O, int MR, int MC>
 void Put(const Eigen::Matrix<double, R, C, O, MR, MC>& m, double* b) {
   for (int i = 0; i < R * C; ++i) b[i] = m.data()[i];
 }
-void Get(const double* b, double* x) { *x = *b; }
-void Put(const double& x, double* b) { *b = x; }
+[[maybe_unused]] void Get(const double* b, double* x) { *x = *b; }
+[[maybe_unused]] void Put(const double& x, double* b) { *b = x; }
 template <class T, std::size_t N>
 void Get(const T* b, std::array<T, N>* a) {
   for (std::size_t i = 0; i < N; ++i) (*a)[i] = b[i];
@@ -76,7 +76,7 @@ constexpr std::array<T, N * M> Flat(const std::array<std::array<T, M>, N>& a) {
   return flat;
 }
 
-mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
+[[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
   out.status = static_cast<mechgen::ViewSolveStatus>(static_cast<int>(r.status));
   out.block = r.block;
@@ -105,9 +105,7 @@ constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers = Packed<7>({ 
     Member<decltype(Coefficients<double>::L_P)>("L_P"),
 } });
 constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
-static_assert(kCoefficientsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kCoefficients)],
-              "Coefficients exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Coefficients<double>* s) {
+[[maybe_unused]] void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[0].offset, &s->Phi);
   Get(b + kCoefficientsMembers[1].offset, &s->Phi_phi);
   Get(b + kCoefficientsMembers[2].offset, &s->K);
@@ -116,7 +114,7 @@ void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[5].offset, &s->K_P);
   Get(b + kCoefficientsMembers[6].offset, &s->L_P);
 }
-void Put(const Coefficients<double>& s, double* b) {
+[[maybe_unused]] void Put(const Coefficients<double>& s, double* b) {
   Put(s.Phi, b + kCoefficientsMembers[0].offset);
   Put(s.Phi_phi, b + kCoefficientsMembers[1].offset);
   Put(s.K, b + kCoefficientsMembers[2].offset);
@@ -133,15 +131,13 @@ constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
     Member<decltype(Trig<double>::cos_phi)>("cos_phi"),
 } });
 constexpr int kTrigSize = PackedSize(kTrigMembers);
-static_assert(kTrigSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kTrig)],
-              "Trig exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Trig<double>* s) {
+[[maybe_unused]] void Get(const double* b, Trig<double>* s) {
   Get(b + kTrigMembers[0].offset, &s->sin_q);
   Get(b + kTrigMembers[1].offset, &s->cos_q);
   Get(b + kTrigMembers[2].offset, &s->sin_phi);
   Get(b + kTrigMembers[3].offset, &s->cos_phi);
 }
-void Put(const Trig<double>& s, double* b) {
+[[maybe_unused]] void Put(const Trig<double>& s, double* b) {
   Put(s.sin_q, b + kTrigMembers[0].offset);
   Put(s.cos_q, b + kTrigMembers[1].offset);
   Put(s.sin_phi, b + kTrigMembers[2].offset);
@@ -154,14 +150,12 @@ constexpr std::array<mechgen::ViewMember, 3> kKinematicsMembers = Packed<3>({ {
     Member<decltype(Kinematics<double>::Phi_phi)>("Phi_phi"),
 } });
 constexpr int kKinematicsSize = PackedSize(kKinematicsMembers);
-static_assert(kKinematicsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kKinematics)],
-              "Kinematics exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Kinematics<double>* s) {
+[[maybe_unused]] void Get(const double* b, Kinematics<double>* s) {
   Get(b + kKinematicsMembers[0].offset, &s->K);
   Get(b + kKinematicsMembers[1].offset, &s->L);
   Get(b + kKinematicsMembers[2].offset, &s->Phi_phi);
 }
-void Put(const Kinematics<double>& s, double* b) {
+[[maybe_unused]] void Put(const Kinematics<double>& s, double* b) {
   Put(s.K, b + kKinematicsMembers[0].offset);
   Put(s.L, b + kKinematicsMembers[1].offset);
   Put(s.Phi_phi, b + kKinematicsMembers[2].offset);
@@ -177,9 +171,7 @@ constexpr std::array<mechgen::ViewMember, 7> kDesignDerivativesMembers = Packed<
     Member<decltype(DesignDerivatives<double>::dmu_dp)>("dmu_dp"),
 } });
 constexpr int kDesignDerivativesSize = PackedSize(kDesignDerivativesMembers);
-static_assert(kDesignDerivativesSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kDesignDerivatives)],
-              "DesignDerivatives exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, DesignDerivatives<double>* s) {
+[[maybe_unused]] void Get(const double* b, DesignDerivatives<double>* s) {
   Get(b + kDesignDerivativesMembers[0].offset, &s->dphi_dp);
   Get(b + kDesignDerivativesMembers[1].offset, &s->dr_P_dp);
   Get(b + kDesignDerivativesMembers[2].offset, &s->dK_dp);
@@ -188,7 +180,7 @@ void Get(const double* b, DesignDerivatives<double>* s) {
   Get(b + kDesignDerivativesMembers[5].offset, &s->dL_P_dp);
   Get(b + kDesignDerivativesMembers[6].offset, &s->dmu_dp);
 }
-void Put(const DesignDerivatives<double>& s, double* b) {
+[[maybe_unused]] void Put(const DesignDerivatives<double>& s, double* b) {
   Put(s.dphi_dp, b + kDesignDerivativesMembers[0].offset);
   Put(s.dr_P_dp, b + kDesignDerivativesMembers[1].offset);
   Put(s.dK_dp, b + kDesignDerivativesMembers[2].offset);
@@ -199,7 +191,7 @@ void Put(const DesignDerivatives<double>& s, double* b) {
 }
 
 // ---- Parameters: the free ones (Params members), then the derived ones ----
-Params<double> GetParams(const double* v) {
+[[maybe_unused]] Params<double> GetParams(const double* v) {
   Params<double> p;
   p.a = v[0];
   p.b = v[1];
@@ -226,7 +218,8 @@ constexpr std::array<mechgen::ViewParameter, 6> kParameters{ {
     {"eta", kDefaults.eta, false},
 } };
 
-// ---- Model's functions on flat arrays ----
+// ---- Model's functions on flat arrays (templates: compiled only for a model within the maxima) ----
+template <int = 0>
 void FlatPhi(const double* p,
              const double* q,
              const double* phi,
@@ -255,6 +248,7 @@ void FlatPhi(const double* p,
   if (Phi_q != nullptr) Put(Phi_q_, Phi_q);
 }
 
+template <int = 0>
 void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
@@ -273,6 +267,7 @@ void FlatCoeffs(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatDesign(const double* p,
                 const double* q,
                 const double* phi,
@@ -288,6 +283,7 @@ void FlatDesign(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatDesignChecks(const double* p,
                       double* margin,
                       double* dmargin_dp) {
@@ -303,6 +299,7 @@ void FlatDesignChecks(const double* p,
   if (dmargin_dp != nullptr) Put(dmargin_dp_, dmargin_dp);
 }
 
+template <int = 0>
 void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
@@ -318,6 +315,7 @@ void FlatDetPhiPhi(const double* p,
   if (det_Phi_phi != nullptr) Put(det_Phi_phi_, det_Phi_phi);
 }
 
+template <int = 0>
 void FlatTransmissionAngles(const double* p,
                             const double* q,
                             const double* phi,
@@ -333,6 +331,7 @@ void FlatTransmissionAngles(const double* p,
   if (mu != nullptr) Put(mu_, mu);
 }
 
+template <int = 0>
 mechgen::ViewSolveReport FlatSolve(const double* p,
                                    const double* q,
                                    double* phi_io,
@@ -361,6 +360,7 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   return Report(report);
 }
 
+template <int = 0>
 mechgen::ViewSolveReport FlatSolveTrig(const double* p,
                                        const double* q,
                                        const int* modes,
@@ -380,6 +380,7 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
   return Report(report);
 }
 
+template <int = 0>
 mechgen::ViewSolveReport FlatKinematics(const double* p,
                                         const double* q,
                                         const int* modes,
@@ -404,6 +405,7 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
   return Report(report);
 }
 
+template <int = 0>
 void FlatScene(const double* p,
                const double* q,
                const double* phi,
@@ -419,6 +421,7 @@ void FlatScene(const double* p,
   if (r != nullptr) Put(r_, r);
 }
 
+template <int = 0>
 void FlatDrawing(const double* p,
                  const double* q,
                  const double* phi,
@@ -446,29 +449,34 @@ void FlatDrawing(const double* p,
 constexpr std::array<const char*, 4> kViewJointNames{ "A", "B", "C", "D" };
 constexpr std::array<const char*, 0> kViewLoadNames{  };
 
-// ---- The model's fit into the maxima of a runtime compiled once ----
-static_assert(Model::kNq <= mechgen::ModelView::kMaxQ && Model::kNphi <= mechgen::ModelView::kMaxPhi &&
-                  Model::kNc <= mechgen::ModelView::kMaxPhi && Model::kNumPoints <= mechgen::ModelView::kMaxPoints &&
-                  Model::kNumLinks <= mechgen::ModelView::kMaxLinks &&
-                  4 <= mechgen::ModelView::kMaxJoints &&
-                  Model::kNumScenePoints <= mechgen::ModelView::kMaxScenePoints &&
-                  Model::kNumBlocks <= mechgen::ModelView::kMaxBlocks &&
-                  Model::kNumTransmissionAngles <= mechgen::ModelView::kMaxTransmissionAngles &&
-                  6 <= mechgen::ModelView::kMaxParams &&
-                  0 <= mechgen::ModelView::kMaxLoads,
-              "fourbar exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
-static_assert(Model::kNumDesign <= mechgen::ModelView::kMaxDesign &&
-                  Model::kNumDesignChecks <= mechgen::ModelView::kMaxDesignChecks,
-              "fourbar exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
-static_assert(Model::kNumDrawValues <= mechgen::ModelView::kMaxDrawValues &&
-                  Model::kNumDrawJoints <= mechgen::ModelView::kMaxJoints,
-              "fourbar exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
+// ---- The model's fit into the maxima of a runtime compiled once (ModelView::fits_maxima) ----
+constexpr bool kFitsMaxima =
+    Model::kNq <= mechgen::ModelView::kMaxQ && Model::kNphi <= mechgen::ModelView::kMaxPhi &&
+    Model::kNc <= mechgen::ModelView::kMaxPhi && Model::kNumPoints <= mechgen::ModelView::kMaxPoints &&
+    Model::kNumLinks <= mechgen::ModelView::kMaxLinks && 4 <= mechgen::ModelView::kMaxJoints &&
+    Model::kNumScenePoints <= mechgen::ModelView::kMaxScenePoints && Model::kNumBlocks <= mechgen::ModelView::kMaxBlocks &&
+    Model::kNumTransmissionAngles <= mechgen::ModelView::kMaxTransmissionAngles &&
+    6 <= mechgen::ModelView::kMaxParams && 0 <= mechgen::ModelView::kMaxLoads &&
+    Model::kNumDesign <= mechgen::ModelView::kMaxDesign && Model::kNumDesignChecks <= mechgen::ModelView::kMaxDesignChecks &&
+    Model::kNumDrawValues <= mechgen::ModelView::kMaxDrawValues && Model::kNumDrawJoints <= mechgen::ModelView::kMaxJoints &&
+    kCoefficientsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kCoefficients)] &&
+    kTrigSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kTrig)] &&
+    kKinematicsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kKinematics)] &&
+    kDesignDerivativesSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kDesignDerivatives)];
+// A model larger than the maxima keeps its view (and its fixed-size functions): only the runtime
+// compiled once, which loads a model through the entry point, refuses it, here at its compile.
+#ifdef MECHGEN_VIEW_ENTRY
+static_assert(kFitsMaxima, "fourbar exceeds the maxima of mechgen::ModelView (mechgen/core/model_view.h)");
+#endif
+
+template <bool kFits>
 constexpr mechgen::ModelView MakeView() {
   mechgen::ModelView v{};
   v.layout = mechgen::kModelViewLayout;
   v.size = static_cast<int>(sizeof(mechgen::ModelView));
   v.name = Model::kName;
   v.version = "0.1.0";
+  v.fits_maxima = kFitsMaxima;
   v.nq = Model::kNq;
   v.nphi = Model::kNphi;
   v.nc = Model::kNc;
@@ -555,21 +563,25 @@ constexpr mechgen::ModelView MakeView() {
       {"Kinematics", kKinematicsSize, 3, kKinematicsMembers.data()};
   v.structs[static_cast<int>(mechgen::ViewStruct::kDesignDerivatives)] =
       {"DesignDerivatives", kDesignDerivativesSize, 7, kDesignDerivativesMembers.data()};
-  v.Phi = &FlatPhi;
-  v.Coeffs = &FlatCoeffs;
-  v.Design = &FlatDesign;
-  v.DesignChecks = &FlatDesignChecks;
-  v.DetPhiPhi = &FlatDetPhiPhi;
-  v.TransmissionAngles = &FlatTransmissionAngles;
-  v.Solve = &FlatSolve;
-  v.SolveTrig = &FlatSolveTrig;
-  v.Kinematics = &FlatKinematics;
-  v.Scene = &FlatScene;
-  v.Drawing = &FlatDrawing;
+  // The functions where the model fits the maxima (a larger model's fixed-size types, copied
+  // onto the stack here, could exceed Eigen's limit of a fixed-size object).
+  if constexpr (kFits) {
+    v.Phi = &FlatPhi<>;
+    v.Coeffs = &FlatCoeffs<>;
+    v.Design = &FlatDesign<>;
+    v.DesignChecks = &FlatDesignChecks<>;
+    v.DetPhiPhi = &FlatDetPhiPhi<>;
+    v.TransmissionAngles = &FlatTransmissionAngles<>;
+    v.Solve = &FlatSolve<>;
+    v.SolveTrig = &FlatSolveTrig<>;
+    v.Kinematics = &FlatKinematics<>;
+    v.Scene = &FlatScene<>;
+    v.Drawing = &FlatDrawing<>;
+  }
   return v;
 }
 
-constexpr mechgen::ModelView kView = MakeView();
+constexpr mechgen::ModelView kView = MakeView<kFitsMaxima>();
 
 }  // namespace
 

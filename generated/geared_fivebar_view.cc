@@ -58,8 +58,8 @@ template <int R, int C, int O, int MR, int MC>
 void Put(const Eigen::Matrix<double, R, C, O, MR, MC>& m, double* b) {
   for (int i = 0; i < R * C; ++i) b[i] = m.data()[i];
 }
-void Get(const double* b, double* x) { *x = *b; }
-void Put(const double& x, double* b) { *b = x; }
+[[maybe_unused]] void Get(const double* b, double* x) { *x = *b; }
+[[maybe_unused]] void Put(const double& x, double* b) { *b = x; }
 template <class T, std::size_t N>
 void Get(const T* b, std::array<T, N>* a) {
   for (std::size_t i = 0; i < N; ++i) (*a)[i] = b[i];
@@ -76,7 +76,7 @@ constexpr std::array<T, N * M> Flat(const std::array<std::array<T, M>, N>& a) {
   return flat;
 }
 
-mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
+[[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
   out.status = static_cast<mechgen::ViewSolveStatus>(static_cast<int>(r.status));
   out.block = r.block;
@@ -105,9 +105,7 @@ constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers = Packed<7>({ 
     Member<decltype(Coefficients<double>::L_P)>("L_P"),
 } });
 constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
-static_assert(kCoefficientsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kCoefficients)],
-              "Coefficients exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Coefficients<double>* s) {
+[[maybe_unused]] void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[0].offset, &s->Phi);
   Get(b + kCoefficientsMembers[1].offset, &s->Phi_phi);
   Get(b + kCoefficientsMembers[2].offset, &s->K);
@@ -116,7 +114,7 @@ void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[5].offset, &s->K_P);
   Get(b + kCoefficientsMembers[6].offset, &s->L_P);
 }
-void Put(const Coefficients<double>& s, double* b) {
+[[maybe_unused]] void Put(const Coefficients<double>& s, double* b) {
   Put(s.Phi, b + kCoefficientsMembers[0].offset);
   Put(s.Phi_phi, b + kCoefficientsMembers[1].offset);
   Put(s.K, b + kCoefficientsMembers[2].offset);
@@ -133,15 +131,13 @@ constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
     Member<decltype(Trig<double>::cos_phi)>("cos_phi"),
 } });
 constexpr int kTrigSize = PackedSize(kTrigMembers);
-static_assert(kTrigSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kTrig)],
-              "Trig exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Trig<double>* s) {
+[[maybe_unused]] void Get(const double* b, Trig<double>* s) {
   Get(b + kTrigMembers[0].offset, &s->sin_q);
   Get(b + kTrigMembers[1].offset, &s->cos_q);
   Get(b + kTrigMembers[2].offset, &s->sin_phi);
   Get(b + kTrigMembers[3].offset, &s->cos_phi);
 }
-void Put(const Trig<double>& s, double* b) {
+[[maybe_unused]] void Put(const Trig<double>& s, double* b) {
   Put(s.sin_q, b + kTrigMembers[0].offset);
   Put(s.cos_q, b + kTrigMembers[1].offset);
   Put(s.sin_phi, b + kTrigMembers[2].offset);
@@ -149,7 +145,7 @@ void Put(const Trig<double>& s, double* b) {
 }
 
 // ---- Parameters: the free ones (Params members), then the derived ones ----
-Params<double> GetParams(const double* v) {
+[[maybe_unused]] Params<double> GetParams(const double* v) {
   Params<double> p;
   p.r1 = v[0];
   p.r2 = v[1];
@@ -176,7 +172,8 @@ constexpr std::array<mechgen::ViewParameter, 6> kParameters{ {
     {"a4", kDefaults.a4, false},
 } };
 
-// ---- Model's functions on flat arrays ----
+// ---- Model's functions on flat arrays (templates: compiled only for a model within the maxima) ----
+template <int = 0>
 void FlatPhi(const double* p,
              const double* q,
              const double* phi,
@@ -205,6 +202,7 @@ void FlatPhi(const double* p,
   if (Phi_q != nullptr) Put(Phi_q_, Phi_q);
 }
 
+template <int = 0>
 void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
@@ -223,6 +221,7 @@ void FlatCoeffs(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
@@ -238,6 +237,7 @@ void FlatDetPhiPhi(const double* p,
   if (det_Phi_phi != nullptr) Put(det_Phi_phi_, det_Phi_phi);
 }
 
+template <int = 0>
 mechgen::ViewSolveReport FlatSolve(const double* p,
                                    const double* q,
                                    double* phi_io,
@@ -266,6 +266,7 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   return Report(report);
 }
 
+template <int = 0>
 void FlatScene(const double* p,
                const double* q,
                const double* phi,
@@ -281,6 +282,7 @@ void FlatScene(const double* p,
   if (r != nullptr) Put(r_, r);
 }
 
+template <int = 0>
 void FlatDrawing(const double* p,
                  const double* q,
                  const double* phi,
@@ -308,26 +310,31 @@ void FlatDrawing(const double* p,
 constexpr std::array<const char*, 6> kViewJointNames{ "A", "B", "C", "D", "E", "mesh" };
 constexpr std::array<const char*, 0> kViewLoadNames{  };
 
-// ---- The model's fit into the maxima of a runtime compiled once ----
-static_assert(Model::kNq <= mechgen::ModelView::kMaxQ && Model::kNphi <= mechgen::ModelView::kMaxPhi &&
-                  Model::kNc <= mechgen::ModelView::kMaxPhi && Model::kNumPoints <= mechgen::ModelView::kMaxPoints &&
-                  Model::kNumLinks <= mechgen::ModelView::kMaxLinks &&
-                  6 <= mechgen::ModelView::kMaxJoints &&
-                  Model::kNumScenePoints <= mechgen::ModelView::kMaxScenePoints &&
-                  Model::kNumBlocks <= mechgen::ModelView::kMaxBlocks &&
-                  Model::kNumTransmissionAngles <= mechgen::ModelView::kMaxTransmissionAngles &&
-                  6 <= mechgen::ModelView::kMaxParams &&
-                  0 <= mechgen::ModelView::kMaxLoads,
-              "geared_fivebar exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
-static_assert(Model::kNumDrawValues <= mechgen::ModelView::kMaxDrawValues &&
-                  Model::kNumDrawJoints <= mechgen::ModelView::kMaxJoints,
-              "geared_fivebar exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
+// ---- The model's fit into the maxima of a runtime compiled once (ModelView::fits_maxima) ----
+constexpr bool kFitsMaxima =
+    Model::kNq <= mechgen::ModelView::kMaxQ && Model::kNphi <= mechgen::ModelView::kMaxPhi &&
+    Model::kNc <= mechgen::ModelView::kMaxPhi && Model::kNumPoints <= mechgen::ModelView::kMaxPoints &&
+    Model::kNumLinks <= mechgen::ModelView::kMaxLinks && 6 <= mechgen::ModelView::kMaxJoints &&
+    Model::kNumScenePoints <= mechgen::ModelView::kMaxScenePoints && Model::kNumBlocks <= mechgen::ModelView::kMaxBlocks &&
+    Model::kNumTransmissionAngles <= mechgen::ModelView::kMaxTransmissionAngles &&
+    6 <= mechgen::ModelView::kMaxParams && 0 <= mechgen::ModelView::kMaxLoads &&
+    Model::kNumDrawValues <= mechgen::ModelView::kMaxDrawValues && Model::kNumDrawJoints <= mechgen::ModelView::kMaxJoints &&
+    kCoefficientsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kCoefficients)] &&
+    kTrigSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kTrig)];
+// A model larger than the maxima keeps its view (and its fixed-size functions): only the runtime
+// compiled once, which loads a model through the entry point, refuses it, here at its compile.
+#ifdef MECHGEN_VIEW_ENTRY
+static_assert(kFitsMaxima, "geared_fivebar exceeds the maxima of mechgen::ModelView (mechgen/core/model_view.h)");
+#endif
+
+template <bool kFits>
 constexpr mechgen::ModelView MakeView() {
   mechgen::ModelView v{};
   v.layout = mechgen::kModelViewLayout;
   v.size = static_cast<int>(sizeof(mechgen::ModelView));
   v.name = Model::kName;
   v.version = "0.1.0";
+  v.fits_maxima = kFitsMaxima;
   v.nq = Model::kNq;
   v.nphi = Model::kNphi;
   v.nc = Model::kNc;
@@ -406,16 +413,20 @@ constexpr mechgen::ModelView MakeView() {
       {"Coefficients", kCoefficientsSize, 7, kCoefficientsMembers.data()};
   v.structs[static_cast<int>(mechgen::ViewStruct::kTrig)] =
       {"Trig", kTrigSize, 4, kTrigMembers.data()};
-  v.Phi = &FlatPhi;
-  v.Coeffs = &FlatCoeffs;
-  v.DetPhiPhi = &FlatDetPhiPhi;
-  v.Solve = &FlatSolve;
-  v.Scene = &FlatScene;
-  v.Drawing = &FlatDrawing;
+  // The functions where the model fits the maxima (a larger model's fixed-size types, copied
+  // onto the stack here, could exceed Eigen's limit of a fixed-size object).
+  if constexpr (kFits) {
+    v.Phi = &FlatPhi<>;
+    v.Coeffs = &FlatCoeffs<>;
+    v.DetPhiPhi = &FlatDetPhiPhi<>;
+    v.Solve = &FlatSolve<>;
+    v.Scene = &FlatScene<>;
+    v.Drawing = &FlatDrawing<>;
+  }
   return v;
 }
 
-constexpr mechgen::ModelView kView = MakeView();
+constexpr mechgen::ModelView kView = MakeView<kFitsMaxima>();
 
 }  // namespace
 

@@ -58,8 +58,8 @@ template <int R, int C, int O, int MR, int MC>
 void Put(const Eigen::Matrix<double, R, C, O, MR, MC>& m, double* b) {
   for (int i = 0; i < R * C; ++i) b[i] = m.data()[i];
 }
-void Get(const double* b, double* x) { *x = *b; }
-void Put(const double& x, double* b) { *b = x; }
+[[maybe_unused]] void Get(const double* b, double* x) { *x = *b; }
+[[maybe_unused]] void Put(const double& x, double* b) { *b = x; }
 template <class T, std::size_t N>
 void Get(const T* b, std::array<T, N>* a) {
   for (std::size_t i = 0; i < N; ++i) (*a)[i] = b[i];
@@ -76,7 +76,7 @@ constexpr std::array<T, N * M> Flat(const std::array<std::array<T, M>, N>& a) {
   return flat;
 }
 
-mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
+[[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
   out.status = static_cast<mechgen::ViewSolveStatus>(static_cast<int>(r.status));
   out.block = r.block;
@@ -105,9 +105,7 @@ constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers = Packed<7>({ 
     Member<decltype(Coefficients<double>::L_P)>("L_P"),
 } });
 constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
-static_assert(kCoefficientsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kCoefficients)],
-              "Coefficients exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Coefficients<double>* s) {
+[[maybe_unused]] void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[0].offset, &s->Phi);
   Get(b + kCoefficientsMembers[1].offset, &s->Phi_phi);
   Get(b + kCoefficientsMembers[2].offset, &s->K);
@@ -116,7 +114,7 @@ void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[5].offset, &s->K_P);
   Get(b + kCoefficientsMembers[6].offset, &s->L_P);
 }
-void Put(const Coefficients<double>& s, double* b) {
+[[maybe_unused]] void Put(const Coefficients<double>& s, double* b) {
   Put(s.Phi, b + kCoefficientsMembers[0].offset);
   Put(s.Phi_phi, b + kCoefficientsMembers[1].offset);
   Put(s.K, b + kCoefficientsMembers[2].offset);
@@ -133,15 +131,13 @@ constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
     Member<decltype(Trig<double>::cos_phi)>("cos_phi"),
 } });
 constexpr int kTrigSize = PackedSize(kTrigMembers);
-static_assert(kTrigSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kTrig)],
-              "Trig exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Trig<double>* s) {
+[[maybe_unused]] void Get(const double* b, Trig<double>* s) {
   Get(b + kTrigMembers[0].offset, &s->sin_q);
   Get(b + kTrigMembers[1].offset, &s->cos_q);
   Get(b + kTrigMembers[2].offset, &s->sin_phi);
   Get(b + kTrigMembers[3].offset, &s->cos_phi);
 }
-void Put(const Trig<double>& s, double* b) {
+[[maybe_unused]] void Put(const Trig<double>& s, double* b) {
   Put(s.sin_q, b + kTrigMembers[0].offset);
   Put(s.cos_q, b + kTrigMembers[1].offset);
   Put(s.sin_phi, b + kTrigMembers[2].offset);
@@ -161,9 +157,7 @@ constexpr std::array<mechgen::ViewMember, 10> kStaticsMembers = Packed<10>({ {
     Member<decltype(Statics<double>::K_rel)>("K_rel"),
 } });
 constexpr int kStaticsSize = PackedSize(kStaticsMembers);
-static_assert(kStaticsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kStatics)],
-              "Statics exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Statics<double>* s) {
+[[maybe_unused]] void Get(const double* b, Statics<double>* s) {
   Get(b + kStaticsMembers[0].offset, &s->Q);
   Get(b + kStaticsMembers[1].offset, &s->drive);
   Get(b + kStaticsMembers[2].offset, &s->stiffness);
@@ -175,7 +169,7 @@ void Get(const double* b, Statics<double>* s) {
   Get(b + kStaticsMembers[8].offset, &s->gain);
   Get(b + kStaticsMembers[9].offset, &s->K_rel);
 }
-void Put(const Statics<double>& s, double* b) {
+[[maybe_unused]] void Put(const Statics<double>& s, double* b) {
   Put(s.Q, b + kStaticsMembers[0].offset);
   Put(s.drive, b + kStaticsMembers[1].offset);
   Put(s.stiffness, b + kStaticsMembers[2].offset);
@@ -199,9 +193,7 @@ constexpr std::array<mechgen::ViewMember, 8> kDynamicsMembers = Packed<8>({ {
     Member<decltype(Dynamics<double>::P_nc)>("P_nc"),
 } });
 constexpr int kDynamicsSize = PackedSize(kDynamicsMembers);
-static_assert(kDynamicsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kDynamics)],
-              "Dynamics exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Dynamics<double>* s) {
+[[maybe_unused]] void Get(const double* b, Dynamics<double>* s) {
   Get(b + kDynamicsMembers[0].offset, &s->I);
   Get(b + kDynamicsMembers[1].offset, &s->dI_dq);
   Get(b + kDynamicsMembers[2].offset, &s->C);
@@ -211,7 +203,7 @@ void Get(const double* b, Dynamics<double>* s) {
   Get(b + kDynamicsMembers[6].offset, &s->V);
   Get(b + kDynamicsMembers[7].offset, &s->P_nc);
 }
-void Put(const Dynamics<double>& s, double* b) {
+[[maybe_unused]] void Put(const Dynamics<double>& s, double* b) {
   Put(s.I, b + kDynamicsMembers[0].offset);
   Put(s.dI_dq, b + kDynamicsMembers[1].offset);
   Put(s.C, b + kDynamicsMembers[2].offset);
@@ -233,9 +225,7 @@ constexpr std::array<mechgen::ViewMember, 8> kExcessMembers = Packed<8>({ {
     Member<decltype(Excess<double>::V)>("V"),
 } });
 constexpr int kExcessSize = PackedSize(kExcessMembers);
-static_assert(kExcessSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kExcess)],
-              "Excess exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Excess<double>* s) {
+[[maybe_unused]] void Get(const double* b, Excess<double>* s) {
   Get(b + kExcessMembers[0].offset, &s->M);
   Get(b + kExcessMembers[1].offset, &s->h);
   Get(b + kExcessMembers[2].offset, &s->g);
@@ -245,7 +235,7 @@ void Get(const double* b, Excess<double>* s) {
   Get(b + kExcessMembers[6].offset, &s->T);
   Get(b + kExcessMembers[7].offset, &s->V);
 }
-void Put(const Excess<double>& s, double* b) {
+[[maybe_unused]] void Put(const Excess<double>& s, double* b) {
   Put(s.M, b + kExcessMembers[0].offset);
   Put(s.h, b + kExcessMembers[1].offset);
   Put(s.g, b + kExcessMembers[2].offset);
@@ -266,9 +256,7 @@ constexpr std::array<mechgen::ViewMember, 7> kShakingMembers = Packed<7>({ {
     Member<decltype(Shaking<double>::r_C)>("r_C"),
 } });
 constexpr int kShakingSize = PackedSize(kShakingMembers);
-static_assert(kShakingSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kShaking)],
-              "Shaking exceeds mechgen::ModelView::kMaxStructSize: raise it in mechgen/core/model_view.h");
-void Get(const double* b, Shaking<double>* s) {
+[[maybe_unused]] void Get(const double* b, Shaking<double>* s) {
   Get(b + kShakingMembers[0].offset, &s->F);
   Get(b + kShakingMembers[1].offset, &s->M);
   Get(b + kShakingMembers[2].offset, &s->F_link);
@@ -277,7 +265,7 @@ void Get(const double* b, Shaking<double>* s) {
   Get(b + kShakingMembers[5].offset, &s->mass);
   Get(b + kShakingMembers[6].offset, &s->r_C);
 }
-void Put(const Shaking<double>& s, double* b) {
+[[maybe_unused]] void Put(const Shaking<double>& s, double* b) {
   Put(s.F, b + kShakingMembers[0].offset);
   Put(s.M, b + kShakingMembers[1].offset);
   Put(s.F_link, b + kShakingMembers[2].offset);
@@ -288,7 +276,7 @@ void Put(const Shaking<double>& s, double* b) {
 }
 
 // ---- Parameters: the free ones (Params members), then the derived ones ----
-Params<double> GetParams(const double* v) {
+[[maybe_unused]] Params<double> GetParams(const double* v) {
   Params<double> p;
   p.a = v[0];
   p.b = v[1];
@@ -327,7 +315,8 @@ constexpr std::array<mechgen::ViewParameter, 12> kParameters{ {
     {"g", kDefaults.g, false},
 } };
 
-// ---- Model's functions on flat arrays ----
+// ---- Model's functions on flat arrays (templates: compiled only for a model within the maxima) ----
+template <int = 0>
 void FlatPhi(const double* p,
              const double* q,
              const double* phi,
@@ -356,6 +345,7 @@ void FlatPhi(const double* p,
   if (Phi_q != nullptr) Put(Phi_q_, Phi_q);
 }
 
+template <int = 0>
 void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
@@ -374,6 +364,7 @@ void FlatCoeffs(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatForces(const double* p,
                 const double* q,
                 const double* phi,
@@ -404,6 +395,7 @@ void FlatForces(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatDynamics(const double* p,
                   const double* q,
                   const double* phi,
@@ -440,6 +432,7 @@ void FlatDynamics(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatKinetostatics(const double* p,
                        const double* q,
                        const double* phi,
@@ -480,6 +473,7 @@ void FlatKinetostatics(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatExcessDynamics(const double* p,
                         const double* q,
                         const double* phi,
@@ -512,6 +506,7 @@ void FlatExcessDynamics(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatShaking(const double* p,
                  const double* q,
                  const double* phi,
@@ -546,6 +541,7 @@ void FlatShaking(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatStiffness(const double* p,
                    const double* q,
                    const double* phi,
@@ -564,6 +560,7 @@ void FlatStiffness(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
@@ -579,6 +576,7 @@ void FlatDetPhiPhi(const double* p,
   if (det_Phi_phi != nullptr) Put(det_Phi_phi_, det_Phi_phi);
 }
 
+template <int = 0>
 mechgen::ViewSolveReport FlatSolve(const double* p,
                                    const double* q,
                                    double* phi_io,
@@ -607,6 +605,7 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   return Report(report);
 }
 
+template <int = 0>
 void FlatSwitchModes(const double* p,
                      const double* q,
                      const double* phi,
@@ -629,6 +628,7 @@ void FlatSwitchModes(const double* p,
   if (modes != nullptr) Put(modes_, modes);
 }
 
+template <int = 0>
 void FlatScene(const double* p,
                const double* q,
                const double* phi,
@@ -644,6 +644,7 @@ void FlatScene(const double* p,
   if (r != nullptr) Put(r_, r);
 }
 
+template <int = 0>
 void FlatAppliedLoads(const double* p,
                       const double* q,
                       const double* phi,
@@ -659,6 +660,7 @@ void FlatAppliedLoads(const double* p,
   if (out != nullptr) Put(out_, out);
 }
 
+template <int = 0>
 void FlatDrawing(const double* p,
                  const double* q,
                  const double* phi,
@@ -686,33 +688,38 @@ void FlatDrawing(const double* p,
 constexpr std::array<const char*, 4> kViewJointNames{ "O", "B", "C", "slide" };
 constexpr std::array<const char*, 2> kViewLoadNames{ "motor", "gas" };
 
-// ---- The model's fit into the maxima of a runtime compiled once ----
-static_assert(Model::kNq <= mechgen::ModelView::kMaxQ && Model::kNphi <= mechgen::ModelView::kMaxPhi &&
-                  Model::kNc <= mechgen::ModelView::kMaxPhi && Model::kNumPoints <= mechgen::ModelView::kMaxPoints &&
-                  Model::kNumLinks <= mechgen::ModelView::kMaxLinks &&
-                  4 <= mechgen::ModelView::kMaxJoints &&
-                  Model::kNumScenePoints <= mechgen::ModelView::kMaxScenePoints &&
-                  Model::kNumBlocks <= mechgen::ModelView::kMaxBlocks &&
-                  Model::kNumTransmissionAngles <= mechgen::ModelView::kMaxTransmissionAngles &&
-                  12 <= mechgen::ModelView::kMaxParams &&
-                  2 <= mechgen::ModelView::kMaxLoads,
-              "slider_crank_motor exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
-static_assert(Model::kNumReactions <= mechgen::ModelView::kMaxReactions &&
-                  Model::kNumFriction <= mechgen::ModelView::kMaxFriction,
-              "slider_crank_motor exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
-static_assert(Model::kNumSwitches <= mechgen::ModelView::kMaxSwitches,
-              "slider_crank_motor exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
-static_assert(Model::kNumDrawValues <= mechgen::ModelView::kMaxDrawValues &&
-                  Model::kNumDrawJoints <= mechgen::ModelView::kMaxJoints,
-              "slider_crank_motor exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
-static_assert(Model::kNumAppliedLoads <= mechgen::ModelView::kMaxAppliedLoads,
-              "slider_crank_motor exceeds the maxima of mechgen::ModelView: raise them in mechgen/core/model_view.h");
+// ---- The model's fit into the maxima of a runtime compiled once (ModelView::fits_maxima) ----
+constexpr bool kFitsMaxima =
+    Model::kNq <= mechgen::ModelView::kMaxQ && Model::kNphi <= mechgen::ModelView::kMaxPhi &&
+    Model::kNc <= mechgen::ModelView::kMaxPhi && Model::kNumPoints <= mechgen::ModelView::kMaxPoints &&
+    Model::kNumLinks <= mechgen::ModelView::kMaxLinks && 4 <= mechgen::ModelView::kMaxJoints &&
+    Model::kNumScenePoints <= mechgen::ModelView::kMaxScenePoints && Model::kNumBlocks <= mechgen::ModelView::kMaxBlocks &&
+    Model::kNumTransmissionAngles <= mechgen::ModelView::kMaxTransmissionAngles &&
+    12 <= mechgen::ModelView::kMaxParams && 2 <= mechgen::ModelView::kMaxLoads &&
+    Model::kNumReactions <= mechgen::ModelView::kMaxReactions && Model::kNumFriction <= mechgen::ModelView::kMaxFriction &&
+    Model::kNumSwitches <= mechgen::ModelView::kMaxSwitches &&
+    Model::kNumDrawValues <= mechgen::ModelView::kMaxDrawValues && Model::kNumDrawJoints <= mechgen::ModelView::kMaxJoints &&
+    Model::kNumAppliedLoads <= mechgen::ModelView::kMaxAppliedLoads &&
+    kCoefficientsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kCoefficients)] &&
+    kTrigSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kTrig)] &&
+    kStaticsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kStatics)] &&
+    kDynamicsSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kDynamics)] &&
+    kExcessSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kExcess)] &&
+    kShakingSize <= mechgen::ModelView::kMaxStructSize[static_cast<int>(mechgen::ViewStruct::kShaking)];
+// A model larger than the maxima keeps its view (and its fixed-size functions): only the runtime
+// compiled once, which loads a model through the entry point, refuses it, here at its compile.
+#ifdef MECHGEN_VIEW_ENTRY
+static_assert(kFitsMaxima, "slider_crank_motor exceeds the maxima of mechgen::ModelView (mechgen/core/model_view.h)");
+#endif
+
+template <bool kFits>
 constexpr mechgen::ModelView MakeView() {
   mechgen::ModelView v{};
   v.layout = mechgen::kModelViewLayout;
   v.size = static_cast<int>(sizeof(mechgen::ModelView));
   v.name = Model::kName;
   v.version = "0.1.0";
+  v.fits_maxima = kFitsMaxima;
   v.nq = Model::kNq;
   v.nphi = Model::kNphi;
   v.nc = Model::kNc;
@@ -810,24 +817,28 @@ constexpr mechgen::ModelView MakeView() {
       {"Excess", kExcessSize, 8, kExcessMembers.data()};
   v.structs[static_cast<int>(mechgen::ViewStruct::kShaking)] =
       {"Shaking", kShakingSize, 7, kShakingMembers.data()};
-  v.Phi = &FlatPhi;
-  v.Coeffs = &FlatCoeffs;
-  v.Forces = &FlatForces;
-  v.Dynamics = &FlatDynamics;
-  v.Kinetostatics = &FlatKinetostatics;
-  v.ExcessDynamics = &FlatExcessDynamics;
-  v.Shaking = &FlatShaking;
-  v.Stiffness = &FlatStiffness;
-  v.DetPhiPhi = &FlatDetPhiPhi;
-  v.Solve = &FlatSolve;
-  v.SwitchModes = &FlatSwitchModes;
-  v.Scene = &FlatScene;
-  v.AppliedLoads = &FlatAppliedLoads;
-  v.Drawing = &FlatDrawing;
+  // The functions where the model fits the maxima (a larger model's fixed-size types, copied
+  // onto the stack here, could exceed Eigen's limit of a fixed-size object).
+  if constexpr (kFits) {
+    v.Phi = &FlatPhi<>;
+    v.Coeffs = &FlatCoeffs<>;
+    v.Forces = &FlatForces<>;
+    v.Dynamics = &FlatDynamics<>;
+    v.Kinetostatics = &FlatKinetostatics<>;
+    v.ExcessDynamics = &FlatExcessDynamics<>;
+    v.Shaking = &FlatShaking<>;
+    v.Stiffness = &FlatStiffness<>;
+    v.DetPhiPhi = &FlatDetPhiPhi<>;
+    v.Solve = &FlatSolve<>;
+    v.SwitchModes = &FlatSwitchModes<>;
+    v.Scene = &FlatScene<>;
+    v.AppliedLoads = &FlatAppliedLoads<>;
+    v.Drawing = &FlatDrawing<>;
+  }
   return v;
 }
 
-constexpr mechgen::ModelView kView = MakeView();
+constexpr mechgen::ModelView kView = MakeView<kFitsMaxima>();
 
 }  // namespace
 

@@ -765,9 +765,11 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   data.SetList("view_derived", view_derived, {"name", "value"});
   data.Set("num_view_params", static_cast<int>(m.params.size() + m.derived.size()));
   data.Set("num_free_params", static_cast<int>(m.params.size()));
-  data.Set("fill_derived_body",
-           (m.derived.empty() ? std::string() : "  using Scalar = double;  // the printer's literals: Scalar(2)\n") +
-               RenderBody(fill, &flat, nullptr));
+  const std::string fill_body = RenderBody(fill, &flat, nullptr);
+  data.Set("fill_derived_body", (Mentions(StripComments(fill_body), "Scalar")
+                                     ? "  using Scalar = double;  // the printer's literals: Scalar(2)\n"
+                                     : "") +
+                                    fill_body);
   data.Set("num_joints", static_cast<int>(m.joints.size()));
   data.Set("view_joint_names", Join(m.joints, [](const Joint& j) { return Quote(j.name); }));
   data.Set("num_loads", static_cast<int>(m.loads.size()));

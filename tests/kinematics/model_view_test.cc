@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <set>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -93,6 +94,13 @@ void ExpectArray(const T* view, const std::array<T, N>& model, const char* what)
   for (size_t i = 0; i < N; ++i) EXPECT_EQ(view[i], model[i]) << what << "[" << i << "]";
 }
 
+// The struct members compared (struct, member), so that a test can require every member of
+// every struct a model has to have been compared.
+std::set<std::pair<std::string, std::string>>& Compared() {
+  static std::set<std::pair<std::string, std::string>> compared;
+  return compared;
+}
+
 // The buffer `flat` of a view struct against the fixed-size struct's member `value`: the member
 // found by name, its shape, every entry bit for bit.
 template <int R, int C, int O, int MR, int MC>
@@ -102,6 +110,7 @@ void ExpectMember(const ViewLayout& layout,
                   const Eigen::Matrix<double, R, C, O, MR, MC>& value) {
   const mechgen::ViewMember* m = mechgen::FindMember(layout, name);
   ASSERT_NE(m, nullptr) << layout.name << " has no member " << name;
+  Compared().insert({layout.name, name});
   ASSERT_EQ(m->rows, R) << layout.name << "::" << name;
   ASSERT_EQ(m->cols, C) << layout.name << "::" << name;
   ASSERT_LE(m->offset + R * C, layout.size);
@@ -290,12 +299,18 @@ TYPED_TEST(ModelViewTest, SizesNamesConstantsAndFlagsAreTheModels) {
   EXPECT_EQ(v.Drawing != nullptr, M::kHasDrawing);
   EXPECT_EQ(v.CamProfile != nullptr, M::kHasCamProfile);
   EXPECT_EQ(v.AppliedLoads != nullptr, M::kHasAppliedLoads);
-  // The maxima hold the model (the generated static_assert says so at compile time).
-  EXPECT_LE(M::kNq, ModelView::kMaxQ);
-  EXPECT_LE(M::kNphi, ModelView::kMaxPhi);
-  EXPECT_LE(v.num_params, ModelView::kMaxParams);
+  // The maxima of a runtime compiled once hold every shipped model, and the view says so.
+  bool fits = M::kNq <= ModelView::kMaxQ && M::kNphi <= ModelView::kMaxPhi && M::kNumPoints <= ModelView::kMaxPoints &&
+              M::kNumLinks <= ModelView::kMaxLinks && v.num_joints <= ModelView::kMaxJoints &&
+              M::kNumScenePoints <= ModelView::kMaxScenePoints && M::kNumBlocks <= ModelView::kMaxBlocks &&
+              v.num_params <= ModelView::kMaxParams && v.num_reactions <= ModelView::kMaxReactions &&
+              v.num_friction <= ModelView::kMaxFriction && v.num_design <= ModelView::kMaxDesign &&
+              v.num_design_checks <= ModelView::kMaxDesignChecks &&
+              M::kNumTransmissionAngles <= ModelView::kMaxTransmissionAngles;
   for (int s = 0; s < static_cast<int>(ViewStruct::kCount); ++s)
-    EXPECT_LE(v.structs[s].size, ModelView::kMaxStructSize[s]) << s;
+    fits = fits && v.structs[s].size <= ModelView::kMaxStructSize[s];
+  EXPECT_TRUE(fits);
+  EXPECT_TRUE(v.fits_maxima);
 }
 
 // Each struct's layout: members one after the other from 0, each rows x cols, the size the sum;
@@ -849,6 +864,7 @@ void CompareAt(const ModelView& v,
 TYPED_TEST(ModelViewTest, EveryFunctionGivesTheFixedSizeFunctionsOutputsToTheBit) {
   using M = TypeParam;
   const ModelView& v = ViewOfModel<M>();
+  Compared().clear();
   for (double perturb : {0.0, 1e-5}) {
     SCOPED_TRACE("parameters scaled by " + std::to_string(perturb) + " per index");
     std::vector<double> p;
@@ -870,6 +886,11 @@ TYPED_TEST(ModelViewTest, EveryFunctionGivesTheFixedSizeFunctionsOutputsToTheBit
       CompareAt<M>(v, p, params, configs[i]);
     }
   }
+  // Every member of every struct the model has was compared.
+  for (const ViewLayout& l : v.structs)
+    for (int i = 0; i < l.num_members; ++i)
+      EXPECT_EQ(Compared().count({l.name, l.members[i].name}), 1u)
+          << l.name << "::" << l.members[i].name << " was not compared";
 }
 
 }  // namespace

@@ -17,8 +17,10 @@
  *    (Coefficients, Trig, Statics, ...) as one buffer whose members ViewLayout describes (name,
  *    rows, cols, offset), so that a reader finds a member by its name (FindMember), never by its
  *    C++ spelling. Each function behaves as the generated one does on the structs its buffers
- *    hold: what it does not write keeps the buffer's value; a pointer the generated function
- *    accepts as nullptr may be nullptr here.
+ *    hold: an output buffer is read in before the call, so what the function does not write
+ *    keeps the buffer's value (Stiffness after Forces in one Statics buffer), and a buffer is to
+ *    be initialized once before its first use; a pointer the generated function accepts as
+ *    nullptr may be nullptr here.
  *
  * The generated functions stay as they are (fixed-size Eigen, templates on the scalar); the view
  * maps its arrays onto them, calls them for double and copies the results out (the same
@@ -26,13 +28,16 @@
  * nothing and needs the C++17 standard library only: no Eigen, so that a product or a program that
  * dlopens a model can read it.
  *
- * Maxima: a runtime compiled once bounds its state by the constants of ModelView (kMaxQ, ...);
- * each generated view static_asserts that its model fits them. They cover every shipped model
- * with a margin (the largest shipped figure in each comment).
+ * Maxima: a runtime compiled once bounds its state by the constants of ModelView (kMaxQ, ...).
+ * Each view says whether its model fits them (fits_maxima); compiled with MECHGEN_VIEW_ENTRY (a
+ * model for that runtime) it static_asserts it. They cover every model of this tree with a
+ * margin (the largest figure in each comment), not the benchmarks' long chains, whose fixed-size
+ * code and view (fits_maxima false) still compile into their libraries.
  */
 #pragma once
 
 #include <cstring>
+#include <type_traits>
 
 namespace mechgen {
 
@@ -153,49 +158,47 @@ struct ViewFlags {
 /// that names them (q_names: nq; reaction_names: num_reactions; ...); a pointer to an empty
 /// array may be nullptr.
 struct ModelView {
-  // ---- Maxima of a runtime compiled once (each view static_asserts that it fits) ----
-  static constexpr int kMaxQ = 4;                  ///< inputs q (shipped: 2)
-  static constexpr int kMaxPhi = 32;               ///< dependent variables phi, rows of Phi (16)
-  static constexpr int kMaxPoints = 16;            ///< points of interest (8)
-  static constexpr int kMaxLinks = 32;             ///< links with the ground (18)
-  static constexpr int kMaxJoints = 64;            ///< joints (25)
-  static constexpr int kMaxScenePoints = 96;       ///< scene points (42)
-  static constexpr int kMaxBlocks = 32;            ///< blocks of the solve order (8)
-  static constexpr int kMaxParams = 160;           ///< parameters, free and derived (54)
-  static constexpr int kMaxReactions = 128;        ///< reaction components (58)
-  static constexpr int kMaxFriction = 16;          ///< joints with Coulomb friction (4)
-  static constexpr int kMaxSwitches = 16;          ///< switching items of the loads (1)
-  static constexpr int kMaxDesign = 24;            ///< design parameters (10)
-  static constexpr int kMaxDesignChecks = 32;      ///< design checks (12)
-  static constexpr int kMaxTransmissionAngles = 8; ///< transmission angles (2)
-  static constexpr int kMaxDrawValues = 32;        ///< EvalDrawing's values (8)
-  static constexpr int kMaxAppliedLoads = 32;      ///< applied loads, springs and weights (9)
-  static constexpr int kMaxLoads = 32;             ///< the model's loads (9)
-  static constexpr int kMaxNamedModes = 16;        ///< named assembly modes (0; 2 in the tests)
-  static constexpr int kMaxChangePoints = 16;      ///< change points in the inputs' ranges (0)
-  /// Doubles in each struct's buffer (ViewStruct order): every member at the maxima above, but
-  /// for RhsConstants and the design derivatives (whose product of maxima would be 260 kB of
-  /// DesignDerivatives), about ten times the largest shipped buffer (in the comment).
+  // ---- Maxima of a runtime compiled once (ModelView::fits_maxima; in the comments the largest
+  //      figure of the models in this tree, shipped and tests': the benchmarks' chains of 32 and
+  //      more loops exceed them) ----
+  static constexpr int kMaxQ = 8;                   ///< inputs q (7: contacts; shipped 2)
+  static constexpr int kMaxPhi = 48;                ///< dependent variables phi, rows of Phi (32: chain16)
+  static constexpr int kMaxPoints = 64;             ///< points of interest (32: a Pyslvs example)
+  static constexpr int kMaxLinks = 64;              ///< links with the ground (34: chain16)
+  static constexpr int kMaxJoints = 64;             ///< joints (25: engine_v8)
+  static constexpr int kMaxScenePoints = 128;       ///< scene points (42: engine_v8)
+  static constexpr int kMaxBlocks = 32;             ///< blocks of the solve order (16: chain16)
+  static constexpr int kMaxParams = 160;            ///< parameters, free and derived (54: engine_v8)
+  static constexpr int kMaxReactions = 160;         ///< reaction components (65: contacts)
+  static constexpr int kMaxFriction = 16;           ///< joints with Coulomb friction (4)
+  static constexpr int kMaxSwitches = 16;           ///< switching items of the loads (4: punch_press)
+  static constexpr int kMaxDesign = 32;             ///< design parameters (18)
+  static constexpr int kMaxDesignChecks = 32;       ///< design checks (12: watt_sixbar)
+  static constexpr int kMaxTransmissionAngles = 32; ///< transmission angles (16: chain16)
+  static constexpr int kMaxDrawValues = 32;         ///< EvalDrawing's values (8: engine_v8)
+  static constexpr int kMaxAppliedLoads = 32;       ///< applied loads, springs and weights (9: engine_v8)
+  static constexpr int kMaxLoads = 32;              ///< the model's loads (9)
+  static constexpr int kMaxNamedModes = 16;         ///< named assembly modes (2)
+  static constexpr int kMaxChangePoints = 16;       ///< change points in the inputs' ranges (3)
+  /// Doubles in each struct's buffer (ViewStruct order): every member at the maxima above where
+  /// that stays small, else about four times the largest buffer in the tree (in the comment; at
+  /// the maxima above DesignDerivatives alone would take 3.3 MB).
   static constexpr int kMaxStructSize[static_cast<int>(ViewStruct::kCount)] = {
-      // Coefficients: Phi, Phi_phi, K, L, r_P, K_P, L_P
-      kMaxPhi + kMaxPhi * kMaxPhi + kMaxPhi * kMaxQ * (1 + kMaxQ) + 2 * kMaxPoints * (1 + kMaxQ + kMaxQ * kMaxQ),
-      4 * (kMaxQ + kMaxPhi),  // Trig: sin_q, cos_q, sin_phi, cos_phi
+      4096,                          // Coefficients (1,126: chain16)
+      2 * (kMaxQ + kMaxPhi),         // Trig: sin_q, cos_q, sin_phi, cos_phi
       // Statics: Q, drive, stiffness, V, dV_dq, d2V_dq2, R, normal, gain, K_rel
       3 * kMaxQ + 2 * kMaxQ * kMaxQ + 1 + kMaxReactions + kMaxFriction * (2 + kMaxQ),
       // Dynamics: I, dI_dq, C, h, Q, T, V, P_nc
       kMaxQ * kMaxQ + 2 * kMaxQ * kMaxQ * kMaxQ + 2 * kMaxQ + 3,
-      // Excess: M, h, g, Phi_x, Phi, gamma, T, V (n = kMaxQ + kMaxPhi)
-      (kMaxQ + kMaxPhi) * (kMaxQ + kMaxPhi) + 2 * (kMaxQ + kMaxPhi) + kMaxPhi * (kMaxQ + kMaxPhi) + 2 * kMaxPhi + 2,
-      // Shaking: F, M, F_link, M_link, r_G, mass, r_C
-      2 + 1 + 2 * kMaxLinks + kMaxLinks + 2 * kMaxLinks + 1 + 2,
-      // Kinematics: K, L, Phi_phi
-      kMaxPhi * kMaxQ * (1 + kMaxQ) + kMaxPhi * kMaxPhi,
+      2560,                          // Excess (629: engine_v8)
+      6 + 5 * kMaxLinks,             // Shaking: F, M, F_link, M_link, r_G, mass, r_C
+      4096,                          // Kinematics (1,088: chain16)
       // Rhs: K, I, h, Q, T, V, P_nc, Phi_phi
       kMaxPhi * kMaxQ + kMaxQ * kMaxQ + 2 * kMaxQ + 3 + kMaxPhi * kMaxPhi,
-      256,   // RhsConstants: c (24: fivebar_robot)
-      2048,  // DesignDerivatives (200: watt_sixbar)
-      1024,  // StaticsDesign (88: fourbar_loaded)
-      512,   // DynamicsDesign (42: engine_single)
+      256,                           // RhsConstants: c (37: published_andrews)
+      2048,                          // DesignDerivatives (364: design_fivebar_massive)
+      1024,                          // StaticsDesign (88: fourbar_loaded)
+      1024,                          // DynamicsDesign (234: design_fivebar_massive)
   };
 
   // ---- Identity ----
@@ -203,6 +206,9 @@ struct ModelView {
   int size = 0;              ///< sizeof(ModelView) of the view's compile
   const char* name = nullptr;   ///< the model's name (mech::<name>)
   const char* version = nullptr;  ///< the mechgen version that generated it
+  /// Whether the model fits the maxima above (sizes, parameters and every struct's buffer): a
+  /// runtime compiled once refuses a view without it (the entry point static_asserts it).
+  bool fits_maxima = false;
 
   // ---- Sizes (the generated Sizes and Model constants; 0 where the model has none) ----
   int nq = 0;                ///< kNq: inputs q
@@ -282,7 +288,8 @@ struct ModelView {
   // ---- Struct buffers (ViewStruct order) ----
   ViewLayout structs[static_cast<int>(ViewStruct::kCount)] = {};
 
-  // ---- The generated Model's functions on flat arrays (nullptr where the model lacks one) ----
+  // ---- The generated Model's functions on flat arrays (nullptr where the model lacks one, and
+  //      all of them where it does not fit the maxima) ----
   // Sizes: Phi nc; Phi_phi nc x nphi; Phi_q nc x nq; modes num_blocks (int); trig, c, dc, rc,
   // out: the struct's buffer; friction num_friction; scene 2 x num_scene_points; frames
   // 3 x num_links; values num_draw_values; applied loads 7 x num_applied_loads; mu
@@ -330,6 +337,11 @@ struct ModelView {
   /// The layout of struct `s`.
   constexpr const ViewLayout& Layout(ViewStruct s) const { return structs[static_cast<int>(s)]; }
 };
+
+// A plain aggregate of numbers and pointers: constant-initialized in each view, copied as bytes.
+static_assert(std::is_aggregate_v<ModelView> && std::is_trivially_copyable_v<ModelView> &&
+                  std::is_trivially_destructible_v<ModelView>,
+              "ModelView is a plain aggregate");
 
 /// The index of the parameter `name` in view.params (free or derived), or -1.
 inline int FindParameter(const ModelView& view, const char* name) {
