@@ -41,6 +41,15 @@ int main(int argc, char** argv) {
                  mechgen::kModelViewEntry);
     return mechgen::sweep_tool::kExitError;
   }
+  if (view->layout == mechgen::kModelViewLayout && view->size == static_cast<int>(sizeof(mechgen::ModelView)) &&
+      !view->fits_maxima) {
+    std::fprintf(stderr,
+                 "error: the model %s exceeds the maxima of the runtime compiled once "
+                 "(mechgen::ModelView::kMax*: inputs, coordinates, points, ...); use its own tool "
+                 "%s_sweep\n",
+                 view->name, view->name);
+    return mechgen::sweep_tool::kExitError;
+  }
   if (!mechgen::ViewCompatible(*view)) {
     std::fprintf(stderr,
                  "error: %s holds a model view of layout %d, size %d; this program reads layout %d, "

@@ -89,9 +89,10 @@ struct ViewModel {
 };
 
 /// Whether a view's layout and size are those this runtime was compiled against (a view from
-/// a shared object compiled elsewhere is refused otherwise).
+/// a shared object compiled elsewhere is refused otherwise), and its model fits the maxima the
+/// runtime's bounded types hold (ModelView::fits_maxima).
 inline bool ViewCompatible(const ModelView& v) {
-  return v.layout == kModelViewLayout && v.size == static_cast<int>(sizeof(ModelView));
+  return v.layout == kModelViewLayout && v.size == static_cast<int>(sizeof(ModelView)) && v.fits_maxima;
 }
 
 template <class Scalar>
