@@ -52,6 +52,18 @@ X NaNs() {
   }
 }
 
+/// a * b: for bounded dynamic matrices (ModelTypes<ViewModel>) as the coefficient-based
+/// product (lazyProduct) that Eigen picks for small fixed sizes, with the same sums in the same
+/// order; for fixed sizes Eigen's own choice.
+template <class A, class B>
+MECHGEN_ALWAYS_INLINE auto Times(const A& a, const B& b) {
+  if constexpr (A::SizeAtCompileTime == Eigen::Dynamic) {
+    return a.lazyProduct(b);
+  } else {
+    return a * b;
+  }
+}
+
 /// x.middleCols<N>(start) for a fixed N, x.middleCols(start, n) for a dynamic one.
 template <int N, class X>
 MECHGEN_ALWAYS_INLINE auto MiddleCols(X&& x, Eigen::Index start, Eigen::Index n) {

@@ -17,14 +17,21 @@ typename PositionSolver<M, Assembler>::VecPhi PositionSolver<M, Assembler>::Pred
                                                               const VecQ& q,
                                                               double* last_term) const {
   const VecQ dq = q - from.q;
-  const VecPhi first = from.K * dq;
+  // (The view: the coefficient-based product that the fixed sizes get, not Eigen's general
+  // matrix-vector kernel, which costs more than the product at these sizes.)
+  const VecPhi first = Times(from.K, dq);
   if (!options_.second_order_predictor) {
     *last_term = internal::MaxAbsDiff(first);
     return from.phi + first;
   }
   auto dq_dq = Sized<typename T::VecQQ>(nq() * nq());  // (dq (x) dq)(j + kNq k) = dq_j dq_k
   for (int k = 0; k < nq(); ++k) dq_dq.segment(nq() * k, nq()) = dq * dq(k);
-  const VecPhi second = 0.5 * from.L * dq_dq;
+  VecPhi second;
+  if constexpr (Calls::kView) {
+    second = 0.5 * Times(from.L, dq_dq);
+  } else {
+    second = 0.5 * from.L * dq_dq;
+  }
   *last_term = internal::MaxAbsDiff(second);
   return from.phi + first + second;
 }
