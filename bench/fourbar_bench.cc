@@ -37,6 +37,12 @@
 #endif
 #include "mechgen/position/ceres_adapter.h"
 #include "mechgen/position/solver.h"
+#ifdef MECHGEN_BENCH_VIEW
+#include "mechgen/core/view_runtime.h"
+namespace mech::fourbar {
+const mechgen::ModelView& View();
+}
+#endif
 
 #ifdef MECHGEN_BENCH_MODEL_INCLUDE
 #include MECHGEN_BENCH_MODEL_INCLUDE
@@ -88,6 +94,29 @@ void MechgenContinuation(benchmark::State& state) {
   if (summary.status != mechgen::position::Status::kConverged) state.SkipWithError("step failed");
 }
 BENCHMARK(MechgenContinuation);
+
+#ifdef MECHGEN_BENCH_VIEW
+// MechgenContinuation through the runtime compiled once for the model view (issue 43):
+// PositionSolver<ViewModel> from mechgen_runtime_view on mech::fourbar::View(), the same steps.
+void MechgenContinuationView(benchmark::State& state) {
+  mechgen::ViewPositionSolver solver{mechgen::ViewModel(mech::fourbar::View())};
+  mechgen::position::Summary summary;
+  if (solver.AssembleDefault(&summary) != mechgen::position::Status::kConverged) {
+    state.SkipWithError("assembly failed");
+    return;
+  }
+  using VecQ = mechgen::ModelTypes<mechgen::ViewModel>::VecQ;
+  solver.MoveTo(VecQ::Zero(1), &summary);
+  long k = 1;
+  for (auto _ : state) {
+    const VecQ q = VecQ::Constant(1, k++ * kStep);
+    solver.MoveTo(q, &summary);
+    benchmark::DoNotOptimize(solver.state());
+  }
+  if (summary.status != mechgen::position::Status::kConverged) state.SkipWithError("step failed");
+}
+BENCHMARK(MechgenContinuationView);
+#endif
 
 #ifdef MECHGEN_BENCH_MODEL_INCLUDE
 // The generated closed-form dyad (Model::Solve, circle–circle in the solve order) + the

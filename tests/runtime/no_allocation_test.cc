@@ -14,6 +14,10 @@
 #include "handwritten_rocker_driven.h"
 #ifdef MECHGEN_HAVE_fourbar
 #include "fourbar.h"
+#include "mechgen/core/view_runtime.h"  // PositionSolver<ViewModel>: mechgen_runtime_view
+namespace mech::fourbar {
+const mechgen::ModelView& View();
+}
 #endif
 #include "mechgen/position/motion.h"
 #include "mechgen/position/ceres_adapter.h"
@@ -106,6 +110,32 @@ TEST(NoAllocation, GeneratedFourBarSweepStep) {
   static_assert(ModelFeatures<mech::fourbar::Model>::kCoeffsHavePhi);
   static_assert(!ModelFeatures<mech::handwritten_fourbar::Model>::kCoeffsHavePhi);
   EXPECT_EQ(AllocationsDuringSweep<mech::fourbar::Model>(0, 2 * M_PI, 720), 0);
+}
+
+TEST(NoAllocation, ViewFourBarAssemblySweepAndSplitStep) {
+  // The runtime compiled once for the model view (issue 43): bounded dynamic matrices, the
+  // view's buffers on the stack. Assembly (NewtonAssembler), 720 steps with the motion, and a
+  // step long enough to be split allocate nothing (operator new; Eigen's own heap would need a
+  // size beyond the bounds, which the bounded types cannot hold).
+  using VecQ = ModelTypes<ViewModel>::VecQ;
+  const long before = g_allocations.load();
+  Eigen::internal::set_is_malloc_allowed(false);
+  ViewPositionSolver solver{ViewModel(mech::fourbar::View())};
+  Summary summary;
+  const Status assembled = solver.AssembleDefault(&summary);
+  Motion<ViewModel> motion;
+  int converged = 0;
+  for (int i = 0; i <= 720; ++i) {
+    converged += solver.MoveTo(VecQ::Constant(1, 2 * M_PI * i / 720), &summary) == Status::kConverged;
+    ComputeMotion(solver.state(), VecQ::Constant(1, 1.0), VecQ::Constant(1, 0.0), &motion);
+  }
+  const Status split = solver.MoveTo(VecQ::Constant(1, M_PI), &summary);
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_EQ(assembled, Status::kConverged);
+  EXPECT_EQ(converged, 721);
+  EXPECT_EQ(split, Status::kConverged);
+  EXPECT_GT(summary.rejected_substeps + summary.substeps, 1);  // it was split
+  EXPECT_EQ(g_allocations.load() - before, 0);
 }
 #endif
 

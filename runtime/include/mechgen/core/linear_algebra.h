@@ -33,7 +33,10 @@ template <class A>
 MECHGEN_ALWAYS_INLINE double MaxAbsDiff(const A& a, const A* b = nullptr) {
   double m = 0;
   bool nan = false;
-  for (int i = 0; i < A::SizeAtCompileTime; ++i) {
+  // (A bounded dynamic matrix, ModelTypes<ViewModel>: its size at run time.)
+  const Eigen::Index size =
+      A::SizeAtCompileTime != Eigen::Dynamic ? static_cast<Eigen::Index>(A::SizeAtCompileTime) : a.size();
+  for (Eigen::Index i = 0; i < size; ++i) {
     const double d = std::abs(b == nullptr ? a.data()[i] : a.data()[i] - b->data()[i]);
     m = m > d ? m : d;  // maxsd
     nan = nan | (d != d);
@@ -48,7 +51,9 @@ MECHGEN_ALWAYS_INLINE double MaxAbsDiff(const A& a, const A* b = nullptr) {
 template <class A>
 MECHGEN_ALWAYS_INLINE bool AllFinite(const A& a) {
   double zero = 0;
-  for (int i = 0; i < A::SizeAtCompileTime; ++i) zero += a.data()[i] - a.data()[i];
+  const Eigen::Index size =
+      A::SizeAtCompileTime != Eigen::Dynamic ? static_cast<Eigen::Index>(A::SizeAtCompileTime) : a.size();
+  for (Eigen::Index i = 0; i < size; ++i) zero += a.data()[i] - a.data()[i];
   return zero == 0;
 }
 
@@ -103,15 +108,16 @@ void ConditionAndDeterminant(const Eigen::MatrixBase<Derived>& A, double* cond, 
  * error of sigma_n is ~ eps sigma_1, unlike the eigenvalues of A^T A whose error ~ eps
  * sigma_1^2 / sigma_n would swamp sigma_n below sqrt(eps) sigma_1), about 60 ns for 2 x 2.
  */
-template <class Derived>
+template <class Derived, class Vector = Eigen::Matrix<double, Derived::RowsAtCompileTime, 1>>
 void SmallestSingular(const Eigen::MatrixBase<Derived>& A,
                       double* sigma_min,
                       double* sigma_max,
-                      Eigen::Matrix<double, Derived::RowsAtCompileTime, 1>* v,
-                      Eigen::Matrix<double, Derived::RowsAtCompileTime, 1>* u = nullptr) {
+                      Vector* v,
+                      Vector* u = nullptr) {
   using Matrix = typename Derived::PlainObject;
-  constexpr int n = Matrix::RowsAtCompileTime;
-  static_assert(n == Matrix::ColsAtCompileTime && n != Eigen::Dynamic, "square, fixed size");
+  static_assert(Matrix::RowsAtCompileTime == Matrix::ColsAtCompileTime, "square");
+  // (Fixed size, or bounded dynamic: ModelTypes<ViewModel>.)
+  const Eigen::Index n = A.rows();
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   if (!A.allFinite()) {
     *sigma_min = *sigma_max = kNaN;
@@ -130,6 +136,29 @@ void SmallestSingular(const Eigen::MatrixBase<Derived>& A,
   *v *= sign;
   if (u != nullptr) *u = sign * svd.matrixU().col(n - 1);
 }
+
+namespace internal {
+/// A^{-1} r for a bounded dynamic square A (ModelTypes<ViewModel>): the fixed-size code of its
+/// size, as PositionSolver's Newton step runs it for a generated model (the closed-form inverse
+/// up to 4 x 4, PartialPivLU above), so that both give the same step to the bit.
+template <class A, class R>
+Eigen::Matrix<double, Eigen::Dynamic, 1, 0, A::MaxRowsAtCompileTime, 1> SolveSmallInverse(const A& a,
+                                                                                         const R& r) {
+  using Result = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, A::MaxRowsAtCompileTime, 1>;
+  switch (a.rows()) {
+    case 1:
+      return Result(Eigen::Matrix<double, 1, 1>(a).inverse() * Eigen::Matrix<double, 1, 1>(r));
+    case 2:
+      return Result(Eigen::Matrix2d(a).inverse() * Eigen::Vector2d(r));
+    case 3:
+      return Result(Eigen::Matrix3d(a).inverse() * Eigen::Vector3d(r));
+    case 4:
+      return Result(Eigen::Matrix4d(a).inverse() * Eigen::Vector4d(r));
+    default:
+      return Result(Eigen::PartialPivLU<typename A::PlainObject>(a).solve(r));
+  }
+}
+}  // namespace internal
 
 /// +1, -1, or 0 (zero or NaN).
 inline int Sign(double x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); }
@@ -251,7 +280,7 @@ inline void SingularValues2x2(const Eigen::Matrix2d& A, double* sigma_min, doubl
  * PartialPivLU with its 1/rcond() estimate of cond_1 (a lower bound). ok() is false when A is
  * singular or not finite.
  */
-template <int n>
+template <int n, int MaxN = n>
 class SquareFactorization {
  public:
   using Matrix = Eigen::Matrix<double, n, n>;
@@ -307,6 +336,8 @@ class SquareFactorization {
   }
 
  private:
+  template <int, int>
+  friend class SquareFactorization;
   // The factorization of a matrix larger than 2 x 2 (see the class comment).
   void Factor(const Matrix& A) {
     constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -393,6 +424,85 @@ class SquareFactorization {
   static constexpr bool kHasInverse = n <= kMaxExplicitInverse;
   std::conditional_t<kHasInverse, Matrix, None> inverse_;
   std::conditional_t<kHasInverse, None, Eigen::PartialPivLU<Matrix>> lu_;
+};
+
+/**
+ * \brief SquareFactorization of a matrix whose size is known at run time only (at most MaxN;
+ *        the position solver instantiated for ModelTypes<ViewModel>). No allocation.
+ *
+ * Up to 16 x 16 it factors a fixed-size copy with SquareFactorization<k> (k the size): the same
+ * arithmetic, so the same determinant, cond_1 and inverse to the bit as the fixed-size
+ * instantiation; above, Eigen's PartialPivLU on the bounded matrix.
+ */
+template <int MaxN>
+class SquareFactorization<Eigen::Dynamic, MaxN> {
+ public:
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, MaxN, MaxN>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, MaxN, 1>;
+
+  explicit SquareFactorization(const Matrix& A) : n_(static_cast<int>(A.rows())) {
+    if (!FactorFixed<1>(A)) {
+      lu_.compute(A);
+      det_ = lu_.determinant();
+      ok_ = det_ != 0 && std::isfinite(det_);
+      const double rcond = ok_ ? lu_.rcond() : 0.0;
+      cond_ = rcond > 0 ? 1.0 / rcond : std::numeric_limits<double>::infinity();
+      norm1_ = internal::Norm1(A);
+      inverse_norm1_ = cond_ / norm1_;
+      if (!std::isfinite(cond_)) {
+        cond_ = std::numeric_limits<double>::infinity();
+        ok_ = false;
+      }
+      if (!ok_) inverse_norm1_ = std::numeric_limits<double>::infinity();
+    }
+  }
+  bool ok() const { return ok_; }
+  double determinant() const { return det_; }
+  double condition() const { return cond_; }
+  double norm1() const { return norm1_; }
+  double inverse_norm1() const { return inverse_norm1_; }
+  /// A^{-1} B for any number of columns.
+  template <class Rhs>
+  auto Solve(const Eigen::MatrixBase<Rhs>& B) const {
+    using Result = Eigen::Matrix<double, Eigen::Dynamic, Rhs::ColsAtCompileTime, 0, MaxN,
+                                 Rhs::MaxColsAtCompileTime>;
+    if (n_ <= kMaxExplicitInverse) return Result(inverse_ * B);
+    return Result(lu_.solve(B));
+  }
+  /// A^{-T} b.
+  Vector SolveTransposed(const Vector& b) const {
+    if (n_ <= kMaxExplicitInverse) return inverse_.transpose() * b;
+    return lu_.transpose().solve(b);
+  }
+
+ private:
+  static constexpr int kMaxExplicitInverse = 16;
+  // The fixed-size factorization of size k (k <= 16), chosen by n_; false above 16.
+  template <int k>
+  bool FactorFixed(const Matrix& A) {
+    if constexpr (k > kMaxExplicitInverse || k > MaxN) {
+      (void)A;
+      return false;
+    } else {
+      if (n_ != k) return FactorFixed<k + 1>(A);
+      const SquareFactorization<k> f{Eigen::Matrix<double, k, k>(A)};
+      ok_ = f.ok_;
+      det_ = f.det_;
+      cond_ = f.cond_;
+      norm1_ = f.norm1_;
+      inverse_norm1_ = f.inverse_norm1_;
+      inverse_ = f.inverse_;
+      return true;
+    }
+  }
+  int n_;
+  bool ok_ = false;
+  double det_ = 0;
+  double cond_ = std::numeric_limits<double>::infinity();
+  double norm1_ = std::numeric_limits<double>::quiet_NaN();
+  double inverse_norm1_ = std::numeric_limits<double>::quiet_NaN();
+  Matrix inverse_;
+  Eigen::PartialPivLU<Matrix> lu_;
 };
 
 }  // namespace mechgen

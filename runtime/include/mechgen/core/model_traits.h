@@ -31,6 +31,10 @@ struct ModelTypes {
   static constexpr int kNumPoints = M::kNumPoints;
   static constexpr int kNumScenePoints = M::kNumScenePoints;
   static_assert(kNc == kNphi, "Phi_phi must be square: kNc == kNphi");
+  /// The bounds of the sizes (ModelTypes<ViewModel>: the view's maxima; here the sizes).
+  static constexpr int kMaxQ = kNq;
+  static constexpr int kMaxPhi = kNphi;
+  static constexpr int kMaxPoints = kNumPoints;
 
   using ScalarType = Scalar;
   using Params = typename M::template ParamsT<Scalar>;

@@ -11,8 +11,10 @@
  *
  * The policy is one static function template:
  *   template <class M>
- *   static AssemblyResult Minimize(const Params& params, const VecQ& q, VecPhi* phi,
- *                                  int max_iterations);
+ *   static AssemblyResult Minimize(const M& model, const Params& params, const VecQ& q,
+ *                                  VecPhi* phi, int max_iterations);
+ * (model: the solver's, core/model_calls.h; an empty tag for a generated M, a ViewModel for
+ * the runtime instantiated for the view.)
  * Two are provided:
  *  - NewtonAssembler (this file, the default): Levenberg–Marquardt on the generated analytic
  *    Phi_phi with fixed-size Eigen (Newton steps damped by mu diag(J^T J)); no allocation,
@@ -33,6 +35,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 
 namespace mechgen::position {
@@ -54,17 +57,18 @@ struct AssemblyResult {
 /// gradient's max-norm below 1e-14, or the step below 1e-14 (|phi| + 1e-14).
 struct NewtonAssembler {
   template <class M>
-  static AssemblyResult Minimize(const typename ModelTypes<M>::Params& params,
+  static AssemblyResult Minimize(const M& model, const typename ModelTypes<M>::Params& params,
                                  const typename ModelTypes<M>::VecQ& q,
                                  typename ModelTypes<M>::VecPhi* phi,
                                  int max_iterations) {
     using T = ModelTypes<M>;
-    using MatA = Eigen::Matrix<double, M::kNphi, M::kNphi>;
+    using Calls = ModelCalls<M>;
+    using MatA = typename T::MatCPhi;  // kNphi x kNphi
     AssemblyResult result;
     typename T::VecC Phi;
     typename T::MatCPhi J;
     auto cost_at = [&](const typename T::VecPhi& x, typename T::MatCPhi* jacobian) {
-      M::template Phi<double>(params, q, x, &Phi, jacobian, nullptr);
+      Calls::Phi(model, params, q, x, &Phi, jacobian, nullptr);
       const double c = 0.5 * Phi.squaredNorm();
       return std::isfinite(c) ? c : std::numeric_limits<double>::infinity();
     };
@@ -83,7 +87,7 @@ struct NewtonAssembler {
       ++result.iterations;
       const MatA JtJ = J.transpose() * J;
       MatA damped = JtJ;
-      for (int i = 0; i < M::kNphi; ++i) {
+      for (int i = 0; i < Calls::Nphi(model); ++i) {
         damped(i, i) += mu * std::min(std::max(JtJ(i, i), 1e-6), 1e32);
       }
       const typename T::VecPhi step = -Eigen::PartialPivLU<MatA>(damped).solve(gradient);
@@ -119,7 +123,7 @@ struct NewtonAssembler {
         }
       }
     }
-    M::template Phi<double>(params, q, *phi, &Phi, nullptr, nullptr);
+    Calls::Phi(model, params, q, *phi, &Phi, nullptr, nullptr);
     result.residual_norm = Phi.template lpNorm<Eigen::Infinity>();
     return result;
   }

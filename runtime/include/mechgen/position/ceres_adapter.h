@@ -140,7 +140,7 @@ LevenbergMarquardtResult SolveLevenbergMarquardt(const typename ModelTypes<M>::P
 /// SolveLevenbergMarquardt(). Allocates; runs only for assembly and on the failure path.
 struct CeresAssembler {
   template <class M>
-  static AssemblyResult Minimize(const typename ModelTypes<M>::Params& params,
+  static AssemblyResult Minimize(const M&, const typename ModelTypes<M>::Params& params,
                                  const typename ModelTypes<M>::VecQ& q,
                                  typename ModelTypes<M>::VecPhi* phi,
                                  int max_iterations) {

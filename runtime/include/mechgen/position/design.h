@@ -12,6 +12,7 @@
 
 #include <limits>
 
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/position/state.h"
 
@@ -25,7 +26,7 @@ using DesignOf = typename internal::DesignDerivativesOf<M>::type;
 template <class M>
 DesignOf<M> NanDesign() {
   DesignOf<M> d;
-  if constexpr (HasDesignDerivatives<M>::value) {
+  if constexpr (HasDesignDerivatives<M>::value && !ModelCalls<M>::kView) {
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     d.dphi_dp.setConstant(nan);
     if constexpr (M::kNumPoints > 0) d.dr_P_dp.setConstant(nan);
@@ -40,8 +41,8 @@ DesignOf<M> NanDesign() {
 
 /// The design derivatives at a valid state (state.valid), else NaN. Allocation-free.
 template <class M>
-void EvalDesign(const typename M::template ParamsT<double>& p, const State<M>& state, DesignOf<M>* out) {
-  if constexpr (HasDesignDerivatives<M>::value) {
+void EvalDesign(const typename ModelTypes<M>::Params& p, const State<M>& state, DesignOf<M>* out) {
+  if constexpr (HasDesignDerivatives<M>::value && !ModelCalls<M>::kView) {
     if (state.valid) {
       M::Design(p, state.q, state.phi, out);
       return;

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/position/state.h"
 
@@ -26,12 +27,27 @@ template <class M>
 struct Motion {
   using T = ModelTypes<M>;
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  typename T::VecQ qd = T::VecQ::Constant(kNaN);         ///< input speeds (kNq)
-  typename T::VecQ qdd = T::VecQ::Constant(kNaN);        ///< input accelerations (kNq)
-  typename T::VecPhi phid = T::VecPhi::Constant(kNaN);   ///< K qd (kNphi)
-  typename T::VecPhi phidd = T::VecPhi::Constant(kNaN);  ///< K qdd + L qd qd (kNphi)
-  typename T::MatRP v_P = T::MatRP::Constant(kNaN);      ///< point velocities (2 x kNumPoints)
-  typename T::MatRP a_P = T::MatRP::Constant(kNaN);      ///< accelerations (2 x kNumPoints)
+  /// A generated M: every member NaN. A ViewModel: empty (Motion(nq, nphi, np) sizes it).
+  Motion() = default;
+  /// Every member NaN at these sizes (for a generated M, its own: the same as Motion()).
+  Motion(int nq, int nphi, int num_points) {
+    if constexpr (ModelCalls<M>::kView) {
+      qd.setConstant(nq, kNaN);
+      qdd.setConstant(nq, kNaN);
+      phid.setConstant(nphi, kNaN);
+      phidd.setConstant(nphi, kNaN);
+      v_P.setConstant(2, num_points, kNaN);
+      a_P.setConstant(2, num_points, kNaN);
+    } else {
+      (void)nq, (void)nphi, (void)num_points;
+    }
+  }
+  typename T::VecQ qd = NaNs<typename T::VecQ>();         ///< input speeds (kNq)
+  typename T::VecQ qdd = NaNs<typename T::VecQ>();        ///< input accelerations (kNq)
+  typename T::VecPhi phid = NaNs<typename T::VecPhi>();   ///< K qd (kNphi)
+  typename T::VecPhi phidd = NaNs<typename T::VecPhi>();  ///< K qdd + L qd qd (kNphi)
+  typename T::MatRP v_P = NaNs<typename T::MatRP>();      ///< point velocities (2 x kNumPoints)
+  typename T::MatRP a_P = NaNs<typename T::MatRP>();      ///< accelerations (2 x kNumPoints)
 };
 
 /**
@@ -47,21 +63,26 @@ void ComputeMotion(const State<M>& state,
                    const typename ModelTypes<M>::VecQ& qdd,
                    Motion<M>* motion) {
   using T = ModelTypes<M>;
-  *motion = Motion<M>();
+  // The sizes: the model's (for a ViewModel, the state's, which State(model) set).
+  const int nq = static_cast<int>(state.q.size()), np = static_cast<int>(state.r_P.cols());
+  *motion = Motion<M>(nq, static_cast<int>(state.phi.size()), np);
   motion->qd = qd;
   motion->qdd = qdd;
   if (!state.valid) return;
-  typename T::VecQQ qd_qd;  // (qd (x) qd)(j + kNq k) = qd_j qd_k
-  for (int k = 0; k < M::kNq; ++k) qd_qd.segment(M::kNq * k, M::kNq) = qd * qd(k);
+  auto qd_qd = Sized<typename T::VecQQ>(nq * nq);  // (qd (x) qd)(j + kNq k) = qd_j qd_k
+  for (int k = 0; k < nq; ++k) qd_qd.segment(nq * k, nq) = qd * qd(k);
   motion->phid = state.K * qd;
   motion->phidd = state.K * qdd + state.L * qd_qd;
+  // (A view's state without K_P or L_P holds NaN there: its v_P, a_P stay NaN.)
+  constexpr int kRows = M::kNumPoints == Eigen::Dynamic ? Eigen::Dynamic : 2 * M::kNumPoints;
+  using VecP = Eigen::Matrix<double, kRows, 1, 0, kRows == Eigen::Dynamic ? 2 * T::kMaxPoints : kRows, 1>;
   if constexpr (ModelFeatures<M>::kHasPointVelocities) {
-    const Eigen::Matrix<double, 2 * M::kNumPoints, 1> v = state.K_P * qd;
-    motion->v_P = Eigen::Map<const typename T::MatRP>(v.data());  // v(2m + a) -> (a, m)
+    const VecP v = state.K_P * qd;
+    motion->v_P = Eigen::Map<const typename T::MatRP>(v.data(), 2, np);  // v(2m + a) -> (a, m)
   }
   if constexpr (ModelFeatures<M>::kHasPointAccelerations) {
-    const Eigen::Matrix<double, 2 * M::kNumPoints, 1> a = state.K_P * qdd + state.L_P * qd_qd;
-    motion->a_P = Eigen::Map<const typename T::MatRP>(a.data());
+    const VecP a = state.K_P * qdd + state.L_P * qd_qd;
+    motion->a_P = Eigen::Map<const typename T::MatRP>(a.data(), 2, np);
   }
 }
 

@@ -104,6 +104,7 @@
 
 #include "mechgen/core/inline.h"
 #include "mechgen/core/linear_algebra.h"
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/position/assembler.h"
 #include "mechgen/position/internal/dual.h"
@@ -132,20 +133,36 @@ class PositionSolver {
   using MatCPhi = typename T::MatCPhi;
   using MatCQ = typename T::MatCQ;
   using Features = ModelFeatures<M>;
-  using Factorization = SquareFactorization<M::kNphi>;
+  /// The model's sizes, constants and functions (core/model_calls.h): constant for a generated
+  /// M, the view's for ViewModel.
+  using Calls = ModelCalls<M>;
+  using Factorization = SquareFactorization<M::kNphi, T::kMaxPhi>;
   /// Assembly modes of the blocks of M::Solve (one entry for a model without it).
-  using Modes = std::array<int, internal::BlockCount<M>::value>;
+  using Modes = typename Calls::Modes;
 
   /// Invalid options (Options::IsValid() false) make every solve return kInvalidInput.
+  /// (A generated M only: a ViewModel names its view.)
+  template <class Model = M, std::enable_if_t<!ModelCalls<Model>::kView, int> = 0>
   explicit PositionSolver(const Options& options = Options(), const Params& params = Params())
-      : options_(options), params_(params), options_valid_(options.IsValid(nullptr)) {}
+      : PositionSolver(M(), options, params) {}
+  /// The solver of `model` (a ViewModel; for a generated M an empty tag), with its
+  /// parameters' defaults or `params`.
+  explicit PositionSolver(const M& model, const Options& options = Options())
+      : PositionSolver(model, options, Calls::DefaultParams(model)) {}
+  PositionSolver(const M& model, const Options& options, const Params& params)
+      : model_(model),
+        options_(options),
+        params_(params),
+        options_valid_(options.IsValid(nullptr)),
+        states_{State<M>(model), State<M>(model)} {}
 
+  const M& model() const { return model_; }
   const Options& options() const { return options_; }
   const Params& params() const { return params_; }
   /// Changes the parameters; the configuration must be assembled again.
   void set_params(const Params& params) {
     params_ = params;
-    state_ref() = State<M>();
+    state_ref() = State<M>(model_);
     has_modes_ = false;
   }
   /// The last valid configuration (state().valid is false before the first assembly).
@@ -230,18 +247,24 @@ class PositionSolver {
   // matrix), sigma_min +inf and sigma_max 0 (no singular value: never singular), error
   // bounds 0. kInvalidInput for options, q or coefficients that are not valid or finite.
   Status PlaceLoopFree(const VecQ& q, Summary* summary);
+  // The model's sizes (constexpr for a generated M).
+  MECHGEN_ALWAYS_INLINE int nq() const { return Calls::Nq(model_); }
+  MECHGEN_ALWAYS_INLINE int nphi() const { return Calls::Nphi(model_); }
+  MECHGEN_ALWAYS_INLINE int nc() const { return Calls::Nc(model_); }
   // True when phi moves an angle coordinate by more than Options::max_predicted_angle from
   // phi0, or is not finite.
   bool MovesTooFar(const VecPhi& phi0, const VecPhi& phi, bool known_finite = false) const {
     if (!known_finite && !internal::AllFinite(phi)) return true;
-    for (int i = 0; i < M::kNphi; ++i) {
-      if (M::kPhiIsAngle[i] && !(std::abs(phi(i) - phi0(i)) <= options_.max_predicted_angle))
+    for (int i = 0; i < nphi(); ++i) {
+      if (Calls::PhiIsAngle(model_, i) && !(std::abs(phi(i) - phi0(i)) <= options_.max_predicted_angle))
         return true;
     }
     return false;
   }
-  // A model whose coefficients lack K needs Phi_q for K = -Phi_phi^{-1} Phi_q.
+  // A model whose coefficients lack K needs Phi_q for K = -Phi_phi^{-1} Phi_q (the view: may
+  // lack K, NeedPhiQ() says).
   static constexpr bool kNeedPhiQ = !Features::kHasK;
+  MECHGEN_ALWAYS_INLINE bool NeedPhiQ() const { return kNeedPhiQ || !Calls::HasK(model_); }
 
   // cond, sign(det) and the distance to singularity of Phi_phi (factored as f) into *s;
   // false when singular (1/cond < min_rcond). warm: the neighbouring configuration whose
@@ -260,7 +283,7 @@ class PositionSolver {
   // its square roots and divisions then overlap the start of the next step instead of
   // holding up the end of this one. pending: not computed yet. (Empty above 2 x 2.)
   struct PendingDistance {
-    std::conditional_t<(M::kNphi <= 2), MatCPhi, std::array<double, 0>> Phi_phi;
+    std::conditional_t<(M::kNphi == Eigen::Dynamic || M::kNphi <= 2), MatCPhi, std::array<double, 0>> Phi_phi;
     bool pending = false;
   };
   // The exact distance (a full SVD above 2 x 2) at s's configuration, if s has an estimate.
@@ -273,13 +296,18 @@ class PositionSolver {
   bool FillCoefficients(const Factorization& f, const MatCQ* Phi_q, State<M>* s,
                         const PhiDerivatives* d = nullptr) const {
     if constexpr (kCallCoeffs) {
-      typename T::Coefficients c;
-      M::template Coeffs<double>(params_, s->q, s->phi, &c);
-      return CopyCoefficients(c, f, Phi_q, s, d);
-    } else {  // nothing in Coeffs for the state: CopyCoefficients does not read c
+      if (CallCoeffs()) {  // (constant but for the view)
+        typename T::Coefficients c;
+        Calls::Coeffs(model_, params_, s->q, s->phi, &c);
+        return CopyCoefficients(c, f, Phi_q, s, d);
+      }
+    }
+    if constexpr (!kCallCoeffs || Calls::kView) {
+      // nothing in Coeffs for the state: CopyCoefficients does not read c
       static const typename T::Coefficients kNone{};
       return CopyCoefficients(kNone, f, Phi_q, s, d);
     }
+    return false;  // (not reached)
   }
   // The same from c = Model::Coeffs at (s->q, s->phi), already evaluated (unused when the
   // model's coefficients have neither K, L nor points).
@@ -288,7 +316,7 @@ class PositionSolver {
   // The error bounds of s (State::phi_error, K_error, L_error) from its residual, its
   // conditioning (Classify()) and its coefficients; see "Accuracy" in the file comment.
   // f: the factorization of Phi_phi at s (its ||Phi_phi||_1).
-  static void ErrorBounds(const Factorization& f, State<M>* s);
+  void ErrorBounds(const Factorization& f, State<M>* s) const;
   // True when `from` is next to a singular configuration and `to` farther from it: the step
   // leaves the singularity, and is judged by to's coefficients, not from's (whose K and L
   // carry errors ~ eps cond^2, eps cond^3).
@@ -298,10 +326,14 @@ class PositionSolver {
   }
   static constexpr bool kCallCoeffs =
       Features::kHasK || Features::kHasL || Features::kHasPoints;
+  MECHGEN_ALWAYS_INLINE bool CallCoeffs() const {
+    return Calls::HasK(model_) || Calls::HasL(model_) || Calls::HasPoints(model_);
+  }
   // A result of M::Solve is checked on the Phi and Phi_phi of Model::Coeffs (one evaluation
   // per step) when the coefficients have them and the step needs Coeffs anyway; else on
   // Model::Phi (a model without Coefficients::Phi_phi, or asking for positions only).
   static constexpr bool kPhiFromCoeffs = Features::kCoeffsHavePhi && kCallCoeffs;
+  MECHGEN_ALWAYS_INLINE bool PhiFromCoeffs() const { return Calls::CoeffsHavePhi(model_) && CallCoeffs(); }
   // L of a model whose coefficients lack it: dK/dq_k = -Phi_phi^{-1} (D_k Phi_phi K + D_k Phi_q)
   // with D_k the derivative along the motion (e_k, K e_k). kDualL: from the derivatives of one
   // evaluation of Phi in dual numbers (d, or evaluated when nullptr; exact to rounding); else
@@ -312,8 +344,9 @@ class PositionSolver {
   // The number of directions of the dual numbers (every q and phi), and whether L is taken
   // with them: a model without L, of at most 12 coordinates (the derivatives of Phi_phi and
   // Phi_q in every direction are kept: (kNq + kNphi) kNc (kNphi + kNq) numbers).
-  static constexpr int kDualN = M::kNq + M::kNphi;
-  static constexpr bool kDualL = !Features::kHasL && kDualN <= 12;
+  // (Not for the view: its functions are in double only; L then by central differences.)
+  static constexpr int kDualN = Calls::kView ? 0 : M::kNq + M::kNphi;
+  static constexpr bool kDualL = !Calls::kView && !Features::kHasL && kDualN <= 12;
   // Phi, Phi_phi and Phi_q at (q, phi), equal bit for bit to Model::Phi<double> there, and the
   // derivatives of Phi_phi and Phi_q in each of the kDualN directions (q first, then phi), from
   // one evaluation of Model::Phi in internal::Dual<kDualN>; or with trig, the sin and cos from
@@ -357,8 +390,8 @@ class PositionSolver {
   MECHGEN_ALWAYS_INLINE bool VelocityConsistent(const State<M>& from, const State<M>& to) const {
     if (Leaving(from, to)) return VelocityConsistentBackwards(from, to);
     const VecQ dq = to.q - from.q;
-    typename T::MatK change = T::MatK::Zero();  // L(i, j + kNq k) dq_k summed over k
-    for (int k = 0; k < M::kNq; ++k) change += from.L.template middleCols<M::kNq>(M::kNq * k) * dq(k);
+    typename T::MatK change = T::MatK::Zero(nphi(), nq());  // L(i, j + kNq k) dq_k summed over k
+    for (int k = 0; k < nq(); ++k) change += MiddleCols<M::kNq>(from.L, nq() * k, nq()) * dq(k);
     const double remainder = (to.K - from.K - change).template lpNorm<Eigen::Infinity>();
     return remainder <= options_.max_correction_ratio * change.template lpNorm<Eigen::Infinity>() +
                             options_.max_correction_abs *
@@ -372,8 +405,8 @@ class PositionSolver {
   // curves' K differ by O(1) at the crossing.
   bool VelocityConsistentBackwards(const State<M>& from, const State<M>& to) const {
     const VecQ dq = to.q - from.q;
-    typename T::MatK change = T::MatK::Zero();
-    for (int k = 0; k < M::kNq; ++k) change += to.L.template middleCols<M::kNq>(M::kNq * k) * dq(k);
+    typename T::MatK change = T::MatK::Zero(nphi(), nq());
+    for (int k = 0; k < nq(); ++k) change += MiddleCols<M::kNq>(to.L, nq() * k, nq()) * dq(k);
     const double remainder = (from.K - to.K + change).template lpNorm<Eigen::Infinity>();
     return remainder <= options_.max_correction_ratio * change.template lpNorm<Eigen::Infinity>() +
                             options_.max_correction_abs *
@@ -385,8 +418,8 @@ class PositionSolver {
   // against that last term (the Taylor remainder about the better-conditioned end).
   bool CorrectionAcceptableBackwards(const State<M>& from, const State<M>& to) const {
     const VecQ dq = to.q - from.q;
-    typename T::VecQQ dq_dq;
-    for (int k = 0; k < M::kNq; ++k) dq_dq.segment(M::kNq * k, M::kNq) = dq * dq(k);
+    auto dq_dq = Sized<typename T::VecQQ>(nq() * nq());
+    for (int k = 0; k < nq(); ++k) dq_dq.segment(nq() * k, nq()) = dq * dq(k);
     const VecPhi second = 0.5 * to.L * dq_dq;
     const VecPhi back = to.phi - to.K * dq + second;
     return internal::MaxAbsDiff(from.phi, &back) <=
@@ -430,6 +463,7 @@ class PositionSolver {
     return status;
   }
 
+  M model_;
   Options options_;
   Params params_;
   bool options_valid_;

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 
 namespace mechgen::position {
@@ -20,13 +21,34 @@ struct State {
   using T = ModelTypes<M>;
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-  typename T::VecQ q = T::VecQ::Constant(kNaN);        ///< inputs (kNq)
-  typename T::VecPhi phi = T::VecPhi::Constant(kNaN);  ///< dependent variables (kNphi)
-  typename T::MatK K = T::MatK::Constant(kNaN);        ///< dphi/dq (kNphi x kNq)
-  typename T::MatL L = T::MatL::Constant(kNaN);        ///< L(i, j + kNq k) = dK(i,j)/dq_k
-  typename T::MatRP r_P = T::MatRP::Constant(kNaN);    ///< points (2 x kNumPoints)
-  typename T::MatKP K_P = T::MatKP::Constant(kNaN);    ///< d r_P / dq (2 kNumPoints x kNq)
-  typename T::MatLP L_P = T::MatLP::Constant(kNaN);    ///< d2 r_P / dq2 (2 kNumPoints x kNq^2)
+  /// A generated M: every member NaN. A ViewModel: empty (State(model) sizes it).
+  State() = default;
+  /// Every member NaN at the model's sizes (for a generated M the same as State()).
+  explicit State(const M& model) {
+    if constexpr (ModelCalls<M>::kView) {
+      using C = ModelCalls<M>;
+      const int nq = C::Nq(model), nphi = C::Nphi(model), np = C::NumPoints(model);
+      q.setConstant(nq, kNaN);
+      phi.setConstant(nphi, kNaN);
+      K.setConstant(nphi, nq, kNaN);
+      L.setConstant(nphi, nq * nq, kNaN);
+      r_P.setConstant(2, np, kNaN);
+      K_P.setConstant(2 * np, nq, kNaN);
+      L_P.setConstant(2 * np, nq * nq, kNaN);
+      singular_direction.setConstant(nphi, kNaN);
+      largest_direction.setConstant(nphi, kNaN);
+    } else {
+      (void)model;
+    }
+  }
+
+  typename T::VecQ q = NaNs<typename T::VecQ>();        ///< inputs (kNq)
+  typename T::VecPhi phi = NaNs<typename T::VecPhi>();  ///< dependent variables (kNphi)
+  typename T::MatK K = NaNs<typename T::MatK>();        ///< dphi/dq (kNphi x kNq)
+  typename T::MatL L = NaNs<typename T::MatL>();        ///< L(i, j + kNq k) = dK(i,j)/dq_k
+  typename T::MatRP r_P = NaNs<typename T::MatRP>();    ///< points (2 x kNumPoints)
+  typename T::MatKP K_P = NaNs<typename T::MatKP>();    ///< d r_P / dq (2 kNumPoints x kNq)
+  typename T::MatLP L_P = NaNs<typename T::MatLP>();    ///< d2 r_P / dq2 (2 kNumPoints x kNq^2)
   double residual_norm = kNaN;                         ///< ||Phi||_inf
   double condition = kNaN;                             ///< cond_1(Phi_phi)
   /// Distance to singularity: sigma_min(Phi_phi), its smallest singular value (model length
@@ -35,10 +57,10 @@ struct State {
   double sigma_max = kNaN;
   /// Unit right singular vector of sigma_min (kNphi): the direction in which phi can move
   /// with Phi unchanged to first order when sigma_min -> 0 (the singular motion).
-  typename T::VecPhi singular_direction = T::VecPhi::Constant(kNaN);
+  typename T::VecPhi singular_direction = NaNs<typename T::VecPhi>();
   /// Unit right singular vector of sigma_max (kNphi); the next configuration's estimate
   /// starts from it and from singular_direction.
-  typename T::VecPhi largest_direction = T::VecPhi::Constant(kNaN);
+  typename T::VecPhi largest_direction = NaNs<typename T::VecPhi>();
   /// true: sigma_min, sigma_max and both directions are exact (a singular value
   /// decomposition: closed form for kNphi <= 2, JacobiSVD above); false: the estimate of
   /// PositionSolver's continuation steps for kNphi > 2 (see position/solver.h: "Distance to

@@ -51,7 +51,7 @@ using table::DuplicateColumnName;
  */
 template <class M>
 void AppendDesignColumns(std::vector<SweepColumn<M>>* columns) {
-  if constexpr (HasDesignDerivatives<M>::value) {
+  if constexpr (HasDesignDerivatives<M>::value && !ModelCalls<M>::kView) {
     using R = SweepRecord<M>;
     table::Builder<R> add(columns);
     auto per = [](bool angle, int d) {
@@ -95,90 +95,95 @@ void AppendDesignColumns(std::vector<SweepColumn<M>>* columns) {
  * ("K_phi"); with several, "K_phi/q" and "L_phi/q_j,q_k".
  */
 template <class M>
-std::vector<SweepColumn<M>> SweepColumns() {
+std::vector<SweepColumn<M>> SweepColumns(const M& model = M()) {
   using F = ModelFeatures<M>;
+  using C = ModelCalls<M>;  // (sizes and names: constant for a generated M, the view's for a ViewModel)
+  const int nq = C::Nq(model), nphi = C::Nphi(model), np = C::NumPoints(model);
   using R = SweepRecord<M>;
   std::vector<SweepColumn<M>> columns;
   table::Builder<R> add(&columns);
-  const bool one_input = M::kNq == 1;
+  const bool one_input = nq == 1;
   auto unit = [](bool angle, const char* per_second = "") {
     return std::string(angle ? "rad" : "model length") + per_second;
   };
   // The unit of a coefficient d^n phi_i / dq^n: phi_i's unit over the inputs' units.
-  auto ratio = [](int i, std::initializer_list<int> inputs) {
-    std::string u = M::kPhiIsAngle[i] ? "rad" : "model length";
-    for (int j : inputs) u += std::string("/") + (M::kQIsAngle[j] ? "rad" : "model length");
+  auto ratio = [&model](int i, std::initializer_list<int> inputs) {
+    std::string u = C::PhiIsAngle(model, i) ? "rad" : "model length";
+    for (int j : inputs) u += std::string("/") + (C::QIsAngle(model, j) ? "rad" : "model length");
     return u;
   };
   const std::string kAxis[2] = {"x", "y"};
 
   // Positions and the coefficients: also in the printed table.
-  for (int j = 0; j < M::kNq; ++j)
-    table::Shown(add.Number(M::kQNames[j], unit(M::kQIsAngle[j]), "input (driven coordinate)",
+  for (int j = 0; j < nq; ++j)
+    table::Shown(add.Number(C::QName(model, j), unit(C::QIsAngle(model, j)), "input (driven coordinate)",
                             [j](const R& r) { return r.q(j); }),
-                 M::kQNames[j]);
-  for (int i = 0; i < M::kNphi; ++i)
-    table::Shown(add.Number(M::kPhiNames[i], unit(M::kPhiIsAngle[i]),
+                 C::QName(model, j));
+  for (int i = 0; i < nphi; ++i)
+    table::Shown(add.Number(C::PhiName(model, i), unit(C::PhiIsAngle(model, i)),
                             "dependent coordinate (angles CCW + from the x axis)",
                             [i](const R& r) { return r.state.phi(i); }),
-                 M::kPhiNames[i]);
-  for (int i = 0; i < M::kNphi; ++i)
-    for (int j = 0; j < M::kNq; ++j)
-      table::Shown(add.Number(std::string("K_") + M::kPhiNames[i] + "_" + M::kQNames[j],
+                 C::PhiName(model, i));
+  for (int i = 0; i < nphi; ++i)
+    for (int j = 0; j < nq; ++j)
+      table::Shown(add.Number(std::string("K_") + C::PhiName(model, i) + "_" + C::QName(model, j),
                               ratio(i, {j}), "first-order coefficient dphi/dq",
                               [i, j](const R& r) { return r.state.K(i, j); }),
-                   std::string("K_") + M::kPhiNames[i] +
-                       (one_input ? "" : std::string("/") + M::kQNames[j]))
+                   std::string("K_") + C::PhiName(model, i) +
+                       (one_input ? "" : std::string("/") + C::QName(model, j)))
           .angle = false;
-  for (int i = 0; i < M::kNphi; ++i)
-    for (int j = 0; j < M::kNq; ++j)
-      for (int k = j; k < M::kNq; ++k)
+  for (int i = 0; i < nphi; ++i)
+    for (int j = 0; j < nq; ++j)
+      for (int k = j; k < nq; ++k)
         table::Shown(
-            add.Number(std::string("L_") + M::kPhiNames[i] + "_" + M::kQNames[j] + "_" +
-                           M::kQNames[k],
+            add.Number(std::string("L_") + C::PhiName(model, i) + "_" + C::QName(model, j) + "_" +
+                           C::QName(model, k),
                        ratio(i, {j, k}), "second-order coefficient d2phi/dq_j dq_k",
-                       [i, j, k](const R& r) { return r.state.L(i, j + M::kNq * k); }),
-            std::string("L_") + M::kPhiNames[i] +
-                (one_input ? "" : std::string("/") + M::kQNames[j] + "," + M::kQNames[k]))
+                       [i, j, k, nq](const R& r) { return r.state.L(i, j + nq * k); }),
+            std::string("L_") + C::PhiName(model, i) +
+                (one_input ? "" : std::string("/") + C::QName(model, j) + "," + C::QName(model, k)))
             .angle = false;
   if constexpr (F::kHasPoints) {
-    for (int p = 0; p < M::kNumPoints; ++p)
-      for (int a = 0; a < 2; ++a)
-        table::Shown(add.Number(std::string(M::kPointNames[p]) + "." + kAxis[a], "model length",
-                                "point " + kAxis[a] + " in the fixed frame",
-                                [p, a](const R& r) { return r.state.r_P(a, p); }),
-                     std::string(M::kPointNames[p]) + "." + kAxis[a]);
+    if (C::HasPoints(model))
+      for (int p = 0; p < np; ++p)
+        for (int a = 0; a < 2; ++a)
+          table::Shown(add.Number(std::string(C::PointName(model, p)) + "." + kAxis[a], "model length",
+                                  "point " + kAxis[a] + " in the fixed frame",
+                                  [p, a](const R& r) { return r.state.r_P(a, p); }),
+                       std::string(C::PointName(model, p)) + "." + kAxis[a]);
   }
   // Velocities and accelerations: CSV only.
-  for (int j = 0; j < M::kNq; ++j)
-    add.Number(std::string(M::kQNames[j]) + "_dot", unit(M::kQIsAngle[j], "/s"),
+  for (int j = 0; j < nq; ++j)
+    add.Number(std::string(C::QName(model, j)) + "_dot", unit(C::QIsAngle(model, j), "/s"),
                "input speed (given)", [j](const R& r) { return r.motion.qd(j); })
         .angle = false;
-  for (int j = 0; j < M::kNq; ++j)
-    add.Number(std::string(M::kQNames[j]) + "_ddot", unit(M::kQIsAngle[j], "/s^2"),
+  for (int j = 0; j < nq; ++j)
+    add.Number(std::string(C::QName(model, j)) + "_ddot", unit(C::QIsAngle(model, j), "/s^2"),
                "input acceleration (given)", [j](const R& r) { return r.motion.qdd(j); })
         .angle = false;
-  for (int i = 0; i < M::kNphi; ++i)
-    add.Number(std::string(M::kPhiNames[i]) + "_dot", unit(M::kPhiIsAngle[i], "/s"),
+  for (int i = 0; i < nphi; ++i)
+    add.Number(std::string(C::PhiName(model, i)) + "_dot", unit(C::PhiIsAngle(model, i), "/s"),
                "dependent velocity K qd", [i](const R& r) { return r.motion.phid(i); })
         .angle = false;
-  for (int i = 0; i < M::kNphi; ++i)
-    add.Number(std::string(M::kPhiNames[i]) + "_ddot", unit(M::kPhiIsAngle[i], "/s^2"),
+  for (int i = 0; i < nphi; ++i)
+    add.Number(std::string(C::PhiName(model, i)) + "_ddot", unit(C::PhiIsAngle(model, i), "/s^2"),
                "dependent acceleration K qdd + qd' L qd",
                [i](const R& r) { return r.motion.phidd(i); })
         .angle = false;
   if constexpr (F::kHasPointVelocities) {
-    for (int p = 0; p < M::kNumPoints; ++p)
-      for (int a = 0; a < 2; ++a)
-        add.Number(std::string(M::kPointNames[p]) + ".v" + kAxis[a], "model length/s",
-                   "point velocity, fixed frame", [p, a](const R& r) { return r.motion.v_P(a, p); });
+    if (C::HasPointVelocities(model))
+      for (int p = 0; p < np; ++p)
+        for (int a = 0; a < 2; ++a)
+          add.Number(std::string(C::PointName(model, p)) + ".v" + kAxis[a], "model length/s",
+                     "point velocity, fixed frame", [p, a](const R& r) { return r.motion.v_P(a, p); });
   }
   if constexpr (F::kHasPointAccelerations) {
-    for (int p = 0; p < M::kNumPoints; ++p)
-      for (int a = 0; a < 2; ++a)
-        add.Number(std::string(M::kPointNames[p]) + ".a" + kAxis[a], "model length/s^2",
-                   "point acceleration, fixed frame",
-                   [p, a](const R& r) { return r.motion.a_P(a, p); });
+    if (C::HasPointAccelerations(model))
+      for (int p = 0; p < np; ++p)
+        for (int a = 0; a < 2; ++a)
+          add.Number(std::string(C::PointName(model, p)) + ".a" + kAxis[a], "model length/s^2",
+                     "point acceleration, fixed frame",
+                     [p, a](const R& r) { return r.motion.a_P(a, p); });
   }
   // How the step went; the status also in the printed table.
   table::Shown(add.Text("status", "the position step's status (converged, or why not)",
@@ -191,8 +196,8 @@ std::vector<SweepColumn<M>> SweepColumns() {
   add.Number("cond", "1", "cond_1 Phi_phi", [](const R& r) { return r.summary.condition; });
   add.Number("sigma_min", "1", "smallest singular value of Phi_phi (distance to singularity)",
              [](const R& r) { return r.state.sigma_min; });
-  for (int i = 0; i < M::kNphi; ++i)
-    add.Number(std::string("singular_") + M::kPhiNames[i], "1",
+  for (int i = 0; i < nphi; ++i)
+    add.Number(std::string("singular_") + C::PhiName(model, i), "1",
                "unit right singular vector of sigma_min (the singular direction)",
                [i](const R& r) { return r.state.singular_direction(i); });
   // How far the row's values may be from the exact ones (State::phi_error, K_error,
@@ -203,9 +208,9 @@ std::vector<SweepColumn<M>> SweepColumns() {
              [](const R& r) { return r.state.K_error; });
   add.Number("L_error", "1", "relative error bound of L (eps cond^3)",
              [](const R& r) { return r.state.L_error; });
-  if constexpr (SweepRecord<M>::kNumMu > 0) {
-    for (int t = 0; t < SweepRecord<M>::kNumMu; ++t)
-      add.Number(std::string("mu_") + M::kTransmissionJoints[t], "rad",
+  if constexpr (SweepRecord<M>::kNumMu != 0) {
+    for (int t = 0; t < C::NumTransmissionAngles(model); ++t)
+      add.Number(std::string("mu_") + C::TransmissionJoint(model, t), "rad",
                  "transmission angle at the joint, in [0, pi]",
                  [t](const R& r) { return r.mu(t); });
   }

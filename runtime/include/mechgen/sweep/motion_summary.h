@@ -138,26 +138,29 @@ inline SweepExtreme HermiteExtreme(double q0, double y0, double k0, double l0, d
 template <class M>
 class MotionSummaryBuilder {
  public:
-  /// q_begin, q_end: the sweep's range of the (first) input.
-  MotionSummaryBuilder(double q_begin, double q_end) {
-    s_.one_input = M::kNq == 1;
-    s_.input_name = M::kQNames[0];
-    s_.input_is_angle = M::kQIsAngle[0];
+  /// q_begin, q_end: the sweep's range of the (first) input. model: the solver's (an empty
+  /// tag for a generated M).
+  MotionSummaryBuilder(double q_begin, double q_end, const M& model = M()) {
+    using C = ModelCalls<M>;
+    nphi_ = C::Nphi(model);
+    s_.one_input = C::Nq(model) == 1;
+    s_.input_name = C::QName(model, 0);
+    s_.input_is_angle = C::QIsAngle(model, 0);
     s_.q_begin = q_begin;
     s_.q_end = q_end;
     s_.full_turn = s_.input_is_angle && std::abs(std::abs(q_end - q_begin) - 2 * kPi) <= 1e-9;
-    s_.coordinates.resize(M::kNphi);
-    for (int i = 0; i < M::kNphi; ++i) {
-      s_.coordinates[static_cast<size_t>(i)].name = M::kPhiNames[i];
-      s_.coordinates[static_cast<size_t>(i)].is_angle = M::kPhiIsAngle[i];
+    s_.coordinates.resize(static_cast<size_t>(nphi_));
+    for (int i = 0; i < nphi_; ++i) {
+      s_.coordinates[static_cast<size_t>(i)].name = C::PhiName(model, i);
+      s_.coordinates[static_cast<size_t>(i)].is_angle = C::PhiIsAngle(model, i);
     }
-    for (int t = 0; t < SweepRecord<M>::kNumMu; ++t) {
+    for (int t = 0; t < C::NumTransmissionAngles(model); ++t) {
       TransmissionRange range;
-      range.name = std::string("mu_") + M::kTransmissionJoints[t];
+      range.name = std::string("mu_") + C::TransmissionJoint(model, t);
       s_.transmission.push_back(range);
     }
-    first_.resize(M::kNphi);
-    prev_.resize(M::kNphi);
+    first_.resize(static_cast<size_t>(nphi_));
+    prev_.resize(static_cast<size_t>(nphi_));
   }
 
   /// The next row of the sweep. A row that did not converge breaks the chain (no extreme is
@@ -171,7 +174,7 @@ class MotionSummaryBuilder {
       return;
     }
     const double q = r.state.q(0);
-    for (int i = 0; i < M::kNphi; ++i) {
+    for (int i = 0; i < nphi_; ++i) {
       const size_t k = static_cast<size_t>(i);
       Sample now{q, r.state.phi(i), r.state.K(i, 0), r.state.L(i, 0)};
       // K within its error bound of zero (and of rounding) is zero: a turning point on a row
@@ -255,7 +258,8 @@ class MotionSummaryBuilder {
 
   MotionSummary s_;
   std::vector<Sample> first_, prev_;
-  std::array<double, M::kNphi> last_max_{}, last_min_{};
+  int nphi_ = 0;
+  std::array<double, ModelTypes<M>::kMaxPhi> last_max_{}, last_min_{};
   bool have_prev_ = false;
 };
 

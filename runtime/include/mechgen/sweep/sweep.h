@@ -18,6 +18,8 @@
 #include <limits>
 #include <vector>
 
+#include "mechgen/core/model_calls.h"
+#include "mechgen/core/model_view.h"
 #include "mechgen/position/design.h"
 #include "mechgen/position/motion.h"
 #include "mechgen/position/solver.h"
@@ -27,18 +29,31 @@ namespace mechgen {
 /// One row of a sweep.
 template <class M>
 struct SweepRecord {
+  /// The transmission angles' count (Eigen::Dynamic for a ViewModel: its view's).
   static constexpr int kNumMu = ModelFeatures<M>::kNumTransmissionAngles;
+  using VecMu = Eigen::Matrix<double, kNumMu, 1, 0,
+                              kNumMu == Eigen::Dynamic ? ModelView::kMaxTransmissionAngles : kNumMu, 1>;
+  /// A generated M: every number NaN. A ViewModel: empty (SweepRecord(model) sizes it).
+  SweepRecord() = default;
+  /// Every number NaN at the model's sizes (for a generated M the same as SweepRecord()).
+  explicit SweepRecord(const M& model) : state(model) {
+    if constexpr (ModelCalls<M>::kView) {
+      using C = ModelCalls<M>;
+      constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+      q.setConstant(C::Nq(model), kNaN);
+      motion = position::Motion<M>(C::Nq(model), C::Nphi(model), C::NumPoints(model));
+      mu.setConstant(C::NumTransmissionAngles(model), kNaN);
+    }
+  }
   /// Requested inputs (kNq); NaN until the sweep sets them (a fixed-size Eigen vector is
   /// left uninitialized by SweepRecord<M>() without this initializer).
-  typename ModelTypes<M>::VecQ q =
-      ModelTypes<M>::VecQ::Constant(std::numeric_limits<double>::quiet_NaN());
+  typename ModelTypes<M>::VecQ q = NaNs<typename ModelTypes<M>::VecQ>();
   position::State<M> state;    ///< the configuration at q; NaN and !valid when failed
   position::Motion<M> motion;  ///< velocities and accelerations; NaN when failed
   position::Summary summary;   ///< how the step went
   /// Transmission angle of each four-bar loop (M::kTransmissionJoints), radians in [0, pi];
   /// NaN when the step failed.
-  Eigen::Matrix<double, kNumMu, 1> mu =
-      Eigen::Matrix<double, kNumMu, 1>::Constant(std::numeric_limits<double>::quiet_NaN());
+  VecMu mu = NaNs<VecMu>();
   /// d/dp of phi, K, L and the points for M's design parameters (position/design.h), where
   /// SweepOptions::design asks for them; NaN otherwise and where the step failed.
   position::DesignOf<M> design = position::NanDesign<M>();
@@ -98,9 +113,14 @@ int SweepRows(position::PositionSolver<M, Assembler>* solver,
   bool stopped = false;
   double u_prev = 0;   // where the previous row ended (its q)
   double u_asked = 0;  // the input the previous row asked for
-  SweepRecord<M> record;
+  const SweepRecord<M> nan_record(solver->model());  // every number NaN, at the model's sizes
+  SweepRecord<M> record = nan_record;
   for (int i = 0; i <= steps; ++i) {
-    record = SweepRecord<M>();
+    if constexpr (ModelCalls<M>::kView) {
+      record = nan_record;
+    } else {
+      record = SweepRecord<M>();
+    }
     if (stopped) {
       // Not run: the input this row would have been solved at, values NaN.
       u_asked += dir / steps;
@@ -148,8 +168,9 @@ int SweepRows(position::PositionSolver<M, Assembler>* solver,
       record.state = solver->state();
       if (status == position::Status::kSingular) record.q = record.state.q;
       position::ComputeMotion(record.state, VecQ(dir * qd), qdd, &record.motion);
-      if constexpr (SweepRecord<M>::kNumMu > 0) {
-        M::TransmissionAngles(solver->params(), record.state.q, record.state.phi, &record.mu);
+      if constexpr (SweepRecord<M>::kNumMu != 0) {  // (a view: its count at run time)
+        ModelCalls<M>::TransmissionAngles(solver->model(), solver->params(), record.state.q,
+                                          record.state.phi, &record.mu);
       }
       if (options.design) position::EvalDesign<M>(solver->params(), record.state, &record.design);
       if (status == position::Status::kSingular) {
@@ -181,7 +202,7 @@ int Sweep(position::PositionSolver<M, Assembler>* solver,
           const typename ModelTypes<M>::VecQ& qdd,
           std::vector<SweepRecord<M>>* records,
           const SweepOptions& options = SweepOptions()) {
-  records->assign(static_cast<size_t>(std::max(steps, 1)) + 1, SweepRecord<M>());
+  records->assign(static_cast<size_t>(std::max(steps, 1)) + 1, SweepRecord<M>(solver->model()));
   return SweepRows(solver, q_begin, q_end, steps, qd, qdd, options,
                    [records](int i, const SweepRecord<M>& r) {
                      (*records)[static_cast<size_t>(i)] = r;

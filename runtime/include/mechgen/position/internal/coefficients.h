@@ -116,7 +116,7 @@ void PositionSolver<M, Assembler>::EvalPhiWithDerivatives(
     }
   } else {
     (void)d;
-    M::template Phi<double>(params_, q, phi, Phi, Phi_phi, Phi_q);
+    Calls::Phi(model_, params_, q, phi, Phi, Phi_phi, Phi_q);
   }
 }
 
@@ -194,19 +194,18 @@ void PositionSolver<M, Assembler>::NumericalL(const VecQ& q, const VecPhi& phi, 
     // O(eps/h): both ~ 1e-11 relative.
     (void)d;
     const double h = std::cbrt(std::numeric_limits<double>::epsilon());
-    for (int k = 0; k < M::kNq; ++k) {
-      VecQ dq = VecQ::Zero();
+    if constexpr (M::kNq == Eigen::Dynamic) L->resize(nphi(), nq() * nq());
+    for (int k = 0; k < nq(); ++k) {
+      VecQ dq = VecQ::Zero(nq());
       dq(k) = h;
       const VecPhi dphi = K.col(k) * h;
       MatCPhi A_plus, A_minus;
       MatCQ B_plus, B_minus;
-      M::template Phi<double>(params_, VecQ(q + dq), VecPhi(phi + dphi), nullptr, &A_plus,
-                              &B_plus);
-      M::template Phi<double>(params_, VecQ(q - dq), VecPhi(phi - dphi), nullptr, &A_minus,
-                              &B_minus);
+      Calls::Phi(model_, params_, VecQ(q + dq), VecPhi(phi + dphi), nullptr, &A_plus, &B_plus);
+      Calls::Phi(model_, params_, VecQ(q - dq), VecPhi(phi - dphi), nullptr, &A_minus, &B_minus);
       const MatCPhi dA = (A_plus - A_minus) / (2 * h);
       const MatCQ dB = (B_plus - B_minus) / (2 * h);
-      L->template middleCols<M::kNq>(M::kNq * k) = -f.Solve(MatCQ(dA * K + dB));
+      MiddleCols<M::kNq>(*L, nq() * k, nq()) = -f.Solve(MatCQ(dA * K + dB));
     }
   }
 }
@@ -217,41 +216,52 @@ bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficien
                                          State<M>* s, const PhiDerivatives* d) const {
   (void)c;
   (void)d;
+  // (For a generated M each `if` below is constant; the view decides at run time.)
   if constexpr (Features::kHasK) {
-    s->K = c.K;
-  } else {
-    MatCQ B;
-    if (Phi_q == nullptr) {
-      M::template Phi<double>(params_, s->q, s->phi, nullptr, nullptr, &B);
-      Phi_q = &B;
+    if (Calls::HasK(model_)) s->K = c.K;
+  }
+  if constexpr (!Features::kHasK || Calls::kView) {
+    if (!Calls::HasK(model_)) {
+      MatCQ B;
+      if (Phi_q == nullptr) {
+        Calls::Phi(model_, params_, s->q, s->phi, nullptr, nullptr, &B);
+        Phi_q = &B;
+      }
+      s->K = -f.Solve(*Phi_q);
     }
-    s->K = -f.Solve(*Phi_q);
   }
   if constexpr (Features::kHasL) {
-    s->L = c.L;
-  } else {
-    NumericalL(s->q, s->phi, f, s->K, &s->L, d);
+    if (Calls::HasL(model_)) s->L = c.L;
+  }
+  if constexpr (!Features::kHasL || Calls::kView) {
+    if (!Calls::HasL(model_)) NumericalL(s->q, s->phi, f, s->K, &s->L, d);
   }
   bool finite = s->K.allFinite() && s->L.allFinite();
   if constexpr (Features::kHasPoints) {
-    s->r_P = c.r_P;
-    finite = finite && s->r_P.allFinite();
+    if (Calls::HasPoints(model_)) {
+      s->r_P = c.r_P;
+      finite = finite && s->r_P.allFinite();
+    }
   }
-  if constexpr (Features::kHasPointVelocities) s->K_P = c.K_P;
-  if constexpr (Features::kHasPointAccelerations) s->L_P = c.L_P;
+  if constexpr (Features::kHasPointVelocities) {
+    if (Calls::HasPointVelocities(model_)) s->K_P = c.K_P;
+  }
+  if constexpr (Features::kHasPointAccelerations) {
+    if (Calls::HasPointAccelerations(model_)) s->L_P = c.L_P;
+  }
   ErrorBounds(f, s);
   return finite;
 }
 
 template <class M, class Assembler>
-void PositionSolver<M, Assembler>::ErrorBounds(const Factorization& f, State<M>* s) {
+void PositionSolver<M, Assembler>::ErrorBounds(const Factorization& f, State<M>* s) const {
   // First-order propagation (position/solver.h, "Accuracy"). u: unit roundoff; n: kNphi;
   // kappa = cond_1(Phi_phi); ||Phi_phi^{-1}||_1 = kappa / ||Phi_phi||_1. Scale: the second
   // and third derivatives of Phi are taken as bounded by ||Phi_phi||_1 (link lengths: a
   // revolute chain's Phi sums l (cos, sin) terms), and the rounding of Phi as
   // 4 n u ||Phi_phi||_1 (1 + ||phi||_inf).
   constexpr double u = std::numeric_limits<double>::epsilon() / 2;
-  constexpr double n = M::kNphi;
+  const double n = nphi();
   const double kappa = s->condition;
   const double norm_A = f.norm1();  // ||Phi_phi||_1 (= kappa / inverse_norm, without the division)
   const double rho =

@@ -17,14 +17,21 @@ typename PositionSolver<M, Assembler>::VecPhi PositionSolver<M, Assembler>::Pred
                                                               const VecQ& q,
                                                               double* last_term) const {
   const VecQ dq = q - from.q;
-  const VecPhi first = from.K * dq;
+  // (The view: the coefficient-based product that the fixed sizes get, not Eigen's general
+  // matrix-vector kernel, which costs more than the product at these sizes.)
+  const VecPhi first = Times(from.K, dq);
   if (!options_.second_order_predictor) {
     *last_term = internal::MaxAbsDiff(first);
     return from.phi + first;
   }
-  typename T::VecQQ dq_dq;  // (dq (x) dq)(j + kNq k) = dq_j dq_k
-  for (int k = 0; k < M::kNq; ++k) dq_dq.segment(M::kNq * k, M::kNq) = dq * dq(k);
-  const VecPhi second = 0.5 * from.L * dq_dq;
+  auto dq_dq = Sized<typename T::VecQQ>(nq() * nq());  // (dq (x) dq)(j + kNq k) = dq_j dq_k
+  for (int k = 0; k < nq(); ++k) dq_dq.segment(nq() * k, nq()) = dq * dq(k);
+  VecPhi second;
+  if constexpr (Calls::kView) {
+    second = 0.5 * Times(from.L, dq_dq);
+  } else {
+    second = 0.5 * from.L * dq_dq;
+  }
   *last_term = internal::MaxAbsDiff(second);
   return from.phi + first + second;
 }
@@ -50,21 +57,28 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
   PhiDerivatives derivatives;
   bool have_derivatives = false;
   if (Phi_phi == nullptr) {  // the residual test of a result of M::Solve
+    bool from_coeffs = false;  // (constant but for the view)
+    (void)from_coeffs;
     if constexpr (kPhiFromCoeffs) {
-      // One evaluation gives Phi and Phi_phi for the checks and K, L and the points: the
-      // coefficients are computed before the conditioning test, and discarded (with the
-      // whole step) when it fails, so a singular Phi_phi never reaches the state.
-      if constexpr (Features::kHasTrig) {
-        M::template Coeffs<double>(params_, q, phi, &c, trig);  // trig == nullptr: its own sin, cos
-      } else {
-        (void)trig;
-        M::template Coeffs<double>(params_, q, phi, &c);
+      if (PhiFromCoeffs()) {
+        // One evaluation gives Phi and Phi_phi for the checks and K, L and the points: the
+        // coefficients are computed before the conditioning test, and discarded (with the
+        // whole step) when it fails, so a singular Phi_phi never reaches the state.
+        // (trig == nullptr: Coeffs calls its own sin and cos.)
+        Calls::Coeffs(model_, params_, q, phi, &c, trig);
+        residual = internal::MaxAbsDiff(c.Phi);
+        if (!(residual <= options_.tolerance)) return false;
+        if constexpr (Calls::kView) {  // (a map of the view's buffer)
+          A = c.Phi_phi;
+          Phi_phi = &A;
+        } else {
+          Phi_phi = &c.Phi_phi;
+        }
+        have_coefficients = true;
+        from_coeffs = true;
       }
-      residual = internal::MaxAbsDiff(c.Phi);
-      if (!(residual <= options_.tolerance)) return false;
-      Phi_phi = &c.Phi_phi;
-      have_coefficients = true;
-    } else {
+    }
+    if constexpr (!kPhiFromCoeffs || Calls::kView) if (!from_coeffs) {
       VecC Phi;
       if constexpr (kDualL) {
         // The same Phi, Phi_phi and Phi_q, with their derivatives for L: one evaluation
@@ -72,12 +86,12 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
         EvalPhiWithDerivatives(q, phi, &Phi, &A, &B, &derivatives, trig);
         have_derivatives = true;
       } else {
-        M::template Phi<double>(params_, q, phi, &Phi, &A, kNeedPhiQ ? &B : nullptr);
+        Calls::Phi(model_, params_, q, phi, &Phi, &A, NeedPhiQ() ? &B : nullptr);
       }
       residual = Phi.template lpNorm<Eigen::Infinity>();
       if (!(residual <= options_.tolerance)) return false;
       Phi_phi = &A;
-      Phi_q = kNeedPhiQ ? &B : nullptr;
+      Phi_q = NeedPhiQ() ? &B : nullptr;
     }
   }
   to->q = q;
@@ -101,8 +115,8 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
   }
   if (!VelocityConsistent(from, *to)) return false;
   if (!distance_first) {
-    if constexpr (M::kNphi <= 2) {
-      if (later != nullptr) {
+    if constexpr (M::kNphi == Eigen::Dynamic || M::kNphi <= 2) {
+      if (later != nullptr && nphi() <= 2) {
         later->Phi_phi = *Phi_phi;  // finite: its factorization succeeded
         later->pending = true;
       } else {
@@ -124,23 +138,15 @@ bool PositionSolver<M, Assembler>::Step(const State<M>& from, const VecQ& q, Sta
   const VecPhi predicted = Predict(from, q, &last_term);
   if (MovesTooFar(from.phi, predicted)) return false;  // split before running a corrector
   if constexpr (Features::kHasSolve) {
-    if (has_modes_) {
+    if (has_modes_) {  // (false for a view without Solve: FindModes())
       // The generated solver on this branch's modes: closed-form blocks are exact and cost
       // no iteration, Newton blocks start from the predictor (and polish).
       VecPhi phi = predicted;
       // With Model::TrigT, Solve also hands out sin and cos of the angles it solved (a
       // closed-form dyad from its own dot and cross products), and Coeffs uses them.
       typename internal::TrigOf<M>::type trig;
-      const auto report = [&]() {
-        if constexpr (Features::kHasTrig) {
-          return M::template Solve<double>(params_, q, &phi, modes_,
-                                           options_.max_newton_iterations, options_.tolerance,
-                                           &trig);
-        } else {
-          return M::template Solve<double>(params_, q, &phi, modes_,
-                                           options_.max_newton_iterations, options_.tolerance);
-        }
-      }();
+      const auto report = Calls::Solve(model_, params_, q, &phi, modes_, options_.max_newton_iterations,
+                                       options_.tolerance, &trig);
       s->iterations += report.iterations;
       using SolveStatus = decltype(report.status);
       // (A phi that is not finite fails Accept()'s first check.)
@@ -165,10 +171,10 @@ bool PositionSolver<M, Assembler>::NewtonCorrector(const State<M>& from, const V
   VecPhi phi = predicted;
   MatCPhi Phi_phi;
   MatCQ Phi_q;
-  const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr);
+  const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, NeedPhiQ() ? &Phi_q : nullptr);
   s->iterations += newton.iterations;
   return newton.status == Status::kConverged &&
-         Accept(from, q, predicted, last_term, phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr,
+         Accept(from, q, predicted, last_term, phi, &Phi_phi, NeedPhiQ() ? &Phi_q : nullptr,
                 newton.residual_norm, to);
 }
 
@@ -192,6 +198,9 @@ Status PositionSolver<M, Assembler>::MoveTo(const VecQ& q_target, Summary* summa
   if constexpr (Features::kLoopFree) {
     return PlaceLoopFree(q_target, s);
   } else {
+    if constexpr (Calls::kView) {
+      if (Calls::LoopFree(model_)) return PlaceLoopFree(q_target, s);
+    }
     // The common case (every step of a sweep with small steps): one sub-step straight to
     // q_target, written into the other state and adopted by flipping current_.
     bool used_newton = false;
@@ -201,7 +210,7 @@ Status PositionSolver<M, Assembler>::MoveTo(const VecQ& q_target, Summary* summa
       if (used_newton) FindModes(state_ref());
       s->substeps = 1;
       // The distance to singularity last (PendingDistance), before Finish() reports it.
-      if constexpr (M::kNphi <= 2) {
+      if constexpr (M::kNphi == Eigen::Dynamic || M::kNphi <= 2) {
         if (later.pending) SmallDistance(later.Phi_phi, true, &state_ref());
       }
       return Finish(Status::kConverged, &state_ref(), s);
@@ -218,7 +227,7 @@ Status PositionSolver<M, Assembler>::Subdivide(const VecQ& q_target, Summary* s)
   const VecQ delta = q_target - q_start;
   const double h_min = std::ldexp(1.0, -options_.max_bisections);
   State<M> current = state_ref();
-  State<M> next;
+  State<M> next(model_);
   bool used_newton = false;
   double t = 0;    // fraction of the step done
   double h = 0.5;  // fraction tried next
@@ -279,13 +288,13 @@ Status PositionSolver<M, Assembler>::Fallback(const State<M>& from, const VecQ& 
   if (!phi.allFinite()) phi = from.phi;
   if (!options_.assembly_fallback) return Status::kDidNotConverge;
   const AssemblyResult lm =
-      Assembler::template Minimize<M>(params_, q, &phi, options_.max_lm_iterations);
+      Assembler::Minimize(model_, params_, q, &phi, options_.max_lm_iterations);
   s->used_assembler = true;
   s->iterations += lm.iterations;
   s->residual_norm = lm.residual_norm;
   MatCPhi Phi_phi;
   MatCQ Phi_q;
-  const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, kNeedPhiQ ? &Phi_q : nullptr);
+  const NewtonResult newton = FullNewton(q, &phi, &Phi_phi, NeedPhiQ() ? &Phi_q : nullptr);
   s->iterations += newton.iterations;
   if (newton.status != Status::kConverged) {
     return (lm.stationary && lm.residual_norm > options_.tolerance) ? Status::kNotAssemblable
@@ -308,7 +317,7 @@ Status PositionSolver<M, Assembler>::Fallback(const State<M>& from, const VecQ& 
       MovesTooFar(from.phi, phi)) {
     return Status::kDidNotConverge;
   }
-  if (!FillCoefficients(f, kNeedPhiQ ? &Phi_q : nullptr, to)) return Status::kSingular;
+  if (!FillCoefficients(f, NeedPhiQ() ? &Phi_q : nullptr, to)) return Status::kSingular;
   if (from_near_singular && !(Leaving(from, *to) ? CorrectionAcceptableBackwards(from, *to)
                                                  : CorrectionAcceptable(last_term, predicted, phi))) {
     return Status::kDidNotConverge;

@@ -24,12 +24,18 @@ bool PositionSolver<M, Assembler>::Classify(const MatCPhi& Phi_phi, const Factor
 template <class M, class Assembler>
 void PositionSolver<M, Assembler>::Distance(const MatCPhi& A, const Factorization& f,
                                  const State<M>* warm, State<M>* s) const {
-  constexpr int n = M::kNphi;
+  constexpr int kN = M::kNphi;
+  const int n = nphi();
   s->sigma_exact = true;
-  if constexpr (n <= 2) {
+  if constexpr (kN != Eigen::Dynamic && kN <= 2) {
     // f.ok(): det and cond_1 finite, so every entry of A is.
+    (void)n;
     SmallDistance(A, f.ok(), s);
   } else {
+    if (kN == Eigen::Dynamic && n <= 2) {  // the view: the same, chosen at run time
+      SmallDistance(A, f.ok(), s);
+      return;
+    }
     // One step of inverse iteration on Phi_phi^T Phi_phi from the neighbour's singular
     // direction (two solves with the factorization the step has anyway) and one step of
     // the power iteration from its largest direction (two products). The Rayleigh
@@ -62,8 +68,8 @@ void PositionSolver<M, Assembler>::Distance(const MatCPhi& A, const Factorizatio
     if (!A.allFinite()) {
       constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
       s->sigma_min = s->sigma_max = kNaN;
-      s->singular_direction.setConstant(kNaN);
-      s->largest_direction.setConstant(kNaN);
+      s->singular_direction.setConstant(n, kNaN);
+      s->largest_direction.setConstant(n, kNaN);
       return;
     }
     const Eigen::JacobiSVD<MatCPhi, Eigen::NoQRPreconditioner> svd(A, Eigen::ComputeFullV);
@@ -81,7 +87,20 @@ void PositionSolver<M, Assembler>::SmallDistance(const MatCPhi& A, bool known_fi
                                                  State<M>* s) const {
   constexpr int n = M::kNphi;
   s->sigma_exact = true;
-  if constexpr (n == 1) {
+  if constexpr (n == Eigen::Dynamic) {
+    // The view: the fixed-size code of A's size (1 or 2).
+    if (nphi() == 1) {
+      s->sigma_min = s->sigma_max = std::abs(A(0, 0));
+      s->singular_direction.setOnes(1);
+      s->largest_direction.setOnes(1);
+      if (!A.allFinite()) s->sigma_min = s->sigma_max = std::numeric_limits<double>::quiet_NaN();
+    } else if (nphi() == 2) {
+      Eigen::Vector2d v, u;
+      internal::SingularValues2x2(Eigen::Matrix2d(A), &s->sigma_min, &s->sigma_max, &v, &u, known_finite);
+      s->singular_direction = v;
+      s->largest_direction = u;
+    }
+  } else if constexpr (n == 1) {
     (void)known_finite;
     s->sigma_min = s->sigma_max = std::abs(A(0, 0));
     s->singular_direction.setOnes();
@@ -101,7 +120,7 @@ template <class M, class Assembler>
 void PositionSolver<M, Assembler>::MakeDistanceExact(State<M>* s) const {
   if (s->sigma_exact) return;
   MatCPhi Phi_phi;
-  M::template Phi<double>(params_, s->q, s->phi, nullptr, &Phi_phi, nullptr);
+  Calls::Phi(model_, params_, s->q, s->phi, nullptr, &Phi_phi, nullptr);
   const Factorization f(Phi_phi);
   Distance(Phi_phi, f, nullptr, s);
 }

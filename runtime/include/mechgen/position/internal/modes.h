@@ -14,6 +14,7 @@ void PositionSolver<M, Assembler>::FindModes(const State<M>& s) {
   const bool had_modes = has_modes_;
   has_modes_ = false;
   if constexpr (Features::kHasSolve) {
+    if (!Calls::HasSolve(model_)) return;  // (constant but for the view)
     // Block by block on the solved configuration s, in solve order: a mode vector is right
     // when M::Solve on it reproduces s.phi. A block's closed form depends only on earlier
     // blocks' coordinates, and at s every block closes when the blocks before it are on
@@ -23,21 +24,20 @@ void PositionSolver<M, Assembler>::FindModes(const State<M>& s) {
     // defaults): one Solve when they still hold (the common case after a Newton step),
     // a few where flipping a block makes a later one unassemblable (which the former
     // search, flipping one block at a time from the defaults, took as "no modes").
-    constexpr int nb = M::kNumBlocks;
-    std::array<int, nb> closed{};  // the closed-form blocks, in solve order
+    const int nb = Calls::NumBlocks(model_);
+    std::array<int, internal::BlockCount<M>::value> closed{};  // the closed-form blocks, in solve order
     int nc = 0;
     for (int b = 0; b < nb; ++b)
-      if (M::kBlockClosedForm[b]) closed[static_cast<size_t>(nc++)] = b;
+      if (Calls::BlockClosedForm(model_, b)) closed[static_cast<size_t>(nc++)] = b;
     const double accuracy = 1e-6 * (1 + s.phi.template lpNorm<Eigen::Infinity>());
-    Modes m = had_modes ? modes_ : M::kDefaultModes;
+    Modes m = had_modes ? modes_ : Calls::DefaultModes(model_);
     int budget = 4096;  // Solve calls; 2^12 covers every mode vector of 12 closed-form blocks
     // -1: Solve(m) reproduces s.phi; nb: converged elsewhere; else the block that failed.
     auto attempt = [&]() {
       --budget;
       VecPhi x = s.phi;  // the reference of the closed forms' angles
-      const auto r = M::template Solve<double>(params_, s.q, &x, m,
-                                               options_.max_newton_iterations,
-                                               options_.tolerance);
+      const auto r = Calls::Solve(model_, params_, s.q, &x, m, options_.max_newton_iterations,
+                                  options_.tolerance);
       using SolveStatus = decltype(r.status);
       if (r.status != SolveStatus::kConverged) return r.block >= 0 ? r.block : 0;
       if (!x.allFinite()) return 0;

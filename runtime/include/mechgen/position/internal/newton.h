@@ -13,21 +13,23 @@ template <class M, class Assembler>
 NewtonResult PositionSolver<M, Assembler>::FullNewton(const VecQ& q, VecPhi* phi, MatCPhi* Phi_phi,
                                            MatCQ* Phi_q) const {
   NewtonResult result;
-  VecC Phi;
+  auto Phi = Sized<VecC>(nc());
   // A singular Phi_phi gives inf/NaN in the step, caught by the finiteness tests.
   // Up to 4 x 4, Eigen's fixed-size inverse (cofactors) is several times faster than
   // PartialPivLU (measured 20 ns vs 3 ns for 2 x 2, a sixth of a whole step), and with
   // cond(Phi_phi) bounded by Options::min_rcond it is as accurate here; larger systems
   // use the pivoted LU. Both are fixed-size: no allocation.
   auto step = [](const MatCPhi& A, const VecC& r) -> VecPhi {
-    if constexpr (M::kNphi <= 4) {
+    if constexpr (M::kNphi == Eigen::Dynamic) {
+      return internal::SolveSmallInverse(A, r);  // the fixed-size code of A's size
+    } else if constexpr (M::kNphi <= 4) {
       return A.inverse() * r;
     } else {
       return Eigen::PartialPivLU<MatCPhi>(A).solve(r);
     }
   };
   for (int iteration = 0;; ++iteration) {
-    M::template Phi<double>(params_, q, *phi, &Phi, Phi_phi, Phi_q);
+    Calls::Phi(model_, params_, q, *phi, &Phi, Phi_phi, Phi_q);
     result.residual_norm = Phi.template lpNorm<Eigen::Infinity>();
     result.iterations = iteration;
     if (!std::isfinite(result.residual_norm) || !phi->allFinite()) {
@@ -43,7 +45,7 @@ NewtonResult PositionSolver<M, Assembler>::FullNewton(const VecQ& q, VecPhi* phi
       VecC Phi2;
       MatCPhi A2;
       MatCQ B2;
-      M::template Phi<double>(params_, q, polished, &Phi2, &A2, Phi_q != nullptr ? &B2 : nullptr);
+      Calls::Phi(model_, params_, q, polished, &Phi2, &A2, Phi_q != nullptr ? &B2 : nullptr);
       const double r2 = Phi2.template lpNorm<Eigen::Infinity>();
       ++result.iterations;
       if (polished.allFinite() && A2.allFinite() && r2 <= result.residual_norm) {

@@ -12,10 +12,14 @@ namespace mechgen::position {
 template <class M, class Assembler>
 Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Crossing crossing,
                                           Summary* summary) {
-  constexpr int n = M::kNphi;
-  using VecX = Eigen::Matrix<double, n + 1, 1>;       // x = (t, phi)
-  using MatJ = Eigen::Matrix<double, M::kNc, n + 1>;  // [Phi_q d, Phi_phi]
-  using MatX = Eigen::Matrix<double, n + 1, n + 1>;
+  // (n + 1 columns: fixed for a generated M, bounded for the view.)
+  constexpr int kX = M::kNphi == Eigen::Dynamic ? Eigen::Dynamic : M::kNphi + 1;
+  constexpr int kMaxX = T::kMaxPhi + 1;
+  constexpr int kJOptions = M::kNc == 1 && kX != 1 ? Eigen::RowMajor : Eigen::ColMajor;
+  using VecX = Eigen::Matrix<double, kX, 1, Eigen::ColMajor, kMaxX, 1>;            // x = (t, phi)
+  using MatJ = Eigen::Matrix<double, M::kNc, kX, kJOptions, T::kMaxPhi, kMaxX>;  // [Phi_q d, Phi_phi]
+  using MatX = Eigen::Matrix<double, kX, kX, Eigen::ColMajor, kMaxX, kMaxX>;
+  const int n = nphi();
   Summary s;
   auto finish = [&](Status status, const char* reason, const State<M>* at = nullptr) {
     s.reason = reason;
@@ -45,33 +49,33 @@ Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Cross
     // G(x) = Phi(q0 + t d, phi) and its Jacobian J = [Phi_q d, Phi_phi] (n x (n + 1)).
     auto eval = [&](const VecX& x, VecC* G, MatJ* J) {
       const VecQ q = q0 + x(0) * d;
-      const VecPhi phi = x.template tail<n>();
+      const VecPhi phi = x.tail(n);
       MatCPhi A;
       MatCQ B;
-      M::template Phi<double>(params_, q, phi, G, J != nullptr ? &A : nullptr,
-                              J != nullptr ? &B : nullptr);
+      Calls::Phi(model_, params_, q, phi, G, J != nullptr ? &A : nullptr, J != nullptr ? &B : nullptr);
       if (J != nullptr) {
+        if constexpr (Calls::kView) J->resize(nc(), n + 1);
         J->col(0) = B * d;
-        J->template rightCols<n>() = A;
+        J->rightCols(n) = A;
       }
     };
     // Unit null vector of J (the curve's tangent) and sigma_n(J) / sigma_1(J), from the SVD
     // of J padded with a zero row (fixed size, no allocation).
-    auto tangent = [](const MatJ& J, VecX* tau, double* ratio) {
-      MatX padded = MatX::Zero();
-      padded.template topRows<M::kNc>() = J;
+    auto tangent = [&](const MatJ& J, VecX* tau, double* ratio) {
+      MatX padded = MatX::Zero(n + 1, n + 1);
+      padded.topRows(nc()) = J;
       const Eigen::JacobiSVD<MatX, Eigen::NoQRPreconditioner> svd(padded, Eigen::ComputeFullV);
       *tau = svd.matrixV().col(n);
       *ratio = svd.singularValues()(n - 1) / svd.singularValues()(0);
     };
 
-    VecX x0;
+    auto x0 = Sized<VecX>(n + 1);
     x0(0) = 0;
-    x0.template tail<n>() = state_ref().phi;
+    x0.tail(n) = state_ref().phi;
     MatJ J0;
     VecC G;
     eval(x0, &G, &J0);
-    VecX tau0;
+    auto tau0 = Sized<VecX>(n + 1);
     double ratio_J = 0;
     tangent(J0, &tau0, &ratio_J);
     if (tau0(0) < 0) tau0 = -tau0;  // the incoming motion: t increasing
@@ -95,10 +99,10 @@ Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Cross
       // Second derivatives psi^T Phi''(a, b) by central differences of the Jacobian along a.
       VecPhi v, psi;
       double smin = 0, smax = 0;
-      MatCPhi A0 = J0.template rightCols<n>();
+      MatCPhi A0 = J0.rightCols(n);
       SmallestSingular(A0, &smin, &smax, &v, &psi);
-      VecX w = VecX::Zero();
-      w.template tail<n>() = v;
+      VecX w = VecX::Zero(n + 1);
+      w.tail(n) = v;
       const double h = std::cbrt(std::numeric_limits<double>::epsilon());
       auto second = [&](const VecX& a, const VecX& b) {
         MatJ J_plus, J_minus;
@@ -127,7 +131,7 @@ Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Cross
     // [G(x); tau^T (x - x_pred)] = 0, until beyond the singular configuration.
     const double ds = options_.pass_step;
     VecX x = x0;
-    State<M> next;
+    State<M> next(model_);
     for (int step = 0; step < 64; ++step) {
       const VecX x_pred = x + ds * tau;
       VecX y = x_pred;
@@ -142,11 +146,11 @@ Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Cross
           converged = true;
           break;
         }
-        MatX F;
-        F.template topRows<M::kNc>() = J;
+        auto F = Sized<MatX>(n + 1, n + 1);
+        F.topRows(nc()) = J;
         F.row(n) = tau.transpose();
-        VecX rhs;
-        rhs.template head<M::kNc>() = G;
+        auto rhs = Sized<VecX>(n + 1);
+        rhs.head(nc()) = G;
         rhs(n) = tau.dot(y - x_pred);
         y -= Eigen::PartialPivLU<MatX>(F).solve(rhs);
       }
@@ -155,7 +159,7 @@ Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Cross
       }
       MatJ J;
       eval(y, &G, &J);
-      VecX tau_new;
+      auto tau_new = Sized<VecX>(n + 1);
       double unused = 0;
       tangent(J, &tau_new, &unused);
       if (tau_new.dot(tau) < 0) tau_new = -tau_new;
@@ -164,8 +168,8 @@ Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Cross
       ++s.substeps;
       // Beyond it when regular again, at least 2 steps on, with the expected sign of det.
       next.q = q0 + x(0) * d;
-      next.phi = x.template tail<n>();
-      MatCPhi Phi_phi = J.template rightCols<n>();
+      next.phi = x.tail(n);
+      MatCPhi Phi_phi = J.rightCols(n);
       const Factorization f(Phi_phi);
       const bool regular = Classify(Phi_phi, f, nullptr, &next);
       const bool flipped = next.branch == -state_ref().branch;

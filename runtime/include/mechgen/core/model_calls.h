@@ -1,0 +1,176 @@
+/**
+ * \file core/model_calls.h
+ * How the runtime's templates reach their model M: one source, two instantiations (issue 43).
+ *
+ * A runtime template keeps its parameter M and holds `const M& model` (or a copy: a generated
+ * Model is an empty tag). It reads the model's sizes, constants and flags and calls its
+ * functions through ModelCalls<M>, never through M:: directly:
+ *  - for a generated model (mech::<name>::Model, or a hand-written one in its shape) every
+ *    accessor is constexpr and every call forwards to the static function: the fixed-size path
+ *    compiles to the code it compiled to before (zero cost; bench/fourbar_bench.cc);
+ *  - for mechgen::ViewModel (core/view_model.h: a ModelView, the model's sizes known at run
+ *    time) the specialization there reads the view and calls its function pointers on the
+ *    bounded dynamic types of ModelTypes<ViewModel> (Eigen::Matrix<double, Dynamic, ..., Max,
+ *    Max>: no allocation).
+ * ModelCalls<M>::kView says which; ModelFeatures<M> (core/model_traits.h) holds what M may
+ * have at compile time (for the view: everything a view can have), and the Has*() accessors
+ * below what it has (for the view: its flags).
+ * Sizes used as template arguments go through Rows<N>(): fixed where N is, runtime otherwise.
+ */
+#pragma once
+
+#include <array>
+#include <limits>
+
+#include <Eigen/Core>
+
+#include "mechgen/core/inline.h"
+#include "mechgen/core/model_traits.h"
+
+namespace mechgen {
+
+/// A matrix of type X with rows x cols entries, uninitialized: X() when X is fixed-size (the
+/// same code as a plain declaration), X(rows, cols) when a size is dynamic (bounded: no
+/// allocation).
+template <class X>
+MECHGEN_ALWAYS_INLINE X Sized(Eigen::Index rows, Eigen::Index cols = 1) {
+  if constexpr (X::RowsAtCompileTime != Eigen::Dynamic && X::ColsAtCompileTime != Eigen::Dynamic) {
+    (void)rows, (void)cols;
+    return X();
+  } else {
+    return X(rows, cols);
+  }
+}
+
+/// X::Constant(NaN) for a fixed-size X; an empty X (nothing to fill) for a dynamic one.
+template <class X>
+X NaNs() {
+  if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
+    return X::Constant(std::numeric_limits<double>::quiet_NaN());
+  } else {
+    return X();
+  }
+}
+
+/// a * b: for bounded dynamic matrices (ModelTypes<ViewModel>) as the coefficient-based
+/// product (lazyProduct) that Eigen picks for small fixed sizes, with the same sums in the same
+/// order; for fixed sizes Eigen's own choice.
+template <class A, class B>
+MECHGEN_ALWAYS_INLINE auto Times(const A& a, const B& b) {
+  if constexpr (A::SizeAtCompileTime == Eigen::Dynamic) {
+    return a.lazyProduct(b);
+  } else {
+    return a * b;
+  }
+}
+
+/// x.middleCols<N>(start) for a fixed N, x.middleCols(start, n) for a dynamic one.
+template <int N, class X>
+MECHGEN_ALWAYS_INLINE auto MiddleCols(X&& x, Eigen::Index start, Eigen::Index n) {
+  if constexpr (N == Eigen::Dynamic) {
+    return x.middleCols(start, n);
+  } else {
+    (void)n;
+    return x.template middleCols<N>(start);
+  }
+}
+
+/// Sizes, constants, flags and functions of a generated model M (static; the object is an
+/// empty tag). Specialized for ViewModel in core/view_model.h.
+template <class M>
+struct ModelCalls {
+  static constexpr bool kView = false;
+  using T = ModelTypes<M>;
+  using F = ModelFeatures<M>;
+  using Trig = typename internal::TrigOf<M>::type;
+  using Modes = std::array<int, internal::BlockCount<M>::value>;
+
+  static constexpr int Nq(const M&) { return M::kNq; }
+  static constexpr int Nphi(const M&) { return M::kNphi; }
+  static constexpr int Nc(const M&) { return M::kNc; }
+  static constexpr int NumPoints(const M&) { return M::kNumPoints; }
+  static constexpr int NumBlocks(const M&) { return internal::BlockCount<M>::value; }
+  static constexpr bool QIsAngle(const M&, int i) { return M::kQIsAngle[static_cast<size_t>(i)]; }
+  static constexpr bool PhiIsAngle(const M&, int i) { return M::kPhiIsAngle[static_cast<size_t>(i)]; }
+  static const double* AssemblyQ(const M&) { return M::kAssemblyQ.data(); }
+  static const double* QMin(const M&) { return M::kQMin.data(); }
+  static const double* QMax(const M&) { return M::kQMax.data(); }
+  static const double* AssemblyPhi(const M&) { return M::kAssemblyPhi.data(); }
+  static constexpr bool BlockClosedForm(const M&, int b) {
+    if constexpr (F::kHasSolve) return M::kBlockClosedForm[static_cast<size_t>(b)];
+    (void)b;
+    return false;
+  }
+  static Modes DefaultModes(const M&) {
+    if constexpr (F::kHasSolve) {
+      return M::kDefaultModes;
+    } else {
+      return Modes{};
+    }
+  }
+  static typename T::Params DefaultParams(const M&) { return typename T::Params(); }
+  static constexpr const char* Name(const M&) { return M::kName; }
+  static const char* QName(const M&, int j) { return M::kQNames[static_cast<size_t>(j)]; }
+  static const char* PhiName(const M&, int i) { return M::kPhiNames[static_cast<size_t>(i)]; }
+  static const char* PointName(const M&, int p) { return M::kPointNames[static_cast<size_t>(p)]; }
+  static constexpr int NumTransmissionAngles(const M&) { return F::kNumTransmissionAngles; }
+  static const char* TransmissionJoint(const M&, int t) {
+    if constexpr (F::kNumTransmissionAngles > 0) return M::kTransmissionJoints[static_cast<size_t>(t)];
+    (void)t;
+    return "";
+  }
+
+  // What M has (ModelFeatures<M>, constant here).
+  static constexpr bool HasK(const M&) { return F::kHasK; }
+  static constexpr bool HasL(const M&) { return F::kHasL; }
+  static constexpr bool HasPoints(const M&) { return F::kHasPoints; }
+  static constexpr bool HasPointVelocities(const M&) { return F::kHasPointVelocities; }
+  static constexpr bool HasPointAccelerations(const M&) { return F::kHasPointAccelerations; }
+  static constexpr bool CoeffsHavePhi(const M&) { return F::kCoeffsHavePhi; }
+  static constexpr bool HasSolve(const M&) { return F::kHasSolve; }
+  static constexpr bool HasTrig(const M&) { return F::kHasTrig; }
+  static constexpr bool LoopFree(const M&) { return F::kLoopFree; }
+
+  // ---- The functions, in double ----
+  template <class Q, class P>
+  MECHGEN_ALWAYS_INLINE static void Phi(const M&, const typename T::Params& p, const Q& q, const P& phi,
+                                        typename T::VecC* Phi, typename T::MatCPhi* Phi_phi,
+                                        typename T::MatCQ* Phi_q) {
+    M::template Phi<double>(p, q, phi, Phi, Phi_phi, Phi_q);
+  }
+  /// Model::Coeffs, with the sin and cos of Model::Solve where M has them (trig may be
+  /// nullptr: Coeffs then calls its own).
+  MECHGEN_ALWAYS_INLINE static void Coeffs(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                                           const typename T::VecPhi& phi, typename T::Coefficients* c,
+                                           const Trig* trig = nullptr) {
+    if constexpr (F::kHasTrig) {
+      M::template Coeffs<double>(p, q, phi, c, trig);
+    } else {
+      (void)trig;
+      M::template Coeffs<double>(p, q, phi, c);
+    }
+  }
+  /// Model::TransmissionAngles (nothing for a model without them).
+  template <class Mu>
+  static void TransmissionAngles(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                                 const typename T::VecPhi& phi, Mu* mu) {
+    if constexpr (F::kNumTransmissionAngles > 0) {
+      M::TransmissionAngles(p, q, phi, mu);
+    } else {
+      (void)p, (void)q, (void)phi, (void)mu;
+    }
+  }
+  /// Model::Solve on modes; hands out trig where M has it (trig may be nullptr otherwise).
+  MECHGEN_ALWAYS_INLINE static auto Solve(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                                          typename T::VecPhi* phi, const Modes& modes, int max_iterations,
+                                          const double& tolerance, Trig* trig = nullptr) {
+    if constexpr (F::kHasTrig) {
+      return M::template Solve<double>(p, q, phi, modes, max_iterations, tolerance, trig);
+    } else {
+      (void)trig;
+      return M::template Solve<double>(p, q, phi, modes, max_iterations, tolerance);
+    }
+  }
+};
+
+}  // namespace mechgen

@@ -1,0 +1,280 @@
+/**
+ * \file core/view_model.h
+ * ViewModel: the model type M of the runtime's templates instantiated once for every model
+ * (issue 43), a handle on one model's ModelView (core/model_view.h).
+ *
+ * Its sizes are Eigen::Dynamic at compile time (ModelTypes<ViewModel>: bounded dynamic
+ * matrices, Eigen::Matrix<double, Dynamic, ..., Max, Max> with the maxima of ModelView: state
+ * on the stack, nothing allocates) and the view's at run time; ModelCalls<ViewModel> reads the
+ * view and calls its function pointers on the matrices' storage (column-major and packed, as
+ * the view's flat arrays are). The parameters are a fixed array of ModelView::kMaxParams
+ * doubles in the view's table order. Coefficients is a struct of bounded matrices that the
+ * view's buffer is copied into by member name (FindMember, once per ViewModel). The view's
+ * functions call the generated fixed-size code: the same arithmetic as the fixed-size
+ * instantiation, so the runtime's results agree to the bit where its own arithmetic does.
+ *
+ * ModelFeatures<ViewModel> says what a view may have (everything the runtime reads through
+ * ModelCalls); ModelCalls<ViewModel>::Has*() what this one has.
+ */
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <new>
+
+#include <Eigen/Core>
+
+#include "mechgen/core/model_calls.h"
+#include "mechgen/core/model_traits.h"
+#include "mechgen/core/model_view.h"
+
+namespace mechgen {
+
+/// The parameters of a ViewModel: every parameter, free and derived, in the view's table
+/// order (the view's functions read the free ones).
+struct ViewParams {
+  std::array<double, ModelView::kMaxParams> values{};
+  const double* data() const { return values.data(); }
+  double* data() { return values.data(); }
+};
+
+/// One model reached through its view. Copyable (a pointer and the offsets of the
+/// Coefficients members); the view must outlive it.
+struct ViewModel {
+  static constexpr int kNq = Eigen::Dynamic;
+  static constexpr int kNphi = Eigen::Dynamic;
+  static constexpr int kNc = Eigen::Dynamic;
+  static constexpr int kNumPoints = Eigen::Dynamic;
+  static constexpr int kNumScenePoints = Eigen::Dynamic;
+  // What a view may have (model_traits.h reads these flags): everything; ModelCalls<ViewModel>
+  // says at run time what this one has.
+  static constexpr bool kHasCoeffsPhi = true, kHasK = true, kHasL = true, kHasPoints = true,
+                        kHasPointVelocities = true, kHasPointAccelerations = true, kHasSolve = true,
+                        kHasNamedModes = true, kHasTrig = true, kHasSolveTrig = true,
+                        kHasTransmissionAngles = true, kHasSwitchModes = true, kHasDrawing = true,
+                        kHasCamProfile = true, kHasAppliedLoads = true, kHasStatics = true,
+                        kHasStaticsQ = true, kHasStaticsStiffness = true, kHasStaticsV = true,
+                        kHasStaticsD2V = true, kHasStaticsR = true, kHasStaticsFriction = true,
+                        kHasDynamics = true, kHasExcess = true, kHasShaking = true, kHasKinematics = true,
+                        kHasRhs = true, kHasRhsConstants = true, kHasDesignDerivatives = true,
+                        kHasStaticsDesign = true, kHasDynamicsDesign = true;
+
+  /// Offsets of a struct's members in its buffer, -1 where the model lacks the member.
+  struct CoefficientsLayout {
+    int Phi = -1, Phi_phi = -1, K = -1, L = -1, r_P = -1, K_P = -1, L_P = -1;
+    int size = 0;
+  };
+
+  explicit ViewModel(const ModelView& v) : view(&v) {
+    const ViewLayout& c = v.Layout(ViewStruct::kCoefficients);
+    auto offset = [&c](const char* name) {
+      const ViewMember* m = FindMember(c, name);
+      return m != nullptr ? m->offset : -1;
+    };
+    coefficients.Phi = offset("Phi");
+    coefficients.Phi_phi = offset("Phi_phi");
+    coefficients.K = offset("K");
+    coefficients.L = offset("L");
+    coefficients.r_P = offset("r_P");
+    coefficients.K_P = offset("K_P");
+    coefficients.L_P = offset("L_P");
+    coefficients.size = c.size;
+    trig_size = v.Layout(ViewStruct::kTrig).size;
+  }
+
+  const ModelView* view;
+  CoefficientsLayout coefficients;
+  int trig_size = 0;
+};
+
+/// Whether a view's layout and size are those this runtime was compiled against (a view from
+/// a shared object compiled elsewhere is refused otherwise), and its model fits the maxima the
+/// runtime's bounded types hold (ModelView::fits_maxima).
+inline bool ViewCompatible(const ModelView& v) {
+  return v.layout == kModelViewLayout && v.size == static_cast<int>(sizeof(ModelView)) && v.fits_maxima;
+}
+
+template <class Scalar>
+struct ModelTypes<ViewModel, Scalar> {
+  static_assert(std::is_same_v<Scalar, double>, "a view computes in double");
+  static constexpr int D = Eigen::Dynamic;
+  static constexpr int kNq = D, kNphi = D, kNc = D, kNumPoints = D, kNumScenePoints = D;
+  static constexpr int kMaxQ = ModelView::kMaxQ;
+  static constexpr int kMaxPhi = ModelView::kMaxPhi;
+  static constexpr int kMaxPoints = ModelView::kMaxPoints;
+  static constexpr int kMaxScenePoints = ModelView::kMaxScenePoints;
+  using ScalarType = double;
+  using Params = ViewParams;
+  using VecQ = Eigen::Matrix<double, D, 1, 0, kMaxQ, 1>;
+  using VecPhi = Eigen::Matrix<double, D, 1, 0, kMaxPhi, 1>;
+  using VecC = Eigen::Matrix<double, D, 1, 0, kMaxPhi, 1>;
+  using VecQQ = Eigen::Matrix<double, D, 1, 0, kMaxQ * kMaxQ, 1>;
+  using MatCPhi = Eigen::Matrix<double, D, D, 0, kMaxPhi, kMaxPhi>;
+  using MatCQ = Eigen::Matrix<double, D, D, 0, kMaxPhi, kMaxQ>;
+  using MatK = Eigen::Matrix<double, D, D, 0, kMaxPhi, kMaxQ>;
+  using MatL = Eigen::Matrix<double, D, D, 0, kMaxPhi, kMaxQ * kMaxQ>;
+  using MatRP = Eigen::Matrix<double, 2, D, 0, 2, kMaxPoints>;
+  using MatKP = Eigen::Matrix<double, D, D, 0, 2 * kMaxPoints, kMaxQ>;
+  using MatLP = Eigen::Matrix<double, D, D, 0, 2 * kMaxPoints, kMaxQ * kMaxQ>;
+  using MatScene = Eigen::Matrix<double, 2, D, 0, 2, kMaxScenePoints>;
+  /// The generated Coefficients: the view's buffer, and each member a map of it at the view's
+  /// sizes (set by ModelCalls<ViewModel>::Coeffs; empty where the model lacks the member). Not
+  /// copyable: the maps point into the object's own buffer.
+  struct Coefficients {
+    using Map = Eigen::Map<const Eigen::MatrixXd>;
+    Coefficients() = default;
+    Coefficients(const Coefficients&) = delete;
+    Coefficients& operator=(const Coefficients&) = delete;
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kCoefficients)]> buffer;
+    Map Phi{nullptr, 0, 1}, Phi_phi{nullptr, 0, 0}, K{nullptr, 0, 0}, L{nullptr, 0, 0}, r_P{nullptr, 2, 0},
+        K_P{nullptr, 0, 0}, L_P{nullptr, 0, 0};
+  };
+};
+
+/// What a view may have: every feature the runtime reads at compile time is possible, and
+/// ModelCalls<ViewModel> says at run time which this view has.
+template <class Scalar>
+struct ModelFeatures<ViewModel, Scalar> {
+  using Coefficients = typename ModelTypes<ViewModel, Scalar>::Coefficients;
+  static constexpr bool kHasK = true;
+  static constexpr bool kHasL = true;
+  static constexpr bool kHasPoints = true;
+  static constexpr bool kHasPointVelocities = true;
+  static constexpr bool kHasPointAccelerations = true;
+  static constexpr bool kHasScene = true;
+  static constexpr bool kCoeffsHavePhi = true;
+  static constexpr bool kHasSolve = true;
+  static constexpr bool kHasTrig = true;
+  static constexpr int kNumTransmissionAngles = Eigen::Dynamic;
+  static constexpr int kNumSwitches = Eigen::Dynamic;
+  /// Not at compile time: ModelCalls<ViewModel>::LoopFree() at run time.
+  static constexpr bool kLoopFree = false;
+};
+
+namespace internal {
+/// The sin and cos buffer of a view's Solve and Coeffs (ViewStruct::kTrig).
+struct ViewTrig {
+  std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kTrig)]> buffer;
+};
+template <class Scalar>
+struct TrigOf<ViewModel, Scalar, true> {
+  using type = ViewTrig;
+  static constexpr bool value = true;
+};
+template <>
+struct BlockCount<ViewModel, true> {
+  static constexpr int value = ModelView::kMaxBlocks;
+};
+/// The view's design derivatives are not reached by the runtime instantiated for it yet (the
+/// sweep's --design): none.
+template <>
+struct DesignDerivativesOf<ViewModel, true> {
+  using type = NoDesignDerivatives;
+};
+}  // namespace internal
+
+template <>
+struct ModelCalls<ViewModel> {
+  static constexpr bool kView = true;
+  using M = ViewModel;
+  using T = ModelTypes<ViewModel>;
+  using Trig = internal::ViewTrig;
+  using Modes = std::array<int, ModelView::kMaxBlocks>;
+
+  static int Nq(const M& m) { return m.view->nq; }
+  static int Nphi(const M& m) { return m.view->nphi; }
+  static int Nc(const M& m) { return m.view->nc; }
+  static int NumPoints(const M& m) { return m.view->num_points; }
+  static int NumBlocks(const M& m) { return HasSolve(m) ? m.view->num_blocks : 1; }
+  static bool QIsAngle(const M& m, int i) { return m.view->q_is_angle[i]; }
+  static bool PhiIsAngle(const M& m, int i) { return m.view->phi_is_angle[i]; }
+  static const double* AssemblyQ(const M& m) { return m.view->assembly_q; }
+  static const double* QMin(const M& m) { return m.view->q_min; }
+  static const double* QMax(const M& m) { return m.view->q_max; }
+  static const double* AssemblyPhi(const M& m) { return m.view->assembly_phi; }
+  static bool BlockClosedForm(const M& m, int b) { return HasSolve(m) && m.view->block_closed_form[b]; }
+  static Modes DefaultModes(const M& m) {
+    Modes modes{};
+    if (HasSolve(m)) std::copy(m.view->default_modes, m.view->default_modes + m.view->num_blocks, modes.begin());
+    return modes;
+  }
+  /// Every parameter's default, the derived ones included.
+  static ViewParams DefaultParams(const M& m) {
+    ViewParams p;
+    DefaultParameters(*m.view, p.data());
+    return p;
+  }
+
+  static const char* Name(const M& m) { return m.view->name; }
+  static const char* QName(const M& m, int j) { return m.view->q_names[j]; }
+  static const char* PhiName(const M& m, int i) { return m.view->phi_names[i]; }
+  static const char* PointName(const M& m, int p) { return m.view->point_names[p]; }
+  static int NumTransmissionAngles(const M& m) {
+    return m.view->flags.kHasTransmissionAngles && m.view->TransmissionAngles != nullptr
+               ? m.view->num_transmission_angles
+               : 0;
+  }
+  static const char* TransmissionJoint(const M& m, int t) { return m.view->transmission_joints[t]; }
+
+  static bool HasK(const M& m) { return m.view->flags.kHasK; }
+  static bool HasL(const M& m) { return m.view->flags.kHasL; }
+  static bool HasPoints(const M& m) { return m.view->num_points > 0 && m.view->flags.kHasPoints; }
+  static bool HasPointVelocities(const M& m) { return HasPoints(m) && m.view->flags.kHasPointVelocities; }
+  static bool HasPointAccelerations(const M& m) { return HasPoints(m) && m.view->flags.kHasPointAccelerations; }
+  static bool CoeffsHavePhi(const M& m) { return m.view->flags.kHasCoeffsPhi; }
+  static bool HasSolve(const M& m) { return m.view->flags.kHasSolve && m.view->Solve != nullptr; }
+  static bool HasTrig(const M& m) { return HasSolve(m) && m.view->flags.kHasTrig; }
+  static bool LoopFree(const M& m) { return m.view->nc == 0; }
+
+  static void Phi(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, T::VecC* Phi,
+                  T::MatCPhi* Phi_phi, T::MatCQ* Phi_q) {
+    const ModelView& v = *m.view;
+    if (Phi != nullptr) Phi->resize(v.nc);
+    if (Phi_phi != nullptr) Phi_phi->resize(v.nc, v.nphi);
+    if (Phi_q != nullptr) Phi_q->resize(v.nc, v.nq);
+    v.Phi(p.data(), q.data(), phi.data(), Phi != nullptr ? Phi->data() : nullptr,
+          Phi_phi != nullptr ? Phi_phi->data() : nullptr, Phi_q != nullptr ? Phi_q->data() : nullptr);
+  }
+  /// Phi at expressions (q + dq, ...): evaluated into the bounded types first.
+  template <class Q, class P>
+  static void Phi(const M& m, const ViewParams& p, const Q& q, const P& phi, T::VecC* Phi, T::MatCPhi* Phi_phi,
+                  T::MatCQ* Phi_q) {
+    ModelCalls::Phi(m, p, T::VecQ(q), T::VecPhi(phi), Phi, Phi_phi, Phi_q);
+  }
+  static void Coeffs(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                     T::Coefficients* c, const Trig* trig = nullptr) {
+    const ModelView& v = *m.view;
+    const ViewModel::CoefficientsLayout& l = m.coefficients;
+    double* const buffer = c->buffer.data();
+    std::fill_n(buffer, l.size, 0.0);  // (the view's function reads what it does not write)
+    v.Coeffs(p.data(), q.data(), phi.data(), buffer, trig != nullptr && HasTrig(m) ? trig->buffer.data() : nullptr);
+    const int nq = v.nq, nphi = v.nphi, np = v.num_points;
+    using Map = T::Coefficients::Map;
+    auto get = [buffer](int offset, Map* x, int rows, int cols) {
+      if (offset >= 0) new (x) Map(buffer + offset, rows, cols);  // (a Map is trivially destructible)
+    };
+    get(l.Phi, &c->Phi, v.nc, 1);
+    get(l.Phi_phi, &c->Phi_phi, v.nc, nphi);
+    get(l.K, &c->K, nphi, nq);
+    get(l.L, &c->L, nphi, nq * nq);
+    get(l.r_P, &c->r_P, 2, np);
+    get(l.K_P, &c->K_P, 2 * np, nq);
+    get(l.L_P, &c->L_P, 2 * np, nq * nq);
+  }
+  template <class Mu>
+  static void TransmissionAngles(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, Mu* mu) {
+    const int n = NumTransmissionAngles(m);
+    mu->resize(n);
+    if (n > 0) m.view->TransmissionAngles(p.data(), q.data(), phi.data(), mu->data());
+  }
+  static ViewSolveReport Solve(const M& m, const ViewParams& p, const T::VecQ& q, T::VecPhi* phi,
+                               const Modes& modes, int max_iterations, double tolerance, Trig* trig = nullptr) {
+    const bool with_trig = trig != nullptr && HasTrig(m);
+    if (with_trig) std::fill_n(trig->buffer.data(), m.trig_size, 0.0);
+    return m.view->Solve(p.data(), q.data(), phi->data(), modes.data(), max_iterations, tolerance,
+                         with_trig ? trig->buffer.data() : nullptr);
+  }
+};
+
+}  // namespace mechgen

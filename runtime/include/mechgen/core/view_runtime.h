@@ -1,0 +1,45 @@
+/**
+ * \file core/view_runtime.h
+ * The runtime instantiated once for the model view (issue 43): the templates of the layers
+ * below for M = ViewModel (core/view_model.h), compiled into the library mechgen_runtime_view
+ * (runtime/view/instantiations.cc). A program that includes this header and links that library
+ * reaches any model through its ModelView without compiling the runtime's algorithms again:
+ * the `extern template` declarations keep them out of its translation units. The same
+ * templates, instantiated for a generated model's type, are the fixed-size path (embedding,
+ * the per-model tools, the benchmarks): one source, two instantiations.
+ *
+ * Instantiated: the position solver (position/), the sweep (sweep/sweep.h: SweepRows with a
+ * ViewRowFn, ComputeMotion), its columns (sweep/columns.h) and motion summary
+ * (sweep/motion_summary.h).
+ */
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "mechgen/core/view_model.h"
+#include "mechgen/position/assembler.h"
+#include "mechgen/position/motion.h"
+#include "mechgen/position/solver.h"
+#include "mechgen/sweep/columns.h"
+#include "mechgen/sweep/motion_summary.h"
+#include "mechgen/sweep/sweep.h"
+
+namespace mechgen {
+namespace position {
+extern template class PositionSolver<ViewModel, NewtonAssembler>;
+extern template void ComputeMotion<ViewModel>(const State<ViewModel>&, const ModelTypes<ViewModel>::VecQ&,
+                                              const ModelTypes<ViewModel>::VecQ&, Motion<ViewModel>*);
+}  // namespace position
+
+/// The row callback of the view's SweepRows (pass an lvalue of this type).
+using ViewRowFn = std::function<void(int, const SweepRecord<ViewModel>&)>;
+/// The position solver of the runtime instantiated for the view.
+using ViewPositionSolver = position::PositionSolver<ViewModel, position::NewtonAssembler>;
+
+extern template int SweepRows<ViewModel, position::NewtonAssembler, ViewRowFn&>(
+    ViewPositionSolver*, const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecQ&, int,
+    const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecQ&, const SweepOptions&, ViewRowFn&);
+extern template std::vector<SweepColumn<ViewModel>> SweepColumns<ViewModel>(const ViewModel&);
+extern template class MotionSummaryBuilder<ViewModel>;
+}  // namespace mechgen

@@ -1,0 +1,325 @@
+// The position solver instantiated once for the model view (issue 43: PositionSolver<ViewModel>,
+// core/view_model.h) against the same source instantiated for each generated model's type:
+// assembly and a sweep of the inputs over the model's default range (kQMin..kQMax) through
+// both, every status, branch, mode and number compared to the bit. The oracle is the
+// fixed-size instantiation, which tests/runtime/model_test.cc holds against closed forms and
+// finite differences; the view's functions call the same generated code, and the runtime's
+// arithmetic on the bounded dynamic types is the fixed-size code of each size, so nothing may
+// differ, not even in the last bit. Part of model_test (no executable of its own).
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "mechgen/core/view_runtime.h"
+#include "sweep_run.h"  // runtime/tools: RunSweep, the sweep command's model-dependent part  // PositionSolver<ViewModel>: mechgen_runtime_view
+#include "mechgen/position/solver.h"
+#include "mechgen/sweep/columns.h"
+#include "mechgen/sweep/motion_summary.h"
+#include "mechgen/sweep/sweep.h"
+
+#ifdef MECHGEN_HAVE_fourbar
+#include "fourbar.h"
+namespace mech::fourbar { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_slider_crank
+#include "slider_crank.h"
+namespace mech::slider_crank { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_watt_sixbar
+#include "watt_sixbar.h"
+namespace mech::watt_sixbar { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_stephenson_sixbar
+#include "stephenson_sixbar.h"
+namespace mech::stephenson_sixbar { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_fivebar
+#include "fivebar.h"
+namespace mech::fivebar { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_cam_roller
+#include "cam_roller.h"
+namespace mech::cam_roller { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_quick_return
+#include "quick_return.h"
+namespace mech::quick_return { const mechgen::ModelView& View(); }
+#endif
+
+namespace mechgen::position {
+namespace {
+
+// Same shape and the same bits in every entry (NaN included).
+template <class A, class B>
+::testing::AssertionResult SameBits(const char* what, const A& a, const B& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) {
+    return ::testing::AssertionFailure() << what << ": " << a.rows() << " x " << a.cols() << " vs " << b.rows()
+                                         << " x " << b.cols();
+  }
+  for (Eigen::Index j = 0; j < a.cols(); ++j) {
+    for (Eigen::Index i = 0; i < a.rows(); ++i) {
+      const double x = a(i, j), y = b(i, j);
+      if (std::memcmp(&x, &y, sizeof(double)) != 0) {
+        return ::testing::AssertionFailure() << what << "(" << i << ", " << j << "): " << x << " vs " << y
+                                             << " (difference " << (x - y) << ")";
+      }
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+::testing::AssertionResult SameBits(const char* what, double x, double y) {
+  if (std::memcmp(&x, &y, sizeof(double)) == 0) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << what << ": " << x << " vs " << y;
+}
+
+template <class M>
+void ExpectSameState(const State<M>& a, const State<ViewModel>& b, const std::string& where) {
+  SCOPED_TRACE(where);
+  EXPECT_EQ(a.valid, b.valid);
+  EXPECT_EQ(a.branch, b.branch);
+  EXPECT_EQ(a.sigma_exact, b.sigma_exact);
+  EXPECT_TRUE(SameBits("q", a.q, b.q));
+  EXPECT_TRUE(SameBits("phi", a.phi, b.phi));
+  EXPECT_TRUE(SameBits("K", a.K, b.K));
+  EXPECT_TRUE(SameBits("L", a.L, b.L));
+  EXPECT_TRUE(SameBits("r_P", a.r_P, b.r_P));
+  EXPECT_TRUE(SameBits("K_P", a.K_P, b.K_P));
+  EXPECT_TRUE(SameBits("L_P", a.L_P, b.L_P));
+  EXPECT_TRUE(SameBits("singular_direction", a.singular_direction, b.singular_direction));
+  EXPECT_TRUE(SameBits("largest_direction", a.largest_direction, b.largest_direction));
+  EXPECT_TRUE(SameBits("residual_norm", a.residual_norm, b.residual_norm));
+  EXPECT_TRUE(SameBits("condition", a.condition, b.condition));
+  EXPECT_TRUE(SameBits("sigma_min", a.sigma_min, b.sigma_min));
+  EXPECT_TRUE(SameBits("sigma_max", a.sigma_max, b.sigma_max));
+  EXPECT_TRUE(SameBits("phi_error", a.phi_error, b.phi_error));
+  EXPECT_TRUE(SameBits("K_error", a.K_error, b.K_error));
+  EXPECT_TRUE(SameBits("L_error", a.L_error, b.L_error));
+  EXPECT_TRUE(SameBits("inverse_norm", a.inverse_norm, b.inverse_norm));
+}
+
+void ExpectSameSummary(const Summary& a, const Summary& b, const std::string& where) {
+  SCOPED_TRACE(where);
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.substeps, b.substeps);
+  EXPECT_EQ(a.rejected_substeps, b.rejected_substeps);
+  EXPECT_EQ(a.branch, b.branch);
+  EXPECT_EQ(a.used_assembler, b.used_assembler);
+  EXPECT_STREQ(a.reason, b.reason);
+  EXPECT_TRUE(SameBits("residual_norm", a.residual_norm, b.residual_norm));
+  EXPECT_TRUE(SameBits("condition", a.condition, b.condition));
+  EXPECT_TRUE(SameBits("sigma_min", a.sigma_min, b.sigma_min));
+}
+
+// Assembly at the model's default, then 720 steps over kQMin..kQMax (every input at once) and
+// back to the middle, through PositionSolver<M> and PositionSolver<ViewModel>.
+template <class M>
+void ExpectViewSolverSame(const ModelView& view) {
+  ASSERT_TRUE(ViewCompatible(view));
+  ASSERT_EQ(view.nq, M::kNq);
+  ASSERT_EQ(view.nphi, M::kNphi);
+  PositionSolver<M> fixed;
+  PositionSolver<ViewModel> dynamic{ViewModel(view)};
+  Summary a, b;
+  EXPECT_EQ(fixed.AssembleDefault(&a), Status::kConverged);
+  EXPECT_EQ(dynamic.AssembleDefault(&b), Status::kConverged);
+  ExpectSameSummary(a, b, "assembly");
+  ExpectSameState(fixed.state(), dynamic.state(), "assembly");
+  typename PositionSolver<M>::Modes modes_a{};
+  typename PositionSolver<ViewModel>::Modes modes_b{};
+  ASSERT_EQ(fixed.modes(&modes_a), dynamic.modes(&modes_b));
+  for (int i = 0; i < static_cast<int>(modes_a.size()); ++i) EXPECT_EQ(modes_a[i], modes_b[i]) << "block " << i;
+
+  constexpr int kSteps = 720;
+  int converged = 0;
+  for (int i = 0; i <= kSteps + kSteps / 2; ++i) {
+    const double t = i <= kSteps ? double(i) / kSteps : 1.0 - double(i - kSteps) / kSteps;
+    typename ModelTypes<M>::VecQ q;
+    ModelTypes<ViewModel>::VecQ qv(view.nq);
+    for (int k = 0; k < M::kNq; ++k) {
+      q(k) = M::kQMin[k] + t * (M::kQMax[k] - M::kQMin[k]);
+      qv(k) = q(k);
+    }
+    const Status sa = fixed.MoveTo(q, &a);
+    const Status sb = dynamic.MoveTo(qv, &b);
+    EXPECT_EQ(sa, sb);
+    converged += sa == Status::kConverged;
+    const std::string where = "step " + std::to_string(i);
+    ExpectSameSummary(a, b, where);
+    ExpectSameState(fixed.state(), dynamic.state(), where);
+    if (::testing::Test::HasFailure()) return;  // the first difference says it all
+  }
+  EXPECT_GT(converged, kSteps / 2);  // a sweep, not a row of refusals
+
+  // Steps long enough to be split (Subdivide(): halves, Newton on the whole system, FindModes()
+  // again): from the middle to each end of the range and back.
+  for (int i = 0; i < 4; ++i) {
+    const double t = (i % 2 == 0) ? (i == 0 ? 0.0 : 1.0) : 0.5;
+    typename ModelTypes<M>::VecQ q;
+    ModelTypes<ViewModel>::VecQ qv(view.nq);
+    for (int k = 0; k < M::kNq; ++k) qv(k) = q(k) = M::kQMin[k] + t * (M::kQMax[k] - M::kQMin[k]);
+    EXPECT_EQ(fixed.MoveTo(q, &a), dynamic.MoveTo(qv, &b));
+    const std::string where = "jump " + std::to_string(i);
+    ExpectSameSummary(a, b, where);
+    ExpectSameState(fixed.state(), dynamic.state(), where);
+  }
+}
+
+// The sweep (SweepRows, its columns, the CSV writer, the motion summary) of the model's default
+// range in 360 steps at qd = 1, qdd = 0.5 through both instantiations: the same CSV bytes and
+// the same motion summary.
+template <class M>
+void ExpectViewSweepSame(const ModelView& view) {
+  using TM = ModelTypes<M>;
+  using TV = ModelTypes<ViewModel>;
+  const ViewModel model(view);
+  PositionSolver<M> fixed;
+  ViewPositionSolver dynamic(model);
+  ASSERT_EQ(fixed.AssembleDefault(nullptr), Status::kConverged);
+  ASSERT_EQ(dynamic.AssembleDefault(nullptr), Status::kConverged);
+  const typename TM::VecQ q0 = Eigen::Map<const typename TM::VecQ>(M::kQMin.data());
+  const typename TM::VecQ q1 = Eigen::Map<const typename TM::VecQ>(M::kQMax.data());
+  const typename TV::VecQ v0 = Eigen::Map<const TV::VecQ>(view.q_min, view.nq);
+  const typename TV::VecQ v1 = Eigen::Map<const TV::VecQ>(view.q_max, view.nq);
+  constexpr int kSteps = 360;
+  const auto fixed_columns = SweepColumns<M>();
+  const auto view_columns = SweepColumns<ViewModel>(model);
+  ASSERT_EQ(table::ColumnNames(fixed_columns), table::ColumnNames(view_columns));
+  std::ostringstream fixed_csv, view_csv;
+  const CsvOptions about = Described(CsvAbout(std::string(M::kName) + "_sweep", M::kName, "kinematic sweep", kSweepSigns));
+  WriteCsvHeader(fixed_columns, fixed_csv, about);
+  WriteCsvHeader(view_columns, view_csv, about);
+  MotionSummaryBuilder<M> fixed_summary(q0(0), q1(0));
+  MotionSummaryBuilder<ViewModel> view_summary(v0(0), v1(0), model);
+  const int fixed_failures = SweepRows(&fixed, q0, q1, kSteps, TM::VecQ::Constant(1.0), TM::VecQ::Constant(0.5),
+                                       SweepOptions(), [&](int, const SweepRecord<M>& r) {
+                                         WriteCsvRow(fixed_columns, r, fixed_csv);
+                                         fixed_summary.Add(r);
+                                       });
+  ViewRowFn row = [&](int, const SweepRecord<ViewModel>& r) {
+    WriteCsvRow(view_columns, r, view_csv);
+    view_summary.Add(r);
+  };
+  const int view_failures = SweepRows(&dynamic, v0, v1, kSteps, TV::VecQ::Constant(view.nq, 1.0),
+                                      TV::VecQ::Constant(view.nq, 0.5), SweepOptions(), row);
+  EXPECT_EQ(fixed_failures, view_failures);
+  const std::string a = fixed_csv.str(), b = view_csv.str();
+  EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), std::count(b.begin(), b.end(), '\n'));
+  EXPECT_GT(std::count(a.begin(), a.end(), '\n'), kSteps);
+  if (a != b) {  // the first line that differs
+    std::istringstream sa(a), sb(b);
+    std::string la, lb;
+    while (std::getline(sa, la) && std::getline(sb, lb) && la == lb) {
+    }
+    ADD_FAILURE() << "the CSVs differ:\n" << la << "\n" << lb;
+  }
+  std::ostringstream fixed_text, view_text;
+  PrintMotionSummary(fixed_summary.Finish(), fixed_text);
+  PrintMotionSummary(view_summary.Finish(), view_text);
+  EXPECT_EQ(fixed_text.str(), view_text.str());
+  if (M::kNq == 1) {
+    EXPECT_NE(fixed_text.str().find("motion summary"), std::string::npos);
+  }
+}
+
+// The whole sweep command through the view (sweep_run.h's RunSweep<ViewModel>, the runtime in
+// mechgen_runtime_view) against the per-model tool build/models/<name>_sweep
+// (RunSweep<Model, CeresAssembler>): the same CSV file, byte for byte, for the default sweep and
+// for a range with input speed and acceleration.
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+void ExpectViewToolSame(const ModelView& view, const std::string& tool, const std::vector<std::string>& options) {
+  const std::string dir = ::testing::TempDir();
+  const std::string fixed_csv = dir + "view_tool_" + view.name + "_fixed.csv";
+  const std::string view_csv = dir + "view_tool_" + view.name + "_view.csv";
+  std::remove(fixed_csv.c_str());
+  std::remove(view_csv.c_str());
+  std::string command = "'" + tool + "' --table 0 --csv '" + fixed_csv + "'";
+  sweep_tool::Arguments arguments;
+  arguments.tool = std::string(view.name) + "_sweep_view";
+  arguments.table = 0;
+  arguments.csv_path = view_csv;
+  for (size_t i = 0; i < options.size(); i += 2) {
+    command += " " + options[i] + " " + options[i + 1];
+    if (options[i] == "--steps") arguments.steps = std::stoll(options[i + 1]);
+    if (options[i] == "--range") arguments.ranges.push_back(options[i + 1]);
+    if (options[i] == "--qd") arguments.qd_text.push_back(options[i + 1]);
+    if (options[i] == "--qdd") arguments.qdd_text.push_back(options[i + 1]);
+  }
+  command += " > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  ASSERT_EQ(sweep_tool::RunSweep(ViewModel(view), arguments), sweep_tool::kExitConverged);
+  const std::string a = ReadFile(fixed_csv), b = ReadFile(view_csv);
+  EXPECT_GT(a.size(), 1000u);
+  EXPECT_TRUE(a == b) << fixed_csv << " and " << view_csv << " differ";
+}
+// What the view does not do yet is refused before anything is written (exit 2).
+TEST(ViewSweepTool, RefusesWhatTheViewLacks) {
+#ifdef MECHGEN_HAVE_fourbar
+  const std::string csv = ::testing::TempDir() + "view_tool_refused.csv";
+  std::remove(csv.c_str());
+  sweep_tool::Arguments arguments;
+  arguments.csv_path = csv;
+  arguments.svg_path = ::testing::TempDir() + "view_tool_refused.svg";
+  EXPECT_EQ(sweep_tool::RunSweep(ViewModel(mech::fourbar::View()), arguments), sweep_tool::kExitUsage);
+  arguments.svg_path.clear();
+  arguments.params.sets.push_back("a=1");
+  EXPECT_EQ(sweep_tool::RunSweep(ViewModel(mech::fourbar::View()), arguments), sweep_tool::kExitUsage);
+  EXPECT_FALSE(std::ifstream(csv).good());
+#endif
+}
+#if defined(MECHGEN_HAVE_fourbar) && defined(MECHGEN_FOURBAR_SWEEP)
+TEST(ViewSweepTool, SameCsvAsTheToolFourbar) {
+  ExpectViewToolSame(mech::fourbar::View(), MECHGEN_FOURBAR_SWEEP, {});
+  ExpectViewToolSame(mech::fourbar::View(), MECHGEN_FOURBAR_SWEEP,
+                     {"--steps", "100", "--range", "theta_crank:10deg:200deg", "--qd", "3", "--qdd", "-2"});
+}
+#endif
+#if defined(MECHGEN_HAVE_slider_crank) && defined(MECHGEN_SLIDER_CRANK_SWEEP)
+TEST(ViewSweepTool, SameCsvAsTheToolSliderCrank) {
+  ExpectViewToolSame(mech::slider_crank::View(), MECHGEN_SLIDER_CRANK_SWEEP, {});
+  ExpectViewToolSame(mech::slider_crank::View(), MECHGEN_SLIDER_CRANK_SWEEP, {"--steps", "77", "--qd", "2"});
+}
+#endif
+
+#define MECHGEN_VIEW_SOLVER_TEST(name)                                  \
+  TEST(ViewPositionSolver, SameAsFixedSize_##name) {                    \
+    ExpectViewSolverSame<mech::name::Model>(mech::name::View());         \
+  }                                                                     \
+  TEST(ViewSweep, SameCsvAsFixedSize_##name) {                          \
+    ExpectViewSweepSame<mech::name::Model>(mech::name::View());          \
+  }
+#ifdef MECHGEN_HAVE_fourbar
+MECHGEN_VIEW_SOLVER_TEST(fourbar)
+#endif
+#ifdef MECHGEN_HAVE_slider_crank
+MECHGEN_VIEW_SOLVER_TEST(slider_crank)
+#endif
+#ifdef MECHGEN_HAVE_watt_sixbar
+MECHGEN_VIEW_SOLVER_TEST(watt_sixbar)
+#endif
+#ifdef MECHGEN_HAVE_stephenson_sixbar
+MECHGEN_VIEW_SOLVER_TEST(stephenson_sixbar)
+#endif
+#ifdef MECHGEN_HAVE_fivebar
+MECHGEN_VIEW_SOLVER_TEST(fivebar)
+#endif
+#ifdef MECHGEN_HAVE_cam_roller
+MECHGEN_VIEW_SOLVER_TEST(cam_roller)
+#endif
+#ifdef MECHGEN_HAVE_quick_return
+MECHGEN_VIEW_SOLVER_TEST(quick_return)
+#endif
+
+}  // namespace
+}  // namespace mechgen::position
