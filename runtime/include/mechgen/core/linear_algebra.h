@@ -78,7 +78,15 @@ void ConditionAndDeterminant(const Eigen::MatrixBase<Derived>& A, double* cond, 
   constexpr int n = Matrix::RowsAtCompileTime;
   static_assert(n == Matrix::ColsAtCompileTime && n != Eigen::Dynamic, "square, fixed size");
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  if constexpr (n <= 4) {
+  if constexpr (n == 1) {
+    // Eigen's 1 x 1 computeInverseAndDetWithCheck, written out: the same arithmetic, and no
+    // inverse left unwritten when a == 0 (GCC 12 warned it may be read uninitialized).
+    const double a = A.derived().coeff(0, 0);
+    *det = a;
+    const bool invertible = std::abs(a) > 0.0;
+    const double inverse = invertible ? 1.0 / a : 0.0;
+    *cond = (invertible && std::isfinite(inverse)) ? std::abs(a) * std::abs(inverse) : kInf;
+  } else if constexpr (n <= 4) {
     Matrix inverse;
     bool invertible = false;
     A.derived().computeInverseAndDetWithCheck(inverse, *det, invertible, 0.0);

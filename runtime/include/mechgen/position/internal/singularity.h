@@ -54,9 +54,16 @@ Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Cross
       MatCQ B;
       Calls::Phi(model_, params_, q, phi, G, J != nullptr ? &A : nullptr, J != nullptr ? &B : nullptr);
       if (J != nullptr) {
-        if constexpr (Calls::kView) J->resize(nc(), n + 1);
-        J->col(0) = B * d;
-        J->rightCols(n) = A;
+        // The fixed-size block for a generated M (a dynamic block of a 1 x 2 J made GCC 12 warn
+        // of a 16-byte store into 8 in the rolling wheel's sweep).
+        if constexpr (Calls::kView) {
+          J->resize(nc(), n + 1);
+          J->col(0) = B * d;
+          J->rightCols(n) = A;
+        } else {
+          J->col(0) = B * d;
+          J->template rightCols<M::kNphi>() = A;
+        }
       }
     };
     // Unit null vector of J (the curve's tangent) and sigma_n(J) / sigma_1(J), from the SVD
