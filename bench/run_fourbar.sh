@@ -46,11 +46,11 @@ print()
 print("  targets (issue 24)")
 target("mechgen continuation / closed form", "MechgenContinuation", "ClosedForm", 1.15)
 target("generated dyad / closed form", "MechgenClosedForm", "ClosedForm", 0.85)
-print("  targets (issue 43)")
-target("continuation through the model view / fixed", "MechgenContinuationView", "MechgenContinuation", 1.15)
 models = [n.split("/", 1)[1] for n in med if n.startswith("Continuation/")]
 for m in models:
     target(f"continuation / plain Newton ({m})", f"Continuation/{m}", f"PlainNewton/{m}", 1.00)
+print("  targets (issue 43)")
+target("continuation through the model view / fixed", "MechgenContinuationView", "MechgenContinuation", 1.15)
 print()
 if "CeresAutoDiffReused" not in med:
     sys.exit(0)
