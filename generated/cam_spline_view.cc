@@ -11,70 +11,18 @@
 
 #include "cam_spline.h"
 #include "mechgen/core/model_view.h"
+#include "mechgen/core/view_buffers.h"
 
 namespace mech::cam_spline {
 namespace {
 
-// ---- Flat arrays and the fixed-size types: the shape of a member, copies both ways ----
-template <class T>
-struct Shape;
-template <int R, int C, int O, int MR, int MC>
-struct Shape<Eigen::Matrix<double, R, C, O, MR, MC>> {
-  static_assert((O & Eigen::RowMajor) == 0 || R == 1, "a view buffer is column-major");
-  static constexpr int kRows = R, kCols = C;
-};
-template <>
-struct Shape<double> {
-  static constexpr int kRows = 1, kCols = 1;
-};
-template <std::size_t N>
-struct Shape<std::array<double, N>> {
-  static constexpr int kRows = static_cast<int>(N), kCols = 1;
-};
-template <class T>
-constexpr mechgen::ViewMember Member(const char* name) {
-  return {name, Shape<T>::kRows, Shape<T>::kCols, 0};
-}
-// The members' offsets, one after the other; the buffer's size after the last.
-template <std::size_t N>
-constexpr std::array<mechgen::ViewMember, N> Packed(std::array<mechgen::ViewMember, N> members) {
-  int offset = 0;
-  for (std::size_t i = 0; i < N; ++i) {
-    members[i].offset = offset;
-    offset += members[i].rows * members[i].cols;
-  }
-  return members;
-}
-template <std::size_t N>
-constexpr int PackedSize(const std::array<mechgen::ViewMember, N>& members) {
-  return N == 0 ? 0 : members[N - 1].offset + members[N - 1].rows * members[N - 1].cols;
-}
-
-template <int R, int C, int O, int MR, int MC>
-void Get(const double* b, Eigen::Matrix<double, R, C, O, MR, MC>* m) {
-  for (int i = 0; i < R * C; ++i) m->data()[i] = b[i];
-}
-template <int R, int C, int O, int MR, int MC>
-void Put(const Eigen::Matrix<double, R, C, O, MR, MC>& m, double* b) {
-  for (int i = 0; i < R * C; ++i) b[i] = m.data()[i];
-}
-[[maybe_unused]] void Get(const double* b, double* x) { *x = *b; }
-[[maybe_unused]] void Put(const double& x, double* b) { *b = x; }
-template <class T, std::size_t N>
-void Get(const T* b, std::array<T, N>* a) {
-  for (std::size_t i = 0; i < N; ++i) (*a)[i] = b[i];
-}
-template <class T, std::size_t N>
-void Put(const std::array<T, N>& a, T* b) {
-  for (std::size_t i = 0; i < N; ++i) b[i] = a[i];
-}
-template <class T, std::size_t N, std::size_t M>
-constexpr std::array<T, N * M> Flat(const std::array<std::array<T, M>, N>& a) {
-  std::array<T, N * M> flat{};
-  for (std::size_t i = 0; i < N; ++i)
-    for (std::size_t j = 0; j < M; ++j) flat[i * M + j] = a[i][j];
-  return flat;
-}
+// ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
+using mechgen::view_buffers::Flat;
+using mechgen::view_buffers::Get;
+using mechgen::view_buffers::Member;
+using mechgen::view_buffers::Packed;
+using mechgen::view_buffers::PackedSize;
+using mechgen::view_buffers::Put;
 
 [[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
