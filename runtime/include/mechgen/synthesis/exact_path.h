@@ -63,10 +63,10 @@ struct ExactFourBar {
   bool grashof = false;      ///< s + l <= p + q
   bool crank_turns = false;  ///< Grashof with the crank or the ground the shortest link
   double closure = 0;  ///< largest |P_j - reached point| of the loop equations, from the lengths
-  /// The linkage is a usable solution of the task: one branch, in order one way, no link of
-  /// zero length.
-  bool defect_free() const { return same_branch && direction != 0 && a > 0 && b > 0 && c > 0 && d > 0; }
-  std::string defect;  ///< "" or what fails: "branch", "order", "degenerate link"
+  std::string defect;  ///< "" or what fails first: "degenerate link", "branch", "order"
+  /// The linkage is a usable solution of the task: no link of zero length, one branch, in
+  /// order one way (the checks that set `defect`).
+  bool defect_free() const { return defect.empty(); }
 };
 
 struct ExactPathOptions {
