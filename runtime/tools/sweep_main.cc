@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
                                                          mechgen::sweep_tool::kMaxSteps, &arguments);
   if (parsed >= 0) return parsed;
   // The model-dependent part (sweep_run.h), the same source the runtime instantiated for the
-  // model view runs (mechgen_sweep_view).
+  // model view runs (mechgen_view sweep).
   // Ceres assembles (position/ceres_adapter.h) unless MECHGEN_SWEEP_NO_CERES: then the
   // runtime's own Levenberg-Marquardt (NewtonAssembler), Eigen only.
 #ifdef MECHGEN_SWEEP_NO_CERES

@@ -1,7 +1,7 @@
 // The sweep command's model-dependent part, RunSweep(model, arguments): one source for the
 // per-model tool <model>_sweep (sweep_main.cc, M the generated model's type, fixed sizes) and
 // for the runtime instantiated once for the model view (M = mechgen::ViewModel,
-// core/view_runtime.h; the library mechgen_runtime_view, mechgen_sweep_view). It checks the
+// core/view_runtime.h; the library mechgen_runtime_view, mechgen_view sweep). It checks the
 // options against the model, assembles, sweeps (rows streamed to the CSV), prints the table,
 // the motion summary and the counts, and writes the outputs whole or not at all. Exit
 // statuses as sweep_main.cc says.

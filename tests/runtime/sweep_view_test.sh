@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# mechgen_sweep_view (issue 43): a model compiled into a shared object with its view's entry
+# mechgen_view sweep (issue 43): a model compiled into a shared object with its view's entry
 # point (<name>.cc + <name>_view.cc, -DMECHGEN_VIEW_ENTRY, g++ -O2 -shared -fPIC), loaded and
 # swept through the runtime compiled once (mechgen_runtime_view):
 #  - its CSV equals, byte for byte, the per-model tool's (<name>_sweep) for the same options;
 #  - an object without the entry point, a missing object and an option the view does not take
 #    yet are refused (exit 1, 1, 2) with one line on stderr and nothing written.
-# usage: sweep_view_test.sh <c++ compiler> <mechgen_sweep_view> <fourbar_sweep> <model dir>
+# usage: sweep_view_test.sh <c++ compiler> <mechgen_view> <fourbar_sweep> <model dir>
 #        <runtime include dir> <Eigen include dir>
 set -uo pipefail
 cxx=$1 view_tool=$(realpath "$2") fixed_tool=$(realpath "$3") model_dir=$4 runtime_include=$5 eigen=$6
@@ -24,7 +24,7 @@ for options in "" "--steps 100 --range theta_crank:-30deg:400deg --qd 2 --qdd -1
   # shellcheck disable=SC2086
   "$fixed_tool" $options --table 0 --csv fixed.csv > /dev/null || fail "fourbar_sweep $options"
   # shellcheck disable=SC2086
-  "$view_tool" ./fourbar.so $options --table 0 --csv view.csv > view.out 2> view.err || fail "mechgen_sweep_view $options: $(cat view.err)"
+  "$view_tool" sweep ./fourbar.so $options --table 0 --csv view.csv > view.out 2> view.err || fail "mechgen_view sweep $options: $(cat view.err)"
   cmp -s fixed.csv view.csv || fail "the CSVs differ ($options)"
   [[ -s view.err ]] && fail "stderr not empty: $(cat view.err)"
   rm -f fixed.csv view.csv
@@ -34,7 +34,7 @@ done
 refused() {
   local name=$1 expected=$2 pattern=$3
   shift 3
-  mkdir "$name" && (cd "$name" && "$view_tool" "$@" > ../"$name".out 2> ../"$name".err)
+  mkdir "$name" && (cd "$name" && "$view_tool" sweep "$@" > ../"$name".out 2> ../"$name".err)
   local status=$?
   [[ $status -eq $expected ]] || fail "$name: exit $status, expected $expected"
   [[ $(wc -l < "$name".err) -eq 1 ]] || fail "$name: stderr is not one line: $(cat "$name".err)"
@@ -45,6 +45,11 @@ refused no_entry 1 "has no mechgen_model_view\(\)" "$root/no_entry.so" --csv out
 refused missing 1 "^error: cannot load" "$root/missing.so" --csv out.csv
 refused svg 2 "^fourbar_sweep_view: error: --svg: not drawn through the model view" "$root/fourbar.so" --svg out.svg
 refused bad_option 2 "^fourbar_sweep_view: error: " "$root/fourbar.so" --no-such-option
+# the command first: an unknown one is a usage error before anything is loaded
+mkdir no_command && (cd no_command && "$view_tool" no-such-command "$root/fourbar.so" > ../no_command.out 2> ../no_command.err)
+status=$?
+[[ $status -eq 2 ]] || fail "no_command: exit $status, expected 2"
+grep -q "^mechgen_view: error: unknown command no-such-command" no_command.err || fail "no_command: $(cat no_command.err)"
 
-[[ $failures -eq 0 ]] && echo "mechgen_sweep_view: all checks passed"
+[[ $failures -eq 0 ]] && echo "mechgen_view sweep: all checks passed"
 exit $((failures > 0))

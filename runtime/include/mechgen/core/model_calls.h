@@ -171,6 +171,10 @@ struct ModelCalls {
       return M::template Solve<double>(p, q, phi, modes, max_iterations, tolerance);
     }
   }
+
+  // ---- Statics (statics/): the loads, reactions and their functions ----
+
+  // ---- Dynamics (dynamics/, machines/): inertia, right-hand side, kinetostatics ----
 };
 
 }  // namespace mechgen

@@ -86,6 +86,9 @@ struct ViewModel {
   const ModelView* view;
   CoefficientsLayout coefficients;
   int trig_size = 0;
+  // ---- Statics: the layouts of its structs ----
+
+  // ---- Dynamics: the layouts of its structs ----
 };
 
 /// Whether a view's layout and size are those this runtime was compiled against (a view from
@@ -130,6 +133,9 @@ struct ModelTypes<ViewModel, Scalar> {
     Map Phi{nullptr, 0, 1}, Phi_phi{nullptr, 0, 0}, K{nullptr, 0, 0}, L{nullptr, 0, 0}, r_P{nullptr, 2, 0},
         K_P{nullptr, 0, 0}, L_P{nullptr, 0, 0};
   };
+  // ---- Statics: its types ----
+
+  // ---- Dynamics: its types ----
 };
 
 /// What a view may have: every feature the runtime reads at compile time is possible, and
@@ -275,6 +281,10 @@ struct ModelCalls<ViewModel> {
     return m.view->Solve(p.data(), q.data(), phi->data(), modes.data(), max_iterations, tolerance,
                          with_trig ? trig->buffer.data() : nullptr);
   }
+
+  // ---- Statics (statics/): the loads, reactions and their functions ----
+
+  // ---- Dynamics (dynamics/, machines/): inertia, right-hand side, kinetostatics ----
 };
 
 }  // namespace mechgen

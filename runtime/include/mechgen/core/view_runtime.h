@@ -42,4 +42,8 @@ extern template int SweepRows<ViewModel, position::NewtonAssembler, ViewRowFn&>(
     const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecQ&, const SweepOptions&, ViewRowFn&);
 extern template std::vector<SweepColumn<ViewModel>> SweepColumns<ViewModel>(const ViewModel&);
 extern template class MotionSummaryBuilder<ViewModel>;
+
+// ---- Statics (statics/; instantiated in runtime/view/statics.cc) ----
+
+// ---- Dynamics (dynamics/; instantiated in runtime/view/dynamics.cc) ----
 }  // namespace mechgen
