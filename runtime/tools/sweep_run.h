@@ -6,10 +6,11 @@
 // the motion summary and the counts, and writes the outputs whole or not at all. Exit
 // statuses as sweep_main.cc says.
 //
-// Through the view, not yet: --svg (io/svg.h is not instantiated for the view), --mode (named
-// assembly modes), --design (the design derivatives) and --params/--set (tools/common/params.h
-// names the parameters at compile time): each is refused with a usage error (exit 2) naming the
-// per-model tool that has it, before anything is computed or written.
+// --params/--set read the view's parameter table through the view (common/view_params.h), with
+// the per-model tool's messages. Through the view, not yet: --svg (io/svg.h is not instantiated
+// for the view), --mode (named assembly modes) and --design (the design derivatives): each is
+// refused with a usage error (exit 2) naming the per-model tool that has it, before anything is
+// computed or written.
 #pragma once
 
 #include <algorithm>
@@ -24,6 +25,7 @@
 #include <vector>
 
 #include "common/numbers.h"
+#include "common/view_params.h"
 #include "sweep_args.h"
 
 #include "mechgen/core/model_calls.h"
@@ -150,8 +152,6 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
       return Usage("--mode: named assembly modes are not reached through the model view yet; " + tool + " has them");
     if (arguments.design)
       return Usage("--design: the design derivatives are not reached through the model view yet; " + tool + " has them");
-    if (!arguments.params.file.empty() || !arguments.params.sets.empty())
-      return Usage("--params/--set: not through the model view yet; " + tool + " takes them");
   }
   // Counts checked by the parser: --steps in 1..kMaxSteps, --table in 0..kMaxSteps + 1.
   const int steps = static_cast<int>(arguments.steps);
@@ -229,9 +229,7 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
 
   // The model's parameters: its defaults, then --params and --set.
   typename Types::Params params = C::DefaultParams(model);
-  if constexpr (!C::kView) {
-    if (!mechgen::tools::ApplyParameters(arguments.params, &params, &error)) return Usage(error);
-  }
+  if (!mechgen::tools::ApplyModelParameters(arguments.params, model, &params, &error)) return Usage(error);
 
   // Assembly at the model's assembly configuration, then the sweep.
   mechgen::position::PositionSolver<M, Assembler> solver(model, mechgen::position::Options(), params);
@@ -291,10 +289,8 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
                 Describe(model, j, q_begin(j)).c_str(), Describe(model, j, q_end(j)).c_str());
   }
   std::printf(" in %d steps\n", steps);
-  if constexpr (!C::kView) {
-    const std::string changed = mechgen::tools::ChangedParameters(params);
-    if (!changed.empty()) std::printf("parameters set: %s\n", changed.c_str());
-  }
+  const std::string changed = mechgen::tools::ChangedModelParameters(model, params);
+  if (!changed.empty()) std::printf("parameters set: %s\n", changed.c_str());
   std::printf("\n");
 
   // The sweep, streamed: each row goes to the CSV as it is solved; kept are only the rows of

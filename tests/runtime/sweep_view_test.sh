@@ -20,12 +20,18 @@ cd "$root" || exit 1
 "$cxx" -O2 -shared -fPIC -I"$model_dir" -I"$runtime_include" -I"$eigen" \
   "$model_dir/fourbar.cc" "$model_dir/fourbar_view.cc" -o no_entry.so || { echo "FAIL: cannot build no_entry.so"; exit 1; }
 
-for options in "" "--steps 100 --range theta_crank:-30deg:400deg --qd 2 --qdd -1"; do
+printf 'b = 3.4  # the coupler\nxi: 1.2\n' > params.txt
+for options in "" "--steps 100 --range theta_crank:-30deg:400deg --qd 2 --qdd -1" \
+  "--set b=3.6 --set eta=0.5" "--params params.txt --set xi=1.3 --steps 90"; do
   # shellcheck disable=SC2086
-  "$fixed_tool" $options --table 0 --csv fixed.csv > /dev/null || fail "fourbar_sweep $options"
+  "$fixed_tool" $options --table 0 --csv fixed.csv > fixed.out || fail "fourbar_sweep $options"
   # shellcheck disable=SC2086
   "$view_tool" sweep ./fourbar.so $options --table 0 --csv view.csv > view.out 2> view.err || fail "mechgen_view sweep $options: $(cat view.err)"
   cmp -s fixed.csv view.csv || fail "the CSVs differ ($options)"
+  # the printed summary too (the parameters set among it), but for the timings
+  summary() { sed -e '/time per row/d' -e '/ s)/d' -e '/steps\/s/d' -e 's/\(fixed\|view\)\.csv/OUT.csv/' "$1"; }
+  diff <(summary fixed.out) <(summary view.out) > /dev/null ||
+    fail "the printed summaries differ ($options): $(diff fixed.out view.out | head -5)"
   [[ -s view.err ]] && fail "stderr not empty: $(cat view.err)"
   rm -f fixed.csv view.csv
 done
@@ -45,6 +51,16 @@ refused no_entry 1 "has no mechgen_model_view\(\)" "$root/no_entry.so" --csv out
 refused missing 1 "^error: cannot load" "$root/missing.so" --csv out.csv
 refused svg 2 "^fourbar_sweep_view: error: --svg: not drawn through the model view" "$root/fourbar.so" --svg out.svg
 refused bad_option 2 "^fourbar_sweep_view: error: " "$root/fourbar.so" --no-such-option
+# the parameters' errors: the per-model tool's words (exit 2, one line)
+for bad in "--set nosuch=1" "--set b" "--set b=abc" "--params missing.txt"; do
+  # shellcheck disable=SC2086
+  "$fixed_tool" $bad > /dev/null 2> fixed.err; fixed_status=$?
+  # shellcheck disable=SC2086
+  "$view_tool" sweep ./fourbar.so $bad > /dev/null 2> view.err; view_status=$?
+  [[ $fixed_status -eq 2 && $view_status -eq 2 ]] || fail "$bad: exit $fixed_status (fixed), $view_status (view)"
+  [[ "$(sed 's/^fourbar_sweep_view:/fourbar_sweep:/' view.err)" == "$(cat fixed.err)" ]] ||
+    fail "$bad: the view says $(cat view.err), the tool $(cat fixed.err)"
+done
 # the command first: an unknown one is a usage error before anything is loaded
 mkdir no_command && (cd no_command && "$view_tool" no-such-command "$root/fourbar.so" > ../no_command.out 2> ../no_command.err)
 status=$?

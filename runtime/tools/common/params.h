@@ -36,27 +36,37 @@ inline std::string Trim(const std::string& text) {
   return text.substr(b, e - b + 1);
 }
 
+/// The parameters of a generated model (its Params: kNames, kDerivedNames, Find) as the
+/// functions below read a parameter table; common/view_params.h has the model view's.
 template <class P>
-std::string NameList() {
-  std::string list;
-  for (const char* n : P::kNames) list += (list.empty() ? "" : ", ") + std::string(n);
-  return list.empty() ? "(none)" : list;
-}
+struct GeneratedTable {
+  P* params;
+  std::string NameList() const {
+    std::string list;
+    for (const char* n : P::kNames) list += (list.empty() ? "" : ", ") + std::string(n);
+    return list.empty() ? "(none)" : list;
+  }
+  bool IsDerived(const std::string& name) const {
+    for (const char* d : P::kDerivedNames)
+      if (name == d) return true;
+    return false;
+  }
+  double* Find(const std::string& name) const { return params->Find(name.c_str()); }
+  void Finish() const {}
+};
 
-// params->name = value text; false and *error (without a location) if it cannot be.
-template <class P>
-bool Set(const std::string& name, const std::string& value_text, P* params, std::string* error) {
-  for (const char* d : P::kDerivedNames) {
-    if (name == d) {
-      *error = "'" + name + "' is a derived parameter (defined in the model by the parameters above it); set "
-               "those instead (parameters: " + NameList<P>() + ")";
-      return false;
-    }
+// table.Find(name) = value text; false and *error (without a location) if it cannot be.
+template <class Table>
+bool Set(const std::string& name, const std::string& value_text, const Table& table, std::string* error) {
+  if (table.IsDerived(name)) {
+    *error = "'" + name + "' is a derived parameter (defined in the model by the parameters above it); set "
+             "those instead (parameters: " + table.NameList() + ")";
+    return false;
   }
   // A NUL byte would end the name early for Find ("a\0b" is not "a").
-  double* target = name.find('\0') == std::string::npos ? params->Find(name.c_str()) : nullptr;
+  double* target = name.find('\0') == std::string::npos ? table.Find(name) : nullptr;
   if (target == nullptr) {
-    *error = "no parameter " + Quote(name) + " in the model (parameters: " + NameList<P>() + ")";
+    *error = "no parameter " + Quote(name) + " in the model (parameters: " + table.NameList() + ")";
     return false;
   }
   double value = 0;
@@ -68,30 +78,26 @@ bool Set(const std::string& name, const std::string& value_text, P* params, std:
   return true;
 }
 
-}  // namespace params_internal
-
-/// Applies `name=value` to *params; false and *error (one line) if it cannot.
-template <class P>
-bool SetParameter(const std::string& assignment, P* params, std::string* error) {
+/// Applies `name=value` to the table; false and *error (one line) if it cannot.
+template <class Table>
+bool SetParameter(const std::string& assignment, const Table& table, std::string* error) {
   const size_t eq = assignment.find('=');
   if (eq == std::string::npos) {
-    *error = "--set " + Quote(assignment) + ": expected name=value (parameters: " +
-             params_internal::NameList<P>() + ")";
+    *error = "--set " + Quote(assignment) + ": expected name=value (parameters: " + table.NameList() + ")";
     return false;
   }
   std::string why;
-  if (!params_internal::Set(params_internal::Trim(assignment.substr(0, eq)),
-                            params_internal::Trim(assignment.substr(eq + 1)), params, &why)) {
+  if (!Set(Trim(assignment.substr(0, eq)), Trim(assignment.substr(eq + 1)), table, &why)) {
     *error = "--set " + Quote(assignment) + ": " + why;
     return false;
   }
   return true;
 }
 
-/// Applies the parameter file `path` to *params; false and *error ("path:line: ...") if it
-/// cannot be read or a line is wrong (then *params may be partly set: the caller stops).
-template <class P>
-bool ReadParameterFile(const std::string& path, P* params, std::string* error) {
+/// Applies the parameter file `path` to the table; false and *error ("path:line: ...") if it
+/// cannot be read or a line is wrong (then the table may be partly set: the caller stops).
+template <class Table>
+bool ReadParameterFile(const std::string& path, const Table& table, std::string* error) {
   std::ifstream in(path);
   if (!in) {
     *error = "--params: cannot read " + Quote(path);
@@ -100,14 +106,13 @@ bool ReadParameterFile(const std::string& path, P* params, std::string* error) {
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     const size_t hash = line.find('#');
-    const std::string text = params_internal::Trim(hash == std::string::npos ? line : line.substr(0, hash));
+    const std::string text = Trim(hash == std::string::npos ? line : line.substr(0, hash));
     if (text.empty()) continue;
     const size_t sep = text.find_first_of("=:");
     std::string why;
     if (sep == std::string::npos) {
       why = "expected `name = value`, got " + Quote(text);
-    } else if (params_internal::Set(params_internal::Trim(text.substr(0, sep)),
-                                    params_internal::Trim(text.substr(sep + 1)), params, &why)) {
+    } else if (Set(Trim(text.substr(0, sep)), Trim(text.substr(sep + 1)), table, &why)) {
       continue;
     }
     *error = path + ":" + std::to_string(number) + ": " + why;
@@ -120,14 +125,37 @@ bool ReadParameterFile(const std::string& path, P* params, std::string* error) {
   return true;
 }
 
+/// The file, then each --set in order, onto the table; false and *error (one line) on the
+/// first problem.
+template <class Table>
+bool Apply(const ParameterOptions& options, const Table& table, std::string* error) {
+  if (!options.file.empty() && !ReadParameterFile(options.file, table, error)) return false;
+  for (const std::string& s : options.sets)
+    if (!SetParameter(s, table, error)) return false;
+  table.Finish();
+  return true;
+}
+
+}  // namespace params_internal
+
+/// Applies `name=value` to *params; false and *error (one line) if it cannot.
+template <class P>
+bool SetParameter(const std::string& assignment, P* params, std::string* error) {
+  return params_internal::SetParameter(assignment, params_internal::GeneratedTable<P>{params}, error);
+}
+
+/// Applies the parameter file `path` to *params; false and *error ("path:line: ...") if it
+/// cannot be read or a line is wrong (then *params may be partly set: the caller stops).
+template <class P>
+bool ReadParameterFile(const std::string& path, P* params, std::string* error) {
+  return params_internal::ReadParameterFile(path, params_internal::GeneratedTable<P>{params}, error);
+}
+
 /// The file, then each --set in order, onto *params; false and *error (one line) on the first
 /// problem.
 template <class P>
 bool ApplyParameters(const ParameterOptions& options, P* params, std::string* error) {
-  if (!options.file.empty() && !ReadParameterFile(options.file, params, error)) return false;
-  for (const std::string& s : options.sets)
-    if (!SetParameter(s, params, error)) return false;
-  return true;
+  return params_internal::Apply(options, params_internal::GeneratedTable<P>{params}, error);
 }
 
 /// "a = 0.12 (default 0.1), mu = 0.15 (default 0.1)": the parameters that differ from the
