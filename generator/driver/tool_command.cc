@@ -19,8 +19,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 #include "codegen/sha256.h"
 #include "driver/tool_args.h"
@@ -50,6 +52,9 @@
 #ifndef MECHGEN_INSTALL_DATADIR
 #define MECHGEN_INSTALL_DATADIR "share"
 #endif
+#ifndef MECHGEN_BUILD_VIEW_PROGRAM
+#define MECHGEN_BUILD_VIEW_PROGRAM ""
+#endif
 
 namespace mechgen {
 namespace {
@@ -59,6 +64,8 @@ namespace fs = std::filesystem;
 // Bumped when the layout of an entry or the way it is built changes.
 // 2: sweep.sha256 beside sweep; 3: every tool, its name and all of runtime/tools/ in the key.
 constexpr const char* kCacheFormat = "mechgen tool cache 3";
+// The models' shared objects for mechgen_view (cache folder view/).
+constexpr const char* kViewCacheFormat = "mechgen view cache 1";
 // Every compile; the driver adds its own.
 const std::vector<std::string> kFlags = {"-O2", "-std=c++17", "-DNDEBUG"};
 
@@ -72,13 +79,22 @@ struct ToolSpec {
   std::string summary;             // what the analysis gives (mechgen --help)
   std::vector<std::string> libs = {};  // linked after the objects, beyond the C++ library
   bool mpi = false;  // compiled and linked with an MPI C++ compiler when one is found (-DMECHGEN_STUDY_MPI)
+  // Through the runtime compiled once (issue 43): run by the prebuilt `mechgen_view <name>` on
+  // the model's shared object, unless an option here is given (what the view does not do yet:
+  // then the per-model program as before).
+  bool view = false;
+  std::vector<std::string> not_through_view = {};
 };
 
 const std::vector<ToolSpec>& Specs() {
   static const std::vector<ToolSpec> specs = {
       {"sweep", "sweep_main.cc", {"-DMECHGEN_SWEEP_NO_CERES", "-DMECHGEN_SWEEP_ARGS_SEPARATE"}, true, "",
        "the positions, velocity and centripetal coefficients and points along the inputs' range: table, "
-       "CSV and SVG"},
+       "CSV and SVG",
+       {},
+       false,
+       true,
+       {"--svg", "--mode", "--design"}},
       {"statics", "statics_main.cc", {"-DMECHGEN_TOOL_NO_CERES"}, false, "forces",
        "the driving forces (with friction: to run the input in +q and in -q), reactions, potential and "
        "mechanical advantage along the range, dead zones and equilibria; --plots draws the driving torque "
@@ -172,6 +188,7 @@ struct Toolchain {
   std::string cli11_include;          // holds CLI/CLI.hpp; empty: a default search directory
   std::vector<std::string> mpi_compiler;  // a ToolSpec::mpi driver's compiler (mpicxx); empty: none
   std::string mpi_identity;               // its resolved path, size, modification time
+  fs::path view_program;                  // mechgen_view (a ToolSpec::view command); empty: not found
 };
 
 // "path size mtime" of a program, or its name if it cannot be resolved.
@@ -274,6 +291,17 @@ bool FindToolchain(const ToolSpec& spec, Toolchain* t) {
                 (cxx != nullptr && *cxx != '\0' ? " (from CXX)" : " on PATH") +
                 "; install g++ (or clang++), or set CXX to a C++17 compiler"), false;
   t->compiler_identity = Identity(program);
+  // The runtime compiled once: mechgen_view beside this program (installed), else the build's.
+  if (spec.view) {
+    const fs::path exe = fs::canonical("/proc/self/exe", ec);
+    const fs::path beside = ec ? fs::path() : exe.parent_path() / "mechgen_view";
+    for (const fs::path& candidate : {beside, fs::path(MECHGEN_BUILD_VIEW_PROGRAM)}) {
+      if (!candidate.empty() && IsExecutableFile(candidate)) {
+        t->view_program = candidate;
+        break;
+      }
+    }
+  }
   // MPI (the study): $MECHGEN_MPICXX ("" or "none": without MPI), else the MPI C++ compiler
   // the build found, else mpicxx on PATH; none found: the driver is built without MPI.
   if (spec.mpi) {
@@ -774,10 +802,17 @@ std::vector<std::string> Command(const Toolchain& t, std::vector<std::string> ar
   return command;
 }
 
-// Whether the generated model has what the tool needs (spec.quantity).
-bool HasQuantity(const GeneratedModel& model, const std::string& quantity) {
-  return quantity.empty() ||
-         std::find(model.quantities.begin(), model.quantities.end(), quantity) != model.quantities.end();
+// The model's outputs have what the command needs (spec.quantity); otherwise the error.
+int CheckQuantity(const ToolSpec& spec, const ToolCommand& c, const std::string& name,
+                  const std::vector<std::string>& quantities) {
+  if (spec.quantity.empty() || std::find(quantities.begin(), quantities.end(), spec.quantity) != quantities.end())
+    return 0;
+  std::string have;
+  for (const std::string& q : quantities) have += (have.empty() ? "" : " ") + q;
+  return Fail("the model '" + name + "' (" + c.model_path + ") has no `" + spec.quantity +
+              "` among its outputs' quantities (it has: " + have + "), which `mechgen " + spec.name +
+              "` needs; add `" + spec.quantity + "` to its outputs (outputs: {quantities: [..., " +
+              spec.quantity + "]}, models/README.md)");
 }
 
 // Generates and compiles the model's <tool> program in `dir`: dir/<tool>. `args_object` (the
@@ -791,14 +826,7 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
   const int generated = generate(c.model_path, dir.string(), &model);
   if (generated != 0 || g_signal != 0) return generated != 0 ? generated : 1;
   *model_name = model.name;
-  if (!HasQuantity(model, spec.quantity)) {
-    std::string have;
-    for (const std::string& q : model.quantities) have += (have.empty() ? "" : " ") + q;
-    return Fail("the model '" + model.name + "' (" + c.model_path + ") has no `" + spec.quantity +
-                "` among its outputs' quantities (it has: " + have + "), which `mechgen " + spec.name +
-                "` needs; add `" + spec.quantity + "` to its outputs (outputs: {quantities: [..., " +
-                spec.quantity + "]}, models/README.md)");
-  }
+  if (const int status = CheckQuantity(spec, c, model.name, model.quantities); status != 0) return status;
   std::string again;
   if (!ReadModel(c.model_path, &again) || again != model_bytes)
     return Fail(c.model_path + " changed while it was being compiled; run again");
@@ -870,18 +898,251 @@ std::vector<std::string> DriverArgv(const ToolCommand& c) {
   return argv;
 }
 
-// Becomes the driver `fd` (opened by OpenChecked); returns only if exec fails.
-int Exec(int fd, const fs::path& program, const ToolCommand& c) {
-  const std::vector<std::string> argv = DriverArgv(c);
+
+
+// ---- the route of a command: the per-model program, or the model's shared object for the
+// ---- runtime compiled once (mechgen_view)
+
+// Whether `mechgen <spec.name>` goes through the runtime compiled once: the command does, the
+// build has mechgen_view, no option asks for what the view does not do yet, and
+// MECHGEN_VIEW is not 0 (which keeps the per-model program, e.g. to compare the two).
+bool ThroughView(const ToolSpec& spec, const ToolCommand& c, const Toolchain& t) {
+  if (!spec.view || t.view_program.empty()) return false;
+  if (const char* env = std::getenv("MECHGEN_VIEW"); env != nullptr && std::string(env) == "0") return false;
+  for (const std::string& a : c.driver_args) {
+    if (a == "--") break;
+    for (const std::string& option : spec.not_through_view)
+      if (a == option || a.rfind(option + "=", 0) == 0) return false;
+  }
+  return true;
+}
+
+// The model's shared object: the model's bytes and what the object is built from (the
+// generator and its templates, the two runtime headers the generated view includes, the
+// compiler, Eigen). The runtime's algorithms are not in it: a change of them keeps the object.
+std::string ViewKey(const std::string& model_bytes, const std::string& templates, const Toolchain& t) {
+  std::string material = kViewCacheFormat;
+  AddPart(&material, "model", model_bytes);
+  AddPart(&material, "version", MECHGEN_VERSION);
+  AddPart(&material, "mechgen", ReadOrEmpty("/proc/self/exe"));
+  AddTree(&material, templates, ".mustache");
+  for (const char* header : {"mechgen/core/model_view.h", "mechgen/core/view_buffers.h"})
+    AddPart(&material, header, ReadOrEmpty(t.runtime_include / header));
+  material += ToolchainPart(t);
+  AddPart(&material, "eigen", t.eigen_include + "\n" +
+                                  ReadOrEmpty(fs::path(t.eigen_include) / "Eigen/src/Core/util/Macros.h"));
+  return Sha256Hex(material).substr(0, 32);
+}
+
+// A view entry's model name and quantities (the files `name` and `quantities` beside the
+// object), checked against the command.
+int CheckViewEntry(const ToolSpec& spec, const ToolCommand& c, const fs::path& dir) {
+  std::string name, text;
+  if (!ReadFile(dir / "name", &name) || !ReadFile(dir / "quantities", &text))
+    return Fail("the cache entry " + dir.string() + " lacks its model's name or quantities; run with --rebuild");
+  std::vector<std::string> quantities;
+  std::istringstream lines(text);
+  for (std::string q; std::getline(lines, q);) quantities.push_back(q);
+  return CheckQuantity(spec, c, name, quantities);
+}
+
+// Generates the model in `dir` and compiles it (its <name>.cc and <name>_view.cc, double only)
+// into dir/model.so for mechgen_view, with the files `name` and `quantities`. 0, or the exit
+// status after printing the error.
+int BuildView(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate, const Toolchain& t,
+              const std::string& model_bytes, const fs::path& dir) {
+  const auto start = std::chrono::steady_clock::now();
+  GeneratedModel model;
+  const int generated = generate(c.model_path, dir.string(), &model);
+  if (generated != 0 || g_signal != 0) return generated != 0 ? generated : 1;
+  const std::string& name = model.name;
+  if (const int status = CheckQuantity(spec, c, name, model.quantities); status != 0) return status;
+  std::string again;
+  if (!ReadModel(c.model_path, &again) || again != model_bytes)
+    return Fail(c.model_path + " changed while it was being compiled; run again");
+  const double generate_seconds = Seconds(start);
+  {
+    std::ofstream names(dir / "name", std::ios::binary), quantities(dir / "quantities", std::ios::binary);
+    names << name;
+    for (const std::string& q : model.quantities) quantities << q << "\n";
+    if (!names || !quantities) return Fail("cannot write in " + dir.string());
+  }
+  const std::string what = "the model '" + name + "'";
+  std::cerr << "mechgen: compiling " << what << " (" << c.model_path
+            << "; the runtime is compiled once; once, then cached)...\n";
+  const auto compile_start = std::chrono::steady_clock::now();
+  std::vector<Job> jobs;
+  jobs.push_back({Command(t, {"-fPIC", "-isystem", t.eigen_include, "-c", (dir / (name + ".cc")).string(), "-o",
+                              (dir / "model.o").string()}),
+                  dir / "model.log"});
+  jobs.push_back({Command(t, {"-fPIC", "-DMECHGEN_VIEW_ENTRY", "-I" + dir.string(), "-I" + t.runtime_include.string(),
+                              "-isystem", t.eigen_include, "-c", (dir / (name + "_view.cc")).string(), "-o",
+                              (dir / "view.o").string()}),
+                  dir / "view.log"});
+  if (!RunJobs(&jobs, "compiling " + what, c.verbose)) return 1;
+  std::vector<Job> link(1);
+  link[0].argv = t.compiler;
+  link[0].argv.insert(link[0].argv.end(), {"-shared", (dir / "model.o").string(), (dir / "view.o").string(), "-o",
+                                           (dir / "model.so").string()});
+  link[0].log = dir / "link.log";
+  if (!RunJobs(&link, "linking " + what, c.verbose)) return 1;
+  if (!WriteRecord(dir / "model.so")) return Fail("cannot record the size and SHA-256 of " + (dir / "model.so").string());
+  std::error_code ec;
+  for (const char* file : {"model.o", "view.o", "model.log", "view.log", "link.log"}) fs::remove(dir / file, ec);
+  std::cerr << "mechgen: compiled in " << Fixed(Seconds(compile_start), 1) << " s";
+  if (c.verbose) std::cerr << " (generated in " << Fixed(generate_seconds, 2) << " s)";
+  std::cerr << "\n";
+  return 0;
+}
+
+// How a command reaches its model: what is built into a cache entry (the per-model program,
+// or the model's shared object) and how it is run.
+struct Route {
+  std::string folder;    // the cache's folder: the command's name, or "view"
+  std::string artefact;  // the file built in the entry, checked against its record before use
+  std::string what;      // the artefact in the messages: "sweep command", "model object"
+  std::string key;       // the entry's name
+  std::function<int(const fs::path& dir)> build;         // into a fresh directory
+  std::function<int(const fs::path& dir)> check;         // an entry before use (may be empty)
+  std::function<fs::path(const fs::path& folder)> args_object;  // (the per-model route's)
+  // The program to run and its argv for the artefact at `path` (a child, or exec'd).
+  std::function<std::pair<fs::path, std::vector<std::string>>(const fs::path& path)> command;
+};
+
+// Becomes route.command(artefact): the artefact is the checked descriptor `fd` (the program
+// itself by fexecve, or the object mechgen_view loads as /proc/self/fd/<fd>). Returns only if
+// exec fails.
+int ExecRoute(const Route& route, int fd, const fs::path& artefact) {
+  const bool self = route.folder != "view";
+  const std::string by_fd = "/proc/self/fd/" + std::to_string(fd);
+  const auto [program, argv] = route.command(self ? artefact : fs::path(by_fd));
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   std::cout.flush();
   std::cerr.flush();
-  fexecve(fd, args.data(), environ);
+  if (self) {
+    fexecve(fd, args.data(), environ);
+  } else {
+    fcntl(fd, F_SETFD, 0);  // kept open across exec: what mechgen_view loads is what was checked
+    execv(program.c_str(), args.data());
+  }
   const int error = errno;
   close(fd);
   return Fail("cannot run " + program.string() + ": " + std::strerror(error));
+}
+
+int RunRoute(const Route& route, const ToolSpec& spec, const ToolCommand& c, bool readable) {
+  std::error_code ec;
+  if (c.no_cache || !readable) {
+    // Built in a temporary directory, run as a child, removed. (An unreadable model ends in
+    // the generator's message.)
+    fs::path dir;
+    if (!MakeTempDir(fs::temp_directory_path(ec), "mechgen-" + spec.name + ".", &dir))
+      return Fail(std::string("cannot create a temporary directory: ") + std::strerror(errno));
+    int status = 0;
+    {
+      TempDir temp(dir);
+      SignalGuard guard;
+      status = route.build(dir);
+      if (status == 0 && g_signal == 0) {
+        const auto [program, argv] = route.command(dir / route.artefact);
+        std::vector<char*> args;
+        for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+        args.push_back(nullptr);
+        std::cout.flush();
+        std::cerr.flush();
+        // Registered before a forwarded signal can be handled; the driver keeps our process
+        // group (and the terminal), with its own dispositions.
+        const sigset_t forwarded = ForwardedSet();
+        sigset_t old_mask;
+        sigprocmask(SIG_BLOCK, &forwarded, &old_mask);
+        const pid_t pid = fork();
+        if (pid == 0) {
+          RestoreSignalsInChild(old_mask);
+          execv(program.c_str(), args.data());
+          _exit(127);
+        }
+        if (pid > 0) g_children[0] = -pid;  // in our group: signalled alone
+        sigprocmask(SIG_SETMASK, &old_mask, nullptr);
+        if (pid < 0) {
+          status = Fail(std::string("fork: ") + std::strerror(errno));
+        } else {
+          status = Wait(pid);
+          g_children[0] = 0;
+        }
+      }
+    }  // the signal handlers restored, then the directory removed
+    SignalGuard::ReraiseIfSignalled();
+    return status;
+  }
+
+  fs::path root;
+  if (!CacheRoot(c.cache_dir, &root)) return 1;
+  const fs::path folder = root / route.folder, tmp = folder / "tmp";
+  const fs::path entry = folder / route.key, artefact = entry / route.artefact;
+  if (c.verbose) std::cerr << "mechgen: cache " << root.string() << ", entry " << entry.string() << "\n";
+  bool rebuild = c.rebuild;
+  if (!rebuild && fs::exists(entry, ec)) {
+    if (route.check) {
+      if (const int status = route.check(entry); status != 0) return status;
+    }
+    std::string why;
+    const int fd = OpenChecked(artefact, &why);
+    if (fd >= 0) {
+      if (c.verbose) std::cerr << "mechgen: cached; running " << artefact.string() << "\n";
+      return ExecRoute(route, fd, artefact);
+    }
+    // Damaged: built again and put in its place (as --rebuild does).
+    std::cerr << "mechgen: the cached " << route.what << " " << artefact.string()
+              << " is damaged (" << why << "); building it again\n";
+    rebuild = true;
+  }
+
+  fs::create_directories(tmp, ec);
+  if (ec) return Fail("cannot create the cache directory " + tmp.string() + ": " + ec.message() +
+                      "; set MECHGEN_CACHE_DIR, or use --no-cache");
+  RemoveStaleTemporaries(tmp);
+  fs::path dir;
+  if (!MakeTempDir(tmp, HostName() + "." + std::to_string(getpid()) + ".", &dir))
+    return Fail("cannot create a directory in " + tmp.string() + ": " + std::strerror(errno));
+  int status = 0;
+  {
+    TempDir temp(dir);
+    {
+      SignalGuard guard;  // restored before the directory goes
+      status = route.build(dir);
+      if (status == 0 && g_signal == 0) {
+        // Into place whole. --rebuild: the old entry moved aside first; a concurrent run
+        // that got there first wins (its entry is as good as ours).
+        if (rebuild && fs::exists(entry, ec)) {
+          fs::path old;
+          if (MakeTempDir(tmp, HostName() + "." + std::to_string(getpid()) + ".old.", &old)) {
+            TempDir old_dir(old);
+            fs::rename(entry, old / "entry", ec);
+          }
+        }
+        fs::rename(dir, entry, ec);
+        const std::string rename_error = ec.message();
+        if (!ec) {
+          temp.Keep();
+        } else if (!fs::is_regular_file(artefact, ec) || !fs::exists(RecordPath(artefact), ec)) {
+          status = Fail("cannot create the cache entry " + entry.string() + ": " + rename_error);
+        }
+        if (status == 0) std::cerr << "mechgen: cached in " << entry.string() << "\n";
+      }
+    }
+  }
+  SignalGuard::ReraiseIfSignalled();
+  if (status != 0) return status;
+  // Checked once more: what runs is the file its record describes, even if another run's
+  // entry won the rename.
+  std::string why;
+  const int fd = OpenChecked(artefact, &why);
+  if (fd < 0)
+    return Fail("the " + route.what + " just built in " + entry.string() +
+                " does not match its record (" + why + "); check the disk, or use --no-cache");
+  return ExecRoute(route, fd, artefact);
 }
 
 }  // namespace
@@ -956,119 +1217,39 @@ int RunTool(const ToolCommand& c, const GenerateFn& generate) {
   if (!FindToolchain(spec, &t)) return 1;
   std::string model_bytes;
   const bool readable = ReadModel(c.model_path, &model_bytes);
-  std::error_code ec;
 
-  if (c.no_cache || !readable) {
-    // Built in a temporary directory, run as a child, removed. (An unreadable model ends in
-    // the generator's message.)
-    fs::path dir;
-    if (!MakeTempDir(fs::temp_directory_path(ec), "mechgen-" + spec.name + ".", &dir))
-      return Fail(std::string("cannot create a temporary directory: ") + std::strerror(errno));
-    int status = 0;
-    {
-      TempDir temp(dir);
-      SignalGuard guard;
+  Route route;
+  if (ThroughView(spec, c, t)) {
+    // The model alone, into a shared object run by the prebuilt mechgen_view (one object per
+    // model, for every command that goes through the view).
+    route.folder = "view";
+    route.artefact = "model.so";
+    route.what = "model object";
+    route.key = ViewKey(model_bytes, c.templates, t);
+    route.build = [&](const fs::path& dir) { return BuildView(spec, c, generate, t, model_bytes, dir); };
+    route.check = [&](const fs::path& dir) { return CheckViewEntry(spec, c, dir); };
+    route.command = [&](const fs::path& object) {
+      std::vector<std::string> argv = {t.view_program.string(), "--name", DriverArgv(c)[0], spec.name,
+                                       object.string()};
+      argv.insert(argv.end(), c.driver_args.begin(), c.driver_args.end());
+      return std::make_pair(t.view_program, argv);
+    };
+  } else {
+    route.folder = spec.name;
+    route.artefact = spec.name;
+    route.what = spec.name + " command";
+    route.key = EntryKey(spec, model_bytes, c.templates, t);
+    route.args_object = [&spec, &t](const fs::path& folder) {
+      return spec.separate_args ? folder / ("args-" + ArgsKey(t) + ".o") : fs::path();
+    };
+    route.build = [&](const fs::path& dir) {
       std::string name;
-      status = Build(spec, c, generate, t, model_bytes, dir, fs::path(), &name);
-      if (status == 0 && g_signal == 0) {
-        const std::vector<std::string> argv = DriverArgv(c);
-        std::vector<char*> args;
-        for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-        args.push_back(nullptr);
-        std::cout.flush();
-        std::cerr.flush();
-        // Registered before a forwarded signal can be handled; the driver keeps our process
-        // group (and the terminal), with its own dispositions.
-        const sigset_t forwarded = ForwardedSet();
-        sigset_t old_mask;
-        sigprocmask(SIG_BLOCK, &forwarded, &old_mask);
-        const pid_t pid = fork();
-        if (pid == 0) {
-          RestoreSignalsInChild(old_mask);
-          execv((dir / spec.name).c_str(), args.data());
-          _exit(127);
-        }
-        if (pid > 0) g_children[0] = -pid;  // in our group: signalled alone
-        sigprocmask(SIG_SETMASK, &old_mask, nullptr);
-        if (pid < 0) {
-          status = Fail(std::string("fork: ") + std::strerror(errno));
-        } else {
-          status = Wait(pid);
-          g_children[0] = 0;
-        }
-      }
-    }  // the signal handlers restored, then the directory removed
-    SignalGuard::ReraiseIfSignalled();
-    return status;
+      return Build(spec, c, generate, t, model_bytes, dir, route.args_object(dir.parent_path().parent_path()),
+                   &name);
+    };
+    route.command = [&c](const fs::path& program) { return std::make_pair(program, DriverArgv(c)); };
   }
-
-  fs::path root;
-  if (!CacheRoot(c.cache_dir, &root)) return 1;
-  const fs::path tool_dir = root / spec.name, tmp = tool_dir / "tmp";
-  const std::string key = EntryKey(spec, model_bytes, c.templates, t);
-  const fs::path entry = tool_dir / key, program = entry / spec.name;
-  if (c.verbose) std::cerr << "mechgen: cache " << root.string() << ", entry " << entry.string() << "\n";
-  bool rebuild = c.rebuild;
-  if (!rebuild && fs::exists(entry, ec)) {
-    std::string why;
-    const int fd = OpenChecked(program, &why);
-    if (fd >= 0) {
-      if (c.verbose) std::cerr << "mechgen: cached; running " << program.string() << "\n";
-      return Exec(fd, program, c);
-    }
-    // Damaged: built again and put in its place (as --rebuild does).
-    std::cerr << "mechgen: the cached " << spec.name << " command " << program.string() << " is damaged (" << why
-              << "); building it again\n";
-    rebuild = true;
-  }
-
-  fs::create_directories(tmp, ec);
-  if (ec) return Fail("cannot create the cache directory " + tmp.string() + ": " + ec.message() +
-                      "; set MECHGEN_CACHE_DIR, or use --no-cache");
-  RemoveStaleTemporaries(tmp);
-  fs::path dir;
-  if (!MakeTempDir(tmp, HostName() + "." + std::to_string(getpid()) + ".", &dir))
-    return Fail("cannot create a directory in " + tmp.string() + ": " + std::strerror(errno));
-  int status = 0;
-  {
-    TempDir temp(dir);
-    {
-      SignalGuard guard;  // restored before the directory goes
-      std::string name;
-      const fs::path args_object =
-          spec.separate_args ? tool_dir / ("args-" + ArgsKey(t) + ".o") : fs::path();
-      status = Build(spec, c, generate, t, model_bytes, dir, args_object, &name);
-      if (status == 0 && g_signal == 0) {
-        // Into place whole. --rebuild: the old entry moved aside first; a concurrent run
-        // that got there first wins (its entry is as good as ours).
-        if (rebuild && fs::exists(entry, ec)) {
-          fs::path old;
-          if (MakeTempDir(tmp, HostName() + "." + std::to_string(getpid()) + ".old.", &old)) {
-            TempDir old_dir(old);
-            fs::rename(entry, old / "entry", ec);
-          }
-        }
-        fs::rename(dir, entry, ec);
-        const std::string rename_error = ec.message();
-        if (!ec) {
-          temp.Keep();
-        } else if (!IsExecutableFile(program) || !fs::exists(RecordPath(program), ec)) {
-          status = Fail("cannot create the cache entry " + entry.string() + ": " + rename_error);
-        }
-        if (status == 0) std::cerr << "mechgen: cached in " << entry.string() << "\n";
-      }
-    }
-  }
-  SignalGuard::ReraiseIfSignalled();
-  if (status != 0) return status;
-  // Checked once more: what runs is the file its record describes, even if another run's
-  // entry won the rename.
-  std::string why;
-  const int fd = OpenChecked(program, &why);
-  if (fd < 0)
-    return Fail("the " + spec.name + " command just built in " + entry.string() + " does not match its record (" + why +
-                "); check the disk, or use --no-cache");
-  return Exec(fd, program, c);
+  return RunRoute(route, spec, c, readable);
 }
 
 }  // namespace mechgen

@@ -18,6 +18,15 @@
 #   SHA-256 differ) is said damaged and built again, never run, and so is the CLI11 object;
 #   --no-cache leaves no cache; --rebuild compiles again; --mode NAME sweeps a
 #   named assembly mode (against fourbar_crossed_sweep), an unknown name is a usage error.
+#   The checks above are of the per-model program (MECHGEN_VIEW=0, and what --svg and --mode
+#   ask for); then the route through the runtime compiled once (issue 43, mechgen_view): the
+#   model alone compiled into a shared object (said on stderr), the CSV and printed table
+#   byte-identical to fourbar_sweep's, a second run and a second option set cached (stderr
+#   empty), a damaged object (truncated, one byte changed) said damaged and rebuilt, never
+#   loaded, --no-cache and --rebuild, an edited model a new entry whose sweep follows the edit,
+#   and MECHGEN_VIEW=0 the per-model program again.
+#   In the errors mode, a compile of the model's object that fails: exit 1, the compiler's
+#   message, no entry.
 set -uo pipefail
 mode=$1 mechgen=$(realpath "$2") source_dir=$(realpath "$3")
 root=$(mktemp -d)
@@ -33,6 +42,9 @@ entries() { find "$MECHGEN_CACHE_DIR/sweep" -mindepth 1 -maxdepth 1 -type d ! -n
 tmp_left() { find "$MECHGEN_CACHE_DIR/sweep/tmp" -mindepth 1 2>/dev/null | head -3; }
 
 if [ "$mode" = errors ]; then
+  # The per-model program's errors (its compile is long enough to be killed in); the view's
+  # at the end.
+  export MECHGEN_VIEW=0
   # A model with an unknown key on line 3: the generator's one line, exit 1, no entry.
   sed 's/^description: |/descripton: |/' fourbar.yaml > bad.yaml
   "$mechgen" sweep bad.yaml --steps 10 > bad.out 2> bad.err
@@ -188,6 +200,19 @@ if [ "$mode" = errors ]; then
   [ -z "$(find "$MECHGEN_CACHE_DIR/sweep" -name 'args-*' 2> /dev/null)" ] || fail "SIGTERM: an args object was cached"
   [ "$failures" -ne "$before" ] || ok "SIGTERM while compiling: $compilers compiler(s) ended, exit status 143, no cache entry"
 
+  # The model's object for the runtime compiled once: a failed compile is said, no entry.
+  before=$failures
+  export MECHGEN_CACHE_DIR=$root/cache_view
+  CXX="c++ -include $root/missing.h" MECHGEN_VIEW=1 "$mechgen" sweep fourbar.yaml > vcc.out 2> vcc.err
+  status=$?
+  [ "$status" -eq 1 ] || fail "view, failed compile: exit status $status"
+  grep -q "^mechgen: error: compiling the model 'fourbar' failed" vcc.err || fail "view, failed compile: stderr $(cat vcc.err)"
+  grep -q "missing.h" vcc.err || fail "view, failed compile: the compiler's message is not shown"
+  [ -z "$(find "$MECHGEN_CACHE_DIR/view" -mindepth 1 -maxdepth 1 -type d ! -name tmp 2> /dev/null)" ] ||
+    fail "view, failed compile: an entry was made"
+  [ -z "$(find "$MECHGEN_CACHE_DIR/view/tmp" -mindepth 1 2> /dev/null | head -3)" ] || fail "view, failed compile: left files in tmp/"
+  [ "$failures" -ne "$before" ] || ok "view: a failed compile of the model's object"
+
   before=$failures
   "$mechgen" sweep > nomodel.out 2> nomodel.err
   status=$?
@@ -199,6 +224,7 @@ fi
 
 [ "$mode" = full ] || { echo "unknown mode $mode"; exit 2; }
 tool=$(realpath "$4")
+export MECHGEN_VIEW=0  # the per-model program first; the view's route at the end
 options=(--steps 360 --qd 2 --range theta_crank:10deg:370deg --table 9)
 mkdir -p a b
 (cd a && "$mechgen" sweep ../fourbar.yaml "${options[@]}" --csv out.csv --svg out.svg > ../a.out 2> ../a.err)
@@ -327,4 +353,74 @@ status=$?
 { [ "$status" -eq 2 ] && grep -q "names no assembly modes" mn.err; } ||
   fail "--mode on fourbar: exit status $status, $(cat mn.err)"
 [ "$failures" -ne "$before" ] || ok "--mode: a named assembly mode, by name"
+
+# ---- through the runtime compiled once (mechgen_view) ----
+unset MECHGEN_VIEW
+export MECHGEN_CACHE_DIR=$root/cache_view
+view_entries() { find "$MECHGEN_CACHE_DIR/view" -mindepth 1 -maxdepth 1 -type d ! -name tmp 2>/dev/null | wc -l; }
+view_options=(--steps 360 --qd 2 --range theta_crank:10deg:370deg --table 9)
+before=$failures
+mkdir -p v
+(cd v && "$mechgen" sweep ../fourbar.yaml "${view_options[@]}" --csv out.csv > ../va.out 2> ../va.err)
+status=$?
+[ "$status" -eq 0 ] || fail "view: first run: exit status $status: $(cat va.err)"
+grep -q "^mechgen: compiling the model 'fourbar' (.*the runtime is compiled once" va.err || fail "view: first run: $(cat va.err)"
+[ -z "$(find "$MECHGEN_CACHE_DIR" -path '*/sweep/*' 2> /dev/null | head -1)" ] || fail "view: the per-model program was built"
+(cd v && "$tool" "${view_options[@]}" --csv fixed.csv > ../vb.out 2> ../vb.err) || fail "fourbar_sweep: $(cat vb.err)"
+cmp v/out.csv v/fixed.csv || fail "view: the CSV differs from fourbar_sweep's"
+diff <(grep -v '^time per row:' va.out | sed 's/fixed\.csv/out.csv/') <(grep -v '^time per row:' vb.out | sed 's/fixed\.csv/out.csv/') > vstdout.diff ||
+  fail "view: stdout differs from fourbar_sweep's: $(head -20 vstdout.diff)"
+object=$(find "$MECHGEN_CACHE_DIR/view" -mindepth 2 -maxdepth 2 -name model.so -type f)
+[ "$(printf '%s\n' "$object" | grep -c .)" -eq 1 ] || fail "view: expected one object: $object"
+stamp=$(stat -c %Y.%i "$object")
+sleep 1
+(cd v && "$mechgen" sweep ../fourbar.yaml --steps 90 --set b=3.6 --csv second.csv > ../vc.out 2> ../vc.err)
+[ $? -eq 0 ] || fail "view: second run: $(cat vc.err)"
+[ ! -s vc.err ] || fail "view: second run (other options): stderr $(cat vc.err)"
+[ "$(stat -c %Y.%i "$object")" = "$stamp" ] || fail "view: second run: the object was built again"
+(cd v && "$tool" --steps 90 --set b=3.6 --csv second_fixed.csv > /dev/null) || fail "fourbar_sweep --set"
+cmp v/second.csv v/second_fixed.csv || fail "view: --set b=3.6: the CSV differs from fourbar_sweep's"
+[ "$failures" -ne "$before" ] || ok "view: the model's object compiled once, its CSV and table fourbar_sweep's, cached"
+
+before=$failures
+size=$(stat -c %s "$object")
+read -r recorded_size _ < "$object.sha256" || fail "view: no record beside $object"
+[ "$recorded_size" = "$size" ] || fail "view: the record's size $recorded_size is not the object's $size"
+for damage in truncate flip; do
+  if [ "$damage" = truncate ]; then
+    truncate -s $((size / 2)) "$object"
+  else
+    printf '\x5a' | dd of="$object" bs=1 seek=$((size / 3)) conv=notrunc status=none
+  fi
+  (cd v && "$mechgen" sweep ../fourbar.yaml "${view_options[@]}" --csv damaged.csv > ../vt.out 2> ../vt.err)
+  status=$?
+  [ "$status" -eq 0 ] || fail "view, $damage: exit status $status: $(cat vt.err)"
+  grep -q "^mechgen: the cached model object .*model.so is damaged" vt.err || fail "view, $damage: not said damaged: $(cat vt.err)"
+  grep -q "^mechgen: compiling the model 'fourbar'" vt.err || fail "view, $damage: not built again: $(cat vt.err)"
+  cmp v/damaged.csv v/fixed.csv || fail "view, $damage: the CSV differs"
+  [ "$(view_entries)" -eq 1 ] || fail "view, $damage: $(view_entries) entries"
+done
+[ "$failures" -ne "$before" ] || ok "view: a damaged object (truncated, one byte changed) is rebuilt, not loaded"
+
+before=$failures
+MECHGEN_CACHE_DIR=$root/nocache_view "$mechgen" sweep --no-cache fourbar.yaml --steps 36 --csv vn.csv > vn.out 2> vn.err
+[ $? -eq 0 ] || fail "view --no-cache: $(cat vn.err)"
+[ ! -e "$root/nocache_view" ] || fail "view --no-cache made a cache"
+[ "$(grep -vc '^#' vn.csv)" -eq 38 ] || fail "view --no-cache: the CSV has $(grep -vc '^#' vn.csv) lines"
+"$mechgen" sweep --rebuild fourbar.yaml --steps 4 --table 0 > vr.out 2> vr.err || fail "view --rebuild: $(cat vr.err)"
+grep -q "^mechgen: compiling the model" vr.err || fail "view --rebuild did not compile: $(cat vr.err)"
+[ "$(view_entries)" -eq 1 ] || fail "view --rebuild: $(view_entries) entries"
+# An edited model is a new one: the crank made longer, the sweep follows (as --set does).
+sed 's/^  a:   {value: 1.0,/  a:   {value: 1.1,/' fourbar.yaml > edited.yaml
+grep -q "value: 1.1" edited.yaml || fail "the edit of fourbar.yaml did not apply"
+"$mechgen" sweep edited.yaml --steps 36 --table 0 --csv ve.csv > ve.out 2> ve.err || fail "edited: $(cat ve.err)"
+grep -q "^mechgen: compiling the model 'fourbar'" ve.err || fail "edited: not compiled: $(cat ve.err)"
+[ "$(view_entries)" -eq 2 ] || fail "edited: $(view_entries) entries, expected 2"
+"$tool" --steps 36 --table 0 --set a=1.1 --csv ve_fixed.csv > /dev/null || fail "fourbar_sweep --set a=1.1"
+cmp <(grep -v '^#' ve.csv) <(grep -v '^#' ve_fixed.csv) || fail "edited: the rows differ from fourbar_sweep --set a=1.1's"
+# MECHGEN_VIEW=0: the per-model program (cached above).
+MECHGEN_VIEW=0 MECHGEN_CACHE_DIR=$root/cache "$mechgen" sweep fourbar.yaml "${view_options[@]}" --csv v/per_model.csv > vp.out 2> vp.err ||
+  fail "MECHGEN_VIEW=0: $(cat vp.err)"
+cmp v/per_model.csv v/fixed.csv || fail "MECHGEN_VIEW=0: the CSV differs"
+[ "$failures" -ne "$before" ] || ok "view: --no-cache, --rebuild, an edited model, MECHGEN_VIEW=0"
 exit $((failures > 0))

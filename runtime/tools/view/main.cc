@@ -1,4 +1,4 @@
-// mechgen_view COMMAND MODEL.so [the command's options]: a command of any model through the
+// mechgen_view [--name TEXT] COMMAND MODEL.so [the command's options]: a command of any model through the
 // runtime compiled once (issue 43). MODEL.so is a shared object built from a generated model's
 // <name>.cc and <name>_view.cc with -DMECHGEN_VIEW_ENTRY, e.g.
 //   g++ -O2 -shared -fPIC -DMECHGEN_VIEW_ENTRY -I<dir of name.h> -Iruntime/include
@@ -7,7 +7,8 @@
 // object (dlopen), takes its view from the entry point mechgen_model_view()
 // (mechgen::kModelViewEntry), refuses a view of another layout or size or one beyond the
 // runtime's maxima (exit 1), and runs the command (view/commands.h) with the options after the
-// object; the command's messages name it `<model>_<command>_view`. Exit statuses are the
+// object; the command's messages name it `<model>_<command>_view`, or TEXT (`mechgen sweep
+// MODEL`, as the per-model program's do when mechgen runs it). Exit statuses are the
 // per-model tool's; 1 also for an object that cannot be loaded, 2 for an unknown command.
 #include <dlfcn.h>
 
@@ -41,6 +42,14 @@ int main(int argc, char** argv) {
                 "--help` lists the command's options\n",
                 CommandNames().c_str());
     return 0;
+  }
+  // --name TEXT: how the command's messages name it.
+  std::string name;
+  if (argc >= 3 && std::strcmp(argv[1], "--name") == 0) {
+    name = argv[2];
+    argv[2] = argv[0];
+    argv += 2;
+    argc -= 2;
   }
   const mechgen::view_tool::Command* command = nullptr;
   if (argc >= 2)
@@ -92,7 +101,7 @@ int main(int argc, char** argv) {
   }
   // The command's options after the object, as <name>_<command> takes them.
   std::vector<char*> args;
-  const std::string tool = std::string(view->name) + "_" + command->name + "_view";
+  const std::string tool = !name.empty() ? name : std::string(view->name) + "_" + command->name + "_view";
   args.push_back(const_cast<char*>(tool.c_str()));
   for (int i = 3; i < argc; ++i) args.push_back(argv[i]);
   // (The object stays loaded until exit: the view's strings are in it.)
