@@ -273,7 +273,7 @@ TEST(ViewSweepTool, RefusesWhatTheViewLacks) {
   arguments.svg_path = ::testing::TempDir() + "view_tool_refused.svg";
   EXPECT_EQ(sweep_tool::RunSweep(ViewModel(mech::fourbar::View()), arguments), sweep_tool::kExitUsage);
   arguments.svg_path.clear();
-  arguments.params.sets.push_back("a=1");
+  arguments.mode = "open";
   EXPECT_EQ(sweep_tool::RunSweep(ViewModel(mech::fourbar::View()), arguments), sweep_tool::kExitUsage);
   EXPECT_FALSE(std::ifstream(csv).good());
 #endif
