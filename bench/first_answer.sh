@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# The first answer of `mechgen <command> MODEL` on models never seen before (issue 43's
+# targets), beside the per-model program's (MECHGEN_VIEW=0) and the model kernel's own compile.
+#
+# usage: bench/first_answer.sh [build dir (default build)] [models... (default: fourbar
+#        slider_crank_friction watt_sixbar)]
+#
+# Each model file is copied outside the tree under a new name (a model never seen: the name
+# goes into the generated code, so no compiler cache can have it; CXX is unset, so no ccache),
+# with a fresh cache directory. Measured, wall clock, one run each on whatever the machine is
+# doing (say so beside the figures):
+#   kernel   g++ -O2 -c <name>.cc of the generated model (the floor of any first answer)
+#   first    the first `mechgen sweep` (generation, the model's object, the answer)
+#   second   a second command on the same model, other options (the object cached)
+#   cached   the same command again
+#   per-model the first answer with MECHGEN_VIEW=0 (today's per-model program)
+# Targets: first <= 5 s and <= kernel + 1 s; second <= 1 s; cached <= 0.2 s.
+set -uo pipefail
+build=$(realpath "${1:-build}")
+shift || true
+models=("$@")
+[[ ${#models[@]} -gt 0 ]] || models=(fourbar slider_crank_friction watt_sixbar)
+source_dir=$(cd "$(dirname "$0")/.." && pwd)
+mechgen=$build/generator/mechgen
+[[ -x $mechgen ]] || { echo "error: no $mechgen: build first"; exit 1; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+unset CXX
+stamp=$(date +%s%N | tail -c 7)
+seconds() { python3 -c "import sys; print(f'{(int(sys.argv[2]) - int(sys.argv[1])) / 1e9:.2f}')" "$1" "$2"; }
+verdict() { python3 -c "import sys; print('PASS' if float(sys.argv[1]) <= float(sys.argv[2]) else 'MISS')" "$1" "$2"; }
+timed() {  # timed <out var> <command...>: the wall time in s; the command's output to $work/last.*
+  local var=$1 t0 t1
+  shift
+  t0=$(date +%s%N)
+  "$@" > "$work/last.out" 2> "$work/last.err"
+  local status=$?
+  t1=$(date +%s%N)
+  printf -v "$var" '%s' "$(seconds "$t0" "$t1")"
+  if [[ $status -ne 0 ]]; then
+    echo "error: $* (exit $status): $(head -5 "$work/last.err")" >&2
+    return 1
+  fi
+}
+
+echo "first answers of mechgen on models never seen before ($(nproc) cores; load $(cut -d' ' -f1-3 /proc/loadavg))"
+printf '%-24s %8s %8s %8s %8s %10s   %s\n' model kernel first second cached per-model "targets: first <= 5 s and <= kernel + 1 s, second <= 1 s, cached <= 0.2 s"
+for model in "${models[@]}"; do
+  name="fa_${model}_${stamp}"
+  dir=$work/$name
+  mkdir -p "$dir"
+  sed "s/^name: .*/name: $name/" "$source_dir/models/$model.yaml" > "$dir/$name.yaml"
+  cd "$dir" || exit 1
+  # The kernel's own compile (the generated model, double only).
+  "$mechgen" generate "$name.yaml" --out-dir gen > /dev/null 2>&1 || { echo "error: cannot generate $model"; continue; }
+  timed kernel c++ -O2 -std=c++17 -isystem /usr/include/eigen3 -c "gen/$name.cc" -o kernel.o || continue
+  export MECHGEN_CACHE_DIR=$dir/cache
+  timed first "$mechgen" sweep "$name.yaml" --steps 360 --csv first.csv || continue
+  timed second "$mechgen" sweep "$name.yaml" --steps 90 --qd 2 --table 0 --csv second.csv || continue
+  timed cached "$mechgen" sweep "$name.yaml" --steps 90 --qd 2 --table 0 --csv cached.csv || continue
+  export MECHGEN_CACHE_DIR=$dir/cache_per_model
+  timed per_model env MECHGEN_VIEW=0 "$mechgen" sweep "$name.yaml" --steps 360 --csv per_model.csv || continue
+  cmp -s first.csv per_model.csv || echo "note: $model: the CSVs of the two routes differ"
+  limit=$(python3 -c "import sys; print(min(5.0, float(sys.argv[1]) + 1.0))" "$kernel")
+  printf '%-24s %8s %8s %8s %8s %10s   first %s, second %s, cached %s\n' "$model" "$kernel" "$first" "$second" \
+    "$cached" "$per_model" "$(verdict "$first" "$limit")" "$(verdict "$second" 1)" "$(verdict "$cached" 0.2)"
+  cd "$work" || exit 1
+done
+echo "(seconds, wall clock, one run each; commands through the view now: sweep; the others compile per model)"
