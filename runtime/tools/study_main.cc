@@ -3,11 +3,13 @@
 // by generator/driver/tool_command.cc (like the sweep), with -DMECHGEN_MODEL_INCLUDE and
 // -DMECHGEN_MODEL_NAMESPACE, linked with yaml-cpp and threads.
 //
-// Draws every sample's parameter values (study/samples.h), runs the analysis of each on N
-// threads (study/run.h: one compiled model, per-thread solver and rows), writes one CSV row per
-// sample in sample order (the same bytes for any N), prints a summary of each metric and, with
-// `tolerance: true`, the first-order tolerance analysis from the generated sensitivities beside
-// the Monte-Carlo's figures. Progress on stderr (rate, time left) for studies longer than ~2 s.
+// Runs the samples in chunks on N threads (study/run.h's RunPacked: each sample drawn, analysed
+// and packed by the thread that takes it; one compiled model, per-thread solver and rows); each
+// chunk's CSV rows are made by the thread that finished it (study/rows.h) and written in sample
+// order by the calling thread as the chunks are done (the same bytes for any N and ranks); then
+// a summary of each metric, the statistics (--summary-csv, --histogram-csv; with rows: none
+// alone) and, with `tolerance: true`, the first-order tolerance analysis from the generated
+// sensitivities beside the Monte-Carlo's figures. Progress on stderr (rate, time left) for studies longer than ~2 s.
 // Exit status: 0 done (every sample ok), 3 done but some samples failed (their status column),
 // 2 bad arguments or a bad study file (one line: file:line:column), 1 the study does not fit the
 // model or an output cannot be written (nothing written).
@@ -117,8 +119,8 @@ const char* AnalysisName(study::Analysis a) {
 void WriteCsvHead(const study::Study<Model>& s, uint64_t count, std::ostream& out) {
   const study::StudySpec& spec = s.spec();
   out << "# mechgen study, model " << Model::kName << ": " << spec.path << ", method " << MethodName(spec.method)
-      << ", " << count << " samples, seed " << spec.seed << ", analysis "
-      << AnalysisName(spec.analysis) << " in " << spec.steps << " steps";
+      << ", " << count << " samples, seed " << spec.seed << ", analysis " << AnalysisName(spec.analysis) << " in "
+      << spec.steps << " steps";
   if (spec.analysis == study::Analysis::kSimulate) out << " to t_end " << G17(spec.t_end) << " s";
   if (spec.analysis == study::Analysis::kEngine) {
     out << " at " << G17(spec.rpm) << " rpm, gas ";
@@ -576,8 +578,8 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   // Summary: per status, per metric.
   uint64_t ok = 0, rows_failed = 0, not_assembled = 0;
   {
-    const double code_rows = study::StatusCode("rows_failed"),
-                 code_not = study::StatusCode("not_assembled"), code_cycle = study::StatusCode("cycle_failed");
+    const double code_rows = study::StatusCode("rows_failed"), code_not = study::StatusCode("not_assembled"),
+                 code_cycle = study::StatusCode("cycle_failed");
     for (uint64_t c = 0; c < chunks.number(); ++c)
       for (uint64_t i = 0; i < samples_of(c); ++i) {
         const double code = held[c].packed[i * width];
@@ -595,7 +597,8 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   // Each metric's values in sample order: every sample's (the summary's min .. max and mean)
   // and the ok samples' (the others NaN: the statistics, the tolerance table), copied a chunk
   // per thread; their figures on every thread, the same bits for any number (study/rows.h).
-  std::vector<std::vector<double>> column(metrics, std::vector<double>(count)), ok_column(metrics, std::vector<double>(count));
+  std::vector<std::vector<double>> column(metrics, std::vector<double>(count)),
+      ok_column(metrics, std::vector<double>(count));
   std::vector<std::vector<double>> chunk_low(metrics, std::vector<double>(chunks.number(), INFINITY)),
       chunk_high(metrics, std::vector<double>(chunks.number(), -INFINITY));
   ParallelFor(chunks.number(), threads, [&](uint64_t c) {
@@ -605,7 +608,8 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
         const double v = r[1 + k];
         column[k][i] = v;
         ok_column[k][i] = r[0] == code_ok ? v : NAN;
-        if (std::isfinite(v)) chunk_low[k][c] = std::min(chunk_low[k][c], v), chunk_high[k][c] = std::max(chunk_high[k][c], v);
+        if (std::isfinite(v))
+          chunk_low[k][c] = std::min(chunk_low[k][c], v), chunk_high[k][c] = std::max(chunk_high[k][c], v);
       }
   });
   std::vector<study::Moments> all_moments(metrics), ok_moments(metrics);
@@ -619,7 +623,8 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     std::vector<double>().swap(column[k]);
     for (uint64_t c = 0; c < chunks.number(); ++c)
       lowest[k] = std::min(lowest[k], chunk_low[k][c]), highest[k] = std::max(highest[k], chunk_high[k][c]);
-    if (want_statistics) statistics[k] = study::StatisticsOf(ok_column[k], spec.histogram_bins, threads, &ok_moments[k]);
+    if (want_statistics)
+      statistics[k] = study::StatisticsOf(ok_column[k], spec.histogram_bins, threads, &ok_moments[k]);
   }
   const double main_cpu_statistics_parallel = ThreadCpu() - main_cpu_tail_statistics;
   std::printf("%-28s %-14s %14s %14s %14s %14s\n", "metric", "unit", "nominal", "mean", "sigma", "min .. max");
@@ -643,8 +648,8 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
       summary_text += name;
     }
     summary_text += ",max\n";
-    histogram_text = what + "# per metric over the finite values of the ok samples: " +
-                     std::to_string(spec.histogram_bins) +
+    histogram_text = what +
+                     "# per metric over the finite values of the ok samples: " + std::to_string(spec.histogram_bins) +
                      " equal bins from its min to its max (low <= v < high; the last bin includes max), the count "
                      "in each; low and high in the metric's unit\nmetric,bin,low,high,count\n";
     for (size_t k = 0; k < metrics; ++k) {
@@ -838,7 +843,8 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   if (!histogram_path.empty()) histogram_csv.stream() << histogram_text;
   const double t_statistics = Now(), main_cpu_statistics = ThreadCpu();
   if ((!csv_path.empty() && !csv.Close(&error)) || (!tolerance_path.empty() && !tolerance_csv.Close(&error)) ||
-      (!envelope_path.empty() && !envelope_csv.Close(&error)) || (!summary_path.empty() && !summary_csv.Close(&error)) ||
+      (!envelope_path.empty() && !envelope_csv.Close(&error)) ||
+      (!summary_path.empty() && !summary_csv.Close(&error)) ||
       (!histogram_path.empty() && !histogram_csv.Close(&error)) || (!csv_path.empty() && !csv.Commit(&error)) ||
       (!tolerance_path.empty() && !tolerance_csv.Commit(&error)) ||
       (!envelope_path.empty() && !envelope_csv.Commit(&error)) ||

@@ -7,12 +7,12 @@
 
 #include <algorithm>
 #include <atomic>
-#include <filesystem>
-#include <mutex>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -1801,8 +1801,24 @@ TEST(StudyThreads, PackedChunksOnOneTwoAndThreeThreadsAgainstEachSampleAlone) {
 // The rows' numbers: std::to_chars (general, precision 17) gives printf's "%.17g" character for
 // character, over doubles of every exponent (random bits), the specials and round numbers.
 TEST(StudyRows, FormatG17IsPrintfs) {
-  std::vector<double> x = {0.0, -0.0, 1.0, -1.0, 0.1, 1e-300, 5e-324, 1e300, 1.7976931348623157e308, 123456789012345678.0,
-                           1e16, 1e17, 1e-5, 1e-4, INFINITY, -INFINITY, 2.5, 0.30000000000000004};
+  std::vector<double> x = {0.0,
+                           -0.0,
+                           1.0,
+                           -1.0,
+                           0.1,
+                           1e-300,
+                           5e-324,
+                           1e300,
+                           1.7976931348623157e308,
+                           123456789012345678.0,
+                           1e16,
+                           1e17,
+                           1e-5,
+                           1e-4,
+                           INFINITY,
+                           -INFINITY,
+                           2.5,
+                           0.30000000000000004};
   for (uint64_t i = 0; i < 200000; ++i) {
     const uint64_t bits = mechgen::Mix64(i);
     double d;
@@ -1854,7 +1870,8 @@ TEST(StudyRows, StatisticsOfAColumnAgainstHandValues) {
 
 // rows: and histogram_bins: in the study file; a wrong value at its place.
 TEST(StudySpec, RowsNoneAndHistogramBins) {
-  const std::string base = "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.01}\nmetrics: [{kind: failures}]\n";
+  const std::string base =
+      "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.01}\nmetrics: [{kind: failures}]\n";
   EXPECT_TRUE(Read("rows_default.yaml", base).rows);
   EXPECT_EQ(Read("rows_default.yaml", base).histogram_bins, 40);
   const study::StudySpec none = Read("rows_none.yaml", base + "rows: none\nhistogram_bins: 12\n");

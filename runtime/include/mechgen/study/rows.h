@@ -99,7 +99,9 @@ struct ColumnStatistics {
  *        the values in 65536 equal buckets from min to max (a monotone map: the k-th smallest
  *        is in the bucket where the counts pass k), then selecting within that bucket.
  */
-inline ColumnStatistics StatisticsOf(const std::vector<double>& x, int bins, int threads = 1,
+inline ColumnStatistics StatisticsOf(const std::vector<double>& x,
+                                     int bins,
+                                     int threads = 1,
                                      const Moments* moments = nullptr) {
   ColumnStatistics s;
   const uint64_t n_all = x.size(), blocks = (n_all + kMomentBlock - 1) / kMomentBlock;
@@ -146,8 +148,8 @@ inline ColumnStatistics StatisticsOf(const std::vector<double>& x, int bins, int
   const size_t nq = SummaryQuantiles().size();
   std::vector<uint64_t> rank(nq), bucket(nq), before(nq);
   for (size_t q = 0; q < nq; ++q) {
-    rank[q] = std::clamp<uint64_t>(
-        static_cast<uint64_t>(std::ceil(SummaryQuantiles()[q] * static_cast<double>(n))), 1, n);
+    rank[q] =
+        std::clamp<uint64_t>(static_cast<uint64_t>(std::ceil(SummaryQuantiles()[q] * static_cast<double>(n))), 1, n);
     uint64_t below = 0, k = 0;
     while (below + buckets[k] < rank[q]) below += buckets[k++];
     bucket[q] = k, before[q] = below;

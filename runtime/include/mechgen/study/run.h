@@ -11,10 +11,13 @@
  * their first-order sensitivities (at the nominal design) read the design columns of those
  * tables: d<column>/d<p> (the generated EvalDesignDerivatives, EvalStaticsDesign).
  *
- * Parallel: Run() evaluates the samples on `threads` std::threads; each sample is evaluated
- * by one thread with its own solver and rows (nothing is shared but the read-only tables), and
- * its result stored at its index: the results, and so the CSV, are the same bytes for any
- * number of threads.
+ * Parallel: Run() and RunPacked() evaluate the samples on `threads` std::threads; each sample
+ * is evaluated by one thread with its own solver and rows (nothing is shared but the read-only
+ * tables and the work counter, one atomic operation per item of several samples), and its
+ * result stored at its index: the results, and so the CSV, are the same bytes for any number
+ * of threads. RunPacked (the command's) draws each sample on the thread that runs it and packs
+ * its result into the caller's chunk buffer (no allocation per sample), and calls back when a
+ * chunk is done, on that thread (its shard, its CSV rows: study/rows.h).
  */
 #pragma once
 
@@ -1127,8 +1130,8 @@ class Study {
         const bool ended = left[item.j].fetch_sub(1, std::memory_order_acq_rel) == 1;
         if (ended && chunk_done) chunk_done(list[item.j]);
         // After chunk_done: once `done` is the total, every chunk_done has returned.
-        const bool last = done.value.fetch_add(item.end - item.begin, std::memory_order_acq_rel) +
-                              (item.end - item.begin) == total;
+        const bool last =
+            done.value.fetch_add(item.end - item.begin, std::memory_order_acq_rel) + (item.end - item.begin) == total;
         if (ended || last) {
           { std::lock_guard<std::mutex> lock(mutex); }
           wake.notify_all();

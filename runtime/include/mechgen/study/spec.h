@@ -490,7 +490,8 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
     if (!root.IsMap()) Fail(root, "a study file is a map (method:, parameters:, metrics:, ...; docs/studies.md)");
     OnlyKeys(root,
              {"model", "method", "count", "seed", "analysis", "steps", "range", "omega", "rpm", "gas", "t_end", "q0",
-              "qd0", "drive", "at", "parameters", "metrics", "clearance", "tolerance", "envelope", "rows", "histogram_bins"},
+              "qd0", "drive", "at", "parameters", "metrics", "clearance", "tolerance", "envelope", "rows",
+              "histogram_bins"},
              "the study");
     const std::string method = root["method"] ? Text(root["method"], "method") : "";
     if (method == "grid")
