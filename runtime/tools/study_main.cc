@@ -597,7 +597,9 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   // Each metric's values in sample order: every sample's (the summary's min .. max and mean)
   // and the ok samples' (the others NaN: the statistics, the tolerance table), copied a chunk
   // per thread; their figures on every thread, the same bits for any number (study/rows.h).
-  std::vector<std::vector<double>> column(metrics, std::vector<double>(count)),
+  // (Every sample ok: the two are the same, the first is not made.)
+  const bool all_ok = ok == count;
+  std::vector<std::vector<double>> column(metrics, std::vector<double>(all_ok ? 0 : count)),
       ok_column(metrics, std::vector<double>(count));
   std::vector<std::vector<double>> chunk_low(metrics, std::vector<double>(chunks.number(), INFINITY)),
       chunk_high(metrics, std::vector<double>(chunks.number(), -INFINITY));
@@ -606,7 +608,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, r += width)
       for (size_t k = 0; k < metrics; ++k) {
         const double v = r[1 + k];
-        column[k][i] = v;
+        if (!all_ok) column[k][i] = v;
         ok_column[k][i] = r[0] == code_ok ? v : NAN;
         if (std::isfinite(v))
           chunk_low[k][c] = std::min(chunk_low[k][c], v), chunk_high[k][c] = std::max(chunk_high[k][c], v);
@@ -619,7 +621,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   for (size_t k = 0; k < metrics; ++k) {
     ok_moments[k] = study::MomentsOf(ok_column[k], threads);
     // Every sample ok: the same values in the same places, so the same moments.
-    all_moments[k] = ok == count ? ok_moments[k] : study::MomentsOf(column[k], threads);
+    all_moments[k] = all_ok ? ok_moments[k] : study::MomentsOf(column[k], threads);
     std::vector<double>().swap(column[k]);
     for (uint64_t c = 0; c < chunks.number(); ++c)
       lowest[k] = std::min(lowest[k], chunk_low[k][c]), highest[k] = std::max(highest[k], chunk_high[k][c]);

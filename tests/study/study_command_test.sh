@@ -133,6 +133,35 @@ for j in 5 6 7; do
   cmp -s mine.txt theirs.txt || fail "$name: histogram: $(paste -d' ' mine.txt theirs.txt | tr '\n' ' ')"
 done
 ok "rows: none: the statistics recomputed from the rows"
+# With failing samples (c across the Grashof limit: rows fail at a dead point): the statistics
+# are the ok samples' (n = the ok rows, the mean theirs), and rows: none gives them at 3 threads
+# as the run with rows at 1 (exit 3: some samples failed).
+cat > fail.yaml << 'EOF'
+method: monte_carlo
+count: 600
+seed: 5
+steps: 36
+parameters:
+  a: {tolerance: 0.01}
+  c: {distribution: uniform, tolerance: 1.8}
+metrics:
+  - {kind: max, column: coupler.P.y}
+  - {kind: min_transmission_angle}
+EOF
+{ echo "rows: none"; cat fail.yaml; } > failnone.yaml
+"$mechgen" study fourbar.yaml --study fail.yaml --threads 1 --csv fail.csv --summary-csv failsum1.csv --quiet > /dev/null 2>&1
+status=$?
+"$mechgen" study fourbar.yaml --study failnone.yaml --threads 3 --summary-csv failsum3.csv --quiet > /dev/null 2>&1
+status3=$?
+[ "$status" -eq 3 ] && [ "$status3" -eq 3 ] || fail "failing samples: exit status $status and $status3, not 3"
+cmp -s <(tail -n +2 failsum1.csv) <(tail -n +2 failsum3.csv) || fail "failing samples: rows: none at 3 threads differs"
+grep -v '^#' fail.csv | tail -n +2 | awk -F, '$NF == "ok" { n++; s += $4 } END { printf "%d %.17g\n", n, s / n }' > okrows.txt
+read -r okn okmean < okrows.txt
+line=$(grep '^max_coupler.P.y,' failsum1.csv)
+if [ "$okn" -gt 0 ] && [ "$okn" -lt 600 ] && [ "$(echo "$line" | cut -d, -f3)" = "$okn" ] &&
+   awk -v a="$okmean" -v b="$(echo "$line" | cut -d, -f4)" 'BEGIN { d = (a - b) / b; exit !(d < 1e-12 && d > -1e-12) }'
+then ok "failing samples: the statistics of the $okn ok samples of 600"
+else fail "failing samples: $okn ok rows (mean $okmean), the summary: $line"; fi
 [ "$(grep -v '^#' pos1.csv | tail -n +2 | wc -l)" -eq 20000 ] || fail "positions: not 20000 rows"
 head -1 pos1.csv | grep -q "analysis positions in 2 steps" || fail "positions: $(head -1 pos1.csv)"
 
