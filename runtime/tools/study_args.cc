@@ -30,7 +30,16 @@ int ParseArguments(int argc, char** argv, const std::string& model_name, Argumen
   app.add_option("--envelope-csv", a.envelope_path,
                  "write the envelope of the study's point (envelope: {point: P}) to this CSV file: per row its "
                  "nominal place and the first-order and Monte-Carlo sigma of x and y");
+  app.add_option("--summary-csv", a.summary_path,
+                 "write each metric's statistics over the ok samples to this CSV file: n, mean, sigma, min, the "
+                 "quantiles 1, 5, 25, 50, 75, 95, 99 % and max (with rows: none, without a row per sample)");
+  app.add_option("--histogram-csv", a.histogram_path,
+                 "write each metric's histogram over the ok samples to this CSV file (histogram_bins: equal bins "
+                 "from its min to its max)");
   app.add_flag("--quiet", a.quiet, "no progress line on stderr");
+  app.add_flag("--timings", a.timings,
+               "print each phase's wall and CPU time on stderr (setup, the samples, the rows written after them, "
+               "the statistics, the commit) and the serial part's share");
   app.add_option("--shards", a.shards_path,
                  "keep each chunk's results in this directory as it is done, and resume from it when run again "
                  "(default with --csv F: F.shards; removed when the study is done)");

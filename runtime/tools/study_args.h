@@ -16,6 +16,8 @@ struct Arguments {
   std::string tool = "study";  ///< the tool's name for messages (argv[0])
   std::string study_path;      ///< --study (required)
   std::string csv_path, tolerance_path, envelope_path;
+  std::string summary_path, histogram_path;  ///< --summary-csv, --histogram-csv (the statistics)
+  bool timings = false;                      ///< --timings: each phase's wall and CPU time on stderr
   int threads = 1;             ///< --threads (default: the cores)
   bool quiet = false;
   std::string shards_path;     ///< --shards (empty: F.shards with --csv F)

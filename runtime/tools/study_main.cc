@@ -3,25 +3,32 @@
 // by generator/driver/tool_command.cc (like the sweep), with -DMECHGEN_MODEL_INCLUDE and
 // -DMECHGEN_MODEL_NAMESPACE, linked with yaml-cpp and threads.
 //
-// Draws every sample's parameter values (study/samples.h), runs the analysis of each on N
-// threads (study/run.h: one compiled model, per-thread solver and rows), writes one CSV row per
-// sample in sample order (the same bytes for any N), prints a summary of each metric and, with
-// `tolerance: true`, the first-order tolerance analysis from the generated sensitivities beside
-// the Monte-Carlo's figures. Progress on stderr (rate, time left) for studies longer than ~2 s.
+// Runs the samples in chunks on N threads (study/run.h's RunPacked: each sample drawn, analysed
+// and packed by the thread that takes it; one compiled model, per-thread solver and rows); each
+// chunk's CSV rows are made by the thread that finished it (study/rows.h) and written in sample
+// order by the calling thread as the chunks are done (the same bytes for any N and ranks); then
+// a summary of each metric, the statistics (--summary-csv, --histogram-csv; with rows: none
+// alone) and, with `tolerance: true`, the first-order tolerance analysis from the generated
+// sensitivities beside the Monte-Carlo's figures. Progress on stderr (rate, time left) for studies longer than ~2 s.
 // Exit status: 0 done (every sample ok), 3 done but some samples failed (their status column),
 // 2 bad arguments or a bad study file (one line: file:line:column), 1 the study does not fit the
 // model or an output cannot be written (nothing written).
+#include <time.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "common/numbers.h"
@@ -31,6 +38,7 @@
 #include "study_args.cc"
 #endif
 #include "mechgen/io/output_file.h"
+#include "mechgen/study/rows.h"
 #include "mechgen/study/run.h"
 #include "mechgen/study/samples.h"
 #include "mechgen/study/shards.h"
@@ -54,11 +62,33 @@ namespace study = mechgen::study;
 namespace tools = mechgen::tools;
 namespace study_tool = mechgen::study_tool;
 
-std::string G17(double x) {
-  if (std::isnan(x)) return "nan";
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", x);
-  return buffer;
+using study::G17;  // "%.17g", NaN as "nan" (study/rows.h)
+
+double Now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+// CPU seconds of the process (every thread), or of the calling thread.
+double ProcessCpu() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+double ThreadCpu() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// fn(0) .. fn(n - 1) on `threads` threads (the calling one among them), each index once.
+template <class Fn>
+void ParallelFor(uint64_t n, int threads, Fn&& fn) {
+  std::atomic<uint64_t> next{0};
+  auto work = [&]() {
+    for (uint64_t i; (i = next.fetch_add(1)) < n;) fn(i);
+  };
+  std::vector<std::thread> pool;
+  const uint64_t workers = std::min<uint64_t>(static_cast<uint64_t>(std::max(threads, 1)), std::max<uint64_t>(n, 1));
+  for (uint64_t t = 1; t < workers; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
 }
 
 const char* MethodName(study::Method m) {
@@ -84,17 +114,13 @@ const char* AnalysisName(study::Analysis a) {
                                             : "sweep";
 }
 
-// The CSV: '#' lines (what wrote it, then each column's unit and meaning), the header, a row
-// per sample.
-void WriteCsv(const study::Study<Model>& s,
-              const std::vector<double>& values,
-              const std::vector<study::SampleResult>& results,
-              std::ostream& out) {
+// The CSV's head: '#' lines (what wrote it, then each column's unit and meaning), the header.
+// The rows follow, a chunk at a time (study/rows.h's AppendRows).
+void WriteCsvHead(const study::Study<Model>& s, uint64_t count, std::ostream& out) {
   const study::StudySpec& spec = s.spec();
-  const size_t n = spec.parameters.size();
   out << "# mechgen study, model " << Model::kName << ": " << spec.path << ", method " << MethodName(spec.method)
-      << ", " << results.size() << " samples, seed " << spec.seed << ", analysis "
-      << AnalysisName(spec.analysis) << " in " << spec.steps << " steps";
+      << ", " << count << " samples, seed " << spec.seed << ", analysis " << AnalysisName(spec.analysis) << " in "
+      << spec.steps << " steps";
   if (spec.analysis == study::Analysis::kSimulate) out << " to t_end " << G17(spec.t_end) << " s";
   if (spec.analysis == study::Analysis::kEngine) {
     out << " at " << G17(spec.rpm) << " rpm, gas ";
@@ -127,16 +153,6 @@ void WriteCsv(const study::Study<Model>& s,
   for (const study::ParameterSpec& p : spec.parameters) out << "," << p.name;
   for (const study::MetricSpec& m : spec.metrics) out << "," << m.name;
   out << ",status\n";
-  std::string line;
-  for (size_t i = 0; i < results.size(); ++i) {
-    line = std::to_string(i);
-    for (size_t k = 0; k < n; ++k) line += "," + G17(values[i * n + k]);
-    for (double v : results[i].metrics) line += "," + G17(v);
-    line += ",";
-    line += results[i].status;
-    line += "\n";
-    out << line;
-  }
 }
 
 // The ranks of an MPI run (docs/studies.md, "Across machines"). Compiled with
@@ -211,21 +227,30 @@ class Ranks {
     if (size_ > 1) MPI_Barrier(MPI_COMM_WORLD);
 #endif
   }
-  // Rank r > 0 sends `data`; rank 0 receives rank r's into *data (its size set by the caller).
-  void Send(const std::vector<double>& data) const { Transfer(const_cast<double*>(data.data()), data.size(), 0, true); }
+  // Rank r > 0 sends `data`; rank 0 receives rank r's into *data (its size set by the caller):
+  // doubles (the packed results), 64-bit counts (the sizes of a rank's rows), bytes (its rows).
+  void Send(const std::vector<double>& data) const { Transfer(data.data(), data.size(), 0, true); }
   void Receive(int from, std::vector<double>* data) const { Transfer(data->data(), data->size(), from, false); }
+  void Send(const std::vector<uint64_t>& data) const { Transfer(data.data(), data.size(), 0, true); }
+  void Receive(int from, std::vector<uint64_t>* data) const { Transfer(data->data(), data->size(), from, false); }
+  void Send(const std::string& data) const { Transfer(data.data(), data.size(), 0, true); }
+  void Receive(int from, std::string* data) const { Transfer(&(*data)[0], data->size(), from, false); }
 
  private:
-  void Transfer(double* data, uint64_t n, int peer, bool send) const {
+  template <class T>
+  void Transfer(const T* data, uint64_t n, int peer, bool send) const {
 #ifdef MECHGEN_STUDY_MPI
-    // In pieces of at most 2^26 doubles (an MPI count is an int).
+    // In pieces of at most 2^26 elements (an MPI count is an int).
+    const MPI_Datatype type = std::is_same<T, double>::value     ? MPI_DOUBLE
+                              : std::is_same<T, uint64_t>::value ? MPI_UINT64_T
+                                                                 : MPI_CHAR;
     constexpr uint64_t kPiece = uint64_t(1) << 26;
     for (uint64_t at = 0; at < n; at += kPiece) {
       const int m = static_cast<int>(std::min(kPiece, n - at));
       if (send)
-        MPI_Send(data + at, m, MPI_DOUBLE, peer, 7, MPI_COMM_WORLD);
+        MPI_Send(const_cast<T*>(data) + at, m, type, peer, 7, MPI_COMM_WORLD);
       else
-        MPI_Recv(data + at, m, MPI_DOUBLE, peer, 7, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        MPI_Recv(const_cast<T*>(data) + at, m, type, peer, 7, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     }
 #else
     (void)data, (void)n, (void)peer, (void)send;
@@ -247,6 +272,7 @@ std::vector<uint64_t> PartOf(const std::vector<uint64_t>& list, int r, int ranks
 namespace {
 
 int RunStudy(const Ranks& ranks, int argc, char** argv) {
+  const double t_start = Now(), cpu_start = ProcessCpu(), main_cpu_start = ThreadCpu();
   study_tool::Arguments arguments;
   if (const int parsed = study_tool::ParseArguments(argc, argv, Model::kName, &arguments); parsed >= 0) return parsed;
   const std::string& tool = arguments.tool;
@@ -282,10 +308,18 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     return tools::UsageError(tool, "--tolerance-csv: the study does not ask for it (tolerance: true)");
   if (!envelope_path.empty() && spec.envelope.empty())
     return tools::UsageError(tool, "--envelope-csv: the study names no point (envelope: {point: P})");
-  mechgen::OutputFile csv, tolerance_csv, envelope_csv;
+  if (!csv_path.empty() && !spec.rows)
+    return tools::UsageError(tool, "--csv: the study asks for its statistics alone (rows: none at " + spec.path + ":" +
+                                       std::to_string(spec.rows_place.line) + ":" +
+                                       std::to_string(spec.rows_place.column) +
+                                       "); give --summary-csv or --histogram-csv, or rows: all for a row per sample");
+  const std::string &summary_path = arguments.summary_path, &histogram_path = arguments.histogram_path;
+  mechgen::OutputFile csv, tolerance_csv, envelope_csv, summary_csv, histogram_csv;
   if (ranks.Agree(ranks.rank() == 0 && ((!csv_path.empty() && !csv.Open(csv_path, &error)) ||
                                         (!tolerance_path.empty() && !tolerance_csv.Open(tolerance_path, &error)) ||
-                                        (!envelope_path.empty() && !envelope_csv.Open(envelope_path, &error))))) {
+                                        (!envelope_path.empty() && !envelope_csv.Open(envelope_path, &error)) ||
+                                        (!summary_path.empty() && !summary_csv.Open(summary_path, &error)) ||
+                                        (!histogram_path.empty() && !histogram_csv.Open(histogram_path, &error))))) {
     std::cerr << "error: " << error << "\n";
     return 1;
   }
@@ -306,10 +340,19 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     }
     if (ranks.rank() > 0 && !shards.Open(&error)) shards_path.clear();  // keeps none of its own
   }
-  // The results of each chunk, held only for the chunks read or run here.
-  std::vector<std::vector<study::SampleResult>> by_chunk(chunks.number());
-  auto hold = [&](uint64_t c) { by_chunk[c].resize(chunks.end(c) - chunks.begin(c)); };
-  auto slot = [&](uint64_t i) { return &by_chunk[i / chunks.size][i % chunks.size]; };
+  // Each chunk's packed results (width doubles per sample: Study::Pack's layout), held only for
+  // the chunks read or run here; with rows, its values (until its rows are made) and its rows
+  // (until they are written).
+  struct Held {
+    // Not zero-filled (new double[]): the pages are first touched by the threads that fill them.
+    std::unique_ptr<double[]> packed, values;
+    std::string text;
+    std::atomic<bool> formatted{false};  // text holds the chunk's rows (release: set after them)
+  };
+  std::vector<Held> held(chunks.number());
+  const size_t parameters = spec.parameters.size(), metrics = spec.metrics.size();
+  auto samples_of = [&](uint64_t c) { return chunks.end(c) - chunks.begin(c); };
+  auto hold = [&](uint64_t c) { held[c].packed.reset(new double[samples_of(c) * width]); };
   // Rank 0 checks the shards there are; the chunks without one are run, split across the ranks.
   std::vector<uint64_t> todo, kept;
   uint64_t resumed = 0;
@@ -326,6 +369,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
       }
     }
   }
+  std::vector<double>().swap(part);
   ranks.Agree(&todo);
   const size_t chunks_left = todo.size();
   bool stopped = false;
@@ -336,19 +380,46 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     stopped = take < todo.size();
     todo.resize(take);
   }
-  // The shards' contents, read when this run ends the study (a stopped run needs none).
-  if (ranks.rank() == 0 && !stopped)
+  // The rows are made (by the thread that ran or read a chunk, on the rank that ran it) when
+  // this run ends the study with a CSV; rank 0 writes them in sample order.
+  const bool make_rows = !stopped && spec.rows && ranks.Agree(!csv_path.empty() ? 1 : 0) != 0;
+  auto make_text = [&](uint64_t c) {
+    Held& h = held[c];
+    const uint64_t b = chunks.begin(c), n = chunks.end(c) - b;
+    if (!h.values) {  // read from a shard: drawn here
+      h.values.reset(new double[n * parameters + 1]);
+      for (uint64_t i = 0; i < n; ++i) source.Draw(b + i, &h.values[i * parameters]);
+    }
+    h.text.clear();
+    h.text.reserve(n * (20 + 24 * (parameters + metrics)));
+    study::AppendRows(b, n, h.values.get(), parameters, h.packed.get(), width, metrics, &h.text);
+    h.values.reset();
+    h.formatted.store(true, std::memory_order_release);
+  };
+  // The writer (rank 0, the calling thread): the chunks whose rows are made, in order, as far
+  // as they go; the rest after the gather.
+  uint64_t written = 0;
+  auto write_ready = [&]() {
+    if (!make_rows || ranks.rank() != 0) return;
+    while (written < chunks.number() && held[written].formatted.load(std::memory_order_acquire)) {
+      csv.stream() << held[written].text;
+      std::string().swap(held[written].text);
+      ++written;
+    }
+  };
+  if (make_rows && ranks.rank() == 0) WriteCsvHead(s, count, csv.stream());
+  // The shards' contents, read when this run ends the study (a stopped run needs none), and
+  // their rows made on every thread.
+  if (ranks.rank() == 0 && !stopped) {
     for (uint64_t c : kept) {
-      const uint64_t n = chunks.end(c) - chunks.begin(c);
-      part.resize(n * width);
-      if (!shards.Read(c, part.data())) {
+      hold(c);
+      if (!shards.Read(c, held[c].packed.get())) {
         std::cerr << "error: the shard of chunk " << c << " in " << shards_path << " changed while the study ran\n";
         return 1;
       }
-      hold(c);
-      for (uint64_t i = 0; i < n; ++i) by_chunk[c][i] = s.Unpack(&part[i * width]);
     }
-  std::vector<double>().swap(part);
+    if (make_rows) ParallelFor(kept.size(), threads, [&](uint64_t j) { make_text(kept[j]); });
+  }
   uint64_t run_samples = 0;  // by every rank
   for (uint64_t c : todo) run_samples += chunks.end(c) - chunks.begin(c);
   const std::vector<uint64_t> mine = PartOf(todo, ranks.rank(), ranks.size());
@@ -378,24 +449,42 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
                  ranks.size() > 1 ? " of rank 0" : "", rate, (my_samples - done) / rate);
     printed = true;
   };
-  // Each chunk's shard as soon as it is done (from the thread that finished it).
+  // Each chunk, once its last sample is done, on the thread that did it: its shard, its rows.
   std::mutex shard_mutex;
   std::string shard_error;
   auto chunk_done = [&](uint64_t c) {
-    if (shards_path.empty()) return;
-    const uint64_t n = chunks.end(c) - chunks.begin(c);
-    std::vector<double> part(n * width);
-    for (uint64_t i = 0; i < n; ++i) s.Pack(by_chunk[c][i], &part[i * width]);
-    std::string why;
-    if (!shards.Write(c, part.data(), &why)) {
-      std::lock_guard<std::mutex> lock(shard_mutex);
-      if (shard_error.empty()) shard_error = why;
+    if (!shards_path.empty()) {
+      std::string why;
+      if (!shards.Write(c, held[c].packed.get(), &why)) {
+        std::lock_guard<std::mutex> lock(shard_mutex);
+        if (shard_error.empty()) shard_error = why;
+      }
     }
+    if (make_rows) make_text(c);
   };
-  for (uint64_t c : mine) hold(c);
-  s.RunChunks([&source](uint64_t i, double* out) { source.Draw(i, out); }, chunks, mine, threads, slot, chunk_done,
-              progress);
-  // Rank 0 gathers the others' samples, rank by rank, in the order of their chunks.
+  for (uint64_t c : mine) {
+    hold(c);
+    if (make_rows) held[c].values.reset(new double[samples_of(c) * parameters + 1]);
+  }
+  auto place = [&](uint64_t i) {
+    const uint64_t c = i / chunks.size;
+    return std::pair<uint64_t, uint64_t>(c, i - chunks.begin(c));
+  };
+  const double t_run = Now(), cpu_run = ProcessCpu(), main_cpu_run = ThreadCpu();
+  s.RunPacked(
+      source, chunks, mine, threads,
+      make_rows ? std::function<double*(uint64_t)>([&](uint64_t i) {
+        const auto [c, k] = place(i);
+        return &held[c].values[k * parameters];
+      })
+                : std::function<double*(uint64_t)>(),
+      [&](uint64_t i) {
+        const auto [c, k] = place(i);
+        return &held[c].packed[k * width];
+      },
+      chunk_done, progress, write_ready);
+  const double t_ran = Now(), cpu_ran = ProcessCpu(), main_cpu_ran = ThreadCpu();
+  // Rank 0 gathers the others' samples (and their rows), rank by rank, in the order of their chunks.
   const auto gather_start = std::chrono::steady_clock::now();
   // Every rank done with its part first: the gather's own cost (pack, transfer, unpack) is then
   // timed apart from the wait for the slowest rank.
@@ -403,11 +492,24 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   const auto transfer_start = std::chrono::steady_clock::now();
   if (ranks.size() > 1) {
     if (ranks.rank() > 0) {
-      std::vector<double> data(my_samples * width);
-      uint64_t at = 0;
-      for (uint64_t c : mine)
-        for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) s.Pack(*slot(i), &data[at]);
+      std::vector<double> data;
+      data.reserve(my_samples * width);
+      std::vector<uint64_t> sizes;
+      std::string text;
+      for (uint64_t c : mine) {
+        data.insert(data.end(), held[c].packed.get(), held[c].packed.get() + samples_of(c) * width);
+        held[c].packed.reset();
+        if (make_rows) {
+          sizes.push_back(held[c].text.size());
+          text += held[c].text;
+          std::string().swap(held[c].text);
+        }
+      }
       ranks.Send(data);
+      if (make_rows) {
+        ranks.Send(sizes);
+        ranks.Send(text);
+      }
     } else {
       for (int r = 1; r < ranks.size(); ++r) {
         const std::vector<uint64_t> theirs = PartOf(todo, r, ranks.size());
@@ -418,7 +520,22 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
         uint64_t at = 0;
         for (uint64_t c : theirs) {
           hold(c);
-          for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, at += width) *slot(i) = s.Unpack(&data[at]);
+          std::copy(data.begin() + at, data.begin() + at + samples_of(c) * width, held[c].packed.get());
+          at += samples_of(c) * width;
+        }
+        if (make_rows) {
+          std::vector<uint64_t> sizes(theirs.size());
+          ranks.Receive(r, &sizes);
+          uint64_t bytes = 0;
+          for (uint64_t b : sizes) bytes += b;
+          std::string text(bytes, '\0');
+          ranks.Receive(r, &text);
+          uint64_t from = 0;
+          for (size_t j = 0; j < theirs.size(); ++j) {
+            held[theirs[j]].text.assign(text, from, sizes[j]);
+            from += sizes[j];
+            held[theirs[j]].formatted.store(true, std::memory_order_release);
+          }
         }
       }
     }
@@ -441,46 +558,125 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
   }
   if (ranks.rank() > 0) return 0;  // rank 0 writes the outputs and says the exit status
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // The whole study, in sample order, for the outputs.
-  std::vector<study::SampleResult> results;
-  results.reserve(count);
-  for (std::vector<study::SampleResult>& chunk : by_chunk) {
-    for (study::SampleResult& r : chunk) results.push_back(std::move(r));
-    std::vector<study::SampleResult>().swap(chunk);
+  // The rows not written while the samples ran (the other ranks', the last chunks').
+  const double t_tail = Now(), main_cpu_tail = ThreadCpu();
+  write_ready();
+  if (make_rows && written != chunks.number()) {
+    std::cerr << "error: internal: the rows of chunk " << written << " were not made\n";
+    return 1;
   }
-  const size_t parameters = spec.parameters.size();
-  std::vector<double> values(count * parameters);
-  for (uint64_t i = 0; i < count; ++i) source.Draw(i, &values[i * parameters]);
+  const double t_written = Now();
+  // The whole study's results, in sample order (held by chunk), for the statistics.
+  const double code_ok = study::StatusCode("ok");
+  // fn(i, r) for every sample i in order, r its Width() doubles.
+  auto each_result = [&](auto&& fn) {
+    for (uint64_t c = 0; c < chunks.number(); ++c)
+      for (uint64_t i = chunks.begin(c), at = 0; i < chunks.end(c); ++i, at += width) fn(i, held[c].packed.get() + at);
+  };
   if (printed) std::fprintf(stderr, "\n");
 
   // Summary: per status, per metric.
   uint64_t ok = 0, rows_failed = 0, not_assembled = 0;
-  for (const study::SampleResult& r : results) {
-    const std::string st = r.status;
-    ok += st == "ok";
-    rows_failed += st == "rows_failed";
-    not_assembled += st == "not_assembled" || st == "cycle_failed";
+  {
+    const double code_rows = study::StatusCode("rows_failed"), code_not = study::StatusCode("not_assembled"),
+                 code_cycle = study::StatusCode("cycle_failed");
+    for (uint64_t c = 0; c < chunks.number(); ++c)
+      for (uint64_t i = 0; i < samples_of(c); ++i) {
+        const double code = held[c].packed[i * width];
+        ok += code == code_ok;
+        rows_failed += code == code_rows;
+        not_assembled += code == code_not || code == code_cycle;
+      }
   }
   std::printf(
       "%llu ok, %llu with failed rows, %llu not assembled (or their cycle failed); %.3g s (%.3g samples/s, %.3g ms per sample per thread)\n\n",
       static_cast<unsigned long long>(ok), static_cast<unsigned long long>(rows_failed),
       static_cast<unsigned long long>(not_assembled), seconds, run_samples / seconds,
       1e3 * seconds * threads * ranks.size() / std::max<uint64_t>(run_samples, 1));
-  std::vector<std::vector<double>> per_metric(spec.metrics.size());
-  for (size_t k = 0; k < spec.metrics.size(); ++k) {
-    per_metric[k].reserve(results.size());
-    for (const study::SampleResult& r : results) per_metric[k].push_back(r.metrics[k]);
+  const double main_cpu_tail_statistics = ThreadCpu();
+  // Each metric's values in sample order: every sample's (the summary's min .. max and mean)
+  // and the ok samples' (the others NaN: the statistics, the tolerance table), copied a chunk
+  // per thread; their figures on every thread, the same bits for any number (study/rows.h).
+  // (Every sample ok: the two are the same, the first is not made.)
+  const bool all_ok = ok == count;
+  std::vector<std::vector<double>> column(metrics, std::vector<double>(all_ok ? 0 : count)),
+      ok_column(metrics, std::vector<double>(count));
+  std::vector<std::vector<double>> chunk_low(metrics, std::vector<double>(chunks.number(), INFINITY)),
+      chunk_high(metrics, std::vector<double>(chunks.number(), -INFINITY));
+  ParallelFor(chunks.number(), threads, [&](uint64_t c) {
+    const double* r = held[c].packed.get();
+    for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i, r += width)
+      for (size_t k = 0; k < metrics; ++k) {
+        const double v = r[1 + k];
+        if (!all_ok) column[k][i] = v;
+        ok_column[k][i] = r[0] == code_ok ? v : NAN;
+        if (std::isfinite(v))
+          chunk_low[k][c] = std::min(chunk_low[k][c], v), chunk_high[k][c] = std::max(chunk_high[k][c], v);
+      }
+  });
+  std::vector<study::Moments> all_moments(metrics), ok_moments(metrics);
+  std::vector<double> lowest(metrics, INFINITY), highest(metrics, -INFINITY);
+  std::vector<study::ColumnStatistics> statistics(metrics);
+  const bool want_statistics = !summary_path.empty() || !histogram_path.empty();
+  for (size_t k = 0; k < metrics; ++k) {
+    ok_moments[k] = study::MomentsOf(ok_column[k], threads);
+    // Every sample ok: the same values in the same places, so the same moments.
+    all_moments[k] = all_ok ? ok_moments[k] : study::MomentsOf(column[k], threads);
+    std::vector<double>().swap(column[k]);
+    for (uint64_t c = 0; c < chunks.number(); ++c)
+      lowest[k] = std::min(lowest[k], chunk_low[k][c]), highest[k] = std::max(highest[k], chunk_high[k][c]);
+    if (want_statistics)
+      statistics[k] = study::StatisticsOf(ok_column[k], spec.histogram_bins, threads, &ok_moments[k]);
   }
+  const double main_cpu_statistics_parallel = ThreadCpu() - main_cpu_tail_statistics;
   std::printf("%-28s %-14s %14s %14s %14s %14s\n", "metric", "unit", "nominal", "mean", "sigma", "min .. max");
-  for (size_t k = 0; k < spec.metrics.size(); ++k) {
-    const study::Moments m = study::MomentsOf(per_metric[k]);
-    double lo = INFINITY, hi = -INFINITY;
-    for (double v : per_metric[k])
-      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  for (size_t k = 0; k < metrics; ++k)
     std::printf("%-28s %-14s %14.6g %14.6g %14.6g %14.6g .. %.6g\n", spec.metrics[k].name.c_str(), s.Unit(k).c_str(),
-                s.Value(k, s.nominal_rows()).value, m.mean, m.sigma, lo, hi);
+                s.Value(k, s.nominal_rows()).value, all_moments[k].mean, all_moments[k].sigma, lowest[k], highest[k]);
+  // The statistics of the ok samples (--summary-csv, --histogram-csv).
+  std::string summary_text, histogram_text;
+  if (want_statistics) {
+    const std::string what = "# mechgen study statistics, model " + std::string(Model::kName) + ": " + spec.path +
+                             ", method " + MethodName(spec.method) + ", " + std::to_string(count) + " samples, " +
+                             std::to_string(ok) + " ok, seed " + std::to_string(spec.seed) + ", analysis " +
+                             AnalysisName(spec.analysis) + "\n";
+    summary_text = what +
+                   "# per metric over the finite values of the ok samples, in the metric's unit: n; mean and sigma "
+                   "(n - 1) in two passes in sample order; min; the p-quantiles, each the ceil(p n)-th smallest value "
+                   "(exact); max\nmetric,unit,n,mean,sigma,min";
+    for (double p : study::SummaryQuantiles()) {
+      char name[16];
+      std::snprintf(name, sizeof name, ",p%02d", static_cast<int>(std::lround(100 * p)));
+      summary_text += name;
+    }
+    summary_text += ",max\n";
+    histogram_text = what +
+                     "# per metric over the finite values of the ok samples: " + std::to_string(spec.histogram_bins) +
+                     " equal bins from its min to its max (low <= v < high; the last bin includes max), the count "
+                     "in each; low and high in the metric's unit\nmetric,bin,low,high,count\n";
+    for (size_t k = 0; k < metrics; ++k) {
+      const study::ColumnStatistics& st = statistics[k];
+      summary_text += spec.metrics[k].name + "," + s.Unit(k) + "," + std::to_string(st.moments.n) + "," +
+                      G17(st.moments.mean) + "," + G17(st.moments.sigma) + "," + G17(st.min);
+      for (double q : st.quantiles) summary_text += "," + G17(q);
+      summary_text += "," + G17(st.max) + "\n";
+      for (size_t b = 0; b < st.histogram.size(); ++b) {
+        const double low = st.min + static_cast<double>(b) * st.bin_width;
+        const double high = b + 1 == st.histogram.size() ? st.max : st.min + static_cast<double>(b + 1) * st.bin_width;
+        histogram_text += spec.metrics[k].name + "," + std::to_string(b) + "," + G17(st.moments.n > 0 ? low : NAN) +
+                          "," + G17(st.moments.n > 0 ? high : NAN) + "," + std::to_string(st.histogram[b]) + "\n";
+      }
+    }
   }
 
+  // The samples' values for the tolerance analysis' curvature, drawn again on every thread.
+  std::vector<double> values;
+  if (spec.tolerance) {
+    values.resize(count * parameters);
+    ParallelFor(chunks.number(), threads, [&](uint64_t c) {
+      for (uint64_t i = chunks.begin(c); i < chunks.end(c); ++i) source.Draw(i, &values[i * parameters]);
+    });
+  }
   // Tolerance analysis: first order at the nominal beside the Monte-Carlo of the ok samples.
   const size_t n = spec.parameters.size();
   std::vector<double> sigma(n), tol(n), clearance(n, 0.0);
@@ -501,10 +697,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     study::VerdictOptions options;
     options.family = 0;
     for (size_t k = 0; k < metrics; ++k) {
-      std::vector<double> ok_values;
-      for (const study::SampleResult& r : results)
-        if (std::string(r.status) == "ok") ok_values.push_back(r.metrics[k]);
-      moments[k] = study::MomentsOf(ok_values);
+      moments[k] = ok_moments[k];
       first[k] = study::FirstOrderOf(s.Gradient(k, &why[k]), sigma, tol, clearance);
       options.family += first[k].complete && moments[k].n >= 2;
     }
@@ -547,10 +740,7 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
       // The curvature over the ok samples (the others NaN: left out), only where it is read.
       study::Curvature curvature;
       if (f.complete && m.n >= 2) {
-        std::vector<double> y(results.size());
-        for (size_t i = 0; i < results.size(); ++i)
-          y[i] = std::string(results[i].status) == "ok" ? results[i].metrics[k] : NAN;
-        curvature = study::CurvatureOf(y, values, s.nominal(), sigma);
+        curvature = study::CurvatureOf(ok_column[k], values, s.nominal(), sigma);
       }
       const study::Decision decision = study::Decide(f, m, curvature, options);
       std::string verdict = decision.text;
@@ -601,14 +791,15 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     std::vector<study::Moments> m(2 * rows);
     study::VerdictOptions options;
     options.family = 0;
+    // Each (row, axis)'s moments over the ok samples in sample order, on every thread.
+    ParallelFor(2 * static_cast<uint64_t>(rows), threads, [&](uint64_t j) {
+      std::vector<double> v(count);
+      each_result([&](uint64_t i, const double* r) { v[i] = r[0] == code_ok ? r[1 + metrics + j] : NAN; });
+      m[j] = study::MomentsOf(v);
+    });
     for (int i = 0; i < rows; ++i)
       for (int axis = 0; axis < 2; ++axis) {
         f[2 * i + axis] = study::FirstOrderOf(s.PathGradient(i, axis), sigma, tol, clearance);
-        std::vector<double> v;
-        v.reserve(results.size());
-        for (const study::SampleResult& r : results)
-          if (std::string(r.status) == "ok") v.push_back(r.path[2 * i + axis]);
-        m[2 * i + axis] = study::MomentsOf(v);
         options.family += random && f[2 * i + axis].complete && m[2 * i + axis].n >= 2 && m[2 * i + axis].sigma > 0;
       }
     int compared = 0, agrees = 0, inconclusive = 0, disagrees = 0, worst_row = -1;
@@ -648,13 +839,19 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
     }
   }
 
-  if (!csv_path.empty()) WriteCsv(s, values, results, csv.stream());
   if (!envelope_path.empty()) envelope_csv.stream() << envelope_text;
   if (!tolerance_path.empty()) tolerance_csv.stream() << tolerance_text;
+  if (!summary_path.empty()) summary_csv.stream() << summary_text;
+  if (!histogram_path.empty()) histogram_csv.stream() << histogram_text;
+  const double t_statistics = Now(), main_cpu_statistics = ThreadCpu();
   if ((!csv_path.empty() && !csv.Close(&error)) || (!tolerance_path.empty() && !tolerance_csv.Close(&error)) ||
-      (!envelope_path.empty() && !envelope_csv.Close(&error)) || (!csv_path.empty() && !csv.Commit(&error)) ||
+      (!envelope_path.empty() && !envelope_csv.Close(&error)) ||
+      (!summary_path.empty() && !summary_csv.Close(&error)) ||
+      (!histogram_path.empty() && !histogram_csv.Close(&error)) || (!csv_path.empty() && !csv.Commit(&error)) ||
       (!tolerance_path.empty() && !tolerance_csv.Commit(&error)) ||
-      (!envelope_path.empty() && !envelope_csv.Commit(&error))) {
+      (!envelope_path.empty() && !envelope_csv.Commit(&error)) ||
+      (!summary_path.empty() && !summary_csv.Commit(&error)) ||
+      (!histogram_path.empty() && !histogram_csv.Commit(&error))) {
     std::cerr << "error: " << error << "\n";
     return 1;
   }
@@ -664,6 +861,28 @@ int RunStudy(const Ranks& ranks, int argc, char** argv) {
                 spec.parameters.size() + spec.metrics.size() + 2);
   if (!tolerance_path.empty()) std::printf("wrote %s\n", tolerance_path.c_str());
   if (!envelope_path.empty()) std::printf("wrote %s\n", envelope_path.c_str());
+  if (!summary_path.empty()) std::printf("wrote %s\n", summary_path.c_str());
+  if (!histogram_path.empty()) std::printf("wrote %s\n", histogram_path.c_str());
+  if (arguments.timings) {
+    // The program's own account (docs/studies.md, "Speed"): wall and CPU of each phase. Serial:
+    // what one thread does whatever the threads (the calling thread's CPU: the setup, the
+    // writer while the samples run and after, the tolerance and envelope tables, the commit),
+    // but for the metrics' statistics, which run on every thread (fixed blocks); parallel: the
+    // samples (the workers' CPU) and the statistics.
+    const double t_end = Now(), cpu_end = ProcessCpu(), main_cpu_end = ThreadCpu();
+    const double samples_cpu = (cpu_ran - cpu_run) - (main_cpu_ran - main_cpu_run);
+    const double serial = (main_cpu_end - main_cpu_start) - main_cpu_statistics_parallel;
+    const double cpu = cpu_end - cpu_start;
+    std::fprintf(stderr,
+                 "timings: setup %.4f s (cpu %.4f); samples %.4f s (cpu %.4f on the workers, %.4f ms per sample; the "
+                 "writer %.4f cpu alongside); rows after them %.4f s; statistics %.4f s (cpu %.4f of the calling "
+                 "thread, %.4f of it on every thread); commit %.4f s; total %.4f s, cpu %.4f; serial cpu %.4f s = "
+                 "%.2f %% of the cpu\n",
+                 t_run - t_start, main_cpu_run - main_cpu_start, t_ran - t_run, samples_cpu,
+                 1e3 * samples_cpu / std::max<uint64_t>(my_samples, 1), main_cpu_ran - main_cpu_run, t_written - t_tail,
+                 t_statistics - t_written, main_cpu_statistics - main_cpu_tail, main_cpu_statistics_parallel,
+                 t_end - t_statistics, t_end - t_start, cpu, serial, 100 * serial / std::max(cpu, 1e-9));
+  }
   if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
     std::cerr << "error: cannot write the standard output\n";
     return 1;

@@ -35,6 +35,10 @@ status=$?
 [ "$status" -eq 0 ] || fail "2 threads: exit status $status: $(cat two.err)"
 grep -q "compiling" two.err && fail "the second run compiled again"
 if cmp -s one.csv two.csv; then ok "1 and 2 threads: the same bytes"; else fail "1 and 2 threads differ"; fi
+"$mechgen" study fourbar.yaml --study study.yaml --threads 3 --csv three.csv --tolerance-csv tol3.csv \
+  --envelope-csv env3.csv --quiet > three.out 2> three.err || fail "3 threads: exit status $?: $(cat three.err)"
+if cmp -s one.csv three.csv && cmp -s tol.csv tol3.csv && cmp -s env.csv env3.csv; then
+  ok "3 threads: the same bytes (samples, tolerance, envelope)"; else fail "3 threads differ"; fi
 samples=$(awk '/^count:/ { print $2 }' study.yaml)
 rows=$(grep -v '^#' one.csv | tail -n +2 | wc -l)
 [ "$rows" -eq "$samples" ] || fail "$rows rows, expected $samples"
@@ -71,12 +75,93 @@ metrics:
   - {kind: at, column: coupler.P.x, step: 1}
   - {kind: max, column: coupler.P.y}
   - {kind: path_deviation, point: coupler.P}
+histogram_bins: 16
 EOF
-for t in 1 2; do
-  "$mechgen" study fourbar.yaml --study pos.yaml --threads $t --csv pos$t.csv --quiet > pos$t.out 2> pos$t.err ||
+for t in 1 2 3; do
+  "$mechgen" study fourbar.yaml --study pos.yaml --threads $t --csv pos$t.csv --summary-csv possum$t.csv \
+    --histogram-csv poshist$t.csv --quiet > pos$t.out 2> pos$t.err ||
     fail "positions, $t thread(s): exit status $?: $(cat pos$t.err)"
 done
-if cmp -s pos1.csv pos2.csv; then ok "positions: 1 and 2 threads the same bytes"; else fail "positions: 1 and 2 threads differ"; fi
+if cmp -s pos1.csv pos2.csv && cmp -s pos1.csv pos3.csv; then ok "positions: 1, 2 and 3 threads the same bytes"
+else fail "positions: 1, 2 and 3 threads differ"; fi
+# Statistics alone (rows: none, issue 45): no row per sample; the summary and the histograms at
+# 1, 2 and 3 threads the same bytes, and the same as the run with rows (but the first line,
+# which names the study file); --csv refused (exit 2, one line, nothing written).
+{ echo "rows: none"; cat pos.yaml; } > stats.yaml
+for t in 1 2 3; do
+  "$mechgen" study fourbar.yaml --study stats.yaml --threads $t --summary-csv sum$t.csv --histogram-csv hist$t.csv \
+    --quiet > stats$t.out 2> stats$t.err || fail "rows: none, $t thread(s): exit status $?: $(cat stats$t.err)"
+done
+if cmp -s sum1.csv sum2.csv && cmp -s sum1.csv sum3.csv && cmp -s hist1.csv hist2.csv && cmp -s hist1.csv hist3.csv
+then ok "rows: none: 1, 2 and 3 threads the same bytes"; else fail "rows: none: 1, 2 and 3 threads differ"; fi
+if cmp -s <(tail -n +2 sum1.csv) <(tail -n +2 possum1.csv) && cmp -s <(tail -n +2 hist1.csv) <(tail -n +2 poshist1.csv) &&
+   cmp -s possum1.csv possum3.csv; then ok "rows: none: the statistics of the run with rows"
+else fail "rows: none: not the statistics of the run with rows"; fi
+"$mechgen" study fourbar.yaml --study stats.yaml --csv statsrows.csv > stats.out 2> stats.err
+status=$?
+[ "$status" -eq 2 ] || fail "rows: none with --csv: exit status $status"
+[ "$(grep -c '' stats.err)" -eq 1 ] && grep -q "stats.yaml:1:7" stats.err || fail "rows: none with --csv: $(cat stats.err)"
+[ -e statsrows.csv ] && fail "rows: none with --csv: a CSV was written"
+# The statistics recomputed from the rows of pos1.csv (the ok samples' finite values of each
+# metric): n, min, max and the quantiles (the ceil(p n)-th of sort -g) as the same strings,
+# the histogram's counts exactly (the bin of v: floor((v - min) / ((max - min) / 16)), the
+# last including max), the mean within 1e-12 and sigma within 1e-9 relative (awk's sums).
+header=$(grep -v '^#' pos1.csv | head -1)
+for j in 5 6 7; do
+  name=$(echo "$header" | cut -d, -f$j)
+  grep -v '^#' pos1.csv | tail -n +2 | awk -F, -v j=$j '$NF == "ok" && $j ~ /^-?[0-9]/ { print $j }' | sort -g > col.txt
+  line=$(grep "^$name," sum1.csv)
+  n=$(grep -c '' col.txt)
+  [ "$(echo "$line" | cut -d, -f3)" = "$n" ] || fail "$name: n $(echo "$line" | cut -d, -f3), the rows have $n"
+  [ "$(echo "$line" | cut -d, -f6)" = "$(head -1 col.txt)" ] || fail "$name: min $(echo "$line" | cut -d, -f6)"
+  [ "$(echo "$line" | cut -d, -f14)" = "$(tail -1 col.txt)" ] || fail "$name: max $(echo "$line" | cut -d, -f14)"
+  f=7
+  for p in 0.01 0.05 0.25 0.5 0.75 0.95 0.99; do
+    rank=$(awk -v p=$p -v n="$n" 'BEGIN { r = p * n; k = int(r); if (k < r) k++; if (k < 1) k = 1; print k }')
+    [ "$(echo "$line" | cut -d, -f$f)" = "$(sed -n "${rank}p" col.txt)" ] ||
+      fail "$name: quantile $p: $(echo "$line" | cut -d, -f$f), the rows' $rank-th: $(sed -n "${rank}p" col.txt)"
+    f=$((f + 1))
+  done
+  awk -v mean="$(echo "$line" | cut -d, -f4)" -v sigma="$(echo "$line" | cut -d, -f5)" '
+    { x[NR] = $1; s += $1 } END { m = s / NR; for (i = 1; i <= NR; ++i) q += (x[i] - m) ^ 2; sd = sqrt(q / (NR - 1))
+      dm = (m - mean) / m; ds = (sd - sigma) / sd; exit !(dm < 1e-12 && dm > -1e-12 && ds < 1e-9 && ds > -1e-9) }' col.txt ||
+    fail "$name: mean or sigma not those of the rows: $line"
+  lo=$(head -1 col.txt) hi=$(tail -1 col.txt)
+  awk -v lo="$lo" -v hi="$hi" '{ w = (hi - lo) / 16; b = w > 0 ? int(($1 - lo) / w) : 0; if (b > 15) b = 15; c[b]++ }
+    END { for (b = 0; b < 16; ++b) print b "," c[b] + 0 }' col.txt > mine.txt
+  grep "^$name," hist1.csv | awk -F, '{ print $2 "," $5 }' > theirs.txt
+  cmp -s mine.txt theirs.txt || fail "$name: histogram: $(paste -d' ' mine.txt theirs.txt | tr '\n' ' ')"
+done
+ok "rows: none: the statistics recomputed from the rows"
+# With failing samples (c across the Grashof limit: rows fail at a dead point): the statistics
+# are the ok samples' (n = the ok rows, the mean theirs), and rows: none gives them at 3 threads
+# as the run with rows at 1 (exit 3: some samples failed).
+cat > fail.yaml << 'EOF'
+method: monte_carlo
+count: 600
+seed: 5
+steps: 36
+parameters:
+  a: {tolerance: 0.01}
+  c: {distribution: uniform, tolerance: 1.8}
+metrics:
+  - {kind: max, column: coupler.P.y}
+  - {kind: min_transmission_angle}
+EOF
+{ echo "rows: none"; cat fail.yaml; } > failnone.yaml
+"$mechgen" study fourbar.yaml --study fail.yaml --threads 1 --csv fail.csv --summary-csv failsum1.csv --quiet > /dev/null 2>&1
+status=$?
+"$mechgen" study fourbar.yaml --study failnone.yaml --threads 3 --summary-csv failsum3.csv --quiet > /dev/null 2>&1
+status3=$?
+[ "$status" -eq 3 ] && [ "$status3" -eq 3 ] || fail "failing samples: exit status $status and $status3, not 3"
+cmp -s <(tail -n +2 failsum1.csv) <(tail -n +2 failsum3.csv) || fail "failing samples: rows: none at 3 threads differs"
+grep -v '^#' fail.csv | tail -n +2 | awk -F, '$NF == "ok" { n++; s += $4 } END { printf "%d %.17g\n", n, s / n }' > okrows.txt
+read -r okn okmean < okrows.txt
+line=$(grep '^max_coupler.P.y,' failsum1.csv)
+if [ "$okn" -gt 0 ] && [ "$okn" -lt 600 ] && [ "$(echo "$line" | cut -d, -f3)" = "$okn" ] &&
+   awk -v a="$okmean" -v b="$(echo "$line" | cut -d, -f4)" 'BEGIN { d = (a - b) / b; exit !(d < 1e-12 && d > -1e-12) }'
+then ok "failing samples: the statistics of the $okn ok samples of 600"
+else fail "failing samples: $okn ok rows (mean $okmean), the summary: $line"; fi
 [ "$(grep -v '^#' pos1.csv | tail -n +2 | wc -l)" -eq 20000 ] || fail "positions: not 20000 rows"
 head -1 pos1.csv | grep -q "analysis positions in 2 steps" || fail "positions: $(head -1 pos1.csv)"
 

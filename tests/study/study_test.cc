@@ -7,12 +7,12 @@
 
 #include <algorithm>
 #include <atomic>
-#include <filesystem>
-#include <mutex>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -20,6 +20,7 @@
 #include "fourbar_loaded.h"
 #include "mechgen/io/yaml_strict.h"
 #include "mechgen/study/random.h"
+#include "mechgen/study/rows.h"
 #include "mechgen/study/run.h"
 #include "mechgen/study/samples.h"
 #include "mechgen/study/shards.h"
@@ -1734,6 +1735,153 @@ TEST(StudyThreads, SameResultsForOneTwoAndFourThreads) {
   // are compared.
   EXPECT_GT(not_ok, 0);
   EXPECT_LT(not_ok, 300);
+}
+
+// RunPacked (the command's run: each chunk drawn, evaluated and packed on the worker threads,
+// items of several samples from one counter) at 1, 2 and 3 threads: bit for bit the packed form
+// of Evaluate on each sample drawn alone (the oracle: one sample, no scheduler), every chunk
+// done exactly once, the values each sample was run with its own; rows made from the packed
+// results are the same bytes at any thread count.
+TEST(StudyThreads, PackedChunksOnOneTwoAndThreeThreadsAgainstEachSampleAlone) {
+  const study::StudySpec spec =
+      Read("packed.yaml",
+           "method: lhs\ncount: 300\nseed: 5\nsteps: 36\nparameters:\n"
+           "  a: {distribution: uniform, tolerance: 0.3}\n  c: {distribution: uniform, tolerance: 1.8}\n"
+           "metrics:\n  - {kind: max, column: coupler.P.y}\n  - {kind: path_deviation, point: coupler.P}\n"
+           "  - {kind: failures}\nenvelope: {point: coupler.P}\n");
+  study::Study<mech::fourbar::Model> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  const study::SampleSource source(spec, s.nominal());
+  const uint64_t width = s.Width(), n = spec.parameters.size();
+  std::vector<double> expected(300 * width);
+  for (uint64_t i = 0; i < 300; ++i) {
+    std::vector<double> values(n);
+    source.Draw(i, values.data());
+    study::Study<mech::fourbar::Model>::Rows rows;
+    s.Pack(s.Evaluate(values.data(), &rows), &expected[i * width]);
+  }
+  const study::Chunks chunks{300, 37};  // 9 chunks, the last of 4
+  std::vector<uint64_t> list;
+  for (uint64_t c = chunks.number(); c-- > 0;) list.push_back(c);  // in any order
+  std::string first_text;
+  for (int threads : {1, 2, 3}) {
+    std::vector<double> packed(300 * width, -1), values(300 * n, -1);
+    std::vector<std::atomic<int>> done(chunks.number());
+    std::atomic<int> ready{0};
+    s.RunPacked(
+        source, chunks, list, threads, [&](uint64_t i) { return &values[i * n]; },
+        [&](uint64_t i) { return &packed[i * width]; }, [&](uint64_t c) { ++done[c]; }, nullptr, [&] { ++ready; });
+    for (uint64_t c = 0; c < chunks.number(); ++c) EXPECT_EQ(done[c].load(), 1) << "chunk " << c;
+    EXPECT_GE(ready.load(), 1);
+    EXPECT_EQ(std::memcmp(packed.data(), expected.data(), packed.size() * sizeof(double)), 0) << threads << " threads";
+    std::vector<double> drawn(n);
+    for (uint64_t i = 0; i < 300; ++i) {
+      source.Draw(i, drawn.data());
+      EXPECT_EQ(std::memcmp(drawn.data(), &values[i * n], n * sizeof(double)), 0) << i;
+    }
+    std::string text;
+    for (uint64_t c = 0; c < chunks.number(); ++c)
+      study::AppendRows(chunks.begin(c), chunks.end(c) - chunks.begin(c), &values[chunks.begin(c) * n], n,
+                        &packed[chunks.begin(c) * width], width, spec.metrics.size(), &text);
+    if (threads == 1) first_text = text;
+    EXPECT_EQ(text, first_text) << threads << " threads";
+  }
+  // The rows: index, values, metrics, status; the second sample's line by hand.
+  std::vector<double> v1(n);
+  source.Draw(1, v1.data());
+  std::string line = "1";
+  for (double x : v1) line += "," + study::G17(x);
+  for (size_t k = 0; k < spec.metrics.size(); ++k) line += "," + study::G17(expected[width + 1 + k]);
+  line += std::string(",") + study::StatusOfCode(expected[width]) + "\n";
+  const size_t at = first_text.find('\n') + 1;
+  EXPECT_EQ(first_text.substr(at, line.size()), line);
+}
+
+// The rows' numbers: std::to_chars (general, precision 17) gives printf's "%.17g" character for
+// character, over doubles of every exponent (random bits), the specials and round numbers.
+TEST(StudyRows, FormatG17IsPrintfs) {
+  std::vector<double> x = {0.0,
+                           -0.0,
+                           1.0,
+                           -1.0,
+                           0.1,
+                           1e-300,
+                           5e-324,
+                           1e300,
+                           1.7976931348623157e308,
+                           123456789012345678.0,
+                           1e16,
+                           1e17,
+                           1e-5,
+                           1e-4,
+                           INFINITY,
+                           -INFINITY,
+                           2.5,
+                           0.30000000000000004};
+  for (uint64_t i = 0; i < 200000; ++i) {
+    const uint64_t bits = mechgen::Mix64(i);
+    double d;
+    std::memcpy(&d, &bits, sizeof d);
+    if (!std::isnan(d)) x.push_back(d);
+    x.push_back(1 + static_cast<double>(i % 1000) * 1e-3 * study::Uniform01(bits));  // a metric's typical value
+  }
+  int mismatches = 0;
+  for (double v : x) {
+    char want[64];
+    std::snprintf(want, sizeof want, "%.17g", v);
+    if (study::G17(v) != want && ++mismatches < 5) ADD_FAILURE() << want << " written " << study::G17(v);
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_EQ(study::G17(NAN), "nan");
+  EXPECT_EQ(study::G17(-NAN), "nan");
+}
+
+// The statistics of a column against hand values: 1 .. 100 in a shuffled order with NaN and
+// inf among them (left out): mean 50.5, sigma sqrt(100 * 101 / 12) (the n - 1 variance of
+// 1 .. n is n (n + 1) / 12), the p-quantile the ceil(100 p)-th value, 10 bins of 9.9 with 10
+// values each; a constant column: every value in bin 0, sigma 0; an empty one: n 0, NaN.
+TEST(StudyRows, StatisticsOfAColumnAgainstHandValues) {
+  std::vector<double> x;
+  for (int i = 1; i <= 100; ++i) x.push_back((i * 37) % 101);  // 1 .. 100, each once (37 is a unit mod 101)
+  x.insert(x.begin() + 10, NAN);
+  x.push_back(INFINITY);
+  const study::ColumnStatistics s = study::StatisticsOf(x, 10);
+  EXPECT_EQ(s.moments.n, 100);
+  EXPECT_NEAR(s.moments.mean, 50.5, 1e-13);
+  EXPECT_NEAR(s.moments.sigma, std::sqrt(100.0 * 101.0 / 12.0), 1e-12);
+  EXPECT_EQ(s.min, 1);
+  EXPECT_EQ(s.max, 100);
+  const std::vector<double> want = {1, 5, 25, 50, 75, 95, 99};
+  ASSERT_EQ(s.quantiles.size(), want.size());
+  for (size_t q = 0; q < want.size(); ++q) EXPECT_EQ(s.quantiles[q], want[q]) << study::SummaryQuantiles()[q];
+  EXPECT_NEAR(s.bin_width, 9.9, 1e-15);
+  ASSERT_EQ(s.histogram.size(), 10u);
+  for (uint64_t count : s.histogram) EXPECT_EQ(count, 10u);
+  const study::ColumnStatistics c = study::StatisticsOf(std::vector<double>(7, 2.5), 4);
+  EXPECT_EQ(c.moments.sigma, 0);
+  EXPECT_EQ(c.histogram, (std::vector<uint64_t>{7, 0, 0, 0}));
+  EXPECT_EQ(c.quantiles[3], 2.5);
+  const study::ColumnStatistics e = study::StatisticsOf({NAN}, 3);
+  EXPECT_EQ(e.moments.n, 0);
+  EXPECT_TRUE(std::isnan(e.quantiles[0]) && std::isnan(e.min));
+  EXPECT_EQ(e.histogram, (std::vector<uint64_t>{0, 0, 0}));
+}
+
+// rows: and histogram_bins: in the study file; a wrong value at its place.
+TEST(StudySpec, RowsNoneAndHistogramBins) {
+  const std::string base =
+      "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.01}\nmetrics: [{kind: failures}]\n";
+  EXPECT_TRUE(Read("rows_default.yaml", base).rows);
+  EXPECT_EQ(Read("rows_default.yaml", base).histogram_bins, 40);
+  const study::StudySpec none = Read("rows_none.yaml", base + "rows: none\nhistogram_bins: 12\n");
+  EXPECT_FALSE(none.rows);
+  EXPECT_EQ(none.histogram_bins, 12);
+  EXPECT_EQ(none.rows_place.line, 6);
+  EXPECT_NE(ErrorOf("rows_bad.yaml", base + "rows: some\n").find("rows_bad.yaml:6:7: error: rows: expected all"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("bins_bad.yaml", base + "histogram_bins: 0\n").find("bins_bad.yaml:6:17: error: histogram_bins"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -11,10 +11,13 @@
  * their first-order sensitivities (at the nominal design) read the design columns of those
  * tables: d<column>/d<p> (the generated EvalDesignDerivatives, EvalStaticsDesign).
  *
- * Parallel: Run() evaluates the samples on `threads` std::threads; each sample is evaluated
- * by one thread with its own solver and rows (nothing is shared but the read-only tables), and
- * its result stored at its index: the results, and so the CSV, are the same bytes for any
- * number of threads.
+ * Parallel: Run() and RunPacked() evaluate the samples on `threads` std::threads; each sample
+ * is evaluated by one thread with its own solver and rows (nothing is shared but the read-only
+ * tables and the work counter, one atomic operation per item of several samples), and its
+ * result stored at its index: the results, and so the CSV, are the same bytes for any number
+ * of threads. RunPacked (the command's) draws each sample on the thread that runs it and packs
+ * its result into the caller's chunk buffer (no allocation per sample), and calls back when a
+ * chunk is done, on that thread (its shard, its CSV rows: study/rows.h).
  */
 #pragma once
 
@@ -172,6 +175,7 @@ class Study {
     double engine_J_fly = 0;
     Params params;
     bool assembled = false;  ///< flywheel: the cycle is usable
+    bool kinematics_design = false;  ///< kinematics hold design derivatives (the nominal's rows)
   };
 
   /// The model's parameters that the study's do not vary (and the nominal of those without
@@ -558,6 +562,9 @@ class Study {
     position::PositionSolver<M> solver(position::Options(), out->params);
     position::Summary summary;
     out->assembled = solver.AssembleDefault(&summary) == position::Status::kConverged;
+    // No rows unless this sample's sweep fills them (a sample that does not assemble has none);
+    // their storage is kept for the next sample of this thread.
+    std::vector<Kinematics> kinematics = std::move(out->kinematics);
     out->kinematics.clear();
     if constexpr (kHasStatics) out->statics.clear();
     if (spec_.analysis == Analysis::kFlywheel) {
@@ -588,7 +595,29 @@ class Study {
     SweepOptions options;
     options.design = design && HasDesignDerivatives<M>::value;
     using VecQ = typename ModelTypes<M>::VecQ;
-    Sweep(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(), VecQ::Zero(), &out->kinematics, options);
+    if (options.design) {
+      Sweep(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(), VecQ::Zero(), &out->kinematics, options);
+      out->kinematics_design = true;
+    } else {
+      // A sample's rows: sized once per thread (every number NaN, the design derivatives too,
+      // which a sample never evaluates), then every row's configuration, motion, summary and
+      // transmission angles copied over: not the 60 % of a record that the design takes
+      // (SweepRecord<fourbar>: 1040 bytes, 624 of them design; 361 rows were 375 KB written
+      // twice per sample, more than a core's L2).
+      out->kinematics = std::move(kinematics);
+      const size_t n = static_cast<size_t>(std::max(spec_.steps, 1)) + 1;
+      if (out->kinematics.size() != n || out->kinematics_design) out->kinematics.assign(n, Kinematics());
+      out->kinematics_design = false;
+      SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(), VecQ::Zero(), options,
+                [out](int i, const Kinematics& r) {
+                  Kinematics& k = out->kinematics[static_cast<size_t>(i)];
+                  k.q = r.q;
+                  k.state = r.state;
+                  k.motion = r.motion;
+                  k.summary = r.summary;
+                  k.mu = r.mu;
+                });
+    }
     if constexpr (kHasStatics) {
       if (spec_.analysis == Analysis::kStatics) {
         statics::Options so;
@@ -604,39 +633,52 @@ class Study {
 
   /// One sample: its analysis and metrics (rows: the caller's, reused between samples).
   SampleResult Evaluate(const double* values, Rows* rows) const {
+    std::vector<double> packed(Width());
+    EvaluateInto(values, rows, packed.data());
+    return Unpack(packed.data());
+  }
+  /// The same as Width() doubles at out (Pack's layout: the status code, the metrics, the
+  /// envelope's path), allocating nothing per sample.
+  void EvaluateInto(const double* values, Rows* rows, double* out) const {
     Analyze(values, /*design=*/false, rows);
-    SampleResult result;
-    result.metrics.assign(spec_.metrics.size(), kNaN);
-    if (envelope_point_ >= 0) result.path = Path(*rows);
+    const size_t metrics = spec_.metrics.size();
+    double* metric = out + 1;
+    std::fill(metric, metric + metrics, kNaN);
+    if (envelope_point_ >= 0) PathInto(*rows, metric + metrics);
     if (spec_.analysis == Analysis::kFlywheel || spec_.analysis == Analysis::kEngine) {
-      result.status = rows->assembled ? "ok" : "cycle_failed";
-      for (size_t k = 0; k < spec_.metrics.size(); ++k) result.metrics[k] = Value(k, *rows).value;
-      return result;
+      out[0] = StatusCode(rows->assembled ? "ok" : "cycle_failed");
+      for (size_t k = 0; k < metrics; ++k) metric[k] = Value(k, *rows).value;
+      return;
     }
     if (!rows->assembled) {
-      result.status = "not_assembled";
-      for (size_t k = 0; k < spec_.metrics.size(); ++k)
+      out[0] = StatusCode("not_assembled");
+      for (size_t k = 0; k < metrics; ++k)
         if (spec_.metrics[k].kind == MetricKind::kFailures)
-          result.metrics[k] = spec_.analysis == Analysis::kSimulate ? 1 : spec_.steps + 1;
-      return result;
+          metric[k] = spec_.analysis == Analysis::kSimulate ? 1 : spec_.steps + 1;
+      return;
     }
     if (spec_.analysis == Analysis::kSimulate) {
-      result.status = dynamics::IsFailure(rows->simulation_status) ? "simulation_failed" : "ok";
-      for (size_t k = 0; k < spec_.metrics.size(); ++k) result.metrics[k] = Value(k, *rows).value;
-      return result;
+      out[0] = StatusCode(dynamics::IsFailure(rows->simulation_status) ? "simulation_failed" : "ok");
+      for (size_t k = 0; k < metrics; ++k) metric[k] = Value(k, *rows).value;
+      return;
     }
     bool failed = false;
     for (int i = 0; i <= spec_.steps; ++i) failed = failed || !RowOk(*rows, i);
-    result.status = failed ? "rows_failed" : "ok";
-    for (size_t k = 0; k < spec_.metrics.size(); ++k) result.metrics[k] = Value(k, *rows).value;
-    return result;
+    out[0] = StatusCode(failed ? "rows_failed" : "ok");
+    for (size_t k = 0; k < metrics; ++k) metric[k] = Value(k, *rows).value;
   }
 
   /// The envelope's point (M::kPointNames index), -1: none.
   int envelope_point() const { return envelope_point_; }
   /// The envelope point's x, y at every row (NaN where the row failed).
   std::vector<double> Path(const Rows& rows) const {
-    std::vector<double> path(2 * static_cast<size_t>(spec_.steps + 1), kNaN);
+    std::vector<double> path(2 * static_cast<size_t>(spec_.steps + 1));
+    PathInto(rows, path.data());
+    return path;
+  }
+  /// The same into path[0, 2 (steps + 1)).
+  void PathInto(const Rows& rows, double* path) const {
+    std::fill(path, path + 2 * static_cast<size_t>(spec_.steps + 1), kNaN);
     if constexpr (M::kNumPoints > 0) {
       for (int i = 0; i < static_cast<int>(rows.kinematics.size()) && i <= spec_.steps; ++i) {
         if (rows.kinematics[i].summary.status != position::Status::kConverged) continue;
@@ -644,7 +686,6 @@ class Study {
         path[2 * i + 1] = rows.kinematics[i].state.r_P(1, envelope_point_);
       }
     }
-    return path;
   }
   /// d(x or y of the envelope point at row i)/dp for each study parameter at the nominal (the
   /// generated dr_P/dp); NaN for a parameter that is not a design parameter.
@@ -999,43 +1040,128 @@ class Study {
                  const std::function<SampleResult*(uint64_t i)>& slot,
                  const std::function<void(uint64_t chunk)>& chunk_done,
                  const std::function<void(uint64_t done)>& progress = nullptr) const {
-    const size_t n = spec_.parameters.size();
-    // The list's samples, one after the other: start[j] is the first of list[j].
-    std::vector<uint64_t> start(list.size() + 1, 0);
-    for (size_t j = 0; j < list.size(); ++j) start[j + 1] = start[j] + chunks.end(list[j]) - chunks.begin(list[j]);
-    const uint64_t total = start.back();
+    Schedule(
+        chunks, list, threads,
+        [&](uint64_t i, Rows* rows, double* values) {
+          draw(i, values);
+          *slot(i) = Evaluate(values, rows);
+        },
+        chunk_done, progress, nullptr);
+  }
+
+  /**
+   * \brief The samples of the chunks `list` drawn and evaluated on `threads` threads, each
+   *        sample's values drawn by the thread that evaluates it into values(i) (its
+   *        parameters' count of doubles; values == nullptr: not kept) and its result packed
+   *        into result(i) (Width() doubles, Pack's layout): no allocation per sample, nothing
+   *        shared but the work counter. When a chunk's last sample is done `chunk_done(c)` is
+   *        called from the thread that did it (the chunk's values and results are then all in
+   *        place: its shard and its CSV rows can be made there); the calling thread calls
+   *        `ready()` whenever a chunk is done (e.g. to write the chunks done so far in order)
+   *        and `progress(done)` about once a second. The results depend on the samples alone,
+   *        never on the threads or the order the samples were taken in.
+   */
+  void RunPacked(const SampleSource& source,
+                 const Chunks& chunks,
+                 const std::vector<uint64_t>& list,
+                 int threads,
+                 const std::function<double*(uint64_t i)>& values,
+                 const std::function<double*(uint64_t i)>& result,
+                 const std::function<void(uint64_t chunk)>& chunk_done,
+                 const std::function<void(uint64_t done)>& progress = nullptr,
+                 const std::function<void()>& ready = nullptr) const {
+    Schedule(
+        chunks, list, threads,
+        [&](uint64_t i, Rows* rows, double* scratch) {
+          double* v = values ? values(i) : scratch;
+          source.Draw(i, v);
+          EvaluateInto(v, rows, result(i));
+        },
+        chunk_done, progress, ready);
+  }
+
+  /**
+   * \brief The scheduler of RunChunks and RunPacked: the samples of the chunks `list` cut into
+   *        work items of at most `batch` consecutive samples of one chunk (about 256 items per
+   *        thread: the last items, which some threads finish while others wait, are short),
+   *        taken in order from one counter alone on its cache line, one atomic operation per
+   *        item (not three per sample: the next sample, the chunk's and the progress count).
+   *        `sample(i, rows, scratch)` runs sample i with the thread's own Rows and a scratch of
+   *        the parameters' count of doubles.
+   */
+  template <class SampleFn>
+  void Schedule(const Chunks& chunks,
+                const std::vector<uint64_t>& list,
+                int threads,
+                SampleFn&& sample,
+                const std::function<void(uint64_t chunk)>& chunk_done,
+                const std::function<void(uint64_t done)>& progress,
+                const std::function<void()>& ready) const {
+    struct Item {
+      uint64_t begin, end;
+      size_t j;  // list[j]: its chunk
+    };
+    threads = std::max(threads, 1);
+    uint64_t total = 0;
+    for (uint64_t c : list) total += chunks.end(c) - chunks.begin(c);
+    const uint64_t batch = std::clamp<uint64_t>(total / (256 * static_cast<uint64_t>(threads)), 1, 1024);
+    std::vector<Item> items;
     std::vector<std::atomic<uint64_t>> left(list.size());
-    for (size_t j = 0; j < list.size(); ++j) left[j] = start[j + 1] - start[j];
-    std::atomic<uint64_t> next{0}, done{0};
+    for (size_t j = 0; j < list.size(); ++j) {
+      const uint64_t b = chunks.begin(list[j]), n = chunks.end(list[j]) - b;
+      const uint64_t parts = std::max<uint64_t>(1, (n + batch - 1) / batch);
+      left[j].store(parts, std::memory_order_relaxed);
+      for (uint64_t k = 0; k < parts; ++k) items.push_back({b + n * k / parts, b + n * (k + 1) / parts, j});
+    }
+    struct alignas(64) Counter {
+      std::atomic<uint64_t> value{0};
+    };
+    Counter next, done;
     std::mutex mutex;
-    std::condition_variable finished;
+    std::condition_variable wake;
+    const size_t n = spec_.parameters.size();
     auto work = [&]() {
       Rows rows;
-      std::vector<double> values(std::max<size_t>(n, 1));
-      size_t j = 0;
-      for (uint64_t k; (k = next.fetch_add(1)) < total;) {
-        while (start[j + 1] <= k) ++j;  // k only grows in each thread
-        const uint64_t i = chunks.begin(list[j]) + (k - start[j]);
-        draw(i, values.data());
-        *slot(i) = Evaluate(values.data(), &rows);
-        if (left[j].fetch_sub(1) == 1 && chunk_done) chunk_done(list[j]);
-        if (done.fetch_add(1) + 1 == total) {
-          std::lock_guard<std::mutex> lock(mutex);
-          finished.notify_all();
+      std::vector<double> scratch(std::max<size_t>(n, 1));
+      for (uint64_t k; (k = next.value.fetch_add(1, std::memory_order_relaxed)) < items.size();) {
+        const Item& item = items[k];
+        for (uint64_t i = item.begin; i < item.end; ++i) sample(i, &rows, scratch.data());
+        // acq_rel: the thread that ends a chunk sees every result of it.
+        const bool ended = left[item.j].fetch_sub(1, std::memory_order_acq_rel) == 1;
+        if (ended && chunk_done) chunk_done(list[item.j]);
+        // After chunk_done: once `done` is the total, every chunk_done has returned.
+        const bool last =
+            done.value.fetch_add(item.end - item.begin, std::memory_order_acq_rel) + (item.end - item.begin) == total;
+        if (ended || last) {
+          { std::lock_guard<std::mutex> lock(mutex); }
+          wake.notify_all();
         }
       }
     };
+    const bool watch = progress || ready;
     std::vector<std::thread> pool;
-    for (int t = 1; t < std::max(threads, 1); ++t) pool.emplace_back(work);
-    if (progress) {
-      // The calling thread reports while `threads` others work.
-      std::thread worker(work);
-      Wait(&mutex, &finished, &done, total, progress);
-      worker.join();
+    for (int t = watch ? 0 : 1; t < threads; ++t) pool.emplace_back(work);
+    if (watch) {
+      // The calling thread watches while `threads` others work.
+      auto last = std::chrono::steady_clock::now();
+      std::unique_lock<std::mutex> lock(mutex);
+      while (done.value.load(std::memory_order_acquire) < total) {
+        wake.wait_for(lock, std::chrono::seconds(1));
+        lock.unlock();
+        if (ready) ready();
+        const auto now = std::chrono::steady_clock::now();
+        if (progress && now - last >= std::chrono::seconds(1)) {
+          progress(done.value.load(std::memory_order_acquire));
+          last = now;
+        }
+        lock.lock();
+      }
     } else {
       work();
     }
     for (std::thread& t : pool) t.join();
+    if (ready) ready();
+    if (progress) progress(total);
   }
 
   /// Doubles per sample in a shard or a gather between ranks: the status code, the metrics,
@@ -1095,18 +1221,6 @@ class Study {
     std::vector<statics::ReactionJoint> joints;
     std::vector<int> magnitudes;  ///< simulate's peak_bearing: the F_<joint>_mag columns
   };
-
-  static void Wait(std::mutex* mutex,
-                   std::condition_variable* finished,
-                   std::atomic<uint64_t>* done,
-                   uint64_t count,
-                   const std::function<void(uint64_t)>& progress) {
-    std::unique_lock<std::mutex> lock(*mutex);
-    while (done->load() < count) {
-      finished->wait_for(lock, std::chrono::seconds(1));
-      progress(done->load());
-    }
-  }
 
   bool FindColumn(const std::string& name, int* table, int* column) const {
     if (spec_.analysis == Analysis::kSimulate && driven_input_ >= 0) {

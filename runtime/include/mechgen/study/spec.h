@@ -153,6 +153,12 @@ struct StudySpec {
   std::string envelope;
   Place envelope_place;
   Place analysis_place;
+  /// rows: all (the default): a CSV row per sample (with --csv); rows: none: the statistics
+  /// alone (the summary, --summary-csv, the tolerance and envelope tables): no row per sample
+  /// is formatted or written, and --csv is refused.
+  bool rows = true;
+  Place rows_place;
+  int histogram_bins = 40;  ///< histogram_bins: the bins of each metric's histogram (--summary-csv)
 };
 
 namespace spec_internal {
@@ -484,7 +490,8 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
     if (!root.IsMap()) Fail(root, "a study file is a map (method:, parameters:, metrics:, ...; docs/studies.md)");
     OnlyKeys(root,
              {"model", "method", "count", "seed", "analysis", "steps", "range", "omega", "rpm", "gas", "t_end", "q0",
-              "qd0", "drive", "at", "parameters", "metrics", "clearance", "tolerance", "envelope"},
+              "qd0", "drive", "at", "parameters", "metrics", "clearance", "tolerance", "envelope", "rows",
+              "histogram_bins"},
              "the study");
     const std::string method = root["method"] ? Text(root["method"], "method") : "";
     if (method == "grid")
@@ -760,6 +767,14 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
       spec->envelope = Text(e["point"], "envelope point");
       spec->envelope_place = PlaceOf(e);
     }
+    spec->rows_place = PlaceOf(root["rows"] ? root["rows"] : root);
+    if (const YAML::Node r = root["rows"]) {
+      if (!r.IsScalar() || (r.Scalar() != "all" && r.Scalar() != "none"))
+        Fail(r, "rows: expected all (a CSV row per sample, the default) or none (the statistics alone)");
+      spec->rows = r.Scalar() == "all";
+    }
+    if (root["histogram_bins"])
+      spec->histogram_bins = static_cast<int>(Integer(root["histogram_bins"], "histogram_bins", 1, 10000));
     if (const YAML::Node t = root["tolerance"]) {
       if (!t.IsScalar() || (t.Scalar() != "true" && t.Scalar() != "false"))
         Fail(t, "tolerance: expected true or false");

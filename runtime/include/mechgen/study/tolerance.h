@@ -33,9 +33,12 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "mechgen/study/random.h"
@@ -54,28 +57,59 @@ struct Moments {
   double sigma_low = NAN, sigma_high = NAN;  ///< sigma exp(-+1.96 sigma_se / sigma)
 };
 
-/// The moments of the finite values of x (two passes: the mean, then the powers about it).
-inline Moments MomentsOf(const std::vector<double>& x) {
+/// The samples of one block of MomentsOf's sums: a constant, so that the sums (and so the
+/// bytes of every figure) depend on the values alone, never on the threads or the chunks.
+constexpr uint64_t kMomentBlock = 4096;
+
+/// fn(b, t) for every block b in 0 .. blocks - 1 on `threads` threads (t: the thread's index,
+/// 0 the calling thread's), each block once.
+template <class Fn>
+void ForEachBlock(uint64_t blocks, int threads, Fn&& fn) {
+  const int workers =
+      static_cast<int>(std::min<uint64_t>(static_cast<uint64_t>(std::max(threads, 1)), std::max<uint64_t>(blocks, 1)));
+  std::atomic<uint64_t> next{0};
+  auto work = [&](int t) {
+    for (uint64_t b; (b = next.fetch_add(1)) < blocks;) fn(b, t);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < workers; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (std::thread& t : pool) t.join();
+}
+
+/// The moments of the finite values of x (two passes: the mean, then the powers about it;
+/// each pass sums blocks of kMomentBlock values in order, then the blocks' sums in block
+/// order), on `threads` threads: the same bits for any number.
+inline Moments MomentsOf(const std::vector<double>& x, int threads = 1) {
   Moments m;
-  double sum = 0;
-  for (double v : x)
-    if (std::isfinite(v)) sum += v, ++m.n;
+  const uint64_t size = x.size(), blocks = (size + kMomentBlock - 1) / kMomentBlock;
+  std::vector<double> sum(blocks, 0.0), squares(blocks, 0.0), fourth(blocks, 0.0);
+  std::vector<long long> count(blocks, 0);
+  ForEachBlock(blocks, threads, [&](uint64_t b, int) {
+    for (uint64_t i = b * kMomentBlock; i < std::min(size, (b + 1) * kMomentBlock); ++i)
+      if (std::isfinite(x[i])) sum[b] += x[i], ++count[b];
+  });
+  double total = 0;
+  for (uint64_t b = 0; b < blocks; ++b) total += sum[b], m.n += count[b];
   if (m.n < 2) return m;
   const double n = static_cast<double>(m.n);
-  m.mean = sum / n;
-  double squares = 0, fourth = 0;
-  for (double v : x)
-    if (std::isfinite(v)) {
-      const double d2 = (v - m.mean) * (v - m.mean);
-      squares += d2, fourth += d2 * d2;
-    }
-  m.sigma = std::sqrt(squares / (n - 1));
+  m.mean = total / n;
+  ForEachBlock(blocks, threads, [&](uint64_t b, int) {
+    for (uint64_t i = b * kMomentBlock; i < std::min(size, (b + 1) * kMomentBlock); ++i)
+      if (std::isfinite(x[i])) {
+        const double d2 = (x[i] - m.mean) * (x[i] - m.mean);
+        squares[b] += d2, fourth[b] += d2 * d2;
+      }
+  });
+  double sq = 0, fo = 0;
+  for (uint64_t b = 0; b < blocks; ++b) sq += squares[b], fo += fourth[b];
+  m.sigma = std::sqrt(sq / (n - 1));
   const double z = 1.959963984540054;
   m.mean_low = m.mean - z * m.sigma / std::sqrt(n);
   m.mean_high = m.mean + z * m.sigma / std::sqrt(n);
   if (m.sigma > 0) {
     const double s2 = m.sigma * m.sigma;
-    m.kurtosis = fourth / n / (s2 * s2);
+    m.kurtosis = fo / n / (s2 * s2);
     // kurtosis >= ((n - 1)/n)^2 > (n - 3)/(n - 1): the root is real.
     const double relative = std::sqrt(std::max(0.0, m.kurtosis - (n - 3) / (n - 1)) / (4 * n));
     m.sigma_se = m.sigma * relative;
