@@ -94,7 +94,7 @@ const std::vector<ToolSpec>& Specs() {
        {},
        false,
        true,
-       {"--svg", "--mode", "--design"}},
+       {"--design"}},
       {"statics", "statics_main.cc", {"-DMECHGEN_TOOL_NO_CERES"}, false, "forces",
        "the driving forces (with friction: to run the input in +q and in -q), reactions, potential and "
        "mechanical advantage along the range, dead zones and equilibria; --plots draws the driving torque "

@@ -7,10 +7,10 @@
 // statuses as sweep_main.cc says.
 //
 // --params/--set read the view's parameter table through the view (common/view_params.h), with
-// the per-model tool's messages. Through the view, not yet: --svg (io/svg.h is not instantiated
-// for the view), --mode (named assembly modes) and --design (the design derivatives): each is
-// refused with a usage error (exit 2) naming the per-model tool that has it, before anything is
-// computed or written.
+// the per-model tool's messages; --svg draws from the view's drawing description (io/svg.h),
+// --mode reads its named assembly modes. Through the view, not yet: --design (the design
+// derivatives), refused with a usage error (exit 2) naming the per-model tool that has it,
+// before anything is computed or written.
 #pragma once
 
 #include <algorithm>
@@ -101,16 +101,22 @@ std::string Describe(const M& model, int j, double value) {
 
 // The blocks' modes of the named assembly mode; false with the message when there is none.
 template <class M, class Modes>
-bool NamedModes(const std::string& name, Modes* modes, std::string* error) {
-  if constexpr (HasNamedModes<M>::value) {
-    if (M::ModesByName(name.c_str(), modes)) return true;
-    std::string names;
-    for (int i = 0; i < M::kNumNamedModes; ++i) names += std::string(i ? ", " : "") + M::kModeNames[i];
-    *error = "--mode: the model " + std::string(M::kName) + " has no assembly mode '" + name +
+bool NamedModes(const M& model, const std::string& name, Modes* modes, std::string* error) {
+  using C = ModelCalls<M>;
+  const int n = C::NumNamedModes(model);
+  std::string names;
+  for (int i = 0; i < n; ++i) {
+    if (name == C::ModeName(model, i)) {
+      C::NamedModes(model, i, modes);
+      return true;
+    }
+    names += std::string(i ? ", " : "") + C::ModeName(model, i);
+  }
+  if (n > 0) {
+    *error = "--mode: the model " + std::string(C::Name(model)) + " has no assembly mode '" + name +
              "' (its modes: " + names + ")";
   } else {
-    (void)modes;
-    *error = "--mode: the model " + std::string(M::kName) +
+    *error = "--mode: the model " + std::string(C::Name(model)) +
              " names no assembly modes (add assembly_modes: to the model; models/README.md)";
   }
   return false;
@@ -147,9 +153,6 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
   if constexpr (C::kView) {
     // What the runtime instantiated for the view does not do yet (the file comment).
     const std::string tool = std::string(name) + "_sweep";
-    if (!svg_path.empty()) return Usage("--svg: not drawn through the model view yet; " + tool + " draws it");
-    if (!arguments.mode.empty())
-      return Usage("--mode: named assembly modes are not reached through the model view yet; " + tool + " has them");
     if (arguments.design)
       return Usage("--design: the design derivatives are not reached through the model view yet; " + tool + " has them");
   }
@@ -157,9 +160,7 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
   const int steps = static_cast<int>(arguments.steps);
   const int table_rows = static_cast<int>(arguments.table);
   typename position::PositionSolver<M, Assembler>::Modes named_modes = C::DefaultModes(model);
-  if constexpr (!C::kView) {
-    if (!arguments.mode.empty() && !NamedModes<M>(arguments.mode, &named_modes, &error)) return Usage(error);
-  }
+  if (!arguments.mode.empty() && !NamedModes(model, arguments.mode, &named_modes, &error)) return Usage(error);
 
   // Path of the sweep and the input motion.
   typename Types::VecQ q_begin = Eigen::Map<const typename Types::VecQ>(C::QMin(model), nq);
@@ -238,28 +239,26 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
   if (arguments.mode.empty()) {
     assembled = solver.AssembleDefault(&assembly);
   } else {
-    if constexpr (!C::kView) {
-      // The named mode's closed-form roots at the assembly inputs, then the runtime's assembly
-      // there on the branch (sign det Phi_phi) those roots give.
-      typename Types::VecQ q = Eigen::Map<const typename Types::VecQ>(M::kAssemblyQ.data());
-      typename Types::VecPhi phi = Eigen::Map<const typename Types::VecPhi>(M::kAssemblyPhi.data());
-      const auto report = M::Solve(params, q, &phi, named_modes);
+    // The named mode's closed-form roots at the assembly inputs, then the runtime's assembly
+    // there on the branch (sign det Phi_phi) those roots give.
+    typename Types::VecQ q = Eigen::Map<const typename Types::VecQ>(C::AssemblyQ(model), nq);
+    typename Types::VecPhi phi = Eigen::Map<const typename Types::VecPhi>(C::AssemblyPhi(model), C::Nphi(model));
+    double det = 0;
+    if (C::HasSolve(model)) {
+      const auto report = C::Solve(model, params, q, &phi, named_modes, 20, 0.0);
       // Angles as principal values (-pi, pi]: the closed forms keep them near the guess, which
       // is the default mode's.
-      for (int i = 0; i < M::kNphi; ++i)
-        if (M::kPhiIsAngle[i] && std::isfinite(phi(i)))
+      for (int i = 0; i < C::Nphi(model); ++i)
+        if (C::PhiIsAngle(model, i) && std::isfinite(phi(i)))
           phi(i) = std::remainder(phi(i), 2 * 3.14159265358979323846);
-      double det = 0;
-      if (report.status == decltype(report.status)::kConverged) M::DetPhiPhi(params, q, phi, &det);
-      if (!(det != 0) || !std::isfinite(det)) {
-        std::cerr << "error: cannot assemble " << name << " in mode '" << arguments.mode
-                  << "' at its assembly inputs (det Phi_phi = " << det << ")\n";
-        return kExitError;
-      }
-      assembled = solver.Assemble(q, phi, det > 0 ? 1 : -1, &assembly);
-    } else {
-      assembled = mechgen::position::Status::kInvalidInput;  // (refused above)
+      if (report.status == decltype(report.status)::kConverged) C::DetPhiPhi(model, params, q, phi, &det);
     }
+    if (!(det != 0) || !std::isfinite(det)) {
+      std::cerr << "error: cannot assemble " << name << " in mode '" << arguments.mode
+                << "' at its assembly inputs (det Phi_phi = " << det << ")\n";
+      return kExitError;
+    }
+    assembled = solver.Assemble(q, phi, det > 0 ? 1 : -1, &assembly);
   }
   if (assembled != mechgen::position::Status::kConverged) {
     std::cerr << "error: cannot assemble " << name << " at its assembly configuration"
@@ -394,15 +393,11 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
                 mechgen::position::FormatSummary(r.summary).c_str());
   }
 
-  if constexpr (!C::kView) {
-    if (!svg_path.empty()) {
-      mechgen::SvgOptions options;
-      options.animate = !no_animation;
-      options.title = std::string("mechgen: ") + name;
-      mechgen::WriteSvg(solver.params(), svg_records, options, svg.stream());
-    }
-  } else {
-    (void)no_animation;
+  if (!svg_path.empty()) {
+    mechgen::SvgOptions options;
+    options.animate = !no_animation;
+    options.title = std::string("mechgen: ") + name;
+    mechgen::WriteSvg(model, solver.params(), svg_records, options, svg.stream());
   }
   // Each output whole or absent (OutputFile: a temporary file renamed on success); both
   // closed, every write checked, before either is renamed into place.

@@ -20,11 +20,12 @@
 #   named assembly mode (against fourbar_crossed_sweep), an unknown name is a usage error.
 #   The checks above are of the per-model program (MECHGEN_VIEW=0, and what --svg and --mode
 #   ask for); then the route through the runtime compiled once (issue 43, mechgen_view): the
-#   model alone compiled into a shared object (said on stderr), the CSV and printed table
+#   model alone compiled into a shared object (said on stderr), the CSV, SVG and printed table
 #   byte-identical to fourbar_sweep's, a second run and a second option set cached (stderr
 #   empty), a damaged object (truncated, one byte changed) said damaged and rebuilt, never
 #   loaded, --no-cache and --rebuild, an edited model a new entry whose sweep follows the edit,
-#   and MECHGEN_VIEW=0 the per-model program again.
+#   MECHGEN_VIEW=0 the per-model program again, and --mode a named assembly mode through the
+#   view as fourbar_crossed_sweep sweeps it.
 #   In the errors mode, a compile of the model's object that fails: exit 1, the compiler's
 #   message, no entry.
 set -uo pipefail
@@ -361,14 +362,15 @@ view_entries() { find "$MECHGEN_CACHE_DIR/view" -mindepth 1 -maxdepth 1 -type d 
 view_options=(--steps 360 --qd 2 --range theta_crank:10deg:370deg --table 9)
 before=$failures
 mkdir -p v
-(cd v && "$mechgen" sweep ../fourbar.yaml "${view_options[@]}" --csv out.csv > ../va.out 2> ../va.err)
+(cd v && "$mechgen" sweep ../fourbar.yaml "${view_options[@]}" --csv out.csv --svg out.svg > ../va.out 2> ../va.err)
 status=$?
 [ "$status" -eq 0 ] || fail "view: first run: exit status $status: $(cat va.err)"
 grep -q "^mechgen: compiling the model 'fourbar' (.*the runtime is compiled once" va.err || fail "view: first run: $(cat va.err)"
 [ -z "$(find "$MECHGEN_CACHE_DIR" -path '*/sweep/*' 2> /dev/null | head -1)" ] || fail "view: the per-model program was built"
-(cd v && "$tool" "${view_options[@]}" --csv fixed.csv > ../vb.out 2> ../vb.err) || fail "fourbar_sweep: $(cat vb.err)"
+(cd v && "$tool" "${view_options[@]}" --csv fixed.csv --svg fixed.svg > ../vb.out 2> ../vb.err) || fail "fourbar_sweep: $(cat vb.err)"
 cmp v/out.csv v/fixed.csv || fail "view: the CSV differs from fourbar_sweep's"
-diff <(grep -v '^time per row:' va.out | sed 's/fixed\.csv/out.csv/') <(grep -v '^time per row:' vb.out | sed 's/fixed\.csv/out.csv/') > vstdout.diff ||
+cmp v/out.svg v/fixed.svg || fail "view: the SVG differs from fourbar_sweep's"
+diff <(grep -v '^time per row:' va.out) <(grep -v '^time per row:' vb.out | sed 's/fixed\.\(csv\|svg\)/out.\1/') > vstdout.diff ||
   fail "view: stdout differs from fourbar_sweep's: $(head -20 vstdout.diff)"
 object=$(find "$MECHGEN_CACHE_DIR/view" -mindepth 2 -maxdepth 2 -name model.so -type f)
 [ "$(printf '%s\n' "$object" | grep -c .)" -eq 1 ] || fail "view: expected one object: $object"
@@ -422,5 +424,14 @@ cmp <(grep -v '^#' ve.csv) <(grep -v '^#' ve_fixed.csv) || fail "edited: the row
 MECHGEN_VIEW=0 MECHGEN_CACHE_DIR=$root/cache "$mechgen" sweep fourbar.yaml "${view_options[@]}" --csv v/per_model.csv > vp.out 2> vp.err ||
   fail "MECHGEN_VIEW=0: $(cat vp.err)"
 cmp v/per_model.csv v/fixed.csv || fail "MECHGEN_VIEW=0: the CSV differs"
-[ "$failures" -ne "$before" ] || ok "view: --no-cache, --rebuild, an edited model, MECHGEN_VIEW=0"
+# Named assembly modes through the view: --mode crossed sweeps what fourbar_crossed_sweep does.
+"$mechgen" sweep named.yaml --mode crossed --steps 72 --csv m/view_named.csv --table 0 > vm.out 2> vm.err ||
+  fail "view --mode crossed: $(cat vm.err)"
+grep -q "^mechgen: compiling the model 'fourbar_named_modes'" vm.err || fail "view --mode crossed: not through the view: $(cat vm.err)"
+cmp <(tail -n +2 m/view_named.csv) <(tail -n +2 m/crossed.csv) || fail "view --mode crossed: the CSV differs from fourbar_crossed_sweep's"
+"$mechgen" sweep named.yaml --mode inverted --steps 4 > vmu.out 2> vmu.err
+status=$?
+{ [ "$status" -eq 2 ] && grep -q "no assembly mode 'inverted' (its modes: open, crossed)" vmu.err; } ||
+  fail "view --mode inverted: exit status $status, $(cat vmu.err)"
+[ "$failures" -ne "$before" ] || ok "view: --no-cache, --rebuild, an edited model, MECHGEN_VIEW=0, --mode"
 exit $((failures > 0))

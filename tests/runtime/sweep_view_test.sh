@@ -2,7 +2,8 @@
 # mechgen_view sweep (issue 43): a model compiled into a shared object with its view's entry
 # point (<name>.cc + <name>_view.cc, -DMECHGEN_VIEW_ENTRY, g++ -O2 -shared -fPIC), loaded and
 # swept through the runtime compiled once (mechgen_runtime_view):
-#  - its CSV equals, byte for byte, the per-model tool's (<name>_sweep) for the same options;
+#  - its CSV and SVG equal, byte for byte, the per-model tool's (<name>_sweep) for the same
+#    options, and so do its printed summary and the parameters' error messages;
 #  - an object without the entry point, a missing object and an option the view does not take
 #    yet are refused (exit 1, 1, 2) with one line on stderr and nothing written.
 # usage: sweep_view_test.sh <c++ compiler> <mechgen_view> <fourbar_sweep> <model dir>
@@ -28,6 +29,13 @@ for options in "" "--steps 100 --range theta_crank:-30deg:400deg --qd 2 --qdd -1
   # shellcheck disable=SC2086
   "$view_tool" sweep ./fourbar.so $options --table 0 --csv view.csv > view.out 2> view.err || fail "mechgen_view sweep $options: $(cat view.err)"
   cmp -s fixed.csv view.csv || fail "the CSVs differ ($options)"
+  # the drawing: io/svg.h reads the view's drawing description
+  # shellcheck disable=SC2086
+  "$fixed_tool" $options --table 0 --svg fixed.svg --no-animation > /dev/null || fail "fourbar_sweep --svg $options"
+  # shellcheck disable=SC2086
+  "$view_tool" sweep ./fourbar.so $options --table 0 --svg view.svg --no-animation > /dev/null 2> view.err || fail "mechgen_view sweep --svg $options: $(cat view.err)"
+  cmp -s fixed.svg view.svg || fail "the SVGs differ ($options)"
+  rm -f fixed.svg view.svg
   # the printed summary too (the parameters set among it), but for the timings
   summary() { sed -e '/time per row/d' -e '/ s)/d' -e '/steps\/s/d' -e 's/\(fixed\|view\)\.csv/OUT.csv/' "$1"; }
   diff <(summary fixed.out) <(summary view.out) > /dev/null ||
@@ -49,7 +57,7 @@ refused() {
 }
 refused no_entry 1 "has no mechgen_model_view\(\)" "$root/no_entry.so" --csv out.csv
 refused missing 1 "^error: cannot load" "$root/missing.so" --csv out.csv
-refused svg 2 "^fourbar_sweep_view: error: --svg: not drawn through the model view" "$root/fourbar.so" --svg out.svg
+refused design 2 "^fourbar_sweep_view: error: --design: the design derivatives are not reached through the model view" "$root/fourbar.so" --design
 refused bad_option 2 "^fourbar_sweep_view: error: " "$root/fourbar.so" --no-such-option
 # the parameters' errors: the per-model tool's words (exit 2, one line)
 for bad in "--set nosuch=1" "--set b" "--set b=abc" "--params missing.txt"; do

@@ -108,6 +108,24 @@ struct ModelCalls {
       return Modes{};
     }
   }
+  /// The named assembly modes (the model's assembly_modes:): how many, their names, and mode
+  /// i's blocks' modes into *modes.
+  static constexpr int NumNamedModes(const M&) {
+    if constexpr (HasNamedModes<M>::value) return M::kNumNamedModes;
+    return 0;
+  }
+  static const char* ModeName(const M&, int i) {
+    if constexpr (HasNamedModes<M>::value) return M::kModeNames[static_cast<size_t>(i)];
+    (void)i;
+    return "";
+  }
+  static void NamedModes(const M&, int i, Modes* modes) {
+    if constexpr (HasNamedModes<M>::value) {
+      *modes = M::kNamedModes[static_cast<size_t>(i)];
+    } else {
+      (void)i, (void)modes;
+    }
+  }
   static typename T::Params DefaultParams(const M&) { return typename T::Params(); }
   static constexpr const char* Name(const M&) { return M::kName; }
   static const char* QName(const M&, int j) { return M::kQNames[static_cast<size_t>(j)]; }
@@ -137,6 +155,11 @@ struct ModelCalls {
                                         typename T::VecC* Phi, typename T::MatCPhi* Phi_phi,
                                         typename T::MatCQ* Phi_q) {
     M::template Phi<double>(p, q, phi, Phi, Phi_phi, Phi_q);
+  }
+  /// det Phi_phi (its sign is the assembly's branch).
+  static void DetPhiPhi(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                        const typename T::VecPhi& phi, double* det) {
+    M::DetPhiPhi(p, q, phi, det);
   }
   /// Model::Coeffs, with the sin and cos of Model::Solve where M has them (trig may be
   /// nullptr: Coeffs then calls its own).

@@ -205,6 +205,12 @@ struct ModelCalls<ViewModel> {
     if (HasSolve(m)) std::copy(m.view->default_modes, m.view->default_modes + m.view->num_blocks, modes.begin());
     return modes;
   }
+  static int NumNamedModes(const M& m) { return m.view->flags.kHasNamedModes ? m.view->num_named_modes : 0; }
+  static const char* ModeName(const M& m, int i) { return m.view->mode_names[i]; }
+  static void NamedModes(const M& m, int i, Modes* modes) {
+    const int n = m.view->num_blocks;
+    std::copy(m.view->named_modes + i * n, m.view->named_modes + (i + 1) * n, modes->begin());
+  }
   /// Every parameter's default, the derived ones included.
   static ViewParams DefaultParams(const M& m) {
     ViewParams p;
@@ -241,6 +247,9 @@ struct ModelCalls<ViewModel> {
     if (Phi_q != nullptr) Phi_q->resize(v.nc, v.nq);
     v.Phi(p.data(), q.data(), phi.data(), Phi != nullptr ? Phi->data() : nullptr,
           Phi_phi != nullptr ? Phi_phi->data() : nullptr, Phi_q != nullptr ? Phi_q->data() : nullptr);
+  }
+  static void DetPhiPhi(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, double* det) {
+    m.view->DetPhiPhi(p.data(), q.data(), phi.data(), det);
   }
   /// Phi at expressions (q + dq, ...): evaluated into the bounded types first.
   template <class Q, class P>

@@ -33,6 +33,8 @@
 #include <Eigen/Core>
 
 #include "mechgen/core/constants.h"
+#include "mechgen/core/model_calls.h"
+#include "mechgen/core/model_view.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/io/format.h"
 
@@ -58,6 +60,125 @@ enum DrawJoint { kDrawRevolute = 0, kDrawPrismatic, kDrawRoll, kDrawGear, kDrawR
 /// Whether a joint kind slides along a line of its first link (its value: the line's angle in
 /// the fixed frame; its points: a point of the line, the sliding point).
 constexpr bool SlidesOnLine(int kind) { return kind == kDrawPrismatic || kind == kDrawSlot; }
+
+/// What WriteSvg draws from, read once from the model: its sizes, names and drawing
+/// description (the generated Model's constants, or its view's arrays) and its scene, drawing
+/// and cam functions at the sweep's parameters. One source for a generated model and the
+/// model view (core/view_model.h); the numbers drawn are the same either way.
+template <class M>
+struct SvgModel {
+  using Types = ModelTypes<M>;
+  bool has_scene = false, has_points = false, has_drawing = false, has_cam = false;
+  int num_links = 0, ground = 0, num_points = 0, num_scene_points = 0, num_draw_joints = 0, num_draw_values = 0;
+  std::vector<const char*> link_names, point_names, scene_point_names;
+  std::vector<int> scene_point_link, kind, link_a, link_b, point_a, point_b, value;
+  /// The scene points at (q, phi): 2 x num_scene_points.
+  std::function<void(const typename Types::VecQ&, const typename Types::VecPhi&, Eigen::Matrix2Xd*)> scene;
+  /// The links' frames (x, y, theta: 3 x num_links, set to zero first) and the joints' values.
+  std::function<void(const typename Types::VecQ&, const typename Types::VecPhi&, Eigen::Matrix3Xd*,
+                     std::vector<double>*)>
+      drawing;
+  /// Cam joint j's profile at t in [0, 1), in its cam's frame.
+  std::function<std::array<double, 2>(int, double)> cam;
+};
+
+template <class M>
+SvgModel<M> DescribeForSvg(const M& model, const typename ModelTypes<M>::Params& params) {
+  using F = ModelFeatures<M>;
+  using Types = ModelTypes<M>;
+  SvgModel<M> d;
+  auto list = [](auto* to, const auto* from, int n) {
+    if (from != nullptr) to->assign(from, from + n);
+  };
+  if constexpr (ModelCalls<M>::kView) {
+    const ModelView& v = *model.view;
+    d.has_scene = v.num_scene_points > 0 && v.Scene != nullptr;
+    d.has_points = v.num_points > 0 && v.flags.kHasPoints;
+    d.has_drawing = d.has_scene && v.flags.kHasDrawing && v.Drawing != nullptr;
+    d.has_cam = d.has_drawing && v.flags.kHasCamProfile && v.CamProfile != nullptr;
+    d.num_links = v.num_links;
+    d.ground = v.ground_link;
+    d.num_points = d.has_points ? v.num_points : 0;
+    d.num_scene_points = d.has_scene ? v.num_scene_points : 0;
+    d.num_draw_joints = d.has_drawing ? v.num_draw_joints : 0;
+    d.num_draw_values = d.has_drawing ? v.num_draw_values : 0;
+    list(&d.link_names, v.link_names, v.num_links);
+    list(&d.point_names, v.point_names, d.num_points);
+    list(&d.scene_point_names, v.scene_point_names, d.num_scene_points);
+    list(&d.scene_point_link, v.scene_point_links, d.num_scene_points);
+    list(&d.kind, v.draw_joint_kind, d.num_draw_joints);
+    list(&d.link_a, v.draw_joint_link_a, d.num_draw_joints);
+    list(&d.link_b, v.draw_joint_link_b, d.num_draw_joints);
+    list(&d.point_a, v.draw_joint_point_a, d.num_draw_joints);
+    list(&d.point_b, v.draw_joint_point_b, d.num_draw_joints);
+    list(&d.value, v.draw_joint_value, d.num_draw_joints);
+    const ModelView* view = &v;
+    d.scene = [view, params](const typename Types::VecQ& q, const typename Types::VecPhi& phi, Eigen::Matrix2Xd* r) {
+      r->resize(2, view->num_scene_points);
+      view->Scene(params.data(), q.data(), phi.data(), r->data());
+    };
+    d.drawing = [view, params](const typename Types::VecQ& q, const typename Types::VecPhi& phi,
+                               Eigen::Matrix3Xd* frames, std::vector<double>* values) {
+      frames->setZero(3, view->num_links);
+      values->assign(static_cast<size_t>(view->num_draw_values), 0.0);
+      view->Drawing(params.data(), q.data(), phi.data(), frames->data(), values->data());
+    };
+    d.cam = [view, params](int j, double t) {
+      std::array<double, 2> r{};
+      view->CamProfile(params.data(), j, t, r.data());
+      return r;
+    };
+  } else {
+    (void)model;
+    d.has_scene = F::kHasScene;
+    d.has_points = F::kHasPoints && M::kNumPoints > 0;
+    d.has_drawing = HasDrawing<M>::value && F::kHasScene;
+    d.has_cam = d.has_drawing && HasCamProfile<M>::value;
+    d.num_links = M::kNumLinks;
+    d.ground = M::kGroundLink;
+    list(&d.link_names, M::kLinkNames.data(), M::kNumLinks);
+    if constexpr (F::kHasPoints) {
+      d.num_points = M::kNumPoints;
+      list(&d.point_names, M::kPointNames.data(), M::kNumPoints);
+    }
+    if constexpr (F::kHasScene) {
+      d.num_scene_points = M::kNumScenePoints;
+      list(&d.scene_point_names, M::kScenePointNames.data(), M::kNumScenePoints);
+      list(&d.scene_point_link, M::kScenePointLink.data(), M::kNumScenePoints);
+      d.scene = [params](const typename Types::VecQ& q, const typename Types::VecPhi& phi, Eigen::Matrix2Xd* r) {
+        typename Types::MatScene scene;
+        M::template Scene<double>(params, q, phi, &scene);
+        *r = scene;
+      };
+      if constexpr (HasDrawing<M>::value) {
+        d.num_draw_joints = M::kNumDrawJoints;
+        d.num_draw_values = M::kNumDrawValues;
+        list(&d.kind, M::kDrawJointKind.data(), M::kNumDrawJoints);
+        list(&d.link_a, M::kDrawJointLinkA.data(), M::kNumDrawJoints);
+        list(&d.link_b, M::kDrawJointLinkB.data(), M::kNumDrawJoints);
+        list(&d.point_a, M::kDrawJointPointA.data(), M::kNumDrawJoints);
+        list(&d.point_b, M::kDrawJointPointB.data(), M::kNumDrawJoints);
+        list(&d.value, M::kDrawJointValue.data(), M::kNumDrawJoints);
+        d.drawing = [params](const typename Types::VecQ& q, const typename Types::VecPhi& phi,
+                             Eigen::Matrix3Xd* frames, std::vector<double>* values) {
+          Eigen::Matrix<double, 3, M::kNumLinks> f = Eigen::Matrix<double, 3, M::kNumLinks>::Zero();
+          Eigen::Matrix<double, M::kNumDrawValues, 1> v;
+          M::template Drawing<double>(params, q, phi, &f, &v);
+          *frames = f;
+          values->assign(v.data(), v.data() + M::kNumDrawValues);
+        };
+        if constexpr (HasCamProfile<M>::value) {
+          d.cam = [params](int j, double t) {
+            Eigen::Matrix<double, 2, 1> r;
+            M::template CamProfile<double>(params, j, t, &r);
+            return std::array<double, 2>{r(0), r(1)};
+          };
+        }
+      }
+    }
+  }
+  return d;
+}
 
 /// A length of 1, 2 or 5 times a power of ten, at most `limit` (> 0).
 inline double RoundLength(double limit) {
@@ -120,6 +241,7 @@ struct SvgOptions {
  * \brief Writes an SVG: the mechanism (bars, plates, pins, ground pivots, sliders on their
  *        guides, gears, cams) at a few configurations, the paths of the requested points with
  *        a legend, a scale bar, and an animation.
+ * \param[in] model    The model (a generated Model, or a ViewModel: DescribeForSvg reads either).
  * \param[in] params   Parameters the sweep ran with (for Model::Scene and Model::Drawing).
  * \param[in] records  The sweep (SweepRecord<M> of sweep/sweep.h, or any record template
  *                     with a position::State<M> `state`); only converged rows are drawn.
@@ -129,16 +251,13 @@ struct SvgOptions {
  * every moving link's group its data-link name.
  */
 template <class M, template <class> class Record>
-void WriteSvg(const typename ModelTypes<M>::Params& params,
-              const std::vector<Record<M>>& records,
-              const SvgOptions& options,
-              std::ostream& out) {
-  using F = ModelFeatures<M>;
-  using Scene = typename ModelTypes<M>::MatScene;
+void WriteSvg(const M& model, const typename ModelTypes<M>::Params& params, const std::vector<Record<M>>& records,
+              const SvgOptions& options, std::ostream& out) {
   using P2 = std::array<double, 2>;
-  constexpr bool kDraw = internal::HasDrawing<M>::value && F::kHasScene;
-  constexpr int kLinks = M::kNumLinks;
-  const int ground = M::kGroundLink;
+  const internal::SvgModel<M> d = internal::DescribeForSvg(model, params);
+  const bool kDraw = d.has_drawing;
+  const int kLinks = d.num_links;
+  const int ground = d.ground;
 
   std::vector<const Record<M>*> valid;
   for (const Record<M>& r : records)
@@ -148,27 +267,21 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
   // ---- Every configuration: the scene points, the links' frames (x, y, theta) and the
   // joints' values. Without the drawing description the frames are the identity and each
   // link is drawn in the fixed frame (bars and plates only, not animated by transforms).
-  std::vector<Scene> scenes(nv);
-  std::vector<Eigen::Matrix<double, 3, kLinks>> frames(nv, Eigen::Matrix<double, 3, kLinks>::Zero());
+  std::vector<Eigen::Matrix2Xd> scenes(nv);
+  std::vector<Eigen::Matrix3Xd> frames(nv, Eigen::Matrix3Xd::Zero(3, kLinks));
   std::vector<std::vector<double>> values(nv);
   for (size_t f = 0; f < nv; ++f) {
-    if constexpr (F::kHasScene)
-      M::template Scene<double>(params, valid[f]->state.q, valid[f]->state.phi, &scenes[f]);
-    if constexpr (kDraw) {
-      Eigen::Matrix<double, M::kNumDrawValues, 1> v;
-      M::template Drawing<double>(params, valid[f]->state.q, valid[f]->state.phi, &frames[f], &v);
-      values[f].assign(v.data(), v.data() + M::kNumDrawValues);
-    }
+    if (d.has_scene) d.scene(valid[f]->state.q, valid[f]->state.phi, &scenes[f]);
+    if (kDraw) d.drawing(valid[f]->state.q, valid[f]->state.phi, &frames[f], &values[f]);
   }
   // Continuous link angles (an animation interpolates them).
   for (size_t f = 1; f < nv; ++f)
     for (int l = 0; l < kLinks; ++l) {
-      const double d = frames[f](2, l) - frames[f - 1](2, l);
-      frames[f](2, l) -= 2 * kPi * std::floor(d / (2 * kPi) + 0.5);
+      const double turn = frames[f](2, l) - frames[f - 1](2, l);
+      frames[f](2, l) -= 2 * kPi * std::floor(turn / (2 * kPi) + 0.5);
     }
   auto scene_point = [&](size_t f, int s) -> P2 {
-    if constexpr (F::kHasScene) return {scenes[f](0, s), scenes[f](1, s)};
-    (void)f, (void)s;
+    if (d.has_scene) return {scenes[f](0, s), scenes[f](1, s)};
     return {0, 0};
   };
   // Point `p` (fixed frame) in link l's frame at configuration f.
@@ -182,15 +295,14 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
     return {frames[f](0, l) + c * p[0] - s * p[1], frames[f](1, l) + s * p[0] + c * p[1]};
   };
   auto link_of_point = [&](int s) {
-    if constexpr (F::kHasScene) {
+    if (d.has_scene) {
       // A rolling contact point ("<joint>.contact") is on no link's body.
-      const char* name = M::kScenePointNames[s];
-      const char* link = M::kLinkNames[M::kScenePointLink[s]];
+      const char* name = d.scene_point_names[s];
+      const char* link = d.link_names[d.scene_point_link[s]];
       const size_t n = std::strlen(link);
       if (std::strncmp(name, link, n) != 0 || name[n] != '.') return -1;
-      return M::kScenePointLink[s];
+      return d.scene_point_link[s];
     }
-    (void)s;
     return -1;
   };
 
@@ -205,10 +317,8 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
     y_max = std::max(y_max, y);
   };
   for (size_t f = 0; f < nv; ++f) {
-    if constexpr (F::kHasScene)
-      for (int s = 0; s < M::kNumScenePoints; ++s) extend(scenes[f](0, s), scenes[f](1, s));
-    if constexpr (F::kHasPoints)
-      for (int p = 0; p < M::kNumPoints; ++p) extend(valid[f]->state.r_P(0, p), valid[f]->state.r_P(1, p));
+    for (int s = 0; s < d.num_scene_points; ++s) extend(scenes[f](0, s), scenes[f](1, s));
+    for (int p = 0; p < d.num_points; ++p) extend(valid[f]->state.r_P(0, p), valid[f]->state.r_P(1, p));
   }
   if (!(x_max >= x_min)) x_min = -1, x_max = 1, y_min = -1, y_max = 1;
   double span = std::max({x_max - x_min, y_max - y_min, 1e-9});
@@ -221,22 +331,15 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
   // Travel along each prismatic or slot joint's line: s = (slider or pin - guide or slot
   // point) . direction.
   std::vector<double> s_lo, s_hi;
-  if constexpr (kDraw) {
-    profiles.resize(M::kNumDrawJoints);
-    s_lo.assign(M::kNumDrawJoints, std::numeric_limits<double>::infinity());
-    s_hi.assign(M::kNumDrawJoints, -std::numeric_limits<double>::infinity());
-    for (int j = 0; j < M::kNumDrawJoints; ++j) {
-      const int kind = M::kDrawJointKind[j], a = M::kDrawJointPointA[j], b = M::kDrawJointPointB[j];
-      const int v = M::kDrawJointValue[j];
-      if constexpr (internal::HasCamProfile<M>::value) {
-        if (kind == internal::kDrawCam) {
-          for (int i = 0; i < kProfile; ++i) {
-            Eigen::Matrix<double, 2, 1> r;
-            M::template CamProfile<double>(params, j, static_cast<double>(i) / kProfile, &r);
-            profiles[j].push_back({r(0), r(1)});
-          }
-        }
-      }
+  if (kDraw) {
+    profiles.resize(static_cast<size_t>(d.num_draw_joints));
+    s_lo.assign(static_cast<size_t>(d.num_draw_joints), std::numeric_limits<double>::infinity());
+    s_hi.assign(static_cast<size_t>(d.num_draw_joints), -std::numeric_limits<double>::infinity());
+    for (int j = 0; j < d.num_draw_joints; ++j) {
+      const int kind = d.kind[j], a = d.point_a[j], b = d.point_b[j];
+      const int v = d.value[j];
+      if (d.has_cam && kind == internal::kDrawCam)
+        for (int i = 0; i < kProfile; ++i) profiles[j].push_back(d.cam(j, static_cast<double>(i) / kProfile));
       for (size_t f = 0; f < nv; ++f) {
         if (internal::SlidesOnLine(kind) && a >= 0 && b >= 0) {
           const P2 g = scene_point(f, a), p = scene_point(f, b);
@@ -257,7 +360,7 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
         if (kind == internal::kDrawCam) {
           circle(b, values[f][v]);
           for (const P2& p : profiles[j]) {
-            const P2 q = to_fixed(f, M::kDrawJointLinkA[j], p);
+            const P2 q = to_fixed(f, d.link_a[j], p);
             extend(q[0], q[1]);
           }
         }
@@ -322,8 +425,8 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
     std::string s;
     const char* color = kLinkColors[link % 8];
     std::vector<P2> pts;
-    if constexpr (F::kHasScene) {
-      for (int k = 0; k < M::kNumScenePoints; ++k) {
+    {
+      for (int k = 0; k < d.num_scene_points; ++k) {
         if (link_of_point(k) != link) continue;
         const P2 p = to_local(f, link, scene_point(f, k));
         bool seen = false;
@@ -359,7 +462,7 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
       s += "<line x1=\"" + L(pts[ia][0]) + "\" y1=\"" + L(-pts[ia][1]) + "\" x2=\"" + L(pts[ib][0]) +
            "\" y2=\"" + L(-pts[ib][1]) + "\" stroke=\"" + color + stroke + " stroke-linecap=\"round\"/>\n";
     }
-    if constexpr (kDraw) {
+    if (kDraw) {
       const char* opacity = faded ? "0.35" : "1";
       std::vector<std::array<double, 3>> drawn;  // circles drawn: centre and radius
       auto wheel = [&](const P2& c, double r, bool spokes) {
@@ -382,9 +485,9 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
                "\" y2=\"" + L(-(c[1] + r * std::sin(t))) + "\" stroke=\"" + color + "\" stroke-width=\"1.5\"/>\n";
         }
       };
-      for (int j = 0; j < M::kNumDrawJoints; ++j) {
-        const int kind = M::kDrawJointKind[j], a = M::kDrawJointPointA[j], b = M::kDrawJointPointB[j];
-        const int la = M::kDrawJointLinkA[j], lb = M::kDrawJointLinkB[j], v = M::kDrawJointValue[j];
+      for (int j = 0; j < d.num_draw_joints; ++j) {
+        const int kind = d.kind[j], a = d.point_a[j], b = d.point_b[j];
+        const int la = d.link_a[j], lb = d.link_b[j], v = d.value[j];
         const std::vector<double>& val = values[f];
         if (kind == internal::kDrawGear || kind == internal::kDrawRack) {
           if (la == link && a >= 0) wheel(to_local(f, link, scene_point(f, a)), val[v], true);
@@ -453,11 +556,11 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
   };
   auto riders = [&](size_t f, int link) {
     std::string s;
-    if constexpr (kDraw) {
+    if (kDraw) {
       const char* color = kLinkColors[link % 8];
-      for (int j = 0; j < M::kNumDrawJoints; ++j) {
-        const int kind = M::kDrawJointKind[j], a = M::kDrawJointPointA[j], b = M::kDrawJointPointB[j];
-        const int lb = M::kDrawJointLinkB[j], v = M::kDrawJointValue[j];
+      for (int j = 0; j < d.num_draw_joints; ++j) {
+        const int kind = d.kind[j], a = d.point_a[j], b = d.point_b[j];
+        const int lb = d.link_b[j], v = d.value[j];
         const std::vector<double>& val = values[f];
         if (kind == internal::kDrawPrismatic && lb == link && b >= 0) {
           const double t = val[v] - frames[f](2, link);
@@ -500,12 +603,12 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
   auto translate = [&](size_t f, int l) { return X(frames[f](0, l)) + " " + Y(frames[f](1, l)); };
   auto rotate = [&](size_t f, int l) { return internal::FormatNumber(-frames[f](2, l) * 180 / kPi, "%.3f"); };
   auto open_group = [&](size_t f, int l, const std::string& extra) {
-    return "<g data-link=\"" + std::string(M::kLinkNames[l]) + "\" transform=\"translate(" + translate(f, l) +
+    return "<g data-link=\"" + std::string(d.link_names[l]) + "\" transform=\"translate(" + translate(f, l) +
            ") rotate(" + rotate(f, l) + ")\"" + extra + ">\n";
   };
 
   // ---- Faded snapshots.
-  if constexpr (F::kHasScene) {
+  if (d.has_scene) {
     const int snapshots = std::min<int>(options.snapshots, static_cast<int>(nv));
     out << "<g id=\"snapshots\">\n";
     for (int k = 0; k < snapshots; ++k) {
@@ -519,31 +622,31 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
     out << "</g>\n";
   }
   // ---- Traced paths of the requested points.
-  if constexpr (F::kHasPoints) {
+  if (d.has_points) {
     out << "<g id=\"paths\">\n";
-    for (int p = 0; p < M::kNumPoints; ++p) {
+    for (int p = 0; p < d.num_points; ++p) {
       out << "<polyline fill=\"none\" stroke=\"" << kPathColors[p % 6] << "\" stroke-width=\"2\" points=\"";
       for (const Record<M>* r : valid) out << X(r->state.r_P(0, p)) << ',' << Y(r->state.r_P(1, p)) << ' ';
-      out << "\"><title>" << M::kPointNames[p] << "</title></polyline>\n";
+      out << "\"><title>" << d.point_names[p] << "</title></polyline>\n";
     }
     out << "</g>\n";
   }
-  if constexpr (F::kHasScene) {
+  if (d.has_scene) {
     if (nv > 0) {
       // ---- The ground: its body (rails, base lines and circles), then a hatched pivot under
       // each of its revolute joints.
       out << "<g id=\"ground\">\n" << open_group(0, ground, "") << body(0, ground, false) << "</g>\n";
       std::vector<int> pivots;
-      if constexpr (kDraw) {
-        for (int j = 0; j < M::kNumDrawJoints; ++j) {
-          if (M::kDrawJointKind[j] != internal::kDrawRevolute) continue;
-          const int la = M::kDrawJointLinkA[j], lb = M::kDrawJointLinkB[j];
-          const int s = la == ground ? M::kDrawJointPointA[j] : lb == ground ? M::kDrawJointPointB[j] : -1;
+      if (kDraw) {
+        for (int j = 0; j < d.num_draw_joints; ++j) {
+          if (d.kind[j] != internal::kDrawRevolute) continue;
+          const int la = d.link_a[j], lb = d.link_b[j];
+          const int s = la == ground ? d.point_a[j] : lb == ground ? d.point_b[j] : -1;
           if (s >= 0 && std::find(pivots.begin(), pivots.end(), s) == pivots.end()) pivots.push_back(s);
         }
       } else {
-        for (int s = 0; s < M::kNumScenePoints; ++s)
-          if (M::kScenePointLink[s] == ground) pivots.push_back(s);
+        for (int s = 0; s < d.num_scene_points; ++s)
+          if (d.scene_point_link[s] == ground) pivots.push_back(s);
       }
       for (int s : pivots) {
         const P2 c = scene_point(0, s);
@@ -555,14 +658,14 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
             << "\" x2=\"" << X(c[0] + 1.6 * u) << "\" y2=\"" << Y(c[1] - h) << "\" stroke=\"#333\" stroke-width=\"2\"/>\n";
         out << "<text x=\"" << X(c[0]) << "\" y=\"" << Y(c[1] - h - 17 * px)
             << "\" text-anchor=\"middle\" font-family=\"sans-serif\" font-size=\"11\" fill=\"#333\">"
-            << internal::ShortName(M::kScenePointNames[s]) << "</text>\n";
+            << internal::ShortName(d.scene_point_names[s]) << "</text>\n";
       }
       out << "</g>\n";
 
       // ---- The mechanism at the first configuration, each moving link animated through the
       // sweep (translate and rotate of its frame) when asked.
       const bool animate = kDraw && options.animate && nv > 1;
-      std::vector<std::string> anim(kLinks);
+      std::vector<std::string> anim(static_cast<size_t>(kLinks));
       if (animate) {
         const size_t frames_n = std::min<size_t>(nv, static_cast<size_t>(std::max(options.max_frames, 2)));
         for (int l = 0; l < kLinks; ++l) {
@@ -586,9 +689,8 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
       for (int pass = 0; pass < 2; ++pass)
         for (int l = 0; l < kLinks; ++l) {
           bool slotted = false;
-          if constexpr (kDraw)
-            for (int j = 0; j < M::kNumDrawJoints; ++j)
-              slotted = slotted || (internal::SlidesOnLine(M::kDrawJointKind[j]) && M::kDrawJointLinkA[j] == l);
+          for (int j = 0; j < d.num_draw_joints; ++j)
+            slotted = slotted || (internal::SlidesOnLine(d.kind[j]) && d.link_a[j] == l);
           if (slotted == (pass == 0)) order.push_back(l);
         }
       out << "<g id=\"mechanism\">\n";
@@ -605,8 +707,8 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
         }
       out << "</g>\n";
       // ---- Dots running along the paths (a static renderer shows them at the first row).
-      if constexpr (F::kHasPoints) {
-        for (int p = 0; p < M::kNumPoints; ++p) {
+      if (d.has_points) {
+        for (int p = 0; p < d.num_points; ++p) {
           out << "<circle cx=\"" << X(valid[0]->state.r_P(0, p)) << "\" cy=\"" << Y(valid[0]->state.r_P(1, p))
               << "\" r=\"5\" fill=\"" << kPathColors[p % 6] << "\" stroke=\"white\" stroke-width=\"1\">";
           if (options.animate && nv > 1) {
@@ -627,18 +729,18 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
     }
   }
   // ---- Legend: the traced paths' colours and names (top right).
-  if constexpr (F::kHasPoints) {
-    if (M::kNumPoints > 0) {
+  if (d.has_points) {
+    if (d.num_points > 0) {
       const int w = 190, row = 18;
       const int x0 = options.width - w - 8, y0 = 8;
       out << "<g id=\"legend\" font-family=\"sans-serif\" font-size=\"12\"><rect x=\"" << x0 << "\" y=\"" << y0
-          << "\" width=\"" << w << "\" height=\"" << row * M::kNumPoints + 10
+          << "\" width=\"" << w << "\" height=\"" << row * d.num_points + 10
           << "\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#bbb\"/>\n";
-      for (int p = 0; p < M::kNumPoints; ++p) {
+      for (int p = 0; p < d.num_points; ++p) {
         const int y = y0 + 14 + row * p;
         out << "<line x1=\"" << x0 + 8 << "\" y1=\"" << y << "\" x2=\"" << x0 + 34 << "\" y2=\"" << y
             << "\" stroke=\"" << kPathColors[p % 6] << "\" stroke-width=\"3\"/><text x=\"" << x0 + 42 << "\" y=\""
-            << y + 4 << "\">path of " << M::kPointNames[p] << "</text>\n";
+            << y + 4 << "\">path of " << d.point_names[p] << "</text>\n";
       }
       out << "</g>\n";
     }
@@ -655,6 +757,13 @@ void WriteSvg(const typename ModelTypes<M>::Params& params,
     options.overlay(frame, out);
   }
   out << "</svg>\n";
+}
+
+/// WriteSvg of a generated model M (an empty tag: its constants and functions are static).
+template <class M, template <class> class Record>
+void WriteSvg(const typename ModelTypes<M>::Params& params, const std::vector<Record<M>>& records,
+              const SvgOptions& options, std::ostream& out) {
+  WriteSvg(M(), params, records, options, out);
 }
 
 }  // namespace mechgen
