@@ -25,6 +25,7 @@
 #include <utility>
 
 #include "codegen/sha256.h"
+#include "common/not_through_view.h"  // runtime/tools: kExitNotThroughView
 #include "driver/tool_args.h"
 
 // Set by generator/CMakeLists.txt: where the build found things, and the install layout.
@@ -80,10 +81,9 @@ struct ToolSpec {
   std::vector<std::string> libs = {};  // linked after the objects, beyond the C++ library
   bool mpi = false;  // compiled and linked with an MPI C++ compiler when one is found (-DMECHGEN_STUDY_MPI)
   // Through the runtime compiled once (issue 43): run by the prebuilt `mechgen_view <name>` on
-  // the model's shared object, unless an option here is given (what the view does not do yet:
-  // then the per-model program as before).
+  // the model's shared object; where it says that the view does not do what was asked yet
+  // (kExitNotThroughView), the per-model program as before.
   bool view = false;
-  std::vector<std::string> not_through_view = {};
 };
 
 const std::vector<ToolSpec>& Specs() {
@@ -93,8 +93,7 @@ const std::vector<ToolSpec>& Specs() {
        "CSV and SVG",
        {},
        false,
-       true,
-       {"--design"}},
+       true},
       {"statics", "statics_main.cc", {"-DMECHGEN_TOOL_NO_CERES"}, false, "forces",
        "the driving forces (with friction: to run the input in +q and in -q), reactions, potential and "
        "mechanical advantage along the range, dead zones and equilibria; --plots draws the driving torque "
@@ -904,17 +903,13 @@ std::vector<std::string> DriverArgv(const ToolCommand& c) {
 // ---- runtime compiled once (mechgen_view)
 
 // Whether `mechgen <spec.name>` goes through the runtime compiled once: the command does, the
-// build has mechgen_view, no option asks for what the view does not do yet, and
-// MECHGEN_VIEW is not 0 (which keeps the per-model program, e.g. to compare the two).
-bool ThroughView(const ToolSpec& spec, const ToolCommand& c, const Toolchain& t) {
+// build has mechgen_view, and MECHGEN_VIEW is not 0 (which keeps the per-model program, e.g. to
+// compare the two). What the view does not do yet is for mechgen_view to say
+// (kExitNotThroughView): then the per-model program.
+bool ThroughView(const ToolSpec& spec, const Toolchain& t) {
   if (!spec.view || t.view_program.empty()) return false;
-  if (const char* env = std::getenv("MECHGEN_VIEW"); env != nullptr && std::string(env) == "0") return false;
-  for (const std::string& a : c.driver_args) {
-    if (a == "--") break;
-    for (const std::string& option : spec.not_through_view)
-      if (a == option || a.rfind(option + "=", 0) == 0) return false;
-  }
-  return true;
+  const char* env = std::getenv("MECHGEN_VIEW");
+  return env == nullptr || std::string(env) != "0";
 }
 
 // The model's shared object: the model's bytes and what the object is built from (the
@@ -998,6 +993,7 @@ int BuildView(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& gene
 // How a command reaches its model: what is built into a cache entry (the per-model program,
 // or the model's shared object) and how it is run.
 struct Route {
+  bool view = false;     // the model's object for mechgen_view (else the per-model program)
   std::string folder;    // the cache's folder: the command's name, or "view"
   std::string artefact;  // the file built in the entry, checked against its record before use
   std::string what;      // the artefact in the messages: "sweep command", "model object"
@@ -1009,24 +1005,59 @@ struct Route {
   std::function<std::pair<fs::path, std::vector<std::string>>(const fs::path& path)> command;
 };
 
-// Becomes route.command(artefact): the artefact is the checked descriptor `fd` (the program
-// itself by fexecve, or the object mechgen_view loads as /proc/self/fd/<fd>). Returns only if
-// exec fails.
-int ExecRoute(const Route& route, int fd, const fs::path& artefact) {
-  const bool self = route.folder != "view";
-  const std::string by_fd = "/proc/self/fd/" + std::to_string(fd);
-  const auto [program, argv] = route.command(self ? artefact : fs::path(by_fd));
+// Runs `program` with `argv` as a child (in our process group: a forwarded signal reaches it
+// alone), with MECHGEN_VIEW_FALLBACK=1 in its environment when `fallback`, the descriptor
+// `keep` (>= 0) left open across its exec; its exit status, or 128 + the signal that ended it.
+int RunChild(const fs::path& program, const std::vector<std::string>& argv, bool fallback, int keep) {
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   std::cout.flush();
   std::cerr.flush();
-  if (self) {
-    fexecve(fd, args.data(), environ);
-  } else {
-    fcntl(fd, F_SETFD, 0);  // kept open across exec: what mechgen_view loads is what was checked
+  // Registered before a forwarded signal can be handled; the child keeps our process group
+  // (and the terminal), with its own dispositions.
+  const sigset_t forwarded = ForwardedSet();
+  sigset_t old_mask;
+  sigprocmask(SIG_BLOCK, &forwarded, &old_mask);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    RestoreSignalsInChild(old_mask);
+    if (keep >= 0) fcntl(keep, F_SETFD, 0);
+    if (fallback) setenv(tools::kViewFallbackVariable, "1", 1);
     execv(program.c_str(), args.data());
+    _exit(127);
   }
+  if (pid > 0) g_children[0] = -pid;  // in our group: signalled alone
+  sigprocmask(SIG_SETMASK, &old_mask, nullptr);
+  if (pid < 0) return Fail(std::string("fork: ") + std::strerror(errno));
+  const int status = Wait(pid);
+  g_children[0] = 0;
+  return status;
+}
+
+// Runs route.command(artefact), the artefact the checked descriptor `fd`: the per-model
+// program becomes it (fexecve: what runs is what was checked; returns only if exec fails);
+// mechgen_view runs as a child on /proc/self/fd/<fd> (what it loads is what was checked), so
+// that its kExitNotThroughView can come back to mechgen.
+int Launch(const Route& route, int fd, const fs::path& artefact) {
+  if (route.view) {
+    const auto [program, argv] = route.command(fs::path("/proc/self/fd/" + std::to_string(fd)));
+    int status = 0;
+    {
+      SignalGuard guard;
+      status = RunChild(program, argv, true, fd);
+    }
+    close(fd);
+    SignalGuard::ReraiseIfSignalled();  // ended by the signal that ended mechgen_view
+    return status;
+  }
+  const auto [program, argv] = route.command(artefact);
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  std::cout.flush();
+  std::cerr.flush();
+  fexecve(fd, args.data(), environ);
   const int error = errno;
   close(fd);
   return Fail("cannot run " + program.string() + ": " + std::strerror(error));
@@ -1047,30 +1078,7 @@ int RunRoute(const Route& route, const ToolSpec& spec, const ToolCommand& c, boo
       status = route.build(dir);
       if (status == 0 && g_signal == 0) {
         const auto [program, argv] = route.command(dir / route.artefact);
-        std::vector<char*> args;
-        for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-        args.push_back(nullptr);
-        std::cout.flush();
-        std::cerr.flush();
-        // Registered before a forwarded signal can be handled; the driver keeps our process
-        // group (and the terminal), with its own dispositions.
-        const sigset_t forwarded = ForwardedSet();
-        sigset_t old_mask;
-        sigprocmask(SIG_BLOCK, &forwarded, &old_mask);
-        const pid_t pid = fork();
-        if (pid == 0) {
-          RestoreSignalsInChild(old_mask);
-          execv(program.c_str(), args.data());
-          _exit(127);
-        }
-        if (pid > 0) g_children[0] = -pid;  // in our group: signalled alone
-        sigprocmask(SIG_SETMASK, &old_mask, nullptr);
-        if (pid < 0) {
-          status = Fail(std::string("fork: ") + std::strerror(errno));
-        } else {
-          status = Wait(pid);
-          g_children[0] = 0;
-        }
+        status = RunChild(program, argv, route.view, -1);
       }
     }  // the signal handlers restored, then the directory removed
     SignalGuard::ReraiseIfSignalled();
@@ -1091,7 +1099,7 @@ int RunRoute(const Route& route, const ToolSpec& spec, const ToolCommand& c, boo
     const int fd = OpenChecked(artefact, &why);
     if (fd >= 0) {
       if (c.verbose) std::cerr << "mechgen: cached; running " << artefact.string() << "\n";
-      return ExecRoute(route, fd, artefact);
+      return Launch(route, fd, artefact);
     }
     // Damaged: built again and put in its place (as --rebuild does).
     std::cerr << "mechgen: the cached " << route.what << " " << artefact.string()
@@ -1142,7 +1150,7 @@ int RunRoute(const Route& route, const ToolSpec& spec, const ToolCommand& c, boo
   if (fd < 0)
     return Fail("the " + route.what + " just built in " + entry.string() +
                 " does not match its record (" + why + "); check the disk, or use --no-cache");
-  return ExecRoute(route, fd, artefact);
+  return Launch(route, fd, artefact);
 }
 
 }  // namespace
@@ -1218,10 +1226,11 @@ int RunTool(const ToolCommand& c, const GenerateFn& generate) {
   std::string model_bytes;
   const bool readable = ReadModel(c.model_path, &model_bytes);
 
-  Route route;
-  if (ThroughView(spec, c, t)) {
+  if (ThroughView(spec, t)) {
     // The model alone, into a shared object run by the prebuilt mechgen_view (one object per
     // model, for every command that goes through the view).
+    Route route;
+    route.view = true;
     route.folder = "view";
     route.artefact = "model.so";
     route.what = "model object";
@@ -1234,7 +1243,14 @@ int RunTool(const ToolCommand& c, const GenerateFn& generate) {
       argv.insert(argv.end(), c.driver_args.begin(), c.driver_args.end());
       return std::make_pair(t.view_program, argv);
     };
-  } else {
+    const int status = RunRoute(route, spec, c, readable);
+    if (status != tools::kExitNotThroughView) return status;
+    // What the view does not do yet (mechgen_view said nothing and wrote nothing): the
+    // per-model program, as before the runtime was compiled once.
+    if (c.verbose) std::cerr << "mechgen: not through the model view; the per-model " << spec.name << " command\n";
+  }
+  {
+    Route route;
     route.folder = spec.name;
     route.artefact = spec.name;
     route.what = spec.name + " command";
@@ -1248,8 +1264,8 @@ int RunTool(const ToolCommand& c, const GenerateFn& generate) {
                    &name);
     };
     route.command = [&c](const fs::path& program) { return std::make_pair(program, DriverArgv(c)); };
+    return RunRoute(route, spec, c, readable);
   }
-  return RunRoute(route, spec, c, readable);
 }
 
 }  // namespace mechgen

@@ -9,8 +9,9 @@
 // --params/--set read the view's parameter table through the view (common/view_params.h), with
 // the per-model tool's messages; --svg draws from the view's drawing description (io/svg.h),
 // --mode reads its named assembly modes. Through the view, not yet: --design (the design
-// derivatives), refused with a usage error (exit 2) naming the per-model tool that has it,
-// before anything is computed or written.
+// derivatives), refused (common/not_through_view.h: a usage error naming the per-model tool
+// that has it, or for mechgen the fallback to that tool) before anything is computed or
+// written.
 #pragma once
 
 #include <algorithm>
@@ -25,6 +26,7 @@
 #include <vector>
 
 #include "common/numbers.h"
+#include "common/not_through_view.h"
 #include "common/view_params.h"
 #include "sweep_args.h"
 
@@ -152,9 +154,8 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
   std::string error;
   if constexpr (C::kView) {
     // What the runtime instantiated for the view does not do yet (the file comment).
-    const std::string tool = std::string(name) + "_sweep";
     if (arguments.design)
-      return Usage("--design: the design derivatives are not reached through the model view yet; " + tool + " has them");
+      return mechgen::tools::NotThroughView(arguments.tool, "--design: the design derivatives are", name, "sweep");
   }
   // Counts checked by the parser: --steps in 1..kMaxSteps, --table in 0..kMaxSteps + 1.
   const int steps = static_cast<int>(arguments.steps);

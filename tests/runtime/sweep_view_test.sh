@@ -69,6 +69,13 @@ for bad in "--set nosuch=1" "--set b" "--set b=abc" "--params missing.txt"; do
   [[ "$(sed 's/^fourbar_sweep_view:/fourbar_sweep:/' view.err)" == "$(cat fixed.err)" ]] ||
     fail "$bad: the view says $(cat view.err), the tool $(cat fixed.err)"
 done
+# run by mechgen (MECHGEN_VIEW_FALLBACK=1), what the view lacks is exit 120 and nothing said or
+# written: mechgen then runs the per-model program
+mkdir fallback && (cd fallback && MECHGEN_VIEW_FALLBACK=1 "$view_tool" sweep "$root/fourbar.so" --design --csv out.csv > ../fallback.out 2> ../fallback.err)
+status=$?
+[[ $status -eq 120 ]] || fail "fallback: exit $status, expected 120"
+[[ ! -s fallback.out && ! -s fallback.err ]] || fail "fallback: said $(cat fallback.out fallback.err)"
+[[ -z $(ls -A fallback) ]] || fail "fallback: wrote $(ls -A fallback)"
 # the command first: an unknown one is a usage error before anything is loaded
 mkdir no_command && (cd no_command && "$view_tool" no-such-command "$root/fourbar.so" > ../no_command.out 2> ../no_command.err)
 status=$?
