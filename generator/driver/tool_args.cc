@@ -18,6 +18,7 @@
 #include "statics_args.h"
 #include "study_args.h"
 #include "sweep_args.h"
+#include "synthesize_args.h"
 
 namespace mechgen {
 namespace {
@@ -61,6 +62,7 @@ constexpr ToolParser kParsers[] = {
     {"flywheel", ParseFlywheel},
     {"engine", ParseEngine},
     {"study", Parse<study_tool::Arguments, study_tool::ParseArguments>},
+    {"synthesize", Parse<synthesize_tool::Arguments, synthesize_tool::ParseArguments>},
 };
 
 ParseFn Find(const std::string& tool) {

@@ -42,6 +42,9 @@
 #include "mechgen/synthesis/motion.h"
 #include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
+#include "synthesize_args.h"
+// One translation unit: the command-line part compiled with the driver.
+#include "synthesize_args.cc"
 #include MECHGEN_MODEL_INCLUDE
 
 namespace {
@@ -216,27 +219,17 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
 
 template <class M>
 int Main(int argc, char** argv) {
-  const std::string tool = mechgen::tools::ToolName(argv[0]);
-  CLI::App app{"Dimensional synthesis (path, function or motion generation: the task file's `synthesis:`) of the model " +
-               std::string(M::kName) +
-               ": seeded differential evolution (path and function tasks; Freudenstein's equation for function "
-               "tasks, Burmester's points for motion), then Levenberg-Marquardt on the generated design derivatives. "
-               "Exit 0 done, 1 bad task file or output, 2 usage error, 3 no feasible mechanism."};
-  std::string task_path, out_dir = "synthesis_out", model_path;
-  unsigned long long seed = 1;
-  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  long long evaluations = 0;
-  mechgen::tools::ParameterOptions parameter_options;
-  app.add_option("--task", task_path, "the synthesis task file (YAML, docs/synthesis.md)")->required();
-  mechgen::tools::Count(&app, "--seed", &seed, 0, std::numeric_limits<long long>::max(),
-                        "the random seed: the same seed, the same result for any --threads");
-  mechgen::tools::Count(&app, "--threads", &threads, 1, 1024, "threads for the restarts (default: all cores)");
-  mechgen::tools::Count(&app, "--evaluations", &evaluations, 0, 1000000000LL,
-                        "the global stage's budget, overriding the task's search.evaluations (0: the task's)");
-  app.add_option("--out", out_dir, "the directory to write the model file, path.svg and report.txt into")->capture_default_str();
-  app.add_option("--model", model_path, "the model file this program was compiled from (default: from `mechgen synthesize MODEL`)");
-  mechgen::tools::AddParameterOptions(&app, &parameter_options);
-  if (const int status = mechgen::tools::Parse(&app, argc, argv, tool); status >= 0) return status;
+  mechgen::synthesize_tool::Arguments arguments;
+  if (const int status = mechgen::synthesize_tool::ParseArguments(argc, argv, M::kName, &arguments); status >= 0)
+    return status;
+  const std::string& tool = arguments.tool;
+  const std::string& task_path = arguments.task_path;
+  const std::string& out_dir = arguments.out_dir;
+  std::string model_path = arguments.model_path;
+  const unsigned long long seed = arguments.seed;
+  const int threads = arguments.threads;
+  const long long evaluations = arguments.evaluations;
+  const mechgen::tools::ParameterOptions& parameter_options = arguments.params;
   const std::string prefix = "mechgen synthesize ";
   const std::string argv0 = argv[0];
   if (model_path.empty() && argv0.rfind(prefix, 0) == 0) model_path = argv0.substr(prefix.size());

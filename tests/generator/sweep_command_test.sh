@@ -125,7 +125,7 @@ if [ "$mode" = errors ]; then
     [ "$(wc -l < sp.err)" -eq 1 ] && [ ! -s sp.out ]; } ||
     fail "statics --speed abc: exit status $status, stderr $(cat sp.err)"
   cp "$source_dir/models/engine_single.yaml" engine.yaml
-  for cmd in "engine engine.yaml" "flywheel friction.yaml" "study fourbar.yaml"; do
+  for cmd in "engine engine.yaml" "flywheel friction.yaml" "study fourbar.yaml" "synthesize fourbar.yaml"; do
     tool=${cmd%% *}
     bare $cmd --help > th.out 2> th.err
     status=$?
@@ -143,12 +143,16 @@ if [ "$mode" = errors ]; then
   # A directory where the model (or the task or study file that names it) goes: one line, no
   # cache made (checked below).
   mkdir -p a_dir
-  for cmd in "synthesize a_dir" "study a_dir --study a_dir" "sweep a_dir"; do
+  for cmd in "synthesize a_dir --task a_dir" "study a_dir --study a_dir" "sweep a_dir"; do
     MECHGEN_CACHE_DIR="$root/cache_options" "$mechgen" $cmd > d.out 2> d.err
     status=$?
     { [ "$status" -eq 1 ] && [ "$(cat d.err)" = "a_dir: error: the path is a directory, not a model file; give the path of a .yaml file" ]; } ||
       fail "mechgen $cmd: exit status $status, stderr $(cat d.err)"
   done
+  bare synthesize fourbar.yaml --task t.yaml --seed -1 > sy.out 2> sy.err
+  status=$?
+  { [ "$status" -eq 2 ] && grep -q "^mechgen synthesize: error: --seed: bad value '-1'" sy.err && [ ! -s sy.out ]; } ||
+    fail "synthesize --seed -1 without a compiler: exit status $status, stderr $(cat sy.err)"
   bare sweep fourbar.yaml --steps 0 > st.out 2> st.err
   status=$?
   { [ "$status" -eq 2 ] &&
