@@ -333,6 +333,9 @@ struct ModelCalls<ViewModel> {
   }
 
   // ---- Statics (statics/): the loads, reactions and their functions ----
+  /// The view's Forces always takes the input velocities (a model whose statics read none
+  /// ignores them).
+  static constexpr bool kDeclaresAtSpeed = true;
   // What this view's statics have (its flags; the sizes of ModelTypes<ViewModel>::Statics).
   static bool HasStatics(const M& m) {
     return m.view->flags.kHasStatics && m.view->flags.kHasStaticsQ && m.view->Forces != nullptr;
