@@ -100,7 +100,7 @@ Status FindDeadZones(const Options& options, const ScanOptions& scan,
     const Status status = AnalyzeDriveAt<M>(model, options, solver->params(), solver->state(), input,
                                             &drive, &frictionless, &forward, &backward);
     s.evaluations += frictionless.summary.iterations;
-    if constexpr (StaticsFeatures<M>::kHasFriction) {
+    if (internal::HasFriction(model)) {
       s.evaluations += forward.summary.iterations + backward.summary.iterations;
     }
     if (status != Status::kConverged) return -1;

@@ -105,6 +105,17 @@ MECHGEN_ALWAYS_INLINE void Fill(X* x, Eigen::Index rows, Eigen::Index cols, doub
   }
 }
 
+/// Whether the model's statics have friction joints (constant for a generated M).
+template <class M>
+MECHGEN_ALWAYS_INLINE constexpr bool HasFriction(const M& model) {
+  if constexpr (StaticsFeatures<M>::kHasFriction) {
+    return ModelCalls<M>::HasFriction(model);
+  } else {
+    (void)model;
+    return false;
+  }
+}
+
 /// Every member of model M's Statics set to NaN ("no value"), whichever the model has (for the
 /// view: sized as its members, those it lacks empty).
 template <class M>
@@ -470,12 +481,11 @@ Status AnalyzeDriveFrom(const M& model, const Options& options, const typename M
   } else {
     e = VecQ::Unit(nq, input);
   }
-  if constexpr (StaticsFeatures<M>::kHasFriction) {
+  if (internal::HasFriction(model)) {
     const Status fwd = Solve<M>(model, options, p, q, phi, c, VecQ(sign * e), s1, velocities);
     const Status back = Solve<M>(model, options, p, q, phi, c, VecQ(-sign * e), s2, velocities);
     status = fwd != Status::kConverged ? fwd : back;
   } else {
-    (void)options, (void)p, (void)q, (void)phi, (void)c, (void)velocities;
     *s1 = s0;
     *s2 = s0;
     s1->direction = sign * e;

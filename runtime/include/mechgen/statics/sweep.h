@@ -167,7 +167,7 @@ Status EvaluateRecord(const M& model, const Options& options, const typename Mod
     const Status drive =
         AnalyzeDriveFrom<M>(model, without_stiffness, p, state.q, state.phi, c, j, r->frictionless,
                             &r->drives[j], &r->forward[j], &r->backward[j], velocities);
-    if constexpr (StaticsFeatures<M>::kHasFriction) {
+    if (internal::HasFriction(model)) {
       r->evaluations += r->forward[j].summary.iterations + r->backward[j].summary.iterations;
     }
     if (status == Status::kConverged) status = drive;
