@@ -100,7 +100,9 @@ void ExpectSameSolution(const Solution<M>& a, const Solution<ViewModel>& b, cons
   } else {
     EXPECT_EQ(b.statics.dV_dq.size(), 0);
   }
-  if constexpr (F::kHasD2V) EXPECT_TRUE(SameBits("d2V_dq2", a.statics.d2V_dq2, b.statics.d2V_dq2));
+  if constexpr (F::kHasD2V) {
+    EXPECT_TRUE(SameBits("d2V_dq2", a.statics.d2V_dq2, b.statics.d2V_dq2));
+  }
   if constexpr (F::kHasStiffness) {
     EXPECT_TRUE(SameBits("stiffness", a.statics.stiffness, b.statics.stiffness));
   } else {
@@ -200,7 +202,9 @@ void ExpectViewStaticsSweepSame(const ModelView& view, double speed = std::nan("
   EXPECT_EQ(fixed_failures, view_failures);
   EXPECT_EQ(rows, kSteps + 1);
   EXPECT_GT(converged, kSteps / 2);  // forces, not a row of refusals
-  if constexpr (StaticsFeatures<M>::kHasFriction) EXPECT_GT(with_friction, kSteps / 2);  // iterated
+  if constexpr (StaticsFeatures<M>::kHasFriction) {
+    EXPECT_GT(with_friction, kSteps / 2);  // the friction iterated
+  }
   const std::string a = fixed_csv.str(), b = view_csv.str();
   EXPECT_GT(std::count(a.begin(), a.end(), '\n'), kSteps);
   if (a != b) {  // the first line that differs
@@ -232,7 +236,9 @@ void ExpectViewScansSame(const ModelView& view) {
   EXPECT_EQ(sa.evaluations, sb.evaluations);
   EXPECT_EQ(sa.unusable_samples, sb.unusable_samples);
   ASSERT_EQ(zones_a.size(), zones_b.size());
-  if constexpr (StaticsFeatures<M>::kHasFriction) EXPECT_FALSE(zones_a.empty());  // a scan that found something
+  if constexpr (StaticsFeatures<M>::kHasFriction) {
+    EXPECT_FALSE(zones_a.empty());  // a scan that found something
+  }
   for (size_t i = 0; i < zones_a.size(); ++i) {
     EXPECT_TRUE(SameBits("zone begin", zones_a[i].begin, zones_b[i].begin)) << i;
     EXPECT_TRUE(SameBits("zone end", zones_a[i].end, zones_b[i].end)) << i;

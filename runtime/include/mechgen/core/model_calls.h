@@ -213,14 +213,12 @@ struct ModelCalls {
     }
   }
   static constexpr bool ReadsSpeed(const M& m) { return HasStatics(m) && kDeclaresAtSpeed; }
-  /// Forces takes the friction loads (statics::StaticsFeatures<M>::kHasFriction) and the
-  /// velocities (kReadsSpeed).
+  /// The friction joints of M's statics (read only where called: a model without statics
+  /// need not have them).
   template <class X, bool = ::mechgen::HasStatics<X>::value && HasStaticsQ<X>::value && HasStaticsFriction<X>::value>
   struct FrictionCount : std::integral_constant<int, 0> {};
   template <class X>
   struct FrictionCount<X, true> : std::integral_constant<int, X::kNumFriction> {};
-  static constexpr bool kForcesFriction = FrictionCount<M>::value > 0;
-  static constexpr bool kForcesSpeed = ::mechgen::HasStatics<M>::value && HasStaticsQ<M>::value && kDeclaresAtSpeed;
   static const char* StaticsAtSpeed(const M&, int i) {
     if constexpr (kDeclaresAtSpeed) return M::kStaticsAtSpeed[static_cast<size_t>(i)];
     (void)i;
@@ -269,6 +267,10 @@ struct ModelCalls {
   MECHGEN_ALWAYS_INLINE static void Forces(const M&, const typename T::Params& p, const typename T::VecQ& q,
                                            const typename T::VecPhi& phi, const typename T::Coefficients& c,
                                            S* out, const VecF* f, const typename T::VecQ* qd) {
+    // Forces takes the friction loads (statics::StaticsFeatures<M>::kHasFriction) and the
+    // velocities (kReadsSpeed).
+    constexpr bool kForcesFriction = FrictionCount<M>::value > 0;
+    constexpr bool kForcesSpeed = ::mechgen::HasStatics<M>::value && HasStaticsQ<M>::value && kDeclaresAtSpeed;
     if constexpr (kForcesSpeed && kForcesFriction) {
       M::template Forces<double>(p, q, phi, c, out, f, nullptr, qd);
     } else if constexpr (kForcesSpeed) {
