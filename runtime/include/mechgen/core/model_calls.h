@@ -284,6 +284,15 @@ struct ModelCalls {
       M::template Forces<double>(p, q, phi, c, out);
     }
   }
+  /// The coefficients the statics read (Model::Forces, Stiffness: Phi_phi, K and L) from a
+  /// configuration where the position step evaluated them (position::State: Phi_phi, K, L);
+  /// the other members are not set (not read by the statics).
+  template <class State>
+  MECHGEN_ALWAYS_INLINE static void StaticsCoefficients(const M&, const State& s, typename T::Coefficients* c) {
+    c->Phi_phi = s.Phi_phi;
+    if constexpr (F::kHasK) c->K = s.K;
+    if constexpr (F::kHasL) c->L = s.L;
+  }
   /// Model::Stiffness (d2V_dq2, stiffness) where M has it.
   template <class S>
   MECHGEN_ALWAYS_INLINE static void Stiffness(const M&, const typename T::Params& p, const typename T::VecQ& q,

@@ -379,6 +379,33 @@ struct ModelCalls<ViewModel> {
                    qd != nullptr ? qd->data() : nullptr);
     GetStatics(m, buffer.data(), out);
   }
+  /// The coefficients the statics read (Phi_phi, K, L) from a position::State into c's buffer
+  /// (the rest 0) and its maps, as Coeffs sets them.
+  template <class State>
+  static void StaticsCoefficients(const M& m, const State& s, T::Coefficients* c) {
+    const ModelView& v = *m.view;
+    const ViewModel::CoefficientsLayout& l = m.coefficients;
+    double* const buffer = c->buffer.data();
+    std::fill_n(buffer, l.size, 0.0);
+    auto put = [buffer](int offset, const auto& x) {
+      if (offset >= 0) std::copy_n(x.data(), x.size(), buffer + offset);
+    };
+    put(l.Phi_phi, s.Phi_phi);
+    if (HasK(m)) put(l.K, s.K);
+    if (HasL(m)) put(l.L, s.L);
+    const int nq = v.nq, nphi = v.nphi, np = v.num_points;
+    using Map = T::Coefficients::Map;
+    auto get = [buffer](int offset, Map* x, int rows, int cols) {
+      if (offset >= 0) new (x) Map(buffer + offset, rows, cols);  // (a Map is trivially destructible)
+    };
+    get(l.Phi, &c->Phi, v.nc, 1);
+    get(l.Phi_phi, &c->Phi_phi, v.nc, nphi);
+    get(l.K, &c->K, nphi, nq);
+    get(l.L, &c->L, nphi, nq * nq);
+    get(l.r_P, &c->r_P, 2, np);
+    get(l.K_P, &c->K_P, 2 * np, nq);
+    get(l.L_P, &c->L_P, 2 * np, nq * nq);
+  }
   /// Model::Stiffness through the view (d2V_dq2 and stiffness), where the model has it.
   static void Stiffness(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                         const T::Coefficients& c, T::Statics* out) {

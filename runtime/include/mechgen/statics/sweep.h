@@ -146,8 +146,16 @@ Status EvaluateRecord(const M& model, const Options& options, const typename Mod
     }
     return r->status = r->frictionless.summary.status;
   }
+  // The coefficients the statics read (Phi_phi, K, L), as the position step evaluated them
+  // (position::State), not evaluated again; a state that lacks them (Phi_phi NaN: a model whose
+  // coefficients do not carry Phi_phi, or a state not from the solver) evaluates them.
   typename ModelTypes<M>::Coefficients c;
-  C::Coeffs(model, p, state.q, state.phi, &c);
+  bool from_state = false;
+  if constexpr (ModelFeatures<M>::kCoeffsHavePhi && ModelFeatures<M>::kHasK) {
+    from_state = C::CoeffsHavePhi(model) && C::HasK(model) && state.Phi_phi.allFinite();
+    if (from_state) C::StaticsCoefficients(model, state, &c);
+  }
+  if (!from_state) C::Coeffs(model, p, state.q, state.phi, &c);
   // The frictionless statics once per row, with the stiffness (it excludes friction anyway);
   // every input's drive analysis reads it.
   Options with_stiffness = options, without_stiffness = options;
