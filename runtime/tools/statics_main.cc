@@ -23,10 +23,11 @@
 // input (the first input that moves; rad/s, m/s, or rev/min with 'rpm' as the flywheel's
 // --rpm): the loads at qd and the dependent velocities K qd, t = 0, without the inertia
 // forces (the kinetostatics without inertia); the dead-zone and equilibrium scans stay at rest.
-// The model-dependent part is RunStatics (statics_run.h), the same source `mechgen_view statics`
-// runs through the model view. Options are read by statics_args.cc (model-independent, CLI11; the command-line layer of
-// every tool, runtime/tools/common/): `--opt=value` or `--opt value`, every number finite and
-// in the range --help lists; --steps up to 10^6 (every row is held in memory); --samples from
+// The model-dependent part is RunStatics (statics_run.h), the same source `mechgen_view
+// statics` runs through the model view; the rows are streamed to the CSV (held in memory only
+// for --svg). Options are read by statics_args.cc (model-independent, CLI11; the command-line
+// layer of every tool, runtime/tools/common/): `--opt=value` or `--opt value`, every number
+// finite and in the range --help lists; --steps up to 10^6; --samples from
 // 36 (statics::ScanOptions::kMinSamples) and at most 10 deg apart along an angle input, so
 // that a scan cannot report what a few samples happen to show as converged. Exit status: 0
 // done, 2 a usage error (one line "<tool>: error: ..."), 3 the model does not assemble, 4 an
