@@ -112,8 +112,11 @@ const char* RowStatus(const StaticsRecord<M>& r) {
 /**
  * \brief The statics of one valid configuration into *r (r->kinematics filled): every
  *        solution, the drive analyses and the mechanical advantage. No allocation.
- *        Model::Coeffs once, the frictionless statics once (with the stiffness; every input's
- *        drive analysis reads it), and per input with friction the forward and backward ones.
+ *        The coefficients (Phi_phi, K, L) from the state, as the position step evaluated them
+ *        (Model::Coeffs only for a state without them), the frictionless statics once (with
+ *        the stiffness; every input's drive analysis reads it), and per input with friction
+ *        the forward and backward ones.
+ * \param[in] p           The parameters the state was solved with (its coefficients are).
  * \param[in] velocities  The input velocities the loads are taken at (statics/solve.h,
  *                        "Speed"); nullptr: at rest.
  */
