@@ -284,14 +284,21 @@ struct ModelCalls {
       M::template Forces<double>(p, q, phi, c, out);
     }
   }
-  /// The coefficients the statics read (Model::Forces, Stiffness: Phi_phi, K and L) from a
-  /// configuration where the position step evaluated them (position::State: Phi_phi, K, L);
-  /// the other members are not set (not read by the statics).
+  /// The coefficients at a configuration where the position step evaluated them
+  /// (position::State: Phi_phi, K, L and the points, copied from its Model::Coeffs), for the
+  /// statics (Model::Forces, Stiffness read Phi_phi, K and L). Phi, which the state does not
+  /// keep, is 0 (the loops closed; not read by the statics).
   template <class State>
   MECHGEN_ALWAYS_INLINE static void StaticsCoefficients(const M&, const State& s, typename T::Coefficients* c) {
-    c->Phi_phi = s.Phi_phi;
+    if constexpr (F::kCoeffsHavePhi) {
+      c->Phi.setZero();
+      c->Phi_phi = s.Phi_phi;
+    }
     if constexpr (F::kHasK) c->K = s.K;
     if constexpr (F::kHasL) c->L = s.L;
+    if constexpr (F::kHasPoints) c->r_P = s.r_P;
+    if constexpr (F::kHasPointVelocities) c->K_P = s.K_P;
+    if constexpr (F::kHasPointAccelerations) c->L_P = s.L_P;
   }
   /// Model::Stiffness (d2V_dq2, stiffness) where M has it.
   template <class S>

@@ -379,8 +379,8 @@ struct ModelCalls<ViewModel> {
                    qd != nullptr ? qd->data() : nullptr);
     GetStatics(m, buffer.data(), out);
   }
-  /// The coefficients the statics read (Phi_phi, K, L) from a position::State into c's buffer
-  /// (the rest 0) and its maps, as Coeffs sets them.
+  /// The coefficients from a position::State (Phi_phi, K, L and the points; Phi 0) into c's
+  /// buffer and its maps, as Coeffs sets them (ModelCalls<M>::StaticsCoefficients).
   template <class State>
   static void StaticsCoefficients(const M& m, const State& s, T::Coefficients* c) {
     const ModelView& v = *m.view;
@@ -393,6 +393,9 @@ struct ModelCalls<ViewModel> {
     put(l.Phi_phi, s.Phi_phi);
     if (HasK(m)) put(l.K, s.K);
     if (HasL(m)) put(l.L, s.L);
+    if (HasPoints(m)) put(l.r_P, s.r_P);
+    if (HasPointVelocities(m)) put(l.K_P, s.K_P);
+    if (HasPointAccelerations(m)) put(l.L_P, s.L_P);
     const int nq = v.nq, nphi = v.nphi, np = v.num_points;
     using Map = T::Coefficients::Map;
     auto get = [buffer](int offset, Map* x, int rows, int cols) {
