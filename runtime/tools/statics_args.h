@@ -16,8 +16,8 @@
 
 namespace mechgen::statics_tool {
 
-/// The bounds of the counts: every row is held in memory (the table, the CSV and the SVG are
-/// written after the sweep), so --steps stops at 10^6 rows; the scans at 10^6 samples.
+/// The bounds of the counts: --steps stops at 10^6 rows (the CSV is streamed, but the SVG's
+/// rows are held in memory); the scans at 10^6 samples.
 constexpr long long kMaxSteps = 1000000;
 constexpr long long kMaxSamples = 1000000;
 constexpr long long kMaxSnapshots = 1000;

@@ -89,6 +89,7 @@ void ExpectSameState(const State<M>& a, const State<ViewModel>& b, const std::st
   EXPECT_TRUE(SameBits("q", a.q, b.q));
   EXPECT_TRUE(SameBits("phi", a.phi, b.phi));
   EXPECT_TRUE(SameBits("K", a.K, b.K));
+  EXPECT_TRUE(SameBits("Phi_phi", a.Phi_phi, b.Phi_phi));
   EXPECT_TRUE(SameBits("L", a.L, b.L));
   EXPECT_TRUE(SameBits("r_P", a.r_P, b.r_P));
   EXPECT_TRUE(SameBits("K_P", a.K_P, b.K_P));

@@ -17,13 +17,13 @@ struct Command {
 };
 
 int Sweep(const ModelView& view, int argc, char** argv);  // view/sweep.cc
-// (statics: view/statics.cc)
+int Statics(const ModelView& view, int argc, char** argv);  // view/statics.cc
 // (simulate: view/simulate.cc)
 
 /// The commands, in the order `mechgen_view --help` lists them.
 inline constexpr Command kCommands[] = {
     {"sweep", Sweep},
-    // {"statics", Statics},
+    {"statics", Statics},
     // {"simulate", Simulate},
 };
 

@@ -21,6 +21,7 @@
 
 #include <array>
 #include <limits>
+#include <type_traits>
 
 #include <Eigen/Core>
 
@@ -196,6 +197,143 @@ struct ModelCalls {
   }
 
   // ---- Statics (statics/): the loads, reactions and their functions ----
+  // What M's statics have (its flags, constant here; statics::StaticsFeatures combines them at
+  // compile time, these the same at run time for the view).
+  static constexpr bool HasStatics(const M&) { return ::mechgen::HasStatics<M>::value && HasStaticsQ<M>::value; }
+  static constexpr int NumReactions(const M& m) {
+    if constexpr (::mechgen::HasStatics<M>::value && HasStaticsQ<M>::value && HasStaticsR<M>::value) {
+      return M::kNumReactions;
+    } else {
+      (void)m;
+      return 0;
+    }
+  }
+  static constexpr int NumFriction(const M& m) {
+    if constexpr (::mechgen::HasStatics<M>::value && HasStaticsQ<M>::value && HasStaticsFriction<M>::value) {
+      return M::kNumFriction;
+    } else {
+      (void)m;
+      return 0;
+    }
+  }
+  static constexpr bool HasReactions(const M& m) { return NumReactions(m) > 0; }
+  static constexpr bool HasFriction(const M& m) { return NumFriction(m) > 0; }
+  static constexpr bool HasPotential(const M& m) { return HasStatics(m) && HasStaticsV<M>::value; }
+  static constexpr bool HasD2V(const M& m) { return HasStatics(m) && HasStaticsD2V<M>::value; }
+  static constexpr bool HasStiffness(const M& m) { return HasStatics(m) && HasStaticsStiffness<M>::value; }
+  /// Whether M declares kStaticsAtSpeed (its Forces then takes the input velocities).
+  template <class X, class = void>
+  struct DeclaresAtSpeed : std::false_type {};
+  template <class X>
+  struct DeclaresAtSpeed<X, std::void_t<decltype(X::kStaticsAtSpeed)>> : std::true_type {};
+  static constexpr bool kDeclaresAtSpeed = DeclaresAtSpeed<M>::value;
+  /// What in the statics reads a velocity (M::kStaticsAtSpeed), and how many.
+  static constexpr int NumStaticsAtSpeed(const M&) {
+    if constexpr (kDeclaresAtSpeed) {
+      return static_cast<int>(M::kStaticsAtSpeed.size());
+    } else {
+      return 0;
+    }
+  }
+  static constexpr bool ReadsSpeed(const M& m) { return HasStatics(m) && kDeclaresAtSpeed; }
+  /// The friction joints of M's statics (read only where called: a model without statics
+  /// need not have them).
+  template <class X, bool = ::mechgen::HasStatics<X>::value && HasStaticsQ<X>::value && HasStaticsFriction<X>::value>
+  struct FrictionCount : std::integral_constant<int, 0> {};
+  template <class X>
+  struct FrictionCount<X, true> : std::integral_constant<int, X::kNumFriction> {};
+  static const char* StaticsAtSpeed(const M&, int i) {
+    if constexpr (kDeclaresAtSpeed) return M::kStaticsAtSpeed[static_cast<size_t>(i)];
+    (void)i;
+    return "";
+  }
+  static const char* ReactionName(const M&, int i) {
+    if constexpr (HasStaticsR<M>::value) return M::kReactionNames[static_cast<size_t>(i)];
+    (void)i;
+    return "";
+  }
+  static int ReactionJoint(const M&, int i) {
+    if constexpr (HasStaticsR<M>::value && HasDrawing<M>::value) return M::kReactionJoint[static_cast<size_t>(i)];
+    (void)i;
+    return -1;
+  }
+  static const char* FrictionJoint(const M&, int i) {
+    if constexpr (HasStaticsFriction<M>::value) return M::kFrictionJoints[static_cast<size_t>(i)];
+    (void)i;
+    return "";
+  }
+  /// The links of each joint (a model with reactions and a drawing: kReactionJoint,
+  /// kDrawJointLinkA, kDrawJointLinkB, kGroundLink, kLinkNames).
+  static constexpr bool HasJointLinks(const M& m) { return HasReactions(m) && HasDrawing<M>::value; }
+  static int DrawJointLinkA(const M&, int j) {
+    if constexpr (HasDrawing<M>::value) return M::kDrawJointLinkA[static_cast<size_t>(j)];
+    (void)j;
+    return -1;
+  }
+  static int DrawJointLinkB(const M&, int j) {
+    if constexpr (HasDrawing<M>::value) return M::kDrawJointLinkB[static_cast<size_t>(j)];
+    (void)j;
+    return -1;
+  }
+  static int GroundLink(const M&) {
+    if constexpr (HasDrawing<M>::value) return M::kGroundLink;
+    return 0;
+  }
+  static const char* LinkName(const M&, int l) {
+    if constexpr (HasDrawing<M>::value) return M::kLinkNames[static_cast<size_t>(l)];
+    (void)l;
+    return "";
+  }
+  /// Model::Forces: with the friction loads f where M has friction, with the input velocities
+  /// qd (nullptr: at rest) where M's statics read them.
+  template <class S, class VecF>
+  MECHGEN_ALWAYS_INLINE static void Forces(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                                           const typename T::VecPhi& phi, const typename T::Coefficients& c,
+                                           S* out, const VecF* f, const typename T::VecQ* qd) {
+    // Forces takes the friction loads (statics::StaticsFeatures<M>::kHasFriction) and the
+    // velocities (kReadsSpeed).
+    constexpr bool kForcesFriction = FrictionCount<M>::value > 0;
+    constexpr bool kForcesSpeed = ::mechgen::HasStatics<M>::value && HasStaticsQ<M>::value && kDeclaresAtSpeed;
+    if constexpr (kForcesSpeed && kForcesFriction) {
+      M::template Forces<double>(p, q, phi, c, out, f, nullptr, qd);
+    } else if constexpr (kForcesSpeed) {
+      (void)f;
+      M::template Forces<double>(p, q, phi, c, out, nullptr, nullptr, qd);
+    } else if constexpr (kForcesFriction) {
+      (void)qd;
+      M::template Forces<double>(p, q, phi, c, out, f);
+    } else {
+      (void)f, (void)qd;
+      M::template Forces<double>(p, q, phi, c, out);
+    }
+  }
+  /// The coefficients at a configuration where the position step evaluated them
+  /// (position::State: Phi_phi, K, L and the points, copied from its Model::Coeffs), for the
+  /// statics (Model::Forces, Stiffness read Phi_phi, K and L). Phi, which the state does not
+  /// keep, is 0 (the loops closed; not read by the statics).
+  template <class State>
+  MECHGEN_ALWAYS_INLINE static void StaticsCoefficients(const M&, const State& s, typename T::Coefficients* c) {
+    if constexpr (F::kCoeffsHavePhi) {
+      c->Phi.setZero();
+      c->Phi_phi = s.Phi_phi;
+    }
+    if constexpr (F::kHasK) c->K = s.K;
+    if constexpr (F::kHasL) c->L = s.L;
+    if constexpr (F::kHasPoints) c->r_P = s.r_P;
+    if constexpr (F::kHasPointVelocities) c->K_P = s.K_P;
+    if constexpr (F::kHasPointAccelerations) c->L_P = s.L_P;
+  }
+  /// Model::Stiffness (d2V_dq2, stiffness) where M has it.
+  template <class S>
+  MECHGEN_ALWAYS_INLINE static void Stiffness(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                                              const typename T::VecPhi& phi, const typename T::Coefficients& c,
+                                              S* out) {
+    if constexpr (HasStaticsStiffness<M>::value) {
+      M::template Stiffness<double>(p, q, phi, c, out);
+    } else {
+      (void)p, (void)q, (void)phi, (void)c, (void)out;
+    }
+  }
 
   // ---- Dynamics (dynamics/, machines/): inertia, right-hand side, kinetostatics ----
 };

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <limits>
 #include <new>
 
 #include <Eigen/Core>
@@ -87,6 +88,37 @@ struct ViewModel {
   CoefficientsLayout coefficients;
   int trig_size = 0;
   // ---- Statics: the layouts of its structs ----
+  /// The statics' counts are the view's (ModelCalls<ViewModel>::NumReactions, NumFriction).
+  static constexpr int kNumReactions = Eigen::Dynamic;
+  static constexpr int kNumFriction = Eigen::Dynamic;
+  /// Offsets of the Statics members in its buffer (ViewStruct::kStatics), -1 where the model
+  /// lacks the member.
+  struct StaticsLayout {
+    int Q = -1, drive = -1, V = -1, dV_dq = -1, d2V_dq2 = -1, stiffness = -1, R = -1, normal = -1, gain = -1,
+        K_rel = -1;
+    int size = 0;
+  };
+  StaticsLayout statics = StaticsLayoutOf(*view);
+  static StaticsLayout StaticsLayoutOf(const ModelView& v) {
+    const ViewLayout& s = v.Layout(ViewStruct::kStatics);
+    auto offset = [&s](const char* name) {
+      const ViewMember* m = FindMember(s, name);
+      return m != nullptr ? m->offset : -1;
+    };
+    StaticsLayout l;
+    l.Q = offset("Q");
+    l.drive = offset("drive");
+    l.V = offset("V");
+    l.dV_dq = offset("dV_dq");
+    l.d2V_dq2 = offset("d2V_dq2");
+    l.stiffness = offset("stiffness");
+    l.R = offset("R");
+    l.normal = offset("normal");
+    l.gain = offset("gain");
+    l.K_rel = offset("K_rel");
+    l.size = s.size;
+    return l;
+  }
 
   // ---- Dynamics: the layouts of its structs ----
 };
@@ -134,6 +166,24 @@ struct ModelTypes<ViewModel, Scalar> {
         K_P{nullptr, 0, 0}, L_P{nullptr, 0, 0};
   };
   // ---- Statics: its types ----
+  static constexpr int kMaxReactions = ModelView::kMaxReactions;
+  static constexpr int kMaxFriction = ModelView::kMaxFriction;
+  using MatQQ = Eigen::Matrix<double, D, D, 0, kMaxQ, kMaxQ>;               ///< d2V_dq2, stiffness
+  using VecR = Eigen::Matrix<double, D, 1, 0, kMaxReactions, 1>;           ///< R
+  using VecF = Eigen::Matrix<double, D, 1, 0, kMaxFriction, 1>;            ///< normal, gain, f
+  using MatFQ = Eigen::Matrix<double, D, D, 0, kMaxFriction, kMaxQ>;       ///< K_rel
+  /// The generated StaticsT<double>, member for member, at the view's sizes (a member the
+  /// model lacks is empty, V NaN): ModelCalls<ViewModel>::Forces and Stiffness copy it into the
+  /// view's buffer and back by member name (ViewModel::StaticsLayout). Copyable.
+  struct Statics {
+    VecQ Q, drive;
+    double V = std::numeric_limits<double>::quiet_NaN();
+    VecQ dV_dq;
+    MatQQ d2V_dq2, stiffness;
+    VecR R;
+    VecF normal, gain;
+    MatFQ K_rel;
+  };
 
   // ---- Dynamics: its types ----
 };
@@ -292,6 +342,128 @@ struct ModelCalls<ViewModel> {
   }
 
   // ---- Statics (statics/): the loads, reactions and their functions ----
+  /// The view's Forces always takes the input velocities (a model whose statics read none
+  /// ignores them).
+  static constexpr bool kDeclaresAtSpeed = true;
+  // What this view's statics have (its flags; the sizes of ModelTypes<ViewModel>::Statics).
+  static bool HasStatics(const M& m) {
+    return m.view->flags.kHasStatics && m.view->flags.kHasStaticsQ && m.view->Forces != nullptr;
+  }
+  static int NumReactions(const M& m) { return HasStatics(m) && m.view->flags.kHasStaticsR ? m.view->num_reactions : 0; }
+  static int NumFriction(const M& m) {
+    return HasStatics(m) && m.view->flags.kHasStaticsFriction ? m.view->num_friction : 0;
+  }
+  static bool HasReactions(const M& m) { return NumReactions(m) > 0; }
+  static bool HasFriction(const M& m) { return NumFriction(m) > 0; }
+  static bool HasPotential(const M& m) { return HasStatics(m) && m.statics.V >= 0 && m.statics.dV_dq >= 0; }
+  static bool HasD2V(const M& m) { return HasStatics(m) && m.statics.d2V_dq2 >= 0 && m.view->Stiffness != nullptr; }
+  static bool HasStiffness(const M& m) {
+    return HasStatics(m) && m.statics.stiffness >= 0 && m.view->Stiffness != nullptr;
+  }
+  static int NumStaticsAtSpeed(const M& m) { return HasStatics(m) ? m.view->num_statics_at_speed : 0; }
+  static bool ReadsSpeed(const M& m) { return NumStaticsAtSpeed(m) > 0; }
+  static const char* StaticsAtSpeed(const M& m, int i) { return m.view->statics_at_speed[i]; }
+  static const char* ReactionName(const M& m, int i) { return m.view->reaction_names[i]; }
+  static int ReactionJoint(const M& m, int i) { return m.view->reaction_joints[i]; }
+  static const char* FrictionJoint(const M& m, int i) { return m.view->friction_joints[i]; }
+  static bool HasJointLinks(const M& m) {
+    return HasReactions(m) && m.view->flags.kHasDrawing && m.view->reaction_joints != nullptr &&
+           m.view->draw_joint_link_a != nullptr;
+  }
+  static int DrawJointLinkA(const M& m, int j) { return m.view->draw_joint_link_a[j]; }
+  static int DrawJointLinkB(const M& m, int j) { return m.view->draw_joint_link_b[j]; }
+  static int GroundLink(const M& m) { return m.view->ground_link; }
+  static const char* LinkName(const M& m, int l) { return m.view->link_names[l]; }
+
+  /// Model::Forces through the view: *out copied into the view's Statics buffer (the view's
+  /// function reads what it does not write, as the generated one keeps it), the call, and the
+  /// buffer copied back. f: the friction loads (NumFriction) or nullptr; qd: the input velocities
+  /// or nullptr (at rest; a model whose statics read none ignores them).
+  static void Forces(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                     const T::Coefficients& c, T::Statics* out, const T::VecF* f, const T::VecQ* qd) {
+    StaticsBuffer buffer;
+    PutStatics(m, *out, buffer.data());
+    m.view->Forces(p.data(), q.data(), phi.data(), c.buffer.data(), buffer.data(),
+                   f != nullptr && HasFriction(m) ? f->data() : nullptr, nullptr,
+                   qd != nullptr ? qd->data() : nullptr);
+    GetStatics(m, buffer.data(), out);
+  }
+  /// The coefficients from a position::State (Phi_phi, K, L and the points; Phi 0) into c's
+  /// buffer and its maps, as Coeffs sets them (ModelCalls<M>::StaticsCoefficients).
+  template <class State>
+  static void StaticsCoefficients(const M& m, const State& s, T::Coefficients* c) {
+    const ModelView& v = *m.view;
+    const ViewModel::CoefficientsLayout& l = m.coefficients;
+    double* const buffer = c->buffer.data();
+    std::fill_n(buffer, l.size, 0.0);
+    auto put = [buffer](int offset, const auto& x) {
+      if (offset >= 0) std::copy_n(x.data(), x.size(), buffer + offset);
+    };
+    put(l.Phi_phi, s.Phi_phi);
+    if (HasK(m)) put(l.K, s.K);
+    if (HasL(m)) put(l.L, s.L);
+    if (HasPoints(m)) put(l.r_P, s.r_P);
+    if (HasPointVelocities(m)) put(l.K_P, s.K_P);
+    if (HasPointAccelerations(m)) put(l.L_P, s.L_P);
+    const int nq = v.nq, nphi = v.nphi, np = v.num_points;
+    using Map = T::Coefficients::Map;
+    auto get = [buffer](int offset, Map* x, int rows, int cols) {
+      if (offset >= 0) new (x) Map(buffer + offset, rows, cols);  // (a Map is trivially destructible)
+    };
+    get(l.Phi, &c->Phi, v.nc, 1);
+    get(l.Phi_phi, &c->Phi_phi, v.nc, nphi);
+    get(l.K, &c->K, nphi, nq);
+    get(l.L, &c->L, nphi, nq * nq);
+    get(l.r_P, &c->r_P, 2, np);
+    get(l.K_P, &c->K_P, 2 * np, nq);
+    get(l.L_P, &c->L_P, 2 * np, nq * nq);
+  }
+  /// Model::Stiffness through the view (d2V_dq2 and stiffness), where the model has it.
+  static void Stiffness(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                        const T::Coefficients& c, T::Statics* out) {
+    if (m.view->Stiffness == nullptr) return;
+    StaticsBuffer buffer;
+    PutStatics(m, *out, buffer.data());
+    m.view->Stiffness(p.data(), q.data(), phi.data(), c.buffer.data(), buffer.data());
+    GetStatics(m, buffer.data(), out);
+  }
+  using StaticsBuffer = std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kStatics)]>;
+  /// The members of s into the view's Statics buffer b (column-major, by the layout's offsets),
+  /// and back; a member the model lacks is skipped. s's members have the view's sizes
+  /// (statics::internal::SetNaN sizes them).
+  static void PutStatics(const M& m, const T::Statics& s, double* b) {
+    const ViewModel::StaticsLayout& l = m.statics;
+    std::fill_n(b, l.size, 0.0);
+    auto put = [b](int offset, const auto& x) {
+      if (offset >= 0) std::copy_n(x.data(), x.size(), b + offset);
+    };
+    put(l.Q, s.Q);
+    put(l.drive, s.drive);
+    if (l.V >= 0) b[l.V] = s.V;
+    put(l.dV_dq, s.dV_dq);
+    put(l.d2V_dq2, s.d2V_dq2);
+    put(l.stiffness, s.stiffness);
+    put(l.R, s.R);
+    put(l.normal, s.normal);
+    put(l.gain, s.gain);
+    put(l.K_rel, s.K_rel);
+  }
+  static void GetStatics(const M& m, const double* b, T::Statics* s) {
+    const ViewModel::StaticsLayout& l = m.statics;
+    auto get = [b](int offset, auto* x) {
+      if (offset >= 0) std::copy_n(b + offset, x->size(), x->data());
+    };
+    get(l.Q, &s->Q);
+    get(l.drive, &s->drive);
+    if (l.V >= 0) s->V = b[l.V];
+    get(l.dV_dq, &s->dV_dq);
+    get(l.d2V_dq2, &s->d2V_dq2);
+    get(l.stiffness, &s->stiffness);
+    get(l.R, &s->R);
+    get(l.normal, &s->normal);
+    get(l.gain, &s->gain);
+    get(l.K_rel, &s->K_rel);
+  }
 
   // ---- Dynamics (dynamics/, machines/): inertia, right-hand side, kinetostatics ----
 };

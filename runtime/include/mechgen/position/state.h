@@ -31,6 +31,7 @@ struct State {
       q.setConstant(nq, kNaN);
       phi.setConstant(nphi, kNaN);
       K.setConstant(nphi, nq, kNaN);
+      Phi_phi.setConstant(C::Nc(model), nphi, kNaN);
       L.setConstant(nphi, nq * nq, kNaN);
       r_P.setConstant(2, np, kNaN);
       K_P.setConstant(2 * np, nq, kNaN);
@@ -45,6 +46,10 @@ struct State {
   typename T::VecQ q = NaNs<typename T::VecQ>();        ///< inputs (kNq)
   typename T::VecPhi phi = NaNs<typename T::VecPhi>();  ///< dependent variables (kNphi)
   typename T::MatK K = NaNs<typename T::MatK>();        ///< dphi/dq (kNphi x kNq)
+  /// dPhi/dphi (kNc x kNphi) from the Model::Coeffs that gave K and L (a model whose
+  /// coefficients have it; NaN otherwise): the statics' multipliers read it with K and L
+  /// (statics/sweep.h: a row's statics without evaluating the coefficients again).
+  typename T::MatCPhi Phi_phi = NaNs<typename T::MatCPhi>();
   typename T::MatL L = NaNs<typename T::MatL>();        ///< L(i, j + kNq k) = dK(i,j)/dq_k
   typename T::MatRP r_P = NaNs<typename T::MatRP>();    ///< points (2 x kNumPoints)
   typename T::MatKP K_P = NaNs<typename T::MatKP>();    ///< d r_P / dq (2 kNumPoints x kNq)

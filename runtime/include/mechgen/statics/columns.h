@@ -77,7 +77,8 @@ struct ReactionJoint {
 /// Groups the reaction names of M by joint: "F_<J>_x"/"F_<J>_y", "N_<J>"/"T_<J>", "F_<J>";
 /// moments ("M_<J>") are not forces and are left out. In the order of first appearance.
 template <class M>
-std::vector<ReactionJoint> ReactionJoints() {
+std::vector<ReactionJoint> ReactionJoints(const M& model) {
+  using C = ModelCalls<M>;
   std::vector<ReactionJoint> joints;
   if constexpr (StaticsFeatures<M>::kHasReactions) {
     auto find = [&joints](const std::string& name) -> ReactionJoint& {
@@ -91,8 +92,8 @@ std::vector<ReactionJoint> ReactionJoints() {
       const std::string t(tail);
       return s.size() > t.size() && s.compare(s.size() - t.size(), t.size(), t) == 0;
     };
-    for (int i = 0; i < StaticsFeatures<M>::kNumReactions; ++i) {
-      const std::string name = M::kReactionNames[i];
+    for (int i = 0; i < C::NumReactions(model); ++i) {
+      const std::string name = C::ReactionName(model, i);
       if (name.size() < 3 || name[1] != '_') continue;
       const char kind = name[0];
       const std::string rest = name.substr(2);
@@ -108,8 +109,14 @@ std::vector<ReactionJoint> ReactionJoints() {
         find(rest).t = i;
       }
     }
+  } else {
+    (void)model;
   }
   return joints;
+}
+template <class M>
+std::vector<ReactionJoint> ReactionJoints() {
+  return ReactionJoints<M>(M());
 }
 
 namespace internal {
@@ -133,29 +140,38 @@ struct GroundBearing {
 /// The ground bearings of M, in the order of the reactions; empty for a model that does not
 /// name its joints' links (hand-written models without a drawing).
 template <class M>
-std::vector<GroundBearing> GroundBearings() {
+std::vector<GroundBearing> GroundBearings(const M& model) {
+  using C = ModelCalls<M>;
   std::vector<GroundBearing> bearings;
   if constexpr (StaticsFeatures<M>::kHasReactions && internal::HasJointLinks<M>::value) {
-    for (int i = 0; i < StaticsFeatures<M>::kNumReactions; ++i) {
-      const std::string name = M::kReactionNames[i];
+    if (!C::HasJointLinks(model)) return bearings;
+    const int n = C::NumReactions(model), ground = C::GroundLink(model);
+    for (int i = 0; i < n; ++i) {
+      const std::string name = C::ReactionName(model, i);
       const bool x = name.size() > 4 && name.compare(0, 2, "F_") == 0 &&
                      name.compare(name.size() - 2, 2, "_x") == 0;
-      if (!x || i + 1 >= StaticsFeatures<M>::kNumReactions) continue;
+      if (!x || i + 1 >= n) continue;
       const std::string joint = name.substr(2, name.size() - 4);
-      if (std::string(M::kReactionNames[i + 1]) != "F_" + joint + "_y") continue;
-      const int j = M::kReactionJoint[i];
-      const int a = M::kDrawJointLinkA[j], b = M::kDrawJointLinkB[j];
-      if (a != M::kGroundLink && b != M::kGroundLink) continue;
+      if (std::string(C::ReactionName(model, i + 1)) != "F_" + joint + "_y") continue;
+      const int j = C::ReactionJoint(model, i);
+      const int a = C::DrawJointLinkA(model, j), b = C::DrawJointLinkB(model, j);
+      if (a != ground && b != ground) continue;
       GroundBearing g;
       g.joint = joint;
-      g.link = M::kLinkNames[a == M::kGroundLink ? b : a];
+      g.link = C::LinkName(model, a == ground ? b : a);
       g.x = i;
       g.y = i + 1;
-      g.sign = a == M::kGroundLink ? 1.0 : -1.0;
+      g.sign = a == ground ? 1.0 : -1.0;
       bearings.push_back(g);
     }
+  } else {
+    (void)model;
   }
   return bearings;
+}
+template <class M>
+std::vector<GroundBearing> GroundBearings() {
+  return GroundBearings<M>(M());
 }
 
 /// |force| at a joint from reactions R (NaN when any component is NaN).
@@ -176,7 +192,9 @@ using StaticsColumn = table::Column<StaticsRecord<M>>;
 /// with EvalStaticsDesign, Options::design), also for each design parameter p (kDesignNames)
 /// d drive_<q_j>/d<p>, dR_k/d<p>, dV/d<p> without friction, q held.
 template <class M>
-std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
+std::vector<StaticsColumn<M>> StaticsColumns(const M& model, bool design = false) {
+  using C = ModelCalls<M>;
+  const int nq = C::Nq(model);
   static_assert(StaticsFeatures<M>::kHasStatics, "the model has no statics");
   using F = StaticsFeatures<M>;
   using R = StaticsRecord<M>;
@@ -184,28 +202,28 @@ std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
   std::vector<StaticsColumn<M>> columns;
   table::Builder<R> add(&columns, "");
   auto usable = [](const Solution<M>& s) { return s.summary.status == Status::kConverged; };
-  const bool one_input = M::kNq == 1;
-  auto suffix = [one_input](const char* way, int j) {
-    return std::string("_") + way + (one_input ? "" : std::string("_") + M::kQNames[j]);
+  const bool one_input = nq == 1;
+  auto suffix = [one_input, &model](const char* way, int j) {
+    return std::string("_") + way + (one_input ? "" : std::string("_") + C::QName(model, j));
   };
   // The generalized force's unit along input j: a torque for an angle, a force for a slide.
-  auto force_unit = [](int j) { return std::string(M::kQIsAngle[j] ? "N m" : "N"); };
+  auto force_unit = [&model](int j) { return std::string(C::QIsAngle(model, j) ? "N m" : "N"); };
   auto length_unit = [](bool angle) { return std::string(angle ? "rad" : "model length"); };
   const char* const kReactionConvention =
       "force of the joint's first link on its second, fixed frame (N_J normal, T_J along a "
       "prismatic joint, M_J its moment), without friction";
 
-  for (int j = 0; j < M::kNq; ++j)
-    table::Shown(add.Number(M::kQNames[j], length_unit(M::kQIsAngle[j]), "input",
+  for (int j = 0; j < nq; ++j)
+    table::Shown(add.Number(C::QName(model, j), length_unit(C::QIsAngle(model, j)), "input",
                             [j](const R& r) { return r.kinematics.q(j); }),
-                 M::kQNames[j]);
-  for (int i = 0; i < M::kNphi; ++i)
-    add.Number(M::kPhiNames[i], length_unit(M::kPhiIsAngle[i]), "dependent coordinate",
+                 C::QName(model, j));
+  for (int i = 0; i < C::Nphi(model); ++i)
+    add.Number(C::PhiName(model, i), length_unit(C::PhiIsAngle(model, i)), "dependent coordinate",
                [i](const R& r) {
                  return r.kinematics.state.valid ? r.kinematics.state.phi(i) : kNaN;
                });
-  for (int j = 0; j < M::kNq; ++j) {
-    const std::string q = M::kQNames[j];
+  for (int j = 0; j < nq; ++j) {
+    const std::string q = C::QName(model, j);
     table::Shown(add.Number("drive_" + q, force_unit(j),
                             "T0: the driving force on the input without friction, along +q",
                             [j, usable](const R& r) {
@@ -214,6 +232,7 @@ std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
                             }),
                  "drive_" + q);
     if constexpr (F::kHasFriction) {
+      if (C::HasFriction(model)) {
       table::Shown(add.Number("drive_" + q + "_plus", force_unit(j),
                               "T_plus: with friction, the driving force to run the input in +" +
                                   q + " (" + q + " increasing); >= T0",
@@ -256,12 +275,13 @@ std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
                                            : kNaN;
                               }),
                    "locked");
+      }
     }
   }
-  const std::vector<ReactionJoint> joints = ReactionJoints<M>();
+  const std::vector<ReactionJoint> joints = ReactionJoints<M>(model);
   if constexpr (F::kHasReactions) {
-    for (int i = 0; i < F::kNumReactions; ++i)
-      add.Number(M::kReactionNames[i], M::kReactionNames[i][0] == 'M' ? "N m" : "N",
+    for (int i = 0; i < C::NumReactions(model); ++i)
+      add.Number(C::ReactionName(model, i), C::ReactionName(model, i)[0] == 'M' ? "N m" : "N",
                  kReactionConvention, [i, usable](const R& r) {
                    return usable(r.frictionless) ? r.frictionless.statics.R(i) : kNaN;
                  });
@@ -275,14 +295,14 @@ std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
                               }),
                    "|F_" + joint.joint + "|");
     if constexpr (F::kHasFriction) {
-      for (int j = 0; j < M::kNq; ++j) {
+      for (int j = 0; j < nq && C::HasFriction(model); ++j) {
         for (const ReactionJoint& joint : joints) {
           for (const double way : {+1.0, -1.0}) {
             add.Number("F_" + joint.joint + "_mag" + suffix(way > 0 ? "plus" : "minus", j),
                        "N",
                        std::string("|force| at the joint with friction, the input ") +
-                           M::kQNames[j] + " running in " + (way > 0 ? "+" : "-") +
-                           M::kQNames[j],
+                           C::QName(model, j) + " running in " + (way > 0 ? "+" : "-") +
+                           C::QName(model, j),
                        [joint, j, way, usable](const R& r) {
                          const Solution<M>& s = Moving(r, j, way);
                          return usable(s) ? ReactionMagnitude(joint, s.statics.R) : kNaN;
@@ -293,7 +313,7 @@ std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
     }
   }
   if constexpr (F::kHasReactions) {  // (a model without reactions has no Statics::R)
-    for (const GroundBearing& g : GroundBearings<M>()) {
+    for (const GroundBearing& g : GroundBearings<M>(model)) {
       for (const int axis : {0, 1}) {
         add.Number("bearing_" + g.joint + (axis ? "_y" : "_x"), "N",
                    std::string("force of the ground on ") + g.link + " at the bearing " + g.joint +
@@ -307,6 +327,7 @@ std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
     }
   }
   if constexpr (F::kHasPotential) {
+    if (C::HasPotential(model))
     table::Shown(add.Number("V", "J", "potential energy of springs and gravity",
                             [usable](const R& r) {
                               return usable(r.frictionless) ? double(r.frictionless.statics.V)
@@ -315,19 +336,20 @@ std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
                  "V");
   }
   if constexpr (F::kHasStiffness) {
-    for (int j = 0; j < M::kNq; ++j)
-      for (int k = j; k < M::kNq; ++k)
+    for (int j = 0; j < nq && C::HasStiffness(model); ++j)
+      for (int k = j; k < nq; ++k)
         add.Number(one_input ? std::string("stiffness")
-                             : std::string("stiffness_") + M::kQNames[j] + "_" + M::kQNames[k],
-                   force_unit(j) + "/" + (M::kQIsAngle[k] ? "rad" : "model length"),
+                             : std::string("stiffness_") + C::QName(model, j) + "_" + C::QName(model, k),
+                   force_unit(j) + "/" + (C::QIsAngle(model, k) ? "rad" : "model length"),
                    "-dQ_j/dq_k, friction excluded", [j, k, usable](const R& r) {
                      return usable(r.frictionless) ? r.frictionless.statics.stiffness(j, k)
                                                    : kNaN;
                    });
   }
-  if constexpr (M::kNq == 1 && ModelFeatures<M>::kHasPointVelocities) {
+  if constexpr ((M::kNq == 1 || C::kView) && ModelFeatures<M>::kHasPointVelocities) {
+    if (nq == 1 && C::HasPointVelocities(model))
     table::Shown(add.Number("mechanical_advantage",
-                            M::kQIsAngle[0] ? "rad/model length" : "1",
+                            C::QIsAngle(model, 0) ? "rad/model length" : "1",
                             "1 / |K_P| of the first point (inf at a toggle)",
                             [](const R& r) { return r.mechanical_advantage; }),
                  "MA");
@@ -340,7 +362,7 @@ std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
              [](const R& r) { return r.frictionless.summary.condition; });
   add.Text("evaluations", "generated statics evaluations of the row",
            [](const R& r) { return std::to_string(r.evaluations); });
-  if constexpr (HasStaticsDesign<M>::value) {
+  if constexpr (F::kHasDesign) {
     for (int d = 0; design && d < M::kNumDesign; ++d) {
       const std::string p = M::kDesignNames[d];
       if constexpr (HasStaticsQ<M>::value)
@@ -364,10 +386,20 @@ std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
   return columns;
 }
 
+/// StaticsColumns() of a generated model M (its empty tag).
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
+std::vector<StaticsColumn<M>> StaticsColumns(bool design = false) {
+  return StaticsColumns<M>(M(), design);
+}
+
 /// The names of StaticsColumns<M>(), in order.
 template <class M>
+std::vector<std::string> StaticsCsvColumns(const M& model, bool design = false) {
+  return table::ColumnNames(StaticsColumns<M>(model, design));
+}
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
 std::vector<std::string> StaticsCsvColumns(bool design = false) {
-  return table::ColumnNames(StaticsColumns<M>(design));
+  return StaticsCsvColumns<M>(M(), design);
 }
 
 /// A CSV cell: the text, the number, or empty for no value (NaN).
@@ -389,16 +421,25 @@ inline constexpr const char* kStaticsSigns =
 /// Writes the header line and one line per record (io/csv.h; with options.describe, the
 /// comment lines before the header).
 template <class M>
+void WriteStaticsCsv(const M& model, const std::vector<StaticsRecord<M>>& records, std::ostream& out,
+                     const CsvOptions& options = CsvOptions(), bool design = false) {
+  ::mechgen::WriteCsv(StaticsColumns<M>(model, design), records, out, options);
+}
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
 void WriteStaticsCsv(const std::vector<StaticsRecord<M>>& records, std::ostream& out,
                      const CsvOptions& options = CsvOptions(), bool design = false) {
-  ::mechgen::WriteCsv(StaticsColumns<M>(design), records, out, options);
+  WriteStaticsCsv<M>(M(), records, out, options, design);
 }
 
 /// Prints `rows` records spread evenly over the sweep, the first and the last included
 /// (io/table.h: the columns with a table name; angles in degrees, "-" for no value).
 template <class M>
+void PrintStaticsTable(const M& model, const std::vector<StaticsRecord<M>>& records, int rows, std::ostream& out) {
+  ::mechgen::PrintTable(StaticsColumns<M>(model), records, rows, out);
+}
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
 void PrintStaticsTable(const std::vector<StaticsRecord<M>>& records, int rows, std::ostream& out) {
-  ::mechgen::PrintTable(StaticsColumns<M>(), records, rows, out);
+  PrintStaticsTable<M>(M(), records, rows, out);
 }
 
 }  // namespace mechgen::statics

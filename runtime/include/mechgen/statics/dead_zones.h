@@ -60,6 +60,8 @@ Status FindDeadZones(const Options& options, const ScanOptions& scan,
                      position::PositionSolver<M, A>* solver, int input, double begin, double end,
                      std::vector<DeadZone>* zones, ScanSummary* summary = nullptr) {
   using VecQ = typename ModelTypes<M>::VecQ;
+  using C = ModelCalls<M>;
+  const M& model = solver->model();
   ScanSummary s;
   zones->clear();
   auto finish = [&](Status status, const char* reason) {
@@ -68,12 +70,12 @@ Status FindDeadZones(const Options& options, const ScanOptions& scan,
     if (summary != nullptr) *summary = s;
     return status;
   };
-  if (!options.IsValid(nullptr) || !scan.IsValid(nullptr) || input < 0 || input >= M::kNq ||
+  if (!options.IsValid(nullptr) || !scan.IsValid(nullptr) || input < 0 || input >= C::Nq(model) ||
       !std::isfinite(begin) || !std::isfinite(end) || !solver->state().valid) {
     return finish(Status::kInvalidInput,
                   "invalid options or input, range not finite, or solver not assembled");
   }
-  if (M::kQIsAngle[input] && !scan.ResolvesAngle(end - begin)) {
+  if (C::QIsAngle(model, input) && !scan.ResolvesAngle(end - begin)) {
     return finish(Status::kInvalidInput,
                   "scan too coarse: more than 10 deg per sample along an angle input "
                   "(ScanOptions::kMaxAngleStep); use more samples");
@@ -95,10 +97,10 @@ Status FindDeadZones(const Options& options, const ScanOptions& scan,
     }
     DriveAnalysis drive;
     Solution<M> frictionless, forward, backward;
-    const Status status = AnalyzeDriveAt<M>(options, solver->params(), solver->state(), input,
+    const Status status = AnalyzeDriveAt<M>(model, options, solver->params(), solver->state(), input,
                                             &drive, &frictionless, &forward, &backward);
     s.evaluations += frictionless.summary.iterations;
-    if constexpr (StaticsFeatures<M>::kHasFriction) {
+    if (internal::HasFriction(model)) {
       s.evaluations += forward.summary.iterations + backward.summary.iterations;
     }
     if (status != Status::kConverged) return -1;

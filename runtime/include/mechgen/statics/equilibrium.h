@@ -36,10 +36,10 @@ template <class M>
 struct Equilibrium {
   using T = ModelTypes<M>;
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  typename T::VecQ q = T::VecQ::Constant(kNaN);      ///< inputs (kNq)
-  typename T::VecPhi phi = T::VecPhi::Constant(kNaN);  ///< dependent variables (kNphi)
+  typename T::VecQ q = NaNs<typename T::VecQ>();      ///< inputs (kNq)
+  typename T::VecPhi phi = NaNs<typename T::VecPhi>();  ///< dependent variables (kNphi)
   /// Q at the equilibrium (kNq; force units: N m per rad, N per length): ~0 along the line.
-  typename T::VecQ Q = T::VecQ::Constant(kNaN);
+  typename T::VecQ Q = NaNs<typename T::VecQ>();
   /// e^T (-dQ/dq) e: the stiffness along the line (N m/rad for an angle input): from
   /// Model::Stiffness at the equilibrium, or for a model without Statics::stiffness (no
   /// potential) a central difference of e . Q at solved positions t +- 1e-6 (friction
@@ -73,6 +73,8 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
                       std::vector<Equilibrium<M>>* found, ScanSummary* summary = nullptr) {
   using VecQ = typename ModelTypes<M>::VecQ;
   using F = StaticsFeatures<M>;
+  using C = ModelCalls<M>;
+  const M& model = solver->model();
   ScanSummary s;
   found->clear();
   auto finish = [&](Status status, const char* reason) {
@@ -87,8 +89,8 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
     return finish(Status::kInvalidInput,
                   "invalid options, empty or infinite line, or solver not assembled");
   }
-  for (int j = 0; j < M::kNq; ++j) {
-    if (M::kQIsAngle[j] && !scan.ResolvesAngle(q_end(j) - q_begin(j))) {
+  for (int j = 0; j < C::Nq(model); ++j) {
+    if (C::QIsAngle(model, j) && !scan.ResolvesAngle(q_end(j) - q_begin(j))) {
       return finish(Status::kInvalidInput,
                     "scan too coarse: more than 10 deg per sample along an angle input "
                     "(ScanOptions::kMaxAngleStep); use more samples");
@@ -108,9 +110,9 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
       return false;
     }
     const position::State<M>& state = solver->state();
-    M::template Coeffs<double>(solver->params(), state.q, state.phi, &c);
-    const Status status = Solve<M>(without_stiffness, solver->params(), state.q, state.phi, c,
-                                   VecQ::Zero(), &solution);
+    C::Coeffs(model, solver->params(), state.q, state.phi, &c);
+    const Status status = Solve<M>(model, without_stiffness, solver->params(), state.q, state.phi, c,
+                                   internal::Zeros<VecQ>(C::Nq(model)), &solution);
     s.evaluations += solution.summary.iterations;
     if (status != Status::kConverged) return false;
     *g = e.dot(solution.statics.Q);
@@ -122,10 +124,15 @@ Status FindEquilibria(const Options& options, const ScanOptions& scan,
     eq.q = solver->state().q;
     eq.phi = solver->state().phi;
     eq.Q = solution.statics.Q;
+    bool stiffness = false;
     if constexpr (F::kHasStiffness) {
-      internal::EvaluateStiffness<M>(solver->params(), eq.q, eq.phi, c, &solution.statics);
-      eq.stiffness = e.dot(solution.statics.stiffness * e);
-    } else {
+      if (C::HasStiffness(model)) {
+        internal::EvaluateStiffness<M>(model, solver->params(), eq.q, eq.phi, c, &solution.statics);
+        eq.stiffness = e.dot(Times(solution.statics.stiffness, e));
+        stiffness = true;
+      }
+    }
+    if (!stiffness) {
       // No Statics::stiffness (a model without potential): -dg/dt by a central difference
       // of g at solved positions, h = 1e-6 (truncation ~h^2, rounding ~1e-16 |Q| / h: both
       // ~1e-10 relative); then back to the equilibrium.

@@ -41,16 +41,32 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include "mechgen/core/linear_algebra.h"
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/position/state.h"
 #include "mechgen/statics/traits.h"
 #include "mechgen/statics/types.h"
 
 namespace mechgen::statics {
+
+namespace internal {
+/// X::Zero() for a fixed-size X, X::Zero(rows, cols) for a bounded dynamic one.
+template <class X>
+MECHGEN_ALWAYS_INLINE X Zeros(Eigen::Index rows, Eigen::Index cols = 1) {
+  if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
+    (void)rows, (void)cols;
+    return X::Zero();
+  } else {
+    return X::Zero(rows, cols);
+  }
+}
+}  // namespace internal
 
 /// The statics of model M at one configuration, for one direction of motion.
 template <class M>
@@ -63,82 +79,124 @@ struct Solution {
   typename Types::Statics statics;
   /// The friction loads f_J (kNumFriction) the statics were evaluated with: torque on link_b
   /// by link_a (pin, CCW +) or force on the slider along +u (slide); 0 without friction.
-  typename Types::VecF friction = Types::VecF::Constant(kNaN);
+  typename Types::VecF friction = NaNs<typename Types::VecF>();
   /// The direction of motion e (kNq) the friction opposes; 0: no motion (frictionless).
-  typename Types::VecQ direction = Types::VecQ::Zero();
+  typename Types::VecQ direction = internal::Zeros<typename Types::VecQ>(0);
   Summary summary;
 
+  /// A generated M: every value NaN. A ViewModel: empty (Solution(model) sizes it; Solve()
+  /// sizes what it writes).
   Solution();
+  /// Every value NaN at the model's sizes (for a generated M the same as Solution()).
+  explicit Solution(const M& model);
 };
 
 namespace internal {
 
-/// Every member of model M's Statics set to NaN ("no value"), whichever the model has.
+/// x with rows x cols entries, each v: x->setConstant(v) for a fixed-size X (the same code as
+/// before), setConstant(rows, cols, v) for a bounded dynamic one (the view).
+template <class X>
+MECHGEN_ALWAYS_INLINE void Fill(X* x, Eigen::Index rows, Eigen::Index cols, double v) {
+  if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
+    (void)rows, (void)cols;
+    x->setConstant(v);
+  } else {
+    x->setConstant(rows, cols, v);
+  }
+}
+
+/// Whether the model's statics have friction joints (constant for a generated M).
 template <class M>
-void SetNaN(typename StaticsTypes<M>::Statics* s) {
+MECHGEN_ALWAYS_INLINE constexpr bool HasFriction(const M& model) {
+  if constexpr (StaticsFeatures<M>::kHasFriction) {
+    return ModelCalls<M>::HasFriction(model);
+  } else {
+    (void)model;
+    return false;
+  }
+}
+
+/// Every member of model M's Statics set to NaN ("no value"), whichever the model has (for the
+/// view: sized as its members, those it lacks empty).
+template <class M>
+void SetNaN(const M& model, typename StaticsTypes<M>::Statics* s) {
   using F = StaticsFeatures<M>;
+  using C = ModelCalls<M>;
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  s->Q.setConstant(kNaN);
-  s->drive.setConstant(kNaN);
+  const int nq = C::Nq(model);
+  Fill(&s->Q, nq, 1, kNaN);
+  Fill(&s->drive, nq, 1, kNaN);
   if constexpr (F::kHasPotential) {
     s->V = kNaN;
-    s->dV_dq.setConstant(kNaN);
+    Fill(&s->dV_dq, C::HasPotential(model) ? nq : 0, 1, kNaN);
   }
-  if constexpr (F::kHasD2V) s->d2V_dq2.setConstant(kNaN);
-  if constexpr (F::kHasStiffness) s->stiffness.setConstant(kNaN);
-  if constexpr (F::kHasReactions) s->R.setConstant(kNaN);
+  if constexpr (F::kHasD2V) Fill(&s->d2V_dq2, C::HasD2V(model) ? nq : 0, nq, kNaN);
+  if constexpr (F::kHasStiffness) Fill(&s->stiffness, C::HasStiffness(model) ? nq : 0, nq, kNaN);
+  if constexpr (F::kHasReactions) Fill(&s->R, C::NumReactions(model), 1, kNaN);
   if constexpr (F::kHasFriction) {
-    s->normal.setConstant(kNaN);
-    s->gain.setConstant(kNaN);
-    s->K_rel.setConstant(kNaN);
+    const int nf = C::NumFriction(model);
+    Fill(&s->normal, nf, 1, kNaN);
+    Fill(&s->gain, nf, 1, kNaN);
+    Fill(&s->K_rel, nf, nq, kNaN);
   }
 }
 
 /// Every value Model::Forces fills is finite (NaN and inf are not); stiffness and d2V_dq2
 /// (Model::Stiffness) are not checked.
 template <class M>
-bool AllFinite(const typename StaticsTypes<M>::Statics& s) {
+bool AllFinite(const M& model, const typename StaticsTypes<M>::Statics& s) {
   using F = StaticsFeatures<M>;
   bool finite = s.Q.allFinite() && s.drive.allFinite();
-  if constexpr (F::kHasPotential) finite = finite && std::isfinite(s.V) && s.dV_dq.allFinite();
+  if constexpr (F::kHasPotential)
+    if (ModelCalls<M>::HasPotential(model)) finite = finite && std::isfinite(s.V) && s.dV_dq.allFinite();
   if constexpr (F::kHasReactions) finite = finite && s.R.allFinite();
   if constexpr (F::kHasFriction) finite = finite && s.normal.allFinite();
+  (void)model;
   return finite;
 }
 
 /// One generated evaluation, with the friction loads f when the model has friction and the
 /// input velocities qd (nullptr: at rest) when its statics read them.
 template <class M>
-void Evaluate(const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
-              const typename ModelTypes<M>::VecPhi& phi,
-              const typename ModelTypes<M>::Coefficients& c,
-              const typename StaticsTypes<M>::VecF* f, typename StaticsTypes<M>::Statics* out,
-              const typename ModelTypes<M>::VecQ* qd = nullptr) {
-  if constexpr (StaticsFeatures<M>::kReadsSpeed && StaticsFeatures<M>::kHasFriction) {
-    M::template Forces<double>(p, q, phi, c, out, f, nullptr, qd);
-  } else if constexpr (StaticsFeatures<M>::kReadsSpeed) {
-    (void)f;
-    M::template Forces<double>(p, q, phi, c, out, nullptr, nullptr, qd);
-  } else if constexpr (StaticsFeatures<M>::kHasFriction) {
-    (void)qd;
-    M::template Forces<double>(p, q, phi, c, out, f);
-  } else {
-    (void)f, (void)qd;
-    M::template Forces<double>(p, q, phi, c, out);
-  }
+MECHGEN_ALWAYS_INLINE void Evaluate(const M& model, const typename ModelTypes<M>::Params& p,
+                                    const typename ModelTypes<M>::VecQ& q,
+                                    const typename ModelTypes<M>::VecPhi& phi,
+                                    const typename ModelTypes<M>::Coefficients& c,
+                                    const typename StaticsTypes<M>::VecF* f,
+                                    typename StaticsTypes<M>::Statics* out,
+                                    const typename ModelTypes<M>::VecQ* qd = nullptr) {
+  ModelCalls<M>::Forces(model, p, q, phi, c, out, f, qd);
 }
 
 /// Model::Stiffness into out (d2V_dq2, stiffness) when the model has them.
 template <class M>
-void EvaluateStiffness(const typename ModelTypes<M>::Params& p,
+void EvaluateStiffness(const M& model, const typename ModelTypes<M>::Params& p,
                        const typename ModelTypes<M>::VecQ& q,
                        const typename ModelTypes<M>::VecPhi& phi,
                        const typename ModelTypes<M>::Coefficients& c,
                        typename StaticsTypes<M>::Statics* out) {
   if constexpr (StaticsFeatures<M>::kStiffnessApart) {
-    M::template Stiffness<double>(p, q, phi, c, out);
+    if (ModelCalls<M>::HasStiffness(model) || ModelCalls<M>::HasD2V(model))
+      ModelCalls<M>::Stiffness(model, p, q, phi, c, out);
   } else {
-    (void)p, (void)q, (void)phi, (void)c, (void)out;
+    (void)model, (void)p, (void)q, (void)phi, (void)c, (void)out;
+  }
+}
+
+/// ConditionAndDeterminant() of a bounded dynamic square matrix (the view's Phi_phi): on a
+/// fixed-size copy up to 16 x 16 (the same arithmetic as the fixed-size instantiation, so the
+/// same bits), above with Eigen's PartialPivLU on the bounded matrix (its rcond estimate).
+template <class MatCPhi, int k = 1, class A>
+void ConditionAndDeterminantDynamic(const A& Phi_phi, double* cond, double* det) {
+  if constexpr (k > 16 || k > MatCPhi::MaxRowsAtCompileTime) {
+    const Eigen::PartialPivLU<MatCPhi> lu{MatCPhi(Phi_phi)};
+    *det = lu.determinant();
+    const double rcond = lu.rcond();
+    *cond = rcond > 0 ? 1.0 / rcond : std::numeric_limits<double>::infinity();
+    if (!std::isfinite(*cond)) *cond = std::numeric_limits<double>::infinity();
+  } else {
+    if (Phi_phi.rows() != k) return ConditionAndDeterminantDynamic<MatCPhi, k + 1>(Phi_phi, cond, det);
+    ConditionAndDeterminant(Eigen::Matrix<double, k, k>(Phi_phi), cond, det);
   }
 }
 
@@ -146,19 +204,32 @@ void EvaluateStiffness(const typename ModelTypes<M>::Params& p,
 /// headers do), else from Model::Phi; 1 for a model without constraints (kLoopFree: the
 /// empty Phi_phi, never singular).
 template <class M>
-double Condition(const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
-                 const typename ModelTypes<M>::VecPhi& phi,
+double Condition(const M& model, const typename ModelTypes<M>::Params& p,
+                 const typename ModelTypes<M>::VecQ& q, const typename ModelTypes<M>::VecPhi& phi,
                  const typename ModelTypes<M>::Coefficients& c) {
+  using C = ModelCalls<M>;
   double cond = 0, det = 0;
   if constexpr (ModelFeatures<M>::kLoopFree) {
-    (void)p, (void)q, (void)phi, (void)c, (void)det;
+    (void)model, (void)p, (void)q, (void)phi, (void)c, (void)det;
     cond = 1;
+  } else if constexpr (C::kView) {
+    using MatCPhi = typename ModelTypes<M>::MatCPhi;
+    if (C::LoopFree(model)) {
+      cond = 1;
+    } else if (C::CoeffsHavePhi(model)) {
+      ConditionAndDeterminantDynamic<MatCPhi>(c.Phi_phi, &cond, &det);
+    } else {
+      MatCPhi Phi_phi;
+      C::Phi(model, p, q, phi, nullptr, &Phi_phi, nullptr);
+      ConditionAndDeterminantDynamic<MatCPhi>(Phi_phi, &cond, &det);
+    }
   } else if constexpr (ModelFeatures<M>::kCoeffsHavePhi) {
+    (void)model;
     ConditionAndDeterminant(c.Phi_phi, &cond, &det);
   } else {
     (void)c;
     typename ModelTypes<M>::MatCPhi Phi_phi;
-    M::template Phi<double>(p, q, phi, nullptr, &Phi_phi, nullptr);
+    C::Phi(model, p, q, phi, nullptr, &Phi_phi, nullptr);
     ConditionAndDeterminant(Phi_phi, &cond, &det);
   }
   return cond;
@@ -168,12 +239,22 @@ double Condition(const typename ModelTypes<M>::Params& p, const typename ModelTy
 
 template <class M>
 Solution<M>::Solution() {
-  internal::SetNaN<M>(&statics);
+  if constexpr (!ModelCalls<M>::kView) internal::SetNaN<M>(M(), &statics);
+}
+
+template <class M>
+Solution<M>::Solution(const M& model) {
+  internal::SetNaN<M>(model, &statics);
+  if constexpr (ModelCalls<M>::kView) {
+    friction.setConstant(ModelCalls<M>::NumFriction(model), kNaN);
+    direction.setZero(ModelCalls<M>::Nq(model));
+  }
 }
 
 /**
  * \brief The statics at (q, phi) for motion in direction e, with Coulomb friction iterated
  *        to consistency with the reactions (see the file comment). No allocation.
+ * \param[in]  model      The model (a generated model's empty tag, or a ViewModel).
  * \param[in]  options    Tolerances, the singular threshold (statics/types.h).
  * \param[in]  p          Parameters.
  * \param[in]  q          Inputs (dim kNq).
@@ -191,7 +272,7 @@ Solution<M>::Solution() {
  *         kInvalidInput.
  */
 template <class M>
-Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
+Status Solve(const M& model, const Options& options, const typename ModelTypes<M>::Params& p,
              const typename ModelTypes<M>::VecQ& q, const typename ModelTypes<M>::VecPhi& phi,
              const typename ModelTypes<M>::Coefficients& c,
              const typename ModelTypes<M>::VecQ& direction, Solution<M>* out,
@@ -200,19 +281,20 @@ Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
                 "the model has no statics: ask for `forces` in its outputs");
   using Types = StaticsTypes<M>;
   using F = StaticsFeatures<M>;
+  using C = ModelCalls<M>;
   Summary& s = out->summary;
   s = Summary();
   out->direction = direction;
-  out->friction.setZero();
-  internal::SetNaN<M>(&out->statics);  // nothing stale from an earlier call
+  internal::Fill(&out->friction, C::NumFriction(model), 1, 0.0);
+  internal::SetNaN<M>(model, &out->statics);  // nothing stale from an earlier call
   // The stiffness is that of the loads at rest: none at a speed that the loads read.
-  const bool at_speed = StaticsFeatures<M>::kReadsSpeed && velocities != nullptr;
+  const bool at_speed = F::kReadsSpeed && velocities != nullptr && C::ReadsSpeed(model);
   auto finish = [&](Status status, const char* reason, bool withhold) {
     s.status = status;
     s.reason = reason;
-    if (withhold) internal::SetNaN<M>(&out->statics);
+    if (withhold) internal::SetNaN<M>(model, &out->statics);
     if (status == Status::kConverged && options.stiffness && !at_speed) {
-      internal::EvaluateStiffness<M>(p, q, phi, c, &out->statics);
+      internal::EvaluateStiffness<M>(model, p, q, phi, c, &out->statics);
     }
     return status;
   };
@@ -221,36 +303,39 @@ Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
       (velocities != nullptr && !velocities->allFinite())) {
     return finish(Status::kInvalidInput, "q, phi, the direction or the velocities not finite", true);
   }
-  s.condition = internal::Condition<M>(p, q, phi, c);
+  s.condition = internal::Condition<M>(model, p, q, phi, c);
 
   // The frictionless evaluation: the answer without friction, the start of the iteration
   // with it, and the figure |R| that a singular configuration reports.
-  internal::Evaluate<M>(p, q, phi, c, nullptr, &out->statics, velocities);
+  internal::Evaluate<M>(model, p, q, phi, c, nullptr, &out->statics, velocities);
   s.iterations = 1;
-  if constexpr (F::kHasReactions) s.reaction_norm = out->statics.R.cwiseAbs().maxCoeff();
+  if constexpr (F::kHasReactions)
+    if (C::HasReactions(model)) s.reaction_norm = out->statics.R.cwiseAbs().maxCoeff();
   if (!(s.condition <= options.max_condition)) {
     return finish(Status::kSingular, "cond_1(Phi_phi) > Options::max_condition (a dead point)",
                   true);
   }
-  if (!internal::AllFinite<M>(out->statics)) {
+  if (!internal::AllFinite<M>(model, out->statics)) {
     return finish(Status::kSingular, "a generated value is not finite", true);
   }
   s.last_change = 0;
   if constexpr (F::kHasFriction) {
     using VecF = typename Types::VecF;
+    const int nf = C::NumFriction(model);
+    if (nf == 0) return finish(Status::kConverged, "", false);  // (a view without friction)
     // sign(K_rel_J . e): K_rel depends on the configuration only.
-    VecF sign;
-    for (int J = 0; J < Types::kNumFriction; ++J)
+    auto sign = Sized<VecF>(nf);
+    for (int J = 0; J < nf; ++J)
       sign(J) = Sign(out->statics.K_rel.row(J).dot(direction));
     if (sign.isZero()) return finish(Status::kConverged, "", false);
-    VecF f_prev = VecF::Zero();
+    VecF f_prev = internal::Zeros<VecF>(nf);
     typename Types::VecQ drive_prev = out->statics.drive;
     for (int k = 1; k < options.max_friction_iterations; ++k) {
       const VecF f = -(out->statics.gain.cwiseProduct(out->statics.normal)).cwiseProduct(sign);
-      internal::Evaluate<M>(p, q, phi, c, &f, &out->statics, velocities);
+      internal::Evaluate<M>(model, p, q, phi, c, &f, &out->statics, velocities);
       ++s.iterations;
       out->friction = f;
-      if (!internal::AllFinite<M>(out->statics) || !f.allFinite()) {
+      if (!internal::AllFinite<M>(model, out->statics) || !f.allFinite()) {
         return finish(Status::kDidNotConverge, "friction iteration diverged", false);
       }
       const double drive_change = (out->statics.drive - drive_prev).template lpNorm<Eigen::Infinity>();
@@ -271,23 +356,38 @@ Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
     return finish(Status::kConverged, "", false);
   }
 }
+/// Solve() for a generated model M (its empty tag).
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
+Status Solve(const Options& options, const typename ModelTypes<M>::Params& p,
+             const typename ModelTypes<M>::VecQ& q, const typename ModelTypes<M>::VecPhi& phi,
+             const typename ModelTypes<M>::Coefficients& c,
+             const typename ModelTypes<M>::VecQ& direction, Solution<M>* out,
+             const typename ModelTypes<M>::VecQ* velocities = nullptr) {
+  return Solve<M>(M(), options, p, q, phi, c, direction, out, velocities);
+}
 
 /// Solve() at a configuration of the position solver (state.valid): evaluates Model::Coeffs
 /// there first. kInvalidInput when !state.valid.
 template <class M>
-Status SolveAt(const Options& options, const typename ModelTypes<M>::Params& p,
+Status SolveAt(const M& model, const Options& options, const typename ModelTypes<M>::Params& p,
                const position::State<M>& state, const typename ModelTypes<M>::VecQ& direction,
                Solution<M>* out, const typename ModelTypes<M>::VecQ* velocities = nullptr) {
   if (!state.valid) {
     out->summary = Summary();
     out->summary.status = Status::kInvalidInput;
     out->summary.reason = "no valid configuration";
-    internal::SetNaN<M>(&out->statics);
+    internal::SetNaN<M>(model, &out->statics);
     return Status::kInvalidInput;
   }
   typename ModelTypes<M>::Coefficients c;
-  M::template Coeffs<double>(p, state.q, state.phi, &c);
-  return Solve<M>(options, p, state.q, state.phi, c, direction, out, velocities);
+  ModelCalls<M>::Coeffs(model, p, state.q, state.phi, &c);
+  return Solve<M>(model, options, p, state.q, state.phi, c, direction, out, velocities);
+}
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
+Status SolveAt(const Options& options, const typename ModelTypes<M>::Params& p,
+               const position::State<M>& state, const typename ModelTypes<M>::VecQ& direction,
+               Solution<M>* out, const typename ModelTypes<M>::VecQ* velocities = nullptr) {
+  return SolveAt<M>(M(), options, p, state, direction, out, velocities);
 }
 
 /// The driving force of one input with friction, forward and backward, and self-locking
@@ -344,7 +444,7 @@ struct DriveAnalysis {
  * \param[in]  velocities    The input velocities the loads are taken at (nullptr: at rest).
  */
 template <class M>
-Status AnalyzeDriveFrom(const Options& options, const typename ModelTypes<M>::Params& p,
+Status AnalyzeDriveFrom(const M& model, const Options& options, const typename ModelTypes<M>::Params& p,
                         const typename ModelTypes<M>::VecQ& q,
                         const typename ModelTypes<M>::VecPhi& phi,
                         const typename ModelTypes<M>::Coefficients& c, int input,
@@ -357,7 +457,8 @@ Status AnalyzeDriveFrom(const Options& options, const typename ModelTypes<M>::Pa
   Solution<M> local[2];
   Solution<M>* s1 = forward != nullptr ? forward : &local[0];
   Solution<M>* s2 = backward != nullptr ? backward : &local[1];
-  if (input < 0 || input >= M::kNq) {
+  const int nq = ModelCalls<M>::Nq(model);
+  if (input < 0 || input >= nq) {
     for (Solution<M>* s : {s1, s2}) {
       s->summary = Summary();
       s->summary.status = Status::kInvalidInput;
@@ -374,13 +475,17 @@ Status AnalyzeDriveFrom(const Options& options, const typename ModelTypes<M>::Pa
   }
   const double T0 = s0.statics.drive(input);
   const double sign = T0 < 0 ? -1.0 : 1.0;
-  const VecQ e = VecQ::Unit(input);
-  if constexpr (StaticsFeatures<M>::kHasFriction) {
-    const Status fwd = Solve<M>(options, p, q, phi, c, VecQ(sign * e), s1, velocities);
-    const Status back = Solve<M>(options, p, q, phi, c, VecQ(-sign * e), s2, velocities);
+  VecQ e;
+  if constexpr (VecQ::SizeAtCompileTime != Eigen::Dynamic) {
+    e = VecQ::Unit(input);
+  } else {
+    e = VecQ::Unit(nq, input);
+  }
+  if (internal::HasFriction(model)) {
+    const Status fwd = Solve<M>(model, options, p, q, phi, c, VecQ(sign * e), s1, velocities);
+    const Status back = Solve<M>(model, options, p, q, phi, c, VecQ(-sign * e), s2, velocities);
     status = fwd != Status::kConverged ? fwd : back;
   } else {
-    (void)options, (void)p, (void)q, (void)phi, (void)c, (void)velocities;
     *s1 = s0;
     *s2 = s0;
     s1->direction = sign * e;
@@ -401,6 +506,17 @@ Status AnalyzeDriveFrom(const Options& options, const typename ModelTypes<M>::Pa
   out->self_locking = out->drive_backward * T0 <= 0;
   return out->status = Status::kConverged;
 }
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
+Status AnalyzeDriveFrom(const Options& options, const typename ModelTypes<M>::Params& p,
+                        const typename ModelTypes<M>::VecQ& q,
+                        const typename ModelTypes<M>::VecPhi& phi,
+                        const typename ModelTypes<M>::Coefficients& c, int input,
+                        const Solution<M>& frictionless, DriveAnalysis* out,
+                        Solution<M>* forward = nullptr, Solution<M>* backward = nullptr,
+                        const typename ModelTypes<M>::VecQ* velocities = nullptr) {
+  return AnalyzeDriveFrom<M>(M(), options, p, q, phi, c, input, frictionless, out, forward, backward,
+                             velocities);
+}
 
 /**
  * \brief T0, T_fwd, T_back, the efficiencies and self-locking of input j at (q, phi).
@@ -412,7 +528,7 @@ Status AnalyzeDriveFrom(const Options& options, const typename ModelTypes<M>::Pa
  * \param[in]  velocities    The input velocities the loads are taken at (nullptr: at rest).
  */
 template <class M>
-Status AnalyzeDrive(const Options& options, const typename ModelTypes<M>::Params& p,
+Status AnalyzeDrive(const M& model, const Options& options, const typename ModelTypes<M>::Params& p,
                     const typename ModelTypes<M>::VecQ& q,
                     const typename ModelTypes<M>::VecPhi& phi,
                     const typename ModelTypes<M>::Coefficients& c, int input,
@@ -422,20 +538,32 @@ Status AnalyzeDrive(const Options& options, const typename ModelTypes<M>::Params
   using VecQ = typename ModelTypes<M>::VecQ;
   Solution<M> local;
   Solution<M>* s0 = frictionless != nullptr ? frictionless : &local;
-  if (input < 0 || input >= M::kNq) {
+  const int nq = ModelCalls<M>::Nq(model);
+  if (input < 0 || input >= nq) {
     s0->summary = Summary();
     s0->summary.status = Status::kInvalidInput;
     s0->summary.reason = "input index out of range";
   } else {
-    Solve<M>(options, p, q, phi, c, VecQ::Zero(), s0, velocities);
+    Solve<M>(model, options, p, q, phi, c, internal::Zeros<VecQ>(nq), s0, velocities);
   }
-  return AnalyzeDriveFrom<M>(options, p, q, phi, c, input, *s0, out, forward, backward,
+  return AnalyzeDriveFrom<M>(model, options, p, q, phi, c, input, *s0, out, forward, backward,
                              velocities);
+}
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
+Status AnalyzeDrive(const Options& options, const typename ModelTypes<M>::Params& p,
+                    const typename ModelTypes<M>::VecQ& q,
+                    const typename ModelTypes<M>::VecPhi& phi,
+                    const typename ModelTypes<M>::Coefficients& c, int input,
+                    DriveAnalysis* out, Solution<M>* frictionless = nullptr,
+                    Solution<M>* forward = nullptr, Solution<M>* backward = nullptr,
+                    const typename ModelTypes<M>::VecQ* velocities = nullptr) {
+  return AnalyzeDrive<M>(M(), options, p, q, phi, c, input, out, frictionless, forward, backward,
+                         velocities);
 }
 
 /// AnalyzeDrive() at a configuration of the position solver (evaluates Model::Coeffs).
 template <class M>
-Status AnalyzeDriveAt(const Options& options, const typename ModelTypes<M>::Params& p,
+Status AnalyzeDriveAt(const M& model, const Options& options, const typename ModelTypes<M>::Params& p,
                       const position::State<M>& state, int input, DriveAnalysis* out,
                       Solution<M>* frictionless = nullptr, Solution<M>* forward = nullptr,
                       Solution<M>* backward = nullptr) {
@@ -445,9 +573,16 @@ Status AnalyzeDriveAt(const Options& options, const typename ModelTypes<M>::Para
     return out->status = Status::kInvalidInput;
   }
   typename ModelTypes<M>::Coefficients c;
-  M::template Coeffs<double>(p, state.q, state.phi, &c);
-  return AnalyzeDrive<M>(options, p, state.q, state.phi, c, input, out, frictionless, forward,
+  ModelCalls<M>::Coeffs(model, p, state.q, state.phi, &c);
+  return AnalyzeDrive<M>(model, options, p, state.q, state.phi, c, input, out, frictionless, forward,
                          backward);
+}
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
+Status AnalyzeDriveAt(const Options& options, const typename ModelTypes<M>::Params& p,
+                      const position::State<M>& state, int input, DriveAnalysis* out,
+                      Solution<M>* frictionless = nullptr, Solution<M>* forward = nullptr,
+                      Solution<M>* backward = nullptr) {
+  return AnalyzeDriveAt<M>(M(), options, p, state, input, out, frictionless, forward, backward);
 }
 
 }  // namespace mechgen::statics

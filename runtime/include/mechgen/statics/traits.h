@@ -31,23 +31,30 @@
 
 #include <Eigen/Core>
 
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 
 namespace mechgen::statics {
 
 namespace internal {
 
-/// Model::StaticsT<double>, or void for a model without statics.
-template <class M, bool kHas>
+/// Model::StaticsT<double> (the view's: ModelTypes<ViewModel>::Statics), or void for a model
+/// without statics.
+template <class M, bool kHas, bool kView = ModelCalls<M>::kView>
 struct StaticsOf {
   using type = void;
 };
 template <class M>
-struct StaticsOf<M, true> {
+struct StaticsOf<M, true, false> {
   using type = typename M::template StaticsT<double>;
 };
+template <class M>
+struct StaticsOf<M, true, true> {
+  using type = typename ModelTypes<M>::Statics;
+};
 
-/// M::kNumReactions when the statics have reactions (kHasStaticsR), else 0.
+/// M::kNumReactions when the statics have reactions (kHasStaticsR), else 0 (Eigen::Dynamic
+/// for the view: its count at run time).
 template <class M, bool kHas>
 struct NumReactionsOf : std::integral_constant<int, 0> {};
 template <class M>
@@ -58,15 +65,10 @@ struct NumFrictionOf : std::integral_constant<int, 0> {};
 template <class M>
 struct NumFrictionOf<M, true> : std::integral_constant<int, M::kNumFriction> {};
 
-/// Whether M declares kStaticsAtSpeed (and so Model::Forces takes the velocities).
-template <class M, class = void>
-struct DeclaresStaticsAtSpeed : std::false_type {};
-template <class M>
-struct DeclaresStaticsAtSpeed<M, std::void_t<decltype(M::kStaticsAtSpeed)>> : std::true_type {};
-
 }  // namespace internal
 
-/// What the statics of model M provide: its flags, combined.
+/// What the statics of model M may provide: its flags, combined (for the view: everything a
+/// view may have, counts Eigen::Dynamic; ModelCalls<ViewModel> says at run time what it has).
 template <class M>
 struct StaticsFeatures {
   /// Model::StaticsT and Model::Forces with Q and drive (M::kHasStatics and kHasStaticsQ: the
@@ -78,9 +80,9 @@ struct StaticsFeatures {
       internal::NumReactionsOf<M, kHasStatics && HasStaticsR<M>::value>::value;
   static constexpr int kNumFriction =
       internal::NumFrictionOf<M, kHasStatics && HasStaticsFriction<M>::value>::value;
-  static constexpr bool kHasReactions = kNumReactions > 0;
+  static constexpr bool kHasReactions = kNumReactions != 0;
   /// Statics::normal, gain, K_rel, and Model::Forces takes the friction loads.
-  static constexpr bool kHasFriction = kNumFriction > 0;
+  static constexpr bool kHasFriction = kNumFriction != 0;
   /// V (the potential energy of springs and gravity) and dV/dq.
   static constexpr bool kHasPotential = kHasStatics && HasStaticsV<M>::value;
   /// d2V/dq2, set by Model::Stiffness.
@@ -91,31 +93,57 @@ struct StaticsFeatures {
   static constexpr bool kHasStiffness = kHasStatics && HasStaticsStiffness<M>::value;
   static constexpr bool kStiffnessApart = kHasStiffness;
   /// Model::Forces takes the input velocities: something in the statics reads a velocity
-  /// (Model::kStaticsAtSpeed, SpeedItems()); without them it is taken at rest.
-  static constexpr bool kReadsSpeed = kHasStatics && internal::DeclaresStaticsAtSpeed<M>::value;
+  /// (Model::kStaticsAtSpeed, SpeedItems()); without them it is taken at rest. (The view's
+  /// Forces always takes them.)
+  static constexpr bool kReadsSpeed = kHasStatics && (ModelCalls<M>::kDeclaresAtSpeed || ModelCalls<M>::kView);
+  /// The design derivatives of the statics (EvalStaticsDesign): a generated model with them
+  /// (not reached through the view).
+  static constexpr bool kHasDesign = HasStaticsDesign<M>::value && !ModelCalls<M>::kView;
 };
 
 /// What model M's statics take at the input velocities and at rest without them: "torque of
 /// load 'motor' (theta_crank_dot)", "damper 'pump'", "viscous friction at joint O"; empty
 /// when nothing reads a velocity (the statics are the same at any speed).
 template <class M>
-std::vector<std::string> SpeedItems() {
+std::vector<std::string> SpeedItems(const M& model) {
+  using C = ModelCalls<M>;
   std::vector<std::string> items;
   if constexpr (StaticsFeatures<M>::kReadsSpeed)
-    for (const char* item : M::kStaticsAtSpeed) items.push_back(item);
+    for (int i = 0; i < C::NumStaticsAtSpeed(model); ++i) items.push_back(C::StaticsAtSpeed(model, i));
   return items;
 }
+template <class M>
+std::vector<std::string> SpeedItems() {
+  return SpeedItems<M>(M());
+}
 
-/// Fixed-size types of the statics of model M (double).
+namespace internal {
+/// The reactions' and the friction joints' vectors: fixed-size, or the view's bounded ones.
+template <class M, bool kView = ModelCalls<M>::kView>
+struct StaticsVectors {
+  using VecR = Eigen::Matrix<double, StaticsFeatures<M>::kNumReactions, 1>;
+  using VecF = Eigen::Matrix<double, StaticsFeatures<M>::kNumFriction, 1>;
+};
+template <class M>
+struct StaticsVectors<M, true> {
+  using VecR = typename ModelTypes<M>::VecR;
+  using VecF = typename ModelTypes<M>::VecF;
+};
+}  // namespace internal
+
+/// Types of the statics of model M (double): fixed-size for a generated M, bounded dynamic
+/// for the view.
 template <class M>
 struct StaticsTypes {
   static constexpr int kNq = M::kNq;
   static constexpr int kNumReactions = StaticsFeatures<M>::kNumReactions;
   static constexpr int kNumFriction = StaticsFeatures<M>::kNumFriction;
+  /// kNq, or the view's maximum (a bound on the arrays per input).
+  static constexpr int kMaxQ = ModelTypes<M>::kMaxQ;
   using Statics = typename StaticsFeatures<M>::Statics;
-  using VecQ = Eigen::Matrix<double, kNq, 1>;
-  using VecR = Eigen::Matrix<double, kNumReactions, 1>;  ///< reactions (kReactionNames order)
-  using VecF = Eigen::Matrix<double, kNumFriction, 1>;   ///< one value per friction joint
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecR = typename internal::StaticsVectors<M>::VecR;  ///< reactions (kReactionNames order)
+  using VecF = typename internal::StaticsVectors<M>::VecF;  ///< one value per friction joint
 };
 
 }  // namespace mechgen::statics

@@ -220,6 +220,10 @@ bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficien
   if constexpr (Features::kHasK) {
     if (Calls::HasK(model_)) s->K = c.K;
   }
+  // Phi_phi with K and L from the same evaluation (State::Phi_phi; the statics read the three).
+  if constexpr (kPhiFromCoeffs) {
+    if (PhiFromCoeffs()) s->Phi_phi = c.Phi_phi;
+  }
   if constexpr (!Features::kHasK || Calls::kView) {
     if (!Calls::HasK(model_)) {
       MatCQ B;

@@ -1,0 +1,324 @@
+// The statics instantiated once for the model view (issue 43: statics/ for ViewModel, in
+// mechgen_runtime_view) against the same source instantiated for each generated model's type:
+// the statics sweep of the model's default range (every row's frictionless, forward and
+// backward solutions, drive analyses, evaluations, status and CSV line), the dead-zone scan and
+// the equilibrium scan, compared to the bit. The oracle is the fixed-size instantiation, which
+// tests/statics and tests/runtime/statics_*_test hold against free bodies, virtual work and
+// hand solutions; the view's Forces and Stiffness call the same generated code and the
+// runtime's arithmetic on the bounded types is the fixed-size code of each size, so nothing may
+// differ. The models: the shipped ones with forces that model_test links (a slider-crank with
+// Coulomb friction and self-locking, a four-bar with springs and gravity, a press, a motor-
+// driven slider-crank whose loads read a velocity, a two-input five-bar robot). Part of
+// model_test (no executable of its own).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "mechgen/core/view_runtime.h"  // statics/ for ViewModel: mechgen_runtime_view
+#include "mechgen/statics/columns.h"
+#include "mechgen/statics/dead_zones.h"
+#include "mechgen/statics/equilibrium.h"
+#include "mechgen/statics/sweep.h"
+#include "statics_run.h"  // runtime/tools: RunStatics, the statics command's model-dependent part
+
+#ifdef MECHGEN_HAVE_slider_crank_friction
+#include "slider_crank_friction.h"
+MECHGEN_DECLARE_MODEL_VIEW(slider_crank_friction)
+#endif
+#ifdef MECHGEN_HAVE_fourbar_loaded
+#include "fourbar_loaded.h"
+MECHGEN_DECLARE_MODEL_VIEW(fourbar_loaded)
+#endif
+#ifdef MECHGEN_HAVE_slider_crank_press
+#include "slider_crank_press.h"
+MECHGEN_DECLARE_MODEL_VIEW(slider_crank_press)
+#endif
+#ifdef MECHGEN_HAVE_slider_crank_motor
+#include "slider_crank_motor.h"
+MECHGEN_DECLARE_MODEL_VIEW(slider_crank_motor)
+#endif
+#ifdef MECHGEN_HAVE_fivebar_robot
+#include "fivebar_robot.h"
+MECHGEN_DECLARE_MODEL_VIEW(fivebar_robot)
+#endif
+#ifdef MECHGEN_HAVE_fourbar
+#include "fourbar.h"
+MECHGEN_DECLARE_MODEL_VIEW(fourbar)
+#endif
+
+namespace mechgen::statics {
+namespace {
+
+// Same shape and the same bits in every entry (NaN included).
+template <class A, class B>
+::testing::AssertionResult SameBits(const char* what, const A& a, const B& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) {
+    return ::testing::AssertionFailure() << what << ": " << a.rows() << " x " << a.cols() << " vs " << b.rows()
+                                         << " x " << b.cols();
+  }
+  for (Eigen::Index j = 0; j < a.cols(); ++j) {
+    for (Eigen::Index i = 0; i < a.rows(); ++i) {
+      const double x = a(i, j), y = b(i, j);
+      if (std::memcmp(&x, &y, sizeof(double)) != 0) {
+        return ::testing::AssertionFailure() << what << "(" << i << ", " << j << "): " << x << " vs " << y;
+      }
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+::testing::AssertionResult SameBits(const char* what, double x, double y) {
+  if (std::memcmp(&x, &y, sizeof(double)) == 0) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << what << ": " << x << " vs " << y;
+}
+
+// Every member of a fixed-size solution against the view's (those the model has; the view's
+// others are empty).
+template <class M>
+void ExpectSameSolution(const Solution<M>& a, const Solution<ViewModel>& b, const std::string& where) {
+  SCOPED_TRACE(where);
+  using F = StaticsFeatures<M>;
+  EXPECT_EQ(a.summary.status, b.summary.status);
+  EXPECT_EQ(a.summary.iterations, b.summary.iterations);
+  EXPECT_STREQ(a.summary.reason, b.summary.reason);
+  EXPECT_TRUE(SameBits("last_change", a.summary.last_change, b.summary.last_change));
+  EXPECT_TRUE(SameBits("condition", a.summary.condition, b.summary.condition));
+  EXPECT_TRUE(SameBits("reaction_norm", a.summary.reaction_norm, b.summary.reaction_norm));
+  EXPECT_TRUE(SameBits("direction", a.direction, b.direction));
+  EXPECT_TRUE(SameBits("friction", a.friction, b.friction));
+  EXPECT_TRUE(SameBits("Q", a.statics.Q, b.statics.Q));
+  EXPECT_TRUE(SameBits("drive", a.statics.drive, b.statics.drive));
+  if constexpr (F::kHasPotential) {
+    EXPECT_TRUE(SameBits("V", a.statics.V, b.statics.V));
+    EXPECT_TRUE(SameBits("dV_dq", a.statics.dV_dq, b.statics.dV_dq));
+  } else {
+    EXPECT_EQ(b.statics.dV_dq.size(), 0);
+  }
+  if constexpr (F::kHasD2V) {
+    EXPECT_TRUE(SameBits("d2V_dq2", a.statics.d2V_dq2, b.statics.d2V_dq2));
+  }
+  if constexpr (F::kHasStiffness) {
+    EXPECT_TRUE(SameBits("stiffness", a.statics.stiffness, b.statics.stiffness));
+  } else {
+    EXPECT_EQ(b.statics.stiffness.size(), 0);
+  }
+  if constexpr (F::kHasReactions) {
+    EXPECT_TRUE(SameBits("R", a.statics.R, b.statics.R));
+  } else {
+    EXPECT_EQ(b.statics.R.size(), 0);
+  }
+  if constexpr (F::kHasFriction) {
+    EXPECT_TRUE(SameBits("normal", a.statics.normal, b.statics.normal));
+    EXPECT_TRUE(SameBits("gain", a.statics.gain, b.statics.gain));
+    EXPECT_TRUE(SameBits("K_rel", a.statics.K_rel, b.statics.K_rel));
+  } else {
+    EXPECT_EQ(b.statics.normal.size(), 0);
+  }
+}
+
+void ExpectSameDrive(const DriveAnalysis& a, const DriveAnalysis& b, const std::string& where) {
+  SCOPED_TRACE(where);
+  EXPECT_EQ(a.input, b.input);
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.self_locking, b.self_locking);
+  EXPECT_TRUE(SameBits("drive", a.drive, b.drive));
+  EXPECT_TRUE(SameBits("drive_forward", a.drive_forward, b.drive_forward));
+  EXPECT_TRUE(SameBits("drive_backward", a.drive_backward, b.drive_backward));
+  EXPECT_TRUE(SameBits("drive_plus", a.drive_plus, b.drive_plus));
+  EXPECT_TRUE(SameBits("drive_minus", a.drive_minus, b.drive_minus));
+  EXPECT_TRUE(SameBits("efficiency_forward", a.efficiency_forward, b.efficiency_forward));
+  EXPECT_TRUE(SameBits("efficiency_backward", a.efficiency_backward, b.efficiency_backward));
+}
+
+// The statics sweep of the default range (360 steps; at the input velocities qd when given)
+// through both instantiations: every row's solutions and drive analyses to the bit, the same
+// CSV (StaticsColumns through the model and through its view), and the table's column names.
+template <class M>
+void ExpectViewStaticsSweepSame(const ModelView& view, double speed = std::nan("")) {
+  using TM = ModelTypes<M>;
+  using TV = ModelTypes<ViewModel>;
+  ASSERT_TRUE(ViewCompatible(view));
+  const ViewModel model(view);
+  ASSERT_TRUE(ModelCalls<ViewModel>::HasStatics(model));
+  EXPECT_EQ(ModelCalls<ViewModel>::NumReactions(model), StaticsFeatures<M>::kNumReactions);
+  EXPECT_EQ(ModelCalls<ViewModel>::NumFriction(model), StaticsFeatures<M>::kNumFriction);
+  position::PositionSolver<M> fixed;
+  ViewPositionSolver dynamic(model);
+  ASSERT_EQ(fixed.AssembleDefault(nullptr), position::Status::kConverged);
+  ASSERT_EQ(dynamic.AssembleDefault(nullptr), position::Status::kConverged);
+  const typename TM::VecQ q0 = Eigen::Map<const typename TM::VecQ>(M::kQMin.data());
+  const typename TM::VecQ q1 = Eigen::Map<const typename TM::VecQ>(M::kQMax.data());
+  const TV::VecQ v0 = Eigen::Map<const TV::VecQ>(view.q_min, view.nq);
+  const TV::VecQ v1 = Eigen::Map<const TV::VecQ>(view.q_max, view.nq);
+  typename TM::VecQ qd_fixed = TM::VecQ::Constant(speed);
+  TV::VecQ qd_view = TV::VecQ::Constant(view.nq, speed);
+  const bool at_speed = !std::isnan(speed);
+  EXPECT_EQ(SpeedNote<M>(at_speed ? &qd_fixed : nullptr), SpeedNote<ViewModel>(model, at_speed ? &qd_view : nullptr));
+  const auto fixed_columns = StaticsColumns<M>();
+  const auto view_columns = StaticsColumns<ViewModel>(model);
+  ASSERT_EQ(table::ColumnNames(fixed_columns), table::ColumnNames(view_columns));
+  std::vector<std::string> fixed_units, view_units;
+  for (const auto& c : fixed_columns) fixed_units.push_back(c.unit + "|" + c.table_name + "|" + c.description);
+  for (const auto& c : view_columns) view_units.push_back(c.unit + "|" + c.table_name + "|" + c.description);
+  EXPECT_EQ(fixed_units, view_units);
+  EXPECT_EQ(ReactionJoints<M>().size(), ReactionJoints<ViewModel>(model).size());
+  EXPECT_EQ(GroundBearings<M>().size(), GroundBearings<ViewModel>(model).size());
+
+  constexpr int kSteps = 360;
+  std::vector<StaticsRecord<M>> fixed_rows;
+  const int fixed_failures = StaticsSweep(Options(), &fixed, q0, q1, kSteps, &fixed_rows, SweepOptions(),
+                                          at_speed ? &qd_fixed : nullptr);
+  std::ostringstream fixed_csv, view_csv;
+  WriteCsv(fixed_columns, fixed_rows, fixed_csv);
+  WriteCsvHeader(view_columns, view_csv);
+  int rows = 0, converged = 0, with_friction = 0;
+  ViewStaticsRowFn row = [&](int i, const StaticsRecord<ViewModel>& b) {
+    ASSERT_LT(static_cast<size_t>(i), fixed_rows.size());
+    const StaticsRecord<M>& a = fixed_rows[static_cast<size_t>(i)];
+    const std::string where = "row " + std::to_string(i);
+    ++rows;
+    converged += a.status == Status::kConverged;
+    EXPECT_EQ(a.status, b.status) << where;
+    EXPECT_EQ(a.evaluations, b.evaluations) << where;
+    EXPECT_TRUE(SameBits("mechanical_advantage", a.mechanical_advantage, b.mechanical_advantage)) << where;
+    ExpectSameSolution(a.frictionless, b.frictionless, where + " frictionless");
+    for (int j = 0; j < M::kNq; ++j) {
+      const std::string input = where + " input " + std::to_string(j);
+      ExpectSameDrive(a.drives[j], b.drives[j], input);
+      ExpectSameSolution(a.forward[j], b.forward[j], input + " forward");
+      ExpectSameSolution(a.backward[j], b.backward[j], input + " backward");
+      with_friction += a.forward[j].summary.iterations > 1;
+    }
+    WriteCsvRow(view_columns, b, view_csv);
+  };
+  const int view_failures = StaticsSweepRows(Options(), &dynamic, v0, v1, kSteps, SweepOptions(),
+                                             at_speed ? &qd_view : nullptr, row);
+  EXPECT_EQ(fixed_failures, view_failures);
+  EXPECT_EQ(rows, kSteps + 1);
+  EXPECT_GT(converged, kSteps / 2);  // forces, not a row of refusals
+  if constexpr (StaticsFeatures<M>::kHasFriction) {
+    EXPECT_GT(with_friction, kSteps / 2);  // the friction iterated
+  }
+  const std::string a = fixed_csv.str(), b = view_csv.str();
+  EXPECT_GT(std::count(a.begin(), a.end(), '\n'), kSteps);
+  if (a != b) {  // the first line that differs
+    std::istringstream sa(a), sb(b);
+    std::string la, lb;
+    while (std::getline(sa, la) && std::getline(sb, lb) && la == lb) {
+    }
+    ADD_FAILURE() << "the CSVs differ:\n" << la << "\n" << lb;
+  }
+}
+
+// The dead-zone scan of the first input over its default range and the equilibrium scan along
+// the default line, through both instantiations: the same zones and equilibria, to the bit.
+template <class M>
+void ExpectViewScansSame(const ModelView& view) {
+  using TM = ModelTypes<M>;
+  using TV = ModelTypes<ViewModel>;
+  const ViewModel model(view);
+  position::PositionSolver<M> fixed;
+  ViewPositionSolver dynamic(model);
+  ASSERT_EQ(fixed.AssembleDefault(nullptr), position::Status::kConverged);
+  ASSERT_EQ(dynamic.AssembleDefault(nullptr), position::Status::kConverged);
+  ScanOptions scan;
+  scan.samples = 180;
+  std::vector<DeadZone> zones_a, zones_b;
+  ScanSummary sa, sb;
+  EXPECT_EQ(FindDeadZones(Options(), scan, &fixed, 0, M::kQMin[0], M::kQMax[0], &zones_a, &sa),
+            FindDeadZones(Options(), scan, &dynamic, 0, view.q_min[0], view.q_max[0], &zones_b, &sb));
+  EXPECT_EQ(sa.evaluations, sb.evaluations);
+  EXPECT_EQ(sa.unusable_samples, sb.unusable_samples);
+  ASSERT_EQ(zones_a.size(), zones_b.size());
+  if constexpr (StaticsFeatures<M>::kHasFriction) {
+    EXPECT_FALSE(zones_a.empty());  // a scan that found something
+  }
+  for (size_t i = 0; i < zones_a.size(); ++i) {
+    EXPECT_TRUE(SameBits("zone begin", zones_a[i].begin, zones_b[i].begin)) << i;
+    EXPECT_TRUE(SameBits("zone end", zones_a[i].end, zones_b[i].end)) << i;
+    EXPECT_EQ(zones_a[i].begin_located, zones_b[i].begin_located) << i;
+    EXPECT_EQ(zones_a[i].end_located, zones_b[i].end_located) << i;
+  }
+  ASSERT_EQ(fixed.AssembleDefault(nullptr), position::Status::kConverged);
+  ASSERT_EQ(dynamic.AssembleDefault(nullptr), position::Status::kConverged);
+  const typename TM::VecQ q0 = Eigen::Map<const typename TM::VecQ>(M::kQMin.data());
+  const typename TM::VecQ q1 = Eigen::Map<const typename TM::VecQ>(M::kQMax.data());
+  const TV::VecQ v0 = Eigen::Map<const TV::VecQ>(view.q_min, view.nq);
+  const TV::VecQ v1 = Eigen::Map<const TV::VecQ>(view.q_max, view.nq);
+  std::vector<Equilibrium<M>> found_a;
+  std::vector<Equilibrium<ViewModel>> found_b;
+  EXPECT_EQ(FindEquilibria(Options(), scan, &fixed, q0, q1, &found_a, &sa),
+            FindEquilibria(Options(), scan, &dynamic, v0, v1, &found_b, &sb));
+  EXPECT_EQ(sa.evaluations, sb.evaluations);
+  ASSERT_EQ(found_a.size(), found_b.size());
+  for (size_t i = 0; i < found_a.size(); ++i) {
+    EXPECT_TRUE(SameBits("equilibrium q", found_a[i].q, found_b[i].q)) << i;
+    EXPECT_TRUE(SameBits("equilibrium Q", found_a[i].Q, found_b[i].Q)) << i;
+    EXPECT_TRUE(SameBits("equilibrium stiffness", found_a[i].stiffness, found_b[i].stiffness)) << i;
+    EXPECT_EQ(found_a[i].iterations, found_b[i].iterations) << i;
+  }
+}
+
+#ifdef MECHGEN_HAVE_slider_crank_friction
+TEST(ViewStatics, SameAsFixedSize_slider_crank_friction) {
+  ExpectViewStaticsSweepSame<mech::slider_crank_friction::Model>(mech::slider_crank_friction::View());
+  ExpectViewScansSame<mech::slider_crank_friction::Model>(mech::slider_crank_friction::View());
+}
+#endif
+#ifdef MECHGEN_HAVE_fourbar_loaded
+TEST(ViewStatics, SameAsFixedSize_fourbar_loaded) {
+  ExpectViewStaticsSweepSame<mech::fourbar_loaded::Model>(mech::fourbar_loaded::View());
+  ExpectViewScansSame<mech::fourbar_loaded::Model>(mech::fourbar_loaded::View());
+}
+#endif
+#ifdef MECHGEN_HAVE_slider_crank_press
+TEST(ViewStatics, SameAsFixedSize_slider_crank_press) {
+  ExpectViewStaticsSweepSame<mech::slider_crank_press::Model>(mech::slider_crank_press::View());
+}
+#endif
+#ifdef MECHGEN_HAVE_slider_crank_motor
+TEST(ViewStatics, SameAsFixedSize_slider_crank_motor) {
+  static_assert(StaticsFeatures<mech::slider_crank_motor::Model>::kReadsSpeed);
+  ExpectViewStaticsSweepSame<mech::slider_crank_motor::Model>(mech::slider_crank_motor::View());
+  ExpectViewStaticsSweepSame<mech::slider_crank_motor::Model>(mech::slider_crank_motor::View(), 12.5);
+}
+#endif
+#ifdef MECHGEN_HAVE_fivebar_robot
+TEST(ViewStatics, SameAsFixedSize_fivebar_robot) {
+  ExpectViewStaticsSweepSame<mech::fivebar_robot::Model>(mech::fivebar_robot::View());
+}
+#endif
+
+// A model without statics is refused through the view (the per-model tool is a stub that says
+// so); what the view lacks is refused before anything is written (exit 2).
+TEST(ViewStaticsTool, RefusesWhatTheViewLacks) {
+#ifdef MECHGEN_HAVE_fourbar
+  statics_tool::Arguments arguments;
+  arguments.csv_path = ::testing::TempDir() + "view_statics_refused.csv";
+  std::remove(arguments.csv_path.c_str());
+  EXPECT_EQ(statics_tool::RunStatics(ViewModel(mech::fourbar::View()), arguments), statics_tool::kExitUsage);
+  EXPECT_FALSE(std::ifstream(arguments.csv_path).good());
+#endif
+#ifdef MECHGEN_HAVE_slider_crank_friction
+  const ViewModel model(mech::slider_crank_friction::View());
+  for (int k = 0; k < 3; ++k) {
+    statics_tool::Arguments arguments;
+    arguments.csv_path = ::testing::TempDir() + "view_statics_refused.csv";
+    std::remove(arguments.csv_path.c_str());
+    if (k == 0) arguments.svg_path = ::testing::TempDir() + "view_statics_refused.svg";
+    if (k == 1) arguments.design = true;
+    if (k == 2) arguments.params.sets.push_back("nosuch=1");  // (--set itself goes through the view)
+    EXPECT_EQ(statics_tool::RunStatics(model, arguments), statics_tool::kExitUsage) << k;
+    EXPECT_FALSE(std::ifstream(arguments.csv_path).good()) << k;
+  }
+#endif
+}
+
+}  // namespace
+}  // namespace mechgen::statics
