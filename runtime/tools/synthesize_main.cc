@@ -40,6 +40,7 @@
 #include "common/cli.h"
 #include "mechgen/synthesis/function.h"
 #include "mechgen/synthesis/motion.h"
+#include "mechgen/synthesis/projection.h"
 #include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
 #include MECHGEN_MODEL_INCLUDE
@@ -295,9 +296,13 @@ int Main(int argc, char** argv) {
     const std::clock_t cpu0 = std::clock();
     std::cerr << tool << ": " << task.search.restarts << " runs, " << task.search.evaluations << " evaluations, "
               << threads << " thread(s)\n";
-    const SearchResult s = Synthesize(bound, seed, threads, [&](int done, int total) {
-      std::fprintf(stderr, "%s: run %d of %d done\n", tool.c_str(), done, total);
-    });
+    SearchResult s;
+    if (!SynthesizePath(bound, seed, threads, &s, &error, [&](int done, int total) {
+          std::fprintf(stderr, "%s: run %d of %d done\n", tool.c_str(), done, total);
+        })) {
+      std::cerr << error << "\n";
+      return 1;
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     const double cpu = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
     PathEvaluator<M> eval(bound);
