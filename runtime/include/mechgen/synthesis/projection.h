@@ -26,13 +26,18 @@
  * when the unconstrained |z| is outside: a bound-active optimum such as case 4's is reached,
  * not clipped); the other bounds (xi, eta, x0, y0, theta0) are violations (Deb's rule). The
  * crank shortest and Grashof are kept by repair (Lamarckian: the repaired ratios replace the
- * candidate's): a crank longer than the shortest other link is shortened to it, then a longest
- * link that breaks s + l <= p + q is shortened to p + q - s, each 1e-12 (relative) inside, so
- * that a boundary optimum (case 4: a kite at the Grashof boundary) is reached and written
- * satisfying Grashof strictly in double arithmetic; every other parameter-only constraint
- * (CheckParameterConstraints) is judged on the full design. Assembly at every target and along
- * the motion between them (the closed form's discriminant, at the curve's step) is checked in
- * the reduced evaluation; the transmission-angle bounds are judged by the full check only.
+ * candidate's): a crank longer than the shortest other link is shortened to 1e-12 (relative)
+ * below it, then a longest link that breaks s + l <= p + q is shortened to 1e-8 (relative) inside
+ * p + q - s, so that a boundary optimum (case 4: a kite at the Grashof boundary) is reached and
+ * written satisfying Grashof strictly in double arithmetic. Not closer: exactly on the boundary
+ * the four-bar is a change point, singular where the crank lies along the ground line, and the
+ * full turn's motion check (the crank must turn) refuses it there by the project's threshold;
+ * 1e-8 inside it is regular (case 4: the error 1.216212 either way to 7 digits). Every other
+ * parameter-only constraint (CheckParameterConstraints) is judged on the full design. Assembly
+ * at every target and along the motion between them (or the full turn when the crank must
+ * turn), regular by the project's threshold (1/cond_1 of the closed form's Phi_phi, the test
+ * path.h's Regular makes on the generated one), at the curve's step, is checked in the reduced
+ * evaluation; the transmission-angle bounds are judged by the full check only.
  *
  * The answer of each run is the full design checked as every candidate is (PathEvaluator::Check
  * with the generated model, then the runtime's continuation): the reduced evaluation is the
@@ -82,9 +87,9 @@ struct Projection {
 
 namespace projection_internal {
 /// The closed form on a normalized four-bar (A = 0, D = (1, 0)): the crank end B, the coupler
-/// direction u, and sin of the angle at C (0 at a dead point). false where it does not assemble.
+/// direction u (B -> C) and the rocker direction v (D -> C). false where it does not assemble.
 inline bool Dyad(double ra, double rb, double rc, double psi, int sigma, double* bx, double* by, double* ux, double* uy,
-                 double* sin_mu) {
+                 double* vx, double* vy) {
   *bx = ra * std::cos(psi), *by = ra * std::sin(psi);
   const double ex = 1 - *bx, ey = -*by;
   const double l2 = ex * ex + ey * ey, l = std::sqrt(l2);
@@ -95,9 +100,27 @@ inline bool Dyad(double ra, double rb, double rc, double psi, int sigma, double*
   const double h = sigma * std::sqrt(h2);
   const double cx = *bx + (along * ex - h * ey) / l, cy = *by + (along * ey + h * ex) / l;
   *ux = (cx - *bx) / rb, *uy = (cy - *by) / rb;
-  // sin of the angle between CB and CD: twice the triangle's area over b c.
-  *sin_mu = std::abs(h) * l / (rb * rc);
+  *vx = (cx - 1) / rc, *vy = cy / rc;
   return std::isfinite(*ux) && std::isfinite(*uy);
+}
+/// The same without the rocker.
+inline bool Dyad(double ra, double rb, double rc, double psi, int sigma, double* bx, double* by, double* ux, double* uy) {
+  double vx, vy;
+  return Dyad(ra, rb, rc, psi, sigma, bx, by, ux, uy, &vx, &vy);
+}
+
+/// Regular by the project's threshold (core/constants.h: 1/cond_1(Phi_phi) >= kMinRcond, as
+/// synthesis/path.h's Regular on the generated Phi_phi): Phi_phi of the loop closure
+/// A + a e^{i theta} + b e^{i gamma} - c e^{i beta} - (D - A) = 0 in (gamma, beta), the
+/// coupler and rocker directions turned by the frame's angle (c, s).
+inline bool RegularDyad(double rb, double rc, double ux, double uy, double vx, double vy, double c, double s) {
+  const double gx = c * ux - s * uy, gy = s * ux + c * uy, kx = c * vx - s * vy, ky = s * vx + c * vy;
+  const double p00 = -rb * gy, p01 = rc * ky, p10 = rb * gx, p11 = -rc * kx;
+  const double det = p00 * p11 - p01 * p10;
+  if (!(det != 0) || !std::isfinite(det)) return false;
+  const double norm = std::max(std::abs(p00) + std::abs(p10), std::abs(p01) + std::abs(p11));
+  const double inv = std::max(std::abs(p11) + std::abs(p10), std::abs(p01) + std::abs(p00)) / std::abs(det);
+  return norm * inv * kMinRcond <= 1.0;
 }
 }  // namespace projection_internal
 
@@ -187,8 +210,8 @@ bool BindProjection(const BoundPath<M>& b, Projection* out, std::string* error) 
       if (!eval.PointAt(*p, q, &phi, &co)) continue;
       ++solved;
       for (int s = 0; s < 2; ++s) {
-        double bx, by, ux, uy, sm;
-        if (!projection_internal::Dyad(a / d, bb / d, c / d, q - th, s == 0 ? 1 : -1, &bx, &by, &ux, &uy, &sm)) continue;
+        double bx, by, ux, uy;
+        if (!projection_internal::Dyad(a / d, bb / d, c / d, q - th, s == 0 ? 1 : -1, &bx, &by, &ux, &uy)) continue;
         const double zr = d * std::cos(th), zi = d * std::sin(th);
         const double wr = xi * std::cos(th) - eta * std::sin(th), wi = xi * std::sin(th) + eta * std::cos(th);
         const double px = *p->Find("x0") + zr * bx - zi * by + wr * ux - wi * uy;
@@ -243,9 +266,9 @@ class ProjectedEvaluator {
     if (pr_.closing) (*psi)[static_cast<size_t>(n - 1)] = first + kTwoPi;
   }
 
-  /// The repairs (Lamarckian): the crank shortened to the shortest other link (crank_shortest),
-  /// the longest link to p + q - s (grashof, crank_*), each 1e-12 inside; the angles from the
-  /// first target sorted (order).
+  /// The repairs (Lamarckian, module comment): the crank to 1e-12 below the shortest other link
+  /// (crank_shortest), the longest link to 1e-8 inside p + q - s (grashof, crank_*); the angles
+  /// from the first target sorted (order).
   void Repair(std::vector<double>* x) const {
     const Constraints& c = b_.task.constraints;
     std::array<double, 4> len = {std::exp((*x)[0]), std::exp((*x)[1]), std::exp((*x)[2]), 1.0};
@@ -258,9 +281,9 @@ class ProjectedEvaluator {
       std::array<double, 4> sorted = len;
       std::sort(sorted.begin(), sorted.end());
       const double room = sorted[1] + sorted[2] - sorted[0];
-      if (sorted[3] > room * (1 - 1e-12)) {
+      if (sorted[3] > room * (1 - 1e-6)) {
         const int longest = static_cast<int>(std::max_element(len.begin(), len.end()) - len.begin());
-        len[static_cast<size_t>(longest)] = room * (1 - 1e-12);
+        len[static_cast<size_t>(longest)] = room * (1 - 1e-6);
         changed = true;
       }
     }
@@ -287,39 +310,12 @@ class ProjectedEvaluator {
     double violation = 0;
     // The targets' positions (normalized linkage).
     bx_.resize(n), by_.resize(n), ux_.resize(n), uy_.resize(n);
-    for (int i = 0; i < n; ++i) {
-      double sm;
-      if (!projection_internal::Dyad(ra, rb, rc, psi_[static_cast<size_t>(i)], pr_.sigma, &bx_(i), &by_(i), &ux_(i), &uy_(i), &sm) ||
-          !(sm > kWalkSinMu))
+    for (int i = 0; i < n; ++i)
+      if (!projection_internal::Dyad(ra, rb, rc, psi_[static_cast<size_t>(i)], pr_.sigma, &bx_(i), &by_(i), &ux_(i), &uy_(i)))
         violation += 1.0;
-    }
     if (violation > 0) {
       cand.violation = violation;
       return cand;
-    }
-    // The motion between the targets (or the full turn when the crank must turn fully): the
-    // dyad assembles and is regular at the curve's step.
-    const bool full_turn = t.constraints.crank_rotates || t.constraints.crank_shortest;
-    const double step = kTwoPi / t.search.curve_samples;
-    auto walk = [&](double q0, double q1) {
-      const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(q1 - q0) / step)));
-      for (int s = 0; s <= steps; ++s) {
-        double bx, by, ux, uy, sm;
-        if (!projection_internal::Dyad(ra, rb, rc, q0 + (q1 - q0) * s / steps, pr_.sigma, &bx, &by, &ux, &uy, &sm) ||
-            !(sm > kWalkSinMu))
-          violation += 1.0 / (steps + 1);
-      }
-    };
-    if (full_turn) {
-      walk(psi_[0], psi_[0] + kTwoPi);
-    } else {
-      order_ = psi_;
-      if (pr_.free_timing) {
-        for (int i = 1; i < n; ++i) order_[static_cast<size_t>(i)] = psi_[0] + Wrap(psi_[static_cast<size_t>(i)] - psi_[0]);
-        if (pr_.closing) order_[static_cast<size_t>(n - 1)] = psi_[0] + kTwoPi;
-        std::sort(order_.begin(), order_.end());
-      }
-      for (int i = 0; i + 1 < n; ++i) walk(order_[static_cast<size_t>(i)], order_[static_cast<size_t>(i + 1)]);
     }
     // The linear part.
     double zr, zi, wr, wi, ax, ay;
@@ -359,6 +355,30 @@ class ProjectedEvaluator {
     }
     put(pr_.var_a, ra * d), put(pr_.var_b, rb * d), put(pr_.var_c, rc * d), put(pr_.var_d, d);
     const double ct = std::cos(th), st = std::sin(th);
+    // The motion between the targets (or the full turn when the crank must turn fully): the
+    // dyad assembles and is regular (the project's threshold) at the curve's step, as Check.
+    const bool full_turn = t.constraints.crank_rotates || t.constraints.crank_shortest;
+    const double step = kTwoPi / t.search.curve_samples;
+    auto walk = [&](double q0, double q1) {
+      const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(q1 - q0) / step)));
+      for (int s = 0; s <= steps; ++s) {
+        double bx, by, ux, uy, vx, vy;
+        if (!projection_internal::Dyad(ra, rb, rc, q0 + (q1 - q0) * s / steps, pr_.sigma, &bx, &by, &ux, &uy, &vx, &vy) ||
+            !projection_internal::RegularDyad(rb, rc, ux, uy, vx, vy, ct, st))
+          violation += 1.0 / (steps + 1);
+      }
+    };
+    if (full_turn) {
+      walk(psi_[0], psi_[0] + kTwoPi);
+    } else {
+      order_ = psi_;
+      if (pr_.free_timing) {
+        for (int i = 1; i < n; ++i) order_[static_cast<size_t>(i)] = psi_[0] + Wrap(psi_[static_cast<size_t>(i)] - psi_[0]);
+        if (pr_.closing) order_[static_cast<size_t>(n - 1)] = psi_[0] + kTwoPi;
+        std::sort(order_.begin(), order_.end());
+      }
+      for (int i = 0; i + 1 < n; ++i) walk(order_[static_cast<size_t>(i)], order_[static_cast<size_t>(i + 1)]);
+    }
     put(pr_.var_xi, wr * ct + wi * st), put(pr_.var_eta, -wr * st + wi * ct);
     put(pr_.var_x0, ax), put(pr_.var_y0, ay);
     if (b_.offset_var >= 0) fx[static_cast<size_t>(b_.offset_var)] = x[3];
@@ -478,9 +498,6 @@ class ProjectedEvaluator {
   }
 
   const Projection& projection() const { return pr_; }
-
-  /// sin of the angle at C below which a configuration counts as a dead point in the walk.
-  static constexpr double kWalkSinMu = 1e-9;
 
  private:
   const BoundPath<M>& b_;
