@@ -281,9 +281,9 @@ class ProjectedEvaluator {
       std::array<double, 4> sorted = len;
       std::sort(sorted.begin(), sorted.end());
       const double room = sorted[1] + sorted[2] - sorted[0];
-      if (sorted[3] > room * (1 - 1e-6)) {
+      if (sorted[3] > room * (1 - 1e-8)) {
         const int longest = static_cast<int>(std::max_element(len.begin(), len.end()) - len.begin());
-        len[static_cast<size_t>(longest)] = room * (1 - 1e-6);
+        len[static_cast<size_t>(longest)] = room * (1 - 1e-8);
         changed = true;
       }
     }
