@@ -13,7 +13,10 @@
 // model file is read from there (its text is what was compiled: the cache is keyed by it) to
 // write the synthesized model. What it does: synthesis/optimize.h (seeded differential
 // evolution restarts on --threads threads, then Levenberg–Marquardt with the generated
-// Jacobian), every candidate's defect checks (synthesis/path.h), the result followed by the
+// Jacobian) or, with the task's `search: {projection: true}`, synthesis/projection.h (the
+// four-bar's placement, scale, rotation and coupler point by linear least squares, the search
+// over the link ratios and the timing; SynthesizePath chooses), every candidate's defect
+// checks (synthesis/path.h), the result followed by the
 // runtime's continuation (ContinuationCheck, synthesis/optimize.h; the report: synthesis/report.h). Writes into --out (created if needed):
 //   <model file name>  the input model with the synthesized parameter values (every analysis
 //                      of the project works on it: `mechgen sweep DIR/<model>.yaml`);

@@ -32,7 +32,7 @@
  * written satisfying Grashof strictly in double arithmetic. Not closer: exactly on the boundary
  * the four-bar is a change point, singular where the crank lies along the ground line, and the
  * full turn's motion check (the crank must turn) refuses it there by the project's threshold;
- * 1e-8 inside it is regular (case 4: the error 1.216212 either way to 7 digits). Every other
+ * 1e-8 inside it is regular (case 4: 1.216212; 1e-6 inside: 1.216247). Every other
  * parameter-only constraint (CheckParameterConstraints) is judged on the full design. Assembly
  * at every target and along the motion between them (or the full turn when the crank must
  * turn), regular by the project's threshold (1/cond_1 of the closed form's Phi_phi, the test
