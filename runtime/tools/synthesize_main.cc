@@ -13,7 +13,10 @@
 // model file is read from there (its text is what was compiled: the cache is keyed by it) to
 // write the synthesized model. What it does: synthesis/optimize.h (seeded differential
 // evolution restarts on --threads threads, then Levenberg–Marquardt with the generated
-// Jacobian), every candidate's defect checks (synthesis/path.h), the result followed by the
+// Jacobian) or, with the task's `search: {projection: true}`, synthesis/projection.h (the
+// four-bar's placement, scale, rotation and coupler point by linear least squares, the search
+// over the link ratios and the timing; SynthesizePath chooses), every candidate's defect
+// checks (synthesis/path.h), the result followed by the
 // runtime's continuation (ContinuationCheck, synthesis/optimize.h; the report: synthesis/report.h). Writes into --out (created if needed):
 //   <model file name>  the input model with the synthesized parameter values (every analysis
 //                      of the project works on it: `mechgen sweep DIR/<model>.yaml`);
@@ -40,6 +43,7 @@
 #include "common/cli.h"
 #include "mechgen/synthesis/function.h"
 #include "mechgen/synthesis/motion.h"
+#include "mechgen/synthesis/projection.h"
 #include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
 #include "synthesize_args.h"
@@ -288,9 +292,13 @@ int Main(int argc, char** argv) {
     const std::clock_t cpu0 = std::clock();
     std::cerr << tool << ": " << task.search.restarts << " runs, " << task.search.evaluations << " evaluations, "
               << threads << " thread(s)\n";
-    const SearchResult s = Synthesize(bound, seed, threads, [&](int done, int total) {
-      std::fprintf(stderr, "%s: run %d of %d done\n", tool.c_str(), done, total);
-    });
+    SearchResult s;
+    if (!SynthesizePath(bound, seed, threads, &s, &error, [&](int done, int total) {
+          std::fprintf(stderr, "%s: run %d of %d done\n", tool.c_str(), done, total);
+        })) {
+      std::cerr << error << "\n";
+      return 1;
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     const double cpu = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
     PathEvaluator<M> eval(bound);

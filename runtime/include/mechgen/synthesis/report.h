@@ -28,8 +28,15 @@ std::string Report(PathEvaluator<M>* eval, const SearchResult& s, const std::str
   r += "targets: " + std::to_string(b.n) + ", timing: " +
        (t.timing.free ? std::string("free") : std::string("prescribed") + (t.timing.offset_free ? " (offset free)" : "")) + "\n";
   r += "search: seed " + std::to_string(seed) + ", threads " + std::to_string(threads) + ", " +
-       std::to_string(t.search.restarts) + " runs of differential evolution + Levenberg-Marquardt (Ceres, generated Jacobian)\n";
-  r += "evaluations: " + std::to_string(s.evaluations) + " (a Jacobian counts 1 + its parameters), position solves " +
+       std::to_string(t.search.restarts) +
+       (t.search.projection
+            ? " runs of differential evolution + Levenberg-Marquardt on the link ratios and the timing, the placement, scale, "
+              "rotation and coupler point by linear least squares (variable projection)\n"
+            : " runs of differential evolution + Levenberg-Marquardt (Ceres, generated Jacobian)\n");
+  r += "evaluations: " + std::to_string(s.evaluations) +
+       (t.search.projection ? " (a reduced evaluation counts 1, a Jacobian its reduced variables, a full check 1, its continuation 1)"
+                            : " (a Jacobian counts 1 + its parameters)") +
+       ", position solves " +
        std::to_string(s.solves) + ", wall " + Short(wall_seconds, 4) + " s, cpu " + Short(cpu_seconds, 4) + " s\n";
   std::vector<double> errors;
   for (const RunResult& run : s.runs)

@@ -68,6 +68,11 @@ struct Search {
   int curve_samples = 360;        ///< free timing: the curve sampled at this many input angles
   int local_starts = 3;           ///< the local stage from this many of each run's best candidates
   double local_share = 0.3;       ///< the share of each run's budget kept for the local stage
+  /// Path tasks on the four-bar (synthesis/projection.h): the parts that enter linearly (the
+  /// frame's placement, scale x rotation, the coupler point) solved by least squares for each
+  /// candidate, the search over the link ratios and the timing only (variable projection).
+  bool projection = false;
+  int projection_line = 0, projection_column = 0;
 };
 
 /// The frame's placement (path tasks with prescribed timing): three variables x, y, angle that
@@ -318,8 +323,18 @@ inline void ReadConstraints(const std::string& path, const YAML::Node& cons, boo
 /// A task's `search:` into *s. Function tasks take the same keys.
 inline void ReadSearch(const std::string& path, const YAML::Node& s, bool function_task, Search* search) {
   if (!s.IsMap()) throw Error{Where(path, s.Mark()) + "search: expected a mapping"};
-  Known(path, s, {"evaluations", "restarts", "population", "curve_samples", "local_starts", "local_share"},
-        function_task ? "search (function task)" : "search");
+  if (function_task) {
+    Known(path, s, {"evaluations", "restarts", "population", "curve_samples", "local_starts", "local_share"},
+          "search (function task)");
+  } else {
+    Known(path, s, {"evaluations", "restarts", "population", "curve_samples", "local_starts", "local_share", "projection"},
+          "search");
+  }
+  if (s["projection"]) {
+    search->projection = Bool(path, s["projection"], "projection");
+    search->projection_line = s["projection"].Mark().line + 1;
+    search->projection_column = s["projection"].Mark().column + 1;
+  }
   if (s["local_starts"]) search->local_starts = static_cast<int>(Count(path, s["local_starts"], "local_starts", 1, 1000));
   if (s["local_share"]) {
     search->local_share = Number(path, s["local_share"], "local_share");
