@@ -88,7 +88,24 @@ MECHGEN_ALWAYS_INLINE void Assign(Dst* dst, const Src& src) {
     const Eigen::Index n = src.size();
     double* const d = dst->data();
     const double* const s = src.data();
-    for (Eigen::Index i = 0; i < n; ++i) d[i] = s[i];
+    switch (n) {  // (up to 4 entries without a loop: a small model's vectors and 2 x 2 matrices)
+      case 4:
+        d[3] = s[3];
+        [[fallthrough]];
+      case 3:
+        d[2] = s[2];
+        [[fallthrough]];
+      case 2:
+        d[1] = s[1];
+        [[fallthrough]];
+      case 1:
+        d[0] = s[0];
+        [[fallthrough]];
+      case 0:
+        break;
+      default:
+        for (Eigen::Index i = 0; i < n; ++i) d[i] = s[i];
+    }
   }
 }
 

@@ -141,7 +141,8 @@ bool PositionSolver<M, Assembler>::Step(const State<M>& from, const VecQ& q, Sta
     if (has_modes_) {  // (false for a view without Solve: FindModes())
       // The generated solver on this branch's modes: closed-form blocks are exact and cost
       // no iteration, Newton blocks start from the predictor (and polish).
-      VecPhi phi = predicted;
+      VecPhi phi;
+      Assign(&phi, predicted);
       // With Model::TrigT, Solve also hands out sin and cos of the angles it solved (a
       // closed-form dyad from its own dot and cross products), and Coeffs uses them.
       typename internal::TrigOf<M>::type trig;
