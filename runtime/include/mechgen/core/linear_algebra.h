@@ -73,6 +73,27 @@ MECHGEN_ALWAYS_INLINE bool AllFinite(const A& a) {
   return zero == 0;
 }
 
+/// ||x||_inf and x.allFinite() of a plain matrix: Eigen's for a fixed-size x (the fixed-size
+/// instantiation's code as it was); for a bounded dynamic one (ModelTypes<ViewModel>)
+/// MaxAbsDiff() and AllFinite() above (the same results for finite entries; InfNorm NaN for a
+/// NaN), without Eigen's dynamic-size reductions.
+template <class X>
+MECHGEN_ALWAYS_INLINE double InfNorm(const X& x) {
+  if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
+    return x.template lpNorm<Eigen::Infinity>();
+  } else {
+    return MaxAbsDiff(x);
+  }
+}
+template <class X>
+MECHGEN_ALWAYS_INLINE bool Finite(const X& x) {
+  if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
+    return x.allFinite();
+  } else {
+    return AllFinite(x);
+  }
+}
+
 /// ||A||_1: the largest column sum of |a_ij|.
 template <class Derived>
 double Norm1(const Eigen::MatrixBase<Derived>& A) {

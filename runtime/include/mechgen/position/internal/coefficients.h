@@ -237,11 +237,11 @@ bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficien
   if constexpr (!Features::kHasL || Calls::kView) {
     if (!Calls::HasL(model_)) NumericalL(s->q, s->phi, f, s->K, &s->L, d);
   }
-  bool finite = internal::AllFinite(s->K) && internal::AllFinite(s->L);
+  bool finite = internal::Finite(s->K) && internal::Finite(s->L);
   if constexpr (Features::kHasPoints) {
     if (Calls::HasPoints(model_)) {
       Assign(&s->r_P, c.r_P);
-      finite = finite && internal::AllFinite(s->r_P);
+      finite = finite && internal::Finite(s->r_P);
     }
   }
   if constexpr (Features::kHasPointVelocities) {
@@ -265,9 +265,7 @@ void PositionSolver<M, Assembler>::ErrorBounds(const Factorization& f, State<M>*
   const double n = nphi();
   const double kappa = s->condition;
   const double norm_A = f.norm1();  // ||Phi_phi||_1 (= kappa / inverse_norm, without the division)
-  // ||phi||_inf (the same as Eigen's lpNorm<Infinity> on the finite phi of a closed
-  // configuration, without its dynamic-size reduction for the view)
-  const double norm_phi = internal::MaxAbsDiff(s->phi);
+  const double norm_phi = internal::InfNorm(s->phi);  // ||phi||_inf
   const double rho = s->residual_norm + 4 * n * u * norm_A * (1 + norm_phi);
   // phi: the residual through Phi_phi^{-1} (1-norms; ||r||_1 <= n ||r||_inf), plus its own
   // rounding.
