@@ -23,6 +23,7 @@ using mechgen::view_buffers::Member;
 using mechgen::view_buffers::Packed;
 using mechgen::view_buffers::PackedSize;
 using mechgen::view_buffers::Put;
+using mechgen::view_buffers::Zero;
 
 [[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
@@ -71,6 +72,15 @@ constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
   Put(s.K_P, b + kCoefficientsMembers[5].offset);
   Put(s.L_P, b + kCoefficientsMembers[6].offset);
 }
+[[maybe_unused]] void Zero(Coefficients<double>* s) {
+  Zero(&s->Phi);
+  Zero(&s->Phi_phi);
+  Zero(&s->K);
+  Zero(&s->L);
+  Zero(&s->r_P);
+  Zero(&s->K_P);
+  Zero(&s->L_P);
+}
 
 constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
     Member<decltype(Trig<double>::sin_q)>("sin_q"),
@@ -90,6 +100,12 @@ constexpr int kTrigSize = PackedSize(kTrigMembers);
   Put(s.cos_q, b + kTrigMembers[1].offset);
   Put(s.sin_phi, b + kTrigMembers[2].offset);
   Put(s.cos_phi, b + kTrigMembers[3].offset);
+}
+[[maybe_unused]] void Zero(Trig<double>* s) {
+  Zero(&s->sin_q);
+  Zero(&s->cos_q);
+  Zero(&s->sin_phi);
+  Zero(&s->cos_phi);
 }
 
 constexpr std::array<mechgen::ViewMember, 7> kStaticsMembers = Packed<7>({ {
@@ -119,6 +135,15 @@ constexpr int kStaticsSize = PackedSize(kStaticsMembers);
   Put(s.dV_dq, b + kStaticsMembers[4].offset);
   Put(s.d2V_dq2, b + kStaticsMembers[5].offset);
   Put(s.R, b + kStaticsMembers[6].offset);
+}
+[[maybe_unused]] void Zero(Statics<double>* s) {
+  Zero(&s->Q);
+  Zero(&s->drive);
+  Zero(&s->stiffness);
+  Zero(&s->V);
+  Zero(&s->dV_dq);
+  Zero(&s->d2V_dq2);
+  Zero(&s->R);
 }
 
 constexpr std::array<mechgen::ViewMember, 8> kDynamicsMembers = Packed<8>({ {
@@ -152,6 +177,16 @@ constexpr int kDynamicsSize = PackedSize(kDynamicsMembers);
   Put(s.V, b + kDynamicsMembers[6].offset);
   Put(s.P_nc, b + kDynamicsMembers[7].offset);
 }
+[[maybe_unused]] void Zero(Dynamics<double>* s) {
+  Zero(&s->I);
+  Zero(&s->dI_dq);
+  Zero(&s->C);
+  Zero(&s->h);
+  Zero(&s->Q);
+  Zero(&s->T);
+  Zero(&s->V);
+  Zero(&s->P_nc);
+}
 
 constexpr std::array<mechgen::ViewMember, 8> kExcessMembers = Packed<8>({ {
     Member<decltype(Excess<double>::M)>("M"),
@@ -184,6 +219,16 @@ constexpr int kExcessSize = PackedSize(kExcessMembers);
   Put(s.T, b + kExcessMembers[6].offset);
   Put(s.V, b + kExcessMembers[7].offset);
 }
+[[maybe_unused]] void Zero(Excess<double>* s) {
+  Zero(&s->M);
+  Zero(&s->h);
+  Zero(&s->g);
+  Zero(&s->Phi_x);
+  Zero(&s->Phi);
+  Zero(&s->gamma);
+  Zero(&s->T);
+  Zero(&s->V);
+}
 
 constexpr std::array<mechgen::ViewMember, 7> kShakingMembers = Packed<7>({ {
     Member<decltype(Shaking<double>::F)>("F"),
@@ -213,6 +258,15 @@ constexpr int kShakingSize = PackedSize(kShakingMembers);
   Put(s.mass, b + kShakingMembers[5].offset);
   Put(s.r_C, b + kShakingMembers[6].offset);
 }
+[[maybe_unused]] void Zero(Shaking<double>* s) {
+  Zero(&s->F);
+  Zero(&s->M);
+  Zero(&s->F_link);
+  Zero(&s->M_link);
+  Zero(&s->r_G);
+  Zero(&s->mass);
+  Zero(&s->r_C);
+}
 
 constexpr std::array<mechgen::ViewMember, 3> kKinematicsMembers = Packed<3>({ {
     Member<decltype(Kinematics<double>::K)>("K"),
@@ -229,6 +283,11 @@ constexpr int kKinematicsSize = PackedSize(kKinematicsMembers);
   Put(s.K, b + kKinematicsMembers[0].offset);
   Put(s.L, b + kKinematicsMembers[1].offset);
   Put(s.Phi_phi, b + kKinematicsMembers[2].offset);
+}
+[[maybe_unused]] void Zero(Kinematics<double>* s) {
+  Zero(&s->K);
+  Zero(&s->L);
+  Zero(&s->Phi_phi);
 }
 
 constexpr std::array<mechgen::ViewMember, 8> kRhsMembers = Packed<8>({ {
@@ -262,6 +321,16 @@ constexpr int kRhsSize = PackedSize(kRhsMembers);
   Put(s.P_nc, b + kRhsMembers[6].offset);
   Put(s.Phi_phi, b + kRhsMembers[7].offset);
 }
+[[maybe_unused]] void Zero(Rhs<double>* s) {
+  Zero(&s->K);
+  Zero(&s->I);
+  Zero(&s->h);
+  Zero(&s->Q);
+  Zero(&s->T);
+  Zero(&s->V);
+  Zero(&s->P_nc);
+  Zero(&s->Phi_phi);
+}
 
 constexpr std::array<mechgen::ViewMember, 1> kRhsConstantsMembers = Packed<1>({ {
     Member<decltype(RhsConstants<double>::c)>("c"),
@@ -272,6 +341,9 @@ constexpr int kRhsConstantsSize = PackedSize(kRhsConstantsMembers);
 }
 [[maybe_unused]] void Put(const RhsConstants<double>& s, double* b) {
   Put(s.c, b + kRhsConstantsMembers[0].offset);
+}
+[[maybe_unused]] void Zero(RhsConstants<double>* s) {
+  Zero(&s->c);
 }
 
 // ---- Parameters: the free ones (Params members), then the derived ones ----
@@ -417,7 +489,7 @@ void FlatCoeffs(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) Zero(&out_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig, &trig_);
   Model::Coeffs(p_, q_, phi_, out != nullptr ? &out_ : nullptr, trig != nullptr ? &trig_ : nullptr);
@@ -669,7 +741,7 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
                                                   q_,
                                                   phi_io != nullptr ? &phi_io_ : nullptr,
@@ -693,7 +765,7 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::SolveTrig(p_,
                                                       q_,
                                                       modes_,

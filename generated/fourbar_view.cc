@@ -23,6 +23,7 @@ using mechgen::view_buffers::Member;
 using mechgen::view_buffers::Packed;
 using mechgen::view_buffers::PackedSize;
 using mechgen::view_buffers::Put;
+using mechgen::view_buffers::Zero;
 
 [[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
@@ -71,6 +72,15 @@ constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
   Put(s.K_P, b + kCoefficientsMembers[5].offset);
   Put(s.L_P, b + kCoefficientsMembers[6].offset);
 }
+[[maybe_unused]] void Zero(Coefficients<double>* s) {
+  Zero(&s->Phi);
+  Zero(&s->Phi_phi);
+  Zero(&s->K);
+  Zero(&s->L);
+  Zero(&s->r_P);
+  Zero(&s->K_P);
+  Zero(&s->L_P);
+}
 
 constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
     Member<decltype(Trig<double>::sin_q)>("sin_q"),
@@ -91,6 +101,12 @@ constexpr int kTrigSize = PackedSize(kTrigMembers);
   Put(s.sin_phi, b + kTrigMembers[2].offset);
   Put(s.cos_phi, b + kTrigMembers[3].offset);
 }
+[[maybe_unused]] void Zero(Trig<double>* s) {
+  Zero(&s->sin_q);
+  Zero(&s->cos_q);
+  Zero(&s->sin_phi);
+  Zero(&s->cos_phi);
+}
 
 constexpr std::array<mechgen::ViewMember, 3> kKinematicsMembers = Packed<3>({ {
     Member<decltype(Kinematics<double>::K)>("K"),
@@ -107,6 +123,11 @@ constexpr int kKinematicsSize = PackedSize(kKinematicsMembers);
   Put(s.K, b + kKinematicsMembers[0].offset);
   Put(s.L, b + kKinematicsMembers[1].offset);
   Put(s.Phi_phi, b + kKinematicsMembers[2].offset);
+}
+[[maybe_unused]] void Zero(Kinematics<double>* s) {
+  Zero(&s->K);
+  Zero(&s->L);
+  Zero(&s->Phi_phi);
 }
 
 constexpr std::array<mechgen::ViewMember, 7> kDesignDerivativesMembers = Packed<7>({ {
@@ -136,6 +157,15 @@ constexpr int kDesignDerivativesSize = PackedSize(kDesignDerivativesMembers);
   Put(s.dL_dp, b + kDesignDerivativesMembers[4].offset);
   Put(s.dL_P_dp, b + kDesignDerivativesMembers[5].offset);
   Put(s.dmu_dp, b + kDesignDerivativesMembers[6].offset);
+}
+[[maybe_unused]] void Zero(DesignDerivatives<double>* s) {
+  Zero(&s->dphi_dp);
+  Zero(&s->dr_P_dp);
+  Zero(&s->dK_dp);
+  Zero(&s->dK_P_dp);
+  Zero(&s->dL_dp);
+  Zero(&s->dL_P_dp);
+  Zero(&s->dmu_dp);
 }
 
 // ---- Parameters: the free ones (Params members), then the derived ones ----
@@ -208,7 +238,7 @@ void FlatCoeffs(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) Zero(&out_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig, &trig_);
   Model::Coeffs(p_, q_, phi_, out != nullptr ? &out_ : nullptr, trig != nullptr ? &trig_ : nullptr);
@@ -295,7 +325,7 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
                                                   q_,
                                                   phi_io != nullptr ? &phi_io_ : nullptr,
@@ -319,7 +349,7 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::SolveTrig(p_,
                                                       q_,
                                                       modes_,

@@ -23,6 +23,7 @@ using mechgen::view_buffers::Member;
 using mechgen::view_buffers::Packed;
 using mechgen::view_buffers::PackedSize;
 using mechgen::view_buffers::Put;
+using mechgen::view_buffers::Zero;
 
 [[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
@@ -71,6 +72,15 @@ constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
   Put(s.K_P, b + kCoefficientsMembers[5].offset);
   Put(s.L_P, b + kCoefficientsMembers[6].offset);
 }
+[[maybe_unused]] void Zero(Coefficients<double>* s) {
+  Zero(&s->Phi);
+  Zero(&s->Phi_phi);
+  Zero(&s->K);
+  Zero(&s->L);
+  Zero(&s->r_P);
+  Zero(&s->K_P);
+  Zero(&s->L_P);
+}
 
 constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
     Member<decltype(Trig<double>::sin_q)>("sin_q"),
@@ -90,6 +100,12 @@ constexpr int kTrigSize = PackedSize(kTrigMembers);
   Put(s.cos_q, b + kTrigMembers[1].offset);
   Put(s.sin_phi, b + kTrigMembers[2].offset);
   Put(s.cos_phi, b + kTrigMembers[3].offset);
+}
+[[maybe_unused]] void Zero(Trig<double>* s) {
+  Zero(&s->sin_q);
+  Zero(&s->cos_q);
+  Zero(&s->sin_phi);
+  Zero(&s->cos_phi);
 }
 
 // ---- Parameters: the free ones (Params members), then the derived ones ----
@@ -160,7 +176,7 @@ void FlatCoeffs(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) Zero(&out_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig, &trig_);
   Model::Coeffs(p_, q_, phi_, out != nullptr ? &out_ : nullptr, trig != nullptr ? &trig_ : nullptr);
@@ -199,7 +215,7 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
                                                   q_,
                                                   phi_io != nullptr ? &phi_io_ : nullptr,

@@ -255,14 +255,23 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
 // (the array copied into the fixed-size type), what the call gets, the lines after it (the
 // result copied back). Every pointer may be nullptr (it stays nullptr); an output's buffer is
 // read before the call, so that what the function does not write keeps its value, as in the
-// struct the buffer stands for.
+// struct the buffer stands for; but an output the view writes whole (WrittenWhole()) starts at
+// zero instead, and its buffer is not read (nor need it be initialized).
 struct FlatArgument {
   std::string type;
   std::vector<std::string> before, after;
   std::string pass;
 };
 
-FlatArgument Flatten(const Argument& a, const std::string& scalar) {
+// The outputs the view writes whole (core/model_view.h says which): Coeffs' Coefficients (the
+// generated function writes each of its entries) and the sin and cos of Solve and SolveTrig (0
+// where a coordinate is a displacement, which they do not write). The runtime's continuation
+// step passes them every step: nothing to copy in, nothing to initialize.
+bool WrittenWhole(const std::string& member, const Argument& a) {
+  return (member == "Coeffs" && a.name == "out") || ((member == "Solve" || member == "SolveTrig") && a.name == "trig");
+}
+
+FlatArgument Flatten(const Argument& a, const std::string& scalar, bool written_whole = false) {
   const std::string type = WithScalar(a.type, scalar, "double");
   const std::string& n = a.name;
   const std::string local = n + "_";
@@ -293,7 +302,7 @@ FlatArgument Flatten(const Argument& a, const std::string& scalar) {
     throw std::runtime_error("the model view cannot pass argument '" + n + "' of type " + a.type +
                              " (codegen/emit.cc: Flatten)");
   return {array(core, false),
-          {core + " " + local + ";", "if (" + n + " != nullptr) Get(" + n + ", &" + local + ");"},
+          {core + " " + local + ";", "if (" + n + " != nullptr) " + (written_whole ? "Zero(&" + local + ");" : "Get(" + n + ", &" + local + ");")},
           {"if (" + n + " != nullptr) Put(" + local + ", " + n + ");"},
           n + " != nullptr ? &" + local + " : nullptr"};
 }
@@ -312,7 +321,7 @@ mus::data ViewFunction(const FunctionSpec& f) {
   std::vector<std::string> before, after, pass;
   bool has_velocities = false;
   for (size_t i = 0; i < f.args.size(); ++i) {
-    const FlatArgument flat = Flatten(f.args[i], f.scalar);
+    const FlatArgument flat = Flatten(f.args[i], f.scalar, WrittenWhole(f.model_member, f.args[i]));
     mus::data o{mus::data::type::object};
     o.set("arg_type", flat.type);
     o.set("arg_name", f.args[i].name);

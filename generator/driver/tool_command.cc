@@ -97,7 +97,10 @@ const std::vector<ToolSpec>& Specs() {
       {"statics", "statics_main.cc", {"-DMECHGEN_TOOL_NO_CERES"}, false, "forces",
        "the driving forces (with friction: to run the input in +q and in -q), reactions, potential and "
        "mechanical advantage along the range, dead zones and equilibria; --plots draws the driving torque "
-       "and the ground bearings' polar diagrams with gnuplot (needs the output `forces`)"},
+       "and the ground bearings' polar diagrams with gnuplot (needs the output `forces`)",
+       {},
+       false,
+       true},
       {"simulate", "simulate_main.cc", {}, false, "dynamics",
        "forward dynamics from rest or a given state, or a prescribed motion with its motor torque and "
        "bearing loads (needs the output `dynamics`)"},

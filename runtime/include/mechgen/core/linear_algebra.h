@@ -19,6 +19,7 @@
 #include <Eigen/SVD>
 
 #include "mechgen/core/inline.h"
+#include "mechgen/core/model_calls.h"
 
 namespace mechgen {
 
@@ -36,6 +37,15 @@ MECHGEN_ALWAYS_INLINE double MaxAbsDiff(const A& a, const A* b = nullptr) {
   // (A bounded dynamic matrix, ModelTypes<ViewModel>: its size at run time.)
   const Eigen::Index size =
       A::SizeAtCompileTime != Eigen::Dynamic ? static_cast<Eigen::Index>(A::SizeAtCompileTime) : a.size();
+  if constexpr (A::SizeAtCompileTime == Eigen::Dynamic) {
+    if (size <= 2) {  // (a small model's vectors without a loop: the same maximum)
+      const double d0 = size > 0 ? std::abs(b == nullptr ? a.data()[0] : a.data()[0] - b->data()[0]) : 0.0;
+      const double d1 = size > 1 ? std::abs(b == nullptr ? a.data()[1] : a.data()[1] - b->data()[1]) : 0.0;
+      m = d0 > d1 ? d0 : d1;
+      nan = (d0 != d0) | (d1 != d1);
+      return nan ? std::numeric_limits<double>::quiet_NaN() : m;
+    }
+  }
   for (Eigen::Index i = 0; i < size; ++i) {
     const double d = std::abs(b == nullptr ? a.data()[i] : a.data()[i] - b->data()[i]);
     m = m > d ? m : d;  // maxsd
@@ -53,14 +63,64 @@ MECHGEN_ALWAYS_INLINE bool AllFinite(const A& a) {
   double zero = 0;
   const Eigen::Index size =
       A::SizeAtCompileTime != Eigen::Dynamic ? static_cast<Eigen::Index>(A::SizeAtCompileTime) : a.size();
+  if constexpr (A::SizeAtCompileTime == Eigen::Dynamic) {
+    if (size <= 2) {  // (a small model's vectors without a loop)
+      const double x0 = size > 0 ? a.data()[0] : 0.0, x1 = size > 1 ? a.data()[size - 1] : 0.0;
+      return (x0 - x0) + (x1 - x1) == 0;
+    }
+  }
   for (Eigen::Index i = 0; i < size; ++i) zero += a.data()[i] - a.data()[i];
   return zero == 0;
+}
+
+/// ||x||_inf and x.allFinite() of a plain matrix: Eigen's for a fixed-size x (the fixed-size
+/// instantiation's code as it was); for a bounded dynamic one (ModelTypes<ViewModel>)
+/// MaxAbsDiff() and AllFinite() above (the same results for finite entries; InfNorm NaN for a
+/// NaN), without Eigen's dynamic-size reductions.
+template <class X>
+MECHGEN_ALWAYS_INLINE double InfNorm(const X& x) {
+  if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
+    return x.template lpNorm<Eigen::Infinity>();
+  } else {
+    return MaxAbsDiff(x);
+  }
+}
+template <class X>
+MECHGEN_ALWAYS_INLINE bool Finite(const X& x) {
+  if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
+    return x.allFinite();
+  } else {
+    return AllFinite(x);
+  }
 }
 
 /// ||A||_1: the largest column sum of |a_ij|.
 template <class Derived>
 double Norm1(const Eigen::MatrixBase<Derived>& A) {
   return A.cwiseAbs().colwise().sum().maxCoeff();
+}
+
+/// Norm1() of a bounded dynamic matrix (ModelTypes<ViewModel>): of at most two rows, a loop
+/// over its columns, |a_0j| + |a_1j| as the fixed-size sum adds them (the same value for
+/// finite entries), without Eigen's dynamic-size reductions; Norm1() above otherwise.
+template <class Derived>
+MECHGEN_ALWAYS_INLINE double SmallNorm1(const Eigen::MatrixBase<Derived>& A) {
+  if constexpr (Derived::RowsAtCompileTime == Eigen::Dynamic) {
+    const Derived& a = A.derived();
+    const Eigen::Index cols = a.cols();
+    const double* x = a.data();
+    if (a.rows() == 2 && cols > 0) {
+      double m = std::abs(x[0]) + std::abs(x[1]);
+      for (Eigen::Index j = 1; j < cols; ++j) m = std::max(m, std::abs(x[2 * j]) + std::abs(x[2 * j + 1]));
+      return m;
+    }
+    if (a.rows() == 1 && cols > 0) {
+      double m = std::abs(x[0]);
+      for (Eigen::Index j = 1; j < cols; ++j) m = std::max(m, std::abs(x[j]));
+      return m;
+    }
+  }
+  return Norm1(A);
 }
 
 }  // namespace internal
@@ -448,20 +508,13 @@ class SquareFactorization<Eigen::Dynamic, MaxN> {
   using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, MaxN, MaxN>;
   using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, MaxN, 1>;
 
-  explicit SquareFactorization(const Matrix& A) : n_(static_cast<int>(A.rows())) {
-    if (!FactorFixed<1>(A)) {
-      lu_.compute(A);
-      det_ = lu_.determinant();
-      ok_ = det_ != 0 && std::isfinite(det_);
-      const double rcond = ok_ ? lu_.rcond() : 0.0;
-      cond_ = rcond > 0 ? 1.0 / rcond : std::numeric_limits<double>::infinity();
-      norm1_ = internal::Norm1(A);
-      inverse_norm1_ = cond_ / norm1_;
-      if (!std::isfinite(cond_)) {
-        cond_ = std::numeric_limits<double>::infinity();
-        ok_ = false;
-      }
-      if (!ok_) inverse_norm1_ = std::numeric_limits<double>::infinity();
+  // 2 x 2 inline (the four-bar's continuation step factors one, as the fixed-size code does),
+  // the other sizes in Factor().
+  MECHGEN_ALWAYS_INLINE explicit SquareFactorization(const Matrix& A) : n_(static_cast<int>(A.rows())) {
+    if (n_ == 2) {
+      Take(SquareFactorization<2>{Eigen::Matrix2d(A)});
+    } else {
+      Factor(A);
     }
   }
   bool ok() const { return ok_; }
@@ -485,6 +538,23 @@ class SquareFactorization<Eigen::Dynamic, MaxN> {
 
  private:
   static constexpr int kMaxExplicitInverse = 16;
+  // Every size but 2: the fixed-size factorization of its size up to 16, PartialPivLU above.
+  MECHGEN_NOINLINE void Factor(const Matrix& A) {
+    if (!FactorFixed<1>(A)) {
+      lu_.compute(A);
+      det_ = lu_.determinant();
+      ok_ = det_ != 0 && std::isfinite(det_);
+      const double rcond = ok_ ? lu_.rcond() : 0.0;
+      cond_ = rcond > 0 ? 1.0 / rcond : std::numeric_limits<double>::infinity();
+      norm1_ = internal::Norm1(A);
+      inverse_norm1_ = cond_ / norm1_;
+      if (!std::isfinite(cond_)) {
+        cond_ = std::numeric_limits<double>::infinity();
+        ok_ = false;
+      }
+      if (!ok_) inverse_norm1_ = std::numeric_limits<double>::infinity();
+    }
+  }
   // The fixed-size factorization of size k (k <= 16), chosen by n_; false above 16.
   template <int k>
   bool FactorFixed(const Matrix& A) {
@@ -493,15 +563,19 @@ class SquareFactorization<Eigen::Dynamic, MaxN> {
       return false;
     } else {
       if (n_ != k) return FactorFixed<k + 1>(A);
-      const SquareFactorization<k> f{Eigen::Matrix<double, k, k>(A)};
-      ok_ = f.ok_;
-      det_ = f.det_;
-      cond_ = f.cond_;
-      norm1_ = f.norm1_;
-      inverse_norm1_ = f.inverse_norm1_;
-      inverse_ = f.inverse_;
+      Take(SquareFactorization<k>{Eigen::Matrix<double, k, k>(A)});
       return true;
     }
+  }
+  // The results of the fixed-size factorization f of this size.
+  template <int k>
+  MECHGEN_ALWAYS_INLINE void Take(const SquareFactorization<k>& f) {
+    ok_ = f.ok_;
+    det_ = f.det_;
+    cond_ = f.cond_;
+    norm1_ = f.norm1_;
+    inverse_norm1_ = f.inverse_norm1_;
+    Assign(&inverse_, f.inverse_);
   }
   int n_;
   bool ok_ = false;

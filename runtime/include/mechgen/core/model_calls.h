@@ -76,6 +76,40 @@ MECHGEN_ALWAYS_INLINE auto MiddleCols(X&& x, Eigen::Index start, Eigen::Index n)
   }
 }
 
+/// *dst = src for a plain column-major src of dst's shape (a matrix or a Map of one): Eigen's
+/// assignment for a fixed-size dst; for a bounded dynamic one (ModelTypes<ViewModel>) a resize
+/// and a loop over the entries, the same values, without Eigen's dynamic-size assignment
+/// (alignment peeling, packet and tail loops: more than the few entries of a small model cost).
+template <class Dst, class Src>
+MECHGEN_ALWAYS_INLINE void Assign(Dst* dst, const Src& src) {
+  if constexpr (Dst::SizeAtCompileTime != Eigen::Dynamic) {
+    *dst = src;
+  } else {
+    dst->resize(src.rows(), src.cols());
+    const Eigen::Index n = src.size();
+    double* const d = dst->data();
+    const double* const s = src.data();
+    switch (n) {  // (up to 4 entries without a loop: a small model's vectors and 2 x 2 matrices)
+      case 4:
+        d[3] = s[3];
+        [[fallthrough]];
+      case 3:
+        d[2] = s[2];
+        [[fallthrough]];
+      case 2:
+        d[1] = s[1];
+        [[fallthrough]];
+      case 1:
+        d[0] = s[0];
+        [[fallthrough]];
+      case 0:
+        break;
+      default:
+        for (Eigen::Index i = 0; i < n; ++i) d[i] = s[i];
+    }
+  }
+}
+
 /// Sizes, constants, flags and functions of a generated model M (static; the object is an
 /// empty tag). Specialized for ViewModel in core/view_model.h.
 template <class M>

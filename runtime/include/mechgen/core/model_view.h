@@ -19,8 +19,10 @@
  *    C++ spelling. Each function behaves as the generated one does on the structs its buffers
  *    hold: an output buffer is read in before the call, so what the function does not write
  *    keeps the buffer's value (Stiffness after Forces in one Statics buffer), and a buffer is to
- *    be initialized once before its first use; a pointer the generated function accepts as
- *    nullptr may be nullptr here.
+ *    be initialized once before its first use; except the outputs written whole, whose buffer
+ *    is neither read nor needs initializing: Coeffs' Coefficients and the trig of Solve and
+ *    SolveTrig (0 for the displacements, whose sin and cos they do not compute). A pointer the
+ *    generated function accepts as nullptr may be nullptr here.
  *
  * The generated functions stay as they are (fixed-size Eigen, templates on the scalar); the view
  * maps its arrays onto them, calls them for double and copies the results out (the same

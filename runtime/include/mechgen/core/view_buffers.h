@@ -59,6 +59,17 @@ template <int R, int C, int O, int MR, int MC>
 void Put(const Eigen::Matrix<double, R, C, O, MR, MC>& m, double* b) {
   for (int i = 0; i < R * C; ++i) b[i] = m.data()[i];
 }
+// Every entry 0: the start of an output the function writes whole (ModelView: Coeffs' out,
+// Solve's and SolveTrig's trig), which is then not read from its buffer.
+template <int R, int C, int O, int MR, int MC>
+void Zero(Eigen::Matrix<double, R, C, O, MR, MC>* m) {
+  m->setZero();
+}
+inline void Zero(double* x) { *x = 0; }
+template <class T, std::size_t N>
+void Zero(std::array<T, N>* a) {
+  a->fill(T());
+}
 inline void Get(const double* b, double* x) { *x = *b; }
 inline void Put(const double& x, double* b) { *b = x; }
 template <class T, std::size_t N>

@@ -81,12 +81,10 @@ struct ViewModel {
     coefficients.K_P = offset("K_P");
     coefficients.L_P = offset("L_P");
     coefficients.size = c.size;
-    trig_size = v.Layout(ViewStruct::kTrig).size;
   }
 
   const ModelView* view;
   CoefficientsLayout coefficients;
-  int trig_size = 0;
   // ---- Statics: the layouts of its structs ----
   /// The statics' counts are the view's (ModelCalls<ViewModel>::NumReactions, NumFriction).
   static constexpr int kNumReactions = Eigen::Dynamic;
@@ -312,7 +310,7 @@ struct ModelCalls<ViewModel> {
     const ModelView& v = *m.view;
     const ViewModel::CoefficientsLayout& l = m.coefficients;
     double* const buffer = c->buffer.data();
-    std::fill_n(buffer, l.size, 0.0);  // (the view's function reads what it does not write)
+    // (The view writes Coefficients whole: the buffer is not read, nothing to initialize.)
     v.Coeffs(p.data(), q.data(), phi.data(), buffer, trig != nullptr && HasTrig(m) ? trig->buffer.data() : nullptr);
     const int nq = v.nq, nphi = v.nphi, np = v.num_points;
     using Map = T::Coefficients::Map;
@@ -335,8 +333,8 @@ struct ModelCalls<ViewModel> {
   }
   static ViewSolveReport Solve(const M& m, const ViewParams& p, const T::VecQ& q, T::VecPhi* phi,
                                const Modes& modes, int max_iterations, double tolerance, Trig* trig = nullptr) {
+    // (The view writes trig whole, 0 for the displacements: nothing to initialize.)
     const bool with_trig = trig != nullptr && HasTrig(m);
-    if (with_trig) std::fill_n(trig->buffer.data(), m.trig_size, 0.0);
     return m.view->Solve(p.data(), q.data(), phi->data(), modes.data(), max_iterations, tolerance,
                          with_trig ? trig->buffer.data() : nullptr);
   }

@@ -217,8 +217,9 @@ bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficien
   (void)c;
   (void)d;
   // (For a generated M each `if` below is constant; the view decides at run time.)
+  // (Assign: Eigen's assignment for a generated M; for the view a loop over the entries.)
   if constexpr (Features::kHasK) {
-    if (Calls::HasK(model_)) s->K = c.K;
+    if (Calls::HasK(model_)) Assign(&s->K, c.K);
   }
   // Phi_phi with K and L from the same evaluation (State::Phi_phi; the statics read the three).
   if constexpr (kPhiFromCoeffs) {
@@ -235,23 +236,23 @@ bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficien
     }
   }
   if constexpr (Features::kHasL) {
-    if (Calls::HasL(model_)) s->L = c.L;
+    if (Calls::HasL(model_)) Assign(&s->L, c.L);
   }
   if constexpr (!Features::kHasL || Calls::kView) {
     if (!Calls::HasL(model_)) NumericalL(s->q, s->phi, f, s->K, &s->L, d);
   }
-  bool finite = s->K.allFinite() && s->L.allFinite();
+  bool finite = internal::Finite(s->K) && internal::Finite(s->L);
   if constexpr (Features::kHasPoints) {
     if (Calls::HasPoints(model_)) {
-      s->r_P = c.r_P;
-      finite = finite && s->r_P.allFinite();
+      Assign(&s->r_P, c.r_P);
+      finite = finite && internal::Finite(s->r_P);
     }
   }
   if constexpr (Features::kHasPointVelocities) {
-    if (Calls::HasPointVelocities(model_)) s->K_P = c.K_P;
+    if (Calls::HasPointVelocities(model_)) Assign(&s->K_P, c.K_P);
   }
   if constexpr (Features::kHasPointAccelerations) {
-    if (Calls::HasPointAccelerations(model_)) s->L_P = c.L_P;
+    if (Calls::HasPointAccelerations(model_)) Assign(&s->L_P, c.L_P);
   }
   ErrorBounds(f, s);
   return finite;
@@ -268,19 +269,19 @@ void PositionSolver<M, Assembler>::ErrorBounds(const Factorization& f, State<M>*
   const double n = nphi();
   const double kappa = s->condition;
   const double norm_A = f.norm1();  // ||Phi_phi||_1 (= kappa / inverse_norm, without the division)
-  const double rho =
-      s->residual_norm + 4 * n * u * norm_A * (1 + s->phi.template lpNorm<Eigen::Infinity>());
+  const double norm_phi = internal::InfNorm(s->phi);  // ||phi||_inf
+  const double rho = s->residual_norm + 4 * n * u * norm_A * (1 + norm_phi);
   // phi: the residual through Phi_phi^{-1} (1-norms; ||r||_1 <= n ||r||_inf), plus its own
   // rounding.
-  s->phi_error = s->inverse_norm * n * rho + u * s->phi.template lpNorm<Eigen::Infinity>();
+  s->phi_error = s->inverse_norm * n * rho + u * norm_phi;
   // K = -Phi_phi^{-1} Phi_q at a phi off by phi_error: Phi_phi and Phi_q change by
   // ~ ||Phi_phi||_1 phi_error, amplified by ||Phi_phi^{-1}||_1; plus the solve's rounding.
-  const double norm_K = internal::Norm1(s->K);
+  const double norm_K = internal::SmallNorm1(s->K);
   const double delta = s->phi_error + n * u;
   s->K_error = kappa * delta * (1 + norm_K);
   // L = -Phi_phi^{-1} (Phi'' (K, K) + ...): the same for its terms, with K's error entering
   // twice (kappa^2 phi_error ~ u kappa^3, the leading term next to a singularity).
-  const double norm_L = internal::Norm1(s->L);
+  const double norm_L = internal::SmallNorm1(s->L);
   s->L_error = kappa * (delta * (norm_L + (1 + norm_K) * (1 + norm_K)) +
                         2 * s->K_error * (1 + norm_K));
 }

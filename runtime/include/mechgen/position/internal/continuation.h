@@ -69,7 +69,7 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
         residual = internal::MaxAbsDiff(c.Phi);
         if (!(residual <= options_.tolerance)) return false;
         if constexpr (Calls::kView) {  // (a map of the view's buffer)
-          A = c.Phi_phi;
+          Assign(&A, c.Phi_phi);
           Phi_phi = &A;
         } else {
           Phi_phi = &c.Phi_phi;
@@ -94,8 +94,8 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
       Phi_q = NeedPhiQ() ? &B : nullptr;
     }
   }
-  to->q = q;
-  to->phi = phi;
+  Assign(&to->q, q);
+  Assign(&to->phi, phi);
   to->residual_norm = residual;
   const Factorization f(*Phi_phi);
   // The distance to singularity (State::sigma_min, sigma_max and their directions) is read by
@@ -117,7 +117,7 @@ bool PositionSolver<M, Assembler>::Accept(const State<M>& from, const VecQ& q, c
   if (!distance_first) {
     if constexpr (M::kNphi == Eigen::Dynamic || M::kNphi <= 2) {
       if (later != nullptr && nphi() <= 2) {
-        later->Phi_phi = *Phi_phi;  // finite: its factorization succeeded
+        Assign(&later->Phi_phi, *Phi_phi);  // finite: its factorization succeeded
         later->pending = true;
       } else {
         Distance(*Phi_phi, f, &from, to);
@@ -141,7 +141,8 @@ bool PositionSolver<M, Assembler>::Step(const State<M>& from, const VecQ& q, Sta
     if (has_modes_) {  // (false for a view without Solve: FindModes())
       // The generated solver on this branch's modes: closed-form blocks are exact and cost
       // no iteration, Newton blocks start from the predictor (and polish).
-      VecPhi phi = predicted;
+      VecPhi phi;
+      Assign(&phi, predicted);
       // With Model::TrigT, Solve also hands out sin and cos of the angles it solved (a
       // closed-form dyad from its own dot and cross products), and Coeffs uses them.
       typename internal::TrigOf<M>::type trig;

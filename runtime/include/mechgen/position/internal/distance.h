@@ -96,9 +96,11 @@ void PositionSolver<M, Assembler>::SmallDistance(const MatCPhi& A, bool known_fi
       if (!A.allFinite()) s->sigma_min = s->sigma_max = std::numeric_limits<double>::quiet_NaN();
     } else if (nphi() == 2) {
       Eigen::Vector2d v, u;
-      internal::SingularValues2x2(Eigen::Matrix2d(A), &s->sigma_min, &s->sigma_max, &v, &u, known_finite);
-      s->singular_direction = v;
-      s->largest_direction = u;
+      Eigen::Matrix2d A2;
+      A2 << A(0, 0), A(0, 1), A(1, 0), A(1, 1);
+      internal::SingularValues2x2(A2, &s->sigma_min, &s->sigma_max, &v, &u, known_finite);
+      Assign(&s->singular_direction, v);
+      Assign(&s->largest_direction, u);
     }
   } else if constexpr (n == 1) {
     (void)known_finite;
