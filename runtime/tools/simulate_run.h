@@ -47,13 +47,6 @@
 #include "mechgen/statics/traits.h"
 #include "mechgen/table/columns.h"
 
-namespace mechgen::dynamics {
-/// The observer of a simulation's samples through the view (pass an lvalue of this type; the
-/// runtime instantiated for the view takes it: core/view_runtime.h).
-template <class Sim>
-using ViewSampleFn = std::function<bool(const typename Sim::SampleT&)>;
-}  // namespace mechgen::dynamics
-
 namespace mechgen::simulate_tool {
 namespace run_internal {
 
@@ -209,6 +202,7 @@ int RunFree(const M& model, const Args& args) {
   // off): zeros, as a run without Coulomb friction's samples hold.
   typename Kineto::VecF no_friction = Sized<typename Kineto::VecF>(C::KinetoNumFriction(model));
   no_friction.setZero();
+  (void)num_reactions, (void)no_friction;  // (a model without reactions reads neither)
 
   const std::string csv_path = args.csv.empty() ? std::string(name) + "_simulate.csv" : args.csv;
   // The CSV, written to a temporary file and renamed when whole (io/output_file.h).
@@ -243,33 +237,35 @@ int RunFree(const M& model, const Args& args) {
     }
     // The row is written inside the branch that holds the kinetostatics it points into.
     CsvRow<SampleT> row{&s, nullptr};
-    if (Kineto::kMayHaveReactions && num_reactions > 0) {
-      mechgen::dynamics::KinetostaticsRow<M> k;
-      if constexpr (Sim::kHasCoulomb) {
-        kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
-      } else if (C::KinetoNumFriction(model) > 0) {
-        kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &no_friction);
-      } else {
-        kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+    if constexpr (Kineto::kMayHaveReactions) {
+      if (num_reactions > 0) {
+        mechgen::dynamics::KinetostaticsRow<M> k;
+        if constexpr (Sim::kHasCoulomb) {
+          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
+        } else if (C::KinetoNumFriction(model) > 0) {
+          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &no_friction);
+        } else {
+          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+        }
+        if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) {
+          row.R = k.statics.R.data();
+          for (const auto& m : magnitudes)
+            max_reaction = std::max(max_reaction, std::hypot(k.statics.R(m.first), k.statics.R(m.first + 1)));
+        }
+        mechgen::WriteCsvRow(columns, row, csv.stream());
+        return true;
       }
-      if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) {
-        row.R = k.statics.R.data();
-        for (const auto& m : magnitudes)
-          max_reaction =
-              std::max(max_reaction, std::hypot(k.statics.R(m.first), k.statics.R(m.first + 1)));
-      }
-      mechgen::WriteCsvRow(columns, row, csv.stream());
-    } else {
-      mechgen::WriteCsvRow(columns, row, csv.stream());
     }
+    mechgen::WriteCsvRow(columns, row, csv.stream());
     return true;
   };
 
   mechgen::dynamics::MinimalSummary summary;
   SampleT last;
   if constexpr (C::kView) {
-    dynamics::ViewSampleFn<Sim> fn = observer;  // (the runtime instantiated for the view takes this type)
-    sim.Simulate(0.0, q0, qd0, args.t_end, fn, &summary, &last);
+    // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
+    dynamics::ViewSampleFn<Sim> fn = observer;
+    SimulateFree(&sim, 0.0, q0, qd0, args.t_end, fn, &summary, &last);
   } else {
     sim.Simulate(0.0, q0, qd0, args.t_end, observer, &summary, &last);
   }

@@ -225,6 +225,10 @@ struct ModelCalls {
     }
   }
 
+  /// sin(phi_i) and cos(phi_i) as a solve left them in its Trig (M::TrigT).
+  static double TrigSinPhi(const M&, const Trig& trig, int i) { return trig.sin_phi(i); }
+  static double TrigCosPhi(const M&, const Trig& trig, int i) { return trig.cos_phi(i); }
+
   /// Model::Dynamics, with the sin and cos of the last solve where M has them (and kNphi > 0).
   MECHGEN_ALWAYS_INLINE static void Dynamics(const M&, const typename T::Params& p, const typename T::VecQ& q,
                                              const typename T::VecPhi& phi, const typename T::VecQ& qd, double t,

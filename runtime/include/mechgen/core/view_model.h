@@ -99,6 +99,7 @@ struct ViewModel {
       int K = -1, I = -1, h = -1, Q = -1, T = -1, V = -1, P_nc = -1, Phi_phi = -1, size = 0;
     } rhs;
     int rhs_constants_size = 0;
+    int trig_sin_phi = -1, trig_cos_phi = -1;  ///< in the Trig buffer
     struct Kinetostatics {
       int Q = -1, drive = -1, R = -1, normal = -1, gain = -1, K_rel = -1, size = 0;
     } kinetostatics;
@@ -114,6 +115,8 @@ struct ViewModel {
       rhs = {offset(r, "K"), offset(r, "I"),    offset(r, "h"),       offset(r, "Q"), offset(r, "T"),
              offset(r, "V"), offset(r, "P_nc"), offset(r, "Phi_phi"), r.size};
       rhs_constants_size = v->Layout(ViewStruct::kRhsConstants).size;
+      trig_sin_phi = offset(v->Layout(ViewStruct::kTrig), "sin_phi");
+      trig_cos_phi = offset(v->Layout(ViewStruct::kTrig), "cos_phi");
       const ViewLayout& k = v->Layout(ViewStruct::kStatics);
       kinetostatics = {offset(k, "Q"),    offset(k, "drive"), offset(k, "R"), offset(k, "normal"),
                        offset(k, "gain"), offset(k, "K_rel"), k.size};
@@ -381,6 +384,13 @@ struct ModelCalls<ViewModel> {
     return HasKinetostatics(m) && m.view->flags.kHasStaticsFriction ? m.view->num_friction : 0;
   }
   static const char* KinetoReactionName(const M& m, int k) { return m.view->reaction_names[k]; }
+
+  static double TrigSinPhi(const M& m, const Trig& trig, int i) {
+    return trig.buffer[m.dynamics_layouts.trig_sin_phi + i];
+  }
+  static double TrigCosPhi(const M& m, const Trig& trig, int i) {
+    return trig.buffer[m.dynamics_layouts.trig_cos_phi + i];
+  }
 
   /// The view's Dynamics (sin and cos of the last solve where it has them and nphi > 0, as the
   /// fixed-size call), its I, h, Q, T, V, P_nc copied out.

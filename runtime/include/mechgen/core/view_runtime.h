@@ -10,7 +10,10 @@
  *
  * Instantiated: the position solver (position/), the sweep (sweep/sweep.h: SweepRows with a
  * ViewRowFn, ComputeMotion), its columns (sweep/columns.h) and motion summary
- * (sweep/motion_summary.h).
+ * (sweep/motion_summary.h); the free motion by the minimal method (dynamics/forward.h:
+ * MinimalDynamics with Dopri5 and Dop853, samples handed to a ViewSampleFn), the
+ * kinetostatics (dynamics/kinetostatics.h) and the simulate CSV's columns
+ * (dynamics/columns.h).
  */
 #pragma once
 
@@ -18,6 +21,9 @@
 #include <vector>
 
 #include "mechgen/core/view_model.h"
+#include "mechgen/dynamics/columns.h"
+#include "mechgen/dynamics/forward.h"
+#include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/position/assembler.h"
 #include "mechgen/position/motion.h"
 #include "mechgen/position/solver.h"
@@ -46,4 +52,35 @@ extern template class MotionSummaryBuilder<ViewModel>;
 // ---- Statics (statics/; instantiated in runtime/view/statics.cc) ----
 
 // ---- Dynamics (dynamics/; instantiated in runtime/view/dynamics.cc) ----
+namespace dynamics {
+/// The minimal method through the view, with each integrator (its sample observer: pass an
+/// lvalue of ViewSampleFn<...>).
+using ViewMinimalDopri5 = MinimalDynamics<ViewModel, Dopri5>;
+using ViewMinimalDop853 = MinimalDynamics<ViewModel, Dop853>;
+
+// What a program calls (the members they call are compiled with them in the library).
+#define MECHGEN_VIEW_MINIMAL_MEMBERS(EXTERN, Sim)                                                              \
+  EXTERN template Sim::MinimalDynamics(const ViewModel&, const ViewParams&, const MinimalOptions&, NoLoad);   \
+  EXTERN template bool Sim::Initialize(const ModelTypes<ViewModel>::VecQ&);                                    \
+  EXTERN template bool Sim::Initialize(const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecPhi&); \
+  EXTERN template bool Sim::Derivative(double, const Sim::State&, Sim::State*);                                \
+  EXTERN template bool Sim::Evaluate(double, const Sim::State&, Sim::SampleT*);                                \
+  EXTERN template bool Sim::SimulatesCoulomb(const ModelTypes<ViewModel>::VecQ&);
+MECHGEN_VIEW_MINIMAL_MEMBERS(extern, ViewMinimalDopri5)
+MECHGEN_VIEW_MINIMAL_MEMBERS(extern, ViewMinimalDop853)
+/// sim->Simulate(t0, q0, qd0, t_end, observer, summary, last), compiled in the library (a
+/// function, not an inline member: the event loop and the integrator are not compiled again
+/// where it is called).
+bool SimulateFree(ViewMinimalDopri5* sim, double t0, const ModelTypes<ViewModel>::VecQ& q0,
+                  const ModelTypes<ViewModel>::VecQ& qd0, double t_end, ViewSampleFn<ViewMinimalDopri5>& observer,
+                  MinimalSummary* summary, Sample<ViewModel>* last);
+bool SimulateFree(ViewMinimalDop853* sim, double t0, const ModelTypes<ViewModel>::VecQ& q0,
+                  const ModelTypes<ViewModel>::VecQ& qd0, double t_end, ViewSampleFn<ViewMinimalDop853>& observer,
+                  MinimalSummary* summary, Sample<ViewModel>* last);
+
+extern template class Kinetostatics<ViewModel>;
+extern template table::Columns<CsvRow<Sample<ViewModel>>> FreeColumns<ViewModel, Sample<ViewModel>, false>(
+    bool, const ViewModel&);
+extern template std::vector<std::pair<int, std::string>> RevoluteMagnitudes<ViewModel>(const ViewModel&);
+}  // namespace dynamics
 }  // namespace mechgen

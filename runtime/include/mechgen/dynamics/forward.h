@@ -44,6 +44,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <string>
 #include <type_traits>
@@ -446,6 +447,11 @@ struct Sample {
 
 /// No load of the caller: the model's own Q only.
 struct NoLoad {};
+
+/// The sample observer of a simulation through the model view (issue 43): the runtime
+/// instantiated once for the view (core/view_runtime.h) takes an lvalue of this type.
+template <class Sim>
+using ViewSampleFn = std::function<bool(const typename Sim::SampleT&)>;
 
 /**
  * MinimalDynamics<M, Method, Load>: the minimal method on model M with the integrator Method
@@ -1385,7 +1391,8 @@ class MinimalDynamics {
       // Coulomb friction the stages solved the angles themselves.
       const double two_pi = 6.283185307179586;
       for (int i = 0; i < Nphi() && !coulomb_active_ && StagesByTrig(); ++i) {
-        const double angle = std::atan2(last_.trig.sin_phi(i), last_.trig.cos_phi(i));
+        const double angle =
+            std::atan2(Calls::TrigSinPhi(model_, last_.trig, i), Calls::TrigCosPhi(model_, last_.trig, i));
         const double turns = std::floor((angle - s->phi(i)) / two_pi + 0.5);
         s->phi(i) = std::isfinite(turns) ? angle - two_pi * turns : angle;
       }
