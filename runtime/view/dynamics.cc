@@ -14,6 +14,18 @@ namespace dynamics {
 MECHGEN_VIEW_MINIMAL_MEMBERS(, ViewMinimalDopri5)
 MECHGEN_VIEW_MINIMAL_MEMBERS(, ViewMinimalDop853)
 
+bool DerivativeOf(ViewMinimalDopri5* sim, double t, const ViewMinimalDopri5::State& y, ViewMinimalDopri5::State* dy) {
+  return sim->Derivative(t, y, dy);
+}
+bool DerivativeOf(ViewMinimalDop853* sim, double t, const ViewMinimalDop853::State& y, ViewMinimalDop853::State* dy) {
+  return sim->Derivative(t, y, dy);
+}
+bool EvaluateAt(ViewMinimalDopri5* sim, double t, const ViewMinimalDopri5::State& y, Sample<ViewModel>* s) {
+  return sim->Evaluate(t, y, s);
+}
+bool EvaluateAt(ViewMinimalDop853* sim, double t, const ViewMinimalDop853::State& y, Sample<ViewModel>* s) {
+  return sim->Evaluate(t, y, s);
+}
 bool SimulateFree(ViewMinimalDopri5* sim, double t0, const ModelTypes<ViewModel>::VecQ& q0,
                   const ModelTypes<ViewModel>::VecQ& qd0, double t_end, ViewSampleFn<ViewMinimalDopri5>& observer,
                   MinimalSummary* summary, Sample<ViewModel>* last) {
@@ -25,6 +37,12 @@ bool SimulateFree(ViewMinimalDop853* sim, double t0, const ModelTypes<ViewModel>
   return sim->Simulate(t0, q0, qd0, t_end, observer, summary, last);
 }
 
+namespace internal {
+template void ConditionAndDeterminantDynamic<1, Eigen::Map<const Eigen::MatrixXd>>(
+    const Eigen::Map<const Eigen::MatrixXd>&, double*, double*);
+template void ConditionAndDeterminantDynamic<1, ModelTypes<ViewModel>::MatCPhi>(const ModelTypes<ViewModel>::MatCPhi&,
+                                                                                double*, double*);
+}  // namespace internal
 template class Kinetostatics<ViewModel>;
 template table::Columns<CsvRow<Sample<ViewModel>>> FreeColumns<ViewModel, Sample<ViewModel>, false>(bool,
                                                                                                      const ViewModel&);

@@ -230,9 +230,10 @@ struct ModelCalls {
   static double TrigCosPhi(const M&, const Trig& trig, int i) { return trig.cos_phi(i); }
 
   /// Model::Dynamics, with the sin and cos of the last solve where M has them (and kNphi > 0).
+  template <class X = M>
   MECHGEN_ALWAYS_INLINE static void Dynamics(const M&, const typename T::Params& p, const typename T::VecQ& q,
                                              const typename T::VecPhi& phi, const typename T::VecQ& qd, double t,
-                                             const typename T::Coefficients& c, DynamicsOut<>* d, const Trig* trig) {
+                                             const typename T::Coefficients& c, DynamicsOut<X>* d, const Trig* trig) {
     if constexpr (F::kHasTrig && M::kNphi > 0) {
       M::template Dynamics<double>(p, q, phi, qd, t, c, d, nullptr, trig);
     } else {

@@ -63,14 +63,18 @@ using ViewMinimalDop853 = MinimalDynamics<ViewModel, Dop853>;
   EXTERN template Sim::MinimalDynamics(const ViewModel&, const ViewParams&, const MinimalOptions&, NoLoad);   \
   EXTERN template bool Sim::Initialize(const ModelTypes<ViewModel>::VecQ&);                                    \
   EXTERN template bool Sim::Initialize(const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecPhi&); \
-  EXTERN template bool Sim::Derivative(double, const Sim::State&, Sim::State*);                                \
-  EXTERN template bool Sim::Evaluate(double, const Sim::State&, Sim::SampleT*);                                \
   EXTERN template bool Sim::SimulatesCoulomb(const ModelTypes<ViewModel>::VecQ&);
 MECHGEN_VIEW_MINIMAL_MEMBERS(extern, ViewMinimalDopri5)
 MECHGEN_VIEW_MINIMAL_MEMBERS(extern, ViewMinimalDop853)
 /// sim->Simulate(t0, q0, qd0, t_end, observer, summary, last), compiled in the library (a
 /// function, not an inline member: the event loop and the integrator are not compiled again
 /// where it is called).
+/// sim->Derivative(t, y, dy) and sim->Evaluate(t, y, s), compiled in the library (as
+/// SimulateFree below).
+bool DerivativeOf(ViewMinimalDopri5* sim, double t, const ViewMinimalDopri5::State& y, ViewMinimalDopri5::State* dy);
+bool DerivativeOf(ViewMinimalDop853* sim, double t, const ViewMinimalDop853::State& y, ViewMinimalDop853::State* dy);
+bool EvaluateAt(ViewMinimalDopri5* sim, double t, const ViewMinimalDopri5::State& y, Sample<ViewModel>* s);
+bool EvaluateAt(ViewMinimalDop853* sim, double t, const ViewMinimalDop853::State& y, Sample<ViewModel>* s);
 bool SimulateFree(ViewMinimalDopri5* sim, double t0, const ModelTypes<ViewModel>::VecQ& q0,
                   const ModelTypes<ViewModel>::VecQ& qd0, double t_end, ViewSampleFn<ViewMinimalDopri5>& observer,
                   MinimalSummary* summary, Sample<ViewModel>* last);
@@ -78,6 +82,15 @@ bool SimulateFree(ViewMinimalDop853* sim, double t0, const ModelTypes<ViewModel>
                   const ModelTypes<ViewModel>::VecQ& qd0, double t_end, ViewSampleFn<ViewMinimalDop853>& observer,
                   MinimalSummary* summary, Sample<ViewModel>* last);
 
+// Phi_phi's conditioning on fixed-size copies of 1 to 16 rows (forward.h), of the view's
+// Coefficients and of a bounded copy: compiled in the library only (the inline members above
+// that a program's compiler may still expand call these).
+namespace internal {
+extern template void ConditionAndDeterminantDynamic<1, Eigen::Map<const Eigen::MatrixXd>>(
+    const Eigen::Map<const Eigen::MatrixXd>&, double*, double*);
+extern template void ConditionAndDeterminantDynamic<1, ModelTypes<ViewModel>::MatCPhi>(
+    const ModelTypes<ViewModel>::MatCPhi&, double*, double*);
+}  // namespace internal
 extern template class Kinetostatics<ViewModel>;
 extern template table::Columns<CsvRow<Sample<ViewModel>>> FreeColumns<ViewModel, Sample<ViewModel>, false>(
     bool, const ViewModel&);
