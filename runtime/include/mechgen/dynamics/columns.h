@@ -103,16 +103,14 @@ void AddReactionColumns(table::Builder<CsvRow<SampleT>>* add, const M& model = M
   using Row = CsvRow<SampleT>;
   using Calls = ModelCalls<M>;
   const int num_reactions = Calls::KinetoNumReactions(model);
-  {
-    for (int k = 0; k < num_reactions; ++k)
-      add->Number(Calls::KinetoReactionName(model, k), Calls::KinetoReactionName(model, k)[0] == 'M' ? "N m" : "N",
-                  "reaction with the inertia forces: the force of the joint's first link on its "
-                  "second, fixed frame",
-                  [k](const Row& r) {
-                    return r.R != nullptr ? r.R[k] : std::numeric_limits<double>::quiet_NaN();
-                  })
-          .missing = "";
-  }
+  for (int k = 0; k < num_reactions; ++k)
+    add->Number(Calls::KinetoReactionName(model, k), Calls::KinetoReactionName(model, k)[0] == 'M' ? "N m" : "N",
+                "reaction with the inertia forces: the force of the joint's first link on its "
+                "second, fixed frame",
+                [k](const Row& r) {
+                  return r.R != nullptr ? r.R[k] : std::numeric_limits<double>::quiet_NaN();
+                })
+        .missing = "";
 }
 
 // The revolute joints among the reactions, F_<joint>_x followed by F_<joint>_y: (index of the
@@ -122,13 +120,11 @@ std::vector<std::pair<int, std::string>> RevoluteMagnitudes(const M& model = M()
   using Calls = ModelCalls<M>;
   std::vector<std::pair<int, std::string>> magnitudes;
   const int num_reactions = Calls::KinetoNumReactions(model);
-  {
-    for (int r = 0; r + 1 < num_reactions; ++r) {
-      const std::string a = Calls::KinetoReactionName(model, r), b = Calls::KinetoReactionName(model, r + 1);
-      if (a.size() > 4 && a.compare(0, 2, "F_") == 0 && a.compare(a.size() - 2, 2, "_x") == 0 &&
-          b == a.substr(0, a.size() - 2) + "_y") {
-        magnitudes.emplace_back(r, a.substr(2, a.size() - 4));
-      }
+  for (int r = 0; r + 1 < num_reactions; ++r) {
+    const std::string a = Calls::KinetoReactionName(model, r), b = Calls::KinetoReactionName(model, r + 1);
+    if (a.size() > 4 && a.compare(0, 2, "F_") == 0 && a.compare(a.size() - 2, 2, "_x") == 0 &&
+        b == a.substr(0, a.size() - 2) + "_y") {
+      magnitudes.emplace_back(r, a.substr(2, a.size() - 4));
     }
   }
   return magnitudes;
