@@ -7,7 +7,8 @@
 #    and the five-bar robot (two inputs, the one-pass M::Rhs stages), each with two option sets,
 #    and so are its exit status, standard output and standard error (a failed run's too);
 #  - what the view does not simulate yet (--drive, --design, Coulomb friction, --params/--set)
-#    is refused (exit 2) with one line on stderr and nothing written, as is a bad option.
+#    is refused (exit 2) with one line on stderr and nothing written, as are a bad option and a
+#    model without dynamics.
 # usage: simulate_view_test.sh <c++ compiler> <mechgen_view> <slider_crank_motor_simulate>
 #        <fivebar_robot_simulate> <models build dir> <runtime include dir> <Eigen include dir>
 set -uo pipefail
@@ -73,6 +74,17 @@ refused friction_on_none fivebar_robot "^fivebar_robot_simulate_view: error: --f
 refused bad_option fivebar_robot "^fivebar_robot_simulate_view: error: " --no-such-option
 refused q0_count fivebar_robot "^fivebar_robot_simulate_view: error: --q0: bad value '1': expected 2 value\(s\)" \
   --q0 1 --csv out.csv
+
+# a model without dynamics (the four-bar's kinematics), as its per-model stub says
+if [[ -d $models/mechgen_fourbar ]]; then
+  build fourbar
+  mkdir no_dynamics && (cd no_dynamics && "$view_tool" simulate "$root/fourbar.so" --csv out.csv > ../no_dynamics.out \
+    2> ../no_dynamics.err)
+  status=$?
+  [[ $status -eq 2 ]] || fail "no_dynamics: exit $status, expected 2"
+  grep -q "^fourbar: this model was generated without \`dynamics\`" no_dynamics.err || fail "no_dynamics: $(cat no_dynamics.err)"
+  [[ -z $(ls -A no_dynamics) ]] || fail "no_dynamics: wrote $(ls -A no_dynamics)"
+fi
 
 [[ $failures -eq 0 ]] && echo "mechgen_view simulate: all checks passed"
 exit $((failures > 0))
