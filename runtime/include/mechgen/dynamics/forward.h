@@ -269,10 +269,13 @@ void CallDynamics(const typename M::template ParamsT<double>& p, const Eigen::Ma
   CallDynamics(M(), p, q, phi, qd, t, c, d, trig);
 }
 
+/// The largest Phi_phi of a Dynamic size (the view's, at most ModelView::kMaxPhi = 48 rows).
+inline constexpr int kMaxDynamicPhi = 64;
+
 /// ConditionAndDeterminant (core/linear_algebra.h) of a square matrix whose size is known at
 /// run time only (the view's Phi_phi, issue 43): on a fixed-size copy up to 16 x 16, the same
-/// arithmetic as the fixed-size instantiation; beyond, Eigen's PartialPivLU on the bounded
-/// dynamic matrix (the same method, its sums perhaps in another order).
+/// arithmetic as the fixed-size instantiation; beyond, Eigen's PartialPivLU on a bounded
+/// dynamic copy (no allocation; the same method, its sums perhaps in another order).
 template <int k = 1, class A>
 void ConditionAndDeterminantDynamic(const A& a, double* cond, double* det) {
   if constexpr (k <= 16) {
@@ -282,8 +285,7 @@ void ConditionAndDeterminantDynamic(const A& a, double* cond, double* det) {
     }
     ConditionAndDeterminantDynamic<k + 1>(a, cond, det);
   } else {
-    using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, A::MaxRowsAtCompileTime,
-                                 A::MaxColsAtCompileTime>;
+    using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDynamicPhi, kMaxDynamicPhi>;
     const Eigen::PartialPivLU<Matrix> lu{Matrix(a)};
     *det = lu.determinant();
     const double rcond = lu.rcond();
