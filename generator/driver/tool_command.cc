@@ -103,7 +103,10 @@ const std::vector<ToolSpec>& Specs() {
        true},
       {"simulate", "simulate_main.cc", {}, false, "dynamics",
        "forward dynamics from rest or a given state, or a prescribed motion with its motor torque and "
-       "bearing loads (needs the output `dynamics`)"},
+       "bearing loads (needs the output `dynamics`)",
+       {},
+       false,
+       true},
       {"engine", "engine_main.cc", {}, false, "dynamics",
        "an engine made by tools/make_engine.py: crank torque, bearing loads, flywheel sizing and run-up "
        "(needs the output `dynamics`)"},

@@ -18,13 +18,13 @@ struct Command {
 
 int Sweep(const ModelView& view, int argc, char** argv);  // view/sweep.cc
 int Statics(const ModelView& view, int argc, char** argv);  // view/statics.cc
-// (simulate: view/simulate.cc)
+int Simulate(const ModelView& view, int argc, char** argv);  // view/simulate.cc
 
 /// The commands, in the order `mechgen_view --help` lists them.
 inline constexpr Command kCommands[] = {
     {"sweep", Sweep},
     {"statics", Statics},
-    // {"simulate", Simulate},
+    {"simulate", Simulate},
 };
 
 }  // namespace view_tool

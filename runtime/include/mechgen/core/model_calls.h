@@ -370,6 +370,110 @@ struct ModelCalls {
   }
 
   // ---- Dynamics (dynamics/, machines/): inertia, right-hand side, kinetostatics ----
+  // The generated structs by their role (alias templates: named only where M has them).
+  template <class X = M>
+  using DynamicsOut = typename X::template DynamicsT<double>;
+  template <class X = M>
+  using RhsOut = typename X::template RhsT<double>;
+  template <class X = M>
+  using RhsConstantsOut = typename internal::RhsConstantsOf<X>::type;
+  /// The Statics struct that Model::Kinetostatics fills (drive, Q, R, friction's normal, gain,
+  /// K_rel), named apart from the statics' own accessors.
+  template <class X = M>
+  using KinetostaticsOut = typename X::template StaticsT<double>;
+  /// A vector of the friction joints' loads (Model::Kinetostatics' friction argument).
+  template <class X = M>
+  using VecKinetoFriction = Eigen::Matrix<double, ModelCalls<X>::ReadKinetoNumFriction(), 1>;
+
+  static constexpr bool HasDynamics(const M&) { return mechgen::HasDynamics<M>::value; }
+  static constexpr bool HasSolveTrig(const M&) { return mechgen::HasSolveTrig<M>::value; }
+  static constexpr bool HasRhs(const M&) { return mechgen::HasRhs<M>::value; }
+  /// Switching items of the loads (Model::SwitchModes; 0 without), and their modes.
+  static constexpr int NumSwitches(const M&) { return internal::SwitchCount<M>::value; }
+  using SwitchModesArray = std::array<int, internal::SwitchCount<M>::value>;
+  /// Reaction components and friction joints of Model::Kinetostatics (statics/traits.h's
+  /// StaticsFeatures, by the same flags; 0 without).
+  static constexpr int KinetoNumReactions(const M&) {
+    if constexpr (internal::ReadFlag_kHasStatics<M>() && internal::ReadFlag_kHasStaticsQ<M>() &&
+                  internal::ReadFlag_kHasStaticsR<M>()) {
+      return M::kNumReactions;
+    } else {
+      return 0;
+    }
+  }
+  static constexpr int ReadKinetoNumFriction() {
+    if constexpr (internal::ReadFlag_kHasStatics<M>() && internal::ReadFlag_kHasStaticsQ<M>() &&
+                  internal::ReadFlag_kHasStaticsFriction<M>()) {
+      return M::kNumFriction;
+    } else {
+      return 0;
+    }
+  }
+  static constexpr int KinetoNumFriction(const M&) { return ReadKinetoNumFriction(); }
+  static const char* KinetoReactionName(const M&, int k) {
+    if constexpr (internal::ReadFlag_kHasStatics<M>() && internal::ReadFlag_kHasStaticsQ<M>() &&
+                  internal::ReadFlag_kHasStaticsR<M>()) {
+      return M::kReactionNames[static_cast<size_t>(k)];
+    } else {
+      (void)k;
+      return "";
+    }
+  }
+
+  /// sin(phi_i) and cos(phi_i) as a solve left them in its Trig (M::TrigT).
+  static double TrigSinPhi(const M&, const Trig& trig, int i) { return trig.sin_phi(i); }
+  static double TrigCosPhi(const M&, const Trig& trig, int i) { return trig.cos_phi(i); }
+
+  /// Model::Dynamics, with the sin and cos of the last solve where M has them (and kNphi > 0).
+  template <class X = M>
+  MECHGEN_ALWAYS_INLINE static void Dynamics(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                                             const typename T::VecPhi& phi, const typename T::VecQ& qd, double t,
+                                             const typename T::Coefficients& c, DynamicsOut<X>* d, const Trig* trig) {
+    if constexpr (F::kHasTrig && M::kNphi > 0) {
+      M::template Dynamics<double>(p, q, phi, qd, t, c, d, nullptr, trig);
+    } else {
+      (void)trig;
+      M::template Dynamics<double>(p, q, phi, qd, t, c, d);
+    }
+  }
+  /// Model::SolveTrig: the sin and cos of the positions only.
+  MECHGEN_ALWAYS_INLINE static auto SolveTrig(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                                              const Modes& modes, Trig* trig) {
+    return M::template SolveTrig<double>(p, q, modes, trig);
+  }
+  /// Model::Prepare: the constants of Model::Rhs at p.
+  template <class X = M>
+  static void Prepare(const M&, const typename T::Params& p, RhsConstantsOut<X>* rc) {
+    M::template Prepare<double>(p, rc);
+  }
+  /// Model::Rhs: positions by their sin and cos, K, I, h, Q, T, V, P_nc, Phi_phi in one pass.
+  template <class X = M>
+  MECHGEN_ALWAYS_INLINE static auto Rhs(const M&, const typename T::Params& p, const RhsConstantsOut<X>& rc,
+                                        const typename T::VecQ& q, const typename T::VecQ& qd, double t,
+                                        const Modes& modes, Trig* trig, RhsOut<X>* r) {
+    return M::template Rhs<double>(p, rc, q, qd, t, modes, trig, r);
+  }
+  /// Model::SwitchModes (the modes of the loads' switching items).
+  template <class SwitchModesT>
+  static void SwitchModes(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                          const typename T::VecPhi& phi, const typename T::VecQ& qd, double t,
+                          const typename T::Coefficients& c, SwitchModesT* modes) {
+    M::template SwitchModes<double>(p, q, phi, qd, t, c, modes);
+  }
+  /// Model::Kinetostatics, with the friction loads where M has friction joints (friction may be
+  /// nullptr).
+  template <class X = M>
+  static void Kinetostatics(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                            const typename T::VecPhi& phi, const typename T::VecQ& qd, const typename T::VecQ& qdd,
+                            double t, const typename T::Coefficients& c, KinetostaticsOut<X>* out,
+                            const VecKinetoFriction<X>* friction) {
+    if constexpr (ReadKinetoNumFriction() > 0) {
+      M::template Kinetostatics<double>(p, q, phi, qd, qdd, t, c, out, friction);
+    } else {
+      (void)friction;
+      M::template Kinetostatics<double>(p, q, phi, qd, qdd, t, c, out);
+    }
+  }
 };
 
 }  // namespace mechgen

@@ -119,6 +119,40 @@ struct ViewModel {
   }
 
   // ---- Dynamics: the layouts of its structs ----
+  /// Offsets of the members the dynamics read (dynamics/) in the view's Dynamics, Rhs,
+  /// RhsConstants and Statics buffers (Kinetostatics' output), -1 where the model lacks one.
+  struct DynamicsLayouts {
+    struct Dynamics {
+      int I = -1, h = -1, Q = -1, T = -1, V = -1, P_nc = -1, size = 0;
+    } dynamics;
+    struct Rhs {
+      int K = -1, I = -1, h = -1, Q = -1, T = -1, V = -1, P_nc = -1, Phi_phi = -1, size = 0;
+    } rhs;
+    int rhs_constants_size = 0;
+    int trig_sin_phi = -1, trig_cos_phi = -1;  ///< in the Trig buffer
+    struct Kinetostatics {
+      int Q = -1, drive = -1, R = -1, normal = -1, gain = -1, K_rel = -1, size = 0;
+    } kinetostatics;
+    explicit DynamicsLayouts(const ModelView* v) {
+      auto offset = [](const ViewLayout& l, const char* name) {
+        const ViewMember* m = FindMember(l, name);
+        return m != nullptr ? m->offset : -1;
+      };
+      const ViewLayout& d = v->Layout(ViewStruct::kDynamics);
+      dynamics = {offset(d, "I"), offset(d, "h"), offset(d, "Q"), offset(d, "T"), offset(d, "V"), offset(d, "P_nc"),
+                  d.size};
+      const ViewLayout& r = v->Layout(ViewStruct::kRhs);
+      rhs = {offset(r, "K"), offset(r, "I"),    offset(r, "h"),       offset(r, "Q"), offset(r, "T"),
+             offset(r, "V"), offset(r, "P_nc"), offset(r, "Phi_phi"), r.size};
+      rhs_constants_size = v->Layout(ViewStruct::kRhsConstants).size;
+      trig_sin_phi = offset(v->Layout(ViewStruct::kTrig), "sin_phi");
+      trig_cos_phi = offset(v->Layout(ViewStruct::kTrig), "cos_phi");
+      const ViewLayout& k = v->Layout(ViewStruct::kStatics);
+      kinetostatics = {offset(k, "Q"),    offset(k, "drive"), offset(k, "R"), offset(k, "normal"),
+                       offset(k, "gain"), offset(k, "K_rel"), k.size};
+    }
+  };
+  DynamicsLayouts dynamics_layouts{view};  // (after view: initialized from it)
 };
 
 /// Whether a view's layout and size are those this runtime was compiled against (a view from
@@ -184,6 +218,37 @@ struct ModelTypes<ViewModel, Scalar> {
   };
 
   // ---- Dynamics: its types ----
+  /// The generated Dynamics, Rhs, RhsConstants and Statics (Kinetostatics' output) as the
+  /// dynamics read them: the view's buffer, and the members copied out of it at the view's
+  /// sizes after each call (ModelCalls<ViewModel>::Dynamics, ...).
+  using MatQQ = Eigen::Matrix<double, D, D, 0, kMaxQ, kMaxQ>;
+  using VecReactions = Eigen::Matrix<double, D, 1, 0, ModelView::kMaxReactions, 1>;
+  using VecFriction = Eigen::Matrix<double, D, 1, 0, ModelView::kMaxFriction, 1>;
+  using MatFrictionQ = Eigen::Matrix<double, D, D, 0, ModelView::kMaxFriction, kMaxQ>;
+  struct DynamicsOut {
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kDynamics)]> buffer;
+    MatQQ I;
+    VecQ h, Q;
+    double T = 0, V = 0, P_nc = 0;
+  };
+  struct RhsOut {
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kRhs)]> buffer;
+    MatK K;
+    MatQQ I;
+    VecQ h, Q;
+    double T = 0, V = 0, P_nc = 0;
+    MatCPhi Phi_phi;
+  };
+  struct RhsConstantsOut {
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kRhsConstants)]> buffer;
+  };
+  struct KinetostaticsOut {
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kStatics)]> buffer;
+    VecQ Q, drive;
+    VecReactions R;
+    VecFriction normal, gain;
+    MatFrictionQ K_rel;
+  };
 };
 
 /// What a view may have: every feature the runtime reads at compile time is possible, and
@@ -464,6 +529,122 @@ struct ModelCalls<ViewModel> {
   }
 
   // ---- Dynamics (dynamics/, machines/): inertia, right-hand side, kinetostatics ----
+  template <class X = M>
+  using DynamicsOut = T::DynamicsOut;
+  template <class X = M>
+  using RhsOut = T::RhsOut;
+  template <class X = M>
+  using RhsConstantsOut = T::RhsConstantsOut;
+  template <class X = M>
+  using KinetostaticsOut = T::KinetostaticsOut;
+  template <class X = M>
+  using VecKinetoFriction = T::VecFriction;
+
+  static bool HasDynamics(const M& m) { return m.view->flags.kHasDynamics && m.view->Dynamics != nullptr; }
+  static bool HasSolveTrig(const M& m) {
+    return HasTrig(m) && m.view->flags.kHasSolveTrig && m.view->SolveTrig != nullptr;
+  }
+  static bool HasRhs(const M& m) {
+    return m.view->flags.kHasRhs && m.view->flags.kHasRhsConstants && m.view->Rhs != nullptr &&
+           m.view->Prepare != nullptr;
+  }
+  /// The modes of the switching items: the first NumSwitches(m) entries (the others stay 0).
+  using SwitchModesArray = std::array<int, ModelView::kMaxSwitches>;
+  static int NumSwitches(const M& m) {
+    return m.view->flags.kHasSwitchModes && m.view->SwitchModes != nullptr ? m.view->num_switches : 0;
+  }
+  static bool HasKinetostatics(const M& m) {
+    return m.view->flags.kHasStatics && m.view->flags.kHasStaticsQ && m.view->Kinetostatics != nullptr;
+  }
+  static int KinetoNumReactions(const M& m) {
+    return HasKinetostatics(m) && m.view->flags.kHasStaticsR ? m.view->num_reactions : 0;
+  }
+  static int KinetoNumFriction(const M& m) {
+    return HasKinetostatics(m) && m.view->flags.kHasStaticsFriction ? m.view->num_friction : 0;
+  }
+  static const char* KinetoReactionName(const M& m, int k) { return m.view->reaction_names[k]; }
+
+  static double TrigSinPhi(const M& m, const Trig& trig, int i) {
+    return trig.buffer[m.dynamics_layouts.trig_sin_phi + i];
+  }
+  static double TrigCosPhi(const M& m, const Trig& trig, int i) {
+    return trig.buffer[m.dynamics_layouts.trig_cos_phi + i];
+  }
+
+  /// The view's Dynamics (sin and cos of the last solve where it has them and nphi > 0, as the
+  /// fixed-size call), its I, h, Q, T, V, P_nc copied out.
+  static void Dynamics(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, const T::VecQ& qd,
+                       double t, const T::Coefficients& c, T::DynamicsOut* d, const Trig* trig) {
+    const ModelView& v = *m.view;
+    const ViewModel::DynamicsLayouts::Dynamics& l = m.dynamics_layouts.dynamics;
+    double* const b = d->buffer.data();
+    std::fill_n(b, l.size, 0.0);
+    const bool with_trig = trig != nullptr && HasTrig(m) && v.nphi > 0;
+    v.Dynamics(p.data(), q.data(), phi.data(), qd.data(), t, c.buffer.data(), b, nullptr,
+               with_trig ? trig->buffer.data() : nullptr);
+    const int nq = v.nq;
+    d->I = Eigen::Map<const Eigen::MatrixXd>(b + l.I, nq, nq);
+    d->h = Eigen::Map<const Eigen::VectorXd>(b + l.h, nq);
+    d->Q = Eigen::Map<const Eigen::VectorXd>(b + l.Q, nq);
+    d->T = b[l.T];
+    d->V = b[l.V];
+    d->P_nc = b[l.P_nc];
+  }
+  static ViewSolveReport SolveTrig(const M& m, const ViewParams& p, const T::VecQ& q, const Modes& modes,
+                                   Trig* trig) {
+    std::fill_n(trig->buffer.data(), m.trig_size, 0.0);
+    return m.view->SolveTrig(p.data(), q.data(), modes.data(), trig->buffer.data());
+  }
+  static void Prepare(const M& m, const ViewParams& p, T::RhsConstantsOut* rc) {
+    std::fill_n(rc->buffer.data(), m.dynamics_layouts.rhs_constants_size, 0.0);
+    m.view->Prepare(p.data(), rc->buffer.data());
+  }
+  static ViewSolveReport Rhs(const M& m, const ViewParams& p, const T::RhsConstantsOut& rc, const T::VecQ& q,
+                             const T::VecQ& qd, double t, const Modes& modes, Trig* trig, T::RhsOut* r) {
+    const ModelView& v = *m.view;
+    const ViewModel::DynamicsLayouts::Rhs& l = m.dynamics_layouts.rhs;
+    double* const b = r->buffer.data();
+    std::fill_n(b, l.size, 0.0);
+    const ViewSolveReport report =
+        v.Rhs(p.data(), rc.buffer.data(), q.data(), qd.data(), t, modes.data(), trig->buffer.data(), b, nullptr);
+    const int nq = v.nq, nphi = v.nphi;
+    r->K = Eigen::Map<const Eigen::MatrixXd>(b + l.K, nphi, nq);
+    r->I = Eigen::Map<const Eigen::MatrixXd>(b + l.I, nq, nq);
+    r->h = Eigen::Map<const Eigen::VectorXd>(b + l.h, nq);
+    r->Q = Eigen::Map<const Eigen::VectorXd>(b + l.Q, nq);
+    r->T = b[l.T];
+    r->V = b[l.V];
+    r->P_nc = b[l.P_nc];
+    r->Phi_phi = Eigen::Map<const Eigen::MatrixXd>(b + l.Phi_phi, nphi, nphi);
+    return report;
+  }
+  /// The view's SwitchModes into the first NumSwitches(m) entries of *modes.
+  template <class SwitchModesT>
+  static void SwitchModes(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                          const T::VecQ& qd, double t, const T::Coefficients& c, SwitchModesT* modes) {
+    m.view->SwitchModes(p.data(), q.data(), phi.data(), qd.data(), t, c.buffer.data(), modes->data());
+  }
+  /// The view's Kinetostatics (friction may be nullptr), its Q, drive, R, normal, gain, K_rel
+  /// copied out.
+  static void Kinetostatics(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                            const T::VecQ& qd, const T::VecQ& qdd, double t, const T::Coefficients& c,
+                            T::KinetostaticsOut* out, const T::VecFriction* friction) {
+    const ModelView& v = *m.view;
+    const ViewModel::DynamicsLayouts::Kinetostatics& l = m.dynamics_layouts.kinetostatics;
+    double* const b = out->buffer.data();
+    std::fill_n(b, l.size, 0.0);
+    const int nf = KinetoNumFriction(m);
+    v.Kinetostatics(p.data(), q.data(), phi.data(), qd.data(), qdd.data(), t, c.buffer.data(), b,
+                    friction != nullptr && nf > 0 ? friction->data() : nullptr, nullptr);
+    const int nq = v.nq, nr = KinetoNumReactions(m);
+    auto vec = [b](int offset, int n) { return Eigen::Map<const Eigen::VectorXd>(b + (offset >= 0 ? offset : 0), n); };
+    out->Q = vec(l.Q, l.Q >= 0 ? nq : 0);
+    out->drive = vec(l.drive, l.drive >= 0 ? nq : 0);
+    out->R = vec(l.R, l.R >= 0 ? nr : 0);
+    out->normal = vec(l.normal, l.normal >= 0 ? nf : 0);
+    out->gain = vec(l.gain, l.gain >= 0 ? nf : 0);
+    out->K_rel = Eigen::Map<const Eigen::MatrixXd>(b + (l.K_rel >= 0 ? l.K_rel : 0), l.K_rel >= 0 ? nf : 0, nq);
+  }
 };
 
 }  // namespace mechgen

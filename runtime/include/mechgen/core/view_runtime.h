@@ -12,7 +12,11 @@
  * ViewRowFn, ComputeMotion), its columns (sweep/columns.h) and motion summary
  * (sweep/motion_summary.h); the statics (statics/: Solve, the drive analysis, the statics sweep
  * with a ViewStaticsRowFn, its columns, the dead-zone and equilibrium scans; not the force
- * diagram, statics/svg.h).
+ * diagram, statics/svg.h);
+ * the free motion by the minimal method (dynamics/forward.h:
+ * MinimalDynamics with Dopri5 and Dop853, samples handed to a ViewSampleFn), the
+ * kinetostatics (dynamics/kinetostatics.h) and the simulate CSV's columns
+ * (dynamics/columns.h).
  */
 #pragma once
 
@@ -20,6 +24,9 @@
 #include <vector>
 
 #include "mechgen/core/view_model.h"
+#include "mechgen/dynamics/columns.h"
+#include "mechgen/dynamics/forward.h"
+#include "mechgen/dynamics/kinetostatics.h"
 #include "mechgen/position/assembler.h"
 #include "mechgen/position/motion.h"
 #include "mechgen/position/solver.h"
@@ -85,4 +92,48 @@ extern template std::string SpeedNote<ViewModel>(const ViewModel&, const ViewVec
 }  // namespace statics
 
 // ---- Dynamics (dynamics/; instantiated in runtime/view/dynamics.cc) ----
+namespace dynamics {
+/// The minimal method through the view, with each integrator (its sample observer: pass an
+/// lvalue of ViewSampleFn<...>).
+using ViewMinimalDopri5 = MinimalDynamics<ViewModel, Dopri5>;
+using ViewMinimalDop853 = MinimalDynamics<ViewModel, Dop853>;
+
+// What a program calls (the members they call are compiled with them in the library).
+#define MECHGEN_VIEW_MINIMAL_MEMBERS(EXTERN, Sim)                                                              \
+  EXTERN template Sim::MinimalDynamics(const ViewModel&, const ViewParams&, const MinimalOptions&, NoLoad);   \
+  EXTERN template bool Sim::Initialize(const ModelTypes<ViewModel>::VecQ&);                                    \
+  EXTERN template bool Sim::Initialize(const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecPhi&); \
+  EXTERN template bool Sim::SimulatesCoulomb(const ModelTypes<ViewModel>::VecQ&);
+MECHGEN_VIEW_MINIMAL_MEMBERS(extern, ViewMinimalDopri5)
+MECHGEN_VIEW_MINIMAL_MEMBERS(extern, ViewMinimalDop853)
+/// sim->Simulate(t0, q0, qd0, t_end, observer, summary, last), compiled in the library (a
+/// function, not an inline member: the event loop and the integrator are not compiled again
+/// where it is called).
+/// sim->Derivative(t, y, dy) and sim->Evaluate(t, y, s), compiled in the library (as
+/// SimulateFree below).
+bool DerivativeOf(ViewMinimalDopri5* sim, double t, const ViewMinimalDopri5::State& y, ViewMinimalDopri5::State* dy);
+bool DerivativeOf(ViewMinimalDop853* sim, double t, const ViewMinimalDop853::State& y, ViewMinimalDop853::State* dy);
+bool EvaluateAt(ViewMinimalDopri5* sim, double t, const ViewMinimalDopri5::State& y, Sample<ViewModel>* s);
+bool EvaluateAt(ViewMinimalDop853* sim, double t, const ViewMinimalDop853::State& y, Sample<ViewModel>* s);
+bool SimulateFree(ViewMinimalDopri5* sim, double t0, const ModelTypes<ViewModel>::VecQ& q0,
+                  const ModelTypes<ViewModel>::VecQ& qd0, double t_end, ViewSampleFn<ViewMinimalDopri5>& observer,
+                  MinimalSummary* summary, Sample<ViewModel>* last);
+bool SimulateFree(ViewMinimalDop853* sim, double t0, const ModelTypes<ViewModel>::VecQ& q0,
+                  const ModelTypes<ViewModel>::VecQ& qd0, double t_end, ViewSampleFn<ViewMinimalDop853>& observer,
+                  MinimalSummary* summary, Sample<ViewModel>* last);
+
+// Phi_phi's conditioning on fixed-size copies of 1 to 16 rows (forward.h), of the view's
+// Coefficients and of a bounded copy: compiled in the library only (the inline members above
+// that a program's compiler may still expand call these).
+namespace internal {
+extern template void ConditionAndDeterminantDynamic<1, Eigen::Map<const Eigen::MatrixXd>>(
+    const Eigen::Map<const Eigen::MatrixXd>&, double*, double*);
+extern template void ConditionAndDeterminantDynamic<1, ModelTypes<ViewModel>::MatCPhi>(
+    const ModelTypes<ViewModel>::MatCPhi&, double*, double*);
+}  // namespace internal
+extern template class Kinetostatics<ViewModel>;
+extern template table::Columns<CsvRow<Sample<ViewModel>>> FreeColumns<ViewModel, Sample<ViewModel>, false>(
+    bool, const ViewModel&);
+extern template std::vector<std::pair<int, std::string>> RevoluteMagnitudes<ViewModel>(const ViewModel&);
+}  // namespace dynamics
 }  // namespace mechgen

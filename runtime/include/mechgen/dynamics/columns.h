@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include "mechgen/core/model_calls.h"
 #include "mechgen/dynamics/friction.h"
 #include "mechgen/statics/traits.h"
 #include "mechgen/table/columns.h"
@@ -41,30 +42,33 @@ struct CsvRow {
 };
 
 // t, each input, its speed and acceleration: the first columns of every run.
+// (Each function reads the model through ModelCalls<M> (core/model_calls.h): `model` is a
+// generated model's empty tag, or the ViewModel of the simulation through the view.)
 template <class M, class SampleT>
-void AddInputColumns(table::Builder<CsvRow<SampleT>>* add) {
+void AddInputColumns(table::Builder<CsvRow<SampleT>>* add, const M& model = M()) {
   using Row = CsvRow<SampleT>;
-  constexpr int kNq = M::kNq;
-  auto unit = [](int i, const char* per) {
-    return std::string(M::kQIsAngle[i] ? "rad" : "m") + per;
+  using Calls = ModelCalls<M>;
+  const int nq = Calls::Nq(model);
+  auto unit = [&model](int i, const char* per) {
+    return std::string(Calls::QIsAngle(model, i) ? "rad" : "m") + per;
   };
   add->Number("t", "s", "time", [](const Row& r) { return double(r.s->t); });
-  for (int i = 0; i < kNq; ++i)
-    add->Number(M::kQNames[i], unit(i, ""), "input", [i](const Row& r) { return r.s->q(i); });
-  for (int i = 0; i < kNq; ++i)
-    add->Number(std::string(M::kQNames[i]) + "_dot", unit(i, "/s"), "input speed",
+  for (int i = 0; i < nq; ++i)
+    add->Number(Calls::QName(model, i), unit(i, ""), "input", [i](const Row& r) { return r.s->q(i); });
+  for (int i = 0; i < nq; ++i)
+    add->Number(std::string(Calls::QName(model, i)) + "_dot", unit(i, "/s"), "input speed",
                 [i](const Row& r) { return r.s->qd(i); });
-  for (int i = 0; i < kNq; ++i)
-    add->Number(std::string(M::kQNames[i]) + "_ddot", unit(i, "/s^2"), "input acceleration",
+  for (int i = 0; i < nq; ++i)
+    add->Number(std::string(Calls::QName(model, i)) + "_ddot", unit(i, "/s^2"), "input acceleration",
                 [i](const Row& r) { return r.s->qdd(i); });
 }
 
 // The columns every run has: the inputs' (AddInputColumns), then T, V, E, W_nc (and W_act
 // when driven).
 template <class M, class SampleT, bool kDriven>
-void AddMotionColumns(table::Builder<CsvRow<SampleT>>* add) {
+void AddMotionColumns(table::Builder<CsvRow<SampleT>>* add, const M& model = M()) {
   using Row = CsvRow<SampleT>;
-  AddInputColumns<M, SampleT>(add);
+  AddInputColumns<M, SampleT>(add, model);
   add->Number("T", "J", "kinetic energy", [](const Row& r) { return double(r.s->T); });
   add->Number("V", "J", "potential energy (springs, gravity)",
               [](const Row& r) { return double(r.s->V); });
@@ -82,10 +86,11 @@ void AddMotionColumns(table::Builder<CsvRow<SampleT>>* add) {
 
 // Q_<input>: the generalized applied force.
 template <class M, class SampleT>
-void AddForceColumns(table::Builder<CsvRow<SampleT>>* add) {
+void AddForceColumns(table::Builder<CsvRow<SampleT>>* add, const M& model = M()) {
   using Row = CsvRow<SampleT>;
-  for (int i = 0; i < M::kNq; ++i)
-    add->Number(std::string("Q_") + M::kQNames[i], M::kQIsAngle[i] ? "N m" : "N",
+  using Calls = ModelCalls<M>;
+  for (int i = 0; i < Calls::Nq(model); ++i)
+    add->Number(std::string("Q_") + Calls::QName(model, i), Calls::QIsAngle(model, i) ? "N m" : "N",
                 "generalized applied force (loads, motors, dampers, weights, springs, joint "
                 "friction): a torque CCW + for an angle input, a force along +q for a slide",
                 [i](const Row& r) { return r.s->Q(i); });
@@ -94,34 +99,32 @@ void AddForceColumns(table::Builder<CsvRow<SampleT>>* add) {
 // Each reaction component of the generated kinetostatics at the simulated motion (empty cells
 // where withheld).
 template <class M, class SampleT>
-void AddReactionColumns(table::Builder<CsvRow<SampleT>>* add) {
+void AddReactionColumns(table::Builder<CsvRow<SampleT>>* add, const M& model = M()) {
   using Row = CsvRow<SampleT>;
-  constexpr int kNumReactions = statics::StaticsFeatures<M>::kNumReactions;
-  if constexpr (kNumReactions > 0) {
-    for (int k = 0; k < kNumReactions; ++k)
-      add->Number(M::kReactionNames[k], M::kReactionNames[k][0] == 'M' ? "N m" : "N",
-                  "reaction with the inertia forces: the force of the joint's first link on its "
-                  "second, fixed frame",
-                  [k](const Row& r) {
-                    return r.R != nullptr ? r.R[k] : std::numeric_limits<double>::quiet_NaN();
-                  })
-          .missing = "";
-  }
+  using Calls = ModelCalls<M>;
+  const int num_reactions = Calls::KinetoNumReactions(model);
+  for (int k = 0; k < num_reactions; ++k)
+    add->Number(Calls::KinetoReactionName(model, k), Calls::KinetoReactionName(model, k)[0] == 'M' ? "N m" : "N",
+                "reaction with the inertia forces: the force of the joint's first link on its "
+                "second, fixed frame",
+                [k](const Row& r) {
+                  return r.R != nullptr ? r.R[k] : std::numeric_limits<double>::quiet_NaN();
+                })
+        .missing = "";
 }
 
 // The revolute joints among the reactions, F_<joint>_x followed by F_<joint>_y: (index of the
 // x component, joint).
 template <class M>
-std::vector<std::pair<int, std::string>> RevoluteMagnitudes() {
+std::vector<std::pair<int, std::string>> RevoluteMagnitudes(const M& model = M()) {
+  using Calls = ModelCalls<M>;
   std::vector<std::pair<int, std::string>> magnitudes;
-  constexpr int kNumReactions = statics::StaticsFeatures<M>::kNumReactions;
-  if constexpr (kNumReactions > 0) {
-    for (int r = 0; r + 1 < kNumReactions; ++r) {
-      const std::string a = M::kReactionNames[r], b = M::kReactionNames[r + 1];
-      if (a.size() > 4 && a.compare(0, 2, "F_") == 0 && a.compare(a.size() - 2, 2, "_x") == 0 &&
-          b == a.substr(0, a.size() - 2) + "_y") {
-        magnitudes.emplace_back(r, a.substr(2, a.size() - 4));
-      }
+  const int num_reactions = Calls::KinetoNumReactions(model);
+  for (int r = 0; r + 1 < num_reactions; ++r) {
+    const std::string a = Calls::KinetoReactionName(model, r), b = Calls::KinetoReactionName(model, r + 1);
+    if (a.size() > 4 && a.compare(0, 2, "F_") == 0 && a.compare(a.size() - 2, 2, "_x") == 0 &&
+        b == a.substr(0, a.size() - 2) + "_y") {
+      magnitudes.emplace_back(r, a.substr(2, a.size() - 4));
     }
   }
   return magnitudes;
@@ -130,9 +133,9 @@ std::vector<std::pair<int, std::string>> RevoluteMagnitudes() {
 // |F| of each revolute joint among the reactions (F_<joint>_mag, N; empty where withheld): the
 // bearing loads of every run, free or driven.
 template <class M, class SampleT>
-void AddMagnitudeColumns(table::Builder<CsvRow<SampleT>>* add) {
+void AddMagnitudeColumns(table::Builder<CsvRow<SampleT>>* add, const M& model = M()) {
   using Row = CsvRow<SampleT>;
-  for (const auto& m : RevoluteMagnitudes<M>()) {
+  for (const auto& m : RevoluteMagnitudes<M>(model)) {
     const int x = m.first;
     add->Number("F_" + m.second + "_mag", "N", "|force| at the revolute joint (inertia forces included)",
                 [x](const Row& r) {
@@ -190,15 +193,15 @@ void AddDrivenFrictionColumns(table::Builder<CsvRow<SampleT>>* add) {
 // friction loads and stuck flag (when the run simulates Coulomb friction), the reactions and
 // |F| of each revolute joint.
 template <class M, class SampleT, bool kHasCoulomb>
-table::Columns<CsvRow<SampleT>> FreeColumns(bool coulomb) {
+table::Columns<CsvRow<SampleT>> FreeColumns(bool coulomb, const M& model = M()) {
   using Row = CsvRow<SampleT>;
   table::Columns<Row> columns;
   table::Builder<Row> add(&columns);
-  AddMotionColumns<M, SampleT, false>(&add);
-  AddForceColumns<M, SampleT>(&add);
-  AddFrictionColumns<M, SampleT, kHasCoulomb>(&add, coulomb);
-  AddReactionColumns<M, SampleT>(&add);
-  AddMagnitudeColumns<M, SampleT>(&add);
+  AddMotionColumns<M, SampleT, false>(&add, model);
+  AddForceColumns<M, SampleT>(&add, model);
+  if constexpr (kHasCoulomb) AddFrictionColumns<M, SampleT, kHasCoulomb>(&add, coulomb);
+  AddReactionColumns<M, SampleT>(&add, model);
+  AddMagnitudeColumns<M, SampleT>(&add, model);
   return columns;
 }
 

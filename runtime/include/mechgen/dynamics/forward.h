@@ -44,6 +44,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <string>
 #include <type_traits>
@@ -54,6 +55,7 @@
 
 #include "mechgen/core/constants.h"
 #include "mechgen/core/linear_algebra.h"
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/friction.h"
 #include "mechgen/dynamics/integrators.h"
@@ -221,43 +223,97 @@ constexpr bool AllBlocksClosedForm() {
 // (prescribed.h) share: the sin and cos handed over where the model has them, M::Rhs'
 // constants prepared once per parameter set ----
 
-/// M::Solve, handing *trig over where the model has it.
+/// M::Solve, handing *trig over where the model has it (ModelCalls<M>::Solve).
+template <class M, class Trig>
+auto CallSolve(const M& model, const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
+               typename ModelTypes<M>::VecPhi* phi, const typename ModelCalls<M>::Modes& modes, int max_iterations,
+               double tolerance, Trig* trig) {
+  return ModelCalls<M>::Solve(model, p, q, phi, modes, max_iterations, tolerance, trig);
+}
 template <class M, class Trig>
 auto CallSolve(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
                Eigen::Matrix<double, M::kNphi, 1>* phi, const std::array<int, M::kNumBlocks>& modes,
                int max_iterations, double tolerance, Trig* trig) {
-  if constexpr (ModelFeatures<M>::kHasTrig) {
-    return M::template Solve<double>(p, q, phi, modes, max_iterations, tolerance, trig);
-  } else {
-    (void)trig;
-    return M::template Solve<double>(p, q, phi, modes, max_iterations, tolerance);
-  }
+  return CallSolve(M(), p, q, phi, modes, max_iterations, tolerance, trig);
 }
 
-/// M::Coeffs, given the sin and cos of the last solve where the model has them.
+/// M::Coeffs, given the sin and cos of the last solve where the model has them (and
+/// positions: a model without phi solves nothing, and Coeffs takes its own sin and cos).
+template <class M, class Trig>
+void CallCoeffs(const M& model, const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
+                const typename ModelTypes<M>::VecPhi& phi, typename ModelTypes<M>::Coefficients* c,
+                const Trig* trig) {
+  using Calls = ModelCalls<M>;
+  Calls::Coeffs(model, p, q, phi, c, Calls::Nphi(model) > 0 ? trig : nullptr);
+}
 template <class M, class Trig>
 void CallCoeffs(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
                 const Eigen::Matrix<double, M::kNphi, 1>& phi, typename M::template CoefficientsT<double>* c,
                 const Trig* trig) {
-  if constexpr (ModelFeatures<M>::kHasTrig && M::kNphi > 0) {
-    M::template Coeffs<double>(p, q, phi, c, trig);
-  } else {
-    (void)trig;
-    M::template Coeffs<double>(p, q, phi, c);
-  }
+  CallCoeffs(M(), p, q, phi, c, trig);
 }
 
-/// M::Dynamics, likewise.
+/// M::Dynamics, likewise (ModelCalls<M>::Dynamics).
+template <class M, class Trig>
+void CallDynamics(const M& model, const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
+                  const typename ModelTypes<M>::VecPhi& phi, const typename ModelTypes<M>::VecQ& qd, double t,
+                  const typename ModelTypes<M>::Coefficients& c,
+                  typename ModelCalls<M>::template DynamicsOut<M>* d, const Trig* trig) {
+  ModelCalls<M>::Dynamics(model, p, q, phi, qd, t, c, d, trig);
+}
 template <class M, class Trig>
 void CallDynamics(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
                   const Eigen::Matrix<double, M::kNphi, 1>& phi, const Eigen::Matrix<double, M::kNq, 1>& qd,
                   double t, const typename M::template CoefficientsT<double>& c,
                   typename M::template DynamicsT<double>* d, const Trig* trig) {
-  if constexpr (ModelFeatures<M>::kHasTrig && M::kNphi > 0) {
-    M::template Dynamics<double>(p, q, phi, qd, t, c, d, nullptr, trig);
+  CallDynamics(M(), p, q, phi, qd, t, c, d, trig);
+}
+
+/// The largest Phi_phi of a Dynamic size (the view's, at most ModelView::kMaxPhi = 48 rows).
+inline constexpr int kMaxDynamicPhi = 64;
+
+/// ConditionAndDeterminant (core/linear_algebra.h) of a square matrix whose size is known at
+/// run time only (the view's Phi_phi, issue 43): on a fixed-size copy up to 16 x 16, the same
+/// arithmetic as the fixed-size instantiation; beyond, Eigen's PartialPivLU on a bounded
+/// dynamic copy (no allocation; the same method, its sums perhaps in another order).
+template <int k = 1, class A>
+void ConditionAndDeterminantDynamic(const A& a, double* cond, double* det) {
+  if constexpr (k <= 16) {
+    if (a.rows() == k) {
+      ConditionAndDeterminant(Eigen::Matrix<double, k, k>(a), cond, det);
+      return;
+    }
+    ConditionAndDeterminantDynamic<k + 1>(a, cond, det);
   } else {
-    (void)trig;
-    M::template Dynamics<double>(p, q, phi, qd, t, c, d);
+    using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDynamicPhi, kMaxDynamicPhi>;
+    const Eigen::PartialPivLU<Matrix> lu{Matrix(a)};
+    *det = lu.determinant();
+    const double rcond = lu.rcond();
+    *cond = rcond > 0 && std::isfinite(1.0 / rcond) ? 1.0 / rcond : std::numeric_limits<double>::infinity();
+  }
+}
+/// ConditionAndDeterminant of a fixed-size matrix, or of a dynamic one (above).
+template <class A>
+void ConditionAndDeterminantAny(const A& a, double* cond, double* det) {
+  if constexpr (A::RowsAtCompileTime == Eigen::Dynamic) {
+    ConditionAndDeterminantDynamic(a, cond, det);
+  } else {
+    ConditionAndDeterminant(a, cond, det);
+  }
+}
+
+/// Whether every block of M::Solve is closed-form (no Newton block can land on the other
+/// branch): constant for a generated M, the view's at run time.
+template <class M>
+bool AllBlocksClosedFormOf(const M& model) {
+  using Calls = ModelCalls<M>;
+  if constexpr (Calls::kView) {
+    for (int b = 0; b < Calls::NumBlocks(model); ++b)
+      if (!Calls::BlockClosedForm(model, b)) return false;
+    return true;
+  } else {
+    (void)model;
+    return AllBlocksClosedForm<M>();
   }
 }
 
@@ -265,30 +321,45 @@ void CallDynamics(const typename M::template ParamsT<double>& p, const Eigen::Ma
 /// solve (*not_assemblable: the loop cannot close), are not finite, or (a Newton block) land
 /// on the branch whose det Phi_phi has the other sign than ref_det (0: not checked).
 template <class M, class Trig>
-bool SolveOnBranch(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
-                   Eigen::Matrix<double, M::kNphi, 1>* phi, const std::array<int, M::kNumBlocks>& modes,
+bool SolveOnBranch(const M& model, const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
+                   typename ModelTypes<M>::VecPhi* phi, const typename ModelCalls<M>::Modes& modes,
                    int max_iterations, double tolerance, double ref_det, Trig* trig, bool* not_assemblable) {
   *not_assemblable = false;
   if constexpr (M::kNphi == 0) {
-    (void)p, (void)q, (void)phi, (void)modes, (void)max_iterations, (void)tolerance, (void)ref_det, (void)trig;
+    (void)model, (void)p, (void)q, (void)phi, (void)modes, (void)max_iterations, (void)tolerance, (void)ref_det,
+        (void)trig;
     return true;
   } else {
-    const auto report = CallSolve<M>(p, q, phi, modes, max_iterations, tolerance, trig);
+    using Calls = ModelCalls<M>;
+    if (Calls::Nphi(model) == 0) return true;  // (a view without loops; constant otherwise)
+    const auto report = CallSolve(model, p, q, phi, modes, max_iterations, tolerance, trig);
     if (report.status != decltype(report.status)::kConverged) {
       *not_assemblable = report.status == decltype(report.status)::kNotAssemblable;
       return false;
     }
     if (!phi->allFinite()) return false;
-    if constexpr (!AllBlocksClosedForm<M>()) {
+    bool check_branch = false;
+    if constexpr (Calls::kView) {
+      check_branch = !AllBlocksClosedFormOf(model);
+    } else if constexpr (!AllBlocksClosedForm<M>()) {
+      check_branch = true;
+    }
+    if (check_branch) {
       // A Newton block may converge to the other branch after a long step: refuse it.
-      typename M::template CoefficientsT<double> c;
-      CallCoeffs<M>(p, q, *phi, &c, trig);
+      typename ModelTypes<M>::Coefficients c;
+      CallCoeffs(model, p, q, *phi, &c, trig);
       double cond = 0, det = 0;
-      ConditionAndDeterminant(c.Phi_phi, &cond, &det);
+      ConditionAndDeterminantAny(c.Phi_phi, &cond, &det);
       if (ref_det != 0 && (det > 0) != (ref_det > 0)) return false;
     }
     return true;
   }
+}
+template <class M, class Trig>
+bool SolveOnBranch(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
+                   Eigen::Matrix<double, M::kNphi, 1>* phi, const std::array<int, M::kNumBlocks>& modes,
+                   int max_iterations, double tolerance, double ref_det, Trig* trig, bool* not_assemblable) {
+  return SolveOnBranch(M(), p, q, phi, modes, max_iterations, tolerance, ref_det, trig, not_assemblable);
 }
 
 /// 1/cond_1 and det of Phi_phi (rcond 0 where cond is not finite); 1 and 1 for kNphi = 0.
@@ -298,8 +369,15 @@ void ConditioningOf(const A& Phi_phi, double* rcond, double* det) {
     *rcond = 1;
     *det = 1;
   } else {
+    if constexpr (A::RowsAtCompileTime == Eigen::Dynamic) {
+      if (Phi_phi.rows() == 0) {  // (a view without loops)
+        *rcond = 1;
+        *det = 1;
+        return;
+      }
+    }
     double cond = 0;
-    ConditionAndDeterminant(Phi_phi, &cond, det);
+    ConditionAndDeterminantAny(Phi_phi, &cond, det);
     *rcond = std::isfinite(cond) && cond > 0 ? 1.0 / cond : 0.0;
   }
 }
@@ -308,21 +386,36 @@ void ConditioningOf(const A& Phi_phi, double* rcond, double* det) {
 template <class M>
 class PreparedRhsConstants {
  public:
+  using Constants = typename ModelCalls<M>::template RhsConstantsOut<M>;
   void MarkStale() { stale_ = true; }
   /// The constants of p, prepared first if stale (a model without M::Rhs has none).
-  const typename RhsConstantsOf<M>::type& Of(const typename M::template ParamsT<double>& p) {
+  const Constants& Of(const M& model, const typename ModelTypes<M>::Params& p) {
     if constexpr (HasRhs<M>::value) {
-      if (stale_) M::template Prepare<double>(p, &rc_);
+      if (stale_ && ModelCalls<M>::HasRhs(model)) ModelCalls<M>::Prepare(model, p, &rc_);
     } else {
-      (void)p;
+      (void)model, (void)p;
     }
     stale_ = false;
     return rc_;
   }
+  const Constants& Of(const typename ModelTypes<M>::Params& p) { return Of(M(), p); }
 
  private:
-  typename RhsConstantsOf<M>::type rc_{};
+  Constants rc_{};
   bool stale_ = true;
+};
+}  // namespace internal
+
+namespace internal {
+/// Coulomb friction with stick and slip as the minimal method simulates it
+/// (friction.h's CoulombFeatures): not through the model view yet (issue 43; its simulate
+/// command refuses a run with it).
+template <class M, bool = ModelCalls<M>::kView>
+struct MinimalCoulomb : CoulombFeatures<M> {};
+template <class M>
+struct MinimalCoulomb<M, true> {
+  static constexpr int kNumFriction = 0;
+  static constexpr bool kHasFriction = false;
 };
 }  // namespace internal
 
@@ -331,12 +424,14 @@ template <class M>
 struct Sample {
   static constexpr int kNq = M::kNq, kNphi = M::kNphi;
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  using T_ = ModelTypes<M>;
   double t = kNaN;
-  Eigen::Matrix<double, kNq, 1> q = Eigen::Matrix<double, kNq, 1>::Constant(kNaN);
-  Eigen::Matrix<double, kNq, 1> qd = q, qdd = q, Q = q;
-  Eigen::Matrix<double, kNphi, 1> phi = Eigen::Matrix<double, kNphi, 1>::Constant(kNaN);
+  /// (NaN for a generated model's fixed sizes; empty for the view's, until assigned.)
+  typename T_::VecQ q = NaNs<typename T_::VecQ>();
+  typename T_::VecQ qd = q, qdd = q, Q = q;
+  typename T_::VecPhi phi = NaNs<typename T_::VecPhi>();
   /// Velocity coefficients at (q, phi): phid = K qd.
-  Eigen::Matrix<double, kNphi, kNq> K = Eigen::Matrix<double, kNphi, kNq>::Constant(kNaN);
+  typename T_::MatK K = NaNs<typename T_::MatK>();
   double T = 0, V = 0, E = 0;  ///< kinetic, potential, T + V
   double W = 0;                ///< work of the non-conservative forces since t0
   double P_nc = 0;             ///< their power
@@ -345,15 +440,20 @@ struct Sample {
   /// Coulomb friction (MinimalSummary::coulomb): the friction loads f_J of the model's
   /// kFrictionJoints (dynamics/friction.h: the torque on the joint's second link by its first,
   /// N m, CCW +; the force on a slider along +u, N), included in Q and P_nc; 0 without.
-  Eigen::Matrix<double, CoulombFeatures<M>::kNumFriction, 1> friction =
-      Eigen::Matrix<double, CoulombFeatures<M>::kNumFriction, 1>::Zero();
+  Eigen::Matrix<double, internal::MinimalCoulomb<M>::kNumFriction, 1> friction =
+      Eigen::Matrix<double, internal::MinimalCoulomb<M>::kNumFriction, 1>::Zero();
   bool stuck = false;  ///< stuck by static friction (qd = qdd = 0); several inputs: any joint stuck
   /// Several inputs: joint J stuck (holding its input at rest); one input: every entry = stuck.
-  std::array<bool, CoulombFeatures<M>::kNumFriction> joint_stuck{};
+  std::array<bool, internal::MinimalCoulomb<M>::kNumFriction> joint_stuck{};
 };
 
 /// No load of the caller: the model's own Q only.
 struct NoLoad {};
+
+/// The sample observer of a simulation through the model view (issue 43): the runtime
+/// instantiated once for the view (core/view_runtime.h) takes an lvalue of this type.
+template <class Sim>
+using ViewSampleFn = std::function<bool(const typename Sim::SampleT&)>;
 
 /**
  * MinimalDynamics<M, Method, Load>: the minimal method on model M with the integrator Method
@@ -371,44 +471,89 @@ struct NoLoad {};
 template <class M, template <int> class Method = Dopri5, class Load = NoLoad>
 class MinimalDynamics {
  public:
+  /// The model's sizes, constants and functions (core/model_calls.h): constant for a generated
+  /// M, the view's (at run time) for ViewModel, whose sizes here are Eigen::Dynamic.
+  using Calls = ModelCalls<M>;
+  using Types = ModelTypes<M>;
   static constexpr int kNq = M::kNq;
   static constexpr int kNphi = M::kNphi;
-  static constexpr int kN = 2 * kNq + 1;  ///< (q, qd, W)
+  static constexpr int kN = kNq == Eigen::Dynamic ? Eigen::Dynamic : 2 * kNq + 1;  ///< (q, qd, W)
   static_assert(internal::HasDynamics<M>::value,
                 "MinimalDynamics needs a model generated with `dynamics` (Model::DynamicsT)");
   static_assert(ModelFeatures<M>::kHasSolve, "MinimalDynamics needs the generated M::Solve");
-  using Params = typename M::template ParamsT<double>;
-  using Coefficients = typename M::template CoefficientsT<double>;
-  using Dyn = typename M::template DynamicsT<double>;
-  using State = Eigen::Matrix<double, kN, 1>;
-  using VecQ = Eigen::Matrix<double, kNq, 1>;
-  using VecPhi = Eigen::Matrix<double, kNphi, 1>;
-  using Modes = std::array<int, M::kNumBlocks>;
+  using Params = typename Types::Params;
+  using Coefficients = typename Types::Coefficients;
+  using Dyn = typename Calls::template DynamicsOut<M>;
+  using State = internal::IntegratorState<kN>;
+  using VecQ = typename Types::VecQ;
+  using VecPhi = typename Types::VecPhi;
+  using MatK = typename Types::MatK;
+  using Modes = typename Calls::Modes;
   using Integrator = Method<kN>;
   using SampleT = Sample<M>;
   static constexpr bool kHasTrig = ModelFeatures<M>::kHasTrig;
-  using Trig = typename mechgen::internal::TrigOf<M>::type;
+  using Trig = typename Calls::Trig;
   /// The stages solve only the sin and cos of the angles (M::SolveTrig, no atan2); the angles
   /// are recovered, continuous with the warm start's predictor, only where a sample needs them.
-  static constexpr bool kStagesByTrig = kHasTrig && kNphi > 0 && internal::HasSolveTrig<M>::value;
+  /// (For the view: whether its model may; StagesByTrig() says whether it does.)
+  static constexpr bool kStagesByTrig = kHasTrig && kNphi != 0 && internal::HasSolveTrig<M>::value;
   /// ... and, where the model has it, by the one-pass M::Rhs (no residual, no points, no C).
   /// A model wrapper that changes M::Dynamics (an added load) must change M::Rhs alike.
   static constexpr bool kStagesByRhs = kStagesByTrig && internal::HasRhs<M>::value;
 
   static constexpr bool kHasLoad = !std::is_same_v<Load, NoLoad>;
-  /// The model's loads have switching points (M::SwitchModes): see MinimalOptions::restart_at_switches.
-  static constexpr int kNumSwitches = internal::NumSwitches<M>::value;
+  /// The model's loads may have switching points (M::SwitchModes): see
+  /// MinimalOptions::restart_at_switches (HasSwitches(): whether they have).
+  using SwitchModes = typename Calls::SwitchModesArray;
+  static constexpr int kNumSwitches = static_cast<int>(std::tuple_size<SwitchModes>::value);
   static constexpr bool kHasSwitches = kNumSwitches > 0;
-  using SwitchModes = std::array<int, kNumSwitches>;
   /// Coulomb friction with stick and slip can be simulated (MinimalOptions::coulomb): friction
   /// joints, no caller's load (dynamics/friction.h; several inputs: each joint its own mode).
-  static constexpr bool kHasCoulomb = CoulombFeatures<M>::kHasFriction && !kHasLoad;
+  /// Not through the model view (internal::MinimalCoulomb).
+  static constexpr bool kHasCoulomb = internal::MinimalCoulomb<M>::kHasFriction && !kHasLoad;
   static constexpr bool kReportsFriction = kHasCoulomb;
-  static constexpr int kNumFriction = CoulombFeatures<M>::kNumFriction;
+  static constexpr int kNumFriction = internal::MinimalCoulomb<M>::kNumFriction;
 
+  /// (A generated M only: a ViewModel names its view.)
+  template <class Model = M, std::enable_if_t<!ModelCalls<Model>::kView, int> = 0>
   explicit MinimalDynamics(const Params& params, const MinimalOptions& options = MinimalOptions(),
                            Load load = Load())
-      : p_(params), options_(options), integrator_(options.integrator), load_(std::move(load)) {}
+      : MinimalDynamics(M(), params, options, std::move(load)) {}
+  /// The simulation of `model` (a ViewModel; for a generated M an empty tag).
+  MinimalDynamics(const M& model, const Params& params, const MinimalOptions& options = MinimalOptions(),
+                  Load load = Load())
+      : model_(model),
+        p_(params),
+        options_(options),
+        integrator_(options.integrator),
+        load_(std::move(load)),
+        modes_(Calls::DefaultModes(model)),
+        q_ref_(ZeroQ()),
+        phi_ref_(ZeroPhi()),
+        K_ref_(ZeroK()) {}
+
+  const M& model() const { return model_; }
+  /// The model's inputs (kNq, or the view's at run time).
+  int Nq() const { return Calls::Nq(model_); }
+  int Nphi() const { return Calls::Nphi(model_); }
+  /// Whether the stages solve by sin and cos only, and by M::Rhs (kStagesByTrig, kStagesByRhs;
+  /// the view's model at run time).
+  bool StagesByTrig() const {
+    if constexpr (Calls::kView) {
+      return Calls::HasSolveTrig(model_) && Nphi() > 0;
+    } else {
+      return kStagesByTrig;
+    }
+  }
+  bool StagesByRhs() const {
+    if constexpr (Calls::kView) {
+      return StagesByTrig() && Calls::HasRhs(model_);
+    } else {
+      return kStagesByRhs;
+    }
+  }
+  /// The model's loads have switching points (kHasSwitches; the view's at run time).
+  bool HasSwitches() const { return Calls::NumSwitches(model_) > 0; }
 
   const Params& params() const { return p_; }
   /// The caller's load (a copy of it lives in each simulation).
@@ -427,7 +572,8 @@ class MinimalDynamics {
    * \brief Assembles at q0 from phi_guess on the given modes and sets the reference
    * configuration of the warm starts. false when it does not assemble.
    */
-  bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes = M::kDefaultModes) {
+  bool Initialize(const VecQ& q0, const VecPhi& phi_guess) { return Initialize(q0, phi_guess, Calls::DefaultModes(model_)); }
+  bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes) {
     modes_ = modes;
     q_ref_ = q0;
     phi_ref_ = phi_guess;
@@ -446,8 +592,8 @@ class MinimalDynamics {
 
   /// Assembles at q0 from the model's assembly guess (kAssemblyPhi, kDefaultModes).
   bool Initialize(const VecQ& q0) {
-    VecPhi guess;
-    for (int i = 0; i < kNphi; ++i) guess(i) = M::kAssemblyPhi[i];
+    auto guess = Sized<VecPhi>(Nphi());
+    for (int i = 0; i < Nphi(); ++i) guess(i) = Calls::AssemblyPhi(model_)[i];
     return Initialize(q0, guess);
   }
 
@@ -456,55 +602,58 @@ class MinimalDynamics {
    * \return false when the positions do not solve or I is not positive definite.
    */
   bool Derivative(double t, const State& y, State* dy) {
-    const VecQ q = y.template head<kNq>();
-    const VecQ qd = y.template segment<kNq>(kNq);
+    const VecQ q = QOf(y);
+    const VecQ qd = QdOf(y);
     last_.valid = false;
     if constexpr (kHasCoulomb) {
       if (coulomb_active_) return DerivativeCoulomb(t, y, dy);
     }
     if constexpr (kStagesByRhs) {
-      // One generated pass (M::Rhs): positions by their sin and cos, K, L, I, h, Q.
-      last_solve_not_assemblable_ = false;
-      typename M::template RhsT<double> r;
-      const auto report =
-          M::template Rhs<double>(p_, rhs_constants_.Of(p_), q, qd, t, modes_, &trig_, &r);
-      if (report.status != decltype(report.status)::kConverged) {
-        last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
-        ++position_failures_;
-        return false;
+      if (StagesByRhs()) {
+        // One generated pass (M::Rhs): positions by their sin and cos, K, L, I, h, Q.
+        last_solve_not_assemblable_ = false;
+        typename Calls::template RhsOut<M> r;
+        const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, modes_, &trig_, &r);
+        if (report.status != decltype(report.status)::kConverged) {
+          last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+          ++position_failures_;
+          return false;
+        }
+        AddLoad(t, q, qd, r.K, &r.Q, &r.P_nc);
+        auto qdd = Sized<VecQ>(Nq());
+        if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
+        SetDerivative(qd, qdd, r.P_nc, dy);
+        if (caching_) {
+          last_.t = t;
+          last_.y = y;
+          last_.sample.phi = Predictor(q);  // the predictor; FromCache() corrects it
+          last_.sample.K = r.K;
+          last_.sample.qdd = qdd;
+          last_.sample.Q = r.Q;
+          last_.sample.T = r.T;
+          last_.sample.V = r.V;
+          last_.sample.P_nc = r.P_nc;
+          last_.Phi_phi = r.Phi_phi;
+          last_.trig = trig_;
+          last_.valid = true;
+        }
+        return true;
       }
-      AddLoad(t, q, qd, r.K, &r.Q, &r.P_nc);
-      VecQ qdd;
-      if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
-      dy->template head<kNq>() = qd;
-      dy->template segment<kNq>(kNq) = qdd;
-      (*dy)(2 * kNq) = r.P_nc;
-      if (caching_) {
-        last_.t = t;
-        last_.y = y;
-        last_.sample.phi = phi_ref_ + K_ref_ * (q - q_ref_);  // the predictor; FromCache() corrects it
-        last_.sample.K = r.K;
-        last_.sample.qdd = qdd;
-        last_.sample.Q = r.Q;
-        last_.sample.T = r.T;
-        last_.sample.V = r.V;
-        last_.sample.P_nc = r.P_nc;
-        last_.Phi_phi = r.Phi_phi;
-        last_.trig = trig_;
-        last_.valid = true;
-      }
-      return true;
     }
-    VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
-    if constexpr (kStagesByTrig) {
-      // sin and cos only: phi stays the predictor, which the generated functions given trig
-      // do not read; FromCache() recovers the angles at an accepted step.
-      last_solve_not_assemblable_ = false;
-      const auto report = M::template SolveTrig<double>(p_, q, modes_, &trig_);
-      if (report.status != decltype(report.status)::kConverged) {
-        last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
-        ++position_failures_;
-        return false;
+    VecPhi phi = Predictor(q);
+    bool by_trig = false;
+    if constexpr (kStagesByTrig) by_trig = StagesByTrig();
+    if (by_trig) {
+      if constexpr (kStagesByTrig) {
+        // sin and cos only: phi stays the predictor, which the generated functions given trig
+        // do not read; FromCache() recovers the angles at an accepted step.
+        last_solve_not_assemblable_ = false;
+        const auto report = Calls::SolveTrig(model_, p_, q, modes_, &trig_);
+        if (report.status != decltype(report.status)::kConverged) {
+          last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+          ++position_failures_;
+          return false;
+        }
       }
     } else if (!SolveAt(q, &phi)) {
       ++position_failures_;
@@ -514,11 +663,9 @@ class MinimalDynamics {
     EvalCoefficients(q, phi, &c);
     Dyn d;
     EvalDynamics(q, phi, qd, t, c, &d);
-    VecQ qdd;
+    auto qdd = Sized<VecQ>(Nq());
     if (!SolveInertia(d, &qdd)) return false;
-    dy->template head<kNq>() = qd;
-    dy->template segment<kNq>(kNq) = qdd;
-    (*dy)(2 * kNq) = d.P_nc;
+    SetDerivative(qd, qdd, d.P_nc, dy);
     if (caching_) {
       // Simulate() reuses the last evaluation (the FSAL one at the accepted step's end) for
       // the step's events and samples instead of evaluating that state again.
@@ -531,8 +678,10 @@ class MinimalDynamics {
       last_.sample.T = d.T;
       last_.sample.V = d.V;
       last_.sample.P_nc = d.P_nc;
-      if constexpr (kNphi > 0) last_.Phi_phi = c.Phi_phi;
-      if constexpr (kStagesByTrig) last_.trig = trig_;
+      if constexpr (kNphi != 0) last_.Phi_phi = c.Phi_phi;
+      if constexpr (kStagesByTrig) {
+        if (by_trig) last_.trig = trig_;
+      }
       last_.valid = true;
     }
     return true;
@@ -544,9 +693,9 @@ class MinimalDynamics {
    */
   bool Evaluate(double t, const State& y, SampleT* s) {
     s->t = t;
-    s->q = y.template head<kNq>();
-    s->qd = y.template segment<kNq>(kNq);
-    s->W = y(2 * kNq);
+    s->q = QOf(y);
+    s->qd = QdOf(y);
+    s->W = y(2 * Nq());
     if constexpr (kHasCoulomb) {
       if (coulomb_active_) {
         Coefficients c;
@@ -557,12 +706,13 @@ class MinimalDynamics {
         return true;
       }
     }
-    s->phi = phi_ref_ + K_ref_ * (s->q - q_ref_);
+    s->phi = Predictor(s->q);
     if (!SolveAt(s->q, &s->phi)) return false;
     Coefficients c;
     EvalCoefficients(s->q, s->phi, &c);
     Dyn d;
     EvalDynamics(s->q, s->phi, s->qd, t, c, &d);
+    s->qdd.resize(Nq());
     if (!SolveInertia(d, &s->qdd)) return false;
     s->T = d.T;
     s->V = d.V;
@@ -576,7 +726,7 @@ class MinimalDynamics {
 
   /// The positions phi at q (warm start from the reference configuration), and K there.
   bool Positions(const VecQ& q, VecPhi* phi, Coefficients* c) {
-    *phi = phi_ref_ + K_ref_ * (q - q_ref_);
+    *phi = Predictor(q);
     if (!SolveAt(q, phi)) return false;
     EvalCoefficients(q, *phi, c);
     return true;
@@ -586,12 +736,13 @@ class MinimalDynamics {
   /// false where the positions do not solve. Nothing for a model without switches.
   bool SwitchModesAt(double t, const State& y, SwitchModes* modes) {
     if constexpr (kHasSwitches) {
-      const VecQ q = y.template head<kNq>();
-      const VecQ qd = y.template segment<kNq>(kNq);
+      if (!HasSwitches()) return true;
+      const VecQ q = QOf(y);
+      const VecQ qd = QdOf(y);
       VecPhi phi;
       Coefficients c;
       if (!Positions(q, &phi, &c)) return false;
-      M::template SwitchModes<double>(p_, q, phi, qd, t, c, modes);
+      Calls::SwitchModes(model_, p_, q, phi, qd, t, c, modes);
       return true;
     } else {
       (void)t, (void)y, (void)modes;
@@ -615,7 +766,7 @@ class MinimalDynamics {
   }
 
   /// Makes (q, phi, K) the reference of the warm starts (Simulate does after each step).
-  void SetReference(const VecQ& q, const VecPhi& phi, const Eigen::Matrix<double, kNphi, kNq>& K) {
+  void SetReference(const VecQ& q, const VecPhi& phi, const MatK& K) {
     q_ref_ = q;
     phi_ref_ = phi;
     K_ref_ = K;
@@ -649,9 +800,7 @@ class MinimalDynamics {
     caching_ = true;
     State y0;
     // By segments: a comma initializer from 1 x 1 blocks trips GCC 12's -Warray-bounds.
-    y0.template head<kNq>() = q0;
-    y0.template segment<kNq>(kNq) = qd0;
-    y0(2 * kNq) = 0.0;
+    SetDerivative(q0, qd0, 0.0, &y0);
     internal::EventSettings events;
     events.min_rcond = options_.min_rcond;
     events.event_tolerance = options_.event_tolerance;
@@ -660,12 +809,12 @@ class MinimalDynamics {
     events.steady = options_.steady;
     events.stop_at_speed_zero = options_.stop_at_speed_zero;
     events.energy_projection = options_.energy_projection;
-    events.restart_at_switches = options_.restart_at_switches && kHasSwitches;
+    events.restart_at_switches = options_.restart_at_switches && kHasSwitches && HasSwitches();
     events.switch_min_interval = options_.switch_min_interval;
     events.max_switch_restarts = options_.max_switch_restarts;
     coulomb_active_ = false;
     friction_failed_ = false;
-    if constexpr (CoulombFeatures<M>::kHasFriction) {
+    if constexpr (internal::MinimalCoulomb<M>::kHasFriction) {
       if (options_.coulomb.enabled) {
         if constexpr (!kHasCoulomb) {
           summary->message = "Coulomb friction is not simulated with a caller's load";
@@ -1112,28 +1261,31 @@ class MinimalDynamics {
     const double scale = std::max({std::abs(E0), std::abs(cur->T), std::abs(cur->V), 1e-300});
     if (!(T_target > 0 && cur->T > options_.energy_floor * scale)) return false;
     State y = integrator_.y();
-    y.template segment<kNq>(kNq) *= std::sqrt(T_target / cur->T);
+    if constexpr (kNq != Eigen::Dynamic) {
+      y.template segment<kNq>(kNq) *= std::sqrt(T_target / cur->T);
+    } else {
+      y.segment(Nq(), Nq()) *= std::sqrt(T_target / cur->T);
+    }
     if (!integrator_.Reset(f, y)) return false;
-    cur->qd = y.template segment<kNq>(kNq);
-    cur->qdd = integrator_.dy().template segment<kNq>(kNq);
+    cur->qd = QdOf(y);
+    cur->qdd = QdOf(integrator_.dy());
     cur->T = T_target;
     cur->E = cur->T + cur->V;
     return true;
   }
 
   bool SolveAt(const VecQ& q, VecPhi* phi) {
-    return internal::SolveOnBranch<M>(p_, q, phi, modes_, options_.max_solver_iterations,
-                                      options_.solver_tolerance, ref_det_, &trig_,
-                                      &last_solve_not_assemblable_);
+    return internal::SolveOnBranch(model_, p_, q, phi, modes_, options_.max_solver_iterations,
+                                   options_.solver_tolerance, ref_det_, &trig_, &last_solve_not_assemblable_);
   }
 
   void EvalCoefficients(const VecQ& q, const VecPhi& phi, Coefficients* c) {
-    internal::CallCoeffs<M>(p_, q, phi, c, &trig_);
+    internal::CallCoeffs(model_, p_, q, phi, c, &trig_);
   }
 
   void EvalDynamics(const VecQ& q, const VecPhi& phi, const VecQ& qd, double t,
                     const Coefficients& c, Dyn* d) {
-    internal::CallDynamics<M>(p_, q, phi, qd, t, c, d, &trig_);
+    internal::CallDynamics(model_, p_, q, phi, qd, t, c, d, &trig_);
     AddLoad(t, q, qd, c.K, &d->Q, &d->P_nc);
   }
 
@@ -1151,8 +1303,53 @@ class MinimalDynamics {
   }
 
   bool SolveInertia(const Dyn& d, VecQ* qdd) { return SolveInertia(d.I, d.Q - d.h, qdd); }
-  /// qdd = I^-1 f; false (singular_inertia_) unless I is positive definite.
-  bool SolveInertia(const Eigen::Matrix<double, kNq, kNq>& I, const VecQ& f, VecQ* qdd) {
+  /// qdd = I^-1 f; false (singular_inertia_) unless I is positive definite. (A Dynamic I, the
+  /// view's: on a fixed-size copy of its size, the same arithmetic.)
+  template <class MatI, class VecF>
+  bool SolveInertia(const MatI& I, const VecF& f, VecQ* qdd) {
+    if constexpr (kNq == Eigen::Dynamic) {
+      singular_inertia_ = false;
+      if (Nq() == 1) {
+        const double I00 = I(0, 0);
+        if (!(I00 > 0) || !std::isfinite(I00)) {
+          singular_inertia_ = true;
+          return false;
+        }
+        qdd->resize(1);
+        (*qdd)(0) = f(0) / I00;
+        return qdd->allFinite();
+      }
+      return SolveInertiaFixed<2>(I, f, qdd);
+    } else {
+      return SolveInertiaOf(Eigen::Matrix<double, kNq, kNq>(I), VecQ(f), qdd);
+    }
+  }
+  /// The inertia solve of a Dynamic I of size k or more, on a k x k copy.
+  template <int k, class MatI, class VecF>
+  bool SolveInertiaFixed(const MatI& I, const VecF& f, VecQ* qdd) {
+    if constexpr (k <= Types::kMaxQ) {
+      if (I.rows() != k) return SolveInertiaFixed<k + 1>(I, f, qdd);
+      const Eigen::Matrix<double, k, k> Ik = I;
+      const Eigen::Matrix<double, k, 1> fk = f;
+      Eigen::Matrix<double, k, 1> qddk;
+      const Eigen::LDLT<Eigen::Matrix<double, k, k>> ldlt(Ik);
+      singular_inertia_ = false;
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
+        singular_inertia_ = true;
+        return false;
+      }
+      qddk = ldlt.solve(fk);
+      *qdd = qddk;
+      return qdd->allFinite();
+    } else {
+      (void)I, (void)f, (void)qdd;
+      singular_inertia_ = true;
+      return false;
+    }
+  }
+  bool SolveInertiaOf(const Eigen::Matrix<double, (kNq > 0 ? kNq : 1), (kNq > 0 ? kNq : 1)>& I,
+                      const Eigen::Matrix<double, (kNq > 0 ? kNq : 1), 1>& f,
+                      VecQ* qdd) {
     singular_inertia_ = false;
     if constexpr (kNq == 1) {
       const double I00 = I(0, 0);
@@ -1187,16 +1384,17 @@ class MinimalDynamics {
     if (!last_.valid || last_.t != t || last_.y != y) return false;
     *s = last_.sample;
     s->t = t;
-    s->q = y.template head<kNq>();
-    s->qd = y.template segment<kNq>(kNq);
-    s->W = y(2 * kNq);
+    s->q = QOf(y);
+    s->qd = QdOf(y);
+    s->W = y(2 * Nq());
     s->E = s->T + s->V;
     if constexpr (kStagesByTrig) {
       // The angles from their sin and cos, within pi of the predictor (sample.phi); with
       // Coulomb friction the stages solved the angles themselves.
       const double two_pi = 6.283185307179586;
-      for (int i = 0; i < kNphi && !coulomb_active_; ++i) {
-        const double angle = std::atan2(last_.trig.sin_phi(i), last_.trig.cos_phi(i));
+      for (int i = 0; i < Nphi() && !coulomb_active_ && StagesByTrig(); ++i) {
+        const double angle =
+            std::atan2(Calls::TrigSinPhi(model_, last_.trig, i), Calls::TrigCosPhi(model_, last_.trig, i));
         const double turns = std::floor((angle - s->phi(i)) / two_pi + 0.5);
         s->phi(i) = std::isfinite(turns) ? angle - two_pi * turns : angle;
       }
@@ -1205,22 +1403,76 @@ class MinimalDynamics {
     return true;
   }
 
+  // ---- the state's parts and the warm start, at the model's sizes ----
+  VecQ QOf(const State& y) const {
+    if constexpr (kNq != Eigen::Dynamic) {
+      return y.template head<kNq>();
+    } else {
+      return y.head(Nq());
+    }
+  }
+  VecQ QdOf(const State& y) const {
+    if constexpr (kNq != Eigen::Dynamic) {
+      return y.template segment<kNq>(kNq);
+    } else {
+      return y.segment(Nq(), Nq());
+    }
+  }
+  /// *y = (a, b, w): a state (q, qd, W) or its derivative (qd, qdd, P_nc).
+  void SetDerivative(const VecQ& a, const VecQ& b, double w, State* y) const {
+    if constexpr (kNq != Eigen::Dynamic) {
+      y->template head<kNq>() = a;
+      y->template segment<kNq>(kNq) = b;
+      (*y)(2 * kNq) = w;
+    } else {
+      const int nq = Nq();
+      y->resize(2 * nq + 1);
+      y->head(nq) = a;
+      y->segment(nq, nq) = b;
+      (*y)(2 * nq) = w;
+    }
+  }
+  /// phi_ref + K_ref (q - q_ref): the warm start of the positions at q.
+  VecPhi Predictor(const VecQ& q) const { return phi_ref_ + Times(K_ref_, VecQ(q - q_ref_)); }
+  VecQ ZeroQ() const {
+    if constexpr (kNq != Eigen::Dynamic) {
+      return VecQ::Zero();
+    } else {
+      return VecQ::Zero(Nq());
+    }
+  }
+  VecPhi ZeroPhi() const {
+    if constexpr (kNphi != Eigen::Dynamic) {
+      return VecPhi::Zero();
+    } else {
+      return VecPhi::Zero(Nphi());
+    }
+  }
+  MatK ZeroK() const {
+    if constexpr (MatK::SizeAtCompileTime != Eigen::Dynamic) {
+      return MatK::Zero();
+    } else {
+      return MatK::Zero(Nphi(), Nq());
+    }
+  }
+
+  M model_;
   Params p_;
   MinimalOptions options_;
   Integrator integrator_;
   Load load_;
-  Modes modes_ = M::kDefaultModes;
-  VecQ q_ref_ = VecQ::Zero();
-  VecPhi phi_ref_ = VecPhi::Zero();
-  Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
+  Modes modes_;
+  VecQ q_ref_;
+  VecPhi phi_ref_;
+  MatK K_ref_;
   Trig trig_{};
   internal::PreparedRhsConstants<M> rhs_constants_;  ///< kStagesByRhs: M::Prepare(p_)
   struct LastEvaluation {
     bool valid = false;
     double t = 0;
-    State y = State::Zero();
+    State y = internal::ZeroState<State>();
     SampleT sample;
-    Eigen::Matrix<double, kNphi, kNphi> Phi_phi = Eigen::Matrix<double, kNphi, kNphi>::Zero();
+    typename Types::MatCPhi Phi_phi = internal::ZeroState<typename Types::MatCPhi>();
     Trig trig{};  ///< kStagesByTrig: the stage's sin and cos, for the angles
   };
   LastEvaluation last_;

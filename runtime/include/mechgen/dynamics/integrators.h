@@ -297,6 +297,22 @@ bool AllFinite(const State& y) {
   return y.allFinite();
 }
 
+/// The largest state of Dynamic size N (a simulation through the model view, issue 43: the
+/// minimal method's (q, qd, W) and the driven one's, at most 2 ModelView::kMaxQ + 2 = 18).
+inline constexpr int kMaxDynamicState = 32;
+/// The integrators' state: fixed-size, or bounded by kMaxDynamicState (no allocation).
+template <int N>
+using IntegratorState = Eigen::Matrix<double, N, 1, 0, N == Eigen::Dynamic ? kMaxDynamicState : N, 1>;
+/// A zero state of a fixed size; an empty one of a Dynamic size (assigned before it is read).
+template <class State>
+State ZeroState() {
+  if constexpr (State::SizeAtCompileTime != Eigen::Dynamic) {
+    return State::Zero();
+  } else {
+    return State();
+  }
+}
+
 }  // namespace internal
 
 /**
@@ -306,7 +322,8 @@ bool AllFinite(const State& y) {
 template <int N, class Method>
 class AdaptiveRungeKutta {
  public:
-  using State = Eigen::Matrix<double, N, 1>;
+  /// Eigen::Matrix<double, N, 1>; N may be Eigen::Dynamic (the state's size then that of y0).
+  using State = internal::IntegratorState<N>;
 
   explicit AdaptiveRungeKutta(const IntegratorOptions& options = IntegratorOptions())
       : options_(options) {}
@@ -534,6 +551,9 @@ class AdaptiveRungeKutta {
     return std::min({100 * h, h1, options_.h_max});
   }
 
+  /// N, or the state's size where N is Dynamic.
+  double Size() const { return N != Eigen::Dynamic ? double(N) : double(y_.size()); }
+
   /// RMS of e / (atol + rtol max(|y|, |y_new|)).
   double ScaledSquares(const State& e, const State& y_new) const {
     double s = 0;
@@ -549,8 +569,9 @@ class AdaptiveRungeKutta {
   double t_ = 0, t_prev_ = 0, t_end_ = 0, h_ = 0, h_used_ = 0, direction_ = 1;
   double err_prev_ = 1e-4;
   bool reject_last_ = false, rhs_failed_ = false, dense_ready_ = false, started_ = false;
-  State y_ = State::Zero(), y_prev_ = State::Zero(), f_ = State::Zero(),
-        f_prev_ = State::Zero(), y_new_ = State::Zero(), f_new_ = State::Zero();
+  State y_ = internal::ZeroState<State>(), y_prev_ = internal::ZeroState<State>(),
+        f_ = internal::ZeroState<State>(), f_prev_ = internal::ZeroState<State>(),
+        y_new_ = internal::ZeroState<State>(), f_new_ = internal::ZeroState<State>();
 };
 
 /// Dormand–Prince 5(4) with Hairer's dense output (see the file comment).
@@ -590,7 +611,7 @@ class Dopri5 : public AdaptiveRungeKutta<N, Dopri5<N>> {
     if (!this->Eval(f, t + h, *y_new, f_new)) return false;
     const State e = h * (T::e1 * k1 + T::e3 * k3_ + T::e4 * k4_ + T::e5 * k5_ + T::e6 * k6_ +
                          T::e7 * *f_new);
-    *err = std::sqrt(this->ScaledSquares(e, *y_new) / N);
+    *err = std::sqrt(this->ScaledSquares(e, *y_new) / this->Size());
     // Keep the stages of this attempt for the dense output, if it is accepted.
     s1_ = k1;
     return true;
@@ -614,9 +635,11 @@ class Dopri5 : public AdaptiveRungeKutta<N, Dopri5<N>> {
     *y = this->y_prev_ + theta * (r2_ + theta1 * (r3_ + theta * (r4_ + theta1 * r5_)));
   }
 
-  State k2_ = State::Zero(), k3_ = State::Zero(), k4_ = State::Zero(), k5_ = State::Zero(),
-        k6_ = State::Zero(), s1_ = State::Zero();
-  State r2_ = State::Zero(), r3_ = State::Zero(), r4_ = State::Zero(), r5_ = State::Zero();
+  State k2_ = internal::ZeroState<State>(), k3_ = internal::ZeroState<State>(),
+        k4_ = internal::ZeroState<State>(), k5_ = internal::ZeroState<State>(),
+        k6_ = internal::ZeroState<State>(), s1_ = internal::ZeroState<State>();
+  State r2_ = internal::ZeroState<State>(), r3_ = internal::ZeroState<State>(),
+        r4_ = internal::ZeroState<State>(), r5_ = internal::ZeroState<State>();
 };
 
 /// Dormand–Prince 8(5,3), DOP853, with its 7th-order dense output (see the file comment).
@@ -658,7 +681,7 @@ class Dop853 : public AdaptiveRungeKutta<N, Dop853<N>> {
     const double err3 = this->ScaledSquares(e3, *y_new);
     double denom = err5 + 0.01 * err3;
     if (denom <= 0) denom = 1;
-    *err = std::abs(h) * err5 / std::sqrt(denom * N);
+    *err = std::abs(h) * err5 / std::sqrt(denom * this->Size());
     return true;
   }
 

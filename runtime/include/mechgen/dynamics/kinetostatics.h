@@ -26,7 +26,9 @@
 
 #include "mechgen/core/constants.h"
 #include "mechgen/core/linear_algebra.h"
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
+#include "mechgen/dynamics/forward.h"
 #include "mechgen/statics/traits.h"
 
 namespace mechgen::dynamics {
@@ -63,12 +65,13 @@ struct KinetostaticsOptions {
 template <class M>
 struct KinetostaticsRow {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  using Statics = typename M::template StaticsT<double>;
+  using Statics = typename ModelCalls<M>::template KinetostaticsOut<M>;
   KinetostaticsStatus status = KinetostaticsStatus::kNotRun;
   double t = kNaN;
-  Eigen::Matrix<double, M::kNq, 1> q = Eigen::Matrix<double, M::kNq, 1>::Constant(kNaN);
-  Eigen::Matrix<double, M::kNq, 1> qd = q, qdd = q;
-  Eigen::Matrix<double, M::kNphi, 1> phi = Eigen::Matrix<double, M::kNphi, 1>::Constant(kNaN);
+  /// (NaN at a generated model's fixed sizes; empty at the view's until set.)
+  typename ModelTypes<M>::VecQ q = NaNs<typename ModelTypes<M>::VecQ>();
+  typename ModelTypes<M>::VecQ qd = q, qdd = q;
+  typename ModelTypes<M>::VecPhi phi = NaNs<typename ModelTypes<M>::VecPhi>();
   Statics statics;  ///< drive, Q, R (kReactionNames), ... of the generated EvalKinetostatics
   double condition = kNaN;      ///< cond_1(Phi_phi) (1 for kNphi = 0)
   double reaction_norm = kNaN;  ///< max_i |R_i|, computed even when singular (the figure)
@@ -93,35 +96,64 @@ struct KinetostaticsSummary {
 template <class M>
 class Kinetostatics {
  public:
+  /// The model's sizes, constants and functions (core/model_calls.h): constant for a generated
+  /// M, the view's (at run time) for ViewModel.
+  using Calls = ModelCalls<M>;
+  using Types = ModelTypes<M>;
   static constexpr int kNq = M::kNq, kNphi = M::kNphi;
-  using Params = typename M::template ParamsT<double>;
-  using Coefficients = typename M::template CoefficientsT<double>;
-  using VecQ = Eigen::Matrix<double, kNq, 1>;
-  using VecPhi = Eigen::Matrix<double, kNphi, 1>;
-  using Modes = std::array<int, M::kNumBlocks>;
+  using Params = typename Types::Params;
+  using Coefficients = typename Types::Coefficients;
+  using VecQ = typename Types::VecQ;
+  using VecPhi = typename Types::VecPhi;
+  using MatK = typename Types::MatK;
+  using Modes = typename Calls::Modes;
   using Row = KinetostaticsRow<M>;
+  /// Whether Statics::R may exist (the view's model: at run time, Calls::KinetoNumReactions).
+  static constexpr bool kMayHaveReactions = [] {
+    if constexpr (Calls::kView) {
+      return true;
+    } else {
+      return Calls::KinetoNumReactions(M()) > 0;
+    }
+  }();
 
+  /// (A generated M only: a ViewModel names its view.)
+  template <class Model = M, std::enable_if_t<!ModelCalls<Model>::kView, int> = 0>
   explicit Kinetostatics(const Params& p, const KinetostaticsOptions& options = KinetostaticsOptions())
-      : p_(p), options_(options) {
-    for (int i = 0; i < kNphi; ++i) phi_(i) = M::kAssemblyPhi[i];
+      : Kinetostatics(M(), p, options) {}
+  /// The kinetostatics of `model` (a ViewModel; for a generated M an empty tag).
+  Kinetostatics(const M& model, const Params& p, const KinetostaticsOptions& options = KinetostaticsOptions())
+      : model_(model), p_(p), options_(options), modes_(Calls::DefaultModes(model)) {
+    const int nq = Calls::Nq(model), nphi = Calls::Nphi(model);
+    q_ = Sized<VecQ>(nq);
+    q_.setZero();
+    phi_ = Sized<VecPhi>(nphi);
+    K_ = Sized<MatK>(nphi, nq);
+    K_.setZero();
+    for (int i = 0; i < nphi; ++i) phi_(i) = Calls::AssemblyPhi(model)[i];
   }
 
-  /// Starts the continuation at q0 from phi_guess on `modes`. false if it does not assemble.
-  bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes = M::kDefaultModes) {
+  /// Starts the continuation at q0 from phi_guess on `modes` (the model's default ones). false
+  /// if it does not assemble.
+  bool Initialize(const VecQ& q0, const VecPhi& phi_guess) {
+    return Initialize(q0, phi_guess, Calls::DefaultModes(model_));
+  }
+  bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes) {
     modes_ = modes;
     phi_ = phi_guess;
     q_ = q0;
     return Solve(q0, &phi_);
   }
   bool Initialize(const VecQ& q0) {
-    VecPhi guess;
-    for (int i = 0; i < kNphi; ++i) guess(i) = M::kAssemblyPhi[i];
+    const int nphi = Calls::Nphi(model_);
+    auto guess = Sized<VecPhi>(nphi);
+    for (int i = 0; i < nphi; ++i) guess(i) = Calls::AssemblyPhi(model_)[i];
     return Initialize(q0, guess);
   }
 
   /// The Coulomb friction loads of the model's friction joints (kFrictionJoints; see
   /// statics/types.h), a vector of size 0 for a model without.
-  using VecF = Eigen::Matrix<double, statics::StaticsFeatures<M>::kNumFriction, 1>;
+  using VecF = typename Calls::template VecKinetoFriction<M>;
 
   /// The kinetostatics at (t, q, qd, qdd), positions warm-started from the last row; with the
   /// given Coulomb friction loads (e.g. a free simulation's Sample::friction), else none.
@@ -131,34 +163,31 @@ class Kinetostatics {
     row->q = q;
     row->qd = qd;
     row->qdd = qdd;
-    VecPhi phi = phi_ + K_ * (q - q_);
+    VecPhi phi = phi_ + Times(K_, VecQ(q - q_));
     if (!Solve(q, &phi)) {
       row->status = KinetostaticsStatus::kPositionFailed;
       return row->status;
     }
     row->phi = phi;
     Coefficients c;
-    M::template Coeffs<double>(p_, q, phi, &c);
+    Calls::Coeffs(model_, p_, q, phi, &c);
     double cond = 1;
-    if constexpr (kNphi > 0) {
-      double det = 0;
-      ConditionAndDeterminant(c.Phi_phi, &cond, &det);
-      K_ = c.K;
+    if constexpr (kNphi != 0) {
+      if (Calls::Nphi(model_) > 0) {
+        double det = 0;
+        internal::ConditionAndDeterminantAny(c.Phi_phi, &cond, &det);
+        K_ = c.K;
+      }
     }
     q_ = q;
     phi_ = phi;
     row->condition = cond;
-    if constexpr (statics::StaticsFeatures<M>::kHasFriction) {
-      M::template Kinetostatics<double>(p_, q, phi, qd, qdd, t, c, &row->statics, friction);
-    } else {
-      (void)friction;
-      M::template Kinetostatics<double>(p_, q, phi, qd, qdd, t, c, &row->statics);
-    }
+    Calls::Kinetostatics(model_, p_, q, phi, qd, qdd, t, c, &row->statics, friction);
     row->reaction_norm = ReactionNorm(row->statics);
     const bool finite = row->statics.drive.allFinite();
     if (!(cond <= options_.max_condition) || !finite) {
       row->status = KinetostaticsStatus::kSingular;
-      row->statics.drive.setConstant(Row::kNaN);
+      row->statics.drive.setConstant(Row::kNaN);  // (empty at the view's sizes: resized before)
       WithholdReactions(&row->statics);
       return row->status;
     }
@@ -215,33 +244,34 @@ class Kinetostatics {
       (void)phi;
       return true;
     } else {
-      const auto report = M::template Solve<double>(p_, q, phi, modes_, options_.max_solver_iterations,
-                                                    options_.solver_tolerance);
+      if (Calls::Nphi(model_) == 0) return true;  // (a view without loops)
+      const auto report =
+          Calls::Solve(model_, p_, q, phi, modes_, options_.max_solver_iterations, options_.solver_tolerance);
       return report.status == decltype(report.status)::kConverged && phi->allFinite();
     }
   }
 
   template <class S>
-  static double ReactionNorm(const S& s) {
-    if constexpr (statics::StaticsFeatures<M>::kNumReactions > 0) {
-      return s.R.cwiseAbs().maxCoeff();
-    } else {
-      (void)s;
-      return Row::kNaN;
+  double ReactionNorm(const S& s) const {
+    if constexpr (kMayHaveReactions) {
+      if (Calls::KinetoNumReactions(model_) > 0) return s.R.cwiseAbs().maxCoeff();
     }
+    (void)s;
+    return Row::kNaN;
   }
   template <class S>
-  static void WithholdReactions(S* s) {
-    if constexpr (statics::StaticsFeatures<M>::kNumReactions > 0) s->R.setConstant(Row::kNaN);
+  void WithholdReactions(S* s) const {
+    if constexpr (kMayHaveReactions) s->R.setConstant(Row::kNaN);
     s->Q.setConstant(Row::kNaN);
   }
 
+  M model_;
   Params p_;
   KinetostaticsOptions options_;
-  Modes modes_ = M::kDefaultModes;
-  VecQ q_ = VecQ::Zero();
-  VecPhi phi_ = VecPhi::Zero();
-  Eigen::Matrix<double, kNphi, kNq> K_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
+  Modes modes_;
+  VecQ q_;
+  VecPhi phi_;
+  MatK K_;
 };
 
 }  // namespace mechgen::dynamics

@@ -368,6 +368,17 @@ inline bool SampleGridIsUsable(double t0, double t_end, double sample_dt, int ma
  * held inputs' speeds set 0, and the integrator restarts as above.
  */
 struct EventLoop {
+  /// The model's inputs: P::kNq, or the simulation's Nq() where that is Dynamic (the view's).
+  template <class P>
+  static int NumInputs(const P* sim) {
+    if constexpr (P::kNq == Eigen::Dynamic) {
+      return sim->Nq();
+    } else {
+      (void)sim;
+      return P::kNq;
+    }
+  }
+
   template <class P, class Summary, class Observer, class UserEvent>
   static bool Run(P* sim, const EventSettings& o, double t0, const typename P::State& y0,
                   double t_end, Observer& observer, UserEvent& user_event, Summary* summary,
@@ -398,7 +409,7 @@ struct EventLoop {
           "max_samples samples";
       return finish(Status::kInvalidInput, t0);
     }
-    if (o.steady.enabled && !o.steady.IsValid(P::kNq)) {
+    if (o.steady.enabled && !o.steady.IsValid(NumInputs(sim))) {
       summary->message =
           "steady-state options invalid: coordinate out of range, cycle not > 0, tolerance not "
           "in (0, 0.5] or consecutive not in [1, 16]";
@@ -791,7 +802,7 @@ struct EventLoop {
           t_event = t_root;
         }
       };
-      if constexpr (P::kNphi > 0) {
+      if constexpr (P::kNphi != 0) {  // (a Dynamic kNphi, the view's: rcond = det = 1 without loops)
         const bool sign_change = (prev.det > 0) != (cur.det > 0);
         if (cur.rcond < o.min_rcond || sign_change) {
           const double target = o.min_rcond;

@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# mechgen_view simulate (issue 43): a model compiled into a shared object with its view's entry
+# point (<name>.cc + <name>_view.cc, -DMECHGEN_VIEW_ENTRY, g++ -O2 -shared -fPIC), loaded and
+# simulated through the runtime compiled once (mechgen_runtime_view):
+#  - its CSV equals, byte for byte, the per-model tool's (<name>_simulate) for the same options,
+#    on the slider-crank with a motor (one input, switching loads, reactions; its friction off)
+#    and the five-bar robot (two inputs, the one-pass M::Rhs stages), each with two option sets,
+#    and so are its exit status, standard output and standard error (a failed run's too);
+#  - --set through the view's parameter table: the same run and summary;
+#  - what the view does not simulate yet (--drive, --design, Coulomb friction) is refused (exit
+#    2; run by mechgen, exit 120 and nothing said, for its fallback) with one line on stderr and
+#    nothing written, as are a bad --set, a bad option and a
+#    model without dynamics.
+# usage: simulate_view_test.sh <c++ compiler> <mechgen_view> <slider_crank_motor_simulate>
+#        <fivebar_robot_simulate> <models build dir> <runtime include dir> <Eigen include dir>
+set -uo pipefail
+cxx=$1 view_tool=$(realpath "$2") motor_tool=$(realpath "$3") robot_tool=$(realpath "$4") models=$(realpath "$5")
+runtime_include=$(realpath "$6") eigen=$7
+root=$(mktemp -d)
+trap 'rm -rf "$root"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+cd "$root" || exit 1
+
+build() {  # build <model>: <model>.so from the generated code
+  local dir=$models/mechgen_$1
+  "$cxx" -O2 -shared -fPIC -DMECHGEN_VIEW_ENTRY -I"$dir" -I"$runtime_include" -I"$eigen" \
+    "$dir/$1.cc" "$dir/$1_view.cc" -o "$1.so" || { echo "FAIL: cannot build $1.so"; exit 1; }
+}
+build slider_crank_motor
+build fivebar_robot
+
+# same <model> <fixed tool> <options...>: both CSVs byte for byte, the same exit status, standard
+# output and standard error (each run in its own directory, the same CSV name).
+same() {
+  local model=$1 fixed=$2
+  shift 2
+  rm -rf fixed view && mkdir fixed view
+  (cd fixed && "$fixed" "$@" --csv out.csv > ../fixed.out 2> ../fixed.err)
+  local fixed_status=$?
+  (cd view && "$view_tool" simulate "$root/$model.so" "$@" --csv out.csv > ../view.out 2> ../view.err)
+  local view_status=$?
+  [[ $fixed_status -eq $view_status ]] || fail "$model $*: exit $view_status through the view, $fixed_status fixed"
+  [[ -s fixed/out.csv ]] || fail "$model $*: the fixed-size tool wrote no CSV: $(cat fixed.err)"
+  cmp -s fixed/out.csv view/out.csv || fail "$model $*: the CSVs differ: $(cmp fixed/out.csv view/out.csv 2>&1 | head -1)"
+  cmp -s fixed.out view.out || fail "$model $*: the standard outputs differ: $(diff fixed.out view.out | head -3)"
+  cmp -s fixed.err view.err || fail "$model $*: the standard errors differ: $(diff fixed.err view.err | head -3)"
+}
+same slider_crank_motor "$motor_tool" --friction off --t-end 0.5 --dt 0.005
+same slider_crank_motor "$motor_tool" --friction off --t-end 0.3 --dt 0.002 --method dop853 --energy-projection \
+  --q0 1 --qd0 20
+# (the robot falls under its weight into a dead point at t = 0.145 s: exit 1, the same failure)
+same fivebar_robot "$robot_tool" --t-end 0.5 --dt 0.005
+same fivebar_robot "$robot_tool" --t-end 0.08 --dt 0.001 --method dop853 --qd0 1,-2 --rtol 1e-10
+# the parameters through the view's table (common/view_params.h): the same run and summary
+same slider_crank_motor "$motor_tool" --friction off --t-end 0.3 --dt 0.005 --set J_fly=0.8 --set m3=5
+
+# refused <name> <model> <pattern> <args...>: exit 2, one stderr line, nothing written.
+refused() {
+  local name=$1 model=$2 pattern=$3
+  shift 3
+  mkdir "$name" && (cd "$name" && "$view_tool" simulate "$root/$model.so" "$@" > ../"$name".out 2> ../"$name".err)
+  local status=$?
+  [[ $status -eq 2 ]] || fail "$name: exit $status, expected 2"
+  [[ $(wc -l < "$name".err) -eq 1 ]] || fail "$name: stderr is not one line: $(cat "$name".err)"
+  grep -Eq "$pattern" "$name".err || fail "$name: stderr $(cat "$name".err) does not match $pattern"
+  [[ -z $(ls -A "$name") ]] || fail "$name: wrote $(ls -A "$name")"
+}
+refused friction slider_crank_motor \
+  "^slider_crank_motor_simulate_view: error: --friction: Coulomb friction .* not reached through the model view" \
+  --t-end 0.1 --csv out.csv
+refused friction_on slider_crank_motor "^slider_crank_motor_simulate_view: error: --friction" --friction on --csv out.csv
+refused drive fivebar_robot "^fivebar_robot_simulate_view: error: --drive: " --drive theta_prox1=speed:2 --csv out.csv
+refused design fivebar_robot "^fivebar_robot_simulate_view: error: --design: " --design --csv out.csv
+refused set fivebar_robot "^fivebar_robot_simulate_view: error: --set 'nosuch=0.3': no parameter 'nosuch'" --set nosuch=0.3 --csv out.csv
+# run by mechgen (MECHGEN_VIEW_FALLBACK=1), what the view lacks is exit 120, nothing said or written
+mkdir fallback && (cd fallback && MECHGEN_VIEW_FALLBACK=1 "$view_tool" simulate "$root/fivebar_robot.so" \
+  --drive theta_prox1=speed:2 --csv out.csv > ../fallback.out 2> ../fallback.err)
+status=$?
+[[ $status -eq 120 ]] || fail "fallback: exit $status, expected 120"
+[[ ! -s fallback.out && ! -s fallback.err && -z $(ls -A fallback) ]] || fail "fallback: said or wrote something"
+refused friction_on_none fivebar_robot "^fivebar_robot_simulate_view: error: --friction on: the model has no friction joints" \
+  --friction on --csv out.csv
+refused bad_option fivebar_robot "^fivebar_robot_simulate_view: error: " --no-such-option
+refused q0_count fivebar_robot "^fivebar_robot_simulate_view: error: --q0: bad value '1': expected 2 value\(s\)" \
+  --q0 1 --csv out.csv
+
+# a model without dynamics (the four-bar's kinematics), as its per-model stub says
+if [[ -d $models/mechgen_fourbar ]]; then
+  build fourbar
+  mkdir no_dynamics && (cd no_dynamics && "$view_tool" simulate "$root/fourbar.so" --csv out.csv > ../no_dynamics.out \
+    2> ../no_dynamics.err)
+  status=$?
+  [[ $status -eq 2 ]] || fail "no_dynamics: exit $status, expected 2"
+  grep -q "^fourbar: this model was generated without \`dynamics\`" no_dynamics.err || fail "no_dynamics: $(cat no_dynamics.err)"
+  [[ -z $(ls -A no_dynamics) ]] || fail "no_dynamics: wrote $(ls -A no_dynamics)"
+fi
+
+[[ $failures -eq 0 ]] && echo "mechgen_view simulate: all checks passed"
+exit $((failures > 0))

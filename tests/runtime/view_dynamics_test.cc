@@ -1,0 +1,200 @@
+// The dynamics instantiated once for the model view (issue 43: MinimalDynamics<ViewModel>,
+// Kinetostatics<ViewModel>, runtime/view/dynamics.cc) against the same source instantiated for
+// each generated model's type: the right-hand side of the equation of motion at several states
+// and a short integrated trajectory (every sample, the summary's counts), with the reactions of
+// the kinetostatics along it, compared to the bit. The oracle is the fixed-size instantiation,
+// which tests/dynamics holds against energy conservation, closed forms and a second method;
+// the view's functions call the same generated code and the runtime's arithmetic on the
+// bounded dynamic types is the fixed-size code of each size (products coefficient by
+// coefficient, the inertia's LDLT and Phi_phi's conditioning on fixed-size copies), so nothing
+// may differ, not even in the last bit. Models: a four-bar with massive links (the one-pass
+// M::Rhs stages), the slider-crank with a motor (M::Solve stages, switching loads, reactions;
+// its Coulomb friction off: not through the view yet) and the five-bar robot (two inputs: the
+// inertia a 2 x 2 LDLT). Part of model_test (no executable of its own).
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "mechgen/core/view_runtime.h"
+#include "mechgen/dynamics/forward.h"
+#include "mechgen/dynamics/kinetostatics.h"
+
+#ifdef MECHGEN_HAVE_fourbar_massive
+#include "fourbar_massive.h"
+namespace mech::fourbar_massive { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_slider_crank_motor
+#include "slider_crank_motor.h"
+namespace mech::slider_crank_motor { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_fivebar_robot
+#include "fivebar_robot.h"
+namespace mech::fivebar_robot { const mechgen::ModelView& View(); }
+#endif
+
+namespace mechgen::dynamics {
+namespace {
+
+// Same shape and the same bits in every entry (NaN included).
+template <class A, class B>
+::testing::AssertionResult SameBits(const char* what, const A& a, const B& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) {
+    return ::testing::AssertionFailure() << what << ": " << a.rows() << " x " << a.cols() << " vs " << b.rows()
+                                         << " x " << b.cols();
+  }
+  for (Eigen::Index j = 0; j < a.cols(); ++j) {
+    for (Eigen::Index i = 0; i < a.rows(); ++i) {
+      const double x = a(i, j), y = b(i, j);
+      if (std::memcmp(&x, &y, sizeof(double)) != 0) {
+        return ::testing::AssertionFailure() << what << "(" << i << ", " << j << "): " << x << " vs " << y
+                                             << " (difference " << (x - y) << ")";
+      }
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+::testing::AssertionResult SameBits(const char* what, double x, double y) {
+  if (std::memcmp(&x, &y, sizeof(double)) == 0) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << what << ": " << x << " vs " << y;
+}
+
+template <class SampleA, class SampleB>
+void ExpectSameSample(const SampleA& a, const SampleB& b, const std::string& where) {
+  SCOPED_TRACE(where);
+  EXPECT_TRUE(SameBits("t", a.t, b.t));
+  EXPECT_TRUE(SameBits("q", a.q, b.q));
+  EXPECT_TRUE(SameBits("qd", a.qd, b.qd));
+  EXPECT_TRUE(SameBits("qdd", a.qdd, b.qdd));
+  EXPECT_TRUE(SameBits("Q", a.Q, b.Q));
+  EXPECT_TRUE(SameBits("phi", a.phi, b.phi));
+  EXPECT_TRUE(SameBits("K", a.K, b.K));
+  EXPECT_TRUE(SameBits("T", a.T, b.T));
+  EXPECT_TRUE(SameBits("V", a.V, b.V));
+  EXPECT_TRUE(SameBits("E", a.E, b.E));
+  EXPECT_TRUE(SameBits("W", a.W, b.W));
+  EXPECT_TRUE(SameBits("P_nc", a.P_nc, b.P_nc));
+  EXPECT_TRUE(SameBits("rcond", a.rcond, b.rcond));
+  EXPECT_TRUE(SameBits("det", a.det, b.det));
+}
+
+// The right-hand side at states around the assembly (speeds of both signs, a time), then a
+// run of t_end seconds sampled every sample_dt, through MinimalDynamics<M> and
+// MinimalDynamics<ViewModel>, with both integrators.
+template <class M, template <int> class Method>
+void ExpectViewDynamicsSame(const ModelView& view, double t_end, double sample_dt) {
+  ASSERT_TRUE(ViewCompatible(view));
+  ASSERT_EQ(view.nq, M::kNq);
+  ASSERT_EQ(view.nphi, M::kNphi);
+  using Fixed = MinimalDynamics<M, Method>;
+  using Dynamic = MinimalDynamics<ViewModel, Method>;
+  const ViewModel model(view);
+  MinimalOptions options;
+  options.sample_dt = sample_dt;
+  options.coulomb.enabled = false;  // (not through the view yet)
+  Fixed fixed(typename Fixed::Params(), options);
+  Dynamic dynamic(model, ModelCalls<ViewModel>::DefaultParams(model), options);
+  constexpr int kNq = M::kNq;
+  typename Fixed::VecQ q0;
+  for (int i = 0; i < kNq; ++i) q0(i) = M::kAssemblyQ[i];
+  const typename Dynamic::VecQ q0_view = q0;
+  ASSERT_TRUE(fixed.Initialize(q0));
+  ASSERT_TRUE(dynamic.Initialize(q0_view));
+  EXPECT_EQ(fixed.StagesByRhs(), dynamic.StagesByRhs());
+  EXPECT_EQ(fixed.StagesByTrig(), dynamic.StagesByTrig());
+
+  // The right-hand side: (qd, qdd, P_nc) at (t, (q, qd, W)).
+  for (int k = 0; k < 6; ++k) {
+    typename Fixed::State y;
+    for (int i = 0; i < kNq; ++i) {
+      y(i) = q0(i) + 0.01 * (k - 2) * (i + 1);
+      y(kNq + i) = (k % 2 == 0 ? 1.5 : -0.7) * (k + 1) * (i % 2 == 0 ? 1 : -1);
+    }
+    y(2 * kNq) = 0.25 * k;
+    const double t = 0.05 * k;
+    const typename Dynamic::State y_view = y;
+    typename Fixed::State dy;
+    typename Dynamic::State dy_view;
+    const bool ok = fixed.Derivative(t, y, &dy);
+    ASSERT_EQ(ok, DerivativeOf(&dynamic, t, y_view, &dy_view)) << "state " << k;
+    if (ok) {
+      EXPECT_TRUE(SameBits(("dy at state " + std::to_string(k)).c_str(), dy, dy_view));
+    }
+    typename Fixed::SampleT s;
+    typename Dynamic::SampleT s_view;
+    ASSERT_EQ(fixed.Evaluate(t, y, &s), EvaluateAt(&dynamic, t, y_view, &s_view)) << "state " << k;
+    ExpectSameSample(s, s_view, "Evaluate at state " + std::to_string(k));
+  }
+
+  // A short trajectory from the assembly, with the kinetostatics along it.
+  typename Fixed::VecQ qd0;
+  for (int i = 0; i < kNq; ++i) qd0(i) = i % 2 == 0 ? 2.0 : -1.0;
+  const typename Dynamic::VecQ qd0_view = qd0;
+  Kinetostatics<M> kineto(typename Fixed::Params{});
+  Kinetostatics<ViewModel> kineto_view(model, ModelCalls<ViewModel>::DefaultParams(model));
+  ASSERT_TRUE(kineto.Initialize(q0));
+  ASSERT_TRUE(kineto_view.Initialize(q0_view));
+  std::vector<typename Fixed::SampleT> samples;
+  std::vector<typename Dynamic::SampleT> samples_view;
+  std::vector<KinetostaticsRow<M>> rows;
+  std::vector<KinetostaticsRow<ViewModel>> rows_view;
+  auto observer = [&](const typename Fixed::SampleT& s) {
+    samples.push_back(s);
+    rows.emplace_back();
+    kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &rows.back());
+    return true;
+  };
+  ViewSampleFn<Dynamic> observer_view = [&](const typename Dynamic::SampleT& s) {
+    samples_view.push_back(s);
+    rows_view.emplace_back();
+    kineto_view.Evaluate(s.t, s.q, s.qd, s.qdd, &rows_view.back());
+    return true;
+  };
+  MinimalSummary a, b;
+  typename Fixed::SampleT last;
+  typename Dynamic::SampleT last_view;
+  fixed.Simulate(0.0, q0, qd0, t_end, observer, &a, &last);
+  SimulateFree(&dynamic, 0.0, q0_view, qd0_view, t_end, observer_view, &b, &last_view);
+  EXPECT_EQ(a.status, Status::kSuccess) << FormatSummary(a);
+  EXPECT_EQ(FormatSummary(a), FormatSummary(b));  // every count and figure, as printed
+  EXPECT_EQ(a.integrator.steps, b.integrator.steps);
+  EXPECT_EQ(a.integrator.rhs_evaluations, b.integrator.rhs_evaluations);
+  EXPECT_EQ(a.switch_restarts, b.switch_restarts);
+  EXPECT_TRUE(SameBits("max_energy_error", a.max_energy_error, b.max_energy_error));
+  ASSERT_EQ(samples.size(), samples_view.size());
+  EXPECT_GE(samples.size(), 5u);
+  for (size_t k = 0; k < samples.size(); ++k) {
+    ExpectSameSample(samples[k], samples_view[k], "sample " + std::to_string(k));
+    EXPECT_EQ(rows[k].status, rows_view[k].status) << "sample " << k;
+    EXPECT_TRUE(SameBits("condition", rows[k].condition, rows_view[k].condition)) << "sample " << k;
+    EXPECT_TRUE(SameBits("drive", rows[k].statics.drive, rows_view[k].statics.drive)) << "sample " << k;
+    if constexpr (Kinetostatics<M>::kMayHaveReactions) {
+      EXPECT_TRUE(SameBits("R", rows[k].statics.R, rows_view[k].statics.R)) << "sample " << k;
+    }
+  }
+  ExpectSameSample(last, last_view, "last");
+}
+
+#ifdef MECHGEN_HAVE_fourbar_massive
+TEST(ViewDynamics, SameAsFixedFourbarMassive) {
+  ExpectViewDynamicsSame<mech::fourbar_massive::Model, Dopri5>(mech::fourbar_massive::View(), 0.5, 0.01);
+  ExpectViewDynamicsSame<mech::fourbar_massive::Model, Dop853>(mech::fourbar_massive::View(), 0.5, 0);
+}
+#endif
+#ifdef MECHGEN_HAVE_slider_crank_motor
+TEST(ViewDynamics, SameAsFixedSliderCrankMotor) {
+  ExpectViewDynamicsSame<mech::slider_crank_motor::Model, Dopri5>(mech::slider_crank_motor::View(), 0.5, 0.01);
+  ExpectViewDynamicsSame<mech::slider_crank_motor::Model, Dop853>(mech::slider_crank_motor::View(), 0.2, 0);
+}
+#endif
+#ifdef MECHGEN_HAVE_fivebar_robot
+TEST(ViewDynamics, SameAsFixedFivebarRobot) {
+  // (It falls under its weight into a dead point at t = 0.09 s.)
+  ExpectViewDynamicsSame<mech::fivebar_robot::Model, Dopri5>(mech::fivebar_robot::View(), 0.06, 0.002);
+  ExpectViewDynamicsSame<mech::fivebar_robot::Model, Dop853>(mech::fivebar_robot::View(), 0.06, 0);
+}
+#endif
+
+}  // namespace
+}  // namespace mechgen::dynamics
