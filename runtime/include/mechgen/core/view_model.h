@@ -221,7 +221,6 @@ struct ModelTypes<ViewModel, Scalar> {
   /// The generated Dynamics, Rhs, RhsConstants and Statics (Kinetostatics' output) as the
   /// dynamics read them: the view's buffer, and the members copied out of it at the view's
   /// sizes after each call (ModelCalls<ViewModel>::Dynamics, ...).
-  using MatQQ = Eigen::Matrix<double, D, D, 0, kMaxQ, kMaxQ>;
   using VecReactions = Eigen::Matrix<double, D, 1, 0, ModelView::kMaxReactions, 1>;
   using VecFriction = Eigen::Matrix<double, D, 1, 0, ModelView::kMaxFriction, 1>;
   using MatFrictionQ = Eigen::Matrix<double, D, D, 0, ModelView::kMaxFriction, kMaxQ>;
@@ -592,7 +591,7 @@ struct ModelCalls<ViewModel> {
   }
   static ViewSolveReport SolveTrig(const M& m, const ViewParams& p, const T::VecQ& q, const Modes& modes,
                                    Trig* trig) {
-    std::fill_n(trig->buffer.data(), m.trig_size, 0.0);
+    // (The view writes trig whole: nothing to initialize.)
     return m.view->SolveTrig(p.data(), q.data(), modes.data(), trig->buffer.data());
   }
   static void Prepare(const M& m, const ViewParams& p, T::RhsConstantsOut* rc) {
