@@ -2,24 +2,25 @@
 # The first answer of `mechgen <command> MODEL` on models never seen before (issue 43's
 # targets), beside the per-model program's (MECHGEN_VIEW=0) and the model kernel's own compile.
 #
-# usage: bench/first_answer.sh [build dir (default build)] [models... (default: fourbar
-#        slider_crank_friction watt_sixbar)]
+# usage: bench/first_answer.sh [build dir (default build)] [model:command ... (default:
+#        fourbar:sweep slider_crank_friction:statics slider_crank_motor:simulate watt_sixbar:sweep)]
 #
 # Each model file is copied outside the tree under a new name (a model never seen: the name
 # goes into the generated code, so no compiler cache can have it; CXX is unset, so no ccache),
 # with a fresh cache directory. Measured, wall clock, one run each on whatever the machine is
 # doing (say so beside the figures):
 #   kernel   g++ -O2 -c <name>.cc of the generated model (the floor of any first answer)
-#   first    the first `mechgen sweep` (generation, the model's object, the answer)
-#   second   a second command on the same model, other options (the object cached)
+#   first    the first `mechgen <command>` (generation, the model's object, the answer)
+#   second   a second command on the same model (a sweep with other options: the object cached)
 #   cached   the same command again
-#   per-model the first answer with MECHGEN_VIEW=0 (today's per-model program)
+#   per-model the first answer with MECHGEN_VIEW=0 (the per-model program)
 # Targets: first <= 5 s and <= kernel + 1 s; second <= 1 s; cached <= 0.2 s.
 set -uo pipefail
 build=$(realpath "${1:-build}")
 shift || true
 models=("$@")
-[[ ${#models[@]} -gt 0 ]] || models=(fourbar slider_crank_friction watt_sixbar)
+[[ ${#models[@]} -gt 0 ]] ||
+  models=(fourbar:sweep slider_crank_friction:statics slider_crank_motor:simulate watt_sixbar:sweep)
 source_dir=$(cd "$(dirname "$0")/.." && pwd)
 mechgen=$build/generator/mechgen
 [[ -x $mechgen ]] || { echo "error: no $mechgen: build first"; exit 1; }
@@ -44,8 +45,15 @@ timed() {  # timed <out var> <command...>: the wall time in s; the command's out
 }
 
 echo "first answers of mechgen on models never seen before ($(nproc) cores; load $(cut -d' ' -f1-3 /proc/loadavg))"
-printf '%-24s %8s %8s %8s %8s %10s   %s\n' model kernel first second cached per-model "targets: first <= 5 s and <= kernel + 1 s, second <= 1 s, cached <= 0.2 s"
-for model in "${models[@]}"; do
+printf '%-32s %8s %8s %8s %8s %10s   %s\n' "model: command" kernel first second cached per-model "targets: first <= 5 s and <= kernel + 1 s, second <= 1 s, cached <= 0.2 s"
+for pair in "${models[@]}"; do
+  model=${pair%%:*} command=${pair#*:}
+  case $command in
+    sweep) options=(--steps 360) ;;
+    statics) options=(--steps 360 --dead-zones) ;;
+    simulate) options=(--t-end 1 --dt 0.005 --friction off) ;;
+    *) echo "error: no command $command"; continue ;;
+  esac
   name="fa_${model}_${stamp}"
   dir=$work/$name
   mkdir -p "$dir"
@@ -55,15 +63,15 @@ for model in "${models[@]}"; do
   "$mechgen" generate "$name.yaml" --out-dir gen > /dev/null 2>&1 || { echo "error: cannot generate $model"; continue; }
   timed kernel c++ -O2 -std=c++17 -isystem /usr/include/eigen3 -c "gen/$name.cc" -o kernel.o || continue
   export MECHGEN_CACHE_DIR=$dir/cache
-  timed first "$mechgen" sweep "$name.yaml" --steps 360 --csv first.csv || continue
+  timed first "$mechgen" "$command" "$name.yaml" "${options[@]}" --csv first.csv || continue
   timed second "$mechgen" sweep "$name.yaml" --steps 90 --qd 2 --table 0 --csv second.csv || continue
   timed cached "$mechgen" sweep "$name.yaml" --steps 90 --qd 2 --table 0 --csv cached.csv || continue
   export MECHGEN_CACHE_DIR=$dir/cache_per_model
-  timed per_model env MECHGEN_VIEW=0 "$mechgen" sweep "$name.yaml" --steps 360 --csv per_model.csv || continue
-  cmp -s first.csv per_model.csv || echo "note: $model: the CSVs of the two routes differ"
+  timed per_model env MECHGEN_VIEW=0 "$mechgen" "$command" "$name.yaml" "${options[@]}" --csv per_model.csv || continue
+  cmp -s first.csv per_model.csv || echo "note: $model $command: the CSVs of the two routes differ"
   limit=$(python3 -c "import sys; print(min(5.0, float(sys.argv[1]) + 1.0))" "$kernel")
-  printf '%-24s %8s %8s %8s %8s %10s   first %s, second %s, cached %s\n' "$model" "$kernel" "$first" "$second" \
-    "$cached" "$per_model" "$(verdict "$first" "$limit")" "$(verdict "$second" 1)" "$(verdict "$cached" 0.2)"
+  printf '%-32s %8s %8s %8s %8s %10s   first %s, second %s, cached %s\n' "$model: $command" "$kernel" "$first" \
+    "$second" "$cached" "$per_model" "$(verdict "$first" "$limit")" "$(verdict "$second" 1)" "$(verdict "$cached" 0.2)"
   cd "$work" || exit 1
 done
-echo "(seconds, wall clock, one run each; commands through the view now: sweep; the others compile per model)"
+echo "(seconds, wall clock, one run each; through the view: sweep, statics, simulate; engine, flywheel, synthesize and study compile per model)"

@@ -972,13 +972,23 @@ int BuildView(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& gene
   std::cerr << "mechgen: compiling " << what << " (" << c.model_path
             << "; the runtime is compiled once; once, then cached)...\n";
   const auto compile_start = std::chrono::steady_clock::now();
+  // GCC makes the model's constants (static constexpr members: inline variables) STB_GNU_UNIQUE
+  // symbols, which bind every object that defines them to the first one loaded and keep it
+  // from ever being unloaded (dlclose): a model edited and loaded again would read the old
+  // one's constants. -fno-gnu-unique keeps each object's own (clang makes none).
+  std::vector<std::string> object_flags = {"-fPIC"};
+  if (t.compiler_identity.find("clang") == std::string::npos) object_flags.push_back("-fno-gnu-unique");
+  auto with = [&object_flags](std::vector<std::string> args) {
+    args.insert(args.begin(), object_flags.begin(), object_flags.end());
+    return args;
+  };
   std::vector<Job> jobs;
-  jobs.push_back({Command(t, {"-fPIC", "-isystem", t.eigen_include, "-c", (dir / (name + ".cc")).string(), "-o",
-                              (dir / "model.o").string()}),
+  jobs.push_back({Command(t, with({"-isystem", t.eigen_include, "-c", (dir / (name + ".cc")).string(), "-o",
+                                   (dir / "model.o").string()})),
                   dir / "model.log"});
-  jobs.push_back({Command(t, {"-fPIC", "-DMECHGEN_VIEW_ENTRY", "-I" + dir.string(), "-I" + t.runtime_include.string(),
-                              "-isystem", t.eigen_include, "-c", (dir / (name + "_view.cc")).string(), "-o",
-                              (dir / "view.o").string()}),
+  jobs.push_back({Command(t, with({"-DMECHGEN_VIEW_ENTRY", "-I" + dir.string(), "-I" + t.runtime_include.string(),
+                                   "-isystem", t.eigen_include, "-c", (dir / (name + "_view.cc")).string(), "-o",
+                                   (dir / "view.o").string()})),
                   dir / "view.log"});
   if (!RunJobs(&jobs, "compiling " + what, c.verbose)) return 1;
   std::vector<Job> link(1);
@@ -1000,6 +1010,7 @@ int BuildView(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& gene
 // or the model's shared object) and how it is run.
 struct Route {
   bool view = false;     // the model's object for mechgen_view (else the per-model program)
+  bool verbose = false;  // say what runs (--verbose)
   std::string folder;    // the cache's folder: the command's name, or "view"
   std::string artefact;  // the file built in the entry, checked against its record before use
   std::string what;      // the artefact in the messages: "sweep command", "model object"
@@ -1048,6 +1059,7 @@ int RunChild(const fs::path& program, const std::vector<std::string>& argv, bool
 int Launch(const Route& route, int fd, const fs::path& artefact) {
   if (route.view) {
     const auto [program, argv] = route.command(fs::path("/proc/self/fd/" + std::to_string(fd)));
+    if (route.verbose) std::cerr << "mechgen: " << Join(argv) << "\n";
     int status = 0;
     {
       SignalGuard guard;
@@ -1084,6 +1096,7 @@ int RunRoute(const Route& route, const ToolSpec& spec, const ToolCommand& c, boo
       status = route.build(dir);
       if (status == 0 && g_signal == 0) {
         const auto [program, argv] = route.command(dir / route.artefact);
+        if (route.verbose) std::cerr << "mechgen: " << Join(argv) << "\n";
         status = RunChild(program, argv, route.view, -1);
       }
     }  // the signal handlers restored, then the directory removed
@@ -1237,6 +1250,7 @@ int RunTool(const ToolCommand& c, const GenerateFn& generate) {
     // model, for every command that goes through the view).
     Route route;
     route.view = true;
+    route.verbose = c.verbose;
     route.folder = "view";
     route.artefact = "model.so";
     route.what = "model object";

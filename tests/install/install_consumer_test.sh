@@ -35,8 +35,15 @@ export MECHGEN_CACHE_DIR="$work/cache"
 "$work/prefix/bin/mechgen" sweep --verbose my_fourbar.yaml --steps 36 --csv out.csv --table 3 \
   > sweep.out 2> sweep.err || { cat sweep.err; exit 1; }
 grep -q -- "-I$work/prefix/include " sweep.err || { echo "not the installed headers:"; cat sweep.err; exit 1; }
-grep -q -- " $work/prefix/share/mechgen/tools/sweep_main.cc " sweep.err || { echo "not the installed driver:"; cat sweep.err; exit 1; }
+# the runtime compiled once, installed beside mechgen, runs the model's object
+grep -q -- "^mechgen: $work/prefix/bin/mechgen_view --name " sweep.err || { echo "not the installed mechgen_view:"; cat sweep.err; exit 1; }
 if grep -q -- "$source_dir/runtime" sweep.err; then echo "used the source tree:"; cat sweep.err; exit 1; fi
+# the per-model program (MECHGEN_VIEW=0) from the installed driver
+MECHGEN_VIEW=0 "$work/prefix/bin/mechgen" sweep --verbose my_fourbar.yaml --steps 36 --csv per_model.csv --table 3 \
+  > per_model.out 2> per_model.err || { cat per_model.err; exit 1; }
+grep -q -- " $work/prefix/share/mechgen/tools/sweep_main.cc " per_model.err || { echo "not the installed driver:"; cat per_model.err; exit 1; }
+if grep -q -- "$source_dir/runtime" per_model.err; then echo "used the source tree:"; cat per_model.err; exit 1; fi
+cmp out.csv per_model.csv || { echo "the two routes' CSVs differ"; exit 1; }
 [ "$(grep -vc '^#' out.csv)" -eq 38 ] || { echo "out.csv: $(grep -vc '^#' out.csv) lines, expected 38"; exit 1; }
 grep -q "^37/37 configurations converged" sweep.out || { cat sweep.out; exit 1; }
 "$work/prefix/bin/mechgen" sweep my_fourbar.yaml --steps 36 --csv again.csv > again.out 2> again.err ||

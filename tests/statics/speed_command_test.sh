@@ -72,7 +72,9 @@ done
 # The design derivatives are those of the statics at rest: not with a speed the loads read.
 "$mechgen" statics shaper_speed.yaml --speed 1 --design > design.out 2> design.err
 status=$?
-[ "$status" -eq 2 ] && [ "$(wc -l < design.err)" -eq 1 ] && grep -q "error: --design with --speed" design.err ||
+# (--design is not through the model view: mechgen may first say that it compiles the
+# per-model program; the error is the one line after its own.)
+[ "$status" -eq 2 ] && [ "$(grep -vc '^mechgen: ' design.err)" -eq 1 ] && grep -q "error: --design with --speed" design.err ||
   fail "--speed with --design: exit status $status: $(cat design.err)"
 [ "$failures" -ne "$before" ] || ok "the scans at rest, bad speeds and --design with --speed refused"
 

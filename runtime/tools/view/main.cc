@@ -1,7 +1,7 @@
 // mechgen_view [--name TEXT] COMMAND MODEL.so [the command's options]: a command of any model through the
 // runtime compiled once (issue 43). MODEL.so is a shared object built from a generated model's
 // <name>.cc and <name>_view.cc with -DMECHGEN_VIEW_ENTRY, e.g.
-//   g++ -O2 -shared -fPIC -DMECHGEN_VIEW_ENTRY -I<dir of name.h> -Iruntime/include
+//   g++ -O2 -shared -fPIC -fno-gnu-unique -DMECHGEN_VIEW_ENTRY -I<dir of name.h> -Iruntime/include
 //       -I/usr/include/eigen3 fourbar.cc fourbar_view.cc -o fourbar.so
 // (what `mechgen <command> MODEL` builds into its cache and runs this program on). It loads the
 // object (dlopen), takes its view from the entry point mechgen_model_view()
