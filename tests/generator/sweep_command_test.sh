@@ -40,6 +40,16 @@ cp "$source_dir/models/fourbar.yaml" fourbar.yaml
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 ok() { echo "ok $*"; }
+# damage truncate|flip <file> <size>: the file cut to half its size, or one byte changed at the
+# same size (only its SHA-256 tells).
+damage() {
+  if [ "$1" = truncate ]; then
+    truncate -s $(($3 / 2)) "$2"
+  else
+    printf '\x5a' | dd of="$2" bs=1 seek=$(($3 / 3)) conv=notrunc status=none
+    [ "$(stat -c %s "$2")" = "$3" ] || fail "$1: the size of $2 changed"
+  fi
+}
 entries() { find "$MECHGEN_CACHE_DIR/sweep" -mindepth 1 -maxdepth 1 -type d ! -name tmp 2>/dev/null | wc -l; }
 tmp_left() { find "$MECHGEN_CACHE_DIR/sweep/tmp" -mindepth 1 2>/dev/null | head -3; }
 
@@ -271,12 +281,7 @@ read -r recorded_size recorded_hash < "$program.sha256" || fail "no record besid
 [ "$recorded_size" = "$size" ] || fail "the record's size $recorded_size is not the program's $size"
 [ "$recorded_hash" = "$(sha256sum "$program" | cut -d' ' -f1)" ] || fail "the record's SHA-256 is not sha256sum's"
 for damage in truncate flip; do
-  if [ "$damage" = truncate ]; then
-    truncate -s $((size / 2)) "$program"
-  else
-    printf '\x5a' | dd of="$program" bs=1 seek=$((size / 3)) conv=notrunc status=none
-    [ "$(stat -c %s "$program")" = "$size" ] || fail "$damage: the size changed"
-  fi
+  damage "$damage" "$program" "$size"
   (cd a && "$mechgen" sweep ../fourbar.yaml "${options[@]}" --csv damaged.csv > ../t.out 2> ../t.err)
   status=$?
   [ "$status" -eq 0 ] || fail "$damage: exit status $status: $(cat t.err)"
@@ -394,11 +399,7 @@ size=$(stat -c %s "$object")
 read -r recorded_size _ < "$object.sha256" || fail "view: no record beside $object"
 [ "$recorded_size" = "$size" ] || fail "view: the record's size $recorded_size is not the object's $size"
 for damage in truncate flip; do
-  if [ "$damage" = truncate ]; then
-    truncate -s $((size / 2)) "$object"
-  else
-    printf '\x5a' | dd of="$object" bs=1 seek=$((size / 3)) conv=notrunc status=none
-  fi
+  damage "$damage" "$object" "$size"
   (cd v && "$mechgen" sweep ../fourbar.yaml "${view_options[@]}" --csv damaged.csv > ../vt.out 2> ../vt.err)
   status=$?
   [ "$status" -eq 0 ] || fail "view, $damage: exit status $status: $(cat vt.err)"

@@ -21,6 +21,8 @@
 
 #include <gtest/gtest.h>
 
+#include "view_test_util.h"
+
 #include "mechgen/core/view_runtime.h"  // statics/ for ViewModel: mechgen_runtime_view
 #include "mechgen/statics/columns.h"
 #include "mechgen/statics/dead_zones.h"
@@ -56,27 +58,7 @@ MECHGEN_DECLARE_MODEL_VIEW(fourbar)
 namespace mechgen::statics {
 namespace {
 
-// Same shape and the same bits in every entry (NaN included).
-template <class A, class B>
-::testing::AssertionResult SameBits(const char* what, const A& a, const B& b) {
-  if (a.rows() != b.rows() || a.cols() != b.cols()) {
-    return ::testing::AssertionFailure() << what << ": " << a.rows() << " x " << a.cols() << " vs " << b.rows()
-                                         << " x " << b.cols();
-  }
-  for (Eigen::Index j = 0; j < a.cols(); ++j) {
-    for (Eigen::Index i = 0; i < a.rows(); ++i) {
-      const double x = a(i, j), y = b(i, j);
-      if (std::memcmp(&x, &y, sizeof(double)) != 0) {
-        return ::testing::AssertionFailure() << what << "(" << i << ", " << j << "): " << x << " vs " << y;
-      }
-    }
-  }
-  return ::testing::AssertionSuccess();
-}
-::testing::AssertionResult SameBits(const char* what, double x, double y) {
-  if (std::memcmp(&x, &y, sizeof(double)) == 0) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << what << ": " << x << " vs " << y;
-}
+using view_test::SameBits;
 
 // Every member of a fixed-size solution against the view's (those the model has; the view's
 // others are empty).
