@@ -37,6 +37,17 @@
 #endif
 #include "mechgen/position/ceres_adapter.h"
 #include "mechgen/position/solver.h"
+#ifdef MECHGEN_BENCH_VIEW_ANALYSES
+#include <type_traits>
+
+#include "fourbar_massive.h"
+#include "slider_crank_friction.h"
+#include "mechgen/core/view_runtime.h"
+#include "mechgen/dynamics/forward.h"
+#include "mechgen/statics/sweep.h"
+MECHGEN_DECLARE_MODEL_VIEW(slider_crank_friction)
+MECHGEN_DECLARE_MODEL_VIEW(fourbar_massive)
+#endif
 #ifdef MECHGEN_BENCH_VIEW
 #include "mechgen/core/view_runtime.h"
 namespace mech::fourbar {
@@ -116,6 +127,92 @@ void MechgenContinuationView(benchmark::State& state) {
   if (summary.status != mechgen::position::Status::kConverged) state.SkipWithError("step failed");
 }
 BENCHMARK(MechgenContinuationView);
+#endif
+
+#ifdef MECHGEN_BENCH_VIEW_ANALYSES
+// A statics row and a simulation's right-hand side, fixed-size and through the view (issue 43:
+// each within 1.15x): the statics sweep of slider_crank_friction (Coulomb friction in four
+// joints; each row the position step and the statics with its friction iteration, forward and
+// backward) over its range in 360 steps, per iteration of the benchmark; the right-hand side
+// (qd, qdd, P_nc) of fourbar_massive's minimal equations at one state.
+template <bool kView>
+void StaticsRows(benchmark::State& state) {
+  using M = mech::slider_crank_friction::Model;
+  using Model = std::conditional_t<kView, mechgen::ViewModel, M>;
+  const Model model = [] {
+    if constexpr (kView) {
+      return mechgen::ViewModel(mech::slider_crank_friction::View());
+    } else {
+      return M();
+    }
+  }();
+  using T = mechgen::ModelTypes<Model>;
+  mechgen::position::PositionSolver<Model> solver(model);
+  if (solver.AssembleDefault(nullptr) != mechgen::position::Status::kConverged) {
+    state.SkipWithError("assembly failed");
+    return;
+  }
+  const typename T::VecQ q0 = Eigen::Map<const typename T::VecQ>(mechgen::ModelCalls<Model>::QMin(model), 1);
+  const typename T::VecQ q1 = Eigen::Map<const typename T::VecQ>(mechgen::ModelCalls<Model>::QMax(model), 1);
+  int failures = 0;
+  for (auto _ : state) {
+    if constexpr (kView) {
+      mechgen::statics::ViewStaticsRowFn row = [](int, const mechgen::statics::StaticsRecord<mechgen::ViewModel>& r) {
+        benchmark::DoNotOptimize(r);
+      };
+      failures += mechgen::statics::StaticsSweepRows(mechgen::statics::Options(), &solver, q0, q1, 360,
+                                                     mechgen::SweepOptions(), nullptr, row);
+    } else {
+      auto row = [](int, const mechgen::statics::StaticsRecord<M>& r) { benchmark::DoNotOptimize(r); };
+      failures += mechgen::statics::StaticsSweepRows(mechgen::statics::Options(), &solver, q0, q1, 360,
+                                                     mechgen::SweepOptions(), nullptr, row);
+    }
+  }
+  if (failures != 0) state.SkipWithError("rows failed");
+  state.SetItemsProcessed(state.iterations() * 361);  // items: rows
+}
+BENCHMARK_TEMPLATE(StaticsRows, false)->Name("StaticsRows");
+BENCHMARK_TEMPLATE(StaticsRows, true)->Name("StaticsRowsView");
+
+template <bool kView>
+void RightHandSide(benchmark::State& state) {
+  using M = mech::fourbar_massive::Model;
+  using Model = std::conditional_t<kView, mechgen::ViewModel, M>;
+  using Sim = mechgen::dynamics::MinimalDynamics<Model, mechgen::dynamics::Dopri5>;
+  mechgen::dynamics::MinimalOptions options;
+  options.coulomb.enabled = false;
+  auto make = [&options] {
+    if constexpr (kView) {
+      const mechgen::ViewModel model(mech::fourbar_massive::View());
+      return Sim(model, mechgen::ModelCalls<mechgen::ViewModel>::DefaultParams(model), options);
+    } else {
+      return Sim(typename Sim::Params(), options);
+    }
+  };
+  Sim sim = make();
+  typename Sim::VecQ q0 = Sim::VecQ::Constant(1, M::kAssemblyQ[0]);
+  if (!sim.Initialize(q0)) {
+    state.SkipWithError("initialize failed");
+    return;
+  }
+  typename Sim::State y = Sim::State::Zero(3), dy = Sim::State::Zero(3);
+  y(0) = q0(0);
+  y(1) = 2.0;
+  long k = 0;
+  for (auto _ : state) {
+    y(0) = q0(0) + 1e-3 * static_cast<double>(k++ % 1000);  // a nearby configuration each time
+    bool ok = false;
+    if constexpr (kView) {
+      ok = mechgen::dynamics::DerivativeOf(&sim, 0.0, y, &dy);
+    } else {
+      ok = sim.Derivative(0.0, y, &dy);
+    }
+    benchmark::DoNotOptimize(ok);
+    benchmark::DoNotOptimize(dy);
+  }
+}
+BENCHMARK_TEMPLATE(RightHandSide, false)->Name("RightHandSide");
+BENCHMARK_TEMPLATE(RightHandSide, true)->Name("RightHandSideView");
 #endif
 
 #ifdef MECHGEN_BENCH_MODEL_INCLUDE
