@@ -7,9 +7,9 @@
 // counts, the dead zones and the equilibria, and writes the outputs whole or not at all. Exit
 // statuses as statics_main.cc says.
 //
-// --params/--set read the view's parameter table (common/view_params.h). Through the view, not
-// yet: --svg (statics/svg.h reads the generated model's constants) and --design (the statics'
-// design derivatives): each is refused (common/not_through_view.h: a usage error naming the
+// --params/--set read the view's parameter table (common/view_params.h); --svg draws from the
+// model's description (statics/svg.h, io/svg.h). Through the view, not yet: --design (the
+// statics' design derivatives), refused (common/not_through_view.h: a usage error naming the
 // per-model tool that has it, or for mechgen the fallback to that tool) before anything is
 // computed or written.
 #pragma once
@@ -142,7 +142,6 @@ int RunStatics(const M& model, const Arguments& args) {
                 << "' was generated without statics; add `forces` to its outputs' quantities\n";
       return kExitUsage;
     }
-    if (!args.svg_path.empty()) return tools::NotThroughView(tool, "--svg: the statics' drawing is", name, "statics");
     if (args.design) return tools::NotThroughView(tool, "--design: the design derivatives are", name, "statics");
   }
   const int steps = static_cast<int>(args.steps), samples = static_cast<int>(args.samples);
@@ -325,9 +324,7 @@ int RunStatics(const M& model, const Arguments& args) {
       table_records.push_back(r);
       ++next_table;
     }
-    if constexpr (!C::kView) {
-      if (!svg_path.empty()) svg_records.push_back(r);
-    }
+    if (!svg_path.empty()) svg_records.push_back(r);
     singular += r.status == statics::Status::kSingular;
     evaluations += r.evaluations;
     if (r.status != statics::Status::kConverged && failed_rows.size() < 3) failed_rows.push_back(r);
@@ -424,17 +421,15 @@ int RunStatics(const M& model, const Arguments& args) {
     }
   }
 
-  if constexpr (!C::kView) {
-    if (!svg_path.empty()) {
-      if (!svg.Open(svg_path, &error)) return failed();
-      mechgen::SvgOptions svg_options;
-      svg_options.animate = args.animate;
-      svg_options.snapshots = static_cast<int>(args.snapshots);
-      svg_options.title = std::string("mechgen statics: ") + name;
-      if (reads_speed)
-        svg_options.title += " at --speed (the reactions at that speed; the loads drawn at rest)";
-      statics::WriteStaticsSvg(solver.params(), svg_records, svg_options, svg.stream());
-    }
+  if (!svg_path.empty()) {
+    if (!svg.Open(svg_path, &error)) return failed();
+    mechgen::SvgOptions svg_options;
+    svg_options.animate = args.animate;
+    svg_options.snapshots = static_cast<int>(args.snapshots);
+    svg_options.title = std::string("mechgen statics: ") + name;
+    if (reads_speed)
+      svg_options.title += " at --speed (the reactions at that speed; the loads drawn at rest)";
+    statics::WriteStaticsSvg(model, solver.params(), svg_records, svg_options, svg.stream());
   }
   if ((!csv_path.empty() && !csv.Close(&error)) || (!svg_path.empty() && !svg.Close(&error)) ||
       (!csv_path.empty() && !csv.Commit(&error)) || (!svg_path.empty() && !svg.Commit(&error))) {

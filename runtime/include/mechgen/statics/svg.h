@@ -43,8 +43,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <ostream>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "mechgen/io/format.h"
@@ -109,23 +112,79 @@ class LabelPlacer {
 
 }  // namespace internal
 
+/// The applied loads, springs and weights of a model as the force diagram reads them: their
+/// number, names, kinds and units, and AppliedLoads at a configuration (7 x number: the point,
+/// the other end, the force, the value), from a generated Model or from its view.
+template <class M>
+struct AppliedLoadsOf {
+  using Types = ModelTypes<M>;
+  int count = 0;
+  std::vector<std::string> names, units;
+  std::vector<int> kinds;
+  std::function<void(const typename Types::VecQ&, const typename Types::VecPhi&, Eigen::Matrix<double, 7, Eigen::Dynamic>*)>
+      evaluate;
+};
+
+template <class M>
+AppliedLoadsOf<M> DescribeAppliedLoads(const M& model, const typename ModelTypes<M>::Params& params) {
+  using Types = ModelTypes<M>;
+  AppliedLoadsOf<M> a;
+  if constexpr (ModelCalls<M>::kView) {
+    const ModelView* v = model.view;
+    if (!v->flags.kHasAppliedLoads || v->AppliedLoads == nullptr || v->num_applied_loads <= 0) return a;
+    a.count = v->num_applied_loads;
+    for (int l = 0; l < a.count; ++l) {
+      a.names.emplace_back(v->applied_load_names[l]);
+      a.units.emplace_back(v->applied_load_units[l]);
+      a.kinds.push_back(v->applied_load_kind[l]);
+    }
+    a.evaluate = [v, params](const typename Types::VecQ& q, const typename Types::VecPhi& phi,
+                             Eigen::Matrix<double, 7, Eigen::Dynamic>* out) {
+      out->setZero(7, v->num_applied_loads);
+      v->AppliedLoads(params.data(), q.data(), phi.data(), out->data());
+    };
+  } else if constexpr (internal::HasAppliedLoads<M>::value) {
+    (void)model;
+    a.count = M::kNumAppliedLoads;
+    for (int l = 0; l < a.count; ++l) {
+      a.names.emplace_back(M::kAppliedLoadNames[static_cast<size_t>(l)]);
+      a.units.emplace_back(M::kAppliedLoadUnits[static_cast<size_t>(l)]);
+      a.kinds.push_back(M::kAppliedLoadKind[static_cast<size_t>(l)]);
+    }
+    a.evaluate = [params](const typename Types::VecQ& q, const typename Types::VecPhi& phi,
+                          Eigen::Matrix<double, 7, Eigen::Dynamic>* out) {
+      Eigen::Matrix<double, 7, M::kNumAppliedLoads> applied;
+      M::template AppliedLoads<double>(params, q, phi, &applied);
+      *out = applied;
+    };
+  } else {
+    (void)model, (void)params;
+  }
+  return a;
+}
+
 /**
  * \brief Writes the SVG of io/svg.h for the sweep's configurations with the reaction arrows
  *        and the applied loads, springs and weights of the snapshots (options.snapshots of them).
+ * \param[in] model    The model (a generated Model, or a ViewModel).
  * \param[in] params   Parameters the sweep ran with.
  * \param[in] records  The statics sweep.
  */
 template <class M>
-void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
-                     const std::vector<StaticsRecord<M>>& records, SvgOptions options,
-                     std::ostream& out) {
+void WriteStaticsSvg(const M& model, const typename ModelTypes<M>::Params& params,
+                     const std::vector<StaticsRecord<M>>& records, SvgOptions options, std::ostream& out) {
+  using C = ModelCalls<M>;
   std::vector<SweepRecord<M>> kinematics;
   kinematics.reserve(records.size());
   for (const StaticsRecord<M>& r : records) kinematics.push_back(r.kinematics);
-  constexpr bool kReactions = StaticsFeatures<M>::kHasReactions && ModelFeatures<M>::kHasScene;
-  constexpr bool kApplied = internal::HasAppliedLoads<M>::value && ModelFeatures<M>::kHasScene;
-  constexpr int kNumApplied = internal::NumAppliedLoads<M>::value;
-  using Applied = Eigen::Matrix<double, 7, kNumApplied>;
+  const ::mechgen::internal::SvgModel<M> d = ::mechgen::internal::DescribeForSvg(model, params);
+  const AppliedLoadsOf<M> loads = DescribeAppliedLoads(model, params);
+  // What the model has at compile time (a view: everything), then what this one has.
+  constexpr bool kMayHaveReactions = StaticsFeatures<M>::kHasReactions && ModelFeatures<M>::kHasScene;
+  const bool kReactions = kMayHaveReactions && C::HasReactions(model) && d.has_scene;
+  const bool kApplied = loads.count > 0 && d.has_scene;
+  const int kNumApplied = loads.count;
+  using Applied = Eigen::Matrix<double, 7, Eigen::Dynamic>;
   // Revolute joints with a scene point of the same name: (x index, y index, scene point).
   struct Arrow {
     std::string joint;
@@ -133,19 +192,21 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
     std::string who;  ///< ": force of <link a> on <link b>" when the model names the links
   };
   std::vector<Arrow> arrows;
-  if constexpr (kReactions) {
-    for (const ReactionJoint& j : ReactionJoints<M>()) {
-      if (j.x < 0 || j.y < 0) continue;
-      for (int s = 0; s < M::kNumScenePoints; ++s) {
-        if (j.joint == ::mechgen::internal::ShortName(M::kScenePointNames[s])) {
-          std::string who;
-          if constexpr (internal::HasJointLinks<M>::value) {
-            const int joint = M::kReactionJoint[j.x];
-            who = std::string(": force of ") + M::kLinkNames[M::kDrawJointLinkA[joint]] + " on " +
-                  M::kLinkNames[M::kDrawJointLinkB[joint]];
+  if constexpr (kMayHaveReactions) {
+    if (kReactions) {
+      for (const ReactionJoint& j : ReactionJoints<M>(model)) {
+        if (j.x < 0 || j.y < 0) continue;
+        for (int s = 0; s < d.num_scene_points; ++s) {
+          if (j.joint == ::mechgen::internal::ShortName(d.scene_point_names[s])) {
+            std::string who;
+            if (C::HasJointLinks(model)) {
+              const int joint = C::ReactionJoint(model, j.x);
+              who = std::string(": force of ") + C::LinkName(model, C::DrawJointLinkA(model, joint)) + " on " +
+                    C::LinkName(model, C::DrawJointLinkB(model, joint));
+            }
+            arrows.push_back({j.joint, j.x, j.y, s, who});
+            break;
           }
-          arrows.push_back({j.joint, j.x, j.y, s, who});
-          break;
         }
       }
     }
@@ -153,33 +214,31 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
   options.overlay = [&](const SvgFrame& frame, std::ostream& svg) {
     (void)frame;
     (void)svg;
-    if constexpr (kReactions || kApplied) {
+    if (kReactions || kApplied) {
       auto converged = [&](size_t index) {
         return records[index].frictionless.summary.status == Status::kConverged;
       };
       // The applied loads of each snapshot (none without them).
-      std::vector<Applied> applied(frame.snapshots.size(), Applied::Zero());
-      if constexpr (kApplied) {
+      std::vector<Applied> applied(frame.snapshots.size(), Applied::Zero(7, kNumApplied));
+      if (kApplied) {
         for (size_t i = 0; i < frame.snapshots.size(); ++i)
           if (converged(frame.snapshots[i])) {
             const auto& state = records[frame.snapshots[i]].kinematics.state;
-            M::template AppliedLoads<double>(params, state.q, state.phi, &applied[i]);
+            loads.evaluate(state.q, state.phi, &applied[i]);
           }
       }
       double largest_reaction = 0, largest = 0;
       for (size_t i = 0; i < frame.snapshots.size(); ++i) {
         if (!converged(frame.snapshots[i])) continue;
-        if constexpr (kReactions) {
+        if constexpr (kMayHaveReactions) {
           const StaticsRecord<M>& r = records[frame.snapshots[i]];
           for (const Arrow& a : arrows)
             largest_reaction = std::max(largest_reaction, std::hypot(r.frictionless.statics.R(a.x),
                                                                      r.frictionless.statics.R(a.y)));
         }
         for (int l = 0; l < kNumApplied; ++l)
-          if constexpr (kApplied) {
-            if (M::kAppliedLoadKind[l] == 0 || M::kAppliedLoadKind[l] == 4)
-              largest = std::max(largest, std::hypot(applied[i](4, l), applied[i](5, l)));
-          }
+          if (loads.kinds[static_cast<size_t>(l)] == 0 || loads.kinds[static_cast<size_t>(l)] == 4)
+            largest = std::max(largest, std::hypot(applied[i](4, l), applied[i](5, l)));
       }
       largest = std::max(largest, largest_reaction);
       const bool scaled = largest > 0 && std::isfinite(largest);
@@ -192,8 +251,8 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
       auto Y = [&frame](double y) { return (frame.y_max - y) * frame.scale + 30; };
       internal::LabelPlacer labels(options.width);
       labels.Reserve(0, 24, options.width, 24);  // the title
-      if constexpr (ModelFeatures<M>::kHasPoints)  // io/svg.h's legend of the paths (top right)
-        labels.Reserve(options.width - 198, 18.0 + 18 * M::kNumPoints, 190, 10.0 + 18 * M::kNumPoints);
+      if (d.has_points)  // io/svg.h's legend of the paths (top right)
+        labels.Reserve(options.width - 198, 18.0 + 18 * d.num_points, 190, 10.0 + 18 * d.num_points);
       const bool several = frame.snapshots.size() > 1;
       // The legend's lines, from y = 40 down: the reactions, their scale, the applied loads,
       // the labels' note.
@@ -247,25 +306,25 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
       };
       // The label of a snapshot: at the last scene point of a moving link.
       int label_point = -1;
-      for (int s = 0; s < M::kNumScenePoints; ++s)
-        if (M::kScenePointLink[s] != M::kGroundLink) label_point = s;
+      for (int s = 0; s < d.num_scene_points; ++s)
+        if (d.scene_point_link[s] != d.ground) label_point = s;
       for (size_t i = 0; i < frame.snapshots.size(); ++i) {
         const StaticsRecord<M>& r = records[frame.snapshots[i]];
         if (!converged(frame.snapshots[i])) continue;
-        typename ModelTypes<M>::MatScene scene;
-        M::template Scene<double>(params, r.kinematics.state.q, r.kinematics.state.phi, &scene);
+        Eigen::Matrix2Xd scene;
+        d.scene(r.kinematics.state.q, r.kinematics.state.phi, &scene);
         std::string q_data, q_text;
-        for (int j = 0; j < M::kNq; ++j) {
+        for (int j = 0; j < C::Nq(model); ++j) {
           const double q = r.kinematics.state.q(j);
           q_data += (j ? " " : "") + ::mechgen::internal::FormatNumber(q, "%.17g");
-          q_text += std::string(j ? ", " : "") + M::kQNames[j] + " = " +
-                    (M::kQIsAngle[j] ? number(q * ::mechgen::internal::kRadToDeg) + " deg"
-                                     : number(q) + " m");
+          q_text += std::string(j ? ", " : "") + C::QName(model, j) + " = " +
+                    (C::QIsAngle(model, j) ? number(q * ::mechgen::internal::kRadToDeg) + " deg"
+                                           : number(q) + " m");
         }
         svg << "<g class=\"snapshot\" data-q=\"" << q_data << "\">\n";
         if (label_point >= 0)
           label("input", X(scene(0, label_point)) + 8, Y(scene(1, label_point)) - 8, q_text, "#333", 11);
-        if constexpr (kReactions) {
+        if constexpr (kMayHaveReactions) {
           for (const Arrow& a : arrows) {
             const double x = scene(0, a.point), y = scene(1, a.point);
             const double fx = r.frictionless.statics.R(a.x), fy = r.frictionless.statics.R(a.y);
@@ -280,11 +339,12 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
                   "F_" + a.joint + " " + number(magnitude) + " N", "#c00", 10);
           }
         }
-        if constexpr (kApplied) {
+        if (kApplied) {
           const Applied& A = applied[i];
           for (int l = 0; l < kNumApplied; ++l) {
-            const int kind = M::kAppliedLoadKind[l];
-            const std::string name = M::kAppliedLoadNames[l], unit = M::kAppliedLoadUnits[l];
+            const int kind = loads.kinds[static_cast<size_t>(l)];
+            const std::string& name = loads.names[static_cast<size_t>(l)];
+            const std::string& unit = loads.units[static_cast<size_t>(l)];
             const double x = A(0, l), y = A(1, l), value = A(6, l);
             const std::string at = ::mechgen::internal::FormatNumber(x, "%.17g") + " " +
                                    ::mechgen::internal::FormatNumber(y, "%.17g");
@@ -352,7 +412,14 @@ void WriteStaticsSvg(const typename ModelTypes<M>::Params& params,
             << " N (force scale: " << number(1 / per_unit) << " N per model length unit)</text></g>\n";
     }
   };
-  WriteSvg<M>(params, kinematics, options, out);
+  WriteSvg(model, params, kinematics, options, out);
+}
+
+/// WriteStaticsSvg of a generated model M (an empty tag).
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
+void WriteStaticsSvg(const typename ModelTypes<M>::Params& params, const std::vector<StaticsRecord<M>>& records,
+                     SvgOptions options, std::ostream& out) {
+  WriteStaticsSvg(M(), params, records, std::move(options), out);
 }
 
 }  // namespace mechgen::statics
