@@ -369,13 +369,11 @@ struct ModelCalls<ViewModel> {
                   T::MatCQ* Phi_q) {
     ModelCalls::Phi(m, p, T::VecQ(q), T::VecPhi(phi), Phi, Phi_phi, Phi_q);
   }
-  static void Coeffs(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
-                     T::Coefficients* c, const Trig* trig = nullptr) {
+  /// Each member of c a map of its buffer at the view's sizes (empty where the model lacks it).
+  static void MapCoefficients(const M& m, T::Coefficients* c) {
     const ModelView& v = *m.view;
     const ViewModel::CoefficientsLayout& l = m.coefficients;
     double* const buffer = c->buffer.data();
-    // (The view writes Coefficients whole: the buffer is not read, nothing to initialize.)
-    v.Coeffs(p.data(), q.data(), phi.data(), buffer, trig != nullptr && HasTrig(m) ? trig->buffer.data() : nullptr);
     const int nq = v.nq, nphi = v.nphi, np = v.num_points;
     using Map = T::Coefficients::Map;
     auto get = [buffer](int offset, Map* x, int rows, int cols) {
@@ -388,6 +386,14 @@ struct ModelCalls<ViewModel> {
     get(l.r_P, &c->r_P, 2, np);
     get(l.K_P, &c->K_P, 2 * np, nq);
     get(l.L_P, &c->L_P, 2 * np, nq * nq);
+  }
+  static void Coeffs(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                     T::Coefficients* c, const Trig* trig = nullptr) {
+    const ModelView& v = *m.view;
+    double* const buffer = c->buffer.data();
+    // (The view writes Coefficients whole: the buffer is not read, nothing to initialize.)
+    v.Coeffs(p.data(), q.data(), phi.data(), buffer, trig != nullptr && HasTrig(m) ? trig->buffer.data() : nullptr);
+    MapCoefficients(m, c);
   }
   template <class Mu>
   static void TransmissionAngles(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, Mu* mu) {
@@ -454,7 +460,6 @@ struct ModelCalls<ViewModel> {
   /// buffer and its maps, as Coeffs sets them (ModelCalls<M>::StaticsCoefficients).
   template <class State>
   static void StaticsCoefficients(const M& m, const State& s, T::Coefficients* c) {
-    const ModelView& v = *m.view;
     const ViewModel::CoefficientsLayout& l = m.coefficients;
     double* const buffer = c->buffer.data();
     std::fill_n(buffer, l.size, 0.0);
@@ -467,18 +472,7 @@ struct ModelCalls<ViewModel> {
     if (HasPoints(m)) put(l.r_P, s.r_P);
     if (HasPointVelocities(m)) put(l.K_P, s.K_P);
     if (HasPointAccelerations(m)) put(l.L_P, s.L_P);
-    const int nq = v.nq, nphi = v.nphi, np = v.num_points;
-    using Map = T::Coefficients::Map;
-    auto get = [buffer](int offset, Map* x, int rows, int cols) {
-      if (offset >= 0) new (x) Map(buffer + offset, rows, cols);  // (a Map is trivially destructible)
-    };
-    get(l.Phi, &c->Phi, v.nc, 1);
-    get(l.Phi_phi, &c->Phi_phi, v.nc, nphi);
-    get(l.K, &c->K, nphi, nq);
-    get(l.L, &c->L, nphi, nq * nq);
-    get(l.r_P, &c->r_P, 2, np);
-    get(l.K_P, &c->K_P, 2 * np, nq);
-    get(l.L_P, &c->L_P, 2 * np, nq * nq);
+    MapCoefficients(m, c);
   }
   /// Model::Stiffness through the view (d2V_dq2 and stiffness), where the model has it.
   static void Stiffness(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
