@@ -1017,7 +1017,6 @@ struct Route {
   std::string key;       // the entry's name
   std::function<int(const fs::path& dir)> build;         // into a fresh directory
   std::function<int(const fs::path& dir)> check;         // an entry before use (may be empty)
-  std::function<fs::path(const fs::path& folder)> args_object;  // (the per-model route's)
   // The program to run and its argv for the artefact at `path` (a child, or exec'd).
   std::function<std::pair<fs::path, std::vector<std::string>>(const fs::path& path)> command;
 };
@@ -1275,13 +1274,15 @@ int RunTool(const ToolCommand& c, const GenerateFn& generate) {
     route.artefact = spec.name;
     route.what = spec.name + " command";
     route.key = EntryKey(spec, model_bytes, c.templates, t);
-    route.args_object = [&spec, &t](const fs::path& folder) {
-      return spec.separate_args ? folder / ("args-" + ArgsKey(t) + ".o") : fs::path();
-    };
+    // The sweep's CLI11 object, kept for later models in the cache's folder (cached runs only:
+    // --no-cache and an unreadable model keep nothing).
+    fs::path args_object;
+    fs::path root;
+    if (spec.separate_args && !c.no_cache && readable && CacheRoot(c.cache_dir, &root))
+      args_object = root / spec.name / ("args-" + ArgsKey(t) + ".o");
     route.build = [&](const fs::path& dir) {
       std::string name;
-      return Build(spec, c, generate, t, model_bytes, dir, route.args_object(dir.parent_path().parent_path()),
-                   &name);
+      return Build(spec, c, generate, t, model_bytes, dir, args_object, &name);
     };
     route.command = [&c](const fs::path& program) { return std::make_pair(program, DriverArgv(c)); };
     return RunRoute(route, spec, c, readable);

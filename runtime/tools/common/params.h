@@ -158,6 +158,15 @@ bool ApplyParameters(const ParameterOptions& options, P* params, std::string* er
   return params_internal::Apply(options, params_internal::GeneratedTable<P>{params}, error);
 }
 
+namespace params_internal {
+/// Appends "name = now (default was)" to a ChangedParameters text when now differs from was.
+inline void AppendChanged(std::string* text, const char* name, double now, double was) {
+  if (now == was) return;
+  *text += (text->empty() ? "" : ", ") + std::string(name) + " = " + FormatNumber(now) + " (default " +
+           FormatNumber(was) + ")";
+}
+}  // namespace params_internal
+
 /// "a = 0.12 (default 0.1), mu = 0.15 (default 0.1)": the parameters that differ from the
 /// model's defaults, for the tools' summaries; empty when none does.
 template <class P>
@@ -165,12 +174,7 @@ std::string ChangedParameters(const P& params) {
   P defaults;
   P current = params;
   std::string text;
-  for (const char* n : P::kNames) {
-    const double now = *current.Find(n), was = *defaults.Find(n);
-    if (now == was) continue;
-    text += (text.empty() ? "" : ", ") + std::string(n) + " = " + FormatNumber(now) + " (default " +
-            FormatNumber(was) + ")";
-  }
+  for (const char* n : P::kNames) params_internal::AppendChanged(&text, n, *current.Find(n), *defaults.Find(n));
   return text;
 }
 

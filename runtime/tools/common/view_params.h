@@ -59,12 +59,9 @@ std::string ChangedModelParameters(const M& model, const typename ModelTypes<M>:
   if constexpr (ModelCalls<M>::kView) {
     const ModelView& v = *model.view;
     std::string text;
-    for (int i = 0; i < v.num_free_params; ++i) {
-      const double now = params.values[static_cast<size_t>(i)], was = v.params[i].default_value;
-      if (now == was) continue;
-      text += (text.empty() ? "" : ", ") + std::string(v.params[i].name) + " = " + FormatNumber(now) +
-              " (default " + FormatNumber(was) + ")";
-    }
+    for (int i = 0; i < v.num_free_params; ++i)
+      params_internal::AppendChanged(&text, v.params[i].name, params.values[static_cast<size_t>(i)],
+                                     v.params[i].default_value);
     return text;
   } else {
     (void)model;
