@@ -17,8 +17,9 @@
 # (dynamics brings K, L, forces, potential; shaking brings dynamics). A tool left out of the
 # build (the test command builds only the tools some test runs) is not run: the macro of the
 # model's manifest (<models binary dir>/mechgen_<model>/<model>_manifest.h) that its `#if`
-# reads must be 1 exactly when the quantities allow the tool (the sweep has no stub and is
-# always built here).
+# reads must be 1 exactly when the quantities allow the tool; the sweep has no stub (no `#if`):
+# left out, its manifest's MECHGEN_MODEL_TOOL_SWEEP must be 1 (the tests that want a shipped
+# model's sweep run it through mechgen_view; of the sweeps only those some test runs are built).
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2") models_dir=$(realpath "$3") models=$4
 shift 4
@@ -88,7 +89,8 @@ for model in "${shipped[@]}"; do
     if [ "${left_out[$model:$tool]}" = 1 ]; then
       manifest="$models_dir/mechgen_$model/${model}_manifest.h"
       macro=${need[$model:$tool]}
-      if [ "$tool" = sweep ] || [ -z "$macro" ]; then
+      [ "$tool" = sweep ] && macro=MECHGEN_MODEL_TOOL_SWEEP
+      if [ -z "$macro" ]; then
         fail "${model}_$tool is left out of the build and has no manifest macro to check"
       elif ! value=$(grep -oP "^#define $macro \K[01]$" "$manifest"); then
         fail "${model}_$tool: no '#define $macro 0|1' in $manifest"

@@ -5,6 +5,7 @@
 # outside the source tree on copies of the shipped models, with a private cache.
 # usage: tool_commands_test.sh <mechgen> <source dir> <slider_crank_friction_statics>
 #                              <slider_crank_motor_simulate> <engine_single_engine>
+#                              <mechgen_view> <fourbar_balanced.so>
 #   - a model without what the tool needs (fourbar: no `forces`, no `dynamics`): exit 1, one
 #     line naming the quantity to add, nothing compiled, no cache entry;
 #   - statics (through the runtime compiled once: the model's object in view/): the first run
@@ -17,14 +18,15 @@
 #   - parameters at run time: slider_crank_friction_statics with --set a=0.12 --set mu_s=0.3
 #     (and the same from a --params file) gives byte for byte the CSV and SVG of `mechgen
 #     statics` on a copy of the model with those two values edited by hand; an unknown name
-#     (the parameters listed), a derived parameter (fourbar_balanced_sweep --set W2x=...), a
+#     (the parameters listed), a derived parameter (fourbar_balanced's sweep --set W2x=...,
+#     mechgen_view on the model's shared object: the per-model tool's words), a
 #     bad value (also nan, inf, an overflowing number) and a line of a --params file without a
 #     value are one-line usage errors
 #     (exit 2) naming the fault.
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2")
 statics_tool=$(realpath "$3") simulate_tool=$(realpath "$4") engine_tool=$(realpath "$5")
-balanced_sweep=$(realpath "$6")
+balanced_sweep=("$(realpath "$6")" sweep "$(realpath "$7")")
 root=$(mktemp -d)
 trap 'rm -rf "$root"' EXIT
 cd "$root" || exit 1
@@ -147,7 +149,7 @@ usage() {  # usage <expected text> <command...>: exit status 2, one line contain
 }
 usage "--set 'radius=1': no parameter 'radius' in the model (parameters: a, b, F, mu_O, r_O, mu_B, r_B, mu_C, r_C, mu_s)" \
   "$statics_tool" --steps 4 --set radius=1
-usage "'W2x' is a derived parameter" "$balanced_sweep" --steps 4 --set W2x=1
+usage "'W2x' is a derived parameter" "${balanced_sweep[@]}" --steps 4 --set W2x=1
 usage "--set 'a=big': bad value 'big' for 'a'" "$statics_tool" --steps 4 --set a=big
 usage "--set 'a=nan': bad value 'nan' for 'a'" "$statics_tool" --steps 4 --set a=nan
 usage "--set 'mu_s=inf': bad value 'inf' for 'mu_s'" "$statics_tool" --steps 4 --set mu_s=inf

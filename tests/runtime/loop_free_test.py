@@ -4,7 +4,7 @@
 tests/runtime/models/pendulum_spring.yaml: one bar OA = l pinned at O, its mass m at c along
 the bar (Jc about the centre), gravity g along -y, a torsional spring k at O (free angle
 theta0), a force Fy along y at A. kNc = kNphi = 0: the generated model has no Phi rows and
-every coordinate is an input. Its sweep, statics and simulate tools run, and their numbers
+every coordinate is an input. Its sweep, statics and simulate commands run, and their numbers
 agree with closed forms written here from the mechanics, not from the code:
   sweep:    A = l (cos t, sin t), v_A = l qd (-sin t, cos t), a_A = -l qd^2 (cos t, sin t);
   statics:  drive = dV/dt - (work of Fy) = (m g c - Fy l) cos t + k (t - theta0); the pin
@@ -14,7 +14,9 @@ agree with closed forms written here from the mechanics, not from the code:
   simulate: small swings about that equilibrium t_e last 2 pi sqrt(I_O / k_e) with I_O =
             Jc + m c^2 and k_e the stiffness there (the linearised equation of motion);
             T + V - W_nc stays constant; T = I_O qd^2 / 2.
-Usage: loop_free_test.py SWEEP STATICS SIMULATE
+Usage: loop_free_test.py MECHGEN_VIEW PENDULUM_SPRING.so
+(the model's shared object; its sweep, statics and simulate commands through mechgen_view,
+the per-model tools' output: tests/runtime's *_view_test.sh)
 """
 import csv
 import math
@@ -64,14 +66,15 @@ def stiffness(t):
 
 
 def main():
-    sweep, statics, simulate = sys.argv[1:4]
+    view, model = sys.argv[1:3]
+    sweep, statics, simulate = ([view, command, model] for command in ("sweep", "statics", "simulate"))
     tmp = tempfile.mkdtemp()
 
     # Sweep: positions, velocities, accelerations of the tip in closed form.
     out = os.path.join(tmp, "sweep.csv")
     svg = os.path.join(tmp, "sweep.svg")
     qd = 1.7
-    text = run([sweep, "--steps", "72", "--qd", str(qd), "--csv", out, "--svg", svg])
+    text = run(sweep + ["--steps", "72", "--qd", str(qd), "--csv", out, "--svg", svg])
     check("no closed loop" in text, "sweep: the loop-free model is not said to be one:\n" + text)
     r = rows(out)
     check(len(r) == 73, "sweep: %d rows" % len(r))
@@ -88,7 +91,7 @@ def main():
 
     # Statics: driving torque, pin reaction, potential, stiffness, the equilibrium.
     out = os.path.join(tmp, "statics.csv")
-    text = run([statics, "--steps", "90", "--csv", out, "--svg", os.path.join(tmp, "st.svg"),
+    text = run(statics + ["--steps", "90", "--csv", out, "--svg", os.path.join(tmp, "st.svg"),
                 "--equilibria", "--dead-zones"])
     r = rows(out)
     check(len(r) == 91, "statics: %d rows" % len(r))
@@ -116,7 +119,7 @@ def main():
     out = os.path.join(tmp, "sim.csv")
     amplitude = 1e-3
     period = 2 * math.pi * math.sqrt(I_O / stiffness(t_e))
-    run([simulate, "--t-end", str(4.2 * period), "--dt", "1e-4", "--no-steady", "--quiet",
+    run(simulate + ["--t-end", str(4.2 * period), "--dt", "1e-4", "--no-steady", "--quiet",
          "--rtol", "1e-11", "--atol", "1e-13", "--q0", repr(t_e + amplitude), "--csv", out])
     r = rows(out)
     t = [float(x["t"]) for x in r]
@@ -137,7 +140,7 @@ def main():
 
     # A larger swing with the spring and load: energy balance against the closed-form V and
     # the load's work -Fy l (sin t - sin t0) (W_nc: the work of the non-conservative forces).
-    run([simulate, "--t-end", "2", "--no-steady", "--quiet", "--q0", "1.2", "--qd0", "-3",
+    run(simulate + ["--t-end", "2", "--no-steady", "--quiet", "--q0", "1.2", "--qd0", "-3",
          "--rtol", "1e-11", "--atol", "1e-13", "--csv", out])
     r = rows(out)
     for x in r[:: max(1, len(r) // 50)]:

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The sweep's motion summary against closed forms of the geometry (issue 25).
 
-Usage: motion_summary_test.py QUICK_RETURN_SWEEP FOURBAR_SWEEP [SLIDER_CRANK_SWEEP]
-(the shipped models' sweep tools, at the models' default parameters, copied below).
+Usage: motion_summary_test.py MECHGEN_VIEW QUICK_RETURN.so FOURBAR.so [SLIDER_CRANK.so]
+(the shipped models' sweeps, `mechgen_view sweep` on their shared objects: the per-model
+<model>_sweep's output, sweep_view_test.sh; at the models' default parameters, copied below).
 
 quick_return (models/quick_return.yaml: crank r about O2 = (0, d), slotted rocker about
 O4 = (0, 0), rocker L, link l, ram on y = h): the rocker's extremes are where the crank is
@@ -39,10 +40,11 @@ def close(a, b, tol, what):
 
 
 def summary(tool, args):
-    p = subprocess.run([tool, "--table", "0"] + args, stdout=subprocess.PIPE,
+    """tool: the sweep command, [mechgen_view, "sweep", <model>.so]."""
+    p = subprocess.run(tool + ["--table", "0"] + args, stdout=subprocess.PIPE,
                        stderr=subprocess.PIPE, universal_newlines=True)
     if p.returncode != 0:
-        print("FAIL: %s exit %d\n%s%s" % (tool, p.returncode, p.stdout, p.stderr))
+        print("FAIL: %s exit %d\n%s%s" % (" ".join(tool), p.returncode, p.stdout, p.stderr))
         sys.exit(1)
     text = p.stdout
     if "motion summary (one full turn of" not in text:
@@ -177,11 +179,12 @@ def slider_crank(tool):
 
 
 def main():
-    quick_return(sys.argv[1])
-    quick_return_wrap(sys.argv[1])
-    fourbar(sys.argv[2])
-    if len(sys.argv) > 3:
-        slider_crank(sys.argv[3])
+    sweep = lambda obj: [sys.argv[1], "sweep", obj]
+    quick_return(sweep(sys.argv[2]))
+    quick_return_wrap(sweep(sys.argv[2]))
+    fourbar(sweep(sys.argv[3]))
+    if len(sys.argv) > 4:
+        slider_crank(sweep(sys.argv[4]))
     if failures:
         print("%d failure(s)" % failures)
         return 1

@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """The SVG drawing of every shipped model (runtime/include/mechgen/io/svg.h), as a person sees it.
 
-usage: svg_models_test.py <models dir> <rsvg-convert or ''> <model>_sweep...
+usage: svg_models_test.py <models dir> <rsvg-convert or ''> <mechgen_view> <model>.so...
 
-For every sweep command: run it with --svg and --csv over its default range; the SVG must be
+For every model (a shared object of the generated model, named <model>.so, that mechgen_view
+loads: its drawing is the per-model <model>_sweep's, byte for byte, as sweep_view_test.sh
+checks for the four-bar): run `mechgen_view sweep` with --svg and --csv over its default range; the SVG must be
 well-formed XML, every <circle> must have cx, cy and r (a circle without them is a stray dot
 at the origin in a static renderer), the mechanism must be drawn, and rsvg-convert (when
 given) must render it to a PNG of the SVG's size. Then checks from the geometry, against
@@ -270,13 +272,14 @@ def png_size(path):
 
 def main():
     rsvg = sys.argv[2]
-    tools = sys.argv[3:]
+    view = sys.argv[3]
+    objects = sys.argv[4:]
     checked = set()
     with tempfile.TemporaryDirectory() as tmp:
-        for tool in tools:
-            model = os.path.basename(tool)[: -len("_sweep")]
+        for obj in objects:
+            model = os.path.splitext(os.path.basename(obj))[0]
             svg, csv_path, png = (os.path.join(tmp, model + ext) for ext in (".svg", ".csv", ".png"))
-            r = subprocess.run([tool, "--steps", "120", "--svg", svg, "--csv", csv_path, "--table", "0"],
+            r = subprocess.run([view, "sweep", obj, "--steps", "120", "--svg", svg, "--csv", csv_path, "--table", "0"],
                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, timeout=300)
             if r.returncode not in (0, 3) or not os.path.exists(svg):
                 fail(model, f"sweep exit status {r.returncode}: {r.stderr.strip()}")
@@ -308,7 +311,7 @@ def main():
     missing = set(CHECKS) - checked
     if missing:
         fail("test", f"models with geometry checks not run: {sorted(missing)}")
-    print(f"{len(tools)} models drawn, geometry checked on {len(checked)}, {len(failures)} failure(s)"
+    print(f"{len(objects)} models drawn, geometry checked on {len(checked)}, {len(failures)} failure(s)"
           + ("" if rsvg else "; rsvg-convert not found: PNG rendering not checked"))
     return 1 if failures else 0
 

@@ -9,9 +9,11 @@
 #  - a sweep that stops at a change point: exit status 3, the counts per status on stderr,
 #    the CSV written whole, its not_run rows holding the inputs they asked for (not nan);
 #  - a clean sweep: exit status 0, nothing on stderr, unique CSV column names.
-# usage: sweep_tool_test.sh <fourbar_sweep> <changepoint_fourbar_sweep>
+# The change point's rows come from the sweep of tests/runtime/models/changepoint_fourbar.yaml
+# through mechgen_view (its shared object; the per-model sweep's output, sweep_view_test.sh).
+# usage: sweep_tool_test.sh <fourbar_sweep> <mechgen_view> <changepoint_fourbar.so>
 set -uo pipefail
-tool=$(realpath "$1") stop_tool=$(realpath "$2")
+tool=$(realpath "$1") stop_tool=("$(realpath "$2")" sweep "$(realpath "$3")")
 root=$(mktemp -d)
 trap 'rm -rf "$root"' EXIT
 failures=0
@@ -114,7 +116,7 @@ echo "ok limit: $(cat "$root/limit.err")"
 # changes sign (the folded-flat position is passed, not bounced off).
 dir="$root/follow"
 mkdir -p "$dir"
-(cd "$dir" && "$stop_tool" --at-singular follow --range theta_crank:-179.5deg:179.5deg --steps 359 \
+(cd "$dir" && "${stop_tool[@]}" --at-singular follow --range theta_crank:-179.5deg:179.5deg --steps 359 \
    --csv f.csv --table 0 > ../follow.out 2> ../follow.err)
 status=$?
 [ "$status" -eq 0 ] || fail "follow: exit status $status: $(cat "$root/follow.err")"
@@ -131,13 +133,13 @@ awk -F, '/^#/ { next } ++line == 1 { for (i = 1; i <= NF; ++i) col[$i] = i; next
                print "closure residual " worst }' "$dir/f.csv" > "$root/follow.awk" \
   || fail "follow: $(cat "$root/follow.awk")"
 echo "ok follow: $(cat "$root/follow.awk")"
-run_refused at_singular_bad 2 ".*--at-singular.*" "$stop_tool" --at-singular bounce
+run_refused at_singular_bad 2 ".*--at-singular.*" "${stop_tool[@]}" --at-singular bounce
 
 # A sweep that stops at the change point (-180 .. 180 deg, 360 steps; theta_crank = 0 is row
 # 180): exit 3, the counts on stderr, the CSV whole, not_run rows with their inputs.
 dir="$root/stop"
 mkdir -p "$dir"
-(cd "$dir" && "$stop_tool" --csv f.csv --table 0 > ../stop.out 2> ../stop.err)
+(cd "$dir" && "${stop_tool[@]}" --csv f.csv --table 0 > ../stop.out 2> ../stop.err)
 status=$?
 [ "$status" -eq 3 ] || fail "stop: exit status $status"
 grep -Eqx "error: 181 of 361 rows did not converge: 1 singular, 180 not_run \(see the status column\)" \
