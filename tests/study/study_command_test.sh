@@ -257,7 +257,8 @@ fi
 # kinetostatics' reactions) of the massive four-bar (one more per-model compile, ~60 s); --verbose
 # says which ran. A new model's first study compiles its object alone.
 # A study the view cannot run (tolerance: true) falls back to the per-model program (the bytes
-# of the first run above); run by hand, mechgen_view refuses it: exit 2, one line, no CSV.
+# of the first run above), and so does a run under an MPI launcher (the ranks); run by hand,
+# mechgen_view refuses what it cannot do: exit 2, one line, no CSV.
 grep -v '^tolerance:\|^envelope:\|^clearance:\|^  B: {parameter\|design_margin' study.yaml > view_sweep.yaml
 cp "$source_dir/models/fourbar_massive.yaml" .
 cat > view_statics.yaml << 'EOF'
@@ -316,6 +317,15 @@ for case in "fourbar.yaml view_sweep" "fourbar.yaml pos" "fourbar_massive.yaml v
     else fail "$2, $t thread(s): the model view's outputs differ from the per-model program's"; fi
   done
 done
+# Under an MPI launcher the ranks take the per-model program (compiled with MPI; the view has
+# none): mechgen_view says so, the bytes are the view's serial run's.
+if [ -n "$mpiexec" ] && [ "$compiled_mpi" -eq 1 ]; then
+  "$mpiexec" --oversubscribe -np 2 "$mechgen" study --verbose fourbar.yaml --study view_sweep.yaml --threads 1 \
+    --csv vmpi.csv --quiet > vmpi.out 2> vmpi.err || fail "view_sweep under mpirun -np 2: exit status $?: $(tail -5 vmpi.err)"
+  [ "$(grep -c "not through the model view; the per-model study command" vmpi.err)" -eq 2 ] &&
+    grep -q "on each of 2 ranks" vmpi.out || fail "view_sweep under mpirun -np 2: not the ranks of the per-model program"
+  cmp -s vmpi.csv view_sweep_v1.csv || fail "view_sweep under mpirun -np 2: not the bytes of the view's serial run"
+fi
 "$mechgen" study --verbose fourbar.yaml --study study.yaml --threads 1 --csv vtol.csv --tolerance-csv vtol_tol.csv \
   --envelope-csv vtol_env.csv > vtol.out 2> vtol.err || fail "tolerance: true: exit status $?: $(cat vtol.err)"
 grep -q "not through the model view; the per-model study command" vtol.err ||
