@@ -123,6 +123,7 @@ const std::vector<ToolSpec>& Specs() {
        "a design study from --study FILE (docs/studies.md): grid, list, Latin hypercube or Monte-Carlo samples "
        "on every core, metrics per sample in a CSV, first-order tolerances beside the Monte-Carlo",
        {"-lyaml-cpp", "-pthread"},
+       true,
        true},
   };
   return specs;

@@ -12,7 +12,9 @@
 # two-rank run (skipped, saying so, only when CMake found no MPI). Hostile study files (a
 # directory, a grid beyond 10^8 samples, a metric name with a comma, a key twice) and bad
 # --set/--params: exit 2, one line, nothing written; --params and --set move the base of the
-# samples; a study of 10^8 samples stopped after one chunk holds that chunk alone.
+# samples; a study of 10^8 samples stopped after one chunk holds that chunk alone. Through the
+# model view (issue 43): the outputs of the sweep, positions, statics and simulate analyses the
+# per-model program's bytes at 1 and 2 threads; tolerance: true falls back to that program.
 # usage: study_command_test.sh <mechgen> <source dir> [<mpiexec> (empty: no MPI)]
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2") mpiexec=${3:-}
@@ -245,6 +247,101 @@ else
   "$mechgen" study fourbar.yaml --study study.yaml --threads 2 --csv mpir.csv --quiet > mpir2.out 2> mpir2.err
   grep -q "^resumed: 704 samples" mpir2.out || fail "resumed after two ranks: $(head -3 mpir2.out)"
   if cmp -s one.csv mpir.csv; then ok "two ranks stopped, resumed serially: the same bytes"; else fail "two ranks stopped and resumed: differ"; fi
+fi
+
+# Through the model view (issue 43): `mechgen study` runs the study on the runtime compiled once
+# (mechgen_view study on the model's shared object) and builds the per-model study program only
+# for what the view does not do yet. The CSV, the summary and the histograms through the view
+# are the per-model program's (MECHGEN_VIEW=0) byte for byte, at 1 and 2 threads: the kinematic
+# sweep and the positions of the four-bar, the statics and the free simulation (with the
+# kinetostatics' reactions) of the massive four-bar (one more per-model compile, ~60 s); --verbose
+# says which ran. A new model's first study compiles its object alone.
+# A study the view cannot run (tolerance: true) falls back to the per-model program (the bytes
+# of the first run above), and so does a run under an MPI launcher (the ranks); run by hand,
+# mechgen_view refuses what it cannot do: exit 2, one line, no CSV.
+grep -v '^tolerance:\|^envelope:\|^clearance:\|^  B: {parameter\|design_margin' study.yaml > view_sweep.yaml
+cp "$source_dir/models/fourbar_massive.yaml" .
+cat > view_statics.yaml << 'EOF'
+method: lhs
+count: 300
+seed: 3
+analysis: statics
+steps: 36
+parameters:
+  a: {tolerance: 0.02}
+  rho: {tolerance: 0.2}
+metrics:
+  - {kind: peak_drive}
+  - {kind: peak_bearing}
+  - {kind: rms, column: coupler.C.y}
+  - {kind: max, column: drive_theta_crank}
+  - {kind: failures}
+EOF
+cat > view_simulate.yaml << 'EOF'
+method: monte_carlo
+count: 60
+seed: 2
+analysis: simulate
+t_end: 1.5
+steps: 30
+parameters:
+  a: {tolerance: 0.01}
+  rho: {tolerance: 0.1}
+metrics:
+  - {kind: max, column: theta_crank}
+  - {kind: peak_bearing}
+  - {kind: at, column: theta_crank_dot, step: 10}
+  - {kind: failures}
+EOF
+"$mechgen" study --verbose fourbar_massive.yaml --study view_statics.yaml --quiet > vfirst.out 2> vfirst.err ||
+  fail "view, a new model: exit status $?: $(cat vfirst.err)"
+grep -q "the runtime is compiled once" vfirst.err && ! grep -q "compiling the study command" vfirst.err ||
+  fail "view, a new model: not the model's object alone: $(cat vfirst.err)"
+for case in "fourbar.yaml view_sweep" "fourbar.yaml pos" "fourbar_massive.yaml view_statics" \
+            "fourbar_massive.yaml view_simulate"; do
+  set -- $case
+  for t in 1 2; do
+    "$mechgen" study --verbose "$1" --study "$2.yaml" --threads $t --csv "$2_v$t.csv" --summary-csv "$2_vs$t.csv" \
+      --histogram-csv "$2_vh$t.csv" --quiet > "$2_v$t.out" 2> "$2_v$t.err"
+    status=$?
+    MECHGEN_VIEW=0 "$mechgen" study "$1" --study "$2.yaml" --threads $t --csv "$2_p$t.csv" --summary-csv "$2_ps$t.csv" \
+      --histogram-csv "$2_ph$t.csv" --quiet > "$2_p$t.out" 2> "$2_p$t.err"
+    pstatus=$?
+    [ "$status" -eq 0 ] && [ "$pstatus" -eq 0 ] ||
+      fail "$2, $t thread(s): exit status $status (view), $pstatus: $(cat "$2_v$t.err" "$2_p$t.err")"
+    grep -q "mechgen_view --name .* study " "$2_v$t.err" && ! grep -q "not through the model view" "$2_v$t.err" ||
+      fail "$2, $t thread(s): not through the model view: $(cat "$2_v$t.err")"
+    if [ "$(grep -vc '^#' "$2_v$t.csv")" -gt 1 ] && cmp -s "$2_v$t.csv" "$2_p$t.csv" &&
+       cmp -s "$2_vs$t.csv" "$2_ps$t.csv" && cmp -s "$2_vh$t.csv" "$2_ph$t.csv"; then
+      ok "$2, $t thread(s): the model view's CSV, summary and histograms are the per-model program's bytes"
+    else fail "$2, $t thread(s): the model view's outputs differ from the per-model program's"; fi
+  done
+done
+# Under an MPI launcher the ranks take the per-model program (compiled with MPI; the view has
+# none): mechgen_view says so, the bytes are the view's serial run's.
+if [ -n "$mpiexec" ] && [ "$compiled_mpi" -eq 1 ]; then
+  "$mpiexec" --oversubscribe -np 2 "$mechgen" study --verbose fourbar.yaml --study view_sweep.yaml --threads 1 \
+    --csv vmpi.csv --quiet > vmpi.out 2> vmpi.err || fail "view_sweep under mpirun -np 2: exit status $?: $(tail -5 vmpi.err)"
+  [ "$(grep -c "not through the model view; the per-model study command" vmpi.err)" -eq 2 ] &&
+    grep -q "on each of 2 ranks" vmpi.out || fail "view_sweep under mpirun -np 2: not the ranks of the per-model program"
+  cmp -s vmpi.csv view_sweep_v1.csv || fail "view_sweep under mpirun -np 2: not the bytes of the view's serial run"
+fi
+"$mechgen" study --verbose fourbar.yaml --study study.yaml --threads 1 --csv vtol.csv --tolerance-csv vtol_tol.csv \
+  --envelope-csv vtol_env.csv > vtol.out 2> vtol.err || fail "tolerance: true: exit status $?: $(cat vtol.err)"
+grep -q "not through the model view; the per-model study command" vtol.err ||
+  fail "tolerance: true: no fallback: $(cat vtol.err)"
+cmp -s one.csv vtol.csv && cmp -s tol.csv vtol_tol.csv && cmp -s env.csv vtol_env.csv ||
+  fail "tolerance: true, the fallback: not the bytes of the first run"
+view_program=$(sed -n 's/^mechgen: \([^ ]*mechgen_view\) --name .*/\1/p' view_sweep_v1.err | head -1)
+object=$(find "$MECHGEN_CACHE_DIR/view" -name model.so | head -1)
+if [ -n "$view_program" ] && [ -n "$object" ]; then
+  "$view_program" study "$object" --study study.yaml --csv byhand.csv > byhand.out 2> byhand.err
+  status=$?
+  [ "$status" -eq 2 ] && [ "$(grep -c '' byhand.err)" -eq 1 ] && grep -q "not reached through the model view yet" byhand.err ||
+    fail "mechgen_view study by hand, tolerance: true: exit status $status: $(cat byhand.err)"
+  [ -e byhand.csv ] && fail "mechgen_view study by hand, tolerance: true: a CSV was written"
+else
+  fail "no mechgen_view or model object found ($view_program, $object)"
 fi
 
 # A study file with an error: one line file:line:column, exit 2, no CSV.

@@ -19,12 +19,14 @@ struct Command {
 int Sweep(const ModelView& view, int argc, char** argv);  // view/sweep.cc
 int Statics(const ModelView& view, int argc, char** argv);  // view/statics.cc
 int Simulate(const ModelView& view, int argc, char** argv);  // view/simulate.cc
+int Study(const ModelView& view, int argc, char** argv);  // view/study.cc
 
 /// The commands, in the order `mechgen_view --help` lists them.
 inline constexpr Command kCommands[] = {
     {"sweep", Sweep},
     {"statics", Statics},
     {"simulate", Simulate},
+    {"study", Study},
 };
 
 }  // namespace view_tool

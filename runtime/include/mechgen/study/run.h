@@ -18,6 +18,14 @@
  * of threads. RunPacked (the command's) draws each sample on the thread that runs it and packs
  * its result into the caller's chunk buffer (no allocation per sample), and calls back when a
  * chunk is done, on that thread (its shard, its CSV rows: study/rows.h).
+ *
+ * One source, two instantiations (issue 43): Study<M> reaches its model through ModelCalls<M>
+ * (core/model_calls.h), for a generated model (fixed sizes, the per-model study program) and for
+ * mechgen::ViewModel (the runtime compiled once, `mechgen_view study`). Through the view, not
+ * yet: the design derivatives (the tolerance analysis, the envelope's first order, the design
+ * checks), analysis: flywheel and engine, the driven simulation and Coulomb friction in a
+ * simulation; the study command (tools/study_run.h) refuses them before Prepare
+ * (tools/common/not_through_view.h).
  */
 #pragma once
 
@@ -81,19 +89,35 @@ template <class M>
 struct StaticsRowOf<M, true> {
   using type = statics::StaticsRecord<M>;
 };
-// M::kNumDesignChecks, or 0 for a model without a design section.
-template <class M, bool = HasDesignDerivatives<M>::value>
+// The design derivatives a study reads (EvalDesignDerivatives, EvalStaticsDesign): a generated
+// model's, where it has them; none through the model view (not reached by its runtime yet).
+template <class M>
+constexpr bool kDesign = HasDesignDerivatives<M>::value && !ModelCalls<M>::kView;
+template <class M>
+constexpr bool kStaticsDesign = HasStaticsDesign<M>::value && !ModelCalls<M>::kView;
+// M::kNumDesignChecks, or 0 for a model without a design section (and for the view).
+template <class M, bool = kDesign<M>>
 struct NumDesignChecks : std::integral_constant<int, 0> {};
 template <class M>
 struct NumDesignChecks<M, true> : std::integral_constant<int, M::kNumDesignChecks> {};
 // A simulation's sample with the reactions of the generated kinetostatics there (has_R when
 // they were found): a row of analysis: simulate, free or driven.
+// (The view's count is known at run time: a bounded vector, empty until set.)
 template <class SampleT, int kNumReactions>
 struct SimulatedRow {
   SampleT s;
-  using VecR = Eigen::Matrix<double, (kNumReactions > 0 ? kNumReactions : 1), 1>;
-  VecR R = VecR::Zero();
+  using VecR = std::conditional_t<kNumReactions == Eigen::Dynamic,
+                                  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, ModelView::kMaxReactions, 1>,
+                                  Eigen::Matrix<double, (kNumReactions > 0 ? kNumReactions : 1), 1>>;
+  VecR R = ZeroVector();
   bool has_R = false;
+  static VecR ZeroVector() {
+    if constexpr (kNumReactions == Eigen::Dynamic) {
+      return VecR();
+    } else {
+      return VecR::Zero();
+    }
+  }
 };
 // analysis: simulate: the free motion of a model with `dynamics` and M::Solve
 // (dynamics/forward.h), a sample and the reactions of the generated kinetostatics there.
@@ -114,8 +138,9 @@ struct SimulationOf<M, true> {
 };
 // analysis: simulate with drive: one input on a law of time, the others free
 // (dynamics/prescribed.h's PrescribedDynamics, as `<model>_simulate --drive`), a sample with the
-// actuator force lambda and the reactions of the generated kinetostatics there.
-template <class M, bool = HasDynamics<M>::value && ModelFeatures<M>::kHasSolve>
+// actuator force lambda and the reactions of the generated kinetostatics there. (Not through
+// the model view yet.)
+template <class M, bool = HasDynamics<M>::value && ModelFeatures<M>::kHasSolve && !ModelCalls<M>::kView>
 struct DrivenOf {
   static constexpr bool kOk = false;
   struct Row {};
@@ -146,23 +171,39 @@ void SampleReactions(dynamics::Kinetostatics<M>& kineto, const SampleT& s, Row* 
     row->has_R = true;
   }
 }
+// The flywheel analysis' design derivatives of the nominal's cycle (machines/flywheel/
+// cycle_design.h): a generated model's; nothing for the view (no flywheel analysis through it).
+struct NoCycleDesign {};
+template <class M>
+using CycleDesignOf = std::conditional_t<ModelCalls<M>::kView, NoCycleDesign, flywheel::CycleDesign<M>>;
 }  // namespace run_internal
 
-/// A study of model M: the spec checked against the model, the tables, the nominal rows.
+/// A study of model M: the spec checked against the model, the tables, the nominal rows. M is
+/// a generated model (an empty tag: Study()) or mechgen::ViewModel (Study(model)).
 template <class M>
 class Study {
  public:
+  using C = ModelCalls<M>;
   using Params = typename ModelTypes<M>::Params;
   using Kinematics = SweepRecord<M>;
   using StaticsRow = typename run_internal::StaticsRowOf<M>::type;
   static constexpr bool kHasStatics = statics::StaticsFeatures<M>::kHasStatics;
+  static constexpr bool kView = C::kView;
+  static constexpr bool kDesign = run_internal::kDesign<M>;
+  static constexpr bool kStaticsDesign = run_internal::kStaticsDesign<M>;
+
+  /// A study of the generated model M (its parameters' defaults the base).
+  Study() : model_(), base_(C::DefaultParams(model_)) {}
+  /// A study of `model` (a ViewModel; the view must outlive the study).
+  explicit Study(const M& model) : model_(model), base_(C::DefaultParams(model_)) {}
+  const M& model() const { return model_; }
 
   /// The rows of one sample's motion.
   struct Rows {
     std::vector<Kinematics> kinematics;
     std::vector<StaticsRow> statics;  ///< statics analysis only
     flywheel::MachineCycle cycle;     ///< flywheel analysis only
-    flywheel::CycleDesign<M> cycle_design;  ///< flywheel analysis, the nominal's (first order) only
+    run_internal::CycleDesignOf<M> cycle_design;  ///< flywheel analysis, the nominal's (first order) only
     /// simulate analysis: the samples (every t_end / steps, and where friction sticks or slips)
     /// and how the run ended.
     std::vector<typename run_internal::SimulationOf<M>::Row> simulation;
@@ -192,20 +233,18 @@ class Study {
       *error = spec.path + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: " + message;
       return false;
     };
-    std::string names;
-    for (const char* n : Params::kNames) names += (names.empty() ? "" : ", ") + std::string(n);
+    const std::string names = ParameterNames();
+    const char* const name = C::Name(model_);
     nominal_.clear();
     index_.clear();
     for (const ParameterSpec& p : spec.parameters) {
       Params probe = base_;
-      double* target = probe.Find(p.name.c_str());
-      bool derived = false;
-      for (const char* d : Params::kDerivedNames) derived = derived || p.name == d;
-      if (derived)
+      double* target = Parameter(&probe, p.name);
+      if (IsDerived(p.name))
         return fail(p.place,
                     "'" + p.name + "' is a derived parameter of the model; vary the parameters it is defined by");
       if (target == nullptr)
-        return fail(p.place, "no parameter '" + p.name + "' in the model " + M::kName + " (parameters: " + names + ")");
+        return fail(p.place, "no parameter '" + p.name + "' in the model " + name + " (parameters: " + names + ")");
       nominal_.push_back(p.has_nominal ? p.nominal : *target);
       if (spec.method != Method::kGrid && spec.method != Method::kList && !SpreadFits(p, nominal_.back())) {
         char value[32];
@@ -213,7 +252,7 @@ class Study {
         return fail(p.place, "parameter '" + p.name + "' about the model's value " + value + ": " + SpreadProblem(p));
       }
       int design = -1;
-      if constexpr (HasDesignDerivatives<M>::value)
+      if constexpr (kDesign)
         for (int d = 0; d < M::kNumDesign; ++d)
           if (p.name == M::kDesignNames[d]) design = d;
       index_.push_back(design);
@@ -225,28 +264,29 @@ class Study {
         return fail(c.place, "the clearance of joint '" + c.joint + "' changes '" + c.parameter +
                                  "', which is not among the study's parameters; add it there (its tolerance)");
     }
-    if (spec.analysis == Analysis::kStatics && !kHasStatics)
+    const int nq = C::Nq(model_);
+    if (spec.analysis == Analysis::kStatics && !HasStatics())
       return fail(spec.analysis_place,
                   std::string("analysis: statics needs a model with `forces` among its outputs' quantities; ") +
-                      M::kName + " has none (use analysis: sweep, or add forces)");
+                      name + " has none (use analysis: sweep, or add forces)");
     if (spec.analysis == Analysis::kSimulate) {
-      if (!run_internal::SimulationOf<M>::kOk)
+      if (!SimulationOk())
         return fail(spec.analysis_place, std::string("analysis: simulate needs a model with `dynamics` among its "
                                                      "outputs' quantities; ") +
-                                             M::kName + " has none");
-      if (!spec.q0.empty() && static_cast<int>(spec.q0.size()) != M::kNq)
-        return fail(spec.q0_place, "q0: expected " + std::to_string(M::kNq) + " value(s), one per input");
-      if (!spec.qd0.empty() && static_cast<int>(spec.qd0.size()) != M::kNq)
-        return fail(spec.qd0_place, "qd0: expected " + std::to_string(M::kNq) + " value(s), one per input");
+                                             name + " has none");
+      if (!spec.q0.empty() && static_cast<int>(spec.q0.size()) != nq)
+        return fail(spec.q0_place, "q0: expected " + std::to_string(nq) + " value(s), one per input");
+      if (!spec.qd0.empty() && static_cast<int>(spec.qd0.size()) != nq)
+        return fail(spec.qd0_place, "qd0: expected " + std::to_string(nq) + " value(s), one per input");
       driven_input_ = -1;
       if (!spec.drive.input.empty()) {
         std::string inputs;
-        for (int j = 0; j < M::kNq; ++j) {
-          inputs += (j ? ", " : "") + std::string(M::kQNames[j]);
-          if (spec.drive.input == M::kQNames[j]) driven_input_ = j;
+        for (int j = 0; j < nq; ++j) {
+          inputs += (j ? ", " : "") + std::string(C::QName(model_, j));
+          if (spec.drive.input == C::QName(model_, j)) driven_input_ = j;
         }
         if (driven_input_ < 0)
-          return fail(spec.drive.place, "drive: the model " + std::string(M::kName) + " has no input '" +
+          return fail(spec.drive.place, "drive: the model " + std::string(name) + " has no input '" +
                                             spec.drive.input + "' (its inputs: " + inputs + ")");
       }
     }
@@ -256,16 +296,15 @@ class Study {
         return fail(spec.analysis_place,
                     std::string("analysis: engine needs an engine model of tools/make_engine.py (one crank input, "
                                 "`dynamics` and `forces` among its outputs' quantities, no Coulomb friction); ") +
-                        M::kName + " is not one");
+                        name + " is not one");
       } else {
         // The engine's names (ReadEngine), and the indicator diagram over its cycle.
         Params nominal = base_;
-        for (size_t k = 0; k < spec.parameters.size(); ++k)
-          *(nominal.Find(spec.parameters[k].name.c_str())) = nominal_[k];
+        for (size_t k = 0; k < spec.parameters.size(); ++k) *Parameter(&nominal, spec.parameters[k].name) = nominal_[k];
         engine::Engine e;
         std::string why;
         if (!engine::ReadEngine<M>(&nominal, &e, &why))
-          return fail(spec.analysis_place, std::string("analysis: engine: the model ") + M::kName + ": " + why);
+          return fail(spec.analysis_place, std::string("analysis: engine: the model ") + name + ": " + why);
         has_table_ = !spec.gas.table.empty();
         if (has_table_) {
           auto parse = [](const std::string& text, double* x) {
@@ -279,13 +318,13 @@ class Study {
         }
       }
     }
-    if (spec.analysis == Analysis::kFlywheel && (!kHasStatics || M::kNq != 1 || !M::kQIsAngle[0]))
+    if (spec.analysis == Analysis::kFlywheel && (!HasStatics() || nq != 1 || !C::QIsAngle(model_, 0)))
       return fail(spec.analysis_place, std::string("analysis: flywheel needs a one-input machine turned by a crank "
                                                    "with `forces` among its outputs' quantities; ") +
-                                           M::kName + " is not one");
+                                           name + " is not one");
     // The first input's motion.
-    q_begin_ = Eigen::Map<const typename ModelTypes<M>::VecQ>(M::kQMin.data());
-    q_end_ = Eigen::Map<const typename ModelTypes<M>::VecQ>(M::kQMax.data());
+    q_begin_ = Eigen::Map<const typename ModelTypes<M>::VecQ>(C::QMin(model_), nq);
+    q_end_ = Eigen::Map<const typename ModelTypes<M>::VecQ>(C::QMax(model_), nq);
     if (spec.has_range) {
       q_begin_(0) = spec.q_begin;
       q_end_(0) = spec.q_end;
@@ -297,26 +336,29 @@ class Study {
       char text[320];
       if (!std::isfinite(step))
         std::snprintf(text, sizeof(text), "the motion of %s from %g to %g overflows a double; give a narrower range:",
-                      M::kQNames[0], q_begin_(0), q_end_(0));
+                      C::QName(model_, 0), q_begin_(0), q_end_(0));
       else
         std::snprintf(text, sizeof(text),
                       "the motion of %s from %g to %g in %d steps moves %g per step, more than the solver's limit %g; "
                       "use more steps: (at least %.6g) or a shorter range:",
-                      M::kQNames[0], q_begin_(0), q_end_(0), spec.steps, step, limit, std::ceil(spec.steps * step / limit));
+                      C::QName(model_, 0), q_begin_(0), q_end_(0), spec.steps, step, limit,
+                      std::ceil(spec.steps * step / limit));
       if (!(step <= limit)) return fail(spec.range_place, text);
     }
-    sweep_columns_ = SweepColumns<M>();
-    AppendDesignColumns<M>(&sweep_columns_);
-    if constexpr (kHasStatics) statics_columns_ = statics::StaticsColumns<M>(HasStaticsDesign<M>::value);
+    sweep_columns_ = SweepColumns<M>(model_);
+    if constexpr (kDesign) AppendDesignColumns<M>(&sweep_columns_);
+    if constexpr (kHasStatics)
+      if (HasStatics()) statics_columns_ = statics::StaticsColumns<M>(model_, kStaticsDesign);
     if constexpr (run_internal::SimulationOf<M>::kOk) {
-      using Sim = typename run_internal::SimulationOf<M>::Sim;
-      using SampleT = typename run_internal::SimulationOf<M>::SampleT;
-      simulation_columns_ = dynamics::FreeColumns<M, SampleT, Sim::kHasCoulomb>(Sim::kHasCoulomb);
-      // The columns after the motion's, the forces' and the friction's are the reactions' and
-      // their magnitudes: a metric that reads one needs the kinetostatics at every sample.
-      first_reaction_column_ = static_cast<int>(simulation_columns_.size()) -
-                               run_internal::SimulationOf<M>::kNumReactions -
-                               static_cast<int>(dynamics::RevoluteMagnitudes<M>().size());
+      if (SimulationOk()) {
+        using Sim = typename run_internal::SimulationOf<M>::Sim;
+        using SampleT = typename run_internal::SimulationOf<M>::SampleT;
+        simulation_columns_ = dynamics::FreeColumns<M, SampleT, Sim::kHasCoulomb>(Sim::kHasCoulomb, model_);
+        // The columns after the motion's, the forces' and the friction's are the reactions' and
+        // their magnitudes: a metric that reads one needs the kinetostatics at every sample.
+        first_reaction_column_ = static_cast<int>(simulation_columns_.size()) - NumSimulationReactions() -
+                                 static_cast<int>(dynamics::RevoluteMagnitudes<M>(model_).size());
+      }
     }
     if constexpr (run_internal::DrivenOf<M>::kOk) {
       if (driven_input_ >= 0) {
@@ -363,7 +405,7 @@ class Study {
                                    (spec.analysis == Analysis::kStatics    ? "sweep or statics"
                                     : spec.analysis == Analysis::kSimulate ? "simulation's"
                                                                            : "sweep") +
-                                   " output of " + M::kName + " (columns: " + list + ")");
+                                   " output of " + name + " (columns: " + list + ")");
         }
         if (r.table == 2 && r.column >= first_reaction_column_) needs_reactions_ = true;
         if (r.table == 3 && r.column >= first_driven_reaction_column_) needs_reactions_ = true;
@@ -374,35 +416,36 @@ class Study {
           return fail(m.place, "the driven run has no column lambda_" + spec.drive.input);
       } else if (m.kind == MetricKind::kPeakBearing && spec.analysis == Analysis::kSimulate) {
         // |F| of each revolute joint among the reactions (F_<joint>_mag, inertia forces included).
-        for (const auto& j : dynamics::RevoluteMagnitudes<M>()) {
+        for (const auto& j : dynamics::RevoluteMagnitudes<M>(model_)) {
           Ref c;
           if (FindColumn("F_" + j.second + "_mag", &c.table, &c.column)) r.magnitudes.push_back(c.column), r.table = c.table;
         }
         if (r.magnitudes.empty())
-          return fail(m.place, std::string("the model ") + M::kName +
+          return fail(m.place, std::string("the model ") + name +
                                    " has no reactions at revolute joints (outputs: reactions:)");
         needs_reactions_ = true;
       } else if (m.kind == MetricKind::kPeakDrive) {
-        if (!FindColumn("drive_" + std::string(M::kQNames[0]), &r.table, &r.column))
+        if (!FindColumn("drive_" + std::string(C::QName(model_, 0)), &r.table, &r.column))
           return fail(m.place, "the statics has no drive column");
       }
       if (m.kind == MetricKind::kPeakBearing && spec.analysis != Analysis::kSimulate) {
         if constexpr (kHasStatics && statics::StaticsFeatures<M>::kHasReactions) {
-          for (const statics::ReactionJoint& j : statics::ReactionJoints<M>()) r.joints.push_back(j);
+          if (HasStatics())
+            for (const statics::ReactionJoint& j : statics::ReactionJoints<M>(model_)) r.joints.push_back(j);
         }
         if (r.joints.empty())
-          return fail(m.place, std::string("the model ") + M::kName + " has no reactions (outputs: reactions:)");
+          return fail(m.place, std::string("the model ") + name + " has no reactions (outputs: reactions:)");
       }
-      if (m.kind == MetricKind::kMinTransmissionAngle && ModelFeatures<M>::kNumTransmissionAngles == 0)
-        return fail(m.place, std::string("the model ") + M::kName +
+      if (m.kind == MetricKind::kMinTransmissionAngle && C::NumTransmissionAngles(model_) == 0)
+        return fail(m.place, std::string("the model ") + name +
                                  " has no four-bar loop on the ground (no transmission angle)");
       if (m.kind == MetricKind::kPathDeviation) {
         r.point = -1;
-        for (int i = 0; i < M::kNumPoints; ++i)
-          if (m.point == M::kPointNames[i]) r.point = i;
+        for (int i = 0; i < C::NumPoints(model_); ++i)
+          if (m.point == C::PointName(model_, i)) r.point = i;
         if (r.point < 0) {
           std::string list;
-          for (int i = 0; i < M::kNumPoints; ++i) list += (i ? ", " : "") + std::string(M::kPointNames[i]);
+          for (int i = 0; i < C::NumPoints(model_); ++i) list += (i ? ", " : "") + std::string(C::PointName(model_, i));
           return fail(m.place, "no point '" + m.point + "' among the model's output points (" +
                                    (list.empty() ? "none" : list) + ")");
         }
@@ -419,17 +462,17 @@ class Study {
             return fail(m.place, "no design check '" + m.check + "' (checks: " + list + ")");
           }
         } else {
-          return fail(m.place, std::string("the model ") + M::kName + " has no design checks (add a design: section)");
+          return fail(m.place, std::string("the model ") + name + " has no design checks (add a design: section)");
         }
       }
     }
     envelope_point_ = -1;
     if (!spec.envelope.empty()) {
-      for (int i = 0; i < M::kNumPoints; ++i)
-        if (spec.envelope == M::kPointNames[i]) envelope_point_ = i;
+      for (int i = 0; i < C::NumPoints(model_); ++i)
+        if (spec.envelope == C::PointName(model_, i)) envelope_point_ = i;
       if (envelope_point_ < 0) {
         std::string list;
-        for (int i = 0; i < M::kNumPoints; ++i) list += (i ? ", " : "") + std::string(M::kPointNames[i]);
+        for (int i = 0; i < C::NumPoints(model_); ++i) list += (i ? ", " : "") + std::string(C::PointName(model_, i));
         return fail(spec.envelope_place, "envelope: no point '" + spec.envelope +
                                              "' among the model's output points (" + (list.empty() ? "none" : list) +
                                              ")");
@@ -443,7 +486,7 @@ class Study {
                   spec.analysis == Analysis::kFlywheel ? "the nominal design's cycle: " + nominal_rows_.cycle.message
                   : spec.analysis == Analysis::kEngine
                       ? "the nominal design's engine cycle: " + nominal_rows_.engine.message
-                      : std::string("the model ") + M::kName + " does not assemble at the nominal design" +
+                      : std::string("the model ") + name + " does not assemble at the nominal design" +
                             (spec.analysis == Analysis::kSimulate ? " (at q0)" : ""));
     return true;
   }
@@ -501,7 +544,7 @@ class Study {
       case MetricKind::kPeakDrive:
         if (spec_.analysis == Analysis::kSimulate)
           return "largest |lambda_" + spec_.drive.input + "| (the actuator force of the drive)" + rows;
-        return "largest |drive_" + std::string(M::kQNames[0]) + "| without friction" + rows;
+        return "largest |drive_" + std::string(C::QName(model_, 0)) + "| without friction" + rows;
       case MetricKind::kPeakBearing:
         if (spec_.analysis == Analysis::kSimulate)
           return "largest |F| of a revolute joint (inertia forces included)" + rows;
@@ -550,7 +593,8 @@ class Study {
   /// The analysis of the design `values` (one per spec parameter) into *rows.
   void Analyze(const double* values, bool design, Rows* out) const {
     out->params = base_;
-    for (size_t k = 0; k < spec_.parameters.size(); ++k) *(out->params.Find(spec_.parameters[k].name.c_str())) = values[k];
+    for (size_t k = 0; k < spec_.parameters.size(); ++k) *Parameter(&out->params, spec_.parameters[k].name) = values[k];
+    FinishParameters(&out->params);
     if (spec_.analysis == Analysis::kPositions) {
       Positions(design, out);
       return;
@@ -559,7 +603,7 @@ class Study {
       EngineCycle(out);  // its own positions from theta = 0 (machines/engine/cycle.h)
       return;
     }
-    position::PositionSolver<M> solver(position::Options(), out->params);
+    position::PositionSolver<M> solver(model_, position::Options(), out->params);
     position::Summary summary;
     out->assembled = solver.AssembleDefault(&summary) == position::Status::kConverged;
     // No rows unless this sample's sweep fills them (a sample that does not assemble has none);
@@ -573,11 +617,16 @@ class Study {
       flywheel::MachineCycleOptions o;
       o.omega = spec_.omega;
       o.samples = spec_.steps;
-      out->cycle = flywheel::SampleMachineCycle<M>(out->params, o);
-      out->assembled = out->cycle.IsUsable();
-      // The nominal's derivatives of the cycle (machines/flywheel/cycle_design.h): the first
-      // order of the flywheel metrics (Gradient()).
-      if (design && out->assembled) out->cycle_design = flywheel::SampleMachineCycleDesign<M>(out->params, o, out->cycle);
+      if constexpr (!kView) {  // (not through the view: study_run.h refuses it before Prepare)
+        out->cycle = flywheel::SampleMachineCycle<M>(out->params, o);
+        out->assembled = out->cycle.IsUsable();
+        // The nominal's derivatives of the cycle (machines/flywheel/cycle_design.h): the first
+        // order of the flywheel metrics (Gradient()).
+        if (design && out->assembled)
+          out->cycle_design = flywheel::SampleMachineCycleDesign<M>(out->params, o, out->cycle);
+      } else {
+        out->assembled = false;
+      }
       return;
     }
     if (spec_.analysis == Analysis::kSimulate) {
@@ -587,18 +636,24 @@ class Study {
       if (driven_input_ >= 0) {
         SimulateDriven(out);
       } else if constexpr (run_internal::SimulationOf<M>::kOk) {
-        Simulate(out);
+        if (SimulationOk()) Simulate(out);
       }
       return;
     }
     if (!out->assembled) return;
     SweepOptions options;
-    options.design = design && HasDesignDerivatives<M>::value;
+    options.design = design && kDesign;
     using VecQ = typename ModelTypes<M>::VecQ;
-    if (options.design) {
-      Sweep(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(), VecQ::Zero(), &out->kinematics, options);
-      out->kinematics_design = true;
-    } else {
+    const int nq = C::Nq(model_);
+    bool swept = false;
+    if constexpr (kDesign) {
+      if (options.design) {
+        Sweep(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(), VecQ::Zero(), &out->kinematics, options);
+        out->kinematics_design = true;
+        swept = true;
+      }
+    }
+    if (!swept) {
       // A sample's rows: sized once per thread (every number NaN, the design derivatives too,
       // which a sample never evaluates), then every row's configuration, motion, summary and
       // transmission angles copied over: not the 60 % of a record that the design takes
@@ -608,24 +663,30 @@ class Study {
       const size_t n = static_cast<size_t>(std::max(spec_.steps, 1)) + 1;
       if (out->kinematics.size() != n || out->kinematics_design) out->kinematics.assign(n, Kinematics());
       out->kinematics_design = false;
-      SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(), VecQ::Zero(), options,
-                [out](int i, const Kinematics& r) {
-                  Kinematics& k = out->kinematics[static_cast<size_t>(i)];
-                  k.q = r.q;
-                  k.state = r.state;
-                  k.motion = r.motion;
-                  k.summary = r.summary;
-                  k.mu = r.mu;
-                });
+      auto copy = [out](int i, const Kinematics& r) {
+        Kinematics& k = out->kinematics[static_cast<size_t>(i)];
+        k.q = r.q;
+        k.state = r.state;
+        k.motion = r.motion;
+        k.summary = r.summary;
+        k.mu = r.mu;
+      };
+      if constexpr (kView) {
+        // The instantiation in mechgen_runtime_view (core/view_runtime.h: ViewRowFn).
+        std::function<void(int, const Kinematics&)> row = copy;
+        SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(nq), VecQ::Zero(nq), options, row);
+      } else {
+        SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(nq), VecQ::Zero(nq), options, copy);
+      }
     }
     if constexpr (kHasStatics) {
       if (spec_.analysis == Analysis::kStatics) {
         statics::Options so;
-        so.design = design && HasStaticsDesign<M>::value;
+        so.design = design && kStaticsDesign;
         out->statics.assign(out->kinematics.size(), StaticsRow());
         for (size_t i = 0; i < out->kinematics.size(); ++i) {
           out->statics[i].kinematics = out->kinematics[i];
-          statics::EvaluateRecord<M>(so, out->params, &out->statics[i]);
+          statics::EvaluateRecord<M>(model_, so, out->params, &out->statics[i]);
         }
       }
     }
@@ -679,7 +740,7 @@ class Study {
   /// The same into path[0, 2 (steps + 1)).
   void PathInto(const Rows& rows, double* path) const {
     std::fill(path, path + 2 * static_cast<size_t>(spec_.steps + 1), kNaN);
-    if constexpr (M::kNumPoints > 0) {
+    if constexpr (M::kNumPoints != 0) {  // (a view: its count at run time)
       for (int i = 0; i < static_cast<int>(rows.kinematics.size()) && i <= spec_.steps; ++i) {
         if (rows.kinematics[i].summary.status != position::Status::kConverged) continue;
         path[2 * i] = rows.kinematics[i].state.r_P(0, envelope_point_);
@@ -691,7 +752,7 @@ class Study {
   /// generated dr_P/dp); NaN for a parameter that is not a design parameter.
   std::vector<double> PathGradient(int i, int axis) const {
     std::vector<double> g(spec_.parameters.size(), kNaN);
-    if constexpr (HasDesignDerivatives<M>::value && M::kNumPoints > 0) {
+    if constexpr (kDesign && M::kNumPoints > 0) {
       if (i < static_cast<int>(nominal_rows_.kinematics.size()))
         for (size_t p = 0; p < g.size(); ++p)
           if (index_[p] >= 0) g[p] = nominal_rows_.kinematics[i].design.dr_P_dp(2 * envelope_point_ + axis, index_[p]);
@@ -777,13 +838,13 @@ class Study {
         break;
       }
       case MetricKind::kMinTransmissionAngle:
-        if constexpr (ModelFeatures<M>::kNumTransmissionAngles > 0) {
+        if constexpr (ModelFeatures<M>::kNumTransmissionAngles != 0) {  // (a view: its count at run time)
           for (int i = 0; i < n; ++i) {
-            for (int l = 0; l < ModelFeatures<M>::kNumTransmissionAngles; ++l) {
+            if (rows.kinematics[i].summary.status != position::Status::kConverged) continue;
+            for (int l = 0; l < C::NumTransmissionAngles(model_); ++l) {
               const double mu = rows.kinematics[i].mu(l);
               const double pi = 3.14159265358979323846;
-              if (rows.kinematics[i].summary.status == position::Status::kConverged)
-                consider(std::min(mu, pi - mu), i * 64 + l, mu <= pi / 2 ? 1 : -1, false);
+              consider(std::min(mu, pi - mu), i * 64 + l, mu <= pi / 2 ? 1 : -1, false);
             }
           }
         }
@@ -817,7 +878,7 @@ class Study {
         }
         break;
       case MetricKind::kPathDeviation:
-        if constexpr (M::kNumPoints > 0) {
+        if constexpr (M::kNumPoints != 0) {
           for (int i = 0; i < n && i < static_cast<int>(nominal_rows_.kinematics.size()); ++i) {
             const auto& a = rows.kinematics[i].state.r_P;
             const auto& b = nominal_rows_.kinematics[i].state.r_P;
@@ -866,6 +927,29 @@ class Study {
    *        the peak's row and joint.
    */
   std::vector<double> Gradient(size_t k, std::string* why) const {
+    if constexpr (kView) {  // (not through the view: study_run.h refuses tolerance: before Prepare)
+      (void)k;
+      *why = "no design derivatives through the model view";
+      return std::vector<double>(spec_.parameters.size(), kNaN);
+    } else {
+      return DesignGradient(k, why);
+    }
+  }
+
+  /// Evaluates every sample (values: DrawSamples()) on `threads` threads into *results (in
+  /// sample order); `progress(done)` is called from the calling thread about once a second.
+  void Run(const std::vector<double>& values,
+           int threads,
+           std::vector<SampleResult>* results,
+           const std::function<void(uint64_t done)>& progress = nullptr) const {
+    const size_t n = spec_.parameters.size();
+    const uint64_t count = n == 0 ? 0 : values.size() / n;
+    results->assign(count, SampleResult());
+    RunChunks(values, Chunks{count, std::max<uint64_t>(count, 1)}, {0}, threads, results, nullptr, progress);
+  }
+ private:
+  // Gradient() of a generated model (its design derivatives).
+  std::vector<double> DesignGradient(size_t k, std::string* why) const {
     const MetricSpec& m = spec_.metrics[k];
     const Ref& r = refs_[k];
     const Rows& rows = nominal_rows_;
@@ -994,18 +1078,7 @@ class Study {
     return g;
   }
 
-  /// Evaluates every sample (values: DrawSamples()) on `threads` threads into *results (in
-  /// sample order); `progress(done)` is called from the calling thread about once a second.
-  void Run(const std::vector<double>& values,
-           int threads,
-           std::vector<SampleResult>* results,
-           const std::function<void(uint64_t done)>& progress = nullptr) const {
-    const size_t n = spec_.parameters.size();
-    const uint64_t count = n == 0 ? 0 : values.size() / n;
-    results->assign(count, SampleResult());
-    RunChunks(values, Chunks{count, std::max<uint64_t>(count, 1)}, {0}, threads, results, nullptr, progress);
-  }
-
+ public:
   /**
    * \brief Evaluates the samples of the chunks `list` (of `chunks`; values: DrawSamples()) on
    *        `threads` threads into their places of *results (sized to every sample; the others
@@ -1193,9 +1266,8 @@ class Study {
   uint64_t Key(const std::string& study_bytes, const SampleSource& source, uint64_t chunk) const {
     KeyHash h;
     h.Add(study_bytes);
-    h.Add(std::string(M::kName));
-    Params base = base_;
-    for (const char* name : Params::kNames) h.Add(*base.Find(name));
+    h.Add(std::string(C::Name(model_)));
+    for (double v : FreeParameters(base_)) h.Add(v);
     for (size_t k = 0; k < spec_.metrics.size(); ++k) h.Add(Value(k, nominal_rows_).value);
     h.Add(chunk);
     h.Add(Width());
@@ -1213,6 +1285,78 @@ class Study {
   }
 
  private:
+  // ---- The model's parameters by name: a generated model's Params, or the view's table
+  //      (its free parameters first, then the derived ones, which FinishParameters computes) ----
+  std::string ParameterNames() const {
+    std::string names;
+    if constexpr (kView) {
+      const ModelView& v = *model_.view;
+      for (int i = 0; i < v.num_free_params; ++i) names += (names.empty() ? "" : ", ") + std::string(v.params[i].name);
+    } else {
+      for (const char* n : Params::kNames) names += (names.empty() ? "" : ", ") + std::string(n);
+    }
+    return names;
+  }
+  // The free parameter `name` of *p, or nullptr.
+  double* Parameter(Params* p, const std::string& name) const {
+    if constexpr (kView) {
+      const int i = FindParameter(*model_.view, name.c_str());
+      return i >= 0 && i < model_.view->num_free_params ? &p->values[static_cast<size_t>(i)] : nullptr;
+    } else {
+      return p->Find(name.c_str());
+    }
+  }
+  bool IsDerived(const std::string& name) const {
+    if constexpr (kView) {
+      return FindParameter(*model_.view, name.c_str()) >= model_.view->num_free_params;
+    } else {
+      bool derived = false;
+      for (const char* d : Params::kDerivedNames) derived = derived || name == d;
+      return derived;
+    }
+  }
+  // The derived parameters from the free ones (the view's table; a generated Params has none).
+  void FinishParameters(Params* p) const {
+    if constexpr (kView) {
+      if (model_.view->fill_derived != nullptr) model_.view->fill_derived(p->data());
+    } else {
+      (void)p;
+    }
+  }
+  // The free parameters' values in the model's order.
+  std::vector<double> FreeParameters(const Params& p) const {
+    std::vector<double> values;
+    if constexpr (kView) {
+      values.assign(p.values.begin(), p.values.begin() + model_.view->num_free_params);
+    } else {
+      Params copy = p;
+      for (const char* name : Params::kNames) values.push_back(*copy.Find(name));
+    }
+    return values;
+  }
+  // What the model has for the analyses (constant for a generated model, the view's flags).
+  bool HasStatics() const {
+    if constexpr (kView) {
+      return C::HasStatics(model_);
+    } else {
+      return kHasStatics;
+    }
+  }
+  bool SimulationOk() const {
+    if constexpr (kView) {
+      return C::HasDynamics(model_) && C::HasSolve(model_);
+    } else {
+      return run_internal::SimulationOf<M>::kOk;
+    }
+  }
+  int NumSimulationReactions() const {
+    if constexpr (kView) {
+      return C::KinetoNumReactions(model_);
+    } else {
+      return run_internal::SimulationOf<M>::kNumReactions;
+    }
+  }
+
   struct Ref {
     int table = 0;  // 0: sweep columns, 1: statics columns, 2: simulation columns
     int column = -1;
@@ -1261,15 +1405,14 @@ class Study {
   }
   // The sweep's columns that a positions-only analysis fills: the inputs, the dependent
   // coordinates, the points' x and y and the transmission angles.
-  static std::vector<std::string> PositionColumns() {
+  std::vector<std::string> PositionColumns() const {
     std::vector<std::string> names;
-    for (int j = 0; j < M::kNq; ++j) names.push_back(M::kQNames[j]);
-    for (int i = 0; i < M::kNphi; ++i) names.push_back(M::kPhiNames[i]);
-    for (int i = 0; i < M::kNumPoints; ++i)
-      for (const char* axis : {".x", ".y"}) names.push_back(std::string(M::kPointNames[i]) + axis);
-    if constexpr (ModelFeatures<M>::kNumTransmissionAngles > 0)
-      for (int t = 0; t < ModelFeatures<M>::kNumTransmissionAngles; ++t)
-        names.push_back(std::string("mu_") + M::kTransmissionJoints[t]);
+    for (int j = 0; j < C::Nq(model_); ++j) names.push_back(C::QName(model_, j));
+    for (int i = 0; i < C::Nphi(model_); ++i) names.push_back(C::PhiName(model_, i));
+    for (int i = 0; i < C::NumPoints(model_); ++i)
+      for (const char* axis : {".x", ".y"}) names.push_back(std::string(C::PointName(model_, i)) + axis);
+    for (int t = 0; t < C::NumTransmissionAngles(model_); ++t)
+      names.push_back(std::string("mu_") + C::TransmissionJoint(model_, t));
     return names;
   }
   std::string ColumnName(const Ref& r) const {
@@ -1382,21 +1525,18 @@ class Study {
   typename ModelTypes<M>::VecQ RowInput(int i) const {
     using VecQ = typename ModelTypes<M>::VecQ;
     if (!spec_.at.empty()) {
-      VecQ q = Eigen::Map<const VecQ>(M::kAssemblyQ.data());
+      VecQ q = Eigen::Map<const VecQ>(C::AssemblyQ(model_), C::Nq(model_));
       q(0) = spec_.at[static_cast<size_t>(i)];
       return q;
     }
     if (i == spec_.steps) return q_end_;
     return VecQ(q_begin_ + (double(i) / spec_.steps) * (q_end_ - q_begin_));
   }
-  static constexpr bool AllClosedForm() {
-    if constexpr (ModelFeatures<M>::kHasSolve) {
-      for (bool b : M::kBlockClosedForm)
-        if (!b) return false;
-      return true;
-    } else {
-      return false;
-    }
+  bool AllClosedForm() const {
+    if (!C::HasSolve(model_)) return false;
+    for (int b = 0; b < C::NumBlocks(model_); ++b)
+      if (!C::BlockClosedForm(model_, b)) return false;
+    return true;
   }
   void Positions(bool design, Rows* out) const {
     using VecQ = typename ModelTypes<M>::VecQ;
@@ -1404,36 +1544,42 @@ class Study {
     const size_t n = static_cast<size_t>(spec_.steps) + 1;
     if (out->kinematics.size() != n) out->kinematics.assign(n, Kinematics());
     int converged = 0;
-    if constexpr (AllClosedForm()) {
-      if (!design) {
-        VecPhi phi = Eigen::Map<const VecPhi>(M::kAssemblyPhi.data());
+    if constexpr (ModelFeatures<M>::kHasSolve) {
+      if (!design && AllClosedForm()) {
+        const int nphi = C::Nphi(model_), np = C::NumPoints(model_);
+        const typename C::Modes modes = C::DefaultModes(model_);
+        VecPhi phi = Eigen::Map<const VecPhi>(C::AssemblyPhi(model_), nphi);
         for (size_t i = 0; i < n; ++i) {
           Kinematics& k = out->kinematics[i];
           const VecQ q = RowInput(static_cast<int>(i));
           k.q = q;
           k.state.q = q;
-          typename mechgen::internal::TrigOf<M>::type trig;
-          typename M::template CoefficientsT<double> c;
+          typename C::Trig trig;
+          typename ModelTypes<M>::Coefficients c;
           VecPhi ph = phi;
-          bool ok;
-          if constexpr (ModelFeatures<M>::kHasTrig) {
-            const auto report = M::Solve(out->params, q, &ph, M::kDefaultModes, 20, 0.0, &trig);
-            using Status = decltype(report.status);
-            ok = report.status == Status::kConverged && ph.allFinite();
-            if (ok) M::Coeffs(out->params, q, ph, &c, &trig);
-          } else {
-            const auto report = M::Solve(out->params, q, &ph, M::kDefaultModes);
-            using Status = decltype(report.status);
-            ok = report.status == Status::kConverged && ph.allFinite();
-            if (ok) M::Coeffs(out->params, q, ph, &c);
-          }
-          if constexpr (M::kNumPoints > 0) ok = ok && c.r_P.allFinite();
+          // (C::Solve and C::Coeffs hand the sin and cos over where the model has them.)
+          const auto report = C::Solve(model_, out->params, q, &ph, modes, 20, 0.0, &trig);
+          using Status = decltype(report.status);
+          bool ok = report.status == Status::kConverged && ph.allFinite();
+          if (ok) C::Coeffs(model_, out->params, q, ph, &c, &trig);
+          if constexpr (M::kNumPoints != 0)
+            if (np > 0) ok = ok && c.r_P.allFinite();
           k.summary.status = ok ? position::Status::kConverged : position::Status::kNotRun;
-          k.state.phi = ok ? ph : VecPhi::Constant(kNaN);
-          if constexpr (M::kNumPoints > 0) k.state.r_P = ok ? c.r_P : decltype(c.r_P)::Constant(kNaN);
-          if constexpr (SweepRecord<M>::kNumMu > 0) {
-            k.mu.setConstant(kNaN);
-            if (ok) M::TransmissionAngles(out->params, q, ph, &k.mu);
+          if (ok) {
+            k.state.phi = ph;
+          } else {
+            k.state.phi.setConstant(nphi, kNaN);
+          }
+          if constexpr (M::kNumPoints != 0) {
+            if (ok) {
+              k.state.r_P = c.r_P;
+            } else {
+              k.state.r_P.setConstant(2, np, kNaN);
+            }
+          }
+          if constexpr (SweepRecord<M>::kNumMu != 0) {
+            k.mu.setConstant(C::NumTransmissionAngles(model_), kNaN);
+            if (ok) C::TransmissionAngles(model_, out->params, q, ph, &k.mu);
           }
           if (ok) phi = ph, ++converged;
         }
@@ -1441,7 +1587,7 @@ class Study {
         return;
       }
     }
-    position::PositionSolver<M> solver(position::Options(), out->params);
+    position::PositionSolver<M> solver(model_, position::Options(), out->params);
     position::Summary summary;
     out->assembled = solver.AssembleDefault(&summary) == position::Status::kConverged;
     if (!out->assembled) return;
@@ -1456,8 +1602,9 @@ class Study {
         continue;
       }
       k.state = solver.state();
-      if constexpr (SweepRecord<M>::kNumMu > 0) M::TransmissionAngles(out->params, k.state.q, k.state.phi, &k.mu);
-      if (design && HasDesignDerivatives<M>::value) position::EvalDesign<M>(out->params, k.state, &k.design);
+      if constexpr (SweepRecord<M>::kNumMu != 0) C::TransmissionAngles(model_, out->params, k.state.q, k.state.phi, &k.mu);
+      if constexpr (kDesign)
+        if (design) position::EvalDesign<M>(out->params, k.state, &k.design);
     }
   }
   // analysis: simulate: the free motion from q0, qd0 to t_end (dynamics/forward.h), a sample
@@ -1467,27 +1614,35 @@ class Study {
       using Sim = typename run_internal::SimulationOf<M>::Sim;
       using SampleT = typename run_internal::SimulationOf<M>::SampleT;
       using VecQ = typename Sim::VecQ;
-      VecQ q0, qd0 = VecQ::Zero();
-      for (int i = 0; i < M::kNq; ++i) q0(i) = spec_.q0.empty() ? M::kAssemblyQ[i] : spec_.q0[i];
-      for (int i = 0; i < M::kNq && !spec_.qd0.empty(); ++i) qd0(i) = spec_.qd0[i];
+      const int nq = C::Nq(model_);
+      VecQ q0 = Sized<VecQ>(nq), qd0 = VecQ::Zero(nq);
+      for (int i = 0; i < nq; ++i) q0(i) = spec_.q0.empty() ? C::AssemblyQ(model_)[i] : spec_.q0[i];
+      for (int i = 0; i < nq && !spec_.qd0.empty(); ++i) qd0(i) = spec_.qd0[i];
       dynamics::MinimalOptions options;
       options.sample_dt = spec_.t_end / spec_.steps;
-      Sim sim(out->params, options);
+      Sim sim(model_, out->params, options);
       out->assembled = sim.Initialize(q0);
       if (!out->assembled) return;
-      dynamics::Kinetostatics<M> kineto(out->params);
+      dynamics::Kinetostatics<M> kineto(model_, out->params);
       if (needs_reactions_) kineto.Initialize(q0);
       auto observer = [&](const SampleT& s) {
         typename run_internal::SimulationOf<M>::Row row;
         row.s = s;
-        if constexpr (run_internal::SimulationOf<M>::kNumReactions > 0) {
-          if (needs_reactions_) run_internal::SampleReactions<Sim::kHasCoulomb>(kineto, s, &row);
+        if constexpr (run_internal::SimulationOf<M>::kNumReactions != 0) {  // (a view: its count at run time)
+          if (needs_reactions_ && NumSimulationReactions() > 0)
+            run_internal::SampleReactions<Sim::kHasCoulomb>(kineto, s, &row);
         }
         out->simulation.push_back(row);
         return true;
       };
       dynamics::MinimalSummary summary;
-      sim.Simulate(0.0, q0, qd0, spec_.t_end, observer, &summary);
+      if constexpr (kView) {
+        // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
+        dynamics::ViewSampleFn<Sim> fn = observer;
+        SimulateFree(&sim, 0.0, q0, qd0, spec_.t_end, fn, &summary, nullptr);
+      } else {
+        sim.Simulate(0.0, q0, qd0, spec_.t_end, observer, &summary);
+      }
       out->simulation_status = summary.status;
     } else {
       (void)out;
@@ -1528,6 +1683,7 @@ class Study {
     return true;
   }
 
+  M model_;     // (declared first: base_ is initialized from it)
   StudySpec spec_;
   int envelope_point_ = -1;
   Params base_;  // SetBase()

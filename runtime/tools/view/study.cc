@@ -1,0 +1,22 @@
+// mechgen_view study MODEL.so [study options]: the design study through the model view, the same
+// RunStudy (study_run.h) as the per-model study program (study_main.cc), instantiated for the
+// view. Serial and threads only: under an MPI launcher (the ranks) it refuses, and `mechgen
+// study` runs the per-model program, compiled with MPI (common/not_through_view.h).
+#include "mechgen/core/view_runtime.h"
+#include "study_args.h"
+#include "study_run.h"
+#include "view/commands.h"
+
+namespace mechgen {
+namespace view_tool {
+
+int Study(const ModelView& view, int argc, char** argv) {
+  const study_tool::run_internal::Ranks ranks(&argc, &argv);  // (no MPI here: a plain run)
+  study_tool::Arguments arguments;
+  const int parsed = study_tool::ParseArguments(argc, argv, view.name, &arguments);
+  if (parsed >= 0) return parsed;
+  return study_tool::RunStudy(ViewModel(view), ranks, arguments);
+}
+
+}  // namespace view_tool
+}  // namespace mechgen
