@@ -1692,7 +1692,7 @@ void EvalScene(const Params<Scalar>& p,
   const Scalar _tmp1 = sin(q(0));
   const Scalar _tmp2 = Scalar(1)/p.mc2;
   const Scalar _tmp3 = Scalar(1)/p.b;
-  const Scalar _tmp4 = atan2(_tmp3*p.a*p.m3*p.y3, (-Scalar(1) + _tmp3*p.x3)*p.a*p.m3 - Scalar(0.5)*p.a*p.m2b);
+  const Scalar _tmp4 = atan2(_tmp3*p.a*p.m3*p.y3, -(Scalar(1) - _tmp3*p.x3)*p.a*p.m3 - Scalar(0.5)*p.a*p.m2b);
   const Scalar _tmp5 = cos(_tmp4);
   const Scalar _tmp6 = p.a*p.a;
   const Scalar _tmp7 = p.m3*p.m3;

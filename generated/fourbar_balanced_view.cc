@@ -402,7 +402,7 @@ void FillDerived(double* p) {
   p[16] = _tmp4;
   p[17] = (sqrt(Scalar(0.25)*_tmp11*_tmp6 - Scalar(2)*_tmp1*_tmp6*_tmp7*p[5] - _tmp1*_tmp6*p[4]*p[5]*p[8] + _tmp10*_tmp6*_tmp7*_tmp8 + _tmp6*_tmp7 + _tmp6*_tmp7*_tmp8*_tmp9 + _tmp6*p[4]*p[8]))*_tmp5;
   p[18] = (sqrt(Scalar(0.25)*_tmp13*_tmp14 + _tmp1*_tmp13*p[4]*p[5]*p[9] + _tmp10*_tmp13*_tmp7*_tmp8 + _tmp13*_tmp7*_tmp8*_tmp9))*_tmp12;
-  p[19] = atan2(_tmp2, (-Scalar(1) + _tmp1*p[5])*p[0]*p[4] + _tmp0);
+  p[19] = atan2(_tmp2, -(Scalar(1) - _tmp1*p[5])*p[0]*p[4] + _tmp0);
   p[20] = atan2(_tmp4, _tmp3);
   p[21] = _tmp15;
   p[22] = -Scalar(0.5)*_tmp16*p[0]*p[12]*p[8] + Scalar(0.5)*_tmp16*p[0]*p[8] + _tmp1*_tmp16*p[0]*p[12]*p[4]*p[5] - _tmp16*p[0]*p[12]*p[4];

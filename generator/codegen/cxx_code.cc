@@ -89,6 +89,38 @@ std::string CxxPrinter::PrintNumber(const GiNaC::numeric& n) const {
   return "Scalar(" + s + ")";
 }
 
+// The terms of a sum, each printed without its sign, in our order (by text): GiNaC's own
+// order follows hash values that vary between runs.
+std::vector<CxxPrinter::Term> CxxPrinter::AddTerms(const GiNaC::ex& e, OpCounts* ops) {
+  std::vector<Term> terms;
+  for (size_t i = 0; i < e.nops(); ++i) {
+    const GiNaC::ex t = e.op(i);
+    bool neg = Coefficient(t) < 0;
+    std::string text = Print(neg ? GiNaC::ex(-t) : t, ops);
+    if (GiNaC::is_a<GiNaC::mul>(t) && text[0] == '-') {  // a sum inside it turned round (Print's mul)
+      text.erase(0, 1);
+      neg = !neg;
+    }
+    terms.push_back({std::move(text), neg});
+  }
+  std::sort(terms.begin(), terms.end(), [](const Term& a, const Term& b) {
+    return a.text != b.text ? a.text < b.text : a.negative < b.negative;
+  });
+  return terms;
+}
+
+std::string CxxPrinter::JoinTerms(std::vector<Term> terms, OpCounts* ops) {
+  std::string s;
+  for (size_t i = 0; i < terms.size(); ++i) {
+    if (i == 0)
+      s = terms[i].negative ? "-" + terms[i].text : terms[i].text;
+    else
+      s += (terms[i].negative ? " - " : " + ") + terms[i].text;
+  }
+  if (ops) ops->adds += static_cast<int>(terms.size()) - 1;
+  return s;
+}
+
 // A factor of a product or the base of a power: parenthesized unless atomic.
 std::string CxxPrinter::PrintFactor(const GiNaC::ex& e, OpCounts* ops) {
   const std::string s = Print(e, ops);
@@ -115,39 +147,29 @@ std::string CxxPrinter::Print(const GiNaC::ex& e, OpCounts* ops) {
   }
   if (is_a<GiNaC::constant>(e)) return PrintNumber(ex_to<GiNaC::numeric>(e.evalf()));
 
-  if (is_a<GiNaC::add>(e)) {
-    struct Term {
-      std::string text;
-      bool negative;
-    };
-    std::vector<Term> terms;
-    for (size_t i = 0; i < e.nops(); ++i) {
-      const ex t = e.op(i);
-      const bool neg = Coefficient(t) < 0;
-      terms.push_back({Print(neg ? ex(-t) : t, ops), neg});
-    }
-    std::sort(terms.begin(), terms.end(), [](const Term& a, const Term& b) {
-      return a.text != b.text ? a.text < b.text : a.negative < b.negative;
-    });
-    std::string s;
-    for (size_t i = 0; i < terms.size(); ++i) {
-      if (i == 0)
-        s = terms[i].negative ? "-" + terms[i].text : terms[i].text;
-      else
-        s += (terms[i].negative ? " - " : " + ") + terms[i].text;
-    }
-    if (ops) ops->adds += static_cast<int>(terms.size()) - 1;
-    return s;
-  }
+  if (is_a<GiNaC::add>(e)) return JoinTerms(AddTerms(e, ops), ops);
 
   if (is_a<GiNaC::mul>(e)) {
     const GiNaC::numeric c = Coefficient(e);
+    bool negate = c < 0;
     std::vector<std::string> num, den;
     for (size_t i = 0; i < e.nops(); ++i) {
       const ex f = e.op(i);
       if (is_a<GiNaC::numeric>(f)) continue;  // the coefficient
       if (IsIntegerPower(f) && ex_to<GiNaC::numeric>(f.op(1)) < 0) {
         den.push_back(PrintFactor(GiNaC::pow(f.op(0), -f.op(1)), ops));
+      } else if (is_a<GiNaC::add>(f)) {
+        // GiNaC scales a sum inside a product so that the first of its terms, in GiNaC's own
+        // order, has a positive coefficient; that order follows hash values that change from
+        // run to run, so one run holds -1/2*(-a + b) and the next 1/2*(a - b). Printed with the
+        // first term in our order positive, both are 1/2*(a - b): the same bytes on every run
+        // (and the same value: negating a sum's terms is exact).
+        std::vector<Term> terms = AddTerms(f, ops);
+        if (!terms.empty() && terms.front().negative) {
+          for (Term& t : terms) t.negative = !t.negative;
+          negate = !negate;
+        }
+        num.push_back("(" + JoinTerms(std::move(terms), ops) + ")");
       } else {
         num.push_back(PrintFactor(f, ops));
       }
@@ -168,7 +190,7 @@ std::string CxxPrinter::Print(const GiNaC::ex& e, OpCounts* ops) {
         ops->muls += static_cast<int>(den.size()) - 1;
       }
     }
-    return c < 0 ? "-" + s : s;
+    return negate ? "-" + s : s;
   }
 
   if (is_a<GiNaC::power>(e)) {

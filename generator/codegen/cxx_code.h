@@ -48,6 +48,13 @@ class CxxPrinter {
  private:
   std::string PrintNumber(const GiNaC::numeric& n) const;
   std::string PrintFactor(const GiNaC::ex& e, OpCounts* ops);
+  /// A term of a sum: its text without the sign, and the sign.
+  struct Term {
+    std::string text;
+    bool negative;
+  };
+  std::vector<Term> AddTerms(const GiNaC::ex& e, OpCounts* ops);
+  std::string JoinTerms(std::vector<Term> terms, OpCounts* ops);
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> names_;
   std::map<GiNaC::ex, std::string, GiNaC::ex_is_less> keys_;
   std::map<int, std::string> cam_laws_;
