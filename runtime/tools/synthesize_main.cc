@@ -207,8 +207,10 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
     auto written_params = base;
     for (size_t k = 0; k < 9; ++k) *written_params.Find(task.parameters[k].c_str()) = values[k];
     WrittenAssembly written;
+    std::array<int, M::kNumBlocks> modes = M::kDefaultModes;  // the model's, or its mirror (the pair's mode)
+    modes[0] = r.candidates[static_cast<size_t>(r.chosen)].mode;
     if (!WriteSynthesizedModel<M>(model_text, written_params, task.parameters, MotionInputs(f), &second, &written,
-                                  &error)) {
+                                  &error, &modes)) {
       std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
       return 1;
     }

@@ -455,20 +455,9 @@ void CheckWrittenModels(const Problem7Task& t, const std::array<std::array<doubl
                         solver.state().r_P(1, 0) - points[static_cast<size_t>(j)][1]);
     };
     EXPECT_LE(at(0), tol) << row.file;
-    if (!row.defect.empty()) continue;
-    ++defect_free;
-    const std::vector<double> motion = Motion(f);
-    const double shift = q(0) - motion[0];
-    for (int j = 1; j < 5; ++j) {
-      const double from = solver.state().q(0), to = motion[static_cast<size_t>(j)] + shift;
-      const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / (10 * M_PI / 180))));
-      for (int s = 1; s <= steps; ++s) {
-        Eigen::Matrix<double, 1, 1> qs;
-        qs(0) = from + (to - from) * s / steps;
-        ASSERT_EQ(solver.MoveTo(qs, nullptr), mechgen::position::Status::kConverged) << row.file << " point " << j + 1;
-      }
-      EXPECT_LE(at(j), tol) << row.file << " point " << j + 1;
-    }
+    // Every written model sweeps its written range (the generator refuses a range where the
+    // loop cannot close: a solution with a defect gets its crank's reach about point 1).
+    EXPECT_EQ(row.written.continuation, "") << row.file;
     // A number of the model file: plain, or times deg (the model's own `360*deg`).
     auto number = [](const YAML::Node& n) {
       std::string text = n.Scalar();
@@ -486,6 +475,20 @@ void CheckWrittenModels(const Problem7Task& t, const std::array<std::array<doubl
     for (int s = 1; s <= steps; ++s) {
       qs(0) = lo + (hi - lo) * s / steps;
       ASSERT_EQ(sweep.MoveTo(qs, nullptr), mechgen::position::Status::kConverged) << row.file << " sweep at " << qs(0);
+    }
+    if (!row.defect.empty()) continue;
+    ++defect_free;
+    const std::vector<double> motion = Motion(f);
+    const double shift = q(0) - motion[0];
+    for (int j = 1; j < 5; ++j) {
+      const double from = solver.state().q(0), to = motion[static_cast<size_t>(j)] + shift;
+      const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / (10 * M_PI / 180))));
+      for (int s = 1; s <= steps; ++s) {
+        Eigen::Matrix<double, 1, 1> qs;
+        qs(0) = from + (to - from) * s / steps;
+        ASSERT_EQ(solver.MoveTo(qs, nullptr), mechgen::position::Status::kConverged) << row.file << " point " << j + 1;
+      }
+      EXPECT_LE(at(j), tol) << row.file << " point " << j + 1;
     }
   }
   EXPECT_EQ(defect_free, t.run.defect_free);

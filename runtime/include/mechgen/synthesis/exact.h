@@ -392,6 +392,35 @@ std::string MotionCheck(const BoundExact<M>& b, const typename M::template Param
   return "ok";
 }
 
+/// The crank's reach on `modes` about q0 (where it assembles regularly): [*lo, *hi] from the
+/// first failures up and down (0.5 deg steps, then 40 bisections, less 1e-3 rad); true when it
+/// turns fully (no failure within a turn either way).
+template <class M>
+bool ReachAbout(const typename M::template ParamsT<double>& p, double q0, const std::array<int, M::kNumBlocks>& modes,
+                double* lo, double* hi) {
+  Eigen::Matrix<double, M::kNphi, 1> phi;
+  auto ok = [&](double q) { return SolveOnMode<M>(p, q, &phi, /*judge=*/true, &modes); };
+  const double step = M_PI / 360;
+  double ends[2] = {q0, q0};
+  for (int k = 0; k < 2; ++k) {
+    const double sign = k == 0 ? -1 : 1;
+    double good = q0, bad = q0;
+    bool failed = false;
+    for (int s = 1; s <= 720 && !failed; ++s) {
+      const double q = q0 + sign * step * s;
+      if (ok(q)) good = q; else bad = q, failed = true;
+    }
+    if (!failed) return true;
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (good + bad);
+      (ok(mid) ? good : bad) = mid;
+    }
+    ends[k] = std::abs(good - q0) > 1e-3 ? good - sign * 1e-3 : q0;
+  }
+  *lo = ends[0], *hi = ends[1];
+  return false;
+}
+
 }  // namespace exact_internal
 
 /**
@@ -473,8 +502,14 @@ ExactRun RunExactTask(const BoundExact<M>& b, const std::string& model_text, con
     std::vector<std::string> names;
     for (const std::string& n : b.task.parameters)
       if (!n.empty()) names.push_back(n);
+    // The motion through the points for a defect-free solution; for another, its crank's reach
+    // on its mode about point 1 (WriteSynthesizedModel narrows the range to it when the crank
+    // does not turn fully: the generator refuses a range where the loop cannot close).
+    std::vector<double> motion = MotionAngles(bar);
+    double lo = 0, hi = 0;
+    if (!row.defect.empty() && !ReachAbout<M>(p, bar.crank[0], modes, &lo, &hi)) motion = {bar.crank[0], lo, hi};
     std::string text, error;
-    if (!WriteSynthesizedModel<M>(model_text, p, names, MotionAngles(bar), &text, &row.written, &error, &modes)) {
+    if (!WriteSynthesizedModel<M>(model_text, p, names, motion, &text, &row.written, &error, &modes)) {
       row.not_written = error;
       continue;
     }
@@ -651,7 +686,9 @@ inline std::string ExactReport(const ExactRun& run, const ExactTask& task) {
     if (!r.file.empty()) {
       o << "  model file: " << r.file << " (assembly on mode " << r.mode << ", branch " << r.written.branch << ", "
         << Short(r.written.q, 9) << " rad";
-      if (r.written.range_written) o << "; range narrowed to [" << Short(r.written.range_lo, 9) << ", " << Short(r.written.range_hi, 9) << "]";
+      if (r.written.range_written)
+        o << "; range narrowed to [" << Short(r.written.range_lo, 9) << ", " << Short(r.written.range_hi, 9) << "]"
+          << (r.defect.empty() ? ": the motion through the points" : ": the crank's reach on its mode about point 1");
       if (!r.written.continuation.empty()) o << "; " << r.written.continuation;
       o << ")\n";
     } else {
