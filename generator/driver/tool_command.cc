@@ -116,7 +116,8 @@ const std::vector<ToolSpec>& Specs() {
        "simulated check under a motor law (needs the output `forces`)"},
       {"synthesize", "synthesize_main.cc", {}, false, "",
        "dimensional synthesis from a task file (--task): path generation by differential evolution and "
-       "Levenberg-Marquardt on the generated design derivatives; the synthesized model file, an SVG and a "
+       "Levenberg-Marquardt on the generated design derivatives (or, `kind: exact`, every four-bar through "
+       "five points with both pivots given, by homotopy continuation); the synthesized model file, an SVG and a "
        "report (needs a `design` section; Ceres, yaml-cpp)",
        {"-lceres", "-lglog", "-lgflags", "-lyaml-cpp", "-pthread"}},
       {"study", "study_main.cc", {"-pthread"}, false, "",

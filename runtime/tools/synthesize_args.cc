@@ -16,7 +16,9 @@ int ParseArguments(int argc, char** argv, const std::string& model_name, Argumen
   CLI::App app{"Dimensional synthesis (path, function or motion generation: the task file's `synthesis:`) of the model " +
                model_name +
                ": seeded differential evolution (path and function tasks; Freudenstein's equation for function "
-               "tasks, Burmester's points for motion), then Levenberg-Marquardt on the generated design derivatives. "
+               "tasks, Burmester's points for motion), then Levenberg-Marquardt on the generated design derivatives; "
+               "`kind: exact` path tasks: every four-bar through five points with both pivots given, by homotopy "
+               "continuation (--seed, --threads, --evaluations do not apply). "
                "Exit 0 done, 1 bad task file or output, 2 usage error, 3 no feasible mechanism."};
   a.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   app.add_option("--task", a.task_path, "the synthesis task file (YAML, docs/synthesis.md)")->required();

@@ -3,7 +3,10 @@
 // motion`: synthesis/motion.h; Burmester and, beyond five poses, least squares: report.txt
 // with the model file, or for four poses curves.csv and curves.svg), and function generation
 // (`synthesis: function`: synthesis/function.h; pairs or a function over a range; it writes
-// function.svg for path.svg; its global stage's runs go to --threads like path tasks'). The model gives
+// function.svg for path.svg; its global stage's runs go to --threads like path tasks'), and exact
+// path synthesis (`synthesis: path`, `kind: exact`: synthesis/exact.h; five points with both
+// pivots given, every isolated solution by homotopy continuation, each real one a model file,
+// solutions.csv, report.txt; --seed, --threads and --evaluations do not apply). The model gives
 // the topology, the design parameters (its `design:` section: their derivatives are the local
 // stage's Jacobian) and the point; the task file (docs/synthesis.md) the targets, the timing,
 // the variables' bounds, the constraints and the search's budget.
@@ -41,6 +44,7 @@
 #include <vector>
 
 #include "common/cli.h"
+#include "mechgen/synthesis/exact.h"
 #include "mechgen/synthesis/function.h"
 #include "mechgen/synthesis/motion.h"
 #include "mechgen/synthesis/projection.h"
@@ -203,8 +207,10 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
     auto written_params = base;
     for (size_t k = 0; k < 9; ++k) *written_params.Find(task.parameters[k].c_str()) = values[k];
     WrittenAssembly written;
+    std::array<int, M::kNumBlocks> modes = M::kDefaultModes;  // the model's, or its mirror (the pair's mode)
+    modes[0] = r.candidates[static_cast<size_t>(r.chosen)].mode;
     if (!WriteSynthesizedModel<M>(model_text, written_params, task.parameters, MotionInputs(f), &second, &written,
-                                  &error)) {
+                                  &error, &modes)) {
       std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
       return 1;
     }
@@ -218,6 +224,53 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
   std::cout << report << "\nwrote";
   for (size_t k = 0; k < files.size(); ++k) std::cout << (k ? ", " : " ") << files[k].first.string();
   std::cout << "\n";
+  return 0;
+}
+
+// Exact path synthesis (`synthesis: path`, `kind: exact`; synthesis/exact.h): every isolated
+// solution of five points with both pivots given; each real one as a model file
+// (<model>_exact_NN.yaml, NN its row in solutions.csv), solutions.csv and report.txt.
+template <class M>
+int ExactMain(const std::string& tool, const std::string& task_path, const std::string& model_path,
+              const std::string& out_dir, const typename M::template ParamsT<double>& base) {
+  std::string error;
+  ExactTask task;
+  if (!ParseExactTask(task_path, &task, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  BoundExact<M> bound;
+  if (!BindExactTask<M>(task, base, &bound, &error)) {
+    std::cerr << error << "\n";
+    return 1;
+  }
+  bool read = false;
+  const std::string model_text = ReadText(model_path, &read);
+  if (!read) {
+    std::cerr << tool << ": error: cannot read the model file " << model_path << "\n";
+    return 1;
+  }
+  std::cerr << tool << ": exact path synthesis: every path of the homotopy (256)\n";
+  std::vector<std::pair<std::string, std::string>> models;
+  const ExactRun run = RunExactTask<M>(bound, model_text, fs::path(model_path).stem().string(), &models);
+  std::vector<std::string> names;
+  for (const std::string& n : task.parameters)
+    if (!n.empty()) names.push_back(n);
+  const std::string report = ExactReport(run, task) + SetLine<M>(base, names);
+  const std::string csv = ExactCsv(run, M::kName, task_path);
+  std::vector<std::pair<fs::path, const std::string*>> files;
+  for (const auto& m : models) files.emplace_back(fs::path(out_dir) / m.first, &m.second);
+  files.emplace_back(fs::path(out_dir) / "solutions.csv", &csv);
+  files.emplace_back(fs::path(out_dir) / "report.txt", &report);
+  if (!WriteAll(files, out_dir)) {
+    std::cerr << tool << ": error: cannot write into " << out_dir << "\n";
+    return 1;
+  }
+  std::cout << report << "\nwrote " << models.size() << " model file(s), " << (fs::path(out_dir) / "solutions.csv").string()
+            << ", " << (fs::path(out_dir) / "report.txt").string() << "\n";
+  if (!run.complete)
+    std::cerr << tool << ": warning: the solution set is INCOMPLETE (failed, singular or coinciding paths: "
+              << "rows of solutions.csv with their figures)\n";
   return 0;
 }
 
@@ -262,6 +315,15 @@ int Main(int argc, char** argv) {
     } else {
       std::cerr << task_path << ": error: the model '" << M::kName
                 << "' has no `design` section; add `design: [parameters to vary]` (models/README.md)\n";
+      return 1;
+    }
+  }
+  if (kind == "path" && PathTaskKind(task_path, &error) == "exact") {
+    if constexpr (M::kNumPoints > 0 && M::kNq == 1) {
+      return ExactMain<M>(tool, task_path, model_path, out_dir, base);
+    } else {
+      std::cerr << task_path << ": error: kind: exact needs a four-bar model with one input and the coupler point among "
+                << "its outputs; '" << M::kName << "' is not one\n";
       return 1;
     }
   }

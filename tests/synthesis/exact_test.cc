@@ -7,6 +7,10 @@
 //     solution, built as that four-bar, passes through the five points at its crank angles;
 //   - a four-bar whose own coupler points are the task: found again among the real solutions;
 //   - Morgan and Wampler's count (J. Mech. Des. 112:544, 1990): 36 for generic data.
+// The task kind (`synthesis: path`, `kind: exact`; synthesis/exact.h) on the shipped Problem 7
+// task file: the count against PHCpack, every real solution's verdicts against hand formulas
+// (circle intersection along the motion), the written model files read back and followed by
+// the runtime's continuation, solutions.csv read back; the task file's errors.
 // Without `phc` on the PATH at configure time the PHCpack comparisons are skipped.
 #include <gtest/gtest.h>
 
@@ -22,6 +26,10 @@
 #include <sstream>
 #include <string>
 
+#include <yaml-cpp/yaml.h>
+
+#include "fourbar.h"
+#include "mechgen/synthesis/exact.h"
 #include "mechgen/synthesis/exact_path.h"
 #include "synth_fourbar.h"
 
@@ -249,4 +257,438 @@ TEST(ExactSynthesis, SameBytesOnEveryRun) {
     EXPECT_EQ(0, std::memcmp(a.solutions.finite[i].data(), b.solutions.finite[i].data(), sizeof(Complex) * 12));
 }
 
+// ---- kind: exact as a task (synthesis/exact.h) ---------------------------------------------
+
+std::string TaskFile(const std::string& name) { return std::string(MECHGEN_SYNTHESIS_TASKS) + "/../" + name; }
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The four-bar by hand (circle intersection), independent of the generated code and of
+// exact_path.h: at crank angle q with C on side `side` of B -> D (sign of (D - B) x (C - B)),
+// the coupler point; false where the loop does not close (h^2 <= 0).
+bool HandCouplerPoint(const ExactFourBar& f, double q, int side, double* px, double* py) {
+  const double Ax = f.x0, Ay = f.y0, Dx = Ax + f.d * std::cos(f.theta0), Dy = Ay + f.d * std::sin(f.theta0);
+  const double Bx = Ax + f.a * std::cos(q), By = Ay + f.a * std::sin(q);
+  const double ex = Dx - Bx, ey = Dy - By, L = std::hypot(ex, ey);
+  const double s = (f.b * f.b - f.c * f.c + L * L) / (2 * L), h2 = f.b * f.b - s * s;
+  if (!(h2 > 0)) return false;
+  const double h = side * std::sqrt(h2);
+  const double Cx = Bx + (s * ex - h * ey) / L, Cy = By + (s * ey + h * ex) / L;
+  const double ux = (Cx - Bx) / f.b, uy = (Cy - By) / f.b;
+  *px = Bx + f.xi * ux - f.eta * uy;
+  *py = By + f.xi * uy + f.eta * ux;
+  return true;
+}
+
+// The crank's angles through the points in the order of the motion (turning `direction`).
+std::vector<double> Motion(const ExactFourBar& f) {
+  std::vector<double> q = {f.crank[0]};
+  for (int j = 1; j < 5; ++j) {
+    const double two_pi = 6.283185307179586, d = f.crank[static_cast<size_t>(j)] - q.back();
+    q.push_back(q.back() + f.direction * std::fmod(std::fmod(f.direction * d, two_pi) + two_pi, two_pi));
+  }
+  return q;
+}
+
+template <class M>
+BoundExact<M> BindOrDie(const std::string& path, const typename M::template ParamsT<double>& base = {}) {
+  ExactTask task;
+  std::string error;
+  EXPECT_TRUE(ParseExactTask(path, &task, &error)) << error;
+  BoundExact<M> b;
+  EXPECT_TRUE(BindExactTask<M>(task, base, &b, &error)) << error;
+  return b;
+}
+
+const std::string& Problem7Model() {
+  static const std::string text = ReadAll(TaskFile("models/synth_fourbar.yaml"));
+  return text;
+}
+
+// The shipped task run once for the tests below (as `mechgen synthesize` runs it).
+struct Problem7Task {
+  BoundExact<Model> bound;
+  ExactRun run;
+  std::vector<std::pair<std::string, std::string>> models;
+};
+const Problem7Task& Problem7TaskRun() {
+  static const Problem7Task t = [] {
+    Problem7Task r;
+    r.bound = BindOrDie<Model>(TaskFile("benchmarks/problem7_exact.yaml"));
+    r.run = RunExactTask<Model>(r.bound, Problem7Model(), "synth_fourbar", &r.models);
+    return r;
+  }();
+  return t;
+}
+
+TEST(ExactTask, Problem7TaskFileCountAgainstPhcpackAndEveryRealSolutionByTheGeneratedKinematics) {
+  const Problem7Task& t = Problem7TaskRun();
+  // The file is Morgan and Wampler's data.
+  const FivePointTask p7 = Problem7();
+  EXPECT_EQ(t.bound.task.five.crank_pivot, p7.crank_pivot);
+  EXPECT_EQ(t.bound.task.five.rocker_pivot, p7.rocker_pivot);
+  EXPECT_EQ(t.bound.task.five.points, p7.points);
+  const ExactRun& run = t.run;
+  EXPECT_TRUE(run.complete);
+  EXPECT_EQ(run.result.paths, 256);
+  EXPECT_EQ(run.result.num_solutions, 33);
+  EXPECT_EQ(static_cast<int>(run.rows.size()), 33);  // no singular or failed path: no other row
+  if (PhcAvailable()) {
+    PhcResult phc;
+    ASSERT_TRUE(RunPhc(p7, &phc)) << "phc -b failed";
+    EXPECT_EQ(run.result.num_solutions, phc.regular);
+  }
+  // Every real solution: the generated kinematics (the test's own solve on either mode) reaches
+  // the five points; the task's check says the same modes.
+  CheckRealSolutionsWithTheGeneratedKinematics(t.bound.task.five, run.result);
+  EXPECT_EQ(run.real, static_cast<int>(run.result.real.size()));
+  EXPECT_EQ(run.real, 15);
+  const double tol = 1e-8 * (1 + run.result.scale);
+  int defect_free = 0, written = 0;
+  for (const ExactRow& row : run.rows) {
+    ASSERT_EQ(row.has_bar, row.status == "real");
+    if (!row.has_bar) continue;
+    const ExactFourBar& f = row.bar;
+    EXPECT_TRUE(row.reached) << "solution " << row.number;
+    EXPECT_LE(row.check, tol);
+    // By hand: each point on the side of BD the solution says, at its crank angle.
+    for (int j = 0; j < 5; ++j) {
+      double x = 0, y = 0;
+      ASSERT_TRUE(HandCouplerPoint(f, f.crank[static_cast<size_t>(j)], f.branch[static_cast<size_t>(j)], &x, &y));
+      EXPECT_LE(std::hypot(x - p7.points[static_cast<size_t>(j)][0], y - p7.points[static_cast<size_t>(j)][1]), tol)
+          << "solution " << row.number << " point " << j + 1;
+    }
+    // The verdicts by hand: one branch, in order, and the motion: the loop closes at every
+    // quarter degree from point to point on that side.
+    const bool in_order_one_branch = f.same_branch && f.direction != 0;
+    if (in_order_one_branch) {
+      bool closes = true;
+      const std::vector<double> q = Motion(f);
+      for (int j = 0; j + 1 < 5 && closes; ++j) {
+        const int steps = static_cast<int>(std::ceil(std::abs(q[static_cast<size_t>(j + 1)] - q[static_cast<size_t>(j)]) / (M_PI / 720)));
+        for (int s = 0; s <= steps && closes; ++s) {
+          double x = 0, y = 0;
+          closes = HandCouplerPoint(f, q[static_cast<size_t>(j)] + (q[static_cast<size_t>(j + 1)] - q[static_cast<size_t>(j)]) * s / steps,
+                                    f.branch[0], &x, &y);
+        }
+      }
+      EXPECT_EQ(row.defect.empty(), closes) << "solution " << row.number << ": " << row.defect << " / " << row.motion;
+      if (!closes) {
+        EXPECT_EQ(row.defect, "dead point");
+      }
+    } else {
+      EXPECT_EQ(row.defect, f.same_branch ? "order" : "branch") << "solution " << row.number;
+      EXPECT_EQ(row.motion, "not run");
+    }
+    // Grashof by hand.
+    std::array<double, 4> len{f.a, f.b, f.c, f.d};
+    std::sort(len.begin(), len.end());
+    EXPECT_EQ(f.grashof, len[0] + len[3] <= len[1] + len[2]);
+    defect_free += row.defect.empty() ? 1 : 0;
+    written += row.file.empty() ? 0 : 1;
+  }
+  EXPECT_EQ(defect_free, run.defect_free);
+  // Problem 7 has none: of its 15 real four-bars two reach the points on one branch in order
+  // (15 and 20), and both pass a dead point between points 1 and 2 (by hand above).
+  EXPECT_EQ(defect_free, 0);
+  EXPECT_EQ(written, 15);  // every real one (none has a link of zero length)
+  EXPECT_EQ(static_cast<int>(t.models.size()), written);
+}
+
+// Each written model read back as the generator and the sweep read it: the parameters are the
+// solution's to the last bit, the assembly hints are the generated root of the solution's mode
+// at point 1 and far from the other mode's (the generator's rule: the nearest root), the
+// runtime assembles there on that mode, and its continuation through the motion puts the
+// coupler point on every point (defect-free) or on point 1 (the others); the defect-free ones
+// are swept over the written range in 1 deg steps.
+// Each written model of a run read back as the generator and the sweep read it (below); the
+// number written on the model's other mode into *mirror_count.
+void CheckWrittenModels(const Problem7Task& t, const std::array<std::array<double, 2>, 5>& points, int* mirror_count) {
+  int defect_free = 0;
+  const double tol = 1e-8 * (1 + t.run.result.scale);
+  int mirror = 0;
+  for (const ExactRow& row : t.run.rows) {
+    if (row.file.empty()) continue;
+    const auto it = std::find_if(t.models.begin(), t.models.end(), [&](const auto& m) { return m.first == row.file; });
+    ASSERT_NE(it, t.models.end());
+    const YAML::Node root = YAML::Load(it->second);
+    Model::ParamsT<double> p;
+    for (const char* n : Model::ParamsT<double>::kNames) *p.Find(n) = root["parameters"][n]["value"].as<double>();
+    const ExactFourBar& f = row.bar;
+    EXPECT_EQ(p.a, f.a);
+    EXPECT_EQ(p.b, f.b);
+    EXPECT_EQ(p.c, f.c);
+    EXPECT_EQ(p.d, f.d);
+    EXPECT_EQ(p.xi, f.xi);
+    EXPECT_EQ(p.eta, f.eta);
+    EXPECT_EQ(p.theta0, f.theta0);
+    Eigen::Matrix<double, 1, 1> q;
+    q(0) = root["assembly"]["theta_crank"].as<double>();
+    EXPECT_NEAR(std::remainder(q(0) - f.crank[0], 6.283185307179586), 0, 1e-15);
+    Eigen::Matrix<double, Model::kNphi, 1> hints, root_mode, root_other;
+    for (int i = 0; i < Model::kNphi; ++i) hints(i) = root["assembly"][Model::kPhiNames[static_cast<size_t>(i)]].as<double>();
+    root_mode = root_other = hints;
+    std::array<int, Model::kNumBlocks> modes = Model::kDefaultModes, other = Model::kDefaultModes;
+    modes[0] = row.mode;
+    other[0] = -row.mode;
+    mirror += row.mode != Model::kDefaultModes[0] ? 1 : 0;
+    ASSERT_EQ(Model::Solve(p, q, &root_mode, modes).status, decltype(Model::Solve(p, q, &root_mode, modes).status)::kConverged);
+    Model::Solve(p, q, &root_other, other);
+    for (int i = 0; i < Model::kNphi; ++i) EXPECT_NEAR(std::remainder(root_mode(i) - hints(i), 6.283185307179586), 0, 1e-12);
+    EXPECT_GT((root_other - hints).norm(), 1e-3) << row.file;
+    // Assembled as the sweep does: on the branch sign det Phi_phi has at the hints.
+    double det = 0;
+    Model::DetPhiPhi(p, q, hints, &det);
+    ASSERT_NE(det, 0);
+    mechgen::position::PositionSolver<Model> solver(mechgen::position::Options(), p);
+    ASSERT_EQ(solver.Assemble(q, hints, det > 0 ? 1 : -1, nullptr), mechgen::position::Status::kConverged) << row.file;
+    std::array<int, Model::kNumBlocks> found{};
+    ASSERT_TRUE(solver.modes(&found));
+    EXPECT_EQ(found, modes) << row.file;
+    auto at = [&](int j) {
+      return std::hypot(solver.state().r_P(0, 0) - points[static_cast<size_t>(j)][0],
+                        solver.state().r_P(1, 0) - points[static_cast<size_t>(j)][1]);
+    };
+    EXPECT_LE(at(0), tol) << row.file;
+    // Every written model sweeps its written range (the generator refuses a range where the
+    // loop cannot close: a solution with a defect gets its crank's reach about point 1).
+    EXPECT_EQ(row.written.continuation, "") << row.file;
+    // A number of the model file: plain, or times deg (the model's own `360*deg`).
+    auto number = [](const YAML::Node& n) {
+      std::string text = n.Scalar();
+      const bool deg = text.size() > 4 && text.compare(text.size() - 4, 4, "*deg") == 0;
+      if (deg) text.resize(text.size() - 4);
+      return std::stod(text) * (deg ? M_PI / 180 : 1.0);
+    };
+    const double lo = number(root["inputs"][0]["range"][0]), hi = number(root["inputs"][0]["range"][1]);
+    mechgen::position::PositionSolver<Model> sweep(mechgen::position::Options(), p);
+    ASSERT_EQ(sweep.Assemble(q, hints, det > 0 ? 1 : -1, nullptr), mechgen::position::Status::kConverged);
+    Eigen::Matrix<double, 1, 1> qs;
+    qs(0) = lo;
+    ASSERT_EQ(sweep.MoveTo(qs, nullptr), mechgen::position::Status::kConverged);
+    const int steps = static_cast<int>(std::ceil((hi - lo) / (M_PI / 180)));
+    for (int s = 1; s <= steps; ++s) {
+      qs(0) = lo + (hi - lo) * s / steps;
+      ASSERT_EQ(sweep.MoveTo(qs, nullptr), mechgen::position::Status::kConverged) << row.file << " sweep at " << qs(0);
+    }
+    if (!row.defect.empty()) continue;
+    ++defect_free;
+    const std::vector<double> motion = Motion(f);
+    const double shift = q(0) - motion[0];
+    for (int j = 1; j < 5; ++j) {
+      const double from = solver.state().q(0), to = motion[static_cast<size_t>(j)] + shift;
+      const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / (10 * M_PI / 180))));
+      for (int s = 1; s <= steps; ++s) {
+        Eigen::Matrix<double, 1, 1> qs;
+        qs(0) = from + (to - from) * s / steps;
+        ASSERT_EQ(solver.MoveTo(qs, nullptr), mechgen::position::Status::kConverged) << row.file << " point " << j + 1;
+      }
+      EXPECT_LE(at(j), tol) << row.file << " point " << j + 1;
+    }
+  }
+  EXPECT_EQ(defect_free, t.run.defect_free);
+  *mirror_count = mirror;
+}
+
+TEST(ExactTask, WrittenModelsAssembleOnTheSolutionsModeAndPassThroughThePoints) {
+  int mirror = 0;
+  CheckWrittenModels(Problem7TaskRun(), Problem7().points, &mirror);
+  EXPECT_GE(mirror, 1);  // some solutions need the model's other mode: written as that mode's configuration
+}
+
+// A placed crank-rocker's own coupler points (hand formulas, on either side of BD) as a task
+// file: the four-bar is found again defect-free (one branch, in order, no dead point on the way,
+// the continuation through the points), and its written model, on the model's mode or the
+// mirror one, assembles there and passes through the five points (CheckWrittenModels).
+TEST(ExactTask, OwnCouplerPointsGiveADefectFreeFourBarOnEitherMode) {
+  ExactFourBar f;
+  f.a = 1, f.b = 3.5, f.c = 3, f.d = 4, f.xi = 1.5, f.eta = 1, f.x0 = 0.3, f.y0 = -0.2, f.theta0 = 0.25;
+  const std::array<double, 5> crank{0.3, 1.2, 2.0, 3.1, 4.4};
+  int mirror = 0;
+  for (int side : {1, -1}) {
+    std::array<std::array<double, 2>, 5> points{};
+    for (size_t j = 0; j < 5; ++j) ASSERT_TRUE(HandCouplerPoint(f, crank[j], side, &points[j][0], &points[j][1]));
+    const std::string path = testing::TempDir() + "/exact_own_" + std::to_string(side + 1) + ".yaml";
+    {
+      std::ofstream out(path);
+      char buf[200];
+      out << "synthesis: path\nkind: exact\npoint: coupler.P\n";
+      std::snprintf(buf, sizeof buf, "pivots: {crank: [%.17g, %.17g], rocker: [%.17g, %.17g]}\ntargets:\n", f.x0, f.y0,
+                    f.x0 + f.d * std::cos(f.theta0), f.y0 + f.d * std::sin(f.theta0));
+      out << buf;
+      for (const auto& pt : points) {
+        std::snprintf(buf, sizeof buf, "  - [%.17g, %.17g]\n", pt[0], pt[1]);
+        out << buf;
+      }
+      out << "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n";
+    }
+    Problem7Task t;
+    t.bound = BindOrDie<Model>(path);
+    t.run = RunExactTask<Model>(t.bound, Problem7Model(), "synth_fourbar", &t.models);
+    EXPECT_TRUE(t.run.complete);
+    int found = 0;
+    for (const ExactRow& row : t.run.rows) {
+      if (!row.has_bar || std::abs(row.bar.a - f.a) + std::abs(row.bar.b - f.b) + std::abs(row.bar.c - f.c) +
+                                  std::abs(row.bar.xi - f.xi) + std::abs(row.bar.eta - f.eta) > 1e-8)
+        continue;
+      ++found;
+      EXPECT_EQ(row.defect, "") << row.motion;
+      EXPECT_EQ(row.motion, "ok");
+      EXPECT_EQ(row.bar.branch[0], side);
+      EXPECT_EQ(row.bar.direction, 1);
+      EXPECT_FALSE(row.file.empty());
+      mirror += row.mode != Model::kDefaultModes[0] ? 1 : 0;
+    }
+    EXPECT_EQ(found, 1) << "side " << side;
+    EXPECT_GE(t.run.defect_free, 1);
+    int written_mirror = 0;
+    CheckWrittenModels(t, points, &written_mirror);
+  }
+  EXPECT_EQ(mirror, 1);  // one side is the model's mode, the other its mirror
+}
+
+// solutions.csv read back: the counts line, one row per solution, every cell a number that
+// reads back to the row's bits or empty where there is none (complex rows' four-bar), no nan.
+TEST(ExactTask, SolutionsCsvReadsBack) {
+  const Problem7Task& t = Problem7TaskRun();
+  const std::string csv = ExactCsv(t.run, "synth_fourbar", "problem7_exact.yaml");
+  std::istringstream in(csv);
+  std::string line, header;
+  std::vector<std::vector<std::string>> rows;
+  bool counts = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("#", 0) == 0) {
+      counts = counts || line.find("# status: complete; paths 256, nonsingular solutions 33 (real 15, complex 18)") == 0;
+      continue;
+    }
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    std::string cell;
+    while (std::getline(ls, cell, ',')) cells.push_back(cell);
+    if (!line.empty() && line.back() == ',') cells.push_back("");
+    if (header.empty()) {
+      header = line;
+      rows.push_back(cells);
+    } else {
+      rows.push_back(cells);
+    }
+  }
+  EXPECT_TRUE(counts) << csv.substr(0, 400);
+  ASSERT_EQ(rows.size(), 1 + t.run.rows.size());
+  const std::vector<std::string>& names = rows[0];
+  auto column = [&](const std::string& n) {
+    return static_cast<size_t>(std::find(names.begin(), names.end(), n) - names.begin());
+  };
+  ASSERT_LT(column("theta0"), names.size());
+  EXPECT_EQ(csv.find("nan"), std::string::npos);
+  EXPECT_EQ(csv.find("inf,"), std::string::npos);
+  for (size_t k = 0; k < t.run.rows.size(); ++k) {
+    const std::vector<std::string>& cells = rows[k + 1];
+    const ExactRow& r = t.run.rows[k];
+    ASSERT_EQ(cells.size(), names.size()) << "row " << k + 1;
+    EXPECT_EQ(cells[column("status")], r.status);
+    EXPECT_EQ(std::strtod(cells[column("Q2_im")].c_str(), nullptr), r.z(6).imag());
+    EXPECT_EQ(std::strtod(cells[column("residual")].c_str(), nullptr), r.residual);
+    if (r.has_bar) {
+      EXPECT_EQ(std::strtod(cells[column("a")].c_str(), nullptr), r.bar.a);
+      EXPECT_EQ(std::strtod(cells[column("theta0")].c_str(), nullptr), r.bar.theta0);
+      EXPECT_EQ(std::strtod(cells[column("crank_5")].c_str(), nullptr), r.bar.crank[4]);
+      EXPECT_EQ(cells[column("model_file")], r.file);
+    } else {
+      EXPECT_EQ(cells[column("a")], "");
+      EXPECT_EQ(cells[column("defect")], "");
+    }
+  }
+}
+
+// A model whose frame is fixed (models/fourbar.yaml: A at the origin, D at (d, 0)) takes the
+// task without x0, y0, theta0 when the pivots are where it has them, and gives the same real
+// solutions; elsewhere it is refused at `pivots:` with what to change.
+TEST(ExactTask, FixedFrameModelTakesPivotsWhereItHasThem) {
+  using F = mech::fourbar::Model;
+  const std::string dir = testing::TempDir();
+  const std::string good = dir + "/exact_fixed.yaml", moved = dir + "/exact_moved.yaml";
+  const std::string body =
+      "synthesis: path\nkind: exact\npoint: coupler.P\ntargets: [[0.50, 1.06], [-0.83, -0.27], [-0.34, 0.22], [-0.13, "
+      "0.43], [0.22, 0.78]]\nparameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta}\n";
+  std::ofstream(good) << body << "pivots: {crank: [0, 0], rocker: [1, 0]}\n";
+  std::ofstream(moved) << body << "pivots: {crank: [0, 0], rocker: [0, 1]}\n";
+  const BoundExact<F> b = BindOrDie<F>(good);
+  std::vector<std::pair<std::string, std::string>> models;
+  const ExactRun run = RunExactTask<F>(b, ReadAll(std::string(MECHGEN_MODELS_DIR) + "/fourbar.yaml"), "fourbar", &models);
+  const ExactRun& placed = Problem7TaskRun().run;
+  ASSERT_EQ(run.rows.size(), placed.rows.size());
+  for (size_t k = 0; k < run.rows.size(); ++k) {
+    EXPECT_EQ(run.rows[k].defect, placed.rows[k].defect);
+    EXPECT_EQ(run.rows[k].mode, placed.rows[k].mode);
+  }
+  EXPECT_EQ(models.size(), Problem7TaskRun().models.size());
+  ExactTask task;
+  std::string error;
+  ASSERT_TRUE(ParseExactTask(moved, &task, &error)) << error;
+  BoundExact<F> bound;
+  EXPECT_FALSE(BindExactTask<F>(task, {}, &bound, &error));
+  EXPECT_EQ(error.rfind(moved + ":6:9: error: pivots: with d = 1 the model's ground points are ground.A (0, 0), ground.D (1, 0), "
+                                "not the task's pivots;", 0), 0u) << error;
+}
+
+// The task file's errors: FILE:LINE:COLUMN: error: and what to change.
+TEST(ExactTask, BadTaskFilesNameTheirPlace) {
+  const std::string dir = testing::TempDir();
+  const std::string head = "synthesis: path\nkind: exact\npoint: coupler.P\npivots: {crank: [0, 0], rocker: [1, 0]}\n";
+  const std::string five = "targets: [[0.5, 1.06], [-0.83, -0.27], [-0.34, 0.22], [-0.13, 0.43], [0.22, 0.78]]\n";
+  const std::string params =
+      "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n";
+  struct Case {
+    std::string text, expected;
+  };
+  const std::vector<Case> cases = {
+      {head + "targets: [[0.5, 1.06], [-0.83, -0.27], [-0.34, 0.22], [-0.13, 0.43]]\n" + params,
+       ":5:10: error: targets: kind: exact takes exactly five precision points"},
+      {head + five + "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0}\n",
+       ":6:13: error: parameters: give the frame's x0, y0 and theta0 together"},
+      {head + five + "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi}\n",
+       ":6:13: error: missing 'eta': the model's parameter for it"},
+      {head + five + params + "variables: {a: [0, 1]}\n", ":7:1: error: unknown key 'variables' in an exact path task"},
+      {"synthesis: path\nkind: exact\npoint: coupler.P\npivots: {crank: [1, 0], rocker: [1, 0]}\n" + five + params,
+       ":4:9: error: pivots: the crank's and the rocker's pivots must be two distinct points"},
+      {head + "targets: [[0.5, 1.06], [-0.83, -0.27], [0.5, 1.06], [-0.13, 0.43], [0.22, 0.78]]\n" + params,
+       ":5:40: error: target 3 is target 1 again"},
+      {head + five + params.substr(0, params.size() - 2) + ", gamma: g}\n", ":6:108: error: unknown key 'gamma' in parameters"},
+  };
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const std::string path = dir + "/exact_bad_" + std::to_string(k) + ".yaml";
+    std::ofstream(path) << cases[k].text;
+    ExactTask task;
+    std::string error;
+    EXPECT_FALSE(ParseExactTask(path, &task, &error)) << "case " << k;
+    EXPECT_EQ(error.rfind(path + cases[k].expected, 0), 0u) << "case " << k << ": " << error;
+  }
+  // A parameter the model does not have: at bind time, at `parameters:`.
+  const std::string path = dir + "/exact_bad_param.yaml";
+  std::ofstream(path) << head << five
+                      << "parameters: {crank: a, coupler: b, rocker: c, ground: dd, xi: xi, eta: eta, x0: x0, y0: y0, "
+                         "theta0: theta0}\n";
+  ExactTask task;
+  std::string error;
+  ASSERT_TRUE(ParseExactTask(path, &task, &error)) << error;
+  BoundExact<Model> b;
+  EXPECT_FALSE(BindExactTask<Model>(task, {}, &b, &error));
+  EXPECT_EQ(error.rfind(path + ":6:13: error: parameters.ground: 'dd' is not a parameter of the model (a, b, c, d,", 0), 0u)
+      << error;
+  // A misspelt kind is the search task's error, at its place.
+  const std::string kind = dir + "/exact_bad_kind.yaml";
+  std::ofstream(kind) << "synthesis: path\nkind: exakt\npoint: coupler.P\n" << five;
+  EXPECT_EQ(PathTaskKind(kind, &error), "exakt");
+  PathTask path_task;
+  EXPECT_FALSE(ParseTask(kind, &path_task, &error));
+  EXPECT_EQ(error.rfind(kind + ":2:7: error: kind: 'exakt' is not a kind of path task; expected search", 0), 0u) << error;
+}
+
 }  // namespace
+

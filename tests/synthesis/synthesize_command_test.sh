@@ -21,7 +21,8 @@
 #     the report's structural error over the range against the hand formula, the same model
 #     file with 1 and 2 threads, its range narrowed (a triple rocker) and `mechgen generate`
 #     accepting it; a bad expression: exit 1 with FILE:LINE:COLUMN;
-#   - four poses of the shipped four-bar's coupler (hand formulas): curves.csv and curves.svg.
+#   - four poses of the shipped four-bar's coupler (hand formulas): curves.csv and curves.svg;
+#   - exact synthesis (kind: exact): below, before the end.
 # usage: synthesize_command_test.sh <mechgen> <source dir> <python3>
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2") python=$3
@@ -259,6 +260,111 @@ for f in curves.csv curves.svg report.txt; do [ -s "out_m4/$f" ] || fail "four p
 [ "$(grep -c 'fill="#c0392b"' out_m4/curves.svg)" -gt 100 ] || fail "four poses: curves.svg has few centre points"
 [ "$(grep -c '<line' out_m4/curves.svg)" = 4 ] || fail "four poses: curves.svg does not draw the four poses"
 ok "four poses: curves.csv and curves.svg"
+
+# Exact synthesis (`kind: exact`) in the command form, on the shipped four-bar (its frame fixed:
+# A = (0, 0), D = (d, 0), so the task names no x0, y0, theta0):
+#   - Morgan and Wampler's Problem 7 (the shipped task file with this model): exit 0,
+#     solutions.csv says complete, 33 isolated solutions, 15 real, one model file per real
+#     one, each accepted by `mechgen generate`, each with the coupler point at point 1 by hand
+#     formulas (circle intersection on the side of BD the CSV gives) from the values read back;
+#   - a crank-rocker's own coupler points on the side of BD opposite to the model's assembly
+#     (hand formulas): the four-bar found again defect-free, its model file written on the
+#     mirror mode, and `mechgen sweep` of that file puts the coupler point on each of the five
+#     points at the CSV's crank angles (1e-8);
+#   - five targets that are four: exit 1, FILE:LINE:COLUMN: error:, nothing written.
+sed -e 's|^model: .*|model: fourbar.yaml|' \
+    -e 's|^parameters: .*|parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta}|' \
+    "$source_dir/tests/synthesis/benchmarks/problem7_exact.yaml" > problem7.yaml
+"$mechgen" synthesize problem7.yaml --out out_p7 > p7.out 2> p7.err
+status=$?
+[ "$status" = 0 ] || { fail "problem 7: exit $status"; cat p7.err; }
+grep -q '^# status: complete; paths 256, nonsingular solutions 33 (real 15, complex 18)' out_p7/solutions.csv ||
+  fail "problem 7: $(grep '^# status' out_p7/solutions.csv)"
+[ "$(ls out_p7/fourbar_exact_*.yaml | wc -l)" = 15 ] || fail "problem 7: $(ls out_p7 | tr '\n' ' ')"
+for m in out_p7/fourbar_exact_*.yaml; do
+  "$mechgen" generate "$m" -o "$root" -q > gen_p7.out 2>&1 || fail "mechgen generate refuses $m: $(cat gen_p7.out)"
+done
+"$python" - out_p7 <<'PY' || fail "problem 7: a written model misses point 1"
+import csv, glob, math, re, sys
+out = sys.argv[1]
+rows = list(csv.DictReader(l for l in open(out + "/solutions.csv") if not l.startswith("#")))
+P1 = (0.50, 1.06)
+worst, n = 0.0, 0
+for r in rows:
+    if r["status"] != "real":
+        continue
+    text = open(out + "/" + r["model_file"]).read()
+    v = {k: float(x) for k, x in re.findall(r'^  (\w+):\s*\{value: ([^,]+),', text, re.M)}
+    a, b, c, d, xi, eta = (v[k] for k in ("a", "b", "c", "d", "xi", "eta"))
+    q, side = float(r["crank_1"]), int(r["branch_1"])
+    Bx, By = a * math.cos(q), a * math.sin(q)
+    ex, ey = d - Bx, -By
+    L = math.hypot(ex, ey)
+    s = (b * b - c * c + L * L) / (2 * L)
+    h = side * math.sqrt(b * b - s * s)
+    Cx, Cy = Bx + (s * ex - h * ey) / L, By + (s * ey + h * ex) / L
+    ux, uy = (Cx - Bx) / b, (Cy - By) / b
+    worst = max(worst, math.hypot(Bx + xi * ux - eta * uy - P1[0], By + xi * uy + eta * ux - P1[1]))
+    n += 1
+print("%d real solutions, largest distance from point 1: %.3g" % (n, worst))
+sys.exit(0 if n == 15 and worst < 1e-8 else 1)
+PY
+ok "exact synthesis: Problem 7, 33 solutions, 15 model files, generate accepts them, point 1 by hand"
+
+"$python" - > own.yaml <<'PY'
+import math
+a, b, c, d, xi, eta = 1.0, 3.5, 3.0, 4.0, 1.5, 1.0
+print("synthesis: path\nkind: exact\nmodel: fourbar.yaml\npoint: coupler.P\npivots: {crank: [0, 0], rocker: [4, 0]}\ntargets:")
+for q in (0.3, 1.2, 2.0, 3.1, 4.4):  # C on the right of B -> D: the mirror of the model's open assembly
+    Bx, By = a * math.cos(q), a * math.sin(q)
+    ex, ey = d - Bx, -By
+    L = math.hypot(ex, ey)
+    s = (b * b - c * c + L * L) / (2 * L)
+    h = -math.sqrt(b * b - s * s)
+    Cx, Cy = Bx + (s * ex - h * ey) / L, By + (s * ey + h * ex) / L
+    ux, uy = (Cx - Bx) / b, (Cy - By) / b
+    print("  - [%.17g, %.17g]" % (Bx + xi * ux - eta * uy, By + xi * uy + eta * ux))
+print("parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta}")
+PY
+"$mechgen" synthesize own.yaml --out out_own > own.out 2> own.err
+status=$?
+[ "$status" = 0 ] || { fail "own points: exit $status"; cat own.err; }
+# The row of the original four-bar: defect-free, on the mirror mode (-1 against the model's +1).
+line=$(grep -v '^#' out_own/solutions.csv | "$python" -c '
+import csv, sys
+for r in csv.DictReader(sys.stdin):
+    if r["status"] == "real" and abs(float(r["a"]) - 1) + abs(float(r["b"]) - 3.5) + abs(float(r["c"]) - 3) < 1e-8:
+        print(r["model_file"], r["defect"] or "none", r["mode"], *(r["crank_%d" % j] for j in range(1, 6)))')
+set -- $line
+[ "$#" = 8 ] && [ "$2" = none ] || fail "own points: the original four-bar not found defect-free: $line"
+model_file=$1 mode=$3
+shift 3
+j=0
+for q in "$@"; do
+  j=$((j + 1))
+  hi=$("$python" -c "print(repr($q + 0.01))")
+  "$mechgen" sweep "out_own/$model_file" --range "theta_crank:$q:$hi" --steps 1 --csv "sweep_own_$j.csv" > sweep_own.out 2>&1 ||
+    { fail "mechgen sweep of $model_file at point $j: $(tail -2 sweep_own.out)"; continue; }
+  "$python" - "sweep_own_$j.csv" own.yaml "$j" <<'PY' || fail "mechgen sweep of $model_file misses point $j"
+import csv, re, sys
+rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
+targets = re.findall(r'^  - \[([^,]+), ([^\]]+)\]', open(sys.argv[2]).read(), re.M)
+tx, ty = (float(v) for v in targets[int(sys.argv[3]) - 1])
+d = ((float(rows[0]["coupler.P.x"]) - tx) ** 2 + (float(rows[0]["coupler.P.y"]) - ty) ** 2) ** 0.5
+print("point %s: %.3g" % (sys.argv[3], d))
+sys.exit(0 if d < 1e-8 else 1)
+PY
+done
+[ "$mode" = -1 ] || fail "own points: written on mode $mode, expected the mirror -1"
+ok "exact synthesis: a crank-rocker's own points on the mirror mode, mechgen sweep of the written model through them"
+
+sed 's|^targets: .*|targets: [[0.50, 1.06], [-0.83, -0.27], [-0.34, 0.22], [-0.13, 0.43]]|' problem7.yaml > four.yaml
+"$mechgen" synthesize four.yaml --out out_four > four.out 2> four.err
+status=$?
+[ "$status" = 1 ] || fail "four targets: exit $status, expected 1"
+grep -Eq '^four.yaml:[0-9]+:10: error: targets: kind: exact takes exactly five precision points' four.err || fail "four targets: $(cat four.err)"
+[ ! -e out_four ] || fail "four targets: out_four written"
+ok "exact synthesis: four targets refused"
 
 [ "$failures" = 0 ] && echo "all passed" || echo "$failures failure(s)"
 exit $((failures > 0))

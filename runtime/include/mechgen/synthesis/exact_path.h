@@ -51,6 +51,7 @@ struct FivePointTask {
 /// crank AB = a, coupler BC = b, rocker DC = c, ground AD = d at the angle theta0 from +x, A at
 /// (x0, y0); the coupler point P at (xi, eta) in the coupler's frame (origin B, x along BC).
 struct ExactFourBar {
+  int solution = -1;  ///< its index in ExactPathResult::solutions.finite
   double a = 0, b = 0, c = 0, d = 0, xi = 0, eta = 0, x0 = 0, y0 = 0, theta0 = 0;
   std::array<double, 5> crank{};  ///< the crank's angle (AB from +x, rad, in (-pi, pi]) at each point
   /// The assembly branch at each point: the side of the diagonal BD on which C lies, the sign
@@ -241,7 +242,8 @@ inline ExactPathResult SolveFivePointsWithPivots(const FivePointTask& task, cons
   out.solutions = homotopy::TrackAll<12>(F, G, gamma, starts, options.track);
   out.num_solutions = static_cast<int>(out.solutions.finite.size());
 
-  for (const Vec12& z : out.solutions.finite) {
+  for (size_t index = 0; index < out.solutions.finite.size(); ++index) {
+    const Vec12& z = out.solutions.finite[index];
     const double size = 1 + homotopy::internal::NormInf<12>(z);
     bool real = true;
     for (int k = 0; k < 12; k += 2) real = real && std::abs(z(k + 1) - std::conj(z(k))) <= options.real_tolerance * size;
@@ -255,6 +257,7 @@ inline ExactPathResult SolveFivePointsWithPivots(const FivePointTask& task, cons
       Q[static_cast<size_t>(j)] = q / std::abs(q);
     }
     ExactFourBar bar;
+    bar.solution = static_cast<int>(index);
     const Complex B0 = P[0] + x, C0 = P[0] + y;
     bar.a = std::abs(B0 - A);
     bar.b = std::abs(C0 - B0);

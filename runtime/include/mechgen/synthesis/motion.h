@@ -5,7 +5,9 @@
  * of them a four-bar, each written into the model's parameters (a four-bar with its frame
  * placed: crank pivot (x0, y0), ground at theta0, as tests/synthesis/models/synth_fourbar.yaml;
  * the task names them) and run by the generated model: at each pose's crank angle, on the
- * model's assembly mode, the coupler point must be the pose's point and the coupler's angle
+ * model's assembly mode or its mirror (the other root of the four-bar's block, C on the other
+ * side of BD: the one on which the model's coupler point is nearer pose 1; the model file is
+ * then written on that mode), the coupler point must be the pose's point and the coupler's angle
  * the pose's angle (up to the constant between the body's x axis and BC) to 1e-9 of the
  * poses' size, and from pose to pose (the crank turning the way the poses go) the model must
  * stay on its mode. Of the pairs that pass, the one with the smallest ratio of its longest to
@@ -131,6 +133,10 @@ inline bool ParseMotionTask(const std::string& path, MotionTask* task, std::stri
 /// One pair of Burmester points as a four-bar, and what the generated model made of it.
 struct MotionCandidate {
   int crank = 0, rocker = 0;       ///< indices into the Burmester points
+  /// The assembly mode of the four-bar's block (block 0) through the poses: the model's
+  /// (M::kDefaultModes[0]) or its mirror (the other root: C on the other side of BD); the
+  /// model file is written on it (WriteSynthesizedModel's modes).
+  int mode = 0;
   FourBarFromDyads fourbar;
   double worst_point = kInf, worst_angle = kInf;  ///< over the poses
   bool ok = false;
@@ -148,6 +154,7 @@ struct MotionResult {
   int chosen = -1;                 ///< index into candidates, -1 none
   std::vector<CurvePoint> curve;   ///< four poses
   long long evaluations = 0;       ///< more than five poses: the least squares' residual evaluations
+  int model_mode = 0;              ///< the model's own mode of the four-bar's block (M::kDefaultModes[0])
 };
 
 namespace motion_internal {
@@ -160,9 +167,9 @@ class PoseResiduals : public ceres::CostFunction {
  public:
   PoseResiduals(const std::vector<Pose>& poses, const typename M::template ParamsT<double>& base,
                 const std::vector<std::string>& names, const std::vector<int>& column, int point, int angle, double L,
-                long long* evaluations)
+                long long* evaluations, const std::array<int, M::kNumBlocks>& modes = M::kDefaultModes)
       : poses_(poses), base_(base), names_(names), column_(column), point_(point), angle_(angle), L_(L),
-        evaluations_(evaluations) {
+        evaluations_(evaluations), modes_(modes) {
     set_num_residuals(3 * static_cast<int>(poses.size()));
     mutable_parameter_block_sizes()->push_back(10);
     mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(poses.size()));
@@ -179,7 +186,7 @@ class PoseResiduals : public ceres::CostFunction {
     for (int j = 0; j < n; ++j) {
       Eigen::Matrix<double, M::kNq, 1> qv;
       qv(0) = parameters[1][j];
-      if (!SolveOnMode<M>(p, qv(0), &phi)) return false;
+      if (!SolveOnMode<M>(p, qv(0), &phi, /*judge=*/true, &modes_)) return false;
       M::Coeffs(p, qv, phi, &co);
       const Pose& pose = poses_[static_cast<size_t>(j)];
       residuals[3 * j] = co.r_P(0, point_) - pose.x;
@@ -213,8 +220,15 @@ class PoseResiduals : public ceres::CostFunction {
   int point_, angle_;
   double L_;
   long long* evaluations_;
+  std::array<int, M::kNumBlocks> modes_;  ///< the assembly mode of the poses (the model's or its mirror)
 };
 }  // namespace motion_internal
+
+/// "assembly mode" or "mirror assembly mode" (block 0's mode against the model's).
+template <class M>
+std::string ModeName(int mode) {
+  return mode == M::kDefaultModes[0] ? "assembly mode" : "mirror assembly mode";
+}
 
 /// Five poses: the Burmester points and their four-bars on M; four poses: the curves.
 template <class M>
@@ -247,6 +261,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
                  false;
     }
     MotionResult r;
+    r.model_mode = M::kDefaultModes[0];
     const std::vector<Pose>& poses = task.poses;
     const double L = burmester_internal::Scale(poses);
     if (poses.size() == 4) {
@@ -288,6 +303,28 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
         c.fourbar = FourBarOfDyads(poses, r.points[static_cast<size_t>(i)], r.points[static_cast<size_t>(j)]);
         FourBarFromDyads& f = c.fourbar;
         double gamma_fit = 0;
+        // The mode: the model's, or its mirror when the model's coupler is not at pose 1 on
+        // it (the other root of the four-bar's block: C on the other side of BD).
+        std::array<int, M::kNumBlocks> modes = M::kDefaultModes;
+        {
+          Params p = base;
+          const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
+          for (size_t k = 0; k < 9; ++k) *p.Find(task.parameters[k].c_str()) = values[k];
+          auto distance = [&](const std::array<int, M::kNumBlocks>& m) {
+            Eigen::Matrix<double, M::kNphi, 1> phi;
+            if (!SolveOnMode<M>(p, f.crank_angle[0], &phi, /*judge=*/false, &m)) return kInf;
+            Eigen::Matrix<double, M::kNq, 1> qv;
+            qv(0) = f.crank_angle[0];
+            typename M::template CoefficientsT<double> co;
+            M::Coeffs(p, qv, phi, &co);
+            const double d = std::hypot(co.r_P(0, point) - poses[0].x, co.r_P(1, point) - poses[0].y);
+            return std::isfinite(d) ? d : kInf;
+          };
+          std::array<int, M::kNumBlocks> mirror = modes;
+          mirror[0] = -mirror[0];
+          if (distance(mirror) < distance(modes)) modes = mirror;
+        }
+        c.mode = modes[0];
         if constexpr (HasDesignDerivatives<M>::value) {
           if (lsq) {
             // Least squares of the pose errors over all poses from this pair's four-bar.
@@ -300,7 +337,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
               x[9] = WrapPi(poses[0].angle - std::atan2(C.y() - B.y(), C.x() - B.x()));
             }
             auto* cost = new motion_internal::PoseResiduals<M>(poses, base, task.parameters, column, point, angle, L,
-                                                               &r.evaluations);
+                                                               &r.evaluations, modes);
             ceres::Problem problem;
             problem.AddResidualBlock(cost, nullptr, x.data(), q.data());
             // The start must assemble at every pose (else Ceres refuses it, and says so on stderr).
@@ -326,7 +363,9 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
         Params p = base;
         const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
         for (size_t k = 0; k < 9; ++k) *p.Find(task.parameters[k].c_str()) = values[k];
-        auto solve = [&](double q, Eigen::Matrix<double, M::kNphi, 1>* phi) { return SolveOnMode<M>(p, q, phi); };
+        auto solve = [&](double q, Eigen::Matrix<double, M::kNphi, 1>* phi) {
+          return SolveOnMode<M>(p, q, phi, /*judge=*/true, &modes);
+        };
         Eigen::Matrix<double, M::kNphi, 1> phi;
         typename M::template CoefficientsT<double> co;
         c.worst_point = c.worst_angle = 0;
@@ -334,7 +373,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
         for (int k = 0; k < n && c.why.empty(); ++k) {
           const double q = f.crank_angle[static_cast<size_t>(k)];
           if (!solve(q, &phi)) {
-            c.why = "pose " + std::to_string(k + 1) + ": the model does not assemble on its mode";
+            c.why = "pose " + std::to_string(k + 1) + ": the model does not assemble on its " + ModeName<M>(c.mode);
             break;
           }
           Eigen::Matrix<double, M::kNq, 1> qv;
@@ -346,7 +385,8 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
           c.worst_point = std::max(c.worst_point, dp);
           c.worst_angle = std::max(c.worst_angle, da);
           if (!lsq && (!(dp <= 1e-9 * std::max(1.0, L)) || !(da <= 1e-9)))
-            c.why = "pose " + std::to_string(k + 1) + ": the model's coupler is not there on its assembly mode (the other mode's four-bar)";
+            c.why = "pose " + std::to_string(k + 1) + ": the model's coupler is not there on its " + ModeName<M>(c.mode) +
+                    " (pose 1 on it, this pose on the other: the poses on two branches)";
         }
         // From pose to pose, the crank turning the way the poses go.
         double sum = 0;
@@ -359,7 +399,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
           for (int s = 1; s < steps && c.why.empty(); ++s)
             if (!solve(q0 + dir * span * s / steps, &phi))
               c.why = "between poses " + std::to_string(k + 1) + " and " + std::to_string(k + 2) +
-                      ": the model leaves its assembly mode (a dead point or no closure)";
+                      ": the model leaves its " + ModeName<M>(c.mode) + " (a dead point or no closure)";
         }
         c.ok = c.why.empty();
         c.ratio = std::max({f.a, f.b, f.c, f.d}) / std::min({f.a, f.b, f.c, f.d});
@@ -458,7 +498,8 @@ inline std::string MotionReport(const MotionTask& task, const MotionResult& r) {
     const MotionCandidate& c = r.candidates[i];
     s += "  " + std::to_string(c.crank + 1) + "," + std::to_string(c.rocker + 1) + ": a " + Short(c.fourbar.a) + " b " +
          Short(c.fourbar.b) + " c " + Short(c.fourbar.c) + " d " + Short(c.fourbar.d) + ": " +
-         (c.ok ? "passes (largest point error " + Short(c.worst_point, 3) + ", angle " + Short(c.worst_angle, 3) +
+         (c.ok ? "passes" + std::string(c.mode != 0 && c.mode != r.model_mode ? " on the mirror mode" : "") +
+                     " (largest point error " + Short(c.worst_point, 3) + ", angle " + Short(c.worst_angle, 3) +
                       " rad; link ratio " + Short(c.ratio, 4) +
                       (task.poses.size() > 5 ? "; least-squares error " + Short(c.error, 4) + ", LM iterations " +
                                                    std::to_string(c.iterations)

@@ -185,11 +185,14 @@ struct WrittenAssembly {
 /// `motion`: the input at each target in the order the mechanism moves through them, each one
 /// reached from the one before directly (the unwrapped angles). Comments, layout and every
 /// other line stay. false and *error when the text cannot be edited or the mechanism does not
-/// assemble at motion[0].
+/// assemble at motion[0]. `modes`: the assembly mode the synthesis used when it is not the
+/// model's (exact synthesis: a solution on the mirror mode); the hints written are that mode's
+/// configuration, so the generator picks it as the written model's mode (nullptr: kDefaultModes).
 template <class M>
 bool WriteSynthesizedModel(const std::string& model_text, const typename M::template ParamsT<double>& p,
                            const std::vector<std::string>& names, const std::vector<double>& motion, std::string* out,
-                           WrittenAssembly* written, std::string* error) {
+                           WrittenAssembly* written, std::string* error,
+                           const std::array<int, M::kNumBlocks>* modes = nullptr) {
   using Params = typename M::template ParamsT<double>;
   using VecQ = Eigen::Matrix<double, M::kNq, 1>;
   using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
@@ -225,7 +228,7 @@ bool WriteSynthesizedModel(const std::string& model_text, const typename M::temp
   VecQ q;
   q(0) = q0;
   VecPhi phi;
-  if (!SolveOnMode<M>(p, q0, &phi))
+  if (!SolveOnMode<M>(p, q0, &phi, /*judge=*/true, modes))
     return *error = "the synthesized mechanism does not assemble on its mode at its first target", false;
   for (int i = 0; i < M::kNphi; ++i)
     if (M::kPhiIsAngle[static_cast<size_t>(i)]) phi(i) = std::remainder(phi(i), kTwoPi);

@@ -339,15 +339,16 @@ bool Regular(const Matrix& Phi_phi) {
 /// on M::kDefaultModes) into *phi; false where it does not assemble. With `judge`, also false
 /// where it is not Regular(). Every solve of a candidate (path, function and motion tasks: the
 /// path evaluator judges the Phi_phi its coefficients carry) and the written model's assembly
-/// (WriteSynthesizedModel) go through here.
+/// (WriteSynthesizedModel) go through here. `modes`: another assembly mode than the model's
+/// (exact synthesis: a solution on the mirror mode; nullptr: kDefaultModes).
 template <class M>
 bool SolveOnMode(const typename M::template ParamsT<double>& p, double q, Eigen::Matrix<double, M::kNphi, 1>* phi,
-                 bool judge = true) {
+                 bool judge = true, const std::array<int, M::kNumBlocks>* modes = nullptr) {
   Eigen::Matrix<double, M::kNq, 1> qv;
   qv(0) = q;
   Eigen::Matrix<double, M::kNphi, 1> ph;
   for (int i = 0; i < M::kNphi; ++i) ph(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-  const auto report = M::Solve(p, qv, &ph, M::kDefaultModes);
+  const auto report = M::Solve(p, qv, &ph, modes != nullptr ? *modes : M::kDefaultModes);
   using Status = decltype(report.status);
   if (report.status != Status::kConverged || !ph.allFinite()) return false;
   if (judge) {

@@ -360,8 +360,17 @@ inline bool ParseTask(const std::string& path, PathTask* task, std::string* erro
   YAML::Node root;
   if (!LoadTaskRoot(path, "`synthesis: path`, `point`, `targets`, `variables`", &root, error)) return false;
   try {
-    Known(path, root, {"synthesis", "model", "point", "crank", "targets", "timing", "variables", "constraints", "search",
-               "placement"},
+    // `kind: exact` (synthesis/exact.h, ParseExactTask) is a task of its own keys; the search
+    // is the default kind.
+    if (const YAML::Node k = root["kind"]) {
+      if (!k.IsScalar() || k.Scalar() != "search")
+        throw Error{Where(path, k.Mark()) + "kind: '" + (k.IsScalar() ? k.Scalar() : std::string("?")) +
+                    "' is not a kind of path task; expected search (the default: differential evolution and "
+                    "Levenberg-Marquardt) or exact (five points with both pivots given: every solution by homotopy "
+                    "continuation, docs/synthesis.md)"};
+    }
+    Known(path, root, {"synthesis", "kind", "model", "point", "crank", "targets", "timing", "variables", "constraints",
+               "search", "placement"},
           "the task");
     const YAML::Node kind = Required(path, root, "synthesis", "the kind of task (path; function and motion are planned)");
     if (!kind.IsScalar() || kind.Scalar() != "path")
