@@ -19,12 +19,16 @@ struct Command {
 int Sweep(const ModelView& view, int argc, char** argv);  // view/sweep.cc
 int Statics(const ModelView& view, int argc, char** argv);  // view/statics.cc
 int Simulate(const ModelView& view, int argc, char** argv);  // view/simulate.cc
+int Engine(const ModelView& view, int argc, char** argv);  // view/engine.cc
+int Flywheel(const ModelView& view, int argc, char** argv);  // view/flywheel.cc
 
 /// The commands, in the order `mechgen_view --help` lists them.
 inline constexpr Command kCommands[] = {
     {"sweep", Sweep},
     {"statics", Statics},
     {"simulate", Simulate},
+    {"engine", Engine},
+    {"flywheel", Flywheel},
 };
 
 }  // namespace view_tool
