@@ -1087,7 +1087,9 @@ struct ModelCalls<flywheel::WithFlywheel<ViewModel>> : ModelCalls<ViewModel> {
     out->Q(0) -= p.I_flywheel * qdd(0);
     out->drive(0) += p.I_flywheel * qdd(0);
   }
-  /// The rotor is no link of the shaking table (WithFlywheel<M>: refused).
+  /// The rotor is no link of the shaking table (WithFlywheel<M>: refused): none, and no call.
   static bool HasShaking(const M&) { return false; }
+  template <class... A>
+  static void Shaking(const A&...) = delete;
 };
 }  // namespace mechgen
