@@ -705,6 +705,8 @@ inline constexpr bool kAlwaysFalse = false;
  * Refused at compile time (kHasShaking false, and Shaking, ShakingDesign a static_assert): the
  * shaking moment gains −I_fly q̈ on the frame, but M's Shaking splits M by link (M_link) and the
  * rotor is no link of M's; a caller that needs it adds −I_fly q̈ to M's shaking moment itself.
+ * The runtime's templates reach these through ModelCalls<WithFlywheel<M>> (core/model_calls.h);
+ * a model reached through its view has WithFlywheel<ViewModel> below, whose calls add the same.
  */
 template <class M>
 struct WithFlywheel : M {
