@@ -109,11 +109,17 @@ const std::vector<ToolSpec>& Specs() {
        true},
       {"engine", "engine_main.cc", {}, false, "dynamics",
        "an engine made by tools/make_engine.py: crank torque, bearing loads, flywheel sizing and run-up "
-       "(needs the output `dynamics`)"},
+       "(needs the output `dynamics`)",
+       {},
+       false,
+       true},
       {"flywheel", "flywheel_main.cc", {}, false, "forces",
        "flywheel sizing of a one-input machine: the driving torque at constant speed over a cycle, its "
        "energy loop, the flywheel for a coefficient of speed fluctuation and, with `dynamics`, its "
-       "simulated check under a motor law (needs the output `forces`)"},
+       "simulated check under a motor law (needs the output `forces`)",
+       {},
+       false,
+       true},
       {"synthesize", "synthesize_main.cc", {}, false, "",
        "dimensional synthesis from a task file (--task): path generation by differential evolution and "
        "Levenberg-Marquardt on the generated design derivatives (or, `kind: exact`, every four-bar through "

@@ -1,7 +1,8 @@
 #!/bin/bash
 # The flywheel command (issue 25): the per-model tool <model>_flywheel and `mechgen flywheel
 # MODEL` on a model file outside the source tree, with an empty cache, cached, and --no-cache
-# (the same CSV bytes as the per-model tool each time), --help, a bad option (exit 2, one line), a model without `forces` (one
+# (the same CSV bytes as the per-model tool each time; through the runtime compiled once, and with
+# MECHGEN_VIEW=0 the per-model program), --help, a bad option (exit 2, one line), a model without `forces` (one
 # line, exit 1, nothing compiled), a machine that cannot be sized (exit 1, the angle said), a
 # copy of the tool in an installed layout (its plot script from <prefix>/share/mechgen/tools)
 # and a missing plot script (one line, exit 1, nothing written).
@@ -108,6 +109,12 @@ start=$(date +%s.%N)
 end=$(date +%s.%N)
 cmp -s "$work/tool.csv" "$work/second.csv" || fail "cached CSV differs"
 awk -v a="$start" -v b="$end" 'BEGIN { exit !(b - a < 5) }' || fail "the cached run took $(echo "$end - $start" | bc) s"
+# The runs above went through the runtime compiled once (mechgen_view flywheel, issue 43);
+# MECHGEN_VIEW=0 keeps the per-model program: the same CSV, and the cached program below.
+MECHGEN_VIEW=0 "$mechgen" flywheel "$work/models/press.yaml" --rpm 300 --cs 0.02 --samples 3600 \
+  --csv "$work/program.csv" > "$work/program.out" 2> "$work/program.err" ||
+  fail "mechgen flywheel (MECHGEN_VIEW=0) exited $?: $(cat "$work/program.err")"
+cmp -s "$work/tool.csv" "$work/program.csv" || fail "the per-model program's CSV differs from punch_press_flywheel's"
 # The cached program was compiled with the source tree's runtime/tools as its tools directory
 # (-DMECHGEN_TOOLS_DIR): a copy of it in the installed layout above still runs the prefix's
 # (marked) script, which comes first.

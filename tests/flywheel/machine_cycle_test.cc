@@ -39,6 +39,10 @@
 namespace {
 
 namespace fw = mechgen::flywheel;
+}  // namespace
+// The model view of the massive four-bar (its <name>_view.cc, in its model library).
+MECHGEN_DECLARE_MODEL_VIEW(fourbar_massive)
+namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180;
 
@@ -889,6 +893,107 @@ TEST(FlywheelWrapper, KinetostaticsAndTheExcessFormulationCarryTheFlywheel) {
     EXPECT_NEAR(e.M(0, 0) - e_bare.M(0, 0), I_fly, 1e-15);
     EXPECT_EQ(e.g, e_bare.g);
     EXPECT_EQ(e.h, e_bare.h);
+  }
+}
+
+// Issue 43: the runtime's templates read the inertia, the kinetic energy and the kinetostatics
+// through ModelCalls<M> alone (one source for a generated model and for the model view), so the
+// flywheel must be there on both: ModelCalls<WithFlywheel<M>> (the generated model's shadows)
+// and ModelCalls<WithFlywheel<ViewModel>> (a view's functions are pointers that cannot be
+// shadowed: its calls add the flywheel). The massive four-bar with a flywheel, both ways, against
+// the equation of motion of the bare model (Lagrange, from the generated Dynamics' I, h, Q: the
+// drive that makes q move so is (I + I_fly) qdd + h - Q), its kinetic energy 1/2 (I + I_fly) qd^2,
+// the bare model's reactions (a couple on the crank moves no joint force) and the one-pass Rhs;
+// the view's figures the same bits as the generated model's. The view's own calls (ModelCalls<
+// ViewModel>, what a flywheel sized through the view read before it had these) lack exactly
+// I_fly qdd in the drive and I_fly in I.
+TEST(FlywheelWrapper, EveryReaderOfTheInertiaThroughModelCallsCarriesTheFlywheel) {
+  using M = mech::fourbar_massive::Model;
+  using W = fw::WithFlywheel<M>;
+  using V = fw::WithFlywheel<mechgen::ViewModel>;
+  using CW = mechgen::ModelCalls<W>;
+  using CV = mechgen::ModelCalls<V>;
+  using CB = mechgen::ModelCalls<mechgen::ViewModel>;
+  using VT = mechgen::ModelTypes<V>;
+  static_assert(CV::kView && std::is_same_v<VT::Params, fw::ViewFlywheelParams>, "the view's flywheel");
+  const double I_fly = 0.7;
+  W::ParamsT<double> pf;
+  pf.I_flywheel = I_fly;
+  const M::ParamsT<double>& p = pf;
+  const mechgen::ViewModel bare_view(mech::fourbar_massive::View());
+  const V view(bare_view);
+  ASSERT_TRUE(mechgen::ViewCompatible(*view.view));
+  CV::Params pv = CV::DefaultParams(view);
+  EXPECT_EQ(pv.I_flywheel, 0.0);
+  pv.I_flywheel = I_fly;
+  EXPECT_FALSE(CV::HasShaking(view));  // refused, as WithFlywheel<M>'s
+  using VecQ = Eigen::Matrix<double, 1, 1>;
+  using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
+  VecPhi phi;
+  for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
+  for (double theta : {0.4, 2.0, 4.5}) {
+    VecQ q, qd, qdd;
+    q(0) = theta;
+    qd(0) = 3.0;
+    qdd(0) = -40.0;
+    const auto report = M::Solve<double>(p, q, &phi);
+    ASSERT_EQ(report.status, decltype(report.status)::kConverged) << "theta " << theta;
+    M::CoefficientsT<double> c;
+    M::Coeffs<double>(p, q, phi, &c);
+    M::DynamicsT<double> bare;
+    M::Dynamics<double>(p, q, phi, qd, 0.0, c, &bare);
+    M::StaticsT<double> bare_k;
+    M::Kinetostatics<double>(p, q, phi, qd, qdd, 0.0, c, &bare_k);
+    const double I = bare.I(0, 0) + I_fly;
+    const double lagrange = I * qdd(0) + bare.h(0) - bare.Q(0);
+    const double scale = 1 + std::abs(lagrange);
+    // The generated model through ModelCalls<WithFlywheel<M>>.
+    CW::DynamicsOut<W> dw;
+    CW::Dynamics(W(), pf, q, phi, qd, 0.0, c, &dw, nullptr);
+    EXPECT_NEAR(dw.I(0, 0), I, 1e-15 * I);
+    EXPECT_NEAR(dw.T, 0.5 * I * qd(0) * qd(0), 1e-14 * dw.T);
+    CW::KinetostaticsOut<W> kw;
+    CW::Kinetostatics(W(), pf, q, phi, qd, qdd, 0.0, c, &kw, nullptr);
+    EXPECT_NEAR(kw.drive(0), lagrange, 1e-11 * scale) << "theta " << theta;
+    EXPECT_EQ(kw.R, bare_k.R);
+    // The view through ModelCalls<WithFlywheel<ViewModel>>: the same bits.
+    const VT::VecQ qv = q, qdv = qd, qddv = qdd;
+    const VT::VecPhi phiv = phi;
+    VT::Coefficients cv;
+    CV::Coeffs(view, pv, qv, phiv, &cv);
+    VT::DynamicsOut dv;
+    CV::Dynamics(view, pv, qv, phiv, qdv, 0.0, cv, &dv, nullptr);
+    EXPECT_EQ(dv.I(0, 0), dw.I(0, 0));
+    EXPECT_EQ(dv.T, dw.T);
+    EXPECT_EQ(dv.h(0), dw.h(0));
+    EXPECT_EQ(dv.Q(0), dw.Q(0));
+    VT::KinetostaticsOut kv;
+    CV::Kinetostatics(view, pv, qv, phiv, qdv, qddv, 0.0, cv, &kv, nullptr);
+    EXPECT_EQ(kv.drive(0), kw.drive(0)) << "theta " << theta;
+    EXPECT_EQ(kv.Q(0), kw.Q(0));
+    ASSERT_EQ(kv.R.size(), kw.R.size());
+    for (Eigen::Index k = 0; k < kv.R.size(); ++k) EXPECT_EQ(kv.R(k), kw.R(k)) << "reaction " << k;
+    // The bare view's calls: without the flywheel by exactly its share.
+    VT::KinetostaticsOut kb;
+    CB::Kinetostatics(bare_view, pv, qv, phiv, qdv, qddv, 0.0, cv, &kb, nullptr);
+    EXPECT_NEAR(kv.drive(0) - kb.drive(0), I_fly * qdd(0), 1e-12 * scale);
+    VT::DynamicsOut db;
+    CB::Dynamics(bare_view, pv, qv, phiv, qdv, 0.0, cv, &db, nullptr);
+    EXPECT_NEAR(dv.I(0, 0) - db.I(0, 0), I_fly, 4e-16 * I);  // (the sum's rounding)
+    // The one-pass Rhs (the simulator's stages), both ways.
+    CW::RhsConstantsOut<W> rc;
+    CW::Prepare(W(), pf, &rc);
+    CW::Trig trig;
+    CW::RhsOut<W> rw;
+    CW::Rhs(W(), pf, rc, q, qd, 0.0, CW::DefaultModes(W()), &trig, &rw);
+    EXPECT_NEAR(rw.I(0, 0), I, 1e-12 * I);
+    VT::RhsConstantsOut rcv;
+    CV::Prepare(view, pv, &rcv);
+    CV::Trig trig_v;
+    VT::RhsOut rv;
+    CV::Rhs(view, pv, rcv, qv, qdv, 0.0, CV::DefaultModes(view), &trig_v, &rv);
+    EXPECT_EQ(rv.I(0, 0), rw.I(0, 0));
+    EXPECT_EQ(rv.T, rw.T);
   }
 }
 

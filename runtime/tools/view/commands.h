@@ -19,6 +19,8 @@ struct Command {
 int Sweep(const ModelView& view, int argc, char** argv);  // view/sweep.cc
 int Statics(const ModelView& view, int argc, char** argv);  // view/statics.cc
 int Simulate(const ModelView& view, int argc, char** argv);  // view/simulate.cc
+int Engine(const ModelView& view, int argc, char** argv);  // view/engine.cc
+int Flywheel(const ModelView& view, int argc, char** argv);  // view/flywheel.cc
 int Study(const ModelView& view, int argc, char** argv);  // view/study.cc
 
 /// The commands, in the order `mechgen_view --help` lists them.
@@ -26,6 +28,8 @@ inline constexpr Command kCommands[] = {
     {"sweep", Sweep},
     {"statics", Statics},
     {"simulate", Simulate},
+    {"engine", Engine},
+    {"flywheel", Flywheel},
     {"study", Study},
 };
 

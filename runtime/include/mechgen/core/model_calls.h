@@ -474,6 +474,25 @@ struct ModelCalls {
       M::template Kinetostatics<double>(p, q, phi, qd, qdd, t, c, out);
     }
   }
+
+  // ---- Machines (engine, flywheel): what machines/ reads beyond the layers above ----
+  /// A free parameter by its name in *p (the generated Params::Find), nullptr where M has none;
+  /// after setting some, ParametersSet(m, p) (nothing to do here: a generated model's derived
+  /// parameters are no members, its expressions read their definitions).
+  static double* FindParameter(const M&, typename T::Params* p, const char* name) { return p->Find(name); }
+  static void ParametersSet(const M&, typename T::Params*) {}
+  /// The links with the ground (M::kNumLinks, named by LinkName where M has a drawing).
+  static constexpr int NumLinks(const M&) { return M::kNumLinks; }
+  /// Model::Shaking (the quantity `shaking`): F, M and each link's share F_link, M_link.
+  static constexpr bool HasShaking(const M&) { return mechgen::HasShaking<M>::value; }
+  template <class X = M>
+  using ShakingOut = typename X::template ShakingT<double>;
+  template <class X = M>
+  static void Shaking(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                      const typename T::VecPhi& phi, const typename T::VecQ& qd, const typename T::VecQ& qdd,
+                      const typename T::Coefficients& c, ShakingOut<X>* out) {
+    M::template Shaking<double>(p, q, phi, qd, qdd, c, out);
+  }
 };
 
 }  // namespace mechgen

@@ -638,6 +638,48 @@ struct ModelCalls<ViewModel> {
     out->gain = vec(l.gain, l.gain >= 0 ? nf : 0);
     out->K_rel = Eigen::Map<const Eigen::MatrixXd>(b + (l.K_rel >= 0 ? l.K_rel : 0), l.K_rel >= 0 ? nf : 0, nq);
   }
+
+  // ---- Machines (engine, flywheel): what machines/ reads beyond the layers above ----
+  /// A free parameter of the view's table by its name in *p, nullptr where the model has none
+  /// (or it is a derived one); after setting some, ParametersSet(m, p) brings the derived ones
+  /// up to date (the view's fill_derived), as the generated expressions read them.
+  static double* FindParameter(const M& m, ViewParams* p, const char* name) {
+    const int i = ::mechgen::FindParameter(*m.view, name);
+    return i >= 0 && i < m.view->num_free_params ? &p->values[static_cast<size_t>(i)] : nullptr;
+  }
+  static void ParametersSet(const M& m, ViewParams* p) {
+    if (m.view->fill_derived != nullptr) m.view->fill_derived(p->data());
+  }
+  static int NumLinks(const M& m) { return m.view->num_links; }
+  static bool HasShaking(const M& m) { return m.view->flags.kHasShaking && m.view->Shaking != nullptr; }
+  /// The view's Shaking: its buffer, and F, M, F_link, M_link copied out (2 x num_links).
+  struct ShakingResult {
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kShaking)]> buffer;
+    Eigen::Vector2d F;
+    double M = 0;
+    Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, ModelView::kMaxLinks> F_link;
+    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, ModelView::kMaxLinks, 1> M_link;
+  };
+  template <class X = M>
+  using ShakingOut = ShakingResult;
+  template <class X = M>
+  static void Shaking(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, const T::VecQ& qd,
+                      const T::VecQ& qdd, const T::Coefficients& c, ShakingResult* out) {
+    const ModelView& v = *m.view;
+    const ViewLayout& l = v.Layout(ViewStruct::kShaking);
+    double* const b = out->buffer.data();
+    std::fill_n(b, l.size, 0.0);
+    v.Shaking(p.data(), q.data(), phi.data(), qd.data(), qdd.data(), c.buffer.data(), b, nullptr);
+    auto at = [&l, b](const char* name) {
+      const ViewMember* member = FindMember(l, name);
+      return b + (member != nullptr ? member->offset : 0);
+    };
+    const int nl = v.num_links;
+    out->F = Eigen::Map<const Eigen::Vector2d>(at("F"));
+    out->M = *at("M");
+    out->F_link = Eigen::Map<const Eigen::MatrixXd>(at("F_link"), 2, nl);
+    out->M_link = Eigen::Map<const Eigen::VectorXd>(at("M_link"), nl);
+  }
 };
 
 }  // namespace mechgen

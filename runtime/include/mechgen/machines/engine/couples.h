@@ -29,7 +29,7 @@
  * unbalanced crank) would need its own z, which the caller sets (crank_z). A model without the
  * z_j parameters is refused (AxialStatus::kNoAxialPositions), never silently put at z = 0.
  *
- * Header-only, C++17, Eigen fixed-size; no allocation, nothing throws.
+ * Header-only, C++17, Eigen fixed-size (bounded for a model view); no allocation, nothing throws.
  */
 #pragma once
 
@@ -38,6 +38,10 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
+#include <type_traits>
+
+#include "mechgen/core/model_calls.h"
+#include "mechgen/core/model_view.h"
 
 namespace mechgen::engine {
 
@@ -60,15 +64,18 @@ inline const char* ToString(AxialStatus s) {
   return "unknown";
 }
 
-/// The axial position of every link of a model (indexed like Model::kLinkNames).
+/// The axial position of every link of a model (indexed like Model::kLinkNames); NumLinks
+/// Eigen::Dynamic: the links of a model reached through its view (bounded by ModelView::kMaxLinks).
 template <int NumLinks>
 struct LinkAxial {
+  static constexpr int kMaxLinks = NumLinks == Eigen::Dynamic ? ModelView::kMaxLinks : NumLinks;
+  using VecZ = Eigen::Matrix<double, NumLinks, 1, 0, kMaxLinks, 1>;
   AxialStatus status = AxialStatus::kNoAxialPositions;
   int cylinders = 0;             ///< n: the parameters z_1..z_n found
   double z_mean = 0;             ///< mean of z_1..z_n (m): the default reference point
   double z_crank = 0;            ///< the axial position given to the links other than rod_j, piston_j (m)
   int bad_link = -1;             ///< kMissingCylinder: the link without a z_j
-  Eigen::Matrix<double, NumLinks, 1> z = Eigen::Matrix<double, NumLinks, 1>::Zero();  ///< z_l (m)
+  VecZ z = VecZ::Zero(NumLinks == Eigen::Dynamic ? 0 : NumLinks);  ///< z_l (m)
   bool ok() const { return status == AxialStatus::kOk; }
 };
 
@@ -86,24 +93,46 @@ inline int CylinderOf(const char* name, const char* prefix) {
   }
   return j;
 }
+/// The links of M: M::kNumLinks and M::kLinkNames where M declares them (a generated model, or
+/// one in its shape), else the model's view through ModelCalls<M> (ViewModel: at run time).
+template <class M, class = void>
+struct LinksOf {
+  static constexpr int kCount = Eigen::Dynamic;
+  static int Count(const M& m) { return ModelCalls<M>::NumLinks(m); }
+  static const char* Name(const M& m, int l) { return ModelCalls<M>::LinkName(m, l); }
+  template <class P>
+  static auto* Find(const M& m, P& p, const char* name) { return ModelCalls<M>::FindParameter(m, &p, name); }
+};
+template <class M>
+struct LinksOf<M, std::void_t<decltype(M::kNumLinks), decltype(M::kLinkNames)>> {
+  static constexpr int kCount = M::kNumLinks;
+  static constexpr int Count(const M&) { return M::kNumLinks; }
+  static const char* Name(const M&, int l) { return M::kLinkNames[static_cast<std::size_t>(l)]; }
+  template <class P>
+  static auto* Find(const M&, P& p, const char* name) { return p.Find(name); }
+};
 }  // namespace internal
 
 /**
  * \brief The axial position of each link of an engine model (see the file comment).
- * \tparam M        the generated Model (kNumLinks, kLinkNames)
+ * \tparam M        the generated Model (kNumLinks, kLinkNames), or a ViewModel (its view's links)
+ * \param[in] model the model (a generated Model's empty tag)
  * \param[in] p     the model's parameters (only read; non-const because Params::Find is)
  * \param[in] crank_z  the axial position of the links other than rod_j and piston_j (the crank,
  *                  the ground), m; nullptr: the mean of the z_j
  * \return status kOk with z filled, or the reason (z then all zero and not to be used)
  */
 template <class M, class P>
-LinkAxial<M::kNumLinks> LinkAxialPositions(P& p, const double* crank_z = nullptr) {
-  LinkAxial<M::kNumLinks> out;
+LinkAxial<internal::LinksOf<M>::kCount> LinkAxialPositions(const M& model, P& p, const double* crank_z = nullptr) {
+  using Links = internal::LinksOf<M>;
+  LinkAxial<Links::kCount> out;
+  const int num_links = Links::Count(model);
+  out.z.setZero(num_links);
   char name[32];
   double sum = 0;
   for (int j = 1;; ++j) {
     std::snprintf(name, sizeof(name), "z_%d", j);
-    const auto* z = p.Find(name);
+    const auto* z = Links::Find(model, p, name);
     if (z == nullptr) break;
     sum += static_cast<double>(*z);
     out.cylinders = j;
@@ -114,8 +143,8 @@ LinkAxial<M::kNumLinks> LinkAxialPositions(P& p, const double* crank_z = nullptr
   }
   out.z_mean = sum / out.cylinders;
   out.z_crank = crank_z != nullptr ? *crank_z : out.z_mean;
-  for (int l = 0; l < M::kNumLinks; ++l) {
-    const char* link = M::kLinkNames[l];
+  for (int l = 0; l < num_links; ++l) {
+    const char* link = Links::Name(model, l);
     int j = internal::CylinderOf(link, "rod_");
     if (j == 0) j = internal::CylinderOf(link, "piston_");
     if (j == 0) {
@@ -123,7 +152,7 @@ LinkAxial<M::kNumLinks> LinkAxialPositions(P& p, const double* crank_z = nullptr
       continue;
     }
     std::snprintf(name, sizeof(name), "z_%d", j);
-    const auto* z = p.Find(name);
+    const auto* z = Links::Find(model, p, name);
     if (z == nullptr) {
       out.status = AxialStatus::kMissingCylinder;
       out.bad_link = l;
@@ -134,6 +163,11 @@ LinkAxial<M::kNumLinks> LinkAxialPositions(P& p, const double* crank_z = nullptr
   }
   out.status = AxialStatus::kOk;
   return out;
+}
+/// The same for a generated Model M (an empty tag).
+template <class M, class P>
+LinkAxial<M::kNumLinks> LinkAxialPositions(P& p, const double* crank_z = nullptr) {
+  return LinkAxialPositions<M, P>(M(), p, crank_z);
 }
 
 /**

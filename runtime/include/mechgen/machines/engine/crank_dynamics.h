@@ -83,7 +83,8 @@ struct GasLoad {
   Source source;
   template <class VecQ, class MatK>
   void operator()(double /*t*/, const VecQ& q, const VecQ& /*qd*/, const MatK& K, VecQ* Q) const {
-    static_assert(VecQ::RowsAtCompileTime == 1, "GasLoad: one-DOF crank models only");
+    static_assert(VecQ::RowsAtCompileTime == 1 || VecQ::RowsAtCompileTime == Eigen::Dynamic,
+                  "GasLoad: one-DOF crank models only");  // (a view's: its one input at run time)
     (*Q)(0) = source.Torque(q(0), K);
   }
 };
@@ -142,7 +143,7 @@ SteadyCycle FindSteadyCycle(Sim* sim, const SteadyCycleOptions& o) {
     out.message = "FindSteadyCycle: omega_guess and cycle must be > 0";
     return out;
   }
-  VecQ q0;
+  auto q0 = Sized<VecQ>(sim->Nq());
   q0(0) = o.theta0;
   if (!sim->Initialize(q0)) {
     out.message = "FindSteadyCycle: the model does not assemble at theta0";
@@ -150,7 +151,7 @@ SteadyCycle FindSteadyCycle(Sim* sim, const SteadyCycleOptions& o) {
   }
   const double theta_end = o.theta0 + o.cycle;
   auto shoot = [&](double omega0, double* omega1, double* t1) -> bool {
-    VecQ q, qd;
+    auto q = Sized<VecQ>(sim->Nq()), qd = Sized<VecQ>(sim->Nq());
     q(0) = o.theta0;
     qd(0) = omega0;
     sim->Initialize(q);
@@ -224,8 +225,8 @@ SteadyCycle FindSteadyCycle(Sim* sim, const SteadyCycleOptions& o) {
   out.period = t_cycle;
   dynamics::MinimalOptions opts = sim->options();
   opts.sample_dt = t_cycle / o.samples;
-  Sim sampler(sim->params(), opts, sim->load());
-  VecQ q, qd;
+  Sim sampler(sim->model(), sim->params(), opts, sim->load());
+  auto q = Sized<VecQ>(sim->Nq()), qd = Sized<VecQ>(sim->Nq());
   q(0) = o.theta0;
   qd(0) = out.omega0;
   sampler.Initialize(q);

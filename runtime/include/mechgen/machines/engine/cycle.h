@@ -22,7 +22,13 @@
  * a C_s is then J_fly = dE/(C_s omega^2) - (mean I - J_fly of the model).
  *
  * Only for a model with `dynamics`, `forces` (statics, no Coulomb friction), a Solve and one
- * input: CanRunEngineCycle<M>.
+ * input: CanRunEngineCycle<M>() at compile time for a generated model, CanRunEngineCycle(model)
+ * at run time (a model reached through its view, issue 43).
+ *
+ * One source, two instantiations: every function reaches its model through ModelCalls<M>
+ * (core/model_calls.h), for a generated model (the per-model tool, the study; the overloads
+ * without a model argument) and for mechgen::ViewModel (mechgen_view engine; runtime/view/
+ * machines.cc), with the same arithmetic in the same order.
  */
 #pragma once
 
@@ -34,7 +40,9 @@
 #include <string>
 #include <vector>
 
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
+#include "mechgen/core/model_view.h"
 #include "mechgen/machines/engine/couples.h"
 #include "mechgen/machines/engine/crank_dynamics.h"
 #include "mechgen/machines/engine/gas.h"
@@ -50,11 +58,26 @@ constexpr int kMaxCylinders = 16;
 /// run time (ReadEngine).
 template <class M>
 constexpr bool CanRunEngineCycle() {
-  if constexpr (HasDynamics<M>::value && statics::StaticsFeatures<M>::kHasStatics && HasStaticsR<M>::value &&
+  if constexpr (ModelCalls<M>::kView) {
+    return true;  // at run time: CanRunEngineCycle(model)
+  } else if constexpr (HasDynamics<M>::value && statics::StaticsFeatures<M>::kHasStatics && HasStaticsR<M>::value &&
                 ModelFeatures<M>::kHasSolve) {
     return M::kNq == 1 && !statics::StaticsFeatures<M>::kHasFriction;
   } else {
     return false;
+  }
+}
+
+/// The same at run time for `model` (a generated model: CanRunEngineCycle<M>()).
+template <class M>
+bool CanRunEngineCycle(const M& model) {
+  using C = ModelCalls<M>;
+  if constexpr (!CanRunEngineCycle<M>()) {
+    (void)model;
+    return false;
+  } else {
+    return C::HasDynamics(model) && C::HasStatics(model) && C::HasReactions(model) && C::HasSolve(model) &&
+           C::Nq(model) == 1 && !C::HasFriction(model);
   }
 }
 
@@ -81,27 +104,27 @@ struct Engine {
 
 namespace cycle_internal {
 template <class M>
-int PhiIndex(const std::string& name) {
-  for (int i = 0; i < M::kNphi; ++i)
-    if (name == M::kPhiNames[i]) return i;
+int PhiIndex(const M& model, const std::string& name) {
+  for (int i = 0; i < ModelCalls<M>::Nphi(model); ++i)
+    if (name == ModelCalls<M>::PhiName(model, i)) return i;
   return -1;
 }
 template <class M>
-int ReactionIndex(const std::string& name) {
-  for (int i = 0; i < M::kNumReactions; ++i)
-    if (name == M::kReactionNames[i]) return i;
+int ReactionIndex(const M& model, const std::string& name) {
+  for (int i = 0; i < ModelCalls<M>::NumReactions(model); ++i)
+    if (name == ModelCalls<M>::ReactionName(model, i)) return i;
   return -1;
 }
 }  // namespace cycle_internal
 
-/// The engine of the model M from its parameters *p (by name) into *e; false and *error when
-/// M is not an engine model of tools/make_engine.py.
-template <class M, class Params>
-bool ReadEngine(Params* p, Engine* e, std::string* error) {
-  using cycle_internal::PhiIndex;
-  using cycle_internal::ReactionIndex;
+/// The engine of `model` from its parameters *p (by name) into *e; false and *error when the
+/// model is not an engine model of tools/make_engine.py.
+template <class M>
+bool ReadEngine(const M& model, typename ModelTypes<M>::Params* p, Engine* e, std::string* error) {
+  auto PhiIndex = [&model](const std::string& name) { return cycle_internal::PhiIndex(model, name); };
+  auto ReactionIndex = [&model](const std::string& name) { return cycle_internal::ReactionIndex(model, name); };
   auto get = [&](const std::string& name, double* v) {
-    double* x = p->Find(name.c_str());
+    double* x = ModelCalls<M>::FindParameter(model, p, name.c_str());
     if (x == nullptr) {
       *error = "the model has no parameter '" + name + "': not an engine model of tools/make_engine.py";
       return false;
@@ -121,17 +144,17 @@ bool ReadEngine(Params* p, Engine* e, std::string* error) {
   e->strokes = static_cast<int>(strokes);
   e->cycle = e->strokes == 4 ? 4 * Engine::kPi : 2 * Engine::kPi;
   e->area = Engine::kPi * e->bore * e->bore / 4;
-  e->R_O = ReactionIndex<M>("F_O_x");
+  e->R_O = ReactionIndex("F_O_x");
   for (int j = 0; j < kMaxCylinders; ++j) {
     const std::string k = std::to_string(j + 1);
-    const int s = PhiIndex<M>("s_slide_" + k);
+    const int s = PhiIndex("s_slide_" + k);
     if (s < 0) break;
     e->slide[j] = s;
-    e->rod[j] = PhiIndex<M>("theta_rod_" + k);
-    e->R_B[j] = ReactionIndex<M>("F_B_" + k + "_x");
-    e->R_C[j] = ReactionIndex<M>("F_C_" + k + "_x");
-    e->R_N[j] = ReactionIndex<M>("N_slide_" + k);
-    e->p_gas[j] = p->Find(("p_gas_" + k).c_str());
+    e->rod[j] = PhiIndex("theta_rod_" + k);
+    e->R_B[j] = ReactionIndex("F_B_" + k + "_x");
+    e->R_C[j] = ReactionIndex("F_C_" + k + "_x");
+    e->R_N[j] = ReactionIndex("N_slide_" + k);
+    e->p_gas[j] = ModelCalls<M>::FindParameter(model, p, ("p_gas_" + k).c_str());
     if (e->rod[j] < 0 || e->R_B[j] < 0 || e->R_C[j] < 0 || e->R_N[j] < 0 || e->p_gas[j] == nullptr ||
         e->R_O < 0) {
       *error = "cylinder " + k + " lacks theta_rod_" + k + ", p_gas_" + k +
@@ -147,6 +170,11 @@ bool ReadEngine(Params* p, Engine* e, std::string* error) {
     return false;
   }
   return true;
+}
+/// The same for a generated model M (an empty tag).
+template <class M, class Params>
+bool ReadEngine(Params* p, Engine* e, std::string* error) {
+  return ReadEngine(M(), p, e, error);
 }
 
 /// The pressure law of the engine e: `table` if not null, else the parametric cycle of `w` with
@@ -203,9 +231,10 @@ bool ReadPressureTable(const std::string& path, double cycle, PressureTable* t, 
   return true;
 }
 
-/// The gas torque of the engine's cylinders under `law` (phase_j from *p).
-template <class Params>
-CycleGas MakeGas(Params* p, const Engine& e, const PressureLaw* law) {
+namespace cycle_internal {
+/// The gas torque of the engine's cylinders under `law`, phase_j by find("phase_j").
+template <class Find>
+CycleGas MakeGasBy(const Engine& e, const PressureLaw* law, Find find) {
   CycleGas g;
   g.law = law;
   g.cycle = e.cycle;
@@ -213,10 +242,30 @@ CycleGas MakeGas(Params* p, const Engine& e, const PressureLaw* law) {
   for (int j = 0; j < e.n; ++j) {
     g.cylinders[j].slide = e.slide[j];
     g.cylinders[j].area = e.area;
-    g.cylinders[j].phase = *p->Find(("phase_" + std::to_string(j + 1)).c_str());
+    g.cylinders[j].phase = *find(("phase_" + std::to_string(j + 1)).c_str());
   }
   return g;
 }
+}  // namespace cycle_internal
+
+/// The gas torque of the engine's cylinders under `law` (phase_j from *p) of `model`.
+template <class M>
+CycleGas MakeGas(const M& model, typename ModelTypes<M>::Params* p, const Engine& e, const PressureLaw* law) {
+  return cycle_internal::MakeGasBy(e, law, [&](const char* name) { return ModelCalls<M>::FindParameter(model, p, name); });
+}
+/// The same on a generated model's Params (Params::Find).
+template <class Params>
+CycleGas MakeGas(Params* p, const Engine& e, const PressureLaw* law) {
+  return cycle_internal::MakeGasBy(e, law, [p](const char* name) { return p->Find(name); });
+}
+
+namespace cycle_internal {
+/// The reactions a CrankPoint holds: M's, or the most a view may have.
+template <class M, bool = ModelCalls<M>::kView>
+struct ReactionCount : std::integral_constant<int, M::kNumReactions> {};
+template <class M>
+struct ReactionCount<M, true> : std::integral_constant<int, ModelView::kMaxReactions> {};
+}  // namespace cycle_internal
 
 /// One crank angle at constant speed.
 template <class M>
@@ -225,29 +274,38 @@ struct CrankPoint {
   double T1 = 0;   ///< cylinder 1 alone: its gas torque + its own inertia torque
   double I1 = 0;   ///< cylinder 1's share of I(theta)
   std::array<double, kMaxCylinders> p{}, thrust{};
-  std::array<double, M::kNumReactions> R{};
+  /// The reactions (the model's, in its order; for a view the first NumReactions entries).
+  std::array<double, cycle_internal::ReactionCount<M>::value> R{};
   double shake_x = 0, shake_y = 0, shake_M = 0;  ///< generated shaking force and moment about O
   double rock_x = 0, rock_y = 0;  ///< rocking couple about the cylinders' middle (couples.h)
 };
 
-/// The positions at theta from *phi (warm start), K and L there.
+/// The positions of `model` at theta from *phi (warm start; the generated Solve's default modes,
+/// iterations and tolerance), K and L there.
+template <class M>
+bool CrankPositions(const M& model, const typename ModelTypes<M>::Params& p, double theta,
+                    typename ModelTypes<M>::VecPhi* phi, typename ModelTypes<M>::Coefficients* c) {
+  using C = ModelCalls<M>;
+  auto q = Sized<typename ModelTypes<M>::VecQ>(C::Nq(model));
+  q(0) = theta;
+  const auto report = C::Solve(model, p, q, phi, C::DefaultModes(model), 20, 0.0);
+  if (report.status != decltype(report.status)::kConverged) return false;
+  C::Coeffs(model, p, q, *phi, c);
+  return true;
+}
+/// The same for a generated model M (an empty tag).
 template <class M, class Params>
 bool CrankPositions(const Params& p, double theta, Eigen::Matrix<double, M::kNphi, 1>* phi,
                     typename M::template CoefficientsT<double>* c) {
-  Eigen::Matrix<double, M::kNq, 1> q;
-  q(0) = theta;
-  const auto report = M::Solve(p, q, phi);
-  if (report.status != decltype(report.status)::kConverged) return false;
-  M::Coeffs(p, q, *phi, c);
-  return true;
+  return CrankPositions(M(), p, theta, phi, c);
 }
 
 namespace cycle_internal {
 /// Cylinder j's generalized inertia and its derivative, from the generated phi, K, L (the rod
 /// by its centre of mass and K_theta, the piston along its slide).
-template <class M>
-void CylinderInertia(const Engine& e, int j, double theta, const Eigen::Matrix<double, M::kNphi, 1>& phi,
-                     const typename M::template CoefficientsT<double>& c, double* I, double* dI) {
+template <class VecPhi, class Coefficients>
+void CylinderInertia(const Engine& e, int j, double theta, const VecPhi& phi, const Coefficients& c, double* I,
+                     double* dI) {
   const double a = theta + e.gamma[j];
   const double f = phi(e.rod[j]), Kf = c.K(e.rod[j], 0), Lf = c.L(e.rod[j], 0);
   const double Ks = c.K(e.slide[j], 0), Ls = c.L(e.slide[j], 0);
@@ -261,13 +319,15 @@ void CylinderInertia(const Engine& e, int j, double theta, const Eigen::Matrix<d
 
 /// The generated shaking force and moment into *pt, and the rocking couple about the middle of
 /// the cylinders from the links' axial positions (a model without `shaking`: zeros).
-template <class MM, class Params, class VecQ, class VecPhi>
-void FillShaking(const Params& p, const VecQ& q, const VecPhi& phi, const VecQ& qd, const VecQ& qdd,
-                 const typename MM::template CoefficientsT<double>& c, const LinkAxial<MM::kNumLinks>& axial,
-                 CrankPoint<MM>* pt) {
-  if constexpr (MM::kHasShaking) {
-    typename MM::template ShakingT<double> sh;
-    MM::Shaking(p, q, phi, qd, qdd, c, &sh);
+template <class M, class VecQ, class VecPhi, class Axial>
+void FillShaking(const M& model, const typename ModelTypes<M>::Params& p, const VecQ& q, const VecPhi& phi,
+                 const VecQ& qd, const VecQ& qdd, const typename ModelTypes<M>::Coefficients& c, const Axial& axial,
+                 CrankPoint<M>* pt) {
+  using C = ModelCalls<M>;
+  if constexpr (C::kView || HasShaking<M>::value) {
+    if (!C::HasShaking(model)) return;
+    typename C::template ShakingOut<M> sh;
+    C::Shaking(model, p, q, phi, qd, qdd, c, &sh);
     pt->shake_x = sh.F(0);
     pt->shake_y = sh.F(1);
     pt->shake_M = sh.M;
@@ -275,7 +335,7 @@ void FillShaking(const Params& p, const VecQ& q, const VecPhi& phi, const VecQ& 
     pt->rock_x = rock(0);
     pt->rock_y = rock(1);
   } else {
-    (void)p, (void)q, (void)phi, (void)qd, (void)qdd, (void)c, (void)axial, (void)pt;
+    (void)model, (void)p, (void)q, (void)phi, (void)qd, (void)qdd, (void)c, (void)axial, (void)pt;
   }
 }
 }  // namespace cycle_internal
@@ -283,60 +343,71 @@ void FillShaking(const Params& p, const VecQ& q, const VecPhi& phi, const VecQ& 
 /// The cycle at constant speed omega, `samples` crank angles from theta = 0 over the engine's
 /// cycle (T_load and c_load off: the crank held at omega by a dynamometer absorbing T_total).
 /// false and *error when the positions fail at an angle or the rocking couple cannot be formed.
-template <class M, class Params>
-bool RunCycle(const Params& p0, const Engine& e, const CycleGas& gas, double omega, int samples,
-              std::vector<CrankPoint<M>>* out, std::string* error) {
-  using VecQ = Eigen::Matrix<double, M::kNq, 1>;
-  using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
-  Params p = p0;
-  *p.Find("T_load") = 0;
-  *p.Find("c_load") = 0;
+template <class M>
+bool RunCycle(const M& model, const typename ModelTypes<M>::Params& p0, const Engine& e, const CycleGas& gas,
+              double omega, int samples, std::vector<CrankPoint<M>>* out, std::string* error) {
+  using C = ModelCalls<M>;
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecPhi = typename ModelTypes<M>::VecPhi;
+  typename ModelTypes<M>::Params p = p0;
+  auto param = [&](const std::string& name) { return C::FindParameter(model, &p, name.c_str()); };
+  *param("T_load") = 0;
+  *param("c_load") = 0;
+  C::ParametersSet(model, &p);
   // The links' axial positions for the rocking couple (rod_j, piston_j at z_j; the crank at the
   // mean, the reference point).
-  const auto axial = LinkAxialPositions<M>(p);
-  if (M::kHasShaking && !axial.ok()) {
+  const auto axial = LinkAxialPositions(model, p);
+  if (C::HasShaking(model) && !axial.ok()) {
     *error = std::string("rocking couple: ") + ToString(axial.status);
     return false;
   }
-  VecPhi phi;
-  for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[i];
+  const int nq = C::Nq(model), nphi = C::Nphi(model), num_reactions = C::NumReactions(model);
+  auto phi = Sized<VecPhi>(nphi);
+  for (int i = 0; i < nphi; ++i) phi(i) = C::AssemblyPhi(model)[i];
   out->assign(samples, CrankPoint<M>());
   for (int i = 0; i < samples; ++i) {
     CrankPoint<M>& pt = (*out)[i];
     pt.theta = e.cycle * i / samples;
-    typename M::template CoefficientsT<double> c;
-    if (!CrankPositions<M>(p, pt.theta, &phi, &c)) {
+    typename ModelTypes<M>::Coefficients c;
+    if (!CrankPositions(model, p, pt.theta, &phi, &c)) {
       char buf[160];
       std::snprintf(buf, sizeof(buf), "the positions failed at theta = %.3f deg", pt.theta / (Engine::kPi / 180));
       *error = buf;
       return false;
     }
-    VecQ q, qd, qdd;
+    auto q = Sized<VecQ>(nq), qd = Sized<VecQ>(nq), qdd = Sized<VecQ>(nq);
     q(0) = pt.theta;
     qd(0) = omega;
     qdd(0) = 0;
-    typename M::template DynamicsT<double> d;
-    M::Dynamics(p, q, phi, qd, 0.0, c, &d);
+    typename C::template DynamicsOut<M> d;
+    C::Dynamics(model, p, q, phi, qd, 0.0, c, &d, nullptr);
     pt.I = d.I(0, 0);
     pt.T_inertia = -d.h(0);
     pt.T_gas = gas.Torque(pt.theta, c.K);
     pt.T_total = pt.T_gas + pt.T_inertia;
     for (int j = 0; j < e.n; ++j) {
       pt.p[j] = gas.Pressure(j, pt.theta);
-      *p.Find(("p_gas_" + std::to_string(j + 1)).c_str()) = pt.p[j];
+      *param("p_gas_" + std::to_string(j + 1)) = pt.p[j];
     }
-    typename M::template StaticsT<double> st;
-    M::Kinetostatics(p, q, phi, qd, qdd, 0.0, c, &st);
+    C::ParametersSet(model, &p);
+    typename C::template KinetostaticsOut<M> st;
+    C::Kinetostatics(model, p, q, phi, qd, qdd, 0.0, c, &st, nullptr);
     pt.drive = st.drive(0);
-    for (int k = 0; k < M::kNumReactions; ++k) pt.R[k] = st.R(k);
+    for (int k = 0; k < num_reactions; ++k) pt.R[k] = st.R(k);
     for (int j = 0; j < e.n; ++j) pt.thrust[j] = -st.R(e.R_N[j]);
-    cycle_internal::FillShaking<M>(p, q, phi, qd, qdd, c, axial, &pt);
+    cycle_internal::FillShaking(model, p, q, phi, qd, qdd, c, axial, &pt);
     double I1, dI1;
-    cycle_internal::CylinderInertia<M>(e, 0, pt.theta, phi, c, &I1, &dI1);
+    cycle_internal::CylinderInertia(e, 0, pt.theta, phi, c, &I1, &dI1);
     pt.I1 = I1;
     pt.T1 = -pt.p[0] * e.area * c.K(e.slide[0], 0) - 0.5 * dI1 * omega * omega;
   }
   return true;
+}
+/// The same for a generated model M (an empty tag).
+template <class M, class Params>
+bool RunCycle(const Params& p0, const Engine& e, const CycleGas& gas, double omega, int samples,
+              std::vector<CrankPoint<M>>* out, std::string* error) {
+  return RunCycle(M(), p0, e, gas, omega, samples, out, error);
 }
 
 /// The energy loop of a cycle (RunCycle's points): of T_total and of T_gas about their means

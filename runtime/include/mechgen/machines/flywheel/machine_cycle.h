@@ -94,6 +94,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -101,7 +102,9 @@
 #include <Eigen/Core>
 
 #include "mechgen/core/constants.h"
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
+#include "mechgen/core/view_model.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/machines/flywheel/energy_loop.h"
 #include "mechgen/position/solver.h"
@@ -250,11 +253,16 @@ struct FlywheelSize {
 /// Θ by default: the model's input range when it is a whole number of turns (720° for a
 /// four-stroke engine model), else one turn.
 template <class M>
-double DefaultCycle() {
-  const double range = M::kQMax[0] - M::kQMin[0];
+double DefaultCycle(const M& model) {
+  const double range = ModelCalls<M>::QMax(model)[0] - ModelCalls<M>::QMin(model)[0];
   const double turns = std::round(range / (2 * kPi));
   if (turns >= 1 && std::abs(range - turns * 2 * kPi) <= 1e-9 * range) return turns * 2 * kPi;
   return 2 * kPi;
+}
+/// The same for a generated model M (an empty tag).
+template <class M>
+double DefaultCycle() {
+  return DefaultCycle(M());
 }
 
 namespace internal {
@@ -281,24 +289,33 @@ inline void BreakPosition(double u, int n, int* k, double* sigma) {
 
 /**
  * \brief T_req over one cycle at ω_m, its energy loop (see the file comment).
+ * \param[in] model  the model (a generated Model's empty tag, or a ViewModel: its one input and
+ *                   statics at run time).
  * \param[in] p  the model's parameters.
  */
 template <class M>
-MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
+MachineCycle SampleMachineCycle(const M& model, const typename ModelTypes<M>::Params& p,
                                 const MachineCycleOptions& o) {
+  using C = ModelCalls<M>;
   MachineCycle out;
-  if constexpr (M::kNq != 1) {
-    (void)p, (void)o;
+  if constexpr (!C::kView && M::kNq != 1) {
+    (void)model, (void)p, (void)o;
     out.status = CycleStatus::kNotOneDof;
     out.message = ToString(out.status);
     return out;
   } else if constexpr (!statics::StaticsFeatures<M>::kHasStatics) {
-    (void)p, (void)o;
+    (void)model, (void)p, (void)o;
     out.status = CycleStatus::kNoForces;
     out.message = ToString(out.status);
     return out;
   } else {
+    if (C::Nq(model) != 1 || !C::HasStatics(model)) {  // (a view's, at run time)
+      out.status = C::Nq(model) != 1 ? CycleStatus::kNotOneDof : CycleStatus::kNoForces;
+      out.message = ToString(out.status);
+      return out;
+    }
     using VecQ = typename ModelTypes<M>::VecQ;
+    const int nq = 1;
     auto fail = [&](CycleStatus s, double theta, const std::string& why) {
       out.status = s;
       out.failed_theta = theta;
@@ -306,49 +323,50 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
                     (why.empty() ? "" : ": " + why);
       return out;
     };
-    if (!M::kQIsAngle[0]) return fail(CycleStatus::kNotAngle, MachineCycle::kNaN, "");
+    if (!C::QIsAngle(model, 0)) return fail(CycleStatus::kNotAngle, MachineCycle::kNaN, "");
     if (!o.IsValid()) return fail(CycleStatus::kBadOptions, MachineCycle::kNaN, "");
     const int n = o.samples;
     out.omega = o.omega;
-    out.theta0 = std::isnan(o.theta0) ? M::kQMin[0] : o.theta0;
-    out.cycle = std::isnan(o.cycle) ? DefaultCycle<M>() : o.cycle;
+    out.theta0 = std::isnan(o.theta0) ? C::QMin(model)[0] : o.theta0;
+    out.cycle = std::isnan(o.cycle) ? DefaultCycle(model) : o.cycle;
     const double h_theta = out.cycle / n;
     if (!(h_theta <= position::Options().max_input_step))
       return fail(CycleStatus::kBadOptions, MachineCycle::kNaN,
                   "the samples are further apart than the position solver's step limit; use more");
-    constexpr bool kDynamics = HasDynamics<M>::value;
-    out.has_dynamics = kDynamics;
-    position::PositionSolver<M> solver(position::Options(), p);
+    constexpr bool kDynamics = HasDynamics<M>::value;  // (a view: C::HasDynamics at run time)
+    out.has_dynamics = kDynamics && C::HasDynamics(model);
+    position::PositionSolver<M> solver(model, position::Options(), p);
     position::Summary assembly;
     if (solver.AssembleDefault(&assembly) != position::Status::kConverged)
       return fail(CycleStatus::kNotAssembled, MachineCycle::kNaN, position::FormatSummary(assembly));
     out.points.assign(static_cast<size_t>(n), CyclePoint());
-    VecQ q_begin, q_end, qd, qdd;
+    auto q_begin = Sized<VecQ>(nq), q_end = Sized<VecQ>(nq), qd = Sized<VecQ>(nq), qdd = Sized<VecQ>(nq);
     q_begin(0) = out.theta0;
     // n steps to θ_0 + Θ; the last row (θ_0 + Θ = θ_0 of the next cycle) is not kept.
     q_end(0) = out.theta0 + out.cycle;
     qd(0) = o.omega;
     qdd(0) = 0;
-    const VecQ forward = VecQ::Ones();
+    const VecQ forward = VecQ::Ones(nq);
     bool failed = false;
     // The switching items' modes and the positions at each sample and at the cycle's end.
-    constexpr int kNumSwitches = ModelFeatures<M>::kNumSwitches;
-    using Modes = std::array<int, static_cast<size_t>(kNumSwitches)>;
+    // (kMaySwitch: M may have switching items, a view's at run time: num_switches.)
+    constexpr bool kMaySwitch = C::kView || ModelFeatures<M>::kNumSwitches > 0;
+    const int num_switches = C::NumSwitches(model);
+    using Modes = typename C::SwitchModesArray;  // (a view's beyond num_switches stay 0)
     using VecPhi = typename ModelTypes<M>::VecPhi;
-    const bool find_switches = kNumSwitches > 0 && o.switch_breaks;
+    const bool find_switches = num_switches > 0 && o.switch_breaks;
     std::vector<Modes> modes(find_switches ? static_cast<size_t>(n) + 1 : 0);
     std::vector<VecPhi> phis(find_switches ? static_cast<size_t>(n) + 1 : 0);
     auto modes_at = [&](const VecQ& q, const VecPhi& phi, Modes* out_modes) {
-      if constexpr (kNumSwitches > 0) {
+      if constexpr (kMaySwitch) {
         typename ModelTypes<M>::Coefficients c;
-        M::template Coeffs<double>(p, q, phi, &c);
-        M::template SwitchModes<double>(p, q, phi, qd, 0.0, c, out_modes);
+        C::Coeffs(model, p, q, phi, &c);
+        C::SwitchModes(model, p, q, phi, qd, 0.0, c, out_modes);
       } else {
         (void)q, (void)phi, (void)out_modes;
       }
     };
-    SweepRows(&solver, q_begin, q_end, n, qd, qdd, SweepOptions(),
-              [&](int k, const SweepRecord<M>& r) {
+    auto row = [&](int k, const SweepRecord<M>& r) {
                 if (failed || k > n) return;
                 const double theta = out.theta0 + k * h_theta;
                 const position::Status ps = r.summary.status;
@@ -372,10 +390,10 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
                   return;
                 }
                 typename ModelTypes<M>::Coefficients c;
-                M::template Coeffs<double>(p, r.state.q, r.state.phi, &c);
+                C::Coeffs(model, p, r.state.q, r.state.phi, &c);
                 statics::Solution<M> run;
                 const statics::Status st =
-                    statics::Solve<M>(o.statics, p, r.state.q, r.state.phi, c, forward, &run);
+                    statics::Solve<M>(model, o.statics, p, r.state.q, r.state.phi, c, forward, &run);
                 if (st != statics::Status::kConverged) {
                   failed = true;
                   fail(st == statics::Status::kSingular ? CycleStatus::kDeadPoint
@@ -392,16 +410,19 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
                 pt.condition = run.summary.condition;
                 pt.T_static = run.statics.drive(0);
                 if constexpr (kDynamics) {
+                 if (out.has_dynamics) {
                   // Q_static: the loads' generalized force without friction (the same as the
                   // run's with a frictionless model).
                   double Q_static = -run.statics.drive(0);
                   if constexpr (statics::StaticsFeatures<M>::kHasFriction) {
+                   if (C::HasFriction(model)) {
                     statics::Solution<M> still;
-                    statics::Solve<M>(o.statics, p, r.state.q, r.state.phi, c, VecQ::Zero(), &still);
+                    statics::Solve<M>(model, o.statics, p, r.state.q, r.state.phi, c, VecQ::Zero(nq), &still);
                     Q_static = still.statics.Q(0);
+                   }
                   }
-                  typename M::template DynamicsT<double> d;
-                  M::template Dynamics<double>(p, r.state.q, r.state.phi, qd, 0.0, c, &d);
+                  typename C::template DynamicsOut<M> d;
+                  C::Dynamics(model, p, r.state.q, r.state.phi, qd, 0.0, c, &d, nullptr);
                   pt.T_inertia = d.h(0);
                   pt.T_speed = Q_static - d.Q(0);
                   pt.I = d.I(0, 0);
@@ -411,17 +432,24 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
                   VecQ qd_hi = qd, qd_lo = qd;
                   qd_hi(0) += dw;
                   qd_lo(0) -= dw;
-                  typename M::template DynamicsT<double> d_hi, d_lo;
-                  M::template Dynamics<double>(p, r.state.q, r.state.phi, qd_hi, 0.0, c, &d_hi);
-                  M::template Dynamics<double>(p, r.state.q, r.state.phi, qd_lo, 0.0, c, &d_lo);
+                  typename C::template DynamicsOut<M> d_hi, d_lo;
+                  C::Dynamics(model, p, r.state.q, r.state.phi, qd_hi, 0.0, c, &d_hi, nullptr);
+                  C::Dynamics(model, p, r.state.q, r.state.phi, qd_lo, 0.0, c, &d_lo, nullptr);
                   pt.dT_domega = 2 * d.h(0) / o.omega - (d_hi.Q(0) - d_lo.Q(0)) / (2 * dw);
+                 }
                 }
                 pt.T_req = pt.T_static + pt.T_inertia + pt.T_speed;
                 if (!std::isfinite(pt.T_req) || !std::isfinite(pt.I) || !std::isfinite(pt.dT_domega)) {
                   failed = true;
                   fail(CycleStatus::kNotFinite, theta, "");
                 }
-              });
+              };
+    if constexpr (C::kView) {  // (the view's SweepRows, compiled once: a ViewRowFn)
+      std::function<void(int, const SweepRecord<M>&)> fn = row;
+      SweepRows(&solver, q_begin, q_end, n, qd, qdd, SweepOptions(), fn);
+    } else {
+      SweepRows(&solver, q_begin, q_end, n, qd, qdd, SweepOptions(), row);
+    }
     if (failed) {
       out.points.clear();
       return out;
@@ -467,9 +495,9 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
       }
       add_break((b - out.theta0) / h_theta, true);
     }
-    if constexpr (kNumSwitches > 0) {
+    if constexpr (kMaySwitch) {
       if (find_switches) {
-        using MatCPhi = Eigen::Matrix<double, M::kNc, M::kNphi>;
+        using MatCPhi = typename ModelTypes<M>::MatCPhi;
         for (int k = 0; k < n; ++k) {
           const Modes& m0 = modes[static_cast<size_t>(k)];
           if (m0 == modes[static_cast<size_t>(k) + 1]) continue;
@@ -478,17 +506,19 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
           bool located = true;
           for (int it = 0; it < 64 && hi - lo > 1e-15; ++it) {
             const double mid = 0.5 * (lo + hi);
-            VecQ q;
+            auto q = Sized<VecQ>(nq);
             q(0) = out.theta0 + (k + mid) * h_theta;
             VecPhi phi = (1 - mid) * phis[static_cast<size_t>(k)] + mid * phis[static_cast<size_t>(k) + 1];
-            if constexpr (M::kNc > 0) {
-              MatCPhi Phi_phi;
+            if constexpr (C::kView || M::kNc > 0) {
+             if (C::Nc(model) > 0) {
+              auto Phi_phi = Sized<MatCPhi>(C::Nc(model), C::Nphi(model));
               if (solver.Newton(q, &phi, &Phi_phi).status != position::Status::kConverged) {
                 located = false;
                 break;
               }
+             }
             }
-            Modes mm;
+            Modes mm{};
             modes_at(q, phi, &mm);
             (mm == m0 ? lo : hi) = mid;
           }
@@ -603,6 +633,11 @@ MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p,
     return out;
   }
 }
+/// The same for a generated model M (an empty tag).
+template <class M>
+MachineCycle SampleMachineCycle(const typename M::template ParamsT<double>& p, const MachineCycleOptions& o) {
+  return SampleMachineCycle(M(), p, o);
+}
 
 /// The flywheel that keeps the speed of `cycle` within C_s (see the file comment).
 inline FlywheelSize SizeFlywheel(const MachineCycle& cycle, double C_s) {
@@ -670,6 +705,8 @@ inline constexpr bool kAlwaysFalse = false;
  * Refused at compile time (kHasShaking false, and Shaking, ShakingDesign a static_assert): the
  * shaking moment gains −I_fly q̈ on the frame, but M's Shaking splits M by link (M_link) and the
  * rotor is no link of M's; a caller that needs it adds −I_fly q̈ to M's shaking moment itself.
+ * The runtime's templates reach these through ModelCalls<WithFlywheel<M>> (core/model_calls.h);
+ * a model reached through its view has WithFlywheel<ViewModel> below, whose calls add the same.
  */
 template <class M>
 struct WithFlywheel : M {
@@ -720,6 +757,27 @@ struct WithFlywheel : M {
   }
 };
 
+/// The flywheel's parameters on a model view: the view's table and I_flywheel (kg m²).
+struct ViewFlywheelParams : ViewParams {
+  double I_flywheel = 0;
+};
+
+/**
+ * WithFlywheel<ViewModel>: the flywheel on a model reached through its view (issue 43), the
+ * same machine as WithFlywheel<M> of the generated model. A view's functions are pointers that
+ * cannot be shadowed, so its ModelCalls (below, after this namespace) adds the flywheel instead,
+ * in the same calls and by the same sums as WithFlywheel<M>'s shadows: Dynamics and Rhs
+ * (I(0, 0) + I_fly, T + ½ I_fly q̇²) and Kinetostatics (Q(0) − I_fly q̈, drive(0) + I_fly q̈).
+ * Every runtime template reads I, T and the kinetostatics through ModelCalls, so none can
+ * miss the flywheel. The shaking table is refused (HasShaking false), as for WithFlywheel<M>;
+ * the excess formulation is not reached through a view.
+ */
+template <>
+struct WithFlywheel<ViewModel> : ViewModel {
+  explicit WithFlywheel(const ViewModel& model) : ViewModel(model) {}
+  static constexpr bool kHasShaking = false;
+};
+
 struct CheckOptions {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   /// The longest run the settling time may ask for (cycles at ω_m).
@@ -768,16 +826,20 @@ struct SimulatedCheck {
  * integrated to a periodic steady state; C_s of its last cycle (see the file comment).
  */
 template <class M>
-SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
+SimulatedCheck CheckBySimulation(const M& model, const typename ModelTypes<M>::Params& p,
                                  const MachineCycle& cycle, double I_flywheel,
                                  const CheckOptions& o = CheckOptions()) {
   SimulatedCheck out;
   out.I_flywheel = I_flywheel;
-  if constexpr (!HasDynamics<M>::value || M::kNq != 1) {
-    (void)p, (void)cycle, (void)o;
+  if constexpr (!HasDynamics<M>::value || (!ModelCalls<M>::kView && M::kNq != 1)) {
+    (void)model, (void)p, (void)cycle, (void)o;
     out.message = "the model has no dynamics (add `dynamics` to its outputs' quantities)";
     return out;
   } else {
+    if (!ModelCalls<M>::HasDynamics(model) || ModelCalls<M>::Nq(model) != 1) {  // (a view's, at run time)
+      out.message = "the model has no dynamics (add `dynamics` to its outputs' quantities)";
+      return out;
+    }
     using Machine = WithFlywheel<M>;
     using Sim = dynamics::MinimalDynamics<Machine, dynamics::Dopri5, MotorLoad>;
     using VecQ = typename Sim::VecQ;
@@ -791,8 +853,8 @@ SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
       out.message = "bad check options (flywheel, slip, samples or cycles)";
       return out;
     }
-    typename Machine::template ParamsT<double> pf;
-    static_cast<typename M::template ParamsT<double>&>(pf) = p;
+    typename ModelTypes<Machine>::Params pf;
+    static_cast<typename ModelTypes<M>::Params&>(pf) = p;
     pf.I_flywheel = I_flywheel;
     const double w = cycle.omega;
     const double I_total = I_flywheel + cycle.I_mean;
@@ -861,8 +923,16 @@ SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
                     "max_samples";
       return out;
     }
-    Sim sim(pf, mo, motor);
-    VecQ q0, qd0;
+    const Machine machine = [&model] {
+      if constexpr (ModelCalls<M>::kView) {
+        return Machine(model);
+      } else {
+        (void)model;
+        return Machine();
+      }
+    }();
+    Sim sim(machine, pf, mo, motor);
+    auto q0 = Sized<VecQ>(1), qd0 = Sized<VecQ>(1);
     q0(0) = cycle.theta0;
     qd0(0) = out.omega_start;
     if (!sim.Initialize(q0)) {
@@ -959,5 +1029,69 @@ SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p,
     return out;
   }
 }
+/// The same for a generated model M (an empty tag).
+template <class M>
+SimulatedCheck CheckBySimulation(const typename M::template ParamsT<double>& p, const MachineCycle& cycle,
+                                 double I_flywheel, const CheckOptions& o = CheckOptions()) {
+  return CheckBySimulation(M(), p, cycle, I_flywheel, o);
+}
 
 }  // namespace mechgen::flywheel
+
+// ---- WithFlywheel<ViewModel>: its types are the view's, its parameters carry I_flywheel ----
+namespace mechgen {
+template <class Scalar>
+struct ModelTypes<flywheel::WithFlywheel<ViewModel>, Scalar> : ModelTypes<ViewModel, Scalar> {
+  using Params = flywheel::ViewFlywheelParams;
+};
+template <class Scalar>
+struct ModelFeatures<flywheel::WithFlywheel<ViewModel>, Scalar> : ModelFeatures<ViewModel, Scalar> {};
+namespace internal {
+template <class Scalar>
+struct TrigOf<flywheel::WithFlywheel<ViewModel>, Scalar, true> : TrigOf<ViewModel, Scalar, true> {};
+template <>
+struct BlockCount<flywheel::WithFlywheel<ViewModel>, true> : BlockCount<ViewModel, true> {};
+template <>
+struct DesignDerivativesOf<flywheel::WithFlywheel<ViewModel>, true> : DesignDerivativesOf<ViewModel, true> {};
+}  // namespace internal
+
+/// The view's calls with the flywheel added where the inertia is read (WithFlywheel<ViewModel>).
+template <>
+struct ModelCalls<flywheel::WithFlywheel<ViewModel>> : ModelCalls<ViewModel> {
+  using M = flywheel::WithFlywheel<ViewModel>;
+  using Base = ModelCalls<ViewModel>;
+  using T = ModelTypes<M>;
+  using Params = flywheel::ViewFlywheelParams;
+
+  /// The view's defaults, no flywheel.
+  static Params DefaultParams(const M& m) {
+    Params p;
+    static_cast<ViewParams&>(p) = Base::DefaultParams(m);
+    return p;
+  }
+  static void Dynamics(const M& m, const Params& p, const T::VecQ& q, const T::VecPhi& phi, const T::VecQ& qd,
+                       double t, const T::Coefficients& c, T::DynamicsOut* d, const Trig* trig) {
+    Base::Dynamics(m, p, q, phi, qd, t, c, d, trig);
+    d->I(0, 0) += p.I_flywheel;
+    d->T += 0.5 * p.I_flywheel * qd(0) * qd(0);
+  }
+  static ViewSolveReport Rhs(const M& m, const Params& p, const T::RhsConstantsOut& rc, const T::VecQ& q,
+                             const T::VecQ& qd, double t, const Modes& modes, Trig* trig, T::RhsOut* r) {
+    const ViewSolveReport report = Base::Rhs(m, p, rc, q, qd, t, modes, trig, r);
+    r->I(0, 0) += p.I_flywheel;
+    r->T += 0.5 * p.I_flywheel * qd(0) * qd(0);
+    return report;
+  }
+  static void Kinetostatics(const M& m, const Params& p, const T::VecQ& q, const T::VecPhi& phi, const T::VecQ& qd,
+                            const T::VecQ& qdd, double t, const T::Coefficients& c, T::KinetostaticsOut* out,
+                            const T::VecFriction* friction) {
+    Base::Kinetostatics(m, p, q, phi, qd, qdd, t, c, out, friction);
+    out->Q(0) -= p.I_flywheel * qdd(0);
+    out->drive(0) += p.I_flywheel * qdd(0);
+  }
+  /// The rotor is no link of the shaking table (WithFlywheel<M>: refused): none, and no call.
+  static bool HasShaking(const M&) { return false; }
+  template <class... A>
+  static void Shaking(const A&...) = delete;
+};
+}  // namespace mechgen

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# mechgen_view flywheel (issue 43): the punch press compiled into a shared object with its view's
+# entry point (tests/runtime's mechgen_view_object()), loaded and run through the machines of the
+# runtime compiled once (mechgen_runtime_view: machines/view_machines.h):
+#  - the energy loop's CSV, the standard output and the standard error byte for byte the
+#    per-model tool punch_press_flywheel's with the same options, each run in a directory of its
+#    own (mechgen_view --name: the tool's name in the messages): the sampled cycle with the
+#    punch's switches located from the generated switch modes, and the simulated check of the
+#    flywheel (WithFlywheel<ViewModel>: the flywheel added through the view's calls) under the
+#    constant and the shunt motor;
+#  - --set and --params through the view's parameter table, a derived parameter (s_p = a + b -
+#    delta) following: the same bytes as the tool's, not the defaults';
+#  - a machine that cannot be sized (no load) and a usage error: the same status and line.
+# usage: flywheel_view_test.sh <mechgen_view> <punch_press_flywheel> <punch_press view object>
+set -uo pipefail
+view_tool=$(realpath "$1") fixed_tool=$(realpath "$2") object=$(realpath "$3")
+root=$(mktemp -d)
+trap 'rm -rf "$root"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+cd "$root" || exit 1
+
+same() {  # same <name> <expected status> <args...>
+  local name=$1 expected=$2
+  shift 2
+  mkdir -p "$name/fixed" "$name/view"
+  (cd "$name/fixed" && "$fixed_tool" "$@" > ../fixed.out 2> ../fixed.err)
+  local fixed_status=$?
+  (cd "$name/view" && "$view_tool" --name punch_press_flywheel flywheel "$object" "$@" > ../view.out 2> ../view.err)
+  local view_status=$?
+  [[ $fixed_status -eq $expected ]] || fail "$name: punch_press_flywheel exited $fixed_status: $(head -3 "$name/fixed.err")"
+  [[ $view_status -eq $fixed_status ]] || fail "$name: mechgen_view flywheel exited $view_status, the tool $fixed_status: $(head -3 "$name/view.err")"
+  diff -r "$name/fixed" "$name/view" > /dev/null || fail "$name: the files differ: $(diff -r "$name/fixed" "$name/view" | head -4)"
+  cmp -s "$name/fixed.out" "$name/view.out" || fail "$name: stdout differs: $(diff "$name/fixed.out" "$name/view.out" | head -6)"
+  cmp -s "$name/fixed.err" "$name/view.err" || fail "$name: stderr differs: $(diff "$name/fixed.err" "$name/view.err" | head -4)"
+}
+same check 0 --rpm 300 --cs 0.02 --samples 3600 --csv loop.csv
+[[ $(grep -vc '^#' check/view/loop.csv) -eq 3601 ]] || fail "check: $(grep -vc '^#' check/view/loop.csv) CSV lines"
+grep -q 'simulated C_s = ' check/view.out || fail "check: no simulated C_s: $(cat check/view.out)"
+grep -q 'switches of the loads located' check/view.out || fail "check: no switches located: $(cat check/view.out)"
+same shunt 0 --rpm 120 --cs 0.05 --samples 720 --motor shunt --slip 0.04 --csv loop.csv
+same plain 0 --rpm 300 --samples 3600 --no-switch-breaks --no-check --csv loop.csv
+same break 0 --break 7.25deg --samples 360 --rpm 60 --no-check --csv loop.csv
+printf 'delta = 0.004  # a shallower punch\nF0: 15000\n' > "$root/press.params"
+same set 0 --rpm 300 --samples 1800 --set delta=0.004 --set F0=15000 --csv loop.csv
+same params 0 --rpm 300 --samples 1800 --params "$root/press.params" --csv loop.csv
+cmp -s set/view/loop.csv params/view/loop.csv || fail "--set and --params: the CSVs differ"
+same defaults 0 --rpm 300 --samples 1800 --csv loop.csv
+cmp -s set/view/loop.csv defaults/view/loop.csv && fail "--set: the CSV is the defaults'"
+grep -q '^parameters set: delta = 0.004 (default 0.006), F0 = 15000 (default 20000)$' set/view.out ||
+  fail "--set: no 'parameters set' line: $(head -2 set/view.out)"
+same no_load 1 --set F0=-20000 --no-check --csv loop.csv
+[[ -z $(ls -A no_load/view) ]] || fail "no load: wrote $(ls -A no_load/view)"
+same bad_set 2 --set s_p=0.3 --csv loop.csv
+same design 2 --design --csv loop.csv
+
+[[ $failures -eq 0 ]] && echo "flywheel through the view: the per-model tool's bytes"
+exit $((failures > 0))
