@@ -303,7 +303,7 @@ class Study {
         for (size_t k = 0; k < spec.parameters.size(); ++k) *Parameter(&nominal, spec.parameters[k].name) = nominal_[k];
         engine::Engine e;
         std::string why;
-        if (!engine::ReadEngine<M>(&nominal, &e, &why))
+        if (!engine::ReadEngine(model_, &nominal, &e, &why))
           return fail(spec.analysis_place, std::string("analysis: engine: the model ") + name + ": " + why);
         has_table_ = !spec.gas.table.empty();
         if (has_table_) {
@@ -1505,13 +1505,13 @@ class Study {
       engine::PolytropicWiebeCycle wiebe;
       engine::PressureLaw law;
       std::vector<engine::CrankPoint<M>> pts;
-      if (!engine::ReadEngine<M>(&p, &e, &error) ||
+      if (!engine::ReadEngine(model_, &p, &e, &error) ||
           !engine::InitPressureLaw(e, spec_.gas.wiebe, has_table_ ? &table_ : nullptr, &wiebe, &law, &error)) {
         out->engine.message = error;
         return;
       }
-      const engine::CycleGas gas = engine::MakeGas(&p, e, &law);
-      if (!engine::RunCycle<M>(p, e, gas, EngineOmega(), spec_.steps, &pts, &error)) {
+      const engine::CycleGas gas = engine::MakeGas(model_, &p, e, &law);
+      if (!engine::RunCycle(model_, p, e, gas, EngineOmega(), spec_.steps, &pts, &error)) {
         out->engine.message = error;
         return;
       }
