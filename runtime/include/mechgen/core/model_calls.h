@@ -110,6 +110,57 @@ MECHGEN_ALWAYS_INLINE void Assign(Dst* dst, const Src& src) {
   }
 }
 
+namespace internal {
+/// d[0, n) = s[0, n) and d[0, n) = v for the view's buffers and bounded matrices: in chunks of
+/// four and a tail, inline. (std::copy_n and std::fill_n with a count known only at run time
+/// call memmove and memset, and so does a plain loop, which the compiler turns into them: their
+/// set-up costs more than the few entries of a small model's members.)
+MECHGEN_ALWAYS_INLINE void CopyEntries(const double* s, Eigen::Index n, double* d) {
+  Eigen::Index i = 0;
+  for (; i + 4 <= n; i += 4) {
+    d[i] = s[i];
+    d[i + 1] = s[i + 1];
+    d[i + 2] = s[i + 2];
+    d[i + 3] = s[i + 3];
+  }
+  switch (n - i) {
+    case 3:
+      d[i + 2] = s[i + 2];
+      [[fallthrough]];
+    case 2:
+      d[i + 1] = s[i + 1];
+      [[fallthrough]];
+    case 1:
+      d[i] = s[i];
+      [[fallthrough]];
+    default:
+      break;
+  }
+}
+MECHGEN_ALWAYS_INLINE void FillEntries(double* d, Eigen::Index n, double v) {
+  Eigen::Index i = 0;
+  for (; i + 4 <= n; i += 4) {
+    d[i] = v;
+    d[i + 1] = v;
+    d[i + 2] = v;
+    d[i + 3] = v;
+  }
+  switch (n - i) {
+    case 3:
+      d[i + 2] = v;
+      [[fallthrough]];
+    case 2:
+      d[i + 1] = v;
+      [[fallthrough]];
+    case 1:
+      d[i] = v;
+      [[fallthrough]];
+    default:
+      break;
+  }
+}
+}  // namespace internal
+
 /// Sizes, constants, flags and functions of a generated model M (static; the object is an
 /// empty tag). Specialized for ViewModel in core/view_model.h.
 template <class M>

@@ -230,13 +230,20 @@ struct ModelTypes<ViewModel, Scalar> {
     VecQ h, Q;
     double T = 0, V = 0, P_nc = 0;
   };
+  /// Rhs: the view's buffer, and its matrices maps of it at the view's sizes (set by
+  /// ModelCalls<ViewModel>::Rhs: nothing copied out; Q is added to in place, as the
+  /// generated struct's). Not copyable: the maps point into the object's own buffer.
   struct RhsOut {
+    using MatMap = Eigen::Map<Eigen::MatrixXd>;
+    using VecMap = Eigen::Map<Eigen::VectorXd>;
+    RhsOut() = default;
+    RhsOut(const RhsOut&) = delete;
+    RhsOut& operator=(const RhsOut&) = delete;
     std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kRhs)]> buffer;
-    MatK K;
-    MatQQ I;
-    VecQ h, Q;
+    MatMap K{nullptr, 0, 0}, I{nullptr, 0, 0};
+    VecMap h{nullptr, 0}, Q{nullptr, 0};
     double T = 0, V = 0, P_nc = 0;
-    MatCPhi Phi_phi;
+    MatMap Phi_phi{nullptr, 0, 0};
   };
   struct RhsConstantsOut {
     std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kRhsConstants)]> buffer;
@@ -462,9 +469,9 @@ struct ModelCalls<ViewModel> {
   static void StaticsCoefficients(const M& m, const State& s, T::Coefficients* c) {
     const ViewModel::CoefficientsLayout& l = m.coefficients;
     double* const buffer = c->buffer.data();
-    std::fill_n(buffer, l.size, 0.0);
+    internal::FillEntries(buffer, l.size, 0.0);
     auto put = [buffer](int offset, const auto& x) {
-      if (offset >= 0) std::copy_n(x.data(), x.size(), buffer + offset);
+      if (offset >= 0) internal::CopyEntries(x.data(), x.size(), buffer + offset);
     };
     put(l.Phi_phi, s.Phi_phi);
     if (HasK(m)) put(l.K, s.K);
@@ -489,9 +496,9 @@ struct ModelCalls<ViewModel> {
   /// (statics::internal::SetNaN sizes them).
   static void PutStatics(const M& m, const T::Statics& s, double* b) {
     const ViewModel::StaticsLayout& l = m.statics;
-    std::fill_n(b, l.size, 0.0);
+    internal::FillEntries(b, l.size, 0.0);
     auto put = [b](int offset, const auto& x) {
-      if (offset >= 0) std::copy_n(x.data(), x.size(), b + offset);
+      if (offset >= 0) internal::CopyEntries(x.data(), x.size(), b + offset);
     };
     put(l.Q, s.Q);
     put(l.drive, s.drive);
@@ -507,7 +514,7 @@ struct ModelCalls<ViewModel> {
   static void GetStatics(const M& m, const double* b, T::Statics* s) {
     const ViewModel::StaticsLayout& l = m.statics;
     auto get = [b](int offset, auto* x) {
-      if (offset >= 0) std::copy_n(b + offset, x->size(), x->data());
+      if (offset >= 0) internal::CopyEntries(b + offset, x->size(), x->data());
     };
     get(l.Q, &s->Q);
     get(l.drive, &s->drive);
@@ -571,7 +578,7 @@ struct ModelCalls<ViewModel> {
     const ModelView& v = *m.view;
     const ViewModel::DynamicsLayouts::Dynamics& l = m.dynamics_layouts.dynamics;
     double* const b = d->buffer.data();
-    std::fill_n(b, l.size, 0.0);
+    internal::FillEntries(b, l.size, 0.0);
     const bool with_trig = trig != nullptr && HasTrig(m) && v.nphi > 0;
     v.Dynamics(p.data(), q.data(), phi.data(), qd.data(), t, c.buffer.data(), b, nullptr,
                with_trig ? trig->buffer.data() : nullptr);
@@ -589,7 +596,7 @@ struct ModelCalls<ViewModel> {
     return m.view->SolveTrig(p.data(), q.data(), modes.data(), trig->buffer.data());
   }
   static void Prepare(const M& m, const ViewParams& p, T::RhsConstantsOut* rc) {
-    std::fill_n(rc->buffer.data(), m.dynamics_layouts.rhs_constants_size, 0.0);
+    internal::FillEntries(rc->buffer.data(), m.dynamics_layouts.rhs_constants_size, 0.0);
     m.view->Prepare(p.data(), rc->buffer.data());
   }
   static ViewSolveReport Rhs(const M& m, const ViewParams& p, const T::RhsConstantsOut& rc, const T::VecQ& q,
@@ -597,18 +604,21 @@ struct ModelCalls<ViewModel> {
     const ModelView& v = *m.view;
     const ViewModel::DynamicsLayouts::Rhs& l = m.dynamics_layouts.rhs;
     double* const b = r->buffer.data();
-    std::fill_n(b, l.size, 0.0);
+    internal::FillEntries(b, l.size, 0.0);
     const ViewSolveReport report =
         v.Rhs(p.data(), rc.buffer.data(), q.data(), qd.data(), t, modes.data(), trig->buffer.data(), b, nullptr);
     const int nq = v.nq, nphi = v.nphi;
-    r->K = Eigen::Map<const Eigen::MatrixXd>(b + l.K, nphi, nq);
-    r->I = Eigen::Map<const Eigen::MatrixXd>(b + l.I, nq, nq);
-    r->h = Eigen::Map<const Eigen::VectorXd>(b + l.h, nq);
-    r->Q = Eigen::Map<const Eigen::VectorXd>(b + l.Q, nq);
+    // The members as maps of the buffer (a Map is trivially destructible): nothing copied.
+    using MatMap = T::RhsOut::MatMap;
+    using VecMap = T::RhsOut::VecMap;
+    new (&r->K) MatMap(b + l.K, nphi, nq);
+    new (&r->I) MatMap(b + l.I, nq, nq);
+    new (&r->h) VecMap(b + l.h, nq);
+    new (&r->Q) VecMap(b + l.Q, nq);
     r->T = b[l.T];
     r->V = b[l.V];
     r->P_nc = b[l.P_nc];
-    r->Phi_phi = Eigen::Map<const Eigen::MatrixXd>(b + l.Phi_phi, nphi, nphi);
+    new (&r->Phi_phi) MatMap(b + l.Phi_phi, nphi, nphi);
     return report;
   }
   /// The view's SwitchModes into the first NumSwitches(m) entries of *modes.
@@ -625,7 +635,7 @@ struct ModelCalls<ViewModel> {
     const ModelView& v = *m.view;
     const ViewModel::DynamicsLayouts::Kinetostatics& l = m.dynamics_layouts.kinetostatics;
     double* const b = out->buffer.data();
-    std::fill_n(b, l.size, 0.0);
+    internal::FillEntries(b, l.size, 0.0);
     const int nf = KinetoNumFriction(m);
     v.Kinetostatics(p.data(), q.data(), phi.data(), qd.data(), qdd.data(), t, c.buffer.data(), b,
                     friction != nullptr && nf > 0 ? friction->data() : nullptr, nullptr);

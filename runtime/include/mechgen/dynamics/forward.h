@@ -1317,7 +1317,7 @@ class MinimalDynamics {
         }
         qdd->resize(1);
         (*qdd)(0) = f(0) / I00;
-        return qdd->allFinite();
+        return std::isfinite((*qdd)(0));  // (qdd->allFinite(), without Eigen's reduction)
       }
       return SolveInertiaFixed<2>(I, f, qdd);
     } else {
@@ -1404,18 +1404,24 @@ class MinimalDynamics {
   }
 
   // ---- the state's parts and the warm start, at the model's sizes ----
+  // (The view: the entries copied by ::mechgen::internal::CopyEntries, without Eigen's
+  // dynamic-size assignment, whose set-up costs more than a small model's few entries.)
   VecQ QOf(const State& y) const {
     if constexpr (kNq != Eigen::Dynamic) {
       return y.template head<kNq>();
     } else {
-      return y.head(Nq());
+      VecQ q(Nq());
+      ::mechgen::internal::CopyEntries(y.data(), Nq(), q.data());
+      return q;
     }
   }
   VecQ QdOf(const State& y) const {
     if constexpr (kNq != Eigen::Dynamic) {
       return y.template segment<kNq>(kNq);
     } else {
-      return y.segment(Nq(), Nq());
+      VecQ qd(Nq());
+      ::mechgen::internal::CopyEntries(y.data() + Nq(), Nq(), qd.data());
+      return qd;
     }
   }
   /// *y = (a, b, w): a state (q, qd, W) or its derivative (qd, qdd, P_nc).
@@ -1427,8 +1433,8 @@ class MinimalDynamics {
     } else {
       const int nq = Nq();
       y->resize(2 * nq + 1);
-      y->head(nq) = a;
-      y->segment(nq, nq) = b;
+      ::mechgen::internal::CopyEntries(a.data(), nq, y->data());
+      ::mechgen::internal::CopyEntries(b.data(), nq, y->data() + nq);
       (*y)(2 * nq) = w;
     }
   }

@@ -71,17 +71,19 @@ void ComputeMotion(const State<M>& state,
   if (!state.valid) return;
   auto qd_qd = Sized<typename T::VecQQ>(nq * nq);  // (qd (x) qd)(j + kNq k) = qd_j qd_k
   for (int k = 0; k < nq; ++k) qd_qd.segment(nq * k, nq) = qd * qd(k);
-  motion->phid = state.K * qd;
-  motion->phidd = state.K * qdd + state.L * qd_qd;
+  // (Times: for the view the coefficient-based products the fixed sizes get, not Eigen's
+  // general matrix-vector kernel, which costs more than the products at these sizes.)
+  motion->phid = Times(state.K, qd);
+  motion->phidd = Times(state.K, qdd) + Times(state.L, qd_qd);
   // (A view's state without K_P or L_P holds NaN there: its v_P, a_P stay NaN.)
   constexpr int kRows = M::kNumPoints == Eigen::Dynamic ? Eigen::Dynamic : 2 * M::kNumPoints;
   using VecP = Eigen::Matrix<double, kRows, 1, 0, kRows == Eigen::Dynamic ? 2 * T::kMaxPoints : kRows, 1>;
   if constexpr (ModelFeatures<M>::kHasPointVelocities) {
-    const VecP v = state.K_P * qd;
+    const VecP v = Times(state.K_P, qd);
     motion->v_P = Eigen::Map<const typename T::MatRP>(v.data(), 2, np);  // v(2m + a) -> (a, m)
   }
   if constexpr (ModelFeatures<M>::kHasPointAccelerations) {
-    const VecP a = state.K_P * qdd + state.L_P * qd_qd;
+    const VecP a = Times(state.K_P, qdd) + Times(state.L_P, qd_qd);
     motion->a_P = Eigen::Map<const typename T::MatRP>(a.data(), 2, np);
   }
 }

@@ -100,8 +100,9 @@ MECHGEN_ALWAYS_INLINE void Fill(X* x, Eigen::Index rows, Eigen::Index cols, doub
   if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
     (void)rows, (void)cols;
     x->setConstant(v);
-  } else {
-    x->setConstant(rows, cols, v);
+  } else {  // (without Eigen's dynamic-size loop: the few entries of a small model)
+    x->resize(rows, cols);
+    ::mechgen::internal::FillEntries(x->data(), rows * cols, v);
   }
 }
 
@@ -146,11 +147,12 @@ void SetNaN(const M& model, typename StaticsTypes<M>::Statics* s) {
 template <class M>
 bool AllFinite(const M& model, const typename StaticsTypes<M>::Statics& s) {
   using F = StaticsFeatures<M>;
-  bool finite = s.Q.allFinite() && s.drive.allFinite();
+  using ::mechgen::internal::Finite;  // (allFinite(); for the view without Eigen's reductions)
+  bool finite = Finite(s.Q) && Finite(s.drive);
   if constexpr (F::kHasPotential)
-    if (ModelCalls<M>::HasPotential(model)) finite = finite && std::isfinite(s.V) && s.dV_dq.allFinite();
-  if constexpr (F::kHasReactions) finite = finite && s.R.allFinite();
-  if constexpr (F::kHasFriction) finite = finite && s.normal.allFinite();
+    if (ModelCalls<M>::HasPotential(model)) finite = finite && std::isfinite(s.V) && Finite(s.dV_dq);
+  if constexpr (F::kHasReactions) finite = finite && Finite(s.R);
+  if constexpr (F::kHasFriction) finite = finite && Finite(s.normal);
   (void)model;
   return finite;
 }
@@ -284,7 +286,7 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
   using C = ModelCalls<M>;
   Summary& s = out->summary;
   s = Summary();
-  out->direction = direction;
+  Assign(&out->direction, direction);
   internal::Fill(&out->friction, C::NumFriction(model), 1, 0.0);
   internal::SetNaN<M>(model, &out->statics);  // nothing stale from an earlier call
   // The stiffness is that of the loads at rest: none at a speed that the loads read.
@@ -299,8 +301,8 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
     return status;
   };
   if (!options.IsValid(nullptr)) return finish(Status::kInvalidInput, "invalid Options", true);
-  if (!q.allFinite() || !phi.allFinite() || !direction.allFinite() ||
-      (velocities != nullptr && !velocities->allFinite())) {
+  using ::mechgen::internal::Finite;  // (allFinite(); for the view without Eigen's reductions)
+  if (!Finite(q) || !Finite(phi) || !Finite(direction) || (velocities != nullptr && !Finite(*velocities))) {
     return finish(Status::kInvalidInput, "q, phi, the direction or the velocities not finite", true);
   }
   s.condition = internal::Condition<M>(model, p, q, phi, c);
@@ -329,26 +331,43 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
       sign(J) = Sign(out->statics.K_rel.row(J).dot(direction));
     if (sign.isZero()) return finish(Status::kConverged, "", false);
     VecF f_prev = internal::Zeros<VecF>(nf);
-    typename Types::VecQ drive_prev = out->statics.drive;
+    typename Types::VecQ drive_prev;
+    Assign(&drive_prev, out->statics.drive);
     for (int k = 1; k < options.max_friction_iterations; ++k) {
-      const VecF f = -(out->statics.gain.cwiseProduct(out->statics.normal)).cwiseProduct(sign);
+      auto f = Sized<VecF>(nf);
+      if constexpr (C::kView) {  // (the same products, entry by entry)
+        for (int J = 0; J < nf; ++J) f(J) = -(out->statics.gain(J) * out->statics.normal(J)) * sign(J);
+      } else {
+        f = -(out->statics.gain.cwiseProduct(out->statics.normal)).cwiseProduct(sign);
+      }
       internal::Evaluate<M>(model, p, q, phi, c, &f, &out->statics, velocities);
       ++s.iterations;
-      out->friction = f;
-      if (!internal::AllFinite<M>(model, out->statics) || !f.allFinite()) {
+      Assign(&out->friction, f);
+      if (!internal::AllFinite<M>(model, out->statics) || !Finite(f)) {
         return finish(Status::kDidNotConverge, "friction iteration diverged", false);
       }
-      const double drive_change = (out->statics.drive - drive_prev).template lpNorm<Eigen::Infinity>();
-      const double f_change = (f - f_prev).template lpNorm<Eigen::Infinity>();
+      double drive_change = 0, f_change = 0, drive_scale = 0, f_scale = 0;
+      if constexpr (C::kView) {
+        // The same maxima of these finite values by MaxAbsDiff(), without Eigen's dynamic-size
+        // reductions.
+        using ::mechgen::internal::MaxAbsDiff;
+        drive_change = MaxAbsDiff(out->statics.drive, &drive_prev);
+        f_change = MaxAbsDiff(f, &f_prev);
+        drive_scale = MaxAbsDiff(out->statics.drive);
+        f_scale = MaxAbsDiff(f);
+      } else {
+        drive_change = (out->statics.drive - drive_prev).template lpNorm<Eigen::Infinity>();
+        f_change = (f - f_prev).template lpNorm<Eigen::Infinity>();
+        drive_scale = out->statics.drive.template lpNorm<Eigen::Infinity>();
+        f_scale = f.template lpNorm<Eigen::Infinity>();
+      }
       s.last_change = drive_change;
-      const double drive_scale = out->statics.drive.template lpNorm<Eigen::Infinity>();
-      const double f_scale = f.template lpNorm<Eigen::Infinity>();
       if (drive_change <= options.relative_tolerance * drive_scale + options.absolute_tolerance &&
           f_change <= options.relative_tolerance * f_scale + options.absolute_tolerance) {
         return finish(Status::kConverged, "", false);
       }
-      f_prev = f;
-      drive_prev = out->statics.drive;
+      Assign(&f_prev, f);
+      Assign(&drive_prev, out->statics.drive);
     }
     return finish(Status::kDidNotConverge,
                   "friction iteration reached Options::max_friction_iterations", false);

@@ -223,7 +223,7 @@ bool PositionSolver<M, Assembler>::CopyCoefficients(const typename T::Coefficien
   }
   // Phi_phi with K and L from the same evaluation (State::Phi_phi; the statics read the three).
   if constexpr (kPhiFromCoeffs) {
-    if (PhiFromCoeffs()) s->Phi_phi = c.Phi_phi;
+    if (PhiFromCoeffs()) Assign(&s->Phi_phi, c.Phi_phi);
   }
   if constexpr (!Features::kHasK || Calls::kView) {
     if (!Calls::HasK(model_)) {

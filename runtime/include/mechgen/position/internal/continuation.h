@@ -10,12 +10,51 @@
 
 #include "mechgen/position/solver.h"
 
+namespace mechgen::internal {
+/// The second-order predictor of a model with one input (a crank, a slide), dispatched at run
+/// time for the view (PositionSolver::Predict()): its products and sums entry by entry, in
+/// their order ((phi0 + K dq) + 1/2 (L dq^2), Times' sums of one term), without Eigen's
+/// dynamic-size loops around each of them: the same values. *last_term: MaxAbsDiff of the
+/// second-order term (NaN when any entry is).
+template <class VecPhi, class State, class VecQ>
+VecPhi PredictOneInput(const State& from, const VecQ& q, int n, double* last_term) {
+  const double dq = q(0) - from.q(0);
+  const double dq_dq = dq * dq;
+  VecPhi predicted(n);
+  double largest = 0;
+  bool nan = false;
+  for (int i = 0; i < n; ++i) {
+    const double second = 0.5 * (from.L(i, 0) * dq_dq);
+    predicted(i) = from.phi(i) + from.K(i, 0) * dq + second;
+    const double d = std::abs(second);
+    largest = largest > d ? largest : d;
+    nan = nan | (d != d);
+  }
+  *last_term = nan ? std::numeric_limits<double>::quiet_NaN() : largest;
+  return predicted;
+}
+/// max |q_target - q|: for the view by MaxAbsDiff(), the same maximum for the finite inputs it
+/// is taken of, without Eigen's dynamic-size reduction.
+template <bool kView, class VecQ>
+MECHGEN_ALWAYS_INLINE double InputStep(const VecQ& q_target, const VecQ& q) {
+  if constexpr (kView) {
+    return MaxAbsDiff(q_target, &q);
+  } else {
+    return (q_target - q).cwiseAbs().maxCoeff();
+  }
+}
+}  // namespace mechgen::internal
+
 namespace mechgen::position {
 
 template <class M, class Assembler>
 typename PositionSolver<M, Assembler>::VecPhi PositionSolver<M, Assembler>::Predict(const State<M>& from,
                                                               const VecQ& q,
                                                               double* last_term) const {
+  if constexpr (Calls::kView) {
+    if (nq() == 1 && options_.second_order_predictor)
+      return internal::PredictOneInput<VecPhi>(from, q, nphi(), last_term);  // (a prvalue: no copy)
+  }
   const VecQ dq = q - from.q;
   // (The view: the coefficient-based product that the fixed sizes get, not Eigen's general
   // matrix-vector kernel, which costs more than the product at these sizes.)
@@ -189,7 +228,7 @@ Status PositionSolver<M, Assembler>::MoveTo(const VecQ& q_target, Summary* summa
   *s = Summary();
   const State<M>& from = state_ref();
   if (!options_valid_ || !from.valid || !internal::AllFinite(q_target) ||
-      !((q_target - from.q).cwiseAbs().maxCoeff() <= options_.max_input_step)) {
+      !(internal::InputStep<Calls::kView>(q_target, from.q) <= options_.max_input_step)) {
     s->reason = !options_valid_      ? "invalid Options"
                 : !from.valid         ? "nothing assembled to continue from"
                 : !q_target.allFinite() ? "input not finite"
