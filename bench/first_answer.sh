@@ -3,7 +3,9 @@
 # targets), beside the per-model program's (MECHGEN_VIEW=0) and the model kernel's own compile.
 #
 # usage: bench/first_answer.sh [build dir (default build)] [model:command ... (default:
-#        fourbar:sweep slider_crank_friction:statics slider_crank_motor:simulate watt_sixbar:sweep)]
+#        fourbar:sweep slider_crank_friction:statics slider_crank_motor:simulate watt_sixbar:sweep
+#        engine_single:engine tests/flywheel/models/punch_press:flywheel fourbar:study)]
+# A model is a file of models/ by its name, or a path from the source tree without .yaml.
 #
 # Each model file is copied outside the tree under a new name (a model never seen: the name
 # goes into the generated code, so no compiler cache can have it; CXX is unset, so no ccache),
@@ -20,7 +22,8 @@ build=$(realpath "${1:-build}")
 shift || true
 models=("$@")
 [[ ${#models[@]} -gt 0 ]] ||
-  models=(fourbar:sweep slider_crank_friction:statics slider_crank_motor:simulate watt_sixbar:sweep)
+  models=(fourbar:sweep slider_crank_friction:statics slider_crank_motor:simulate watt_sixbar:sweep
+          engine_single:engine tests/flywheel/models/punch_press:flywheel fourbar:study)
 source_dir=$(cd "$(dirname "$0")/.." && pwd)
 mechgen=$build/generator/mechgen
 [[ -x $mechgen ]] || { echo "error: no $mechgen: build first"; exit 1; }
@@ -52,13 +55,23 @@ for pair in "${models[@]}"; do
     sweep) options=(--steps 360) ;;
     statics) options=(--steps 360 --dead-zones) ;;
     simulate) options=(--t-end 1 --dt 0.005 --friction off) ;;
+    engine) options=(cycle --rpm 3000) ;;
+    flywheel) options=(--rpm 60 --cs 0.02) ;;
+    # models/fourbar.study.yaml without the design derivatives (tolerance, envelope,
+    # design_margin: the per-model program's), 200 samples on 2 threads.
+    study) options=(--study study.yaml --threads 2) ;;
     *) echo "error: no command $command"; continue ;;
   esac
+  file=$source_dir/models/$model.yaml
+  [[ $model == */* ]] && file=$source_dir/$model.yaml
+  model=$(basename "$model")
   name="fa_${model}_${stamp}"
   dir=$work/$name
   mkdir -p "$dir"
-  sed "s/^name: .*/name: $name/" "$source_dir/models/$model.yaml" > "$dir/$name.yaml"
+  sed "s/^name: .*/name: $name/" "$file" > "$dir/$name.yaml"
   cd "$dir" || exit 1
+  grep -v -E '^(tolerance|envelope):|design_margin' "$source_dir/models/fourbar.study.yaml" |
+    sed 's/^count: .*/count: 200/' > study.yaml
   # The kernel's own compile (the generated model, double only).
   "$mechgen" generate "$name.yaml" --out-dir gen > /dev/null 2>&1 || { echo "error: cannot generate $model"; continue; }
   timed kernel c++ -O2 -std=c++17 -isystem /usr/include/eigen3 -c "gen/$name.cc" -o kernel.o || continue
@@ -74,4 +87,4 @@ for pair in "${models[@]}"; do
     "$second" "$cached" "$per_model" "$(verdict "$first" "$limit")" "$(verdict "$second" 1)" "$(verdict "$cached" 0.2)"
   cd "$work" || exit 1
 done
-echo "(seconds, wall clock, one run each; through the view: sweep, statics, simulate; engine, flywheel, synthesize and study compile per model)"
+echo "(seconds, wall clock, one run each; through the view: sweep, statics, simulate, engine, flywheel, study; synthesize compiles per model)"

@@ -67,12 +67,23 @@ bool WriteWhole(const fs::path& path, const std::string& bytes) {
   return static_cast<bool>(out);
 }
 
-std::string ReadText(const std::string& path, bool* ok) {
+// The model file's text into *text; false, with the error printed, when it cannot be read.
+bool ReadModelText(const std::string& tool, const std::string& path, std::string* text) {
   std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  *ok = static_cast<bool>(in);
-  return text.str();
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  if (!in) {
+    std::cerr << tool << ": error: cannot read the model file " << path << "\n";
+    return false;
+  }
+  *text = bytes.str();
+  return true;
+}
+
+// A task file's reading or binding: false, with its error (file:line:column) printed, when it failed.
+bool TaskOk(bool ok, const std::string& error) {
+  if (!ok) std::cerr << error << "\n";
+  return ok;
 }
 
 // Writes (path, bytes) whole: each to a temporary name, then renamed; nothing left on failure.
@@ -106,22 +117,12 @@ int FunctionMain(const std::string& tool, const std::string& task_path, const st
                  const typename M::template ParamsT<double>& base) {
   std::string error;
   FunctionTask task;
-  if (!ParseFunctionTask(task_path, &task, &error)) {
-    std::cerr << error << "\n";
-    return 1;
-  }
+  if (!TaskOk(ParseFunctionTask(task_path, &task, &error), error)) return 1;
   if (evaluations > 0) task.search.evaluations = evaluations;
   BoundFunction<M> bound;
-  if (!BindFunctionTask<M>(task, base, &bound, &error)) {
-    std::cerr << error << "\n";
-    return 1;
-  }
-  bool read = false;
-  const std::string model_text = ReadText(model_path, &read);
-  if (!read) {
-    std::cerr << tool << ": error: cannot read the model file " << model_path << "\n";
-    return 1;
-  }
+  if (!TaskOk(BindFunctionTask<M>(task, base, &bound, &error), error)) return 1;
+  std::string model_text;
+  if (!ReadModelText(tool, model_path, &model_text)) return 1;
   std::cerr << tool << ": function task: " << task.search.restarts << " global runs, " << task.search.evaluations
             << " evaluations, " << threads << " thread(s)\n";
   const FunctionResult r = SynthesizeFunction(bound, seed, threads);
@@ -169,10 +170,7 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
                const std::string& out_dir, const typename M::template ParamsT<double>& base) {
   std::string error;
   MotionTask task;
-  if (!ParseMotionTask(task_path, &task, &error)) {
-    std::cerr << error << "\n";
-    return 1;
-  }
+  if (!TaskOk(ParseMotionTask(task_path, &task, &error), error)) return 1;
   MotionResult r;
   if (!SynthesizeMotion<M>(task, base, &r, &error)) {
     std::cerr << error << "\n";
@@ -196,12 +194,8 @@ int MotionMain(const std::string& tool, const std::string& task_path, const std:
       std::cerr << report << "\n" << tool << ": no pair of Burmester points guides the model's coupler through the poses; nothing written\n";
       return 3;
     }
-    bool read = false;
-    const std::string model_text = ReadText(model_path, &read);
-    if (!read) {
-      std::cerr << tool << ": error: cannot read the model file " << model_path << "\n";
-      return 1;
-    }
+    std::string model_text;
+    if (!ReadModelText(tool, model_path, &model_text)) return 1;
     const FourBarFromDyads& f = r.candidates[static_cast<size_t>(r.chosen)].fourbar;
     const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
     auto written_params = base;
@@ -235,21 +229,11 @@ int ExactMain(const std::string& tool, const std::string& task_path, const std::
               const std::string& out_dir, const typename M::template ParamsT<double>& base) {
   std::string error;
   ExactTask task;
-  if (!ParseExactTask(task_path, &task, &error)) {
-    std::cerr << error << "\n";
-    return 1;
-  }
+  if (!TaskOk(ParseExactTask(task_path, &task, &error), error)) return 1;
   BoundExact<M> bound;
-  if (!BindExactTask<M>(task, base, &bound, &error)) {
-    std::cerr << error << "\n";
-    return 1;
-  }
-  bool read = false;
-  const std::string model_text = ReadText(model_path, &read);
-  if (!read) {
-    std::cerr << tool << ": error: cannot read the model file " << model_path << "\n";
-    return 1;
-  }
+  if (!TaskOk(BindExactTask<M>(task, base, &bound, &error), error)) return 1;
+  std::string model_text;
+  if (!ReadModelText(tool, model_path, &model_text)) return 1;
   std::cerr << tool << ": exact path synthesis: every path of the homotopy (256)\n";
   std::vector<std::pair<std::string, std::string>> models;
   const ExactRun run = RunExactTask<M>(bound, model_text, fs::path(model_path).stem().string(), &models);
@@ -328,27 +312,12 @@ int Main(int argc, char** argv) {
     }
   }
   PathTask task;
-  if (!ParseTask(task_path, &task, &error)) {
-    std::cerr << error << "\n";
-    return 1;
-  }
+  if (!TaskOk(ParseTask(task_path, &task, &error), error)) return 1;
   if (evaluations > 0) task.search.evaluations = evaluations;
   BoundPath<M> bound;
-  if (!BindPathTask<M>(task, base, &bound, &error)) {
-    std::cerr << error << "\n";
-    return 1;
-  }
+  if (!TaskOk(BindPathTask<M>(task, base, &bound, &error), error)) return 1;
   std::string model_text;
-  {
-    std::ifstream in(model_path, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    if (!in) {
-      std::cerr << tool << ": error: cannot read the model file " << model_path << "\n";
-      return 1;
-    }
-    model_text = text.str();
-  }
+  if (!ReadModelText(tool, model_path, &model_text)) return 1;
   if constexpr (mechgen::HasDesignDerivatives<M>::value) {
     const auto wall0 = std::chrono::steady_clock::now();
     const std::clock_t cpu0 = std::clock();

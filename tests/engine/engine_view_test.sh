@@ -22,22 +22,8 @@ failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 cd "$root" || exit 1
 
-# same <name> <expected status> <args...>: both programs in their own directory, every file and
-# stream compared.
-same() {
-  local name=$1 expected=$2
-  shift 2
-  mkdir -p "$name/fixed" "$name/view"
-  (cd "$name/fixed" && "$fixed_tool" "$@" > ../fixed.out 2> ../fixed.err)
-  local fixed_status=$?
-  (cd "$name/view" && "$view_tool" --name engine_single_engine engine "$object" "$@" > ../view.out 2> ../view.err)
-  local view_status=$?
-  [[ $fixed_status -eq $expected ]] || fail "$name: engine_single_engine exited $fixed_status: $(head -3 "$name/fixed.err")"
-  [[ $view_status -eq $fixed_status ]] || fail "$name: mechgen_view engine exited $view_status, the tool $fixed_status: $(head -3 "$name/view.err")"
-  diff -r "$name/fixed" "$name/view" > /dev/null || fail "$name: the files differ: $(diff -r "$name/fixed" "$name/view" | head -4)"
-  cmp -s "$name/fixed.out" "$name/view.out" || fail "$name: stdout differs: $(diff "$name/fixed.out" "$name/view.out" | head -6)"
-  cmp -s "$name/fixed.err" "$name/view.err" || fail "$name: stderr differs: $(diff "$name/fixed.err" "$name/view.err" | head -4)"
-}
+source "$(dirname "$0")/../view_compare.sh"
+same() { same_as_tool engine_single_engine engine "$@"; }  # same <name> <expected status> <args...>
 same cycle 0 cycle --rpm 3000 --samples 720 --csv cycle.csv
 [[ $(grep -vc '^#' cycle/view/cycle.csv) -eq 721 ]] || fail "cycle: $(grep -vc '^#' cycle/view/cycle.csv) CSV lines"
 grep -q ',shake_F_x,shake_F_y,shake_M,M_rock_x,M_rock_y$' cycle/view/cycle.csv || fail "cycle: no shaking columns"

@@ -20,20 +20,8 @@ failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 cd "$root" || exit 1
 
-same() {  # same <name> <expected status> <args...>
-  local name=$1 expected=$2
-  shift 2
-  mkdir -p "$name/fixed" "$name/view"
-  (cd "$name/fixed" && "$fixed_tool" "$@" > ../fixed.out 2> ../fixed.err)
-  local fixed_status=$?
-  (cd "$name/view" && "$view_tool" --name punch_press_flywheel flywheel "$object" "$@" > ../view.out 2> ../view.err)
-  local view_status=$?
-  [[ $fixed_status -eq $expected ]] || fail "$name: punch_press_flywheel exited $fixed_status: $(head -3 "$name/fixed.err")"
-  [[ $view_status -eq $fixed_status ]] || fail "$name: mechgen_view flywheel exited $view_status, the tool $fixed_status: $(head -3 "$name/view.err")"
-  diff -r "$name/fixed" "$name/view" > /dev/null || fail "$name: the files differ: $(diff -r "$name/fixed" "$name/view" | head -4)"
-  cmp -s "$name/fixed.out" "$name/view.out" || fail "$name: stdout differs: $(diff "$name/fixed.out" "$name/view.out" | head -6)"
-  cmp -s "$name/fixed.err" "$name/view.err" || fail "$name: stderr differs: $(diff "$name/fixed.err" "$name/view.err" | head -4)"
-}
+source "$(dirname "$0")/../view_compare.sh"
+same() { same_as_tool punch_press_flywheel flywheel "$@"; }  # same <name> <expected status> <args...>
 same check 0 --rpm 300 --cs 0.02 --samples 3600 --csv loop.csv
 [[ $(grep -vc '^#' check/view/loop.csv) -eq 3601 ]] || fail "check: $(grep -vc '^#' check/view/loop.csv) CSV lines"
 grep -q 'simulated C_s = ' check/view.out || fail "check: no simulated C_s: $(cat check/view.out)"
