@@ -36,7 +36,7 @@ echo
 echo
 echo "quickstart: done in $(( $(date +%s) - start )) s (installing, building and running)."
 # The four programs above are the per-model tools (mechgen_add_model): for these four answers they
-# compile faster than the runtime compiled once (about 80 s of CPU against 340 s). For models of
+# compile faster than the runtime compiled once (about 75 s of CPU against 340 s). For models of
 # your own, build that runtime once; then `mechgen <command> MODEL` answers a new model in seconds.
 echo "next: cmake --build build --target mechgen_view   # once; then, for any model file:"
 echo "      ./build/generator/mechgen sweep my_linkage.yaml --steps 360 --csv out.csv --svg out.svg"
