@@ -948,7 +948,8 @@ TEST(FunctionSynthesis, MinimaxMeetsTheConstraints) {
   auto task = [](const std::string& extra, const std::string& search, bool minimax) {
     std::string yaml = Log10Task(3, extra, search);
     yaml.replace(yaml.find("log10(x)"), 8, "x^2");
-    yaml.replace(yaml.find("input: [90deg, 150deg], output: [20deg, 80deg]"), 46, "input: [270deg, 330deg], output: [240deg, 300deg]");
+    yaml.replace(yaml.find("input: [90deg, 150deg], output: [20deg, 80deg]"), 46,
+                 "input: [270deg, 330deg], output: [240deg, 300deg]");
     if (minimax) yaml.replace(yaml.find("points: 3}"), 10, "points: 3, fit: minimax}");
     return yaml;
   };
@@ -993,7 +994,8 @@ TEST(FunctionSynthesis, MinimaxMeetsTheConstraints) {
   // along its surface and into the Grashof side.
   std::array<double, 4> l = {xc[0], xc[1], xc[2], 4.0};
   std::array<int, 4> order = {0, 1, 2, 3};
-  std::sort(order.begin(), order.end(), [&](int i, int j) { return l[static_cast<size_t>(i)] < l[static_cast<size_t>(j)]; });
+  std::sort(order.begin(), order.end(),
+            [&](int i, int j) { return l[static_cast<size_t>(i)] < l[static_cast<size_t>(j)]; });
   Eigen::Vector3d g = Eigen::Vector3d::Zero();  // of p + q - s - l
   const std::array<double, 4> role = {-1, 1, 1, -1};
   for (size_t k = 0; k < 4; ++k)
@@ -1009,9 +1011,10 @@ TEST(FunctionSynthesis, MinimaxMeetsTheConstraints) {
   const std::string said = "breaks a constraint (not Grashof (s + l > p + q); its largest |error| " +
                            Short(rc.minimax.unconstrained_max * 3 / (60 * kDeg), 6);
   EXPECT_NE(report.find(said), std::string::npos) << report;
-  std::printf("x^2 on [1, 2], a b c, Grashof: largest |error| in y: unconstrained minimax %.6g (not Grashof, p + q - s - l "
-              "%.4g), constrained accuracy points %.6g, constrained minimax %.6g (%d exchanges)\n",
-              worst_u, grashof(xu), worst_p, worst_c, rc.minimax.exchanges);
+  std::printf(
+      "x^2 on [1, 2], a b c, Grashof: largest |error| in y: unconstrained minimax %.6g (not Grashof, p + q - s - l "
+      "%.4g), constrained accuracy points %.6g, constrained minimax %.6g (%d exchanges)\n",
+      worst_u, grashof(xu), worst_p, worst_c, rc.minimax.exchanges);
 }
 
 TEST(FunctionSynthesis, FreeStartAnglesWithPairs) {

@@ -757,9 +757,17 @@ std::string BrokenConstraint(const FunctionEvaluator<M>& eval, const std::vector
 template <class M>
 class RangeResiduals : public ceres::CostFunction {
  public:
-  RangeResiduals(FunctionEvaluator<M>* eval, std::vector<double> at, std::vector<double> weight, std::vector<double> sigma,
-                 std::string active = std::string(), double margin = 0)
-      : eval_(eval), at_(std::move(at)), weight_(std::move(weight)), sigma_(std::move(sigma)), active_(std::move(active)),
+  RangeResiduals(FunctionEvaluator<M>* eval,
+                 std::vector<double> at,
+                 std::vector<double> weight,
+                 std::vector<double> sigma,
+                 std::string active = std::string(),
+                 double margin = 0)
+      : eval_(eval),
+        at_(std::move(at)),
+        weight_(std::move(weight)),
+        sigma_(std::move(sigma)),
+        active_(std::move(active)),
         margin_(margin) {
     set_num_residuals(static_cast<int>(at_.size()) + (active_.empty() ? 0 : 1));
     mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(eval->bound().nx + (sigma_.empty() ? 0 : 1)));
@@ -853,7 +861,10 @@ inline void Reduce(int keep, std::vector<double>* ex, std::vector<double>* ee) {
 /// levelled point with the smallest largest error among those that break no parameter-only
 /// constraint (unchanged when none does).
 template <class M>
-void ConstrainedExchange(FunctionEvaluator<M>* eval, const std::string& what, std::vector<double>* x, MinimaxResult* m) {
+void ConstrainedExchange(FunctionEvaluator<M>* eval,
+                         const std::string& what,
+                         std::vector<double>* x,
+                         MinimaxResult* m) {
   const int nx = eval->bound().nx;
   auto largest = [](const std::vector<double>& v) {
     double w = 0;
@@ -876,8 +887,9 @@ void ConstrainedExchange(FunctionEvaluator<M>* eval, const std::string& what, st
     for (double e : ee) sigma.push_back(e >= 0 ? 1.0 : -1.0), level += std::abs(e) / static_cast<double>(ee.size());
     z.resize(static_cast<size_t>(nx));
     z.push_back(level);
-    const double cost = SolveRange(
-        eval, new RangeResiduals<M>(eval, ex, std::vector<double>(ex.size(), 1.0), sigma, what, 1e-10), &z, &m->iterations);
+    const double cost =
+        SolveRange(eval, new RangeResiduals<M>(eval, ex, std::vector<double>(ex.size(), 1.0), sigma, what, 1e-10), &z,
+                   &m->iterations);
     ++m->exchanges;
     m->level = std::abs(z[static_cast<size_t>(nx)]);
     const std::vector<double> xz(z.begin(), z.begin() + nx);
@@ -1329,8 +1341,8 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
          (m.used ? "" : "; not used" + (m.converged ? ": " + m.why : std::string())) + "\n";
     if (!m.constraint.empty())
       s += "the equal-ripple answer breaks a constraint (" + m.constraint + "; its largest |error| " +
-           Short(m.unconstrained_max * std::abs(to_y), 6) + " in y): exchanged again with it active (one extremum "
-           "fewer), " + (m.constrained_converged ? "converged" : "not converged: " + m.why) + "\n";
+           Short(m.unconstrained_max * std::abs(to_y), 6) + " in y): exchanged again with it active (one extremum fewer), " +
+           (m.constrained_converged ? "converged" : "not converged: " + m.why) + "\n";
     if (std::isfinite(m.max_angle)) {
       s += "largest |structural error| over the range (extrema located): " + Short(m.max_angle * std::abs(to_y), 6) +
            " in y (" + Short(m.max_angle * 180 / M_PI, 6) + " deg of output); the accuracy points' answer: " +
