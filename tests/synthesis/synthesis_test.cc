@@ -15,9 +15,11 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <random>
 #include <sstream>
 
 #include "fourbar.h"
+#include "function_fourbar.h"
 #include "mechgen/synthesis/burmester.h"
 #include "mechgen/synthesis/freudenstein.h"
 #include "mechgen/synthesis/function.h"
@@ -27,7 +29,6 @@
 #include "mechgen/synthesis/projection.h"
 #include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
-#include "function_fourbar.h"
 #include "synth_fourbar.h"
 
 namespace {
@@ -883,8 +884,9 @@ TEST(FunctionSynthesis, MinimaxForXSquaredAndWithFreeStartAngles) {
   // y = x^2 on [1, 2] (input 270 -> 330 deg, output 240 -> 300 deg; a, b, c vary): four
   // alternating extrema of equal magnitude by hand (1e-7), the largest below the Chebyshev
   // spacing's (by hand). log10 with five unknowns (a, b, c and both start angles): the largest
-  // error by hand below the five Chebyshev points' answer's (Lawson's iteration, below). The
-  // report gives the largest error as found by hand.
+  // error by hand below the five Chebyshev points' answer's, five equal extrema, a local
+  // minimax by hand (Lawson's iteration and the reduced exchange, below). The report gives the
+  // largest error as found by hand.
   const std::string free_start = "free_start: {input: [30deg, 150deg], output: [-60deg, 60deg]}\n";
   for (const std::string& fn : {std::string("x^2"), std::string("log10(x)")}) {
     const bool log10 = fn == "log10(x)";
@@ -901,12 +903,10 @@ TEST(FunctionSynthesis, MinimaxForXSquaredAndWithFreeStartAngles) {
     ASSERT_TRUE(rm.best.feasible()) << rm.best.defect;
     // log10 with free start angles: its least squares at five points has four sign changes, not
     // five; Lawson's iteration then ends with five near-equal extrema (the sixth does not
-    // appear: a direction of the five variables the error hardly sees), so no Remez reference.
-    if (log10) {
-      EXPECT_GT(rm.minimax.lawson, 0);
-    } else {
-      ASSERT_TRUE(rm.minimax.converged) << fn << ": " << rm.minimax.why;
-    }
+    // appear: a direction of the five variables the error hardly sees), and the reduced
+    // exchange on those five equalises them.
+    if (log10) EXPECT_GT(rm.minimax.lawson, 0);
+    ASSERT_TRUE(rm.minimax.converged) << fn << ": " << rm.minimax.why;
     ASSERT_TRUE(rm.minimax.used) << rm.minimax.why;
     const double y0 = log10 ? 0.0 : 1.0, dy = log10 ? std::log10(2.0) : 3.0;
     auto f = [&](double x) { return log10 ? std::log10(x) : x * x; };
@@ -928,10 +928,60 @@ TEST(FunctionSynthesis, MinimaxForXSquaredAndWithFreeStartAngles) {
     EXPECT_NEAR(rm.minimax.max_angle * dy / (60 * kDeg), worst_m, 1e-12) << fn;
     const std::string report = FunctionReport(mm, rm, 1);
     EXPECT_NE(report.find("minimax (Remez exchange of the accuracy points): "), std::string::npos) << report;
+    if (log10) EXPECT_NE(report.find("a reduced exchange on 5 extrema"), std::string::npos) << report;
     EXPECT_NE(report.find("largest |structural error| over the range (extrema located): " + Short(worst_m, 6) + " in y"),
               std::string::npos) << report;
     std::printf("%s on [1, 2], %d unknowns: largest |error| in y: Chebyshev spacing %.6g, minimax %.6g (%d exchanges)\n",
                 fn.c_str(), mm.nx, worst_p, worst_m, rm.minimax.exchanges);
+    if (log10) {
+      // Five equal extrema for five variables (not six): a local minimax all the same. By hand:
+      // the extrema's gradients (central differences of the hand error) are dependent (their
+      // smallest singular value below 1e-3 of the largest), and no step lowers the largest
+      // error: along each variable, along the null direction of those gradients (where the
+      // change is of second order), and along 40 random directions, each both ways at 1e-5
+      // and 1e-3 of the variable's scale.
+      ASSERT_EQ(rm.minimax.reference, 5);
+      ExpectEqualRipple(em, 5, 1e-7);
+      std::vector<double> at;
+      HandExtrema([&](double x) { return error(xm, x); }, &at);
+      ASSERT_EQ(at.size(), 5u);
+      Eigen::Matrix<double, 5, 5> G;
+      for (int j = 0; j < 5; ++j) {
+        const double h = 1e-6 * std::max(1.0, std::abs(xm[static_cast<size_t>(j)]));
+        std::vector<double> vp = xm, vm = xm;
+        vp[static_cast<size_t>(j)] += h, vm[static_cast<size_t>(j)] -= h;
+        for (int k = 0; k < 5; ++k)
+          G(k, j) = (error(vp, at[static_cast<size_t>(k)]) - error(vm, at[static_cast<size_t>(k)])) / (2 * h);
+      }
+      Eigen::JacobiSVD<Eigen::Matrix<double, 5, 5>> svd(G, Eigen::ComputeFullV);
+      EXPECT_LT(svd.singularValues()(4), 1e-3 * svd.singularValues()(0)) << svd.singularValues().transpose();
+      std::vector<Eigen::Matrix<double, 5, 1>> dirs;
+      for (int j = 0; j < 5; ++j) dirs.push_back(Eigen::Matrix<double, 5, 1>::Unit(j));
+      dirs.push_back(svd.matrixV().col(4));
+      std::mt19937 rng(44);
+      std::normal_distribution<double> normal;
+      for (int r = 0; r < 40; ++r) {
+        Eigen::Matrix<double, 5, 1> d;
+        for (int j = 0; j < 5; ++j) d(j) = normal(rng);
+        dirs.push_back(d.normalized());
+      }
+      for (const auto& d : dirs)
+        for (double step : {-1e-3, -1e-5, 1e-5, 1e-3}) {
+          std::vector<double> v = xm;
+          for (int j = 0; j < 5; ++j)
+            v[static_cast<size_t>(j)] += step * d(j) * std::max(1.0, std::abs(xm[static_cast<size_t>(j)]));
+          double w = 0;
+          for (double e : HandExtrema([&](double x) { return error(v, x); })) w = std::max(w, std::abs(e));
+          EXPECT_GT(w, worst_m) << "step " << step << " along " << d.transpose();
+        }
+      std::printf("log10 with free start angles: the extrema's gradients' singular values %s\n",
+                  [&] {
+                    std::ostringstream o;
+                    o << svd.singularValues().transpose();
+                    return o.str();
+                  }()
+                      .c_str());
+    }
   }
 }
 

@@ -654,6 +654,7 @@ struct MinimaxResult {
   std::string why;             ///< when not used or not converged
   int exchanges = 0;           ///< exchange steps (each a levelled solve and a new reference)
   int lawson = 0;              ///< Lawson's steps before the exchange (a seed with too few sign changes)
+  int reference = 0;           ///< the reference's extrema: nx + 1, or fewer (a reduced exchange, below)
   int iterations = 0;          ///< LM iterations of the levelled (and Lawson's) solves
   double level = 0;            ///< |E| of the last levelled solve
   double start_max = kInf;     ///< the seed's largest |error| over the range (extrema located)
@@ -925,10 +926,10 @@ void ConstrainedExchange(FunctionEvaluator<M>* eval,
 }  // namespace function_internal
 
 /// The Remez exchange (`fit: minimax`) from x: the reference, nx + 1 alternating extrema of
-/// the error over the range (the seed's own, or the Chebyshev-Lobatto points when it has
-/// fewer sign changes), is levelled by Levenberg–Marquardt (e(x_k) = sigma_k E, the generated
-/// Jacobian, the variables within their bounds), then exchanged for the new error's extrema;
-/// until their magnitudes agree to 1e-9 relative (at most 40 steps). *x: the variables with
+/// the error over the range (the seed's own, or after Lawson's iteration when it has fewer
+/// sign changes; as many as that leaves, at least 2, when still fewer), is levelled by
+/// Levenberg–Marquardt (e(x_k) = sigma_k E, the generated Jacobian, the variables within their
+/// bounds), then exchanged for the new error's extrema; until their magnitudes agree to 1e-9 relative (at most 40 steps). *x: the variables with
 /// the smallest largest error found (the seed's if none is smaller).
 template <class M>
 MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
@@ -961,6 +962,7 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
     return m;
   };
   std::vector<double> z = *x;
+  int keep = nx + 1;
   if (static_cast<int>(ex.size()) < nx + 1) {
     // Too few sign changes for a reference: Lawson's iteration first, weighted least squares
     // of the error at the samples + 1 points, w_k <- w_k |e_k| / sum w |e| (30 steps, each
@@ -987,14 +989,18 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
       if (!(sum > 0)) break;
       for (int k = 0; k <= N; ++k) w[static_cast<size_t>(k)] *= std::abs(e[static_cast<size_t>(k)]) / sum;
     }
-    if (static_cast<int>(ex.size()) < nx + 1) {
-      m.why = "the error has fewer than " + std::to_string(nx + 1) + " alternating extrema after Lawson's iteration (a "
-              "bound active, or the variables not independent): no Remez reference";
+    if (static_cast<int>(ex.size()) < 2) {
+      m.why = "the error has fewer than 2 alternating extrema after Lawson's iteration: no Remez reference";
       return finish();
     }
+    // Still fewer than nx + 1: the reduced exchange, on as many extrema as Lawson's answer
+    // has (the levelled system then underdetermined, LM taking the step nearest; a family whose
+    // extrema's gradients are dependent there: the variables not independent, a bound active).
+    keep = std::min(keep, static_cast<int>(ex.size()));
     z = best;
   }
-  function_internal::Reduce(nx + 1, &ex, &ee);
+  m.reference = keep;
+  function_internal::Reduce(keep, &ex, &ee);
   for (int step = 0; step < 40; ++step) {
     std::vector<double> sigma;
     double level = 0;
@@ -1019,11 +1025,11 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
       m.why = "a levelled solve found no equal-ripple point near the reference (a bound active?)";
       break;
     }
-    if (static_cast<int>(nex.size()) < nx + 1) {
-      m.why = "the levelled error has fewer than " + std::to_string(nx + 1) + " alternating extrema";
+    if (static_cast<int>(nex.size()) < keep) {
+      m.why = "the levelled error has fewer than " + std::to_string(keep) + " alternating extrema";
       break;
     }
-    function_internal::Reduce(nx + 1, &nex, &nee);
+    function_internal::Reduce(keep, &nex, &nee);
     ex = nex, ee = nee;
     double lo = kInf;
     for (double e : ee) lo = std::min(lo, std::abs(e));
@@ -1335,9 +1341,13 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
     const MinimaxResult& m = r.minimax;
     const double to_y = (t.y1 - t.y0) / t.out_span;
     s += "minimax (Remez exchange of the accuracy points): " +
-         (m.lawson > 0 ? std::to_string(m.lawson) + " Lawson steps (the seed has too few sign changes), " : std::string()) +
-         std::to_string(m.exchanges) + " exchange steps, " +
-         std::to_string(m.iterations) + " LM iterations, " + (m.converged ? "converged" : "not converged: " + m.why) +
+         (m.lawson > 0 ? std::to_string(m.lawson) + " Lawson steps (the seed has too few sign changes), "
+                       : std::string()) +
+         (m.reference > 0 && m.reference < static_cast<int>(r.best.x.size()) + 1
+              ? "a reduced exchange on " + std::to_string(m.reference) + " extrema (Lawson's answer has no more), "
+              : std::string()) +
+         std::to_string(m.exchanges) + " exchange steps, " + std::to_string(m.iterations) + " LM iterations, " +
+         (m.converged ? "converged" : "not converged: " + m.why) +
          (m.used ? "" : "; not used" + (m.converged ? ": " + m.why : std::string())) + "\n";
     if (!m.constraint.empty())
       s += "the equal-ripple answer breaks a constraint (" + m.constraint + "; its largest |error| " +
