@@ -905,7 +905,9 @@ TEST(FunctionSynthesis, MinimaxForXSquaredAndWithFreeStartAngles) {
     // five; Lawson's iteration then ends with five near-equal extrema (the sixth does not
     // appear: a direction of the five variables the error hardly sees), and the reduced
     // exchange on those five equalises them.
-    if (log10) EXPECT_GT(rm.minimax.lawson, 0);
+    if (log10) {
+      EXPECT_GT(rm.minimax.lawson, 0);
+    }
     ASSERT_TRUE(rm.minimax.converged) << fn << ": " << rm.minimax.why;
     ASSERT_TRUE(rm.minimax.used) << rm.minimax.why;
     const double y0 = log10 ? 0.0 : 1.0, dy = log10 ? std::log10(2.0) : 3.0;
@@ -928,7 +930,9 @@ TEST(FunctionSynthesis, MinimaxForXSquaredAndWithFreeStartAngles) {
     EXPECT_NEAR(rm.minimax.max_angle * dy / (60 * kDeg), worst_m, 1e-12) << fn;
     const std::string report = FunctionReport(mm, rm, 1);
     EXPECT_NE(report.find("minimax (Remez exchange of the accuracy points): "), std::string::npos) << report;
-    if (log10) EXPECT_NE(report.find("a reduced exchange on 5 extrema"), std::string::npos) << report;
+    if (log10) {
+      EXPECT_NE(report.find("a reduced exchange on 5 extrema"), std::string::npos) << report;
+    }
     EXPECT_NE(report.find("largest |structural error| over the range (extrema located): " + Short(worst_m, 6) + " in y"),
               std::string::npos) << report;
     std::printf("%s on [1, 2], %d unknowns: largest |error| in y: Chebyshev spacing %.6g, minimax %.6g (%d exchanges)\n",
