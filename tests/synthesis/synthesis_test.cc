@@ -15,9 +15,11 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <random>
 #include <sstream>
 
 #include "fourbar.h"
+#include "function_fourbar.h"
 #include "mechgen/synthesis/burmester.h"
 #include "mechgen/synthesis/freudenstein.h"
 #include "mechgen/synthesis/function.h"
@@ -27,7 +29,6 @@
 #include "mechgen/synthesis/projection.h"
 #include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
-#include "function_fourbar.h"
 #include "synth_fourbar.h"
 
 namespace {
@@ -883,8 +884,9 @@ TEST(FunctionSynthesis, MinimaxForXSquaredAndWithFreeStartAngles) {
   // y = x^2 on [1, 2] (input 270 -> 330 deg, output 240 -> 300 deg; a, b, c vary): four
   // alternating extrema of equal magnitude by hand (1e-7), the largest below the Chebyshev
   // spacing's (by hand). log10 with five unknowns (a, b, c and both start angles): the largest
-  // error by hand below the five Chebyshev points' answer's (Lawson's iteration, below). The
-  // report gives the largest error as found by hand.
+  // error by hand below the five Chebyshev points' answer's, five equal extrema, a local
+  // minimax by hand (Lawson's iteration and the reduced exchange, below). The report gives the
+  // largest error as found by hand.
   const std::string free_start = "free_start: {input: [30deg, 150deg], output: [-60deg, 60deg]}\n";
   for (const std::string& fn : {std::string("x^2"), std::string("log10(x)")}) {
     const bool log10 = fn == "log10(x)";
@@ -901,12 +903,12 @@ TEST(FunctionSynthesis, MinimaxForXSquaredAndWithFreeStartAngles) {
     ASSERT_TRUE(rm.best.feasible()) << rm.best.defect;
     // log10 with free start angles: its least squares at five points has four sign changes, not
     // five; Lawson's iteration then ends with five near-equal extrema (the sixth does not
-    // appear: a direction of the five variables the error hardly sees), so no Remez reference.
+    // appear: a direction of the five variables the error hardly sees), and the reduced
+    // exchange on those five equalises them.
     if (log10) {
       EXPECT_GT(rm.minimax.lawson, 0);
-    } else {
-      ASSERT_TRUE(rm.minimax.converged) << fn << ": " << rm.minimax.why;
     }
+    ASSERT_TRUE(rm.minimax.converged) << fn << ": " << rm.minimax.why;
     ASSERT_TRUE(rm.minimax.used) << rm.minimax.why;
     const double y0 = log10 ? 0.0 : 1.0, dy = log10 ? std::log10(2.0) : 3.0;
     auto f = [&](double x) { return log10 ? std::log10(x) : x * x; };
@@ -928,11 +930,145 @@ TEST(FunctionSynthesis, MinimaxForXSquaredAndWithFreeStartAngles) {
     EXPECT_NEAR(rm.minimax.max_angle * dy / (60 * kDeg), worst_m, 1e-12) << fn;
     const std::string report = FunctionReport(mm, rm, 1);
     EXPECT_NE(report.find("minimax (Remez exchange of the accuracy points): "), std::string::npos) << report;
+    if (log10) {
+      EXPECT_NE(report.find("a reduced exchange on 5 extrema"), std::string::npos) << report;
+    }
     EXPECT_NE(report.find("largest |structural error| over the range (extrema located): " + Short(worst_m, 6) + " in y"),
               std::string::npos) << report;
     std::printf("%s on [1, 2], %d unknowns: largest |error| in y: Chebyshev spacing %.6g, minimax %.6g (%d exchanges)\n",
                 fn.c_str(), mm.nx, worst_p, worst_m, rm.minimax.exchanges);
+    if (log10) {
+      // Five equal extrema for five variables (not six): a local minimax all the same. By hand:
+      // the extrema's gradients (central differences of the hand error) are dependent (their
+      // smallest singular value below 1e-3 of the largest), and no step lowers the largest
+      // error: along each variable, along the null direction of those gradients (where the
+      // change is of second order), and along 40 random directions, each both ways at 1e-5
+      // and 1e-3 of the variable's scale.
+      ASSERT_EQ(rm.minimax.reference, 5);
+      ExpectEqualRipple(em, 5, 1e-7);
+      std::vector<double> at;
+      HandExtrema([&](double x) { return error(xm, x); }, &at);
+      ASSERT_EQ(at.size(), 5u);
+      Eigen::Matrix<double, 5, 5> G;
+      for (int j = 0; j < 5; ++j) {
+        const double h = 1e-6 * std::max(1.0, std::abs(xm[static_cast<size_t>(j)]));
+        std::vector<double> vp = xm, vm = xm;
+        vp[static_cast<size_t>(j)] += h, vm[static_cast<size_t>(j)] -= h;
+        for (int k = 0; k < 5; ++k)
+          G(k, j) = (error(vp, at[static_cast<size_t>(k)]) - error(vm, at[static_cast<size_t>(k)])) / (2 * h);
+      }
+      Eigen::JacobiSVD<Eigen::Matrix<double, 5, 5>> svd(G, Eigen::ComputeFullV);
+      EXPECT_LT(svd.singularValues()(4), 1e-3 * svd.singularValues()(0)) << svd.singularValues().transpose();
+      std::vector<Eigen::Matrix<double, 5, 1>> dirs;
+      for (int j = 0; j < 5; ++j) dirs.push_back(Eigen::Matrix<double, 5, 1>::Unit(j));
+      dirs.push_back(svd.matrixV().col(4));
+      std::mt19937 rng(44);
+      std::normal_distribution<double> normal;
+      for (int r = 0; r < 40; ++r) {
+        Eigen::Matrix<double, 5, 1> d;
+        for (int j = 0; j < 5; ++j) d(j) = normal(rng);
+        dirs.push_back(d.normalized());
+      }
+      for (const auto& d : dirs)
+        for (double step : {-1e-3, -1e-5, 1e-5, 1e-3}) {
+          std::vector<double> v = xm;
+          for (int j = 0; j < 5; ++j)
+            v[static_cast<size_t>(j)] += step * d(j) * std::max(1.0, std::abs(xm[static_cast<size_t>(j)]));
+          double w = 0;
+          for (double e : HandExtrema([&](double x) { return error(v, x); })) w = std::max(w, std::abs(e));
+          EXPECT_GT(w, worst_m) << "step " << step << " along " << d.transpose();
+        }
+      std::printf("log10 with free start angles: the extrema's gradients' singular values %s\n",
+                  [&] {
+                    std::ostringstream o;
+                    o << svd.singularValues().transpose();
+                    return o.str();
+                  }()
+                      .c_str());
+    }
   }
+}
+
+TEST(FunctionSynthesis, MinimaxMeetsTheConstraints) {
+  // y = x^2 on [1, 2] (input 270 -> 330 deg, output 240 -> 300 deg; a, b, c vary, d = 4): the
+  // equal-ripple four-bar is not Grashof (by hand: s + l > p + q). With `grashof: true` the
+  // minimax stage exchanges again with Grashof active. Oracles, all by hand (circle
+  // intersection on 20001 points, extrema by ternary search; the lengths sorted): the answer is
+  // Grashof with s + l = p + q (to 1e-8), its error has three alternating extrema of equal
+  // magnitude (three variables less one condition; 1e-7), its largest is no smaller than the
+  // unconstrained one's and smaller than the constrained accuracy points' answer's, and no
+  // step along the Grashof surface or into it (four tangent directions, one inward, 1e-4)
+  // lowers it: a constrained minimax.
+  auto task = [](const std::string& extra, const std::string& search, bool minimax) {
+    std::string yaml = Log10Task(3, extra, search);
+    yaml.replace(yaml.find("log10(x)"), 8, "x^2");
+    yaml.replace(yaml.find("input: [90deg, 150deg], output: [20deg, 80deg]"), 46,
+                 "input: [270deg, 330deg], output: [240deg, 300deg]");
+    if (minimax) yaml.replace(yaml.find("points: 3}"), 10, "points: 3, fit: minimax}");
+    return yaml;
+  };
+  auto error = [](const std::array<double, 3>& v, double x) {  // by hand, in y
+    const double t4 = HandTheta4(v[0], v[1], v[2], 4.0, 270 * kDeg + 60 * kDeg * (x - 1));
+    return WrapPi(t4 - 240 * kDeg - 60 * kDeg * (x * x - 1) / 3) * 3 / (60 * kDeg);
+  };
+  auto worst = [&](const std::array<double, 3>& v) {
+    double w = 0;
+    for (double e : HandExtrema([&](double x) { return error(v, x); })) w = std::max(w, std::abs(e));
+    return w;
+  };
+  auto grashof = [](const std::array<double, 3>& v) {  // p + q - s - l by hand
+    std::array<double, 4> l = {v[0], v[1], v[2], 4.0};
+    std::sort(l.begin(), l.end());
+    return l[1] + l[2] - l[0] - l[3];
+  };
+  const std::string grashof_task = "constraints: {grashof: true}\n", search = "{restarts: 4, evaluations: 8000}";
+  const FunctionResult ru = SynthesizeFunction(BindFunctionYaml(task("", "{restarts: 0}", true), "cu.yaml"), 1);
+  const FunctionResult rp = SynthesizeFunction(BindFunctionYaml(task(grashof_task, search, false), "cp.yaml"), 1);
+  const auto bc = BindFunctionYaml(task(grashof_task, search, true), "cc.yaml");
+  const FunctionResult rc = SynthesizeFunction(bc, 1);
+  ASSERT_TRUE(ru.minimax.converged && ru.minimax.used) << ru.minimax.why;
+  ASSERT_TRUE(rp.best.feasible()) << rp.best.defect;
+  ASSERT_TRUE(rc.best.feasible()) << rc.best.defect;
+  const std::array<double, 3> xu = {ru.best.x[0], ru.best.x[1], ru.best.x[2]};
+  const std::array<double, 3> xp = {rp.best.x[0], rp.best.x[1], rp.best.x[2]};
+  const std::array<double, 3> xc = {rc.best.x[0], rc.best.x[1], rc.best.x[2]};
+  EXPECT_LT(grashof(xu), -1e-3);  // the unconstrained optimum breaks the constraint
+  EXPECT_EQ(rc.minimax.constraint, "not Grashof (s + l > p + q)");
+  ASSERT_TRUE(rc.minimax.constrained_converged) << rc.minimax.why;
+  ASSERT_TRUE(rc.minimax.used) << rc.minimax.why;
+  EXPECT_GE(grashof(xc), 0);
+  EXPECT_LT(grashof(xc), 1e-8);
+  const auto ec = HandExtrema([&](double x) { return error(xc, x); });
+  const double worst_c = ExpectEqualRipple(ec, 3, 1e-7), worst_u = worst(xu), worst_p = worst(xp);
+  EXPECT_GE(worst_c, worst_u);
+  EXPECT_LT(worst_c, worst_p);
+  EXPECT_NEAR(rc.minimax.max_angle * 3 / (60 * kDeg), worst_c, 1e-12);
+  EXPECT_LE(rc.minimax.unconstrained_max * 3 / (60 * kDeg), worst_c);
+  // The Grashof margin's gradient by hand (the roles of the sorted lengths at xc), and steps
+  // along its surface and into the Grashof side.
+  std::array<double, 4> l = {xc[0], xc[1], xc[2], 4.0};
+  std::array<int, 4> order = {0, 1, 2, 3};
+  std::sort(order.begin(), order.end(),
+            [&](int i, int j) { return l[static_cast<size_t>(i)] < l[static_cast<size_t>(j)]; });
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();  // of p + q - s - l
+  const std::array<double, 4> role = {-1, 1, 1, -1};
+  for (size_t k = 0; k < 4; ++k)
+    if (order[k] < 3) g(order[k]) = role[k];
+  const Eigen::Vector3d u = g.unitOrthogonal(), w = g.cross(u).normalized();
+  for (const Eigen::Vector3d& t : {Eigen::Vector3d(u), Eigen::Vector3d(-u), Eigen::Vector3d(w), Eigen::Vector3d(-w),
+                                   Eigen::Vector3d(g.normalized())}) {
+    const std::array<double, 3> v = {xc[0] + 1e-4 * t(0), xc[1] + 1e-4 * t(1), xc[2] + 1e-4 * t(2)};
+    EXPECT_GE(grashof(v), -1e-12);
+    EXPECT_GT(worst(v), worst_c) << t.transpose();
+  }
+  const std::string report = FunctionReport(bc, rc, 1);
+  const std::string said = "breaks a constraint (not Grashof (s + l > p + q); its largest |error| " +
+                           Short(rc.minimax.unconstrained_max * 3 / (60 * kDeg), 6);
+  EXPECT_NE(report.find(said), std::string::npos) << report;
+  std::printf(
+      "x^2 on [1, 2], a b c, Grashof: largest |error| in y: unconstrained minimax %.6g (not Grashof, p + q - s - l "
+      "%.4g), constrained accuracy points %.6g, constrained minimax %.6g (%d exchanges)\n",
+      worst_u, grashof(xu), worst_p, worst_c, rc.minimax.exchanges);
 }
 
 TEST(FunctionSynthesis, FreeStartAnglesWithPairs) {

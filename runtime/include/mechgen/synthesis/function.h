@@ -654,12 +654,19 @@ struct MinimaxResult {
   std::string why;             ///< when not used or not converged
   int exchanges = 0;           ///< exchange steps (each a levelled solve and a new reference)
   int lawson = 0;              ///< Lawson's steps before the exchange (a seed with too few sign changes)
+  int reference = 0;           ///< the reference's extrema: nx + 1, or fewer (a reduced exchange, below)
   int iterations = 0;          ///< LM iterations of the levelled (and Lawson's) solves
   double level = 0;            ///< |E| of the last levelled solve
   double start_max = kInf;     ///< the seed's largest |error| over the range (extrema located)
   double max_angle = kInf;     ///< the answer's largest |error| over the range (extrema located)
   std::vector<double> ref_x, ref_e;  ///< the answer's alternating extrema: x_k and error_k (rad)
   std::vector<double> zeros;   ///< where the answer's error crosses zero (its accuracy points)
+  /// The constraints: when the equal-ripple answer breaks a parameter-only constraint (path.h
+  /// CheckParameterConstraints: Grashof, the crank, link_ratio, link_lengths), the exchange again
+  /// with that constraint active (ConstrainedExchange). `constraint`: its defect message.
+  std::string constraint;
+  bool constrained_converged = false;
+  double unconstrained_max = kInf;  ///< the equal-ripple answer's largest |error| (rad), which breaks it
 };
 
 namespace function_internal {
@@ -722,15 +729,48 @@ bool RangeExtrema(FunctionEvaluator<M>* eval, const std::vector<double>& x, std:
   return true;
 }
 
+/// The signed amount of the parameter-only constraint `what` at x (the amount its flag gets:
+/// > 0 broken, <= 0 met); NaN when no constraint by that message is checked.
+template <class M>
+double ConstraintAmount(const FunctionEvaluator<M>& eval, const std::vector<double>& x, const std::string& what) {
+  const BoundFunction<M>& b = eval.bound();
+  double amount = std::numeric_limits<double>::quiet_NaN();
+  CheckParameterConstraints<M>(eval.ParamsOf(x), b.task.constraints, b.checks, [&](double a, const std::string& w) {
+    if (w == what && !(amount > a)) amount = a;  // the largest when flagged twice
+  });
+  return amount;
+}
+
+/// The first parameter-only constraint x breaks (its message), empty when none.
+template <class M>
+std::string BrokenConstraint(const FunctionEvaluator<M>& eval, const std::vector<double>& x) {
+  const BoundFunction<M>& b = eval.bound();
+  std::string broken;
+  CheckParameterConstraints<M>(eval.ParamsOf(x), b.task.constraints, b.checks, [&](double a, const std::string& w) {
+    if (a > 0 && broken.empty()) broken = w;
+  });
+  return broken;
+}
+
 /// The range error at points x_k: levelled (sigma given), e(x_k; x) - sigma_k E over the
 /// variables and E (the Remez step: nx + 1 points, sigma_k alternating); or weighted (sigma
 /// empty), w_k e(x_k; x) over the variables (Lawson's step). The Jacobian the generated one.
 template <class M>
 class RangeResiduals : public ceres::CostFunction {
  public:
-  RangeResiduals(FunctionEvaluator<M>* eval, std::vector<double> at, std::vector<double> weight, std::vector<double> sigma)
-      : eval_(eval), at_(std::move(at)), weight_(std::move(weight)), sigma_(std::move(sigma)) {
-    set_num_residuals(static_cast<int>(at_.size()));
+  RangeResiduals(FunctionEvaluator<M>* eval,
+                 std::vector<double> at,
+                 std::vector<double> weight,
+                 std::vector<double> sigma,
+                 std::string active = std::string(),
+                 double margin = 0)
+      : eval_(eval),
+        at_(std::move(at)),
+        weight_(std::move(weight)),
+        sigma_(std::move(sigma)),
+        active_(std::move(active)),
+        margin_(margin) {
+    set_num_residuals(static_cast<int>(at_.size()) + (active_.empty() ? 0 : 1));
     mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(eval->bound().nx + (sigma_.empty() ? 0 : 1)));
   }
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
@@ -748,12 +788,30 @@ class RangeResiduals : public ceres::CostFunction {
       for (int j = 0; j < nx; ++j) row[j] *= weight_[k];
       if (!sigma_.empty()) row[nx] = -sigma_[k];
     }
+    if (active_.empty()) return true;
+    // The active constraint's row: its amount held at -margin (just inside). The amount is
+    // piecewise linear in the link lengths (sums, differences, the ratio bound's multiple), so
+    // a central difference quotient is its exact gradient within a piece (one evaluation each).
+    const size_t last = at_.size();
+    residuals[last] = ConstraintAmount(*eval_, x, active_) + margin_;
+    if (!std::isfinite(residuals[last])) return false;
+    if (!jac) return true;
+    double* row = jacobians[0] + last * static_cast<size_t>(nz);
+    for (int j = 0; j < nz; ++j) row[j] = 0;
+    for (int j = 0; j < eval_->bound().nv; ++j) {
+      const double h = 1e-6 * std::max(1.0, std::abs(x[static_cast<size_t>(j)]));
+      std::vector<double> xp = x, xm = x;
+      xp[static_cast<size_t>(j)] += h, xm[static_cast<size_t>(j)] -= h;
+      row[j] = (ConstraintAmount(*eval_, xp, active_) - ConstraintAmount(*eval_, xm, active_)) / (2 * h);
+    }
     return true;
   }
 
  private:
   FunctionEvaluator<M>* eval_;
   std::vector<double> at_, weight_, sigma_;
+  std::string active_;
+  double margin_ = 0;
 };
 
 /// LM within the bounds on RangeResiduals from z (nx variables, + E when levelled); the final
@@ -795,13 +853,83 @@ inline void Reduce(int keep, std::vector<double>* ex, std::vector<double>* ee) {
   }
 }
 
+/// The exchange with one parameter-only constraint active (`what`, its amount held 1e-10 inside
+/// its bound): the nx variables less that condition leave nx alternating extrema of equal
+/// magnitude at the constrained optimum (Chebyshev's criterion on the constraint's surface).
+/// The reference (the equal-ripple answer's extrema, reduced to nx) is levelled with the
+/// constraint's row (a square system in the variables and E), then exchanged for the new
+/// error's extrema, until their magnitudes agree to 1e-9 relative (at most 40 steps). *x: the
+/// levelled point with the smallest largest error among those that break no parameter-only
+/// constraint (unchanged when none does).
+template <class M>
+void ConstrainedExchange(FunctionEvaluator<M>* eval,
+                         const std::string& what,
+                         std::vector<double>* x,
+                         MinimaxResult* m) {
+  const int nx = eval->bound().nx;
+  auto largest = [](const std::vector<double>& v) {
+    double w = 0;
+    for (double e : v) w = std::max(w, std::abs(e));
+    return w;
+  };
+  std::vector<double> ex, ee;
+  ++eval->evaluations;
+  if (!RangeExtrema(eval, *x, &ex, &ee) || static_cast<int>(ex.size()) < nx) {
+    m->why = "the equal-ripple answer breaks a constraint (" + what + ") and has too few extrema for its exchange";
+    return;
+  }
+  Reduce(nx, &ex, &ee);
+  std::vector<double> z = *x, best;
+  double best_max = kInf;
+  m->why.clear();
+  for (int step = 0; step < 40; ++step) {
+    std::vector<double> sigma;
+    double level = 0;
+    for (double e : ee) sigma.push_back(e >= 0 ? 1.0 : -1.0), level += std::abs(e) / static_cast<double>(ee.size());
+    z.resize(static_cast<size_t>(nx));
+    z.push_back(level);
+    const double cost =
+        SolveRange(eval, new RangeResiduals<M>(eval, ex, std::vector<double>(ex.size(), 1.0), sigma, what, 1e-10), &z,
+                   &m->iterations);
+    ++m->exchanges;
+    m->level = std::abs(z[static_cast<size_t>(nx)]);
+    const std::vector<double> xz(z.begin(), z.begin() + nx);
+    std::vector<double> nex, nee;
+    ++eval->evaluations;
+    if (!RangeExtrema(eval, xz, &nex, &nee)) {
+      m->why = "a levelled solve on the constraint left the range where the mechanism assembles";
+      break;
+    }
+    const double worst = largest(nee);
+    if (BrokenConstraint(*eval, xz).empty() && worst < best_max) best_max = worst, best = xz;
+    if (cost > 1e-6 * m->level * m->level) {
+      m->why = "a levelled solve on the constraint (" + what + ") found no equal-ripple point near the reference";
+      break;
+    }
+    if (static_cast<int>(nex.size()) < nx) {
+      m->why = "the levelled error on the constraint has fewer than " + std::to_string(nx) + " alternating extrema";
+      break;
+    }
+    Reduce(nx, &nex, &nee);
+    ex = nex, ee = nee;
+    double lo = kInf;
+    for (double e : ee) lo = std::min(lo, std::abs(e));
+    if (worst - lo <= 1e-9 * worst) {
+      m->constrained_converged = true;
+      break;
+    }
+  }
+  if (!m->constrained_converged && m->why.empty()) m->why = "40 exchange steps on the constraint without equal extrema";
+  if (!best.empty()) *x = best, m->max_angle = best_max;
+}
+
 }  // namespace function_internal
 
 /// The Remez exchange (`fit: minimax`) from x: the reference, nx + 1 alternating extrema of
-/// the error over the range (the seed's own, or the Chebyshev-Lobatto points when it has
-/// fewer sign changes), is levelled by Levenberg–Marquardt (e(x_k) = sigma_k E, the generated
-/// Jacobian, the variables within their bounds), then exchanged for the new error's extrema;
-/// until their magnitudes agree to 1e-9 relative (at most 40 steps). *x: the variables with
+/// the error over the range (the seed's own, or after Lawson's iteration when it has fewer
+/// sign changes; as many as that leaves, at least 2, when still fewer), is levelled by
+/// Levenberg–Marquardt (e(x_k) = sigma_k E, the generated Jacobian, the variables within their
+/// bounds), then exchanged for the new error's extrema; until their magnitudes agree to 1e-9 relative (at most 40 steps). *x: the variables with
 /// the smallest largest error found (the seed's if none is smaller).
 template <class M>
 MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
@@ -821,12 +949,20 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
   m.start_max = m.max_angle = largest(ee);
   std::vector<double> best = *x;
   auto finish = [&]() {
+    // The constraints: an answer that breaks a parameter-only one is exchanged again with it active.
+    const std::string broken = function_internal::BrokenConstraint(*eval, best);
+    if (!broken.empty()) {
+      m.constraint = broken;
+      m.unconstrained_max = m.max_angle;
+      function_internal::ConstrainedExchange(eval, broken, &best, &m);
+    }
     *x = best;
     std::vector<double> zx, ze;
     if (RangeExtrema(eval, best, &zx, &ze, &m.zeros)) m.ref_x = zx, m.ref_e = ze;
     return m;
   };
   std::vector<double> z = *x;
+  int keep = nx + 1;
   if (static_cast<int>(ex.size()) < nx + 1) {
     // Too few sign changes for a reference: Lawson's iteration first, weighted least squares
     // of the error at the samples + 1 points, w_k <- w_k |e_k| / sum w |e| (30 steps, each
@@ -853,14 +989,18 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
       if (!(sum > 0)) break;
       for (int k = 0; k <= N; ++k) w[static_cast<size_t>(k)] *= std::abs(e[static_cast<size_t>(k)]) / sum;
     }
-    if (static_cast<int>(ex.size()) < nx + 1) {
-      m.why = "the error has fewer than " + std::to_string(nx + 1) + " alternating extrema after Lawson's iteration (a "
-              "bound active, or the variables not independent): no Remez reference";
+    if (static_cast<int>(ex.size()) < 2) {
+      m.why = "the error has fewer than 2 alternating extrema after Lawson's iteration: no Remez reference";
       return finish();
     }
+    // Still fewer than nx + 1: the reduced exchange, on as many extrema as Lawson's answer
+    // has (the levelled system then underdetermined, LM taking the step nearest; a family whose
+    // extrema's gradients are dependent there: the variables not independent, a bound active).
+    keep = std::min(keep, static_cast<int>(ex.size()));
     z = best;
   }
-  function_internal::Reduce(nx + 1, &ex, &ee);
+  m.reference = keep;
+  function_internal::Reduce(keep, &ex, &ee);
   for (int step = 0; step < 40; ++step) {
     std::vector<double> sigma;
     double level = 0;
@@ -885,11 +1025,11 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
       m.why = "a levelled solve found no equal-ripple point near the reference (a bound active?)";
       break;
     }
-    if (static_cast<int>(nex.size()) < nx + 1) {
-      m.why = "the levelled error has fewer than " + std::to_string(nx + 1) + " alternating extrema";
+    if (static_cast<int>(nex.size()) < keep) {
+      m.why = "the levelled error has fewer than " + std::to_string(keep) + " alternating extrema";
       break;
     }
-    function_internal::Reduce(nx + 1, &nex, &nee);
+    function_internal::Reduce(keep, &nex, &nee);
     ex = nex, ee = nee;
     double lo = kInf;
     for (double e : ee) lo = std::min(lo, std::abs(e));
@@ -1201,10 +1341,18 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
     const MinimaxResult& m = r.minimax;
     const double to_y = (t.y1 - t.y0) / t.out_span;
     s += "minimax (Remez exchange of the accuracy points): " +
-         (m.lawson > 0 ? std::to_string(m.lawson) + " Lawson steps (the seed has too few sign changes), " : std::string()) +
-         std::to_string(m.exchanges) + " exchange steps, " +
-         std::to_string(m.iterations) + " LM iterations, " + (m.converged ? "converged" : "not converged: " + m.why) +
+         (m.lawson > 0 ? std::to_string(m.lawson) + " Lawson steps (the seed has too few sign changes), "
+                       : std::string()) +
+         (m.reference > 0 && m.reference < static_cast<int>(r.best.x.size()) + 1
+              ? "a reduced exchange on " + std::to_string(m.reference) + " extrema (Lawson's answer has no more), "
+              : std::string()) +
+         std::to_string(m.exchanges) + " exchange steps, " + std::to_string(m.iterations) + " LM iterations, " +
+         (m.converged ? "converged" : "not converged: " + m.why) +
          (m.used ? "" : "; not used" + (m.converged ? ": " + m.why : std::string())) + "\n";
+    if (!m.constraint.empty())
+      s += "the equal-ripple answer breaks a constraint (" + m.constraint + "; its largest |error| " +
+           Short(m.unconstrained_max * std::abs(to_y), 6) + " in y): exchanged again with it active (one extremum fewer), " +
+           (m.constrained_converged ? "converged" : "not converged: " + m.why) + "\n";
     if (std::isfinite(m.max_angle)) {
       s += "largest |structural error| over the range (extrema located): " + Short(m.max_angle * std::abs(to_y), 6) +
            " in y (" + Short(m.max_angle * 180 / M_PI, 6) + " deg of output); the accuracy points' answer: " +
