@@ -26,6 +26,7 @@
 #include <sstream>
 #include <string>
 
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include "fourbar.h"
@@ -102,8 +103,11 @@ struct PhcResult {
 
 // Runs `phc -b` (blackbox: root count, start system, continuation) and reads its output file.
 bool RunPhc(const FivePointTask& t, PhcResult* out) {
-  const std::string dir = testing::TempDir();
-  const std::string in = dir + "/exact_phc_in.txt", res = dir + "/exact_phc_out.txt";
+  // Names of this process and call: ctest runs the tests that call phc side by side, each in a
+  // process of its own, and one's phc must not read or remove another's files.
+  static int calls = 0;
+  const std::string stem = testing::TempDir() + "/exact_phc_" + std::to_string(::getpid()) + "_" + std::to_string(calls++);
+  const std::string in = stem + "_in.txt", res = stem + "_out.txt";
   std::ofstream(in) << PhcSystem(t);
   std::remove(res.c_str());
   const std::string cmd = std::string(MECHGEN_PHC) + " -b " + in + " " + res + " > /dev/null 2>&1";
@@ -129,6 +133,8 @@ bool RunPhc(const FivePointTask& t, PhcResult* out) {
     if (in_line >> name >> colon >> re >> im && colon == ":" && index.count(name)) z(index.at(name)) = Complex(re, im);
     if (l.rfind("== err", 0) == 0 && l.find("regular") != std::string::npos) out->solutions.push_back(z);
   }
+  std::remove(in.c_str());
+  std::remove(res.c_str());
   return out->regular >= 0;
 }
 
