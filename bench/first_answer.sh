@@ -65,7 +65,7 @@ for pair in "${models[@]}"; do
   file=$source_dir/models/$model.yaml
   [[ $model == */* ]] && file=$source_dir/$model.yaml
   model=$(basename "$model")
-  name="fa_${model}_${stamp}"
+  name="fa_${model}_${command}_${stamp}"  # one model per row: a row never finds another's object
   dir=$work/$name
   mkdir -p "$dir"
   sed "s/^name: .*/name: $name/" "$file" > "$dir/$name.yaml"
