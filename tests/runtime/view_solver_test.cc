@@ -55,6 +55,14 @@ namespace mech::cam_roller { const mechgen::ModelView& View(); }
 #include "quick_return.h"
 namespace mech::quick_return { const mechgen::ModelView& View(); }
 #endif
+#ifdef MECHGEN_HAVE_stephenson_coupled
+#include "stephenson_coupled.h"
+namespace mech::stephenson_coupled { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_engine_inline4
+#include "engine_inline4.h"
+namespace mech::engine_inline4 { const mechgen::ModelView& View(); }
+#endif
 
 namespace mechgen::position {
 namespace {
@@ -300,6 +308,18 @@ MECHGEN_VIEW_SOLVER_TEST(cam_roller)
 #endif
 #ifdef MECHGEN_HAVE_quick_return
 MECHGEN_VIEW_SOLVER_TEST(quick_return)
+#endif
+// A coupled block (4 x 4, Newton in the generated Solve and in the assembly): its assembly
+// runs NewtonAssembler's damped steps, whose LU solve on the view's dynamic sizes once rounded
+// otherwise than the fixed-size one (internal::SolvePartialPivLU), and Newton from a start a few
+// ulp away does not return to the same bits.
+#ifdef MECHGEN_HAVE_stephenson_coupled
+MECHGEN_VIEW_SOLVER_TEST(stephenson_coupled)
+#endif
+// 8 x 8 Phi_phi: Newton's steps by PartialPivLU (above the closed-form inverses' 4 x 4) in the
+// assembly and the continuation.
+#ifdef MECHGEN_HAVE_engine_inline4
+MECHGEN_VIEW_SOLVER_TEST(engine_inline4)
 #endif
 
 }  // namespace

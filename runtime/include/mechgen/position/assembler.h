@@ -35,6 +35,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
+#include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 
@@ -90,7 +91,9 @@ struct NewtonAssembler {
       for (int i = 0; i < Calls::Nphi(model); ++i) {
         damped(i, i) += mu * std::min(std::max(JtJ(i, i), 1e-6), 1e32);
       }
-      const typename T::VecPhi step = -Eigen::PartialPivLU<MatA>(damped).solve(gradient);
+      // (The view: PartialPivLU of the fixed size of its size, as a generated model's: the
+      // same step to the bit, mechgen::internal::SolvePartialPivLU.)
+      const typename T::VecPhi step = -mechgen::internal::SolvePartialPivLU(damped, gradient);
       if (!step.allFinite()) break;
       if (step.norm() <= 1e-14 * (phi->norm() + 1e-14)) {
         result.stationary = true;
