@@ -22,6 +22,10 @@
  *  - CeresAssembler (position/ceres_adapter.h): the same minimization by Ceres
  *    (ceres::Problem, DENSE_QR); allocates. The <model>_sweep tools and the tests that pin
  *    today's iteration counts use it (CeresPositionSolver<M>).
+ * The two minimizers stop at points a few ulp apart, and PositionSolver's Newton polish after
+ * them is not a fixed point to the bit: where it does not reach the same bits from both (the
+ * coupled block of stephenson_coupled), every configuration of a sweep from that assembly
+ * differs in its last bits, within a few eps cond(Phi_phi) (view_solver_test.cc).
  * A policy type rather than a compile-time switch on whether <ceres/ceres.h> is present: the
  * choice is visible in the solver's type, and two translation units that see different
  * include paths cannot give one name two meanings (an ODR violation).
