@@ -15,8 +15,15 @@
 // Compiled with -DMECHGEN_SWEEP_NO_CERES it needs Eigen and CLI11 only: the Ceres-free
 // PositionSolver (NewtonAssembler, position/assembler.h), which compiles in a fraction of
 // the time; `mechgen sweep <model.yaml>` builds it that way (generator/driver/). Both reach
-// the same configurations (the solver's Newton polish follows either assembler): the same
-// CSV, table and SVG on the shipped models.
+// the same configurations (the solver's Newton polish follows either assembler), and on most
+// shipped models the same CSV, table and SVG to the byte; not on stephenson_coupled, whose
+// coupled block's Newton polish does not bring the two assemblers' results (a few ulp
+// apart) to the same bits: every row then differs in the last bits, within a few
+// eps cond(Phi_phi) (tests/runtime/view_solver_test.cc, CloseToCeresAssembly). And a step
+// that ends in the Assembler (Fallback(): the row of a sweep stopped at a change point, as
+// tests/runtime/models/changepoint_fourbar's) counts the assembler's own iterations, which
+// differ (40 with Ceres, 39 without on that row). mechgen_view assembles with NewtonAssembler:
+// it gives the -DMECHGEN_SWEEP_NO_CERES tool's bytes on every one of these models.
 #include <string>
 
 #include "sweep_args.h"

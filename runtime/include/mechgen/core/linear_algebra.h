@@ -113,6 +113,24 @@ double Norm1(const Eigen::MatrixBase<Derived>& A) {
   return A.cwiseAbs().colwise().sum().maxCoeff();
 }
 
+/// Norm1() of the rows x cols column-major x for 3 <= rows <= 16, each column summed as a
+/// fixed-size column of its size is (Eigen's unrolled reduction of k entries), where Eigen's
+/// reduction of a run-time length adds them in another order: the view's K and L of 8 rows
+/// (engine_inline4) gave K_error and L_error one ulp away from the fixed-size ones.
+template <int k>
+double FixedRowsNorm1(const double* x, Eigen::Index rows, Eigen::Index cols) {
+  if constexpr (k > 16) {
+    return Norm1(Eigen::Map<const Eigen::MatrixXd>(x, rows, cols));
+  } else {
+    if (rows != k) return FixedRowsNorm1<k + 1>(x, rows, cols);
+    double m = Eigen::Map<const Eigen::Matrix<double, k, 1>>(x).cwiseAbs().sum();
+    for (Eigen::Index j = 1; j < cols; ++j) {
+      m = std::max(m, Eigen::Map<const Eigen::Matrix<double, k, 1>>(x + k * j).cwiseAbs().sum());
+    }
+    return m;
+  }
+}
+
 /// Norm1() of a bounded dynamic matrix (ModelTypes<ViewModel>): of at most two rows, a loop
 /// over its columns, |a_0j| + |a_1j| as the fixed-size sum adds them (the same value for
 /// finite entries), without Eigen's dynamic-size reductions; Norm1() above otherwise.
@@ -132,6 +150,7 @@ MECHGEN_ALWAYS_INLINE double SmallNorm1(const Eigen::MatrixBase<Derived>& A) {
       for (Eigen::Index j = 1; j < cols; ++j) m = std::max(m, std::abs(x[j]));
       return m;
     }
+    if (a.rows() <= 16 && cols > 0) return FixedRowsNorm1<3>(x, a.rows(), cols);
   }
   return Norm1(A);
 }
@@ -219,6 +238,34 @@ void SmallestSingular(const Eigen::MatrixBase<Derived>& A,
 }
 
 namespace internal {
+/// A^{-1} r by Eigen's PartialPivLU of A's type when its size is fixed; for a bounded dynamic A
+/// (ModelTypes<ViewModel>) up to 16 x 16 by PartialPivLU of a fixed-size copy of its size k,
+/// the code a generated model of that size runs. Eigen's solve() on a dynamic size takes another
+/// path: its triangular solves are column-oriented loops (an axpy per column) where the
+/// fixed-size ones are unrolled row by row (a dot product per entry), so the sums round in
+/// another order. Measured on stephenson_coupled's 4 x 4 damped normal equations of
+/// NewtonAssembler's first step: from the same matrix and right-hand side the two steps differed
+/// in the last one to three bits of every entry, and the assembly after them (Newton from a
+/// start some ulp away: its polished result is not a fixed point to the bit) in the last bits
+/// of phi, hence of every row of the sweep. Above 16, the dynamic LU.
+template <int k = 1, class A, class R>
+Eigen::Matrix<double, A::RowsAtCompileTime, 1, 0, A::MaxRowsAtCompileTime, 1> SolvePartialPivLU(const A& a,
+                                                                                               const R& r) {
+  using Result = Eigen::Matrix<double, A::RowsAtCompileTime, 1, 0, A::MaxRowsAtCompileTime, 1>;
+  if constexpr (A::RowsAtCompileTime != Eigen::Dynamic) {
+    return Eigen::PartialPivLU<typename A::PlainObject>(a).solve(r);
+  } else if constexpr (k > 16 || k > A::MaxRowsAtCompileTime) {
+    return Result(Eigen::PartialPivLU<typename A::PlainObject>(a).solve(r));
+  } else {
+    if (a.rows() != k) return SolvePartialPivLU<k + 1>(a, r);
+    using Fixed = Eigen::Matrix<double, k, k>;
+    // Solved into a fixed-size vector, then copied: Eigen's solve() runs its triangular
+    // solves on the destination's type, and on a dynamic one they are other code.
+    const Eigen::Matrix<double, k, 1> x = Eigen::PartialPivLU<Fixed>(Fixed(a)).solve(Eigen::Matrix<double, k, 1>(r));
+    return Result(x);
+  }
+}
+
 /// A^{-1} r for a bounded dynamic square A (ModelTypes<ViewModel>): the fixed-size code of its
 /// size, as PositionSolver's Newton step runs it for a generated model (the closed-form inverse
 /// up to 4 x 4, PartialPivLU above), so that both give the same step to the bit.
@@ -236,7 +283,7 @@ Eigen::Matrix<double, Eigen::Dynamic, 1, 0, A::MaxRowsAtCompileTime, 1> SolveSma
     case 4:
       return Result(Eigen::Matrix4d(a).inverse() * Eigen::Vector4d(r));
     default:
-      return Result(Eigen::PartialPivLU<typename A::PlainObject>(a).solve(r));
+      return SolvePartialPivLU(a, r);
   }
 }
 }  // namespace internal

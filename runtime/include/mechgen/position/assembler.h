@@ -22,6 +22,10 @@
  *  - CeresAssembler (position/ceres_adapter.h): the same minimization by Ceres
  *    (ceres::Problem, DENSE_QR); allocates. The <model>_sweep tools and the tests that pin
  *    today's iteration counts use it (CeresPositionSolver<M>).
+ * The two minimizers stop at points a few ulp apart, and PositionSolver's Newton polish after
+ * them is not a fixed point to the bit: where it does not reach the same bits from both (the
+ * coupled block of stephenson_coupled), every configuration of a sweep from that assembly
+ * differs in its last bits, within a few eps cond(Phi_phi) (view_solver_test.cc).
  * A policy type rather than a compile-time switch on whether <ceres/ceres.h> is present: the
  * choice is visible in the solver's type, and two translation units that see different
  * include paths cannot give one name two meanings (an ODR violation).
@@ -35,6 +39,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
+#include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 
@@ -90,7 +95,9 @@ struct NewtonAssembler {
       for (int i = 0; i < Calls::Nphi(model); ++i) {
         damped(i, i) += mu * std::min(std::max(JtJ(i, i), 1e-6), 1e32);
       }
-      const typename T::VecPhi step = -Eigen::PartialPivLU<MatA>(damped).solve(gradient);
+      // (The view: PartialPivLU of the fixed size of its size, as a generated model's: the
+      // same step to the bit, mechgen::internal::SolvePartialPivLU.)
+      const typename T::VecPhi step = -mechgen::internal::SolvePartialPivLU(damped, gradient);
       if (!step.allFinite()) break;
       if (step.norm() <= 1e-14 * (phi->norm() + 1e-14)) {
         result.stationary = true;

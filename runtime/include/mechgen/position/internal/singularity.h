@@ -159,7 +159,7 @@ Status PositionSolver<M, Assembler>::PassSingularity(const VecQ& q_toward, Cross
         auto rhs = Sized<VecX>(n + 1);
         rhs.head(nc()) = G;
         rhs(n) = tau.dot(y - x_pred);
-        y -= Eigen::PartialPivLU<MatX>(F).solve(rhs);
+        y -= mechgen::internal::SolvePartialPivLU(F, rhs);  // (the view: the fixed-size LU of its size)
       }
       if (!converged || (y - x_pred).norm() > 0.5 * ds) {
         return finish(Status::kDidNotConverge, "pseudo-arclength corrector failed");
