@@ -833,6 +833,17 @@ double SolveRange(FunctionEvaluator<M>* eval, RangeResiduals<M>* cost, std::vect
 
 /// Keeps nx + 1 alternating extrema of more: drops the smallest at an end, or the smallest
 /// inside with its smaller neighbour (the rest still alternate), until nx + 1 are left.
+// The start of one levelled exchange on the extrema's errors ee: their signs (the alternation
+// the level keeps) into *sigma, and the variables z (the first nx kept) with the mean |e| as the
+// level's first guess appended.
+inline void StartLevel(const std::vector<double>& ee, int nx, std::vector<double>* sigma, std::vector<double>* z) {
+  sigma->clear();
+  double level = 0;
+  for (double e : ee) sigma->push_back(e >= 0 ? 1.0 : -1.0), level += std::abs(e) / static_cast<double>(ee.size());
+  z->resize(static_cast<size_t>(nx));
+  z->push_back(level);
+}
+
 inline void Reduce(int keep, std::vector<double>* ex, std::vector<double>* ee) {
   auto drop = [&](size_t i) { ex->erase(ex->begin() + static_cast<long>(i)), ee->erase(ee->begin() + static_cast<long>(i)); };
   while (static_cast<int>(ex->size()) > keep) {
@@ -884,10 +895,7 @@ void ConstrainedExchange(FunctionEvaluator<M>* eval,
   m->why.clear();
   for (int step = 0; step < 40; ++step) {
     std::vector<double> sigma;
-    double level = 0;
-    for (double e : ee) sigma.push_back(e >= 0 ? 1.0 : -1.0), level += std::abs(e) / static_cast<double>(ee.size());
-    z.resize(static_cast<size_t>(nx));
-    z.push_back(level);
+    StartLevel(ee, nx, &sigma, &z);
     const double cost =
         SolveRange(eval, new RangeResiduals<M>(eval, ex, std::vector<double>(ex.size(), 1.0), sigma, what, 1e-10), &z,
                    &m->iterations);
@@ -1003,10 +1011,7 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
   function_internal::Reduce(keep, &ex, &ee);
   for (int step = 0; step < 40; ++step) {
     std::vector<double> sigma;
-    double level = 0;
-    for (double e : ee) sigma.push_back(e >= 0 ? 1.0 : -1.0), level += std::abs(e) / static_cast<double>(ee.size());
-    z.resize(static_cast<size_t>(nx));
-    z.push_back(level);
+    function_internal::StartLevel(ee, nx, &sigma, &z);
     const double cost = function_internal::SolveRange(
         eval, new function_internal::RangeResiduals<M>(eval, ex, std::vector<double>(ex.size(), 1.0), sigma), &z,
         &m.iterations);
