@@ -4,6 +4,17 @@
 # a directory of their own with the same arguments (mechgen_view --name: the tool's name in the
 # messages); the exit statuses, every file written, stdout and stderr compared byte for byte.
 # Reads $fixed_tool, $view_tool and $object; calls fail() on each difference.
+#
+# Sourced with the test's arguments <mechgen_view> <per-model tool> <view object>: sets
+# view_tool, fixed_tool and object, counts failures in $failures (fail <message>), and enters a
+# temporary directory $root, removed on exit.
+view_tool=$(realpath "$1") fixed_tool=$(realpath "$2") object=$(realpath "$3")
+root=$(mktemp -d)
+trap 'rm -rf "$root"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+cd "$root" || exit 1
+
 same_as_tool() {
   local tool=$1 command=$2 name=$3 expected=$4
   shift 4

@@ -15,14 +15,7 @@
 #    nothing written; run by mechgen (MECHGEN_VIEW_FALLBACK=1) exit 120, nothing said or written.
 # usage: engine_view_test.sh <mechgen_view> <engine_single_engine> <engine_single view object>
 set -uo pipefail
-view_tool=$(realpath "$1") fixed_tool=$(realpath "$2") object=$(realpath "$3")
-root=$(mktemp -d)
-trap 'rm -rf "$root"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-cd "$root" || exit 1
-
-source "$(dirname "$0")/../view_compare.sh"
+source "$(dirname "$0")/../view_compare.sh"  # view_tool, fixed_tool, object, fail, $root (entered)
 same() { same_as_tool engine_single_engine engine "$@"; }  # same <name> <expected status> <args...>
 same cycle 0 cycle --rpm 3000 --samples 720 --csv cycle.csv
 [[ $(grep -vc '^#' cycle/view/cycle.csv) -eq 721 ]] || fail "cycle: $(grep -vc '^#' cycle/view/cycle.csv) CSV lines"

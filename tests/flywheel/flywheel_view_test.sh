@@ -13,14 +13,7 @@
 #  - a machine that cannot be sized (no load) and a usage error: the same status and line.
 # usage: flywheel_view_test.sh <mechgen_view> <punch_press_flywheel> <punch_press view object>
 set -uo pipefail
-view_tool=$(realpath "$1") fixed_tool=$(realpath "$2") object=$(realpath "$3")
-root=$(mktemp -d)
-trap 'rm -rf "$root"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-cd "$root" || exit 1
-
-source "$(dirname "$0")/../view_compare.sh"
+source "$(dirname "$0")/../view_compare.sh"  # view_tool, fixed_tool, object, fail, $root (entered)
 same() { same_as_tool punch_press_flywheel flywheel "$@"; }  # same <name> <expected status> <args...>
 same check 0 --rpm 300 --cs 0.02 --samples 3600 --csv loop.csv
 [[ $(grep -vc '^#' check/view/loop.csv) -eq 3601 ]] || fail "check: $(grep -vc '^#' check/view/loop.csv) CSV lines"
