@@ -97,12 +97,14 @@ std::string PhcSystem(const FivePointTask& t) {
 }
 
 struct PhcResult {
-  int regular = -1;
-  std::vector<homotopy::VecN<12>> solutions;  // the regular ones, in our variable order
+  int regular = -1;  // phc's own count, in its last run
+  std::vector<homotopy::VecN<12>> solutions;  // the distinct regular ones of all runs, in our variable order
 };
 
-// Runs `phc -b` (blackbox: root count, start system, continuation) and reads its output file.
-bool RunPhc(const FivePointTask& t, PhcResult* out) {
+// Runs `phc -0SEED -b` (blackbox: root count, start system, continuation, with a fixed seed for
+// its random gamma so that the run repeats) and adds its regular solutions, those not already in
+// `out`, to `out`.
+bool RunPhcOnce(const FivePointTask& t, int seed, PhcResult* out) {
   // Names of this process and call: ctest runs the tests that call phc side by side, each in a
   // process of its own, and one's phc must not read or remove another's files.
   static int calls = 0;
@@ -110,7 +112,8 @@ bool RunPhc(const FivePointTask& t, PhcResult* out) {
   const std::string in = stem + "_in.txt", res = stem + "_out.txt";
   std::ofstream(in) << PhcSystem(t);
   std::remove(res.c_str());
-  const std::string cmd = std::string(MECHGEN_PHC) + " -b " + in + " " + res + " > /dev/null 2>&1";
+  const std::string cmd =
+      std::string(MECHGEN_PHC) + " -0" + std::to_string(seed) + " -b " + in + " " + res + " > /dev/null 2>&1";
   if (std::system(cmd.c_str()) != 0) return false;
   std::ifstream f(res);
   std::string line;
@@ -124,18 +127,34 @@ bool RunPhc(const FivePointTask& t, PhcResult* out) {
   for (size_t i = 0; i < lines.size(); ++i)
     if (lines[i].rfind("THE SOLUTIONS", 0) == 0) last = i;
   homotopy::VecN<12> z = homotopy::VecN<12>::Zero();
+  int regular = -1, listed = 0;
   for (size_t i = last; i < lines.size(); ++i) {
     const std::string& l = lines[i];
-    if (l.rfind("Number of regular solutions", 0) == 0) out->regular = std::atoi(l.substr(l.find(':') + 1).c_str());
+    if (l.rfind("Number of regular solutions", 0) == 0) regular = std::atoi(l.substr(l.find(':') + 1).c_str());
     std::istringstream in_line(l);
     std::string name, colon;
     double re = 0, im = 0;
     if (in_line >> name >> colon >> re >> im && colon == ":" && index.count(name)) z(index.at(name)) = Complex(re, im);
-    if (l.rfind("== err", 0) == 0 && l.find("regular") != std::string::npos) out->solutions.push_back(z);
+    if (l.rfind("== err", 0) == 0 && l.find("regular") != std::string::npos) {
+      ++listed;
+      bool seen = false;
+      for (const auto& w : out->solutions) seen = seen || (w - z).cwiseAbs().maxCoeff() <= 1e-7 * (1 + z.cwiseAbs().maxCoeff());
+      if (!seen) out->solutions.push_back(z);
+    }
   }
   std::remove(in.c_str());
   std::remove(res.c_str());
-  return out->regular >= 0;
+  out->regular = regular;
+  return regular >= 0 && listed == regular;
+}
+
+// phc's regular solutions over two fixed seeds. One run can lose a path: on Problem 7, 1 seed
+// in 300 (seed 197) ends 4 paths as failures, the 3 that diverge and one that a CI run lost,
+// and reports 32 regular solutions. A solution either run finds counts.
+bool RunPhc(const FivePointTask& t, PhcResult* out) {
+  for (int seed : {1, 2})
+    if (!RunPhcOnce(t, seed, out)) return false;
+  return true;
 }
 
 bool PhcAvailable() { return std::string(MECHGEN_PHC).size() > 0; }
@@ -214,8 +233,7 @@ TEST(ExactSynthesis, FivePointsWithPivotsAgainstPhcpackAndMorganWampler) {
     if (!PhcAvailable()) continue;
     PhcResult phc;
     ASSERT_TRUE(RunPhc(t, &phc)) << "phc -b failed";
-    EXPECT_EQ(r.num_solutions, phc.regular) << "case " << k;
-    ASSERT_EQ(static_cast<int>(phc.solutions.size()), phc.regular);
+    EXPECT_EQ(r.num_solutions, static_cast<int>(phc.solutions.size())) << "case " << k;
     for (const auto& z : phc.solutions) {
       double best = HUGE_VAL;
       for (const auto& ours : r.solutions.finite) best = std::min(best, (ours - z).cwiseAbs().maxCoeff());
@@ -347,7 +365,7 @@ TEST(ExactTask, Problem7TaskFileCountAgainstPhcpackAndEveryRealSolutionByTheGene
   if (PhcAvailable()) {
     PhcResult phc;
     ASSERT_TRUE(RunPhc(p7, &phc)) << "phc -b failed";
-    EXPECT_EQ(run.result.num_solutions, phc.regular);
+    EXPECT_EQ(run.result.num_solutions, static_cast<int>(phc.solutions.size()));
   }
   // Every real solution: the generated kinematics (the test's own solve on either mode) reaches
   // the five points; the task's check says the same modes.
