@@ -2,7 +2,8 @@
 // <command>_run.h, so that `mechgen <command> MODEL` can fall back to the per-model program.
 //
 // Run by hand (mechgen_view COMMAND MODEL.so ...), a refusal is a usage error: one line
-// "<tool>: error: <what>; <model>_<command> has it", exit 2, nothing written. Run by
+// "<tool>: error: <what>; <model>_<command> has it" (the study: "`mechgen study` on the model's
+// file has it"), exit 2, nothing written. Run by
 // `mechgen <command> MODEL` (which sets MECHGEN_VIEW_FALLBACK=1 in mechgen_view's environment),
 // it prints nothing and exits kExitNotThroughView, before anything is computed or written:
 // mechgen then builds and runs the per-model program with the same arguments.
@@ -27,7 +28,11 @@ inline int NotThroughView(const std::string& tool, const std::string& what, cons
                           const std::string& command) {
   const char* fallback = std::getenv(kViewFallbackVariable);
   if (fallback != nullptr && std::strcmp(fallback, "1") == 0) return kExitNotThroughView;
-  return UsageError(tool, what + " not reached through the model view yet; " + model + "_" + command + " has it");
+  // The per-model program that has it: <model>_<command> (mechgen_add_model), except the
+  // study's, which only `mechgen study` builds (in its cache; no CMake target is named so).
+  const std::string where = command == "study" ? "`mechgen study` on the model's file has it (its per-model program)"
+                                               : model + "_" + command + " has it";
+  return UsageError(tool, what + " not reached through the model view yet; " + where);
 }
 
 }  // namespace mechgen::tools
