@@ -4,7 +4,9 @@
 // The model view of engine_single (mechgen/core/model_view.h): its sizes, names, flags and parameter
 // table, and each function of Model on flat arrays of double. The functions adapt the
 // fixed-size ones of engine_single.h (compiled for double in engine_single.cc): the arrays are copied
-// into the fixed-size types, the function is called, its outputs are copied back. Compiled
+// into the fixed-size types, the function is called, its outputs are copied back; of a struct
+// only the members the function reads, and of an output the members it writes (read in first
+// unless it writes every entry; codegen/emit.cc, Flatten). Compiled
 // with MECHGEN_VIEW_ENTRY defined, it also defines the C entry point mechgen_model_view()
 // (mechgen::kModelViewEntry), for a shared object holding this one model.
 #include <array>
@@ -19,11 +21,13 @@ namespace {
 // ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
 using mechgen::view_buffers::Flat;
 using mechgen::view_buffers::Get;
+using mechgen::view_buffers::GetUnlessStored;
 using mechgen::view_buffers::Member;
 using mechgen::view_buffers::Packed;
 using mechgen::view_buffers::PackedSize;
 using mechgen::view_buffers::Put;
 using mechgen::view_buffers::Zero;
+using mechgen::view_buffers::ZeroUnlessStored;
 
 [[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
@@ -458,11 +462,26 @@ void FlatCoeffs(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> out_;
-  if (out != nullptr) Zero(&out_);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
+  if (out != nullptr) ZeroUnlessStored<4>(&out_.Phi_phi);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.K);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.L);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.r_P);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.K_P);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.L_P);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Model::Coeffs(p_, q_, phi_, out != nullptr ? &out_ : nullptr, trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.Phi, out + kCoefficientsMembers[0].offset);
+  if (out != nullptr) Put(out_.Phi_phi, out + kCoefficientsMembers[1].offset);
+  if (out != nullptr) Put(out_.K, out + kCoefficientsMembers[2].offset);
+  if (out != nullptr) Put(out_.L, out + kCoefficientsMembers[3].offset);
+  if (out != nullptr) Put(out_.r_P, out + kCoefficientsMembers[4].offset);
+  if (out != nullptr) Put(out_.K_P, out + kCoefficientsMembers[5].offset);
+  if (out != nullptr) Put(out_.L_P, out + kCoefficientsMembers[6].offset);
 }
 
 template <int = 0>
@@ -480,13 +499,17 @@ void FlatForces(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Statics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[0].offset, &out_.Q);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[1].offset, &out_.drive);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
+  if (out != nullptr) GetUnlessStored<9>(out + kStaticsMembers[6].offset, &out_.R);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
   Vec<double, Sizes::kNq> velocities_;
   if (velocities != nullptr) Get(velocities, &velocities_);
   Model::Forces(p_,
@@ -497,7 +520,11 @@ void FlatForces(const double* p,
                 friction != nullptr ? &friction_ : nullptr,
                 trig != nullptr ? &trig_ : nullptr,
                 velocities != nullptr ? &velocities_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.Q, out + kStaticsMembers[0].offset);
+  if (out != nullptr) Put(out_.drive, out + kStaticsMembers[1].offset);
+  if (out != nullptr) Put(out_.V, out + kStaticsMembers[3].offset);
+  if (out != nullptr) Put(out_.dV_dq, out + kStaticsMembers[4].offset);
+  if (out != nullptr) Put(out_.R, out + kStaticsMembers[6].offset);
 }
 
 template <int = 0>
@@ -518,13 +545,24 @@ void FlatDynamics(const double* p,
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
   Dynamics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[0].offset, &out_.I);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[1].offset, &out_.dI_dq);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[2].offset, &out_.C);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[3].offset, &out_.h);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[4].offset, &out_.Q);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[5].offset, &out_.T);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[6].offset, &out_.V);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[7].offset, &out_.P_nc);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Model::Dynamics(p_,
                   q_,
                   phi_,
@@ -534,7 +572,14 @@ void FlatDynamics(const double* p,
                   out != nullptr ? &out_ : nullptr,
                   friction != nullptr ? &friction_ : nullptr,
                   trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.I, out + kDynamicsMembers[0].offset);
+  if (out != nullptr) Put(out_.dI_dq, out + kDynamicsMembers[1].offset);
+  if (out != nullptr) Put(out_.C, out + kDynamicsMembers[2].offset);
+  if (out != nullptr) Put(out_.h, out + kDynamicsMembers[3].offset);
+  if (out != nullptr) Put(out_.Q, out + kDynamicsMembers[4].offset);
+  if (out != nullptr) Put(out_.T, out + kDynamicsMembers[5].offset);
+  if (out != nullptr) Put(out_.V, out + kDynamicsMembers[6].offset);
+  if (out != nullptr) Put(out_.P_nc, out + kDynamicsMembers[7].offset);
 }
 
 template <int = 0>
@@ -558,13 +603,22 @@ void FlatKinetostatics(const double* p,
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
   Statics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[0].offset, &out_.Q);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[1].offset, &out_.drive);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
+  if (out != nullptr) GetUnlessStored<9>(out + kStaticsMembers[6].offset, &out_.R);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Model::Kinetostatics(p_,
                        q_,
                        phi_,
@@ -575,7 +629,11 @@ void FlatKinetostatics(const double* p,
                        out != nullptr ? &out_ : nullptr,
                        friction != nullptr ? &friction_ : nullptr,
                        trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.Q, out + kStaticsMembers[0].offset);
+  if (out != nullptr) Put(out_.drive, out + kStaticsMembers[1].offset);
+  if (out != nullptr) Put(out_.V, out + kStaticsMembers[3].offset);
+  if (out != nullptr) Put(out_.dV_dq, out + kStaticsMembers[4].offset);
+  if (out != nullptr) Put(out_.R, out + kStaticsMembers[6].offset);
 }
 
 template <int = 0>
@@ -597,7 +655,14 @@ void FlatExcessDynamics(const double* p,
   Vec<double, Sizes::kNphi> phid_;
   Get(phid, &phid_);
   Excess<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<9>(out + kExcessMembers[0].offset, &out_.M);
+  if (out != nullptr) GetUnlessStored<3>(out + kExcessMembers[1].offset, &out_.h);
+  if (out != nullptr) GetUnlessStored<3>(out + kExcessMembers[2].offset, &out_.g);
+  if (out != nullptr) GetUnlessStored<6>(out + kExcessMembers[3].offset, &out_.Phi_x);
+  if (out != nullptr) GetUnlessStored<2>(out + kExcessMembers[4].offset, &out_.Phi);
+  if (out != nullptr) GetUnlessStored<2>(out + kExcessMembers[5].offset, &out_.gamma);
+  if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[6].offset, &out_.T);
+  if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[7].offset, &out_.V);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   Model::ExcessDynamics(p_,
@@ -608,7 +673,14 @@ void FlatExcessDynamics(const double* p,
                         t,
                         out != nullptr ? &out_ : nullptr,
                         friction != nullptr ? &friction_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.M, out + kExcessMembers[0].offset);
+  if (out != nullptr) Put(out_.h, out + kExcessMembers[1].offset);
+  if (out != nullptr) Put(out_.g, out + kExcessMembers[2].offset);
+  if (out != nullptr) Put(out_.Phi_x, out + kExcessMembers[3].offset);
+  if (out != nullptr) Put(out_.Phi, out + kExcessMembers[4].offset);
+  if (out != nullptr) Put(out_.gamma, out + kExcessMembers[5].offset);
+  if (out != nullptr) Put(out_.T, out + kExcessMembers[6].offset);
+  if (out != nullptr) Put(out_.V, out + kExcessMembers[7].offset);
 }
 
 template <int = 0>
@@ -630,11 +702,21 @@ void FlatShaking(const double* p,
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
   Shaking<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<2>(out + kShakingMembers[0].offset, &out_.F);
+  if (out != nullptr) GetUnlessStored<1>(out + kShakingMembers[1].offset, &out_.M);
+  if (out != nullptr) GetUnlessStored<8>(out + kShakingMembers[2].offset, &out_.F_link);
+  if (out != nullptr) GetUnlessStored<4>(out + kShakingMembers[3].offset, &out_.M_link);
+  if (out != nullptr) Get(out + kShakingMembers[4].offset, &out_.r_G);
+  if (out != nullptr) GetUnlessStored<1>(out + kShakingMembers[5].offset, &out_.mass);
+  if (out != nullptr) GetUnlessStored<2>(out + kShakingMembers[6].offset, &out_.r_C);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Model::Shaking(p_,
                  q_,
                  phi_,
@@ -643,7 +725,13 @@ void FlatShaking(const double* p,
                  c_,
                  out != nullptr ? &out_ : nullptr,
                  trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.F, out + kShakingMembers[0].offset);
+  if (out != nullptr) Put(out_.M, out + kShakingMembers[1].offset);
+  if (out != nullptr) Put(out_.F_link, out + kShakingMembers[2].offset);
+  if (out != nullptr) Put(out_.M_link, out + kShakingMembers[3].offset);
+  if (out != nullptr) Put(out_.r_G, out + kShakingMembers[4].offset);
+  if (out != nullptr) Put(out_.mass, out + kShakingMembers[5].offset);
+  if (out != nullptr) Put(out_.r_C, out + kShakingMembers[6].offset);
 }
 
 template <int = 0>
@@ -658,11 +746,13 @@ void FlatStiffness(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
   Statics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[2].offset, &out_.stiffness);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[5].offset, &out_.d2V_dq2);
   Model::Stiffness(p_, q_, phi_, c_, out != nullptr ? &out_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.stiffness, out + kStaticsMembers[2].offset);
+  if (out != nullptr) Put(out_.d2V_dq2, out + kStaticsMembers[5].offset);
 }
 
 template <int = 0>
@@ -676,9 +766,19 @@ void FlatDesign(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   DesignDerivatives<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<14>(out + kDesignDerivativesMembers[0].offset, &out_.dphi_dp);
+  if (out != nullptr) GetUnlessStored<14>(out + kDesignDerivativesMembers[1].offset, &out_.dr_P_dp);
+  if (out != nullptr) GetUnlessStored<14>(out + kDesignDerivativesMembers[2].offset, &out_.dK_dp);
+  if (out != nullptr) GetUnlessStored<14>(out + kDesignDerivativesMembers[3].offset, &out_.dK_P_dp);
+  if (out != nullptr) GetUnlessStored<14>(out + kDesignDerivativesMembers[4].offset, &out_.dL_dp);
+  if (out != nullptr) GetUnlessStored<14>(out + kDesignDerivativesMembers[5].offset, &out_.dL_P_dp);
   Model::Design(p_, q_, phi_, out != nullptr ? &out_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.dphi_dp, out + kDesignDerivativesMembers[0].offset);
+  if (out != nullptr) Put(out_.dr_P_dp, out + kDesignDerivativesMembers[1].offset);
+  if (out != nullptr) Put(out_.dK_dp, out + kDesignDerivativesMembers[2].offset);
+  if (out != nullptr) Put(out_.dK_P_dp, out + kDesignDerivativesMembers[3].offset);
+  if (out != nullptr) Put(out_.dL_dp, out + kDesignDerivativesMembers[4].offset);
+  if (out != nullptr) Put(out_.dL_P_dp, out + kDesignDerivativesMembers[5].offset);
 }
 
 template <int = 0>
@@ -694,13 +794,20 @@ void FlatStaticsDesign(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   DesignDerivatives<double> dc_;
-  Get(dc, &dc_);
+  Get(dc + kDesignDerivativesMembers[0].offset, &dc_.dphi_dp);
+  Get(dc + kDesignDerivativesMembers[2].offset, &dc_.dK_dp);
   StaticsDesign<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<7>(out + kStaticsDesignMembers[0].offset, &out_.dQ_dp);
+  if (out != nullptr) GetUnlessStored<7>(out + kStaticsDesignMembers[1].offset, &out_.ddrive_dp);
+  if (out != nullptr) GetUnlessStored<7>(out + kStaticsDesignMembers[2].offset, &out_.dV_dp);
+  if (out != nullptr) GetUnlessStored<63>(out + kStaticsDesignMembers[3].offset, &out_.dR_dp);
   Model::StaticsDesign(p_, q_, phi_, c_, dc_, out != nullptr ? &out_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.dQ_dp, out + kStaticsDesignMembers[0].offset);
+  if (out != nullptr) Put(out_.ddrive_dp, out + kStaticsDesignMembers[1].offset);
+  if (out != nullptr) Put(out_.dV_dp, out + kStaticsDesignMembers[2].offset);
+  if (out != nullptr) Put(out_.dR_dp, out + kStaticsDesignMembers[3].offset);
 }
 
 template <int = 0>
@@ -721,11 +828,19 @@ void FlatDynamicsDesign(const double* p,
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
   DesignDerivatives<double> dc_;
-  Get(dc, &dc_);
+  Get(dc + kDesignDerivativesMembers[0].offset, &dc_.dphi_dp);
+  Get(dc + kDesignDerivativesMembers[2].offset, &dc_.dK_dp);
+  Get(dc + kDesignDerivativesMembers[4].offset, &dc_.dL_dp);
   DynamicsDesign<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<7>(out + kDynamicsDesignMembers[0].offset, &out_.dI_dp);
+  if (out != nullptr) GetUnlessStored<7>(out + kDynamicsDesignMembers[1].offset, &out_.ddI_dq_dp);
+  if (out != nullptr) GetUnlessStored<7>(out + kDynamicsDesignMembers[2].offset, &out_.dh_dp);
+  if (out != nullptr) GetUnlessStored<7>(out + kDynamicsDesignMembers[3].offset, &out_.dQ_dp);
+  if (out != nullptr) GetUnlessStored<7>(out + kDynamicsDesignMembers[4].offset, &out_.dT_dp);
+  if (out != nullptr) GetUnlessStored<7>(out + kDynamicsDesignMembers[5].offset, &out_.dV_dp);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   Model::DynamicsDesign(p_,
@@ -737,7 +852,12 @@ void FlatDynamicsDesign(const double* p,
                         dc_,
                         out != nullptr ? &out_ : nullptr,
                         friction != nullptr ? &friction_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.dI_dp, out + kDynamicsDesignMembers[0].offset);
+  if (out != nullptr) Put(out_.ddI_dq_dp, out + kDynamicsDesignMembers[1].offset);
+  if (out != nullptr) Put(out_.dh_dp, out + kDynamicsDesignMembers[2].offset);
+  if (out != nullptr) Put(out_.dQ_dp, out + kDynamicsDesignMembers[3].offset);
+  if (out != nullptr) Put(out_.dT_dp, out + kDynamicsDesignMembers[4].offset);
+  if (out != nullptr) Put(out_.dV_dp, out + kDynamicsDesignMembers[5].offset);
 }
 
 template <int = 0>
@@ -760,9 +880,12 @@ void FlatShakingDesign(const double* p,
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
   DesignDerivatives<double> dc_;
-  Get(dc, &dc_);
+  Get(dc + kDesignDerivativesMembers[0].offset, &dc_.dphi_dp);
+  Get(dc + kDesignDerivativesMembers[2].offset, &dc_.dK_dp);
+  Get(dc + kDesignDerivativesMembers[4].offset, &dc_.dL_dp);
   Mat<double, 2, Sizes::kNumDesign> dF_dp_;
   if (dF_dp != nullptr) Get(dF_dp, &dF_dp_);
   Vec<double, Sizes::kNumDesign> dM_dp_;

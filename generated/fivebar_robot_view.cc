@@ -4,7 +4,9 @@
 // The model view of fivebar_robot (mechgen/core/model_view.h): its sizes, names, flags and parameter
 // table, and each function of Model on flat arrays of double. The functions adapt the
 // fixed-size ones of fivebar_robot.h (compiled for double in fivebar_robot.cc): the arrays are copied
-// into the fixed-size types, the function is called, its outputs are copied back. Compiled
+// into the fixed-size types, the function is called, its outputs are copied back; of a struct
+// only the members the function reads, and of an output the members it writes (read in first
+// unless it writes every entry; codegen/emit.cc, Flatten). Compiled
 // with MECHGEN_VIEW_ENTRY defined, it also defines the C entry point mechgen_model_view()
 // (mechgen::kModelViewEntry), for a shared object holding this one model.
 #include <array>
@@ -19,11 +21,13 @@ namespace {
 // ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
 using mechgen::view_buffers::Flat;
 using mechgen::view_buffers::Get;
+using mechgen::view_buffers::GetUnlessStored;
 using mechgen::view_buffers::Member;
 using mechgen::view_buffers::Packed;
 using mechgen::view_buffers::PackedSize;
 using mechgen::view_buffers::Put;
 using mechgen::view_buffers::Zero;
+using mechgen::view_buffers::ZeroUnlessStored;
 
 [[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
@@ -374,11 +378,26 @@ void FlatCoeffs(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> out_;
-  if (out != nullptr) Zero(&out_);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
+  if (out != nullptr) ZeroUnlessStored<4>(&out_.Phi_phi);
+  if (out != nullptr) ZeroUnlessStored<4>(&out_.K);
+  if (out != nullptr) ZeroUnlessStored<8>(&out_.L);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.r_P);
+  if (out != nullptr) ZeroUnlessStored<4>(&out_.K_P);
+  if (out != nullptr) ZeroUnlessStored<8>(&out_.L_P);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Model::Coeffs(p_, q_, phi_, out != nullptr ? &out_ : nullptr, trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.Phi, out + kCoefficientsMembers[0].offset);
+  if (out != nullptr) Put(out_.Phi_phi, out + kCoefficientsMembers[1].offset);
+  if (out != nullptr) Put(out_.K, out + kCoefficientsMembers[2].offset);
+  if (out != nullptr) Put(out_.L, out + kCoefficientsMembers[3].offset);
+  if (out != nullptr) Put(out_.r_P, out + kCoefficientsMembers[4].offset);
+  if (out != nullptr) Put(out_.K_P, out + kCoefficientsMembers[5].offset);
+  if (out != nullptr) Put(out_.L_P, out + kCoefficientsMembers[6].offset);
 }
 
 template <int = 0>
@@ -396,13 +415,19 @@ void FlatForces(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Statics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<2>(out + kStaticsMembers[0].offset, &out_.Q);
+  if (out != nullptr) GetUnlessStored<2>(out + kStaticsMembers[1].offset, &out_.drive);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
+  if (out != nullptr) GetUnlessStored<2>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Model::Forces(p_,
                 q_,
                 phi_,
@@ -410,7 +435,10 @@ void FlatForces(const double* p,
                 out != nullptr ? &out_ : nullptr,
                 friction != nullptr ? &friction_ : nullptr,
                 trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.Q, out + kStaticsMembers[0].offset);
+  if (out != nullptr) Put(out_.drive, out + kStaticsMembers[1].offset);
+  if (out != nullptr) Put(out_.V, out + kStaticsMembers[3].offset);
+  if (out != nullptr) Put(out_.dV_dq, out + kStaticsMembers[4].offset);
 }
 
 template <int = 0>
@@ -431,13 +459,24 @@ void FlatDynamics(const double* p,
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
   Dynamics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<4>(out + kDynamicsMembers[0].offset, &out_.I);
+  if (out != nullptr) GetUnlessStored<8>(out + kDynamicsMembers[1].offset, &out_.dI_dq);
+  if (out != nullptr) GetUnlessStored<8>(out + kDynamicsMembers[2].offset, &out_.C);
+  if (out != nullptr) GetUnlessStored<2>(out + kDynamicsMembers[3].offset, &out_.h);
+  if (out != nullptr) GetUnlessStored<2>(out + kDynamicsMembers[4].offset, &out_.Q);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[5].offset, &out_.T);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[6].offset, &out_.V);
+  if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[7].offset, &out_.P_nc);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Model::Dynamics(p_,
                   q_,
                   phi_,
@@ -447,7 +486,14 @@ void FlatDynamics(const double* p,
                   out != nullptr ? &out_ : nullptr,
                   friction != nullptr ? &friction_ : nullptr,
                   trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.I, out + kDynamicsMembers[0].offset);
+  if (out != nullptr) Put(out_.dI_dq, out + kDynamicsMembers[1].offset);
+  if (out != nullptr) Put(out_.C, out + kDynamicsMembers[2].offset);
+  if (out != nullptr) Put(out_.h, out + kDynamicsMembers[3].offset);
+  if (out != nullptr) Put(out_.Q, out + kDynamicsMembers[4].offset);
+  if (out != nullptr) Put(out_.T, out + kDynamicsMembers[5].offset);
+  if (out != nullptr) Put(out_.V, out + kDynamicsMembers[6].offset);
+  if (out != nullptr) Put(out_.P_nc, out + kDynamicsMembers[7].offset);
 }
 
 template <int = 0>
@@ -471,13 +517,20 @@ void FlatKinetostatics(const double* p,
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
   Statics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<2>(out + kStaticsMembers[0].offset, &out_.Q);
+  if (out != nullptr) GetUnlessStored<2>(out + kStaticsMembers[1].offset, &out_.drive);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
+  if (out != nullptr) GetUnlessStored<2>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Model::Kinetostatics(p_,
                        q_,
                        phi_,
@@ -488,7 +541,10 @@ void FlatKinetostatics(const double* p,
                        out != nullptr ? &out_ : nullptr,
                        friction != nullptr ? &friction_ : nullptr,
                        trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.Q, out + kStaticsMembers[0].offset);
+  if (out != nullptr) Put(out_.drive, out + kStaticsMembers[1].offset);
+  if (out != nullptr) Put(out_.V, out + kStaticsMembers[3].offset);
+  if (out != nullptr) Put(out_.dV_dq, out + kStaticsMembers[4].offset);
 }
 
 template <int = 0>
@@ -510,7 +566,14 @@ void FlatExcessDynamics(const double* p,
   Vec<double, Sizes::kNphi> phid_;
   Get(phid, &phid_);
   Excess<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<16>(out + kExcessMembers[0].offset, &out_.M);
+  if (out != nullptr) GetUnlessStored<4>(out + kExcessMembers[1].offset, &out_.h);
+  if (out != nullptr) GetUnlessStored<4>(out + kExcessMembers[2].offset, &out_.g);
+  if (out != nullptr) GetUnlessStored<8>(out + kExcessMembers[3].offset, &out_.Phi_x);
+  if (out != nullptr) GetUnlessStored<2>(out + kExcessMembers[4].offset, &out_.Phi);
+  if (out != nullptr) GetUnlessStored<2>(out + kExcessMembers[5].offset, &out_.gamma);
+  if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[6].offset, &out_.T);
+  if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[7].offset, &out_.V);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   Model::ExcessDynamics(p_,
@@ -521,7 +584,14 @@ void FlatExcessDynamics(const double* p,
                         t,
                         out != nullptr ? &out_ : nullptr,
                         friction != nullptr ? &friction_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.M, out + kExcessMembers[0].offset);
+  if (out != nullptr) Put(out_.h, out + kExcessMembers[1].offset);
+  if (out != nullptr) Put(out_.g, out + kExcessMembers[2].offset);
+  if (out != nullptr) Put(out_.Phi_x, out + kExcessMembers[3].offset);
+  if (out != nullptr) Put(out_.Phi, out + kExcessMembers[4].offset);
+  if (out != nullptr) Put(out_.gamma, out + kExcessMembers[5].offset);
+  if (out != nullptr) Put(out_.T, out + kExcessMembers[6].offset);
+  if (out != nullptr) Put(out_.V, out + kExcessMembers[7].offset);
 }
 
 template <int = 0>
@@ -536,11 +606,14 @@ void FlatStiffness(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
   Statics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[2].offset, &out_.stiffness);
+  if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[5].offset, &out_.d2V_dq2);
   Model::Stiffness(p_, q_, phi_, c_, out != nullptr ? &out_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.stiffness, out + kStaticsMembers[2].offset);
+  if (out != nullptr) Put(out_.d2V_dq2, out + kStaticsMembers[5].offset);
 }
 
 template <int = 0>
@@ -620,16 +693,26 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Kinematics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) Get(out + kKinematicsMembers[0].offset, &out_.K);
+  if (out != nullptr) Get(out + kKinematicsMembers[1].offset, &out_.L);
+  if (out != nullptr) Get(out + kKinematicsMembers[2].offset, &out_.Phi_phi);
   const SolveReport<double> report = Model::Kinematics(p_,
                                                        q_,
                                                        modes_,
                                                        trig != nullptr ? &trig_ : nullptr,
                                                        out != nullptr ? &out_ : nullptr);
-  if (trig != nullptr) Put(trig_, trig);
-  if (out != nullptr) Put(out_, out);
+  if (trig != nullptr) Put(trig_.sin_q, trig + kTrigMembers[0].offset);
+  if (trig != nullptr) Put(trig_.cos_q, trig + kTrigMembers[1].offset);
+  if (trig != nullptr) Put(trig_.sin_phi, trig + kTrigMembers[2].offset);
+  if (trig != nullptr) Put(trig_.cos_phi, trig + kTrigMembers[3].offset);
+  if (out != nullptr) Put(out_.K, out + kKinematicsMembers[0].offset);
+  if (out != nullptr) Put(out_.L, out + kKinematicsMembers[1].offset);
+  if (out != nullptr) Put(out_.Phi_phi, out + kKinematicsMembers[2].offset);
   return Report(report);
 }
 
@@ -638,9 +721,9 @@ void FlatPrepare(const double* p,
                  double* rc) {
   const Params<double> p_ = GetParams(p);
   RhsConstants<double> rc_;
-  if (rc != nullptr) Get(rc, &rc_);
+  if (rc != nullptr) Get(rc + kRhsConstantsMembers[0].offset, &rc_.c);
   Model::Prepare(p_, rc != nullptr ? &rc_ : nullptr);
-  if (rc != nullptr) Put(rc_, rc);
+  if (rc != nullptr) Put(rc_.c, rc + kRhsConstantsMembers[0].offset);
 }
 
 template <int = 0>
@@ -655,7 +738,7 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
                                  const double* friction) {
   const Params<double> p_ = GetParams(p);
   RhsConstants<double> rc_;
-  Get(rc, &rc_);
+  Get(rc + kRhsConstantsMembers[0].offset, &rc_.c);
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNq> qd_;
@@ -663,9 +746,19 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Rhs<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) Get(out + kRhsMembers[0].offset, &out_.K);
+  if (out != nullptr) Get(out + kRhsMembers[1].offset, &out_.I);
+  if (out != nullptr) Get(out + kRhsMembers[2].offset, &out_.h);
+  if (out != nullptr) Get(out + kRhsMembers[3].offset, &out_.Q);
+  if (out != nullptr) Get(out + kRhsMembers[4].offset, &out_.T);
+  if (out != nullptr) Get(out + kRhsMembers[5].offset, &out_.V);
+  if (out != nullptr) Get(out + kRhsMembers[6].offset, &out_.P_nc);
+  if (out != nullptr) Get(out + kRhsMembers[7].offset, &out_.Phi_phi);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   const SolveReport<double> report = Model::Rhs(p_,
@@ -677,8 +770,18 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
                                                 trig != nullptr ? &trig_ : nullptr,
                                                 out != nullptr ? &out_ : nullptr,
                                                 friction != nullptr ? &friction_ : nullptr);
-  if (trig != nullptr) Put(trig_, trig);
-  if (out != nullptr) Put(out_, out);
+  if (trig != nullptr) Put(trig_.sin_q, trig + kTrigMembers[0].offset);
+  if (trig != nullptr) Put(trig_.cos_q, trig + kTrigMembers[1].offset);
+  if (trig != nullptr) Put(trig_.sin_phi, trig + kTrigMembers[2].offset);
+  if (trig != nullptr) Put(trig_.cos_phi, trig + kTrigMembers[3].offset);
+  if (out != nullptr) Put(out_.K, out + kRhsMembers[0].offset);
+  if (out != nullptr) Put(out_.I, out + kRhsMembers[1].offset);
+  if (out != nullptr) Put(out_.h, out + kRhsMembers[2].offset);
+  if (out != nullptr) Put(out_.Q, out + kRhsMembers[3].offset);
+  if (out != nullptr) Put(out_.T, out + kRhsMembers[4].offset);
+  if (out != nullptr) Put(out_.V, out + kRhsMembers[5].offset);
+  if (out != nullptr) Put(out_.P_nc, out + kRhsMembers[6].offset);
+  if (out != nullptr) Put(out_.Phi_phi, out + kRhsMembers[7].offset);
   return Report(report);
 }
 

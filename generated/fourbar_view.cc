@@ -4,7 +4,9 @@
 // The model view of fourbar (mechgen/core/model_view.h): its sizes, names, flags and parameter
 // table, and each function of Model on flat arrays of double. The functions adapt the
 // fixed-size ones of fourbar.h (compiled for double in fourbar.cc): the arrays are copied
-// into the fixed-size types, the function is called, its outputs are copied back. Compiled
+// into the fixed-size types, the function is called, its outputs are copied back; of a struct
+// only the members the function reads, and of an output the members it writes (read in first
+// unless it writes every entry; codegen/emit.cc, Flatten). Compiled
 // with MECHGEN_VIEW_ENTRY defined, it also defines the C entry point mechgen_model_view()
 // (mechgen::kModelViewEntry), for a shared object holding this one model.
 #include <array>
@@ -19,11 +21,13 @@ namespace {
 // ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
 using mechgen::view_buffers::Flat;
 using mechgen::view_buffers::Get;
+using mechgen::view_buffers::GetUnlessStored;
 using mechgen::view_buffers::Member;
 using mechgen::view_buffers::Packed;
 using mechgen::view_buffers::PackedSize;
 using mechgen::view_buffers::Put;
 using mechgen::view_buffers::Zero;
+using mechgen::view_buffers::ZeroUnlessStored;
 
 [[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
@@ -238,11 +242,26 @@ void FlatCoeffs(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> out_;
-  if (out != nullptr) Zero(&out_);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
+  if (out != nullptr) ZeroUnlessStored<4>(&out_.Phi_phi);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.K);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.L);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.r_P);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.K_P);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.L_P);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Model::Coeffs(p_, q_, phi_, out != nullptr ? &out_ : nullptr, trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.Phi, out + kCoefficientsMembers[0].offset);
+  if (out != nullptr) Put(out_.Phi_phi, out + kCoefficientsMembers[1].offset);
+  if (out != nullptr) Put(out_.K, out + kCoefficientsMembers[2].offset);
+  if (out != nullptr) Put(out_.L, out + kCoefficientsMembers[3].offset);
+  if (out != nullptr) Put(out_.r_P, out + kCoefficientsMembers[4].offset);
+  if (out != nullptr) Put(out_.K_P, out + kCoefficientsMembers[5].offset);
+  if (out != nullptr) Put(out_.L_P, out + kCoefficientsMembers[6].offset);
 }
 
 template <int = 0>
@@ -256,9 +275,21 @@ void FlatDesign(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   DesignDerivatives<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<12>(out + kDesignDerivativesMembers[0].offset, &out_.dphi_dp);
+  if (out != nullptr) GetUnlessStored<12>(out + kDesignDerivativesMembers[1].offset, &out_.dr_P_dp);
+  if (out != nullptr) GetUnlessStored<12>(out + kDesignDerivativesMembers[2].offset, &out_.dK_dp);
+  if (out != nullptr) GetUnlessStored<12>(out + kDesignDerivativesMembers[3].offset, &out_.dK_P_dp);
+  if (out != nullptr) GetUnlessStored<12>(out + kDesignDerivativesMembers[4].offset, &out_.dL_dp);
+  if (out != nullptr) GetUnlessStored<12>(out + kDesignDerivativesMembers[5].offset, &out_.dL_P_dp);
+  if (out != nullptr) GetUnlessStored<6>(out + kDesignDerivativesMembers[6].offset, &out_.dmu_dp);
   Model::Design(p_, q_, phi_, out != nullptr ? &out_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.dphi_dp, out + kDesignDerivativesMembers[0].offset);
+  if (out != nullptr) Put(out_.dr_P_dp, out + kDesignDerivativesMembers[1].offset);
+  if (out != nullptr) Put(out_.dK_dp, out + kDesignDerivativesMembers[2].offset);
+  if (out != nullptr) Put(out_.dK_P_dp, out + kDesignDerivativesMembers[3].offset);
+  if (out != nullptr) Put(out_.dL_dp, out + kDesignDerivativesMembers[4].offset);
+  if (out != nullptr) Put(out_.dL_P_dp, out + kDesignDerivativesMembers[5].offset);
+  if (out != nullptr) Put(out_.dmu_dp, out + kDesignDerivativesMembers[6].offset);
 }
 
 template <int = 0>
@@ -370,16 +401,26 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Kinematics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) Get(out + kKinematicsMembers[0].offset, &out_.K);
+  if (out != nullptr) Get(out + kKinematicsMembers[1].offset, &out_.L);
+  if (out != nullptr) Get(out + kKinematicsMembers[2].offset, &out_.Phi_phi);
   const SolveReport<double> report = Model::Kinematics(p_,
                                                        q_,
                                                        modes_,
                                                        trig != nullptr ? &trig_ : nullptr,
                                                        out != nullptr ? &out_ : nullptr);
-  if (trig != nullptr) Put(trig_, trig);
-  if (out != nullptr) Put(out_, out);
+  if (trig != nullptr) Put(trig_.sin_q, trig + kTrigMembers[0].offset);
+  if (trig != nullptr) Put(trig_.cos_q, trig + kTrigMembers[1].offset);
+  if (trig != nullptr) Put(trig_.sin_phi, trig + kTrigMembers[2].offset);
+  if (trig != nullptr) Put(trig_.cos_phi, trig + kTrigMembers[3].offset);
+  if (out != nullptr) Put(out_.K, out + kKinematicsMembers[0].offset);
+  if (out != nullptr) Put(out_.L, out + kKinematicsMembers[1].offset);
+  if (out != nullptr) Put(out_.Phi_phi, out + kKinematicsMembers[2].offset);
   return Report(report);
 }
 

@@ -4,7 +4,9 @@
 // The model view of slider_crank_friction (mechgen/core/model_view.h): its sizes, names, flags and parameter
 // table, and each function of Model on flat arrays of double. The functions adapt the
 // fixed-size ones of slider_crank_friction.h (compiled for double in slider_crank_friction.cc): the arrays are copied
-// into the fixed-size types, the function is called, its outputs are copied back. Compiled
+// into the fixed-size types, the function is called, its outputs are copied back; of a struct
+// only the members the function reads, and of an output the members it writes (read in first
+// unless it writes every entry; codegen/emit.cc, Flatten). Compiled
 // with MECHGEN_VIEW_ENTRY defined, it also defines the C entry point mechgen_model_view()
 // (mechgen::kModelViewEntry), for a shared object holding this one model.
 #include <array>
@@ -19,11 +21,13 @@ namespace {
 // ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
 using mechgen::view_buffers::Flat;
 using mechgen::view_buffers::Get;
+using mechgen::view_buffers::GetUnlessStored;
 using mechgen::view_buffers::Member;
 using mechgen::view_buffers::Packed;
 using mechgen::view_buffers::PackedSize;
 using mechgen::view_buffers::Put;
 using mechgen::view_buffers::Zero;
+using mechgen::view_buffers::ZeroUnlessStored;
 
 [[maybe_unused]] mechgen::ViewSolveReport Report(const SolveReport<double>& r) {
   mechgen::ViewSolveReport out;
@@ -220,11 +224,26 @@ void FlatCoeffs(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> out_;
-  if (out != nullptr) Zero(&out_);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
+  if (out != nullptr) Zero(&out_.Phi_phi);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.K);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.L);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.r_P);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.K_P);
+  if (out != nullptr) ZeroUnlessStored<2>(&out_.L_P);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
+  if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
+  if (trig != nullptr) Get(trig + kTrigMembers[2].offset, &trig_.sin_phi);
+  if (trig != nullptr) Get(trig + kTrigMembers[3].offset, &trig_.cos_phi);
   Model::Coeffs(p_, q_, phi_, out != nullptr ? &out_ : nullptr, trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.Phi, out + kCoefficientsMembers[0].offset);
+  if (out != nullptr) Put(out_.Phi_phi, out + kCoefficientsMembers[1].offset);
+  if (out != nullptr) Put(out_.K, out + kCoefficientsMembers[2].offset);
+  if (out != nullptr) Put(out_.L, out + kCoefficientsMembers[3].offset);
+  if (out != nullptr) Put(out_.r_P, out + kCoefficientsMembers[4].offset);
+  if (out != nullptr) Put(out_.K_P, out + kCoefficientsMembers[5].offset);
+  if (out != nullptr) Put(out_.L_P, out + kCoefficientsMembers[6].offset);
 }
 
 template <int = 0>
@@ -242,13 +261,18 @@ void FlatForces(const double* p,
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
   Coefficients<double> c_;
-  Get(c, &c_);
+  Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Statics<double> out_;
-  if (out != nullptr) Get(out, &out_);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[0].offset, &out_.Q);
+  if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[1].offset, &out_.drive);
+  if (out != nullptr) GetUnlessStored<9>(out + kStaticsMembers[2].offset, &out_.R);
+  if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[3].offset, &out_.normal);
+  if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[4].offset, &out_.gain);
+  if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[5].offset, &out_.K_rel);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
-  if (trig != nullptr) Get(trig, &trig_);
   Model::Forces(p_,
                 q_,
                 phi_,
@@ -256,7 +280,12 @@ void FlatForces(const double* p,
                 out != nullptr ? &out_ : nullptr,
                 friction != nullptr ? &friction_ : nullptr,
                 trig != nullptr ? &trig_ : nullptr);
-  if (out != nullptr) Put(out_, out);
+  if (out != nullptr) Put(out_.Q, out + kStaticsMembers[0].offset);
+  if (out != nullptr) Put(out_.drive, out + kStaticsMembers[1].offset);
+  if (out != nullptr) Put(out_.R, out + kStaticsMembers[2].offset);
+  if (out != nullptr) Put(out_.normal, out + kStaticsMembers[3].offset);
+  if (out != nullptr) Put(out_.gain, out + kStaticsMembers[4].offset);
+  if (out != nullptr) Put(out_.K_rel, out + kStaticsMembers[5].offset);
 }
 
 template <int = 0>

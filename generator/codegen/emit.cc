@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -253,10 +254,15 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
 // How the model view (templates/mechanism_view.cc.mustache) passes one argument of a Model
 // function: its type in the view's signature (core/model_view.h), the lines before the call
 // (the array copied into the fixed-size type), what the call gets, the lines after it (the
-// result copied back). Every pointer may be nullptr (it stays nullptr); an output's buffer is
-// read before the call, so that what the function does not write keeps its value, as in the
-// struct the buffer stands for; but an output the view writes whole (WrittenWhole()) starts at
-// zero instead, and its buffer is not read (nor need it be initialized).
+// result copied back). Every pointer may be nullptr (it stays nullptr). A struct of the view
+// (ViewLayout) is copied member by member, only the members the function's body names
+// (StructUse): an input's members it reads; an output's members it reads or stores to, each
+// read from its buffer before the call (so that what the function does not write keeps its
+// value, as in the struct the buffer stands for) unless the body, without a `return`, stores
+// every one of its entries unconditionally (GetUnlessStored: then its buffer is not read, nor
+// need it be initialized), and copied back after it; a member the body does not name is
+// neither read nor written (its buffer keeps its value). An output the view writes whole
+// (WrittenWhole()) starts at zero instead, and its buffer is not read.
 struct FlatArgument {
   std::string type;
   std::vector<std::string> before, after;
@@ -271,12 +277,98 @@ bool WrittenWhole(const std::string& member, const Argument& a) {
   return (member == "Coeffs" && a.name == "out") || ((member == "Solve" || member == "SolveTrig") && a.name == "trig");
 }
 
-FlatArgument Flatten(const Argument& a, const std::string& scalar, bool written_whole = false) {
+// How a function's body (its text without comments) uses its struct argument `name`: through
+// members only (name.X, name->X, and tests against nullptr), or otherwise (passed on whole:
+// every member is read). `read`: the members it reads, adds to or stores to under a
+// condition (inside braces); `stored`: for the others it stores to, the distinct entries
+// ("(0, 1)", "" for a scalar) stored by a statement `name->X(...) = ...;` at the top level of
+// the body (on every path that does not return first; may_return: the body has a `return`).
+struct StructUse {
+  static StructUse Whole() {
+    StructUse u;
+    u.whole = true;
+    return u;
+  }
+  bool whole = false;
+  bool may_return = false;
+  std::set<std::string> read;
+  std::map<std::string, std::set<std::string>> stored;
+};
+
+StructUse UseOf(const std::string& code, const std::string& name) {
+  StructUse u;
+  auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  u.may_return = Mentions(code, "return");
+  int depth = 0;
+  size_t line = 0;  // the start of the current line
+  for (size_t i = 0; i < code.size(); ++i) {
+    const char c = code[i];
+    if (c == '{') ++depth;
+    if (c == '}') --depth;
+    if (c == '\n') line = i + 1;
+    if (code.compare(i, name.size(), name) != 0) continue;
+    if (i > 0 && (word(code[i - 1]) || code[i - 1] == '.' || code[i - 1] == '>' || code[i - 1] == ':')) continue;
+    if (i >= 6 && code.compare(i - 6, 6, "(void)") == 0) continue;  // (RenderBody's mark of an unread argument)
+    size_t j = i + name.size();
+    if (j < code.size() && word(code[j])) continue;
+    const size_t access = code.compare(j, 2, "->") == 0 ? 2 : (j < code.size() && code[j] == '.' ? 1 : 0);
+    if (access == 0) {
+      if (code.compare(j, 11, " != nullptr") == 0 || code.compare(j, 11, " == nullptr") == 0) continue;
+      u.whole = true;
+      return u;
+    }
+    size_t k = j + access;
+    const size_t m = k;
+    while (k < code.size() && word(code[k])) ++k;
+    const std::string member = code.substr(m, k - m);
+    std::string index;
+    if (k < code.size() && code[k] == '(') {
+      size_t close = k;
+      for (int open = 0; close < code.size(); ++close) {
+        if (code[close] == '(') ++open;
+        if (code[close] == ')' && --open == 0) break;
+      }
+      index = code.substr(k, close + 1 - k);
+      k = close + 1;
+    }
+    const bool statement = code.find_first_not_of(' ', line) == i;
+    if (statement && depth == 0 && code.compare(k, 3, " = ") == 0)
+      u.stored[member].insert(index);
+    else
+      u.read.insert(member);
+  }
+  for (const std::string& r : u.read) u.stored.erase(r);
+  return u;
+}
+
+FlatArgument Flatten(const Argument& a, const std::string& scalar, bool written_whole, const std::string& code,
+                     const std::map<std::string, std::vector<std::string>>& structs) {
   const std::string type = WithScalar(a.type, scalar, "double");
   const std::string& n = a.name;
   const std::string local = n + "_";
   auto array = [](const std::string& core, bool in) {
     return std::string(in ? "const " : "") + (StartsWith(core, "std::array<int,") ? "int*" : "double*");
+  };
+  // The view's struct `core` is ("Statics<double>": Statics), or nullptr.
+  auto struct_of = [&structs](const std::string& core) -> const std::vector<std::string>* {
+    const size_t open = core.find('<');
+    if (open == std::string::npos || core.substr(open) != "<double>") return nullptr;
+    const auto it = structs.find(core.substr(0, open));
+    return it != structs.end() ? &it->second : nullptr;
+  };
+  // An input struct: the members the body reads, each from its offset (all where it is passed on).
+  auto struct_input = [&](const std::string& core, const std::string& guard) -> std::vector<std::string> {
+    const std::vector<std::string>* members = struct_of(core);
+    const StructUse use = members != nullptr ? UseOf(code, n) : StructUse::Whole();
+    if (use.whole) return {core + " " + local + ";", guard + "Get(" + n + ", &" + local + ");"};
+    std::vector<std::string> lines{core + " " + local + ";"};
+    const std::string offsets = "k" + core.substr(0, core.find('<')) + "Members";
+    for (size_t i = 0; i < members->size(); ++i)
+      if (use.read.count((*members)[i]))
+        lines.push_back(guard + "Get(" + n + " + " + offsets + "[" + std::to_string(i) + "].offset, &" + local +
+                        "." + (*members)[i] + ");");
+    if (lines.size() == 1 && guard.empty()) lines.push_back("(void)" + n + ";");
+    return lines;
   };
   if (type == "const Params<double>&")
     return {"const double*", {"const Params<double> " + local + " = GetParams(" + n + ");"}, {}, local};
@@ -284,14 +376,12 @@ FlatArgument Flatten(const Argument& a, const std::string& scalar, bool written_
   if (type == "const double&") return {"double", {}, {}, n};
   if (StartsWith(type, "const typename NonDeduced<") && EndsWith(type, ">::type*")) {  // an input, or nullptr
     const std::string core = type.substr(26, type.size() - 26 - 8);
-    return {array(core, true),
-            {core + " " + local + ";", "if (" + n + " != nullptr) Get(" + n + ", &" + local + ");"},
-            {},
+    return {array(core, true), struct_input(core, "if (" + n + " != nullptr) "), {},
             n + " != nullptr ? &" + local + " : nullptr"};
   }
   if (StartsWith(type, "const ") && EndsWith(type, "&")) {  // an input
     const std::string core = type.substr(6, type.size() - 7);
-    return {array(core, true), {core + " " + local + ";", "Get(" + n + ", &" + local + ");"}, {}, local};
+    return {array(core, true), struct_input(core, ""), {}, local};
   }
   std::string core;  // an output (or input and output)
   if (StartsWith(type, "Out<") && EndsWith(type, ">"))
@@ -301,15 +391,44 @@ FlatArgument Flatten(const Argument& a, const std::string& scalar, bool written_
   else
     throw std::runtime_error("the model view cannot pass argument '" + n + "' of type " + a.type +
                              " (codegen/emit.cc: Flatten)");
-  return {array(core, false),
-          {core + " " + local + ";", "if (" + n + " != nullptr) " + (written_whole ? "Zero(&" + local + ");" : "Get(" + n + ", &" + local + ");")},
-          {"if (" + n + " != nullptr) Put(" + local + ", " + n + ");"},
-          n + " != nullptr ? &" + local + " : nullptr"};
+  const std::string guard = "if (" + n + " != nullptr) ";
+  const std::string pass = n + " != nullptr ? &" + local + " : nullptr";
+  const std::vector<std::string>* members = struct_of(core);
+  const StructUse use = members != nullptr ? UseOf(code, n) : StructUse::Whole();
+  if (use.whole || (written_whole && use.may_return)) {
+    return {array(core, false),
+            {core + " " + local + ";", guard + (written_whole ? "Zero(&" + local + ");" : "Get(" + n + ", &" + local + ");")},
+            {guard + "Put(" + local + ", " + n + ");"},
+            pass};
+  }
+  FlatArgument flat{array(core, false), {core + " " + local + ";"}, {}, pass};
+  const std::string offsets = "k" + core.substr(0, core.find('<')) + "Members";
+  for (size_t i = 0; i < members->size(); ++i) {
+    const std::string& member = (*members)[i];
+    const std::string at = n + " + " + offsets + "[" + std::to_string(i) + "].offset";
+    const auto stored = use.stored.find(member);
+    if (written_whole) {  // every member 0 but those the body stores whole, and every one copied back
+      flat.before.push_back(guard + (stored != use.stored.end() ? "ZeroUnlessStored<" + std::to_string(stored->second.size()) + ">(" : "Zero(") +
+                            "&" + local + "." + member + ");");
+    } else if (use.read.count(member) || (stored != use.stored.end() && use.may_return)) {
+      flat.before.push_back(guard + "Get(" + at + ", &" + local + "." + member + ");");
+    } else if (stored != use.stored.end()) {
+      flat.before.push_back(guard + "GetUnlessStored<" + std::to_string(stored->second.size()) + ">(" + at + ", &" +
+                            local + "." + member + ");");
+    } else {
+      continue;  // not named by the body: its buffer keeps its value
+    }
+    flat.after.push_back(guard + "Put(" + local + "." + member + ", " + at + ");");
+  }
+  if (flat.after.empty()) flat.before.push_back("(void)" + n + ";");
+  return flat;
 }
 
 // The model view's adapter of one Model function: Flat<member>(flat arrays), which calls
 // Model::<member> on the fixed-size types.
-mus::data ViewFunction(const FunctionSpec& f) {
+mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
+                       const std::map<std::string, std::vector<std::string>>& structs) {
+  const std::string code = StripComments(rendered);
   std::string returns;
   if (f.returns == "void")
     returns = "void";
@@ -321,7 +440,7 @@ mus::data ViewFunction(const FunctionSpec& f) {
   std::vector<std::string> before, after, pass;
   bool has_velocities = false;
   for (size_t i = 0; i < f.args.size(); ++i) {
-    const FlatArgument flat = Flatten(f.args[i], f.scalar, WrittenWhole(f.model_member, f.args[i]));
+    const FlatArgument flat = Flatten(f.args[i], f.scalar, WrittenWhole(f.model_member, f.args[i]), code, structs);
     mus::data o{mus::data::type::object};
     o.set("arg_type", flat.type);
     o.set("arg_name", f.args[i].name);
@@ -741,6 +860,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
 
   // ---- The model view (core/model_view.h): its structs, parameters and functions ----
   mus::data view_structs{mus::data::type::list}, view_functions{mus::data::type::list};
+  std::map<std::string, std::vector<std::string>> struct_members;  // each struct's members, in its buffer's order
   for (const OutputSpec& spec : ViewStructSpecs(m, table, functions)) {
     if (!spec.present()) continue;
     mus::data o{mus::data::type::object}, members{mus::data::type::list};
@@ -752,6 +872,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
         mo.set("member_name", n);
         mo.set("index", std::to_string(index++));
         members.push_back(mo);
+        struct_members[spec.name].push_back(n);
       }
     }
     o.set("struct_name", spec.name);
@@ -760,8 +881,9 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
     view_structs.push_back(o);
   }
   data.SetData("view_structs", view_structs, {"struct_name", "num_members", "struct_members", "member_name", "index"});
-  for (const FunctionSpec& f : functions)
-    if (!f.model_member.empty()) view_functions.push_back(ViewFunction(f));
+  for (size_t i = 0; i < functions.size(); ++i)
+    if (!functions[i].model_member.empty())
+      view_functions.push_back(ViewFunction(functions[i], bodies[i], struct_members));
   data.SetData("view_functions", view_functions,
                {"member", "returns", "indent", "args", "arg_type", "arg_name", "first", "lines", "line"});
   std::vector<std::map<std::string, std::string>> view_params, view_derived;

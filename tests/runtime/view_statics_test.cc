@@ -277,6 +277,78 @@ TEST(ViewStatics, SameAsFixedSize_fivebar_robot) {
 }
 #endif
 
+// The view's Forces and Stiffness on one Statics buffer behave as the generated functions on one
+// Statics struct (core/model_view.h): what a function writes is its value, what it does not
+// write keeps the buffer's (the adapters copy only the members a function names, and do not read
+// those it writes whole: codegen/emit.cc, Flatten). Oracle: Model::Forces and Model::Stiffness on
+// a fixed-size struct started at the same sentinel, member by member; the coefficients' buffer
+// holds NaN in every member but those the functions read, which a copy of the others would not
+// notice but a read would spread.
+#ifdef MECHGEN_HAVE_fourbar_loaded
+TEST(ViewStatics, BufferKeepsWhatAFunctionDoesNotWrite_fourbar_loaded) {
+  using M = mech::fourbar_loaded::Model;
+  const ModelView& view = mech::fourbar_loaded::View();
+  M::ParamsT<double> p;
+  std::vector<double> pv(static_cast<size_t>(view.num_params));
+  DefaultParameters(view, pv.data());
+  Eigen::Matrix<double, M::kNq, 1> q;
+  Eigen::Matrix<double, M::kNphi, 1> phi;
+  for (int i = 0; i < M::kNq; ++i) q(i) = M::kAssemblyQ[i] + 0.3;
+  for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[i];
+  ASSERT_EQ(M::Solve(p, q, &phi).status, mech::fourbar_loaded::SolveStatus::kConverged);
+  M::CoefficientsT<double> c;
+  M::Coeffs(p, q, phi, &c);
+  const ViewLayout& cl = view.Layout(ViewStruct::kCoefficients);
+  std::vector<double> cb(static_cast<size_t>(cl.size), std::nan(""));
+  auto put_c = [&](const char* name, const double* x) {
+    const ViewMember* m = FindMember(cl, name);
+    ASSERT_NE(m, nullptr) << name;
+    std::copy(x, x + m->rows * m->cols, cb.begin() + m->offset);
+  };
+  put_c("Phi_phi", c.Phi_phi.data());  // (EvalStatics and EvalStiffness read K, L, Phi_phi)
+  put_c("K", c.K.data());
+  put_c("L", c.L.data());
+  constexpr double kSentinel = 12345.678;
+  M::StaticsT<double> fixed;
+  fixed.Q.setConstant(kSentinel);
+  fixed.drive.setConstant(kSentinel);
+  fixed.stiffness.setConstant(kSentinel);
+  fixed.V = kSentinel;
+  fixed.dV_dq.setConstant(kSentinel);
+  fixed.d2V_dq2.setConstant(kSentinel);
+  fixed.R.setConstant(kSentinel);
+  const ViewLayout& sl = view.Layout(ViewStruct::kStatics);
+  std::vector<double> sb(static_cast<size_t>(sl.size), kSentinel);
+  auto expect = [&](const char* step, const char* name, const double* x) {
+    const ViewMember* m = FindMember(sl, name);
+    ASSERT_NE(m, nullptr) << name;
+    for (int i = 0; i < m->rows * m->cols; ++i) {
+      EXPECT_TRUE(SameBits(name, x[i], sb[static_cast<size_t>(m->offset + i)])) << step << " " << name << " " << i;
+    }
+  };
+  auto expect_all = [&](const char* step) {
+    expect(step, "Q", fixed.Q.data());
+    expect(step, "drive", fixed.drive.data());
+    expect(step, "stiffness", fixed.stiffness.data());
+    expect(step, "V", &fixed.V);
+    expect(step, "dV_dq", fixed.dV_dq.data());
+    expect(step, "d2V_dq2", fixed.d2V_dq2.data());
+    expect(step, "R", fixed.R.data());
+  };
+  // Stiffness first (Forces' members keep the sentinel), then Forces (stiffness keeps its value).
+  M::Stiffness(p, q, phi, c, &fixed);
+  view.Stiffness(pv.data(), q.data(), phi.data(), cb.data(), sb.data());
+  expect_all("Stiffness");
+  EXPECT_EQ(fixed.Q(0), kSentinel);
+  EXPECT_NE(fixed.stiffness(0, 0), kSentinel);
+  M::Forces(p, q, phi, c, &fixed);
+  view.Forces(pv.data(), q.data(), phi.data(), cb.data(), sb.data(), nullptr, nullptr, nullptr);
+  expect_all("Forces");
+  EXPECT_NE(fixed.Q(0), kSentinel);
+  EXPECT_TRUE(std::isfinite(fixed.R(0)));
+}
+#endif
+
 // A model without statics is refused through the view (the per-model tool is a stub that says
 // so); what the view lacks is refused before anything is written (exit 2).
 TEST(ViewStaticsTool, RefusesWhatTheViewLacks) {

@@ -66,6 +66,7 @@ void Zero(Eigen::Matrix<double, R, C, O, MR, MC>* m) {
   m->setZero();
 }
 inline void Zero(double* x) { *x = 0; }
+
 template <class T, std::size_t N>
 void Zero(std::array<T, N>* a) {
   a->fill(T());
@@ -86,6 +87,28 @@ constexpr std::array<T, N * M> Flat(const std::array<std::array<T, M>, N>& a) {
   for (std::size_t i = 0; i < N; ++i)
     for (std::size_t j = 0; j < M; ++j) flat[i * M + j] = a[i][j];
   return flat;
+}
+
+// An output member that the function stores `stored` distinct entries of, unconditionally
+// (codegen/emit.cc, StructUse): read from its buffer first unless that is every entry (then
+// the function overwrites it whole, and its buffer need not be initialized).
+template <int stored, class X>
+void GetUnlessStored(const double* b, X* x) {
+  if constexpr (stored < Shape<X>::kRows * Shape<X>::kCols) {
+    Get(b, x);
+  } else {
+    (void)b, (void)x;
+  }
+}
+// The same for an output the view writes whole (ModelView: Coeffs' out): set to 0 first unless
+// the function stores every entry.
+template <int stored, class X>
+void ZeroUnlessStored(X* x) {
+  if constexpr (stored < Shape<X>::kRows * Shape<X>::kCols) {
+    Zero(x);
+  } else {
+    (void)x;
+  }
 }
 
 }  // namespace mechgen::view_buffers
