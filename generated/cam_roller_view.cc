@@ -187,7 +187,8 @@ void FlatCoeffs(const double* p,
   if (out != nullptr) ZeroUnlessStored<2>(&out_.r_P);
   if (out != nullptr) ZeroUnlessStored<2>(&out_.K_P);
   if (out != nullptr) ZeroUnlessStored<2>(&out_.L_P);
-  Trig<double> trig_;
+  static const Trig<double> trig_{};
+  (void)trig;
   Model::Coeffs(p_, q_, phi_, out != nullptr ? &out_ : nullptr, trig != nullptr ? &trig_ : nullptr);
   if (out != nullptr) Put(out_.Phi, out + kCoefficientsMembers[0].offset);
   if (out != nullptr) Put(out_.Phi_phi, out + kCoefficientsMembers[1].offset);

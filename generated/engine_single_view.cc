@@ -509,7 +509,8 @@ void FlatForces(const double* p,
   if (out != nullptr) GetUnlessStored<9>(out + kStaticsMembers[6].offset, &out_.R);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  Trig<double> trig_;
+  static const Trig<double> trig_{};
+  (void)trig;
   Vec<double, Sizes::kNq> velocities_;
   if (velocities != nullptr) Get(velocities, &velocities_);
   Model::Forces(p_,

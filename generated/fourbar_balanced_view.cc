@@ -529,7 +529,7 @@ void FlatForces(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  Coefficients<double> c_;
+  static const Coefficients<double> c_{};
   (void)c;
   Statics<double> out_;
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[0].offset, &out_.Q);
@@ -539,7 +539,8 @@ void FlatForces(const double* p,
   if (out != nullptr) GetUnlessStored<8>(out + kStaticsMembers[6].offset, &out_.R);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  Trig<double> trig_;
+  static const Trig<double> trig_{};
+  (void)trig;
   Model::Forces(p_,
                 q_,
                 phi_,
@@ -772,7 +773,7 @@ void FlatStiffness(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  Coefficients<double> c_;
+  static const Coefficients<double> c_{};
   (void)c;
   Statics<double> out_;
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[2].offset, &out_.stiffness);

@@ -272,7 +272,8 @@ void FlatForces(const double* p,
   if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[5].offset, &out_.K_rel);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  Trig<double> trig_;
+  static const Trig<double> trig_{};
+  (void)trig;
   Model::Forces(p_,
                 q_,
                 phi_,

@@ -736,7 +736,7 @@ void FlatSwitchModes(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
-  Coefficients<double> c_;
+  static const Coefficients<double> c_{};
   (void)c;
   std::array<int, Sizes::kNumSwitches> modes_;
   if (modes != nullptr) Get(modes, &modes_);

@@ -367,7 +367,10 @@ FlatArgument Flatten(const Argument& a, const std::string& scalar, bool written_
       if (use.read.count((*members)[i]))
         lines.push_back(guard + "Get(" + n + " + " + offsets + "[" + std::to_string(i) + "].offset, &" + local +
                         "." + (*members)[i] + ");");
-    if (lines.size() == 1 && guard.empty()) lines.push_back("(void)" + n + ";");
+    // None read: the function still takes the struct (and hands it on to a function the
+    // compiler may not see into, which would then warn of an uninitialized read): a static
+    // one, zero as static storage starts, stands for it at no cost per call.
+    if (lines.size() == 1) lines = {"static const " + core + " " + local + "{};", "(void)" + n + ";"};
     return lines;
   };
   if (type == "const Params<double>&")
