@@ -6,10 +6,11 @@
 // summary and writes the CSV whole or not at all. Exit statuses and the CSV's columns as
 // simulate_main.cc says.
 //
-// --params/--set read the view's parameter table (common/view_params.h). Through the view, not
-// yet: --drive (the driven motion, dynamics/prescribed.h), --design (the trajectory
-// sensitivities, dynamics/sensitivity.h) and Coulomb friction with stick and slip (a model with
-// friction joints runs through the view with --friction off only): each is refused
+// --params/--set read the view's parameter table (common/view_params.h). Coulomb friction with
+// stick and slip goes through the view for one input. Through the view, not yet: --drive (the
+// driven motion, dynamics/prescribed.h), --design (the trajectory sensitivities,
+// dynamics/sensitivity.h) and Coulomb friction of several inputs (each joint's own stick and
+// slip; such a model runs through the view with --friction off only): each is refused
 // (common/not_through_view.h: a usage error naming the per-model tool that has it, or for
 // mechgen the fallback to that tool) before anything is computed or written.
 #pragma once

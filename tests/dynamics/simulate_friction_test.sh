@@ -14,7 +14,7 @@
 # Given mechgen_view and the model's shared object (issue 43), the same runs through the runtime
 # compiled once (`mechgen_view simulate`, M = ViewModel): the stick and slip above and more (from
 # rest stuck, launched up and sliding back, launched up and stuck at the stop, both integrators,
-# the default sampling, --friction off and on), a failed run (too few steps: exit 1) and a usage
+# the default sampling, --friction off and on, a push that breaks it away), a failed run (too few steps: exit 1) and a usage
 # error (exit 2) give the tool's CSV, standard output, standard error and exit status byte for
 # byte (each run in a directory of its own; mechgen_view --name: the tool's name).
 # Usage: simulate_friction_test.sh <incline_friction_simulate> <out dir> [<mechgen_view> <object>]
@@ -112,6 +112,10 @@ if [ $# -ge 4 ]; then
   grep -q "stuck by static friction: \[[0-9.e-]* s, end)" "$out/view_up_stuck/view.out" ||
     fail "view up_stuck: not stuck at the stop: $(cat "$out/view_up_stuck/view.out")"
   same steps 0 --t-end 1 --set mu=0.3 --qd0 -2 --friction on --csv out.csv
+  # a push along the slope F0 sin(w t) breaks the stuck block away and lets it stick again
+  same push 0 --t-end 6 --dt 0.01 --set mu=0.7 --set F0=25 --csv out.csv
+  grep -q "stuck by static friction: \[0 s, [0-9.e-]* s) \[" "$out/view_push/view.out" ||
+    fail "view push: no breakaway and second stick: $(cat "$out/view_push/view.out")"
   same off 0 --t-end 1 --dt 0.01 --set mu=0.7 --friction off --csv out.csv
   same failed 1 --t-end 2 --dt 0.01 --set mu=0.3 --qd0 3 --max-steps 5 --csv out.csv
   grep -q "the simulation failed" "$out/view_failed/view.err" || fail "view failed: $(cat "$out/view_failed/view.err")"

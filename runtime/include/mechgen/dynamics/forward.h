@@ -707,6 +707,7 @@ class MinimalDynamics {
         return true;
       }
     }
+    if constexpr (Calls::kView && kHasCoulomb) s->friction = Friction::ZeroF(model_);  // (see Simulate)
     s->phi = Predictor(s->q);
     if (!SolveAt(s->q, &s->phi)) return false;
     Coefficients c;
@@ -869,6 +870,11 @@ class MinimalDynamics {
       }
     }
     events.stick_step = options_.stick_step;
+    if constexpr (Calls::kView && kHasCoulomb) {
+      // The view's samples carry the friction loads of every friction joint, zeros where the
+      // run does not simulate Coulomb friction, as a generated model's fixed-size ones do.
+      last_.sample.friction = Friction::ZeroF(model_);
+    }
     return internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);
   }
 
