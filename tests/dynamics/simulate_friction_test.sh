@@ -14,9 +14,10 @@
 # Given mechgen_view and the model's shared object (issue 43), the same runs through the runtime
 # compiled once (`mechgen_view simulate`, M = ViewModel): the stick and slip above and more (from
 # rest stuck, launched up and sliding back, launched up and stuck at the stop, both integrators,
-# the default sampling, --friction off and on, a push that breaks it away), a failed run (too few steps: exit 1) and a usage
-# error (exit 2) give the tool's CSV, standard output, standard error and exit status byte for
-# byte (each run in a directory of its own; mechgen_view --name: the tool's name).
+# the default sampling, --friction off and on, a push that breaks it away), a failed run (too
+# few steps: exit 1) and a usage error (exit 2) give the tool's CSV, standard output, standard
+# error and exit status byte for byte (each run in a directory of its own; mechgen_view --name:
+# the tool's name).
 # Usage: simulate_friction_test.sh <incline_friction_simulate> <out dir> [<mechgen_view> <object>]
 set -u
 sim=$1
