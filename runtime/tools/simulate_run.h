@@ -6,10 +6,11 @@
 // summary and writes the CSV whole or not at all. Exit statuses and the CSV's columns as
 // simulate_main.cc says.
 //
-// --params/--set read the view's parameter table (common/view_params.h). Through the view, not
-// yet: --drive (the driven motion, dynamics/prescribed.h), --design (the trajectory
-// sensitivities, dynamics/sensitivity.h) and Coulomb friction with stick and slip (a model with
-// friction joints runs through the view with --friction off only): each is refused
+// --params/--set read the view's parameter table (common/view_params.h). Coulomb friction with
+// stick and slip goes through the view for one input. Through the view, not yet: --drive (the
+// driven motion, dynamics/prescribed.h), --design (the trajectory sensitivities,
+// dynamics/sensitivity.h) and Coulomb friction of several inputs (each joint's own stick and
+// slip; such a model runs through the view with --friction off only): each is refused
 // (common/not_through_view.h: a usage error naming the per-model tool that has it, or for
 // mechgen the fallback to that tool) before anything is computed or written.
 #pragma once
@@ -188,7 +189,7 @@ int RunFree(const M& model, const Args& args) {
   options.steady.tolerance = args.steady_tol;
   options.steady.consecutive = 2;
   // Coulomb friction: the model's friction section unless --friction says otherwise.
-  if (args.friction == "on" && !Sim::kHasCoulomb) {
+  if (args.friction == "on" && (!Sim::kHasCoulomb || C::KinetoNumFriction(model) == 0)) {
     return tools::UsageError(args.tool, "--friction on: the model has no friction joints (`friction:`)");
   }
   options.coulomb.enabled = args.friction != "off";
@@ -222,15 +223,16 @@ int RunFree(const M& model, const Args& args) {
   std::vector<std::pair<double, double>> stuck;
   bool was_stuck = false;
 
-  // Several inputs: each friction joint's stuck intervals.
-  constexpr int kNumFriction = Sim::kNumFriction;
-  std::array<std::vector<std::pair<double, double>>, kNumFriction> joint_stuck;
-  std::array<bool, kNumFriction> joint_was_stuck{};
+  // Several inputs: each friction joint's stuck intervals (num_friction of at most
+  // Sim::kMaxFriction: the view's count at run time).
+  const int num_friction = Sim::kNumFriction == Eigen::Dynamic ? C::KinetoNumFriction(model) : Sim::kNumFriction;
+  std::array<std::vector<std::pair<double, double>>, Sim::kMaxFriction> joint_stuck;
+  std::array<bool, Sim::kMaxFriction> joint_was_stuck{};
   auto observer = [&](const SampleT& s) {
     if (s.stuck && !was_stuck) stuck.emplace_back(s.t, std::numeric_limits<double>::quiet_NaN());
     if (!s.stuck && was_stuck) stuck.back().second = s.t;
     was_stuck = s.stuck;
-    for (int J = 0; J < kNumFriction; ++J) {
+    for (int J = 0; J < num_friction; ++J) {
       if (s.joint_stuck[J] && !joint_was_stuck[J])
         joint_stuck[J].emplace_back(s.t, std::numeric_limits<double>::quiet_NaN());
       if (!s.joint_stuck[J] && joint_was_stuck[J]) joint_stuck[J].back().second = s.t;
@@ -242,7 +244,9 @@ int RunFree(const M& model, const Args& args) {
       if (num_reactions > 0) {
         mechgen::dynamics::KinetostaticsRow<M> k;
         if constexpr (Sim::kHasCoulomb) {
-          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
+          // The friction loads included (the view's samples of a run without Coulomb friction
+          // have none: zeros, as a generated model's hold there).
+          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, s.friction.size() == no_friction.size() ? &s.friction : &no_friction);
         } else if (C::KinetoNumFriction(model) > 0) {
           kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &no_friction);
         } else {
@@ -292,11 +296,12 @@ int RunFree(const M& model, const Args& args) {
         if (intervals.size() > kListed) std::printf(" ... (%zu intervals)", intervals.size());
         std::printf("\n");
       };
-      if constexpr (M::kNq == 1) {
+      if (C::Nq(model) == 1) {
         list("stuck by static friction", stuck);
       } else {
-        for (int J = 0; J < kNumFriction; ++J)
-          list((std::string("joint ") + M::kFrictionJoints[J] + " stuck by static friction").c_str(), joint_stuck[J]);
+        for (int J = 0; J < num_friction; ++J)
+          list((std::string("joint ") + C::FrictionJoint(model, J) + " stuck by static friction").c_str(),
+               joint_stuck[J]);
       }
      }
     }
@@ -664,9 +669,10 @@ int RunSimulate(const M& model, const Arguments& args) {
     if (args.design)
       return tools::NotThroughView(args.tool, "--design: the trajectory sensitivities are", name, "simulate");
     if (!args.drives.empty()) return tools::NotThroughView(args.tool, "--drive: the driven motion is", name, "simulate");
-    if (C::KinetoNumFriction(model) > 0 && args.friction != "off")
+    if (C::Nq(model) > 1 && C::KinetoNumFriction(model) > 0 && args.friction != "off")
       return tools::NotThroughView(args.tool,
-                                   "--friction: Coulomb friction (stick and slip; --friction off goes through) is",
+                                   "--friction: Coulomb friction with several inputs (stick and slip of each "
+                                   "joint; --friction off goes through) is",
                                    name, "simulate");
     return args.method == "dop853" ? RunFree<M, mechgen::dynamics::Dop853>(model, args)
                                    : RunFree<M, mechgen::dynamics::Dopri5>(model, args);

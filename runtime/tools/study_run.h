@@ -17,7 +17,8 @@
 // yet (refused by common/not_through_view.h before anything is computed or written: a usage
 // error naming the per-model program, or for mechgen the fallback to it): the design
 // derivatives (tolerance: true, envelope:, the design_margin metric), analysis: flywheel and
-// engine, a simulation with drive: or Coulomb friction, and a run under an MPI launcher (the
+// engine, a simulation with drive: or with Coulomb friction of several inputs (one input's stick
+// and slip goes through), and a run under an MPI launcher (the
 // ranks: MPI is compiled into the per-model program alone, -DMECHGEN_STUDY_MPI).
 #pragma once
 
@@ -285,8 +286,9 @@ std::string NotThroughViewYet(const M& model, const study::StudySpec& spec) {
   if (spec.analysis == study::Analysis::kEngine) return "analysis: engine is";
   if (spec.analysis == study::Analysis::kSimulate) {
     if (!spec.drive.input.empty()) return "drive: the driven simulation is";
-    if (ModelCalls<M>::KinetoNumFriction(model) > 0)
-      return "analysis: simulate of a model with Coulomb friction (stick and slip) is";
+    if (ModelCalls<M>::KinetoNumFriction(model) > 0 && ModelCalls<M>::Nq(model) > 1)
+      return "analysis: simulate of a model with several inputs and Coulomb friction (stick and slip of each "
+             "joint) is";
   }
   return "";
 }

@@ -44,7 +44,7 @@ template void ConditionAndDeterminantDynamic<1, ModelTypes<ViewModel>::MatCPhi>(
                                                                                 double*, double*);
 }  // namespace internal
 template class Kinetostatics<ViewModel>;
-template table::Columns<CsvRow<Sample<ViewModel>>> FreeColumns<ViewModel, Sample<ViewModel>, false>(bool,
+template table::Columns<CsvRow<Sample<ViewModel>>> FreeColumns<ViewModel, Sample<ViewModel>, true>(bool,
                                                                                                      const ViewModel&);
 template std::vector<std::pair<int, std::string>> RevoluteMagnitudes<ViewModel>(const ViewModel&);
 }  // namespace dynamics

@@ -11,7 +11,14 @@
 #  - driven up the slope at 1 m/s: lambda_s_slide = m g (sin + mu cos), friction_slide =
 #    -mu m g cos(alpha), to 1e-9 (its column after rcond);
 #  - --friction maybe: exit 2, one line, no CSV.
-# Usage: simulate_friction_test.sh <incline_friction_simulate> <out dir>
+# Given mechgen_view and the model's shared object (issue 43), the same runs through the runtime
+# compiled once (`mechgen_view simulate`, M = ViewModel): the stick and slip above and more (from
+# rest stuck, launched up and sliding back, launched up and stuck at the stop, both integrators,
+# the default sampling, --friction off and on, a push that breaks it away), a failed run (too
+# few steps: exit 1) and a usage error (exit 2) give the tool's CSV, standard output, standard
+# error and exit status byte for byte (each run in a directory of its own; mechgen_view --name:
+# the tool's name).
+# Usage: simulate_friction_test.sh <incline_friction_simulate> <out dir> [<mechgen_view> <object>]
 set -u
 sim=$1
 out=$2
@@ -76,4 +83,43 @@ for args in "--friction maybe"; do
   grep -q "^$name: error: .*friction" "$out/usage.err" || fail "'$args': message $(cat "$out/usage.err")"
   [ ! -e "$out/usage.csv" ] || fail "'$args': wrote a CSV"
 done
+
+if [ $# -ge 4 ]; then
+  sim=$(realpath "$sim") view=$(realpath "$3") object=$(realpath "$4")
+  # same <case> <expected status> <args...>: the tool and the view in directories of their own.
+  same() {
+    c=$1 expected=$2
+    shift 2
+    mkdir -p "$out/view_$c/fixed" "$out/view_$c/view" || exit 1
+    (cd "$out/view_$c/fixed" && "$sim" "$@" > ../fixed.out 2> ../fixed.err)
+    fixed_status=$?
+    (cd "$out/view_$c/view" && "$view" --name "$name" simulate "$object" "$@" > ../view.out 2> ../view.err)
+    view_status=$?
+    [ "$fixed_status" -eq "$expected" ] || fail "view $c: the tool exited $fixed_status: $(head -3 "$out/view_$c/fixed.err")"
+    [ "$view_status" -eq "$fixed_status" ] ||
+      fail "view $c: mechgen_view exited $view_status, the tool $fixed_status: $(head -3 "$out/view_$c/view.err")"
+    diff -r "$out/view_$c/fixed" "$out/view_$c/view" > /dev/null ||
+      fail "view $c: the files differ: $(diff -r "$out/view_$c/fixed" "$out/view_$c/view" | head -4)"
+    cmp -s "$out/view_$c/fixed.out" "$out/view_$c/view.out" ||
+      fail "view $c: stdout differs: $(diff "$out/view_$c/fixed.out" "$out/view_$c/view.out" | head -6)"
+    cmp -s "$out/view_$c/fixed.err" "$out/view_$c/view.err" ||
+      fail "view $c: stderr differs: $(diff "$out/view_$c/fixed.err" "$out/view_$c/view.err" | head -4)"
+  }
+  same stay 0 --t-end 2 --dt 0.01 --set mu=0.7 --q0 0.25 --csv out.csv
+  grep -q "stuck by static friction: \[0 s, end)" "$out/view_stay/view.out" || fail "view stay: $(cat "$out/view_stay/view.out")"
+  same up 0 --t-end 2 --dt 0.01 --set mu=0.3 --qd0 3 --rtol 1e-10 --atol 1e-12 --csv out.csv
+  grep -q "stick-slip transitions" "$out/view_up/view.out" || fail "view up: $(cat "$out/view_up/view.out")"
+  same up_stuck 0 --t-end 1.5 --dt 0.005 --set mu=0.7 --qd0 3 --method dop853 --csv out.csv
+  grep -q "stuck by static friction: \[[0-9.e-]* s, end)" "$out/view_up_stuck/view.out" ||
+    fail "view up_stuck: not stuck at the stop: $(cat "$out/view_up_stuck/view.out")"
+  same steps 0 --t-end 1 --set mu=0.3 --qd0 -2 --friction on --csv out.csv
+  # a push along the slope F0 sin(w t) breaks the stuck block away and lets it stick again
+  same push 0 --t-end 6 --dt 0.01 --set mu=0.7 --set F0=25 --csv out.csv
+  grep -q "stuck by static friction: \[0 s, [0-9.e-]* s) \[" "$out/view_push/view.out" ||
+    fail "view push: no breakaway and second stick: $(cat "$out/view_push/view.out")"
+  same off 0 --t-end 1 --dt 0.01 --set mu=0.7 --friction off --csv out.csv
+  same failed 1 --t-end 2 --dt 0.01 --set mu=0.3 --qd0 3 --max-steps 5 --csv out.csv
+  grep -q "the simulation failed" "$out/view_failed/view.err" || fail "view failed: $(cat "$out/view_failed/view.err")"
+  same usage 2 --friction maybe --t-end 1 --csv out.csv
+fi
 echo "simulate friction test passed"

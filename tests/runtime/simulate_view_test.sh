@@ -3,11 +3,13 @@
 # point (<name>.cc + <name>_view.cc, -DMECHGEN_VIEW_ENTRY, g++ -O2 -shared -fPIC), loaded and
 # simulated through the runtime compiled once (mechgen_runtime_view):
 #  - its CSV equals, byte for byte, the per-model tool's (<name>_simulate) for the same options,
-#    on the slider-crank with a motor (one input, switching loads, reactions; its friction off)
+#    on the slider-crank with a motor (one input, switching loads, reactions; a friction joint,
+#    its friction with the model's default, on and off: Coulomb friction's stick and slip through
+#    the view are compared on tests/dynamics' incline, simulate_friction_test.sh)
 #    and the five-bar robot (two inputs, the one-pass M::Rhs stages), each with two option sets,
 #    and so are its exit status, standard output and standard error (a failed run's too);
 #  - --set through the view's parameter table: the same run and summary;
-#  - what the view does not simulate yet (--drive, --design, Coulomb friction) is refused (exit
+#  - what the view does not simulate yet (--drive, --design) is refused (exit
 #    2; run by mechgen, exit 120 and nothing said, for its fallback) with one line on stderr and
 #    nothing written, as are a bad --set, a bad option and a
 #    model without dynamics.
@@ -54,6 +56,9 @@ same fivebar_robot "$robot_tool" --t-end 0.5 --dt 0.005
 same fivebar_robot "$robot_tool" --t-end 0.08 --dt 0.001 --method dop853 --qd0 1,-2 --rtol 1e-10
 # the parameters through the view's table (common/view_params.h): the same run and summary
 same slider_crank_motor "$motor_tool" --friction off --t-end 0.3 --dt 0.005 --set J_fly=0.8 --set m3=5
+# its friction joint O (viscous: no Coulomb coefficient) with the default --friction and with on
+same slider_crank_motor "$motor_tool" --t-end 0.4 --dt 0.004
+same slider_crank_motor "$motor_tool" --friction on --t-end 0.2 --method dop853
 
 # refused <name> <model> <pattern> <args...>: exit 2, one stderr line, nothing written.
 refused() {
@@ -66,10 +71,6 @@ refused() {
   grep -Eq "$pattern" "$name".err || fail "$name: stderr $(cat "$name".err) does not match $pattern"
   [[ -z $(ls -A "$name") ]] || fail "$name: wrote $(ls -A "$name")"
 }
-refused friction slider_crank_motor \
-  "^slider_crank_motor_simulate_view: error: --friction: Coulomb friction .* not reached through the model view" \
-  --t-end 0.1 --csv out.csv
-refused friction_on slider_crank_motor "^slider_crank_motor_simulate_view: error: --friction" --friction on --csv out.csv
 refused drive fivebar_robot "^fivebar_robot_simulate_view: error: --drive: " --drive theta_prox1=speed:2 --csv out.csv
 refused design fivebar_robot "^fivebar_robot_simulate_view: error: --design: " --design --csv out.csv
 refused set fivebar_robot "^fivebar_robot_simulate_view: error: --set 'nosuch=0.3': no parameter 'nosuch'" --set nosuch=0.3 --csv out.csv

@@ -9,7 +9,8 @@
 // coefficient, the inertia's LDLT and Phi_phi's conditioning on fixed-size copies), so nothing
 // may differ, not even in the last bit. Models: a four-bar with massive links (the one-pass
 // M::Rhs stages), the slider-crank with a motor (M::Solve stages, switching loads, reactions;
-// its Coulomb friction off: not through the view yet) and the five-bar robot (two inputs: the
+// its friction joint viscous only: Coulomb friction through the view is compared byte for byte
+// on tests/dynamics' incline by simulate_friction_test.sh) and the five-bar robot (two inputs: the
 // inertia a 2 x 2 LDLT). Part of model_test (no executable of its own).
 #include <cstring>
 #include <string>
@@ -73,7 +74,6 @@ void ExpectViewDynamicsSame(const ModelView& view, double t_end, double sample_d
   const ViewModel model(view);
   MinimalOptions options;
   options.sample_dt = sample_dt;
-  options.coulomb.enabled = false;  // (not through the view yet)
   Fixed fixed(typename Fixed::Params(), options);
   Dynamic dynamic(model, ModelCalls<ViewModel>::DefaultParams(model), options);
   constexpr int kNq = M::kNq;

@@ -254,8 +254,9 @@ fi
 # for what the view does not do yet. The CSV, the summary and the histograms through the view
 # are the per-model program's (MECHGEN_VIEW=0) byte for byte, at 1 and 2 threads: the kinematic
 # sweep and the positions of the four-bar, the statics and the free simulation (with the
-# kinetostatics' reactions) of the massive four-bar (one more per-model compile, ~60 s); --verbose
-# says which ran. A new model's first study compiles its object alone.
+# kinetostatics' reactions) of the massive four-bar (one more per-model compile, ~60 s), and the
+# free simulation with Coulomb friction (stick and slip, a push that breaks the block away) of
+# tests/dynamics' block on an incline (one more, ~40 s); --verbose says which ran. A new model's first study compiles its object alone.
 # A study the view cannot run (tolerance: true) falls back to the per-model program (the bytes
 # of the first run above), and so does a run under an MPI launcher (the ranks); run by hand,
 # mechgen_view refuses what it cannot do: exit 2, one line, no CSV.
@@ -293,12 +294,31 @@ metrics:
   - {kind: at, column: theta_crank_dot, step: 10}
   - {kind: failures}
 EOF
+cp "$source_dir/tests/dynamics/models/incline_friction.yaml" .
+cat > view_friction.yaml << 'EOF'
+method: monte_carlo
+count: 40
+seed: 4
+analysis: simulate
+t_end: 2
+steps: 40
+qd0: [2]
+parameters:
+  mu: {distribution: uniform, nominal: 0.55, tolerance: 0.1}
+  F0: {distribution: uniform, nominal: 20, tolerance: 10}
+metrics:
+  - {kind: max, column: s_slide}
+  - {kind: at, column: s_slide_dot, step: 20}
+  - {kind: max, column: friction_slide}
+  - {kind: rms, column: stuck}
+  - {kind: failures}
+EOF
 "$mechgen" study --verbose fourbar_massive.yaml --study view_statics.yaml --quiet > vfirst.out 2> vfirst.err ||
   fail "view, a new model: exit status $?: $(cat vfirst.err)"
 grep -q "the runtime is compiled once" vfirst.err && ! grep -q "compiling the study command" vfirst.err ||
   fail "view, a new model: not the model's object alone: $(cat vfirst.err)"
 for case in "fourbar.yaml view_sweep" "fourbar.yaml pos" "fourbar_massive.yaml view_statics" \
-            "fourbar_massive.yaml view_simulate"; do
+            "fourbar_massive.yaml view_simulate" "incline_friction.yaml view_friction"; do
   set -- $case
   for t in 1 2; do
     "$mechgen" study --verbose "$1" --study "$2.yaml" --threads $t --csv "$2_v$t.csv" --summary-csv "$2_vs$t.csv" \

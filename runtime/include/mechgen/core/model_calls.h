@@ -347,6 +347,12 @@ struct ModelCalls {
     (void)i;
     return "";
   }
+  /// Whether friction joint i is a slide (its load a force, N) or a pin (a torque, N m).
+  static bool FrictionPrismatic(const M&, int i) {
+    if constexpr (HasStaticsFriction<M>::value) return M::kFrictionPrismatic[static_cast<size_t>(i)];
+    (void)i;
+    return false;
+  }
   /// The links of each joint (a model with reactions and a drawing: kReactionJoint,
   /// kDrawJointLinkA, kDrawJointLinkB, kGroundLink, kLinkNames).
   static constexpr bool HasJointLinks(const M& m) { return HasReactions(m) && HasDrawing<M>::value; }

@@ -649,6 +649,11 @@ struct ModelCalls<ViewModel> {
     out->K_rel = Eigen::Map<const Eigen::MatrixXd>(b + (l.K_rel >= 0 ? l.K_rel : 0), l.K_rel >= 0 ? nf : 0, nq);
   }
 
+  // ---- Simulation: Coulomb friction and the driven motion (dynamics/friction.h, forward.h,
+  // prescribed.h; mechgen_view simulate --friction, --drive) ----
+  /// Whether friction joint i is a slide (its load a force, N) or a pin (a torque, N m).
+  static bool FrictionPrismatic(const M& m, int i) { return m.view->friction_prismatic[i]; }
+
   // ---- Machines (engine, flywheel): what machines/ reads beyond the layers above ----
   /// A free parameter of the view's table by its name in *p, nullptr where the model has none
   /// (or it is a derived one); after setting some, ParametersSet(m, p) brings the derived ones

@@ -132,7 +132,7 @@ extern template void ConditionAndDeterminantDynamic<1, ModelTypes<ViewModel>::Ma
     const ModelTypes<ViewModel>::MatCPhi&, double*, double*);
 }  // namespace internal
 extern template class Kinetostatics<ViewModel>;
-extern template table::Columns<CsvRow<Sample<ViewModel>>> FreeColumns<ViewModel, Sample<ViewModel>, false>(
+extern template table::Columns<CsvRow<Sample<ViewModel>>> FreeColumns<ViewModel, Sample<ViewModel>, true>(
     bool, const ViewModel&);
 extern template std::vector<std::pair<int, std::string>> RevoluteMagnitudes<ViewModel>(const ViewModel&);
 }  // namespace dynamics

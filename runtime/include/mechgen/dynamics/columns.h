@@ -149,24 +149,27 @@ void AddMagnitudeColumns(table::Builder<CsvRow<SampleT>>* add, const M& model = 
 // Coulomb friction of a free run (Sim::kHasCoulomb): friction_<joint> per friction joint and
 // the stuck flag.
 template <class M, class SampleT, bool kHasCoulomb>
-void AddFrictionColumns(table::Builder<CsvRow<SampleT>>* add, bool coulomb) {
+void AddFrictionColumns(table::Builder<CsvRow<SampleT>>* add, bool coulomb, const M& model = M()) {
   using Row = CsvRow<SampleT>;
+  using Calls = ModelCalls<M>;
   if (!coulomb) return;
   if constexpr (kHasCoulomb) {
-    for (int J = 0; J < CoulombFeatures<M>::kNumFriction; ++J) {
-      const bool prismatic = M::kFrictionPrismatic[J];
-      add->Number(std::string("friction_") + M::kFrictionJoints[J], prismatic ? "N" : "N m",
+    const int num_friction = Calls::KinetoNumFriction(model);
+    if (num_friction == 0) return;  // (a view without friction joints: a generated one's kHasCoulomb is false)
+    for (int J = 0; J < num_friction; ++J) {
+      const bool prismatic = Calls::FrictionPrismatic(model, J);
+      add->Number(std::string("friction_") + Calls::FrictionJoint(model, J), prismatic ? "N" : "N m",
                   prismatic ? "Coulomb friction force on the slider along the slide's +u"
                             : "Coulomb friction torque on the joint's second link by its first, CCW +",
                   [J](const Row& r) { return r.s->friction(J); });
     }
-    if constexpr (M::kNq == 1) {
+    if (Calls::Nq(model) == 1) {
       add->Number("stuck", "1", "1: held at rest by static friction (q_dot = q_ddot = 0); 0: moving",
                   [](const Row& r) { return r.s->stuck ? 1.0 : 0.0; });
     } else {
       // Several inputs: each joint's own flag (a stuck joint holds its input at rest).
-      for (int J = 0; J < CoulombFeatures<M>::kNumFriction; ++J)
-        add->Number(std::string("stuck_") + M::kFrictionJoints[J], "1",
+      for (int J = 0; J < num_friction; ++J)
+        add->Number(std::string("stuck_") + Calls::FrictionJoint(model, J), "1",
                     "1: the joint held at relative rest by static friction (its input's speed 0); 0: slipping",
                     [J](const Row& r) { return r.s->joint_stuck[J] ? 1.0 : 0.0; });
     }
@@ -199,7 +202,7 @@ table::Columns<CsvRow<SampleT>> FreeColumns(bool coulomb, const M& model = M()) 
   table::Builder<Row> add(&columns);
   AddMotionColumns<M, SampleT, false>(&add, model);
   AddForceColumns<M, SampleT>(&add, model);
-  if constexpr (kHasCoulomb) AddFrictionColumns<M, SampleT, kHasCoulomb>(&add, coulomb);
+  if constexpr (kHasCoulomb) AddFrictionColumns<M, SampleT, kHasCoulomb>(&add, coulomb, model);
   AddReactionColumns<M, SampleT>(&add, model);
   AddMagnitudeColumns<M, SampleT>(&add, model);
   return columns;

@@ -408,15 +408,10 @@ class PreparedRhsConstants {
 
 namespace internal {
 /// Coulomb friction with stick and slip as the minimal method simulates it
-/// (friction.h's CoulombFeatures): not through the model view yet (issue 43; its simulate
-/// command refuses a run with it).
-template <class M, bool = ModelCalls<M>::kView>
-struct MinimalCoulomb : CoulombFeatures<M> {};
+/// (friction.h's CoulombFeatures; through the model view a count known at run time, at most
+/// kMaxFriction, and one input only: MinimalDynamics::Simulate says so of several).
 template <class M>
-struct MinimalCoulomb<M, true> {
-  static constexpr int kNumFriction = 0;
-  static constexpr bool kHasFriction = false;
-};
+struct MinimalCoulomb : CoulombFeatures<M> {};
 }  // namespace internal
 
 /// One evaluated configuration of the minimal method.
@@ -440,11 +435,13 @@ struct Sample {
   /// Coulomb friction (MinimalSummary::coulomb): the friction loads f_J of the model's
   /// kFrictionJoints (dynamics/friction.h: the torque on the joint's second link by its first,
   /// N m, CCW +; the force on a slider along +u, N), included in Q and P_nc; 0 without.
-  Eigen::Matrix<double, internal::MinimalCoulomb<M>::kNumFriction, 1> friction =
-      Eigen::Matrix<double, internal::MinimalCoulomb<M>::kNumFriction, 1>::Zero();
+  /// (Zero for a generated model's fixed size; empty for the view's, until assigned.)
+  using VecFriction = typename FrictionState<internal::MinimalCoulomb<M>::kNumFriction,
+                                             internal::MinimalCoulomb<M>::kMaxFriction>::VecF;
+  VecFriction friction = internal::ZeroOrEmpty<VecFriction>();
   bool stuck = false;  ///< stuck by static friction (qd = qdd = 0); several inputs: any joint stuck
   /// Several inputs: joint J stuck (holding its input at rest); one input: every entry = stuck.
-  std::array<bool, internal::MinimalCoulomb<M>::kNumFriction> joint_stuck{};
+  std::array<bool, internal::MinimalCoulomb<M>::kMaxFriction> joint_stuck{};
 };
 
 /// No load of the caller: the model's own Q only.
@@ -509,10 +506,14 @@ class MinimalDynamics {
   static constexpr bool kHasSwitches = kNumSwitches > 0;
   /// Coulomb friction with stick and slip can be simulated (MinimalOptions::coulomb): friction
   /// joints, no caller's load (dynamics/friction.h; several inputs: each joint its own mode).
-  /// Not through the model view (internal::MinimalCoulomb).
+  /// Through the model view: whether it may (the view's friction joints at run time, one
+  /// input only; internal::MinimalCoulomb).
   static constexpr bool kHasCoulomb = internal::MinimalCoulomb<M>::kHasFriction && !kHasLoad;
   static constexpr bool kReportsFriction = kHasCoulomb;
   static constexpr int kNumFriction = internal::MinimalCoulomb<M>::kNumFriction;
+  /// kNumFriction, or the bound of the view's run-time count.
+  static constexpr int kMaxFriction = internal::MinimalCoulomb<M>::kMaxFriction;
+  using FrictionStateT = FrictionState<kNumFriction, kMaxFriction>;
 
   /// (A generated M only: a ViewModel names its view.)
   template <class Model = M, std::enable_if_t<!ModelCalls<Model>::kView, int> = 0>
@@ -700,12 +701,13 @@ class MinimalDynamics {
       if (coulomb_active_) {
         Coefficients c;
         Dyn d;
-        FrictionState<kNumFriction> fs;
+        FrictionStateT fs;
         if (!EvalCoulomb(t, s->q, s->qd, &s->phi, &c, &d, &s->qdd, &fs)) return false;
         FillSample(d, c, fs, s);
         return true;
       }
     }
+    if constexpr (Calls::kView && kHasCoulomb) s->friction = Friction::ZeroF(model_);  // (see Simulate)
     s->phi = Predictor(s->q);
     if (!SolveAt(s->q, &s->phi)) return false;
     Coefficients c;
@@ -756,9 +758,10 @@ class MinimalDynamics {
   bool SimulatesCoulomb(const VecQ& q0) {
     if constexpr (kHasCoulomb) {
       if (!options_.coulomb.enabled) return false;
-      VecPhi phi;
-      Coefficients c;
-      return Positions(q0, &phi, &c) && Friction::AnyGain(p_, q0, phi, c);
+      if constexpr (Calls::kView) {
+        if (Nq() > 1) return false;  // (several inputs: not through the view; Simulate says so)
+      }
+      return AnyCoulombGain(q0);
     } else {
       (void)q0;
       return false;
@@ -815,11 +818,17 @@ class MinimalDynamics {
     coulomb_active_ = false;
     friction_failed_ = false;
     if constexpr (internal::MinimalCoulomb<M>::kHasFriction) {
-      if (options_.coulomb.enabled) {
+      // (The view: only where its model has friction joints, as a generated model's type says.)
+      if (options_.coulomb.enabled && Friction::Count(model_) > 0) {
         if constexpr (!kHasCoulomb) {
           summary->message = "Coulomb friction is not simulated with a caller's load";
         } else {
-          if (SimulatesCoulomb(q0) && kNq > 1) {
+          const bool simulates = SimulatesCoulomb(q0);
+          bool several_through_view = false;  // (the view: one input's stick and slip only)
+          if constexpr (Calls::kView) several_through_view = Nq() > 1 && AnyCoulombGain(q0);
+          if (several_through_view) {
+            summary->message = "Coulomb friction with several inputs is not simulated through the model view";
+          } else if (simulates && kNq > 1) {
             coulomb_active_ = true;
             summary->coulomb = true;
             if constexpr (kNq > 1) {
@@ -832,7 +841,7 @@ class MinimalDynamics {
                 return false;
               }
             }
-          } else if (SimulatesCoulomb(q0)) {
+          } else if (simulates) {
             coulomb_active_ = true;
             summary->coulomb = true;
             // The first mode: slip along qd0, or the decision at rest.
@@ -861,6 +870,11 @@ class MinimalDynamics {
       }
     }
     events.stick_step = options_.stick_step;
+    if constexpr (Calls::kView && kHasCoulomb) {
+      // The view's samples carry the friction loads of every friction joint, zeros where the
+      // run does not simulate Coulomb friction, as a generated model's fixed-size ones do.
+      last_.sample.friction = Friction::ZeroF(model_);
+    }
     return internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);
   }
 
@@ -876,24 +890,32 @@ class MinimalDynamics {
   static constexpr bool kCanProjectEnergy = true;
   using Friction = CoulombFriction<M>;
 
+  /// A friction joint with a coefficient (gain mu r or mu not 0) at the parameters, at q0.
+  bool AnyCoulombGain(const VecQ& q0) {
+    VecPhi phi;
+    Coefficients c;
+    return Friction::Count(model_) > 0 && Positions(q0, &phi, &c) && Friction::AnyGain(model_, p_, q0, phi, c);
+  }
+
   // ---- Coulomb friction (dynamics/friction.h): the mode (stuck, or slipping along
   // slip_dir_) is the simulation's, changed by the event loop at located transitions ----
   /// Positions, coefficients, the dynamics with the friction loads and qdd at (t, q, qd) in
   /// the current mode; false (friction_failed_ for the friction) when something fails.
   bool EvalCoulomb(double t, const VecQ& q, const VecQ& qd, VecPhi* phi, Coefficients* c, Dyn* d,
-                   VecQ* qdd, FrictionState<kNumFriction>* fs) {
+                   VecQ* qdd, FrictionStateT* fs) {
     friction_failed_ = false;
-    *phi = phi_ref_ + K_ref_ * (q - q_ref_);
+    if constexpr (kNq == Eigen::Dynamic) qdd->resize(Nq());
+    *phi = Predictor(q);
     if (!SolveAt(q, phi)) return false;
     EvalCoefficients(q, *phi, c);
     if constexpr (kNq > 1) {
       return EvalJoints(t, q, qd, *phi, *c, d, qdd, fs, nullptr, nullptr);
     }
     if (stuck_) {
-      const VecQ zero = VecQ::Zero();
+      const VecQ zero = ZeroQ();
       EvalDynamics(q, *phi, zero, t, *c, d);
-      FrictionState<kNumFriction> b;
-      if (!Friction::Bound(options_.coulomb, p_, q, *phi, t, *c, d->Q(0), &b)) {
+      FrictionStateT b;
+      if (!Friction::Bound(model_, options_.coulomb, p_, q, *phi, t, *c, d->Q(0), &b)) {
         friction_failed_ = true;
         return false;
       }
@@ -901,14 +923,15 @@ class MinimalDynamics {
       Friction::Holding(d->Q(0), b, fs);
       d->Q(0) += fs->Q_friction;
       d->P_nc = 0;
-      qdd->setZero();
+      *qdd = ZeroQ();
       return true;
     }
     EvalDynamics(q, *phi, qd, t, *c, d);
     const double I = d->I(0, 0);
     singular_inertia_ = !(I > 0) || !std::isfinite(I);
     if (singular_inertia_) return false;
-    if (!Friction::Slip(options_.coulomb, p_, q, *phi, qd, t, *c, I, d->Q(0) - d->h(0), slip_dir_, qdd, fs)) {
+    if (!Friction::Slip(model_, options_.coulomb, p_, q, *phi, qd, t, *c, I, d->Q(0) - d->h(0), slip_dir_, qdd,
+                        fs)) {
       friction_failed_ = true;
       return false;
     }
@@ -918,33 +941,31 @@ class MinimalDynamics {
   }
 
   bool DerivativeCoulomb(double t, const State& y, State* dy) {
-    const VecQ q = y.template head<kNq>();
-    const VecQ qd = y.template segment<kNq>(kNq);
+    const VecQ q = QOf(y);
+    const VecQ qd = QdOf(y);
     VecPhi phi;
     Coefficients c;
     Dyn d;
     VecQ qdd;
-    FrictionState<kNumFriction> fs;
+    FrictionStateT fs;
     if (!EvalCoulomb(t, q, qd, &phi, &c, &d, &qdd, &fs)) {
       ++position_failures_;
       return false;
     }
-    dy->template head<kNq>() = stuck_ ? VecQ::Zero() : qd;
-    dy->template segment<kNq>(kNq) = qdd;
-    (*dy)(2 * kNq) = d.P_nc;
+    SetDerivative(stuck_ ? ZeroQ() : qd, qdd, d.P_nc, dy);
     if (caching_) {
       last_.t = t;
       last_.y = y;
       FillSample(d, c, fs, &last_.sample);
       last_.sample.qdd = qdd;
       last_.sample.phi = phi;
-      if constexpr (kNphi > 0) last_.Phi_phi = c.Phi_phi;
+      if constexpr (kNphi != 0) last_.Phi_phi = c.Phi_phi;
       last_.valid = true;
     }
     return true;
   }
 
-  void FillSample(const Dyn& d, const Coefficients& c, const FrictionState<kNumFriction>& fs, SampleT* s) {
+  void FillSample(const Dyn& d, const Coefficients& c, const FrictionStateT& fs, SampleT* s) {
     s->T = d.T;
     s->V = d.V;
     s->E = d.T + d.V;
@@ -970,19 +991,19 @@ class MinimalDynamics {
     Coefficients c;
     if (!Positions(q, &phi, &c)) return false;
     Dyn d;
-    const VecQ zero = VecQ::Zero();
+    const VecQ zero = ZeroQ();
     EvalDynamics(q, phi, zero, t, c, &d);
     const double Q0 = d.Q(0);
-    FrictionState<kNumFriction> b;
-    if (!Friction::Bound(options_.coulomb, p_, q, phi, t, c, Q0, &b)) return false;
+    FrictionStateT b;
+    if (!Friction::Bound(model_, options_.coulomb, p_, q, phi, t, c, Q0, &b)) return false;
     *stuck = true;
     *e = Q0 > 0 ? 1.0 : -1.0;
     if (!(std::abs(Q0) > b.bound)) return true;
     const double I = d.I(0, 0);
     if (!(I > 0) || !std::isfinite(I)) return false;
-    VecQ qdd;
-    FrictionState<kNumFriction> s;
-    if (!Friction::Slip(options_.coulomb, p_, q, phi, zero, t, c, I, Q0 - d.h(0), *e, &qdd, &s)) return false;
+    VecQ qdd = Sized<VecQ>(Nq());
+    FrictionStateT s;
+    if (!Friction::Slip(model_, options_.coulomb, p_, q, phi, zero, t, c, I, Q0 - d.h(0), *e, &qdd, &s)) return false;
     *stuck = !(*e * qdd(0) > 0);
     return true;
   }
@@ -990,12 +1011,12 @@ class MinimalDynamics {
   /// The dynamics in the joints' modes at (t, q, qd) (positions solved): EvalDynamics, then
   /// CoulombFriction::Mixed; *bound and *K_rel of every joint if not nullptr.
   bool EvalJoints(double t, const VecQ& q, const VecQ& qd, const VecPhi& phi, const Coefficients& c, Dyn* d,
-                  VecQ* qdd, FrictionState<kNumFriction>* fs, Eigen::Matrix<double, kNumFriction, 1>* bound,
+                  VecQ* qdd, FrictionStateT* fs, Eigen::Matrix<double, kNumFriction, 1>* bound,
                   Eigen::Matrix<double, kNumFriction, kNq>* K_rel) {
     EvalDynamics(q, phi, qd, t, c, d);
     Eigen::Matrix<double, kNumFriction, 1> B;
     Eigen::Matrix<double, kNumFriction, kNq> K;
-    if (!Friction::Mixed(options_.coulomb, p_, q, phi, qd, t, c, d->I, VecQ(d->Q - d->h), joints_, qdd, &fs->f, &B, &K,
+    if (!Friction::Mixed(model_, options_.coulomb, p_, q, phi, qd, t, c, d->I, VecQ(d->Q - d->h), joints_, qdd, &fs->f, &B, &K,
                          &fs->iterations)) {
       friction_failed_ = true;
       return false;
@@ -1027,7 +1048,7 @@ class MinimalDynamics {
     if (!Positions(q, &phi, &c)) return false;
     Dyn d;
     VecQ qdd;
-    FrictionState<kNumFriction> fs;
+    FrictionStateT fs;
     Eigen::Matrix<double, kNumFriction, 1> B;
     Eigen::Matrix<double, kNumFriction, kNq> K;
     if (!EvalJoints(t, q, qd, phi, c, &d, &qdd, &fs, &B, &K)) return false;
@@ -1051,7 +1072,7 @@ class MinimalDynamics {
   /// load) until every stuck one holds, a released one whose slip would at once stop again
   /// (dir_J K_rel_J qdd <= 0) stuck for good. false: the friction failed (*failed_joint -1) or
   /// no consistent mode.
-  bool DecideJoints(double t, State* y, const std::array<bool, kNumFriction>& at_rest, int* failed_joint) {
+  bool DecideJoints(double t, State* y, const std::array<bool, kMaxFriction>& at_rest, int* failed_joint) {
     *failed_joint = -1;
     const VecQ q = y->template head<kNq>();
     VecPhi phi;
@@ -1059,7 +1080,7 @@ class MinimalDynamics {
     if (!Positions(q, &phi, &c)) return false;
     Dyn d;
     VecQ qdd;
-    FrictionState<kNumFriction> fs;
+    FrictionStateT fs;
     Eigen::Matrix<double, kNumFriction, 1> B;
     Eigen::Matrix<double, kNumFriction, kNq> K;
     // K_rel from one evaluation (it does not depend on the modes).
@@ -1069,7 +1090,7 @@ class MinimalDynamics {
       M::template Kinetostatics<double>(p_, q, phi, zero, zero, t, c, &st);
       K = st.K_rel;
     }
-    std::array<bool, kNumFriction> final_stuck{};
+    std::array<bool, kMaxFriction> final_stuck{};
     for (int J = 0; J < kNumFriction; ++J) {
       if (!at_rest[J]) continue;
       int i = -1;
@@ -1132,9 +1153,9 @@ class MinimalDynamics {
     typename M::template StaticsT<double> st;
     const VecQ zero = VecQ::Zero();
     M::template Kinetostatics<double>(p_, q, phi, zero, zero, t0, c, &st);
-    std::array<bool, kNumFriction> at_rest{};
+    std::array<bool, kMaxFriction> at_rest{};
     bool any = false;
-    joints_ = JointModes<kNumFriction>();
+    joints_ = JointModes<kMaxFriction>();
     for (int J = 0; J < kNumFriction; ++J) {
       const double v = st.K_rel.row(J).dot(qd);
       joints_.dir[J] = v < 0 ? -1.0 : 1.0;
@@ -1160,8 +1181,8 @@ class MinimalDynamics {
   /// A transition at (t, *y) (several inputs): the joints at or past their margin's zero
   /// decided again; the summary's stuck bookkeeping. false: a status (the message set).
   bool ResolveJoints(double t, State* y, MinimalSummary* summary) {
-    const JointModes<kNumFriction> before = joints_;
-    std::array<bool, kNumFriction> at_rest{};
+    const JointModes<kMaxFriction> before = joints_;
+    std::array<bool, kMaxFriction> at_rest{};
     // Every joint whose margin is not positive here (slipping: at relative rest; stuck: at
     // its bound), and every stuck one (their holding loads change with the others' modes).
     {
@@ -1171,7 +1192,7 @@ class MinimalDynamics {
       Coefficients c;
       Dyn d;
       VecQ qdd;
-      FrictionState<kNumFriction> fs;
+      FrictionStateT fs;
       Eigen::Matrix<double, kNumFriction, 1> B;
       Eigen::Matrix<double, kNumFriction, kNq> K;
       if (!Positions(q, &phi, &c) || !EvalJoints(t, q, qd, phi, c, &d, &qdd, &fs, &B, &K)) {
@@ -1212,7 +1233,7 @@ class MinimalDynamics {
   void NameFailure(int joint, const char* where, MinimalSummary* summary) {
     (void)where;
     if (joint >= 0) {
-      summary->friction_joint = M::kFrictionJoints[joint];
+      summary->friction_joint = Calls::FrictionJoint(model_, joint);
       summary->message =
           "a friction joint came to relative rest whose relative motion is not one input's alone (or "
           "shares its input with another stuck joint): its stick is not simulated with several inputs";
@@ -1489,8 +1510,8 @@ class MinimalDynamics {
   bool coulomb_active_ = false, stuck_ = false, friction_failed_ = false;
   double slip_dir_ = 1;
   double breakaway_seen_ = std::numeric_limits<double>::infinity();
-  JointModes<kNumFriction> joints_;                  ///< several inputs: each joint's mode
-  std::array<double, kNumFriction> stuck_since_{};  ///< ... and when it stuck
+  JointModes<kMaxFriction> joints_;                  ///< several inputs: each joint's mode
+  std::array<double, kMaxFriction> stuck_since_{};  ///< ... and when it stuck
 };
 
 }  // namespace mechgen::dynamics

@@ -60,6 +60,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/statics/traits.h"
 
@@ -89,24 +90,48 @@ struct CoulombOptions {
   }
 };
 
-/// What the free simulation knows of a model's Coulomb friction.
+namespace internal {
+/// The most friction joints of a model: its count, or for the model view (a count known at run
+/// time only, Eigen::Dynamic) the bound of its types (ModelTypes<ViewModel>::kMaxFriction).
+template <class M, int N>
+struct MaxFrictionOf : std::integral_constant<int, N> {};
+template <class M>
+struct MaxFrictionOf<M, Eigen::Dynamic> : std::integral_constant<int, ModelTypes<M>::kMaxFriction> {};
+/// A zero vector of type V: of its fixed size, or empty where the size is known at run time
+/// only (the model view's; sized where it is assigned).
+template <class V>
+V ZeroOrEmpty() {
+  if constexpr (V::SizeAtCompileTime != Eigen::Dynamic) {
+    return V::Zero();
+  } else {
+    return V();
+  }
+}
+}  // namespace internal
+
+/// What the free simulation knows of a model's Coulomb friction. For the model view
+/// (ModelCalls<M>::kView) kNumFriction is Eigen::Dynamic (the view's KinetoNumFriction() at
+/// run time, at most kMaxFriction) and kHasFriction says that it may have some.
 template <class M, bool = HasDynamics<M>::value>
 struct CoulombFeatures {
   static constexpr int kNumFriction = 0;
+  static constexpr int kMaxFriction = 0;
   static constexpr bool kHasFriction = false;
 };
 template <class M>
 struct CoulombFeatures<M, true> {
   static constexpr int kNumFriction = statics::StaticsFeatures<M>::kNumFriction;
+  static constexpr int kMaxFriction = internal::MaxFrictionOf<M, kNumFriction>::value;
   /// Friction joints and the generated EvalKinetostatics taking their loads.
-  static constexpr bool kHasFriction = kNumFriction > 0;
+  static constexpr bool kHasFriction = kNumFriction > 0 || kNumFriction == Eigen::Dynamic;
 };
 
-/// The friction of one evaluation (Sample::friction of a free simulation).
-template <int kNumFriction>
+/// The friction of one evaluation (Sample::friction of a free simulation); kMax bounds a
+/// run-time count (kNumFriction = Eigen::Dynamic: the model view's).
+template <int kNumFriction, int kMax = kNumFriction>
 struct FrictionState {
-  using VecF = Eigen::Matrix<double, kNumFriction, 1>;
-  VecF f = VecF::Zero();  ///< the friction loads (see the file comment for units and signs)
+  using VecF = Eigen::Matrix<double, kNumFriction, 1, 0, kMax, 1>;
+  VecF f = internal::ZeroOrEmpty<VecF>();  ///< the friction loads (see the file comment for units and signs)
   double Q_friction = 0;  ///< their generalized force K_rel^T f (kNq = 1)
   double bound = 0;       ///< at rest: B, the largest |Q_friction| static friction holds
   int iterations = 0;     ///< kinetostatic evaluations made
@@ -131,30 +156,90 @@ struct JointModes {
   }
 };
 
+namespace internal {
+/// K_rel^T f of one input (K_rel: a column of the friction joints' entries): Eigen's inner
+/// product of a generated model's fixed sizes; for the model view's bounded dynamic K_rel and f
+/// the same product on fixed-size copies of the view's count (Eigen's unrolled reduction adds
+/// the entries pairwise, its reduction of a run-time length in order: from three joints on the
+/// sums would round otherwise), so that both give the same bits.
+template <int k = 1, class MatKrel, class VecF>
+double FrictionForceOfOneInput(const MatKrel& K_rel, const VecF& f) {
+  if constexpr (MatKrel::RowsAtCompileTime != Eigen::Dynamic) {
+    return (K_rel.transpose() * f)(0);
+  } else if constexpr (k <= MatKrel::MaxRowsAtCompileTime) {
+    if (f.rows() != k) return FrictionForceOfOneInput<k + 1>(K_rel, f);
+    const Eigen::Matrix<double, k, 1> K = K_rel.col(0);
+    const Eigen::Matrix<double, k, 1> fk = f;
+    return (K.transpose() * fk)(0);
+  } else {
+    return K_rel.col(0).dot(f);
+  }
+}
+}  // namespace internal
+
 /**
  * CoulombFriction<M>: the slip's friction loads and the decision at rest, at one
  * configuration (q, phi, c) of a model with kNq = 1 (see the file comment); Prescribed() for
- * a driven motion and Mixed() for several inputs, any kNq.
+ * a driven motion and Mixed() for several inputs, any kNq. The model is reached through
+ * ModelCalls<M> (core/model_calls.h): a generated model's empty tag, or the model view
+ * (its friction joints counted at run time; Mixed() and InputJoint() for a generated model
+ * only).
  */
 template <class M>
 class CoulombFriction {
  public:
+  using Calls = ModelCalls<M>;
   static constexpr int kNq = M::kNq;
   static constexpr int kNumFriction = CoulombFeatures<M>::kNumFriction;
-  using Params = typename M::template ParamsT<double>;
-  using Coefficients = typename M::template CoefficientsT<double>;
-  using Statics = typename M::template StaticsT<double>;
-  using VecQ = Eigen::Matrix<double, kNq, 1>;
-  using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
-  using VecF = Eigen::Matrix<double, kNumFriction, 1>;
-  using State = FrictionState<kNumFriction>;
+  static constexpr int kMaxFriction = CoulombFeatures<M>::kMaxFriction;
+  using Params = typename ModelTypes<M>::Params;
+  using Coefficients = typename ModelTypes<M>::Coefficients;
+  using Statics = typename Calls::template KinetostaticsOut<M>;
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecPhi = typename ModelTypes<M>::VecPhi;
+  using State = FrictionState<kNumFriction, kMaxFriction>;
+  using VecF = typename State::VecF;
+
+  /// The friction joints (kNumFriction, the view's at run time).
+  static int Count(const M& model) {
+    if constexpr (kNumFriction != Eigen::Dynamic) {
+      (void)model;
+      return kNumFriction;
+    } else {
+      return Calls::KinetoNumFriction(model);
+    }
+  }
+  /// Zero inputs, and zero loads of every friction joint, at the model's sizes.
+  static VecQ ZeroQ(const M& model) {
+    if constexpr (kNq != Eigen::Dynamic) {
+      (void)model;
+      return VecQ::Zero();
+    } else {
+      return VecQ::Zero(Calls::Nq(model));
+    }
+  }
+  static VecF ZeroF(const M& model) {
+    if constexpr (kNumFriction != Eigen::Dynamic) {
+      (void)model;
+      return VecF::Zero();
+    } else {
+      return VecF::Zero(Count(model));
+    }
+  }
+  /// The kinetostatics at (t, q, qd, qdd) with the friction loads f (nullptr: none).
+  static void Kineto(const M& model, const Params& p, const VecQ& q, const VecPhi& phi, const VecQ& qd,
+                     const VecQ& qdd, double t, const Coefficients& c, Statics* st, const VecF* f) {
+    Calls::Kinetostatics(model, p, q, phi, qd, qdd, t, c, st, f);
+  }
 
   /// Every gain_J (mu r, mu) at p, from one evaluation at (q, phi): is any Coulomb friction there?
-  static bool AnyGain(const Params& p, const VecQ& q, const VecPhi& phi, const Coefficients& c) {
+  static bool AnyGain(const M& model, const Params& p, const VecQ& q, const VecPhi& phi, const Coefficients& c) {
+    const int nf = Count(model);
+    if (nf == 0) return false;  // (a view without friction joints)
     Statics st;
-    const VecQ zero = VecQ::Zero();
-    M::template Kinetostatics<double>(p, q, phi, zero, zero, 0.0, c, &st);
-    for (int J = 0; J < kNumFriction; ++J)
+    const VecQ zero = ZeroQ(model);
+    Kineto(model, p, q, phi, zero, zero, 0.0, c, &st, nullptr);
+    for (int J = 0; J < nf; ++J)
       if (st.gain(J) != 0) return true;
     return false;
   }
@@ -164,7 +249,8 @@ class CoulombFriction {
    * Q_minus_h = Q(f = 0) - h and I from the generated EvalDynamics there.
    * \return false when the iteration does not converge or a value is not finite.
    */
-  static bool Slip(const CoulombOptions& o,
+  static bool Slip(const M& model,
+                   const CoulombOptions& o,
                    const Params& p,
                    const VecQ& q,
                    const VecPhi& phi,
@@ -177,19 +263,20 @@ class CoulombFriction {
                    VecQ* qdd,
                    State* s) {
     Statics st;
-    VecF f = VecF::Zero();
+    const int nf = Count(model);
+    VecF f = ZeroF(model);
     (*qdd)(0) = Q_minus_h / I;
     s->iterations = 0;
     for (int k = 0; k < o.max_iterations; ++k) {
-      M::template Kinetostatics<double>(p, q, phi, qd, *qdd, t, c, &st, &f);
+      Kineto(model, p, q, phi, qd, *qdd, t, c, &st, &f);
       ++s->iterations;
-      VecF f_next;
-      for (int J = 0; J < kNumFriction; ++J) f_next(J) = -st.gain(J) * st.normal(J) * Sign(st.K_rel(J, 0) * e);
+      VecF f_next = ZeroF(model);
+      for (int J = 0; J < nf; ++J) f_next(J) = -st.gain(J) * st.normal(J) * Sign(st.K_rel(J, 0) * e);
       if (!f_next.allFinite()) return false;
       const double change = (f_next - f).cwiseAbs().maxCoeff();
       const double size = f_next.cwiseAbs().maxCoeff();
       f = f_next;
-      const double Q_f = (st.K_rel.transpose() * f)(0);
+      const double Q_f = internal::FrictionForceOfOneInput(st.K_rel, f);
       (*qdd)(0) = (Q_minus_h + Q_f) / I;
       if (!std::isfinite((*qdd)(0))) return false;
       if (change <= o.tolerance * size) {
@@ -207,7 +294,8 @@ class CoulombFriction {
    * impending slip in e = sign(Q0) (Q0 = Q(t, q, 0, f = 0)); s->f the loads at the bound.
    * \return false when the iteration does not converge or a value is not finite.
    */
-  static bool Bound(const CoulombOptions& o,
+  static bool Bound(const M& model,
+                    const CoulombOptions& o,
                     const Params& p,
                     const VecQ& q,
                     const VecPhi& phi,
@@ -216,17 +304,18 @@ class CoulombFriction {
                     double Q0,
                     State* s) {
     Statics st;
-    VecF f = VecF::Zero();
-    const VecQ zero = VecQ::Zero();
+    const int nf = Count(model);
+    VecF f = ZeroF(model);
+    const VecQ zero = ZeroQ(model);
     const double e = Q0 > 0 ? 1.0 : -1.0;  // Q0 = 0: either way (B does not depend on it
                                            // at one friction joint)
     s->iterations = 0;
     for (int k = 0; k < o.max_iterations; ++k) {
-      M::template Kinetostatics<double>(p, q, phi, zero, zero, t, c, &st, &f);
+      Kineto(model, p, q, phi, zero, zero, t, c, &st, &f);
       ++s->iterations;
-      VecF f_next;
+      VecF f_next = ZeroF(model);
       double B = 0;
-      for (int J = 0; J < kNumFriction; ++J) {
+      for (int J = 0; J < nf; ++J) {
         f_next(J) = -st.gain(J) * st.normal(J) * Sign(st.K_rel(J, 0) * e);
         B += st.gain(J) * st.normal(J) * std::abs(st.K_rel(J, 0));
       }
@@ -236,7 +325,7 @@ class CoulombFriction {
       if (change <= o.tolerance * f.cwiseAbs().maxCoeff()) {
         s->f = f;
         s->bound = B;
-        s->Q_friction = (st.K_rel.transpose() * f)(0);
+        s->Q_friction = internal::FrictionForceOfOneInput(st.K_rel, f);
         return true;
       }
     }
@@ -264,7 +353,8 @@ class CoulombFriction {
    * generalized force; *st the kinetostatics with the converged loads.
    * \return false when the iteration does not converge or a value is not finite.
    */
-  static bool Prescribed(const CoulombOptions& o,
+  static bool Prescribed(const M& model,
+                         const CoulombOptions& o,
                          const Params& p,
                          const VecQ& q,
                          const VecPhi& phi,
@@ -276,19 +366,31 @@ class CoulombFriction {
                          VecQ* Q_f,
                          int* iterations) {
     Statics st;
-    f->setZero();
+    const int nf = Count(model);
+    *f = ZeroF(model);
     *iterations = 0;
     for (int k = 0; k < o.max_iterations; ++k) {
-      M::template Kinetostatics<double>(p, q, phi, qd, qdd, t, c, &st, f);
+      Kineto(model, p, q, phi, qd, qdd, t, c, &st, f);
       ++*iterations;
-      VecF f_next;
-      for (int J = 0; J < kNumFriction; ++J)
+      VecF f_next = ZeroF(model);
+      for (int J = 0; J < nf; ++J)
         f_next(J) = -st.gain(J) * st.normal(J) * Sign(st.K_rel.row(J).dot(qd));
       if (!f_next.allFinite()) return false;
       const double change = (f_next - *f).cwiseAbs().maxCoeff();
       *f = f_next;
       if (change <= o.tolerance * f->cwiseAbs().maxCoeff()) {
-        *Q_f = st.K_rel.transpose() * *f;
+        if constexpr (kNq != Eigen::Dynamic) {
+          *Q_f = st.K_rel.transpose() * *f;
+        } else if (Calls::Nq(model) == 1) {
+          // (one input: the fixed-size inner product's sums, FrictionForceOfOneInput)
+          Q_f->resize(1);
+          (*Q_f)(0) = internal::FrictionForceOfOneInput(st.K_rel, *f);
+        } else {
+          // Several inputs through the view: each entry a coefficient-based sum over the
+          // joints (Times); from three friction joints on its last bit may differ from the
+          // fixed-size product's (no such model is shipped).
+          *Q_f = Times(st.K_rel.transpose(), *f);
+        }
         return Q_f->allFinite();
       }
     }
@@ -306,7 +408,8 @@ class CoulombFriction {
    * positive definite or a value is not finite.
    */
   template <class MatI, class MatKrel>
-  static bool Mixed(const CoulombOptions& o,
+  static bool Mixed(const M& model,
+                    const CoulombOptions& o,
                     const Params& p,
                     const VecQ& q,
                     const VecPhi& phi,
@@ -352,7 +455,7 @@ class CoulombFriction {
       VecF f_now = *f;
       for (int J = 0; J < kNumFriction; ++J)
         if (m.stuck[J]) f_now(J) = (I.row(m.held[J]).dot(*qdd) - b(m.held[J])) / m.k[J];
-      M::template Kinetostatics<double>(p, q, phi, qd, *qdd, t, c, &st, &f_now);
+      Kineto(model, p, q, phi, qd, *qdd, t, c, &st, &f_now);
       ++*iterations;
       have_K = true;
       VecF f_next = f_now;

@@ -673,7 +673,7 @@ class PrescribedDynamics {
           Coefficients c;
           if (SolveAt(q, &phi)) {
             EvalCoefficients(q, phi, &c);
-            coulomb_active_ = CoulombFriction<M>::AnyGain(p_, q, phi, c);
+            coulomb_active_ = CoulombFriction<M>::AnyGain(M(), p_, q, phi, c);
           }
           summary->coulomb = coulomb_active_;
         } else {
@@ -786,7 +786,7 @@ class PrescribedDynamics {
         VecQ Q_f;
         int iterations = 0;
         friction_failed_ = false;
-        if (!CoulombFriction<M>::Prescribed(options_.coulomb, p_, q, phi, qd, qdd, t, *c, &s->friction, &Q_f,
+        if (!CoulombFriction<M>::Prescribed(M(), options_.coulomb, p_, q, phi, qd, qdd, t, *c, &s->friction, &Q_f,
                                             &iterations)) {
           friction_failed_ = true;
           return false;

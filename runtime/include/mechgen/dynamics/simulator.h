@@ -679,7 +679,7 @@ struct EventLoop {
             }
           }
         } else if (sim->CoulombActive()) {
-          constexpr int kQd = P::kNq;  // the index of qd(0) in the state
+          const int kQd = NumInputs(sim);  // the index of qd(0) in the state
           const double t_start = integrator.t_prev();
           double t_transition = t;
           if (!sim->Stuck()) {
@@ -721,7 +721,7 @@ struct EventLoop {
                 return finish(Status::kPositionFailed, tb);
               }
               y_transition(kQd) = 0;
-              if (!sim->DecideAtRest(tb, y_transition.template head<P::kNq>(), &new_stuck, &new_direction)) {
+              if (!sim->DecideAtRest(tb, sim->QOf(y_transition), &new_stuck, &new_direction)) {
                 summary->message = "the friction at rest did not converge where the speed reached zero";
                 return finish(Status::kFrictionFailed, tb);
               }
@@ -730,7 +730,7 @@ struct EventLoop {
           } else {
             bool stuck_end = true;
             double e_end = 1;
-            if (!sim->DecideAtRest(t, integrator.y().template head<P::kNq>(), &stuck_end, &e_end)) {
+            if (!sim->DecideAtRest(t, sim->QOf(integrator.y()), &stuck_end, &e_end)) {
               summary->message = "the friction at rest did not converge while stuck";
               return finish(Status::kFrictionFailed, t);
             }
@@ -742,7 +742,7 @@ struct EventLoop {
             if (stuck_end && t_seen > t_start && t_seen < t) {
               bool stuck_seen = true;
               double e_seen = 1;
-              if (!sim->DecideAtRest(t_seen, integrator.y().template head<P::kNq>(), &stuck_seen, &e_seen)) {
+              if (!sim->DecideAtRest(t_seen, sim->QOf(integrator.y()), &stuck_seen, &e_seen)) {
                 summary->message = "the friction at rest did not converge while stuck";
                 return finish(Status::kFrictionFailed, t_seen);
               }
@@ -760,7 +760,7 @@ struct EventLoop {
                 if (!(tm > ta && tm < tb)) break;
                 bool stuck_m = true;
                 double e_m = 1;
-                if (!sim->DecideAtRest(tm, integrator.y().template head<P::kNq>(), &stuck_m, &e_m)) {
+                if (!sim->DecideAtRest(tm, sim->QOf(integrator.y()), &stuck_m, &e_m)) {
                   summary->message = "the friction at rest did not converge while stuck";
                   return finish(Status::kFrictionFailed, tm);
                 }

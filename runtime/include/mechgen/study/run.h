@@ -24,7 +24,8 @@
  * mechgen::ViewModel (the runtime compiled once, `mechgen_view study`). Through the view, not
  * yet: the design derivatives (the tolerance analysis, the envelope's first order, the design
  * checks), analysis: flywheel and engine, the driven simulation and Coulomb friction in a
- * simulation; the study command (tools/study_run.h) refuses them before Prepare
+ * simulation of several inputs (one input's goes through); the study command (tools/study_run.h)
+ * refuses them before Prepare
  * (tools/common/not_through_view.h).
  */
 #pragma once
