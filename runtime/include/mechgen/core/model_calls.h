@@ -544,6 +544,40 @@ struct ModelCalls {
                       const typename T::Coefficients& c, ShakingOut<X>* out) {
     M::template Shaking<double>(p, q, phi, qd, qdd, c, out);
   }
+
+  // ---- Design sensitivities of the dynamics (machines/: engine and flywheel --design):
+  //      Model::DynamicsDesign and Model::ShakingDesign. Both read dc, the design derivatives of
+  //      positions, K and L at the same (q, phi) (Model::Design: the Design section's calls, not
+  //      these); the friction loads are none (the machines refuse Coulomb friction). ----
+  /// Whether M has EvalDynamicsDesign (a `design` section and dynamics) and EvalShakingDesign
+  /// (also the quantity `shaking`).
+  static constexpr bool HasDynamicsDesign(const M&) { return mechgen::HasDynamicsDesign<M>::value; }
+  static constexpr bool HasShakingDesign(const M&) {
+    return mechgen::HasDynamicsDesign<M>::value && mechgen::HasShaking<M>::value;
+  }
+  /// d/dp of I, dI/dq, h, Q, T, V (members dI_dp, ddI_dq_dp, dh_dp, dQ_dp, dT_dp, dV_dp).
+  template <class X = M>
+  using DynamicsDesignOut = typename X::template DynamicsDesignT<double>;
+  /// d/dp of the shaking force (2 x kNumDesign) and moment (kNumDesign).
+  template <class X = M>
+  using ShakingDesignForce = Eigen::Matrix<double, 2, X::kNumDesign>;
+  template <class X = M>
+  using ShakingDesignMoment = Eigen::Matrix<double, X::kNumDesign, 1>;
+  /// Model::DynamicsDesign at (t, q, qd): dc is Model::Design's output at (q, phi).
+  template <class X = M, class DesignOut>
+  static void DynamicsDesign(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                             const typename T::VecPhi& phi, const typename T::VecQ& qd, double t,
+                             const typename T::Coefficients& c, const DesignOut& dc, DynamicsDesignOut<X>* out) {
+    M::template DynamicsDesign<double>(p, q, phi, qd, t, c, dc, out);
+  }
+  /// Model::ShakingDesign at (q, qd, qdd); dF_dp or dM_dp may be nullptr.
+  template <class X = M, class DesignOut>
+  static void ShakingDesign(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                            const typename T::VecPhi& phi, const typename T::VecQ& qd, const typename T::VecQ& qdd,
+                            const typename T::Coefficients& c, const DesignOut& dc, ShakingDesignForce<X>* dF_dp,
+                            ShakingDesignMoment<X>* dM_dp) {
+    M::template ShakingDesign<double>(p, q, phi, qd, qdd, c, dc, dF_dp, dM_dp);
+  }
 };
 
 }  // namespace mechgen

@@ -690,6 +690,75 @@ struct ModelCalls<ViewModel> {
     out->F_link = Eigen::Map<const Eigen::MatrixXd>(at("F_link"), 2, nl);
     out->M_link = Eigen::Map<const Eigen::VectorXd>(at("M_link"), nl);
   }
+
+  // ---- Design sensitivities of the dynamics (machines/: engine and flywheel --design): the
+  //      view's DynamicsDesign and ShakingDesign (ViewStruct::kDynamicsDesign). Both read dc,
+  //      the view's DesignDerivatives buffer at the same (q, phi): any result of the Design
+  //      section's call with its `buffer` (those calls are not in this section); the friction
+  //      loads are none (the machines refuse Coulomb friction). ----
+  static bool HasDynamicsDesign(const M& m) {
+    return m.view->flags.kHasDynamicsDesign && m.view->DynamicsDesign != nullptr;
+  }
+  static bool HasShakingDesign(const M& m) {
+    return HasDynamicsDesign(m) && m.view->flags.kHasShaking && m.view->ShakingDesign != nullptr;
+  }
+  /// The view's DynamicsDesign: its buffer, and each member a map of it at the view's sizes
+  /// (nq x nq num_design, nq x nq^2 num_design, nq x num_design twice, num_design twice; set by
+  /// DynamicsDesign: nothing copied). Not copyable: the maps point into the object's own buffer.
+  struct DynamicsDesignResult {
+    using MatMap = Eigen::Map<const Eigen::MatrixXd>;
+    using VecMap = Eigen::Map<const Eigen::VectorXd>;
+    DynamicsDesignResult() = default;
+    DynamicsDesignResult(const DynamicsDesignResult&) = delete;
+    DynamicsDesignResult& operator=(const DynamicsDesignResult&) = delete;
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kDynamicsDesign)]> buffer;
+    MatMap dI_dp{nullptr, 0, 0}, ddI_dq_dp{nullptr, 0, 0}, dh_dp{nullptr, 0, 0}, dQ_dp{nullptr, 0, 0};
+    VecMap dT_dp{nullptr, 0}, dV_dp{nullptr, 0};
+  };
+  template <class X = M>
+  using DynamicsDesignOut = DynamicsDesignResult;
+  /// d/dp of the shaking force (2 x num_design) and moment (num_design), bounded.
+  template <class X = M>
+  using ShakingDesignForce = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, ModelView::kMaxDesign>;
+  template <class X = M>
+  using ShakingDesignMoment = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, ModelView::kMaxDesign, 1>;
+  /// The view's DynamicsDesign at (t, q, qd); dc: the view's DesignDerivatives at (q, phi).
+  template <class X = M, class DesignOut>
+  static void DynamicsDesign(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                             const T::VecQ& qd, double t, const T::Coefficients& c, const DesignOut& dc,
+                             DynamicsDesignResult* out) {
+    const ModelView& v = *m.view;
+    const ViewLayout& l = v.Layout(ViewStruct::kDynamicsDesign);
+    double* const b = out->buffer.data();
+    internal::FillEntries(b, l.size, 0.0);
+    v.DynamicsDesign(p.data(), q.data(), phi.data(), qd.data(), t, c.buffer.data(), dc.buffer.data(), b, nullptr);
+    auto at = [&l, b](const char* name) {
+      const ViewMember* member = FindMember(l, name);
+      return b + (member != nullptr ? member->offset : 0);
+    };
+    const int nq = v.nq, nd = v.num_design;
+    using MatMap = DynamicsDesignResult::MatMap;
+    using VecMap = DynamicsDesignResult::VecMap;
+    // (A Map is trivially destructible: placed anew over the old one.)
+    new (&out->dI_dp) MatMap(at("dI_dp"), nq, nq * nd);
+    new (&out->ddI_dq_dp) MatMap(at("ddI_dq_dp"), nq, nq * nq * nd);
+    new (&out->dh_dp) MatMap(at("dh_dp"), nq, nd);
+    new (&out->dQ_dp) MatMap(at("dQ_dp"), nq, nd);
+    new (&out->dT_dp) VecMap(at("dT_dp"), nd);
+    new (&out->dV_dp) VecMap(at("dV_dp"), nd);
+  }
+  /// The view's ShakingDesign at (q, qd, qdd); dF_dp or dM_dp may be nullptr (else resized to
+  /// the view's num_design).
+  template <class X = M, class DesignOut>
+  static void ShakingDesign(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                            const T::VecQ& qd, const T::VecQ& qdd, const T::Coefficients& c, const DesignOut& dc,
+                            ShakingDesignForce<X>* dF_dp, ShakingDesignMoment<X>* dM_dp) {
+    const ModelView& v = *m.view;
+    if (dF_dp != nullptr) dF_dp->setZero(2, v.num_design);
+    if (dM_dp != nullptr) dM_dp->setZero(v.num_design);
+    v.ShakingDesign(p.data(), q.data(), phi.data(), qd.data(), qdd.data(), c.buffer.data(), dc.buffer.data(),
+                    dF_dp != nullptr ? dF_dp->data() : nullptr, dM_dp != nullptr ? dM_dp->data() : nullptr);
+  }
 };
 
 }  // namespace mechgen
