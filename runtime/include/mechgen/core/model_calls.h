@@ -161,6 +161,20 @@ MECHGEN_ALWAYS_INLINE void FillEntries(double* d, Eigen::Index n, double v) {
 }
 }  // namespace internal
 
+// ---- Design (a `design:` section): the counts of a generated model's (0 without) ----
+namespace internal {
+/// M::kNumDesign and M::kNumDesignChecks where M has a design section (kHasDesignDerivatives),
+/// else 0.
+template <class M, bool = ReadFlag_kHasDesignDerivatives<M>()>
+struct DesignCounts {
+  static constexpr int kDesign = 0, kChecks = 0;
+};
+template <class M>
+struct DesignCounts<M, true> {
+  static constexpr int kDesign = M::kNumDesign, kChecks = M::kNumDesignChecks;
+};
+}  // namespace internal
+
 /// Sizes, constants, flags and functions of a generated model M (static; the object is an
 /// empty tag). Specialized for ViewModel in core/view_model.h.
 template <class M>
@@ -417,6 +431,63 @@ struct ModelCalls {
       M::template Stiffness<double>(p, q, phi, c, out);
     } else {
       (void)p, (void)q, (void)phi, (void)c, (void)out;
+    }
+  }
+
+  // ---- Design (a `design:` section): the design derivatives (position/design.h), the
+  //      statics' (statics/sweep.h) and the design checks; nothing without the section ----
+  static constexpr bool HasDesign(const M&) { return HasDesignDerivatives<M>::value; }
+  /// The design parameters (M::kDesignNames) and the design checks (M::kDesignCheckNames).
+  static constexpr int NumDesign(const M&) { return internal::DesignCounts<M>::kDesign; }
+  static const char* DesignName(const M&, int d) {
+    if constexpr (HasDesignDerivatives<M>::value) return M::kDesignNames[static_cast<size_t>(d)];
+    (void)d;
+    return "";
+  }
+  static constexpr int NumDesignChecks(const M&) { return internal::DesignCounts<M>::kChecks; }
+  static const char* DesignCheckName(const M&, int i) {
+    if constexpr (internal::DesignCounts<M>::kChecks > 0) return M::kDesignCheckNames[static_cast<size_t>(i)];
+    (void)i;
+    return "";
+  }
+  /// EvalStaticsDesign (M::StaticsDesign): a design section and statics.
+  static constexpr bool HasStaticsDesign(const M& m) {
+    return HasStatics(m) && ::mechgen::HasStaticsDesign<M>::value;
+  }
+  /// Model::Design: d/dp of phi, K, L and the points at (q, phi) into *out
+  /// (position::DesignOf<M>).
+  template <class D>
+  static void Design(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                     const typename T::VecPhi& phi, D* out) {
+    if constexpr (HasDesignDerivatives<M>::value) {
+      M::Design(p, q, phi, out);
+    } else {
+      (void)p, (void)q, (void)phi, (void)out;
+    }
+  }
+  /// Model::StaticsDesign: d/dp of Q, the drive, V and the reactions, from the coefficients c
+  /// and the design derivatives dc at the same configuration.
+  template <class DC, class SD>
+  static void StaticsDesign(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                            const typename T::VecPhi& phi, const typename T::Coefficients& c, const DC& dc,
+                            SD* out) {
+    if constexpr (::mechgen::HasStaticsDesign<M>::value) {
+      M::StaticsDesign(p, q, phi, c, dc, out);
+    } else {
+      (void)p, (void)q, (void)phi, (void)c, (void)dc, (void)out;
+    }
+  }
+  /// Model::DesignChecks: the checks' margins (NumDesignChecks) and, where dmargin_dp is not
+  /// nullptr, their derivatives (NumDesignChecks x NumDesign).
+  using DesignMargins = Eigen::Matrix<double, internal::DesignCounts<M>::kChecks, 1>;
+  using DesignMarginsDp =
+      Eigen::Matrix<double, internal::DesignCounts<M>::kChecks, internal::DesignCounts<M>::kDesign>;
+  static void DesignChecks(const M&, const typename T::Params& p, DesignMargins* margin,
+                           DesignMarginsDp* dmargin_dp = nullptr) {
+    if constexpr (internal::DesignCounts<M>::kChecks > 0) {
+      M::DesignChecks(p, margin, dmargin_dp);
+    } else {
+      (void)p, (void)margin, (void)dmargin_dp;
     }
   }
 
