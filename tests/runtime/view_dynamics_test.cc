@@ -24,6 +24,7 @@
 #include "mechgen/core/view_runtime.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
+#include "mechgen/position/design.h"
 
 #ifdef MECHGEN_HAVE_fourbar_massive
 #include "fourbar_massive.h"
@@ -186,8 +187,9 @@ TEST(ViewDynamics, SameAsFixedFivebarRobot) {
 // The design sensitivities of the dynamics (the machines' --design: ModelCalls' DynamicsDesign
 // and ShakingDesign) through the view against the fixed-size model's at states around a turn
 // of the first input (the positions by the generated solve from the assembly, the same phi for
-// both), every member to the bit. dc is each side's own EvalDesignDerivatives (the view's
-// Design function pointer on its buffer), so the view's chain is compared whole.
+// both), every member to the bit. dc is each side's own EvalDesignDerivatives (ModelCalls'
+// Design: the view's on its buffer), so the view's chain is compared whole, as the machines
+// call it.
 template <class M>
 void ExpectViewDynamicsDesignSame(const ModelView& view) {
   ASSERT_TRUE(ViewCompatible(view));
@@ -197,15 +199,12 @@ void ExpectViewDynamicsDesignSame(const ModelView& view) {
   const ViewModel model(view);
   ASSERT_TRUE(CV::HasDynamicsDesign(model));
   ASSERT_EQ(CV::HasShakingDesign(model), CF::HasShakingDesign(fixed));
-  ASSERT_NE(view.Design, nullptr);
+  ASSERT_TRUE(CV::HasDesign(model));
   ASSERT_EQ(view.num_design, M::kNumDesign);
   const typename ModelTypes<M>::Params p{};
   const ViewParams p_view = CV::DefaultParams(model);
   typename ModelTypes<M>::VecPhi phi;
   for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[i];
-  struct ViewDesign {  // (the view's DesignDerivatives buffer, as its Design writes it)
-    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kDesignDerivatives)]> buffer{};
-  };
   double largest = 0;
   for (int k = 0; k < 5; ++k) {
     SCOPED_TRACE("state " + std::to_string(k));
@@ -229,8 +228,8 @@ void ExpectViewDynamicsDesignSame(const ModelView& view) {
     const typename ModelTypes<ViewModel>::VecPhi phi_view = phi;
     typename ModelTypes<ViewModel>::Coefficients c_view;
     CV::Coeffs(model, p_view, q_view, phi_view, &c_view);
-    ViewDesign dc_view;
-    view.Design(p_view.data(), q_view.data(), phi_view.data(), dc_view.buffer.data());
+    position::DesignOf<ViewModel> dc_view;
+    CV::Design(model, p_view, q_view, phi_view, &dc_view);
     CV::DynamicsDesignResult dd_view;
     CV::DynamicsDesign(model, p_view, q_view, phi_view, qd_view, t, c_view, dc_view, &dd_view);
     EXPECT_TRUE(SameBits("dI_dp", dd.dI_dp, dd_view.dI_dp));
