@@ -2,13 +2,10 @@
 // per-model tool <model>_engine (engine_main.cc, M the generated model's type, fixed sizes) and
 // for the runtime instantiated once for the model view (M = mechgen::ViewModel; `mechgen_view
 // engine`, its cycle and simulations compiled once in the library mechgen_runtime_view:
-// mechgen/machines/view_machines.h, runtime/view/machines.cc). What it computes, its CSVs,
-// signs and exit statuses: engine_main.cc.
+// mechgen/machines/view_machines.h, runtime/view/machines.cc; flywheel --design's samples too:
+// RunCycleDesign). What it computes, its CSVs, signs and exit statuses: engine_main.cc.
 //
-// --params/--set read the view's parameter table (common/view_params.h). Through the view, not
-// yet: flywheel --design (the design sensitivities, the generated DynamicsDesign): refused
-// (common/not_through_view.h: a usage error naming the per-model tool that has it, or for
-// mechgen the fallback to that tool) before anything is computed or written.
+// --params/--set read the view's parameter table (common/view_params.h).
 #pragma once
 
 #include <algorithm>
@@ -25,7 +22,6 @@
 #include <string>
 #include <vector>
 
-#include "common/not_through_view.h"
 #include "common/numbers.h"
 #include "common/params.h"
 #include "common/view_params.h"
@@ -364,63 +360,42 @@ int Cycle(const M& model, const Args& a, const Params<M>& p, const Engine& e, co
 }
 
 /// flywheel --design: d/dp of the figures of the energy loop of T_total, for the design
-/// parameters of M (the model's `design` section), the pressure trace p_j(theta) held: at each
-/// sample dT_total/dp = -sum_j p_j A dK_slide_j/dp - dh/dp (the generated EvalDesignDerivatives
-/// and EvalDynamicsDesign at the constant speed), then the energy loop differentiated exactly
-/// (energy_loop.h, ExcessEnergyDerivative): dT_mean, d(dE), dI = d(dE)/(C_s w^2), and
-/// dJ_fly = dI - d mean I(theta)/dp (+ 1 for J_fly itself, which the variable part leaves out).
+/// parameters of the model (its `design` section), the pressure trace p_j(theta) held:
+/// dT_total/dp and dI/dp at each sample (mechgen/machines/engine/cycle.h, RunCycleDesign: the
+/// generated EvalDesignDerivatives and EvalDynamicsDesign at the constant speed), then the
+/// energy loop differentiated exactly (energy_loop.h, ExcessEnergyDerivative): dT_mean, d(dE),
+/// dI = d(dE)/(C_s w^2), and dJ_fly = dI - d mean I(theta)/dp (+ 1 for J_fly itself, which the
+/// variable part leaves out).
 template <class M>
-int PrintFlywheelDesign(const Args& a, const Params<M>& p, const Engine& e, const Gas& gas,
+int PrintFlywheelDesign(const M& model, const Args& a, const Params<M>& p, const Engine& e, const Gas& gas,
                         const mechgen::flywheel::EnergyLoop& loop, const mechgen::flywheel::EnergyLoopOptions& lo_opt,
                         double omega, double I_req, double J_fly) {
-  if constexpr (!mechgen::HasDynamicsDesign<M>::value) {
-    (void)a, (void)p, (void)e, (void)gas, (void)loop, (void)lo_opt, (void)omega, (void)I_req, (void)J_fly;
-    return Fail("--design: the model has no design derivatives of its dynamics");
-  } else {
-    using VecQ = Eigen::Matrix<double, M::kNq, 1>;
-    using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
-    constexpr int kNp = M::kNumDesign;
-    const int n = loop.n;
-    std::vector<std::array<double, kNp>> dT(static_cast<size_t>(n)), dI(static_cast<size_t>(n));
-    VecPhi phi;
-    for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[i];
+  using C = ModelCalls<M>;
+  const int n = loop.n, np = C::NumDesign(model);
+  std::vector<double> dT, dI;  // sample k, parameter d at k np + d
+  std::string error;
+  // (unqualified: the view's, compiled once, found by its arguments)
+  if (!RunCycleDesign(model, p, e, gas, omega, n, &dT, &dI, &error)) return Fail("--design: " + error);
+  std::printf("  design sensitivities (the pressure trace held) of T_mean = %.17g N m, dE = %.17g J, "
+              "I = %.17g kg m^2, J_fly = %.17g kg m^2, per unit of each parameter:\n",
+              loop.mean_torque, loop.delta_E, I_req, J_fly);
+  std::printf("    %-10s %16s %16s %16s %16s\n", "p", "dT_mean/dp", "d(dE)/dp", "dI/dp", "dJ_fly/dp");
+  std::vector<double> column(static_cast<size_t>(n)), dE(static_cast<size_t>(n));
+  for (int d = 0; d < np; ++d) {
+    double mean_dI = 0;
     for (int k = 0; k < n; ++k) {
-      const double theta = e.cycle * k / n;
-      typename M::template CoefficientsT<double> c;
-      if (!eng::CrankPositions<M>(p, theta, &phi, &c)) return Fail("--design: the positions failed");
-      VecQ q, qd;
-      q(0) = theta;
-      qd(0) = omega;
-      typename M::template DesignDerivativesT<double> dc;
-      M::Design(p, q, phi, &dc);
-      typename M::template DynamicsDesignT<double> dd;
-      M::DynamicsDesign(p, q, phi, qd, 0.0, c, dc, &dd);
-      for (int d = 0; d < kNp; ++d) {
-        // The gas torque is linear in K: its derivative is the same sum over dK/dp_d.
-        dT[static_cast<size_t>(k)][static_cast<size_t>(d)] = gas.Torque(theta, dc.dK_dp.middleCols(d, 1)) - dd.dh_dp(0, d);
-        dI[static_cast<size_t>(k)][static_cast<size_t>(d)] = dd.dI_dp(0, d);
-      }
+      const size_t at = static_cast<size_t>(k) * np + d;
+      column[static_cast<size_t>(k)] = dT[at];
+      mean_dI += dI[at] / n;
     }
-    std::printf("  design sensitivities (the pressure trace held) of T_mean = %.17g N m, dE = %.17g J, "
-                "I = %.17g kg m^2, J_fly = %.17g kg m^2, per unit of each parameter:\n",
-                loop.mean_torque, loop.delta_E, I_req, J_fly);
-    std::printf("    %-10s %16s %16s %16s %16s\n", "p", "dT_mean/dp", "d(dE)/dp", "dI/dp", "dJ_fly/dp");
-    std::vector<double> column(static_cast<size_t>(n)), dE(static_cast<size_t>(n));
-    for (int d = 0; d < kNp; ++d) {
-      double mean_dI = 0;
-      for (int k = 0; k < n; ++k) {
-        column[static_cast<size_t>(k)] = dT[static_cast<size_t>(k)][static_cast<size_t>(d)];
-        mean_dI += dI[static_cast<size_t>(k)][static_cast<size_t>(d)] / n;
-      }
-      const auto dl = mechgen::flywheel::ExcessEnergyDerivative(column.data(), loop, 0.0, lo_opt, dE.data());
-      const double dI_req = dl.delta_E / (a.cs * omega * omega);
-      const bool is_J_fly = std::string(M::kDesignNames[d]) == "J_fly";
-      const double dJ = dI_req - (mean_dI - (is_J_fly ? 1.0 : 0.0));
-      std::printf("    %-10s %16.9g %16.9g %16.9g %16.9g\n", M::kDesignNames[d], dl.mean_torque, dl.delta_E, dI_req,
-                  dJ);
-    }
-    return 0;
+    const auto dl = mechgen::flywheel::ExcessEnergyDerivative(column.data(), loop, 0.0, lo_opt, dE.data());
+    const double dI_req = dl.delta_E / (a.cs * omega * omega);
+    const char* const design_name = C::DesignName(model, d);
+    const bool is_J_fly = std::string(design_name) == "J_fly";
+    const double dJ = dI_req - (mean_dI - (is_J_fly ? 1.0 : 0.0));
+    std::printf("    %-10s %16.9g %16.9g %16.9g %16.9g\n", design_name, dl.mean_torque, dl.delta_E, dI_req, dJ);
   }
+  return 0;
 }
 
 template <class M>
@@ -454,9 +429,7 @@ int Flywheel(const M& model, const Args& a, const Params<M>& p0, const Engine& e
     return Fail("the reciprocating parts alone give C_s below the prescribed one: no flywheel needed");
   // --design: the sensitivities of these figures, printed first (they do not depend on the
   // simulated checks below).
-  if constexpr (!C::kView) {  // (through the view: refused before, RunEngine)
-    if (a.design && PrintFlywheelDesign<M>(a, p0, e, gas, loop, lo_opt, omega, I_req, J_fly) != 0) return 1;
-  }
+  if (a.design && PrintFlywheelDesign(model, a, p0, e, gas, loop, lo_opt, omega, I_req, J_fly) != 0) return 1;
   // Simulation with that flywheel against c_load = mean / omega.
   auto simulate = [&](double J, eng::SteadyCycle* sc) {
     Params<M> p = p0;
@@ -619,11 +592,6 @@ template <class M>
 int RunEngine(const M& model, const Arguments& a) {
   using namespace run_internal;
   using C = ModelCalls<M>;
-  if constexpr (C::kView) {
-    // What the runtime instantiated for the view does not do yet (the file comment).
-    if (a.design)
-      return tools::NotThroughView(a.tool, "--design: the design sensitivities are", C::Name(model), "engine");
-  }
   Params<M> p = C::DefaultParams(model);
   Engine e;
   std::string error;

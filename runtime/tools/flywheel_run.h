@@ -1,15 +1,12 @@
 // The flywheel command's model-dependent part, RunFlywheel(model, arguments): one source for
 // the per-model tool <model>_flywheel (flywheel_main.cc, M the generated model's type, fixed
 // sizes) and for the runtime instantiated once for the model view (M = mechgen::ViewModel;
-// `mechgen_view flywheel`, the cycle's sampling and the simulated check compiled once in the
-// library mechgen_runtime_view: mechgen/machines/view_machines.h, runtime/view/machines.cc).
+// `mechgen_view flywheel`, the cycle's sampling, --design's sensitivities of it
+// (machines/flywheel/cycle_design.h) and the simulated check compiled once in the library
+// mechgen_runtime_view: mechgen/machines/view_machines.h, runtime/view/machines.cc).
 // What it computes, its CSV, pictures and exit statuses: flywheel_main.cc.
 //
-// --params/--set read the view's parameter table (common/view_params.h). Through the view, not
-// yet: --design (the design sensitivities of the cycle, machines/flywheel/cycle_design.h on the
-// generated StaticsDesign and DynamicsDesign): refused (common/not_through_view.h: a usage error
-// naming the per-model tool that has it, or for mechgen the fallback to that tool) before
-// anything is computed or written.
+// --params/--set read the view's parameter table (common/view_params.h).
 #pragma once
 
 #include <algorithm>
@@ -22,7 +19,6 @@
 #include <vector>
 
 #include "common/gnuplot.h"
-#include "common/not_through_view.h"
 #include "common/numbers.h"
 #include "common/params.h"
 #include "common/view_params.h"
@@ -121,15 +117,9 @@ int Run(const M& model, const Arguments& a) {
   const int samples = a.samples, check_samples = a.check_samples, max_cycles = a.max_cycles;
   const bool check = a.check, no_check = a.no_check, design = a.design;
   const std::string &motor = a.motor, &csv_path = a.csv_path, &png_path = a.png_path, &svg_path = a.svg_path;
-  bool has_design = mechgen::HasDesignDerivatives<M>::value;
-  if constexpr (C::kView) has_design = model.view->flags.kHasDesignDerivatives;
-  if (design && !has_design)
+  if (design && !C::HasDesign(model))
     return tools::UsageError(tool, "--design: the model has no `design` section (the parameters to "
                                    "differentiate by); add one, e.g. `design: {parameters: all}`");
-  if constexpr (C::kView) {
-    // What the runtime instantiated for the view does not do yet (the file comment).
-    if (design) return tools::NotThroughView(tool, "--design: the design sensitivities are", name, "flywheel");
-  }
   if (check && !C::HasDynamics(model))
     return tools::UsageError(tool, std::string("--check needs a model with `dynamics` (") + name +
                                        " has none: its machine is massless)");
@@ -225,11 +215,12 @@ int Run(const M& model, const Arguments& a) {
   // --design: the sensitivities printed, and dT_req/d<p> per sample for the CSV.
   std::vector<std::string> design_names;
   std::vector<std::vector<double>> dT_req_dp;
-  if constexpr (!C::kView && mechgen::HasDesignDerivatives<M>::value) {
+  if constexpr (mechgen::HasDesignDerivatives<M>::value) {
     if (design) {
-      const fw::CycleDesign<M> cycle_design = fw::SampleMachineCycleDesign<M>(params, options, machine);
+      // (unqualified: the view's, compiled once, found by its arguments)
+      const fw::CycleDesign<M> cycle_design = SampleMachineCycleDesign(model, params, options, machine);
       if (!cycle_design.IsUsable()) {
-        std::cerr << "error: no design sensitivities for " << M::kName << ": " << cycle_design.message << "\n";
+        std::cerr << "error: no design sensitivities for " << name << ": " << cycle_design.message << "\n";
         return 1;
       }
       const auto dsize = fw::SizeFlywheelDesign<M>(machine, cycle_design, cs);
@@ -237,9 +228,9 @@ int Run(const M& model, const Arguments& a) {
                   "kg m^2 (per unit of each parameter, in the model file's units):\n",
                   machine.T_mean, loop.delta_E, size.I_required, size.I_flywheel);
       std::printf("    %-12s %16s %16s %16s %16s\n", "p", "dT_mean/dp", "d(dE)/dp", "dI/dp", "dI_fly/dp");
-      for (int d = 0; d < M::kNumDesign; ++d) {
-        design_names.push_back(M::kDesignNames[d]);
-        std::printf("    %-12s %16.9g %16.9g %16.9g %16.9g\n", M::kDesignNames[d], cycle_design.dT_mean_dp(d),
+      for (int d = 0; d < C::NumDesign(model); ++d) {
+        design_names.push_back(C::DesignName(model, d));
+        std::printf("    %-12s %16.9g %16.9g %16.9g %16.9g\n", C::DesignName(model, d), cycle_design.dT_mean_dp(d),
                     cycle_design.ddelta_E_dp(d), dsize.dI_required_dp(d), dsize.dI_flywheel_dp(d));
       }
       for (const auto& v : cycle_design.dT_req_dp) dT_req_dp.emplace_back(v.data(), v.data() + v.size());

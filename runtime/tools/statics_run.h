@@ -8,10 +8,8 @@
 // statuses as statics_main.cc says.
 //
 // --params/--set read the view's parameter table (common/view_params.h); --svg draws from the
-// model's description (statics/svg.h, io/svg.h). Through the view, not yet: --design (the
-// statics' design derivatives), refused (common/not_through_view.h: a usage error naming the
-// per-model tool that has it, or for mechgen the fallback to that tool) before anything is
-// computed or written.
+// model's description (statics/svg.h, io/svg.h); --design reads its Design and StaticsDesign
+// (ModelCalls<M>: the generated EvalDesignDerivatives and EvalStaticsDesign).
 #pragma once
 
 #include <algorithm>
@@ -28,7 +26,6 @@
 #include "common/gnuplot.h"
 #include "common/numbers.h"
 #include "common/params.h"
-#include "common/not_through_view.h"
 #include "common/view_params.h"
 #include "statics_args.h"
 
@@ -135,14 +132,12 @@ int RunStatics(const M& model, const Arguments& args) {
   const int nq = C::Nq(model);
   const std::string& tool = args.tool;
   if constexpr (C::kView) {
-    // What the runtime instantiated for the view does not do yet (the file comment), and a
-    // model without statics.
+    // A model without statics (the per-model tool has none to be run on).
     if (!C::HasStatics(model)) {
       std::cerr << "error: the model '" << name
                 << "' was generated without statics; add `forces` to its outputs' quantities\n";
       return kExitUsage;
     }
-    if (args.design) return tools::NotThroughView(tool, "--design: the design derivatives are", name, "statics");
   }
   const int steps = static_cast<int>(args.steps), samples = static_cast<int>(args.samples);
   const int table_rows = static_cast<int>(args.table);
@@ -247,7 +242,7 @@ int RunStatics(const M& model, const Arguments& args) {
       return 1;
     }
   }
-  if (design && !statics::StaticsFeatures<M>::kHasDesign)
+  if (design && !(statics::StaticsFeatures<M>::kHasDesign && C::HasStaticsDesign(model)))
     return tools::UsageError(tool, std::string("--design: the model ") + name +
                                        " has no design section; add design: [parameter, ...] to it and "
                                        "generate it again");

@@ -16,10 +16,11 @@
 // --params/--set read the view's parameter table (common/view_params.h). Through the view, not
 // yet (refused by common/not_through_view.h before anything is computed or written: a usage
 // error naming the per-model program, or for mechgen the fallback to it): the design
-// derivatives (tolerance: true, envelope:, the design_margin metric), analysis: flywheel and
-// engine, a simulation with drive: or with Coulomb friction of several inputs (one input's stick
-// and slip goes through), and a run under an MPI launcher (the
-// ranks: MPI is compiled into the per-model program alone, -DMECHGEN_STUDY_MPI).
+// derivatives (tolerance: true, envelope:, the design_margin metric), a simulation with drive:
+// or with Coulomb friction of several inputs (one input's stick and slip goes through), and a
+// run under an MPI launcher (the ranks: MPI is compiled into the per-model program alone,
+// -DMECHGEN_STUDY_MPI). analysis: flywheel and engine go through it (the machines' cycles
+// compiled once: machines/view_machines.h).
 #pragma once
 
 #include <time.h>
@@ -282,8 +283,6 @@ std::string NotThroughViewYet(const M& model, const study::StudySpec& spec) {
   if (!spec.envelope.empty()) return "envelope: its first order (the design derivatives dr_P/dp) is";
   for (const study::MetricSpec& m : spec.metrics)
     if (m.kind == study::MetricKind::kDesignMargin) return "the metric design_margin (the design checks) is";
-  if (spec.analysis == study::Analysis::kFlywheel) return "analysis: flywheel is";
-  if (spec.analysis == study::Analysis::kEngine) return "analysis: engine is";
   if (spec.analysis == study::Analysis::kSimulate) {
     if (!spec.drive.input.empty()) return "drive: the driven simulation is";
     if (ModelCalls<M>::KinetoNumFriction(model) > 0 && ModelCalls<M>::Nq(model) > 1)

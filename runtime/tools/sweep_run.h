@@ -8,10 +8,8 @@
 //
 // --params/--set read the view's parameter table through the view (common/view_params.h), with
 // the per-model tool's messages; --svg draws from the view's drawing description (io/svg.h),
-// --mode reads its named assembly modes. Through the view, not yet: --design (the design
-// derivatives), refused (common/not_through_view.h: a usage error naming the per-model tool
-// that has it, or for mechgen the fallback to that tool) before anything is computed or
-// written.
+// --mode reads its named assembly modes, --design its Design (the design derivatives: the
+// generated EvalDesignDerivatives through ModelCalls<M>::Design, position/design.h).
 #pragma once
 
 #include <algorithm>
@@ -26,7 +24,6 @@
 #include <vector>
 
 #include "common/numbers.h"
-#include "common/not_through_view.h"
 #include "common/view_params.h"
 #include "sweep_args.h"
 
@@ -152,11 +149,6 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
   const std::string& svg_path = arguments.svg_path;
   const bool no_animation = arguments.no_animation;
   std::string error;
-  if constexpr (C::kView) {
-    // What the runtime instantiated for the view does not do yet (the file comment).
-    if (arguments.design)
-      return mechgen::tools::NotThroughView(arguments.tool, "--design: the design derivatives are", name, "sweep");
-  }
   // Counts checked by the parser: --steps in 1..kMaxSteps, --table in 0..kMaxSteps + 1.
   const int steps = static_cast<int>(arguments.steps);
   const int table_rows = static_cast<int>(arguments.table);
@@ -216,10 +208,10 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
   // The CSV's columns must be unique (the generator ensures it; checked again here).
   std::vector<mechgen::SweepColumn<M>> columns = mechgen::SweepColumns<M>(model);
   if (arguments.design) {
-    if (!mechgen::HasDesignDerivatives<M>::value)
+    if (!C::HasDesign(model))
       return Usage(std::string("--design: the model ") + name +
                    " has no design section; add design: [parameter, ...] to it and generate it again");
-    mechgen::AppendDesignColumns<M>(&columns);
+    mechgen::AppendDesignColumns<M>(model, &columns);
   }
   const std::string duplicate = mechgen::DuplicateColumnName(columns);
   if (!duplicate.empty()) {

@@ -20,5 +20,6 @@ template int SweepRows<ViewModel, position::NewtonAssembler, ViewRowFn&>(
     ViewPositionSolver*, const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecQ&, int,
     const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecQ&, const SweepOptions&, ViewRowFn&);
 template std::vector<SweepColumn<ViewModel>> SweepColumns<ViewModel>(const ViewModel&);
+template void AppendDesignColumns<ViewModel>(const ViewModel&, std::vector<SweepColumn<ViewModel>>*);
 template class MotionSummaryBuilder<ViewModel>;
 }  // namespace mechgen

@@ -10,9 +10,12 @@
 #    not those of the defaults;
 #  - a computation that fails (no flywheel needed) fails alike: exit 1, the same one line;
 #  - a usage error the same line (mechgen_view --name: the tool's name in the messages);
-#  - what the view does not do yet (flywheel --design, and the flywheel command's --design on
-#    this model with a `design` section) is refused: exit 2, one line naming the per-model tool,
-#    nothing written; run by mechgen (MECHGEN_VIEW_FALLBACK=1) exit 120, nothing said or written.
+#  - flywheel --design (the design sensitivities at the samples, machines/engine/cycle.h's
+#    RunCycleDesign through ModelCalls: the view's Design and DynamicsDesign), also with --set
+#    and as mechgen runs it (MECHGEN_VIEW_FALLBACK=1: through the view now, no fallback), and its
+#    usage error without --table: the tool's bytes; the flywheel command's --design on this model
+#    (no per-model flywheel tool to compare with) runs through the view and prints a
+#    sensitivity per design parameter.
 # usage: engine_view_test.sh <mechgen_view> <engine_single_engine> <engine_single view object>
 set -uo pipefail
 source "$(dirname "$0")/../view_compare.sh"  # view_tool, fixed_tool, object, fail, $root (entered)
@@ -44,32 +47,30 @@ same no_flywheel 1 flywheel --rpm 3000 --cs 0.9 --loop l.csv --sweep s.csv --wit
 [[ $(wc -l < no_flywheel/view.err) -eq 1 ]] || fail "no flywheel: stderr is not one line: $(cat no_flywheel/view.err)"
 same bad_set 2 cycle --set nosuch=1 --csv x.csv
 
-# What the view does not do yet: --design (the generated DynamicsDesign).
-mkdir design && (cd design && "$view_tool" engine "$object" flywheel --design --table "$root/table.csv" \
-  --loop l.csv --sweep s.csv --wittenbauer w.csv > ../design.out 2> ../design.err)
-status=$?
-[[ $status -eq 2 ]] || fail "--design through the view: exit $status, expected 2"
-[[ $(wc -l < design.err) -eq 1 ]] || fail "--design: stderr is not one line: $(cat design.err)"
-grep -q '^engine_single_engine_view: error: --design: .* not reached through the model view yet; engine_single_engine has it$' \
-  design.err || fail "--design: $(cat design.err)"
-[[ -z $(ls -A design) && ! -s design.out ]] || fail "--design: something was written"
-mkdir fallback && (cd fallback && MECHGEN_VIEW_FALLBACK=1 "$view_tool" engine "$object" flywheel --design \
-  --table "$root/table.csv" --loop l.csv > ../fallback.out 2> ../fallback.err)
-status=$?
-[[ $status -eq 120 ]] || fail "the fallback: exit $status, expected 120"
-[[ ! -s fallback.out && ! -s fallback.err && -z $(ls -A fallback) ]] || fail "the fallback said or wrote something"
-# the flywheel command's --design alike (engine_single: a model with forces and a design section)
-mkdir fw_design && (cd fw_design && "$view_tool" flywheel "$object" --rpm 2000 --design --csv x.csv \
+# flywheel --design: the sensitivities (the pressure trace of --table held)
+same design 0 flywheel --design --table "$root/table.csv" --rpm 2000 --cs 0.05 --samples 720 \
+  --loop l.csv --sweep s.csv --wittenbauer w.csv
+grep -q '^  design sensitivities (the pressure trace held) of T_mean = ' design/view.out ||
+  fail "--design: no sensitivities: $(head -3 design/view.out)"
+# (one row per design parameter: r, l, e, m_rod, l_G, J_rod, m_pis)
+[[ $(grep -cE '^    (r|l|e|m_rod|l_G|J_rod|m_pis) ' design/view.out) -eq 7 ]] || fail "--design: $(cat design/view.out)"
+same design_set 0 flywheel --design --table "$root/table.csv" --rpm 1500 --cs 0.03 --samples 360 \
+  --set m_pis=0.6 --set J_rod=0.02 --loop l.csv --sweep s.csv --wittenbauer w.csv
+same design_no_table 2 flywheel --design --loop l.csv --sweep s.csv --wittenbauer w.csv
+export MECHGEN_VIEW_FALLBACK=1  # (as mechgen runs it: no refusal left to fall back on)
+same design_mechgen 0 flywheel --design --table "$root/table.csv" --rpm 2000 --cs 0.05 --samples 360 \
+  --loop l.csv --sweep s.csv --wittenbauer w.csv
+unset MECHGEN_VIEW_FALLBACK
+# the flywheel command's --design on engine_single (a model with forces, dynamics and a design
+# section) through the view
+mkdir fw_design && (cd fw_design && "$view_tool" flywheel "$object" --rpm 2000 --design --no-check --csv x.csv \
   > ../fw_design.out 2> ../fw_design.err)
 status=$?
-[[ $status -eq 2 ]] || fail "flywheel --design through the view: exit $status, expected 2: $(cat fw_design.err)"
-grep -q '^engine_single_flywheel_view: error: --design: .* not reached through the model view yet; engine_single_flywheel has it$' \
-  fw_design.err || fail "flywheel --design: $(cat fw_design.err)"
-[[ -z $(ls -A fw_design) && ! -s fw_design.out ]] || fail "flywheel --design: something was written"
-# and the per-model tool has it
-(cd design && "$fixed_tool" flywheel --design --table "$root/table.csv" --loop l.csv --sweep s.csv \
-  --wittenbauer w.csv > ../design_fixed.out 2>&1) || fail "engine_single_engine flywheel --design: $(cat design_fixed.out)"
-grep -q 'design sensitivities' design_fixed.out || fail "engine_single_engine --design: no sensitivities"
+[[ $status -eq 0 ]] || fail "flywheel --design through the view: exit $status: $(cat fw_design.err)"
+[[ ! -s fw_design.err ]] || fail "flywheel --design: stderr $(cat fw_design.err)"
+grep -q '^  design sensitivities of T_mean = ' fw_design.out || fail "flywheel --design: $(cat fw_design.out)"
+[[ $(grep -v '^#' fw_design/x.csv | head -1 | grep -o 'dT_req/d' | wc -l) -eq 7 ]] ||
+  fail "flywheel --design: $(grep -v '^#' fw_design/x.csv | head -1)"
 
 [[ $failures -eq 0 ]] && echo "engine through the view: the per-model tool's bytes"
 exit $((failures > 0))

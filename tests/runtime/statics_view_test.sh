@@ -9,21 +9,27 @@
 #    CSV's name and the wrote line's path;
 #  - --set and --params through the view's parameter table: the same CSV and summary;
 #  - the SVG (the force diagram) equals the per-model tool's, byte for byte;
-#  - an option the view does not take yet (--design) and a bad --set are refused (exit 2)
-#    with one line on stderr and nothing written; run by mechgen (MECHGEN_VIEW_FALLBACK=1) what
-#    the view lacks is exit 120 with nothing said or written.
+#  - --design (the statics' design derivatives through the view's Design and StaticsDesign):
+#    the CSV, stdout (the timing aside) and stderr equal the per-model tool's for two models
+#    with a design section, the loaded four-bar and the single-cylinder engine (whose loads
+#    read a velocity: --design with --speed is its usage error, through both);
+#  - --design on a model without a design section and a bad --set are refused (exit 2) with
+#    one line on stderr and nothing written, run by mechgen (MECHGEN_VIEW_FALLBACK=1) too: the
+#    statics have nothing left to fall back for.
 # usage: statics_view_test.sh <c++ compiler> <mechgen_view> <models dir> <runtime include dir>
 #        <Eigen include dir> <slider_crank_friction_statics> <fourbar_loaded_statics>
+#        <engine_single_statics>
 set -uo pipefail
 cxx=$1 view_tool=$(realpath "$2") models=$3 runtime_include=$4 eigen=$5
 root=$(mktemp -d)
 trap 'rm -rf "$root"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-declare -A fixed_tool=([slider_crank_friction]=$(realpath "$6") [fourbar_loaded]=$(realpath "$7"))
+declare -A fixed_tool=([slider_crank_friction]=$(realpath "$6") [fourbar_loaded]=$(realpath "$7")
+                       [engine_single]=$(realpath "$8"))
 cd "$root" || exit 1
 
-for model in slider_crank_friction fourbar_loaded; do
+for model in slider_crank_friction fourbar_loaded engine_single; do
   dir=$models/mechgen_$model
   "$cxx" -O2 -shared -fPIC -DMECHGEN_VIEW_ENTRY -I"$dir" -I"$runtime_include" -I"$eigen" \
     "$dir/$model.cc" "$dir/${model}_view.cc" -o "$model.so" || { echo "FAIL: cannot build $model.so"; exit 1; }
@@ -53,6 +59,37 @@ printf 'mu_O = 0.25  # the crank bearing\nr_O: 0.04\n' > friction.params
 same slider_crank_friction --steps 90 --set F=1500 --set mu_s=0.3 --dead-zones
 same slider_crank_friction --steps 90 --params friction.params --set b=0.4
 
+# --design: the design columns (and the rest) byte for byte, stdout and stderr as the tool's.
+# same_design <model> <case> <expected status> <options...>
+same_design() {
+  local model=$1 name=$2 expected=$3
+  shift 3
+  mkdir -p "$name/fixed" "$name/view"
+  (cd "$name/fixed" && "${fixed_tool[$model]}" --design "$@" --csv out.csv > ../fixed.out 2> ../fixed.err)
+  local fixed_status=$?
+  (cd "$name/view" && "$view_tool" --name "${model}_statics" statics "$root/$model.so" --design "$@" --csv out.csv \
+    > ../view.out 2> ../view.err)
+  local view_status=$?
+  [[ $fixed_status -eq $expected ]] || fail "$name: ${model}_statics exited $fixed_status: $(head -3 "$name/fixed.err")"
+  [[ $view_status -eq $fixed_status ]] || fail "$name: the view exited $view_status: $(head -3 "$name/view.err")"
+  if [[ $expected -eq 0 ]]; then
+    [[ $(grep -v '^#' "$name/fixed/out.csv" | head -1 | tr ',' '\n' | grep -c '/d') -gt 5 ]] ||
+      fail "$name: no design columns in the tool's CSV"
+  fi
+  diff -r "$name/fixed" "$name/view" > /dev/null || fail "$name: the files differ: $(diff -r "$name/fixed" "$name/view" | head -4)"
+  diff <(normalize "$name/fixed.out") <(normalize "$name/view.out") > /dev/null ||
+    fail "$name: stdout differs: $(diff <(normalize "$name/fixed.out") <(normalize "$name/view.out") | head -6)"
+  cmp -s "$name/fixed.err" "$name/view.err" || fail "$name: stderr differs: $(diff "$name/fixed.err" "$name/view.err" | head -4)"
+}
+same_design fourbar_loaded design_fourbar_loaded 0 --table 3
+same_design fourbar_loaded design_fourbar_loaded_scans 0 --equilibria --samples 90 --set k=120 --steps 120
+same_design fourbar_loaded design_fourbar_loaded_speed 0 --speed -2.5 --steps 100  # (nothing there reads a speed)
+same_design engine_single design_engine_single 0 --table 3 --dead-zones
+same_design engine_single design_engine_single_set 0 --set r=0.05 --set m_pis=0.6 --steps 180 --equilibria
+same_design engine_single design_engine_single_speed 2 --speed 3000rpm
+grep -q "^engine_single_statics: error: --design with --speed" design_engine_single_speed/view.err ||
+  fail "design_engine_single_speed: $(cat design_engine_single_speed/view.err)"
+
 # refused <name> <pattern> <args...>: exit status 2, one stderr line, nothing written.
 refused() {
   local name=$1 pattern=$2
@@ -71,15 +108,12 @@ for model in slider_crank_friction fourbar_loaded; do
   cmp -s fixed.svg view.svg || fail "$model: the SVGs differ"
   rm -f fixed.svg view.svg
 done
-refused design "^fourbar_loaded_statics_view: error: --design: " "$root/fourbar_loaded.so" --csv out.csv --design
+refused no_design "^slider_crank_friction_statics_view: error: --design: the model slider_crank_friction has no design section" \
+  "$root/slider_crank_friction.so" --csv out.csv --design
+MECHGEN_VIEW_FALLBACK=1 refused no_design_fallback "^slider_crank_friction_statics_view: error: --design: the model" \
+  "$root/slider_crank_friction.so" --csv out.csv --design
 refused set "^slider_crank_friction_statics_view: error: --set 'nosuch=1': no parameter 'nosuch' in the model" \
   "$root/slider_crank_friction.so" --csv out.csv --set nosuch=1
-# run by mechgen (MECHGEN_VIEW_FALLBACK=1), what the view lacks is exit 120, nothing said or written
-mkdir fallback && (cd fallback && MECHGEN_VIEW_FALLBACK=1 "$view_tool" statics "$root/fourbar_loaded.so" \
-  --csv out.csv --design > ../fallback.out 2> ../fallback.err)
-status=$?
-[[ $status -eq 120 ]] || fail "fallback: exit $status, expected 120"
-[[ ! -s fallback.out && ! -s fallback.err && -z $(ls -A fallback) ]] || fail "fallback: said or wrote something"
 refused bad_option "^slider_crank_friction_statics_view: error: " "$root/slider_crank_friction.so" --no-such-option
 
 [[ $failures -eq 0 ]] && echo "mechgen_view statics: all checks passed"

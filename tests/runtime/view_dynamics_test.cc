@@ -12,6 +12,8 @@
 // its friction joint viscous only: Coulomb friction through the view is compared byte for byte
 // on tests/dynamics' incline by simulate_friction_test.sh) and the five-bar robot (two inputs: the
 // inertia a 2 x 2 LDLT). Part of model_test (no executable of its own).
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -23,6 +25,7 @@
 #include "mechgen/core/view_runtime.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
+#include "mechgen/position/design.h"
 
 #ifdef MECHGEN_HAVE_fourbar_massive
 #include "fourbar_massive.h"
@@ -35,6 +38,10 @@ namespace mech::slider_crank_motor { const mechgen::ModelView& View(); }
 #ifdef MECHGEN_HAVE_fivebar_robot
 #include "fivebar_robot.h"
 namespace mech::fivebar_robot { const mechgen::ModelView& View(); }
+#endif
+#ifdef MECHGEN_HAVE_engine_single
+#include "engine_single.h"
+namespace mech::engine_single { const mechgen::ModelView& View(); }
 #endif
 
 namespace mechgen::dynamics {
@@ -174,6 +181,82 @@ TEST(ViewDynamics, SameAsFixedFivebarRobot) {
   // (It falls under its weight into a dead point at t = 0.09 s.)
   ExpectViewDynamicsSame<mech::fivebar_robot::Model, Dopri5>(mech::fivebar_robot::View(), 0.06, 0.002);
   ExpectViewDynamicsSame<mech::fivebar_robot::Model, Dop853>(mech::fivebar_robot::View(), 0.06, 0);
+}
+#endif
+
+// The design sensitivities of the dynamics (the machines' --design: ModelCalls' DynamicsDesign
+// and ShakingDesign) through the view against the fixed-size model's at states around a turn
+// of the first input (the positions by the generated solve from the assembly, the same phi for
+// both), every member to the bit. dc is each side's own EvalDesignDerivatives (ModelCalls'
+// Design: the view's on its buffer), so the view's chain is compared whole, as the machines
+// call it.
+template <class M>
+void ExpectViewDynamicsDesignSame(const ModelView& view) {
+  ASSERT_TRUE(ViewCompatible(view));
+  using CF = ModelCalls<M>;
+  using CV = ModelCalls<ViewModel>;
+  const M fixed{};
+  const ViewModel model(view);
+  ASSERT_TRUE(CV::HasDynamicsDesign(model));
+  ASSERT_EQ(CV::HasShakingDesign(model), CF::HasShakingDesign(fixed));
+  ASSERT_TRUE(CV::HasDesign(model));
+  ASSERT_EQ(view.num_design, M::kNumDesign);
+  const typename ModelTypes<M>::Params p{};
+  const ViewParams p_view = CV::DefaultParams(model);
+  typename ModelTypes<M>::VecPhi phi;
+  for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[i];
+  double largest = 0;
+  for (int k = 0; k < 5; ++k) {
+    SCOPED_TRACE("state " + std::to_string(k));
+    typename ModelTypes<M>::VecQ q, qd, qdd;
+    for (int i = 0; i < M::kNq; ++i) {
+      q(i) = M::kAssemblyQ[i] + 1.3 * k * (i + 1);
+      qd(i) = (k % 2 == 0 ? 150.0 : -40.0) * (k + 1);
+      qdd(i) = 900.0 * (k - 2);
+    }
+    const double t = 0.01 * k;
+    const auto solved = CF::Solve(fixed, p, q, &phi, CF::DefaultModes(fixed), 50, 1e-12);
+    ASSERT_EQ(solved.status, decltype(solved.status)::kConverged);
+    typename ModelTypes<M>::Coefficients c;
+    CF::Coeffs(fixed, p, q, phi, &c);
+    typename M::template DesignDerivativesT<double> dc;
+    M::Design(p, q, phi, &dc);
+    typename CF::template DynamicsDesignOut<> dd;
+    CF::DynamicsDesign(fixed, p, q, phi, qd, t, c, dc, &dd);
+
+    const typename ModelTypes<ViewModel>::VecQ q_view = q, qd_view = qd, qdd_view = qdd;
+    const typename ModelTypes<ViewModel>::VecPhi phi_view = phi;
+    typename ModelTypes<ViewModel>::Coefficients c_view;
+    CV::Coeffs(model, p_view, q_view, phi_view, &c_view);
+    position::DesignOf<ViewModel> dc_view;
+    CV::Design(model, p_view, q_view, phi_view, &dc_view);
+    CV::DynamicsDesignResult dd_view;
+    CV::DynamicsDesign(model, p_view, q_view, phi_view, qd_view, t, c_view, dc_view, &dd_view);
+    EXPECT_TRUE(SameBits("dI_dp", dd.dI_dp, dd_view.dI_dp));
+    EXPECT_TRUE(SameBits("ddI_dq_dp", dd.ddI_dq_dp, dd_view.ddI_dq_dp));
+    EXPECT_TRUE(SameBits("dh_dp", dd.dh_dp, dd_view.dh_dp));
+    EXPECT_TRUE(SameBits("dQ_dp", dd.dQ_dp, dd_view.dQ_dp));
+    EXPECT_TRUE(SameBits("dT_dp", dd.dT_dp, dd_view.dT_dp));
+    EXPECT_TRUE(SameBits("dV_dp", dd.dV_dp, dd_view.dV_dp));
+    largest = std::max({largest, dd.dI_dp.cwiseAbs().maxCoeff(), dd.dh_dp.cwiseAbs().maxCoeff()});
+    if constexpr (HasShaking<M>::value) {
+      typename CF::template ShakingDesignForce<> dF;
+      typename CF::template ShakingDesignMoment<> dM;
+      CF::ShakingDesign(fixed, p, q, phi, qd, qdd, c, dc, &dF, &dM);
+      typename CV::template ShakingDesignForce<> dF_view;
+      typename CV::template ShakingDesignMoment<> dM_view;
+      CV::ShakingDesign(model, p_view, q_view, phi_view, qd_view, qdd_view, c_view, dc_view, &dF_view, &dM_view);
+      EXPECT_TRUE(SameBits("dF_dp", dF, dF_view));
+      EXPECT_TRUE(SameBits("dM_dp", dM, dM_view));
+      largest = std::max(largest, dF.cwiseAbs().maxCoeff());
+    }
+  }
+  EXPECT_GT(largest, 1e-3);  // (not a comparison of zeros)
+}
+
+#ifdef MECHGEN_HAVE_engine_single
+TEST(ViewDynamicsDesign, SameAsFixedEngineSingle) {
+  ExpectViewDynamicsDesignSame<mech::engine_single::Model>(mech::engine_single::View());
 }
 #endif
 

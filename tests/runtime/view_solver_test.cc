@@ -245,6 +245,12 @@ std::string ReadFile(const std::string& path) {
   arguments.table = 0;
   arguments.csv_path = view_csv;
   for (size_t i = 0; i < options.size(); i += 2) {
+    while (i < options.size() && options[i] == "--design") {  // (a flag: no value)
+      command += " --design";
+      arguments.design = true;
+      ++i;
+    }
+    if (i + 1 >= options.size()) break;
     command += " " + options[i] + " " + options[i + 1];
     if (options[i] == "--steps") arguments.steps = std::stoll(options[i + 1]);
     if (options[i] == "--range") arguments.ranges.push_back(options[i + 1]);
@@ -258,15 +264,16 @@ std::string ReadFile(const std::string& path) {
   EXPECT_GT(a.size(), 1000u);
   EXPECT_TRUE(a == b) << fixed_csv << " and " << view_csv << " differ";
 }
-// What the view does not do yet is refused before anything is written (exit 2).
-TEST(ViewSweepTool, RefusesWhatTheViewLacks) {
-#ifdef MECHGEN_HAVE_fourbar
+// --design on a model without a design section is the per-model tool's usage error (exit 2),
+// before anything is written.
+TEST(ViewSweepTool, RefusesDesignWithoutADesignSection) {
+#ifdef MECHGEN_HAVE_quick_return
   const std::string csv = ::testing::TempDir() + "view_tool_refused.csv";
   std::remove(csv.c_str());
   sweep_tool::Arguments arguments;
   arguments.csv_path = csv;
   arguments.design = true;
-  EXPECT_EQ(sweep_tool::RunSweep(ViewModel(mech::fourbar::View()), arguments), sweep_tool::kExitUsage);
+  EXPECT_EQ(sweep_tool::RunSweep(ViewModel(mech::quick_return::View()), arguments), sweep_tool::kExitUsage);
   EXPECT_FALSE(std::ifstream(csv).good());
 #endif
 }
@@ -275,12 +282,176 @@ TEST(ViewSweepTool, SameCsvAsTheToolFourbar) {
   ExpectViewToolSame(mech::fourbar::View(), MECHGEN_FOURBAR_SWEEP, {});
   ExpectViewToolSame(mech::fourbar::View(), MECHGEN_FOURBAR_SWEEP,
                      {"--steps", "100", "--range", "theta_crank:10deg:200deg", "--qd", "3", "--qdd", "-2"});
+  ExpectViewToolSame(mech::fourbar::View(), MECHGEN_FOURBAR_SWEEP,
+                     {"--design", "--steps", "100", "--range", "theta_crank:10deg:200deg", "--qd", "3"});
 }
 #endif
 #if defined(MECHGEN_HAVE_slider_crank) && defined(MECHGEN_SLIDER_CRANK_SWEEP)
 TEST(ViewSweepTool, SameCsvAsTheToolSliderCrank) {
   ExpectViewToolSame(mech::slider_crank::View(), MECHGEN_SLIDER_CRANK_SWEEP, {});
   ExpectViewToolSame(mech::slider_crank::View(), MECHGEN_SLIDER_CRANK_SWEEP, {"--steps", "77", "--qd", "2"});
+  ExpectViewToolSame(mech::slider_crank::View(), MECHGEN_SLIDER_CRANK_SWEEP, {"--design", "--steps", "77"});
+}
+#endif
+
+// The design derivatives through the view (ModelCalls<ViewModel>::Design, position::EvalDesign,
+// the sweep's --design) against the fixed-size M::Design, which tests/design holds against Jets
+// and differences: the view's Design calls the same generated code, so every member must agree
+// to the bit, and so must the design checks (M::DesignChecks) and the --design CSV.
+template <class M>
+void ExpectDesignMembersSame(const position::DesignOf<M>& a, const position::DesignOf<ViewModel>& b,
+                             const std::string& where) {
+  SCOPED_TRACE(where);
+  using F = ModelFeatures<M>;
+  EXPECT_TRUE(SameBits("dphi_dp", a.dphi_dp, b.dphi_dp));
+  if constexpr (F::kHasPoints) {
+    EXPECT_TRUE(SameBits("dr_P_dp", a.dr_P_dp, b.dr_P_dp));
+  } else {
+    EXPECT_EQ(b.dr_P_dp.size(), 0);
+  }
+  if constexpr (F::kHasK) {
+    EXPECT_TRUE(SameBits("dK_dp", a.dK_dp, b.dK_dp));
+  } else {
+    EXPECT_EQ(b.dK_dp.size(), 0);
+  }
+  if constexpr (F::kHasK && F::kHasPoints) {
+    EXPECT_TRUE(SameBits("dK_P_dp", a.dK_P_dp, b.dK_P_dp));
+  }
+  if constexpr (F::kHasL) {
+    EXPECT_TRUE(SameBits("dL_dp", a.dL_dp, b.dL_dp));
+  } else {
+    EXPECT_EQ(b.dL_dp.size(), 0);
+  }
+  if constexpr (F::kHasL && F::kHasPoints) {
+    EXPECT_TRUE(SameBits("dL_P_dp", a.dL_P_dp, b.dL_P_dp));
+  }
+  if constexpr (F::kNumTransmissionAngles > 0) {
+    EXPECT_TRUE(SameBits("dmu_dp", a.dmu_dp, b.dmu_dp));
+  } else {
+    EXPECT_EQ(b.dmu_dp.size(), 0);
+  }
+}
+// (set, value): a parameter set in both before the sweep (nullptr: the defaults).
+template <class M>
+void ExpectViewDesignSame(const ModelView& view, const char* set = nullptr, double value = 0) {
+  using C = ModelCalls<ViewModel>;
+  using TM = ModelTypes<M>;
+  using TV = ModelTypes<ViewModel>;
+  const ViewModel model(view);
+  ASSERT_TRUE(C::HasDesign(model));
+  ASSERT_EQ(C::NumDesign(model), M::kNumDesign);
+  for (int d = 0; d < M::kNumDesign; ++d) EXPECT_STREQ(C::DesignName(model, d), M::kDesignNames[d]);
+  ASSERT_EQ(C::NumDesignChecks(model), M::kNumDesignChecks);
+  for (int i = 0; i < M::kNumDesignChecks; ++i) EXPECT_STREQ(C::DesignCheckName(model, i), M::kDesignCheckNames[i]);
+  typename TM::Params pa;
+  ViewParams pb = C::DefaultParams(model);
+  if (set != nullptr) {
+    ASSERT_NE(pa.Find(set), nullptr);
+    *pa.Find(set) = value;
+    *C::FindParameter(model, &pb, set) = value;
+    C::ParametersSet(model, &pb);
+  }
+  // The design checks, with and without their derivatives.
+  if constexpr (M::kNumDesignChecks > 0) {
+    typename ModelCalls<M>::DesignMargins ma;
+    typename ModelCalls<M>::DesignMarginsDp da;
+    C::DesignMargins mb, mb_alone;
+    C::DesignMarginsDp db;
+    ModelCalls<M>::DesignChecks(M(), pa, &ma, &da);
+    C::DesignChecks(model, pb, &mb, &db);
+    C::DesignChecks(model, pb, &mb_alone);
+    EXPECT_TRUE(SameBits("margin", ma, mb));
+    EXPECT_TRUE(SameBits("margin alone", ma, mb_alone));
+    EXPECT_TRUE(SameBits("dmargin_dp", da, db));
+    EXPECT_TRUE(da.allFinite());
+  }
+
+  // A sweep with --design through both: every row's derivatives and the CSV with the design
+  // columns.
+  PositionSolver<M> fixed(M(), Options(), pa);
+  ViewPositionSolver dynamic(model, Options(), pb);
+  ASSERT_EQ(fixed.AssembleDefault(nullptr), Status::kConverged);
+  ASSERT_EQ(dynamic.AssembleDefault(nullptr), Status::kConverged);
+  const typename TM::VecQ q0 = Eigen::Map<const typename TM::VecQ>(M::kQMin.data());
+  const typename TM::VecQ q1 = Eigen::Map<const typename TM::VecQ>(M::kQMax.data());
+  const typename TV::VecQ v0 = Eigen::Map<const TV::VecQ>(view.q_min, view.nq);
+  const typename TV::VecQ v1 = Eigen::Map<const TV::VecQ>(view.q_max, view.nq);
+  auto fixed_columns = SweepColumns<M>();
+  auto view_columns = SweepColumns<ViewModel>(model);
+  AppendDesignColumns<M>(&fixed_columns);
+  AppendDesignColumns<ViewModel>(model, &view_columns);
+  ASSERT_EQ(table::ColumnNames(fixed_columns), table::ColumnNames(view_columns));
+  ASSERT_GT(view_columns.size(), SweepColumns<ViewModel>(model).size() + M::kNumDesign * M::kNphi - 1);
+  SweepOptions options;
+  options.design = true;
+  constexpr int kSteps = 90;
+  std::vector<SweepRecord<M>> fixed_rows;
+  std::vector<SweepRecord<ViewModel>> view_rows;
+  std::ostringstream fixed_csv, view_csv;
+  const int fixed_failures = SweepRows(&fixed, q0, q1, kSteps, TM::VecQ::Constant(1.0), TM::VecQ::Constant(0.5),
+                                       options, [&](int, const SweepRecord<M>& r) {
+                                         WriteCsvRow(fixed_columns, r, fixed_csv);
+                                         fixed_rows.push_back(r);
+                                       });
+  ViewRowFn row = [&](int, const SweepRecord<ViewModel>& r) {
+    WriteCsvRow(view_columns, r, view_csv);
+    view_rows.push_back(r);  // (a copy: the design's maps on the copy's own buffer)
+  };
+  const int view_failures = SweepRows(&dynamic, v0, v1, kSteps, TV::VecQ::Constant(view.nq, 1.0),
+                                      TV::VecQ::Constant(view.nq, 0.5), options, row);
+  EXPECT_EQ(fixed_failures, view_failures);
+  ASSERT_EQ(fixed_rows.size(), view_rows.size());
+  int with_design = 0, without = 0;
+  for (size_t i = 0; i < fixed_rows.size(); ++i) {
+    ExpectDesignMembersSame<M>(fixed_rows[i].design, view_rows[i].design, "row " + std::to_string(i));
+    // derivatives exactly where the row has a configuration (NaN after a stop)
+    EXPECT_EQ(fixed_rows[i].design.dphi_dp.allFinite(), fixed_rows[i].state.valid) << i;
+    EXPECT_EQ(view_rows[i].design.dphi_dp.array().isNaN().all(), !view_rows[i].state.valid) << i;
+    (fixed_rows[i].state.valid ? with_design : without) += 1;
+    if (::testing::Test::HasFailure()) return;  // the first difference says it all
+  }
+  EXPECT_GT(with_design, 10);
+  if (set != nullptr) {
+    EXPECT_GT(without, 0);  // (the stop: rows of NaN derivatives)
+  }
+  EXPECT_TRUE(fixed_csv.str() == view_csv.str()) << "the --design CSVs differ";
+
+  // At a few of the sweep's configurations, Design called directly: the view's into a value
+  // never placed on its layout (ModelCalls<ViewModel>::Design places it), the generated M::Design
+  // into a NaN-filled one.
+  for (const size_t i : {size_t{0}, fixed_rows.size() / 3, fixed_rows.size() / 2}) {
+    if (!fixed_rows[i].state.valid) continue;
+    position::DesignOf<M> a = position::NanDesign<M>();
+    M::Design(pa, fixed_rows[i].state.q, fixed_rows[i].state.phi, &a);
+    position::DesignOf<ViewModel> b;
+    ASSERT_EQ(b.size, 0);
+    C::Design(model, pb, view_rows[i].state.q, view_rows[i].state.phi, &b);
+    EXPECT_EQ(b.view, &view);
+    ExpectDesignMembersSame<M>(a, b, "Design at row " + std::to_string(i));
+    EXPECT_TRUE(a.dphi_dp.allFinite());
+    // and a state that is not valid: NaN (position::EvalDesign)
+    position::State<ViewModel> invalid = view_rows[i].state;
+    invalid.valid = false;
+    position::EvalDesign<ViewModel>(model, pb, invalid, &b);
+    EXPECT_TRUE(b.dphi_dp.array().isNaN().all());
+    EXPECT_EQ(b.dphi_dp.size(), M::kNphi * M::kNumDesign);
+  }
+}
+#ifdef MECHGEN_HAVE_fourbar
+TEST(ViewDesign, SameAsFixedSize_fourbar) {
+  ExpectViewDesignSame<mech::fourbar::Model>(mech::fourbar::View());
+  // non-Grashof: the sweep stops at the crank's dead point, the later rows NaN
+  ExpectViewDesignSame<mech::fourbar::Model>(mech::fourbar::View(), "a", 2.8);
+}
+#endif
+#ifdef MECHGEN_HAVE_slider_crank
+TEST(ViewDesign, SameAsFixedSize_slider_crank) {
+  ExpectViewDesignSame<mech::slider_crank::Model>(mech::slider_crank::View());
+}
+#endif
+#ifdef MECHGEN_HAVE_watt_sixbar
+TEST(ViewDesign, SameAsFixedSize_watt_sixbar) {
+  ExpectViewDesignSame<mech::watt_sixbar::Model>(mech::watt_sixbar::View());
 }
 #endif
 

@@ -121,8 +121,11 @@ void ExpectSameDrive(const DriveAnalysis& a, const DriveAnalysis& b, const std::
 // The statics sweep of the default range (360 steps; at the input velocities qd when given)
 // through both instantiations: every row's solutions and drive analyses to the bit, the same
 // CSV (StaticsColumns through the model and through its view), and the table's column names.
+// With `design` (a model with EvalStaticsDesign): Options::design, the design derivatives
+// (position and statics: the view's Design and StaticsDesign) of every row to the bit, and
+// the design columns in the CSV.
 template <class M>
-void ExpectViewStaticsSweepSame(const ModelView& view, double speed = std::nan("")) {
+void ExpectViewStaticsSweepSame(const ModelView& view, double speed = std::nan(""), bool design = false) {
   using TM = ModelTypes<M>;
   using TV = ModelTypes<ViewModel>;
   ASSERT_TRUE(ViewCompatible(view));
@@ -142,9 +145,15 @@ void ExpectViewStaticsSweepSame(const ModelView& view, double speed = std::nan("
   TV::VecQ qd_view = TV::VecQ::Constant(view.nq, speed);
   const bool at_speed = !std::isnan(speed);
   EXPECT_EQ(SpeedNote<M>(at_speed ? &qd_fixed : nullptr), SpeedNote<ViewModel>(model, at_speed ? &qd_view : nullptr));
-  const auto fixed_columns = StaticsColumns<M>();
-  const auto view_columns = StaticsColumns<ViewModel>(model);
+  const auto fixed_columns = StaticsColumns<M>(design);
+  const auto view_columns = StaticsColumns<ViewModel>(model, design);
   ASSERT_EQ(table::ColumnNames(fixed_columns), table::ColumnNames(view_columns));
+  if (design) {
+    EXPECT_TRUE(ModelCalls<ViewModel>::HasStaticsDesign(model));
+    EXPECT_GT(view_columns.size(), StaticsColumns<ViewModel>(model).size() + ModelCalls<M>::NumDesign(M()) - 1);
+  }
+  Options options;
+  options.design = design;
   std::vector<std::string> fixed_units, view_units;
   for (const auto& c : fixed_columns) fixed_units.push_back(c.unit + "|" + c.table_name + "|" + c.description);
   for (const auto& c : view_columns) view_units.push_back(c.unit + "|" + c.table_name + "|" + c.description);
@@ -154,12 +163,12 @@ void ExpectViewStaticsSweepSame(const ModelView& view, double speed = std::nan("
 
   constexpr int kSteps = 360;
   std::vector<StaticsRecord<M>> fixed_rows;
-  const int fixed_failures = StaticsSweep(Options(), &fixed, q0, q1, kSteps, &fixed_rows, SweepOptions(),
+  const int fixed_failures = StaticsSweep(options, &fixed, q0, q1, kSteps, &fixed_rows, SweepOptions(),
                                           at_speed ? &qd_fixed : nullptr);
   std::ostringstream fixed_csv, view_csv;
   WriteCsv(fixed_columns, fixed_rows, fixed_csv);
   WriteCsvHeader(view_columns, view_csv);
-  int rows = 0, converged = 0, with_friction = 0;
+  int rows = 0, converged = 0, with_friction = 0, with_design = 0;
   ViewStaticsRowFn row = [&](int i, const StaticsRecord<ViewModel>& b) {
     ASSERT_LT(static_cast<size_t>(i), fixed_rows.size());
     const StaticsRecord<M>& a = fixed_rows[static_cast<size_t>(i)];
@@ -177,10 +186,31 @@ void ExpectViewStaticsSweepSame(const ModelView& view, double speed = std::nan("
       ExpectSameSolution(a.backward[j], b.backward[j], input + " backward");
       with_friction += a.forward[j].summary.iterations > 1;
     }
+    if constexpr (StaticsFeatures<M>::kHasDesign) {
+      if (design) {
+        using F = StaticsFeatures<M>;
+        EXPECT_TRUE(SameBits("dQ_dp", a.design.dQ_dp, b.design.dQ_dp)) << where;
+        EXPECT_TRUE(SameBits("ddrive_dp", a.design.ddrive_dp, b.design.ddrive_dp)) << where;
+        if constexpr (F::kHasPotential) {
+          EXPECT_TRUE(SameBits("dV_dp", a.design.dV_dp, b.design.dV_dp)) << where;
+        }
+        if constexpr (F::kHasReactions) {
+          EXPECT_TRUE(SameBits("dR_dp", a.design.dR_dp, b.design.dR_dp)) << where;
+        }
+        EXPECT_TRUE(SameBits("dphi_dp", a.kinematics.design.dphi_dp, b.kinematics.design.dphi_dp)) << where;
+        EXPECT_TRUE(SameBits("dK_dp", a.kinematics.design.dK_dp, b.kinematics.design.dK_dp)) << where;
+        // derivatives exactly where the frictionless statics converged (NaN elsewhere)
+        EXPECT_EQ(a.design.ddrive_dp.allFinite(), a.frictionless.summary.status == Status::kConverged) << where;
+        with_design += b.design.ddrive_dp.allFinite();
+      }
+    }
     WriteCsvRow(view_columns, b, view_csv);
   };
-  const int view_failures = StaticsSweepRows(Options(), &dynamic, v0, v1, kSteps, SweepOptions(),
+  const int view_failures = StaticsSweepRows(options, &dynamic, v0, v1, kSteps, SweepOptions(),
                                              at_speed ? &qd_view : nullptr, row);
+  if (design) {
+    EXPECT_GT(with_design, kSteps / 2);
+  }
   EXPECT_EQ(fixed_failures, view_failures);
   EXPECT_EQ(rows, kSteps + 1);
   EXPECT_GT(converged, kSteps / 2);  // forces, not a row of refusals
@@ -257,6 +287,9 @@ TEST(ViewStatics, SameAsFixedSize_slider_crank_friction) {
 TEST(ViewStatics, SameAsFixedSize_fourbar_loaded) {
   ExpectViewStaticsSweepSame<mech::fourbar_loaded::Model>(mech::fourbar_loaded::View());
   ExpectViewScansSame<mech::fourbar_loaded::Model>(mech::fourbar_loaded::View());
+  // --design: the statics' design derivatives (a design section over every length and load)
+  ExpectViewStaticsSweepSame<mech::fourbar_loaded::Model>(mech::fourbar_loaded::View(), std::nan(""), true);
+  ExpectViewStaticsSweepSame<mech::fourbar_loaded::Model>(mech::fourbar_loaded::View(), -2.5, true);
 }
 #endif
 #ifdef MECHGEN_HAVE_slider_crank_press
@@ -350,7 +383,8 @@ TEST(ViewStatics, BufferKeepsWhatAFunctionDoesNotWrite_fourbar_loaded) {
 #endif
 
 // A model without statics is refused through the view (the per-model tool is a stub that says
-// so); what the view lacks is refused before anything is written (exit 2).
+// so), and so are --design on a model without a design section and a bad --set, before anything
+// is written (exit 2).
 TEST(ViewStaticsTool, RefusesWhatTheViewLacks) {
 #ifdef MECHGEN_HAVE_fourbar
   statics_tool::Arguments arguments;

@@ -254,14 +254,53 @@ fi
 # for what the view does not do yet. The CSV, the summary and the histograms through the view
 # are the per-model program's (MECHGEN_VIEW=0) byte for byte, at 1 and 2 threads: the kinematic
 # sweep and the positions of the four-bar, the statics and the free simulation (with the
-# kinetostatics' reactions) of the massive four-bar (one more per-model compile, ~60 s), and the
+# kinetostatics' reactions) of the massive four-bar (one more per-model compile, ~60 s), the
 # free simulation with Coulomb friction (stick and slip, a push that breaks the block away) of
-# tests/dynamics' block on an incline (one more, ~40 s); --verbose says which ran. A new model's first study compiles its object alone.
+# tests/dynamics' block on an incline (one more, ~40 s), the engine's cycle of engine_single
+# (analysis: engine) and the punch press's flywheel cycle with its located switches and a derived
+# parameter (analysis: flywheel; two more, ~80 s each); --verbose says which ran. A new model's
+# first study compiles its object alone.
 # A study the view cannot run (tolerance: true) falls back to the per-model program (the bytes
 # of the first run above), and so does a run under an MPI launcher (the ranks); run by hand,
 # mechgen_view refuses what it cannot do: exit 2, one line, no CSV.
 grep -v '^tolerance:\|^envelope:\|^clearance:\|^  B: {parameter\|design_margin' study.yaml > view_sweep.yaml
-cp "$source_dir/models/fourbar_massive.yaml" .
+cp "$source_dir/models/fourbar_massive.yaml" "$source_dir/models/engine_single.yaml" \
+   "$source_dir/tests/flywheel/models/punch_press.yaml" .
+cat > view_engine.yaml << 'EOF'
+method: grid
+analysis: engine
+rpm: 3000
+steps: 360
+gas: {heat: 800, burn_start: -15deg}
+parameters:
+  r: {values: [0.040, 0.043]}
+  m_pis: {values: [0.4, 0.5]}
+metrics:
+  - {kind: mean_torque}
+  - {kind: peak_torque}
+  - {kind: energy_fluctuation}
+  - {kind: flywheel_inertia, C_s: 0.02}
+  - {kind: speed_fluctuation}
+  - {kind: failures}
+EOF
+cat > view_flywheel.yaml << 'EOF'
+method: lhs
+count: 12
+seed: 5
+analysis: flywheel
+omega: 31.41592653589793
+steps: 720
+parameters:
+  delta: {tolerance: 0.001}
+  F0: {tolerance: 2000}
+  m3: {tolerance: 0.5}
+metrics:
+  - {kind: mean_torque}
+  - {kind: peak_torque}
+  - {kind: energy_fluctuation}
+  - {kind: flywheel_inertia, C_s: 0.05}
+  - {kind: failures}
+EOF
 cat > view_statics.yaml << 'EOF'
 method: lhs
 count: 300
@@ -318,7 +357,8 @@ EOF
 grep -q "the runtime is compiled once" vfirst.err && ! grep -q "compiling the study command" vfirst.err ||
   fail "view, a new model: not the model's object alone: $(cat vfirst.err)"
 for case in "fourbar.yaml view_sweep" "fourbar.yaml pos" "fourbar_massive.yaml view_statics" \
-            "fourbar_massive.yaml view_simulate" "incline_friction.yaml view_friction"; do
+            "fourbar_massive.yaml view_simulate" "incline_friction.yaml view_friction" \
+            "engine_single.yaml view_engine" "punch_press.yaml view_flywheel"; do
   set -- $case
   for t in 1 2; do
     "$mechgen" study --verbose "$1" --study "$2.yaml" --threads $t --csv "$2_v$t.csv" --summary-csv "$2_vs$t.csv" \

@@ -3,6 +3,7 @@
 // view. Serial and threads only: under an MPI launcher (the ranks) it refuses, and `mechgen
 // study` runs the per-model program, compiled with MPI (common/not_through_view.h).
 #include "mechgen/core/view_runtime.h"
+#include "mechgen/machines/view_machines.h"  // (before study_run.h: the machines compiled once)
 #include "study_args.h"
 #include "study_run.h"
 #include "view/commands.h"

@@ -161,6 +161,20 @@ MECHGEN_ALWAYS_INLINE void FillEntries(double* d, Eigen::Index n, double v) {
 }
 }  // namespace internal
 
+// ---- Design (a `design:` section): the counts of a generated model's (0 without) ----
+namespace internal {
+/// M::kNumDesign and M::kNumDesignChecks where M has a design section (kHasDesignDerivatives),
+/// else 0.
+template <class M, bool = ReadFlag_kHasDesignDerivatives<M>()>
+struct DesignCounts {
+  static constexpr int kDesign = 0, kChecks = 0;
+};
+template <class M>
+struct DesignCounts<M, true> {
+  static constexpr int kDesign = M::kNumDesign, kChecks = M::kNumDesignChecks;
+};
+}  // namespace internal
+
 /// Sizes, constants, flags and functions of a generated model M (static; the object is an
 /// empty tag). Specialized for ViewModel in core/view_model.h.
 template <class M>
@@ -426,6 +440,63 @@ struct ModelCalls {
     }
   }
 
+  // ---- Design (a `design:` section): the design derivatives (position/design.h), the
+  //      statics' (statics/sweep.h) and the design checks; nothing without the section ----
+  static constexpr bool HasDesign(const M&) { return HasDesignDerivatives<M>::value; }
+  /// The design parameters (M::kDesignNames) and the design checks (M::kDesignCheckNames).
+  static constexpr int NumDesign(const M&) { return internal::DesignCounts<M>::kDesign; }
+  static const char* DesignName(const M&, int d) {
+    if constexpr (HasDesignDerivatives<M>::value) return M::kDesignNames[static_cast<size_t>(d)];
+    (void)d;
+    return "";
+  }
+  static constexpr int NumDesignChecks(const M&) { return internal::DesignCounts<M>::kChecks; }
+  static const char* DesignCheckName(const M&, int i) {
+    if constexpr (internal::DesignCounts<M>::kChecks > 0) return M::kDesignCheckNames[static_cast<size_t>(i)];
+    (void)i;
+    return "";
+  }
+  /// EvalStaticsDesign (M::StaticsDesign): a design section and statics.
+  static constexpr bool HasStaticsDesign(const M& m) {
+    return HasStatics(m) && ::mechgen::HasStaticsDesign<M>::value;
+  }
+  /// Model::Design: d/dp of phi, K, L and the points at (q, phi) into *out
+  /// (position::DesignOf<M>).
+  template <class D>
+  static void Design(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                     const typename T::VecPhi& phi, D* out) {
+    if constexpr (HasDesignDerivatives<M>::value) {
+      M::Design(p, q, phi, out);
+    } else {
+      (void)p, (void)q, (void)phi, (void)out;
+    }
+  }
+  /// Model::StaticsDesign: d/dp of Q, the drive, V and the reactions, from the coefficients c
+  /// and the design derivatives dc at the same configuration.
+  template <class DC, class SD>
+  static void StaticsDesign(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                            const typename T::VecPhi& phi, const typename T::Coefficients& c, const DC& dc,
+                            SD* out) {
+    if constexpr (::mechgen::HasStaticsDesign<M>::value) {
+      M::StaticsDesign(p, q, phi, c, dc, out);
+    } else {
+      (void)p, (void)q, (void)phi, (void)c, (void)dc, (void)out;
+    }
+  }
+  /// Model::DesignChecks: the checks' margins (NumDesignChecks) and, where dmargin_dp is not
+  /// nullptr, their derivatives (NumDesignChecks x NumDesign).
+  using DesignMargins = Eigen::Matrix<double, internal::DesignCounts<M>::kChecks, 1>;
+  using DesignMarginsDp =
+      Eigen::Matrix<double, internal::DesignCounts<M>::kChecks, internal::DesignCounts<M>::kDesign>;
+  static void DesignChecks(const M&, const typename T::Params& p, DesignMargins* margin,
+                           DesignMarginsDp* dmargin_dp = nullptr) {
+    if constexpr (internal::DesignCounts<M>::kChecks > 0) {
+      M::DesignChecks(p, margin, dmargin_dp);
+    } else {
+      (void)p, (void)margin, (void)dmargin_dp;
+    }
+  }
+
   // ---- Dynamics (dynamics/, machines/): inertia, right-hand side, kinetostatics ----
   // The generated structs by their role (alias templates: named only where M has them).
   template <class X = M>
@@ -549,6 +620,40 @@ struct ModelCalls {
                       const typename T::VecPhi& phi, const typename T::VecQ& qd, const typename T::VecQ& qdd,
                       const typename T::Coefficients& c, ShakingOut<X>* out) {
     M::template Shaking<double>(p, q, phi, qd, qdd, c, out);
+  }
+
+  // ---- Design sensitivities of the dynamics (machines/: engine and flywheel --design):
+  //      Model::DynamicsDesign and Model::ShakingDesign. Both read dc, the design derivatives of
+  //      positions, K and L at the same (q, phi) (Model::Design: the Design section's calls, not
+  //      these); the friction loads are none (the machines refuse Coulomb friction). ----
+  /// Whether M has EvalDynamicsDesign (a `design` section and dynamics) and EvalShakingDesign
+  /// (also the quantity `shaking`).
+  static constexpr bool HasDynamicsDesign(const M&) { return mechgen::HasDynamicsDesign<M>::value; }
+  static constexpr bool HasShakingDesign(const M&) {
+    return mechgen::HasDynamicsDesign<M>::value && mechgen::HasShaking<M>::value;
+  }
+  /// d/dp of I, dI/dq, h, Q, T, V (members dI_dp, ddI_dq_dp, dh_dp, dQ_dp, dT_dp, dV_dp).
+  template <class X = M>
+  using DynamicsDesignOut = typename X::template DynamicsDesignT<double>;
+  /// d/dp of the shaking force (2 x kNumDesign) and moment (kNumDesign).
+  template <class X = M>
+  using ShakingDesignForce = Eigen::Matrix<double, 2, X::kNumDesign>;
+  template <class X = M>
+  using ShakingDesignMoment = Eigen::Matrix<double, X::kNumDesign, 1>;
+  /// Model::DynamicsDesign at (t, q, qd): dc is Model::Design's output at (q, phi).
+  template <class X = M, class DesignOut>
+  static void DynamicsDesign(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                             const typename T::VecPhi& phi, const typename T::VecQ& qd, double t,
+                             const typename T::Coefficients& c, const DesignOut& dc, DynamicsDesignOut<X>* out) {
+    M::template DynamicsDesign<double>(p, q, phi, qd, t, c, dc, out);
+  }
+  /// Model::ShakingDesign at (q, qd, qdd); dF_dp or dM_dp may be nullptr.
+  template <class X = M, class DesignOut>
+  static void ShakingDesign(const M&, const typename T::Params& p, const typename T::VecQ& q,
+                            const typename T::VecPhi& phi, const typename T::VecQ& qd, const typename T::VecQ& qdd,
+                            const typename T::Coefficients& c, const DesignOut& dc, ShakingDesignForce<X>* dF_dp,
+                            ShakingDesignMoment<X>* dM_dp) {
+    M::template ShakingDesign<double>(p, q, phi, qd, qdd, c, dc, dF_dp, dM_dp);
   }
 };
 

@@ -291,11 +291,99 @@ template <>
 struct BlockCount<ViewModel, true> {
   static constexpr int value = ModelView::kMaxBlocks;
 };
-/// The view's design derivatives are not reached by the runtime instantiated for it yet (the
-/// sweep's --design): none.
+}  // namespace internal
+
+// ---- Design (a `design:` section): the structs of the view's Design and StaticsDesign ----
+namespace internal {
+/// Places the members of S (a struct below) on view v's layout of S::kStruct: each member an
+/// Eigen::Map of s->buffer at the layout's rows x cols (found by name; empty where the model
+/// lacks the member, e.g. dK_dp without K), s->size the layout's size. The entries are not
+/// touched.
+template <class S>
+void PlaceViewStruct(const ModelView& v, S* s) {
+  using Map = typename S::Map;
+  const ViewLayout& l = v.Layout(S::kStruct);
+  s->view = &v;
+  s->size = l.size;
+  const auto members = S::Members();
+  for (size_t i = 0; i < members.size(); ++i) {
+    const ViewMember* m = FindMember(l, S::kNames[i]);
+    if (m != nullptr) {
+      new (&(s->*members[i])) Map(s->buffer.data() + m->offset, m->rows, m->cols);  // (trivially destructible)
+    } else {
+      new (&(s->*members[i])) Map(nullptr, 0, 0);
+    }
+  }
+}
+/// *to = from: the entries in use (from.size) copied, and to's members mapped on to's own
+/// buffer at from's offsets and sizes.
+template <class S>
+void CopyViewStruct(const S& from, S* to) {
+  using Map = typename S::Map;
+  to->view = from.view;
+  to->size = from.size;
+  CopyEntries(from.buffer.data(), from.size, to->buffer.data());
+  for (auto member : S::Members()) {
+    const Map& a = from.*member;
+    double* const data = a.data() != nullptr ? to->buffer.data() + (a.data() - from.buffer.data()) : nullptr;
+    new (&(to->*member)) Map(data, a.rows(), a.cols());
+  }
+}
+/// The view's DesignDerivatives (position::DesignOf<ViewModel>): its buffer
+/// (ViewStruct::kDesignDerivatives) and each member of the generated struct a map of it at the
+/// view's sizes, as ModelTypes<ViewModel>::Coefficients; empty until placed on a view's layout
+/// (position::SetNanDesign, ModelCalls<ViewModel>::Design). Copyable, unlike Coefficients (a
+/// sweep copies its records): a copy maps its own buffer, and copies the entries in use only
+/// (none for a model without a design section).
+struct ViewDesignDerivatives {
+  using Map = Eigen::Map<Eigen::MatrixXd>;
+  static constexpr ViewStruct kStruct = ViewStruct::kDesignDerivatives;
+  static constexpr std::array<const char*, 7> kNames{"dphi_dp", "dr_P_dp", "dK_dp", "dK_P_dp",
+                                                     "dL_dp",   "dL_P_dp", "dmu_dp"};
+  static std::array<Map ViewDesignDerivatives::*, 7> Members() {
+    using D = ViewDesignDerivatives;
+    return {&D::dphi_dp, &D::dr_P_dp, &D::dK_dp, &D::dK_P_dp, &D::dL_dp, &D::dL_P_dp, &D::dmu_dp};
+  }
+  ViewDesignDerivatives() = default;
+  ViewDesignDerivatives(const ViewDesignDerivatives& other) { CopyViewStruct(other, this); }
+  ViewDesignDerivatives& operator=(const ViewDesignDerivatives& other) {
+    if (this != &other) CopyViewStruct(other, this);
+    return *this;
+  }
+  std::array<double, ModelView::kMaxStructSize[static_cast<int>(kStruct)]> buffer;
+  const ModelView* view = nullptr;  ///< the view whose layout the members follow (nullptr: none)
+  int size = 0;                     ///< the entries in use, buffer[0, size)
+  Map dphi_dp{nullptr, 0, 0}, dr_P_dp{nullptr, 0, 0}, dK_dp{nullptr, 0, 0}, dK_P_dp{nullptr, 0, 0},
+      dL_dp{nullptr, 0, 0}, dL_P_dp{nullptr, 0, 0}, dmu_dp{nullptr, 0, 0};
+};
+/// The view's StaticsDesign (statics::StaticsDesignOf<ViewModel>), as ViewDesignDerivatives
+/// (dV_dp a num_design x 1 map).
+struct ViewStaticsDesign {
+  using Map = Eigen::Map<Eigen::MatrixXd>;
+  static constexpr ViewStruct kStruct = ViewStruct::kStaticsDesign;
+  static constexpr std::array<const char*, 4> kNames{"dQ_dp", "ddrive_dp", "dV_dp", "dR_dp"};
+  static std::array<Map ViewStaticsDesign::*, 4> Members() {
+    using D = ViewStaticsDesign;
+    return {&D::dQ_dp, &D::ddrive_dp, &D::dV_dp, &D::dR_dp};
+  }
+  ViewStaticsDesign() = default;
+  ViewStaticsDesign(const ViewStaticsDesign& other) { CopyViewStruct(other, this); }
+  ViewStaticsDesign& operator=(const ViewStaticsDesign& other) {
+    if (this != &other) CopyViewStruct(other, this);
+    return *this;
+  }
+  std::array<double, ModelView::kMaxStructSize[static_cast<int>(kStruct)]> buffer;
+  const ModelView* view = nullptr;
+  int size = 0;
+  Map dQ_dp{nullptr, 0, 0}, ddrive_dp{nullptr, 0, 0}, dV_dp{nullptr, 0, 0}, dR_dp{nullptr, 0, 0};
+};
 template <>
 struct DesignDerivativesOf<ViewModel, true> {
-  using type = NoDesignDerivatives;
+  using type = ViewDesignDerivatives;
+};
+template <>
+struct StaticsDesignOf<ViewModel, true> {
+  using type = ViewStaticsDesign;
 };
 }  // namespace internal
 
@@ -528,6 +616,56 @@ struct ModelCalls<ViewModel> {
     get(l.K_rel, &s->K_rel);
   }
 
+  // ---- Design (a `design:` section): the design derivatives (position/design.h), the
+  //      statics' (statics/sweep.h) and the design checks, through the view ----
+  static bool HasDesign(const M& m) { return m.view->flags.kHasDesignDerivatives && m.view->Design != nullptr; }
+  static int NumDesign(const M& m) { return HasDesign(m) ? m.view->num_design : 0; }
+  static const char* DesignName(const M& m, int d) { return m.view->design_names[d]; }
+  static int NumDesignChecks(const M& m) {
+    return HasDesign(m) && m.view->DesignChecks != nullptr ? m.view->num_design_checks : 0;
+  }
+  static const char* DesignCheckName(const M& m, int i) { return m.view->design_check_names[i]; }
+  static bool HasStaticsDesign(const M& m) {
+    return HasStatics(m) && HasDesign(m) && m.view->flags.kHasStaticsDesign && m.view->StaticsDesign != nullptr;
+  }
+  /// *d (internal::ViewDesignDerivatives or ViewStaticsDesign) placed on this view's layout
+  /// (where it is not yet) with every entry NaN: a step that failed, or where the derivatives
+  /// were not asked for (position::SetNanDesign, statics::SetNanStaticsDesign).
+  template <class S>
+  static void SetNaN(const M& m, S* d) {
+    if (d->view != m.view) internal::PlaceViewStruct(*m.view, d);
+    internal::FillEntries(d->buffer.data(), d->size, std::numeric_limits<double>::quiet_NaN());
+  }
+  /// The view's Design into *out. The view reads *out's buffer in before the call (what the
+  /// function does not write keeps its value, as in the generated struct): one not yet placed on
+  /// this view is set to NaN first.
+  static void Design(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                     internal::ViewDesignDerivatives* out) {
+    if (out->view != m.view) SetNaN(m, out);
+    m.view->Design(p.data(), q.data(), phi.data(), out->buffer.data());
+  }
+  /// The view's StaticsDesign into *out from the coefficients c and the design derivatives dc
+  /// (Design's, at the same configuration).
+  static void StaticsDesign(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                            const T::Coefficients& c, const internal::ViewDesignDerivatives& dc,
+                            internal::ViewStaticsDesign* out) {
+    if (out->view != m.view) SetNaN(m, out);
+    m.view->StaticsDesign(p.data(), q.data(), phi.data(), c.buffer.data(), dc.buffer.data(), out->buffer.data());
+  }
+  /// The view's DesignChecks: the margins (NumDesignChecks) and, where dmargin_dp is not
+  /// nullptr, their derivatives (NumDesignChecks x NumDesign); both sized (and zeroed: the view
+  /// reads its outputs in) here.
+  using DesignMargins = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, ModelView::kMaxDesignChecks, 1>;
+  using DesignMarginsDp =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, ModelView::kMaxDesignChecks, ModelView::kMaxDesign>;
+  static void DesignChecks(const M& m, const ViewParams& p, DesignMargins* margin,
+                           DesignMarginsDp* dmargin_dp = nullptr) {
+    const int n = NumDesignChecks(m);
+    margin->setZero(n);
+    if (dmargin_dp != nullptr) dmargin_dp->setZero(n, NumDesign(m));
+    if (n > 0) m.view->DesignChecks(p.data(), margin->data(), dmargin_dp != nullptr ? dmargin_dp->data() : nullptr);
+  }
+
   // ---- Dynamics (dynamics/, machines/): inertia, right-hand side, kinetostatics ----
   template <class X = M>
   using DynamicsOut = T::DynamicsOut;
@@ -694,6 +832,75 @@ struct ModelCalls<ViewModel> {
     out->M = *at("M");
     out->F_link = Eigen::Map<const Eigen::MatrixXd>(at("F_link"), 2, nl);
     out->M_link = Eigen::Map<const Eigen::VectorXd>(at("M_link"), nl);
+  }
+
+  // ---- Design sensitivities of the dynamics (machines/: engine and flywheel --design): the
+  //      view's DynamicsDesign and ShakingDesign (ViewStruct::kDynamicsDesign). Both read dc,
+  //      the view's DesignDerivatives buffer at the same (q, phi): any result of the Design
+  //      section's call with its `buffer` (those calls are not in this section); the friction
+  //      loads are none (the machines refuse Coulomb friction). ----
+  static bool HasDynamicsDesign(const M& m) {
+    return m.view->flags.kHasDynamicsDesign && m.view->DynamicsDesign != nullptr;
+  }
+  static bool HasShakingDesign(const M& m) {
+    return HasDynamicsDesign(m) && m.view->flags.kHasShaking && m.view->ShakingDesign != nullptr;
+  }
+  /// The view's DynamicsDesign: its buffer, and each member a map of it at the view's sizes
+  /// (nq x nq num_design, nq x nq^2 num_design, nq x num_design twice, num_design twice; set by
+  /// DynamicsDesign: nothing copied). Not copyable: the maps point into the object's own buffer.
+  struct DynamicsDesignResult {
+    using MatMap = Eigen::Map<const Eigen::MatrixXd>;
+    using VecMap = Eigen::Map<const Eigen::VectorXd>;
+    DynamicsDesignResult() = default;
+    DynamicsDesignResult(const DynamicsDesignResult&) = delete;
+    DynamicsDesignResult& operator=(const DynamicsDesignResult&) = delete;
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kDynamicsDesign)]> buffer;
+    MatMap dI_dp{nullptr, 0, 0}, ddI_dq_dp{nullptr, 0, 0}, dh_dp{nullptr, 0, 0}, dQ_dp{nullptr, 0, 0};
+    VecMap dT_dp{nullptr, 0}, dV_dp{nullptr, 0};
+  };
+  template <class X = M>
+  using DynamicsDesignOut = DynamicsDesignResult;
+  /// d/dp of the shaking force (2 x num_design) and moment (num_design), bounded.
+  template <class X = M>
+  using ShakingDesignForce = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, ModelView::kMaxDesign>;
+  template <class X = M>
+  using ShakingDesignMoment = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, ModelView::kMaxDesign, 1>;
+  /// The view's DynamicsDesign at (t, q, qd); dc: the view's DesignDerivatives at (q, phi).
+  template <class X = M, class DesignOut>
+  static void DynamicsDesign(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                             const T::VecQ& qd, double t, const T::Coefficients& c, const DesignOut& dc,
+                             DynamicsDesignResult* out) {
+    const ModelView& v = *m.view;
+    const ViewLayout& l = v.Layout(ViewStruct::kDynamicsDesign);
+    double* const b = out->buffer.data();
+    internal::FillEntries(b, l.size, 0.0);
+    v.DynamicsDesign(p.data(), q.data(), phi.data(), qd.data(), t, c.buffer.data(), dc.buffer.data(), b, nullptr);
+    auto at = [&l, b](const char* name) {
+      const ViewMember* member = FindMember(l, name);
+      return b + (member != nullptr ? member->offset : 0);
+    };
+    const int nq = v.nq, nd = v.num_design;
+    using MatMap = DynamicsDesignResult::MatMap;
+    using VecMap = DynamicsDesignResult::VecMap;
+    // (A Map is trivially destructible: placed anew over the old one.)
+    new (&out->dI_dp) MatMap(at("dI_dp"), nq, nq * nd);
+    new (&out->ddI_dq_dp) MatMap(at("ddI_dq_dp"), nq, nq * nq * nd);
+    new (&out->dh_dp) MatMap(at("dh_dp"), nq, nd);
+    new (&out->dQ_dp) MatMap(at("dQ_dp"), nq, nd);
+    new (&out->dT_dp) VecMap(at("dT_dp"), nd);
+    new (&out->dV_dp) VecMap(at("dV_dp"), nd);
+  }
+  /// The view's ShakingDesign at (q, qd, qdd); dF_dp or dM_dp may be nullptr (else resized to
+  /// the view's num_design).
+  template <class X = M, class DesignOut>
+  static void ShakingDesign(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
+                            const T::VecQ& qd, const T::VecQ& qdd, const T::Coefficients& c, const DesignOut& dc,
+                            ShakingDesignForce<X>* dF_dp, ShakingDesignMoment<X>* dM_dp) {
+    const ModelView& v = *m.view;
+    if (dF_dp != nullptr) dF_dp->setZero(2, v.num_design);
+    if (dM_dp != nullptr) dM_dp->setZero(v.num_design);
+    v.ShakingDesign(p.data(), q.data(), phi.data(), qd.data(), qdd.data(), c.buffer.data(), dc.buffer.data(),
+                    dF_dp != nullptr ? dF_dp->data() : nullptr, dM_dp != nullptr ? dM_dp->data() : nullptr);
   }
 };
 

@@ -9,10 +9,11 @@
  * the per-model tools, the benchmarks): one source, two instantiations.
  *
  * Instantiated: the position solver (position/), the sweep (sweep/sweep.h: SweepRows with a
- * ViewRowFn, ComputeMotion), its columns (sweep/columns.h) and motion summary
- * (sweep/motion_summary.h); the statics (statics/: Solve, the drive analysis, the statics sweep
- * with a ViewStaticsRowFn, its columns, the dead-zone and equilibrium scans; not the force
- * diagram, statics/svg.h);
+ * ViewRowFn, ComputeMotion, the design derivatives of --design), its columns (sweep/columns.h,
+ * the design columns with them) and motion summary (sweep/motion_summary.h); the statics
+ * (statics/: Solve, the drive analysis, the statics sweep with a ViewStaticsRowFn and its
+ * design derivatives, its columns, the dead-zone and equilibrium scans; not the force diagram,
+ * statics/svg.h);
  * the free motion by the minimal method (dynamics/forward.h:
  * MinimalDynamics with Dopri5 and Dop853, samples handed to a ViewSampleFn), the
  * kinetostatics (dynamics/kinetostatics.h) and the simulate CSV's columns
@@ -55,6 +56,7 @@ extern template int SweepRows<ViewModel, position::NewtonAssembler, ViewRowFn&>(
     ViewPositionSolver*, const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecQ&, int,
     const ModelTypes<ViewModel>::VecQ&, const ModelTypes<ViewModel>::VecQ&, const SweepOptions&, ViewRowFn&);
 extern template std::vector<SweepColumn<ViewModel>> SweepColumns<ViewModel>(const ViewModel&);
+extern template void AppendDesignColumns<ViewModel>(const ViewModel&, std::vector<SweepColumn<ViewModel>>*);
 extern template class MotionSummaryBuilder<ViewModel>;
 
 // ---- Statics (statics/; instantiated in runtime/view/statics.cc) ----

@@ -3,11 +3,11 @@
  * The machines (machines/engine/, machines/flywheel/) instantiated once for the model view
  * (issue 43), compiled into the library mechgen_runtime_view (runtime/view/machines.cc): the
  * engine's cycle at constant speed, its gas-driven simulation (the run-up, the steady cycle by
- * shooting) and the flywheel's cycle and simulated check. Each is a plain function on the
- * view's types beside the template it instantiates: a call with a ViewModel (unqualified, found
- * by its arguments, as tools/engine_run.h and flywheel_run.h make it) takes the plain function,
- * so a program that includes this header and links the library does not compile the cycle,
- * the integrator or the event loop again. The same templates, instantiated for a generated
+ * shooting) and the flywheel's cycle, its design sensitivities and simulated check. Each is a
+ * plain function on the view's types beside the template it instantiates: a call with a
+ * ViewModel (unqualified, found by its arguments, as tools/engine_run.h and flywheel_run.h make
+ * it) takes the plain function, so a program that includes this header and links the library
+ * does not compile the cycle, the integrator or the event loop again. The same templates, instantiated for a generated
  * model's type, are the per-model tools' (fixed sizes): one source, two instantiations.
  */
 #pragma once
@@ -19,6 +19,7 @@
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/machines/engine/crank_dynamics.h"
 #include "mechgen/machines/engine/cycle.h"
+#include "mechgen/machines/flywheel/cycle_design.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
 
 namespace mechgen {
@@ -29,6 +30,9 @@ using ViewGasDriven = GasDriven<ViewModel, CycleGas>;
 /// RunCycle<ViewModel> (cycle.h).
 bool RunCycle(const ViewModel& model, const ViewParams& p0, const Engine& e, const CycleGas& gas, double omega,
               int samples, std::vector<CrankPoint<ViewModel>>* out, std::string* error);
+/// RunCycleDesign<ViewModel> (cycle.h): flywheel --design's sensitivities at the samples.
+bool RunCycleDesign(const ViewModel& model, const ViewParams& p, const Engine& e, const CycleGas& gas, double omega,
+                    int samples, std::vector<double>* dT, std::vector<double>* dI, std::string* error);
 /// FindSteadyCycle<ViewGasDriven> (crank_dynamics.h).
 SteadyCycle FindSteadyCycle(ViewGasDriven* sim, const SteadyCycleOptions& o);
 /// sim->Simulate(t0, q0, qd0, t_end, observer, summary): the run-up (tools/engine_run.h).
@@ -50,5 +54,8 @@ MachineCycle SampleMachineCycle(const ViewModel& model, const ViewParams& p, con
 /// CheckBySimulation<ViewModel> (machine_cycle.h): WithFlywheel<ViewModel> driven by the motor.
 SimulatedCheck CheckBySimulation(const ViewModel& model, const ViewParams& p, const MachineCycle& cycle,
                                  double I_flywheel, const CheckOptions& o);
+/// SampleMachineCycleDesign<ViewModel> (cycle_design.h): the cycle's design sensitivities.
+CycleDesign<ViewModel> SampleMachineCycleDesign(const ViewModel& model, const ViewParams& p,
+                                                const MachineCycleOptions& o, const MachineCycle& cycle);
 }  // namespace flywheel
 }  // namespace mechgen

@@ -363,22 +363,24 @@ std::vector<StaticsColumn<M>> StaticsColumns(const M& model, bool design = false
   add.Text("evaluations", "generated statics evaluations of the row",
            [](const R& r) { return std::to_string(r.evaluations); });
   if constexpr (F::kHasDesign) {
-    for (int d = 0; design && d < M::kNumDesign; ++d) {
-      const std::string p = M::kDesignNames[d];
+    const int num_design = design && C::HasStaticsDesign(model) ? C::NumDesign(model) : 0;
+    for (int d = 0; d < num_design; ++d) {
+      const std::string p = C::DesignName(model, d);
       if constexpr (HasStaticsQ<M>::value)
-        for (int j = 0; j < M::kNq; ++j)
-          add.Number("ddrive_" + std::string(M::kQNames[j]) + "/d" + p,
-                     std::string(M::kQIsAngle[j] ? "N m" : "N") + " per unit of " + p,
+        for (int j = 0; j < nq; ++j)
+          add.Number("ddrive_" + std::string(C::QName(model, j)) + "/d" + p,
+                     std::string(C::QIsAngle(model, j) ? "N m" : "N") + " per unit of " + p,
                      "sensitivity of the driving torque or force without friction (q held)",
                      [j, d](const R& r) { return r.design.ddrive_dp(j, d); });
       if constexpr (HasStaticsR<M>::value)
-        for (int k = 0; k < M::kNumReactions; ++k)
-          add.Number("d" + std::string(M::kReactionNames[k]) + "/d" + p, "N or N m per unit of " + p,
+        for (int k = 0; k < C::NumReactions(model); ++k)
+          add.Number("d" + std::string(C::ReactionName(model, k)) + "/d" + p, "N or N m per unit of " + p,
                      "sensitivity of the reaction without friction (q held)",
                      [k, d](const R& r) { return r.design.dR_dp(k, d); });
       if constexpr (HasStaticsV<M>::value)
-        add.Number("dV/d" + p, "J per unit of " + p, "sensitivity of the potential energy (q held)",
-                   [d](const R& r) { return r.design.dV_dp(d); });
+        if (C::HasPotential(model))
+          add.Number("dV/d" + p, "J per unit of " + p, "sensitivity of the potential energy (q held)",
+                     [d](const R& r) { return r.design.dV_dp(d); });
     }
   } else {
     (void)design;

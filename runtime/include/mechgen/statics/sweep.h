@@ -31,15 +31,16 @@
 
 namespace mechgen::statics {
 
-/// The statics' design derivatives (M::StaticsDesignT; empty for the view, which does not
-/// reach them) and the same with every member NaN (or the empty placeholder).
+/// The statics' design derivatives (M::StaticsDesignT; for the view internal::ViewStaticsDesign,
+/// core/view_model.h: its buffer with a map per member) and the same with every member NaN (or
+/// the empty placeholder; for the view an empty value, SetNanStaticsDesign sizes it).
 template <class M>
 using StaticsDesignOf =
     typename ::mechgen::internal::StaticsDesignOf<M, StaticsFeatures<M>::kHasDesign>::type;
 template <class M>
 StaticsDesignOf<M> NanStaticsDesign() {
   StaticsDesignOf<M> d;
-  if constexpr (StaticsFeatures<M>::kHasDesign) {
+  if constexpr (StaticsFeatures<M>::kHasDesign && !ModelCalls<M>::kView) {
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     if constexpr (HasStaticsQ<M>::value) {
       d.dQ_dp.setConstant(nan);
@@ -49,6 +50,16 @@ StaticsDesignOf<M> NanStaticsDesign() {
     if constexpr (HasStaticsR<M>::value) d.dR_dp.setConstant(nan);
   }
   return d;
+}
+/// *d = every member NaN at the model's sizes (NanStaticsDesign; a view's placed on its layout).
+template <class M>
+void SetNanStaticsDesign(const M& model, StaticsDesignOf<M>* d) {
+  if constexpr (ModelCalls<M>::kView) {
+    ModelCalls<M>::SetNaN(model, d);
+  } else {
+    (void)model;
+    *d = NanStaticsDesign<M>();
+  }
 }
 
 /// One row of a statics sweep.
@@ -63,6 +74,7 @@ struct StaticsRecord {
   explicit StaticsRecord(const M& model) : kinematics(model), frictionless(model) {
     forward.fill(frictionless);
     backward.fill(frictionless);
+    SetNanStaticsDesign(model, &design);
   }
   /// The configuration: q, the position State, motion and the position step's Summary.
   SweepRecord<M> kinematics;
@@ -130,7 +142,7 @@ Status EvaluateRecord(const M& model, const Options& options, const typename Mod
   const int nq = C::Nq(model);
   r->evaluations = 0;
   r->mechanical_advantage = StaticsRecord<M>::kNaN;
-  r->design = NanStaticsDesign<M>();
+  SetNanStaticsDesign(model, &r->design);
   if (!state.valid || r->kinematics.summary.status != position::Status::kConverged) {
     const bool singular = r->kinematics.summary.status == position::Status::kSingular;
     if constexpr (C::kView) {
@@ -186,10 +198,11 @@ Status EvaluateRecord(const M& model, const Options& options, const typename Mod
   if constexpr (StaticsFeatures<M>::kHasDesign) {
     // The design derivatives are those of the statics at rest (EvalStaticsDesign takes no
     // velocities): none at a speed that the loads read.
-    const bool at_speed = StaticsFeatures<M>::kReadsSpeed && velocities != nullptr;
-    if (options.design && !at_speed && r->frictionless.summary.status == Status::kConverged) {
-      position::EvalDesign<M>(p, state, &r->kinematics.design);
-      M::StaticsDesign(p, state.q, state.phi, c, r->kinematics.design, &r->design);
+    const bool at_speed = StaticsFeatures<M>::kReadsSpeed && C::ReadsSpeed(model) && velocities != nullptr;
+    if (options.design && C::HasStaticsDesign(model) && !at_speed &&
+        r->frictionless.summary.status == Status::kConverged) {
+      position::EvalDesign<M>(model, p, state, &r->kinematics.design);
+      C::StaticsDesign(model, p, state.q, state.phi, c, r->kinematics.design, &r->design);
     }
   }
   if constexpr ((M::kNq == 1 || C::kView) && ModelFeatures<M>::kHasPointVelocities) {

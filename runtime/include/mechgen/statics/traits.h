@@ -96,9 +96,9 @@ struct StaticsFeatures {
   /// (Model::kStaticsAtSpeed, SpeedItems()); without them it is taken at rest. (The view's
   /// Forces always takes them.)
   static constexpr bool kReadsSpeed = kHasStatics && (ModelCalls<M>::kDeclaresAtSpeed || ModelCalls<M>::kView);
-  /// The design derivatives of the statics (EvalStaticsDesign): a generated model with them
-  /// (not reached through the view).
-  static constexpr bool kHasDesign = HasStaticsDesign<M>::value && !ModelCalls<M>::kView;
+  /// The design derivatives of the statics (EvalStaticsDesign): a generated model with them,
+  /// or the view (whether it has them: ModelCalls<M>::HasStaticsDesign).
+  static constexpr bool kHasDesign = HasStaticsDesign<M>::value;
 };
 
 /// What model M's statics take at the input velocities and at rest without them: "torque of

@@ -23,10 +23,11 @@
  * (core/model_calls.h), for a generated model (fixed sizes, the per-model study program) and for
  * mechgen::ViewModel (the runtime compiled once, `mechgen_view study`). Through the view, not
  * yet: the design derivatives (the tolerance analysis, the envelope's first order, the design
- * checks), analysis: flywheel and engine, the driven simulation and Coulomb friction in a
- * simulation of several inputs (one input's goes through); the study command (tools/study_run.h)
- * refuses them before Prepare
- * (tools/common/not_through_view.h).
+ * checks), the driven simulation and Coulomb friction in a simulation of several inputs (one
+ * input's goes through); the study command (tools/study_run.h) refuses them before Prepare
+ * (tools/common/not_through_view.h). With analysis: flywheel and engine a view's sample runs the
+ * machines' cycle compiled once (machines/view_machines.h, declared before this header where
+ * the view's study is compiled).
  */
 #pragma once
 
@@ -293,12 +294,14 @@ class Study {
     }
 
     if (spec.analysis == Analysis::kEngine) {
+      const std::string not_an_engine =
+          std::string("analysis: engine needs an engine model of tools/make_engine.py (one crank input, "
+                      "`dynamics` and `forces` among its outputs' quantities, no Coulomb friction); ") +
+          name + " is not one";
       if constexpr (!engine::CanRunEngineCycle<M>()) {
-        return fail(spec.analysis_place,
-                    std::string("analysis: engine needs an engine model of tools/make_engine.py (one crank input, "
-                                "`dynamics` and `forces` among its outputs' quantities, no Coulomb friction); ") +
-                        name + " is not one");
+        return fail(spec.analysis_place, not_an_engine);
       } else {
+        if (!engine::CanRunEngineCycle(model_)) return fail(spec.analysis_place, not_an_engine);  // (a view's)
         // The engine's names (ReadEngine), and the indicator diagram over its cycle.
         Params nominal = base_;
         for (size_t k = 0; k < spec.parameters.size(); ++k) *Parameter(&nominal, spec.parameters[k].name) = nominal_[k];
@@ -618,15 +621,14 @@ class Study {
       flywheel::MachineCycleOptions o;
       o.omega = spec_.omega;
       o.samples = spec_.steps;
-      if constexpr (!kView) {  // (not through the view: study_run.h refuses it before Prepare)
-        out->cycle = flywheel::SampleMachineCycle<M>(out->params, o);
-        out->assembled = out->cycle.IsUsable();
+      // (a view's: the library's, machines/view_machines.h)
+      out->cycle = flywheel::SampleMachineCycle(model_, out->params, o);
+      out->assembled = out->cycle.IsUsable();
+      if constexpr (!kView) {  // (tolerance: not through the view: study_run.h refuses it before Prepare)
         // The nominal's derivatives of the cycle (machines/flywheel/cycle_design.h): the first
         // order of the flywheel metrics (Gradient()).
         if (design && out->assembled)
           out->cycle_design = flywheel::SampleMachineCycleDesign<M>(out->params, o, out->cycle);
-      } else {
-        out->assembled = false;
       }
       return;
     }

@@ -27,6 +27,7 @@
 
 #include <initializer_list>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -44,49 +45,64 @@ using SweepColumn = table::Column<SweepRecord<M>>;
 using table::DuplicateColumnName;
 
 /**
- * \brief The design-sensitivity columns of model M (M::kHasDesignDerivatives), appended to
- *        *columns: for each design parameter p (M::kDesignNames) the derivatives of the
- *        dependent coordinates, of K (with K) and of the points (with points), q held. CSV
- *        only; NaN where the step failed (SweepRecord::design).
+ * \brief The design-sensitivity columns of model M (a design section: ModelCalls<M>::HasDesign),
+ *        appended to *columns: for each design parameter p (kDesignNames) the derivatives of the
+ *        dependent coordinates, of K (with K), of the points (with points) and of the
+ *        transmission angles (with them), q held. CSV only; NaN where the step failed
+ *        (SweepRecord::design). Nothing for a model without a design section.
  */
 template <class M>
-void AppendDesignColumns(std::vector<SweepColumn<M>>* columns) {
-  if constexpr (HasDesignDerivatives<M>::value && !ModelCalls<M>::kView) {
+void AppendDesignColumns(const M& model, std::vector<SweepColumn<M>>* columns) {
+  using C = ModelCalls<M>;  // (sizes and names: constant for a generated M, the view's for a ViewModel)
+  using F = ModelFeatures<M>;
+  if constexpr (HasDesignDerivatives<M>::value) {
+    if (!C::HasDesign(model)) return;
     using R = SweepRecord<M>;
     table::Builder<R> add(columns);
-    auto per = [](bool angle, int d) {
-      return std::string(angle ? "rad" : "model length") + " per unit of " + M::kDesignNames[d];
+    const int nq = C::Nq(model), nphi = C::Nphi(model);
+    auto per = [&model](bool angle, int d) {
+      return std::string(angle ? "rad" : "model length") + " per unit of " + C::DesignName(model, d);
     };
-    for (int d = 0; d < M::kNumDesign; ++d) {
-      const std::string p = M::kDesignNames[d];
-      for (int i = 0; i < M::kNphi; ++i)
-        add.Number("d" + std::string(M::kPhiNames[i]) + "/d" + p, per(M::kPhiIsAngle[i], d),
+    for (int d = 0; d < C::NumDesign(model); ++d) {
+      const std::string p = C::DesignName(model, d);
+      for (int i = 0; i < nphi; ++i)
+        add.Number("d" + std::string(C::PhiName(model, i)) + "/d" + p, per(C::PhiIsAngle(model, i), d),
                    "sensitivity of the dependent coordinate to the design parameter (q held)",
                    [i, d](const R& r) { return r.design.dphi_dp(i, d); })
             .angle = false;
-      if constexpr (M::kOrder >= 1)
-        for (int i = 0; i < M::kNphi; ++i)
-          for (int j = 0; j < M::kNq; ++j)
-            add.Number("dK_" + std::string(M::kPhiNames[i]) + "_" + M::kQNames[j] + "/d" + p,
-                       "K's unit per unit of " + p, "sensitivity of the first-order coefficient dphi/dq",
-                       [i, j, d](const R& r) { return r.design.dK_dp(i, j + M::kNq * d); })
-                .angle = false;
-      if constexpr (M::kNumPoints > 0)
-        for (int m = 0; m < M::kNumPoints; ++m)
-          for (int a = 0; a < 2; ++a)
-            add.Number("d" + std::string(M::kPointNames[m]) + (a ? ".y" : ".x") + "/d" + p,
-                       "model length per unit of " + p, "sensitivity of the point in the fixed frame",
-                       [m, a, d](const R& r) { return r.design.dr_P_dp(2 * m + a, d); });
-      if constexpr (M::kNumTransmissionAngles > 0)
-        for (int i = 0; i < M::kNumTransmissionAngles; ++i)
-          add.Number("dmu_" + std::string(M::kTransmissionJoints[i]) + "/d" + p, "rad per unit of " + p,
+      if constexpr (F::kHasK) {  // (dK_dp: a model with K)
+        if (C::HasK(model))
+          for (int i = 0; i < nphi; ++i)
+            for (int j = 0; j < nq; ++j)
+              add.Number("dK_" + std::string(C::PhiName(model, i)) + "_" + C::QName(model, j) + "/d" + p,
+                         "K's unit per unit of " + p, "sensitivity of the first-order coefficient dphi/dq",
+                         [i, j, d, nq](const R& r) { return r.design.dK_dp(i, j + nq * d); })
+                  .angle = false;
+      }
+      if constexpr (F::kHasPoints) {  // (dr_P_dp: a model with points)
+        if (C::HasPoints(model))
+          for (int m = 0; m < C::NumPoints(model); ++m)
+            for (int a = 0; a < 2; ++a)
+              add.Number("d" + std::string(C::PointName(model, m)) + (a ? ".y" : ".x") + "/d" + p,
+                         "model length per unit of " + p, "sensitivity of the point in the fixed frame",
+                         [m, a, d](const R& r) { return r.design.dr_P_dp(2 * m + a, d); });
+      }
+      if constexpr (F::kNumTransmissionAngles != 0) {  // (dmu_dp: a model with transmission angles)
+        for (int i = 0; i < C::NumTransmissionAngles(model); ++i)
+          add.Number("dmu_" + std::string(C::TransmissionJoint(model, i)) + "/d" + p, "rad per unit of " + p,
                      "sensitivity of the transmission angle (q held)",
                      [i, d](const R& r) { return r.design.dmu_dp(i, d); })
               .angle = false;
+      }
     }
   } else {
-    (void)columns;
+    (void)model, (void)columns;
   }
+}
+/// AppendDesignColumns of a generated model M (its empty tag).
+template <class M, std::enable_if_t<!ModelCalls<M>::kView, int> = 0>
+void AppendDesignColumns(std::vector<SweepColumn<M>>* columns) {
+  AppendDesignColumns<M>(M(), columns);
 }
 
 /**

@@ -43,6 +43,7 @@ struct SweepRecord {
       q.setConstant(C::Nq(model), kNaN);
       motion = position::Motion<M>(C::Nq(model), C::Nphi(model), C::NumPoints(model));
       mu.setConstant(C::NumTransmissionAngles(model), kNaN);
+      position::SetNanDesign(model, &design);
     }
   }
   /// Requested inputs (kNq); NaN until the sweep sets them (a fixed-size Eigen vector is
@@ -172,7 +173,7 @@ int SweepRows(position::PositionSolver<M, Assembler>* solver,
         ModelCalls<M>::TransmissionAngles(solver->model(), solver->params(), record.state.q,
                                           record.state.phi, &record.mu);
       }
-      if (options.design) position::EvalDesign<M>(solver->params(), record.state, &record.design);
+      if (options.design) position::EvalDesign<M>(solver->model(), solver->params(), record.state, &record.design);
       if (status == position::Status::kSingular) {
         stopped = true;
         ++failures;

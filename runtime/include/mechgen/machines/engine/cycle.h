@@ -20,6 +20,8 @@
  * rocking couple (couples.h). EngineEnergyLoop: the energy loop of T_total about its mean
  * (flywheel/energy_loop.h), dE, the mean of I(theta) and of its variable part; the flywheel for
  * a C_s is then J_fly = dE/(C_s omega^2) - (mean I - J_fly of the model).
+ * RunCycleDesign: d/dp of T_total and I at those samples for the model's design parameters
+ * (`flywheel --design`; the energy loop's derivatives from them: flywheel/energy_loop.h).
  *
  * Only for a model with `dynamics`, `forces` (statics, no Coulomb friction), a Solve and one
  * input: CanRunEngineCycle<M>() at compile time for a generated model, CanRunEngineCycle(model)
@@ -47,6 +49,7 @@
 #include "mechgen/machines/engine/crank_dynamics.h"
 #include "mechgen/machines/engine/gas.h"
 #include "mechgen/machines/flywheel/energy_loop.h"
+#include "mechgen/position/design.h"
 #include "mechgen/statics/traits.h"
 
 namespace mechgen::engine {
@@ -408,6 +411,57 @@ template <class M, class Params>
 bool RunCycle(const Params& p0, const Engine& e, const CycleGas& gas, double omega, int samples,
               std::vector<CrankPoint<M>>* out, std::string* error) {
   return RunCycle(M(), p0, e, gas, omega, samples, out, error);
+}
+
+/// The design sensitivities of RunCycle's T_total and I at its samples (`<engine>_engine flywheel
+/// --design`), the pressure trace p_j(theta) held: for the design parameters d < np
+/// (ModelCalls<M>::NumDesign), at theta_k = cycle k / samples (the positions continued from the
+/// assembly, as RunCycle), dT_total/dp_d = -sum_j p_j A dK_slide_j/dp_d - dh/dp_d (the gas torque
+/// is linear in K: GasTorque::Torque of dK/dp_d; EvalDesignDerivatives and EvalDynamicsDesign
+/// at the constant speed omega through ModelCalls<M>) into (*dT)[k np + d], dI/dp_d into
+/// (*dI)[k np + d]. A model without the dynamics' design derivatives (a generated one at compile
+/// time, a view's at run time), or positions that fail: false and *error (one line).
+template <class M>
+bool RunCycleDesign(const M& model, const typename ModelTypes<M>::Params& p, const Engine& e, const CycleGas& gas,
+                    double omega, int samples, std::vector<double>* dT, std::vector<double>* dI, std::string* error) {
+  using C = ModelCalls<M>;
+  if constexpr (!HasDynamicsDesign<M>::value) {
+    (void)model, (void)p, (void)e, (void)gas, (void)omega, (void)samples, (void)dT, (void)dI;
+    *error = "the model has no design derivatives of its dynamics";
+    return false;
+  } else {
+    if (!C::HasDesign(model) || !C::HasDynamicsDesign(model)) {  // (a view's, at run time)
+      *error = "the model has no design derivatives of its dynamics";
+      return false;
+    }
+    using VecQ = typename ModelTypes<M>::VecQ;
+    const int np = C::NumDesign(model), nq = C::Nq(model);
+    dT->assign(static_cast<size_t>(samples) * np, 0.0);
+    dI->assign(static_cast<size_t>(samples) * np, 0.0);
+    auto phi = Sized<typename ModelTypes<M>::VecPhi>(C::Nphi(model));
+    for (int i = 0; i < C::Nphi(model); ++i) phi(i) = C::AssemblyPhi(model)[i];
+    for (int k = 0; k < samples; ++k) {
+      const double theta = e.cycle * k / samples;
+      typename ModelTypes<M>::Coefficients c;
+      if (!CrankPositions(model, p, theta, &phi, &c)) {
+        *error = "the positions failed";
+        return false;
+      }
+      auto q = Sized<VecQ>(nq), qd = Sized<VecQ>(nq);
+      q(0) = theta;
+      qd(0) = omega;
+      position::DesignOf<M> dc;
+      C::Design(model, p, q, phi, &dc);
+      typename C::template DynamicsDesignOut<M> dd;
+      C::DynamicsDesign(model, p, q, phi, qd, 0.0, c, dc, &dd);
+      for (int d = 0; d < np; ++d) {
+        const size_t at = static_cast<size_t>(k) * np + d;
+        (*dT)[at] = gas.Torque(theta, dc.dK_dp.middleCols(d, 1)) - dd.dh_dp(0, d);
+        (*dI)[at] = dd.dI_dp(0, d);
+      }
+    }
+    return true;
+  }
 }
 
 /// The energy loop of a cycle (RunCycle's points): of T_total and of T_gas about their means
