@@ -316,13 +316,15 @@ void PlaceViewStruct(const ModelView& v, S* s) {
   }
 }
 /// *to = from: the entries in use (from.size) copied, and to's members mapped on to's own
-/// buffer at from's offsets and sizes.
+/// buffer at from's offsets and sizes (already so where both follow the same view's layout: a
+/// sweep's record copied over the previous row's).
 template <class S>
 void CopyViewStruct(const S& from, S* to) {
   using Map = typename S::Map;
+  CopyEntries(from.buffer.data(), from.size, to->buffer.data());
+  if (to->view == from.view && to->size == from.size) return;
   to->view = from.view;
   to->size = from.size;
-  CopyEntries(from.buffer.data(), from.size, to->buffer.data());
   for (auto member : S::Members()) {
     const Map& a = from.*member;
     double* const data = a.data() != nullptr ? to->buffer.data() + (a.data() - from.buffer.data()) : nullptr;
