@@ -28,6 +28,7 @@
 #include "mechgen/io/output_file.h"
 #include "mechgen/machines/flywheel/cycle_design.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
+#include "mechgen/position/input_step.h"
 #include "mechgen/table/columns.h"
 
 namespace mechgen::flywheel_tool {
@@ -134,10 +135,10 @@ int Run(const M& model, const Arguments& a) {
   options.cycle = a.cycle;
   options.breaks = a.breaks;
   const double cycle = std::isnan(options.cycle) ? fw::DefaultCycle(model) : options.cycle;
-  if (!(cycle / samples <= mechgen::position::Options().max_input_step))
+  const double cycle_begin[1] = {0}, cycle_end[1] = {cycle};
+  if (const auto check = mechgen::position::CheckInputSteps(cycle_begin, cycle_end, 1, samples); !check.ok())
     return tools::UsageError(tool, tools::BadValue("--samples", std::to_string(samples),
-                                                   "at least " + tools::FormatNumber(std::ceil(
-                                                       cycle / mechgen::position::Options().max_input_step)) +
+                                                   "at least " + tools::FormatNumber(check.min_steps) +
                                                        " for this cycle (the position solver's step limit)"));
 
   // The pictures' gnuplot and script (their paths checked by flywheel_args.cc), before

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "common/gnuplot.h"
+#include "common/inputs.h"
 #include "common/numbers.h"
 #include "common/params.h"
 #include "common/view_params.h"
@@ -45,42 +46,6 @@ namespace run_internal {
 constexpr double kDegToRad = 0.017453292519943295;
 namespace fs = std::filesystem;
 namespace tools = mechgen::tools;
-
-// "1.5" -> 1.5 (model units, radians for angles); "90deg" -> pi/2. False if malformed.
-inline bool ParseValue(const std::string& text, double* value) {
-  return tools::ParseNumber(text, value, /*allow_degrees=*/true);
-}
-
-// "i:min:max" with i an input index or name -> (index, min, max).
-template <class M>
-bool ParseRange(const M& model, const std::string& text, int* index, double* min, double* max,
-                std::string* error) {
-  using C = ModelCalls<M>;
-  const size_t a = text.find(':');
-  const size_t b = a == std::string::npos ? a : text.find(':', a + 1);
-  if (b == std::string::npos) {
-    *error = tools::BadValue("--range", text, "input:min:max");
-    return false;
-  }
-  const std::string name = text.substr(0, a);
-  *index = -1;
-  for (int j = 0; j < C::Nq(model); ++j)
-    if (name == C::QName(model, j) || name == std::to_string(j)) *index = j;
-  if (*index < 0) {
-    *error = tools::BadValue("--range", text, "input:min:max") + "; no input named " +
-             tools::Quote(name) + "; inputs are";
-    for (int j = 0; j < C::Nq(model); ++j) *error += std::string(" ") + C::QName(model, j);
-    return false;
-  }
-  if (!ParseValue(text.substr(a + 1, b - a - 1), min) || !ParseValue(text.substr(b + 1), max) ||
-      !(std::abs(*min) <= tools::kMaxPosition) || !(std::abs(*max) <= tools::kMaxPosition)) {
-    *error = tools::BadValue("--range", text,
-                             "input:min:max with min and max in [-1e4, 1e4] (append 'deg' for "
-                             "degrees)");
-    return false;
-  }
-  return true;
-}
 
 // The pictures of --plots: gnuplot (found on PATH) runs these plot scripts of runtime/tools/
 // on the command's own CSV (common/gnuplot.h: where the scripts are looked up).
@@ -157,22 +122,14 @@ int RunStatics(const M& model, const Arguments& args) {
     int j = 0;
     double min = 0, max = 0;
     std::string error;
-    if (!ParseRange(model, text, &j, &min, &max, &error)) return tools::UsageError(tool, error);
+    if (!tools::ParseRange(model, text, &j, &min, &max, &error)) return tools::UsageError(tool, error);
     q_begin(j) = min;
     q_end(j) = max;
   }
-  // A step longer than the position solver accepts (position::Options::max_input_step)
-  // would make every row invalid_input: a units mistake, refused here as by the sweep.
-  const double max_step = mechgen::position::Options().max_input_step;
-  for (int j = 0; j < nq; ++j) {
-    if (!(std::abs(q_end(j) - q_begin(j)) / steps <= max_step)) {
-      return tools::UsageError(
-          tool, std::string("--range: ") + C::QName(model, j) + " moves " +
-                    tools::FormatNumber(std::abs(q_end(j) - q_begin(j)) / steps) +
-                    " per step, more than the solver's limit of " +
-                    tools::FormatNumber(max_step) + "; use more --steps or a shorter range");
-    }
-  }
+  // A step longer than the position solver accepts would make every row invalid_input: a
+  // units mistake, refused here as by the sweep (position::CheckInputSteps).
+  if (const auto check = position::CheckInputSteps(q_begin, q_end, nq, steps); !check.ok())
+    return tools::UsageError(tool, tools::RangeStepError(model, check));
   // --speed: the swept input (the first that moves; the first input when none does) at that
   // speed, the others with it along the line: qd = speed (q_end - q_begin) / its range.
   typename Types::VecQ qd = statics::internal::Zeros<typename Types::VecQ>(nq);

@@ -23,6 +23,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "common/inputs.h"
 #include "common/numbers.h"
 #include "common/view_params.h"
 #include "sweep_args.h"
@@ -57,38 +58,6 @@ using mechgen::tools::Quote;
 // "1.5" -> 1.5 (model units, radians for angles); "90deg" -> pi/2. False if malformed.
 inline bool ParseValue(const std::string& text, double* value) {
   return mechgen::tools::ParseNumber(text, value, /*allow_degrees=*/true);
-}
-
-// "i:min:max" with i an input index or name -> (index, min, max).
-template <class M>
-bool ParseRange(const M& model, const std::string& text, int* index, double* min, double* max,
-                std::string* error) {
-  using C = ModelCalls<M>;
-  const size_t a = text.find(':');
-  const size_t b = a == std::string::npos ? a : text.find(':', a + 1);
-  if (b == std::string::npos) {
-    *error = mechgen::tools::BadValue("--range", text, "input:min:max");
-    return false;
-  }
-  const std::string name = text.substr(0, a);
-  *index = -1;
-  for (int j = 0; j < C::Nq(model); ++j)
-    if (name == C::QName(model, j) || name == std::to_string(j)) *index = j;
-  if (*index < 0) {
-    *error = mechgen::tools::BadValue("--range", text, "input:min:max") + "; no input named " +
-             Quote(name) + "; inputs are";
-    for (int j = 0; j < C::Nq(model); ++j) *error += std::string(" ") + C::QName(model, j);
-    return false;
-  }
-  if (!ParseValue(text.substr(a + 1, b - a - 1), min) || !ParseValue(text.substr(b + 1), max) ||
-      !(std::abs(*min) <= mechgen::tools::kMaxPosition) ||
-      !(std::abs(*max) <= mechgen::tools::kMaxPosition)) {
-    *error = mechgen::tools::BadValue("--range", text,
-                                      "input:min:max with min and max in [-1e4, 1e4] (append "
-                                      "'deg' for degrees)");
-    return false;
-  }
-  return true;
 }
 
 // An input's value for the messages: "%g", in degrees for an angle; never "-0".
@@ -161,23 +130,14 @@ int RunSweep(const M& model, const Arguments& arguments, const char* assembler_n
   for (const std::string& text : ranges) {
     int j = 0;
     double min = 0, max = 0;
-    if (!ParseRange(model, text, &j, &min, &max, &error)) return Usage(error);
+    if (!mechgen::tools::ParseRange(model, text, &j, &min, &max, &error)) return Usage(error);
     q_begin(j) = min;
     q_end(j) = max;
   }
-  // One step longer than the solver accepts (Options::max_input_step) would make every row
-  // invalid_input: a units mistake, refused here.
-  const double max_step = mechgen::position::Options().max_input_step;
-  for (int j = 0; j < nq; ++j) {
-    if (!(std::abs(q_end(j) - q_begin(j)) / steps <= max_step)) {
-      char buffer[160];
-      std::snprintf(buffer, sizeof(buffer),
-                    "--range: %s moves %.3g per step, more than the solver's limit of %g; use "
-                    "more --steps or a shorter range",
-                    C::QName(model, j), std::abs(q_end(j) - q_begin(j)) / steps, max_step);
-      return Usage(buffer);
-    }
-  }
+  // One step longer than the solver accepts would make every row invalid_input: a units
+  // mistake, refused here (position::CheckInputSteps).
+  if (const auto check = position::CheckInputSteps(q_begin, q_end, nq, steps); !check.ok())
+    return Usage(mechgen::tools::RangeStepError(model, check));
   auto parse_vector = [&model, nq](const std::vector<std::string>& text, double fallback, double bound,
                                    const char* option, typename Types::VecQ* out, std::string* error) {
     (void)model;

@@ -53,6 +53,7 @@
 #include "mechgen/machines/engine/cycle.h"
 #include "mechgen/machines/flywheel/cycle_design.h"
 #include "mechgen/machines/flywheel/machine_cycle.h"
+#include "mechgen/position/input_step.h"
 #include "mechgen/position/solver.h"
 #include "mechgen/statics/columns.h"
 #include "mechgen/statics/sweep.h"
@@ -336,18 +337,18 @@ class Study {
     if (spec.analysis != Analysis::kSimulate && spec.analysis != Analysis::kPositions &&
         spec.analysis != Analysis::kEngine) {
       // At range: (or steps:, or analysis: when the model's range is used), with %g figures.
-      const double step = std::abs(q_end_(0) - q_begin_(0)) / spec.steps, limit = position::Options().max_input_step;
+      const position::InputStepCheck check = position::CheckInputSteps(q_begin_, q_end_, 1, spec.steps);
       char text[320];
-      if (!std::isfinite(step))
+      if (!std::isfinite(check.step))
         std::snprintf(text, sizeof(text), "the motion of %s from %g to %g overflows a double; give a narrower range:",
                       C::QName(model_, 0), q_begin_(0), q_end_(0));
       else
         std::snprintf(text, sizeof(text),
                       "the motion of %s from %g to %g in %d steps moves %g per step, more than the solver's limit %g; "
                       "use more steps: (at least %.6g) or a shorter range:",
-                      C::QName(model_, 0), q_begin_(0), q_end_(0), spec.steps, step, limit,
-                      std::ceil(spec.steps * step / limit));
-      if (!(step <= limit)) return fail(spec.range_place, text);
+                      C::QName(model_, 0), q_begin_(0), q_end_(0), spec.steps, check.step, check.limit,
+                      check.min_steps);
+      if (!check.ok()) return fail(spec.range_place, text);
     }
     sweep_columns_ = SweepColumns<M>(model_);
     if constexpr (kDesign) AppendDesignColumns<M>(&sweep_columns_);

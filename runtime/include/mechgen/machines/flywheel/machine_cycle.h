@@ -107,6 +107,7 @@
 #include "mechgen/core/view_model.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/machines/flywheel/energy_loop.h"
+#include "mechgen/position/input_step.h"
 #include "mechgen/position/solver.h"
 #include "mechgen/statics/solve.h"
 #include "mechgen/statics/traits.h"
@@ -330,7 +331,8 @@ MachineCycle SampleMachineCycle(const M& model, const typename ModelTypes<M>::Pa
     out.theta0 = std::isnan(o.theta0) ? C::QMin(model)[0] : o.theta0;
     out.cycle = std::isnan(o.cycle) ? DefaultCycle(model) : o.cycle;
     const double h_theta = out.cycle / n;
-    if (!(h_theta <= position::Options().max_input_step))
+    const double cycle_begin[1] = {0}, cycle_end[1] = {out.cycle};
+    if (!position::CheckInputSteps(cycle_begin, cycle_end, 1, n).ok())
       return fail(CycleStatus::kBadOptions, MachineCycle::kNaN,
                   "the samples are further apart than the position solver's step limit; use more");
     constexpr bool kDynamics = HasDynamics<M>::value;  // (a view: C::HasDynamics at run time)
