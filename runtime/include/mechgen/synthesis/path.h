@@ -31,6 +31,7 @@
 
 #include "mechgen/core/constants.h"
 #include "mechgen/core/linear_algebra.h"
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/synthesis/task.h"
 
@@ -82,6 +83,13 @@ template <class Names>
 std::string List(const Names& names) {
   std::string text;
   for (const char* n : names) text += (text.empty() ? "" : ", ") + std::string(n);
+  return text.empty() ? std::string("(none)") : text;
+}
+/// The same of n names name(0), ..., name(n - 1) (a list read through ModelCalls).
+template <class Name>
+std::string List(int n, const Name& name) {
+  std::string text;
+  for (int i = 0; i < n; ++i) text += (text.empty() ? "" : ", ") + std::string(name(i));
   return text.empty() ? std::string("(none)") : text;
 }
 /// Each variable's column in M::kDesignNames into *column; false and *error (its place) for a
@@ -328,10 +336,43 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
 /// Options::min_rcond, the same test as its Classify): false at a dead point or a change
 /// point, or so near one that K has lost six digits, where the runtime's continuation and the
 /// sweep refuse the configuration.
+namespace bind_internal {
+/// ConditionAndDeterminant of a fixed-size copy of A, chosen by A's size (k <= 4: its closed-form
+/// inverse), else its PartialPivLU way on the bounded matrix.
+template <int k, class Matrix>
+void ConditionAndDeterminantOfSize(const Matrix& A, double* cond, double* det) {
+  if constexpr (k > 4) {
+    const Eigen::PartialPivLU<typename Matrix::PlainObject> lu(A);
+    *det = lu.determinant();
+    const double rcond = lu.rcond();
+    *cond = rcond > 0 && std::isfinite(1.0 / rcond) ? 1.0 / rcond : kInf;
+  } else if (A.rows() != k) {
+    ConditionAndDeterminantOfSize<k + 1>(A, cond, det);
+  } else {
+    ConditionAndDeterminant(Eigen::Matrix<double, k, k>(A), cond, det);
+  }
+}
+}  // namespace bind_internal
+
+/// ConditionAndDeterminant (core/linear_algebra.h) of a fixed-size matrix, or of one whose size
+/// is known at run time only (the model view's Phi_phi). Up to 4 x 4 (every four-bar: Phi_phi is
+/// 2 x 2) on a fixed-size copy of its size: the same arithmetic as the fixed-size model's, to the
+/// bit. Above, both are Eigen's PartialPivLU and its 1/rcond() estimate, the view's on the
+/// bounded dynamic matrix, which may round differently in the last bits (Eigen's kernels differ
+/// by size class); the synthesis reads only the threshold Regular() and the sign of det.
+template <class Matrix>
+void CondDet(const Matrix& A, double* cond, double* det) {
+  if constexpr (Matrix::RowsAtCompileTime != Eigen::Dynamic) {
+    ConditionAndDeterminant(A, cond, det);
+  } else {
+    bind_internal::ConditionAndDeterminantOfSize<1>(A, cond, det);
+  }
+}
+
 template <class Matrix>
 bool Regular(const Matrix& Phi_phi) {
   double cond = kInf, det = 0;
-  ConditionAndDeterminant(Phi_phi, &cond, &det);
+  CondDet(Phi_phi, &cond, &det);
   return det != 0 && std::isfinite(det) && cond * kMinRcond <= 1.0;
 }
 
@@ -341,23 +382,46 @@ bool Regular(const Matrix& Phi_phi) {
 /// path evaluator judges the Phi_phi its coefficients carry) and the written model's assembly
 /// (WriteSynthesizedModel) go through here. `modes`: another assembly mode than the model's
 /// (exact synthesis: a solution on the mirror mode; nullptr: kDefaultModes).
+/// A generated model's object (its functions are static): what the functions taking the model
+/// are called with for a generated model's type.
 template <class M>
-bool SolveOnMode(const typename M::template ParamsT<double>& p, double q, Eigen::Matrix<double, M::kNphi, 1>* phi,
-                 bool judge = true, const std::array<int, M::kNumBlocks>* modes = nullptr) {
-  Eigen::Matrix<double, M::kNq, 1> qv;
+const M& GeneratedModel() {
+  static const M model{};
+  return model;
+}
+
+/// The generated Solve's own defaults (its max_iterations; tolerance 0: its own), which every
+/// solve here takes.
+constexpr int kSolveIterations = 20;
+
+template <class M>
+bool SolveOnMode(const M& model, const typename ModelTypes<M>::Params& p, double q, typename ModelTypes<M>::VecPhi* phi,
+                 bool judge = true, const typename ModelCalls<M>::Modes* modes = nullptr) {
+  using C = ModelCalls<M>;
+  using T = ModelTypes<M>;
+  typename T::VecQ qv;
+  qv.resize(C::Nq(model));
   qv(0) = q;
-  Eigen::Matrix<double, M::kNphi, 1> ph;
-  for (int i = 0; i < M::kNphi; ++i) ph(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-  const auto report = M::Solve(p, qv, &ph, modes != nullptr ? *modes : M::kDefaultModes);
+  typename T::VecPhi ph;
+  ph.resize(C::Nphi(model));
+  for (int i = 0; i < C::Nphi(model); ++i) ph(i) = C::AssemblyPhi(model)[i];
+  const auto report =
+      C::Solve(model, p, qv, &ph, modes != nullptr ? *modes : C::DefaultModes(model), kSolveIterations, 0.0);
   using Status = decltype(report.status);
   if (report.status != Status::kConverged || !ph.allFinite()) return false;
   if (judge) {
-    Eigen::Matrix<double, M::kNc, M::kNphi> Phi_phi;
-    M::template Phi<double>(p, qv, ph, nullptr, &Phi_phi, nullptr);
+    typename T::MatCPhi Phi_phi;
+    C::Phi(model, p, qv, ph, nullptr, &Phi_phi, nullptr);
     if (!Regular(Phi_phi)) return false;
   }
   *phi = ph;
   return true;
+}
+/// The same on a generated model's type (default-constructed: its functions are static).
+template <class M>
+bool SolveOnMode(const typename M::template ParamsT<double>& p, double q, Eigen::Matrix<double, M::kNphi, 1>* phi,
+                 bool judge = true, const std::array<int, M::kNumBlocks>* modes = nullptr) {
+  return SolveOnMode(M(), p, q, phi, judge, modes);
 }
 
 /// A candidate and what its checks found.

@@ -1,0 +1,48 @@
+/**
+ * \file synthesis/view_synthesis.h
+ * The synthesis layer instantiated once for the model view (issue 43): its functions that read
+ * the model (through ModelCalls<M>) for M = ViewModel (core/view_model.h), compiled into the
+ * library mechgen_runtime_view_synthesis (runtime/view/synthesis.cc, with Ceres and yaml-cpp,
+ * which the synthesis layer includes). A program that includes this header and links that
+ * library runs these kinds of synthesis on any model through its ModelView without compiling
+ * them again (mechgen_view synthesize, tools/synthesize_run.h); the same templates instantiated
+ * for a generated model's type are the per-model <model>_synthesize.
+ *
+ * Instantiated: motion generation up to five poses (SynthesizeMotion: the Burmester pairs and
+ * their four-bars checked on the model, four poses the curves), exact path synthesis
+ * (BindExactTask, RunExactTask: every real solution checked on the model's kinematics and
+ * continuation), and the synthesized model file and its report lines (WriteSynthesizedModel,
+ * SetParametersText, WrittenModelText). Not yet: path and function generation and motion
+ * beyond five poses, whose local stage reads the generated design derivatives (M::Design), which
+ * the view does not reach yet.
+ */
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mechgen/core/view_model.h"
+#include "mechgen/synthesis/exact.h"
+#include "mechgen/synthesis/motion.h"
+#include "mechgen/synthesis/output.h"
+#include "mechgen/synthesis/report.h"
+
+namespace mechgen::synthesis {
+
+extern template bool SynthesizeMotion<ViewModel>(const ViewModel&, const MotionTask&, const ViewParams&, MotionResult*,
+                                                 std::string*);
+extern template bool BindExactTask<ViewModel>(const ViewModel&, const ExactTask&, const ViewParams&,
+                                              BoundExact<ViewModel>*, std::string*);
+extern template ExactRun RunExactTask<ViewModel>(const BoundExact<ViewModel>&, const std::string&, const std::string&,
+                                                 std::vector<std::pair<std::string, std::string>>*,
+                                                 const ExactPathOptions&);
+extern template bool WriteSynthesizedModel<ViewModel>(const ViewModel&, const std::string&, const ViewParams&,
+                                                      const std::vector<std::string>&, const std::vector<double>&,
+                                                      std::string*, WrittenAssembly*, std::string*,
+                                                      const ModelCalls<ViewModel>::Modes*);
+extern template std::string SetParametersText<ViewModel>(const ViewModel&, const ViewParams&,
+                                                         const std::vector<std::string>&);
+extern template std::string WrittenModelText<ViewModel>(const ViewModel&, const WrittenAssembly&, const ViewParams&);
+
+}  // namespace mechgen::synthesis
