@@ -6,13 +6,13 @@
 // ModelCalls<M> where the synthesis layer does. What each kind does, what it writes and the
 // exit statuses: synthesize_main.cc.
 //
-// Through the view: motion generation up to five poses (the Burmester pairs; four poses the
-// curves) and exact path synthesis (`kind: exact`), with --params/--set on the view's parameter
-// table (common/view_params.h). Not yet: path and function generation and motion beyond five
-// poses (their local stage's Jacobian is the generated design derivatives, which the view does
-// not reach yet), refused (common/not_through_view.h: a usage error naming the per-model tool
-// that has them, or for mechgen the fallback to it) before the task is bound or anything is
-// computed or written.
+// Through the view: path generation (the local stage's Jacobian from the view's design
+// derivatives), motion generation up to five poses (the Burmester pairs; four poses the curves)
+// and exact path synthesis (`kind: exact`), with --params/--set on the view's parameter table
+// (common/view_params.h). Not yet: function generation (synthesis/function.h) and motion beyond
+// five poses (its least squares), refused (common/not_through_view.h: a usage error naming the
+// per-model tool that has them, or for mechgen the fallback to it) before the task is bound or
+// anything is computed or written.
 #pragma once
 
 #include <chrono>
@@ -250,29 +250,22 @@ int ExactMain(const M& model, const std::string& tool, const std::string& task_p
   return 0;
 }
 
-// Function and path generation on a generated model (not through the view yet: RunSynthesize).
+// Path generation (synthesis/path.h, optimize.h, projection.h): writes the model file, path.svg,
+// report.txt.
 template <class M>
-int PathOrFunction(const std::string& tool, const std::string& task_path, const std::string& model_path,
-                   const std::string& out_dir, unsigned long long seed, int threads, long long evaluations,
-                   const std::string& kind, const typename M::template ParamsT<double>& base) {
+int PathMain(const M& model, const std::string& tool, const std::string& task_path, const std::string& model_path,
+             const std::string& out_dir, unsigned long long seed, int threads, long long evaluations,
+             const typename ModelTypes<M>::Params& base) {
+  using C = ModelCalls<M>;
   std::string error;
-  if (kind == "function") {
-    if constexpr (mechgen::HasDesignDerivatives<M>::value) {
-      return FunctionMain<M>(tool, task_path, model_path, out_dir, seed, threads, evaluations, base);
-    } else {
-      std::cerr << task_path << ": error: the model '" << M::kName
-                << "' has no `design` section; add `design: [parameters to vary]` (models/README.md)\n";
-      return 1;
-    }
-  }
   PathTask task;
   if (!TaskOk(ParseTask(task_path, &task, &error), error)) return 1;
   if (evaluations > 0) task.search.evaluations = evaluations;
   BoundPath<M> bound;
-  if (!TaskOk(BindPathTask<M>(task, base, &bound, &error), error)) return 1;
+  if (!TaskOk(BindPathTask(model, task, base, &bound, &error), error)) return 1;
   std::string model_text;
   if (!ReadModelText(tool, model_path, &model_text)) return 1;
-  if constexpr (mechgen::HasDesignDerivatives<M>::value) {
+  if constexpr (C::kView || mechgen::HasDesignDerivatives<M>::value) {
     const auto wall0 = std::chrono::steady_clock::now();
     const std::clock_t cpu0 = std::clock();
     std::cerr << tool << ": " << task.search.restarts << " runs, " << task.search.evaluations << " evaluations, "
@@ -291,7 +284,7 @@ int PathOrFunction(const std::string& tool, const std::string& task_path, const 
     const std::string continuation = c.feasible() ? ContinuationCheck(&eval, c) : std::string("not run");
     std::vector<std::string> names;
     for (const Variable& v : task.variables) names.push_back(v.name);
-    std::string report = Report(&eval, s, continuation, seed, threads, wall, cpu, model_path) + SetLine(M(), base, names);
+    std::string report = Report(&eval, s, continuation, seed, threads, wall, cpu, model_path) + SetLine(model, base, names);
     if (!c.feasible() || !continuation.empty()) {
       std::cerr << report << "\n" << tool << ": no mechanism satisfies the task's constraints; nothing written\n";
       return 3;
@@ -299,12 +292,12 @@ int PathOrFunction(const std::string& tool, const std::string& task_path, const 
     // The outputs: built whole in memory, written to temporary names, then renamed.
     std::string synthesized;
     WrittenAssembly written;
-    if (!WriteSynthesizedModel<M>(model_text, eval.ParamsOf(c.x), names, MotionInputs(bound, c), &synthesized, &written,
-                                  &error)) {
+    if (!WriteSynthesizedModel(model, model_text, eval.ParamsOf(c.x), names, MotionInputs(bound, c), &synthesized,
+                               &written, &error)) {
       std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
       return 1;
     }
-    report += WrittenModelText<M>(written, eval.ParamsOf(c.x));
+    report += WrittenModelText(model, written, eval.ParamsOf(c.x));
     const std::string svg = CurveSvg(&eval, c);
     std::error_code ec;
     fs::create_directories(out_dir, ec);
@@ -330,7 +323,7 @@ int PathOrFunction(const std::string& tool, const std::string& task_path, const 
               << files[2].first.string() << "\n";
     return 0;
   } else {
-    std::cerr << tool << ": error: the model '" << M::kName
+    std::cerr << tool << ": error: the model '" << C::Name(model)
               << "' has no `design` section; add `design: [parameters to vary]` (models/README.md)\n";
     return 1;
   }
@@ -390,14 +383,19 @@ int RunSynthesize(const M& model, const Arguments& arguments, const std::string&
       return 1;
     }
   }
-  if constexpr (C::kView) {
-    // What the runtime instantiated for the view does not do yet (the file comment).
-    return mechgen::tools::NotThroughView(
-        tool, std::string(kind == "function" ? "function" : "path") + " generation (the design derivatives) is", name,
-        "synthesize");
-  } else {
-    return PathOrFunction<M>(tool, task_path, model_path, out_dir, seed, threads, evaluations, kind, base);
+  if (kind == "function") {
+    if constexpr (C::kView) {
+      // What the runtime instantiated for the view does not do yet (the file comment).
+      return mechgen::tools::NotThroughView(tool, "function generation is", name, "synthesize");
+    } else if constexpr (mechgen::HasDesignDerivatives<M>::value) {
+      return FunctionMain<M>(tool, task_path, model_path, out_dir, seed, threads, evaluations, base);
+    } else {
+      std::cerr << task_path << ": error: the model '" << name
+                << "' has no `design` section; add `design: [parameters to vary]` (models/README.md)\n";
+      return 1;
+    }
   }
+  return PathMain(model, tool, task_path, model_path, out_dir, seed, threads, evaluations, base);
 }
 
 }  // namespace mechgen::synthesize_tool

@@ -19,4 +19,14 @@ template bool WriteSynthesizedModel<ViewModel>(const ViewModel&, const std::stri
 template std::string SetParametersText<ViewModel>(const ViewModel&, const ViewParams&, const std::vector<std::string>&);
 template std::string WrittenModelText<ViewModel>(const ViewModel&, const WrittenAssembly&, const ViewParams&);
 
+template class PathEvaluator<ViewModel>;
+template bool BindPathTask<ViewModel>(const ViewModel&, const PathTask&, const ViewParams&, BoundPath<ViewModel>*,
+                                   std::string*);
+template bool SynthesizePath<ViewModel>(const BoundPath<ViewModel>&, uint64_t, int, SearchResult*, std::string*,
+                                     const std::function<void(int, int)>&);
+template std::string ContinuationCheck<ViewModel>(PathEvaluator<ViewModel>*, const Candidate&);
+template std::string Report<ViewModel>(PathEvaluator<ViewModel>*, const SearchResult&, const std::string&, uint64_t, int,
+                                    double, double, const std::string&);
+template std::string CurveSvg<ViewModel>(PathEvaluator<ViewModel>*, const Candidate&, int);
+
 }  // namespace mechgen::synthesis

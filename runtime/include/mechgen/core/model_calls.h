@@ -566,6 +566,41 @@ struct ModelCalls {
                     typename T::MatScene* r) {
     if constexpr (M::kNumScenePoints > 0) M::Scene(p, q, phi, r);
   }
+  /// The design section (M::kHasDesignDerivatives): its parameters, its checks (the link
+  /// lengths and the Grashof margin, Model::DesignChecks) and the design derivatives at a
+  /// configuration (Model::Design; DesignOut: M::DesignDerivativesT<double>).
+  static constexpr bool HasDesign(const M&) { return ::mechgen::HasDesignDerivatives<M>::value; }
+  static constexpr int NumDesign(const M&) {
+    if constexpr (::mechgen::HasDesignDerivatives<M>::value) return M::kNumDesign;
+    return 0;
+  }
+  static const char* DesignName(const M&, int d) {
+    if constexpr (::mechgen::HasDesignDerivatives<M>::value) return M::kDesignNames[static_cast<size_t>(d)];
+    (void)d;
+    return "";
+  }
+  static constexpr int NumDesignChecks(const M&) {
+    if constexpr (::mechgen::HasDesignDerivatives<M>::value) return M::kNumDesignChecks;
+    return 0;
+  }
+  static const char* DesignCheckName(const M&, int k) {
+    if constexpr (::mechgen::HasDesignDerivatives<M>::value) return M::kDesignCheckNames[static_cast<size_t>(k)];
+    (void)k;
+    return "";
+  }
+  template <class X = M>
+  using DesignChecksOut = Eigen::Matrix<double, X::kNumDesignChecks, 1>;
+  template <class X = M>
+  static void DesignChecks(const M&, const typename T::Params& p, DesignChecksOut<X>* margin) {
+    M::DesignChecks(p, margin);
+  }
+  template <class X = M>
+  using DesignOut = typename X::template DesignDerivativesT<double>;
+  template <class X = M>
+  static void Design(const M&, const typename T::Params& p, const typename T::VecQ& q, const typename T::VecPhi& phi,
+                     DesignOut<X>* out) {
+    M::Design(p, q, phi, out);
+  }
 };
 
 }  // namespace mechgen

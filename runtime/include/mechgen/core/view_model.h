@@ -703,6 +703,45 @@ struct ModelCalls<ViewModel> {
     r->resize(2, NumScenePoints(m));
     if (NumScenePoints(m) > 0) m.view->Scene(p.data(), q.data(), phi.data(), r->data());
   }
+  /// The design section: its parameters and checks, and the design derivatives (the view's
+  /// DesignDerivatives buffer; dphi_dp and dr_P_dp maps of it at the view's sizes, set by
+  /// Design(): the synthesis reads those two).
+  static bool HasDesign(const M& m) {
+    return m.view->flags.kHasDesignDerivatives && m.view->Design != nullptr && m.view->DesignChecks != nullptr;
+  }
+  static int NumDesign(const M& m) { return HasDesign(m) ? m.view->num_design : 0; }
+  static const char* DesignName(const M& m, int d) { return m.view->design_names[d]; }
+  static int NumDesignChecks(const M& m) { return HasDesign(m) ? m.view->num_design_checks : 0; }
+  static const char* DesignCheckName(const M& m, int k) { return m.view->design_check_names[k]; }
+  template <class X = M>
+  using DesignChecksOut = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, ModelView::kMaxDesignChecks, 1>;
+  template <class X = M>
+  static void DesignChecks(const M& m, const ViewParams& p, DesignChecksOut<X>* margin) {
+    margin->resize(NumDesignChecks(m));
+    m.view->DesignChecks(p.data(), margin->data(), nullptr);
+  }
+  struct DesignResult {
+    using Map = Eigen::Map<const Eigen::MatrixXd>;
+    DesignResult() = default;
+    DesignResult(const DesignResult&) = delete;
+    DesignResult& operator=(const DesignResult&) = delete;
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kDesignDerivatives)]> buffer;
+    Map dphi_dp{nullptr, 0, 0}, dr_P_dp{nullptr, 0, 0};
+  };
+  template <class X = M>
+  using DesignOut = DesignResult;
+  template <class X = M>
+  static void Design(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, DesignResult* out) {
+    const ModelView& v = *m.view;
+    const ViewLayout& l = v.Layout(ViewStruct::kDesignDerivatives);
+    double* const b = out->buffer.data();
+    v.Design(p.data(), q.data(), phi.data(), b);
+    const ViewMember* dphi = FindMember(l, "dphi_dp");
+    const ViewMember* dr = FindMember(l, "dr_P_dp");
+    using Map = DesignResult::Map;
+    if (dphi != nullptr) new (&out->dphi_dp) Map(b + dphi->offset, v.nphi, v.num_design);
+    if (dr != nullptr) new (&out->dr_P_dp) Map(b + dr->offset, 2 * v.num_points, v.num_design);
+  }
 };
 
 }  // namespace mechgen

@@ -350,7 +350,7 @@ std::string CurveSvg(PathEvaluator<M>* eval, const Candidate& c, int samples = 7
   auto X = [&](double x) { return Short(margin + (x - xmin) * scale, 7); };
   auto Y = [&](double y) { return Short(margin + (ymax - y) * scale, 7); };
   std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + Short(size + 2 * margin) + "\" height=\"" +
-                    Short(height) + "\">\n<title>" + std::string(M::kName) + ": " + b.task.point +
+                    Short(height) + "\">\n<title>" + std::string(ModelCalls<M>::Name(eval->model())) + ": " + b.task.point +
                     " (curve) against the targets (circles), synthesized points (crosses)</title>\n";
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   for (const auto& piece : pieces) {

@@ -24,7 +24,7 @@ std::string Report(PathEvaluator<M>* eval, const SearchResult& s, const std::str
   const PathTask& t = b.task;
   const Candidate& c = s.best.best;
   std::string r = "mechgen synthesize: path generation\n";
-  r += "model: " + model_path + " (" + std::string(M::kName) + "), task: " + t.file + ", point " + t.point + "\n";
+  r += "model: " + model_path + " (" + std::string(ModelCalls<M>::Name(eval->model())) + "), task: " + t.file + ", point " + t.point + "\n";
   r += "targets: " + std::to_string(b.n) + ", timing: " +
        (t.timing.free ? std::string("free") : std::string("prescribed") + (t.timing.offset_free ? " (offset free)" : "")) + "\n";
   r += "search: seed " + std::to_string(seed) + ", threads " + std::to_string(threads) + ", " +

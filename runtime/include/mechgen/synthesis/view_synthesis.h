@@ -8,16 +8,19 @@
  * them again (mechgen_view synthesize, tools/synthesize_run.h); the same templates instantiated
  * for a generated model's type are the per-model <model>_synthesize.
  *
- * Instantiated: motion generation up to five poses (SynthesizeMotion: the Burmester pairs and
- * their four-bars checked on the model, four poses the curves), exact path synthesis
- * (BindExactTask, RunExactTask: every real solution checked on the model's kinematics and
- * continuation), and the synthesized model file and its report lines (WriteSynthesizedModel,
- * SetParametersText, WrittenModelText). Not yet: path and function generation and motion
- * beyond five poses, whose local stage reads the generated design derivatives (M::Design), which
- * the view does not reach yet.
+ * Instantiated: path generation (BindPathTask, SynthesizePath: the global and local stages or
+ * the projection, PathEvaluator, ContinuationCheck, Report, CurveSvg; the local stage's Jacobian
+ * from the view's design derivatives, ModelCalls<ViewModel>::Design), motion generation up to
+ * five poses (SynthesizeMotion: the Burmester pairs and their four-bars checked on the model,
+ * four poses the curves), exact path synthesis (BindExactTask, RunExactTask: every real solution
+ * checked on the model's kinematics and continuation), and the synthesized model file and its
+ * report lines (WriteSynthesizedModel, SetParametersText, WrittenModelText). Not yet: function
+ * generation (synthesis/function.h) and motion beyond five poses (its least squares).
  */
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,6 +29,8 @@
 #include "mechgen/synthesis/exact.h"
 #include "mechgen/synthesis/motion.h"
 #include "mechgen/synthesis/output.h"
+#include "mechgen/synthesis/path.h"
+#include "mechgen/synthesis/projection.h"
 #include "mechgen/synthesis/report.h"
 
 namespace mechgen::synthesis {
@@ -44,5 +49,15 @@ extern template bool WriteSynthesizedModel<ViewModel>(const ViewModel&, const st
 extern template std::string SetParametersText<ViewModel>(const ViewModel&, const ViewParams&,
                                                          const std::vector<std::string>&);
 extern template std::string WrittenModelText<ViewModel>(const ViewModel&, const WrittenAssembly&, const ViewParams&);
+
+extern template class PathEvaluator<ViewModel>;
+extern template bool BindPathTask<ViewModel>(const ViewModel&, const PathTask&, const ViewParams&, BoundPath<ViewModel>*,
+                                   std::string*);
+extern template bool SynthesizePath<ViewModel>(const BoundPath<ViewModel>&, uint64_t, int, SearchResult*, std::string*,
+                                     const std::function<void(int, int)>&);
+extern template std::string ContinuationCheck<ViewModel>(PathEvaluator<ViewModel>*, const Candidate&);
+extern template std::string Report<ViewModel>(PathEvaluator<ViewModel>*, const SearchResult&, const std::string&, uint64_t, int,
+                                    double, double, const std::string&);
+extern template std::string CurveSvg<ViewModel>(PathEvaluator<ViewModel>*, const Candidate&, int);
 
 }  // namespace mechgen::synthesis
