@@ -14,7 +14,7 @@
 // `mechgen synthesize` (generator/driver/tool_command.cc) runs the same source (synthesize_run.h)
 // through the model view (mechgen_view synthesize) with argv[0] = "mechgen synthesize MODEL":
 // the model file is read from there to write the synthesized model; what the view does not do
-// yet (function generation, motion beyond five poses: synthesize_run.h) it compiles
+// yet (function generation: synthesize_run.h) it compiles
 // this file against the model (with Ceres and yaml-cpp) and runs it the same way. What it does: synthesis/optimize.h (seeded differential
 // evolution restarts on --threads threads, then Levenberg–Marquardt with the generated
 // Jacobian) or, with the task's `search: {projection: true}`, synthesis/projection.h (the

@@ -6,11 +6,11 @@
 // ModelCalls<M> where the synthesis layer does. What each kind does, what it writes and the
 // exit statuses: synthesize_main.cc.
 //
-// Through the view: path generation (the local stage's Jacobian from the view's design
-// derivatives), motion generation up to five poses (the Burmester pairs; four poses the curves)
-// and exact path synthesis (`kind: exact`), with --params/--set on the view's parameter table
-// (common/view_params.h). Not yet: function generation (synthesis/function.h) and motion beyond
-// five poses (its least squares), refused (common/not_through_view.h: a usage error naming the
+// Through the view: path generation and motion generation beyond five poses (the local stage's
+// and the least squares' Jacobian from the view's design derivatives), motion generation (the
+// Burmester pairs; four poses the curves) and exact path synthesis (`kind: exact`), with
+// --params/--set on the view's parameter table (common/view_params.h). Not yet: function
+// generation (synthesis/function.h), refused (common/not_through_view.h: a usage error naming the
 // per-model tool that has them, or for mechgen the fallback to it) before the task is bound or
 // anything is computed or written.
 #pragma once
@@ -157,11 +157,6 @@ int MotionMain(const M& model, const std::string& tool, const std::string& task_
   std::string error;
   MotionTask task;
   if (!TaskOk(ParseMotionTask(task_path, &task, &error), error)) return 1;
-  if constexpr (C::kView) {
-    if (task.poses.size() > 5)
-      return tools::NotThroughView(tool, "more than five poses (the least squares on the design derivatives) are",
-                                   C::Name(model), "synthesize");
-  }
   MotionResult r;
   if (!SynthesizeMotion(model, task, base, &r, &error)) {
     std::cerr << error << "\n";

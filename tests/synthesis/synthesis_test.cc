@@ -2073,14 +2073,16 @@ std::string ViewTaskFile(const std::string& name, const std::string& text) {
   return path;
 }
 
-TEST(ViewSynthesis, MotionFivePosesSameBytesAsTheFixedSizeModel) {
+// A motion task through both instantiations: the same candidates and report, the same model
+// file and report lines.
+void ExpectViewMotionSame(const std::vector<double>& q, const std::string& extra) {
   using M = mech::synth_fourbar::Model;
   const mechgen::ViewModel view(mech::synth_fourbar::View());
   const HandFourBar f;
   std::string yaml = "synthesis: motion\npoint: coupler.P\ncoupler_angle: theta_coupler\nposes:\n";
-  for (const Pose& p : PosesOf(f, {20 * kDeg, 60 * kDeg, 100 * kDeg, 150 * kDeg, 200 * kDeg}))
-    yaml += "  - [" + Num(p.x) + ", " + Num(p.y) + ", " + Num(p.angle) + "]\n";
-  yaml += "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n";
+  for (const Pose& p : PosesOf(f, q)) yaml += "  - [" + Num(p.x) + ", " + Num(p.y) + ", " + Num(p.angle) + "]\n";
+  yaml += "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n" +
+          extra;
   MotionTask task;
   std::string error;
   ASSERT_TRUE(ParseMotionTask(ViewTaskFile("view_motion.yaml", yaml), &task, &error)) << error;
@@ -2091,6 +2093,7 @@ TEST(ViewSynthesis, MotionFivePosesSameBytesAsTheFixedSizeModel) {
       << error;
   ASSERT_GE(fixed.chosen, 0);
   EXPECT_EQ(fixed.chosen, through_view.chosen);
+  EXPECT_EQ(fixed.evaluations, through_view.evaluations);
   EXPECT_EQ(MotionReport(task, fixed), MotionReport(task, through_view));
   // The written model file and its report lines.
   const FourBarFromDyads& fb = fixed.candidates[static_cast<size_t>(fixed.chosen)].fourbar;
@@ -2102,14 +2105,27 @@ TEST(ViewSynthesis, MotionFivePosesSameBytesAsTheFixedSizeModel) {
     *mechgen::ModelCalls<mechgen::ViewModel>::FindParameter(view, &vp, task.parameters[k].c_str()) = values[k];
   }
   mechgen::ModelCalls<mechgen::ViewModel>::ParametersSet(view, &vp);
+  std::array<int, M::kNumBlocks> modes = M::kDefaultModes;
+  modes[0] = fixed.candidates[static_cast<size_t>(fixed.chosen)].mode;
+  mechgen::ModelCalls<mechgen::ViewModel>::Modes view_modes = mechgen::ModelCalls<mechgen::ViewModel>::DefaultModes(view);
+  view_modes[0] = modes[0];
   const std::string model = ReadFile(Tasks("../models/synth_fourbar.yaml"));
   std::string text_fixed, text_view;
   WrittenAssembly w_fixed, w_view;
-  ASSERT_TRUE(WriteSynthesizedModel<M>(model, p, task.parameters, MotionInputs(fb), &text_fixed, &w_fixed, &error)) << error;
-  ASSERT_TRUE(WriteSynthesizedModel(view, model, vp, task.parameters, MotionInputs(fb), &text_view, &w_view, &error))
+  ASSERT_TRUE(WriteSynthesizedModel<M>(model, p, task.parameters, MotionInputs(fb), &text_fixed, &w_fixed, &error, &modes))
+      << error;
+  ASSERT_TRUE(WriteSynthesizedModel(view, model, vp, task.parameters, MotionInputs(fb), &text_view, &w_view, &error,
+                                    &view_modes))
       << error;
   EXPECT_EQ(text_fixed, text_view);
   EXPECT_EQ(WrittenModelText<M>(w_fixed, p), WrittenModelText(view, w_view, vp));
+}
+
+TEST(ViewSynthesis, MotionFiveAndSixPosesSameBytesAsTheFixedSizeModel) {
+  // Five poses: the Burmester pairs; six: the least squares on the design derivatives.
+  ExpectViewMotionSame({20 * kDeg, 60 * kDeg, 100 * kDeg, 150 * kDeg, 200 * kDeg}, "");
+  ExpectViewMotionSame({20 * kDeg, 55 * kDeg, 95 * kDeg, 140 * kDeg, 185 * kDeg, 230 * kDeg},
+                       "seed_poses: [1, 2, 4, 5, 6]\n");
 }
 
 TEST(ViewSynthesis, PathGenerationSameSearchSameBytesAsTheFixedSizeModel) {

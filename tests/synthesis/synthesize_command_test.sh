@@ -367,8 +367,8 @@ grep -Eq '^four.yaml:[0-9]+:10: error: targets: kind: exact takes exactly five p
 [ ! -e out_four ] || fail "four targets: out_four written"
 ok "exact synthesis: four targets refused"
 
-# The model view (issue 43): `mechgen synthesize` runs path generation, motion generation up to
-# five poses and exact synthesis through the runtime compiled once (mechgen_view synthesize on
+# The model view (issue 43): `mechgen synthesize` runs path generation, motion generation and
+# exact synthesis through the runtime compiled once (mechgen_view synthesize on
 # the model's shared object) and builds no per-model program for them (a cache of its own: only
 # view/ in it); the per-model program (MECHGEN_VIEW=0, the one the function tasks above built)
 # gives the same output files, standard output and standard error (mechgen's own compile lines
@@ -378,11 +378,11 @@ ok "exact synthesis: four targets refused"
 #   - four poses (above): curves.csv, curves.svg, report.txt;
 #   - Problem 7 and the crank-rocker's own points (kind: exact, above): every model file,
 #     solutions.csv, report.txt.
-# (Five poses with the model file written: synthesis_test's ViewSynthesis.*, in one process, on
-# synth_fourbar, whose nine parameters a motion task needs; so are a path and an exact task.)
-# Function generation and motion beyond five poses are not through the view yet: the view refuses
-# them before anything is computed and mechgen runs the per-model program, as the function
-# sections above did (the cache holds both).
+# (Five and six poses with the model file written: synthesis_test's ViewSynthesis.*, in one
+# process, on synth_fourbar, whose nine parameters a motion task needs; so are a path and an
+# exact task.) Function generation is not through the view yet: the view refuses it before
+# anything is computed and mechgen runs the per-model program, as the function sections above
+# did (the cache holds both).
 [ -d cache/view ] && [ -d cache/synthesize ] ||
   fail "function tasks: the cache lacks the model view's object or the per-model program ($(ls cache | tr '\n' ' '))"
 cp "$task" refind.yaml

@@ -165,10 +165,11 @@ namespace motion_internal {
 template <class M>
 class PoseResiduals : public ceres::CostFunction {
  public:
-  PoseResiduals(const std::vector<Pose>& poses, const typename M::template ParamsT<double>& base,
+  using C = ModelCalls<M>;
+  PoseResiduals(const M& model, const std::vector<Pose>& poses, const typename ModelTypes<M>::Params& base,
                 const std::vector<std::string>& names, const std::vector<int>& column, int point, int angle, double L,
-                long long* evaluations, const std::array<int, M::kNumBlocks>& modes = M::kDefaultModes)
-      : poses_(poses), base_(base), names_(names), column_(column), point_(point), angle_(angle), L_(L),
+                long long* evaluations, const typename C::Modes& modes)
+      : model_(model), poses_(poses), base_(base), names_(names), column_(column), point_(point), angle_(angle), L_(L),
         evaluations_(evaluations), modes_(modes) {
     set_num_residuals(3 * static_cast<int>(poses.size()));
     mutable_parameter_block_sizes()->push_back(10);
@@ -177,23 +178,25 @@ class PoseResiduals : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const int n = static_cast<int>(poses_.size());
     *evaluations_ += (jacobians != nullptr) ? 1 + 10 + n : 1;
-    typename M::template ParamsT<double> p = base_;
-    for (size_t k = 0; k < 9; ++k) *p.Find(names_[k].c_str()) = parameters[0][k];
+    typename ModelTypes<M>::Params p = base_;
+    for (size_t k = 0; k < 9; ++k) *C::FindParameter(model_, &p, names_[k].c_str()) = parameters[0][k];
+    C::ParametersSet(model_, &p);
     const double gamma = parameters[0][9];
-    Eigen::Matrix<double, M::kNphi, 1> phi;
-    typename M::template CoefficientsT<double> co;
-    position::DesignOf<M> design;
+    typename ModelTypes<M>::VecPhi phi;
+    typename ModelTypes<M>::Coefficients co;
+    typename C::template DesignOut<M> design;
     for (int j = 0; j < n; ++j) {
-      Eigen::Matrix<double, M::kNq, 1> qv;
+      typename ModelTypes<M>::VecQ qv;
+      qv.resize(1);
       qv(0) = parameters[1][j];
-      if (!SolveOnMode<M>(p, qv(0), &phi, /*judge=*/true, &modes_)) return false;
-      M::Coeffs(p, qv, phi, &co);
+      if (!SolveOnMode(model_, p, qv(0), &phi, /*judge=*/true, &modes_)) return false;
+      C::Coeffs(model_, p, qv, phi, &co);
       const Pose& pose = poses_[static_cast<size_t>(j)];
       residuals[3 * j] = co.r_P(0, point_) - pose.x;
       residuals[3 * j + 1] = co.r_P(1, point_) - pose.y;
       residuals[3 * j + 2] = L_ * WrapPi(phi(angle_) + gamma - pose.angle);
       if (jacobians == nullptr) continue;
-      M::Design(p, qv, phi, &design);
+      C::Design(model_, p, qv, phi, &design);
       for (int a = 0; a < 3; ++a) {
         const int row = 3 * j + a;
         if (jacobians[0] != nullptr) {
@@ -213,14 +216,15 @@ class PoseResiduals : public ceres::CostFunction {
   }
 
  private:
+  const M& model_;
   const std::vector<Pose>& poses_;
-  typename M::template ParamsT<double> base_;
+  typename ModelTypes<M>::Params base_;
   const std::vector<std::string>& names_;
   const std::vector<int>& column_;
   int point_, angle_;
   double L_;
   long long* evaluations_;
-  std::array<int, M::kNumBlocks> modes_;  ///< the assembly mode of the poses (the model's or its mirror)
+  typename C::Modes modes_;  ///< the assembly mode of the poses (the model's or its mirror)
 };
 }  // namespace motion_internal
 
@@ -236,7 +240,7 @@ std::string ModeName(int mode) {
 
 /// Five poses: the Burmester points and their four-bars on the model (reached through
 /// ModelCalls<M>: a generated model, or the model view); four poses: the curves. More than
-/// five poses (the least squares on the generated design derivatives): a generated model only.
+/// five poses: the least squares on the generated design derivatives (ModelCalls<M>::Design).
 template <class M>
 bool SynthesizeMotion(const M& model, const MotionTask& task, const typename ModelTypes<M>::Params& base,
                       MotionResult* out, std::string* error) {
@@ -293,14 +297,14 @@ bool SynthesizeMotion(const M& model, const MotionTask& task, const typename Mod
     if (lsq) {
       seed_poses.clear();
       for (int j : task.seed_poses) seed_poses.push_back(poses[static_cast<size_t>(j)]);
-      if constexpr (!HasDesignDerivatives<M>::value || C::kView) {
+      if (!C::HasDesign(model)) {
         return *error = task.file + ": error: more than five poses need the model's `design:` section (the least squares' "
                                     "Jacobian)",
                false;
       } else {
         for (size_t k = 0; k < 9; ++k) {
-          for (int d = 0; d < M::kNumDesign; ++d)
-            if (task.parameters[k] == M::kDesignNames[static_cast<size_t>(d)]) column[k] = d;
+          for (int d = 0; d < C::NumDesign(model); ++d)
+            if (task.parameters[k] == C::DesignName(model, d)) column[k] = d;
           if (column[k] < 0)
             return *error = task.file + ":" + std::to_string(task.line) + ":" + std::to_string(task.column) +
                             ": error: parameters: '" + task.parameters[k] +
@@ -342,7 +346,7 @@ bool SynthesizeMotion(const M& model, const MotionTask& task, const typename Mod
           if (distance(mirror) < distance(modes)) modes = mirror;
         }
         c.mode = modes[0];
-        if constexpr (HasDesignDerivatives<M>::value && !C::kView) {
+        if constexpr (C::kView || HasDesignDerivatives<M>::value) {
           if (lsq) {
             // Least squares of the pose errors over all poses from this pair's four-bar.
             std::vector<double> x = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0, 0.0};
@@ -353,8 +357,8 @@ bool SynthesizeMotion(const M& model, const MotionTask& task, const typename Mod
               const Eigen::Vector2d C = CirclePointAt(poses[0], r.points[static_cast<size_t>(j)].k);
               x[9] = WrapPi(poses[0].angle - std::atan2(C.y() - B.y(), C.x() - B.x()));
             }
-            auto* cost = new motion_internal::PoseResiduals<M>(poses, base, task.parameters, column, point, angle, L,
-                                                               &r.evaluations, modes);
+            auto* cost = new motion_internal::PoseResiduals<M>(model, poses, base, task.parameters, column, point, angle,
+                                                               L, &r.evaluations, modes);
             ceres::Problem problem;
             problem.AddResidualBlock(cost, nullptr, x.data(), q.data());
             // The start must assemble at every pose (else Ceres refuses it, and says so on stderr).

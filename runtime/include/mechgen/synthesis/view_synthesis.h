@@ -10,12 +10,12 @@
  *
  * Instantiated: path generation (BindPathTask, SynthesizePath: the global and local stages or
  * the projection, PathEvaluator, ContinuationCheck, Report, CurveSvg; the local stage's Jacobian
- * from the view's design derivatives, ModelCalls<ViewModel>::Design), motion generation up to
- * five poses (SynthesizeMotion: the Burmester pairs and their four-bars checked on the model,
- * four poses the curves), exact path synthesis (BindExactTask, RunExactTask: every real solution
+ * from the view's design derivatives, ModelCalls<ViewModel>::Design), motion generation
+ * (SynthesizeMotion: the Burmester pairs and their four-bars checked on the model, beyond five
+ * poses the least squares on the design derivatives, four poses the curves), exact path synthesis (BindExactTask, RunExactTask: every real solution
  * checked on the model's kinematics and continuation), and the synthesized model file and its
  * report lines (WriteSynthesizedModel, SetParametersText, WrittenModelText). Not yet: function
- * generation (synthesis/function.h) and motion beyond five poses (its least squares).
+ * generation (synthesis/function.h).
  */
 #pragma once
 
