@@ -125,7 +125,9 @@ const std::vector<ToolSpec>& Specs() {
        "Levenberg-Marquardt on the generated design derivatives (or, `kind: exact`, every four-bar through "
        "five points with both pivots given, by homotopy continuation); the synthesized model file, an SVG and a "
        "report (needs a `design` section; Ceres, yaml-cpp)",
-       {"-lceres", "-lglog", "-lgflags", "-lyaml-cpp", "-pthread"}},
+       {"-lceres", "-lglog", "-lgflags", "-lyaml-cpp", "-pthread"},
+       false,
+       true},
       {"study", "study_main.cc", {"-pthread"}, false, "",
        "a design study from --study FILE (docs/studies.md): grid, list, Latin hypercube or Monte-Carlo samples "
        "on every core, metrics per sample in a CSV, first-order tolerances beside the Monte-Carlo",

@@ -30,6 +30,12 @@
 #include "mechgen/synthesis/report.h"
 #include "mechgen/synthesis/task.h"
 #include "synth_fourbar.h"
+#include "mechgen/core/view_runtime.h"
+#include "mechgen/synthesis/view_synthesis.h"  // the synthesis layer for the view: mechgen_runtime_view_synthesis
+
+namespace mech::synth_fourbar {
+const mechgen::ModelView& View();
+}
 
 namespace {
 
@@ -2051,6 +2057,137 @@ TEST(PathSynthesis, ProjectionNeedsTheFourBarsRoles) {
   EXPECT_EQ(error.substr(error.find("projection_task.yaml")),
             "projection_task.yaml:7:15: error: projection: the model has no parameter 'x0'; it needs the four-bar's a, b, c, "
             "d, xi, eta, x0, y0, theta0 (tests/synthesis/models/synth_fourbar.yaml)");
+}
+
+// ---- The model view (issue 43): the synthesis layer instantiated once for ViewModel
+// (synthesis/view_synthesis.h) against the same templates on the generated fixed-size
+// synth_fourbar, one task of each kind the view runs, in one process: the same bytes (reports,
+// written model files, SVG, CSV) and the same numbers to the bit (the view calls the same
+// generated functions; Phi_phi's condition on a fixed-size copy, CondDet). The oracle is the
+// fixed-size instantiation, which the tests above check against hand formulas, central
+// differences and PHCpack.
+
+std::string ViewTaskFile(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+// A motion task through both instantiations: the same candidates and report, the same model
+// file and report lines.
+void ExpectViewMotionSame(const std::vector<double>& q, const std::string& extra) {
+  using M = mech::synth_fourbar::Model;
+  const mechgen::ViewModel view(mech::synth_fourbar::View());
+  const HandFourBar f;
+  std::string yaml = "synthesis: motion\npoint: coupler.P\ncoupler_angle: theta_coupler\nposes:\n";
+  for (const Pose& p : PosesOf(f, q)) yaml += "  - [" + Num(p.x) + ", " + Num(p.y) + ", " + Num(p.angle) + "]\n";
+  yaml += "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n" +
+          extra;
+  MotionTask task;
+  std::string error;
+  ASSERT_TRUE(ParseMotionTask(ViewTaskFile("view_motion.yaml", yaml), &task, &error)) << error;
+  MotionResult fixed, through_view;
+  ASSERT_TRUE(SynthesizeMotion<M>(task, {}, &fixed, &error)) << error;
+  ASSERT_TRUE(SynthesizeMotion(view, task, mechgen::ModelCalls<mechgen::ViewModel>::DefaultParams(view), &through_view,
+                               &error))
+      << error;
+  ASSERT_GE(fixed.chosen, 0);
+  EXPECT_EQ(fixed.chosen, through_view.chosen);
+  EXPECT_EQ(fixed.evaluations, through_view.evaluations);
+  EXPECT_EQ(MotionReport(task, fixed), MotionReport(task, through_view));
+  // The written model file and its report lines.
+  const FourBarFromDyads& fb = fixed.candidates[static_cast<size_t>(fixed.chosen)].fourbar;
+  const double values[9] = {fb.a, fb.b, fb.c, fb.d, fb.xi, fb.eta, fb.x0, fb.y0, fb.theta0};
+  M::ParamsT<double> p;
+  mechgen::ViewParams vp = mechgen::ModelCalls<mechgen::ViewModel>::DefaultParams(view);
+  for (size_t k = 0; k < 9; ++k) {
+    *p.Find(task.parameters[k].c_str()) = values[k];
+    *mechgen::ModelCalls<mechgen::ViewModel>::FindParameter(view, &vp, task.parameters[k].c_str()) = values[k];
+  }
+  mechgen::ModelCalls<mechgen::ViewModel>::ParametersSet(view, &vp);
+  std::array<int, M::kNumBlocks> modes = M::kDefaultModes;
+  modes[0] = fixed.candidates[static_cast<size_t>(fixed.chosen)].mode;
+  mechgen::ModelCalls<mechgen::ViewModel>::Modes view_modes = mechgen::ModelCalls<mechgen::ViewModel>::DefaultModes(view);
+  view_modes[0] = modes[0];
+  const std::string model = ReadFile(Tasks("../models/synth_fourbar.yaml"));
+  std::string text_fixed, text_view;
+  WrittenAssembly w_fixed, w_view;
+  ASSERT_TRUE(WriteSynthesizedModel<M>(model, p, task.parameters, MotionInputs(fb), &text_fixed, &w_fixed, &error, &modes))
+      << error;
+  ASSERT_TRUE(WriteSynthesizedModel(view, model, vp, task.parameters, MotionInputs(fb), &text_view, &w_view, &error,
+                                    &view_modes))
+      << error;
+  EXPECT_EQ(text_fixed, text_view);
+  EXPECT_EQ(WrittenModelText<M>(w_fixed, p), WrittenModelText(view, w_view, vp));
+}
+
+TEST(ViewSynthesis, MotionFiveAndSixPosesSameBytesAsTheFixedSizeModel) {
+  // Five poses: the Burmester pairs; six: the least squares on the design derivatives.
+  ExpectViewMotionSame({20 * kDeg, 60 * kDeg, 100 * kDeg, 150 * kDeg, 200 * kDeg}, "");
+  ExpectViewMotionSame({20 * kDeg, 55 * kDeg, 95 * kDeg, 140 * kDeg, 185 * kDeg, 230 * kDeg},
+                       "seed_poses: [1, 2, 4, 5, 6]\n");
+}
+
+TEST(ViewSynthesis, PathGenerationSameSearchSameBytesAsTheFixedSizeModel) {
+  using M = mech::synth_fourbar::Model;
+  const mechgen::ViewModel view(mech::synth_fourbar::View());
+  PathTask task;
+  std::string error;
+  // The shipped four-bar's coupler points (free timing, its constraints), a small budget, 2 threads.
+  ASSERT_TRUE(ParseTask(Tasks("fourbar_refind.yaml"), &task, &error)) << error;
+  task.search.evaluations = 3000;
+  BoundPath<M> b_fixed;
+  BoundPath<mechgen::ViewModel> b_view;
+  ASSERT_TRUE(BindPathTask<M>(task, {}, &b_fixed, &error)) << error;
+  ASSERT_TRUE(BindPathTask(view, task, mechgen::ModelCalls<mechgen::ViewModel>::DefaultParams(view), &b_view, &error))
+      << error;
+  SearchResult s_fixed, s_view;
+  ASSERT_TRUE(SynthesizePath(b_fixed, 7, 2, &s_fixed, &error)) << error;
+  ASSERT_TRUE(SynthesizePath(b_view, 7, 2, &s_view, &error)) << error;
+  const Candidate& c = s_fixed.best.best;
+  ASSERT_TRUE(c.feasible()) << c.defect;
+  EXPECT_EQ(c.x, s_view.best.best.x);  // to the bit
+  EXPECT_EQ(c.q, s_view.best.best.q);
+  EXPECT_EQ(c.error, s_view.best.best.error);
+  EXPECT_EQ(s_fixed.evaluations, s_view.evaluations);
+  PathEvaluator<M> e_fixed(b_fixed);
+  PathEvaluator<mechgen::ViewModel> e_view(b_view);
+  EXPECT_EQ(ContinuationCheck(&e_fixed, c), ContinuationCheck(&e_view, s_view.best.best));
+  EXPECT_EQ(Report(&e_fixed, s_fixed, "", 7, 2, 0, 0, "synth_fourbar.yaml"),
+            Report(&e_view, s_view, "", 7, 2, 0, 0, "synth_fourbar.yaml"));
+  EXPECT_EQ(CurveSvg(&e_fixed, c), CurveSvg(&e_view, s_view.best.best));
+  std::vector<std::string> names;
+  for (const Variable& v : task.variables) names.push_back(v.name);
+  const std::string model = ReadFile(Tasks("../models/synth_fourbar.yaml"));
+  std::string text_fixed, text_view;
+  WrittenAssembly w_fixed, w_view;
+  ASSERT_TRUE(WriteSynthesizedModel<M>(model, e_fixed.ParamsOf(c.x), names, MotionInputs(b_fixed, c), &text_fixed,
+                                       &w_fixed, &error))
+      << error;
+  ASSERT_TRUE(WriteSynthesizedModel(view, model, e_view.ParamsOf(s_view.best.best.x), names,
+                                    MotionInputs(b_view, s_view.best.best), &text_view, &w_view, &error))
+      << error;
+  EXPECT_EQ(text_fixed, text_view);
+}
+
+TEST(ViewSynthesis, ExactSynthesisSameBytesAsTheFixedSizeModel) {
+  using M = mech::synth_fourbar::Model;
+  const mechgen::ViewModel view(mech::synth_fourbar::View());
+  ExactTask task;
+  std::string error;
+  ASSERT_TRUE(ParseExactTask(Tasks("../benchmarks/problem7_exact.yaml"), &task, &error)) << error;
+  BoundExact<M> b_fixed;
+  BoundExact<mechgen::ViewModel> b_view;
+  ASSERT_TRUE(BindExactTask<M>(task, {}, &b_fixed, &error)) << error;
+  ASSERT_TRUE(BindExactTask(view, task, mechgen::ModelCalls<mechgen::ViewModel>::DefaultParams(view), &b_view, &error))
+      << error;
+  const std::string model = ReadFile(Tasks("../models/synth_fourbar.yaml"));
+  std::vector<std::pair<std::string, std::string>> m_fixed, m_view;
+  const ExactRun r_fixed = RunExactTask(b_fixed, model, "synth_fourbar", &m_fixed);
+  const ExactRun r_view = RunExactTask(b_view, model, "synth_fourbar", &m_view);
+  ASSERT_EQ(r_fixed.real, 15);
+  EXPECT_EQ(ExactCsv(r_fixed, "synth_fourbar", "problem7_exact.yaml"), ExactCsv(r_view, "synth_fourbar", "problem7_exact.yaml"));
+  EXPECT_EQ(m_fixed, m_view);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@ int Simulate(const ModelView& view, int argc, char** argv);  // view/simulate.cc
 int Engine(const ModelView& view, int argc, char** argv);  // view/engine.cc
 int Flywheel(const ModelView& view, int argc, char** argv);  // view/flywheel.cc
 int Study(const ModelView& view, int argc, char** argv);  // view/study.cc
+int Synthesize(const ModelView& view, int argc, char** argv);  // view/synthesize.cc
 
 /// The commands, in the order `mechgen_view --help` lists them.
 inline constexpr Command kCommands[] = {
@@ -31,6 +32,7 @@ inline constexpr Command kCommands[] = {
     {"engine", Engine},
     {"flywheel", Flywheel},
     {"study", Study},
+    {"synthesize", Synthesize},
 };
 
 }  // namespace view_tool

@@ -655,6 +655,28 @@ struct ModelCalls {
                             ShakingDesignMoment<X>* dM_dp) {
     M::template ShakingDesign<double>(p, q, phi, qd, qdd, c, dc, dF_dp, dM_dp);
   }
+
+  // ---- Synthesis (synthesis/): the parameter table's names, the scene's ground points ----
+  /// The free parameters (the Params members, in their order), by index.
+  static constexpr int NumFreeParameters(const M&) { return static_cast<int>(T::Params::kNames.size()); }
+  static const char* FreeParameterName(const M&, int i) { return T::Params::kNames[static_cast<size_t>(i)]; }
+  /// The scene: every named point of every link (M::kNumScenePoints; none without a scene).
+  static constexpr int NumScenePoints(const M&) { return M::kNumScenePoints; }
+  static const char* ScenePointName(const M&, int k) {
+    if constexpr (M::kNumScenePoints > 0) return M::kScenePointNames[static_cast<size_t>(k)];
+    (void)k;
+    return "";
+  }
+  static int ScenePointLink(const M&, int k) {
+    if constexpr (M::kNumScenePoints > 0) return M::kScenePointLink[static_cast<size_t>(k)];
+    (void)k;
+    return -1;
+  }
+  /// Model::Scene (only where NumScenePoints > 0).
+  static void Scene(const M&, const typename T::Params& p, const typename T::VecQ& q, const typename T::VecPhi& phi,
+                    typename T::MatScene* r) {
+    if constexpr (M::kNumScenePoints > 0) M::Scene(p, q, phi, r);
+  }
 };
 
 }  // namespace mechgen

@@ -904,6 +904,19 @@ struct ModelCalls<ViewModel> {
     v.ShakingDesign(p.data(), q.data(), phi.data(), qd.data(), qdd.data(), c.buffer.data(), dc.buffer.data(),
                     dF_dp != nullptr ? dF_dp->data() : nullptr, dM_dp != nullptr ? dM_dp->data() : nullptr);
   }
+
+  // ---- Synthesis (synthesis/): the parameter table's names, the scene's ground points ----
+  /// The free parameters (the first num_free_params of the view's table), by index.
+  static int NumFreeParameters(const M& m) { return m.view->num_free_params; }
+  static const char* FreeParameterName(const M& m, int i) { return m.view->params[i].name; }
+  /// The scene: every named point of every link (none where the view has no Scene).
+  static int NumScenePoints(const M& m) { return m.view->Scene != nullptr ? m.view->num_scene_points : 0; }
+  static const char* ScenePointName(const M& m, int k) { return m.view->scene_point_names[k]; }
+  static int ScenePointLink(const M& m, int k) { return m.view->scene_point_links[k]; }
+  static void Scene(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, T::MatScene* r) {
+    r->resize(2, NumScenePoints(m));
+    if (NumScenePoints(m) > 0) m.view->Scene(p.data(), q.data(), phi.data(), r->data());
+  }
 };
 
 }  // namespace mechgen

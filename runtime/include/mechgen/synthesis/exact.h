@@ -178,18 +178,21 @@ inline bool ParseExactTask(const std::string& path, ExactTask* task, std::string
 /// A task bound to the model M: the point's index and the parameters' names checked.
 template <class M>
 struct BoundExact {
+  const M* model = nullptr;  ///< reached through ModelCalls<M> (a generated model, or the model view); outlives this
   ExactTask task;
   int point = -1;
-  typename M::template ParamsT<double> base;  ///< every other parameter (the model's, or --set's)
+  typename ModelTypes<M>::Params base;  ///< every other parameter (the model's, or --set's)
 };
 
 /// The parameters of the four-bar `bar` in the model (base's for every parameter the task does not name).
 template <class M>
-typename M::template ParamsT<double> ExactParams(const BoundExact<M>& b, const ExactFourBar& bar) {
+typename ModelTypes<M>::Params ExactParams(const BoundExact<M>& b, const ExactFourBar& bar) {
+  using C = ModelCalls<M>;
   auto p = b.base;
   const double values[9] = {bar.a, bar.b, bar.c, bar.d, bar.xi, bar.eta, bar.x0, bar.y0, bar.theta0};
   for (size_t k = 0; k < 9; ++k)
-    if (!b.task.parameters[k].empty()) *p.Find(b.task.parameters[k].c_str()) = values[k];
+    if (!b.task.parameters[k].empty()) *C::FindParameter(*b.model, &p, b.task.parameters[k].c_str()) = values[k];
+  C::ParametersSet(*b.model, &p);
   return p;
 }
 
@@ -198,27 +201,29 @@ typename M::template ParamsT<double> ExactParams(const BoundExact<M>& b, const E
 /// the ground's length and the frame set from the pivots). false and *error (the task file's
 /// line and column) otherwise.
 template <class M>
-bool BindExactTask(const ExactTask& task, const typename M::template ParamsT<double>& base, BoundExact<M>* out,
-                   std::string* error) {
+bool BindExactTask(const M& model, const ExactTask& task, const typename ModelTypes<M>::Params& base,
+                   BoundExact<M>* out, std::string* error) {
+  using C = ModelCalls<M>;
   auto where = [&](int line, int column) {
     return task.file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": error: ";
   };
   BoundExact<M> b;
+  b.model = &model;
   b.task = task;
   b.base = base;
-  if (M::kNq != 1 || !M::kQIsAngle[0])
+  if (C::Nq(model) != 1 || !C::QIsAngle(model, 0))
     return *error = where(1, 1) + "kind: exact needs a four-bar model with one revolute input (the crank's angle); '" +
-                    std::string(M::kName) + "' has " + std::to_string(M::kNq) + " input(s)",
+                    std::string(C::Name(model)) + "' has " + std::to_string(C::Nq(model)) + " input(s)",
            false;
-  if constexpr (M::kNumPoints == 0) {
-    return *error = where(task.point_line, task.point_column) + "the model '" + std::string(M::kName) +
+  if (C::NumPoints(model) == 0) {
+    return *error = where(task.point_line, task.point_column) + "the model '" + std::string(C::Name(model)) +
                     "' has no output points; add the coupler point to its outputs: points:",
            false;
   } else {
     std::string known;
-    for (int k = 0; k < M::kNumPoints; ++k) {
-      if (task.point == M::kPointNames[static_cast<size_t>(k)]) b.point = k;
-      known += (k ? ", " : "") + std::string(M::kPointNames[static_cast<size_t>(k)]);
+    for (int k = 0; k < C::NumPoints(model); ++k) {
+      if (task.point == C::PointName(model, k)) b.point = k;
+      known += (k ? ", " : "") + std::string(C::PointName(model, k));
     }
     if (b.point < 0)
       return *error = where(task.point_line, task.point_column) + "point: '" + task.point +
@@ -228,9 +233,10 @@ bool BindExactTask(const ExactTask& task, const typename M::template ParamsT<dou
   for (size_t k = 0; k < task.parameters.size(); ++k) {
     const std::string& name = task.parameters[k];
     if (name.empty()) continue;
-    if (b.base.Find(name.c_str()) == nullptr) {
+    if (C::FindParameter(model, &b.base, name.c_str()) == nullptr) {
       std::string names;
-      for (const char* n : M::template ParamsT<double>::kNames) names += (names.empty() ? "" : ", ") + std::string(n);
+      for (int i = 0; i < C::NumFreeParameters(model); ++i)
+        names += (names.empty() ? "" : ", ") + std::string(C::FreeParameterName(model, i));
       return *error = where(task.params_line, task.params_column) + "parameters." + ExactParameterKeys()[k] + ": '" + name +
                       "' is not a parameter of the model (" + names + ")",
              false;
@@ -238,7 +244,7 @@ bool BindExactTask(const ExactTask& task, const typename M::template ParamsT<dou
   }
   // The ground pivots: the model's ground points with the ground's length (and the frame) set
   // from the task's pivots must include both.
-  if constexpr (M::kNumScenePoints > 0) {
+  if (C::NumScenePoints(model) > 0) {
     const auto& A = task.five.crank_pivot;
     const auto& D = task.five.rocker_pivot;
     ExactFourBar frame;
@@ -247,23 +253,25 @@ bool BindExactTask(const ExactTask& task, const typename M::template ParamsT<dou
     frame.x0 = A[0], frame.y0 = A[1], frame.theta0 = std::atan2(D[1] - A[1], D[0] - A[0]);
     auto p = b.base;
     const std::string& ground = task.parameters[3];
-    *p.Find(ground.c_str()) = frame.d;
+    *C::FindParameter(model, &p, ground.c_str()) = frame.d;
     const double placement[3] = {frame.x0, frame.y0, frame.theta0};
     for (size_t k = 6; k < 9; ++k)
-      if (!task.parameters[k].empty()) *p.Find(task.parameters[k].c_str()) = placement[k - 6];
-    Eigen::Matrix<double, M::kNq, 1> q = Eigen::Matrix<double, M::kNq, 1>::Zero();
-    Eigen::Matrix<double, M::kNphi, 1> phi;
-    for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-    Eigen::Matrix<double, 2, M::kNumScenePoints> r;
-    M::Scene(p, q, phi, &r);
+      if (!task.parameters[k].empty()) *C::FindParameter(model, &p, task.parameters[k].c_str()) = placement[k - 6];
+    C::ParametersSet(model, &p);
+    typename ModelTypes<M>::VecQ q = ModelTypes<M>::VecQ::Zero(C::Nq(model));
+    typename ModelTypes<M>::VecPhi phi;
+    phi.resize(C::Nphi(model));
+    for (int i = 0; i < C::Nphi(model); ++i) phi(i) = C::AssemblyPhi(model)[i];
+    typename ModelTypes<M>::MatScene r;
+    C::Scene(model, p, q, phi, &r);
     const double tol = 1e-9 * (1 + frame.d + std::hypot(A[0], A[1]) + std::hypot(D[0], D[1]));
     bool has_a = false, has_d = false;
     std::string seen;
-    for (int k = 0; k < M::kNumScenePoints; ++k) {
-      if (M::kScenePointLink[static_cast<size_t>(k)] != M::kGroundLink) continue;
+    for (int k = 0; k < C::NumScenePoints(model); ++k) {
+      if (C::ScenePointLink(model, k) != C::GroundLink(model)) continue;
       has_a = has_a || std::hypot(r(0, k) - A[0], r(1, k) - A[1]) <= tol;
       has_d = has_d || std::hypot(r(0, k) - D[0], r(1, k) - D[1]) <= tol;
-      seen += (seen.empty() ? "" : ", ") + std::string(M::kScenePointNames[static_cast<size_t>(k)]) + " (" +
+      seen += (seen.empty() ? "" : ", ") + std::string(C::ScenePointName(model, k)) + " (" +
               Short(r(0, k), 9) + ", " + Short(r(1, k), 9) + ")";
     }
     if (!has_a || !has_d)
@@ -278,6 +286,13 @@ bool BindExactTask(const ExactTask& task, const typename M::template ParamsT<dou
   }
   *out = b;
   return true;
+}
+
+/// The same on a generated model's type (its one object, GeneratedModel<M>()).
+template <class M>
+bool BindExactTask(const ExactTask& task, const typename M::template ParamsT<double>& base, BoundExact<M>* out,
+                   std::string* error) {
+  return BindExactTask(GeneratedModel<M>(), task, base, out, error);
 }
 
 /// One row of the answer: a distinct nonsingular solution (real or complex), or a path that
@@ -314,16 +329,18 @@ struct ExactRun {
 namespace exact_internal {
 
 template <class M>
-double CouplerDistance(const BoundExact<M>& b, const typename M::template ParamsT<double>& p, double q, int mode,
+double CouplerDistance(const BoundExact<M>& b, const typename ModelTypes<M>::Params& p, double q, int mode,
                        const std::array<double, 2>& target) {
-  std::array<int, M::kNumBlocks> modes = M::kDefaultModes;
+  using C = ModelCalls<M>;
+  typename C::Modes modes = C::DefaultModes(*b.model);
   modes[0] = mode;
-  Eigen::Matrix<double, M::kNphi, 1> phi;
-  if (!SolveOnMode<M>(p, q, &phi, /*judge=*/false, &modes)) return kInf;
-  Eigen::Matrix<double, M::kNq, 1> qv;
+  typename ModelTypes<M>::VecPhi phi;
+  if (!SolveOnMode(*b.model, p, q, &phi, /*judge=*/false, &modes)) return kInf;
+  typename ModelTypes<M>::VecQ qv;
+  qv.resize(1);
   qv(0) = q;
-  typename M::template CoefficientsT<double> co;
-  M::Coeffs(p, qv, phi, &co);
+  typename ModelTypes<M>::Coefficients co;
+  C::Coeffs(*b.model, p, qv, phi, &co);
   const double d = std::hypot(co.r_P(0, b.point) - target[0], co.r_P(1, b.point) - target[1]);
   return std::isfinite(d) ? d : kInf;
 }
@@ -346,33 +363,36 @@ inline std::vector<double> MotionAngles(const ExactFourBar& bar) {
 /// The motion through the points on `modes`: the crank in steps of at most 1 deg assembles,
 /// regular, and the runtime's continuation reaches every point; "" or why not.
 template <class M>
-std::string MotionCheck(const BoundExact<M>& b, const typename M::template ParamsT<double>& p, const ExactFourBar& bar,
-                        const std::array<int, M::kNumBlocks>& modes, double tol, std::string* defect) {
+std::string MotionCheck(const BoundExact<M>& b, const typename ModelTypes<M>::Params& p, const ExactFourBar& bar,
+                        const typename ModelCalls<M>::Modes& modes, double tol, std::string* defect) {
+  using C = ModelCalls<M>;
+  const M& model = *b.model;
   const std::vector<double> q = MotionAngles(bar);
-  Eigen::Matrix<double, M::kNphi, 1> phi;
+  typename ModelTypes<M>::VecPhi phi;
   for (int j = 0; j + 1 < 5; ++j) {
     const double from = q[static_cast<size_t>(j)], to = q[static_cast<size_t>(j + 1)];
     const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / (M_PI / 180))));
     for (int s = 1; s < steps; ++s) {
       const double at = from + (to - from) * s / steps;
-      if (!SolveOnMode<M>(p, at, &phi, /*judge=*/true, &modes)) {
+      if (!SolveOnMode(model, p, at, &phi, /*judge=*/true, &modes)) {
         *defect = "dead point";
         return "between points " + std::to_string(j + 1) + " and " + std::to_string(j + 2) + " the mechanism does not " +
                "assemble regularly on its mode at crank angle " + Short(std::remainder(at, kTwoPi), 9) + " rad";
       }
     }
   }
-  if (!SolveOnMode<M>(p, q[0], &phi, /*judge=*/true, &modes)) {
+  if (!SolveOnMode(model, p, q[0], &phi, /*judge=*/true, &modes)) {
     *defect = "dead point";
     return "point 1 is a singular configuration";
   }
-  position::PositionSolver<M> solver(position::Options(), p);
-  Eigen::Matrix<double, M::kNq, 1> qv;
+  position::PositionSolver<M> solver(model, position::Options(), p);
+  typename ModelTypes<M>::VecQ qv;
+  qv.resize(1);
   qv(0) = q[0];
   *defect = "continuation";
   if (solver.Assemble(qv, phi, 0, nullptr) != position::Status::kConverged)
     return "the runtime cannot assemble at point 1";
-  typename M::template CoefficientsT<double> co;
+  typename ModelTypes<M>::Coefficients co;
   for (int j = 1; j < 5; ++j) {
     const double from = q[static_cast<size_t>(j - 1)], to = q[static_cast<size_t>(j)];
     const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / (10 * M_PI / 180))));
@@ -381,7 +401,7 @@ std::string MotionCheck(const BoundExact<M>& b, const typename M::template Param
       if (solver.MoveTo(qv, nullptr) != position::Status::kConverged)
         return "the continuation stops before point " + std::to_string(j + 1);
     }
-    M::Coeffs(p, solver.state().q, solver.state().phi, &co);
+    C::Coeffs(model, p, solver.state().q, solver.state().phi, &co);
     const auto& P = b.task.five.points[static_cast<size_t>(j)];
     const double d = std::hypot(co.r_P(0, b.point) - P[0], co.r_P(1, b.point) - P[1]);
     if (!(d <= tol))
@@ -396,10 +416,10 @@ std::string MotionCheck(const BoundExact<M>& b, const typename M::template Param
 /// first failures up and down (0.5 deg steps, then 40 bisections, less 1e-3 rad); true when it
 /// turns fully (no failure within a turn either way).
 template <class M>
-bool ReachAbout(const typename M::template ParamsT<double>& p, double q0, const std::array<int, M::kNumBlocks>& modes,
-                double* lo, double* hi) {
-  Eigen::Matrix<double, M::kNphi, 1> phi;
-  auto ok = [&](double q) { return SolveOnMode<M>(p, q, &phi, /*judge=*/true, &modes); };
+bool ReachAbout(const M& model, const typename ModelTypes<M>::Params& p, double q0,
+                const typename ModelCalls<M>::Modes& modes, double* lo, double* hi) {
+  typename ModelTypes<M>::VecPhi phi;
+  auto ok = [&](double q) { return SolveOnMode(model, p, q, &phi, /*judge=*/true, &modes); };
   const double step = M_PI / 360;
   double ends[2] = {q0, q0};
   for (int k = 0; k < 2; ++k) {
@@ -480,7 +500,7 @@ ExactRun RunExactTask(const BoundExact<M>& b, const std::string& model_text, con
     row.motion = "not run";
     if (row.defect.empty() && !row.reached) row.defect = "kinematics";
     if (row.defect.empty()) {
-      std::array<int, M::kNumBlocks> modes = M::kDefaultModes;
+      typename ModelCalls<M>::Modes modes = ModelCalls<M>::DefaultModes(*b.model);
       modes[0] = row.mode;
       std::string defect;
       row.motion = MotionCheck(b, p, bar, modes, tol, &defect);
@@ -497,7 +517,7 @@ ExactRun RunExactTask(const BoundExact<M>& b, const std::string& model_text, con
       row.not_written = "the generated kinematics does not reach point 1 on either mode";
       continue;
     }
-    std::array<int, M::kNumBlocks> modes = M::kDefaultModes;
+    typename ModelCalls<M>::Modes modes = ModelCalls<M>::DefaultModes(*b.model);
     modes[0] = row.mode;
     std::vector<std::string> names;
     for (const std::string& n : b.task.parameters)
@@ -507,9 +527,9 @@ ExactRun RunExactTask(const BoundExact<M>& b, const std::string& model_text, con
     // does not turn fully: the generator refuses a range where the loop cannot close).
     std::vector<double> motion = MotionAngles(bar);
     double lo = 0, hi = 0;
-    if (!row.defect.empty() && !ReachAbout<M>(p, bar.crank[0], modes, &lo, &hi)) motion = {bar.crank[0], lo, hi};
+    if (!row.defect.empty() && !ReachAbout(*b.model, p, bar.crank[0], modes, &lo, &hi)) motion = {bar.crank[0], lo, hi};
     std::string text, error;
-    if (!WriteSynthesizedModel<M>(model_text, p, names, motion, &text, &row.written, &error, &modes)) {
+    if (!WriteSynthesizedModel(*b.model, model_text, p, names, motion, &text, &row.written, &error, &modes)) {
       row.not_written = error;
       continue;
     }

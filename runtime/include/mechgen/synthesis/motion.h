@@ -29,6 +29,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "mechgen/position/design.h"
 #include "mechgen/synthesis/burmester.h"
 #include "mechgen/synthesis/function.h"
 #include "mechgen/synthesis/output.h"
@@ -165,10 +166,11 @@ namespace motion_internal {
 template <class M>
 class PoseResiduals : public ceres::CostFunction {
  public:
-  PoseResiduals(const std::vector<Pose>& poses, const typename M::template ParamsT<double>& base,
+  using C = ModelCalls<M>;
+  PoseResiduals(const M& model, const std::vector<Pose>& poses, const typename ModelTypes<M>::Params& base,
                 const std::vector<std::string>& names, const std::vector<int>& column, int point, int angle, double L,
-                long long* evaluations, const std::array<int, M::kNumBlocks>& modes = M::kDefaultModes)
-      : poses_(poses), base_(base), names_(names), column_(column), point_(point), angle_(angle), L_(L),
+                long long* evaluations, const typename C::Modes& modes)
+      : model_(model), poses_(poses), base_(base), names_(names), column_(column), point_(point), angle_(angle), L_(L),
         evaluations_(evaluations), modes_(modes) {
     set_num_residuals(3 * static_cast<int>(poses.size()));
     mutable_parameter_block_sizes()->push_back(10);
@@ -177,23 +179,25 @@ class PoseResiduals : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const int n = static_cast<int>(poses_.size());
     *evaluations_ += (jacobians != nullptr) ? 1 + 10 + n : 1;
-    typename M::template ParamsT<double> p = base_;
-    for (size_t k = 0; k < 9; ++k) *p.Find(names_[k].c_str()) = parameters[0][k];
+    typename ModelTypes<M>::Params p = base_;
+    for (size_t k = 0; k < 9; ++k) *C::FindParameter(model_, &p, names_[k].c_str()) = parameters[0][k];
+    C::ParametersSet(model_, &p);
     const double gamma = parameters[0][9];
-    Eigen::Matrix<double, M::kNphi, 1> phi;
-    typename M::template CoefficientsT<double> co;
+    typename ModelTypes<M>::VecPhi phi;
+    typename ModelTypes<M>::Coefficients co;
     position::DesignOf<M> design;
     for (int j = 0; j < n; ++j) {
-      Eigen::Matrix<double, M::kNq, 1> qv;
+      typename ModelTypes<M>::VecQ qv;
+      qv.resize(1);
       qv(0) = parameters[1][j];
-      if (!SolveOnMode<M>(p, qv(0), &phi, /*judge=*/true, &modes_)) return false;
-      M::Coeffs(p, qv, phi, &co);
+      if (!SolveOnMode(model_, p, qv(0), &phi, /*judge=*/true, &modes_)) return false;
+      C::Coeffs(model_, p, qv, phi, &co);
       const Pose& pose = poses_[static_cast<size_t>(j)];
       residuals[3 * j] = co.r_P(0, point_) - pose.x;
       residuals[3 * j + 1] = co.r_P(1, point_) - pose.y;
       residuals[3 * j + 2] = L_ * WrapPi(phi(angle_) + gamma - pose.angle);
       if (jacobians == nullptr) continue;
-      M::Design(p, qv, phi, &design);
+      C::Design(model_, p, qv, phi, &design);
       for (int a = 0; a < 3; ++a) {
         const int row = 3 * j + a;
         if (jacobians[0] != nullptr) {
@@ -213,55 +217,72 @@ class PoseResiduals : public ceres::CostFunction {
   }
 
  private:
+  const M& model_;
   const std::vector<Pose>& poses_;
-  typename M::template ParamsT<double> base_;
+  typename ModelTypes<M>::Params base_;
   const std::vector<std::string>& names_;
   const std::vector<int>& column_;
   int point_, angle_;
   double L_;
   long long* evaluations_;
-  std::array<int, M::kNumBlocks> modes_;  ///< the assembly mode of the poses (the model's or its mirror)
+  typename C::Modes modes_;  ///< the assembly mode of the poses (the model's or its mirror)
 };
 }  // namespace motion_internal
 
 /// "assembly mode" or "mirror assembly mode" (block 0's mode against the model's).
 template <class M>
+std::string ModeName(const M& model, int mode) {
+  return mode == ModelCalls<M>::DefaultModes(model)[0] ? "assembly mode" : "mirror assembly mode";
+}
+template <class M>
 std::string ModeName(int mode) {
-  return mode == M::kDefaultModes[0] ? "assembly mode" : "mirror assembly mode";
+  return ModeName(M(), mode);
 }
 
-/// Five poses: the Burmester points and their four-bars on M; four poses: the curves.
+/// Five poses: the Burmester points and their four-bars on the model (reached through
+/// ModelCalls<M>: a generated model, or the model view); four poses: the curves. More than
+/// five poses: the least squares on the generated design derivatives (ModelCalls<M>::Design).
 template <class M>
-bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT<double>& base, MotionResult* out,
-                      std::string* error) {
-  using Params = typename M::template ParamsT<double>;
+bool SynthesizeMotion(const M& model, const MotionTask& task, const typename ModelTypes<M>::Params& base,
+                      MotionResult* out, std::string* error) {
+  using C = ModelCalls<M>;
+  using Params = typename ModelTypes<M>::Params;
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecPhi = typename ModelTypes<M>::VecPhi;
+  using Modes = typename C::Modes;
   int point = -1, angle = -1;
-  for (int m = 0; m < M::kNumPoints; ++m)
-    if (task.point == M::kPointNames[static_cast<size_t>(m)]) point = m;
-  for (int i = 0; i < M::kNphi; ++i)
-    if (task.coupler_angle == M::kPhiNames[static_cast<size_t>(i)]) angle = i;
+  for (int m = 0; m < C::NumPoints(model); ++m)
+    if (task.point == C::PointName(model, m)) point = m;
+  for (int i = 0; i < C::Nphi(model); ++i)
+    if (task.coupler_angle == C::PhiName(model, i)) angle = i;
   if (point < 0)
     return *error = bind_internal::Where(task.file, task.point_line, task.point_column) + "point '" + task.point +
-                    "' is not among the model's output points (" + bind_internal::List(M::kPointNames) + ")",
+                    "' is not among the model's output points (" +
+                    bind_internal::List(C::NumPoints(model), [&](int m) { return C::PointName(model, m); }) + ")",
            false;
   if (angle < 0)
     return *error = bind_internal::Where(task.file, task.angle_line, task.angle_column) + "coupler_angle '" +
                     task.coupler_angle + "' is not one of the model's dependent variables (" +
-                    bind_internal::List(M::kPhiNames) + ")",
+                    bind_internal::List(C::Nphi(model), [&](int i) { return C::PhiName(model, i); }) + ")",
            false;
-  if constexpr (M::kNq != 1) {
+  if (C::Nq(model) != 1) {
     return *error = task.file + ": error: motion generation needs a one-input four-bar model", false;
   } else {
+    // The task's nine parameters set in p (the derived ones brought up to date).
+    auto set_parameters = [&](Params* p, const double* values) {
+      for (size_t k = 0; k < 9; ++k) *C::FindParameter(model, p, task.parameters[k].c_str()) = values[k];
+      C::ParametersSet(model, p);
+    };
     {
       Params p = base;
       for (const std::string& name : task.parameters)
-        if (p.Find(name.c_str()) == nullptr)
+        if (C::FindParameter(model, &p, name.c_str()) == nullptr)
           return *error = task.file + ":" + std::to_string(task.line) + ":" + std::to_string(task.column) +
                           ": error: parameters: no parameter '" + name + "' in the model",
                  false;
     }
     MotionResult r;
-    r.model_mode = M::kDefaultModes[0];
+    r.model_mode = C::DefaultModes(model)[0];
     const std::vector<Pose>& poses = task.poses;
     const double L = burmester_internal::Scale(poses);
     if (poses.size() == 4) {
@@ -277,14 +298,14 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
     if (lsq) {
       seed_poses.clear();
       for (int j : task.seed_poses) seed_poses.push_back(poses[static_cast<size_t>(j)]);
-      if constexpr (!HasDesignDerivatives<M>::value) {
+      if (!C::HasDesign(model)) {
         return *error = task.file + ": error: more than five poses need the model's `design:` section (the least squares' "
                                     "Jacobian)",
                false;
       } else {
         for (size_t k = 0; k < 9; ++k) {
-          for (int d = 0; d < M::kNumDesign; ++d)
-            if (task.parameters[k] == M::kDesignNames[static_cast<size_t>(d)]) column[k] = d;
+          for (int d = 0; d < C::NumDesign(model); ++d)
+            if (task.parameters[k] == C::DesignName(model, d)) column[k] = d;
           if (column[k] < 0)
             return *error = task.file + ":" + std::to_string(task.line) + ":" + std::to_string(task.column) +
                             ": error: parameters: '" + task.parameters[k] +
@@ -305,27 +326,28 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
         double gamma_fit = 0;
         // The mode: the model's, or its mirror when the model's coupler is not at pose 1 on
         // it (the other root of the four-bar's block: C on the other side of BD).
-        std::array<int, M::kNumBlocks> modes = M::kDefaultModes;
+        Modes modes = C::DefaultModes(model);
         {
           Params p = base;
           const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
-          for (size_t k = 0; k < 9; ++k) *p.Find(task.parameters[k].c_str()) = values[k];
-          auto distance = [&](const std::array<int, M::kNumBlocks>& m) {
-            Eigen::Matrix<double, M::kNphi, 1> phi;
-            if (!SolveOnMode<M>(p, f.crank_angle[0], &phi, /*judge=*/false, &m)) return kInf;
-            Eigen::Matrix<double, M::kNq, 1> qv;
+          set_parameters(&p, values);
+          auto distance = [&](const Modes& m) {
+            VecPhi phi;
+            if (!SolveOnMode(model, p, f.crank_angle[0], &phi, /*judge=*/false, &m)) return kInf;
+            VecQ qv;
+            qv.resize(1);
             qv(0) = f.crank_angle[0];
-            typename M::template CoefficientsT<double> co;
-            M::Coeffs(p, qv, phi, &co);
+            typename ModelTypes<M>::Coefficients co;
+            C::Coeffs(model, p, qv, phi, &co);
             const double d = std::hypot(co.r_P(0, point) - poses[0].x, co.r_P(1, point) - poses[0].y);
             return std::isfinite(d) ? d : kInf;
           };
-          std::array<int, M::kNumBlocks> mirror = modes;
+          Modes mirror = modes;
           mirror[0] = -mirror[0];
           if (distance(mirror) < distance(modes)) modes = mirror;
         }
         c.mode = modes[0];
-        if constexpr (HasDesignDerivatives<M>::value) {
+        if constexpr (C::kView || HasDesignDerivatives<M>::value) {
           if (lsq) {
             // Least squares of the pose errors over all poses from this pair's four-bar.
             std::vector<double> x = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0, 0.0};
@@ -336,8 +358,8 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
               const Eigen::Vector2d C = CirclePointAt(poses[0], r.points[static_cast<size_t>(j)].k);
               x[9] = WrapPi(poses[0].angle - std::atan2(C.y() - B.y(), C.x() - B.x()));
             }
-            auto* cost = new motion_internal::PoseResiduals<M>(poses, base, task.parameters, column, point, angle, L,
-                                                               &r.evaluations, modes);
+            auto* cost = new motion_internal::PoseResiduals<M>(model, poses, base, task.parameters, column, point, angle,
+                                                               L, &r.evaluations, modes);
             ceres::Problem problem;
             problem.AddResidualBlock(cost, nullptr, x.data(), q.data());
             // The start must assemble at every pose (else Ceres refuses it, and says so on stderr).
@@ -362,30 +384,29 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
         }
         Params p = base;
         const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
-        for (size_t k = 0; k < 9; ++k) *p.Find(task.parameters[k].c_str()) = values[k];
-        auto solve = [&](double q, Eigen::Matrix<double, M::kNphi, 1>* phi) {
-          return SolveOnMode<M>(p, q, phi, /*judge=*/true, &modes);
-        };
-        Eigen::Matrix<double, M::kNphi, 1> phi;
-        typename M::template CoefficientsT<double> co;
+        set_parameters(&p, values);
+        auto solve = [&](double q, VecPhi* phi) { return SolveOnMode(model, p, q, phi, /*judge=*/true, &modes); };
+        VecPhi phi;
+        typename ModelTypes<M>::Coefficients co;
         c.worst_point = c.worst_angle = 0;
         double offset = -gamma_fit;
         for (int k = 0; k < n && c.why.empty(); ++k) {
           const double q = f.crank_angle[static_cast<size_t>(k)];
           if (!solve(q, &phi)) {
-            c.why = "pose " + std::to_string(k + 1) + ": the model does not assemble on its " + ModeName<M>(c.mode);
+            c.why = "pose " + std::to_string(k + 1) + ": the model does not assemble on its " + ModeName(model, c.mode);
             break;
           }
-          Eigen::Matrix<double, M::kNq, 1> qv;
+          VecQ qv;
+          qv.resize(1);
           qv(0) = q;
-          M::Coeffs(p, qv, phi, &co);
+          C::Coeffs(model, p, qv, phi, &co);
           const double dp = std::hypot(co.r_P(0, point) - poses[static_cast<size_t>(k)].x, co.r_P(1, point) - poses[static_cast<size_t>(k)].y);
           if (k == 0 && !lsq) offset = phi(angle) - poses[0].angle;
           const double da = std::abs(WrapPi(phi(angle) - poses[static_cast<size_t>(k)].angle - offset));
           c.worst_point = std::max(c.worst_point, dp);
           c.worst_angle = std::max(c.worst_angle, da);
           if (!lsq && (!(dp <= 1e-9 * std::max(1.0, L)) || !(da <= 1e-9)))
-            c.why = "pose " + std::to_string(k + 1) + ": the model's coupler is not there on its " + ModeName<M>(c.mode) +
+            c.why = "pose " + std::to_string(k + 1) + ": the model's coupler is not there on its " + ModeName(model, c.mode) +
                     " (pose 1 on it, this pose on the other: the poses on two branches)";
         }
         // From pose to pose, the crank turning the way the poses go.
@@ -399,7 +420,7 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
           for (int s = 1; s < steps && c.why.empty(); ++s)
             if (!solve(q0 + dir * span * s / steps, &phi))
               c.why = "between poses " + std::to_string(k + 1) + " and " + std::to_string(k + 2) +
-                      ": the model leaves its " + ModeName<M>(c.mode) + " (a dead point or no closure)";
+                      ": the model leaves its " + ModeName(model, c.mode) + " (a dead point or no closure)";
         }
         c.ok = c.why.empty();
         c.ratio = std::max({f.a, f.b, f.c, f.d}) / std::min({f.a, f.b, f.c, f.d});
@@ -420,6 +441,13 @@ bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT
     *out = r;
     return true;
   }
+}
+
+/// The same on a generated model's type (default-constructed: its functions are static).
+template <class M>
+bool SynthesizeMotion(const MotionTask& task, const typename M::template ParamsT<double>& base, MotionResult* out,
+                      std::string* error) {
+  return SynthesizeMotion(M(), task, base, out, error);
 }
 
 /// The crank's angle at each pose of a four-bar from dyads, unwrapped the way the crank turns

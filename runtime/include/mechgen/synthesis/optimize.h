@@ -136,8 +136,11 @@ std::string ContinuationCheck(PathEvaluator<M>* eval, const Candidate& c) {
   std::vector<double> q;
   std::vector<int> order;
   MotionOrder(b, c, &q, &order);
-  position::PositionSolver<M> solver(position::Options(), p);
+  using C = ModelCalls<M>;
+  const M& model = eval->model();
+  position::PositionSolver<M> solver(model, position::Options(), p);
   typename position::PositionSolver<M>::VecQ qv;
+  qv.resize(1);
   if (!eval->PointAt(p, q[static_cast<size_t>(order[0])], &phi, &co)) return "the first target does not assemble";
   qv(0) = q[static_cast<size_t>(order[0])];
   if (solver.Assemble(qv, phi, 0, nullptr) != position::Status::kConverged) return "the runtime cannot assemble at the first target";
@@ -152,12 +155,12 @@ std::string ContinuationCheck(PathEvaluator<M>* eval, const Candidate& c) {
         return "the continuation stops before target " + std::to_string(i + 1) + " (a dead point on the way)";
     }
     if (!eval->PointAt(p, target, &phi, &co)) return "target " + std::to_string(i + 1) + " does not assemble";
-    for (int j = 0; j < M::kNphi; ++j) {
+    for (int j = 0; j < C::Nphi(model); ++j) {
       double d = solver.state().phi(j) - phi(j);
-      if (M::kPhiIsAngle[static_cast<size_t>(j)]) d = std::remainder(d, kTwoPi);
+      if (C::PhiIsAngle(model, j)) d = std::remainder(d, kTwoPi);
       if (!(std::abs(d) <= 1e-8))
         return "target " + std::to_string(i + 1) + " is reached on another branch by continuation (" +
-               std::string(M::kPhiNames[static_cast<size_t>(j)]) + " differs by " + Short(d) + ")";
+               std::string(C::PhiName(model, j)) + " differs by " + Short(d) + ")";
     }
   }
   return "";
@@ -237,6 +240,8 @@ class PathResiduals : public ceres::CostFunction {
     const auto p = eval_->ParamsOf(x);
     typename PathEvaluator<M>::VecPhi phi;
     typename PathEvaluator<M>::Coeffs co;
+    using C = ModelCalls<M>;
+    const M& model = eval_->model();
     position::DesignOf<M> design;
     for (int i = 0; i < b.n; ++i) {
       double q;
@@ -252,9 +257,10 @@ class PathResiduals : public ceres::CostFunction {
       residuals[2 * i] = co.r_P(0, m) - b.task.tx[static_cast<size_t>(i)];
       residuals[2 * i + 1] = co.r_P(1, m) - b.task.ty[static_cast<size_t>(i)];
       if (jacobians == nullptr) continue;
-      Eigen::Matrix<double, M::kNq, 1> qv;
+      typename ModelTypes<M>::VecQ qv;
+      qv.resize(1);
       qv(0) = q;
-      M::Design(p, qv, phi, &design);
+      C::Design(model, p, qv, phi, &design);
       for (int a = 0; a < 2; ++a) {
         const double kp = co.K_P(2 * m + a, 0);
         if (jacobians[0] != nullptr) {

@@ -188,15 +188,18 @@ struct WrittenAssembly {
 /// assemble at motion[0]. `modes`: the assembly mode the synthesis used when it is not the
 /// model's (exact synthesis: a solution on the mirror mode); the hints written are that mode's
 /// configuration, so the generator picks it as the written model's mode (nullptr: kDefaultModes).
+/// The model is reached through ModelCalls<M> (a generated model, or the model view); it has
+/// one input.
 template <class M>
-bool WriteSynthesizedModel(const std::string& model_text, const typename M::template ParamsT<double>& p,
+bool WriteSynthesizedModel(const M& model, const std::string& model_text, const typename ModelTypes<M>::Params& p,
                            const std::vector<std::string>& names, const std::vector<double>& motion, std::string* out,
                            WrittenAssembly* written, std::string* error,
-                           const std::array<int, M::kNumBlocks>* modes = nullptr) {
-  using Params = typename M::template ParamsT<double>;
-  using VecQ = Eigen::Matrix<double, M::kNq, 1>;
-  using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
-  static_assert(M::kNq == 1, "synthesis writes one-input models");
+                           const typename ModelCalls<M>::Modes* modes = nullptr) {
+  using C = ModelCalls<M>;
+  using Params = typename ModelTypes<M>::Params;
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecPhi = typename ModelTypes<M>::VecPhi;
+  static_assert(ModelTypes<M>::kNq == 1 || ModelTypes<M>::kNq == Eigen::Dynamic, "synthesis writes one-input models");
   YAML::Node root;
   try {
     root = YAML::Load(model_text);
@@ -209,49 +212,53 @@ bool WriteSynthesizedModel(const std::string& model_text, const typename M::temp
   std::vector<std::string> write = names;
   std::vector<double> values;
   {
-    Params value = p, model;
-    for (const char* n : Params::kNames) {
+    Params value = p, defaults = C::DefaultParams(model);
+    for (int i = 0; i < C::NumFreeParameters(model); ++i) {
+      const char* n = C::FreeParameterName(model, i);
       if (std::find(names.begin(), names.end(), n) != names.end()) continue;
-      if (*value.Find(n) != *model.Find(n)) write.push_back(n), w.set.push_back(n);
+      if (*C::FindParameter(model, &value, n) != *C::FindParameter(model, &defaults, n))
+        write.push_back(n), w.set.push_back(n);
     }
-    for (const std::string& n : write) values.push_back(*value.Find(n.c_str()));
+    for (const std::string& n : write) values.push_back(*C::FindParameter(model, &value, n.c_str()));
   }
   std::vector<output_internal::Edit> edits;
   if (!output_internal::ParameterEdits(model_text, root, write, values, &edits, error)) return false;
   // The motion's input, moved by whole turns so that its start lies in [kQMin, kQMin + 2 pi).
   double q0 = motion[0], lo = *std::min_element(motion.begin(), motion.end()),
          hi = *std::max_element(motion.begin(), motion.end());
-  if (M::kQIsAngle[0]) {
-    const double shift = kTwoPi * std::floor((lo - M::kQMin[0]) / kTwoPi);
+  if (C::QIsAngle(model, 0)) {
+    const double shift = kTwoPi * std::floor((lo - C::QMin(model)[0]) / kTwoPi);
     q0 -= shift, lo -= shift, hi -= shift;
   }
   VecQ q;
+  q.resize(1);
   q(0) = q0;
   VecPhi phi;
-  if (!SolveOnMode<M>(p, q0, &phi, /*judge=*/true, modes))
+  if (!SolveOnMode(model, p, q0, &phi, /*judge=*/true, modes))
     return *error = "the synthesized mechanism does not assemble on its mode at its first target", false;
-  for (int i = 0; i < M::kNphi; ++i)
-    if (M::kPhiIsAngle[static_cast<size_t>(i)]) phi(i) = std::remainder(phi(i), kTwoPi);
+  for (int i = 0; i < C::Nphi(model); ++i)
+    if (C::PhiIsAngle(model, i)) phi(i) = std::remainder(phi(i), kTwoPi);
   {
-    Eigen::Matrix<double, M::kNc, M::kNphi> Phi_phi;
-    M::template Phi<double>(p, q, phi, nullptr, &Phi_phi, nullptr);
+    typename ModelTypes<M>::MatCPhi Phi_phi;
+    C::Phi(model, p, q, phi, nullptr, &Phi_phi, nullptr);
     double cond = 0, det = 0;
-    ConditionAndDeterminant(Phi_phi, &cond, &det);
+    CondDet(Phi_phi, &cond, &det);
     w.branch = det > 0 ? 1 : det < 0 ? -1 : 0;
   }
   w.q = q0;
-  w.phi.assign(phi.data(), phi.data() + M::kNphi);
+  w.phi.assign(phi.data(), phi.data() + C::Nphi(model));
   // The sweep's way through a range [a, b]: assembled at the hints on their branch, moved to a,
   // then to b in steps of at most 1 deg (model units: 1/360 of the range).
   auto sweeps = [&](double a, double b, std::string* why) {
-    position::PositionSolver<M> solver(position::Options(), p);
+    position::PositionSolver<M> solver(model, position::Options(), p);
     if (solver.Assemble(q, phi, w.branch, nullptr) != position::Status::kConverged)
       return *why = "the runtime cannot assemble at the first target", false;
     VecQ qa;
+    qa.resize(1);
     qa(0) = a;
     if (solver.MoveTo(qa, nullptr) != position::Status::kConverged)
       return *why = "the continuation stops between the first target and the range's start", false;
-    const double step = M::kQIsAngle[0] ? kTwoPi / 360 : (b - a) / 360;
+    const double step = C::QIsAngle(model, 0) ? kTwoPi / 360 : (b - a) / 360;
     const int steps = std::max(1, static_cast<int>(std::ceil((b - a) / std::max(step, 1e-300))));
     for (int s = 1; s <= steps; ++s) {
       qa(0) = a + (b - a) * s / steps;
@@ -261,7 +268,7 @@ bool WriteSynthesizedModel(const std::string& model_text, const typename M::temp
     return true;
   };
   std::string why;
-  w.range_lo = M::kQMin[0], w.range_hi = M::kQMax[0];
+  w.range_lo = C::QMin(model)[0], w.range_hi = C::QMax(model)[0];
   if (!sweeps(w.range_lo, w.range_hi, &why)) {
     w.range_written = true;
     w.range_lo = lo, w.range_hi = hi;
@@ -269,8 +276,8 @@ bool WriteSynthesizedModel(const std::string& model_text, const typename M::temp
   }
   // The `assembly:` hints.
   std::vector<std::pair<std::string, std::string>> hints;
-  hints.emplace_back(M::kQNames[0], Num(q0));
-  for (int i = 0; i < M::kNphi; ++i) hints.emplace_back(M::kPhiNames[static_cast<size_t>(i)], Num(phi(i)));
+  hints.emplace_back(C::QName(model, 0), Num(q0));
+  for (int i = 0; i < C::Nphi(model); ++i) hints.emplace_back(C::PhiName(model, i), Num(phi(i)));
   if (const YAML::Node assembly = root["assembly"]) {
     if (!output_internal::SetEntries(model_text, assembly, hints, "the model's assembly:", &edits, error)) return false;
   } else {
@@ -300,6 +307,14 @@ bool WriteSynthesizedModel(const std::string& model_text, const typename M::temp
     return *error = "the model's text cannot be edited in place (two edits overlap)", false;
   *written = w;
   return true;
+}
+/// The same on a generated model's type (default-constructed: its functions are static).
+template <class M>
+bool WriteSynthesizedModel(const std::string& model_text, const typename M::template ParamsT<double>& p,
+                           const std::vector<std::string>& names, const std::vector<double>& motion, std::string* out,
+                           WrittenAssembly* written, std::string* error,
+                           const std::array<int, M::kNumBlocks>* modes = nullptr) {
+  return WriteSynthesizedModel(M(), model_text, p, names, motion, out, written, error, modes);
 }
 
 /// The coupler curve (the full turn, broken where it does not assemble), the targets (circles)
@@ -335,7 +350,7 @@ std::string CurveSvg(PathEvaluator<M>* eval, const Candidate& c, int samples = 7
   auto X = [&](double x) { return Short(margin + (x - xmin) * scale, 7); };
   auto Y = [&](double y) { return Short(margin + (ymax - y) * scale, 7); };
   std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + Short(size + 2 * margin) + "\" height=\"" +
-                    Short(height) + "\">\n<title>" + std::string(M::kName) + ": " + b.task.point +
+                    Short(height) + "\">\n<title>" + std::string(ModelCalls<M>::Name(eval->model())) + ": " + b.task.point +
                     " (curve) against the targets (circles), synthesized points (crosses)</title>\n";
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   for (const auto& piece : pieces) {

@@ -31,13 +31,27 @@
 
 #include "mechgen/core/constants.h"
 #include "mechgen/core/linear_algebra.h"
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
+#include "mechgen/core/model_view.h"
 #include "mechgen/synthesis/task.h"
 
 namespace mechgen::synthesis {
 
 constexpr double kTwoPi = 6.283185307179586;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// The generated Solve's own defaults (its max_iterations; tolerance 0: its own), which every
+/// solve here takes.
+constexpr int kSolveIterations = 20;
+
+/// A generated model's object (its functions are static): what the functions taking the model
+/// are called with for a generated model's type.
+template <class M>
+const M& GeneratedModel() {
+  static const M model{};
+  return model;
+}
 
 /// The angle in [0, 2 pi).
 inline double Wrap(double a) {
@@ -58,7 +72,8 @@ struct ConstraintIndices {
 /// A task bound to the model M: indices instead of names.
 template <class M>
 struct BoundPath {
-  using Params = typename M::template ParamsT<double>;
+  using Params = typename ModelTypes<M>::Params;
+  const M* model = nullptr;    ///< reached through ModelCalls<M> (a generated model, or the model view); outlives this
   PathTask task;
   Params base;                 ///< the model's parameters (with --set applied); the fixed ones stay
   int n = 0;                   ///< targets
@@ -84,41 +99,56 @@ std::string List(const Names& names) {
   for (const char* n : names) text += (text.empty() ? "" : ", ") + std::string(n);
   return text.empty() ? std::string("(none)") : text;
 }
+/// The same of n names name(0), ..., name(n - 1) (a list read through ModelCalls).
+template <class Name>
+std::string List(int n, const Name& name) {
+  std::string text;
+  for (int i = 0; i < n; ++i) text += (text.empty() ? "" : ", ") + std::string(name(i));
+  return text.empty() ? std::string("(none)") : text;
+}
 /// Each variable's column in M::kDesignNames into *column; false and *error (its place) for a
 /// variable that is not a design parameter of M. Every kind of task binds its variables here.
 template <class M>
-bool BindVariables(const std::string& file, const std::vector<Variable>& variables, std::vector<int>* column,
-                   std::string* error) {
+bool BindVariables(const M& model, const std::string& file, const std::vector<Variable>& variables,
+                   std::vector<int>* column, std::string* error) {
+  using C = ModelCalls<M>;
   for (const Variable& v : variables) {
     int col = -1;
-    for (int d = 0; d < M::kNumDesign; ++d)
-      if (v.name == M::kDesignNames[static_cast<size_t>(d)]) col = d;
+    for (int d = 0; d < C::NumDesign(model); ++d)
+      if (v.name == C::DesignName(model, d)) col = d;
     if (col < 0) {
       *error = Where(file, v.line, v.column) + "variable '" + v.name + "' is not one of the model's design parameters (" +
-               List(M::kDesignNames) + "); add it to the model's `design:` list";
+               List(C::NumDesign(model), [&](int d) { return C::DesignName(model, d); }) +
+               "); add it to the model's `design:` list";
       return false;
     }
     column->push_back(col);
   }
   return true;
 }
+template <class M>
+bool BindVariables(const std::string& file, const std::vector<Variable>& variables, std::vector<int>* column,
+                   std::string* error) {
+  return BindVariables(M(), file, variables, column, error);
+}
 }  // namespace bind_internal
 
 /// The constraints' places in M (ConstraintIndices); false and *error (FILE:LINE:COLUMN) when
 /// the model cannot take them. `crank_link`: the task's input link ("" none).
 template <class M>
-bool BindConstraints(const std::string& file, const Constraints& c, const std::string& crank_link, int crank_line,
-                     int crank_column, ConstraintIndices* out, std::string* error) {
+bool BindConstraints(const M& model, const std::string& file, const Constraints& c, const std::string& crank_link,
+                     int crank_line, int crank_column, ConstraintIndices* out, std::string* error) {
+  using C = ModelCalls<M>;
   ConstraintIndices ix;
   const bool need_lengths = c.grashof || c.crank_rotates || c.crank_shortest || c.has_lengths || c.has_ratio;
   if (need_lengths) {
-    for (int k = 0; k < M::kNumDesignChecks; ++k) {
-      const std::string name = M::kDesignCheckNames[static_cast<size_t>(k)];
+    for (int k = 0; k < C::NumDesignChecks(model); ++k) {
+      const std::string name = C::DesignCheckName(model, k);
       if (name.rfind("length_", 0) == 0 && name.size() > 13 && name.compare(name.size() - 6, 6, "_loop0") == 0) {
         ix.check_lengths.push_back(k);
         const std::string link = name.substr(7, name.size() - 13);
         if (link == crank_link) ix.check_crank = k;
-        if (link == M::kLinkNames[M::kGroundLink]) ix.check_ground = k;
+        if (link == C::LinkName(model, C::GroundLink(model))) ix.check_ground = k;
       }
     }
     if (ix.check_lengths.size() != 4) {
@@ -128,26 +158,26 @@ bool BindConstraints(const std::string& file, const Constraints& c, const std::s
     }
     if ((c.crank_rotates || c.crank_shortest) && ix.check_crank < 0) {
       *error = bind_internal::Where(file, crank_line, crank_column) + "crank: '" + crank_link +
-               "' is not a moving link of the model's four-bar loop (links: " + bind_internal::List(M::kLinkNames) + ")";
+               "' is not a moving link of the model's four-bar loop (links: " +
+               bind_internal::List(C::NumLinks(model), [&](int l) { return C::LinkName(model, l); }) + ")";
       return false;
     }
   }
   if (c.has_region) {
-    if constexpr (M::kNumScenePoints == 0) {
+    if (C::NumScenePoints(model) == 0) {
       *error = bind_internal::Where(file, c.region_line, c.region_column) + "ground_region: the model has no scene points";
       return false;
     } else {
     std::string ground_points;
-    for (int k = 0; k < M::kNumScenePoints; ++k) {
-      if (M::kScenePointLink[static_cast<size_t>(k)] != M::kGroundLink) continue;
-      ground_points += (ground_points.empty() ? "" : ", ") + std::string(M::kScenePointNames[static_cast<size_t>(k)]);
+    for (int k = 0; k < C::NumScenePoints(model); ++k) {
+      if (C::ScenePointLink(model, k) != C::GroundLink(model)) continue;
+      ground_points += (ground_points.empty() ? "" : ", ") + std::string(C::ScenePointName(model, k));
       if (c.region_pivots.empty()) ix.region_points.push_back(k);
     }
     for (const std::string& name : c.region_pivots) {
       int found = -1;
-      for (int k = 0; k < M::kNumScenePoints; ++k)
-        if (M::kScenePointLink[static_cast<size_t>(k)] == M::kGroundLink && name == M::kScenePointNames[static_cast<size_t>(k)])
-          found = k;
+      for (int k = 0; k < C::NumScenePoints(model); ++k)
+        if (C::ScenePointLink(model, k) == C::GroundLink(model) && name == C::ScenePointName(model, k)) found = k;
       if (found < 0) {
         *error = bind_internal::Where(file, c.region_line, c.region_column) + "ground_region: '" + name +
                  "' is not a point of the model's ground link (" + (ground_points.empty() ? "none" : ground_points) + ")";
@@ -166,50 +196,70 @@ bool BindConstraints(const std::string& file, const Constraints& c, const std::s
   return true;
 }
 
+template <class M>
+bool BindConstraints(const std::string& file, const Constraints& c, const std::string& crank_link, int crank_line,
+                     int crank_column, ConstraintIndices* out, std::string* error) {
+  return BindConstraints(M(), file, c, crank_link, crank_line, crank_column, out, error);
+}
+
 /// The parameter-only constraints of p (link lengths, Grashof, the crank, link_ratio, the
 /// ground region): each violation through flag(amount, what). True when the crank must turn
 /// fully (its motion is then checked over the whole turn).
 template <class M, class Flag>
-bool CheckParameterConstraints(const typename M::template ParamsT<double>& p, const Constraints& c,
+bool CheckParameterConstraints(const M& model, const typename ModelTypes<M>::Params& p, const Constraints& c,
                                const ConstraintIndices& ix, Flag&& flag) {
+  using C = ModelCalls<M>;
   bool full_turn = false;
-  if constexpr (M::kNumDesignChecks > 0) {
-    if (!ix.check_lengths.empty()) {
-      Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
-      M::DesignChecks(p, &margin);
-      std::array<double, 4> len;
-      for (int k = 0; k < 4; ++k) len[static_cast<size_t>(k)] = margin(ix.check_lengths[static_cast<size_t>(k)]);
-      std::array<double, 4> sorted = len;
-      std::sort(sorted.begin(), sorted.end());
-      const double grashof = sorted[1] + sorted[2] - sorted[0] - sorted[3];  // p + q - s - l
-      if (c.grashof) flag(-grashof, "not Grashof (s + l > p + q)");
-      if (c.has_ratio) flag(sorted[3] - c.ratio_max * sorted[0], "the longest link over the shortest above link_ratio");
-      if (c.has_lengths) {
-        for (double l : len) flag(std::max(c.length_lo - l, l - c.length_hi), "a link length outside link_lengths");
-      }
-      if (c.crank_rotates || c.crank_shortest) {
-        const double crank = margin(ix.check_crank);
-        const double ground = ix.check_ground >= 0 ? margin(ix.check_ground) : kInf;
-        double shortest_gap = crank - sorted[0];  // 0 when the crank is the shortest
-        if (c.crank_rotates) shortest_gap = std::min(shortest_gap, ground - sorted[0]);
-        flag(-grashof, "the crank cannot turn fully: not Grashof");
-        flag(shortest_gap, c.crank_shortest ? "the crank is not the shortest link"
-                                            : "the crank cannot turn fully: neither it nor the ground is the shortest link");
-        full_turn = true;
+  // The link lengths among the design checks (Grashof, the crank, the lengths, link_ratio).
+  auto lengths = [&](const auto& margin) {
+    std::array<double, 4> len;
+    for (int k = 0; k < 4; ++k) len[static_cast<size_t>(k)] = margin(ix.check_lengths[static_cast<size_t>(k)]);
+    std::array<double, 4> sorted = len;
+    std::sort(sorted.begin(), sorted.end());
+    const double grashof = sorted[1] + sorted[2] - sorted[0] - sorted[3];  // p + q - s - l
+    if (c.grashof) flag(-grashof, "not Grashof (s + l > p + q)");
+    if (c.has_ratio) flag(sorted[3] - c.ratio_max * sorted[0], "the longest link over the shortest above link_ratio");
+    if (c.has_lengths) {
+      for (double l : len) flag(std::max(c.length_lo - l, l - c.length_hi), "a link length outside link_lengths");
+    }
+    if (c.crank_rotates || c.crank_shortest) {
+      const double crank = margin(ix.check_crank);
+      const double ground = ix.check_ground >= 0 ? margin(ix.check_ground) : kInf;
+      double shortest_gap = crank - sorted[0];  // 0 when the crank is the shortest
+      if (c.crank_rotates) shortest_gap = std::min(shortest_gap, ground - sorted[0]);
+      flag(-grashof, "the crank cannot turn fully: not Grashof");
+      flag(shortest_gap, c.crank_shortest ? "the crank is not the shortest link"
+                                          : "the crank cannot turn fully: neither it nor the ground is the shortest link");
+      full_turn = true;
+    }
+  };
+  if constexpr (C::kView) {
+    if (!ix.check_lengths.empty() && C::NumDesignChecks(model) > 0) {
+      typename C::DesignMargins margin;
+      C::DesignChecks(model, p, &margin);
+      lengths(margin);
+    }
+  } else if constexpr (HasDesignDerivatives<M>::value) {
+    if constexpr (M::kNumDesignChecks > 0) {
+      if (!ix.check_lengths.empty()) {
+        typename C::DesignMargins margin;
+        C::DesignChecks(model, p, &margin);
+        lengths(margin);
       }
     }
   }
-  if constexpr (M::kNumScenePoints > 0) {
-    if (!ix.region_points.empty()) {
+  {
+    if (!ix.region_points.empty() && C::NumScenePoints(model) > 0) {
       // Ground points do not move: the scene at any input (q = 0, phi at the assembly guess).
-      Eigen::Matrix<double, M::kNq, 1> q = Eigen::Matrix<double, M::kNq, 1>::Zero();
-      Eigen::Matrix<double, M::kNphi, 1> phi;
-      for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-      Eigen::Matrix<double, 2, M::kNumScenePoints> r;
-      M::Scene(p, q, phi, &r);
+      typename ModelTypes<M>::VecQ q = ModelTypes<M>::VecQ::Zero(C::Nq(model));
+      typename ModelTypes<M>::VecPhi phi;
+      phi.resize(C::Nphi(model));
+      for (int i = 0; i < C::Nphi(model); ++i) phi(i) = C::AssemblyPhi(model)[i];
+      typename ModelTypes<M>::MatScene r;
+      C::Scene(model, p, q, phi, &r);
       for (int k : ix.region_points) {
         const double x = r(0, k), y = r(1, k);
-        const std::string what = std::string("ground point ") + M::kScenePointNames[static_cast<size_t>(k)] +
+        const std::string what = std::string("ground point ") + C::ScenePointName(model, k) +
                                  " outside ground_region";
         if (c.region_rectangle) {
           flag(std::max(0.0, c.region_lo[0] - x) + std::max(0.0, x - c.region_hi[0]) + std::max(0.0, c.region_lo[1] - y) +
@@ -224,46 +274,58 @@ bool CheckParameterConstraints(const typename M::template ParamsT<double>& p, co
   return full_turn;
 }
 
+template <class M, class Flag>
+bool CheckParameterConstraints(const typename M::template ParamsT<double>& p, const Constraints& c,
+                               const ConstraintIndices& ix, Flag&& flag) {
+  return CheckParameterConstraints(M(), p, c, ix, std::forward<Flag>(flag));
+}
+
 /// Binds `task` to M: the point, the variables (the model's design parameters), the crank
 /// link and what the constraints need must exist. false and *error (FILE:LINE:COLUMN) if not.
 template <class M>
-bool BindPathTask(const PathTask& task, const typename M::template ParamsT<double>& base, BoundPath<M>* out,
+bool BindPathTask(const M& model, const PathTask& task, const typename ModelTypes<M>::Params& base, BoundPath<M>* out,
                   std::string* error) {
+  using C = ModelCalls<M>;
   auto where = [&](int line, int column) { return bind_internal::Where(task.file, line, column); };
-  auto list = [](const auto& names) { return bind_internal::List(names); };
-  using Params = typename M::template ParamsT<double>;
+  using Params = typename ModelTypes<M>::Params;
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecPhi = typename ModelTypes<M>::VecPhi;
   BoundPath<M> b;
+  b.model = &model;
   b.task = task;
   b.base = base;
   b.n = static_cast<int>(task.tx.size());
-  if constexpr (!HasDesignDerivatives<M>::value) {
-    *error = task.file + ": error: the model '" + std::string(M::kName) +
+  if (!C::HasDesign(model)) {
+    *error = task.file + ": error: the model '" + std::string(C::Name(model)) +
              "' has no `design` section; add `design: [parameters to vary]` to it (models/README.md)";
     return false;
   } else {
-    if constexpr (M::kNq != 1) {
-      *error = task.file + ": error: path generation needs a one-input model ('" + std::string(M::kName) + "' has " +
-               std::to_string(M::kNq) + " inputs)";
+    if (C::Nq(model) != 1) {
+      *error = task.file + ": error: path generation needs a one-input model ('" + std::string(C::Name(model)) + "' has " +
+               std::to_string(C::Nq(model)) + " inputs)";
       return false;
     }
-    for (int m = 0; m < M::kNumPoints; ++m)
-      if (task.point == M::kPointNames[m]) b.point = m;
+    for (int m = 0; m < C::NumPoints(model); ++m)
+      if (task.point == C::PointName(model, m)) b.point = m;
     if (b.point < 0) {
       *error = where(task.point_line, task.point_column) + "point '" + task.point + "' is not among the model's output points (" +
-               list(M::kPointNames) + "); add it to the model's outputs.points or name one of those";
+               bind_internal::List(C::NumPoints(model), [&](int m) { return C::PointName(model, m); }) +
+               "); add it to the model's outputs.points or name one of those";
       return false;
     }
-    if (!bind_internal::BindVariables<M>(task.file, task.variables, &b.column, error)) return false;
+    if (!bind_internal::BindVariables(model, task.file, task.variables, &b.column, error)) return false;
     if (!task.timing.free && !task.timing.relative_to.empty()) {
       const std::string& r = task.timing.relative_to;
       for (size_t j = 0; j < task.variables.size(); ++j)
         if (task.variables[j].name == r) b.relative_to = static_cast<int>(j);
       if (b.relative_to < 0) {
         Params p = base;
-        const double* value = p.Find(r.c_str());
+        const double* value = C::FindParameter(model, &p, r.c_str());
         if (value == nullptr) {
           *error = where(task.timing.line, task.timing.column) + "timing.relative_to: no parameter '" + r +
-                   "' in the model (parameters: " + list(Params::kNames) + ")";
+                   "' in the model (parameters: " +
+                   bind_internal::List(C::NumFreeParameters(model), [&](int i) { return C::FreeParameterName(model, i); }) +
+                   ")";
           return false;
         }
         b.relative_fixed = *value;
@@ -271,8 +333,8 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
     }
     b.num_global = static_cast<int>(task.variables.size());
     if (!task.timing.free && task.timing.offset_free) b.offset_var = b.num_global++;
-    if (!BindConstraints<M>(task.file, task.constraints, task.crank_link, task.crank_line, task.crank_column, &b.checks,
-                            error))
+    if (!BindConstraints(model, task.file, task.constraints, task.crank_link, task.crank_line, task.crank_column,
+                         &b.checks, error))
       return false;
     if (!task.placement.x.empty()) {
       for (size_t j = 0; j < task.variables.size(); ++j) {
@@ -284,23 +346,29 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
       // (0, 0, 0) and at (0.3, -0.2, 0.4) (the input measured from the angle), at the first
       // of a few input angles where it assembles, to 1e-9 of the point's size.
       Params p0 = base, p1 = base;
-      *p0.Find(task.placement.x.c_str()) = 0, *p0.Find(task.placement.y.c_str()) = 0, *p0.Find(task.placement.angle.c_str()) = 0;
-      *p1.Find(task.placement.x.c_str()) = 0.3, *p1.Find(task.placement.y.c_str()) = -0.2;
-      *p1.Find(task.placement.angle.c_str()) = 0.4;
+      auto set = [&](Params* p, const std::string& name, double value) {
+        *C::FindParameter(model, p, name.c_str()) = value;
+      };
+      set(&p0, task.placement.x, 0), set(&p0, task.placement.y, 0), set(&p0, task.placement.angle, 0);
+      set(&p1, task.placement.x, 0.3), set(&p1, task.placement.y, -0.2);
+      set(&p1, task.placement.angle, 0.4);
+      C::ParametersSet(model, &p0), C::ParametersSet(model, &p1);
       bool rigid = false;
       for (int k = 0; k < 12 && !rigid; ++k) {
         const double q = kTwoPi * k / 12;
-        Eigen::Matrix<double, M::kNq, 1> q0, q1;
+        VecQ q0, q1;
+        q0.resize(1), q1.resize(1);
         q0(0) = q, q1(0) = q + 0.4;
-        Eigen::Matrix<double, M::kNphi, 1> f0, f1;
-        for (int i = 0; i < M::kNphi; ++i) f0(i) = f1(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-        const auto s0 = M::Solve(p0, q0, &f0, M::kDefaultModes);
-        const auto s1 = M::Solve(p1, q1, &f1, M::kDefaultModes);
+        VecPhi f0, f1;
+        f0.resize(C::Nphi(model)), f1.resize(C::Nphi(model));
+        for (int i = 0; i < C::Nphi(model); ++i) f0(i) = f1(i) = C::AssemblyPhi(model)[i];
+        const auto s0 = C::Solve(model, p0, q0, &f0, C::DefaultModes(model), kSolveIterations, 0.0);
+        const auto s1 = C::Solve(model, p1, q1, &f1, C::DefaultModes(model), kSolveIterations, 0.0);
         using Status = decltype(s0.status);
         if (s0.status != Status::kConverged || s1.status != Status::kConverged) continue;
-        typename M::template CoefficientsT<double> c0, c1;
-        M::Coeffs(p0, q0, f0, &c0);
-        M::Coeffs(p1, q1, f1, &c1);
+        typename ModelTypes<M>::Coefficients c0, c1;
+        C::Coeffs(model, p0, q0, f0, &c0);
+        C::Coeffs(model, p1, q1, f1, &c1);
         const double x0 = c0.r_P(0, b.point), y0 = c0.r_P(1, b.point);
         const double xr = 0.3 + std::cos(0.4) * x0 - std::sin(0.4) * y0, yr = -0.2 + std::sin(0.4) * x0 + std::cos(0.4) * y0;
         const double size = 1 + std::hypot(x0, y0);
@@ -323,15 +391,55 @@ bool BindPathTask(const PathTask& task, const typename M::template ParamsT<doubl
   }
 }
 
+/// The same on a generated model's type (its one object, GeneratedModel<M>()).
+template <class M>
+bool BindPathTask(const PathTask& task, const typename M::template ParamsT<double>& base, BoundPath<M>* out,
+                  std::string* error) {
+  return BindPathTask(GeneratedModel<M>(), task, base, out, error);
+}
+
 /// Whether Phi_phi is regular by the project's one singular-configuration threshold
 /// (core/constants.h: 1/cond_1(Phi_phi) >= kMinRcond, the position solver's
 /// Options::min_rcond, the same test as its Classify): false at a dead point or a change
 /// point, or so near one that K has lost six digits, where the runtime's continuation and the
 /// sweep refuse the configuration.
+namespace bind_internal {
+/// ConditionAndDeterminant of a fixed-size copy of A, chosen by A's size (k <= 4: its closed-form
+/// inverse), else its PartialPivLU way on the bounded matrix.
+template <int k, class Matrix>
+void ConditionAndDeterminantOfSize(const Matrix& A, double* cond, double* det) {
+  if constexpr (k > 4) {
+    const Eigen::PartialPivLU<typename Matrix::PlainObject> lu(A);
+    *det = lu.determinant();
+    const double rcond = lu.rcond();
+    *cond = rcond > 0 && std::isfinite(1.0 / rcond) ? 1.0 / rcond : kInf;
+  } else if (A.rows() != k) {
+    ConditionAndDeterminantOfSize<k + 1>(A, cond, det);
+  } else {
+    ConditionAndDeterminant(Eigen::Matrix<double, k, k>(A), cond, det);
+  }
+}
+}  // namespace bind_internal
+
+/// ConditionAndDeterminant (core/linear_algebra.h) of a fixed-size matrix, or of one whose size
+/// is known at run time only (the model view's Phi_phi). Up to 4 x 4 (every four-bar: Phi_phi is
+/// 2 x 2) on a fixed-size copy of its size: the same arithmetic as the fixed-size model's, to the
+/// bit. Above, both are Eigen's PartialPivLU and its 1/rcond() estimate, the view's on the
+/// bounded dynamic matrix, which may round differently in the last bits (Eigen's kernels differ
+/// by size class); the synthesis reads only the threshold Regular() and the sign of det.
+template <class Matrix>
+void CondDet(const Matrix& A, double* cond, double* det) {
+  if constexpr (Matrix::RowsAtCompileTime != Eigen::Dynamic) {
+    ConditionAndDeterminant(A, cond, det);
+  } else {
+    bind_internal::ConditionAndDeterminantOfSize<1>(A, cond, det);
+  }
+}
+
 template <class Matrix>
 bool Regular(const Matrix& Phi_phi) {
   double cond = kInf, det = 0;
-  ConditionAndDeterminant(Phi_phi, &cond, &det);
+  CondDet(Phi_phi, &cond, &det);
   return det != 0 && std::isfinite(det) && cond * kMinRcond <= 1.0;
 }
 
@@ -341,23 +449,35 @@ bool Regular(const Matrix& Phi_phi) {
 /// path evaluator judges the Phi_phi its coefficients carry) and the written model's assembly
 /// (WriteSynthesizedModel) go through here. `modes`: another assembly mode than the model's
 /// (exact synthesis: a solution on the mirror mode; nullptr: kDefaultModes).
+
 template <class M>
-bool SolveOnMode(const typename M::template ParamsT<double>& p, double q, Eigen::Matrix<double, M::kNphi, 1>* phi,
-                 bool judge = true, const std::array<int, M::kNumBlocks>* modes = nullptr) {
-  Eigen::Matrix<double, M::kNq, 1> qv;
+bool SolveOnMode(const M& model, const typename ModelTypes<M>::Params& p, double q, typename ModelTypes<M>::VecPhi* phi,
+                 bool judge = true, const typename ModelCalls<M>::Modes* modes = nullptr) {
+  using C = ModelCalls<M>;
+  using T = ModelTypes<M>;
+  typename T::VecQ qv;
+  qv.resize(C::Nq(model));
   qv(0) = q;
-  Eigen::Matrix<double, M::kNphi, 1> ph;
-  for (int i = 0; i < M::kNphi; ++i) ph(i) = M::kAssemblyPhi[static_cast<size_t>(i)];
-  const auto report = M::Solve(p, qv, &ph, modes != nullptr ? *modes : M::kDefaultModes);
+  typename T::VecPhi ph;
+  ph.resize(C::Nphi(model));
+  for (int i = 0; i < C::Nphi(model); ++i) ph(i) = C::AssemblyPhi(model)[i];
+  const auto report =
+      C::Solve(model, p, qv, &ph, modes != nullptr ? *modes : C::DefaultModes(model), kSolveIterations, 0.0);
   using Status = decltype(report.status);
   if (report.status != Status::kConverged || !ph.allFinite()) return false;
   if (judge) {
-    Eigen::Matrix<double, M::kNc, M::kNphi> Phi_phi;
-    M::template Phi<double>(p, qv, ph, nullptr, &Phi_phi, nullptr);
+    typename T::MatCPhi Phi_phi;
+    C::Phi(model, p, qv, ph, nullptr, &Phi_phi, nullptr);
     if (!Regular(Phi_phi)) return false;
   }
   *phi = ph;
   return true;
+}
+/// The same on a generated model's type (default-constructed: its functions are static).
+template <class M>
+bool SolveOnMode(const typename M::template ParamsT<double>& p, double q, Eigen::Matrix<double, M::kNphi, 1>* phi,
+                 bool judge = true, const std::array<int, M::kNumBlocks>* modes = nullptr) {
+  return SolveOnMode(M(), p, q, phi, judge, modes);
 }
 
 /// A candidate and what its checks found.
@@ -386,21 +506,25 @@ bool Better(const C& a, const C& b) {
 template <class M>
 class PathEvaluator {
  public:
-  using Params = typename M::template ParamsT<double>;
-  using VecQ = Eigen::Matrix<double, M::kNq, 1>;
-  using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
-  using Coeffs = typename M::template CoefficientsT<double>;
+  using C = ModelCalls<M>;
+  using Params = typename ModelTypes<M>::Params;
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecPhi = typename ModelTypes<M>::VecPhi;
+  using Coeffs = typename ModelTypes<M>::Coefficients;
 
-  explicit PathEvaluator(const BoundPath<M>& b) : b_(b) {}
+  explicit PathEvaluator(const BoundPath<M>& b) : b_(b), model_(*b.model) {}
 
   const BoundPath<M>& bound() const { return b_; }
+  const M& model() const { return model_; }
   long long evaluations = 0;  ///< candidate evaluations (global stage) and residual evaluations
   long long solves = 0;       ///< position solves
 
   /// The model's parameters with the design variables x (the first task.variables.size()).
   Params ParamsOf(const std::vector<double>& x) const {
     Params p = b_.base;
-    for (size_t j = 0; j < b_.task.variables.size(); ++j) *p.Find(b_.task.variables[j].name.c_str()) = x[j];
+    for (size_t j = 0; j < b_.task.variables.size(); ++j)
+      *C::FindParameter(model_, &p, b_.task.variables[j].name.c_str()) = x[j];
+    C::ParametersSet(model_, &p);
     return p;
   }
 
@@ -418,13 +542,14 @@ class PathEvaluator {
   bool PointAt(const Params& p, double q, VecPhi* phi, Coeffs* c) {
     ++solves;
     VecPhi ph;
-    constexpr bool kJudgeCoefficients = ModelFeatures<M>::kCoeffsHavePhi;
-    if (!SolveOnMode<M>(p, q, &ph, /*judge=*/!kJudgeCoefficients)) return false;
+    const bool judge_coefficients = C::CoeffsHavePhi(model_);
+    if (!SolveOnMode(model_, p, q, &ph, /*judge=*/!judge_coefficients)) return false;
     VecQ qv;
+    qv.resize(1);
     qv(0) = q;
-    M::Coeffs(p, qv, ph, c);
-    if constexpr (kJudgeCoefficients) {
-      if (!Regular(c->Phi_phi)) return false;
+    C::Coeffs(model_, p, qv, ph, c);
+    if constexpr (ModelFeatures<M>::kCoeffsHavePhi) {
+      if (judge_coefficients && !Regular(c->Phi_phi)) return false;
     }
     if (!c->r_P.allFinite()) return false;
     *phi = ph;
@@ -436,7 +561,7 @@ class PathEvaluator {
   /// evaluation (the design checks' closed form and the ground points only).
   double ParameterViolation(const std::vector<double>& x) const {
     double violation = 0;
-    CheckParameterConstraints<M>(ParamsOf(x), b_.task.constraints, b_.checks, [&](double amount, const std::string&) {
+    CheckParameterConstraints(model_, ParamsOf(x), b_.task.constraints, b_.checks, [&](double amount, const std::string&) {
       if (amount > 0) violation += amount;
     });
     return violation;
@@ -537,7 +662,7 @@ class PathEvaluator {
       cand->error += dx * dx + dy * dy;
     }
     // Link lengths, Grashof, the crank, the ground region.
-    const bool full_turn = CheckParameterConstraints<M>(p, c, b_.checks, flag);
+    const bool full_turn = CheckParameterConstraints(model_, p, c, b_.checks, flag);
     // Order of the targets along the motion (free timing).
     std::vector<double> dq(static_cast<size_t>(n), 0.0);
     if (t.timing.free) {
@@ -564,12 +689,13 @@ class PathEvaluator {
                                                  " the mechanism leaves its assembly branch (a dead point)");
           continue;
         }
-        if constexpr (M::kNumTransmissionAngles > 0) {
+        if (C::NumTransmissionAngles(model_) > 0) {
           VecQ qv;
+          qv.resize(1);
           qv(0) = q;
-          Eigen::Matrix<double, M::kNumTransmissionAngles, 1> mu;
-          M::TransmissionAngles(p, qv, phi, &mu);
-          for (int k = 0; k < M::kNumTransmissionAngles; ++k) {
+          TransmissionAngleVector mu;
+          C::TransmissionAngles(model_, p, qv, phi, &mu);
+          for (int k = 0; k < C::NumTransmissionAngles(model_); ++k) {
             mu_min = std::min(mu_min, mu(k));
             mu_max = std::max(mu_max, mu(k));
           }
@@ -648,7 +774,13 @@ class PathEvaluator {
   }
 
  private:
+  using TransmissionAngleVector =
+      Eigen::Matrix<double, ModelFeatures<M>::kNumTransmissionAngles, 1, 0,
+                    ModelFeatures<M>::kNumTransmissionAngles == Eigen::Dynamic ? ModelView::kMaxTransmissionAngles
+                                                                              : ModelFeatures<M>::kNumTransmissionAngles,
+                    1>;
   const BoundPath<M>& b_;
+  const M& model_;
   std::vector<double> samples_x_, samples_y_;
   double step_limit_ = 0.2;
 };

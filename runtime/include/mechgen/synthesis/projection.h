@@ -131,11 +131,13 @@ template <class M>
 bool BindProjection(const BoundPath<M>& b, Projection* out, std::string* error) {
   const PathTask& t = b.task;
   const std::string where = bind_internal::Where(t.file, t.search.projection_line, t.search.projection_column);
-  using Params = typename M::template ParamsT<double>;
+  using Params = typename ModelTypes<M>::Params;
+  const M& model = *b.model;
+  auto find = [&model](Params* p, const char* name) { return ModelCalls<M>::FindParameter(model, p, name); };
   Params base = b.base;
   const char* roles[9] = {"a", "b", "c", "d", "xi", "eta", "x0", "y0", "theta0"};
   for (const char* r : roles)
-    if (base.Find(r) == nullptr) {
+    if (find(&base, r) == nullptr) {
       *error = where + "projection: the model has no parameter '" + r +
                "'; it needs the four-bar's a, b, c, d, xi, eta, x0, y0, theta0 (tests/synthesis/models/synth_fourbar.yaml)";
       return false;
@@ -161,7 +163,7 @@ bool BindProjection(const BoundPath<M>& b, Projection* out, std::string* error) 
     *error = where + "projection: x0 and y0 must both be variables or both fixed";
     return false;
   }
-  pr.x0 = *base.Find("x0"), pr.y0 = *base.Find("y0"), pr.theta0 = *base.Find("theta0");
+  pr.x0 = *find(&base, "x0"), pr.y0 = *find(&base, "y0"), pr.theta0 = *find(&base, "theta0");
   pr.free_timing = t.timing.free;
   if (!t.timing.free) {
     pr.offset_free = t.timing.offset_free;
@@ -197,12 +199,13 @@ bool BindProjection(const BoundPath<M>& b, Projection* out, std::string* error) 
   // moved ones, at the input angles where the model assembles.
   PathEvaluator<M> eval(b);
   Params moved = base;
-  *moved.Find("a") *= 0.9, *moved.Find("xi") += 0.3, *moved.Find("eta") -= 0.2, *moved.Find("x0") += 0.5;
-  *moved.Find("y0") -= 0.25, *moved.Find("theta0") += 0.3;
+  *find(&moved, "a") *= 0.9, *find(&moved, "xi") += 0.3, *find(&moved, "eta") -= 0.2, *find(&moved, "x0") += 0.5;
+  *find(&moved, "y0") -= 0.25, *find(&moved, "theta0") += 0.3;
+  ModelCalls<M>::ParametersSet(model, &moved);
   int agree[2] = {0, 0}, solved = 0;
   for (Params* p : {&base, &moved}) {
-    const double a = *p->Find("a"), bb = *p->Find("b"), c = *p->Find("c"), d = *p->Find("d");
-    const double xi = *p->Find("xi"), eta = *p->Find("eta"), th = *p->Find("theta0");
+    const double a = *find(p, "a"), bb = *find(p, "b"), c = *find(p, "c"), d = *find(p, "d");
+    const double xi = *find(p, "xi"), eta = *find(p, "eta"), th = *find(p, "theta0");
     for (int k = 0; k < 24; ++k) {
       const double q = kTwoPi * k / 24;
       typename PathEvaluator<M>::VecPhi phi;
@@ -214,8 +217,8 @@ bool BindProjection(const BoundPath<M>& b, Projection* out, std::string* error) 
         if (!projection_internal::Dyad(a / d, bb / d, c / d, q - th, s == 0 ? 1 : -1, &bx, &by, &ux, &uy)) continue;
         const double zr = d * std::cos(th), zi = d * std::sin(th);
         const double wr = xi * std::cos(th) - eta * std::sin(th), wi = xi * std::sin(th) + eta * std::cos(th);
-        const double px = *p->Find("x0") + zr * bx - zi * by + wr * ux - wi * uy;
-        const double py = *p->Find("y0") + zr * by + zi * bx + wr * uy + wi * ux;
+        const double px = *find(p, "x0") + zr * bx - zi * by + wr * ux - wi * uy;
+        const double py = *find(p, "y0") + zr * by + zi * bx + wr * uy + wi * ux;
         const double size = 1 + std::hypot(px, py);
         if (std::hypot(co.r_P(0, b.point) - px, co.r_P(1, b.point) - py) <= 1e-9 * size) ++agree[s];
       }
@@ -385,7 +388,7 @@ class ProjectedEvaluator {
     cand.full.q.assign(static_cast<size_t>(n), 0.0);
     for (int i = 0; i < n; ++i) cand.full.q[static_cast<size_t>(i)] = psi_[static_cast<size_t>(i)] + th;
     // The parameter-only constraints on the full design (the generated design checks).
-    CheckParameterConstraints<M>(full.ParamsOf(fx), t.constraints, b_.checks, [&](double amount, const std::string&) {
+    CheckParameterConstraints(full.model(), full.ParamsOf(fx), t.constraints, b_.checks, [&](double amount, const std::string&) {
       if (amount > 0) violation += amount;
     });
     cand.error = std::isfinite(error) ? error : kInf;

@@ -24,7 +24,7 @@ std::string Report(PathEvaluator<M>* eval, const SearchResult& s, const std::str
   const PathTask& t = b.task;
   const Candidate& c = s.best.best;
   std::string r = "mechgen synthesize: path generation\n";
-  r += "model: " + model_path + " (" + std::string(M::kName) + "), task: " + t.file + ", point " + t.point + "\n";
+  r += "model: " + model_path + " (" + std::string(ModelCalls<M>::Name(eval->model())) + "), task: " + t.file + ", point " + t.point + "\n";
   r += "targets: " + std::to_string(b.n) + ", timing: " +
        (t.timing.free ? std::string("free") : std::string("prescribed") + (t.timing.offset_free ? " (offset free)" : "")) + "\n";
   r += "search: seed " + std::to_string(seed) + ", threads " + std::to_string(threads) + ", " +
@@ -74,30 +74,41 @@ std::string Report(PathEvaluator<M>* eval, const SearchResult& s, const std::str
 /// differ from the model's (set by --set or --params: the search ran with them, and the
 /// written model file carries them); "" when none does.
 template <class M>
-std::string SetParametersText(const typename M::template ParamsT<double>& p, const std::vector<std::string>& variables) {
-  typename M::template ParamsT<double> value = p, model;
+std::string SetParametersText(const M& model, const typename ModelTypes<M>::Params& p,
+                              const std::vector<std::string>& variables) {
+  using C = ModelCalls<M>;
+  typename ModelTypes<M>::Params value = p, defaults = C::DefaultParams(model);
   std::string text;
-  for (const char* n : M::template ParamsT<double>::kNames) {
+  for (int i = 0; i < C::NumFreeParameters(model); ++i) {
+    const char* n = C::FreeParameterName(model, i);
     if (std::find(variables.begin(), variables.end(), n) != variables.end()) continue;
-    if (*value.Find(n) == *model.Find(n)) continue;
-    text += (text.empty() ? "" : ", ") + std::string(n) + " = " + Num(*value.Find(n)) + " (the model's " +
-            Num(*model.Find(n)) + ")";
+    if (*C::FindParameter(model, &value, n) == *C::FindParameter(model, &defaults, n)) continue;
+    text += (text.empty() ? "" : ", ") + std::string(n) + " = " + Num(*C::FindParameter(model, &value, n)) +
+            " (the model's " + Num(*C::FindParameter(model, &defaults, n)) + ")";
   }
   return text;
+}
+/// The same on a generated model's type.
+template <class M>
+std::string SetParametersText(const typename M::template ParamsT<double>& p, const std::vector<std::string>& variables) {
+  return SetParametersText(M(), p, variables);
 }
 
 /// What the written model file holds besides the variables (WriteSynthesizedModel): the
 /// parameters set, the assembly configuration and the input's range, for the report.
 template <class M>
-std::string WrittenModelText(const WrittenAssembly& w, const typename M::template ParamsT<double>& p) {
+std::string WrittenModelText(const M& model, const WrittenAssembly& w, const typename ModelTypes<M>::Params& p) {
+  using C = ModelCalls<M>;
   std::string r = "\nthe model file: the values above";
   if (!w.set.empty()) {
     r += ", and the parameters set on the command line: ";
-    typename M::template ParamsT<double> value = p;
-    for (size_t k = 0; k < w.set.size(); ++k) r += (k ? ", " : "") + w.set[k] + " = " + Num(*value.Find(w.set[k].c_str()));
+    typename ModelTypes<M>::Params value = p;
+    for (size_t k = 0; k < w.set.size(); ++k)
+      r += (k ? ", " : "") + w.set[k] + " = " + Num(*C::FindParameter(model, &value, w.set[k].c_str()));
   }
-  r += "\n  assembly: " + std::string(M::kQNames[0]) + " = " + Short(w.q, 10);
-  for (int i = 0; i < M::kNphi; ++i) r += ", " + std::string(M::kPhiNames[static_cast<size_t>(i)]) + " = " + Short(w.phi[static_cast<size_t>(i)], 10);
+  r += "\n  assembly: " + std::string(C::QName(model, 0)) + " = " + Short(w.q, 10);
+  for (int i = 0; i < C::Nphi(model); ++i)
+    r += ", " + std::string(C::PhiName(model, i)) + " = " + Short(w.phi[static_cast<size_t>(i)], 10);
   r += " (the first target on the synthesis' mode; branch " + std::string(w.branch > 0 ? "+1" : "-1") +
        " = sign det Phi_phi, on which the sweep assembles)\n";
   r += "  input range: [" + Short(w.range_lo, 10) + ", " + Short(w.range_hi, 10) + "]" +
@@ -106,6 +117,11 @@ std::string WrittenModelText(const WrittenAssembly& w, const typename M::templat
        "\n";
   if (!w.continuation.empty()) r += "  WARNING: the runtime's continuation does not sweep it: " + w.continuation + "\n";
   return r;
+}
+/// The same on a generated model's type.
+template <class M>
+std::string WrittenModelText(const WrittenAssembly& w, const typename M::template ParamsT<double>& p) {
+  return WrittenModelText(M(), w, p);
 }
 
 }  // namespace mechgen::synthesis

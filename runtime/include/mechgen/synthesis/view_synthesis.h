@@ -1,0 +1,63 @@
+/**
+ * \file synthesis/view_synthesis.h
+ * The synthesis layer instantiated once for the model view (issue 43): its functions that read
+ * the model (through ModelCalls<M>) for M = ViewModel (core/view_model.h), compiled into the
+ * library mechgen_runtime_view_synthesis (runtime/view/synthesis.cc, with Ceres and yaml-cpp,
+ * which the synthesis layer includes). A program that includes this header and links that
+ * library runs these kinds of synthesis on any model through its ModelView without compiling
+ * them again (mechgen_view synthesize, tools/synthesize_run.h); the same templates instantiated
+ * for a generated model's type are the per-model <model>_synthesize.
+ *
+ * Instantiated: path generation (BindPathTask, SynthesizePath: the global and local stages or
+ * the projection, PathEvaluator, ContinuationCheck, Report, CurveSvg; the local stage's Jacobian
+ * from the view's design derivatives, ModelCalls<ViewModel>::Design), motion generation
+ * (SynthesizeMotion: the Burmester pairs and their four-bars checked on the model, beyond five
+ * poses the least squares on the design derivatives, four poses the curves), exact path synthesis (BindExactTask, RunExactTask: every real solution
+ * checked on the model's kinematics and continuation), and the synthesized model file and its
+ * report lines (WriteSynthesizedModel, SetParametersText, WrittenModelText). Not yet: function
+ * generation (synthesis/function.h).
+ */
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mechgen/core/view_model.h"
+#include "mechgen/synthesis/exact.h"
+#include "mechgen/synthesis/motion.h"
+#include "mechgen/synthesis/output.h"
+#include "mechgen/synthesis/path.h"
+#include "mechgen/synthesis/projection.h"
+#include "mechgen/synthesis/report.h"
+
+namespace mechgen::synthesis {
+
+extern template bool SynthesizeMotion<ViewModel>(const ViewModel&, const MotionTask&, const ViewParams&, MotionResult*,
+                                                 std::string*);
+extern template bool BindExactTask<ViewModel>(const ViewModel&, const ExactTask&, const ViewParams&,
+                                              BoundExact<ViewModel>*, std::string*);
+extern template ExactRun RunExactTask<ViewModel>(const BoundExact<ViewModel>&, const std::string&, const std::string&,
+                                                 std::vector<std::pair<std::string, std::string>>*,
+                                                 const ExactPathOptions&);
+extern template bool WriteSynthesizedModel<ViewModel>(const ViewModel&, const std::string&, const ViewParams&,
+                                                      const std::vector<std::string>&, const std::vector<double>&,
+                                                      std::string*, WrittenAssembly*, std::string*,
+                                                      const ModelCalls<ViewModel>::Modes*);
+extern template std::string SetParametersText<ViewModel>(const ViewModel&, const ViewParams&,
+                                                         const std::vector<std::string>&);
+extern template std::string WrittenModelText<ViewModel>(const ViewModel&, const WrittenAssembly&, const ViewParams&);
+
+extern template class PathEvaluator<ViewModel>;
+extern template bool BindPathTask<ViewModel>(const ViewModel&, const PathTask&, const ViewParams&, BoundPath<ViewModel>*,
+                                   std::string*);
+extern template bool SynthesizePath<ViewModel>(const BoundPath<ViewModel>&, uint64_t, int, SearchResult*, std::string*,
+                                     const std::function<void(int, int)>&);
+extern template std::string ContinuationCheck<ViewModel>(PathEvaluator<ViewModel>*, const Candidate&);
+extern template std::string Report<ViewModel>(PathEvaluator<ViewModel>*, const SearchResult&, const std::string&, uint64_t, int,
+                                    double, double, const std::string&);
+extern template std::string CurveSvg<ViewModel>(PathEvaluator<ViewModel>*, const Candidate&, int);
+
+}  // namespace mechgen::synthesis
