@@ -15,12 +15,14 @@
 //
 // --params/--set read the view's parameter table (common/view_params.h). Through the view, not
 // yet (refused by common/not_through_view.h before anything is computed or written: a usage
-// error naming the per-model program, or for mechgen the fallback to it): the design
-// derivatives (tolerance: true, envelope:, the design_margin metric), a simulation with drive:
-// or with Coulomb friction of several inputs (one input's stick and slip goes through), and a
-// run under an MPI launcher (the ranks: MPI is compiled into the per-model program alone,
+// error naming the per-model program, or for mechgen the fallback to it): tolerance: true of
+// analysis: flywheel (the first order of the cycle's metrics), a simulation with drive: or with
+// Coulomb friction of several inputs (one input's stick and slip goes through), and a run under
+// an MPI launcher (the ranks: MPI is compiled into the per-model program alone,
 // -DMECHGEN_STUDY_MPI). analysis: flywheel and engine go through it (the machines' cycles
-// compiled once: machines/view_machines.h).
+// compiled once: machines/view_machines.h), and so do the design derivatives of the other
+// analyses (tolerance: true, envelope:, the design_margin metric: the view's Design,
+// StaticsDesign and DesignChecks).
 #pragma once
 
 #include <time.h>
@@ -279,10 +281,8 @@ inline std::vector<uint64_t> PartOf(const std::vector<uint64_t>& list, int r, in
 // yet, as NotThroughView's `what`; "" when it goes through.
 template <class M>
 std::string NotThroughViewYet(const M& model, const study::StudySpec& spec) {
-  if (spec.tolerance) return "tolerance: true: the first-order tolerance analysis (the design derivatives) is";
-  if (!spec.envelope.empty()) return "envelope: its first order (the design derivatives dr_P/dp) is";
-  for (const study::MetricSpec& m : spec.metrics)
-    if (m.kind == study::MetricKind::kDesignMargin) return "the metric design_margin (the design checks) is";
+  if (spec.tolerance && spec.analysis == study::Analysis::kFlywheel)
+    return "tolerance: true of analysis: flywheel: the first order of the cycle's metrics (its design derivatives) is";
   if (spec.analysis == study::Analysis::kSimulate) {
     if (!spec.drive.input.empty()) return "drive: the driven simulation is";
     if (ModelCalls<M>::KinetoNumFriction(model) > 0 && ModelCalls<M>::Nq(model) > 1)

@@ -13,8 +13,9 @@
 # directory, a grid beyond 10^8 samples, a metric name with a comma, a key twice) and bad
 # --set/--params: exit 2, one line, nothing written; --params and --set move the base of the
 # samples; a study of 10^8 samples stopped after one chunk holds that chunk alone. Through the
-# model view (issue 43): the outputs of the sweep, positions, statics and simulate analyses the
-# per-model program's bytes at 1 and 2 threads; tolerance: true falls back to that program.
+# model view (issue 43): the outputs of the sweep (with tolerance: true, an envelope and
+# design_margin: the tolerance and envelope CSVs too), positions, statics, simulate, engine and
+# flywheel analyses the per-model program's bytes at 1 and 2 threads; drive: falls back to it.
 # usage: study_command_test.sh <mechgen> <source dir> [<mpiexec> (empty: no MPI)]
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2") mpiexec=${3:-}
@@ -28,15 +29,34 @@ failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 ok() { echo "ok $*"; }
 
-"$mechgen" study fourbar.yaml --study study.yaml --threads 1 --csv one.csv --tolerance-csv tol.csv \
-  --envelope-csv env.csv > one.out 2> one.err
+"$mechgen" study --verbose fourbar.yaml --study study.yaml --threads 1 --csv one.csv --tolerance-csv tol.csv \
+  --envelope-csv env.csv --summary-csv sum_one.csv --histogram-csv hist_one.csv > one.out 2> one.err
 status=$?
 [ "$status" -eq 0 ] || fail "1 thread: exit status $status: $(cat one.err)"
-"$mechgen" study fourbar.yaml --study study.yaml --threads 2 --csv two.csv --quiet > two.out 2> two.err
+"$mechgen" study --verbose fourbar.yaml --study study.yaml --threads 2 --csv two.csv --tolerance-csv tol_two.csv \
+  --envelope-csv env_two.csv --summary-csv sum_two.csv --histogram-csv hist_two.csv --quiet > two.out 2> two.err
 status=$?
 [ "$status" -eq 0 ] || fail "2 threads: exit status $status: $(cat two.err)"
 grep -q "compiling" two.err && fail "the second run compiled again"
 if cmp -s one.csv two.csv; then ok "1 and 2 threads: the same bytes"; else fail "1 and 2 threads differ"; fi
+# The design study (tolerance: true, the envelope of coupler.P, design_margin) through the model
+# view: its samples' CSV, tolerance CSV, envelope CSV, summary and histograms the per-model
+# program's (MECHGEN_VIEW=0, compiled here once for the test, with MPI where CMake found it)
+# byte for byte, at 1 and 2 threads.
+for t in one two; do
+  MECHGEN_VIEW=0 "$mechgen" study fourbar.yaml --study study.yaml --threads $([ $t = one ] && echo 1 || echo 2) \
+    --csv p_$t.csv --tolerance-csv p_tol_$t.csv --envelope-csv p_env_$t.csv --summary-csv p_sum_$t.csv \
+    --histogram-csv p_hist_$t.csv --quiet > p_$t.out 2> p_$t.err ||
+    fail "MECHGEN_VIEW=0, $t: exit status $?: $(cat p_$t.err)"
+  grep -q "mechgen_view --name .* study " $t.err && ! grep -q "not through the model view" $t.err ||
+    fail "the design study, $t thread(s): not through the model view: $(cat $t.err)"
+  [ $t = one ] && v=tol.csv w=env.csv || v=tol_two.csv w=env_two.csv
+  if [ -s p_$t.csv ] && cmp -s $t.csv p_$t.csv && cmp -s $v p_tol_$t.csv && cmp -s $w p_env_$t.csv &&
+     cmp -s sum_$t.csv p_sum_$t.csv && cmp -s hist_$t.csv p_hist_$t.csv; then
+    ok "the design study, $t thread(s): the view's CSV, tolerance and envelope CSVs, summary and histograms" \
+       "are the per-model program's bytes"
+  else fail "the design study, $t thread(s): the view's outputs differ from the per-model program's"; fi
+done
 "$mechgen" study fourbar.yaml --study study.yaml --threads 3 --csv three.csv --tolerance-csv tol3.csv \
   --envelope-csv env3.csv --quiet > three.out 2> three.err || fail "3 threads: exit status $?: $(cat three.err)"
 if cmp -s one.csv three.csv && cmp -s tol.csv tol3.csv && cmp -s env.csv env3.csv; then
@@ -59,7 +79,7 @@ steps=$(awk '/^steps:/ { print $2 }' study.yaml)
 grep -q '^row,theta_crank,x_nominal,y_nominal,fo_sigma_x' env.csv || fail "envelope header: $(grep -v '^#' env.csv | head -1)"
 grep -q '^envelope of coupler.P: ' one.out || fail "no envelope summary: $(cat one.out)"
 
-grep -q "compiling .* with MPI" one.err && compiled_mpi=1 || compiled_mpi=0
+grep -q "compiling .* with MPI" p_one.err && compiled_mpi=1 || compiled_mpi=0
 
 # analysis: positions (the coupler point at listed inputs, no velocities: the cheapest analysis):
 # 1 and 2 threads the same bytes, one row per sample, the analysis named in the first line.
@@ -229,7 +249,7 @@ if cmp -s big_whole.csv big.csv; then ok "killed after $killed shards and resume
 if [ -z "$mpiexec" ]; then
   echo "SKIP: MPI: CMake found no MPI C++ compiler (install libopenmpi-dev openmpi-bin: scripts/deps.sh)"
 elif [ "$compiled_mpi" -ne 1 ]; then
-  fail "MPI: CMake found MPI but mechgen compiled the study without it: $(cat one.err)"
+  fail "MPI: CMake found MPI but mechgen compiled the study without it: $(cat p_one.err)"
 else
   [ "$(id -u)" -eq 0 ] && export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
   for np in 2 1; do
@@ -252,17 +272,17 @@ fi
 # Through the model view (issue 43): `mechgen study` runs the study on the runtime compiled once
 # (mechgen_view study on the model's shared object) and builds the per-model study program only
 # for what the view does not do yet. The CSV, the summary and the histograms through the view
-# are the per-model program's (MECHGEN_VIEW=0) byte for byte, at 1 and 2 threads: the kinematic
-# sweep and the positions of the four-bar, the statics and the free simulation (with the
+# are the per-model program's (MECHGEN_VIEW=0) byte for byte, at 1 and 2 threads: the design
+# study above, the kinematic sweep and the positions of the four-bar, the statics and the free simulation (with the
 # kinetostatics' reactions) of the massive four-bar (one more per-model compile, ~60 s), the
 # free simulation with Coulomb friction (stick and slip, a push that breaks the block away) of
 # tests/dynamics' block on an incline (one more, ~40 s), the engine's cycle of engine_single
 # (analysis: engine) and the punch press's flywheel cycle with its located switches and a derived
 # parameter (analysis: flywheel; two more, ~80 s each); --verbose says which ran. A new model's
 # first study compiles its object alone.
-# A study the view cannot run (tolerance: true) falls back to the per-model program (the bytes
-# of the first run above), and so does a run under an MPI launcher (the ranks); run by hand,
-# mechgen_view refuses what it cannot do: exit 2, one line, no CSV.
+# A run under an MPI launcher (the ranks) falls back to the per-model program; run by hand,
+# mechgen_view refuses what it cannot do (a simulation with drive:, tolerance: true of a flywheel
+# study): exit 2, one line, no CSV.
 grep -v '^tolerance:\|^envelope:\|^clearance:\|^  B: {parameter\|design_margin' study.yaml > view_sweep.yaml
 cp "$source_dir/models/fourbar_massive.yaml" "$source_dir/models/engine_single.yaml" \
    "$source_dir/tests/flywheel/models/punch_press.yaml" .
@@ -386,20 +406,31 @@ if [ -n "$mpiexec" ] && [ "$compiled_mpi" -eq 1 ]; then
     grep -q "on each of 2 ranks" vmpi.out || fail "view_sweep under mpirun -np 2: not the ranks of the per-model program"
   cmp -s vmpi.csv view_sweep_v1.csv || fail "view_sweep under mpirun -np 2: not the bytes of the view's serial run"
 fi
-"$mechgen" study --verbose fourbar.yaml --study study.yaml --threads 1 --csv vtol.csv --tolerance-csv vtol_tol.csv \
-  --envelope-csv vtol_env.csv > vtol.out 2> vtol.err || fail "tolerance: true: exit status $?: $(cat vtol.err)"
-grep -q "not through the model view; the per-model study command" vtol.err ||
-  fail "tolerance: true: no fallback: $(cat vtol.err)"
-cmp -s one.csv vtol.csv && cmp -s tol.csv vtol_tol.csv && cmp -s env.csv vtol_env.csv ||
-  fail "tolerance: true, the fallback: not the bytes of the first run"
+cat > drive.yaml << 'EOF'
+method: monte_carlo
+count: 10
+seed: 1
+analysis: simulate
+t_end: 0.5
+steps: 10
+drive: {theta_crank: {speed: 6.283}}
+parameters:
+  a: {tolerance: 0.01}
+metrics:
+  - {kind: failures}
+EOF
 view_program=$(sed -n 's/^mechgen: \([^ ]*mechgen_view\) --name .*/\1/p' view_sweep_v1.err | head -1)
 object=$(find "$MECHGEN_CACHE_DIR/view" -name model.so | head -1)
+{ sed 's/^method: lhs/method: monte_carlo/' view_flywheel.yaml; echo "tolerance: true"; } > flytol.yaml
 if [ -n "$view_program" ] && [ -n "$object" ]; then
-  "$view_program" study "$object" --study study.yaml --csv byhand.csv > byhand.out 2> byhand.err
-  status=$?
-  [ "$status" -eq 2 ] && [ "$(grep -c '' byhand.err)" -eq 1 ] && grep -q "not reached through the model view yet; \`mechgen study\` on the model's file has it" byhand.err ||
-    fail "mechgen_view study by hand, tolerance: true: exit status $status: $(cat byhand.err)"
-  [ -e byhand.csv ] && fail "mechgen_view study by hand, tolerance: true: a CSV was written"
+  for byhand in drive flytol; do
+    "$view_program" study "$object" --study $byhand.yaml --csv byhand.csv > byhand.out 2> byhand.err
+    status=$?
+    [ "$status" -eq 2 ] && [ "$(grep -c '' byhand.err)" -eq 1 ] &&
+      grep -q "not reached through the model view yet; \`mechgen study\` on the model's file has it" byhand.err ||
+      fail "mechgen_view study by hand, $byhand.yaml: exit status $status: $(cat byhand.err)"
+    [ -e byhand.csv ] && fail "mechgen_view study by hand, $byhand.yaml: a CSV was written"
+  done
 else
   fail "no mechgen_view or model object found ($view_program, $object)"
 fi

@@ -18,7 +18,9 @@
 
 #include "fourbar.h"
 #include "fourbar_loaded.h"
+#include "mechgen/core/view_runtime.h"
 #include "mechgen/io/yaml_strict.h"
+#include "mechgen/machines/view_machines.h"  // (before study/run.h: the view's machines compiled once)
 #include "mechgen/study/random.h"
 #include "mechgen/study/rows.h"
 #include "mechgen/study/run.h"
@@ -40,6 +42,14 @@
 #ifdef MECHGEN_STUDY_TEST_ENGINE
 #include "engine_single.h"
 #endif
+
+// The models' views (generated/<model>_view.cc, in their libraries).
+namespace mech::fourbar {
+const mechgen::ModelView& View();
+}
+namespace mech::fourbar_loaded {
+const mechgen::ModelView& View();
+}
 
 namespace {
 
@@ -409,6 +419,72 @@ TEST(StudyFirstOrder, AgreesAwayFromAChangePointAndSaysWhereItDoesNot) {
   // The cause from the samples: the angle's slope over them is a third of its slope at the
   // nominal (a square root of Grashof's margin).
   EXPECT_NE(d.text.find("not linear over the tolerances: its slope at the nominal"), std::string::npos) << d.text;
+}
+
+// ---- through the model view (issue 43) ---------------------------------------------------------
+
+// The study through the model view (Study<ViewModel>, the runtime compiled once, the view's
+// Design, StaticsDesign and DesignChecks) against the generated model's: each metric at the
+// nominal, its first-order gradient and why it has none, and the envelope point's dr_P/dp at
+// every row (PathGradient), the same doubles to the bit (NaN where the generated one is NaN).
+bool SameBits(double a, double b) { return (std::isnan(a) && std::isnan(b)) || std::memcmp(&a, &b, sizeof a) == 0; }
+template <class M>
+void ExpectViewFirstOrderSame(const mechgen::ModelView& view, const study::StudySpec& spec) {
+  study::Study<M> fixed;
+  study::Study<mechgen::ViewModel> through{mechgen::ViewModel(view)};
+  std::string error;
+  ASSERT_TRUE(fixed.Prepare(spec, &error)) << error;
+  ASSERT_TRUE(through.Prepare(spec, &error)) << error;
+  int finite = 0;
+  for (size_t k = 0; k < spec.metrics.size(); ++k) {
+    EXPECT_TRUE(SameBits(fixed.Value(k, fixed.nominal_rows()).value, through.Value(k, through.nominal_rows()).value))
+        << spec.metrics[k].name;
+    std::string why, view_why;
+    const std::vector<double> g = fixed.Gradient(k, &why), h = through.Gradient(k, &view_why);
+    EXPECT_EQ(why, view_why) << spec.metrics[k].name;
+    ASSERT_EQ(g.size(), h.size());
+    for (size_t p = 0; p < g.size(); ++p) {
+      EXPECT_TRUE(SameBits(g[p], h[p])) << spec.metrics[k].name << " d/d" << spec.parameters[p].name << ": " << g[p]
+                                        << " (generated), " << h[p] << " (view)";
+      finite += std::isfinite(g[p]);
+    }
+  }
+  EXPECT_GT(finite, 0);
+  if (fixed.envelope_point() >= 0) {
+    for (int i = 0; i < fixed.rows(); ++i)
+      for (int axis = 0; axis < 2; ++axis) {
+        const std::vector<double> g = fixed.PathGradient(i, axis), h = through.PathGradient(i, axis);
+        for (size_t p = 0; p < g.size(); ++p)
+          EXPECT_TRUE(SameBits(g[p], h[p])) << "row " << i << " axis " << axis << " d/d" << spec.parameters[p].name;
+      }
+  }
+}
+
+TEST(StudyView, FirstOrderOfTheSweepAndThePositionsAsTheGeneratedModels) {
+  const std::string metrics =
+      "metrics:\n  - {kind: at, column: coupler.P.x, step: 30}\n  - {kind: max, column: coupler.P.y}\n"
+      "  - {kind: rms, column: theta_rocker_dot}\n  - {kind: min_transmission_angle}\n"
+      "  - {kind: design_margin}\n  - {kind: path_deviation, point: coupler.P}\n  - {kind: failures}\n"
+      "envelope: {point: coupler.P}\n";
+  const std::string parameters = "parameters:\n  a: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  xi: {tolerance: 0.01}\n";
+  ExpectViewFirstOrderSame<mech::fourbar::Model>(
+      mech::fourbar::View(), Read("vsweep.yaml", "method: monte_carlo\ncount: 10\nsteps: 90\n" + parameters + metrics));
+  ExpectViewFirstOrderSame<mech::fourbar::Model>(
+      mech::fourbar::View(),
+      Read("vpositions.yaml", "method: monte_carlo\ncount: 10\nanalysis: positions\nat: [0, 60deg, 120deg]\n" +
+                                  parameters +
+                                  "metrics:\n  - {kind: at, column: coupler.P.x, step: 1}\n"
+                                  "  - {kind: max, column: coupler.P.y}\n  - {kind: design_margin}\n"
+                                  "envelope: {point: coupler.P}\n"));
+}
+
+TEST(StudyView, FirstOrderOfTheStaticsAsTheGeneratedModels) {
+  ExpectViewFirstOrderSame<mech::fourbar_loaded::Model>(
+      mech::fourbar_loaded::View(),
+      Read("vstatics.yaml", "method: monte_carlo\ncount: 10\nsteps: 90\nanalysis: statics\nparameters:\n"
+                            "  a: {tolerance: 0.01}\n  c: {tolerance: 0.01}\n  k: {tolerance: 1}\n"
+                            "metrics:\n  - {kind: peak_drive}\n  - {kind: peak_bearing}\n"
+                            "  - {kind: at, column: F_B_x, step: 40}\n  - {kind: rms, column: drive_theta_crank}\n"));
 }
 
 // ---- the verdict (issue 45) ------------------------------------------------------------------

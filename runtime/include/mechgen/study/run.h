@@ -21,13 +21,14 @@
  *
  * One source, two instantiations (issue 43): Study<M> reaches its model through ModelCalls<M>
  * (core/model_calls.h), for a generated model (fixed sizes, the per-model study program) and for
- * mechgen::ViewModel (the runtime compiled once, `mechgen_view study`). Through the view, not
- * yet: the design derivatives (the tolerance analysis, the envelope's first order, the design
- * checks), the driven simulation and Coulomb friction in a simulation of several inputs (one
- * input's goes through); the study command (tools/study_run.h) refuses them before Prepare
- * (tools/common/not_through_view.h). With analysis: flywheel and engine a view's sample runs the
- * machines' cycle compiled once (machines/view_machines.h, declared before this header where
- * the view's study is compiled).
+ * mechgen::ViewModel (the runtime compiled once, `mechgen_view study`; the design derivatives
+ * of the tolerance analysis, the envelope's first order and the design checks the view's,
+ * ModelCalls<M>::Design, StaticsDesign and DesignChecks). Through the view, not yet: the first
+ * order of a flywheel study's metrics (the cycle's design derivatives), the driven simulation
+ * and Coulomb friction in a simulation of several inputs (one input's goes through); the study
+ * command (tools/study_run.h) refuses them before Prepare (tools/common/not_through_view.h).
+ * With analysis: flywheel and engine a view's sample runs the machines' cycle compiled once
+ * (machines/view_machines.h, declared before this header where the view's study is compiled).
  */
 #pragma once
 
@@ -92,17 +93,13 @@ template <class M>
 struct StaticsRowOf<M, true> {
   using type = statics::StaticsRecord<M>;
 };
-// The design derivatives a study reads (EvalDesignDerivatives, EvalStaticsDesign): a generated
-// model's, where it has them; none through the model view (not reached by its runtime yet).
+// The design derivatives a study can read (EvalDesignDerivatives, EvalStaticsDesign): a
+// generated model's where it has them; the view's where its model has them
+// (ModelCalls<ViewModel>::HasDesign, HasStaticsDesign: checked at run time).
 template <class M>
-constexpr bool kDesign = HasDesignDerivatives<M>::value && !ModelCalls<M>::kView;
+constexpr bool kDesign = HasDesignDerivatives<M>::value;
 template <class M>
-constexpr bool kStaticsDesign = HasStaticsDesign<M>::value && !ModelCalls<M>::kView;
-// M::kNumDesignChecks, or 0 for a model without a design section (and for the view).
-template <class M, bool = kDesign<M>>
-struct NumDesignChecks : std::integral_constant<int, 0> {};
-template <class M>
-struct NumDesignChecks<M, true> : std::integral_constant<int, M::kNumDesignChecks> {};
+constexpr bool kStaticsDesign = HasStaticsDesign<M>::value;
 // A simulation's sample with the reactions of the generated kinetostatics there (has_R when
 // they were found): a row of analysis: simulate, free or driven.
 // (The view's count is known at run time: a bounded vector, empty until set.)
@@ -256,8 +253,8 @@ class Study {
       }
       int design = -1;
       if constexpr (kDesign)
-        for (int d = 0; d < M::kNumDesign; ++d)
-          if (p.name == M::kDesignNames[d]) design = d;
+        for (int d = 0; d < C::NumDesign(model_); ++d)  // (0 without a design section)
+          if (p.name == C::DesignName(model_, d)) design = d;
       index_.push_back(design);
     }
     for (const ClearanceSpec& c : spec.clearances) {
@@ -351,9 +348,9 @@ class Study {
       if (!check.ok()) return fail(spec.range_place, text);
     }
     sweep_columns_ = SweepColumns<M>(model_);
-    if constexpr (kDesign) AppendDesignColumns<M>(&sweep_columns_);
+    if constexpr (kDesign) AppendDesignColumns<M>(model_, &sweep_columns_);  // (none without a design section)
     if constexpr (kHasStatics)
-      if (HasStatics()) statics_columns_ = statics::StaticsColumns<M>(model_, kStaticsDesign);
+      if (HasStatics()) statics_columns_ = statics::StaticsColumns<M>(model_, HasStaticsDesign());
     if constexpr (run_internal::SimulationOf<M>::kOk) {
       if (SimulationOk()) {
         using Sim = typename run_internal::SimulationOf<M>::Sim;
@@ -456,14 +453,13 @@ class Study {
         }
       }
       if (m.kind == MetricKind::kDesignMargin) {
-        if constexpr (run_internal::NumDesignChecks<M>::value > 0) {
+        if (const int checks = C::NumDesignChecks(model_); checks > 0) {
           r.check = -1;
-          for (int i = 0; i < M::kNumDesignChecks; ++i)
-            if (m.check == M::kDesignCheckNames[i]) r.check = i;
+          for (int i = 0; i < checks; ++i)
+            if (m.check == C::DesignCheckName(model_, i)) r.check = i;
           if (!m.check.empty() && r.check < 0) {
             std::string list;
-            for (int i = 0; i < M::kNumDesignChecks; ++i)
-              list += (i ? ", " : "") + std::string(M::kDesignCheckNames[i]);
+            for (int i = 0; i < checks; ++i) list += (i ? ", " : "") + std::string(C::DesignCheckName(model_, i));
             return fail(m.place, "no design check '" + m.check + "' (checks: " + list + ")");
           }
         } else {
@@ -591,7 +587,7 @@ class Study {
   /// Each parameter's nominal (the study's, else the model's default), in the spec's order.
   const std::vector<double>& nominal() const { return nominal_; }
   const Rows& nominal_rows() const { return nominal_rows_; }
-  /// The design-parameter index (M::kDesignNames) of each of the study's parameters; -1: none.
+  /// The design-parameter index (ModelCalls<M>::DesignName) of each of the study's parameters; -1: none.
   const std::vector<int>& design_index() const { return index_; }
   int rows() const { return spec_.steps + 1; }
 
@@ -625,7 +621,7 @@ class Study {
       // (a view's: the library's, machines/view_machines.h)
       out->cycle = flywheel::SampleMachineCycle(model_, out->params, o);
       out->assembled = out->cycle.IsUsable();
-      if constexpr (!kView) {  // (tolerance: not through the view: study_run.h refuses it before Prepare)
+      if constexpr (!kView) {  // (the view's: tolerance: true of a flywheel study is refused, study_run.h)
         // The nominal's derivatives of the cycle (machines/flywheel/cycle_design.h): the first
         // order of the flywheel metrics (Gradient()).
         if (design && out->assembled)
@@ -646,47 +642,39 @@ class Study {
     }
     if (!out->assembled) return;
     SweepOptions options;
-    options.design = design && kDesign;
+    options.design = design && HasDesign();
     using VecQ = typename ModelTypes<M>::VecQ;
     const int nq = C::Nq(model_);
-    bool swept = false;
-    if constexpr (kDesign) {
-      if (options.design) {
-        Sweep(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(), VecQ::Zero(), &out->kinematics, options);
-        out->kinematics_design = true;
-        swept = true;
-      }
-    }
-    if (!swept) {
-      // A sample's rows: sized once per thread (every number NaN, the design derivatives too,
-      // which a sample never evaluates), then every row's configuration, motion, summary and
-      // transmission angles copied over: not the 60 % of a record that the design takes
-      // (SweepRecord<fourbar>: 1040 bytes, 624 of them design; 361 rows were 375 KB written
-      // twice per sample, more than a core's L2).
-      out->kinematics = std::move(kinematics);
-      const size_t n = static_cast<size_t>(std::max(spec_.steps, 1)) + 1;
-      if (out->kinematics.size() != n || out->kinematics_design) out->kinematics.assign(n, Kinematics());
-      out->kinematics_design = false;
-      auto copy = [out](int i, const Kinematics& r) {
-        Kinematics& k = out->kinematics[static_cast<size_t>(i)];
-        k.q = r.q;
-        k.state = r.state;
-        k.motion = r.motion;
-        k.summary = r.summary;
-        k.mu = r.mu;
-      };
-      if constexpr (kView) {
-        // The instantiation in mechgen_runtime_view (core/view_runtime.h: ViewRowFn).
-        std::function<void(int, const Kinematics&)> row = copy;
-        SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(nq), VecQ::Zero(nq), options, row);
-      } else {
-        SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(nq), VecQ::Zero(nq), options, copy);
-      }
+    // A sample's rows: sized once per thread (every number NaN, the design derivatives too,
+    // which a sample never evaluates), then every row's configuration, motion, summary and
+    // transmission angles copied over: not the 60 % of a record that the design takes
+    // (SweepRecord<fourbar>: 1040 bytes, 624 of them design; 361 rows were 375 KB written
+    // twice per sample, more than a core's L2). The nominal's rows (options.design) copy the
+    // design derivatives too (SweepRows' record: NaN where a row failed).
+    out->kinematics = std::move(kinematics);
+    const size_t n = static_cast<size_t>(std::max(spec_.steps, 1)) + 1;
+    if (out->kinematics.size() != n || out->kinematics_design) out->kinematics.assign(n, Kinematics());
+    out->kinematics_design = options.design;
+    auto copy = [out, &options](int i, const Kinematics& r) {
+      Kinematics& k = out->kinematics[static_cast<size_t>(i)];
+      k.q = r.q;
+      k.state = r.state;
+      k.motion = r.motion;
+      k.summary = r.summary;
+      k.mu = r.mu;
+      if (options.design) k.design = r.design;
+    };
+    if constexpr (kView) {
+      // The instantiation in mechgen_runtime_view (core/view_runtime.h: ViewRowFn).
+      std::function<void(int, const Kinematics&)> row = copy;
+      SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(nq), VecQ::Zero(nq), options, row);
+    } else {
+      SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(nq), VecQ::Zero(nq), options, copy);
     }
     if constexpr (kHasStatics) {
       if (spec_.analysis == Analysis::kStatics) {
         statics::Options so;
-        so.design = design && kStaticsDesign;
+        so.design = design && HasStaticsDesign();
         out->statics.assign(out->kinematics.size(), StaticsRow());
         for (size_t i = 0; i < out->kinematics.size(); ++i) {
           out->statics[i].kinematics = out->kinematics[i];
@@ -756,7 +744,7 @@ class Study {
   /// generated dr_P/dp); NaN for a parameter that is not a design parameter.
   std::vector<double> PathGradient(int i, int axis) const {
     std::vector<double> g(spec_.parameters.size(), kNaN);
-    if constexpr (kDesign && M::kNumPoints > 0) {
+    if constexpr (kDesign && M::kNumPoints != 0) {  // (a view: its count at run time)
       if (i < static_cast<int>(nominal_rows_.kinematics.size()))
         for (size_t p = 0; p < g.size(); ++p)
           if (index_[p] >= 0) g[p] = nominal_rows_.kinematics[i].design.dr_P_dp(2 * envelope_point_ + axis, index_[p]);
@@ -902,16 +890,15 @@ class Study {
         t.value = failures;
         break;
       }
-      case MetricKind::kDesignMargin:
-        if constexpr (run_internal::NumDesignChecks<M>::value > 0) {
-          Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
-          M::DesignChecks(rows.params, &margin);
-          for (int c = 0; c < M::kNumDesignChecks; ++c)
-            if (r.check < 0 || r.check == c) {
-              if (t.check < 0 || margin(c) < t.value) t.value = margin(c), t.check = c;
-            }
-        }
+      case MetricKind::kDesignMargin: {
+        typename C::DesignMargins margin;
+        C::DesignChecks(model_, rows.params, &margin);  // (Prepare: the model has checks)
+        for (int c = 0; c < C::NumDesignChecks(model_); ++c)
+          if (r.check < 0 || r.check == c) {
+            if (t.check < 0 || margin(c) < t.value) t.value = margin(c), t.check = c;
+          }
         break;
+      }
     }
     if (m.kind == MetricKind::kMinTransmissionAngle && t.step >= 0) {
       t.check = t.step % 64;
@@ -930,15 +917,7 @@ class Study {
    *        (*why says which: failures, path_deviation). peak_bearing: d|F| = F . dF / |F| at
    *        the peak's row and joint.
    */
-  std::vector<double> Gradient(size_t k, std::string* why) const {
-    if constexpr (kView) {  // (not through the view: study_run.h refuses tolerance: before Prepare)
-      (void)k;
-      *why = "no design derivatives through the model view";
-      return std::vector<double>(spec_.parameters.size(), kNaN);
-    } else {
-      return DesignGradient(k, why);
-    }
-  }
+  std::vector<double> Gradient(size_t k, std::string* why) const { return DesignGradient(k, why); }
 
   /// Evaluates every sample (values: DrawSamples()) on `threads` threads into *results (in
   /// sample order); `progress(done)` is called from the calling thread about once a second.
@@ -952,7 +931,7 @@ class Study {
     RunChunks(values, Chunks{count, std::max<uint64_t>(count, 1)}, {0}, threads, results, nullptr, progress);
   }
  private:
-  // Gradient() of a generated model (its design derivatives).
+  // Gradient(): the model's design derivatives (a generated model's, or the view's).
   std::vector<double> DesignGradient(size_t k, std::string* why) const {
     const MetricSpec& m = spec_.metrics[k];
     const Ref& r = refs_[k];
@@ -982,37 +961,42 @@ class Study {
       return g;
     }
     if (IsFlywheelMetric(m.kind)) {
-      // The cycle's design derivatives (machines/flywheel/cycle_design.h: exact for the computed
-      // figures; the breaks held at their angles). peak_torque: dT_req/dp at the sample where
-      // |T_req| peaks (that sample held, as for the other peaks).
-      const flywheel::CycleDesign<M>& cd = rows.cycle_design;
-      if (!cd.IsUsable()) {
-        *why = cd.message.empty() ? "no design derivatives of the cycle" : cd.message;
+      if constexpr (kView) {  // (tolerance: true of a flywheel study: refused through the view, study_run.h)
+        *why = "no design derivatives of the flywheel cycle in a study through the model view";
+        return g;
+      } else {
+        // The cycle's design derivatives (machines/flywheel/cycle_design.h: exact for the computed
+        // figures; the breaks held at their angles). peak_torque: dT_req/dp at the sample where
+        // |T_req| peaks (that sample held, as for the other peaks).
+        const flywheel::CycleDesign<M>& cd = rows.cycle_design;
+        if (!cd.IsUsable()) {
+          *why = cd.message.empty() ? "no design derivatives of the cycle" : cd.message;
+          return g;
+        }
+        int peak = -1;
+        double sign = 1;
+        for (size_t i = 0; i < rows.cycle.points.size(); ++i) {
+          const double T = rows.cycle.points[i].T_req;
+          if (peak < 0 || std::abs(T) > std::abs(rows.cycle.points[static_cast<size_t>(peak)].T_req))
+            peak = static_cast<int>(i), sign = T >= 0 ? 1 : -1;
+        }
+        for (size_t p = 0; p < spec_.parameters.size(); ++p) {
+          const int d = index_[p];
+          if (d < 0) continue;
+          switch (m.kind) {
+            case MetricKind::kMeanTorque: g[p] = cd.dT_mean_dp(d); break;
+            case MetricKind::kEnergyFluctuation: g[p] = cd.ddelta_E_dp(d); break;
+            case MetricKind::kFlywheelInertia:
+              g[p] = flywheel::SizeFlywheelDesign<M>(rows.cycle, cd, m.C_s).dI_flywheel_dp(d);
+              break;
+            case MetricKind::kPeakTorque:
+              if (peak >= 0) g[p] = sign * cd.dT_req_dp[static_cast<size_t>(peak)](d);
+              break;
+            default: break;
+          }
+        }
         return g;
       }
-      int peak = -1;
-      double sign = 1;
-      for (size_t i = 0; i < rows.cycle.points.size(); ++i) {
-        const double T = rows.cycle.points[i].T_req;
-        if (peak < 0 || std::abs(T) > std::abs(rows.cycle.points[static_cast<size_t>(peak)].T_req))
-          peak = static_cast<int>(i), sign = T >= 0 ? 1 : -1;
-      }
-      for (size_t p = 0; p < spec_.parameters.size(); ++p) {
-        const int d = index_[p];
-        if (d < 0) continue;
-        switch (m.kind) {
-          case MetricKind::kMeanTorque: g[p] = cd.dT_mean_dp(d); break;
-          case MetricKind::kEnergyFluctuation: g[p] = cd.ddelta_E_dp(d); break;
-          case MetricKind::kFlywheelInertia:
-            g[p] = flywheel::SizeFlywheelDesign<M>(rows.cycle, cd, m.C_s).dI_flywheel_dp(d);
-            break;
-          case MetricKind::kPeakTorque:
-            if (peak >= 0) g[p] = sign * cd.dT_req_dp[static_cast<size_t>(peak)](d);
-            break;
-          default: break;
-        }
-      }
-      return g;
     }
     for (size_t p = 0; p < spec_.parameters.size(); ++p) {
       if (index_[p] < 0) continue;
@@ -1028,7 +1012,7 @@ class Study {
           for (int c : {j.x, j.y, j.n, j.t, j.scalar}) {
             if (c < 0) continue;
             Ref d;
-            const std::string column = "d" + std::string(M::kReactionNames[c]) + "/d" + name;
+            const std::string column = "d" + std::string(C::ReactionName(model_, c)) + "/d" + name;
             if (!FindColumn(column, &d.table, &d.column)) {
               *why = "no design column " + column;
               found = false;
@@ -1041,27 +1025,25 @@ class Study {
         continue;
       }
       if (m.kind == MetricKind::kDesignMargin) {
-        if constexpr (run_internal::NumDesignChecks<M>::value > 0) {
-          Eigen::Matrix<double, M::kNumDesignChecks, 1> margin;
-          Eigen::Matrix<double, M::kNumDesignChecks, M::kNumDesign> dmargin;
-          M::DesignChecks(rows.params, &margin, &dmargin);
-          g[p] = dmargin(t.check, index_[p]);
-        }
+        typename C::DesignMargins margin;
+        typename C::DesignMarginsDp dmargin;
+        C::DesignChecks(model_, rows.params, &margin, &dmargin);
+        g[p] = dmargin(t.check, index_[p]);
         continue;
       }
       Ref d;
       std::string column;
       if (m.kind == MetricKind::kMinTransmissionAngle) {
-        if constexpr (ModelFeatures<M>::kNumTransmissionAngles > 0)
-          column = "dmu_" + std::string(M::kTransmissionJoints[t.check]) + "/d" + name;
+        if constexpr (ModelFeatures<M>::kNumTransmissionAngles != 0)  // (a view: its count at run time)
+          column = "dmu_" + std::string(C::TransmissionJoint(model_, t.check)) + "/d" + name;
       } else {
         column = "d" + ColumnName(r) + "/d" + name;
         // One input moving at qd = 1, qdd = 0 (the study's sweep): phi_i_dot = K_i0, so its
         // derivative is dK's column.
-        if constexpr (M::kNq == 1 && M::kOrder >= 1)
-          for (int i = 0; i < M::kNphi; ++i)
-            if (r.table == 0 && ColumnName(r) == std::string(M::kPhiNames[i]) + "_dot")
-              column = "dK_" + std::string(M::kPhiNames[i]) + "_" + M::kQNames[0] + "/d" + name;
+        if (C::Nq(model_) == 1 && C::HasK(model_))
+          for (int i = 0; i < C::Nphi(model_); ++i)
+            if (r.table == 0 && ColumnName(r) == std::string(C::PhiName(model_, i)) + "_dot")
+              column = "dK_" + std::string(C::PhiName(model_, i)) + "_" + C::QName(model_, 0) + "/d" + name;
       }
       if (!FindColumn(column, &d.table, &d.column)) {
         *why = "no design column " + column;
@@ -1353,6 +1335,22 @@ class Study {
       return run_internal::SimulationOf<M>::kOk;
     }
   }
+  // Whether the model has the design derivatives (a design section), and the statics' (the
+  // view's at run time).
+  bool HasDesign() const {
+    if constexpr (kDesign) {
+      return C::HasDesign(model_);
+    } else {
+      return false;
+    }
+  }
+  bool HasStaticsDesign() const {
+    if constexpr (kStaticsDesign) {
+      return C::HasStaticsDesign(model_);
+    } else {
+      return false;
+    }
+  }
   int NumSimulationReactions() const {
     if constexpr (kView) {
       return C::KinetoNumReactions(model_);
@@ -1603,12 +1601,14 @@ class Study {
       if (status != position::Status::kConverged) {
         k.summary.status = position::Status::kNotRun;
         k.state.q = k.q;
+        if constexpr (kDesign && kView)  // (a view's record holds no design values until placed)
+          if (design && HasDesign()) position::SetNanDesign(model_, &k.design);
         continue;
       }
       k.state = solver.state();
       if constexpr (SweepRecord<M>::kNumMu != 0) C::TransmissionAngles(model_, out->params, k.state.q, k.state.phi, &k.mu);
       if constexpr (kDesign)
-        if (design) position::EvalDesign<M>(out->params, k.state, &k.design);
+        if (design && HasDesign()) position::EvalDesign<M>(model_, out->params, k.state, &k.design);
     }
   }
   // analysis: simulate: the free motion from q0, qd0 to t_end (dynamics/forward.h), a sample
