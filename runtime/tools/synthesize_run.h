@@ -294,22 +294,11 @@ int PathMain(const M& model, const std::string& tool, const std::string& task_pa
     }
     report += WrittenModelText(model, written, eval.ParamsOf(c.x));
     const std::string svg = CurveSvg(&eval, c);
-    std::error_code ec;
-    fs::create_directories(out_dir, ec);
     const std::vector<std::pair<fs::path, const std::string*>> files = {
         {fs::path(out_dir) / fs::path(model_path).filename(), &synthesized},
         {fs::path(out_dir) / "path.svg", &svg},
         {fs::path(out_dir) / "report.txt", &report}};
-    bool ok = !ec;
-    for (const auto& f : files) ok = ok && WriteWhole(f.first.string() + ".part", *f.second);
-    for (const auto& f : files) {
-      if (ok) {
-        fs::rename(f.first.string() + ".part", f.first, ec);
-        ok = !ec;
-      }
-    }
-    if (!ok) {
-      for (const auto& f : files) fs::remove(f.first.string() + ".part", ec);
+    if (!WriteAll(files, out_dir)) {
       std::cerr << tool << ": error: cannot write into " << out_dir << "\n";
       return 1;
     }

@@ -258,12 +258,8 @@ bool BindExactTask(const M& model, const ExactTask& task, const typename ModelTy
     for (size_t k = 6; k < 9; ++k)
       if (!task.parameters[k].empty()) *C::FindParameter(model, &p, task.parameters[k].c_str()) = placement[k - 6];
     C::ParametersSet(model, &p);
-    typename ModelTypes<M>::VecQ q = ModelTypes<M>::VecQ::Zero(C::Nq(model));
-    typename ModelTypes<M>::VecPhi phi;
-    phi.resize(C::Nphi(model));
-    for (int i = 0; i < C::Nphi(model); ++i) phi(i) = C::AssemblyPhi(model)[i];
     typename ModelTypes<M>::MatScene r;
-    C::Scene(model, p, q, phi, &r);
+    GroundScene(model, p, &r);
     const double tol = 1e-9 * (1 + frame.d + std::hypot(A[0], A[1]) + std::hypot(D[0], D[1]));
     bool has_a = false, has_d = false;
     std::string seen;

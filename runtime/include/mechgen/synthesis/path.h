@@ -53,6 +53,19 @@ const M& GeneratedModel() {
   return model;
 }
 
+/// The scene (every named point of every link, ModelCalls<M>::Scene) at q = 0 with phi at the
+/// assembly guess: where the ground points are, which do not move (the constraints' regions,
+/// the exact task's pivots). Only for a model with scene points.
+template <class M>
+void GroundScene(const M& model, const typename ModelTypes<M>::Params& p, typename ModelTypes<M>::MatScene* r) {
+  using C = ModelCalls<M>;
+  typename ModelTypes<M>::VecQ q = ModelTypes<M>::VecQ::Zero(C::Nq(model));
+  typename ModelTypes<M>::VecPhi phi;
+  phi.resize(C::Nphi(model));
+  for (int i = 0; i < C::Nphi(model); ++i) phi(i) = C::AssemblyPhi(model)[i];
+  C::Scene(model, p, q, phi, r);
+}
+
 /// The angle in [0, 2 pi).
 inline double Wrap(double a) {
   double w = std::fmod(a, kTwoPi);
@@ -250,13 +263,8 @@ bool CheckParameterConstraints(const M& model, const typename ModelTypes<M>::Par
   }
   {
     if (!ix.region_points.empty() && C::NumScenePoints(model) > 0) {
-      // Ground points do not move: the scene at any input (q = 0, phi at the assembly guess).
-      typename ModelTypes<M>::VecQ q = ModelTypes<M>::VecQ::Zero(C::Nq(model));
-      typename ModelTypes<M>::VecPhi phi;
-      phi.resize(C::Nphi(model));
-      for (int i = 0; i < C::Nphi(model); ++i) phi(i) = C::AssemblyPhi(model)[i];
       typename ModelTypes<M>::MatScene r;
-      C::Scene(model, p, q, phi, &r);
+      GroundScene(model, p, &r);
       for (int k : ix.region_points) {
         const double x = r(0, k), y = r(1, k);
         const std::string what = std::string("ground point ") + C::ScenePointName(model, k) +
