@@ -397,8 +397,12 @@ std::string EntryKey(const ToolSpec& spec, const std::string& model_bytes, const
 // The CLI11 part, the same for every model.
 std::string ArgsKey(const Toolchain& t) {
   std::string material = kCacheFormat;
-  for (const char* file : {"sweep_args.h", "sweep_args.cc", "common/numbers.h", "common/cli.h"})
+  for (const char* file : {"sweep_args.h", "sweep_args.cc", "common/numbers.h", "common/cli.h", "common/params.h"})
     AddPart(&material, file, ReadOrEmpty(t.tools / file));
+  // What those include from the runtime: the sweep's request and the numbers' checks.
+  for (const char* file : {"mechgen/analysis/sweep_request.h", "mechgen/analysis/params.h",
+                           "mechgen/analysis/numbers.h", "mechgen/io/format.h"})
+    AddPart(&material, file, ReadOrEmpty(t.runtime_include / file));
   material += ToolchainPart(t);
   const fs::path cli11 = t.cli11_include.empty() ? fs::path("/usr/include") : fs::path(t.cli11_include);
   AddPart(&material, "cli11", t.cli11_include + "\n" + ReadOrEmpty(cli11 / "CLI/Version.hpp"));
@@ -878,7 +882,9 @@ int Build(const ToolSpec& spec, const ToolCommand& c, const GenerateFn& generate
   if (spec.separate_args && !have_args) {
     std::vector<std::string> args;
     if (!t.cli11_include.empty()) args = {"-isystem", t.cli11_include};
-    args.insert(args.end(), {"-c", (t.tools / "sweep_args.cc").string(), "-o", (dir / "args.o").string()});
+    // (sweep_args.h includes the sweep's request, mechgen/analysis/sweep_request.h.)
+    args.insert(args.end(), {"-I" + t.runtime_include.string(), "-c", (t.tools / "sweep_args.cc").string(), "-o",
+                             (dir / "args.o").string()});
     jobs.push_back({Command(t, args), dir / "args.log"});
   }
   if (!RunJobs(&jobs, "compiling " + what, c.verbose)) return 1;

@@ -18,6 +18,7 @@
 #include <yaml-cpp/eventhandler.h>
 
 #include "joints/joint_kind.h"
+#include "mechgen/io/format.h"
 #include "model/expression_functions.h"
 
 namespace mechgen {
@@ -630,7 +631,7 @@ class ExpressionSyntax {
         Fail(start, "unknown name '" + name + "' (known: " + known + ")");
       }
       if (name == "Pi") return {true, M_PI};
-      if (name == "deg") return {true, M_PI / 180};
+      if (name == "deg") return {true, mechgen::internal::kDegToRad};  // (io/format.h: M_PI / 180)
       return {false, 0.0};
     }
     if (c == ')') Fail(i_, "unexpected ')'; expected a number, a name or '('");

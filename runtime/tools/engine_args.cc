@@ -4,13 +4,10 @@
 #include <string>
 
 #include "common/cli.h"
+#include "mechgen/io/format.h"
 #include "mechgen/machines/flywheel/energy_loop.h"
 
 namespace mechgen::engine_tool {
-
-namespace {
-constexpr double kDeg = 3.14159265358979323846 / 180;
-}  // namespace
 
 int ParseArguments(int argc, char** argv, const std::string& model_name, bool model_has_design,
                    Arguments* a) {
@@ -143,8 +140,8 @@ int ParseArguments(int argc, char** argv, const std::string& model_name, bool mo
   if (a->command == "runup" &&
       !tools::CheckTimeStep("--dt", tools::FormatNumber(a->dt), a->dt, a->t_end, 1e8, &error))
     return UsageError(error);
-  if (burn_start->count() > 0) w.burn_start = burn_start_deg * kDeg;
-  if (burn_duration->count() > 0) w.burn_duration = burn_duration_deg * kDeg;
+  if (burn_start->count() > 0) w.burn_start = internal::FromDegrees(burn_start_deg);
+  if (burn_duration->count() > 0) w.burn_duration = internal::FromDegrees(burn_duration_deg);
   if (a->design && a->command != "flywheel")
     return UsageError("--design: the flywheel subcommand only (its mean torque, dE, I and J_fly)");
   if (a->design && !model_has_design)

@@ -9,8 +9,7 @@
 
 #include <string>
 
-#include "common/params.h"
-#include "mechgen/machines/engine/gas.h"
+#include "mechgen/analysis/engine_request.h"
 
 namespace mechgen::engine_tool {
 
@@ -20,22 +19,11 @@ constexpr double kMaxRpm = 1e5;
 constexpr double kMaxTime = 1e6;      // s
 constexpr double kMaxPressure = 1e9;  // Pa
 
-/// The options: numbers checked against their ranges, the subcommand, the CSVs' default names.
-struct Arguments {
+/// The options: the request (analysis/engine_request.h: numbers checked here against their
+/// ranges, the subcommand) and the CSVs (their default names from the model's).
+struct Arguments : analysis::EngineRequest {
   std::string tool = "engine";  ///< for messages (argv[0])
-  std::string command;          ///< cycle, flywheel or runup
-  double rpm = 3000;
-  int samples = 1440;
-  std::string csv, loop_csv, sweep_csv, witt_csv, table;
-  double cs = 0.02;
-  double idle_rpm = -1;  ///< <= 0: rpm / 4
-  double t_end = 60;
-  double dt = 0.002;
-  double steady_tol = 1e-5;
-  int smoothing = 6;
-  bool design = false;  ///< flywheel --design: the design sensitivities (the model's `design`)
-  engine::PolytropicWiebeParams wiebe;
-  tools::ParameterOptions params;  ///< --params, --set: the model's Params
+  std::string csv, loop_csv, sweep_csv, witt_csv;
 };
 
 /// Exit status of a usage error (bad arguments: nothing written).

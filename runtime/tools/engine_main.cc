@@ -63,8 +63,9 @@
 // cycle). Numbers must be finite; speeds, times and the law's parameters > 0 (--burn-start
 // any, --wiebe-m and --heat >= 0); the law's parameters are checked together by
 // PolytropicWiebeCycle::Init.
-// The model-dependent part is engine_run.h (RunEngine), the same source the runtime
-// instantiated once for the model view runs (mechgen_view engine, issue 43).
+// The model-dependent part is the engine analysis (mechgen/analysis/engine.h; engine_run.h the
+// command around it), the same source the runtime instantiated once for the model view runs
+// (mechgen_view engine, issue 43).
 // Options are parsed by engine_args.cc (CLI11, independent of the model: included here, or
 // compiled apart with -DMECHGEN_ENGINE_ARGS_SEPARATE) with the command-line layer of every
 // tool (runtime/tools/common/):
@@ -80,6 +81,7 @@
 #include "engine_args.cc"
 #endif
 #include "engine_run.h"
+#include "mechgen/analysis/engine.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
 #error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
@@ -92,5 +94,7 @@ int main(int argc, char** argv) {
   const int rc = mechgen::engine_tool::ParseArguments(argc, argv, Model::kName,
                                                       mechgen::HasDesignDerivatives<Model>::value, &a);
   if (rc != -1) return rc;
-  return mechgen::engine_tool::RunEngine(Model(), a);
+  // The analysis (mechgen/analysis/engine.h), the same source the runtime instantiated for the
+  // model view runs (mechgen_view engine), on the request the options are.
+  return mechgen::analysis::Run(Model(), a, mechgen::engine_tool::Outputs(a));
 }

@@ -13,43 +13,27 @@
 #include <string>
 #include <vector>
 
-#include "common/params.h"
+#include "mechgen/analysis/flywheel_request.h"
 
 namespace mechgen::flywheel_tool {
 
 /// The default of --steady-fraction: machines/flywheel/machine_cycle.h's
 /// CheckOptions::steady_fraction (flywheel_main.cc asserts they agree).
-constexpr double kDefaultSteadyFraction = 1e-3;
+constexpr double kDefaultSteadyFraction = analysis::kFlywheelSteadyFraction;
 
-/// The options, each number checked against its range and the angles read (rad).
-struct Arguments {
-  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// The options: the request (analysis/flywheel_request.h: numbers checked here) and the outputs
+/// (the CSV and the pictures).
+struct Arguments : analysis::FlywheelRequest {
   std::string tool = "flywheel";  ///< the tool's name for messages (argv[0])
-  double rpm = 60;                ///< the input's mean speed (rev/min)
-  double cs = 0.02;               ///< the C_s to size for
-  int samples = 720;              ///< samples of the cycle
-  double theta0 = kNaN;           ///< --theta0 (rad); NaN: the model's range start
-  double cycle = kNaN;            ///< --cycle (rad); NaN: the model's default cycle
-  std::vector<double> breaks;     ///< --break (rad), in the order given
-  bool no_switch_breaks = false;
-  std::string motor = "constant";  ///< the check's motor: constant or shunt
-  double slip = 0.05;
-  bool check = false, no_check = false;
-  int check_samples = 720, max_cycles = 400;
-  double steady_fraction = kDefaultSteadyFraction;
-  double steady_tol = kNaN;  ///< given: the relative change per cycle instead of steady_fraction C_s
-  bool design = false;
   std::string csv_path, png_path, svg_path;
-  tools::ParameterOptions params;  ///< --params, --set: applied to the model's Params
 };
 
-/// Exit status of a usage error (bad arguments: nothing written).
 constexpr int kExitUsage = 2;
 
 /// The most speed samples the check may take: the simulator's MinimalOptions::max_samples
 /// (flywheel_main.cc asserts that they agree), for the `mechgen` driver, which parses the options
 /// before any compile and without the runtime.
-constexpr double kMaxCheckSamples = 100000000;
+constexpr double kMaxCheckSamples = analysis::kFlywheelMaxCheckSamples;
 
 /**
  * \brief Parses the flywheel command's options.

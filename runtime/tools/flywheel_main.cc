@@ -36,7 +36,10 @@
 #ifndef MECHGEN_FLYWHEEL_ARGS_SEPARATE
 #include "flywheel_args.cc"
 #endif
+#include <functional>
+
 #include "flywheel_run.h"
+#include "mechgen/analysis/flywheel.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
 #error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
@@ -50,5 +53,11 @@ int main(int argc, char** argv) {
                                                                 mechgen::flywheel_tool::kMaxCheckSamples, &a);
       parsed >= 0)
     return parsed;
-  return mechgen::flywheel_tool::RunFlywheel(Model(), a);
+  // The analysis (mechgen/analysis/flywheel.h), the same source the runtime instantiated for the
+  // model view runs (mechgen_view flywheel), on the request the options are.
+  mechgen::flywheel_tool::Command command(a);
+  return command([&a](const mechgen::analysis::FlywheelOutputs& outputs, const std::function<int()>& prepare,
+                      mechgen::analysis::FlywheelResult* result) {
+    return mechgen::analysis::Run(Model(), a, outputs, prepare, result);
+  });
 }

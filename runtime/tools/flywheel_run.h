@@ -1,382 +1,104 @@
-// The flywheel command's model-dependent part, RunFlywheel(model, arguments): one source for
-// the per-model tool <model>_flywheel (flywheel_main.cc, M the generated model's type, fixed
-// sizes) and for the runtime instantiated once for the model view (M = mechgen::ViewModel;
-// `mechgen_view flywheel`, the cycle's sampling, --design's sensitivities of it
-// (machines/flywheel/cycle_design.h) and the simulated check compiled once in the library
-// mechgen_runtime_view: mechgen/machines/view_machines.h, runtime/view/machines.cc).
-// What it computes, its CSV, pictures and exit statuses: flywheel_main.cc.
-//
-// --params/--set read the view's parameter table (common/view_params.h).
+// The flywheel command around the flywheel analysis (mechgen/analysis/flywheel.h: Check, Run):
+// the parsed options (flywheel_args.h) are the analysis's FlywheelRequest and its CSV, and the
+// pictures (--png, --svg), which gnuplot draws with plot_energy_loop.gnuplot from the CSV the
+// analysis wrote (a temporary one when --csv is not given). The per-model tool
+// <model>_flywheel (flywheel_main.cc) runs analysis::Run on the generated model's type (fixed
+// sizes); mechgen_view flywheel (view/flywheel.cc) on the model view, instantiated once in
+// mechgen_runtime_view (runtime/view/analysis.cc). Nothing here depends on the model.
 #pragma once
 
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <filesystem>
+#include <functional>
 #include <iostream>
 #include <string>
-#include <unistd.h>
+#include <utility>
 #include <vector>
 
 #include "common/gnuplot.h"
 #include "common/numbers.h"
-#include "common/params.h"
-#include "common/view_params.h"
 #include "flywheel_args.h"
-#include "mechgen/core/model_calls.h"
-#include "mechgen/io/csv.h"
-#include "mechgen/io/output_file.h"
-#include "mechgen/machines/flywheel/cycle_design.h"
-#include "mechgen/machines/flywheel/machine_cycle.h"
-#include "mechgen/position/input_step.h"
-#include "mechgen/table/columns.h"
+#include "mechgen/analysis/flywheel_request.h"
 
 namespace mechgen::flywheel_tool {
-namespace run_internal {
 
-constexpr double kRadToDeg = 57.295779513082323;
-namespace tools = mechgen::tools;
-namespace fw = mechgen::flywheel;
-
-// One CSV row: a sample of the cycle and the mean torque line.
-struct LoopRow {
-  fw::CyclePoint point;
-  double T_mean = 0;
-  const double* dT_req_dp = nullptr;  // --design: dT_req/dp_d for each design parameter
-};
-
-// `design`: the design parameters' names (--design), each giving a column dT_req/d<p>.
-inline mechgen::table::Columns<LoopRow> LoopColumns(bool dynamics, const std::vector<std::string>& design) {
-  mechgen::table::Columns<LoopRow> columns;
-  mechgen::table::Builder<LoopRow> add(&columns);
-  add.Number("theta", "rad", "input angle (CCW +), one cycle from theta0, the end not repeated",
-             [](const LoopRow& r) { return r.point.theta; });
-  add.Number("theta_deg", "deg", "the same in degrees",
-             [](const LoopRow& r) { return r.point.theta * kRadToDeg; });
-  add.Number("T_req", "N m",
-             "driving torque a motor turning the input at the constant speed must apply (on the "
-             "input link, CCW +): T_static + T_inertia + T_speed",
-             [](const LoopRow& r) { return r.point.T_req; });
-  add.Number("T_mean", "N m", "its mean over the cycle: the constant motor torque of a steady cycle",
-             [](const LoopRow& r) { return r.T_mean; });
-  add.Number("E", "J",
-             "excess energy: the integral of T_mean - T_req from theta0 (the energy the flywheel "
-             "stores; E_max - E_min = dE)",
-             [](const LoopRow& r) { return r.point.E; });
-  add.Number("T_static", "N m",
-             "the statics part: loads, weights, springs and Coulomb friction for motion in +theta",
-             [](const LoopRow& r) { return r.point.T_static; });
-  if (dynamics) {
-    add.Number("T_inertia", "N m", "the inertia torque 1/2 I'(theta) w^2 at the constant speed",
-               [](const LoopRow& r) { return r.point.T_inertia; });
-    add.Number("T_speed", "N m",
-               "what the speed-dependent loads (dampers, viscous friction, speed tables) need at w",
-               [](const LoopRow& r) { return r.point.T_speed; });
-    add.Number("I", "kg m^2", "the machine's generalized inertia I(theta) about the input (no flywheel)",
-               [](const LoopRow& r) { return r.point.I; });
-  }
-  add.Number("cond", "1", "cond_1(Phi_phi) of the configuration",
-             [](const LoopRow& r) { return r.point.condition; });
-  for (size_t d = 0; d < design.size(); ++d)
-    add.Number("dT_req/d" + design[d], "N m per unit of " + design[d],
-               "design sensitivity of T_req (cycle_design.h)",
-               [d](const LoopRow& r) { return r.dT_req_dp[d]; });
-  return columns;
-}
-
-// What the pictures need, found before anything is computed or written: gnuplot on the PATH
-// and plot_energy_loop.gnuplot (common/gnuplot.h). One line on failure.
-struct Plotter {
-  std::filesystem::path gnuplot, script;
-};
-inline bool FindPlotter(const std::string& kind, Plotter* plotter, std::string* error) {
-  plotter->gnuplot = tools::FindOnPath("gnuplot");
-  if (plotter->gnuplot.empty()) {
-    *error = "gnuplot is not on the PATH: no --" + kind + " picture (install gnuplot, or leave out --" + kind + ")";
-    return false;
-  }
-  const std::filesystem::path scripts = tools::FindPlotScripts({"plot_energy_loop.gnuplot"});
-  if (scripts.empty()) {
-    *error = tools::PlotScriptsNotFound({"plot_energy_loop.gnuplot"});
-    return false;
-  }
-  plotter->script = scripts / "plot_energy_loop.gnuplot";
-  return true;
-}
-
-static_assert(kDefaultSteadyFraction == fw::CheckOptions{}.steady_fraction,
-              "--steady-fraction's default is CheckOptions::steady_fraction");
-static_assert(kMaxCheckSamples == mechgen::dynamics::MinimalOptions{}.max_samples,
-              "kMaxCheckSamples is the simulator's max_samples");
-
-template <class M>
-int Run(const M& model, const Arguments& a) {
-  using C = ModelCalls<M>;
-  const char* const name = C::Name(model);
-  const std::string& tool = a.tool;
-  const double rpm = a.rpm, cs = a.cs, slip = a.slip, steady_fraction = a.steady_fraction, steady_tol = a.steady_tol;
-  const int samples = a.samples, check_samples = a.check_samples, max_cycles = a.max_cycles;
-  const bool check = a.check, no_check = a.no_check, design = a.design;
-  const std::string &motor = a.motor, &csv_path = a.csv_path, &png_path = a.png_path, &svg_path = a.svg_path;
-  if (design && !C::HasDesign(model))
-    return tools::UsageError(tool, "--design: the model has no `design` section (the parameters to "
-                                   "differentiate by); add one, e.g. `design: {parameters: all}`");
-  if (check && !C::HasDynamics(model))
-    return tools::UsageError(tool, std::string("--check needs a model with `dynamics` (") + name +
-                                       " has none: its machine is massless)");
-  typename ModelTypes<M>::Params params = C::DefaultParams(model);
-  if (std::string why; !tools::ApplyModelParameters(a.params, model, &params, &why))
-    return tools::UsageError(tool, why);
-  fw::MachineCycleOptions options;
-  options.omega = fw::RpmToRadPerSecond(rpm);
-  options.samples = samples;
-  options.switch_breaks = !a.no_switch_breaks;
-  options.theta0 = a.theta0;
-  options.cycle = a.cycle;
-  options.breaks = a.breaks;
-  const double cycle = std::isnan(options.cycle) ? fw::DefaultCycle(model) : options.cycle;
-  const double cycle_begin[1] = {0}, cycle_end[1] = {cycle};
-  if (const auto check = mechgen::position::CheckInputSteps(cycle_begin, cycle_end, 1, samples); !check.ok())
-    return tools::UsageError(tool, tools::BadValue("--samples", std::to_string(samples),
-                                                   "at least " + tools::FormatNumber(check.min_steps) +
-                                                       " for this cycle (the position solver's step limit)"));
-
-  // The pictures' gnuplot and script (their paths checked by flywheel_args.cc), before
-  // anything is computed or written.
-  std::vector<std::pair<std::string, std::string>> pictures;  // kind, path
-  if (!png_path.empty()) pictures.push_back({"png", png_path});
-  if (!svg_path.empty()) pictures.push_back({"svg", svg_path});
-  Plotter plotter;
-  for (const auto& pic : pictures) {
-    if (std::string error; !FindPlotter(pic.first, &plotter, &error)) {
-      std::cerr << "error: " << error << "\n";
-      return 1;
-    }
+/// The command: the analysis's outputs, then its pictures.
+class Command {
+ public:
+  explicit Command(const Arguments& a) {
+    outputs_.tool = a.tool;
+    outputs_.csv_path = a.csv_path;
+    if (!a.png_path.empty()) pictures_.push_back({"png", a.png_path});
+    if (!a.svg_path.empty()) pictures_.push_back({"svg", a.svg_path});
+    outputs_.picture = !pictures_.empty();
   }
 
-  // (unqualified: the view's, compiled once, found by its arguments: machines/view_machines.h)
-  const fw::MachineCycle machine = SampleMachineCycle(model, params, options);
-  if (machine.status == fw::CycleStatus::kNotAssembled) {
-    std::cerr << "error: cannot size a flywheel for " << name << ": " << machine.message << "\n";
-    return 3;
-  }
-  if (machine.status == fw::CycleStatus::kBadOptions && !options.breaks.empty())
-    return tools::UsageError(tool, "--break: " + machine.message);
-  if (!machine.IsUsable()) {
-    std::cerr << "error: cannot size a flywheel for " << name << ": " << machine.message << "\n";
-    return 1;
-  }
-  const fw::FlywheelSize size = fw::SizeFlywheel(machine, cs);
-  const fw::EnergyLoop& loop = machine.loop;
-  std::printf("mechgen flywheel of '%s': %s from %.6g deg over %.6g deg in %d samples at %.6g rpm "
-              "(w_m = %.9g rad/s)%s\n",
-              name, C::QName(model, 0), machine.theta0 * kRadToDeg, machine.cycle * kRadToDeg, samples,
-              rpm, machine.omega,
-              machine.has_dynamics ? "; statics + inertia torque (dynamics)" : "; statics only (massless)");
-  if (const std::string changed = tools::ChangedModelParameters(model, params); !changed.empty())
-    std::printf("parameters set: %s\n", changed.c_str());
-  std::printf("  required torque T_req: mean %.9g N m (the constant motor torque%s), max %.6g N m at "
-              "%.6g deg, min %.6g N m at %.6g deg\n",
-              machine.T_mean,
-              machine.zero_mean ? (": zero to rounding, |mean| <= " + tools::FormatNumber(machine.T_mean_rounding) +
-                                   " N m; the loads do no net work")
-                                      .c_str()
-                                : "",
-              machine.T_max, machine.theta_T_max * kRadToDeg, machine.T_min, machine.theta_T_min * kRadToDeg);
-  std::printf("  work per cycle %.9g J; mean power %.6g W\n", machine.work, machine.T_mean * machine.omega);
-  std::printf("  energy loop: E_max = %.9g J at %.6g deg, E_min = %.9g J at %.6g deg; dE = %.9g J\n",
-              loop.E_max, loop.theta_max * kRadToDeg, loop.E_min, loop.theta_min * kRadToDeg,
-              loop.delta_E);
-  if (!machine.breaks.empty() || !machine.switches.empty()) {
-    std::string list;
-    for (double b : machine.breaks) list += (list.empty() ? "" : ", ") + tools::FormatNumber(b * kRadToDeg);
-    std::printf("  breaks of the loop (deg): %s; %zu switches of the loads located%s\n",
-                list.empty() ? "none" : list.c_str(), machine.switches.size(),
-                machine.switches_unused > 0
-                    ? (", " + std::to_string(machine.switches_unused) +
-                       " too close to another break (second order there: use more samples)")
-                          .c_str()
-                    : "");
-  }
-  if (!std::isfinite(size.I_required) || !std::isfinite(size.I_flywheel)) {
-    std::cerr << "error: the flywheel for C_s = " << tools::FormatNumber(cs) << " is beyond the range of numbers: dE = "
-              << tools::FormatNumber(loop.delta_E) << " J over C_s w_m^2 = " << tools::FormatNumber(cs * machine.omega * machine.omega)
-              << " (change --cs or --rpm)\n";
-    return 1;
-  }
-  std::printf("  C_s = %.6g: I = dE/(C_s w_m^2) = %.9g kg m^2", cs, size.I_required);
-  if (machine.has_dynamics) {
-    std::printf("; the machine's own mean I = %.6g kg m^2; flywheel I_fly = %.9g kg m^2%s\n",
-                machine.I_mean, size.I_flywheel,
-                size.needed ? "" : " (none needed: the machine's own inertia suffices)");
-  } else {
-    std::printf(" (the flywheel; the machine is massless: no `dynamics`)\n");
-  }
+  const analysis::FlywheelOutputs& outputs() const { return outputs_; }
 
-  // --design: the sensitivities printed, and dT_req/d<p> per sample for the CSV.
-  std::vector<std::string> design_names;
-  std::vector<std::vector<double>> dT_req_dp;
-  if constexpr (mechgen::HasDesignDerivatives<M>::value) {
-    if (design) {
-      // (unqualified: the view's, compiled once, found by its arguments)
-      const fw::CycleDesign<M> cycle_design = SampleMachineCycleDesign(model, params, options, machine);
-      if (!cycle_design.IsUsable()) {
-        std::cerr << "error: no design sensitivities for " << name << ": " << cycle_design.message << "\n";
+  /// Before anything is computed or written (analysis::Run's `prepare`): gnuplot on the PATH
+  /// and plot_energy_loop.gnuplot (common/gnuplot.h) for each picture. -1 to go on, else 1
+  /// with one line on stderr.
+  int Prepare() {
+    for (const auto& picture : pictures_) {
+      std::string error;
+      if (!FindPlotter(picture.first, &error)) {
+        std::cerr << "error: " << error << "\n";
         return 1;
       }
-      const auto dsize = fw::SizeFlywheelDesign<M>(machine, cycle_design, cs);
-      std::printf("  design sensitivities of T_mean = %.17g N m, dE = %.17g J, I = %.17g kg m^2, I_fly = %.17g "
-                  "kg m^2 (per unit of each parameter, in the model file's units):\n",
-                  machine.T_mean, loop.delta_E, size.I_required, size.I_flywheel);
-      std::printf("    %-12s %16s %16s %16s %16s\n", "p", "dT_mean/dp", "d(dE)/dp", "dI/dp", "dI_fly/dp");
-      for (int d = 0; d < C::NumDesign(model); ++d) {
-        design_names.push_back(C::DesignName(model, d));
-        std::printf("    %-12s %16.9g %16.9g %16.9g %16.9g\n", C::DesignName(model, d), cycle_design.dT_mean_dp(d),
-                    cycle_design.ddelta_E_dp(d), dsize.dI_required_dp(d), dsize.dI_flywheel_dp(d));
+    }
+    return -1;
+  }
+
+  /// After the analysis returned `status` with `result`: the pictures drawn from its CSV (a
+  /// picture that fails: one line, exit status 1), the temporary CSV removed, the standard
+  /// output checked. The command's exit status.
+  int Finish(int status, const analysis::FlywheelResult& result) {
+    if (!result.written) return status;
+    for (const auto& [kind, path] : pictures_) {
+      std::string error;
+      if (tools::RunGnuplot(gnuplot_, script_, result.csv, kind, path, &error)) {
+        std::printf("wrote %s\n", path.c_str());
+      } else {
+        std::cerr << "error: " << error << "\n";
+        status = 1;
       }
-      for (const auto& v : cycle_design.dT_req_dp) dT_req_dp.emplace_back(v.data(), v.data() + v.size());
     }
-  }
-
-  int status = 0;
-  const bool do_check = machine.has_dynamics && !no_check && size.needed;
-  if (do_check) {
-    fw::CheckOptions co;
-    co.law = motor == "shunt" ? fw::MotorLaw::kShunt : fw::MotorLaw::kConstant;
-    co.slip = slip;
-    co.samples_per_cycle = check_samples;
-    co.max_cycles = max_cycles;
-    co.steady_fraction = steady_fraction;
-    co.steady_tolerance = steady_tol;
-    const fw::SimulatedCheck sim = CheckBySimulation(model, params, machine, size.I_flywheel, co);
-    if (!sim.ok) {
-      std::cerr << "error: the simulated check failed: " << sim.message << "\n";
-      status = 1;
-    } else {
-      std::printf("  simulated with I_fly and a %s motor%s: steady after %d cycles (period %.6g s); "
-                  "w %.9g .. %.9g rad/s (max at %.6g deg, min at %.6g deg), w_mid %.9g, time mean "
-                  "%.9g rad/s\n",
-                  fw::ToString(co.law), co.law == fw::MotorLaw::kShunt ? (" (slip " + tools::FormatNumber(slip) + ")").c_str() : "",
-                  sim.cycles, sim.period, sim.trace.omega_min, sim.trace.omega_max,
-                  sim.theta_at_max * kRadToDeg, sim.theta_at_min * kRadToDeg, sim.trace.omega_mid,
-                  sim.trace.omega_mean);
-      // The settling time of the cycle-mean speed: I over the slope of the mean load and motor
-      // torque against the speed; beyond the run, or none, the mean speed only creeps.
-      std::string settling = "none (the slope of the mean load and motor torque against the speed is " +
-                             tools::FormatNumber(sim.slope) + " N m s/rad: a neutral cycle, its mean speed only creeps)";
-      if (std::isfinite(sim.settling_time)) {
-        settling = tools::FormatNumber(sim.settling_time) + " s (I over the slope " + tools::FormatNumber(sim.slope) +
-                   " N m s/rad of the mean load and motor torque against the speed)";
-        if (sim.settling_time > sim.cycles_limit * sim.period)
-          settling += ", far beyond the run: a near-neutral cycle, its mean speed only creeps";
-      }
-      std::printf("  steady: the cycle-mean speed changed by %.3g relative over the last cycle (tolerance %.3g "
-                  "%s); settling time %s\n",
-                  sim.last_change, sim.steady_tolerance,
-                  std::isnan(steady_tol)
-                      ? ("= " + tools::FormatNumber(steady_fraction) + " x the expected C_s " +
-                         tools::FormatNumber(sim.C_s_expected) +
-                         (sim.steady_tolerance < steady_fraction * sim.C_s_expected
-                              ? " / the settling time in cycles " + tools::FormatNumber(sim.settling_time / sim.period)
-                              : std::string()))
-                            .c_str()
-                      : "(--steady-tol)",
-                  settling.c_str());
-      std::printf("  simulated C_s = %.6g against the asked %.6g (%+.3f %%; the energy loop is exact "
-                  "to O(C_s) relative)\n",
-                  sim.trace.C_s, cs, 100 * (sim.trace.C_s / cs - 1));
-    }
-  } else if (machine.has_dynamics && !no_check && !size.needed) {
-    std::printf("  no simulated check: no flywheel to add\n");
-  }
-
-  // The CSV (whole or absent), then the pictures from it.
-  std::vector<LoopRow> rows;
-  rows.reserve(machine.points.size());
-  for (size_t k = 0; k < machine.points.size(); ++k)
-    rows.push_back({machine.points[k], machine.T_mean, dT_req_dp.empty() ? nullptr : dT_req_dp[k].data()});
-  const auto columns = LoopColumns(machine.has_dynamics, design_names);
-  const bool picture = !pictures.empty();
-  std::string csv_for_plot = csv_path;
-  std::string temporary;
-  if (csv_path.empty() && picture) {
-    char name[] = "/tmp/mechgen_flywheel_XXXXXX";
-    const int fd = mkstemp(name);
-    if (fd < 0) {
-      std::cerr << "error: cannot create a temporary CSV for the picture\n";
+    if (!result.temporary.empty()) std::remove(result.temporary.c_str());
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      std::cerr << "error: cannot write the standard output\n";
       return 1;
     }
-    close(fd);
-    temporary = csv_for_plot = name;
+    return status;
   }
-  if (!csv_for_plot.empty()) {
-    mechgen::OutputFile csv;
-    std::string error;
-    if (!csv.Open(csv_for_plot, &error)) {
-      std::cerr << "error: " << error << "\n";
-      return 1;
-    }
-    mechgen::WriteCsv(columns, rows, csv.stream(),
-                      mechgen::Described(mechgen::CsvAbout(
-                          std::string(name) + "_flywheel", name,
-                          "energy loop at " + tools::FormatNumber(rpm) + " rpm (w_m = " +
-                              tools::FormatNumber(machine.omega) + " rad/s), C_s = " +
-                              tools::FormatNumber(cs) + ", dE = " + tools::FormatNumber(loop.delta_E) +
-                              " J, I = " + tools::FormatNumber(size.I_required) + " kg m^2",
-                          "torques on the input link, CCW + (the input turns CCW at w_m > 0); E > 0 "
-                          "where the machine runs ahead of its mean")));
-    if (!csv.Close(&error) || !csv.Commit(&error)) {
-      std::cerr << "error: " << error << "\n";
-      if (!temporary.empty()) std::remove(temporary.c_str());
-      return 1;
-    }
-    if (!csv_path.empty())
-      std::printf("wrote %s (%zu rows x %zu columns)\n", csv_path.c_str(), rows.size(), columns.size());
-  }
-  for (const auto& [kind, path] : pictures) {
-    std::string error;
-    if (tools::RunGnuplot(plotter.gnuplot, plotter.script, csv_for_plot, kind, path, &error)) {
-      std::printf("wrote %s\n", path.c_str());
-    } else {
-      std::cerr << "error: " << error << "\n";
-      status = 1;
-    }
-  }
-  if (!temporary.empty()) std::remove(temporary.c_str());
-  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
-    std::cerr << "error: cannot write the standard output\n";
-    return 1;
-  }
-  return status;
-}
 
-}  // namespace run_internal
+  /// Runs `run` (analysis::Run on the model, given the outputs, Prepare and the result to
+  /// fill) and draws the pictures: the command's exit status.
+  int operator()(const std::function<int(const analysis::FlywheelOutputs&, const std::function<int()>&,
+                                         analysis::FlywheelResult*)>& run) {
+    analysis::FlywheelResult result;
+    const int status = run(outputs_, [this] { return Prepare(); }, &result);
+    return Finish(status, result);
+  }
 
-/**
- * \brief The flywheel command on `model` with the parsed arguments (flywheel_args.h): for a
- * one-input model with statics; for the others one line, exit 1 (not one input) or 2 (no
- * statics).
- * \tparam M  A generated model (the per-model tool) or mechgen::ViewModel.
- * \return The exit status (flywheel_main.cc).
- */
-template <class M>
-int RunFlywheel(const M& model, const Arguments& arguments) {
-  using C = ModelCalls<M>;
-  const int nq = C::Nq(model);
-  const bool statics = C::HasStatics(model);
-  if (nq == 1 && statics) {
-    if constexpr (C::kView || (mechgen::statics::StaticsFeatures<M>::kHasStatics && M::kNq == 1))
-      return run_internal::Run(model, arguments);
+ private:
+  bool FindPlotter(const std::string& kind, std::string* error) {
+    gnuplot_ = tools::FindOnPath("gnuplot");
+    if (gnuplot_.empty()) {
+      *error = "gnuplot is not on the PATH: no --" + kind + " picture (install gnuplot, or leave out --" + kind + ")";
+      return false;
+    }
+    const std::filesystem::path scripts = tools::FindPlotScripts({"plot_energy_loop.gnuplot"});
+    if (scripts.empty()) {
+      *error = tools::PlotScriptsNotFound({"plot_energy_loop.gnuplot"});
+      return false;
+    }
+    script_ = scripts / "plot_energy_loop.gnuplot";
+    return true;
   }
-  if (nq != 1) {
-    std::cerr << "error: the model '" << C::Name(model) << "' has " << nq
-              << " inputs; flywheel sizing is for one-DOF machines\n";
-    return 1;
-  }
-  std::cerr << "error: the model '" << C::Name(model)
-            << "' was generated without statics; add `forces` to its outputs' quantities\n";
-  return 2;
-}
+
+  analysis::FlywheelOutputs outputs_;
+  std::vector<std::pair<std::string, std::string>> pictures_;  // kind, path
+  std::filesystem::path gnuplot_, script_;
+};
 
 }  // namespace mechgen::flywheel_tool
-

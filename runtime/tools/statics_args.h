@@ -12,42 +12,27 @@
 #include <string>
 #include <vector>
 
-#include "common/params.h"
+#include "mechgen/analysis/statics_request.h"
 
 namespace mechgen::statics_tool {
 
-/// The bounds of the counts: --steps stops at 10^6 rows (the CSV is streamed, but the SVG's
-/// rows are held in memory); the scans at 10^6 samples.
-constexpr long long kMaxSteps = 1000000;
-constexpr long long kMaxSamples = 1000000;
+/// The bounds of the counts (analysis/statics_request.h).
+constexpr long long kMaxSteps = analysis::kStaticsMaxSteps;
+constexpr long long kMaxSamples = analysis::kStaticsMaxSamples;
 constexpr long long kMaxSnapshots = 1000;
 /// ScanOptions::kMinSamples (statics/types.h): the fewest samples of a scan.
-constexpr long long kMinSamples = 36;
+constexpr long long kMinSamples = analysis::kStaticsMinSamples;
 /// Options::max_condition's default (statics/types.h: 1 / kMinRcond, core/constants.h).
-constexpr double kDefaultMaxCondition = 1e6;
+constexpr double kDefaultMaxCondition = analysis::kStaticsDefaultMaxCondition;
 
-/// The options: numbers and counts checked; --range as given (text; statics_main.cc checks
-/// it against the model).
-struct Arguments {
+/// The options: the request (analysis/statics_request.h: numbers and counts checked here;
+/// --range as given, checked against the model by analysis::Check) and the outputs.
+struct Arguments : analysis::StaticsRequest {
   std::string tool = "statics";  ///< the tool's name for messages (argv[0])
-  long long steps = 360;
-  std::vector<std::string> ranges;
   std::string csv_path, svg_path;
   std::string plots_prefix, plot_format = "png";
   long long snapshots = 4;
   bool animate = false;
-  /// --design: the design-sensitivity columns (a model with a design section).
-  bool design = false;
-  long long table = 8;
-  bool dead_zones = false, equilibria = false;
-  long long samples = 360;
-  double max_condition = kDefaultMaxCondition;
-  /// --speed: the input's constant speed in model units per second (rad/s for an angle, m/s
-  /// for a slide; given in rev/min with the suffix rpm, converted here); NaN: not given (the
-  /// statics at rest).
-  double speed = std::numeric_limits<double>::quiet_NaN();
-  bool speed_rpm = false;  ///< --speed was given in rpm (an angle input only)
-  tools::ParameterOptions params;  ///< --params, --set: applied to the model's Params
 };
 
 /// Exit status of a usage error (bad arguments: nothing written).

@@ -23,8 +23,9 @@
 // input (the first input that moves; rad/s, m/s, or rev/min with 'rpm' as the flywheel's
 // --rpm): the loads at qd and the dependent velocities K qd, t = 0, without the inertia
 // forces (the kinetostatics without inertia); the dead-zone and equilibrium scans stay at rest.
-// The model-dependent part is RunStatics (statics_run.h), the same source `mechgen_view
-// statics` runs through the model view; the rows are streamed to the CSV (held in memory only
+// The model-dependent part is the statics analysis (mechgen/analysis/statics.h, around which
+// statics_run.h is the command), the same source `mechgen_view statics` runs through the model
+// view; the rows are streamed to the CSV (held in memory only
 // for --svg). Options are read by statics_args.cc (model-independent, CLI11; the command-line
 // layer of every tool, runtime/tools/common/): `--opt=value` or `--opt value`, every number
 // finite and in the range --help lists; --steps up to 10^6; --samples from
@@ -36,7 +37,7 @@
 // Compiled with -DMECHGEN_TOOL_NO_CERES it needs Eigen and CLI11 only: it assembles with the
 // Ceres-free PositionSolver (NewtonAssembler, position/assembler.h), as `mechgen statics
 // <model.yaml>` builds it (generator/driver/); the Newton polish follows either assembler.
-#include <iostream>
+#include <functional>
 #include <string>
 
 #include "statics_args.h"
@@ -44,6 +45,7 @@
 #include "statics_args.cc"
 #endif
 #include "statics_run.h"
+#include "mechgen/analysis/statics.h"
 
 #ifndef MECHGEN_TOOL_NO_CERES
 #include "mechgen/position/ceres_adapter.h"
@@ -54,39 +56,28 @@
 #endif
 #include MECHGEN_MODEL_INCLUDE
 
-namespace {
-
-// The argument parser's copies of the runtime's limits (statics_args.h: it does not include
-// the runtime).
-static_assert(mechgen::statics_tool::kMinSamples == mechgen::statics::ScanOptions::kMinSamples);
-static_assert(mechgen::statics_tool::kDefaultMaxCondition == mechgen::kMaxCondition);
-
-// The statics command for a model with statics, a stub for one without (a template, so
-// that the branch not taken is not instantiated).
-template <class M>
-int Main(int argc, char** argv) {
-  if constexpr (mechgen::statics::StaticsFeatures<M>::kHasStatics) {
-    mechgen::statics_tool::Arguments args;
-    if (const int parsed = mechgen::statics_tool::ParseArguments(argc, argv, M::kName, &args); parsed >= 0)
-      return parsed;
-    // The model-dependent part (statics_run.h), the same source the runtime instantiated for
-    // the model view runs (mechgen_view statics). Ceres assembles (position/ceres_adapter.h)
-    // unless MECHGEN_TOOL_NO_CERES: then the runtime's own Levenberg-Marquardt
-    // (NewtonAssembler), Eigen only.
-#ifdef MECHGEN_TOOL_NO_CERES
-    return mechgen::statics_tool::RunStatics<M, mechgen::position::NewtonAssembler>(M(), args);
-#else
-    return mechgen::statics_tool::RunStatics<M, mechgen::position::CeresAssembler>(M(), args);
-#endif
-  } else {
-    (void)argc;
-    (void)argv;
-    std::cerr << "error: the model '" << M::kName
-              << "' was generated without statics; add `forces` to its outputs' quantities\n";
-    return 2;
+int main(int argc, char** argv) {
+  using Model = MECHGEN_MODEL_NAMESPACE::Model;
+  // A model generated without statics: a stub that says so, before reading any option.
+  if (!mechgen::statics::StaticsFeatures<Model>::kHasStatics) {
+    return mechgen::analysis::RunIfStatics(Model(), mechgen::analysis::StaticsRequest(),
+                                           mechgen::analysis::StaticsOutputs());
   }
+  mechgen::statics_tool::Arguments args;
+  if (const int parsed = mechgen::statics_tool::ParseArguments(argc, argv, Model::kName, &args); parsed >= 0)
+    return parsed;
+  // The analysis (mechgen/analysis/statics.h), the same source the runtime instantiated for the
+  // model view runs (mechgen_view statics), on the request the options are. Ceres assembles
+  // (position/ceres_adapter.h) unless MECHGEN_TOOL_NO_CERES: then the runtime's own
+  // Levenberg-Marquardt (NewtonAssembler), Eigen only.
+#ifdef MECHGEN_TOOL_NO_CERES
+  using Assembler = mechgen::position::NewtonAssembler;
+#else
+  using Assembler = mechgen::position::CeresAssembler;
+#endif
+  mechgen::statics_tool::Command command(args);
+  return command([&args](const mechgen::analysis::StaticsOutputs& outputs, const std::function<int()>& prepare,
+                         mechgen::analysis::StaticsPlotFacts* facts) {
+    return mechgen::analysis::RunIfStatics<Model, Assembler>(Model(), args, outputs, prepare, facts);
+  });
 }
-
-}  // namespace
-
-int main(int argc, char** argv) { return Main<MECHGEN_MODEL_NAMESPACE::Model>(argc, argv); }

@@ -10,29 +10,16 @@
 #include <string>
 #include <vector>
 
-#include "common/params.h"
+#include "mechgen/analysis/sweep_request.h"
 
 namespace mechgen::sweep_tool {
 
-/// The options: counts checked; --range, --qd, --qdd as given (text; sweep_main.cc checks
-/// them against the model).
-struct Arguments {
+/// The options: the request (analysis/sweep_request.h: counts checked here; --range, --qd,
+/// --qdd as given, checked against the model by analysis::Check) and where the outputs go.
+struct Arguments : analysis::SweepRequest {
   std::string tool = "sweep";  ///< the tool's name for messages (argv[0])
-  long long steps = 360;
-  long long table = 9;
-  std::vector<std::string> ranges;
-  std::vector<std::string> qd_text, qdd_text;
   std::string csv_path, svg_path;
-  std::string mode;  ///< a named assembly mode (the model's assembly_modes:); empty: the default
   bool no_animation = false;
-  /// --design: the design-sensitivity columns d<output>/d<parameter> (a model with a design
-  /// section).
-  bool design = false;
-  /// What the sweep does at a singular configuration (--at-singular): stop, follow (a change
-  /// point: on along the same smooth curve, the branch it was on), switch (a change point: onto
-  /// the other curve) or reverse (a dead point: the input turns back).
-  std::string at_singular = "stop";
-  tools::ParameterOptions params;  ///< --params, --set: applied to the model's Params
 };
 
 /// Exit status of a usage error (bad arguments: nothing written).
@@ -40,7 +27,7 @@ constexpr int kExitUsage = 2;
 
 /// The bound on --steps: 10^7 steps make a CSV of a few GB; the sweep itself streams (holds
 /// one row, plus the table's rows and a bounded number for the drawing).
-constexpr long long kMaxSteps = 10000000;
+constexpr long long kMaxSteps = analysis::kSweepMaxSteps;
 
 /**
  * \brief Parses the sweep command's options.

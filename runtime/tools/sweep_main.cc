@@ -31,6 +31,7 @@
 #include "sweep_args.cc"
 #endif
 #include "sweep_run.h"
+#include "mechgen/analysis/sweep.h"
 
 #ifndef MECHGEN_SWEEP_NO_CERES
 #include "mechgen/position/ceres_adapter.h"
@@ -47,14 +48,15 @@ int main(int argc, char** argv) {
   const int parsed = mechgen::sweep_tool::ParseArguments(argc, argv, Model::kName,
                                                          mechgen::sweep_tool::kMaxSteps, &arguments);
   if (parsed >= 0) return parsed;
-  // The model-dependent part (sweep_run.h), the same source the runtime instantiated for the
-  // model view runs (mechgen_view sweep).
+  // The analysis (mechgen/analysis/sweep.h), the same source the runtime instantiated for the
+  // model view runs (mechgen_view sweep), on the request the options are.
   // Ceres assembles (position/ceres_adapter.h) unless MECHGEN_SWEEP_NO_CERES: then the
   // runtime's own Levenberg-Marquardt (NewtonAssembler), Eigen only.
 #ifdef MECHGEN_SWEEP_NO_CERES
-  return mechgen::sweep_tool::RunSweep<Model, mechgen::position::NewtonAssembler>(Model(), arguments,
-                                                                                 "Levenberg-Marquardt");
+  return mechgen::analysis::Run<Model, mechgen::position::NewtonAssembler>(
+      Model(), arguments, mechgen::sweep_tool::Outputs(arguments, "Levenberg-Marquardt"));
 #else
-  return mechgen::sweep_tool::RunSweep<Model, mechgen::position::CeresAssembler>(Model(), arguments, "Ceres");
+  return mechgen::analysis::Run<Model, mechgen::position::CeresAssembler>(
+      Model(), arguments, mechgen::sweep_tool::Outputs(arguments, "Ceres"));
 #endif
 }

@@ -191,9 +191,9 @@ void OldPrintTable(const std::vector<SweepRecord<M>>& records, int rows, std::os
     std::vector<std::string> cells;
     auto number = [&](double x) { return mechgen::internal::FormatNumber(x, "%.4f"); };
     for (int j = 0; j < M::kNq; ++j)
-      cells.push_back(number(rec.q(j) * (M::kQIsAngle[j] ? mechgen::internal::kRadToDeg : 1)));
+      cells.push_back(number(M::kQIsAngle[j] ? mechgen::internal::ToDegrees(rec.q(j)) : rec.q(j)));
     for (int i = 0; i < M::kNphi; ++i)
-      cells.push_back(number(s.phi(i) * (M::kPhiIsAngle[i] ? mechgen::internal::kRadToDeg : 1)));
+      cells.push_back(number(M::kPhiIsAngle[i] ? mechgen::internal::ToDegrees(s.phi(i)) : s.phi(i)));
     for (int i = 0; i < M::kNphi; ++i)
       for (int j = 0; j < M::kNq; ++j) cells.push_back(number(s.K(i, j)));
     for (int i = 0; i < M::kNphi; ++i)

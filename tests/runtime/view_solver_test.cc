@@ -23,7 +23,8 @@
 #include "view_test_util.h"
 
 #include "mechgen/core/view_runtime.h"
-#include "sweep_run.h"  // runtime/tools: RunSweep, the sweep command's model-dependent part  // PositionSolver<ViewModel>: mechgen_runtime_view
+#include "mechgen/analysis/view_analysis.h"  // the sweep analysis for the view: mechgen_runtime_view
+#include "sweep_run.h"  // runtime/tools: the sweep command's options as the analysis's request
 #include "mechgen/position/ceres_adapter.h"
 #include "mechgen/position/solver.h"
 #include "mechgen/sweep/columns.h"
@@ -223,9 +224,9 @@ void ExpectViewSweepSame(const ModelView& view) {
   }
 }
 
-// The whole sweep command through the view (sweep_run.h's RunSweep<ViewModel>, the runtime in
-// mechgen_runtime_view) against the per-model tool build/models/<name>_sweep
-// (RunSweep<Model, CeresAssembler>): the same CSV file, byte for byte, for the default sweep and
+// The whole sweep command through the view (the sweep analysis analysis::Run<ViewModel>,
+// mechgen/analysis/sweep.h, in mechgen_runtime_view) against the per-model tool
+// build/models/<name>_sweep (analysis::Run<Model, CeresAssembler>): the same CSV file, byte for byte, for the default sweep and
 // for a range with input speed and acceleration.
 std::string ReadFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -259,7 +260,7 @@ std::string ReadFile(const std::string& path) {
   }
   command += " > /dev/null";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
-  ASSERT_EQ(sweep_tool::RunSweep(ViewModel(view), arguments), sweep_tool::kExitConverged);
+  ASSERT_EQ(analysis::Run(ViewModel(view), arguments, sweep_tool::Outputs(arguments)), sweep_tool::kExitConverged);
   const std::string a = ReadFile(fixed_csv), b = ReadFile(view_csv);
   EXPECT_GT(a.size(), 1000u);
   EXPECT_TRUE(a == b) << fixed_csv << " and " << view_csv << " differ";
@@ -273,7 +274,10 @@ TEST(ViewSweepTool, RefusesDesignWithoutADesignSection) {
   sweep_tool::Arguments arguments;
   arguments.csv_path = csv;
   arguments.design = true;
-  EXPECT_EQ(sweep_tool::RunSweep(ViewModel(mech::quick_return::View()), arguments), sweep_tool::kExitUsage);
+  EXPECT_EQ(analysis::Run(ViewModel(mech::quick_return::View()), arguments, sweep_tool::Outputs(arguments)),
+            sweep_tool::kExitUsage);
+  EXPECT_NE(analysis::Check(ViewModel(mech::quick_return::View()), arguments).find("has no design section"),
+            std::string::npos);
   EXPECT_FALSE(std::ifstream(csv).good());
 #endif
 }

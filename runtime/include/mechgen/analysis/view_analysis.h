@@ -1,0 +1,36 @@
+/**
+ * \file analysis/view_analysis.h
+ * The analyses (analysis/sweep.h, statics.h, engine.h, flywheel.h) instantiated once for the model view (issue 43), compiled into
+ * mechgen_runtime_view (runtime/view/analysis.cc): a program that includes this header and
+ * links that library (mechgen_view's commands, tools/view/<command>.cc) runs an analysis on any
+ * model's view without compiling it again; the `extern template` declarations keep the
+ * instantiations out of its translation units. The same templates, instantiated for a
+ * generated model's type, are the per-model tools' (tools/<tool>_main.cc).
+ */
+#pragma once
+
+#include <string>
+
+#include "mechgen/analysis/engine.h"
+#include "mechgen/analysis/flywheel.h"
+#include "mechgen/analysis/statics.h"
+#include "mechgen/analysis/sweep.h"
+#include "mechgen/core/view_runtime.h"
+#include "mechgen/machines/view_machines.h"
+
+namespace mechgen::analysis {
+
+extern template std::string Check<ViewModel>(const ViewModel&, const SweepRequest&);
+extern template int Run<ViewModel, position::NewtonAssembler>(const ViewModel&, const SweepRequest&,
+                                                              const SweepOutputs&);
+extern template std::string Check<ViewModel>(const ViewModel&, const StaticsRequest&);
+extern template int Run<ViewModel, position::NewtonAssembler>(const ViewModel&, const StaticsRequest&,
+                                                              const StaticsOutputs&, const std::function<int()>&,
+                                                              StaticsPlotFacts*);
+extern template std::string Check<ViewModel>(const ViewModel&, const EngineRequest&);
+extern template int Run<ViewModel>(const ViewModel&, const EngineRequest&, const EngineOutputs&);
+extern template std::string Check<ViewModel>(const ViewModel&, const FlywheelRequest&);
+extern template int Run<ViewModel>(const ViewModel&, const FlywheelRequest&, const FlywheelOutputs&,
+                                   const std::function<int()>&, FlywheelResult*);
+
+}  // namespace mechgen::analysis
