@@ -10,6 +10,9 @@
 //   <tool>: error: --x: bad value '<text>': expected <what>
 // with the text quoted (control characters as \xNN, a long text by its length) and the
 // bounds printed with %g, never as a 309-digit number. Header-only; every function inline.
+// In the analysis layer (mechgen/analysis/) because the analyses' checks of a request against
+// a model (inputs.h, view_params.h) write their messages with it; runtime/tools/common/numbers.h
+// forwards here.
 #pragma once
 
 #include <cerrno>

@@ -4,7 +4,7 @@
 // in the model language). Names are checked against the generated Params::kNames; an unknown
 // name lists them, and a derived parameter (Params::kDerivedNames: it follows the parameters
 // it is defined by) names itself as derived. No recompilation: the generated code takes its
-// parameters at run time. The options themselves are declared by common/cli.h
+// parameters at run time. The options themselves are declared by tools/common/cli.h
 // (AddParameterOptions); this part needs no CLI11, so that the sweep's model-independent
 // CLI11 object (sweep_args.cc) can carry them.
 //
@@ -37,7 +37,7 @@ inline std::string Trim(const std::string& text) {
 }
 
 /// The parameters of a generated model (its Params: kNames, kDerivedNames, Find) as the
-/// functions below read a parameter table; common/view_params.h has the model view's.
+/// functions below read a parameter table; analysis/view_params.h has the model view's.
 template <class P>
 struct GeneratedTable {
   P* params;

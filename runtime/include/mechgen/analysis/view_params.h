@@ -1,4 +1,4 @@
-// The parameter options (--params FILE, --set name=value; common/params.h) on a model reached
+// The parameter options (--params FILE, --set name=value; analysis/params.h) on a model reached
 // through its view (core/view_model.h): the view's table names the free parameters and the
 // derived ones, and fill_derived recomputes the derived after the free ones are set. The
 // messages are those of a generated model's tool, word for word.
