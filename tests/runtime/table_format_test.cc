@@ -103,6 +103,38 @@ TEST(FormatNumber, NeverNegativeZero) {
   EXPECT_EQ(FormatNumber(-std::numeric_limits<double>::quiet_NaN(), "%.4f"), "nan");
 }
 
+// The one conversion of angles to and from degrees (io/format.h): exact where pi's multiples
+// are, and the nearest double to x 180/pi more often than the former x * (180/pi), against
+// that product in extended precision (where long double has more digits than double).
+TEST(Degrees, ExactAtPiAndNearerThanMultiplying) {
+  using mechgen::internal::FromDegrees;
+  using mechgen::internal::kDegToRad;
+  using mechgen::internal::ToDegrees;
+  EXPECT_EQ(kDegToRad, M_PI / 180);
+  EXPECT_EQ(ToDegrees(M_PI), 180.0);
+  EXPECT_EQ(ToDegrees(-M_PI / 2), -90.0);
+  EXPECT_EQ(ToDegrees(4 * M_PI), 720.0);
+  EXPECT_EQ(FromDegrees(180), M_PI);
+  EXPECT_EQ(FromDegrees(-90), -M_PI / 2);
+  EXPECT_EQ(ToDegrees(0.0), 0.0);
+  EXPECT_EQ(FromDegrees(0.0), 0.0);
+  EXPECT_TRUE(std::isnan(ToDegrees(std::numeric_limits<double>::quiet_NaN())));
+  EXPECT_TRUE(std::isnan(FromDegrees(std::numeric_limits<double>::quiet_NaN())));
+  if (std::numeric_limits<long double>::digits <= std::numeric_limits<double>::digits + 8) return;
+  const long double pi = 3.141592653589793238462643383279502884L;
+  int nearest = 0, nearest_multiplying = 0;
+  const int n = 200000;
+  for (int i = 1; i <= n; ++i) {
+    const double x = i * 1e-4;  // 0.0001 .. 20 rad
+    const double exact = static_cast<double>(static_cast<long double>(x) * 180 / pi);
+    nearest += ToDegrees(x) == exact;
+    nearest_multiplying += x * 57.29577951308232 == exact;
+    EXPECT_LE(std::abs(ToDegrees(x) - exact), 2 * std::numeric_limits<double>::epsilon() * exact) << x;
+  }
+  EXPECT_GT(nearest, nearest_multiplying);
+  EXPECT_GT(nearest, n * 85 / 100);
+}
+
 // The table and the CSV of a record holding negative zeros and tiny negatives.
 TEST(FormatNumber, TableAndCsvPrintNoNegativeZero) {
   using M = mech::handwritten_fourbar::Model;
