@@ -72,7 +72,6 @@ bool WriteWhole(const std::string& path, const std::string& text, std::string* e
   return file.Commit(error);
 }
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180;
 
 std::string Format(const char* format, double x) {
   char buffer[64];
@@ -82,7 +81,7 @@ std::string Format(const char* format, double x) {
 
 // Degrees in [0, 360).
 double Degrees(double rad) {
-  double d = std::fmod(rad / kDeg, 360.0);
+  double d = std::fmod(mechgen::ToDegrees(rad), 360.0);
   if (d < 0) d += 360;
   if (d >= 360 - 5e-13) d = 0;
   return d;
@@ -195,7 +194,7 @@ int RunTable(bool csv,
     bal::EngineLayout e;
     e.name = file_names.back().c_str();
     e.description = "from a file";
-    for (const auto& row : rows) e.cylinders[e.count++] = {row[0] * kDeg, row[1] * kDeg, row[2]};
+    for (const auto& row : rows) e.cylinders[e.count++] = {mechgen::FromDegrees(row[0]), mechgen::FromDegrees(row[1]), row[2]};
     chosen.push_back(e);
   }
   for (const std::string& name : names) {
@@ -247,7 +246,7 @@ int RunRotor(const RotorArgs& a) {
   std::string error;
   if (!ReadCsv(a.csv, 4, 4, &rows, &error)) return Fail(error);
   std::vector<bal::Unbalance> u;
-  for (const auto& row : rows) u.push_back({row[0], row[1], row[2] * kDeg, row[3]});
+  for (const auto& row : rows) u.push_back({row[0], row[1], mechgen::FromDegrees(row[2]), row[3]});
   const bool two_planes = Given(a.left) || Given(a.right);
   if (two_planes && !(Given(a.left) && Given(a.right)))
     return Usage("two-plane balancing needs both --left and --right (the planes' z)");
@@ -346,7 +345,7 @@ int RunFlywheel(const FlywheelArgs& a) {
     if (by_scales && !(a.torque_scale > 0 && a.angle_scale > 0))
       return Usage("--torque-scale and --angle-scale go together (both > 0)");
     if (!by_scales && !(a.scale > 0)) return Usage("--scale must be > 0");
-    const double scale = by_scales ? a.torque_scale * a.angle_scale * kDeg : a.scale;
+    const double scale = by_scales ? a.torque_scale * a.angle_scale * mechgen::kDegToRad : a.scale;
     const fw::AreaLoop loop = fw::DeltaEFromAreas(areas.data(), static_cast<int>(areas.size()));
     if (loop.status == fw::LoopStatus::kNotSteady)
       return Usage("--areas: the loop does not close (sum of the areas = " + Format("%.6g", loop.closure) +
@@ -391,7 +390,7 @@ int RunFlywheel(const FlywheelArgs& a) {
     fw::EnergyLoopOptions o;
     o.remove_mean = a.remove_mean;
     std::vector<double> E(n);
-    const fw::EnergyLoop loop = fw::ExcessEnergy(dT.data(), n, a.cycle_deg * kDeg, theta0 * kDeg, o, E.data());
+    const fw::EnergyLoop loop = fw::ExcessEnergy(dT.data(), n, mechgen::FromDegrees(a.cycle_deg), mechgen::FromDegrees(theta0), o, E.data());
     if (loop.status == fw::LoopStatus::kNotSteady)
       return Fail(a.torque_csv + ": not a steady cycle: the mean excess torque is " + Format("%.6g", loop.mean_torque) +
                   " N m (use --remove-mean to take the load as the mean torque)");
@@ -400,8 +399,8 @@ int RunFlywheel(const FlywheelArgs& a) {
     out << "energy loop from " << n << " torque samples over " << Format("%g", a.cycle_deg)
         << " deg (mean excess torque " << Format("%.6g", loop.mean_torque) << " N m"
         << (a.remove_mean ? ", removed" : "") << ")\n";
-    out << "  E_max = " << Format("%.6g", loop.E_max) << " J at " << Format("%.3f", loop.theta_max / kDeg)
-        << " deg, E_min = " << Format("%.6g", loop.E_min) << " J at " << Format("%.3f", loop.theta_min / kDeg)
+    out << "  E_max = " << Format("%.6g", loop.E_max) << " J at " << Format("%.3f", mechgen::ToDegrees(loop.theta_max))
+        << " deg, E_min = " << Format("%.6g", loop.E_min) << " J at " << Format("%.3f", mechgen::ToDegrees(loop.theta_min))
         << " deg\n";
     out << "  dE = " << Format("%.6g", delta_E) << " J\n";
     if (!a.energy_csv.empty()) {

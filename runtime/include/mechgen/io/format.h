@@ -11,6 +11,8 @@
 #include <string>
 #include <system_error>
 
+#include "mechgen/core/constants.h"
+
 namespace mechgen::internal {
 
 /// "nan" for NaN, else x printed with format; never a negative zero: -0.0, and a small
@@ -48,15 +50,10 @@ inline std::string FormatRoundTrip(double x) {
   return std::string(buffer, r.ptr);
 }
 
-/// Angles in degrees, the one conversion of every output and input (the tools' messages,
-/// tables and CSVs, the "deg" suffix of the command lines, model, study and task files):
-/// kDegToRad is pi/180 rounded to the nearest double (M_PI / 180 gives the same double).
-/// ToDegrees divides by it (one correctly rounded operation: of x * 180/pi it is the nearest
-/// double more often than x * double(180/pi), about 11 % of doubles misrounded against 23 %),
-/// FromDegrees multiplies by it; both exact for 0 and keep NaN.
-constexpr double kDegToRad = 0.017453292519943295;
-constexpr double ToDegrees(double radians) { return radians / kDegToRad; }
-constexpr double FromDegrees(double degrees) { return degrees * kDegToRad; }
+/// Angles in degrees: the one conversion (core/constants.h), named here too for the writers.
+using ::mechgen::FromDegrees;
+using ::mechgen::kDegToRad;
+using ::mechgen::ToDegrees;
 
 
 }  // namespace mechgen::internal

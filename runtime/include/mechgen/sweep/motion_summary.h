@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "mechgen/core/constants.h"
 #include "mechgen/sweep/sweep.h"
 
 namespace mechgen {
@@ -268,13 +269,12 @@ class MotionSummaryBuilder {
 /// model's length units, angles in rad and deg, inputs as the sweep's table shows them (deg
 /// for an angle).
 inline void PrintMotionSummary(const MotionSummary& s, std::ostream& out) {
-  constexpr double kDeg = 180 / 3.14159265358979323846;
   if (!s.one_input) return;
   char buffer[512];
   auto input = [&](double q) {
     char b[64];
     if (s.input_is_angle) {
-      std::snprintf(b, sizeof(b), "%s = %.6f deg", s.input_name.c_str(), q * kDeg);
+      std::snprintf(b, sizeof(b), "%s = %.6f deg", s.input_name.c_str(), ToDegrees(q));
     } else {
       std::snprintf(b, sizeof(b), "%s = %.9g", s.input_name.c_str(), q);
     }
@@ -283,7 +283,7 @@ inline void PrintMotionSummary(const MotionSummary& s, std::ostream& out) {
   auto value = [&](double v, bool angle) {
     char b[96];
     if (angle) {
-      std::snprintf(b, sizeof(b), "%.12g rad (%.6f deg)", v, v * kDeg);
+      std::snprintf(b, sizeof(b), "%.12g rad (%.6f deg)", v, ToDegrees(v));
     } else {
       std::snprintf(b, sizeof(b), "%.12g", v);
     }
@@ -292,7 +292,7 @@ inline void PrintMotionSummary(const MotionSummary& s, std::ostream& out) {
   auto interval = [&](double dq) {
     char b[64];
     if (s.input_is_angle) {
-      std::snprintf(b, sizeof(b), "%.6f deg", dq * kDeg);
+      std::snprintf(b, sizeof(b), "%.6f deg", ToDegrees(dq));
     } else {
       std::snprintf(b, sizeof(b), "%.9g", dq);
     }

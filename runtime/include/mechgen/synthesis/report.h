@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "mechgen/core/constants.h"
 #include "mechgen/synthesis/optimize.h"
 #include "mechgen/synthesis/output.h"
 
@@ -50,7 +51,7 @@ std::string Report(PathEvaluator<M>* eval, const SearchResult& s, const std::str
   for (int i = 0; i < b.n; ++i) {
     char line[200];
     std::snprintf(line, sizeof line, "%4d  %15.9g  %15.9g  %12.4g  %12.6f\n", i + 1, t.tx[static_cast<size_t>(i)],
-                  t.ty[static_cast<size_t>(i)], c.distance[static_cast<size_t>(i)], c.q[static_cast<size_t>(i)] * 180 / M_PI);
+                  t.ty[static_cast<size_t>(i)], c.distance[static_cast<size_t>(i)], ToDegrees(c.q[static_cast<size_t>(i)]));
     r += line;
   }
   r += "\ndefect checks:\n";
@@ -60,9 +61,9 @@ std::string Report(PathEvaluator<M>* eval, const SearchResult& s, const std::str
        (continuation.empty() ? std::string("ok") : "FAILED: " + continuation) + "\n";
   if (t.constraints.order) r += std::string("  targets in input order: ") + (c.feasible() ? "ok" : "see above") + "\n";
   if (std::isfinite(c.mu_min))
-    r += "  transmission angle over the motion: [" + Short(c.mu_min * 180 / M_PI, 5) + ", " + Short(c.mu_max * 180 / M_PI, 5) +
-         "] deg" + (t.constraints.has_mu ? " (bounds [" + Short(t.constraints.mu_lo * 180 / M_PI, 5) + ", " +
-                                               Short(t.constraints.mu_hi * 180 / M_PI, 5) + "])"
+    r += "  transmission angle over the motion: [" + Short(ToDegrees(c.mu_min), 5) + ", " + Short(ToDegrees(c.mu_max), 5) +
+         "] deg" + (t.constraints.has_mu ? " (bounds [" + Short(ToDegrees(t.constraints.mu_lo), 5) + ", " +
+                                               Short(ToDegrees(t.constraints.mu_hi), 5) + "])"
                                          : std::string()) + "\n";
   r += "\nparameters:\n";
   for (size_t j = 0; j < t.variables.size(); ++j)

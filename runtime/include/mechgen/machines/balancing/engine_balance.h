@@ -204,15 +204,14 @@ inline std::string TrimRight(const char* line) {
   s.erase(s.find_last_not_of(" \n") + 1);
   return newline ? s + '\n' : s;
 }
-constexpr double kDeg = kPi / 180;
 inline EngineLayout Make(const char* name, const char* description, std::initializer_list<Cylinder> cylinders) {
   EngineLayout e;
   e.name = name;
   e.description = description;
   for (const Cylinder& c : cylinders) {
     Cylinder d = c;
-    d.throw_angle *= kDeg;
-    d.bank_angle *= kDeg;
+    d.throw_angle = FromDegrees(d.throw_angle);
+    d.bank_angle = FromDegrees(d.bank_angle);
     e.cylinders[e.count++] = d;
   }
   return e;
@@ -293,9 +292,9 @@ inline table::Columns<LayoutCylinderRow> LayoutCylinderColumns() {
   add.Text("cylinder", "the cylinder's number, from 1",
            [](const LayoutCylinderRow& r) { return std::to_string(r.cylinder); });
   add.Number("throw_deg", "deg", "the crank pin's throw angle gamma from the crank's reference line, CCW +",
-             [cylinder](const LayoutCylinderRow& r) { return cylinder(r).throw_angle / internal::kDeg; });
+             [cylinder](const LayoutCylinderRow& r) { return ToDegrees(cylinder(r).throw_angle); });
   add.Number("bank_deg", "deg", "the cylinder axis's bank angle beta from the x axis, CCW +",
-             [cylinder](const LayoutCylinderRow& r) { return cylinder(r).bank_angle / internal::kDeg; });
+             [cylinder](const LayoutCylinderRow& r) { return ToDegrees(cylinder(r).bank_angle); });
   add.Number("z", "cylinder spacings", "the cylinder's axial position along the crankshaft, centred on 0",
              [cylinder](const LayoutCylinderRow& r) { return cylinder(r).z; });
   add.Text("description", "what the layout is", [](const LayoutCylinderRow& r) { return std::string(r.layout->description); });

@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "mechgen/core/constants.h"
 #include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/core/model_view.h"
@@ -223,7 +224,7 @@ bool ReadPressureTable(const std::string& path, double cycle, PressureTable* t, 
       *error = path + ":" + std::to_string(row) + ": expected 'angle_deg,p_gauge_Pa'";
       return false;
     }
-    a.push_back(x * (Engine::kPi / 180));
+    a.push_back(FromDegrees(x));
     p.push_back(y);
   }
   std::string why;
@@ -374,7 +375,7 @@ bool RunCycle(const M& model, const typename ModelTypes<M>::Params& p0, const En
     typename ModelTypes<M>::Coefficients c;
     if (!CrankPositions(model, p, pt.theta, &phi, &c)) {
       char buf[160];
-      std::snprintf(buf, sizeof(buf), "the positions failed at theta = %.3f deg", pt.theta / (Engine::kPi / 180));
+      std::snprintf(buf, sizeof(buf), "the positions failed at theta = %.3f deg", ToDegrees(pt.theta));
       *error = buf;
       return false;
     }

@@ -119,8 +119,8 @@ struct PolytropicWiebeParams {
   double p_intake = 1.0e5;         ///< absolute intake pressure (Pa)
   double p_ambient = 1.01325e5;    ///< absolute ambient pressure (Pa): gauge 0
   double n = 1.32;                 ///< polytropic exponent (> 1)
-  double burn_start = -15 * kPi / 180;  ///< a_s (rad, > -π)
-  double burn_duration = 60 * kPi / 180;  ///< Δa (rad, > 0, a_s + Δa < π)
+  double burn_start = FromDegrees(-15);  ///< a_s (rad, > -π)
+  double burn_duration = FromDegrees(60);  ///< Δa (rad, > 0, a_s + Δa < π)
   double wiebe_a = 5;              ///< w: x_b = 1 - exp(-w) at the end of the burn
   double wiebe_m = 2;              ///< form factor m (>= 0)
   double heat = 800;               ///< Q_total, heat released per cycle (J, >= 0)

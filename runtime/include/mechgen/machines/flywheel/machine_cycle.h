@@ -269,7 +269,7 @@ double DefaultCycle() {
 namespace internal {
 inline std::string Degrees(double theta) {
   char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "theta = %.6g deg", theta * 180 / kPi);
+  std::snprintf(buffer, sizeof(buffer), "theta = %.6g deg", ToDegrees(theta));
   return buffer;
 }
 
