@@ -339,30 +339,15 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
     Assign(&drive_prev, out->statics.drive);
     for (int k = 1; k < options.max_friction_iterations; ++k) {
       auto f = Sized<VecF>(nf);
-      // The view: f's entries, its copy in out->friction, whether they are finite, their change
-      // from f_prev and their maximum, and f_prev = f, in one pass (the same values as the
-      // passes below: a maximum of finite entries, f_prev finite; f_prev is not read again
-      // when the iteration stops).
-      [[maybe_unused]] double f_view_change = 0, f_view_scale = 0, f_view_zero = 0;
       if constexpr (C::kView) {  // (the same products, entry by entry)
-        out->friction.resize(nf);
-        for (int J = 0; J < nf; ++J) {
-          const double fJ = -(out->statics.gain(J) * out->statics.normal(J)) * sign(J);
-          f(J) = fJ;
-          out->friction(J) = fJ;
-          const double change = std::abs(fJ - f_prev(J)), size = std::abs(fJ);
-          f_view_change = f_view_change > change ? f_view_change : change;  // (maxsd, as MaxAbsDiff)
-          f_view_scale = f_view_scale > size ? f_view_scale : size;
-          f_view_zero += fJ - fJ;  // 0 exactly when every entry is finite (AllFinite)
-          f_prev(J) = fJ;
-        }
+        for (int J = 0; J < nf; ++J) f(J) = -(out->statics.gain(J) * out->statics.normal(J)) * sign(J);
       } else {
         f = -(out->statics.gain.cwiseProduct(out->statics.normal)).cwiseProduct(sign);
       }
       internal::Evaluate<M>(model, p, q, phi, c, &f, &out->statics, velocities);
       ++s.iterations;
-      if constexpr (!C::kView) Assign(&out->friction, f);
-      if (!internal::AllFinite<M>(model, out->statics) || !(C::kView ? f_view_zero == 0 : Finite(f))) {
+      Assign(&out->friction, f);
+      if (!internal::AllFinite<M>(model, out->statics) || !Finite(f)) {
         return finish(Status::kDidNotConverge, "friction iteration diverged", false);
       }
       double drive_change = 0, f_change = 0, drive_scale = 0, f_scale = 0;
@@ -371,9 +356,9 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
         // reductions.
         using ::mechgen::internal::MaxAbsDiff;
         drive_change = MaxAbsDiff(out->statics.drive, &drive_prev);
-        f_change = f_view_change;
+        f_change = MaxAbsDiff(f, &f_prev);
         drive_scale = MaxAbsDiff(out->statics.drive);
-        f_scale = f_view_scale;
+        f_scale = MaxAbsDiff(f);
       } else {
         drive_change = (out->statics.drive - drive_prev).template lpNorm<Eigen::Infinity>();
         f_change = (f - f_prev).template lpNorm<Eigen::Infinity>();
@@ -385,7 +370,7 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
           f_change <= options.relative_tolerance * f_scale + options.absolute_tolerance) {
         return finish(Status::kConverged, "", false);
       }
-      if constexpr (!C::kView) Assign(&f_prev, f);
+      Assign(&f_prev, f);
       Assign(&drive_prev, out->statics.drive);
     }
     return finish(Status::kDidNotConverge,
