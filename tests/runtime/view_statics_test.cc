@@ -79,7 +79,7 @@ void ExpectSameSolution(const Solution<M>& a, const Solution<ViewModel>& b, cons
   EXPECT_TRUE(SameBits("Q", a.statics.Q, b.statics.Q));
   EXPECT_TRUE(SameBits("drive", a.statics.drive, b.statics.drive));
   if constexpr (F::kHasPotential) {
-    EXPECT_TRUE(SameBits("V", a.statics.V, b.statics.V));
+    EXPECT_TRUE(SameBits("V", a.statics.V, double(b.statics.V)));
     EXPECT_TRUE(SameBits("dV_dq", a.statics.dV_dq, b.statics.dV_dq));
   } else {
     EXPECT_EQ(b.statics.dV_dq.size(), 0);
@@ -309,6 +309,63 @@ TEST(ViewStatics, SameAsFixedSize_slider_crank_motor) {
 #ifdef MECHGEN_HAVE_fivebar_robot
 TEST(ViewStatics, SameAsFixedSize_fivebar_robot) {
   ExpectViewStaticsSweepSame<mech::fivebar_robot::Model>(mech::fivebar_robot::View());
+}
+#endif
+
+// A view's Statics is its buffer with each member a map of it (core/view_model.h): a copy maps
+// its own buffer (the source solved again afterwards leaves the copy as it was, bit for bit),
+// and a copy over a value placed on another view's layout follows the source's (sizes and
+// entries). Oracle: the fixed-size Solve at the same two configurations.
+#if defined(MECHGEN_HAVE_slider_crank_friction) && defined(MECHGEN_HAVE_fourbar_loaded)
+TEST(ViewStatics, CopyMapsItsOwnBuffer) {
+  using M = mech::slider_crank_friction::Model;
+  using VM = ViewModel;
+  using VT = ModelTypes<VM>;
+  const VM model(mech::slider_crank_friction::View());
+  const VT::Params pv = ModelCalls<VM>::DefaultParams(model);
+  const M::ParamsT<double> p;
+  position::PositionSolver<M> fixed_solver;
+  position::PositionSolver<VM> view_solver(model);
+  ASSERT_EQ(fixed_solver.AssembleDefault(nullptr), position::Status::kConverged);
+  ASSERT_EQ(view_solver.AssembleDefault(nullptr), position::Status::kConverged);
+  auto solve_both = [&](double q, Solution<M>* a, Solution<VM>* b) {
+    const typename ModelTypes<M>::VecQ qa = ModelTypes<M>::VecQ::Constant(q);
+    const VT::VecQ qb = VT::VecQ::Constant(1, q);
+    ASSERT_EQ(fixed_solver.MoveTo(qa, nullptr), position::Status::kConverged);
+    ASSERT_EQ(view_solver.MoveTo(qb, nullptr), position::Status::kConverged);
+    typename ModelTypes<M>::Coefficients ca;
+    VT::Coefficients cb;
+    ModelCalls<M>::Coeffs(M(), p, fixed_solver.state().q, fixed_solver.state().phi, &ca);
+    ModelCalls<VM>::Coeffs(model, pv, view_solver.state().q, view_solver.state().phi, &cb);
+    // moving forward: the friction iteration writes every member Forces has
+    Solve<M>(M(), Options(), p, fixed_solver.state().q, fixed_solver.state().phi, ca,
+             ModelTypes<M>::VecQ::Ones(), a);
+    Solve<VM>(model, Options(), pv, view_solver.state().q, view_solver.state().phi, cb, VT::VecQ::Ones(1), b);
+  };
+  const double q0 = M::kAssemblyQ[0];
+  Solution<M> a0, a1;
+  Solution<VM> b0(model), b1(model);
+  solve_both(q0 + 0.1, &a0, &b0);
+  ASSERT_EQ(b0.summary.status, Status::kConverged);
+  const Solution<VM> copy = b0;
+  const double* const begin = copy.statics.buffer.data();
+  const double* const end = begin + copy.statics.buffer.size();
+  for (const double* x : {copy.statics.Q.data(), copy.statics.drive.data(), copy.statics.R.data(),
+                          copy.statics.normal.data(), copy.statics.gain.data(), copy.statics.K_rel.data()}) {
+    EXPECT_TRUE(x >= begin && x < end);
+  }
+  solve_both(q0 + 0.7, &a1, &b1);
+  b0 = b1;  // the original now holds another configuration's values
+  ExpectSameSolution<M>(a1, b0, "copy assigned");
+  ExpectSameSolution<M>(a0, copy, "copy, its source solved again");
+  EXPECT_NE(copy.statics.drive(0), b0.statics.drive(0));
+  // Over a value placed on another view (fewer reactions, no friction): the source's layout.
+  const VM other(mech::fourbar_loaded::View());
+  Solution<VM> c(other);
+  ASSERT_NE(c.statics.R.size(), copy.statics.R.size());
+  c = copy;
+  ExpectSameSolution<M>(a0, c, "copy over another view's");
+  EXPECT_EQ(c.statics.view, copy.statics.view);
 }
 #endif
 

@@ -30,8 +30,8 @@ namespace internal {
 /// drop a NaN), so that a test `MaxAbsDiff(...) <= tolerance` fails on NaN.
 /// Branch-free: which entry is largest is often rounding noise (the residual), and a
 /// branch on it mispredicts about every other step (measured: 0.8 per four-bar step).
-template <class A>
-MECHGEN_ALWAYS_INLINE double MaxAbsDiff(const A& a, const A* b = nullptr) {
+template <class A, class B = A>
+MECHGEN_ALWAYS_INLINE double MaxAbsDiff(const A& a, const B* b = nullptr) {
   double m = 0;
   bool nan = false;
   // (A bounded dynamic matrix, ModelTypes<ViewModel>: its size at run time.)

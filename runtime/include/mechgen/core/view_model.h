@@ -204,17 +204,54 @@ struct ModelTypes<ViewModel, Scalar> {
   using VecR = Eigen::Matrix<double, D, 1, 0, kMaxReactions, 1>;           ///< R
   using VecF = Eigen::Matrix<double, D, 1, 0, kMaxFriction, 1>;            ///< normal, gain, f
   using MatFQ = Eigen::Matrix<double, D, D, 0, kMaxFriction, kMaxQ>;       ///< K_rel
-  /// The generated StaticsT<double>, member for member, at the view's sizes (a member the
-  /// model lacks is empty, V NaN): ModelCalls<ViewModel>::Forces and Stiffness copy it into the
-  /// view's buffer and back by member name (ViewModel::StaticsLayout). Copyable.
+  /// The generated StaticsT<double> at the view's sizes: the view's Statics buffer, and each
+  /// member a map of it (placed on the view's layout by ModelCalls<ViewModel>::SetNaNStatics,
+  /// which statics::internal::SetNaN calls; empty where the model lacks the member, V then NaN).
+  /// The view's Forces and Stiffness write the buffer itself: nothing is copied in or out per
+  /// call. Copyable: a copy maps its own buffer (the entries in use copied; over a value placed
+  /// on the same view's layout, the entries only).
   struct Statics {
-    VecQ Q, drive;
-    double V = std::numeric_limits<double>::quiet_NaN();
-    VecQ dV_dq;
-    MatQQ d2V_dq2, stiffness;
-    VecR R;
-    VecF normal, gain;
-    MatFQ K_rel;
+    using VecMap = Eigen::Map<Eigen::VectorXd>;
+    using MatMap = Eigen::Map<Eigen::MatrixXd>;
+    /// V: its entry of the buffer, NaN where the model has none (read as a double).
+    struct Entry {
+      const double* at = nullptr;
+      operator double() const { return at != nullptr ? *at : std::numeric_limits<double>::quiet_NaN(); }
+    };
+    Statics() = default;
+    Statics(const Statics& other) { CopyFrom(other); }
+    Statics& operator=(const Statics& other) {
+      if (this != &other) CopyFrom(other);
+      return *this;
+    }
+    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kStatics)]> buffer;
+    const ModelView* view = nullptr;  ///< the view whose layout the members follow (nullptr: none)
+    int size = 0;                     ///< the entries in use, buffer[0, size)
+    VecMap Q{nullptr, 0}, drive{nullptr, 0};
+    Entry V;
+    VecMap dV_dq{nullptr, 0};
+    MatMap d2V_dq2{nullptr, 0, 0}, stiffness{nullptr, 0, 0};
+    VecMap R{nullptr, 0}, normal{nullptr, 0}, gain{nullptr, 0};
+    MatMap K_rel{nullptr, 0, 0};
+
+   private:
+    void CopyFrom(const Statics& other) {
+      ::mechgen::internal::CopyEntries(other.buffer.data(), other.size, buffer.data());
+      if (view == other.view && size == other.size) return;  // (the maps already placed so)
+      view = other.view;
+      size = other.size;
+      auto at = [this, &other](const double* x) { return x != nullptr ? buffer.data() + (x - other.buffer.data()) : nullptr; };
+      // (A Map is trivially destructible: placed anew over the old one.)
+      for (auto member : {&Statics::Q, &Statics::drive, &Statics::dV_dq, &Statics::R, &Statics::normal, &Statics::gain}) {
+        const VecMap& x = other.*member;
+        new (&(this->*member)) VecMap(at(x.data()), x.size());
+      }
+      for (auto member : {&Statics::d2V_dq2, &Statics::stiffness, &Statics::K_rel}) {
+        const MatMap& x = other.*member;
+        new (&(this->*member)) MatMap(at(x.data()), x.rows(), x.cols());
+      }
+      V.at = at(other.V.at);
+    }
   };
 
   // ---- Dynamics: its types ----
@@ -540,18 +577,48 @@ struct ModelCalls<ViewModel> {
   static int GroundLink(const M& m) { return m.view->ground_link; }
   static const char* LinkName(const M& m, int l) { return m.view->link_names[l]; }
 
-  /// Model::Forces through the view: *out copied into the view's Statics buffer (the view's
-  /// function reads what it does not write, as the generated one keeps it), the call, and the
-  /// buffer copied back. f: the friction loads (NumFriction) or nullptr; qd: the input velocities
-  /// or nullptr (at rest; a model whose statics read none ignores them).
+  /// *s placed on this view's Statics layout (where it is not yet), every entry NaN: each member
+  /// a map of s->buffer at the sizes the model has (Q, drive nq; dV_dq with the potential;
+  /// d2V_dq2, stiffness nq x nq with Stiffness; R NumReactions; normal, gain, K_rel
+  /// NumFriction (x nq)), empty where it lacks one (V then NaN). statics::internal::SetNaN.
+  static void SetNaNStatics(const M& m, T::Statics* s) {
+    if (s->view != m.view) PlaceStatics(m, s);
+    internal::FillEntries(s->buffer.data(), s->size, std::numeric_limits<double>::quiet_NaN());
+  }
+  static void PlaceStatics(const M& m, T::Statics* s) {
+    const ViewModel::StaticsLayout& l = m.statics;
+    double* const b = s->buffer.data();
+    const int nq = Nq(m), nr = NumReactions(m), nf = NumFriction(m);
+    using VecMap = T::Statics::VecMap;
+    using MatMap = T::Statics::MatMap;
+    // (A Map is trivially destructible: placed anew over the old one.)
+    auto vec = [b](VecMap* x, int offset, int n) { new (x) VecMap(offset >= 0 ? b + offset : nullptr, offset >= 0 ? n : 0); };
+    auto mat = [b](MatMap* x, int offset, int rows, int cols) {
+      new (x) MatMap(offset >= 0 ? b + offset : nullptr, offset >= 0 ? rows : 0, offset >= 0 ? cols : 0);
+    };
+    s->view = m.view;
+    s->size = l.size;
+    vec(&s->Q, l.Q, nq);
+    vec(&s->drive, l.drive, nq);
+    s->V.at = HasPotential(m) ? b + l.V : nullptr;
+    vec(&s->dV_dq, l.dV_dq, HasPotential(m) ? nq : 0);
+    mat(&s->d2V_dq2, l.d2V_dq2, HasD2V(m) ? nq : 0, nq);
+    mat(&s->stiffness, l.stiffness, HasStiffness(m) ? nq : 0, nq);
+    vec(&s->R, l.R, nr);
+    vec(&s->normal, l.normal, nf);
+    vec(&s->gain, l.gain, nf);
+    mat(&s->K_rel, l.K_rel, nf, nq);
+  }
+  /// Model::Forces through the view, into *out's buffer (placed on this view first where it is
+  /// not yet, SetNaNStatics): the view's function reads what it does not write, which keeps its
+  /// value, as in the generated struct. f: the friction loads (NumFriction) or nullptr; qd: the
+  /// input velocities or nullptr (at rest; a model whose statics read none ignores them).
   static void Forces(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                      const T::Coefficients& c, T::Statics* out, const T::VecF* f, const T::VecQ* qd) {
-    StaticsBuffer buffer;
-    PutStatics(m, *out, buffer.data());
-    m.view->Forces(p.data(), q.data(), phi.data(), c.buffer.data(), buffer.data(),
+    if (out->view != m.view) SetNaNStatics(m, out);
+    m.view->Forces(p.data(), q.data(), phi.data(), c.buffer.data(), out->buffer.data(),
                    f != nullptr && HasFriction(m) ? f->data() : nullptr, nullptr,
                    qd != nullptr ? qd->data() : nullptr);
-    GetStatics(m, buffer.data(), out);
   }
   /// The coefficients from a position::State (Phi_phi, K, L and the points; Phi 0) into c's
   /// buffer and its maps, as Coeffs sets them (ModelCalls<M>::StaticsCoefficients).
@@ -575,49 +642,9 @@ struct ModelCalls<ViewModel> {
   static void Stiffness(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                         const T::Coefficients& c, T::Statics* out) {
     if (m.view->Stiffness == nullptr) return;
-    StaticsBuffer buffer;
-    PutStatics(m, *out, buffer.data());
-    m.view->Stiffness(p.data(), q.data(), phi.data(), c.buffer.data(), buffer.data());
-    GetStatics(m, buffer.data(), out);
+    if (out->view != m.view) SetNaNStatics(m, out);
+    m.view->Stiffness(p.data(), q.data(), phi.data(), c.buffer.data(), out->buffer.data());
   }
-  using StaticsBuffer = std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kStatics)]>;
-  /// The members of s into the view's Statics buffer b (column-major, by the layout's offsets),
-  /// and back; a member the model lacks is skipped. s's members have the view's sizes
-  /// (statics::internal::SetNaN sizes them).
-  static void PutStatics(const M& m, const T::Statics& s, double* b) {
-    const ViewModel::StaticsLayout& l = m.statics;
-    internal::FillEntries(b, l.size, 0.0);
-    auto put = [b](int offset, const auto& x) {
-      if (offset >= 0) internal::CopyEntries(x.data(), x.size(), b + offset);
-    };
-    put(l.Q, s.Q);
-    put(l.drive, s.drive);
-    if (l.V >= 0) b[l.V] = s.V;
-    put(l.dV_dq, s.dV_dq);
-    put(l.d2V_dq2, s.d2V_dq2);
-    put(l.stiffness, s.stiffness);
-    put(l.R, s.R);
-    put(l.normal, s.normal);
-    put(l.gain, s.gain);
-    put(l.K_rel, s.K_rel);
-  }
-  static void GetStatics(const M& m, const double* b, T::Statics* s) {
-    const ViewModel::StaticsLayout& l = m.statics;
-    auto get = [b](int offset, auto* x) {
-      if (offset >= 0) internal::CopyEntries(b + offset, x->size(), x->data());
-    };
-    get(l.Q, &s->Q);
-    get(l.drive, &s->drive);
-    if (l.V >= 0) s->V = b[l.V];
-    get(l.dV_dq, &s->dV_dq);
-    get(l.d2V_dq2, &s->d2V_dq2);
-    get(l.stiffness, &s->stiffness);
-    get(l.R, &s->R);
-    get(l.normal, &s->normal);
-    get(l.gain, &s->gain);
-    get(l.K_rel, &s->K_rel);
-  }
-
   // ---- Design (a `design:` section): the design derivatives (position/design.h), the
   //      statics' (statics/sweep.h) and the design checks, through the view ----
   static bool HasDesign(const M& m) { return m.view->flags.kHasDesignDerivatives && m.view->Design != nullptr; }

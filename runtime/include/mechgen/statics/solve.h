@@ -123,22 +123,26 @@ template <class M>
 void SetNaN(const M& model, typename StaticsTypes<M>::Statics* s) {
   using F = StaticsFeatures<M>;
   using C = ModelCalls<M>;
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  const int nq = C::Nq(model);
-  Fill(&s->Q, nq, 1, kNaN);
-  Fill(&s->drive, nq, 1, kNaN);
-  if constexpr (F::kHasPotential) {
-    s->V = kNaN;
-    Fill(&s->dV_dq, C::HasPotential(model) ? nq : 0, 1, kNaN);
-  }
-  if constexpr (F::kHasD2V) Fill(&s->d2V_dq2, C::HasD2V(model) ? nq : 0, nq, kNaN);
-  if constexpr (F::kHasStiffness) Fill(&s->stiffness, C::HasStiffness(model) ? nq : 0, nq, kNaN);
-  if constexpr (F::kHasReactions) Fill(&s->R, C::NumReactions(model), 1, kNaN);
-  if constexpr (F::kHasFriction) {
-    const int nf = C::NumFriction(model);
-    Fill(&s->normal, nf, 1, kNaN);
-    Fill(&s->gain, nf, 1, kNaN);
-    Fill(&s->K_rel, nf, nq, kNaN);
+  if constexpr (C::kView) {  // (the members are maps of the view's buffer, placed on its layout)
+    C::SetNaNStatics(model, s);
+  } else {
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    const int nq = C::Nq(model);
+    Fill(&s->Q, nq, 1, kNaN);
+    Fill(&s->drive, nq, 1, kNaN);
+    if constexpr (F::kHasPotential) {
+      s->V = kNaN;
+      Fill(&s->dV_dq, C::HasPotential(model) ? nq : 0, 1, kNaN);
+    }
+    if constexpr (F::kHasD2V) Fill(&s->d2V_dq2, C::HasD2V(model) ? nq : 0, nq, kNaN);
+    if constexpr (F::kHasStiffness) Fill(&s->stiffness, C::HasStiffness(model) ? nq : 0, nq, kNaN);
+    if constexpr (F::kHasReactions) Fill(&s->R, C::NumReactions(model), 1, kNaN);
+    if constexpr (F::kHasFriction) {
+      const int nf = C::NumFriction(model);
+      Fill(&s->normal, nf, 1, kNaN);
+      Fill(&s->gain, nf, 1, kNaN);
+      Fill(&s->K_rel, nf, nq, kNaN);
+    }
   }
 }
 
