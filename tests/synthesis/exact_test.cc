@@ -676,6 +676,8 @@ TEST(ExactTask, BadTaskFilesNameTheirPlace) {
   const std::vector<Case> cases = {
       {head + "targets: [[0.5, 1.06], [-0.83, -0.27], [-0.34, 0.22], [-0.13, 0.43]]\n" + params,
        ":5:10: error: targets: kind: exact takes exactly five precision points"},
+      {"synthesis: path\nkind: exact\npoint: coupler.P\n" + five + params,
+       ":4:10: error: targets: kind: exact takes exactly nine precision points [[x, y], ...] without pivots"},
       {head + five + "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0}\n",
        ":6:13: error: parameters: give the frame's x0, y0 and theta0 together"},
       {head + five + "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi}\n",
@@ -873,6 +875,21 @@ TEST(NinePoint, ParameterHomotopyCarriesTheHandCrankRockerThereAndBack) {
   ASSERT_TRUE(internal::TrackEdge(q, r, there, o, &round1));
   ASSERT_TRUE(internal::TrackEdge(r, p, round1, o, &round2));
   EXPECT_LT(Residual(round2, p), 1e-10);
+}
+
+TEST(NinePoint, ShippedTaskFileIsTheHandCrankRockersNinePointsWithoutPivots) {
+  ExactTask task;
+  std::string error;
+  const std::string path = TaskFile("benchmarks/nine_point_exact.yaml");
+  ASSERT_TRUE(ParseExactTask(path, &task, &error)) << error;
+  EXPECT_TRUE(task.nine);
+  const nine_point::NinePoints pts = HandPoints(HandFourBar());
+  for (size_t j = 0; j < 9; ++j) {
+    EXPECT_NEAR(task.nine_points[j][0], pts[j][0], 1e-15) << "point " << j + 1;
+    EXPECT_NEAR(task.nine_points[j][1], pts[j][1], 1e-15) << "point " << j + 1;
+  }
+  BoundExact<Model> b;
+  EXPECT_TRUE(BindExactTask<Model>(task, {}, &b, &error)) << error;  // no pivots to check against the model
 }
 
 // The full run (minutes; by hand, docs/synthesis.md): every class at the hand crank-rocker's
