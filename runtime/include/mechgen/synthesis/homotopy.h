@@ -18,6 +18,10 @@
  * nonsingular solution is what the path reached with a small residual and rcond above
  * `singular_rcond`.
  *
+ * TrackHomotopy() is the same tracker on any homotopy h(z, t) with h(., 1) = F: the parameter
+ * homotopies F(z; p(t)) of the nine-point problem's monodromy (nine_point.h); TrackPath() is it
+ * on the straight-line H above.
+ *
  * TrackAll() follows every start solution and sorts the endpoints; two paths that reach the
  * same nonsingular solution have jumped (a path crossed to another): those are tracked again
  * with a tenth of the largest step, and what still coincides is counted, never hidden.

@@ -254,12 +254,14 @@ inline Params RandomParams(exact_internal::Coefficients* c) {
 }
 
 struct MonodromyOptions {
+  /// The tracker's settings; an end is nonsingular by ScaledRcond >= scaled_rcond (its
+  /// singular_rcond is not used).
   homotopy::TrackOptions track = [] {
     homotopy::TrackOptions o;
-    o.singular_rcond = 1e-13;   // 24 unknowns of different sizes: F_z's rcond is smaller than the five-point system's
     o.divergence_bound = 1e7;
     return o;
   }();
+  double scaled_rcond = 1e-10;
   int threads = 1;
   int stall_loops = 3;      ///< stop after this many new loops in a row found no new class
   int max_loops = 40;       ///< and after this many loops in all
@@ -337,10 +339,34 @@ class ClassSet {
   int classes_ = 0;
 };
 
-/// A path along one edge: its end when finite and nonsingular.
-inline bool TrackEdge(const Params& from, const Params& to, const Vec& z0, const homotopy::TrackOptions& o, Vec* z) {
-  const homotopy::PathEnd<kN> e = homotopy::TrackHomotopy<kN>(Segment{from, to}, AtParams{to}, z0, o);
-  if (e.status != homotopy::PathStatus::kFinite) return false;
+/// The reciprocal condition of F_z at z with its rows and columns scaled to a largest entry of
+/// 1: a solution far out (a pivot far away) has F_z's entries of sizes |z| and |z|^2 apart, so
+/// that the unscaled rcond says nothing about whether it is singular.
+inline double ScaledRcond(const Vec& z, const Params& p) {
+  Vec f;
+  Mat J;
+  AtParams{p}(z, &f, &J);
+  for (int c = 0; c < kN; ++c) {
+    const double m = J.col(c).cwiseAbs().maxCoeff();
+    if (m > 0) J.col(c) /= m;
+  }
+  for (int r = 0; r < kN; ++r) {
+    const double m = J.row(r).cwiseAbs().maxCoeff();
+    if (m > 0) J.row(r) /= m;
+  }
+  const Eigen::JacobiSVD<Mat> svd(J);
+  const auto& s = svd.singularValues();
+  return s(0) > 0 && std::isfinite(s(0)) ? s(kN - 1) / s(0) : 0;
+}
+
+/// A path along one edge: its end when it settles (the tracker's residual test) and F_z, scaled,
+/// is nonsingular (rcond at least `scaled_rcond`).
+inline bool TrackEdge(const Params& from, const Params& to, const Vec& z0, const homotopy::TrackOptions& o, Vec* z,
+                      double scaled_rcond = 1e-10) {
+  homotopy::TrackOptions settle = o;
+  settle.singular_rcond = 0;  // judged here, scaled
+  const homotopy::PathEnd<kN> e = homotopy::TrackHomotopy<kN>(Segment{from, to}, AtParams{to}, z0, settle);
+  if (e.status != homotopy::PathStatus::kFinite || !(ScaledRcond(e.z, to) >= scaled_rcond)) return false;
   *z = e.z;
   return true;
 }
@@ -395,11 +421,11 @@ inline MonodromyResult Monodromy(const StartPair& start, const MonodromyOptions&
       const auto& L = loops[static_cast<size_t>(t.loop)];
       Vec z1, z2, z3;
       t.edges = 1;
-      if (!TrackEdge(r.base, L.first, r.classes[i], o.track, &z1)) return t;
+      if (!TrackEdge(r.base, L.first, r.classes[i], o.track, &z1, o.scaled_rcond)) return t;
       t.edges = 2;
-      if (!TrackEdge(L.first, L.second, z1, o.track, &z2)) return t;
+      if (!TrackEdge(L.first, L.second, z1, o.track, &z2, o.scaled_rcond)) return t;
       t.edges = 3;
-      if (!TrackEdge(L.second, r.base, z2, o.track, &z3)) return t;
+      if (!TrackEdge(L.second, r.base, z2, o.track, &z3, o.scaled_rcond)) return t;
       t.ok = true;
       t.z = z3;
       return t;
@@ -472,8 +498,9 @@ struct NineSolution {
 struct NinePointResult {
   MonodromyResult monodromy;
   std::vector<Vec> at_target;  ///< one solution per class reached at the points (scaled), distinct classes
-  int lost = 0;                ///< classes whose path to the points failed or met another's class
-  int retracked = 0;           ///< paths tracked again with a finer step
+  int lost = 0;                ///< classes not reached at the points (their paths, their cognates' and three detours failed)
+  int retracked = 0;           ///< paths tracked again: with a finer step, or a cognate's path
+  int detours = 0;             ///< detours tried for a class still lost (each two paths)
   long paths = 0;              ///< every edge tracked: the monodromy's and the last homotopy's
   int solutions = 0;           ///< distinct solutions at the points: the orbits' members
   int real_classes = 0;
@@ -486,7 +513,8 @@ struct NinePointResult {
 /**
  * \brief Every four-bar through the nine points: monodromy at a random complex point set,
  *        then one parameter homotopy per class to the points (scaled); a path that fails or
- *        meets another class's end is tracked again with max_step / 10; the orbits expanded
+ *        meets another class's end is tracked again with max_step / 10 (then / 100), one that
+ *        still fails from its cognates, and a class still lost by detours; the orbits expanded
  *        at the points; the real solutions as four-bars.
  */
 inline NinePointResult SolveNinePoints(const NinePoints& points, const NinePointOptions& o = {}) {
@@ -505,7 +533,7 @@ inline NinePointResult SolveNinePoints(const NinePoints& points, const NinePoint
   auto track = [&](const homotopy::TrackOptions& track) {
     return [&, track](size_t i) {
       End e;
-      e.ok = TrackEdge(m.base, target, m.classes[i], track, &e.z);
+      e.ok = TrackEdge(m.base, target, m.classes[i], track, &e.z, o.monodromy.scaled_rcond);
       return e;
     };
   };
@@ -544,15 +572,21 @@ inline NinePointResult SolveNinePoints(const NinePoints& points, const NinePoint
     out.retracked += static_cast<int>(again.size());
     out.paths += static_cast<long>(again.size());
   }
-  ClassSet at(o.monodromy.same_tolerance);
-  for (const End& e : ends) {
-    if (!e.ok || at.Find(e.z) >= 0) {
-      ++out.lost;
-      continue;
+  // A path that still fails: its class's cognates' paths (the symmetries commute with the
+  // homotopy: the same class at the points; a pivot far out in one cognate is not in another).
+  for (size_t i = 0; i < ends.size(); ++i) {
+    if (ends[i].ok) continue;
+    const std::vector<Vec> orbit = Orbit(m.classes[i], m.base);
+    for (size_t k = 1; k < orbit.size() / 2 && !ends[i].ok; ++k) {
+      ends[i].ok = TrackEdge(m.base, target, orbit[k], o.monodromy.track, &ends[i].z, o.monodromy.scaled_rcond);
+      ++out.paths, ++out.retracked;
     }
-    const std::vector<Vec> orbit = Orbit(e.z, target);
+  }
+  ClassSet at(o.monodromy.same_tolerance);
+  auto place = [&](const Vec& z) {
+    const std::vector<Vec> orbit = Orbit(z, target);
     at.Add(orbit);
-    out.at_target.push_back(e.z);
+    out.at_target.push_back(z);
     // The orbit's distinct members.
     std::vector<Vec> distinct;
     for (const Vec& v : orbit) {
@@ -563,7 +597,7 @@ inline NinePointResult SolveNinePoints(const NinePoints& points, const NinePoint
       if (!seen) distinct.push_back(v);
     }
     out.solutions += static_cast<int>(distinct.size());
-    if (!IsReal(e.z, o.real_tolerance)) continue;
+    if (!IsReal(z, o.real_tolerance)) return;
     ++out.real_classes;
     for (size_t k = 0; k < distinct.size(); ++k) {
       NineSolution s;
@@ -576,6 +610,33 @@ inline NinePointResult SolveNinePoints(const NinePoints& points, const NinePoint
       if (s.bar.defect_free()) ++out.defect_free;
       out.real.push_back(s);
     }
+  };
+  std::vector<size_t> lost;
+  for (size_t i = 0; i < ends.size(); ++i) {
+    if (!ends[i].ok || at.Find(ends[i].z) >= 0) {
+      lost.push_back(i);
+      continue;
+    }
+    place(ends[i].z);
+  }
+  // The classes still lost: by detours through random complex point sets (base -> q -> points,
+  // up to three per lost class); an end in no class found yet is one (which class of the base it
+  // came from no longer matters: the set at the points is what is sought).
+  exact_internal::Coefficients detour(o.monodromy.seed ^ 0x5bd1e995ULL);
+  for (size_t i : lost) {
+    bool found = false;
+    for (int k = 0; k < 3 && !found; ++k) {
+      const Params q = RandomParams(&detour);
+      Vec z1, z2;
+      out.paths += 2;
+      ++out.detours;
+      if (TrackEdge(m.base, q, m.classes[i], o.monodromy.track, &z1, o.monodromy.scaled_rcond) &&
+          TrackEdge(q, target, z1, o.monodromy.track, &z2, o.monodromy.scaled_rcond) && at.Find(z2) < 0) {
+        place(z2);
+        found = true;
+      }
+    }
+    if (!found) ++out.lost;
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
