@@ -660,8 +660,8 @@ inline bool Configuration(const NineBar& bar, double q, int side, Complex* Bq, C
 
 /**
  * \brief An SVG drawing of one four-bar through the nine points: its coupler curve (the branch
- *        through the points in blue, the other in grey; 720 crank angles each), the linkage at
- *        point 1 (pivots, crank, coupler triangle, rocker), the points numbered.
+ *        through the points in blue, the other in grey; 720 crank angles each) over the linkage
+ *        at point 1 (pivots, crank, coupler triangle, rocker), the points numbered.
  */
 inline std::string NineBarSvg(const NineBar& bar, const NinePoints& points, const std::string& title) {
   const Complex A(bar.x0, bar.y0), D = A + std::polar(bar.d, bar.theta0);
@@ -700,6 +700,13 @@ inline std::string NineBarSvg(const NineBar& bar, const NinePoints& points, cons
                     "\" height=\"" + std::to_string(size + 2 * margin + 20) + "\">\n";
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   svg += "<text x=\"8\" y=\"16\" font-size=\"12\" font-family=\"sans-serif\">" + title + "</text>\n";
+  svg += "<polygon points=\"" + X(B) + "," + Y(B) + " " + X(C) + "," + Y(C) + " " + X(P0) + "," + Y(P0) +
+         "\" fill=\"#f3d9a4\" fill-opacity=\"0.5\" stroke=\"black\" stroke-width=\"1.5\"/>\n";
+  for (const auto& link : {std::make_pair(A, B), std::make_pair(D, C)})
+    svg += "<line x1=\"" + X(link.first) + "\" y1=\"" + Y(link.first) + "\" x2=\"" + X(link.second) + "\" y2=\"" +
+           Y(link.second) + "\" stroke=\"black\" stroke-width=\"2.5\"/>\n";
+  for (const Complex& g : {A, D})
+    svg += "<path d=\"M" + X(g) + " " + Y(g) + " l-6 10 h12 z\" fill=\"#555555\"/>\n";
   for (int k = 1; k >= 0; --k)
     for (const auto& piece : curves[k]) {
       svg += std::string("<polyline fill=\"none\" stroke=\"") + (k == 0 ? "#1f5fa8" : "#bbbbbb") +
@@ -707,13 +714,6 @@ inline std::string NineBarSvg(const NineBar& bar, const NinePoints& points, cons
       for (const Complex& z : piece) svg += X(z) + "," + Y(z) + " ";
       svg += "\"/>\n";
     }
-  svg += "<polygon points=\"" + X(B) + "," + Y(B) + " " + X(C) + "," + Y(C) + " " + X(P0) + "," + Y(P0) +
-         "\" fill=\"#f3d9a4\" stroke=\"black\" stroke-width=\"1.5\"/>\n";
-  for (const auto& link : {std::make_pair(A, B), std::make_pair(D, C)})
-    svg += "<line x1=\"" + X(link.first) + "\" y1=\"" + Y(link.first) + "\" x2=\"" + X(link.second) + "\" y2=\"" +
-           Y(link.second) + "\" stroke=\"black\" stroke-width=\"2.5\"/>\n";
-  for (const Complex& g : {A, D})
-    svg += "<path d=\"M" + X(g) + " " + Y(g) + " l-6 10 h12 z\" fill=\"#555555\"/>\n";
   for (size_t j = 0; j < 9; ++j) {
     const Complex p(points[j][0], points[j][1]);
     svg += "<circle cx=\"" + X(p) + "\" cy=\"" + Y(p) + "\" r=\"4\" fill=\"none\" stroke=\"#c0392b\" stroke-width=\"1.5\"/>\n";
