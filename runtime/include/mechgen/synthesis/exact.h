@@ -861,7 +861,8 @@ inline std::string NinePointReport(const NinePointRun& run) {
   o << "monodromy: " << m.classes.size() << " classes in " << m.loops << " loops, " << m.paths << " edges tracked, "
     << m.failed << " trips failed, " << Short(m.seconds, 4) << " s\n";
   o << "at the points: " << r.at_target.size() << " classes, " << r.solutions << " solutions, " << r.lost
-    << " classes lost, " << r.retracked << " paths tracked again with a finer step; " << r.paths << " paths in all\n";
+    << " classes lost, " << r.retracked << " paths tracked again (a finer step, or a cognate's), " << r.detours
+    << " detours for a lost class; " << r.paths << " paths in all\n";
   o << "real: " << r.real_classes << " classes, " << r.real.size() << " four-bars, defect-free " << r.defect_free << "\n";
   o << "time: " << Short(r.seconds, 4) << " s\n\n";
   size_t k = 0;
