@@ -208,17 +208,41 @@ int MotionMain(const M& model, const std::string& tool, const std::string& task_
   return 0;
 }
 
+// Nine points, pivots free (synthesis/nine_point.h, exact.h): solutions.csv (every real
+// four-bar), report.txt and four_bar_NNNN.svg for each defect-free one (NNNN its solution).
+inline int NinePointMain(const std::string& tool, const ExactTask& task, const std::string& model_name,
+                         const std::string& task_path, const std::string& out_dir, int threads) {
+  std::cerr << tool << ": exact path synthesis, nine points: monodromy (1442 classes for generic points), "
+            << threads << " thread(s)\n";
+  const NinePointRun run = RunNinePointTask(task, threads);
+  const std::string report = NinePointReport(run), csv = NinePointCsv(run, model_name, task_path);
+  std::vector<std::pair<fs::path, const std::string*>> files;
+  for (const auto& d : run.drawings) files.emplace_back(fs::path(out_dir) / d.first, &d.second);
+  files.emplace_back(fs::path(out_dir) / "solutions.csv", &csv);
+  files.emplace_back(fs::path(out_dir) / "report.txt", &report);
+  if (!WriteAll(files, out_dir)) {
+    std::cerr << tool << ": error: cannot write into " << out_dir << "\n";
+    return 1;
+  }
+  std::cout << report << "\nwrote " << run.drawings.size() << " drawing(s), " << (fs::path(out_dir) / "solutions.csv").string()
+            << ", " << (fs::path(out_dir) / "report.txt").string() << "\n";
+  if (!run.complete) std::cerr << tool << ": warning: the solution set is INCOMPLETE (report.txt)\n";
+  return 0;
+}
+
 // Exact path synthesis (`synthesis: path`, `kind: exact`; synthesis/exact.h): every isolated
 // solution of five points with both pivots given; each real one as a model file
-// (<model>_exact_NN.yaml, NN its row in solutions.csv), solutions.csv and report.txt.
+// (<model>_exact_NN.yaml, NN its row in solutions.csv), solutions.csv and report.txt. Nine
+// points without pivots: NinePointMain.
 template <class M>
 int ExactMain(const M& model, const std::string& tool, const std::string& task_path, const std::string& model_path,
-              const std::string& out_dir, const typename ModelTypes<M>::Params& base) {
+              const std::string& out_dir, const typename ModelTypes<M>::Params& base, int threads) {
   std::string error;
   ExactTask task;
   if (!TaskOk(ParseExactTask(task_path, &task, &error), error)) return 1;
   BoundExact<M> bound;
   if (!TaskOk(BindExactTask(model, task, base, &bound, &error), error)) return 1;
+  if (task.nine) return NinePointMain(tool, task, ModelCalls<M>::Name(model), task_path, out_dir, threads);
   std::string model_text;
   if (!ReadModelText(tool, model_path, &model_text)) return 1;
   std::cerr << tool << ": exact path synthesis: every path of the homotopy (256)\n";
@@ -360,7 +384,7 @@ int RunSynthesize(const M& model, const Arguments& arguments, const std::string&
   const bool exact = kind == "path" && PathTaskKind(task_path, &error) == "exact";
   if (exact) {
     if (C::NumPoints(model) > 0 && C::Nq(model) == 1) {
-      return ExactMain(model, tool, task_path, model_path, out_dir, base);
+      return ExactMain(model, tool, task_path, model_path, out_dir, base, threads);
     } else {
       std::cerr << task_path << ": error: kind: exact needs a four-bar model with one input and the coupler point among "
                 << "its outputs; '" << name << "' is not one\n";

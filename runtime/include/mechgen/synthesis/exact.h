@@ -39,6 +39,7 @@
 #include "mechgen/io/csv.h"
 #include "mechgen/position/solver.h"
 #include "mechgen/synthesis/exact_path.h"
+#include "mechgen/synthesis/nine_point.h"
 #include "mechgen/synthesis/output.h"
 #include "mechgen/synthesis/task.h"
 #include "mechgen/table/columns.h"
@@ -54,6 +55,9 @@ struct ExactTask {
   std::string file, model;
   std::string point;  ///< the model's coupler point, e.g. coupler.P
   FivePointTask five;
+  /// Nine targets and no pivots: the general nine-point problem (nine_point.h; RunNinePointTask).
+  bool nine = false;
+  nine_point::NinePoints nine_points{};
   /// The model's parameters for the crank a, coupler b, rocker c, ground d, the coupler point
   /// xi, eta, and the frame x0, y0, theta0, in this order; the last three "" when the task does
   /// not name them (a model whose frame is fixed: its pivots must be the task's).
@@ -108,36 +112,47 @@ inline bool ParseExactTask(const std::string& path, ExactTask* task, std::string
     task->point = point.Scalar();
     task->point_line = point.Mark().line + 1, task->point_column = point.Mark().column + 1;
 
-    const YAML::Node pivots = Required(path, root, "pivots", "both ground pivots, {crank: [x, y], rocker: [x, y]}");
-    if (!pivots.IsMap()) throw Error{Where(path, pivots.Mark()) + "pivots: expected {crank: [x, y], rocker: [x, y]}"};
-    Known(path, pivots, {"crank", "rocker"}, "pivots");
-    task->pivots_line = pivots.Mark().line + 1, task->pivots_column = pivots.Mark().column + 1;
-    for (const char* key : {"crank", "rocker"}) {
-      const YAML::Node v = Required(path, pivots, key, std::string("the ") + key + "'s ground pivot [x, y]");
-      if (!v.IsSequence() || v.size() != 2) throw Error{Where(path, v.Mark()) + "pivots." + key + ": expected [x, y]"};
-      std::array<double, 2>& xy = key[0] == 'c' ? task->five.crank_pivot : task->five.rocker_pivot;
-      xy[0] = Number(path, v[0], std::string("pivots.") + key + " x");
-      xy[1] = Number(path, v[1], std::string("pivots.") + key + " y");
+    const YAML::Node pivots = root["pivots"];
+    task->nine = !pivots;
+    if (pivots) {
+      if (!pivots.IsMap()) throw Error{Where(path, pivots.Mark()) + "pivots: expected {crank: [x, y], rocker: [x, y]}"};
+      Known(path, pivots, {"crank", "rocker"}, "pivots");
+      task->pivots_line = pivots.Mark().line + 1, task->pivots_column = pivots.Mark().column + 1;
+      for (const char* key : {"crank", "rocker"}) {
+        const YAML::Node v = Required(path, pivots, key, std::string("the ") + key + "'s ground pivot [x, y]");
+        if (!v.IsSequence() || v.size() != 2) throw Error{Where(path, v.Mark()) + "pivots." + key + ": expected [x, y]"};
+        std::array<double, 2>& xy = key[0] == 'c' ? task->five.crank_pivot : task->five.rocker_pivot;
+        xy[0] = Number(path, v[0], std::string("pivots.") + key + " x");
+        xy[1] = Number(path, v[1], std::string("pivots.") + key + " y");
+      }
+      const double ground = std::hypot(task->five.rocker_pivot[0] - task->five.crank_pivot[0],
+                                       task->five.rocker_pivot[1] - task->five.crank_pivot[1]);
+      if (!(ground > 0) || !std::isfinite(ground))
+        throw Error{Where(path, pivots.Mark()) + "pivots: the crank's and the rocker's pivots must be two distinct points"};
     }
-    const double ground = std::hypot(task->five.rocker_pivot[0] - task->five.crank_pivot[0],
-                                     task->five.rocker_pivot[1] - task->five.crank_pivot[1]);
-    if (!(ground > 0) || !std::isfinite(ground))
-      throw Error{Where(path, pivots.Mark()) + "pivots: the crank's and the rocker's pivots must be two distinct points"};
 
-    const YAML::Node targets = Required(path, root, "targets", "five precision points, [[x, y], ...]");
-    if (!targets.IsSequence() || targets.size() != 5)
-      throw Error{Where(path, targets.Mark()) + "targets: kind: exact takes exactly five precision points [[x, y], ...] " +
-                  "(with both pivots given: finitely many four-bars, 36 for generic data); got " +
-                  (targets.IsSequence() ? std::to_string(targets.size()) : std::string("no list")) +
+    const YAML::Node targets =
+        Required(path, root, "targets", "five precision points with pivots:, nine without, [[x, y], ...]");
+    const size_t wanted = task->nine ? 9 : 5;
+    if (!targets.IsSequence() || targets.size() != wanted)
+      throw Error{Where(path, targets.Mark()) + "targets: kind: exact takes exactly " +
+                  (task->nine ? std::string("nine precision points [[x, y], ...] without pivots (the general nine-point "
+                                            "problem: 8652 four-bars for generic points)")
+                              : std::string("five precision points [[x, y], ...] with both pivots given (finitely many "
+                                            "four-bars, 36 for generic data)")) +
+                  "; got " + (targets.IsSequence() ? std::to_string(targets.size()) : std::string("no list")) +
+                  (task->nine ? "; with five points give pivots: {crank: [x, y], rocker: [x, y]}"
+                              : "; for nine points leave out pivots:") +
                   "; for another number use the search (no kind:)"};
-    for (size_t j = 0; j < 5; ++j) {
+    for (size_t j = 0; j < wanted; ++j) {
       const YAML::Node t = targets[j];
       if (!t.IsSequence() || t.size() != 2) throw Error{Where(path, t.Mark()) + "a target: expected [x, y]"};
-      task->five.points[j] = {Number(path, t[0], "target x"), Number(path, t[1], "target y")};
+      std::array<double, 2>& xy = task->nine ? task->nine_points[j] : task->five.points[j];
+      xy = {Number(path, t[0], "target x"), Number(path, t[1], "target y")};
       for (size_t k = 0; k < j; ++k)
-        if (task->five.points[k] == task->five.points[j])
+        if ((task->nine ? task->nine_points[k] : task->five.points[k]) == xy)
           throw Error{Where(path, t.Mark()) + "target " + std::to_string(j + 1) + " is target " + std::to_string(k + 1) +
-                      " again; give five distinct points"};
+                      " again; give " + (task->nine ? "nine" : "five") + " distinct points"};
     }
 
     const YAML::Node params =
@@ -243,8 +258,8 @@ bool BindExactTask(const M& model, const ExactTask& task, const typename ModelTy
     }
   }
   // The ground pivots: the model's ground points with the ground's length (and the frame) set
-  // from the task's pivots must include both.
-  if (C::NumScenePoints(model) > 0) {
+  // from the task's pivots must include both (nine points: the pivots are unknowns).
+  if (!task.nine && C::NumScenePoints(model) > 0) {
     const auto& A = task.five.crank_pivot;
     const auto& D = task.five.rocker_pivot;
     ExactFourBar frame;
@@ -710,6 +725,156 @@ inline std::string ExactReport(const ExactRun& run, const ExactTask& task) {
     } else {
       o << "  model file: none (" << r.not_written << ")\n";
     }
+  }
+  return o.str();
+}
+
+
+/// What a nine-point `kind: exact` task gives (nine_point.h): the solve, each real four-bar's
+/// largest distance from the points by the closed-form kinematics at its crank angles
+/// (nine_point::Configuration on its branch), and the drawings of the defect-free ones.
+struct NinePointRun {
+  nine_point::NinePointResult result;
+  std::vector<double> check;  ///< per real four-bar (result.real), in model length
+  std::vector<std::pair<std::string, std::string>> drawings;  ///< file name, SVG
+  bool complete = false;  ///< no path to the points lost, the monodromy stopped by its stall rule
+};
+
+inline NinePointRun RunNinePointTask(const ExactTask& task, int threads) {
+  NinePointRun run;
+  nine_point::NinePointOptions o;
+  o.monodromy.threads = std::max(1, threads);
+  run.result = nine_point::SolveNinePoints(task.nine_points, o);
+  const auto& r = run.result;
+  run.complete = r.lost == 0 && r.monodromy.loops < o.monodromy.max_loops;
+  for (const nine_point::NineSolution& s : r.real) {
+    double worst = 0;
+    for (size_t j = 0; j < 9; ++j) {
+      homotopy::Complex B, C, P;
+      const bool ok = s.bar.branch[j] != 0 && nine_point::Configuration(s.bar, s.bar.crank[j], s.bar.branch[j], &B, &C, &P);
+      const double d = ok ? std::abs(P - homotopy::Complex(task.nine_points[j][0], task.nine_points[j][1])) : kInf;
+      worst = std::max(worst, std::isfinite(d) ? d : kInf);
+    }
+    run.check.push_back(worst);
+    if (!s.bar.defect_free()) continue;
+    char name[64];
+    std::snprintf(name, sizeof name, "four_bar_%04d.svg", s.bar.solution + 1);
+    run.drawings.emplace_back(name, nine_point::NineBarSvg(s.bar, task.nine_points,
+                                                           "solution " + std::to_string(s.bar.solution + 1) + ", class " +
+                                                               std::to_string(s.klass + 1) +
+                                                               (s.bar.crank_turns ? ", the crank turns" : "")));
+  }
+  return run;
+}
+
+/// solutions.csv of a nine-point task: one row per real four-bar.
+inline std::string NinePointCsv(const NinePointRun& run, const std::string& model_name, const std::string& task_file) {
+  struct Row {
+    const nine_point::NineSolution* s;
+    double check;
+    std::string file;
+  };
+  std::vector<Row> rows;
+  size_t drawn = 0;
+  for (size_t k = 0; k < run.result.real.size(); ++k) {
+    Row row{&run.result.real[k], run.check[k], ""};
+    if (row.s->bar.defect_free() && drawn < run.drawings.size()) row.file = run.drawings[drawn++].first;
+    rows.push_back(row);
+  }
+  table::Columns<Row> columns;
+  table::Builder<Row> add(&columns, "");
+  add.Text("solution", "the row's number", [](const Row& r) { return std::to_string(r.s->bar.solution + 1); });
+  add.Text("class", "its class (the six four-bars of one class: two labellings of three Roberts cognates)",
+           [](const Row& r) { return std::to_string(r.s->klass + 1); });
+  add.Number("residual", "1", "|F(z)|_inf of the polynomial system on the scaled points",
+             [](const Row& r) { return r.s->residual; });
+  struct Named {
+    const char* name;
+    const char* unit;
+    const char* what;
+    double nine_point::NineBar::*member;
+  };
+  const Named bar_columns[] = {
+      {"a", "model length", "crank AB", &nine_point::NineBar::a},
+      {"b", "model length", "coupler BC", &nine_point::NineBar::b},
+      {"c", "model length", "rocker DC", &nine_point::NineBar::c},
+      {"d", "model length", "ground AD", &nine_point::NineBar::d},
+      {"xi", "model length", "coupler point along BC from B", &nine_point::NineBar::xi},
+      {"eta", "model length", "coupler point normal to BC (to the left of B -> C)", &nine_point::NineBar::eta},
+      {"x0", "model length", "crank pivot A x", &nine_point::NineBar::x0},
+      {"y0", "model length", "crank pivot A y", &nine_point::NineBar::y0},
+      {"theta0", "rad", "angle of the ground line A -> D from +x, counter-clockwise", &nine_point::NineBar::theta0}};
+  for (const Named& n : bar_columns) {
+    const auto member = n.member;
+    add.Number(n.name, n.unit, n.what, [member](const Row& r) { return r.s->bar.*member; });
+  }
+  for (int j = 0; j < 9; ++j)
+    add.Number("crank_" + std::to_string(j + 1), "rad",
+               "the crank's angle AB from +x, counter-clockwise, in (-pi, pi], at point " + std::to_string(j + 1),
+               [j](const Row& r) { return r.s->bar.crank[static_cast<size_t>(j)]; });
+  for (int j = 0; j < 9; ++j)
+    add.Text("branch_" + std::to_string(j + 1),
+             "the side of B -> D on which C lies at point " + std::to_string(j + 1) + ": +1 left, -1 right, 0 on it",
+             [j](const Row& r) { return std::to_string(r.s->bar.branch[static_cast<size_t>(j)]); });
+  add.Text("one_branch", "yes: C on one side of BD at all nine points",
+           [](const Row& r) { return std::string(r.s->bar.same_branch ? "yes" : "no"); });
+  add.Text("order", "+1: the crank turning counter-clockwise meets the points in the task's order within one turn, "
+                    "-1: clockwise, 0: neither",
+           [](const Row& r) { return std::to_string(r.s->bar.direction); });
+  add.Text("grashof", "yes: s + l <= p + q", [](const Row& r) { return std::string(r.s->bar.grashof ? "yes" : "no"); });
+  add.Text("crank_turns", "yes: Grashof with the crank or the ground the shortest link",
+           [](const Row& r) { return std::string(r.s->bar.crank_turns ? "yes" : "no"); });
+  add.Number("check", "model length",
+             "the largest distance of the coupler point by the closed-form kinematics (circle intersection at the crank "
+             "angle, on the point's branch) from a point",
+             [](const Row& r) { return std::isfinite(r.check) ? r.check : std::nan(""); });
+  add.Text("defect", "empty: defect-free; else the first failing check: degenerate link, branch, order",
+           [](const Row& r) { return r.s->bar.defect; });
+  add.Text("drawing", "the SVG drawn for a defect-free four-bar", [](const Row& r) { return r.file; });
+  const auto& n = run.result;
+  std::ostringstream out;
+  out << "# mechgen synthesize, model " << model_name << ", task " << task_file
+      << ": exact path synthesis (kind: exact), nine points, pivots free, by monodromy\n";
+  out << "# status: " << (run.complete ? "complete" : "INCOMPLETE") << "; classes " << n.at_target.size()
+      << " (1442 for generic points), solutions " << n.solutions << ", real classes " << n.real_classes
+      << ", real four-bars " << n.real.size() << ", defect-free " << n.defect_free << "\n";
+  out << "# lengths in the model's unit, angles in radians counter-clockwise from +x; the points are numbered 1 to 9 in "
+         "the task's order\n";
+  DescribeColumns(columns, out);
+  WriteCsvHeader(columns, out);
+  for (const Row& r : rows) WriteCsvRow(columns, r, out);
+  return out.str();
+}
+
+/// report.txt of a nine-point task.
+inline std::string NinePointReport(const NinePointRun& run) {
+  const auto& r = run.result;
+  const auto& m = r.monodromy;
+  std::ostringstream o;
+  o << "exact path synthesis (kind: exact): nine points, pivots free (Wampler, Morgan and Sommese 1992: 8652 "
+       "four-bars, 1442 classes of six, for generic points)\n";
+  o << "status: " << (run.complete ? "complete (every class reached the points; the monodromy stopped when three new "
+                                     "loops found no new class)"
+                                   : "INCOMPLETE: a class's path to the points failed or met another's, or the "
+                                     "monodromy stopped at its loop limit")
+    << "\n";
+  o << "monodromy: " << m.classes.size() << " classes in " << m.loops << " loops, " << m.paths << " edges tracked, "
+    << m.failed << " trips failed, " << Short(m.seconds, 4) << " s\n";
+  o << "at the points: " << r.at_target.size() << " classes, " << r.solutions << " solutions, " << r.lost
+    << " classes lost, " << r.retracked << " paths tracked again (a finer step, or a cognate's), " << r.detours
+    << " detours for a lost class; " << r.paths << " paths in all\n";
+  o << "real: " << r.real_classes << " classes, " << r.real.size() << " four-bars, defect-free " << r.defect_free << "\n";
+  o << "time: " << Short(r.seconds, 4) << " s\n\n";
+  size_t k = 0;
+  for (const nine_point::NineSolution& s : r.real) {
+    const double check = run.check[k++];
+    if (!s.bar.defect_free()) continue;
+    const auto& b = s.bar;
+    o << "solution " << b.solution + 1 << " (class " << s.klass + 1 << "): a " << Short(b.a, 9) << ", b " << Short(b.b, 9)
+      << ", c " << Short(b.c, 9) << ", d " << Short(b.d, 9) << ", xi " << Short(b.xi, 9) << ", eta " << Short(b.eta, 9)
+      << ", A (" << Short(b.x0, 9) << ", " << Short(b.y0, 9) << "), theta0 " << Short(b.theta0, 9) << "; "
+      << (b.direction > 0 ? "counter-clockwise" : "clockwise") << ", Grashof " << (b.grashof ? "yes" : "no")
+      << ", crank turns " << (b.crank_turns ? "yes" : "no") << ", closed form within " << Short(check, 3) << "\n";
   }
   return o.str();
 }

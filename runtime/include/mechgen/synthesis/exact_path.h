@@ -50,13 +50,15 @@ struct FivePointTask {
 /// A real solution as a four-bar, named as tests/synthesis/models/synth_fourbar.yaml names it:
 /// crank AB = a, coupler BC = b, rocker DC = c, ground AD = d at the angle theta0 from +x, A at
 /// (x0, y0); the coupler point P at (xi, eta) in the coupler's frame (origin B, x along BC).
-struct ExactFourBar {
-  int solution = -1;  ///< its index in ExactPathResult::solutions.finite
+/// K precision points: five here, nine in nine_point.h.
+template <size_t K>
+struct FourBarOf {
+  int solution = -1;  ///< its index among the solutions (ExactPathResult::solutions.finite)
   double a = 0, b = 0, c = 0, d = 0, xi = 0, eta = 0, x0 = 0, y0 = 0, theta0 = 0;
-  std::array<double, 5> crank{};  ///< the crank's angle (AB from +x, rad, in (-pi, pi]) at each point
+  std::array<double, K> crank{};  ///< the crank's angle (AB from +x, rad, in (-pi, pi]) at each point
   /// The assembly branch at each point: the side of the diagonal BD on which C lies, the sign
   /// of (D - B) x (C - B): +1 or -1 (0: on it, a dead point).
-  std::array<int, 5> branch{};
+  std::array<int, K> branch{};
   bool same_branch = false;  ///< every point on one branch (necessary to reach them in one motion)
   /// +1: the crank's angle increases from each point to the next within one turn (the points
   /// in order with the crank turning counter-clockwise), -1: decreasing, 0: neither.
@@ -69,6 +71,7 @@ struct ExactFourBar {
   /// order one way (the checks that set `defect`).
   bool defect_free() const { return defect.empty(); }
 };
+using ExactFourBar = FourBarOf<5>;
 
 struct ExactPathOptions {
   homotopy::TrackOptions track;
@@ -218,6 +221,67 @@ inline double Wrap(double a) {
 }  // namespace exact_internal
 
 /**
+ * \brief A real solution as a four-bar with its verdicts: A, D the ground pivots, P_j the K
+ *        points, B_0 = P_0 + x and C_0 = P_0 + y the coupler's joints at point 0, Q_j the
+ *        coupler's turn from point 0 to point j (Q_0 = 1, |Q_j| = 1).
+ */
+template <size_t K>
+FourBarOf<K> JudgeFourBar(homotopy::Complex A, homotopy::Complex D, const std::array<homotopy::Complex, K>& P,
+                          homotopy::Complex x, homotopy::Complex y, const std::array<homotopy::Complex, K>& Q) {
+  using exact_internal::Cross;
+  using homotopy::Complex;
+  FourBarOf<K> bar;
+  const Complex B0 = P[0] + x, C0 = P[0] + y;
+  bar.a = std::abs(B0 - A);
+  bar.b = std::abs(C0 - B0);
+  bar.c = std::abs(C0 - D);
+  bar.d = std::abs(D - A);
+  bar.x0 = A.real(), bar.y0 = A.imag();
+  bar.theta0 = std::arg(D - A);
+  const Complex e = bar.b > 0 ? (C0 - B0) / bar.b : Complex(1);  // the coupler's x axis at pose 0
+  const Complex local = (P[0] - B0) * std::conj(e);                // P - B in the coupler frame
+  bar.xi = local.real(), bar.eta = local.imag();
+  for (size_t j = 0; j < K; ++j) {
+    const Complex Bj = P[j] + Q[j] * x;
+    const Complex Cj = P[j] + Q[j] * y;
+    bar.crank[j] = std::arg(Bj - A);
+    const double side = Cross(D - Bj, Cj - Bj);
+    bar.branch[j] = side > 0 ? 1 : side < 0 ? -1 : 0;
+    bar.closure = std::max({bar.closure, std::abs(std::abs(Bj - A) - bar.a), std::abs(std::abs(Cj - D) - bar.c)});
+  }
+  bar.same_branch = bar.branch[0] != 0;
+  for (size_t j = 1; j < K; ++j) bar.same_branch = bar.same_branch && bar.branch[j] == bar.branch[0];
+  // In order: the crank's turn from P_0 to each point, counter-clockwise (or clockwise) in [0, 2 pi), increasing.
+  for (int sign : {1, -1}) {
+    bool increasing = true;
+    double last = 0;
+    for (size_t j = 1; j < K; ++j) {
+      double turn = sign * (bar.crank[j] - bar.crank[0]);
+      turn = std::fmod(std::fmod(turn, 6.283185307179586) + 6.283185307179586, 6.283185307179586);
+      increasing = increasing && turn > last;
+      last = turn;
+    }
+    if (increasing) {
+      bar.direction = sign;
+      break;
+    }
+  }
+  std::array<double, 4> len{bar.a, bar.b, bar.c, bar.d};
+  std::sort(len.begin(), len.end());
+  bar.grashof = len[0] + len[3] <= len[1] + len[2];
+  const double shortest = len[0];
+  bar.crank_turns = bar.grashof && (bar.a == shortest || bar.d == shortest);
+  if (!(bar.a > 0 && bar.b > 0 && bar.c > 0 && bar.d > 0)) {
+    bar.defect = "degenerate link";
+  } else if (!bar.same_branch) {
+    bar.defect = "branch";
+  } else if (bar.direction == 0) {
+    bar.defect = "order";
+  }
+  return bar;
+}
+
+/**
  * \brief Every isolated solution of the five-point problem with both pivots given, and the
  *        real ones as four-bars (in the task's units).
  */
@@ -256,55 +320,8 @@ inline ExactPathResult SolveFivePointsWithPivots(const FivePointTask& task, cons
       const Complex q = 0.5 * (z(QIndex(j)) + std::conj(z(QIndex(j) + 1)));
       Q[static_cast<size_t>(j)] = q / std::abs(q);
     }
-    ExactFourBar bar;
+    ExactFourBar bar = JudgeFourBar<5>(A, D, P, x, y, Q);
     bar.solution = static_cast<int>(index);
-    const Complex B0 = P[0] + x, C0 = P[0] + y;
-    bar.a = std::abs(B0 - A);
-    bar.b = std::abs(C0 - B0);
-    bar.c = std::abs(C0 - D);
-    bar.d = std::abs(D - A);
-    bar.x0 = A.real(), bar.y0 = A.imag();
-    bar.theta0 = std::arg(D - A);
-    const Complex e = bar.b > 0 ? (C0 - B0) / bar.b : Complex(1);  // the coupler's x axis at pose 0
-    const Complex local = (P[0] - B0) * std::conj(e);                // P - B in the coupler frame
-    bar.xi = local.real(), bar.eta = local.imag();
-    for (int j = 0; j < 5; ++j) {
-      const Complex Bj = P[static_cast<size_t>(j)] + Q[static_cast<size_t>(j)] * x;
-      const Complex Cj = P[static_cast<size_t>(j)] + Q[static_cast<size_t>(j)] * y;
-      bar.crank[static_cast<size_t>(j)] = std::arg(Bj - A);
-      const double side = Cross(D - Bj, Cj - Bj);
-      bar.branch[static_cast<size_t>(j)] = side > 0 ? 1 : side < 0 ? -1 : 0;
-      bar.closure = std::max({bar.closure, std::abs(std::abs(Bj - A) - bar.a), std::abs(std::abs(Cj - D) - bar.c)});
-    }
-    bar.same_branch = bar.branch[0] != 0;
-    for (int j = 1; j < 5; ++j) bar.same_branch = bar.same_branch && bar.branch[static_cast<size_t>(j)] == bar.branch[0];
-    // In order: the crank's turn from P_0 to each point, counter-clockwise (or clockwise) in [0, 2 pi), increasing.
-    for (int sign : {1, -1}) {
-      bool increasing = true;
-      double last = 0;
-      for (int j = 1; j < 5; ++j) {
-        double turn = sign * (bar.crank[static_cast<size_t>(j)] - bar.crank[0]);
-        turn = std::fmod(std::fmod(turn, 6.283185307179586) + 6.283185307179586, 6.283185307179586);
-        increasing = increasing && turn > last;
-        last = turn;
-      }
-      if (increasing) {
-        bar.direction = sign;
-        break;
-      }
-    }
-    std::array<double, 4> len{bar.a, bar.b, bar.c, bar.d};
-    std::sort(len.begin(), len.end());
-    bar.grashof = len[0] + len[3] <= len[1] + len[2];
-    const double shortest = len[0];
-    bar.crank_turns = bar.grashof && (bar.a == shortest || bar.d == shortest);
-    if (!(bar.a > 0 && bar.b > 0 && bar.c > 0 && bar.d > 0)) {
-      bar.defect = "degenerate link";
-    } else if (!bar.same_branch) {
-      bar.defect = "branch";
-    } else if (bar.direction == 0) {
-      bar.defect = "order";
-    }
     out.real.push_back(bar);
   }
   return out;

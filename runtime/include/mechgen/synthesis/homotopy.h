@@ -18,6 +18,10 @@
  * nonsingular solution is what the path reached with a small residual and rcond above
  * `singular_rcond`.
  *
+ * TrackHomotopy() is the same tracker on any homotopy h(z, t) with h(., 1) = F: the parameter
+ * homotopies F(z; p(t)) of the nine-point problem's monodromy (nine_point.h); TrackPath() is it
+ * on the straight-line H above.
+ *
  * TrackAll() follows every start solution and sorts the endpoints; two paths that reach the
  * same nonsingular solution have jumped (a path crossed to another): those are tracked again
  * with a tenth of the largest step, and what still coincides is counted, never hidden.
@@ -111,11 +115,11 @@ void EvalH(const Target& F, const Start& G, Complex gamma, const VecN<N>& z, dou
 }
 
 /// dz/dt = -H_z^{-1} H_t; false where H_z is singular or the tangent is not finite.
-template <int N, class Target, class Start>
-bool Tangent(const Target& F, const Start& G, Complex gamma, const VecN<N>& z, double t, VecN<N>* dz) {
+template <int N, class Hom>
+bool Tangent(const Hom& h, const VecN<N>& z, double t, VecN<N>* dz) {
   VecN<N> H, Ht;
   MatN<N> Hz;
-  EvalH<N>(F, G, gamma, z, t, &H, &Hz, &Ht);
+  h(z, t, &H, &Hz, &Ht);
   const Eigen::PartialPivLU<MatN<N>> lu(Hz);
   *dz = -lu.solve(Ht);
   return dz->allFinite();
@@ -123,14 +127,13 @@ bool Tangent(const Target& F, const Start& G, Complex gamma, const VecN<N>& z, d
 
 /// Newton on H(., t) from *z: true when a step fell below tol (1 + |z|) within `iterations`
 /// and each step contracted.
-template <int N, class Target, class Start>
-bool Correct(const Target& F, const Start& G, Complex gamma, double t, int iterations, double tol,
-             VecN<N>* z) {
+template <int N, class Hom>
+bool Correct(const Hom& h, double t, int iterations, double tol, VecN<N>* z) {
   double last = HUGE_VAL;
   for (int k = 0; k < iterations; ++k) {
     VecN<N> H, Ht;
     MatN<N> Hz;
-    EvalH<N>(F, G, gamma, *z, t, &H, &Hz, &Ht);
+    h(*z, t, &H, &Hz, &Ht);
     const VecN<N> dz = Eigen::PartialPivLU<MatN<N>>(Hz).solve(H);
     if (!dz.allFinite()) return false;
     const double size = NormInf<N>(dz);
@@ -144,15 +147,15 @@ bool Correct(const Target& F, const Start& G, Complex gamma, double t, int itera
 }  // namespace internal
 
 /**
- * \brief Follows one path of H from the start solution z0 (G(z0) = 0) at t = 0 to t = 1.
- * \param F      target system: F(z, &f, &F_z) (VecN<N>, MatN<N>)
- * \param G      start system, the same signature
- * \param gamma  the complex constant of H (not real, not on a finite bad set: a fixed
- *               "random" value)
+ * \brief Follows one path of a homotopy h from z0 (h(z0, 0) = 0) at t = 0 to t = 1, where
+ *        h(., 1) = F.
+ * \param hom  hom(z, t, &H, &H_z, &H_t) (VecN<N>, MatN<N>, VecN<N>): the homotopy and its derivatives
+ * \param F    the target system F(z, &f, &F_z): Newton on it at t = 1, its residual and F_z's
+ *           conditioning judge the end
+ * The straight-line homotopy of TrackPath, or a parameter homotopy F(z; p(t)) (nine_point.h).
  */
-template <int N, class Target, class Start>
-PathEnd<N> TrackPath(const Target& F, const Start& G, Complex gamma, const VecN<N>& z0,
-                     const TrackOptions& o) {
+template <int N, class Hom, class Target>
+PathEnd<N> TrackHomotopy(const Hom& hom, const Target& F, const VecN<N>& z0, const TrackOptions& o) {
   PathEnd<N> end;
   VecN<N> z = z0;
   double t = 0, h = o.initial_step;
@@ -177,14 +180,14 @@ PathEnd<N> TrackPath(const Target& F, const Start& G, Complex gamma, const VecN<
     const double step = std::min(h, 1 - t);
     // Runge–Kutta 4 on dz/dt = -H_z^{-1} H_t.
     VecN<N> k1, k2, k3, k4;
-    bool ok = internal::Tangent<N>(F, G, gamma, z, t, &k1) &&
-              internal::Tangent<N>(F, G, gamma, VecN<N>(z + 0.5 * step * k1), t + 0.5 * step, &k2) &&
-              internal::Tangent<N>(F, G, gamma, VecN<N>(z + 0.5 * step * k2), t + 0.5 * step, &k3) &&
-              internal::Tangent<N>(F, G, gamma, VecN<N>(z + step * k3), t + step, &k4);
+    bool ok = internal::Tangent<N>(hom, z, t, &k1) &&
+              internal::Tangent<N>(hom, VecN<N>(z + 0.5 * step * k1), t + 0.5 * step, &k2) &&
+              internal::Tangent<N>(hom, VecN<N>(z + 0.5 * step * k2), t + 0.5 * step, &k3) &&
+              internal::Tangent<N>(hom, VecN<N>(z + step * k3), t + step, &k4);
     VecN<N> next = z + (step / 6) * (k1 + 2 * k2 + 2 * k3 + k4);
     // The corrector; the predictor's own jump is bounded too (a path stays near its start).
     ok = ok && internal::NormInf<N>(VecN<N>(next - z)) <= 0.5 * (1 + internal::NormInf<N>(z)) &&
-         internal::Correct<N>(F, G, gamma, t + step, o.corrector_iterations, o.corrector_tolerance, &next);
+         internal::Correct<N>(hom, t + step, o.corrector_iterations, o.corrector_tolerance, &next);
     if (!ok) {
       h *= 0.5;
       good = 0;
@@ -228,6 +231,22 @@ PathEnd<N> TrackPath(const Target& F, const Start& G, Complex gamma, const VecN<
   const bool settled = end.residual <= o.residual_tolerance * (1 + internal::NormInf<N>(z)) && z.allFinite();
   end.status = settled && end.rcond >= o.singular_rcond ? PathStatus::kFinite : PathStatus::kSingular;
   return end;
+}
+
+/**
+ * \brief Follows one path of H from the start solution z0 (G(z0) = 0) at t = 0 to t = 1.
+ * \param F      target system: F(z, &f, &F_z) (VecN<N>, MatN<N>)
+ * \param G      start system, the same signature
+ * \param gamma  the complex constant of H (not real, not on a finite bad set: a fixed
+ *               "random" value)
+ */
+template <int N, class Target, class Start>
+PathEnd<N> TrackPath(const Target& F, const Start& G, Complex gamma, const VecN<N>& z0,
+                     const TrackOptions& o) {
+  const auto h = [&](const VecN<N>& z, double t, VecN<N>* H, MatN<N>* Hz, VecN<N>* Ht) {
+    internal::EvalH<N>(F, G, gamma, z, t, H, Hz, Ht);
+  };
+  return TrackHomotopy<N>(h, F, z0, o);
 }
 
 /// Every path and the distinct finite solutions.
