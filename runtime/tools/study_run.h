@@ -16,8 +16,9 @@
 // --params/--set read the view's parameter table (common/view_params.h). Through the view, not
 // yet (refused by common/not_through_view.h before anything is computed or written: a usage
 // error naming the per-model program, or for mechgen the fallback to it): a simulation with
-// drive:, and a run under an MPI launcher (the ranks: MPI is compiled into the per-model program
-// alone, -DMECHGEN_STUDY_MPI). analysis: flywheel and engine go through it (the machines' cycles
+// drive:, and, where mechgen_view was built without MPI, a run under an MPI launcher (the ranks:
+// -DMECHGEN_STUDY_MPI, which the build gives mechgen_view's study where CMake finds MPI, and
+// mechgen the per-model program where it finds an MPI C++ compiler). analysis: flywheel and engine go through it (the machines' cycles
 // compiled once: machines/view_machines.h), Coulomb friction's stick and slip (of one input and
 // of several), and so do the design derivatives (tolerance: true, of analysis: flywheel too: the
 // view's cycle design derivatives; envelope:, the design_margin metric: the view's Design,
@@ -302,11 +303,15 @@ int RunStudy(const M& model, const run_internal::Ranks& ranks, const Arguments& 
   const char* const name = C::Name(model);
   const double t_start = Now(), cpu_start = ProcessCpu(), main_cpu_start = ThreadCpu();
   const std::string& tool = arguments.tool;
+#ifndef MECHGEN_STUDY_MPI
   if constexpr (C::kView) {
+    // (mechgen_view built without MPI: the ranks are the per-model program's, compiled with it
+    // where mechgen finds an MPI C++ compiler; with MPI, the view runs them as it does)
     long launched_size = 0;
     if (Ranks::Launched(&launched_size))
       return tools::NotThroughView(tool, "a run under an MPI launcher (the ranks: MPI) is", name, "study");
   }
+#endif
   const std::string &study_path = arguments.study_path, &csv_path = arguments.csv_path,
                     &tolerance_path = arguments.tolerance_path, &envelope_path = arguments.envelope_path;
   std::string shards_path = arguments.shards_path;
