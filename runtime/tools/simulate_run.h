@@ -7,10 +7,9 @@
 // simulate_main.cc says.
 //
 // --params/--set read the view's parameter table (common/view_params.h). Coulomb friction with
-// stick and slip goes through the view for one input. Through the view, not yet: --drive (the
-// driven motion, dynamics/prescribed.h), --design (the trajectory sensitivities,
-// dynamics/sensitivity.h) and Coulomb friction of several inputs (each joint's own stick and
-// slip; such a model runs through the view with --friction off only): each is refused
+// stick and slip goes through the view, of one input and of several (each joint's own stick
+// and slip). Through the view, not yet: --drive (the driven motion, dynamics/prescribed.h) and
+// --design (the trajectory sensitivities, dynamics/sensitivity.h): each is refused
 // (common/not_through_view.h: a usage error naming the per-model tool that has it, or for
 // mechgen the fallback to that tool) before anything is computed or written.
 #pragma once
@@ -669,11 +668,6 @@ int RunSimulate(const M& model, const Arguments& args) {
     if (args.design)
       return tools::NotThroughView(args.tool, "--design: the trajectory sensitivities are", name, "simulate");
     if (!args.drives.empty()) return tools::NotThroughView(args.tool, "--drive: the driven motion is", name, "simulate");
-    if (C::Nq(model) > 1 && C::KinetoNumFriction(model) > 0 && args.friction != "off")
-      return tools::NotThroughView(args.tool,
-                                   "--friction: Coulomb friction with several inputs (stick and slip of each "
-                                   "joint; --friction off goes through) is",
-                                   name, "simulate");
     return args.method == "dop853" ? RunFree<M, mechgen::dynamics::Dop853>(model, args)
                                    : RunFree<M, mechgen::dynamics::Dopri5>(model, args);
   } else {

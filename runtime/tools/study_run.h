@@ -15,13 +15,13 @@
 //
 // --params/--set read the view's parameter table (common/view_params.h). Through the view, not
 // yet (refused by common/not_through_view.h before anything is computed or written: a usage
-// error naming the per-model program, or for mechgen the fallback to it): tolerance: true of
-// analysis: flywheel (the first order of the cycle's metrics), a simulation with drive: or with
-// Coulomb friction of several inputs (one input's stick and slip goes through), and a run under
-// an MPI launcher (the ranks: MPI is compiled into the per-model program alone,
-// -DMECHGEN_STUDY_MPI). analysis: flywheel and engine go through it (the machines' cycles
-// compiled once: machines/view_machines.h), and so do the design derivatives of the other
-// analyses (tolerance: true, envelope:, the design_margin metric: the view's Design,
+// error naming the per-model program, or for mechgen the fallback to it): a simulation with
+// drive:, and, where mechgen_view was built without MPI, a run under an MPI launcher (the ranks:
+// -DMECHGEN_STUDY_MPI, which the build gives mechgen_view's study where CMake finds MPI, and
+// mechgen the per-model program where it finds an MPI C++ compiler). analysis: flywheel and engine go through it (the machines' cycles
+// compiled once: machines/view_machines.h), Coulomb friction's stick and slip (of one input and
+// of several), and so do the design derivatives (tolerance: true, of analysis: flywheel too: the
+// view's cycle design derivatives; envelope:, the design_margin metric: the view's Design,
 // StaticsDesign and DesignChecks).
 #pragma once
 
@@ -281,14 +281,9 @@ inline std::vector<uint64_t> PartOf(const std::vector<uint64_t>& list, int r, in
 // yet, as NotThroughView's `what`; "" when it goes through.
 template <class M>
 std::string NotThroughViewYet(const M& model, const study::StudySpec& spec) {
-  if (spec.tolerance && spec.analysis == study::Analysis::kFlywheel)
-    return "tolerance: true of analysis: flywheel: the first order of the cycle's metrics (its design derivatives) is";
-  if (spec.analysis == study::Analysis::kSimulate) {
-    if (!spec.drive.input.empty()) return "drive: the driven simulation is";
-    if (ModelCalls<M>::KinetoNumFriction(model) > 0 && ModelCalls<M>::Nq(model) > 1)
-      return "analysis: simulate of a model with several inputs and Coulomb friction (stick and slip of each "
-             "joint) is";
-  }
+  (void)model;
+  if (spec.analysis == study::Analysis::kSimulate && !spec.drive.input.empty())
+    return "drive: the driven simulation is";
   return "";
 }
 
@@ -308,11 +303,15 @@ int RunStudy(const M& model, const run_internal::Ranks& ranks, const Arguments& 
   const char* const name = C::Name(model);
   const double t_start = Now(), cpu_start = ProcessCpu(), main_cpu_start = ThreadCpu();
   const std::string& tool = arguments.tool;
+#ifndef MECHGEN_STUDY_MPI
   if constexpr (C::kView) {
+    // (mechgen_view built without MPI: the ranks are the per-model program's, compiled with it
+    // where mechgen finds an MPI C++ compiler; with MPI, the view runs them as it does)
     long launched_size = 0;
     if (Ranks::Launched(&launched_size))
       return tools::NotThroughView(tool, "a run under an MPI launcher (the ranks: MPI) is", name, "study");
   }
+#endif
   const std::string &study_path = arguments.study_path, &csv_path = arguments.csv_path,
                     &tolerance_path = arguments.tolerance_path, &envelope_path = arguments.envelope_path;
   std::string shards_path = arguments.shards_path;

@@ -8,11 +8,9 @@
 //
 // Through the view: path generation and motion generation beyond five poses (the local stage's
 // and the least squares' Jacobian from the view's design derivatives), motion generation (the
-// Burmester pairs; four poses the curves) and exact path synthesis (`kind: exact`), with
-// --params/--set on the view's parameter table (common/view_params.h). Not yet: function
-// generation (synthesis/function.h), refused (common/not_through_view.h: a usage error naming the
-// per-model tool that has them, or for mechgen the fallback to it) before the task is bound or
-// anything is computed or written.
+// Burmester pairs; four poses the curves), exact path synthesis (`kind: exact`) and function
+// generation (synthesis/function.h: its Levenberg-Marquardt Jacobian from the view's design
+// derivatives), with --params/--set on the view's parameter table (common/view_params.h).
 #pragma once
 
 #include <chrono>
@@ -27,7 +25,6 @@
 #include <thread>
 #include <vector>
 
-#include "common/not_through_view.h"
 #include "common/view_params.h"
 #include "mechgen/core/model_calls.h"
 #include "mechgen/synthesis/exact.h"
@@ -97,15 +94,16 @@ std::string SetLine(const M& model, const typename ModelTypes<M>::Params& base, 
 
 // Function generation (synthesis/function.h): writes the model file, function.svg, report.txt.
 template <class M>
-int FunctionMain(const std::string& tool, const std::string& task_path, const std::string& model_path,
+int FunctionMain(const M& model, const std::string& tool, const std::string& task_path, const std::string& model_path,
                  const std::string& out_dir, unsigned long long seed, int threads, long long evaluations,
-                 const typename M::template ParamsT<double>& base) {
+                 const typename ModelTypes<M>::Params& base) {
+  using C = ModelCalls<M>;
   std::string error;
   FunctionTask task;
   if (!TaskOk(ParseFunctionTask(task_path, &task, &error), error)) return 1;
   if (evaluations > 0) task.search.evaluations = evaluations;
   BoundFunction<M> bound;
-  if (!TaskOk(BindFunctionTask<M>(task, base, &bound, &error), error)) return 1;
+  if (!TaskOk(BindFunctionTask(model, task, base, &bound, &error), error)) return 1;
   std::string model_text;
   if (!ReadModelText(tool, model_path, &model_text)) return 1;
   std::cerr << tool << ": function task: " << task.search.restarts << " global runs, " << task.search.evaluations
@@ -113,7 +111,7 @@ int FunctionMain(const std::string& tool, const std::string& task_path, const st
   const FunctionResult r = SynthesizeFunction(bound, seed, threads);
   std::vector<std::string> variables;
   for (const Variable& v : task.variables) variables.push_back(v.name);
-  std::string report = FunctionReport(bound, r, seed, threads) + SetLine(M(), base, variables);
+  std::string report = FunctionReport(bound, r, seed, threads) + SetLine(model, base, variables);
   if (!r.best.feasible()) {
     std::cerr << report << "\n" << tool << ": no mechanism meets the pairs on its assembly mode; nothing written\n";
     return 3;
@@ -123,15 +121,16 @@ int FunctionMain(const std::string& tool, const std::string& task_path, const st
   FunctionModelParameters(bound, r.best, &names, &values);  // the variables (and the start angles' offsets)
   // The written model's parameters and its input at the pairs (FunctionWrittenInputs).
   auto written_params = base;
-  for (size_t k = 0; k < names.size(); ++k) *written_params.Find(names[k].c_str()) = values[k];
+  for (size_t k = 0; k < names.size(); ++k) *C::FindParameter(model, &written_params, names[k].c_str()) = values[k];
+  C::ParametersSet(model, &written_params);
   const std::vector<double> motion = FunctionWrittenInputs(bound, r.best);
   std::string synthesized;
   WrittenAssembly written;
-  if (!WriteSynthesizedModel<M>(model_text, written_params, names, motion, &synthesized, &written, &error)) {
+  if (!WriteSynthesizedModel(model, model_text, written_params, names, motion, &synthesized, &written, &error)) {
     std::cerr << tool << ": error: cannot write the synthesized model: " << error << "\n";
     return 1;
   }
-  report += WrittenModelText<M>(written, written_params);
+  report += WrittenModelText(model, written, written_params);
   FunctionEvaluator<M> eval(bound);
   const std::string svg = FunctionSvg(&eval, r.best);
   const std::vector<std::pair<fs::path, const std::string*>> files = {
@@ -392,16 +391,13 @@ int RunSynthesize(const M& model, const Arguments& arguments, const std::string&
     }
   }
   if (kind == "function") {
-    if constexpr (C::kView) {
-      // What the runtime instantiated for the view does not do yet (the file comment).
-      return mechgen::tools::NotThroughView(tool, "function generation is", name, "synthesize");
-    } else if constexpr (mechgen::HasDesignDerivatives<M>::value) {
-      return FunctionMain<M>(tool, task_path, model_path, out_dir, seed, threads, evaluations, base);
-    } else {
-      std::cerr << task_path << ": error: the model '" << name
-                << "' has no `design` section; add `design: [parameters to vary]` (models/README.md)\n";
-      return 1;
+    if constexpr (mechgen::HasDesignDerivatives<M>::value) {
+      if (C::HasDesign(model))
+        return FunctionMain(model, tool, task_path, model_path, out_dir, seed, threads, evaluations, base);
     }
+    std::cerr << task_path << ": error: the model '" << name
+              << "' has no `design` section; add `design: [parameters to vary]` (models/README.md)\n";
+    return 1;
   }
   return PathMain(model, tool, task_path, model_path, out_dir, seed, threads, evaluations, base);
 }

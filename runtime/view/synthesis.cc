@@ -29,4 +29,14 @@ template std::string Report<ViewModel>(PathEvaluator<ViewModel>*, const SearchRe
                                     double, double, const std::string&);
 template std::string CurveSvg<ViewModel>(PathEvaluator<ViewModel>*, const Candidate&, int);
 
+template class FunctionEvaluator<ViewModel>;
+template bool BindFunctionTask<ViewModel>(const ViewModel&, const FunctionTask&, const ViewParams&,
+                                          BoundFunction<ViewModel>*, std::string*);
+template FunctionResult SynthesizeFunction<ViewModel>(const BoundFunction<ViewModel>&, uint64_t, int);
+template std::string FunctionReport<ViewModel>(const BoundFunction<ViewModel>&, const FunctionResult&, uint64_t, int);
+template void FunctionModelParameters<ViewModel>(const BoundFunction<ViewModel>&, const FunctionCandidate&,
+                                                 std::vector<std::string>*, std::vector<double>*);
+template std::vector<double> FunctionWrittenInputs<ViewModel>(const BoundFunction<ViewModel>&, const FunctionCandidate&);
+template std::string FunctionSvg<ViewModel>(FunctionEvaluator<ViewModel>*, const FunctionCandidate&, int);
+
 }  // namespace mechgen::synthesis

@@ -24,6 +24,9 @@
 //  - the slider-crank with friction at every joint (slider_crank_coulomb.yaml) driven both
 //    ways against the Newton-Euler balance of its links, and running free on a 720 deg gas
 //    load written in the model, against the energy balance;
+//  - several inputs through the model view (issue 43: MinimalDynamics<ViewModel> of the
+//    runtime compiled once, on the two pendulums' view): every sample, the summary and each
+//    joint's mode the fixed-size instantiation's, to the bit;
 //  - driven runs (prescribed.h): the motor torque of a pendulum at constant speed and through a
 //    rest-to-rest move by the free body of the arm with the friction torque mu r |F_O| and by
 //    the energy balance (motor work = dE + friction work), the block's actuator force on the
@@ -33,17 +36,23 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include "incline_friction.h"
+#include "mechgen/core/view_runtime.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/prescribed.h"
 #include "pendulum.h"
 #include "pendulum_friction.h"
 #include "slider_crank_coulomb.h"
 #include "two_pendulums_friction.h"
+
+namespace mech::two_pendulums_friction {
+const mechgen::ModelView& View();  // (its generated two_pendulums_friction_view.cc)
+}
 
 namespace {
 
@@ -616,6 +625,108 @@ TEST(Coulomb, SeveralInputsZeroMuIsTheFrictionlessRun) {
     EXPECT_EQ(runs[0][i].q, runs[1][i].q) << i;
     EXPECT_EQ(runs[0][i].qd, runs[1][i].qd) << i;
   }
+}
+
+// Several inputs through the model view (issue 43): the runtime compiled once
+// (MinimalDynamics<ViewModel>, mechgen_runtime_view) on the two pendulums' view against the
+// fixed-size instantiation above (the oracle: SeveralInputsAreTwoSinglePendulums holds it to
+// two single runs, themselves to the free body and the energy balance). The same generated
+// functions and the same arithmetic (the reduced inertia's LDLT on fixed-size copies of the
+// inputs' count; sums of two products): every sample (q, qd, qdd, Q, the friction loads, each
+// joint's stuck flag, the energies), the summary's counts and figures, and the last sample,
+// to the bit. Runs: pendulum 1 sticking while 2 swings (the first test's), both launched and
+// coming to rest one after the other, and a start with one joint at relative rest and the
+// other moving, with both integrators.
+bool SameDouble(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+template <class A, class B>
+bool SameEntries(const A& a, const B& b) {
+  if (a.size() != b.size()) return false;
+  for (Eigen::Index i = 0; i < a.size(); ++i)
+    if (!SameDouble(a(i), b(i))) return false;
+  return true;
+}
+
+template <template <int> class Method>
+void ExpectTwoPendulumsViewSame(double r, double r2, const Eigen::Vector2d& q0, const Eigen::Vector2d& qd0,
+                                double t_end, double dt) {
+  using M2 = mech::two_pendulums_friction::Model;
+  using mechgen::ModelCalls;
+  using mechgen::ViewModel;
+  using Fixed = dyn::MinimalDynamics<M2, Method>;
+  using View = dyn::MinimalDynamics<ViewModel, Method>;
+  SCOPED_TRACE("r = " + std::to_string(r) + ", r2 = " + std::to_string(r2) + ", q0 = (" + std::to_string(q0(0)) +
+               ", " + std::to_string(q0(1)) + "), qd0 = (" + std::to_string(qd0(0)) + ", " +
+               std::to_string(qd0(1)) + ")");
+  const ViewModel model(mech::two_pendulums_friction::View());
+  ASSERT_TRUE(mechgen::ViewCompatible(*model.view));
+  mech::two_pendulums_friction::Params<double> p;
+  p.r = r;
+  p.r2 = r2;
+  typename View::Params pv = ModelCalls<ViewModel>::DefaultParams(model);
+  *ModelCalls<ViewModel>::FindParameter(model, &pv, "r") = r;
+  *ModelCalls<ViewModel>::FindParameter(model, &pv, "r2") = r2;
+  ModelCalls<ViewModel>::ParametersSet(model, &pv);
+  dyn::MinimalOptions o;
+  o.integrator.rtol = 1e-11;
+  o.integrator.atol = 1e-13;
+  o.sample_dt = dt;
+  Fixed fixed(p, o);
+  View view(model, pv, o);
+  const typename View::VecQ q0_view = q0, qd0_view = qd0;
+  ASSERT_TRUE(fixed.Initialize(q0));
+  ASSERT_TRUE(view.Initialize(q0_view));
+  EXPECT_TRUE(view.SimulatesCoulomb(q0_view));
+  std::vector<dyn::Sample<M2>> a;
+  std::vector<dyn::Sample<ViewModel>> b;
+  dyn::MinimalSummary sa, sb;
+  dyn::Sample<M2> last_a;
+  dyn::Sample<ViewModel> last_b;
+  fixed.Simulate(
+      0.0, q0, qd0, t_end,
+      [&](const dyn::Sample<M2>& x) {
+        a.push_back(x);
+        return true;
+      },
+      &sa, &last_a);
+  dyn::ViewSampleFn<View> observer = [&](const dyn::Sample<ViewModel>& x) {
+    b.push_back(x);
+    return true;
+  };
+  dyn::SimulateFree(&view, 0.0, q0_view, qd0_view, t_end, observer, &sb, &last_b);
+  ASSERT_EQ(sa.status, dyn::Status::kSuccess) << dyn::FormatSummary(sa);
+  EXPECT_TRUE(sa.coulomb);
+  EXPECT_GE(sa.stick_intervals, 1) << dyn::FormatSummary(sa);  // (a run with stick and slip)
+  EXPECT_EQ(dyn::FormatSummary(sa), dyn::FormatSummary(sb));  // every count and figure, as printed
+  EXPECT_EQ(sa.coulomb, sb.coulomb);
+  EXPECT_EQ(sa.friction_transitions, sb.friction_transitions);
+  EXPECT_EQ(sa.stick_intervals, sb.stick_intervals);
+  EXPECT_TRUE(SameDouble(sa.time_stuck, sb.time_stuck));
+  EXPECT_EQ(sa.integrator.steps, sb.integrator.steps);
+  EXPECT_EQ(sa.integrator.rhs_evaluations, sb.integrator.rhs_evaluations);
+  ASSERT_EQ(a.size(), b.size());
+  auto same = [](const auto& x, const auto& y) {
+    return SameDouble(x.t, y.t) && SameEntries(x.q, y.q) && SameEntries(x.qd, y.qd) && SameEntries(x.qdd, y.qdd) &&
+           SameEntries(x.Q, y.Q) && SameEntries(x.phi, y.phi) && SameEntries(x.friction, y.friction) &&
+           SameDouble(x.T, y.T) && SameDouble(x.V, y.V) && SameDouble(x.W, y.W) && SameDouble(x.P_nc, y.P_nc) &&
+           x.stuck == y.stuck && x.joint_stuck[0] == y.joint_stuck[0] && x.joint_stuck[1] == y.joint_stuck[1];
+  };
+  int mixed = 0;  // samples with one joint stuck and the other not
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_TRUE(same(a[i], b[i])) << "sample " << i << " at t = " << a[i].t << " (view t = " << b[i].t
+                                  << "): q " << a[i].q.transpose() << " vs " << b[i].q.transpose() << ", friction "
+                                  << a[i].friction.transpose() << " vs " << b[i].friction.transpose();
+    if (a[i].joint_stuck[0] != a[i].joint_stuck[1]) ++mixed;
+  }
+  EXPECT_GT(mixed, 0);
+  EXPECT_TRUE(same(last_a, last_b));
+}
+
+TEST(Coulomb, SeveralInputsThroughTheModelViewBitForBit) {
+  // Pendulum 1 comes to rest while 2 swings on (SeveralInputsAreTwoSinglePendulums' run).
+  ExpectTwoPendulumsViewSame<dyn::Dopri5>(0.2, 0.01, Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.0, 0.0), 6, 0.01);
+  // Both launched: 2 stops first (the larger circle), then 1; joint 1 at relative rest at t0.
+  ExpectTwoPendulumsViewSame<dyn::Dop853>(0.1, 0.3, Eigen::Vector2d(-0.4, 0.3), Eigen::Vector2d(0.0, 2.0), 5, 0.02);
+  ExpectTwoPendulumsViewSame<dyn::Dopri5>(0.3, 0.15, Eigen::Vector2d(-0.4, 0.3), Eigen::Vector2d(3.0, -1.5), 5, 0);
 }
 
 // ---- driven runs (prescribed.h): the actuator force includes the joints' Coulomb friction ----

@@ -407,9 +407,19 @@ class PreparedRhsConstants {
 }  // namespace internal
 
 namespace internal {
+/// The type of Statics::K_rel (the generated one, or the view's bounded one); Fallback where
+/// Statics has none (a model without friction joints: never read).
+template <class Statics, class Fallback, class = void>
+struct KrelOf {
+  using type = Fallback;
+};
+template <class Statics, class Fallback>
+struct KrelOf<Statics, Fallback, std::void_t<decltype(std::declval<Statics&>().K_rel)>> {
+  using type = std::decay_t<decltype(std::declval<Statics&>().K_rel)>;
+};
 /// Coulomb friction with stick and slip as the minimal method simulates it
 /// (friction.h's CoulombFeatures; through the model view a count known at run time, at most
-/// kMaxFriction, and one input only: MinimalDynamics::Simulate says so of several).
+/// kMaxFriction, and its inputs' count: several inputs each joint its own mode, as kNq > 1).
 template <class M>
 struct MinimalCoulomb : CoulombFeatures<M> {};
 }  // namespace internal
@@ -506,14 +516,25 @@ class MinimalDynamics {
   static constexpr bool kHasSwitches = kNumSwitches > 0;
   /// Coulomb friction with stick and slip can be simulated (MinimalOptions::coulomb): friction
   /// joints, no caller's load (dynamics/friction.h; several inputs: each joint its own mode).
-  /// Through the model view: whether it may (the view's friction joints at run time, one
-  /// input only; internal::MinimalCoulomb).
+  /// Through the model view: whether it may (the view's friction joints at run time;
+  /// internal::MinimalCoulomb).
   static constexpr bool kHasCoulomb = internal::MinimalCoulomb<M>::kHasFriction && !kHasLoad;
   static constexpr bool kReportsFriction = kHasCoulomb;
   static constexpr int kNumFriction = internal::MinimalCoulomb<M>::kNumFriction;
   /// kNumFriction, or the bound of the view's run-time count.
   static constexpr int kMaxFriction = internal::MinimalCoulomb<M>::kMaxFriction;
   using FrictionStateT = FrictionState<kNumFriction, kMaxFriction>;
+  /// Several inputs may have each friction joint its own mode (JointModes): kNq > 1, or the
+  /// view's (SeveralInputs() says at run time).
+  static constexpr bool kMaySeveralInputs = kNq > 1 || kNq == Eigen::Dynamic;
+  /// The run's friction joints are in JointModes (several inputs), not in stuck_ / slip_dir_.
+  bool SeveralInputs() const {
+    if constexpr (kNq == Eigen::Dynamic) {
+      return Nq() > 1;
+    } else {
+      return kNq > 1;
+    }
+  }
 
   /// (A generated M only: a ViewModel names its view.)
   template <class Model = M, std::enable_if_t<!ModelCalls<Model>::kView, int> = 0>
@@ -758,9 +779,6 @@ class MinimalDynamics {
   bool SimulatesCoulomb(const VecQ& q0) {
     if constexpr (kHasCoulomb) {
       if (!options_.coulomb.enabled) return false;
-      if constexpr (Calls::kView) {
-        if (Nq() > 1) return false;  // (several inputs: not through the view; Simulate says so)
-      }
       return AnyCoulombGain(q0);
     } else {
       (void)q0;
@@ -824,14 +842,10 @@ class MinimalDynamics {
           summary->message = "Coulomb friction is not simulated with a caller's load";
         } else {
           const bool simulates = SimulatesCoulomb(q0);
-          bool several_through_view = false;  // (the view: one input's stick and slip only)
-          if constexpr (Calls::kView) several_through_view = Nq() > 1 && AnyCoulombGain(q0);
-          if (several_through_view) {
-            summary->message = "Coulomb friction with several inputs is not simulated through the model view";
-          } else if (simulates && kNq > 1) {
+          if (simulates && SeveralInputs()) {
             coulomb_active_ = true;
             summary->coulomb = true;
-            if constexpr (kNq > 1) {
+            if constexpr (kMaySeveralInputs) {
               // Each joint slips along its relative velocity; those at relative rest decided.
               if (!StartJoints(t0, &y0, summary)) {
                 EndRun();
@@ -908,8 +922,8 @@ class MinimalDynamics {
     *phi = Predictor(q);
     if (!SolveAt(q, phi)) return false;
     EvalCoefficients(q, *phi, c);
-    if constexpr (kNq > 1) {
-      return EvalJoints(t, q, qd, *phi, *c, d, qdd, fs, nullptr, nullptr);
+    if constexpr (kMaySeveralInputs) {
+      if (SeveralInputs()) return EvalJoints(t, q, qd, *phi, *c, d, qdd, fs, nullptr, nullptr);
     }
     if (stuck_) {
       const VecQ zero = ZeroQ();
@@ -973,7 +987,7 @@ class MinimalDynamics {
     s->Q = d.Q;
     s->K = c.K;
     s->friction = fs.f;
-    if constexpr (kNq > 1) {
+    if (SeveralInputs()) {
       s->joint_stuck = joints_.stuck;
       s->stuck = joints_.AnyStuck();
     } else {
@@ -1007,27 +1021,38 @@ class MinimalDynamics {
     *stuck = !(*e * qdd(0) > 0);
     return true;
   }
-  // ---- several inputs (kNq > 1): each friction joint its own mode (JointModes) ----
+  // ---- several inputs (kNq > 1, or the view's Nq() > 1): each friction joint its own mode
+  // (JointModes) ----
+  /// A vector of the friction joints (bounds) and their K_rel (the generated Statics' type).
+  using VecBound = typename FrictionStateT::VecF;
+  using MatKrel = typename internal::KrelOf<typename Friction::Statics, Eigen::Matrix<double, kNumFriction, kNq>>::type;
+  /// K_rel_J v: joint J's relative velocity (v = qd) or acceleration (v = qdd). (The view's:
+  /// a sum of Nq() products in order; from three inputs on, its last bit may differ from the
+  /// fixed-size instantiation's unrolled sum. No such model is shipped.)
+  static double RowTimes(const MatKrel& K, int J, const VecQ& v) { return K.row(J).dot(v); }
+
   /// The dynamics in the joints' modes at (t, q, qd) (positions solved): EvalDynamics, then
   /// CoulombFriction::Mixed; *bound and *K_rel of every joint if not nullptr.
   bool EvalJoints(double t, const VecQ& q, const VecQ& qd, const VecPhi& phi, const Coefficients& c, Dyn* d,
-                  VecQ* qdd, FrictionStateT* fs, Eigen::Matrix<double, kNumFriction, 1>* bound,
-                  Eigen::Matrix<double, kNumFriction, kNq>* K_rel) {
+                  VecQ* qdd, FrictionStateT* fs, VecBound* bound, MatKrel* K_rel) {
     EvalDynamics(q, phi, qd, t, c, d);
-    Eigen::Matrix<double, kNumFriction, 1> B;
-    Eigen::Matrix<double, kNumFriction, kNq> K;
+    VecBound B;
+    MatKrel K;
     if (!Friction::Mixed(model_, options_.coulomb, p_, q, phi, qd, t, c, d->I, VecQ(d->Q - d->h), joints_, qdd, &fs->f, &B, &K,
                          &fs->iterations)) {
       friction_failed_ = true;
       return false;
     }
     // The friction's generalized force (the stuck joints' holding loads included) and power.
-    const VecQ Q_f = K.transpose() * fs->f;
+    // (The view's: Times, the coefficient-based product's sums; from three friction joints on
+    // their last bit may differ from the fixed-size product's. No such model is shipped.)
+    const VecQ Q_f = Times(K.transpose(), fs->f);
     d->Q += Q_f;
     d->P_nc += Q_f.dot(qd);
-    for (int J = 0; J < kNumFriction; ++J) {
+    const int nf = Friction::Count(model_);
+    for (int J = 0; J < nf; ++J) {
       const bool past = joints_.stuck[J] ? std::abs(fs->f(J)) > B(J)
-                                         : B(J) != 0 && !(joints_.dir[J] * K.row(J).dot(qd) > 0);
+                                         : B(J) != 0 && !(joints_.dir[J] * RowTimes(K, J, qd) > 0);
       if (past) breakaway_seen_ = std::min(breakaway_seen_, t);
     }
     fs->Q_friction = 0;
@@ -1041,22 +1066,23 @@ class MinimalDynamics {
   /// (slipping) and bound_J - |f_J| (stuck); *joint the joint of the minimum. false: the
   /// positions or the friction failed.
   bool FrictionMargin(double t, const State& y, double* g, int* joint) {
-    const VecQ q = y.template head<kNq>();
-    const VecQ qd = y.template segment<kNq>(kNq);
+    const VecQ q = QOf(y);
+    const VecQ qd = QdOf(y);
     VecPhi phi;
     Coefficients c;
     if (!Positions(q, &phi, &c)) return false;
     Dyn d;
     VecQ qdd;
     FrictionStateT fs;
-    Eigen::Matrix<double, kNumFriction, 1> B;
-    Eigen::Matrix<double, kNumFriction, kNq> K;
+    VecBound B;
+    MatKrel K;
     if (!EvalJoints(t, q, qd, phi, c, &d, &qdd, &fs, &B, &K)) return false;
     *g = std::numeric_limits<double>::infinity();
     *joint = -1;
-    for (int J = 0; J < kNumFriction; ++J) {
+    const int nf = Friction::Count(model_);
+    for (int J = 0; J < nf; ++J) {
       if (B(J) == 0 && !joints_.stuck[J]) continue;  // no friction there: no mode to change
-      const double gJ = joints_.stuck[J] ? B(J) - std::abs(fs.f(J)) : joints_.dir[J] * K.row(J).dot(qd);
+      const double gJ = joints_.stuck[J] ? B(J) - std::abs(fs.f(J)) : joints_.dir[J] * RowTimes(K, J, qd);
       if (gJ < *g) {
         *g = gJ;
         *joint = J;
@@ -1074,24 +1100,25 @@ class MinimalDynamics {
   /// no consistent mode.
   bool DecideJoints(double t, State* y, const std::array<bool, kMaxFriction>& at_rest, int* failed_joint) {
     *failed_joint = -1;
-    const VecQ q = y->template head<kNq>();
+    const VecQ q = QOf(*y);
     VecPhi phi;
     Coefficients c;
     if (!Positions(q, &phi, &c)) return false;
     Dyn d;
     VecQ qdd;
     FrictionStateT fs;
-    Eigen::Matrix<double, kNumFriction, 1> B;
-    Eigen::Matrix<double, kNumFriction, kNq> K;
+    VecBound B;
+    MatKrel K;
     // K_rel from one evaluation (it does not depend on the modes).
     {
-      typename M::template StaticsT<double> st;
-      const VecQ zero = VecQ::Zero();
-      M::template Kinetostatics<double>(p_, q, phi, zero, zero, t, c, &st);
+      typename Friction::Statics st;
+      const VecQ zero = ZeroQ();
+      Friction::Kineto(model_, p_, q, phi, zero, zero, t, c, &st, nullptr);
       K = st.K_rel;
     }
+    const int nf = Friction::Count(model_);
     std::array<bool, kMaxFriction> final_stuck{};
-    for (int J = 0; J < kNumFriction; ++J) {
+    for (int J = 0; J < nf; ++J) {
       if (!at_rest[J]) continue;
       int i = -1;
       double k = 0;
@@ -1102,20 +1129,20 @@ class MinimalDynamics {
       joints_.stuck[J] = true;
       joints_.held[J] = i;
       joints_.k[J] = k;
-      (*y)(kNq + i) = 0;
+      (*y)(Nq() + i) = 0;
     }
-    for (int J = 0; J < kNumFriction; ++J)
-      for (int L = J + 1; L < kNumFriction; ++L)
+    for (int J = 0; J < nf; ++J)
+      for (int L = J + 1; L < nf; ++L)
         if (joints_.stuck[J] && joints_.stuck[L] && joints_.held[J] == joints_.held[L]) {
           *failed_joint = L;  // two joints holding one input: indeterminate
           return false;
         }
-    const VecQ qd = y->template segment<kNq>(kNq);
-    for (int pass = 0; pass < 2 * kNumFriction + 2; ++pass) {
+    const VecQ qd = QdOf(*y);
+    for (int pass = 0; pass < 2 * nf + 2; ++pass) {
       if (!EvalJoints(t, q, qd, phi, c, &d, &qdd, &fs, &B, &K)) return false;
       int worst = -1;
       double excess = 1;
-      for (int J = 0; J < kNumFriction; ++J) {
+      for (int J = 0; J < nf; ++J) {
         if (!at_rest[J] || !joints_.stuck[J] || final_stuck[J]) continue;
         const double a = std::abs(fs.f(J));
         const double ratio = B(J) > 0 ? a / B(J) : (a > 0 ? std::numeric_limits<double>::infinity() : 0);
@@ -1130,8 +1157,8 @@ class MinimalDynamics {
         continue;
       }
       int inconsistent = -1;
-      for (int J = 0; J < kNumFriction && inconsistent < 0; ++J)
-        if (at_rest[J] && !joints_.stuck[J] && !(joints_.dir[J] * K.row(J).dot(qdd) > 0)) inconsistent = J;
+      for (int J = 0; J < nf && inconsistent < 0; ++J)
+        if (at_rest[J] && !joints_.stuck[J] && !(joints_.dir[J] * RowTimes(K, J, qdd) > 0)) inconsistent = J;
       if (inconsistent < 0) return true;
       joints_.stuck[inconsistent] = true;
       final_stuck[inconsistent] = true;
@@ -1142,22 +1169,23 @@ class MinimalDynamics {
   /// The first modes of a run from y0 (several inputs): joints moving slip along their
   /// relative velocity, those at relative rest decided (DecideJoints). false: a status.
   bool StartJoints(double t0, State* y0, MinimalSummary* summary) {
-    const VecQ q = y0->template head<kNq>();
-    const VecQ qd = y0->template segment<kNq>(kNq);
+    const VecQ q = QOf(*y0);
+    const VecQ qd = QdOf(*y0);
     VecPhi phi;
     Coefficients c;
     if (!Positions(q, &phi, &c)) {
       summary->message = "the initial state does not assemble";
       return false;
     }
-    typename M::template StaticsT<double> st;
-    const VecQ zero = VecQ::Zero();
-    M::template Kinetostatics<double>(p_, q, phi, zero, zero, t0, c, &st);
+    typename Friction::Statics st;
+    const VecQ zero = ZeroQ();
+    Friction::Kineto(model_, p_, q, phi, zero, zero, t0, c, &st, nullptr);
     std::array<bool, kMaxFriction> at_rest{};
     bool any = false;
     joints_ = JointModes<kMaxFriction>();
-    for (int J = 0; J < kNumFriction; ++J) {
-      const double v = st.K_rel.row(J).dot(qd);
+    const int nf = Friction::Count(model_);
+    for (int J = 0; J < nf; ++J) {
+      const double v = RowTimes(st.K_rel, J, qd);
       joints_.dir[J] = v < 0 ? -1.0 : 1.0;
       joints_.held[J] = -1;
       at_rest[J] = v == 0 && st.gain(J) != 0;
@@ -1170,7 +1198,7 @@ class MinimalDynamics {
       NameFailure(failed, "at the initial state", summary);
       return false;
     }
-    for (int J = 0; J < kNumFriction; ++J)
+    for (int J = 0; J < nf; ++J)
       if (joints_.stuck[J]) {
         ++summary->stick_intervals;
         summary->last_stick_start = t0;
@@ -1183,27 +1211,28 @@ class MinimalDynamics {
   bool ResolveJoints(double t, State* y, MinimalSummary* summary) {
     const JointModes<kMaxFriction> before = joints_;
     std::array<bool, kMaxFriction> at_rest{};
+    const int nf = Friction::Count(model_);
     // Every joint whose margin is not positive here (slipping: at relative rest; stuck: at
     // its bound), and every stuck one (their holding loads change with the others' modes).
     {
-      const VecQ q = y->template head<kNq>();
-      const VecQ qd = y->template segment<kNq>(kNq);
+      const VecQ q = QOf(*y);
+      const VecQ qd = QdOf(*y);
       VecPhi phi;
       Coefficients c;
       Dyn d;
       VecQ qdd;
       FrictionStateT fs;
-      Eigen::Matrix<double, kNumFriction, 1> B;
-      Eigen::Matrix<double, kNumFriction, kNq> K;
+      VecBound B;
+      MatKrel K;
       if (!Positions(q, &phi, &c) || !EvalJoints(t, q, qd, phi, c, &d, &qdd, &fs, &B, &K)) {
         summary->message = "the friction loads did not converge at a stick-slip transition";
         return false;
       }
-      for (int J = 0; J < kNumFriction; ++J) {
+      for (int J = 0; J < nf; ++J) {
         if (joints_.stuck[J]) {
           at_rest[J] = true;
         } else if (B(J) != 0) {
-          at_rest[J] = !(joints_.dir[J] * K.row(J).dot(qd) > 0);
+          at_rest[J] = !(joints_.dir[J] * RowTimes(K, J, qd) > 0);
         }
       }
     }
@@ -1212,7 +1241,7 @@ class MinimalDynamics {
       NameFailure(failed, "at a stick-slip transition", summary);
       return false;
     }
-    for (int J = 0; J < kNumFriction; ++J) {
+    for (int J = 0; J < nf; ++J) {
       if (before.stuck[J] && !joints_.stuck[J]) summary->time_stuck += t - stuck_since_[J];
       if (!before.stuck[J] && joints_.stuck[J]) {
         ++summary->stick_intervals;
@@ -1226,7 +1255,8 @@ class MinimalDynamics {
 
   /// The time the joints stuck at the run's end t have been stuck (added to the summary).
   void CloseStuck(double t, MinimalSummary* summary) const {
-    for (int J = 0; J < kNumFriction; ++J)
+    const int nf = Friction::Count(model_);
+    for (int J = 0; J < nf; ++J)
       if (joints_.stuck[J] && t >= stuck_since_[J]) summary->time_stuck += t - stuck_since_[J];
   }
 
@@ -1249,7 +1279,7 @@ class MinimalDynamics {
   double BreakawaySeen() const { return breakaway_seen_; }
   bool CoulombActive() const { return coulomb_active_; }
   bool Stuck() const {
-    if constexpr (kNq > 1) return joints_.AnyStuck();
+    if (SeveralInputs()) return joints_.AnyStuck();
     return stuck_;
   }
   double SlipDirection() const { return slip_dir_; }

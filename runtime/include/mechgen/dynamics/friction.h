@@ -182,8 +182,8 @@ double FrictionForceOfOneInput(const MatKrel& K_rel, const VecF& f) {
  * configuration (q, phi, c) of a model with kNq = 1 (see the file comment); Prescribed() for
  * a driven motion and Mixed() for several inputs, any kNq. The model is reached through
  * ModelCalls<M> (core/model_calls.h): a generated model's empty tag, or the model view
- * (its friction joints counted at run time; Mixed() and InputJoint() for a generated model
- * only).
+ * (its friction joints and inputs counted at run time; Mixed() on fixed-size copies of its
+ * inputs' count, MixedDynamic).
  */
 template <class M>
 class CoulombFriction {
@@ -418,60 +418,17 @@ class CoulombFriction {
                     const Coefficients& c,
                     const MatI& I,
                     const VecQ& Q_minus_h,
-                    const JointModes<kNumFriction>& m,
+                    const JointModes<kMaxFriction>& m,
                     VecQ* qdd,
                     VecF* f,
                     VecF* bound,
                     MatKrel* K_rel,
                     int* iterations) {
-    // The reduced inertia: a held input's row and column replaced by the identity's.
-    Eigen::Matrix<double, kNq, kNq> A = I;
-    std::array<bool, kNq> held{};
-    for (int J = 0; J < kNumFriction; ++J)
-      if (m.stuck[J]) held[m.held[J]] = true;
-    for (int i = 0; i < kNq; ++i) {
-      if (!held[i]) continue;
-      A.row(i).setZero();
-      A.col(i).setZero();
-      A(i, i) = 1;
+    if constexpr (kNq != Eigen::Dynamic) {
+      return MixedOf<kNq>(model, o, p, q, phi, qd, t, c, I, Q_minus_h, m, qdd, f, bound, K_rel, iterations);
+    } else {
+      return MixedDynamic<2>(model, o, p, q, phi, qd, t, c, I, Q_minus_h, m, qdd, f, bound, K_rel, iterations);
     }
-    const Eigen::LDLT<Eigen::Matrix<double, kNq, kNq>> ldlt(A);
-    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0)) return false;
-    Statics st;
-    f->setZero();
-    *iterations = 0;
-    bool have_K = false;
-    for (int k = 0; k < o.max_iterations; ++k) {
-      VecQ b = Q_minus_h;
-      if (have_K)
-        for (int J = 0; J < kNumFriction; ++J)
-          if (!m.stuck[J]) b += st.K_rel.row(J).transpose() * (*f)(J);
-      VecQ rhs = b;
-      for (int i = 0; i < kNq; ++i)
-        if (held[i]) rhs(i) = 0;
-      *qdd = ldlt.solve(rhs);
-      for (int i = 0; i < kNq; ++i)
-        if (held[i]) (*qdd)(i) = 0;
-      VecF f_now = *f;
-      for (int J = 0; J < kNumFriction; ++J)
-        if (m.stuck[J]) f_now(J) = (I.row(m.held[J]).dot(*qdd) - b(m.held[J])) / m.k[J];
-      Kineto(model, p, q, phi, qd, *qdd, t, c, &st, &f_now);
-      ++*iterations;
-      have_K = true;
-      VecF f_next = f_now;
-      for (int J = 0; J < kNumFriction; ++J) {
-        (*bound)(J) = st.gain(J) * st.normal(J);
-        if (!m.stuck[J]) f_next(J) = -(*bound)(J) * m.dir[J];
-      }
-      if (!f_next.allFinite() || !qdd->allFinite()) return false;
-      const double change = (f_next - *f).cwiseAbs().maxCoeff();
-      *f = f_next;
-      if (k > 0 && change <= o.tolerance * f->cwiseAbs().maxCoeff()) {
-        *K_rel = st.K_rel;
-        return true;
-      }
-    }
-    return false;
   }
 
   /// Joint J's row of K_rel is k e_i (one input's speed alone, any other entry exactly 0):
@@ -479,7 +436,7 @@ class CoulombFriction {
   template <class MatKrel>
   static bool InputJoint(const MatKrel& K_rel, int J, int* input, double* k) {
     *input = -1;
-    for (int i = 0; i < kNq; ++i) {
+    for (int i = 0; i < static_cast<int>(K_rel.cols()); ++i) {
       if (K_rel(J, i) == 0) continue;
       if (*input >= 0) return false;
       *input = i;
@@ -489,6 +446,96 @@ class CoulombFriction {
   }
 
   static double Sign(double x) { return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0); }
+
+ private:
+  /// Mixed() of the view's model (its inputs known at run time) on MixedOf<k> of its count k:
+  /// the inputs' arithmetic (the reduced inertia's LDLT, its solves, I_i. qdd) on fixed-size
+  /// k-vectors, as the fixed-size instantiation's.
+  template <int k, class MatI, class MatKrel>
+  static bool MixedDynamic(const M& model, const CoulombOptions& o, const Params& p, const VecQ& q,
+                           const VecPhi& phi, const VecQ& qd, double t, const Coefficients& c, const MatI& I,
+                           const VecQ& Q_minus_h, const JointModes<kMaxFriction>& m, VecQ* qdd, VecF* f,
+                           VecF* bound, MatKrel* K_rel, int* iterations) {
+    if constexpr (k <= ModelTypes<M>::kMaxQ) {
+      if (Calls::Nq(model) != k)
+        return MixedDynamic<k + 1>(model, o, p, q, phi, qd, t, c, I, Q_minus_h, m, qdd, f, bound, K_rel, iterations);
+      return MixedOf<k>(model, o, p, q, phi, qd, t, c, I, Q_minus_h, m, qdd, f, bound, K_rel, iterations);
+    } else {
+      return false;  // (more inputs than a view has)
+    }
+  }
+
+  /// Mixed() on n = Nq inputs (kNq; the view's count: see MixedDynamic). For a generated
+  /// model VecN is VecQ and every copy below is of the same type.
+  template <int n, class MatI, class MatKrel>
+  static bool MixedOf(const M& model, const CoulombOptions& o, const Params& p, const VecQ& q, const VecPhi& phi,
+                      const VecQ& qd, double t, const Coefficients& c, const MatI& I_in, const VecQ& Q_minus_h_in,
+                      const JointModes<kMaxFriction>& m, VecQ* qdd_out, VecF* f, VecF* bound, MatKrel* K_rel,
+                      int* iterations) {
+    using VecN = Eigen::Matrix<double, n, 1>;
+    using MatN = Eigen::Matrix<double, n, n>;
+    const int nf = Count(model);
+    const MatN I = I_in;
+    const VecN Q_minus_h = Q_minus_h_in;
+    // The reduced inertia: a held input's row and column replaced by the identity's.
+    MatN A = I;
+    std::array<bool, n> held{};
+    for (int J = 0; J < nf; ++J)
+      if (m.stuck[J]) held[m.held[J]] = true;
+    for (int i = 0; i < n; ++i) {
+      if (!held[i]) continue;
+      A.row(i).setZero();
+      A.col(i).setZero();
+      A(i, i) = 1;
+    }
+    const Eigen::LDLT<MatN> ldlt(A);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0)) return false;
+    Statics st;
+    if constexpr (kNumFriction == Eigen::Dynamic) {
+      f->setZero(nf);
+      bound->resize(nf);
+    } else {
+      f->setZero();
+    }
+    *iterations = 0;
+    bool have_K = false;
+    VecN qdd;
+    VecQ qdd_q = ZeroQ(model);
+    for (int k = 0; k < o.max_iterations; ++k) {
+      VecN b = Q_minus_h;
+      if (have_K)
+        for (int J = 0; J < nf; ++J)
+          if (!m.stuck[J]) b += st.K_rel.row(J).transpose() * (*f)(J);
+      VecN rhs = b;
+      for (int i = 0; i < n; ++i)
+        if (held[i]) rhs(i) = 0;
+      qdd = ldlt.solve(rhs);
+      for (int i = 0; i < n; ++i)
+        if (held[i]) qdd(i) = 0;
+      VecF f_now = *f;
+      for (int J = 0; J < nf; ++J)
+        if (m.stuck[J]) f_now(J) = (I.row(m.held[J]).dot(qdd) - b(m.held[J])) / m.k[J];
+      qdd_q = qdd;
+      Kineto(model, p, q, phi, qd, qdd_q, t, c, &st, &f_now);
+      ++*iterations;
+      have_K = true;
+      VecF f_next = f_now;
+      for (int J = 0; J < nf; ++J) {
+        (*bound)(J) = st.gain(J) * st.normal(J);
+        if (!m.stuck[J]) f_next(J) = -(*bound)(J) * m.dir[J];
+      }
+      if (!f_next.allFinite() || !qdd.allFinite()) return false;
+      const double change = (f_next - *f).cwiseAbs().maxCoeff();
+      *f = f_next;
+      if (k > 0 && change <= o.tolerance * f->cwiseAbs().maxCoeff()) {
+        *qdd_out = qdd_q;
+        *K_rel = st.K_rel;
+        return true;
+      }
+    }
+    *qdd_out = qdd_q;
+    return false;
+  }
 };
 
 }  // namespace mechgen::dynamics

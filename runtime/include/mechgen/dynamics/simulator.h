@@ -379,6 +379,23 @@ struct EventLoop {
     }
   }
 
+  /// Several inputs whose friction joints each have their own mode (P::SeveralInputs(): kNq >
+  /// 1, or the view's Nq() > 1); false for a simulation without Coulomb friction's hooks.
+  template <class P>
+  static bool SeveralFrictionInputs(const P* sim) {
+    if constexpr (P::kNq > 1 || P::kNq == Eigen::Dynamic) {
+      if constexpr (HasCoulombHooks<P>::value) {
+        return sim->SeveralInputs();
+      } else {
+        (void)sim;
+        return false;
+      }
+    } else {
+      (void)sim;
+      return false;
+    }
+  }
+
   template <class P, class Summary, class Observer, class UserEvent>
   static bool Run(P* sim, const EventSettings& o, double t0, const typename P::State& y0,
                   double t_end, Observer& observer, UserEvent& user_event, Summary* summary,
@@ -388,8 +405,10 @@ struct EventLoop {
     auto& integrator = sim->integrator_;
     auto finish = [&](Status s, double t) {
       if constexpr (HasCoulombHooks<P>::value) {
-        if constexpr (P::kNq > 1) {
-          if (sim->CoulombActive()) sim->CloseStuck(t, summary);
+        if (SeveralFrictionInputs(sim)) {
+          if constexpr (P::kNq > 1 || P::kNq == Eigen::Dynamic) {
+            if (sim->CoulombActive()) sim->CloseStuck(t, summary);
+          }
         } else if (sim->CoulombActive() && sim->Stuck() && summary->time_stuck >= 0 &&
                    t >= summary->last_stick_start) {
           summary->time_stuck += t - summary->last_stick_start;
@@ -625,9 +644,10 @@ struct EventLoop {
       double new_direction = 1;
       State y_transition = integrator.y();
       if constexpr (HasCoulombHooks<P>::value) {
-        if constexpr (P::kNq > 1) {
+        if (SeveralFrictionInputs(sim)) {
           // Several inputs: the first time in (t_prev, t] where a joint's margin (a slipping
           // joint's dir K_rel qd, a stuck one's bound - |f|) is not positive, by bisection.
+          if constexpr (P::kNq > 1 || P::kNq == Eigen::Dynamic) {
           if (sim->CoulombActive()) {
             const double t_start = integrator.t_prev();
             double g_end = 0;
@@ -677,6 +697,7 @@ struct EventLoop {
               }
               friction_transition = true;
             }
+          }
           }
         } else if (sim->CoulombActive()) {
           const int kQd = NumInputs(sim);  // the index of qd(0) in the state
@@ -885,11 +906,13 @@ struct EventLoop {
             summary->integrator = integrator.summary();
             return finish(Status::kFrictionFailed, t);
           }
-          if constexpr (P::kNq > 1) {
+          if (SeveralFrictionInputs(sim)) {
             (void)new_stuck, (void)new_direction;
-            if (!sim->ResolveJoints(t, &y_transition, summary)) {
-              summary->integrator = integrator.summary();
-              return finish(Status::kFrictionFailed, t);
+            if constexpr (P::kNq > 1 || P::kNq == Eigen::Dynamic) {
+              if (!sim->ResolveJoints(t, &y_transition, summary)) {
+                summary->integrator = integrator.summary();
+                return finish(Status::kFrictionFailed, t);
+              }
             }
           } else {
             if (sim->Stuck() && !new_stuck) summary->time_stuck += t - summary->last_stick_start;

@@ -23,10 +23,10 @@
  * (core/model_calls.h), for a generated model (fixed sizes, the per-model study program) and for
  * mechgen::ViewModel (the runtime compiled once, `mechgen_view study`; the design derivatives
  * of the tolerance analysis, the envelope's first order and the design checks the view's,
- * ModelCalls<M>::Design, StaticsDesign and DesignChecks). Through the view, not yet: the first
- * order of a flywheel study's metrics (the cycle's design derivatives), the driven simulation
- * and Coulomb friction in a simulation of several inputs (one input's goes through); the study
- * command (tools/study_run.h) refuses them before Prepare (tools/common/not_through_view.h).
+ * ModelCalls<M>::Design, StaticsDesign and DesignChecks; the first order of a flywheel study's
+ * metrics the view's cycle design derivatives, machines/view_machines.h). Through the view, not
+ * yet: the driven simulation; the study command (tools/study_run.h) refuses it before Prepare
+ * (tools/common/not_through_view.h).
  * With analysis: flywheel and engine a view's sample runs the machines' cycle compiled once
  * (machines/view_machines.h, declared before this header where the view's study is compiled).
  */
@@ -171,11 +171,6 @@ void SampleReactions(dynamics::Kinetostatics<M>& kineto, const SampleT& s, Row* 
     row->has_R = true;
   }
 }
-// The flywheel analysis' design derivatives of the nominal's cycle (machines/flywheel/
-// cycle_design.h): a generated model's; nothing for the view (no flywheel analysis through it).
-struct NoCycleDesign {};
-template <class M>
-using CycleDesignOf = std::conditional_t<ModelCalls<M>::kView, NoCycleDesign, flywheel::CycleDesign<M>>;
 }  // namespace run_internal
 
 /// A study of model M: the spec checked against the model, the tables, the nominal rows. M is
@@ -203,7 +198,7 @@ class Study {
     std::vector<Kinematics> kinematics;
     std::vector<StaticsRow> statics;  ///< statics analysis only
     flywheel::MachineCycle cycle;     ///< flywheel analysis only
-    run_internal::CycleDesignOf<M> cycle_design;  ///< flywheel analysis, the nominal's (first order) only
+    flywheel::CycleDesign<M> cycle_design;  ///< flywheel analysis, the nominal's (first order) only
     /// simulate analysis: the samples (every t_end / steps, and where friction sticks or slips)
     /// and how the run ended.
     std::vector<typename run_internal::SimulationOf<M>::Row> simulation;
@@ -621,12 +616,10 @@ class Study {
       // (a view's: the library's, machines/view_machines.h)
       out->cycle = flywheel::SampleMachineCycle(model_, out->params, o);
       out->assembled = out->cycle.IsUsable();
-      if constexpr (!kView) {  // (the view's: tolerance: true of a flywheel study is refused, study_run.h)
-        // The nominal's derivatives of the cycle (machines/flywheel/cycle_design.h): the first
-        // order of the flywheel metrics (Gradient()).
-        if (design && out->assembled)
-          out->cycle_design = flywheel::SampleMachineCycleDesign<M>(out->params, o, out->cycle);
-      }
+      // The nominal's derivatives of the cycle (machines/flywheel/cycle_design.h): the first
+      // order of the flywheel metrics (Gradient()). (A view's: the library's.)
+      if (design && out->assembled)
+        out->cycle_design = flywheel::SampleMachineCycleDesign(model_, out->params, o, out->cycle);
       return;
     }
     if (spec_.analysis == Analysis::kSimulate) {
@@ -961,42 +954,37 @@ class Study {
       return g;
     }
     if (IsFlywheelMetric(m.kind)) {
-      if constexpr (kView) {  // (tolerance: true of a flywheel study: refused through the view, study_run.h)
-        *why = "no design derivatives of the flywheel cycle in a study through the model view";
-        return g;
-      } else {
-        // The cycle's design derivatives (machines/flywheel/cycle_design.h: exact for the computed
-        // figures; the breaks held at their angles). peak_torque: dT_req/dp at the sample where
-        // |T_req| peaks (that sample held, as for the other peaks).
-        const flywheel::CycleDesign<M>& cd = rows.cycle_design;
-        if (!cd.IsUsable()) {
-          *why = cd.message.empty() ? "no design derivatives of the cycle" : cd.message;
-          return g;
-        }
-        int peak = -1;
-        double sign = 1;
-        for (size_t i = 0; i < rows.cycle.points.size(); ++i) {
-          const double T = rows.cycle.points[i].T_req;
-          if (peak < 0 || std::abs(T) > std::abs(rows.cycle.points[static_cast<size_t>(peak)].T_req))
-            peak = static_cast<int>(i), sign = T >= 0 ? 1 : -1;
-        }
-        for (size_t p = 0; p < spec_.parameters.size(); ++p) {
-          const int d = index_[p];
-          if (d < 0) continue;
-          switch (m.kind) {
-            case MetricKind::kMeanTorque: g[p] = cd.dT_mean_dp(d); break;
-            case MetricKind::kEnergyFluctuation: g[p] = cd.ddelta_E_dp(d); break;
-            case MetricKind::kFlywheelInertia:
-              g[p] = flywheel::SizeFlywheelDesign<M>(rows.cycle, cd, m.C_s).dI_flywheel_dp(d);
-              break;
-            case MetricKind::kPeakTorque:
-              if (peak >= 0) g[p] = sign * cd.dT_req_dp[static_cast<size_t>(peak)](d);
-              break;
-            default: break;
-          }
-        }
+      // The cycle's design derivatives (machines/flywheel/cycle_design.h: exact for the computed
+      // figures; the breaks held at their angles). peak_torque: dT_req/dp at the sample where
+      // |T_req| peaks (that sample held, as for the other peaks).
+      const flywheel::CycleDesign<M>& cd = rows.cycle_design;
+      if (!cd.IsUsable()) {
+        *why = cd.message.empty() ? "no design derivatives of the cycle" : cd.message;
         return g;
       }
+      int peak = -1;
+      double sign = 1;
+      for (size_t i = 0; i < rows.cycle.points.size(); ++i) {
+        const double T = rows.cycle.points[i].T_req;
+        if (peak < 0 || std::abs(T) > std::abs(rows.cycle.points[static_cast<size_t>(peak)].T_req))
+          peak = static_cast<int>(i), sign = T >= 0 ? 1 : -1;
+      }
+      for (size_t p = 0; p < spec_.parameters.size(); ++p) {
+        const int d = index_[p];
+        if (d < 0) continue;
+        switch (m.kind) {
+          case MetricKind::kMeanTorque: g[p] = cd.dT_mean_dp(d); break;
+          case MetricKind::kEnergyFluctuation: g[p] = cd.ddelta_E_dp(d); break;
+          case MetricKind::kFlywheelInertia:
+            g[p] = flywheel::SizeFlywheelDesign<M>(rows.cycle, cd, m.C_s).dI_flywheel_dp(d);
+            break;
+          case MetricKind::kPeakTorque:
+            if (peak >= 0) g[p] = sign * cd.dT_req_dp[static_cast<size_t>(peak)](d);
+            break;
+          default: break;
+        }
+      }
+      return g;
     }
     for (size_t p = 0; p < spec_.parameters.size(); ++p) {
       if (index_[p] < 0) continue;

@@ -310,12 +310,13 @@ inline double WrapPi(double a) {
 /// A function task bound to M.
 template <class M>
 struct BoundFunction {
-  using Params = typename M::template ParamsT<double>;
+  using Params = typename ModelTypes<M>::Params;
+  const M* model = nullptr;   ///< reached through ModelCalls<M> (a generated model, or the model view); outlives this
   FunctionTask task;
   Params base;
   int n = 0;
-  int output = -1;            ///< index in M::kPhiNames
-  std::vector<int> column;    ///< each variable's column in M::kDesignNames
+  int output = -1;            ///< index in the model's dependent variables (ModelCalls<M>::PhiName)
+  std::vector<int> column;    ///< each variable's column in its design parameters (ModelCalls<M>::DesignName)
   int nv = 0;                 ///< design variables
   int nx = 0;                 ///< the vector searched: the design variables (+ the two start angles)
   ConstraintIndices checks;
@@ -324,50 +325,60 @@ struct BoundFunction {
 };
 
 template <class M>
-bool BindFunctionTask(const FunctionTask& task, const typename M::template ParamsT<double>& base, BoundFunction<M>* out,
-                      std::string* error) {
+bool BindFunctionTask(const M& model, const FunctionTask& task, const typename ModelTypes<M>::Params& base,
+                      BoundFunction<M>* out, std::string* error) {
+  using C = ModelCalls<M>;
   auto where = [&](int line, int column) { return bind_internal::Where(task.file, line, column); };
-  auto list = [](const auto& names) { return bind_internal::List(names); };
+  auto parameters = [&]() {
+    return bind_internal::List(C::NumFreeParameters(model), [&](int i) { return C::FreeParameterName(model, i); });
+  };
   BoundFunction<M> b;
+  b.model = &model;
   b.task = task;
   b.base = base;
   b.n = static_cast<int>(task.input.size());
+  const std::string no_design = task.file + ": error: the model '" + std::string(C::Name(model)) +
+                                "' has no `design` section; add `design: [parameters to vary]` to it (models/README.md)";
   if constexpr (!HasDesignDerivatives<M>::value) {
-    *error = task.file + ": error: the model '" + std::string(M::kName) +
-             "' has no `design` section; add `design: [parameters to vary]` to it (models/README.md)";
+    *error = no_design;
     return false;
   } else {
-    if constexpr (M::kNq != 1) {
-      *error = task.file + ": error: function generation needs a one-input model ('" + std::string(M::kName) + "' has " +
-               std::to_string(M::kNq) + " inputs)";
+    if (!C::HasDesign(model)) {
+      *error = no_design;
       return false;
     }
-    for (int i = 0; i < M::kNphi; ++i)
-      if (task.output == M::kPhiNames[static_cast<size_t>(i)]) b.output = i;
+    if (C::Nq(model) != 1) {
+      *error = task.file + ": error: function generation needs a one-input model ('" + std::string(C::Name(model)) +
+               "' has " + std::to_string(C::Nq(model)) + " inputs)";
+      return false;
+    }
+    for (int i = 0; i < C::Nphi(model); ++i)
+      if (task.output == C::PhiName(model, i)) b.output = i;
     if (b.output < 0) {
       *error = where(task.output_line, task.output_column) + "output '" + task.output +
-               "' is not one of the model's dependent variables (" + list(M::kPhiNames) + ")";
+               "' is not one of the model's dependent variables (" +
+               bind_internal::List(C::Nphi(model), [&](int i) { return C::PhiName(model, i); }) + ")";
       return false;
     }
-    if (!bind_internal::BindVariables<M>(task.file, task.variables, &b.column, error)) return false;
+    if (!bind_internal::BindVariables(model, task.file, task.variables, &b.column, error)) return false;
     if (task.freudenstein) {
-      typename M::template ParamsT<double> p = base;
+      typename ModelTypes<M>::Params p = base;
       for (const std::string& name : {task.crank, task.coupler, task.rocker, task.ground})
-        if (p.Find(name.c_str()) == nullptr) {
+        if (C::FindParameter(model, &p, name.c_str()) == nullptr) {
           *error = where(task.freudenstein_line, task.freudenstein_column) + "freudenstein: no parameter '" + name +
-                   "' in the model (parameters: " + list(M::template ParamsT<double>::kNames) + ")";
+                   "' in the model (parameters: " + parameters() + ")";
           return false;
         }
     }
-    if (!BindConstraints<M>(task.file, task.constraints, task.crank_link, task.crank_line, task.crank_column, &b.checks,
-                            error))
+    if (!BindConstraints(model, task.file, task.constraints, task.crank_link, task.crank_line, task.crank_column,
+                         &b.checks, error))
       return false;
     if (!task.in_offset.empty()) {
-      typename M::template ParamsT<double> p = base;
+      typename ModelTypes<M>::Params p = base;
       for (const std::string& name : {task.in_offset, task.out_offset}) {
-        if (p.Find(name.c_str()) == nullptr) {
+        if (C::FindParameter(model, &p, name.c_str()) == nullptr) {
           *error = where(task.offset_line, task.offset_column) + "free_start.parameters: no parameter '" + name +
-                   "' in the model (parameters: " + list(M::template ParamsT<double>::kNames) + ")";
+                   "' in the model (parameters: " + parameters() + ")";
           return false;
         }
         for (const Variable& v : task.variables)
@@ -393,6 +404,12 @@ bool BindFunctionTask(const FunctionTask& task, const typename M::template Param
     *out = b;
     return true;
   }
+}
+/// The same on a generated model's type (its one object, GeneratedModel<M>()).
+template <class M>
+bool BindFunctionTask(const FunctionTask& task, const typename M::template ParamsT<double>& base, BoundFunction<M>* out,
+                      std::string* error) {
+  return BindFunctionTask(GeneratedModel<M>(), task, base, out, error);
 }
 
 /// A function-generation candidate.
@@ -422,18 +439,22 @@ struct StructuralError {
 template <class M>
 class FunctionEvaluator {
  public:
-  using Params = typename M::template ParamsT<double>;
-  using VecQ = Eigen::Matrix<double, M::kNq, 1>;
-  using VecPhi = Eigen::Matrix<double, M::kNphi, 1>;
+  using C = ModelCalls<M>;
+  using Params = typename ModelTypes<M>::Params;
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecPhi = typename ModelTypes<M>::VecPhi;
 
-  explicit FunctionEvaluator(const BoundFunction<M>& b) : b_(b) {}
+  explicit FunctionEvaluator(const BoundFunction<M>& b) : b_(b), model_(*b.model) {}
   const BoundFunction<M>& bound() const { return b_; }
+  const M& model() const { return model_; }
   long long evaluations = 0;
   long long solves = 0;
 
   Params ParamsOf(const std::vector<double>& x) const {
     Params p = b_.base;
-    for (size_t j = 0; j < b_.task.variables.size(); ++j) *p.Find(b_.task.variables[j].name.c_str()) = x[j];
+    for (size_t j = 0; j < b_.task.variables.size(); ++j)
+      *C::FindParameter(model_, &p, b_.task.variables[j].name.c_str()) = x[j];
+    C::ParametersSet(model_, &p);
     return p;
   }
   /// The start angles of x (the task's when they are not free).
@@ -454,20 +475,21 @@ class FunctionEvaluator {
   /// phi at q on the model's mode; false where it does not assemble or is singular (SolveOnMode).
   bool PhiAt(const Params& p, double q, VecPhi* phi) {
     ++solves;
-    return SolveOnMode<M>(p, q, phi);
+    return SolveOnMode(model_, p, q, phi);
   }
 
   /// d phi_out / d x at (q, phi) into row[0..nx): the generated dphi/dp of the design
   /// variables and, for free start angles, K (the input's start moves q) and -1 (the output's).
   void JacobianRow(const Params& p, double q, const VecPhi& phi, double* row) const {
     VecQ qv;
+    qv.resize(1);
     qv(0) = q;
     position::DesignOf<M> design;
-    M::Design(p, qv, phi, &design);
+    C::Design(model_, p, qv, phi, &design);
     for (int j = 0; j < b_.nv; ++j) row[j] = design.dphi_dp(b_.output, b_.column[static_cast<size_t>(j)]);
     if (b_.task.free_start) {
-      typename M::template CoefficientsT<double> co;
-      M::Coeffs(p, qv, phi, &co);
+      typename ModelTypes<M>::Coefficients co;
+      C::Coeffs(model_, p, qv, phi, &co);
       row[b_.nv] = co.K(b_.output, 0);
       row[b_.nv + 1] = -1.0;
     }
@@ -511,7 +533,7 @@ class FunctionEvaluator {
       c.residual[static_cast<size_t>(i)] = r;
       c.error += r * r;
     }
-    const bool full_turn = CheckParameterConstraints<M>(p, t.constraints, b_.checks, flag);
+    const bool full_turn = CheckParameterConstraints(model_, p, t.constraints, b_.checks, flag);
     // The motion: from pair to pair in the task's order (the input moving directly between
     // them), or the full turn when the crank must turn fully; transmission angles along it.
     const double step = kTwoPi / t.search.curve_samples;
@@ -527,14 +549,14 @@ class FunctionEvaluator {
                                              ": the mechanism leaves its assembly mode (a dead point or no closure)");
           continue;
         }
-        if constexpr (M::kNumTransmissionAngles > 0) {
-          if (t.constraints.has_mu) {
-            VecQ qv;
-            qv(0) = q;
-            Eigen::Matrix<double, M::kNumTransmissionAngles, 1> mu;
-            M::TransmissionAngles(p, qv, phi, &mu);
-            for (int k = 0; k < M::kNumTransmissionAngles; ++k) mu_min = std::min(mu_min, mu(k)), mu_max = std::max(mu_max, mu(k));
-          }
+        if (C::NumTransmissionAngles(model_) > 0 && t.constraints.has_mu) {
+          VecQ qv;
+          qv.resize(1);
+          qv(0) = q;
+          TransmissionAngleVector mu;
+          C::TransmissionAngles(model_, p, qv, phi, &mu);
+          for (int k = 0; k < C::NumTransmissionAngles(model_); ++k)
+            mu_min = std::min(mu_min, mu(k)), mu_max = std::max(mu_max, mu(k));
         }
       }
     };
@@ -579,7 +601,13 @@ class FunctionEvaluator {
   }
 
  private:
+  using TransmissionAngleVector =
+      Eigen::Matrix<double, ModelFeatures<M>::kNumTransmissionAngles, 1, 0,
+                    ModelFeatures<M>::kNumTransmissionAngles == Eigen::Dynamic ? ModelView::kMaxTransmissionAngles
+                                                                              : ModelFeatures<M>::kNumTransmissionAngles,
+                    1>;
   const BoundFunction<M>& b_;
+  const M& model_;
 };
 
 /// The angle residuals and their generated Jacobian: dphi_out/dp of the design section and,
@@ -735,7 +763,7 @@ template <class M>
 double ConstraintAmount(const FunctionEvaluator<M>& eval, const std::vector<double>& x, const std::string& what) {
   const BoundFunction<M>& b = eval.bound();
   double amount = std::numeric_limits<double>::quiet_NaN();
-  CheckParameterConstraints<M>(eval.ParamsOf(x), b.task.constraints, b.checks, [&](double a, const std::string& w) {
+  CheckParameterConstraints(eval.model(), eval.ParamsOf(x), b.task.constraints, b.checks, [&](double a, const std::string& w) {
     if (w == what && !(amount > a)) amount = a;  // the largest when flagged twice
   });
   return amount;
@@ -746,7 +774,7 @@ template <class M>
 std::string BrokenConstraint(const FunctionEvaluator<M>& eval, const std::vector<double>& x) {
   const BoundFunction<M>& b = eval.bound();
   std::string broken;
-  CheckParameterConstraints<M>(eval.ParamsOf(x), b.task.constraints, b.checks, [&](double a, const std::string& w) {
+  CheckParameterConstraints(eval.model(), eval.ParamsOf(x), b.task.constraints, b.checks, [&](double a, const std::string& w) {
     if (a > 0 && broken.empty()) broken = w;
   });
   return broken;
@@ -1092,7 +1120,9 @@ FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed, int 
   std::vector<double> x0(static_cast<size_t>(nx));
   {
     auto p = b.base;
-    for (int j = 0; j < nv; ++j) x0[static_cast<size_t>(j)] = *p.Find(t.variables[static_cast<size_t>(j)].name.c_str());
+    for (int j = 0; j < nv; ++j)
+      x0[static_cast<size_t>(j)] =
+          *ModelCalls<M>::FindParameter(*b.model, &p, t.variables[static_cast<size_t>(j)].name.c_str());
     if (t.free_start) x0[static_cast<size_t>(nv)] = t.in_start, x0[static_cast<size_t>(nv + 1)] = t.out_start;
   }
   auto clamp = [&](std::vector<double> x) {
@@ -1105,14 +1135,14 @@ FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed, int 
     // The links' absolute angles: the model's input and output angles plus the offsets the
     // model turns the crank's and the output link's points by (free_start.parameters).
     auto p = b.base;
-    const double alpha = t.in_offset.empty() ? 0.0 : *p.Find(t.in_offset.c_str());
-    const double beta = t.out_offset.empty() ? 0.0 : *p.Find(t.out_offset.c_str());
+    const double alpha = t.in_offset.empty() ? 0.0 : *ModelCalls<M>::FindParameter(*b.model, &p, t.in_offset.c_str());
+    const double beta = t.out_offset.empty() ? 0.0 : *ModelCalls<M>::FindParameter(*b.model, &p, t.out_offset.c_str());
     std::vector<double> t2, t4;
     for (size_t i = 0; i < t.exact_input.size(); ++i) {
       t2.push_back(t.exact_input[i] - t.in_start + in0 + alpha);
       t4.push_back(t.exact_psi[i] - t.out_start + out0 + beta);
     }
-    *fr = Freudenstein(t2, t4, *p.Find(t.ground.c_str()));
+    *fr = Freudenstein(t2, t4, *ModelCalls<M>::FindParameter(*b.model, &p, t.ground.c_str()));
     std::vector<double> x = x0;
     for (int j = 0; j < nv; ++j) {
       const std::string& name = t.variables[static_cast<size_t>(j)].name;
@@ -1245,9 +1275,11 @@ void FunctionModelParameters(const BoundFunction<M>& b, const FunctionCandidate&
   if (t.free_start && !t.in_offset.empty()) {
     auto p = b.base;
     names->push_back(t.in_offset);
-    values->push_back(*p.Find(t.in_offset.c_str()) + c.x[static_cast<size_t>(b.nv)] - t.in_start);
+    values->push_back(*ModelCalls<M>::FindParameter(*b.model, &p, t.in_offset.c_str()) +
+                      c.x[static_cast<size_t>(b.nv)] - t.in_start);
     names->push_back(t.out_offset);
-    values->push_back(*p.Find(t.out_offset.c_str()) + c.x[static_cast<size_t>(b.nv + 1)] - t.out_start);
+    values->push_back(*ModelCalls<M>::FindParameter(*b.model, &p, t.out_offset.c_str()) +
+                      c.x[static_cast<size_t>(b.nv + 1)] - t.out_start);
   }
 }
 
@@ -1264,7 +1296,7 @@ std::vector<double> FunctionWrittenInputs(const BoundFunction<M>& b, const Funct
   for (size_t k = 0; k < names.size(); ++k) {
     if (b.task.in_offset.empty() || names[k] != b.task.in_offset) continue;
     auto p = b.base;
-    shift = values[k] - *p.Find(names[k].c_str());
+    shift = values[k] - *ModelCalls<M>::FindParameter(*b.model, &p, names[k].c_str());
   }
   FunctionEvaluator<M> eval(b);
   std::vector<double> motion;
@@ -1276,7 +1308,7 @@ std::vector<double> FunctionWrittenInputs(const BoundFunction<M>& b, const Funct
 template <class M>
 std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, uint64_t seed, int threads = 1) {
   const FunctionTask& t = b.task;
-  std::string s = "# function generation: " + std::string(M::kName) + ", output " + t.output + ", " +
+  std::string s = "# function generation: " + std::string(ModelCalls<M>::Name(*b.model)) + ", output " + t.output + ", " +
                   std::to_string(b.n) + (t.range ? " accuracy points" : " pairs") + " (task " + t.file + ")\n";
   if (t.range)
     s += "function: y = " + t.expression + " on x in [" + Short(t.x0, 9) + ", " + Short(t.x1, 9) + "], " +
@@ -1420,7 +1452,7 @@ std::string FunctionSvg(FunctionEvaluator<M>* eval, const FunctionCandidate& c, 
   auto X = [&](double q) { return Short(m + (q - q0) / (q1 - q0) * w, 7); };
   auto Y = [&](double y) { return Short(m + (ymax - y) / yspan * h, 7); };
   std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + Short(w + 2 * m) + "\" height=\"" +
-                    Short(h + 2 * m) + "\">\n<title>" + std::string(M::kName) + ": " + t.output +
+                    Short(h + 2 * m) + "\">\n<title>" + std::string(ModelCalls<M>::Name(eval->model())) + ": " + t.output +
                     " against the input (curve), the task's " + (t.range ? "function (dashed) and accuracy points" : "pairs") +
                     " (circles)</title>\n";
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";

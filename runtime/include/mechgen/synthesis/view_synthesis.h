@@ -13,9 +13,11 @@
  * from the view's design derivatives, ModelCalls<ViewModel>::Design), motion generation
  * (SynthesizeMotion: the Burmester pairs and their four-bars checked on the model, beyond five
  * poses the least squares on the design derivatives, four poses the curves), exact path synthesis (BindExactTask, RunExactTask: every real solution
- * checked on the model's kinematics and continuation), and the synthesized model file and its
- * report lines (WriteSynthesizedModel, SetParametersText, WrittenModelText). Not yet: function
- * generation (synthesis/function.h).
+ * checked on the model's kinematics and continuation), function generation (BindFunctionTask,
+ * SynthesizeFunction: the exact start, Levenberg-Marquardt on the view's design derivatives,
+ * differential evolution and the minimax exchange; FunctionEvaluator, FunctionReport,
+ * FunctionModelParameters, FunctionWrittenInputs, FunctionSvg), and the synthesized model file
+ * and its report lines (WriteSynthesizedModel, SetParametersText, WrittenModelText).
  */
 #pragma once
 
@@ -27,6 +29,7 @@
 
 #include "mechgen/core/view_model.h"
 #include "mechgen/synthesis/exact.h"
+#include "mechgen/synthesis/function.h"
 #include "mechgen/synthesis/motion.h"
 #include "mechgen/synthesis/output.h"
 #include "mechgen/synthesis/path.h"
@@ -59,5 +62,17 @@ extern template std::string ContinuationCheck<ViewModel>(PathEvaluator<ViewModel
 extern template std::string Report<ViewModel>(PathEvaluator<ViewModel>*, const SearchResult&, const std::string&, uint64_t, int,
                                     double, double, const std::string&);
 extern template std::string CurveSvg<ViewModel>(PathEvaluator<ViewModel>*, const Candidate&, int);
+
+extern template class FunctionEvaluator<ViewModel>;
+extern template bool BindFunctionTask<ViewModel>(const ViewModel&, const FunctionTask&, const ViewParams&,
+                                                 BoundFunction<ViewModel>*, std::string*);
+extern template FunctionResult SynthesizeFunction<ViewModel>(const BoundFunction<ViewModel>&, uint64_t, int);
+extern template std::string FunctionReport<ViewModel>(const BoundFunction<ViewModel>&, const FunctionResult&, uint64_t,
+                                                      int);
+extern template void FunctionModelParameters<ViewModel>(const BoundFunction<ViewModel>&, const FunctionCandidate&,
+                                                        std::vector<std::string>*, std::vector<double>*);
+extern template std::vector<double> FunctionWrittenInputs<ViewModel>(const BoundFunction<ViewModel>&,
+                                                                     const FunctionCandidate&);
+extern template std::string FunctionSvg<ViewModel>(FunctionEvaluator<ViewModel>*, const FunctionCandidate&, int);
 
 }  // namespace mechgen::synthesis
