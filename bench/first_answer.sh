@@ -58,7 +58,7 @@ for pair in "${models[@]}"; do
     engine) options=(cycle --rpm 3000) ;;
     flywheel) options=(--rpm 60 --cs 0.02) ;;
     # models/fourbar.study.yaml without the design derivatives (tolerance, envelope,
-    # design_margin: the per-model program's), 200 samples on 2 threads.
+    # design_margin), 200 samples on 2 threads.
     study) options=(--study study.yaml --threads 2) ;;
     *) echo "error: no command $command"; continue ;;
   esac
@@ -87,4 +87,4 @@ for pair in "${models[@]}"; do
     "$second" "$cached" "$per_model" "$(verdict "$first" "$limit")" "$(verdict "$second" 1)" "$(verdict "$cached" 0.2)"
   cd "$work" || exit 1
 done
-echo "(seconds, wall clock, one run each; through the view: sweep, statics, simulate, engine, flywheel, study; synthesize compiles per model)"
+echo "(seconds, wall clock, one run each; every command through the view but simulate --design)"
