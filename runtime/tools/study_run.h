@@ -16,10 +16,11 @@
 // --params/--set read the view's parameter table (common/view_params.h). Through the view, not
 // yet (refused by common/not_through_view.h before anything is computed or written: a usage
 // error naming the per-model program, or for mechgen the fallback to it): tolerance: true of
-// analysis: flywheel (the first order of the cycle's metrics), a simulation with drive: or with
-// Coulomb friction of several inputs (one input's stick and slip goes through), and a run under
+// analysis: flywheel (the first order of the cycle's metrics), a simulation with Coulomb
+// friction of several inputs (one input's stick and slip goes through), and a run under
 // an MPI launcher (the ranks: MPI is compiled into the per-model program alone,
-// -DMECHGEN_STUDY_MPI). analysis: flywheel and engine go through it (the machines' cycles
+// -DMECHGEN_STUDY_MPI). A simulation with drive: goes through it (dynamics/prescribed.h
+// compiled once), analysis: flywheel and engine too (the machines' cycles
 // compiled once: machines/view_machines.h), and so do the design derivatives of the other
 // analyses (tolerance: true, envelope:, the design_margin metric: the view's Design,
 // StaticsDesign and DesignChecks).
@@ -284,7 +285,6 @@ std::string NotThroughViewYet(const M& model, const study::StudySpec& spec) {
   if (spec.tolerance && spec.analysis == study::Analysis::kFlywheel)
     return "tolerance: true of analysis: flywheel: the first order of the cycle's metrics (its design derivatives) is";
   if (spec.analysis == study::Analysis::kSimulate) {
-    if (!spec.drive.input.empty()) return "drive: the driven simulation is";
     if (ModelCalls<M>::KinetoNumFriction(model) > 0 && ModelCalls<M>::Nq(model) > 1)
       return "analysis: simulate of a model with several inputs and Coulomb friction (stick and slip of each "
              "joint) is";

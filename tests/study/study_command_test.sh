@@ -15,7 +15,8 @@
 # samples; a study of 10^8 samples stopped after one chunk holds that chunk alone. Through the
 # model view (issue 43): the outputs of the sweep (with tolerance: true, an envelope and
 # design_margin: the tolerance and envelope CSVs too), positions, statics, simulate, engine and
-# flywheel analyses the per-model program's bytes at 1 and 2 threads; drive: falls back to it.
+# flywheel analyses and the driven simulation (drive:) the per-model program's bytes at 1 and 2
+# threads.
 # usage: study_command_test.sh <mechgen> <source dir> [<mpiexec> (empty: no MPI)]
 set -uo pipefail
 mechgen=$(realpath "$1") source_dir=$(realpath "$2") mpiexec=${3:-}
@@ -278,11 +279,13 @@ fi
 # free simulation with Coulomb friction (stick and slip, a push that breaks the block away) of
 # tests/dynamics' block on an incline (one more, ~40 s), the engine's cycle of engine_single
 # (analysis: engine) and the punch press's flywheel cycle with its located switches and a derived
-# parameter (analysis: flywheel; two more, ~80 s each); --verbose says which ran. A new model's
-# first study compiles its object alone.
+# parameter (analysis: flywheel; two more, ~80 s each), the driven simulation (drive:,
+# dynamics/prescribed.h) of the massive four-bar's crank (a rest-to-rest move, the actuator torque
+# and the bearings) and of the incline's block driven up the slope (its Coulomb friction in
+# lambda); --verbose says which ran. A new model's first study compiles its object alone.
 # A run under an MPI launcher (the ranks) falls back to the per-model program; run by hand,
-# mechgen_view refuses what it cannot do (a simulation with drive:, tolerance: true of a flywheel
-# study): exit 2, one line, no CSV.
+# mechgen_view refuses what it cannot do (tolerance: true of a flywheel study): exit 2, one line,
+# no CSV.
 grep -v '^tolerance:\|^envelope:\|^clearance:\|^  B: {parameter\|design_margin' study.yaml > view_sweep.yaml
 cp "$source_dir/models/fourbar_massive.yaml" "$source_dir/models/engine_single.yaml" \
    "$source_dir/tests/flywheel/models/punch_press.yaml" .
@@ -372,13 +375,49 @@ metrics:
   - {kind: rms, column: stuck}
   - {kind: failures}
 EOF
+cat > view_drive.yaml << 'EOF'
+method: monte_carlo
+count: 30
+seed: 6
+analysis: simulate
+t_end: 0.6
+steps: 30
+drive: {theta_crank: {move: [3.5, 0.05, 0.5]}}
+parameters:
+  a: {tolerance: 0.01}
+  rho: {tolerance: 0.1}
+metrics:
+  - {kind: peak_drive}
+  - {kind: peak_bearing}
+  - {kind: at, column: lambda_theta_crank, step: 10}
+  - {kind: max, column: balance}
+  - {kind: at, column: theta_coupler_dot, step: 15}
+  - {kind: failures}
+EOF
+cat > view_drive_friction.yaml << 'EOF'
+method: monte_carlo
+count: 20
+seed: 7
+analysis: simulate
+t_end: 1
+steps: 20
+drive: {s_slide: {speed: 1}}
+parameters:
+  mu: {distribution: uniform, nominal: 0.4, tolerance: 0.2}
+metrics:
+  - {kind: peak_drive}
+  - {kind: at, column: lambda_s_slide, step: 10}
+  - {kind: max, column: W_act}
+  - {kind: failures}
+EOF
 "$mechgen" study --verbose fourbar_massive.yaml --study view_statics.yaml --quiet > vfirst.out 2> vfirst.err ||
   fail "view, a new model: exit status $?: $(cat vfirst.err)"
 grep -q "the runtime is compiled once" vfirst.err && ! grep -q "compiling the study command" vfirst.err ||
   fail "view, a new model: not the model's object alone: $(cat vfirst.err)"
 for case in "fourbar.yaml view_sweep" "fourbar.yaml pos" "fourbar_massive.yaml view_statics" \
             "fourbar_massive.yaml view_simulate" "incline_friction.yaml view_friction" \
-            "engine_single.yaml view_engine" "punch_press.yaml view_flywheel"; do
+            "engine_single.yaml view_engine" "punch_press.yaml view_flywheel" "fourbar_massive.yaml view_drive" \
+            "incline_friction.yaml view_drive_friction"; do
   set -- $case
   for t in 1 2; do
     "$mechgen" study --verbose "$1" --study "$2.yaml" --threads $t --csv "$2_v$t.csv" --summary-csv "$2_vs$t.csv" \
@@ -406,24 +445,11 @@ if [ -n "$mpiexec" ] && [ "$compiled_mpi" -eq 1 ]; then
     grep -q "on each of 2 ranks" vmpi.out || fail "view_sweep under mpirun -np 2: not the ranks of the per-model program"
   cmp -s vmpi.csv view_sweep_v1.csv || fail "view_sweep under mpirun -np 2: not the bytes of the view's serial run"
 fi
-cat > drive.yaml << 'EOF'
-method: monte_carlo
-count: 10
-seed: 1
-analysis: simulate
-t_end: 0.5
-steps: 10
-drive: {theta_crank: {speed: 6.283}}
-parameters:
-  a: {tolerance: 0.01}
-metrics:
-  - {kind: failures}
-EOF
 view_program=$(sed -n 's/^mechgen: \([^ ]*mechgen_view\) --name .*/\1/p' view_sweep_v1.err | head -1)
 object=$(find "$MECHGEN_CACHE_DIR/view" -name model.so | head -1)
 { sed 's/^method: lhs/method: monte_carlo/' view_flywheel.yaml; echo "tolerance: true"; } > flytol.yaml
 if [ -n "$view_program" ] && [ -n "$object" ]; then
-  for byhand in drive flytol; do
+  for byhand in flytol; do
     "$view_program" study "$object" --study $byhand.yaml --csv byhand.csv > byhand.out 2> byhand.err
     status=$?
     [ "$status" -eq 2 ] && [ "$(grep -c '' byhand.err)" -eq 1 ] &&
