@@ -391,7 +391,7 @@ metrics:
   - {kind: peak_bearing}
   - {kind: at, column: lambda_theta_crank, step: 10}
   - {kind: max, column: balance}
-  - {kind: at, column: theta_coupler_dot, step: 15}
+  - {kind: min, column: Q_theta_crank}
   - {kind: failures}
 EOF
 cat > view_drive_friction.yaml << 'EOF'
