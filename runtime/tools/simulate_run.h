@@ -8,8 +8,9 @@
 //
 // --params/--set read the view's parameter table (common/view_params.h). Coulomb friction with
 // stick and slip goes through the view, of one input and of several (each joint's own stick
-// and slip). Through the view, not yet: --drive (the driven motion, dynamics/prescribed.h) and
-// --design (the trajectory sensitivities, dynamics/sensitivity.h): each is refused
+// and slip); --drive (the driven motion, dynamics/prescribed.h) goes through the view with the
+// driven inputs counted at run time. Through the view, not yet: --design (the trajectory
+// sensitivities, dynamics/sensitivity.h): it is refused
 // (common/not_through_view.h: a usage error naming the per-model tool that has it, or for
 // mechgen the fallback to that tool) before anything is computed or written.
 #pragma once
@@ -332,33 +333,38 @@ int RunFree(const M& model, const Args& args) {
   return 0;
 }
 
-// The run with NP of the inputs driven (--drive): PrescribedDynamics.
+// The run with NP of the inputs driven (--drive): PrescribedDynamics (through the view NP is
+// Eigen::Dynamic: the number of --drive options, at run time).
 template <class M, template <int> class Method, int NP>
-int RunDriven(const Args& args) {
+int RunDriven(const M& model, const Args& args) {
   namespace dyn = mechgen::dynamics;
-  constexpr int kNq = M::kNq;
+  using C = ModelCalls<M>;
   using Drive = dyn::AnyDrive<NP>;
   using Sim = dyn::PrescribedDynamics<M, NP, Drive, dyn::NoForce, Method>;
   using VecQ = typename Sim::VecQ;
   using VecF = typename Sim::VecF;
   using SampleT = typename Sim::SampleT;
-  constexpr int kNf = Sim::kNf;
-  constexpr int kNumReactions = mechgen::statics::StaticsFeatures<M>::kNumReactions;
-  typename M::template ParamsT<double> params;
-  if (std::string why; !tools::ApplyParameters(args.params, &params, &why)) return tools::UsageError(args.tool, why);
+  using Kineto = mechgen::dynamics::Kinetostatics<M>;
+  const char* const name = C::Name(model);
+  const int nq = C::Nq(model);
+  const int np = static_cast<int>(args.drives.size());
+  typename ModelTypes<M>::Params params = C::DefaultParams(model);
+  if (std::string why; !tools::ApplyModelParameters(args.params, model, &params, &why))
+    return tools::UsageError(args.tool, why);
 
   VecQ q0, qd0;
-  if (const int status = InitialState(M(), args, &q0, &qd0); status != 0) return status;
-  std::array<int, NP> prescribed{};
-  std::array<dyn::AnyLaw, NP> laws;
-  for (int i = 0; i < NP; ++i) {
+  if (const int status = InitialState(model, args, &q0, &qd0); status != 0) return status;
+  typename Sim::Indices prescribed{};
+  typename Drive::Laws laws{};
+  if constexpr (NP == Eigen::Dynamic) laws.resize(static_cast<size_t>(np));
+  for (int i = 0; i < np; ++i) {
     const DriveSpec& d = args.drives[i];
     int k = -1;
-    for (int j = 0; j < kNq; ++j)
-      if (d.name == M::kQNames[j]) k = j;
+    for (int j = 0; j < nq; ++j)
+      if (d.name == C::QName(model, j)) k = j;
     if (k < 0) {
       std::string names;
-      for (int j = 0; j < kNq; ++j) names += std::string(j ? ", " : "") + M::kQNames[j];
+      for (int j = 0; j < nq; ++j) names += std::string(j ? ", " : "") + C::QName(model, j);
       return tools::UsageError(args.tool, "--drive: bad value " + tools::Quote(d.text) +
                                               ": the model has no input " +
                                               tools::Quote(d.name) + " (its inputs: " + names +
@@ -371,7 +377,11 @@ int RunDriven(const Args& args) {
                                                 " is driven twice");
       }
     }
-    prescribed[i] = k;
+    if constexpr (NP == Eigen::Dynamic) {
+      prescribed.push_back(k);
+    } else {
+      prescribed[i] = k;
+    }
     if (d.kind == "speed") {
       laws[i] = dyn::ConstantSpeedLaw{q0(k), d.values[0], 0.0};
     } else if (d.kind == "move" || d.kind == "cycloidal") {
@@ -402,29 +412,35 @@ int RunDriven(const Args& args) {
   options.sample_dt = args.dt;
   // Coulomb friction in the actuator forces: every input driven (else --friction on is a usage
   // error, and the run without it says so).
-  if (args.friction == "on" && !Sim::kHasDrivenFriction) {
+  const bool has_friction = dyn::CoulombFeatures<M>::kHasFriction && C::KinetoNumFriction(model) > 0;
+  if (args.friction == "on" && !(Sim::kHasDrivenFriction && has_friction && np == nq)) {
     return tools::UsageError(args.tool,
-                             mechgen::dynamics::CoulombFeatures<M>::kHasFriction
+                             has_friction
                                  ? "--friction on: Coulomb friction is simulated in a driven run only when every "
                                    "input is driven (--drive each)"
                                  : "--friction on: the model has no friction joints (`friction:`)");
   }
   options.coulomb.enabled = args.friction != "off";
-  Sim sim(params, prescribed, Drive(laws), dyn::NoForce(), options);
-  VecF qf0, qdf0;
-  for (int i = 0; i < kNf; ++i) {
+  Sim sim(model, params, prescribed, Drive(std::move(laws)), dyn::NoForce(), options);
+  VecF qf0 = Sized<VecF>(nq - np), qdf0 = Sized<VecF>(nq - np);
+  for (int i = 0; i < nq - np; ++i) {
     qf0(i) = q0(sim.free()[i]);
     qdf0(i) = qd0(sim.free()[i]);
   }
-  if (!sim.Initialize(0.0, qf0)) {
-    std::fprintf(stderr, "error: %s does not assemble at the initial inputs and the drives' t = 0\n",
-                 M::kName);
+  bool assembled = false;
+  if constexpr (C::kView) {
+    assembled = InitializePrescribed(&sim, 0.0, qf0);  // (the library's, core/view_runtime.h)
+  } else {
+    assembled = sim.Initialize(0.0, qf0);
+  }
+  if (!assembled) {
+    std::fprintf(stderr, "error: %s does not assemble at the initial inputs and the drives' t = 0\n", name);
     return 1;
   }
-  mechgen::dynamics::Kinetostatics<M> kineto(params);
+  Kineto kineto(model, params);
   kineto.Initialize(q0);
 
-  const std::string csv_path = args.csv.empty() ? std::string(M::kName) + "_simulate.csv" : args.csv;
+  const std::string csv_path = args.csv.empty() ? std::string(name) + "_simulate.csv" : args.csv;
   // The CSV, written to a temporary file and renamed when whole (io/output_file.h).
   mechgen::OutputFile csv;
   std::string error;
@@ -435,70 +451,90 @@ int RunDriven(const Args& args) {
   bool coulomb = false;  // the run has the friction (a joint with a coefficient at q0)
   if constexpr (Sim::kHasDrivenFriction) {
     if (options.coulomb.enabled) {
-      mechgen::dynamics::MinimalDynamics<M, Method> probe(params);
-      coulomb = probe.Initialize(q0) && probe.SimulatesCoulomb(q0);
+      if constexpr (C::kView) {
+        coulomb = sim.SimulatesCoulombAt(q0);
+      } else {
+        mechgen::dynamics::MinimalDynamics<M, Method> probe(params);
+        coulomb = probe.Initialize(q0) && probe.SimulatesCoulomb(q0);
+      }
     }
   }
-  const auto columns = DrivenColumns<M, SampleT, NP>(prescribed, coulomb);
-  mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions(M::kName, "driven motion"));
+  const auto columns = DrivenColumns<M, SampleT>(prescribed, coulomb, model);
+  mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions(name, "driven motion"));
   // The summary's extremes: each lambda's range and the largest bearing load (|F| at a
   // revolute joint) over the written rows.
-  const auto magnitudes = RevoluteMagnitudes<M>();
-  std::array<double, NP> lambda_min, lambda_max;
+  const auto magnitudes = RevoluteMagnitudes<M>(model);
+  std::array<double, ModelTypes<M>::kMaxQ> lambda_min, lambda_max;
   lambda_min.fill(std::numeric_limits<double>::infinity());
   lambda_max.fill(-std::numeric_limits<double>::infinity());
   double max_reaction = 0;
   std::string max_reaction_joint;
   auto observer = [&](const SampleT& s) {
-    for (int i = 0; i < NP; ++i) {
+    for (int i = 0; i < np; ++i) {
       if (!std::isfinite(s.lambda(i))) continue;
       lambda_min[i] = std::min(lambda_min[i], double(s.lambda(i)));
       lambda_max[i] = std::max(lambda_max[i], double(s.lambda(i)));
     }
     // The row is written inside the branch that holds the kinetostatics it points into.
     CsvRow<SampleT> row{&s, nullptr};
-    if constexpr (kNumReactions > 0) {
-      mechgen::dynamics::KinetostaticsRow<M> k;
-      if constexpr (Sim::kHasDrivenFriction) {
-        kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
-      } else {
-        kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
-      }
-      if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) {
-        row.R = k.statics.R.data();
-        for (const auto& m : magnitudes) {
-          const double f = std::hypot(k.statics.R(m.first), k.statics.R(m.first + 1));
-          if (f > max_reaction) {
-            max_reaction = f;
-            max_reaction_joint = m.second;
+    if constexpr (Kineto::kMayHaveReactions) {
+      if (C::KinetoNumReactions(model) > 0) {
+        mechgen::dynamics::KinetostaticsRow<M> k;
+        if constexpr (Sim::kHasDrivenFriction) {
+          if (sim.HasDrivenFriction()) {
+            kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
+          } else {
+            kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+          }
+        } else {
+          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+        }
+        if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) {
+          row.R = k.statics.R.data();
+          for (const auto& m : magnitudes) {
+            const double f = std::hypot(k.statics.R(m.first), k.statics.R(m.first + 1));
+            if (f > max_reaction) {
+              max_reaction = f;
+              max_reaction_joint = m.second;
+            }
           }
         }
+        mechgen::WriteCsvRow(columns, row, csv.stream());
+        return true;
       }
-      mechgen::WriteCsvRow(columns, row, csv.stream());
-    } else {
-      mechgen::WriteCsvRow(columns, row, csv.stream());
     }
+    mechgen::WriteCsvRow(columns, row, csv.stream());
     return true;
   };
   dyn::PrescribedSummary summary;
   SampleT last;
-  sim.Simulate(0.0, qf0, qdf0, args.t_end, observer, &summary, &last);
+  if constexpr (C::kView) {
+    // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
+    dyn::ViewSampleFn<Sim> fn = observer;
+    SimulatePrescribed(&sim, 0.0, qf0, qdf0, args.t_end, fn, &summary, &last);
+  } else {
+    sim.Simulate(0.0, qf0, qdf0, args.t_end, observer, &summary, &last);
+  }
   if (!CommitCsv(&csv)) return 1;
   const bool failure = dyn::IsFailure(summary.status);
   if (!args.quiet) {
-    if (const std::string changed = tools::ChangedParameters(params); !changed.empty())
+    if (const std::string changed = tools::ChangedModelParameters(model, params); !changed.empty())
       std::printf("parameters set: %s\n", changed.c_str());
-    std::printf("%s (%d of %d inputs driven): %s\n", M::kName, NP, kNq,
-                dyn::FormatSummary(summary).c_str());
-    for (int i = 0; i < NP; ++i) {
-      if (std::isfinite(last.lambda(i)))
-        std::printf("end: lambda_%s = %.6g %s (the actuator force the law needs)\n", M::kQNames[prescribed[i]],
-                    last.lambda(i), M::kQIsAngle[prescribed[i]] ? "N m" : "N");
+    std::printf("%s (%d of %d inputs driven): %s\n", name, np, nq, dyn::FormatSummary(summary).c_str());
+    for (int i = 0; i < np; ++i) {
+      const char* q_name = C::QName(model, prescribed[i]);
+      const bool angle = C::QIsAngle(model, prescribed[i]);
+      // (a run that ended before its first sample: the view's last sample has no lambda)
+      const double lambda_end =
+          i < last.lambda.size() ? double(last.lambda(i)) : std::numeric_limits<double>::quiet_NaN();
+      if (std::isfinite(lambda_end))
+        std::printf("end: lambda_%s = %.6g %s (the actuator force the law needs)\n", q_name, lambda_end,
+                    angle ? "N m" : "N");
       else
-        std::printf("end: lambda_%s withheld (a singular configuration)\n", M::kQNames[prescribed[i]]);
+        std::printf("end: lambda_%s withheld (a singular configuration)\n", q_name);
       if (lambda_min[i] <= lambda_max[i])
-        std::printf("  over the run: lambda_%s from %.6g to %.6g %s\n", M::kQNames[prescribed[i]], lambda_min[i],
-                    lambda_max[i], M::kQIsAngle[prescribed[i]] ? "N m" : "N");
+        std::printf("  over the run: lambda_%s from %.6g to %.6g %s\n", q_name, lambda_min[i], lambda_max[i],
+                    angle ? "N m" : "N");
     }
     if (!max_reaction_joint.empty())
       std::printf("largest bearing load: %.6g N at joint %s (inertia forces included)\n", max_reaction,
@@ -507,9 +543,8 @@ int RunDriven(const Args& args) {
   }
   if (!FlushStdout()) return 1;
   if (failure) {
-    std::fprintf(stderr, "%s: the simulation failed: %s at t = %.9g s (1/cond(Phi_phi) = %.3g): %s\n",
-                 M::kName, dyn::ToString(summary.status), summary.t_end, last.rcond,
-                 summary.message);
+    std::fprintf(stderr, "%s: the simulation failed: %s at t = %.9g s (1/cond(Phi_phi) = %.3g): %s\n", name,
+                 dyn::ToString(summary.status), summary.t_end, last.rcond, summary.message);
     return 1;
   }
   return 0;
@@ -606,7 +641,7 @@ int DispatchDriven(const Args& args) {
                                             " --drive options for a model with " +
                                             std::to_string(M::kNq) + " input(s)");
   } else {
-    if (static_cast<int>(args.drives.size()) == NP) return RunDriven<M, Method, NP>(args);
+    if (static_cast<int>(args.drives.size()) == NP) return RunDriven<M, Method, NP>(M(), args);
     return DispatchDriven<M, Method, NP + 1>(args);
   }
 }
@@ -667,7 +702,14 @@ int RunSimulate(const M& model, const Arguments& args) {
     // What the runtime instantiated for the view does not do yet (the file comment).
     if (args.design)
       return tools::NotThroughView(args.tool, "--design: the trajectory sensitivities are", name, "simulate");
-    if (!args.drives.empty()) return tools::NotThroughView(args.tool, "--drive: the driven motion is", name, "simulate");
+    if (!args.drives.empty()) {
+      // The driven motion: as many inputs driven as --drive options (1 ... the model's inputs).
+      if (static_cast<int>(args.drives.size()) > C::Nq(model))
+        return tools::UsageError(args.tool, std::to_string(args.drives.size()) + " --drive options for a model with " +
+                                                std::to_string(C::Nq(model)) + " input(s)");
+      return args.method == "dop853" ? RunDriven<M, mechgen::dynamics::Dop853, Eigen::Dynamic>(model, args)
+                                     : RunDriven<M, mechgen::dynamics::Dopri5, Eigen::Dynamic>(model, args);
+    }
     return args.method == "dop853" ? RunFree<M, mechgen::dynamics::Dop853>(model, args)
                                    : RunFree<M, mechgen::dynamics::Dopri5>(model, args);
   } else {

@@ -15,10 +15,11 @@
 //
 // --params/--set read the view's parameter table (common/view_params.h). Through the view, not
 // yet (refused by common/not_through_view.h before anything is computed or written: a usage
-// error naming the per-model program, or for mechgen the fallback to it): a simulation with
-// drive:, and, where mechgen_view was built without MPI, a run under an MPI launcher (the ranks:
-// -DMECHGEN_STUDY_MPI, which the build gives mechgen_view's study where CMake finds MPI, and
-// mechgen the per-model program where it finds an MPI C++ compiler). analysis: flywheel and engine go through it (the machines' cycles
+// error naming the per-model program, or for mechgen the fallback to it): where mechgen_view was
+// built without MPI, a run under an MPI launcher (the ranks: -DMECHGEN_STUDY_MPI, which the build
+// gives mechgen_view's study where CMake finds MPI, and mechgen the per-model program where it
+// finds an MPI C++ compiler). A simulation with drive: goes through it (dynamics/prescribed.h
+// compiled once), analysis: flywheel and engine too (the machines' cycles
 // compiled once: machines/view_machines.h), Coulomb friction's stick and slip (of one input and
 // of several), and so do the design derivatives (tolerance: true, of analysis: flywheel too: the
 // view's cycle design derivatives; envelope:, the design_margin metric: the view's Design,
@@ -276,17 +277,6 @@ inline std::vector<uint64_t> PartOf(const std::vector<uint64_t>& list, int r, in
   return std::vector<uint64_t>(list.begin() + n * r / ranks, list.begin() + n * (r + 1) / ranks);
 }
 
-
-// What `spec` asks of `model` that the runtime instantiated for the model view does not do
-// yet, as NotThroughView's `what`; "" when it goes through.
-template <class M>
-std::string NotThroughViewYet(const M& model, const study::StudySpec& spec) {
-  (void)model;
-  if (spec.analysis == study::Analysis::kSimulate && !spec.drive.input.empty())
-    return "drive: the driven simulation is";
-  return "";
-}
-
 }  // namespace run_internal
 
 /**
@@ -334,12 +324,6 @@ int RunStudy(const M& model, const run_internal::Ranks& ranks, const Arguments& 
   if (!study::ReadStudy(study_path, &spec, &error)) {
     std::cerr << error << "\n";
     return tools::kExitUsage;
-  }
-  if constexpr (C::kView) {
-    // What the runtime instantiated for the view does not do yet (the file comment): refused
-    // before anything is computed or written (mechgen runs the per-model program instead).
-    if (const std::string what = NotThroughViewYet(model, spec); !what.empty())
-      return tools::NotThroughView(tool, what, name, "study");
   }
   study::Study<M> s(model);
   s.SetBase(base);

@@ -1,6 +1,7 @@
 // The dynamics instantiated for the model view, once (core/view_runtime.h, its Dynamics
-// section): the free motion by the minimal method with both integrators, the kinetostatics
-// and the simulate CSV's columns, in the library mechgen_runtime_view.
+// section): the free motion by the minimal method and the driven motion, each with both
+// integrators, the kinetostatics and the simulate CSV's columns (free and driven), in the
+// library mechgen_runtime_view.
 //
 // (GCC's -Wmaybe-uninitialized sees Eigen's 1-norm estimator (rcond(), the conditioning of a
 // Phi_phi of 5 to 16 rows on its fixed-size copy) read old_sign_vector, which it sets in the
@@ -43,6 +44,30 @@ template void ConditionAndDeterminantDynamic<1, Eigen::Map<const Eigen::MatrixXd
 template void ConditionAndDeterminantDynamic<1, ModelTypes<ViewModel>::MatCPhi>(const ModelTypes<ViewModel>::MatCPhi&,
                                                                                 double*, double*);
 }  // namespace internal
+MECHGEN_VIEW_PRESCRIBED_MEMBERS(, ViewPrescribedDopri5)
+MECHGEN_VIEW_PRESCRIBED_MEMBERS(, ViewPrescribedDop853)
+bool InitializePrescribed(ViewPrescribedDopri5* sim, double t0, const ViewPrescribedDopri5::VecF& qf0) {
+  return sim->Initialize(t0, qf0);
+}
+bool InitializePrescribed(ViewPrescribedDop853* sim, double t0, const ViewPrescribedDop853::VecF& qf0) {
+  return sim->Initialize(t0, qf0);
+}
+bool SimulatePrescribed(ViewPrescribedDopri5* sim, double t0, const ViewPrescribedDopri5::VecF& qf0,
+                        const ViewPrescribedDopri5::VecF& qdf0, double t_end,
+                        ViewSampleFn<ViewPrescribedDopri5>& observer, PrescribedSummary* summary,
+                        ViewPrescribedSample* last) {
+  return sim->Simulate(t0, qf0, qdf0, t_end, observer, summary, last);
+}
+bool SimulatePrescribed(ViewPrescribedDop853* sim, double t0, const ViewPrescribedDop853::VecF& qf0,
+                        const ViewPrescribedDop853::VecF& qdf0, double t_end,
+                        ViewSampleFn<ViewPrescribedDop853>& observer, PrescribedSummary* summary,
+                        ViewPrescribedSample* last) {
+  return sim->Simulate(t0, qf0, qdf0, t_end, observer, summary, last);
+}
+template table::Columns<CsvRow<ViewPrescribedSample>>
+DrivenColumns<ViewModel, ViewPrescribedSample, ViewPrescribedDopri5::Indices>(const ViewPrescribedDopri5::Indices&,
+                                                                              bool, const ViewModel&);
+
 template class Kinetostatics<ViewModel>;
 template table::Columns<CsvRow<Sample<ViewModel>>> FreeColumns<ViewModel, Sample<ViewModel>, true>(bool,
                                                                                                      const ViewModel&);

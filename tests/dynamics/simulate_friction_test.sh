@@ -14,8 +14,10 @@
 # Given mechgen_view and the model's shared object (issue 43), the same runs through the runtime
 # compiled once (`mechgen_view simulate`, M = ViewModel): the stick and slip above and more (from
 # rest stuck, launched up and sliding back, launched up and stuck at the stop, both integrators,
-# the default sampling, --friction off and on, a push that breaks it away), a failed run (too
-# few steps: exit 1) and a usage error (exit 2) give the tool's CSV, standard output, standard
+# the default sampling, --friction off and on, a push that breaks it away), the driven block
+# (--drive: up the slope with its Coulomb friction in lambda, a rest-to-rest move with Dop853,
+# --friction off), a failed run (too few steps: exit 1) and usage errors (exit 2) give the
+# tool's CSV, standard output, standard
 # error and exit status byte for byte (each run in a directory of its own; mechgen_view --name:
 # the tool's name).
 # Usage: simulate_friction_test.sh <incline_friction_simulate> <out dir> [<mechgen_view> <object>]
@@ -121,5 +123,14 @@ if [ $# -ge 4 ]; then
   same failed 1 --t-end 2 --dt 0.01 --set mu=0.3 --qd0 3 --max-steps 5 --csv out.csv
   grep -q "the simulation failed" "$out/view_failed/view.err" || fail "view failed: $(cat "$out/view_failed/view.err")"
   same usage 2 --friction maybe --t-end 1 --csv out.csv
+  same driven 0 --t-end 1 --dt 0.01 --set mu=0.3 --drive s_slide=speed:1 --csv out.csv
+  grep -q "Coulomb friction in the actuator forces" "$out/view_driven/view.out" ||
+    fail "view driven: no friction in lambda: $(cat "$out/view_driven/view.out")"
+  same driven_move 0 --t-end 0.8 --set mu=0.5 --drive s_slide=move:0.4:0.1:0.6 --method dop853 --csv out.csv
+  same driven_off 0 --t-end 0.5 --dt 0.05 --set mu=0.5 --drive s_slide=cycloidal:-0.2:0:0.4 --friction off \
+    --csv out.csv
+  same driven_failed 1 --t-end 1 --dt 0.01 --set mu=0.3 --drive s_slide=speed:1 --max-steps 3 --csv out.csv
+  same driven_usage 2 --drive s_slide=speed:1 --drive s_slide=speed:2 --csv out.csv
+  same driven_name 2 --drive s=speed:1 --csv out.csv
 fi
 echo "simulate friction test passed"

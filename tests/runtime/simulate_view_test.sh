@@ -9,7 +9,14 @@
 #    and the five-bar robot (two inputs, the one-pass M::Rhs stages), each with two option sets,
 #    and so are its exit status, standard output and standard error (a failed run's too);
 #  - --set through the view's parameter table: the same run and summary;
-#  - what the view does not simulate yet (--drive, --design) is refused (exit
+#  - the driven motion (--drive, dynamics/prescribed.h instantiated for the view with the driven
+#    inputs counted at run time): every input driven (both of the robot's, the motor's crank:
+#    each law kind, a table law, both integrators), one of the robot's two driven and the other
+#    free, runs that end at a dead point (exit 1: a free arm falling into one, and both motors
+#    driven into the stretched configuration, whose last row withholds the torques), and usage
+#    errors (an unknown input, one driven twice, too many --drive): the same bytes (mechgen_view
+#    --name: the tool's name in the messages);
+#  - what the view does not simulate yet (--design) is refused (exit
 #    2; run by mechgen, exit 120 and nothing said, for its fallback) with one line on stderr and
 #    nothing written, as are a bad --set, a bad option and a
 #    model without dynamics.
@@ -40,11 +47,15 @@ same() {
   rm -rf fixed view && mkdir fixed view
   (cd fixed && "$fixed" "$@" --csv out.csv > ../fixed.out 2> ../fixed.err)
   local fixed_status=$?
-  (cd view && "$view_tool" simulate "$root/$model.so" "$@" --csv out.csv > ../view.out 2> ../view.err)
+  (cd view && "$view_tool" --name "$(basename "$fixed")" simulate "$root/$model.so" "$@" --csv out.csv > ../view.out \
+    2> ../view.err)
   local view_status=$?
   [[ $fixed_status -eq $view_status ]] || fail "$model $*: exit $view_status through the view, $fixed_status fixed"
-  [[ -s fixed/out.csv ]] || fail "$model $*: the fixed-size tool wrote no CSV: $(cat fixed.err)"
-  cmp -s fixed/out.csv view/out.csv || fail "$model $*: the CSVs differ: $(cmp fixed/out.csv view/out.csv 2>&1 | head -1)"
+  [[ -s fixed/out.csv || $fixed_status -eq 2 ]] || fail "$model $*: the fixed-size tool wrote no CSV: $(cat fixed.err)"
+  [[ $fixed_status -ne 2 || ! -e view/out.csv ]] || fail "$model $*: a usage error wrote a CSV through the view"
+  if [[ $fixed_status -ne 2 ]]; then
+    cmp -s fixed/out.csv view/out.csv || fail "$model $*: the CSVs differ: $(cmp fixed/out.csv view/out.csv 2>&1 | head -1)"
+  fi
   cmp -s fixed.out view.out || fail "$model $*: the standard outputs differ: $(diff fixed.out view.out | head -3)"
   cmp -s fixed.err view.err || fail "$model $*: the standard errors differ: $(diff fixed.err view.err | head -3)"
 }
@@ -59,6 +70,31 @@ same slider_crank_motor "$motor_tool" --friction off --t-end 0.3 --dt 0.005 --se
 # its friction joint O (viscous: no Coulomb coefficient) with the default --friction and with on
 same slider_crank_motor "$motor_tool" --t-end 0.4 --dt 0.004
 same slider_crank_motor "$motor_tool" --friction on --t-end 0.2 --method dop853
+# the driven motion (--drive): every input driven, each law (a rest-to-rest move, a cycloidal one)
+printf 't,q\n0,2.356\n0.2,2.45\n0.4,2.6\n0.6,2.55\n' > "$root/law.csv"
+same fivebar_robot "$robot_tool" --rtol 1e-10 --atol 1e-12 --drive theta_prox1=move:120deg:0.1:0.6 \
+  --drive theta_prox2=cycloidal:60deg:0:0.5 --t-end 0.8 --dt 0.01
+# ... in the other order, by the table law, with Dop853
+same fivebar_robot "$robot_tool" --drive theta_prox2=speed:0 --drive "theta_prox1=table:$root/law.csv" --t-end 0.8 \
+  --dt 0.05 --method dop853
+# one driven, the other free (the reduced forward dynamics, the one-pass M::Rhs stages): the free
+# arm falls into a singular configuration, the run ends there (exit 1, the same figures)
+same fivebar_robot "$robot_tool" --drive theta_prox1=speed:1 --t-end 1 --dt 0.01
+same fivebar_robot "$robot_tool" --drive theta_prox2=move:0.5:0:0.3 --qd0 0,0.5 --t-end 0.1 --dt 0.002 \
+  --set mp=0.5
+# both driven into the stretched configuration: a dead point, the last row's torques withheld
+same fivebar_robot "$robot_tool" --drive theta_prox1=speed:1 --drive theta_prox2=speed:-1 --t-end 2 --dt 0.001
+grep -q "lambda_theta_prox1 withheld" view.out || fail "stretched: the torques are not withheld: $(cat view.out)"
+# the motor's crank at constant speed (every input driven, its viscous friction joint), with
+# --friction on (no Coulomb coefficient: none in lambda) and every sample
+same slider_crank_motor "$motor_tool" --drive theta_crank=speed:10 --t-end 0.3 --dt 0.001 --rtol 1e-11 --atol 1e-13
+same slider_crank_motor "$motor_tool" --drive theta_crank=move:3:0.05:0.25 --t-end 0.3 --friction on
+# usage errors (exit 2, one line, no CSV)
+same fivebar_robot "$robot_tool" --drive theta_nope=speed:1
+same fivebar_robot "$robot_tool" --drive theta_prox1=speed:1 --drive theta_prox1=speed:2
+same slider_crank_motor "$motor_tool" --drive theta_crank=speed:1 --drive theta_crank=speed:2
+same fivebar_robot "$robot_tool" --drive "theta_prox1=table:$root/missing.csv"
+same slider_crank_motor "$motor_tool" --drive theta_crank=speed:1 --q0 1,2
 
 # refused <name> <model> <pattern> <args...>: exit 2, one stderr line, nothing written.
 refused() {
@@ -71,12 +107,11 @@ refused() {
   grep -Eq "$pattern" "$name".err || fail "$name: stderr $(cat "$name".err) does not match $pattern"
   [[ -z $(ls -A "$name") ]] || fail "$name: wrote $(ls -A "$name")"
 }
-refused drive fivebar_robot "^fivebar_robot_simulate_view: error: --drive: " --drive theta_prox1=speed:2 --csv out.csv
 refused design fivebar_robot "^fivebar_robot_simulate_view: error: --design: " --design --csv out.csv
 refused set fivebar_robot "^fivebar_robot_simulate_view: error: --set 'nosuch=0.3': no parameter 'nosuch'" --set nosuch=0.3 --csv out.csv
 # run by mechgen (MECHGEN_VIEW_FALLBACK=1), what the view lacks is exit 120, nothing said or written
 mkdir fallback && (cd fallback && MECHGEN_VIEW_FALLBACK=1 "$view_tool" simulate "$root/fivebar_robot.so" \
-  --drive theta_prox1=speed:2 --csv out.csv > ../fallback.out 2> ../fallback.err)
+  --design --csv out.csv > ../fallback.out 2> ../fallback.err)
 status=$?
 [[ $status -eq 120 ]] || fail "fallback: exit $status, expected 120"
 [[ ! -s fallback.out && ! -s fallback.err && -z $(ls -A fallback) ]] || fail "fallback: said or wrote something"

@@ -16,8 +16,10 @@
  * statics/svg.h);
  * the free motion by the minimal method (dynamics/forward.h:
  * MinimalDynamics with Dopri5 and Dop853, samples handed to a ViewSampleFn), the
- * kinetostatics (dynamics/kinetostatics.h) and the simulate CSV's columns
- * (dynamics/columns.h).
+ * driven motion (dynamics/prescribed.h: PrescribedDynamics with the driven inputs counted
+ * at run time and their laws chosen at run time, Dopri5 and Dop853, samples handed to a
+ * ViewSampleFn), the kinetostatics (dynamics/kinetostatics.h) and the simulate CSV's columns
+ * (dynamics/columns.h: free and driven).
  */
 #pragma once
 
@@ -28,6 +30,7 @@
 #include "mechgen/dynamics/columns.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
+#include "mechgen/dynamics/prescribed.h"
 #include "mechgen/position/assembler.h"
 #include "mechgen/position/motion.h"
 #include "mechgen/position/solver.h"
@@ -133,6 +136,37 @@ extern template void ConditionAndDeterminantDynamic<1, Eigen::Map<const Eigen::M
 extern template void ConditionAndDeterminantDynamic<1, ModelTypes<ViewModel>::MatCPhi>(
     const ModelTypes<ViewModel>::MatCPhi&, double*, double*);
 }  // namespace internal
+
+/// The driven motion through the view (dynamics/prescribed.h: `mechgen_view simulate --drive`,
+/// a study's drive:): the driven inputs and their laws (AnyDrive) known at run time, with
+/// each integrator (its sample observer: pass an lvalue of ViewSampleFn<...>).
+using ViewDrive = AnyDrive<Eigen::Dynamic>;
+using ViewPrescribedDopri5 = PrescribedDynamics<ViewModel, Eigen::Dynamic, ViewDrive, NoForce, Dopri5>;
+using ViewPrescribedDop853 = PrescribedDynamics<ViewModel, Eigen::Dynamic, ViewDrive, NoForce, Dop853>;
+using ViewPrescribedSample = PrescribedSample<ViewModel, Eigen::Dynamic>;
+#define MECHGEN_VIEW_PRESCRIBED_MEMBERS(EXTERN, Sim)                                                           \
+  EXTERN template Sim::PrescribedDynamics(const ViewModel&, const ViewParams&, const Sim::Indices&, ViewDrive, \
+                                          NoForce, const PrescribedOptions&);                                  \
+  EXTERN template bool Sim::SimulatesCoulombAt(const ModelTypes<ViewModel>::VecQ&);
+MECHGEN_VIEW_PRESCRIBED_MEMBERS(extern, ViewPrescribedDopri5)
+MECHGEN_VIEW_PRESCRIBED_MEMBERS(extern, ViewPrescribedDop853)
+/// sim->Initialize(t0, qf0), compiled in the library.
+bool InitializePrescribed(ViewPrescribedDopri5* sim, double t0, const ViewPrescribedDopri5::VecF& qf0);
+bool InitializePrescribed(ViewPrescribedDop853* sim, double t0, const ViewPrescribedDop853::VecF& qf0);
+/// sim->Simulate(t0, qf0, qdf0, t_end, observer, summary, last), compiled in the library (as
+/// SimulateFree).
+bool SimulatePrescribed(ViewPrescribedDopri5* sim, double t0, const ViewPrescribedDopri5::VecF& qf0,
+                        const ViewPrescribedDopri5::VecF& qdf0, double t_end,
+                        ViewSampleFn<ViewPrescribedDopri5>& observer, PrescribedSummary* summary,
+                        ViewPrescribedSample* last);
+bool SimulatePrescribed(ViewPrescribedDop853* sim, double t0, const ViewPrescribedDop853::VecF& qf0,
+                        const ViewPrescribedDop853::VecF& qdf0, double t_end,
+                        ViewSampleFn<ViewPrescribedDop853>& observer, PrescribedSummary* summary,
+                        ViewPrescribedSample* last);
+extern template table::Columns<CsvRow<ViewPrescribedSample>>
+DrivenColumns<ViewModel, ViewPrescribedSample, ViewPrescribedDopri5::Indices>(const ViewPrescribedDopri5::Indices&,
+                                                                              bool, const ViewModel&);
+
 extern template class Kinetostatics<ViewModel>;
 extern template table::Columns<CsvRow<Sample<ViewModel>>> FreeColumns<ViewModel, Sample<ViewModel>, true>(
     bool, const ViewModel&);

@@ -179,11 +179,12 @@ void AddFrictionColumns(table::Builder<CsvRow<SampleT>>* add, bool coulomb, cons
 // Coulomb friction of a driven run (PrescribedDynamics::kHasDrivenFriction): friction_<joint>
 // per friction joint, included in lambda.
 template <class M, class SampleT>
-void AddDrivenFrictionColumns(table::Builder<CsvRow<SampleT>>* add) {
+void AddDrivenFrictionColumns(table::Builder<CsvRow<SampleT>>* add, const M& model = M()) {
   using Row = CsvRow<SampleT>;
-  for (int J = 0; J < CoulombFeatures<M>::kNumFriction; ++J) {
-    const bool prismatic = M::kFrictionPrismatic[J];
-    add->Number(std::string("friction_") + M::kFrictionJoints[J], prismatic ? "N" : "N m",
+  using Calls = ModelCalls<M>;
+  for (int J = 0; J < Calls::KinetoNumFriction(model); ++J) {
+    const bool prismatic = Calls::FrictionPrismatic(model, J);
+    add->Number(std::string("friction_") + Calls::FrictionJoint(model, J), prismatic ? "N" : "N m",
                 prismatic ? "Coulomb friction force on the slider along the slide's +u, opposing the driven "
                             "relative motion (0 at relative rest); in lambda"
                           : "Coulomb friction torque on the joint's second link by its first, CCW +, opposing "
@@ -208,18 +209,20 @@ table::Columns<CsvRow<SampleT>> FreeColumns(bool coulomb, const M& model = M()) 
   return columns;
 }
 
-// The CSV of a run with NP inputs driven: t, q, q_dot, q_ddot, T, V, E, W_nc, W_act, Q,
-// lambda per driven input, balance, rcond, the reactions and |F| of each revolute joint.
-template <class M, class SampleT, int NP>
-table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>& prescribed, bool coulomb = false) {
+// The CSV of a run with inputs driven (prescribed: their indices, std::array or a list of a
+// run-time length): t, q, q_dot, q_ddot, T, V, E, W_nc, W_act, Q, lambda per driven input,
+// balance, rcond, the reactions and |F| of each revolute joint.
+template <class M, class SampleT, class Indices>
+table::Columns<CsvRow<SampleT>> DrivenColumns(const Indices& prescribed, bool coulomb = false, const M& model = M()) {
   using Row = CsvRow<SampleT>;
+  using Calls = ModelCalls<M>;
   table::Columns<Row> columns;
   table::Builder<Row> add(&columns);
-  AddMotionColumns<M, SampleT, true>(&add);
-  AddForceColumns<M, SampleT>(&add);
-  for (int i = 0; i < NP; ++i) {
+  AddMotionColumns<M, SampleT, true>(&add, model);
+  AddForceColumns<M, SampleT>(&add, model);
+  for (int i = 0; i < static_cast<int>(prescribed.size()); ++i) {
     const int k = prescribed[i];
-    add.Number(std::string("lambda_") + M::kQNames[k], M::kQIsAngle[k] ? "N m" : "N",
+    add.Number(std::string("lambda_") + Calls::QName(model, k), Calls::QIsAngle(model, k) ? "N m" : "N",
                "actuator force that keeps the input on its law: a torque on the input link CCW +, "
                "or a force along the slide; empty: withheld at a singular configuration",
                [i](const Row& r) { return r.s->lambda(i); })
@@ -229,9 +232,9 @@ table::Columns<CsvRow<SampleT>> DrivenColumns(const std::array<int, NP>& prescri
              [](const Row& r) { return double(r.s->Balance()); });
   add.Number("rcond", "1", "1/cond_1(Phi_phi) (the run stops below 1e-6)",
              [](const Row& r) { return double(r.s->rcond); });
-  if (coulomb) AddDrivenFrictionColumns<M, SampleT>(&add);
-  AddReactionColumns<M, SampleT>(&add);
-  AddMagnitudeColumns<M, SampleT>(&add);
+  if (coulomb) AddDrivenFrictionColumns<M, SampleT>(&add, model);
+  AddReactionColumns<M, SampleT>(&add, model);
+  AddMagnitudeColumns<M, SampleT>(&add, model);
   return columns;
 }
 }  // namespace mechgen::dynamics

@@ -276,25 +276,35 @@ Drive<Laws...> MakeDrive(Laws... laws) {
 /// A law chosen at run time (e.g. from a command line): one of the laws above.
 using AnyLaw = std::variant<ConstantSpeedLaw, RestToRestLaw, TableLaw>;
 
-/// The motion callable of PrescribedDynamics from NP laws chosen at run time (AnyLaw).
+/// The motion callable of PrescribedDynamics from NP laws chosen at run time (AnyLaw); NP =
+/// Eigen::Dynamic: as many as given (the driven run through the model view, issue 43: the
+/// laws' list allocated once, at construction; evaluating it allocates nothing).
 template <int NP>
 class AnyDrive {
  public:
   static constexpr int kNp = NP;
-  using VecP = Eigen::Matrix<double, kNp, 1>;
-  explicit AnyDrive(std::array<AnyLaw, NP> laws) : laws_(std::move(laws)) {}
+  using Laws = std::conditional_t<NP == Eigen::Dynamic, std::vector<AnyLaw>, std::array<AnyLaw, (NP > 0 ? NP : 0)>>;
+  explicit AnyDrive(Laws laws) : laws_(std::move(laws)) {}
+  /// q, qd, qdd of each law at t (a vector of a run-time size is sized first).
+  template <class VecP>
   void operator()(double t, VecP* q, VecP* qd, VecP* qdd) const {
-    for (int i = 0; i < kNp; ++i) {
+    const int n = static_cast<int>(laws_.size());
+    if constexpr (VecP::SizeAtCompileTime == Eigen::Dynamic) {
+      q->resize(n);
+      qd->resize(n);
+      qdd->resize(n);
+    }
+    for (int i = 0; i < n; ++i) {
       const MotionState s = std::visit([t](const auto& law) { return law(t); }, laws_[i]);
       (*q)(i) = s.q;
       (*qd)(i) = s.qd;
       (*qdd)(i) = s.qdd;
     }
   }
-  const std::array<AnyLaw, NP>& laws() const { return laws_; }
+  const Laws& laws() const { return laws_; }
 
  private:
-  std::array<AnyLaw, NP> laws_;
+  Laws laws_;
 };
 
 /// No forces of the caller (F = 0).
@@ -405,18 +415,56 @@ inline std::string FormatSummary(const PrescribedSummary& s) {
          (s.coulomb ? "; Coulomb friction in the actuator forces" : "");
 }
 
-/// One evaluated configuration with drivers.
+namespace internal {
+/// The indices of a run-time number of inputs, at most Max (the driven and free inputs of a
+/// driven run through the model view): no allocation.
+template <int Max>
+struct IndexList {
+  std::array<int, Max> index{};
+  int count = 0;
+  int size() const { return count; }
+  int operator[](int i) const { return index[static_cast<size_t>(i)]; }
+  int& operator[](int i) { return index[static_cast<size_t>(i)]; }
+  void push_back(int k) { index[static_cast<size_t>(count++)] = k; }
+};
+/// N indices: std::array<int, N>, or IndexList<Max> where N is Eigen::Dynamic.
+template <int N, int Max>
+using IndicesOf = std::conditional_t<N == Eigen::Dynamic, IndexList<Max>, std::array<int, (N > 0 ? N : 0)>>;
+/// A vector of N entries (Eigen::Dynamic: at most Max).
+template <int N, int Max>
+using VectorOf = Eigen::Matrix<double, N, 1, 0, N == Eigen::Dynamic ? Max : N, 1>;
+
+/// a.dot(b) of two vectors: Eigen's for fixed sizes; for the model view's bounded dynamic ones
+/// on fixed-size copies of their length (Eigen reduces a fixed length and a run-time one in
+/// different orders: the same sums as the fixed-size instantiation's, to the bit).
+template <int Max, int k = 1, class A, class B>
+double DotOf(const A& a, const B& b) {
+  if constexpr (A::SizeAtCompileTime != Eigen::Dynamic) {
+    return a.dot(b);
+  } else if constexpr (k <= Max) {
+    if (a.size() != k) return DotOf<Max, k + 1>(a, b);
+    return Eigen::Matrix<double, k, 1>(a).dot(Eigen::Matrix<double, k, 1>(b));
+  } else {
+    return a.dot(b);
+  }
+}
+}  // namespace internal
+
+/// One evaluated configuration with drivers. (The model view's vectors: bounded, sized at run
+/// time, empty until assigned.)
 template <class M, int NP>
 struct PrescribedSample {
   static constexpr int kNq = M::kNq, kNphi = M::kNphi;
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  using T_ = ModelTypes<M>;
+  using VecP = internal::VectorOf<NP, T_::kMaxQ>;
   double t = kNaN;
-  Eigen::Matrix<double, kNq, 1> q = Eigen::Matrix<double, kNq, 1>::Constant(kNaN);
-  Eigen::Matrix<double, kNq, 1> qd = q, qdd = q;
-  Eigen::Matrix<double, kNq, 1> Q = q;  ///< applied generalized forces of the model (EvalDynamics)
-  Eigen::Matrix<double, kNq, 1> F = q;  ///< the caller's forces
-  Eigen::Matrix<double, NP, 1> lambda = Eigen::Matrix<double, NP, 1>::Constant(kNaN);  ///< actuators
-  Eigen::Matrix<double, kNphi, 1> phi = Eigen::Matrix<double, kNphi, 1>::Constant(kNaN);
+  typename T_::VecQ q = NaNs<typename T_::VecQ>();
+  typename T_::VecQ qd = q, qdd = q;
+  typename T_::VecQ Q = q;  ///< applied generalized forces of the model (EvalDynamics)
+  typename T_::VecQ F = q;  ///< the caller's forces
+  VecP lambda = NaNs<VecP>();  ///< actuators
+  typename T_::VecPhi phi = NaNs<typename T_::VecPhi>();
   double T = kNaN, V = kNaN, E = kNaN;  ///< kinetic, potential, T + V
   double W_nc = 0, W_act = 0, W_F = 0;  ///< works since t0 (non-conservative, actuators, F)
   double P_nc = 0, P_act = 0, P_F = 0;  ///< their powers
@@ -425,8 +473,9 @@ struct PrescribedSample {
   /// Coulomb friction (PrescribedSummary::coulomb): the friction loads f_J of the model's
   /// kFrictionJoints (as Sample::friction: N m on the joint's second link by its first, CCW
   /// +; N on the slider along +u), in lambda and P_nc; 0 without.
-  Eigen::Matrix<double, CoulombFeatures<M>::kNumFriction, 1> friction =
-      Eigen::Matrix<double, CoulombFeatures<M>::kNumFriction, 1>::Zero();
+  using VecFriction =
+      typename FrictionState<CoulombFeatures<M>::kNumFriction, CoulombFeatures<M>::kMaxFriction>::VecF;
+  VecFriction friction = internal::ZeroOrEmpty<VecFriction>();
   /// T + V - (W_nc + W_act + W_F): constant along an exact motion.
   double Balance() const { return E - W_nc - W_act - W_F; }
 };
@@ -438,69 +487,160 @@ struct PrescribedSample {
  * Simulate() integrates the free coordinates (Method: Dopri5 or Dop853) and hands out samples
  * with the actuator forces lambda; Evaluate() gives one configuration; Derivative() is the
  * reduced right-hand side for an integrator of your own.
+ *
+ * The model is reached through ModelCalls<M> (core/model_calls.h): a generated model (its
+ * empty tag; fixed sizes), or the model view (M = ViewModel, issue 43; NP = Eigen::Dynamic:
+ * the driven inputs known at run time, the sizes bounded by the view's maxima), the same
+ * source instantiated once in the library mechgen_runtime_view (core/view_runtime.h). The
+ * view's arithmetic is the fixed-size one's: the reduced inertia solved and the inner
+ * products taken on fixed-size copies of the run-time sizes.
  */
 template <class M, int NP, class Motion, class Force = NoForce, template <int> class Method = Dopri5>
 class PrescribedDynamics {
  public:
+  using Calls = ModelCalls<M>;
+  using Types = ModelTypes<M>;
+  static constexpr bool kView = Calls::kView;
   static constexpr int kNq = M::kNq;
   static constexpr int kNphi = M::kNphi;
   static constexpr int kNp = NP;
-  static constexpr int kNf = kNq - NP;
-  static constexpr int kN = 2 * kNf + 3;  ///< (q_f, qd_f, W_nc, W_act, W_F)
-  static_assert(NP >= 0 && NP <= M::kNq, "0 <= prescribed coordinates <= kNq");
+  static constexpr int kMaxQ = Types::kMaxQ;
+  static constexpr bool kDynamic = kNq == Eigen::Dynamic || NP == Eigen::Dynamic;
+  static constexpr int kNf = kDynamic ? Eigen::Dynamic : kNq - NP;
+  static constexpr int kN = kDynamic ? Eigen::Dynamic : 2 * kNf + 3;  ///< (q_f, qd_f, W_nc, W_act, W_F)
+  static_assert(NP == Eigen::Dynamic || (NP >= 0 && (kNq == Eigen::Dynamic || NP <= kNq)),
+                "0 <= prescribed coordinates <= kNq");
   static_assert(internal::HasDynamics<M>::value,
                 "PrescribedDynamics needs a model generated with `dynamics` (Model::DynamicsT)");
   static_assert(ModelFeatures<M>::kHasSolve, "PrescribedDynamics needs the generated M::Solve");
-  using Params = typename M::template ParamsT<double>;
-  using Coefficients = typename M::template CoefficientsT<double>;
-  using Dyn = typename M::template DynamicsT<double>;
-  using State = Eigen::Matrix<double, kN, 1>;
-  using VecQ = Eigen::Matrix<double, kNq, 1>;
-  using VecP = Eigen::Matrix<double, kNp, 1>;
-  using VecF = Eigen::Matrix<double, kNf, 1>;
-  using VecPhi = Eigen::Matrix<double, kNphi, 1>;
-  using Modes = std::array<int, M::kNumBlocks>;
+  using Params = typename Types::Params;
+  using Coefficients = typename Types::Coefficients;
+  using Dyn = typename Calls::template DynamicsOut<M>;
+  using State = internal::IntegratorState<kN>;
+  using VecQ = typename Types::VecQ;
+  using VecP = internal::VectorOf<NP, kMaxQ>;
+  using VecF = internal::VectorOf<kNf, kMaxQ>;
+  using VecPhi = typename Types::VecPhi;
+  using MatK = typename Types::MatK;
+  using MatCPhi = typename Types::MatCPhi;
+  using Modes = typename Calls::Modes;
   using Integrator = Method<kN>;
   using SampleT = PrescribedSample<M, NP>;
+  /// The prescribed and the free inputs' indices (std::array, or a bounded list of a run-time
+  /// length).
+  using Indices = internal::IndicesOf<NP, kMaxQ>;
+  using FreeIndices = internal::IndicesOf<kNf, kMaxQ>;
   static constexpr bool kHasTrig = ModelFeatures<M>::kHasTrig;
-  using Trig = typename mechgen::internal::TrigOf<M>::type;
+  using Trig = typename Calls::Trig;
   /// The stages solve only the sin and cos of the angles (M::SolveTrig, no atan2), as
-  /// MinimalDynamics does; the angles are recovered where a sample needs them.
-  static constexpr bool kStagesByTrig = kHasTrig && kNphi > 0 && internal::HasSolveTrig<M>::value;
+  /// MinimalDynamics does; the angles are recovered where a sample needs them. (For the view:
+  /// whether its model may; StagesByTrig() says whether it does.)
+  static constexpr bool kStagesByTrig = kHasTrig && kNphi != 0 && internal::HasSolveTrig<M>::value;
   /// ... and by the one-pass M::Rhs where it is generated (forward.h: K, L, I, h, Q, Phi_phi).
   static constexpr bool kStagesByRhs = kStagesByTrig && internal::HasRhs<M>::value;
-  /// The model's loads have switching points (M::SwitchModes): PrescribedOptions::restart_at_switches.
-  static constexpr int kNumSwitches = internal::NumSwitches<M>::value;
+  /// The model's loads may have switching points (M::SwitchModes): PrescribedOptions::restart_at_switches
+  /// (HasSwitches(): whether they have).
+  using SwitchModes = typename Calls::SwitchModesArray;
+  static constexpr int kNumSwitches = static_cast<int>(std::tuple_size<SwitchModes>::value);
   static constexpr bool kHasSwitches = kNumSwitches > 0;
-  using SwitchModes = std::array<int, kNumSwitches>;
   /// Coulomb friction in the actuator forces (PrescribedOptions::coulomb): friction joints,
   /// every input driven (kNf = 0: the motion, and so every joint's relative velocity, is
   /// given) and no caller's forces (which the reactions would miss). A run with free inputs
-  /// leaves it out and says so (PrescribedSummary::message).
-  static constexpr bool kHasDrivenFriction =
-      CoulombFeatures<M>::kHasFriction && kNf == 0 && std::is_same_v<Force, NoForce>;
+  /// leaves it out and says so (PrescribedSummary::message). Through the view: whether it may
+  /// (HasDrivenFriction(): whether it does).
+  static constexpr bool kHasDrivenFriction = CoulombFeatures<M>::kHasFriction &&
+                                             (kNf == 0 || kNf == Eigen::Dynamic) && std::is_same_v<Force, NoForce>;
   static constexpr bool kReportsFriction = kHasDrivenFriction;
   static constexpr int kNumFriction = CoulombFeatures<M>::kNumFriction;
 
   /// prescribed: the indices into q of the prescribed coordinates, distinct, each in
   /// [0, kNq), in the order of the motion's components (checked by Initialize()).
-  PrescribedDynamics(const Params& params, const std::array<int, NP>& prescribed, Motion motion,
+  /// (A generated M only: a ViewModel names its view.)
+  template <class Model = M, std::enable_if_t<!ModelCalls<Model>::kView, int> = 0>
+  PrescribedDynamics(const Params& params, const Indices& prescribed, Motion motion, Force force = Force(),
+                     const PrescribedOptions& options = PrescribedOptions())
+      : PrescribedDynamics(M(), params, prescribed, std::move(motion), std::move(force), options) {}
+  /// The driven run of `model` (a ViewModel; for a generated M an empty tag).
+  PrescribedDynamics(const M& model, const Params& params, const Indices& prescribed, Motion motion,
                      Force force = Force(), const PrescribedOptions& options = PrescribedOptions())
-      : p_(params), prescribed_(prescribed), motion_(std::move(motion)), force_(std::move(force)),
-        options_(options), integrator_(options.integrator) {
-    std::array<bool, kNq> is_prescribed{};
-    indices_valid_ = true;
-    for (int i = 0; i < kNp; ++i) {
+      : model_(model), p_(params), prescribed_(prescribed), motion_(std::move(motion)), force_(std::move(force)),
+        options_(options), integrator_(options.integrator), modes_(Calls::DefaultModes(model)),
+        q_ref_(internal::ZeroState<VecQ>()), phi_ref_(internal::ZeroState<VecPhi>()),
+        K_ref_(internal::ZeroState<MatK>()) {
+    const int nq = Nq();
+    std::array<bool, (kNq == Eigen::Dynamic ? kMaxQ : kNq)> is_prescribed{};
+    indices_valid_ = Np() <= nq;
+    for (int i = 0; i < Np() && indices_valid_; ++i) {
       const int k = prescribed_[i];
-      if (k < 0 || k >= kNq || is_prescribed[k]) {
+      if (k < 0 || k >= nq || is_prescribed[static_cast<size_t>(k)]) {
         indices_valid_ = false;
         return;
       }
-      is_prescribed[k] = true;
+      is_prescribed[static_cast<size_t>(k)] = true;
     }
+    if (!indices_valid_) return;
     int n = 0;
-    for (int k = 0; k < kNq; ++k)
-      if (!is_prescribed[k]) free_[n++] = k;
+    for (int k = 0; k < nq; ++k) {
+      if (is_prescribed[static_cast<size_t>(k)]) continue;
+      if constexpr (kNf == Eigen::Dynamic) {
+        free_.push_back(k);
+      } else {
+        free_[static_cast<size_t>(n++)] = k;
+      }
+    }
+    (void)n;
+    if constexpr (kView) {
+      q_ref_ = VecQ::Zero(nq);
+      phi_ref_ = VecPhi::Zero(Nphi());
+      K_ref_ = MatK::Zero(Nphi(), nq);
+    }
+  }
+
+  const M& model() const { return model_; }
+  /// The model's inputs and angles (kNq, kNphi, or the view's at run time), the prescribed and
+  /// the free inputs (NP, kNf, or at run time).
+  int Nq() const { return Calls::Nq(model_); }
+  int Nphi() const { return Calls::Nphi(model_); }
+  int Np() const {
+    if constexpr (NP == Eigen::Dynamic) {
+      return prescribed_.size();
+    } else {
+      return NP;
+    }
+  }
+  int Nf() const {
+    if constexpr (kNf == Eigen::Dynamic) {
+      return free_.size();
+    } else {
+      return kNf;
+    }
+  }
+  /// Whether the stages solve by sin and cos only, and by M::Rhs (kStagesByTrig, kStagesByRhs;
+  /// the view's model at run time).
+  bool StagesByTrig() const {
+    if constexpr (kView) {
+      return Calls::HasSolveTrig(model_) && Nphi() > 0;
+    } else {
+      return kStagesByTrig;
+    }
+  }
+  bool StagesByRhs() const {
+    if constexpr (kView) {
+      return StagesByTrig() && Calls::HasRhs(model_);
+    } else {
+      return kStagesByRhs;
+    }
+  }
+  /// The model's loads have switching points (kHasSwitches; the view's at run time).
+  bool HasSwitches() const { return Calls::NumSwitches(model_) > 0; }
+  /// Coulomb friction can be in the actuator forces (kHasDrivenFriction; the view's friction
+  /// joints and driven inputs at run time).
+  bool HasDrivenFriction() const {
+    if constexpr (kHasDrivenFriction) {
+      return CoulombFriction<M>::Count(model_) > 0 && Nf() == 0;
+    } else {
+      return false;
+    }
   }
 
   const Params& params() const { return p_; }
@@ -509,23 +649,45 @@ class PrescribedDynamics {
     rhs_constants_.MarkStale();
     return &p_;
   }
+  /// Whether a run from q0 (the inputs at t0) has Coulomb friction in its actuator forces:
+  /// HasDrivenFriction(), the option on, and a friction joint with a coefficient (gain mu r or
+  /// mu not 0) at the parameters, at q0 (its positions from the model's assembly guess).
+  bool SimulatesCoulombAt(const VecQ& q0) {
+    if constexpr (kHasDrivenFriction) {
+      if (!options_.coulomb.enabled || !HasDrivenFriction()) return false;
+      auto phi = Sized<VecPhi>(Nphi());
+      for (int i = 0; i < Nphi(); ++i) phi(i) = Calls::AssemblyPhi(model_)[i];
+      bool not_assemblable = false;
+      if (!internal::SolveOnBranch(model_, p_, q0, &phi, Calls::DefaultModes(model_), options_.max_solver_iterations,
+                                   options_.solver_tolerance, 0.0, &trig_, &not_assemblable))
+        return false;
+      Coefficients c;
+      EvalCoefficients(q0, phi, &c);
+      return CoulombFriction<M>::AnyGain(model_, p_, q0, phi, c);
+    } else {
+      (void)q0;
+      return false;
+    }
+  }
+
   const PrescribedOptions& options() const { return options_; }
-  const std::array<int, NP>& prescribed() const { return prescribed_; }
-  const std::array<int, kNf>& free() const { return free_; }
+  const Indices& prescribed() const { return prescribed_; }
+  const FreeIndices& free() const { return free_; }
   const Motion& motion() const { return motion_; }
 
   /// The modes of the loads' switching items at (t, y) (M::SwitchModes at the positions
   /// there); false where the positions do not solve. Nothing for a model without switches.
   bool SwitchModesAt(double t, const State& y, SwitchModes* modes) {
     if constexpr (kHasSwitches) {
+      if (!HasSwitches()) return true;
       VecQ q, qd;
       VecP qddp;
-      Assemble(t, y.template head<kNf>(), y.template segment<kNf>(kNf), &q, &qd, &qddp);
-      VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
+      Assemble(t, FreeOf(y, 0), FreeOf(y, 1), &q, &qd, &qddp);
+      VecPhi phi = Predictor(q);
       if (!SolveAt(q, &phi)) return false;
       Coefficients c;
       EvalCoefficients(q, phi, &c);
-      M::template SwitchModes<double>(p_, q, phi, qd, t, c, modes);
+      Calls::SwitchModes(model_, p_, q, phi, qd, t, c, modes);
       return true;
     } else {
       (void)t, (void)y, (void)modes;
@@ -537,11 +699,15 @@ class PrescribedDynamics {
   void Assemble(double t, const VecF& qf, const VecF& qdf, VecQ* q, VecQ* qd, VecP* qddp) const {
     VecP qp, qdp;
     motion_(t, &qp, &qdp, qddp);
-    for (int i = 0; i < kNp; ++i) {
+    if constexpr (kNq == Eigen::Dynamic) {
+      q->resize(Nq());
+      qd->resize(Nq());
+    }
+    for (int i = 0; i < Np(); ++i) {
       (*q)(prescribed_[i]) = qp(i);
       (*qd)(prescribed_[i]) = qdp(i);
     }
-    for (int i = 0; i < kNf; ++i) {
+    for (int i = 0; i < Nf(); ++i) {
       (*q)(free_[i]) = qf(i);
       (*qd)(free_[i]) = qdf(i);
     }
@@ -549,17 +715,19 @@ class PrescribedDynamics {
 
   /**
    * \brief Assembles at time t0 with the free coordinates qf0 (the prescribed ones from the
-   * motion) from phi_guess on the given modes. false when it does not assemble or the
-   * prescribed indices are invalid.
+   * motion) from phi_guess on the given modes (the model's default modes without). false when
+   * it does not assemble or the prescribed indices are invalid.
    */
-  bool Initialize(double t0, const VecF& qf0, const VecPhi& phi_guess,
-                  const Modes& modes = M::kDefaultModes) {
+  bool Initialize(double t0, const VecF& qf0, const VecPhi& phi_guess) {
+    return Initialize(t0, qf0, phi_guess, Calls::DefaultModes(model_));
+  }
+  bool Initialize(double t0, const VecF& qf0, const VecPhi& phi_guess, const Modes& modes) {
     initialized_ = false;
     if (!indices_valid_) return false;
     modes_ = modes;
     VecQ q, qd;
     VecP qddp;
-    Assemble(t0, qf0, VecF::Zero(), &q, &qd, &qddp);
+    Assemble(t0, qf0, ZeroF(), &q, &qd, &qddp);
     q_ref_ = q;
     phi_ref_ = phi_guess;
     K_ref_.setZero();
@@ -571,15 +739,15 @@ class PrescribedDynamics {
     phi_ref_ = phi;
     K_ref_ = c.K;
     double rcond = 1;
-    Conditioning(c, &rcond, &ref_det_);
+    Conditioning(c.Phi_phi, &rcond, &ref_det_);
     initialized_ = true;
     return true;
   }
 
   /// Initialize() from the model's assembly guess (kAssemblyPhi, kDefaultModes).
   bool Initialize(double t0, const VecF& qf0) {
-    VecPhi guess;
-    for (int i = 0; i < kNphi; ++i) guess(i) = M::kAssemblyPhi[i];
+    auto guess = Sized<VecPhi>(Nphi());
+    for (int i = 0; i < Nphi(); ++i) guess(i) = Calls::AssemblyPhi(model_)[i];
     return Initialize(t0, qf0, guess);
   }
 
@@ -589,8 +757,8 @@ class PrescribedDynamics {
    * not positive definite.
    */
   bool Evaluate(double t, const State& y, SampleT* s) {
-    Coefficients c;
-    return EvaluateFull(t, y, s, &c);
+    Reference r;
+    return EvaluateFull(t, y, s, &r);
   }
 
   /**
@@ -599,15 +767,17 @@ class PrescribedDynamics {
    */
   bool Derivative(double t, const State& y, State* dy) {
     SampleT s;
-    Coefficients c;
-    if (!Stage(t, y, /*by_trig=*/true, &s, &c)) return false;
-    for (int i = 0; i < kNf; ++i) {
+    Reference r;
+    if (!Stage(t, y, /*by_trig=*/true, &s, &r)) return false;
+    const int nf = Nf();
+    if constexpr (kN == Eigen::Dynamic) dy->resize(2 * nf + 3);
+    for (int i = 0; i < nf; ++i) {
       (*dy)(i) = s.qd(free_[i]);
-      (*dy)(kNf + i) = s.qdd(free_[i]);
+      (*dy)(nf + i) = s.qdd(free_[i]);
     }
-    (*dy)(2 * kNf) = s.P_nc;
-    (*dy)(2 * kNf + 1) = s.P_act;
-    (*dy)(2 * kNf + 2) = s.P_F;
+    (*dy)(2 * nf) = s.P_nc;
+    (*dy)(2 * nf + 1) = s.P_act;
+    (*dy)(2 * nf + 2) = s.P_F;
     if (caching_) {
       // Simulate() reuses the last evaluation (the FSAL one at an accepted step's end) for the
       // step's events and samples instead of evaluating that state again.
@@ -615,7 +785,7 @@ class PrescribedDynamics {
       cache_.t = t;
       cache_.y = y;
       cache_.sample = s;
-      cache_.c = c;
+      cache_.reference = r;
       if constexpr (kStagesByTrig) cache_.trig = trig_;
     }
     return dy->allFinite();
@@ -647,9 +817,12 @@ class PrescribedDynamics {
     integrator_.set_options(options_.integrator);
     caching_ = true;  // stopped by EndRun() on every return
     cache_.valid = false;
-    State y0 = State::Zero();
-    y0.template head<kNf>() = qf0;
-    y0.template segment<kNf>(kNf) = qdf0;
+    const int nf = Nf();
+    State y0 = ZeroY();
+    for (int i = 0; i < nf; ++i) {
+      y0(i) = qf0(i);
+      y0(nf + i) = qdf0(i);
+    }
     internal::EventSettings events;
     events.min_rcond = options_.min_rcond;
     events.event_tolerance = options_.event_tolerance;
@@ -658,27 +831,30 @@ class PrescribedDynamics {
     events.steady = options_.steady;
     events.approach_rcond = options_.approach_rcond;
     events.approach_steps = options_.approach_steps;
-    events.restart_at_switches = options_.restart_at_switches && kHasSwitches;
+    events.restart_at_switches = options_.restart_at_switches && kHasSwitches && HasSwitches();
     events.switch_min_interval = options_.switch_min_interval;
     events.max_switch_restarts = options_.max_switch_restarts;
     coulomb_active_ = false;
     friction_failed_ = false;
     if constexpr (CoulombFeatures<M>::kHasFriction) {
-      if (options_.coulomb.enabled) {
-        if constexpr (kHasDrivenFriction) {
-          VecQ q, qd;
-          VecP qddp;
-          Assemble(t0, qf0, qdf0, &q, &qd, &qddp);
-          VecPhi phi = phi_ref_;
-          Coefficients c;
-          if (SolveAt(q, &phi)) {
-            EvalCoefficients(q, phi, &c);
-            coulomb_active_ = CoulombFriction<M>::AnyGain(M(), p_, q, phi, c);
+      // (The view: only where its model has friction joints, as a generated model's type says.)
+      if (options_.coulomb.enabled && CoulombFriction<M>::Count(model_) > 0) {
+        if (HasDrivenFriction()) {
+          if constexpr (kHasDrivenFriction) {
+            VecQ q, qd;
+            VecP qddp;
+            Assemble(t0, qf0, qdf0, &q, &qd, &qddp);
+            VecPhi phi = phi_ref_;
+            Coefficients c;
+            if (SolveAt(q, &phi)) {
+              EvalCoefficients(q, phi, &c);
+              coulomb_active_ = CoulombFriction<M>::AnyGain(model_, p_, q, phi, c);
+            }
+            summary->coulomb = coulomb_active_;
           }
-          summary->coulomb = coulomb_active_;
         } else {
-          summary->message = kNf > 0 ? "Coulomb friction is not simulated in a driven run with free inputs"
-                                     : "Coulomb friction is not simulated with a caller's forces";
+          summary->message = Nf() > 0 ? "Coulomb friction is not simulated in a driven run with free inputs"
+                                      : "Coulomb friction is not simulated with a caller's forces";
         }
       }
     }
@@ -693,109 +869,113 @@ class PrescribedDynamics {
   }
 
  private:
-  /// Evaluate() with the coefficients (positions by M::Solve, the angles included).
-  bool EvaluateFull(double t, const State& y, SampleT* s, Coefficients* c) {
-    if (!Stage(t, y, /*by_trig=*/false, s, c)) return false;
-    Conditioning(*c, &s->rcond, &s->det);
+  /// What an evaluation hands on to the accepted step: K (the warm starts' predictor) and
+  /// Phi_phi (the conditioning), nothing else of the coefficients.
+  struct Reference {
+    MatK K = internal::ZeroState<MatK>();
+    MatCPhi Phi_phi = internal::ZeroState<MatCPhi>();
+  };
+
+  /// Evaluate() with K and Phi_phi (positions by M::Solve, the angles included).
+  bool EvaluateFull(double t, const State& y, SampleT* s, Reference* r) {
+    if (!Stage(t, y, /*by_trig=*/false, s, r)) return false;
+    Conditioning(r->Phi_phi, &s->rcond, &s->det);
     if (s->rcond < options_.min_rcond) Withhold(s);
     return true;
   }
 
   /// One evaluation without the conditioning. by_trig (and the model has SolveTrig): the
-  /// positions as sin and cos only; s->phi is then the warm start's predictor.
-  /// NaN in the members of *c that the by-Rhs stage does not compute (all but K, Phi_phi).
-  static void MarkNotComputed(Coefficients* c) {
-    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-    using F = ModelFeatures<M>;
-    if constexpr (F::kCoeffsHavePhi) c->Phi.setConstant(kNaN);
-    if constexpr (F::kHasL) c->L.setConstant(kNaN);
-    if constexpr (F::kHasPoints) c->r_P.setConstant(kNaN);
-    if constexpr (F::kHasPointVelocities) c->K_P.setConstant(kNaN);
-    if constexpr (F::kHasPointAccelerations) c->L_P.setConstant(kNaN);
-  }
-
-  bool Stage(double t, const State& y, bool by_trig, SampleT* s, Coefficients* c) {
-    const VecF qf = y.template head<kNf>();
-    const VecF qdf = y.template segment<kNf>(kNf);
+  /// positions as sin and cos only; s->phi is then the warm start's predictor. *r: K and
+  /// Phi_phi there.
+  bool Stage(double t, const State& y, bool by_trig, SampleT* s, Reference* r) {
     VecQ q, qd;
     VecP qddp;
-    Assemble(t, qf, qdf, &q, &qd, &qddp);
-    VecPhi phi = phi_ref_ + K_ref_ * (q - q_ref_);
-    bool solved = false;
+    Assemble(t, FreeOf(y, 0), FreeOf(y, 1), &q, &qd, &qddp);
+    VecPhi phi = Predictor(q);
     Dyn d;
-    bool evaluated = false;
     if (coulomb_active_) by_trig = false;  // the kinetostatics need every coefficient
     if constexpr (kStagesByRhs) {
-      if (by_trig) {
+      if (by_trig && StagesByRhs()) {
         // One generated pass: the positions' sin and cos, K, L, I, h, Q (and Phi_phi for the
-        // conditioning); c holds K and Phi_phi only, its other members are set NaN (not
-        // computed) rather than left indeterminate (Derivative() copies c into its cache).
+        // conditioning), of which K and Phi_phi are handed on.
         last_solve_not_assemblable_ = false;
-        typename M::template RhsT<double> r;
-        const auto report =
-            M::template Rhs<double>(p_, rhs_constants_.Of(p_), q, qd, t, modes_, &trig_, &r);
-        solved = report.status == decltype(report.status)::kConverged;
-        if (!solved) {
+        typename Calls::template RhsOut<M> rhs;
+        const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, modes_, &trig_, &rhs);
+        if (report.status != decltype(report.status)::kConverged) {
           last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
           ++position_failures_;
           return false;
         }
-        c->K = r.K;
-        c->Phi_phi = r.Phi_phi;
-        MarkNotComputed(c);
-        d.I = r.I;
-        d.h = r.h;
-        d.Q = r.Q;
-        d.T = r.T;
-        d.V = r.V;
-        d.P_nc = r.P_nc;
-        evaluated = true;
+        r->K = rhs.K;
+        r->Phi_phi = rhs.Phi_phi;
+        d.I = rhs.I;
+        d.h = rhs.h;
+        d.Q = rhs.Q;
+        d.T = rhs.T;
+        d.V = rhs.V;
+        d.P_nc = rhs.P_nc;
+        return Finish(t, y, q, qd, qddp, phi, nullptr, &d, s);
       }
     }
-    if (evaluated) {
-    } else if constexpr (kStagesByTrig) {
-      if (by_trig) {
+    bool solved = false;
+    bool trig_only = false;
+    if constexpr (kStagesByTrig) trig_only = by_trig && StagesByTrig();
+    if (trig_only) {
+      if constexpr (kStagesByTrig) {
         last_solve_not_assemblable_ = false;
-        const auto report = M::template SolveTrig<double>(p_, q, modes_, &trig_);
+        const auto report = Calls::SolveTrig(model_, p_, q, modes_, &trig_);
         solved = report.status == decltype(report.status)::kConverged;
         if (!solved) last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
-      } else {
-        solved = SolveAt(q, &phi);
       }
     } else {
-      (void)by_trig;
       solved = SolveAt(q, &phi);
     }
     if (!solved) {
       ++position_failures_;
       return false;
     }
-    if (!evaluated) {
-      EvalCoefficients(q, phi, c);
-      EvalDynamics(q, phi, qd, t, *c, &d);
-    }
-    VecQ F;
+    Coefficients c;
+    EvalCoefficients(q, phi, &c);
+    EvalDynamics(q, phi, qd, t, c, &d);
+    r->K = c.K;
+    if constexpr (kNphi != 0) r->Phi_phi = c.Phi_phi;
+    return Finish(t, y, q, qd, qddp, phi, &c, &d, s);
+  }
+
+  /// The rest of a stage from its dynamics *d: the caller's forces, the partitioned solve,
+  /// Coulomb friction (c: the coefficients, which a stage with friction has), the sample.
+  bool Finish(double t, const State& y, const VecQ& q, const VecQ& qd, const VecP& qddp, const VecPhi& phi,
+              const Coefficients* c, Dyn* dp, SampleT* s) {
+    Dyn& d = *dp;
+    VecQ F = Sized<VecQ>(Nq());
     force_(t, q, qd, &F);
     VecQ qdd;
     VecP lambda;
     if (!Accelerations(d, F, qddp, &qdd, &lambda)) return false;
-    s->friction.setZero();
+    if constexpr (kView) {
+      if constexpr (CoulombFeatures<M>::kHasFriction) s->friction = CoulombFriction<M>::ZeroF(model_);
+    } else {
+      s->friction.setZero();
+    }
     if constexpr (kHasDrivenFriction) {
       if (coulomb_active_) {
         // Every input driven: the friction loads at the given motion, lambda = I qdd + h - Q - K_rel^T f.
         VecQ Q_f;
         int iterations = 0;
         friction_failed_ = false;
-        if (!CoulombFriction<M>::Prescribed(M(), options_.coulomb, p_, q, phi, qd, qdd, t, *c, &s->friction, &Q_f,
+        if (!CoulombFriction<M>::Prescribed(model_, options_.coulomb, p_, q, phi, qd, qdd, t, *c, &s->friction, &Q_f,
                                             &iterations)) {
           friction_failed_ = true;
           return false;
         }
-        for (int i = 0; i < kNp; ++i) lambda(i) -= Q_f(prescribed_[i]);
+        for (int i = 0; i < Np(); ++i) lambda(i) -= Q_f(prescribed_[i]);
         d.Q += Q_f;
-        d.P_nc += Q_f.dot(qd);
+        d.P_nc += internal::DotOf<kMaxQ>(Q_f, qd);
       }
+    } else {
+      (void)c;
     }
+    const int nf = Nf();
     s->t = t;
     s->q = q;
     s->qd = qd;
@@ -807,32 +987,33 @@ class PrescribedDynamics {
     s->T = d.T;
     s->V = d.V;
     s->E = d.T + d.V;
-    s->W_nc = y(2 * kNf);
-    s->W_act = y(2 * kNf + 1);
-    s->W_F = y(2 * kNf + 2);
+    s->W_nc = y(2 * nf);
+    s->W_act = y(2 * nf + 1);
+    s->W_F = y(2 * nf + 2);
     s->P_nc = d.P_nc;
     double P_act = 0;
-    for (int i = 0; i < kNp; ++i) P_act += lambda(i) * qd(prescribed_[i]);
+    for (int i = 0; i < Np(); ++i) P_act += lambda(i) * qd(prescribed_[i]);
     s->P_act = P_act;
-    s->P_F = F.dot(qd);
+    s->P_F = internal::DotOf<kMaxQ>(F, qd);
     return true;
   }
 
   /// The sample at (t, y) from the last Derivative() call, if it was at exactly (t, y).
-  bool FromCache(double t, const State& y, SampleT* s, Coefficients* c) const {
+  bool FromCache(double t, const State& y, SampleT* s, Reference* r) const {
     if (!cache_.valid || cache_.t != t || cache_.y != y) return false;
     *s = cache_.sample;
-    *c = cache_.c;
+    *r = cache_.reference;
     if constexpr (kStagesByTrig) {
       // The angles from their sin and cos, within pi of the predictor (sample.phi).
       const double two_pi = 6.283185307179586;
-      for (int i = 0; i < kNphi; ++i) {
-        const double angle = std::atan2(cache_.trig.sin_phi(i), cache_.trig.cos_phi(i));
+      for (int i = 0; i < Nphi() && StagesByTrig(); ++i) {
+        const double angle =
+            std::atan2(Calls::TrigSinPhi(model_, cache_.trig, i), Calls::TrigCosPhi(model_, cache_.trig, i));
         const double turns = std::floor((angle - s->phi(i)) / two_pi + 0.5);
         s->phi(i) = std::isfinite(turns) ? angle - two_pi * turns : angle;
       }
     }
-    Conditioning(*c, &s->rcond, &s->det);
+    Conditioning(r->Phi_phi, &s->rcond, &s->det);
     if (s->rcond < options_.min_rcond) Withhold(s);
     return true;
   }
@@ -847,7 +1028,7 @@ class PrescribedDynamics {
   }
   static double Balance(const SampleT& s) { return s.Balance(); }
   static void Record(const SampleT& s, PrescribedSummary* summary) {
-    for (int i = 0; i < kNp; ++i)
+    for (int i = 0; i < static_cast<int>(s.lambda.size()); ++i)
       if (std::isfinite(s.lambda(i)))
         summary->max_abs_lambda = std::max(summary->max_abs_lambda, std::abs(s.lambda(i)));
   }
@@ -861,110 +1042,189 @@ class PrescribedDynamics {
   /// The accepted step's configuration (from the last stage when it was there), made the
   /// reference of the warm starts.
   bool Accept(double t, const State& y, SampleT* cur) {
-    Coefficients c;
-    if (!FromCache(t, y, cur, &c) && !EvaluateFull(t, y, cur, &c)) return false;
-    SetReference(*cur, c);
+    Reference r;
+    if (!FromCache(t, y, cur, &r) && !EvaluateFull(t, y, cur, &r)) return false;
+    q_ref_ = cur->q;
+    phi_ref_ = cur->phi;
+    ref_det_ = cur->det;
+    if constexpr (kNphi != 0) K_ref_ = r.K;
     return true;
-  }
-
-  void SetReference(const SampleT& s, const Coefficients& c) {
-    q_ref_ = s.q;
-    phi_ref_ = s.phi;
-    ref_det_ = s.det;
-    if constexpr (kNphi > 0) K_ref_ = c.K;
   }
 
   /// The partitioned solve (file comment): qdd (the law's qdd_p in the prescribed rows) and lambda.
   bool Accelerations(const Dyn& d, const VecQ& F, const VecP& qddp, VecQ* qdd, VecP* lambda) {
     singular_inertia_ = false;
     const VecQ rhs = d.Q + F - d.h;  // I qdd = rhs + S^T lambda
-    for (int i = 0; i < kNp; ++i) (*qdd)(prescribed_[i]) = qddp(i);
-    if constexpr (kNf > 0) {
-      Eigen::Matrix<double, kNf, kNf> Iff;
-      VecF b;
-      for (int i = 0; i < kNf; ++i) {
-        b(i) = rhs(free_[i]);
-        for (int k = 0; k < kNp; ++k) b(i) -= d.I(free_[i], prescribed_[k]) * qddp(k);
-        for (int j = 0; j < kNf; ++j) Iff(i, j) = d.I(free_[i], free_[j]);
-      }
-      VecF qddf;
-      if constexpr (kNf == 1) {
-        if (!(Iff(0, 0) > 0) || !std::isfinite(Iff(0, 0))) {
-          singular_inertia_ = true;
-          return false;
-        }
-        qddf(0) = b(0) / Iff(0, 0);
-      } else if constexpr (kNf == 2) {
-        // Positive definite iff I_00 > 0 and det > 0; Cramer's rule (a fixed-size LDLT with
-        // pivoting costs several times more for two coordinates).
-        const double det = Iff(0, 0) * Iff(1, 1) - Iff(0, 1) * Iff(1, 0);
-        if (!(Iff(0, 0) > 0) || !(det > 0) || !std::isfinite(det)) {
-          singular_inertia_ = true;
-          return false;
-        }
-        qddf(0) = (Iff(1, 1) * b(0) - Iff(0, 1) * b(1)) / det;
-        qddf(1) = (Iff(0, 0) * b(1) - Iff(1, 0) * b(0)) / det;
-      } else {
-        const Eigen::LDLT<Eigen::Matrix<double, kNf, kNf>> ldlt(Iff);
-        if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0)) {
-          singular_inertia_ = true;
-          return false;
-        }
-        qddf = ldlt.solve(b);
-      }
-      for (int i = 0; i < kNf; ++i) (*qdd)(free_[i]) = qddf(i);
+    const int np = Np(), nf = Nf();
+    if constexpr (kNq == Eigen::Dynamic) qdd->resize(Nq());
+    if constexpr (NP == Eigen::Dynamic) lambda->resize(np);
+    for (int i = 0; i < np; ++i) (*qdd)(prescribed_[i]) = qddp(i);
+    if constexpr (kNf == Eigen::Dynamic) {
+      if (nf > 0 && !SolveFreeOfSize<1>(d, rhs, qddp, qdd)) return false;
+    } else if constexpr (kNf > 0) {
+      if (!SolveFree<kNf>(d, rhs, qddp, qdd)) return false;
     }
-    for (int i = 0; i < kNp; ++i) {
-      const int r = prescribed_[i];
-      (*lambda)(i) = d.I.row(r).dot(*qdd) - rhs(r);
+    (void)nf;
+    if constexpr (kNq == Eigen::Dynamic) {
+      LambdaOfSize<1>(d, rhs, qdd, lambda);
+    } else {
+      Lambda<kNq>(d.I, rhs, *qdd, lambda);
     }
     return qdd->allFinite() && lambda->allFinite();
   }
 
+  /// qdd_f = I_ff^-1 (rhs_f - I_fp qdd_p) on kF x kF (the view: kF the run-time Nf()).
+  template <int kF>
+  bool SolveFree(const Dyn& d, const VecQ& rhs, const VecP& qddp, VecQ* qdd) {
+    Eigen::Matrix<double, kF, kF> Iff;
+    Eigen::Matrix<double, kF, 1> b;
+    for (int i = 0; i < kF; ++i) {
+      b(i) = rhs(free_[i]);
+      for (int k = 0; k < Np(); ++k) b(i) -= d.I(free_[i], prescribed_[k]) * qddp(k);
+      for (int j = 0; j < kF; ++j) Iff(i, j) = d.I(free_[i], free_[j]);
+    }
+    Eigen::Matrix<double, kF, 1> qddf;
+    if constexpr (kF == 1) {
+      if (!(Iff(0, 0) > 0) || !std::isfinite(Iff(0, 0))) {
+        singular_inertia_ = true;
+        return false;
+      }
+      qddf(0) = b(0) / Iff(0, 0);
+    } else if constexpr (kF == 2) {
+      // Positive definite iff I_00 > 0 and det > 0; Cramer's rule (a fixed-size LDLT with
+      // pivoting costs several times more for two coordinates).
+      const double det = Iff(0, 0) * Iff(1, 1) - Iff(0, 1) * Iff(1, 0);
+      if (!(Iff(0, 0) > 0) || !(det > 0) || !std::isfinite(det)) {
+        singular_inertia_ = true;
+        return false;
+      }
+      qddf(0) = (Iff(1, 1) * b(0) - Iff(0, 1) * b(1)) / det;
+      qddf(1) = (Iff(0, 0) * b(1) - Iff(1, 0) * b(0)) / det;
+    } else {
+      const Eigen::LDLT<Eigen::Matrix<double, kF, kF>> ldlt(Iff);
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0)) {
+        singular_inertia_ = true;
+        return false;
+      }
+      qddf = ldlt.solve(b);
+    }
+    for (int i = 0; i < kF; ++i) (*qdd)(free_[i]) = qddf(i);
+    return true;
+  }
+  template <int k>
+  bool SolveFreeOfSize(const Dyn& d, const VecQ& rhs, const VecP& qddp, VecQ* qdd) {
+    if constexpr (k <= kMaxQ) {
+      if (Nf() != k) return SolveFreeOfSize<k + 1>(d, rhs, qddp, qdd);
+      return SolveFree<k>(d, rhs, qddp, qdd);
+    } else {
+      (void)d, (void)rhs, (void)qddp, (void)qdd;
+      singular_inertia_ = true;
+      return false;
+    }
+  }
+
+  /// lambda_i = I_r. qdd - rhs_r, r the i-th prescribed input, of a kQ x kQ inertia.
+  template <int kQ, class MatI>
+  void Lambda(const MatI& I, const VecQ& rhs, const Eigen::Matrix<double, kQ, 1>& qdd, VecP* lambda) const {
+    for (int i = 0; i < Np(); ++i) {
+      const int r = prescribed_[i];
+      (*lambda)(i) = I.row(r).dot(qdd) - rhs(r);
+    }
+  }
+  /// The same for the view's I and qdd, on fixed-size copies of their run-time size (the
+  /// fixed-size instantiation's inner products, to the bit).
+  template <int k>
+  void LambdaOfSize(const Dyn& d, const VecQ& rhs, const VecQ* qdd, VecP* lambda) const {
+    if constexpr (k <= kMaxQ) {
+      if (Nq() != k) return LambdaOfSize<k + 1>(d, rhs, qdd, lambda);
+      Lambda<k>(Eigen::Matrix<double, k, k>(d.I), rhs, Eigen::Matrix<double, k, 1>(*qdd), lambda);
+    } else {
+      (void)d, (void)rhs, (void)qdd, (void)lambda;
+    }
+  }
+
   bool SolveAt(const VecQ& q, VecPhi* phi) {
-    return internal::SolveOnBranch<M>(p_, q, phi, modes_, options_.max_solver_iterations,
-                                      options_.solver_tolerance, ref_det_, &trig_,
-                                      &last_solve_not_assemblable_);
+    return internal::SolveOnBranch(model_, p_, q, phi, modes_, options_.max_solver_iterations,
+                                   options_.solver_tolerance, ref_det_, &trig_, &last_solve_not_assemblable_);
   }
 
   void EvalCoefficients(const VecQ& q, const VecPhi& phi, Coefficients* c) {
-    internal::CallCoeffs<M>(p_, q, phi, c, &trig_);
+    internal::CallCoeffs(model_, p_, q, phi, c, &trig_);
   }
 
   void EvalDynamics(const VecQ& q, const VecPhi& phi, const VecQ& qd, double t,
                     const Coefficients& c, Dyn* d) {
-    internal::CallDynamics<M>(p_, q, phi, qd, t, c, d, &trig_);
+    internal::CallDynamics(model_, p_, q, phi, qd, t, c, d, &trig_);
   }
 
-  static void Conditioning(const Coefficients& c, double* rcond, double* det) {
+  /// 1/cond_1 and det of Phi_phi (1 and 1 without closed loops).
+  template <class PhiPhi>
+  static void Conditioning(const PhiPhi& Phi_phi, double* rcond, double* det) {
     if constexpr (kNphi == 0) {
-      (void)c;
+      (void)Phi_phi;
       *rcond = 1;
       *det = 1;
     } else {
-      internal::ConditioningOf(c.Phi_phi, rcond, det);
+      internal::ConditioningOf(Phi_phi, rcond, det);
     }
   }
 
+  // ---- the state's parts and the warm start, at the model's sizes ----
+  /// The free coordinates (part 0) or their speeds (part 1) of a state.
+  VecF FreeOf(const State& y, int part) const {
+    if constexpr (kNf != Eigen::Dynamic) {
+      return y.template segment<kNf>(part * kNf);
+    } else {
+      const int nf = Nf();
+      VecF v(nf);
+      ::mechgen::internal::CopyEntries(y.data() + part * nf, nf, v.data());
+      return v;
+    }
+  }
+  VecF ZeroF() const {
+    if constexpr (kNf != Eigen::Dynamic) {
+      return VecF::Zero();
+    } else {
+      return VecF::Zero(Nf());
+    }
+  }
+  State ZeroY() const {
+    if constexpr (kN != Eigen::Dynamic) {
+      return State::Zero();
+    } else {
+      return State::Zero(2 * Nf() + 3);
+    }
+  }
+  /// phi_ref + K_ref (q - q_ref): the warm start of the positions at q (the view's product
+  /// coefficient-based, core/model_calls.h's Times, as the minimal method's).
+  VecPhi Predictor(const VecQ& q) const {
+    if constexpr (kView) {
+      return phi_ref_ + Times(K_ref_, VecQ(q - q_ref_));
+    } else {
+      return phi_ref_ + K_ref_ * (q - q_ref_);
+    }
+  }
+
+  M model_;
   Params p_;
-  std::array<int, NP> prescribed_;
-  std::array<int, kNf> free_{};
+  Indices prescribed_;
+  FreeIndices free_{};
   Motion motion_;
   Force force_;
   PrescribedOptions options_;
   Integrator integrator_;
-  Modes modes_ = M::kDefaultModes;
-  VecQ q_ref_ = VecQ::Zero();
-  VecPhi phi_ref_ = VecPhi::Zero();
-  Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
+  Modes modes_;
+  VecQ q_ref_;
+  VecPhi phi_ref_;
+  MatK K_ref_;
   Trig trig_{};
   internal::PreparedRhsConstants<M> rhs_constants_;  ///< kStagesByRhs: M::Prepare(p_)
   struct Cache {
     bool valid = false;
     double t = 0;
-    State y = State::Zero();
+    State y = internal::ZeroState<State>();
     SampleT sample;
-    Coefficients c{};
+    Reference reference;
     Trig trig{};
   };
   Cache cache_;

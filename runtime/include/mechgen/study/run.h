@@ -24,9 +24,8 @@
  * mechgen::ViewModel (the runtime compiled once, `mechgen_view study`; the design derivatives
  * of the tolerance analysis, the envelope's first order and the design checks the view's,
  * ModelCalls<M>::Design, StaticsDesign and DesignChecks; the first order of a flywheel study's
- * metrics the view's cycle design derivatives, machines/view_machines.h). Through the view, not
- * yet: the driven simulation; the study command (tools/study_run.h) refuses it before Prepare
- * (tools/common/not_through_view.h).
+ * metrics the view's cycle design derivatives, machines/view_machines.h; the driven simulation
+ * dynamics/prescribed.h instantiated for the view).
  * With analysis: flywheel and engine a view's sample runs the machines' cycle compiled once
  * (machines/view_machines.h, declared before this header where the view's study is compiled).
  */
@@ -138,9 +137,10 @@ struct SimulationOf<M, true> {
 };
 // analysis: simulate with drive: one input on a law of time, the others free
 // (dynamics/prescribed.h's PrescribedDynamics, as `<model>_simulate --drive`), a sample with the
-// actuator force lambda and the reactions of the generated kinetostatics there. (Not through
-// the model view yet.)
-template <class M, bool = HasDynamics<M>::value && ModelFeatures<M>::kHasSolve && !ModelCalls<M>::kView>
+// actuator force lambda and the reactions of the generated kinetostatics there. (Through the
+// model view: the driven run instantiated in mechgen_runtime_view, core/view_runtime.h, its
+// one driven input counted at run time.)
+template <class M, bool = HasDynamics<M>::value && ModelFeatures<M>::kHasSolve>
 struct DrivenOf {
   static constexpr bool kOk = false;
   struct Row {};
@@ -149,11 +149,23 @@ struct DrivenOf {
 template <class M>
 struct DrivenOf<M, true> {
   static constexpr bool kOk = true;
-  using Sim = dynamics::PrescribedDynamics<M, 1, dynamics::AnyDrive<1>>;
+  static constexpr int kNp = ModelCalls<M>::kView ? Eigen::Dynamic : 1;
+  using Drive = dynamics::AnyDrive<kNp>;
+  using Sim = dynamics::PrescribedDynamics<M, kNp, Drive>;
   using SampleT = typename Sim::SampleT;
   static constexpr int kNumReactions = statics::StaticsFeatures<M>::kNumReactions;
   using Row = SimulatedRow<SampleT, kNumReactions>;
   using Columns = table::Columns<dynamics::CsvRow<SampleT>>;
+  /// The indices of the one driven input k.
+  static typename Sim::Indices Driven(int k) {
+    typename Sim::Indices indices{};
+    if constexpr (kNp == Eigen::Dynamic) {
+      indices.push_back(k);
+    } else {
+      indices[0] = k;
+    }
+    return indices;
+  }
 };
 // The reactions of the generated kinetostatics at a simulation's sample into row->R (has_R
 // when they were found), with the sample's friction loads when the run has them
@@ -360,11 +372,11 @@ class Study {
     if constexpr (run_internal::DrivenOf<M>::kOk) {
       if (driven_input_ >= 0) {
         using SampleT = typename run_internal::DrivenOf<M>::SampleT;
-        driven_columns_ = dynamics::DrivenColumns<M, SampleT, 1>(std::array<int, 1>{driven_input_});
+        driven_columns_ =
+            dynamics::DrivenColumns<M, SampleT>(run_internal::DrivenOf<M>::Driven(driven_input_), false, model_);
         // The driven table ends, like the free one, with the reactions and their magnitudes.
-        first_driven_reaction_column_ = static_cast<int>(driven_columns_.size()) -
-                                        run_internal::DrivenOf<M>::kNumReactions -
-                                        static_cast<int>(dynamics::RevoluteMagnitudes<M>().size());
+        first_driven_reaction_column_ = static_cast<int>(driven_columns_.size()) - NumSimulationReactions() -
+                                        static_cast<int>(dynamics::RevoluteMagnitudes<M>(model_).size());
       }
     }
     needs_reactions_ = false;
@@ -1428,16 +1440,19 @@ class Study {
   // every t_end / steps, with the kinetostatics' reactions where a metric reads them.
   void SimulateDriven(Rows* out) const {
     if constexpr (run_internal::DrivenOf<M>::kOk) {
-      using Sim = typename run_internal::DrivenOf<M>::Sim;
-      using SampleT = typename run_internal::DrivenOf<M>::SampleT;
+      using Driven = run_internal::DrivenOf<M>;
+      using Sim = typename Driven::Sim;
+      using SampleT = typename Driven::SampleT;
       using VecQ = typename Sim::VecQ;
       using VecF = typename Sim::VecF;
-      VecQ q0, qd0 = VecQ::Zero();
-      for (int i = 0; i < M::kNq; ++i) q0(i) = spec_.q0.empty() ? M::kAssemblyQ[i] : spec_.q0[i];
-      for (int i = 0; i < M::kNq && !spec_.qd0.empty(); ++i) qd0(i) = spec_.qd0[i];
+      const int nq = C::Nq(model_);
+      VecQ q0 = Sized<VecQ>(nq), qd0 = VecQ::Zero(nq);
+      for (int i = 0; i < nq; ++i) q0(i) = spec_.q0.empty() ? C::AssemblyQ(model_)[i] : spec_.q0[i];
+      for (int i = 0; i < nq && !spec_.qd0.empty(); ++i) qd0(i) = spec_.qd0[i];
       const int k = driven_input_;
       const DriveSpec& d = spec_.drive;
-      std::array<dynamics::AnyLaw, 1> laws;
+      typename Driven::Drive::Laws laws{};
+      if constexpr (Driven::kNp == Eigen::Dynamic) laws.resize(1);
       if (d.law == "speed") {
         laws[0] = dynamics::ConstantSpeedLaw{q0(k), d.values[0], 0.0};
       } else {
@@ -1447,29 +1462,44 @@ class Study {
       }
       dynamics::PrescribedOptions options;
       options.sample_dt = spec_.t_end / spec_.steps;
-      Sim sim(out->params, std::array<int, 1>{k}, dynamics::AnyDrive<1>(laws), dynamics::NoForce(), options);
-      VecF qf0, qdf0;
-      for (int i = 0; i < Sim::kNf; ++i) {
+      Sim sim(model_, out->params, Driven::Driven(k), typename Driven::Drive(std::move(laws)), dynamics::NoForce(),
+              options);
+      VecF qf0 = Sized<VecF>(nq - 1), qdf0 = Sized<VecF>(nq - 1);
+      for (int i = 0; i < nq - 1; ++i) {
         qf0(i) = q0(sim.free()[i]);
         qdf0(i) = qd0(sim.free()[i]);
       }
-      out->assembled = sim.Initialize(0.0, qf0);
+      if constexpr (kView) {
+        out->assembled = InitializePrescribed(&sim, 0.0, qf0);  // (the library's, core/view_runtime.h)
+      } else {
+        out->assembled = sim.Initialize(0.0, qf0);
+      }
       if (!out->assembled) return;
-      dynamics::Kinetostatics<M> kineto(out->params);
+      dynamics::Kinetostatics<M> kineto(model_, out->params);
       if (needs_reactions_) kineto.Initialize(q0);
       auto observer = [&](const SampleT& s) {
-        typename run_internal::DrivenOf<M>::Row row;
+        typename Driven::Row row;
         row.s = s;
-        if constexpr (run_internal::DrivenOf<M>::kNumReactions > 0) {
-          if (needs_reactions_) {
-            run_internal::SampleReactions<Sim::kHasDrivenFriction>(kineto, s, &row);
+        if constexpr (Driven::kNumReactions != 0) {  // (a view: its count at run time)
+          if (needs_reactions_ && NumSimulationReactions() > 0) {
+            if (sim.HasDrivenFriction()) {
+              run_internal::SampleReactions<Sim::kHasDrivenFriction>(kineto, s, &row);
+            } else {
+              run_internal::SampleReactions<false>(kineto, s, &row);
+            }
           }
         }
         out->driven.push_back(row);
         return true;
       };
       dynamics::PrescribedSummary summary;
-      sim.Simulate(0.0, qf0, qdf0, spec_.t_end, observer, &summary);
+      if constexpr (kView) {
+        // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
+        dynamics::ViewSampleFn<Sim> fn = observer;
+        SimulatePrescribed(&sim, 0.0, qf0, qdf0, spec_.t_end, fn, &summary, nullptr);
+      } else {
+        sim.Simulate(0.0, qf0, qdf0, spec_.t_end, observer, &summary);
+      }
       out->simulation_status = summary.status;
     } else {
       (void)out;
