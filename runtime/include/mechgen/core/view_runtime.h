@@ -144,9 +144,10 @@ using ViewDrive = AnyDrive<Eigen::Dynamic>;
 using ViewPrescribedDopri5 = PrescribedDynamics<ViewModel, Eigen::Dynamic, ViewDrive, NoForce, Dopri5>;
 using ViewPrescribedDop853 = PrescribedDynamics<ViewModel, Eigen::Dynamic, ViewDrive, NoForce, Dop853>;
 using ViewPrescribedSample = PrescribedSample<ViewModel, Eigen::Dynamic>;
-#define MECHGEN_VIEW_PRESCRIBED_MEMBERS(EXTERN, Sim)                                                           \
-  EXTERN template Sim::PrescribedDynamics(const ViewModel&, const ViewParams&, const Sim::Indices&, ViewDrive, \
-                                          NoForce, const PrescribedOptions&);                                  \
+// (The constructor is not among them: it sets up the index lists only, and GCC emitted no
+// symbol for its explicit instantiation, so that a caller compiled at -O1 did not link; each
+// caller instantiates it.)
+#define MECHGEN_VIEW_PRESCRIBED_MEMBERS(EXTERN, Sim) \
   EXTERN template bool Sim::SimulatesCoulombAt(const ModelTypes<ViewModel>::VecQ&);
 MECHGEN_VIEW_PRESCRIBED_MEMBERS(extern, ViewPrescribedDopri5)
 MECHGEN_VIEW_PRESCRIBED_MEMBERS(extern, ViewPrescribedDop853)
