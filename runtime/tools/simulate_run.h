@@ -54,7 +54,6 @@ namespace mechgen::simulate_tool {
 namespace run_internal {
 
 
-constexpr double kDegToRad = 0.017453292519943295;
 constexpr double kTwoPi = 6.283185307179586;
 
 namespace tools = mechgen::tools;
@@ -315,7 +314,7 @@ int RunFree(const M& model, const Args& args) {
     // Units said: an angle in rad (and deg), a slide in m.
     const bool q0_angle = C::QIsAngle(model, 0);
     std::printf("end: t = %.6g s, %s = %.6g %s", summary.t_end, C::QName(model, 0), last.q(0), q0_angle ? "rad" : "m");
-    if (q0_angle) std::printf(" (%.6g deg)", last.q(0) / kDegToRad);
+    if (q0_angle) std::printf(" (%.6g deg)", mechgen::ToDegrees(last.q(0)));
     std::printf(", %s_dot = %.6g %s; E - W_nc drift %.3g J; max |F| %.6g N\n", C::QName(model, 0), last.qd(0),
                 q0_angle ? "rad/s" : "m/s", summary.max_energy_error, max_reaction);
     std::string png = csv_path;

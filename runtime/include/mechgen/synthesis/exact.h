@@ -706,7 +706,7 @@ inline std::string ExactReport(const ExactRun& run, const ExactTask& task) {
     o << "solution " << r.number << ": a " << Short(b.a, 9) << ", b " << Short(b.b, 9) << ", c " << Short(b.c, 9) << ", d "
       << Short(b.d, 9) << ", xi " << Short(b.xi, 9) << ", eta " << Short(b.eta, 9) << "\n";
     o << "  crank angles (deg):";
-    for (double q : b.crank) o << " " << Short(q * 180 / M_PI, 7);
+    for (double q : b.crank) o << " " << Short(ToDegrees(q), 7);
     o << "\n  generated kinematics: every point within " << Short(r.check, 3) << " on mode";
     for (int m : r.point_mode) o << " " << m;
     o << (r.reached ? " (passes)" : " (FAILS)") << "\n";

@@ -1175,8 +1175,8 @@ FunctionResult SynthesizeFunction(const BoundFunction<M>& b, uint64_t seed, int 
           ++r.exact_grid;
           if (!fr.ok) continue;
           grid.push_back(eval.Check(clamp(x)));
-          grid.back().start = "freudenstein at start angles " + Short(in0 * 180 / M_PI, 5) + "deg, " +
-                              Short(out0 * 180 / M_PI, 5) + "deg";
+          grid.back().start = "freudenstein at start angles " + Short(ToDegrees(in0), 5) + "deg, " +
+                              Short(ToDegrees(out0), 5) + "deg";
         }
       }
       std::stable_sort(grid.begin(), grid.end(), [](const FunctionCandidate& u, const FunctionCandidate& v) { return Better(u, v); });
@@ -1312,8 +1312,8 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
                   std::to_string(b.n) + (t.range ? " accuracy points" : " pairs") + " (task " + t.file + ")\n";
   if (t.range)
     s += "function: y = " + t.expression + " on x in [" + Short(t.x0, 9) + ", " + Short(t.x1, 9) + "], " +
-         (t.chebyshev ? "Chebyshev" : "uniform") + " spacing; input " + Short(t.in_span * 180 / M_PI, 9) +
-         " deg and output " + Short(t.out_span * 180 / M_PI, 9) + " deg over the range" +
+         (t.chebyshev ? "Chebyshev" : "uniform") + " spacing; input " + Short(ToDegrees(t.in_span), 9) +
+         " deg and output " + Short(ToDegrees(t.out_span), 9) + " deg over the range" +
          (t.free_start ? ", start angles free" : "") + "\n";
   s += "seed " + std::to_string(seed) + ", threads " + std::to_string(threads) + ", global runs " + std::to_string(r.runs) +
        ", evaluations " + std::to_string(r.evaluations) + " (global stage and its LM " + std::to_string(r.global_evaluations) +
@@ -1339,10 +1339,10 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
                                                        "the constraints met)")
                                          : c.defect) + "\n";
   if (std::isfinite(c.mu_min))
-    s += "transmission angle over the motion: " + Short(c.mu_min * 180 / M_PI, 5) + " to " + Short(c.mu_max * 180 / M_PI, 5) + " deg\n";
+    s += "transmission angle over the motion: " + Short(ToDegrees(c.mu_min), 5) + " to " + Short(ToDegrees(c.mu_max), 5) + " deg\n";
   if (t.free_start) {
-    s += "start angles: input " + Num(c.x[static_cast<size_t>(b.nv)] * 180 / M_PI) + " deg, output " +
-         Num(c.x[static_cast<size_t>(b.nv + 1)] * 180 / M_PI) + " deg\n";
+    s += "start angles: input " + Num(ToDegrees(c.x[static_cast<size_t>(b.nv)])) + " deg, output " +
+         Num(ToDegrees(c.x[static_cast<size_t>(b.nv + 1)])) + " deg\n";
     if (!t.in_offset.empty()) {
       std::vector<std::string> names;
       std::vector<double> values;
@@ -1363,14 +1363,14 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
   }
   for (int i = 0; i < (t.fit_range ? 0 : b.n); ++i)
     s += std::to_string(i + 1) + "  " + (t.range ? Short(t.x[static_cast<size_t>(i)], 10) + "  " : std::string()) +
-         Short((t.input[static_cast<size_t>(i)] + in_shift) * 180 / M_PI, 10) + "  " +
-         Short((t.psi[static_cast<size_t>(i)] + out_shift) * 180 / M_PI, 10) + "  " +
+         Short(ToDegrees(t.input[static_cast<size_t>(i)] + in_shift), 10) + "  " +
+         Short(ToDegrees(t.psi[static_cast<size_t>(i)] + out_shift), 10) + "  " +
          Short(c.residual[static_cast<size_t>(i)], 6) + "\n";
   if (t.range) {
     const StructuralError& e = r.structural;
     if (e.assembles)
       s += "structural error over the range (" + std::to_string(e.samples) + " samples): largest " + Short(e.max_y, 6) +
-           " in y (" + Short(e.max_angle * 180 / M_PI, 6) + " deg of output) at x = " + Short(e.at_x, 9) + "\n";
+           " in y (" + Short(ToDegrees(e.max_angle), 6) + " deg of output) at x = " + Short(e.at_x, 9) + "\n";
     else
       s += "structural error over the range: the mechanism does not assemble on its mode over the whole range\n";
   }
@@ -1392,11 +1392,11 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
            (m.constrained_converged ? "converged" : "not converged: " + m.why) + "\n";
     if (std::isfinite(m.max_angle)) {
       s += "largest |structural error| over the range (extrema located): " + Short(m.max_angle * std::abs(to_y), 6) +
-           " in y (" + Short(m.max_angle * 180 / M_PI, 6) + " deg of output); the accuracy points' answer: " +
-           Short(m.start_max * std::abs(to_y), 6) + " in y (" + Short(m.start_max * 180 / M_PI, 6) + " deg)\n";
+           " in y (" + Short(ToDegrees(m.max_angle), 6) + " deg of output); the accuracy points' answer: " +
+           Short(m.start_max * std::abs(to_y), 6) + " in y (" + Short(ToDegrees(m.start_max), 6) + " deg)\n";
       s += "equioscillation: the error's extrema (x, error in y, error in deg)\n";
       for (size_t k = 0; k < m.ref_x.size(); ++k)
-        s += "  " + Short(m.ref_x[k], 10) + "  " + Short(m.ref_e[k] * to_y, 6) + "  " + Short(m.ref_e[k] * 180 / M_PI, 6) + "\n";
+        s += "  " + Short(m.ref_x[k], 10) + "  " + Short(m.ref_e[k] * to_y, 6) + "  " + Short(ToDegrees(m.ref_e[k]), 6) + "\n";
       s += "accuracy points (the error's zeros): x =";
       for (double zx : m.zeros) s += " " + Short(zx, 10);
       s += "\n";
