@@ -620,6 +620,21 @@ std::string Prepare(const M& model, const EngineRequest& a, bool print, Params<M
   return "";
 }
 
+/// What Prepare reads from a request and a model, for Check and Run alike.
+template <class M>
+struct Prepared {
+  Params<M> p;
+  Engine e;
+  eng::PolytropicWiebeCycle wiebe;
+  eng::PressureTable table;
+  Law law;
+  int status = 0;  ///< the exit status an error ends with (Prepare's)
+};
+template <class M>
+std::string Prepare(const M& model, const EngineRequest& a, bool print, Prepared<M>* r) {
+  return Prepare(model, a, print, &r->p, &r->e, &r->wiebe, &r->table, &r->law, &r->status);
+}
+
 }  // namespace engine_internal
 
 /// What is wrong with `request` on `model` (one line), empty when Run can go on: the
@@ -627,14 +642,8 @@ std::string Prepare(const M& model, const EngineRequest& a, bool print, Params<M
 /// the law's parameters.
 template <class M>
 std::string Check(const M& model, const EngineRequest& request) {
-  using namespace engine_internal;
-  Params<M> p;
-  Engine e;
-  eng::PolytropicWiebeCycle wiebe;
-  eng::PressureTable table;
-  Law law;
-  int status = 0;
-  return Prepare(model, request, false, &p, &e, &wiebe, &table, &law, &status);
+  engine_internal::Prepared<M> r;
+  return engine_internal::Prepare(model, request, false, &r);
 }
 
 /**
@@ -645,18 +654,13 @@ std::string Check(const M& model, const EngineRequest& request) {
 template <class M>
 int Run(const M& model, const EngineRequest& request, const EngineOutputs& outputs) {
   using namespace engine_internal;
-  Params<M> p;
-  Engine e;
-  eng::PolytropicWiebeCycle wiebe;
-  eng::PressureTable table;
-  Law law;
-  int status = 0;
-  if (const std::string error = Prepare(model, request, true, &p, &e, &wiebe, &table, &law, &status); !error.empty())
-    return status == tools::kExitUsage ? tools::UsageError(outputs.tool, error) : Fail(error);
-  const Gas gas = MakeGas(model, &p, e, &law);
-  if (request.command == "cycle") return Cycle(model, request, outputs, p, e, gas);
-  if (request.command == "flywheel") return Flywheel(model, request, outputs, p, e, gas);
-  return Runup(model, request, outputs, p, e, gas);
+  Prepared<M> r;
+  if (const std::string error = Prepare(model, request, true, &r); !error.empty())
+    return r.status == tools::kExitUsage ? tools::UsageError(outputs.tool, error) : Fail(error);
+  const Gas gas = MakeGas(model, &r.p, r.e, &r.law);
+  if (request.command == "cycle") return Cycle(model, request, outputs, r.p, r.e, gas);
+  if (request.command == "flywheel") return Flywheel(model, request, outputs, r.p, r.e, gas);
+  return Runup(model, request, outputs, r.p, r.e, gas);
 }
 
 }  // namespace mechgen::analysis
