@@ -10,8 +10,7 @@
 namespace mechgen::simulate_tool {
 
 bool ParseList(const std::string& text, std::vector<double>* values) {
-  std::string error;
-  return tools::CheckNumberList("", text, tools::Finite(), true, values, &error);
+  return analysis::ParseSimulateList(text, values);
 }
 
 namespace {

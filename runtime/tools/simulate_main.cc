@@ -58,11 +58,14 @@
 // each number finite and in the range
 // --help lists: --rtol in [1e-14, 0.1] (what double precision resolves), |--q0| <= 1e4,
 // |--qd0| <= 1e5, --dt at least --t-end / 1e8 (so that t + dt > t all the way).
-// The model-dependent part is simulate_run.h (RunSimulate): the same source runs through the
-// model view as `mechgen_view simulate MODEL.so` (issue 43).
+// The model-dependent part is the simulation analysis (mechgen/analysis/simulate.h; --design:
+// analysis/simulate_design.h; simulate_run.h the command around it), the same source the
+// runtime instantiated once for the model view runs (`mechgen_view simulate MODEL.so`, issue 43).
 #include "simulate_args.h"
 #include "simulate_args.cc"  // the options (CLI11), in this translation unit
 #include "simulate_run.h"
+#include "mechgen/analysis/simulate.h"
+#include "mechgen/analysis/simulate_design.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
 #error "compile with -DMECHGEN_MODEL_INCLUDE=\"<name>.h\" -DMECHGEN_MODEL_NAMESPACE=mech::<name>"
@@ -74,7 +77,7 @@ int main(int argc, char** argv) {
   mechgen::simulate_tool::Arguments args;
   const int parsed = mechgen::simulate_tool::ParseArguments(argc, argv, Model::kName, &args);
   if (parsed >= 0) return parsed;
-  // The model-dependent part (simulate_run.h), the same source the runtime instantiated for the
-  // model view runs (mechgen_view simulate).
-  return mechgen::simulate_tool::RunSimulate(Model(), args);
+  // The analysis (mechgen/analysis/simulate.h), the same source the runtime instantiated for the
+  // model view runs (mechgen_view simulate), on the request the options are.
+  return mechgen::analysis::Run(Model(), args, mechgen::simulate_tool::Outputs(args));
 }

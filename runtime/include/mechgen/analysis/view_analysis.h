@@ -13,6 +13,7 @@
 
 #include "mechgen/analysis/engine.h"
 #include "mechgen/analysis/flywheel.h"
+#include "mechgen/analysis/simulate.h"
 #include "mechgen/analysis/statics.h"
 #include "mechgen/analysis/sweep.h"
 #include "mechgen/core/view_runtime.h"
@@ -32,5 +33,7 @@ extern template int Run<ViewModel>(const ViewModel&, const EngineRequest&, const
 extern template std::string Check<ViewModel>(const ViewModel&, const FlywheelRequest&);
 extern template int Run<ViewModel>(const ViewModel&, const FlywheelRequest&, const FlywheelOutputs&,
                                    const std::function<int()>&, FlywheelResult*);
+extern template std::string Check<ViewModel>(const ViewModel&, const SimulateRequest&);
+extern template int Run<ViewModel>(const ViewModel&, const SimulateRequest&, const SimulateOutputs&);
 
 }  // namespace mechgen::analysis
