@@ -11,10 +11,14 @@
 // M::Rhs stages), the slider-crank with a motor (M::Solve stages, switching loads, reactions;
 // its friction joint viscous only: Coulomb friction through the view is compared byte for byte
 // on tests/dynamics' incline by simulate_friction_test.sh) and the five-bar robot (two inputs: the
-// inertia a 2 x 2 LDLT). Part of model_test (no executable of its own).
+// inertia a 2 x 2 LDLT). The simulation analysis' checks (analysis/simulate.h: Check, and Run's
+// refusals, which read the same Prepare) through the view against the fixed-size model's and
+// the messages the simulate command prints. Part of model_test (no executable of its own).
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +26,7 @@
 
 #include "view_test_util.h"
 
+#include "mechgen/analysis/view_analysis.h"  // the simulation analysis for the view: mechgen_runtime_view
 #include "mechgen/core/view_runtime.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
@@ -257,6 +262,144 @@ void ExpectViewDynamicsDesignSame(const ModelView& view) {
 #ifdef MECHGEN_HAVE_engine_single
 TEST(ViewDynamicsDesign, SameAsFixedEngineSingle) {
   ExpectViewDynamicsDesignSame<mech::engine_single::Model>(mech::engine_single::View());
+}
+#endif
+
+// The simulation analysis' Check (analysis/simulate.h) says, for each request that Run refuses,
+// the line the simulate command prints (tools/simulate_main.cc's messages, written out here),
+// the same through the view as on the fixed-size model (the model's inputs, names and friction
+// read through ModelCalls on each side), and nothing for requests Run goes on with; Run through
+// the view prints "<tool>: error: " and that text, exits 2 and writes no CSV.
+#ifdef MECHGEN_HAVE_fivebar_robot
+TEST(ViewSimulateCheck, SaysWhatRunRefuses) {
+  const mech::fivebar_robot::Model fixed{};
+  const ViewModel model(mech::fivebar_robot::View());
+  const std::string table = ::testing::TempDir() + "view_simulate_check_law.csv";
+  const std::string missing = ::testing::TempDir() + "view_simulate_check_missing.csv";
+  std::remove(missing.c_str());
+  {
+    std::ofstream out(table);
+    out << "t,q\n0,2.3\n0.5,2.4\n";
+  }
+  auto drive = [](const std::string& text, const std::string& name, const std::string& kind,
+                  std::vector<double> values, const std::string& file = "") {
+    return analysis::SimulateDrive{text, name, kind, std::move(values), file};
+  };
+  struct Case {
+    const char* what;
+    analysis::SimulateRequest request;
+    std::string error;  // empty: Run goes on
+    bool prefix = false;  // error is the message's beginning
+  };
+  std::vector<Case> cases;
+  cases.push_back({"defaults", {}, ""});
+  {
+    analysis::SimulateRequest r;
+    r.q0 = {1};
+    r.q0_text = "1";
+    cases.push_back({"q0", r, "--q0: bad value '1': expected 2 value(s), one per input"});
+  }
+  {
+    analysis::SimulateRequest r;
+    r.qd0 = {1, 2, 3};
+    r.qd0_text = "1,2,3";
+    cases.push_back({"qd0", r, "--qd0: bad value '1,2,3': expected 2 value(s), one per input"});
+  }
+  {
+    analysis::SimulateRequest r;
+    r.params.sets.push_back("nosuch=1");
+    cases.push_back({"set", r, "--set 'nosuch=1': no parameter 'nosuch' in the model (parameters: ", true});
+  }
+  {
+    analysis::SimulateRequest r;
+    r.friction = "on";
+    cases.push_back({"friction", r, "--friction on: the model has no friction joints (`friction:`)"});
+  }
+  {
+    analysis::SimulateRequest r;
+    r.drives.push_back(drive("theta_nope=speed:1", "theta_nope", "speed", {1}));
+    cases.push_back({"unknown input", r,
+                     "--drive: bad value 'theta_nope=speed:1': the model has no input 'theta_nope' (its inputs: "
+                     "theta_prox1, theta_prox2)"});
+  }
+  {
+    analysis::SimulateRequest r;
+    r.drives.push_back(drive("theta_prox2=speed:1", "theta_prox2", "speed", {1}));
+    r.drives.push_back(drive("theta_prox2=speed:2", "theta_prox2", "speed", {2}));
+    cases.push_back({"driven twice", r, "--drive: bad value 'theta_prox2=speed:2': input 'theta_prox2' is driven twice"});
+  }
+  {
+    analysis::SimulateRequest r;
+    for (int i = 0; i < 3; ++i) r.drives.push_back(drive("theta_prox1=speed:1", "theta_prox1", "speed", {1}));
+    cases.push_back({"too many drives", r, "3 --drive options for a model with 2 input(s)"});
+  }
+  {
+    analysis::SimulateRequest r;
+    r.drives.push_back(drive("x", "theta_prox1", "table", {}, missing));
+    cases.push_back({"missing table", r, "--drive: 'x': cannot read " + missing});
+  }
+  {
+    analysis::SimulateRequest r;
+    r.drives.push_back(drive("x", "theta_prox1", "table", {}, table));
+    r.drives.push_back(drive("y", "theta_prox2", "move", {0.5, 0, 0.3}));
+    cases.push_back({"driven", r, ""});
+    r.friction = "on";  // (every input driven, but the robot has no friction joints)
+    cases.push_back({"driven, friction on", r, "--friction on: the model has no friction joints (`friction:`)"});
+  }
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    const std::string view_error = analysis::Check(model, c.request);
+    EXPECT_EQ(view_error, analysis::Check(fixed, c.request));
+    EXPECT_EQ(c.prefix ? view_error.substr(0, c.error.size()) : view_error, c.error);
+    if (c.error.empty()) continue;
+    analysis::SimulateOutputs outputs;
+    outputs.tool = "t";
+    outputs.csv = ::testing::TempDir() + "view_simulate_check.csv";
+    std::remove(outputs.csv.c_str());
+    ::testing::internal::CaptureStderr();
+    const int status = analysis::Run(model, c.request, outputs);
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "t: error: " + view_error + "\n");
+    EXPECT_EQ(status, 2);
+    EXPECT_FALSE(std::ifstream(outputs.csv).good());
+  }
+  std::remove(table.c_str());
+}
+#endif
+
+// design (the trajectory sensitivities, ceres::Jet on fixed sizes) is refused through the view
+// (by SimulateOutputs::not_through_view: the command's refusal, or mechgen's fallback), before
+// anything is written; on the fixed-size model Check reads the model's `design` section and the
+// options design excludes.
+#ifdef MECHGEN_HAVE_engine_single
+TEST(ViewSimulateCheck, DesignOnlyOnTheFixedSizeModel) {
+  const mech::engine_single::Model fixed{};
+  const ViewModel model(mech::engine_single::View());
+  analysis::SimulateRequest request;
+  request.design = true;
+  EXPECT_EQ(analysis::Check(model, request),
+            "--design: the trajectory sensitivities are not reached through the model view yet");
+  analysis::SimulateOutputs outputs;
+  outputs.csv = ::testing::TempDir() + "view_simulate_design.csv";
+  std::remove(outputs.csv.c_str());
+  std::string asked;
+  outputs.not_through_view = [&asked](const std::string& what, const std::string& name) {
+    asked = name + ": " + what;
+    return 120;
+  };
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(analysis::Run(model, request, outputs), 120);
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_EQ(asked, "engine_single: --design: the trajectory sensitivities are");
+  EXPECT_FALSE(std::ifstream(outputs.csv).good());
+#if MECHGEN_SIMULATE_HAS_SENSITIVITY
+  ASSERT_TRUE(HasDynamicsDesign<mech::engine_single::Model>::value);
+  EXPECT_EQ(analysis::Check(fixed, request), "");
+  request.stop_at_speed_zero = true;
+  EXPECT_EQ(analysis::Check(fixed, request),
+            "--design: not with --stop-at-speed-zero (the sensitivities of the free motion only)");
+  request.drives.push_back({"theta_crank=speed:1", "theta_crank", "speed", {1}, ""});
+  EXPECT_EQ(analysis::Check(fixed, request), "--design: not with --drive (the sensitivities of the free motion only)");
+#endif
 }
 #endif
 
