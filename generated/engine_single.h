@@ -33,7 +33,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston_1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 32 (adds 10, muls 14, divs 0, calls 8); EvalCoefficients 73 (adds 21, muls 43, divs 1, calls 8); EvalStatics 42 (adds 8, muls 31, divs 1, calls 2); EvalDynamics 105 (adds 25, muls 72, divs 0, calls 8); EvalKinetostatics 160 (adds 43, muls 108, divs 1, calls 8); EvalExcess 152 (adds 37, muls 107, divs 0, calls 8); EvalShaking 126 (adds 43, muls 74, divs 1, calls 8); EvalStiffness 16 (adds 1, muls 13, divs 0, calls 2); EvalDesignDerivatives 186 (adds 53, muls 124, divs 1, calls 8); EvalStaticsDesign 109 (adds 21, muls 82, divs 2, calls 4); EvalDynamicsDesign 299 (adds 88, muls 203, divs 0, calls 8); EvalShakingDesign 325 (adds 109, muls 208, divs 0, calls 8); EvalDetPhiPhi 9 (adds 1, muls 4, divs 0, calls 4); SolvePositions 107 (adds 23, muls 74, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 31 (adds 8, muls 15, divs 0, calls 8); EvalAppliedLoads 17 (adds 2, muls 13, divs 0, calls 2); EvalDrawing 22 (adds 4, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 32 (adds 10, muls 14, divs 0, calls 8); EvalCoefficients 73 (adds 21, muls 43, divs 1, calls 8); EvalStatics 42 (adds 8, muls 31, divs 1, calls 2); EvalDynamics 105 (adds 25, muls 72, divs 0, calls 8); EvalKinetostatics 160 (adds 43, muls 108, divs 1, calls 8); EvalExcess 152 (adds 37, muls 107, divs 0, calls 8); EvalShaking 126 (adds 43, muls 74, divs 1, calls 8); EvalStiffness 16 (adds 1, muls 13, divs 0, calls 2); EvalDesignDerivatives 186 (adds 53, muls 124, divs 1, calls 8); EvalStaticsDesign 109 (adds 21, muls 82, divs 2, calls 4); EvalDynamicsDesign 299 (adds 88, muls 203, divs 0, calls 8); EvalShakingDesign 325 (adds 109, muls 208, divs 0, calls 8); EvalDynamicsJacobian 185 (adds 49, muls 127, divs 1, calls 8); EvalDetPhiPhi 9 (adds 1, muls 4, divs 0, calls 4); SolvePositions 107 (adds 23, muls 74, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 31 (adds 8, muls 15, divs 0, calls 8); EvalAppliedLoads 17 (adds 2, muls 13, divs 0, calls 2); EvalDrawing 22 (adds 4, muls 12, divs 0, calls 6)
  */
 #pragma once
 
@@ -1778,6 +1778,118 @@ void EvalShakingDesign(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The Jacobians of the equation of motion's terms along the state at (t, q, qd): dQ/dq, dh/dq,
+ * dQ/dqd and dh/dqd, t and the given friction loads held (EvalDynamics differentiated statement by
+ * statement along q and qd; phi through K, K through L, L through the third-order coefficients
+ * dL/dq derived here). With Dynamics::dI_dq they give the right-hand side's Jacobians
+ * f_x = I^-1 (dQ/dx - dh/dx - (dI/dx) qdd), x = q, qd (the trajectory sensitivities).
+ * Generated exactly where the model has kHasDynamicsDesign.
+ * \param[in]  p         Parameters.
+ * \param[in]  q         Inputs (dim kNq).
+ * \param[in]  phi       Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[in]  qd        Input velocities dq/dt (dim kNq).
+ * \param[in]  t         Time (s), for loads that depend on it.
+ * \param[in]  c         EvalCoefficients() at this (q, phi).
+ * \param[out] dQ_dq     dQ_dq(j, l) = dQ_j/dq_l along the motion (N m or N per unit of q_l) (kNq x
+ *                       kNq). May be nullptr.
+ * \param[out] dh_dq     dh_dq(j, l) = dh_j/dq_l along the motion (N m or N per unit of q_l) (kNq x
+ *                       kNq). May be nullptr.
+ * \param[out] dQ_dqd    dQ_dqd(j, l) = dQ_j/dqd_l (N m or N per unit of qd_l) (kNq x kNq). May be
+ *                       nullptr.
+ * \param[out] dh_dqd    dh_dqd(j, l) = dh_j/dqd_l (N m or N per unit of qd_l) (kNq x kNq). May be
+ *                       nullptr.
+ * \param[in]  friction  Coulomb friction loads (kFrictionJoints) as EvalDynamics() was given them,
+ *                       held; nullptr: none (dim kNumFriction). May be nullptr.
+ * \note Near a dead point the derivatives grow like 1/sigma_min(Phi_phi)^2, as dL/dq does: check the
+ * conditioning first.
+ */
+template <typename Scalar>
+void EvalDynamicsJacobian(const Params<Scalar>& p,
+                          const Vec<Scalar, Sizes::kNq>& q,
+                          const Vec<Scalar, Sizes::kNphi>& phi,
+                          const Vec<Scalar, Sizes::kNq>& qd,
+                          const Scalar& t,
+                          const Coefficients<Scalar>& c,
+                          Out<Mat<Scalar, Sizes::kNq, Sizes::kNq>> dQ_dq = nullptr,
+                          Out<Mat<Scalar, Sizes::kNq, Sizes::kNq>> dh_dq = nullptr,
+                          Out<Mat<Scalar, Sizes::kNq, Sizes::kNq>> dQ_dqd = nullptr,
+                          Out<Mat<Scalar, Sizes::kNq, Sizes::kNq>> dh_dqd = nullptr,
+                          const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+  // Total ops: 185 (adds 49, muls 127, divs 1, calls 8); intermediate terms: 15
+  using std::cos;
+  using std::sin;
+  (void)t;
+  (void)friction;
+  const Scalar _tmp0 = sin(phi(0));
+  const Scalar _tmp1 = cos(p.gamma_1);
+  const Scalar _tmp2 = sin(q(0));
+  const Scalar _tmp3 = _tmp1*_tmp2*p.r;
+  const Scalar _tmp4 = cos(q(0));
+  const Scalar _tmp5 = sin(p.gamma_1);
+  const Scalar _tmp6 = _tmp4*_tmp5*p.r;
+  const Scalar KG2_x_0 = -_tmp0*c.K(0, 0)*p.l_G - _tmp3 - _tmp6;
+  const Scalar _tmp7 = _tmp2*_tmp5*p.r;
+  const Scalar _tmp8 = cos(phi(0));
+  const Scalar _tmp9 = _tmp1*_tmp4*p.r;
+  const Scalar KG2_y_0 = -_tmp7 + _tmp8*c.K(0, 0)*p.l_G + _tmp9;
+  const Scalar _tmp10 = c.K(0, 0)*c.K(0, 0);
+  const Scalar LG2_x_0_0 = -_tmp0*c.L(0, 0)*p.l_G - _tmp10*_tmp8*p.l_G + _tmp7 - _tmp9;
+  const Scalar LG2_y_0_0 = -_tmp0*_tmp10*p.l_G - _tmp3 - _tmp6 + _tmp8*c.L(0, 0)*p.l_G;
+  const Scalar _tmp11 = cos(p.beta_1);
+  const Scalar KG3_x_0 = _tmp11*c.K(1, 0);
+  const Scalar _tmp12 = sin(p.beta_1);
+  const Scalar KG3_y_0 = _tmp12*c.K(1, 0);
+  const Scalar LG3_x_0_0 = _tmp11*c.L(1, 0);
+  const Scalar LG3_y_0_0 = _tmp12*c.L(1, 0);
+  const Scalar _tmp13 = p.bore*p.bore;
+  const Scalar g_2 = -Scalar(0.25)*(_tmp11*_tmp11)*Scalar(3.1415926535897931)*_tmp13*p.p_gas_1 - Scalar(0.25)*(_tmp12*_tmp12)*Scalar(3.1415926535897931)*_tmp13*p.p_gas_1;
+  const Scalar KL2_0_0_0 = KG2_x_0*LG2_x_0_0 + KG2_y_0*LG2_y_0_0;
+  const Scalar KL3_0_0_0 = KG3_x_0*LG3_x_0_0 + KG3_y_0*LG3_y_0_0;
+  const Scalar C_0_0_0 = KL2_0_0_0*p.m_rod + KL3_0_0_0*p.m_pis + c.K(0, 0)*c.L(0, 0)*p.J_rod;
+  const Scalar Phi_phi_0_0 = -_tmp0*p.l;
+  const Scalar Phi_phi_0_1 = -_tmp11;
+  const Scalar Phi_phi_1_0 = _tmp8*p.l;
+  const Scalar Phi_phi_1_1 = -_tmp12;
+  const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
+  const Scalar inv_det_block0 = Scalar(1)/det_block0;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar _tmp14 = c.K(0, 0)*c.K(0, 0)*c.K(0, 0);
+  const Scalar M_rhs_0_0_0_0 = -Scalar(3)*_tmp8*c.K(0, 0)*c.L(0, 0)*p.l + _tmp0*_tmp14*p.l + _tmp3 + _tmp6;
+  const Scalar M_rhs_1_0_0_0 = -Scalar(3)*_tmp0*c.K(0, 0)*c.L(0, 0)*p.l - _tmp14*_tmp8*p.l + _tmp7 - _tmp9;
+  const Scalar M_0_0_0_0 = -M_rhs_0_0_0_0*Phi_phi_inv_0_0 - M_rhs_1_0_0_0*Phi_phi_inv_0_1;
+  const Scalar M_1_0_0_0 = -M_rhs_0_0_0_0*Phi_phi_inv_1_0 - M_rhs_1_0_0_0*Phi_phi_inv_1_1;
+  const Scalar d_KG2_x_0_dq0 = -_tmp0*c.L(0, 0)*p.l_G + _tmp7 - _tmp8*c.K(0, 0)*c.K(0, 0)*p.l_G - _tmp9;
+  const Scalar d_KG2_y_0_dq0 = -_tmp0*c.K(0, 0)*c.K(0, 0)*p.l_G - _tmp3 - _tmp6 + _tmp8*c.L(0, 0)*p.l_G;
+  const Scalar d_LG2_x_0_0_dq0 = -M_0_0_0_0*_tmp0*p.l_G - Scalar(2)*_tmp8*c.K(0, 0)*c.L(0, 0)*p.l_G + _tmp0*_tmp10*c.K(0, 0)*p.l_G + _tmp3 + _tmp6 - _tmp8*c.K(0, 0)*c.L(0, 0)*p.l_G;
+  const Scalar d_LG2_y_0_0_dq0 = M_0_0_0_0*_tmp8*p.l_G - Scalar(2)*_tmp0*c.K(0, 0)*c.L(0, 0)*p.l_G - _tmp0*c.K(0, 0)*c.L(0, 0)*p.l_G - _tmp10*_tmp8*c.K(0, 0)*p.l_G + _tmp7 - _tmp9;
+  const Scalar d_KG3_x_0_dq0 = _tmp11*c.L(1, 0);
+  const Scalar d_KG3_y_0_dq0 = _tmp12*c.L(1, 0);
+  const Scalar d_LG3_x_0_0_dq0 = M_1_0_0_0*_tmp11;
+  const Scalar d_LG3_y_0_0_dq0 = M_1_0_0_0*_tmp12;
+  const Scalar d_g_0_dqd0 = -p.c_load;
+  const Scalar d_Q_0_dq0 = c.L(1, 0)*g_2;
+  const Scalar d_Q_0_dqd0 = d_g_0_dqd0;
+  const Scalar d_KL2_0_0_0_dq0 = KG2_x_0*d_LG2_x_0_0_dq0 + KG2_y_0*d_LG2_y_0_0_dq0 + LG2_x_0_0*d_KG2_x_0_dq0 + LG2_y_0_0*d_KG2_y_0_dq0;
+  const Scalar d_KL3_0_0_0_dq0 = KG3_x_0*d_LG3_x_0_0_dq0 + KG3_y_0*d_LG3_y_0_0_dq0 + LG3_x_0_0*d_KG3_x_0_dq0 + LG3_y_0_0*d_KG3_y_0_dq0;
+  const Scalar d_C_0_0_0_dq0 = M_0_0_0_0*c.K(0, 0)*p.J_rod + c.L(0, 0)*c.L(0, 0)*p.J_rod + d_KL2_0_0_0_dq0*p.m_rod + d_KL3_0_0_0_dq0*p.m_pis;
+  if (dQ_dq != nullptr) {
+    (*dQ_dq)(0, 0) = d_Q_0_dq0;
+  }
+  if (dh_dq != nullptr) {
+    (*dh_dq)(0, 0) = (qd(0)*qd(0))*d_C_0_0_0_dq0;
+  }
+  if (dQ_dqd != nullptr) {
+    (*dQ_dqd)(0, 0) = d_Q_0_dqd0;
+  }
+  if (dh_dqd != nullptr) {
+    (*dh_dqd)(0, 0) = Scalar(2)*C_0_0_0*qd(0);
+  }
+}
+
+/**
  * \brief det Phi_phi: zero where the mechanism is singular (a dead point, a change point),
  * as the product of the blocks' determinants. Its sign is the assembly branch of a loop.
  * \param[in]  p            Parameters.
@@ -2125,6 +2237,17 @@ extern template void EvalShakingDesign<double>(const Params<double>&,
                                                const DesignDerivatives<double>&,
                                                Out<Mat<double, 2, Sizes::kNumDesign>>,
                                                Out<Vec<double, Sizes::kNumDesign>>);
+extern template void EvalDynamicsJacobian<double>(const Params<double>&,
+                                                  const Vec<double, Sizes::kNq>&,
+                                                  const Vec<double, Sizes::kNphi>&,
+                                                  const Vec<double, Sizes::kNq>&,
+                                                  const double&,
+                                                  const Coefficients<double>&,
+                                                  Out<Mat<double, Sizes::kNq, Sizes::kNq>>,
+                                                  Out<Mat<double, Sizes::kNq, Sizes::kNq>>,
+                                                  Out<Mat<double, Sizes::kNq, Sizes::kNq>>,
+                                                  Out<Mat<double, Sizes::kNq, Sizes::kNq>>,
+                                                  const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*);
 extern template void EvalDetPhiPhi<double>(const Params<double>&,
                                            const Vec<double, Sizes::kNq>&,
                                            const Vec<double, Sizes::kNphi>&,
@@ -2227,6 +2350,17 @@ extern template void EvalShakingDesign<float>(const Params<float>&,
                                               const DesignDerivatives<float>&,
                                               Out<Mat<float, 2, Sizes::kNumDesign>>,
                                               Out<Vec<float, Sizes::kNumDesign>>);
+extern template void EvalDynamicsJacobian<float>(const Params<float>&,
+                                                 const Vec<float, Sizes::kNq>&,
+                                                 const Vec<float, Sizes::kNphi>&,
+                                                 const Vec<float, Sizes::kNq>&,
+                                                 const float&,
+                                                 const Coefficients<float>&,
+                                                 Out<Mat<float, Sizes::kNq, Sizes::kNq>>,
+                                                 Out<Mat<float, Sizes::kNq, Sizes::kNq>>,
+                                                 Out<Mat<float, Sizes::kNq, Sizes::kNq>>,
+                                                 Out<Mat<float, Sizes::kNq, Sizes::kNq>>,
+                                                 const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*);
 extern template void EvalDetPhiPhi<float>(const Params<float>&,
                                           const Vec<float, Sizes::kNq>&,
                                           const Vec<float, Sizes::kNphi>&,
@@ -2534,6 +2668,20 @@ struct Model : Sizes {
                             Out<Mat<Scalar, 2, Sizes::kNumDesign>> dF_dp,
                             Out<Vec<Scalar, Sizes::kNumDesign>> dM_dp = nullptr) {
     EvalShakingDesign(p, q, phi, qd, qdd, c, dc, dF_dp, dM_dp);
+  }
+  template <typename Scalar>
+  static void DynamicsJacobian(const Params<Scalar>& p,
+                               const Vec<Scalar, Sizes::kNq>& q,
+                               const Vec<Scalar, Sizes::kNphi>& phi,
+                               const Vec<Scalar, Sizes::kNq>& qd,
+                               const Scalar& t,
+                               const Coefficients<Scalar>& c,
+                               Out<Mat<Scalar, Sizes::kNq, Sizes::kNq>> dQ_dq = nullptr,
+                               Out<Mat<Scalar, Sizes::kNq, Sizes::kNq>> dh_dq = nullptr,
+                               Out<Mat<Scalar, Sizes::kNq, Sizes::kNq>> dQ_dqd = nullptr,
+                               Out<Mat<Scalar, Sizes::kNq, Sizes::kNq>> dh_dqd = nullptr,
+                               const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+    EvalDynamicsJacobian(p, q, phi, qd, t, c, dQ_dq, dh_dq, dQ_dqd, dh_dqd, friction);
   }
   template <typename Scalar>
   static void DetPhiPhi(const Params<Scalar>& p,

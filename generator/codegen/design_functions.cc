@@ -202,3 +202,52 @@ FunctionSpec EvalShakingDesignSpec(const DynamicsTable& dyn, const DesignShaking
 }
 
 }  // namespace mechgen
+
+namespace mechgen {
+
+FunctionSpec EvalDynamicsJacobianSpec(const Model& m, const DynamicsTable& dyn, const DynamicsJacobian& dj,
+                                      CxxPrinter* printer) {
+  using Dir = Argument::Direction;
+  const int nq = static_cast<int>(m.inputs.size());
+  FunctionSpec f;
+  f.name = "EvalDynamicsJacobian";
+  f.model_member = "DynamicsJacobian";
+  f.in_view = false;  // the trajectory sensitivities run on the fixed-size model (dynamics/sensitivity.h)
+  f.doc = {"\\brief The Jacobians of the equation of motion's terms along the state at (t, q, qd): dQ/dq, dh/dq,",
+           "dQ/dqd and dh/dqd, t and the given friction loads held (EvalDynamics differentiated statement by",
+           "statement along q and qd; phi through K, K through L, L through the third-order coefficients",
+           "dL/dq derived here). With Dynamics::dI_dq they give the right-hand side's Jacobians",
+           "f_x = I^-1 (dQ/dx - dh/dx - (dI/dx) qdd), x = q, qd (the trajectory sensitivities).",
+           "Generated exactly where the model has kHasDynamicsDesign."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities dq/dt", "dim kNq"));
+  f.args.push_back(Arg("const Scalar&", "t", Dir::kIn, "Time (s), for loads that depend on it"));
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn, "EvalCoefficients() at this (q, phi)."));
+  const char* what[4][2] = {{"dQ_dq", "dQ_dq(j, l) = dQ_j/dq_l along the motion (N m or N per unit of q_l)"},
+                            {"dh_dq", "dh_dq(j, l) = dh_j/dq_l along the motion (N m or N per unit of q_l)"},
+                            {"dQ_dqd", "dQ_dqd(j, l) = dQ_j/dqd_l (N m or N per unit of qd_l)"},
+                            {"dh_dqd", "dh_dqd(j, l) = dh_j/dqd_l (N m or N per unit of qd_l)"}};
+  for (const auto& w : what)
+    f.args.push_back(Arg("Out<Mat<Scalar, Sizes::kNq, Sizes::kNq>>", w[0], Dir::kOut, w[1], "kNq x kNq", true,
+                         "nullptr"));
+  f.args.push_back(Arg("const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type*", "friction", Dir::kIn,
+                       "Coulomb friction loads (kFrictionJoints) as EvalDynamics() was given them, held; nullptr: none.",
+                       "dim kNumFriction", true, "nullptr"));
+  f.notes = {"\\note Near a dead point the derivatives grow like 1/sigma_min(Phi_phi)^2, as dL/dq does: check the",
+             "conditioning first."};
+  const StaticsTable& a = *dyn.applied;
+  NameSlots(a.slots, printer);
+  NameSlots(dj.slots, printer);
+  Program P = dyn.program;
+  P.insert(P.end(), dj.program.begin(), dj.program.end());
+  const std::vector<std::vector<GiNaC::ex>>* out[4] = {&dj.dQ_dq, &dj.dh_dq, &dj.dQ_dqd, &dj.dh_dqd};
+  for (int o = 0; o < 4; ++o)
+    for (int j = 0; j < nq; ++j)
+      for (int l = 0; l < nq; ++l)
+        P.push_back(Store("(*" + std::string(what[o][0]) + ")" + Idx(j, l), (*out[o])[j][l], what[o][0]));
+  f.body = {FinishAppliedProgram(P, a, printer)};
+  return f;
+}
+
+}  // namespace mechgen

@@ -885,7 +885,7 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
   }
   data.SetData("view_structs", view_structs, {"struct_name", "num_members", "struct_members", "member_name", "index"});
   for (size_t i = 0; i < functions.size(); ++i)
-    if (!functions[i].model_member.empty())
+    if (!functions[i].model_member.empty() && functions[i].in_view)
       view_functions.push_back(ViewFunction(functions[i], bodies[i], struct_members));
   data.SetData("view_functions", view_functions,
                {"member", "returns", "indent", "args", "arg_type", "arg_name", "first", "lines", "line"});

@@ -628,6 +628,12 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
       if (dd.possible && (!has_shaking || dsh.possible)) {
         out.push_back(EvalDynamicsDesignSpec(m, *dynamics, dd, printer));
         if (has_shaking) out.push_back(EvalShakingDesignSpec(*dynamics, dsh, printer));
+        // The right-hand side's Jacobians for the trajectory sensitivities: generated exactly with
+        // the dynamics' design derivatives (kHasDynamicsDesign), which they need the same of.
+        const DynamicsJacobian dj(m, t, *dynamics);
+        if (!dj.possible) m.Fail(m.design.mark, "the dynamics' Jacobians along q and qd cannot be generated (" + dj.why_not +
+                                                    "); remove design or dynamics");
+        out.push_back(EvalDynamicsJacobianSpec(m, *dynamics, dj, printer));
       }
     }
   }

@@ -16,6 +16,7 @@
 #include "model/model.h"
 #include "symbolic/design.h"
 #include "symbolic/dynamics.h"
+#include "symbolic/jacobian.h"
 #include "symbolic/statics.h"
 #include "symbolic/table.h"
 #include "symbolic/transmission.h"
@@ -103,6 +104,11 @@ FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, co
 /// EvalShakingDesign (codegen/design_functions.cc, with `shaking`): d/dp of the shaking force
 /// and moment at (q, qd, qdd) (nullable outputs dF_dp, dM_dp).
 FunctionSpec EvalShakingDesignSpec(const DynamicsTable& dyn, const DesignShaking& ds, CxxPrinter* printer);
+/// EvalDynamicsJacobian (codegen/design_functions.cc, generated exactly with EvalDynamicsDesign):
+/// dQ/dq, dh/dq, dQ/dqd, dh/dqd at (t, q, qd) (nullable outputs), the third-order coefficients
+/// dL/dq on the way (symbolic/jacobian.h).
+FunctionSpec EvalDynamicsJacobianSpec(const Model& m, const DynamicsTable& dyn, const DynamicsJacobian& dj,
+                                      CxxPrinter* printer);
 /// Drops the kDefine statements whose symbol no later statement reads.
 void PruneUnusedDefines(Program* program);
 /// A body over a statics table's program, finished as EvalStatics' is (codegen/statics_functions.cc):

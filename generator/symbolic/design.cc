@@ -621,25 +621,42 @@ ProgramDesign DifferentiateProgram(const Kinematics& k, const DesignTable& dt, c
     derivative[sym] = v;
     order.push_back(sym);
   }
-  // D_d v for every d; each partial that every d shares named once (where it is not one factor).
+  ForwardSeeds seeds;
+  seeds.n = nd;
+  seeds.suffix = dt.names;
+  seeds.explicit_partial = [&dt](const ex& v, int d) { return v.diff(dt.p[d]); };
+  seeds.derivative = std::move(derivative);
+  seeds.order = std::move(order);
+  out.d = ForwardOverProgram(&seeds, program, outputs, chain_prefix, &out.program);
+  return out;
+}
+
+std::vector<std::vector<GiNaC::ex>> ForwardOverProgram(ForwardSeeds* seeds, const Program& program,
+                                                       const std::vector<GiNaC::ex>& outputs,
+                                                       const std::string& chain_prefix, Program* locals_out) {
+  using GiNaC::ex;
+  const int nd = seeds->n;
+  auto& derivative = seeds->derivative;
+  auto& order = seeds->order;
+  // D_d v for every d; each partial that several d share named once (where it is not one factor).
   int locals = 0;
   auto total = [&](const ex& v) {
     std::vector<ex> D(nd);
-    for (int d = 0; d < nd; ++d) D[d] = v.diff(dt.p[d]);
+    for (int d = 0; d < nd; ++d) D[d] = seeds->explicit_partial(v, d);
     // In the order the variables were made (a set ordered by GiNaC's hashes would differ from
     // run to run: the generated text must not).
     for (const ex& x : order) {
       if (!v.has(x)) continue;
       const auto it = derivative.find(x);
       if (it == derivative.end()) continue;
-      bool any = false;
-      for (const ex& dx : it->second) any |= !dx.is_zero();
-      if (!any) continue;
+      int nonzero = 0;
+      for (const ex& dx : it->second) nonzero += !dx.is_zero();
+      if (nonzero == 0) continue;
       ex g = v.diff(GiNaC::ex_to<GiNaC::symbol>(x));
       if (g.is_zero()) continue;
-      if (nd > 1 && !GiNaC::is_a<GiNaC::symbol>(g) && !GiNaC::is_a<GiNaC::numeric>(g)) {
+      if (nd > 1 && nonzero >= seeds->min_shared && !GiNaC::is_a<GiNaC::symbol>(g) && !GiNaC::is_a<GiNaC::numeric>(g)) {
         ex named;
-        out.program.push_back(Define(chain_prefix + std::to_string(locals++), g, &named));
+        locals_out->push_back(Define(chain_prefix + std::to_string(locals++), g, &named));
         g = named;
       }
       for (int d = 0; d < nd; ++d) D[d] += g * it->second[d];
@@ -650,12 +667,13 @@ ProgramDesign DifferentiateProgram(const Kinematics& k, const DesignTable& dt, c
     const std::vector<ex> D = total(s.value);
     std::vector<ex> named(nd, 0);
     for (int d = 0; d < nd; ++d)
-      if (!D[d].is_zero()) out.program.push_back(Define("d_" + s.target + "_" + dt.names[d], D[d], &named[d]));
+      if (!D[d].is_zero()) locals_out->push_back(Define("d_" + s.target + "_" + seeds->suffix[d], D[d], &named[d]));
     derivative[s.symbol] = named;
     order.push_back(s.symbol);
   }
-  for (const ex& o : outputs) out.d.push_back(total(o));
-  return out;
+  std::vector<std::vector<ex>> d;
+  for (const ex& o : outputs) d.push_back(total(o));
+  return d;
 }
 
 DesignStatics::DesignStatics(const Model& m, const Kinematics& k, const StaticsTable& st, const DesignTable& dt) {

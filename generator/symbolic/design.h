@@ -18,6 +18,8 @@
 #include <ginac/ginac.h>
 
 #include <array>
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -81,6 +83,25 @@ struct DesignTable {
 
 /// The highest derivative order d of a cam law camlaw(i, d, x) in e (-1: none).
 int MaxCamLawOrder(const GiNaC::ex& e);
+
+/// Forward mode over a straight-line program, symbolically, in n directions (the design
+/// parameters; the inputs q and their velocities qd, symbolic/jacobian.h): D_d v = explicit_partial(v, d) +
+/// sum over the symbols x that v reads and that `derivative` has: dv/dx D_d x, in `order`.
+struct ForwardSeeds {
+  int n = 0;
+  std::vector<std::string> suffix;  ///< per direction: the derivative locals are d_<target>_<suffix>
+  std::function<GiNaC::ex(const GiNaC::ex& v, int d)> explicit_partial;
+  std::map<GiNaC::ex, std::vector<GiNaC::ex>, GiNaC::ex_is_less> derivative;  ///< D_d x per symbol x
+  std::vector<GiNaC::ex> order;  ///< the symbols of `derivative` in the order they were made
+  /// A partial dv/dx is named once (a local chain_prefix<i>) where n > 1, it is not one factor and
+  /// at least this many directions of x are not zero.
+  int min_shared = 1;
+};
+/// The derivative locals of `program` (appended to *locals, after which they read the program's
+/// own) and D_d of each output; `seeds` gains the program's locals.
+std::vector<std::vector<GiNaC::ex>> ForwardOverProgram(ForwardSeeds* seeds, const Program& program,
+                                                       const std::vector<GiNaC::ex>& outputs,
+                                                       const std::string& chain_prefix, Program* locals);
 
 /// A straight-line program's locals and some expressions of them, differentiated with respect
 /// to the design parameters (forward mode over the program, symbolically): D_d v = dv/dp_d + sum
