@@ -5,7 +5,13 @@
 //  - the energy of a conservative machine: T + V is constant along every trajectory of every
 //    design, so d(T + V)/dp along the motion (through S, Sd and the explicit dT/dp, dV/dp)
 //    stays equal to its value at t0;
-//  - a run into a dead point ends with a status (never success with huge numbers).
+//  - a run into a dead point ends with a status (never success with huge numbers);
+// and the right-hand side's Jacobians f_q, f_qd they integrate with, from the generated
+// EvalDynamicsJacobian (dQ/dq, dh/dq, dQ/dqd, dh/dqd through the third-order coefficients
+// dL/dq), against Jets of the generated EvalCoefficients and EvalDynamics (the second method
+// of dynamics/sensitivity.h, SensitivityOptions::jet_jacobians) and against Richardson central
+// differences of qdd = I^-1 (Q - h) with the positions solved again at each shifted q; and the
+// sensitivities of whole runs by either method.
 // Models: the massive four-bar (one DOF, gravity only, six design parameters) and a two-DOF
 // five-bar with a spring and dampers (thirteen design parameters).
 #include <gtest/gtest.h>
@@ -17,8 +23,12 @@
 
 #include "design_fivebar_massive.h"
 #include "design_fourbar_massive.h"
+#include "design_press.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/sensitivity.h"
+
+#include <ceres/jet.h>
+#include <Eigen/Cholesky>
 
 namespace {
 
@@ -227,6 +237,216 @@ TEST(TrajectorySensitivity, RefusesInvalidOptionsAndAnUninitializedRun) {
   ASSERT_TRUE(sens.Initialize(q0));
   EXPECT_FALSE(sens.Simulate(0.0, q0, qd0, 1.0, [](const auto&) { return true; }, &summary));
   EXPECT_EQ(summary.status, Status::kInvalidInput);
+}
+
+// ---- The right-hand side's Jacobians ----
+
+/// max |a - b| over max |b| (max |a| where b is zero): a matrix's relative disagreement.
+double Relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  const double scale = b.cwiseAbs().maxCoeff();
+  const double diff = (a - b).cwiseAbs().maxCoeff();
+  return scale > 0 ? diff / scale : diff;
+}
+
+/// The positions at q on the model's default modes (closed-form blocks: no guess needed).
+template <class M>
+Eigen::Matrix<double, M::kNphi, 1> Positions(const typename M::template ParamsT<double>& p,
+                                             const Eigen::Matrix<double, M::kNq, 1>& q) {
+  Eigen::Matrix<double, M::kNphi, 1> phi;
+  for (int i = 0; i < M::kNphi; ++i) phi(i) = M::kAssemblyPhi[i];
+  const auto report = M::Solve(p, q, &phi);
+  EXPECT_EQ(report.status, decltype(report.status)::kConverged) << "q = " << q.transpose();
+  return phi;
+}
+
+/// qdd = I^-1 (Q - h) at (t, q, qd), the positions solved at q.
+template <class M>
+Eigen::Matrix<double, M::kNq, 1> Acceleration(const typename M::template ParamsT<double>& p, double t,
+                                              const Eigen::Matrix<double, M::kNq, 1>& q,
+                                              const Eigen::Matrix<double, M::kNq, 1>& qd) {
+  const Eigen::Matrix<double, M::kNphi, 1> phi = Positions<M>(p, q);
+  typename M::template CoefficientsT<double> c;
+  M::Coeffs(p, q, phi, &c);
+  typename M::template DynamicsT<double> d;
+  M::Dynamics(p, q, phi, qd, t, c, &d);
+  return d.I.llt().solve(d.Q - d.h);
+}
+
+struct JacobianFigures {
+  double pieces_vs_jets = 0, generated_vs_jets = 0, generated_vs_differences = 0;
+};
+
+/// At (t, q, qd): the generated pieces against the Jets' derivatives of Q and h, and f_x =
+/// I^-1 (dQ - dh - dI qdd)/dx by the generated path against the Jets' and against differences.
+template <class M>
+void CheckJacobians(double t, const Eigen::Matrix<double, M::kNq, 1>& q, const Eigen::Matrix<double, M::kNq, 1>& qd,
+                    JacobianFigures* worst) {
+  constexpr int n = M::kNq;
+  using Params = typename M::template ParamsT<double>;
+  using Jet = ceres::Jet<double, 2 * n>;
+  const Params p;
+  const Eigen::Matrix<double, M::kNphi, 1> phi = Positions<M>(p, q);
+  typename M::template CoefficientsT<double> c;
+  M::Coeffs(p, q, phi, &c);
+  typename M::template DynamicsT<double> d;
+  M::Dynamics(p, q, phi, qd, t, c, &d);
+  const Eigen::Matrix<double, n, 1> qdd = d.I.llt().solve(d.Q - d.h);
+
+  // The pieces against Jets of EvalCoefficients and EvalDynamics seeded on (q, qd), phi carrying K.
+  Eigen::Matrix<double, n, n> dQ_dq, dh_dq, dQ_dqd, dh_dqd;
+  M::DynamicsJacobian(p, q, phi, qd, t, c, &dQ_dq, &dh_dq, &dQ_dqd, &dh_dqd);
+  Eigen::Matrix<Jet, n, 1> qj, qdj;
+  for (int i = 0; i < n; ++i) qj(i) = Jet(q(i), i), qdj(i) = Jet(qd(i), n + i);
+  Eigen::Matrix<Jet, M::kNphi, 1> phij;
+  for (int r = 0; r < M::kNphi; ++r) {
+    phij(r) = Jet(phi(r));
+    phij(r).v.template head<n>() = c.K.row(r).transpose();
+  }
+  const auto pj = p.template Cast<Jet>();
+  typename M::template CoefficientsT<Jet> cj;
+  M::template Coeffs<Jet>(pj, qj, phij, &cj);
+  typename M::template DynamicsT<Jet> dj;
+  M::template Dynamics<Jet>(pj, qj, phij, qdj, Jet(t), cj, &dj);
+  Eigen::Matrix<double, n, 2 * n> jet_Q, jet_h;
+  for (int i = 0; i < n; ++i) jet_Q.row(i) = dj.Q(i).v.transpose(), jet_h.row(i) = dj.h(i).v.transpose();
+  const double pieces = std::max({Relative(dQ_dq, jet_Q.template leftCols<n>()), Relative(dh_dq, jet_h.template leftCols<n>()),
+                                  Relative(dQ_dqd, jet_Q.template rightCols<n>()), Relative(dh_dqd, jet_h.template rightCols<n>())});
+  EXPECT_LT(pieces, 1e-12) << "q = " << q.transpose() << "\ndQ_dq\n" << dQ_dq << "\nJets\n" << jet_Q << "\ndh_dq\n"
+                           << dh_dq << "\nJets\n" << jet_h;
+  // What the dynamics read besides the pieces: h's dependence on qd is C's (dh/dqd = 2 C qd by hand).
+  Eigen::Matrix<double, n, n> two_C_qd = Eigen::Matrix<double, n, n>::Zero();
+  for (int j = 0; j < n; ++j)
+    for (int k = 0; k < n; ++k)
+      for (int l = 0; l < n; ++l) two_C_qd(j, k) += (d.C(j, k + n * l) + d.C(j, l + n * k)) * qd(l);
+  EXPECT_LT(Relative(dh_dqd, two_C_qd), 1e-13);
+
+  // f_x by the generated path and by the Jets (dynamics/sensitivity.h's two methods).
+  SensitivityOptions generated_options, jet_options;
+  jet_options.jet_jacobians = true;
+  const TrajectorySensitivity<M> generated(p, generated_options), jets(p, jet_options);
+  const Eigen::LLT<Eigen::Matrix<double, n, n>> llt(d.I);
+  const Eigen::Matrix<double, n, 2 * n> F = llt.solve(generated.StateJacobian(t, q, phi, qd, c, d, qdd));
+  const Eigen::Matrix<double, n, 2 * n> F_jets = llt.solve(jets.StateJacobian(t, q, phi, qd, c, d, qdd));
+  const double vs_jets = Relative(F, F_jets);
+  EXPECT_LT(vs_jets, 1e-12) << "q = " << q.transpose() << "\n" << F << "\nJets\n" << F_jets;
+
+  // Richardson central differences of qdd along each q_l (positions solved again) and qd_l.
+  Eigen::Matrix<double, n, 2 * n> F_diff;
+  for (int x = 0; x < 2 * n; ++x) {
+    const double h = 1e-3;
+    auto at = [&](double delta) {
+      Eigen::Matrix<double, n, 1> qs = q, qds = qd;
+      (x < n ? qs(x) : qds(x - n)) += delta;
+      return Acceleration<M>(p, t, qs, qds);
+    };
+    const Eigen::Matrix<double, n, 1> D1 = (at(h) - at(-h)) / (2 * h), D2 = (at(h / 2) - at(-h / 2)) / h;
+    F_diff.col(x) = (4 * D2 - D1) / 3;
+  }
+  const double vs_diff = Relative(F, F_diff);
+  EXPECT_LT(vs_diff, 1e-9) << "q = " << q.transpose() << "\n" << F << "\ndifferences\n" << F_diff;
+  worst->pieces_vs_jets = std::max(worst->pieces_vs_jets, pieces);
+  worst->generated_vs_jets = std::max(worst->generated_vs_jets, vs_jets);
+  worst->generated_vs_differences = std::max(worst->generated_vs_differences, vs_diff);
+}
+
+void RecordJacobianFigures(const JacobianFigures& w) {
+  char text[96];
+  std::snprintf(text, sizeof(text), "%.3g %.3g %.3g", w.pieces_vs_jets, w.generated_vs_jets, w.generated_vs_differences);
+  ::testing::Test::RecordProperty("pieces_vs_jets generated_vs_jets generated_vs_differences", text);
+  std::printf("worst relative: pieces against Jets %.3g, f_x against Jets %.3g, f_x against differences %.3g\n",
+              w.pieces_vs_jets, w.generated_vs_jets, w.generated_vs_differences);
+}
+
+TEST(RhsJacobian, FourBarGeneratedAgainstJetsAndDifferencesAtSeveralConfigurations) {
+  using M = mech::design_fourbar_massive::Model;
+  static_assert(mechgen::dynamics::internal::HasDynamicsJacobian<M>::value, "generated with kHasDynamicsDesign");
+  JacobianFigures worst;
+  const double qs[] = {0.3, 1.2, M_PI / 2, 2.5, 4.0, 5.5}, qds[] = {1.5, -2.0, 0.0, 0.7, 3.0, -0.4};
+  for (int i = 0; i < 6; ++i) {
+    Eigen::Matrix<double, 1, 1> q, qd;
+    q << qs[i];
+    qd << qds[i];
+    CheckJacobians<M>(0.1 * i, q, qd, &worst);
+  }
+  RecordJacobianFigures(worst);
+}
+
+TEST(RhsJacobian, TwoDofFiveBarWithSpringAndDampersAgainstJetsAndDifferencesAtSeveralConfigurations) {
+  using M = mech::design_fivebar_massive::Model;
+  JacobianFigures worst;
+  const double q1[] = {M_PI / 2, 1.4, 1.8, 1.6, 1.3}, q2[] = {M_PI / 2, 1.7, 1.3, 1.2, 1.9};
+  const double qd1[] = {0.3, -1.0, 0.0, 2.0, 0.5}, qd2[] = {-0.2, 0.4, 0.0, -1.5, 1.0};
+  for (int i = 0; i < 5; ++i) {
+    Eigen::Matrix<double, 2, 1> q, qd;
+    q << q1[i], q2[i];
+    qd << qd1[i], qd2[i];
+    CheckJacobians<M>(0.2 * i, q, qd, &worst);
+  }
+  RecordJacobianFigures(worst);
+}
+
+// Two blocks (the rod's angle, then the ram's slide: the second block's third-order coefficients
+// read the first's), a damper (dQ/dqd) and a spring on a slider.
+TEST(RhsJacobian, PressWithTwoBlocksAgainstJetsAndDifferencesAroundATurn) {
+  using M = mech::design_press::Model;
+  static_assert(M::kNumBlocks == 2, "the press is solved in two blocks");
+  JacobianFigures worst;
+  for (int i = 0; i < 8; ++i) {
+    Eigen::Matrix<double, 1, 1> q, qd;
+    q << 0.2 + 2 * M_PI * i / 8;
+    qd << 10.0 - 3.0 * i;
+    CheckJacobians<M>(0.0, q, qd, &worst);
+  }
+  RecordJacobianFigures(worst);
+}
+
+/// The sensitivities of one run with f_x from EvalDynamicsJacobian against those with f_x from
+/// Jets: the worst relative difference over the samples of S and Sd (each against max(1, |S|)).
+template <class M>
+double RunByBothMethods(const Eigen::Matrix<double, M::kNq, 1>& q0, const Eigen::Matrix<double, M::kNq, 1>& qd0,
+                        double t_end, double dt) {
+  auto run = [&](bool jets) {
+    SensitivityOptions options;
+    options.integrator.rtol = 1e-10;
+    options.integrator.atol = 1e-12;
+    options.sample_dt = dt;
+    options.jet_jacobians = jets;
+    TrajectorySensitivity<M> sens(typename M::template ParamsT<double>(), options);
+    EXPECT_TRUE(sens.Initialize(q0));
+    std::vector<Eigen::MatrixXd> S;
+    SensitivitySummary summary;
+    EXPECT_TRUE(sens.Simulate(0.0, q0, qd0, t_end,
+                              [&](const auto& s) {
+                                Eigen::MatrixXd x(2 * M::kNq, M::kNumDesign);
+                                x << s.S, s.Sd;
+                                S.push_back(x);
+                                return true;
+                              },
+                              &summary))
+        << FormatSummary(summary);
+    return S;
+  };
+  const std::vector<Eigen::MatrixXd> generated = run(false), jets = run(true);
+  EXPECT_EQ(generated.size(), jets.size());
+  double worst = 0;
+  for (size_t k = 0; k < std::min(generated.size(), jets.size()); ++k)
+    worst = std::max(worst, ((generated[k] - jets[k]).array() / jets[k].array().abs().max(1.0)).abs().maxCoeff());
+  return worst;
+}
+
+TEST(RhsJacobian, SensitivitiesOfARunAreTheSameByTheGeneratedJacobiansAndByJets) {
+  Eigen::Matrix<double, 1, 1> q0, qd0;
+  q0 << M_PI / 2;
+  qd0 << 1.5;
+  const double four = RunByBothMethods<mech::design_fourbar_massive::Model>(q0, qd0, 2.0, 0.25);
+  Eigen::Matrix<double, 2, 1> q0b, qd0b;
+  q0b << M_PI / 2, M_PI / 2;
+  qd0b << 0.3, -0.2;
+  const double five = RunByBothMethods<mech::design_fivebar_massive::Model>(q0b, qd0b, 0.6, 0.1);
+  std::printf("sensitivities, generated against Jets: four-bar %.3g, five-bar %.3g\n", four, five);
+  EXPECT_LT(four, 1e-11);
+  EXPECT_LT(five, 1e-11);
+  RecordWorst(std::max(four, five));
 }
 
 }  // namespace

@@ -13,11 +13,15 @@
  *  - f_p = I^-1 (dQ/dp - dh/dp - (dI/dp) qdd): the generated EvalDynamicsDesign (M::DynamicsDesign),
  *    whose design derivatives at fixed (q, qd) go through phi, K and L
  *    (EvalDesignDerivatives, M::Design);
- *  - f_q, f_qd = I^-1 (dQ/dx - dh/dx - (dI/dx) qdd), x = q, qd: the generated EvalCoefficients
- *    and EvalDynamics instantiated with ceres::Jet<double, 2 kNq> seeded on (q, qd), the
- *    positions carrying dphi/dq = K (the implicit-function derivative of the loop closure), so
- *    that I, h and Q carry their total derivatives along q and qd: exact (forward-mode
- *    differentiation of the generated code), no differences.
+ *  - f_q, f_qd = I^-1 (dQ/dx - dh/dx - (dI/dx) qdd), x = q, qd: dQ/dx and dh/dx from the generated
+ *    EvalDynamicsJacobian (M::DynamicsJacobian, generated with EvalDynamicsDesign: the dynamics
+ *    differentiated symbolically along q and qd, through K, L and the third-order coefficients
+ *    dL/dq; generator/symbolic/jacobian.h) and dI/dq from EvalDynamics (Dynamics::dI_dq). For a
+ *    model without it (generated before it existed), or with SensitivityOptions::jet_jacobians:
+ *    the generated EvalCoefficients and EvalDynamics instantiated with ceres::Jet<double, 2 kNq>
+ *    seeded on (q, qd), the positions carrying dphi/dq = K (the implicit-function derivative of
+ *    the loop closure), so that I, h and Q carry their total derivatives along q and qd. Both
+ *    exact (no differences); they agree to rounding (tests/design/trajectory_sensitivity_test.cc).
  * The integrator's error control covers the sensitivities as well as (q, qd) (the whole state,
  * IntegratorOptions' rtol and atol on every component).
  *
@@ -43,6 +47,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include <ceres/jet.h>
 
@@ -73,6 +78,9 @@ struct SensitivityOptions {
   /// Newton blocks of M::Solve: iterations and tolerance (0: the generated default).
   int max_solver_iterations = 20;
   double solver_tolerance = 0;
+  /// f_q and f_qd by Jets of the generated EvalCoefficients and EvalDynamics even where the model
+  /// has EvalDynamicsJacobian (a second method, for checks; slower).
+  bool jet_jacobians = false;
 
   bool IsValid(std::string* error) const {
     if (!integrator.IsValid(error)) return false;
@@ -90,6 +98,15 @@ struct SensitivityOptions {
     return true;
   }
 };
+
+namespace internal {
+/// Whether M has EvalDynamicsJacobian (M::DynamicsJacobian): generated exactly where
+/// kHasDynamicsDesign is, by a generator that has it.
+template <class M, class = void>
+struct HasDynamicsJacobian : std::false_type {};
+template <class M>
+struct HasDynamicsJacobian<M, std::void_t<decltype(&M::template DynamicsJacobian<double>)>> : std::true_type {};
+}  // namespace internal
 
 /// One sample of a run with sensitivities.
 template <class M>
@@ -212,28 +229,8 @@ class TrajectorySensitivity {
     qdd = llt.solve(d.Q - d.h);
     if (!qdd.allFinite()) return false;
 
-    // f_q, f_qd: Jets of the generated coefficients and dynamics along (q, qd).
-    Eigen::Matrix<Jet, kNq, 1> qj, qdj;
-    for (int i = 0; i < kNq; ++i) {
-      qj(i) = Jet(q(i), i);
-      qdj(i) = Jet(qd(i), kNq + i);
-    }
-    Eigen::Matrix<Jet, kNphi, 1> phij;
-    for (int r = 0; r < kNphi; ++r) {
-      phij(r) = Jet(phi(r));
-      phij(r).v.template head<kNq>() = c.K.row(r).transpose();
-    }
-    typename M::template CoefficientsT<Jet> cj;
-    M::template Coeffs<Jet>(pj_, qj, phij, &cj);
-    typename M::template DynamicsT<Jet> dj;
-    const Jet tj(t);
-    M::template Dynamics<Jet>(pj_, qj, phij, qdj, tj, cj, &dj);
-    // (dQ - dh - dI qdd)/dx for the 2 kNq directions x.
-    Eigen::Matrix<double, kNq, 2 * kNq> G;
-    for (int i = 0; i < kNq; ++i) G.row(i) = (dj.Q(i).v - dj.h(i).v).transpose();
-    for (int i = 0; i < kNq; ++i)
-      for (int k = 0; k < kNq; ++k) G.row(i) -= dj.I(i, k).v.transpose() * qdd(k);
-    const Eigen::Matrix<double, kNq, 2 * kNq> F_x = llt.solve(G);
+    // f_q, f_qd: I^-1 (dQ - dh - dI qdd)/dx for the 2 kNq directions x = (q, qd).
+    const Eigen::Matrix<double, kNq, 2 * kNq> F_x = llt.solve(StateJacobian(t, q, phi, qd, c, d, qdd));
 
     // f_p: the generated design derivatives at fixed (q, qd).
     typename M::template DesignDerivativesT<double> dc;
@@ -253,6 +250,48 @@ class TrajectorySensitivity {
     dS = Sd;
     dSd = F_x.template leftCols<kNq>() * S + F_x.template rightCols<kNq>() * Sd + F_p;
     return dy->allFinite();
+  }
+
+  /**
+   * \brief (dQ - dh - dI qdd)/dx at (t, q, qd) for the 2 kNq directions x = (q_0.., qd_0..), at
+   * the positions phi with their coefficients c, dynamics d and accelerations qdd: f_q and f_qd
+   * times I. From M::DynamicsJacobian where the model has it (unless options().jet_jacobians),
+   * else from Jets of M::Coeffs and M::Dynamics.
+   */
+  Eigen::Matrix<double, kNq, 2 * kNq> StateJacobian(double t, const VecQ& q, const VecPhi& phi, const VecQ& qd,
+                                                    const Coefficients& c, const Dyn& d, const VecQ& qdd) const {
+    Eigen::Matrix<double, kNq, 2 * kNq> G;
+    if constexpr (internal::HasDynamicsJacobian<M>::value) {
+      if (!options_.jet_jacobians) {
+        MatQ dQ_dq, dh_dq, dQ_dqd, dh_dqd;
+        M::template DynamicsJacobian<double>(p_, q, phi, qd, t, c, &dQ_dq, &dh_dq, &dQ_dqd, &dh_dqd);
+        G.template leftCols<kNq>() = dQ_dq - dh_dq;
+        G.template rightCols<kNq>() = dQ_dqd - dh_dqd;
+        // dI_dq(j, k + kNq l) = dI(j, k)/dq_l.
+        for (int l = 0; l < kNq; ++l) G.col(l) -= d.dI_dq.template block<kNq, kNq>(0, kNq * l) * qdd;
+        return G;
+      }
+    }
+    (void)d;
+    Eigen::Matrix<Jet, kNq, 1> qj, qdj;
+    for (int i = 0; i < kNq; ++i) {
+      qj(i) = Jet(q(i), i);
+      qdj(i) = Jet(qd(i), kNq + i);
+    }
+    Eigen::Matrix<Jet, kNphi, 1> phij;
+    for (int r = 0; r < kNphi; ++r) {
+      phij(r) = Jet(phi(r));
+      phij(r).v.template head<kNq>() = c.K.row(r).transpose();
+    }
+    typename M::template CoefficientsT<Jet> cj;
+    M::template Coeffs<Jet>(pj_, qj, phij, &cj);
+    typename M::template DynamicsT<Jet> dj;
+    const Jet tj(t);
+    M::template Dynamics<Jet>(pj_, qj, phij, qdj, tj, cj, &dj);
+    for (int i = 0; i < kNq; ++i) G.row(i) = (dj.Q(i).v - dj.h(i).v).transpose();
+    for (int i = 0; i < kNq; ++i)
+      for (int k = 0; k < kNq; ++k) G.row(i) -= dj.I(i, k).v.transpose() * qdd(k);
+    return G;
   }
 
   /// An operator() for the integrator.
