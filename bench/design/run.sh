@@ -46,11 +46,12 @@ NT = {"design_fourbar_massive": 6, "design_fivebar_massive": 13}
 if all(f"Trajectory/Values/{m}" in med for m in NT):
     print("Trajectory sensitivities per run (median CPU time; Dop853, rtol 1e-10, atol 1e-12)")
     for model, n in NT.items():
-        v, d, s = (med[f"Trajectory/{k}/{model}"] for k in ("Values", "Differences", "Sensitivities"))
+        v, d, s, sj = (med[f"Trajectory/{k}/{model}"] for k in ("Values", "Differences", "Sensitivities", "JetSensitivities"))
         u = unit[f"Trajectory/Values/{model}"]
         print(f"  {model} (N = {n})")
         print(f"    one simulation of the values            {v:10.1f} {u}")
         print(f"    N + 1 simulations (forward differences) {d:10.1f} {u}")
-        print(f"    forward sensitivity equations, one run  {s:10.1f} {u}")
-        print(f"    sensitivities / (N + 1 simulations) = {s / d:5.2f}; / one simulation = {s / v:5.2f}")
+        print(f"    forward sensitivity equations, one run  {s:10.1f} {u}   (f_q, f_qd generated)")
+        print(f"    the same with f_q, f_qd by Jets         {sj:10.1f} {u}")
+        print(f"    sensitivities / (N + 1 simulations) = {s / d:5.2f} (by Jets {sj / d:5.2f}); / one simulation = {s / v:5.2f}")
 PY

@@ -1,7 +1,8 @@
 // Trajectory sensitivities (issue 27): one run of the forward sensitivity equations
 // (dynamics/sensitivity.h: the state and dq/dp, dqd/dp for N design parameters integrated
 // together) against the N + 1 simulations of the values alone that forward differences need
-// (dynamics/forward.h), and the one simulation of the values alone. Same integrator (Dop853),
+// (dynamics/forward.h), and the one simulation of the values alone; the sensitivities with the
+// right-hand side's Jacobians generated (EvalDynamicsJacobian) and by Jets, side by side. Same integrator (Dop853),
 // same tolerances (rtol 1e-10, atol 1e-12), same motion: the massive four-bar
 // (tests/design/models/design_fourbar_massive.yaml, N = 6) swinging for 2 s from 90 deg at
 // 1.5 rad/s, and the two-DOF five-bar with a spring and dampers (N = 13) for 0.6 s.
@@ -73,14 +74,16 @@ void Differences(benchmark::State& state) {
   }
 }
 
-// One run of the forward sensitivity equations.
-template <class M>
+// One run of the forward sensitivity equations, f_q and f_qd from the generated
+// EvalDynamicsJacobian (jets = false) or from Jets of the generated code (jets = true).
+template <class M, bool jets = false>
 void Sensitivities(benchmark::State& state) {
   const typename M::template ParamsT<double> p;
   mechgen::dynamics::SensitivityOptions o;
   o.integrator.rtol = 1e-10;
   o.integrator.atol = 1e-12;
   o.sample_dt = Motion<M>::kTEnd;
+  o.jet_jacobians = jets;
   for (auto _ : state) {
     mechgen::dynamics::TrajectorySensitivity<M, Dop853> sim(p, o);
     sim.Initialize(Motion<M>::q0());
@@ -101,8 +104,10 @@ using FiveBar = mech::design_fivebar_massive::Model;
 BENCHMARK(Values<FourBar>)->Name("Trajectory/Values/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Differences<FourBar>)->Name("Trajectory/Differences/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Sensitivities<FourBar>)->Name("Trajectory/Sensitivities/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FourBar, true>)->Name("Trajectory/JetSensitivities/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Values<FiveBar>)->Name("Trajectory/Values/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Differences<FiveBar>)->Name("Trajectory/Differences/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Sensitivities<FiveBar>)->Name("Trajectory/Sensitivities/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FiveBar, true>)->Name("Trajectory/JetSensitivities/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 
 }  // namespace
