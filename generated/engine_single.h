@@ -1783,7 +1783,7 @@ void EvalShakingDesign(const Params<Scalar>& p,
  * statement along q and qd; phi through K, K through L, L through the third-order coefficients
  * dL/dq derived here). With Dynamics::dI_dq they give the right-hand side's Jacobians
  * f_x = I^-1 (dQ/dx - dh/dx - (dI/dx) qdd), x = q, qd (the trajectory sensitivities).
- * Generated exactly where the model has kHasDynamicsDesign.
+ * Generated with EvalDynamicsDesign (kHasDynamicsDesign) where no cam law's fourth derivative is needed.
  * \param[in]  p         Parameters.
  * \param[in]  q         Inputs (dim kNq).
  * \param[in]  phi       Dependent variables solving Phi(q, phi) = 0 (dim kNphi).

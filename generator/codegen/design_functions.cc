@@ -218,7 +218,7 @@ FunctionSpec EvalDynamicsJacobianSpec(const Model& m, const DynamicsTable& dyn, 
            "statement along q and qd; phi through K, K through L, L through the third-order coefficients",
            "dL/dq derived here). With Dynamics::dI_dq they give the right-hand side's Jacobians",
            "f_x = I^-1 (dQ/dx - dh/dx - (dI/dx) qdd), x = q, qd (the trajectory sensitivities).",
-           "Generated exactly where the model has kHasDynamicsDesign."};
+           "Generated with EvalDynamicsDesign (kHasDynamicsDesign) where no cam law's fourth derivative is needed."};
   f.args = AtConfiguration();
   f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
   f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities dq/dt", "dim kNq"));

@@ -628,12 +628,12 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
       if (dd.possible && (!has_shaking || dsh.possible)) {
         out.push_back(EvalDynamicsDesignSpec(m, *dynamics, dd, printer));
         if (has_shaking) out.push_back(EvalShakingDesignSpec(*dynamics, dsh, printer));
-        // The right-hand side's Jacobians for the trajectory sensitivities: generated exactly with
-        // the dynamics' design derivatives (kHasDynamicsDesign), which they need the same of.
+        // The right-hand side's Jacobians for the trajectory sensitivities: generated with the
+        // dynamics' design derivatives (kHasDynamicsDesign), which need the same straight-line
+        // program; not where they would need a cam law's fourth derivative (the runtime then
+        // differentiates by Jets: dynamics/sensitivity.h).
         const DynamicsJacobian dj(m, t, *dynamics);
-        if (!dj.possible) m.Fail(m.design.mark, "the dynamics' Jacobians along q and qd cannot be generated (" + dj.why_not +
-                                                    "); remove design or dynamics");
-        out.push_back(EvalDynamicsJacobianSpec(m, *dynamics, dj, printer));
+        if (dj.possible) out.push_back(EvalDynamicsJacobianSpec(m, *dynamics, dj, printer));
       }
     }
   }

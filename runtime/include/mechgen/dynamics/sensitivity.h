@@ -17,8 +17,9 @@
  *    EvalDynamicsJacobian (M::DynamicsJacobian, generated with EvalDynamicsDesign: the dynamics
  *    differentiated symbolically along q and qd, through K, L and the third-order coefficients
  *    dL/dq; generator/symbolic/jacobian.h) and dI/dq from EvalDynamics (Dynamics::dI_dq). For a
- *    model without it (generated before it existed), or with SensitivityOptions::jet_jacobians:
- *    the generated EvalCoefficients and EvalDynamics instantiated with ceres::Jet<double, 2 kNq>
+ *    model without it (a cam law's fourth derivative needed, or generated before it existed),
+ *    or with SensitivityOptions::jet_jacobians: the generated EvalCoefficients and EvalDynamics
+ *    instantiated with ceres::Jet<double, 2 kNq>
  *    seeded on (q, qd), the positions carrying dphi/dq = K (the implicit-function derivative of
  *    the loop closure), so that I, h and Q carry their total derivatives along q and qd. Both
  *    exact (no differences); they agree to rounding (tests/design/trajectory_sensitivity_test.cc).
@@ -100,8 +101,8 @@ struct SensitivityOptions {
 };
 
 namespace internal {
-/// Whether M has EvalDynamicsJacobian (M::DynamicsJacobian): generated exactly where
-/// kHasDynamicsDesign is, by a generator that has it.
+/// Whether M has EvalDynamicsJacobian (M::DynamicsJacobian): generated with EvalDynamicsDesign
+/// (kHasDynamicsDesign) where no cam law's fourth derivative is needed; no flag says so.
 template <class M, class = void>
 struct HasDynamicsJacobian : std::false_type {};
 template <class M>
