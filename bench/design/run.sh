@@ -54,4 +54,7 @@ if all(f"Trajectory/Values/{m}" in med for m in NT):
         print(f"    forward sensitivity equations, one run  {s:10.1f} {u}   (f_q, f_qd generated)")
         print(f"    the same with f_q, f_qd by Jets         {sj:10.1f} {u}")
         print(f"    sensitivities / (N + 1 simulations) = {s / d:5.2f} (by Jets {sj / d:5.2f}); / one simulation = {s / v:5.2f}")
+        e, ej = (med[f"Trajectory/{k}/{model}"] for k in ("Derivative", "JetDerivative"))
+        ue = unit[f"Trajectory/Derivative/{model}"]
+        print(f"    one evaluation of the right-hand side   {e:10.1f} {ue} (f_q, f_qd by Jets: {ej:.1f} {ue})")
 PY

@@ -99,6 +99,25 @@ void Sensitivities(benchmark::State& state) {
   }
 }
 
+// One evaluation of the right-hand side with the sensitivities (Derivative at t0, q0, qd0 with S
+// and Sd set to 0.01): f_q and f_qd generated (jets = false) or by Jets (jets = true).
+template <class M, bool jets = false>
+void Derivative(benchmark::State& state) {
+  const typename M::template ParamsT<double> p;
+  mechgen::dynamics::SensitivityOptions o;
+  o.jet_jacobians = jets;
+  using Sim = mechgen::dynamics::TrajectorySensitivity<M, Dop853>;
+  Sim sim(p, o);
+  sim.Initialize(Motion<M>::q0());
+  typename Sim::State y = Sim::State::Constant(0.01), dy;
+  y.template head<M::kNq>() = Motion<M>::q0();
+  y.template segment<M::kNq>(M::kNq) = Motion<M>::qd0();
+  for (auto _ : state) {
+    sim.Derivative(0.0, y, &dy);
+    benchmark::DoNotOptimize(dy);
+  }
+}
+
 using FourBar = mech::design_fourbar_massive::Model;
 using FiveBar = mech::design_fivebar_massive::Model;
 BENCHMARK(Values<FourBar>)->Name("Trajectory/Values/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
@@ -109,5 +128,10 @@ BENCHMARK(Values<FiveBar>)->Name("Trajectory/Values/design_fivebar_massive")->Un
 BENCHMARK(Differences<FiveBar>)->Name("Trajectory/Differences/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Sensitivities<FiveBar>)->Name("Trajectory/Sensitivities/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Sensitivities<FiveBar, true>)->Name("Trajectory/JetSensitivities/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
+
+BENCHMARK(Derivative<FourBar>)->Name("Trajectory/Derivative/design_fourbar_massive");
+BENCHMARK(Derivative<FourBar, true>)->Name("Trajectory/JetDerivative/design_fourbar_massive");
+BENCHMARK(Derivative<FiveBar>)->Name("Trajectory/Derivative/design_fivebar_massive");
+BENCHMARK(Derivative<FiveBar, true>)->Name("Trajectory/JetDerivative/design_fivebar_massive");
 
 }  // namespace
