@@ -401,7 +401,8 @@ TEST(RhsJacobian, PressWithTwoBlocksAgainstJetsAndDifferencesAroundATurn) {
 }
 
 /// The sensitivities of one run with f_x from EvalDynamicsJacobian against those with f_x from
-/// Jets: the worst relative difference over the samples of S and Sd (each against max(1, |S|)).
+/// Jets: the worst relative difference over the samples of S, Sd, q and qd (each against
+/// max(1, |value|); q and qd move too, the step control seeing the whole state).
 template <class M>
 double RunByBothMethods(const Eigen::Matrix<double, M::kNq, 1>& q0, const Eigen::Matrix<double, M::kNq, 1>& qd0,
                         double t_end, double dt) {
@@ -417,8 +418,8 @@ double RunByBothMethods(const Eigen::Matrix<double, M::kNq, 1>& q0, const Eigen:
     SensitivitySummary summary;
     EXPECT_TRUE(sens.Simulate(0.0, q0, qd0, t_end,
                               [&](const auto& s) {
-                                Eigen::MatrixXd x(2 * M::kNq, M::kNumDesign);
-                                x << s.S, s.Sd;
+                                Eigen::MatrixXd x(2 * M::kNq, M::kNumDesign + 1);
+                                x << s.S, s.q, s.Sd, s.qd;
                                 S.push_back(x);
                                 return true;
                               },
