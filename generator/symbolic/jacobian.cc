@@ -2,7 +2,6 @@
 #include "symbolic/jacobian.h"
 
 #include <algorithm>
-#include <map>
 
 #include "symbolic/block_system.h"
 #include "symbolic/design.h"
