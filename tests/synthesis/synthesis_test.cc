@@ -1077,6 +1077,176 @@ TEST(FunctionSynthesis, MinimaxMeetsTheConstraints) {
       worst_u, grashof(xu), worst_p, worst_c, rc.minimax.exchanges);
 }
 
+// The free-start x^2 task of the equal-ripple tests: y = x^2 on [1, 2], input 60 deg from in0,
+// output 60 deg from out0, a, b, c in [0.5, 20] (d = 4) and both start angles free.
+std::string XSquaredFreeStartTask(const std::string& extra, const std::string& fit = ", fit: minimax") {
+  std::string yaml = Log10Task(5, "free_start: {input: [230deg, 300deg], output: [200deg, 280deg]}\n" + extra);
+  yaml.replace(yaml.find("log10(x)"), 8, "x^2");
+  yaml.replace(yaml.find("input: [90deg, 150deg], output: [20deg, 80deg]"), 46,
+               "input: [270deg, 330deg], output: [240deg, 300deg]");
+  yaml.replace(yaml.find("points: 5}"), 10, "points: 5" + fit + "}");
+  return yaml;
+}
+
+// The x^2 task's error in y by hand (circle intersection) for v = (a, b, c, in0, out0).
+double XSquaredError(const std::vector<double>& v, double x) {
+  const double t4 = HandTheta4(v[0], v[1], v[2], 4.0, v[3] + 60 * kDeg * (x - 1));
+  return WrapPi(t4 - v[4] - 60 * kDeg * (x * x - 1) / 3) * 3 / (60 * kDeg);
+}
+
+double XSquaredWorst(const std::vector<double>& v) {
+  double w = 0;
+  for (double e : HandExtrema([&](double x) { return XSquaredError(v, x); })) w = std::max(w, std::abs(e));
+  return w;
+}
+
+TEST(FunctionSynthesis, MinimaxWithFreeStartAnglesReachesSixEqualExtrema) {
+  // y = x^2 on [1, 2] with a, b, c and both start angles free (five variables): Chebyshev's
+  // criterion asks for six alternating extrema of equal magnitude. Five accuracy points (the
+  // seed: the four-bar exact at the five Chebyshev points, whose error has six sign runs) and
+  // the exchange on six. Oracles by hand (circle intersection on 20001 points, extrema by
+  // ternary search): six extrema, alternating, equal to 1e-9 relative; the largest below the
+  // five accuracy points' answer's; and no step of the five variables lowers it (along each,
+  // along 40 random directions, both ways at 1e-6, 1e-5 and 1e-3 of the scale: the first-order
+  // change of the largest error is positive in every direction at an equal-ripple optimum).
+  // An independent Remez exchange (hand error, central-difference Jacobian, seeded from the
+  // exact five-point four-bar; outside the project) ended at 1.64534e-4 rad of output.
+  const auto pts = BindFunctionYaml(XSquaredFreeStartTask("", ""), "fs_points.yaml");
+  const auto mm = BindFunctionYaml(XSquaredFreeStartTask(""), "fs_minimax.yaml");
+  ASSERT_EQ(mm.nx, 5);
+  const FunctionResult rp = SynthesizeFunction(pts, 1);
+  const FunctionResult rm = SynthesizeFunction(mm, 1);
+  ASSERT_TRUE(rp.best.feasible()) << rp.best.defect;
+  ASSERT_TRUE(rm.best.feasible()) << rm.best.defect;
+  ASSERT_TRUE(rm.minimax.converged) << rm.minimax.why;
+  ASSERT_TRUE(rm.minimax.used) << rm.minimax.why;
+  EXPECT_EQ(rm.minimax.reference, 6);
+  const std::vector<double>& xm = rm.best.x;
+  std::vector<double> at;
+  const auto em = HandExtrema([&](double x) { return XSquaredError(xm, x); }, &at);
+  const double worst_m = ExpectEqualRipple(em, 6, 1e-9);
+  for (size_t k = 1; k < em.size(); ++k) EXPECT_LT(em[k] * em[k - 1], 0) << "extrema " << k - 1 << ", " << k;
+  const double worst_p = XSquaredWorst(rp.best.x);
+  EXPECT_LT(worst_m, worst_p);
+  EXPECT_NEAR(rm.minimax.max_angle * 3 / (60 * kDeg), worst_m, 1e-12);
+  EXPECT_NEAR(rm.minimax.max_angle, 1.64534e-4, 1e-9);
+  std::vector<Eigen::Matrix<double, 5, 1>> dirs;
+  for (int j = 0; j < 5; ++j) dirs.push_back(Eigen::Matrix<double, 5, 1>::Unit(j));
+  std::mt19937 rng(44);
+  std::normal_distribution<double> normal;
+  for (int r = 0; r < 40; ++r) {
+    Eigen::Matrix<double, 5, 1> d;
+    for (int j = 0; j < 5; ++j) d(j) = normal(rng);
+    dirs.push_back(d.normalized());
+  }
+  for (const auto& d : dirs)
+    for (double step : {-1e-3, -1e-5, -1e-6, 1e-6, 1e-5, 1e-3}) {
+      std::vector<double> v = xm;
+      for (int j = 0; j < 5; ++j) v[static_cast<size_t>(j)] += step * d(j) * std::max(1.0, std::abs(xm[static_cast<size_t>(j)]));
+      EXPECT_GT(XSquaredWorst(v), worst_m) << "step " << step << " along " << d.transpose();
+    }
+  const std::string report = FunctionReport(mm, rm, 1);
+  EXPECT_EQ(report.find("a reduced exchange"), std::string::npos) << report;
+  std::printf("x^2 on [1, 2], a b c and free start angles: largest |error| in y: five Chebyshev points %.6g, minimax "
+              "%.10g on six extrema (%d exchanges, %d Lawson steps); a b c %.6g %.6g %.6g, in0 %.6g deg, out0 %.6g deg\n",
+              worst_p, worst_m, rm.minimax.exchanges, rm.minimax.lawson, xm[0], xm[1], xm[2], xm[3] / kDeg, xm[4] / kDeg);
+}
+
+TEST(FunctionSynthesis, MinimaxMeetsTheTransmissionAngleBound) {
+  // y = x^2 on [1, 2] (input 270 -> 330 deg, output 240 -> 300 deg; a, b, c vary, d = 4): the
+  // equal-ripple four-bar's transmission angle falls to 60.45 deg over the range (by hand).
+  // With `transmission_angle: [65deg, 150deg]` the minimax stage exchanges again with the bound
+  // active over the range. Oracles, all by hand (circle intersection and the cosine law on
+  // 20001 points, extrema by ternary search): the answer's smallest transmission angle over the
+  // range is the bound (to 1e-8 rad, not below it), its error has three alternating extrema
+  // of equal magnitude (three variables less one condition; 1e-9), its largest is above the
+  // unconstrained one's, and no step of 1e-4 along the bound's surface (the two directions
+  // orthogonal to the hand gradient of the smallest angle, both ways) or into the allowed side
+  // lowers it: a constrained minimax. A bound that is not active (50 deg) leaves the
+  // equal-ripple answer: four equal extrema at the unconstrained largest error.
+  auto task = [](const std::string& extra, const std::string& search) {
+    std::string yaml = Log10Task(3, extra, search);
+    yaml.replace(yaml.find("log10(x)"), 8, "x^2");
+    yaml.replace(yaml.find("input: [90deg, 150deg], output: [20deg, 80deg]"), 46,
+                 "input: [270deg, 330deg], output: [240deg, 300deg]");
+    yaml.replace(yaml.find("points: 3}"), 10, "points: 3, fit: minimax}");
+    return yaml;
+  };
+  auto error = [](const std::array<double, 3>& v, double x) {  // by hand, in y
+    const double t4 = HandTheta4(v[0], v[1], v[2], 4.0, 270 * kDeg + 60 * kDeg * (x - 1));
+    return WrapPi(t4 - 240 * kDeg - 60 * kDeg * (x * x - 1) / 3) * 3 / (60 * kDeg);
+  };
+  auto worst = [&](const std::array<double, 3>& v) {
+    double w = 0;
+    for (double e : HandExtrema([&](double x) { return error(v, x); })) w = std::max(w, std::abs(e));
+    return w;
+  };
+  auto mu_min = [](const std::array<double, 3>& v) {  // the smallest transmission angle over the range, by hand
+    const int N = 20000;
+    int best = 0;
+    double m = 1e300;
+    auto mu = [&](double t) { return HandMu(v[0], v[1], v[2], 4.0, 270 * kDeg + 60 * kDeg * t); };
+    for (int k = 0; k <= N; ++k)
+      if (mu(1.0 * k / N) < m) m = mu(1.0 * k / N), best = k;
+    double lo = 1.0 * std::max(best - 1, 0) / N, hi = 1.0 * std::min(best + 1, N) / N;
+    for (int it = 0; it < 100; ++it) {
+      const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+      if (mu(m1) < mu(m2)) hi = m2;
+      else lo = m1;
+    }
+    return std::min(m, mu(0.5 * (lo + hi)));
+  };
+  const std::string search = "{restarts: 4, evaluations: 8000}";
+  const FunctionResult ru = SynthesizeFunction(BindFunctionYaml(task("", "{restarts: 0}"), "tu.yaml"), 1);
+  ASSERT_TRUE(ru.minimax.converged && ru.minimax.used) << ru.minimax.why;
+  const std::array<double, 3> xu = {ru.best.x[0], ru.best.x[1], ru.best.x[2]};
+  const double worst_u = worst(xu);
+  EXPECT_LT(mu_min(xu), 61 * kDeg);
+  EXPECT_GT(mu_min(xu), 60 * kDeg);
+  // Not active: the same equal ripple.
+  const FunctionResult rl =
+      SynthesizeFunction(BindFunctionYaml(task("constraints: {transmission_angle: [50deg, 150deg]}\n", search), "tl.yaml"), 1);
+  ASSERT_TRUE(rl.minimax.converged && rl.minimax.used) << rl.minimax.why;
+  EXPECT_EQ(rl.minimax.constraint, "");
+  const std::array<double, 3> xl = {rl.best.x[0], rl.best.x[1], rl.best.x[2]};
+  EXPECT_NEAR(ExpectEqualRipple(HandExtrema([&](double x) { return error(xl, x); }), 4, 1e-9), worst_u, 1e-9 * worst_u);
+  // Active.
+  const auto bc = BindFunctionYaml(task("constraints: {transmission_angle: [65deg, 150deg]}\n", search), "tc.yaml");
+  const FunctionResult rc = SynthesizeFunction(bc, 1);
+  ASSERT_TRUE(rc.best.feasible()) << rc.best.defect;
+  EXPECT_EQ(rc.minimax.constraint, "the transmission angle falls below its bound");
+  ASSERT_TRUE(rc.minimax.constrained_converged) << rc.minimax.why;
+  ASSERT_TRUE(rc.minimax.used) << rc.minimax.why;
+  const std::array<double, 3> xc = {rc.best.x[0], rc.best.x[1], rc.best.x[2]};
+  EXPECT_GE(mu_min(xc), 65 * kDeg - 1e-12);
+  EXPECT_LT(mu_min(xc), 65 * kDeg + 1e-8);
+  const auto ec = HandExtrema([&](double x) { return error(xc, x); });
+  for (size_t k = 1; k < ec.size(); ++k) EXPECT_LT(ec[k] * ec[k - 1], 0);
+  const double worst_c = ExpectEqualRipple(ec, 3, 1e-9);
+  EXPECT_GT(worst_c, worst_u);
+  EXPECT_NEAR(rc.minimax.max_angle * 3 / (60 * kDeg), worst_c, 1e-12);
+  Eigen::Vector3d g;
+  for (int j = 0; j < 3; ++j) {
+    std::array<double, 3> vp = xc, vm = xc;
+    vp[static_cast<size_t>(j)] += 1e-6, vm[static_cast<size_t>(j)] -= 1e-6;
+    g(j) = (mu_min(vp) - mu_min(vm)) / 2e-6;
+  }
+  const Eigen::Vector3d u = g.unitOrthogonal(), w = g.cross(u).normalized();
+  for (const Eigen::Vector3d& t : {Eigen::Vector3d(u), Eigen::Vector3d(-u), Eigen::Vector3d(w), Eigen::Vector3d(-w),
+                                   Eigen::Vector3d(g.normalized())}) {
+    const std::array<double, 3> v = {xc[0] + 1e-4 * t(0), xc[1] + 1e-4 * t(1), xc[2] + 1e-4 * t(2)};
+    EXPECT_GT(worst(v), worst_c) << t.transpose();
+  }
+  const std::string report = FunctionReport(bc, rc, 1);
+  EXPECT_NE(report.find("breaks a constraint (the transmission angle falls below its bound; its largest |error| " +
+                        Short(rc.minimax.unconstrained_max * 3 / (60 * kDeg), 6)),
+            std::string::npos)
+      << report;
+  std::printf("x^2 on [1, 2], a b c, transmission angle >= 65 deg: unconstrained minimax %.6g (smallest angle %.4f deg), "
+              "constrained minimax %.6g (smallest angle %.10g deg; a b c %.6g %.6g %.6g; %d exchanges)\n",
+              worst_u, mu_min(xu) / kDeg, worst_c, mu_min(xc) / kDeg, xc[0], xc[1], xc[2], rc.minimax.exchanges);
+}
+
 TEST(FunctionSynthesis, FreeStartAnglesWithPairs) {
   // Seven pairs of the shipped four-bar (hand formula) at 40, 60, ..., 160 deg, all inputs
   // written 10 deg higher and all outputs 7 deg lower: no four-bar with its ground along +x
