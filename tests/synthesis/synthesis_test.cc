@@ -16,6 +16,7 @@
 #include <fstream>
 #include <functional>
 #include <random>
+#include <set>
 #include <sstream>
 
 #include "fourbar.h"
@@ -1658,6 +1659,94 @@ TEST(MotionSynthesis, SixPosesByLeastSquaresReproducedByHand) {
   EXPECT_GT(m.error, 0);
   EXPECT_LT(m.error, 1e-6);           // the seed (exact at five poses) misses pose 4 by 1e-3: 1e-6
   EXPECT_LT(m.worst_point, 1e-3);
+}
+
+TEST(MotionSynthesis, GlobalStageOverFivePoseSubsets) {
+  // Seven poses of the placed four-bar (the crank at 20, 60, 100, 150, 200, 250, 300 deg), the
+  // seventh moved by (0.3, -0.15) and 0.1 rad: no four-bar meets all seven. The default seed
+  // poses (1, 3, 4, 6, 7) hold the moved one, and the least squares from their Burmester
+  // points' pairs ends in a basin the global stage (`search: {subsets: 21}`: all 21 five-pose
+  // subsets) beats. Oracles by hand (circle intersection at each four-bar's crank angles, the
+  // body's angle offset the mean of the angle errors, which is where the least squares puts
+  // it): the errors the library reports are the hand ones (1e-9 relative), the global one below
+  // a fifth of the seeds' alone; the subsets are the 21 of seven poses, each once, the seed
+  // poses' first.
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 60 * kDeg, 100 * kDeg, 150 * kDeg, 200 * kDeg, 250 * kDeg, 300 * kDeg};
+  std::vector<Pose> poses = PosesOf(f, q);
+  poses[6].x += 0.3, poses[6].y -= 0.15, poses[6].angle += 0.1;
+  std::string yaml = "synthesis: motion\npoint: coupler.P\ncoupler_angle: theta_coupler\nposes:\n";
+  for (const Pose& p : poses) yaml += "  - [" + Num(p.x) + ", " + Num(p.y) + ", " + Num(p.angle) + "]\n";
+  yaml += "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n";
+  auto run = [&](const std::string& extra, MotionTask* task, MotionResult* r) {
+    const std::string path = ::testing::TempDir() + "/motion7_task.yaml";
+    std::ofstream(path) << yaml + extra;
+    std::string error;
+    ASSERT_TRUE(ParseMotionTask(path, task, &error)) << error;
+    ASSERT_TRUE(SynthesizeMotion<mech::synth_fourbar::Model>(*task, {}, r, &error)) << error;
+    ASSERT_GE(r->chosen, 0) << MotionReport(*task, *r);
+  };
+  MotionTask ts, tg;
+  MotionResult rs, rg;
+  run("", &ts, &rs);
+  run("search: {subsets: 21}\n", &tg, &rg);
+  EXPECT_EQ(ts.seed_poses, (std::vector<int>{0, 2, 3, 5, 6}));
+  EXPECT_EQ(tg.subsets, 21);
+  ASSERT_EQ(rg.subsets.size(), 21u);
+  EXPECT_EQ(rg.subsets[0], ts.seed_poses);
+  std::set<std::vector<int>> distinct(rg.subsets.begin(), rg.subsets.end());
+  EXPECT_EQ(distinct.size(), 21u);
+  for (const auto& s : rg.subsets) {
+    ASSERT_EQ(s.size(), 5u);
+    for (size_t k = 1; k < 5; ++k) EXPECT_LT(s[k - 1], s[k]);
+    EXPECT_LT(s[4], 7);
+  }
+  // The least-squares error by hand.
+  const double L = burmester_internal::Scale(poses);
+  auto hand_error = [&](const MotionResult& r) {
+    const MotionCandidate& c = r.candidates[static_cast<size_t>(r.chosen)];
+    const FourBarFromDyads& fb = c.fourbar;
+    HandFourBar g;
+    g.a = fb.a, g.b = fb.b, g.c = fb.c, g.d = fb.d, g.xi = fb.xi, g.eta = fb.eta, g.x0 = fb.x0, g.y0 = fb.y0, g.theta0 = fb.theta0;
+    g.side = c.mode == r.model_mode ? 1 : -1;
+    double points = 0, mean = 0;
+    std::vector<double> da;
+    for (size_t j = 0; j < poses.size(); ++j) {
+      const Pose h = g.PoseAt(fb.crank_angle[j]);
+      points += std::pow(h.x - poses[j].x, 2) + std::pow(h.y - poses[j].y, 2);
+      da.push_back(WrapPi(h.angle - poses[j].angle - (g.PoseAt(fb.crank_angle[0]).angle - poses[0].angle)));
+      mean += da.back() / static_cast<double>(poses.size());
+    }
+    double angles = 0;
+    for (double d : da) angles += L * L * (d - mean) * (d - mean);
+    return points + angles;
+  };
+  const double es = rs.candidates[static_cast<size_t>(rs.chosen)].error, eg = rg.candidates[static_cast<size_t>(rg.chosen)].error;
+  EXPECT_NEAR(hand_error(rs), es, 1e-9 * es);
+  EXPECT_NEAR(hand_error(rg), eg, 1e-9 * eg);
+  EXPECT_LT(eg, 0.2 * es);
+  const std::string report = MotionReport(tg, rg);
+  EXPECT_NE(report.find("global stage (search.subsets 21): the Burmester points of 20 more five-pose subsets"),
+            std::string::npos)
+      << report;
+  std::printf("seven poses, the seventh moved: seed poses 1 3 4 6 7 alone: %zu Burmester points, error %.8g; with all 21 "
+              "subsets: %zu points, error %.8g (%lld residual evaluations)\n",
+              rs.points.size(), es, rg.points.size(), eg, rg.evaluations);
+  // Fewer subsets than there are: evenly spread over the lexicographic order, the seed poses' skipped.
+  EXPECT_EQ(motion_internal::FivePoseSubsets(7, 3, {0, 1, 2, 3, 4}),
+            (std::vector<std::vector<int>>{{0, 1, 3, 4, 6}, {0, 3, 4, 5, 6}}));  // ranks 7, 14 (rank 0 is the seed)
+  EXPECT_EQ(motion_internal::FivePoseSubsets(6, 100, {}).size(), 6u);
+  // Bad values: FILE:LINE:COLUMN: error:.
+  for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+           {"search: {subsets: -1}\n", ":13:19: error: subsets: expected an integer in [0, 100000], got -1"},
+           {"search: {subsets: 2.5}\n", ":13:19: error: subsets: expected an integer"}}) {
+    const std::string path = ::testing::TempDir() + "/motion7_bad.yaml";
+    std::ofstream(path) << yaml + text;  // the search on line 13
+    MotionTask t;
+    std::string error;
+    EXPECT_FALSE(ParseMotionTask(path, &t, &error));
+    EXPECT_NE(error.find(path + says), std::string::npos) << error;
+  }
 }
 
 // The refind task with the ground length d free and a ground region in its constraints.

@@ -48,6 +48,10 @@ struct MotionTask {
   int point_line = 1, point_column = 1, angle_line = 1, angle_column = 1;
   /// More than five poses: the five (0-based) whose Burmester points seed the least squares.
   std::vector<int> seed_poses;
+  /// More than five poses, the global stage (`search: {subsets: N}`): besides seed_poses, N
+  /// more five-pose subsets (every subset when N is at least their number) whose Burmester
+  /// points seed the least squares too; 0: seed_poses only.
+  int subsets = 0;
 };
 
 inline const std::vector<std::string>& MotionParameterKeys() {
@@ -118,8 +122,12 @@ inline bool ParseMotionTask(const std::string& path, MotionTask* task, std::stri
     }
     if (const YAML::Node s = root["search"]) {
       if (!s.IsMap()) throw Error{Where(path, s.Mark()) + "search: expected a mapping"};
-      Known(path, s, {"curve_rays"}, "search (motion task)");
+      Known(path, s, {"curve_rays", "subsets"}, "search (motion task)");
       if (s["curve_rays"]) task->curve_rays = static_cast<int>(Count(path, s["curve_rays"], "curve_rays", 90, 1000000));
+      if (const YAML::Node k = s["subsets"]) {
+        if (n <= 5) throw Error{Where(path, k.Mark()) + "search.subsets: only for more than five poses (the least squares)"};
+        task->subsets = static_cast<int>(Count(path, k, "subsets", 0, 100000));
+      }
     }
   } catch (const Error& e) {
     *error = e.message;
@@ -151,6 +159,10 @@ struct MotionCandidate {
 
 struct MotionResult {
   std::vector<Dyad> points;
+  /// The five poses (0-based) whose Burmester points each of `points` is, by index into
+  /// `subsets`: 0 the seed poses (or the five poses), then the global stage's subsets.
+  std::vector<int> point_subset;
+  std::vector<std::vector<int>> subsets;
   std::vector<MotionCandidate> candidates;
   int chosen = -1;                 ///< index into candidates, -1 none
   std::vector<CurvePoint> curve;   ///< four poses
@@ -159,6 +171,38 @@ struct MotionResult {
 };
 
 namespace motion_internal {
+
+/// The global stage's five-pose subsets of n poses: `count` of the C(n, 5) in lexicographic
+/// order, evenly spread over it (ranks floor(i C / count), i = 0 .. count - 1; every one when
+/// count >= C), less `seed` (the seed poses, already used). Unranked by the combinatorial
+/// number system (exact in long double below 2^64: n up to about 10^4).
+inline std::vector<std::vector<int>> FivePoseSubsets(int n, int count, const std::vector<int>& seed) {
+  std::vector<std::vector<int>> out;
+  if (count <= 0 || n < 5) return out;
+  auto choose = [](long double m, int k) {
+    if (m < k) return 0.0L;
+    long double c = 1;
+    for (int i = 0; i < k; ++i) c = c * (m - i) / (i + 1);
+    return c;
+  };
+  const long double total = choose(n, 5);
+  const long double want = std::min(static_cast<long double>(count), total);
+  for (long double i = 0; i < want; ++i) {
+    long double rank = std::floor(i * total / want);
+    std::vector<int> sub;
+    int v = 0;
+    for (int pos = 0; pos < 5; ++pos) {
+      for (;; ++v) {
+        const long double below = choose(n - 1 - v, 4 - pos);  // subsets with v at this position
+        if (rank < below) break;
+        rank -= below;
+      }
+      sub.push_back(v++);
+    }
+    if (sub != seed) out.push_back(sub);
+  }
+  return out;
+}
 /// The pose errors of a placed four-bar (the task's nine parameters, then gamma: the body's
 /// angle minus the coupler's) over the crank angles q_j, with the generated Jacobian:
 /// dr_P/dp and dphi/dp (EvalDesignDerivatives), K_P and K (EvalCoefficients).
@@ -293,11 +337,8 @@ bool SynthesizeMotion(const M& model, const MotionTask& task, const typename Mod
       return true;
     }
     const bool lsq = poses.size() > 5;
-    std::vector<Pose> seed_poses = poses;
     std::vector<int> column(9, -1);
     if (lsq) {
-      seed_poses.clear();
-      for (int j : task.seed_poses) seed_poses.push_back(poses[static_cast<size_t>(j)]);
       if (!C::HasDesign(model)) {
         return *error = task.file + ": error: more than five poses need the model's `design:` section (the least squares' "
                                     "Jacobian)",
@@ -314,10 +355,21 @@ bool SynthesizeMotion(const M& model, const MotionTask& task, const typename Mod
         }
       }
     }
-    r.points = BurmesterPoints(seed_poses, task.curve_rays);
     const int n = static_cast<int>(poses.size());
-    for (int i = 0; i < static_cast<int>(r.points.size()); ++i) {
-      for (int j = 0; j < static_cast<int>(r.points.size()); ++j) {
+    // The five poses whose Burmester points seed: the five, or the seed poses and then the
+    // global stage's subsets (each pair of a subset's points a start of the least squares).
+    r.subsets.push_back(lsq ? task.seed_poses : std::vector<int>{0, 1, 2, 3, 4});
+    if (lsq)
+      for (std::vector<int>& sub : motion_internal::FivePoseSubsets(n, task.subsets, task.seed_poses))
+        r.subsets.push_back(std::move(sub));
+    for (size_t set = 0; set < r.subsets.size(); ++set) {
+    std::vector<Pose> five;
+    for (int k : r.subsets[set]) five.push_back(poses[static_cast<size_t>(k)]);
+    const int first = static_cast<int>(r.points.size());
+    for (const Dyad& d : BurmesterPoints(five, task.curve_rays)) r.points.push_back(d), r.point_subset.push_back(static_cast<int>(set));
+    const int last = static_cast<int>(r.points.size());
+    for (int i = first; i < last; ++i) {
+      for (int j = first; j < last; ++j) {
         if (i == j) continue;
         MotionCandidate c;
         c.crank = i, c.rocker = j;
@@ -438,6 +490,7 @@ bool SynthesizeMotion(const M& model, const MotionTask& task, const typename Mod
         r.candidates.push_back(c);
       }
     }
+    }
     *out = r;
     return true;
   }
@@ -514,12 +567,28 @@ inline std::string MotionReport(const MotionTask& task, const MotionResult& r) {
          " poses, seeded from the Burmester points of poses";
     for (int j : task.seed_poses) s += " " + std::to_string(j + 1);
     s += " (" + std::to_string(r.evaluations) + " residual evaluations)\n";
+    if (r.subsets.size() > 1) {
+      s += "global stage (search.subsets " + std::to_string(task.subsets) + "): the Burmester points of " +
+           std::to_string(r.subsets.size() - 1) + " more five-pose subsets seed it too:";
+      for (size_t k = 1; k < r.subsets.size(); ++k) {
+        s += k > 1 ? ";" : "";
+        for (int j : r.subsets[k]) s += " " + std::to_string(j + 1);
+      }
+      s += "\n";
+    }
   }
   s += "Burmester points (real): " + std::to_string(r.points.size()) + "\n";
   for (size_t i = 0; i < r.points.size(); ++i) {
     const Dyad& d = r.points[i];
     s += "  " + std::to_string(i + 1) + ": centre (" + Num(d.M.x()) + ", " + Num(d.M.y()) + "), circle point (body) (" +
-         Num(d.k.x()) + ", " + Num(d.k.y()) + "), radius " + Short(d.radius, 9) + ", residual " + Short(d.residual, 3) + "\n";
+         Num(d.k.x()) + ", " + Num(d.k.y()) + "), radius " + Short(d.radius, 9) + ", residual " + Short(d.residual, 3) +
+         (r.subsets.size() > 1 && i < r.point_subset.size() ? ", of poses" + [&] {
+           std::string o;
+           for (int j : r.subsets[static_cast<size_t>(r.point_subset[i])]) o += " " + std::to_string(j + 1);
+           return o;
+         }()
+                                                             : std::string()) +
+         "\n";
   }
   s += "four-bars (crank dyad, rocker dyad):\n";
   for (size_t i = 0; i < r.candidates.size(); ++i) {
