@@ -363,133 +363,136 @@ bool SynthesizeMotion(const M& model, const MotionTask& task, const typename Mod
       for (std::vector<int>& sub : motion_internal::FivePoseSubsets(n, task.subsets, task.seed_poses))
         r.subsets.push_back(std::move(sub));
     for (size_t set = 0; set < r.subsets.size(); ++set) {
-    std::vector<Pose> five;
-    for (int k : r.subsets[set]) five.push_back(poses[static_cast<size_t>(k)]);
-    const int first = static_cast<int>(r.points.size());
-    for (const Dyad& d : BurmesterPoints(five, task.curve_rays)) r.points.push_back(d), r.point_subset.push_back(static_cast<int>(set));
-    const int last = static_cast<int>(r.points.size());
-    for (int i = first; i < last; ++i) {
-      for (int j = first; j < last; ++j) {
-        if (i == j) continue;
-        MotionCandidate c;
-        c.crank = i, c.rocker = j;
-        c.fourbar = FourBarOfDyads(poses, r.points[static_cast<size_t>(i)], r.points[static_cast<size_t>(j)]);
-        FourBarFromDyads& f = c.fourbar;
-        double gamma_fit = 0;
-        // The mode: the model's, or its mirror when the model's coupler is not at pose 1 on
-        // it (the other root of the four-bar's block: C on the other side of BD).
-        Modes modes = C::DefaultModes(model);
-        {
+      std::vector<Pose> five;
+      for (int k : r.subsets[set]) five.push_back(poses[static_cast<size_t>(k)]);
+      const int first = static_cast<int>(r.points.size());
+      for (const Dyad& d : BurmesterPoints(five, task.curve_rays))
+        r.points.push_back(d), r.point_subset.push_back(static_cast<int>(set));
+      const int last = static_cast<int>(r.points.size());
+      for (int i = first; i < last; ++i) {
+        for (int j = first; j < last; ++j) {
+          if (i == j) continue;
+          MotionCandidate c;
+          c.crank = i, c.rocker = j;
+          c.fourbar = FourBarOfDyads(poses, r.points[static_cast<size_t>(i)], r.points[static_cast<size_t>(j)]);
+          FourBarFromDyads& f = c.fourbar;
+          double gamma_fit = 0;
+          // The mode: the model's, or its mirror when the model's coupler is not at pose 1 on
+          // it (the other root of the four-bar's block: C on the other side of BD).
+          Modes modes = C::DefaultModes(model);
+          {
+            Params p = base;
+            const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
+            set_parameters(&p, values);
+            auto distance = [&](const Modes& m) {
+              VecPhi phi;
+              if (!SolveOnMode(model, p, f.crank_angle[0], &phi, /*judge=*/false, &m)) return kInf;
+              VecQ qv;
+              qv.resize(1);
+              qv(0) = f.crank_angle[0];
+              typename ModelTypes<M>::Coefficients co;
+              C::Coeffs(model, p, qv, phi, &co);
+              const double d = std::hypot(co.r_P(0, point) - poses[0].x, co.r_P(1, point) - poses[0].y);
+              return std::isfinite(d) ? d : kInf;
+            };
+            Modes mirror = modes;
+            mirror[0] = -mirror[0];
+            if (distance(mirror) < distance(modes)) modes = mirror;
+          }
+          c.mode = modes[0];
+          if constexpr (C::kView || HasDesignDerivatives<M>::value) {
+            if (lsq) {
+              // Least squares of the pose errors over all poses from this pair's four-bar.
+              std::vector<double> x = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0, 0.0};
+              std::vector<double> q = f.crank_angle;
+              {
+                // gamma: the body's angle minus the coupler's at the first pose (the coupler along BC).
+                const Eigen::Vector2d B = CirclePointAt(poses[0], r.points[static_cast<size_t>(i)].k);
+                const Eigen::Vector2d C = CirclePointAt(poses[0], r.points[static_cast<size_t>(j)].k);
+                x[9] = WrapPi(poses[0].angle - std::atan2(C.y() - B.y(), C.x() - B.x()));
+              }
+              auto* cost = new motion_internal::PoseResiduals<M>(model, poses, base, task.parameters, column, point,
+                                                                 angle, L, &r.evaluations, modes);
+              ceres::Problem problem;
+              problem.AddResidualBlock(cost, nullptr, x.data(), q.data());
+              // The start must assemble at every pose (else Ceres refuses it, and says so on stderr).
+              std::vector<double> start_residuals(static_cast<size_t>(3 * n));
+              const double* start_blocks[2] = {x.data(), q.data()};
+              const bool starts = cost->Evaluate(start_blocks, start_residuals.data(), nullptr);
+              for (int k = 0; k < 4; ++k) problem.SetParameterLowerBound(x.data(), k, 1e-9 * L);
+              const ceres::Solver::Options options = LocalSolverOptions();
+              ceres::Solver::Summary summary;
+              if (starts) ceres::Solve(options, &problem, &summary);
+              c.iterations = static_cast<int>(summary.iterations.size());
+              if (starts && summary.IsSolutionUsable()) {
+                f.a = x[0], f.b = x[1], f.c = x[2], f.d = x[3], f.xi = x[4], f.eta = x[5], f.x0 = x[6], f.y0 = x[7];
+                f.theta0 = x[8];
+                f.crank_angle = q;
+                gamma_fit = x[9];
+                c.error = 2 * summary.final_cost;
+              } else {
+                c.why = "the least squares could not start from this pair (the model does not assemble at every pose)";
+              }
+            }
+          }
           Params p = base;
           const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
           set_parameters(&p, values);
-          auto distance = [&](const Modes& m) {
-            VecPhi phi;
-            if (!SolveOnMode(model, p, f.crank_angle[0], &phi, /*judge=*/false, &m)) return kInf;
+          auto solve = [&](double q, VecPhi* phi) { return SolveOnMode(model, p, q, phi, /*judge=*/true, &modes); };
+          VecPhi phi;
+          typename ModelTypes<M>::Coefficients co;
+          c.worst_point = c.worst_angle = 0;
+          double offset = -gamma_fit;
+          for (int k = 0; k < n && c.why.empty(); ++k) {
+            const double q = f.crank_angle[static_cast<size_t>(k)];
+            if (!solve(q, &phi)) {
+              c.why =
+                  "pose " + std::to_string(k + 1) + ": the model does not assemble on its " + ModeName(model, c.mode);
+              break;
+            }
             VecQ qv;
             qv.resize(1);
-            qv(0) = f.crank_angle[0];
-            typename ModelTypes<M>::Coefficients co;
+            qv(0) = q;
             C::Coeffs(model, p, qv, phi, &co);
-            const double d = std::hypot(co.r_P(0, point) - poses[0].x, co.r_P(1, point) - poses[0].y);
-            return std::isfinite(d) ? d : kInf;
-          };
-          Modes mirror = modes;
-          mirror[0] = -mirror[0];
-          if (distance(mirror) < distance(modes)) modes = mirror;
-        }
-        c.mode = modes[0];
-        if constexpr (C::kView || HasDesignDerivatives<M>::value) {
-          if (lsq) {
-            // Least squares of the pose errors over all poses from this pair's four-bar.
-            std::vector<double> x = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0, 0.0};
-            std::vector<double> q = f.crank_angle;
-            {
-              // gamma: the body's angle minus the coupler's at the first pose (the coupler along BC).
-              const Eigen::Vector2d B = CirclePointAt(poses[0], r.points[static_cast<size_t>(i)].k);
-              const Eigen::Vector2d C = CirclePointAt(poses[0], r.points[static_cast<size_t>(j)].k);
-              x[9] = WrapPi(poses[0].angle - std::atan2(C.y() - B.y(), C.x() - B.x()));
-            }
-            auto* cost = new motion_internal::PoseResiduals<M>(model, poses, base, task.parameters, column, point, angle,
-                                                               L, &r.evaluations, modes);
-            ceres::Problem problem;
-            problem.AddResidualBlock(cost, nullptr, x.data(), q.data());
-            // The start must assemble at every pose (else Ceres refuses it, and says so on stderr).
-            std::vector<double> start_residuals(static_cast<size_t>(3 * n));
-            const double* start_blocks[2] = {x.data(), q.data()};
-            const bool starts = cost->Evaluate(start_blocks, start_residuals.data(), nullptr);
-            for (int k = 0; k < 4; ++k) problem.SetParameterLowerBound(x.data(), k, 1e-9 * L);
-            const ceres::Solver::Options options = LocalSolverOptions();
-            ceres::Solver::Summary summary;
-            if (starts) ceres::Solve(options, &problem, &summary);
-            c.iterations = static_cast<int>(summary.iterations.size());
-            if (starts && summary.IsSolutionUsable()) {
-              f.a = x[0], f.b = x[1], f.c = x[2], f.d = x[3], f.xi = x[4], f.eta = x[5], f.x0 = x[6], f.y0 = x[7];
-              f.theta0 = x[8];
-              f.crank_angle = q;
-              gamma_fit = x[9];
-              c.error = 2 * summary.final_cost;
-            } else {
-              c.why = "the least squares could not start from this pair (the model does not assemble at every pose)";
-            }
+            const double dp = std::hypot(co.r_P(0, point) - poses[static_cast<size_t>(k)].x,
+                                         co.r_P(1, point) - poses[static_cast<size_t>(k)].y);
+            if (k == 0 && !lsq) offset = phi(angle) - poses[0].angle;
+            const double da = std::abs(WrapPi(phi(angle) - poses[static_cast<size_t>(k)].angle - offset));
+            c.worst_point = std::max(c.worst_point, dp);
+            c.worst_angle = std::max(c.worst_angle, da);
+            if (!lsq && (!(dp <= 1e-9 * std::max(1.0, L)) || !(da <= 1e-9)))
+              c.why = "pose " + std::to_string(k + 1) + ": the model's coupler is not there on its " +
+                      ModeName(model, c.mode) + " (pose 1 on it, this pose on the other: the poses on two branches)";
           }
-        }
-        Params p = base;
-        const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
-        set_parameters(&p, values);
-        auto solve = [&](double q, VecPhi* phi) { return SolveOnMode(model, p, q, phi, /*judge=*/true, &modes); };
-        VecPhi phi;
-        typename ModelTypes<M>::Coefficients co;
-        c.worst_point = c.worst_angle = 0;
-        double offset = -gamma_fit;
-        for (int k = 0; k < n && c.why.empty(); ++k) {
-          const double q = f.crank_angle[static_cast<size_t>(k)];
-          if (!solve(q, &phi)) {
-            c.why = "pose " + std::to_string(k + 1) + ": the model does not assemble on its " + ModeName(model, c.mode);
-            break;
+          // From pose to pose, the crank turning the way the poses go.
+          double sum = 0;
+          for (int k = 0; k + 1 < n; ++k)
+            sum += WrapPi(f.crank_angle[static_cast<size_t>(k + 1)] - f.crank_angle[static_cast<size_t>(k)]);
+          const double dir = sum >= 0 ? 1.0 : -1.0;
+          for (int k = 0; k + 1 < n && c.why.empty(); ++k) {
+            const double q0 = f.crank_angle[static_cast<size_t>(k)];
+            const double span = Wrap(dir * (f.crank_angle[static_cast<size_t>(k + 1)] - q0));
+            const int steps = std::max(1, static_cast<int>(std::ceil(span / (kTwoPi / 720))));
+            for (int s = 1; s < steps && c.why.empty(); ++s)
+              if (!solve(q0 + dir * span * s / steps, &phi))
+                c.why = "between poses " + std::to_string(k + 1) + " and " + std::to_string(k + 2) +
+                        ": the model leaves its " + ModeName(model, c.mode) + " (a dead point or no closure)";
           }
-          VecQ qv;
-          qv.resize(1);
-          qv(0) = q;
-          C::Coeffs(model, p, qv, phi, &co);
-          const double dp = std::hypot(co.r_P(0, point) - poses[static_cast<size_t>(k)].x, co.r_P(1, point) - poses[static_cast<size_t>(k)].y);
-          if (k == 0 && !lsq) offset = phi(angle) - poses[0].angle;
-          const double da = std::abs(WrapPi(phi(angle) - poses[static_cast<size_t>(k)].angle - offset));
-          c.worst_point = std::max(c.worst_point, dp);
-          c.worst_angle = std::max(c.worst_angle, da);
-          if (!lsq && (!(dp <= 1e-9 * std::max(1.0, L)) || !(da <= 1e-9)))
-            c.why = "pose " + std::to_string(k + 1) + ": the model's coupler is not there on its " + ModeName(model, c.mode) +
-                    " (pose 1 on it, this pose on the other: the poses on two branches)";
+          c.ok = c.why.empty();
+          c.ratio = std::max({f.a, f.b, f.c, f.d}) / std::min({f.a, f.b, f.c, f.d});
+          // Five poses: the smallest link ratio; more: the smallest error (ties within 1e-12 L^2
+          // of it: the smaller link ratio).
+          if (c.ok) {
+            const MotionCandidate* best = r.chosen < 0 ? nullptr : &r.candidates[static_cast<size_t>(r.chosen)];
+            const bool better =
+                best == nullptr || (lsq ? (c.error < best->error - 1e-12 * L * L ||
+                                           (std::abs(c.error - best->error) <= 1e-12 * L * L && c.ratio < best->ratio))
+                                        : c.ratio < best->ratio);
+            if (better) r.chosen = static_cast<int>(r.candidates.size());
+          }
+          r.candidates.push_back(c);
         }
-        // From pose to pose, the crank turning the way the poses go.
-        double sum = 0;
-        for (int k = 0; k + 1 < n; ++k) sum += WrapPi(f.crank_angle[static_cast<size_t>(k + 1)] - f.crank_angle[static_cast<size_t>(k)]);
-        const double dir = sum >= 0 ? 1.0 : -1.0;
-        for (int k = 0; k + 1 < n && c.why.empty(); ++k) {
-          const double q0 = f.crank_angle[static_cast<size_t>(k)];
-          const double span = Wrap(dir * (f.crank_angle[static_cast<size_t>(k + 1)] - q0));
-          const int steps = std::max(1, static_cast<int>(std::ceil(span / (kTwoPi / 720))));
-          for (int s = 1; s < steps && c.why.empty(); ++s)
-            if (!solve(q0 + dir * span * s / steps, &phi))
-              c.why = "between poses " + std::to_string(k + 1) + " and " + std::to_string(k + 2) +
-                      ": the model leaves its " + ModeName(model, c.mode) + " (a dead point or no closure)";
-        }
-        c.ok = c.why.empty();
-        c.ratio = std::max({f.a, f.b, f.c, f.d}) / std::min({f.a, f.b, f.c, f.d});
-        // Five poses: the smallest link ratio; more: the smallest error (ties within 1e-12 L^2
-        // of it: the smaller link ratio).
-        if (c.ok) {
-          const MotionCandidate* best = r.chosen < 0 ? nullptr : &r.candidates[static_cast<size_t>(r.chosen)];
-          const bool better =
-              best == nullptr ||
-              (lsq ? (c.error < best->error - 1e-12 * L * L ||
-                      (std::abs(c.error - best->error) <= 1e-12 * L * L && c.ratio < best->ratio))
-                   : c.ratio < best->ratio);
-          if (better) r.chosen = static_cast<int>(r.candidates.size());
-        }
-        r.candidates.push_back(c);
       }
-    }
     }
     *out = r;
     return true;
