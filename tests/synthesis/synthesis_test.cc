@@ -16,6 +16,7 @@
 #include <fstream>
 #include <functional>
 #include <random>
+#include <set>
 #include <sstream>
 
 #include "fourbar.h"
@@ -1077,6 +1078,176 @@ TEST(FunctionSynthesis, MinimaxMeetsTheConstraints) {
       worst_u, grashof(xu), worst_p, worst_c, rc.minimax.exchanges);
 }
 
+// The free-start x^2 task of the equal-ripple tests: y = x^2 on [1, 2], input 60 deg from in0,
+// output 60 deg from out0, a, b, c in [0.5, 20] (d = 4) and both start angles free.
+std::string XSquaredFreeStartTask(const std::string& extra, const std::string& fit = ", fit: minimax") {
+  std::string yaml = Log10Task(5, "free_start: {input: [230deg, 300deg], output: [200deg, 280deg]}\n" + extra);
+  yaml.replace(yaml.find("log10(x)"), 8, "x^2");
+  yaml.replace(yaml.find("input: [90deg, 150deg], output: [20deg, 80deg]"), 46,
+               "input: [270deg, 330deg], output: [240deg, 300deg]");
+  yaml.replace(yaml.find("points: 5}"), 10, "points: 5" + fit + "}");
+  return yaml;
+}
+
+// The x^2 task's error in y by hand (circle intersection) for v = (a, b, c, in0, out0).
+double XSquaredError(const std::vector<double>& v, double x) {
+  const double t4 = HandTheta4(v[0], v[1], v[2], 4.0, v[3] + 60 * kDeg * (x - 1));
+  return WrapPi(t4 - v[4] - 60 * kDeg * (x * x - 1) / 3) * 3 / (60 * kDeg);
+}
+
+double XSquaredWorst(const std::vector<double>& v) {
+  double w = 0;
+  for (double e : HandExtrema([&](double x) { return XSquaredError(v, x); })) w = std::max(w, std::abs(e));
+  return w;
+}
+
+TEST(FunctionSynthesis, MinimaxWithFreeStartAnglesReachesSixEqualExtrema) {
+  // y = x^2 on [1, 2] with a, b, c and both start angles free (five variables): Chebyshev's
+  // criterion asks for six alternating extrema of equal magnitude. Five accuracy points (the
+  // seed: the four-bar exact at the five Chebyshev points, whose error has six sign runs) and
+  // the exchange on six. Oracles by hand (circle intersection on 20001 points, extrema by
+  // ternary search): six extrema, alternating, equal to 1e-9 relative; the largest below the
+  // five accuracy points' answer's; and no step of the five variables lowers it (along each,
+  // along 40 random directions, both ways at 1e-6, 1e-5 and 1e-3 of the scale: the first-order
+  // change of the largest error is positive in every direction at an equal-ripple optimum).
+  // An independent Remez exchange (hand error, central-difference Jacobian, seeded from the
+  // exact five-point four-bar; outside the project) ended at 1.64534e-4 rad of output.
+  const auto pts = BindFunctionYaml(XSquaredFreeStartTask("", ""), "fs_points.yaml");
+  const auto mm = BindFunctionYaml(XSquaredFreeStartTask(""), "fs_minimax.yaml");
+  ASSERT_EQ(mm.nx, 5);
+  const FunctionResult rp = SynthesizeFunction(pts, 1);
+  const FunctionResult rm = SynthesizeFunction(mm, 1);
+  ASSERT_TRUE(rp.best.feasible()) << rp.best.defect;
+  ASSERT_TRUE(rm.best.feasible()) << rm.best.defect;
+  ASSERT_TRUE(rm.minimax.converged) << rm.minimax.why;
+  ASSERT_TRUE(rm.minimax.used) << rm.minimax.why;
+  EXPECT_EQ(rm.minimax.reference, 6);
+  const std::vector<double>& xm = rm.best.x;
+  std::vector<double> at;
+  const auto em = HandExtrema([&](double x) { return XSquaredError(xm, x); }, &at);
+  const double worst_m = ExpectEqualRipple(em, 6, 1e-9);
+  for (size_t k = 1; k < em.size(); ++k) EXPECT_LT(em[k] * em[k - 1], 0) << "extrema " << k - 1 << ", " << k;
+  const double worst_p = XSquaredWorst(rp.best.x);
+  EXPECT_LT(worst_m, worst_p);
+  EXPECT_NEAR(rm.minimax.max_angle * 3 / (60 * kDeg), worst_m, 1e-12);
+  EXPECT_NEAR(rm.minimax.max_angle, 1.64534e-4, 1e-9);
+  std::vector<Eigen::Matrix<double, 5, 1>> dirs;
+  for (int j = 0; j < 5; ++j) dirs.push_back(Eigen::Matrix<double, 5, 1>::Unit(j));
+  std::mt19937 rng(44);
+  std::normal_distribution<double> normal;
+  for (int r = 0; r < 40; ++r) {
+    Eigen::Matrix<double, 5, 1> d;
+    for (int j = 0; j < 5; ++j) d(j) = normal(rng);
+    dirs.push_back(d.normalized());
+  }
+  for (const auto& d : dirs)
+    for (double step : {-1e-3, -1e-5, -1e-6, 1e-6, 1e-5, 1e-3}) {
+      std::vector<double> v = xm;
+      for (int j = 0; j < 5; ++j) v[static_cast<size_t>(j)] += step * d(j) * std::max(1.0, std::abs(xm[static_cast<size_t>(j)]));
+      EXPECT_GT(XSquaredWorst(v), worst_m) << "step " << step << " along " << d.transpose();
+    }
+  const std::string report = FunctionReport(mm, rm, 1);
+  EXPECT_EQ(report.find("a reduced exchange"), std::string::npos) << report;
+  std::printf("x^2 on [1, 2], a b c and free start angles: largest |error| in y: five Chebyshev points %.6g, minimax "
+              "%.10g on six extrema (%d exchanges, %d Lawson steps); a b c %.6g %.6g %.6g, in0 %.6g deg, out0 %.6g deg\n",
+              worst_p, worst_m, rm.minimax.exchanges, rm.minimax.lawson, xm[0], xm[1], xm[2], xm[3] / kDeg, xm[4] / kDeg);
+}
+
+TEST(FunctionSynthesis, MinimaxMeetsTheTransmissionAngleBound) {
+  // y = x^2 on [1, 2] (input 270 -> 330 deg, output 240 -> 300 deg; a, b, c vary, d = 4): the
+  // equal-ripple four-bar's transmission angle falls to 60.45 deg over the range (by hand).
+  // With `transmission_angle: [65deg, 150deg]` the minimax stage exchanges again with the bound
+  // active over the range. Oracles, all by hand (circle intersection and the cosine law on
+  // 20001 points, extrema by ternary search): the answer's smallest transmission angle over the
+  // range is the bound (to 1e-8 rad, not below it), its error has three alternating extrema
+  // of equal magnitude (three variables less one condition; 1e-9), its largest is above the
+  // unconstrained one's, and no step of 1e-4 along the bound's surface (the two directions
+  // orthogonal to the hand gradient of the smallest angle, both ways) or into the allowed side
+  // lowers it: a constrained minimax. A bound that is not active (50 deg) leaves the
+  // equal-ripple answer: four equal extrema at the unconstrained largest error.
+  auto task = [](const std::string& extra, const std::string& search) {
+    std::string yaml = Log10Task(3, extra, search);
+    yaml.replace(yaml.find("log10(x)"), 8, "x^2");
+    yaml.replace(yaml.find("input: [90deg, 150deg], output: [20deg, 80deg]"), 46,
+                 "input: [270deg, 330deg], output: [240deg, 300deg]");
+    yaml.replace(yaml.find("points: 3}"), 10, "points: 3, fit: minimax}");
+    return yaml;
+  };
+  auto error = [](const std::array<double, 3>& v, double x) {  // by hand, in y
+    const double t4 = HandTheta4(v[0], v[1], v[2], 4.0, 270 * kDeg + 60 * kDeg * (x - 1));
+    return WrapPi(t4 - 240 * kDeg - 60 * kDeg * (x * x - 1) / 3) * 3 / (60 * kDeg);
+  };
+  auto worst = [&](const std::array<double, 3>& v) {
+    double w = 0;
+    for (double e : HandExtrema([&](double x) { return error(v, x); })) w = std::max(w, std::abs(e));
+    return w;
+  };
+  auto mu_min = [](const std::array<double, 3>& v) {  // the smallest transmission angle over the range, by hand
+    const int N = 20000;
+    int best = 0;
+    double m = 1e300;
+    auto mu = [&](double t) { return HandMu(v[0], v[1], v[2], 4.0, 270 * kDeg + 60 * kDeg * t); };
+    for (int k = 0; k <= N; ++k)
+      if (mu(1.0 * k / N) < m) m = mu(1.0 * k / N), best = k;
+    double lo = 1.0 * std::max(best - 1, 0) / N, hi = 1.0 * std::min(best + 1, N) / N;
+    for (int it = 0; it < 100; ++it) {
+      const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+      if (mu(m1) < mu(m2)) hi = m2;
+      else lo = m1;
+    }
+    return std::min(m, mu(0.5 * (lo + hi)));
+  };
+  const std::string search = "{restarts: 4, evaluations: 8000}";
+  const FunctionResult ru = SynthesizeFunction(BindFunctionYaml(task("", "{restarts: 0}"), "tu.yaml"), 1);
+  ASSERT_TRUE(ru.minimax.converged && ru.minimax.used) << ru.minimax.why;
+  const std::array<double, 3> xu = {ru.best.x[0], ru.best.x[1], ru.best.x[2]};
+  const double worst_u = worst(xu);
+  EXPECT_LT(mu_min(xu), 61 * kDeg);
+  EXPECT_GT(mu_min(xu), 60 * kDeg);
+  // Not active: the same equal ripple.
+  const FunctionResult rl =
+      SynthesizeFunction(BindFunctionYaml(task("constraints: {transmission_angle: [50deg, 150deg]}\n", search), "tl.yaml"), 1);
+  ASSERT_TRUE(rl.minimax.converged && rl.minimax.used) << rl.minimax.why;
+  EXPECT_EQ(rl.minimax.constraint, "");
+  const std::array<double, 3> xl = {rl.best.x[0], rl.best.x[1], rl.best.x[2]};
+  EXPECT_NEAR(ExpectEqualRipple(HandExtrema([&](double x) { return error(xl, x); }), 4, 1e-9), worst_u, 1e-9 * worst_u);
+  // Active.
+  const auto bc = BindFunctionYaml(task("constraints: {transmission_angle: [65deg, 150deg]}\n", search), "tc.yaml");
+  const FunctionResult rc = SynthesizeFunction(bc, 1);
+  ASSERT_TRUE(rc.best.feasible()) << rc.best.defect;
+  EXPECT_EQ(rc.minimax.constraint, "the transmission angle falls below its bound");
+  ASSERT_TRUE(rc.minimax.constrained_converged) << rc.minimax.why;
+  ASSERT_TRUE(rc.minimax.used) << rc.minimax.why;
+  const std::array<double, 3> xc = {rc.best.x[0], rc.best.x[1], rc.best.x[2]};
+  EXPECT_GE(mu_min(xc), 65 * kDeg - 1e-12);
+  EXPECT_LT(mu_min(xc), 65 * kDeg + 1e-8);
+  const auto ec = HandExtrema([&](double x) { return error(xc, x); });
+  for (size_t k = 1; k < ec.size(); ++k) EXPECT_LT(ec[k] * ec[k - 1], 0);
+  const double worst_c = ExpectEqualRipple(ec, 3, 1e-9);
+  EXPECT_GT(worst_c, worst_u);
+  EXPECT_NEAR(rc.minimax.max_angle * 3 / (60 * kDeg), worst_c, 1e-12);
+  Eigen::Vector3d g;
+  for (int j = 0; j < 3; ++j) {
+    std::array<double, 3> vp = xc, vm = xc;
+    vp[static_cast<size_t>(j)] += 1e-6, vm[static_cast<size_t>(j)] -= 1e-6;
+    g(j) = (mu_min(vp) - mu_min(vm)) / 2e-6;
+  }
+  const Eigen::Vector3d u = g.unitOrthogonal(), w = g.cross(u).normalized();
+  for (const Eigen::Vector3d& t : {Eigen::Vector3d(u), Eigen::Vector3d(-u), Eigen::Vector3d(w), Eigen::Vector3d(-w),
+                                   Eigen::Vector3d(g.normalized())}) {
+    const std::array<double, 3> v = {xc[0] + 1e-4 * t(0), xc[1] + 1e-4 * t(1), xc[2] + 1e-4 * t(2)};
+    EXPECT_GT(worst(v), worst_c) << t.transpose();
+  }
+  const std::string report = FunctionReport(bc, rc, 1);
+  EXPECT_NE(report.find("breaks a constraint (the transmission angle falls below its bound; its largest |error| " +
+                        Short(rc.minimax.unconstrained_max * 3 / (60 * kDeg), 6)),
+            std::string::npos)
+      << report;
+  std::printf("x^2 on [1, 2], a b c, transmission angle >= 65 deg: unconstrained minimax %.6g (smallest angle %.4f deg), "
+              "constrained minimax %.6g (smallest angle %.10g deg; a b c %.6g %.6g %.6g; %d exchanges)\n",
+              worst_u, mu_min(xu) / kDeg, worst_c, mu_min(xc) / kDeg, xc[0], xc[1], xc[2], rc.minimax.exchanges);
+}
+
 TEST(FunctionSynthesis, FreeStartAnglesWithPairs) {
   // Seven pairs of the shipped four-bar (hand formula) at 40, 60, ..., 160 deg, all inputs
   // written 10 deg higher and all outputs 7 deg lower: no four-bar with its ground along +x
@@ -1488,6 +1659,94 @@ TEST(MotionSynthesis, SixPosesByLeastSquaresReproducedByHand) {
   EXPECT_GT(m.error, 0);
   EXPECT_LT(m.error, 1e-6);           // the seed (exact at five poses) misses pose 4 by 1e-3: 1e-6
   EXPECT_LT(m.worst_point, 1e-3);
+}
+
+TEST(MotionSynthesis, GlobalStageOverFivePoseSubsets) {
+  // Seven poses of the placed four-bar (the crank at 20, 60, 100, 150, 200, 250, 300 deg), the
+  // seventh moved by (0.3, -0.15) and 0.1 rad: no four-bar meets all seven. The default seed
+  // poses (1, 3, 4, 6, 7) hold the moved one, and the least squares from their Burmester
+  // points' pairs ends in a basin the global stage (`search: {subsets: 21}`: all 21 five-pose
+  // subsets) beats. Oracles by hand (circle intersection at each four-bar's crank angles, the
+  // body's angle offset the mean of the angle errors, which is where the least squares puts
+  // it): the errors the library reports are the hand ones (1e-9 relative), the global one below
+  // a fifth of the seeds' alone; the subsets are the 21 of seven poses, each once, the seed
+  // poses' first.
+  const HandFourBar f;
+  const std::vector<double> q = {20 * kDeg, 60 * kDeg, 100 * kDeg, 150 * kDeg, 200 * kDeg, 250 * kDeg, 300 * kDeg};
+  std::vector<Pose> poses = PosesOf(f, q);
+  poses[6].x += 0.3, poses[6].y -= 0.15, poses[6].angle += 0.1;
+  std::string yaml = "synthesis: motion\npoint: coupler.P\ncoupler_angle: theta_coupler\nposes:\n";
+  for (const Pose& p : poses) yaml += "  - [" + Num(p.x) + ", " + Num(p.y) + ", " + Num(p.angle) + "]\n";
+  yaml += "parameters: {crank: a, coupler: b, rocker: c, ground: d, xi: xi, eta: eta, x0: x0, y0: y0, theta0: theta0}\n";
+  auto run = [&](const std::string& extra, MotionTask* task, MotionResult* r) {
+    const std::string path = ::testing::TempDir() + "/motion7_task.yaml";
+    std::ofstream(path) << yaml + extra;
+    std::string error;
+    ASSERT_TRUE(ParseMotionTask(path, task, &error)) << error;
+    ASSERT_TRUE(SynthesizeMotion<mech::synth_fourbar::Model>(*task, {}, r, &error)) << error;
+    ASSERT_GE(r->chosen, 0) << MotionReport(*task, *r);
+  };
+  MotionTask ts, tg;
+  MotionResult rs, rg;
+  run("", &ts, &rs);
+  run("search: {subsets: 21}\n", &tg, &rg);
+  EXPECT_EQ(ts.seed_poses, (std::vector<int>{0, 2, 3, 5, 6}));
+  EXPECT_EQ(tg.subsets, 21);
+  ASSERT_EQ(rg.subsets.size(), 21u);
+  EXPECT_EQ(rg.subsets[0], ts.seed_poses);
+  std::set<std::vector<int>> distinct(rg.subsets.begin(), rg.subsets.end());
+  EXPECT_EQ(distinct.size(), 21u);
+  for (const auto& s : rg.subsets) {
+    ASSERT_EQ(s.size(), 5u);
+    for (size_t k = 1; k < 5; ++k) EXPECT_LT(s[k - 1], s[k]);
+    EXPECT_LT(s[4], 7);
+  }
+  // The least-squares error by hand.
+  const double L = burmester_internal::Scale(poses);
+  auto hand_error = [&](const MotionResult& r) {
+    const MotionCandidate& c = r.candidates[static_cast<size_t>(r.chosen)];
+    const FourBarFromDyads& fb = c.fourbar;
+    HandFourBar g;
+    g.a = fb.a, g.b = fb.b, g.c = fb.c, g.d = fb.d, g.xi = fb.xi, g.eta = fb.eta, g.x0 = fb.x0, g.y0 = fb.y0, g.theta0 = fb.theta0;
+    g.side = c.mode == r.model_mode ? 1 : -1;
+    double points = 0, mean = 0;
+    std::vector<double> da;
+    for (size_t j = 0; j < poses.size(); ++j) {
+      const Pose h = g.PoseAt(fb.crank_angle[j]);
+      points += std::pow(h.x - poses[j].x, 2) + std::pow(h.y - poses[j].y, 2);
+      da.push_back(WrapPi(h.angle - poses[j].angle - (g.PoseAt(fb.crank_angle[0]).angle - poses[0].angle)));
+      mean += da.back() / static_cast<double>(poses.size());
+    }
+    double angles = 0;
+    for (double d : da) angles += L * L * (d - mean) * (d - mean);
+    return points + angles;
+  };
+  const double es = rs.candidates[static_cast<size_t>(rs.chosen)].error, eg = rg.candidates[static_cast<size_t>(rg.chosen)].error;
+  EXPECT_NEAR(hand_error(rs), es, 1e-9 * es);
+  EXPECT_NEAR(hand_error(rg), eg, 1e-9 * eg);
+  EXPECT_LT(eg, 0.2 * es);
+  const std::string report = MotionReport(tg, rg);
+  EXPECT_NE(report.find("global stage (search.subsets 21): the Burmester points of 20 more five-pose subsets"),
+            std::string::npos)
+      << report;
+  std::printf("seven poses, the seventh moved: seed poses 1 3 4 6 7 alone: %zu Burmester points, error %.8g; with all 21 "
+              "subsets: %zu points, error %.8g (%lld residual evaluations)\n",
+              rs.points.size(), es, rg.points.size(), eg, rg.evaluations);
+  // Fewer subsets than there are: evenly spread over the lexicographic order, the seed poses' skipped.
+  EXPECT_EQ(motion_internal::FivePoseSubsets(7, 3, {0, 1, 2, 3, 4}),
+            (std::vector<std::vector<int>>{{0, 1, 3, 4, 6}, {0, 3, 4, 5, 6}}));  // ranks 7, 14 (rank 0 is the seed)
+  EXPECT_EQ(motion_internal::FivePoseSubsets(6, 100, {}).size(), 6u);
+  // Bad values: FILE:LINE:COLUMN: error:.
+  for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+           {"search: {subsets: -1}\n", ":13:19: error: subsets: expected an integer in [0, 100000], got -1"},
+           {"search: {subsets: 2.5}\n", ":13:19: error: subsets: expected an integer"}}) {
+    const std::string path = ::testing::TempDir() + "/motion7_bad.yaml";
+    std::ofstream(path) << yaml + text;  // the search on line 13
+    MotionTask t;
+    std::string error;
+    EXPECT_FALSE(ParseMotionTask(path, &t, &error));
+    EXPECT_NE(error.find(path + says), std::string::npos) << error;
+  }
 }
 
 // The refind task with the ground length d free and a ground region in its constraints.

@@ -508,6 +508,21 @@ class FunctionEvaluator {
     return true;
   }
 
+  /// The smallest and the largest of the model's transmission angles at input q (rad); false
+  /// where it does not assemble on its mode or has no transmission angle.
+  bool MuAt(const Params& p, double q, double* lo, double* hi) {
+    VecPhi phi;
+    if (C::NumTransmissionAngles(model_) == 0 || !PhiAt(p, q, &phi)) return false;
+    VecQ qv;
+    qv.resize(1);
+    qv(0) = q;
+    TransmissionAngleVector mu;
+    C::TransmissionAngles(model_, p, qv, phi, &mu);
+    *lo = kInf, *hi = -kInf;
+    for (int k = 0; k < C::NumTransmissionAngles(model_); ++k) *lo = std::min(*lo, mu(k)), *hi = std::max(*hi, mu(k));
+    return true;
+  }
+
   /// The residuals and the checks of x (one evaluation).
   FunctionCandidate Check(const std::vector<double>& x) {
     ++evaluations;
@@ -694,6 +709,7 @@ struct MinimaxResult {
   /// with that constraint active (ConstrainedExchange). `constraint`: its defect message.
   std::string constraint;
   bool constrained_converged = false;
+  int active = 0;                   ///< how many constraints the last constrained exchange held (their messages `; `-joined)
   double unconstrained_max = kInf;  ///< the equal-ripple answer's largest |error| (rad), which breaks it
 };
 
@@ -757,11 +773,68 @@ bool RangeExtrema(FunctionEvaluator<M>* eval, const std::vector<double>& x, std:
   return true;
 }
 
-/// The signed amount of the parameter-only constraint `what` at x (the amount its flag gets:
-/// > 0 broken, <= 0 met); NaN when no constraint by that message is checked.
+inline const char* kMuBelow = "the transmission angle falls below its bound";
+inline const char* kMuAbove = "the transmission angle rises above its bound";
+
+/// The transmission angle's amount at x over the whole range the answer serves: mu_lo - min mu
+/// (`below`) or max mu - mu_hi, the input from in0 to in0 + in_span (wider than Check's walk,
+/// which goes from the first accuracy point to the last: meeting the bound here meets it
+/// there), or the full turn when the crank must turn fully (crank_rotates, crank_shortest);
+/// the extreme is the samples' (t.samples of them; 360 for the full turn) refined by golden
+/// section between its neighbours (60 steps), so that the amount is a smooth function of x
+/// where the extreme is inside (its derivative that of mu at a fixed input, the envelope) and
+/// where it is at an end. NaN where the mechanism does not assemble on the way.
 template <class M>
-double ConstraintAmount(const FunctionEvaluator<M>& eval, const std::vector<double>& x, const std::string& what) {
+double TransmissionAmount(FunctionEvaluator<M>& eval, const std::vector<double>& x, bool below) {
   const BoundFunction<M>& b = eval.bound();
+  const FunctionTask& t = b.task;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto p = eval.ParamsOf(x);
+  const bool full_turn = CheckParameterConstraints(eval.model(), p, t.constraints, b.checks, [](double, const std::string&) {});
+  const double q0 = eval.InStart(x), span = full_turn ? kTwoPi : t.in_span;
+  const int N = full_turn ? 360 : std::max(t.samples, 2);
+  // The signed extreme: min mu (below) or -max mu, so that the smallest is wanted either way.
+  auto value = [&](double q, double* v) {
+    double lo = 0, hi = 0;
+    if (!eval.MuAt(p, q, &lo, &hi)) return false;
+    *v = below ? lo : -hi;
+    return true;
+  };
+  auto qi = [&](int k) { return q0 + span * k / N; };
+  int best = 0;
+  double vb = kInf;
+  for (int k = 0; k <= N; ++k) {
+    double v = 0;
+    if (!value(qi(k), &v)) return nan;
+    if (v < vb) vb = v, best = k;
+  }
+  if (full_turn || (best > 0 && best < N)) {
+    const double g = 0.5 * (std::sqrt(5.0) - 1);
+    double lo = qi(best - 1), hi = qi(best + 1), u = hi - g * (hi - lo), w = lo + g * (hi - lo), fu = 0, fw = 0;
+    if (!value(u, &fu) || !value(w, &fw)) return nan;
+    for (int it = 0; it < 60; ++it) {
+      if (fu < fw) {
+        hi = w, w = u, fw = fu, u = hi - g * (hi - lo);
+        if (!value(u, &fu)) return nan;
+      } else {
+        lo = u, u = w, fu = fw, w = lo + g * (hi - lo);
+        if (!value(w, &fw)) return nan;
+      }
+    }
+    vb = std::min({vb, fu, fw});
+  }
+  return below ? t.constraints.mu_lo - vb : -vb - t.constraints.mu_hi;
+}
+
+/// The signed amount of the constraint `what` at x (the amount its flag gets: > 0 broken, <= 0
+/// met): a parameter-only one (path.h CheckParameterConstraints) or the transmission angle's
+/// bounds over the range (TransmissionAmount); NaN when no constraint by that message is checked.
+template <class M>
+double ConstraintAmount(FunctionEvaluator<M>& eval, const std::vector<double>& x, const std::string& what) {
+  const BoundFunction<M>& b = eval.bound();
+  if (what == kMuBelow || what == kMuAbove)
+    return b.task.constraints.has_mu ? TransmissionAmount(eval, x, what == kMuBelow)
+                                     : std::numeric_limits<double>::quiet_NaN();
   double amount = std::numeric_limits<double>::quiet_NaN();
   CheckParameterConstraints(eval.model(), eval.ParamsOf(x), b.task.constraints, b.checks, [&](double a, const std::string& w) {
     if (w == what && !(amount > a)) amount = a;  // the largest when flagged twice
@@ -769,14 +842,21 @@ double ConstraintAmount(const FunctionEvaluator<M>& eval, const std::vector<doub
   return amount;
 }
 
-/// The first parameter-only constraint x breaks (its message), empty when none.
+/// The first constraint the minimax stage sees that x breaks (its message), empty when none:
+/// the parameter-only ones, then the transmission angle's bounds over the range.
 template <class M>
-std::string BrokenConstraint(const FunctionEvaluator<M>& eval, const std::vector<double>& x) {
+std::string BrokenConstraint(FunctionEvaluator<M>& eval, const std::vector<double>& x) {
   const BoundFunction<M>& b = eval.bound();
   std::string broken;
   CheckParameterConstraints(eval.model(), eval.ParamsOf(x), b.task.constraints, b.checks, [&](double a, const std::string& w) {
     if (a > 0 && broken.empty()) broken = w;
   });
+  if (broken.empty() && b.task.constraints.has_mu && ModelCalls<M>::NumTransmissionAngles(eval.model()) > 0) {
+    for (const char* what : {kMuBelow, kMuAbove}) {
+      const double a = TransmissionAmount(eval, x, what == kMuBelow);
+      if (broken.empty() && !(a <= 0)) broken = what;  // NaN (no assembly on the way) counts as broken
+    }
+  }
   return broken;
 }
 
@@ -790,7 +870,7 @@ class RangeResiduals : public ceres::CostFunction {
                  std::vector<double> at,
                  std::vector<double> weight,
                  std::vector<double> sigma,
-                 std::string active = std::string(),
+                 std::vector<std::string> active = {},
                  double margin = 0)
       : eval_(eval),
         at_(std::move(at)),
@@ -798,7 +878,7 @@ class RangeResiduals : public ceres::CostFunction {
         sigma_(std::move(sigma)),
         active_(std::move(active)),
         margin_(margin) {
-    set_num_residuals(static_cast<int>(at_.size()) + (active_.empty() ? 0 : 1));
+    set_num_residuals(static_cast<int>(at_.size() + active_.size()));
     mutable_parameter_block_sizes()->push_back(static_cast<int32_t>(eval->bound().nx + (sigma_.empty() ? 0 : 1)));
   }
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
@@ -816,21 +896,25 @@ class RangeResiduals : public ceres::CostFunction {
       for (int j = 0; j < nx; ++j) row[j] *= weight_[k];
       if (!sigma_.empty()) row[nx] = -sigma_[k];
     }
-    if (active_.empty()) return true;
-    // The active constraint's row: its amount held at -margin (just inside). The amount is
-    // piecewise linear in the link lengths (sums, differences, the ratio bound's multiple), so
-    // a central difference quotient is its exact gradient within a piece (one evaluation each).
-    const size_t last = at_.size();
-    residuals[last] = ConstraintAmount(*eval_, x, active_) + margin_;
-    if (!std::isfinite(residuals[last])) return false;
-    if (!jac) return true;
-    double* row = jacobians[0] + last * static_cast<size_t>(nz);
-    for (int j = 0; j < nz; ++j) row[j] = 0;
-    for (int j = 0; j < eval_->bound().nv; ++j) {
-      const double h = 1e-6 * std::max(1.0, std::abs(x[static_cast<size_t>(j)]));
-      std::vector<double> xp = x, xm = x;
-      xp[static_cast<size_t>(j)] += h, xm[static_cast<size_t>(j)] -= h;
-      row[j] = (ConstraintAmount(*eval_, xp, active_) - ConstraintAmount(*eval_, xm, active_)) / (2 * h);
+    // The active constraints' rows: each amount held at -margin (just inside). A parameter-only
+    // amount is piecewise linear in the link lengths (sums, differences, the ratio bound's
+    // multiple), so a central difference quotient is its exact gradient within a piece; the
+    // transmission angle's is smooth (its extreme over the range located, TransmissionAmount),
+    // its quotient within O(h^2). Every variable: the input's start angle moves the range.
+    for (size_t c = 0; c < active_.size(); ++c) {
+      const size_t last = at_.size() + c;
+      residuals[last] = ConstraintAmount(*eval_, x, active_[c]) + margin_;
+      if (!std::isfinite(residuals[last])) return false;
+      if (!jac) continue;
+      double* row = jacobians[0] + last * static_cast<size_t>(nz);
+      for (int j = 0; j < nz; ++j) row[j] = 0;
+      for (int j = 0; j < nx; ++j) {
+        const double h = 1e-6 * std::max(1.0, std::abs(x[static_cast<size_t>(j)]));
+        std::vector<double> xp = x, xm = x;
+        xp[static_cast<size_t>(j)] += h, xm[static_cast<size_t>(j)] -= h;
+        row[j] = (ConstraintAmount(*eval_, xp, active_[c]) - ConstraintAmount(*eval_, xm, active_[c])) / (2 * h);
+        if (!std::isfinite(row[j])) return false;
+      }
     }
     return true;
   }
@@ -838,7 +922,7 @@ class RangeResiduals : public ceres::CostFunction {
  private:
   FunctionEvaluator<M>* eval_;
   std::vector<double> at_, weight_, sigma_;
-  std::string active_;
+  std::vector<std::string> active_;
   double margin_ = 0;
 };
 
@@ -892,44 +976,50 @@ inline void Reduce(int keep, std::vector<double>* ex, std::vector<double>* ee) {
   }
 }
 
-/// The exchange with one parameter-only constraint active (`what`, its amount held 1e-10 inside
-/// its bound): the nx variables less that condition leave nx alternating extrema of equal
-/// magnitude at the constrained optimum (Chebyshev's criterion on the constraint's surface).
-/// The reference (the equal-ripple answer's extrema, reduced to nx) is levelled with the
-/// constraint's row (a square system in the variables and E), then exchanged for the new
-/// error's extrema, until their magnitudes agree to 1e-9 relative (at most 40 steps). *x: the
-/// levelled point with the smallest largest error among those that break no parameter-only
-/// constraint (unchanged when none does).
+/// The exchange with constraints active (`active`: their messages, each amount held 1e-10
+/// inside its bound): the nx variables less those k conditions leave nx + 1 - k alternating
+/// extrema of equal magnitude at the constrained optimum (Chebyshev's criterion on the
+/// constraints' surface). The reference (the extrema of the error at `start`, reduced to
+/// nx + 1 - k) is levelled with the constraints' rows (a square system in the variables and E),
+/// then exchanged for the new error's extrema, until their magnitudes agree to 1e-9 relative
+/// (at most 40 steps). *x: the levelled point with the smallest largest error among those that
+/// break no constraint the stage sees (BrokenConstraint; unchanged when none does). Returns the
+/// last levelled point (`start` when none was levelled).
 template <class M>
-void ConstrainedExchange(FunctionEvaluator<M>* eval,
-                         const std::string& what,
-                         std::vector<double>* x,
-                         MinimaxResult* m) {
-  const int nx = eval->bound().nx;
+std::vector<double> ConstrainedExchange(FunctionEvaluator<M>* eval,
+                                        const std::vector<std::string>& active,
+                                        const std::vector<double>& start,
+                                        std::vector<double>* x,
+                                        MinimaxResult* m) {
+  const int nx = eval->bound().nx, keep = nx + 1 - static_cast<int>(active.size());
+  std::string what;
+  for (const std::string& a : active) what += (what.empty() ? "" : "; ") + a;
   auto largest = [](const std::vector<double>& v) {
     double w = 0;
     for (double e : v) w = std::max(w, std::abs(e));
     return w;
   };
+  m->constrained_converged = false;
   std::vector<double> ex, ee;
   ++eval->evaluations;
-  if (!RangeExtrema(eval, *x, &ex, &ee) || static_cast<int>(ex.size()) < nx) {
+  if (!RangeExtrema(eval, start, &ex, &ee) || static_cast<int>(ex.size()) < keep) {
     m->why = "the equal-ripple answer breaks a constraint (" + what + ") and has too few extrema for its exchange";
-    return;
+    return start;
   }
-  Reduce(nx, &ex, &ee);
-  std::vector<double> z = *x, best;
+  Reduce(keep, &ex, &ee);
+  std::vector<double> z = start, best, last = start;
   double best_max = kInf;
   m->why.clear();
   for (int step = 0; step < 40; ++step) {
     std::vector<double> sigma;
     StartLevel(ee, nx, &sigma, &z);
     const double cost =
-        SolveRange(eval, new RangeResiduals<M>(eval, ex, std::vector<double>(ex.size(), 1.0), sigma, what, 1e-10), &z,
+        SolveRange(eval, new RangeResiduals<M>(eval, ex, std::vector<double>(ex.size(), 1.0), sigma, active, 1e-10), &z,
                    &m->iterations);
     ++m->exchanges;
     m->level = std::abs(z[static_cast<size_t>(nx)]);
     const std::vector<double> xz(z.begin(), z.begin() + nx);
+    last = xz;
     std::vector<double> nex, nee;
     ++eval->evaluations;
     if (!RangeExtrema(eval, xz, &nex, &nee)) {
@@ -942,11 +1032,11 @@ void ConstrainedExchange(FunctionEvaluator<M>* eval,
       m->why = "a levelled solve on the constraint (" + what + ") found no equal-ripple point near the reference";
       break;
     }
-    if (static_cast<int>(nex.size()) < nx) {
-      m->why = "the levelled error on the constraint has fewer than " + std::to_string(nx) + " alternating extrema";
+    if (static_cast<int>(nex.size()) < keep) {
+      m->why = "the levelled error on the constraint has fewer than " + std::to_string(keep) + " alternating extrema";
       break;
     }
-    Reduce(nx, &nex, &nee);
+    Reduce(keep, &nex, &nee);
     ex = nex, ee = nee;
     double lo = kInf;
     for (double e : ee) lo = std::min(lo, std::abs(e));
@@ -957,6 +1047,7 @@ void ConstrainedExchange(FunctionEvaluator<M>* eval,
   }
   if (!m->constrained_converged && m->why.empty()) m->why = "40 exchange steps on the constraint without equal extrema";
   if (!best.empty()) *x = best, m->max_angle = best_max;
+  return last;
 }
 
 }  // namespace function_internal
@@ -986,11 +1077,22 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
   std::vector<double> best = *x;
   auto finish = [&]() {
     // The constraints: an answer that breaks a parameter-only one is exchanged again with it active.
-    const std::string broken = function_internal::BrokenConstraint(*eval, best);
-    if (!broken.empty()) {
-      m.constraint = broken;
-      m.unconstrained_max = m.max_angle;
-      function_internal::ConstrainedExchange(eval, broken, &best, &m);
+    // The constraints: an answer that breaks one the stage sees is exchanged again with it
+    // active; when that answer breaks another, again with both (from where the last ended), and
+    // so on while two extrema at least are left.
+    std::vector<double> start = best;
+    std::vector<std::string> active;
+    for (;;) {
+      const std::string broken = function_internal::BrokenConstraint(*eval, start);
+      if (broken.empty() || std::find(active.begin(), active.end(), broken) != active.end() ||
+          static_cast<int>(active.size()) + 1 > nx - 1)
+        break;
+      if (active.empty()) m.unconstrained_max = m.max_angle;
+      active.push_back(broken);
+      m.constraint += (m.constraint.empty() ? "" : "; ") + broken;
+      m.active = static_cast<int>(active.size());
+      start = function_internal::ConstrainedExchange(eval, active, start, &best, &m);
+      if (!m.constrained_converged) break;
     }
     *x = best;
     std::vector<double> zx, ze;
@@ -1388,7 +1490,9 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
          (m.used ? "" : "; not used" + (m.converged ? ": " + m.why : std::string())) + "\n";
     if (!m.constraint.empty())
       s += "the equal-ripple answer breaks a constraint (" + m.constraint + "; its largest |error| " +
-           Short(m.unconstrained_max * std::abs(to_y), 6) + " in y): exchanged again with it active (one extremum fewer), " +
+           Short(m.unconstrained_max * std::abs(to_y), 6) + " in y): exchanged again with " +
+           (m.active > 1 ? "them active (" + std::to_string(m.active) + " extrema fewer), "
+                         : std::string("it active (one extremum fewer), ")) +
            (m.constrained_converged ? "converged" : "not converged: " + m.why) + "\n";
     if (std::isfinite(m.max_angle)) {
       s += "largest |structural error| over the range (extrema located): " + Short(m.max_angle * std::abs(to_y), 6) +

@@ -48,6 +48,10 @@ struct MotionTask {
   int point_line = 1, point_column = 1, angle_line = 1, angle_column = 1;
   /// More than five poses: the five (0-based) whose Burmester points seed the least squares.
   std::vector<int> seed_poses;
+  /// More than five poses, the global stage (`search: {subsets: N}`): besides seed_poses, N
+  /// more five-pose subsets (every subset when N is at least their number) whose Burmester
+  /// points seed the least squares too; 0: seed_poses only.
+  int subsets = 0;
 };
 
 inline const std::vector<std::string>& MotionParameterKeys() {
@@ -118,8 +122,12 @@ inline bool ParseMotionTask(const std::string& path, MotionTask* task, std::stri
     }
     if (const YAML::Node s = root["search"]) {
       if (!s.IsMap()) throw Error{Where(path, s.Mark()) + "search: expected a mapping"};
-      Known(path, s, {"curve_rays"}, "search (motion task)");
+      Known(path, s, {"curve_rays", "subsets"}, "search (motion task)");
       if (s["curve_rays"]) task->curve_rays = static_cast<int>(Count(path, s["curve_rays"], "curve_rays", 90, 1000000));
+      if (const YAML::Node k = s["subsets"]) {
+        if (n <= 5) throw Error{Where(path, k.Mark()) + "search.subsets: only for more than five poses (the least squares)"};
+        task->subsets = static_cast<int>(Count(path, k, "subsets", 0, 100000));
+      }
     }
   } catch (const Error& e) {
     *error = e.message;
@@ -151,6 +159,10 @@ struct MotionCandidate {
 
 struct MotionResult {
   std::vector<Dyad> points;
+  /// The five poses (0-based) whose Burmester points each of `points` is, by index into
+  /// `subsets`: 0 the seed poses (or the five poses), then the global stage's subsets.
+  std::vector<int> point_subset;
+  std::vector<std::vector<int>> subsets;
   std::vector<MotionCandidate> candidates;
   int chosen = -1;                 ///< index into candidates, -1 none
   std::vector<CurvePoint> curve;   ///< four poses
@@ -159,6 +171,38 @@ struct MotionResult {
 };
 
 namespace motion_internal {
+
+/// The global stage's five-pose subsets of n poses: `count` of the C(n, 5) in lexicographic
+/// order, evenly spread over it (ranks floor(i C / count), i = 0 .. count - 1; every one when
+/// count >= C), less `seed` (the seed poses, already used). Unranked by the combinatorial
+/// number system (exact in long double below 2^64: n up to about 10^4).
+inline std::vector<std::vector<int>> FivePoseSubsets(int n, int count, const std::vector<int>& seed) {
+  std::vector<std::vector<int>> out;
+  if (count <= 0 || n < 5) return out;
+  auto choose = [](long double m, int k) {
+    if (m < k) return 0.0L;
+    long double c = 1;
+    for (int i = 0; i < k; ++i) c = c * (m - i) / (i + 1);
+    return c;
+  };
+  const long double total = choose(n, 5);
+  const long double want = std::min(static_cast<long double>(count), total);
+  for (long double i = 0; i < want; ++i) {
+    long double rank = std::floor(i * total / want);
+    std::vector<int> sub;
+    int v = 0;
+    for (int pos = 0; pos < 5; ++pos) {
+      for (;; ++v) {
+        const long double below = choose(n - 1 - v, 4 - pos);  // subsets with v at this position
+        if (rank < below) break;
+        rank -= below;
+      }
+      sub.push_back(v++);
+    }
+    if (sub != seed) out.push_back(sub);
+  }
+  return out;
+}
 /// The pose errors of a placed four-bar (the task's nine parameters, then gamma: the body's
 /// angle minus the coupler's) over the crank angles q_j, with the generated Jacobian:
 /// dr_P/dp and dphi/dp (EvalDesignDerivatives), K_P and K (EvalCoefficients).
@@ -293,11 +337,8 @@ bool SynthesizeMotion(const M& model, const MotionTask& task, const typename Mod
       return true;
     }
     const bool lsq = poses.size() > 5;
-    std::vector<Pose> seed_poses = poses;
     std::vector<int> column(9, -1);
     if (lsq) {
-      seed_poses.clear();
-      for (int j : task.seed_poses) seed_poses.push_back(poses[static_cast<size_t>(j)]);
       if (!C::HasDesign(model)) {
         return *error = task.file + ": error: more than five poses need the model's `design:` section (the least squares' "
                                     "Jacobian)",
@@ -314,128 +355,143 @@ bool SynthesizeMotion(const M& model, const MotionTask& task, const typename Mod
         }
       }
     }
-    r.points = BurmesterPoints(seed_poses, task.curve_rays);
     const int n = static_cast<int>(poses.size());
-    for (int i = 0; i < static_cast<int>(r.points.size()); ++i) {
-      for (int j = 0; j < static_cast<int>(r.points.size()); ++j) {
-        if (i == j) continue;
-        MotionCandidate c;
-        c.crank = i, c.rocker = j;
-        c.fourbar = FourBarOfDyads(poses, r.points[static_cast<size_t>(i)], r.points[static_cast<size_t>(j)]);
-        FourBarFromDyads& f = c.fourbar;
-        double gamma_fit = 0;
-        // The mode: the model's, or its mirror when the model's coupler is not at pose 1 on
-        // it (the other root of the four-bar's block: C on the other side of BD).
-        Modes modes = C::DefaultModes(model);
-        {
+    // The five poses whose Burmester points seed: the five, or the seed poses and then the
+    // global stage's subsets (each pair of a subset's points a start of the least squares).
+    r.subsets.push_back(lsq ? task.seed_poses : std::vector<int>{0, 1, 2, 3, 4});
+    if (lsq)
+      for (std::vector<int>& sub : motion_internal::FivePoseSubsets(n, task.subsets, task.seed_poses))
+        r.subsets.push_back(std::move(sub));
+    for (size_t set = 0; set < r.subsets.size(); ++set) {
+      std::vector<Pose> five;
+      for (int k : r.subsets[set]) five.push_back(poses[static_cast<size_t>(k)]);
+      const int first = static_cast<int>(r.points.size());
+      for (const Dyad& d : BurmesterPoints(five, task.curve_rays))
+        r.points.push_back(d), r.point_subset.push_back(static_cast<int>(set));
+      const int last = static_cast<int>(r.points.size());
+      for (int i = first; i < last; ++i) {
+        for (int j = first; j < last; ++j) {
+          if (i == j) continue;
+          MotionCandidate c;
+          c.crank = i, c.rocker = j;
+          c.fourbar = FourBarOfDyads(poses, r.points[static_cast<size_t>(i)], r.points[static_cast<size_t>(j)]);
+          FourBarFromDyads& f = c.fourbar;
+          double gamma_fit = 0;
+          // The mode: the model's, or its mirror when the model's coupler is not at pose 1 on
+          // it (the other root of the four-bar's block: C on the other side of BD).
+          Modes modes = C::DefaultModes(model);
+          {
+            Params p = base;
+            const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
+            set_parameters(&p, values);
+            auto distance = [&](const Modes& m) {
+              VecPhi phi;
+              if (!SolveOnMode(model, p, f.crank_angle[0], &phi, /*judge=*/false, &m)) return kInf;
+              VecQ qv;
+              qv.resize(1);
+              qv(0) = f.crank_angle[0];
+              typename ModelTypes<M>::Coefficients co;
+              C::Coeffs(model, p, qv, phi, &co);
+              const double d = std::hypot(co.r_P(0, point) - poses[0].x, co.r_P(1, point) - poses[0].y);
+              return std::isfinite(d) ? d : kInf;
+            };
+            Modes mirror = modes;
+            mirror[0] = -mirror[0];
+            if (distance(mirror) < distance(modes)) modes = mirror;
+          }
+          c.mode = modes[0];
+          if constexpr (C::kView || HasDesignDerivatives<M>::value) {
+            if (lsq) {
+              // Least squares of the pose errors over all poses from this pair's four-bar.
+              std::vector<double> x = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0, 0.0};
+              std::vector<double> q = f.crank_angle;
+              {
+                // gamma: the body's angle minus the coupler's at the first pose (the coupler along BC).
+                const Eigen::Vector2d B = CirclePointAt(poses[0], r.points[static_cast<size_t>(i)].k);
+                const Eigen::Vector2d C = CirclePointAt(poses[0], r.points[static_cast<size_t>(j)].k);
+                x[9] = WrapPi(poses[0].angle - std::atan2(C.y() - B.y(), C.x() - B.x()));
+              }
+              auto* cost = new motion_internal::PoseResiduals<M>(model, poses, base, task.parameters, column, point,
+                                                                 angle, L, &r.evaluations, modes);
+              ceres::Problem problem;
+              problem.AddResidualBlock(cost, nullptr, x.data(), q.data());
+              // The start must assemble at every pose (else Ceres refuses it, and says so on stderr).
+              std::vector<double> start_residuals(static_cast<size_t>(3 * n));
+              const double* start_blocks[2] = {x.data(), q.data()};
+              const bool starts = cost->Evaluate(start_blocks, start_residuals.data(), nullptr);
+              for (int k = 0; k < 4; ++k) problem.SetParameterLowerBound(x.data(), k, 1e-9 * L);
+              const ceres::Solver::Options options = LocalSolverOptions();
+              ceres::Solver::Summary summary;
+              if (starts) ceres::Solve(options, &problem, &summary);
+              c.iterations = static_cast<int>(summary.iterations.size());
+              if (starts && summary.IsSolutionUsable()) {
+                f.a = x[0], f.b = x[1], f.c = x[2], f.d = x[3], f.xi = x[4], f.eta = x[5], f.x0 = x[6], f.y0 = x[7];
+                f.theta0 = x[8];
+                f.crank_angle = q;
+                gamma_fit = x[9];
+                c.error = 2 * summary.final_cost;
+              } else {
+                c.why = "the least squares could not start from this pair (the model does not assemble at every pose)";
+              }
+            }
+          }
           Params p = base;
           const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
           set_parameters(&p, values);
-          auto distance = [&](const Modes& m) {
-            VecPhi phi;
-            if (!SolveOnMode(model, p, f.crank_angle[0], &phi, /*judge=*/false, &m)) return kInf;
+          auto solve = [&](double q, VecPhi* phi) { return SolveOnMode(model, p, q, phi, /*judge=*/true, &modes); };
+          VecPhi phi;
+          typename ModelTypes<M>::Coefficients co;
+          c.worst_point = c.worst_angle = 0;
+          double offset = -gamma_fit;
+          for (int k = 0; k < n && c.why.empty(); ++k) {
+            const double q = f.crank_angle[static_cast<size_t>(k)];
+            if (!solve(q, &phi)) {
+              c.why =
+                  "pose " + std::to_string(k + 1) + ": the model does not assemble on its " + ModeName(model, c.mode);
+              break;
+            }
             VecQ qv;
             qv.resize(1);
-            qv(0) = f.crank_angle[0];
-            typename ModelTypes<M>::Coefficients co;
+            qv(0) = q;
             C::Coeffs(model, p, qv, phi, &co);
-            const double d = std::hypot(co.r_P(0, point) - poses[0].x, co.r_P(1, point) - poses[0].y);
-            return std::isfinite(d) ? d : kInf;
-          };
-          Modes mirror = modes;
-          mirror[0] = -mirror[0];
-          if (distance(mirror) < distance(modes)) modes = mirror;
-        }
-        c.mode = modes[0];
-        if constexpr (C::kView || HasDesignDerivatives<M>::value) {
-          if (lsq) {
-            // Least squares of the pose errors over all poses from this pair's four-bar.
-            std::vector<double> x = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0, 0.0};
-            std::vector<double> q = f.crank_angle;
-            {
-              // gamma: the body's angle minus the coupler's at the first pose (the coupler along BC).
-              const Eigen::Vector2d B = CirclePointAt(poses[0], r.points[static_cast<size_t>(i)].k);
-              const Eigen::Vector2d C = CirclePointAt(poses[0], r.points[static_cast<size_t>(j)].k);
-              x[9] = WrapPi(poses[0].angle - std::atan2(C.y() - B.y(), C.x() - B.x()));
-            }
-            auto* cost = new motion_internal::PoseResiduals<M>(model, poses, base, task.parameters, column, point, angle,
-                                                               L, &r.evaluations, modes);
-            ceres::Problem problem;
-            problem.AddResidualBlock(cost, nullptr, x.data(), q.data());
-            // The start must assemble at every pose (else Ceres refuses it, and says so on stderr).
-            std::vector<double> start_residuals(static_cast<size_t>(3 * n));
-            const double* start_blocks[2] = {x.data(), q.data()};
-            const bool starts = cost->Evaluate(start_blocks, start_residuals.data(), nullptr);
-            for (int k = 0; k < 4; ++k) problem.SetParameterLowerBound(x.data(), k, 1e-9 * L);
-            const ceres::Solver::Options options = LocalSolverOptions();
-            ceres::Solver::Summary summary;
-            if (starts) ceres::Solve(options, &problem, &summary);
-            c.iterations = static_cast<int>(summary.iterations.size());
-            if (starts && summary.IsSolutionUsable()) {
-              f.a = x[0], f.b = x[1], f.c = x[2], f.d = x[3], f.xi = x[4], f.eta = x[5], f.x0 = x[6], f.y0 = x[7];
-              f.theta0 = x[8];
-              f.crank_angle = q;
-              gamma_fit = x[9];
-              c.error = 2 * summary.final_cost;
-            } else {
-              c.why = "the least squares could not start from this pair (the model does not assemble at every pose)";
-            }
+            const double dp = std::hypot(co.r_P(0, point) - poses[static_cast<size_t>(k)].x,
+                                         co.r_P(1, point) - poses[static_cast<size_t>(k)].y);
+            if (k == 0 && !lsq) offset = phi(angle) - poses[0].angle;
+            const double da = std::abs(WrapPi(phi(angle) - poses[static_cast<size_t>(k)].angle - offset));
+            c.worst_point = std::max(c.worst_point, dp);
+            c.worst_angle = std::max(c.worst_angle, da);
+            if (!lsq && (!(dp <= 1e-9 * std::max(1.0, L)) || !(da <= 1e-9)))
+              c.why = "pose " + std::to_string(k + 1) + ": the model's coupler is not there on its " +
+                      ModeName(model, c.mode) + " (pose 1 on it, this pose on the other: the poses on two branches)";
           }
-        }
-        Params p = base;
-        const double values[9] = {f.a, f.b, f.c, f.d, f.xi, f.eta, f.x0, f.y0, f.theta0};
-        set_parameters(&p, values);
-        auto solve = [&](double q, VecPhi* phi) { return SolveOnMode(model, p, q, phi, /*judge=*/true, &modes); };
-        VecPhi phi;
-        typename ModelTypes<M>::Coefficients co;
-        c.worst_point = c.worst_angle = 0;
-        double offset = -gamma_fit;
-        for (int k = 0; k < n && c.why.empty(); ++k) {
-          const double q = f.crank_angle[static_cast<size_t>(k)];
-          if (!solve(q, &phi)) {
-            c.why = "pose " + std::to_string(k + 1) + ": the model does not assemble on its " + ModeName(model, c.mode);
-            break;
+          // From pose to pose, the crank turning the way the poses go.
+          double sum = 0;
+          for (int k = 0; k + 1 < n; ++k)
+            sum += WrapPi(f.crank_angle[static_cast<size_t>(k + 1)] - f.crank_angle[static_cast<size_t>(k)]);
+          const double dir = sum >= 0 ? 1.0 : -1.0;
+          for (int k = 0; k + 1 < n && c.why.empty(); ++k) {
+            const double q0 = f.crank_angle[static_cast<size_t>(k)];
+            const double span = Wrap(dir * (f.crank_angle[static_cast<size_t>(k + 1)] - q0));
+            const int steps = std::max(1, static_cast<int>(std::ceil(span / (kTwoPi / 720))));
+            for (int s = 1; s < steps && c.why.empty(); ++s)
+              if (!solve(q0 + dir * span * s / steps, &phi))
+                c.why = "between poses " + std::to_string(k + 1) + " and " + std::to_string(k + 2) +
+                        ": the model leaves its " + ModeName(model, c.mode) + " (a dead point or no closure)";
           }
-          VecQ qv;
-          qv.resize(1);
-          qv(0) = q;
-          C::Coeffs(model, p, qv, phi, &co);
-          const double dp = std::hypot(co.r_P(0, point) - poses[static_cast<size_t>(k)].x, co.r_P(1, point) - poses[static_cast<size_t>(k)].y);
-          if (k == 0 && !lsq) offset = phi(angle) - poses[0].angle;
-          const double da = std::abs(WrapPi(phi(angle) - poses[static_cast<size_t>(k)].angle - offset));
-          c.worst_point = std::max(c.worst_point, dp);
-          c.worst_angle = std::max(c.worst_angle, da);
-          if (!lsq && (!(dp <= 1e-9 * std::max(1.0, L)) || !(da <= 1e-9)))
-            c.why = "pose " + std::to_string(k + 1) + ": the model's coupler is not there on its " + ModeName(model, c.mode) +
-                    " (pose 1 on it, this pose on the other: the poses on two branches)";
+          c.ok = c.why.empty();
+          c.ratio = std::max({f.a, f.b, f.c, f.d}) / std::min({f.a, f.b, f.c, f.d});
+          // Five poses: the smallest link ratio; more: the smallest error (ties within 1e-12 L^2
+          // of it: the smaller link ratio).
+          if (c.ok) {
+            const MotionCandidate* best = r.chosen < 0 ? nullptr : &r.candidates[static_cast<size_t>(r.chosen)];
+            const bool better =
+                best == nullptr || (lsq ? (c.error < best->error - 1e-12 * L * L ||
+                                           (std::abs(c.error - best->error) <= 1e-12 * L * L && c.ratio < best->ratio))
+                                        : c.ratio < best->ratio);
+            if (better) r.chosen = static_cast<int>(r.candidates.size());
+          }
+          r.candidates.push_back(c);
         }
-        // From pose to pose, the crank turning the way the poses go.
-        double sum = 0;
-        for (int k = 0; k + 1 < n; ++k) sum += WrapPi(f.crank_angle[static_cast<size_t>(k + 1)] - f.crank_angle[static_cast<size_t>(k)]);
-        const double dir = sum >= 0 ? 1.0 : -1.0;
-        for (int k = 0; k + 1 < n && c.why.empty(); ++k) {
-          const double q0 = f.crank_angle[static_cast<size_t>(k)];
-          const double span = Wrap(dir * (f.crank_angle[static_cast<size_t>(k + 1)] - q0));
-          const int steps = std::max(1, static_cast<int>(std::ceil(span / (kTwoPi / 720))));
-          for (int s = 1; s < steps && c.why.empty(); ++s)
-            if (!solve(q0 + dir * span * s / steps, &phi))
-              c.why = "between poses " + std::to_string(k + 1) + " and " + std::to_string(k + 2) +
-                      ": the model leaves its " + ModeName(model, c.mode) + " (a dead point or no closure)";
-        }
-        c.ok = c.why.empty();
-        c.ratio = std::max({f.a, f.b, f.c, f.d}) / std::min({f.a, f.b, f.c, f.d});
-        // Five poses: the smallest link ratio; more: the smallest error (ties within 1e-12 L^2
-        // of it: the smaller link ratio).
-        if (c.ok) {
-          const MotionCandidate* best = r.chosen < 0 ? nullptr : &r.candidates[static_cast<size_t>(r.chosen)];
-          const bool better =
-              best == nullptr ||
-              (lsq ? (c.error < best->error - 1e-12 * L * L ||
-                      (std::abs(c.error - best->error) <= 1e-12 * L * L && c.ratio < best->ratio))
-                   : c.ratio < best->ratio);
-          if (better) r.chosen = static_cast<int>(r.candidates.size());
-        }
-        r.candidates.push_back(c);
       }
     }
     *out = r;
@@ -514,12 +570,28 @@ inline std::string MotionReport(const MotionTask& task, const MotionResult& r) {
          " poses, seeded from the Burmester points of poses";
     for (int j : task.seed_poses) s += " " + std::to_string(j + 1);
     s += " (" + std::to_string(r.evaluations) + " residual evaluations)\n";
+    if (r.subsets.size() > 1) {
+      s += "global stage (search.subsets " + std::to_string(task.subsets) + "): the Burmester points of " +
+           std::to_string(r.subsets.size() - 1) + " more five-pose subsets seed it too:";
+      for (size_t k = 1; k < r.subsets.size(); ++k) {
+        s += k > 1 ? ";" : "";
+        for (int j : r.subsets[k]) s += " " + std::to_string(j + 1);
+      }
+      s += "\n";
+    }
   }
   s += "Burmester points (real): " + std::to_string(r.points.size()) + "\n";
   for (size_t i = 0; i < r.points.size(); ++i) {
     const Dyad& d = r.points[i];
     s += "  " + std::to_string(i + 1) + ": centre (" + Num(d.M.x()) + ", " + Num(d.M.y()) + "), circle point (body) (" +
-         Num(d.k.x()) + ", " + Num(d.k.y()) + "), radius " + Short(d.radius, 9) + ", residual " + Short(d.residual, 3) + "\n";
+         Num(d.k.x()) + ", " + Num(d.k.y()) + "), radius " + Short(d.radius, 9) + ", residual " + Short(d.residual, 3) +
+         (r.subsets.size() > 1 && i < r.point_subset.size() ? ", of poses" + [&] {
+           std::string o;
+           for (int j : r.subsets[static_cast<size_t>(r.point_subset[i])]) o += " " + std::to_string(j + 1);
+           return o;
+         }()
+                                                             : std::string()) +
+         "\n";
   }
   s += "four-bars (crank dyad, rocker dyad):\n";
   for (size_t i = 0; i < r.candidates.size(); ++i) {
