@@ -1686,10 +1686,15 @@ TEST(MotionSynthesis, GlobalStageOverFivePoseSubsets) {
     ASSERT_TRUE(SynthesizeMotion<mech::synth_fourbar::Model>(*task, {}, r, &error)) << error;
     ASSERT_GE(r->chosen, 0) << MotionReport(*task, *r);
   };
-  MotionTask ts, tg;
-  MotionResult rs, rg;
-  run("", &ts, &rs);
+  MotionTask ts, tg, td;
+  MotionResult rs, rg, rd;
+  run("search: {subsets: 0}\n", &ts, &rs);
   run("search: {subsets: 21}\n", &tg, &rg);
+  // The default (20 more subsets) takes every subset of seven poses: the same answer as 21.
+  run("", &td, &rd);
+  EXPECT_EQ(td.subsets, 20);
+  EXPECT_EQ(rd.subsets, rg.subsets);
+  EXPECT_EQ(rd.candidates[static_cast<size_t>(rd.chosen)].error, rg.candidates[static_cast<size_t>(rg.chosen)].error);
   EXPECT_EQ(ts.seed_poses, (std::vector<int>{0, 2, 3, 5, 6}));
   EXPECT_EQ(tg.subsets, 21);
   ASSERT_EQ(rg.subsets.size(), 21u);
