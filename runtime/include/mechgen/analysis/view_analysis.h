@@ -15,6 +15,7 @@
 #include "mechgen/analysis/flywheel.h"
 #include "mechgen/analysis/statics.h"
 #include "mechgen/analysis/sweep.h"
+#include "mechgen/analysis/study.h"
 #include "mechgen/core/view_runtime.h"
 #include "mechgen/machines/view_machines.h"
 
@@ -32,5 +33,7 @@ extern template int Run<ViewModel>(const ViewModel&, const EngineRequest&, const
 extern template std::string Check<ViewModel>(const ViewModel&, const FlywheelRequest&);
 extern template int Run<ViewModel>(const ViewModel&, const FlywheelRequest&, const FlywheelOutputs&,
                                    const std::function<int()>&, FlywheelResult*);
+extern template std::string Check<ViewModel>(const ViewModel&, const StudyRequest&, const StudyOutputs&);
+extern template int Run<ViewModel>(const ViewModel&, const StudyRequest&, const StudyOutputs&, const StudyRanks&);
 
 }  // namespace mechgen::analysis
