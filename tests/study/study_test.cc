@@ -13,12 +13,14 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "fourbar.h"
 #include "fourbar_loaded.h"
 #include "mechgen/core/view_runtime.h"
+#include "mechgen/io/csv.h"
 #include "mechgen/io/yaml_strict.h"
 #include "mechgen/machines/view_machines.h"  // (before study/run.h: the view's machines compiled once)
 #include "mechgen/study/random.h"
@@ -1841,6 +1843,11 @@ TEST(StudyThreads, PackedChunksOnOneTwoAndThreeThreadsAgainstEachSampleAlone) {
   std::vector<uint64_t> list;
   for (uint64_t c = chunks.number(); c-- > 0;) list.push_back(c);  // in any order
   std::string first_text;
+  std::vector<std::string> parameter_names;
+  for (const study::ParameterSpec& p : spec.parameters) parameter_names.push_back(p.name);
+  std::vector<study::MetricColumn> metric_columns;
+  for (size_t k = 0; k < spec.metrics.size(); ++k) metric_columns.push_back({spec.metrics[k].name, s.Unit(k), ""});
+  const auto columns = study::SampleColumns(parameter_names, metric_columns);
   for (int threads : {1, 2, 3}) {
     std::vector<double> packed(300 * width, -1), values(300 * n, -1);
     std::vector<std::atomic<int>> done(chunks.number());
@@ -1858,8 +1865,8 @@ TEST(StudyThreads, PackedChunksOnOneTwoAndThreeThreadsAgainstEachSampleAlone) {
     }
     std::string text;
     for (uint64_t c = 0; c < chunks.number(); ++c)
-      study::AppendRows(chunks.begin(c), chunks.end(c) - chunks.begin(c), &values[chunks.begin(c) * n], n,
-                        &packed[chunks.begin(c) * width], width, spec.metrics.size(), &text);
+      study::AppendRows(columns, chunks.begin(c), chunks.end(c) - chunks.begin(c), &values[chunks.begin(c) * n], n,
+                        &packed[chunks.begin(c) * width], width, &text);
     if (threads == 1) first_text = text;
     EXPECT_EQ(text, first_text) << threads << " threads";
   }
@@ -1872,6 +1879,37 @@ TEST(StudyThreads, PackedChunksOnOneTwoAndThreeThreadsAgainstEachSampleAlone) {
   line += std::string(",") + study::StatusOfCode(expected[width]) + "\n";
   const size_t at = first_text.find('\n') + 1;
   EXPECT_EQ(first_text.substr(at, line.size()), line);
+}
+
+// The study's CSV columns (study/rows.h's SampleColumns) written by io/csv.h: the head the
+// study's CSV has always had (docs/studies.md: the '#' lines with each column's unit and meaning,
+// then sample, the parameters, the metrics, status), and a row's cells ("%.17g", the status's
+// text) against lines written by hand.
+TEST(StudyRows, ColumnTableWritesTheHeadAndTheRows) {
+  const auto columns = study::SampleColumns({"a", "b"}, {{"max_y", "model length", "largest y over the rows"},
+                                                         {"failures", "1", "rows that did not converge"}});
+  std::ostringstream head;
+  mechgen::WriteCsvHeader(columns, head, mechgen::Described("mechgen study, model m: s.yaml, method grid"));
+  EXPECT_EQ(head.str(),
+            "# mechgen study, model m: s.yaml, method grid\n"
+            "# sample [1]: the sample's index, 0-based, in the study's order\n"
+            "# a [model units]: the model's parameter a\n"
+            "# b [model units]: the model's parameter b\n"
+            "# max_y [model length]: largest y over the rows\n"
+            "# failures [1]: rows that did not converge\n"
+            "# status [text]: ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel, "
+            "engine), simulation_failed (simulate: the run ended before t_end)\n"
+            "sample,a,b,max_y,failures,status\n");
+  // Two samples from index 99999999 (kMaxSamples - 1: the index exact as a double): a NaN metric,
+  // a tiny and a huge value, both statuses.
+  const double values[4] = {0.1, -2.5, 1e-300, 3};
+  const double packed[6] = {study::StatusCode("ok"), NAN, 0, study::StatusCode("rows_failed"), 1.7976931348623157e308,
+                            2};
+  std::string text;
+  study::AppendRows(columns, 99999999, 2, values, 2, packed, 3, &text);
+  EXPECT_EQ(text,
+            "99999999,0.10000000000000001,-2.5,nan,0,ok\n"
+            "100000000,1e-300,3,1.7976931348623157e+308,2,rows_failed\n");
 }
 
 // The rows' numbers: std::to_chars (general, precision 17) gives printf's "%.17g" character for

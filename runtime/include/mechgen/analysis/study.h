@@ -42,6 +42,7 @@
 #include <memory>
 #include <mutex>
 #include <ostream>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <utility>
@@ -52,12 +53,14 @@
 #include "mechgen/analysis/study_request.h"
 #include "mechgen/analysis/view_params.h"
 #include "mechgen/core/model_calls.h"
+#include "mechgen/io/csv.h"
 #include "mechgen/io/output_file.h"
 #include "mechgen/study/rows.h"
 #include "mechgen/study/run.h"
 #include "mechgen/study/samples.h"
 #include "mechgen/study/shards.h"
 #include "mechgen/study/tolerance.h"
+#include "mechgen/table/columns.h"
 
 namespace mechgen::analysis {
 namespace study_internal {
@@ -117,46 +120,49 @@ inline const char* AnalysisName(study::Analysis a) {
                                             : "sweep";
 }
 
-// The CSV's head: '#' lines (what wrote it, then each column's unit and meaning), the header.
+// The CSV's columns (study/rows.h's SampleColumns): the study's parameters, its metrics with
+// their units and meanings (the study's Unit and Description).
+template <class M>
+table::Columns<study::SampleRow> CsvColumns(const study::Study<M>& s) {
+  const study::StudySpec& spec = s.spec();
+  std::vector<std::string> parameters;
+  for (const study::ParameterSpec& p : spec.parameters) parameters.push_back(p.name);
+  std::vector<study::MetricColumn> metrics;
+  for (size_t k = 0; k < spec.metrics.size(); ++k) metrics.push_back({spec.metrics[k].name, s.Unit(k), s.Description(k)});
+  return study::SampleColumns(parameters, metrics);
+}
+
+// The CSV's head (io/csv.h): what wrote it, then each column's unit and meaning, the header.
 // The rows follow, a chunk at a time (study/rows.h's AppendRows).
 template <class M>
-void WriteCsvHead(const study::Study<M>& s, uint64_t count, std::ostream& out) {
+void WriteCsvHead(const study::Study<M>& s, const table::Columns<study::SampleRow>& columns, uint64_t count,
+                  std::ostream& out) {
   const study::StudySpec& spec = s.spec();
-  out << "# mechgen study, model " << ModelCalls<M>::Name(s.model()) << ": " << spec.path << ", method " << MethodName(spec.method)
-      << ", " << count << " samples, seed " << spec.seed << ", analysis " << AnalysisName(spec.analysis) << " in "
-      << spec.steps << " steps";
-  if (spec.analysis == study::Analysis::kSimulate) out << " to t_end " << G17(spec.t_end) << " s";
+  std::ostringstream about;
+  about << "mechgen study, model " << ModelCalls<M>::Name(s.model()) << ": " << spec.path << ", method "
+        << MethodName(spec.method) << ", " << count << " samples, seed " << spec.seed << ", analysis "
+        << AnalysisName(spec.analysis) << " in " << spec.steps << " steps";
+  if (spec.analysis == study::Analysis::kSimulate) about << " to t_end " << G17(spec.t_end) << " s";
   if (spec.analysis == study::Analysis::kEngine) {
-    out << " at " << G17(spec.rpm) << " rpm, gas ";
+    about << " at " << G17(spec.rpm) << " rpm, gas ";
     if (spec.gas.table.empty()) {
       const auto& w = spec.gas.wiebe;
-      out << "polytropic-Wiebe (cr " << G17(w.compression_ratio) << ", p_intake " << G17(w.p_intake) << " Pa, p_ambient "
-          << G17(w.p_ambient) << " Pa, n " << G17(w.n) << ", burn_start " << G17(w.burn_start) << " rad, burn_duration "
-          << G17(w.burn_duration) << " rad, wiebe_a " << G17(w.wiebe_a) << ", wiebe_m " << G17(w.wiebe_m) << ", heat "
-          << G17(w.heat) << " J)";
+      about << "polytropic-Wiebe (cr " << G17(w.compression_ratio) << ", p_intake " << G17(w.p_intake)
+            << " Pa, p_ambient " << G17(w.p_ambient) << " Pa, n " << G17(w.n) << ", burn_start " << G17(w.burn_start)
+            << " rad, burn_duration " << G17(w.burn_duration) << " rad, wiebe_a " << G17(w.wiebe_a) << ", wiebe_m "
+            << G17(w.wiebe_m) << ", heat " << G17(w.heat) << " J)";
     } else {
-      out << "table " << spec.gas.table;
+      about << "table " << spec.gas.table;
     }
   }
   if (!spec.drive.input.empty()) {
-    out << ", " << spec.drive.input << " driven (" << spec.drive.law;
-    for (double v : spec.drive.values) out << " " << G17(v);
-    out << ")";
+    about << ", " << spec.drive.input << " driven (" << spec.drive.law;
+    for (double v : spec.drive.values) about << " " << G17(v);
+    about << ")";
   }
   const std::string changed = tools::ChangedModelParameters(s.model(), s.base());
-  if (!changed.empty()) out << "; the model's parameters set by --params/--set: " << changed;
-  out << "\n";
-  out << "# sample [1]: the sample's index, 0-based, in the study's order\n";
-  for (const study::ParameterSpec& p : spec.parameters)
-    out << "# " << p.name << " [model units]: the model's parameter " << p.name << "\n";
-  for (size_t k = 0; k < spec.metrics.size(); ++k)
-    out << "# " << spec.metrics[k].name << " [" << s.Unit(k) << "]: " << s.Description(k) << "\n";
-  out << "# status [text]: ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel, engine), "
-         "simulation_failed (simulate: the run ended before t_end)\n";
-  out << "sample";
-  for (const study::ParameterSpec& p : spec.parameters) out << "," << p.name;
-  for (const study::MetricSpec& m : spec.metrics) out << "," << m.name;
-  out << ",status\n";
+  if (!changed.empty()) about << "; the model's parameters set by --params/--set: " << changed;
+  mechgen::WriteCsvHeader(columns, out, mechgen::Described(about.str()));
 }
 
 // The chunks of `list` that rank r of `ranks` runs: a contiguous part of it.
@@ -316,6 +322,7 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
   // The rows are made (by the thread that ran or read a chunk, on the rank that ran it) when
   // this run ends the study with a CSV; rank 0 writes them in sample order.
   const bool make_rows = !stopped && spec.rows && ranks.Agree(!csv_path.empty() ? 1 : 0) != 0;
+  const table::Columns<study::SampleRow> csv_columns = make_rows ? CsvColumns(s) : table::Columns<study::SampleRow>();
   auto make_text = [&](uint64_t c) {
     Held& h = held[c];
     const uint64_t b = chunks.begin(c), n = chunks.end(c) - b;
@@ -325,7 +332,7 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
     }
     h.text.clear();
     h.text.reserve(n * (20 + 24 * (parameters + metrics)));
-    study::AppendRows(b, n, h.values.get(), parameters, h.packed.get(), width, metrics, &h.text);
+    study::AppendRows(csv_columns, b, n, h.values.get(), parameters, h.packed.get(), width, &h.text);
     h.values.reset();
     h.formatted.store(true, std::memory_order_release);
   };
@@ -340,7 +347,7 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
       ++written;
     }
   };
-  if (make_rows && ranks.rank() == 0) WriteCsvHead(s, count, csv.stream());
+  if (make_rows && ranks.rank() == 0) WriteCsvHead(s, csv_columns, count, csv.stream());
   // The shards' contents, read when this run ends the study (a stopped run needs none), and
   // their rows made on every thread.
   if (ranks.rank() == 0 && !stopped) {
@@ -791,7 +798,7 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
   if (!shards_path.empty()) shards.Remove();
   if (!csv_path.empty())
     std::printf("\nwrote %s (%llu rows x %zu columns)\n", csv_path.c_str(), static_cast<unsigned long long>(count),
-                spec.parameters.size() + spec.metrics.size() + 2);
+                csv_columns.size());
   if (!tolerance_path.empty()) std::printf("wrote %s\n", tolerance_path.c_str());
   if (!envelope_path.empty()) std::printf("wrote %s\n", envelope_path.c_str());
   if (!summary_path.empty()) std::printf("wrote %s\n", summary_path.c_str());

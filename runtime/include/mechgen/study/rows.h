@@ -8,6 +8,8 @@
  * the samples, with or without the rows (rows: none), and whatever the threads that compute
  * them (fixed blocks' sums added in block order, counts, exact order statistics).
  *
+ * The CSV's columns are one column table (SampleColumns: table/columns.h, a column's name, unit,
+ * meaning and cell together): io/csv.h's WriteCsvHeader writes its head, AppendRows its rows.
  * Numbers are written as printf's "%.17g" (they round-trip), by std::to_chars with the
  * general format and precision 17, which the standard defines as printf's conversion (the
  * same characters; ~4 times faster here: 60 ns against 260 ns a number); NaN as "nan".
@@ -24,6 +26,7 @@
 
 #include "mechgen/study/shards.h"
 #include "mechgen/study/tolerance.h"
+#include "mechgen/table/columns.h"
 
 namespace mechgen::study {
 
@@ -41,33 +44,69 @@ inline std::string G17(double x) {
   return std::string(buffer, FormatG17(x, buffer));
 }
 
+/// One row of the study's CSV: a sample's index, its parameters' values and its packed result
+/// (Study::Pack's layout: the status code, then the metrics).
+struct SampleRow {
+  uint64_t index = 0;
+  const double* values = nullptr;
+  const double* result = nullptr;
+};
+
+/// What one of the study's metrics is: its name, unit and meaning (Study::Unit, Description).
+struct MetricColumn {
+  std::string name, unit, description;
+};
+
 /**
- * \brief Appends the CSV rows of samples first .. first + n - 1 to *text: per sample its
- *        index, its `parameters` values (values[i * parameters + k], i from 0), its `metrics`
- *        metrics and its status (packed[i * width]: the status code, then the metrics).
+ * \brief The study's CSV columns: sample, each varied parameter (`parameters`, in the study's
+ *        order), each metric, status. A number column's cell is "%.17g" of its value
+ *        (AppendRows), the status the text of its code.
  */
-inline void AppendRows(uint64_t first,
+inline table::Columns<SampleRow> SampleColumns(const std::vector<std::string>& parameters,
+                                               const std::vector<MetricColumn>& metrics) {
+  table::Columns<SampleRow> columns;
+  table::Builder<SampleRow> add(&columns);
+  add.Number("sample", "1", "the sample's index, 0-based, in the study's order",
+             [](const SampleRow& r) { return static_cast<double>(r.index); });  // (exact: <= kMaxSamples)
+  for (size_t k = 0; k < parameters.size(); ++k)
+    add.Number(parameters[k], "model units", "the model's parameter " + parameters[k],
+               [k](const SampleRow& r) { return r.values[k]; });
+  for (size_t k = 0; k < metrics.size(); ++k)
+    add.Number(metrics[k].name, metrics[k].unit, metrics[k].description,
+               [k](const SampleRow& r) { return r.result[1 + k]; });
+  add.Text("status",
+           "ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel, engine), "
+           "simulation_failed (simulate: the run ended before t_end)",
+           [](const SampleRow& r) { return std::string(StatusOfCode(r.result[0])); });
+  return columns;
+}
+
+/**
+ * \brief Appends the CSV rows of samples first .. first + n - 1 to *text, the cells of
+ *        `columns` (SampleColumns): per sample i (from 0 here) its row, the values
+ *        values[i * parameters ..] and the packed result packed[i * width ..].
+ */
+inline void AppendRows(const table::Columns<SampleRow>& columns,
+                       uint64_t first,
                        uint64_t n,
                        const double* values,
                        size_t parameters,
                        const double* packed,
                        uint64_t width,
-                       size_t metrics,
                        std::string* text) {
   char buffer[48];
   for (uint64_t i = 0; i < n; ++i) {
-    text->append(buffer, std::to_chars(buffer, buffer + sizeof buffer, first + i).ptr);
-    for (size_t k = 0; k < parameters; ++k) {
+    const SampleRow row{first + i, values + i * parameters, packed + i * width};
+    for (size_t c = 0; c < columns.size(); ++c) {
+      const table::Column<SampleRow>& column = columns[c];
       buffer[0] = ',';
-      text->append(buffer, FormatG17(values[i * parameters + k], buffer + 1));
+      if (column.text) {
+        if (c > 0) text->push_back(',');
+        text->append(column.text(row));
+      } else {
+        text->append(buffer + (c == 0 ? 1 : 0), FormatG17(column.value(row), buffer + 1));
+      }
     }
-    const double* result = packed + i * width;
-    for (size_t k = 0; k < metrics; ++k) {
-      buffer[0] = ',';
-      text->append(buffer, FormatG17(result[1 + k], buffer + 1));
-    }
-    text->push_back(',');
-    text->append(StatusOfCode(result[0]));
     text->push_back('\n');
   }
 }
