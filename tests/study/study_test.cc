@@ -23,6 +23,7 @@
 #include "mechgen/io/csv.h"
 #include "mechgen/io/yaml_strict.h"
 #include "mechgen/machines/view_machines.h"  // (before study/run.h: the view's machines compiled once)
+#include "mechgen/analysis/study.h"
 #include "mechgen/study/random.h"
 #include "mechgen/study/rows.h"
 #include "mechgen/study/run.h"
@@ -1996,6 +1997,90 @@ TEST(StudySpec, RowsNoneAndHistogramBins) {
             std::string::npos);
   EXPECT_NE(ErrorOf("bins_bad.yaml", base + "histogram_bins: 0\n").find("bins_bad.yaml:6:17: error: histogram_bins"),
             std::string::npos);
+}
+
+// ---- the study as an analysis (analysis/study.h) ------------------------------------------------
+
+// Check says what Run would refuse, one line each: a parameter the model lacks (--set), a study
+// file that is not there, a study that does not fit the model (its place), an output the study
+// does not make; nothing for a request that fits.
+TEST(StudyAnalysis, CheckSaysWhatRunWouldRefuse) {
+  const mech::fourbar::Model model;
+  const std::string fits = WriteStudy("check_fits.yaml",
+                                      "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.01}\n"
+                                      "metrics: [{kind: failures}]\n");
+  mechgen::analysis::StudyRequest request;
+  request.study_path = fits;
+  mechgen::analysis::StudyOutputs outputs;
+  EXPECT_EQ(mechgen::analysis::Check(model, request, outputs), "");
+  request.params.sets = {"z=1"};
+  EXPECT_EQ(mechgen::analysis::Check(model, request, outputs).rfind("--set 'z=1': no parameter 'z' in the model", 0),
+            0u)
+      << mechgen::analysis::Check(model, request, outputs);
+  request.params.sets.clear();
+  request.study_path = ::testing::TempDir() + "/check_missing.yaml";
+  EXPECT_NE(mechgen::analysis::Check(model, request, outputs).find("check_missing.yaml: error: cannot read the study file"),
+            std::string::npos);
+  request.study_path = WriteStudy("check_z.yaml",
+                                  "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.1}\n"
+                                  "  z: {tolerance: 0.1}\nmetrics: [{kind: failures}]\n");
+  EXPECT_NE(mechgen::analysis::Check(model, request, outputs).find("check_z.yaml:5:3: error: no parameter 'z'"),
+            std::string::npos);
+  request.study_path = fits;
+  outputs.tolerance_path = "tolerance.csv";
+  EXPECT_EQ(mechgen::analysis::Check(model, request, outputs),
+            "--tolerance-csv: the study does not ask for it (tolerance: true)");
+  outputs.tolerance_path.clear();
+  request.study_path = WriteStudy("check_none.yaml",
+                                  "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.01}\n"
+                                  "metrics: [{kind: failures}]\nrows: none\n");
+  outputs.csv_path = "rows.csv";
+  EXPECT_EQ(mechgen::analysis::Check(model, request, outputs).rfind("--csv: the study asks for its statistics alone "
+                                                                    "(rows: none at " + request.study_path + ":6:",
+                                                                    0),
+            0u);
+}
+
+// Run on this process alone (a plain StudyRanks), 2 threads, the base moved by --set: every
+// row of its CSV the coupler point at theta = 0 by hand (as BaseParametersFromTheCommandLine)
+// for the row's own a, status ok, exit status 0; a sample of 10 in the head's first line.
+TEST(StudyAnalysis, RunOnOneProcessAgainstTheCouplerPointByHand) {
+  mechgen::analysis::StudyRequest request;
+  request.study_path = WriteStudy("run1.yaml",
+                                  "method: monte_carlo\ncount: 10\nsteps: 1\nrange: [0, 0]\nparameters:\n"
+                                  "  a: {tolerance: 0.01}\nmetrics:\n  - {kind: at, column: coupler.P.x, step: 0}\n");
+  request.threads = 2;
+  request.quiet = true;
+  request.no_shards = true;
+  request.params.sets = {"d=4.5"};
+  mechgen::analysis::StudyOutputs outputs;
+  outputs.csv_path = ::testing::TempDir() + "/run1.csv";
+  std::remove(outputs.csv_path.c_str());
+  ASSERT_EQ(mechgen::analysis::Run(mech::fourbar::Model(), request, outputs, mechgen::analysis::StudyRanks()), 0);
+  std::ifstream in(outputs.csv_path);
+  std::string line, first;
+  std::getline(in, first);
+  EXPECT_EQ(first.rfind("# mechgen study, model fourbar: " + request.study_path + ", method monte_carlo, 10 samples", 0),
+            0u)
+      << first;
+  while (std::getline(in, line) && line[0] == '#') {
+  }
+  EXPECT_EQ(line, "sample,a,coupler.P.x_at_0,status");
+  int rows = 0;
+  const double b = 3.5, c = 3, d = 4.5, xi = 1.5, eta = 1;
+  while (std::getline(in, line)) {
+    int index = -1;
+    double a = NAN, x = NAN;
+    char status[16] = {};
+    ASSERT_EQ(std::sscanf(line.c_str(), "%d,%lf,%lf,%15s", &index, &a, &x, status), 4) << line;
+    EXPECT_EQ(index, rows);
+    EXPECT_NEAR(a, 1, 0.05);  // (the default a = 1, sigma 0.01 / 3)
+    const double L = d - a, beta = std::acos((b * b + L * L - c * c) / (2 * b * L));
+    EXPECT_NEAR(x, a + xi * std::cos(beta) - eta * std::sin(beta), 1e-12) << line;
+    EXPECT_STREQ(status, "ok");
+    ++rows;
+  }
+  EXPECT_EQ(rows, 10);
 }
 
 }  // namespace
