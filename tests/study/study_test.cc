@@ -1913,6 +1913,28 @@ TEST(StudyRows, ColumnTableWritesTheHeadAndTheRows) {
             "100000000,1e-300,3,1.7976931348623157e+308,2,rows_failed\n");
 }
 
+// The summary's and the histogram's column tables: their names line (io/csv.h) and a row of
+// each against lines written by hand (counts as integers, "%.17g", NaN as "nan").
+TEST(StudyRows, SummaryAndHistogramColumnTables) {
+  std::ostringstream names;
+  mechgen::WriteCsvHeader(study::SummaryColumns(), names);
+  mechgen::WriteCsvHeader(study::HistogramColumns(), names);
+  EXPECT_EQ(names.str(), "metric,unit,n,mean,sigma,min,p01,p05,p25,p50,p75,p95,p99,max\nmetric,bin,low,high,count\n");
+  study::ColumnStatistics st;
+  st.moments.n = 12345678;
+  st.moments.mean = 0.1;
+  st.moments.sigma = NAN;
+  st.min = -2.5;
+  st.max = 1e300;
+  st.quantiles = {1, 2, 3, 4, 5, 6, 7.25};
+  std::string text;
+  study::AppendRow(study::SummaryColumns(), study::SummaryRow{"max_y", "model length", &st}, &text);
+  study::AppendRow(study::HistogramColumns(), study::HistogramRow{"max_y", 39, 99999999, -0.5, NAN}, &text);
+  EXPECT_EQ(text,
+            "max_y,model length,12345678,0.10000000000000001,nan,-2.5,1,2,3,4,5,6,7.25,1.0000000000000001e+300\n"
+            "max_y,39,-0.5,nan,99999999\n");
+}
+
 // The rows' numbers: std::to_chars (general, precision 17) gives printf's "%.17g" character for
 // character, over doubles of every exponent (random bits), the specials and round numbers.
 TEST(StudyRows, FormatG17IsPrintfs) {

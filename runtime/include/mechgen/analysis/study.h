@@ -580,31 +580,32 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
                              ", method " + MethodName(spec.method) + ", " + std::to_string(count) + " samples, " +
                              std::to_string(ok) + " ok, seed " + std::to_string(spec.seed) + ", analysis " +
                              AnalysisName(spec.analysis) + "\n";
+    // Each a column table (study/rows.h): its names line (io/csv.h), its rows' cells.
+    const table::Columns<study::SummaryRow> summary_columns = study::SummaryColumns();
+    const table::Columns<study::HistogramRow> histogram_columns = study::HistogramColumns();
+    std::ostringstream summary_names, histogram_names;
+    mechgen::WriteCsvHeader(summary_columns, summary_names);
+    mechgen::WriteCsvHeader(histogram_columns, histogram_names);
     summary_text = what +
                    "# per metric over the finite values of the ok samples, in the metric's unit: n; mean and sigma "
                    "(n - 1) in two passes in sample order; min; the p-quantiles, each the ceil(p n)-th smallest value "
-                   "(exact); max\nmetric,unit,n,mean,sigma,min";
-    for (double p : study::SummaryQuantiles()) {
-      char name[16];
-      std::snprintf(name, sizeof name, ",p%02d", static_cast<int>(std::lround(100 * p)));
-      summary_text += name;
-    }
-    summary_text += ",max\n";
+                   "(exact); max\n" +
+                   summary_names.str();
     histogram_text = what +
                      "# per metric over the finite values of the ok samples: " + std::to_string(spec.histogram_bins) +
                      " equal bins from its min to its max (low <= v < high; the last bin includes max), the count "
-                     "in each; low and high in the metric's unit\nmetric,bin,low,high,count\n";
+                     "in each; low and high in the metric's unit\n" +
+                     histogram_names.str();
     for (size_t k = 0; k < metrics; ++k) {
       const study::ColumnStatistics& st = statistics[k];
-      summary_text += spec.metrics[k].name + "," + s.Unit(k) + "," + std::to_string(st.moments.n) + "," +
-                      G17(st.moments.mean) + "," + G17(st.moments.sigma) + "," + G17(st.min);
-      for (double q : st.quantiles) summary_text += "," + G17(q);
-      summary_text += "," + G17(st.max) + "\n";
+      study::AppendRow(summary_columns, study::SummaryRow{spec.metrics[k].name, s.Unit(k), &st}, &summary_text);
       for (size_t b = 0; b < st.histogram.size(); ++b) {
         const double low = st.min + static_cast<double>(b) * st.bin_width;
         const double high = b + 1 == st.histogram.size() ? st.max : st.min + static_cast<double>(b + 1) * st.bin_width;
-        histogram_text += spec.metrics[k].name + "," + std::to_string(b) + "," + G17(st.moments.n > 0 ? low : NAN) +
-                          "," + G17(st.moments.n > 0 ? high : NAN) + "," + std::to_string(st.histogram[b]) + "\n";
+        study::AppendRow(histogram_columns,
+                         study::HistogramRow{spec.metrics[k].name, b, st.histogram[b], st.moments.n > 0 ? low : NAN,
+                                             st.moments.n > 0 ? high : NAN},
+                         &histogram_text);
       }
     }
   }

@@ -20,6 +20,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <thread>
 #include <vector>
@@ -82,6 +83,26 @@ inline table::Columns<SampleRow> SampleColumns(const std::vector<std::string>& p
 }
 
 /**
+ * \brief Appends the cells of `row` in `columns` to *text, comma-separated, and the line's end:
+ *        a number column's value as "%.17g" (NaN: "nan"), a text column's text as it is.
+ */
+template <class Row>
+void AppendRow(const table::Columns<Row>& columns, const Row& row, std::string* text) {
+  char buffer[48];
+  buffer[0] = ',';
+  for (size_t c = 0; c < columns.size(); ++c) {
+    const table::Column<Row>& column = columns[c];
+    if (column.text) {
+      if (c > 0) text->push_back(',');
+      text->append(column.text(row));
+    } else {
+      text->append(buffer + (c == 0 ? 1 : 0), FormatG17(column.value(row), buffer + 1));
+    }
+  }
+  text->push_back('\n');
+}
+
+/**
  * \brief Appends the CSV rows of samples first .. first + n - 1 to *text, the cells of
  *        `columns` (SampleColumns): per sample i (from 0 here) its row, the values
  *        values[i * parameters ..] and the packed result packed[i * width ..].
@@ -94,21 +115,7 @@ inline void AppendRows(const table::Columns<SampleRow>& columns,
                        const double* packed,
                        uint64_t width,
                        std::string* text) {
-  char buffer[48];
-  for (uint64_t i = 0; i < n; ++i) {
-    const SampleRow row{first + i, values + i * parameters, packed + i * width};
-    for (size_t c = 0; c < columns.size(); ++c) {
-      const table::Column<SampleRow>& column = columns[c];
-      buffer[0] = ',';
-      if (column.text) {
-        if (c > 0) text->push_back(',');
-        text->append(column.text(row));
-      } else {
-        text->append(buffer + (c == 0 ? 1 : 0), FormatG17(column.value(row), buffer + 1));
-      }
-    }
-    text->push_back('\n');
-  }
+  for (uint64_t i = 0; i < n; ++i) AppendRow(columns, SampleRow{first + i, values + i * parameters, packed + i * width}, text);
 }
 
 /// The quantiles of ColumnStatistics, as probabilities.
@@ -213,6 +220,58 @@ inline ColumnStatistics StatisticsOf(const std::vector<double>& x,
     s.quantiles[q] = *at;
   }
   return s;
+}
+
+/// One row of the summary CSV: a metric and its statistics over the ok samples.
+struct SummaryRow {
+  std::string metric, unit;
+  const ColumnStatistics* statistics = nullptr;
+};
+
+/// The summary CSV's columns: metric, unit, then n, mean, sigma, min, the SummaryQuantiles()'
+/// (p01 .. p99) and max, each a number in the metric's unit (n: a count).
+inline table::Columns<SummaryRow> SummaryColumns() {
+  table::Columns<SummaryRow> columns;
+  table::Builder<SummaryRow> add(&columns);
+  add.Text("metric", "the metric (the study's CSV's column)", [](const SummaryRow& r) { return r.metric; });
+  add.Text("unit", "the metric's unit, of every number of the row but n", [](const SummaryRow& r) { return r.unit; });
+  add.Number("n", "1", "the finite values of the ok samples",
+             [](const SummaryRow& r) { return static_cast<double>(r.statistics->moments.n); });
+  add.Number("mean", "the metric's", "their mean (two passes in sample order)",
+             [](const SummaryRow& r) { return r.statistics->moments.mean; });
+  add.Number("sigma", "the metric's", "their standard deviation (n - 1)",
+             [](const SummaryRow& r) { return r.statistics->moments.sigma; });
+  add.Number("min", "the metric's", "the smallest", [](const SummaryRow& r) { return r.statistics->min; });
+  for (size_t q = 0; q < SummaryQuantiles().size(); ++q) {
+    char name[16];
+    std::snprintf(name, sizeof name, "p%02d", static_cast<int>(std::lround(100 * SummaryQuantiles()[q])));
+    add.Number(name, "the metric's", "the p-quantile: the ceil(p n)-th smallest value (exact)",
+               [q](const SummaryRow& r) { return r.statistics->quantiles[q]; });
+  }
+  add.Number("max", "the metric's", "the largest", [](const SummaryRow& r) { return r.statistics->max; });
+  return columns;
+}
+
+/// One row of the histogram CSV: a bin of a metric.
+struct HistogramRow {
+  std::string metric;
+  uint64_t bin = 0, count = 0;
+  double low = NAN, high = NAN;
+};
+
+/// The histogram CSV's columns: metric, bin, low, high, count.
+inline table::Columns<HistogramRow> HistogramColumns() {
+  table::Columns<HistogramRow> columns;
+  table::Builder<HistogramRow> add(&columns);
+  add.Text("metric", "the metric (the study's CSV's column)", [](const HistogramRow& r) { return r.metric; });
+  add.Number("bin", "1", "the bin's index, from the metric's min",
+             [](const HistogramRow& r) { return static_cast<double>(r.bin); });
+  add.Number("low", "the metric's", "the bin's lower end (low <= v)", [](const HistogramRow& r) { return r.low; });
+  add.Number("high", "the metric's", "its upper end (v < high; the last bin includes max)",
+             [](const HistogramRow& r) { return r.high; });
+  add.Number("count", "1", "the finite values of the ok samples in the bin",
+             [](const HistogramRow& r) { return static_cast<double>(r.count); });
+  return columns;
 }
 
 }  // namespace mechgen::study
