@@ -8,24 +8,13 @@
 #include <string>
 
 #include "common/params.h"
+#include "mechgen/analysis/study_request.h"
 
 namespace mechgen::study_tool {
 
-/// The options: counts checked, paths as given.
-struct Arguments {
-  std::string tool = "study";  ///< the tool's name for messages (argv[0])
-  std::string study_path;      ///< --study (required)
-  std::string csv_path, tolerance_path, envelope_path;
-  std::string summary_path, histogram_path;  ///< --summary-csv, --histogram-csv (the statistics)
-  bool timings = false;                      ///< --timings: each phase's wall and CPU time on stderr
-  int threads = 1;             ///< --threads (default: the cores)
-  bool quiet = false;
-  std::string shards_path;     ///< --shards (empty: F.shards with --csv F)
-  bool no_shards = false;
-  long long chunk_size = 0;    ///< --chunk (0: the default)
-  long long stop_after = 0;    ///< --stop-after (0: run to the end)
-  tools::ParameterOptions params;  ///< --params, --set: the model's parameters before the study's
-};
+/// The options: the request (analysis/study_request.h: counts checked here) and the outputs
+/// (paths as given).
+struct Arguments : analysis::StudyRequest, analysis::StudyOutputs {};
 
 /// Exit status of a usage error (bad arguments: nothing written).
 constexpr int kExitUsage = 2;

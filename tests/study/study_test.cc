@@ -13,14 +13,17 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "fourbar.h"
 #include "fourbar_loaded.h"
 #include "mechgen/core/view_runtime.h"
+#include "mechgen/io/csv.h"
 #include "mechgen/io/yaml_strict.h"
 #include "mechgen/machines/view_machines.h"  // (before study/run.h: the view's machines compiled once)
+#include "mechgen/analysis/study.h"
 #include "mechgen/study/random.h"
 #include "mechgen/study/rows.h"
 #include "mechgen/study/run.h"
@@ -1841,6 +1844,11 @@ TEST(StudyThreads, PackedChunksOnOneTwoAndThreeThreadsAgainstEachSampleAlone) {
   std::vector<uint64_t> list;
   for (uint64_t c = chunks.number(); c-- > 0;) list.push_back(c);  // in any order
   std::string first_text;
+  std::vector<std::string> parameter_names;
+  for (const study::ParameterSpec& p : spec.parameters) parameter_names.push_back(p.name);
+  std::vector<study::MetricColumn> metric_columns;
+  for (size_t k = 0; k < spec.metrics.size(); ++k) metric_columns.push_back({spec.metrics[k].name, s.Unit(k), ""});
+  const auto columns = study::SampleColumns(parameter_names, metric_columns);
   for (int threads : {1, 2, 3}) {
     std::vector<double> packed(300 * width, -1), values(300 * n, -1);
     std::vector<std::atomic<int>> done(chunks.number());
@@ -1858,8 +1866,8 @@ TEST(StudyThreads, PackedChunksOnOneTwoAndThreeThreadsAgainstEachSampleAlone) {
     }
     std::string text;
     for (uint64_t c = 0; c < chunks.number(); ++c)
-      study::AppendRows(chunks.begin(c), chunks.end(c) - chunks.begin(c), &values[chunks.begin(c) * n], n,
-                        &packed[chunks.begin(c) * width], width, spec.metrics.size(), &text);
+      study::AppendRows(columns, chunks.begin(c), chunks.end(c) - chunks.begin(c), &values[chunks.begin(c) * n], n,
+                        &packed[chunks.begin(c) * width], width, &text);
     if (threads == 1) first_text = text;
     EXPECT_EQ(text, first_text) << threads << " threads";
   }
@@ -1872,6 +1880,59 @@ TEST(StudyThreads, PackedChunksOnOneTwoAndThreeThreadsAgainstEachSampleAlone) {
   line += std::string(",") + study::StatusOfCode(expected[width]) + "\n";
   const size_t at = first_text.find('\n') + 1;
   EXPECT_EQ(first_text.substr(at, line.size()), line);
+}
+
+// The study's CSV columns (study/rows.h's SampleColumns) written by io/csv.h: the head the
+// study's CSV has always had (docs/studies.md: the '#' lines with each column's unit and meaning,
+// then sample, the parameters, the metrics, status), and a row's cells ("%.17g", the status's
+// text) against lines written by hand.
+TEST(StudyRows, ColumnTableWritesTheHeadAndTheRows) {
+  const auto columns = study::SampleColumns({"a", "b"}, {{"max_y", "model length", "largest y over the rows"},
+                                                         {"failures", "1", "rows that did not converge"}});
+  std::ostringstream head;
+  mechgen::WriteCsvHeader(columns, head, mechgen::Described("mechgen study, model m: s.yaml, method grid"));
+  EXPECT_EQ(head.str(),
+            "# mechgen study, model m: s.yaml, method grid\n"
+            "# sample [1]: the sample's index, 0-based, in the study's order\n"
+            "# a [model units]: the model's parameter a\n"
+            "# b [model units]: the model's parameter b\n"
+            "# max_y [model length]: largest y over the rows\n"
+            "# failures [1]: rows that did not converge\n"
+            "# status [text]: ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel, "
+            "engine), simulation_failed (simulate: the run ended before t_end)\n"
+            "sample,a,b,max_y,failures,status\n");
+  // Two samples from index 99999999 (kMaxSamples - 1: the index exact as a double): a NaN metric,
+  // a tiny and a huge value, both statuses.
+  const double values[4] = {0.1, -2.5, 1e-300, 3};
+  const double packed[6] = {study::StatusCode("ok"), NAN, 0, study::StatusCode("rows_failed"), 1.7976931348623157e308,
+                            2};
+  std::string text;
+  study::AppendRows(columns, 99999999, 2, values, 2, packed, 3, &text);
+  EXPECT_EQ(text,
+            "99999999,0.10000000000000001,-2.5,nan,0,ok\n"
+            "100000000,1e-300,3,1.7976931348623157e+308,2,rows_failed\n");
+}
+
+// The summary's and the histogram's column tables: their names line (io/csv.h) and a row of
+// each against lines written by hand (counts as integers, "%.17g", NaN as "nan").
+TEST(StudyRows, SummaryAndHistogramColumnTables) {
+  std::ostringstream names;
+  mechgen::WriteCsvHeader(study::SummaryColumns(), names);
+  mechgen::WriteCsvHeader(study::HistogramColumns(), names);
+  EXPECT_EQ(names.str(), "metric,unit,n,mean,sigma,min,p01,p05,p25,p50,p75,p95,p99,max\nmetric,bin,low,high,count\n");
+  study::ColumnStatistics st;
+  st.moments.n = 12345678;
+  st.moments.mean = 0.1;
+  st.moments.sigma = NAN;
+  st.min = -2.5;
+  st.max = 1e300;
+  st.quantiles = {1, 2, 3, 4, 5, 6, 7.25};
+  std::string text;
+  study::AppendRow(study::SummaryColumns(), study::SummaryRow{"max_y", "model length", &st}, &text);
+  study::AppendRow(study::HistogramColumns(), study::HistogramRow{"max_y", 39, 99999999, -0.5, NAN}, &text);
+  EXPECT_EQ(text,
+            "max_y,model length,12345678,0.10000000000000001,nan,-2.5,1,2,3,4,5,6,7.25,1.0000000000000001e+300\n"
+            "max_y,39,-0.5,nan,99999999\n");
 }
 
 // The rows' numbers: std::to_chars (general, precision 17) gives printf's "%.17g" character for
@@ -1958,6 +2019,90 @@ TEST(StudySpec, RowsNoneAndHistogramBins) {
             std::string::npos);
   EXPECT_NE(ErrorOf("bins_bad.yaml", base + "histogram_bins: 0\n").find("bins_bad.yaml:6:17: error: histogram_bins"),
             std::string::npos);
+}
+
+// ---- the study as an analysis (analysis/study.h) ------------------------------------------------
+
+// Check says what Run would refuse, one line each: a parameter the model lacks (--set), a study
+// file that is not there, a study that does not fit the model (its place), an output the study
+// does not make; nothing for a request that fits.
+TEST(StudyAnalysis, CheckSaysWhatRunWouldRefuse) {
+  const mech::fourbar::Model model;
+  const std::string fits = WriteStudy("check_fits.yaml",
+                                      "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.01}\n"
+                                      "metrics: [{kind: failures}]\n");
+  mechgen::analysis::StudyRequest request;
+  request.study_path = fits;
+  mechgen::analysis::StudyOutputs outputs;
+  EXPECT_EQ(mechgen::analysis::Check(model, request, outputs), "");
+  request.params.sets = {"z=1"};
+  EXPECT_EQ(mechgen::analysis::Check(model, request, outputs).rfind("--set 'z=1': no parameter 'z' in the model", 0),
+            0u)
+      << mechgen::analysis::Check(model, request, outputs);
+  request.params.sets.clear();
+  request.study_path = ::testing::TempDir() + "/check_missing.yaml";
+  EXPECT_NE(mechgen::analysis::Check(model, request, outputs).find("check_missing.yaml: error: cannot read the study file"),
+            std::string::npos);
+  request.study_path = WriteStudy("check_z.yaml",
+                                  "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.1}\n"
+                                  "  z: {tolerance: 0.1}\nmetrics: [{kind: failures}]\n");
+  EXPECT_NE(mechgen::analysis::Check(model, request, outputs).find("check_z.yaml:5:3: error: no parameter 'z'"),
+            std::string::npos);
+  request.study_path = fits;
+  outputs.tolerance_path = "tolerance.csv";
+  EXPECT_EQ(mechgen::analysis::Check(model, request, outputs),
+            "--tolerance-csv: the study does not ask for it (tolerance: true)");
+  outputs.tolerance_path.clear();
+  request.study_path = WriteStudy("check_none.yaml",
+                                  "method: monte_carlo\ncount: 10\nparameters:\n  a: {tolerance: 0.01}\n"
+                                  "metrics: [{kind: failures}]\nrows: none\n");
+  outputs.csv_path = "rows.csv";
+  EXPECT_EQ(mechgen::analysis::Check(model, request, outputs).rfind("--csv: the study asks for its statistics alone "
+                                                                    "(rows: none at " + request.study_path + ":6:",
+                                                                    0),
+            0u);
+}
+
+// Run on this process alone (a plain StudyRanks), 2 threads, the base moved by --set: every
+// row of its CSV the coupler point at theta = 0 by hand (as BaseParametersFromTheCommandLine)
+// for the row's own a, status ok, exit status 0; a sample of 10 in the head's first line.
+TEST(StudyAnalysis, RunOnOneProcessAgainstTheCouplerPointByHand) {
+  mechgen::analysis::StudyRequest request;
+  request.study_path = WriteStudy("run1.yaml",
+                                  "method: monte_carlo\ncount: 10\nsteps: 1\nrange: [0, 0]\nparameters:\n"
+                                  "  a: {tolerance: 0.01}\nmetrics:\n  - {kind: at, column: coupler.P.x, step: 0}\n");
+  request.threads = 2;
+  request.quiet = true;
+  request.no_shards = true;
+  request.params.sets = {"d=4.5"};
+  mechgen::analysis::StudyOutputs outputs;
+  outputs.csv_path = ::testing::TempDir() + "/run1.csv";
+  std::remove(outputs.csv_path.c_str());
+  ASSERT_EQ(mechgen::analysis::Run(mech::fourbar::Model(), request, outputs, mechgen::analysis::StudyRanks()), 0);
+  std::ifstream in(outputs.csv_path);
+  std::string line, first;
+  std::getline(in, first);
+  EXPECT_EQ(first.rfind("# mechgen study, model fourbar: " + request.study_path + ", method monte_carlo, 10 samples", 0),
+            0u)
+      << first;
+  while (std::getline(in, line) && line[0] == '#') {
+  }
+  EXPECT_EQ(line, "sample,a,coupler.P.x_at_0,status");
+  int rows = 0;
+  const double b = 3.5, c = 3, d = 4.5, xi = 1.5, eta = 1;
+  while (std::getline(in, line)) {
+    int index = -1;
+    double a = NAN, x = NAN;
+    char status[16] = {};
+    ASSERT_EQ(std::sscanf(line.c_str(), "%d,%lf,%lf,%15s", &index, &a, &x, status), 4) << line;
+    EXPECT_EQ(index, rows);
+    EXPECT_NEAR(a, 1, 0.05);  // (the default a = 1, sigma 0.01 / 3)
+    const double L = d - a, beta = std::acos((b * b + L * L - c * c) / (2 * b * L));
+    EXPECT_NEAR(x, a + xi * std::cos(beta) - eta * std::sin(beta), 1e-12) << line;
+    EXPECT_STREQ(status, "ok");
+    ++rows;
+  }
+  EXPECT_EQ(rows, 10);
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 /**
  * \file analysis/view_analysis.h
- * The analyses (analysis/sweep.h, statics.h, engine.h, flywheel.h) instantiated once for the model view (issue 43), compiled into
- * mechgen_runtime_view (runtime/view/analysis.cc): a program that includes this header and
+ * The analyses (analysis/sweep.h, statics.h, engine.h, flywheel.h, simulate.h, study.h) instantiated
+ * once for the model view (issue 43), compiled into mechgen_runtime_view (runtime/view/analysis.cc,
+ * analysis_simulate.cc, analysis_study.cc; the synthesis in mechgen_runtime_view_synthesis): a program that includes this header and
  * links that library (mechgen_view's commands, tools/view/<command>.cc) runs an analysis on any
  * model's view without compiling it again; the `extern template` declarations keep the
  * instantiations out of its translation units. The same templates, instantiated for a
@@ -16,6 +17,7 @@
 #include "mechgen/analysis/simulate.h"
 #include "mechgen/analysis/statics.h"
 #include "mechgen/analysis/sweep.h"
+#include "mechgen/analysis/study.h"
 #include "mechgen/core/view_runtime.h"
 #include "mechgen/machines/view_machines.h"
 
@@ -35,5 +37,7 @@ extern template int Run<ViewModel>(const ViewModel&, const FlywheelRequest&, con
                                    const std::function<int()>&, FlywheelResult*);
 extern template std::string Check<ViewModel>(const ViewModel&, const SimulateRequest&);
 extern template int Run<ViewModel>(const ViewModel&, const SimulateRequest&, const SimulateOutputs&);
+extern template std::string Check<ViewModel>(const ViewModel&, const StudyRequest&, const StudyOutputs&);
+extern template int Run<ViewModel>(const ViewModel&, const StudyRequest&, const StudyOutputs&, const StudyRanks&);
 
 }  // namespace mechgen::analysis

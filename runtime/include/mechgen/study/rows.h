@@ -8,6 +8,8 @@
  * the samples, with or without the rows (rows: none), and whatever the threads that compute
  * them (fixed blocks' sums added in block order, counts, exact order statistics).
  *
+ * The CSV's columns are one column table (SampleColumns: table/columns.h, a column's name, unit,
+ * meaning and cell together): io/csv.h's WriteCsvHeader writes its head, AppendRows its rows.
  * Numbers are written as printf's "%.17g" (they round-trip), by std::to_chars with the
  * general format and precision 17, which the standard defines as printf's conversion (the
  * same characters; ~4 times faster here: 60 ns against 260 ns a number); NaN as "nan".
@@ -18,12 +20,14 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "mechgen/study/shards.h"
 #include "mechgen/study/tolerance.h"
+#include "mechgen/table/columns.h"
 
 namespace mechgen::study {
 
@@ -41,35 +45,77 @@ inline std::string G17(double x) {
   return std::string(buffer, FormatG17(x, buffer));
 }
 
+/// One row of the study's CSV: a sample's index, its parameters' values and its packed result
+/// (Study::Pack's layout: the status code, then the metrics).
+struct SampleRow {
+  uint64_t index = 0;
+  const double* values = nullptr;
+  const double* result = nullptr;
+};
+
+/// What one of the study's metrics is: its name, unit and meaning (Study::Unit, Description).
+struct MetricColumn {
+  std::string name, unit, description;
+};
+
 /**
- * \brief Appends the CSV rows of samples first .. first + n - 1 to *text: per sample its
- *        index, its `parameters` values (values[i * parameters + k], i from 0), its `metrics`
- *        metrics and its status (packed[i * width]: the status code, then the metrics).
+ * \brief The study's CSV columns: sample, each varied parameter (`parameters`, in the study's
+ *        order), each metric, status. A number column's cell is "%.17g" of its value
+ *        (AppendRows), the status the text of its code.
  */
-inline void AppendRows(uint64_t first,
+inline table::Columns<SampleRow> SampleColumns(const std::vector<std::string>& parameters,
+                                               const std::vector<MetricColumn>& metrics) {
+  table::Columns<SampleRow> columns;
+  table::Builder<SampleRow> add(&columns);
+  add.Number("sample", "1", "the sample's index, 0-based, in the study's order",
+             [](const SampleRow& r) { return static_cast<double>(r.index); });  // (exact: <= kMaxSamples)
+  for (size_t k = 0; k < parameters.size(); ++k)
+    add.Number(parameters[k], "model units", "the model's parameter " + parameters[k],
+               [k](const SampleRow& r) { return r.values[k]; });
+  for (size_t k = 0; k < metrics.size(); ++k)
+    add.Number(metrics[k].name, metrics[k].unit, metrics[k].description,
+               [k](const SampleRow& r) { return r.result[1 + k]; });
+  add.Text("status",
+           "ok, rows_failed (some rows did not converge), not_assembled, cycle_failed (flywheel, engine), "
+           "simulation_failed (simulate: the run ended before t_end)",
+           [](const SampleRow& r) { return std::string(StatusOfCode(r.result[0])); });
+  return columns;
+}
+
+/**
+ * \brief Appends the cells of `row` in `columns` to *text, comma-separated, and the line's end:
+ *        a number column's value as "%.17g" (NaN: "nan"), a text column's text as it is.
+ */
+template <class Row>
+void AppendRow(const table::Columns<Row>& columns, const Row& row, std::string* text) {
+  char buffer[48];
+  buffer[0] = ',';
+  for (size_t c = 0; c < columns.size(); ++c) {
+    const table::Column<Row>& column = columns[c];
+    if (column.text) {
+      if (c > 0) text->push_back(',');
+      text->append(column.text(row));
+    } else {
+      text->append(buffer + (c == 0 ? 1 : 0), FormatG17(column.value(row), buffer + 1));
+    }
+  }
+  text->push_back('\n');
+}
+
+/**
+ * \brief Appends the CSV rows of samples first .. first + n - 1 to *text, the cells of
+ *        `columns` (SampleColumns): per sample i (from 0 here) its row, the values
+ *        values[i * parameters ..] and the packed result packed[i * width ..].
+ */
+inline void AppendRows(const table::Columns<SampleRow>& columns,
+                       uint64_t first,
                        uint64_t n,
                        const double* values,
                        size_t parameters,
                        const double* packed,
                        uint64_t width,
-                       size_t metrics,
                        std::string* text) {
-  char buffer[48];
-  for (uint64_t i = 0; i < n; ++i) {
-    text->append(buffer, std::to_chars(buffer, buffer + sizeof buffer, first + i).ptr);
-    for (size_t k = 0; k < parameters; ++k) {
-      buffer[0] = ',';
-      text->append(buffer, FormatG17(values[i * parameters + k], buffer + 1));
-    }
-    const double* result = packed + i * width;
-    for (size_t k = 0; k < metrics; ++k) {
-      buffer[0] = ',';
-      text->append(buffer, FormatG17(result[1 + k], buffer + 1));
-    }
-    text->push_back(',');
-    text->append(StatusOfCode(result[0]));
-    text->push_back('\n');
-  }
+  for (uint64_t i = 0; i < n; ++i) AppendRow(columns, SampleRow{first + i, values + i * parameters, packed + i * width}, text);
 }
 
 /// The quantiles of ColumnStatistics, as probabilities.
@@ -174,6 +220,58 @@ inline ColumnStatistics StatisticsOf(const std::vector<double>& x,
     s.quantiles[q] = *at;
   }
   return s;
+}
+
+/// One row of the summary CSV: a metric and its statistics over the ok samples.
+struct SummaryRow {
+  std::string metric, unit;
+  const ColumnStatistics* statistics = nullptr;
+};
+
+/// The summary CSV's columns: metric, unit, then n, mean, sigma, min, the SummaryQuantiles()'
+/// (p01 .. p99) and max, each a number in the metric's unit (n: a count).
+inline table::Columns<SummaryRow> SummaryColumns() {
+  table::Columns<SummaryRow> columns;
+  table::Builder<SummaryRow> add(&columns);
+  add.Text("metric", "the metric (the study's CSV's column)", [](const SummaryRow& r) { return r.metric; });
+  add.Text("unit", "the metric's unit, of every number of the row but n", [](const SummaryRow& r) { return r.unit; });
+  add.Number("n", "1", "the finite values of the ok samples",
+             [](const SummaryRow& r) { return static_cast<double>(r.statistics->moments.n); });
+  add.Number("mean", "the metric's", "their mean (two passes in sample order)",
+             [](const SummaryRow& r) { return r.statistics->moments.mean; });
+  add.Number("sigma", "the metric's", "their standard deviation (n - 1)",
+             [](const SummaryRow& r) { return r.statistics->moments.sigma; });
+  add.Number("min", "the metric's", "the smallest", [](const SummaryRow& r) { return r.statistics->min; });
+  for (size_t q = 0; q < SummaryQuantiles().size(); ++q) {
+    char name[16];
+    std::snprintf(name, sizeof name, "p%02d", static_cast<int>(std::lround(100 * SummaryQuantiles()[q])));
+    add.Number(name, "the metric's", "the p-quantile: the ceil(p n)-th smallest value (exact)",
+               [q](const SummaryRow& r) { return r.statistics->quantiles[q]; });
+  }
+  add.Number("max", "the metric's", "the largest", [](const SummaryRow& r) { return r.statistics->max; });
+  return columns;
+}
+
+/// One row of the histogram CSV: a bin of a metric.
+struct HistogramRow {
+  std::string metric;
+  uint64_t bin = 0, count = 0;
+  double low = NAN, high = NAN;
+};
+
+/// The histogram CSV's columns: metric, bin, low, high, count.
+inline table::Columns<HistogramRow> HistogramColumns() {
+  table::Columns<HistogramRow> columns;
+  table::Builder<HistogramRow> add(&columns);
+  add.Text("metric", "the metric (the study's CSV's column)", [](const HistogramRow& r) { return r.metric; });
+  add.Number("bin", "1", "the bin's index, from the metric's min",
+             [](const HistogramRow& r) { return static_cast<double>(r.bin); });
+  add.Number("low", "the metric's", "the bin's lower end (low <= v)", [](const HistogramRow& r) { return r.low; });
+  add.Number("high", "the metric's", "its upper end (v < high; the last bin includes max)",
+             [](const HistogramRow& r) { return r.high; });
+  add.Number("count", "1", "the finite values of the ok samples in the bin",
+             [](const HistogramRow& r) { return static_cast<double>(r.count); });
+  return columns;
 }
 
 }  // namespace mechgen::study

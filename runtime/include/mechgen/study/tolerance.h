@@ -339,8 +339,9 @@ struct Decision {
 };
 
 namespace tolerance_internal {
+// (512: the longest verdict's format, ~230 characters, with five numbers of at most ~25 each.)
 inline std::string Format(const char* format, double a, double b = 0, double c = 0, double d = 0, double e = 0) {
-  char buffer[256];
+  char buffer[512];
   std::snprintf(buffer, sizeof(buffer), format, a, b, c, d, e);
   return buffer;
 }
