@@ -200,8 +200,8 @@ struct BoundExact {
 };
 
 /// The parameters of the four-bar `bar` in the model (base's for every parameter the task does not name).
-template <class M>
-typename ModelTypes<M>::Params ExactParams(const BoundExact<M>& b, const ExactFourBar& bar) {
+template <class M, size_t K>
+typename ModelTypes<M>::Params ExactParams(const BoundExact<M>& b, const FourBarOf<K>& bar) {
   using C = ModelCalls<M>;
   auto p = b.base;
   const double values[9] = {bar.a, bar.b, bar.c, bar.d, bar.xi, bar.eta, bar.x0, bar.y0, bar.theta0};
@@ -358,9 +358,10 @@ double CouplerDistance(const BoundExact<M>& b, const typename ModelTypes<M>::Par
 
 /// The crank's angle at each point in the order of the motion: from the first point, turning
 /// `direction` (+1, -1) by less than a turn to each next (direction 0: the nearest way).
-inline std::vector<double> MotionAngles(const ExactFourBar& bar) {
+template <size_t K>
+std::vector<double> MotionAngles(const FourBarOf<K>& bar) {
   std::vector<double> q = {bar.crank[0]};
-  for (int j = 1; j < 5; ++j) {
+  for (int j = 1; j < static_cast<int>(K); ++j) {
     const double d = bar.crank[static_cast<size_t>(j)] - q.back();
     double step = std::remainder(d, kTwoPi);
     if (bar.direction != 0) {
@@ -372,15 +373,16 @@ inline std::vector<double> MotionAngles(const ExactFourBar& bar) {
 }
 
 /// The motion through the points on `modes`: the crank in steps of at most 1 deg assembles,
-/// regular, and the runtime's continuation reaches every point; "" or why not.
-template <class M>
-std::string MotionCheck(const BoundExact<M>& b, const typename ModelTypes<M>::Params& p, const ExactFourBar& bar,
-                        const typename ModelCalls<M>::Modes& modes, double tol, std::string* defect) {
+/// regular, and the runtime's continuation reaches every point (the K `points`); "" or why not.
+template <class M, size_t K>
+std::string MotionCheck(const BoundExact<M>& b, const typename ModelTypes<M>::Params& p, const FourBarOf<K>& bar,
+                        const std::array<std::array<double, 2>, K>& points, const typename ModelCalls<M>::Modes& modes,
+                        double tol, std::string* defect) {
   using C = ModelCalls<M>;
   const M& model = *b.model;
   const std::vector<double> q = MotionAngles(bar);
   typename ModelTypes<M>::VecPhi phi;
-  for (int j = 0; j + 1 < 5; ++j) {
+  for (int j = 0; j + 1 < static_cast<int>(K); ++j) {
     const double from = q[static_cast<size_t>(j)], to = q[static_cast<size_t>(j + 1)];
     const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / (M_PI / 180))));
     for (int s = 1; s < steps; ++s) {
@@ -404,7 +406,7 @@ std::string MotionCheck(const BoundExact<M>& b, const typename ModelTypes<M>::Pa
   if (solver.Assemble(qv, phi, 0, nullptr) != position::Status::kConverged)
     return "the runtime cannot assemble at point 1";
   typename ModelTypes<M>::Coefficients co;
-  for (int j = 1; j < 5; ++j) {
+  for (int j = 1; j < static_cast<int>(K); ++j) {
     const double from = q[static_cast<size_t>(j - 1)], to = q[static_cast<size_t>(j)];
     const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / (10 * M_PI / 180))));
     for (int s = 1; s <= steps; ++s) {
@@ -413,7 +415,7 @@ std::string MotionCheck(const BoundExact<M>& b, const typename ModelTypes<M>::Pa
         return "the continuation stops before point " + std::to_string(j + 1);
     }
     C::Coeffs(model, p, solver.state().q, solver.state().phi, &co);
-    const auto& P = b.task.five.points[static_cast<size_t>(j)];
+    const auto& P = points[static_cast<size_t>(j)];
     const double d = std::hypot(co.r_P(0, b.point) - P[0], co.r_P(1, b.point) - P[1]);
     if (!(d <= tol))
       return "the continuation reaches point " + std::to_string(j + 1) + " at a distance " + Short(d, 3) +
@@ -514,7 +516,7 @@ ExactRun RunExactTask(const BoundExact<M>& b, const std::string& model_text, con
       typename ModelCalls<M>::Modes modes = ModelCalls<M>::DefaultModes(*b.model);
       modes[0] = row.mode;
       std::string defect;
-      row.motion = MotionCheck(b, p, bar, modes, tol, &defect);
+      row.motion = MotionCheck(b, p, bar, b.task.five.points, modes, tol, &defect);
       row.defect = defect;
     }
     if (row.defect.empty()) ++run.defect_free;
@@ -730,41 +732,152 @@ inline std::string ExactReport(const ExactRun& run, const ExactTask& task) {
 }
 
 
+/// A real four-bar of a nine-point task checked by the model's generated kinematics (the
+/// five-point checks of RunExactTask on nine points) and its model file.
+struct NineRow {
+  int mode = 0;                     ///< the block-0 assembly mode reaching point 1 (the written model's), 0 none
+  std::array<int, 9> point_mode{};  ///< the mode reaching each point (0: neither)
+  double check = 0;                 ///< the generated coupler point's largest distance from a point (model length)
+  bool reached = false;             ///< every point within kExactCheckTolerance (1 + |AD|) on its point_mode
+  std::string motion = "not run";   ///< "ok", "not run" (not on one branch in order), or why the motion fails
+  std::string defect;               ///< "" defect-free, else the first: degenerate link, branch, order, kinematics, dead point, continuation
+  std::string file;                 ///< the written model's file name ("" none)
+  std::string not_written;          ///< why no model file was written
+  WrittenAssembly written;
+};
+
 /// What a nine-point `kind: exact` task gives (nine_point.h): the solve, each real four-bar's
 /// largest distance from the points by the closed-form kinematics at its crank angles
-/// (nine_point::Configuration on its branch), and the drawings of the defect-free ones.
+/// (nine_point::Configuration on its branch), with a model: its checks by the model's generated
+/// kinematics and its model file (`rows`), and the drawings of the defect-free ones.
 struct NinePointRun {
   nine_point::NinePointResult result;
   std::vector<double> check;  ///< per real four-bar (result.real), in model length
+  std::vector<NineRow> rows;  ///< per real four-bar, when checked against a model (else empty)
   std::vector<std::pair<std::string, std::string>> drawings;  ///< file name, SVG
+  int defect_free = 0;    ///< real four-bars whose verdict is empty (rows' when checked against a model)
   bool complete = false;  ///< no path to the points lost, the monodromy stopped by its stall rule
+  /// The verdict of real four-bar k: the model's checks when there are rows, else the closed form's.
+  const std::string& Defect(size_t k) const { return rows.empty() ? result.real[k].bar.defect : rows[k].defect; }
 };
 
+namespace exact_internal {
+/// The closed-form check of every real four-bar, completeness, the drawings of the defect-free.
+inline void FinishNinePointRun(const nine_point::NinePoints& points, int max_loops, NinePointRun* run) {
+  const auto& r = run->result;
+  run->complete = r.lost == 0 && r.monodromy.loops < max_loops;
+  run->check.clear();
+  run->drawings.clear();
+  run->defect_free = 0;
+  for (size_t k = 0; k < r.real.size(); ++k) {
+    const nine_point::NineSolution& s = r.real[k];
+    double worst = 0;
+    for (size_t j = 0; j < 9; ++j) {
+      homotopy::Complex B, C, P;
+      const bool ok = s.bar.branch[j] != 0 && nine_point::Configuration(s.bar, s.bar.crank[j], s.bar.branch[j], &B, &C, &P);
+      const double d = ok ? std::abs(P - homotopy::Complex(points[j][0], points[j][1])) : kInf;
+      worst = std::max(worst, std::isfinite(d) ? d : kInf);
+    }
+    run->check.push_back(worst);
+    if (!run->Defect(k).empty()) continue;
+    ++run->defect_free;
+    char name[64];
+    std::snprintf(name, sizeof name, "four_bar_%04d.svg", s.bar.solution + 1);
+    run->drawings.emplace_back(name, nine_point::NineBarSvg(s.bar, points,
+                                                            "solution " + std::to_string(s.bar.solution + 1) + ", class " +
+                                                                std::to_string(s.klass + 1) +
+                                                                (s.bar.crank_turns ? ", the crank turns" : "")));
+  }
+}
+}  // namespace exact_internal
+
+/// The nine-point task without a model: the closed-form check only (nine_point.h's verdicts).
 inline NinePointRun RunNinePointTask(const ExactTask& task, int threads) {
   NinePointRun run;
   nine_point::NinePointOptions o;
   o.monodromy.threads = std::max(1, threads);
   run.result = nine_point::SolveNinePoints(task.nine_points, o);
-  const auto& r = run.result;
-  run.complete = r.lost == 0 && r.monodromy.loops < o.monodromy.max_loops;
-  for (const nine_point::NineSolution& s : r.real) {
-    double worst = 0;
-    for (size_t j = 0; j < 9; ++j) {
-      homotopy::Complex B, C, P;
-      const bool ok = s.bar.branch[j] != 0 && nine_point::Configuration(s.bar, s.bar.crank[j], s.bar.branch[j], &B, &C, &P);
-      const double d = ok ? std::abs(P - homotopy::Complex(task.nine_points[j][0], task.nine_points[j][1])) : kInf;
-      worst = std::max(worst, std::isfinite(d) ? d : kInf);
-    }
-    run.check.push_back(worst);
-    if (!s.bar.defect_free()) continue;
-    char name[64];
-    std::snprintf(name, sizeof name, "four_bar_%04d.svg", s.bar.solution + 1);
-    run.drawings.emplace_back(name, nine_point::NineBarSvg(s.bar, task.nine_points,
-                                                           "solution " + std::to_string(s.bar.solution + 1) + ", class " +
-                                                               std::to_string(s.klass + 1) +
-                                                               (s.bar.crank_turns ? ", the crank turns" : "")));
-  }
+  exact_internal::FinishNinePointRun(task.nine_points, o.monodromy.max_loops, &run);
   return run;
+}
+
+/**
+ * \brief Checks each real four-bar of a solved nine-point task with the model's generated
+ *        kinematics and the defect checks, as RunExactTask does for five points (the coupler
+ *        point at each point's crank angle on either mode within kExactCheckTolerance (1 + |AD|),
+ *        then the motion from point to point on the mode reaching point 1), and writes each one
+ *        (no link of zero length) into the model's text (`models`: <stem>_nine_NNNN.yaml, NNNN
+ *        its solution; nothing when model_text is empty).
+ */
+template <class M>
+NinePointRun CheckNinePointRun(const BoundExact<M>& b, nine_point::NinePointResult result, int max_loops,
+                               const std::string& model_text, const std::string& model_stem,
+                               std::vector<std::pair<std::string, std::string>>* models) {
+  using namespace exact_internal;
+  NinePointRun run;
+  run.result = std::move(result);
+  const auto& points = b.task.nine_points;
+  for (const nine_point::NineSolution& s : run.result.real) {
+    NineRow row;
+    const nine_point::NineBar& bar = s.bar;
+    const double tol = kExactCheckTolerance * (1 + bar.d);
+    const auto p = ExactParams(b, bar);
+    row.reached = true;
+    for (size_t j = 0; j < 9; ++j) {
+      const double on_plus = CouplerDistance(b, p, bar.crank[j], 1, points[j]);
+      const double on_minus = CouplerDistance(b, p, bar.crank[j], -1, points[j]);
+      const double d = std::min(on_plus, on_minus);
+      row.point_mode[j] = d <= tol ? (on_plus <= on_minus ? 1 : -1) : 0;
+      row.check = std::max(row.check, d);
+      row.reached = row.reached && d <= tol;
+    }
+    row.mode = row.point_mode[0];
+    row.defect = bar.defect;
+    if (row.defect.empty() && !row.reached) row.defect = "kinematics";
+    typename ModelCalls<M>::Modes modes = ModelCalls<M>::DefaultModes(*b.model);
+    modes[0] = row.mode;
+    if (row.defect.empty()) {
+      std::string defect;
+      row.motion = MotionCheck(b, p, bar, points, modes, tol, &defect);
+      row.defect = defect;
+    }
+    if (!model_text.empty() && models != nullptr) {
+      if (bar.defect == "degenerate link") {
+        row.not_written = "a link of zero length";
+      } else if (row.mode == 0) {
+        row.not_written = "the generated kinematics does not reach point 1 on either mode";
+      } else {
+        std::vector<std::string> names;
+        for (const std::string& n : b.task.parameters)
+          if (!n.empty()) names.push_back(n);
+        std::vector<double> motion = MotionAngles(bar);
+        double lo = 0, hi = 0;
+        if (!row.defect.empty() && !ReachAbout(*b.model, p, bar.crank[0], modes, &lo, &hi)) motion = {bar.crank[0], lo, hi};
+        std::string text, error;
+        if (WriteSynthesizedModel(*b.model, model_text, p, names, motion, &text, &row.written, &error, &modes)) {
+          char name[96];
+          std::snprintf(name, sizeof name, "%s_nine_%04d.yaml", model_stem.c_str(), bar.solution + 1);
+          row.file = name;
+          models->emplace_back(row.file, text);
+        } else {
+          row.not_written = error;
+        }
+      }
+    }
+    run.rows.push_back(row);
+  }
+  FinishNinePointRun(points, max_loops, &run);
+  return run;
+}
+
+/// The nine-point task with its model: SolveNinePoints, then CheckNinePointRun.
+template <class M>
+NinePointRun RunNinePointTask(const BoundExact<M>& b, const std::string& model_text, const std::string& model_stem,
+                              std::vector<std::pair<std::string, std::string>>* models, int threads) {
+  nine_point::NinePointOptions o;
+  o.monodromy.threads = std::max(1, threads);
+  return CheckNinePointRun(b, nine_point::SolveNinePoints(b.task.nine_points, o), o.monodromy.max_loops, model_text,
+                           model_stem, models);
 }
 
 /// solutions.csv of a nine-point task: one row per real four-bar.
@@ -773,12 +886,14 @@ inline std::string NinePointCsv(const NinePointRun& run, const std::string& mode
     const nine_point::NineSolution* s;
     double check;
     std::string file;
+    const NineRow* model;  ///< the generated kinematics' checks (null: no model)
+    const std::string* defect;
   };
   std::vector<Row> rows;
   size_t drawn = 0;
   for (size_t k = 0; k < run.result.real.size(); ++k) {
-    Row row{&run.result.real[k], run.check[k], ""};
-    if (row.s->bar.defect_free() && drawn < run.drawings.size()) row.file = run.drawings[drawn++].first;
+    Row row{&run.result.real[k], run.check[k], "", run.rows.empty() ? nullptr : &run.rows[k], &run.Defect(k)};
+    if (row.defect->empty() && drawn < run.drawings.size()) row.file = run.drawings[drawn++].first;
     rows.push_back(row);
   }
   table::Columns<Row> columns;
@@ -828,8 +943,29 @@ inline std::string NinePointCsv(const NinePointRun& run, const std::string& mode
              "the largest distance of the coupler point by the closed-form kinematics (circle intersection at the crank "
              "angle, on the point's branch) from a point",
              [](const Row& r) { return std::isfinite(r.check) ? r.check : std::nan(""); });
-  add.Text("defect", "empty: defect-free; else the first failing check: degenerate link, branch, order",
-           [](const Row& r) { return r.s->bar.defect; });
+  const double nan = std::nan("");
+  add.Text("mode",
+           "the model's assembly mode (block 0, +1 or -1) on which the generated kinematics reaches point 1: the written "
+           "model's; 0 neither; empty: not checked against a model",
+           [](const Row& r) { return r.model ? std::to_string(r.model->mode) : std::string(); });
+  add.Number("generated_check", "model length",
+             "the largest distance of the model's generated coupler point from a point at its crank angle, on the mode "
+             "reaching it (the nearer mode where neither does); empty: not checked against a model",
+             [nan](const Row& r) { return r.model && std::isfinite(r.model->check) ? r.model->check : nan; });
+  add.Text("motion",
+           "ok: from point to point (1 deg steps, the way the crank turns) the mechanism assembles regularly on its mode "
+           "and the runtime's continuation reaches every point; not run: not on one branch in order; else why not",
+           [](const Row& r) {
+             std::string m = r.model ? r.model->motion : std::string();
+             std::replace(m.begin(), m.end(), ',', ';');
+             return m;
+           });
+  add.Text("defect",
+           "empty: defect-free; else the first failing check: degenerate link, branch, order, kinematics (a point not "
+           "reached by the generated kinematics), dead point, continuation",
+           [](const Row& r) { return *r.defect; });
+  add.Text("model_file", "the model file written for this four-bar (empty: none)",
+           [](const Row& r) { return r.model ? r.model->file : std::string(); });
   add.Text("drawing", "the SVG drawn for a defect-free four-bar", [](const Row& r) { return r.file; });
   const auto& n = run.result;
   std::ostringstream out;
@@ -837,7 +973,8 @@ inline std::string NinePointCsv(const NinePointRun& run, const std::string& mode
       << ": exact path synthesis (kind: exact), nine points, pivots free, by monodromy\n";
   out << "# status: " << (run.complete ? "complete" : "INCOMPLETE") << "; classes " << n.at_target.size()
       << " (1442 for generic points), solutions " << n.solutions << ", real classes " << n.real_classes
-      << ", real four-bars " << n.real.size() << ", defect-free " << n.defect_free << "\n";
+      << ", real four-bars " << n.real.size() << ", defect-free " << run.defect_free
+      << (run.rows.empty() ? " (closed form)" : " (the model's generated kinematics and motion)") << "\n";
   out << "# lengths in the model's unit, angles in radians counter-clockwise from +x; the points are numbered 1 to 9 in "
          "the task's order\n";
   DescribeColumns(columns, out);
@@ -863,18 +1000,25 @@ inline std::string NinePointReport(const NinePointRun& run) {
   o << "at the points: " << r.at_target.size() << " classes, " << r.solutions << " solutions, " << r.lost
     << " classes lost, " << r.retracked << " paths tracked again (a finer step, or a cognate's), " << r.detours
     << " detours for a lost class; " << r.paths << " paths in all\n";
-  o << "real: " << r.real_classes << " classes, " << r.real.size() << " four-bars, defect-free " << r.defect_free << "\n";
+  o << "real: " << r.real_classes << " classes, " << r.real.size() << " four-bars, defect-free " << run.defect_free
+    << (run.rows.empty() ? " (closed form: branch, order, no degenerate link)"
+                         : " (and the model's generated kinematics within 1e-8 (1 + |AD|), the motion from point to point)")
+    << "\n";
   o << "time: " << Short(r.seconds, 4) << " s\n\n";
-  size_t k = 0;
-  for (const nine_point::NineSolution& s : r.real) {
-    const double check = run.check[k++];
-    if (!s.bar.defect_free()) continue;
+  for (size_t k = 0; k < r.real.size(); ++k) {
+    const nine_point::NineSolution& s = r.real[k];
+    const double check = run.check[k];
+    if (!run.Defect(k).empty()) continue;
     const auto& b = s.bar;
     o << "solution " << b.solution + 1 << " (class " << s.klass + 1 << "): a " << Short(b.a, 9) << ", b " << Short(b.b, 9)
       << ", c " << Short(b.c, 9) << ", d " << Short(b.d, 9) << ", xi " << Short(b.xi, 9) << ", eta " << Short(b.eta, 9)
       << ", A (" << Short(b.x0, 9) << ", " << Short(b.y0, 9) << "), theta0 " << Short(b.theta0, 9) << "; "
       << (b.direction > 0 ? "counter-clockwise" : "clockwise") << ", Grashof " << (b.grashof ? "yes" : "no")
-      << ", crank turns " << (b.crank_turns ? "yes" : "no") << ", closed form within " << Short(check, 3) << "\n";
+      << ", crank turns " << (b.crank_turns ? "yes" : "no") << ", closed form within " << Short(check, 3);
+    if (!run.rows.empty())
+      o << ", generated kinematics within " << Short(run.rows[k].check, 3) << " on mode " << run.rows[k].mode
+        << (run.rows[k].file.empty() ? "" : ", model file " + run.rows[k].file);
+    o << "\n";
   }
   return o.str();
 }

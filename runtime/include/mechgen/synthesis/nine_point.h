@@ -128,6 +128,88 @@ struct Segment {
   }
 };
 
+/**
+ * \brief The same system homogenized, on a random affine chart of projective space: w =
+ *        (z, w0) ~ (z / w0, 1), each equation multiplied by the powers of w0 that make it
+ *        homogeneous (the length equations of degree 3, |Q_j| = 1 of degree 2), and a 25th,
+ *        linear equation chart . w = 1. A solution far out (|z| ~ 1e3: a pivot far away, Q_j large)
+ *        is a w of moderate size with a small w0, where the affine z's equations have entries of
+ *        sizes |z| and |z|^3 and Newton in double precision cannot settle to the corrector's
+ *        tolerance: every edge is tracked here (TrackEdge).
+ */
+constexpr int kNP = kN + 1;  ///< unknowns of the chart: z, then w0
+using PVec = homotopy::VecN<kNP>;
+using PMat = homotopy::MatN<kNP>;
+
+inline void EvaluateProjective(const PVec& w, const Params& p, const Params& dp, const PVec& chart, PVec* f, PMat* J,
+                               PVec* fp) {
+  f->setZero();
+  J->setZero();
+  fp->setZero();
+  const Complex w0 = w(kN), w02 = w0 * w0;
+  for (int j = 1; j <= 8; ++j) {
+    const int g = GammaIndex(j), gb = GammaBarIndex(j);
+    const Complex G = w(g), Gb = w(gb), d = p(j - 1), db = p(8 + j - 1);
+    for (int side = 0; side < 2; ++side) {
+      const int r = 8 * side + (j - 1), o = 4 * side;
+      const Complex X = w(o), Xb = w(o + 1), A = w(o + 2), Ab = w(o + 3);
+      const Complex lin = (Ab - Xb) * d + (A - X) * db;
+      (*f)(r) = (Ab - db * w0) * X * G + (A - d * w0) * Xb * Gb + w02 * lin - d * db * w02 * w0;
+      (*J)(r, o) = (Ab - db * w0) * G - w02 * db;
+      (*J)(r, o + 1) = (A - d * w0) * Gb - w02 * d;
+      (*J)(r, o + 2) = Xb * Gb + w02 * db;
+      (*J)(r, o + 3) = X * G + w02 * d;
+      (*J)(r, g) = (Ab - db * w0) * X;
+      (*J)(r, gb) = (A - d * w0) * Xb;
+      (*J)(r, kN) = -db * X * G - d * Xb * Gb + Complex(2) * w0 * lin - Complex(3) * d * db * w02;
+      (*fp)(r) = (-w0 * Xb * Gb + w02 * (Ab - Xb) - db * w02 * w0) * dp(j - 1) +
+                 (-w0 * X * G + w02 * (A - X) - d * w02 * w0) * dp(8 + j - 1);
+    }
+    const int r = 16 + (j - 1);
+    (*f)(r) = G * Gb + w0 * (G + Gb);
+    (*J)(r, g) = Gb + w0;
+    (*J)(r, gb) = G + w0;
+    (*J)(r, kN) = G + Gb;
+  }
+  (*f)(kN) = (chart.transpose() * w)(0) - Complex(1);
+  J->row(kN) = chart.transpose();
+}
+
+/// The chart's fixed random coefficients (the same every run).
+inline PVec ProjectiveChart() {
+  exact_internal::Coefficients c(0x9e3779b97f4a7c15ULL);
+  PVec chart;
+  for (int k = 0; k < kNP; ++k) chart(k) = c.Next();
+  return chart;
+}
+
+/// z on the chart, and back (w0 = 0: at infinity, not finite).
+inline PVec ToChart(const Vec& z, const PVec& chart) {
+  PVec w;
+  w.head<kN>() = z;
+  w(kN) = 1;
+  return w / (chart.transpose() * w)(0);
+}
+inline Vec FromChart(const PVec& w) { return w.head<kN>() / w(kN); }
+
+/// The homogenized system at fixed parameters, and the parameter homotopy on the chart.
+struct AtParamsProjective {
+  Params p;
+  PVec chart;
+  void operator()(const PVec& w, PVec* f, PMat* J) const {
+    PVec unused;
+    EvaluateProjective(w, p, Params::Zero(), chart, f, J, &unused);
+  }
+};
+struct SegmentProjective {
+  Params from, to;
+  PVec chart;
+  void operator()(const PVec& w, double t, PVec* H, PMat* Hw, PVec* Ht) const {
+    const Params p = (1 - t) * from + t * to;
+    EvaluateProjective(w, p, to - from, chart, H, Hw, Ht);
+  }
+};
+
 /// |F(z; p)|_inf.
 inline double Residual(const Vec& z, const Params& p) {
   Vec f;
@@ -339,35 +421,44 @@ class ClassSet {
   int classes_ = 0;
 };
 
-/// The reciprocal condition of F_z at z with its rows and columns scaled to a largest entry of
-/// 1: a solution far out (a pivot far away) has F_z's entries of sizes |z| and |z|^2 apart, so
-/// that the unscaled rcond says nothing about whether it is singular.
+/// The reciprocal condition of F_z at z equilibrated (Ruiz: rows and columns divided by the
+/// square roots of their largest entries, ten sweeps, towards largest entries of 1 in every row
+/// and column): a solution far out (a pivot far away) has F_z's entries of sizes |z|^-1 to
+/// |z|^2 apart, so that the unscaled rcond says nothing about whether it is singular (one
+/// sweep of column then row scaling leaves 5e-11 at a nonsingular solution with |z| = 5e3).
 inline double ScaledRcond(const Vec& z, const Params& p) {
   Vec f;
   Mat J;
   AtParams{p}(z, &f, &J);
-  for (int c = 0; c < kN; ++c) {
-    const double m = J.col(c).cwiseAbs().maxCoeff();
-    if (m > 0) J.col(c) /= m;
-  }
-  for (int r = 0; r < kN; ++r) {
-    const double m = J.row(r).cwiseAbs().maxCoeff();
-    if (m > 0) J.row(r) /= m;
+  for (int sweep = 0; sweep < 10; ++sweep) {
+    for (int c = 0; c < kN; ++c) {
+      const double m = J.col(c).cwiseAbs().maxCoeff();
+      if (m > 0) J.col(c) /= std::sqrt(m);
+    }
+    for (int r = 0; r < kN; ++r) {
+      const double m = J.row(r).cwiseAbs().maxCoeff();
+      if (m > 0) J.row(r) /= std::sqrt(m);
+    }
   }
   const Eigen::JacobiSVD<Mat> svd(J);
   const auto& s = svd.singularValues();
   return s(0) > 0 && std::isfinite(s(0)) ? s(kN - 1) / s(0) : 0;
 }
 
-/// A path along one edge: its end when it settles (the tracker's residual test) and F_z, scaled,
-/// is nonsingular (rcond at least `scaled_rcond`).
+/// A path along one edge, tracked on the projective chart (EvaluateProjective): its end when it
+/// settles (the tracker's residual test on the chart), is finite and F_z there, equilibrated, is
+/// nonsingular (rcond at least `scaled_rcond`).
 inline bool TrackEdge(const Params& from, const Params& to, const Vec& z0, const homotopy::TrackOptions& o, Vec* z,
                       double scaled_rcond = 1e-10) {
+  static const PVec chart = ProjectiveChart();
   homotopy::TrackOptions settle = o;
-  settle.singular_rcond = 0;  // judged here, scaled
-  const homotopy::PathEnd<kN> e = homotopy::TrackHomotopy<kN>(Segment{from, to}, AtParams{to}, z0, settle);
-  if (e.status != homotopy::PathStatus::kFinite || !(ScaledRcond(e.z, to) >= scaled_rcond)) return false;
-  *z = e.z;
+  settle.singular_rcond = 0;  // judged here, equilibrated
+  const homotopy::PathEnd<kNP> e = homotopy::TrackHomotopy<kNP>(SegmentProjective{from, to, chart},
+                                                                 AtParamsProjective{to, chart}, ToChart(z0, chart), settle);
+  if (e.status != homotopy::PathStatus::kFinite) return false;
+  const Vec end = FromChart(e.z);
+  if (!end.allFinite() || !(ScaledRcond(end, to) >= scaled_rcond)) return false;
+  *z = end;
   return true;
 }
 
@@ -499,6 +590,7 @@ struct NinePointResult {
   MonodromyResult monodromy;
   std::vector<Vec> at_target;  ///< one solution per class reached at the points (scaled), distinct classes
   int lost = 0;                ///< classes not reached at the points (their paths, their cognates' and three detours failed)
+  std::vector<int> lost_classes;  ///< their indices in monodromy.classes
   int retracked = 0;           ///< paths tracked again: with a finer step, or a cognate's path
   int detours = 0;             ///< detours tried for a class still lost (each two paths)
   long paths = 0;              ///< every edge tracked: the monodromy's and the last homotopy's
@@ -517,13 +609,13 @@ struct NinePointResult {
  *        still fails from its cognates, and a class still lost by detours; the orbits expanded
  *        at the points; the real solutions as four-bars.
  */
-inline NinePointResult SolveNinePoints(const NinePoints& points, const NinePointOptions& o = {}) {
+inline NinePointResult SolveAtPoints(const MonodromyResult& monodromy, const NinePoints& points,
+                                     const NinePointOptions& o = {}) {
   using namespace internal;
   const auto t0 = std::chrono::steady_clock::now();
   NinePointResult out;
   const Params target = PointParams(points, &out.scale);
-  const StartPair start = RandomStartPair(o.start_seed);
-  out.monodromy = Monodromy(start, o.monodromy);
+  out.monodromy = monodromy;
   const MonodromyResult& m = out.monodromy;
   out.paths = m.paths;
   struct End {
@@ -636,10 +728,14 @@ inline NinePointResult SolveNinePoints(const NinePoints& points, const NinePoint
         found = true;
       }
     }
-    if (!found) ++out.lost;
+    if (!found) ++out.lost, out.lost_classes.push_back(static_cast<int>(i));
   }
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() + m.seconds;
   return out;
+}
+
+inline NinePointResult SolveNinePoints(const NinePoints& points, const NinePointOptions& o = {}) {
+  return SolveAtPoints(Monodromy(RandomStartPair(o.start_seed), o.monodromy), points, o);
 }
 
 /// The joints B, C and the coupler point P of `bar` at crank angle q with C on side `side` of
