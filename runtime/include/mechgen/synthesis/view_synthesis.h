@@ -17,7 +17,9 @@
  * SynthesizeFunction: the exact start, Levenberg-Marquardt on the view's design derivatives,
  * differential evolution and the minimax exchange; FunctionEvaluator, FunctionReport,
  * FunctionModelParameters, FunctionWrittenInputs, FunctionSvg), and the synthesized model file
- * and its report lines (WriteSynthesizedModel, SetParametersText, WrittenModelText).
+ * and its report lines (WriteSynthesizedModel, SetParametersText, WrittenModelText); and the
+ * synthesis analysis on them (analysis/synthesize.h: Check, Run; mechgen_view synthesize runs
+ * it), here rather than in analysis/view_analysis.h because it lives in this library.
  */
 #pragma once
 
@@ -27,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "mechgen/analysis/synthesize.h"
 #include "mechgen/core/view_model.h"
 #include "mechgen/synthesis/exact.h"
 #include "mechgen/synthesis/function.h"
@@ -76,3 +79,10 @@ extern template std::vector<double> FunctionWrittenInputs<ViewModel>(const Bound
 extern template std::string FunctionSvg<ViewModel>(FunctionEvaluator<ViewModel>*, const FunctionCandidate&, int);
 
 }  // namespace mechgen::synthesis
+
+namespace mechgen::analysis {
+
+extern template std::string Check<ViewModel>(const ViewModel&, const SynthesizeRequest&);
+extern template int Run<ViewModel>(const ViewModel&, const SynthesizeRequest&, const SynthesizeOutputs&);
+
+}  // namespace mechgen::analysis
