@@ -1,8 +1,9 @@
 // mechgen_view synthesize MODEL.so [synthesize options]: the synthesize command through the
 // model view, the same synthesis analysis (mechgen/analysis/synthesize.h) as every
 // <model>_synthesize, instantiated once for the view in mechgen_runtime_view_synthesis
-// (synthesis/view_synthesis.h, runtime/view/synthesis.cc).
-#include "mechgen/synthesis/view_synthesis.h"
+// (runtime/view/synthesis.cc); declared by analysis/synthesize_view.h, so that this file reads
+// none of the synthesis layer (Ceres, yaml-cpp).
+#include "mechgen/analysis/synthesize_view.h"
 #include "synthesize_args.h"
 #include "synthesize_run.h"
 #include "view/commands.h"
