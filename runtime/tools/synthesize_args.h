@@ -8,19 +8,15 @@
 #include <string>
 
 #include "common/params.h"
+#include "mechgen/analysis/synthesize_request.h"
 
 namespace mechgen::synthesize_tool {
 
-/// The options: counts checked, paths as given.
-struct Arguments {
+/// The options: the request (analysis/synthesize_request.h: counts checked here, paths as
+/// given; --model empty: the command takes it from `mechgen synthesize MODEL`,
+/// synthesize_run.h) and the tool's name.
+struct Arguments : analysis::SynthesizeRequest {
   std::string tool = "synthesize";  ///< the tool's name for messages (argv[0])
-  std::string task_path;            ///< --task (required)
-  std::string out_dir = "synthesis_out";
-  std::string model_path;           ///< --model (empty: from argv[0], `mechgen synthesize MODEL`)
-  unsigned long long seed = 1;
-  int threads = 1;                  ///< --threads (default: the cores)
-  long long evaluations = 0;        ///< --evaluations (0: the task's)
-  tools::ParameterOptions params;   ///< --params, --set: the model's parameters before the synthesis
 };
 
 /// Exit status of a usage error (bad arguments: nothing written).

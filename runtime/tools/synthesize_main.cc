@@ -11,11 +11,11 @@
 // stage's Jacobian) and the point; the task file (docs/synthesis.md) the targets, the timing,
 // the variables' bounds, the constraints and the search's budget.
 //
-// `mechgen synthesize` (generator/driver/tool_command.cc) runs the same source (synthesize_run.h)
-// through the model view (mechgen_view synthesize) with argv[0] = "mechgen synthesize MODEL":
-// the model file is read from there to write the synthesized model; what the view does not do
-// yet (function generation: synthesize_run.h) it compiles
-// this file against the model (with Ceres and yaml-cpp) and runs it the same way. What it does: synthesis/optimize.h (seeded differential
+// `mechgen synthesize` (generator/driver/tool_command.cc) runs the same source (the synthesis
+// analysis, mechgen/analysis/synthesize.h; synthesize_run.h the command around it) through the
+// model view (mechgen_view synthesize) with argv[0] = "mechgen synthesize MODEL": the model file
+// is read from there to write the synthesized model; with MECHGEN_VIEW=0 (or a build without
+// mechgen_view) it compiles this file against the model (with Ceres and yaml-cpp) and runs it the same way. What it does: synthesis/optimize.h (seeded differential
 // evolution restarts on --threads threads, then Levenberg–Marquardt with the generated
 // Jacobian) or, with the task's `search: {projection: true}`, synthesis/projection.h (the
 // four-bar's placement, scale, rotation and coupler point by linear least squares, the search
@@ -37,6 +37,7 @@
 #include "synthesize_args.h"
 // One translation unit: the command-line part compiled with the driver.
 #include "synthesize_args.cc"
+#include "mechgen/analysis/synthesize.h"
 #include "synthesize_run.h"
 
 #ifndef MECHGEN_MODEL_INCLUDE
@@ -49,7 +50,8 @@ int main(int argc, char** argv) {
   mechgen::synthesize_tool::Arguments arguments;
   if (const int status = mechgen::synthesize_tool::ParseArguments(argc, argv, Model::kName, &arguments); status >= 0)
     return status;
-  // The model-dependent part (synthesize_run.h), the same source the runtime instantiated for
-  // the model view runs (mechgen_view synthesize).
-  return mechgen::synthesize_tool::RunSynthesize(Model(), arguments, argc > 0 ? argv[0] : "");
+  // The analysis (mechgen/analysis/synthesize.h), the same source the runtime instantiated for
+  // the model view runs (mechgen_view synthesize), on the request the options are.
+  return mechgen::analysis::Run(Model(), mechgen::synthesize_tool::Request(arguments, argc > 0 ? argv[0] : ""),
+                                mechgen::synthesize_tool::Outputs(arguments));
 }

@@ -1,5 +1,5 @@
-// The synthesis layer instantiated for the model view, once (synthesis/view_synthesis.h): the
-// library mechgen_runtime_view_synthesis.
+// The synthesis layer and the synthesis analysis (analysis/synthesize.h) instantiated for the
+// model view, once (synthesis/view_synthesis.h): the library mechgen_runtime_view_synthesis.
 #include "mechgen/synthesis/view_synthesis.h"
 
 #include "mechgen/core/view_runtime.h"  // the position solver's instantiation: not compiled again here
@@ -40,3 +40,10 @@ template std::vector<double> FunctionWrittenInputs<ViewModel>(const BoundFunctio
 template std::string FunctionSvg<ViewModel>(FunctionEvaluator<ViewModel>*, const FunctionCandidate&, int);
 
 }  // namespace mechgen::synthesis
+
+namespace mechgen::analysis {
+
+template std::string Check<ViewModel>(const ViewModel&, const SynthesizeRequest&);
+template int Run<ViewModel>(const ViewModel&, const SynthesizeRequest&, const SynthesizeOutputs&);
+
+}  // namespace mechgen::analysis

@@ -2454,4 +2454,64 @@ TEST(ViewSynthesis, ExactSynthesisSameBytesAsTheFixedSizeModel) {
   EXPECT_EQ(m_fixed, m_view);
 }
 
+
+// The synthesis analysis (analysis/synthesize.h): Check(model, request) says what is wrong with
+// a request in the words Run prints (hand-written below), the same for the fixed-size model and
+// the view; Run through the view ends there with the exit status and writes nothing. A request
+// that fits: Check says nothing.
+TEST(ViewSynthesis, CheckSaysWhatRunRefusesTheSameForTheFixedSizeModelAndTheView) {
+  using M = mech::synth_fourbar::Model;
+  using mechgen::analysis::SynthesizeRequest;
+  const mechgen::ViewModel view(mech::synth_fourbar::View());
+  SynthesizeRequest good;
+  good.task_path = Tasks("fourbar_refind.yaml");
+  good.model_path = Tasks("../models/synth_fourbar.yaml");
+  good.out_dir = ::testing::TempDir() + "/view_check_out";
+  EXPECT_EQ(mechgen::analysis::Check(M(), good), "");
+  EXPECT_EQ(mechgen::analysis::Check(view, good), "");
+  struct Case {
+    SynthesizeRequest request;
+    std::string error;  // Check's text
+    int status;         // Run's exit status
+    std::string printed;  // Run's standard error
+  };
+  std::vector<Case> cases;
+  {
+    SynthesizeRequest r = good;
+    r.model_path.clear();
+    const std::string e = "--model: the model file is needed (run as `mechgen synthesize MODEL ...`)";
+    cases.push_back({r, e, 2, "check: error: " + e + "\n"});
+  }
+  {
+    SynthesizeRequest r = good;
+    r.params.sets = {"a=oops"};
+    const std::string e = "--set 'a=oops': bad value 'oops' for 'a': expected a finite number (an angle may end in deg)";
+    cases.push_back({r, e, 2, "check: error: " + e + "\n"});
+  }
+  {
+    SynthesizeRequest r = good;
+    r.model_path = ::testing::TempDir() + "/no_such_dir/synth_fourbar.yaml";
+    const std::string e = "cannot read the model file " + r.model_path;
+    cases.push_back({r, e, 1, "check: error: " + e + "\n"});
+  }
+  {
+    SynthesizeRequest r = good;
+    r.task_path = ViewTaskFile("view_check_bad.yaml",
+                               "synthesis: path\npoint: coupler.P\ntargets: [[0, 0], [1, 1]]\nvariables: {a: [2, 1]}\n");
+    const std::string e = r.task_path + ":4:16: error: variable a: min must be below max";
+    cases.push_back({r, e, 1, e + "\n"});
+  }
+  mechgen::analysis::SynthesizeOutputs outputs;
+  outputs.tool = "check";
+  for (const Case& c : cases) {
+    EXPECT_EQ(mechgen::analysis::Check(M(), c.request), c.error);
+    EXPECT_EQ(mechgen::analysis::Check(view, c.request), c.error);
+    ::testing::internal::CaptureStderr();
+    const int status = mechgen::analysis::Run(view, c.request, outputs);
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), c.printed);
+    EXPECT_EQ(status, c.status) << c.error;
+    EXPECT_FALSE(std::ifstream(good.out_dir + "/report.txt").good()) << c.error;
+  }
+}
+
 }  // namespace

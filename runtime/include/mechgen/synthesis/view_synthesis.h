@@ -5,8 +5,8 @@
  * library mechgen_runtime_view_synthesis (runtime/view/synthesis.cc, with Ceres and yaml-cpp,
  * which the synthesis layer includes). A program that includes this header and links that
  * library runs these kinds of synthesis on any model through its ModelView without compiling
- * them again (mechgen_view synthesize, tools/synthesize_run.h); the same templates instantiated
- * for a generated model's type are the per-model <model>_synthesize.
+ * them again (mechgen_view synthesize: the synthesis analysis, analysis/synthesize.h); the same
+ * templates instantiated for a generated model's type are the per-model <model>_synthesize.
  *
  * Instantiated: path generation (BindPathTask, SynthesizePath: the global and local stages or
  * the projection, PathEvaluator, ContinuationCheck, Report, CurveSvg; the local stage's Jacobian
@@ -17,7 +17,10 @@
  * SynthesizeFunction: the exact start, Levenberg-Marquardt on the view's design derivatives,
  * differential evolution and the minimax exchange; FunctionEvaluator, FunctionReport,
  * FunctionModelParameters, FunctionWrittenInputs, FunctionSvg), and the synthesized model file
- * and its report lines (WriteSynthesizedModel, SetParametersText, WrittenModelText).
+ * and its report lines (WriteSynthesizedModel, SetParametersText, WrittenModelText); and the
+ * synthesis analysis on them (analysis/synthesize.h: Check, Run; declared for the view in
+ * analysis/synthesize_view.h, which mechgen_view synthesize includes without this header), here
+ * rather than in analysis/view_analysis.h's library because it needs the synthesis layer.
  */
 #pragma once
 
@@ -27,6 +30,8 @@
 #include <utility>
 #include <vector>
 
+#include "mechgen/analysis/synthesize.h"
+#include "mechgen/analysis/synthesize_view.h"  // the analysis's Check and Run for the view
 #include "mechgen/core/view_model.h"
 #include "mechgen/synthesis/exact.h"
 #include "mechgen/synthesis/function.h"
