@@ -165,14 +165,14 @@ std::string PrepareMotion(const SynthesizeRequest& a, Prepared<M>* r) {
   return Fits(r);
 }
 
-// Exact path synthesis: the task read and bound; five points the model file (nine do not write one).
+// Exact path synthesis: the task read and bound, and the model file (each real solution is
+// written as a model, five points or nine).
 template <class M>
 std::string PrepareExact(const M& model, const SynthesizeRequest& a, Prepared<M>* r) {
   std::string error;
   ExactTask& task = r->exact;
   if (!ParseExactTask(a.task_path, &task, &error)) return TaskError(r, error);
   if (!BindExactTask(model, task, r->base, &r->bound_exact, &error)) return TaskError(r, error);
-  if (task.nine) return Fits(r);
   return ReadModel(r);
 }
 
@@ -363,15 +363,22 @@ int MotionMain(const M& model, const std::string& tool, const SynthesizeRequest&
   return 0;
 }
 
-// Nine points, pivots free (synthesis/nine_point.h, exact.h): solutions.csv (every real
-// four-bar), report.txt and four_bar_NNNN.svg for each defect-free one (NNNN its solution).
-inline int NinePointMain(const std::string& tool, const ExactTask& task, const std::string& model_name,
-                         const std::string& task_path, const std::string& out_dir, int threads) {
+// Nine points, pivots free (synthesis/nine_point.h, exact.h): every real four-bar checked by
+// the generated kinematics and the defect checks and written as a model file
+// (<model>_nine_NNNN.yaml, NNNN its solution), solutions.csv (every real four-bar, with its
+// verdicts and model file), report.txt and four_bar_NNNN.svg for each defect-free one.
+template <class M>
+int NinePointMain(const M& model, const std::string& tool, const SynthesizeRequest& request, const Prepared<M>& prepared) {
+  const std::string &task_path = request.task_path, &out_dir = request.out_dir;
+  const int threads = request.threads;
   std::cerr << tool << ": exact path synthesis, nine points: monodromy (1442 classes for generic points), "
             << threads << " thread(s)\n";
-  const NinePointRun run = RunNinePointTask(task, threads);
-  const std::string report = NinePointReport(run), csv = NinePointCsv(run, model_name, task_path);
+  std::vector<std::pair<std::string, std::string>> models;
+  const NinePointRun run = RunNinePointTask(prepared.bound_exact, prepared.model_text,
+                                            fs::path(prepared.model_path).stem().string(), &models, threads);
+  const std::string report = NinePointReport(run), csv = NinePointCsv(run, ModelCalls<M>::Name(model), task_path);
   std::vector<std::pair<fs::path, const std::string*>> files;
+  for (const auto& m : models) files.emplace_back(fs::path(out_dir) / m.first, &m.second);
   for (const auto& d : run.drawings) files.emplace_back(fs::path(out_dir) / d.first, &d.second);
   files.emplace_back(fs::path(out_dir) / "solutions.csv", &csv);
   files.emplace_back(fs::path(out_dir) / "report.txt", &report);
@@ -379,8 +386,9 @@ inline int NinePointMain(const std::string& tool, const ExactTask& task, const s
     std::cerr << tool << ": error: cannot write into " << out_dir << "\n";
     return 1;
   }
-  std::cout << report << "\nwrote " << run.drawings.size() << " drawing(s), " << (fs::path(out_dir) / "solutions.csv").string()
-            << ", " << (fs::path(out_dir) / "report.txt").string() << "\n";
+  std::cout << report << "\nwrote " << models.size() << " model file(s), " << run.drawings.size() << " drawing(s), "
+            << (fs::path(out_dir) / "solutions.csv").string() << ", " << (fs::path(out_dir) / "report.txt").string()
+            << "\n";
   if (!run.complete) std::cerr << tool << ": warning: the solution set is INCOMPLETE (report.txt)\n";
   return 0;
 }
@@ -394,10 +402,9 @@ int ExactMain(const M& model, const std::string& tool, const SynthesizeRequest& 
   const std::string &task_path = request.task_path, &model_path = prepared.model_path, &out_dir = request.out_dir;
   const std::string& model_text = prepared.model_text;
   const typename ModelTypes<M>::Params& base = prepared.base;
-  const int threads = request.threads;
   const ExactTask& task = prepared.exact;
   const BoundExact<M>& bound = prepared.bound_exact;
-  if (task.nine) return NinePointMain(tool, task, ModelCalls<M>::Name(model), task_path, out_dir, threads);
+  if (task.nine) return NinePointMain(model, tool, request, prepared);
   std::cerr << tool << ": exact path synthesis: every path of the homotopy (256)\n";
   std::vector<std::pair<std::string, std::string>> models;
   const ExactRun run = RunExactTask(bound, model_text, fs::path(model_path).stem().string(), &models);
