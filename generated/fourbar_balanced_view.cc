@@ -3,13 +3,17 @@
 //
 // The model view of fourbar_balanced (mechgen/core/model_view.h): its sizes, names, flags and parameter
 // table, and each function of Model on flat arrays of double. The functions adapt the
-// fixed-size ones of fourbar_balanced.h (compiled for double in fourbar_balanced.cc): the arrays are copied
-// into the fixed-size types, the function is called, its outputs are copied back; of a struct
-// only the members the function reads, and of an output the members it writes (read in first
-// unless it writes every entry; codegen/emit.cc, Flatten). Compiled
+// fixed-size ones of fourbar_balanced.h (compiled for double in fourbar_balanced.cc): a struct's buffer is
+// passed as the struct itself where its layout and alignment allow (no copy); otherwise, and
+// for the other arrays, the arrays are copied into the fixed-size types, the function is
+// called, its outputs are copied back; of a struct only the members the function reads, and of
+// an output the members it writes (read in first unless it writes every entry; codegen/emit.cc,
+// Flatten). Compiled
 // with MECHGEN_VIEW_ENTRY defined, it also defines the C entry point mechgen_model_view()
 // (mechgen::kModelViewEntry), for a shared object holding this one model.
 #include <array>
+#include <cstddef>
+#include <type_traits>
 
 #include "fourbar_balanced.h"
 #include "mechgen/core/model_view.h"
@@ -19,13 +23,14 @@ namespace mech::fourbar_balanced {
 namespace {
 
 // ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
+using mechgen::view_buffers::At;
 using mechgen::view_buffers::Flat;
 using mechgen::view_buffers::Get;
 using mechgen::view_buffers::GetUnlessStored;
+using mechgen::view_buffers::InPlace;
 using mechgen::view_buffers::Member;
-using mechgen::view_buffers::Packed;
-using mechgen::view_buffers::PackedSize;
 using mechgen::view_buffers::Put;
+using mechgen::view_buffers::SizeOf;
 using mechgen::view_buffers::Zero;
 using mechgen::view_buffers::ZeroUnlessStored;
 
@@ -48,16 +53,29 @@ static_assert(static_cast<int>(SolveStatus::kConverged) == static_cast<int>(mech
               "SolveStatus and mechgen::ViewSolveStatus differ");
 
 // ---- The structs' buffers (mechgen::ViewLayout) ----
-constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers = Packed<7>({ {
-    Member<decltype(Coefficients<double>::Phi)>("Phi"),
-    Member<decltype(Coefficients<double>::Phi_phi)>("Phi_phi"),
-    Member<decltype(Coefficients<double>::K)>("K"),
-    Member<decltype(Coefficients<double>::L)>("L"),
-    Member<decltype(Coefficients<double>::r_P)>("r_P"),
-    Member<decltype(Coefficients<double>::K_P)>("K_P"),
-    Member<decltype(Coefficients<double>::L_P)>("L_P"),
-} });
-constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
+// (The buffer is laid out as Coefficients<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Coefficients<double>>, "Coefficients is a plain struct");
+constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers{ {
+    Member<decltype(Coefficients<double>::Phi)>("Phi", offsetof(Coefficients<double>, Phi)),
+    Member<decltype(Coefficients<double>::Phi_phi)>("Phi_phi", offsetof(Coefficients<double>, Phi_phi)),
+    Member<decltype(Coefficients<double>::K)>("K", offsetof(Coefficients<double>, K)),
+    Member<decltype(Coefficients<double>::L)>("L", offsetof(Coefficients<double>, L)),
+    Member<decltype(Coefficients<double>::r_P)>("r_P", offsetof(Coefficients<double>, r_P)),
+    Member<decltype(Coefficients<double>::K_P)>("K_P", offsetof(Coefficients<double>, K_P)),
+    Member<decltype(Coefficients<double>::L_P)>("L_P", offsetof(Coefficients<double>, L_P)),
+} };
+constexpr int kCoefficientsSize = SizeOf<Coefficients<double>>();
+// Whether Coefficients<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kCoefficientsInPlace =
+    true &&
+    offsetof(Coefficients<double>, Phi) == sizeof(double) * kCoefficientsMembers[0].offset &&
+    offsetof(Coefficients<double>, Phi_phi) == sizeof(double) * kCoefficientsMembers[1].offset &&
+    offsetof(Coefficients<double>, K) == sizeof(double) * kCoefficientsMembers[2].offset &&
+    offsetof(Coefficients<double>, L) == sizeof(double) * kCoefficientsMembers[3].offset &&
+    offsetof(Coefficients<double>, r_P) == sizeof(double) * kCoefficientsMembers[4].offset &&
+    offsetof(Coefficients<double>, K_P) == sizeof(double) * kCoefficientsMembers[5].offset &&
+    offsetof(Coefficients<double>, L_P) == sizeof(double) * kCoefficientsMembers[6].offset;
 [[maybe_unused]] void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[0].offset, &s->Phi);
   Get(b + kCoefficientsMembers[1].offset, &s->Phi_phi);
@@ -86,13 +104,23 @@ constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
   Zero(&s->L_P);
 }
 
-constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
-    Member<decltype(Trig<double>::sin_q)>("sin_q"),
-    Member<decltype(Trig<double>::cos_q)>("cos_q"),
-    Member<decltype(Trig<double>::sin_phi)>("sin_phi"),
-    Member<decltype(Trig<double>::cos_phi)>("cos_phi"),
-} });
-constexpr int kTrigSize = PackedSize(kTrigMembers);
+// (The buffer is laid out as Trig<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Trig<double>>, "Trig is a plain struct");
+constexpr std::array<mechgen::ViewMember, 4> kTrigMembers{ {
+    Member<decltype(Trig<double>::sin_q)>("sin_q", offsetof(Trig<double>, sin_q)),
+    Member<decltype(Trig<double>::cos_q)>("cos_q", offsetof(Trig<double>, cos_q)),
+    Member<decltype(Trig<double>::sin_phi)>("sin_phi", offsetof(Trig<double>, sin_phi)),
+    Member<decltype(Trig<double>::cos_phi)>("cos_phi", offsetof(Trig<double>, cos_phi)),
+} };
+constexpr int kTrigSize = SizeOf<Trig<double>>();
+// Whether Trig<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kTrigInPlace =
+    true &&
+    offsetof(Trig<double>, sin_q) == sizeof(double) * kTrigMembers[0].offset &&
+    offsetof(Trig<double>, cos_q) == sizeof(double) * kTrigMembers[1].offset &&
+    offsetof(Trig<double>, sin_phi) == sizeof(double) * kTrigMembers[2].offset &&
+    offsetof(Trig<double>, cos_phi) == sizeof(double) * kTrigMembers[3].offset;
 [[maybe_unused]] void Get(const double* b, Trig<double>* s) {
   Get(b + kTrigMembers[0].offset, &s->sin_q);
   Get(b + kTrigMembers[1].offset, &s->cos_q);
@@ -112,16 +140,29 @@ constexpr int kTrigSize = PackedSize(kTrigMembers);
   Zero(&s->cos_phi);
 }
 
-constexpr std::array<mechgen::ViewMember, 7> kStaticsMembers = Packed<7>({ {
-    Member<decltype(Statics<double>::Q)>("Q"),
-    Member<decltype(Statics<double>::drive)>("drive"),
-    Member<decltype(Statics<double>::stiffness)>("stiffness"),
-    Member<decltype(Statics<double>::V)>("V"),
-    Member<decltype(Statics<double>::dV_dq)>("dV_dq"),
-    Member<decltype(Statics<double>::d2V_dq2)>("d2V_dq2"),
-    Member<decltype(Statics<double>::R)>("R"),
-} });
-constexpr int kStaticsSize = PackedSize(kStaticsMembers);
+// (The buffer is laid out as Statics<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Statics<double>>, "Statics is a plain struct");
+constexpr std::array<mechgen::ViewMember, 7> kStaticsMembers{ {
+    Member<decltype(Statics<double>::Q)>("Q", offsetof(Statics<double>, Q)),
+    Member<decltype(Statics<double>::drive)>("drive", offsetof(Statics<double>, drive)),
+    Member<decltype(Statics<double>::stiffness)>("stiffness", offsetof(Statics<double>, stiffness)),
+    Member<decltype(Statics<double>::V)>("V", offsetof(Statics<double>, V)),
+    Member<decltype(Statics<double>::dV_dq)>("dV_dq", offsetof(Statics<double>, dV_dq)),
+    Member<decltype(Statics<double>::d2V_dq2)>("d2V_dq2", offsetof(Statics<double>, d2V_dq2)),
+    Member<decltype(Statics<double>::R)>("R", offsetof(Statics<double>, R)),
+} };
+constexpr int kStaticsSize = SizeOf<Statics<double>>();
+// Whether Statics<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kStaticsInPlace =
+    true &&
+    offsetof(Statics<double>, Q) == sizeof(double) * kStaticsMembers[0].offset &&
+    offsetof(Statics<double>, drive) == sizeof(double) * kStaticsMembers[1].offset &&
+    offsetof(Statics<double>, stiffness) == sizeof(double) * kStaticsMembers[2].offset &&
+    offsetof(Statics<double>, V) == sizeof(double) * kStaticsMembers[3].offset &&
+    offsetof(Statics<double>, dV_dq) == sizeof(double) * kStaticsMembers[4].offset &&
+    offsetof(Statics<double>, d2V_dq2) == sizeof(double) * kStaticsMembers[5].offset &&
+    offsetof(Statics<double>, R) == sizeof(double) * kStaticsMembers[6].offset;
 [[maybe_unused]] void Get(const double* b, Statics<double>* s) {
   Get(b + kStaticsMembers[0].offset, &s->Q);
   Get(b + kStaticsMembers[1].offset, &s->drive);
@@ -150,17 +191,31 @@ constexpr int kStaticsSize = PackedSize(kStaticsMembers);
   Zero(&s->R);
 }
 
-constexpr std::array<mechgen::ViewMember, 8> kDynamicsMembers = Packed<8>({ {
-    Member<decltype(Dynamics<double>::I)>("I"),
-    Member<decltype(Dynamics<double>::dI_dq)>("dI_dq"),
-    Member<decltype(Dynamics<double>::C)>("C"),
-    Member<decltype(Dynamics<double>::h)>("h"),
-    Member<decltype(Dynamics<double>::Q)>("Q"),
-    Member<decltype(Dynamics<double>::T)>("T"),
-    Member<decltype(Dynamics<double>::V)>("V"),
-    Member<decltype(Dynamics<double>::P_nc)>("P_nc"),
-} });
-constexpr int kDynamicsSize = PackedSize(kDynamicsMembers);
+// (The buffer is laid out as Dynamics<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Dynamics<double>>, "Dynamics is a plain struct");
+constexpr std::array<mechgen::ViewMember, 8> kDynamicsMembers{ {
+    Member<decltype(Dynamics<double>::I)>("I", offsetof(Dynamics<double>, I)),
+    Member<decltype(Dynamics<double>::dI_dq)>("dI_dq", offsetof(Dynamics<double>, dI_dq)),
+    Member<decltype(Dynamics<double>::C)>("C", offsetof(Dynamics<double>, C)),
+    Member<decltype(Dynamics<double>::h)>("h", offsetof(Dynamics<double>, h)),
+    Member<decltype(Dynamics<double>::Q)>("Q", offsetof(Dynamics<double>, Q)),
+    Member<decltype(Dynamics<double>::T)>("T", offsetof(Dynamics<double>, T)),
+    Member<decltype(Dynamics<double>::V)>("V", offsetof(Dynamics<double>, V)),
+    Member<decltype(Dynamics<double>::P_nc)>("P_nc", offsetof(Dynamics<double>, P_nc)),
+} };
+constexpr int kDynamicsSize = SizeOf<Dynamics<double>>();
+// Whether Dynamics<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kDynamicsInPlace =
+    true &&
+    offsetof(Dynamics<double>, I) == sizeof(double) * kDynamicsMembers[0].offset &&
+    offsetof(Dynamics<double>, dI_dq) == sizeof(double) * kDynamicsMembers[1].offset &&
+    offsetof(Dynamics<double>, C) == sizeof(double) * kDynamicsMembers[2].offset &&
+    offsetof(Dynamics<double>, h) == sizeof(double) * kDynamicsMembers[3].offset &&
+    offsetof(Dynamics<double>, Q) == sizeof(double) * kDynamicsMembers[4].offset &&
+    offsetof(Dynamics<double>, T) == sizeof(double) * kDynamicsMembers[5].offset &&
+    offsetof(Dynamics<double>, V) == sizeof(double) * kDynamicsMembers[6].offset &&
+    offsetof(Dynamics<double>, P_nc) == sizeof(double) * kDynamicsMembers[7].offset;
 [[maybe_unused]] void Get(const double* b, Dynamics<double>* s) {
   Get(b + kDynamicsMembers[0].offset, &s->I);
   Get(b + kDynamicsMembers[1].offset, &s->dI_dq);
@@ -192,17 +247,31 @@ constexpr int kDynamicsSize = PackedSize(kDynamicsMembers);
   Zero(&s->P_nc);
 }
 
-constexpr std::array<mechgen::ViewMember, 8> kExcessMembers = Packed<8>({ {
-    Member<decltype(Excess<double>::M)>("M"),
-    Member<decltype(Excess<double>::h)>("h"),
-    Member<decltype(Excess<double>::g)>("g"),
-    Member<decltype(Excess<double>::Phi_x)>("Phi_x"),
-    Member<decltype(Excess<double>::Phi)>("Phi"),
-    Member<decltype(Excess<double>::gamma)>("gamma"),
-    Member<decltype(Excess<double>::T)>("T"),
-    Member<decltype(Excess<double>::V)>("V"),
-} });
-constexpr int kExcessSize = PackedSize(kExcessMembers);
+// (The buffer is laid out as Excess<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Excess<double>>, "Excess is a plain struct");
+constexpr std::array<mechgen::ViewMember, 8> kExcessMembers{ {
+    Member<decltype(Excess<double>::M)>("M", offsetof(Excess<double>, M)),
+    Member<decltype(Excess<double>::h)>("h", offsetof(Excess<double>, h)),
+    Member<decltype(Excess<double>::g)>("g", offsetof(Excess<double>, g)),
+    Member<decltype(Excess<double>::Phi_x)>("Phi_x", offsetof(Excess<double>, Phi_x)),
+    Member<decltype(Excess<double>::Phi)>("Phi", offsetof(Excess<double>, Phi)),
+    Member<decltype(Excess<double>::gamma)>("gamma", offsetof(Excess<double>, gamma)),
+    Member<decltype(Excess<double>::T)>("T", offsetof(Excess<double>, T)),
+    Member<decltype(Excess<double>::V)>("V", offsetof(Excess<double>, V)),
+} };
+constexpr int kExcessSize = SizeOf<Excess<double>>();
+// Whether Excess<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kExcessInPlace =
+    true &&
+    offsetof(Excess<double>, M) == sizeof(double) * kExcessMembers[0].offset &&
+    offsetof(Excess<double>, h) == sizeof(double) * kExcessMembers[1].offset &&
+    offsetof(Excess<double>, g) == sizeof(double) * kExcessMembers[2].offset &&
+    offsetof(Excess<double>, Phi_x) == sizeof(double) * kExcessMembers[3].offset &&
+    offsetof(Excess<double>, Phi) == sizeof(double) * kExcessMembers[4].offset &&
+    offsetof(Excess<double>, gamma) == sizeof(double) * kExcessMembers[5].offset &&
+    offsetof(Excess<double>, T) == sizeof(double) * kExcessMembers[6].offset &&
+    offsetof(Excess<double>, V) == sizeof(double) * kExcessMembers[7].offset;
 [[maybe_unused]] void Get(const double* b, Excess<double>* s) {
   Get(b + kExcessMembers[0].offset, &s->M);
   Get(b + kExcessMembers[1].offset, &s->h);
@@ -234,16 +303,29 @@ constexpr int kExcessSize = PackedSize(kExcessMembers);
   Zero(&s->V);
 }
 
-constexpr std::array<mechgen::ViewMember, 7> kShakingMembers = Packed<7>({ {
-    Member<decltype(Shaking<double>::F)>("F"),
-    Member<decltype(Shaking<double>::M)>("M"),
-    Member<decltype(Shaking<double>::F_link)>("F_link"),
-    Member<decltype(Shaking<double>::M_link)>("M_link"),
-    Member<decltype(Shaking<double>::r_G)>("r_G"),
-    Member<decltype(Shaking<double>::mass)>("mass"),
-    Member<decltype(Shaking<double>::r_C)>("r_C"),
-} });
-constexpr int kShakingSize = PackedSize(kShakingMembers);
+// (The buffer is laid out as Shaking<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Shaking<double>>, "Shaking is a plain struct");
+constexpr std::array<mechgen::ViewMember, 7> kShakingMembers{ {
+    Member<decltype(Shaking<double>::F)>("F", offsetof(Shaking<double>, F)),
+    Member<decltype(Shaking<double>::M)>("M", offsetof(Shaking<double>, M)),
+    Member<decltype(Shaking<double>::F_link)>("F_link", offsetof(Shaking<double>, F_link)),
+    Member<decltype(Shaking<double>::M_link)>("M_link", offsetof(Shaking<double>, M_link)),
+    Member<decltype(Shaking<double>::r_G)>("r_G", offsetof(Shaking<double>, r_G)),
+    Member<decltype(Shaking<double>::mass)>("mass", offsetof(Shaking<double>, mass)),
+    Member<decltype(Shaking<double>::r_C)>("r_C", offsetof(Shaking<double>, r_C)),
+} };
+constexpr int kShakingSize = SizeOf<Shaking<double>>();
+// Whether Shaking<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kShakingInPlace =
+    true &&
+    offsetof(Shaking<double>, F) == sizeof(double) * kShakingMembers[0].offset &&
+    offsetof(Shaking<double>, M) == sizeof(double) * kShakingMembers[1].offset &&
+    offsetof(Shaking<double>, F_link) == sizeof(double) * kShakingMembers[2].offset &&
+    offsetof(Shaking<double>, M_link) == sizeof(double) * kShakingMembers[3].offset &&
+    offsetof(Shaking<double>, r_G) == sizeof(double) * kShakingMembers[4].offset &&
+    offsetof(Shaking<double>, mass) == sizeof(double) * kShakingMembers[5].offset &&
+    offsetof(Shaking<double>, r_C) == sizeof(double) * kShakingMembers[6].offset;
 [[maybe_unused]] void Get(const double* b, Shaking<double>* s) {
   Get(b + kShakingMembers[0].offset, &s->F);
   Get(b + kShakingMembers[1].offset, &s->M);
@@ -272,12 +354,21 @@ constexpr int kShakingSize = PackedSize(kShakingMembers);
   Zero(&s->r_C);
 }
 
-constexpr std::array<mechgen::ViewMember, 3> kKinematicsMembers = Packed<3>({ {
-    Member<decltype(Kinematics<double>::K)>("K"),
-    Member<decltype(Kinematics<double>::L)>("L"),
-    Member<decltype(Kinematics<double>::Phi_phi)>("Phi_phi"),
-} });
-constexpr int kKinematicsSize = PackedSize(kKinematicsMembers);
+// (The buffer is laid out as Kinematics<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Kinematics<double>>, "Kinematics is a plain struct");
+constexpr std::array<mechgen::ViewMember, 3> kKinematicsMembers{ {
+    Member<decltype(Kinematics<double>::K)>("K", offsetof(Kinematics<double>, K)),
+    Member<decltype(Kinematics<double>::L)>("L", offsetof(Kinematics<double>, L)),
+    Member<decltype(Kinematics<double>::Phi_phi)>("Phi_phi", offsetof(Kinematics<double>, Phi_phi)),
+} };
+constexpr int kKinematicsSize = SizeOf<Kinematics<double>>();
+// Whether Kinematics<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kKinematicsInPlace =
+    true &&
+    offsetof(Kinematics<double>, K) == sizeof(double) * kKinematicsMembers[0].offset &&
+    offsetof(Kinematics<double>, L) == sizeof(double) * kKinematicsMembers[1].offset &&
+    offsetof(Kinematics<double>, Phi_phi) == sizeof(double) * kKinematicsMembers[2].offset;
 [[maybe_unused]] void Get(const double* b, Kinematics<double>* s) {
   Get(b + kKinematicsMembers[0].offset, &s->K);
   Get(b + kKinematicsMembers[1].offset, &s->L);
@@ -294,17 +385,31 @@ constexpr int kKinematicsSize = PackedSize(kKinematicsMembers);
   Zero(&s->Phi_phi);
 }
 
-constexpr std::array<mechgen::ViewMember, 8> kRhsMembers = Packed<8>({ {
-    Member<decltype(Rhs<double>::K)>("K"),
-    Member<decltype(Rhs<double>::I)>("I"),
-    Member<decltype(Rhs<double>::h)>("h"),
-    Member<decltype(Rhs<double>::Q)>("Q"),
-    Member<decltype(Rhs<double>::T)>("T"),
-    Member<decltype(Rhs<double>::V)>("V"),
-    Member<decltype(Rhs<double>::P_nc)>("P_nc"),
-    Member<decltype(Rhs<double>::Phi_phi)>("Phi_phi"),
-} });
-constexpr int kRhsSize = PackedSize(kRhsMembers);
+// (The buffer is laid out as Rhs<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Rhs<double>>, "Rhs is a plain struct");
+constexpr std::array<mechgen::ViewMember, 8> kRhsMembers{ {
+    Member<decltype(Rhs<double>::K)>("K", offsetof(Rhs<double>, K)),
+    Member<decltype(Rhs<double>::I)>("I", offsetof(Rhs<double>, I)),
+    Member<decltype(Rhs<double>::h)>("h", offsetof(Rhs<double>, h)),
+    Member<decltype(Rhs<double>::Q)>("Q", offsetof(Rhs<double>, Q)),
+    Member<decltype(Rhs<double>::T)>("T", offsetof(Rhs<double>, T)),
+    Member<decltype(Rhs<double>::V)>("V", offsetof(Rhs<double>, V)),
+    Member<decltype(Rhs<double>::P_nc)>("P_nc", offsetof(Rhs<double>, P_nc)),
+    Member<decltype(Rhs<double>::Phi_phi)>("Phi_phi", offsetof(Rhs<double>, Phi_phi)),
+} };
+constexpr int kRhsSize = SizeOf<Rhs<double>>();
+// Whether Rhs<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kRhsInPlace =
+    true &&
+    offsetof(Rhs<double>, K) == sizeof(double) * kRhsMembers[0].offset &&
+    offsetof(Rhs<double>, I) == sizeof(double) * kRhsMembers[1].offset &&
+    offsetof(Rhs<double>, h) == sizeof(double) * kRhsMembers[2].offset &&
+    offsetof(Rhs<double>, Q) == sizeof(double) * kRhsMembers[3].offset &&
+    offsetof(Rhs<double>, T) == sizeof(double) * kRhsMembers[4].offset &&
+    offsetof(Rhs<double>, V) == sizeof(double) * kRhsMembers[5].offset &&
+    offsetof(Rhs<double>, P_nc) == sizeof(double) * kRhsMembers[6].offset &&
+    offsetof(Rhs<double>, Phi_phi) == sizeof(double) * kRhsMembers[7].offset;
 [[maybe_unused]] void Get(const double* b, Rhs<double>* s) {
   Get(b + kRhsMembers[0].offset, &s->K);
   Get(b + kRhsMembers[1].offset, &s->I);
@@ -336,10 +441,17 @@ constexpr int kRhsSize = PackedSize(kRhsMembers);
   Zero(&s->Phi_phi);
 }
 
-constexpr std::array<mechgen::ViewMember, 1> kRhsConstantsMembers = Packed<1>({ {
-    Member<decltype(RhsConstants<double>::c)>("c"),
-} });
-constexpr int kRhsConstantsSize = PackedSize(kRhsConstantsMembers);
+// (The buffer is laid out as RhsConstants<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<RhsConstants<double>>, "RhsConstants is a plain struct");
+constexpr std::array<mechgen::ViewMember, 1> kRhsConstantsMembers{ {
+    Member<decltype(RhsConstants<double>::c)>("c", offsetof(RhsConstants<double>, c)),
+} };
+constexpr int kRhsConstantsSize = SizeOf<RhsConstants<double>>();
+// Whether RhsConstants<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kRhsConstantsInPlace =
+    true &&
+    offsetof(RhsConstants<double>, c) == sizeof(double) * kRhsConstantsMembers[0].offset;
 [[maybe_unused]] void Get(const double* b, RhsConstants<double>* s) {
   Get(b + kRhsConstantsMembers[0].offset, &s->c);
 }
@@ -492,6 +604,18 @@ void FlatCoeffs(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->Phi_phi);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
+    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
+    return;
+  }
   Coefficients<double> out_;
   if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
   if (out != nullptr) ZeroUnlessStored<4>(&out_.Phi_phi);
@@ -529,6 +653,19 @@ void FlatForces(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    Model::Forces(p_,
+                  q_,
+                  phi_,
+                  *At<Coefficients<double>>(c),
+                  At<Statics<double>>(out),
+                  friction != nullptr ? &friction_ : nullptr,
+                  At<Trig<double>>(trig));
+    return;
+  }
   static const Coefficients<double> c_{};
   (void)c;
   Statics<double> out_;
@@ -537,8 +674,6 @@ void FlatForces(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<8>(out + kStaticsMembers[6].offset, &out_.R);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   static const Trig<double> trig_{};
   (void)trig;
   Model::Forces(p_,
@@ -572,6 +707,22 @@ void FlatDynamics(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    Model::Dynamics(p_,
+                    q_,
+                    phi_,
+                    qd_,
+                    t,
+                    *At<Coefficients<double>>(c),
+                    At<Dynamics<double>>(out),
+                    friction != nullptr ? &friction_ : nullptr,
+                    At<Trig<double>>(trig));
+    return;
+  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -584,8 +735,6 @@ void FlatDynamics(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[5].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[6].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kDynamicsMembers[7].offset, &out_.P_nc);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -630,6 +779,22 @@ void FlatKinetostatics(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    Model::Kinetostatics(p_,
+                         q_,
+                         phi_,
+                         qd_,
+                         qdd_,
+                         t,
+                         *At<Coefficients<double>>(c),
+                         At<Statics<double>>(out),
+                         friction != nullptr ? &friction_ : nullptr,
+                         At<Trig<double>>(trig));
+    return;
+  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -640,8 +805,6 @@ void FlatKinetostatics(const double* p,
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[3].offset, &out_.V);
   if (out != nullptr) GetUnlessStored<1>(out + kStaticsMembers[4].offset, &out_.dV_dq);
   if (out != nullptr) GetUnlessStored<8>(out + kStaticsMembers[6].offset, &out_.R);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -682,6 +845,19 @@ void FlatExcessDynamics(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNphi> phid_;
   Get(phid, &phid_);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
+  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
+    Model::ExcessDynamics(p_,
+                          q_,
+                          phi_,
+                          qd_,
+                          phid_,
+                          t,
+                          At<Excess<double>>(out),
+                          friction != nullptr ? &friction_ : nullptr);
+    return;
+  }
   Excess<double> out_;
   if (out != nullptr) GetUnlessStored<9>(out + kExcessMembers[0].offset, &out_.M);
   if (out != nullptr) GetUnlessStored<3>(out + kExcessMembers[1].offset, &out_.h);
@@ -691,8 +867,6 @@ void FlatExcessDynamics(const double* p,
   if (out != nullptr) GetUnlessStored<2>(out + kExcessMembers[5].offset, &out_.gamma);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[6].offset, &out_.T);
   if (out != nullptr) GetUnlessStored<1>(out + kExcessMembers[7].offset, &out_.V);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   Model::ExcessDynamics(p_,
                         q_,
                         phi_,
@@ -729,6 +903,18 @@ void FlatShaking(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kShakingInPlace, Shaking<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    Model::Shaking(p_,
+                   q_,
+                   phi_,
+                   qd_,
+                   qdd_,
+                   *At<Coefficients<double>>(c),
+                   At<Shaking<double>>(out),
+                   At<Trig<double>>(trig));
+    return;
+  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -773,6 +959,11 @@ void FlatStiffness(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out)) {
+    Model::Stiffness(p_, q_, phi_, *At<Coefficients<double>>(c), At<Statics<double>>(out));
+    return;
+  }
   static const Coefficients<double> c_{};
   (void)c;
   Statics<double> out_;
@@ -830,6 +1021,18 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Get(phi_io, &phi_io_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::Solve(p_,
+                                                    q_,
+                                                    phi_io != nullptr ? &phi_io_ : nullptr,
+                                                    modes_,
+                                                    max_iterations,
+                                                    tolerance,
+                                                    At<Trig<double>>(trig));
+    if (phi_io != nullptr) Put(phi_io_, phi_io);
+    return Report(report);
+  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
@@ -854,6 +1057,11 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::SolveTrig(p_, q_, modes_, At<Trig<double>>(trig));
+    return Report(report);
+  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::SolveTrig(p_,
@@ -875,6 +1083,15 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
+  if (InPlace<kTrigInPlace, Trig<double>>(trig) &&
+      InPlace<kKinematicsInPlace, Kinematics<double>>(out)) {
+    const SolveReport<double> report = Model::Kinematics(p_,
+                                                         q_,
+                                                         modes_,
+                                                         At<Trig<double>>(trig),
+                                                         At<Kinematics<double>>(out));
+    return Report(report);
+  }
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -903,6 +1120,10 @@ template <int = 0>
 void FlatPrepare(const double* p,
                  double* rc) {
   const Params<double> p_ = GetParams(p);
+  if (InPlace<kRhsConstantsInPlace, RhsConstants<double>>(rc)) {
+    Model::Prepare(p_, At<RhsConstants<double>>(rc));
+    return;
+  }
   RhsConstants<double> rc_;
   if (rc != nullptr) Get(rc + kRhsConstantsMembers[0].offset, &rc_.c);
   Model::Prepare(p_, rc != nullptr ? &rc_ : nullptr);
@@ -920,14 +1141,29 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
                                  double* out,
                                  const double* friction) {
   const Params<double> p_ = GetParams(p);
-  RhsConstants<double> rc_;
-  Get(rc + kRhsConstantsMembers[0].offset, &rc_.c);
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNq> qd_;
   Get(qd, &qd_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
+  if (InPlace<kRhsConstantsInPlace, RhsConstants<double>>(rc) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig) && InPlace<kRhsInPlace, Rhs<double>>(out)) {
+    const SolveReport<double> report = Model::Rhs(p_,
+                                                  *At<RhsConstants<double>>(rc),
+                                                  q_,
+                                                  qd_,
+                                                  t,
+                                                  modes_,
+                                                  At<Trig<double>>(trig),
+                                                  At<Rhs<double>>(out),
+                                                  friction != nullptr ? &friction_ : nullptr);
+    return Report(report);
+  }
+  RhsConstants<double> rc_;
+  Get(rc + kRhsConstantsMembers[0].offset, &rc_.c);
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -942,8 +1178,6 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
   if (out != nullptr) Get(out + kRhsMembers[5].offset, &out_.V);
   if (out != nullptr) Get(out + kRhsMembers[6].offset, &out_.P_nc);
   if (out != nullptr) Get(out + kRhsMembers[7].offset, &out_.Phi_phi);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   const SolveReport<double> report = Model::Rhs(p_,
                                                 rc_,
                                                 q_,

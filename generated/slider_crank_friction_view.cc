@@ -3,13 +3,17 @@
 //
 // The model view of slider_crank_friction (mechgen/core/model_view.h): its sizes, names, flags and parameter
 // table, and each function of Model on flat arrays of double. The functions adapt the
-// fixed-size ones of slider_crank_friction.h (compiled for double in slider_crank_friction.cc): the arrays are copied
-// into the fixed-size types, the function is called, its outputs are copied back; of a struct
-// only the members the function reads, and of an output the members it writes (read in first
-// unless it writes every entry; codegen/emit.cc, Flatten). Compiled
+// fixed-size ones of slider_crank_friction.h (compiled for double in slider_crank_friction.cc): a struct's buffer is
+// passed as the struct itself where its layout and alignment allow (no copy); otherwise, and
+// for the other arrays, the arrays are copied into the fixed-size types, the function is
+// called, its outputs are copied back; of a struct only the members the function reads, and of
+// an output the members it writes (read in first unless it writes every entry; codegen/emit.cc,
+// Flatten). Compiled
 // with MECHGEN_VIEW_ENTRY defined, it also defines the C entry point mechgen_model_view()
 // (mechgen::kModelViewEntry), for a shared object holding this one model.
 #include <array>
+#include <cstddef>
+#include <type_traits>
 
 #include "slider_crank_friction.h"
 #include "mechgen/core/model_view.h"
@@ -19,13 +23,14 @@ namespace mech::slider_crank_friction {
 namespace {
 
 // ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
+using mechgen::view_buffers::At;
 using mechgen::view_buffers::Flat;
 using mechgen::view_buffers::Get;
 using mechgen::view_buffers::GetUnlessStored;
+using mechgen::view_buffers::InPlace;
 using mechgen::view_buffers::Member;
-using mechgen::view_buffers::Packed;
-using mechgen::view_buffers::PackedSize;
 using mechgen::view_buffers::Put;
+using mechgen::view_buffers::SizeOf;
 using mechgen::view_buffers::Zero;
 using mechgen::view_buffers::ZeroUnlessStored;
 
@@ -48,16 +53,29 @@ static_assert(static_cast<int>(SolveStatus::kConverged) == static_cast<int>(mech
               "SolveStatus and mechgen::ViewSolveStatus differ");
 
 // ---- The structs' buffers (mechgen::ViewLayout) ----
-constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers = Packed<7>({ {
-    Member<decltype(Coefficients<double>::Phi)>("Phi"),
-    Member<decltype(Coefficients<double>::Phi_phi)>("Phi_phi"),
-    Member<decltype(Coefficients<double>::K)>("K"),
-    Member<decltype(Coefficients<double>::L)>("L"),
-    Member<decltype(Coefficients<double>::r_P)>("r_P"),
-    Member<decltype(Coefficients<double>::K_P)>("K_P"),
-    Member<decltype(Coefficients<double>::L_P)>("L_P"),
-} });
-constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
+// (The buffer is laid out as Coefficients<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Coefficients<double>>, "Coefficients is a plain struct");
+constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers{ {
+    Member<decltype(Coefficients<double>::Phi)>("Phi", offsetof(Coefficients<double>, Phi)),
+    Member<decltype(Coefficients<double>::Phi_phi)>("Phi_phi", offsetof(Coefficients<double>, Phi_phi)),
+    Member<decltype(Coefficients<double>::K)>("K", offsetof(Coefficients<double>, K)),
+    Member<decltype(Coefficients<double>::L)>("L", offsetof(Coefficients<double>, L)),
+    Member<decltype(Coefficients<double>::r_P)>("r_P", offsetof(Coefficients<double>, r_P)),
+    Member<decltype(Coefficients<double>::K_P)>("K_P", offsetof(Coefficients<double>, K_P)),
+    Member<decltype(Coefficients<double>::L_P)>("L_P", offsetof(Coefficients<double>, L_P)),
+} };
+constexpr int kCoefficientsSize = SizeOf<Coefficients<double>>();
+// Whether Coefficients<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kCoefficientsInPlace =
+    true &&
+    offsetof(Coefficients<double>, Phi) == sizeof(double) * kCoefficientsMembers[0].offset &&
+    offsetof(Coefficients<double>, Phi_phi) == sizeof(double) * kCoefficientsMembers[1].offset &&
+    offsetof(Coefficients<double>, K) == sizeof(double) * kCoefficientsMembers[2].offset &&
+    offsetof(Coefficients<double>, L) == sizeof(double) * kCoefficientsMembers[3].offset &&
+    offsetof(Coefficients<double>, r_P) == sizeof(double) * kCoefficientsMembers[4].offset &&
+    offsetof(Coefficients<double>, K_P) == sizeof(double) * kCoefficientsMembers[5].offset &&
+    offsetof(Coefficients<double>, L_P) == sizeof(double) * kCoefficientsMembers[6].offset;
 [[maybe_unused]] void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[0].offset, &s->Phi);
   Get(b + kCoefficientsMembers[1].offset, &s->Phi_phi);
@@ -86,13 +104,23 @@ constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
   Zero(&s->L_P);
 }
 
-constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
-    Member<decltype(Trig<double>::sin_q)>("sin_q"),
-    Member<decltype(Trig<double>::cos_q)>("cos_q"),
-    Member<decltype(Trig<double>::sin_phi)>("sin_phi"),
-    Member<decltype(Trig<double>::cos_phi)>("cos_phi"),
-} });
-constexpr int kTrigSize = PackedSize(kTrigMembers);
+// (The buffer is laid out as Trig<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Trig<double>>, "Trig is a plain struct");
+constexpr std::array<mechgen::ViewMember, 4> kTrigMembers{ {
+    Member<decltype(Trig<double>::sin_q)>("sin_q", offsetof(Trig<double>, sin_q)),
+    Member<decltype(Trig<double>::cos_q)>("cos_q", offsetof(Trig<double>, cos_q)),
+    Member<decltype(Trig<double>::sin_phi)>("sin_phi", offsetof(Trig<double>, sin_phi)),
+    Member<decltype(Trig<double>::cos_phi)>("cos_phi", offsetof(Trig<double>, cos_phi)),
+} };
+constexpr int kTrigSize = SizeOf<Trig<double>>();
+// Whether Trig<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kTrigInPlace =
+    true &&
+    offsetof(Trig<double>, sin_q) == sizeof(double) * kTrigMembers[0].offset &&
+    offsetof(Trig<double>, cos_q) == sizeof(double) * kTrigMembers[1].offset &&
+    offsetof(Trig<double>, sin_phi) == sizeof(double) * kTrigMembers[2].offset &&
+    offsetof(Trig<double>, cos_phi) == sizeof(double) * kTrigMembers[3].offset;
 [[maybe_unused]] void Get(const double* b, Trig<double>* s) {
   Get(b + kTrigMembers[0].offset, &s->sin_q);
   Get(b + kTrigMembers[1].offset, &s->cos_q);
@@ -112,15 +140,27 @@ constexpr int kTrigSize = PackedSize(kTrigMembers);
   Zero(&s->cos_phi);
 }
 
-constexpr std::array<mechgen::ViewMember, 6> kStaticsMembers = Packed<6>({ {
-    Member<decltype(Statics<double>::Q)>("Q"),
-    Member<decltype(Statics<double>::drive)>("drive"),
-    Member<decltype(Statics<double>::R)>("R"),
-    Member<decltype(Statics<double>::normal)>("normal"),
-    Member<decltype(Statics<double>::gain)>("gain"),
-    Member<decltype(Statics<double>::K_rel)>("K_rel"),
-} });
-constexpr int kStaticsSize = PackedSize(kStaticsMembers);
+// (The buffer is laid out as Statics<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Statics<double>>, "Statics is a plain struct");
+constexpr std::array<mechgen::ViewMember, 6> kStaticsMembers{ {
+    Member<decltype(Statics<double>::Q)>("Q", offsetof(Statics<double>, Q)),
+    Member<decltype(Statics<double>::drive)>("drive", offsetof(Statics<double>, drive)),
+    Member<decltype(Statics<double>::R)>("R", offsetof(Statics<double>, R)),
+    Member<decltype(Statics<double>::normal)>("normal", offsetof(Statics<double>, normal)),
+    Member<decltype(Statics<double>::gain)>("gain", offsetof(Statics<double>, gain)),
+    Member<decltype(Statics<double>::K_rel)>("K_rel", offsetof(Statics<double>, K_rel)),
+} };
+constexpr int kStaticsSize = SizeOf<Statics<double>>();
+// Whether Statics<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kStaticsInPlace =
+    true &&
+    offsetof(Statics<double>, Q) == sizeof(double) * kStaticsMembers[0].offset &&
+    offsetof(Statics<double>, drive) == sizeof(double) * kStaticsMembers[1].offset &&
+    offsetof(Statics<double>, R) == sizeof(double) * kStaticsMembers[2].offset &&
+    offsetof(Statics<double>, normal) == sizeof(double) * kStaticsMembers[3].offset &&
+    offsetof(Statics<double>, gain) == sizeof(double) * kStaticsMembers[4].offset &&
+    offsetof(Statics<double>, K_rel) == sizeof(double) * kStaticsMembers[5].offset;
 [[maybe_unused]] void Get(const double* b, Statics<double>* s) {
   Get(b + kStaticsMembers[0].offset, &s->Q);
   Get(b + kStaticsMembers[1].offset, &s->drive);
@@ -223,6 +263,18 @@ void FlatCoeffs(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
+    if (out != nullptr) Zero(&At<Coefficients<double>>(out)->Phi_phi);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
+    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
+    return;
+  }
   Coefficients<double> out_;
   if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
   if (out != nullptr) Zero(&out_.Phi_phi);
@@ -260,6 +312,19 @@ void FlatForces(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    Model::Forces(p_,
+                  q_,
+                  phi_,
+                  *At<Coefficients<double>>(c),
+                  At<Statics<double>>(out),
+                  friction != nullptr ? &friction_ : nullptr,
+                  At<Trig<double>>(trig));
+    return;
+  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -270,8 +335,6 @@ void FlatForces(const double* p,
   if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[3].offset, &out_.normal);
   if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[4].offset, &out_.gain);
   if (out != nullptr) GetUnlessStored<4>(out + kStaticsMembers[5].offset, &out_.K_rel);
-  Vec<double, Sizes::kNumFriction> friction_;
-  if (friction != nullptr) Get(friction, &friction_);
   static const Trig<double> trig_{};
   (void)trig;
   Model::Forces(p_,
@@ -320,6 +383,18 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Get(phi_io, &phi_io_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::Solve(p_,
+                                                    q_,
+                                                    phi_io != nullptr ? &phi_io_ : nullptr,
+                                                    modes_,
+                                                    max_iterations,
+                                                    tolerance,
+                                                    At<Trig<double>>(trig));
+    if (phi_io != nullptr) Put(phi_io_, phi_io);
+    return Report(report);
+  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,

@@ -3,13 +3,17 @@
 //
 // The model view of stephenson_sixbar (mechgen/core/model_view.h): its sizes, names, flags and parameter
 // table, and each function of Model on flat arrays of double. The functions adapt the
-// fixed-size ones of stephenson_sixbar.h (compiled for double in stephenson_sixbar.cc): the arrays are copied
-// into the fixed-size types, the function is called, its outputs are copied back; of a struct
-// only the members the function reads, and of an output the members it writes (read in first
-// unless it writes every entry; codegen/emit.cc, Flatten). Compiled
+// fixed-size ones of stephenson_sixbar.h (compiled for double in stephenson_sixbar.cc): a struct's buffer is
+// passed as the struct itself where its layout and alignment allow (no copy); otherwise, and
+// for the other arrays, the arrays are copied into the fixed-size types, the function is
+// called, its outputs are copied back; of a struct only the members the function reads, and of
+// an output the members it writes (read in first unless it writes every entry; codegen/emit.cc,
+// Flatten). Compiled
 // with MECHGEN_VIEW_ENTRY defined, it also defines the C entry point mechgen_model_view()
 // (mechgen::kModelViewEntry), for a shared object holding this one model.
 #include <array>
+#include <cstddef>
+#include <type_traits>
 
 #include "stephenson_sixbar.h"
 #include "mechgen/core/model_view.h"
@@ -19,13 +23,14 @@ namespace mech::stephenson_sixbar {
 namespace {
 
 // ---- Flat arrays and the fixed-size types (mechgen/core/view_buffers.h) ----
+using mechgen::view_buffers::At;
 using mechgen::view_buffers::Flat;
 using mechgen::view_buffers::Get;
 using mechgen::view_buffers::GetUnlessStored;
+using mechgen::view_buffers::InPlace;
 using mechgen::view_buffers::Member;
-using mechgen::view_buffers::Packed;
-using mechgen::view_buffers::PackedSize;
 using mechgen::view_buffers::Put;
+using mechgen::view_buffers::SizeOf;
 using mechgen::view_buffers::Zero;
 using mechgen::view_buffers::ZeroUnlessStored;
 
@@ -48,16 +53,29 @@ static_assert(static_cast<int>(SolveStatus::kConverged) == static_cast<int>(mech
               "SolveStatus and mechgen::ViewSolveStatus differ");
 
 // ---- The structs' buffers (mechgen::ViewLayout) ----
-constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers = Packed<7>({ {
-    Member<decltype(Coefficients<double>::Phi)>("Phi"),
-    Member<decltype(Coefficients<double>::Phi_phi)>("Phi_phi"),
-    Member<decltype(Coefficients<double>::K)>("K"),
-    Member<decltype(Coefficients<double>::L)>("L"),
-    Member<decltype(Coefficients<double>::r_P)>("r_P"),
-    Member<decltype(Coefficients<double>::K_P)>("K_P"),
-    Member<decltype(Coefficients<double>::L_P)>("L_P"),
-} });
-constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
+// (The buffer is laid out as Coefficients<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Coefficients<double>>, "Coefficients is a plain struct");
+constexpr std::array<mechgen::ViewMember, 7> kCoefficientsMembers{ {
+    Member<decltype(Coefficients<double>::Phi)>("Phi", offsetof(Coefficients<double>, Phi)),
+    Member<decltype(Coefficients<double>::Phi_phi)>("Phi_phi", offsetof(Coefficients<double>, Phi_phi)),
+    Member<decltype(Coefficients<double>::K)>("K", offsetof(Coefficients<double>, K)),
+    Member<decltype(Coefficients<double>::L)>("L", offsetof(Coefficients<double>, L)),
+    Member<decltype(Coefficients<double>::r_P)>("r_P", offsetof(Coefficients<double>, r_P)),
+    Member<decltype(Coefficients<double>::K_P)>("K_P", offsetof(Coefficients<double>, K_P)),
+    Member<decltype(Coefficients<double>::L_P)>("L_P", offsetof(Coefficients<double>, L_P)),
+} };
+constexpr int kCoefficientsSize = SizeOf<Coefficients<double>>();
+// Whether Coefficients<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kCoefficientsInPlace =
+    true &&
+    offsetof(Coefficients<double>, Phi) == sizeof(double) * kCoefficientsMembers[0].offset &&
+    offsetof(Coefficients<double>, Phi_phi) == sizeof(double) * kCoefficientsMembers[1].offset &&
+    offsetof(Coefficients<double>, K) == sizeof(double) * kCoefficientsMembers[2].offset &&
+    offsetof(Coefficients<double>, L) == sizeof(double) * kCoefficientsMembers[3].offset &&
+    offsetof(Coefficients<double>, r_P) == sizeof(double) * kCoefficientsMembers[4].offset &&
+    offsetof(Coefficients<double>, K_P) == sizeof(double) * kCoefficientsMembers[5].offset &&
+    offsetof(Coefficients<double>, L_P) == sizeof(double) * kCoefficientsMembers[6].offset;
 [[maybe_unused]] void Get(const double* b, Coefficients<double>* s) {
   Get(b + kCoefficientsMembers[0].offset, &s->Phi);
   Get(b + kCoefficientsMembers[1].offset, &s->Phi_phi);
@@ -86,13 +104,23 @@ constexpr int kCoefficientsSize = PackedSize(kCoefficientsMembers);
   Zero(&s->L_P);
 }
 
-constexpr std::array<mechgen::ViewMember, 4> kTrigMembers = Packed<4>({ {
-    Member<decltype(Trig<double>::sin_q)>("sin_q"),
-    Member<decltype(Trig<double>::cos_q)>("cos_q"),
-    Member<decltype(Trig<double>::sin_phi)>("sin_phi"),
-    Member<decltype(Trig<double>::cos_phi)>("cos_phi"),
-} });
-constexpr int kTrigSize = PackedSize(kTrigMembers);
+// (The buffer is laid out as Trig<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Trig<double>>, "Trig is a plain struct");
+constexpr std::array<mechgen::ViewMember, 4> kTrigMembers{ {
+    Member<decltype(Trig<double>::sin_q)>("sin_q", offsetof(Trig<double>, sin_q)),
+    Member<decltype(Trig<double>::cos_q)>("cos_q", offsetof(Trig<double>, cos_q)),
+    Member<decltype(Trig<double>::sin_phi)>("sin_phi", offsetof(Trig<double>, sin_phi)),
+    Member<decltype(Trig<double>::cos_phi)>("cos_phi", offsetof(Trig<double>, cos_phi)),
+} };
+constexpr int kTrigSize = SizeOf<Trig<double>>();
+// Whether Trig<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kTrigInPlace =
+    true &&
+    offsetof(Trig<double>, sin_q) == sizeof(double) * kTrigMembers[0].offset &&
+    offsetof(Trig<double>, cos_q) == sizeof(double) * kTrigMembers[1].offset &&
+    offsetof(Trig<double>, sin_phi) == sizeof(double) * kTrigMembers[2].offset &&
+    offsetof(Trig<double>, cos_phi) == sizeof(double) * kTrigMembers[3].offset;
 [[maybe_unused]] void Get(const double* b, Trig<double>* s) {
   Get(b + kTrigMembers[0].offset, &s->sin_q);
   Get(b + kTrigMembers[1].offset, &s->cos_q);
@@ -112,12 +140,21 @@ constexpr int kTrigSize = PackedSize(kTrigMembers);
   Zero(&s->cos_phi);
 }
 
-constexpr std::array<mechgen::ViewMember, 3> kKinematicsMembers = Packed<3>({ {
-    Member<decltype(Kinematics<double>::K)>("K"),
-    Member<decltype(Kinematics<double>::L)>("L"),
-    Member<decltype(Kinematics<double>::Phi_phi)>("Phi_phi"),
-} });
-constexpr int kKinematicsSize = PackedSize(kKinematicsMembers);
+// (The buffer is laid out as Kinematics<double> is: each member at its offset in the struct.)
+static_assert(std::is_standard_layout_v<Kinematics<double>>, "Kinematics is a plain struct");
+constexpr std::array<mechgen::ViewMember, 3> kKinematicsMembers{ {
+    Member<decltype(Kinematics<double>::K)>("K", offsetof(Kinematics<double>, K)),
+    Member<decltype(Kinematics<double>::L)>("L", offsetof(Kinematics<double>, L)),
+    Member<decltype(Kinematics<double>::Phi_phi)>("Phi_phi", offsetof(Kinematics<double>, Phi_phi)),
+} };
+constexpr int kKinematicsSize = SizeOf<Kinematics<double>>();
+// Whether Kinematics<double> lies in a buffer as its members do (each at its offset): then the
+// functions take it on the caller's storage, where that is aligned for it (InPlace).
+[[maybe_unused]] constexpr bool kKinematicsInPlace =
+    true &&
+    offsetof(Kinematics<double>, K) == sizeof(double) * kKinematicsMembers[0].offset &&
+    offsetof(Kinematics<double>, L) == sizeof(double) * kKinematicsMembers[1].offset &&
+    offsetof(Kinematics<double>, Phi_phi) == sizeof(double) * kKinematicsMembers[2].offset;
 [[maybe_unused]] void Get(const double* b, Kinematics<double>* s) {
   Get(b + kKinematicsMembers[0].offset, &s->K);
   Get(b + kKinematicsMembers[1].offset, &s->L);
@@ -211,6 +248,18 @@ void FlatCoeffs(const double* p,
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->Phi);
+    if (out != nullptr) Zero(&At<Coefficients<double>>(out)->Phi_phi);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->K);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->L);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->r_P);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->K_P);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->L_P);
+    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
+    return;
+  }
   Coefficients<double> out_;
   if (out != nullptr) ZeroUnlessStored<4>(&out_.Phi);
   if (out != nullptr) Zero(&out_.Phi_phi);
@@ -281,6 +330,18 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Get(phi_io, &phi_io_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::Solve(p_,
+                                                    q_,
+                                                    phi_io != nullptr ? &phi_io_ : nullptr,
+                                                    modes_,
+                                                    max_iterations,
+                                                    tolerance,
+                                                    At<Trig<double>>(trig));
+    if (phi_io != nullptr) Put(phi_io_, phi_io);
+    return Report(report);
+  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
@@ -305,6 +366,11 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::SolveTrig(p_, q_, modes_, At<Trig<double>>(trig));
+    return Report(report);
+  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::SolveTrig(p_,
@@ -326,6 +392,15 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
+  if (InPlace<kTrigInPlace, Trig<double>>(trig) &&
+      InPlace<kKinematicsInPlace, Kinematics<double>>(out)) {
+    const SolveReport<double> report = Model::Kinematics(p_,
+                                                         q_,
+                                                         modes_,
+                                                         At<Trig<double>>(trig),
+                                                         At<Kinematics<double>>(out));
+    return Report(report);
+  }
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);

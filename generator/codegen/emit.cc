@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "codegen/drawing.h"
 #include "codegen/output_spec.h"
@@ -263,10 +264,21 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
 // need it be initialized), and copied back after it; a member the body does not name is
 // neither read nor written (its buffer keeps its value). An output the view writes whole
 // (WrittenWhole()) starts at zero instead, and its buffer is not read.
+// A struct argument may instead be passed on the caller's storage (in_place: the struct at its
+// buffer, no copy in or out) where its members lie at their offsets in the buffer and the
+// buffer is aligned for it (`check`: view_buffers::InPlace); an output the view writes whole is
+// set to 0 there first but for what the function stores whole (in_place_before). The same
+// values either way: the function reads and writes the same entries, and what it does not
+// write keeps the buffer's value.
 struct FlatArgument {
+  FlatArgument(std::string t, std::vector<std::string> b, std::vector<std::string> a, std::string p)
+      : type(std::move(t)), before(std::move(b)), after(std::move(a)), pass(std::move(p)) {}
   std::string type;
   std::vector<std::string> before, after;
   std::string pass;
+  std::string check;                       // empty: not a struct, always copied
+  std::vector<std::string> in_place_before;
+  std::string in_place_pass;
 };
 
 // The outputs the view writes whole (core/model_view.h says which): Coeffs' Coefficients (the
@@ -377,14 +389,25 @@ FlatArgument Flatten(const Argument& a, const std::string& scalar, bool written_
     return {"const double*", {"const Params<double> " + local + " = GetParams(" + n + ");"}, {}, local};
   if (type == "int") return {"int", {}, {}, n};
   if (type == "const double&") return {"double", {}, {}, n};
+  // The struct `core` at its buffer n (view_buffers::At), and the check that it may be.
+  auto in_place = [&struct_of, &n](const std::string& core, FlatArgument* flat, bool reference) {
+    if (struct_of(core) == nullptr) return;
+    const std::string name = core.substr(0, core.find('<'));
+    flat->check = "InPlace<k" + name + "InPlace, " + core + ">(" + n + ")";
+    flat->in_place_pass = (reference ? "*At<" : "At<") + core + ">(" + n + ")";
+  };
   if (StartsWith(type, "const typename NonDeduced<") && EndsWith(type, ">::type*")) {  // an input, or nullptr
     const std::string core = type.substr(26, type.size() - 26 - 8);
-    return {array(core, true), struct_input(core, "if (" + n + " != nullptr) "), {},
-            n + " != nullptr ? &" + local + " : nullptr"};
+    FlatArgument flat{array(core, true), struct_input(core, "if (" + n + " != nullptr) "), {},
+                      n + " != nullptr ? &" + local + " : nullptr"};
+    in_place(core, &flat, false);
+    return flat;
   }
   if (StartsWith(type, "const ") && EndsWith(type, "&")) {  // an input
     const std::string core = type.substr(6, type.size() - 7);
-    return {array(core, true), struct_input(core, ""), {}, local};
+    FlatArgument flat{array(core, true), struct_input(core, ""), {}, local};
+    in_place(core, &flat, true);
+    return flat;
   }
   std::string core;  // an output (or input and output)
   if (StartsWith(type, "Out<") && EndsWith(type, ">"))
@@ -398,21 +421,28 @@ FlatArgument Flatten(const Argument& a, const std::string& scalar, bool written_
   const std::string pass = n + " != nullptr ? &" + local + " : nullptr";
   const std::vector<std::string>* members = struct_of(core);
   const StructUse use = members != nullptr ? UseOf(code, n) : StructUse::Whole();
+  const std::string at_n = "At<" + core + ">(" + n + ")";
   if (use.whole || (written_whole && use.may_return)) {
-    return {array(core, false),
-            {core + " " + local + ";", guard + (written_whole ? "Zero(&" + local + ");" : "Get(" + n + ", &" + local + ");")},
-            {guard + "Put(" + local + ", " + n + ");"},
-            pass};
+    FlatArgument flat{array(core, false),
+                      {core + " " + local + ";", guard + (written_whole ? "Zero(&" + local + ");" : "Get(" + n + ", &" + local + ");")},
+                      {guard + "Put(" + local + ", " + n + ");"},
+                      pass};
+    in_place(core, &flat, false);
+    if (written_whole && !flat.check.empty()) flat.in_place_before.push_back(guard + "Zero(" + at_n + ");");
+    return flat;
   }
   FlatArgument flat{array(core, false), {core + " " + local + ";"}, {}, pass};
+  in_place(core, &flat, false);
   const std::string offsets = "k" + core.substr(0, core.find('<')) + "Members";
   for (size_t i = 0; i < members->size(); ++i) {
     const std::string& member = (*members)[i];
     const std::string at = n + " + " + offsets + "[" + std::to_string(i) + "].offset";
     const auto stored = use.stored.find(member);
     if (written_whole) {  // every member 0 but those the body stores whole, and every one copied back
-      flat.before.push_back(guard + (stored != use.stored.end() ? "ZeroUnlessStored<" + std::to_string(stored->second.size()) + ">(" : "Zero(") +
-                            "&" + local + "." + member + ");");
+      const std::string zero =
+          stored != use.stored.end() ? "ZeroUnlessStored<" + std::to_string(stored->second.size()) + ">(" : "Zero(";
+      flat.before.push_back(guard + zero + "&" + local + "." + member + ");");
+      flat.in_place_before.push_back(guard + zero + "&" + at_n + "->" + member + ");");
     } else if (use.read.count(member) || (stored != use.stored.end() && use.may_return)) {
       flat.before.push_back(guard + "Get(" + at + ", &" + local + "." + member + ");");
     } else if (stored != use.stored.end()) {
@@ -440,7 +470,10 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
   else
     throw std::runtime_error("the model view cannot return " + f.returns + " (" + f.name + ", codegen/emit.cc)");
   mus::data args{mus::data::type::list}, lines{mus::data::type::list};
-  std::vector<std::string> before, after, pass;
+  // The copies of the arguments that are not structs (common), of the structs (copied), and the
+  // structs at their buffers where each may be (in place: checks).
+  std::vector<std::string> common, before, after, pass, after_common;
+  std::vector<std::string> checks, in_place_before, in_place_pass, in_place_after;
   bool has_velocities = false;
   for (size_t i = 0; i < f.args.size(); ++i) {
     const FlatArgument flat = Flatten(f.args[i], f.scalar, WrittenWhole(f.model_member, f.args[i]), code, structs);
@@ -449,7 +482,16 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
     o.set("arg_name", f.args[i].name);
     o.set("first", Bool(i == 0));
     args.push_back(o);
-    before.insert(before.end(), flat.before.begin(), flat.before.end());
+    if (flat.check.empty()) {
+      common.insert(common.end(), flat.before.begin(), flat.before.end());
+      after_common.insert(after_common.end(), flat.after.begin(), flat.after.end());
+      in_place_pass.push_back(flat.pass);
+    } else {
+      before.insert(before.end(), flat.before.begin(), flat.before.end());
+      checks.push_back(flat.check);
+      in_place_before.insert(in_place_before.end(), flat.in_place_before.begin(), flat.in_place_before.end());
+      in_place_pass.push_back(flat.in_place_pass);
+    }
     after.insert(after.end(), flat.after.begin(), flat.after.end());
     pass.push_back(flat.pass);
     has_velocities = has_velocities || f.args[i].name == "velocities";
@@ -463,25 +505,45 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
     o.set("first", Bool(false));
     args.push_back(o);
   }
-  // The call on one line, or one argument a line under the first where that is over 100 columns.
-  auto call = [&f, &pass](const std::string& head) {
+  // The call on one line, or one argument a line under the first where that is over 100 columns
+  // (`indent`: the columns before the line).
+  auto call = [&f](const std::string& head, const std::vector<std::string>& pass, size_t indent) {
     const std::string open = head + "Model::" + f.model_member + "(";
     std::string line = open;
     for (size_t i = 0; i < pass.size(); ++i) line += (i ? ", " : "") + pass[i];
-    if (2 + line.size() + 2 <= 100) return line + ");";
+    if (indent + line.size() + 2 <= 100) return line + ");";
     line = open;
-    for (size_t i = 0; i < pass.size(); ++i) line += (i ? ",\n" + Spaces(2 + open.size()) : "") + pass[i];
+    for (size_t i = 0; i < pass.size(); ++i) line += (i ? ",\n" + Spaces(indent + open.size()) : "") + pass[i];
     return line + ");";
   };
-  std::vector<std::string> body = before;
-  if (returns == "void") {
-    body.push_back(call(""));
-    body.insert(body.end(), after.begin(), after.end());
-  } else {
-    body.push_back(call("const SolveReport<double> report = "));
-    body.insert(body.end(), after.begin(), after.end());
-    body.push_back("return Report(report);");
+  auto call_and_after = [&](const std::vector<std::string>& pass, const std::vector<std::string>& after,
+                            const std::string& indent, std::vector<std::string>* body) {
+    const std::string head = returns == "void" ? "" : "const SolveReport<double> report = ";
+    body->push_back(indent + call(head, pass, 2 + indent.size()));
+    for (const std::string& l : after) body->push_back(indent + l);
+    body->push_back(indent + (returns == "void" ? "return;" : "return Report(report);"));
+  };
+  std::vector<std::string> body = common;
+  if (!checks.empty()) {
+    // The structs on the caller's storage where they may be (no copy), else copied below.
+    std::string condition = "if (";
+    for (size_t i = 0; i < checks.size(); ++i) {
+      const std::string sep = i == 0 ? "" : " &&";
+      if (2 + condition.size() + sep.size() + 1 + checks[i].size() + 3 > 100) {
+        body.push_back(condition + sep);
+        condition = "    " + checks[i];
+      } else {
+        condition += (i == 0 ? "" : sep + " ") + checks[i];
+      }
+    }
+    body.push_back(condition + ") {");
+    for (const std::string& l : in_place_before) body.push_back("  " + l);
+    call_and_after(in_place_pass, after_common, "  ", &body);
+    body.push_back("}");
   }
+  body.insert(body.end(), before.begin(), before.end());
+  call_and_after(pass, after, "", &body);
+  if (returns == "void") body.pop_back();  // (no `return;` at the end)
   for (const std::string& l : body) {
     mus::data o{mus::data::type::object};
     o.set("line", l);

@@ -25,8 +25,11 @@
  *    generated function accepts as nullptr may be nullptr here.
  *
  * The generated functions stay as they are (fixed-size Eigen, templates on the scalar); the view
- * maps its arrays onto them, calls them for double and copies the results out (the same
- * arithmetic: the results agree to the bit). Everything here is constant-initialized, allocates
+ * calls them for double on its arrays: a struct's buffer aligned for the struct (the runtime's
+ * are: ViewModel's kViewBufferAlignment) is taken as the struct itself where the struct lies in
+ * it member by member, with nothing copied in or out; the other arrays are copied into the
+ * fixed-size types and the results out (the same arithmetic either way: the results agree to
+ * the bit). Everything here is constant-initialized, allocates
  * nothing and needs the C++17 standard library only: no Eigen, so that a product or a program that
  * dlopens a model can read it.
  *
@@ -93,8 +96,10 @@ struct ViewMember {
   int offset = 0;
 };
 
-/// A struct's buffer: its size in doubles and its members in the generated struct's order. A
-/// struct the model lacks has name nullptr, size 0 and no members.
+/// A struct's buffer: its size in doubles and its members in the generated struct's order, each
+/// at its offset in the generated struct (the buffer is laid out as the struct is, padding
+/// included, so that the view's functions may take it as the struct itself). A struct the model
+/// lacks has name nullptr, size 0 and no members.
 struct ViewLayout {
   const char* name = nullptr;
   int size = 0;

@@ -1,8 +1,8 @@
 /**
  * \file core/view_buffers.h
  * What every generated model view (<name>_view.cc, templates/mechanism_view.cc.mustache) does
- * the same way: the shape of a fixed-size member (rows x cols), the members' offsets packed one
- * after the other in a struct's buffer, and the copies between a view's flat arrays
+ * the same way: the shape of a fixed-size member (rows x cols), the members' offsets in a
+ * struct's buffer (the struct's own), and the copies between a view's flat arrays
  * (column-major) and the fixed-size Eigen types, std::array and double. Written once here, read
  * by every view. Needs Eigen (fixed sizes) and the standard library.
  */
@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 
 #include <Eigen/Core>
 
@@ -32,23 +33,17 @@ template <std::size_t N>
 struct Shape<std::array<double, N>> {
   static constexpr int kRows = static_cast<int>(N), kCols = 1;
 };
+// A member at byte offset `offset` of its struct, in doubles: a struct's buffer is laid out as
+// the struct is (padding included), so that the struct itself may lie on it (InPlace).
 template <class T>
-constexpr mechgen::ViewMember Member(const char* name) {
-  return {name, Shape<T>::kRows, Shape<T>::kCols, 0};
+constexpr mechgen::ViewMember Member(const char* name, std::size_t offset) {
+  return {name, Shape<T>::kRows, Shape<T>::kCols, static_cast<int>(offset / sizeof(double))};
 }
-// The members' offsets, one after the other; the buffer's size after the last.
-template <std::size_t N>
-constexpr std::array<mechgen::ViewMember, N> Packed(std::array<mechgen::ViewMember, N> members) {
-  int offset = 0;
-  for (std::size_t i = 0; i < N; ++i) {
-    members[i].offset = offset;
-    offset += members[i].rows * members[i].cols;
-  }
-  return members;
-}
-template <std::size_t N>
-constexpr int PackedSize(const std::array<mechgen::ViewMember, N>& members) {
-  return N == 0 ? 0 : members[N - 1].offset + members[N - 1].rows * members[N - 1].cols;
+// The buffer's size in doubles: the struct's, padding included.
+template <class S>
+constexpr int SizeOf() {
+  static_assert(sizeof(S) % sizeof(double) == 0, "a struct of doubles");
+  return static_cast<int>(sizeof(S) / sizeof(double));
 }
 
 template <int R, int C, int O, int MR, int MC>
@@ -109,6 +104,23 @@ void ZeroUnlessStored(X* x) {
   } else {
     (void)x;
   }
+}
+
+// A struct on the caller's storage: the buffer b is taken as the struct S itself where S lies
+// in it as its members do (kLayout: the view's k<Struct>InPlace, each member at its offset)
+// and b is aligned for S (nullptr stays nullptr); the function then reads and writes the
+// buffer's entries directly, with nothing copied in or out.
+template <bool kLayout, class S>
+bool InPlace(const double* b) {
+  return kLayout && reinterpret_cast<std::uintptr_t>(b) % alignof(S) == 0;
+}
+template <class S>
+S* At(double* b) {
+  return reinterpret_cast<S*>(b);
+}
+template <class S>
+const S* At(const double* b) {
+  return reinterpret_cast<const S*>(b);
 }
 
 }  // namespace mechgen::view_buffers

@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstring>
 #include <limits>
 #include <new>
@@ -31,6 +32,11 @@
 #include "mechgen/core/model_view.h"
 
 namespace mechgen {
+
+/// The alignment of the view's struct buffers: at least the generated structs' (fixed-size Eigen
+/// members), so that the view's functions take a buffer as the struct itself, with nothing
+/// copied in or out (core/view_buffers.h, InPlace; a buffer aligned less is copied).
+inline constexpr std::size_t kViewBufferAlignment = EIGEN_MAX_STATIC_ALIGN_BYTES > 16 ? EIGEN_MAX_STATIC_ALIGN_BYTES : 16;
 
 /// The parameters of a ViewModel: every parameter, free and derived, in the view's table
 /// order (the view's functions read the free ones).
@@ -193,7 +199,7 @@ struct ModelTypes<ViewModel, Scalar> {
     Coefficients() = default;
     Coefficients(const Coefficients&) = delete;
     Coefficients& operator=(const Coefficients&) = delete;
-    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kCoefficients)]> buffer;
+    alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kCoefficients)]> buffer;
     Map Phi{nullptr, 0, 1}, Phi_phi{nullptr, 0, 0}, K{nullptr, 0, 0}, L{nullptr, 0, 0}, r_P{nullptr, 2, 0},
         K_P{nullptr, 0, 0}, L_P{nullptr, 0, 0};
   };
@@ -224,7 +230,7 @@ struct ModelTypes<ViewModel, Scalar> {
       if (this != &other) CopyFrom(other);
       return *this;
     }
-    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kStatics)]> buffer;
+    alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kStatics)]> buffer;
     const ModelView* view = nullptr;  ///< the view whose layout the members follow (nullptr: none)
     int size = 0;                     ///< the entries in use, buffer[0, size)
     VecMap Q{nullptr, 0}, drive{nullptr, 0};
@@ -262,7 +268,7 @@ struct ModelTypes<ViewModel, Scalar> {
   using VecFriction = Eigen::Matrix<double, D, 1, 0, ModelView::kMaxFriction, 1>;
   using MatFrictionQ = Eigen::Matrix<double, D, D, 0, ModelView::kMaxFriction, kMaxQ>;
   struct DynamicsOut {
-    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kDynamics)]> buffer;
+    alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kDynamics)]> buffer;
     MatQQ I;
     VecQ h, Q;
     double T = 0, V = 0, P_nc = 0;
@@ -276,17 +282,17 @@ struct ModelTypes<ViewModel, Scalar> {
     RhsOut() = default;
     RhsOut(const RhsOut&) = delete;
     RhsOut& operator=(const RhsOut&) = delete;
-    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kRhs)]> buffer;
+    alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kRhs)]> buffer;
     MatMap K{nullptr, 0, 0}, I{nullptr, 0, 0};
     VecMap h{nullptr, 0}, Q{nullptr, 0};
     double T = 0, V = 0, P_nc = 0;
     MatMap Phi_phi{nullptr, 0, 0};
   };
   struct RhsConstantsOut {
-    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kRhsConstants)]> buffer;
+    alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kRhsConstants)]> buffer;
   };
   struct KinetostaticsOut {
-    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kStatics)]> buffer;
+    alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kStatics)]> buffer;
     VecQ Q, drive;
     VecReactions R;
     VecFriction normal, gain;
@@ -317,7 +323,7 @@ struct ModelFeatures<ViewModel, Scalar> {
 namespace internal {
 /// The sin and cos buffer of a view's Solve and Coeffs (ViewStruct::kTrig).
 struct ViewTrig {
-  std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kTrig)]> buffer;
+  alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kTrig)]> buffer;
 };
 template <class Scalar>
 struct TrigOf<ViewModel, Scalar, true> {
@@ -389,7 +395,7 @@ struct ViewDesignDerivatives {
     if (this != &other) CopyViewStruct(other, this);
     return *this;
   }
-  std::array<double, ModelView::kMaxStructSize[static_cast<int>(kStruct)]> buffer;
+  alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(kStruct)]> buffer;
   const ModelView* view = nullptr;  ///< the view whose layout the members follow (nullptr: none)
   int size = 0;                     ///< the entries in use, buffer[0, size)
   Map dphi_dp{nullptr, 0, 0}, dr_P_dp{nullptr, 0, 0}, dK_dp{nullptr, 0, 0}, dK_P_dp{nullptr, 0, 0},
@@ -411,7 +417,7 @@ struct ViewStaticsDesign {
     if (this != &other) CopyViewStruct(other, this);
     return *this;
   }
-  std::array<double, ModelView::kMaxStructSize[static_cast<int>(kStruct)]> buffer;
+  alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(kStruct)]> buffer;
   const ModelView* view = nullptr;
   int size = 0;
   Map dQ_dp{nullptr, 0, 0}, ddrive_dp{nullptr, 0, 0}, dV_dp{nullptr, 0, 0}, dR_dp{nullptr, 0, 0};
@@ -836,7 +842,7 @@ struct ModelCalls<ViewModel> {
   static bool HasShaking(const M& m) { return m.view->flags.kHasShaking && m.view->Shaking != nullptr; }
   /// The view's Shaking: its buffer, and F, M, F_link, M_link copied out (2 x num_links).
   struct ShakingResult {
-    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kShaking)]> buffer;
+    alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kShaking)]> buffer;
     Eigen::Vector2d F;
     double M = 0;
     Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, ModelView::kMaxLinks> F_link;
@@ -883,7 +889,7 @@ struct ModelCalls<ViewModel> {
     DynamicsDesignResult() = default;
     DynamicsDesignResult(const DynamicsDesignResult&) = delete;
     DynamicsDesignResult& operator=(const DynamicsDesignResult&) = delete;
-    std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kDynamicsDesign)]> buffer;
+    alignas(kViewBufferAlignment) std::array<double, ModelView::kMaxStructSize[static_cast<int>(ViewStruct::kDynamicsDesign)]> buffer;
     MatMap dI_dp{nullptr, 0, 0}, ddI_dq_dp{nullptr, 0, 0}, dh_dp{nullptr, 0, 0}, dQ_dp{nullptr, 0, 0};
     VecMap dT_dp{nullptr, 0}, dV_dp{nullptr, 0};
   };
