@@ -454,6 +454,36 @@ bool ReachAbout(const M& model, const typename ModelTypes<M>::Params& p, double 
   return false;
 }
 
+// The model file of a real solution of an exact task (five points or nine): the model's text
+// with the solution's parameters (the task's named ones), assembled on `modes` (modes[0] the
+// mode reaching point 1); its range the motion through the points for a defect-free solution,
+// for another its crank's reach on that mode about point 1 (WriteSynthesizedModel narrows the
+// range to it when the crank does not turn fully: the generator refuses a range where the loop
+// cannot close). False with *not_written saying why none is written.
+template <class M, class Bar>
+bool SolutionModel(const BoundExact<M>& b, const typename ModelTypes<M>::Params& p, const Bar& bar, bool defect_free,
+                   const typename ModelCalls<M>::Modes& modes, const std::string& model_text, std::string* text,
+                   WrittenAssembly* written, std::string* not_written) {
+  if (bar.defect == "degenerate link") {
+    *not_written = "a link of zero length";
+    return false;
+  }
+  if (modes[0] == 0) {
+    *not_written = "the generated kinematics does not reach point 1 on either mode";
+    return false;
+  }
+  std::vector<std::string> names;
+  for (const std::string& n : b.task.parameters)
+    if (!n.empty()) names.push_back(n);
+  std::vector<double> motion = MotionAngles(bar);
+  double lo = 0, hi = 0;
+  if (!defect_free && !ReachAbout(*b.model, p, bar.crank[0], modes, &lo, &hi)) motion = {bar.crank[0], lo, hi};
+  std::string error;
+  if (WriteSynthesizedModel(*b.model, model_text, p, names, motion, text, written, &error, &modes)) return true;
+  *not_written = error;
+  return false;
+}
+
 }  // namespace exact_internal
 
 /**
@@ -522,30 +552,10 @@ ExactRun RunExactTask(const BoundExact<M>& b, const std::string& model_text, con
     if (row.defect.empty()) ++run.defect_free;
     // The model file.
     if (model_text.empty() || models == nullptr) continue;
-    if (bar.defect == "degenerate link") {
-      row.not_written = "a link of zero length";
-      continue;
-    }
-    if (row.mode == 0) {
-      row.not_written = "the generated kinematics does not reach point 1 on either mode";
-      continue;
-    }
     typename ModelCalls<M>::Modes modes = ModelCalls<M>::DefaultModes(*b.model);
     modes[0] = row.mode;
-    std::vector<std::string> names;
-    for (const std::string& n : b.task.parameters)
-      if (!n.empty()) names.push_back(n);
-    // The motion through the points for a defect-free solution; for another, its crank's reach
-    // on its mode about point 1 (WriteSynthesizedModel narrows the range to it when the crank
-    // does not turn fully: the generator refuses a range where the loop cannot close).
-    std::vector<double> motion = MotionAngles(bar);
-    double lo = 0, hi = 0;
-    if (!row.defect.empty() && !ReachAbout(*b.model, p, bar.crank[0], modes, &lo, &hi)) motion = {bar.crank[0], lo, hi};
-    std::string text, error;
-    if (!WriteSynthesizedModel(*b.model, model_text, p, names, motion, &text, &row.written, &error, &modes)) {
-      row.not_written = error;
-      continue;
-    }
+    std::string text;
+    if (!SolutionModel(b, p, bar, row.defect.empty(), modes, model_text, &text, &row.written, &row.not_written)) continue;
     char name[64];
     std::snprintf(name, sizeof name, "%s_exact_%02d.yaml", model_stem.c_str(), row.number);
     row.file = name;
@@ -841,28 +851,13 @@ NinePointRun CheckNinePointRun(const BoundExact<M>& b, nine_point::NinePointResu
       row.motion = MotionCheck(b, p, bar, points, modes, tol, &defect);
       row.defect = defect;
     }
-    if (!model_text.empty() && models != nullptr) {
-      if (bar.defect == "degenerate link") {
-        row.not_written = "a link of zero length";
-      } else if (row.mode == 0) {
-        row.not_written = "the generated kinematics does not reach point 1 on either mode";
-      } else {
-        std::vector<std::string> names;
-        for (const std::string& n : b.task.parameters)
-          if (!n.empty()) names.push_back(n);
-        std::vector<double> motion = MotionAngles(bar);
-        double lo = 0, hi = 0;
-        if (!row.defect.empty() && !ReachAbout(*b.model, p, bar.crank[0], modes, &lo, &hi)) motion = {bar.crank[0], lo, hi};
-        std::string text, error;
-        if (WriteSynthesizedModel(*b.model, model_text, p, names, motion, &text, &row.written, &error, &modes)) {
-          char name[96];
-          std::snprintf(name, sizeof name, "%s_nine_%04d.yaml", model_stem.c_str(), bar.solution + 1);
-          row.file = name;
-          models->emplace_back(row.file, text);
-        } else {
-          row.not_written = error;
-        }
-      }
+    std::string text;
+    if (!model_text.empty() && models != nullptr &&
+        SolutionModel(b, p, bar, row.defect.empty(), modes, model_text, &text, &row.written, &row.not_written)) {
+      char name[96];
+      std::snprintf(name, sizeof name, "%s_nine_%04d.yaml", model_stem.c_str(), bar.solution + 1);
+      row.file = name;
+      models->emplace_back(row.file, text);
     }
     run.rows.push_back(row);
   }
