@@ -39,11 +39,13 @@ template <class T>
 constexpr mechgen::ViewMember Member(const char* name, std::size_t offset) {
   return {name, Shape<T>::kRows, Shape<T>::kCols, static_cast<int>(offset / sizeof(double))};
 }
-// The buffer's size in doubles: the struct's, padding included.
+// The buffer's size in doubles: the struct's, padding included, rounded up. A struct with a
+// double in it is a whole number of doubles (its alignment is at least a double's); one whose
+// members are all empty (a model without loops: kNc = kNphi = 0, each zero-size matrix a byte)
+// has no double to hold and a size of a few bytes: one double covers it.
 template <class S>
 constexpr int SizeOf() {
-  static_assert(sizeof(S) % sizeof(double) == 0, "a struct of doubles");
-  return static_cast<int>(sizeof(S) / sizeof(double));
+  return static_cast<int>((sizeof(S) + sizeof(double) - 1) / sizeof(double));
 }
 
 template <int R, int C, int O, int MR, int MC>
