@@ -1690,9 +1690,9 @@ TEST(MotionSynthesis, GlobalStageOverFivePoseSubsets) {
   MotionResult rs, rg, rd;
   run("search: {subsets: 0}\n", &ts, &rs);
   run("search: {subsets: 21}\n", &tg, &rg);
-  // The default (20 more subsets) takes every subset of seven poses: the same answer as 21.
+  // The default (21) takes every subset of seven poses: the same subsets and answer.
   run("", &td, &rd);
-  EXPECT_EQ(td.subsets, 20);
+  EXPECT_EQ(td.subsets, 21);
   EXPECT_EQ(rd.subsets, rg.subsets);
   EXPECT_EQ(rd.candidates[static_cast<size_t>(rd.chosen)].error, rg.candidates[static_cast<size_t>(rg.chosen)].error);
   EXPECT_EQ(ts.seed_poses, (std::vector<int>{0, 2, 3, 5, 6}));
