@@ -801,16 +801,6 @@ inline void FinishNinePointRun(const nine_point::NinePoints& points, int max_loo
 }
 }  // namespace exact_internal
 
-/// The nine-point task without a model: the closed-form check only (nine_point.h's verdicts).
-inline NinePointRun RunNinePointTask(const ExactTask& task, int threads) {
-  NinePointRun run;
-  nine_point::NinePointOptions o;
-  o.monodromy.threads = std::max(1, threads);
-  run.result = nine_point::SolveNinePoints(task.nine_points, o);
-  exact_internal::FinishNinePointRun(task.nine_points, o.monodromy.max_loops, &run);
-  return run;
-}
-
 /**
  * \brief Checks each real four-bar of a solved nine-point task with the model's generated
  *        kinematics and the defect checks, as RunExactTask does for five points (the coupler
