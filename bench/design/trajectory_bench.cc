@@ -1,15 +1,20 @@
-// Trajectory sensitivities (issue 27): one run of the forward sensitivity equations
-// (dynamics/sensitivity.h: the state and dq/dp, dqd/dp for N design parameters integrated
-// together) against the N + 1 simulations of the values alone that forward differences need
-// (dynamics/forward.h), and the one simulation of the values alone; the sensitivities with the
-// right-hand side's Jacobians generated (EvalDynamicsJacobian) and by Jets, side by side. Same integrator (Dop853),
+// Trajectory sensitivities (issues 27, 46): one run of the forward sensitivity equations
+// (dynamics/sensitivity.h: the state and dq/dp, dqd/dp for N design parameters) against the
+// N + 1 simulations of the values alone that forward differences need (dynamics/forward.h),
+// and the one simulation of the values alone; the sensitivities by the staggered method (the
+// state's own step, S and Sd by collocation over it, not in the error test) and by the
+// simultaneous one (the whole state through the integrator, S and Sd in the error test), f_q
+// and f_qd generated (EvalDynamicsJacobian) or by Jets; and the adjoint gradient of one scalar
+// (dynamics/adjoint.h: q_1(t_end) plus the integral of qd^T qd / 2). Same integrator (Dop853),
 // same tolerances (rtol 1e-10, atol 1e-12), same motion: the massive four-bar
 // (tests/design/models/design_fourbar_massive.yaml, N = 6) swinging for 2 s from 90 deg at
-// 1.5 rad/s, and the two-DOF five-bar with a spring and dampers (N = 13) for 0.6 s.
+// 1.5 rad/s, and the two-DOF five-bar with a spring and dampers (N = 13) for 0.6 s. The
+// counters give each run's accepted steps and evaluations.
 #include <benchmark/benchmark.h>
 
 #include "design_fivebar_massive.h"
 #include "design_fourbar_massive.h"
+#include "mechgen/dynamics/adjoint.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/sensitivity.h"
 
@@ -33,7 +38,7 @@ struct Motion<mech::design_fivebar_massive::Model> {
 };
 
 template <class M>
-double Simulate(const typename M::template ParamsT<double>& p) {
+double Simulate(const typename M::template ParamsT<double>& p, benchmark::State* counters = nullptr) {
   mechgen::dynamics::MinimalOptions o;
   o.integrator.rtol = 1e-10;
   o.integrator.atol = 1e-12;
@@ -49,6 +54,11 @@ double Simulate(const typename M::template ParamsT<double>& p) {
                  return true;
                },
                &s);
+  if (counters != nullptr) {
+    counters->counters["steps"] = s.integrator.steps;
+    counters->counters["rejected"] = s.integrator.rejected;
+    counters->counters["rhs"] = s.integrator.rhs_evaluations;
+  }
   return q_end;
 }
 
@@ -57,6 +67,7 @@ template <class M>
 void Values(benchmark::State& state) {
   const typename M::template ParamsT<double> p;
   for (auto _ : state) benchmark::DoNotOptimize(Simulate<M>(p));
+  Simulate<M>(p, &state);
 }
 
 // N + 1 simulations: the values and one per design parameter moved (forward differences).
@@ -74,20 +85,22 @@ void Differences(benchmark::State& state) {
   }
 }
 
-// One run of the forward sensitivity equations, f_q and f_qd from the generated
-// EvalDynamicsJacobian (jets = false) or from Jets of the generated code (jets = true).
-template <class M, bool jets = false>
+// One run of the forward sensitivity equations by the staggered or the simultaneous method,
+// f_q and f_qd from the generated EvalDynamicsJacobian (jets = false) or from Jets of the
+// generated code (jets = true).
+template <class M, mechgen::dynamics::SensitivityMethod method, bool jets = false, int nodes = 5>
 void Sensitivities(benchmark::State& state) {
   const typename M::template ParamsT<double> p;
   mechgen::dynamics::SensitivityOptions o;
   o.integrator.rtol = 1e-10;
   o.integrator.atol = 1e-12;
   o.sample_dt = Motion<M>::kTEnd;
+  o.method = method;
   o.jet_jacobians = jets;
+  mechgen::dynamics::SensitivitySummary s;
   for (auto _ : state) {
-    mechgen::dynamics::TrajectorySensitivity<M, Dop853> sim(p, o);
+    mechgen::dynamics::TrajectorySensitivity<M, Dop853, nodes> sim(p, o);
     sim.Initialize(Motion<M>::q0());
-    mechgen::dynamics::SensitivitySummary s;
     double S_end = 0;
     sim.Simulate(0.0, Motion<M>::q0(), Motion<M>::qd0(), Motion<M>::kTEnd,
                  [&](const auto& sample) {
@@ -97,6 +110,48 @@ void Sensitivities(benchmark::State& state) {
                  &s);
     benchmark::DoNotOptimize(S_end);
   }
+  if (s.status != mechgen::dynamics::Status::kSuccess) state.SkipWithError("the sensitivity run failed");
+  state.counters["steps"] = s.integrator.steps;
+  state.counters["rejected"] = s.integrator.rejected;
+  state.counters["rhs"] = s.integrator.rhs_evaluations;
+  state.counters["partials"] = s.partial_evaluations;
+}
+
+// The adjoint gradient of G = q_1(t_end) + the integral of qd^T qd / 2 with respect to the N
+// design parameters (one forward run of the state, one backward run).
+template <class M>
+void Adjoint(benchmark::State& state) {
+  const typename M::template ParamsT<double> p;
+  mechgen::dynamics::SensitivityOptions o;
+  o.integrator.rtol = 1e-10;
+  o.integrator.atol = 1e-12;
+  using Adj = mechgen::dynamics::AdjointSensitivity<M, Dop853>;
+  using VecQ = typename Adj::VecQ;
+  auto terminal = [](double, const VecQ& q, const VecQ&, typename Adj::Value* out) {
+    *out = typename Adj::Value();
+    out->v = q(0);
+    out->d_q(0) = 1;
+    return true;
+  };
+  auto integrand = [](double, const VecQ&, const VecQ& qd, typename Adj::Value* out) {
+    *out = typename Adj::Value();
+    out->v = 0.5 * qd.squaredNorm();
+    out->d_qd = qd;
+    return true;
+  };
+  mechgen::dynamics::AdjointSummary s;
+  for (auto _ : state) {
+    Adj adjoint(p, o);
+    adjoint.Initialize(Motion<M>::q0());
+    double G = 0;
+    typename Adj::RowP dG_dp;
+    adjoint.Gradient(0.0, Motion<M>::q0(), Motion<M>::qd0(), Motion<M>::kTEnd, terminal, integrand, &G, &dG_dp, &s);
+    benchmark::DoNotOptimize(dG_dp);
+  }
+  if (s.status != mechgen::dynamics::Status::kSuccess) state.SkipWithError("the adjoint run failed");
+  state.counters["steps"] = s.steps;
+  state.counters["rhs"] = s.integrator.rhs_evaluations;
+  state.counters["partials"] = s.partial_evaluations;
 }
 
 // One evaluation of the right-hand side with the sensitivities (Derivative at t0, q0, qd0 with S
@@ -118,20 +173,55 @@ void Derivative(benchmark::State& state) {
   }
 }
 
+// One evaluation of the state's right-hand side alone (the staggered method's stages) and one
+// of the partials f_q, f_qd, f_p (its collocation nodes), at t0, q0, qd0.
+template <class M, bool partials>
+void Evaluation(benchmark::State& state) {
+  const typename M::template ParamsT<double> p;
+  using Sim = mechgen::dynamics::TrajectorySensitivity<M, Dop853>;
+  Sim sim(p);
+  sim.Initialize(Motion<M>::q0());
+  typename Sim::StateX x, dx;
+  x << Motion<M>::q0(), Motion<M>::qd0();
+  typename Sim::Partial n;
+  for (auto _ : state) {
+    if constexpr (partials) {
+      sim.Partials(0.0, Motion<M>::q0(), Motion<M>::qd0(), false, &n);
+      benchmark::DoNotOptimize(n.F_p);
+    } else {
+      sim.StateDerivative(0.0, x, &dx);
+      benchmark::DoNotOptimize(dx);
+    }
+  }
+}
+
 using FourBar = mech::design_fourbar_massive::Model;
 using FiveBar = mech::design_fivebar_massive::Model;
+constexpr auto kStaggered = mechgen::dynamics::SensitivityMethod::kStaggered;
+constexpr auto kSimultaneous = mechgen::dynamics::SensitivityMethod::kSimultaneous;
 BENCHMARK(Values<FourBar>)->Name("Trajectory/Values/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Differences<FourBar>)->Name("Trajectory/Differences/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
-BENCHMARK(Sensitivities<FourBar>)->Name("Trajectory/Sensitivities/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
-BENCHMARK(Sensitivities<FourBar, true>)->Name("Trajectory/JetSensitivities/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FourBar, kStaggered>)->Name("Trajectory/Sensitivities/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FourBar, kSimultaneous>)->Name("Trajectory/Simultaneous/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FourBar, kStaggered, true>)->Name("Trajectory/JetSensitivities/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FourBar, kStaggered, false, 4>)->Name("Trajectory/Staggered4/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Adjoint<FourBar>)->Name("Trajectory/Adjoint/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Values<FiveBar>)->Name("Trajectory/Values/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Differences<FiveBar>)->Name("Trajectory/Differences/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
-BENCHMARK(Sensitivities<FiveBar>)->Name("Trajectory/Sensitivities/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
-BENCHMARK(Sensitivities<FiveBar, true>)->Name("Trajectory/JetSensitivities/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FiveBar, kStaggered>)->Name("Trajectory/Sensitivities/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FiveBar, kSimultaneous>)->Name("Trajectory/Simultaneous/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FiveBar, kStaggered, true>)->Name("Trajectory/JetSensitivities/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FiveBar, kStaggered, false, 4>)->Name("Trajectory/Staggered4/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Adjoint<FiveBar>)->Name("Trajectory/Adjoint/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 
 BENCHMARK(Derivative<FourBar>)->Name("Trajectory/Derivative/design_fourbar_massive");
 BENCHMARK(Derivative<FourBar, true>)->Name("Trajectory/JetDerivative/design_fourbar_massive");
 BENCHMARK(Derivative<FiveBar>)->Name("Trajectory/Derivative/design_fivebar_massive");
 BENCHMARK(Derivative<FiveBar, true>)->Name("Trajectory/JetDerivative/design_fivebar_massive");
+
+BENCHMARK(Evaluation<FourBar, false>)->Name("Trajectory/StateRhs/design_fourbar_massive");
+BENCHMARK(Evaluation<FourBar, true>)->Name("Trajectory/Partials/design_fourbar_massive");
+BENCHMARK(Evaluation<FiveBar, false>)->Name("Trajectory/StateRhs/design_fivebar_massive");
+BENCHMARK(Evaluation<FiveBar, true>)->Name("Trajectory/Partials/design_fivebar_massive");
 
 }  // namespace

@@ -1,5 +1,6 @@
-// Trajectory sensitivities (issue 27, dynamics/sensitivity.h): dq(t)/dp and dqd(t)/dp by the
-// forward sensitivity equations, against
+// Trajectory sensitivities (issues 27, 46, dynamics/sensitivity.h): dq(t)/dp and dqd(t)/dp by the
+// forward sensitivity equations, by the staggered method (the state's own step, collocation over
+// it) and by the simultaneous one (the whole state through the integrator), against
 //  - Richardson-extrapolated central differences of two free simulations per design parameter
 //    (MinimalDynamics, Dop853 at rtol 1e-13: the values alone, an independent integration);
 //  - the energy of a conservative machine: T + V is constant along every trajectory of every
@@ -11,7 +12,10 @@
 // dL/dq), against Jets of the generated EvalCoefficients and EvalDynamics (the second method
 // of dynamics/sensitivity.h, SensitivityOptions::jet_jacobians) and against Richardson central
 // differences of qdd = I^-1 (Q - h) with the positions solved again at each shifted q; and the
-// sensitivities of whole runs by either method.
+// sensitivities of whole runs by either method; the collocation's coefficients against the
+// Lobatto weights; and the adjoint gradients (dynamics/adjoint.h) of a final-state scalar and of
+// an integral against the forward sensitivities (the same steps, the simultaneous method's own
+// steps, an exact integral q(t_end) - q0 and Simpson's rule over a fine sampling).
 // Models: the massive four-bar (one DOF, gravity only, six design parameters) and a two-DOF
 // five-bar with a spring and dampers (thirteen design parameters).
 #include <gtest/gtest.h>
@@ -24,6 +28,7 @@
 #include "design_fivebar_massive.h"
 #include "design_fourbar_massive.h"
 #include "design_press.h"
+#include "mechgen/dynamics/adjoint.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/sensitivity.h"
 
@@ -32,7 +37,10 @@
 
 namespace {
 
+using mechgen::dynamics::AdjointSensitivity;
+using mechgen::dynamics::AdjointSummary;
 using mechgen::dynamics::Dop853;
+using mechgen::dynamics::SensitivityMethod;
 using mechgen::dynamics::MinimalDynamics;
 using mechgen::dynamics::MinimalOptions;
 using mechgen::dynamics::SensitivityOptions;
@@ -71,18 +79,18 @@ std::vector<Eigen::VectorXd> Trajectory(const typename M::template ParamsT<doubl
   return out;
 }
 
-/// The worst |S - Richardson difference| / max(1, |difference|) over the samples, every q, qd
-/// and design parameter; *worst_name says which.
-template <class M>
-double WorstAgainstDifferences(const Eigen::Matrix<double, M::kNq, 1>& q0,
-                               const Eigen::Matrix<double, M::kNq, 1>& qd0, double t_end, double dt) {
-  using Params = typename M::template ParamsT<double>;
-  const Params p;
+/// (S; Sd) at the samples of a run with sensitivities by the given method (Nodes: the staggered
+/// method's collocation nodes).
+template <class M, int Nodes = 5>
+std::vector<Eigen::MatrixXd> SensitivitiesOfARun(const Eigen::Matrix<double, M::kNq, 1>& q0,
+                                                 const Eigen::Matrix<double, M::kNq, 1>& qd0, double t_end, double dt,
+                                                 SensitivityMethod method, double rtol = 1e-12, double atol = 1e-13) {
   SensitivityOptions options;
-  options.integrator.rtol = 1e-12;
-  options.integrator.atol = 1e-13;
+  options.integrator.rtol = rtol;
+  options.integrator.atol = atol;
   options.sample_dt = dt;
-  TrajectorySensitivity<M> sens(p, options);
+  options.method = method;
+  TrajectorySensitivity<M, Dop853, Nodes> sens(typename M::template ParamsT<double>(), options);
   EXPECT_TRUE(sens.Initialize(q0));
   std::vector<Eigen::MatrixXd> S;  // (q, qd) x p per sample
   SensitivitySummary summary;
@@ -95,7 +103,24 @@ double WorstAgainstDifferences(const Eigen::Matrix<double, M::kNq, 1>& q0,
                             },
                             &summary))
       << FormatSummary(summary);
-  double worst = 0;
+  return S;
+}
+
+/// The worst |S - Richardson difference| / max(1, |difference|) over the samples, every q, qd
+/// and design parameter, for each of four runs: worst[0] the staggered method, worst[1] the
+/// simultaneous one (both at rtol 1e-12, atol 1e-13), worst[2] the staggered method at the
+/// benchmark's tolerance (rtol 1e-10, atol 1e-12), worst[3] the simultaneous one there.
+template <class M>
+void WorstAgainstDifferences(const Eigen::Matrix<double, M::kNq, 1>& q0, const Eigen::Matrix<double, M::kNq, 1>& qd0,
+                             double t_end, double dt, double worst[4]) {
+  using Params = typename M::template ParamsT<double>;
+  const std::vector<Eigen::MatrixXd> runs[4] = {
+      SensitivitiesOfARun<M>(q0, qd0, t_end, dt, SensitivityMethod::kStaggered),
+      SensitivitiesOfARun<M>(q0, qd0, t_end, dt, SensitivityMethod::kSimultaneous),
+      SensitivitiesOfARun<M>(q0, qd0, t_end, dt, SensitivityMethod::kStaggered, 1e-10, 1e-12),
+      SensitivitiesOfARun<M>(q0, qd0, t_end, dt, SensitivityMethod::kSimultaneous, 1e-10, 1e-12)};
+  const char* names[4] = {"staggered", "simultaneous", "staggered at rtol 1e-10", "simultaneous at rtol 1e-10"};
+  for (int r = 0; r < 4; ++r) worst[r] = 0;
   for (int d = 0; d < M::kNumDesign; ++d) {
     const double p0 = *Params().Find(M::kDesignNames[d]);
     const double h = 1e-3 * std::max(1.0, std::abs(p0));
@@ -105,21 +130,26 @@ double WorstAgainstDifferences(const Eigen::Matrix<double, M::kNq, 1>& q0,
       return Trajectory<M>(pp, q0, qd0, t_end, dt);
     };
     const auto plus = run(h), minus = run(-h), plus2 = run(h / 2), minus2 = run(-h / 2);
-    EXPECT_EQ(plus.size(), S.size());
-    const size_t n = std::min({S.size(), plus.size(), minus.size(), plus2.size(), minus2.size()});
-    for (size_t k = 0; k < n; ++k) {
-      const Eigen::VectorXd D1 = (plus[k] - minus[k]) / (2 * h);
-      const Eigen::VectorXd D2 = (plus2[k] - minus2[k]) / h;
-      const Eigen::VectorXd R = (4 * D2 - D1) / 3;
-      for (int i = 0; i < 2 * M::kNq; ++i) {
-        const double e = std::abs(S[k](i, d) - R(i)) / std::max(1.0, std::abs(R(i)));
-        EXPECT_LT(e, 1e-7) << M::kDesignNames[d] << " sample " << k << " component " << i << ": "
-                           << S[k](i, d) << " against " << R(i);
-        worst = std::max(worst, e);
+    for (int r = 0; r < 4; ++r) {
+      const std::vector<Eigen::MatrixXd>& S = runs[r];
+      EXPECT_EQ(plus.size(), S.size()) << names[r];
+      const size_t n = std::min({S.size(), plus.size(), minus.size(), plus2.size(), minus2.size()});
+      for (size_t k = 0; k < n; ++k) {
+        const Eigen::VectorXd D1 = (plus[k] - minus[k]) / (2 * h);
+        const Eigen::VectorXd D2 = (plus2[k] - minus2[k]) / h;
+        const Eigen::VectorXd R = (4 * D2 - D1) / 3;
+        for (int i = 0; i < 2 * M::kNq; ++i) {
+          const double e = std::abs(S[k](i, d) - R(i)) / std::max(1.0, std::abs(R(i)));
+          EXPECT_LT(e, 1e-7) << names[r] << ": " << M::kDesignNames[d] << " sample " << k << " component " << i
+                             << ": " << S[k](i, d) << " against " << R(i);
+          worst[r] = std::max(worst[r], e);
+        }
       }
     }
   }
-  return worst;
+  std::printf("against Richardson differences: staggered %.3g, simultaneous %.3g; at rtol 1e-10: staggered %.3g, "
+              "simultaneous %.3g\n",
+              worst[0], worst[1], worst[2], worst[3]);
 }
 
 TEST(TrajectorySensitivity, FourBarAgreesWithRichardsonDifferencesOfTwoSimulations) {
@@ -127,8 +157,9 @@ TEST(TrajectorySensitivity, FourBarAgreesWithRichardsonDifferencesOfTwoSimulatio
   Eigen::Matrix<double, 1, 1> q0, qd0;
   q0 << M_PI / 2;
   qd0 << 1.5;
-  const double worst = WorstAgainstDifferences<M>(q0, qd0, 2.0, 0.25);
-  RecordWorst(worst);
+  double worst[4];
+  WorstAgainstDifferences<M>(q0, qd0, 2.0, 0.25, worst);
+  RecordWorst(std::max(worst[0], worst[1]));
 }
 
 TEST(TrajectorySensitivity, TwoDofFiveBarWithSpringAndDampersAgreesWithRichardsonDifferences) {
@@ -136,8 +167,9 @@ TEST(TrajectorySensitivity, TwoDofFiveBarWithSpringAndDampersAgreesWithRichardso
   Eigen::Matrix<double, 2, 1> q0, qd0;
   q0 << M_PI / 2, M_PI / 2;
   qd0 << 0.3, -0.2;
-  const double worst = WorstAgainstDifferences<M>(q0, qd0, 0.6, 0.1);
-  RecordWorst(worst);
+  double worst[4];
+  WorstAgainstDifferences<M>(q0, qd0, 0.6, 0.1, worst);
+  RecordWorst(std::max(worst[0], worst[1]));
 }
 
 // T + V is the same at every time of a conservative run, for every design: its derivative
@@ -448,6 +480,224 @@ TEST(RhsJacobian, SensitivitiesOfARunAreTheSameByTheGeneratedJacobiansAndByJets)
   EXPECT_LT(four, 1e-11);
   EXPECT_LT(five, 1e-11);
   RecordWorst(std::max(four, five));
+}
+
+// ---- The staggered method's collocation ----
+
+// The 5-node Lobatto IIIA coefficients (computed from the nodes by sensitivity.h): the last row
+// is the Lobatto quadrature's weights (Abramowitz and Stegun 25.4.32 on [0, 1]: 1/20, 49/180,
+// 16/45, 49/180, 1/20), and each row integrates the polynomials of degree < 5 exactly over
+// [0, c_i] (the collocation conditions: sum_j a_ij c_j^k = c_i^(k+1) / (k + 1)).
+TEST(TrajectorySensitivity, LobattoIIIACoefficientsAreTheCollocationsOnTheLobattoNodes) {
+  const mechgen::dynamics::internal::LobattoIIIA5 lob;
+  const double b[5] = {1.0 / 20, 49.0 / 180, 16.0 / 45, 49.0 / 180, 1.0 / 20};
+  for (int j = 0; j < 5; ++j) EXPECT_NEAR(lob.a(4, j), b[j], 1e-14) << j;
+  EXPECT_NEAR(lob.c[1], 0.5 - std::sqrt(3.0 / 7.0) / 2, 1e-15);
+  for (int i = 0; i < 5; ++i)
+    for (int k = 0; k < 5; ++k) {
+      double sum = 0;
+      for (int j = 0; j < 5; ++j) sum += lob.a(i, j) * std::pow(lob.c[j], k);
+      EXPECT_NEAR(sum, std::pow(lob.c[i], k + 1) / (k + 1), 1e-14) << i << " " << k;
+    }
+}
+
+// ---- Adjoint gradients (dynamics/adjoint.h) ----
+
+/// max_d |a_d - b_d| / max(1, |b_d|).
+template <class A, class B>
+double RelativeRow(const A& a, const B& b) {
+  double worst = 0;
+  for (int d = 0; d < b.size(); ++d) worst = std::max(worst, std::abs(a(d) - b(d)) / std::max(1.0, std::abs(b(d))));
+  return worst;
+}
+
+struct AdjointFigures {
+  double terminal_same_steps = 0, terminal_simultaneous = 0, integral_exact = 0, integral_simpson = 0;
+  double value_simpson = 0;
+};
+
+/// The adjoint gradients of G1 = q_1(t_end)^2 + 0.3 qd_n(t_end) (a final state), G2 = the
+/// integral of qd_1 (= q_1(t_end) - q_1(t0): dG2/dp = S(t_end) row 1) and G3 = the integral of
+/// qd^T qd / 2 + sin q_1, against the forward sensitivities.
+template <class M>
+AdjointFigures CheckAdjoint(const Eigen::Matrix<double, M::kNq, 1>& q0, const Eigen::Matrix<double, M::kNq, 1>& qd0,
+                            double t_end) {
+  constexpr int n = M::kNq;
+  using Adj = AdjointSensitivity<M>;
+  using VecQ = typename Adj::VecQ;
+  using Value = typename Adj::Value;
+  using RowP = typename Adj::RowP;
+  SensitivityOptions options;
+  options.integrator.rtol = 1e-12;
+  options.integrator.atol = 1e-13;
+  AdjointFigures fig;
+  auto terminal = [](double, const VecQ& q, const VecQ& qd, Value* out) {
+    *out = Value();
+    out->v = q(0) * q(0) + 0.3 * qd(n - 1);
+    out->d_q(0) = 2 * q(0);
+    out->d_qd(n - 1) = 0.3;
+    return true;
+  };
+  auto speed = [](double, const VecQ&, const VecQ& qd, Value* out) {
+    *out = Value();
+    out->v = qd(0);
+    out->d_qd(0) = 1;
+    return true;
+  };
+  auto energy_like = [](double, const VecQ& q, const VecQ& qd, Value* out) {
+    *out = Value();
+    out->v = 0.5 * qd.squaredNorm() + std::sin(q(0));
+    out->d_q(0) = std::cos(q(0));
+    out->d_qd = qd;
+    return true;
+  };
+  auto gradient = [&](auto&& g, auto&& r, double* G) {
+    Adj adjoint(typename M::template ParamsT<double>(), options);
+    EXPECT_TRUE(adjoint.Initialize(q0));
+    RowP dG;
+    AdjointSummary summary;
+    EXPECT_TRUE(adjoint.Gradient(0.0, q0, qd0, t_end, g, r, G, &dG, &summary)) << FormatSummary(summary);
+    EXPECT_GT(summary.steps, 0);
+    return dG;
+  };
+  // The forward sensitivities at the end: the same steps (sample_dt = 0) and the simultaneous
+  // method's own.
+  auto forward_end = [&](SensitivityMethod method, Eigen::MatrixXd* x_end) {
+    SensitivityOptions o = options;
+    o.method = method;
+    TrajectorySensitivity<M> sens(typename M::template ParamsT<double>(), o);
+    EXPECT_TRUE(sens.Initialize(q0));
+    Eigen::MatrixXd last;
+    SensitivitySummary summary;
+    EXPECT_TRUE(sens.Simulate(0.0, q0, qd0, t_end,
+                              [&](const auto& s) {
+                                last.resize(2 * n, M::kNumDesign + 1);
+                                last << s.S, s.q, s.Sd, s.qd;
+                                return true;
+                              },
+                              &summary))
+        << FormatSummary(summary);
+    *x_end = last;
+  };
+  double G1 = 0;
+  const RowP dG1 = gradient(terminal, Adj::Zero, &G1);
+  for (SensitivityMethod method : {SensitivityMethod::kStaggered, SensitivityMethod::kSimultaneous}) {
+    Eigen::MatrixXd e;
+    forward_end(method, &e);
+    const int P = M::kNumDesign;
+    const double q1 = e(0, P), qdn = e(n + n - 1, P);
+    const RowP expected = 2 * q1 * e.row(0).head(P) + 0.3 * e.row(n + n - 1).head(P);
+    const double rel = RelativeRow(dG1, expected);
+    EXPECT_LT(rel, 1e-8) << (method == SensitivityMethod::kStaggered ? "staggered" : "simultaneous") << "\n"
+                         << dG1 << "\nforward\n" << expected;
+    EXPECT_NEAR(G1, q1 * q1 + 0.3 * qdn, 1e-9);
+    (method == SensitivityMethod::kStaggered ? fig.terminal_same_steps : fig.terminal_simultaneous) = rel;
+  }
+  // The integral of qd_1: q_1(t_end) - q_1(t0), its gradient S(t_end) row 1.
+  {
+    double G2 = 0;
+    const RowP dG2 = gradient(Adj::Zero, speed, &G2);
+    Eigen::MatrixXd e;
+    forward_end(SensitivityMethod::kStaggered, &e);
+    const RowP expected = e.row(0).head(M::kNumDesign);
+    fig.integral_exact = RelativeRow(dG2, expected);
+    EXPECT_LT(fig.integral_exact, 1e-8) << dG2 << "\nforward\n" << expected;
+    EXPECT_NEAR(G2, e(0, M::kNumDesign) - q0(0), 1e-10);
+  }
+  // The integral of qd^T qd / 2 + sin q_1: Simpson's rule over 1000 intervals of the forward
+  // sensitivities' integrand qd^T Sd + cos q_1 S row 1 (and of the value).
+  {
+    double G3 = 0;
+    const RowP dG3 = gradient(Adj::Zero, energy_like, &G3);
+    SensitivityOptions o = options;
+    const int intervals = 1000;
+    o.sample_dt = t_end / intervals;
+    TrajectorySensitivity<M> sens(typename M::template ParamsT<double>(), o);
+    EXPECT_TRUE(sens.Initialize(q0));
+    RowP simpson = RowP::Zero();
+    double value = 0;
+    int k = 0;
+    SensitivitySummary summary;
+    EXPECT_TRUE(sens.Simulate(0.0, q0, qd0, t_end,
+                              [&](const auto& s) {
+                                const double w = (k == 0 || k == intervals) ? 1 : (k % 2 == 1 ? 4 : 2);
+                                const RowP f = s.qd.transpose() * s.Sd + std::cos(s.q(0)) * s.S.row(0);
+                                simpson += w * f;
+                                value += w * (0.5 * s.qd.squaredNorm() + std::sin(s.q(0)));
+                                ++k;
+                                return true;
+                              },
+                              &summary))
+        << FormatSummary(summary);
+    EXPECT_EQ(k, intervals + 1);
+    simpson *= t_end / intervals / 3;
+    value *= t_end / intervals / 3;
+    fig.integral_simpson = RelativeRow(dG3, simpson);
+    fig.value_simpson = std::abs(G3 - value) / std::max(1.0, std::abs(value));
+    EXPECT_LT(fig.integral_simpson, 1e-8) << dG3 << "\nSimpson\n" << simpson;
+    EXPECT_LT(fig.value_simpson, 1e-10) << G3 << " against " << value;
+  }
+  std::printf("adjoint against forward: final state %.3g (same steps), %.3g (simultaneous); integral of qd_1 %.3g "
+              "(exact), of qd^T qd / 2 + sin q_1 %.3g (Simpson; its value %.3g)\n",
+              fig.terminal_same_steps, fig.terminal_simultaneous, fig.integral_exact, fig.integral_simpson,
+              fig.value_simpson);
+  return fig;
+}
+
+void RecordAdjointFigures(const AdjointFigures& f) {
+  char text[128];
+  std::snprintf(text, sizeof(text), "%.3g %.3g %.3g %.3g", f.terminal_same_steps, f.terminal_simultaneous,
+                f.integral_exact, f.integral_simpson);
+  ::testing::Test::RecordProperty("terminal_same_steps terminal_simultaneous integral_exact integral_simpson", text);
+}
+
+TEST(AdjointSensitivity, FourBarGradientsOfAFinalStateAndOfIntegralsAgreeWithTheForwardSensitivities) {
+  Eigen::Matrix<double, 1, 1> q0, qd0;
+  q0 << M_PI / 2;
+  qd0 << 1.5;
+  RecordAdjointFigures(CheckAdjoint<mech::design_fourbar_massive::Model>(q0, qd0, 2.0));
+}
+
+TEST(AdjointSensitivity, TwoDofFiveBarGradientsOfAFinalStateAndOfIntegralsAgreeWithTheForwardSensitivities) {
+  Eigen::Matrix<double, 2, 1> q0, qd0;
+  q0 << M_PI / 2, M_PI / 2;
+  qd0 << 0.3, -0.2;
+  RecordAdjointFigures(CheckAdjoint<mech::design_fivebar_massive::Model>(q0, qd0, 0.6));
+}
+
+// The non-Grashof four-bar of EndsAtADeadPointWithAStatus: the forward run ends at the dead
+// point with that status, and no gradient (NaN), never a number returned as success.
+TEST(AdjointSensitivity, EndsAtADeadPointWithAStatusAndNoGradient) {
+  using M = mech::design_fourbar_massive::Model;
+  using Adj = AdjointSensitivity<M>;
+  M::ParamsT<double> p;
+  *p.Find("a") = 2.0;
+  *p.Find("b") = 3.5;
+  *p.Find("c") = 2.5;
+  *p.Find("d") = 4.0;
+  Adj adjoint(p);
+  Eigen::Matrix<double, 1, 1> q0, qd0;
+  q0 << M_PI / 2;
+  qd0 << 3.0;
+  ASSERT_TRUE(adjoint.Initialize(q0));
+  double G = 0;
+  Adj::RowP dG;
+  AdjointSummary summary;
+  auto terminal = [](double, const Adj::VecQ& q, const Adj::VecQ&, Adj::Value* out) {
+    *out = Adj::Value();
+    out->v = q(0);
+    out->d_q(0) = 1;
+    return true;
+  };
+  EXPECT_FALSE(adjoint.Gradient(0.0, q0, qd0, 10.0, terminal, Adj::Zero, &G, &dG, &summary));
+  EXPECT_EQ(summary.status, Status::kDeadPoint) << FormatSummary(summary);
+  EXPECT_LT(summary.t_end, 10.0);
+  EXPECT_TRUE(std::isnan(G));
+  EXPECT_TRUE(dG.array().isNaN().all());
+  // And refuses a run before Initialize().
+  Adj fresh{M::ParamsT<double>()};
+  EXPECT_FALSE(fresh.Gradient(0.0, q0, qd0, 1.0, terminal, Adj::Zero, &G, &dG, &summary));
+  EXPECT_EQ(summary.status, Status::kInvalidInput);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 /**
  * \file dynamics/sensitivity.h
- * Trajectory sensitivities (issue 27): dq(t)/dp and dqd(t)/dp of the free motion of a model
+ * Trajectory sensitivities (issues 27, 46): dq(t)/dp and dqd(t)/dp of the free motion of a model
  * generated with `dynamics` and a `design` section, p its design parameters
  * (M::kDesignNames), by the forward sensitivity (variational) equations integrated with the
  * state:
@@ -9,7 +9,8 @@
  *     S'  = Sd,                       Sd' = f_q S + f_qd Sd + f_p
  *     S = dq/dp, Sd = dqd/dp (kNq x kNp), S(t0) = Sd(t0) = 0 (q0 and qd0 do not depend on p).
  *
- * The partial derivatives of the right-hand side, at one evaluation:
+ * The partial derivatives of the right-hand side, at one evaluation (Partials(): one position
+ * solve, one Cholesky factor of I shared by f, f_q, f_qd and f_p):
  *  - f_p = I^-1 (dQ/dp - dh/dp - (dI/dp) qdd): the generated EvalDynamicsDesign (M::DynamicsDesign),
  *    whose design derivatives at fixed (q, qd) go through phi, K and L
  *    (EvalDesignDerivatives, M::Design);
@@ -23,8 +24,23 @@
  *    seeded on (q, qd), the positions carrying dphi/dq = K (the implicit-function derivative of
  *    the loop closure), so that I, h and Q carry their total derivatives along q and qd. Both
  *    exact (no differences); they agree to rounding (tests/design/trajectory_sensitivity_test.cc).
- * The integrator's error control covers the sensitivities as well as (q, qd) (the whole state,
- * IntegratorOptions' rtol and atol on every component).
+ *
+ * Two methods (SensitivityOptions::method; CVODES' choice of the sensitivities in the error
+ * test or not):
+ *  - kStaggered (the default, by measurement: bench/design/run.sh): (q, qd) alone by Method with
+ *    its own step and error test (the step the simulation of the values takes); after each
+ *    accepted step [t0, t1], h = t1 - t0, S and Sd by the 5-node Lobatto IIIA collocation
+ *    (nodes 0, (7 -+ sqrt 21)/14, 1/2, 1: order 8, the order of Dop853) of the linear
+ *    sensitivity equations over that step, the state at the interior nodes from the
+ *    integrator's dense output, the partials at the 5 nodes (the first is the last step's end:
+ *    4 evaluations of the partials per step, against 12 of Dop853's stages). The equations are
+ *    linear in (S, Sd): the collocation is one linear solve per step, of size 4 kNq (S
+ *    eliminated by S_i = S0 + h sum_k a_ik Sd_k), for all kNp columns at once. The
+ *    sensitivities are not in the error test (CVODES' errconS = false): the step is the
+ *    state's, chosen for its tolerance. Each sample time is a step's end (the state's steps
+ *    stop there), so that every sample carries the collocation's order-8 values.
+ *  - kSimultaneous: y = (q, qd, vec S, vec Sd) through Method, the error control on every
+ *    component (IntegratorOptions' rtol and atol on S and Sd too: about 1.5x the steps).
  *
  * The positions are solved at every stage by the generated position solver from the last
  * accepted configuration's predictor, as the free simulation (dynamics/forward.h) does; a
@@ -37,7 +53,8 @@
  * non-differentiable mode change; its friction loads are zero here), the restarts at switching
  * points of the loads (at a kink of Q the sensitivities of a switch time are not modelled:
  * the step control steps through it), the energy projection and the user events of
- * MinimalDynamics.
+ * MinimalDynamics. The gradient of one scalar of a run by the adjoint equations:
+ * dynamics/adjoint.h.
  *
  * Units: S(i, d) in q_i's unit per unit of p_d, Sd(i, d) in q_i's unit per second per unit
  * of p_d. Nothing allocates after construction; nothing throws; no state outside the object.
@@ -54,6 +71,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include "mechgen/core/constants.h"
 #include "mechgen/core/model_traits.h"
@@ -63,8 +81,17 @@
 
 namespace mechgen::dynamics {
 
+/// How the sensitivities are integrated with the state (see the file comment).
+enum class SensitivityMethod {
+  kStaggered,     ///< the state's own step and error test; S, Sd by collocation over each step
+  kSimultaneous,  ///< (q, qd, S, Sd) through the integrator, S and Sd in the error test
+};
+
 struct SensitivityOptions {
   IntegratorOptions integrator;
+  /// kStaggered: the sensitivities left out of the error test (CVODES' errconS = false), the
+  /// state's steps; kSimultaneous: in it (more steps, the step control seeing S and Sd).
+  SensitivityMethod method = SensitivityMethod::kStaggered;
   /// Dead point when 1/cond_1(Phi_phi) < min_rcond at an accepted step.
   double min_rcond = kMinRcond;
   /// A singular configuration approached (the steps collapse before 1/cond reaches min_rcond):
@@ -96,6 +123,8 @@ struct SensitivityOptions {
       return fail("SensitivityOptions::approach_rcond: 0 <= approach_rcond < 1");
     if (approach_steps < 1) return fail("SensitivityOptions::approach_steps >= 1");
     if (max_solver_iterations < 1) return fail("SensitivityOptions::max_solver_iterations >= 1");
+    if (method != SensitivityMethod::kStaggered && method != SensitivityMethod::kSimultaneous)
+      return fail("SensitivityOptions::method: kStaggered or kSimultaneous");
     return true;
   }
 };
@@ -107,7 +136,49 @@ template <class M, class = void>
 struct HasDynamicsJacobian : std::false_type {};
 template <class M>
 struct HasDynamicsJacobian<M, std::void_t<decltype(&M::template DynamicsJacobian<double>)>> : std::true_type {};
+
+/**
+ * The Lobatto IIIA collocation method with S = 3, 4 or 5 nodes (the Lobatto points: 0 and 1
+ * and the roots of P'_{S-1} on [0, 1]; for 5: 0, (7 - sqrt 21)/14, 1/2, (7 + sqrt 21)/14, 1):
+ * a(i, j) = the integral over [0, c_i] of the Lagrange polynomial l_j of the nodes, so
+ * a(0, .) = 0 and a(S - 1, .) = the Lobatto quadrature weights b (for 5: 1/20, 49/180, 16/45,
+ * 49/180, 1/20); order 2 S - 2 at the step's end (8 for 5 nodes). Computed from the nodes at
+ * construction: l_j as the product of (x - c_m)/(c_j - c_m), integrated by the 3-point
+ * Gauss-Legendre rule (exact to degree 5).
+ */
+template <int S>
+struct LobattoIIIA {
+  static_assert(S >= 3 && S <= 5, "Lobatto IIIA with 3, 4 or 5 nodes");
+  static constexpr int kNodes = S;
+  double c[kNodes];
+  Eigen::Matrix<double, kNodes, kNodes> a;
+
+  LobattoIIIA() {
+    const double r5 = std::sqrt(21.0) / 14, r4 = std::sqrt(5.0) / 10;
+    const double n5[5] = {0, 0.5 - r5, 0.5, 0.5 + r5, 1}, n4[4] = {0, 0.5 - r4, 0.5 + r4, 1}, n3[3] = {0, 0.5, 1};
+    for (int i = 0; i < kNodes; ++i) c[i] = S == 5 ? n5[i] : S == 4 ? n4[i] : n3[i];
+    auto lagrange = [&](int j, double x) {
+      double l = 1;
+      for (int m = 0; m < kNodes; ++m)
+        if (m != j) l *= (x - c[m]) / (c[j] - c[m]);
+      return l;
+    };
+    const double g = std::sqrt(0.6) / 2;
+    const double gx[3] = {0.5 - g, 0.5, 0.5 + g}, gw[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};
+    for (int i = 0; i < kNodes; ++i)
+      for (int j = 0; j < kNodes; ++j) {
+        double sum = 0;
+        for (int k = 0; k < 3; ++k) sum += gw[k] * lagrange(j, c[i] * gx[k]);
+        a(i, j) = c[i] * sum;
+      }
+  }
+};
+/// The staggered method's collocation: 5 nodes, order 8 (Dop853's).
+using LobattoIIIA5 = LobattoIIIA<5>;
 }  // namespace internal
+
+template <class M, template <int> class Method, int Nodes>
+class AdjointSensitivity;
 
 /// One sample of a run with sensitivities.
 template <class M>
@@ -130,6 +201,7 @@ struct SensitivitySummary {
   double t_end = std::numeric_limits<double>::quiet_NaN();  ///< where the run ended
   int samples = 0;
   int position_failures = 0;  ///< evaluations whose M::Solve failed (steps retried shorter)
+  int partial_evaluations = 0;  ///< evaluations of f_q, f_qd and f_p (Partials())
   double min_rcond_seen = std::numeric_limits<double>::infinity();
   const char* message = "";
 
@@ -139,21 +211,24 @@ struct SensitivitySummary {
 inline std::string FormatSummary(const SensitivitySummary& s) {
   char buffer[384];
   std::snprintf(buffer, sizeof(buffer),
-                "%s at t = %.9g: %d samples, %d steps, %d rejected, %d rhs evaluations (state and "
-                "sensitivities), min 1/cond(Phi_phi) = %.3g%s%s",
+                "%s at t = %.9g: %d samples, %d steps, %d rejected, %d rhs evaluations, %d of the "
+                "partials f_q, f_qd, f_p, min 1/cond(Phi_phi) = %.3g%s%s",
                 ToString(s.status), s.t_end, s.samples, s.integrator.steps, s.integrator.rejected,
-                s.integrator.rhs_evaluations, s.min_rcond_seen, s.message[0] != 0 ? "; " : "",
+                s.integrator.rhs_evaluations, s.partial_evaluations, s.min_rcond_seen, s.message[0] != 0 ? "; " : "",
                 s.message);
   return buffer;
 }
 
 /**
  * TrajectorySensitivity<M, Method>: the free motion of M with its sensitivities to the design
- * parameters, integrated by Method (Dop853 or Dopri5) on the state
- * y = (q, qd, vec S, vec Sd) (column d of S, then of Sd, for each design parameter d).
- * Initialize() at q0, then Simulate(); or use Derivative() as your integrator's right-hand side.
+ * parameters, integrated by Method (Dop853 or Dopri5): kStaggered, the state (q, qd) by
+ * Method<2 kNq> and (S, Sd) by collocation over its steps; kSimultaneous, the state
+ * y = (q, qd, vec S, vec Sd) (column d of S, then of Sd, for each design parameter d) by
+ * Method<kN>. Initialize() at q0, then Simulate(); or use Derivative() as your integrator's
+ * right-hand side. Nodes: the staggered method's Lobatto IIIA nodes per step (5: order 8, the
+ * default; 4: order 6, one evaluation of the partials fewer per step; 3: order 4).
  */
-template <class M, template <int> class Method = Dop853>
+template <class M, template <int> class Method = Dop853, int Nodes = 5>
 class TrajectorySensitivity {
  public:
   static_assert(HasDynamics<M>::value, "TrajectorySensitivity needs a model generated with `dynamics`");
@@ -167,6 +242,7 @@ class TrajectorySensitivity {
   using Coefficients = typename M::template CoefficientsT<double>;
   using Dyn = typename M::template DynamicsT<double>;
   using State = Eigen::Matrix<double, kN, 1>;
+  using StateX = Eigen::Matrix<double, 2 * kNq, 1>;  ///< (q, qd): the staggered method's state
   using VecQ = Eigen::Matrix<double, kNq, 1>;
   using VecPhi = Eigen::Matrix<double, kNphi, 1>;
   using MatQ = Eigen::Matrix<double, kNq, kNq>;
@@ -174,15 +250,39 @@ class TrajectorySensitivity {
   using Modes = std::array<int, M::kNumBlocks>;
   using SampleT = SensitivitySample<M>;
   using Integrator = Method<kN>;
+  using StateIntegrator = Method<2 * kNq>;
   using Trig = typename mechgen::internal::TrigOf<M>::type;
   /// The Jet of the partial derivatives along (q, qd).
   using Jet = ceres::Jet<double, 2 * kNq>;
+  using Collocation = internal::LobattoIIIA<Nodes>;
+  static constexpr int kNodes = Collocation::kNodes;
+  /// The collocation's unknowns Sd at the nodes 1..kNodes - 1 (kNodes - 1 blocks of kNq rows).
+  static constexpr int kNc = (kNodes - 1) * kNq;
+  using MatC = Eigen::Matrix<double, kNc, kNc>;
+
+  /// The right-hand side and its partial derivatives at one (t, q, qd).
+  struct Partial {
+    double t = 0;
+    VecQ q = VecQ::Zero(), qd = VecQ::Zero(), qdd = VecQ::Zero();
+    VecPhi phi = VecPhi::Zero();
+    Eigen::Matrix<double, kNphi, kNq> K = Eigen::Matrix<double, kNphi, kNq>::Zero();
+    Eigen::Matrix<double, kNq, 2 * kNq> F_x = Eigen::Matrix<double, kNq, 2 * kNq>::Zero();  ///< (f_q, f_qd)
+    MatQP F_p = MatQP::Zero();
+    double rcond = 1, det = 1;  ///< 1/cond_1(Phi_phi) and its determinant (when asked for)
+    auto F_q() const { return F_x.template leftCols<kNq>(); }
+    auto F_qd() const { return F_x.template rightCols<kNq>(); }
+  };
 
   explicit TrajectorySensitivity(const Params& params, const SensitivityOptions& options = SensitivityOptions())
-      : p_(params), pj_(params.template Cast<Jet>()), options_(options), integrator_(options.integrator) {}
+      : p_(params),
+        pj_(params.template Cast<Jet>()),
+        options_(options),
+        integrator_(options.integrator),
+        state_integrator_(options.integrator) {}
 
   const Params& params() const { return p_; }
   const SensitivityOptions& options() const { return options_; }
+  const Collocation& collocation() const { return lob_; }
 
   /// Assembles at q0 from phi_guess on the given modes: false when it does not assemble.
   bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes = M::kDefaultModes) {
@@ -201,6 +301,10 @@ class TrajectorySensitivity {
     K_ref_ = c.K;
     double rcond = 1;
     internal::ConditioningOf(PhiPhi(c), &rcond, &ref_det_);
+    initial_.q = q0;
+    initial_.phi = phi;
+    initial_.K = c.K;
+    initial_.det = ref_det_;
     initialized_ = true;
     return true;
   }
@@ -213,44 +317,72 @@ class TrajectorySensitivity {
   }
 
   /**
-   * \brief The right-hand side dy at (t, y): (qd, qdd, vec Sd, vec(f_q S + f_qd Sd + f_p)).
+   * \brief qdd and the partial derivatives f_q, f_qd (F_x) and f_p at (t, q, qd), the
+   * positions solved from the predictor; with conditioning, 1/cond_1(Phi_phi) and its det.
+   * \return false when the positions do not solve or I is not positive definite.
+   */
+  bool Partials(double t, const VecQ& q, const VecQ& qd, bool conditioning, Partial* n) {
+    ++partial_evaluations_;
+    n->t = t;
+    n->q = q;
+    n->qd = qd;
+    Coefficients c;
+    if (!Configuration(q, &n->phi, &c)) return false;
+    Dyn d;
+    internal::CallDynamics<M>(p_, q, n->phi, qd, t, c, &d, &trig_);
+    Eigen::LLT<MatQ> llt;
+    if (!Factorize(d.I, &llt)) return false;
+    n->qdd = llt.solve(d.Q - d.h);
+    if (!n->qdd.allFinite()) return false;
+    // f_q, f_qd: I^-1 (dQ - dh - dI qdd)/dx for the 2 kNq directions x = (q, qd).
+    n->F_x = llt.solve(StateJacobian(t, q, n->phi, qd, c, d, n->qdd));
+    // f_p: the generated design derivatives at fixed (q, qd).
+    typename M::template DesignDerivativesT<double> dc;
+    M::template Design<double>(p_, q, n->phi, &dc);
+    typename M::template DynamicsDesignT<double> dd;
+    M::template DynamicsDesign<double>(p_, q, n->phi, qd, t, c, dc, &dd);
+    MatQP B = dd.dQ_dp - dd.dh_dp;
+    for (int dp = 0; dp < kNp; ++dp) B.col(dp) -= dd.dI_dp.template block<kNq, kNq>(0, kNq * dp) * n->qdd;
+    n->F_p = llt.solve(B);
+    n->K = c.K;
+    if (conditioning) internal::ConditioningOf(PhiPhi(c), &n->rcond, &n->det);
+    return n->F_x.allFinite() && n->F_p.allFinite();
+  }
+
+  /**
+   * \brief The right-hand side dy at (t, y): (qd, qdd, vec Sd, vec(f_q S + f_qd Sd + f_p))
+   * (kSimultaneous).
    * \return false when the positions do not solve or I is not positive definite.
    */
   bool Derivative(double t, const State& y, State* dy) {
-    const VecQ q = y.template head<kNq>();
-    const VecQ qd = y.template segment<kNq>(kNq);
+    Partial n;
+    if (!Partials(t, y.template head<kNq>(), y.template segment<kNq>(kNq), false, &n)) return false;
+    const Eigen::Map<const MatQP> S(y.data() + 2 * kNq);
+    const Eigen::Map<const MatQP> Sd(y.data() + 2 * kNq + kNq * kNp);
+    dy->template head<kNq>() = n.qd;
+    dy->template segment<kNq>(kNq) = n.qdd;
+    Eigen::Map<MatQP> dS(dy->data() + 2 * kNq);
+    Eigen::Map<MatQP> dSd(dy->data() + 2 * kNq + kNq * kNp);
+    dS = Sd;
+    dSd = n.F_x.template leftCols<kNq>() * S + n.F_x.template rightCols<kNq>() * Sd + n.F_p;
+    return dy->allFinite();
+  }
+
+  /// The state's right-hand side (qd, qdd) at (t, x = (q, qd)) (kStaggered): false where the
+  /// positions do not solve or I is not positive definite.
+  bool StateDerivative(double t, const StateX& x, StateX* dx) {
+    const VecQ q = x.template head<kNq>();
+    const VecQ qd = x.template tail<kNq>();
     VecPhi phi;
     Coefficients c;
     if (!Configuration(q, &phi, &c)) return false;
     Dyn d;
     internal::CallDynamics<M>(p_, q, phi, qd, t, c, &d, &trig_);
-    VecQ qdd;
     Eigen::LLT<MatQ> llt;
     if (!Factorize(d.I, &llt)) return false;
-    qdd = llt.solve(d.Q - d.h);
-    if (!qdd.allFinite()) return false;
-
-    // f_q, f_qd: I^-1 (dQ - dh - dI qdd)/dx for the 2 kNq directions x = (q, qd).
-    const Eigen::Matrix<double, kNq, 2 * kNq> F_x = llt.solve(StateJacobian(t, q, phi, qd, c, d, qdd));
-
-    // f_p: the generated design derivatives at fixed (q, qd).
-    typename M::template DesignDerivativesT<double> dc;
-    M::template Design<double>(p_, q, phi, &dc);
-    typename M::template DynamicsDesignT<double> dd;
-    M::template DynamicsDesign<double>(p_, q, phi, qd, t, c, dc, &dd);
-    MatQP B = dd.dQ_dp - dd.dh_dp;
-    for (int dp = 0; dp < kNp; ++dp) B.col(dp) -= dd.dI_dp.template block<kNq, kNq>(0, kNq * dp) * qdd;
-    const MatQP F_p = llt.solve(B);
-
-    const Eigen::Map<const MatQP> S(y.data() + 2 * kNq);
-    const Eigen::Map<const MatQP> Sd(y.data() + 2 * kNq + kNq * kNp);
-    dy->template head<kNq>() = qd;
-    dy->template segment<kNq>(kNq) = qdd;
-    Eigen::Map<MatQP> dS(dy->data() + 2 * kNq);
-    Eigen::Map<MatQP> dSd(dy->data() + 2 * kNq + kNq * kNp);
-    dS = Sd;
-    dSd = F_x.template leftCols<kNq>() * S + F_x.template rightCols<kNq>() * Sd + F_p;
-    return dy->allFinite();
+    dx->template head<kNq>() = qd;
+    dx->template tail<kNq>() = llt.solve(d.Q - d.h);
+    return dx->allFinite();
   }
 
   /**
@@ -299,6 +431,53 @@ class TrajectorySensitivity {
   bool operator()(double t, const State& y, State* dy) { return Derivative(t, y, dy); }
 
   /**
+   * \brief The collocation's matrix over a step h with the partials n[0..4] at its nodes: the
+   * equations for Sd at the nodes 1..4 (S eliminated, S_j = S0 + h sum_k a_jk Sd_k), block
+   * (i, k) = [i == k] 1 - h a_ik f_qd,k - h^2 sum_j a_ij a_jk f_q,j (i, k = 1..4). The same
+   * expression with k = 0 is the block *C0 that multiplies Sd0 (moved to the right-hand side).
+   */
+  void CollocationMatrix(double h, const Partial* n, MatC* A, Eigen::Matrix<double, kNc, kNq>* C0) const {
+    const auto& a = lob_.a;
+    for (int i = 1; i < kNodes; ++i)
+      for (int k = 0; k < kNodes; ++k) {
+        MatQ block = (i == k ? 1.0 : 0.0) * MatQ::Identity() - (h * a(i, k)) * n[k].F_qd();
+        for (int j = 1; j < kNodes; ++j) block -= (h * h * a(i, j) * a(j, k)) * n[j].F_q();  // a(0, .) = 0
+        if (k == 0)
+          C0->template block<kNq, kNq>(kNq * (i - 1), 0) = block;
+        else
+          A->template block<kNq, kNq>(kNq * (i - 1), kNq * (k - 1)) = block;
+      }
+  }
+
+  /**
+   * \brief One collocation step of the sensitivity equations: (S, Sd) at t0 to t0 + h, with
+   * the partials n[0..4] at the nodes t0 + c_j h. Sd_i - h sum_j a_ij (f_q,j S_j + f_qd,j Sd_j)
+   * = Sd0 + h sum_j a_ij f_p,j (i = 1..4), Sd1 = Sd_4, S1 = S_4 (Lobatto IIIA: a(4, .) = b).
+   * \return false when the solution is not finite.
+   */
+  bool CollocationStep(double h, const Partial* n, MatQP* S, MatQP* Sd) const {
+    const auto& a = lob_.a;
+    MatC A;
+    Eigen::Matrix<double, kNc, kNq> C0;
+    CollocationMatrix(h, n, &A, &C0);
+    Eigen::Matrix<double, kNc, kNp> R;
+    MatQP W[kNodes];  // f_q,j S0 + f_p,j
+    for (int j = 0; j < kNodes; ++j) W[j] = n[j].F_q() * *S + n[j].F_p;
+    for (int i = 1; i < kNodes; ++i) {
+      MatQP r = *Sd;
+      for (int j = 0; j < kNodes; ++j) r += (h * a(i, j)) * W[j];
+      r -= C0.template block<kNq, kNq>(kNq * (i - 1), 0) * *Sd;
+      R.template block<kNq, kNp>(kNq * (i - 1), 0) = r;
+    }
+    const Eigen::Matrix<double, kNc, kNp> V = Eigen::PartialPivLU<MatC>(A).solve(R);
+    MatQP S1 = *S + (h * a(kNodes - 1, 0)) * *Sd;
+    for (int k = 1; k < kNodes; ++k) S1 += (h * a(kNodes - 1, k)) * V.template block<kNq, kNp>(kNq * (k - 1), 0);
+    *S = S1;
+    *Sd = V.template block<kNq, kNp>(kNq * (kNodes - 2), 0);
+    return S->allFinite() && Sd->allFinite();
+  }
+
+  /**
    * \brief Integrates from (t0, q0, qd0), S = Sd = 0, to t_end, handing every sample to
    * observer(const SampleT&) (return false to stop). Initialize() first (at q0).
    * \return summary->IsSolutionUsable().
@@ -307,9 +486,6 @@ class TrajectorySensitivity {
   bool Simulate(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer&& observer,
                 SensitivitySummary* summary) {
     *summary = SensitivitySummary();
-    position_failures_ = 0;
-    approaching_ = 0;
-    last_rcond_ = 1;
     std::string error;
     auto refuse = [&](const char* message) {
       summary->status = Status::kInvalidInput;
@@ -325,6 +501,141 @@ class TrajectorySensitivity {
       if (!(n + 2 <= options_.max_samples) || t0 + options_.sample_dt == t0)
         return refuse("the sample grid cannot advance or has more than max_samples samples");
     }
+    BeginRun();
+    if (options_.method == SensitivityMethod::kStaggered)
+      return SimulateStaggered(t0, q0, qd0, t_end, observer, summary);
+    return SimulateSimultaneous(t0, q0, qd0, t_end, observer, summary);
+  }
+
+ private:
+  template <class, template <int> class, int>
+  friend class AdjointSensitivity;
+
+  static const char* MessageOf(Status e) {
+    return e == Status::kDeadPoint        ? "1/cond(Phi_phi) fell below min_rcond: a dead point"
+           : e == Status::kPositionFailed ? "the positions or the inertia did not evaluate at a sample"
+                                          : "";
+  }
+
+  /// The staggered method: the state's run (RunState) and the collocation over each step.
+  template <class Observer>
+  bool SimulateStaggered(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer& observer,
+                         SensitivitySummary* summary) {
+    Partial n[kNodes];
+    MatQP S = MatQP::Zero(), Sd = MatQP::Zero();
+    SampleT sample;
+    auto emit = [&](const Partial& at) {
+      sample.t = at.t;
+      sample.q = at.q;
+      sample.qd = at.qd;
+      sample.qdd = at.qdd;
+      sample.phi = at.phi;
+      sample.rcond = at.rcond;
+      summary->min_rcond_seen = std::min(summary->min_rcond_seen, at.rcond);
+      if (kNphi > 0 && at.rcond < options_.min_rcond) return Status::kDeadPoint;
+      sample.S = S;
+      sample.Sd = Sd;
+      ++summary->samples;
+      return observer(static_cast<const SampleT&>(sample)) ? Status::kNotRun : Status::kStoppedByObserver;
+    };
+    auto finish = [&](Status status, const char* message) {
+      summary->status = status;
+      summary->message = message;
+      summary->position_failures = position_failures_;
+      summary->partial_evaluations = partial_evaluations_;
+      return summary->IsSolutionUsable();
+    };
+    Status e = Partials(t0, q0, qd0, true, &n[kNodes - 1])
+                   ? emit(n[kNodes - 1])
+                   : (last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed);
+    if (e != Status::kNotRun) {
+      summary->t_end = t0;
+      return finish(e, MessageOf(e));
+    }
+    const char* message = "";
+    e = RunState(
+        t0, q0, qd0, t_end,
+        [&](double ta, double tb, const StateX* x, bool at_sample) {
+          const double h = tb - ta;
+          n[0] = n[kNodes - 1];
+          for (int j = 1; j < kNodes; ++j) {
+            const double t = j == kNodes - 1 ? tb : ta + lob_.c[j] * h;
+            if (!Partials(t, x[j].template head<kNq>(), x[j].template tail<kNq>(), j == kNodes - 1, &n[j]))
+              return last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed;
+          }
+          if (!CollocationStep(h, n, &S, &Sd)) return Status::kIntegratorFailed;
+          return at_sample ? emit(n[kNodes - 1]) : Status::kNotRun;
+        },
+        summary, &message);
+    return finish(e, message);
+  }
+
+  /**
+   * \brief The staggered method's run of the state alone: (q, qd) by Method<2 kNq> from
+   * (t0, q0, qd0) to t_end, each step ending at the next sample time (sample_dt > 0), the
+   * predictor anchored at each accepted state and its conditioning watched (dead points);
+   * after each accepted step [ta, tb], on_step(ta, tb, x, at_sample) with x[0..4] the state at
+   * the collocation's nodes (x[0], x[4] the step's ends, the others the dense output), and
+   * at_sample whether tb is a sample time (every step's end when sample_dt = 0, and t_end):
+   * it returns Status::kNotRun to go on, else how the run ends.
+   * \return kSuccess at t_end, else the status (summary->t_end where it ended, *message why).
+   */
+  template <class OnStep>
+  Status RunState(double t0, const VecQ& q0, const VecQ& qd0, double t_end, OnStep&& on_step,
+                  SensitivitySummary* summary, const char** message) {
+    StateRhs f{this};
+    StateX x[kNodes];
+    x[kNodes - 1] << q0, qd0;
+    IntegratorStatus s = state_integrator_.Start(f, t0, x[kNodes - 1], t_end);
+    auto end = [&](Status status, double t, const char* text) {
+      summary->t_end = t;
+      summary->integrator = state_integrator_.summary();
+      summary->integrator.status = s;
+      *message = text;
+      return status;
+    };
+    if (s != IntegratorStatus::kRunning) return end(Status::kInvalidInput, t0, "the initial state does not evaluate");
+    long k = 1;  // the next sample is t0 + k sample_dt (sample_dt > 0)
+    double t_prev = t0;
+    while (s == IntegratorStatus::kRunning) {
+      const double t_stop = options_.sample_dt > 0 ? std::min(t_end, t0 + k * options_.sample_dt) : t_end;
+      s = state_integrator_.Step(f, t_stop);
+      if (s != IntegratorStatus::kRunning && s != IntegratorStatus::kSuccess) {
+        const bool dead = last_not_assemblable_ || summary->min_rcond_seen < 1e3 * options_.min_rcond;
+        return end(dead ? Status::kDeadPoint : Status::kIntegratorFailed, t_prev,
+                   dead ? "the integrator failed near a dead point (the loop does not close or "
+                          "Phi_phi is near singular)"
+                        : "the integrator failed");
+      }
+      const double t = state_integrator_.t();
+      x[0] = x[kNodes - 1];
+      x[kNodes - 1] = state_integrator_.y();
+      if (!Anchor(x[kNodes - 1].template head<kNq>(), summary))
+        return end(Status::kDeadPoint, t,
+                   approaching_ >= options_.approach_steps
+                       ? "a singular configuration approached: 1/cond(Phi_phi) below approach_rcond and "
+                         "falling for approach_steps steps"
+                       : MessageOf(Status::kDeadPoint));
+      for (int j = 1; j + 1 < kNodes; ++j)
+        if (!state_integrator_.Dense(f, t_prev + lob_.c[j] * (t - t_prev), &x[j]))
+          return end(last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed, t_prev,
+                     "the state's dense output did not evaluate");
+      bool at_sample = true;
+      if (options_.sample_dt > 0) {
+        at_sample = t == t_stop || s == IntegratorStatus::kSuccess;
+        if (t == t_stop) ++k;
+      }
+      const Status e = on_step(t_prev, t, static_cast<const StateX*>(x), at_sample);
+      if (e != Status::kNotRun) return end(e, t, MessageOf(e));
+      t_prev = t;
+    }
+    return end(Status::kSuccess, t_end, "");
+  }
+
+  /// The whole state (q, qd, S, Sd) through Method<kN> (kSimultaneous).
+  template <class Observer>
+  bool SimulateSimultaneous(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer& observer,
+                            SensitivitySummary* summary) {
     State y0 = State::Zero();
     y0.template head<kNq>() = q0;
     y0.template segment<kNq>(kNq) = qd0;
@@ -335,6 +646,7 @@ class TrajectorySensitivity {
       summary->integrator = integrator_.summary();
       summary->integrator.status = s;
       summary->position_failures = position_failures_;
+      summary->partial_evaluations = partial_evaluations_;
       return summary->IsSolutionUsable();
     };
     if (s != IntegratorStatus::kRunning) {
@@ -348,15 +660,10 @@ class TrajectorySensitivity {
       if (e != Status::kNotRun) return e;
       return observer(static_cast<const SampleT&>(sample)) ? Status::kNotRun : Status::kStoppedByObserver;
     };
-    auto message_of = [](Status e) {
-      return e == Status::kDeadPoint ? "1/cond(Phi_phi) fell below min_rcond: a dead point"
-             : e == Status::kPositionFailed ? "the positions or the inertia did not evaluate at a sample"
-                                            : "";
-    };
     Status e = emit(t0, y0);
     if (e != Status::kNotRun) {
       summary->t_end = t0;
-      return finish(e, message_of(e));
+      return finish(e, MessageOf(e));
     }
     long k = 1;  // the next sample is t0 + k sample_dt (sample_dt > 0)
     double t_prev = t0;
@@ -372,12 +679,12 @@ class TrajectorySensitivity {
       }
       const double t = integrator_.t();
       // The accepted state: re-anchor the predictor there and watch its conditioning.
-      if (!Anchor(integrator_.y(), summary)) {
+      if (!Anchor(integrator_.y().template head<kNq>(), summary)) {
         summary->t_end = t;
         return finish(Status::kDeadPoint, approaching_ >= options_.approach_steps
                                              ? "a singular configuration approached: 1/cond(Phi_phi) "
                                                "below approach_rcond and falling for approach_steps steps"
-                                             : message_of(Status::kDeadPoint));
+                                             : MessageOf(Status::kDeadPoint));
       }
       if (options_.sample_dt > 0) {
         for (double t_k = t0 + k * options_.sample_dt; t_k < t && t_k < t_end; t_k = t0 + k * options_.sample_dt) {
@@ -385,7 +692,7 @@ class TrajectorySensitivity {
           e = integrator_.Dense(*this, t_k, &y) ? emit(t_k, y) : Status::kPositionFailed;
           if (e != Status::kNotRun) {
             summary->t_end = t_k;
-            return finish(e, message_of(e));
+            return finish(e, MessageOf(e));
           }
           ++k;
         }
@@ -397,7 +704,7 @@ class TrajectorySensitivity {
       }
       if (e != Status::kNotRun) {
         summary->t_end = t;
-        return finish(e, message_of(e));
+        return finish(e, MessageOf(e));
       }
       t_prev = t;
     }
@@ -405,7 +712,12 @@ class TrajectorySensitivity {
     return finish(Status::kSuccess, "");
   }
 
- private:
+  /// The state's right-hand side for StateIntegrator.
+  struct StateRhs {
+    TrajectorySensitivity* self;
+    bool operator()(double t, const StateX& x, StateX* dx) { return self->StateDerivative(t, x, dx); }
+  };
+
   template <class C>
   static auto PhiPhi(const C& c) {
     if constexpr (kNphi > 0) {
@@ -437,9 +749,28 @@ class TrajectorySensitivity {
     return true;
   }
 
-  /// Makes the accepted state y the predictor's reference; false at a dead point.
-  bool Anchor(const State& y, SensitivitySummary* summary) {
-    const VecQ q = y.template head<kNq>();
+  /// A run starts at Initialize()'s configuration, its counts at zero.
+  void BeginRun() {
+    position_failures_ = 0;
+    partial_evaluations_ = 0;
+    approaching_ = 0;
+    last_rcond_ = 1;
+    last_not_assemblable_ = false;
+    q_ref_ = initial_.q;
+    phi_ref_ = initial_.phi;
+    K_ref_ = initial_.K;
+    ref_det_ = initial_.det;
+  }
+
+  /// The predictor's reference at an evaluated configuration (the adjoint's backward run).
+  void Reanchor(const Partial& n) {
+    q_ref_ = n.q;
+    phi_ref_ = n.phi;
+    K_ref_ = n.K;
+  }
+
+  /// Makes the accepted configuration q the predictor's reference; false at a dead point.
+  bool Anchor(const VecQ& q, SensitivitySummary* summary) {
     VecPhi phi;
     Coefficients c;
     if (!Configuration(q, &phi, &c)) return false;
@@ -477,19 +808,30 @@ class TrajectorySensitivity {
     return Status::kNotRun;
   }
 
+  struct Reference {
+    VecQ q = VecQ::Zero();
+    VecPhi phi = VecPhi::Zero();
+    Eigen::Matrix<double, kNphi, kNq> K = Eigen::Matrix<double, kNphi, kNq>::Zero();
+    double det = 0;
+  };
+
   Params p_;
   typename M::template ParamsT<Jet> pj_;
   SensitivityOptions options_;
   Integrator integrator_;
+  StateIntegrator state_integrator_;
+  Collocation lob_;
   Modes modes_ = M::kDefaultModes;
   VecQ q_ref_ = VecQ::Zero();
   VecPhi phi_ref_ = VecPhi::Zero();
   Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
   double ref_det_ = 0;
+  Reference initial_;  ///< Initialize()'s configuration: each run starts from it
   Trig trig_{};
   bool initialized_ = false;
   bool last_not_assemblable_ = false;
   int position_failures_ = 0;
+  int partial_evaluations_ = 0;
   int approaching_ = 0;  ///< accepted steps in a row with 1/cond < approach_rcond and falling
   double last_rcond_ = 1;
 };

@@ -1,0 +1,269 @@
+/**
+ * \file dynamics/adjoint.h
+ * Adjoint sensitivities (issue 46): the gradient dG/dp of one scalar of a free run,
+ *
+ *     G = g(t_end, q(t_end), qd(t_end); p) + integral over [t0, t_end] of r(t, q, qd; p) dt,
+ *
+ * with respect to all the design parameters p (M::kDesignNames), without the N columns of
+ * dq/dp: a forward run of the state alone, stored, then one backward run of the adjoint
+ * equations over it.
+ *
+ * The method is the discrete adjoint of dynamics/sensitivity.h's staggered method
+ * (SensitivityMethod::kStaggered): the forward run is its state run (Method<2 kNq> with the
+ * state's own step and error test; dead points and the predictor as there), keeping the state
+ * at the 5 Lobatto nodes of every accepted step (the interior ones from the dense output:
+ * 10 kNq + 2 doubles a step, the only storage; it allocates, as CVODES' checkpoints do). Over
+ * each step the forward sensitivities are one linear map (S0, Sd0, f_p at the nodes) ->
+ * (S1, Sd1) (TrajectorySensitivity::CollocationStep); the backward run applies its transpose,
+ * step by step from t_end: with mu_S, mu_V the adjoints of S and Sd at the step's end (at
+ * t_end: dg/dq, dg/dqd) and the integral by the same Lobatto quadrature at the same nodes
+ * (sum over the steps of h sum_j b_j r(t_j, x_j), order 8),
+ *
+ *     nu_k   = h a_4k mu_S + [k = 4] mu_V + h b_k r_qd,k + h^2 sum_j b_j a_jk r_q,j   (k = 0..4)
+ *     w      = A^-T (nu_1 .. nu_4)                 (A the step's collocation matrix)
+ *     lambda_j = h sum_{i=1..4} a_ij w_i           (the adjoint of Sd' at node j)
+ *     mu_S  <- mu_S + h sum_j b_j r_q,j + sum_j f_q,j^T lambda_j
+ *     mu_V  <- nu_0 + sum_i (1 - C0_i)^T w_i
+ *     dG/dp += sum_j lambda_j^T f_p,j + h sum_j b_j r_p,j     (and dg/dp at t_end)
+ *
+ * so dG/dp equals, to rounding, what the forward sensitivities of the same steps give
+ * (g_q S(t_end) + g_qd Sd(t_end) + g_p, and the quadrature of r_q S + r_qd Sd + r_p); at
+ * t0, mu_S and mu_V are dG/dq0 and dG/dqd0.
+ *
+ * Cost: one run of the state (the steps of one simulation, with 3 dense-output evaluations a
+ * step) and, backward, 4 evaluations of the partials a step (TrajectorySensitivity::Partials)
+ * and one LU of size 4 kNq. The adjoint's own arithmetic is independent of N; f_p at a node
+ * is not: the generated EvalDesignDerivatives and EvalDynamicsDesign are a forward mode in p
+ * (all N columns), where the adjoint needs only the product lambda^T f_p (a reverse-mode
+ * product the generator does not emit). bench/design/run.sh prints the cost in simulations.
+ *
+ * Not here: the sensitivity of the run's end time (t_end fixed), events and dead points
+ * inside the run (a dead point ends the forward run with its status and no gradient).
+ */
+#pragma once
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+#include "mechgen/dynamics/sensitivity.h"
+
+namespace mechgen::dynamics {
+
+struct AdjointSummary {
+  Status status = Status::kNotRun;
+  IntegratorSummary integrator;  ///< the forward run of the state
+  double t_end = std::numeric_limits<double>::quiet_NaN();  ///< where the forward run ended
+  int steps = 0;                  ///< steps stored by the forward run (and run backward)
+  int partial_evaluations = 0;    ///< of f_q, f_qd, f_p in the backward run
+  double min_rcond_seen = std::numeric_limits<double>::infinity();
+  const char* message = "";
+
+  bool IsSolutionUsable() const { return status == Status::kSuccess; }
+};
+
+inline std::string FormatSummary(const AdjointSummary& s) {
+  char buffer[320];
+  std::snprintf(buffer, sizeof(buffer),
+                "%s at t = %.9g: %d steps, %d rejected, %d rhs evaluations forward, %d of the partials "
+                "backward, min 1/cond(Phi_phi) = %.3g%s%s",
+                ToString(s.status), s.t_end, s.steps, s.integrator.rejected, s.integrator.rhs_evaluations,
+                s.partial_evaluations, s.min_rcond_seen, s.message[0] != 0 ? "; " : "", s.message);
+  return buffer;
+}
+
+/**
+ * AdjointSensitivity<M, Method>: dG/dp of a scalar G of the free motion of M (see the file
+ * comment). Initialize() at q0, then Gradient().
+ */
+template <class M, template <int> class Method = Dop853, int Nodes = 5>
+class AdjointSensitivity {
+ public:
+  using Forward = TrajectorySensitivity<M, Method, Nodes>;
+  static constexpr int kNq = Forward::kNq;
+  static constexpr int kNp = Forward::kNp;
+  static constexpr int kNodes = Forward::kNodes;
+  static constexpr int kNc = Forward::kNc;
+  using Params = typename Forward::Params;
+  using VecQ = typename Forward::VecQ;
+  using VecPhi = typename Forward::VecPhi;
+  using MatQ = typename Forward::MatQ;
+  using StateX = typename Forward::StateX;
+  using Modes = typename Forward::Modes;
+  using Partial = typename Forward::Partial;
+  using RowP = Eigen::Matrix<double, 1, kNp>;
+
+  /// A part of the scalar at one (t, q, qd): its value and its partial derivatives along q, qd
+  /// and p (the explicit dependence on p only; zero where there is none).
+  struct Value {
+    double v = 0;
+    VecQ d_q = VecQ::Zero(), d_qd = VecQ::Zero();
+    RowP d_p = RowP::Zero();
+  };
+
+  /// No integral (r = 0), or no final term (g = 0): a callable for Gradient().
+  static bool Zero(double, const VecQ&, const VecQ&, Value* out) {
+    *out = Value();
+    return true;
+  }
+
+  /// options.sample_dt and options.method are not read (the run is the staggered state run).
+  explicit AdjointSensitivity(const Params& params, const SensitivityOptions& options = SensitivityOptions())
+      : forward_(params, StateRunOptions(options)) {}
+
+  bool Initialize(const VecQ& q0) { return forward_.Initialize(q0); }
+  bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes = M::kDefaultModes) {
+    return forward_.Initialize(q0, phi_guess, modes);
+  }
+
+  const Forward& forward() const { return forward_; }
+
+  /**
+   * \brief G = terminal(t_end, q, qd) + the integral of integrand(t, q, qd) over [t0, t_end]
+   * along the free run from (t0, q0, qd0), and its gradient dG/dp. terminal and integrand: callables
+   * bool(double t, const VecQ& q, const VecQ& qd, Value* out) (false: not evaluable there).
+   * Initialize() first (at q0).
+   * \param[out] G, dG_dp  The scalar and its gradient (NaN unless the run succeeds).
+   * \param[out] dG_dq0, dG_dqd0  Its gradient with respect to q0 and qd0 (may be nullptr).
+   * \return summary->IsSolutionUsable().
+   */
+  template <class Terminal, class Integrand>
+  bool Gradient(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Terminal&& terminal, Integrand&& integrand,
+                double* G, RowP* dG_dp, AdjointSummary* summary, VecQ* dG_dq0 = nullptr, VecQ* dG_dqd0 = nullptr) {
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    *summary = AdjointSummary();
+    *G = kNaN;
+    dG_dp->setConstant(kNaN);
+    if (dG_dq0 != nullptr) dG_dq0->setConstant(kNaN);
+    if (dG_dqd0 != nullptr) dG_dqd0->setConstant(kNaN);
+    auto finish = [&](Status status, const char* message) {
+      summary->status = status;
+      summary->message = message;
+      summary->partial_evaluations = forward_.partial_evaluations_;
+      return summary->IsSolutionUsable();
+    };
+    std::string error;
+    if (!forward_.options_.IsValid(&error) || !(t_end > t0) || !std::isfinite(t_end) || !std::isfinite(t0)) {
+      summary->t_end = t0;
+      return finish(Status::kInvalidInput, "invalid options (or t_end <= t0)");
+    }
+    if (!forward_.initialized_) {
+      summary->t_end = t0;
+      return finish(Status::kInvalidInput, "Initialize() not called");
+    }
+    // Forward: the state alone, its nodes kept.
+    forward_.BeginRun();
+    steps_.clear();
+    SensitivitySummary run;
+    const char* message = "";
+    const Status forward_status = forward_.RunState(
+        t0, q0, qd0, t_end,
+        [&](double ta, double tb, const StateX* x, bool) {
+          StepRecord record;
+          record.ta = ta;
+          record.tb = tb;
+          for (int j = 0; j < kNodes; ++j) record.x[j] = x[j];
+          steps_.push_back(record);
+          return Status::kNotRun;
+        },
+        &run, &message);
+    summary->integrator = run.integrator;
+    summary->t_end = run.t_end;
+    summary->min_rcond_seen = run.min_rcond_seen;
+    summary->steps = static_cast<int>(steps_.size());
+    if (forward_status != Status::kSuccess || steps_.empty())
+      return finish(forward_status == Status::kSuccess ? Status::kIntegratorFailed : forward_status, message);
+    forward_.partial_evaluations_ = 0;
+
+    // Backward: the transposed collocation steps from t_end (the predictor is anchored there).
+    const auto& a = forward_.lob_.a;
+    Value end_value;
+    const StepRecord& last = steps_.back();
+    const VecQ q_end = last.x[kNodes - 1].template head<kNq>(), qd_end = last.x[kNodes - 1].template tail<kNq>();
+    if (!terminal(last.tb, q_end, qd_end, &end_value) || !std::isfinite(end_value.v))
+      return finish(Status::kInvalidInput, "the final term does not evaluate at t_end");
+    double value = end_value.v;
+    VecQ mu_S = end_value.d_q, mu_V = end_value.d_qd;
+    RowP gradient = end_value.d_p;
+    Partial n[kNodes];
+    Value r[kNodes];
+    typename Forward::MatC A;
+    Eigen::Matrix<double, kNc, kNq> C0;
+    for (int s = static_cast<int>(steps_.size()) - 1; s >= 0; --s) {
+      const StepRecord& step = steps_[s];
+      const double h = step.tb - step.ta;
+      for (int j = kNodes - 1; j >= 0; --j) {
+        const double t = j == kNodes - 1 ? step.tb : j == 0 ? step.ta : step.ta + forward_.lob_.c[j] * h;
+        const VecQ q = step.x[j].template head<kNq>(), qd = step.x[j].template tail<kNq>();
+        if (j == kNodes - 1 && s + 1 < static_cast<int>(steps_.size())) {
+          n[j] = n[0];  // the later step's first node: the same (t, q, qd)
+        } else {
+          if (!forward_.Partials(t, q, qd, false, &n[j]))
+            return finish(forward_.last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed,
+                          "the partials did not evaluate at a stored node of the backward run");
+          forward_.Reanchor(n[j]);
+        }
+        if (!integrand(t, q, qd, &r[j]) || !std::isfinite(r[j].v))
+          return finish(Status::kInvalidInput, "the integrand does not evaluate at a node");
+      }
+      // nu_k, k = 0..4: what (S, Sd) at the nodes carry into G through S1, Sd1 and the quadrature.
+      VecQ nu[kNodes];
+      VecQ r_q_sum = VecQ::Zero();
+      for (int k = 0; k < kNodes; ++k) {
+        nu[k] = (h * a(kNodes - 1, k)) * mu_S + (h * a(kNodes - 1, k)) * r[k].d_qd;
+        if (k == kNodes - 1) nu[k] += mu_V;
+        for (int j = 1; j < kNodes; ++j) nu[k] += (h * h * a(kNodes - 1, j) * a(j, k)) * r[j].d_q;
+        value += h * a(kNodes - 1, k) * r[k].v;
+        gradient += (h * a(kNodes - 1, k)) * r[k].d_p;
+        r_q_sum += (h * a(kNodes - 1, k)) * r[k].d_q;
+      }
+      forward_.CollocationMatrix(h, n, &A, &C0);
+      Eigen::Matrix<double, kNc, 1> rhs;
+      for (int i = 1; i < kNodes; ++i) rhs.template segment<kNq>(kNq * (i - 1)) = nu[i];
+      const typename Forward::MatC At = A.transpose();
+      const Eigen::Matrix<double, kNc, 1> w = Eigen::PartialPivLU<typename Forward::MatC>(At).solve(rhs);
+      VecQ new_S = mu_S + r_q_sum;
+      VecQ new_V = nu[0];
+      for (int i = 1; i < kNodes; ++i)
+        new_V += w.template segment<kNq>(kNq * (i - 1)) -
+                 C0.template block<kNq, kNq>(kNq * (i - 1), 0).transpose() * w.template segment<kNq>(kNq * (i - 1));
+      for (int j = 0; j < kNodes; ++j) {
+        VecQ lambda = VecQ::Zero();
+        for (int i = 1; i < kNodes; ++i) lambda += (h * a(i, j)) * w.template segment<kNq>(kNq * (i - 1));
+        new_S += n[j].F_q().transpose() * lambda;
+        gradient += lambda.transpose() * n[j].F_p;
+      }
+      mu_S = new_S;
+      mu_V = new_V;
+      if (!mu_S.allFinite() || !mu_V.allFinite() || !gradient.allFinite())
+        return finish(Status::kIntegratorFailed, "the backward run is not finite");
+    }
+    *G = value;
+    *dG_dp = gradient;
+    if (dG_dq0 != nullptr) *dG_dq0 = mu_S;
+    if (dG_dqd0 != nullptr) *dG_dqd0 = mu_V;
+    return finish(Status::kSuccess, "");
+  }
+
+ private:
+  struct StepRecord {
+    double ta = 0, tb = 0;
+    StateX x[kNodes];
+  };
+
+  static SensitivityOptions StateRunOptions(SensitivityOptions options) {
+    options.sample_dt = 0;
+    options.method = SensitivityMethod::kStaggered;
+    return options;
+  }
+
+  Forward forward_;
+  std::vector<StepRecord> steps_;
+};
+
+}  // namespace mechgen::dynamics
