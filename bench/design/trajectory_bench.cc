@@ -182,7 +182,8 @@ void Evaluation(benchmark::State& state) {
   Sim sim(p);
   sim.Initialize(Motion<M>::q0());
   typename Sim::StateX x, dx;
-  x << Motion<M>::q0(), Motion<M>::qd0();
+  x.template head<M::kNq>() = Motion<M>::q0();
+  x.template tail<M::kNq>() = Motion<M>::qd0();
   typename Sim::Partial n;
   for (auto _ : state) {
     if constexpr (partials) {

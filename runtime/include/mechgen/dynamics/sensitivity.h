@@ -585,7 +585,8 @@ class TrajectorySensitivity {
                   SensitivitySummary* summary, const char** message) {
     StateRhs f{this};
     StateX x[kNodes];
-    x[kNodes - 1] << q0, qd0;
+    x[kNodes - 1].template head<kNq>() = q0;  // (not the comma initializer: GCC 12 -Warray-bounds on 1 x 1)
+    x[kNodes - 1].template tail<kNq>() = qd0;
     IntegratorStatus s = state_integrator_.Start(f, t0, x[kNodes - 1], t_end);
     auto end = [&](Status status, double t, const char* text) {
       summary->t_end = t;
