@@ -334,8 +334,12 @@ class TrajectorySensitivity {
     if (!Factorize(d.I, &llt)) return false;
     n->qdd = llt.solve(d.Q - d.h);
     if (!n->qdd.allFinite()) return false;
+    // I^-1 once (kNq columns), then products: the solves of 2 kNq + kNp right-hand sides
+    // went through Eigen's blocked triangular solver, slower at these sizes.
+    const MatQ I_inv = llt.solve(MatQ::Identity());
     // f_q, f_qd: I^-1 (dQ - dh - dI qdd)/dx for the 2 kNq directions x = (q, qd).
-    n->F_x = llt.solve(StateJacobian(t, q, n->phi, qd, c, d, n->qdd));
+    const Eigen::Matrix<double, kNq, 2 * kNq> G = StateJacobian(t, q, n->phi, qd, c, d, n->qdd);
+    n->F_x.noalias() = I_inv.lazyProduct(G);
     // f_p: the generated design derivatives at fixed (q, qd).
     typename M::template DesignDerivativesT<double> dc;
     M::template Design<double>(p_, q, n->phi, &dc);
@@ -343,7 +347,7 @@ class TrajectorySensitivity {
     M::template DynamicsDesign<double>(p_, q, n->phi, qd, t, c, dc, &dd);
     MatQP B = dd.dQ_dp - dd.dh_dp;
     for (int dp = 0; dp < kNp; ++dp) B.col(dp) -= dd.dI_dp.template block<kNq, kNq>(0, kNq * dp) * n->qdd;
-    n->F_p = llt.solve(B);
+    n->F_p.noalias() = I_inv.lazyProduct(B);
     n->K = c.K;
     if (conditioning) internal::ConditioningOf(PhiPhi(c), &n->rcond, &n->det);
     return n->F_x.allFinite() && n->F_p.allFinite();
