@@ -2072,6 +2072,44 @@ TEST(StudyRows, SummaryAndHistogramColumnTables) {
             "max_y,39,-0.5,nan,99999999\n");
 }
 
+// The tolerance analysis' and the envelope's column tables: their names lines (io/csv.h) the
+// headers the study wrote by hand before them (tests/study/study_command_test.sh reads them), and
+// a row of each against lines written by hand (counts as integers, "%.17g", NaN as "nan", the
+// clearance NaN without a complete first order, the verdict quoted with its commas).
+TEST(StudyRows, ToleranceAndEnvelopeColumnTables) {
+  std::ostringstream names;
+  mechgen::WriteCsvHeader(study::ToleranceColumns(), names);
+  mechgen::WriteCsvHeader(study::EnvelopeColumns("theta_crank"), names);
+  EXPECT_EQ(names.str(),
+            "metric,unit,nominal,fo_sigma,fo_worst,clearance,mc_n,mc_mean,mc_mean_low,mc_mean_high,mc_sigma,"
+            "mc_sigma_low,mc_sigma_high,mc_sigma_se,mc_kurtosis,ratio,ratio_low,ratio_high,quadratic_share,"
+            "linear_fit_sigma,decision,verdict\n"
+            "row,theta_crank,x_nominal,y_nominal,fo_sigma_x,fo_sigma_y,fo_worst_x,fo_worst_y,mc_n,mc_sigma_x,"
+            "mc_sigma_x_low,mc_sigma_x_high,mc_sigma_y,mc_sigma_y_low,mc_sigma_y_high\n");
+  study::FirstOrder f;
+  f.rss = 0.1, f.worst = 2.5, f.clearance = 7, f.complete = false;
+  study::Moments m;
+  m.n = 99999999, m.mean = 1, m.mean_low = 0.5, m.mean_high = 1.5, m.sigma = 1e-300, m.sigma_low = NAN,
+  m.sigma_high = 3, m.sigma_se = 0.25, m.kurtosis = 3.5;
+  study::Curvature c;
+  c.share = 0.125, c.linear_sigma = NAN;
+  study::Decision d;
+  d.outcome = study::Outcome::kDisagrees, d.ratio = 2, d.ratio_low = 1.5, d.ratio_high = 2.5;
+  std::string text;
+  study::AppendRow(study::ToleranceColumns(), study::ToleranceRow{"max_y", "model length", -0.1, &f, &m, &c, &d, "a, b"},
+                   &text);
+  study::Moments my;
+  my.n = 12, my.sigma = 4, my.sigma_low = 3, my.sigma_high = 5;
+  study::FirstOrder fy;
+  fy.rss = NAN, fy.worst = 8;
+  study::AppendRow(study::EnvelopeColumns("theta_crank"),
+                   study::EnvelopeRow{360, 6.2831853071795862, 1.5, -2, &f, &fy, &m, &my}, &text);
+  EXPECT_EQ(text,
+            "max_y,model length,-0.10000000000000001,0.10000000000000001,2.5,nan,99999999,1,0.5,1.5,1e-300,nan,3,"
+            "0.25,3.5,2,1.5,2.5,0.125,nan,DISAGREES,\"a, b\"\n"
+            "360,6.2831853071795862,1.5,-2,0.10000000000000001,nan,2.5,8,99999999,1e-300,nan,3,4,3,5\n");
+}
+
 // The rows' numbers: std::to_chars (general, precision 17) gives printf's "%.17g" character for
 // character, over doubles of every exponent (random bits), the specials and round numbers.
 TEST(StudyRows, FormatG17IsPrintfs) {
