@@ -38,6 +38,9 @@
 #endif
 #ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
 #include "design_press.h"
+namespace mech::design_press {
+const mechgen::ModelView& View();
+}
 #endif
 #ifdef MECHGEN_STUDY_TEST_PENDULUM
 #include "pendulum_spring.h"
@@ -1029,6 +1032,67 @@ TEST(StudyFlywheel, ShaperGridAgainstTheHandWorkAndLinearInTheForce) {
   EXPECT_NE(why.find("no design section"), std::string::npos) << why;
 }
 
+// The flywheel's metrics read the energy loop CSV's columns by name (analysis/flywheel_columns.h,
+// what `mechgen flywheel --csv` writes): max, min, rms and at of a column, peak_torque the largest
+// |T_req|; against the machine cycle run directly (its own extremes of T_req, E(theta0) = 0 by
+// definition, the cycle's start, its mean). An unknown column names the energy loop's.
+TEST(StudyFlywheel, ColumnsOfTheEnergyLoopByName) {
+  const study::StudySpec spec = Read("flycolumns.yaml",
+                                     "method: grid\nanalysis: flywheel\nomega: 6.283185307179586\nsteps: 720\n"
+                                     "parameters:\n  F: {values: [500, 1500]}\n  L: {values: [3.9]}\n  P: {values: [0]}\n"
+                                     "metrics:\n  - {kind: peak_torque}\n  - {kind: max, column: T_req}\n"
+                                     "  - {kind: min, column: T_req}\n  - {kind: at, column: E, step: 0}\n"
+                                     "  - {kind: at, column: theta, step: 0}\n  - {kind: rms, column: T_mean}\n"
+                                     "  - {kind: at, column: theta_deg, step: 720}\n");
+  using M = mech::shaper::Model;
+  study::Study<M> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  EXPECT_EQ(s.Unit(1), "N m");
+  EXPECT_EQ(s.Unit(4), "rad");
+  EXPECT_EQ(s.Description(1), "largest T_req over the cycle's samples");
+  const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+  std::vector<study::SampleResult> results;
+  s.Run(v, 2, &results);
+  ASSERT_EQ(results.size(), 2u);
+  const double pi = 3.14159265358979323846;
+  for (size_t i = 0; i < results.size(); ++i) {
+    ASSERT_STREQ(results[i].status, "ok") << i;
+    const std::vector<double>& m = results[i].metrics;
+    M::ParamsT<double> p;
+    p.F = v[3 * i], p.L = v[3 * i + 1], p.P = 0;
+    mechgen::flywheel::MachineCycleOptions o;
+    o.omega = 2 * pi;
+    o.samples = 720;
+    const mechgen::flywheel::MachineCycle c = mechgen::flywheel::SampleMachineCycle<M>(p, o);
+    ASSERT_TRUE(c.IsUsable()) << c.message;
+    EXPECT_EQ(m[0], std::max(std::abs(c.T_max), std::abs(c.T_min))) << i;
+    EXPECT_EQ(m[1], c.T_max) << i;
+    EXPECT_EQ(m[2], c.T_min) << i;
+    EXPECT_GT(m[1], 0) << i;
+    EXPECT_EQ(m[3], 0) << i;  // E(theta0) = 0
+    EXPECT_EQ(m[4], c.theta0) << i;  // the cycle's start
+    EXPECT_NEAR(m[5], std::abs(c.T_mean), 1e-14 * std::abs(c.T_mean)) << i;  // a constant column
+    EXPECT_TRUE(std::isnan(m[6])) << i;  // 720 samples: rows 0 .. 719, the end not repeated
+  }
+  const study::StudySpec bad = Read("flybad.yaml",
+                                    "method: grid\nanalysis: flywheel\nomega: 1\nparameters:\n  F: {values: [500]}\n"
+                                    "metrics:\n  - {kind: max, column: ram.x}\n");
+  study::Study<M> b;
+  EXPECT_FALSE(b.Prepare(bad, &error));
+  EXPECT_NE(error.find("flybad.yaml:7:5: error: no numeric column 'ram.x' in the flywheel's energy loop output of "
+                       "shaper (columns: theta, theta_deg, T_req, T_mean, E, T_static"),
+            std::string::npos)
+      << error;
+  const std::string e = ErrorOf("flymu.yaml",
+                                "method: grid\nanalysis: flywheel\nomega: 1\nparameters:\n  F: {values: [500]}\n"
+                                "metrics:\n  - {kind: min_transmission_angle}\n");
+  EXPECT_NE(e.find("flymu.yaml:7:5: error: with analysis: flywheel the metrics are flywheel_inertia, mean_torque, "
+                   "peak_torque, energy_fluctuation, max, min, rms and at of a column"),
+            std::string::npos)
+      << e;
+}
+
 #ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
 // The first order of the flywheel metrics (from machines/flywheel/cycle_design.h through
 // Study::Gradient) against Richardson central differences of the study's own metrics,
@@ -1040,7 +1104,8 @@ TEST(StudyFlywheel, FirstOrderOfTheCycleMetricsAgainstDifferencesOfTheStudy) {
                                      "parameters:\n  a: {values: [0.1]}\n  b: {values: [0.35]}\n  m3: {values: [8]}\n"
                                      "  c: {values: [400]}\n"
                                      "metrics:\n  - {kind: mean_torque}\n  - {kind: flywheel_inertia, C_s: 0.05}\n"
-                                     "  - {kind: energy_fluctuation}\n  - {kind: peak_torque}\n");
+                                     "  - {kind: energy_fluctuation}\n  - {kind: peak_torque}\n"
+                                     "  - {kind: max, column: T_req}\n");
   using M = mech::design_press::Model;
   study::Study<M> s;
   std::string error;
@@ -1074,6 +1139,20 @@ TEST(StudyFlywheel, FirstOrderOfTheCycleMetricsAgainstDifferencesOfTheStudy) {
   char text[32];
   std::snprintf(text, sizeof(text), "%.3g", worst);
   RecordProperty("worst_relative_error", text);
+}
+
+// The flywheel's metrics through the model view (the cycle and its design derivatives compiled
+// once, machines/view_machines.h) read the energy loop's columns as the generated model's study
+// does: each metric at the nominal and its first order (dT_req/d<p> at the peak's sample for
+// peak_torque and max of T_req) the same bits.
+TEST(StudyView, FlywheelColumnsAndTheirFirstOrderAsTheGeneratedModels) {
+  ExpectViewFirstOrderSame<mech::design_press::Model>(
+      mech::design_press::View(),
+      Read("vflywheel.yaml", "method: monte_carlo\ncount: 4\nanalysis: flywheel\nomega: 12.566370614359172\n"
+                             "steps: 360\nparameters:\n  a: {tolerance: 0.001}\n  m3: {tolerance: 0.5}\n"
+                             "metrics:\n  - {kind: mean_torque}\n  - {kind: peak_torque}\n"
+                             "  - {kind: max, column: T_req}\n  - {kind: min, column: E}\n"
+                             "  - {kind: at, column: T_static, step: 90}\n  - {kind: rms, column: T_inertia}\n"));
 }
 #endif
 
@@ -1415,6 +1494,8 @@ TEST(StudyPositions, ErrorsNameTheirPlace) {
 struct DirectEngine {
   mechgen::engine::EngineEnergy energy;
   double J_fly = 0;
+  std::vector<mechgen::engine::CrankPoint<mech::engine_single::Model>> pts;  ///< the cycle's crank angles
+  int R_O = -1;                                                                ///< the main bearing's reaction
 };
 DirectEngine RunEngineDirectly(double r, double l, double rpm, int samples, const mechgen::engine::PressureTable* table) {
   using M = mech::engine_single::Model;
@@ -1433,6 +1514,8 @@ DirectEngine RunEngineDirectly(double r, double l, double rpm, int samples, cons
   EXPECT_TRUE(eng::RunCycle<M>(p, e, gas, rpm * 2 * 3.14159265358979323846 / 60, samples, &pts, &error)) << error;
   out.energy = eng::EngineEnergyLoop(pts, e);
   out.J_fly = e.J_fly;
+  out.pts = pts;
+  out.R_O = e.R_O;
   return out;
 }
 
@@ -1514,6 +1597,60 @@ TEST(StudyEngine, CrankAndRodGridAgainstTheGasWorkByHandAndTheEngineRunDirectly)
   std::string why;
   EXPECT_TRUE(std::isnan(s.Gradient(0, &why)[0]));
   EXPECT_NE(why.find("engine cycle"), std::string::npos) << why;
+}
+
+// The engine's metrics read the engine tool's cycle CSV's and energy loop CSV's columns by name
+// (analysis/engine_columns.h): max, min and at of a column, peak_torque the largest |T_total|,
+// mean_torque the loop's T_mean; against the engine run directly (the main bearing's reaction
+// and the gauge pressure at its crank angles, the loop's extremes of T_total, E and mean), the
+// loop's last row at the cycle's end (E = 0) and a crank angle of the cycle's rows.
+TEST(StudyEngine, ColumnsOfTheCycleAndTheLoopByName) {
+  const study::StudySpec spec = Read("engine_columns.yaml",
+                                     "method: grid\nanalysis: engine\nrpm: 3000\nsteps: 360\n"
+                                     "parameters:\n  r: {values: [0.040, 0.046]}\n  l: {values: [0.145]}\n"
+                                     "metrics:\n  - {kind: peak_torque}\n  - {kind: mean_torque}\n"
+                                     "  - {kind: max, column: F_O_x}\n  - {kind: min, column: T_total}\n"
+                                     "  - {kind: at, column: p_1, step: 45}\n  - {kind: max, column: E}\n"
+                                     "  - {kind: at, column: E, step: 360}\n  - {kind: at, column: T_mean, step: 7}\n"
+                                     "  - {kind: at, column: theta_deg, step: 180}\n");
+  using M = mech::engine_single::Model;
+  study::Study<M> s;
+  std::string error;
+  ASSERT_TRUE(s.Prepare(spec, &error)) << error;
+  EXPECT_EQ(s.Unit(2), "N");
+  EXPECT_EQ(s.Unit(4), "Pa");
+  const std::vector<double> v = study::DrawSamples(spec, s.nominal());
+  std::vector<study::SampleResult> results;
+  s.Run(v, 2, &results);
+  ASSERT_EQ(results.size(), 2u);
+  for (size_t i = 0; i < results.size(); ++i) {
+    ASSERT_STREQ(results[i].status, "ok") << i;
+    const std::vector<double>& m = results[i].metrics;
+    const DirectEngine d = RunEngineDirectly(v[2 * i], v[2 * i + 1], 3000, 360, nullptr);
+    ASSERT_TRUE(d.energy.ok()) << d.energy.message;
+    ASSERT_EQ(d.pts.size(), 360u);
+    double F_O_x = -INFINITY;
+    for (const auto& pt : d.pts) F_O_x = std::max(F_O_x, pt.R[static_cast<size_t>(d.R_O)]);
+    EXPECT_EQ(m[0], std::max(std::abs(d.energy.T_max), std::abs(d.energy.T_min))) << i;
+    EXPECT_EQ(m[1], d.energy.loop.mean_torque) << i;
+    EXPECT_EQ(m[2], F_O_x) << i;
+    EXPECT_EQ(m[3], d.energy.T_min) << i;
+    EXPECT_EQ(m[4], d.pts[45].p[0]) << i;
+    EXPECT_GT(m[4], 0) << i;  // 90 deg after firing TDC: the burnt gas expanding
+    EXPECT_EQ(m[5], *std::max_element(d.energy.E.begin(), d.energy.E.end())) << i;
+    EXPECT_EQ(m[6], 0) << i;  // the loop CSV's last row: the cycle's end, E = 0 as at its start
+    EXPECT_EQ(m[7], m[1]) << i;
+    EXPECT_NEAR(m[8], 360, 1e-12) << i;  // the cycle CSV's row 180 of 360 over 720 deg
+  }
+  const study::StudySpec bad = Read("engine_bad.yaml",
+                                    "method: grid\nanalysis: engine\nrpm: 3000\nsteps: 360\nparameters:\n"
+                                    "  r: {values: [0.04]}\nmetrics:\n  - {kind: max, column: T_req}\n");
+  study::Study<M> b;
+  EXPECT_FALSE(b.Prepare(bad, &error));
+  EXPECT_NE(error.find("engine_bad.yaml:8:5: error: no numeric column 'T_req' in the engine's cycle or energy loop "
+                       "output of engine_single (columns: theta_deg, T_gas, T_inertia, T_total, p_1, thrust_1, F_O_x"),
+            std::string::npos)
+      << error;
 }
 
 // gas: {table: FILE}, relative to the study file: the indicator diagram held for every sample,
@@ -1933,6 +2070,44 @@ TEST(StudyRows, SummaryAndHistogramColumnTables) {
   EXPECT_EQ(text,
             "max_y,model length,12345678,0.10000000000000001,nan,-2.5,1,2,3,4,5,6,7.25,1.0000000000000001e+300\n"
             "max_y,39,-0.5,nan,99999999\n");
+}
+
+// The tolerance analysis' and the envelope's column tables: their names lines (io/csv.h) the
+// headers the study wrote by hand before them (tests/study/study_command_test.sh reads them), and
+// a row of each against lines written by hand (counts as integers, "%.17g", NaN as "nan", the
+// clearance NaN without a complete first order, the verdict quoted with its commas).
+TEST(StudyRows, ToleranceAndEnvelopeColumnTables) {
+  std::ostringstream names;
+  mechgen::WriteCsvHeader(study::ToleranceColumns(), names);
+  mechgen::WriteCsvHeader(study::EnvelopeColumns("theta_crank"), names);
+  EXPECT_EQ(names.str(),
+            "metric,unit,nominal,fo_sigma,fo_worst,clearance,mc_n,mc_mean,mc_mean_low,mc_mean_high,mc_sigma,"
+            "mc_sigma_low,mc_sigma_high,mc_sigma_se,mc_kurtosis,ratio,ratio_low,ratio_high,quadratic_share,"
+            "linear_fit_sigma,decision,verdict\n"
+            "row,theta_crank,x_nominal,y_nominal,fo_sigma_x,fo_sigma_y,fo_worst_x,fo_worst_y,mc_n,mc_sigma_x,"
+            "mc_sigma_x_low,mc_sigma_x_high,mc_sigma_y,mc_sigma_y_low,mc_sigma_y_high\n");
+  study::FirstOrder f;
+  f.rss = 0.1, f.worst = 2.5, f.clearance = 7, f.complete = false;
+  study::Moments m;
+  m.n = 99999999, m.mean = 1, m.mean_low = 0.5, m.mean_high = 1.5, m.sigma = 1e-300, m.sigma_low = NAN,
+  m.sigma_high = 3, m.sigma_se = 0.25, m.kurtosis = 3.5;
+  study::Curvature c;
+  c.share = 0.125, c.linear_sigma = NAN;
+  study::Decision d;
+  d.outcome = study::Outcome::kDisagrees, d.ratio = 2, d.ratio_low = 1.5, d.ratio_high = 2.5;
+  std::string text;
+  study::AppendRow(study::ToleranceColumns(), study::ToleranceRow{"max_y", "model length", -0.1, &f, &m, &c, &d, "a, b"},
+                   &text);
+  study::Moments my;
+  my.n = 12, my.sigma = 4, my.sigma_low = 3, my.sigma_high = 5;
+  study::FirstOrder fy;
+  fy.rss = NAN, fy.worst = 8;
+  study::AppendRow(study::EnvelopeColumns("theta_crank"),
+                   study::EnvelopeRow{360, 6.2831853071795862, 1.5, -2, &f, &fy, &m, &my}, &text);
+  EXPECT_EQ(text,
+            "max_y,model length,-0.10000000000000001,0.10000000000000001,2.5,nan,99999999,1,0.5,1.5,1e-300,nan,3,"
+            "0.25,3.5,2,1.5,2.5,0.125,nan,DISAGREES,\"a, b\"\n"
+            "360,6.2831853071795862,1.5,-2,0.10000000000000001,nan,2.5,8,99999999,1e-300,nan,3,4,3,5\n");
 }
 
 // The rows' numbers: std::to_chars (general, precision 17) gives printf's "%.17g" character for

@@ -5,7 +5,7 @@
  * energy loop), the flywheel for a C_s, --design's sensitivities and the simulated check,
  * asked for by a FlywheelRequest (analysis/flywheel_request.h). Check(model, request) says
  * what is wrong with the request on this model; Run(model, request, outputs, prepare, result)
- * computes, prints, and writes the energy loop's CSV from its column table (LoopColumns below)
+ * computes, prints, and writes the energy loop's CSV from its column table (analysis/flywheel_columns.h)
  * whole or not at all; the command draws its pictures from that CSV afterwards
  * (tools/flywheel_run.h). One source for the per-model tool <model>_flywheel
  * (tools/flywheel_main.cc, M the generated model's type, fixed sizes) and for the model view
@@ -29,6 +29,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "mechgen/analysis/flywheel_columns.h"
 #include "mechgen/analysis/flywheel_request.h"
 #include "mechgen/analysis/numbers.h"
 #include "mechgen/analysis/params.h"
@@ -48,50 +49,10 @@ namespace flywheel_internal {
 namespace tools = mechgen::tools;
 namespace fw = mechgen::flywheel;
 
-// One CSV row: a sample of the cycle and the mean torque line.
-struct LoopRow {
-  fw::CyclePoint point;
-  double T_mean = 0;
-  const double* dT_req_dp = nullptr;  // --design: dT_req/dp_d for each design parameter
-};
-
-// `design`: the design parameters' names (--design), each giving a column dT_req/d<p>.
+// One CSV row and the CSV's columns: analysis/flywheel_columns.h (the study reads them too).
+using LoopRow = FlywheelLoopRow;
 inline mechgen::table::Columns<LoopRow> LoopColumns(bool dynamics, const std::vector<std::string>& design) {
-  mechgen::table::Columns<LoopRow> columns;
-  mechgen::table::Builder<LoopRow> add(&columns);
-  add.Number("theta", "rad", "input angle (CCW +), one cycle from theta0, the end not repeated",
-             [](const LoopRow& r) { return r.point.theta; });
-  add.Number("theta_deg", "deg", "the same in degrees",
-             [](const LoopRow& r) { return internal::ToDegrees(r.point.theta); });
-  add.Number("T_req", "N m",
-             "driving torque a motor turning the input at the constant speed must apply (on the "
-             "input link, CCW +): T_static + T_inertia + T_speed",
-             [](const LoopRow& r) { return r.point.T_req; });
-  add.Number("T_mean", "N m", "its mean over the cycle: the constant motor torque of a steady cycle",
-             [](const LoopRow& r) { return r.T_mean; });
-  add.Number("E", "J",
-             "excess energy: the integral of T_mean - T_req from theta0 (the energy the flywheel "
-             "stores; E_max - E_min = dE)",
-             [](const LoopRow& r) { return r.point.E; });
-  add.Number("T_static", "N m",
-             "the statics part: loads, weights, springs and Coulomb friction for motion in +theta",
-             [](const LoopRow& r) { return r.point.T_static; });
-  if (dynamics) {
-    add.Number("T_inertia", "N m", "the inertia torque 1/2 I'(theta) w^2 at the constant speed",
-               [](const LoopRow& r) { return r.point.T_inertia; });
-    add.Number("T_speed", "N m",
-               "what the speed-dependent loads (dampers, viscous friction, speed tables) need at w",
-               [](const LoopRow& r) { return r.point.T_speed; });
-    add.Number("I", "kg m^2", "the machine's generalized inertia I(theta) about the input (no flywheel)",
-               [](const LoopRow& r) { return r.point.I; });
-  }
-  add.Number("cond", "1", "cond_1(Phi_phi) of the configuration",
-             [](const LoopRow& r) { return r.point.condition; });
-  for (size_t d = 0; d < design.size(); ++d)
-    add.Number("dT_req/d" + design[d], "N m per unit of " + design[d],
-               "design sensitivity of T_req (cycle_design.h)",
-               [d](const LoopRow& r) { return r.dT_req_dp[d]; });
-  return columns;
+  return FlywheelLoopColumns(dynamics, design);
 }
 
 static_assert(kFlywheelSteadyFraction == fw::CheckOptions{}.steady_fraction,

@@ -17,7 +17,9 @@
  * the calling thread as the chunks are done (the same bytes for any N and ranks); then a summary
  * of each metric, the statistics (--summary-csv, --histogram-csv; with rows: none alone) and,
  * with `tolerance: true`, the first-order tolerance analysis from the generated sensitivities
- * beside the Monte-Carlo's figures. Progress on stderr (rate, time left) for studies longer than
+ * beside the Monte-Carlo's figures. Every CSV is a column table of study/rows.h (its names line by
+ * io/csv.h, its cells by AppendRow): the samples', the statistics', the tolerance analysis' and
+ * the envelope's. Progress on stderr (rate, time left) for studies longer than
  * ~2 s. Exit statuses as tools/study_main.cc says.
  *
  * --params/--set read the model's parameter table (analysis/view_params.h). Through the view a
@@ -661,6 +663,10 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
                   "# ratio: fo_sigma / mc_sigma, ratio_low/high its interval at %.6g %% (Sidak: %g %% for the %d "
                   "verdict%s together)",
                   100 * level, 100 * (1 - options.alpha), options.family, options.family == 1 ? "" : "s");
+    // A column table (study/rows.h): its names line (io/csv.h), its rows' cells.
+    const table::Columns<study::ToleranceRow> tolerance_columns = study::ToleranceColumns();
+    std::ostringstream tolerance_names;
+    mechgen::WriteCsvHeader(tolerance_columns, tolerance_names);
     tolerance_text =
         "# mechgen study tolerance analysis, model " + std::string(name) + ": " + spec.path +
         "\n# fo_sigma: first-order root-sum-square sqrt(sum (dm/dp sigma_p)^2); fo_worst: sum |dm/dp| t_p (t: the "
@@ -671,10 +677,8 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
         "; quadratic_share: the share of the metric's variance over the samples that its quadratic terms in the "
         "standardized parameters explain beyond the linear ones; linear_fit_sigma: the sigma of a linear fit to the "
         "samples; decision: agrees (the interval inside " +
-        band + "), DISAGREES (the ratio outside it and the interval excluding 1), inconclusive, none (no figure)\n"
-        "metric,unit,nominal,fo_sigma,fo_worst,clearance,mc_n,mc_mean,mc_mean_low,mc_mean_high,mc_sigma,mc_sigma_low,"
-        "mc_sigma_high,mc_sigma_se,mc_kurtosis,ratio,ratio_low,ratio_high,quadratic_share,linear_fit_sigma,decision,"
-        "verdict\n";
+        band + "), DISAGREES (the ratio outside it and the interval excluding 1), inconclusive, none (no figure)\n" +
+        tolerance_names.str();
     for (size_t k = 0; k < metrics; ++k) {
       const study::Moments& m = moments[k];
       const study::FirstOrder& f = first[k];
@@ -700,13 +704,10 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
       std::printf("%-24s %12.6g %12.5g %12.5g %12.5g %12.6g %12.5g %10.2g %25s  %s\n", spec.metrics[k].name.c_str(),
                   s.Value(k, s.nominal_rows()).value, f.rss, f.worst, f.complete ? f.clearance : NAN, m.mean, m.sigma,
                   m.sigma_se, interval, verdict.c_str());
-      tolerance_text += spec.metrics[k].name + "," + s.Unit(k) + "," + G17(s.Value(k, s.nominal_rows()).value) + "," +
-                        G17(f.rss) + "," + G17(f.worst) + "," + G17(f.complete ? f.clearance : NAN) + "," +
-                        std::to_string(m.n) + "," + G17(m.mean) + "," + G17(m.mean_low) + "," + G17(m.mean_high) + "," +
-                        G17(m.sigma) + "," + G17(m.sigma_low) + "," + G17(m.sigma_high) + "," + G17(m.sigma_se) + "," +
-                        G17(m.kurtosis) + "," + G17(decision.ratio) + "," + G17(decision.ratio_low) + "," +
-                        G17(decision.ratio_high) + "," + G17(curvature.share) + "," + G17(curvature.linear_sigma) +
-                        "," + study::OutcomeName(decision.outcome) + ",\"" + verdict + "\"\n";
+      study::AppendRow(tolerance_columns,
+                       study::ToleranceRow{spec.metrics[k].name, s.Unit(k), s.Value(k, s.nominal_rows()).value, &f, &m,
+                                           &curvature, &decision, verdict},
+                       &tolerance_text);
     }
   }
 
@@ -716,16 +717,16 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
   if (!spec.envelope.empty()) {
     const int rows = spec.steps + 1;
     const bool random = spec.method == study::Method::kMonteCarlo;
+    // A column table (study/rows.h): its names line (io/csv.h), its rows' cells.
+    const table::Columns<study::EnvelopeRow> envelope_columns = study::EnvelopeColumns(C::QName(model, 0));
+    std::ostringstream envelope_names;
+    mechgen::WriteCsvHeader(envelope_columns, envelope_names);
     envelope_text = "# mechgen study envelope of " + spec.envelope + ", model " + name + ": " + spec.path +
                     "\n# per row of the motion: the input " + C::QName(model, 0) +
                     " (rad or model length), the point's nominal x and y (model length), the first-order sigma "
                     "and worst case of x and y from the generated dr_P/dp (as tolerance.csv), the Monte-Carlo's "
-                    "sigma of x and y over the ok samples with 95 % intervals\n"
-                    "row," +
-                    std::string(C::QName(model, 0)) +
-                    ",x_nominal,y_nominal,fo_sigma_x,fo_sigma_y,fo_worst_x,"
-                    "fo_worst_y,mc_n,mc_sigma_x,mc_sigma_x_low,mc_sigma_x_high,mc_sigma_y,mc_sigma_y_low,"
-                    "mc_sigma_y_high\n";
+                    "sigma of x and y over the ok samples with 95 % intervals\n" +
+                    envelope_names.str();
     const std::vector<double> nominal_path = s.Path(s.nominal_rows());
     // First every (row, axis)'s figures, then their verdicts decided together (as the metrics').
     std::vector<study::FirstOrder> f(2 * rows);
@@ -746,8 +747,6 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
     int compared = 0, agrees = 0, inconclusive = 0, disagrees = 0, worst_row = -1;
     double worst_ratio = 1;
     for (int i = 0; i < rows; ++i) {
-      std::string line = std::to_string(i) + "," + G17(s.nominal_rows().kinematics[i].q(0)) + "," +
-                         G17(nominal_path[2 * i]) + "," + G17(nominal_path[2 * i + 1]);
       for (int axis = 0; axis < 2; ++axis) {
         const study::FirstOrder& fa = f[2 * i + axis];
         const study::Moments& ma = m[2 * i + axis];
@@ -761,11 +760,11 @@ int Run(const M& model, const StudyRequest& request, const StudyOutputs& outputs
           if (ratio > worst_ratio) worst_ratio = ratio, worst_row = i;
         }
       }
-      line += "," + G17(f[2 * i].rss) + "," + G17(f[2 * i + 1].rss) + "," + G17(f[2 * i].worst) + "," +
-              G17(f[2 * i + 1].worst) + "," + std::to_string(m[2 * i].n) + "," + G17(m[2 * i].sigma) + "," +
-              G17(m[2 * i].sigma_low) + "," + G17(m[2 * i].sigma_high) + "," + G17(m[2 * i + 1].sigma) + "," +
-              G17(m[2 * i + 1].sigma_low) + "," + G17(m[2 * i + 1].sigma_high) + "\n";
-      envelope_text += line;
+      study::AppendRow(envelope_columns,
+                       study::EnvelopeRow{static_cast<uint64_t>(i), s.nominal_rows().kinematics[i].q(0),
+                                          nominal_path[2 * i], nominal_path[2 * i + 1], &f[2 * i], &f[2 * i + 1],
+                                          &m[2 * i], &m[2 * i + 1]},
+                       &envelope_text);
     }
     if (compared > 0) {
       double level = NAN, z = NAN;

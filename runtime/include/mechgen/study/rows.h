@@ -9,7 +9,9 @@
  * them (fixed blocks' sums added in block order, counts, exact order statistics).
  *
  * The CSV's columns are one column table (SampleColumns: table/columns.h, a column's name, unit,
- * meaning and cell together): io/csv.h's WriteCsvHeader writes its head, AppendRows its rows.
+ * meaning and cell together): io/csv.h's WriteCsvHeader writes its head, AppendRows its rows;
+ * so are the statistics' (SummaryColumns, HistogramColumns), the tolerance analysis'
+ * (ToleranceColumns) and the envelope's (EnvelopeColumns), each row's cells by AppendRow.
  * Numbers are written as printf's "%.17g" (they round-trip), by std::to_chars with the
  * general format and precision 17, which the standard defines as printf's conversion (the
  * same characters; ~4 times faster here: 60 ns against 260 ns a number); NaN as "nan".
@@ -271,6 +273,103 @@ inline table::Columns<HistogramRow> HistogramColumns() {
              [](const HistogramRow& r) { return r.high; });
   add.Number("count", "1", "the finite values of the ok samples in the bin",
              [](const HistogramRow& r) { return static_cast<double>(r.count); });
+  return columns;
+}
+
+/// One row of the tolerance CSV: a metric, its value at the nominal, its first order, the
+/// Monte-Carlo's figures over the ok samples, the curvature, the decision and the verdict's text.
+struct ToleranceRow {
+  std::string metric, unit;
+  double nominal = NAN;
+  const FirstOrder* first = nullptr;
+  const Moments* moments = nullptr;
+  const Curvature* curvature = nullptr;
+  const Decision* decision = nullptr;
+  std::string verdict;
+};
+
+/// The tolerance CSV's columns: metric, unit, nominal, the first order (fo_sigma, fo_worst,
+/// clearance), the Monte-Carlo's (mc_n, mc_mean and sigma with their 95 % intervals, mc_sigma_se,
+/// mc_kurtosis), the ratio fo_sigma / mc_sigma with its interval, quadratic_share,
+/// linear_fit_sigma, decision and the verdict (quoted: it holds commas).
+inline table::Columns<ToleranceRow> ToleranceColumns() {
+  using R = ToleranceRow;
+  table::Columns<R> columns;
+  table::Builder<R> add(&columns);
+  add.Text("metric", "the metric (the study's CSV's column)", [](const R& r) { return r.metric; });
+  add.Text("unit", "the metric's unit, of the numbers of the row but mc_n, mc_kurtosis, the ratios and shares",
+           [](const R& r) { return r.unit; });
+  add.Number("nominal", "the metric's", "the metric at the nominal design", [](const R& r) { return r.nominal; });
+  add.Number("fo_sigma", "the metric's", "first-order root-sum-square sqrt(sum (dm/dp sigma_p)^2)",
+             [](const R& r) { return r.first->rss; });
+  add.Number("fo_worst", "the metric's", "first-order worst case sum |dm/dp| t_p (t: the tolerance)",
+             [](const R& r) { return r.first->worst; });
+  add.Number("clearance", "the metric's", "sum |dm/dp| c over the joint clearances (worst direction); nan: no figure",
+             [](const R& r) { return r.first->complete ? r.first->clearance : NAN; });
+  add.Number("mc_n", "1", "the ok samples with a finite value",
+             [](const R& r) { return static_cast<double>(r.moments->n); });  // (exact: <= kMaxSamples)
+  add.Number("mc_mean", "the metric's", "their mean", [](const R& r) { return r.moments->mean; });
+  add.Number("mc_mean_low", "the metric's", "its 95 % interval's lower end", [](const R& r) { return r.moments->mean_low; });
+  add.Number("mc_mean_high", "the metric's", "its upper end", [](const R& r) { return r.moments->mean_high; });
+  add.Number("mc_sigma", "the metric's", "their standard deviation (n - 1)", [](const R& r) { return r.moments->sigma; });
+  add.Number("mc_sigma_low", "the metric's", "its 95 % interval's lower end",
+             [](const R& r) { return r.moments->sigma_low; });
+  add.Number("mc_sigma_high", "the metric's", "its upper end", [](const R& r) { return r.moments->sigma_high; });
+  add.Number("mc_sigma_se", "the metric's", "the standard error of mc_sigma from the sample kurtosis",
+             [](const R& r) { return r.moments->sigma_se; });
+  add.Number("mc_kurtosis", "1", "the sample kurtosis m4 / sigma^4", [](const R& r) { return r.moments->kurtosis; });
+  add.Number("ratio", "1", "fo_sigma / mc_sigma", [](const R& r) { return r.decision->ratio; });
+  add.Number("ratio_low", "1", "its corrected interval's lower end", [](const R& r) { return r.decision->ratio_low; });
+  add.Number("ratio_high", "1", "its upper end", [](const R& r) { return r.decision->ratio_high; });
+  add.Number("quadratic_share", "1",
+             "the share of the variance that the quadratic terms in the standardized parameters explain beyond the "
+             "linear ones",
+             [](const R& r) { return r.curvature->share; });
+  add.Number("linear_fit_sigma", "the metric's", "the sigma of a linear fit to the samples",
+             [](const R& r) { return r.curvature->linear_sigma; });
+  add.Text("decision", "agrees, DISAGREES, inconclusive or none (no figure)",
+           [](const R& r) { return std::string(OutcomeName(r.decision->outcome)); });
+  add.Text("verdict", "the verdict in words, in double quotes",
+           [](const R& r) { return "\"" + r.verdict + "\""; });
+  return columns;
+}
+
+/// One row of the envelope CSV: a row of the motion, the input there, the point's nominal
+/// place and each axis' first order and Monte-Carlo figures.
+struct EnvelopeRow {
+  uint64_t row = 0;
+  double input = NAN, x = NAN, y = NAN;
+  const FirstOrder *first_x = nullptr, *first_y = nullptr;
+  const Moments *moments_x = nullptr, *moments_y = nullptr;
+};
+
+/// The envelope CSV's columns: row, the input (`input`: the model's first input's name), the
+/// point's nominal x and y, the first-order sigma and worst case of x and y, the Monte-Carlo's
+/// n and sigma of x and y with their 95 % intervals.
+inline table::Columns<EnvelopeRow> EnvelopeColumns(const std::string& input) {
+  using R = EnvelopeRow;
+  table::Columns<R> columns;
+  table::Builder<R> add(&columns);
+  add.Number("row", "1", "the row of the motion, 0-based", [](const R& r) { return static_cast<double>(r.row); });
+  add.Number(input, "rad or model length", "the input there", [](const R& r) { return r.input; });
+  add.Number("x_nominal", "model length", "the point's x at the nominal design", [](const R& r) { return r.x; });
+  add.Number("y_nominal", "model length", "its y", [](const R& r) { return r.y; });
+  add.Number("fo_sigma_x", "model length", "first-order sigma of x from the generated dr_P/dp",
+             [](const R& r) { return r.first_x->rss; });
+  add.Number("fo_sigma_y", "model length", "of y", [](const R& r) { return r.first_y->rss; });
+  add.Number("fo_worst_x", "model length", "first-order worst case of x", [](const R& r) { return r.first_x->worst; });
+  add.Number("fo_worst_y", "model length", "of y", [](const R& r) { return r.first_y->worst; });
+  add.Number("mc_n", "1", "the ok samples with a finite x",
+             [](const R& r) { return static_cast<double>(r.moments_x->n); });  // (exact: <= kMaxSamples)
+  add.Number("mc_sigma_x", "model length", "the Monte-Carlo's sigma of x over the ok samples",
+             [](const R& r) { return r.moments_x->sigma; });
+  add.Number("mc_sigma_x_low", "model length", "its 95 % interval's lower end",
+             [](const R& r) { return r.moments_x->sigma_low; });
+  add.Number("mc_sigma_x_high", "model length", "its upper end", [](const R& r) { return r.moments_x->sigma_high; });
+  add.Number("mc_sigma_y", "model length", "the Monte-Carlo's sigma of y", [](const R& r) { return r.moments_y->sigma; });
+  add.Number("mc_sigma_y_low", "model length", "its 95 % interval's lower end",
+             [](const R& r) { return r.moments_y->sigma_low; });
+  add.Number("mc_sigma_y_high", "model length", "its upper end", [](const R& r) { return r.moments_y->sigma_high; });
   return columns;
 }
 

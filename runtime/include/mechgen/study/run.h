@@ -5,9 +5,11 @@
  * configuration, the analysis over the motion (a kinematic sweep, or statics at every row; the
  * machine's cycle at a mean speed; an engine's cycle at a crank speed under its gas law,
  * machines/engine/cycle.h; or a simulation of the free motion), then the sample's
- * metrics from the rows. The metrics read the same column tables as the sweep's, the statics'
- * and the simulation's CSVs (sweep/columns.h, statics/columns.h, dynamics/columns.h), by their
- * CSV names, and
+ * metrics from the rows. The metrics read the same column tables as the sweep's, the statics',
+ * the simulation's, the flywheel's energy loop and the engine's cycle and energy loop CSVs
+ * (sweep/columns.h, statics/columns.h, dynamics/columns.h, analysis/flywheel_columns.h,
+ * analysis/engine_columns.h), by their CSV names (mean_torque and peak_torque too: T_mean, the
+ * largest |T_req| or |T_total|), and
  * their first-order sensitivities (at the nominal design) read the design columns of those
  * tables: d<column>/d<p> (the generated EvalDesignDerivatives, EvalStaticsDesign).
  *
@@ -46,6 +48,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "mechgen/analysis/engine_columns.h"
+#include "mechgen/analysis/flywheel_columns.h"
 #include "mechgen/dynamics/columns.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
@@ -167,6 +171,18 @@ struct DrivenOf<M, true> {
     return indices;
   }
 };
+// analysis: engine: the engine's cycle at its crank angles (machines/engine/cycle.h's
+// CrankPoint) and the columns of the engine tool's cycle CSV (analysis/engine_columns.h).
+template <class M, bool = engine::CanRunEngineCycle<M>()>
+struct EngineOf {
+  using Points = std::vector<int>;
+  using Columns = std::vector<int>;
+};
+template <class M>
+struct EngineOf<M, true> {
+  using Points = std::vector<engine::CrankPoint<M>>;
+  using Columns = table::Columns<engine::CrankPoint<M>>;
+};
 // The reactions of the generated kinetostatics at a simulation's sample into row->R (has_R
 // when they were found), with the sample's friction loads when the run has them
 // (kWithFriction: a free run with Coulomb friction, or a driven run with it in lambda).
@@ -221,6 +237,10 @@ class Study {
     /// model's own flywheel J_fly, and why the cycle failed (engine.message).
     engine::EngineEnergy engine;
     double engine_J_fly = 0;
+    /// engine analysis: the cycle's crank angles (the rows of the engine tool's cycle CSV) and
+    /// the cycle's length (rad: the energy loop's rows).
+    typename run_internal::EngineOf<M>::Points engine_points;
+    double engine_cycle = 0;
     Params params;
     bool assembled = false;  ///< flywheel: the cycle is usable
     bool kinematics_design = false;  ///< kinematics hold design derivatives (the nominal's rows)
@@ -325,6 +345,10 @@ class Study {
           if (!engine::ReadPressureTable(spec.gas.table, e.cycle, &table_, &why, parse))
             return fail(spec.gas.place, "gas: table: " + why);
         }
+        // The engine tool's cycle CSV's and energy loop CSV's columns (its cylinders and
+        // reactions: the nominal's engine, every sample's).
+        engine_columns_ = analysis::EngineCycleColumns(model_, e);
+        engine_loop_columns_ = analysis::EngineLoopColumns();
       }
     }
     if (spec.analysis == Analysis::kFlywheel && (!HasStatics() || nq != 1 || !C::QIsAngle(model_, 0)))
@@ -356,6 +380,19 @@ class Study {
     }
     sweep_columns_ = SweepColumns<M>(model_);
     if constexpr (kDesign) AppendDesignColumns<M>(model_, &sweep_columns_);  // (none without a design section)
+    // analysis: flywheel: the flywheel tool's energy-loop CSV's columns, with dT_req/d<p> for
+    // the design parameters (the nominal's, from the cycle's design derivatives; NaN in a
+    // sample's rows, as the sweep's design columns).
+    flywheel_columns_.clear();
+    nan_design_.clear();
+    if (spec.analysis == Analysis::kFlywheel) {
+      std::vector<std::string> design;
+      if constexpr (kDesign)
+        if (HasDesign())
+          for (int d = 0; d < C::NumDesign(model_); ++d) design.push_back(C::DesignName(model_, d));
+      nan_design_.assign(design.size() + 1, kNaN);
+      flywheel_columns_ = analysis::FlywheelLoopColumns(C::HasDynamics(model_), design);
+    }
     if constexpr (kHasStatics)
       if (HasStatics()) statics_columns_ = statics::StaticsColumns<M>(model_, HasStaticsDesign());
     if constexpr (run_internal::SimulationOf<M>::kOk) {
@@ -410,14 +447,38 @@ class Study {
             list.clear();
             for (const std::string& c : PositionColumns()) list += (list.empty() ? "" : ", ") + c;
           }
+          if (spec.analysis == Analysis::kFlywheel) {
+            list.clear();
+            for (const auto& c : flywheel_columns_)
+              if (c.name.find('/') == std::string::npos) list += (list.empty() ? "" : ", ") + c.name;
+          }
+          if (spec.analysis == Analysis::kEngine) {
+            list.clear();
+            if constexpr (engine::CanRunEngineCycle<M>())
+              for (const auto& c : engine_columns_) list += (list.empty() ? "" : ", ") + c.name;
+            for (const auto& c : engine_loop_columns_) {
+              int in = 0, at = 0;
+              if (FindColumn(c.name, &in, &at) && in == 6) list += ", " + c.name;  // (not the cycle's too)
+            }
+          }
           return fail(m.place, "no numeric column '" + m.column + "' in the " +
                                    (spec.analysis == Analysis::kStatics    ? "sweep or statics"
                                     : spec.analysis == Analysis::kSimulate ? "simulation's"
+                                    : spec.analysis == Analysis::kFlywheel ? "flywheel's energy loop"
+                                    : spec.analysis == Analysis::kEngine   ? "engine's cycle or energy loop"
                                                                            : "sweep") +
                                    " output of " + name + " (columns: " + list + ")");
         }
         if (r.table == 2 && r.column >= first_reaction_column_) needs_reactions_ = true;
         if (r.table == 3 && r.column >= first_driven_reaction_column_) needs_reactions_ = true;
+      }
+      if (m.kind == MetricKind::kMeanTorque || m.kind == MetricKind::kPeakTorque) {
+        // The cycle's columns by name: the flywheel's energy loop (T_mean, T_req), the engine's
+        // loop (T_mean) and cycle (T_total).
+        const std::string column = m.kind == MetricKind::kMeanTorque     ? "T_mean"
+                                   : spec.analysis == Analysis::kEngine ? "T_total"
+                                                                        : "T_req";
+        if (!FindColumn(column, &r.table, &r.column)) return fail(m.place, "the cycle has no column " + column);
       }
       if (m.kind == MetricKind::kPeakDrive && spec.analysis == Analysis::kSimulate) {
         // The driven input's actuator force lambda (a torque on the input link, or a force).
@@ -525,6 +586,7 @@ class Study {
       case MetricKind::kSpeedFluctuation:
         return "1";
       default:
+        if (r.table >= 4) return CycleColumnUnit(r);
         if constexpr (run_internal::DrivenOf<M>::kOk)
           if (r.table == 3) return driven_columns_[r.column].unit;
         if constexpr (run_internal::SimulationOf<M>::kOk)
@@ -534,8 +596,10 @@ class Study {
   }
   std::string Description(size_t k) const {
     const MetricSpec& m = spec_.metrics[k];
-    const std::string rows =
-        spec_.analysis == Analysis::kSimulate ? " over the simulation's samples" : " over the motion's rows that converged";
+    const bool cycle = spec_.analysis == Analysis::kFlywheel || spec_.analysis == Analysis::kEngine;
+    const std::string rows = spec_.analysis == Analysis::kSimulate ? " over the simulation's samples"
+                             : cycle                              ? " over the cycle's samples"
+                                                                  : " over the motion's rows that converged";
     switch (m.kind) {
       case MetricKind::kMax:
         return "largest " + m.column + rows;
@@ -546,6 +610,7 @@ class Study {
       case MetricKind::kAt:
         if (spec_.analysis == Analysis::kSimulate)
           return m.column + " at t = " + std::to_string(m.step) + " t_end / steps (nan if not reached)";
+        if (cycle) return m.column + " at sample " + std::to_string(m.step) + " of the cycle (nan beyond it)";
         return m.column + " at row " + std::to_string(m.step) + " (nan if that row failed)";
       case MetricKind::kMinTransmissionAngle:
         return "smallest min(mu, pi - mu) of the transmission angles mu" + rows;
@@ -769,8 +834,10 @@ class Study {
     const Ref& r = refs_[k];
     Taken t;
     const bool simulation = spec_.analysis == Analysis::kSimulate;
-    const int n = static_cast<int>(simulation ? (driven_input_ >= 0 ? rows.driven.size() : rows.simulation.size())
-                                              : rows.kinematics.size());
+    const int n = r.table >= 4 ? CycleRows(r.table, rows)
+                               : static_cast<int>(simulation ? (driven_input_ >= 0 ? rows.driven.size()
+                                                                                    : rows.simulation.size())
+                                                             : rows.kinematics.size());
     auto consider = [&t](double v, int i, double sign, bool larger) {
       if (!std::isfinite(v)) return;
       if (t.step < 0 || (larger ? v > t.value : v < t.value)) {
@@ -785,9 +852,12 @@ class Study {
       // As `<engine>_engine flywheel` computes them (machines/engine/cycle.h's energy loop).
       const engine::EngineEnergy& en = rows.engine;
       const double omega = EngineOmega();
+      // mean_torque and peak_torque by name from the tool's energy loop CSV (T_mean) and cycle
+      // CSV (T_total); the energy loop's figures (dE: its extremes refined between the samples)
+      // are no column.
       switch (m.kind) {
-        case MetricKind::kMeanTorque: t.value = en.loop.mean_torque; break;
-        case MetricKind::kPeakTorque: t.value = std::max(std::abs(en.T_max), std::abs(en.T_min)); break;
+        case MetricKind::kMeanTorque:
+        case MetricKind::kPeakTorque: return CycleValue(k, rows, n);
         case MetricKind::kEnergyFluctuation: t.value = en.loop.delta_E; break;
         case MetricKind::kFlywheelInertia: {
           const double I_req = en.loop.delta_E / (m.C_s * omega * omega);
@@ -806,11 +876,8 @@ class Study {
         t.value = flywheel::SizeFlywheel(rows.cycle, m.C_s).I_flywheel;
         break;
       case MetricKind::kMeanTorque:
-        t.value = rows.cycle.T_mean;
-        break;
       case MetricKind::kPeakTorque:
-        t.value = std::max(std::abs(rows.cycle.T_max), std::abs(rows.cycle.T_min));
-        break;
+        return CycleValue(k, rows, n);  // the energy loop CSV's T_mean, T_req by name
       case MetricKind::kEnergyFluctuation:
         t.value = rows.cycle.loop.delta_E;
         break;
@@ -974,13 +1041,6 @@ class Study {
         *why = cd.message.empty() ? "no design derivatives of the cycle" : cd.message;
         return g;
       }
-      int peak = -1;
-      double sign = 1;
-      for (size_t i = 0; i < rows.cycle.points.size(); ++i) {
-        const double T = rows.cycle.points[i].T_req;
-        if (peak < 0 || std::abs(T) > std::abs(rows.cycle.points[static_cast<size_t>(peak)].T_req))
-          peak = static_cast<int>(i), sign = T >= 0 ? 1 : -1;
-      }
       for (size_t p = 0; p < spec_.parameters.size(); ++p) {
         const int d = index_[p];
         if (d < 0) continue;
@@ -990,12 +1050,20 @@ class Study {
           case MetricKind::kFlywheelInertia:
             g[p] = flywheel::SizeFlywheelDesign<M>(rows.cycle, cd, m.C_s).dI_flywheel_dp(d);
             break;
-          case MetricKind::kPeakTorque:
-            if (peak >= 0) g[p] = sign * cd.dT_req_dp[static_cast<size_t>(peak)](d);
+          case MetricKind::kPeakTorque: {
+            // The energy loop CSV's design column dT_req/d<p> at the peak's sample (Value's).
+            Ref column;
+            if (t.step >= 0 && FindColumn("dT_req/d" + spec_.parameters[p].name, &column.table, &column.column))
+              g[p] = t.sign * Cell(column, rows, t.step);
             break;
+          }
           default: break;
         }
       }
+      return g;
+    }
+    if (r.table == 4 && !rows.cycle_design.IsUsable()) {  // a column of the flywheel's energy loop
+      *why = rows.cycle_design.message.empty() ? "no design derivatives of the cycle" : rows.cycle_design.message;
       return g;
     }
     for (size_t p = 0; p < spec_.parameters.size(); ++p) {
@@ -1052,7 +1120,8 @@ class Study {
       if (m.kind == MetricKind::kRms) {
         double sum = 0;
         int count = 0;
-        for (int i = 0; i < static_cast<int>(rows.kinematics.size()); ++i) {
+        const int n = r.table >= 4 ? CycleRows(r.table, rows) : static_cast<int>(rows.kinematics.size());
+        for (int i = 0; i < n; ++i) {
           const double v = Cell(r, rows, i);
           if (std::isfinite(v)) sum += v * Cell(d, rows, i), ++count;
         }
@@ -1360,7 +1429,9 @@ class Study {
   }
 
   struct Ref {
-    int table = 0;  // 0: sweep columns, 1: statics columns, 2: simulation columns
+    // 0: sweep columns, 1: statics columns, 2: simulation columns, 3: the driven simulation's,
+    // 4: the flywheel's energy loop, 5: the engine's cycle, 6: the engine's energy loop
+    int table = 0;
     int column = -1;
     int point = -1;
     int check = -1;
@@ -1369,13 +1440,23 @@ class Study {
   };
 
   bool FindColumn(const std::string& name, int* table, int* column) const {
+    // The numeric column `name` of `columns`, table t.
+    auto in = [&](const auto& columns, int t) {
+      for (size_t c = 0; c < columns.size(); ++c)
+        if (columns[c].name == name && columns[c].value) {
+          *table = t, *column = static_cast<int>(c);
+          return true;
+        }
+      return false;
+    };
+    if (spec_.analysis == Analysis::kFlywheel) return in(flywheel_columns_, 4);
+    if (spec_.analysis == Analysis::kEngine) {
+      if constexpr (engine::CanRunEngineCycle<M>())
+        if (in(engine_columns_, 5)) return true;
+      return in(engine_loop_columns_, 6);
+    }
     if (spec_.analysis == Analysis::kSimulate && driven_input_ >= 0) {
-      if constexpr (run_internal::DrivenOf<M>::kOk)
-        for (size_t c = 0; c < driven_columns_.size(); ++c)
-          if (driven_columns_[c].name == name && driven_columns_[c].value) {
-            *table = 3, *column = static_cast<int>(c);
-            return true;
-          }
+      if constexpr (run_internal::DrivenOf<M>::kOk) return in(driven_columns_, 3);
       return false;
     }
     if (spec_.analysis == Analysis::kPositions) {
@@ -1384,26 +1465,10 @@ class Study {
       if (!position) return false;
     }
     if (spec_.analysis == Analysis::kSimulate) {
-      if constexpr (run_internal::SimulationOf<M>::kOk)
-        for (size_t c = 0; c < simulation_columns_.size(); ++c)
-          if (simulation_columns_[c].name == name && simulation_columns_[c].value) {
-            *table = 2, *column = static_cast<int>(c);
-            return true;
-          }
+      if constexpr (run_internal::SimulationOf<M>::kOk) return in(simulation_columns_, 2);
       return false;
     }
-    for (size_t c = 0; c < sweep_columns_.size(); ++c)
-      if (sweep_columns_[c].name == name && sweep_columns_[c].value) {
-        *table = 0, *column = static_cast<int>(c);
-        return true;
-      }
-    if (spec_.analysis == Analysis::kStatics)
-      for (size_t c = 0; c < statics_columns_.size(); ++c)
-        if (statics_columns_[c].name == name && statics_columns_[c].value) {
-          *table = 1, *column = static_cast<int>(c);
-          return true;
-        }
-    return false;
+    return in(sweep_columns_, 0) || (spec_.analysis == Analysis::kStatics && in(statics_columns_, 1));
   }
   // The sweep's columns that a positions-only analysis fills: the inputs, the dependent
   // coordinates, the points' x and y and the transmission angles.
@@ -1418,6 +1483,10 @@ class Study {
     return names;
   }
   std::string ColumnName(const Ref& r) const {
+    if (r.table == 4) return flywheel_columns_[r.column].name;
+    if (r.table == 6) return engine_loop_columns_[r.column].name;
+    if constexpr (engine::CanRunEngineCycle<M>())
+      if (r.table == 5) return engine_columns_[r.column].name;
     if constexpr (run_internal::DrivenOf<M>::kOk)
       if (r.table == 3) return driven_columns_[r.column].name;
     if constexpr (run_internal::SimulationOf<M>::kOk)
@@ -1524,7 +1593,10 @@ class Study {
       std::string error;
       engine::PolytropicWiebeCycle wiebe;
       engine::PressureLaw law;
-      std::vector<engine::CrankPoint<M>> pts;
+      // The cycle's rows kept (the engine tool's CSV's: the metrics read its columns), their
+      // storage this thread's from sample to sample.
+      std::vector<engine::CrankPoint<M>>& pts = out->engine_points;
+      pts.clear();
       if (!engine::ReadEngine(model_, &p, &e, &error) ||
           !engine::InitPressureLaw(e, spec_.gas.wiebe, has_table_ ? &table_ : nullptr, &wiebe, &law, &error)) {
         out->engine.message = error;
@@ -1537,6 +1609,7 @@ class Study {
       }
       out->engine = engine::EngineEnergyLoop(pts, e);
       out->engine_J_fly = e.J_fly;
+      out->engine_cycle = e.cycle;
       out->assembled = out->engine.ok();
     } else {
       out->engine.message = "not an engine model";
@@ -1670,7 +1743,55 @@ class Study {
       (void)out;
     }
   }
+  // The rows of the cycle's tables: 4 the flywheel's energy loop (a row per sample of the
+  // cycle), 5 the engine's cycle (a row per crank angle), 6 the engine's energy loop (those
+  // and the cycle's end, as the engine tool's loop CSV).
+  int CycleRows(int table, const Rows& rows) const {
+    if (table == 4) return static_cast<int>(rows.cycle.points.size());
+    const int n = static_cast<int>(rows.engine_points.size());
+    return table == 5 || n == 0 ? n : n + 1;
+  }
+  std::string CycleColumnUnit(const Ref& r) const {
+    if (r.table == 4) return flywheel_columns_[r.column].unit;
+    if constexpr (engine::CanRunEngineCycle<M>())
+      if (r.table == 5) return engine_columns_[r.column].unit;
+    return engine_loop_columns_[r.column].unit;
+  }
+  // mean_torque and peak_torque of analysis: flywheel and engine from the cycle's columns
+  // (refs_[k]: T_mean; T_req or T_total): the mean at the first row (every row's), the peak the
+  // largest |T| over the cycle's n samples, where (the first such sample) and T's sign there.
+  Taken CycleValue(size_t k, const Rows& rows, int n) const {
+    const Ref& r = refs_[k];
+    Taken t;
+    if (spec_.metrics[k].kind == MetricKind::kMeanTorque) {
+      if (n > 0) t.value = Cell(r, rows, 0);
+      return t;
+    }
+    for (int i = 0; i < n; ++i) {
+      const double v = Cell(r, rows, i);
+      if (std::isfinite(v) && (t.step < 0 || std::abs(v) > t.value)) t.value = std::abs(v), t.step = i, t.sign = v >= 0 ? 1 : -1;
+    }
+    return t;
+  }
   double Cell(const Ref& r, const Rows& rows, int i) const {
+    if (r.table == 4) {
+      // A row of the flywheel's energy loop CSV (its design columns: the nominal's, else NaN).
+      const size_t k = static_cast<size_t>(i);
+      const double* design =
+          k < rows.cycle_design.dT_req_dp.size() ? rows.cycle_design.dT_req_dp[k].data() : nan_design_.data();
+      return flywheel_columns_[r.column].value(analysis::FlywheelLoopRow{rows.cycle.points[k], rows.cycle.T_mean, design});
+    }
+    if constexpr (engine::CanRunEngineCycle<M>()) {
+      const auto& pts = rows.engine_points;
+      if (r.table == 5) return engine_columns_[r.column].value(pts[static_cast<size_t>(i)]);
+      if (r.table == 6) {
+        // A row of the engine tool's energy loop CSV (analysis/engine.h's Flywheel).
+        const int n = static_cast<int>(pts.size());
+        return engine_loop_columns_[r.column].value(analysis::EngineLoopRow{
+            rows.engine_cycle / n * i, pts[static_cast<size_t>(i % n)].T_total, rows.engine.loop.mean_torque,
+            i < n ? rows.engine.E[static_cast<size_t>(i)] : 0.0});
+      }
+    }
     if constexpr (run_internal::DrivenOf<M>::kOk) {
       if (r.table == 3) {
         const auto& row = rows.driven[i];
@@ -1722,6 +1843,10 @@ class Study {
   typename run_internal::DrivenOf<M>::Columns driven_columns_;
   int first_driven_reaction_column_ = 0;  ///< driven_columns_: the first reaction's
   bool needs_reactions_ = false;   ///< a metric reads a reaction column of the simulation
+  table::Columns<analysis::FlywheelLoopRow> flywheel_columns_;  ///< flywheel analysis: the energy loop's
+  std::vector<double> nan_design_;  ///< flywheel: a sample's dT_req/d<p> (NaN: the nominal's alone)
+  typename run_internal::EngineOf<M>::Columns engine_columns_;  ///< engine analysis: the cycle's
+  table::Columns<analysis::EngineLoopRow> engine_loop_columns_;   ///< engine analysis: the energy loop's
   engine::PressureTable table_;    ///< engine analysis: the indicator diagram (gas: table:)
   bool has_table_ = false;
   Rows nominal_rows_;

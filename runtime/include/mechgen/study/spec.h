@@ -717,16 +717,21 @@ inline bool ReadStudy(const std::string& path, StudySpec* spec, std::string* err
         throw Failure{m.place, "a metric of kind speed_fluctuation needs analysis: engine"};
       if (cycle && spec->analysis != Analysis::kFlywheel && spec->analysis != Analysis::kEngine)
         throw Failure{m.place, "a metric of this kind needs analysis: flywheel or engine"};
-      if (!cycle && spec->analysis == Analysis::kFlywheel && m.kind != MetricKind::kDesignMargin &&
+      // (max, min, rms and at read a column of the cycle's CSV by name: study/run.h)
+      const bool of_column = m.kind == MetricKind::kMax || m.kind == MetricKind::kMin || m.kind == MetricKind::kRms ||
+                             m.kind == MetricKind::kAt;
+      if (!cycle && !of_column && spec->analysis == Analysis::kFlywheel && m.kind != MetricKind::kDesignMargin &&
           m.kind != MetricKind::kFailures)
         throw Failure{m.place,
                       "with analysis: flywheel the metrics are flywheel_inertia, mean_torque, peak_torque, "
-                      "energy_fluctuation, failures and design_margin"};
-      if (!cycle && spec->analysis == Analysis::kEngine && m.kind != MetricKind::kDesignMargin &&
+                      "energy_fluctuation, max, min, rms and at of a column of the energy loop's CSV (`mechgen "
+                      "flywheel --csv`), failures and design_margin"};
+      if (!cycle && !of_column && spec->analysis == Analysis::kEngine && m.kind != MetricKind::kDesignMargin &&
           m.kind != MetricKind::kFailures)
         throw Failure{m.place,
                       "with analysis: engine the metrics are mean_torque, peak_torque, energy_fluctuation, "
-                      "flywheel_inertia, speed_fluctuation, failures and design_margin"};
+                      "flywheel_inertia, speed_fluctuation, max, min, rms and at of a column of the engine's cycle "
+                      "CSV or energy loop CSV (`mechgen engine cycle`, `flywheel`), failures and design_margin"};
     }
     if ((spec->analysis == Analysis::kFlywheel || spec->analysis == Analysis::kSimulate ||
          spec->analysis == Analysis::kEngine) &&
