@@ -384,6 +384,24 @@ TEST(Freudenstein, RefusesPairsNoFourBarMeets) {
 // motion from the first to the second turns the crank through 180 deg, where the loop does
 // not close: refused by the candidate's check and by the runtime's continuation. The same
 // targets at 10 and -10 deg (the crank turning back through 0) are accepted.
+TEST(PathSynthesis, CandidatesAreJudgedByThePositionSolversOneThreshold) {
+  // Issue 28's leftover (done in path.h: SolveOnMode / Regular, read by the path, function,
+  // motion and exact checks): a configuration is regular when 1/cond_1(Phi_phi) >= kMinRcond,
+  // the position solver's own default (Options::min_rcond). By hand: A = [[1, 1], [1, 1 + e]]
+  // has ||A||_1 = 2 + e and A^-1 = [[1 + e, -1], [-1, 1]] / e, ||A^-1||_1 = (2 + e) / e, so
+  // 1/cond_1 = e / (2 + e)^2: regular just above the threshold, not just below, on the
+  // fixed-size matrix and on one whose size is known at run time only (the model view's).
+  EXPECT_EQ(mechgen::position::Options().min_rcond, mechgen::kMinRcond);
+  for (double e : {3.9e-6, 3.99e-6, 4.01e-6, 4.1e-6, 1e-3, 1e-9}) {
+    const double rcond = e / ((2 + e) * (2 + e));
+    Eigen::Matrix2d A;
+    A << 1, 1, 1, 1 + e;
+    const Eigen::MatrixXd B = A;
+    EXPECT_EQ(Regular(A), rcond >= mechgen::kMinRcond) << "e = " << e << ", 1/cond_1 = " << rcond;
+    EXPECT_EQ(Regular(B), rcond >= mechgen::kMinRcond) << "e = " << e << ", 1/cond_1 = " << rcond;
+  }
+}
+
 TEST(PathSynthesis, DeadPointBetweenTargetsIsADefect) {
   using M = mech::fourbar::Model;
   M::ParamsT<double> p;
@@ -1151,6 +1169,99 @@ TEST(FunctionSynthesis, MinimaxWithFreeStartAnglesReachesSixEqualExtrema) {
   std::printf("x^2 on [1, 2], a b c and free start angles: largest |error| in y: five Chebyshev points %.6g, minimax "
               "%.10g on six extrema (%d exchanges, %d Lawson steps); a b c %.6g %.6g %.6g, in0 %.6g deg, out0 %.6g deg\n",
               worst_p, worst_m, rm.minimax.exchanges, rm.minimax.lawson, xm[0], xm[1], xm[2], xm[3] / kDeg, xm[4] / kDeg);
+}
+
+TEST(FunctionSynthesis, MinimaxWithAVariableOnItsBoundHoldsTheBoundAsAConstraint) {
+  // The task of MinimaxWithFreeStartAnglesReachesSixEqualExtrema with out0 <= 240 deg: its
+  // equal-ripple optimum (out0 = 241.82 deg) is outside. The exchange ends on the bound with
+  // four equal extrema (the reduced exchange: not a minimax of the four free variables), then
+  // descends along the bound and exchanges again with it held: five alternating extrema (four
+  // free variables, one condition). Oracles by hand (the four-bar's error by circle
+  // intersection on 20001 points, extrema by ternary search): five alternating extrema equal
+  // to 1e-9 relative with out0 on the bound; the largest above the unbounded optimum's
+  // (4.713566e-4, six extrema) and below where the exchange ended on the bound; the KKT
+  // conditions by hand (central differences of the hand error at the five extrema): the
+  // extrema's signed gradients and the bound's normal have a positive combination that
+  // vanishes, the extrema's weights positive and the bound's multiplier positive (the bound
+  // holds the optimum back); and no feasible step lowers the largest error: along each free
+  // variable both ways, into the box (out0 lowered), and along 40 random directions with out0
+  // not raised, each at 1e-6, 1e-5 and 1e-3 of the scale.
+  std::string yaml = XSquaredFreeStartTask("");
+  yaml.replace(yaml.find("output: [200deg, 280deg]"), 24, "output: [200deg, 240deg]");
+  const auto mm = BindFunctionYaml(yaml, "fb_minimax.yaml");
+  ASSERT_EQ(mm.nx, 5);
+  const FunctionResult rm = SynthesizeFunction(mm, 1);
+  ASSERT_TRUE(rm.best.feasible()) << rm.best.defect;
+  ASSERT_TRUE(rm.minimax.used) << rm.minimax.why;
+  EXPECT_EQ(rm.minimax.bounds, "the output's start angle at its upper bound");
+  EXPECT_EQ(rm.minimax.reference, 4);
+  EXPECT_EQ(rm.minimax.bound_reference, 5);
+  ASSERT_TRUE(rm.minimax.bounds_converged) << rm.minimax.bound_why;
+  const std::vector<double>& xm = rm.best.x;
+  const double bound = 240 * kDeg;
+  EXPECT_LE(xm[4], bound);
+  EXPECT_GT(xm[4], bound - 1e-9);
+  std::vector<double> at;
+  const auto em = HandExtrema([&](double x) { return XSquaredError(xm, x); }, &at);
+  const double worst = ExpectEqualRipple(em, 5, 1e-9);
+  ASSERT_EQ(at.size(), 5u);
+  for (size_t k = 1; k < em.size(); ++k) EXPECT_LT(em[k] * em[k - 1], 0) << "extrema " << k - 1 << ", " << k;
+  const double to_y = 3 / (60 * kDeg);
+  EXPECT_NEAR(rm.minimax.max_angle * to_y, worst, 1e-12);
+  EXPECT_GT(worst, 4.7135e-4);
+  EXPECT_LT(worst, rm.minimax.bound_start_max * to_y);
+  // KKT by hand: sum_k w_k sigma_k grad e_k + mu e_out0 = 0 with sum w_k = 1.
+  Eigen::Matrix<double, 6, 6> K = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int j = 0; j < 5; ++j) {
+    const double h = 1e-6 * std::max(1.0, std::abs(xm[static_cast<size_t>(j)]));
+    std::vector<double> vp = xm, vm = xm;
+    vp[static_cast<size_t>(j)] += h, vm[static_cast<size_t>(j)] -= h;
+    for (int k = 0; k < 5; ++k) {
+      const double x = at[static_cast<size_t>(k)];
+      K(j, k) = (em[static_cast<size_t>(k)] >= 0 ? 1 : -1) * (XSquaredError(vp, x) - XSquaredError(vm, x)) / (2 * h);
+    }
+  }
+  K(4, 5) = 1;  // the bound's normal: out0 <= 240 deg
+  for (int k = 0; k < 5; ++k) K(5, k) = 1;
+  Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+  rhs(5) = 1;
+  const Eigen::Matrix<double, 6, 1> w = K.fullPivLu().solve(rhs);
+  EXPECT_LE((K * w - rhs).norm(), 1e-9) << w.transpose();
+  for (int k = 0; k < 5; ++k) EXPECT_GT(w(k), 1e-3) << "extremum " << k << ": " << w.transpose();
+  EXPECT_GT(w(5), 0) << w.transpose();
+  std::vector<Eigen::Matrix<double, 5, 1>> dirs;
+  for (int j = 0; j < 4; ++j) {
+    dirs.push_back(Eigen::Matrix<double, 5, 1>::Unit(j));
+    dirs.push_back(-Eigen::Matrix<double, 5, 1>::Unit(j));
+  }
+  dirs.push_back(-Eigen::Matrix<double, 5, 1>::Unit(4));
+  std::mt19937 rng(44);
+  std::normal_distribution<double> normal;
+  for (int r = 0; r < 40; ++r) {
+    Eigen::Matrix<double, 5, 1> d;
+    for (int j = 0; j < 5; ++j) d(j) = normal(rng);
+    d(4) = r % 2 == 0 ? 0.0 : -std::abs(d(4));  // along the bound, or into the box
+    dirs.push_back(d.normalized());
+  }
+  for (const auto& d : dirs)
+    for (double step : {1e-6, 1e-5, 1e-3}) {
+      std::vector<double> v = xm;
+      for (int j = 0; j < 5; ++j) v[static_cast<size_t>(j)] += step * d(j) * std::max(1.0, std::abs(xm[static_cast<size_t>(j)]));
+      ASSERT_LE(v[4], bound);
+      EXPECT_GT(XSquaredWorst(v), worst) << "step " << step << " along " << d.transpose();
+    }
+  const std::string report = FunctionReport(mm, rm, 1);
+  EXPECT_NE(report.find("a bound active (the output's start angle at its upper bound): the exchange ended there on 4 extrema"),
+            std::string::npos)
+      << report;
+  std::printf("x^2 on [1, 2], free start angles, out0 <= 240 deg: the exchange ended on the bound at %.6g on four extrema; "
+              "%d descent steps, then %.10g on five (a b c %.6g %.6g %.6g, in0 %.6g deg, out0 %.10g deg; KKT weights %s)\n",
+              rm.minimax.bound_start_max * to_y, rm.minimax.bound_steps, worst, xm[0], xm[1], xm[2], xm[3] / kDeg,
+              xm[4] / kDeg, [&] {
+                std::ostringstream o;
+                o << w.transpose();
+                return o.str();
+              }().c_str());
 }
 
 TEST(FunctionSynthesis, MinimaxMeetsTheTransmissionAngleBound) {
