@@ -1146,7 +1146,8 @@ int BoundDescent(FunctionEvaluator<M>* eval, const std::vector<int>& held, int k
     Eigen::MatrixXd G(static_cast<Eigen::Index>(active.size()), static_cast<Eigen::Index>(free.size()));
     for (size_t k = 0; k < active.size(); ++k) G.row(static_cast<Eigen::Index>(k)) = active[k].transpose();
     const Eigen::VectorXd minus = -Eigen::VectorXd::Ones(G.rows());
-    const Eigen::VectorXd d = G.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(minus);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(G, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const Eigen::VectorXd d = svd.solve(minus);
     if (!d.allFinite() || (G * d - minus).norm() > 1e-6 * std::sqrt(static_cast<double>(G.rows()))) break;
     auto along = [&](double s) {
       std::vector<double> v = *x;
