@@ -717,6 +717,7 @@ struct MinimaxResult {
   /// fewer extrema than the free variables ask for (nx + 1 - k for k bounds), so it was not a
   /// minimax on the bound's surface. Then descent steps along the surface (BoundDescent) and the
   /// exchange again with the bounds held as constraints (ConstrainedExchange).
+  bool bound_stage = false;       ///< the descent and that exchange ran
   std::string bounds;             ///< the bounds held (`; `-joined), empty when none
   double bound_start_max = kInf;  ///< the largest |error| (rad) where the exchange ended on them
   int bound_steps = 0;            ///< descent steps along the bounds' surface
@@ -1096,25 +1097,24 @@ void AtBounds(const BoundFunction<M>& b, const std::vector<double>& x, std::vect
   }
 }
 
-/// Descent along the bounds' surface (MinimaxStage): the variables `held` fixed, the extrema
-/// of x's error at the largest magnitude (within 1e-6 relative: the active ones) are lowered
-/// together, d over the free variables with sigma_k g_k . d = -1 for each (g_k the generated
-/// gradient of the error at the extremum x_k, its own movement of second order there; the
-/// minimum-norm solution by SVD), and the largest |error| over the range along x + s d (the free
-/// variables clamped into their bounds) is minimised over s in [0, level] (the linear model
-/// reaches zero at s = level): 16 samples, then golden section (40 steps) about the best. A step
-/// ends where another extremum has risen to the falling ones. Repeated while the error has
-/// fewer than `keep` alternating extrema (at most 8 steps); stops when no direction lowers the
-/// active extrema together (their gradients dependent: a minimax on the surface) or a step does
-/// not lower the largest error. *worst: the largest |error| at the last x; returns the steps made.
+/// Descent along the free variables (MinimaxStage), when the exchange ended on fewer extrema
+/// than the free variables ask for (nx + 1 - k, k the variables on a bound: AtBounds, again at
+/// each step): the variables on a bound fixed, the extrema of x's error at the largest
+/// magnitude (within 1e-6 relative: the active ones) are lowered together, d over the free
+/// variables with sigma_k g_k . d = -1 for each (g_k the generated gradient of the error at the
+/// extremum x_k, its own movement of second order there; the minimum-norm solution by SVD), and
+/// the largest |error| over the range along x + s d (the free variables clamped into their
+/// bounds: one that reaches its bound is held from the next step on) is minimised over s in
+/// [0, level] (the linear model reaches zero at s = level): 16 samples, then golden section (40
+/// steps) about the best. A step ends where another extremum has risen to the falling ones.
+/// Repeated while the error has fewer than nx + 1 - k alternating extrema (at most 8 steps);
+/// stops when no direction lowers the active extrema together or a step does not lower the
+/// largest error (a minimax of the free variables on fewer extrema: their gradients dependent).
+/// *worst: the largest |error| at the last x; returns the steps made.
 template <class M>
-int BoundDescent(FunctionEvaluator<M>* eval, const std::vector<int>& held, int keep, std::vector<double>* x,
-                 double* worst) {
+int BoundDescent(FunctionEvaluator<M>* eval, std::vector<double>* x, double* worst) {
   const BoundFunction<M>& b = eval->bound();
   const int nx = b.nx;
-  std::vector<size_t> free;
-  for (int j = 0; j < nx; ++j)
-    if (std::find(held.begin(), held.end(), j) == held.end()) free.push_back(static_cast<size_t>(j));
   auto largest_along = [&](const std::vector<double>& v) {
     std::vector<double> vx, ve;
     ++eval->evaluations;
@@ -1125,9 +1125,16 @@ int BoundDescent(FunctionEvaluator<M>* eval, const std::vector<int>& held, int k
   };
   int steps = 0;
   for (int round = 0; round < 8; ++round) {
+    std::vector<int> held;
+    std::vector<std::string> unused;
+    AtBounds(b, *x, &held, &unused);
+    const int keep = nx + 1 - static_cast<int>(held.size());
+    std::vector<size_t> free;
+    for (int j = 0; j < nx; ++j)
+      if (std::find(held.begin(), held.end(), j) == held.end()) free.push_back(static_cast<size_t>(j));
     std::vector<double> ex, ee;
     ++eval->evaluations;
-    if (!RangeExtrema(eval, *x, &ex, &ee) || static_cast<int>(ex.size()) >= keep) break;
+    if (free.empty() || !RangeExtrema(eval, *x, &ex, &ee) || static_cast<int>(ex.size()) >= keep) break;
     double level = 0;
     for (double e : ee) level = std::max(level, std::abs(e));
     if (!(level > 0)) break;
@@ -1213,37 +1220,46 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
     // so on while two extrema at least are left.
     std::vector<double> start = best;
     std::vector<std::string> active;
-    // Variables at a bound with fewer extrema than the free ones ask for (nx + 1 - k): not a
-    // minimax on the bounds' surface (the reduced exchange's LM takes the nearest equal-ripple
-    // point, not the lowest). Descent along the surface until nx + 1 - k alternating extrema,
-    // then the exchange with the bounds held as constraints (each one extremum fewer, as the
-    // transmission angle's bound), kept when it lowers the largest error.
+    // Fewer extrema than the free variables ask for (nx + 1 - k, k of them on a bound): not a
+    // minimax of the free variables (the reduced exchange's LM takes the nearest equal-ripple
+    // point, not the lowest; or LM within the bounds stopped on one). Descent along the free
+    // variables until nx + 1 - k alternating extrema, then the exchange with the bounds met
+    // held as constraints (each one extremum fewer, as the transmission angle's bound), kept
+    // when it lowers the largest error.
     std::vector<int> held;
     std::vector<std::string> held_what;
     function_internal::AtBounds(b, best, &held, &held_what);
-    const int bound_keep = nx + 1 - static_cast<int>(held.size());
-    if (!held.empty() && m.reference >= 2 && m.reference < bound_keep && bound_keep >= 2) {
-      for (const std::string& w : held_what) m.bounds += (m.bounds.empty() ? "" : "; ") + w;
+    if (m.reference >= 2 && m.reference < nx + 1 - static_cast<int>(held.size())) {
+      m.bound_stage = true;
       m.bound_start_max = m.max_angle;
-      m.bound_reference = bound_keep;
       std::vector<double> xd = best;
       double wd = m.max_angle;
-      m.bound_steps = function_internal::BoundDescent(eval, held, bound_keep, &xd, &wd);
+      m.bound_steps = function_internal::BoundDescent(eval, &xd, &wd);
       if (wd < m.max_angle) best = xd, m.max_angle = wd;
-      const std::string why = m.why;
-      const bool constrained = m.constrained_converged;
-      const double before = m.max_angle;
-      std::vector<double> trial = best;
-      function_internal::ConstrainedExchange(eval, held_what, best, &trial, &m);
-      m.bounds_converged = m.constrained_converged;
-      m.bound_why = m.bounds_converged ? std::string() : m.why;
-      m.constrained_converged = constrained, m.why = why;
-      if (m.max_angle <= before) {
-        best = trial;
+      function_internal::AtBounds(b, best, &held, &held_what);
+      for (const std::string& w : held_what) m.bounds += (m.bounds.empty() ? "" : "; ") + w;
+      m.bound_reference = nx + 1 - static_cast<int>(held.size());
+      std::vector<double> bx, be;
+      ++eval->evaluations;
+      if (!RangeExtrema(eval, best, &bx, &be) || static_cast<int>(bx.size()) < m.bound_reference) {
+        m.bound_why = "the descent left fewer than " + std::to_string(m.bound_reference) +
+                      " alternating extrema (a minimax of the free variables on fewer: their gradients dependent)";
       } else {
-        m.max_angle = before;
+        const std::string why = m.why;
+        const bool constrained = m.constrained_converged;
+        const double before = m.max_angle;
+        std::vector<double> trial = best;
+        function_internal::ConstrainedExchange(eval, held_what, best, &trial, &m);
+        m.bounds_converged = m.constrained_converged;
+        m.bound_why = m.bounds_converged ? std::string() : m.why;
+        m.constrained_converged = constrained, m.why = why;
+        if (m.max_angle <= before) {
+          best = trial;
+        } else {
+          m.max_angle = before;
+        }
+        if (m.bounds_converged) active = held_what;
       }
-      if (m.bounds_converged) active = held_what;
       start = best;
     }
     for (;;) {
@@ -1658,11 +1674,13 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
            (m.active > 1 ? "them active (" + std::to_string(m.active) + " extrema fewer), "
                          : std::string("it active (one extremum fewer), ")) +
            (m.constrained_converged ? "converged" : "not converged: " + m.why) + "\n";
-    if (!m.bounds.empty())
-      s += "a bound active (" + m.bounds + "): the exchange ended there on " + std::to_string(m.reference) +
-           " extrema (largest |error| " + Short(m.bound_start_max * std::abs(to_y), 6) + " in y), fewer than the " +
-           std::to_string(m.bound_reference) + " the free variables ask for: " + std::to_string(m.bound_steps) +
-           " descent steps along the bound, then exchanged with it held (one extremum fewer per bound), " +
+    if (m.bound_stage)
+      s += "the exchange ended on " + std::to_string(m.reference) + " extrema (largest |error| " +
+           Short(m.bound_start_max * std::abs(to_y), 6) + " in y), fewer than the " + std::to_string(m.bound_reference) +
+           " the free variables ask for: " + std::to_string(m.bound_steps) +
+           " descent steps lowering its largest extrema together, then the exchange on " +
+           std::to_string(m.bound_reference) + " extrema" +
+           (m.bounds.empty() ? std::string() : " with " + m.bounds + " held (one extremum fewer per bound)") + ", " +
            (m.bounds_converged ? "converged" : "not converged: " + m.bound_why) + "\n";
     if (std::isfinite(m.max_angle)) {
       s += "largest |structural error| over the range (extrema located): " + Short(m.max_angle * std::abs(to_y), 6) +
