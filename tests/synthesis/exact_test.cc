@@ -33,6 +33,7 @@
 #include "mechgen/synthesis/exact.h"
 #include "mechgen/synthesis/exact_path.h"
 #include "mechgen/synthesis/nine_point.h"
+#include "mechgen/synthesis/trace.h"
 #include "synth_fourbar.h"
 
 namespace {
@@ -242,6 +243,72 @@ TEST(ExactSynthesis, FivePointsWithPivotsAgainstPhcpackAndMorganWampler) {
     }
   }
   if (!PhcAvailable()) GTEST_SKIP() << "phc (Debian's phcpack) not found at configure time: counts not compared";
+}
+
+TEST(ExactSynthesis, TraceTestCertifiesTheThirtySixAndFailsWithOneLeftOut) {
+  // The trace test (synthesis/trace.h): the 36 solutions at generic data and the additional
+  // witnesses (the curve of solutions over a line of data, on a hyperplane a . X = 1), tracked
+  // along the pencil (a . X - 1) lambda + t = 0 to t = tau/2 and tau: the traces of X and lambda
+  // are affine in t (their second difference is round-off) exactly when the set is complete.
+  // Left out: one solution (each of the 36 in turn, and the test run on 35) makes it fail.
+  const FivePointTask t = Generic();
+  const ExactPathResult r = SolveFivePointsWithPivots(t);
+  ASSERT_EQ(r.num_solutions, 36);
+  // The system on the line of data is the five-point system at lambda = 0 (exact_path.h's
+  // Target), and its d/dlambda column the central difference.
+  {
+    trace::trace_internal::Line line;
+    exact_internal::Target F;
+    const Complex A(t.crank_pivot[0], t.crank_pivot[1]), D(t.rocker_pivot[0], t.rocker_pivot[1]);
+    for (size_t j = 0; j < 5; ++j) {
+      const Complex P(t.points[j][0], t.points[j][1]);
+      F.u[j] = line.u[j] = (P - A) / r.scale;
+      F.v[j] = line.v[j] = (P - D) / r.scale;
+      line.ub[j] = std::conj(line.u[j]), line.vb[j] = std::conj(line.v[j]);
+      line.e[j] = std::polar(0.7 + 0.1 * static_cast<double>(j), 0.9 * static_cast<double>(j) + 0.3);
+    }
+    trace::VecW w;
+    w.head<12>() = r.solutions.finite[3];
+    w(12) = 0;
+    trace::VecW f, fp, fm;
+    trace::MatW J, unused;
+    exact_internal::Vec12 f12;
+    exact_internal::Mat12 J12;
+    line.Fill(w, &f, &J);
+    F(r.solutions.finite[3], &f12, &J12);
+    EXPECT_LE((f.head<12>() - f12).cwiseAbs().maxCoeff(), 1e-15);
+    EXPECT_LE((J.block<12, 12>(0, 0) - J12).cwiseAbs().maxCoeff(), 1e-15);
+    w(12) = Complex(0.3, -0.2);
+    line.Fill(w, &f, &J);
+    const double h = 1e-6;
+    w(12) += h;
+    line.Fill(w, &fp, &unused);
+    w(12) -= 2 * h;
+    line.Fill(w, &fm, &unused);
+    EXPECT_LE((J.col(12).head<12>() - (fp - fm).head<12>() / (2 * h)).cwiseAbs().maxCoeff(), 1e-8);
+  }
+  const trace::TraceResult tr = trace::FivePointTrace(t, r.solutions.finite);
+  EXPECT_EQ(tr.witness_paths, 1024);
+  EXPECT_EQ(tr.witness_duplicates, 0);
+  ASSERT_GT(tr.witnesses, 0);
+  ASSERT_EQ(tr.lost, 0) << "a path of the pencil did not end finite and alone: no verdict";
+  EXPECT_LT(tr.residual, 1e-10);
+  ASSERT_EQ(tr.dropped.size(), 36u);
+  const double smallest = *std::min_element(tr.dropped.begin(), tr.dropped.end());
+  const double largest = *std::max_element(tr.dropped.begin(), tr.dropped.end());
+  EXPECT_GT(smallest, 1e-7);
+  EXPECT_GT(smallest, 1e3 * tr.residual);
+  // The test run on 35 of the 36 (the first left out): it finds the same witnesses and fails.
+  const std::vector<exact_internal::Vec12> fewer(r.solutions.finite.begin() + 1, r.solutions.finite.end());
+  const trace::TraceResult tf = trace::FivePointTrace(t, fewer);
+  ASSERT_EQ(tf.lost, 0);
+  EXPECT_EQ(tf.witnesses, tr.witnesses);
+  EXPECT_GT(tf.residual, 1e3 * tr.residual);
+  EXPECT_NEAR(tf.residual, tr.dropped[0], 1e-3 * tr.dropped[0]);
+  std::printf("trace test, five points (generic data): %d solutions + %d witnesses (%d paths: %d at infinity, %d singular, "
+              "%d failed), residual %.3g complete, %.3g to %.3g with one of the 36 left out (%.3g run on 35)\n",
+              tr.fiber, tr.witnesses, tr.witness_paths, tr.witness_at_infinity, tr.witness_singular, tr.witness_failed,
+              tr.residual, smallest, largest, tf.residual);
 }
 
 TEST(ExactSynthesis, RecoversAFourBarFromItsOwnCouplerPoints) {

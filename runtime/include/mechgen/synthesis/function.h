@@ -46,6 +46,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+#include <Eigen/SVD>
 #include <ceres/cost_function.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
@@ -711,6 +713,17 @@ struct MinimaxResult {
   bool constrained_converged = false;
   int active = 0;                   ///< how many constraints the last constrained exchange held (their messages `; `-joined)
   double unconstrained_max = kInf;  ///< the equal-ripple answer's largest |error| (rad), which breaks it
+  /// Variables at a bound (issue 44): the exchange (LM within the bounds) ended on a bound with
+  /// fewer extrema than the free variables ask for (nx + 1 - k for k bounds), so it was not a
+  /// minimax on the bound's surface. Then descent steps along the surface (BoundDescent) and the
+  /// exchange again with the bounds held as constraints (ConstrainedExchange).
+  bool bound_stage = false;       ///< the descent and that exchange ran
+  std::string bounds;             ///< the bounds held (`; `-joined), empty when none
+  double bound_start_max = kInf;  ///< the largest |error| (rad) where the exchange ended on them
+  int bound_steps = 0;            ///< descent steps along the bounds' surface
+  int bound_reference = 0;        ///< nx + 1 - k: the extrema of the exchange with them held
+  bool bounds_converged = false;  ///< that exchange's extrema equal to 1e-9 relative
+  std::string bound_why;          ///< why it did not converge
 };
 
 namespace function_internal {
@@ -826,12 +839,33 @@ double TransmissionAmount(FunctionEvaluator<M>& eval, const std::vector<double>&
   return below ? t.constraints.mu_lo - vb : -vb - t.constraints.mu_hi;
 }
 
+/// The name of variable j of the vector searched: a design variable's, or a start angle's.
+template <class M>
+std::string VariableName(const BoundFunction<M>& b, int j) {
+  if (j < b.nv) return b.task.variables[static_cast<size_t>(j)].name;
+  return j == b.nv ? "the input's start angle" : "the output's start angle";
+}
+
+/// A variable at its bound as a constraint of the exchange (its message; its amount x_j - hi_j or
+/// lo_j - x_j, ConstraintAmount).
+template <class M>
+std::string BoundMessage(const BoundFunction<M>& b, int j, bool upper) {
+  return VariableName(b, j) + " at its " + (upper ? "upper" : "lower") + " bound";
+}
+
 /// The signed amount of the constraint `what` at x (the amount its flag gets: > 0 broken, <= 0
-/// met): a parameter-only one (path.h CheckParameterConstraints) or the transmission angle's
-/// bounds over the range (TransmissionAmount); NaN when no constraint by that message is checked.
+/// met): a variable's bound (BoundMessage: exactly linear), a parameter-only one (path.h
+/// CheckParameterConstraints) or the transmission angle's bounds over the range
+/// (TransmissionAmount); NaN when no constraint by that message is checked.
 template <class M>
 double ConstraintAmount(FunctionEvaluator<M>& eval, const std::vector<double>& x, const std::string& what) {
   const BoundFunction<M>& b = eval.bound();
+  for (int j = 0; j < b.nx; ++j)
+    for (bool upper : {false, true})
+      if (what == BoundMessage(b, j, upper)) {
+        const size_t i = static_cast<size_t>(j);
+        return upper ? x[i] - b.hi[i] : b.lo[i] - x[i];
+      }
   if (what == kMuBelow || what == kMuAbove)
     return b.task.constraints.has_mu ? TransmissionAmount(eval, x, what == kMuBelow)
                                      : std::numeric_limits<double>::quiet_NaN();
@@ -1050,6 +1084,111 @@ std::vector<double> ConstrainedExchange(FunctionEvaluator<M>* eval,
   return last;
 }
 
+/// The variables of x at a bound (within 1e-9 of the bound's span): their indices into *held,
+/// their messages (BoundMessage) into *what.
+template <class M>
+void AtBounds(const BoundFunction<M>& b, const std::vector<double>& x, std::vector<int>* held, std::vector<std::string>* what) {
+  held->clear(), what->clear();
+  for (int j = 0; j < b.nx; ++j) {
+    const size_t i = static_cast<size_t>(j);
+    const double tol = 1e-9 * std::max(b.hi[i] - b.lo[i], 1e-300);
+    const bool upper = x[i] >= b.hi[i] - tol, lower = x[i] <= b.lo[i] + tol;
+    if (upper || lower) held->push_back(j), what->push_back(BoundMessage(b, j, upper));
+  }
+}
+
+/// Descent along the free variables (MinimaxStage), when the exchange ended on fewer extrema
+/// than the free variables ask for (nx + 1 - k, k the variables on a bound: AtBounds, again at
+/// each step): the variables on a bound fixed, the extrema of x's error at the largest
+/// magnitude (within 1e-6 relative: the active ones) are lowered together, d over the free
+/// variables with sigma_k g_k . d = -1 for each (g_k the generated gradient of the error at the
+/// extremum x_k, its own movement of second order there; the minimum-norm solution by SVD), and
+/// the largest |error| over the range along x + s d (the free variables clamped into their
+/// bounds: one that reaches its bound is held from the next step on) is minimised over s in
+/// [0, level] (the linear model reaches zero at s = level): 16 samples, then golden section (40
+/// steps) about the best. A step ends where another extremum has risen to the falling ones.
+/// Repeated while the error has fewer than nx + 1 - k alternating extrema (at most 8 steps);
+/// stops when no direction lowers the active extrema together or a step does not lower the
+/// largest error (a minimax of the free variables on fewer extrema: their gradients dependent).
+/// *worst: the largest |error| at the last x; returns the steps made.
+template <class M>
+int BoundDescent(FunctionEvaluator<M>* eval, std::vector<double>* x, double* worst) {
+  const BoundFunction<M>& b = eval->bound();
+  const int nx = b.nx;
+  auto largest_along = [&](const std::vector<double>& v) {
+    std::vector<double> vx, ve;
+    ++eval->evaluations;
+    if (!RangeExtrema(eval, v, &vx, &ve)) return kInf;
+    double w = 0;
+    for (double e : ve) w = std::max(w, std::abs(e));
+    return w;
+  };
+  int steps = 0;
+  for (int round = 0; round < 8; ++round) {
+    std::vector<int> held;
+    std::vector<std::string> unused;
+    AtBounds(b, *x, &held, &unused);
+    const int keep = nx + 1 - static_cast<int>(held.size());
+    std::vector<size_t> free;
+    for (int j = 0; j < nx; ++j)
+      if (std::find(held.begin(), held.end(), j) == held.end()) free.push_back(static_cast<size_t>(j));
+    std::vector<double> ex, ee;
+    ++eval->evaluations;
+    if (free.empty() || !RangeExtrema(eval, *x, &ex, &ee) || static_cast<int>(ex.size()) >= keep) break;
+    double level = 0;
+    for (double e : ee) level = std::max(level, std::abs(e));
+    if (!(level > 0)) break;
+    const auto p = eval->ParamsOf(*x);
+    std::vector<double> row(static_cast<size_t>(nx));
+    std::vector<Eigen::VectorXd> active;
+    for (size_t k = 0; k < ex.size(); ++k) {
+      if (std::abs(ee[k]) < (1 - 1e-6) * level) continue;
+      double e = 0;
+      eval->evaluations += 1 + nx;
+      if (!eval->RangeError(p, *x, ex[k], &e, row.data())) return steps;
+      Eigen::VectorXd g(static_cast<Eigen::Index>(free.size()));
+      for (size_t i = 0; i < free.size(); ++i) g(static_cast<Eigen::Index>(i)) = (ee[k] >= 0 ? 1.0 : -1.0) * row[free[i]];
+      active.push_back(g);
+    }
+    Eigen::MatrixXd G(static_cast<Eigen::Index>(active.size()), static_cast<Eigen::Index>(free.size()));
+    for (size_t k = 0; k < active.size(); ++k) G.row(static_cast<Eigen::Index>(k)) = active[k].transpose();
+    const Eigen::VectorXd minus = -Eigen::VectorXd::Ones(G.rows());
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(G, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const Eigen::VectorXd d = svd.solve(minus);
+    if (!d.allFinite() || (G * d - minus).norm() > 1e-6 * std::sqrt(static_cast<double>(G.rows()))) break;
+    auto along = [&](double s) {
+      std::vector<double> v = *x;
+      for (size_t i = 0; i < free.size(); ++i)
+        v[free[i]] = std::clamp(v[free[i]] + s * d(static_cast<Eigen::Index>(i)), b.lo[free[i]], b.hi[free[i]]);
+      return v;
+    };
+    const int K = 16;
+    int at = 0;
+    double fb = level;
+    for (int k = 1; k <= K; ++k) {
+      const double f = largest_along(along(level * k / K));
+      if (f < fb) fb = f, at = k;
+    }
+    double lo = level * std::max(at - 1, 0) / K, hi = level * std::min(at + 1, K) / K, sb = level * at / K;
+    const double gr = 0.5 * (std::sqrt(5.0) - 1);
+    double u = hi - gr * (hi - lo), w = lo + gr * (hi - lo), fu = largest_along(along(u)), fw = largest_along(along(w));
+    for (int it = 0; it < 40; ++it) {
+      if (fu < fw) {
+        hi = w, w = u, fw = fu, u = hi - gr * (hi - lo), fu = largest_along(along(u));
+      } else {
+        lo = u, u = w, fu = fw, w = lo + gr * (hi - lo), fw = largest_along(along(w));
+      }
+    }
+    if (fu < fb) fb = fu, sb = u;
+    if (fw < fb) fb = fw, sb = w;
+    if (!(fb < level * (1 - 1e-12))) break;
+    *x = along(sb);
+    *worst = fb;
+    ++steps;
+  }
+  return steps;
+}
+
 }  // namespace function_internal
 
 /// The Remez exchange (`fit: minimax`) from x: the reference, nx + 1 alternating extrema of
@@ -1076,18 +1215,59 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
   m.start_max = m.max_angle = largest(ee);
   std::vector<double> best = *x;
   auto finish = [&]() {
-    // The constraints: an answer that breaks a parameter-only one is exchanged again with it active.
     // The constraints: an answer that breaks one the stage sees is exchanged again with it
     // active; when that answer breaks another, again with both (from where the last ended), and
     // so on while two extrema at least are left.
     std::vector<double> start = best;
     std::vector<std::string> active;
+    // Fewer extrema than the free variables ask for (nx + 1 - k, k of them on a bound): not a
+    // minimax of the free variables (the reduced exchange's LM takes the nearest equal-ripple
+    // point, not the lowest; or LM within the bounds stopped on one). Descent along the free
+    // variables until nx + 1 - k alternating extrema, then the exchange with the bounds met
+    // held as constraints (each one extremum fewer, as the transmission angle's bound), kept
+    // when it lowers the largest error.
+    std::vector<int> held;
+    std::vector<std::string> held_what;
+    function_internal::AtBounds(b, best, &held, &held_what);
+    if (m.reference >= 2 && m.reference < nx + 1 - static_cast<int>(held.size())) {
+      m.bound_stage = true;
+      m.bound_start_max = m.max_angle;
+      std::vector<double> xd = best;
+      double wd = m.max_angle;
+      m.bound_steps = function_internal::BoundDescent(eval, &xd, &wd);
+      if (wd < m.max_angle) best = xd, m.max_angle = wd;
+      function_internal::AtBounds(b, best, &held, &held_what);
+      for (const std::string& w : held_what) m.bounds += (m.bounds.empty() ? "" : "; ") + w;
+      m.bound_reference = nx + 1 - static_cast<int>(held.size());
+      std::vector<double> bx, be;
+      ++eval->evaluations;
+      if (!RangeExtrema(eval, best, &bx, &be) || static_cast<int>(bx.size()) < m.bound_reference) {
+        m.bound_why = "the descent left fewer than " + std::to_string(m.bound_reference) +
+                      " alternating extrema (a minimax of the free variables on fewer: their gradients dependent)";
+      } else {
+        const std::string why = m.why;
+        const bool constrained = m.constrained_converged;
+        const double before = m.max_angle;
+        std::vector<double> trial = best;
+        function_internal::ConstrainedExchange(eval, held_what, best, &trial, &m);
+        m.bounds_converged = m.constrained_converged;
+        m.bound_why = m.bounds_converged ? std::string() : m.why;
+        m.constrained_converged = constrained, m.why = why;
+        if (m.max_angle <= before) {
+          best = trial;
+        } else {
+          m.max_angle = before;
+        }
+        if (m.bounds_converged) active = held_what;
+      }
+      start = best;
+    }
     for (;;) {
       const std::string broken = function_internal::BrokenConstraint(*eval, start);
       if (broken.empty() || std::find(active.begin(), active.end(), broken) != active.end() ||
           static_cast<int>(active.size()) + 1 > nx - 1)
         break;
-      if (active.empty()) m.unconstrained_max = m.max_angle;
+      if (m.constraint.empty()) m.unconstrained_max = m.max_angle;
       active.push_back(broken);
       m.constraint += (m.constraint.empty() ? "" : "; ") + broken;
       m.active = static_cast<int>(active.size());
@@ -1494,6 +1674,14 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
            (m.active > 1 ? "them active (" + std::to_string(m.active) + " extrema fewer), "
                          : std::string("it active (one extremum fewer), ")) +
            (m.constrained_converged ? "converged" : "not converged: " + m.why) + "\n";
+    if (m.bound_stage)
+      s += "the exchange ended on " + std::to_string(m.reference) + " extrema (largest |error| " +
+           Short(m.bound_start_max * std::abs(to_y), 6) + " in y), fewer than the " + std::to_string(m.bound_reference) +
+           " the free variables ask for: " + std::to_string(m.bound_steps) +
+           " descent steps lowering its largest extrema together, then the exchange on " +
+           std::to_string(m.bound_reference) + " extrema" +
+           (m.bounds.empty() ? std::string() : " with " + m.bounds + " held (one extremum fewer per bound)") + ", " +
+           (m.bounds_converged ? "converged" : "not converged: " + m.bound_why) + "\n";
     if (std::isfinite(m.max_angle)) {
       s += "largest |structural error| over the range (extrema located): " + Short(m.max_angle * std::abs(to_y), 6) +
            " in y (" + Short(ToDegrees(m.max_angle), 6) + " deg of output); the accuracy points' answer: " +
