@@ -178,7 +178,7 @@ void SetNaN(const M& model, typename StaticsTypes<M>::Statics* s) {
 /// Every value Model::Forces fills is finite (NaN and inf are not); stiffness and d2V_dq2
 /// (Model::Stiffness) are not checked.
 template <class M>
-MECHGEN_ALWAYS_INLINE bool AllFinite(const M& model, const typename StaticsTypes<M>::Statics& s) {
+bool AllFinite(const M& model, const typename StaticsTypes<M>::Statics& s) {
   using F = StaticsFeatures<M>;
   if constexpr (ModelCalls<M>::kView) {
     // (The same entries, each run of adjacent ones in one loop: s is on the view's layout.)
@@ -400,10 +400,17 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
         f_finite = zero == 0;
         f_change = fc;
         f_scale = fs;
-      } else {
-        f_finite = Finite(f);
       }
-      if (!internal::AllFinite<M>(model, out->statics) || !f_finite) {
+      // (A generated M: Finite(f) only after AllFinite, as before.)
+      auto f_ok = [&] {
+        if constexpr (C::kView) {
+          return f_finite;
+        } else {
+          (void)f_finite;
+          return Finite(f);
+        }
+      };
+      if (!internal::AllFinite<M>(model, out->statics) || !f_ok()) {
         return finish(Status::kDidNotConverge, "friction iteration diverged", false);
       }
       if constexpr (C::kView) {
