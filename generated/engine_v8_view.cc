@@ -413,6 +413,77 @@ constexpr int kShakingSize = SizeOf<Shaking<double>>();
   (void)v;
   return p;
 }
+// Whether Params<double> lies in the view's parameter array as its members do (each free
+// parameter at its index, nothing else in the struct): then the functions read the array
+// itself as the struct, with nothing copied (ParamsArg).
+static_assert(std::is_standard_layout_v<Params<double>>, "Params is a plain struct");
+[[maybe_unused]] constexpr bool kParamsInPlace =
+    sizeof(Params<double>) == Params<double>::kNames.size() * sizeof(double) &&
+    alignof(Params<double>) == alignof(double) &&
+    offsetof(Params<double>, bore) == 0 * sizeof(double) &&
+    offsetof(Params<double>, r) == 1 * sizeof(double) &&
+    offsetof(Params<double>, l) == 2 * sizeof(double) &&
+    offsetof(Params<double>, e) == 3 * sizeof(double) &&
+    offsetof(Params<double>, m_rod) == 4 * sizeof(double) &&
+    offsetof(Params<double>, l_G) == 5 * sizeof(double) &&
+    offsetof(Params<double>, J_rod) == 6 * sizeof(double) &&
+    offsetof(Params<double>, m_pis) == 7 * sizeof(double) &&
+    offsetof(Params<double>, m_crank) == 8 * sizeof(double) &&
+    offsetof(Params<double>, J_fly) == 9 * sizeof(double) &&
+    offsetof(Params<double>, strokes) == 10 * sizeof(double) &&
+    offsetof(Params<double>, T_load) == 11 * sizeof(double) &&
+    offsetof(Params<double>, c_load) == 12 * sizeof(double) &&
+    offsetof(Params<double>, gamma_1) == 13 * sizeof(double) &&
+    offsetof(Params<double>, beta_1) == 14 * sizeof(double) &&
+    offsetof(Params<double>, phase_1) == 15 * sizeof(double) &&
+    offsetof(Params<double>, z_1) == 16 * sizeof(double) &&
+    offsetof(Params<double>, p_gas_1) == 17 * sizeof(double) &&
+    offsetof(Params<double>, gamma_2) == 18 * sizeof(double) &&
+    offsetof(Params<double>, beta_2) == 19 * sizeof(double) &&
+    offsetof(Params<double>, phase_2) == 20 * sizeof(double) &&
+    offsetof(Params<double>, z_2) == 21 * sizeof(double) &&
+    offsetof(Params<double>, p_gas_2) == 22 * sizeof(double) &&
+    offsetof(Params<double>, gamma_3) == 23 * sizeof(double) &&
+    offsetof(Params<double>, beta_3) == 24 * sizeof(double) &&
+    offsetof(Params<double>, phase_3) == 25 * sizeof(double) &&
+    offsetof(Params<double>, z_3) == 26 * sizeof(double) &&
+    offsetof(Params<double>, p_gas_3) == 27 * sizeof(double) &&
+    offsetof(Params<double>, gamma_4) == 28 * sizeof(double) &&
+    offsetof(Params<double>, beta_4) == 29 * sizeof(double) &&
+    offsetof(Params<double>, phase_4) == 30 * sizeof(double) &&
+    offsetof(Params<double>, z_4) == 31 * sizeof(double) &&
+    offsetof(Params<double>, p_gas_4) == 32 * sizeof(double) &&
+    offsetof(Params<double>, gamma_5) == 33 * sizeof(double) &&
+    offsetof(Params<double>, beta_5) == 34 * sizeof(double) &&
+    offsetof(Params<double>, phase_5) == 35 * sizeof(double) &&
+    offsetof(Params<double>, z_5) == 36 * sizeof(double) &&
+    offsetof(Params<double>, p_gas_5) == 37 * sizeof(double) &&
+    offsetof(Params<double>, gamma_6) == 38 * sizeof(double) &&
+    offsetof(Params<double>, beta_6) == 39 * sizeof(double) &&
+    offsetof(Params<double>, phase_6) == 40 * sizeof(double) &&
+    offsetof(Params<double>, z_6) == 41 * sizeof(double) &&
+    offsetof(Params<double>, p_gas_6) == 42 * sizeof(double) &&
+    offsetof(Params<double>, gamma_7) == 43 * sizeof(double) &&
+    offsetof(Params<double>, beta_7) == 44 * sizeof(double) &&
+    offsetof(Params<double>, phase_7) == 45 * sizeof(double) &&
+    offsetof(Params<double>, z_7) == 46 * sizeof(double) &&
+    offsetof(Params<double>, p_gas_7) == 47 * sizeof(double) &&
+    offsetof(Params<double>, gamma_8) == 48 * sizeof(double) &&
+    offsetof(Params<double>, beta_8) == 49 * sizeof(double) &&
+    offsetof(Params<double>, phase_8) == 50 * sizeof(double) &&
+    offsetof(Params<double>, z_8) == 51 * sizeof(double) &&
+    offsetof(Params<double>, p_gas_8) == 52 * sizeof(double);
+// The parameters at v as Params<double>: the array itself where kParamsInPlace, else a copy.
+template <bool kInPlace>
+struct ParamsArg {
+  explicit ParamsArg(const double* v) : p(*At<Params<double>>(v)) {}
+  const Params<double>& p;
+};
+template <>
+struct ParamsArg<false> {
+  explicit ParamsArg(const double* v) : p(GetParams(v)) {}
+  const Params<double> p;
+};
 
 // The derived parameters' definitions (the model's `derived:`), from the free ones.
 void FillDerived(double* p) {
@@ -486,7 +557,8 @@ void FlatPhi(const double* p,
              double* Phi,
              double* Phi_phi,
              double* Phi_q) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -514,7 +586,8 @@ void FlatCoeffs(const double* p,
                 const double* phi,
                 double* out,
                 const double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -563,7 +636,8 @@ void FlatForces(const double* p,
                 const double* friction,
                 const double* trig,
                 const double* velocities) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -620,7 +694,8 @@ void FlatDynamics(const double* p,
                   double* out,
                   const double* friction,
                   const double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -690,7 +765,8 @@ void FlatKinetostatics(const double* p,
                        double* out,
                        const double* friction,
                        const double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -756,7 +832,8 @@ void FlatExcessDynamics(const double* p,
                         double t,
                         double* out,
                         const double* friction) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -814,7 +891,8 @@ void FlatShaking(const double* p,
                  const double* c,
                  double* out,
                  const double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -874,7 +952,8 @@ void FlatStiffness(const double* p,
                    const double* phi,
                    const double* c,
                    double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -899,7 +978,8 @@ void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
                    double* det_Phi_phi) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -918,7 +998,8 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
                                    int max_iterations,
                                    double tolerance,
                                    double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_io_;
@@ -956,7 +1037,8 @@ void FlatScene(const double* p,
                const double* q,
                const double* phi,
                double* r) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -972,7 +1054,8 @@ void FlatAppliedLoads(const double* p,
                       const double* q,
                       const double* phi,
                       double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -989,7 +1072,8 @@ void FlatDrawing(const double* p,
                  const double* phi,
                  double* frames,
                  double* values) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;

@@ -183,6 +183,30 @@ constexpr int kKinematicsSize = SizeOf<Kinematics<double>>();
   (void)v;
   return p;
 }
+// Whether Params<double> lies in the view's parameter array as its members do (each free
+// parameter at its index, nothing else in the struct): then the functions read the array
+// itself as the struct, with nothing copied (ParamsArg).
+static_assert(std::is_standard_layout_v<Params<double>>, "Params is a plain struct");
+[[maybe_unused]] constexpr bool kParamsInPlace =
+    sizeof(Params<double>) == Params<double>::kNames.size() * sizeof(double) &&
+    alignof(Params<double>) == alignof(double) &&
+    offsetof(Params<double>, a) == 0 * sizeof(double) &&
+    offsetof(Params<double>, b) == 1 * sizeof(double) &&
+    offsetof(Params<double>, c) == 2 * sizeof(double) &&
+    offsetof(Params<double>, d) == 3 * sizeof(double) &&
+    offsetof(Params<double>, xi) == 4 * sizeof(double) &&
+    offsetof(Params<double>, eta) == 5 * sizeof(double);
+// The parameters at v as Params<double>: the array itself where kParamsInPlace, else a copy.
+template <bool kInPlace>
+struct ParamsArg {
+  explicit ParamsArg(const double* v) : p(*At<Params<double>>(v)) {}
+  const Params<double>& p;
+};
+template <>
+struct ParamsArg<false> {
+  explicit ParamsArg(const double* v) : p(GetParams(v)) {}
+  const Params<double> p;
+};
 
 // The derived parameters' definitions (the model's `derived:`), from the free ones.
 void FillDerived(double* p) {
@@ -207,7 +231,8 @@ void FlatPhi(const double* p,
              double* Phi,
              double* Phi_phi,
              double* Phi_q) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -235,7 +260,8 @@ void FlatCoeffs(const double* p,
                 const double* phi,
                 double* out,
                 const double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -280,7 +306,8 @@ void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
                    double* det_Phi_phi) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -296,7 +323,8 @@ void FlatTransmissionAngles(const double* p,
                             const double* q,
                             const double* phi,
                             double* mu) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -315,7 +343,8 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
                                    int max_iterations,
                                    double tolerance,
                                    double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_io_;
@@ -353,7 +382,8 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
                                        const double* q,
                                        const int* modes,
                                        double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
@@ -379,7 +409,8 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
                                         const int* modes,
                                         double* trig,
                                         double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
@@ -422,7 +453,8 @@ void FlatScene(const double* p,
                const double* q,
                const double* phi,
                double* r) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -439,7 +471,8 @@ void FlatDrawing(const double* p,
                  const double* phi,
                  double* frames,
                  double* values) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;

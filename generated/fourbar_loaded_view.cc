@@ -333,6 +333,42 @@ constexpr int kStaticsDesignSize = SizeOf<StaticsDesign<double>>();
   (void)v;
   return p;
 }
+// Whether Params<double> lies in the view's parameter array as its members do (each free
+// parameter at its index, nothing else in the struct): then the functions read the array
+// itself as the struct, with nothing copied (ParamsArg).
+static_assert(std::is_standard_layout_v<Params<double>>, "Params is a plain struct");
+[[maybe_unused]] constexpr bool kParamsInPlace =
+    sizeof(Params<double>) == Params<double>::kNames.size() * sizeof(double) &&
+    alignof(Params<double>) == alignof(double) &&
+    offsetof(Params<double>, a) == 0 * sizeof(double) &&
+    offsetof(Params<double>, b) == 1 * sizeof(double) &&
+    offsetof(Params<double>, c) == 2 * sizeof(double) &&
+    offsetof(Params<double>, d) == 3 * sizeof(double) &&
+    offsetof(Params<double>, xi) == 4 * sizeof(double) &&
+    offsetof(Params<double>, eta) == 5 * sizeof(double) &&
+    offsetof(Params<double>, xE) == 6 * sizeof(double) &&
+    offsetof(Params<double>, yE) == 7 * sizeof(double) &&
+    offsetof(Params<double>, k) == 8 * sizeof(double) &&
+    offsetof(Params<double>, L0) == 9 * sizeof(double) &&
+    offsetof(Params<double>, F0) == 10 * sizeof(double) &&
+    offsetof(Params<double>, Fx) == 11 * sizeof(double) &&
+    offsetof(Params<double>, Fy) == 12 * sizeof(double) &&
+    offsetof(Params<double>, Tr) == 13 * sizeof(double) &&
+    offsetof(Params<double>, g) == 14 * sizeof(double) &&
+    offsetof(Params<double>, m1) == 15 * sizeof(double) &&
+    offsetof(Params<double>, m2) == 16 * sizeof(double) &&
+    offsetof(Params<double>, m3) == 17 * sizeof(double);
+// The parameters at v as Params<double>: the array itself where kParamsInPlace, else a copy.
+template <bool kInPlace>
+struct ParamsArg {
+  explicit ParamsArg(const double* v) : p(*At<Params<double>>(v)) {}
+  const Params<double>& p;
+};
+template <>
+struct ParamsArg<false> {
+  explicit ParamsArg(const double* v) : p(GetParams(v)) {}
+  const Params<double> p;
+};
 
 // The derived parameters' definitions (the model's `derived:`), from the free ones.
 void FillDerived(double* p) {
@@ -369,7 +405,8 @@ void FlatPhi(const double* p,
              double* Phi,
              double* Phi_phi,
              double* Phi_q) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -397,7 +434,8 @@ void FlatCoeffs(const double* p,
                 const double* phi,
                 double* out,
                 const double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -446,7 +484,8 @@ void FlatForces(const double* p,
                 const double* friction,
                 const double* trig,
                 const double* /*velocities*/) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -498,7 +537,8 @@ void FlatStiffness(const double* p,
                    const double* phi,
                    const double* c,
                    double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -524,7 +564,8 @@ void FlatDesign(const double* p,
                 const double* q,
                 const double* phi,
                 double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -555,7 +596,8 @@ template <int = 0>
 void FlatDesignChecks(const double* p,
                       double* margin,
                       double* dmargin_dp) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNumDesignChecks> margin_;
   if (margin != nullptr) Get(margin, &margin_);
   Mat<double, Sizes::kNumDesignChecks, Sizes::kNumDesign> dmargin_dp_;
@@ -574,7 +616,8 @@ void FlatStaticsDesign(const double* p,
                        const double* c,
                        const double* dc,
                        double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -613,7 +656,8 @@ void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
                    double* det_Phi_phi) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -629,7 +673,8 @@ void FlatTransmissionAngles(const double* p,
                             const double* q,
                             const double* phi,
                             double* mu) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -648,7 +693,8 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
                                    int max_iterations,
                                    double tolerance,
                                    double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_io_;
@@ -686,7 +732,8 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
                                        const double* q,
                                        const int* modes,
                                        double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
@@ -712,7 +759,8 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
                                         const int* modes,
                                         double* trig,
                                         double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
@@ -755,7 +803,8 @@ void FlatScene(const double* p,
                const double* q,
                const double* phi,
                double* r) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -771,7 +820,8 @@ void FlatAppliedLoads(const double* p,
                       const double* q,
                       const double* phi,
                       double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -788,7 +838,8 @@ void FlatDrawing(const double* p,
                  const double* phi,
                  double* frames,
                  double* values) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;

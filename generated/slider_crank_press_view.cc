@@ -205,6 +205,32 @@ constexpr int kStaticsSize = SizeOf<Statics<double>>();
   (void)v;
   return p;
 }
+// Whether Params<double> lies in the view's parameter array as its members do (each free
+// parameter at its index, nothing else in the struct): then the functions read the array
+// itself as the struct, with nothing copied (ParamsArg).
+static_assert(std::is_standard_layout_v<Params<double>>, "Params is a plain struct");
+[[maybe_unused]] constexpr bool kParamsInPlace =
+    sizeof(Params<double>) == Params<double>::kNames.size() * sizeof(double) &&
+    alignof(Params<double>) == alignof(double) &&
+    offsetof(Params<double>, a) == 0 * sizeof(double) &&
+    offsetof(Params<double>, b) == 1 * sizeof(double) &&
+    offsetof(Params<double>, P0) == 2 * sizeof(double) &&
+    offsetof(Params<double>, h) == 3 * sizeof(double) &&
+    offsetof(Params<double>, g) == 4 * sizeof(double) &&
+    offsetof(Params<double>, m1) == 5 * sizeof(double) &&
+    offsetof(Params<double>, m2) == 6 * sizeof(double) &&
+    offsetof(Params<double>, m3) == 7 * sizeof(double);
+// The parameters at v as Params<double>: the array itself where kParamsInPlace, else a copy.
+template <bool kInPlace>
+struct ParamsArg {
+  explicit ParamsArg(const double* v) : p(*At<Params<double>>(v)) {}
+  const Params<double>& p;
+};
+template <>
+struct ParamsArg<false> {
+  explicit ParamsArg(const double* v) : p(GetParams(v)) {}
+  const Params<double> p;
+};
 
 // The derived parameters' definitions (the model's `derived:`), from the free ones.
 void FillDerived(double* p) {
@@ -231,7 +257,8 @@ void FlatPhi(const double* p,
              double* Phi,
              double* Phi_phi,
              double* Phi_q) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -259,7 +286,8 @@ void FlatCoeffs(const double* p,
                 const double* phi,
                 double* out,
                 const double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -308,7 +336,8 @@ void FlatForces(const double* p,
                 const double* friction,
                 const double* trig,
                 const double* /*velocities*/) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -360,7 +389,8 @@ void FlatStiffness(const double* p,
                    const double* phi,
                    const double* c,
                    double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -386,7 +416,8 @@ void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
                    double* det_Phi_phi) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -405,7 +436,8 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
                                    int max_iterations,
                                    double tolerance,
                                    double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_io_;
@@ -443,7 +475,8 @@ void FlatScene(const double* p,
                const double* q,
                const double* phi,
                double* r) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -459,7 +492,8 @@ void FlatAppliedLoads(const double* p,
                       const double* q,
                       const double* phi,
                       double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -476,7 +510,8 @@ void FlatDrawing(const double* p,
                  const double* phi,
                  double* frames,
                  double* values) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;

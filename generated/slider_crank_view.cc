@@ -195,6 +195,27 @@ constexpr int kDesignDerivativesSize = SizeOf<DesignDerivatives<double>>();
   (void)v;
   return p;
 }
+// Whether Params<double> lies in the view's parameter array as its members do (each free
+// parameter at its index, nothing else in the struct): then the functions read the array
+// itself as the struct, with nothing copied (ParamsArg).
+static_assert(std::is_standard_layout_v<Params<double>>, "Params is a plain struct");
+[[maybe_unused]] constexpr bool kParamsInPlace =
+    sizeof(Params<double>) == Params<double>::kNames.size() * sizeof(double) &&
+    alignof(Params<double>) == alignof(double) &&
+    offsetof(Params<double>, a) == 0 * sizeof(double) &&
+    offsetof(Params<double>, b) == 1 * sizeof(double) &&
+    offsetof(Params<double>, e) == 2 * sizeof(double);
+// The parameters at v as Params<double>: the array itself where kParamsInPlace, else a copy.
+template <bool kInPlace>
+struct ParamsArg {
+  explicit ParamsArg(const double* v) : p(*At<Params<double>>(v)) {}
+  const Params<double>& p;
+};
+template <>
+struct ParamsArg<false> {
+  explicit ParamsArg(const double* v) : p(GetParams(v)) {}
+  const Params<double> p;
+};
 
 // The derived parameters' definitions (the model's `derived:`), from the free ones.
 void FillDerived(double* p) {
@@ -216,7 +237,8 @@ void FlatPhi(const double* p,
              double* Phi,
              double* Phi_phi,
              double* Phi_q) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -244,7 +266,8 @@ void FlatCoeffs(const double* p,
                 const double* phi,
                 double* out,
                 const double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -289,7 +312,8 @@ void FlatDesign(const double* p,
                 const double* q,
                 const double* phi,
                 double* out) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -318,7 +342,8 @@ template <int = 0>
 void FlatDesignChecks(const double* p,
                       double* margin,
                       double* dmargin_dp) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNumDesignChecks> margin_;
   if (margin != nullptr) Get(margin, &margin_);
   Mat<double, Sizes::kNumDesignChecks, Sizes::kNumDesign> dmargin_dp_;
@@ -335,7 +360,8 @@ void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
                    double* det_Phi_phi) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -354,7 +380,8 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
                                    int max_iterations,
                                    double tolerance,
                                    double* trig) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_io_;
@@ -392,7 +419,8 @@ void FlatScene(const double* p,
                const double* q,
                const double* phi,
                double* r) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
@@ -409,7 +437,8 @@ void FlatDrawing(const double* p,
                  const double* phi,
                  double* frames,
                  double* values) {
-  const Params<double> p_ = GetParams(p);
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;

@@ -386,7 +386,12 @@ FlatArgument Flatten(const Argument& a, const std::string& scalar, bool written_
     return lines;
   };
   if (type == "const Params<double>&")
-    return {"const double*", {"const Params<double> " + local + " = GetParams(" + n + ");"}, {}, local};
+    // (The view's array itself where it lies as Params<double> does: ParamsArg, kParamsInPlace.)
+    return {"const double*",
+            {"const ParamsArg<kParamsInPlace> " + local + "arg(" + n + ");",
+             "const Params<double>& " + local + " = " + local + "arg.p;"},
+            {},
+            local};
   if (type == "int") return {"int", {}, {}, n};
   if (type == "const double&") return {"double", {}, {}, n};
   // The struct `core` at its buffer n (view_buffers::At), and the check that it may be.

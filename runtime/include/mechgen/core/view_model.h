@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "mechgen/core/linear_algebra.h"
 #include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/core/model_view.h"
@@ -90,6 +91,39 @@ struct ViewModel {
   }
 
   const ModelView* view;
+  /// What ModelCalls<ViewModel> answers most often, read from the view once (the view does not
+  /// change): its sizes and what it has, each one load instead of the view's pointer, its flag
+  /// and the function pointer that the flag goes with, on every call of a continuation step
+  /// and a statics iteration.
+  struct Have {
+    int nq = 0, nphi = 0, nc = 0, num_points = 0;
+    bool K = false, L = false, points = false, point_velocities = false, point_accelerations = false,
+         coeffs_phi = false, solve = false, trig = false, statics = false,
+         solve_trig = false, rhs = false;
+    int num_reactions = 0, num_friction = 0;
+  };
+  Have have = HaveOf(*view);
+  static Have HaveOf(const ModelView& v) {
+    Have h;
+    h.nq = v.nq;
+    h.nphi = v.nphi;
+    h.nc = v.nc;
+    h.num_points = v.num_points;
+    h.K = v.flags.kHasK;
+    h.L = v.flags.kHasL;
+    h.points = v.num_points > 0 && v.flags.kHasPoints;
+    h.point_velocities = h.points && v.flags.kHasPointVelocities;
+    h.point_accelerations = h.points && v.flags.kHasPointAccelerations;
+    h.coeffs_phi = v.flags.kHasCoeffsPhi;
+    h.solve = v.flags.kHasSolve && v.Solve != nullptr;
+    h.trig = h.solve && v.flags.kHasTrig;
+    h.statics = v.flags.kHasStatics && v.flags.kHasStaticsQ && v.Forces != nullptr;
+    h.num_reactions = h.statics && v.flags.kHasStaticsR ? v.num_reactions : 0;
+    h.num_friction = h.statics && v.flags.kHasStaticsFriction ? v.num_friction : 0;
+    h.solve_trig = h.trig && v.flags.kHasSolveTrig && v.SolveTrig != nullptr;
+    h.rhs = v.flags.kHasRhs && v.flags.kHasRhsConstants && v.Rhs != nullptr && v.Prepare != nullptr;
+    return h;
+  }
   CoefficientsLayout coefficients;
   // ---- Statics: the layouts of its structs ----
   /// The statics' counts are the view's (ModelCalls<ViewModel>::NumReactions, NumFriction).
@@ -101,9 +135,18 @@ struct ViewModel {
     int Q = -1, drive = -1, V = -1, dV_dq = -1, d2V_dq2 = -1, stiffness = -1, R = -1, normal = -1, gain = -1,
         K_rel = -1;
     int size = 0;
+    /// The entries of the buffer that statics::internal::AllFinite checks (Q, drive, V and
+    /// dV_dq with the potential, R, normal: what Forces fills), as runs of adjacent entries
+    /// (members next to each other in the struct merged; the padding between two is not in a
+    /// run): the check is then one loop per run, not one per member.
+    struct Run {
+      int offset = 0, size = 0;
+    };
+    std::array<Run, 6> finite{};
+    int num_finite = 0;
   };
-  StaticsLayout statics = StaticsLayoutOf(*view);
-  static StaticsLayout StaticsLayoutOf(const ModelView& v) {
+  StaticsLayout statics = StaticsLayoutOf(*view, have);
+  static StaticsLayout StaticsLayoutOf(const ModelView& v, const Have& h) {
     const ViewLayout& s = v.Layout(ViewStruct::kStatics);
     auto offset = [&s](const char* name) {
       const ViewMember* m = FindMember(s, name);
@@ -121,6 +164,32 @@ struct ViewModel {
     l.gain = offset("gain");
     l.K_rel = offset("K_rel");
     l.size = s.size;
+    // The members AllFinite reads, at the sizes ModelCalls<ViewModel>::PlaceStatics maps them
+    // (HasPotential: V and dV_dq), in the order of their offsets, adjacent ones merged.
+    const bool potential = h.statics && l.V >= 0 && l.dV_dq >= 0;
+    std::array<StaticsLayout::Run, 6> runs{};
+    int n = 0;
+    auto add = [&runs, &n](int at, int size) {
+      if (at >= 0 && size > 0) runs[static_cast<size_t>(n++)] = {at, size};
+    };
+    add(l.Q, h.nq);
+    add(l.drive, h.nq);
+    if (potential) {
+      add(l.V, 1);
+      add(l.dV_dq, h.nq);
+    }
+    add(l.R, h.num_reactions);
+    add(l.normal, h.num_friction);
+    std::sort(runs.begin(), runs.begin() + n, [](const auto& a, const auto& b) { return a.offset < b.offset; });
+    for (int i = 0; i < n; ++i) {
+      if (l.num_finite > 0 && l.finite[static_cast<size_t>(l.num_finite - 1)].offset +
+                                      l.finite[static_cast<size_t>(l.num_finite - 1)].size ==
+                                  runs[static_cast<size_t>(i)].offset) {
+        l.finite[static_cast<size_t>(l.num_finite - 1)].size += runs[static_cast<size_t>(i)].size;
+      } else {
+        l.finite[static_cast<size_t>(l.num_finite++)] = runs[static_cast<size_t>(i)];
+      }
+    }
     return l;
   }
 
@@ -440,10 +509,10 @@ struct ModelCalls<ViewModel> {
   using Trig = internal::ViewTrig;
   using Modes = std::array<int, ModelView::kMaxBlocks>;
 
-  static int Nq(const M& m) { return m.view->nq; }
-  static int Nphi(const M& m) { return m.view->nphi; }
-  static int Nc(const M& m) { return m.view->nc; }
-  static int NumPoints(const M& m) { return m.view->num_points; }
+  static int Nq(const M& m) { return m.have.nq; }
+  static int Nphi(const M& m) { return m.have.nphi; }
+  static int Nc(const M& m) { return m.have.nc; }
+  static int NumPoints(const M& m) { return m.have.num_points; }
   static int NumBlocks(const M& m) { return HasSolve(m) ? m.view->num_blocks : 1; }
   static bool QIsAngle(const M& m, int i) { return m.view->q_is_angle[i]; }
   static bool PhiIsAngle(const M& m, int i) { return m.view->phi_is_angle[i]; }
@@ -481,15 +550,16 @@ struct ModelCalls<ViewModel> {
   }
   static const char* TransmissionJoint(const M& m, int t) { return m.view->transmission_joints[t]; }
 
-  static bool HasK(const M& m) { return m.view->flags.kHasK; }
-  static bool HasL(const M& m) { return m.view->flags.kHasL; }
-  static bool HasPoints(const M& m) { return m.view->num_points > 0 && m.view->flags.kHasPoints; }
-  static bool HasPointVelocities(const M& m) { return HasPoints(m) && m.view->flags.kHasPointVelocities; }
-  static bool HasPointAccelerations(const M& m) { return HasPoints(m) && m.view->flags.kHasPointAccelerations; }
-  static bool CoeffsHavePhi(const M& m) { return m.view->flags.kHasCoeffsPhi; }
-  static bool HasSolve(const M& m) { return m.view->flags.kHasSolve && m.view->Solve != nullptr; }
-  static bool HasTrig(const M& m) { return HasSolve(m) && m.view->flags.kHasTrig; }
-  static bool LoopFree(const M& m) { return m.view->nc == 0; }
+  // (ViewModel::Have: read from the view once.)
+  static bool HasK(const M& m) { return m.have.K; }
+  static bool HasL(const M& m) { return m.have.L; }
+  static bool HasPoints(const M& m) { return m.have.points; }
+  static bool HasPointVelocities(const M& m) { return m.have.point_velocities; }
+  static bool HasPointAccelerations(const M& m) { return m.have.point_accelerations; }
+  static bool CoeffsHavePhi(const M& m) { return m.have.coeffs_phi; }
+  static bool HasSolve(const M& m) { return m.have.solve; }
+  static bool HasTrig(const M& m) { return m.have.trig; }
+  static bool LoopFree(const M& m) { return m.have.nc == 0; }
 
   static void Phi(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, T::VecC* Phi,
                   T::MatCPhi* Phi_phi, T::MatCQ* Phi_q) {
@@ -509,31 +579,37 @@ struct ModelCalls<ViewModel> {
                   T::MatCQ* Phi_q) {
     ModelCalls::Phi(m, p, T::VecQ(q), T::VecPhi(phi), Phi, Phi_phi, Phi_q);
   }
-  /// Each member of c a map of its buffer at the view's sizes (empty where the model lacks it).
+  /// Each member of c a map of its buffer at the view's sizes; where the model lacks it, empty
+  /// as Coefficients() leaves it (every member placed, whichever: over a Coefficients() just
+  /// made, the compiler then drops that one's stores).
   static void MapCoefficients(const M& m, T::Coefficients* c) {
-    const ModelView& v = *m.view;
     const ViewModel::CoefficientsLayout& l = m.coefficients;
     double* const buffer = c->buffer.data();
-    const int nq = v.nq, nphi = v.nphi, np = v.num_points;
+    const int nq = m.have.nq, nphi = m.have.nphi, nc = m.have.nc, np = m.have.num_points;
     using Map = T::Coefficients::Map;
-    auto get = [buffer](int offset, Map* x, int rows, int cols) {
-      if (offset >= 0) new (x) Map(buffer + offset, rows, cols);  // (a Map is trivially destructible)
+    // (A Map is trivially destructible: placed anew over the old one.)
+    auto get = [buffer](int offset, Map* x, int rows, int cols, int rows_none, int cols_none) {
+      if (offset >= 0) {
+        new (x) Map(buffer + offset, rows, cols);
+      } else {
+        new (x) Map(nullptr, rows_none, cols_none);
+      }
     };
-    get(l.Phi, &c->Phi, v.nc, 1);
-    get(l.Phi_phi, &c->Phi_phi, v.nc, nphi);
-    get(l.K, &c->K, nphi, nq);
-    get(l.L, &c->L, nphi, nq * nq);
-    get(l.r_P, &c->r_P, 2, np);
-    get(l.K_P, &c->K_P, 2 * np, nq);
-    get(l.L_P, &c->L_P, 2 * np, nq * nq);
+    get(l.Phi, &c->Phi, nc, 1, 0, 1);
+    get(l.Phi_phi, &c->Phi_phi, nc, nphi, 0, 0);
+    get(l.K, &c->K, nphi, nq, 0, 0);
+    get(l.L, &c->L, nphi, nq * nq, 0, 0);
+    get(l.r_P, &c->r_P, 2, np, 2, 0);
+    get(l.K_P, &c->K_P, 2 * np, nq, 0, 0);
+    get(l.L_P, &c->L_P, 2 * np, nq * nq, 0, 0);
   }
   static void Coeffs(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi,
                      T::Coefficients* c, const Trig* trig = nullptr) {
-    const ModelView& v = *m.view;
     double* const buffer = c->buffer.data();
+    MapCoefficients(m, c);  // (before the call: see MapCoefficients)
     // (The view writes Coefficients whole: the buffer is not read, nothing to initialize.)
-    v.Coeffs(p.data(), q.data(), phi.data(), buffer, trig != nullptr && HasTrig(m) ? trig->buffer.data() : nullptr);
-    MapCoefficients(m, c);
+    m.view->Coeffs(p.data(), q.data(), phi.data(), buffer,
+                   trig != nullptr && HasTrig(m) ? trig->buffer.data() : nullptr);
   }
   template <class Mu>
   static void TransmissionAngles(const M& m, const ViewParams& p, const T::VecQ& q, const T::VecPhi& phi, Mu* mu) {
@@ -554,13 +630,9 @@ struct ModelCalls<ViewModel> {
   /// ignores them).
   static constexpr bool kDeclaresAtSpeed = true;
   // What this view's statics have (its flags; the sizes of ModelTypes<ViewModel>::Statics).
-  static bool HasStatics(const M& m) {
-    return m.view->flags.kHasStatics && m.view->flags.kHasStaticsQ && m.view->Forces != nullptr;
-  }
-  static int NumReactions(const M& m) { return HasStatics(m) && m.view->flags.kHasStaticsR ? m.view->num_reactions : 0; }
-  static int NumFriction(const M& m) {
-    return HasStatics(m) && m.view->flags.kHasStaticsFriction ? m.view->num_friction : 0;
-  }
+  static bool HasStatics(const M& m) { return m.have.statics; }
+  static int NumReactions(const M& m) { return m.have.num_reactions; }
+  static int NumFriction(const M& m) { return m.have.num_friction; }
   static bool HasReactions(const M& m) { return NumReactions(m) > 0; }
   static bool HasFriction(const M& m) { return NumFriction(m) > 0; }
   static bool HasPotential(const M& m) { return HasStatics(m) && m.statics.V >= 0 && m.statics.dV_dq >= 0; }
@@ -614,6 +686,17 @@ struct ModelCalls<ViewModel> {
     vec(&s->normal, l.normal, nf);
     vec(&s->gain, l.gain, nf);
     mat(&s->K_rel, l.K_rel, nf, nq);
+  }
+  /// statics::internal::AllFinite of *s placed on this view's layout: every entry that Forces
+  /// fills (ViewModel::StaticsLayout::finite) finite, one run of adjacent entries at a time.
+  static bool StaticsFinite(const M& m, const T::Statics& s) {
+    const double* const b = s.buffer.data();
+    bool finite = true;
+    for (int k = 0; k < m.statics.num_finite; ++k) {
+      const ViewModel::StaticsLayout::Run& r = m.statics.finite[static_cast<size_t>(k)];
+      finite = finite && internal::AllFinite(Eigen::Map<const Eigen::VectorXd>(b + r.offset, r.size));
+    }
+    return finite;
   }
   /// Model::Forces through the view, into *out's buffer (placed on this view first where it is
   /// not yet, SetNaNStatics): the view's function reads what it does not write, which keeps its
@@ -714,13 +797,8 @@ struct ModelCalls<ViewModel> {
   using VecKinetoFriction = T::VecFriction;
 
   static bool HasDynamics(const M& m) { return m.view->flags.kHasDynamics && m.view->Dynamics != nullptr; }
-  static bool HasSolveTrig(const M& m) {
-    return HasTrig(m) && m.view->flags.kHasSolveTrig && m.view->SolveTrig != nullptr;
-  }
-  static bool HasRhs(const M& m) {
-    return m.view->flags.kHasRhs && m.view->flags.kHasRhsConstants && m.view->Rhs != nullptr &&
-           m.view->Prepare != nullptr;
-  }
+  static bool HasSolveTrig(const M& m) { return m.have.solve_trig; }
+  static bool HasRhs(const M& m) { return m.have.rhs; }
   /// The modes of the switching items: the first NumSwitches(m) entries (the others stay 0).
   using SwitchModesArray = std::array<int, ModelView::kMaxSwitches>;
   static int NumSwitches(const M& m) {
@@ -774,24 +852,26 @@ struct ModelCalls<ViewModel> {
   }
   static ViewSolveReport Rhs(const M& m, const ViewParams& p, const T::RhsConstantsOut& rc, const T::VecQ& q,
                              const T::VecQ& qd, double t, const Modes& modes, Trig* trig, T::RhsOut* r) {
-    const ModelView& v = *m.view;
     const ViewModel::DynamicsLayouts::Rhs& l = m.dynamics_layouts.rhs;
     double* const b = r->buffer.data();
-    internal::FillEntries(b, l.size, 0.0);
-    const ViewSolveReport report =
-        v.Rhs(p.data(), rc.buffer.data(), q.data(), qd.data(), t, modes.data(), trig->buffer.data(), b, nullptr);
-    const int nq = v.nq, nphi = v.nphi;
-    // The members as maps of the buffer (a Map is trivially destructible): nothing copied.
+    const int nq = m.have.nq, nphi = m.have.nphi;
+    // The members as maps of the buffer (a Map is trivially destructible): nothing copied. Placed
+    // before the call, right over the ones RhsOut() placed: the compiler drops those stores.
     using MatMap = T::RhsOut::MatMap;
     using VecMap = T::RhsOut::VecMap;
     new (&r->K) MatMap(b + l.K, nphi, nq);
     new (&r->I) MatMap(b + l.I, nq, nq);
     new (&r->h) VecMap(b + l.h, nq);
     new (&r->Q) VecMap(b + l.Q, nq);
+    new (&r->Phi_phi) MatMap(b + l.Phi_phi, nphi, nphi);
+    // The buffer is not initialized: the generated Rhs stores every entry of its struct (the
+    // fixed-size instantiation reads its RhsT, left uninitialized, after the same call), or
+    // returns a status other than kConverged, after which nothing is read.
+    const ViewSolveReport report =
+        m.view->Rhs(p.data(), rc.buffer.data(), q.data(), qd.data(), t, modes.data(), trig->buffer.data(), b, nullptr);
     r->T = b[l.T];
     r->V = b[l.V];
     r->P_nc = b[l.P_nc];
-    new (&r->Phi_phi) MatMap(b + l.Phi_phi, nphi, nphi);
     return report;
   }
   /// The view's SwitchModes into the first NumSwitches(m) entries of *modes.

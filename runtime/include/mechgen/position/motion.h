@@ -65,10 +65,16 @@ void ComputeMotion(const State<M>& state,
   using T = ModelTypes<M>;
   // The sizes: the model's (for a ViewModel, the state's, which State(model) set).
   const int nq = static_cast<int>(state.q.size()), np = static_cast<int>(state.r_P.cols());
-  *motion = Motion<M>(nq, static_cast<int>(state.phi.size()), np);
-  motion->qd = qd;
-  motion->qdd = qdd;
-  if (!state.valid) return;
+  if (!state.valid) {
+    *motion = Motion<M>(nq, static_cast<int>(state.phi.size()), np);
+    motion->qd = qd;
+    motion->qdd = qdd;
+    return;
+  }
+  // Every member is written below (v_P and a_P NaN where the model lacks them): *motion is not
+  // set to NaN first (for the view that would be six more bounded matrices filled and copied).
+  Assign(&motion->qd, qd);
+  Assign(&motion->qdd, qdd);
   auto qd_qd = Sized<typename T::VecQQ>(nq * nq);  // (qd (x) qd)(j + kNq k) = qd_j qd_k
   for (int k = 0; k < nq; ++k) qd_qd.segment(nq * k, nq) = qd * qd(k);
   // (Times: for the view the coefficient-based products the fixed sizes get, not Eigen's
@@ -81,10 +87,14 @@ void ComputeMotion(const State<M>& state,
   if constexpr (ModelFeatures<M>::kHasPointVelocities) {
     const VecP v = Times(state.K_P, qd);
     motion->v_P = Eigen::Map<const typename T::MatRP>(v.data(), 2, np);  // v(2m + a) -> (a, m)
+  } else {
+    motion->v_P = NaNs<typename T::MatRP>();
   }
   if constexpr (ModelFeatures<M>::kHasPointAccelerations) {
     const VecP a = Times(state.K_P, qdd) + Times(state.L_P, qd_qd);
     motion->a_P = Eigen::Map<const typename T::MatRP>(a.data(), 2, np);
+  } else {
+    motion->a_P = NaNs<typename T::MatRP>();
   }
 }
 

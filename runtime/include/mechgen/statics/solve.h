@@ -106,6 +106,35 @@ MECHGEN_ALWAYS_INLINE void Fill(X* x, Eigen::Index rows, Eigen::Index cols, doub
   }
 }
 
+/// max_i |x_i| of a vector with at least one entry: Eigen's cwiseAbs().maxCoeff() for a
+/// fixed-size x; for a bounded dynamic one (the view's map) the same maximum by MaxAbsDiff()
+/// when every entry is finite (the maximum of finite values is the same in any order), and
+/// Eigen's reduction only where one is not (whose NaN handling depends on its order).
+template <class X>
+MECHGEN_ALWAYS_INLINE double MaxAbs(const X& x) {
+  if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
+    return x.cwiseAbs().maxCoeff();
+  } else {
+    const double m = ::mechgen::internal::MaxAbsDiff(x);
+    return m == m ? m : x.cwiseAbs().maxCoeff();
+  }
+}
+
+/// A.row(J).dot(e): Eigen's for a fixed-size A; for a bounded dynamic one (the view's map) the
+/// same sum in Eigen's order (a run-time length: A(J, 0) e_0 + A(J, 1) e_1 + ..., one term after
+/// the other), without its dynamic-size reduction.
+template <class A, class E>
+MECHGEN_ALWAYS_INLINE double RowDot(const A& a, int J, const E& e) {
+  if constexpr (A::SizeAtCompileTime != Eigen::Dynamic) {
+    return a.row(J).dot(e);
+  } else {
+    const Eigen::Index n = e.size();
+    double sum = a(J, 0) * e(0);
+    for (Eigen::Index k = 1; k < n; ++k) sum += a(J, k) * e(k);
+    return sum;
+  }
+}
+
 /// Whether the model's statics have friction joints (constant for a generated M).
 template <class M>
 MECHGEN_ALWAYS_INLINE constexpr bool HasFriction(const M& model) {
@@ -151,6 +180,10 @@ void SetNaN(const M& model, typename StaticsTypes<M>::Statics* s) {
 template <class M>
 bool AllFinite(const M& model, const typename StaticsTypes<M>::Statics& s) {
   using F = StaticsFeatures<M>;
+  if constexpr (ModelCalls<M>::kView) {
+    // (The same entries, each run of adjacent ones in one loop: s is on the view's layout.)
+    if (s.view == model.view) return ModelCalls<M>::StaticsFinite(model, s);
+  }
   using ::mechgen::internal::Finite;  // (allFinite(); for the view without Eigen's reductions)
   bool finite = Finite(s.Q) && Finite(s.drive);
   if constexpr (F::kHasPotential)
@@ -316,7 +349,7 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
   internal::Evaluate<M>(model, p, q, phi, c, nullptr, &out->statics, velocities);
   s.iterations = 1;
   if constexpr (F::kHasReactions)
-    if (C::HasReactions(model)) s.reaction_norm = out->statics.R.cwiseAbs().maxCoeff();
+    if (C::HasReactions(model)) s.reaction_norm = internal::MaxAbs(out->statics.R);
   if (!(s.condition <= options.max_condition)) {
     return finish(Status::kSingular, "cond_1(Phi_phi) > Options::max_condition (a dead point)",
                   true);
@@ -331,9 +364,12 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
     if (nf == 0) return finish(Status::kConverged, "", false);  // (a view without friction)
     // sign(K_rel_J . e): K_rel depends on the configuration only.
     auto sign = Sized<VecF>(nf);
-    for (int J = 0; J < nf; ++J)
-      sign(J) = Sign(out->statics.K_rel.row(J).dot(direction));
-    if (sign.isZero()) return finish(Status::kConverged, "", false);
+    bool moving = false;
+    for (int J = 0; J < nf; ++J) {
+      sign(J) = Sign(internal::RowDot(out->statics.K_rel, J, direction));
+      moving = moving || sign(J) != 0;
+    }
+    if (!moving) return finish(Status::kConverged, "", false);
     VecF f_prev = internal::Zeros<VecF>(nf);
     typename Types::VecQ drive_prev;
     Assign(&drive_prev, out->statics.drive);
@@ -347,18 +383,42 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
       internal::Evaluate<M>(model, p, q, phi, c, &f, &out->statics, velocities);
       ++s.iterations;
       Assign(&out->friction, f);
-      if (!internal::AllFinite<M>(model, out->statics) || !Finite(f)) {
+      double drive_change = 0, f_change = 0, drive_scale = 0, f_scale = 0;
+      bool f_finite = true;
+      if constexpr (C::kView) {
+        // Finite(f), max |f - f_prev| and max |f| in one loop over the friction joints (f_prev
+        // is finite: the last iteration's f, or 0), the maxima the same as MaxAbsDiff()'s where
+        // every entry is finite (else the iteration stops below, and they are not read).
+        double fc = 0, fs = 0, zero = 0;
+        for (int J = 0; J < nf; ++J) {
+          const double x = f(J);
+          zero += x - x;
+          const double d = std::abs(x - f_prev(J)), a = std::abs(x);
+          fc = fc > d ? fc : d;
+          fs = fs > a ? fs : a;
+        }
+        f_finite = zero == 0;
+        f_change = fc;
+        f_scale = fs;
+      }
+      // (A generated M: Finite(f) only after AllFinite, as before.)
+      auto f_ok = [&] {
+        if constexpr (C::kView) {
+          return f_finite;
+        } else {
+          (void)f_finite;
+          return Finite(f);
+        }
+      };
+      if (!internal::AllFinite<M>(model, out->statics) || !f_ok()) {
         return finish(Status::kDidNotConverge, "friction iteration diverged", false);
       }
-      double drive_change = 0, f_change = 0, drive_scale = 0, f_scale = 0;
       if constexpr (C::kView) {
         // The same maxima of these finite values by MaxAbsDiff(), without Eigen's dynamic-size
         // reductions.
         using ::mechgen::internal::MaxAbsDiff;
         drive_change = MaxAbsDiff(out->statics.drive, &drive_prev);
-        f_change = MaxAbsDiff(f, &f_prev);
         drive_scale = MaxAbsDiff(out->statics.drive);
-        f_scale = MaxAbsDiff(f);
       } else {
         drive_change = (out->statics.drive - drive_prev).template lpNorm<Eigen::Infinity>();
         f_change = (f - f_prev).template lpNorm<Eigen::Infinity>();

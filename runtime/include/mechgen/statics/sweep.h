@@ -167,7 +167,7 @@ Status EvaluateRecord(const M& model, const Options& options, const typename Mod
   typename ModelTypes<M>::Coefficients c;
   bool from_state = false;
   if constexpr (ModelFeatures<M>::kCoeffsHavePhi && ModelFeatures<M>::kHasK) {
-    from_state = C::CoeffsHavePhi(model) && C::HasK(model) && state.Phi_phi.allFinite();
+    from_state = C::CoeffsHavePhi(model) && C::HasK(model) && ::mechgen::internal::Finite(state.Phi_phi);
     if (from_state) C::StaticsCoefficients(model, state, &c);
   }
   if (!from_state) C::Coeffs(model, p, state.q, state.phi, &c);

@@ -115,15 +115,17 @@ int SweepRows(position::PositionSolver<M, Assembler>* solver,
   double u_prev = 0;   // where the previous row ended (its q)
   double u_asked = 0;  // the input the previous row asked for
   const SweepRecord<M> nan_record(solver->model());  // every number NaN, at the model's sizes
+  // The one record: a row that converges (or stops at a singular configuration) writes every
+  // member of it that has a value (q, the summary, the state, the motion, the transmission
+  // angles and the design derivatives where the model has them and they are asked for), the
+  // same ones on every row, the others NaN from here; a row without values starts again from
+  // nan_record. (Setting it to NaN before every row cost, for the view, a copy of every
+  // bounded matrix of the record per row.)
   SweepRecord<M> record = nan_record;
   for (int i = 0; i <= steps; ++i) {
-    if constexpr (ModelCalls<M>::kView) {
-      record = nan_record;
-    } else {
-      record = SweepRecord<M>();
-    }
     if (stopped) {
       // Not run: the input this row would have been solved at, values NaN.
+      record = nan_record;
       u_asked += dir / steps;
       record.q = (i == steps && dir > 0) ? q_end : at(u_asked);
       record.state.q = record.q;
@@ -179,6 +181,12 @@ int SweepRows(position::PositionSolver<M, Assembler>* solver,
         ++failures;
       }
     } else {
+      // No values: every number NaN but the input asked for and the step's summary.
+      const position::Summary summary = record.summary;
+      const VecQ q = record.q;
+      record = nan_record;
+      record.q = q;
+      record.summary = summary;
       record.state.q = record.q;
       ++failures;
     }
