@@ -70,11 +70,11 @@ struct MinimalOptions {
   /// Stop (kStoppedByEvent, Event::kSpeedZero) where qd(0) changes sign.
   bool stop_at_speed_zero = false;
   /// Events are located to |t - t_event| <= event_tolerance (s).
-  double event_tolerance = 1e-12;
+  double event_tolerance = kEventTolerance;
   /// Samples every sample_dt from t0 (and at the end); 0: at every accepted step.
   double sample_dt = 0;
   /// A run whose sample grid would hand out more samples than this is refused (kInvalidInput).
-  int max_samples = 100000000;
+  int max_samples = kMaxSimulationSamples;
   /// Energy-keeping long runs: after each accepted step scale qd so that T + V - W equals its
   /// initial value (T* = E0 + W - V; qd <- qd sqrt(T* / T) when T* > 0 and T > energy_floor
   /// |E0|-scale; skipped near rest, where |qd| carries no energy to correct). One extra
@@ -93,10 +93,10 @@ struct MinimalOptions {
   /// switch_min_interval (s) after the last restart is stepped through (counted in
   /// MinimalSummary::switches_through), and after max_switch_restarts restarts every later
   /// switch is (the summary's message says so).
-  double switch_min_interval = 1e-6;
-  int max_switch_restarts = 1000;
+  double switch_min_interval = kSwitchMinInterval;
+  int max_switch_restarts = kMaxSwitchRestarts;
   /// Newton blocks of M::Solve: iterations and tolerance (0: the generated default).
-  int max_solver_iterations = 20;
+  int max_solver_iterations = kMaxSolverIterations;
   double solver_tolerance = 0;
 
   /// Stop at a periodic steady state (simulator.h: per cycle of one coordinate, the change of
@@ -901,6 +901,8 @@ class MinimalDynamics {
 
  private:
   friend struct internal::EventLoop;
+  template <class, class, class, class>
+  friend class internal::EventLoopRun;
   static constexpr bool kCanProjectEnergy = true;
   using Friction = CoulombFriction<M>;
 
