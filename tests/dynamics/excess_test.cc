@@ -95,6 +95,43 @@ TEST(Excess, StabilizationReducesTheDriftOfALooseRun) {
   EXPECT_LT(projected.summary.max_Phi, 1e-3 * plain.summary.max_Phi);
 }
 
+TEST(Excess, IsASystemOfTheOneSimulatorAndStopsWhereTheMinimalMethodDoes) {
+  // From rest at pi/2 the crank swings and turns back. The simulator's witnesses on the excess
+  // method's dense output find the speed's zero (the turning point), and the user's event
+  // (the crank 0.1 rad from its start), where the minimal method (a different formulation of
+  // the same motion) finds them.
+  auto run = [](bool speed_zero, bool user_event, mechgen::dynamics::Event expected) {
+    auto user = [user_event](double, const Vec1& q, const Vec1&, const auto&) {
+      return user_event ? std::abs(q(0) - kPi / 2) - 0.1 : 1.0;
+    };
+    mechgen::dynamics::MinimalOptions mo;
+    mo.integrator.rtol = 1e-12;
+    mo.integrator.atol = 1e-13;
+    mo.stop_at_speed_zero = speed_zero;
+    mechgen::dynamics::MinimalDynamics<hw::Model, Dop853> minimal(hw::Params<double>(), mo);
+    ASSERT_TRUE(minimal.Initialize(Vec1(kPi / 2)));
+    mechgen::dynamics::MinimalSummary ms;
+    EXPECT_TRUE(minimal.Simulate(0.0, Vec1(kPi / 2), Vec1(0.0), 10.0, [](const auto&) { return true; }, user, &ms));
+    ExcessOptions o;
+    o.integrator.rtol = 1e-12;
+    o.integrator.atol = 1e-13;
+    o.projection = true;
+    o.stop_at_speed_zero = speed_zero;
+    ExcessDynamics<hw::Model, Dop853> excess(hw::Params<double>(), o);
+    ExcessSummary es;
+    EXPECT_TRUE(excess.Simulate(0.0, Vec1(kPi / 2), Vec1(0.0), Eigen::Vector2d(0.5, 1.9), 10.0,
+                                [](const auto&) { return true; }, user, &es));
+    EXPECT_EQ(ms.event, expected);
+    EXPECT_EQ(es.event, expected);
+    EXPECT_EQ(es.status, mechgen::dynamics::Status::kStoppedByEvent);
+    EXPECT_NEAR(es.t_end, ms.t_end, 1e-7);
+    EXPECT_GT(es.t_end, 0.0);
+    EXPECT_GT(es.samples, 2);
+  };
+  run(true, false, mechgen::dynamics::Event::kSpeedZero);
+  run(false, true, mechgen::dynamics::Event::kUser);
+}
+
 TEST(Excess, KinematicsByIntegrationFollowsThePositionSolver) {
   const hw::Params<double> p;
   Eigen::Vector2d phi0(0.5, 1.9);

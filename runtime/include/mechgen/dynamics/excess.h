@@ -13,6 +13,11 @@
  * every accepted step: phi from the generated position solver at the integrated q (closed-form
  * blocks exactly), then phid = K qd. The drift |Phi|, |Phid| is reported.
  *
+ * It is a system of the one simulator (dynamics/system.h, simulator.h): the event loop steps
+ * it, samples it on the grid, projects it after each accepted step (its ProjectEnergy hook),
+ * and watches its witnesses (the speed's zero and the user's event; its samples carry no
+ * conditioning of Phi_phi, so no dead point is watched).
+ *
  * KinematicsByIntegration<M, Method>: Paul's differential-equation method of kinematics,
  * dphi/dq = K(q, phi) integrated in q (one-DOF models; kNq > 1 along a direction) instead of
  * solving the positions; its drift against the position solver is measured at every sample.
@@ -25,6 +30,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <type_traits>
 
 #include <Eigen/Core>
@@ -32,6 +38,7 @@
 
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/integrators.h"
+#include "mechgen/dynamics/simulator.h"
 
 namespace mechgen::dynamics {
 
@@ -44,6 +51,10 @@ struct ExcessOptions {
   bool projection = false;
   /// Samples every sample_dt (0: every accepted step).
   double sample_dt = 0;
+  /// Stop where the first input's speed changes sign (Event::kSpeedZero).
+  bool stop_at_speed_zero = false;
+  /// Events are located to |t - t_event| <= event_tolerance (s).
+  double event_tolerance = kEventTolerance;
 };
 
 struct ExcessSummary {
@@ -53,6 +64,16 @@ struct ExcessSummary {
   int projections = 0;
   int failed_projections = 0;
   bool IsSolutionUsable() const { return integrator.IsSolutionUsable(); }
+  // What the simulator reports of every run (simulator.h).
+  Status status = Status::kNotRun;
+  Event event = Event::kNone;
+  double t_end = 0;
+  int samples = 0;
+  int position_failures = 0;
+  double min_rcond_seen = 1;
+  double max_energy_error = 0;  ///< max |E - E0| over the samples (no work of loads here)
+  SteadyStateSummary steady;
+  std::string message;
 };
 
 namespace internal {
@@ -66,8 +87,12 @@ struct ExcessSample {
   static constexpr int kN = M::kNq + M::kNphi;
   double t = 0;
   Eigen::Matrix<double, kN, 1> x, xd;
+  /// x's parts, as the simulator's witnesses read them.
+  Eigen::Matrix<double, M::kNq, 1> q, qd;
+  Eigen::Matrix<double, M::kNphi, 1> phi;
   double T = 0, V = 0, E = 0;
   double Phi_norm = 0, Phid_norm = 0;
+  double rcond = 1, det = 1;  ///< (not evaluated: no dead point is watched)
 };
 
 template <class M, template <int> class Method = Dopri5>
@@ -114,69 +139,43 @@ class ExcessDynamics {
 
   /**
    * \brief Integrates from (q0, qd0) (phi solved at q0 from phi_guess on M::kDefaultModes,
-   * phid0 = K qd0: a consistent start) to t_end.
+   * phid0 = K qd0: a consistent start) to t_end by the one simulator; observer(sample) at
+   * every sample (false stops), user_event(t, q, qd, phi) a stop condition (NoUserEvent).
    */
-  template <class Observer>
+  template <class Observer, class UserEvent>
   bool Simulate(double t0, const VecQ& q0, const VecQ& qd0, const VecPhi& phi_guess, double t_end,
-                Observer&& observer, ExcessSummary* summary, SampleT* last = nullptr) {
+                Observer&& observer, UserEvent&& user_event, ExcessSummary* summary, SampleT* last = nullptr) {
     *summary = ExcessSummary();
     State y0;
     VecPhi phi = phi_guess, phid;
-    if (!Consistent(q0, qd0, &phi, &phid)) return false;
+    if (!(t_end > t0) || !Consistent(q0, qd0, &phi, &phid)) {
+      summary->status = Status::kInvalidInput;
+      summary->t_end = t0;
+      summary->message = "t_end <= t0, or the initial state does not assemble";
+      return false;
+    }
     y0.template head<kNq>() = q0;
     y0.template segment<kNphi>(kNq) = phi;
     y0.template segment<kNq>(kN) = qd0;
     y0.template segment<kNphi>(kN + kNq) = phid;
     integrator_.set_options(options_.integrator);
-    auto f = [this](double t, const State& y, State* dy) { return Derivative(t, y, dy); };
-    SampleT s;
-    Sample(t0, y0, &s);
-    Record(s, summary);
-    if (!observer(s)) return true;
-    int k = 1;
-    double next = t0 + options_.sample_dt;
-    IntegratorStatus is = integrator_.Start(f, t0, y0, t_end);
-    while (is == IntegratorStatus::kRunning) {
-      is = integrator_.Step(f);
-      if (is != IntegratorStatus::kRunning && is != IntegratorStatus::kSuccess) break;
-      const double t = integrator_.t();
-      const double tiny = 1e-12 * std::max(1.0, std::abs(t));
-      if (options_.sample_dt > 0) {
-        while (next < t - tiny) {
-          State y;
-          if (!integrator_.Dense(f, next, &y)) break;
-          Sample(next, y, &s);
-          Record(s, summary);
-          if (!observer(s)) return true;
-          next = t0 + options_.sample_dt * ++k;
-        }
-      }
-      if (options_.projection) {
-        State y = integrator_.y();
-        VecQ q = y.template head<kNq>();
-        VecQ qd = y.template segment<kNq>(kN);
-        VecPhi ph = y.template segment<kNphi>(kNq), phd;
-        if (Consistent(q, qd, &ph, &phd)) {
-          y.template segment<kNphi>(kNq) = ph;
-          y.template segment<kNphi>(kN + kNq) = phd;
-          integrator_.Reset(f, y);
-          ++summary->projections;
-        } else {
-          ++summary->failed_projections;
-        }
-      }
-      const bool on_grid = options_.sample_dt > 0 && std::abs(next - t) <= tiny;
-      if (on_grid) next = t0 + options_.sample_dt * ++k;
-      if (options_.sample_dt == 0 || on_grid || is == IntegratorStatus::kSuccess) {
-        Sample(t, integrator_.y(), &s);
-        Record(s, summary);
-        if (!observer(s)) break;
-      }
-    }
-    summary->integrator = integrator_.summary();
-    summary->integrator.status = is;
-    if (last != nullptr) Sample(integrator_.t(), integrator_.y(), last);
-    return summary->IsSolutionUsable();
+    internal::EventSettings events;
+    events.min_rcond = 0;  // (no conditioning evaluated)
+    events.event_tolerance = options_.event_tolerance;
+    events.sample_dt = options_.sample_dt;
+    events.stop_at_speed_zero = options_.stop_at_speed_zero;
+    events.energy_projection = options_.projection;  // the coordinate projection
+    failed_projections_ = 0;
+    const bool ok = internal::EventLoop::Run(this, events, t0, y0, t_end, observer, user_event, summary, last);
+    summary->failed_projections = failed_projections_;
+    return ok;
+  }
+  /// Simulate() without a user event.
+  template <class Observer>
+  bool Simulate(double t0, const VecQ& q0, const VecQ& qd0, const VecPhi& phi_guess, double t_end,
+                Observer&& observer, ExcessSummary* summary, SampleT* last = nullptr) {
+    NoUserEvent none;
+    return Simulate(t0, q0, qd0, phi_guess, t_end, observer, none, summary, last);
   }
 
   const Integrator& integrator() const { return integrator_; }
@@ -196,6 +195,9 @@ class ExcessDynamics {
     s->t = t;
     s->x = y.template head<kN>();
     s->xd = y.template segment<kN>(kN);
+    s->q = y.template head<kNq>();
+    s->phi = y.template segment<kNphi>(kNq);
+    s->qd = y.template segment<kNq>(kN);
     s->T = e.T;
     s->V = e.V;
     s->E = e.T + e.V;
@@ -203,9 +205,43 @@ class ExcessDynamics {
     s->Phid_norm = (e.Phi_x * s->xd).cwiseAbs().maxCoeff();
   }
 
+  // ---- the system's hooks (dynamics/system.h) ----
+  friend struct internal::EventLoop;
+  template <class, class, class, class>
+  friend class internal::EventLoopRun;
+  static constexpr bool kCanProjectEnergy = true;  ///< (the coordinate projection)
+  static constexpr bool kHasSwitches = false;
+  using SwitchModes = std::array<int, 0>;
+
   static void Record(const SampleT& s, ExcessSummary* summary) {
     summary->max_Phi = std::max(summary->max_Phi, s.Phi_norm);
     summary->max_Phid = std::max(summary->max_Phid, s.Phid_norm);
+  }
+  static double Balance(const SampleT& s) { return s.E; }
+  static void OnDeadPoint(SampleT*) {}
+  void EndRun() {}
+  bool Evaluate(double t, const State& y, SampleT* s) const {
+    Sample(t, y, s);
+    return true;
+  }
+  bool Accept(double t, const State& y, SampleT* cur) const { return Evaluate(t, y, cur); }
+  /// The coordinate projection of the accepted state (ExcessOptions::projection): phi solved at
+  /// the integrated q, phid = K qd, the integrator reset there; *cur the sample there.
+  template <class F>
+  bool ProjectEnergy(F& f, double /*E0*/, SampleT* cur) {
+    State y = integrator_.y();
+    VecQ q = y.template head<kNq>();
+    VecQ qd = y.template segment<kNq>(kN);
+    VecPhi ph = y.template segment<kNphi>(kNq), phd;
+    if (!Consistent(q, qd, &ph, &phd)) {
+      ++failed_projections_;
+      return false;
+    }
+    y.template segment<kNphi>(kNq) = ph;
+    y.template segment<kNphi>(kN + kNq) = phd;
+    integrator_.Reset(f, y);
+    Sample(cur->t, integrator_.y(), cur);
+    return true;
   }
 
   /// phi solved at q (generated solver, from *phi), phid = K qd.
@@ -221,6 +257,9 @@ class ExcessDynamics {
   Params p_;
   ExcessOptions options_;
   Integrator integrator_;
+  int position_failures_ = 0;
+  bool last_solve_not_assemblable_ = false, singular_inertia_ = false;
+  int failed_projections_ = 0;
 };
 
 /**

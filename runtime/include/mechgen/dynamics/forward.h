@@ -70,11 +70,11 @@ struct MinimalOptions {
   /// Stop (kStoppedByEvent, Event::kSpeedZero) where qd(0) changes sign.
   bool stop_at_speed_zero = false;
   /// Events are located to |t - t_event| <= event_tolerance (s).
-  double event_tolerance = 1e-12;
+  double event_tolerance = kEventTolerance;
   /// Samples every sample_dt from t0 (and at the end); 0: at every accepted step.
   double sample_dt = 0;
   /// A run whose sample grid would hand out more samples than this is refused (kInvalidInput).
-  int max_samples = 100000000;
+  int max_samples = kMaxSimulationSamples;
   /// Energy-keeping long runs: after each accepted step scale qd so that T + V - W equals its
   /// initial value (T* = E0 + W - V; qd <- qd sqrt(T* / T) when T* > 0 and T > energy_floor
   /// |E0|-scale; skipped near rest, where |qd| carries no energy to correct). One extra
@@ -93,10 +93,10 @@ struct MinimalOptions {
   /// switch_min_interval (s) after the last restart is stepped through (counted in
   /// MinimalSummary::switches_through), and after max_switch_restarts restarts every later
   /// switch is (the summary's message says so).
-  double switch_min_interval = 1e-6;
-  int max_switch_restarts = 1000;
+  double switch_min_interval = kSwitchMinInterval;
+  int max_switch_restarts = kMaxSwitchRestarts;
   /// Newton blocks of M::Solve: iterations and tolerance (0: the generated default).
-  int max_solver_iterations = 20;
+  int max_solver_iterations = kMaxSolverIterations;
   double solver_tolerance = 0;
 
   /// Stop at a periodic steady state (simulator.h: per cycle of one coordinate, the change of
@@ -545,6 +545,10 @@ class MinimalDynamics {
   MinimalDynamics(const M& model, const Params& params, const MinimalOptions& options = MinimalOptions(),
                   Load load = Load())
       : model_(model),
+        nq_(Calls::Nq(model)),
+        nphi_(Calls::Nphi(model)),
+        stages_by_trig_(ReadStagesByTrig(model)),
+        stages_by_rhs_(stages_by_trig_ && ReadHasRhs(model)),
         p_(params),
         options_(options),
         integrator_(options.integrator),
@@ -556,24 +560,14 @@ class MinimalDynamics {
 
   const M& model() const { return model_; }
   /// The model's inputs (kNq, or the view's at run time).
-  int Nq() const { return Calls::Nq(model_); }
-  int Nphi() const { return Calls::Nphi(model_); }
+  /// (Read once at construction: through the view each is a load from the view's table, and the
+  /// right-hand side asks for them at every stage.)
+  int Nq() const { return nq_; }
+  int Nphi() const { return nphi_; }
   /// Whether the stages solve by sin and cos only, and by M::Rhs (kStagesByTrig, kStagesByRhs;
   /// the view's model at run time).
-  bool StagesByTrig() const {
-    if constexpr (Calls::kView) {
-      return Calls::HasSolveTrig(model_) && Nphi() > 0;
-    } else {
-      return kStagesByTrig;
-    }
-  }
-  bool StagesByRhs() const {
-    if constexpr (Calls::kView) {
-      return StagesByTrig() && Calls::HasRhs(model_);
-    } else {
-      return kStagesByRhs;
-    }
-  }
+  bool StagesByTrig() const { return stages_by_trig_; }
+  bool StagesByRhs() const { return stages_by_rhs_; }
   /// The model's loads have switching points (kHasSwitches; the view's at run time).
   bool HasSwitches() const { return Calls::NumSwitches(model_) > 0; }
 
@@ -624,89 +618,16 @@ class MinimalDynamics {
    * \return false when the positions do not solve or I is not positive definite.
    */
   bool Derivative(double t, const State& y, State* dy) {
-    const VecQ q = QOf(y);
-    const VecQ qd = QdOf(y);
     last_.valid = false;
     if constexpr (kHasCoulomb) {
       if (coulomb_active_) return DerivativeCoulomb(t, y, dy);
     }
+    const VecQ q = QOf(y);
+    const VecQ qd = QdOf(y);
     if constexpr (kStagesByRhs) {
-      if (StagesByRhs()) {
-        // One generated pass (M::Rhs): positions by their sin and cos, K, L, I, h, Q.
-        last_solve_not_assemblable_ = false;
-        typename Calls::template RhsOut<M> r;
-        const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, modes_, &trig_, &r);
-        if (report.status != decltype(report.status)::kConverged) {
-          last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
-          ++position_failures_;
-          return false;
-        }
-        AddLoad(t, q, qd, r.K, &r.Q, &r.P_nc);
-        auto qdd = Sized<VecQ>(Nq());
-        if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
-        SetDerivative(qd, qdd, r.P_nc, dy);
-        if (caching_) {
-          last_.t = t;
-          last_.y = y;
-          last_.sample.phi = Predictor(q);  // the predictor; FromCache() corrects it
-          last_.sample.K = r.K;
-          last_.sample.qdd = qdd;
-          last_.sample.Q = r.Q;
-          last_.sample.T = r.T;
-          last_.sample.V = r.V;
-          last_.sample.P_nc = r.P_nc;
-          last_.Phi_phi = r.Phi_phi;
-          last_.trig = trig_;
-          last_.valid = true;
-        }
-        return true;
-      }
+      if (StagesByRhs()) return DerivativeByRhs(t, y, q, qd, dy);
     }
-    VecPhi phi = Predictor(q);
-    bool by_trig = false;
-    if constexpr (kStagesByTrig) by_trig = StagesByTrig();
-    if (by_trig) {
-      if constexpr (kStagesByTrig) {
-        // sin and cos only: phi stays the predictor, which the generated functions given trig
-        // do not read; FromCache() recovers the angles at an accepted step.
-        last_solve_not_assemblable_ = false;
-        const auto report = Calls::SolveTrig(model_, p_, q, modes_, &trig_);
-        if (report.status != decltype(report.status)::kConverged) {
-          last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
-          ++position_failures_;
-          return false;
-        }
-      }
-    } else if (!SolveAt(q, &phi)) {
-      ++position_failures_;
-      return false;
-    }
-    Coefficients c;
-    EvalCoefficients(q, phi, &c);
-    Dyn d;
-    EvalDynamics(q, phi, qd, t, c, &d);
-    auto qdd = Sized<VecQ>(Nq());
-    if (!SolveInertia(d, &qdd)) return false;
-    SetDerivative(qd, qdd, d.P_nc, dy);
-    if (caching_) {
-      // Simulate() reuses the last evaluation (the FSAL one at the accepted step's end) for
-      // the step's events and samples instead of evaluating that state again.
-      last_.t = t;
-      last_.y = y;
-      last_.sample.phi = phi;
-      last_.sample.K = c.K;
-      last_.sample.qdd = qdd;
-      last_.sample.Q = d.Q;
-      last_.sample.T = d.T;
-      last_.sample.V = d.V;
-      last_.sample.P_nc = d.P_nc;
-      if constexpr (kNphi != 0) last_.Phi_phi = c.Phi_phi;
-      if constexpr (kStagesByTrig) {
-        if (by_trig) last_.trig = trig_;
-      }
-      last_.valid = true;
-    }
-    return true;
+    return DerivativeBySolve(t, y, q, qd, dy);
   }
 
   /**
@@ -833,55 +754,12 @@ class MinimalDynamics {
     events.restart_at_switches = options_.restart_at_switches && kHasSwitches && HasSwitches();
     events.switch_min_interval = options_.switch_min_interval;
     events.max_switch_restarts = options_.max_switch_restarts;
-    coulomb_active_ = false;
-    friction_failed_ = false;
-    if constexpr (internal::MinimalCoulomb<M>::kHasFriction) {
-      // (The view: only where its model has friction joints, as a generated model's type says.)
-      if (options_.coulomb.enabled && Friction::Count(model_) > 0) {
-        if constexpr (!kHasCoulomb) {
-          summary->message = "Coulomb friction is not simulated with a caller's load";
-        } else {
-          const bool simulates = SimulatesCoulomb(q0);
-          if (simulates && SeveralInputs()) {
-            coulomb_active_ = true;
-            summary->coulomb = true;
-            if constexpr (kMaySeveralInputs) {
-              // Each joint slips along its relative velocity; those at relative rest decided.
-              if (!StartJoints(t0, &y0, summary)) {
-                EndRun();
-                summary->status = Status::kFrictionFailed;
-                summary->t_end = t0;
-                summary->integrator = integrator_.summary();
-                return false;
-              }
-            }
-          } else if (simulates) {
-            coulomb_active_ = true;
-            summary->coulomb = true;
-            // The first mode: slip along qd0, or the decision at rest.
-            stuck_ = false;
-            slip_dir_ = qd0(0) < 0 ? -1.0 : 1.0;
-            if (qd0(0) == 0) {
-              bool stuck = false;
-              double e = 1;
-              if (!DecideAtRest(t0, q0, &stuck, &e)) {
-                summary->message = "the friction at rest did not converge at the initial state";
-                EndRun();
-                summary->status = Status::kFrictionFailed;
-                summary->t_end = t0;
-                summary->integrator = integrator_.summary();
-                return false;
-              }
-              stuck_ = stuck;
-              slip_dir_ = e;
-            }
-            if (stuck_) {
-              summary->stick_intervals = 1;
-              summary->last_stick_start = t0;
-            }
-          }
-        }
-      }
+    if (!StartCoulomb(t0, q0, qd0, &y0, summary)) {
+      EndRun();
+      summary->status = Status::kFrictionFailed;
+      summary->t_end = t0;
+      summary->integrator = integrator_.summary();
+      return false;
     }
     events.stick_step = options_.stick_step;
     if constexpr (Calls::kView && kHasCoulomb) {
@@ -901,8 +779,60 @@ class MinimalDynamics {
 
  private:
   friend struct internal::EventLoop;
+  template <class, class, class, class>
+  friend class internal::EventLoopRun;
   static constexpr bool kCanProjectEnergy = true;
   using Friction = CoulombFriction<M>;
+
+  /// The run's first friction mode (MinimalSummary::coulomb; coulomb_active_ where it simulates
+  /// Coulomb friction): slip along qd0, or the decision at rest; several inputs each joint its
+  /// own (StartJoints). false (summary's message) when the friction at rest did not converge.
+  bool StartCoulomb(double t0, const VecQ& q0, const VecQ& qd0, State* y0, MinimalSummary* summary) {
+    (void)y0;  // (read with several inputs only)
+    coulomb_active_ = false;
+    friction_failed_ = false;
+    if constexpr (internal::MinimalCoulomb<M>::kHasFriction) {
+      // (The view: only where its model has friction joints, as a generated model's type says.)
+      if (!(options_.coulomb.enabled && Friction::Count(model_) > 0)) return true;
+      if constexpr (!kHasCoulomb) {
+        summary->message = "Coulomb friction is not simulated with a caller's load";
+        (void)t0, (void)q0, (void)qd0, (void)y0;
+      } else {
+        const bool simulates = SimulatesCoulomb(q0);
+        if (simulates && SeveralInputs()) {
+          coulomb_active_ = true;
+          summary->coulomb = true;
+          if constexpr (kMaySeveralInputs) {
+            // Each joint slips along its relative velocity; those at relative rest decided.
+            if (!StartJoints(t0, y0, summary)) return false;
+          }
+        } else if (simulates) {
+          coulomb_active_ = true;
+          summary->coulomb = true;
+          // The first mode: slip along qd0, or the decision at rest.
+          stuck_ = false;
+          slip_dir_ = qd0(0) < 0 ? -1.0 : 1.0;
+          if (qd0(0) == 0) {
+            bool stuck = false;
+            double e = 1;
+            if (!DecideAtRest(t0, q0, &stuck, &e)) {
+              summary->message = "the friction at rest did not converge at the initial state";
+              return false;
+            }
+            stuck_ = stuck;
+            slip_dir_ = e;
+          }
+          if (stuck_) {
+            summary->stick_intervals = 1;
+            summary->last_stick_start = t0;
+          }
+        }
+      }
+    } else {
+      (void)t0, (void)q0, (void)qd0, (void)y0, (void)summary;
+    }
+    return true;
+  }
 
   /// A friction joint with a coefficient (gain mu r or mu not 0) at the parameters, at q0.
   bool AnyCoulombGain(const VecQ& q0) {
@@ -1454,6 +1384,108 @@ class MinimalDynamics {
     return true;
   }
 
+  // ---- the right-hand side's two ways (Derivative) ----
+  /// By the one generated pass M::Rhs (kStagesByRhs).
+  bool DerivativeByRhs(double t, const State& y, const VecQ& q, const VecQ& qd, State* dy) {
+    // One generated pass (M::Rhs): positions by their sin and cos, K, L, I, h, Q.
+    last_solve_not_assemblable_ = false;
+    typename Calls::template RhsOut<M> r;
+    const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, modes_, &trig_, &r);
+    if (report.status != decltype(report.status)::kConverged) {
+      last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+      ++position_failures_;
+      return false;
+    }
+    AddLoad(t, q, qd, r.K, &r.Q, &r.P_nc);
+    auto qdd = Sized<VecQ>(Nq());
+    if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
+    SetDerivative(qd, qdd, r.P_nc, dy);
+    if (caching_) {
+      last_.t = t;
+      last_.y = y;
+      last_.sample.phi = Predictor(q);  // the predictor; FromCache() corrects it
+      last_.sample.K = r.K;
+      last_.sample.qdd = qdd;
+      last_.sample.Q = r.Q;
+      last_.sample.T = r.T;
+      last_.sample.V = r.V;
+      last_.sample.P_nc = r.P_nc;
+      last_.Phi_phi = r.Phi_phi;
+      last_.trig = trig_;
+      last_.valid = true;
+    }
+    return true;
+  }
+
+  /// By the positions (M::SolveTrig's sin and cos, or M::Solve), then the coefficients and
+  /// the dynamics.
+  bool DerivativeBySolve(double t, const State& y, const VecQ& q, const VecQ& qd, State* dy) {
+    VecPhi phi = Predictor(q);
+    bool by_trig = false;
+    if constexpr (kStagesByTrig) by_trig = StagesByTrig();
+    if (by_trig) {
+      if constexpr (kStagesByTrig) {
+        // sin and cos only: phi stays the predictor, which the generated functions given trig
+        // do not read; FromCache() recovers the angles at an accepted step.
+        last_solve_not_assemblable_ = false;
+        const auto report = Calls::SolveTrig(model_, p_, q, modes_, &trig_);
+        if (report.status != decltype(report.status)::kConverged) {
+          last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+          ++position_failures_;
+          return false;
+        }
+      }
+    } else if (!SolveAt(q, &phi)) {
+      ++position_failures_;
+      return false;
+    }
+    Coefficients c;
+    EvalCoefficients(q, phi, &c);
+    Dyn d;
+    EvalDynamics(q, phi, qd, t, c, &d);
+    auto qdd = Sized<VecQ>(Nq());
+    if (!SolveInertia(d, &qdd)) return false;
+    SetDerivative(qd, qdd, d.P_nc, dy);
+    if (caching_) {
+      // Simulate() reuses the last evaluation (the FSAL one at the accepted step's end) for
+      // the step's events and samples instead of evaluating that state again.
+      last_.t = t;
+      last_.y = y;
+      last_.sample.phi = phi;
+      last_.sample.K = c.K;
+      last_.sample.qdd = qdd;
+      last_.sample.Q = d.Q;
+      last_.sample.T = d.T;
+      last_.sample.V = d.V;
+      last_.sample.P_nc = d.P_nc;
+      if constexpr (kNphi != 0) last_.Phi_phi = c.Phi_phi;
+      if constexpr (kStagesByTrig) {
+        if (by_trig) last_.trig = trig_;
+      }
+      last_.valid = true;
+    }
+    return true;
+  }
+
+  /// StagesByTrig() of `model`: kStagesByTrig, or the view's at run time.
+  static bool ReadStagesByTrig(const M& model) {
+    if constexpr (Calls::kView) {
+      return Calls::HasSolveTrig(model) && Calls::Nphi(model) > 0;
+    } else {
+      (void)model;
+      return kStagesByTrig;
+    }
+  }
+  /// Whether the view's model has M::Rhs (a generated model: kStagesByRhs says).
+  static bool ReadHasRhs(const M& model) {
+    if constexpr (Calls::kView) {
+      return Calls::HasRhs(model);
+    } else {
+      (void)model;
+      return kStagesByRhs;
+    }
+  }
+
   // ---- the state's parts and the warm start, at the model's sizes ----
   // (The view: the entries copied by ::mechgen::internal::CopyEntries, without Eigen's
   // dynamic-size assignment, whose set-up costs more than a small model's few entries.)
@@ -1514,6 +1546,12 @@ class MinimalDynamics {
   }
 
   M model_;
+  // The model's sizes and how the stages solve, read once (Nq(), Nphi(), StagesByTrig(),
+  // StagesByRhs()).
+  int nq_;
+  int nphi_;
+  bool stages_by_trig_;
+  bool stages_by_rhs_;
   Params p_;
   MinimalOptions options_;
   Integrator integrator_;

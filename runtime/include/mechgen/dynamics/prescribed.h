@@ -321,22 +321,22 @@ struct PrescribedOptions {
   /// actuator forces of a sample there are withheld (NaN).
   double min_rcond = kMinRcond;
   /// Events are located to |t - t_event| <= event_tolerance (s).
-  double event_tolerance = 1e-12;
+  double event_tolerance = kEventTolerance;
   /// Samples every sample_dt from t0 (and at the end); 0: at every accepted step.
   double sample_dt = 0;
   /// A run whose sample grid would hand out more samples than this is refused (kInvalidInput).
-  int max_samples = 100000000;
-  int max_solver_iterations = 20;
+  int max_samples = kMaxSimulationSamples;
+  int max_solver_iterations = kMaxSolverIterations;
   double solver_tolerance = 0;
   /// A singular configuration approached: approach_steps accepted steps in a row with
   /// 1/cond_1(Phi_phi) < approach_rcond and falling also end the run with kDeadPoint (where
   /// the step size collapses before 1/cond reaches min_rcond).
-  double approach_rcond = 1e-3;
-  int approach_steps = 200;
+  double approach_rcond = kApproachRcond;
+  int approach_steps = kApproachSteps;
   /// Switching points of the model's loads: restarted at as MinimalOptions says (forward.h).
   bool restart_at_switches = true;
-  double switch_min_interval = 1e-6;
-  int max_switch_restarts = 1000;
+  double switch_min_interval = kSwitchMinInterval;
+  int max_switch_restarts = kMaxSwitchRestarts;
 
   /// Stop at a periodic steady state (simulator.h: per cycle of one coordinate, the change of
   /// the cycle-mean speed); off by default. Reported in the summary's `steady`.
@@ -1019,6 +1019,8 @@ class PrescribedDynamics {
   }
 
   friend struct internal::EventLoop;
+  template <class, class, class, class>
+  friend class internal::EventLoopRun;
   static constexpr bool kCanProjectEnergy = false;
 
   // ---- the hooks of the event loop (simulator.h) ----
