@@ -124,7 +124,10 @@ DynamicsJacobian::DynamicsJacobian(const Model& m, const SymbolicTable& t, const
     seeds.derivative[k.phi[i].symbol] = along_q([&](int l) { return slots(Slot::Kind::kK, i, l); });
     seeds.order.push_back(k.phi[i].symbol);
   }
-  for (const auto& [sym, slot] : reads.all()) {
+  for (const auto& [sym, read] : reads.all()) {
+    // A named copy: a lambda may not capture a structured binding in C++17 (GCC accepts it,
+    // clang rejects it).
+    const Slot& slot = read;
     std::vector<ex> v(2 * nq, 0);
     switch (slot.kind) {
       case Slot::Kind::kK:
