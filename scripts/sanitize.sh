@@ -6,7 +6,8 @@
 # run them run in the Release suite only) are built, and of the other per-model tools
 # (_statics, _simulate, _engine, _flywheel) only those a test runs (MECHGEN_ALL_MODEL_TOOLS=OFF,
 # the top-level CMakeLists.txt): one executable per model, most of this stage's build time
-# once. Every other test runs; extra ctest arguments are passed on (e.g. -R runtime to restrict it,
+# once. The GoogleTest programs are built and run here only (scripts/test.sh builds the
+# Release suite with MECHGEN_UNIT_TESTS=OFF). Every other test runs; extra ctest arguments are passed on (e.g. -R runtime to restrict it,
 # -LE slow to skip the slow ones). Two tests that repeat identical generator runs to compare
 # their bytes are left to the Release suite (GeneratedFiles.SameBytesOnEveryRun: six runs of
 # every shipped model; Report.SameBytesFromSeparateProcesses): this stage's build already runs
@@ -50,7 +51,7 @@ if command -v ccache >/dev/null; then
 fi
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-Og -g1 -DNDEBUG" \
-  -DMECHGEN_BUILD_BENCHMARKS=OFF -DMECHGEN_BUILD_SWEEPS=OFF -DMECHGEN_ALL_MODEL_TOOLS=OFF \
+  -DMECHGEN_BUILD_BENCHMARKS=OFF -DMECHGEN_BUILD_SWEEPS=OFF -DMECHGEN_ALL_MODEL_TOOLS=OFF -DMECHGEN_UNIT_TESTS=ON \
   -DMECHGEN_TEST_OPTIMIZATION=-Og \
   -DCMAKE_CXX_FLAGS="$sanitize" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
