@@ -202,6 +202,7 @@ using LobattoIIIA5 = LobattoIIIA<5>;
 template <int n, int m>
 bool SolveSmall(Eigen::Matrix<double, n, n> A, Eigen::Matrix<double, n, m>* B) {
   auto& X = *B;
+  // Column-major: every inner loop runs down a column (contiguous).
   for (int k = 0; k < n; ++k) {
     int p = k;
     for (int i = k + 1; i < n; ++i)
@@ -212,18 +213,23 @@ bool SolveSmall(Eigen::Matrix<double, n, n> A, Eigen::Matrix<double, n, m>* B) {
       for (int j = 0; j < m; ++j) std::swap(X(k, j), X(p, j));
     }
     const double inv = 1 / A(k, k);
-    for (int i = k + 1; i < n; ++i) {
-      const double l = A(i, k) * inv;
-      if (l == 0) continue;
-      for (int j = k + 1; j < n; ++j) A(i, j) -= l * A(k, j);
-      for (int j = 0; j < m; ++j) X(i, j) -= l * X(k, j);
+    for (int i = k + 1; i < n; ++i) A(i, k) *= inv;  // the multipliers l_ik
+    for (int j = k + 1; j < n; ++j) {
+      const double a_kj = A(k, j);
+      for (int i = k + 1; i < n; ++i) A(i, j) -= A(i, k) * a_kj;
+    }
+    for (int j = 0; j < m; ++j) {
+      const double x_kj = X(k, j);
+      for (int i = k + 1; i < n; ++i) X(i, j) -= A(i, k) * x_kj;
     }
   }
   for (int k = n - 1; k >= 0; --k) {
     const double inv = 1 / A(k, k);
-    for (int j = 0; j < m; ++j) X(k, j) *= inv;
-    for (int i = 0; i < k; ++i)
-      for (int j = 0; j < m; ++j) X(i, j) -= A(i, k) * X(k, j);
+    for (int j = 0; j < m; ++j) {
+      const double x_kj = X(k, j) * inv;
+      X(k, j) = x_kj;
+      for (int i = 0; i < k; ++i) X(i, j) -= A(i, k) * x_kj;
+    }
   }
   return X.allFinite();
 }
