@@ -27,9 +27,9 @@
  *
  * Two methods (SensitivityOptions::method; CVODES' choice of the sensitivities in the error
  * test or not):
- *  - kStaggered (the default, by measurement: bench/design/run.sh, 0.44x and 0.39x the N + 1
+ *  - kStaggered (the default, by measurement: bench/design/run.sh, 0.46x and 0.41x the N + 1
  *    simulations of forward differences on the massive four-bar and the five-bar against the
- *    simultaneous method's 1.14x and 1.40x, its steps those of a simulation where the
+ *    simultaneous method's 1.14x and 1.45x, its steps those of a simulation where the
  *    simultaneous method takes 1.5x): (q, qd) alone by Method with its own step and error
  *    test (the step the simulation of the values takes; its stages by the one-pass M::Rhs
  *    where the model has it, as the free simulation's); after each accepted step [t0, t1],
@@ -44,7 +44,7 @@
  *    against Richardson differences at rtol 1e-10, 1.5e-8 on the four-bar while its state was
  *    within 3e-10 (4 nodes: 4.9e-6, 3 nodes: 3.4e-4, the collocation's orders showing); 6
  *    nodes give 8.3e-10 there (1.9e-10 at rtol 1e-12), one evaluation of the partials more per
- *    step (Nodes = 5 stays for a cheaper, less exact run: 0.39x and 0.32x). The equations are
+ *    step (Nodes = 5 stays for a cheaper, less exact run: 0.39x and 0.33x). The equations are
  *    linear in (S, Sd): the collocation is one linear solve per step, of size 5 kNq (S
  *    eliminated by S_i = S0 + h sum_k a_ik Sd_k), for all kNp columns at once. The
  *    sensitivities are not in the error test (CVODES' errconS = false): the step is the
