@@ -69,9 +69,9 @@ if all(f"Trajectory/{k}/{m}" in med for m in NT for k in KEYS):
         print(f"    sensitivities, staggered (not in the error test) {s:10.1f} {u}   {steps(f'Trajectory/Sensitivities/{model}')}")
         print(f"    sensitivities, simultaneous (in the error test)  {si:10.1f} {u}   {steps(f'Trajectory/Simultaneous/{model}')}")
         print(f"    staggered, f_q and f_qd by Jets          {sj:10.1f} {u}")
-        k4 = f"Trajectory/Staggered4/{model}"
-        if k4 in med:
-            print(f"    staggered with 4 nodes (order 6)         {med[k4]:10.1f} {u}   {steps(k4)}   ({med[k4] / d:5.2f} x N + 1)")
+        k5 = f"Trajectory/Staggered5/{model}"
+        if k5 in med:
+            print(f"    staggered with 5 nodes (order 8)         {med[k5]:10.1f} {u}   {steps(k5)}   ({med[k5] / d:5.2f} x N + 1)")
         print(f"    adjoint gradient of one scalar           {a:10.1f} {u}   {steps(f'Trajectory/Adjoint/{model}')}")
         r, ri, ra = s / d, si / d, a / v
         print(f"    forward sensitivities / (N + 1 simulations) = {r:5.2f}   target <= {target:4.2f}   {'PASS' if r <= target else 'MISS'}"

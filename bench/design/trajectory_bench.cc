@@ -88,7 +88,7 @@ void Differences(benchmark::State& state) {
 // One run of the forward sensitivity equations by the staggered or the simultaneous method,
 // f_q and f_qd from the generated EvalDynamicsJacobian (jets = false) or from Jets of the
 // generated code (jets = true).
-template <class M, mechgen::dynamics::SensitivityMethod method, bool jets = false, int nodes = 5>
+template <class M, mechgen::dynamics::SensitivityMethod method, bool jets = false, int nodes = 6>
 void Sensitivities(benchmark::State& state) {
   const typename M::template ParamsT<double> p;
   mechgen::dynamics::SensitivityOptions o;
@@ -205,14 +205,14 @@ BENCHMARK(Differences<FourBar>)->Name("Trajectory/Differences/design_fourbar_mas
 BENCHMARK(Sensitivities<FourBar, kStaggered>)->Name("Trajectory/Sensitivities/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Sensitivities<FourBar, kSimultaneous>)->Name("Trajectory/Simultaneous/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Sensitivities<FourBar, kStaggered, true>)->Name("Trajectory/JetSensitivities/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
-BENCHMARK(Sensitivities<FourBar, kStaggered, false, 4>)->Name("Trajectory/Staggered4/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FourBar, kStaggered, false, 5>)->Name("Trajectory/Staggered5/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Adjoint<FourBar>)->Name("Trajectory/Adjoint/design_fourbar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Values<FiveBar>)->Name("Trajectory/Values/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Differences<FiveBar>)->Name("Trajectory/Differences/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Sensitivities<FiveBar, kStaggered>)->Name("Trajectory/Sensitivities/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Sensitivities<FiveBar, kSimultaneous>)->Name("Trajectory/Simultaneous/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Sensitivities<FiveBar, kStaggered, true>)->Name("Trajectory/JetSensitivities/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
-BENCHMARK(Sensitivities<FiveBar, kStaggered, false, 4>)->Name("Trajectory/Staggered4/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
+BENCHMARK(Sensitivities<FiveBar, kStaggered, false, 5>)->Name("Trajectory/Staggered5/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 BENCHMARK(Adjoint<FiveBar>)->Name("Trajectory/Adjoint/design_fivebar_massive")->Unit(benchmark::kMicrosecond);
 
 BENCHMARK(Derivative<FourBar>)->Name("Trajectory/Derivative/design_fourbar_massive");

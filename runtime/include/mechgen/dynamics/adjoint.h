@@ -11,17 +11,18 @@
  * The method is the discrete adjoint of dynamics/sensitivity.h's staggered method
  * (SensitivityMethod::kStaggered): the forward run is its state run (Method<2 kNq> with the
  * state's own step and error test; dead points and the predictor as there), keeping the state
- * at the 5 Lobatto nodes of every accepted step (the interior ones from the dense output:
- * 10 kNq + 2 doubles a step, the only storage; it allocates, as CVODES' checkpoints do). Over
+ * at the S Lobatto nodes of every accepted step (S = Nodes, 6 by default as there; the
+ * interior ones from the dense output: 2 S kNq + 2 doubles a step, the only storage; it
+ * allocates, as CVODES' checkpoints do). Over
  * each step the forward sensitivities are one linear map (S0, Sd0, f_p at the nodes) ->
  * (S1, Sd1) (TrajectorySensitivity::CollocationStep); the backward run applies its transpose,
  * step by step from t_end: with mu_S, mu_V the adjoints of S and Sd at the step's end (at
  * t_end: dg/dq, dg/dqd) and the integral by the same Lobatto quadrature at the same nodes
- * (sum over the steps of h sum_j b_j r(t_j, x_j), order 8),
+ * (sum over the steps of h sum_j b_j r(t_j, x_j), order 2 S - 2), with e = S - 1 the last node,
  *
- *     nu_k   = h a_4k mu_S + [k = 4] mu_V + h b_k r_qd,k + h^2 sum_j b_j a_jk r_q,j   (k = 0..4)
- *     w      = A^-T (nu_1 .. nu_4)                 (A the step's collocation matrix)
- *     lambda_j = h sum_{i=1..4} a_ij w_i           (the adjoint of Sd' at node j)
+ *     nu_k   = h a_ek mu_S + [k = e] mu_V + h b_k r_qd,k + h^2 sum_j b_j a_jk r_q,j   (k = 0..e)
+ *     w      = A^-T (nu_1 .. nu_e)                 (A the step's collocation matrix)
+ *     lambda_j = h sum_{i=1..e} a_ij w_i           (the adjoint of Sd' at node j)
  *     mu_S  <- mu_S + h sum_j b_j r_q,j + sum_j f_q,j^T lambda_j
  *     mu_V  <- nu_0 + sum_i (1 - C0_i)^T w_i
  *     dG/dp += sum_j lambda_j^T f_p,j + h sum_j b_j r_p,j     (and dg/dp at t_end)
@@ -30,9 +31,9 @@
  * (g_q S(t_end) + g_qd Sd(t_end) + g_p, and the quadrature of r_q S + r_qd Sd + r_p); at
  * t0, mu_S and mu_V are dG/dq0 and dG/dqd0.
  *
- * Cost: one run of the state (the steps of one simulation, with 3 dense-output evaluations a
- * step) and, backward, 4 evaluations of the partials a step (TrajectorySensitivity::Partials)
- * and one LU of size 4 kNq. The adjoint's own arithmetic is independent of N; f_p at a node
+ * Cost: one run of the state (the steps of one simulation, with S - 2 dense-output evaluations
+ * a step) and, backward, S - 1 evaluations of the partials a step
+ * (TrajectorySensitivity::Partials) and one LU of size (S - 1) kNq. The adjoint's own arithmetic is independent of N; f_p at a node
  * is not: the generated EvalDesignDerivatives and EvalDynamicsDesign are a forward mode in p
  * (all N columns), where the adjoint needs only the product lambda^T f_p (a reverse-mode
  * product the generator does not emit). bench/design/run.sh prints the cost in simulations.
@@ -81,7 +82,7 @@ inline std::string FormatSummary(const AdjointSummary& s) {
  * AdjointSensitivity<M, Method>: dG/dp of a scalar G of the free motion of M (see the file
  * comment). Initialize() at q0, then Gradient().
  */
-template <class M, template <int> class Method = Dop853, int Nodes = 5>
+template <class M, template <int> class Method = Dop853, int Nodes = 6>
 class AdjointSensitivity {
  public:
   using Forward = TrajectorySensitivity<M, Method, Nodes>;
@@ -225,8 +226,9 @@ class AdjointSensitivity {
       forward_.CollocationMatrix(h, n, &A, &C0);
       Eigen::Matrix<double, kNc, 1> rhs;
       for (int i = 1; i < kNodes; ++i) rhs.template segment<kNq>(kNq * (i - 1)) = nu[i];
-      const typename Forward::MatC At = A.transpose();
-      const Eigen::Matrix<double, kNc, 1> w = Eigen::PartialPivLU<typename Forward::MatC>(At).solve(rhs);
+      Eigen::Matrix<double, kNc, 1> w = rhs;
+      if (!internal::SolveSmall<kNc, 1>(A.transpose(), &w))
+        return finish(Status::kIntegratorFailed, "the transposed collocation matrix is singular");
       VecQ new_S = mu_S + r_q_sum;
       VecQ new_V = nu[0];
       for (int i = 1; i < kNodes; ++i)

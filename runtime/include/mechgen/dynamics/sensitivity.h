@@ -27,23 +27,29 @@
  *
  * Two methods (SensitivityOptions::method; CVODES' choice of the sensitivities in the error
  * test or not):
- *  - kStaggered (the default, by measurement: bench/design/run.sh, 0.56x and 0.38x the N + 1
+ *  - kStaggered (the default, by measurement: bench/design/run.sh, 0.46x and 0.41x the N + 1
  *    simulations of forward differences on the massive four-bar and the five-bar against the
- *    simultaneous method's 1.26x and 1.36x, its steps those of a simulation where the
- *    simultaneous method takes 1.5x; against Richardson differences 2.9e-10 and 1.5e-10 at
- *    rtol 1e-12 (the simultaneous 1.7e-10 and 1.5e-10); at rtol 1e-10, 1.5e-8 on the four-bar,
- *    where the simultaneous method's extra steps give 4.5e-10): (q, qd) alone by Method with
- *    its own step and error test (the step the simulation of the values takes); after each
- *    accepted step [t0, t1], h = t1 - t0, S and Sd by the 5-node Lobatto IIIA collocation
- *    (nodes 0, (7 -+ sqrt 21)/14, 1/2, 1: order 8, the order of Dop853) of the linear
- *    sensitivity equations over that step, the state at the interior nodes from the
- *    integrator's dense output, the partials at the 5 nodes (the first is the last step's end:
- *    4 evaluations of the partials per step, against 12 of Dop853's stages). The equations are
- *    linear in (S, Sd): the collocation is one linear solve per step, of size 4 kNq (S
+ *    simultaneous method's 1.14x and 1.45x, its steps those of a simulation where the
+ *    simultaneous method takes 1.5x): (q, qd) alone by Method with its own step and error
+ *    test (the step the simulation of the values takes; its stages by the one-pass M::Rhs
+ *    where the model has it, as the free simulation's); after each accepted step [t0, t1],
+ *    h = t1 - t0, S and Sd by the 6-node Lobatto IIIA collocation (nodes 0, 1 and the roots of
+ *    P'_5: order 10) of the linear sensitivity equations over that step, the state at the
+ *    interior nodes from the integrator's dense output, the partials at the 6 nodes (the
+ *    first is the last step's end, the last the accepted state whose positions the step's
+ *    anchoring solved: 5 evaluations of the partials per step, 4 position solves, against
+ *    12 of Dop853's stages). Why order 10 where Dop853 is of order 8: the collocation's error
+ *    constant is larger than Dop853's (whose 8th-order solution is far inside its error
+ *    estimate), so with 5 nodes (order 8) the sensitivities' own truncation error dominated:
+ *    against Richardson differences at rtol 1e-10, 1.5e-8 on the four-bar while its state was
+ *    within 3e-10 (4 nodes: 4.9e-6, 3 nodes: 3.4e-4, the collocation's orders showing); 6
+ *    nodes give 8.3e-10 there (1.9e-10 at rtol 1e-12), one evaluation of the partials more per
+ *    step (Nodes = 5 stays for a cheaper, less exact run: 0.39x and 0.33x). The equations are
+ *    linear in (S, Sd): the collocation is one linear solve per step, of size 5 kNq (S
  *    eliminated by S_i = S0 + h sum_k a_ik Sd_k), for all kNp columns at once. The
  *    sensitivities are not in the error test (CVODES' errconS = false): the step is the
  *    state's, chosen for its tolerance. Each sample time is a step's end (the state's steps
- *    stop there), so that every sample carries the collocation's order-8 values.
+ *    stop there), so that every sample carries the collocation's order-10 values.
  *  - kSimultaneous: y = (q, qd, vec S, vec Sd) through Method, the error control on every
  *    component (IntegratorOptions' rtol and atol on S and Sd too: about 1.5x the steps).
  *
@@ -66,11 +72,13 @@
  */
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include <ceres/jet.h>
 
@@ -143,25 +151,29 @@ template <class M>
 struct HasDynamicsJacobian<M, std::void_t<decltype(&M::template DynamicsJacobian<double>)>> : std::true_type {};
 
 /**
- * The Lobatto IIIA collocation method with S = 3, 4 or 5 nodes (the Lobatto points: 0 and 1
- * and the roots of P'_{S-1} on [0, 1]; for 5: 0, (7 - sqrt 21)/14, 1/2, (7 + sqrt 21)/14, 1):
- * a(i, j) = the integral over [0, c_i] of the Lagrange polynomial l_j of the nodes, so
- * a(0, .) = 0 and a(S - 1, .) = the Lobatto quadrature weights b (for 5: 1/20, 49/180, 16/45,
- * 49/180, 1/20); order 2 S - 2 at the step's end (8 for 5 nodes). Computed from the nodes at
- * construction: l_j as the product of (x - c_m)/(c_j - c_m), integrated by the 3-point
- * Gauss-Legendre rule (exact to degree 5).
+ * The Lobatto IIIA collocation method with S = 3 to 6 nodes (the Lobatto points: 0 and 1 and
+ * the roots of P'_{S-1} on [0, 1]; for 5: 0, (7 - sqrt 21)/14, 1/2, (7 + sqrt 21)/14, 1; for 6:
+ * 0, (1 -+ sqrt(1/3 + 2 sqrt 7/21))/2, (1 -+ sqrt(1/3 - 2 sqrt 7/21))/2, 1): a(i, j) = the
+ * integral over [0, c_i] of the Lagrange polynomial l_j of the nodes, so a(0, .) = 0 and
+ * a(S - 1, .) = the Lobatto quadrature weights b (for 5: 1/20, 49/180, 16/45, 49/180, 1/20;
+ * for 6: 1/30, (14 - sqrt 7)/60, (14 + sqrt 7)/60, the same mirrored); order 2 S - 2 at the
+ * step's end (8 for 5 nodes, 10 for 6). Computed from the nodes at construction: l_j as the
+ * product of (x - c_m)/(c_j - c_m), integrated by the 3-point Gauss-Legendre rule (exact to
+ * degree 5, l_j's degree S - 1).
  */
 template <int S>
 struct LobattoIIIA {
-  static_assert(S >= 3 && S <= 5, "Lobatto IIIA with 3, 4 or 5 nodes");
+  static_assert(S >= 3 && S <= 6, "Lobatto IIIA with 3 to 6 nodes");
   static constexpr int kNodes = S;
   double c[kNodes];
   Eigen::Matrix<double, kNodes, kNodes> a;
 
   LobattoIIIA() {
     const double r5 = std::sqrt(21.0) / 14, r4 = std::sqrt(5.0) / 10;
+    const double r6o = std::sqrt(1.0 / 3 + 2 * std::sqrt(7.0) / 21) / 2, r6i = std::sqrt(1.0 / 3 - 2 * std::sqrt(7.0) / 21) / 2;
+    const double n6[6] = {0, 0.5 - r6o, 0.5 - r6i, 0.5 + r6i, 0.5 + r6o, 1};
     const double n5[5] = {0, 0.5 - r5, 0.5, 0.5 + r5, 1}, n4[4] = {0, 0.5 - r4, 0.5 + r4, 1}, n3[3] = {0, 0.5, 1};
-    for (int i = 0; i < kNodes; ++i) c[i] = S == 5 ? n5[i] : S == 4 ? n4[i] : n3[i];
+    for (int i = 0; i < kNodes; ++i) c[i] = S == 6 ? n6[i] : S == 5 ? n5[i] : S == 4 ? n4[i] : n3[i];
     auto lagrange = [&](int j, double x) {
       double l = 1;
       for (int m = 0; m < kNodes; ++m)
@@ -178,8 +190,49 @@ struct LobattoIIIA {
       }
   }
 };
-/// The staggered method's collocation: 5 nodes, order 8 (Dop853's).
+/// The collocation with 5 nodes, order 8 (Dop853's).
 using LobattoIIIA5 = LobattoIIIA<5>;
+
+/**
+ * Solves A X = B for the collocation's small fixed sizes by Gaussian elimination with partial
+ * pivoting, B overwritten with X (Eigen's PartialPivLU solves several right-hand sides through
+ * its blocked triangular solver, slower at these sizes; the same pivots, so the same
+ * stability). \return false when a pivot is zero or X is not finite.
+ */
+template <int n, int m>
+bool SolveSmall(Eigen::Matrix<double, n, n> A, Eigen::Matrix<double, n, m>* B) {
+  auto& X = *B;
+  // Column-major: every inner loop runs down a column (contiguous).
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    for (int i = k + 1; i < n; ++i)
+      if (std::abs(A(i, k)) > std::abs(A(p, k))) p = i;
+    if (!(A(p, k) != 0)) return false;
+    if (p != k) {
+      for (int j = k; j < n; ++j) std::swap(A(k, j), A(p, j));
+      for (int j = 0; j < m; ++j) std::swap(X(k, j), X(p, j));
+    }
+    const double inv = 1 / A(k, k);
+    for (int i = k + 1; i < n; ++i) A(i, k) *= inv;  // the multipliers l_ik
+    for (int j = k + 1; j < n; ++j) {
+      const double a_kj = A(k, j);
+      for (int i = k + 1; i < n; ++i) A(i, j) -= A(i, k) * a_kj;
+    }
+    for (int j = 0; j < m; ++j) {
+      const double x_kj = X(k, j);
+      for (int i = k + 1; i < n; ++i) X(i, j) -= A(i, k) * x_kj;
+    }
+  }
+  for (int k = n - 1; k >= 0; --k) {
+    const double inv = 1 / A(k, k);
+    for (int j = 0; j < m; ++j) {
+      const double x_kj = X(k, j) * inv;
+      X(k, j) = x_kj;
+      for (int i = 0; i < k; ++i) X(i, j) -= A(i, k) * x_kj;
+    }
+  }
+  return X.allFinite();
+}
 }  // namespace internal
 
 template <class M, template <int> class Method, int Nodes>
@@ -230,10 +283,10 @@ inline std::string FormatSummary(const SensitivitySummary& s) {
  * Method<2 kNq> and (S, Sd) by collocation over its steps; kSimultaneous, the state
  * y = (q, qd, vec S, vec Sd) (column d of S, then of Sd, for each design parameter d) by
  * Method<kN>. Initialize() at q0, then Simulate(); or use Derivative() as your integrator's
- * right-hand side. Nodes: the staggered method's Lobatto IIIA nodes per step (5: order 8, the
- * default; 4: order 6, one evaluation of the partials fewer per step; 3: order 4).
+ * right-hand side. Nodes: the staggered method's Lobatto IIIA nodes per step (6: order 10, the
+ * default; 5: order 8, one evaluation of the partials fewer per step; 4: order 6; 3: order 4).
  */
-template <class M, template <int> class Method = Dop853, int Nodes = 5>
+template <class M, template <int> class Method = Dop853, int Nodes = 6>
 class TrajectorySensitivity {
  public:
   static_assert(HasDynamics<M>::value, "TrajectorySensitivity needs a model generated with `dynamics`");
@@ -264,6 +317,11 @@ class TrajectorySensitivity {
   /// The collocation's unknowns Sd at the nodes 1..kNodes - 1 (kNodes - 1 blocks of kNq rows).
   static constexpr int kNc = (kNodes - 1) * kNq;
   using MatC = Eigen::Matrix<double, kNc, kNc>;
+  /// The state's stages by the one-pass M::Rhs where the model has it (every block a closed
+  /// form handing out sin and cos: MinimalDynamics' kStagesByRhs), else positions, coefficients
+  /// and dynamics.
+  static constexpr bool kStateByRhs = mechgen::internal::TrigOf<M>::value && kNphi != 0 &&
+                                      mechgen::HasSolveTrig<M>::value && mechgen::HasRhs<M>::value;
 
   /// The right-hand side and its partial derivatives at one (t, q, qd).
   struct Partial {
@@ -292,6 +350,7 @@ class TrajectorySensitivity {
   /// Assembles at q0 from phi_guess on the given modes: false when it does not assemble.
   bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes = M::kDefaultModes) {
     modes_ = modes;
+    anchor_valid_ = false;
     q_ref_ = q0;
     phi_ref_ = phi_guess;
     K_ref_.setZero();
@@ -332,16 +391,22 @@ class TrajectorySensitivity {
     n->q = q;
     n->qd = qd;
     Coefficients c;
-    if (!Configuration(q, &n->phi, &c)) return false;
+    // At the accepted configuration (a step's end: Anchor solved it from the same q), its
+    // positions, coefficients and conditioning are read, not solved again.
+    const bool anchored = anchor_valid_ && (q.array() == q_ref_.array()).all();
+    if (anchored) {
+      n->phi = phi_ref_;
+      c = anchor_c_;
+      trig_ = anchor_trig_;  // the sin and cos of that solve, which M::Dynamics may read
+    } else if (!Configuration(q, &n->phi, &c)) {
+      return false;
+    }
     Dyn d;
     internal::CallDynamics<M>(p_, q, n->phi, qd, t, c, &d, &trig_);
-    Eigen::LLT<MatQ> llt;
-    if (!Factorize(d.I, &llt)) return false;
-    n->qdd = llt.solve(d.Q - d.h);
-    if (!n->qdd.allFinite()) return false;
     // I^-1 once (kNq columns), then products: the solves of 2 kNq + kNp right-hand sides
     // went through Eigen's blocked triangular solver, slower at these sizes.
-    const MatQ I_inv = llt.solve(MatQ::Identity());
+    MatQ I_inv;
+    if (!SolveInertia(d.I, d.Q - d.h, &n->qdd, &I_inv)) return false;
     // f_q, f_qd: I^-1 (dQ - dh - dI qdd)/dx for the 2 kNq directions x = (q, qd).
     const Eigen::Matrix<double, kNq, 2 * kNq> G = StateJacobian(t, q, n->phi, qd, c, d, n->qdd);
     n->F_x.noalias() = I_inv.lazyProduct(G);
@@ -354,7 +419,14 @@ class TrajectorySensitivity {
     for (int dp = 0; dp < kNp; ++dp) B.col(dp) -= dd.dI_dp.template block<kNq, kNq>(0, kNq * dp) * n->qdd;
     n->F_p.noalias() = I_inv.lazyProduct(B);
     n->K = c.K;
-    if (conditioning) internal::ConditioningOf(PhiPhi(c), &n->rcond, &n->det);
+    if (conditioning) {
+      if (anchored) {
+        n->rcond = anchor_rcond_;
+        n->det = ref_det_;
+      } else {
+        internal::ConditioningOf(PhiPhi(c), &n->rcond, &n->det);
+      }
+    }
     return n->F_x.allFinite() && n->F_p.allFinite();
   }
 
@@ -382,16 +454,61 @@ class TrajectorySensitivity {
   bool StateDerivative(double t, const StateX& x, StateX* dx) {
     const VecQ q = x.template head<kNq>();
     const VecQ qd = x.template tail<kNq>();
+    if constexpr (kStateByRhs) {
+      // One generated pass (M::Rhs, as the free simulation's stages): the positions by their
+      // sin and cos (closed forms on the modes' branch, no predictor), K, L, I, h, Q.
+      typename mechgen::ModelCalls<M>::template RhsOut<M> r;
+      const auto report = mechgen::ModelCalls<M>::Rhs(M(), p_, rhs_constants_.Of(p_), q, qd, t, modes_, &trig_, &r);
+      if (report.status != decltype(report.status)::kConverged) {
+        last_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+        ++position_failures_;
+        return false;
+      }
+      last_not_assemblable_ = false;
+      VecQ qdd;
+      if (!SolveInertia(r.I, r.Q - r.h, &qdd, nullptr)) return false;
+      dx->template head<kNq>() = qd;
+      dx->template tail<kNq>() = qdd;
+      return dx->allFinite();
+    }
     VecPhi phi;
     Coefficients c;
     if (!Configuration(q, &phi, &c)) return false;
     Dyn d;
     internal::CallDynamics<M>(p_, q, phi, qd, t, c, &d, &trig_);
-    Eigen::LLT<MatQ> llt;
-    if (!Factorize(d.I, &llt)) return false;
+    VecQ qdd;
+    if (!SolveInertia(d.I, d.Q - d.h, &qdd, nullptr)) return false;
     dx->template head<kNq>() = qd;
-    dx->template tail<kNq>() = llt.solve(d.Q - d.h);
+    dx->template tail<kNq>() = qdd;
     return dx->allFinite();
+  }
+
+  /**
+   * \brief qdd = I^-1 f and, unless I_inv is nullptr, I^-1: for kNq = 1 a division, for
+   * kNq = 2 the closed-form inverse (I positive definite: I_00 > 0 and det I > 0), else
+   * Cholesky's factor.
+   * \return false unless I is positive definite and qdd finite.
+   */
+  static bool SolveInertia(const MatQ& I, const VecQ& f, VecQ* qdd, MatQ* I_inv) {
+    if constexpr (kNq == 1) {
+      const double I00 = I(0, 0);
+      if (!(I00 > 0) || !std::isfinite(I00)) return false;
+      (*qdd)(0) = f(0) / I00;
+      if (I_inv != nullptr) (*I_inv)(0, 0) = 1 / I00;
+    } else if constexpr (kNq == 2) {
+      const double det = I(0, 0) * I(1, 1) - I(0, 1) * I(1, 0);
+      if (!(I(0, 0) > 0) || !(det > 0) || !std::isfinite(det)) return false;
+      MatQ inv;
+      inv << I(1, 1) / det, -I(0, 1) / det, -I(1, 0) / det, I(0, 0) / det;
+      *qdd = inv * f;
+      if (I_inv != nullptr) *I_inv = inv;
+    } else {
+      Eigen::LLT<MatQ> llt;
+      if (!Factorize(I, &llt)) return false;
+      *qdd = llt.solve(f);
+      if (I_inv != nullptr) *I_inv = llt.solve(MatQ::Identity());
+    }
+    return qdd->allFinite();
   }
 
   /**
@@ -478,7 +595,8 @@ class TrajectorySensitivity {
       r -= C0.template block<kNq, kNq>(kNq * (i - 1), 0) * *Sd;
       R.template block<kNq, kNp>(kNq * (i - 1), 0) = r;
     }
-    const Eigen::Matrix<double, kNc, kNp> V = Eigen::PartialPivLU<MatC>(A).solve(R);
+    Eigen::Matrix<double, kNc, kNp> V = R;
+    if (!internal::SolveSmall<kNc, kNp>(A, &V)) return false;
     MatQP S1 = *S + (h * a(kNodes - 1, 0)) * *Sd;
     for (int k = 1; k < kNodes; ++k) S1 += (h * a(kNodes - 1, k)) * V.template block<kNq, kNp>(kNq * (k - 1), 0);
     *S = S1;
@@ -766,6 +884,7 @@ class TrajectorySensitivity {
     approaching_ = 0;
     last_rcond_ = 1;
     last_not_assemblable_ = false;
+    anchor_valid_ = false;
     q_ref_ = initial_.q;
     phi_ref_ = initial_.phi;
     K_ref_ = initial_.K;
@@ -774,6 +893,7 @@ class TrajectorySensitivity {
 
   /// The predictor's reference at an evaluated configuration (the adjoint's backward run).
   void Reanchor(const Partial& n) {
+    anchor_valid_ = false;
     q_ref_ = n.q;
     phi_ref_ = n.phi;
     K_ref_ = n.K;
@@ -795,6 +915,10 @@ class TrajectorySensitivity {
     phi_ref_ = phi;
     K_ref_ = c.K;
     ref_det_ = det;
+    anchor_c_ = c;
+    anchor_trig_ = trig_;
+    anchor_rcond_ = rcond;
+    anchor_valid_ = true;
     return true;
   }
 
@@ -838,6 +962,12 @@ class TrajectorySensitivity {
   double ref_det_ = 0;
   Reference initial_;  ///< Initialize()'s configuration: each run starts from it
   Trig trig_{};
+  internal::PreparedRhsConstants<M> rhs_constants_;  ///< kStateByRhs: M::Prepare(p_)
+  /// Anchor()'s configuration at q_ref_ (its coefficients and 1/cond), read by Partials() there.
+  Coefficients anchor_c_{};
+  Trig anchor_trig_{};
+  double anchor_rcond_ = 1;
+  bool anchor_valid_ = false;
   bool initialized_ = false;
   bool last_not_assemblable_ = false;
   int position_failures_ = 0;
