@@ -50,6 +50,7 @@
 
 #include "mechgen/analysis/engine_columns.h"
 #include "mechgen/analysis/flywheel_columns.h"
+#include "mechgen/analysis/simulate.h"
 #include "mechgen/dynamics/columns.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
@@ -183,22 +184,6 @@ struct EngineOf<M, true> {
   using Points = std::vector<engine::CrankPoint<M>>;
   using Columns = table::Columns<engine::CrankPoint<M>>;
 };
-// The reactions of the generated kinetostatics at a simulation's sample into row->R (has_R
-// when they were found), with the sample's friction loads when the run has them
-// (kWithFriction: a free run with Coulomb friction, or a driven run with it in lambda).
-template <bool kWithFriction, class M, class SampleT, class Row>
-void SampleReactions(dynamics::Kinetostatics<M>& kineto, const SampleT& s, Row* row) {
-  dynamics::KinetostaticsRow<M> k;
-  if constexpr (kWithFriction) {
-    kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);
-  } else {
-    kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
-  }
-  if (k.status == dynamics::KinetostaticsStatus::kOk) {
-    row->R = k.statics.R;
-    row->has_R = true;
-  }
-}
 }  // namespace run_internal
 
 /// A study of model M: the spec checked against the model, the tables, the nominal rows. M is
@@ -316,6 +301,7 @@ class Study {
           return fail(spec.drive.place, "drive: the model " + std::string(name) + " has no input '" +
                                             spec.drive.input + "' (its inputs: " + inputs + ")");
       }
+      simulate_request_ = SimulateRequestOf(spec);
     }
 
     if (spec.analysis == Analysis::kEngine) {
@@ -1504,71 +1490,64 @@ class Study {
         if (std::abs(rows.driven[i].s.t - t) <= 1e-9 * spec_.t_end) return static_cast<int>(i);
     return -1;
   }
+  // analysis: simulate: the simulate analysis's Request (analysis/simulate_request.h) for the
+  // spec: from q0, qd0 (empty: the model's assembly, from rest) to t_end, a sample every
+  // t_end / steps, the integrator's defaults (dopri5), no steady-state stop, the model's
+  // friction; with drive: its one input on its law.
+  static analysis::SimulateRequest SimulateRequestOf(const StudySpec& spec) {
+    analysis::SimulateRequest r;
+    r.t_end = spec.t_end;
+    r.dt = spec.t_end / spec.steps;
+    r.q0 = spec.q0;
+    r.qd0 = spec.qd0;
+    r.steady = false;
+    if (!spec.drive.input.empty()) {
+      analysis::SimulateDrive d;
+      d.text = spec.drive.input + "=" + spec.drive.law;
+      d.name = spec.drive.input;
+      d.kind = spec.drive.law;
+      d.values = spec.drive.values;
+      r.drives.push_back(d);
+    }
+    return r;
+  }
+  // A row of the simulate analysis (the sample and its reactions, when found) as the study
+  // keeps it.
+  template <class Row, class SampleT>
+  Row KeepRow(const dynamics::CsvRow<SampleT>& r) const {
+    Row row;
+    row.s = *r.s;
+    if constexpr (statics::StaticsFeatures<M>::kNumReactions != 0) {
+      if (r.R != nullptr) {
+        row.R = Eigen::Map<const Eigen::VectorXd>(r.R, C::KinetoNumReactions(model_));
+        row.has_R = true;
+      }
+    }
+    return row;
+  }
   // analysis: simulate with drive: the input driven_input_ on its law from q0 (the others free
-  // from q0, qd0) to t_end (dynamics/prescribed.h, as `<model>_simulate --drive`), a sample
-  // every t_end / steps, with the kinetostatics' reactions where a metric reads them.
+  // from q0, qd0) to t_end (dynamics/prescribed.h), a sample every t_end / steps, with the
+  // kinetostatics' reactions where a metric reads them: the rows of the simulate analysis
+  // (analysis/simulate.h's EvaluateDriven, as `<model>_simulate --drive`) for
+  // simulate_request_, under the sample's parameters.
   void SimulateDriven(Rows* out) const {
     if constexpr (run_internal::DrivenOf<M>::kOk) {
       using Driven = run_internal::DrivenOf<M>;
       using Sim = typename Driven::Sim;
       using SampleT = typename Driven::SampleT;
-      using VecQ = typename Sim::VecQ;
-      using VecF = typename Sim::VecF;
-      const int nq = C::Nq(model_);
-      VecQ q0 = Sized<VecQ>(nq), qd0 = VecQ::Zero(nq);
-      for (int i = 0; i < nq; ++i) q0(i) = spec_.q0.empty() ? C::AssemblyQ(model_)[i] : spec_.q0[i];
-      for (int i = 0; i < nq && !spec_.qd0.empty(); ++i) qd0(i) = spec_.qd0[i];
-      const int k = driven_input_;
-      const DriveSpec& d = spec_.drive;
-      typename Driven::Drive::Laws laws{};
-      if constexpr (Driven::kNp == Eigen::Dynamic) laws.resize(1);
-      if (d.law == "speed") {
-        laws[0] = dynamics::ConstantSpeedLaw{q0(k), d.values[0], 0.0};
-      } else {
-        laws[0] = dynamics::RestToRestLaw{q0(k), d.values[0], d.values[1], d.values[2],
-                                          d.law == "move" ? dynamics::RestToRestLaw::Profile::kPoly345
-                                                          : dynamics::RestToRestLaw::Profile::kCycloidal};
-      }
-      dynamics::PrescribedOptions options;
-      options.sample_dt = spec_.t_end / spec_.steps;
-      Sim sim(model_, out->params, Driven::Driven(k), typename Driven::Drive(std::move(laws)), dynamics::NoForce(),
-              options);
-      VecF qf0 = Sized<VecF>(nq - 1), qdf0 = Sized<VecF>(nq - 1);
-      for (int i = 0; i < nq - 1; ++i) {
-        qf0(i) = q0(sim.free()[i]);
-        qdf0(i) = qd0(sim.free()[i]);
-      }
-      if constexpr (kView) {
-        out->assembled = InitializePrescribed(&sim, 0.0, qf0);  // (the library's, core/view_runtime.h)
-      } else {
-        out->assembled = sim.Initialize(0.0, qf0);
-      }
-      if (!out->assembled) return;
-      dynamics::Kinetostatics<M> kineto(model_, out->params);
-      if (needs_reactions_) kineto.Initialize(q0);
-      auto observer = [&](const SampleT& s) {
-        typename Driven::Row row;
-        row.s = s;
-        if constexpr (Driven::kNumReactions != 0) {  // (a view: its count at run time)
-          if (needs_reactions_ && NumSimulationReactions() > 0) {
-            if (sim.HasDrivenFriction()) {
-              run_internal::SampleReactions<Sim::kHasDrivenFriction>(kineto, s, &row);
-            } else {
-              run_internal::SampleReactions<false>(kineto, s, &row);
-            }
-          }
-        }
-        out->driven.push_back(row);
+      analysis::simulate_internal::Prepared<M> p;
+      p.params = out->params;
+      (void)analysis::simulate_internal::InitialState(model_, simulate_request_, &p.q0, &p.qd0);  // (checked: Prepare)
+      (void)analysis::simulate_internal::ReadDrives(model_, simulate_request_, &p);
+      auto row = [&](const dynamics::CsvRow<SampleT>& r) {
+        out->driven.push_back(KeepRow<typename Driven::Row>(r));
         return true;
       };
       dynamics::PrescribedSummary summary;
-      if constexpr (kView) {
-        // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
-        dynamics::ViewSampleFn<Sim> fn = observer;
-        SimulatePrescribed(&sim, 0.0, qf0, qdf0, spec_.t_end, fn, &summary, nullptr);
-      } else {
-        sim.Simulate(0.0, qf0, qdf0, spec_.t_end, observer, &summary);
-      }
+      const auto evaluated = analysis::simulate_internal::EvaluateDriven<M, dynamics::Dopri5, Driven::kNp>(
+          model_, simulate_request_, &p, needs_reactions_, [](Sim&) { return true; }, row, &summary, nullptr);
+      out->assembled = evaluated != analysis::simulate_internal::Evaluated::kNotAssembled;
+      if (!out->assembled) return;
       out->simulation_status = summary.status;
     } else {
       (void)out;
@@ -1703,41 +1682,25 @@ class Study {
     }
   }
   // analysis: simulate: the free motion from q0, qd0 to t_end (dynamics/forward.h), a sample
-  // every t_end / steps, with the kinetostatics' reactions where a metric reads them.
+  // every t_end / steps, with the kinetostatics' reactions where a metric reads them: the rows
+  // of the simulate analysis (analysis/simulate.h's EvaluateFree, as `<model>_simulate`) for
+  // simulate_request_, under the sample's parameters.
   void Simulate(Rows* out) const {
     if constexpr (run_internal::SimulationOf<M>::kOk) {
       using Sim = typename run_internal::SimulationOf<M>::Sim;
       using SampleT = typename run_internal::SimulationOf<M>::SampleT;
-      using VecQ = typename Sim::VecQ;
-      const int nq = C::Nq(model_);
-      VecQ q0 = Sized<VecQ>(nq), qd0 = VecQ::Zero(nq);
-      for (int i = 0; i < nq; ++i) q0(i) = spec_.q0.empty() ? C::AssemblyQ(model_)[i] : spec_.q0[i];
-      for (int i = 0; i < nq && !spec_.qd0.empty(); ++i) qd0(i) = spec_.qd0[i];
-      dynamics::MinimalOptions options;
-      options.sample_dt = spec_.t_end / spec_.steps;
-      Sim sim(model_, out->params, options);
-      out->assembled = sim.Initialize(q0);
-      if (!out->assembled) return;
-      dynamics::Kinetostatics<M> kineto(model_, out->params);
-      if (needs_reactions_) kineto.Initialize(q0);
-      auto observer = [&](const SampleT& s) {
-        typename run_internal::SimulationOf<M>::Row row;
-        row.s = s;
-        if constexpr (run_internal::SimulationOf<M>::kNumReactions != 0) {  // (a view: its count at run time)
-          if (needs_reactions_ && NumSimulationReactions() > 0)
-            run_internal::SampleReactions<Sim::kHasCoulomb>(kineto, s, &row);
-        }
-        out->simulation.push_back(row);
+      analysis::simulate_internal::Prepared<M> p;
+      p.params = out->params;
+      (void)analysis::simulate_internal::InitialState(model_, simulate_request_, &p.q0, &p.qd0);  // (checked: Prepare)
+      auto row = [&](const dynamics::CsvRow<SampleT>& r) {
+        out->simulation.push_back(KeepRow<typename run_internal::SimulationOf<M>::Row>(r));
         return true;
       };
       dynamics::MinimalSummary summary;
-      if constexpr (kView) {
-        // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
-        dynamics::ViewSampleFn<Sim> fn = observer;
-        SimulateFree(&sim, 0.0, q0, qd0, spec_.t_end, fn, &summary, nullptr);
-      } else {
-        sim.Simulate(0.0, q0, qd0, spec_.t_end, observer, &summary);
-      }
+      const auto evaluated = analysis::simulate_internal::EvaluateFree<M, dynamics::Dopri5>(
+          model_, simulate_request_, p, needs_reactions_, [](Sim&) { return true; }, row, &summary, nullptr);
+      out->assembled = evaluated != analysis::simulate_internal::Evaluated::kNotAssembled;
+      if (!out->assembled) return;
       out->simulation_status = summary.status;
     } else {
       (void)out;
@@ -1843,6 +1806,8 @@ class Study {
   typename run_internal::DrivenOf<M>::Columns driven_columns_;
   int first_driven_reaction_column_ = 0;  ///< driven_columns_: the first reaction's
   bool needs_reactions_ = false;   ///< a metric reads a reaction column of the simulation
+  /// analysis: simulate: the simulate analysis's Request the spec makes (SimulateRequestOf).
+  analysis::SimulateRequest simulate_request_;
   table::Columns<analysis::FlywheelLoopRow> flywheel_columns_;  ///< flywheel analysis: the energy loop's
   std::vector<double> nan_design_;  ///< flywheel: a sample's dT_req/d<p> (NaN: the nominal's alone)
   typename run_internal::EngineOf<M>::Columns engine_columns_;  ///< engine analysis: the cycle's
