@@ -48,6 +48,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "mechgen/analysis/engine.h"
 #include "mechgen/analysis/engine_columns.h"
 #include "mechgen/analysis/flywheel_columns.h"
 #include "mechgen/analysis/simulate.h"
@@ -1582,14 +1583,11 @@ class Study {
         return;
       }
       const engine::CycleGas gas = engine::MakeGas(model_, &p, e, &law);
-      if (!engine::RunCycle(model_, p, e, gas, EngineOmega(), spec_.steps, &pts, &error)) {
-        out->engine.message = error;
-        return;
-      }
-      out->engine = engine::EngineEnergyLoop(pts, e);
+      // The engine analysis's rows (analysis/engine.h), as `<engine>_engine flywheel`'s.
+      out->assembled =
+          analysis::EvaluateEngineCycle(model_, p, e, gas, EngineOmega(), spec_.steps, &pts, &out->engine, &error);
       out->engine_J_fly = e.J_fly;
       out->engine_cycle = e.cycle;
-      out->assembled = out->engine.ok();
     } else {
       out->engine.message = "not an engine model";
     }
