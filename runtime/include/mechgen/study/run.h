@@ -52,6 +52,7 @@
 #include "mechgen/analysis/engine_columns.h"
 #include "mechgen/analysis/flywheel_columns.h"
 #include "mechgen/analysis/simulate.h"
+#include "mechgen/analysis/sweep.h"
 #include "mechgen/dynamics/columns.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
@@ -242,6 +243,8 @@ class Study {
   bool Prepare(const StudySpec& spec, std::string* error) {
     spec_ = spec;
     driven_input_ = -1;
+    sweep_request_ = analysis::SweepRequest();
+    sweep_request_.steps = spec.steps;
     auto fail = [&](Place p, const std::string& message) {
       *error = spec.path + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: " + message;
       return false;
@@ -663,11 +666,8 @@ class Study {
       EngineCycle(out);  // its own positions from theta = 0 (machines/engine/cycle.h)
       return;
     }
-    position::PositionSolver<M> solver(model_, position::Options(), out->params);
-    position::Summary summary;
-    out->assembled = solver.AssembleDefault(&summary) == position::Status::kConverged;
-    // No rows unless this sample's sweep fills them (a sample that does not assemble has none);
-    // their storage is kept for the next sample of this thread.
+    // No kinematic rows unless this sample's sweep fills them (a sample that does not assemble
+    // has none); their storage is kept for the next sample of this thread.
     std::vector<Kinematics> kinematics = std::move(out->kinematics);
     out->kinematics.clear();
     if constexpr (kHasStatics) out->statics.clear();
@@ -687,6 +687,7 @@ class Study {
       return;
     }
     if (spec_.analysis == Analysis::kSimulate) {
+      out->assembled = false;
       out->simulation.clear();
       out->driven.clear();
       out->simulation_status = dynamics::Status::kNotRun;
@@ -697,37 +698,50 @@ class Study {
       }
       return;
     }
-    if (!out->assembled) return;
-    SweepOptions options;
-    options.design = design && HasDesign();
+    // analysis: sweep or statics: the rows of the sweep analysis (analysis/sweep.h's
+    // EvaluateSweep, as `<model>_sweep`) for sweep_request_ (the design columns on the
+    // nominal's rows) from the model's assembly, under the sample's parameters, with qd = 1,
+    // qdd = 0.
+    analysis::SweepRequest request = sweep_request_;
+    request.design = design && HasDesign();
     using VecQ = typename ModelTypes<M>::VecQ;
     const int nq = C::Nq(model_);
+    analysis::sweep_internal::Inputs<M> in;
+    in.q_begin = q_begin_;
+    in.q_end = q_end_;
+    in.qd = VecQ::Ones(nq);
+    in.qdd = VecQ::Zero(nq);
+    in.modes = C::DefaultModes(model_);
+    in.params = out->params;
     // A sample's rows: sized once per thread (every number NaN, the design derivatives too,
     // which a sample never evaluates), then every row's configuration, motion, summary and
     // transmission angles copied over: not the 60 % of a record that the design takes
     // (SweepRecord<fourbar>: 1040 bytes, 624 of them design; 361 rows were 375 KB written
-    // twice per sample, more than a core's L2). The nominal's rows (options.design) copy the
+    // twice per sample, more than a core's L2). The nominal's rows (request.design) copy the
     // design derivatives too (SweepRows' record: NaN where a row failed).
-    out->kinematics = std::move(kinematics);
-    const size_t n = static_cast<size_t>(std::max(spec_.steps, 1)) + 1;
-    if (out->kinematics.size() != n || out->kinematics_design) out->kinematics.assign(n, Kinematics());
-    out->kinematics_design = options.design;
-    auto copy = [out, &options](int i, const Kinematics& r) {
+    auto begin = [&]() {
+      out->kinematics = std::move(kinematics);
+      const size_t n = static_cast<size_t>(std::max(spec_.steps, 1)) + 1;
+      if (out->kinematics.size() != n || out->kinematics_design) out->kinematics.assign(n, Kinematics());
+      out->kinematics_design = request.design;
+      return true;
+    };
+    const bool with_design = request.design;
+    auto copy = [out, with_design](int i, const Kinematics& r) {
       Kinematics& k = out->kinematics[static_cast<size_t>(i)];
       k.q = r.q;
       k.state = r.state;
       k.motion = r.motion;
       k.summary = r.summary;
       k.mu = r.mu;
-      if (options.design) k.design = r.design;
+      if (with_design) k.design = r.design;
     };
-    if constexpr (kView) {
-      // The instantiation in mechgen_runtime_view (core/view_runtime.h: ViewRowFn).
-      std::function<void(int, const Kinematics&)> row = copy;
-      SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(nq), VecQ::Zero(nq), options, row);
-    } else {
-      SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(nq), VecQ::Zero(nq), options, copy);
-    }
+    position::Summary assembly;
+    double det = 0;
+    int failures = 0;
+    out->assembled = analysis::EvaluateSweep<M>(model_, request, in, begin, copy, &assembly, &det, &failures) ==
+                     analysis::SweepEvaluated::kRan;
+    if (!out->assembled) return;
     if constexpr (kHasStatics) {
       if (spec_.analysis == Analysis::kStatics) {
         statics::Options so;
@@ -1806,6 +1820,8 @@ class Study {
   bool needs_reactions_ = false;   ///< a metric reads a reaction column of the simulation
   /// analysis: simulate: the simulate analysis's Request the spec makes (SimulateRequestOf).
   analysis::SimulateRequest simulate_request_;
+  /// analysis: sweep and statics: the sweep analysis's Request the spec makes (its steps).
+  analysis::SweepRequest sweep_request_;
   table::Columns<analysis::FlywheelLoopRow> flywheel_columns_;  ///< flywheel analysis: the energy loop's
   std::vector<double> nan_design_;  ///< flywheel: a sample's dT_req/d<p> (NaN: the nominal's alone)
   typename run_internal::EngineOf<M>::Columns engine_columns_;  ///< engine analysis: the cycle's
