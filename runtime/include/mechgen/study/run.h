@@ -52,6 +52,9 @@
 #include "mechgen/analysis/engine_columns.h"
 #include "mechgen/analysis/flywheel_columns.h"
 #include "mechgen/analysis/simulate.h"
+#if MECHGEN_SIMULATE_HAS_SENSITIVITY  // (analysis/simulate.h: Ceres' ceres/jet.h is there)
+#include "mechgen/dynamics/sensitivity.h"
+#endif
 #include "mechgen/analysis/sweep.h"
 #include "mechgen/dynamics/columns.h"
 #include "mechgen/dynamics/forward.h"
@@ -1004,6 +1007,114 @@ class Study {
     RunChunks(values, Chunks{count, std::max<uint64_t>(count, 1)}, {0}, threads, results, nullptr, progress);
   }
  private:
+  // The first order of a metric of analysis: simulate (the free motion): the trajectory
+  // sensitivities dq/dp and dq_dot/dp (dynamics/sensitivity.h's TrajectorySensitivity, its
+  // public API: a generated model's, with the model's dynamics design derivatives) along the
+  // nominal's run, sampled on the study's grid and read at the nominal's samples (matched by
+  // time): max, min and at of an input q or its speed q_dot: d(column)/dp at the metric's
+  // sample (that sample held, as for the other extremes); rms: the mean of v dv/dp over the
+  // samples, over the rms. NaN and why for the rest (the reactions, the accelerations, the
+  // energy: no sensitivities of those; a driven run, Coulomb friction: the sensitivities are the
+  // free motion's without friction; through the model view: not yet).
+  std::vector<double> SimulationGradient(size_t k, const Taken& t, std::string* why) const {
+    std::vector<double> g(spec_.parameters.size(), kNaN);
+    const MetricSpec& m = spec_.metrics[k];
+    if constexpr (kView) {
+      *why = "no design derivatives of a simulation through the model view yet (the trajectory sensitivities, "
+             "dynamics/sensitivity.h, are a generated model's: the per-model study program has them)";
+      (void)m, (void)t;
+      return g;
+    } else {
+#if MECHGEN_SIMULATE_HAS_SENSITIVITY
+      if constexpr (HasDynamicsDesign<M>::value && run_internal::SimulationOf<M>::kOk) {
+        using Sens = dynamics::TrajectorySensitivity<M, dynamics::Dopri5>;
+        using SampleT = typename Sens::SampleT;
+        if (driven_input_ >= 0) {
+          *why = "no design derivatives of a driven simulation (the trajectory sensitivities are the free motion's)";
+          return g;
+        }
+        if (run_internal::SimulationOf<M>::Sim::kHasCoulomb && C::KinetoNumFriction(model_) > 0) {
+          *why = "no design derivatives of a simulation with Coulomb friction (the trajectory sensitivities are the "
+                 "free motion's without it)";
+          return g;
+        }
+        if (m.kind != MetricKind::kMax && m.kind != MetricKind::kMin && m.kind != MetricKind::kAt &&
+            m.kind != MetricKind::kRms) {
+          *why = "no design derivatives of this metric of a simulation (max, min, at and rms of an input or its "
+                 "speed have them)";
+          return g;
+        }
+        const std::string column = ColumnName(refs_[k]);
+        int input = -1;
+        bool speed = false;
+        for (int j = 0; j < C::Nq(model_); ++j) {
+          if (column == C::QName(model_, j)) input = j, speed = false;
+          if (column == std::string(C::QName(model_, j)) + "_dot") input = j, speed = true;
+        }
+        if (input < 0) {
+          *why = "no trajectory sensitivity of the column " + column + " (those of the inputs and their speeds only)";
+          return g;
+        }
+        const Rows& rows = nominal_rows_;
+        typename ModelTypes<M>::VecQ q0, qd0;
+        (void)analysis::simulate_internal::InitialState(model_, simulate_request_, &q0, &qd0);  // (checked: Prepare)
+        dynamics::SensitivityOptions o;
+        o.sample_dt = simulate_request_.dt;
+        Sens sens(rows.params, o);
+        if (!sens.Initialize(q0)) {
+          *why = "the trajectory sensitivities: the nominal does not assemble at q0";
+          return g;
+        }
+        std::vector<SampleT> samples;
+        samples.reserve(static_cast<size_t>(spec_.steps) + 2);
+        dynamics::SensitivitySummary summary;
+        sens.Simulate(
+            0.0, q0, qd0, spec_.t_end,
+            [&samples](const SampleT& s) {
+              samples.push_back(s);
+              return true;
+            },
+            &summary);
+        // d(column)/d(design parameter d) at the nominal's sample r (NaN: no sensitivity sample
+        // at its time).
+        auto derivative = [&](int r, int d) {
+          const double tr = rows.simulation[static_cast<size_t>(r)].s.t;
+          for (const SampleT& s : samples)
+            if (std::abs(s.t - tr) <= 1e-9 * spec_.t_end) return speed ? s.Sd(input, d) : s.S(input, d);
+          return kNaN;
+        };
+        if (dynamics::IsFailure(summary.status)) {
+          *why = std::string("the trajectory sensitivities failed: ") + dynamics::ToString(summary.status) +
+                 " at t = " + mechgen::internal::FormatNumber(summary.t_end, "%g");
+          return g;
+        }
+        for (size_t p = 0; p < spec_.parameters.size(); ++p) {
+          const int d = index_[p];
+          if (d < 0) continue;
+          if (m.kind == MetricKind::kRms) {
+            double sum = 0;
+            int count = 0;
+            for (size_t r = 0; r < rows.simulation.size(); ++r) {
+              const double v = Cell(refs_[k], rows, static_cast<int>(r));
+              if (std::isfinite(v)) sum += v * derivative(static_cast<int>(r), d), ++count;
+            }
+            g[p] = sum / count / t.value;
+          } else if (t.step >= 0) {
+            g[p] = t.sign * derivative(t.step, d);
+          }
+        }
+        return g;
+      } else {
+        *why = "no design derivatives of a simulation of this model (its `design` section and `dynamics` give them)";
+        return g;
+      }
+#else
+      *why = "no design derivatives of a simulation in this build (the trajectory sensitivities need Ceres' "
+             "ceres/jet.h)";
+      return g;
+#endif
+    }
+  }
   // Gradient(): the model's design derivatives (a generated model's, or the view's).
   std::vector<double> DesignGradient(size_t k, std::string* why) const {
     const MetricSpec& m = spec_.metrics[k];
@@ -1026,8 +1137,11 @@ class Study {
       return g;
     }
     if (spec_.analysis == Analysis::kSimulate && m.kind != MetricKind::kDesignMargin) {
-      *why = "no design derivatives of a simulation (trajectory sensitivities: dynamics/sensitivity.h, not read here)";
-      return g;
+      if (!std::isfinite(t.value)) {
+        *why = "no value at the nominal";
+        return g;
+      }
+      return SimulationGradient(k, t, why);
     }
     if (!std::isfinite(t.value)) {
       *why = "no value at the nominal";
