@@ -8,7 +8,9 @@
  * with the request on this model; Run(model, request, outputs) assembles, integrates (the rows
  * streamed to the CSV), prints the summary and writes the CSV from its column table
  * (dynamics/columns.h) whole or not at all (io/output_file.h). Both read the request through
- * one Prepare, so that each check is written once. One source for the per-model tool
+ * one Prepare, so that each check is written once. EvaluateFree and EvaluateDriven are the
+ * run alone (no I/O: the rows of the column table handed over), which Run writes and the study
+ * keeps (study/run.h, analysis: simulate). One source for the per-model tool
  * <model>_simulate (tools/simulate_main.cc, M the generated model's type, fixed sizes) and for
  * the model view (M = ViewModel: runtime/view/analysis_simulate.cc, declared in
  * analysis/view_analysis.h; `mechgen_view simulate`; the simulators and the kinetostatics

@@ -5,7 +5,9 @@
  * Run(model, request, outputs) assembles, sweeps and streams the rows of the sweep's column
  * table (sweep/columns.h) to the CSV, prints the table, the motion summary and the counts,
  * draws the SVG, and writes the outputs whole or not at all; it returns the exit status
- * (kSweepConverged, kSweepRowsFailed, kSweepError, kSweepUsage). One source for the fixed-size
+ * (kSweepConverged, kSweepRowsFailed, kSweepError, kSweepUsage). EvaluateSweep is the sweep
+ * alone (no I/O: the assembly and the rows handed over), which Run writes and the study keeps
+ * (study/run.h, analysis: sweep and statics). One source for the fixed-size
  * path (a generated model's type: the per-model tool <model>_sweep, tools/sweep_main.cc) and for
  * the model view (M = ViewModel: explicitly instantiated in runtime/view/analysis_sweep.cc,
  * declared in core/view_runtime.h; mechgen_view sweep, tools/view/sweep.cc).
