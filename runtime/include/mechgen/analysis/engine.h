@@ -184,6 +184,36 @@ inline mechgen::CsvOptions EngineCsvOptions(const char* name, const char* what) 
       "and rocking couple: on the frame; fixed frame x, y"));
 }
 
+}  // namespace engine_internal
+
+/**
+ * \brief The engine's cycle at the crank speed omega (rad/s) in `samples` crank angles under
+ * the gas law (machines/engine/cycle.h's RunCycle: the rows of the cycle table, CycleColumns)
+ * and its energy loop about the mean torque (EngineEnergyLoop: the loop table's rows,
+ * EngineLoopColumns), with no I/O: the engine command's `flywheel` and the study's `analysis:
+ * engine` (study/run.h) read these. False with *error when the cycle failed (*energy then
+ * holds that message) or its loop did (*energy the loop's, with its message).
+ */
+template <class M>
+bool EvaluateEngineCycle(const M& model, const typename ModelTypes<M>::Params& p, const engine::Engine& e,
+                         const engine::CycleGas& gas, double omega, int samples,
+                         std::vector<engine::CrankPoint<M>>* pts, engine::EngineEnergy* energy, std::string* error) {
+  *energy = engine::EngineEnergy();
+  // (unqualified: the view's, compiled once, found by its arguments: machines/view_machines.h)
+  if (!RunCycle(model, p, e, gas, omega, samples, pts, error)) {
+    energy->message = *error;
+    return false;
+  }
+  *energy = engine::EngineEnergyLoop(*pts, e);
+  if (!energy->ok()) {
+    *error = energy->message;
+    return false;
+  }
+  return true;
+}
+
+namespace engine_internal {
+
 // ---- subcommands --------------------------------------------------------------------------
 
 template <class M>
@@ -340,13 +370,13 @@ int Flywheel(const M& model, const Args& a, const EngineOutputs& out, const Para
   const double omega = a.rpm * 2 * kPi / 60;
   std::vector<Point<M>> pts;
   std::string error;
-  if (!RunCycle(model, p0, e, gas, omega, a.samples, &pts, &error)) return Fail(error);
+  // The cycle and its energy loop about the mean (mechgen/machines/engine/cycle.h,
+  // flywheel/energy_loop.h: the mean torque line is the load; E at the samples, the extremes
+  // refined between them).
+  eng::EngineEnergy energy;
+  if (!EvaluateEngineCycle(model, p0, e, gas, omega, a.samples, &pts, &energy, &error)) return Fail(error);
   const int n = static_cast<int>(pts.size());
   const double dth = e.cycle / n;
-  // Energy loop about the mean (mechgen/machines/engine/cycle.h, flywheel/energy_loop.h: the
-  // mean torque line is the load; E at the samples, the extremes refined between them).
-  const eng::EngineEnergy energy = eng::EngineEnergyLoop(pts, e);
-  if (!energy.ok()) return Fail(energy.message);
   const auto& loop = energy.loop;
   const std::vector<double>& E = energy.E;
   mechgen::flywheel::EnergyLoopOptions lo_opt;

@@ -8,7 +8,9 @@
  * with the request on this model; Run(model, request, outputs) assembles, integrates (the rows
  * streamed to the CSV), prints the summary and writes the CSV from its column table
  * (dynamics/columns.h) whole or not at all (io/output_file.h). Both read the request through
- * one Prepare, so that each check is written once. One source for the per-model tool
+ * one Prepare, so that each check is written once. EvaluateFree and EvaluateDriven are the
+ * run alone (no I/O: the rows of the column table handed over), which Run writes and the study
+ * keeps (study/run.h, analysis: simulate). One source for the per-model tool
  * <model>_simulate (tools/simulate_main.cc, M the generated model's type, fixed sizes) and for
  * the model view (M = ViewModel: runtime/view/analysis_simulate.cc, declared in
  * analysis/view_analysis.h; `mechgen_view simulate`; the simulators and the kinetostatics
@@ -283,18 +285,20 @@ std::string Prepare(const M& model, const SimulateRequest& a, Prepared<M>* p) {
   return "";
 }
 
-template <class M, template <int> class Method>
-int RunFree(const M& model, const SimulateRequest& args, const SimulateOutputs& out, const Prepared<M>& p) {
-  using C = ModelCalls<M>;
-  using Sim = mechgen::dynamics::MinimalDynamics<M, Method>;
-  using Kineto = mechgen::dynamics::Kinetostatics<M>;
-  using VecQ = typename Sim::VecQ;
-  using SampleT = typename Sim::SampleT;
-  const char* const name = C::Name(model);
-  const int num_reactions = C::KinetoNumReactions(model);
-  const typename ModelTypes<M>::Params& params = p.params;
-  const VecQ &q0 = p.q0, &qd0 = p.qd0;
+/// What became of a simulation's Evaluate (EvaluateFree, EvaluateDriven).
+enum class Evaluated {
+  kRan,           ///< the run went (its summary says how it ended)
+  kNotAssembled,  ///< the model does not assemble at the initial inputs (and the drives' t = 0)
+  kStopped,       ///< begin returned false: nothing run
+};
 
+// The free motion's options from the request: the integrator, the samples every dt, energy
+// projection, the stop at speed zero, the steady state of an angle input (the cycle-mean speed
+// per revolution of the first input settled to steady_tol over two successive cycles,
+// dynamics/simulator.h) and Coulomb friction (the model's friction section unless friction
+// says otherwise; friction on without it: Prepare).
+template <class M>
+mechgen::dynamics::MinimalOptions FreeOptions(const M& model, const SimulateRequest& args) {
   mechgen::dynamics::MinimalOptions options;
   options.integrator.rtol = args.rtol;
   options.integrator.atol = args.atol;
@@ -302,41 +306,199 @@ int RunFree(const M& model, const SimulateRequest& args, const SimulateOutputs& 
   options.sample_dt = args.dt;
   options.energy_projection = args.energy_projection;
   options.stop_at_speed_zero = args.stop_at_speed_zero;
-  // Steady state: the simulator's detection (dynamics/simulator.h) per revolution of the first
-  // input, an angle: the cycle-mean speed settled to steady_tol over two successive cycles.
-  const bool angle = C::QIsAngle(model, 0);
-  options.steady.enabled = angle && args.steady;
+  options.steady.enabled = ModelCalls<M>::QIsAngle(model, 0) && args.steady;
   options.steady.coordinate = 0;
   options.steady.cycle = kTwoPi;
   options.steady.tolerance = args.steady_tol;
   options.steady.consecutive = 2;
-  // Coulomb friction: the model's friction section unless friction says otherwise (friction on
-  // without it: Prepare).
   options.coulomb.enabled = args.friction != "off";
-  Sim sim(model, params, options);
-  if (!sim.Initialize(q0)) {
-    std::fprintf(stderr, "error: %s does not assemble at the initial inputs\n", name);
-    return 1;
-  }
-  Kineto kineto(model, params);
-  kineto.Initialize(q0);
+  return options;
+}
+
+/**
+ * \brief The rows of the free motion asked for by `args` (its options: FreeOptions) from p.q0,
+ * p.qd0 under p.params (Prepare's, or the caller's: the study's sample), no I/O.
+ *
+ * begin(sim) once the model assembled (false: nothing run, kStopped), then row(r) at every
+ * sample: r the row of the free motion's column table (FreeColumns): the sample and, where
+ * `reactions`, the model has them and the kinetostatics found them, its reactions R (else R
+ * null; the friction loads in them: the sample's where the run has Coulomb friction, zeros
+ * where it has none). *summary says how the run ended, *last (may be null) its last sample.
+ */
+template <class M, template <int> class Method, class Begin, class RowFn>
+Evaluated EvaluateFree(const M& model, const SimulateRequest& args, const Prepared<M>& p, bool reactions,
+                       Begin&& begin, RowFn&& row, mechgen::dynamics::MinimalSummary* summary,
+                       typename mechgen::dynamics::MinimalDynamics<M, Method>::SampleT* last) {
+  using C = ModelCalls<M>;
+  using Sim = mechgen::dynamics::MinimalDynamics<M, Method>;
+  using Kineto = mechgen::dynamics::Kinetostatics<M>;
+  using SampleT = typename Sim::SampleT;
+  Sim sim(model, p.params, FreeOptions(model, args));
+  if (!sim.Initialize(p.q0)) return Evaluated::kNotAssembled;
+  Kineto kineto(model, p.params);
+  if (reactions) kineto.Initialize(p.q0);
   // The kinetostatics' friction loads where the simulation has none (the view, friction
   // off): zeros, as a run without Coulomb friction's samples hold.
   typename Kineto::VecF no_friction = Sized<typename Kineto::VecF>(C::KinetoNumFriction(model));
   no_friction.setZero();
-  (void)num_reactions, (void)no_friction;  // (a model without reactions reads neither)
+  (void)no_friction;  // (a model without reactions reads none)
+  if (!begin(sim)) return Evaluated::kStopped;
+  auto observer = [&](const SampleT& s) {
+    // The row is handed over inside the branch that holds the kinetostatics it points into.
+    CsvRow<SampleT> r{&s, nullptr};
+    if constexpr (Kineto::kMayHaveReactions) {
+      if (reactions && C::KinetoNumReactions(model) > 0) {
+        mechgen::dynamics::KinetostaticsRow<M> k;
+        if constexpr (Sim::kHasCoulomb) {
+          // The friction loads included (the view's samples of a run without Coulomb friction
+          // have none: zeros, as a generated model's hold there).
+          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, s.friction.size() == no_friction.size() ? &s.friction : &no_friction);
+        } else if (C::KinetoNumFriction(model) > 0) {
+          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &no_friction);
+        } else {
+          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+        }
+        if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) r.R = k.statics.R.data();
+        return static_cast<bool>(row(static_cast<const CsvRow<SampleT>&>(r)));
+      }
+    }
+    return static_cast<bool>(row(static_cast<const CsvRow<SampleT>&>(r)));
+  };
+  if constexpr (C::kView) {
+    // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
+    mechgen::dynamics::ViewSampleFn<Sim> fn = observer;
+    SimulateFree(&sim, 0.0, p.q0, p.qd0, args.t_end, fn, summary, last);
+  } else {
+    sim.Simulate(0.0, p.q0, p.qd0, args.t_end, observer, summary, last);
+  }
+  return Evaluated::kRan;
+}
+
+// The indices of the driven inputs (p.driven) as PrescribedDynamics takes them.
+template <int NP, class Sim>
+typename Sim::Indices DrivenIndices(const std::vector<int>& driven) {
+  typename Sim::Indices prescribed{};
+  for (size_t i = 0; i < driven.size(); ++i) {
+    if constexpr (NP == Eigen::Dynamic) {
+      prescribed.push_back(driven[i]);
+    } else {
+      prescribed[i] = driven[i];
+    }
+  }
+  return prescribed;
+}
+
+/**
+ * \brief The rows of the motion with NP of the inputs driven (p.driven on p.laws, which it
+ * takes: Prepare's or the caller's), the others free from p.q0, p.qd0 under p.params:
+ * PrescribedDynamics with the request's integrator, samples every dt and Coulomb friction in
+ * the actuator forces unless friction is off (through the view NP is Eigen::Dynamic: the
+ * number of drives, at run time). No I/O.
+ *
+ * begin(sim) once the model assembled at the initial inputs and the drives' t = 0 (false:
+ * kStopped), then row(r) at every sample: r the row of the driven motion's column table
+ * (DrivenColumns): the sample (its actuator forces lambda) and, where `reactions`, the model
+ * has them and the kinetostatics found them, the reactions R (with the sample's friction loads
+ * where the run has friction in lambda). *summary, *last (may be null): as EvaluateFree.
+ */
+template <class M, template <int> class Method, int NP, class Begin, class RowFn>
+Evaluated EvaluateDriven(
+    const M& model, const SimulateRequest& args, Prepared<M>* p, bool reactions, Begin&& begin, RowFn&& row,
+    mechgen::dynamics::PrescribedSummary* summary,
+    typename mechgen::dynamics::PrescribedDynamics<M, NP, mechgen::dynamics::AnyDrive<NP>, mechgen::dynamics::NoForce,
+                                                   Method>::SampleT* last) {
+  namespace dyn = mechgen::dynamics;
+  using C = ModelCalls<M>;
+  using Drive = dyn::AnyDrive<NP>;
+  using Sim = dyn::PrescribedDynamics<M, NP, Drive, dyn::NoForce, Method>;
+  using VecF = typename Sim::VecF;
+  using SampleT = typename Sim::SampleT;
+  using Kineto = mechgen::dynamics::Kinetostatics<M>;
+  const int nq = C::Nq(model);
+  const int np = static_cast<int>(p->driven.size());
+  typename Drive::Laws laws{};
+  if constexpr (NP == Eigen::Dynamic) laws.resize(static_cast<size_t>(np));
+  for (int i = 0; i < np; ++i) laws[i] = std::move(p->laws[i]);
+  dyn::PrescribedOptions options;
+  options.integrator.rtol = args.rtol;
+  options.integrator.atol = args.atol;
+  options.integrator.max_steps = args.max_steps;
+  options.sample_dt = args.dt;
+  // Coulomb friction in the actuator forces: every input driven (else friction on is a usage
+  // error, Prepare's, and the run without it says so).
+  options.coulomb.enabled = args.friction != "off";
+  Sim sim(model, p->params, DrivenIndices<NP, Sim>(p->driven), Drive(std::move(laws)), dyn::NoForce(), options);
+  VecF qf0 = Sized<VecF>(nq - np), qdf0 = Sized<VecF>(nq - np);
+  for (int i = 0; i < nq - np; ++i) {
+    qf0(i) = p->q0(sim.free()[i]);
+    qdf0(i) = p->qd0(sim.free()[i]);
+  }
+  bool assembled = false;
+  if constexpr (C::kView) {
+    assembled = InitializePrescribed(&sim, 0.0, qf0);  // (the library's, core/view_runtime.h)
+  } else {
+    assembled = sim.Initialize(0.0, qf0);
+  }
+  if (!assembled) return Evaluated::kNotAssembled;
+  Kineto kineto(model, p->params);
+  if (reactions) kineto.Initialize(p->q0);
+  if (!begin(sim)) return Evaluated::kStopped;
+  auto observer = [&](const SampleT& s) {
+    // The row is handed over inside the branch that holds the kinetostatics it points into.
+    CsvRow<SampleT> r{&s, nullptr};
+    if constexpr (Kineto::kMayHaveReactions) {
+      if (reactions && C::KinetoNumReactions(model) > 0) {
+        mechgen::dynamics::KinetostaticsRow<M> k;
+        if constexpr (Sim::kHasDrivenFriction) {
+          if (sim.HasDrivenFriction()) {
+            kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
+          } else {
+            kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+          }
+        } else {
+          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+        }
+        if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) r.R = k.statics.R.data();
+        return static_cast<bool>(row(static_cast<const CsvRow<SampleT>&>(r)));
+      }
+    }
+    return static_cast<bool>(row(static_cast<const CsvRow<SampleT>&>(r)));
+  };
+  if constexpr (C::kView) {
+    // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
+    dyn::ViewSampleFn<Sim> fn = observer;
+    SimulatePrescribed(&sim, 0.0, qf0, qdf0, args.t_end, fn, summary, last);
+  } else {
+    sim.Simulate(0.0, qf0, qdf0, args.t_end, observer, summary, last);
+  }
+  return Evaluated::kRan;
+}
+
+template <class M, template <int> class Method>
+int RunFree(const M& model, const SimulateRequest& args, const SimulateOutputs& out, const Prepared<M>& p) {
+  using C = ModelCalls<M>;
+  using Sim = mechgen::dynamics::MinimalDynamics<M, Method>;
+  using SampleT = typename Sim::SampleT;
+  const char* const name = C::Name(model);
+  const typename ModelTypes<M>::Params& params = p.params;
+  const bool angle = C::QIsAngle(model, 0);
 
   const std::string csv_path = CsvPath(out, name);
-  // The CSV, written to a temporary file and renamed when whole (io/output_file.h).
+  // The CSV, written to a temporary file and renamed when whole (io/output_file.h), opened
+  // once the model assembled.
   mechgen::OutputFile csv;
-  std::string error;
-  if (!csv.Open(csv_path, &error)) {
-    std::fprintf(stderr, "error: %s\n", error.c_str());
-    return 1;
-  }
-  const auto columns = FreeColumns<M, SampleT, Sim::kHasCoulomb>(sim.SimulatesCoulomb(q0), model);
+  decltype(FreeColumns<M, SampleT, Sim::kHasCoulomb>(false, model)) columns;
   const auto magnitudes = RevoluteMagnitudes<M>(model);
-  mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions(name, "free motion"));
+  auto begin = [&](Sim& sim) {
+    std::string error;
+    if (!csv.Open(csv_path, &error)) {
+      std::fprintf(stderr, "error: %s\n", error.c_str());
+      return false;
+    }
+    columns = FreeColumns<M, SampleT, Sim::kHasCoulomb>(sim.SimulatesCoulomb(p.q0), model);
+    mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions(name, "free motion"));
+    return true;
+  };
 
   double max_reaction = 0;
   // The stuck intervals (Coulomb friction): [start, end) from the transition rows.
@@ -348,7 +510,8 @@ int RunFree(const M& model, const SimulateRequest& args, const SimulateOutputs& 
   const int num_friction = Sim::kNumFriction == Eigen::Dynamic ? C::KinetoNumFriction(model) : Sim::kNumFriction;
   std::array<std::vector<std::pair<double, double>>, Sim::kMaxFriction> joint_stuck;
   std::array<bool, Sim::kMaxFriction> joint_was_stuck{};
-  auto observer = [&](const SampleT& s) {
+  auto row = [&](const CsvRow<SampleT>& r) {
+    const SampleT& s = *r.s;
     if (s.stuck && !was_stuck) stuck.emplace_back(s.t, std::numeric_limits<double>::quiet_NaN());
     if (!s.stuck && was_stuck) stuck.back().second = s.t;
     was_stuck = s.stuck;
@@ -358,42 +521,18 @@ int RunFree(const M& model, const SimulateRequest& args, const SimulateOutputs& 
       if (!s.joint_stuck[J] && joint_was_stuck[J]) joint_stuck[J].back().second = s.t;
       joint_was_stuck[J] = s.joint_stuck[J];
     }
-    // The row is written inside the branch that holds the kinetostatics it points into.
-    CsvRow<SampleT> row{&s, nullptr};
-    if constexpr (Kineto::kMayHaveReactions) {
-      if (num_reactions > 0) {
-        mechgen::dynamics::KinetostaticsRow<M> k;
-        if constexpr (Sim::kHasCoulomb) {
-          // The friction loads included (the view's samples of a run without Coulomb friction
-          // have none: zeros, as a generated model's hold there).
-          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, s.friction.size() == no_friction.size() ? &s.friction : &no_friction);
-        } else if (C::KinetoNumFriction(model) > 0) {
-          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &no_friction);
-        } else {
-          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
-        }
-        if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) {
-          row.R = k.statics.R.data();
-          for (const auto& m : magnitudes)
-            max_reaction = std::max(max_reaction, std::hypot(k.statics.R(m.first), k.statics.R(m.first + 1)));
-        }
-        mechgen::WriteCsvRow(columns, row, csv.stream());
-        return true;
-      }
-    }
-    mechgen::WriteCsvRow(columns, row, csv.stream());
+    if (r.R != nullptr)
+      for (const auto& m : magnitudes) max_reaction = std::max(max_reaction, std::hypot(r.R[m.first], r.R[m.first + 1]));
+    mechgen::WriteCsvRow(columns, r, csv.stream());
     return true;
   };
 
   mechgen::dynamics::MinimalSummary summary;
   SampleT last;
-  if constexpr (C::kView) {
-    // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
-    dynamics::ViewSampleFn<Sim> fn = observer;
-    SimulateFree(&sim, 0.0, q0, qd0, args.t_end, fn, &summary, &last);
-  } else {
-    sim.Simulate(0.0, q0, qd0, args.t_end, observer, &summary, &last);
-  }
+  const Evaluated evaluated = EvaluateFree<M, Method>(model, args, p, true, begin, row, &summary, &last);
+  if (evaluated == Evaluated::kNotAssembled)
+    std::fprintf(stderr, "error: %s does not assemble at the initial inputs\n", name);
+  if (evaluated != Evaluated::kRan) return 1;
   if (!CommitCsv(&csv)) return 1;
   const bool failure = mechgen::dynamics::IsFailure(summary.status);
   if (!out.quiet) {
@@ -461,75 +600,40 @@ int RunDriven(const M& model, const SimulateRequest& args, const SimulateOutputs
   using C = ModelCalls<M>;
   using Drive = dyn::AnyDrive<NP>;
   using Sim = dyn::PrescribedDynamics<M, NP, Drive, dyn::NoForce, Method>;
-  using VecQ = typename Sim::VecQ;
-  using VecF = typename Sim::VecF;
   using SampleT = typename Sim::SampleT;
-  using Kineto = mechgen::dynamics::Kinetostatics<M>;
   const char* const name = C::Name(model);
   const int nq = C::Nq(model);
   const int np = static_cast<int>(p->driven.size());
   const typename ModelTypes<M>::Params& params = p->params;
-  const VecQ &q0 = p->q0, &qd0 = p->qd0;
-  typename Sim::Indices prescribed{};
-  typename Drive::Laws laws{};
-  if constexpr (NP == Eigen::Dynamic) laws.resize(static_cast<size_t>(np));
-  for (int i = 0; i < np; ++i) {
-    if constexpr (NP == Eigen::Dynamic) {
-      prescribed.push_back(p->driven[i]);
-    } else {
-      prescribed[i] = p->driven[i];
-    }
-    laws[i] = std::move(p->laws[i]);
-  }
-
-  dyn::PrescribedOptions options;
-  options.integrator.rtol = args.rtol;
-  options.integrator.atol = args.atol;
-  options.integrator.max_steps = args.max_steps;
-  options.sample_dt = args.dt;
-  // Coulomb friction in the actuator forces: every input driven (else friction on is a usage
-  // error, Prepare's, and the run without it says so).
-  options.coulomb.enabled = args.friction != "off";
-  Sim sim(model, params, prescribed, Drive(std::move(laws)), dyn::NoForce(), options);
-  VecF qf0 = Sized<VecF>(nq - np), qdf0 = Sized<VecF>(nq - np);
-  for (int i = 0; i < nq - np; ++i) {
-    qf0(i) = q0(sim.free()[i]);
-    qdf0(i) = qd0(sim.free()[i]);
-  }
-  bool assembled = false;
-  if constexpr (C::kView) {
-    assembled = InitializePrescribed(&sim, 0.0, qf0);  // (the library's, core/view_runtime.h)
-  } else {
-    assembled = sim.Initialize(0.0, qf0);
-  }
-  if (!assembled) {
-    std::fprintf(stderr, "error: %s does not assemble at the initial inputs and the drives' t = 0\n", name);
-    return 1;
-  }
-  Kineto kineto(model, params);
-  kineto.Initialize(q0);
+  const typename Sim::Indices prescribed = DrivenIndices<NP, Sim>(p->driven);
 
   const std::string csv_path = CsvPath(out, name);
-  // The CSV, written to a temporary file and renamed when whole (io/output_file.h).
+  // The CSV, written to a temporary file and renamed when whole (io/output_file.h), opened
+  // once the model assembled.
   mechgen::OutputFile csv;
-  std::string error;
-  if (!csv.Open(csv_path, &error)) {
-    std::fprintf(stderr, "error: %s\n", error.c_str());
-    return 1;
-  }
-  bool coulomb = false;  // the run has the friction (a joint with a coefficient at q0)
-  if constexpr (Sim::kHasDrivenFriction) {
-    if (options.coulomb.enabled) {
-      if constexpr (C::kView) {
-        coulomb = sim.SimulatesCoulombAt(q0);
-      } else {
-        mechgen::dynamics::MinimalDynamics<M, Method> probe(params);
-        coulomb = probe.Initialize(q0) && probe.SimulatesCoulomb(q0);
+  decltype(DrivenColumns<M, SampleT>(prescribed, false, model)) columns;
+  auto begin = [&](Sim& sim) {
+    std::string error;
+    if (!csv.Open(csv_path, &error)) {
+      std::fprintf(stderr, "error: %s\n", error.c_str());
+      return false;
+    }
+    bool coulomb = false;  // the run has the friction (a joint with a coefficient at q0)
+    if constexpr (Sim::kHasDrivenFriction) {
+      if (args.friction != "off") {
+        if constexpr (C::kView) {
+          coulomb = sim.SimulatesCoulombAt(p->q0);
+        } else {
+          mechgen::dynamics::MinimalDynamics<M, Method> probe(params);
+          coulomb = probe.Initialize(p->q0) && probe.SimulatesCoulomb(p->q0);
+        }
       }
     }
-  }
-  const auto columns = DrivenColumns<M, SampleT>(prescribed, coulomb, model);
-  mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions(name, "driven motion"));
+    (void)sim;
+    columns = DrivenColumns<M, SampleT>(prescribed, coulomb, model);
+    mechgen::WriteCsvHeader(columns, csv.stream(), SimulateCsvOptions(name, "driven motion"));
+    return true;
+  };
   // The summary's extremes: each lambda's range and the largest bearing load (|F| at a
   // revolute joint) over the written rows.
   const auto magnitudes = RevoluteMagnitudes<M>(model);
@@ -538,52 +642,31 @@ int RunDriven(const M& model, const SimulateRequest& args, const SimulateOutputs
   lambda_max.fill(-std::numeric_limits<double>::infinity());
   double max_reaction = 0;
   std::string max_reaction_joint;
-  auto observer = [&](const SampleT& s) {
+  auto row = [&](const CsvRow<SampleT>& r) {
+    const SampleT& s = *r.s;
     for (int i = 0; i < np; ++i) {
       if (!std::isfinite(s.lambda(i))) continue;
       lambda_min[i] = std::min(lambda_min[i], double(s.lambda(i)));
       lambda_max[i] = std::max(lambda_max[i], double(s.lambda(i)));
     }
-    // The row is written inside the branch that holds the kinetostatics it points into.
-    CsvRow<SampleT> row{&s, nullptr};
-    if constexpr (Kineto::kMayHaveReactions) {
-      if (C::KinetoNumReactions(model) > 0) {
-        mechgen::dynamics::KinetostaticsRow<M> k;
-        if constexpr (Sim::kHasDrivenFriction) {
-          if (sim.HasDrivenFriction()) {
-            kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);  // the friction loads included
-          } else {
-            kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
-          }
-        } else {
-          kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
+    if (r.R != nullptr) {
+      for (const auto& m : magnitudes) {
+        const double f = std::hypot(r.R[m.first], r.R[m.first + 1]);
+        if (f > max_reaction) {
+          max_reaction = f;
+          max_reaction_joint = m.second;
         }
-        if (k.status == mechgen::dynamics::KinetostaticsStatus::kOk) {
-          row.R = k.statics.R.data();
-          for (const auto& m : magnitudes) {
-            const double f = std::hypot(k.statics.R(m.first), k.statics.R(m.first + 1));
-            if (f > max_reaction) {
-              max_reaction = f;
-              max_reaction_joint = m.second;
-            }
-          }
-        }
-        mechgen::WriteCsvRow(columns, row, csv.stream());
-        return true;
       }
     }
-    mechgen::WriteCsvRow(columns, row, csv.stream());
+    mechgen::WriteCsvRow(columns, r, csv.stream());
     return true;
   };
   dyn::PrescribedSummary summary;
   SampleT last;
-  if constexpr (C::kView) {
-    // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
-    dyn::ViewSampleFn<Sim> fn = observer;
-    SimulatePrescribed(&sim, 0.0, qf0, qdf0, args.t_end, fn, &summary, &last);
-  } else {
-    sim.Simulate(0.0, qf0, qdf0, args.t_end, observer, &summary, &last);
-  }
+  const Evaluated evaluated = EvaluateDriven<M, Method, NP>(model, args, p, true, begin, row, &summary, &last);
+  if (evaluated == Evaluated::kNotAssembled)
+    std::fprintf(stderr, "error: %s does not assemble at the initial inputs and the drives' t = 0\n", name);
+  if (evaluated != Evaluated::kRan) return 1;
   if (!CommitCsv(&csv)) return 1;
   const bool failure = dyn::IsFailure(summary.status);
   if (!out.quiet) {

@@ -5,7 +5,9 @@
  * Run(model, request, outputs) assembles, sweeps and streams the rows of the sweep's column
  * table (sweep/columns.h) to the CSV, prints the table, the motion summary and the counts,
  * draws the SVG, and writes the outputs whole or not at all; it returns the exit status
- * (kSweepConverged, kSweepRowsFailed, kSweepError, kSweepUsage). One source for the fixed-size
+ * (kSweepConverged, kSweepRowsFailed, kSweepError, kSweepUsage). EvaluateSweep is the sweep
+ * alone (no I/O: the assembly and the rows handed over), which Run writes and the study keeps
+ * (study/run.h, analysis: sweep and statics). One source for the fixed-size
  * path (a generated model's type: the per-model tool <model>_sweep, tools/sweep_main.cc) and for
  * the model view (M = ViewModel: explicitly instantiated in runtime/view/analysis_sweep.cc,
  * declared in core/view_runtime.h; mechgen_view sweep, tools/view/sweep.cc).
@@ -157,6 +159,76 @@ std::string Resolve(const M& model, const SweepRequest& request, Inputs<M>* in) 
 
 }  // namespace sweep_internal
 
+/// What became of EvaluateSweep.
+enum class SweepEvaluated {
+  kRan,               ///< swept (the rows' statuses say which converged)
+  kNotAssembled,      ///< no assembly at the model's assembly configuration (*assembly says why)
+  kModeNotAssembled,  ///< the named mode's closed-form roots give no branch (*det)
+  kStopped,           ///< begin returned false: nothing swept
+};
+
+/// The sweep's options from the request: the design columns, what to do at a singularity.
+inline SweepOptions SweepOptionsOf(const SweepRequest& request) {
+  SweepOptions o;
+  o.design = request.design;
+  o.at_singularity = request.at_singular == "follow"    ? position::Crossing::kFollowTangent
+                     : request.at_singular == "switch"  ? position::Crossing::kSwitchBranch
+                     : request.at_singular == "reverse" ? position::Crossing::kReverseInput
+                                                        : position::Crossing::kStop;
+  return o;
+}
+
+/**
+ * \brief The rows of the sweep asked for by `request` as read against the model (`in`:
+ * Resolve's, or the caller's: the study's sample), with no I/O: the position solver assembled
+ * at the model's assembly configuration (request.mode: on the named mode's branch, from its
+ * closed-form roots there), begin() once it did (false: nothing swept, kStopped), then
+ * row(i, record) for each of the request.steps + 1 rows (SweepRecord<M>: the rows of the
+ * sweep's column table, SweepColumns), in order. *assembly the assembly's summary, *det the
+ * named mode's det Phi_phi, *failures the rows that failed (SweepRows).
+ */
+template <class M, class Assembler = position::NewtonAssembler, class Begin, class RowFn>
+SweepEvaluated EvaluateSweep(const M& model, const SweepRequest& request, const sweep_internal::Inputs<M>& in,
+                             Begin&& begin, RowFn&& row, position::Summary* assembly, double* det, int* failures) {
+  using C = ModelCalls<M>;
+  using Types = ModelTypes<M>;
+  const int nq = C::Nq(model);
+  *failures = 0;
+  position::PositionSolver<M, Assembler> solver(model, position::Options(), in.params);
+  position::Status assembled;
+  if (request.mode.empty()) {
+    assembled = solver.AssembleDefault(assembly);
+  } else {
+    // The named mode's closed-form roots at the assembly inputs, then the runtime's assembly
+    // there on the branch (sign det Phi_phi) those roots give.
+    typename Types::VecQ q = Eigen::Map<const typename Types::VecQ>(C::AssemblyQ(model), nq);
+    typename Types::VecPhi phi = Eigen::Map<const typename Types::VecPhi>(C::AssemblyPhi(model), C::Nphi(model));
+    *det = 0;
+    if (C::HasSolve(model)) {
+      const auto report = C::Solve(model, in.params, q, &phi, in.modes, 20, 0.0);
+      // Angles as principal values (-pi, pi]: the closed forms keep them near the guess, which
+      // is the default mode's.
+      for (int i = 0; i < C::Nphi(model); ++i)
+        if (C::PhiIsAngle(model, i) && std::isfinite(phi(i)))
+          phi(i) = std::remainder(phi(i), 2 * 3.14159265358979323846);
+      if (report.status == decltype(report.status)::kConverged) C::DetPhiPhi(model, in.params, q, phi, det);
+    }
+    if (!(*det != 0) || !std::isfinite(*det)) return SweepEvaluated::kModeNotAssembled;
+    assembled = solver.Assemble(q, phi, *det > 0 ? 1 : -1, assembly);
+  }
+  if (assembled != position::Status::kConverged) return SweepEvaluated::kNotAssembled;
+  if (!begin()) return SweepEvaluated::kStopped;
+  const int steps = static_cast<int>(request.steps);
+  if constexpr (C::kView) {
+    // The instantiation in mechgen_runtime_view (core/view_runtime.h: ViewRowFn).
+    std::function<void(int, const SweepRecord<M>&)> row_fn = row;
+    *failures = mechgen::SweepRows(&solver, in.q_begin, in.q_end, steps, in.qd, in.qdd, SweepOptionsOf(request), row_fn);
+  } else {
+    *failures = mechgen::SweepRows(&solver, in.q_begin, in.q_end, steps, in.qd, in.qdd, SweepOptionsOf(request), row);
+  }
+  return SweepEvaluated::kRan;
+}
+
 /// What is wrong with `request` on `model` (the usage error's text, one line), empty when
 /// Run can go on: the ranges' inputs and their steps (position::CheckInputSteps), --qd and
 /// --qdd, the named mode, --design on a model without a design section, the parameters.
@@ -191,10 +263,7 @@ int Run(const M& model, const SweepRequest& request, const SweepOutputs& outputs
   const int table_rows = static_cast<int>(request.table);
   const typename Types::VecQ& q_begin = in.q_begin;
   const typename Types::VecQ& q_end = in.q_end;
-  const typename Types::VecQ& qd = in.qd;
-  const typename Types::VecQ& qdd = in.qdd;
   const typename Types::Params& params = in.params;
-  const auto& named_modes = in.modes;
 
   // The CSV's columns must be unique (the generator ensures it; checked again here).
   std::vector<mechgen::SweepColumn<M>> columns = mechgen::SweepColumns<M>(model);
@@ -207,66 +276,12 @@ int Run(const M& model, const SweepRequest& request, const SweepOutputs& outputs
     return kSweepError;
   }
 
-  // Assembly at the model's assembly configuration, then the sweep.
-  mechgen::position::PositionSolver<M, Assembler> solver(model, mechgen::position::Options(), params);
+  // Assembly at the model's assembly configuration, then the sweep (EvaluateSweep); the
+  // outputs are opened and the heading printed once it assembled (begin).
   mechgen::position::Summary assembly;
-  mechgen::position::Status assembled;
-  if (request.mode.empty()) {
-    assembled = solver.AssembleDefault(&assembly);
-  } else {
-    // The named mode's closed-form roots at the assembly inputs, then the runtime's assembly
-    // there on the branch (sign det Phi_phi) those roots give.
-    typename Types::VecQ q = Eigen::Map<const typename Types::VecQ>(C::AssemblyQ(model), nq);
-    typename Types::VecPhi phi = Eigen::Map<const typename Types::VecPhi>(C::AssemblyPhi(model), C::Nphi(model));
-    double det = 0;
-    if (C::HasSolve(model)) {
-      const auto report = C::Solve(model, params, q, &phi, named_modes, 20, 0.0);
-      // Angles as principal values (-pi, pi]: the closed forms keep them near the guess, which
-      // is the default mode's.
-      for (int i = 0; i < C::Nphi(model); ++i)
-        if (C::PhiIsAngle(model, i) && std::isfinite(phi(i)))
-          phi(i) = std::remainder(phi(i), 2 * 3.14159265358979323846);
-      if (report.status == decltype(report.status)::kConverged) C::DetPhiPhi(model, params, q, phi, &det);
-    }
-    if (!(det != 0) || !std::isfinite(det)) {
-      std::cerr << "error: cannot assemble " << name << " in mode '" << request.mode
-                << "' at its assembly inputs (det Phi_phi = " << det << ")\n";
-      return kSweepError;
-    }
-    assembled = solver.Assemble(q, phi, det > 0 ? 1 : -1, &assembly);
-  }
-  if (assembled != mechgen::position::Status::kConverged) {
-    std::cerr << "error: cannot assemble " << name << " at its assembly configuration"
-              << (request.mode.empty() ? "" : " in mode '" + request.mode + "'") << ": "
-              << mechgen::position::FormatSummary(assembly) << "\n";
-    return kSweepError;
-  }
-  // The outputs, opened before the sweep (after the assembly, so that a model that does not assemble creates no directory) (an unwritable path fails at once); written to
-  // temporary files and renamed only when everything succeeded.
+  double det = 0;
   mechgen::OutputFile csv, svg;
-  if ((!csv_path.empty() && !csv.Open(csv_path, &error)) ||
-      (!svg_path.empty() && !svg.Open(svg_path, &error))) {
-    std::cerr << "error: " << error << "\n";
-    return kSweepError;
-  }
-
-  const bool loop_free = C::LoopFree(model);
-  if (loop_free) {
-    std::printf("mechgen sweep of '%s': no closed loop (every coordinate is an input, nothing to "
-                "assemble); ", name);
-  } else {
-    std::printf("mechgen sweep of '%s': assembled (branch %+d = sign det Phi_phi, the assembly `mechgen report` names by its blocks' modes; |Phi|_inf = %.1e); ", name,
-                assembly.branch, assembly.residual_norm);
-  }
-  for (int j = 0; j < nq; ++j) {
-    std::printf("%s%s %s -> %s", j ? ", " : "", C::QName(model, j),
-                sweep_internal::Describe(model, j, q_begin(j)).c_str(), sweep_internal::Describe(model, j, q_end(j)).c_str());
-  }
-  std::printf(" in %d steps\n", steps);
-  const std::string changed = mechgen::tools::ChangedModelParameters(model, params);
-  if (!changed.empty()) std::printf("parameters set: %s\n", changed.c_str());
-  std::printf("\n");
-
+  bool opened = true;
   // The sweep, streamed: each row goes to the CSV as it is solved; kept are only the rows of
   // the table, those the drawing uses (all up to kMaxSvgRows, else evenly spaced ones) and
   // the first failures.
@@ -285,15 +300,10 @@ int Run(const M& model, const SweepRequest& request, const SweepOutputs& outputs
   // spends handing each row out (CSV formatting, keeping the table's and drawing's rows);
   // the first row apart, since it continues from the assembly configuration.
   double output_seconds = 0, first_row_seconds = 0;
-  if (!csv_path.empty())
-    mechgen::WriteCsvHeader(columns, csv.stream(),
-                            mechgen::Described(mechgen::CsvAbout(
-                                std::string(name) + "_sweep", name,
-                                "kinematic sweep", mechgen::kSweepSigns)));
   // The motion summary (strokes, extremes, time ratios) of a one-input sweep, row by row
   // (nothing for a model of several inputs).
   mechgen::MotionSummaryBuilder<M> motion_summary(q_begin(0), q_end(0), model);
-  const auto start = std::chrono::steady_clock::now();
+  auto start = std::chrono::steady_clock::now();
   auto row = [&](int i, const Record& r) {
     const auto t0 = std::chrono::steady_clock::now();
     if (i == 0) first_row_seconds = std::chrono::duration<double>(t0 - start).count();
@@ -319,20 +329,56 @@ int Run(const M& model, const SweepRequest& request, const SweepOutputs& outputs
     output_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  mechgen::SweepOptions sweep_options;
-  sweep_options.design = request.design;
-  sweep_options.at_singularity = request.at_singular == "follow"    ? mechgen::position::Crossing::kFollowTangent
-                                 : request.at_singular == "switch"  ? mechgen::position::Crossing::kSwitchBranch
-                                 : request.at_singular == "reverse" ? mechgen::position::Crossing::kReverseInput
-                                                                 : mechgen::position::Crossing::kStop;
+  const bool loop_free = C::LoopFree(model);
+  auto begin = [&]() {
+    // The outputs, opened before the sweep (after the assembly, so that a model that does not assemble creates no directory) (an unwritable path fails at once); written to
+    // temporary files and renamed only when everything succeeded.
+    if ((!csv_path.empty() && !csv.Open(csv_path, &error)) ||
+        (!svg_path.empty() && !svg.Open(svg_path, &error))) {
+      std::cerr << "error: " << error << "\n";
+      opened = false;
+      return false;
+    }
+
+    if (loop_free) {
+      std::printf("mechgen sweep of '%s': no closed loop (every coordinate is an input, nothing to "
+                  "assemble); ", name);
+    } else {
+      std::printf("mechgen sweep of '%s': assembled (branch %+d = sign det Phi_phi, the assembly `mechgen report` names by its blocks' modes; |Phi|_inf = %.1e); ", name,
+                  assembly.branch, assembly.residual_norm);
+    }
+    for (int j = 0; j < nq; ++j) {
+      std::printf("%s%s %s -> %s", j ? ", " : "", C::QName(model, j),
+                  sweep_internal::Describe(model, j, q_begin(j)).c_str(), sweep_internal::Describe(model, j, q_end(j)).c_str());
+    }
+    std::printf(" in %d steps\n", steps);
+    const std::string changed = mechgen::tools::ChangedModelParameters(model, params);
+    if (!changed.empty()) std::printf("parameters set: %s\n", changed.c_str());
+    std::printf("\n");
+
+    if (!csv_path.empty())
+      mechgen::WriteCsvHeader(columns, csv.stream(),
+                              mechgen::Described(mechgen::CsvAbout(
+                                  std::string(name) + "_sweep", name,
+                                  "kinematic sweep", mechgen::kSweepSigns)));
+    start = std::chrono::steady_clock::now();
+    return true;
+  };
   int failures = 0;
-  if constexpr (C::kView) {
-    // The instantiation in mechgen_runtime_view (core/view_runtime.h: ViewRowFn).
-    std::function<void(int, const Record&)> row_fn = row;
-    failures = mechgen::SweepRows(&solver, q_begin, q_end, steps, qd, qdd, sweep_options, row_fn);
-  } else {
-    failures = mechgen::SweepRows(&solver, q_begin, q_end, steps, qd, qdd, sweep_options, row);
+  const SweepEvaluated evaluated =
+      EvaluateSweep<M, Assembler>(model, request, in, begin, row, &assembly, &det, &failures);
+  if (evaluated == SweepEvaluated::kModeNotAssembled) {
+    std::cerr << "error: cannot assemble " << name << " in mode '" << request.mode
+              << "' at its assembly inputs (det Phi_phi = " << det << ")\n";
+    return kSweepError;
   }
+  if (evaluated == SweepEvaluated::kNotAssembled) {
+    std::cerr << "error: cannot assemble " << name << " at its assembly configuration"
+              << (request.mode.empty() ? "" : " in mode '" + request.mode + "'") << ": "
+              << mechgen::position::FormatSummary(assembly) << "\n";
+    return kSweepError;
+  }
+  if (!opened) return kSweepError;
   const double total_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double solve_seconds = total_seconds - output_seconds - first_row_seconds;
@@ -372,7 +418,7 @@ int Run(const M& model, const SweepRequest& request, const SweepOutputs& outputs
     mechgen::SvgOptions options;
     options.animate = outputs.animate;
     options.title = std::string("mechgen: ") + name;
-    mechgen::WriteSvg(model, solver.params(), svg_records, options, svg.stream());
+    mechgen::WriteSvg(model, params, svg_records, options, svg.stream());
   }
   // Each output whole or absent (OutputFile: a temporary file renamed on success); both
   // closed, every write checked, before either is renamed into place.

@@ -48,8 +48,14 @@
 #include <type_traits>
 #include <vector>
 
+#include "mechgen/analysis/engine.h"
 #include "mechgen/analysis/engine_columns.h"
 #include "mechgen/analysis/flywheel_columns.h"
+#include "mechgen/analysis/simulate.h"
+#if MECHGEN_SIMULATE_HAS_SENSITIVITY  // (analysis/simulate.h: Ceres' ceres/jet.h is there)
+#include "mechgen/dynamics/sensitivity.h"
+#endif
+#include "mechgen/analysis/sweep.h"
 #include "mechgen/dynamics/columns.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/kinetostatics.h"
@@ -183,22 +189,6 @@ struct EngineOf<M, true> {
   using Points = std::vector<engine::CrankPoint<M>>;
   using Columns = table::Columns<engine::CrankPoint<M>>;
 };
-// The reactions of the generated kinetostatics at a simulation's sample into row->R (has_R
-// when they were found), with the sample's friction loads when the run has them
-// (kWithFriction: a free run with Coulomb friction, or a driven run with it in lambda).
-template <bool kWithFriction, class M, class SampleT, class Row>
-void SampleReactions(dynamics::Kinetostatics<M>& kineto, const SampleT& s, Row* row) {
-  dynamics::KinetostaticsRow<M> k;
-  if constexpr (kWithFriction) {
-    kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k, &s.friction);
-  } else {
-    kineto.Evaluate(s.t, s.q, s.qd, s.qdd, &k);
-  }
-  if (k.status == dynamics::KinetostaticsStatus::kOk) {
-    row->R = k.statics.R;
-    row->has_R = true;
-  }
-}
 }  // namespace run_internal
 
 /// A study of model M: the spec checked against the model, the tables, the nominal rows. M is
@@ -256,6 +246,8 @@ class Study {
   bool Prepare(const StudySpec& spec, std::string* error) {
     spec_ = spec;
     driven_input_ = -1;
+    sweep_request_ = analysis::SweepRequest();
+    sweep_request_.steps = spec.steps;
     auto fail = [&](Place p, const std::string& message) {
       *error = spec.path + ":" + std::to_string(p.line) + ":" + std::to_string(p.column) + ": error: " + message;
       return false;
@@ -316,6 +308,7 @@ class Study {
           return fail(spec.drive.place, "drive: the model " + std::string(name) + " has no input '" +
                                             spec.drive.input + "' (its inputs: " + inputs + ")");
       }
+      simulate_request_ = SimulateRequestOf(spec);
     }
 
     if (spec.analysis == Analysis::kEngine) {
@@ -676,11 +669,8 @@ class Study {
       EngineCycle(out);  // its own positions from theta = 0 (machines/engine/cycle.h)
       return;
     }
-    position::PositionSolver<M> solver(model_, position::Options(), out->params);
-    position::Summary summary;
-    out->assembled = solver.AssembleDefault(&summary) == position::Status::kConverged;
-    // No rows unless this sample's sweep fills them (a sample that does not assemble has none);
-    // their storage is kept for the next sample of this thread.
+    // No kinematic rows unless this sample's sweep fills them (a sample that does not assemble
+    // has none); their storage is kept for the next sample of this thread.
     std::vector<Kinematics> kinematics = std::move(out->kinematics);
     out->kinematics.clear();
     if constexpr (kHasStatics) out->statics.clear();
@@ -700,6 +690,7 @@ class Study {
       return;
     }
     if (spec_.analysis == Analysis::kSimulate) {
+      out->assembled = false;
       out->simulation.clear();
       out->driven.clear();
       out->simulation_status = dynamics::Status::kNotRun;
@@ -710,37 +701,50 @@ class Study {
       }
       return;
     }
-    if (!out->assembled) return;
-    SweepOptions options;
-    options.design = design && HasDesign();
+    // analysis: sweep or statics: the rows of the sweep analysis (analysis/sweep.h's
+    // EvaluateSweep, as `<model>_sweep`) for sweep_request_ (the design columns on the
+    // nominal's rows) from the model's assembly, under the sample's parameters, with qd = 1,
+    // qdd = 0.
+    analysis::SweepRequest request = sweep_request_;
+    request.design = design && HasDesign();
     using VecQ = typename ModelTypes<M>::VecQ;
     const int nq = C::Nq(model_);
+    analysis::sweep_internal::Inputs<M> in;
+    in.q_begin = q_begin_;
+    in.q_end = q_end_;
+    in.qd = VecQ::Ones(nq);
+    in.qdd = VecQ::Zero(nq);
+    in.modes = C::DefaultModes(model_);
+    in.params = out->params;
     // A sample's rows: sized once per thread (every number NaN, the design derivatives too,
     // which a sample never evaluates), then every row's configuration, motion, summary and
     // transmission angles copied over: not the 60 % of a record that the design takes
     // (SweepRecord<fourbar>: 1040 bytes, 624 of them design; 361 rows were 375 KB written
-    // twice per sample, more than a core's L2). The nominal's rows (options.design) copy the
+    // twice per sample, more than a core's L2). The nominal's rows (request.design) copy the
     // design derivatives too (SweepRows' record: NaN where a row failed).
-    out->kinematics = std::move(kinematics);
-    const size_t n = static_cast<size_t>(std::max(spec_.steps, 1)) + 1;
-    if (out->kinematics.size() != n || out->kinematics_design) out->kinematics.assign(n, Kinematics());
-    out->kinematics_design = options.design;
-    auto copy = [out, &options](int i, const Kinematics& r) {
+    auto begin = [&]() {
+      out->kinematics = std::move(kinematics);
+      const size_t n = static_cast<size_t>(std::max(spec_.steps, 1)) + 1;
+      if (out->kinematics.size() != n || out->kinematics_design) out->kinematics.assign(n, Kinematics());
+      out->kinematics_design = request.design;
+      return true;
+    };
+    const bool with_design = request.design;
+    auto copy = [out, with_design](int i, const Kinematics& r) {
       Kinematics& k = out->kinematics[static_cast<size_t>(i)];
       k.q = r.q;
       k.state = r.state;
       k.motion = r.motion;
       k.summary = r.summary;
       k.mu = r.mu;
-      if (options.design) k.design = r.design;
+      if (with_design) k.design = r.design;
     };
-    if constexpr (kView) {
-      // The instantiation in mechgen_runtime_view (core/view_runtime.h: ViewRowFn).
-      std::function<void(int, const Kinematics&)> row = copy;
-      SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(nq), VecQ::Zero(nq), options, row);
-    } else {
-      SweepRows(&solver, q_begin_, q_end_, spec_.steps, VecQ::Ones(nq), VecQ::Zero(nq), options, copy);
-    }
+    position::Summary assembly;
+    double det = 0;
+    int failures = 0;
+    out->assembled = analysis::EvaluateSweep<M>(model_, request, in, begin, copy, &assembly, &det, &failures) ==
+                     analysis::SweepEvaluated::kRan;
+    if (!out->assembled) return;
     if constexpr (kHasStatics) {
       if (spec_.analysis == Analysis::kStatics) {
         statics::Options so;
@@ -1003,6 +1007,114 @@ class Study {
     RunChunks(values, Chunks{count, std::max<uint64_t>(count, 1)}, {0}, threads, results, nullptr, progress);
   }
  private:
+  // The first order of a metric of analysis: simulate (the free motion): the trajectory
+  // sensitivities dq/dp and dq_dot/dp (dynamics/sensitivity.h's TrajectorySensitivity, its
+  // public API: a generated model's, with the model's dynamics design derivatives) along the
+  // nominal's run, sampled on the study's grid and read at the nominal's samples (matched by
+  // time): max, min and at of an input q or its speed q_dot: d(column)/dp at the metric's
+  // sample (that sample held, as for the other extremes); rms: the mean of v dv/dp over the
+  // samples, over the rms. NaN and why for the rest (the reactions, the accelerations, the
+  // energy: no sensitivities of those; a driven run, Coulomb friction: the sensitivities are the
+  // free motion's without friction; through the model view: not yet).
+  std::vector<double> SimulationGradient(size_t k, const Taken& t, std::string* why) const {
+    std::vector<double> g(spec_.parameters.size(), kNaN);
+    const MetricSpec& m = spec_.metrics[k];
+    if constexpr (kView) {
+      *why = "no design derivatives of a simulation through the model view yet (the trajectory sensitivities, "
+             "dynamics/sensitivity.h, are a generated model's: the per-model study program has them)";
+      (void)m, (void)t;
+      return g;
+    } else {
+#if MECHGEN_SIMULATE_HAS_SENSITIVITY
+      if constexpr (HasDynamicsDesign<M>::value && run_internal::SimulationOf<M>::kOk) {
+        using Sens = dynamics::TrajectorySensitivity<M, dynamics::Dopri5>;
+        using SampleT = typename Sens::SampleT;
+        if (driven_input_ >= 0) {
+          *why = "no design derivatives of a driven simulation (the trajectory sensitivities are the free motion's)";
+          return g;
+        }
+        if (run_internal::SimulationOf<M>::Sim::kHasCoulomb && C::KinetoNumFriction(model_) > 0) {
+          *why = "no design derivatives of a simulation with Coulomb friction (the trajectory sensitivities are the "
+                 "free motion's without it)";
+          return g;
+        }
+        if (m.kind != MetricKind::kMax && m.kind != MetricKind::kMin && m.kind != MetricKind::kAt &&
+            m.kind != MetricKind::kRms) {
+          *why = "no design derivatives of this metric of a simulation (max, min, at and rms of an input or its "
+                 "speed have them)";
+          return g;
+        }
+        const std::string column = ColumnName(refs_[k]);
+        int input = -1;
+        bool speed = false;
+        for (int j = 0; j < C::Nq(model_); ++j) {
+          if (column == C::QName(model_, j)) input = j, speed = false;
+          if (column == std::string(C::QName(model_, j)) + "_dot") input = j, speed = true;
+        }
+        if (input < 0) {
+          *why = "no trajectory sensitivity of the column " + column + " (those of the inputs and their speeds only)";
+          return g;
+        }
+        const Rows& rows = nominal_rows_;
+        typename ModelTypes<M>::VecQ q0, qd0;
+        (void)analysis::simulate_internal::InitialState(model_, simulate_request_, &q0, &qd0);  // (checked: Prepare)
+        dynamics::SensitivityOptions o;
+        o.sample_dt = simulate_request_.dt;
+        Sens sens(rows.params, o);
+        if (!sens.Initialize(q0)) {
+          *why = "the trajectory sensitivities: the nominal does not assemble at q0";
+          return g;
+        }
+        std::vector<SampleT> samples;
+        samples.reserve(static_cast<size_t>(spec_.steps) + 2);
+        dynamics::SensitivitySummary summary;
+        sens.Simulate(
+            0.0, q0, qd0, spec_.t_end,
+            [&samples](const SampleT& s) {
+              samples.push_back(s);
+              return true;
+            },
+            &summary);
+        // d(column)/d(design parameter d) at the nominal's sample r (NaN: no sensitivity sample
+        // at its time).
+        auto derivative = [&](int r, int d) {
+          const double tr = rows.simulation[static_cast<size_t>(r)].s.t;
+          for (const SampleT& s : samples)
+            if (std::abs(s.t - tr) <= 1e-9 * spec_.t_end) return speed ? s.Sd(input, d) : s.S(input, d);
+          return kNaN;
+        };
+        if (dynamics::IsFailure(summary.status)) {
+          *why = std::string("the trajectory sensitivities failed: ") + dynamics::ToString(summary.status) +
+                 " at t = " + mechgen::internal::FormatNumber(summary.t_end, "%g");
+          return g;
+        }
+        for (size_t p = 0; p < spec_.parameters.size(); ++p) {
+          const int d = index_[p];
+          if (d < 0) continue;
+          if (m.kind == MetricKind::kRms) {
+            double sum = 0;
+            int count = 0;
+            for (size_t r = 0; r < rows.simulation.size(); ++r) {
+              const double v = Cell(refs_[k], rows, static_cast<int>(r));
+              if (std::isfinite(v)) sum += v * derivative(static_cast<int>(r), d), ++count;
+            }
+            g[p] = sum / count / t.value;
+          } else if (t.step >= 0) {
+            g[p] = t.sign * derivative(t.step, d);
+          }
+        }
+        return g;
+      } else {
+        *why = "no design derivatives of a simulation of this model (its `design` section and `dynamics` give them)";
+        return g;
+      }
+#else
+      *why = "no design derivatives of a simulation in this build (the trajectory sensitivities need Ceres' "
+             "ceres/jet.h)";
+      return g;
+#endif
+    }
+  }
   // Gradient(): the model's design derivatives (a generated model's, or the view's).
   std::vector<double> DesignGradient(size_t k, std::string* why) const {
     const MetricSpec& m = spec_.metrics[k];
@@ -1025,8 +1137,11 @@ class Study {
       return g;
     }
     if (spec_.analysis == Analysis::kSimulate && m.kind != MetricKind::kDesignMargin) {
-      *why = "no design derivatives of a simulation (trajectory sensitivities: dynamics/sensitivity.h, not read here)";
-      return g;
+      if (!std::isfinite(t.value)) {
+        *why = "no value at the nominal";
+        return g;
+      }
+      return SimulationGradient(k, t, why);
     }
     if (!std::isfinite(t.value)) {
       *why = "no value at the nominal";
@@ -1504,71 +1619,64 @@ class Study {
         if (std::abs(rows.driven[i].s.t - t) <= 1e-9 * spec_.t_end) return static_cast<int>(i);
     return -1;
   }
+  // analysis: simulate: the simulate analysis's Request (analysis/simulate_request.h) for the
+  // spec: from q0, qd0 (empty: the model's assembly, from rest) to t_end, a sample every
+  // t_end / steps, the integrator's defaults (dopri5), no steady-state stop, the model's
+  // friction; with drive: its one input on its law.
+  static analysis::SimulateRequest SimulateRequestOf(const StudySpec& spec) {
+    analysis::SimulateRequest r;
+    r.t_end = spec.t_end;
+    r.dt = spec.t_end / spec.steps;
+    r.q0 = spec.q0;
+    r.qd0 = spec.qd0;
+    r.steady = false;
+    if (!spec.drive.input.empty()) {
+      analysis::SimulateDrive d;
+      d.text = spec.drive.input + "=" + spec.drive.law;
+      d.name = spec.drive.input;
+      d.kind = spec.drive.law;
+      d.values = spec.drive.values;
+      r.drives.push_back(d);
+    }
+    return r;
+  }
+  // A row of the simulate analysis (the sample and its reactions, when found) as the study
+  // keeps it.
+  template <class Row, class SampleT>
+  Row KeepRow(const dynamics::CsvRow<SampleT>& r) const {
+    Row row;
+    row.s = *r.s;
+    if constexpr (statics::StaticsFeatures<M>::kNumReactions != 0) {
+      if (r.R != nullptr) {
+        row.R = Eigen::Map<const Eigen::VectorXd>(r.R, C::KinetoNumReactions(model_));
+        row.has_R = true;
+      }
+    }
+    return row;
+  }
   // analysis: simulate with drive: the input driven_input_ on its law from q0 (the others free
-  // from q0, qd0) to t_end (dynamics/prescribed.h, as `<model>_simulate --drive`), a sample
-  // every t_end / steps, with the kinetostatics' reactions where a metric reads them.
+  // from q0, qd0) to t_end (dynamics/prescribed.h), a sample every t_end / steps, with the
+  // kinetostatics' reactions where a metric reads them: the rows of the simulate analysis
+  // (analysis/simulate.h's EvaluateDriven, as `<model>_simulate --drive`) for
+  // simulate_request_, under the sample's parameters.
   void SimulateDriven(Rows* out) const {
     if constexpr (run_internal::DrivenOf<M>::kOk) {
       using Driven = run_internal::DrivenOf<M>;
       using Sim = typename Driven::Sim;
       using SampleT = typename Driven::SampleT;
-      using VecQ = typename Sim::VecQ;
-      using VecF = typename Sim::VecF;
-      const int nq = C::Nq(model_);
-      VecQ q0 = Sized<VecQ>(nq), qd0 = VecQ::Zero(nq);
-      for (int i = 0; i < nq; ++i) q0(i) = spec_.q0.empty() ? C::AssemblyQ(model_)[i] : spec_.q0[i];
-      for (int i = 0; i < nq && !spec_.qd0.empty(); ++i) qd0(i) = spec_.qd0[i];
-      const int k = driven_input_;
-      const DriveSpec& d = spec_.drive;
-      typename Driven::Drive::Laws laws{};
-      if constexpr (Driven::kNp == Eigen::Dynamic) laws.resize(1);
-      if (d.law == "speed") {
-        laws[0] = dynamics::ConstantSpeedLaw{q0(k), d.values[0], 0.0};
-      } else {
-        laws[0] = dynamics::RestToRestLaw{q0(k), d.values[0], d.values[1], d.values[2],
-                                          d.law == "move" ? dynamics::RestToRestLaw::Profile::kPoly345
-                                                          : dynamics::RestToRestLaw::Profile::kCycloidal};
-      }
-      dynamics::PrescribedOptions options;
-      options.sample_dt = spec_.t_end / spec_.steps;
-      Sim sim(model_, out->params, Driven::Driven(k), typename Driven::Drive(std::move(laws)), dynamics::NoForce(),
-              options);
-      VecF qf0 = Sized<VecF>(nq - 1), qdf0 = Sized<VecF>(nq - 1);
-      for (int i = 0; i < nq - 1; ++i) {
-        qf0(i) = q0(sim.free()[i]);
-        qdf0(i) = qd0(sim.free()[i]);
-      }
-      if constexpr (kView) {
-        out->assembled = InitializePrescribed(&sim, 0.0, qf0);  // (the library's, core/view_runtime.h)
-      } else {
-        out->assembled = sim.Initialize(0.0, qf0);
-      }
-      if (!out->assembled) return;
-      dynamics::Kinetostatics<M> kineto(model_, out->params);
-      if (needs_reactions_) kineto.Initialize(q0);
-      auto observer = [&](const SampleT& s) {
-        typename Driven::Row row;
-        row.s = s;
-        if constexpr (Driven::kNumReactions != 0) {  // (a view: its count at run time)
-          if (needs_reactions_ && NumSimulationReactions() > 0) {
-            if (sim.HasDrivenFriction()) {
-              run_internal::SampleReactions<Sim::kHasDrivenFriction>(kineto, s, &row);
-            } else {
-              run_internal::SampleReactions<false>(kineto, s, &row);
-            }
-          }
-        }
-        out->driven.push_back(row);
+      analysis::simulate_internal::Prepared<M> p;
+      p.params = out->params;
+      (void)analysis::simulate_internal::InitialState(model_, simulate_request_, &p.q0, &p.qd0);  // (checked: Prepare)
+      (void)analysis::simulate_internal::ReadDrives(model_, simulate_request_, &p);
+      auto row = [&](const dynamics::CsvRow<SampleT>& r) {
+        out->driven.push_back(KeepRow<typename Driven::Row>(r));
         return true;
       };
       dynamics::PrescribedSummary summary;
-      if constexpr (kView) {
-        // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
-        dynamics::ViewSampleFn<Sim> fn = observer;
-        SimulatePrescribed(&sim, 0.0, qf0, qdf0, spec_.t_end, fn, &summary, nullptr);
-      } else {
-        sim.Simulate(0.0, qf0, qdf0, spec_.t_end, observer, &summary);
-      }
+      const auto evaluated = analysis::simulate_internal::EvaluateDriven<M, dynamics::Dopri5, Driven::kNp>(
+          model_, simulate_request_, &p, needs_reactions_, [](Sim&) { return true; }, row, &summary, nullptr);
+      out->assembled = evaluated != analysis::simulate_internal::Evaluated::kNotAssembled;
+      if (!out->assembled) return;
       out->simulation_status = summary.status;
     } else {
       (void)out;
@@ -1603,14 +1711,11 @@ class Study {
         return;
       }
       const engine::CycleGas gas = engine::MakeGas(model_, &p, e, &law);
-      if (!engine::RunCycle(model_, p, e, gas, EngineOmega(), spec_.steps, &pts, &error)) {
-        out->engine.message = error;
-        return;
-      }
-      out->engine = engine::EngineEnergyLoop(pts, e);
+      // The engine analysis's rows (analysis/engine.h), as `<engine>_engine flywheel`'s.
+      out->assembled =
+          analysis::EvaluateEngineCycle(model_, p, e, gas, EngineOmega(), spec_.steps, &pts, &out->engine, &error);
       out->engine_J_fly = e.J_fly;
       out->engine_cycle = e.cycle;
-      out->assembled = out->engine.ok();
     } else {
       out->engine.message = "not an engine model";
     }
@@ -1703,41 +1808,25 @@ class Study {
     }
   }
   // analysis: simulate: the free motion from q0, qd0 to t_end (dynamics/forward.h), a sample
-  // every t_end / steps, with the kinetostatics' reactions where a metric reads them.
+  // every t_end / steps, with the kinetostatics' reactions where a metric reads them: the rows
+  // of the simulate analysis (analysis/simulate.h's EvaluateFree, as `<model>_simulate`) for
+  // simulate_request_, under the sample's parameters.
   void Simulate(Rows* out) const {
     if constexpr (run_internal::SimulationOf<M>::kOk) {
       using Sim = typename run_internal::SimulationOf<M>::Sim;
       using SampleT = typename run_internal::SimulationOf<M>::SampleT;
-      using VecQ = typename Sim::VecQ;
-      const int nq = C::Nq(model_);
-      VecQ q0 = Sized<VecQ>(nq), qd0 = VecQ::Zero(nq);
-      for (int i = 0; i < nq; ++i) q0(i) = spec_.q0.empty() ? C::AssemblyQ(model_)[i] : spec_.q0[i];
-      for (int i = 0; i < nq && !spec_.qd0.empty(); ++i) qd0(i) = spec_.qd0[i];
-      dynamics::MinimalOptions options;
-      options.sample_dt = spec_.t_end / spec_.steps;
-      Sim sim(model_, out->params, options);
-      out->assembled = sim.Initialize(q0);
-      if (!out->assembled) return;
-      dynamics::Kinetostatics<M> kineto(model_, out->params);
-      if (needs_reactions_) kineto.Initialize(q0);
-      auto observer = [&](const SampleT& s) {
-        typename run_internal::SimulationOf<M>::Row row;
-        row.s = s;
-        if constexpr (run_internal::SimulationOf<M>::kNumReactions != 0) {  // (a view: its count at run time)
-          if (needs_reactions_ && NumSimulationReactions() > 0)
-            run_internal::SampleReactions<Sim::kHasCoulomb>(kineto, s, &row);
-        }
-        out->simulation.push_back(row);
+      analysis::simulate_internal::Prepared<M> p;
+      p.params = out->params;
+      (void)analysis::simulate_internal::InitialState(model_, simulate_request_, &p.q0, &p.qd0);  // (checked: Prepare)
+      auto row = [&](const dynamics::CsvRow<SampleT>& r) {
+        out->simulation.push_back(KeepRow<typename run_internal::SimulationOf<M>::Row>(r));
         return true;
       };
       dynamics::MinimalSummary summary;
-      if constexpr (kView) {
-        // The runtime instantiated for the view (core/view_runtime.h; found by its argument).
-        dynamics::ViewSampleFn<Sim> fn = observer;
-        SimulateFree(&sim, 0.0, q0, qd0, spec_.t_end, fn, &summary, nullptr);
-      } else {
-        sim.Simulate(0.0, q0, qd0, spec_.t_end, observer, &summary);
-      }
+      const auto evaluated = analysis::simulate_internal::EvaluateFree<M, dynamics::Dopri5>(
+          model_, simulate_request_, p, needs_reactions_, [](Sim&) { return true; }, row, &summary, nullptr);
+      out->assembled = evaluated != analysis::simulate_internal::Evaluated::kNotAssembled;
+      if (!out->assembled) return;
       out->simulation_status = summary.status;
     } else {
       (void)out;
@@ -1843,6 +1932,10 @@ class Study {
   typename run_internal::DrivenOf<M>::Columns driven_columns_;
   int first_driven_reaction_column_ = 0;  ///< driven_columns_: the first reaction's
   bool needs_reactions_ = false;   ///< a metric reads a reaction column of the simulation
+  /// analysis: simulate: the simulate analysis's Request the spec makes (SimulateRequestOf).
+  analysis::SimulateRequest simulate_request_;
+  /// analysis: sweep and statics: the sweep analysis's Request the spec makes (its steps).
+  analysis::SweepRequest sweep_request_;
   table::Columns<analysis::FlywheelLoopRow> flywheel_columns_;  ///< flywheel analysis: the energy loop's
   std::vector<double> nan_design_;  ///< flywheel: a sample's dT_req/d<p> (NaN: the nominal's alone)
   typename run_internal::EngineOf<M>::Columns engine_columns_;  ///< engine analysis: the cycle's
