@@ -1317,8 +1317,11 @@ bool LevelOn(FunctionEvaluator<M>* eval, const std::vector<int>& move, int r, st
 /// variables. There the r signed gradients over the free variables are dependent: weights w_k
 /// (the left null vector, sum 1) with sum_k w_k sigma_k g_k = 0 over the free variables; with
 /// the bounds' multipliers mu_j = -(sum_k w_k sigma_k g_k)_j (> 0 at an upper bound, < 0 at a
-/// lower: the KKT conditions when w >= 0 and those signs hold). true when |E'| max(1, |theta|)
-/// falls below 1e-8 of the level (at most 40 steps). *x the point, *level its E.
+/// lower: the KKT conditions when w >= 0 and those signs hold). The secant's extrapolation at
+/// most 4 times its last step; a theta where LevelOn fails halved towards the last (6 times).
+/// true when |E'| max(1, |theta|) falls below 1e-8 of the level, or the zero of E' is located
+/// to 1e-10 of theta's scale (the bracket, or the secant's step; at most 40 steps). *x the
+/// point, *level its E.
 template <class M>
 bool CurveMinimax(FunctionEvaluator<M>* eval, const std::vector<int>& held, int r, std::vector<double>* x, double* level,
                   std::vector<double>* weights, std::vector<double>* bound_mult, int* steps) {
@@ -1368,15 +1371,30 @@ bool CurveMinimax(FunctionEvaluator<M>* eval, const std::vector<int>& held, int 
       theta = prev;
     } else if (bracketed) {
       theta = (a * fb - bracket_b * fa) / (fb - fa);
+      if (std::abs(bracket_b - a) <= 1e-10 * scale) {  // E' = 0 located to 1e-10 of theta's scale
+        converged = true;
+        break;
+      }
     } else {
-      theta = a - fa * (a - prev) / (fa - fprev);
+      // The secant's extrapolation, at most 4 times the last step (E'' is small where E is flat).
+      const double last = std::abs(a - prev);
+      theta = a + std::clamp(-fa * (a - prev) / (fa - fprev), -4 * last, 4 * last);
+      if (std::abs(theta - a) <= 1e-10 * scale) {
+        converged = true;
+        break;
+      }
     }
     theta = std::clamp(theta, b.lo[j], b.hi[j]);
-    if (!std::isfinite(theta) || std::abs(theta - a) <= 1e-15 * scale) break;
-    std::vector<double> v = best;
-    v[j] = theta;
+    if (!std::isfinite(theta) || theta == a) break;
+    std::vector<double> v;
     double lv = 0;
-    if (!LevelOn(eval, others, r, &v, &lv, &G)) break;
+    bool levelled = false;
+    for (int half = 0; half < 6 && !levelled; ++half, theta = 0.5 * (theta + a)) {  // where LevelOn fails: nearer a
+      v = best;
+      v[j] = theta;
+      levelled = LevelOn(eval, others, r, &v, &lv, &G);
+    }
+    if (!levelled) break;
     int keep_pick = pick;
     const double sv = slope(G, &keep_pick);
     ++*steps;
