@@ -1175,11 +1175,12 @@ TEST(FunctionSynthesis, MinimaxWithAVariableOnItsBoundDescendsBelowWhereTheExcha
   // The task of MinimaxWithFreeStartAnglesReachesSixEqualExtrema with out0 <= 240 deg: its
   // equal-ripple optimum (out0 = 241.82 deg) is outside. The exchange ends on the bound with
   // four equal extrema (the reduced exchange), fewer than the four free variables ask for
-  // (five); the stage then descends along the free variables (BoundDescent). What holds today,
-  // by hand (circle intersection on 20001 points, extrema by ternary search): out0 on the
-  // bound, the answer's largest error the reported one, below where the exchange ended and
-  // above the unbounded optimum (4.713566e-4, six extrema). Not a minimax on the bound yet:
-  // DISABLED_MinimaxWithAVariableOnItsBoundIsAMinimaxOnTheBound (KKT by hand) fails.
+  // (five); the stage then takes the minimax within the bounds by linear programs (BoundMinimax)
+  // and along the curve of four equal extrema (CurveMinimax). By hand (circle intersection on
+  // 20001 points, extrema by ternary search): out0 on the bound, the answer's largest error the
+  // reported one, below where the exchange ended and above the unbounded optimum (4.713566e-4,
+  // six extrema). That it is a minimax on the bound: MinimaxWithAVariableOnItsBoundIsAMinimax
+  // OnTheBound (KKT by hand).
   std::string yaml = XSquaredFreeStartTask("");
   yaml.replace(yaml.find("output: [200deg, 280deg]"), 24, "output: [200deg, 240deg]");
   const auto mm = BindFunctionYaml(yaml, "fd_minimax.yaml");
@@ -1202,12 +1203,15 @@ TEST(FunctionSynthesis, MinimaxWithAVariableOnItsBoundDescendsBelowWhereTheExcha
   EXPECT_NE(report.find("the exchange ended on 4 extrema"), std::string::npos) << report;
 }
 
-TEST(FunctionSynthesis, DISABLED_MinimaxWithAVariableOnItsBoundIsAMinimaxOnTheBound) {
+TEST(FunctionSynthesis, MinimaxWithAVariableOnItsBoundIsAMinimaxOnTheBound) {
   // The task of MinimaxWithFreeStartAnglesReachesSixEqualExtrema with out0 <= 240 deg: its
   // equal-ripple optimum (out0 = 241.82 deg) is outside. The exchange ends on the bound with
   // four equal extrema (the reduced exchange), fewer than the four free variables ask for
-  // (five); the stage then descends along the free variables and, when the error has five
-  // alternating extrema, exchanges with the bound held. Oracles by hand (the four-bar's error
+  // (five); the stage then takes the minimax within the bounds by linear programs and, as its
+  // error has four extrema at the level (not five), the minimum of the level along the curve
+  // where they stay equal (a local minimax on the bound whose four signed gradients over the
+  // free variables are dependent: four extrema and the bound, not a vertex of five and the
+  // bound). Oracles by hand (the four-bar's error
   // by circle intersection on 20001 points, extrema by ternary search), whatever the number of
   // extrema at the answer: out0 on the bound; the extrema at the largest magnitude equal; the
   // KKT conditions (central differences of the hand error at those extrema): a combination of
@@ -1215,7 +1219,8 @@ TEST(FunctionSynthesis, DISABLED_MinimaxWithAVariableOnItsBoundIsAMinimaxOnTheBo
   // the bound's normal vanishes (least squares, relative residual below 1e-5); and no feasible
   // step lowers the largest error: along each free variable both ways, into the box (out0
   // lowered), and along 40 random directions with out0 not raised, at 1e-6, 1e-5 and 1e-3 of
-  // the scale.
+  // the scale. The stage's own weights and bound multiplier (generated gradients) agree with
+  // those by hand to 1e-4 (the multiplier in rad of output, times dy/dphi).
   std::string yaml = XSquaredFreeStartTask("");
   yaml.replace(yaml.find("output: [200deg, 280deg]"), 24, "output: [200deg, 240deg]");
   const auto mm = BindFunctionYaml(yaml, "fb_minimax.yaml");
@@ -1275,6 +1280,12 @@ TEST(FunctionSynthesis, DISABLED_MinimaxWithAVariableOnItsBoundIsAMinimaxOnTheBo
   EXPECT_LT(kkt, 1e-5) << w.transpose();
   for (Eigen::Index k = 0; k < na; ++k) EXPECT_GT(w(k), 0) << "extremum " << k << ": " << w.transpose();
   EXPECT_GT(w(na), 0) << w.transpose();
+  EXPECT_TRUE(rm.minimax.curve);
+  EXPECT_TRUE(rm.minimax.curve_converged) << rm.minimax.bound_why;
+  ASSERT_EQ(rm.minimax.kkt_weights.size(), static_cast<size_t>(na));
+  for (Eigen::Index k = 0; k < na; ++k) EXPECT_NEAR(rm.minimax.kkt_weights[static_cast<size_t>(k)], w(k), 1e-4);
+  ASSERT_EQ(rm.minimax.bound_multipliers.size(), 5u);
+  EXPECT_NEAR(rm.minimax.bound_multipliers[4] * to_y, w(na), 1e-4);
   std::vector<Eigen::Matrix<double, 5, 1>> dirs;
   for (int j = 0; j < 4; ++j) {
     dirs.push_back(Eigen::Matrix<double, 5, 1>::Unit(j));
@@ -1301,8 +1312,11 @@ TEST(FunctionSynthesis, DISABLED_MinimaxWithAVariableOnItsBoundIsAMinimaxOnTheBo
     }
   const std::string report = FunctionReport(mm, rm, 1);
   EXPECT_NE(report.find("the exchange ended on 4 extrema"), std::string::npos) << report;
+  const size_t line = report.find("the exchange ended on");
+  EXPECT_NE(report.find("steps along the curve of 4 equal extrema", line), std::string::npos) << report;
+  if (line != std::string::npos) std::printf("%s", report.substr(line, report.find('\n', line) + 1 - line).c_str());
   std::printf("x^2 on [1, 2], free start angles, out0 <= 240 deg: the exchange ended on the bound at %.6g on four extrema; "
-              "%d descent steps, then %.10g on %zu extrema at the level (exchange on five %s; a b c %.6g %.6g %.6g, in0 %.8g "
+              "%d linear-programming steps, then %.10g on %zu extrema at the level (exchange on five %s; a b c %.6g %.6g %.6g, in0 %.8g "
               "deg, out0 %.10g deg); KKT weights %s (relative residual %.3g); %d feasible steps of %zu lowered it; |error| "
               "peaks (x, e/level):%s\n",
               rm.minimax.bound_start_max * to_y, rm.minimax.bound_steps, worst, act.size(),

@@ -715,12 +715,22 @@ struct MinimaxResult {
   double unconstrained_max = kInf;  ///< the equal-ripple answer's largest |error| (rad), which breaks it
   /// Variables at a bound (issue 44): the exchange (LM within the bounds) ended on a bound with
   /// fewer extrema than the free variables ask for (nx + 1 - k for k bounds), so it was not a
-  /// minimax on the bound's surface. Then descent steps along the surface (BoundDescent) and the
-  /// exchange again with the bounds held as constraints (ConstrainedExchange).
-  bool bound_stage = false;       ///< the descent and that exchange ran
+  /// minimax on the bound's surface. Then the minimax within the bounds by sequential linear
+  /// programming (BoundMinimax) and the exchange again with the bounds held as constraints
+  /// (ConstrainedExchange: the equal ripple to 1e-9).
+  bool bound_stage = false;       ///< the linear programs and that exchange ran
   std::string bounds;             ///< the bounds held (`; `-joined), empty when none
   double bound_start_max = kInf;  ///< the largest |error| (rad) where the exchange ended on them
-  int bound_steps = 0;            ///< descent steps along the bounds' surface
+  int bound_steps = 0;            ///< the linear programs' steps kept
+  /// The last linear program's multipliers: of the extrema at its x (ref order, summing to 1;
+  /// the KKT weights of sum_k w_k sigma_k grad e_k + sum_j mu_j n_j = 0), and of each variable's
+  /// bound (mu_j: > 0 its upper bound, < 0 its lower; 0 when off it).
+  std::vector<double> kkt_weights, bound_multipliers;
+  /// One extremum fewer at the level than the free variables + 1 after the linear programs: the
+  /// minimax along the curve where those stay equal (CurveMinimax), its secant steps, and
+  /// whether the level's derivative along it reached zero (1e-8 of the level).
+  bool curve = false, curve_converged = false;
+  int curve_steps = 0;
   int bound_reference = 0;        ///< nx + 1 - k: the extrema of the exchange with them held
   bool bounds_converged = false;  ///< that exchange's extrema equal to 1e-9 relative
   std::string bound_why;          ///< why it did not converge
@@ -1097,96 +1107,326 @@ void AtBounds(const BoundFunction<M>& b, const std::vector<double>& x, std::vect
   }
 }
 
-/// Descent along the free variables (MinimaxStage), when the exchange ended on fewer extrema
-/// than the free variables ask for (nx + 1 - k, k the variables on a bound: AtBounds, again at
-/// each step): the variables on a bound fixed, the extrema of x's error at the largest
-/// magnitude (within 1e-6 relative: the active ones) are lowered together, d over the free
-/// variables with sigma_k g_k . d = -1 for each (g_k the generated gradient of the error at the
-/// extremum x_k, its own movement of second order there; the minimum-norm solution by SVD), and
-/// the largest |error| over the range along x + s d (the free variables clamped into their
-/// bounds: one that reaches its bound is held from the next step on) is minimised over s in
-/// [0, level] (the linear model reaches zero at s = level): 16 samples, then golden section (40
-/// steps) about the best. A step ends where another extremum has risen to the falling ones.
-/// Repeated while the error has fewer than nx + 1 - k alternating extrema (at most 8 steps);
-/// stops when no direction lowers the active extrema together or a step does not lower the
-/// largest error (a minimax of the free variables on fewer extrema: their gradients dependent).
-/// *worst: the largest |error| at the last x; returns the steps made.
+/// A small linear program: the largest c . z over z >= 0 with A z <= b, b >= 0 (so that z = 0
+/// is a vertex): the dense tableau simplex from the slack basis, Bland's rule (the entering
+/// column the first with a positive reduced gain, ties of the ratio test to the smallest basic
+/// index: no cycling). *z the optimum, *y the rows' multipliers (y >= 0, A^T y >= c, y . b =
+/// c . z: the slacks' reduced costs). false when unbounded or past 50 (m + n) pivots.
+inline bool SimplexMax(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& c, Eigen::VectorXd* z,
+                       Eigen::VectorXd* y) {
+  const Eigen::Index m = A.rows(), n = A.cols();
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(m + 1, n + m + 1);
+  T.topLeftCorner(m, n) = A;
+  T.block(0, n, m, m).setIdentity();
+  T.topRightCorner(m, 1) = b;
+  T.bottomLeftCorner(1, n) = -c.transpose();
+  std::vector<Eigen::Index> basis(static_cast<size_t>(m));
+  for (Eigen::Index i = 0; i < m; ++i) basis[static_cast<size_t>(i)] = n + i;
+  const double eps = 1e-12 * std::max(1.0, T.cwiseAbs().maxCoeff());
+  for (Eigen::Index pivot = 0;; ++pivot) {
+    if (pivot > 50 * (m + n)) return false;
+    Eigen::Index enter = -1;
+    for (Eigen::Index j = 0; j < n + m && enter < 0; ++j)
+      if (T(m, j) < -eps) enter = j;
+    if (enter < 0) break;
+    Eigen::Index leave = -1;
+    double ratio = kInf;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (!(T(i, enter) > eps)) continue;
+      const double r = T(i, n + m) / T(i, enter);
+      if (r < ratio || (r == ratio && basis[static_cast<size_t>(i)] < basis[static_cast<size_t>(leave)]))
+        ratio = r, leave = i;
+    }
+    if (leave < 0) return false;
+    T.row(leave) /= T(leave, enter);
+    for (Eigen::Index i = 0; i <= m; ++i)
+      if (i != leave && T(i, enter) != 0) T.row(i) -= T(i, enter) * T.row(leave);
+    basis[static_cast<size_t>(leave)] = enter;
+  }
+  *z = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < m; ++i)
+    if (basis[static_cast<size_t>(i)] < n) (*z)(basis[static_cast<size_t>(i)]) = std::max(T(i, n + m), 0.0);
+  *y = T.block(m, n, 1, m).transpose();
+  return true;
+}
+
+/// The minimax of the variables within their bounds from x (MinimaxStage, when the exchange
+/// ended on fewer extrema than the free variables ask for): sequential linear programming with a
+/// trust region (Madsen's method for minimax). Each step: the error's extrema at x (RangeExtrema,
+/// one per sign run) e_k at x_k, sigma_k their signs, g_k the generated gradient of the error at
+/// x_k (the extremum's own movement of second order there: the envelope); the step d minimises
+/// max_k sigma_k (e_k + g_k . d) over lo - x <= d <= hi - x and |d_j| <= Delta max(1, |x_j|) (a
+/// linear program, SimplexMax on (d - its lower end, t0 - t)); kept when the largest |error|
+/// over the range falls (then Delta doubled when the ratio of the fall to the predicted one
+/// passes 0.75 and the step reached the trust region; quartered below 0.25), else Delta
+/// quartered. A variable that reaches its bound is set on it (within 1e-12 of the span). Stops
+/// when the predicted fall is below 1e-12 of the level (the linear program's optimum at d = 0:
+/// x a stationary point of the minimax, the KKT conditions met with the program's multipliers),
+/// or Delta below 1e-12, at most 200 steps. At a vertex (as many extrema at the level as the
+/// free variables + 1) the step is Newton's on the levelled equations: quadratic at the end.
+/// *worst: the largest |error| at the last x; *weights: the last program's multipliers of the
+/// extrema (the KKT weights, summing to 1) and *bound_mult: of the variables' bounds (signed: >
+/// 0 an upper bound, < 0 a lower), both at the last x; returns the steps kept.
 template <class M>
-int BoundDescent(FunctionEvaluator<M>* eval, std::vector<double>* x, double* worst) {
+int BoundMinimax(FunctionEvaluator<M>* eval, std::vector<double>* x, double* worst, std::vector<double>* weights,
+                 std::vector<double>* bound_mult) {
   const BoundFunction<M>& b = eval->bound();
   const int nx = b.nx;
-  auto largest_along = [&](const std::vector<double>& v) {
-    std::vector<double> vx, ve;
-    ++eval->evaluations;
-    if (!RangeExtrema(eval, v, &vx, &ve)) return kInf;
+  const auto N = static_cast<Eigen::Index>(nx);
+  auto largest = [](const std::vector<double>& v) {
     double w = 0;
-    for (double e : ve) w = std::max(w, std::abs(e));
+    for (double e : v) w = std::max(w, std::abs(e));
     return w;
   };
+  std::vector<double> ex, ee;
+  ++eval->evaluations;
+  if (!RangeExtrema(eval, *x, &ex, &ee)) return 0;
+  double level = largest(ee), delta = 0.05;
   int steps = 0;
-  for (int round = 0; round < 8; ++round) {
-    std::vector<int> held;
-    std::vector<std::string> unused;
-    AtBounds(b, *x, &held, &unused);
-    const int keep = nx + 1 - static_cast<int>(held.size());
-    std::vector<size_t> free;
-    for (int j = 0; j < nx; ++j)
-      if (std::find(held.begin(), held.end(), j) == held.end()) free.push_back(static_cast<size_t>(j));
-    std::vector<double> ex, ee;
-    ++eval->evaluations;
-    if (free.empty() || !RangeExtrema(eval, *x, &ex, &ee) || static_cast<int>(ex.size()) >= keep) break;
-    double level = 0;
-    for (double e : ee) level = std::max(level, std::abs(e));
-    if (!(level > 0)) break;
+  for (int it = 0; it < 200 && level > 0 && delta > 1e-12; ++it) {
     const auto p = eval->ParamsOf(*x);
+    const auto K = static_cast<Eigen::Index>(ex.size());
+    Eigen::MatrixXd G(K, N);
     std::vector<double> row(static_cast<size_t>(nx));
-    std::vector<Eigen::VectorXd> active;
-    for (size_t k = 0; k < ex.size(); ++k) {
-      if (std::abs(ee[k]) < (1 - 1e-6) * level) continue;
+    bool ok = true;
+    for (Eigen::Index k = 0; k < K && ok; ++k) {
       double e = 0;
       eval->evaluations += 1 + nx;
-      if (!eval->RangeError(p, *x, ex[k], &e, row.data())) return steps;
-      Eigen::VectorXd g(static_cast<Eigen::Index>(free.size()));
-      for (size_t i = 0; i < free.size(); ++i) g(static_cast<Eigen::Index>(i)) = (ee[k] >= 0 ? 1.0 : -1.0) * row[free[i]];
-      active.push_back(g);
+      ok = eval->RangeError(p, *x, ex[static_cast<size_t>(k)], &e, row.data());
+      for (int j = 0; j < nx; ++j) G(k, j) = (ee[static_cast<size_t>(k)] >= 0 ? 1.0 : -1.0) * row[static_cast<size_t>(j)];
     }
-    Eigen::MatrixXd G(static_cast<Eigen::Index>(active.size()), static_cast<Eigen::Index>(free.size()));
-    for (size_t k = 0; k < active.size(); ++k) G.row(static_cast<Eigen::Index>(k)) = active[k].transpose();
-    const Eigen::VectorXd minus = -Eigen::VectorXd::Ones(G.rows());
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(G, Eigen::ComputeThinU | Eigen::ComputeThinV);
-    const Eigen::VectorXd d = svd.solve(minus);
-    if (!d.allFinite() || (G * d - minus).norm() > 1e-6 * std::sqrt(static_cast<double>(G.rows()))) break;
-    auto along = [&](double s) {
-      std::vector<double> v = *x;
-      for (size_t i = 0; i < free.size(); ++i)
-        v[free[i]] = std::clamp(v[free[i]] + s * d(static_cast<Eigen::Index>(i)), b.lo[free[i]], b.hi[free[i]]);
-      return v;
-    };
-    const int K = 16;
-    int at = 0;
-    double fb = level;
-    for (int k = 1; k <= K; ++k) {
-      const double f = largest_along(along(level * k / K));
-      if (f < fb) fb = f, at = k;
+    if (!ok) break;
+    // d = dlo + u, 0 <= u <= dhi - dlo; t = t0 - s, s >= 0 (t0: the largest at u = 0).
+    Eigen::VectorXd dlo(N), width(N), c0(K);
+    for (int j = 0; j < nx; ++j) {
+      const size_t i = static_cast<size_t>(j);
+      const double r = delta * std::max(1.0, std::abs((*x)[i]));
+      dlo(j) = std::max(b.lo[i] - (*x)[i], -r);
+      width(j) = std::max(std::min(b.hi[i] - (*x)[i], r) - dlo(j), 0.0);
     }
-    double lo = level * std::max(at - 1, 0) / K, hi = level * std::min(at + 1, K) / K, sb = level * at / K;
-    const double gr = 0.5 * (std::sqrt(5.0) - 1);
-    double u = hi - gr * (hi - lo), w = lo + gr * (hi - lo), fu = largest_along(along(u)), fw = largest_along(along(w));
-    for (int it = 0; it < 40; ++it) {
-      if (fu < fw) {
-        hi = w, w = u, fw = fu, u = hi - gr * (hi - lo), fu = largest_along(along(u));
-      } else {
-        lo = u, u = w, fu = fw, w = lo + gr * (hi - lo), fw = largest_along(along(w));
+    for (Eigen::Index k = 0; k < K; ++k) c0(k) = std::abs(ee[static_cast<size_t>(k)]) + G.row(k).dot(dlo);
+    const double t0 = c0.maxCoeff();
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(K + N, N + 1);
+    Eigen::VectorXd rhs(K + N), gain = Eigen::VectorXd::Zero(N + 1), z, y;
+    A.topLeftCorner(K, N) = G;
+    A.topRightCorner(K, 1).setOnes();
+    rhs.head(K) = (t0 - c0.array()).matrix();
+    A.bottomLeftCorner(N, N).setIdentity();
+    rhs.tail(N) = width;
+    gain(N) = 1;
+    if (!SimplexMax(A, rhs, gain, &z, &y)) break;
+    const double predicted = level - (t0 - z(N));
+    Eigen::VectorXd d = dlo + z.head(N);
+    weights->assign(y.data(), y.data() + K);
+    // The bounds' multipliers: the upper end's row (y) less the lower end's reduced cost, where
+    // that end is the variable's bound (not the trust region's).
+    bound_mult->assign(static_cast<size_t>(nx), 0.0);
+    const Eigen::VectorXd reduced = A.transpose() * y - gain;
+    for (int j = 0; j < nx; ++j) {
+      const size_t i = static_cast<size_t>(j);
+      if (dlo(j) + width(j) >= b.hi[i] - (*x)[i]) (*bound_mult)[i] += y(K + j);
+      if (dlo(j) <= b.lo[i] - (*x)[i]) (*bound_mult)[i] -= reduced(j);
+    }
+    if (!(predicted > 1e-12 * level)) break;
+    std::vector<double> v = *x;
+    bool at_edge = false;
+    for (int j = 0; j < nx; ++j) {
+      const size_t i = static_cast<size_t>(j);
+      const double tol = 1e-12 * std::max(b.hi[i] - b.lo[i], 1e-300);
+      v[i] = std::clamp(v[i] + d(j), b.lo[i], b.hi[i]);
+      if (v[i] > b.hi[i] - tol) v[i] = b.hi[i];
+      if (v[i] < b.lo[i] + tol) v[i] = b.lo[i];
+      at_edge = at_edge || std::abs(std::abs(d(j)) - delta * std::max(1.0, std::abs((*x)[i]))) <=
+                               1e-9 * delta * std::max(1.0, std::abs((*x)[i]));
+    }
+    std::vector<double> vx, ve;
+    ++eval->evaluations;
+    const double actual = RangeExtrema(eval, v, &vx, &ve) ? largest(ve) : kInf;
+    const double rho = (level - actual) / predicted;
+    if (actual < level) {
+      *x = v, ex = vx, ee = ve, level = actual;
+      ++steps;
+      if (rho > 0.75 && at_edge) delta *= 2;
+      if (rho < 0.25) delta /= 4;
+    } else {
+      delta /= 4;
+    }
+  }
+  *worst = level;
+  return steps;
+}
+
+
+/// The levelled point of r extrema (CurveMinimax): Newton on |e(x_k; x)| = E over the variables
+/// `move` and E, x_k the r largest alternating extrema of x's error (RangeExtrema, Reduce),
+/// relocated at each step (the extremum's own movement of second order: the envelope), the
+/// generated gradients; the minimum-norm step when r is below |move| + 1; the variables kept
+/// within their bounds. true when the r magnitudes agree to 1e-9 relative (as the exchange's:
+/// 1e-10 is below what the position solves give at a level of 5e-4 rad; at most 30 steps);
+/// *level their mean, *G the rows sigma_k g_k (r x nx) at the last x.
+template <class M>
+bool LevelOn(FunctionEvaluator<M>* eval, const std::vector<int>& move, int r, std::vector<double>* x, double* level,
+             Eigen::MatrixXd* G) {
+  const BoundFunction<M>& b = eval->bound();
+  const int nx = b.nx;
+  const auto nm = static_cast<Eigen::Index>(move.size());
+  std::vector<double> row(static_cast<size_t>(nx));
+  for (int it = 0; it < 30; ++it) {
+    std::vector<double> ex, ee;
+    ++eval->evaluations;
+    if (!RangeExtrema(eval, *x, &ex, &ee) || static_cast<int>(ex.size()) < r) return false;
+    Reduce(r, &ex, &ee);
+    const auto p = eval->ParamsOf(*x);
+    G->resize(r, nx);
+    double lo = kInf, hi = 0, mean = 0;
+    for (int k = 0; k < r; ++k) {
+      const size_t i = static_cast<size_t>(k);
+      double e = 0;
+      eval->evaluations += 1 + nx;
+      if (!eval->RangeError(p, *x, ex[i], &e, row.data())) return false;
+      for (int j = 0; j < nx; ++j) (*G)(k, j) = (ee[i] >= 0 ? 1.0 : -1.0) * row[static_cast<size_t>(j)];
+      lo = std::min(lo, std::abs(ee[i])), hi = std::max(hi, std::abs(ee[i])), mean += std::abs(ee[i]) / r;
+    }
+    *level = mean;
+    if (hi - lo <= 1e-9 * hi) return true;
+    // |e_k| + sigma_k g_k . dx = mean + dE for every k.
+    Eigen::MatrixXd J(r, nm + 1);
+    Eigen::VectorXd rhs(r);
+    for (int k = 0; k < r; ++k) {
+      for (Eigen::Index c = 0; c < nm; ++c) J(k, c) = (*G)(k, move[static_cast<size_t>(c)]);
+      J(k, nm) = -1;
+      rhs(k) = mean - std::abs(ee[static_cast<size_t>(k)]);
+    }
+    const Eigen::VectorXd d = J.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(rhs);
+    if (!d.allFinite()) return false;
+    for (Eigen::Index c = 0; c < nm; ++c) {
+      const size_t i = static_cast<size_t>(move[static_cast<size_t>(c)]);
+      (*x)[i] = std::clamp((*x)[i] + d(c), b.lo[i], b.hi[i]);
+    }
+  }
+  return false;
+}
+
+/// The minimax on a curve of equal extrema (MinimaxStage, after BoundMinimax): with the
+/// variables `held` on their bounds and nf free ones, r = nf extrema at the level leave a curve
+/// of points where they are equal (r equations in the nf variables and the level E). Along it
+/// (parameter theta, the free variable with the largest component of the curve's tangent t,
+/// the null vector of [sigma_k g_k over the free variables, -1]), E'(theta) = t_E / t_theta;
+/// the point where E' = 0 is found by the secant method (a bracket kept once E' changes sign,
+/// Illinois' rule within it), each theta's point levelled by LevelOn over the other free
+/// variables. There the r signed gradients over the free variables are dependent: weights w_k
+/// (the left null vector, sum 1) with sum_k w_k sigma_k g_k = 0 over the free variables; with
+/// the bounds' multipliers mu_j = -(sum_k w_k sigma_k g_k)_j (> 0 at an upper bound, < 0 at a
+/// lower: the KKT conditions when w >= 0 and those signs hold). The secant's extrapolation at
+/// most 4 times its last step; a theta where LevelOn fails halved towards the last (6 times).
+/// true when |E'| max(1, |theta|) falls below 1e-8 of the level, or the zero of E' is located
+/// to 1e-10 of theta's scale (the bracket, or the secant's step; at most 40 steps). *x the
+/// point, *level its E.
+template <class M>
+bool CurveMinimax(FunctionEvaluator<M>* eval, const std::vector<int>& held, int r, std::vector<double>* x, double* level,
+                  std::vector<double>* weights, std::vector<double>* bound_mult, int* steps) {
+  const BoundFunction<M>& b = eval->bound();
+  const int nx = b.nx;
+  std::vector<int> free;
+  for (int j = 0; j < nx; ++j)
+    if (std::find(held.begin(), held.end(), j) == held.end()) free.push_back(j);
+  const auto nf = static_cast<Eigen::Index>(free.size());
+  if (r != static_cast<int>(nf) || r < 2) return false;
+  Eigen::MatrixXd G;
+  if (!LevelOn(eval, free, r, x, level, &G)) return false;
+  // The tangent at x and E' along theta = x_j.
+  auto slope = [&](const Eigen::MatrixXd& g, int* pick) {
+    Eigen::MatrixXd J(r, nf + 1);
+    for (Eigen::Index c = 0; c < nf; ++c) J.col(c) = g.col(free[static_cast<size_t>(c)]);
+    J.col(nf).setConstant(-1);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeFullV);
+    const Eigen::VectorXd t = svd.matrixV().col(nf);
+    if (*pick < 0) {
+      Eigen::Index c = 0;
+      t.head(nf).cwiseAbs().maxCoeff(&c);
+      *pick = static_cast<int>(c);
+    }
+    return t(nf) / t(*pick);
+  };
+  int pick = -1;
+  double s0 = slope(G, &pick);
+  const size_t j = static_cast<size_t>(free[static_cast<size_t>(pick)]);
+  std::vector<int> others;
+  for (int f : free)
+    if (f != static_cast<int>(j)) others.push_back(f);
+  const double scale = std::max(1.0, std::abs((*x)[j]));
+  double a = (*x)[j], fa = s0, bracket_b = 0, fb = 0;
+  bool bracketed = false;
+  std::vector<double> best = *x;
+  double best_level = *level, best_slope = s0;
+  bool converged = false;
+  double prev = a - (s0 > 0 ? 1e-4 : -1e-4) * scale, fprev = kInf;  // the first step: downhill
+  for (int it = 0; it < 40; ++it) {
+    if (std::abs(best_slope) * scale <= 1e-8 * best_level) {
+      converged = true;
+      break;
+    }
+    double theta = 0;
+    if (it == 0) {
+      theta = prev;
+    } else if (bracketed) {
+      theta = (a * fb - bracket_b * fa) / (fb - fa);
+      if (std::abs(bracket_b - a) <= 1e-10 * scale) {  // E' = 0 located to 1e-10 of theta's scale
+        converged = true;
+        break;
+      }
+    } else {
+      // The secant's extrapolation, at most 4 times the last step (E'' is small where E is flat).
+      const double last = std::abs(a - prev);
+      theta = a + std::clamp(-fa * (a - prev) / (fa - fprev), -4 * last, 4 * last);
+      if (std::abs(theta - a) <= 1e-10 * scale) {
+        converged = true;
+        break;
       }
     }
-    if (fu < fb) fb = fu, sb = u;
-    if (fw < fb) fb = fw, sb = w;
-    if (!(fb < level * (1 - 1e-12))) break;
-    *x = along(sb);
-    *worst = fb;
-    ++steps;
+    theta = std::clamp(theta, b.lo[j], b.hi[j]);
+    if (!std::isfinite(theta) || theta == a) break;
+    std::vector<double> v;
+    double lv = 0;
+    bool levelled = false;
+    for (int half = 0; half < 6 && !levelled; ++half, theta = 0.5 * (theta + a)) {  // where LevelOn fails: nearer a
+      v = best;
+      v[j] = theta;
+      levelled = LevelOn(eval, others, r, &v, &lv, &G);
+    }
+    if (!levelled) break;
+    int keep_pick = pick;
+    const double sv = slope(G, &keep_pick);
+    ++*steps;
+    if (lv <= best_level * (1 + 1e-9) && std::abs(sv) < std::abs(best_slope)) best = v, best_level = lv, best_slope = sv;
+    if (bracketed) {
+      if ((sv > 0) == (fb > 0)) {
+        bracket_b = theta, fb = sv, fa *= 0.5;  // Illinois
+      } else {
+        a = bracket_b, fa = fb, bracket_b = theta, fb = sv;
+      }
+    } else if ((sv > 0) != (fa > 0)) {
+      bracketed = true, bracket_b = theta, fb = sv;
+    } else {
+      prev = a, fprev = fa, a = theta, fa = sv;
+    }
   }
-  return steps;
+  *x = best, *level = best_level;
+  // The weights at the answer (G at its last x, levelled or not).
+  G.resize(0, 0);
+  converged = LevelOn(eval, free, r, x, level, &G) && converged;
+  if (G.rows() != r) return false;
+  Eigen::MatrixXd A(nf + 1, r);
+  for (Eigen::Index c = 0; c < nf; ++c) A.row(c) = G.col(free[static_cast<size_t>(c)]).transpose();
+  A.row(nf).setOnes();
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(nf + 1);
+  rhs(nf) = 1;
+  const Eigen::VectorXd w = A.colPivHouseholderQr().solve(rhs);
+  weights->assign(w.data(), w.data() + w.size());
+  bound_mult->assign(static_cast<size_t>(nx), 0.0);
+  const Eigen::VectorXd gw = G.transpose() * w;
+  for (int h : held) (*bound_mult)[static_cast<size_t>(h)] = -gw(h);
+  return converged;
 }
 
 }  // namespace function_internal
@@ -1222,10 +1462,12 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
     std::vector<std::string> active;
     // Fewer extrema than the free variables ask for (nx + 1 - k, k of them on a bound): not a
     // minimax of the free variables (the reduced exchange's LM takes the nearest equal-ripple
-    // point, not the lowest; or LM within the bounds stopped on one). Descent along the free
-    // variables until nx + 1 - k alternating extrema, then the exchange with the bounds met
-    // held as constraints (each one extremum fewer, as the transmission angle's bound), kept
-    // when it lowers the largest error.
+    // point, not the lowest; or LM within the bounds stopped on one). The minimax within the
+    // bounds by linear programs (BoundMinimax); then, with nx - k extrema at the level, the
+    // minimum along the curve where they stay equal (CurveMinimax: not a vertex, its gradients
+    // dependent there), or with nx + 1 - k the exchange with the bounds met held as constraints
+    // (each one extremum fewer, as the transmission angle's bound); kept when it lowers the
+    // largest error.
     std::vector<int> held;
     std::vector<std::string> held_what;
     function_internal::AtBounds(b, best, &held, &held_what);
@@ -1234,15 +1476,34 @@ MinimaxResult MinimaxStage(FunctionEvaluator<M>* eval, std::vector<double>* x) {
       m.bound_start_max = m.max_angle;
       std::vector<double> xd = best;
       double wd = m.max_angle;
-      m.bound_steps = function_internal::BoundDescent(eval, &xd, &wd);
+      m.bound_steps = function_internal::BoundMinimax(eval, &xd, &wd, &m.kkt_weights, &m.bound_multipliers);
       if (wd < m.max_angle) best = xd, m.max_angle = wd;
       function_internal::AtBounds(b, best, &held, &held_what);
       for (const std::string& w : held_what) m.bounds += (m.bounds.empty() ? "" : "; ") + w;
       m.bound_reference = nx + 1 - static_cast<int>(held.size());
       std::vector<double> bx, be;
       ++eval->evaluations;
-      if (!RangeExtrema(eval, best, &bx, &be) || static_cast<int>(bx.size()) < m.bound_reference) {
-        m.bound_why = "the descent left fewer than " + std::to_string(m.bound_reference) +
+      const bool assembles = RangeExtrema(eval, best, &bx, &be);
+      int at_level = 0;
+      for (double e : be) at_level += std::abs(e) >= (1 - 1e-3) * m.max_angle ? 1 : 0;
+      if (assembles && at_level == m.bound_reference - 1 && at_level >= 2) {
+        // One extremum fewer than the free variables + 1: the minimax along the curve where
+        // those at the level stay equal.
+        std::vector<double> xc = best, weights, mult;
+        double level = 0;
+        m.curve = true;
+        m.curve_converged = function_internal::CurveMinimax(eval, held, at_level, &xc, &level, &weights, &mult, &m.curve_steps);
+        std::vector<double> cx, ce;
+        ++eval->evaluations;
+        if (RangeExtrema(eval, xc, &cx, &ce)) {
+          double worst = 0;
+          for (double e : ce) worst = std::max(worst, std::abs(e));
+          if (worst <= m.max_angle) best = xc, m.max_angle = worst, m.kkt_weights = weights, m.bound_multipliers = mult;
+        }
+        m.bound_why = "the minimax on the bounds has " + std::to_string(at_level) + " extrema at the level, not " +
+                      std::to_string(m.bound_reference) + " (their gradients over the free variables dependent)";
+      } else if (!assembles || static_cast<int>(bx.size()) < m.bound_reference) {
+        m.bound_why = "the linear programs left fewer than " + std::to_string(m.bound_reference) +
                       " alternating extrema (a minimax of the free variables on fewer: their gradients dependent)";
       } else {
         const std::string why = m.why;
@@ -1674,14 +1935,28 @@ std::string FunctionReport(const BoundFunction<M>& b, const FunctionResult& r, u
            (m.active > 1 ? "them active (" + std::to_string(m.active) + " extrema fewer), "
                          : std::string("it active (one extremum fewer), ")) +
            (m.constrained_converged ? "converged" : "not converged: " + m.why) + "\n";
-    if (m.bound_stage)
+    if (m.bound_stage) {
       s += "the exchange ended on " + std::to_string(m.reference) + " extrema (largest |error| " +
            Short(m.bound_start_max * std::abs(to_y), 6) + " in y), fewer than the " + std::to_string(m.bound_reference) +
            " the free variables ask for: " + std::to_string(m.bound_steps) +
-           " descent steps lowering its largest extrema together, then the exchange on " +
-           std::to_string(m.bound_reference) + " extrema" +
-           (m.bounds.empty() ? std::string() : " with " + m.bounds + " held (one extremum fewer per bound)") + ", " +
-           (m.bounds_converged ? "converged" : "not converged: " + m.bound_why) + "\n";
+           " linear-programming steps (the minimax within the bounds), then " +
+           (m.curve ? std::to_string(m.curve_steps) + " steps along the curve of " + std::to_string(m.bound_reference - 1) +
+                          " equal extrema" + (m.bounds.empty() ? std::string() : " with " + m.bounds + " held") +
+                          (m.curve_converged ? ", its minimum reached" : ", its minimum not reached (the level's slope above 1e-8)") + " (" +
+                          m.bound_why + ")"
+                    : "the exchange on " + std::to_string(m.bound_reference) + " extrema" +
+                          (m.bounds.empty() ? std::string() : " with " + m.bounds + " held (one extremum fewer per bound)") +
+                          ", " + (m.bounds_converged ? "converged" : "not converged: " + m.bound_why));
+      if (m.curve && !m.kkt_weights.empty()) {  // at the answer (the curve's minimum)
+        s += "; KKT weights of the extrema";
+        for (double w : m.kkt_weights) s += " " + Short(w, 4);
+        for (size_t j = 0; j < m.bound_multipliers.size(); ++j)
+          if (m.bound_multipliers[j] != 0)
+            s += ", of the bound of " + function_internal::VariableName(b, static_cast<int>(j)) + " " +
+                 Short(m.bound_multipliers[j], 4);
+      }
+      s += "\n";
+    }
     if (std::isfinite(m.max_angle)) {
       s += "largest |structural error| over the range (extrema located): " + Short(m.max_angle * std::abs(to_y), 6) +
            " in y (" + Short(ToDegrees(m.max_angle), 6) + " deg of output); the accuracy points' answer: " +
