@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <type_traits>
 
 #include <Eigen/Core>
@@ -588,12 +589,12 @@ class SquareFactorization<Eigen::Dynamic, MaxN> {
     using Result = Eigen::Matrix<double, Eigen::Dynamic, Rhs::ColsAtCompileTime, 0, MaxN,
                                  Rhs::MaxColsAtCompileTime>;
     if (n_ <= kMaxExplicitInverse) return Result(inverse_ * B);
-    return Result(lu_.solve(B));
+    return Result(lu_->solve(B));
   }
   /// A^{-T} b.
   Vector SolveTransposed(const Vector& b) const {
     if (n_ <= kMaxExplicitInverse) return inverse_.transpose() * b;
-    return lu_.transpose().solve(b);
+    return lu_->transpose().solve(b);
   }
 
  private:
@@ -601,10 +602,10 @@ class SquareFactorization<Eigen::Dynamic, MaxN> {
   // Every size but 2: the fixed-size factorization of its size up to 16, PartialPivLU above.
   MECHGEN_NOINLINE void Factor(const Matrix& A) {
     if (!FactorFixed<1>(A)) {
-      lu_.compute(A);
-      det_ = lu_.determinant();
+      lu_.emplace(A);
+      det_ = lu_->determinant();
       ok_ = det_ != 0 && std::isfinite(det_);
-      const double rcond = ok_ ? lu_.rcond() : 0.0;
+      const double rcond = ok_ ? lu_->rcond() : 0.0;
       cond_ = rcond > 0 ? 1.0 / rcond : std::numeric_limits<double>::infinity();
       norm1_ = internal::Norm1(A);
       inverse_norm1_ = cond_ / norm1_;
@@ -644,7 +645,9 @@ class SquareFactorization<Eigen::Dynamic, MaxN> {
   double norm1_ = std::numeric_limits<double>::quiet_NaN();
   double inverse_norm1_ = std::numeric_limits<double>::quiet_NaN();
   Matrix inverse_;
-  Eigen::PartialPivLU<Matrix> lu_;
+  // Above 16 x 16 only (constructed there: a factorization of a small matrix, every
+  // continuation step of the view, does not set up the bounded LU's members).
+  std::optional<Eigen::PartialPivLU<Matrix>> lu_;
 };
 
 }  // namespace mechgen

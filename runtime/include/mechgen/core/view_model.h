@@ -688,15 +688,29 @@ struct ModelCalls<ViewModel> {
     mat(&s->K_rel, l.K_rel, nf, nq);
   }
   /// statics::internal::AllFinite of *s placed on this view's layout: every entry that Forces
-  /// fills (ViewModel::StaticsLayout::finite) finite, one run of adjacent entries at a time.
-  static bool StaticsFinite(const M& m, const T::Statics& s) {
+  /// fills (ViewModel::StaticsLayout::finite) finite. One pass over the runs of adjacent
+  /// entries, inline (a friction iteration checks it after every evaluation): x - x is 0
+  /// exactly for a finite x and NaN otherwise, so the sums are 0 exactly when every entry is
+  /// finite (internal::AllFinite's test; four sums, which the compiler pairs into vector
+  /// operations, without a call and a loop set-up per run).
+  MECHGEN_ALWAYS_INLINE static bool StaticsFinite(const M& m, const T::Statics& s) {
     const double* const b = s.buffer.data();
-    bool finite = true;
-    for (int k = 0; k < m.statics.num_finite; ++k) {
+    double z0 = 0, z1 = 0, z2 = 0, z3 = 0;
+    const int runs = m.statics.num_finite;
+    for (int k = 0; k < runs; ++k) {
       const ViewModel::StaticsLayout::Run& r = m.statics.finite[static_cast<size_t>(k)];
-      finite = finite && internal::AllFinite(Eigen::Map<const Eigen::VectorXd>(b + r.offset, r.size));
+      const double* const x = b + r.offset;
+      const int n = r.size;
+      int i = 0;
+      for (; i + 4 <= n; i += 4) {
+        z0 += x[i] - x[i];
+        z1 += x[i + 1] - x[i + 1];
+        z2 += x[i + 2] - x[i + 2];
+        z3 += x[i + 3] - x[i + 3];
+      }
+      for (; i < n; ++i) z0 += x[i] - x[i];
     }
-    return finite;
+    return (z0 + z1) + (z2 + z3) == 0;
   }
   /// Model::Forces through the view, into *out's buffer (placed on this view first where it is
   /// not yet, SetNaNStatics): the view's function reads what it does not write, which keeps its

@@ -277,13 +277,19 @@ class PositionSolver {
                 State<M>* s) const;
   // Distance() for kNphi <= 2 (exact, closed form; needs no factorization). known_finite:
   // every entry of A is finite (its factorization succeeded).
-  void SmallDistance(const MatCPhi& A, bool known_finite, State<M>* s) const;
+  // (Mat: MatCPhi, or for the view PendingDistance's bounded 2 x 2.)
+  template <class Mat>
+  void SmallDistance(const Mat& A, bool known_finite, State<M>* s) const;
   // The distance to singularity of a kNphi <= 2 configuration that Accept() left to its
   // caller, MoveTo(), to compute last (SmallDistance() on Phi_phi there, the same values):
   // its square roots and divisions then overlap the start of the next step instead of
-  // holding up the end of this one. pending: not computed yet. (Empty above 2 x 2.)
+  // holding up the end of this one. pending: not computed yet. (Empty above 2 x 2; for the
+  // view a bounded 2 x 2, not a MatCPhi of the view's maximum: MoveTo() holds it on every step.)
+  using PendingMatrix = std::conditional_t<M::kNphi == Eigen::Dynamic,
+                                           Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 2, 2>,
+                                           std::conditional_t<(M::kNphi <= 2), MatCPhi, std::array<double, 0>>>;
   struct PendingDistance {
-    std::conditional_t<(M::kNphi == Eigen::Dynamic || M::kNphi <= 2), MatCPhi, std::array<double, 0>> Phi_phi;
+    PendingMatrix Phi_phi;
     bool pending = false;
   };
   // The exact distance (a full SVD above 2 x 2) at s's configuration, if s has an estimate.
@@ -316,7 +322,7 @@ class PositionSolver {
   // The error bounds of s (State::phi_error, K_error, L_error) from its residual, its
   // conditioning (Classify()) and its coefficients; see "Accuracy" in the file comment.
   // f: the factorization of Phi_phi at s (its ||Phi_phi||_1).
-  void ErrorBounds(const Factorization& f, State<M>* s) const;
+  MECHGEN_ALWAYS_INLINE void ErrorBounds(const Factorization& f, State<M>* s) const;
   // True when `from` is next to a singular configuration and `to` farther from it: the step
   // leaves the singularity, and is judged by to's coefficients, not from's (whose K and L
   // carry errors ~ eps cond^2, eps cond^3).

@@ -39,6 +39,7 @@
  */
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -370,71 +371,89 @@ Status Solve(const M& model, const Options& options, const typename ModelTypes<M
       moving = moving || sign(J) != 0;
     }
     if (!moving) return finish(Status::kConverged, "", false);
-    VecF f_prev = internal::Zeros<VecF>(nf);
-    typename Types::VecQ drive_prev;
-    Assign(&drive_prev, out->statics.drive);
-    for (int k = 1; k < options.max_friction_iterations; ++k) {
-      auto f = Sized<VecF>(nf);
-      if constexpr (C::kView) {  // (the same products, entry by entry)
-        for (int J = 0; J < nf; ++J) f(J) = -(out->statics.gain(J) * out->statics.normal(J)) * sign(J);
-      } else {
-        f = -(out->statics.gain.cwiseProduct(out->statics.normal)).cwiseProduct(sign);
-      }
-      internal::Evaluate<M>(model, p, q, phi, c, &f, &out->statics, velocities);
-      ++s.iterations;
-      Assign(&out->friction, f);
-      double drive_change = 0, f_change = 0, drive_scale = 0, f_scale = 0;
-      bool f_finite = true;
-      if constexpr (C::kView) {
-        // Finite(f), max |f - f_prev| and max |f| in one loop over the friction joints (f_prev
-        // is finite: the last iteration's f, or 0), the maxima the same as MaxAbsDiff()'s where
-        // every entry is finite (else the iteration stops below, and they are not read).
-        double fc = 0, fs = 0, zero = 0;
+    if constexpr (C::kView) {
+      // The iteration of the generated M (below) on the view's storage, in place: the same
+      // values in the same order.
+      // f is out->friction itself (sized nf above), handed to the view's Forces as it is; the
+      // gains, normal forces and driving forces are read through pointers into out->statics'
+      // buffer, which the view's Forces writes in place (they do not move), taken once; the
+      // previous f and drive in two local arrays. (Per iteration: no copy of f, no map's size
+      // read again, no dispatch on a run-time size.)
+      double* const f = out->friction.data();
+      const double* const gain = out->statics.gain.data();
+      const double* const normal = out->statics.normal.data();
+      const double* const drive = out->statics.drive.data();
+      const double* const sign_of = sign.data();
+      const int nq = C::Nq(model);
+      std::array<double, VecF::MaxRowsAtCompileTime> f_prev;  // 0: the frictionless start
+      ::mechgen::internal::FillEntries(f_prev.data(), nf, 0.0);
+      std::array<double, Types::VecQ::MaxRowsAtCompileTime> drive_prev;
+      ::mechgen::internal::CopyEntries(drive, nq, drive_prev.data());
+      for (int k = 1; k < options.max_friction_iterations; ++k) {
+        for (int J = 0; J < nf; ++J) f[J] = -(gain[J] * normal[J]) * sign_of[J];
+        internal::Evaluate<M>(model, p, q, phi, c, &out->friction, &out->statics, velocities);
+        ++s.iterations;
+        // Finite(f), max |f - f_prev| and max |f| in one loop (f_prev is finite: the last
+        // iteration's f, or 0); the maxima of the finite values that the convergence test reads
+        // (else the iteration stops here, and they are not read).
+        double f_change = 0, f_scale = 0, zero = 0;
         for (int J = 0; J < nf; ++J) {
-          const double x = f(J);
+          const double x = f[J];
           zero += x - x;
-          const double d = std::abs(x - f_prev(J)), a = std::abs(x);
-          fc = fc > d ? fc : d;
-          fs = fs > a ? fs : a;
+          const double d = std::abs(x - f_prev[static_cast<size_t>(J)]), a = std::abs(x);
+          f_change = f_change > d ? f_change : d;
+          f_scale = f_scale > a ? f_scale : a;
         }
-        f_finite = zero == 0;
-        f_change = fc;
-        f_scale = fs;
-      }
-      // (A generated M: Finite(f) only after AllFinite, as before.)
-      auto f_ok = [&] {
-        if constexpr (C::kView) {
-          return f_finite;
-        } else {
-          (void)f_finite;
-          return Finite(f);
+        // (internal::AllFinite: out->statics is on the view's layout, SetNaN above.)
+        if (!C::StaticsFinite(model, out->statics) || !(zero == 0)) {
+          return finish(Status::kDidNotConverge, "friction iteration diverged", false);
         }
-      };
-      if (!internal::AllFinite<M>(model, out->statics) || !f_ok()) {
-        return finish(Status::kDidNotConverge, "friction iteration diverged", false);
+        // drive and drive_prev are finite here: their maxima in any order are the same.
+        double drive_change = 0, drive_scale = 0;
+        for (int j = 0; j < nq; ++j) {
+          const double d = std::abs(drive[j] - drive_prev[static_cast<size_t>(j)]), a = std::abs(drive[j]);
+          drive_change = drive_change > d ? drive_change : d;
+          drive_scale = drive_scale > a ? drive_scale : a;
+        }
+        s.last_change = drive_change;
+        if (drive_change <= options.relative_tolerance * drive_scale + options.absolute_tolerance &&
+            f_change <= options.relative_tolerance * f_scale + options.absolute_tolerance) {
+          return finish(Status::kConverged, "", false);
+        }
+        // (CopyEntries: a plain loop here became a call of memcpy.)
+        ::mechgen::internal::CopyEntries(f, nf, f_prev.data());
+        ::mechgen::internal::CopyEntries(drive, nq, drive_prev.data());
       }
-      if constexpr (C::kView) {
-        // The same maxima of these finite values by MaxAbsDiff(), without Eigen's dynamic-size
-        // reductions.
-        using ::mechgen::internal::MaxAbsDiff;
-        drive_change = MaxAbsDiff(out->statics.drive, &drive_prev);
-        drive_scale = MaxAbsDiff(out->statics.drive);
-      } else {
-        drive_change = (out->statics.drive - drive_prev).template lpNorm<Eigen::Infinity>();
-        f_change = (f - f_prev).template lpNorm<Eigen::Infinity>();
-        drive_scale = out->statics.drive.template lpNorm<Eigen::Infinity>();
-        f_scale = f.template lpNorm<Eigen::Infinity>();
-      }
-      s.last_change = drive_change;
-      if (drive_change <= options.relative_tolerance * drive_scale + options.absolute_tolerance &&
-          f_change <= options.relative_tolerance * f_scale + options.absolute_tolerance) {
-        return finish(Status::kConverged, "", false);
-      }
-      Assign(&f_prev, f);
+      return finish(Status::kDidNotConverge,
+                    "friction iteration reached Options::max_friction_iterations", false);
+    } else {
+      VecF f_prev = internal::Zeros<VecF>(nf);
+      typename Types::VecQ drive_prev;
       Assign(&drive_prev, out->statics.drive);
+      for (int k = 1; k < options.max_friction_iterations; ++k) {
+        auto f = Sized<VecF>(nf);
+        f = -(out->statics.gain.cwiseProduct(out->statics.normal)).cwiseProduct(sign);
+        internal::Evaluate<M>(model, p, q, phi, c, &f, &out->statics, velocities);
+        ++s.iterations;
+        Assign(&out->friction, f);
+        if (!internal::AllFinite<M>(model, out->statics) || !Finite(f)) {
+          return finish(Status::kDidNotConverge, "friction iteration diverged", false);
+        }
+        const double drive_change = (out->statics.drive - drive_prev).template lpNorm<Eigen::Infinity>();
+        const double f_change = (f - f_prev).template lpNorm<Eigen::Infinity>();
+        const double drive_scale = out->statics.drive.template lpNorm<Eigen::Infinity>();
+        const double f_scale = f.template lpNorm<Eigen::Infinity>();
+        s.last_change = drive_change;
+        if (drive_change <= options.relative_tolerance * drive_scale + options.absolute_tolerance &&
+            f_change <= options.relative_tolerance * f_scale + options.absolute_tolerance) {
+          return finish(Status::kConverged, "", false);
+        }
+        Assign(&f_prev, f);
+        Assign(&drive_prev, out->statics.drive);
+      }
+      return finish(Status::kDidNotConverge,
+                    "friction iteration reached Options::max_friction_iterations", false);
     }
-    return finish(Status::kDidNotConverge,
-                  "friction iteration reached Options::max_friction_iterations", false);
   } else {
     return finish(Status::kConverged, "", false);
   }

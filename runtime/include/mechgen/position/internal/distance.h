@@ -83,7 +83,8 @@ void PositionSolver<M, Assembler>::Distance(const MatCPhi& A, const Factorizatio
 }
 
 template <class M, class Assembler>
-void PositionSolver<M, Assembler>::SmallDistance(const MatCPhi& A, bool known_finite,
+template <class Mat>
+void PositionSolver<M, Assembler>::SmallDistance(const Mat& A, bool known_finite,
                                                  State<M>* s) const {
   constexpr int n = M::kNphi;
   s->sigma_exact = true;
