@@ -727,6 +727,117 @@ DesignDynamics::DesignDynamics(const Model& m, const Kinematics& k, const Dynami
   (void)m;
 }
 
+DesignDynamicsProduct::DesignDynamicsProduct(const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt) {
+  using GiNaC::ex;
+  const int nq = k.nq(), nd = dt.nd();
+  if (nd == 0 || !dyn.any) return;
+  for (const Statement& s : dyn.program)
+    if (s.kind != Statement::Kind::kDefine) {
+      why_not = "a block of more than " + std::to_string(kMaxSymbolicSolve) + " unknowns is solved by an LU";
+      return;
+    }
+  const SlotSymbols& reads = dyn.applied->slots;
+  for (const auto& [sym, slot] : reads.all())
+    if ((slot.kind == Slot::Kind::kK && dt.dK_dp.empty()) || (slot.kind == Slot::Kind::kL && dt.dL_dp.empty()) ||
+        slot.kind == Slot::Kind::kPhid) {
+      why_not = "it reads a quantity whose design derivative the model does not derive";
+      return;
+    }
+  possible = true;
+  for (int j = 0; j < nq; ++j) {
+    mu.push_back(GiNaC::symbol("mu_" + std::to_string(j)));
+    qdd.push_back(GiNaC::symbol("qdd_" + std::to_string(j)));
+  }
+  ex y = 0;
+  for (int j = 0; j < nq; ++j) {
+    ex row = dyn.Q[j] - dyn.h[j];
+    for (int l = 0; l < nq; ++l) row -= dyn.I[j + nq * l] * qdd[l];
+    y += mu[j] * row;
+  }
+  // The symbols with an adjoint, numbered in the order they are made (the inputs, then the
+  // program's locals): the sweep visits them by number, so the text does not depend on GiNaC's
+  // hashes.
+  std::map<ex, int, GiNaC::ex_is_less> index;
+  std::vector<ex> symbol_of;
+  auto add = [&](const ex& x) {
+    if (index.emplace(x, static_cast<int>(symbol_of.size())).second) symbol_of.push_back(x);
+  };
+  for (int i = 0; i < k.nphi(); ++i) add(k.phi[i].symbol);
+  for (const auto& [sym, slot] : reads.all())
+    if (slot.kind == Slot::Kind::kK || slot.kind == Slot::Kind::kL || slot.kind == Slot::Kind::kPhiPhi) add(sym);
+  const int n_inputs = static_cast<int>(symbol_of.size());
+  for (const Statement& s : dyn.program) add(s.symbol);
+  std::vector<ex> bar(symbol_of.size(), ex(0));
+  std::vector<ex> bar_p(nd, ex(0));
+  // bar[x] += b * de/dx for every numbered x that e reads, in number order; and the explicit p.
+  auto propagate = [&](const ex& e, const ex& b) {
+    std::set<int> read;
+    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+      if (GiNaC::is_a<GiNaC::symbol>(*it)) {
+        const auto f = index.find(*it);
+        if (f != index.end()) read.insert(f->second);
+      }
+    for (int x : read) {
+      const ex g = e.diff(GiNaC::ex_to<GiNaC::symbol>(symbol_of[x]));
+      if (!g.is_zero()) bar[x] += b * g;
+    }
+    for (int d = 0; d < nd; ++d) {
+      if (!e.has(dt.p[d])) continue;
+      const ex g = e.diff(dt.p[d]);
+      if (!g.is_zero()) bar_p[d] += b * g;
+    }
+  };
+  propagate(y, 1);
+  int locals = 0;
+  auto name = [&](const ex& v) {
+    if (GiNaC::is_a<GiNaC::symbol>(v) || GiNaC::is_a<GiNaC::numeric>(v)) return v;
+    ex sym;
+    program.push_back(Define("ybar_" + std::to_string(locals++), v, &sym));
+    return sym;
+  };
+  for (auto it = dyn.program.rbegin(); it != dyn.program.rend(); ++it) {
+    const int x = index.at(it->symbol);
+    if (bar[x].is_zero()) continue;
+    propagate(it->value, name(bar[x]));
+  }
+  // The inputs' adjoints, contracted with their design derivatives.
+  auto explicit_total = [&](const ex& e, int d) {
+    ex s = e.diff(dt.p[d]);
+    for (int i = 0; i < k.nphi(); ++i) {
+      const ex ei = e.diff(k.phi[i].symbol);
+      if (!ei.is_zero() && !dt.dphi_dp[i][d].is_zero()) s += ei * slots(Slot::Kind::kDphiDp, i, d);
+    }
+    return s;
+  };
+  std::vector<ex> input_bar(n_inputs);
+  for (int x = 0; x < n_inputs; ++x) input_bar[x] = bar[x].is_zero() ? ex(0) : name(bar[x]);
+  grad = bar_p;
+  for (int d = 0; d < nd; ++d) {
+    for (int i = 0; i < k.nphi(); ++i) {
+      const ex b = input_bar[index.at(k.phi[i].symbol)];
+      if (!b.is_zero() && !dt.dphi_dp[i][d].is_zero()) grad[d] += b * slots(Slot::Kind::kDphiDp, i, d);
+    }
+    for (const auto& [sym, slot] : reads.all()) {
+      const auto f = index.find(sym);
+      if (f == index.end() || f->second >= n_inputs) continue;
+      const ex b = input_bar[f->second];
+      if (b.is_zero()) continue;
+      switch (slot.kind) {
+        case Slot::Kind::kK:
+          if (!dt.dK_dp[slot.i][slot.j + nq * d].is_zero())
+            grad[d] += b * slots(Slot::Kind::kDKDp, slot.i, slot.j + nq * d);
+          break;
+        case Slot::Kind::kL:
+          if (!dt.dL_dp[slot.i][slot.j + nq * nq * d].is_zero())
+            grad[d] += b * slots(Slot::Kind::kDLDp, slot.i, slot.j + nq * nq * d);
+          break;
+        case Slot::Kind::kPhiPhi: grad[d] += b * explicit_total(k.Phi_phi(slot.i, slot.j), d); break;
+        default: break;
+      }
+    }
+  }
+}
+
 }  // namespace mechgen
 
 // ---- The shaking force and moment's design sensitivities ----

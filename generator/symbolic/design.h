@@ -153,6 +153,24 @@ struct DesignDynamics {
   std::vector<GiNaC::ex> dT, dV;               ///< nd
 };
 
+/// The adjoint's vector-Jacobian product (EvalDynamicsDesignProduct, dynamics/adjoint.h): the
+/// gradient with respect to p of y = mu^T (Q - h - I qdd) at (t, q, qd), mu and qdd held, by
+/// reverse mode over the dynamics program (symbolically: each local's adjoint named once, the
+/// locals swept from the last), its inputs' adjoints then contracted with what
+/// EvalDesignDerivatives gives: d/dp_d y = (explicit) + sum_i ybar_phi_i dphi_i/dp_d + sum
+/// ybar_K(i, j) dK(i, j)/dp_d + sum ybar_L dL/dp_d (+ Phi_phi's explicit total derivative). The
+/// sweep is one pass whatever N is; only that last contraction has N columns (a dot product per
+/// parameter), where EvalDynamicsDesign carries N directions through every local.
+struct DesignDynamicsProduct {
+  DesignDynamicsProduct(const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt);
+  bool possible = false;
+  std::string why_not;
+  SlotSymbols slots;            ///< what it reads of EvalDesignDerivatives' output
+  std::vector<GiNaC::ex> mu, qdd;  ///< the weights and the accelerations (arguments), nq each
+  Program program;              ///< the adjoint locals, after the dynamics program's own
+  std::vector<GiNaC::ex> grad;  ///< d y/dp_d, d = 0..nd-1
+};
+
 }  // namespace mechgen
 
 namespace mechgen {

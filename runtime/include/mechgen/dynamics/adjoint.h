@@ -192,6 +192,7 @@ class AdjointSensitivity {
     VecQ mu_S = end_value.d_q, mu_V = end_value.d_qd;
     RowP gradient = end_value.d_p;
     Partial n[kNodes];
+    typename Forward::NodeKeep keep[kNodes];
     Value r[kNodes];
     typename Forward::MatC A;
     Eigen::Matrix<double, kNc, kNq> C0;
@@ -203,8 +204,9 @@ class AdjointSensitivity {
         const VecQ q = step.x[j].template head<kNq>(), qd = step.x[j].template tail<kNq>();
         if (j == kNodes - 1 && s + 1 < static_cast<int>(steps_.size())) {
           n[j] = n[0];  // the later step's first node: the same (t, q, qd)
+          keep[j] = keep[0];
         } else {
-          if (!forward_.Partials(t, q, qd, false, &n[j]))
+          if (!forward_.Partials(t, q, qd, false, &n[j], &keep[j]))
             return finish(forward_.last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed,
                           "the partials did not evaluate at a stored node of the backward run");
           forward_.Reanchor(n[j]);
@@ -238,7 +240,10 @@ class AdjointSensitivity {
         VecQ lambda = VecQ::Zero();
         for (int i = 1; i < kNodes; ++i) lambda += (h * a(i, j)) * w.template segment<kNq>(kNq * (i - 1));
         new_S += n[j].F_q().transpose() * lambda;
-        gradient += lambda.transpose() * n[j].F_p;
+        RowP product;
+        if (!forward_.DesignProduct(n[j], keep[j], lambda, &product))
+          return finish(Status::kIntegratorFailed, "lambda^T f_p is not finite at a node of the backward run");
+        gradient += product;
       }
       mu_S = new_S;
       mu_V = new_V;
