@@ -11,26 +11,17 @@ std::string Idx(int i, int j) { return "(" + N(i) + ", " + N(j) + ")"; }
 
 }  // namespace
 
-FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTable& t, bool coefficients_only) {
+FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTable& t) {
   using Dir = Argument::Direction;
   const int nq = t.nq(), nphi = t.nphi(), nd = dt.nd();
   FunctionSpec f;
-  if (coefficients_only) {
-    f.name = "EvalDesignCoefficients";
-    f.model_member = "DesignCoefficients";
-    f.in_view = false;  // the adjoint sensitivities run on the fixed-size model (dynamics/adjoint.h)
-    f.doc = {"\\brief EvalDesignDerivatives' dphi_dp, dK_dp and dL_dp alone (what EvalDynamicsDesign and",
-             "EvalDynamicsDesignProduct read): the points' and the transmission angles' derivatives are not",
-             "derived and out's other members are not written."};
-  } else {
-    f.name = "EvalDesignDerivatives";
-    f.fills = OutputStruct::kDesign;
-    f.model_member = "Design";
-    f.doc = {"\\brief Design sensitivities at a closed configuration: the derivatives of phi, the points, K and L",
-             "(as the model has them) with respect to the design parameters kDesignNames, q held.",
-             "Each block's Phi_phi is set up once: dphi/dp = -Phi_phi^-1 dPhi/dp, and K, L differentiated",
-             "by the same forward substitution over the blocks."};
-  }
+  f.name = "EvalDesignDerivatives";
+  f.fills = OutputStruct::kDesign;
+  f.model_member = "Design";
+  f.doc = {"\\brief Design sensitivities at a closed configuration: the derivatives of phi, the points, K and L",
+           "(as the model has them) with respect to the design parameters kDesignNames, q held.",
+           "Each block's Phi_phi is set up once: dphi/dp = -Phi_phi^-1 dPhi/dp, and K, L differentiated",
+           "by the same forward substitution over the blocks."};
   f.args = AtConfiguration();
   f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
   f.args.push_back(Arg("DesignDerivatives<Scalar>*", "out", Dir::kOut, "DesignDerivatives; not nullptr."));
@@ -45,7 +36,7 @@ FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTabl
   if (dt.has_L)
     for (int i = 0; i < nphi; ++i)
       for (int c = 0; c < nq * nq * nd; ++c) P.push_back(Store("out->dL_dp" + Idx(i, c), dt.dL_dp[i][c]));
-  for (size_t pt = 0; pt < (coefficients_only ? 0 : dt.dr_P_dp.size()); ++pt)
+  for (size_t pt = 0; pt < dt.dr_P_dp.size(); ++pt)
     for (int a = 0; a < 2; ++a) {
       const int row = 2 * static_cast<int>(pt) + a;
       for (int d = 0; d < nd; ++d) P.push_back(Store("out->dr_P_dp" + Idx(row, d), dt.dr_P_dp[pt][a][d]));
@@ -55,7 +46,7 @@ FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTabl
         for (int c = 0; c < nq * nq * nd; ++c)
           P.push_back(Store("out->dL_P_dp" + Idx(row, c), dt.dL_P_dp[pt][a][c]));
     }
-  for (size_t i = 0; i < (coefficients_only ? 0 : dt.dmu_dp.size()); ++i)
+  for (size_t i = 0; i < dt.dmu_dp.size(); ++i)
     for (int d = 0; d < nd; ++d) P.push_back(Store("out->dmu_dp" + Idx(static_cast<int>(i), d), dt.dmu_dp[i][d]));
   PruneUnusedDefines(&P);
   f.body = {P};
@@ -169,8 +160,8 @@ FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, co
   return f;
 }
 
-FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& dyn, const DesignDynamicsProduct& dp,
-                                           CxxPrinter* printer) {
+FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& dyn, const DesignTable& dt,
+                                           const DesignDynamicsProduct& dp, CxxPrinter* printer) {
   using Dir = Argument::Direction;
   const int nq = static_cast<int>(m.inputs.size()), nd = static_cast<int>(m.design.params.size());
   FunctionSpec f;
@@ -181,13 +172,13 @@ FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& 
            "per design parameter of kDesignNames, t, q, qd, qdd and the given friction loads held (with",
            "qdd = I^-1 (Q - h) and mu = I^-1 lambda, lambda^T f_p: the adjoint's vector-Jacobian product,",
            "dynamics/adjoint.h). EvalDynamics' program swept once backward from that scalar (reverse mode,",
-           "one pass for all N), its inputs' adjoints then dotted with phi's, K's and L's design derivatives."};
+           "one pass for all N), its inputs' adjoints then dotted with phi's, K's and L's design derivatives",
+           "(derived here as EvalDesignDerivatives derives them)."};
   f.args = AtConfiguration();
   f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
   f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities dq/dt", "dim kNq"));
   f.args.push_back(Arg("const Scalar&", "t", Dir::kIn, "Time (s), for loads that depend on it"));
   f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn, "EvalCoefficients() at this (q, phi)."));
-  f.args.push_back(Arg("const DesignDerivatives<Scalar>&", "dc", Dir::kIn, "EvalDesignDerivatives() at this (q, phi)."));
   f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qdd", Dir::kIn, "Input accelerations, held", "dim kNq"));
   f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "mu", Dir::kIn,
                        "The weights of the equation of motion's rows (generalized forces' adjoint)", "dim kNq"));
@@ -198,12 +189,27 @@ FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& 
                        "dim kNumFriction", true, "nullptr"));
   const StaticsTable& a = *dyn.applied;
   NameSlots(a.slots, printer);
-  NameSlots(dp.slots, printer);
   for (int j = 0; j < nq; ++j) {
     printer->Name(dp.mu[j], "mu(" + N(j) + ")");
     printer->Name(dp.qdd[j], "qdd(" + N(j) + ")");
   }
-  Program P = dyn.program;
+  // dphi/dp, dK/dp and dL/dp as EvalDesignDerivatives derives them, here (one function: the sin
+  // and cos of q and phi taken once), in the places of the slots the product reads.
+  Program P = dt.program;
+  for (const auto& [sym, slot] : dp.slots.all()) {
+    Statement s;
+    s.kind = Statement::Kind::kDefine;
+    s.symbol = sym;
+    s.target = "design_" + slot.SymbolName();
+    switch (slot.kind) {
+      case Slot::Kind::kDphiDp: s.value = dt.dphi_dp[slot.i][slot.j]; break;
+      case Slot::Kind::kDKDp: s.value = dt.dK_dp[slot.i][slot.j]; break;
+      case Slot::Kind::kDLDp: s.value = dt.dL_dp[slot.i][slot.j]; break;
+      default: continue;
+    }
+    P.push_back(s);
+  }
+  P.insert(P.end(), dyn.program.begin(), dyn.program.end());
   P.insert(P.end(), dp.program.begin(), dp.program.end());
   for (int d = 0; d < nd; ++d) P.push_back(Store("(*product)(" + N(d) + ")", dp.grad[d]));
   f.body = {FinishAppliedProgram(P, a, printer)};

@@ -628,12 +628,7 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
       if (dd.possible && (!has_shaking || dsh.possible)) {
         out.push_back(EvalDynamicsDesignSpec(m, *dynamics, dd, printer));
         const DesignDynamicsProduct dp(k, *dynamics, *design);
-        if (dp.possible) {
-          out.push_back(EvalDynamicsDesignProductSpec(m, *dynamics, dp, printer));
-          // Without the points' derivatives where the model has points or transmission angles.
-          if (!design->dr_P_dp.empty() || !design->dmu_dp.empty())
-            out.push_back(EvalDesignDerivativesSpec(*design, t, true));
-        }
+        if (dp.possible) out.push_back(EvalDynamicsDesignProductSpec(m, *dynamics, *design, dp, printer));
         if (has_shaking) out.push_back(EvalShakingDesignSpec(*dynamics, dsh, printer));
         // The right-hand side's Jacobians for the trajectory sensitivities: generated with the
         // dynamics' design derivatives (kHasDynamicsDesign), which need the same straight-line

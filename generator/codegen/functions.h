@@ -90,8 +90,7 @@ FunctionSpec EvalExcessSpec(const Model& m, const Kinematics& k, const DynamicsT
 FunctionSpec EvalShakingSpec(const Model& m, const DynamicsTable& dt, CxxPrinter* printer);
 /// EvalDesignDerivatives (codegen/design_functions.cc, with a `design` section): dphi/dp, the
 /// points' dr_P/dp, dK/dp, dL/dp (the DesignDerivatives struct: codegen/output_spec.h).
-/// coefficients_only: EvalDesignCoefficients, dphi/dp, dK/dp and dL/dp alone (the adjoint's product reads them).
-FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTable& t, bool coefficients_only = false);
+FunctionSpec EvalDesignDerivativesSpec(const DesignTable& dt, const SymbolicTable& t);
 /// EvalDesignChecks (codegen/design_functions.cc): the design checks' margins and their d/dp.
 FunctionSpec EvalDesignChecksSpec(const DesignTable& dt);
 /// EvalStaticsDesign (codegen/design_functions.cc): d/dp of Q, drive, V and the reactions (the
@@ -105,8 +104,8 @@ FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, co
 /// EvalDynamicsDesignProduct (codegen/design_functions.cc, generated with EvalDynamicsDesign):
 /// mu^T (dQ/dp - dh/dp - (dI/dp) qdd) at (t, q, qd) by reverse mode, the adjoint's product
 /// (dynamics/adjoint.h).
-FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& dyn, const DesignDynamicsProduct& dp,
-                                           CxxPrinter* printer);
+FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& dyn, const DesignTable& dt,
+                                           const DesignDynamicsProduct& dp, CxxPrinter* printer);
 /// EvalShakingDesign (codegen/design_functions.cc, with `shaking`): d/dp of the shaking force
 /// and moment at (q, qd, qdd) (nullable outputs dF_dp, dM_dp).
 FunctionSpec EvalShakingDesignSpec(const DynamicsTable& dyn, const DesignShaking& ds, CxxPrinter* printer);

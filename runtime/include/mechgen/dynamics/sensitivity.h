@@ -149,12 +149,6 @@ template <class M, class = void>
 struct HasDynamicsJacobian : std::false_type {};
 template <class M>
 struct HasDynamicsJacobian<M, std::void_t<decltype(&M::template DynamicsJacobian<double>)>> : std::true_type {};
-/// Whether M has EvalDesignCoefficients (M::DesignCoefficients): EvalDesignDerivatives without
-/// the points' derivatives, generated with EvalDynamicsDesignProduct where the model has points.
-template <class M, class = void>
-struct HasDesignCoefficients : std::false_type {};
-template <class M>
-struct HasDesignCoefficients<M, std::void_t<decltype(&M::template DesignCoefficients<double>)>> : std::true_type {};
 /// Whether M has EvalDynamicsDesignProduct (M::DynamicsDesignProduct): mu^T (dQ/dp - dh/dp -
 /// (dI/dp) qdd) by reverse mode over the dynamics, generated with EvalDynamicsDesign (the
 /// adjoint's lambda^T f_p, dynamics/adjoint.h).
@@ -473,22 +467,17 @@ class TrajectorySensitivity {
   /**
    * \brief lambda^T f_p at a node of Partials(..., keep): with mu = I^-1 lambda (I symmetric),
    * lambda^T I^-1 (dQ/dp - dh/dp - (dI/dp) qdd) = mu^T (...), by the generated reverse-mode
-   * M::DynamicsDesignProduct (one sweep for all kNp) after EvalDesignDerivatives (its
-   * coefficients' part, M::DesignCoefficients, where the model has it); lambda^T
+   * M::DynamicsDesignProduct (one sweep for all kNp; dphi/dp, dK/dp and dL/dp derived inside
+   * it, not the points'); lambda^T
    * n.F_p where the model does not have it.
    * \return false where it is not finite.
    */
   bool DesignProduct(const Partial& n, const NodeKeep& keep, const VecQ& lambda,
                      Eigen::Matrix<double, 1, kNp>* out) const {
     if constexpr (kHasDesignProduct) {
-      typename M::template DesignDerivativesT<double> dc;  // dphi_dp, dK_dp, dL_dp: what the product reads
-      if constexpr (internal::HasDesignCoefficients<M>::value)
-        M::template DesignCoefficients<double>(p_, n.q, n.phi, &dc);
-      else
-        M::template Design<double>(p_, n.q, n.phi, &dc);
       const VecQ mu = keep.I_inv * lambda;
       Eigen::Matrix<double, kNp, 1> product;
-      M::template DynamicsDesignProduct<double>(p_, n.q, n.phi, n.qd, n.t, keep.c, dc, n.qdd, mu, &product);
+      M::template DynamicsDesignProduct<double>(p_, n.q, n.phi, n.qd, n.t, keep.c, n.qdd, mu, &product);
       *out = product.transpose();
     } else {
       (void)keep;
