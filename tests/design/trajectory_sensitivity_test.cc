@@ -520,8 +520,15 @@ TEST(AdjointSensitivity, ReverseModeDesignProductAgreesWithTheForwardModesFp) {
   five.emplace_back(V2(M_PI / 2, M_PI / 2), V2(0.3, -0.2));
   five.emplace_back(V2(1.4, 1.7), V2(-1.0, 0.4));
   five.emplace_back(V2(1.8, 1.3), V2(2.0, -1.5));
-  std::printf("lambda^T f_p, reverse against forward mode: four-bar %.3g, five-bar %.3g\n",
-              WorstDesignProductDifference<M4>(four), WorstDesignProductDifference<M5>(five));
+  // The press: two blocks (the second block's K and L read the first's: the sweep over the design
+  // table's program crosses them).
+  using MP = mech::design_press::Model;
+  static_assert(MP::kNumBlocks == 2, "the press is solved in two blocks");
+  std::vector<std::pair<V1, V1>> press;
+  for (int i = 0; i < 8; ++i) press.emplace_back(V1(0.2 + 2 * M_PI * i / 8), V1(10.0 - 3.0 * i));
+  std::printf("lambda^T f_p, reverse against forward mode: four-bar %.3g, five-bar %.3g, press %.3g\n",
+              WorstDesignProductDifference<M4>(four), WorstDesignProductDifference<M5>(five),
+              WorstDesignProductDifference<MP>(press));
 }
 
 // Two blocks (the rod's angle, then the ram's slide: the second block's third-order coefficients
