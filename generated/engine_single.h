@@ -1586,9 +1586,10 @@ void EvalDynamicsDesign(const Params<Scalar>& p,
  * \brief The product mu^T (dQ/dp - dh/dp - (dI/dp) qdd) at (t, q, qd) for given mu and qdd: one number
  * per design parameter of kDesignNames, t, q, qd, qdd and the given friction loads held (with
  * qdd = I^-1 (Q - h) and mu = I^-1 lambda, lambda^T f_p: the adjoint's vector-Jacobian product,
- * dynamics/adjoint.h). EvalDynamics' program swept once backward from that scalar (reverse mode,
- * one pass for all N), its inputs' adjoints then dotted with phi's, K's and L's design derivatives
- * (derived here as EvalDesignDerivatives derives them).
+ * dynamics/adjoint.h). Reverse mode, one pass for all N: EvalDynamics' program swept backward from
+ * that scalar, then the program of K and L from (q, phi, p) from their adjoints; phi's adjoint dotted
+ * with dphi/dp = -Phi_phi^-1 dPhi/dp (derived here as EvalDesignDerivatives derives it; where that
+ * program has an LU, the first sweep's adjoints are dotted with dK/dp and dL/dp instead).
  * \param[in]  p         Parameters.
  * \param[in]  q         Inputs (dim kNq).
  * \param[in]  phi       Dependent variables solving Phi(q, phi) = 0 (dim kNphi).

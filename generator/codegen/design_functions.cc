@@ -171,9 +171,10 @@ FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& 
   f.doc = {"\\brief The product mu^T (dQ/dp - dh/dp - (dI/dp) qdd) at (t, q, qd) for given mu and qdd: one number",
            "per design parameter of kDesignNames, t, q, qd, qdd and the given friction loads held (with",
            "qdd = I^-1 (Q - h) and mu = I^-1 lambda, lambda^T f_p: the adjoint's vector-Jacobian product,",
-           "dynamics/adjoint.h). EvalDynamics' program swept once backward from that scalar (reverse mode,",
-           "one pass for all N), its inputs' adjoints then dotted with phi's, K's and L's design derivatives",
-           "(derived here as EvalDesignDerivatives derives them)."};
+           "dynamics/adjoint.h). Reverse mode, one pass for all N: EvalDynamics' program swept backward from",
+           "that scalar, then the program of K and L from (q, phi, p) from their adjoints; phi's adjoint dotted",
+           "with dphi/dp = -Phi_phi^-1 dPhi/dp (derived here as EvalDesignDerivatives derives it; where that",
+           "program has an LU, the first sweep's adjoints are dotted with dK/dp and dL/dp instead)."};
   f.args = AtConfiguration();
   f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
   f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities dq/dt", "dim kNq"));
@@ -193,8 +194,9 @@ FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& 
     printer->Name(dp.mu[j], "mu(" + N(j) + ")");
     printer->Name(dp.qdd[j], "qdd(" + N(j) + ")");
   }
-  // dphi/dp, dK/dp and dL/dp as EvalDesignDerivatives derives them, here (one function: the sin
-  // and cos of q and phi taken once), in the places of the slots the product reads.
+  // The design table's program (K, L and dphi/dp from (q, phi, p): what the second sweep reads;
+  // pruned to it), and where the product falls back to the forward mode's dK/dp and dL/dp (an LU
+  // in that program), those in the places of the slots it reads.
   Program P = dt.program;
   for (const auto& [sym, slot] : dp.slots.all()) {
     Statement s;
