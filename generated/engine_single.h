@@ -33,7 +33,7 @@
  *
  * Outputs requested by the model: order 2 (positions, velocity coefficients K, centripetal coefficients L), piston_1.C.
  * Linear systems: Phi_phi is block lower triangular with 1 block(s) of at most 2 unknowns; each block's system is solved in closed form (adjugate over determinant), and K and L by forward substitution over the blocks.
- * Operation counts: EvalPhi 32 (adds 10, muls 14, divs 0, calls 8); EvalCoefficients 73 (adds 21, muls 43, divs 1, calls 8); EvalStatics 42 (adds 8, muls 31, divs 1, calls 2); EvalDynamics 105 (adds 25, muls 72, divs 0, calls 8); EvalKinetostatics 160 (adds 43, muls 108, divs 1, calls 8); EvalExcess 152 (adds 37, muls 107, divs 0, calls 8); EvalShaking 126 (adds 43, muls 74, divs 1, calls 8); EvalStiffness 16 (adds 1, muls 13, divs 0, calls 2); EvalDesignDerivatives 186 (adds 53, muls 124, divs 1, calls 8); EvalStaticsDesign 109 (adds 21, muls 82, divs 2, calls 4); EvalDynamicsDesign 299 (adds 88, muls 203, divs 0, calls 8); EvalShakingDesign 325 (adds 109, muls 208, divs 0, calls 8); EvalDynamicsJacobian 185 (adds 49, muls 127, divs 1, calls 8); EvalDetPhiPhi 9 (adds 1, muls 4, divs 0, calls 4); SolvePositions 107 (adds 23, muls 74, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 31 (adds 8, muls 15, divs 0, calls 8); EvalAppliedLoads 17 (adds 2, muls 13, divs 0, calls 2); EvalDrawing 22 (adds 4, muls 12, divs 0, calls 6)
+ * Operation counts: EvalPhi 32 (adds 10, muls 14, divs 0, calls 8); EvalCoefficients 73 (adds 21, muls 43, divs 1, calls 8); EvalStatics 42 (adds 8, muls 31, divs 1, calls 2); EvalDynamics 105 (adds 25, muls 72, divs 0, calls 8); EvalKinetostatics 160 (adds 43, muls 108, divs 1, calls 8); EvalExcess 152 (adds 37, muls 107, divs 0, calls 8); EvalShaking 126 (adds 43, muls 74, divs 1, calls 8); EvalStiffness 16 (adds 1, muls 13, divs 0, calls 2); EvalDesignDerivatives 186 (adds 53, muls 124, divs 1, calls 8); EvalStaticsDesign 109 (adds 21, muls 82, divs 2, calls 4); EvalDynamicsDesign 299 (adds 88, muls 203, divs 0, calls 8); EvalDynamicsDesignProduct 345 (adds 94, muls 241, divs 2, calls 8); EvalShakingDesign 325 (adds 109, muls 208, divs 0, calls 8); EvalDynamicsJacobian 185 (adds 49, muls 127, divs 1, calls 8); EvalDetPhiPhi 9 (adds 1, muls 4, divs 0, calls 4); SolvePositions 107 (adds 23, muls 74, divs 2, calls 8) (per Newton iteration for Newton blocks); EvalScene 31 (adds 8, muls 15, divs 0, calls 8); EvalAppliedLoads 17 (adds 2, muls 13, divs 0, calls 2); EvalDrawing 22 (adds 4, muls 12, divs 0, calls 6)
  */
 #pragma once
 
@@ -1583,6 +1583,134 @@ void EvalDynamicsDesign(const Params<Scalar>& p,
 }
 
 /**
+ * \brief The product mu^T (dQ/dp - dh/dp - (dI/dp) qdd) at (t, q, qd) for given mu and qdd: one number
+ * per design parameter of kDesignNames, t, q, qd, qdd and the given friction loads held (with
+ * qdd = I^-1 (Q - h) and mu = I^-1 lambda, lambda^T f_p: the adjoint's vector-Jacobian product,
+ * dynamics/adjoint.h). Reverse mode, one pass for all N: EvalDynamics' program swept backward from
+ * that scalar, then the program of K and L from (q, phi, p) from their adjoints; phi's adjoint dotted
+ * with dphi/dp = -Phi_phi^-1 dPhi/dp (derived here as EvalDesignDerivatives derives it; where that
+ * program has an LU, the first sweep's adjoints are dotted with dK/dp and dL/dp instead).
+ * \param[in]  p         Parameters.
+ * \param[in]  q         Inputs (dim kNq).
+ * \param[in]  phi       Dependent variables solving Phi(q, phi) = 0 (dim kNphi).
+ * \param[in]  qd        Input velocities dq/dt (dim kNq).
+ * \param[in]  t         Time (s), for loads that depend on it.
+ * \param[in]  c         EvalCoefficients() at this (q, phi).
+ * \param[in]  qdd       Input accelerations, held (dim kNq).
+ * \param[in]  mu        The weights of the equation of motion's rows (generalized forces' adjoint)
+ *                       (dim kNq).
+ * \param[out] product   product(d) = mu^T (dQ/dp_d - dh/dp_d - (dI/dp_d) qdd); not nullptr (dim
+ *                       kNumDesign).
+ * \param[in]  friction  Coulomb friction loads (kFrictionJoints) as EvalDynamics() was given them,
+ *                       held; nullptr: none (dim kNumFriction). May be nullptr.
+ */
+template <typename Scalar>
+void EvalDynamicsDesignProduct(const Params<Scalar>& p,
+                               const Vec<Scalar, Sizes::kNq>& q,
+                               const Vec<Scalar, Sizes::kNphi>& phi,
+                               const Vec<Scalar, Sizes::kNq>& qd,
+                               const Scalar& t,
+                               const Coefficients<Scalar>& c,
+                               const Vec<Scalar, Sizes::kNq>& qdd,
+                               const Vec<Scalar, Sizes::kNq>& mu,
+                               Vec<Scalar, Sizes::kNumDesign>* product,
+                               const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+  // Total ops: 345 (adds 94, muls 241, divs 2, calls 8); intermediate terms: 15
+  using std::cos;
+  using std::sin;
+  (void)t;
+  (void)friction;
+  const Scalar _tmp0 = sin(phi(0));
+  const Scalar Phi_phi_0_0 = -_tmp0*p.l;
+  const Scalar _tmp1 = cos(p.beta_1);
+  const Scalar Phi_phi_0_1 = -_tmp1;
+  const Scalar _tmp2 = cos(phi(0));
+  const Scalar Phi_phi_1_0 = _tmp2*p.l;
+  const Scalar _tmp3 = sin(p.beta_1);
+  const Scalar Phi_phi_1_1 = -_tmp3;
+  const Scalar det_block0 = Phi_phi_0_0*Phi_phi_1_1 - Phi_phi_0_1*Phi_phi_1_0;
+  const Scalar inv_det_block0 = Scalar(1)/det_block0;
+  const Scalar Phi_phi_inv_0_0 = Phi_phi_1_1*inv_det_block0;
+  const Scalar Phi_phi_inv_0_1 = -Phi_phi_0_1*inv_det_block0;
+  const Scalar Phi_phi_inv_1_0 = -Phi_phi_1_0*inv_det_block0;
+  const Scalar Phi_phi_inv_1_1 = Phi_phi_0_0*inv_det_block0;
+  const Scalar _tmp4 = cos(p.gamma_1);
+  const Scalar _tmp5 = sin(q(0));
+  const Scalar _tmp6 = -_tmp4*_tmp5*p.r;
+  const Scalar _tmp7 = cos(q(0));
+  const Scalar _tmp8 = sin(p.gamma_1);
+  const Scalar _tmp9 = -_tmp7*_tmp8*p.r;
+  const Scalar K_rhs_0_0 = _tmp6 + _tmp9;
+  const Scalar _tmp10 = _tmp5*_tmp8*p.r;
+  const Scalar _tmp11 = _tmp4*_tmp7*p.r;
+  const Scalar K_rhs_1_0 = -_tmp10 + _tmp11;
+  const Scalar K_0_0 = -K_rhs_0_0*Phi_phi_inv_0_0 - K_rhs_1_0*Phi_phi_inv_0_1;
+  const Scalar dphi_dp_rhs_0_r = _tmp4*_tmp7 - _tmp5*_tmp8;
+  const Scalar dphi_dp_rhs_1_r = _tmp4*_tmp5 + _tmp7*_tmp8;
+  const Scalar dphi_dp_0_r = -Phi_phi_inv_0_0*dphi_dp_rhs_0_r - Phi_phi_inv_0_1*dphi_dp_rhs_1_r;
+  const Scalar dphi_dp_0_l = -Phi_phi_inv_0_0*_tmp2 - Phi_phi_inv_0_1*_tmp0;
+  const Scalar dphi_dp_0_e = -Phi_phi_inv_0_0*_tmp3 + Phi_phi_inv_0_1*_tmp1;
+  const Scalar _tmp12 = K_0_0*K_0_0;
+  const Scalar L_rhs_0_0_0 = _tmp10 - _tmp11 - _tmp12*_tmp2*p.l;
+  const Scalar L_rhs_1_0_0 = -_tmp0*_tmp12*p.l + _tmp6 + _tmp9;
+  const Scalar KG2_x_0 = -_tmp0*c.K(0, 0)*p.l_G + _tmp6 + _tmp9;
+  const Scalar KG2_y_0 = -_tmp10 + _tmp11 + _tmp2*c.K(0, 0)*p.l_G;
+  const Scalar _tmp13 = c.K(0, 0)*c.K(0, 0);
+  const Scalar LG2_x_0_0 = -_tmp0*c.L(0, 0)*p.l_G + _tmp10 - _tmp11 - _tmp13*_tmp2*p.l_G;
+  const Scalar LG2_y_0_0 = -_tmp0*_tmp13*p.l_G + _tmp2*c.L(0, 0)*p.l_G + _tmp6 + _tmp9;
+  const Scalar KG3_x_0 = _tmp1*c.K(1, 0);
+  const Scalar KG3_y_0 = _tmp3*c.K(1, 0);
+  const Scalar LG3_x_0_0 = _tmp1*c.L(1, 0);
+  const Scalar LG3_y_0_0 = _tmp3*c.L(1, 0);
+  const Scalar _tmp14 = p.bore*p.bore;
+  const Scalar g_2 = -Scalar(0.25)*(_tmp1*_tmp1)*Scalar(3.1415926535897931)*_tmp14*p.p_gas_1 - Scalar(0.25)*(_tmp3*_tmp3)*Scalar(3.1415926535897931)*_tmp14*p.p_gas_1;
+  const Scalar KK2_0_0 = KG2_x_0*KG2_x_0 + KG2_y_0*KG2_y_0;
+  const Scalar KK3_0_0 = KG3_x_0*KG3_x_0 + KG3_y_0*KG3_y_0;
+  const Scalar KL2_0_0_0 = KG2_x_0*LG2_x_0_0 + KG2_y_0*LG2_y_0_0;
+  const Scalar KL3_0_0_0 = KG3_x_0*LG3_x_0_0 + KG3_y_0*LG3_y_0_0;
+  const Scalar ybar_0 = -(qd(0)*qd(0))*mu(0);
+  const Scalar ybar_1 = p.m_pis*ybar_0;
+  const Scalar ybar_2 = p.m_rod*ybar_0;
+  const Scalar ybar_3 = -mu(0)*qdd(0);
+  const Scalar ybar_4 = p.m_pis*ybar_3;
+  const Scalar ybar_5 = p.m_rod*ybar_3;
+  const Scalar ybar_7 = KG3_y_0*ybar_1;
+  const Scalar ybar_8 = KG3_x_0*ybar_1;
+  const Scalar ybar_9 = LG3_y_0_0*ybar_1 + Scalar(2)*KG3_y_0*ybar_4;
+  const Scalar ybar_10 = LG3_x_0_0*ybar_1 + Scalar(2)*KG3_x_0*ybar_4;
+  const Scalar ybar_11 = KG2_y_0*ybar_2;
+  const Scalar ybar_12 = KG2_x_0*ybar_2;
+  const Scalar ybar_13 = LG2_y_0_0*ybar_2 + Scalar(2)*KG2_y_0*ybar_5;
+  const Scalar ybar_14 = LG2_x_0_0*ybar_2 + Scalar(2)*KG2_x_0*ybar_5;
+  const Scalar ybar_15 = _tmp0*_tmp13*p.l_G*ybar_12 - _tmp0*c.K(0, 0)*p.l_G*ybar_13 - _tmp0*c.L(0, 0)*p.l_G*ybar_11 - _tmp13*_tmp2*p.l_G*ybar_11 - _tmp2*c.K(0, 0)*p.l_G*ybar_14 - _tmp2*c.L(0, 0)*p.l_G*ybar_12;
+  const Scalar ybar_16 = -Scalar(2)*_tmp0*c.K(0, 0)*p.l_G*ybar_11 - Scalar(2)*_tmp2*c.K(0, 0)*p.l_G*ybar_12 + Scalar(2)*c.K(0, 0)*p.J_rod*ybar_3 - _tmp0*p.l_G*ybar_14 + _tmp2*p.l_G*ybar_13 + c.L(0, 0)*p.J_rod*ybar_0;
+  const Scalar ybar_17 = _tmp1*ybar_10 + _tmp3*ybar_9 + g_2*mu(0);
+  const Scalar ybar_18 = -_tmp0*p.l_G*ybar_12 + _tmp2*p.l_G*ybar_11 + c.K(0, 0)*p.J_rod*ybar_0;
+  const Scalar ybar_19 = _tmp1*ybar_8 + _tmp3*ybar_7;
+  const Scalar zbar_0 = -Phi_phi_inv_0_1*ybar_18 - Phi_phi_inv_1_1*ybar_19;
+  const Scalar zbar_1 = -Phi_phi_inv_0_0*ybar_18 - Phi_phi_inv_1_0*ybar_19;
+  const Scalar zbar_2 = -Scalar(2)*K_0_0*_tmp0*p.l*zbar_0 - Scalar(2)*K_0_0*_tmp2*p.l*zbar_1 + ybar_16;
+  const Scalar zbar_3 = -Phi_phi_inv_0_1*zbar_2 - Phi_phi_inv_1_1*ybar_17;
+  const Scalar zbar_4 = -Phi_phi_inv_0_0*zbar_2 - Phi_phi_inv_1_0*ybar_17;
+  const Scalar zbar_5 = -K_rhs_1_0*ybar_17 - L_rhs_1_0_0*ybar_19;
+  const Scalar zbar_6 = -K_rhs_0_0*ybar_17 - L_rhs_0_0_0*ybar_19;
+  const Scalar zbar_7 = -K_rhs_1_0*zbar_2 - L_rhs_1_0_0*ybar_18;
+  const Scalar zbar_8 = -K_rhs_0_0*zbar_2 - L_rhs_0_0_0*ybar_18;
+  const Scalar zbar_9 = Phi_phi_0_0*zbar_5 - Phi_phi_0_1*zbar_7 - Phi_phi_1_0*zbar_6 + Phi_phi_1_1*zbar_8;
+  const Scalar zbar_10 = -zbar_9/(det_block0*det_block0);
+  const Scalar zbar_12 = -Phi_phi_0_1*zbar_10 - inv_det_block0*zbar_6;
+  const Scalar zbar_14 = Phi_phi_1_1*zbar_10 + inv_det_block0*zbar_5;
+  const Scalar zbar_15 = _tmp0*_tmp12*p.l*zbar_1 - _tmp0*p.l*zbar_12 - _tmp12*_tmp2*p.l*zbar_0 - _tmp2*p.l*zbar_14 + ybar_15;
+  (*product)(0) = -_tmp4*_tmp5*ybar_11 - _tmp4*_tmp5*ybar_14 - _tmp4*_tmp5*zbar_0 - _tmp4*_tmp5*zbar_4 - _tmp4*_tmp7*ybar_12 + _tmp4*_tmp7*ybar_13 - _tmp4*_tmp7*zbar_1 + _tmp4*_tmp7*zbar_3 + _tmp5*_tmp8*ybar_12 - _tmp5*_tmp8*ybar_13 + _tmp5*_tmp8*zbar_1 - _tmp5*_tmp8*zbar_3 - _tmp7*_tmp8*ybar_11 - _tmp7*_tmp8*ybar_14 - _tmp7*_tmp8*zbar_0 - _tmp7*_tmp8*zbar_4 + dphi_dp_0_r*zbar_15;
+  (*product)(1) = -_tmp0*_tmp12*zbar_0 - _tmp0*zbar_14 - _tmp12*_tmp2*zbar_1 + _tmp2*zbar_12 + dphi_dp_0_l*zbar_15;
+  (*product)(2) = dphi_dp_0_e*zbar_15;
+  (*product)(3) = KK2_0_0*ybar_3 + KL2_0_0_0*ybar_0;
+  (*product)(4) = -_tmp0*_tmp13*ybar_11 - _tmp0*c.K(0, 0)*ybar_14 - _tmp0*c.L(0, 0)*ybar_12 - _tmp13*_tmp2*ybar_12 + _tmp2*c.K(0, 0)*ybar_13 + _tmp2*c.L(0, 0)*ybar_11;
+  (*product)(5) = _tmp13*ybar_3 + c.K(0, 0)*c.L(0, 0)*ybar_0;
+  (*product)(6) = KK3_0_0*ybar_3 + KL3_0_0_0*ybar_0;
+}
+
+/**
  * \brief Design sensitivities of the shaking force and moment (EvalShaking, Paul ch. 7) at (q, qd, qdd):
  * d/dp of F = -sum m a_G and of M about O for the design parameters kDesignNames, q, qd and qdd held
  * (EvalShaking differentiated statement by statement; phi, K and L through EvalDesignDerivatives).
@@ -2228,6 +2356,16 @@ extern template void EvalDynamicsDesign<double>(const Params<double>&,
                                                 const DesignDerivatives<double>&,
                                                 DynamicsDesign<double>*,
                                                 const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*);
+extern template void EvalDynamicsDesignProduct<double>(const Params<double>&,
+                                                       const Vec<double, Sizes::kNq>&,
+                                                       const Vec<double, Sizes::kNphi>&,
+                                                       const Vec<double, Sizes::kNq>&,
+                                                       const double&,
+                                                       const Coefficients<double>&,
+                                                       const Vec<double, Sizes::kNq>&,
+                                                       const Vec<double, Sizes::kNq>&,
+                                                       Vec<double, Sizes::kNumDesign>*,
+                                                       const typename NonDeduced<Vec<double, Sizes::kNumFriction>>::type*);
 extern template void EvalShakingDesign<double>(const Params<double>&,
                                                const Vec<double, Sizes::kNq>&,
                                                const Vec<double, Sizes::kNphi>&,
@@ -2341,6 +2479,16 @@ extern template void EvalDynamicsDesign<float>(const Params<float>&,
                                                const DesignDerivatives<float>&,
                                                DynamicsDesign<float>*,
                                                const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*);
+extern template void EvalDynamicsDesignProduct<float>(const Params<float>&,
+                                                      const Vec<float, Sizes::kNq>&,
+                                                      const Vec<float, Sizes::kNphi>&,
+                                                      const Vec<float, Sizes::kNq>&,
+                                                      const float&,
+                                                      const Coefficients<float>&,
+                                                      const Vec<float, Sizes::kNq>&,
+                                                      const Vec<float, Sizes::kNq>&,
+                                                      Vec<float, Sizes::kNumDesign>*,
+                                                      const typename NonDeduced<Vec<float, Sizes::kNumFriction>>::type*);
 extern template void EvalShakingDesign<float>(const Params<float>&,
                                               const Vec<float, Sizes::kNq>&,
                                               const Vec<float, Sizes::kNphi>&,
@@ -2656,6 +2804,19 @@ struct Model : Sizes {
                              DynamicsDesign<Scalar>* out,
                              const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
     EvalDynamicsDesign(p, q, phi, qd, t, c, dc, out, friction);
+  }
+  template <typename Scalar>
+  static void DynamicsDesignProduct(const Params<Scalar>& p,
+                                    const Vec<Scalar, Sizes::kNq>& q,
+                                    const Vec<Scalar, Sizes::kNphi>& phi,
+                                    const Vec<Scalar, Sizes::kNq>& qd,
+                                    const Scalar& t,
+                                    const Coefficients<Scalar>& c,
+                                    const Vec<Scalar, Sizes::kNq>& qdd,
+                                    const Vec<Scalar, Sizes::kNq>& mu,
+                                    Vec<Scalar, Sizes::kNumDesign>* product,
+                                    const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type* friction = nullptr) {
+    EvalDynamicsDesignProduct(p, q, phi, qd, t, c, qdd, mu, product, friction);
   }
   template <typename Scalar>
   static void ShakingDesign(const Params<Scalar>& p,

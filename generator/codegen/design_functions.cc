@@ -160,6 +160,64 @@ FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, co
   return f;
 }
 
+FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& dyn, const DesignTable& dt,
+                                           const DesignDynamicsProduct& dp, CxxPrinter* printer) {
+  using Dir = Argument::Direction;
+  const int nq = static_cast<int>(m.inputs.size()), nd = static_cast<int>(m.design.params.size());
+  FunctionSpec f;
+  f.name = "EvalDynamicsDesignProduct";
+  f.model_member = "DynamicsDesignProduct";
+  f.in_view = false;  // the adjoint sensitivities run on the fixed-size model (dynamics/adjoint.h)
+  f.doc = {"\\brief The product mu^T (dQ/dp - dh/dp - (dI/dp) qdd) at (t, q, qd) for given mu and qdd: one number",
+           "per design parameter of kDesignNames, t, q, qd, qdd and the given friction loads held (with",
+           "qdd = I^-1 (Q - h) and mu = I^-1 lambda, lambda^T f_p: the adjoint's vector-Jacobian product,",
+           "dynamics/adjoint.h). Reverse mode, one pass for all N: EvalDynamics' program swept backward from",
+           "that scalar, then the program of K and L from (q, phi, p) from their adjoints; phi's adjoint dotted",
+           "with dphi/dp = -Phi_phi^-1 dPhi/dp (derived here as EvalDesignDerivatives derives it; where that",
+           "program has an LU, the first sweep's adjoints are dotted with dK/dp and dL/dp instead)."};
+  f.args = AtConfiguration();
+  f.args[2].doc = "Dependent variables solving Phi(q, phi) = 0";
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qd", Dir::kIn, "Input velocities dq/dt", "dim kNq"));
+  f.args.push_back(Arg("const Scalar&", "t", Dir::kIn, "Time (s), for loads that depend on it"));
+  f.args.push_back(Arg("const Coefficients<Scalar>&", "c", Dir::kIn, "EvalCoefficients() at this (q, phi)."));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "qdd", Dir::kIn, "Input accelerations, held", "dim kNq"));
+  f.args.push_back(Arg("const Vec<Scalar, Sizes::kNq>&", "mu", Dir::kIn,
+                       "The weights of the equation of motion's rows (generalized forces' adjoint)", "dim kNq"));
+  f.args.push_back(Arg("Vec<Scalar, Sizes::kNumDesign>*", "product", Dir::kOut,
+                       "product(d) = mu^T (dQ/dp_d - dh/dp_d - (dI/dp_d) qdd); not nullptr", "dim kNumDesign"));
+  f.args.push_back(Arg("const typename NonDeduced<Vec<Scalar, Sizes::kNumFriction>>::type*", "friction", Dir::kIn,
+                       "Coulomb friction loads (kFrictionJoints) as EvalDynamics() was given them, held; nullptr: none.",
+                       "dim kNumFriction", true, "nullptr"));
+  const StaticsTable& a = *dyn.applied;
+  NameSlots(a.slots, printer);
+  for (int j = 0; j < nq; ++j) {
+    printer->Name(dp.mu[j], "mu(" + N(j) + ")");
+    printer->Name(dp.qdd[j], "qdd(" + N(j) + ")");
+  }
+  // The design table's program (K, L and dphi/dp from (q, phi, p): what the second sweep reads;
+  // pruned to it), and where the product falls back to the forward mode's dK/dp and dL/dp (an LU
+  // in that program), those in the places of the slots it reads.
+  Program P = dt.program;
+  for (const auto& [sym, slot] : dp.slots.all()) {
+    Statement s;
+    s.kind = Statement::Kind::kDefine;
+    s.symbol = sym;
+    s.target = "design_" + slot.SymbolName();
+    switch (slot.kind) {
+      case Slot::Kind::kDphiDp: s.value = dt.dphi_dp[slot.i][slot.j]; break;
+      case Slot::Kind::kDKDp: s.value = dt.dK_dp[slot.i][slot.j]; break;
+      case Slot::Kind::kDLDp: s.value = dt.dL_dp[slot.i][slot.j]; break;
+      default: continue;
+    }
+    P.push_back(s);
+  }
+  P.insert(P.end(), dyn.program.begin(), dyn.program.end());
+  P.insert(P.end(), dp.program.begin(), dp.program.end());
+  for (int d = 0; d < nd; ++d) P.push_back(Store("(*product)(" + N(d) + ")", dp.grad[d]));
+  f.body = {FinishAppliedProgram(P, a, printer)};
+  return f;
+}
+
 }  // namespace mechgen
 
 namespace mechgen {

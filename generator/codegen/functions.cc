@@ -627,6 +627,8 @@ std::vector<FunctionSpec> BuildFunctions(const Model& m,
       const DesignShaking dsh(k, *dynamics, *design);
       if (dd.possible && (!has_shaking || dsh.possible)) {
         out.push_back(EvalDynamicsDesignSpec(m, *dynamics, dd, printer));
+        const DesignDynamicsProduct dp(k, *dynamics, *design);
+        if (dp.possible) out.push_back(EvalDynamicsDesignProductSpec(m, *dynamics, *design, dp, printer));
         if (has_shaking) out.push_back(EvalShakingDesignSpec(*dynamics, dsh, printer));
         // The right-hand side's Jacobians for the trajectory sensitivities: generated with the
         // dynamics' design derivatives (kHasDynamicsDesign), which need the same straight-line

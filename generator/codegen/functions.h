@@ -101,6 +101,11 @@ FunctionSpec EvalStaticsDesignSpec(const Model& m, const StaticsTable& st, const
 /// (the DynamicsDesign struct), reading EvalDesignDerivatives' output.
 FunctionSpec EvalDynamicsDesignSpec(const Model& m, const DynamicsTable& dyn, const DesignDynamics& dd,
                                     CxxPrinter* printer);
+/// EvalDynamicsDesignProduct (codegen/design_functions.cc, generated with EvalDynamicsDesign):
+/// mu^T (dQ/dp - dh/dp - (dI/dp) qdd) at (t, q, qd) by reverse mode, the adjoint's product
+/// (dynamics/adjoint.h).
+FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& dyn, const DesignTable& dt,
+                                           const DesignDynamicsProduct& dp, CxxPrinter* printer);
 /// EvalShakingDesign (codegen/design_functions.cc, with `shaking`): d/dp of the shaking force
 /// and moment at (q, qd, qdd) (nullable outputs dF_dp, dM_dp).
 FunctionSpec EvalShakingDesignSpec(const DynamicsTable& dyn, const DesignShaking& ds, CxxPrinter* printer);

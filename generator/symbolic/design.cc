@@ -459,6 +459,13 @@ DesignTable::DesignTable(const Model& m, const SymbolicTable& t, const Topology*
           for (int kk = 0; kk < nq; ++kk) dL_dp[i][j + nq * kk + nq * nq * d] = dL[i][pair_index(j, kk) + np * d];
   }
 
+  K_value = K;
+  L_value.assign(nphi, std::vector<ex>(nq * nq, 0));
+  if (has_L)
+    for (int i = 0; i < nphi; ++i)
+      for (int j = 0; j < nq; ++j)
+        for (int kk = 0; kk < nq; ++kk) L_value[i][j + nq * kk] = L[i][pair_index(j, kk)];
+
   // ---- The points ----
   dr_P_dp.resize(t.r_P.size());
   dK_P_dp.resize(t.r_P.size());
@@ -725,6 +732,178 @@ DesignDynamics::DesignDynamics(const Model& m, const Kinematics& k, const Dynami
   dT = pd.d[at++];
   dV = pd.d[at++];
   (void)m;
+}
+
+namespace {
+
+// Reverse mode over a straight-line program (kDefine statements only), symbolically: the
+// adjoints of `inputs` and of the explicit parameters p for the scalar y (an expression of the
+// program's locals, the inputs and p), the locals swept from the last, each nonzero adjoint
+// named once (<prefix><n>, appended to *adjoint). The symbols are visited by number (inputs,
+// then locals in program order), so the text does not depend on GiNaC's hashes.
+struct ReverseResult {
+  std::vector<GiNaC::ex> bar_inputs;  ///< named locals (or 0)
+  std::vector<GiNaC::ex> bar_p;       ///< sums of named locals' products
+};
+ReverseResult ReverseOverProgram(const Program& program, const std::vector<GiNaC::ex>& inputs,
+                                 const std::vector<GiNaC::symbol>& p, const GiNaC::ex& y, const std::string& prefix,
+                                 Program* adjoint) {
+  using GiNaC::ex;
+  const int nd = static_cast<int>(p.size());
+  std::map<ex, int, GiNaC::ex_is_less> index;
+  std::vector<ex> symbol_of;
+  auto add = [&](const ex& x) {
+    if (index.emplace(x, static_cast<int>(symbol_of.size())).second) symbol_of.push_back(x);
+  };
+  for (const ex& x : inputs) add(x);
+  for (const Statement& s : program) add(s.symbol);
+  std::vector<ex> bar(symbol_of.size(), ex(0));
+  ReverseResult out;
+  out.bar_p.assign(nd, ex(0));
+  auto propagate = [&](const ex& e, const ex& b) {
+    std::set<int> read;
+    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+      if (GiNaC::is_a<GiNaC::symbol>(*it)) {
+        const auto f = index.find(*it);
+        if (f != index.end()) read.insert(f->second);
+      }
+    for (int x : read) {
+      const ex g = e.diff(GiNaC::ex_to<GiNaC::symbol>(symbol_of[x]));
+      if (!g.is_zero()) bar[x] += b * g;
+    }
+    for (int d = 0; d < nd; ++d) {
+      if (!e.has(p[d])) continue;
+      const ex g = e.diff(p[d]);
+      if (!g.is_zero()) out.bar_p[d] += b * g;
+    }
+  };
+  int locals = 0;
+  auto name = [&](const ex& v) {
+    if (GiNaC::is_a<GiNaC::symbol>(v) || GiNaC::is_a<GiNaC::numeric>(v)) return v;
+    ex sym;
+    adjoint->push_back(Define(prefix + std::to_string(locals++), v, &sym));
+    return sym;
+  };
+  propagate(y, 1);
+  for (auto it = program.rbegin(); it != program.rend(); ++it) {
+    const int x = index.at(it->symbol);
+    if (bar[x].is_zero()) continue;
+    propagate(it->value, name(bar[x]));
+  }
+  for (size_t x = 0; x < inputs.size(); ++x) out.bar_inputs.push_back(bar[x].is_zero() ? ex(0) : name(bar[x]));
+  return out;
+}
+
+bool StraightLine(const Program& program) {
+  for (const Statement& s : program)
+    if (s.kind != Statement::Kind::kDefine) return false;
+  return true;
+}
+
+}  // namespace
+
+DesignDynamicsProduct::DesignDynamicsProduct(const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt) {
+  using GiNaC::ex;
+  const int nq = k.nq(), nphi = k.nphi(), nd = dt.nd();
+  if (nd == 0 || !dyn.any) return;
+  if (!StraightLine(dyn.program)) {
+    why_not = "a block of more than " + std::to_string(kMaxSymbolicSolve) + " unknowns is solved by an LU";
+    return;
+  }
+  const SlotSymbols& reads = dyn.applied->slots;
+  for (const auto& [sym, slot] : reads.all())
+    if ((slot.kind == Slot::Kind::kK && dt.dK_dp.empty()) || (slot.kind == Slot::Kind::kL && dt.dL_dp.empty()) ||
+        slot.kind == Slot::Kind::kPhid) {
+      why_not = "it reads a quantity whose design derivative the model does not derive";
+      return;
+    }
+  possible = true;
+  for (int j = 0; j < nq; ++j) {
+    mu.push_back(GiNaC::symbol("mu_" + std::to_string(j)));
+    qdd.push_back(GiNaC::symbol("qdd_" + std::to_string(j)));
+  }
+  ex y = 0;
+  for (int j = 0; j < nq; ++j) {
+    ex row = dyn.Q[j] - dyn.h[j];
+    for (int l = 0; l < nq; ++l) row -= dyn.I[j + nq * l] * qdd[l];
+    y += mu[j] * row;
+  }
+  // The dynamics program's inputs with a design derivative: phi, then the slots K, L, Phi_phi.
+  std::vector<ex> inputs;
+  std::vector<const Slot*> input_slot;
+  for (int i = 0; i < nphi; ++i) {
+    inputs.push_back(k.phi[i].symbol);
+    input_slot.push_back(nullptr);
+  }
+  for (const auto& [sym, slot] : reads.all())
+    if (slot.kind == Slot::Kind::kK || slot.kind == Slot::Kind::kL || slot.kind == Slot::Kind::kPhiPhi) {
+      inputs.push_back(sym);
+      input_slot.push_back(&slot);
+    }
+  const ReverseResult first = ReverseOverProgram(dyn.program, inputs, dt.p, y, "ybar_", &program);
+  grad = first.bar_p;
+  // Then K, L and Phi_phi as the design table's program computes them from (q, phi, p), swept
+  // backward too (z = their adjoints dotted with them, phi's explicit adjoint added), so that
+  // phi's total adjoint meets dphi/dp = -Phi_phi^-1 dPhi/dp (nphi x N) alone: no dK/dp, dL/dp.
+  // Where that program is not straight-line (an LU), their adjoints are dotted with dK/dp and
+  // dL/dp (EvalDesignDerivatives' forward mode, read in the slots' places).
+  if (StraightLine(dt.program)) {
+    ex z = 0;
+    for (size_t x = 0; x < inputs.size(); ++x) {
+      if (first.bar_inputs[x].is_zero()) continue;
+      if (input_slot[x] == nullptr) {
+        z += first.bar_inputs[x] * inputs[x];
+        continue;
+      }
+      const Slot& slot = *input_slot[x];
+      switch (slot.kind) {
+        case Slot::Kind::kK: z += first.bar_inputs[x] * dt.K_value[slot.i][slot.j]; break;
+        case Slot::Kind::kL: z += first.bar_inputs[x] * dt.L_value[slot.i][slot.j]; break;
+        case Slot::Kind::kPhiPhi: z += first.bar_inputs[x] * k.Phi_phi(slot.i, slot.j); break;
+        default: break;
+      }
+    }
+    std::vector<ex> phis;
+    for (int i = 0; i < nphi; ++i) phis.push_back(k.phi[i].symbol);
+    const ReverseResult second = ReverseOverProgram(dt.program, phis, dt.p, z, "zbar_", &program);
+    for (int d = 0; d < nd; ++d) {
+      grad[d] += second.bar_p[d];
+      for (int i = 0; i < nphi; ++i)
+        if (!second.bar_inputs[i].is_zero() && !dt.dphi_dp[i][d].is_zero())
+          grad[d] += second.bar_inputs[i] * dt.dphi_dp[i][d];
+    }
+    return;
+  }
+  auto explicit_total = [&](const ex& e, int d) {
+    ex s = e.diff(dt.p[d]);
+    for (int i = 0; i < nphi; ++i) {
+      const ex ei = e.diff(k.phi[i].symbol);
+      if (!ei.is_zero() && !dt.dphi_dp[i][d].is_zero()) s += ei * slots(Slot::Kind::kDphiDp, i, d);
+    }
+    return s;
+  };
+  for (int d = 0; d < nd; ++d)
+    for (size_t x = 0; x < inputs.size(); ++x) {
+      const ex b = first.bar_inputs[x];
+      if (b.is_zero()) continue;
+      if (input_slot[x] == nullptr) {
+        if (!dt.dphi_dp[x][d].is_zero()) grad[d] += b * slots(Slot::Kind::kDphiDp, static_cast<int>(x), d);
+        continue;
+      }
+      const Slot& slot = *input_slot[x];
+      switch (slot.kind) {
+        case Slot::Kind::kK:
+          if (!dt.dK_dp[slot.i][slot.j + nq * d].is_zero())
+            grad[d] += b * slots(Slot::Kind::kDKDp, slot.i, slot.j + nq * d);
+          break;
+        case Slot::Kind::kL:
+          if (!dt.dL_dp[slot.i][slot.j + nq * nq * d].is_zero())
+            grad[d] += b * slots(Slot::Kind::kDLDp, slot.i, slot.j + nq * nq * d);
+          break;
+        case Slot::Kind::kPhiPhi: grad[d] += b * explicit_total(k.Phi_phi(slot.i, slot.j), d); break;
+        default: break;
+      }
+    }
 }
 
 }  // namespace mechgen

@@ -67,6 +67,9 @@ struct DesignTable {
   /// The body that computes all of them: each block's Phi_phi set up once, then K, dphi/dp,
   /// dK/dp, L and dL/dp by forward substitution over the blocks.
   Program program;
+  /// K_value[i][j], L_value[i][j + nq k]: K and L as this program computes them (its locals, or
+  /// expressions of them), for the adjoint's reverse sweep (DesignDynamicsProduct).
+  std::vector<std::vector<GiNaC::ex>> K_value, L_value;
   /// dphi_dp[i][d] = dphi_i/dp_d.
   std::vector<std::vector<GiNaC::ex>> dphi_dp;
   /// dK_dp[i][j + nq d] = dK(i, j)/dp_d (has_K).
@@ -151,6 +154,26 @@ struct DesignDynamics {
   std::vector<std::vector<GiNaC::ex>> ddI_dq;  ///< dI_dq[j + nq (k + nq l)] x nd
   std::vector<std::vector<GiNaC::ex>> dh, dQ;  ///< nq x nd
   std::vector<GiNaC::ex> dT, dV;               ///< nd
+};
+
+/// The adjoint's vector-Jacobian product (EvalDynamicsDesignProduct, dynamics/adjoint.h): the
+/// gradient with respect to p of y = mu^T (Q - h - I qdd) at (t, q, qd), mu and qdd held, by
+/// reverse mode over the dynamics program (symbolically: each local's adjoint named once, the
+/// locals swept from the last), then over the design table's program of K, L (and Phi_phi) from
+/// (q, phi, p) seeded with their adjoints: phi's total adjoint zbar_phi and the explicit ones,
+/// d/dp_d y = (explicit) + sum_i zbar_phi_i dphi_i/dp_d, dphi/dp = -Phi_phi^-1 dPhi/dp (the
+/// adjoint of the position constraints). The sweeps are one pass whatever N is; only dphi/dp and
+/// the last dot products have N columns, where EvalDynamicsDesign carries N directions through
+/// every local. Where the design table's program is not straight-line (an LU), the first sweep's
+/// adjoints are dotted with dK/dp and dL/dp instead (read in `slots`).
+struct DesignDynamicsProduct {
+  DesignDynamicsProduct(const Kinematics& k, const DynamicsTable& dyn, const DesignTable& dt);
+  bool possible = false;
+  std::string why_not;
+  SlotSymbols slots;            ///< what it reads of EvalDesignDerivatives' output
+  std::vector<GiNaC::ex> mu, qdd;  ///< the weights and the accelerations (arguments), nq each
+  Program program;              ///< the adjoint locals, after the dynamics program's own
+  std::vector<GiNaC::ex> grad;  ///< d y/dp_d, d = 0..nd-1
 };
 
 }  // namespace mechgen

@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -464,6 +465,70 @@ TEST(TrajectorySensitivity, StateStagesByTheOnePassRhsAgreeWithThePartialsPath) 
   five.emplace_back(V2(1.8, 1.3), V2(2.0, -1.5));
   std::printf("state stages against the partials' qdd: four-bar %.3g, five-bar %.3g\n",
               WorstStatePathDifference<M4>(four), WorstStatePathDifference<M5>(five));
+}
+
+// The adjoint's lambda^T f_p by the generated reverse-mode product (EvalDesignCoefficients, then
+// EvalDynamicsDesignProduct: one backward sweep of the dynamics program) against lambda^T of
+// f_p by the forward mode (EvalDesignDerivatives, EvalDynamicsDesign: N directions through the
+// same program), a second derivation, for each unit lambda and a mixed one at several states.
+template <class M>
+double WorstDesignProductDifference(const std::vector<std::pair<Eigen::Matrix<double, M::kNq, 1>,
+                                                                Eigen::Matrix<double, M::kNq, 1>>>& states) {
+  using Sim = TrajectorySensitivity<M>;
+  static_assert(Sim::kHasDesignProduct, "the test models have EvalDynamicsDesignProduct");
+  using VecQ = typename Sim::VecQ;
+  Sim sim{typename M::template ParamsT<double>()};
+  double worst = 0, scale = 0;
+  for (const auto& [q, qd] : states) {
+    EXPECT_TRUE(sim.Initialize(q));
+    typename Sim::Partial full, lean;
+    typename Sim::NodeKeep keep;
+    EXPECT_TRUE(sim.Partials(0.3, q, qd, false, &full));
+    lean.F_p.setConstant(std::numeric_limits<double>::quiet_NaN());
+    EXPECT_TRUE(sim.Partials(0.3, q, qd, false, &lean, &keep));
+    EXPECT_TRUE(lean.F_p.hasNaN());  // not formed on the adjoint's path
+    EXPECT_EQ(lean.F_x, full.F_x);
+    std::vector<VecQ> lambdas;
+    for (int i = 0; i < M::kNq; ++i) lambdas.push_back(VecQ::Unit(i));
+    VecQ mixed;
+    for (int i = 0; i < M::kNq; ++i) mixed(i) = 0.7 - 1.9 * i;
+    lambdas.push_back(mixed);
+    for (const VecQ& lambda : lambdas) {
+      Eigen::Matrix<double, 1, Sim::kNp> product;
+      EXPECT_TRUE(sim.DesignProduct(lean, keep, lambda, &product));
+      const Eigen::Matrix<double, 1, Sim::kNp> forward = lambda.transpose() * full.F_p;
+      for (int d = 0; d < Sim::kNp; ++d) {
+        worst = std::max(worst, std::abs(product(d) - forward(d)) / std::max(1.0, std::abs(forward(d))));
+        scale = std::max(scale, std::abs(forward(d)));
+      }
+    }
+  }
+  EXPECT_GT(scale, 1e-3);  // not a comparison of zeros
+  EXPECT_LT(worst, 1e-12);
+  return worst;
+}
+
+TEST(AdjointSensitivity, ReverseModeDesignProductAgreesWithTheForwardModesFp) {
+  using M4 = mech::design_fourbar_massive::Model;
+  using M5 = mech::design_fivebar_massive::Model;
+  using V1 = Eigen::Matrix<double, 1, 1>;
+  using V2 = Eigen::Matrix<double, 2, 1>;
+  std::vector<std::pair<V1, V1>> four;
+  const double qs[] = {0.3, 1.2, M_PI / 2, 2.5, 4.0, 5.5}, qds[] = {1.5, -2.0, 0.0, 0.7, 3.0, -0.4};
+  for (int i = 0; i < 6; ++i) four.emplace_back(V1(qs[i]), V1(qds[i]));
+  std::vector<std::pair<V2, V2>> five;
+  five.emplace_back(V2(M_PI / 2, M_PI / 2), V2(0.3, -0.2));
+  five.emplace_back(V2(1.4, 1.7), V2(-1.0, 0.4));
+  five.emplace_back(V2(1.8, 1.3), V2(2.0, -1.5));
+  // The press: two blocks (the second block's K and L read the first's: the sweep over the design
+  // table's program crosses them).
+  using MP = mech::design_press::Model;
+  static_assert(MP::kNumBlocks == 2, "the press is solved in two blocks");
+  std::vector<std::pair<V1, V1>> press;
+  for (int i = 0; i < 8; ++i) press.emplace_back(V1(0.2 + 2 * M_PI * i / 8), V1(10.0 - 3.0 * i));
+  std::printf("lambda^T f_p, reverse against forward mode: four-bar %.3g, five-bar %.3g, press %.3g\n",
+              WorstDesignProductDifference<M4>(four), WorstDesignProductDifference<M5>(five),
+              WorstDesignProductDifference<MP>(press));
 }
 
 // Two blocks (the rod's angle, then the ram's slide: the second block's third-order coefficients

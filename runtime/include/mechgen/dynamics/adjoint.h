@@ -32,11 +32,17 @@
  * t0, mu_S and mu_V are dG/dq0 and dG/dqd0.
  *
  * Cost: one run of the state (the steps of one simulation, with S - 2 dense-output evaluations
- * a step) and, backward, S - 1 evaluations of the partials a step
- * (TrajectorySensitivity::Partials) and one LU of size (S - 1) kNq. The adjoint's own arithmetic is independent of N; f_p at a node
- * is not: the generated EvalDesignDerivatives and EvalDynamicsDesign are a forward mode in p
- * (all N columns), where the adjoint needs only the product lambda^T f_p (a reverse-mode
- * product the generator does not emit). bench/design/run.sh prints the cost in simulations.
+ * a step) and, backward, S - 1 evaluations of the partials a step (f, f_q and f_qd:
+ * TrajectorySensitivity::Partials without f_p) and one LU of size (S - 1) kNq. f_p is never
+ * formed: lambda_j^T f_p,j = mu^T (dQ/dp - dh/dp - (dI/dp) qdd) with mu = I^-1 lambda_j
+ * (TrajectorySensitivity::DesignProduct), by the generated EvalDynamicsDesignProduct, a
+ * reverse mode (symbolic/design.h, DesignDynamicsProduct: one backward sweep over the dynamics,
+ * one over K, L from (q, phi, p), then phi's adjoint dotted with dphi/dp), so that only
+ * dphi/dp (kNphi x N) and N dot products depend on N. A model without it (the dynamics
+ * program not straight-line) contracts the forward mode's f_p (EvalDesignDerivatives,
+ * EvalDynamicsDesign: all N columns) instead. Measured (bench/design/run.sh): 2.6 simulations
+ * on the massive four-bar (N = 6), 3.4 on the five-bar (N = 13), where the forward mode's f_p
+ * took 3.2 and 5.2.
  *
  * Not here: the sensitivity of the run's end time (t_end fixed), events and dead points
  * inside the run (a dead point ends the forward run with its status and no gradient).
@@ -192,6 +198,7 @@ class AdjointSensitivity {
     VecQ mu_S = end_value.d_q, mu_V = end_value.d_qd;
     RowP gradient = end_value.d_p;
     Partial n[kNodes];
+    typename Forward::NodeKeep keep[kNodes];
     Value r[kNodes];
     typename Forward::MatC A;
     Eigen::Matrix<double, kNc, kNq> C0;
@@ -203,8 +210,9 @@ class AdjointSensitivity {
         const VecQ q = step.x[j].template head<kNq>(), qd = step.x[j].template tail<kNq>();
         if (j == kNodes - 1 && s + 1 < static_cast<int>(steps_.size())) {
           n[j] = n[0];  // the later step's first node: the same (t, q, qd)
+          keep[j] = keep[0];
         } else {
-          if (!forward_.Partials(t, q, qd, false, &n[j]))
+          if (!forward_.Partials(t, q, qd, false, &n[j], &keep[j]))
             return finish(forward_.last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed,
                           "the partials did not evaluate at a stored node of the backward run");
           forward_.Reanchor(n[j]);
@@ -238,7 +246,10 @@ class AdjointSensitivity {
         VecQ lambda = VecQ::Zero();
         for (int i = 1; i < kNodes; ++i) lambda += (h * a(i, j)) * w.template segment<kNq>(kNq * (i - 1));
         new_S += n[j].F_q().transpose() * lambda;
-        gradient += lambda.transpose() * n[j].F_p;
+        RowP product;
+        if (!forward_.DesignProduct(n[j], keep[j], lambda, &product))
+          return finish(Status::kIntegratorFailed, "lambda^T f_p is not finite at a node of the backward run");
+        gradient += product;
       }
       mu_S = new_S;
       mu_V = new_V;

@@ -149,6 +149,14 @@ template <class M, class = void>
 struct HasDynamicsJacobian : std::false_type {};
 template <class M>
 struct HasDynamicsJacobian<M, std::void_t<decltype(&M::template DynamicsJacobian<double>)>> : std::true_type {};
+/// Whether M has EvalDynamicsDesignProduct (M::DynamicsDesignProduct): mu^T (dQ/dp - dh/dp -
+/// (dI/dp) qdd) by reverse mode over the dynamics, generated with EvalDynamicsDesign (the
+/// adjoint's lambda^T f_p, dynamics/adjoint.h).
+template <class M, class = void>
+struct HasDynamicsDesignProduct : std::false_type {};
+template <class M>
+struct HasDynamicsDesignProduct<M, std::void_t<decltype(&M::template DynamicsDesignProduct<double>)>>
+    : std::true_type {};
 
 /**
  * The Lobatto IIIA collocation method with S = 3 to 6 nodes (the Lobatto points: 0 and 1 and
@@ -336,6 +344,14 @@ class TrajectorySensitivity {
     auto F_qd() const { return F_x.template rightCols<kNq>(); }
   };
 
+  /// What DesignProduct() reads at a node besides its Partial: kept by Partials(..., keep) in
+  /// place of f_p where the model has M::DynamicsDesignProduct.
+  struct NodeKeep {
+    Coefficients c;
+    MatQ I_inv = MatQ::Zero();
+  };
+  static constexpr bool kHasDesignProduct = internal::HasDynamicsDesignProduct<M>::value;
+
   explicit TrajectorySensitivity(const Params& params, const SensitivityOptions& options = SensitivityOptions())
       : p_(params),
         pj_(params.template Cast<Jet>()),
@@ -383,9 +399,11 @@ class TrajectorySensitivity {
   /**
    * \brief qdd and the partial derivatives f_q, f_qd (F_x) and f_p at (t, q, qd), the
    * positions solved from the predictor; with conditioning, 1/cond_1(Phi_phi) and its det.
+   * With keep (the adjoint) and M::DynamicsDesignProduct: f_p is not formed (n->F_p is left
+   * as it was); what DesignProduct() reads of the node is kept instead.
    * \return false when the positions do not solve or I is not positive definite.
    */
-  bool Partials(double t, const VecQ& q, const VecQ& qd, bool conditioning, Partial* n) {
+  bool Partials(double t, const VecQ& q, const VecQ& qd, bool conditioning, Partial* n, NodeKeep* keep = nullptr) {
     ++partial_evaluations_;
     n->t = t;
     n->q = q;
@@ -410,6 +428,22 @@ class TrajectorySensitivity {
     // f_q, f_qd: I^-1 (dQ - dh - dI qdd)/dx for the 2 kNq directions x = (q, qd).
     const Eigen::Matrix<double, kNq, 2 * kNq> G = StateJacobian(t, q, n->phi, qd, c, d, n->qdd);
     n->F_x.noalias() = I_inv.lazyProduct(G);
+    if (keep != nullptr) {
+      keep->c = c;
+      keep->I_inv = I_inv;
+    }
+    if (kHasDesignProduct && keep != nullptr) {
+      n->K = c.K;
+      if (conditioning) {
+        if (anchored) {
+          n->rcond = anchor_rcond_;
+          n->det = ref_det_;
+        } else {
+          internal::ConditioningOf(PhiPhi(c), &n->rcond, &n->det);
+        }
+      }
+      return n->F_x.allFinite();
+    }
     // f_p: the generated design derivatives at fixed (q, qd).
     typename M::template DesignDerivativesT<double> dc;
     M::template Design<double>(p_, q, n->phi, &dc);
@@ -428,6 +462,28 @@ class TrajectorySensitivity {
       }
     }
     return n->F_x.allFinite() && n->F_p.allFinite();
+  }
+
+  /**
+   * \brief lambda^T f_p at a node of Partials(..., keep): with mu = I^-1 lambda (I symmetric),
+   * lambda^T I^-1 (dQ/dp - dh/dp - (dI/dp) qdd) = mu^T (...), by the generated reverse-mode
+   * M::DynamicsDesignProduct (one sweep for all kNp; dphi/dp, dK/dp and dL/dp derived inside
+   * it, not the points'); lambda^T
+   * n.F_p where the model does not have it.
+   * \return false where it is not finite.
+   */
+  bool DesignProduct(const Partial& n, const NodeKeep& keep, const VecQ& lambda,
+                     Eigen::Matrix<double, 1, kNp>* out) const {
+    if constexpr (kHasDesignProduct) {
+      const VecQ mu = keep.I_inv * lambda;
+      Eigen::Matrix<double, kNp, 1> product;
+      M::template DynamicsDesignProduct<double>(p_, n.q, n.phi, n.qd, n.t, keep.c, n.qdd, mu, &product);
+      *out = product.transpose();
+    } else {
+      (void)keep;
+      *out = lambda.transpose() * n.F_p;
+    }
+    return out->allFinite();
   }
 
   /**
