@@ -622,11 +622,17 @@ class MinimalDynamics {
     if constexpr (kHasCoulomb) {
       if (coulomb_active_) return DerivativeCoulomb(t, y, dy);
     }
+    if constexpr (kStagesByRhs) {
+      if (StagesByRhs()) {
+        if constexpr (Calls::kView && !kHasLoad) {
+          return DerivativeByRhsInPlace(t, y, dy);
+        } else {
+          return DerivativeByRhs(t, y, dy);
+        }
+      }
+    }
     const VecQ q = QOf(y);
     const VecQ qd = QdOf(y);
-    if constexpr (kStagesByRhs) {
-      if (StagesByRhs()) return DerivativeByRhs(t, y, q, qd, dy);
-    }
     return DerivativeBySolve(t, y, q, qd, dy);
   }
 
@@ -1385,8 +1391,11 @@ class MinimalDynamics {
   }
 
   // ---- the right-hand side's two ways (Derivative) ----
-  /// By the one generated pass M::Rhs (kStagesByRhs).
-  bool DerivativeByRhs(double t, const State& y, const VecQ& q, const VecQ& qd, State* dy) {
+  /// By the one generated pass M::Rhs (kStagesByRhs). (The view without a caller's load:
+  /// DerivativeByRhsInPlace, the same arithmetic.)
+  bool DerivativeByRhs(double t, const State& y, State* dy) {
+    const VecQ q = QOf(y);
+    const VecQ qd = QdOf(y);
     // One generated pass (M::Rhs): positions by their sin and cos, K, L, I, h, Q.
     last_solve_not_assemblable_ = false;
     typename Calls::template RhsOut<M> r;
@@ -1400,21 +1409,49 @@ class MinimalDynamics {
     auto qdd = Sized<VecQ>(Nq());
     if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
     SetDerivative(qd, qdd, r.P_nc, dy);
-    if (caching_) {
-      last_.t = t;
-      last_.y = y;
-      last_.sample.phi = Predictor(q);  // the predictor; FromCache() corrects it
-      last_.sample.K = r.K;
-      last_.sample.qdd = qdd;
-      last_.sample.Q = r.Q;
-      last_.sample.T = r.T;
-      last_.sample.V = r.V;
-      last_.sample.P_nc = r.P_nc;
-      last_.Phi_phi = r.Phi_phi;
-      last_.trig = trig_;
-      last_.valid = true;
-    }
+    if (caching_) CacheRhs(t, y, q, qdd, r);
     return true;
+  }
+
+  /// DerivativeByRhs() through the model view without a caller's load: q and qd read in place
+  /// from y and qd written from there into dy (no VecQ copies of the state, each a loop over
+  /// a run-time count), inline in Derivative(). The same values in the same order.
+  MECHGEN_ALWAYS_INLINE bool DerivativeByRhsInPlace(double t, const State& y, State* dy) {
+    last_solve_not_assemblable_ = false;
+    const int nq = Nq();
+    const double* const q = y.data();
+    const double* const qd = q + nq;
+    typename Calls::template RhsOut<M> r;
+    const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, modes_, &trig_, &r);
+    if (report.status != decltype(report.status)::kConverged) {
+      last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+      ++position_failures_;
+      return false;
+    }
+    auto qdd = Sized<VecQ>(nq);
+    if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
+    if (caching_) CacheRhs(t, y, QOf(y), qdd, r);  // (before dy is written: dy may be y)
+    dy->resize(2 * nq + 1);
+    ::mechgen::internal::CopyEntries(qd, nq, dy->data());  // (reads y's qd, writes over its q only)
+    ::mechgen::internal::CopyEntries(qdd.data(), nq, dy->data() + nq);
+    (*dy)(2 * nq) = r.P_nc;
+    return true;
+  }
+  /// The last evaluation, by M::Rhs, for Simulate() (see DerivativeBySolve()).
+  template <class RhsOut>
+  void CacheRhs(double t, const State& y, const VecQ& q, const VecQ& qdd, const RhsOut& r) {
+    last_.t = t;
+    last_.y = y;
+    last_.sample.phi = Predictor(q);  // the predictor; FromCache() corrects it
+    last_.sample.K = r.K;
+    last_.sample.qdd = qdd;
+    last_.sample.Q = r.Q;
+    last_.sample.T = r.T;
+    last_.sample.V = r.V;
+    last_.sample.P_nc = r.P_nc;
+    last_.Phi_phi = r.Phi_phi;
+    last_.trig = trig_;
+    last_.valid = true;
   }
 
   /// By the positions (M::SolveTrig's sin and cos, or M::Solve), then the coefficients and
