@@ -8,7 +8,7 @@
  * One evaluation of the right-hand side at (t, q, qd):
  *   1. phi = M::Solve(p, q, phi_ref + K_ref (q - q_ref), modes): closed-form blocks exactly on
  *      their mode, Newton blocks from that predictor (phi_ref, K_ref: the last accepted
- *      configuration). A failed solve makes the evaluation fail (a status, never NaN): the
+ *      configuration; the one position tracker of the simulations, dynamics/position_tracker.h). A failed solve makes the evaluation fail (a status, never NaN): the
  *      integrator then shortens the step, and a failure down to its minimal step ends the run
  *      with Status::kDeadPoint (the loop cannot close: the motion reached a limit position of
  *      the input) or kPositionFailed.
