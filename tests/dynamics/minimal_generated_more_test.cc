@@ -7,8 +7,12 @@
 //    motor's synchronous speed, with the energy balance kept;
 //  - the excess-coordinate formulation of fourbar_massive against the handwritten one (two
 //    derivations of M, h, g, Phi_x, gamma) and against the minimal method.
+#include <atomic>
 #include <cmath>
+#include <cstring>
+#include <functional>
 #include <limits>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -19,6 +23,7 @@
 #include "handwritten_fourbar_dynamics.h"
 #include "mechgen/dynamics/excess.h"
 #include "mechgen/dynamics/forward.h"
+#include "mechgen/dynamics/prescribed.h"
 #include "slider_crank_motor.h"
 
 namespace {
@@ -201,6 +206,143 @@ TEST(MinimalGeneratedMore, ExcessMethodAgreesWithTheMinimalMethodOnTheGeneratedM
   EXPECT_NEAR(e_last.x(0), m_last.q(0), 1e-7);
   EXPECT_NEAR(e_last.xd(0), m_last.qd(0), 1e-6);
   EXPECT_LT(es.max_Phi, 1e-9);
+}
+
+// The systems of the one simulator on two threads at once give the bytes of one at a time
+// (issue 46; tests/runtime/two_threads_test.cc covers the engine and the free swing of the
+// minimal method): the excess-coordinate system (ExcessDynamics, projected), a free two-input
+// five-bar (MinimalDynamics) and the same five-bar with crank2 driven through via points
+// (PrescribedDynamics). The oracle: each run done alone on this thread first; every double a
+// run hands out (each sample's state and figures, the summary's) compared with memcmp.
+using Numbers = std::vector<double>;
+template <class Derived>
+void Append(const Eigen::MatrixBase<Derived>& m, Numbers* out) {
+  for (Eigen::Index j = 0; j < m.cols(); ++j)
+    for (Eigen::Index i = 0; i < m.rows(); ++i) out->push_back(m(i, j));
+}
+bool SameBytes(const Numbers& a, const Numbers& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+/// The figures every system's summary has; its status and event last.
+template <class Summary>
+void AppendSummary(const Summary& s, Numbers* out) {
+  out->insert(out->end(), {s.t_end, static_cast<double>(s.samples), static_cast<double>(s.integrator.steps),
+                           static_cast<double>(s.integrator.rejected), s.max_energy_error, s.min_rcond_seen,
+                           static_cast<double>(s.status), static_cast<double>(s.event)});
+}
+
+Numbers ExcessRun() {
+  mechgen::dynamics::ExcessOptions o;
+  o.integrator.rtol = 1e-10;
+  o.integrator.atol = 1e-12;
+  o.projection = true;
+  o.sample_dt = 0.01;
+  mechgen::dynamics::ExcessDynamics<fm::Model, Dop853> excess(fm::Params<double>(), o);
+  mechgen::dynamics::ExcessSummary summary;
+  Numbers out;
+  excess.Simulate(0.0, Vec1(kPi / 2), Vec1(2.0), Eigen::Vector2d(0.5, 1.9), 2.0,
+                  [&](const mechgen::dynamics::ExcessSample<fm::Model>& s) {
+                    out.insert(out.end(), {s.t, s.T, s.V, s.Phi_norm, s.Phid_norm});
+                    Append(s.x, &out);
+                    Append(s.xd, &out);
+                    return true;
+                  },
+                  &summary);
+  out.push_back(summary.max_Phi);
+  out.push_back(static_cast<double>(summary.projections));
+  AppendSummary(summary, &out);
+  return out;
+}
+
+Numbers FreeFivebarRun() {
+  using FB = mech::fivebar_massive::Model;
+  MinimalOptions o;
+  o.integrator.rtol = 1e-10;
+  o.integrator.atol = 1e-12;
+  o.sample_dt = 0.01;
+  MinimalDynamics<FB> sim(FB::ParamsT<double>(), o);
+  // (TwoInputFivebarKeepsItsEnergy's swing, which reaches a singular configuration after 1.1 s.)
+  const Eigen::Vector2d q0(FB::kAssemblyQ[0], FB::kAssemblyQ[1]), qd0(0.3, -0.2);
+  Numbers out;
+  if (!sim.Initialize(q0)) return out;
+  MinimalSummary summary;
+  sim.Simulate(0.0, q0, qd0, 0.8,
+               [&](const mechgen::dynamics::Sample<FB>& s) {
+                 out.insert(out.end(), {s.t, s.T, s.V, s.W, s.P_nc, s.rcond, s.det});
+                 Append(s.q, &out);
+                 Append(s.qd, &out);
+                 Append(s.qdd, &out);
+                 Append(s.phi, &out);
+                 return true;
+               },
+               &summary);
+  AppendSummary(summary, &out);
+  return out;
+}
+
+Numbers DrivenFivebarRun() {
+  namespace dyn = mechgen::dynamics;
+  using FB = mech::fivebar_massive::Model;
+  // crank2 through via points (a clamped spline from rest to rest), crank1 free.
+  const dyn::SplineLaw<5> law({0.0, 0.3, 0.7, 1.0, 1.4}, {kPi / 2, 1.9, 2.2, 1.8, 1.4});
+  auto drive = dyn::MakeDrive(law);
+  dyn::PrescribedOptions o;
+  o.integrator.rtol = 1e-10;
+  o.integrator.atol = 1e-12;
+  o.sample_dt = 0.01;
+  dyn::PrescribedDynamics<FB, 1, decltype(drive), dyn::NoForce, Dop853> sim(FB::ParamsT<double>(), {1}, drive,
+                                                                            dyn::NoForce(), o);
+  Numbers out;
+  if (!sim.Initialize(0.0, Vec1(kPi / 2))) return out;
+  dyn::PrescribedSummary summary;
+  sim.Simulate(0.0, Vec1(kPi / 2), Vec1(0.0), 1.6,
+               [&](const dyn::PrescribedSample<FB, 1>& s) {
+                 out.insert(out.end(), {s.t, s.T, s.V, s.W_act, s.P_act, s.rcond, s.det});
+                 Append(s.q, &out);
+                 Append(s.qd, &out);
+                 Append(s.qdd, &out);
+                 Append(s.lambda, &out);
+                 Append(s.phi, &out);
+                 return true;
+               },
+               &summary);
+  out.push_back(summary.max_abs_lambda);
+  AppendSummary(summary, &out);
+  return out;
+}
+
+TEST(MinimalGeneratedMore, ExcessFreeAndDrivenSystemsOnTwoThreadsGiveTheBytesOfOneAtATime) {
+  using Job = std::function<Numbers()>;
+  const std::vector<Job> jobs = {ExcessRun, FreeFivebarRun, DrivenFivebarRun};
+  std::vector<Numbers> one_at_a_time;
+  for (const Job& job : jobs) one_at_a_time.push_back(job());
+  for (size_t k = 0; k < jobs.size(); ++k) {
+    const Numbers& r = one_at_a_time[k];
+    ASSERT_GT(r.size(), 1000u) << "job " << k;  // (100 samples and more, each of many numbers)
+    // The run reached its end (the summary's status, the last figure but one).
+    EXPECT_EQ(r[r.size() - 2], static_cast<double>(Status::kSuccess)) << "job " << k;
+  }
+  // At once: thread A runs the excess system and the driven five-bar, thread B the free
+  // five-bar and the excess system again; several rounds, both released together.
+  constexpr int kRounds = 10;
+  std::vector<std::vector<Numbers>> at_once(2 * jobs.size());
+  std::atomic<int> ready{0};
+  auto worker = [&](std::vector<size_t> mine, size_t slot) {
+    ready.fetch_add(1);
+    while (ready.load() < 2) std::this_thread::yield();
+    for (int round = 0; round < kRounds; ++round)
+      for (size_t k : mine) at_once[slot + k].push_back(jobs[k]());
+  };
+  std::thread a(worker, std::vector<size_t>{0, 2}, 0);
+  std::thread b(worker, std::vector<size_t>{1, 0}, jobs.size());
+  a.join();
+  b.join();
+  for (size_t slot = 0; slot < at_once.size(); ++slot) {
+    const size_t k = slot % jobs.size();
+    const bool ran = (slot < jobs.size() && k != 1) || (slot >= jobs.size() && k != 2);
+    ASSERT_EQ(at_once[slot].size(), ran ? static_cast<size_t>(kRounds) : 0u) << "slot " << slot;
+    for (const Numbers& r : at_once[slot]) EXPECT_TRUE(SameBytes(r, one_at_a_time[k])) << "job " << k;
+  }
 }
 
 TEST(MinimalGeneratedMore, ASampleGridThatCannotAdvanceIsRefused) {

@@ -866,6 +866,13 @@ struct ModelCalls<ViewModel> {
   }
   static ViewSolveReport Rhs(const M& m, const ViewParams& p, const T::RhsConstantsOut& rc, const T::VecQ& q,
                              const T::VecQ& qd, double t, const Modes& modes, Trig* trig, T::RhsOut* r) {
+    return Rhs(m, p, rc, q.data(), qd.data(), t, modes, trig, r);
+  }
+  /// The same with q and qd as the view's nq entries each at q and qd (a simulation's state
+  /// read in place: the minimal method's right-hand side copies nothing out of it).
+  MECHGEN_ALWAYS_INLINE static ViewSolveReport Rhs(const M& m, const ViewParams& p, const T::RhsConstantsOut& rc,
+                                                   const double* q, const double* qd, double t, const Modes& modes,
+                                                   Trig* trig, T::RhsOut* r) {
     const ViewModel::DynamicsLayouts::Rhs& l = m.dynamics_layouts.rhs;
     double* const b = r->buffer.data();
     const int nq = m.have.nq, nphi = m.have.nphi;
@@ -882,7 +889,7 @@ struct ModelCalls<ViewModel> {
     // fixed-size instantiation reads its RhsT, left uninitialized, after the same call), or
     // returns a status other than kConverged, after which nothing is read.
     const ViewSolveReport report =
-        m.view->Rhs(p.data(), rc.buffer.data(), q.data(), qd.data(), t, modes.data(), trig->buffer.data(), b, nullptr);
+        m.view->Rhs(p.data(), rc.buffer.data(), q, qd, t, modes.data(), trig->buffer.data(), b, nullptr);
     r->T = b[l.T];
     r->V = b[l.V];
     r->P_nc = b[l.P_nc];

@@ -38,6 +38,7 @@
 
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/integrators.h"
+#include "mechgen/dynamics/position_tracker.h"
 #include "mechgen/dynamics/simulator.h"
 
 namespace mechgen::dynamics {
@@ -113,7 +114,7 @@ class ExcessDynamics {
   using SampleT = ExcessSample<M>;
 
   ExcessDynamics(const Params& p, const ExcessOptions& options = ExcessOptions())
-      : p_(p), options_(options), integrator_(options.integrator) {}
+      : p_(p), options_(options), integrator_(options.integrator), tracker_(M(), 20, 0.0) {}
 
   /// dy = (xd, xdd) at y = (x, xd).
   bool Derivative(double t, const State& y, State* dy) {
@@ -244,10 +245,11 @@ class ExcessDynamics {
     return true;
   }
 
-  /// phi solved at q (generated solver, from *phi), phid = K qd.
+  /// phi solved at q (the one position tracker's solve, from *phi: the integrated phi, on the
+  /// default modes, either branch), phid = K qd.
   bool Consistent(const VecQ& q, const VecQ& qd, VecPhi* phi, VecPhi* phid) {
-    const auto report = M::template Solve<double>(p_, q, phi, M::kDefaultModes, 20, 0.0);
-    if (report.status != decltype(report.status)::kConverged || !phi->allFinite()) return false;
+    bool not_assemblable = false;  // (not the event loop's flag: a failed projection is counted)
+    if (!tracker_.SolveAt(M(), p_, q, phi, &not_assemblable)) return false;
     typename M::template CoefficientsT<double> c;
     M::template Coeffs<double>(p_, q, *phi, &c);
     *phid = c.K * qd;
@@ -257,6 +259,7 @@ class ExcessDynamics {
   Params p_;
   ExcessOptions options_;
   Integrator integrator_;
+  PositionTracker<M> tracker_;  ///< the projection's solves (M::kDefaultModes, 20 iterations)
   int position_failures_ = 0;
   bool last_solve_not_assemblable_ = false, singular_inertia_ = false;
   int failed_projections_ = 0;

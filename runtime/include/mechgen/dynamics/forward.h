@@ -8,7 +8,7 @@
  * One evaluation of the right-hand side at (t, q, qd):
  *   1. phi = M::Solve(p, q, phi_ref + K_ref (q - q_ref), modes): closed-form blocks exactly on
  *      their mode, Newton blocks from that predictor (phi_ref, K_ref: the last accepted
- *      configuration). A failed solve makes the evaluation fail (a status, never NaN): the
+ *      configuration; the one position tracker of the simulations, dynamics/position_tracker.h). A failed solve makes the evaluation fail (a status, never NaN): the
  *      integrator then shortens the step, and a failure down to its minimal step ends the run
  *      with Status::kDeadPoint (the loop cannot close: the motion reached a limit position of
  *      the input) or kPositionFailed.
@@ -59,6 +59,7 @@
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/friction.h"
 #include "mechgen/dynamics/integrators.h"
+#include "mechgen/dynamics/position_tracker.h"
 #include "mechgen/dynamics/simulator.h"
 
 namespace mechgen::dynamics {
@@ -211,176 +212,6 @@ using mechgen::internal::RhsConstantsOf;
 /// kHasSwitchModes says it has some; 0 otherwise).
 template <class M>
 using NumSwitches = mechgen::internal::SwitchCount<M>;
-
-template <class M>
-constexpr bool AllBlocksClosedForm() {
-  for (bool b : M::kBlockClosedForm)
-    if (!b) return false;
-  return true;
-}
-
-// ---- the calls to the generated functions that MinimalDynamics and PrescribedDynamics
-// (prescribed.h) share: the sin and cos handed over where the model has them, M::Rhs'
-// constants prepared once per parameter set ----
-
-/// M::Solve, handing *trig over where the model has it (ModelCalls<M>::Solve).
-template <class M, class Trig>
-auto CallSolve(const M& model, const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
-               typename ModelTypes<M>::VecPhi* phi, const typename ModelCalls<M>::Modes& modes, int max_iterations,
-               double tolerance, Trig* trig) {
-  return ModelCalls<M>::Solve(model, p, q, phi, modes, max_iterations, tolerance, trig);
-}
-template <class M, class Trig>
-auto CallSolve(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
-               Eigen::Matrix<double, M::kNphi, 1>* phi, const std::array<int, M::kNumBlocks>& modes,
-               int max_iterations, double tolerance, Trig* trig) {
-  return CallSolve(M(), p, q, phi, modes, max_iterations, tolerance, trig);
-}
-
-/// M::Coeffs, given the sin and cos of the last solve where the model has them (and
-/// positions: a model without phi solves nothing, and Coeffs takes its own sin and cos).
-template <class M, class Trig>
-void CallCoeffs(const M& model, const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
-                const typename ModelTypes<M>::VecPhi& phi, typename ModelTypes<M>::Coefficients* c,
-                const Trig* trig) {
-  using Calls = ModelCalls<M>;
-  Calls::Coeffs(model, p, q, phi, c, Calls::Nphi(model) > 0 ? trig : nullptr);
-}
-template <class M, class Trig>
-void CallCoeffs(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
-                const Eigen::Matrix<double, M::kNphi, 1>& phi, typename M::template CoefficientsT<double>* c,
-                const Trig* trig) {
-  CallCoeffs(M(), p, q, phi, c, trig);
-}
-
-/// M::Dynamics, likewise (ModelCalls<M>::Dynamics).
-template <class M, class Trig>
-void CallDynamics(const M& model, const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
-                  const typename ModelTypes<M>::VecPhi& phi, const typename ModelTypes<M>::VecQ& qd, double t,
-                  const typename ModelTypes<M>::Coefficients& c,
-                  typename ModelCalls<M>::template DynamicsOut<M>* d, const Trig* trig) {
-  ModelCalls<M>::Dynamics(model, p, q, phi, qd, t, c, d, trig);
-}
-template <class M, class Trig>
-void CallDynamics(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
-                  const Eigen::Matrix<double, M::kNphi, 1>& phi, const Eigen::Matrix<double, M::kNq, 1>& qd,
-                  double t, const typename M::template CoefficientsT<double>& c,
-                  typename M::template DynamicsT<double>* d, const Trig* trig) {
-  CallDynamics(M(), p, q, phi, qd, t, c, d, trig);
-}
-
-/// The largest Phi_phi of a Dynamic size (the view's, at most ModelView::kMaxPhi = 48 rows).
-inline constexpr int kMaxDynamicPhi = 64;
-
-/// ConditionAndDeterminant (core/linear_algebra.h) of a square matrix whose size is known at
-/// run time only (the view's Phi_phi, issue 43): on a fixed-size copy up to 16 x 16, the same
-/// arithmetic as the fixed-size instantiation; beyond, Eigen's PartialPivLU on a bounded
-/// dynamic copy (no allocation; the same method, its sums perhaps in another order).
-template <int k = 1, class A>
-void ConditionAndDeterminantDynamic(const A& a, double* cond, double* det) {
-  if constexpr (k <= 16) {
-    if (a.rows() == k) {
-      ConditionAndDeterminant(Eigen::Matrix<double, k, k>(a), cond, det);
-      return;
-    }
-    ConditionAndDeterminantDynamic<k + 1>(a, cond, det);
-  } else {
-    using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDynamicPhi, kMaxDynamicPhi>;
-    const Eigen::PartialPivLU<Matrix> lu{Matrix(a)};
-    *det = lu.determinant();
-    const double rcond = lu.rcond();
-    *cond = rcond > 0 && std::isfinite(1.0 / rcond) ? 1.0 / rcond : std::numeric_limits<double>::infinity();
-  }
-}
-/// ConditionAndDeterminant of a fixed-size matrix, or of a dynamic one (above).
-template <class A>
-void ConditionAndDeterminantAny(const A& a, double* cond, double* det) {
-  if constexpr (A::RowsAtCompileTime == Eigen::Dynamic) {
-    ConditionAndDeterminantDynamic(a, cond, det);
-  } else {
-    ConditionAndDeterminant(a, cond, det);
-  }
-}
-
-/// Whether every block of M::Solve is closed-form (no Newton block can land on the other
-/// branch): constant for a generated M, the view's at run time.
-template <class M>
-bool AllBlocksClosedFormOf(const M& model) {
-  using Calls = ModelCalls<M>;
-  if constexpr (Calls::kView) {
-    for (int b = 0; b < Calls::NumBlocks(model); ++b)
-      if (!Calls::BlockClosedForm(model, b)) return false;
-    return true;
-  } else {
-    (void)model;
-    return AllBlocksClosedForm<M>();
-  }
-}
-
-/// The positions at q on the given modes from *phi (warm start): false when they do not
-/// solve (*not_assemblable: the loop cannot close), are not finite, or (a Newton block) land
-/// on the branch whose det Phi_phi has the other sign than ref_det (0: not checked).
-template <class M, class Trig>
-bool SolveOnBranch(const M& model, const typename ModelTypes<M>::Params& p, const typename ModelTypes<M>::VecQ& q,
-                   typename ModelTypes<M>::VecPhi* phi, const typename ModelCalls<M>::Modes& modes,
-                   int max_iterations, double tolerance, double ref_det, Trig* trig, bool* not_assemblable) {
-  *not_assemblable = false;
-  if constexpr (M::kNphi == 0) {
-    (void)model, (void)p, (void)q, (void)phi, (void)modes, (void)max_iterations, (void)tolerance, (void)ref_det,
-        (void)trig;
-    return true;
-  } else {
-    using Calls = ModelCalls<M>;
-    if (Calls::Nphi(model) == 0) return true;  // (a view without loops; constant otherwise)
-    const auto report = CallSolve(model, p, q, phi, modes, max_iterations, tolerance, trig);
-    if (report.status != decltype(report.status)::kConverged) {
-      *not_assemblable = report.status == decltype(report.status)::kNotAssemblable;
-      return false;
-    }
-    if (!phi->allFinite()) return false;
-    bool check_branch = false;
-    if constexpr (Calls::kView) {
-      check_branch = !AllBlocksClosedFormOf(model);
-    } else if constexpr (!AllBlocksClosedForm<M>()) {
-      check_branch = true;
-    }
-    if (check_branch) {
-      // A Newton block may converge to the other branch after a long step: refuse it.
-      typename ModelTypes<M>::Coefficients c;
-      CallCoeffs(model, p, q, *phi, &c, trig);
-      double cond = 0, det = 0;
-      ConditionAndDeterminantAny(c.Phi_phi, &cond, &det);
-      if (ref_det != 0 && (det > 0) != (ref_det > 0)) return false;
-    }
-    return true;
-  }
-}
-template <class M, class Trig>
-bool SolveOnBranch(const typename M::template ParamsT<double>& p, const Eigen::Matrix<double, M::kNq, 1>& q,
-                   Eigen::Matrix<double, M::kNphi, 1>* phi, const std::array<int, M::kNumBlocks>& modes,
-                   int max_iterations, double tolerance, double ref_det, Trig* trig, bool* not_assemblable) {
-  return SolveOnBranch(M(), p, q, phi, modes, max_iterations, tolerance, ref_det, trig, not_assemblable);
-}
-
-/// 1/cond_1 and det of Phi_phi (rcond 0 where cond is not finite); 1 and 1 for kNphi = 0.
-template <class A>
-void ConditioningOf(const A& Phi_phi, double* rcond, double* det) {
-  if constexpr (A::RowsAtCompileTime == 0) {
-    *rcond = 1;
-    *det = 1;
-  } else {
-    if constexpr (A::RowsAtCompileTime == Eigen::Dynamic) {
-      if (Phi_phi.rows() == 0) {  // (a view without loops)
-        *rcond = 1;
-        *det = 1;
-        return;
-      }
-    }
-    double cond = 0;
-    ConditionAndDeterminantAny(Phi_phi, &cond, det);
-    *rcond = std::isfinite(cond) && cond > 0 ? 1.0 / cond : 0.0;
-  }
-}
 
 /// M::Rhs' constants (M::Prepare), prepared again after the parameters may have changed.
 template <class M>
@@ -553,10 +384,7 @@ class MinimalDynamics {
         options_(options),
         integrator_(options.integrator),
         load_(std::move(load)),
-        modes_(Calls::DefaultModes(model)),
-        q_ref_(ZeroQ()),
-        phi_ref_(ZeroPhi()),
-        K_ref_(ZeroK()) {}
+        tracker_(model, options.max_solver_iterations, options.solver_tolerance) {}
 
   const M& model() const { return model_; }
   /// The model's inputs (kNq, or the view's at run time).
@@ -582,7 +410,7 @@ class MinimalDynamics {
   }
   const MinimalOptions& options() const { return options_; }
   const Integrator& integrator() const { return integrator_; }
-  const Modes& modes() const { return modes_; }
+  const Modes& modes() const { return tracker_.modes(); }
 
   /**
    * \brief Assembles at q0 from phi_guess on the given modes and sets the reference
@@ -590,18 +418,8 @@ class MinimalDynamics {
    */
   bool Initialize(const VecQ& q0, const VecPhi& phi_guess) { return Initialize(q0, phi_guess, Calls::DefaultModes(model_)); }
   bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes) {
-    modes_ = modes;
-    q_ref_ = q0;
-    phi_ref_ = phi_guess;
-    K_ref_.setZero();
-    VecPhi phi = phi_guess;
-    if (!SolveAt(q0, &phi)) return false;
     Coefficients c;
-    EvalCoefficients(q0, phi, &c);
-    phi_ref_ = phi;
-    K_ref_ = c.K;
-    double rcond = 1;
-    Conditioning(c, &rcond, &ref_det_);
+    if (!tracker_.Assemble(model_, p_, q0, phi_guess, modes, &c, &last_solve_not_assemblable_)) return false;
     initialized_ = true;
     return true;
   }
@@ -622,11 +440,17 @@ class MinimalDynamics {
     if constexpr (kHasCoulomb) {
       if (coulomb_active_) return DerivativeCoulomb(t, y, dy);
     }
+    if constexpr (kStagesByRhs) {
+      if (StagesByRhs()) {
+        if constexpr (Calls::kView && !kHasLoad) {
+          return DerivativeByRhsInPlace(t, y, dy);
+        } else {
+          return DerivativeByRhs(t, y, dy);
+        }
+      }
+    }
     const VecQ q = QOf(y);
     const VecQ qd = QdOf(y);
-    if constexpr (kStagesByRhs) {
-      if (StagesByRhs()) return DerivativeByRhs(t, y, q, qd, dy);
-    }
     return DerivativeBySolve(t, y, q, qd, dy);
   }
 
@@ -709,9 +533,7 @@ class MinimalDynamics {
 
   /// Makes (q, phi, K) the reference of the warm starts (Simulate does after each step).
   void SetReference(const VecQ& q, const VecPhi& phi, const MatK& K) {
-    q_ref_ = q;
-    phi_ref_ = phi;
-    K_ref_ = K;
+    tracker_.SetReference(q, phi, K);
   }
 
   /**
@@ -1232,7 +1054,7 @@ class MinimalDynamics {
   bool Accept(double t, const State& y, SampleT* cur) {
     if (!FromCache(t, y, cur) && !Evaluate(t, y, cur)) return false;
     SetReference(cur->q, cur->phi, cur->K);
-    ref_det_ = cur->det;
+    tracker_.set_ref_det(cur->det);
     return true;
   }
   /// Energy projection (MinimalOptions::energy_projection) of the accepted state *cur.
@@ -1256,17 +1078,16 @@ class MinimalDynamics {
   }
 
   bool SolveAt(const VecQ& q, VecPhi* phi) {
-    return internal::SolveOnBranch(model_, p_, q, phi, modes_, options_.max_solver_iterations,
-                                   options_.solver_tolerance, ref_det_, &trig_, &last_solve_not_assemblable_);
+    return tracker_.SolveAt(model_, p_, q, phi, &last_solve_not_assemblable_);
   }
 
   void EvalCoefficients(const VecQ& q, const VecPhi& phi, Coefficients* c) {
-    internal::CallCoeffs(model_, p_, q, phi, c, &trig_);
+    internal::CallCoeffs(model_, p_, q, phi, c, tracker_.trig());
   }
 
   void EvalDynamics(const VecQ& q, const VecPhi& phi, const VecQ& qd, double t,
                     const Coefficients& c, Dyn* d) {
-    internal::CallDynamics(model_, p_, q, phi, qd, t, c, d, &trig_);
+    internal::CallDynamics(model_, p_, q, phi, qd, t, c, d, tracker_.trig());
     AddLoad(t, q, qd, c.K, &d->Q, &d->P_nc);
   }
 
@@ -1385,12 +1206,15 @@ class MinimalDynamics {
   }
 
   // ---- the right-hand side's two ways (Derivative) ----
-  /// By the one generated pass M::Rhs (kStagesByRhs).
-  bool DerivativeByRhs(double t, const State& y, const VecQ& q, const VecQ& qd, State* dy) {
+  /// By the one generated pass M::Rhs (kStagesByRhs). (The view without a caller's load:
+  /// DerivativeByRhsInPlace, the same arithmetic.)
+  bool DerivativeByRhs(double t, const State& y, State* dy) {
+    const VecQ q = QOf(y);
+    const VecQ qd = QdOf(y);
     // One generated pass (M::Rhs): positions by their sin and cos, K, L, I, h, Q.
     last_solve_not_assemblable_ = false;
     typename Calls::template RhsOut<M> r;
-    const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, modes_, &trig_, &r);
+    const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, tracker_.modes(), tracker_.trig(), &r);
     if (report.status != decltype(report.status)::kConverged) {
       last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
       ++position_failures_;
@@ -1400,21 +1224,49 @@ class MinimalDynamics {
     auto qdd = Sized<VecQ>(Nq());
     if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
     SetDerivative(qd, qdd, r.P_nc, dy);
-    if (caching_) {
-      last_.t = t;
-      last_.y = y;
-      last_.sample.phi = Predictor(q);  // the predictor; FromCache() corrects it
-      last_.sample.K = r.K;
-      last_.sample.qdd = qdd;
-      last_.sample.Q = r.Q;
-      last_.sample.T = r.T;
-      last_.sample.V = r.V;
-      last_.sample.P_nc = r.P_nc;
-      last_.Phi_phi = r.Phi_phi;
-      last_.trig = trig_;
-      last_.valid = true;
-    }
+    if (caching_) CacheRhs(t, y, q, qdd, r);
     return true;
+  }
+
+  /// DerivativeByRhs() through the model view without a caller's load: q and qd read in place
+  /// from y and qd written from there into dy (no VecQ copies of the state, each a loop over
+  /// a run-time count), inline in Derivative(). The same values in the same order.
+  MECHGEN_ALWAYS_INLINE bool DerivativeByRhsInPlace(double t, const State& y, State* dy) {
+    last_solve_not_assemblable_ = false;
+    const int nq = Nq();
+    const double* const q = y.data();
+    const double* const qd = q + nq;
+    typename Calls::template RhsOut<M> r;
+    const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, tracker_.modes(), tracker_.trig(), &r);
+    if (report.status != decltype(report.status)::kConverged) {
+      last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+      ++position_failures_;
+      return false;
+    }
+    auto qdd = Sized<VecQ>(nq);
+    if (!SolveInertia(r.I, r.Q - r.h, &qdd)) return false;
+    if (caching_) CacheRhs(t, y, QOf(y), qdd, r);  // (before dy is written: dy may be y)
+    dy->resize(2 * nq + 1);
+    ::mechgen::internal::CopyEntries(qd, nq, dy->data());  // (reads y's qd, writes over its q only)
+    ::mechgen::internal::CopyEntries(qdd.data(), nq, dy->data() + nq);
+    (*dy)(2 * nq) = r.P_nc;
+    return true;
+  }
+  /// The last evaluation, by M::Rhs, for Simulate() (see DerivativeBySolve()).
+  template <class RhsOut>
+  void CacheRhs(double t, const State& y, const VecQ& q, const VecQ& qdd, const RhsOut& r) {
+    last_.t = t;
+    last_.y = y;
+    last_.sample.phi = Predictor(q);  // the predictor; FromCache() corrects it
+    last_.sample.K = r.K;
+    last_.sample.qdd = qdd;
+    last_.sample.Q = r.Q;
+    last_.sample.T = r.T;
+    last_.sample.V = r.V;
+    last_.sample.P_nc = r.P_nc;
+    last_.Phi_phi = r.Phi_phi;
+    last_.trig = *tracker_.trig();
+    last_.valid = true;
   }
 
   /// By the positions (M::SolveTrig's sin and cos, or M::Solve), then the coefficients and
@@ -1428,7 +1280,7 @@ class MinimalDynamics {
         // sin and cos only: phi stays the predictor, which the generated functions given trig
         // do not read; FromCache() recovers the angles at an accepted step.
         last_solve_not_assemblable_ = false;
-        const auto report = Calls::SolveTrig(model_, p_, q, modes_, &trig_);
+        const auto report = Calls::SolveTrig(model_, p_, q, tracker_.modes(), tracker_.trig());
         if (report.status != decltype(report.status)::kConverged) {
           last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
           ++position_failures_;
@@ -1460,7 +1312,7 @@ class MinimalDynamics {
       last_.sample.P_nc = d.P_nc;
       if constexpr (kNphi != 0) last_.Phi_phi = c.Phi_phi;
       if constexpr (kStagesByTrig) {
-        if (by_trig) last_.trig = trig_;
+        if (by_trig) last_.trig = *tracker_.trig();
       }
       last_.valid = true;
     }
@@ -1522,7 +1374,7 @@ class MinimalDynamics {
     }
   }
   /// phi_ref + K_ref (q - q_ref): the warm start of the positions at q.
-  VecPhi Predictor(const VecQ& q) const { return phi_ref_ + Times(K_ref_, VecQ(q - q_ref_)); }
+  VecPhi Predictor(const VecQ& q) const { return tracker_.Predictor(q); }
   VecQ ZeroQ() const {
     if constexpr (kNq != Eigen::Dynamic) {
       return VecQ::Zero();
@@ -1530,21 +1382,6 @@ class MinimalDynamics {
       return VecQ::Zero(Nq());
     }
   }
-  VecPhi ZeroPhi() const {
-    if constexpr (kNphi != Eigen::Dynamic) {
-      return VecPhi::Zero();
-    } else {
-      return VecPhi::Zero(Nphi());
-    }
-  }
-  MatK ZeroK() const {
-    if constexpr (MatK::SizeAtCompileTime != Eigen::Dynamic) {
-      return MatK::Zero();
-    } else {
-      return MatK::Zero(Nphi(), Nq());
-    }
-  }
-
   M model_;
   // The model's sizes and how the stages solve, read once (Nq(), Nphi(), StagesByTrig(),
   // StagesByRhs()).
@@ -1556,11 +1393,7 @@ class MinimalDynamics {
   MinimalOptions options_;
   Integrator integrator_;
   Load load_;
-  Modes modes_;
-  VecQ q_ref_;
-  VecPhi phi_ref_;
-  MatK K_ref_;
-  Trig trig_{};
+  PositionTracker<M> tracker_;  ///< the positions along the run: modes, reference, branch, sin and cos
   internal::PreparedRhsConstants<M> rhs_constants_;  ///< kStagesByRhs: M::Prepare(p_)
   struct LastEvaluation {
     bool valid = false;
@@ -1572,7 +1405,6 @@ class MinimalDynamics {
   };
   LastEvaluation last_;
   bool caching_ = false;
-  double ref_det_ = 0;
   int position_failures_ = 0;
   bool initialized_ = false, last_solve_not_assemblable_ = false, singular_inertia_ = false;
   bool coulomb_active_ = false, stuck_ = false, friction_failed_ = false;

@@ -465,6 +465,43 @@ class CoulombFriction {
     }
   }
 
+  /// MixedOf()'s reduced inertia: I with a held input's row and column replaced by the
+  /// identity's (*held: which inputs a stuck joint holds).
+  template <int n>
+  static Eigen::Matrix<double, n, n> ReducedInertia(const Eigen::Matrix<double, n, n>& I,
+                                                    const JointModes<kMaxFriction>& m, int nf,
+                                                    std::array<bool, n>* held) {
+    Eigen::Matrix<double, n, n> A = I;
+    for (int J = 0; J < nf; ++J)
+      if (m.stuck[J]) (*held)[m.held[J]] = true;
+    for (int i = 0; i < n; ++i) {
+      if (!(*held)[i]) continue;
+      A.row(i).setZero();
+      A.col(i).setZero();
+      A(i, i) = 1;
+    }
+    return A;
+  }
+  /// One iteration's accelerations of MixedOf(): b = Q - h plus the slipping joints' friction
+  /// loads K_rel_J^T f_J (st: the last kinetostatics, nullptr before the first), qdd from the
+  /// reduced inertia (ldlt) with the held inputs at rest.
+  template <int n>
+  static void MixedAccelerations(const Eigen::LDLT<Eigen::Matrix<double, n, n>>& ldlt,
+                                 const Eigen::Matrix<double, n, 1>& Q_minus_h, const std::array<bool, n>& held,
+                                 const JointModes<kMaxFriction>& m, int nf, const Statics* st, const VecF& f,
+                                 Eigen::Matrix<double, n, 1>* b, Eigen::Matrix<double, n, 1>* qdd) {
+    *b = Q_minus_h;
+    if (st != nullptr)
+      for (int J = 0; J < nf; ++J)
+        if (!m.stuck[J]) *b += st->K_rel.row(J).transpose() * f(J);
+    Eigen::Matrix<double, n, 1> rhs = *b;
+    for (int i = 0; i < n; ++i)
+      if (held[i]) rhs(i) = 0;
+    *qdd = ldlt.solve(rhs);
+    for (int i = 0; i < n; ++i)
+      if (held[i]) (*qdd)(i) = 0;
+  }
+
   /// Mixed() on n = Nq inputs (kNq; the view's count: see MixedDynamic). For a generated
   /// model VecN is VecQ and every copy below is of the same type.
   template <int n, class MatI, class MatKrel>
@@ -477,18 +514,8 @@ class CoulombFriction {
     const int nf = Count(model);
     const MatN I = I_in;
     const VecN Q_minus_h = Q_minus_h_in;
-    // The reduced inertia: a held input's row and column replaced by the identity's.
-    MatN A = I;
     std::array<bool, n> held{};
-    for (int J = 0; J < nf; ++J)
-      if (m.stuck[J]) held[m.held[J]] = true;
-    for (int i = 0; i < n; ++i) {
-      if (!held[i]) continue;
-      A.row(i).setZero();
-      A.col(i).setZero();
-      A(i, i) = 1;
-    }
-    const Eigen::LDLT<MatN> ldlt(A);
+    const Eigen::LDLT<MatN> ldlt(ReducedInertia<n>(I, m, nf, &held));
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || !(ldlt.vectorD().minCoeff() > 0)) return false;
     Statics st;
     if constexpr (kNumFriction == Eigen::Dynamic) {
@@ -502,16 +529,8 @@ class CoulombFriction {
     VecN qdd;
     VecQ qdd_q = ZeroQ(model);
     for (int k = 0; k < o.max_iterations; ++k) {
-      VecN b = Q_minus_h;
-      if (have_K)
-        for (int J = 0; J < nf; ++J)
-          if (!m.stuck[J]) b += st.K_rel.row(J).transpose() * (*f)(J);
-      VecN rhs = b;
-      for (int i = 0; i < n; ++i)
-        if (held[i]) rhs(i) = 0;
-      qdd = ldlt.solve(rhs);
-      for (int i = 0; i < n; ++i)
-        if (held[i]) qdd(i) = 0;
+      VecN b;
+      MixedAccelerations<n>(ldlt, Q_minus_h, held, m, nf, have_K ? &st : nullptr, *f, &b, &qdd);
       VecF f_now = *f;
       for (int J = 0; J < nf; ++J)
         if (m.stuck[J]) f_now(J) = (I.row(m.held[J]).dot(qdd) - b(m.held[J])) / m.k[J];

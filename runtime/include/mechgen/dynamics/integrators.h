@@ -369,67 +369,22 @@ class AdaptiveRungeKutta {
     if (summary_.status != IntegratorStatus::kRunning) return summary_.status;
     if (std::isnan(t_stop)) t_stop = t_end_;
     if (direction_ * (t_stop - t_) <= 0) return Finish(IntegratorStatus::kSuccess);
-    const double eps = std::numeric_limits<double>::epsilon();
     for (;;) {
       if (summary_.steps + summary_.rejected >= options_.max_steps)
         return Finish(IntegratorStatus::kMaxSteps);
-      double h = std::min(std::abs(h_), options_.h_max);
+      double h = 0;
       bool last = false;
-      if (h >= std::abs(t_stop - t_) * (1 - 4 * eps)) {
-        h = std::abs(t_stop - t_);
-        last = true;
-      }
-      const double h_floor = std::max(options_.h_min, 16 * eps * std::abs(t_));
-      if (h < h_floor && !last) {
-        summary_.message = rhs_failed_ ? "f failed down to the minimal step"
-                                       : "the step fell below the minimal step";
-        return Finish(rhs_failed_ ? IntegratorStatus::kRhsFailed
-                                  : IntegratorStatus::kStepTooSmall);
-      }
-      h *= direction_;
+      const IntegratorStatus next = NextStep(t_stop, &h, &last);
+      if (next != IntegratorStatus::kRunning) return next;
       double err = 0;
       const bool ok = static_cast<Method*>(this)->Attempt(f, h, &y_new_, &f_new_, &err);
       if (!ok || !std::isfinite(err)) {
-        rhs_failed_ = true;
-        ++summary_.rejected;
-        h_ = h / 4;
-        if (last && std::abs(h) < std::max(options_.h_min, 16 * eps * std::abs(t_))) {
-          summary_.message = "f failed at the end point";
-          return Finish(IntegratorStatus::kRhsFailed);
-        }
+        if (!Retry(h, last)) return Finish(IntegratorStatus::kRhsFailed);
         continue;
       }
       rhs_failed_ = false;
-      const double p1 = Method::kErrorExponentDen;
-      if (err <= 1.0) {
-        // Accepted: Lund-stabilized (PI) growth.
-        double fac = err > 0 ? options_.safety * std::pow(err, -1.0 / p1) *
-                                   std::pow(err_prev_, Method::kBeta)
-                             : options_.fac_grow;
-        fac = std::min(options_.fac_grow, std::max(1.0 / options_.fac_shrink, fac));
-        if (reject_last_) fac = std::min(fac, 1.0);
-        err_prev_ = std::max(err, 1e-4);
-        reject_last_ = false;
-        t_prev_ = t_;
-        y_prev_ = y_;
-        f_prev_ = f_;
-        h_used_ = h;
-        t_ = last ? t_stop : t_ + h;
-        y_ = y_new_;
-        f_ = f_new_;
-        dense_ready_ = false;
-        ++summary_.steps;
-        summary_.h_last = h;
-        summary_.t = t_;
-        h_ = h * fac;
-        const bool at_end = direction_ * (t_end_ - t_) <= 0;
-        return at_end ? Finish(IntegratorStatus::kSuccess) : IntegratorStatus::kRunning;
-      }
-      ++summary_.rejected;
-      reject_last_ = true;
-      const double fac = std::max(1.0 / options_.fac_shrink,
-                                  options_.safety * std::pow(err, -1.0 / p1));
-      h_ = h * fac;
+      if (err <= 1.0) return AcceptStep(h, err, last, t_stop);
+      RejectStep(h, err);
     }
   }
 
@@ -520,6 +475,73 @@ class AdaptiveRungeKutta {
     summary_.status = s;
     summary_.t = t_;
     return s;
+  }
+
+  // ---- Step()'s parts ----
+  /// The signed step h towards t_stop (last: it reaches t_stop); kRunning, or Finish()'s status
+  /// where the step fell below the minimal one.
+  IntegratorStatus NextStep(double t_stop, double* h_out, bool* last) {
+    const double eps = std::numeric_limits<double>::epsilon();
+    double h = std::min(std::abs(h_), options_.h_max);
+    *last = false;
+    if (h >= std::abs(t_stop - t_) * (1 - 4 * eps)) {
+      h = std::abs(t_stop - t_);
+      *last = true;
+    }
+    const double h_floor = std::max(options_.h_min, 16 * eps * std::abs(t_));
+    if (h < h_floor && !*last) {
+      summary_.message = rhs_failed_ ? "f failed down to the minimal step"
+                                     : "the step fell below the minimal step";
+      return Finish(rhs_failed_ ? IntegratorStatus::kRhsFailed : IntegratorStatus::kStepTooSmall);
+    }
+    *h_out = h * direction_;
+    return IntegratorStatus::kRunning;
+  }
+  /// After an attempt whose f failed (or whose error is not finite): a quarter of the step
+  /// next; false (the message set) where it was the last step to the end point and minimal.
+  bool Retry(double h, bool last) {
+    const double eps = std::numeric_limits<double>::epsilon();
+    rhs_failed_ = true;
+    ++summary_.rejected;
+    h_ = h / 4;
+    if (last && std::abs(h) < std::max(options_.h_min, 16 * eps * std::abs(t_))) {
+      summary_.message = "f failed at the end point";
+      return false;
+    }
+    return true;
+  }
+  /// The attempt of step h with error err <= 1 accepted: Lund-stabilized (PI) growth of the
+  /// next step; kRunning, or kSuccess at t_end.
+  IntegratorStatus AcceptStep(double h, double err, bool last, double t_stop) {
+    const double p1 = Method::kErrorExponentDen;
+    double fac = err > 0 ? options_.safety * std::pow(err, -1.0 / p1) * std::pow(err_prev_, Method::kBeta)
+                         : options_.fac_grow;
+    fac = std::min(options_.fac_grow, std::max(1.0 / options_.fac_shrink, fac));
+    if (reject_last_) fac = std::min(fac, 1.0);
+    err_prev_ = std::max(err, 1e-4);
+    reject_last_ = false;
+    t_prev_ = t_;
+    y_prev_ = y_;
+    f_prev_ = f_;
+    h_used_ = h;
+    t_ = last ? t_stop : t_ + h;
+    y_ = y_new_;
+    f_ = f_new_;
+    dense_ready_ = false;
+    ++summary_.steps;
+    summary_.h_last = h;
+    summary_.t = t_;
+    h_ = h * fac;
+    const bool at_end = direction_ * (t_end_ - t_) <= 0;
+    return at_end ? Finish(IntegratorStatus::kSuccess) : IntegratorStatus::kRunning;
+  }
+  /// The attempt of step h with error err > 1 rejected: a shorter step next.
+  void RejectStep(double h, double err) {
+    const double p1 = Method::kErrorExponentDen;
+    ++summary_.rejected;
+    reject_last_ = true;
+    const double fac = std::max(1.0 / options_.fac_shrink, options_.safety * std::pow(err, -1.0 / p1));
+    h_ = h * fac;
   }
 
   /// Hairer's hinit: h0 from |y| / |f|, then h1 from an estimate of the second derivative.

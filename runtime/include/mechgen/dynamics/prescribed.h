@@ -564,9 +564,8 @@ class PrescribedDynamics {
   PrescribedDynamics(const M& model, const Params& params, const Indices& prescribed, Motion motion,
                      Force force = Force(), const PrescribedOptions& options = PrescribedOptions())
       : model_(model), p_(params), prescribed_(prescribed), motion_(std::move(motion)), force_(std::move(force)),
-        options_(options), integrator_(options.integrator), modes_(Calls::DefaultModes(model)),
-        q_ref_(internal::ZeroState<VecQ>()), phi_ref_(internal::ZeroState<VecPhi>()),
-        K_ref_(internal::ZeroState<MatK>()) {
+        options_(options), integrator_(options.integrator),
+        tracker_(model, options.max_solver_iterations, options.solver_tolerance) {
     const int nq = Nq();
     std::array<bool, (kNq == Eigen::Dynamic ? kMaxQ : kNq)> is_prescribed{};
     indices_valid_ = Np() <= nq;
@@ -589,11 +588,6 @@ class PrescribedDynamics {
       }
     }
     (void)n;
-    if constexpr (kView) {
-      q_ref_ = VecQ::Zero(nq);
-      phi_ref_ = VecPhi::Zero(Nphi());
-      K_ref_ = MatK::Zero(Nphi(), nq);
-    }
   }
 
   const M& model() const { return model_; }
@@ -659,7 +653,7 @@ class PrescribedDynamics {
       for (int i = 0; i < Nphi(); ++i) phi(i) = Calls::AssemblyPhi(model_)[i];
       bool not_assemblable = false;
       if (!internal::SolveOnBranch(model_, p_, q0, &phi, Calls::DefaultModes(model_), options_.max_solver_iterations,
-                                   options_.solver_tolerance, 0.0, &trig_, &not_assemblable))
+                                   options_.solver_tolerance, 0.0, tracker_.trig(), &not_assemblable))
         return false;
       Coefficients c;
       EvalCoefficients(q0, phi, &c);
@@ -724,22 +718,12 @@ class PrescribedDynamics {
   bool Initialize(double t0, const VecF& qf0, const VecPhi& phi_guess, const Modes& modes) {
     initialized_ = false;
     if (!indices_valid_) return false;
-    modes_ = modes;
     VecQ q, qd;
     VecP qddp;
     Assemble(t0, qf0, ZeroF(), &q, &qd, &qddp);
-    q_ref_ = q;
-    phi_ref_ = phi_guess;
-    K_ref_.setZero();
-    ref_det_ = 0;
-    VecPhi phi = phi_guess;
-    if (!SolveAt(q, &phi)) return false;
+    tracker_.set_ref_det(0);  // (a new run: either branch)
     Coefficients c;
-    EvalCoefficients(q, phi, &c);
-    phi_ref_ = phi;
-    K_ref_ = c.K;
-    double rcond = 1;
-    Conditioning(c.Phi_phi, &rcond, &ref_det_);
+    if (!tracker_.Assemble(model_, p_, q, phi_guess, modes, &c, &last_solve_not_assemblable_)) return false;
     initialized_ = true;
     return true;
   }
@@ -786,7 +770,7 @@ class PrescribedDynamics {
       cache_.y = y;
       cache_.sample = s;
       cache_.reference = r;
-      if constexpr (kStagesByTrig) cache_.trig = trig_;
+      if constexpr (kStagesByTrig) cache_.trig = *tracker_.trig();
     }
     return dy->allFinite();
   }
@@ -844,7 +828,7 @@ class PrescribedDynamics {
             VecQ q, qd;
             VecP qddp;
             Assemble(t0, qf0, qdf0, &q, &qd, &qddp);
-            VecPhi phi = phi_ref_;
+            VecPhi phi = tracker_.phi_ref();
             Coefficients c;
             if (SolveAt(q, &phi)) {
               EvalCoefficients(q, phi, &c);
@@ -900,7 +884,7 @@ class PrescribedDynamics {
         // conditioning), of which K and Phi_phi are handed on.
         last_solve_not_assemblable_ = false;
         typename Calls::template RhsOut<M> rhs;
-        const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, modes_, &trig_, &rhs);
+        const auto report = Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, tracker_.modes(), tracker_.trig(), &rhs);
         if (report.status != decltype(report.status)::kConverged) {
           last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
           ++position_failures_;
@@ -923,7 +907,7 @@ class PrescribedDynamics {
     if (trig_only) {
       if constexpr (kStagesByTrig) {
         last_solve_not_assemblable_ = false;
-        const auto report = Calls::SolveTrig(model_, p_, q, modes_, &trig_);
+        const auto report = Calls::SolveTrig(model_, p_, q, tracker_.modes(), tracker_.trig());
         solved = report.status == decltype(report.status)::kConverged;
         if (!solved) last_solve_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
       }
@@ -1046,10 +1030,11 @@ class PrescribedDynamics {
   bool Accept(double t, const State& y, SampleT* cur) {
     Reference r;
     if (!FromCache(t, y, cur, &r) && !EvaluateFull(t, y, cur, &r)) return false;
-    q_ref_ = cur->q;
-    phi_ref_ = cur->phi;
-    ref_det_ = cur->det;
-    if constexpr (kNphi != 0) K_ref_ = r.K;
+    if constexpr (kNphi != 0) {
+      tracker_.SetReference(cur->q, cur->phi, r.K, cur->det);
+    } else {
+      tracker_.SetReference(cur->q, cur->phi, tracker_.K_ref(), cur->det);
+    }
     return true;
   }
 
@@ -1146,17 +1131,16 @@ class PrescribedDynamics {
   }
 
   bool SolveAt(const VecQ& q, VecPhi* phi) {
-    return internal::SolveOnBranch(model_, p_, q, phi, modes_, options_.max_solver_iterations,
-                                   options_.solver_tolerance, ref_det_, &trig_, &last_solve_not_assemblable_);
+    return tracker_.SolveAt(model_, p_, q, phi, &last_solve_not_assemblable_);
   }
 
   void EvalCoefficients(const VecQ& q, const VecPhi& phi, Coefficients* c) {
-    internal::CallCoeffs(model_, p_, q, phi, c, &trig_);
+    internal::CallCoeffs(model_, p_, q, phi, c, tracker_.trig());
   }
 
   void EvalDynamics(const VecQ& q, const VecPhi& phi, const VecQ& qd, double t,
                     const Coefficients& c, Dyn* d) {
-    internal::CallDynamics(model_, p_, q, phi, qd, t, c, d, &trig_);
+    internal::CallDynamics(model_, p_, q, phi, qd, t, c, d, tracker_.trig());
   }
 
   /// 1/cond_1 and det of Phi_phi (1 and 1 without closed loops).
@@ -1197,15 +1181,8 @@ class PrescribedDynamics {
       return State::Zero(2 * Nf() + 3);
     }
   }
-  /// phi_ref + K_ref (q - q_ref): the warm start of the positions at q (the view's product
-  /// coefficient-based, core/model_calls.h's Times, as the minimal method's).
-  VecPhi Predictor(const VecQ& q) const {
-    if constexpr (kView) {
-      return phi_ref_ + Times(K_ref_, VecQ(q - q_ref_));
-    } else {
-      return phi_ref_ + K_ref_ * (q - q_ref_);
-    }
-  }
+  /// The warm start of the positions at q (PositionTracker::Predictor).
+  VecPhi Predictor(const VecQ& q) const { return tracker_.Predictor(q); }
 
   M model_;
   Params p_;
@@ -1215,11 +1192,7 @@ class PrescribedDynamics {
   Force force_;
   PrescribedOptions options_;
   Integrator integrator_;
-  Modes modes_;
-  VecQ q_ref_;
-  VecPhi phi_ref_;
-  MatK K_ref_;
-  Trig trig_{};
+  PositionTracker<M> tracker_;  ///< the positions along the run: modes, reference, branch, sin and cos
   internal::PreparedRhsConstants<M> rhs_constants_;  ///< kStagesByRhs: M::Prepare(p_)
   struct Cache {
     bool valid = false;
@@ -1231,7 +1204,6 @@ class PrescribedDynamics {
   };
   Cache cache_;
   bool caching_ = false;
-  double ref_det_ = 0;
   int position_failures_ = 0;
   bool indices_valid_ = false, initialized_ = false;
   bool last_solve_not_assemblable_ = false, singular_inertia_ = false;
