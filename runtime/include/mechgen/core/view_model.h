@@ -180,7 +180,12 @@ struct ViewModel {
     }
     add(l.R, h.num_reactions);
     add(l.normal, h.num_friction);
-    std::sort(runs.begin(), runs.begin() + n, [](const auto& a, const auto& b) { return a.offset < b.offset; });
+    // By offset: an insertion sort of at most six (std::sort, inlined at -O2, drew GCC 12's
+    // -Warray-bounds on its unrolled 16-element insertion pass).
+    for (int i = 1; i < n; ++i) {
+      for (int j = i; j > 0 && runs[static_cast<size_t>(j)].offset < runs[static_cast<size_t>(j - 1)].offset; --j)
+        std::swap(runs[static_cast<size_t>(j)], runs[static_cast<size_t>(j - 1)]);
+    }
     for (int i = 0; i < n; ++i) {
       if (l.num_finite > 0 && l.finite[static_cast<size_t>(l.num_finite - 1)].offset +
                                       l.finite[static_cast<size_t>(l.num_finite - 1)].size ==
