@@ -164,98 +164,28 @@ class AdjointSensitivity {
       return finish(Status::kInvalidInput, "Initialize() not called");
     }
     // Forward: the state alone, its nodes kept.
-    forward_.BeginRun();
-    steps_.clear();
-    SensitivitySummary run;
     const char* message = "";
-    const Status forward_status = forward_.RunState(
-        t0, q0, qd0, t_end,
-        [&](double ta, double tb, const StateX* x, bool) {
-          StepRecord record;
-          record.ta = ta;
-          record.tb = tb;
-          for (int j = 0; j < kNodes; ++j) record.x[j] = x[j];
-          steps_.push_back(record);
-          return Status::kNotRun;
-        },
-        &run, &message);
-    summary->integrator = run.integrator;
-    summary->t_end = run.t_end;
-    summary->min_rcond_seen = run.min_rcond_seen;
-    summary->steps = static_cast<int>(steps_.size());
-    if (forward_status != Status::kSuccess || steps_.empty())
-      return finish(forward_status == Status::kSuccess ? Status::kIntegratorFailed : forward_status, message);
-    forward_.partial_evaluations_ = 0;
+    const Status forward_status = RecordRun(t0, q0, qd0, t_end, summary, &message);
+    if (forward_status != Status::kSuccess) return finish(forward_status, message);
 
     // Backward: the transposed collocation steps from t_end (the predictor is anchored there).
-    const auto& a = forward_.lob_.a;
     Value end_value;
     const StepRecord& last = steps_.back();
     const VecQ q_end = last.x[kNodes - 1].template head<kNq>(), qd_end = last.x[kNodes - 1].template tail<kNq>();
     if (!terminal(last.tb, q_end, qd_end, &end_value) || !std::isfinite(end_value.v))
       return finish(Status::kInvalidInput, "the final term does not evaluate at t_end");
-    double value = end_value.v;
-    VecQ mu_S = end_value.d_q, mu_V = end_value.d_qd;
-    RowP gradient = end_value.d_p;
-    Partial n[kNodes];
-    typename Forward::NodeKeep keep[kNodes];
-    Value r[kNodes];
-    typename Forward::MatC A;
-    Eigen::Matrix<double, kNc, kNq> C0;
+    Backward b;
+    b.value = end_value.v;
+    b.mu_S = end_value.d_q;
+    b.mu_V = end_value.d_qd;
+    b.gradient = end_value.d_p;
     for (int s = static_cast<int>(steps_.size()) - 1; s >= 0; --s) {
-      const StepRecord& step = steps_[s];
-      const double h = step.tb - step.ta;
-      for (int j = kNodes - 1; j >= 0; --j) {
-        const double t = j == kNodes - 1 ? step.tb : j == 0 ? step.ta : step.ta + forward_.lob_.c[j] * h;
-        const VecQ q = step.x[j].template head<kNq>(), qd = step.x[j].template tail<kNq>();
-        if (j == kNodes - 1 && s + 1 < static_cast<int>(steps_.size())) {
-          n[j] = n[0];  // the later step's first node: the same (t, q, qd)
-          keep[j] = keep[0];
-        } else {
-          if (!forward_.Partials(t, q, qd, false, &n[j], &keep[j]))
-            return finish(forward_.last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed,
-                          "the partials did not evaluate at a stored node of the backward run");
-          forward_.Reanchor(n[j]);
-        }
-        if (!integrand(t, q, qd, &r[j]) || !std::isfinite(r[j].v))
-          return finish(Status::kInvalidInput, "the integrand does not evaluate at a node");
-      }
-      // nu_k, k = 0..4: what (S, Sd) at the nodes carry into G through S1, Sd1 and the quadrature.
-      VecQ nu[kNodes];
-      VecQ r_q_sum = VecQ::Zero();
-      for (int k = 0; k < kNodes; ++k) {
-        nu[k] = (h * a(kNodes - 1, k)) * mu_S + (h * a(kNodes - 1, k)) * r[k].d_qd;
-        if (k == kNodes - 1) nu[k] += mu_V;
-        for (int j = 1; j < kNodes; ++j) nu[k] += (h * h * a(kNodes - 1, j) * a(j, k)) * r[j].d_q;
-        value += h * a(kNodes - 1, k) * r[k].v;
-        gradient += (h * a(kNodes - 1, k)) * r[k].d_p;
-        r_q_sum += (h * a(kNodes - 1, k)) * r[k].d_q;
-      }
-      forward_.CollocationMatrix(h, n, &A, &C0);
-      Eigen::Matrix<double, kNc, 1> rhs;
-      for (int i = 1; i < kNodes; ++i) rhs.template segment<kNq>(kNq * (i - 1)) = nu[i];
-      Eigen::Matrix<double, kNc, 1> w = rhs;
-      if (!internal::SolveSmall<kNc, 1>(A.transpose(), &w))
-        return finish(Status::kIntegratorFailed, "the transposed collocation matrix is singular");
-      VecQ new_S = mu_S + r_q_sum;
-      VecQ new_V = nu[0];
-      for (int i = 1; i < kNodes; ++i)
-        new_V += w.template segment<kNq>(kNq * (i - 1)) -
-                 C0.template block<kNq, kNq>(kNq * (i - 1), 0).transpose() * w.template segment<kNq>(kNq * (i - 1));
-      for (int j = 0; j < kNodes; ++j) {
-        VecQ lambda = VecQ::Zero();
-        for (int i = 1; i < kNodes; ++i) lambda += (h * a(i, j)) * w.template segment<kNq>(kNq * (i - 1));
-        new_S += n[j].F_q().transpose() * lambda;
-        RowP product;
-        if (!forward_.DesignProduct(n[j], keep[j], lambda, &product))
-          return finish(Status::kIntegratorFailed, "lambda^T f_p is not finite at a node of the backward run");
-        gradient += product;
-      }
-      mu_S = new_S;
-      mu_V = new_V;
-      if (!mu_S.allFinite() || !mu_V.allFinite() || !gradient.allFinite())
-        return finish(Status::kIntegratorFailed, "the backward run is not finite");
+      const Status status = BackwardStep(steps_[s], s + 1 < static_cast<int>(steps_.size()), integrand, &b, &message);
+      if (status != Status::kSuccess) return finish(status, message);
     }
+    const double value = b.value;
+    const RowP gradient = b.gradient;
+    const VecQ mu_S = b.mu_S, mu_V = b.mu_V;
     *G = value;
     *dG_dp = gradient;
     if (dG_dq0 != nullptr) *dG_dq0 = mu_S;
@@ -268,6 +198,117 @@ class AdjointSensitivity {
     double ta = 0, tb = 0;
     StateX x[kNodes];
   };
+
+  /// What the backward run carries from step to step: the adjoints of (S, Sd) at the later
+  /// step's start, the scalar and its gradient so far, and the partials at the nodes of the step
+  /// just done (its first node is the earlier step's last: the same (t, q, qd)).
+  struct Backward {
+    VecQ mu_S = VecQ::Zero(), mu_V = VecQ::Zero();
+    double value = 0;
+    RowP gradient = RowP::Zero();
+    Partial n[kNodes];
+    typename Forward::NodeKeep keep[kNodes];
+  };
+
+  /// The forward run of the state alone, each accepted step's nodes kept in steps_; the
+  /// summary's integrator, t_end, min_rcond_seen and steps filled.
+  Status RecordRun(double t0, const VecQ& q0, const VecQ& qd0, double t_end, AdjointSummary* summary,
+                   const char** message) {
+    forward_.BeginRun();
+    steps_.clear();
+    SensitivitySummary run;
+    const Status status = forward_.RunState(
+        t0, q0, qd0, t_end,
+        [&](double ta, double tb, const StateX* x, bool) {
+          StepRecord record;
+          record.ta = ta;
+          record.tb = tb;
+          for (int j = 0; j < kNodes; ++j) record.x[j] = x[j];
+          steps_.push_back(record);
+          return Status::kNotRun;
+        },
+        &run, message);
+    summary->integrator = run.integrator;
+    summary->t_end = run.t_end;
+    summary->min_rcond_seen = run.min_rcond_seen;
+    summary->steps = static_cast<int>(steps_.size());
+    if (status != Status::kSuccess || steps_.empty())
+      return status == Status::kSuccess ? Status::kIntegratorFailed : status;
+    forward_.partial_evaluations_ = 0;  // (the backward run's are counted)
+    return Status::kSuccess;
+  }
+
+  /// One transposed collocation step, from its end (b's adjoints there) to its start.
+  /// has_later: a later step was done before it (its first node's partials are this one's last).
+  template <class Integrand>
+  Status BackwardStep(const StepRecord& step, bool has_later, Integrand& integrand, Backward* b, const char** message) {
+    const auto& a = forward_.lob_.a;
+    Partial* const n = b->n;
+    typename Forward::NodeKeep* const keep = b->keep;
+    Value r[kNodes];
+    const double h = step.tb - step.ta;
+    for (int j = kNodes - 1; j >= 0; --j) {
+      const double t = j == kNodes - 1 ? step.tb : j == 0 ? step.ta : step.ta + forward_.lob_.c[j] * h;
+      const VecQ q = step.x[j].template head<kNq>(), qd = step.x[j].template tail<kNq>();
+      if (j == kNodes - 1 && has_later) {
+        n[j] = n[0];  // the later step's first node: the same (t, q, qd)
+        keep[j] = keep[0];
+      } else {
+        if (!forward_.Partials(t, q, qd, false, &n[j], &keep[j])) {
+          *message = "the partials did not evaluate at a stored node of the backward run";
+          return forward_.last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed;
+        }
+        forward_.Reanchor(n[j]);
+      }
+      if (!integrand(t, q, qd, &r[j]) || !std::isfinite(r[j].v)) {
+        *message = "the integrand does not evaluate at a node";
+        return Status::kInvalidInput;
+      }
+    }
+    // nu_k, k = 0..kNodes-1: what (S, Sd) at the nodes carry into G through S1, Sd1 and the quadrature.
+    VecQ nu[kNodes];
+    VecQ r_q_sum = VecQ::Zero();
+    for (int k = 0; k < kNodes; ++k) {
+      nu[k] = (h * a(kNodes - 1, k)) * b->mu_S + (h * a(kNodes - 1, k)) * r[k].d_qd;
+      if (k == kNodes - 1) nu[k] += b->mu_V;
+      for (int j = 1; j < kNodes; ++j) nu[k] += (h * h * a(kNodes - 1, j) * a(j, k)) * r[j].d_q;
+      b->value += h * a(kNodes - 1, k) * r[k].v;
+      b->gradient += (h * a(kNodes - 1, k)) * r[k].d_p;
+      r_q_sum += (h * a(kNodes - 1, k)) * r[k].d_q;
+    }
+    typename Forward::MatC A;
+    Eigen::Matrix<double, kNc, kNq> C0;
+    forward_.CollocationMatrix(h, n, &A, &C0);
+    Eigen::Matrix<double, kNc, 1> w;
+    for (int i = 1; i < kNodes; ++i) w.template segment<kNq>(kNq * (i - 1)) = nu[i];
+    if (!internal::SolveSmall<kNc, 1>(A.transpose(), &w)) {
+      *message = "the transposed collocation matrix is singular";
+      return Status::kIntegratorFailed;
+    }
+    VecQ new_S = b->mu_S + r_q_sum;
+    VecQ new_V = nu[0];
+    for (int i = 1; i < kNodes; ++i)
+      new_V += w.template segment<kNq>(kNq * (i - 1)) -
+               C0.template block<kNq, kNq>(kNq * (i - 1), 0).transpose() * w.template segment<kNq>(kNq * (i - 1));
+    for (int j = 0; j < kNodes; ++j) {
+      VecQ lambda = VecQ::Zero();
+      for (int i = 1; i < kNodes; ++i) lambda += (h * a(i, j)) * w.template segment<kNq>(kNq * (i - 1));
+      new_S += n[j].F_q().transpose() * lambda;
+      RowP product;
+      if (!forward_.DesignProduct(n[j], keep[j], lambda, &product)) {
+        *message = "lambda^T f_p is not finite at a node of the backward run";
+        return Status::kIntegratorFailed;
+      }
+      b->gradient += product;
+    }
+    b->mu_S = new_S;
+    b->mu_V = new_V;
+    if (!b->mu_S.allFinite() || !b->mu_V.allFinite() || !b->gradient.allFinite()) {
+      *message = "the backward run is not finite";
+      return Status::kIntegratorFailed;
+    }
+    return Status::kSuccess;
+  }
 
   static SensitivityOptions StateRunOptions(SensitivityOptions options) {
     options.sample_dt = 0;
