@@ -451,18 +451,29 @@ double WorstStatePathDifference(const std::vector<std::pair<Eigen::Matrix<double
   return worst;
 }
 
-TEST(TrajectorySensitivity, StateStagesByTheOnePassRhsAgreeWithThePartialsPath) {
-  using M4 = mech::design_fourbar_massive::Model;
-  using M5 = mech::design_fivebar_massive::Model;
-  using V1 = Eigen::Matrix<double, 1, 1>;
-  using V2 = Eigen::Matrix<double, 2, 1>;
+// The states both comparisons below visit: six of the massive four-bar's (one DOF) and three of
+// the two-DOF five-bar's, away from their dead points.
+using V1 = Eigen::Matrix<double, 1, 1>;
+using V2 = Eigen::Matrix<double, 2, 1>;
+std::vector<std::pair<V1, V1>> FourBarStates() {
   std::vector<std::pair<V1, V1>> four;
   const double qs[] = {0.3, 1.2, M_PI / 2, 2.5, 4.0, 5.5}, qds[] = {1.5, -2.0, 0.0, 0.7, 3.0, -0.4};
   for (int i = 0; i < 6; ++i) four.emplace_back(V1(qs[i]), V1(qds[i]));
+  return four;
+}
+std::vector<std::pair<V2, V2>> FiveBarStates() {
   std::vector<std::pair<V2, V2>> five;
   five.emplace_back(V2(M_PI / 2, M_PI / 2), V2(0.3, -0.2));
   five.emplace_back(V2(1.4, 1.7), V2(-1.0, 0.4));
   five.emplace_back(V2(1.8, 1.3), V2(2.0, -1.5));
+  return five;
+}
+
+TEST(TrajectorySensitivity, StateStagesByTheOnePassRhsAgreeWithThePartialsPath) {
+  using M4 = mech::design_fourbar_massive::Model;
+  using M5 = mech::design_fivebar_massive::Model;
+  const auto four = FourBarStates();
+  const auto five = FiveBarStates();
   std::printf("state stages against the partials' qdd: four-bar %.3g, five-bar %.3g\n",
               WorstStatePathDifference<M4>(four), WorstStatePathDifference<M5>(five));
 }
@@ -511,15 +522,8 @@ double WorstDesignProductDifference(const std::vector<std::pair<Eigen::Matrix<do
 TEST(AdjointSensitivity, ReverseModeDesignProductAgreesWithTheForwardModesFp) {
   using M4 = mech::design_fourbar_massive::Model;
   using M5 = mech::design_fivebar_massive::Model;
-  using V1 = Eigen::Matrix<double, 1, 1>;
-  using V2 = Eigen::Matrix<double, 2, 1>;
-  std::vector<std::pair<V1, V1>> four;
-  const double qs[] = {0.3, 1.2, M_PI / 2, 2.5, 4.0, 5.5}, qds[] = {1.5, -2.0, 0.0, 0.7, 3.0, -0.4};
-  for (int i = 0; i < 6; ++i) four.emplace_back(V1(qs[i]), V1(qds[i]));
-  std::vector<std::pair<V2, V2>> five;
-  five.emplace_back(V2(M_PI / 2, M_PI / 2), V2(0.3, -0.2));
-  five.emplace_back(V2(1.4, 1.7), V2(-1.0, 0.4));
-  five.emplace_back(V2(1.8, 1.3), V2(2.0, -1.5));
+  const auto four = FourBarStates();
+  const auto five = FiveBarStates();
   // The press: two blocks (the second block's K and L read the first's: the sweep over the design
   // table's program crosses them).
   using MP = mech::design_press::Model;
