@@ -1093,6 +1093,24 @@ TEST(StudyFlywheel, ColumnsOfTheEnergyLoopByName) {
       << e;
 }
 
+// Richardson's extrapolation of central differences of a study's own metric k along its
+// parameter p (each sample evaluated again at the nominal +- h and +- h/2): the oracle of the
+// first-order tests below.
+template <class M>
+double RichardsonOfMetric(study::Study<M>* s, const std::vector<double>& nominal, size_t p, size_t k, double h) {
+  typename study::Study<M>::Rows rows;
+  auto at = [&](double delta) {
+    std::vector<double> v = nominal;
+    v[p] += delta;
+    const study::SampleResult r = s->Evaluate(v.data(), &rows);
+    EXPECT_STREQ(r.status, "ok");
+    return r.metrics[k];
+  };
+  const double D1 = (at(h) - at(-h)) / (2 * h);
+  const double D2 = (at(h / 2) - at(-h / 2)) / h;
+  return (4 * D2 - D1) / 3;
+}
+
 #ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
 // The first order of the flywheel metrics (from machines/flywheel/cycle_design.h through
 // Study::Gradient) against Richardson central differences of the study's own metrics,
@@ -1111,24 +1129,13 @@ TEST(StudyFlywheel, FirstOrderOfTheCycleMetricsAgainstDifferencesOfTheStudy) {
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   const std::vector<double> nominal = s.nominal();
-  study::Study<M>::Rows rows;
-  auto at = [&](size_t p, double delta) {
-    std::vector<double> v = nominal;
-    v[p] += delta;
-    const study::SampleResult r = s.Evaluate(v.data(), &rows);
-    EXPECT_STREQ(r.status, "ok");
-    return r.metrics;
-  };
   double worst = 0;
   for (size_t k = 0; k < spec.metrics.size(); ++k) {
     std::string why;
     const std::vector<double> g = s.Gradient(k, &why);
     ASSERT_TRUE(why.empty()) << why;
     for (size_t p = 0; p < nominal.size(); ++p) {
-      const double h = 1e-4 * std::abs(nominal[p]);
-      const double D1 = (at(p, h)[k] - at(p, -h)[k]) / (2 * h);
-      const double D2 = (at(p, h / 2)[k] - at(p, -h / 2)[k]) / h;
-      const double R = (4 * D2 - D1) / 3;
+      const double R = RichardsonOfMetric(&s, nominal, p, k, 1e-4 * std::abs(nominal[p]));
       const double e = std::abs(g[p] - R) / std::max(1.0, std::abs(R));
       worst = std::max(worst, e);
       EXPECT_LT(e, 1e-7) << "metric " << k << " parameter " << spec.parameters[p].name << ": " << g[p]
@@ -1164,24 +1171,13 @@ TEST(StudySimulate, FirstOrderOfTheSimulationMetricsAgainstDifferencesOfTheStudy
   std::string error;
   ASSERT_TRUE(s.Prepare(spec, &error)) << error;
   const std::vector<double> nominal = s.nominal();
-  study::Study<M>::Rows rows;
-  auto at = [&](size_t p, double delta) {
-    std::vector<double> v = nominal;
-    v[p] += delta;
-    const study::SampleResult r = s.Evaluate(v.data(), &rows);
-    EXPECT_STREQ(r.status, "ok");
-    return r.metrics;
-  };
   double worst = 0;
   for (size_t k = 0; k + 1 < spec.metrics.size(); ++k) {
     std::string why;
     const std::vector<double> g = s.Gradient(k, &why);
     ASSERT_TRUE(why.empty()) << k << ": " << why;
     for (size_t p = 0; p < nominal.size(); ++p) {
-      const double h = 1e-3 * std::abs(nominal[p]);
-      const double D1 = (at(p, h)[k] - at(p, -h)[k]) / (2 * h);
-      const double D2 = (at(p, h / 2)[k] - at(p, -h / 2)[k]) / h;
-      const double R = (4 * D2 - D1) / 3;
+      const double R = RichardsonOfMetric(&s, nominal, p, k, 1e-3 * std::abs(nominal[p]));
       // (per unit of the parameter's own scale: the metric's change over a 100 % change of p)
       const double e = std::abs(g[p] - R) * std::abs(nominal[p]) /
                        std::max(std::abs(R * nominal[p]), 1e-3 * std::abs(s.Value(k, s.nominal_rows()).value));
