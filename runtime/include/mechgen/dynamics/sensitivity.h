@@ -11,9 +11,11 @@
  *
  * The partial derivatives of the right-hand side, at one evaluation (Partials(): one position
  * solve, one Cholesky factor of I shared by f, f_q, f_qd and f_p):
- *  - f_p = I^-1 (dQ/dp - dh/dp - (dI/dp) qdd): the generated EvalDynamicsDesign (M::DynamicsDesign),
- *    whose design derivatives at fixed (q, qd) go through phi, K and L
- *    (EvalDesignDerivatives, M::Design);
+ *  - f_p = I^-1 (dQ/dp - dh/dp - (dI/dp) qdd), the design derivatives at fixed (q, qd) through
+ *    phi, K and L: row i = mu^T (...) with mu = I^-1's row i, by the generated reverse-mode
+ *    EvalDynamicsDesignProduct (M::DynamicsDesignProduct, the adjoint's: one sweep for all N,
+ *    kNq sweeps) where the model has it and kNq <= N; else by the forward mode's
+ *    EvalDynamicsDesign (M::DynamicsDesign) from EvalDesignDerivatives (M::Design), N directions;
  *  - f_q, f_qd = I^-1 (dQ/dx - dh/dx - (dI/dx) qdd), x = q, qd: dQ/dx and dh/dx from the generated
  *    EvalDynamicsJacobian (M::DynamicsJacobian, generated with EvalDynamicsDesign: the dynamics
  *    differentiated symbolically along q and qd, through K, L and the third-order coefficients
@@ -27,9 +29,9 @@
  *
  * Two methods (SensitivityOptions::method; CVODES' choice of the sensitivities in the error
  * test or not):
- *  - kStaggered (the default, by measurement: bench/design/run.sh, 0.46x and 0.41x the N + 1
+ *  - kStaggered (the default, by measurement: bench/design/run.sh, 0.36x and 0.29x the N + 1
  *    simulations of forward differences on the massive four-bar and the five-bar against the
- *    simultaneous method's 1.14x and 1.45x, its steps those of a simulation where the
+ *    simultaneous method's 0.71x and 0.91x, its steps those of a simulation where the
  *    simultaneous method takes 1.5x): (q, qd) alone by Method with its own step and error
  *    test (the step the simulation of the values takes; its stages by the one-pass M::Rhs
  *    where the model has it, as the free simulation's); after each accepted step [t0, t1],
@@ -44,7 +46,7 @@
  *    against Richardson differences at rtol 1e-10, 1.5e-8 on the four-bar while its state was
  *    within 3e-10 (4 nodes: 4.9e-6, 3 nodes: 3.4e-4, the collocation's orders showing); 6
  *    nodes give 8.3e-10 there (1.9e-10 at rtol 1e-12), one evaluation of the partials more per
- *    step (Nodes = 5 stays for a cheaper, less exact run: 0.39x and 0.33x). The equations are
+ *    step (Nodes = 5 stays for a cheaper, less exact run: 0.30x and 0.24x). The equations are
  *    linear in (S, Sd): the collocation is one linear solve per step, of size 5 kNq (S
  *    eliminated by S_i = S0 + h sum_k a_ik Sd_k), for all kNp columns at once. The
  *    sensitivities are not in the error test (CVODES' errconS = false): the step is the
@@ -351,6 +353,10 @@ class TrajectorySensitivity {
     MatQ I_inv = MatQ::Zero();
   };
   static constexpr bool kHasDesignProduct = internal::HasDynamicsDesignProduct<M>::value;
+  /// f_p's rows by kNq reverse-mode products (M::DynamicsDesignProduct, mu = I^-1's rows) where
+  /// the model has it and kNq <= kNp; else by the forward mode (EvalDesignDerivatives and
+  /// EvalDynamicsDesign, kNp directions). See Partials().
+  static constexpr bool kFpByProduct = kHasDesignProduct && kNq <= kNp;
 
   explicit TrajectorySensitivity(const Params& params, const SensitivityOptions& options = SensitivityOptions())
       : p_(params),
@@ -444,14 +450,29 @@ class TrajectorySensitivity {
       }
       return n->F_x.allFinite();
     }
-    // f_p: the generated design derivatives at fixed (q, qd).
-    typename M::template DesignDerivativesT<double> dc;
-    M::template Design<double>(p_, q, n->phi, &dc);
-    typename M::template DynamicsDesignT<double> dd;
-    M::template DynamicsDesign<double>(p_, q, n->phi, qd, t, c, dc, &dd);
-    MatQP B = dd.dQ_dp - dd.dh_dp;
-    for (int dp = 0; dp < kNp; ++dp) B.col(dp) -= dd.dI_dp.template block<kNq, kNq>(0, kNq * dp) * n->qdd;
-    n->F_p.noalias() = I_inv.lazyProduct(B);
+    // f_p = I^-1 B, B = dQ/dp - dh/dp - (dI/dp) qdd, the generated design derivatives at fixed
+    // (q, qd). Row i is mu^T B with mu = I^-1's row i: one reverse sweep of M::DynamicsDesignProduct
+    // for all kNp columns, kNq sweeps in all, where the forward mode carries kNp directions
+    // through every local and fills what f_p does not read (dI/dq's, T's and V's derivatives,
+    // the points'): 0.77 against 1.73 us per evaluation on the five-bar (kNq = 2, kNp = 13),
+    // 0.25 against 0.34 on the massive four-bar (bench/design/run.sh). Where kNq > kNp the
+    // forward mode's kNp directions are the fewer passes (not measured: no model here has it).
+    if constexpr (kFpByProduct) {
+      for (int i = 0; i < kNq; ++i) {
+        const VecQ mu = I_inv.row(i).transpose();
+        Eigen::Matrix<double, kNp, 1> row;
+        M::template DynamicsDesignProduct<double>(p_, q, n->phi, qd, t, c, n->qdd, mu, &row);
+        n->F_p.row(i) = row.transpose();
+      }
+    } else {
+      typename M::template DesignDerivativesT<double> dc;
+      M::template Design<double>(p_, q, n->phi, &dc);
+      typename M::template DynamicsDesignT<double> dd;
+      M::template DynamicsDesign<double>(p_, q, n->phi, qd, t, c, dc, &dd);
+      MatQP B = dd.dQ_dp - dd.dh_dp;
+      for (int dp = 0; dp < kNp; ++dp) B.col(dp) -= dd.dI_dp.template block<kNq, kNq>(0, kNq * dp) * n->qdd;
+      n->F_p.noalias() = I_inv.lazyProduct(B);
+    }
     n->K = c.K;
     if (conditioning) {
       if (anchored) {
