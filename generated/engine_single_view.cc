@@ -1134,6 +1134,63 @@ void FlatDynamicsDesign(const double* p,
 }
 
 template <int = 0>
+void FlatDynamicsDesignProduct(const double* p,
+                               const double* q,
+                               const double* phi,
+                               const double* qd,
+                               double t,
+                               const double* c,
+                               const double* qdd,
+                               const double* mu,
+                               double* product,
+                               const double* friction) {
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
+  Vec<double, Sizes::kNq> q_;
+  Get(q, &q_);
+  Vec<double, Sizes::kNphi> phi_;
+  Get(phi, &phi_);
+  Vec<double, Sizes::kNq> qd_;
+  Get(qd, &qd_);
+  Vec<double, Sizes::kNq> qdd_;
+  Get(qdd, &qdd_);
+  Vec<double, Sizes::kNq> mu_;
+  Get(mu, &mu_);
+  Vec<double, Sizes::kNumDesign> product_;
+  if (product != nullptr) Get(product, &product_);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c)) {
+    Model::DynamicsDesignProduct(p_,
+                                 q_,
+                                 phi_,
+                                 qd_,
+                                 t,
+                                 *At<Coefficients<double>>(c),
+                                 qdd_,
+                                 mu_,
+                                 product != nullptr ? &product_ : nullptr,
+                                 friction != nullptr ? &friction_ : nullptr);
+    if (product != nullptr) Put(product_, product);
+    return;
+  }
+  Coefficients<double> c_;
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
+  Model::DynamicsDesignProduct(p_,
+                               q_,
+                               phi_,
+                               qd_,
+                               t,
+                               c_,
+                               qdd_,
+                               mu_,
+                               product != nullptr ? &product_ : nullptr,
+                               friction != nullptr ? &friction_ : nullptr);
+  if (product != nullptr) Put(product_, product);
+}
+
+template <int = 0>
 void FlatShakingDesign(const double* p,
                        const double* q,
                        const double* phi,
@@ -1190,6 +1247,74 @@ void FlatShakingDesign(const double* p,
                        dM_dp != nullptr ? &dM_dp_ : nullptr);
   if (dF_dp != nullptr) Put(dF_dp_, dF_dp);
   if (dM_dp != nullptr) Put(dM_dp_, dM_dp);
+}
+
+template <int = 0>
+void FlatDynamicsJacobian(const double* p,
+                          const double* q,
+                          const double* phi,
+                          const double* qd,
+                          double t,
+                          const double* c,
+                          double* dQ_dq,
+                          double* dh_dq,
+                          double* dQ_dqd,
+                          double* dh_dqd,
+                          const double* friction) {
+  const ParamsArg<kParamsInPlace> p_arg(p);
+  const Params<double>& p_ = p_arg.p;
+  Vec<double, Sizes::kNq> q_;
+  Get(q, &q_);
+  Vec<double, Sizes::kNphi> phi_;
+  Get(phi, &phi_);
+  Vec<double, Sizes::kNq> qd_;
+  Get(qd, &qd_);
+  Mat<double, Sizes::kNq, Sizes::kNq> dQ_dq_;
+  if (dQ_dq != nullptr) Get(dQ_dq, &dQ_dq_);
+  Mat<double, Sizes::kNq, Sizes::kNq> dh_dq_;
+  if (dh_dq != nullptr) Get(dh_dq, &dh_dq_);
+  Mat<double, Sizes::kNq, Sizes::kNq> dQ_dqd_;
+  if (dQ_dqd != nullptr) Get(dQ_dqd, &dQ_dqd_);
+  Mat<double, Sizes::kNq, Sizes::kNq> dh_dqd_;
+  if (dh_dqd != nullptr) Get(dh_dqd, &dh_dqd_);
+  Vec<double, Sizes::kNumFriction> friction_;
+  if (friction != nullptr) Get(friction, &friction_);
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c)) {
+    Model::DynamicsJacobian(p_,
+                            q_,
+                            phi_,
+                            qd_,
+                            t,
+                            *At<Coefficients<double>>(c),
+                            dQ_dq != nullptr ? &dQ_dq_ : nullptr,
+                            dh_dq != nullptr ? &dh_dq_ : nullptr,
+                            dQ_dqd != nullptr ? &dQ_dqd_ : nullptr,
+                            dh_dqd != nullptr ? &dh_dqd_ : nullptr,
+                            friction != nullptr ? &friction_ : nullptr);
+    if (dQ_dq != nullptr) Put(dQ_dq_, dQ_dq);
+    if (dh_dq != nullptr) Put(dh_dq_, dh_dq);
+    if (dQ_dqd != nullptr) Put(dQ_dqd_, dQ_dqd);
+    if (dh_dqd != nullptr) Put(dh_dqd_, dh_dqd);
+    return;
+  }
+  Coefficients<double> c_;
+  Get(c + kCoefficientsMembers[2].offset, &c_.K);
+  Get(c + kCoefficientsMembers[3].offset, &c_.L);
+  Model::DynamicsJacobian(p_,
+                          q_,
+                          phi_,
+                          qd_,
+                          t,
+                          c_,
+                          dQ_dq != nullptr ? &dQ_dq_ : nullptr,
+                          dh_dq != nullptr ? &dh_dq_ : nullptr,
+                          dQ_dqd != nullptr ? &dQ_dqd_ : nullptr,
+                          dh_dqd != nullptr ? &dh_dqd_ : nullptr,
+                          friction != nullptr ? &friction_ : nullptr);
+  if (dQ_dq != nullptr) Put(dQ_dq_, dQ_dq);
+  if (dh_dq != nullptr) Put(dh_dq_, dh_dq);
+  if (dQ_dqd != nullptr) Put(dQ_dqd_, dQ_dqd);
+  if (dh_dqd != nullptr) Put(dh_dqd_, dh_dqd);
 }
 
 template <int = 0>
@@ -1471,7 +1596,9 @@ constexpr mechgen::ModelView MakeView() {
     v.Design = &FlatDesign<>;
     v.StaticsDesign = &FlatStaticsDesign<>;
     v.DynamicsDesign = &FlatDynamicsDesign<>;
+    v.DynamicsDesignProduct = &FlatDynamicsDesignProduct<>;
     v.ShakingDesign = &FlatShakingDesign<>;
+    v.DynamicsJacobian = &FlatDynamicsJacobian<>;
     v.DetPhiPhi = &FlatDetPhiPhi<>;
     v.Solve = &FlatSolve<>;
     v.Scene = &FlatScene<>;

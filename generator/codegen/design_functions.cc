@@ -167,7 +167,6 @@ FunctionSpec EvalDynamicsDesignProductSpec(const Model& m, const DynamicsTable& 
   FunctionSpec f;
   f.name = "EvalDynamicsDesignProduct";
   f.model_member = "DynamicsDesignProduct";
-  f.in_view = false;  // the adjoint sensitivities run on the fixed-size model (dynamics/adjoint.h)
   f.doc = {"\\brief The product mu^T (dQ/dp - dh/dp - (dI/dp) qdd) at (t, q, qd) for given mu and qdd: one number",
            "per design parameter of kDesignNames, t, q, qd, qdd and the given friction loads held (with",
            "qdd = I^-1 (Q - h) and mu = I^-1 lambda, lambda^T f_p: the adjoint's vector-Jacobian product,",
@@ -270,7 +269,6 @@ FunctionSpec EvalDynamicsJacobianSpec(const Model& m, const DynamicsTable& dyn, 
   FunctionSpec f;
   f.name = "EvalDynamicsJacobian";
   f.model_member = "DynamicsJacobian";
-  f.in_view = false;  // the trajectory sensitivities run on the fixed-size model (dynamics/sensitivity.h)
   f.doc = {"\\brief The Jacobians of the equation of motion's terms along the state at (t, q, qd): dQ/dq, dh/dq,",
            "dQ/dqd and dh/dqd, t and the given friction loads held (EvalDynamics differentiated statement by",
            "statement along q and qd; phi through K, K through L, L through the third-order coefficients",

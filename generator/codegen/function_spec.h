@@ -52,7 +52,7 @@ struct FunctionSpec {
   std::string model_member;  ///< name of the static member of `Model` that calls it ("": none)
   bool instantiate = true;   ///< compiled for double and float in <model>.cc
   /// adapted in the model view (<model>_view.cc, ModelView's pointer of model_member); false for a
-  /// function only the fixed-size runtime calls (EvalDynamicsJacobian: the trajectory sensitivities).
+  /// function only the fixed-size runtime calls (none today: every Model function has its pointer).
   bool in_view = true;
   /// declared `inline`: a hint to the compiler to inline it at its call sites (EvalRhs, in an
   /// integrator's stage loop; a large function called from several places is not otherwise).

@@ -2,8 +2,8 @@
  * \file analysis/simulate.h
  * The simulation as an analysis (issue 43: one analysis layer for every tool): the free motion
  * by the minimal method (dynamics/forward.h, Coulomb friction with stick and slip), the motion
- * with some or every input driven (dynamics/prescribed.h) and, on a generated model only, the
- * free motion with its trajectory sensitivities (design: analysis/simulate_design.h), asked for
+ * with some or every input driven (dynamics/prescribed.h) and the free motion with its
+ * trajectory sensitivities (design: analysis/simulate_design.h), asked for
  * by a SimulateRequest (analysis/simulate_request.h). Check(model, request) says what is wrong
  * with the request on this model; Run(model, request, outputs) assembles, integrates (the rows
  * streamed to the CSV), prints the summary and writes the CSV from its column table
@@ -17,11 +17,13 @@
  * compiled once in mechgen_runtime_view: core/view_runtime.h, runtime/view/dynamics.cc). What
  * it computes, its CSV's columns and exit statuses: tools/simulate_main.cc.
  *
- * Through the view, not yet: design (the trajectory sensitivities integrate ceres::Jet, on a
- * generated model's fixed sizes): Run hands it to SimulateOutputs::not_through_view (the
- * command's refusal, or mechgen's fallback to the per-model tool) before anything is computed
- * or written. A program that runs Run on a generated model includes analysis/simulate_design.h,
- * which defines design's run (RunDesign), when Ceres' headers are there.
+ * Through the view, design runs where the model has the generated EvalDynamicsJacobian (the
+ * Jacobians along the state; a model without it, a cam law's fourth derivative needed, is the
+ * per-model tool's, whose Jets the view does not have): otherwise Run hands it to
+ * SimulateOutputs::not_through_view (the command's refusal, or mechgen's fallback to the
+ * per-model tool) before anything is computed or written. A program that runs Run includes
+ * analysis/simulate_design.h, which defines design's run (RunDesign), when Ceres' headers are
+ * there.
  *
  * --params/--set read the model's parameter table (analysis/view_params.h).
  */
@@ -234,26 +236,30 @@ std::string Prepare(const M& model, const SimulateRequest& a, Prepared<M>* p) {
   p->refusal = Refusal::kUsage;
   if constexpr (mechgen::HasDynamics<M>::value) {  // (a ViewModel's: its model's, at run time)
     if (a.design) {
-      if constexpr (C::kView) {
-        p->refusal = Refusal::kNotThroughView;
-        return "--design: the trajectory sensitivities are";
-      } else {
 #if !MECHGEN_SIMULATE_HAS_SENSITIVITY
-        return "--design: this build has no ceres/jet.h (Ceres' headers), which the trajectory sensitivities need";
+      return "--design: this build has no ceres/jet.h (Ceres' headers), which the trajectory sensitivities need";
 #else
-        if constexpr (!mechgen::HasDynamicsDesign<M>::value) {
-          return "--design: the model has no `design` section (the parameters to differentiate by); add one, e.g. "
-                 "`design: {parameters: all}`";
-        }
-        const char* conflict = !a.drives.empty()        ? "--drive"
-                               : a.friction == "on"      ? "--friction on"
-                               : a.energy_projection     ? "--energy-projection"
-                               : a.stop_at_speed_zero    ? "--stop-at-speed-zero"
-                                                         : nullptr;
-        if (conflict != nullptr)
-          return std::string("--design: not with ") + conflict + " (the sensitivities of the free motion only)";
-#endif
+      if (!C::HasDynamicsDesign(model)) {  // (a generated model's: constant)
+        return "--design: the model has no `design` section (the parameters to differentiate by); add one, e.g. "
+               "`design: {parameters: all}`";
       }
+      const char* conflict = !a.drives.empty()      ? "--drive"
+                             : a.friction == "on"   ? "--friction on"
+                             : a.energy_projection  ? "--energy-projection"
+                             : a.stop_at_speed_zero ? "--stop-at-speed-zero"
+                                                    : nullptr;
+      if (conflict != nullptr)
+        return std::string("--design: not with ") + conflict + " (the sensitivities of the free motion only)";
+      if constexpr (C::kView) {
+        // f_q and f_qd through the view from the generated EvalDynamicsJacobian only (the Jets
+        // of a model without it are the per-model tool's: mechgen falls back to it).
+        if (!C::HasDynamicsJacobian(model)) {
+          p->refusal = Refusal::kNotThroughView;
+          return "--design: the trajectory sensitivities of a model without the generated EvalDynamicsJacobian (a "
+                 "cam law's fourth derivative) are";
+        }
+      }
+#endif
     }
     const int nq = C::Nq(model);
     if (static_cast<int>(a.drives.size()) > nq)
@@ -712,8 +718,8 @@ int DispatchDriven(const M& model, const SimulateRequest& args, const SimulateOu
 }
 
 #if MECHGEN_SIMULATE_HAS_SENSITIVITY
-/// design's run on a generated model: defined in analysis/simulate_design.h (ceres::Jet), which
-/// a program running Run on a generated model includes; never instantiated for the view.
+/// design's run: defined in analysis/simulate_design.h (dynamics/sensitivity.h, ceres::Jet), which
+/// a program running Run includes (the per-model tool; for the view runtime/view/analysis_simulate.cc).
 template <class M, template <int> class Method>
 int RunDesign(const M& model, const SimulateRequest& args, const SimulateOutputs& out, const Prepared<M>& p);
 #endif
@@ -758,15 +764,13 @@ int Run(const M& model, const SimulateRequest& request, const SimulateOutputs& o
   }
   if constexpr (mechgen::HasDynamics<M>::value) {
     const bool dop853 = request.method == "dop853";
-    if constexpr (!C::kView) {
 #if MECHGEN_SIMULATE_HAS_SENSITIVITY
-      if constexpr (mechgen::HasDynamicsDesign<M>::value) {
-        if (request.design)
-          return dop853 ? RunDesign<M, dyn::Dop853>(model, request, outputs, p)
-                        : RunDesign<M, dyn::Dopri5>(model, request, outputs, p);
-      }
-#endif
+    if constexpr (mechgen::HasDynamicsDesign<M>::value) {  // (a ViewModel's: its model's, at run time)
+      if (request.design)
+        return dop853 ? RunDesign<M, dyn::Dop853>(model, request, outputs, p)
+                      : RunDesign<M, dyn::Dopri5>(model, request, outputs, p);
     }
+#endif
     if (!request.drives.empty()) {
       // The driven motion: as many inputs driven as drives (1 ... the model's inputs).
       if constexpr (C::kView) {

@@ -2,11 +2,11 @@
  * \file analysis/view_analysis.h
  * The analyses (analysis/sweep.h, statics.h, engine.h, flywheel.h, simulate.h, study.h) instantiated
  * once for the model view (issue 43), compiled into mechgen_runtime_view (runtime/view/analysis.cc,
- * analysis_simulate.cc, analysis_study.cc; the synthesis in mechgen_runtime_view_synthesis): a program that includes this header and
- * links that library (mechgen_view's commands, tools/view/<command>.cc) runs an analysis on any
- * model's view without compiling it again; the `extern template` declarations keep the
- * instantiations out of its translation units. The same templates, instantiated for a
- * generated model's type, are the per-model tools' (tools/<tool>_main.cc).
+ * analysis_simulate.cc, analysis_simulate_design.cc, analysis_study.cc; the synthesis in
+ * mechgen_runtime_view_synthesis): a program that includes this header and links that library (mechgen_view's commands,
+ * tools/view/<command>.cc) runs an analysis on any model's view without compiling it again; the `extern template`
+ * declarations keep the instantiations out of its translation units. The same templates, instantiated for a generated
+ * model's type, are the per-model tools' (tools/<tool>_main.cc).
  */
 #pragma once
 
@@ -15,6 +15,9 @@
 #include "mechgen/analysis/engine.h"
 #include "mechgen/analysis/flywheel.h"
 #include "mechgen/analysis/simulate.h"
+#if MECHGEN_SIMULATE_HAS_SENSITIVITY
+#include "mechgen/analysis/simulate_design.h"
+#endif
 #include "mechgen/analysis/statics.h"
 #include "mechgen/analysis/sweep.h"
 #include "mechgen/analysis/study.h"
@@ -37,6 +40,29 @@ extern template int Run<ViewModel>(const ViewModel&, const FlywheelRequest&, con
                                    const std::function<int()>&, FlywheelResult*);
 extern template std::string Check<ViewModel>(const ViewModel&, const SimulateRequest&);
 extern template int Run<ViewModel>(const ViewModel&, const SimulateRequest&, const SimulateOutputs&);
+#if MECHGEN_SIMULATE_HAS_SENSITIVITY
+// The trajectory sensitivities (simulate --design, the study's first order of a simulation
+// metric): runtime/view/analysis_simulate_design.cc.
+namespace simulate_internal {
+extern template int RunDesign<ViewModel, dynamics::Dop853>(const ViewModel&,
+                                                           const SimulateRequest&,
+                                                           const SimulateOutputs&,
+                                                           const Prepared<ViewModel>&);
+extern template int RunDesign<ViewModel, dynamics::Dopri5>(const ViewModel&,
+                                                           const SimulateRequest&,
+                                                           const SimulateOutputs&,
+                                                           const Prepared<ViewModel>&);
+extern template bool SensitivitySamples<ViewModel, dynamics::Dopri5>(
+    const ViewModel&,
+    const ModelTypes<ViewModel>::Params&,
+    const ModelTypes<ViewModel>::VecQ&,
+    const ModelTypes<ViewModel>::VecQ&,
+    double,
+    const dynamics::SensitivityOptions&,
+    std::vector<dynamics::SensitivitySample<ViewModel>>*,
+    std::string*);
+}  // namespace simulate_internal
+#endif
 extern template std::string Check<ViewModel>(const ViewModel&, const StudyRequest&, const StudyOutputs&);
 extern template int Run<ViewModel>(const ViewModel&, const StudyRequest&, const StudyOutputs&, const StudyRanks&);
 

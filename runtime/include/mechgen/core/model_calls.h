@@ -175,6 +175,23 @@ struct DesignCounts<M, true> {
 };
 }  // namespace internal
 
+namespace internal {
+/// Whether M has EvalDynamicsJacobian (M::DynamicsJacobian): generated with EvalDynamicsDesign
+/// (kHasDynamicsDesign) where no cam law's fourth derivative is needed; no flag says so.
+template <class M, class = void>
+struct HasDynamicsJacobian : std::false_type {};
+template <class M>
+struct HasDynamicsJacobian<M, std::void_t<decltype(&M::template DynamicsJacobian<double>)>> : std::true_type {};
+/// Whether M has EvalDynamicsDesignProduct (M::DynamicsDesignProduct): mu^T (dQ/dp - dh/dp -
+/// (dI/dp) qdd) by reverse mode over the dynamics, generated with EvalDynamicsDesign where the
+/// dynamics program is straight-line (the adjoint's lambda^T f_p, dynamics/adjoint.h).
+template <class M, class = void>
+struct HasDynamicsDesignProduct : std::false_type {};
+template <class M>
+struct HasDynamicsDesignProduct<M, std::void_t<decltype(&M::template DynamicsDesignProduct<double>)>> : std::true_type {
+};
+}  // namespace internal
+
 /// Sizes, constants, flags and functions of a generated model M (static; the object is an
 /// empty tag). Specialized for ViewModel in core/view_model.h.
 template <class M>
@@ -654,6 +671,56 @@ struct ModelCalls {
                             const typename T::Coefficients& c, const DesignOut& dc, ShakingDesignForce<X>* dF_dp,
                             ShakingDesignMoment<X>* dM_dp) {
     M::template ShakingDesign<double>(p, q, phi, qd, qdd, c, dc, dF_dp, dM_dp);
+  }
+
+  // ---- Trajectory sensitivities (dynamics/sensitivity.h, adjoint.h): the Jacobians of the
+  //      equation of motion along the state and the adjoint's product; dI/dq of Dynamics ----
+  /// The bound of NumDesign (its value here).
+  static constexpr int kMaxDesign = internal::DesignCounts<M>::kDesign;
+  /// The design derivatives' struct (Model::Design's output; position::DesignOf<M>).
+  template <class X = M>
+  using DesignDerivativesOut = typename X::template DesignDerivativesT<double>;
+  /// Whether M has EvalDynamicsJacobian and EvalDynamicsDesignProduct (constant here).
+  static constexpr bool HasDynamicsJacobian(const M&) { return internal::HasDynamicsJacobian<M>::value; }
+  static constexpr bool HasDynamicsDesignProduct(const M&) { return internal::HasDynamicsDesignProduct<M>::value; }
+  /// Model::DynamicsJacobian at (t, q, qd): dQ/dq, dh/dq, dQ/dqd, dh/dqd (kNq x kNq each).
+  template <class MatQQ>
+  static void DynamicsJacobian(const M&,
+                               const typename T::Params& p,
+                               const typename T::VecQ& q,
+                               const typename T::VecPhi& phi,
+                               const typename T::VecQ& qd,
+                               double t,
+                               const typename T::Coefficients& c,
+                               MatQQ* dQ_dq,
+                               MatQQ* dh_dq,
+                               MatQQ* dQ_dqd,
+                               MatQQ* dh_dqd) {
+    M::template DynamicsJacobian<double>(p, q, phi, qd, t, c, dQ_dq, dh_dq, dQ_dqd, dh_dqd);
+  }
+  /// Model::DynamicsDesignProduct at (t, q, qd) for qdd and mu: mu^T (dQ/dp - dh/dp - (dI/dp) qdd)
+  /// (kNumDesign).
+  template <class VecP>
+  static void DynamicsDesignProduct(const M&,
+                                    const typename T::Params& p,
+                                    const typename T::VecQ& q,
+                                    const typename T::VecPhi& phi,
+                                    const typename T::VecQ& qd,
+                                    double t,
+                                    const typename T::Coefficients& c,
+                                    const typename T::VecQ& qdd,
+                                    const typename T::VecQ& mu,
+                                    VecP* product) {
+    M::template DynamicsDesignProduct<double>(p, q, phi, qd, t, c, qdd, mu, product);
+  }
+  /// *to = from (the view's Coefficients are not copyable: its own copy).
+  static void CopyCoefficients(const M&, const typename T::Coefficients& from, typename T::Coefficients* to) {
+    *to = from;
+  }
+  /// dI/dq of Model::Dynamics' output d (dI_dq(j, k + kNq l) = dI(j, k)/dq_l).
+  template <class X = M>
+  static const auto& DynamicsDIdq(const M&, const DynamicsOut<X>& d) {
+    return d.dI_dq;
   }
 
   // ---- Synthesis (synthesis/): the parameter table's names, the scene's ground points ----

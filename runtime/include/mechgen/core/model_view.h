@@ -48,7 +48,7 @@ namespace mechgen {
 
 /// Changes whenever ModelView's layout does: a view compiled against another layout is refused
 /// (ModelView::layout, ModelView::size).
-inline constexpr int kModelViewLayout = 2;
+inline constexpr int kModelViewLayout = 3;
 
 /// The C entry point of a model compiled with MECHGEN_VIEW_ENTRY (one fixed name: one model per
 /// shared object; statically linked models are reached through mech::<name>::View()).
@@ -346,6 +346,17 @@ struct ModelView {
                          const double* c, const double* dc, double* out, const double* friction) = nullptr;
   void (*ShakingDesign)(const double* p, const double* q, const double* phi, const double* qd, const double* qdd,
                         const double* c, const double* dc, double* dF_dp, double* dM_dp) = nullptr;
+  /// mu^T (dQ/dp - dh/dp - (dI/dp) qdd) (num_design; the adjoint's lambda^T f_p,
+  /// dynamics/adjoint.h): with DynamicsDesign where the dynamics program is straight-line.
+  void (*DynamicsDesignProduct)(const double* p, const double* q, const double* phi, const double* qd, double t,
+                                const double* c, const double* qdd, const double* mu, double* product,
+                                const double* friction) = nullptr;
+  /// dQ/dq, dh/dq, dQ/dqd, dh/dqd (nq x nq each, any may be nullptr; the trajectory
+  /// sensitivities, dynamics/sensitivity.h): with DynamicsDesign where no cam law's fourth
+  /// derivative is needed.
+  void (*DynamicsJacobian)(const double* p, const double* q, const double* phi, const double* qd, double t,
+                           const double* c, double* dQ_dq, double* dh_dq, double* dQ_dqd, double* dh_dqd,
+                           const double* friction) = nullptr;
 
   /// The layout of struct `s`.
   constexpr const ViewLayout& Layout(ViewStruct s) const { return structs[static_cast<int>(s)]; }

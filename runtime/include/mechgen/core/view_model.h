@@ -128,6 +128,8 @@ struct ViewModel {
   // ---- Statics: the layouts of its structs ----
   /// The statics' counts are the view's (ModelCalls<ViewModel>::NumReactions, NumFriction).
   static constexpr int kNumReactions = Eigen::Dynamic;
+  /// The design parameters' count is the view's (ModelCalls<ViewModel>::NumDesign).
+  static constexpr int kNumDesign = Eigen::Dynamic;
   static constexpr int kNumFriction = Eigen::Dynamic;
   /// Offsets of the Statics members in its buffer (ViewStruct::kStatics), -1 where the model
   /// lacks the member.
@@ -1042,6 +1044,64 @@ struct ModelCalls<ViewModel> {
     if (dM_dp != nullptr) dM_dp->setZero(v.num_design);
     v.ShakingDesign(p.data(), q.data(), phi.data(), qd.data(), qdd.data(), c.buffer.data(), dc.buffer.data(),
                     dF_dp != nullptr ? dF_dp->data() : nullptr, dM_dp != nullptr ? dM_dp->data() : nullptr);
+  }
+
+  // ---- Trajectory sensitivities (dynamics/sensitivity.h, adjoint.h): the view's
+  //      DynamicsJacobian and DynamicsDesignProduct (nullptr where the model lacks them: the
+  //      sensitivities refuse such a view), dI/dq of its Dynamics ----
+  static constexpr int kMaxDesign = ModelView::kMaxDesign;
+  template <class X = M>
+  using DesignDerivativesOut = internal::ViewDesignDerivatives;
+  static bool HasDynamicsJacobian(const M& m) { return HasDynamicsDesign(m) && m.view->DynamicsJacobian != nullptr; }
+  static bool HasDynamicsDesignProduct(const M& m) {
+    return HasDynamicsDesign(m) && m.view->DynamicsDesignProduct != nullptr;
+  }
+  /// The view's DynamicsJacobian: each output sized nq x nq and zeroed (the view reads its
+  /// outputs in), then filled.
+  template <class MatQQ>
+  static void DynamicsJacobian(const M& m,
+                               const ViewParams& p,
+                               const T::VecQ& q,
+                               const T::VecPhi& phi,
+                               const T::VecQ& qd,
+                               double t,
+                               const T::Coefficients& c,
+                               MatQQ* dQ_dq,
+                               MatQQ* dh_dq,
+                               MatQQ* dQ_dqd,
+                               MatQQ* dh_dqd) {
+    const int nq = m.view->nq;
+    for (MatQQ* x : {dQ_dq, dh_dq, dQ_dqd, dh_dqd}) x->setZero(nq, nq);
+    m.view->DynamicsJacobian(p.data(), q.data(), phi.data(), qd.data(), t, c.buffer.data(), dQ_dq->data(),
+                             dh_dq->data(), dQ_dqd->data(), dh_dqd->data(), nullptr);
+  }
+  /// The view's DynamicsDesignProduct: *product sized num_design and zeroed, then filled.
+  template <class VecP>
+  static void DynamicsDesignProduct(const M& m,
+                                    const ViewParams& p,
+                                    const T::VecQ& q,
+                                    const T::VecPhi& phi,
+                                    const T::VecQ& qd,
+                                    double t,
+                                    const T::Coefficients& c,
+                                    const T::VecQ& qdd,
+                                    const T::VecQ& mu,
+                                    VecP* product) {
+    product->setZero(m.view->num_design);
+    m.view->DynamicsDesignProduct(p.data(), q.data(), phi.data(), qd.data(), t, c.buffer.data(), qdd.data(), mu.data(),
+                                  product->data(), nullptr);
+  }
+  /// *to = from: its buffer copied, its maps placed on this view's layout.
+  static void CopyCoefficients(const M& m, const T::Coefficients& from, T::Coefficients* to) {
+    MapCoefficients(m, to);
+    internal::CopyEntries(from.buffer.data(), m.view->Layout(ViewStruct::kCoefficients).size, to->buffer.data());
+  }
+  /// dI/dq of the view's Dynamics output d (after Dynamics): a map of its buffer, nq x nq^2.
+  template <class X = M>
+  static Eigen::Map<const Eigen::MatrixXd> DynamicsDIdq(const M& m, const T::DynamicsOut& d) {
+    const ViewMember* member = FindMember(m.view->Layout(ViewStruct::kDynamics), "dI_dq");
+    const int nq = m.view->nq;
+    return Eigen::Map<const Eigen::MatrixXd>(d.buffer.data() + (member != nullptr ? member->offset : 0), nq, nq * nq);
   }
 
   // ---- Synthesis (synthesis/): the parameter table's names, the scene's ground points ----

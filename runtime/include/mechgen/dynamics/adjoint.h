@@ -92,6 +92,7 @@ template <class M, template <int> class Method = Dop853, int Nodes = 6>
 class AdjointSensitivity {
  public:
   using Forward = TrajectorySensitivity<M, Method, Nodes>;
+  using Calls = typename Forward::Calls;
   static constexpr int kNq = Forward::kNq;
   static constexpr int kNp = Forward::kNp;
   static constexpr int kNodes = Forward::kNodes;
@@ -103,14 +104,17 @@ class AdjointSensitivity {
   using StateX = typename Forward::StateX;
   using Modes = typename Forward::Modes;
   using Partial = typename Forward::Partial;
-  using RowP = Eigen::Matrix<double, 1, kNp>;
+  using RowP = typename Forward::RowP;
+  using MatC = typename Forward::MatC;
+  using MatCQ = typename Forward::MatCQ;
+  using VecC = typename Forward::VecC;
 
   /// A part of the scalar at one (t, q, qd): its value and its partial derivatives along q, qd
   /// and p (the explicit dependence on p only; zero where there is none).
   struct Value {
     double v = 0;
-    VecQ d_q = VecQ::Zero(), d_qd = VecQ::Zero();
-    RowP d_p = RowP::Zero();
+    VecQ d_q = internal::ZeroOf<VecQ>(0, 1), d_qd = d_q;  ///< (the view's: sized by the callable)
+    RowP d_p = internal::ZeroOf<RowP>(1, 0);
   };
 
   /// No integral (r = 0), or no final term (g = 0): a callable for Gradient().
@@ -120,11 +124,16 @@ class AdjointSensitivity {
   }
 
   /// options.sample_dt and options.method are not read (the run is the staggered state run).
+  template <class X = M, std::enable_if_t<!ModelCalls<X>::kView, int> = 0>
   explicit AdjointSensitivity(const Params& params, const SensitivityOptions& options = SensitivityOptions())
-      : forward_(params, StateRunOptions(options)) {}
+      : forward_(M(), params, StateRunOptions(options)) {}
+  /// For any model (a view: Forward::SupportedBy(model) first).
+  AdjointSensitivity(const M& model, const Params& params, const SensitivityOptions& options)
+      : forward_(model, params, StateRunOptions(options)) {}
 
   bool Initialize(const VecQ& q0) { return forward_.Initialize(q0); }
-  bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes = M::kDefaultModes) {
+  bool Initialize(const VecQ& q0, const VecPhi& phi_guess) { return forward_.Initialize(q0, phi_guess); }
+  bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes) {
     return forward_.Initialize(q0, phi_guess, modes);
   }
 
@@ -145,9 +154,17 @@ class AdjointSensitivity {
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     *summary = AdjointSummary();
     *G = kNaN;
-    dG_dp->setConstant(kNaN);
-    if (dG_dq0 != nullptr) dG_dq0->setConstant(kNaN);
-    if (dG_dqd0 != nullptr) dG_dqd0->setConstant(kNaN);
+    const int nq = forward_.nq_, np = forward_.np_;
+    if constexpr (Forward::kView) {
+      dG_dp->setConstant(1, np, kNaN);
+      if (dG_dq0 != nullptr) dG_dq0->setConstant(nq, kNaN);
+      if (dG_dqd0 != nullptr) dG_dqd0->setConstant(nq, kNaN);
+    } else {
+      (void)nq, (void)np;
+      dG_dp->setConstant(kNaN);
+      if (dG_dq0 != nullptr) dG_dq0->setConstant(kNaN);
+      if (dG_dqd0 != nullptr) dG_dqd0->setConstant(kNaN);
+    }
     auto finish = [&](Status status, const char* message) {
       summary->status = status;
       summary->message = message;
@@ -171,7 +188,8 @@ class AdjointSensitivity {
     // Backward: the transposed collocation steps from t_end (the predictor is anchored there).
     Value end_value;
     const StepRecord& last = steps_.back();
-    const VecQ q_end = last.x[kNodes - 1].template head<kNq>(), qd_end = last.x[kNodes - 1].template tail<kNq>();
+    const VecQ q_end = last.x[kNodes - 1].template head<kNq>(nq),
+               qd_end = last.x[kNodes - 1].template segment<kNq>(nq, nq);
     if (!terminal(last.tb, q_end, qd_end, &end_value) || !std::isfinite(end_value.v))
       return finish(Status::kInvalidInput, "the final term does not evaluate at t_end");
     Backward b;
@@ -203,9 +221,9 @@ class AdjointSensitivity {
   /// step's start, the scalar and its gradient so far, and the partials at the nodes of the step
   /// just done (its first node is the earlier step's last: the same (t, q, qd)).
   struct Backward {
-    VecQ mu_S = VecQ::Zero(), mu_V = VecQ::Zero();
+    VecQ mu_S, mu_V;
     double value = 0;
-    RowP gradient = RowP::Zero();
+    RowP gradient;
     Partial n[kNodes];
     typename Forward::NodeKeep keep[kNodes];
   };
@@ -247,12 +265,13 @@ class AdjointSensitivity {
     typename Forward::NodeKeep* const keep = b->keep;
     Value r[kNodes];
     const double h = step.tb - step.ta;
+    const int nq = forward_.nq_;
     for (int j = kNodes - 1; j >= 0; --j) {
       const double t = j == kNodes - 1 ? step.tb : j == 0 ? step.ta : step.ta + forward_.lob_.c[j] * h;
-      const VecQ q = step.x[j].template head<kNq>(), qd = step.x[j].template tail<kNq>();
+      const VecQ q = step.x[j].template head<kNq>(nq), qd = step.x[j].template segment<kNq>(nq, nq);
       if (j == kNodes - 1 && has_later) {
         n[j] = n[0];  // the later step's first node: the same (t, q, qd)
-        keep[j] = keep[0];
+        forward_.CopyKeep(keep[0], &keep[j]);
       } else {
         if (!forward_.Partials(t, q, qd, false, &n[j], &keep[j])) {
           *message = "the partials did not evaluate at a stored node of the backward run";
@@ -267,7 +286,7 @@ class AdjointSensitivity {
     }
     // nu_k, k = 0..kNodes-1: what (S, Sd) at the nodes carry into G through S1, Sd1 and the quadrature.
     VecQ nu[kNodes];
-    VecQ r_q_sum = VecQ::Zero();
+    VecQ r_q_sum = internal::ZeroOf<VecQ>(nq, 1);
     for (int k = 0; k < kNodes; ++k) {
       nu[k] = (h * a(kNodes - 1, k)) * b->mu_S + (h * a(kNodes - 1, k)) * r[k].d_qd;
       if (k == kNodes - 1) nu[k] += b->mu_V;
@@ -276,24 +295,25 @@ class AdjointSensitivity {
       b->gradient += (h * a(kNodes - 1, k)) * r[k].d_p;
       r_q_sum += (h * a(kNodes - 1, k)) * r[k].d_q;
     }
-    typename Forward::MatC A;
-    Eigen::Matrix<double, kNc, kNq> C0;
+    MatC A;
+    MatCQ C0;
     forward_.CollocationMatrix(h, n, &A, &C0);
-    Eigen::Matrix<double, kNc, 1> w;
-    for (int i = 1; i < kNodes; ++i) w.template segment<kNq>(kNq * (i - 1)) = nu[i];
-    if (!internal::SolveSmall<kNc, 1>(A.transpose(), &w)) {
+    VecC w = Sized<VecC>((kNodes - 1) * nq);
+    for (int i = 1; i < kNodes; ++i) w.template segment<kNq>(nq * (i - 1), nq) = nu[i];
+    if (!internal::SolveSmall(MatC(A.transpose()), &w)) {
       *message = "the transposed collocation matrix is singular";
       return Status::kIntegratorFailed;
     }
     VecQ new_S = b->mu_S + r_q_sum;
     VecQ new_V = nu[0];
     for (int i = 1; i < kNodes; ++i)
-      new_V += w.template segment<kNq>(kNq * (i - 1)) -
-               C0.template block<kNq, kNq>(kNq * (i - 1), 0).transpose() * w.template segment<kNq>(kNq * (i - 1));
+      new_V += w.template segment<kNq>(nq * (i - 1), nq) -
+               Times(C0.template block<kNq, kNq>(nq * (i - 1), 0, nq, nq).transpose(),
+                     w.template segment<kNq>(nq * (i - 1), nq));
     for (int j = 0; j < kNodes; ++j) {
-      VecQ lambda = VecQ::Zero();
-      for (int i = 1; i < kNodes; ++i) lambda += (h * a(i, j)) * w.template segment<kNq>(kNq * (i - 1));
-      new_S += n[j].F_q().transpose() * lambda;
+      VecQ lambda = internal::ZeroOf<VecQ>(nq, 1);
+      for (int i = 1; i < kNodes; ++i) lambda += (h * a(i, j)) * w.template segment<kNq>(nq * (i - 1), nq);
+      new_S += Times(n[j].F_q().transpose(), lambda);
       RowP product;
       if (!forward_.DesignProduct(n[j], keep[j], lambda, &product)) {
         *message = "lambda^T f_p is not finite at a node of the backward run";

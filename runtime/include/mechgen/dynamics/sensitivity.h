@@ -74,6 +74,11 @@
  */
 #pragma once
 
+#include <ceres/jet.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -82,16 +87,12 @@
 #include <type_traits>
 #include <utility>
 
-#include <ceres/jet.h>
-
-#include <Eigen/Cholesky>
-#include <Eigen/Core>
-#include <Eigen/LU>
-
 #include "mechgen/core/constants.h"
+#include "mechgen/core/model_calls.h"
 #include "mechgen/core/model_traits.h"
 #include "mechgen/dynamics/forward.h"
 #include "mechgen/dynamics/integrators.h"
+#include "mechgen/dynamics/position_tracker.h"
 #include "mechgen/dynamics/simulator.h"
 
 namespace mechgen::dynamics {
@@ -145,20 +146,24 @@ struct SensitivityOptions {
 };
 
 namespace internal {
-/// Whether M has EvalDynamicsJacobian (M::DynamicsJacobian): generated with EvalDynamicsDesign
-/// (kHasDynamicsDesign) where no cam law's fourth derivative is needed; no flag says so.
-template <class M, class = void>
-struct HasDynamicsJacobian : std::false_type {};
-template <class M>
-struct HasDynamicsJacobian<M, std::void_t<decltype(&M::template DynamicsJacobian<double>)>> : std::true_type {};
-/// Whether M has EvalDynamicsDesignProduct (M::DynamicsDesignProduct): mu^T (dQ/dp - dh/dp -
-/// (dI/dp) qdd) by reverse mode over the dynamics, generated with EvalDynamicsDesign (the
-/// adjoint's lambda^T f_p, dynamics/adjoint.h).
-template <class M, class = void>
-struct HasDynamicsDesignProduct : std::false_type {};
-template <class M>
-struct HasDynamicsDesignProduct<M, std::void_t<decltype(&M::template DynamicsDesignProduct<double>)>>
-    : std::true_type {};
+/// Whether M has EvalDynamicsJacobian and EvalDynamicsDesignProduct (core/model_calls.h).
+using ::mechgen::internal::HasDynamicsDesignProduct;
+using ::mechgen::internal::HasDynamicsJacobian;
+
+/// A matrix of R x C doubles bounded by MR x MC (Eigen's default storage order: a row vector
+/// row-major), the same type as Eigen::Matrix<double, R, C> where the sizes are fixed.
+template <int R, int C, int MR = R, int MC = C>
+using BoundedMatrix = Eigen::Matrix<double, R, C, (R == 1 && C != 1) ? Eigen::RowMajor : Eigen::ColMajor, MR, MC>;
+/// X::Zero() of a fixed-size X; X::Zero(rows, cols) of a bounded dynamic one.
+template <class X>
+X ZeroOf(Eigen::Index rows, Eigen::Index cols) {
+  if constexpr (X::SizeAtCompileTime != Eigen::Dynamic) {
+    (void)rows, (void)cols;
+    return X::Zero();
+  } else {
+    return X::Zero(rows, cols);
+  }
+}
 
 /**
  * The Lobatto IIIA collocation method with S = 3 to 6 nodes (the Lobatto points: 0 and 1 and
@@ -204,14 +209,16 @@ struct LobattoIIIA {
 using LobattoIIIA5 = LobattoIIIA<5>;
 
 /**
- * Solves A X = B for the collocation's small fixed sizes by Gaussian elimination with partial
+ * Solves A X = B for the collocation's small sizes (fixed, or bounded dynamic: the view's) by
+ * Gaussian elimination with partial
  * pivoting, B overwritten with X (Eigen's PartialPivLU solves several right-hand sides through
  * its blocked triangular solver, slower at these sizes; the same pivots, so the same
  * stability). \return false when a pivot is zero or X is not finite.
  */
-template <int n, int m>
-bool SolveSmall(Eigen::Matrix<double, n, n> A, Eigen::Matrix<double, n, m>* B) {
+template <class MatA, class MatB>
+bool SolveSmall(MatA A, MatB* B) {
   auto& X = *B;
+  const int n = static_cast<int>(A.rows()), m = static_cast<int>(X.cols());
   // Column-major: every inner loop runs down a column (contiguous).
   for (int k = 0; k < n; ++k) {
     int p = k;
@@ -243,6 +250,54 @@ bool SolveSmall(Eigen::Matrix<double, n, n> A, Eigen::Matrix<double, n, m>* B) {
   }
   return X.allFinite();
 }
+
+/**
+ * \brief qdd = I^-1 f and, unless I_inv is nullptr, I^-1 (n x n): for n = 1 a division, for
+ * n = 2 the closed-form inverse (I positive definite: I_00 > 0 and det I > 0), else
+ * Cholesky's factor.
+ * \return false unless I is positive definite and qdd finite.
+ */
+template <int n>
+bool SolveInertia(const Eigen::Matrix<double, n, n>& I,
+                  const Eigen::Matrix<double, n, 1>& f,
+                  Eigen::Matrix<double, n, 1>* qdd,
+                  Eigen::Matrix<double, n, n>* I_inv) {
+  using MatQ = Eigen::Matrix<double, n, n>;
+  if constexpr (n == 1) {
+    const double I00 = I(0, 0);
+    if (!(I00 > 0) || !std::isfinite(I00)) return false;
+    (*qdd)(0) = f(0) / I00;
+    if (I_inv != nullptr) (*I_inv)(0, 0) = 1 / I00;
+  } else if constexpr (n == 2) {
+    const double det = I(0, 0) * I(1, 1) - I(0, 1) * I(1, 0);
+    if (!(I(0, 0) > 0) || !(det > 0) || !std::isfinite(det)) return false;
+    MatQ inv;
+    inv << I(1, 1) / det, -I(0, 1) / det, -I(1, 0) / det, I(0, 0) / det;
+    *qdd = inv * f;
+    if (I_inv != nullptr) *I_inv = inv;
+  } else {
+    Eigen::LLT<MatQ> llt;
+    if (!I.allFinite()) return false;
+    llt.compute(I);
+    if (llt.info() != Eigen::Success) return false;
+    *qdd = llt.solve(f);
+    if (I_inv != nullptr) *I_inv = llt.solve(MatQ::Identity());
+  }
+  return qdd->allFinite();
+}
+
+/// The Jet of the partial derivatives along (q, qd) and M's parameters in it (a generated
+/// model's; none for the view, whose sensitivities read the generated EvalDynamicsJacobian).
+template <class M, bool = ModelCalls<M>::kView>
+struct JetOf {
+  using Jet = ceres::Jet<double, 2 * M::kNq>;
+  using Params = typename M::template ParamsT<Jet>;
+};
+template <class M>
+struct JetOf<M, true> {
+  using Jet = double;
+  struct Params {};
+};
 }  // namespace internal
 
 template <class M, template <int> class Method, int Nodes>
@@ -253,13 +308,17 @@ template <class M>
 struct SensitivitySample {
   static constexpr int kNq = M::kNq, kNphi = M::kNphi, kNp = M::kNumDesign;
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  /// (The view's: bounded dynamic, empty until a run fills them.)
+  using VecQ = typename ModelTypes<M>::VecQ;
+  using VecPhi = typename ModelTypes<M>::VecPhi;
+  using MatQP = internal::BoundedMatrix<kNq, kNp, ModelTypes<M>::kMaxQ, ModelCalls<M>::kMaxDesign>;
   double t = kNaN;
-  Eigen::Matrix<double, kNq, 1> q = Eigen::Matrix<double, kNq, 1>::Constant(kNaN);
-  Eigen::Matrix<double, kNq, 1> qd = q, qdd = q;
-  Eigen::Matrix<double, kNphi, 1> phi = Eigen::Matrix<double, kNphi, 1>::Constant(kNaN);
+  VecQ q = NaNs<VecQ>();
+  VecQ qd = q, qdd = q;
+  VecPhi phi = NaNs<VecPhi>();
   /// dq/dp and dqd/dp: S(i, d) = dq_i/dp_d, Sd(i, d) = dqd_i/dp_d (kNq x kNp).
-  Eigen::Matrix<double, kNq, kNp> S = Eigen::Matrix<double, kNq, kNp>::Constant(kNaN);
-  Eigen::Matrix<double, kNq, kNp> Sd = S;
+  MatQP S = NaNs<MatQP>();
+  MatQP Sd = S;
   double rcond = 1;  ///< 1/cond_1(Phi_phi) (1 for kNphi = 0)
 };
 
@@ -299,106 +358,168 @@ inline std::string FormatSummary(const SensitivitySummary& s) {
 template <class M, template <int> class Method = Dop853, int Nodes = 6>
 class TrajectorySensitivity {
  public:
-  static_assert(HasDynamics<M>::value, "TrajectorySensitivity needs a model generated with `dynamics`");
-  static_assert(HasDynamicsDesign<M>::value,
+  /// The model's calls (core/model_calls.h): a generated model's fixed sizes, or the view's
+  /// (ViewModel: the sizes at run time, bounded; see SupportedBy()).
+  using Calls = ModelCalls<M>;
+  using Types = ModelTypes<M>;
+  static constexpr bool kView = Calls::kView;
+  static_assert(kView || HasDynamics<M>::value, "TrajectorySensitivity needs a model generated with `dynamics`");
+  static_assert(kView || HasDynamicsDesign<M>::value,
                 "TrajectorySensitivity needs a model with a `design` section and `dynamics` (M::DynamicsDesign)");
   static constexpr int kNq = M::kNq;
   static constexpr int kNphi = M::kNphi;
   static constexpr int kNp = M::kNumDesign;
-  static constexpr int kN = 2 * kNq * (1 + kNp);
-  using Params = typename M::template ParamsT<double>;
-  using Coefficients = typename M::template CoefficientsT<double>;
-  using Dyn = typename M::template DynamicsT<double>;
-  using State = Eigen::Matrix<double, kN, 1>;
-  using StateX = Eigen::Matrix<double, 2 * kNq, 1>;  ///< (q, qd): the staggered method's state
-  using VecQ = Eigen::Matrix<double, kNq, 1>;
-  using VecPhi = Eigen::Matrix<double, kNphi, 1>;
-  using MatQ = Eigen::Matrix<double, kNq, kNq>;
-  using MatQP = Eigen::Matrix<double, kNq, kNp>;
-  using Modes = std::array<int, M::kNumBlocks>;
+  static constexpr int kMaxQ = Types::kMaxQ;
+  static constexpr int kMaxP = Calls::kMaxDesign;
+  /// The simultaneous method's state (kSimultaneous: fixed sizes only) and the staggered one's.
+  static constexpr int kN = kView ? Eigen::Dynamic : 2 * kNq * (1 + kNp);
+  static constexpr int kNx = kView ? Eigen::Dynamic : 2 * kNq;
+  using Params = typename Types::Params;
+  using Coefficients = typename Types::Coefficients;
+  using Dyn = typename Calls::template DynamicsOut<M>;
+  using State = internal::IntegratorState<kN>;
+  using StateX = internal::IntegratorState<kNx>;  ///< (q, qd): the staggered method's state
+  using VecQ = typename Types::VecQ;
+  using VecPhi = typename Types::VecPhi;
+  using MatK = typename Types::MatK;
+  using MatQ = internal::BoundedMatrix<kNq, kNq, kMaxQ, kMaxQ>;
+  using MatQP = internal::BoundedMatrix<kNq, kNp, kMaxQ, kMaxP>;
+  using RowP = internal::BoundedMatrix<1, kNp, 1, kMaxP>;
+  using VecP = internal::BoundedMatrix<kNp, 1, kMaxP, 1>;
+  using MatQX = internal::BoundedMatrix<kNq, kNx, kMaxQ, 2 * kMaxQ>;  ///< (f_q, f_qd)
+  using Modes = typename Calls::Modes;
   using SampleT = SensitivitySample<M>;
   using Integrator = Method<kN>;
-  using StateIntegrator = Method<2 * kNq>;
-  using Trig = typename mechgen::internal::TrigOf<M>::type;
-  /// The Jet of the partial derivatives along (q, qd).
-  using Jet = ceres::Jet<double, 2 * kNq>;
+  using StateIntegrator = Method<kNx>;
+  using Trig = typename Calls::Trig;
+  using Tracker = PositionTracker<M>;
+  /// The Jet of the partial derivatives along (q, qd) (fixed sizes only: jet_jacobians).
+  using Jet = typename internal::JetOf<M>::Jet;
   using Collocation = internal::LobattoIIIA<Nodes>;
   static constexpr int kNodes = Collocation::kNodes;
   /// The collocation's unknowns Sd at the nodes 1..kNodes - 1 (kNodes - 1 blocks of kNq rows).
-  static constexpr int kNc = (kNodes - 1) * kNq;
-  using MatC = Eigen::Matrix<double, kNc, kNc>;
+  static constexpr int kNc = kView ? Eigen::Dynamic : (kNodes - 1) * kNq;
+  static constexpr int kMaxC = (kNodes - 1) * kMaxQ;
+  using MatC = internal::BoundedMatrix<kNc, kNc, kMaxC, kMaxC>;
+  using MatCQ = internal::BoundedMatrix<kNc, kNq, kMaxC, kMaxQ>;
+  using MatCP = internal::BoundedMatrix<kNc, kNp, kMaxC, kMaxP>;
+  using VecC = internal::BoundedMatrix<kNc, 1, kMaxC, 1>;
   /// The state's stages by the one-pass M::Rhs where the model has it (every block a closed
   /// form handing out sin and cos: MinimalDynamics' kStagesByRhs), else positions, coefficients
-  /// and dynamics.
+  /// and dynamics. (For the view: whether its model may; StateByRhs() says whether it does.)
   static constexpr bool kStateByRhs = mechgen::internal::TrigOf<M>::value && kNphi != 0 &&
                                       mechgen::HasSolveTrig<M>::value && mechgen::HasRhs<M>::value;
 
   /// The right-hand side and its partial derivatives at one (t, q, qd).
   struct Partial {
     double t = 0;
-    VecQ q = VecQ::Zero(), qd = VecQ::Zero(), qdd = VecQ::Zero();
-    VecPhi phi = VecPhi::Zero();
-    Eigen::Matrix<double, kNphi, kNq> K = Eigen::Matrix<double, kNphi, kNq>::Zero();
-    Eigen::Matrix<double, kNq, 2 * kNq> F_x = Eigen::Matrix<double, kNq, 2 * kNq>::Zero();  ///< (f_q, f_qd)
-    MatQP F_p = MatQP::Zero();
+    VecQ q, qd, qdd;
+    VecPhi phi;
+    MatK K;
+    MatQX F_x;  ///< (f_q, f_qd)
+    MatQP F_p;
     double rcond = 1, det = 1;  ///< 1/cond_1(Phi_phi) and its determinant (when asked for)
-    auto F_q() const { return F_x.template leftCols<kNq>(); }
-    auto F_qd() const { return F_x.template rightCols<kNq>(); }
+    auto F_q() const { return F_x.template leftCols<kNq>(F_x.rows()); }
+    auto F_qd() const { return F_x.template rightCols<kNq>(F_x.rows()); }
   };
 
   /// What DesignProduct() reads at a node besides its Partial: kept by Partials(..., keep) in
   /// place of f_p where the model has M::DynamicsDesignProduct.
   struct NodeKeep {
     Coefficients c;
-    MatQ I_inv = MatQ::Zero();
+    MatQ I_inv;
   };
-  static constexpr bool kHasDesignProduct = internal::HasDynamicsDesignProduct<M>::value;
-  /// f_p's rows by kNq reverse-mode products (M::DynamicsDesignProduct, mu = I^-1's rows) where
-  /// the model has it and kNq <= kNp; else by the forward mode (EvalDesignDerivatives and
-  /// EvalDynamicsDesign, kNp directions). See Partials().
-  static constexpr bool kFpByProduct = kHasDesignProduct && kNq <= kNp;
+  /// *to = from (the view's coefficients: copied into place).
+  void CopyKeep(const NodeKeep& from, NodeKeep* to) const {
+    Calls::CopyCoefficients(model_, from.c, &to->c);
+    to->I_inv = from.I_inv;
+  }
+  /// Whether the model has M::DynamicsDesignProduct (for the view: may have; HasDesignProduct()).
+  static constexpr bool kHasDesignProduct = kView || internal::HasDynamicsDesignProduct<M>::value;
 
+  /**
+   * \brief Whether the sensitivities run on `model`: a generated model that compiles here
+   * does; a view needs dynamics, a design section and the generated EvalDynamicsJacobian
+   * (the Jets of the fixed-size models are not the view's) and fits the bounded state (2 nq
+   * within the integrators' kMaxDynamicState). \return false with *why where it does not.
+   */
+  static bool SupportedBy(const M& model, std::string* why) {
+    if constexpr (kView) {
+      auto fail = [&](const char* what) {
+        if (why != nullptr) *why = what;
+        return false;
+      };
+      if (!Calls::HasDynamics(model) || !Calls::HasDesign(model) || !Calls::HasDynamicsDesign(model))
+        return fail("the trajectory sensitivities need a model with a `design` section and `dynamics`");
+      if (!Calls::HasDynamicsJacobian(model))
+        return fail(
+            "the trajectory sensitivities through the model view need the generated EvalDynamicsJacobian, "
+            "which this model lacks (a cam law's fourth derivative): use its per-model tool");
+      if (2 * Calls::Nq(model) > internal::kMaxDynamicState)
+        return fail("the trajectory sensitivities through the model view: too many inputs");
+      return true;
+    } else {
+      (void)model, (void)why;
+      return true;
+    }
+  }
+
+  /// For a generated model (an empty tag).
+  template <class X = M, std::enable_if_t<!ModelCalls<X>::kView, int> = 0>
   explicit TrajectorySensitivity(const Params& params, const SensitivityOptions& options = SensitivityOptions())
-      : p_(params),
-        pj_(params.template Cast<Jet>()),
+      : TrajectorySensitivity(M(), params, options) {}
+  /// For any model (a view: SupportedBy(model) first).
+  TrajectorySensitivity(const M& model, const Params& params, const SensitivityOptions& options)
+      : model_(model),
+        p_(params),
+        pj_(JetParams(params)),
         options_(options),
         integrator_(options.integrator),
-        state_integrator_(options.integrator) {}
+        state_integrator_(options.integrator),
+        tracker_(model, options.max_solver_iterations, options.solver_tolerance),
+        nq_(Calls::Nq(model)),
+        np_(Calls::NumDesign(model)),
+        state_by_rhs_(ReadStateByRhs(model)),
+        has_design_product_(ReadHasDesignProduct(model)) {
+    initial_.q = internal::ZeroOf<VecQ>(nq_, 1);
+    initial_.phi = internal::ZeroOf<VecPhi>(Calls::Nphi(model), 1);
+    initial_.K = internal::ZeroOf<MatK>(Calls::Nphi(model), nq_);
+  }
 
   const Params& params() const { return p_; }
   const SensitivityOptions& options() const { return options_; }
   const Collocation& collocation() const { return lob_; }
+  const M& model() const { return model_; }
+  /// The design parameters' count (kNp; the view's at run time).
+  int NumDesign() const { return np_; }
+  /// Whether the state's stages run by M::Rhs (kStateByRhs; the view's model at run time).
+  bool StateByRhs() const { return state_by_rhs_; }
+  /// Whether DesignProduct() reads M::DynamicsDesignProduct (else lambda^T F_p).
+  bool HasDesignProduct() const { return has_design_product_; }
 
   /// Assembles at q0 from phi_guess on the given modes: false when it does not assemble.
-  bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes = M::kDefaultModes) {
-    modes_ = modes;
+  bool Initialize(const VecQ& q0, const VecPhi& phi_guess, const Modes& modes) {
     anchor_valid_ = false;
-    q_ref_ = q0;
-    phi_ref_ = phi_guess;
-    K_ref_.setZero();
-    VecPhi phi = phi_guess;
-    bool not_assemblable = false;
-    if (!internal::SolveOnBranch<M>(p_, q0, &phi, modes_, options_.max_solver_iterations,
-                                    options_.solver_tolerance, 0.0, &trig_, &not_assemblable))
-      return false;
     Coefficients c;
-    internal::CallCoeffs<M>(p_, q0, phi, &c, &trig_);
-    phi_ref_ = phi;
-    K_ref_ = c.K;
-    double rcond = 1;
-    internal::ConditioningOf(PhiPhi(c), &rcond, &ref_det_);
+    bool not_assemblable = false;
+    tracker_.set_ref_det(0);  // (the assembly's branch is not checked)
+    if (!tracker_.Assemble(model_, p_, q0, phi_guess, modes, &c, &not_assemblable)) return false;
     initial_.q = q0;
-    initial_.phi = phi;
+    initial_.phi = tracker_.phi_ref();
     initial_.K = c.K;
-    initial_.det = ref_det_;
+    initial_.det = tracker_.ref_det();
     initialized_ = true;
     return true;
+  }
+  bool Initialize(const VecQ& q0, const VecPhi& phi_guess) {
+    return Initialize(q0, phi_guess, Calls::DefaultModes(model_));
   }
 
   /// Assembles at q0 from the model's assembly guess (kAssemblyPhi, kDefaultModes).
   bool Initialize(const VecQ& q0) {
-    VecPhi guess;
-    for (int i = 0; i < kNphi; ++i) guess(i) = M::kAssemblyPhi[i];
+    const int nphi = Calls::Nphi(model_);
+    VecPhi guess = internal::ZeroOf<VecPhi>(nphi, 1);
+    for (int i = 0; i < nphi; ++i) guess(i) = Calls::AssemblyPhi(model_)[i];
     return Initialize(q0, guess);
   }
 
@@ -417,33 +538,33 @@ class TrajectorySensitivity {
     Coefficients c;
     // At the accepted configuration (a step's end: Anchor solved it from the same q), its
     // positions, coefficients and conditioning are read, not solved again.
-    const bool anchored = anchor_valid_ && (q.array() == q_ref_.array()).all();
+    const bool anchored = anchor_valid_ && (q.array() == tracker_.q_ref().array()).all();
     if (anchored) {
-      n->phi = phi_ref_;
-      c = anchor_c_;
-      trig_ = anchor_trig_;  // the sin and cos of that solve, which M::Dynamics may read
+      n->phi = tracker_.phi_ref();
+      Calls::CopyCoefficients(model_, anchor_c_, &c);
+      *tracker_.trig() = anchor_trig_;  // the sin and cos of that solve, which M::Dynamics may read
     } else if (!Configuration(q, &n->phi, &c)) {
       return false;
     }
     Dyn d;
-    internal::CallDynamics<M>(p_, q, n->phi, qd, t, c, &d, &trig_);
+    internal::CallDynamics(model_, p_, q, n->phi, qd, t, c, &d, tracker_.trig());
     // I^-1 once (kNq columns), then products: the solves of 2 kNq + kNp right-hand sides
     // went through Eigen's blocked triangular solver, slower at these sizes.
     MatQ I_inv;
-    if (!SolveInertia(d.I, d.Q - d.h, &n->qdd, &I_inv)) return false;
+    if (!SolveInertia(d.I, VecQ(d.Q - d.h), &n->qdd, &I_inv)) return false;
     // f_q, f_qd: I^-1 (dQ - dh - dI qdd)/dx for the 2 kNq directions x = (q, qd).
-    const Eigen::Matrix<double, kNq, 2 * kNq> G = StateJacobian(t, q, n->phi, qd, c, d, n->qdd);
+    const MatQX G = StateJacobian(t, q, n->phi, qd, c, d, n->qdd);
     n->F_x.noalias() = I_inv.lazyProduct(G);
     if (keep != nullptr) {
-      keep->c = c;
+      Calls::CopyCoefficients(model_, c, &keep->c);
       keep->I_inv = I_inv;
     }
-    if (kHasDesignProduct && keep != nullptr) {
+    if (kHasDesignProduct && has_design_product_ && keep != nullptr) {
       n->K = c.K;
       if (conditioning) {
         if (anchored) {
           n->rcond = anchor_rcond_;
-          n->det = ref_det_;
+          n->det = tracker_.ref_det();
         } else {
           internal::ConditioningOf(PhiPhi(c), &n->rcond, &n->det);
         }
@@ -451,38 +572,56 @@ class TrajectorySensitivity {
       return n->F_x.allFinite();
     }
     // f_p = I^-1 B, B = dQ/dp - dh/dp - (dI/dp) qdd, the generated design derivatives at fixed
-    // (q, qd). Row i is mu^T B with mu = I^-1's row i: one reverse sweep of M::DynamicsDesignProduct
-    // for all kNp columns, kNq sweeps in all, where the forward mode carries kNp directions
-    // through every local and fills what f_p does not read (dI/dq's, T's and V's derivatives,
-    // the points'): 0.77 against 1.73 us per evaluation on the five-bar (kNq = 2, kNp = 13),
-    // 0.25 against 0.34 on the massive four-bar (bench/design/run.sh). Where kNq > kNp the
-    // forward mode's kNp directions are the fewer passes (not measured: no model here has it).
-    if constexpr (kFpByProduct) {
-      for (int i = 0; i < kNq; ++i) {
-        const VecQ mu = I_inv.row(i).transpose();
-        Eigen::Matrix<double, kNp, 1> row;
-        M::template DynamicsDesignProduct<double>(p_, q, n->phi, qd, t, c, n->qdd, mu, &row);
-        n->F_p.row(i) = row.transpose();
-      }
-    } else {
-      typename M::template DesignDerivativesT<double> dc;
-      M::template Design<double>(p_, q, n->phi, &dc);
-      typename M::template DynamicsDesignT<double> dd;
-      M::template DynamicsDesign<double>(p_, q, n->phi, qd, t, c, dc, &dd);
+    // (q, qd): by nq reverse-mode products where the model has them and nq <= np (FpByProducts),
+    // else by the forward mode.
+    if (!FpByProducts(t, q, qd, c, I_inv, n)) {
+      typename Calls::template DesignDerivativesOut<M> dc;
+      Calls::Design(model_, p_, q, n->phi, &dc);
+      typename Calls::template DynamicsDesignOut<M> dd;
+      Calls::DynamicsDesign(model_, p_, q, n->phi, qd, t, c, dc, &dd);
       MatQP B = dd.dQ_dp - dd.dh_dp;
-      for (int dp = 0; dp < kNp; ++dp) B.col(dp) -= dd.dI_dp.template block<kNq, kNq>(0, kNq * dp) * n->qdd;
+      for (int dp = 0; dp < np_; ++dp)
+        B.col(dp) -= Times(dd.dI_dp.template block<kNq, kNq>(0, nq_ * dp, nq_, nq_), n->qdd);
       n->F_p.noalias() = I_inv.lazyProduct(B);
     }
     n->K = c.K;
     if (conditioning) {
       if (anchored) {
         n->rcond = anchor_rcond_;
-        n->det = ref_det_;
+        n->det = tracker_.ref_det();
       } else {
         internal::ConditioningOf(PhiPhi(c), &n->rcond, &n->det);
       }
     }
     return n->F_x.allFinite() && n->F_p.allFinite();
+  }
+
+  /**
+   * \brief f_p = I^-1 B (B = dQ/dp - dh/dp - (dI/dp) qdd) row by row: row i is mu^T B with mu =
+   * I^-1's row i, one reverse sweep of the generated M::DynamicsDesignProduct for all np columns,
+   * nq sweeps in all, where the forward mode carries np directions through every local and fills
+   * what f_p does not read (dI/dq's, T's and V's derivatives, the points'): 0.77 against 1.73 us
+   * per evaluation on the five-bar (nq = 2, np = 13), 0.25 against 0.34 on the massive four-bar
+   * (bench/design/run.sh). Where nq > np the forward mode's np directions are the fewer passes
+   * (not measured: no model here has it).
+   * \return false (nothing written) where the model lacks the product or nq > np.
+   */
+  bool FpByProducts(double t, const VecQ& q, const VecQ& qd, const Coefficients& c, const MatQ& I_inv,
+                    Partial* n) const {
+    if constexpr (kHasDesignProduct) {
+      if (has_design_product_ && nq_ <= np_) {
+        n->F_p.resize(nq_, np_);
+        for (int i = 0; i < nq_; ++i) {
+          const VecQ mu = I_inv.row(i).transpose();
+          VecP row;
+          Calls::DynamicsDesignProduct(model_, p_, q, n->phi, qd, t, c, n->qdd, mu, &row);
+          n->F_p.row(i) = row.transpose();
+        }
+        return true;
+      }
+    }
+    (void)t, (void)q, (void)qd, (void)c, (void)I_inv, (void)n;
+    return false;
   }
 
   /**
@@ -493,17 +632,18 @@ class TrajectorySensitivity {
    * n.F_p where the model does not have it.
    * \return false where it is not finite.
    */
-  bool DesignProduct(const Partial& n, const NodeKeep& keep, const VecQ& lambda,
-                     Eigen::Matrix<double, 1, kNp>* out) const {
+  bool DesignProduct(const Partial& n, const NodeKeep& keep, const VecQ& lambda, RowP* out) const {
     if constexpr (kHasDesignProduct) {
-      const VecQ mu = keep.I_inv * lambda;
-      Eigen::Matrix<double, kNp, 1> product;
-      M::template DynamicsDesignProduct<double>(p_, n.q, n.phi, n.qd, n.t, keep.c, n.qdd, mu, &product);
-      *out = product.transpose();
-    } else {
-      (void)keep;
-      *out = lambda.transpose() * n.F_p;
+      if (has_design_product_) {
+        const VecQ mu = Times(keep.I_inv, lambda);
+        VecP product;
+        Calls::DynamicsDesignProduct(model_, p_, n.q, n.phi, n.qd, n.t, keep.c, n.qdd, mu, &product);
+        *out = product.transpose();
+        return out->allFinite();
+      }
     }
+    (void)keep;
+    *out = Times(lambda.transpose(), n.F_p);
     return out->allFinite();
   }
 
@@ -513,6 +653,7 @@ class TrajectorySensitivity {
    * \return false when the positions do not solve or I is not positive definite.
    */
   bool Derivative(double t, const State& y, State* dy) {
+    static_assert(!kView, "kSimultaneous: a generated model's fixed sizes (the view's state is bounded)");
     Partial n;
     if (!Partials(t, y.template head<kNq>(), y.template segment<kNq>(kNq), false, &n)) return false;
     const Eigen::Map<const MatQP> S(y.data() + 2 * kNq);
@@ -529,63 +670,74 @@ class TrajectorySensitivity {
   /// The state's right-hand side (qd, qdd) at (t, x = (q, qd)) (kStaggered): false where the
   /// positions do not solve or I is not positive definite.
   bool StateDerivative(double t, const StateX& x, StateX* dx) {
-    const VecQ q = x.template head<kNq>();
-    const VecQ qd = x.template tail<kNq>();
+    const VecQ q = x.template head<kNq>(nq_);
+    const VecQ qd = x.template segment<kNq>(nq_, nq_);
     if constexpr (kStateByRhs) {
-      // One generated pass (M::Rhs, as the free simulation's stages): the positions by their
-      // sin and cos (closed forms on the modes' branch, no predictor), K, L, I, h, Q.
-      typename mechgen::ModelCalls<M>::template RhsOut<M> r;
-      const auto report = mechgen::ModelCalls<M>::Rhs(M(), p_, rhs_constants_.Of(p_), q, qd, t, modes_, &trig_, &r);
-      if (report.status != decltype(report.status)::kConverged) {
-        last_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
-        ++position_failures_;
-        return false;
+      if (state_by_rhs_) {
+        // One generated pass (M::Rhs, as the free simulation's stages): the positions by their
+        // sin and cos (closed forms on the modes' branch, no predictor), K, L, I, h, Q.
+        typename Calls::template RhsOut<M> r;
+        const auto report =
+            Calls::Rhs(model_, p_, rhs_constants_.Of(model_, p_), q, qd, t, tracker_.modes(), tracker_.trig(), &r);
+        if (report.status != decltype(report.status)::kConverged) {
+          last_not_assemblable_ = report.status == decltype(report.status)::kNotAssemblable;
+          ++position_failures_;
+          return false;
+        }
+        last_not_assemblable_ = false;
+        VecQ qdd;
+        if (!SolveInertia(r.I, VecQ(r.Q - r.h), &qdd, nullptr)) return false;
+        return StateOf(qd, qdd, dx);
       }
-      last_not_assemblable_ = false;
-      VecQ qdd;
-      if (!SolveInertia(r.I, r.Q - r.h, &qdd, nullptr)) return false;
-      dx->template head<kNq>() = qd;
-      dx->template tail<kNq>() = qdd;
-      return dx->allFinite();
     }
     VecPhi phi;
     Coefficients c;
     if (!Configuration(q, &phi, &c)) return false;
     Dyn d;
-    internal::CallDynamics<M>(p_, q, phi, qd, t, c, &d, &trig_);
+    internal::CallDynamics(model_, p_, q, phi, qd, t, c, &d, tracker_.trig());
     VecQ qdd;
-    if (!SolveInertia(d.I, d.Q - d.h, &qdd, nullptr)) return false;
-    dx->template head<kNq>() = qd;
-    dx->template tail<kNq>() = qdd;
+    if (!SolveInertia(d.I, VecQ(d.Q - d.h), &qdd, nullptr)) return false;
+    return StateOf(qd, qdd, dx);
+  }
+
+  /// *dx = (qd, qdd), sized; whether it is finite.
+  bool StateOf(const VecQ& qd, const VecQ& qdd, StateX* dx) const {
+    if constexpr (kView) dx->resize(2 * nq_);
+    dx->template head<kNq>(nq_) = qd;
+    dx->template segment<kNq>(nq_, nq_) = qdd;
     return dx->allFinite();
   }
 
   /**
-   * \brief qdd = I^-1 f and, unless I_inv is nullptr, I^-1: for kNq = 1 a division, for
-   * kNq = 2 the closed-form inverse (I positive definite: I_00 > 0 and det I > 0), else
-   * Cholesky's factor.
+   * \brief qdd = I^-1 f and, unless I_inv is nullptr, I^-1 (internal::SolveInertia<kNq>; the
+   * view's I on a fixed-size copy of its size, so that both take the same arithmetic).
    * \return false unless I is positive definite and qdd finite.
    */
-  static bool SolveInertia(const MatQ& I, const VecQ& f, VecQ* qdd, MatQ* I_inv) {
-    if constexpr (kNq == 1) {
-      const double I00 = I(0, 0);
-      if (!(I00 > 0) || !std::isfinite(I00)) return false;
-      (*qdd)(0) = f(0) / I00;
-      if (I_inv != nullptr) (*I_inv)(0, 0) = 1 / I00;
-    } else if constexpr (kNq == 2) {
-      const double det = I(0, 0) * I(1, 1) - I(0, 1) * I(1, 0);
-      if (!(I(0, 0) > 0) || !(det > 0) || !std::isfinite(det)) return false;
-      MatQ inv;
-      inv << I(1, 1) / det, -I(0, 1) / det, -I(1, 0) / det, I(0, 0) / det;
-      *qdd = inv * f;
-      if (I_inv != nullptr) *I_inv = inv;
+  template <class MatI>
+  static bool SolveInertia(const MatI& I, const VecQ& f, VecQ* qdd, MatQ* I_inv) {
+    if constexpr (kView) {
+      // The view's I (nq at run time): the fixed-size code of its size, the same arithmetic.
+      return SolveInertiaOf<1>(I, f, qdd, I_inv);
     } else {
-      Eigen::LLT<MatQ> llt;
-      if (!Factorize(I, &llt)) return false;
-      *qdd = llt.solve(f);
-      if (I_inv != nullptr) *I_inv = llt.solve(MatQ::Identity());
+      return internal::SolveInertia<kNq>(I, f, qdd, I_inv);
     }
-    return qdd->allFinite();
+  }
+  /// The view's SolveInertia on a k x k copy of I (k its size).
+  template <int k, class MatI>
+  static bool SolveInertiaOf(const MatI& I, const VecQ& f, VecQ* qdd, MatQ* I_inv) {
+    if constexpr (k <= kMaxQ) {
+      if (I.rows() != k) return SolveInertiaOf<k + 1>(I, f, qdd, I_inv);
+      Eigen::Matrix<double, k, 1> qdd_k;
+      Eigen::Matrix<double, k, k> I_inv_k;
+      const bool ok = internal::SolveInertia<k>(Eigen::Matrix<double, k, k>(I), Eigen::Matrix<double, k, 1>(f), &qdd_k,
+                                                I_inv != nullptr ? &I_inv_k : nullptr);
+      *qdd = qdd_k;
+      if (I_inv != nullptr) *I_inv = I_inv_k;
+      return ok;
+    } else {
+      (void)I, (void)f, (void)qdd, (void)I_inv;
+      return false;
+    }
   }
 
   /**
@@ -594,21 +746,35 @@ class TrajectorySensitivity {
    * times I. From M::DynamicsJacobian where the model has it (unless options().jet_jacobians),
    * else from Jets of M::Coeffs and M::Dynamics.
    */
-  Eigen::Matrix<double, kNq, 2 * kNq> StateJacobian(double t, const VecQ& q, const VecPhi& phi, const VecQ& qd,
-                                                    const Coefficients& c, const Dyn& d, const VecQ& qdd) const {
-    Eigen::Matrix<double, kNq, 2 * kNq> G;
-    if constexpr (internal::HasDynamicsJacobian<M>::value) {
-      if (!options_.jet_jacobians) {
+  MatQX StateJacobian(double t,
+                      const VecQ& q,
+                      const VecPhi& phi,
+                      const VecQ& qd,
+                      const Coefficients& c,
+                      const Dyn& d,
+                      const VecQ& qdd) const {
+    MatQX G = Sized<MatQX>(nq_, 2 * nq_);
+    if constexpr (kView || internal::HasDynamicsJacobian<M>::value) {
+      if (kView || !options_.jet_jacobians) {  // (the view: SupportedBy() asked for it)
         MatQ dQ_dq, dh_dq, dQ_dqd, dh_dqd;
-        M::template DynamicsJacobian<double>(p_, q, phi, qd, t, c, &dQ_dq, &dh_dq, &dQ_dqd, &dh_dqd);
-        G.template leftCols<kNq>() = dQ_dq - dh_dq;
-        G.template rightCols<kNq>() = dQ_dqd - dh_dqd;
+        Calls::DynamicsJacobian(model_, p_, q, phi, qd, t, c, &dQ_dq, &dh_dq, &dQ_dqd, &dh_dqd);
+        G.template leftCols<kNq>(nq_) = dQ_dq - dh_dq;
+        G.template rightCols<kNq>(nq_) = dQ_dqd - dh_dqd;
         // dI_dq(j, k + kNq l) = dI(j, k)/dq_l.
-        for (int l = 0; l < kNq; ++l) G.col(l) -= d.dI_dq.template block<kNq, kNq>(0, kNq * l) * qdd;
+        const auto& dI_dq = Calls::DynamicsDIdq(model_, d);
+        for (int l = 0; l < nq_; ++l) G.col(l) -= Times(dI_dq.template block<kNq, kNq>(0, nq_ * l, nq_, nq_), qdd);
         return G;
       }
     }
+    if constexpr (!kView) return JetJacobian(t, q, phi, qd, c, qdd);
     (void)d;
+    return G;
+  }
+
+  /// StateJacobian by Jets of M::Coeffs and M::Dynamics (a generated model's fixed sizes).
+  MatQX JetJacobian(
+      double t, const VecQ& q, const VecPhi& phi, const VecQ& qd, const Coefficients& c, const VecQ& qdd) const {
+    MatQX G;
     Eigen::Matrix<Jet, kNq, 1> qj, qdj;
     for (int i = 0; i < kNq; ++i) {
       qj(i) = Jet(q(i), i);
@@ -630,7 +796,7 @@ class TrajectorySensitivity {
     return G;
   }
 
-  /// An operator() for the integrator.
+  /// An operator() for the integrator (kSimultaneous).
   bool operator()(double t, const State& y, State* dy) { return Derivative(t, y, dy); }
 
   /**
@@ -639,17 +805,27 @@ class TrajectorySensitivity {
    * (i, k) = [i == k] 1 - h a_ik f_qd,k - h^2 sum_j a_ij a_jk f_q,j (i, k = 1..4). The same
    * expression with k = 0 is the block *C0 that multiplies Sd0 (moved to the right-hand side).
    */
-  void CollocationMatrix(double h, const Partial* n, MatC* A, Eigen::Matrix<double, kNc, kNq>* C0) const {
+  void CollocationMatrix(double h, const Partial* n, MatC* A, MatCQ* C0) const {
     const auto& a = lob_.a;
+    const int nc = (kNodes - 1) * nq_;
+    if constexpr (kView) A->resize(nc, nc), C0->resize(nc, nq_);
     for (int i = 1; i < kNodes; ++i)
       for (int k = 0; k < kNodes; ++k) {
-        MatQ block = (i == k ? 1.0 : 0.0) * MatQ::Identity() - (h * a(i, k)) * n[k].F_qd();
+        MatQ block = (i == k ? 1.0 : 0.0) * Identity() - (h * a(i, k)) * n[k].F_qd();
         for (int j = 1; j < kNodes; ++j) block -= (h * h * a(i, j) * a(j, k)) * n[j].F_q();  // a(0, .) = 0
         if (k == 0)
-          C0->template block<kNq, kNq>(kNq * (i - 1), 0) = block;
+          C0->template block<kNq, kNq>(nq_ * (i - 1), 0, nq_, nq_) = block;
         else
-          A->template block<kNq, kNq>(kNq * (i - 1), kNq * (k - 1)) = block;
+          A->template block<kNq, kNq>(nq_ * (i - 1), nq_ * (k - 1), nq_, nq_) = block;
       }
+  }
+  /// The identity of kNq (the view's nq).
+  MatQ Identity() const {
+    if constexpr (kView) {
+      return MatQ::Identity(nq_, nq_);
+    } else {
+      return MatQ::Identity();
+    }
   }
 
   /**
@@ -661,23 +837,24 @@ class TrajectorySensitivity {
   bool CollocationStep(double h, const Partial* n, MatQP* S, MatQP* Sd) const {
     const auto& a = lob_.a;
     MatC A;
-    Eigen::Matrix<double, kNc, kNq> C0;
+    MatCQ C0;
     CollocationMatrix(h, n, &A, &C0);
-    Eigen::Matrix<double, kNc, kNp> R;
+    MatCP R = Sized<MatCP>((kNodes - 1) * nq_, np_);
     MatQP W[kNodes];  // f_q,j S0 + f_p,j
-    for (int j = 0; j < kNodes; ++j) W[j] = n[j].F_q() * *S + n[j].F_p;
+    for (int j = 0; j < kNodes; ++j) W[j] = Times(n[j].F_q(), *S) + n[j].F_p;
     for (int i = 1; i < kNodes; ++i) {
       MatQP r = *Sd;
       for (int j = 0; j < kNodes; ++j) r += (h * a(i, j)) * W[j];
-      r -= C0.template block<kNq, kNq>(kNq * (i - 1), 0) * *Sd;
-      R.template block<kNq, kNp>(kNq * (i - 1), 0) = r;
+      r -= Times(C0.template block<kNq, kNq>(nq_ * (i - 1), 0, nq_, nq_), *Sd);
+      R.template block<kNq, kNp>(nq_ * (i - 1), 0, nq_, np_) = r;
     }
-    Eigen::Matrix<double, kNc, kNp> V = R;
-    if (!internal::SolveSmall<kNc, kNp>(A, &V)) return false;
+    MatCP V = R;
+    if (!internal::SolveSmall(A, &V)) return false;
     MatQP S1 = *S + (h * a(kNodes - 1, 0)) * *Sd;
-    for (int k = 1; k < kNodes; ++k) S1 += (h * a(kNodes - 1, k)) * V.template block<kNq, kNp>(kNq * (k - 1), 0);
+    for (int k = 1; k < kNodes; ++k)
+      S1 += (h * a(kNodes - 1, k)) * V.template block<kNq, kNp>(nq_ * (k - 1), 0, nq_, np_);
     *S = S1;
-    *Sd = V.template block<kNq, kNp>(kNq * (kNodes - 2), 0);
+    *Sd = V.template block<kNq, kNp>(nq_ * (kNodes - 2), 0, nq_, np_);
     return S->allFinite() && Sd->allFinite();
   }
 
@@ -708,7 +885,11 @@ class TrajectorySensitivity {
     BeginRun();
     if (options_.method == SensitivityMethod::kStaggered)
       return SimulateStaggered(t0, q0, qd0, t_end, observer, summary);
-    return SimulateSimultaneous(t0, q0, qd0, t_end, observer, summary);
+    if constexpr (kView) {
+      return refuse("kSimultaneous: a generated model's fixed sizes only (the view's state is bounded)");
+    } else {
+      return SimulateSimultaneous(t0, q0, qd0, t_end, observer, summary);
+    }
   }
 
  private:
@@ -726,7 +907,7 @@ class TrajectorySensitivity {
   bool SimulateStaggered(double t0, const VecQ& q0, const VecQ& qd0, double t_end, Observer& observer,
                          SensitivitySummary* summary) {
     Partial n[kNodes];
-    MatQP S = MatQP::Zero(), Sd = MatQP::Zero();
+    MatQP S = internal::ZeroOf<MatQP>(nq_, np_), Sd = S;
     SampleT sample;
     auto emit = [&](const Partial& at) {
       sample.t = at.t;
@@ -736,7 +917,7 @@ class TrajectorySensitivity {
       sample.phi = at.phi;
       sample.rcond = at.rcond;
       summary->min_rcond_seen = std::min(summary->min_rcond_seen, at.rcond);
-      if (kNphi > 0 && at.rcond < options_.min_rcond) return Status::kDeadPoint;
+      if (Calls::Nphi(model_) > 0 && at.rcond < options_.min_rcond) return Status::kDeadPoint;
       sample.S = S;
       sample.Sd = Sd;
       ++summary->samples;
@@ -764,7 +945,8 @@ class TrajectorySensitivity {
           n[0] = n[kNodes - 1];
           for (int j = 1; j < kNodes; ++j) {
             const double t = j == kNodes - 1 ? tb : ta + lob_.c[j] * h;
-            if (!Partials(t, x[j].template head<kNq>(), x[j].template tail<kNq>(), j == kNodes - 1, &n[j]))
+            if (!Partials(t, x[j].template head<kNq>(nq_), x[j].template segment<kNq>(nq_, nq_), j == kNodes - 1,
+                          &n[j]))
               return last_not_assemblable_ ? Status::kDeadPoint : Status::kPositionFailed;
           }
           if (!CollocationStep(h, n, &S, &Sd)) return Status::kIntegratorFailed;
@@ -789,8 +971,9 @@ class TrajectorySensitivity {
                   SensitivitySummary* summary, const char** message) {
     StateRhs f{this};
     StateX x[kNodes];
-    x[kNodes - 1].template head<kNq>() = q0;  // (not the comma initializer: GCC 12 -Warray-bounds on 1 x 1)
-    x[kNodes - 1].template tail<kNq>() = qd0;
+    if constexpr (kView) x[kNodes - 1].resize(2 * nq_);
+    x[kNodes - 1].template head<kNq>(nq_) = q0;  // (not the comma initializer: GCC 12 -Warray-bounds on 1 x 1)
+    x[kNodes - 1].template segment<kNq>(nq_, nq_) = qd0;
     IntegratorStatus s = state_integrator_.Start(f, t0, x[kNodes - 1], t_end);
     auto end = [&](Status status, double t, const char* text) {
       summary->t_end = t;
@@ -815,7 +998,7 @@ class TrajectorySensitivity {
       const double t = state_integrator_.t();
       x[0] = x[kNodes - 1];
       x[kNodes - 1] = state_integrator_.y();
-      if (!Anchor(x[kNodes - 1].template head<kNq>(), summary))
+      if (!Anchor(x[kNodes - 1].template head<kNq>(nq_), summary))
         return end(Status::kDeadPoint, t,
                    approaching_ >= options_.approach_steps
                        ? "a singular configuration approached: 1/cond(Phi_phi) below approach_rcond and "
@@ -925,7 +1108,7 @@ class TrajectorySensitivity {
 
   template <class C>
   static auto PhiPhi(const C& c) {
-    if constexpr (kNphi > 0) {
+    if constexpr (kNphi != 0) {  // (the view's: its size at run time, 0 x 0 without loops)
       return c.Phi_phi;
     } else {
       (void)c;
@@ -933,24 +1116,17 @@ class TrajectorySensitivity {
     }
   }
 
-  static bool Factorize(const MatQ& I, Eigen::LLT<MatQ>* llt) {
-    if (!I.allFinite()) return false;
-    llt->compute(I);
-    return llt->info() == Eigen::Success;
-  }
-
   /// The positions and coefficients at q from the predictor of the last accepted state.
   bool Configuration(const VecQ& q, VecPhi* phi, Coefficients* c) {
-    *phi = phi_ref_ + K_ref_ * (q - q_ref_);
+    *phi = tracker_.Predictor(q);
     bool not_assemblable = false;
-    if (!internal::SolveOnBranch<M>(p_, q, phi, modes_, options_.max_solver_iterations,
-                                    options_.solver_tolerance, ref_det_, &trig_, &not_assemblable)) {
+    if (!tracker_.SolveAt(model_, p_, q, phi, &not_assemblable)) {
       last_not_assemblable_ = not_assemblable;
       ++position_failures_;
       return false;
     }
     last_not_assemblable_ = false;
-    internal::CallCoeffs<M>(p_, q, *phi, c, &trig_);
+    internal::CallCoeffs(model_, p_, q, *phi, c, tracker_.trig());
     return true;
   }
 
@@ -962,18 +1138,13 @@ class TrajectorySensitivity {
     last_rcond_ = 1;
     last_not_assemblable_ = false;
     anchor_valid_ = false;
-    q_ref_ = initial_.q;
-    phi_ref_ = initial_.phi;
-    K_ref_ = initial_.K;
-    ref_det_ = initial_.det;
+    tracker_.SetReference(initial_.q, initial_.phi, initial_.K, initial_.det);
   }
 
   /// The predictor's reference at an evaluated configuration (the adjoint's backward run).
   void Reanchor(const Partial& n) {
     anchor_valid_ = false;
-    q_ref_ = n.q;
-    phi_ref_ = n.phi;
-    K_ref_ = n.K;
+    tracker_.SetReference(n.q, n.phi, n.K);
   }
 
   /// Makes the accepted configuration q the predictor's reference; false at a dead point.
@@ -984,16 +1155,13 @@ class TrajectorySensitivity {
     double rcond = 1, det = 1;
     internal::ConditioningOf(PhiPhi(c), &rcond, &det);
     summary->min_rcond_seen = std::min(summary->min_rcond_seen, rcond);
-    if (kNphi > 0 && (rcond < options_.min_rcond || (det > 0) != (ref_det_ > 0))) return false;
+    if (Calls::Nphi(model_) > 0 && (rcond < options_.min_rcond || (det > 0) != (tracker_.ref_det() > 0))) return false;
     approaching_ = rcond < options_.approach_rcond && rcond < last_rcond_ ? approaching_ + 1 : 0;
     last_rcond_ = rcond;
     if (approaching_ >= options_.approach_steps) return false;
-    q_ref_ = q;
-    phi_ref_ = phi;
-    K_ref_ = c.K;
-    ref_det_ = det;
-    anchor_c_ = c;
-    anchor_trig_ = trig_;
+    tracker_.SetReference(q, phi, c.K, det);
+    Calls::CopyCoefficients(model_, c, &anchor_c_);
+    anchor_trig_ = *tracker_.trig();
     anchor_rcond_ = rcond;
     anchor_valid_ = true;
     return true;
@@ -1012,7 +1180,7 @@ class TrajectorySensitivity {
     double det = 1;
     internal::ConditioningOf(PhiPhi(c), &sample->rcond, &det);
     summary->min_rcond_seen = std::min(summary->min_rcond_seen, sample->rcond);
-    if (kNphi > 0 && sample->rcond < options_.min_rcond) return Status::kDeadPoint;
+    if (Calls::Nphi(model_) > 0 && sample->rcond < options_.min_rcond) return Status::kDeadPoint;
     sample->S = Eigen::Map<const MatQP>(y.data() + 2 * kNq);
     sample->Sd = Eigen::Map<const MatQP>(y.data() + 2 * kNq + kNq * kNp);
     ++summary->samples;
@@ -1020,25 +1188,50 @@ class TrajectorySensitivity {
   }
 
   struct Reference {
-    VecQ q = VecQ::Zero();
-    VecPhi phi = VecPhi::Zero();
-    Eigen::Matrix<double, kNphi, kNq> K = Eigen::Matrix<double, kNphi, kNq>::Zero();
+    VecQ q;
+    VecPhi phi;
+    MatK K;
     double det = 0;
   };
 
+  static typename internal::JetOf<M>::Params JetParams(const Params& params) {
+    if constexpr (kView) {
+      (void)params;
+      return {};
+    } else {
+      return params.template Cast<Jet>();
+    }
+  }
+  static bool ReadStateByRhs(const M& model) {
+    if constexpr (kView) {
+      return Calls::HasSolveTrig(model) && Calls::HasRhs(model) && Calls::HasTrig(model) && Calls::Nphi(model) > 0;
+    } else {
+      (void)model;
+      return kStateByRhs;
+    }
+  }
+  static bool ReadHasDesignProduct(const M& model) {
+    if constexpr (kView) {
+      return Calls::HasDynamicsDesignProduct(model);
+    } else {
+      (void)model;
+      return kHasDesignProduct;
+    }
+  }
+
+  M model_;
   Params p_;
-  typename M::template ParamsT<Jet> pj_;
+  typename internal::JetOf<M>::Params pj_;
   SensitivityOptions options_;
   Integrator integrator_;
   StateIntegrator state_integrator_;
   Collocation lob_;
-  Modes modes_ = M::kDefaultModes;
-  VecQ q_ref_ = VecQ::Zero();
-  VecPhi phi_ref_ = VecPhi::Zero();
-  Eigen::Matrix<double, kNphi, kNq> K_ref_ = Eigen::Matrix<double, kNphi, kNq>::Zero();
-  double ref_det_ = 0;
-  Reference initial_;  ///< Initialize()'s configuration: each run starts from it
-  Trig trig_{};
+  Tracker tracker_;  ///< the predictor's reference (q_ref, phi_ref, K_ref), branch, modes, sin and cos
+  int nq_;           ///< kNq (the view's)
+  int np_;           ///< kNp (the view's)
+  bool state_by_rhs_;
+  bool has_design_product_;
+  Reference initial_;                                ///< Initialize()'s configuration: each run starts from it
   internal::PreparedRhsConstants<M> rhs_constants_;  ///< kStateByRhs: M::Prepare(p_)
   /// Anchor()'s configuration at q_ref_ (its coefficients and 1/cond), read by Partials() there.
   Coefficients anchor_c_{};

@@ -53,7 +53,7 @@
 #include "mechgen/analysis/flywheel_columns.h"
 #include "mechgen/analysis/simulate.h"
 #if MECHGEN_SIMULATE_HAS_SENSITIVITY  // (analysis/simulate.h: Ceres' ceres/jet.h is there)
-#include "mechgen/dynamics/sensitivity.h"
+#include "mechgen/analysis/simulate_design.h"
 #endif
 #include "mechgen/analysis/sweep.h"
 #include "mechgen/dynamics/columns.h"
@@ -1008,27 +1008,26 @@ class Study {
   }
  private:
   // The first order of a metric of analysis: simulate (the free motion): the trajectory
-  // sensitivities dq/dp and dq_dot/dp (dynamics/sensitivity.h's TrajectorySensitivity, its
-  // public API: a generated model's, with the model's dynamics design derivatives) along the
-  // nominal's run, sampled on the study's grid and read at the nominal's samples (matched by
-  // time): max, min and at of an input q or its speed q_dot: d(column)/dp at the metric's
-  // sample (that sample held, as for the other extremes); rms: the mean of v dv/dp over the
-  // samples, over the rms. NaN and why for the rest (the reactions, the accelerations, the
+  // sensitivities dq/dp and dq_dot/dp (dynamics/sensitivity.h's TrajectorySensitivity, run by
+  // analysis/simulate_design.h's SensitivitySamples: a generated model's, or the view's with its
+  // model's generated EvalDynamicsJacobian, compiled once in runtime/view/analysis_simulate_design.cc)
+  // along the nominal's run, sampled on the study's grid and read at the nominal's samples
+  // (matched by time): max, min and at of an input q or its speed q_dot: d(column)/dp at the
+  // metric's sample (that sample held, as for the other extremes); rms: the mean of v dv/dp over
+  // the samples, over the rms. NaN and why for the rest (the reactions, the accelerations, the
   // energy: no sensitivities of those; a driven run, Coulomb friction: the sensitivities are the
-  // free motion's without friction; through the model view: not yet).
+  // free motion's without friction).
   std::vector<double> SimulationGradient(size_t k, const Taken& t, std::string* why) const {
     std::vector<double> g(spec_.parameters.size(), kNaN);
     const MetricSpec& m = spec_.metrics[k];
-    if constexpr (kView) {
-      *why = "no design derivatives of a simulation through the model view yet (the trajectory sensitivities, "
-             "dynamics/sensitivity.h, are a generated model's: the per-model study program has them)";
-      (void)m, (void)t;
-      return g;
-    } else {
+    {
 #if MECHGEN_SIMULATE_HAS_SENSITIVITY
       if constexpr (HasDynamicsDesign<M>::value && run_internal::SimulationOf<M>::kOk) {
-        using Sens = dynamics::TrajectorySensitivity<M, dynamics::Dopri5>;
-        using SampleT = typename Sens::SampleT;
+        using SampleT = dynamics::SensitivitySample<M>;
+        if (!C::HasDynamicsDesign(model_)) {
+          *why = "no design derivatives of a simulation of this model (its `design` section and `dynamics` give them)";
+          return g;
+        }
         if (driven_input_ >= 0) {
           *why = "no design derivatives of a driven simulation (the trajectory sensitivities are the free motion's)";
           return g;
@@ -1060,21 +1059,11 @@ class Study {
         (void)analysis::simulate_internal::InitialState(model_, simulate_request_, &q0, &qd0);  // (checked: Prepare)
         dynamics::SensitivityOptions o;
         o.sample_dt = simulate_request_.dt;
-        Sens sens(rows.params, o);
-        if (!sens.Initialize(q0)) {
-          *why = "the trajectory sensitivities: the nominal does not assemble at q0";
-          return g;
-        }
         std::vector<SampleT> samples;
         samples.reserve(static_cast<size_t>(spec_.steps) + 2);
-        dynamics::SensitivitySummary summary;
-        sens.Simulate(
-            0.0, q0, qd0, spec_.t_end,
-            [&samples](const SampleT& s) {
-              samples.push_back(s);
-              return true;
-            },
-            &summary);
+        if (!analysis::simulate_internal::SensitivitySamples<M, dynamics::Dopri5>(model_, rows.params, q0, qd0,
+                                                                                  spec_.t_end, o, &samples, why))
+          return g;
         // d(column)/d(design parameter d) at the nominal's sample r (NaN: no sensitivity sample
         // at its time).
         auto derivative = [&](int r, int d) {
@@ -1083,11 +1072,6 @@ class Study {
             if (std::abs(s.t - tr) <= 1e-9 * spec_.t_end) return speed ? s.Sd(input, d) : s.S(input, d);
           return kNaN;
         };
-        if (dynamics::IsFailure(summary.status)) {
-          *why = std::string("the trajectory sensitivities failed: ") + dynamics::ToString(summary.status) +
-                 " at t = " + mechgen::internal::FormatNumber(summary.t_end, "%g");
-          return g;
-        }
         for (size_t p = 0; p < spec_.parameters.size(); ++p) {
           const int d = index_[p];
           if (d < 0) continue;
