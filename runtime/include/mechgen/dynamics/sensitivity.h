@@ -727,13 +727,14 @@ class TrajectorySensitivity {
   static bool SolveInertiaOf(const MatI& I, const VecQ& f, VecQ* qdd, MatQ* I_inv) {
     if constexpr (k <= kMaxQ) {
       if (I.rows() != k) return SolveInertiaOf<k + 1>(I, f, qdd, I_inv);
-      Eigen::Matrix<double, k, 1> qdd_k;
-      Eigen::Matrix<double, k, k> I_inv_k;
-      const bool ok = internal::SolveInertia<k>(Eigen::Matrix<double, k, k>(I), Eigen::Matrix<double, k, 1>(f), &qdd_k,
-                                                I_inv != nullptr ? &I_inv_k : nullptr);
+      Eigen::Matrix<double, k, 1> qdd_k = Eigen::Matrix<double, k, 1>::Zero();
+      Eigen::Matrix<double, k, k> I_inv_k = Eigen::Matrix<double, k, k>::Zero();
+      if (!internal::SolveInertia<k>(Eigen::Matrix<double, k, k>(I), Eigen::Matrix<double, k, 1>(f), &qdd_k,
+                                     I_inv != nullptr ? &I_inv_k : nullptr))
+        return false;  // (nothing read after a failure: qdd and I_inv left as they were)
       *qdd = qdd_k;
       if (I_inv != nullptr) *I_inv = I_inv_k;
-      return ok;
+      return true;
     } else {
       (void)I, (void)f, (void)qdd, (void)I_inv;
       return false;
