@@ -719,7 +719,7 @@ int DispatchDriven(const M& model, const SimulateRequest& args, const SimulateOu
 
 #if MECHGEN_SIMULATE_HAS_SENSITIVITY
 /// design's run: defined in analysis/simulate_design.h (dynamics/sensitivity.h, ceres::Jet), which
-/// a program running Run includes (the per-model tool; for the view runtime/view/analysis_simulate.cc).
+/// a program running Run includes (the per-model tool; for the view runtime/view/analysis_simulate_design.cc).
 template <class M, template <int> class Method>
 int RunDesign(const M& model, const SimulateRequest& args, const SimulateOutputs& out, const Prepared<M>& p);
 #endif

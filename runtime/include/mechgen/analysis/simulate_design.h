@@ -6,7 +6,7 @@
  * without it Run refuses it: analysis/simulate.h). Run (analysis/simulate.h) calls it after
  * Prepare's checks (a `design` section; not with drives, friction on, energy projection or a
  * stop at speed zero; the parameters, q0, qd0); a program that runs Run (the per-model tool,
- * tools/simulate_main.cc; the view's runtime/view/analysis_simulate.cc) includes this header,
+ * tools/simulate_main.cc; the view: runtime/view/analysis_simulate_design.cc) includes this header,
  * which needs Ceres' headers (without them design is a usage error and this header is not
  * needed).
  */

@@ -205,7 +205,7 @@ struct ViewModel {
   /// RhsConstants and Statics buffers (Kinetostatics' output), -1 where the model lacks one.
   struct DynamicsLayouts {
     struct Dynamics {
-      int I = -1, h = -1, Q = -1, T = -1, V = -1, P_nc = -1, size = 0;
+      int I = -1, h = -1, Q = -1, T = -1, V = -1, P_nc = -1, dI_dq = -1, size = 0;
     } dynamics;
     struct Rhs {
       int K = -1, I = -1, h = -1, Q = -1, T = -1, V = -1, P_nc = -1, Phi_phi = -1, size = 0;
@@ -221,8 +221,8 @@ struct ViewModel {
         return m != nullptr ? m->offset : -1;
       };
       const ViewLayout& d = v->Layout(ViewStruct::kDynamics);
-      dynamics = {offset(d, "I"), offset(d, "h"), offset(d, "Q"), offset(d, "T"), offset(d, "V"), offset(d, "P_nc"),
-                  d.size};
+      dynamics = {offset(d, "I"), offset(d, "h"),    offset(d, "Q"),     offset(d, "T"),
+                  offset(d, "V"), offset(d, "P_nc"), offset(d, "dI_dq"), d.size};
       const ViewLayout& r = v->Layout(ViewStruct::kRhs);
       rhs = {offset(r, "K"), offset(r, "I"),    offset(r, "h"),       offset(r, "Q"), offset(r, "T"),
              offset(r, "V"), offset(r, "P_nc"), offset(r, "Phi_phi"), r.size};
@@ -1096,12 +1096,13 @@ struct ModelCalls<ViewModel> {
     MapCoefficients(m, to);
     internal::CopyEntries(from.buffer.data(), m.view->Layout(ViewStruct::kCoefficients).size, to->buffer.data());
   }
-  /// dI/dq of the view's Dynamics output d (after Dynamics): a map of its buffer, nq x nq^2.
+  /// dI/dq of the view's Dynamics output d (after Dynamics): a map of its buffer, nq x nq^2 (its
+  /// offset found once, in ViewModel's DynamicsLayouts: this is read at every evaluation of the
+  /// sensitivities' partials).
   template <class X = M>
   static Eigen::Map<const Eigen::MatrixXd> DynamicsDIdq(const M& m, const T::DynamicsOut& d) {
-    const ViewMember* member = FindMember(m.view->Layout(ViewStruct::kDynamics), "dI_dq");
-    const int nq = m.view->nq;
-    return Eigen::Map<const Eigen::MatrixXd>(d.buffer.data() + (member != nullptr ? member->offset : 0), nq, nq * nq);
+    const int at = m.dynamics_layouts.dynamics.dI_dq, nq = m.have.nq;
+    return Eigen::Map<const Eigen::MatrixXd>(d.buffer.data() + (at >= 0 ? at : 0), nq, nq * nq);
   }
 
   // ---- Synthesis (synthesis/): the parameter table's names, the scene's ground points ----
