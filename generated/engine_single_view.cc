@@ -604,29 +604,18 @@ void FlatPhi(const double* p,
 }
 
 template <int = 0>
-void FlatCoeffs(const double* p,
-                const double* q,
-                const double* phi,
-                double* out,
-                const double* trig) {
+[[gnu::noinline, gnu::cold]]
+void FlatCoeffsCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out,
+                      const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
-    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->Phi_phi);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
-    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> out_;
   if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
   if (out != nullptr) ZeroUnlessStored<4>(&out_.Phi_phi);
@@ -651,14 +640,42 @@ void FlatCoeffs(const double* p,
 }
 
 template <int = 0>
-void FlatForces(const double* p,
+void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
-                const double* c,
                 double* out,
-                const double* friction,
-                const double* trig,
-                const double* velocities) {
+                const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->Phi_phi);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
+    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
+    return;
+  }
+  FlatCoeffsCopied<>(p, q, phi, out, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatForcesCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      const double* c,
+                      double* out,
+                      const double* friction,
+                      const double* trig,
+                      const double* velocities) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -669,18 +686,6 @@ void FlatForces(const double* p,
   if (friction != nullptr) Get(friction, &friction_);
   Vec<double, Sizes::kNq> velocities_;
   if (velocities != nullptr) Get(velocities, &velocities_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Forces(p_,
-                  q_,
-                  phi_,
-                  *At<Coefficients<double>>(c),
-                  At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
-                  At<Trig<double>>(trig),
-                  velocities != nullptr ? &velocities_ : nullptr);
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -708,15 +713,50 @@ void FlatForces(const double* p,
 }
 
 template <int = 0>
-void FlatDynamics(const double* p,
-                  const double* q,
-                  const double* phi,
-                  const double* qd,
-                  double t,
-                  const double* c,
-                  double* out,
-                  const double* friction,
-                  const double* trig) {
+void FlatForces(const double* p,
+                const double* q,
+                const double* phi,
+                const double* c,
+                double* out,
+                const double* friction,
+                const double* trig,
+                const double* velocities) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Vec<double, Sizes::kNq> velocities_;
+    if (velocities != nullptr) Get(velocities, &velocities_);
+    Model::Forces(p_,
+                  q_,
+                  phi_,
+                  *At<Coefficients<double>>(c),
+                  At<Statics<double>>(out),
+                  friction != nullptr ? &friction_ : nullptr,
+                  At<Trig<double>>(trig),
+                  velocities != nullptr ? &velocities_ : nullptr);
+    return;
+  }
+  FlatForcesCopied<>(p, q, phi, c, out, friction, trig, velocities);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatDynamicsCopied(const double* p,
+                        const double* q,
+                        const double* phi,
+                        const double* qd,
+                        double t,
+                        const double* c,
+                        double* out,
+                        const double* friction,
+                        const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -727,20 +767,6 @@ void FlatDynamics(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Dynamics(p_,
-                    q_,
-                    phi_,
-                    qd_,
-                    t,
-                    *At<Coefficients<double>>(c),
-                    At<Dynamics<double>>(out),
-                    friction != nullptr ? &friction_ : nullptr,
-                    At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -778,16 +804,54 @@ void FlatDynamics(const double* p,
 }
 
 template <int = 0>
-void FlatKinetostatics(const double* p,
-                       const double* q,
-                       const double* phi,
-                       const double* qd,
-                       const double* qdd,
-                       double t,
-                       const double* c,
-                       double* out,
-                       const double* friction,
-                       const double* trig) {
+void FlatDynamics(const double* p,
+                  const double* q,
+                  const double* phi,
+                  const double* qd,
+                  double t,
+                  const double* c,
+                  double* out,
+                  const double* friction,
+                  const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::Dynamics(p_,
+                    q_,
+                    phi_,
+                    qd_,
+                    t,
+                    *At<Coefficients<double>>(c),
+                    At<Dynamics<double>>(out),
+                    friction != nullptr ? &friction_ : nullptr,
+                    At<Trig<double>>(trig));
+    return;
+  }
+  FlatDynamicsCopied<>(p, q, phi, qd, t, c, out, friction, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatKinetostaticsCopied(const double* p,
+                             const double* q,
+                             const double* phi,
+                             const double* qd,
+                             const double* qdd,
+                             double t,
+                             const double* c,
+                             double* out,
+                             const double* friction,
+                             const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -800,20 +864,6 @@ void FlatKinetostatics(const double* p,
   Get(qdd, &qdd_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Kinetostatics(p_,
-                         q_,
-                         phi_,
-                         qd_,
-                         qdd_,
-                         t,
-                         *At<Coefficients<double>>(c),
-                         At<Statics<double>>(out),
-                         friction != nullptr ? &friction_ : nullptr,
-                         At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -847,14 +897,55 @@ void FlatKinetostatics(const double* p,
 }
 
 template <int = 0>
-void FlatExcessDynamics(const double* p,
-                        const double* q,
-                        const double* phi,
-                        const double* qd,
-                        const double* phid,
-                        double t,
-                        double* out,
-                        const double* friction) {
+void FlatKinetostatics(const double* p,
+                       const double* q,
+                       const double* phi,
+                       const double* qd,
+                       const double* qdd,
+                       double t,
+                       const double* c,
+                       double* out,
+                       const double* friction,
+                       const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNq> qdd_;
+    Get(qdd, &qdd_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::Kinetostatics(p_,
+                         q_,
+                         phi_,
+                         qd_,
+                         qdd_,
+                         t,
+                         *At<Coefficients<double>>(c),
+                         At<Statics<double>>(out),
+                         friction != nullptr ? &friction_ : nullptr,
+                         At<Trig<double>>(trig));
+    return;
+  }
+  FlatKinetostaticsCopied<>(p, q, phi, qd, qdd, t, c, out, friction, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatExcessDynamicsCopied(const double* p,
+                              const double* q,
+                              const double* phi,
+                              const double* qd,
+                              const double* phid,
+                              double t,
+                              double* out,
+                              const double* friction) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -867,17 +958,6 @@ void FlatExcessDynamics(const double* p,
   Get(phid, &phid_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
-    Model::ExcessDynamics(p_,
-                          q_,
-                          phi_,
-                          qd_,
-                          phid_,
-                          t,
-                          At<Excess<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
-    return;
-  }
   Excess<double> out_;
   if (out != nullptr) GetUnlessStored<9>(out + kExcessMembers[0].offset, &out_.M);
   if (out != nullptr) GetUnlessStored<3>(out + kExcessMembers[1].offset, &out_.h);
@@ -906,14 +986,50 @@ void FlatExcessDynamics(const double* p,
 }
 
 template <int = 0>
-void FlatShaking(const double* p,
-                 const double* q,
-                 const double* phi,
-                 const double* qd,
-                 const double* qdd,
-                 const double* c,
-                 double* out,
-                 const double* trig) {
+void FlatExcessDynamics(const double* p,
+                        const double* q,
+                        const double* phi,
+                        const double* qd,
+                        const double* phid,
+                        double t,
+                        double* out,
+                        const double* friction) {
+  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNphi> phid_;
+    Get(phid, &phid_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::ExcessDynamics(p_,
+                          q_,
+                          phi_,
+                          qd_,
+                          phid_,
+                          t,
+                          At<Excess<double>>(out),
+                          friction != nullptr ? &friction_ : nullptr);
+    return;
+  }
+  FlatExcessDynamicsCopied<>(p, q, phi, qd, phid, t, out, friction);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatShakingCopied(const double* p,
+                       const double* q,
+                       const double* phi,
+                       const double* qd,
+                       const double* qdd,
+                       const double* c,
+                       double* out,
+                       const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -924,18 +1040,6 @@ void FlatShaking(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kShakingInPlace, Shaking<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Shaking(p_,
-                   q_,
-                   phi_,
-                   qd_,
-                   qdd_,
-                   *At<Coefficients<double>>(c),
-                   At<Shaking<double>>(out),
-                   At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -970,22 +1074,52 @@ void FlatShaking(const double* p,
 }
 
 template <int = 0>
-void FlatStiffness(const double* p,
-                   const double* q,
-                   const double* phi,
-                   const double* c,
-                   double* out) {
+void FlatShaking(const double* p,
+                 const double* q,
+                 const double* phi,
+                 const double* qd,
+                 const double* qdd,
+                 const double* c,
+                 double* out,
+                 const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kShakingInPlace, Shaking<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNq> qdd_;
+    Get(qdd, &qdd_);
+    Model::Shaking(p_,
+                   q_,
+                   phi_,
+                   qd_,
+                   qdd_,
+                   *At<Coefficients<double>>(c),
+                   At<Shaking<double>>(out),
+                   At<Trig<double>>(trig));
+    return;
+  }
+  FlatShakingCopied<>(p, q, phi, qd, qdd, c, out, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatStiffnessCopied(const double* p,
+                         const double* q,
+                         const double* phi,
+                         const double* c,
+                         double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out)) {
-    Model::Stiffness(p_, q_, phi_, *At<Coefficients<double>>(c), At<Statics<double>>(out));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
   Statics<double> out_;
@@ -997,20 +1131,37 @@ void FlatStiffness(const double* p,
 }
 
 template <int = 0>
-void FlatDesign(const double* p,
-                const double* q,
-                const double* phi,
-                double* out) {
+void FlatStiffness(const double* p,
+                   const double* q,
+                   const double* phi,
+                   const double* c,
+                   double* out) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Model::Stiffness(p_, q_, phi_, *At<Coefficients<double>>(c), At<Statics<double>>(out));
+    return;
+  }
+  FlatStiffnessCopied<>(p, q, phi, c, out);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatDesignCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(out)) {
-    Model::Design(p_, q_, phi_, At<DesignDerivatives<double>>(out));
-    return;
-  }
   DesignDerivatives<double> out_;
   if (out != nullptr) GetUnlessStored<14>(out + kDesignDerivativesMembers[0].offset, &out_.dphi_dp);
   if (out != nullptr) GetUnlessStored<14>(out + kDesignDerivativesMembers[1].offset, &out_.dr_P_dp);
@@ -1028,29 +1179,37 @@ void FlatDesign(const double* p,
 }
 
 template <int = 0>
-void FlatStaticsDesign(const double* p,
-                       const double* q,
-                       const double* phi,
-                       const double* c,
-                       const double* dc,
-                       double* out) {
+void FlatDesign(const double* p,
+                const double* q,
+                const double* phi,
+                double* out) {
+  if (InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Model::Design(p_, q_, phi_, At<DesignDerivatives<double>>(out));
+    return;
+  }
+  FlatDesignCopied<>(p, q, phi, out);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatStaticsDesignCopied(const double* p,
+                             const double* q,
+                             const double* phi,
+                             const double* c,
+                             const double* dc,
+                             double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(dc) &&
-      InPlace<kStaticsDesignInPlace, StaticsDesign<double>>(out)) {
-    Model::StaticsDesign(p_,
-                         q_,
-                         phi_,
-                         *At<Coefficients<double>>(c),
-                         *At<DesignDerivatives<double>>(dc),
-                         At<StaticsDesign<double>>(out));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   DesignDerivatives<double> dc_;
@@ -1069,15 +1228,43 @@ void FlatStaticsDesign(const double* p,
 }
 
 template <int = 0>
-void FlatDynamicsDesign(const double* p,
-                        const double* q,
-                        const double* phi,
-                        const double* qd,
-                        double t,
-                        const double* c,
-                        const double* dc,
-                        double* out,
-                        const double* friction) {
+void FlatStaticsDesign(const double* p,
+                       const double* q,
+                       const double* phi,
+                       const double* c,
+                       const double* dc,
+                       double* out) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(dc) &&
+      InPlace<kStaticsDesignInPlace, StaticsDesign<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Model::StaticsDesign(p_,
+                         q_,
+                         phi_,
+                         *At<Coefficients<double>>(c),
+                         *At<DesignDerivatives<double>>(dc),
+                         At<StaticsDesign<double>>(out));
+    return;
+  }
+  FlatStaticsDesignCopied<>(p, q, phi, c, dc, out);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatDynamicsDesignCopied(const double* p,
+                              const double* q,
+                              const double* phi,
+                              const double* qd,
+                              double t,
+                              const double* c,
+                              const double* dc,
+                              double* out,
+                              const double* friction) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -1088,20 +1275,6 @@ void FlatDynamicsDesign(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(dc) &&
-      InPlace<kDynamicsDesignInPlace, DynamicsDesign<double>>(out)) {
-    Model::DynamicsDesign(p_,
-                          q_,
-                          phi_,
-                          qd_,
-                          t,
-                          *At<Coefficients<double>>(c),
-                          *At<DesignDerivatives<double>>(dc),
-                          At<DynamicsDesign<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -1134,16 +1307,54 @@ void FlatDynamicsDesign(const double* p,
 }
 
 template <int = 0>
-void FlatDynamicsDesignProduct(const double* p,
-                               const double* q,
-                               const double* phi,
-                               const double* qd,
-                               double t,
-                               const double* c,
-                               const double* qdd,
-                               const double* mu,
-                               double* product,
-                               const double* friction) {
+void FlatDynamicsDesign(const double* p,
+                        const double* q,
+                        const double* phi,
+                        const double* qd,
+                        double t,
+                        const double* c,
+                        const double* dc,
+                        double* out,
+                        const double* friction) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(dc) &&
+      InPlace<kDynamicsDesignInPlace, DynamicsDesign<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::DynamicsDesign(p_,
+                          q_,
+                          phi_,
+                          qd_,
+                          t,
+                          *At<Coefficients<double>>(c),
+                          *At<DesignDerivatives<double>>(dc),
+                          At<DynamicsDesign<double>>(out),
+                          friction != nullptr ? &friction_ : nullptr);
+    return;
+  }
+  FlatDynamicsDesignCopied<>(p, q, phi, qd, t, c, dc, out, friction);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatDynamicsDesignProductCopied(const double* p,
+                                     const double* q,
+                                     const double* phi,
+                                     const double* qd,
+                                     double t,
+                                     const double* c,
+                                     const double* qdd,
+                                     const double* mu,
+                                     double* product,
+                                     const double* friction) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -1160,20 +1371,6 @@ void FlatDynamicsDesignProduct(const double* p,
   if (product != nullptr) Get(product, &product_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c)) {
-    Model::DynamicsDesignProduct(p_,
-                                 q_,
-                                 phi_,
-                                 qd_,
-                                 t,
-                                 *At<Coefficients<double>>(c),
-                                 qdd_,
-                                 mu_,
-                                 product != nullptr ? &product_ : nullptr,
-                                 friction != nullptr ? &friction_ : nullptr);
-    if (product != nullptr) Put(product_, product);
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -1191,15 +1388,60 @@ void FlatDynamicsDesignProduct(const double* p,
 }
 
 template <int = 0>
-void FlatShakingDesign(const double* p,
-                       const double* q,
-                       const double* phi,
-                       const double* qd,
-                       const double* qdd,
-                       const double* c,
-                       const double* dc,
-                       double* dF_dp,
-                       double* dM_dp) {
+void FlatDynamicsDesignProduct(const double* p,
+                               const double* q,
+                               const double* phi,
+                               const double* qd,
+                               double t,
+                               const double* c,
+                               const double* qdd,
+                               const double* mu,
+                               double* product,
+                               const double* friction) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNq> qdd_;
+    Get(qdd, &qdd_);
+    Vec<double, Sizes::kNq> mu_;
+    Get(mu, &mu_);
+    Vec<double, Sizes::kNumDesign> product_;
+    if (product != nullptr) Get(product, &product_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::DynamicsDesignProduct(p_,
+                                 q_,
+                                 phi_,
+                                 qd_,
+                                 t,
+                                 *At<Coefficients<double>>(c),
+                                 qdd_,
+                                 mu_,
+                                 product != nullptr ? &product_ : nullptr,
+                                 friction != nullptr ? &friction_ : nullptr);
+    if (product != nullptr) Put(product_, product);
+    return;
+  }
+  FlatDynamicsDesignProductCopied<>(p, q, phi, qd, t, c, qdd, mu, product, friction);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatShakingDesignCopied(const double* p,
+                             const double* q,
+                             const double* phi,
+                             const double* qd,
+                             const double* qdd,
+                             const double* c,
+                             const double* dc,
+                             double* dF_dp,
+                             double* dM_dp) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -1214,21 +1456,6 @@ void FlatShakingDesign(const double* p,
   if (dF_dp != nullptr) Get(dF_dp, &dF_dp_);
   Vec<double, Sizes::kNumDesign> dM_dp_;
   if (dM_dp != nullptr) Get(dM_dp, &dM_dp_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(dc)) {
-    Model::ShakingDesign(p_,
-                         q_,
-                         phi_,
-                         qd_,
-                         qdd_,
-                         *At<Coefficients<double>>(c),
-                         *At<DesignDerivatives<double>>(dc),
-                         dF_dp != nullptr ? &dF_dp_ : nullptr,
-                         dM_dp != nullptr ? &dM_dp_ : nullptr);
-    if (dF_dp != nullptr) Put(dF_dp_, dF_dp);
-    if (dM_dp != nullptr) Put(dM_dp_, dM_dp);
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -1250,17 +1477,60 @@ void FlatShakingDesign(const double* p,
 }
 
 template <int = 0>
-void FlatDynamicsJacobian(const double* p,
-                          const double* q,
-                          const double* phi,
-                          const double* qd,
-                          double t,
-                          const double* c,
-                          double* dQ_dq,
-                          double* dh_dq,
-                          double* dQ_dqd,
-                          double* dh_dqd,
-                          const double* friction) {
+void FlatShakingDesign(const double* p,
+                       const double* q,
+                       const double* phi,
+                       const double* qd,
+                       const double* qdd,
+                       const double* c,
+                       const double* dc,
+                       double* dF_dp,
+                       double* dM_dp) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(dc)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNq> qdd_;
+    Get(qdd, &qdd_);
+    Mat<double, 2, Sizes::kNumDesign> dF_dp_;
+    if (dF_dp != nullptr) Get(dF_dp, &dF_dp_);
+    Vec<double, Sizes::kNumDesign> dM_dp_;
+    if (dM_dp != nullptr) Get(dM_dp, &dM_dp_);
+    Model::ShakingDesign(p_,
+                         q_,
+                         phi_,
+                         qd_,
+                         qdd_,
+                         *At<Coefficients<double>>(c),
+                         *At<DesignDerivatives<double>>(dc),
+                         dF_dp != nullptr ? &dF_dp_ : nullptr,
+                         dM_dp != nullptr ? &dM_dp_ : nullptr);
+    if (dF_dp != nullptr) Put(dF_dp_, dF_dp);
+    if (dM_dp != nullptr) Put(dM_dp_, dM_dp);
+    return;
+  }
+  FlatShakingDesignCopied<>(p, q, phi, qd, qdd, c, dc, dF_dp, dM_dp);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatDynamicsJacobianCopied(const double* p,
+                                const double* q,
+                                const double* phi,
+                                const double* qd,
+                                double t,
+                                const double* c,
+                                double* dQ_dq,
+                                double* dh_dq,
+                                double* dQ_dqd,
+                                double* dh_dqd,
+                                const double* friction) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -1279,24 +1549,6 @@ void FlatDynamicsJacobian(const double* p,
   if (dh_dqd != nullptr) Get(dh_dqd, &dh_dqd_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c)) {
-    Model::DynamicsJacobian(p_,
-                            q_,
-                            phi_,
-                            qd_,
-                            t,
-                            *At<Coefficients<double>>(c),
-                            dQ_dq != nullptr ? &dQ_dq_ : nullptr,
-                            dh_dq != nullptr ? &dh_dq_ : nullptr,
-                            dQ_dqd != nullptr ? &dQ_dqd_ : nullptr,
-                            dh_dqd != nullptr ? &dh_dqd_ : nullptr,
-                            friction != nullptr ? &friction_ : nullptr);
-    if (dQ_dq != nullptr) Put(dQ_dq_, dQ_dq);
-    if (dh_dq != nullptr) Put(dh_dq_, dh_dq);
-    if (dQ_dqd != nullptr) Put(dQ_dqd_, dQ_dqd);
-    if (dh_dqd != nullptr) Put(dh_dqd_, dh_dqd);
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -1318,6 +1570,57 @@ void FlatDynamicsJacobian(const double* p,
 }
 
 template <int = 0>
+void FlatDynamicsJacobian(const double* p,
+                          const double* q,
+                          const double* phi,
+                          const double* qd,
+                          double t,
+                          const double* c,
+                          double* dQ_dq,
+                          double* dh_dq,
+                          double* dQ_dqd,
+                          double* dh_dqd,
+                          const double* friction) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Mat<double, Sizes::kNq, Sizes::kNq> dQ_dq_;
+    if (dQ_dq != nullptr) Get(dQ_dq, &dQ_dq_);
+    Mat<double, Sizes::kNq, Sizes::kNq> dh_dq_;
+    if (dh_dq != nullptr) Get(dh_dq, &dh_dq_);
+    Mat<double, Sizes::kNq, Sizes::kNq> dQ_dqd_;
+    if (dQ_dqd != nullptr) Get(dQ_dqd, &dQ_dqd_);
+    Mat<double, Sizes::kNq, Sizes::kNq> dh_dqd_;
+    if (dh_dqd != nullptr) Get(dh_dqd, &dh_dqd_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::DynamicsJacobian(p_,
+                            q_,
+                            phi_,
+                            qd_,
+                            t,
+                            *At<Coefficients<double>>(c),
+                            dQ_dq != nullptr ? &dQ_dq_ : nullptr,
+                            dh_dq != nullptr ? &dh_dq_ : nullptr,
+                            dQ_dqd != nullptr ? &dQ_dqd_ : nullptr,
+                            dh_dqd != nullptr ? &dh_dqd_ : nullptr,
+                            friction != nullptr ? &friction_ : nullptr);
+    if (dQ_dq != nullptr) Put(dQ_dq_, dQ_dq);
+    if (dh_dq != nullptr) Put(dh_dq_, dh_dq);
+    if (dQ_dqd != nullptr) Put(dQ_dqd_, dQ_dqd);
+    if (dh_dqd != nullptr) Put(dh_dqd_, dh_dqd);
+    return;
+  }
+  FlatDynamicsJacobianCopied<>(p, q, phi, qd, t, c, dQ_dq, dh_dq, dQ_dqd, dh_dqd, friction);
+}
+
+template <int = 0>
 void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
@@ -1335,13 +1638,14 @@ void FlatDetPhiPhi(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatSolve(const double* p,
-                                   const double* q,
-                                   double* phi_io,
-                                   const int* modes,
-                                   int max_iterations,
-                                   double tolerance,
-                                   double* trig) {
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatSolveCopied(const double* p,
+                                         const double* q,
+                                         double* phi_io,
+                                         const int* modes,
+                                         int max_iterations,
+                                         double tolerance,
+                                         double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -1350,18 +1654,6 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Get(phi_io, &phi_io_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (trig != nullptr) Zero(At<Trig<double>>(trig));
-    const SolveReport<double> report = Model::Solve(p_,
-                                                    q_,
-                                                    phi_io != nullptr ? &phi_io_ : nullptr,
-                                                    modes_,
-                                                    max_iterations,
-                                                    tolerance,
-                                                    At<Trig<double>>(trig));
-    if (phi_io != nullptr) Put(phi_io_, phi_io);
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
@@ -1374,6 +1666,37 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Put(phi_io_, phi_io);
   if (trig != nullptr) Put(trig_, trig);
   return Report(report);
+}
+
+template <int = 0>
+mechgen::ViewSolveReport FlatSolve(const double* p,
+                                   const double* q,
+                                   double* phi_io,
+                                   const int* modes,
+                                   int max_iterations,
+                                   double tolerance,
+                                   double* trig) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_io_;
+    if (phi_io != nullptr) Get(phi_io, &phi_io_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::Solve(p_,
+                                                    q_,
+                                                    phi_io != nullptr ? &phi_io_ : nullptr,
+                                                    modes_,
+                                                    max_iterations,
+                                                    tolerance,
+                                                    At<Trig<double>>(trig));
+    if (phi_io != nullptr) Put(phi_io_, phi_io);
+    return Report(report);
+  }
+  return FlatSolveCopied<>(p, q, phi_io, modes, max_iterations, tolerance, trig);
 }
 
 template <int = 0>

@@ -581,29 +581,18 @@ void FlatPhi(const double* p,
 }
 
 template <int = 0>
-void FlatCoeffs(const double* p,
-                const double* q,
-                const double* phi,
-                double* out,
-                const double* trig) {
+[[gnu::noinline, gnu::cold]]
+void FlatCoeffsCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out,
+                      const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->Phi);
-    if (out != nullptr) Zero(&At<Coefficients<double>>(out)->Phi_phi);
-    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->K);
-    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->L);
-    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->r_P);
-    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->K_P);
-    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->L_P);
-    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> out_;
   if (out != nullptr) ZeroUnlessStored<16>(&out_.Phi);
   if (out != nullptr) Zero(&out_.Phi_phi);
@@ -628,14 +617,42 @@ void FlatCoeffs(const double* p,
 }
 
 template <int = 0>
-void FlatForces(const double* p,
+void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
-                const double* c,
                 double* out,
-                const double* friction,
-                const double* trig,
-                const double* velocities) {
+                const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->Phi);
+    if (out != nullptr) Zero(&At<Coefficients<double>>(out)->Phi_phi);
+    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->K);
+    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->L);
+    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->r_P);
+    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->K_P);
+    if (out != nullptr) ZeroUnlessStored<16>(&At<Coefficients<double>>(out)->L_P);
+    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
+    return;
+  }
+  FlatCoeffsCopied<>(p, q, phi, out, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatForcesCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      const double* c,
+                      double* out,
+                      const double* friction,
+                      const double* trig,
+                      const double* velocities) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -646,18 +663,6 @@ void FlatForces(const double* p,
   if (friction != nullptr) Get(friction, &friction_);
   Vec<double, Sizes::kNq> velocities_;
   if (velocities != nullptr) Get(velocities, &velocities_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Forces(p_,
-                  q_,
-                  phi_,
-                  *At<Coefficients<double>>(c),
-                  At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
-                  At<Trig<double>>(trig),
-                  velocities != nullptr ? &velocities_ : nullptr);
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -685,15 +690,50 @@ void FlatForces(const double* p,
 }
 
 template <int = 0>
-void FlatDynamics(const double* p,
-                  const double* q,
-                  const double* phi,
-                  const double* qd,
-                  double t,
-                  const double* c,
-                  double* out,
-                  const double* friction,
-                  const double* trig) {
+void FlatForces(const double* p,
+                const double* q,
+                const double* phi,
+                const double* c,
+                double* out,
+                const double* friction,
+                const double* trig,
+                const double* velocities) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Vec<double, Sizes::kNq> velocities_;
+    if (velocities != nullptr) Get(velocities, &velocities_);
+    Model::Forces(p_,
+                  q_,
+                  phi_,
+                  *At<Coefficients<double>>(c),
+                  At<Statics<double>>(out),
+                  friction != nullptr ? &friction_ : nullptr,
+                  At<Trig<double>>(trig),
+                  velocities != nullptr ? &velocities_ : nullptr);
+    return;
+  }
+  FlatForcesCopied<>(p, q, phi, c, out, friction, trig, velocities);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatDynamicsCopied(const double* p,
+                        const double* q,
+                        const double* phi,
+                        const double* qd,
+                        double t,
+                        const double* c,
+                        double* out,
+                        const double* friction,
+                        const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -704,20 +744,6 @@ void FlatDynamics(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Dynamics(p_,
-                    q_,
-                    phi_,
-                    qd_,
-                    t,
-                    *At<Coefficients<double>>(c),
-                    At<Dynamics<double>>(out),
-                    friction != nullptr ? &friction_ : nullptr,
-                    At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -755,16 +781,54 @@ void FlatDynamics(const double* p,
 }
 
 template <int = 0>
-void FlatKinetostatics(const double* p,
-                       const double* q,
-                       const double* phi,
-                       const double* qd,
-                       const double* qdd,
-                       double t,
-                       const double* c,
-                       double* out,
-                       const double* friction,
-                       const double* trig) {
+void FlatDynamics(const double* p,
+                  const double* q,
+                  const double* phi,
+                  const double* qd,
+                  double t,
+                  const double* c,
+                  double* out,
+                  const double* friction,
+                  const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::Dynamics(p_,
+                    q_,
+                    phi_,
+                    qd_,
+                    t,
+                    *At<Coefficients<double>>(c),
+                    At<Dynamics<double>>(out),
+                    friction != nullptr ? &friction_ : nullptr,
+                    At<Trig<double>>(trig));
+    return;
+  }
+  FlatDynamicsCopied<>(p, q, phi, qd, t, c, out, friction, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatKinetostaticsCopied(const double* p,
+                             const double* q,
+                             const double* phi,
+                             const double* qd,
+                             const double* qdd,
+                             double t,
+                             const double* c,
+                             double* out,
+                             const double* friction,
+                             const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -777,20 +841,6 @@ void FlatKinetostatics(const double* p,
   Get(qdd, &qdd_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Kinetostatics(p_,
-                         q_,
-                         phi_,
-                         qd_,
-                         qdd_,
-                         t,
-                         *At<Coefficients<double>>(c),
-                         At<Statics<double>>(out),
-                         friction != nullptr ? &friction_ : nullptr,
-                         At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -824,14 +874,55 @@ void FlatKinetostatics(const double* p,
 }
 
 template <int = 0>
-void FlatExcessDynamics(const double* p,
-                        const double* q,
-                        const double* phi,
-                        const double* qd,
-                        const double* phid,
-                        double t,
-                        double* out,
-                        const double* friction) {
+void FlatKinetostatics(const double* p,
+                       const double* q,
+                       const double* phi,
+                       const double* qd,
+                       const double* qdd,
+                       double t,
+                       const double* c,
+                       double* out,
+                       const double* friction,
+                       const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNq> qdd_;
+    Get(qdd, &qdd_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::Kinetostatics(p_,
+                         q_,
+                         phi_,
+                         qd_,
+                         qdd_,
+                         t,
+                         *At<Coefficients<double>>(c),
+                         At<Statics<double>>(out),
+                         friction != nullptr ? &friction_ : nullptr,
+                         At<Trig<double>>(trig));
+    return;
+  }
+  FlatKinetostaticsCopied<>(p, q, phi, qd, qdd, t, c, out, friction, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatExcessDynamicsCopied(const double* p,
+                              const double* q,
+                              const double* phi,
+                              const double* qd,
+                              const double* phid,
+                              double t,
+                              double* out,
+                              const double* friction) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -844,17 +935,6 @@ void FlatExcessDynamics(const double* p,
   Get(phid, &phid_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
-    Model::ExcessDynamics(p_,
-                          q_,
-                          phi_,
-                          qd_,
-                          phid_,
-                          t,
-                          At<Excess<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
-    return;
-  }
   Excess<double> out_;
   if (out != nullptr) GetUnlessStored<289>(out + kExcessMembers[0].offset, &out_.M);
   if (out != nullptr) GetUnlessStored<17>(out + kExcessMembers[1].offset, &out_.h);
@@ -883,14 +963,50 @@ void FlatExcessDynamics(const double* p,
 }
 
 template <int = 0>
-void FlatShaking(const double* p,
-                 const double* q,
-                 const double* phi,
-                 const double* qd,
-                 const double* qdd,
-                 const double* c,
-                 double* out,
-                 const double* trig) {
+void FlatExcessDynamics(const double* p,
+                        const double* q,
+                        const double* phi,
+                        const double* qd,
+                        const double* phid,
+                        double t,
+                        double* out,
+                        const double* friction) {
+  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNphi> phid_;
+    Get(phid, &phid_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::ExcessDynamics(p_,
+                          q_,
+                          phi_,
+                          qd_,
+                          phid_,
+                          t,
+                          At<Excess<double>>(out),
+                          friction != nullptr ? &friction_ : nullptr);
+    return;
+  }
+  FlatExcessDynamicsCopied<>(p, q, phi, qd, phid, t, out, friction);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatShakingCopied(const double* p,
+                       const double* q,
+                       const double* phi,
+                       const double* qd,
+                       const double* qdd,
+                       const double* c,
+                       double* out,
+                       const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -901,18 +1017,6 @@ void FlatShaking(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kShakingInPlace, Shaking<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Shaking(p_,
-                   q_,
-                   phi_,
-                   qd_,
-                   qdd_,
-                   *At<Coefficients<double>>(c),
-                   At<Shaking<double>>(out),
-                   At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -947,22 +1051,52 @@ void FlatShaking(const double* p,
 }
 
 template <int = 0>
-void FlatStiffness(const double* p,
-                   const double* q,
-                   const double* phi,
-                   const double* c,
-                   double* out) {
+void FlatShaking(const double* p,
+                 const double* q,
+                 const double* phi,
+                 const double* qd,
+                 const double* qdd,
+                 const double* c,
+                 double* out,
+                 const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kShakingInPlace, Shaking<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNq> qdd_;
+    Get(qdd, &qdd_);
+    Model::Shaking(p_,
+                   q_,
+                   phi_,
+                   qd_,
+                   qdd_,
+                   *At<Coefficients<double>>(c),
+                   At<Shaking<double>>(out),
+                   At<Trig<double>>(trig));
+    return;
+  }
+  FlatShakingCopied<>(p, q, phi, qd, qdd, c, out, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatStiffnessCopied(const double* p,
+                         const double* q,
+                         const double* phi,
+                         const double* c,
+                         double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out)) {
-    Model::Stiffness(p_, q_, phi_, *At<Coefficients<double>>(c), At<Statics<double>>(out));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
   Statics<double> out_;
@@ -971,6 +1105,26 @@ void FlatStiffness(const double* p,
   Model::Stiffness(p_, q_, phi_, c_, out != nullptr ? &out_ : nullptr);
   if (out != nullptr) Put(out_.stiffness, out + kStaticsMembers[2].offset);
   if (out != nullptr) Put(out_.d2V_dq2, out + kStaticsMembers[5].offset);
+}
+
+template <int = 0>
+void FlatStiffness(const double* p,
+                   const double* q,
+                   const double* phi,
+                   const double* c,
+                   double* out) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Model::Stiffness(p_, q_, phi_, *At<Coefficients<double>>(c), At<Statics<double>>(out));
+    return;
+  }
+  FlatStiffnessCopied<>(p, q, phi, c, out);
 }
 
 template <int = 0>
@@ -991,13 +1145,14 @@ void FlatDetPhiPhi(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatSolve(const double* p,
-                                   const double* q,
-                                   double* phi_io,
-                                   const int* modes,
-                                   int max_iterations,
-                                   double tolerance,
-                                   double* trig) {
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatSolveCopied(const double* p,
+                                         const double* q,
+                                         double* phi_io,
+                                         const int* modes,
+                                         int max_iterations,
+                                         double tolerance,
+                                         double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -1006,18 +1161,6 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Get(phi_io, &phi_io_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (trig != nullptr) Zero(At<Trig<double>>(trig));
-    const SolveReport<double> report = Model::Solve(p_,
-                                                    q_,
-                                                    phi_io != nullptr ? &phi_io_ : nullptr,
-                                                    modes_,
-                                                    max_iterations,
-                                                    tolerance,
-                                                    At<Trig<double>>(trig));
-    if (phi_io != nullptr) Put(phi_io_, phi_io);
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
@@ -1030,6 +1173,37 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Put(phi_io_, phi_io);
   if (trig != nullptr) Put(trig_, trig);
   return Report(report);
+}
+
+template <int = 0>
+mechgen::ViewSolveReport FlatSolve(const double* p,
+                                   const double* q,
+                                   double* phi_io,
+                                   const int* modes,
+                                   int max_iterations,
+                                   double tolerance,
+                                   double* trig) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_io_;
+    if (phi_io != nullptr) Get(phi_io, &phi_io_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::Solve(p_,
+                                                    q_,
+                                                    phi_io != nullptr ? &phi_io_ : nullptr,
+                                                    modes_,
+                                                    max_iterations,
+                                                    tolerance,
+                                                    At<Trig<double>>(trig));
+    if (phi_io != nullptr) Put(phi_io_, phi_io);
+    return Report(report);
+  }
+  return FlatSolveCopied<>(p, q, phi_io, modes, max_iterations, tolerance, trig);
 }
 
 template <int = 0>

@@ -429,29 +429,18 @@ void FlatPhi(const double* p,
 }
 
 template <int = 0>
-void FlatCoeffs(const double* p,
-                const double* q,
-                const double* phi,
-                double* out,
-                const double* trig) {
+[[gnu::noinline, gnu::cold]]
+void FlatCoeffsCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out,
+                      const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
-    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->Phi_phi);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
-    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> out_;
   if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
   if (out != nullptr) ZeroUnlessStored<4>(&out_.Phi_phi);
@@ -476,14 +465,41 @@ void FlatCoeffs(const double* p,
 }
 
 template <int = 0>
-void FlatForces(const double* p,
+void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
-                const double* c,
                 double* out,
-                const double* friction,
-                const double* trig,
-                const double* /*velocities*/) {
+                const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->Phi_phi);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
+    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
+    return;
+  }
+  FlatCoeffsCopied<>(p, q, phi, out, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatForcesCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      const double* c,
+                      double* out,
+                      const double* friction,
+                      const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -492,17 +508,6 @@ void FlatForces(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Forces(p_,
-                  q_,
-                  phi_,
-                  *At<Coefficients<double>>(c),
-                  At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
-                  At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -532,22 +537,49 @@ void FlatForces(const double* p,
 }
 
 template <int = 0>
-void FlatStiffness(const double* p,
-                   const double* q,
-                   const double* phi,
-                   const double* c,
-                   double* out) {
+void FlatForces(const double* p,
+                const double* q,
+                const double* phi,
+                const double* c,
+                double* out,
+                const double* friction,
+                const double* trig,
+                const double* /*velocities*/) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::Forces(p_,
+                  q_,
+                  phi_,
+                  *At<Coefficients<double>>(c),
+                  At<Statics<double>>(out),
+                  friction != nullptr ? &friction_ : nullptr,
+                  At<Trig<double>>(trig));
+    return;
+  }
+  FlatForcesCopied<>(p, q, phi, c, out, friction, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatStiffnessCopied(const double* p,
+                         const double* q,
+                         const double* phi,
+                         const double* c,
+                         double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out)) {
-    Model::Stiffness(p_, q_, phi_, *At<Coefficients<double>>(c), At<Statics<double>>(out));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -560,20 +592,37 @@ void FlatStiffness(const double* p,
 }
 
 template <int = 0>
-void FlatDesign(const double* p,
-                const double* q,
-                const double* phi,
-                double* out) {
+void FlatStiffness(const double* p,
+                   const double* q,
+                   const double* phi,
+                   const double* c,
+                   double* out) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Model::Stiffness(p_, q_, phi_, *At<Coefficients<double>>(c), At<Statics<double>>(out));
+    return;
+  }
+  FlatStiffnessCopied<>(p, q, phi, c, out);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatDesignCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(out)) {
-    Model::Design(p_, q_, phi_, At<DesignDerivatives<double>>(out));
-    return;
-  }
   DesignDerivatives<double> out_;
   if (out != nullptr) GetUnlessStored<16>(out + kDesignDerivativesMembers[0].offset, &out_.dphi_dp);
   if (out != nullptr) GetUnlessStored<16>(out + kDesignDerivativesMembers[1].offset, &out_.dr_P_dp);
@@ -590,6 +639,24 @@ void FlatDesign(const double* p,
   if (out != nullptr) Put(out_.dL_dp, out + kDesignDerivativesMembers[4].offset);
   if (out != nullptr) Put(out_.dL_P_dp, out + kDesignDerivativesMembers[5].offset);
   if (out != nullptr) Put(out_.dmu_dp, out + kDesignDerivativesMembers[6].offset);
+}
+
+template <int = 0>
+void FlatDesign(const double* p,
+                const double* q,
+                const double* phi,
+                double* out) {
+  if (InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Model::Design(p_, q_, phi_, At<DesignDerivatives<double>>(out));
+    return;
+  }
+  FlatDesignCopied<>(p, q, phi, out);
 }
 
 template <int = 0>
@@ -610,29 +677,19 @@ void FlatDesignChecks(const double* p,
 }
 
 template <int = 0>
-void FlatStaticsDesign(const double* p,
-                       const double* q,
-                       const double* phi,
-                       const double* c,
-                       const double* dc,
-                       double* out) {
+[[gnu::noinline, gnu::cold]]
+void FlatStaticsDesignCopied(const double* p,
+                             const double* q,
+                             const double* phi,
+                             const double* c,
+                             const double* dc,
+                             double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(dc) &&
-      InPlace<kStaticsDesignInPlace, StaticsDesign<double>>(out)) {
-    Model::StaticsDesign(p_,
-                         q_,
-                         phi_,
-                         *At<Coefficients<double>>(c),
-                         *At<DesignDerivatives<double>>(dc),
-                         At<StaticsDesign<double>>(out));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -649,6 +706,33 @@ void FlatStaticsDesign(const double* p,
   if (out != nullptr) Put(out_.ddrive_dp, out + kStaticsDesignMembers[1].offset);
   if (out != nullptr) Put(out_.dV_dp, out + kStaticsDesignMembers[2].offset);
   if (out != nullptr) Put(out_.dR_dp, out + kStaticsDesignMembers[3].offset);
+}
+
+template <int = 0>
+void FlatStaticsDesign(const double* p,
+                       const double* q,
+                       const double* phi,
+                       const double* c,
+                       const double* dc,
+                       double* out) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(dc) &&
+      InPlace<kStaticsDesignInPlace, StaticsDesign<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Model::StaticsDesign(p_,
+                         q_,
+                         phi_,
+                         *At<Coefficients<double>>(c),
+                         *At<DesignDerivatives<double>>(dc),
+                         At<StaticsDesign<double>>(out));
+    return;
+  }
+  FlatStaticsDesignCopied<>(p, q, phi, c, dc, out);
 }
 
 template <int = 0>
@@ -686,13 +770,14 @@ void FlatTransmissionAngles(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatSolve(const double* p,
-                                   const double* q,
-                                   double* phi_io,
-                                   const int* modes,
-                                   int max_iterations,
-                                   double tolerance,
-                                   double* trig) {
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatSolveCopied(const double* p,
+                                         const double* q,
+                                         double* phi_io,
+                                         const int* modes,
+                                         int max_iterations,
+                                         double tolerance,
+                                         double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -701,18 +786,6 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Get(phi_io, &phi_io_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (trig != nullptr) Zero(At<Trig<double>>(trig));
-    const SolveReport<double> report = Model::Solve(p_,
-                                                    q_,
-                                                    phi_io != nullptr ? &phi_io_ : nullptr,
-                                                    modes_,
-                                                    max_iterations,
-                                                    tolerance,
-                                                    At<Trig<double>>(trig));
-    if (phi_io != nullptr) Put(phi_io_, phi_io);
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
@@ -728,21 +801,48 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatSolveTrig(const double* p,
-                                       const double* q,
-                                       const int* modes,
-                                       double* trig) {
+mechgen::ViewSolveReport FlatSolve(const double* p,
+                                   const double* q,
+                                   double* phi_io,
+                                   const int* modes,
+                                   int max_iterations,
+                                   double tolerance,
+                                   double* trig) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_io_;
+    if (phi_io != nullptr) Get(phi_io, &phi_io_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::Solve(p_,
+                                                    q_,
+                                                    phi_io != nullptr ? &phi_io_ : nullptr,
+                                                    modes_,
+                                                    max_iterations,
+                                                    tolerance,
+                                                    At<Trig<double>>(trig));
+    if (phi_io != nullptr) Put(phi_io_, phi_io);
+    return Report(report);
+  }
+  return FlatSolveCopied<>(p, q, phi_io, modes, max_iterations, tolerance, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatSolveTrigCopied(const double* p,
+                                             const double* q,
+                                             const int* modes,
+                                             double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (trig != nullptr) Zero(At<Trig<double>>(trig));
-    const SolveReport<double> report = Model::SolveTrig(p_, q_, modes_, At<Trig<double>>(trig));
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::SolveTrig(p_,
@@ -754,26 +854,37 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatKinematics(const double* p,
-                                        const double* q,
-                                        const int* modes,
-                                        double* trig,
-                                        double* out) {
+mechgen::ViewSolveReport FlatSolveTrig(const double* p,
+                                       const double* q,
+                                       const int* modes,
+                                       double* trig) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::SolveTrig(p_, q_, modes_, At<Trig<double>>(trig));
+    return Report(report);
+  }
+  return FlatSolveTrigCopied<>(p, q, modes, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatKinematicsCopied(const double* p,
+                                              const double* q,
+                                              const int* modes,
+                                              double* trig,
+                                              double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig) &&
-      InPlace<kKinematicsInPlace, Kinematics<double>>(out)) {
-    const SolveReport<double> report = Model::Kinematics(p_,
-                                                         q_,
-                                                         modes_,
-                                                         At<Trig<double>>(trig),
-                                                         At<Kinematics<double>>(out));
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -796,6 +907,30 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
   if (out != nullptr) Put(out_.L, out + kKinematicsMembers[1].offset);
   if (out != nullptr) Put(out_.Phi_phi, out + kKinematicsMembers[2].offset);
   return Report(report);
+}
+
+template <int = 0>
+mechgen::ViewSolveReport FlatKinematics(const double* p,
+                                        const double* q,
+                                        const int* modes,
+                                        double* trig,
+                                        double* out) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig) &&
+      InPlace<kKinematicsInPlace, Kinematics<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    const SolveReport<double> report = Model::Kinematics(p_,
+                                                         q_,
+                                                         modes_,
+                                                         At<Trig<double>>(trig),
+                                                         At<Kinematics<double>>(out));
+    return Report(report);
+  }
+  return FlatKinematicsCopied<>(p, q, modes, trig, out);
 }
 
 template <int = 0>

@@ -546,29 +546,18 @@ void FlatPhi(const double* p,
 }
 
 template <int = 0>
-void FlatCoeffs(const double* p,
-                const double* q,
-                const double* phi,
-                double* out,
-                const double* trig) {
+[[gnu::noinline, gnu::cold]]
+void FlatCoeffsCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out,
+                      const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
-    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->Phi_phi);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
-    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> out_;
   if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
   if (out != nullptr) ZeroUnlessStored<4>(&out_.Phi_phi);
@@ -593,14 +582,41 @@ void FlatCoeffs(const double* p,
 }
 
 template <int = 0>
-void FlatForces(const double* p,
+void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
-                const double* c,
                 double* out,
-                const double* friction,
-                const double* trig,
-                const double* /*velocities*/) {
+                const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->Phi_phi);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
+    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
+    return;
+  }
+  FlatCoeffsCopied<>(p, q, phi, out, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatForcesCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      const double* c,
+                      double* out,
+                      const double* friction,
+                      const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -609,17 +625,6 @@ void FlatForces(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Forces(p_,
-                  q_,
-                  phi_,
-                  *At<Coefficients<double>>(c),
-                  At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
-                  At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -649,15 +654,47 @@ void FlatForces(const double* p,
 }
 
 template <int = 0>
-void FlatDynamics(const double* p,
-                  const double* q,
-                  const double* phi,
-                  const double* qd,
-                  double t,
-                  const double* c,
-                  double* out,
-                  const double* friction,
-                  const double* trig) {
+void FlatForces(const double* p,
+                const double* q,
+                const double* phi,
+                const double* c,
+                double* out,
+                const double* friction,
+                const double* trig,
+                const double* /*velocities*/) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::Forces(p_,
+                  q_,
+                  phi_,
+                  *At<Coefficients<double>>(c),
+                  At<Statics<double>>(out),
+                  friction != nullptr ? &friction_ : nullptr,
+                  At<Trig<double>>(trig));
+    return;
+  }
+  FlatForcesCopied<>(p, q, phi, c, out, friction, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatDynamicsCopied(const double* p,
+                        const double* q,
+                        const double* phi,
+                        const double* qd,
+                        double t,
+                        const double* c,
+                        double* out,
+                        const double* friction,
+                        const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -668,20 +705,6 @@ void FlatDynamics(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Dynamics(p_,
-                    q_,
-                    phi_,
-                    qd_,
-                    t,
-                    *At<Coefficients<double>>(c),
-                    At<Dynamics<double>>(out),
-                    friction != nullptr ? &friction_ : nullptr,
-                    At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -719,16 +742,54 @@ void FlatDynamics(const double* p,
 }
 
 template <int = 0>
-void FlatKinetostatics(const double* p,
-                       const double* q,
-                       const double* phi,
-                       const double* qd,
-                       const double* qdd,
-                       double t,
-                       const double* c,
-                       double* out,
-                       const double* friction,
-                       const double* trig) {
+void FlatDynamics(const double* p,
+                  const double* q,
+                  const double* phi,
+                  const double* qd,
+                  double t,
+                  const double* c,
+                  double* out,
+                  const double* friction,
+                  const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kDynamicsInPlace, Dynamics<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::Dynamics(p_,
+                    q_,
+                    phi_,
+                    qd_,
+                    t,
+                    *At<Coefficients<double>>(c),
+                    At<Dynamics<double>>(out),
+                    friction != nullptr ? &friction_ : nullptr,
+                    At<Trig<double>>(trig));
+    return;
+  }
+  FlatDynamicsCopied<>(p, q, phi, qd, t, c, out, friction, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatKinetostaticsCopied(const double* p,
+                             const double* q,
+                             const double* phi,
+                             const double* qd,
+                             const double* qdd,
+                             double t,
+                             const double* c,
+                             double* out,
+                             const double* friction,
+                             const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -741,20 +802,6 @@ void FlatKinetostatics(const double* p,
   Get(qdd, &qdd_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Kinetostatics(p_,
-                         q_,
-                         phi_,
-                         qd_,
-                         qdd_,
-                         t,
-                         *At<Coefficients<double>>(c),
-                         At<Statics<double>>(out),
-                         friction != nullptr ? &friction_ : nullptr,
-                         At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -788,14 +835,55 @@ void FlatKinetostatics(const double* p,
 }
 
 template <int = 0>
-void FlatExcessDynamics(const double* p,
-                        const double* q,
-                        const double* phi,
-                        const double* qd,
-                        const double* phid,
-                        double t,
-                        double* out,
-                        const double* friction) {
+void FlatKinetostatics(const double* p,
+                       const double* q,
+                       const double* phi,
+                       const double* qd,
+                       const double* qdd,
+                       double t,
+                       const double* c,
+                       double* out,
+                       const double* friction,
+                       const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNq> qdd_;
+    Get(qdd, &qdd_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::Kinetostatics(p_,
+                         q_,
+                         phi_,
+                         qd_,
+                         qdd_,
+                         t,
+                         *At<Coefficients<double>>(c),
+                         At<Statics<double>>(out),
+                         friction != nullptr ? &friction_ : nullptr,
+                         At<Trig<double>>(trig));
+    return;
+  }
+  FlatKinetostaticsCopied<>(p, q, phi, qd, qdd, t, c, out, friction, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatExcessDynamicsCopied(const double* p,
+                              const double* q,
+                              const double* phi,
+                              const double* qd,
+                              const double* phid,
+                              double t,
+                              double* out,
+                              const double* friction) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -808,17 +896,6 @@ void FlatExcessDynamics(const double* p,
   Get(phid, &phid_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
-    Model::ExcessDynamics(p_,
-                          q_,
-                          phi_,
-                          qd_,
-                          phid_,
-                          t,
-                          At<Excess<double>>(out),
-                          friction != nullptr ? &friction_ : nullptr);
-    return;
-  }
   Excess<double> out_;
   if (out != nullptr) GetUnlessStored<9>(out + kExcessMembers[0].offset, &out_.M);
   if (out != nullptr) GetUnlessStored<3>(out + kExcessMembers[1].offset, &out_.h);
@@ -847,14 +924,50 @@ void FlatExcessDynamics(const double* p,
 }
 
 template <int = 0>
-void FlatShaking(const double* p,
-                 const double* q,
-                 const double* phi,
-                 const double* qd,
-                 const double* qdd,
-                 const double* c,
-                 double* out,
-                 const double* trig) {
+void FlatExcessDynamics(const double* p,
+                        const double* q,
+                        const double* phi,
+                        const double* qd,
+                        const double* phid,
+                        double t,
+                        double* out,
+                        const double* friction) {
+  if (InPlace<kExcessInPlace, Excess<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNphi> phid_;
+    Get(phid, &phid_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::ExcessDynamics(p_,
+                          q_,
+                          phi_,
+                          qd_,
+                          phid_,
+                          t,
+                          At<Excess<double>>(out),
+                          friction != nullptr ? &friction_ : nullptr);
+    return;
+  }
+  FlatExcessDynamicsCopied<>(p, q, phi, qd, phid, t, out, friction);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatShakingCopied(const double* p,
+                       const double* q,
+                       const double* phi,
+                       const double* qd,
+                       const double* qdd,
+                       const double* c,
+                       double* out,
+                       const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -865,18 +978,6 @@ void FlatShaking(const double* p,
   Get(qd, &qd_);
   Vec<double, Sizes::kNq> qdd_;
   Get(qdd, &qdd_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kShakingInPlace, Shaking<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Shaking(p_,
-                   q_,
-                   phi_,
-                   qd_,
-                   qdd_,
-                   *At<Coefficients<double>>(c),
-                   At<Shaking<double>>(out),
-                   At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -911,22 +1012,52 @@ void FlatShaking(const double* p,
 }
 
 template <int = 0>
-void FlatStiffness(const double* p,
-                   const double* q,
-                   const double* phi,
-                   const double* c,
-                   double* out) {
+void FlatShaking(const double* p,
+                 const double* q,
+                 const double* phi,
+                 const double* qd,
+                 const double* qdd,
+                 const double* c,
+                 double* out,
+                 const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kShakingInPlace, Shaking<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    Vec<double, Sizes::kNq> qdd_;
+    Get(qdd, &qdd_);
+    Model::Shaking(p_,
+                   q_,
+                   phi_,
+                   qd_,
+                   qdd_,
+                   *At<Coefficients<double>>(c),
+                   At<Shaking<double>>(out),
+                   At<Trig<double>>(trig));
+    return;
+  }
+  FlatShakingCopied<>(p, q, phi, qd, qdd, c, out, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatStiffnessCopied(const double* p,
+                         const double* q,
+                         const double* phi,
+                         const double* c,
+                         double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out)) {
-    Model::Stiffness(p_, q_, phi_, *At<Coefficients<double>>(c), At<Statics<double>>(out));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
   Get(c + kCoefficientsMembers[3].offset, &c_.L);
@@ -936,6 +1067,26 @@ void FlatStiffness(const double* p,
   Model::Stiffness(p_, q_, phi_, c_, out != nullptr ? &out_ : nullptr);
   if (out != nullptr) Put(out_.stiffness, out + kStaticsMembers[2].offset);
   if (out != nullptr) Put(out_.d2V_dq2, out + kStaticsMembers[5].offset);
+}
+
+template <int = 0>
+void FlatStiffness(const double* p,
+                   const double* q,
+                   const double* phi,
+                   const double* c,
+                   double* out) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Model::Stiffness(p_, q_, phi_, *At<Coefficients<double>>(c), At<Statics<double>>(out));
+    return;
+  }
+  FlatStiffnessCopied<>(p, q, phi, c, out);
 }
 
 template <int = 0>
@@ -973,13 +1124,14 @@ void FlatTransmissionAngles(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatSolve(const double* p,
-                                   const double* q,
-                                   double* phi_io,
-                                   const int* modes,
-                                   int max_iterations,
-                                   double tolerance,
-                                   double* trig) {
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatSolveCopied(const double* p,
+                                         const double* q,
+                                         double* phi_io,
+                                         const int* modes,
+                                         int max_iterations,
+                                         double tolerance,
+                                         double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -988,18 +1140,6 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Get(phi_io, &phi_io_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (trig != nullptr) Zero(At<Trig<double>>(trig));
-    const SolveReport<double> report = Model::Solve(p_,
-                                                    q_,
-                                                    phi_io != nullptr ? &phi_io_ : nullptr,
-                                                    modes_,
-                                                    max_iterations,
-                                                    tolerance,
-                                                    At<Trig<double>>(trig));
-    if (phi_io != nullptr) Put(phi_io_, phi_io);
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
@@ -1015,21 +1155,48 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatSolveTrig(const double* p,
-                                       const double* q,
-                                       const int* modes,
-                                       double* trig) {
+mechgen::ViewSolveReport FlatSolve(const double* p,
+                                   const double* q,
+                                   double* phi_io,
+                                   const int* modes,
+                                   int max_iterations,
+                                   double tolerance,
+                                   double* trig) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_io_;
+    if (phi_io != nullptr) Get(phi_io, &phi_io_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::Solve(p_,
+                                                    q_,
+                                                    phi_io != nullptr ? &phi_io_ : nullptr,
+                                                    modes_,
+                                                    max_iterations,
+                                                    tolerance,
+                                                    At<Trig<double>>(trig));
+    if (phi_io != nullptr) Put(phi_io_, phi_io);
+    return Report(report);
+  }
+  return FlatSolveCopied<>(p, q, phi_io, modes, max_iterations, tolerance, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatSolveTrigCopied(const double* p,
+                                             const double* q,
+                                             const int* modes,
+                                             double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (trig != nullptr) Zero(At<Trig<double>>(trig));
-    const SolveReport<double> report = Model::SolveTrig(p_, q_, modes_, At<Trig<double>>(trig));
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::SolveTrig(p_,
@@ -1041,26 +1208,37 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatKinematics(const double* p,
-                                        const double* q,
-                                        const int* modes,
-                                        double* trig,
-                                        double* out) {
+mechgen::ViewSolveReport FlatSolveTrig(const double* p,
+                                       const double* q,
+                                       const int* modes,
+                                       double* trig) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::SolveTrig(p_, q_, modes_, At<Trig<double>>(trig));
+    return Report(report);
+  }
+  return FlatSolveTrigCopied<>(p, q, modes, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatKinematicsCopied(const double* p,
+                                              const double* q,
+                                              const int* modes,
+                                              double* trig,
+                                              double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig) &&
-      InPlace<kKinematicsInPlace, Kinematics<double>>(out)) {
-    const SolveReport<double> report = Model::Kinematics(p_,
-                                                         q_,
-                                                         modes_,
-                                                         At<Trig<double>>(trig),
-                                                         At<Kinematics<double>>(out));
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -1086,14 +1264,35 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
 }
 
 template <int = 0>
-void FlatPrepare(const double* p,
-                 double* rc) {
+mechgen::ViewSolveReport FlatKinematics(const double* p,
+                                        const double* q,
+                                        const int* modes,
+                                        double* trig,
+                                        double* out) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig) &&
+      InPlace<kKinematicsInPlace, Kinematics<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    const SolveReport<double> report = Model::Kinematics(p_,
+                                                         q_,
+                                                         modes_,
+                                                         At<Trig<double>>(trig),
+                                                         At<Kinematics<double>>(out));
+    return Report(report);
+  }
+  return FlatKinematicsCopied<>(p, q, modes, trig, out);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatPrepareCopied(const double* p,
+                       double* rc) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
-  if (InPlace<kRhsConstantsInPlace, RhsConstants<double>>(rc)) {
-    Model::Prepare(p_, At<RhsConstants<double>>(rc));
-    return;
-  }
   RhsConstants<double> rc_;
   if (rc != nullptr) Get(rc + kRhsConstantsMembers[0].offset, &rc_.c);
   Model::Prepare(p_, rc != nullptr ? &rc_ : nullptr);
@@ -1101,15 +1300,28 @@ void FlatPrepare(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatRhs(const double* p,
-                                 const double* rc,
-                                 const double* q,
-                                 const double* qd,
-                                 double t,
-                                 const int* modes,
-                                 double* trig,
-                                 double* out,
-                                 const double* friction) {
+void FlatPrepare(const double* p,
+                 double* rc) {
+  if (InPlace<kRhsConstantsInPlace, RhsConstants<double>>(rc)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Model::Prepare(p_, At<RhsConstants<double>>(rc));
+    return;
+  }
+  FlatPrepareCopied<>(p, rc);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatRhsCopied(const double* p,
+                                       const double* rc,
+                                       const double* q,
+                                       const double* qd,
+                                       double t,
+                                       const int* modes,
+                                       double* trig,
+                                       double* out,
+                                       const double* friction) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -1120,19 +1332,6 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
   Get(modes, &modes_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kRhsConstantsInPlace, RhsConstants<double>>(rc) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig) && InPlace<kRhsInPlace, Rhs<double>>(out)) {
-    const SolveReport<double> report = Model::Rhs(p_,
-                                                  *At<RhsConstants<double>>(rc),
-                                                  q_,
-                                                  qd_,
-                                                  t,
-                                                  modes_,
-                                                  At<Trig<double>>(trig),
-                                                  At<Rhs<double>>(out),
-                                                  friction != nullptr ? &friction_ : nullptr);
-    return Report(report);
-  }
   RhsConstants<double> rc_;
   Get(rc + kRhsConstantsMembers[0].offset, &rc_.c);
   Trig<double> trig_;
@@ -1171,6 +1370,42 @@ mechgen::ViewSolveReport FlatRhs(const double* p,
   if (out != nullptr) Put(out_.P_nc, out + kRhsMembers[6].offset);
   if (out != nullptr) Put(out_.Phi_phi, out + kRhsMembers[7].offset);
   return Report(report);
+}
+
+template <int = 0>
+mechgen::ViewSolveReport FlatRhs(const double* p,
+                                 const double* rc,
+                                 const double* q,
+                                 const double* qd,
+                                 double t,
+                                 const int* modes,
+                                 double* trig,
+                                 double* out,
+                                 const double* friction) {
+  if (InPlace<kRhsConstantsInPlace, RhsConstants<double>>(rc) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig) && InPlace<kRhsInPlace, Rhs<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNq> qd_;
+    Get(qd, &qd_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    const SolveReport<double> report = Model::Rhs(p_,
+                                                  *At<RhsConstants<double>>(rc),
+                                                  q_,
+                                                  qd_,
+                                                  t,
+                                                  modes_,
+                                                  At<Trig<double>>(trig),
+                                                  At<Rhs<double>>(out),
+                                                  friction != nullptr ? &friction_ : nullptr);
+    return Report(report);
+  }
+  return FlatRhsCopied<>(p, rc, q, qd, t, modes, trig, out, friction);
 }
 
 template <int = 0>

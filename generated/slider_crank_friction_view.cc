@@ -282,29 +282,18 @@ void FlatPhi(const double* p,
 }
 
 template <int = 0>
-void FlatCoeffs(const double* p,
-                const double* q,
-                const double* phi,
-                double* out,
-                const double* trig) {
+[[gnu::noinline, gnu::cold]]
+void FlatCoeffsCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out,
+                      const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
-    if (out != nullptr) Zero(&At<Coefficients<double>>(out)->Phi_phi);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
-    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> out_;
   if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
   if (out != nullptr) Zero(&out_.Phi_phi);
@@ -329,14 +318,41 @@ void FlatCoeffs(const double* p,
 }
 
 template <int = 0>
-void FlatForces(const double* p,
+void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
-                const double* c,
                 double* out,
-                const double* friction,
-                const double* trig,
-                const double* /*velocities*/) {
+                const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
+    if (out != nullptr) Zero(&At<Coefficients<double>>(out)->Phi_phi);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
+    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
+    return;
+  }
+  FlatCoeffsCopied<>(p, q, phi, out, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatForcesCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      const double* c,
+                      double* out,
+                      const double* friction,
+                      const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -345,17 +361,6 @@ void FlatForces(const double* p,
   Get(phi, &phi_);
   Vec<double, Sizes::kNumFriction> friction_;
   if (friction != nullptr) Get(friction, &friction_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
-      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    Model::Forces(p_,
-                  q_,
-                  phi_,
-                  *At<Coefficients<double>>(c),
-                  At<Statics<double>>(out),
-                  friction != nullptr ? &friction_ : nullptr,
-                  At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> c_;
   Get(c + kCoefficientsMembers[1].offset, &c_.Phi_phi);
   Get(c + kCoefficientsMembers[2].offset, &c_.K);
@@ -384,6 +389,37 @@ void FlatForces(const double* p,
 }
 
 template <int = 0>
+void FlatForces(const double* p,
+                const double* q,
+                const double* phi,
+                const double* c,
+                double* out,
+                const double* friction,
+                const double* trig,
+                const double* /*velocities*/) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(c) &&
+      InPlace<kStaticsInPlace, Statics<double>>(out) && InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Vec<double, Sizes::kNumFriction> friction_;
+    if (friction != nullptr) Get(friction, &friction_);
+    Model::Forces(p_,
+                  q_,
+                  phi_,
+                  *At<Coefficients<double>>(c),
+                  At<Statics<double>>(out),
+                  friction != nullptr ? &friction_ : nullptr,
+                  At<Trig<double>>(trig));
+    return;
+  }
+  FlatForcesCopied<>(p, q, phi, c, out, friction, trig);
+}
+
+template <int = 0>
 void FlatDetPhiPhi(const double* p,
                    const double* q,
                    const double* phi,
@@ -401,13 +437,14 @@ void FlatDetPhiPhi(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatSolve(const double* p,
-                                   const double* q,
-                                   double* phi_io,
-                                   const int* modes,
-                                   int max_iterations,
-                                   double tolerance,
-                                   double* trig) {
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatSolveCopied(const double* p,
+                                         const double* q,
+                                         double* phi_io,
+                                         const int* modes,
+                                         int max_iterations,
+                                         double tolerance,
+                                         double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -416,18 +453,6 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Get(phi_io, &phi_io_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (trig != nullptr) Zero(At<Trig<double>>(trig));
-    const SolveReport<double> report = Model::Solve(p_,
-                                                    q_,
-                                                    phi_io != nullptr ? &phi_io_ : nullptr,
-                                                    modes_,
-                                                    max_iterations,
-                                                    tolerance,
-                                                    At<Trig<double>>(trig));
-    if (phi_io != nullptr) Put(phi_io_, phi_io);
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
@@ -440,6 +465,37 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Put(phi_io_, phi_io);
   if (trig != nullptr) Put(trig_, trig);
   return Report(report);
+}
+
+template <int = 0>
+mechgen::ViewSolveReport FlatSolve(const double* p,
+                                   const double* q,
+                                   double* phi_io,
+                                   const int* modes,
+                                   int max_iterations,
+                                   double tolerance,
+                                   double* trig) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_io_;
+    if (phi_io != nullptr) Get(phi_io, &phi_io_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::Solve(p_,
+                                                    q_,
+                                                    phi_io != nullptr ? &phi_io_ : nullptr,
+                                                    modes_,
+                                                    max_iterations,
+                                                    tolerance,
+                                                    At<Trig<double>>(trig));
+    if (phi_io != nullptr) Put(phi_io_, phi_io);
+    return Report(report);
+  }
+  return FlatSolveCopied<>(p, q, phi_io, modes, max_iterations, tolerance, trig);
 }
 
 template <int = 0>

@@ -261,29 +261,18 @@ void FlatPhi(const double* p,
 }
 
 template <int = 0>
-void FlatCoeffs(const double* p,
-                const double* q,
-                const double* phi,
-                double* out,
-                const double* trig) {
+[[gnu::noinline, gnu::cold]]
+void FlatCoeffsCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out,
+                      const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
-    if (out != nullptr) Zero(&At<Coefficients<double>>(out)->Phi_phi);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
-    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> out_;
   if (out != nullptr) ZeroUnlessStored<2>(&out_.Phi);
   if (out != nullptr) Zero(&out_.Phi_phi);
@@ -308,20 +297,44 @@ void FlatCoeffs(const double* p,
 }
 
 template <int = 0>
-void FlatDesign(const double* p,
+void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
-                double* out) {
+                double* out,
+                const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->Phi);
+    if (out != nullptr) Zero(&At<Coefficients<double>>(out)->Phi_phi);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
+    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
+    return;
+  }
+  FlatCoeffsCopied<>(p, q, phi, out, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatDesignCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(out)) {
-    Model::Design(p_, q_, phi_, At<DesignDerivatives<double>>(out));
-    return;
-  }
   DesignDerivatives<double> out_;
   if (out != nullptr) GetUnlessStored<6>(out + kDesignDerivativesMembers[0].offset, &out_.dphi_dp);
   if (out != nullptr) GetUnlessStored<6>(out + kDesignDerivativesMembers[1].offset, &out_.dr_P_dp);
@@ -336,6 +349,24 @@ void FlatDesign(const double* p,
   if (out != nullptr) Put(out_.dK_P_dp, out + kDesignDerivativesMembers[3].offset);
   if (out != nullptr) Put(out_.dL_dp, out + kDesignDerivativesMembers[4].offset);
   if (out != nullptr) Put(out_.dL_P_dp, out + kDesignDerivativesMembers[5].offset);
+}
+
+template <int = 0>
+void FlatDesign(const double* p,
+                const double* q,
+                const double* phi,
+                double* out) {
+  if (InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Model::Design(p_, q_, phi_, At<DesignDerivatives<double>>(out));
+    return;
+  }
+  FlatDesignCopied<>(p, q, phi, out);
 }
 
 template <int = 0>
@@ -373,13 +404,14 @@ void FlatDetPhiPhi(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatSolve(const double* p,
-                                   const double* q,
-                                   double* phi_io,
-                                   const int* modes,
-                                   int max_iterations,
-                                   double tolerance,
-                                   double* trig) {
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatSolveCopied(const double* p,
+                                         const double* q,
+                                         double* phi_io,
+                                         const int* modes,
+                                         int max_iterations,
+                                         double tolerance,
+                                         double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -388,18 +420,6 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Get(phi_io, &phi_io_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (trig != nullptr) Zero(At<Trig<double>>(trig));
-    const SolveReport<double> report = Model::Solve(p_,
-                                                    q_,
-                                                    phi_io != nullptr ? &phi_io_ : nullptr,
-                                                    modes_,
-                                                    max_iterations,
-                                                    tolerance,
-                                                    At<Trig<double>>(trig));
-    if (phi_io != nullptr) Put(phi_io_, phi_io);
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
@@ -412,6 +432,37 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Put(phi_io_, phi_io);
   if (trig != nullptr) Put(trig_, trig);
   return Report(report);
+}
+
+template <int = 0>
+mechgen::ViewSolveReport FlatSolve(const double* p,
+                                   const double* q,
+                                   double* phi_io,
+                                   const int* modes,
+                                   int max_iterations,
+                                   double tolerance,
+                                   double* trig) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_io_;
+    if (phi_io != nullptr) Get(phi_io, &phi_io_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::Solve(p_,
+                                                    q_,
+                                                    phi_io != nullptr ? &phi_io_ : nullptr,
+                                                    modes_,
+                                                    max_iterations,
+                                                    tolerance,
+                                                    At<Trig<double>>(trig));
+    if (phi_io != nullptr) Put(phi_io_, phi_io);
+    return Report(report);
+  }
+  return FlatSolveCopied<>(p, q, phi_io, modes, max_iterations, tolerance, trig);
 }
 
 template <int = 0>

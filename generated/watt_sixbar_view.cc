@@ -318,29 +318,18 @@ void FlatPhi(const double* p,
 }
 
 template <int = 0>
-void FlatCoeffs(const double* p,
-                const double* q,
-                const double* phi,
-                double* out,
-                const double* trig) {
+[[gnu::noinline, gnu::cold]]
+void FlatCoeffsCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out,
+                      const double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
-      InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->Phi);
-    if (out != nullptr) Zero(&At<Coefficients<double>>(out)->Phi_phi);
-    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->K);
-    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->L);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
-    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
-    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
-    return;
-  }
   Coefficients<double> out_;
   if (out != nullptr) ZeroUnlessStored<4>(&out_.Phi);
   if (out != nullptr) Zero(&out_.Phi_phi);
@@ -365,20 +354,44 @@ void FlatCoeffs(const double* p,
 }
 
 template <int = 0>
-void FlatDesign(const double* p,
+void FlatCoeffs(const double* p,
                 const double* q,
                 const double* phi,
-                double* out) {
+                double* out,
+                const double* trig) {
+  if (InPlace<kCoefficientsInPlace, Coefficients<double>>(out) &&
+      InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->Phi);
+    if (out != nullptr) Zero(&At<Coefficients<double>>(out)->Phi_phi);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->K);
+    if (out != nullptr) ZeroUnlessStored<4>(&At<Coefficients<double>>(out)->L);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->r_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->K_P);
+    if (out != nullptr) ZeroUnlessStored<2>(&At<Coefficients<double>>(out)->L_P);
+    Model::Coeffs(p_, q_, phi_, At<Coefficients<double>>(out), At<Trig<double>>(trig));
+    return;
+  }
+  FlatCoeffsCopied<>(p, q, phi, out, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+void FlatDesignCopied(const double* p,
+                      const double* q,
+                      const double* phi,
+                      double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   Vec<double, Sizes::kNphi> phi_;
   Get(phi, &phi_);
-  if (InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(out)) {
-    Model::Design(p_, q_, phi_, At<DesignDerivatives<double>>(out));
-    return;
-  }
   DesignDerivatives<double> out_;
   if (out != nullptr) GetUnlessStored<40>(out + kDesignDerivativesMembers[0].offset, &out_.dphi_dp);
   if (out != nullptr) GetUnlessStored<20>(out + kDesignDerivativesMembers[1].offset, &out_.dr_P_dp);
@@ -395,6 +408,24 @@ void FlatDesign(const double* p,
   if (out != nullptr) Put(out_.dL_dp, out + kDesignDerivativesMembers[4].offset);
   if (out != nullptr) Put(out_.dL_P_dp, out + kDesignDerivativesMembers[5].offset);
   if (out != nullptr) Put(out_.dmu_dp, out + kDesignDerivativesMembers[6].offset);
+}
+
+template <int = 0>
+void FlatDesign(const double* p,
+                const double* q,
+                const double* phi,
+                double* out) {
+  if (InPlace<kDesignDerivativesInPlace, DesignDerivatives<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_;
+    Get(phi, &phi_);
+    Model::Design(p_, q_, phi_, At<DesignDerivatives<double>>(out));
+    return;
+  }
+  FlatDesignCopied<>(p, q, phi, out);
 }
 
 template <int = 0>
@@ -449,13 +480,14 @@ void FlatTransmissionAngles(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatSolve(const double* p,
-                                   const double* q,
-                                   double* phi_io,
-                                   const int* modes,
-                                   int max_iterations,
-                                   double tolerance,
-                                   double* trig) {
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatSolveCopied(const double* p,
+                                         const double* q,
+                                         double* phi_io,
+                                         const int* modes,
+                                         int max_iterations,
+                                         double tolerance,
+                                         double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
@@ -464,18 +496,6 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
   if (phi_io != nullptr) Get(phi_io, &phi_io_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (trig != nullptr) Zero(At<Trig<double>>(trig));
-    const SolveReport<double> report = Model::Solve(p_,
-                                                    q_,
-                                                    phi_io != nullptr ? &phi_io_ : nullptr,
-                                                    modes_,
-                                                    max_iterations,
-                                                    tolerance,
-                                                    At<Trig<double>>(trig));
-    if (phi_io != nullptr) Put(phi_io_, phi_io);
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::Solve(p_,
@@ -491,21 +511,48 @@ mechgen::ViewSolveReport FlatSolve(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatSolveTrig(const double* p,
-                                       const double* q,
-                                       const int* modes,
-                                       double* trig) {
+mechgen::ViewSolveReport FlatSolve(const double* p,
+                                   const double* q,
+                                   double* phi_io,
+                                   const int* modes,
+                                   int max_iterations,
+                                   double tolerance,
+                                   double* trig) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    Vec<double, Sizes::kNphi> phi_io_;
+    if (phi_io != nullptr) Get(phi_io, &phi_io_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::Solve(p_,
+                                                    q_,
+                                                    phi_io != nullptr ? &phi_io_ : nullptr,
+                                                    modes_,
+                                                    max_iterations,
+                                                    tolerance,
+                                                    At<Trig<double>>(trig));
+    if (phi_io != nullptr) Put(phi_io_, phi_io);
+    return Report(report);
+  }
+  return FlatSolveCopied<>(p, q, phi_io, modes, max_iterations, tolerance, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatSolveTrigCopied(const double* p,
+                                             const double* q,
+                                             const int* modes,
+                                             double* trig) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
-    if (trig != nullptr) Zero(At<Trig<double>>(trig));
-    const SolveReport<double> report = Model::SolveTrig(p_, q_, modes_, At<Trig<double>>(trig));
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Zero(&trig_);
   const SolveReport<double> report = Model::SolveTrig(p_,
@@ -517,26 +564,37 @@ mechgen::ViewSolveReport FlatSolveTrig(const double* p,
 }
 
 template <int = 0>
-mechgen::ViewSolveReport FlatKinematics(const double* p,
-                                        const double* q,
-                                        const int* modes,
-                                        double* trig,
-                                        double* out) {
+mechgen::ViewSolveReport FlatSolveTrig(const double* p,
+                                       const double* q,
+                                       const int* modes,
+                                       double* trig) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    if (trig != nullptr) Zero(At<Trig<double>>(trig));
+    const SolveReport<double> report = Model::SolveTrig(p_, q_, modes_, At<Trig<double>>(trig));
+    return Report(report);
+  }
+  return FlatSolveTrigCopied<>(p, q, modes, trig);
+}
+
+template <int = 0>
+[[gnu::noinline, gnu::cold]]
+mechgen::ViewSolveReport FlatKinematicsCopied(const double* p,
+                                              const double* q,
+                                              const int* modes,
+                                              double* trig,
+                                              double* out) {
   const ParamsArg<kParamsInPlace> p_arg(p);
   const Params<double>& p_ = p_arg.p;
   Vec<double, Sizes::kNq> q_;
   Get(q, &q_);
   std::array<int, Sizes::kNumBlocks> modes_;
   Get(modes, &modes_);
-  if (InPlace<kTrigInPlace, Trig<double>>(trig) &&
-      InPlace<kKinematicsInPlace, Kinematics<double>>(out)) {
-    const SolveReport<double> report = Model::Kinematics(p_,
-                                                         q_,
-                                                         modes_,
-                                                         At<Trig<double>>(trig),
-                                                         At<Kinematics<double>>(out));
-    return Report(report);
-  }
   Trig<double> trig_;
   if (trig != nullptr) Get(trig + kTrigMembers[0].offset, &trig_.sin_q);
   if (trig != nullptr) Get(trig + kTrigMembers[1].offset, &trig_.cos_q);
@@ -559,6 +617,30 @@ mechgen::ViewSolveReport FlatKinematics(const double* p,
   if (out != nullptr) Put(out_.L, out + kKinematicsMembers[1].offset);
   if (out != nullptr) Put(out_.Phi_phi, out + kKinematicsMembers[2].offset);
   return Report(report);
+}
+
+template <int = 0>
+mechgen::ViewSolveReport FlatKinematics(const double* p,
+                                        const double* q,
+                                        const int* modes,
+                                        double* trig,
+                                        double* out) {
+  if (InPlace<kTrigInPlace, Trig<double>>(trig) &&
+      InPlace<kKinematicsInPlace, Kinematics<double>>(out)) {
+    const ParamsArg<kParamsInPlace> p_arg(p);
+    const Params<double>& p_ = p_arg.p;
+    Vec<double, Sizes::kNq> q_;
+    Get(q, &q_);
+    std::array<int, Sizes::kNumBlocks> modes_;
+    Get(modes, &modes_);
+    const SolveReport<double> report = Model::Kinematics(p_,
+                                                         q_,
+                                                         modes_,
+                                                         At<Trig<double>>(trig),
+                                                         At<Kinematics<double>>(out));
+    return Report(report);
+  }
+  return FlatKinematicsCopied<>(p, q, modes, trig, out);
 }
 
 template <int = 0>

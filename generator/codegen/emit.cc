@@ -475,6 +475,7 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
   else
     throw std::runtime_error("the model view cannot return " + f.returns + " (" + f.name + ", codegen/emit.cc)");
   mus::data args{mus::data::type::list}, lines{mus::data::type::list};
+  std::vector<mus::data> model_args;  // args but the unnamed `velocities` (Forces)
   // The copies of the arguments that are not structs (common), of the structs (copied), and the
   // structs at their buffers where each may be (in place: checks).
   std::vector<std::string> common, before, after, pass, after_common;
@@ -487,6 +488,7 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
     o.set("arg_name", f.args[i].name);
     o.set("first", Bool(i == 0));
     args.push_back(o);
+    model_args.push_back(o);
     if (flat.check.empty()) {
       common.insert(common.end(), flat.before.begin(), flat.before.end());
       after_common.insert(after_common.end(), flat.after.begin(), flat.after.end());
@@ -528,9 +530,18 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
     for (const std::string& l : after) body->push_back(indent + l);
     body->push_back(indent + (returns == "void" ? "return;" : "return Report(report);"));
   };
-  std::vector<std::string> body = common;
+  // Every struct copied in and out (the body of Flat<member>, or of Flat<member>Copied where
+  // the structs may also be passed in place).
+  std::vector<std::string> copied = common;
+  copied.insert(copied.end(), before.begin(), before.end());
+  call_and_after(pass, after, "", &copied);
+  if (returns == "void") copied.pop_back();  // (no `return;` at the end)
+  std::vector<std::string> body;
   if (!checks.empty()) {
-    // The structs on the caller's storage where they may be (no copy), else copied below.
+    // The structs on the caller's storage where they may be (no copy), else the copies in
+    // Flat<member>Copied: out of line, so that the model's function has one call here, which
+    // the compiler inlines (called from three places, it was not, and its SolveReport came
+    // back through memory).
     std::string condition = "if (";
     for (size_t i = 0; i < checks.size(); ++i) {
       const std::string sep = i == 0 ? "" : " &&";
@@ -542,24 +553,42 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
       }
     }
     body.push_back(condition + ") {");
+    for (const std::string& l : common) body.push_back("  " + l);
     for (const std::string& l : in_place_before) body.push_back("  " + l);
     call_and_after(in_place_pass, after_common, "  ", &body);
     body.push_back("}");
+    std::string forward = "Flat" + f.model_member + "Copied<>(";
+    for (size_t i = 0; i < f.args.size(); ++i) forward += (i ? ", " : "") + f.args[i].name;
+    body.push_back((returns == "void" ? "" : "return ") + forward + ");");
+  } else {
+    body = copied;
   }
-  body.insert(body.end(), before.begin(), before.end());
-  call_and_after(pass, after, "", &body);
-  if (returns == "void") body.pop_back();  // (no `return;` at the end)
-  for (const std::string& l : body) {
-    mus::data o{mus::data::type::object};
-    o.set("line", l);
-    lines.push_back(o);
-  }
+  auto as_lines = [](const std::vector<std::string>& from) {
+    mus::data out{mus::data::type::list};
+    for (const std::string& l : from) {
+      mus::data o{mus::data::type::object};
+      o.set("line", l);
+      out.push_back(o);
+    }
+    return out;
+  };
+  lines = as_lines(body);
   mus::data o{mus::data::type::object};
   o.set("member", f.model_member);
   o.set("returns", returns);
   o.set("indent", Spaces(returns.size() + 6 + f.model_member.size()));
   o.set("args", args);
   o.set("lines", lines);
+  o.set("has_copied", Bool(!checks.empty()));
+  if (!checks.empty()) {
+    // Flat<member>Copied takes the model function's arguments (not the unnamed `velocities`
+    // that only Flat<member>'s signature has).
+    mus::data copied_args{mus::data::type::list};
+    for (const mus::data& a : model_args) copied_args.push_back(a);
+    o.set("copied_args", copied_args);
+    o.set("copied_indent", Spaces(returns.size() + 12 + f.model_member.size()));
+    o.set("copied_lines", as_lines(copied));
+  }
   return o;
 }
 
@@ -955,7 +984,8 @@ EmittedModel Emit(const Model& m, const Topology& t, const Kinematics& k, const 
     if (!functions[i].model_member.empty() && functions[i].in_view)
       view_functions.push_back(ViewFunction(functions[i], bodies[i], struct_members));
   data.SetData("view_functions", view_functions,
-               {"member", "returns", "indent", "args", "arg_type", "arg_name", "first", "lines", "line"});
+               {"member", "returns", "indent", "args", "arg_type", "arg_name", "first", "lines", "line",
+                "has_copied", "copied_args", "copied_indent", "copied_lines"});
   std::vector<std::map<std::string, std::string>> view_params, view_derived;
   CxxPrinter flat;  // the parameters as the view's flat array p[i]
   for (size_t i = 0; i < m.params.size(); ++i) {
