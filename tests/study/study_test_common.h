@@ -1,0 +1,129 @@
+// What the study tests share (study_test.cc, study_machines_test.cc): the includes, the
+// models' views, the study files written to the test's temporary directory, and the check of
+// the study through the model view against the generated model's.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "fourbar.h"
+#include "fourbar_loaded.h"
+#include "mechgen/core/view_runtime.h"
+#include "mechgen/io/csv.h"
+#include "mechgen/io/yaml_strict.h"
+#include "mechgen/machines/view_machines.h"  // (before study/run.h: the view's machines compiled once)
+#include "mechgen/analysis/study.h"
+#include "mechgen/study/random.h"
+#include "mechgen/study/rows.h"
+#include "mechgen/study/run.h"
+#include "mechgen/study/samples.h"
+#include "mechgen/study/shards.h"
+#include "mechgen/study/spec.h"
+#include "mechgen/study/tolerance.h"
+#include "slider_crank.h"
+#ifdef MECHGEN_STUDY_TEST_SHAPER
+#include "mechgen/machines/flywheel/machine_cycle.h"
+#include "shaper.h"
+#endif
+#ifdef MECHGEN_STUDY_TEST_DESIGN_PRESS
+#include "design_press.h"
+namespace mech::design_press {
+const mechgen::ModelView& View();
+}
+#endif
+#ifdef MECHGEN_STUDY_TEST_PENDULUM
+#include "pendulum_spring.h"
+#endif
+#ifdef MECHGEN_STUDY_TEST_ENGINE
+#include "engine_single.h"
+#endif
+
+// The models' views (generated/<model>_view.cc, in their libraries).
+namespace mech::fourbar {
+const mechgen::ModelView& View();
+}
+namespace mech::fourbar_loaded {
+const mechgen::ModelView& View();
+}
+
+namespace mechgen_study_test {
+
+namespace study = mechgen::study;
+
+// A study file in the test's temporary directory.
+inline std::string WriteStudy(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+inline study::StudySpec Read(const std::string& name, const std::string& text) {
+  study::StudySpec spec;
+  std::string error;
+  EXPECT_TRUE(study::ReadStudy(WriteStudy(name, text), &spec, &error)) << error;
+  return spec;
+}
+
+inline std::string ErrorOf(const std::string& name, const std::string& text) {
+  study::StudySpec spec;
+  std::string error;
+  EXPECT_FALSE(study::ReadStudy(WriteStudy(name, text), &spec, &error));
+  return error;
+}
+
+// ---- the random numbers -------------------------------------------------------------------
+
+// Uniform(0, 1): mean 1/2, variance 1/12, every value inside (0, 1); 10^6 draws, bounds at 5
+
+// ---- through the model view (issue 43) ---------------------------------------------------------
+
+// The study through the model view (Study<ViewModel>, the runtime compiled once, the view's
+// Design, StaticsDesign and DesignChecks) against the generated model's: each metric at the
+// nominal, its first-order gradient and why it has none, and the envelope point's dr_P/dp at
+// every row (PathGradient), the same doubles to the bit (NaN where the generated one is NaN).
+inline bool SameBits(double a, double b) { return (std::isnan(a) && std::isnan(b)) || std::memcmp(&a, &b, sizeof a) == 0; }
+template <class M>
+void ExpectViewFirstOrderSame(const mechgen::ModelView& view, const study::StudySpec& spec) {
+  study::Study<M> fixed;
+  study::Study<mechgen::ViewModel> through{mechgen::ViewModel(view)};
+  std::string error;
+  ASSERT_TRUE(fixed.Prepare(spec, &error)) << error;
+  ASSERT_TRUE(through.Prepare(spec, &error)) << error;
+  int finite = 0;
+  for (size_t k = 0; k < spec.metrics.size(); ++k) {
+    EXPECT_TRUE(SameBits(fixed.Value(k, fixed.nominal_rows()).value, through.Value(k, through.nominal_rows()).value))
+        << spec.metrics[k].name;
+    std::string why, view_why;
+    const std::vector<double> g = fixed.Gradient(k, &why), h = through.Gradient(k, &view_why);
+    EXPECT_EQ(why, view_why) << spec.metrics[k].name;
+    ASSERT_EQ(g.size(), h.size());
+    for (size_t p = 0; p < g.size(); ++p) {
+      EXPECT_TRUE(SameBits(g[p], h[p])) << spec.metrics[k].name << " d/d" << spec.parameters[p].name << ": " << g[p]
+                                        << " (generated), " << h[p] << " (view)";
+      finite += std::isfinite(g[p]);
+    }
+  }
+  EXPECT_GT(finite, 0);
+  if (fixed.envelope_point() >= 0) {
+    for (int i = 0; i < fixed.rows(); ++i)
+      for (int axis = 0; axis < 2; ++axis) {
+        const std::vector<double> g = fixed.PathGradient(i, axis), h = through.PathGradient(i, axis);
+        for (size_t p = 0; p < g.size(); ++p)
+          EXPECT_TRUE(SameBits(g[p], h[p])) << "row " << i << " axis " << axis << " d/d" << spec.parameters[p].name;
+      }
+  }
+}
+
+
+}  // namespace mechgen_study_test
