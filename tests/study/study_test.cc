@@ -3,8 +3,8 @@
 // (from the generated design derivatives) against central differences of the analysis itself,
 // the first-order sigma against the slider-crank's closed form and against a Monte-Carlo, and
 // the same results for 1 and 2 threads.
-// (The machines' analyses per sample: study_machines_test.cc; the two halves compile in
-// parallel.)
+// (The machines' analyses per sample: study_machines_test.cc (flywheel), study_simulate_test.cc
+// (simulation, positions), study_engine_test.cc; the four compile in parallel.)
 #include "study_test_common.h"
 
 namespace {
@@ -1005,6 +1005,9 @@ TEST(StudyHostile, BaseParametersFromTheCommandLine) {
   EXPECT_NEAR(s.Value(0, s.nominal_rows()).value, a + xi * std::cos(beta) - eta * std::sin(beta), 1e-12);
 }
 
+// ---- threads --------------------------------------------------------------------------------
+
+// 1, 2 and 4 threads: every metric of every sample the same double, and the statuses.
 TEST(StudyThreads, SameResultsForOneTwoAndFourThreads) {
   const study::StudySpec spec =
       Read("threads.yaml",
