@@ -11,6 +11,9 @@ namespace {
 
 using namespace mechgen_study_test;  // NOLINT (the tests' shared helpers)
 
+// ---- the random numbers -------------------------------------------------------------------
+
+// Uniform(0, 1): mean 1/2, variance 1/12, every value inside (0, 1); 10^6 draws, bounds at 5
 // standard errors of each estimate (var of the mean 1/12/n, of the sample variance 1/180/n).
 TEST(StudyRandom, UniformMoments) {
   const int n = 1000000;
@@ -849,7 +852,6 @@ TEST(StudyShards, ChunkedRunsResumeToTheSameResults) {
   }
   shards.Remove();
 }
-
 
 // ---- hostile study files (issue 45) ---------------------------------------------------------
 

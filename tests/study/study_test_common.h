@@ -1,6 +1,7 @@
-// What the study tests share (study_test.cc, study_machines_test.cc): the includes, the
-// models' views, the study files written to the test's temporary directory, and the check of
-// the study through the model view against the generated model's.
+// What the study tests share (study_test.cc, study_machines_test.cc, study_simulate_test.cc,
+// study_engine_test.cc): the includes, the models' views, the study files written to the test's
+// temporary directory, and the check of the study through the model view against the generated
+// model's.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -82,10 +83,6 @@ inline std::string ErrorOf(const std::string& name, const std::string& text) {
   return error;
 }
 
-// ---- the random numbers -------------------------------------------------------------------
-
-// Uniform(0, 1): mean 1/2, variance 1/12, every value inside (0, 1); 10^6 draws, bounds at 5
-
 // ---- through the model view (issue 43) ---------------------------------------------------------
 
 // The study through the model view (Study<ViewModel>, the runtime compiled once, the view's
@@ -124,6 +121,5 @@ void ExpectViewFirstOrderSame(const mechgen::ModelView& view, const study::Study
       }
   }
 }
-
 
 }  // namespace mechgen_study_test
