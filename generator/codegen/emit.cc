@@ -474,8 +474,8 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
     returns = "mechgen::ViewSolveReport";
   else
     throw std::runtime_error("the model view cannot return " + f.returns + " (" + f.name + ", codegen/emit.cc)");
-  mus::data args{mus::data::type::list}, lines{mus::data::type::list};
-  std::vector<mus::data> model_args;  // args but the unnamed `velocities` (Forces)
+  // copied_args: args but the unnamed `velocities` (Forces), Flat<member>Copied's signature.
+  mus::data args{mus::data::type::list}, copied_args{mus::data::type::list}, lines{mus::data::type::list};
   // The copies of the arguments that are not structs (common), of the structs (copied), and the
   // structs at their buffers where each may be (in place: checks).
   std::vector<std::string> common, before, after, pass, after_common;
@@ -488,7 +488,7 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
     o.set("arg_name", f.args[i].name);
     o.set("first", Bool(i == 0));
     args.push_back(o);
-    model_args.push_back(o);
+    copied_args.push_back(o);
     if (flat.check.empty()) {
       common.insert(common.end(), flat.before.begin(), flat.before.end());
       after_common.insert(after_common.end(), flat.after.begin(), flat.after.end());
@@ -581,10 +581,6 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
   o.set("lines", lines);
   o.set("has_copied", Bool(!checks.empty()));
   if (!checks.empty()) {
-    // Flat<member>Copied takes the model function's arguments (not the unnamed `velocities`
-    // that only Flat<member>'s signature has).
-    mus::data copied_args{mus::data::type::list};
-    for (const mus::data& a : model_args) copied_args.push_back(a);
     o.set("copied_args", copied_args);
     o.set("copied_indent", Spaces(returns.size() + 12 + f.model_member.size()));
     o.set("copied_lines", as_lines(copied));
