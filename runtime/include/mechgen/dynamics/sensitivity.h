@@ -112,9 +112,10 @@ struct SensitivityOptions {
   double min_rcond = kMinRcond;
   /// A singular configuration approached (the steps collapse before 1/cond reaches min_rcond):
   /// approach_steps accepted steps in a row with 1/cond_1(Phi_phi) < approach_rcond and
-  /// falling also end the run with kDeadPoint (as PrescribedOptions does).
-  double approach_rcond = 1e-3;
-  int approach_steps = 200;
+  /// falling also end the run with kDeadPoint (as PrescribedOptions does; the defaults'
+  /// one definition is witness/dead_point.h).
+  double approach_rcond = kApproachRcond;
+  int approach_steps = kApproachSteps;
   /// Samples every sample_dt from t0 (and at the end); 0: at every accepted step.
   double sample_dt = 0;
   /// A run whose sample grid would hand out more samples than this is refused.

@@ -21,7 +21,7 @@
 namespace mechgen::dynamics {
 
 /// The approach to a singular configuration (DeadPointWitness): the one definition of these
-/// defaults, read by PrescribedOptions and MinimalOptions' event settings.
+/// defaults, read by PrescribedOptions, MinimalOptions' event settings and SensitivityOptions.
 inline constexpr double kApproachRcond = 1e-3;
 inline constexpr int kApproachSteps = 200;
 
