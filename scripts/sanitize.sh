@@ -19,6 +19,9 @@
 # the drivers' code is sanitized here by synthesis_test and study_test, which link it. And
 # statics_speed_command, for the same reason (it compiles the uninstrumented statics driver, 60
 # to 85 s); the statics at a speed are sanitized here by statics_slider_crank_friction_test.
+# The generated headers' standalone compile checks (kinematics.standalone_header.*,
+# kinematics.header_includes.*) are not defined in this build (tests/kinematics/CMakeLists.txt):
+# they check the compile with the shipped flags, which the Release build makes.
 # Optimization: -Og with line tables (-g1) for everything: the generator, the runtime's view
 # library, the model libraries and the test programs (MECHGEN_TEST_OPTIMIZATION in the
 # top-level CMakeLists.txt). The sanitizers instrument at every level (their manuals advise
