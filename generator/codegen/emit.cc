@@ -475,7 +475,7 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
   else
     throw std::runtime_error("the model view cannot return " + f.returns + " (" + f.name + ", codegen/emit.cc)");
   // copied_args: args but the unnamed `velocities` (Forces), Flat<member>Copied's signature.
-  mus::data args{mus::data::type::list}, copied_args{mus::data::type::list}, lines{mus::data::type::list};
+  mus::data args{mus::data::type::list}, copied_args{mus::data::type::list};
   // The copies of the arguments that are not structs (common), of the structs (copied), and the
   // structs at their buffers where each may be (in place: checks).
   std::vector<std::string> common, before, after, pass, after_common;
@@ -572,13 +572,12 @@ mus::data ViewFunction(const FunctionSpec& f, const std::string& rendered,
     }
     return out;
   };
-  lines = as_lines(body);
   mus::data o{mus::data::type::object};
   o.set("member", f.model_member);
   o.set("returns", returns);
   o.set("indent", Spaces(returns.size() + 6 + f.model_member.size()));
   o.set("args", args);
-  o.set("lines", lines);
+  o.set("lines", as_lines(body));
   o.set("has_copied", Bool(!checks.empty()));
   if (!checks.empty()) {
     o.set("copied_args", copied_args);
